@@ -1,0 +1,5 @@
+import sys
+
+from modalinfo.cli import main
+
+sys.exit(main())

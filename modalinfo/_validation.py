@@ -1,0 +1,163 @@
+"""Input validation shared by every public function of modalinfo and closedloop.
+
+Every message names the argument, states the rule and shows what was given, so a
+user can fix the call without reading the source.
+"""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "as_float_array",
+    "check_int",
+    "check_real",
+    "check_choice",
+    "check_rng",
+]
+
+
+def _describe(value: Any) -> str:
+    if isinstance(value, np.ndarray):
+        return f"array of shape {value.shape} and dtype {value.dtype}"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def as_float_array(
+    value: Any,
+    name: str,
+    *,
+    ndim: int | tuple[int, ...] | None = None,
+    shape: tuple[int | None, ...] | None = None,
+    min_length: int | None = None,
+    finite: bool = True,
+    dtype: type = np.float64,
+    copy: bool = False,
+) -> np.ndarray:
+    """Return ``value`` as a C-contiguous float array after checking it.
+
+    Parameters
+    ----------
+    value : array_like
+        The input.
+    name : str
+        Argument name used in error messages.
+    ndim : int or tuple of int, optional
+        Allowed number(s) of dimensions.
+    shape : tuple, optional
+        Required shape; ``None`` entries match any length.
+    min_length : int, optional
+        Minimum length of axis 0.
+    finite : bool
+        Reject NaN and infinities.
+    dtype : type
+        Floating dtype of the result.
+    copy : bool
+        Always return a copy.
+
+    Returns
+    -------
+    numpy.ndarray
+        C-contiguous array of ``dtype``.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not numeric.
+    ValueError
+        If a dimension, shape, length or finiteness rule is broken.
+    """
+    try:
+        arr = np.asarray(value)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.") from exc
+    if arr.dtype == object or not (
+        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
+    ):
+        raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.")
+    if np.iscomplexobj(arr):
+        raise TypeError(f"`{name}` must be real; got a complex array.")
+    if ndim is not None:
+        allowed = (ndim,) if isinstance(ndim, int) else tuple(ndim)
+        if arr.ndim not in allowed:
+            want = " or ".join(f"{d}-D" for d in allowed)
+            raise ValueError(f"`{name}` must be {want}; got {arr.ndim}-D with shape {arr.shape}.")
+    if shape is not None:
+        ok = arr.ndim == len(shape) and all(
+            s is None or s == a for s, a in zip(shape, arr.shape, strict=False)
+        )
+        if not ok:
+            want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
+            raise ValueError(f"`{name}` must have shape {want}; got {arr.shape}.")
+    if min_length is not None and (arr.ndim == 0 or arr.shape[0] < min_length):
+        got = 0 if arr.ndim == 0 else arr.shape[0]
+        raise ValueError(f"`{name}` needs at least {min_length} samples along axis 0; got {got}.")
+    out = np.array(arr, dtype=dtype, order="C", copy=True) if copy else np.ascontiguousarray(
+        arr, dtype=dtype
+    )
+    if finite and not np.all(np.isfinite(out)):
+        bad = int(np.size(out) - np.count_nonzero(np.isfinite(out)))
+        raise ValueError(f"`{name}` must be finite; got {bad} NaN or infinite value(s).")
+    return out
+
+
+def check_int(value: Any, name: str, *, minimum: int | None = None, maximum: int | None = None) -> int:
+    """Return ``value`` as ``int`` after checking type and bounds."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"`{name}` must be an int; got {_describe(value)}.")
+    value = int(value)
+    if minimum is not None and value < minimum:
+        raise ValueError(f"`{name}` must be an int >= {minimum}; got {value}.")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"`{name}` must be an int <= {maximum}; got {value}.")
+    return value
+
+
+def check_real(
+    value: Any,
+    name: str,
+    *,
+    minimum: float | None = None,
+    maximum: float | None = None,
+    strict_min: bool = False,
+    strict_max: bool = False,
+    allow_inf: bool = False,
+) -> float:
+    """Return ``value`` as ``float`` after checking type, finiteness and bounds."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`{name}` must be a real number; got {_describe(value)}.")
+    value = float(value)
+    if np.isnan(value) or (np.isinf(value) and not allow_inf):
+        raise ValueError(f"`{name}` must be finite; got {value}.")
+    if minimum is not None and (value <= minimum if strict_min else value < minimum):
+        rule = ">" if strict_min else ">="
+        raise ValueError(f"`{name}` must be {rule} {minimum}; got {value}.")
+    if maximum is not None and (value >= maximum if strict_max else value > maximum):
+        rule = "<" if strict_max else "<="
+        raise ValueError(f"`{name}` must be {rule} {maximum}; got {value}.")
+    return value
+
+
+def check_choice(value: Any, name: str, choices) -> Any:
+    """Return ``value`` if it is one of ``choices``, else raise ``ValueError``."""
+    if value not in choices:
+        options = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"`{name}` must be one of {options}; got {_describe(value)}.")
+    return value
+
+
+def check_rng(seed: Any, name: str = "seed") -> np.random.Generator:
+    """Return a ``numpy.random.Generator`` from ``None``, an int or a Generator."""
+    if seed is None or isinstance(seed, np.random.Generator):
+        return np.random.default_rng(seed)
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral | np.random.SeedSequence):
+        raise TypeError(
+            f"`{name}` must be None, an int or a numpy.random.Generator; got {_describe(seed)}."
+        )
+    if isinstance(seed, numbers.Integral) and seed < 0:
+        raise ValueError(f"`{name}` must be a non-negative int; got {seed}.")
+    return np.random.default_rng(seed)

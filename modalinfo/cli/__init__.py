@@ -1,0 +1,79 @@
+"""The ``modalinfo`` command line.
+
+Each subcommand lives in its own module ``modalinfo/cli/cmd_<name>.py`` exposing
+
+- ``NAME``: the subcommand as typed (e.g. ``"fitting-error"``),
+- ``HELP``: one line for ``modalinfo --help``,
+- ``add_arguments(parser)``: fill an ``argparse.ArgumentParser``,
+- ``run(args) -> int``: do the work and return the exit code.
+
+Subcommands are discovered, so adding one never edits this file. Usage and input
+errors print one line on stderr and exit with status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+
+__all__ = ["main", "CommandError"]
+
+
+class CommandError(Exception):
+    """An input error a subcommand reports as one line and exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors in one line (argparse prints usage first)."""
+
+    def error(self, message: str):  # noqa: D102
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        raise SystemExit(2)
+
+
+def _commands():
+    import modalinfo.cli as pkg
+
+    found = []
+    for info in pkgutil.iter_modules(pkg.__path__):
+        if info.name.startswith("cmd_"):
+            found.append(importlib.import_module(f"modalinfo.cli.{info.name}"))
+    return sorted(found, key=lambda m: m.NAME)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the top-level parser with every discovered subcommand."""
+    parser = _Parser(
+        prog="modalinfo",
+        description="Mutual-information analysis and forecasting of wavefront modal logs.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for module in _commands():
+        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        module.add_arguments(cmd)
+        cmd.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "_run", None) is None:
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return int(args._run(args) or 0)
+    except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
+        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        sys.stderr.write(f"modalinfo {args.command}: error: {message}\n")
+        return 2
+    except KeyboardInterrupt:
+        sys.stderr.write("modalinfo: interrupted\n")
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
