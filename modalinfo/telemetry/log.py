@@ -1,0 +1,899 @@
+"""``ModalLog``: a time series of modal (Zernike, K-L, ...) coefficients with its context.
+
+A log holds coefficients ``(T, M)`` (time is axis 0), its time axis (a sample rate
+or explicit timestamps, in seconds), the mode of every column, the indexing
+convention, the units and free-form metadata. It is immutable in practice: every
+operation returns a new log and the coefficient array is exposed read-only.
+
+Decisions documented here (see also ``docs/ARCHITECTURE.md``):
+
+* ``modes`` default: the first ``M`` modes after piston, i.e. Noll / Fringe
+  ``2 .. M + 1`` and ANSI ``1 .. M`` (tip first), which is what WFS loops log.
+  ``convention="labels"`` (non-Zernike modes such as ``"KL1"``) requires ``modes``.
+* ``labels``: ``"Z<j>"`` for Noll, ``"A<j>"`` for ANSI/OSA (j from 0 = piston),
+  ``"F<j>"`` for Fringe (j from 1 = piston); the strings themselves for ``"labels"``.
+* Every Zernike convention here is unit-RMS normalised (Noll 1976) with the same
+  functions ``sqrt(n+1) R_n^|m| {cos, sin}(|m| theta)``: ANSI/OSA's ``Z_n^m`` with
+  ``m < 0`` for sine is the same function as Noll's odd-j sine term (no sign flip),
+  so converting conventions only renames and reorders columns. Classical Fringe
+  polynomials are *peak* normalised; convert such coefficients with
+  :func:`modalinfo.telemetry.units.rms_from_peak_normalized` before building a log.
+* Time axis: ``rate`` (Hz) gives ``times = start_time + arange(T) / rate``;
+  ``timestamps`` (s, strictly increasing) are used as given. With both, the median
+  sample interval must equal ``1 / rate`` to a relative 1e-3. With neither,
+  ``rate``, ``times`` and ``duration`` are ``None`` and time selection is refused.
+* ``duration = n_frames / rate`` (the span the samples cover).
+* 1-D ``coeffs`` is an error (use ``x[:, None]`` for one mode); integer input is
+  converted to float64; float32 and float64 are kept, a ``numpy.memmap`` stays one.
+* Non-finite values: ``nonfinite="raise"`` (default) refuses them; ``"drop"`` removes
+  the frames holding any; ``"interpolate"`` fills each mode linearly in time (constant
+  beyond the ends). A repair is recorded in ``log.repairs`` and appended to
+  ``metadata["repairs"]``, never silent and never a warning.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import mmap
+import numbers
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.telemetry.units import check_units, unit_scale
+
+__all__ = ["ModalLog", "LogSummary", "summarize", "CONVENTIONS", "NONFINITE_POLICIES"]
+
+#: Mode-indexing conventions a log can carry.
+CONVENTIONS = ("noll", "ansi", "fringe", "labels")
+#: What to do with NaN / inf in the coefficients.
+NONFINITE_POLICIES = ("raise", "drop", "interpolate")
+
+_PREFIX = {"noll": "Z", "ansi": "A", "fringe": "F"}
+_FIRST_DEFAULT = {"noll": 2, "ansi": 1, "fringe": 2}
+_MIN_INDEX = {"noll": 1, "ansi": 0, "fringe": 1}
+_PISTON_TIPTILT = {"noll": (1, 2, 3), "ansi": (0, 1, 2), "fringe": (1, 2, 3)}
+_RATE_RTOL = 1e-3
+_MAX_WAVELENGTH = 1e-3  # metres; anything larger is surely given in nm or um by mistake
+_SCAN_ELEMENTS = 1 << 22  # elements per block when scanning a large array
+
+
+# ----------------------------------------------------------------------------- helpers
+def _release_pages(arr: np.ndarray, block: np.ndarray) -> None:
+    """Drop the pages of ``block`` (a row block of the read-only memmap ``arr``) from RSS.
+
+    File-backed pages of a memory map count in the process's resident set until the
+    kernel evicts them; scanning a multi-GB log would otherwise look like loading it.
+    ``MADV_DONTNEED`` is safe for a read-only shared mapping: the next access reads
+    the page again from the page cache or the file.
+    """
+    if not isinstance(arr, np.memmap) or getattr(arr, "mode", None) != "r":
+        return
+    mm = getattr(arr, "_mmap", None)
+    if not isinstance(mm, mmap.mmap) or not hasattr(mmap, "MADV_DONTNEED") or block.size == 0:
+        return
+    try:
+        base = np.frombuffer(mm, dtype=np.uint8).ctypes.data
+        start = block.ctypes.data - base
+        stop = start + block.nbytes
+        page = mmap.PAGESIZE
+        start = (start // page) * page
+        stop = min(len(mm), -(-stop // page) * page)
+        if 0 <= start < stop:
+            mm.madvise(mmap.MADV_DONTNEED, start, stop - start)
+    except (ValueError, OSError, BufferError):  # pragma: no cover - best effort only
+        return
+
+
+def _row_blocks(arr: np.ndarray, rows: int, release: bool = True) -> Iterator[np.ndarray]:
+    """Yield ``arr[i:i + rows]`` blocks; release memmap pages after each one."""
+    n = arr.shape[0]
+    for i0 in range(0, n, rows):
+        block = arr[i0 : i0 + rows]
+        yield np.asarray(block)
+        if release:
+            _release_pages(arr, block)
+
+
+def _scan_rows(arr: np.ndarray) -> int:
+    return max(1, _SCAN_ELEMENTS // max(1, arr.shape[1]))
+
+
+def _count_nonfinite(arr: np.ndarray) -> int:
+    """Number of NaN/inf values in ``arr``, scanning in blocks (cheap when all finite)."""
+    bad = 0
+    for block in _row_blocks(arr, _scan_rows(arr)):
+        if np.isfinite(block.sum(dtype=np.float64)):
+            continue  # a NaN or inf anywhere would make the sum non-finite
+        bad += int(block.size - np.count_nonzero(np.isfinite(block)))
+    return bad
+
+
+def _as_coeffs(coeffs: Any) -> np.ndarray:
+    if isinstance(coeffs, ModalLog):
+        raise TypeError("`coeffs` must be an array (T, M); got a ModalLog (use log.coeffs).")
+    if isinstance(coeffs, np.ndarray):
+        arr = coeffs
+    else:
+        try:
+            arr = np.asarray(coeffs)
+        except (ValueError, TypeError) as exc:
+            raise TypeError(
+                f"`coeffs` must be a numeric array (T, M); got {type(coeffs).__name__}."
+            ) from exc
+    kind = arr.dtype.kind
+    if kind not in "fiu":
+        what = "complex" if kind == "c" else str(arr.dtype)
+        raise TypeError(f"`coeffs` must be a real numeric array (T, M); got dtype {what}.")
+    if arr.ndim != 2:
+        raise ValueError(
+            f"`coeffs` must be 2-D (T frames, M modes); got {arr.ndim}-D with shape {arr.shape}"
+            " (use x[:, None] for a single mode)."
+        )
+    if arr.shape[0] == 0 or arr.shape[1] == 0:
+        raise ValueError(f"`coeffs` must hold at least one frame and one mode; got {arr.shape}.")
+    if kind in "iu" or arr.dtype.itemsize not in (4, 8):
+        arr = arr.astype(np.float64)
+    elif not arr.dtype.isnative:
+        arr = arr.astype(arr.dtype.newbyteorder("="))
+    view = arr.view()
+    view.flags.writeable = False
+    return view
+
+
+def _check_modes(modes: Any, convention: str, n_modes: int) -> list:
+    if modes is None:
+        if convention == "labels":
+            raise ValueError(
+                "`modes` is required when convention='labels' (one str label per column)."
+            )
+        first = _FIRST_DEFAULT[convention]
+        return list(range(first, first + n_modes))
+    if isinstance(modes, str | bytes):
+        raise TypeError(f"`modes` must be a sequence of mode indices or labels; got {modes!r}.")
+    if isinstance(modes, np.ndarray):
+        modes = modes.tolist()
+    try:
+        modes = list(modes)
+    except TypeError as exc:
+        raise TypeError(f"`modes` must be a sequence; got {type(modes).__name__}.") from exc
+    if len(modes) != n_modes:
+        raise ValueError(
+            f"`modes` must have one entry per column of `coeffs` ({n_modes}); got {len(modes)}."
+        )
+    if convention == "labels":
+        for label in modes:
+            if not isinstance(label, str) or not label:
+                raise TypeError(
+                    f"`modes` must be non-empty str labels when convention='labels'; got {label!r}."
+                )
+        out = list(modes)
+    else:
+        out = []
+        lo = _MIN_INDEX[convention]
+        for j in modes:
+            if isinstance(j, bool) or not isinstance(j, numbers.Integral):
+                raise TypeError(
+                    f"`modes` must be int {convention} indices (or use convention='labels'); "
+                    f"got {j!r}."
+                )
+            if j < lo:
+                raise ValueError(f"`modes` must be {convention} indices >= {lo}; got {int(j)}.")
+            out.append(int(j))
+    if len(set(out)) != len(out):
+        seen, dup = set(), None
+        for j in out:
+            if j in seen:
+                dup = j
+                break
+            seen.add(j)
+        raise ValueError(f"`modes` must be unique; {dup!r} appears more than once.")
+    return out
+
+
+def _check_metadata(metadata: Any) -> dict:
+    if metadata is None:
+        return {}
+    if not isinstance(metadata, dict):
+        raise TypeError(f"`metadata` must be a dict; got {type(metadata).__name__}.")
+    for key in metadata:
+        if not isinstance(key, str):
+            raise TypeError(f"`metadata` keys must be str; got {key!r}.")
+    try:
+        text = json.dumps(metadata, allow_nan=False)
+    except TypeError as exc:
+        raise TypeError(f"`metadata` must be JSON-serialisable: {exc}.") from exc
+    except ValueError as exc:
+        raise ValueError(f"`metadata` must not hold NaN or infinite floats: {exc}.") from exc
+    return json.loads(text)
+
+
+def _check_timestamps(timestamps: Any, n_frames: int) -> np.ndarray:
+    try:
+        t = np.asarray(timestamps)
+    except (ValueError, TypeError) as exc:
+        raise TypeError("`timestamps` must be a 1-D numeric array of seconds.") from exc
+    if t.dtype.kind not in "fiu":
+        raise TypeError(f"`timestamps` must be a numeric array of seconds; got dtype {t.dtype}.")
+    if t.ndim != 1 or t.shape[0] != n_frames:
+        raise ValueError(
+            f"`timestamps` must have shape ({n_frames},) to match `coeffs`; got {t.shape}."
+        )
+    t = np.array(t, dtype=np.float64)
+    if not np.all(np.isfinite(t)):
+        raise ValueError(
+            f"`timestamps` must be finite; got {int(np.sum(~np.isfinite(t)))} non-finite value(s)."
+        )
+    if n_frames > 1:
+        dt = np.diff(t)
+        bad = np.flatnonzero(dt <= 0)
+        if bad.size:
+            i = int(bad[0])
+            rule = "duplicated" if dt[i] == 0 else "decreasing"
+            raise ValueError(
+                f"`timestamps` must be strictly increasing; {rule} at index {i + 1} "
+                f"({t[i]!r} then {t[i + 1]!r})."
+            )
+    t.flags.writeable = False
+    return t
+
+
+# ----------------------------------------------------------------------------- the log
+class ModalLog:
+    """A telemetry log of modal coefficients ``(T, M)`` with time axis, modes and units.
+
+    Parameters
+    ----------
+    coeffs : array_like, shape (T, M)
+        Coefficients, time along axis 0. float32 and float64 are kept as given (not
+        copied; a ``numpy.memmap`` stays memory-mapped); integers become float64.
+    rate : float, optional
+        Sample rate in Hz. Frames are at ``start_time + arange(T) / rate`` seconds
+        unless ``timestamps`` are given.
+    timestamps : array_like, shape (T,), optional
+        Frame times in seconds, strictly increasing. If ``rate`` is also given, the
+        median interval must equal ``1 / rate`` to a relative ``1e-3``.
+    modes : sequence of int or str, length M, optional
+        Mode of each column: indices in ``convention`` (ints) or str labels when
+        ``convention="labels"``. Default: the ``M`` modes after piston (Noll/Fringe
+        ``2..M+1``, ANSI ``1..M``).
+    convention : {"noll", "ansi", "fringe", "labels"}
+        Indexing of ``modes``. All Zernike conventions are unit-RMS normalised.
+    units : {"rad", "nm", "um", "waves"}
+        Units of ``coeffs`` (phase in rad or waves, or OPD in nm or um).
+    wavelength : float, optional
+        Wavelength in metres at which phase is defined (needed to convert between
+        phase and OPD units). Must be in ``(0, 1e-3]`` m.
+    metadata : dict, optional
+        Free-form JSON-serialisable information (e.g. ``telescope``, ``date``,
+        ``loop`` = ``"open"``/``"closed"``, ``source``). Stored as a copy.
+    nonfinite : {"raise", "drop", "interpolate"}
+        Policy for NaN/inf coefficients (see the module docstring).
+    start_time : float
+        Time of the first frame in seconds when the time axis comes from ``rate``
+        (ignored with ``timestamps``). Default 0.
+
+    Attributes
+    ----------
+    coeffs : numpy.ndarray, shape (T, M)
+        Read-only coefficient array (may be a ``numpy.memmap``).
+    repairs : tuple of str
+        Repairs made while building this log (empty unless ``nonfinite`` acted).
+
+    Raises
+    ------
+    TypeError
+        Non-numeric or complex ``coeffs``, non-int modes for a Zernike convention,
+        non-dict or non-JSON ``metadata``.
+    ValueError
+        Wrong dimensions, empty log, unknown units or convention, ``modes`` not
+        matching the columns, non-monotonic timestamps, ``rate`` disagreeing with
+        ``timestamps``, or non-finite values with ``nonfinite="raise"``.
+    """
+
+    __slots__ = (
+        "_coeffs",
+        "_rate",
+        "_timestamps",
+        "_start_time",
+        "_modes",
+        "_convention",
+        "_units",
+        "_wavelength",
+        "_metadata",
+        "_repairs",
+    )
+
+    def __init__(
+        self,
+        coeffs,
+        *,
+        rate: float | None = None,
+        timestamps=None,
+        modes: Sequence[int] | Sequence[str] | None = None,
+        convention: str = "noll",
+        units: str = "rad",
+        wavelength: float | None = None,
+        metadata: dict | None = None,
+        nonfinite: str = "raise",
+        start_time: float = 0.0,
+    ) -> None:
+        arr = _as_coeffs(coeffs)
+        n_frames, n_modes = arr.shape
+        if not isinstance(convention, str):
+            raise TypeError(f"`convention` must be a str; got {convention!r}.")
+        convention = check_choice(convention.lower(), "convention", CONVENTIONS)
+        units = check_units(units)
+        check_choice(nonfinite, "nonfinite", NONFINITE_POLICIES)
+        if rate is not None:
+            rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
+        if wavelength is not None:
+            wavelength = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
+            if wavelength > _MAX_WAVELENGTH:
+                raise ValueError(
+                    f"`wavelength` must be in metres, <= {_MAX_WAVELENGTH}; got {wavelength} "
+                    f"(did you mean {wavelength:g}e-9 m?)."
+                )
+        start_time = check_real(start_time, "start_time")
+        t = None if timestamps is None else _check_timestamps(timestamps, n_frames)
+        if t is not None and rate is not None and n_frames > 1:
+            median_dt = float(np.median(np.diff(t)))
+            if abs(median_dt * rate - 1.0) > _RATE_RTOL:
+                raise ValueError(
+                    f"`rate` ({rate} Hz) disagrees with `timestamps` (median interval "
+                    f"{median_dt!r} s, i.e. {1.0 / median_dt:.6g} Hz); give one or make them agree."
+                )
+        mode_list = _check_modes(modes, convention, n_modes)
+        meta = _check_metadata(metadata)
+
+        repairs: list[str] = []
+        n_bad = _count_nonfinite(arr)
+        if n_bad:
+            finite = np.isfinite(arr)
+            bad_rows = np.flatnonzero(~finite.all(axis=1))
+            if nonfinite == "raise":
+                i = int(bad_rows[0])
+                j = int(np.flatnonzero(~finite[i])[0])
+                raise ValueError(
+                    f"`coeffs` must be finite; got {n_bad} NaN or infinite value(s) in "
+                    f"{bad_rows.size} frame(s), first at frame {i}, column {j} "
+                    f"(pass nonfinite='drop' or 'interpolate' to repair)."
+                )
+            if nonfinite == "drop":
+                keep = np.ones(n_frames, dtype=bool)
+                keep[bad_rows] = False
+                if not keep.any():
+                    raise ValueError(
+                        "`coeffs` has a non-finite value in every frame; nonfinite='drop' "
+                        "would leave an empty log."
+                    )
+                if t is None and rate is not None:
+                    t = start_time + np.arange(n_frames, dtype=np.float64) / rate
+                arr = np.ascontiguousarray(arr[keep])
+                arr.flags.writeable = False
+                if t is not None:
+                    t = t[keep]
+                    t.flags.writeable = False
+                repairs.append(
+                    f"nonfinite='drop': dropped {bad_rows.size} frame(s) holding "
+                    f"{n_bad} non-finite value(s)"
+                )
+            else:  # interpolate
+                if t is not None:
+                    x = t
+                elif rate is not None:
+                    x = start_time + np.arange(n_frames, dtype=np.float64) / rate
+                else:
+                    x = np.arange(n_frames, dtype=np.float64)
+                out = np.array(arr, copy=True, order="C")
+                for j in np.flatnonzero(~finite.all(axis=0)):
+                    good = finite[:, j]
+                    if not good.any():
+                        raise ValueError(
+                            f"`coeffs` column {j} (mode {mode_list[j]!r}) has no finite value; "
+                            "nonfinite='interpolate' cannot fill it."
+                        )
+                    out[~good, j] = np.interp(x[~good], x[good], out[good, j])
+                out.flags.writeable = False
+                arr = out
+                repairs.append(
+                    f"nonfinite='interpolate': filled {n_bad} non-finite value(s) in "
+                    f"{bad_rows.size} frame(s) by linear interpolation in time"
+                )
+        if repairs:
+            previous = meta.get("repairs", [])
+            meta["repairs"] = (list(previous) if isinstance(previous, list) else [previous]) + (
+                repairs
+            )
+
+        self._coeffs = arr
+        self._rate = rate
+        self._timestamps = t
+        self._start_time = float(t[0]) if t is not None else start_time
+        self._modes = mode_list
+        self._convention = convention
+        self._units = units
+        self._wavelength = wavelength
+        self._metadata = meta
+        self._repairs = tuple(repairs)
+
+    # ------------------------------------------------------------------ construction
+    def _derive(self, **changes: Any) -> ModalLog:
+        """Return a copy with some private fields replaced, skipping validation.
+
+        Preconditions: the caller passes values that are already valid and mutually
+        consistent (e.g. ``_coeffs`` rows match ``_timestamps``).
+        """
+        new = object.__new__(ModalLog)
+        for name in self.__slots__:
+            object.__setattr__(new, name, changes.pop(name, getattr(self, name)))
+        if changes:  # pragma: no cover - programming error
+            raise AttributeError(f"unknown fields {sorted(changes)}")
+        new._modes = list(new._modes)
+        new._metadata = copy.deepcopy(new._metadata)
+        new._repairs = ()
+        return new
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def coeffs(self) -> np.ndarray:
+        """Coefficients ``(T, M)``, read-only (may be a ``numpy.memmap``)."""
+        return self._coeffs
+
+    @property
+    def dtype(self) -> np.dtype:
+        """Floating dtype of the coefficients (float32 or float64)."""
+        return self._coeffs.dtype
+
+    @property
+    def n_frames(self) -> int:
+        """Number of frames ``T``."""
+        return int(self._coeffs.shape[0])
+
+    @property
+    def n_modes(self) -> int:
+        """Number of modes ``M``."""
+        return int(self._coeffs.shape[1])
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(T, M)``."""
+        return (self.n_frames, self.n_modes)
+
+    @property
+    def rate(self) -> float | None:
+        """Sample rate in Hz: as given, else the mean rate of the timestamps, else None."""
+        if self._rate is not None:
+            return self._rate
+        t = self._timestamps
+        if t is not None and t.shape[0] > 1:
+            return float((t.shape[0] - 1) / (t[-1] - t[0]))
+        return None
+
+    @property
+    def timestamps(self) -> np.ndarray | None:
+        """Explicit frame times in seconds, or None when the time axis comes from ``rate``."""
+        return self._timestamps
+
+    @property
+    def start_time(self) -> float:
+        """Time of the first frame in seconds."""
+        return self._start_time
+
+    @property
+    def times(self) -> np.ndarray | None:
+        """Frame times ``(T,)`` in seconds (None if the log has no rate nor timestamps)."""
+        if self._timestamps is not None:
+            return self._timestamps
+        if self._rate is None:
+            return None
+        return self._start_time + np.arange(self.n_frames, dtype=np.float64) / self._rate
+
+    @property
+    def duration(self) -> float | None:
+        """Time span covered, ``n_frames / rate`` in seconds (None without a time axis)."""
+        rate = self.rate
+        if rate is None:
+            return 0.0 if self._timestamps is not None else None
+        return self.n_frames / rate
+
+    @property
+    def modes(self) -> list:
+        """Mode of each column: int indices in ``convention`` or str labels."""
+        return list(self._modes)
+
+    @property
+    def labels(self) -> list[str]:
+        """Column labels: ``"Z4"`` (Noll), ``"A4"`` (ANSI), ``"F4"`` (Fringe) or the labels."""
+        if self._convention == "labels":
+            return list(self._modes)
+        prefix = _PREFIX[self._convention]
+        return [f"{prefix}{j}" for j in self._modes]
+
+    @property
+    def convention(self) -> str:
+        """Indexing convention of ``modes``."""
+        return self._convention
+
+    @property
+    def units(self) -> str:
+        """Units of the coefficients: "rad", "nm", "um" or "waves"."""
+        return self._units
+
+    @property
+    def wavelength(self) -> float | None:
+        """Wavelength in metres at which phase is defined, or None."""
+        return self._wavelength
+
+    @property
+    def metadata(self) -> dict:
+        """A copy of the free-form metadata dict."""
+        return copy.deepcopy(self._metadata)
+
+    @property
+    def repairs(self) -> tuple[str, ...]:
+        """Repairs made when this log was built (non-finite handling)."""
+        return self._repairs
+
+    def __len__(self) -> int:
+        return self.n_frames
+
+    def __repr__(self) -> str:
+        rate = "unknown" if self.rate is None else f"{self.rate:g} Hz"
+        labels = self.labels
+        shown = ", ".join(labels[:4]) + (", ..." if len(labels) > 4 else "")
+        return (
+            f"ModalLog({self.n_frames} frames x {self.n_modes} modes [{shown}], {self._convention}, "
+            f"{self._units}, rate={rate}, dtype={self.dtype})"
+        )
+
+    # ------------------------------------------------------------------ selection
+    def __getitem__(self, key) -> ModalLog:
+        """Frames ``log[i0:i1:step]`` (positive step) as a new log."""
+        if not isinstance(key, slice):
+            raise TypeError(
+                f"a ModalLog is indexed by a frame slice such as log[10:100]; got {key!r} "
+                "(use log.coeffs for array indexing, log.select(modes=...) for modes)."
+            )
+        start, stop, step = key.indices(self.n_frames)
+        if step <= 0:
+            raise ValueError(f"frame slice step must be positive; got {step}.")
+        if len(range(start, stop, step)) == 0:
+            raise ValueError(
+                f"frame slice {key} selects no frame of a log with {self.n_frames} frames."
+            )
+        return self._take_frames(slice(start, stop, step))
+
+    def _take_frames(self, sl: slice) -> ModalLog:
+        changes: dict[str, Any] = {"_coeffs": self._coeffs[sl]}
+        if self._timestamps is not None:
+            t = self._timestamps[sl]
+            changes["_timestamps"] = t
+            changes["_start_time"] = float(t[0])
+            if self._rate is not None and sl.step != 1:
+                changes["_rate"] = self._rate / sl.step
+        elif self._rate is not None:
+            changes["_start_time"] = self._start_time + sl.start / self._rate
+            changes["_rate"] = self._rate / sl.step
+        return self._derive(**changes)
+
+    def _time_index(self, when: float) -> int:
+        """First frame index whose time is >= ``when``."""
+        if self._timestamps is not None:
+            return int(np.searchsorted(self._timestamps, when, side="left"))
+        i = math.ceil((when - self._start_time) * self._rate)
+        i = min(max(i, 0), self.n_frames)
+
+        def time(k):
+            return self._start_time + k / self._rate
+
+        while i > 0 and time(i - 1) >= when:
+            i -= 1
+        while i < self.n_frames and time(i) < when:
+            i += 1
+        return i
+
+    def _column_indices(self, modes, name: str) -> list[int]:
+        if isinstance(modes, str | numbers.Integral):
+            modes = [modes]
+        try:
+            wanted = list(modes)
+        except TypeError as exc:
+            raise TypeError(f"`{name}` must be a sequence of modes; got {modes!r}.") from exc
+        labels = self.labels
+        out = []
+        for item in wanted:
+            if isinstance(item, bool):
+                raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
+            if isinstance(item, numbers.Integral) and self._convention != "labels":
+                key = int(item)
+                if key in self._modes:
+                    out.append(self._modes.index(key))
+                    continue
+            elif isinstance(item, str):
+                if item in labels:
+                    out.append(labels.index(item))
+                    continue
+            else:
+                raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
+            raise ValueError(
+                f"`{name}` entry {item!r} is not a mode of this log; its modes are "
+                f"{labels[0]}..{labels[-1]} ({self._convention})."
+            )
+        return out
+
+    def _take_modes(self, columns: list[int]) -> ModalLog:
+        if not columns:
+            raise ValueError("the selection leaves no mode; a log needs at least one.")
+        cols = np.asarray(columns)
+        n = self.n_modes
+        if cols.size and np.array_equal(cols, np.arange(cols[0], cols[0] + cols.size)):
+            data = self._coeffs[:, cols[0] : cols[0] + cols.size]  # a view (no copy)
+            if cols.size == n:
+                data = self._coeffs
+        else:
+            data = np.ascontiguousarray(self._coeffs[:, cols])
+            data.flags.writeable = False
+        return self._derive(_coeffs=data, _modes=[self._modes[c] for c in columns])
+
+    def select(self, modes=None, time=None) -> ModalLog:
+        """Return the log restricted to some modes and/or a time window.
+
+        Parameters
+        ----------
+        modes : sequence of int or str, optional
+            Modes to keep, in the wanted column order: indices in the log's convention
+            or labels (``"Z4"``).
+        time : tuple of (float or None, float or None), optional
+            ``(t0, t1)`` in seconds; keeps frames with ``t0 <= t < t1`` (None = open).
+
+        Returns
+        -------
+        ModalLog
+            A new log (coefficients are a view where possible).
+
+        Raises
+        ------
+        ValueError
+            Unknown mode, empty selection, or a time window on a log with no time axis.
+        """
+        out = self
+        if modes is not None:
+            out = out._take_modes(out._column_indices(modes, "modes"))
+        if time is not None:
+            if out.times is None:
+                raise ValueError(
+                    "`time` selection needs a time axis; this log has no rate nor timestamps."
+                )
+            try:
+                t0, t1 = time
+            except (TypeError, ValueError) as exc:
+                raise TypeError(f"`time` must be a pair (t0, t1) in seconds; got {time!r}.") from exc
+            i0 = 0 if t0 is None else out._time_index(check_real(t0, "time[0]"))
+            i1 = out.n_frames if t1 is None else out._time_index(check_real(t1, "time[1]"))
+            if i1 <= i0:
+                raise ValueError(
+                    f"`time` window {time!r} s selects no frame (log spans "
+                    f"{out.times[0]!r} .. {out.times[-1]!r} s)."
+                )
+            out = out._take_frames(slice(i0, i1, 1))
+        return out
+
+    def drop_modes(self, modes) -> ModalLog:
+        """Return the log without the given modes (indices or labels)."""
+        drop = set(self._column_indices(modes, "modes"))
+        return self._take_modes([c for c in range(self.n_modes) if c not in drop])
+
+    def without_piston_tiptilt(self) -> ModalLog:
+        """Return the log without piston, tip and tilt (those of them it holds)."""
+        if self._convention == "labels":
+            raise ValueError(
+                "without_piston_tiptilt needs Zernike modes; this log has convention='labels'."
+            )
+        ptt = set(_PISTON_TIPTILT[self._convention])
+        return self._take_modes([c for c, j in enumerate(self._modes) if j not in ptt])
+
+    # ------------------------------------------------------------------ conversions
+    def to_units(self, units: str, wavelength: float | None = None) -> ModalLog:
+        """Return the log in other units.
+
+        Parameters
+        ----------
+        units : {"rad", "nm", "um", "waves"}
+            Target units.
+        wavelength : float, optional
+            Wavelength in metres. Needed between phase (rad, waves) and OPD (nm, um)
+            if the log has none. When converting *from* phase it must equal the log's
+            wavelength (the one the phase is defined at); converting from OPD it sets
+            the wavelength of the resulting phase.
+
+        Returns
+        -------
+        ModalLog
+            Same dtype; ``phase[rad] = 2 pi OPD / lambda``, ``waves = OPD / lambda``.
+        """
+        units = check_units(units)
+        lam = self._wavelength
+        if wavelength is not None:
+            wavelength = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
+            if wavelength > _MAX_WAVELENGTH:
+                raise ValueError(
+                    f"`wavelength` must be in metres, <= {_MAX_WAVELENGTH}; got {wavelength}."
+                )
+            if (
+                lam is not None
+                and self._units in ("rad", "waves")
+                and not math.isclose(wavelength, lam, rel_tol=1e-12)
+            ):
+                raise ValueError(
+                    f"`wavelength` ({wavelength} m) differs from the wavelength this log's phase "
+                    f"is defined at ({lam} m); convert to 'nm' first to change wavelength."
+                )
+            lam = wavelength
+        factor = unit_scale(self._units, units, lam)
+        if factor == 1.0:
+            data = self._coeffs
+        else:
+            data = np.multiply(self._coeffs, self._coeffs.dtype.type(factor))
+            data.flags.writeable = False
+        return self._derive(_coeffs=data, _units=units, _wavelength=lam)
+
+    def to_convention(self, convention: str) -> ModalLog:
+        """Return the log with modes re-indexed in another Zernike convention.
+
+        Columns are renamed and reordered by increasing index of the new convention;
+        values are unchanged since every convention here is unit-RMS normalised.
+
+        Parameters
+        ----------
+        convention : {"noll", "ansi", "fringe"}
+            Target convention.
+
+        Returns
+        -------
+        ModalLog
+            The re-indexed log.
+        """
+        if not isinstance(convention, str):
+            raise TypeError(f"`convention` must be a str; got {convention!r}.")
+        convention = check_choice(convention.lower(), "convention", CONVENTIONS)
+        if convention == self._convention:
+            return self
+        if "labels" in (convention, self._convention):
+            raise ValueError(
+                f"cannot convert convention {self._convention!r} to {convention!r}: "
+                "labelled (non-Zernike) modes have no index in another convention."
+            )
+        from modalinfo.bases import (
+            ansi_to_noll,
+            fringe_to_noll,
+            noll_to_ansi,
+            noll_to_fringe,
+        )
+
+        to_noll = {"noll": lambda j: j, "ansi": ansi_to_noll, "fringe": fringe_to_noll}
+        from_noll = {"noll": lambda j: j, "ansi": noll_to_ansi, "fringe": noll_to_fringe}
+        src = np.asarray(self._modes, dtype=np.int64)
+        new = np.asarray(from_noll[convention](to_noll[self._convention](src)), dtype=np.int64)
+        order = np.argsort(new, kind="stable")
+        data = np.ascontiguousarray(self._coeffs[:, order])
+        data.flags.writeable = False
+        return self._derive(
+            _coeffs=data, _modes=[int(new[k]) for k in order], _convention=convention
+        )
+
+    def with_metadata(self, **items: Any) -> ModalLog:
+        """Return a copy whose metadata is updated with ``items`` (JSON-serialisable)."""
+        meta = dict(self._metadata)
+        meta.update(items)
+        return self._derive(_metadata=_check_metadata(meta))
+
+    def iter_chunks(self, n_frames: int) -> Iterator[np.ndarray]:
+        """Yield the coefficients in consecutive blocks of at most ``n_frames`` frames.
+
+        Blocks are read-only views ``(n, M)``. For a memory-mapped log the pages of a
+        block are released after the consumer asks for the next one, so iterating a
+        log larger than memory keeps the resident set small.
+        """
+        n_frames = check_int(n_frames, "n_frames", minimum=1)
+        return _row_blocks(self._coeffs, n_frames)
+
+
+# ----------------------------------------------------------------------------- summary
+@dataclass(frozen=True)
+class LogSummary:
+    """Per-mode one-pass statistics of a log (see :func:`summarize`).
+
+    Attributes
+    ----------
+    n_frames : int
+        Number of frames ``T``.
+    labels : list of str
+        Column labels.
+    count : numpy.ndarray, shape (M,)
+        Finite samples per mode.
+    n_nonfinite : numpy.ndarray, shape (M,)
+        NaN/inf samples per mode (skipped by every statistic).
+    mean : numpy.ndarray, shape (M,)
+        Mean, in the log's units.
+    std : numpy.ndarray, shape (M,)
+        Population standard deviation (``ddof=0``).
+    rms : numpy.ndarray, shape (M,)
+        Root mean square ``sqrt(mean(x**2))`` (includes the mean).
+    lag1 : numpy.ndarray, shape (M,)
+        Lag-1 autocorrelation ``sum (x_t - m)(x_{t+1} - m) / sum (x_t - m)^2`` over
+        consecutive finite pairs (the biased ACF estimator of ``statsmodels.acf``).
+    units : str
+        Units of ``mean``, ``std`` and ``rms``.
+    """
+
+    n_frames: int
+    labels: list
+    count: np.ndarray
+    n_nonfinite: np.ndarray
+    mean: np.ndarray
+    std: np.ndarray
+    rms: np.ndarray
+    lag1: np.ndarray
+    units: str
+
+
+def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
+    """Per-mode mean, std, RMS and lag-1 autocorrelation in one chunked pass.
+
+    Welford updates per sample (numerically stable for any offset), so memory is one
+    chunk and a few ``(M,)`` accumulators: a memory-mapped log much larger than RAM
+    is summarised with a small resident set.
+
+    Parameters
+    ----------
+    log : ModalLog or array_like, shape (T, M)
+        The log (non-finite values of a raw array are counted and skipped).
+    chunk_frames : int
+        Frames per chunk.
+    progress : callable, optional
+        Called with the number of frames of each chunk once it is processed
+        (e.g. ``tqdm.update``).
+
+    Returns
+    -------
+    LogSummary
+        The statistics.
+    """
+    from modalinfo.telemetry._kernels import lag1_finalize, welford_lag1_update
+
+    chunk_frames = check_int(chunk_frames, "chunk_frames", minimum=1)
+    if isinstance(log, ModalLog):
+        arr, labels, units = log.coeffs, log.labels, log.units
+    else:
+        arr = _as_coeffs(log)
+        labels, units = [f"col{j}" for j in range(arr.shape[1])], ""
+    m = arr.shape[1]
+    state = np.zeros((8, m), dtype=np.float64)  # see _kernels.welford_lag1_update
+    last = np.full(m, np.nan)
+    bad = np.zeros(m, dtype=np.int64)
+    for block in _row_blocks(arr, chunk_frames):
+        welford_lag1_update(np.ascontiguousarray(block), state, last, bad)
+        if progress is not None:
+            progress(block.shape[0])
+    mean = np.empty(m)
+    std = np.empty(m)
+    rms = np.empty(m)
+    lag1 = np.empty(m)
+    lag1_finalize(state, mean, std, rms, lag1)
+    return LogSummary(
+        n_frames=int(arr.shape[0]),
+        labels=list(labels),
+        count=state[0].astype(np.int64),
+        n_nonfinite=bad,
+        mean=mean,
+        std=std,
+        rms=rms,
+        lag1=lag1,
+        units=units,
+    )

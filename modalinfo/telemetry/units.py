@@ -1,0 +1,177 @@
+"""Units of modal coefficients and the Zernike normalisation of the Fringe convention.
+
+A log's coefficients are in one of four units:
+
+``"rad"``
+    wavefront phase in radians at the sensing wavelength ``lambda``;
+``"waves"``
+    the same phase in waves, ``waves = rad / (2 pi)``;
+``"nm"``, ``"um"``
+    optical path difference (OPD) in nanometres or micrometres.
+
+The two families are linked by ``phase[rad] = 2 pi OPD / lambda`` and
+``waves = OPD / lambda``, so converting between {rad, waves} and {nm, um} needs the
+wavelength (metres). rad <-> waves and nm <-> um do not.
+
+Fringe polynomials (University of Arizona ordering) are classically *peak*
+normalised (``R_n^m(1) = 1``, no ``sqrt(n + 1)`` factor), whereas this package uses
+unit-RMS Zernikes (Noll 1976) in every ordering. The same wavefront is
+``a_rms Z_unit_rms = a_peak Z_peak`` with ``Z_unit_rms = N_nm Z_peak``, hence
+``a_peak = N_nm a_rms`` where ``N_nm = sqrt(n + 1)`` for ``m = 0`` and
+``sqrt(2 (n + 1))`` otherwise (:func:`zernike_rms_normalization`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from modalinfo._validation import check_choice, check_real
+
+__all__ = [
+    "UNITS",
+    "check_units",
+    "unit_scale",
+    "zernike_rms_normalization",
+    "rms_from_peak_normalized",
+    "peak_normalized_from_rms",
+]
+
+#: The units a ``ModalLog`` can carry.
+UNITS = ("rad", "nm", "um", "waves")
+
+# Each unit expressed in its family's base: phase family base is rad, OPD base is metres.
+_PHASE = {"rad": 1.0, "waves": 2.0 * math.pi}
+_OPD = {"nm": 1e-9, "um": 1e-6}
+
+
+def check_units(units, name: str = "units") -> str:
+    """Return ``units`` if it is one of :data:`UNITS`, else raise ``ValueError``."""
+    if not isinstance(units, str):
+        raise TypeError(f"`{name}` must be a str, one of {UNITS}; got {units!r}.")
+    return check_choice(units, name, UNITS)
+
+
+def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) -> float:
+    """Return the factor ``f`` such that ``value[to_units] = f * value[from_units]``.
+
+    Parameters
+    ----------
+    from_units, to_units : {"rad", "nm", "um", "waves"}
+        Source and target units.
+    wavelength : float, optional
+        Wavelength in metres at which phase (rad, waves) is defined; required only
+        when converting between the phase family (rad, waves) and OPD (nm, um).
+
+    Returns
+    -------
+    float
+        Multiplicative factor.
+
+    Raises
+    ------
+    ValueError
+        Unknown units, or a missing or non-positive wavelength where one is needed.
+
+    Examples
+    --------
+    500 nm of OPD at a 500 nm wavelength is one wave, or 2 pi rad:
+
+    >>> unit_scale("nm", "waves", 500e-9)
+    1.0
+    """
+    check_units(from_units, "from_units")
+    check_units(to_units, "to_units")
+    if from_units == to_units:
+        return 1.0
+    if (from_units in _PHASE) == (to_units in _PHASE):
+        table = _PHASE if from_units in _PHASE else _OPD
+        return table[from_units] / table[to_units]
+    if wavelength is None:
+        raise ValueError(
+            f"`wavelength` (metres) is required to convert {from_units!r} to {to_units!r}; "
+            "got None."
+        )
+    lam = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
+    if from_units in _PHASE:  # phase -> OPD: opd[m] = rad * lambda / (2 pi)
+        metres = _PHASE[from_units] * lam / (2.0 * math.pi)
+        return metres / _OPD[to_units]
+    rad = _OPD[from_units] * 2.0 * math.pi / lam  # OPD -> phase
+    return rad / _PHASE[to_units]
+
+
+def zernike_rms_normalization(n, m):
+    """Return the unit-RMS normalisation ``N_nm`` of the Zernike polynomial ``(n, m)``.
+
+    ``N_nm = sqrt(n + 1)`` if ``m == 0`` else ``sqrt(2 (n + 1))`` (Noll 1976, eq. 4).
+
+    Parameters
+    ----------
+    n : int or array_like of int
+        Radial order.
+    m : int or array_like of int
+        Signed azimuthal frequency.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The factor(s).
+    """
+    n = np.asarray(n)
+    m = np.asarray(m)
+    out = np.sqrt(np.where(m == 0, 1.0, 2.0) * (n + 1.0))
+    return float(out) if out.ndim == 0 else out
+
+
+def _fringe_factors(modes) -> np.ndarray:
+    from modalinfo.bases import fringe_to_noll, noll_to_zernike
+
+    modes = np.asarray(modes, dtype=np.int64)
+    if modes.ndim != 1 or modes.size == 0 or np.any(modes < 1):
+        raise ValueError(f"`modes` must be a 1-D list of Fringe indices >= 1; got {modes!r}.")
+    n, m = noll_to_zernike(fringe_to_noll(modes))
+    return np.atleast_1d(zernike_rms_normalization(n, m))
+
+
+def rms_from_peak_normalized(coeffs, modes):
+    """Convert coefficients of peak-normalised Fringe polynomials to unit-RMS ones.
+
+    Parameters
+    ----------
+    coeffs : array_like, shape (T, M) or (M,)
+        Coefficients of classical (peak-normalised) Fringe polynomials, any units.
+    modes : sequence of int, length M
+        Fringe indices (1 = piston) of the columns.
+
+    Returns
+    -------
+    numpy.ndarray
+        Coefficients of the unit-RMS polynomials of the same Fringe indices,
+        ``a_rms = a_peak / N_nm``, same dtype as a floating input.
+    """
+    factors = _fringe_factors(modes)
+    arr = np.asarray(coeffs)
+    return arr / factors.astype(arr.dtype if arr.dtype.kind == "f" else np.float64)
+
+
+def peak_normalized_from_rms(coeffs, modes):
+    """Convert unit-RMS Zernike coefficients (Fringe order) to peak-normalised Fringe ones.
+
+    Inverse of :func:`rms_from_peak_normalized`: ``a_peak = N_nm a_rms``.
+
+    Parameters
+    ----------
+    coeffs : array_like, shape (T, M) or (M,)
+        Coefficients of unit-RMS Zernikes, columns in Fringe order.
+    modes : sequence of int, length M
+        Fringe indices (1 = piston) of the columns.
+
+    Returns
+    -------
+    numpy.ndarray
+        Peak-normalised Fringe coefficients.
+    """
+    factors = _fringe_factors(modes)
+    arr = np.asarray(coeffs)
+    return arr * factors.astype(arr.dtype if arr.dtype.kind == "f" else np.float64)
