@@ -1,0 +1,284 @@
+"""One entry point for every MI and entropy estimator, and reusable estimator objects.
+
+``mutual_information(x, y, method=...)`` dispatches through ``_MI_METHODS``, a dict of
+private functions whose docstrings cite the estimator; ``MutualInformation`` holds one
+variable fixed and caches everything that depends only on it, for searches that score
+many y against the same x (the greedy MI ordering of modes).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import as_float_array, check_choice
+from modalinfo.information.gaussian import GaussianEngine, gaussian_entropy
+from modalinfo.information.histogram import HistogramEngine, histogram_entropy
+from modalinfo.information.kde import KDEEngine, kde_entropy
+from modalinfo.information.ksg import KSGEngine, ksg_entropy
+
+__all__ = ["METHODS", "UNITS", "MutualInformation", "entropy", "mutual_information"]
+
+#: Estimator names accepted by ``method=``.
+METHODS = ("kde", "histogram", "ksg", "gaussian")
+#: Units accepted by ``units=`` and the factor converting from nats.
+UNITS = {"nats": 1.0, "bits": 1.0 / math.log(2.0)}
+#: Minimum number of samples of every estimator.
+MIN_SAMPLES = 10
+
+_ENGINES = {
+    "kde": KDEEngine,
+    "histogram": HistogramEngine,
+    "ksg": KSGEngine,
+    "gaussian": GaussianEngine,
+}
+
+
+def _make_engine(method: str, options: dict[str, Any]):
+    cls = _ENGINES[method]
+    allowed = [p for p in inspect.signature(cls.__init__).parameters if p != "self"]
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise TypeError(
+            f"method={method!r} does not accept option(s) {', '.join(unknown)}; "
+            f"allowed: {', '.join(allowed) if allowed else 'none'}."
+        )
+    return cls(**options)
+
+
+def _as_sample(value: Any, name: str) -> np.ndarray:
+    return as_float_array(value, name, ndim=1, min_length=MIN_SAMPLES)
+
+
+def _is_constant(a: np.ndarray) -> bool:
+    return bool(a[0] == a.min() == a.max())
+
+
+def _mi_kde(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
+    """Gaussian-KDE MI with a data-covariance kernel, FFT on a grid, LOO resubstitution.
+
+    Moon, Rajagopalan & Lall, Phys. Rev. E 52, 2318 (1995), eq. (10) with the
+    bandwidth matrix h^2 S of Silverman (1986, eq. 4.7); grid computation after
+    Wand & Jones (1995, app. D). See :mod:`modalinfo.information.kde` for the maths.
+    """
+    return _make_engine("kde", options).fit(x).score(y)
+
+
+def _mi_histogram(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
+    """Plug-in MI of a joint histogram with the Miller-Madow correction.
+
+    Miller (1955); Paninski, Neural Comput. 15, 1191 (2003), eq. (3.4); bin number of
+    Hacine-Gharbi & Ravier, Pattern Recognit. Lett. 101 (2018).
+    """
+    return _make_engine("histogram", options).fit(x).score(y)
+
+
+def _mi_ksg(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
+    """KSG estimator 1: Kraskov, Stoegbauer & Grassberger, Phys. Rev. E 69, 066138, eq. (8)."""
+    return _make_engine("ksg", options).fit(x).score(y)
+
+
+def _mi_gaussian(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
+    """Gaussian MI ``-0.5 ln(1 - r^2)``: Cover & Thomas (2006), Example 8.5.1."""
+    return _make_engine("gaussian", options).fit(x).score(y)
+
+
+_MI_METHODS = {
+    "kde": _mi_kde,
+    "histogram": _mi_histogram,
+    "ksg": _mi_ksg,
+    "gaussian": _mi_gaussian,
+}
+
+
+def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
+                       **options: Any) -> float:
+    """Mutual information I(X; Y) between two 1-D continuous samples.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        Paired samples (n >= 10, finite). Any units; MI is dimensionless.
+    method : {"kde", "histogram", "ksg", "gaussian"}
+        Estimator:
+
+        - ``"kde"``: Gaussian kernel following the data covariance, on a grid by FFT,
+          leave-one-out resubstitution. Options ``bandwidth`` ("scott", "silverman",
+          "cv" or a float factor h), ``grid_size`` (256), ``copula`` (False).
+          Bias at n = 1e4 on Gaussian pairs: within 0.01 nats for rho <= 0.9.
+        - ``"histogram"``: plug-in estimate on equal-width (or equiprobable) bins with
+          the Miller-Madow correction. Options ``bins`` ("hacine-gharbi", "fd",
+          "scott", "sturges", "sqrt", an int, or a pair (bx, by)),
+          ``bias_correction`` ("miller-madow" or "none"), ``binning`` ("uniform" or
+          "quantile"). The default bin number per axis,
+          ``round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt(2))`` with r the sample
+          correlation, is the MSE-optimal rule for the joint entropy of
+          Hacine-Gharbi & Ravier (2018); it grows like n^(1/4) at r = 0 and adds
+          bins as the joint density narrows. Measured bias at n = 1e4 (20 seeds):
+          +0.003, +0.001, -0.005, -0.030 nats at rho = 0, 0.3, 0.6, 0.9. The
+          Freedman-Diaconis rule (~n^(1/3) narrow bins) overestimates MI even after
+          Miller-Madow (+0.04 nats at rho = 0.3, n = 1e4).
+        - ``"ksg"``: Kraskov et al. (2004) estimator 1, option ``k`` (3).
+        - ``"gaussian"``: ``-0.5 ln(1 - r^2)``; blind to non-linear dependence.
+    units : {"nats", "bits"}
+        Units of the result.
+    **options
+        Estimator options listed above; an unknown option raises ``TypeError``.
+
+    Returns
+    -------
+    float
+        Estimated MI in ``units``. If x or y is constant the MI is 0.0 (a constant
+        carries no information), not NaN. Estimates may be slightly negative near
+        independence (bias corrections are not clipped). An exactly linear relation
+        gives a large finite value for "kde" and "gaussian" (1 - r^2 is floored at
+        1e-15) and H(binned x) for "histogram".
+
+    Raises
+    ------
+    ValueError
+        If x or y is not 1-D, has fewer than 10 samples or non-finite values, if
+        their lengths differ, or if ``method``, ``units`` or an option is invalid.
+    TypeError
+        If an option is unknown for the method or has the wrong type.
+    """
+    return MutualInformation(method, units, **options).estimate(x, y)
+
+
+class MutualInformation:
+    """Reusable MI estimator holding one variable fixed.
+
+    ``MutualInformation(method, units, **options).fit(x)`` caches what depends only on
+    x: its bin indices and range (histogram), its standardised or copula scores and
+    marginal kernel entropy (KDE), its sorted standardised values (KSG), its
+    normalised centred vector (Gaussian). ``.score(y)`` then costs only the y-side
+    work, so a greedy search that holds x fixed and varies y pays once for x.
+
+    Parameters
+    ----------
+    method : {"kde", "histogram", "ksg", "gaussian"}
+        Estimator (see :func:`mutual_information`).
+    units : {"nats", "bits"}
+        Units of the scores.
+    **options
+        Estimator options (see :func:`mutual_information`); validated here.
+
+    Attributes
+    ----------
+    n_samples_ : int
+        Length of the fitted x (set by :meth:`fit`).
+    """
+
+    def __init__(self, method: str = "histogram", units: str = "nats", **options: Any):
+        self.method = check_choice(method, "method", METHODS)
+        self.units = check_choice(units, "units", tuple(UNITS))
+        self.options = dict(options)
+        self._engine = _make_engine(self.method, self.options)
+        self._factor = UNITS[self.units]
+
+    def fit(self, x: Any) -> MutualInformation:
+        """Fix x and cache everything that depends only on it.
+
+        Parameters
+        ----------
+        x : array_like, shape (n,)
+            The fixed variable (n >= 10, finite).
+
+        Returns
+        -------
+        MutualInformation
+            ``self``.
+        """
+        x = _as_sample(x, "x")
+        self.n_samples_ = x.shape[0]
+        self._x_constant = _is_constant(x)
+        if not self._x_constant:
+            self._engine.fit(x)
+        return self
+
+    def score(self, y: Any) -> float:
+        """I(x; y) for the fitted x.
+
+        Parameters
+        ----------
+        y : array_like, shape (n,)
+            Samples paired with the fitted x.
+
+        Returns
+        -------
+        float
+            MI in ``self.units``; 0.0 if x or y is constant.
+        """
+        if not hasattr(self, "n_samples_"):
+            raise RuntimeError("This MutualInformation is not fitted: call .fit(x) first.")
+        y = _as_sample(y, "y")
+        if y.shape[0] != self.n_samples_:
+            raise ValueError(
+                f"`y` must have the same length as `x` ({self.n_samples_}); got {y.shape[0]}."
+            )
+        if self._x_constant or _is_constant(y):
+            return 0.0
+        return float(self._engine.score(y)) * self._factor
+
+    def estimate(self, x: Any, y: Any) -> float:
+        """Fit x and score y in one call (``self.fit(x).score(y)``)."""
+        x = _as_sample(x, "x")
+        y = _as_sample(y, "y")
+        if x.shape[0] != y.shape[0]:
+            raise ValueError(
+                f"`x` and `y` must have the same length; got {x.shape[0]} and {y.shape[0]}."
+            )
+        return self.fit(x).score(y)
+
+
+_ENTROPY_METHODS = {
+    "histogram": histogram_entropy,
+    "kde": kde_entropy,
+    "ksg": ksg_entropy,
+    "gaussian": gaussian_entropy,
+}
+
+
+def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) -> float:
+    """Differential entropy of a 1-D continuous sample.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Samples (n >= 10, finite), in any unit u; the entropy is that of the density
+        in 1/u (it shifts by ln(c) when x is scaled by c).
+    method : {"kde", "histogram", "ksg", "gaussian"}
+        ``"kde"``: leave-one-out resubstitution of a Gaussian KDE on a grid (options
+        ``bandwidth``, ``grid_size``); ``"histogram"``: plug-in entropy plus the log
+        bin width, Miller-Madow corrected (options ``bins`` with default the 1-D rule
+        of Hacine-Gharbi et al. 2012, ``bias_correction``, ``binning``); ``"ksg"``:
+        Kozachenko-Leonenko k-NN estimate (option ``k``); ``"gaussian"``:
+        0.5 ln(2 pi e s^2).
+    units : {"nats", "bits"}
+        Units of the result.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    float
+        Entropy in ``units``; ``-inf`` for a constant sample (a point mass has no
+        finite differential entropy).
+    """
+    check_choice(method, "method", METHODS)
+    check_choice(units, "units", tuple(UNITS))
+    x = _as_sample(x, "x")
+    if _is_constant(x):
+        return -math.inf
+    fn = _ENTROPY_METHODS[method]
+    allowed = [p for p in inspect.signature(fn).parameters if p != "x"]
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise TypeError(
+            f"entropy method={method!r} does not accept option(s) {', '.join(unknown)}; "
+            f"allowed: {', '.join(allowed) if allowed else 'none'}."
+        )
+    return float(fn(x, **options)) * UNITS[units]

@@ -1,0 +1,254 @@
+"""Gaussian-kernel density (KDE) estimators of mutual information and entropy.
+
+The maths
+---------
+The joint density of z = (x, y) is estimated with a Gaussian kernel whose covariance
+follows the data covariance, ``H = h^2 S`` (S the sample covariance, h the bandwidth
+factor), as ``scipy.stats.gaussian_kde`` does:
+
+    f(z) = (1/n) sum_j N(z - z_j; h^2 S).
+
+The marginals of this joint estimate are 1-D Gaussian KDEs of x and of y with
+bandwidths ``h s_x`` and ``h s_y``; those are used for the marginal entropies, so the
+three densities are mutually consistent. MI is invariant under *separate* invertible
+maps of x and of y (not under general linear maps of the pair), so we first
+standardise each variable, u = (x - mean) / s_x and v = (y - mean) / s_y; the
+standardised pair has covariance [[1, r], [r, 1]]. Its Cholesky whitening
+``w = (v - r u) / sqrt(1 - r^2)`` gives a pair (u, w) of identity covariance, where
+the kernel becomes isotropic, N(0, h^2 I), so it is separable and is sampled on a
+square grid. A density transforms with the Jacobian, f_uv(u, v) = f_uw(u, w) /
+sqrt(1 - r^2), hence
+
+    H(U, V) = H(U, W) + 0.5 ln(1 - r^2),
+    I(X; Y) = H(U) + H(V) - H(U, W) - 0.5 ln(1 - r^2).
+
+The Gaussian part of the dependence appears exactly as the last term; the kernel
+estimates add the non-Gaussian correction. For Gaussian data, smoothing with a kernel
+proportional to the covariance inflates every entropy by terms that cancel in the MI
+(the smoothed joint (1 + h^2) S has the same correlation), which is why this kernel
+is nearly unbiased at all rho while a product kernel with per-axis bandwidths is not
+(about -0.16 nats at rho = 0.9, n = 1e4).
+
+Entropies are resubstitution estimates H = -(1/n) sum_i ln f_{-i}(z_i) with the
+leave-one-out density f_{-i} (Hall & Morton 1993; Beirlant et al. 1997, sec. 3.2).
+
+Computation (Wand & Jones 1995, app. D; Silverman 1982): samples are linearly binned
+onto a grid (square cells of side delta), the grid is convolved with the sampled
+kernel by FFT (``scipy.signal.fftconvolve``) and the density is read back at each
+sample by (bi)linear interpolation with the same cell indices. Cost O(n + G^2 log G).
+Binning and interpolation each add a variance delta^2 / 6 per axis, so the sampled
+kernel uses h_grid^2 = h^2 - delta^2 / 3 to keep the effective bandwidth at h. The
+leave-one-out step removes each sample's own contribution *as computed on the grid*
+(see ``_kernels.loo_log_density_sum_1d``), rescaled by n / (n - 1). The kernel is
+truncated at 5 h; a sample with no other sample within that radius gets the density
+floor of one neighbour at the truncation radius, exp(-12.5) k(0) / (n - 1) per axis.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+from scipy.signal import fftconvolve
+from scipy.special import ndtri
+from scipy.stats import rankdata
+
+from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.information import _kernels as kern
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR
+
+__all__ = ["KDEEngine", "kde_entropy", "bandwidth_factor", "copula_scores"]
+
+_BW_RULES = ("scott", "silverman", "cv")
+_TRUNCATE = 5.0
+
+
+def bandwidth_factor(rule: str | float, n: int, d: int) -> float:
+    """Bandwidth factor h (kernel covariance h^2 S) of a rule for n samples in d dims.
+
+    ``"scott"``: n^(-1/(d+4)) (Scott 1992, eq. 6.42); ``"silverman"``:
+    (n (d + 2) / 4)^(-1/(d+4)) (Silverman 1986, eq. 4.14), as ``scipy.stats.gaussian_kde``.
+    In d = 2 the two rules coincide. A float is returned unchanged.
+    """
+    if isinstance(rule, str):
+        if rule == "scott":
+            return float(n ** (-1.0 / (d + 4)))
+        return float((n * (d + 2) / 4.0) ** (-1.0 / (d + 4)))
+    return float(rule)
+
+
+def copula_scores(x: np.ndarray) -> np.ndarray:
+    """Return the normal scores ``Phi^-1(rank / (n + 1))`` (average ranks for ties), shape (n,)."""
+    n = x.shape[0]
+    return ndtri(rankdata(x) / (n + 1.0))
+
+
+def _standardise(x: np.ndarray, copula: bool) -> np.ndarray:
+    z = copula_scores(x) if copula else x
+    z = z - z.mean()
+    return np.ascontiguousarray(z / math.sqrt(float(z @ z) / z.shape[0]))
+
+
+def _kernel_1d(h: float, delta: float) -> tuple[np.ndarray, float]:
+    """Return a sampled Gaussian density kernel (per unit length), bandwidth h, step delta.
+
+    Returns the kernel (2L+1,) and the grid-kernel sigma. The variance added by
+    linear binning and interpolation (delta^2 / 3) is subtracted from h^2, keeping at
+    least (h / 2)^2.
+    """
+    sig = math.sqrt(max(h * h - delta * delta / 3.0, 0.25 * h * h))
+    half = max(1, int(math.ceil(_TRUNCATE * sig / delta)))
+    t = np.arange(-half, half + 1) * (delta / sig)
+    ker = np.exp(-0.5 * t * t)
+    ker /= ker.sum() * delta
+    return ker, sig
+
+
+def _entropy_1d(u: np.ndarray, h: float, grid_size: int) -> float:
+    """LOO resubstitution entropy (nats) of a 1-D Gaussian KDE with bandwidth h."""
+    n = u.shape[0]
+    lo = float(u.min()) - (_TRUNCATE + 1.0) * h
+    hi = float(u.max()) + (_TRUNCATE + 1.0) * h
+    delta = (hi - lo) / (grid_size - 1)
+    ker, _ = _kernel_1d(h, delta)
+    grid = np.empty(grid_size)
+    idx = np.empty(n, dtype=np.int64)
+    frac = np.empty(n)
+    kern.linear_bin_1d(u, lo, 1.0 / delta, grid, idx, frac)
+    dens = fftconvolve(grid, ker, mode="same") / n
+    c = ker.shape[0] // 2
+    floor = math.exp(-0.5 * _TRUNCATE**2) * ker[c] / (n - 1.0)
+    acc = kern.loo_log_density_sum_1d(dens, idx, frac, float(n), ker[c], ker[c + 1], floor)
+    return -acc / n
+
+
+class _Grid2D:
+    """Linear binning of a whitened pair, reusable for several bandwidths."""
+
+    def __init__(self, u: np.ndarray, w: np.ndarray, grid_size: int, pad: float):
+        n = u.shape[0]
+        lo_u, hi_u = float(u.min()) - pad, float(u.max()) + pad
+        lo_w, hi_w = float(w.min()) - pad, float(w.max()) + pad
+        self.delta = max(hi_u - lo_u, hi_w - lo_w) / (grid_size - 1)
+        gu = int(math.ceil((hi_u - lo_u) / self.delta)) + 2
+        gw = int(math.ceil((hi_w - lo_w) / self.delta)) + 2
+        self.n = n
+        self.grid = np.empty((gu, gw))
+        self.iu = np.empty(n, dtype=np.int64)
+        self.fu = np.empty(n)
+        self.iv = np.empty(n, dtype=np.int64)
+        self.fv = np.empty(n)
+        kern.linear_bin_2d(u, w, lo_u, lo_w, 1.0 / self.delta, self.grid, self.iu, self.fu,
+                        self.iv, self.fv)
+
+    def entropy(self, h: float) -> float:
+        """LOO resubstitution entropy (nats) of the isotropic KDE N(0, h^2 I)."""
+        ker, _ = _kernel_1d(h, self.delta)
+        ker2 = np.outer(ker, ker)
+        dens = fftconvolve(self.grid, ker2, mode="same") / self.n
+        c = ker.shape[0] // 2
+        floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
+        acc = kern.loo_log_density_sum_2d(dens, self.iu, self.fu, self.iv, self.fv,
+                                       float(self.n), ker[c], ker[c + 1], floor)
+        return -acc / self.n
+
+
+class KDEEngine:
+    """KDE mutual information with the standardised (or copula) x cached.
+
+    Parameters
+    ----------
+    bandwidth : {"scott", "silverman", "cv"} or float
+        Bandwidth factor h of the joint kernel (covariance h^2 S): Scott's or
+        Silverman's rule for d = 2 (identical: n^(-1/6)), a positive float, or
+        ``"cv"``: the h maximising the leave-one-out likelihood of the joint sample
+        (equivalently minimising the LOO joint entropy), searched over
+        [0.2, 3] x Scott's factor.
+    grid_size : int
+        Grid points along the longer axis of the joint grid (>= 32); the 1-D
+        marginal grids use 4 x grid_size points.
+    copula : bool
+        Replace each variable by its normal scores Phi^-1(rank / (n + 1)) first
+        (Gaussian-copula transform; MI is invariant under it in the large-n limit).
+    """
+
+    def __init__(self, *, bandwidth: Any = "scott", grid_size: int = 256, copula: bool = False):
+        if isinstance(bandwidth, str):
+            self.bandwidth = check_choice(bandwidth, "bandwidth", _BW_RULES)
+        else:
+            self.bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
+        self.grid_size = check_int(grid_size, "grid_size", minimum=32)
+        if not isinstance(copula, bool | np.bool_):
+            raise TypeError(f"`copula` must be a bool; got {copula!r}.")
+        self.copula = bool(copula)
+
+    def fit(self, x: np.ndarray) -> KDEEngine:
+        """Cache the standardised (or copula) scores of x and its marginal entropy."""
+        self._u = _standardise(x, self.copula)
+        self._n = x.shape[0]
+        self._hu: dict[float, float] = {}
+        return self
+
+    def _marginal_u(self, h: float) -> float:
+        val = self._hu.get(h)
+        if val is None:
+            val = _entropy_1d(self._u, h, 4 * self.grid_size)
+            if len(self._hu) > 32:
+                self._hu.clear()
+            self._hu[h] = val
+        return val
+
+    def score(self, y: np.ndarray) -> float:
+        """KDE MI estimate in nats (y validated, same length, not constant)."""
+        n = self._n
+        u = self._u
+        v = _standardise(y, self.copula)
+        r = float(u @ v) / n
+        one_minus = max(1.0 - r * r, ONE_MINUS_R2_FLOOR)
+        s = math.sqrt(one_minus)
+        w = (v - r * u) / s
+        if self.bandwidth == "cv":
+            h0 = bandwidth_factor("scott", n, 2)
+            grid = _Grid2D(u, w, self.grid_size, (_TRUNCATE + 1.0) * 3.0 * h0)
+            res = minimize_scalar(lambda t: grid.entropy(h0 * math.exp(t)),
+                                  bounds=(math.log(0.2), math.log(3.0)), method="bounded",
+                                  options={"xatol": 0.02})
+            h = h0 * math.exp(float(res.x))
+            h_uw = float(res.fun)
+        else:
+            h = bandwidth_factor(self.bandwidth, n, 2)
+            grid = _Grid2D(u, w, self.grid_size, (_TRUNCATE + 1.0) * h)
+            h_uw = grid.entropy(h)
+        h_u = self._marginal_u(h)
+        h_v = _entropy_1d(v, h, 4 * self.grid_size)
+        return h_u + h_v - h_uw - 0.5 * math.log(one_minus)
+
+
+def kde_entropy(x: np.ndarray, *, bandwidth: Any = "scott", grid_size: int = 1024) -> float:
+    """Differential entropy (nats) of a 1-D sample by a Gaussian KDE.
+
+    Leave-one-out resubstitution with bandwidth ``h s`` (s the sample standard
+    deviation, h from :func:`bandwidth_factor` with d = 1), on a grid of
+    ``grid_size`` points; H(X) = H(U) + ln s for the standardised U. ``"cv"`` picks
+    h by leave-one-out likelihood over [0.2, 3] x Scott's factor.
+    Preconditions: x validated, 1-D, not constant.
+    """
+    if isinstance(bandwidth, str):
+        check_choice(bandwidth, "bandwidth", _BW_RULES)
+    else:
+        bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
+    grid_size = check_int(grid_size, "grid_size", minimum=32)
+    n = x.shape[0]
+    sd = float(np.std(x))
+    u = (x - x.mean()) / sd
+    if bandwidth == "cv":
+        h0 = bandwidth_factor("scott", n, 1)
+        res = minimize_scalar(lambda t: _entropy_1d(u, h0 * math.exp(t), grid_size),
+                              bounds=(math.log(0.2), math.log(3.0)), method="bounded",
+                              options={"xatol": 0.02})
+        hu = float(res.fun)
+    else:
+        hu = _entropy_1d(u, bandwidth_factor(bandwidth, n, 1), grid_size)
+    return hu + math.log(sd)
