@@ -105,7 +105,7 @@ def _scan_rows(arr: np.ndarray) -> int:
 
 
 def _count_nonfinite(arr: np.ndarray) -> int:
-    """Number of NaN/inf values in ``arr``, scanning in blocks (cheap when all finite)."""
+    """Count NaN/inf values in ``arr``, scanning in blocks (cheap when all finite)."""
     bad = 0
     for block in _row_blocks(arr, _scan_rows(arr)):
         if np.isfinite(block.sum(dtype=np.float64)):
@@ -548,8 +548,8 @@ class ModalLog:
         labels = self.labels
         shown = ", ".join(labels[:4]) + (", ..." if len(labels) > 4 else "")
         return (
-            f"ModalLog({self.n_frames} frames x {self.n_modes} modes [{shown}], {self._convention}, "
-            f"{self._units}, rate={rate}, dtype={self.dtype})"
+            f"ModalLog({self.n_frames} frames x {self.n_modes} modes [{shown}], "
+            f"{self._convention}, {self._units}, rate={rate}, dtype={self.dtype})"
         )
 
     # ------------------------------------------------------------------ selection
@@ -673,7 +673,9 @@ class ModalLog:
             try:
                 t0, t1 = time
             except (TypeError, ValueError) as exc:
-                raise TypeError(f"`time` must be a pair (t0, t1) in seconds; got {time!r}.") from exc
+                raise TypeError(
+                    f"`time` must be a pair (t0, t1) in seconds; got {time!r}."
+                ) from exc
             i0 = 0 if t0 is None else out._time_index(check_real(t0, "time[0]"))
             i1 = out.n_frames if t1 is None else out._time_index(check_real(t1, "time[1]"))
             if i1 <= i0:
