@@ -1,0 +1,35 @@
+"""Modal bases of the pupil: Zernike polynomials, K-L modes and turbulence statistics."""
+
+from modalinfo.bases.indexing import (
+    ansi_to_noll,
+    ansi_to_zernike,
+    fringe_to_noll,
+    fringe_to_zernike,
+    noll_to_ansi,
+    noll_to_fringe,
+    noll_to_zernike,
+    zernike_to_ansi,
+    zernike_to_fringe,
+    zernike_to_noll,
+)
+from modalinfo.bases.turbulence import (
+    noll_residual_variance,
+    zernike_covariance,
+    zernike_variance,
+)
+
+__all__ = [
+    "noll_to_zernike",
+    "zernike_to_noll",
+    "ansi_to_zernike",
+    "zernike_to_ansi",
+    "fringe_to_zernike",
+    "zernike_to_fringe",
+    "noll_to_ansi",
+    "ansi_to_noll",
+    "noll_to_fringe",
+    "fringe_to_noll",
+    "zernike_covariance",
+    "zernike_variance",
+    "noll_residual_variance",
+]

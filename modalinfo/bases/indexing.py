@@ -1,0 +1,221 @@
+"""Zernike index conventions: Noll, ANSI/OSA and Fringe (University of Arizona).
+
+Every convention maps a single index to the radial order ``n >= 0`` and the signed
+azimuthal frequency ``m`` with ``|m| <= n`` and ``n - |m|`` even. ``m > 0`` means a
+``cos(m theta)`` mode and ``m < 0`` a ``sin(|m| theta)`` mode, as in ANSI/OSA.
+
+- Noll (1976), ``j >= 1``: modes ordered by ``n``, then ``|m|``; for ``m != 0`` the even
+  ``j`` is the cosine mode and the odd ``j`` the sine mode. ``j = 1`` is piston,
+  ``j = 2, 3`` tip/tilt (x, y), ``j = 4`` defocus.
+- ANSI/OSA (ISO 24157), ``j >= 0``: ``j = (n (n + 2) + m) / 2``.
+- Fringe (University of Arizona / Code V), ``j >= 1``:
+  ``j = (1 + (n + |m|) / 2)**2 - 2 |m| + (1 if m < 0 else 0)``.
+
+All functions accept Python ints or integer arrays and return the same kind.
+"""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "noll_to_zernike",
+    "zernike_to_noll",
+    "ansi_to_zernike",
+    "zernike_to_ansi",
+    "fringe_to_zernike",
+    "zernike_to_fringe",
+    "noll_to_ansi",
+    "ansi_to_noll",
+    "noll_to_fringe",
+    "fringe_to_noll",
+]
+
+
+def _as_index(value: Any, name: str, minimum: int | None = None) -> tuple[np.ndarray, bool]:
+    """Return ``value`` as an int64 array and whether it was a scalar."""
+    if isinstance(value, bool | np.bool_):
+        raise TypeError(f"`{name}` must be an int or an integer array; got {value!r}.")
+    if isinstance(value, numbers.Integral):
+        arr = np.asarray(int(value), dtype=np.int64)
+        scalar = True
+    else:
+        arr = np.asarray(value)
+        if arr.dtype == object or not np.issubdtype(arr.dtype, np.integer):
+            raise TypeError(
+                f"`{name}` must be an int or an integer array; got dtype {arr.dtype}"
+                + (f" with value {value!r}." if arr.ndim == 0 else f" and shape {arr.shape}.")
+            )
+        arr = arr.astype(np.int64)
+        scalar = False
+    if minimum is not None and arr.size and int(arr.min()) < minimum:
+        bad = int(arr.min())
+        raise ValueError(f"`{name}` must be >= {minimum}; got {bad}.")
+    return arr, scalar
+
+
+def _out(arr: np.ndarray, scalar: bool):
+    return int(arr) if scalar else arr
+
+
+def _check_nm(n: Any, m: Any) -> tuple[np.ndarray, np.ndarray, bool]:
+    n_arr, n_scalar = _as_index(n, "n", minimum=0)
+    m_arr, m_scalar = _as_index(m, "m")
+    try:
+        n_arr, m_arr = np.broadcast_arrays(n_arr, m_arr)
+    except ValueError as exc:
+        raise ValueError(
+            f"`n` and `m` must broadcast together; got shapes {n_arr.shape} and {m_arr.shape}."
+        ) from exc
+    bad = (np.abs(m_arr) > n_arr) | ((n_arr - np.abs(m_arr)) % 2 != 0)
+    if np.any(bad):
+        k = int(np.flatnonzero(bad.ravel())[0])
+        raise ValueError(
+            "`m` must satisfy |m| <= n with n - |m| even; "
+            f"got n={int(n_arr.ravel()[k])}, m={int(m_arr.ravel()[k])}."
+        )
+    return n_arr.astype(np.int64), m_arr.astype(np.int64), n_scalar and m_scalar
+
+
+def _isqrt(a: np.ndarray) -> np.ndarray:
+    """Exact integer square root of a non-negative int64 array."""
+    r = np.floor(np.sqrt(a.astype(np.float64))).astype(np.int64)
+    r = np.where(r * r > a, r - 1, r)
+    r = np.where((r + 1) * (r + 1) <= a, r + 1, r)
+    return r
+
+
+def noll_to_zernike(j):
+    """Radial order and signed azimuthal frequency of Noll index ``j``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        Noll index, ``j >= 1`` (``1`` is piston).
+
+    Returns
+    -------
+    n, m : int or numpy.ndarray
+        Radial order and signed azimuthal frequency (``m > 0`` cosine, ``m < 0`` sine),
+        same shape as ``j``.
+
+    Raises
+    ------
+    TypeError
+        If ``j`` is not integer.
+    ValueError
+        If ``j < 1``.
+    """
+    jj, scalar = _as_index(j, "j", minimum=1)
+    n = (_isqrt(8 * (jj - 1) + 1) - 1) // 2
+    p = jj - n * (n + 1) // 2
+    k = n % 2
+    m_abs = ((p + k) // 2) * 2 - k
+    m = np.where(jj % 2 == 0, m_abs, -m_abs)
+    return _out(n, scalar), _out(m, scalar)
+
+
+def zernike_to_noll(n, m):
+    """Noll index of the Zernike mode ``(n, m)``.
+
+    Parameters
+    ----------
+    n : int or array_like of int
+        Radial order, ``n >= 0``.
+    m : int or array_like of int
+        Signed azimuthal frequency, ``|m| <= n``, ``n - |m|`` even.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        Noll index ``j >= 1``.
+    """
+    n_arr, m_arr, scalar = _check_nm(n, m)
+    m_abs = np.abs(m_arr)
+    base = n_arr * (n_arr + 1) // 2
+    # The pair (cos, sin) of |m| occupies p = |m| and |m| + 1 (p = 1 for m = 0);
+    # the even one of the two Noll indices is the cosine.
+    j0 = base + np.maximum(m_abs, 1)
+    want_even = m_arr >= 0
+    is_even = j0 % 2 == 0
+    j = np.where((m_arr == 0) | (is_even == want_even), j0, j0 + 1)
+    return _out(j, scalar)
+
+
+def ansi_to_zernike(j):
+    """Radial order and signed azimuthal frequency of ANSI/OSA index ``j >= 0``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        ANSI/OSA index, ``j >= 0`` (``0`` is piston).
+
+    Returns
+    -------
+    n, m : int or numpy.ndarray
+        Radial order and signed azimuthal frequency.
+    """
+    jj, scalar = _as_index(j, "j", minimum=0)
+    n = (_isqrt(8 * jj + 1) - 1) // 2
+    m = 2 * jj - n * (n + 2)
+    return _out(n, scalar), _out(m, scalar)
+
+
+def zernike_to_ansi(n, m):
+    """ANSI/OSA index ``(n (n + 2) + m) / 2`` of the mode ``(n, m)``."""
+    n_arr, m_arr, scalar = _check_nm(n, m)
+    return _out((n_arr * (n_arr + 2) + m_arr) // 2, scalar)
+
+
+def fringe_to_zernike(j):
+    """Radial order and signed azimuthal frequency of Fringe index ``j >= 1``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        Fringe (University of Arizona) index, ``j >= 1`` (``1`` is piston, ``9`` the
+        primary spherical aberration).
+
+    Returns
+    -------
+    n, m : int or numpy.ndarray
+        Radial order and signed azimuthal frequency.
+    """
+    jj, scalar = _as_index(j, "j", minimum=1)
+    q = _isqrt(jj - 1)  # q = (n + |m|) / 2
+    d = (q + 1) ** 2 - jj  # d = 2 |m| - (m < 0)
+    m_abs = (d + 1) // 2
+    m = np.where(d % 2 == 0, m_abs, -m_abs)
+    n = 2 * q - m_abs
+    return _out(n, scalar), _out(m, scalar)
+
+
+def zernike_to_fringe(n, m):
+    """Fringe index of the mode ``(n, m)``."""
+    n_arr, m_arr, scalar = _check_nm(n, m)
+    m_abs = np.abs(m_arr)
+    j = (1 + (n_arr + m_abs) // 2) ** 2 - 2 * m_abs + (m_arr < 0)
+    return _out(j.astype(np.int64), scalar)
+
+
+def noll_to_ansi(j):
+    """ANSI/OSA index of Noll index ``j >= 1``."""
+    return zernike_to_ansi(*noll_to_zernike(j))
+
+
+def ansi_to_noll(j):
+    """Noll index of ANSI/OSA index ``j >= 0``."""
+    return zernike_to_noll(*ansi_to_zernike(j))
+
+
+def noll_to_fringe(j):
+    """Fringe index of Noll index ``j >= 1``."""
+    return zernike_to_fringe(*noll_to_zernike(j))
+
+
+def fringe_to_noll(j):
+    """Noll index of Fringe index ``j >= 1``."""
+    return zernike_to_noll(*fringe_to_zernike(j))
