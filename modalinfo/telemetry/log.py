@@ -172,6 +172,8 @@ def _check_modes(modes: Any, convention: str, n_modes: int) -> list:
                 raise TypeError(
                     f"`modes` must be non-empty str labels when convention='labels'; got {label!r}."
                 )
+            if not label.isprintable():
+                raise ValueError(f"`modes` labels must be printable text; got {label!r}.")
         out = list(modes)
     else:
         out = []
@@ -510,10 +512,14 @@ class ModalLog:
     @property
     def labels(self) -> list[str]:
         """Column labels: ``"Z4"`` (Noll), ``"A4"`` (ANSI), ``"F4"`` (Fringe) or the labels."""
-        if self._convention == "labels":
-            return list(self._modes)
-        prefix = _PREFIX[self._convention]
-        return [f"{prefix}{j}" for j in self._modes]
+        return self._labels_of(self._modes, self._convention)
+
+    @staticmethod
+    def _labels_of(modes: list, convention: str) -> list[str]:
+        if convention == "labels":
+            return [str(m) for m in modes]
+        prefix = _PREFIX.get(convention, "?")
+        return [f"{prefix}{j}" for j in modes]
 
     @property
     def convention(self) -> str:

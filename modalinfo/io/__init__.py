@@ -1,0 +1,211 @@
+"""Readers and writers of telemetry logs: NPZ, CSV, FITS, HDF5 (lossless) and NPY (read).
+
+``save(log, path)`` writes any ``ModalLog`` so that ``load(path)`` gives it back
+exactly: bitwise coefficients (float32 or float64), timestamps or rate, modes,
+convention, units, wavelength and metadata. Writes are atomic and never replace a
+file unless ``overwrite=True``.
+
+``load(path)`` takes the format from the file's content (magic bytes) or else its
+extension, and also opens files written by other software (a plain 2-D array in
+NPY/NPZ, a numeric CSV, a FITS image or table, an HDF5 file with one 2-D dataset);
+``**hints`` supply what such files lack (``rate=``, ``units=``, ``modes=``, ...).
+
+Errors: ``FileNotFoundError`` / ``IsADirectoryError`` / ``FileExistsError``
+(``OSError``) for paths; :class:`LogFormatError` (a ``ValueError``) naming the file
+for truncated, corrupted or unusable content; ``ValueError`` / ``TypeError`` for
+bad hints or invalid log content (e.g. NaN with ``nonfinite="raise"``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from modalinfo.io._common import HINTS, LogFormatError, as_path, check_readable
+from modalinfo.io.csv import read_csv, write_csv
+from modalinfo.io.fits import read_fits, write_fits
+from modalinfo.io.hdf5 import read_hdf5, write_hdf5
+from modalinfo.io.npz import read_npy, read_npz, write_npz
+from modalinfo.telemetry.log import ModalLog
+
+__all__ = [
+    "FORMATS",
+    "HINTS",
+    "LogFormatError",
+    "detect_format",
+    "load",
+    "save",
+    "read_npz",
+    "write_npz",
+    "read_npy",
+    "read_csv",
+    "write_csv",
+    "read_fits",
+    "write_fits",
+    "read_hdf5",
+    "write_hdf5",
+]
+
+#: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
+FORMATS = ("npz", "npy", "csv", "fits", "hdf5")
+
+_EXTENSIONS = {
+    ".npz": "npz",
+    ".npy": "npy",
+    ".csv": "csv",
+    ".txt": "csv",
+    ".dat": "csv",
+    ".tsv": "csv",
+    ".fits": "fits",
+    ".fit": "fits",
+    ".fts": "fits",
+    ".h5": "hdf5",
+    ".hdf5": "hdf5",
+    ".hdf": "hdf5",
+    ".he5": "hdf5",
+}
+_MAGIC = (
+    (b"PK\x03\x04", "npz"),
+    (b"PK\x05\x06", "npz"),  # empty zip
+    (b"\x93NUMPY", "npy"),
+    (b"SIMPLE  =", "fits"),
+    (b"\x89HDF\r\n\x1a\n", "hdf5"),
+)
+
+
+def _from_extension(path: Path) -> str | None:
+    return _EXTENSIONS.get(path.suffix.lower())
+
+
+def detect_format(path) -> str:
+    """Return the format of an existing file: magic bytes first, then the extension.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    str
+        One of :data:`FORMATS`.
+
+    Raises
+    ------
+    LogFormatError
+        An empty file, or binary content of no known format.
+    """
+    path = as_path(path)
+    check_readable(path)
+    with open(path, "rb") as fh:
+        head = fh.read(512)
+    if not head:
+        raise LogFormatError(f"'{path}' is empty")
+    for magic, fmt in _MAGIC:
+        if head.startswith(magic):
+            return fmt
+    by_ext = _from_extension(path)
+    if by_ext is not None and by_ext != "csv":
+        return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 4:  # not just a multi-byte char cut at the end
+            raise LogFormatError(
+                f"'{path}' is neither text (CSV) nor NPZ/NPY/FITS/HDF5 (starts {head[:8]!r})"
+            ) from None
+    return "csv"
+
+
+_READERS = {
+    "npz": read_npz,
+    "npy": read_npy,
+    "csv": read_csv,
+    "fits": read_fits,
+    "hdf5": read_hdf5,
+}
+_WRITERS = {"npz": write_npz, "csv": write_csv, "fits": write_fits, "hdf5": write_hdf5}
+
+
+def _check_fmt(fmt, allowed) -> str:
+    if not isinstance(fmt, str) or fmt.lower() not in allowed:
+        raise ValueError(f"`fmt` must be one of {', '.join(allowed)}; got {fmt!r}.")
+    return fmt.lower()
+
+
+def load(path, fmt: str | None = None, *, mmap: bool = False, **hints) -> ModalLog:
+    """Read a telemetry log.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    fmt : {"npz", "npy", "csv", "fits", "hdf5"}, optional
+        Force a format; by default it is detected from the content, then the
+        extension.
+    mmap : bool
+        Memory-map the coefficients instead of reading them (NPY, uncompressed NPZ,
+        contiguous HDF5); other formats are read in full. Use it for logs larger
+        than memory with :func:`modalinfo.telemetry.summarize`.
+    **hints
+        ``rate`` [Hz], ``timestamps`` [s], ``modes``, ``convention``, ``units``,
+        ``wavelength`` [m], ``metadata``, ``nonfinite``, ``start_time`` [s]: supply
+        what a foreign file lacks. A hint contradicting the file raises
+        ``ValueError``.
+
+    Returns
+    -------
+    ModalLog
+        The log.
+
+    Raises
+    ------
+    FileNotFoundError, IsADirectoryError
+        ``path`` is not a file.
+    LogFormatError
+        Truncated, corrupted or unusable content (a ``ValueError``).
+    ValueError, TypeError
+        Bad ``fmt`` or hints, or content that is not a valid log.
+    """
+    path = as_path(path)
+    check_readable(path)
+    fmt = detect_format(path) if fmt is None else _check_fmt(fmt, FORMATS)
+    reader = _READERS[fmt]
+    if mmap and fmt in ("npz", "npy", "hdf5"):
+        return reader(path, mmap=True, **hints)
+    return reader(path, **hints)
+
+
+def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -> Path:
+    """Write a log losslessly (atomic; never replaces a file unless asked).
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    path : str or os.PathLike
+        Target file.
+    fmt : {"npz", "csv", "fits", "hdf5"}, optional
+        Format; by default from the extension of ``path``.
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError`` naming it.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    path = as_path(path)
+    if fmt is None:
+        fmt = _from_extension(path)
+        if fmt is None or fmt == "npy":
+            raise ValueError(
+                f"cannot tell the format of '{path}' from its extension; use .npz, .csv, "
+                ".fits or .h5, or pass fmt= (npy cannot hold the metadata)."
+            )
+    else:
+        fmt = _check_fmt(fmt, tuple(_WRITERS))
+    if not isinstance(overwrite, bool):
+        raise TypeError(f"`overwrite` must be a bool; got {overwrite!r}.")
+    return _WRITERS[fmt](log, path, overwrite=overwrite)

@@ -1,0 +1,334 @@
+"""Shared pieces of the readers and writers: header, hints, atomic writes, errors.
+
+Every file written by modalinfo carries one JSON *header* (format version, time
+axis, modes, convention, units, wavelength, dtype, metadata and, for formats
+without their own checksum, a SHA-256 of the data). Readers rebuild the log from it
+exactly. Files written by other software lack it; the reader then takes what it can
+from the file and the caller supplies the rest as *hints* (``rate=``, ``units=``,
+``modes=``, ...).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import tempfile
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo.telemetry.log import _SCAN_ELEMENTS, ModalLog
+
+__all__ = ["LogFormatError"]
+
+FORMAT_VERSION = 1
+HEADER_KEY = "modalinfo"
+
+#: Hints a caller may pass to ``load`` / ``read_*`` for what a foreign file lacks.
+HINTS = (
+    "rate",
+    "timestamps",
+    "modes",
+    "convention",
+    "units",
+    "wavelength",
+    "metadata",
+    "nonfinite",
+    "start_time",
+)
+
+
+class LogFormatError(ValueError):
+    """A file is not a readable log: truncated, corrupted or of an unexpected layout.
+
+    A subclass of ``ValueError``; the message names the file and what is wrong.
+    """
+
+
+def as_path(path: Any, name: str = "path") -> Path:
+    """Return ``path`` as a ``Path`` (``TypeError`` for anything but str / PathLike)."""
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(f"`{name}` must be a str or os.PathLike; got {type(path).__name__}.")
+    return Path(path)
+
+
+def check_readable(path: Path) -> None:
+    """Raise ``FileNotFoundError`` / ``IsADirectoryError`` naming ``path`` if it is no file."""
+    if not path.exists():
+        raise FileNotFoundError(f"no such file: '{path}'")
+    if path.is_dir():
+        raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+
+
+@contextlib.contextmanager
+def reading(fmt: str, path: Path) -> Iterator[None]:
+    """Turn any parse failure inside the block into ``LogFormatError`` naming the file.
+
+    ``FileNotFoundError``, ``IsADirectoryError``, ``PermissionError`` (the file
+    cannot be opened at all), ``LogFormatError`` and validation errors raised with
+    an explicit message (``ValueError``/``TypeError`` from ``ModalLog``, re-raised by
+    :func:`build_log`) pass through unchanged.
+    """
+    try:
+        yield
+    except (
+        FileNotFoundError,
+        IsADirectoryError,
+        PermissionError,
+        LogFormatError,
+        _PassthroughError,
+    ):
+        raise
+    except MemoryError as exc:
+        raise LogFormatError(
+            f"corrupt {fmt} file '{path}': declared size does not fit in memory ({exc})"
+        ) from exc
+    except Exception as exc:  # noqa: BLE001 - every parser failure becomes one clear error
+        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        raise LogFormatError(
+            f"corrupt {fmt} file '{path}': {type(exc).__name__}: {detail}".rstrip(": ")
+        ) from exc
+
+
+class _PassthroughError(Exception):
+    """Internal wrapper so validation errors escape :func:`reading` unchanged."""
+
+    def __init__(self, error: Exception) -> None:
+        super().__init__(str(error))
+        self.error = error
+
+
+def log_header(log: ModalLog, *, checksum: bool) -> dict:
+    """Return the JSON-serialisable header describing ``log`` (everything but arrays)."""
+    header = {
+        HEADER_KEY: FORMAT_VERSION,
+        "shape": [log.n_frames, log.n_modes],
+        "dtype": log.dtype.name,
+        # the nominal rate as given (None if the log only has timestamps)
+        "rate": log._rate,  # noqa: SLF001 - io is part of the telemetry contract
+        "start_time": log.start_time,
+        "has_timestamps": log.timestamps is not None,
+        "modes": log.modes,
+        "convention": log.convention,
+        "units": log.units,
+        "wavelength": log.wavelength,
+        "metadata": log.metadata,
+    }
+    if checksum:
+        sums = {"header": _header_digest(header), "coefficients": sha256_of(log.coeffs)}
+        if log.timestamps is not None:
+            sums["timestamps"] = sha256_of(log.timestamps)
+        header["sha256"] = sums
+    return header
+
+
+def _header_digest(header: dict) -> str:
+    """SHA-256 of the canonical JSON of ``header`` without its ``sha256`` entry."""
+    body = {k: v for k, v in header.items() if k != "sha256"}
+    return hashlib.sha256(dumps(body).encode("ascii")).hexdigest()
+
+
+def dumps(header: dict) -> str:
+    """One-line ASCII JSON (exact float reprs; non-ASCII escaped)."""
+    return json.dumps(header, ensure_ascii=True, allow_nan=False, separators=(",", ":"))
+
+
+def parse_header(text: str, fmt: str, path: Path, *, verify: bool = True) -> dict:
+    """Parse and check a header string, or raise ``LogFormatError``.
+
+    With ``verify``, a header that records its own SHA-256 (CSV, HDF5) is checked
+    against it, so an altered unit, mode or metadata value is caught.
+    """
+    try:
+        header = json.loads(text)
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise LogFormatError(f"corrupt {fmt} file '{path}': unreadable header ({exc})") from exc
+    if not isinstance(header, dict) or HEADER_KEY not in header:
+        raise LogFormatError(f"corrupt {fmt} file '{path}': header is not a modalinfo header")
+    if header[HEADER_KEY] != FORMAT_VERSION:
+        raise LogFormatError(
+            f"{fmt} file '{path}' has modalinfo format version {header[HEADER_KEY]!r}; "
+            f"this version reads {FORMAT_VERSION}"
+        )
+    needed = ("shape", "dtype", "modes", "convention", "units", "metadata", "has_timestamps")
+    missing = [k for k in needed if k not in header]
+    if missing:
+        raise LogFormatError(f"corrupt {fmt} file '{path}': header lacks {', '.join(missing)}")
+    if header["dtype"] not in ("float32", "float64"):
+        raise LogFormatError(f"corrupt {fmt} file '{path}': dtype {header['dtype']!r}")
+    shape = header["shape"]
+    if (
+        not isinstance(shape, list)
+        or len(shape) != 2
+        or not all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in shape)
+    ):
+        raise LogFormatError(f"corrupt {fmt} file '{path}': header shape {shape!r}")
+    sums = header.get("sha256")
+    if sums is not None and not isinstance(sums, dict):
+        raise LogFormatError(f"corrupt {fmt} file '{path}': header checksum entry {sums!r}")
+    if (
+        verify
+        and sums is not None
+        and "header" in sums
+        and _header_digest(header) != sums["header"]
+    ):
+        raise LogFormatError(
+            f"corrupt {fmt} file '{path}': header does not match its SHA-256 checksum"
+        )
+    return header
+
+
+def sha256_of(arr: np.ndarray) -> str:
+    """SHA-256 hex digest of ``arr``'s values in C order, hashed block by block."""
+    digest = hashlib.sha256()
+    if arr.ndim == 1:
+        digest.update(np.ascontiguousarray(arr).data)
+        return digest.hexdigest()
+    rows = max(1, _SCAN_ELEMENTS // max(1, arr.shape[1]))
+    for i0 in range(0, arr.shape[0], rows):
+        digest.update(np.ascontiguousarray(arr[i0 : i0 + rows]).data)
+    return digest.hexdigest()
+
+
+def verify_checksum(header: dict, name: str, arr: np.ndarray, fmt: str, path: Path) -> None:
+    """Compare ``arr`` with the header's SHA-256 for ``name`` (if the header has one)."""
+    expected = (header.get("sha256") or {}).get(name)
+    if expected is not None and sha256_of(arr) != expected:
+        raise LogFormatError(
+            f"corrupt {fmt} file '{path}': {name} do not match their SHA-256 checksum"
+        )
+
+
+def stored_from_header(header: dict) -> dict:
+    """Return the ``ModalLog`` keyword arguments a header fixes (without arrays)."""
+    return {
+        "rate": header.get("rate"),
+        "start_time": header.get("start_time", 0.0),
+        "modes": header["modes"],
+        "convention": header["convention"],
+        "units": header["units"],
+        "wavelength": header.get("wavelength"),
+        "metadata": header["metadata"],
+    }
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a, b = np.asarray(a), np.asarray(b)
+        return a.shape == b.shape and bool(np.all(a == b))
+    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    return a == b
+
+
+def build_log(coeffs, path: Path, stored: dict, hints: dict) -> ModalLog:
+    """Build a ``ModalLog`` from what the file ``stored`` plus the caller's ``hints``.
+
+    A hint fills what the file lacks (``None`` in ``stored``); a hint that contradicts
+    the file raises ``ValueError``. ``metadata`` hints are merged key by key.
+    """
+    for key in hints:
+        if key not in HINTS:
+            raise TypeError(f"unknown hint `{key}`; hints are {', '.join(HINTS)}.")
+    kwargs = {k: v for k, v in stored.items() if v is not None}
+    for key, value in hints.items():
+        if value is None:
+            continue
+        if key == "metadata":
+            if not isinstance(value, dict):
+                raise TypeError(f"hint `metadata` must be a dict; got {type(value).__name__}.")
+            meta = dict(kwargs.get("metadata") or {})
+            for mk, mv in value.items():
+                if mk in meta and not _same(meta[mk], mv):
+                    raise ValueError(
+                        f"hint metadata[{mk!r}]={mv!r} contradicts {meta[mk]!r} stored in '{path}'."
+                    )
+                meta[mk] = mv
+            kwargs["metadata"] = meta
+        elif key == "nonfinite" or stored.get(key) is None:
+            kwargs[key] = value
+        elif not _same(stored[key], value):
+            shown = "array" if isinstance(value, np.ndarray) else repr(value)
+            raise ValueError(
+                f"hint `{key}`={shown} contradicts the value {stored[key]!r} stored in '{path}'."
+            )
+    try:
+        return ModalLog(coeffs, **kwargs)
+    except (ValueError, TypeError) as exc:
+        error = type(exc)(f"'{path}': {exc}")
+        raise _PassthroughError(error) from exc
+
+
+def unwrap(func: Callable[..., ModalLog]) -> Callable[..., ModalLog]:
+    """Wrap a reader so validation errors from :func:`build_log` escape as themselves."""
+
+    def wrapper(*args, **kwargs):
+        try:
+            return func(*args, **kwargs)
+        except _PassthroughError as exc:
+            raise exc.error from exc.__cause__
+
+    wrapper.__name__ = func.__name__
+    wrapper.__qualname__ = func.__qualname__
+    wrapper.__doc__ = func.__doc__
+    wrapper.__wrapped__ = func
+    return wrapper
+
+
+def atomic_write(
+    path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
+) -> Path:
+    """Write a file through ``write`` into a temporary file, then move it in place.
+
+    ``write`` receives a binary file object, or with ``by_name=True`` the temporary
+    file's ``Path`` (for libraries such as h5py and astropy that open files by name).
+    The temporary file lives in the target directory, so the final rename is atomic:
+    a crash leaves either the old file or none, never half a file. Without
+    ``overwrite`` an existing target raises ``FileExistsError`` (checked again at the
+    final step with a hard link, which cannot clobber).
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(f"'{path}' is a directory; give a file name")
+    if path.exists() and not overwrite:
+        raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+    directory = path.parent
+    if not directory.is_dir():
+        raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+    try:
+        if by_name:
+            os.close(fd)
+            os.unlink(tmp)  # libraries may refuse to write over an existing file
+            write(Path(tmp))
+            with open(tmp, "rb+") as fh:
+                os.fsync(fh.fileno())
+        else:
+            with os.fdopen(fd, "wb") as fh:
+                write(fh)
+                fh.flush()
+                os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        if overwrite:
+            os.replace(tmp, path)
+        else:
+            try:
+                os.link(tmp, path)
+            except FileExistsError:
+                raise FileExistsError(
+                    f"'{path}' exists; pass overwrite=True to replace it"
+                ) from None
+            except OSError:  # filesystem without hard links
+                if path.exists():
+                    raise FileExistsError(
+                        f"'{path}' exists; pass overwrite=True to replace it"
+                    ) from None
+                os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path

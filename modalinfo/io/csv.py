@@ -1,0 +1,235 @@
+"""CSV logs: human-readable and lossless.
+
+Layout written by :func:`write_csv`::
+
+    # modalinfo: {"modalinfo":1,"shape":[T,M],"dtype":"float64","rate":1000.0,...}
+    time,Z2,Z3,Z4            <- header row (``time`` only with explicit timestamps)
+    0.0,1.25e-07,...         <- one row per frame
+
+Values are written with Python's ``repr`` of the float64 value, the shortest
+decimal that reads back to the same double, so float64 round-trips bitwise; a
+float32 log is written from its exact float64 values and cast back (also bitwise),
+with the dtype recorded in the header. The JSON header also carries a SHA-256 of
+the coefficients (and timestamps), verified on reading: an edited or damaged file
+raises :class:`~modalinfo.io.LogFormatError` (pass ``verify=False`` to accept a
+deliberately edited file).
+
+Foreign CSV (no ``# modalinfo:`` line): optional ``# key: value`` comment lines
+(kept as string metadata), an optional header row, then numbers separated by
+commas, semicolons, tabs or blanks. A first column named ``time``, ``t``,
+``time_s``, ``timestamp`` or ``timestamps`` gives the timestamps (seconds). Header
+names ``Z<j>`` / ``A<j>`` / ``F<j>`` give Noll / ANSI / Fringe modes; other names
+become labels. Missing information comes from hints.
+"""
+
+from __future__ import annotations
+
+import csv as _csv
+import io
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo.io._common import (
+    LogFormatError,
+    atomic_write,
+    build_log,
+    check_readable,
+    dumps,
+    log_header,
+    parse_header,
+    reading,
+    stored_from_header,
+    unwrap,
+    verify_checksum,
+)
+from modalinfo.telemetry.log import ModalLog
+
+__all__ = ["read_csv", "write_csv"]
+
+_MAGIC = "# modalinfo:"
+_TIME_NAMES = ("time", "t", "time_s", "timestamp", "timestamps", "time[s]", "time (s)")
+_ROWS_PER_WRITE = 4096
+_CONVENTION_OF_PREFIX = {"Z": "noll", "A": "ansi", "F": "fringe"}
+
+
+def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
+    """Write ``log`` to a CSV file (exact decimal values), atomically.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    path : str or os.PathLike
+        Target file.
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    header = log_header(log, checksum=True)
+    times = log.timestamps
+
+    def write(fh):
+        text = io.TextIOWrapper(fh, encoding="ascii", newline="\n")
+        text.write(f"{_MAGIC} {dumps(header)}\n")
+        names = (["time"] if times is not None else []) + log.labels
+        _csv.writer(text, lineterminator="\n").writerow(names)
+        for i0, block in zip(
+            range(0, log.n_frames, _ROWS_PER_WRITE), log.iter_chunks(_ROWS_PER_WRITE), strict=True
+        ):
+            rows = block.astype(np.float64).tolist()
+            if times is not None:
+                tt = times[i0 : i0 + block.shape[0]].tolist()
+                lines = [",".join(map(repr, [t, *row])) for t, row in zip(tt, rows, strict=True)]
+            else:
+                lines = [",".join(map(repr, row)) for row in rows]
+            text.write("\n".join(lines))
+            text.write("\n")
+        text.flush()
+        text.detach()
+
+    return atomic_write(Path(path), write, overwrite=overwrite)
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def _delimiter(line: str) -> str | None:
+    for delim in (",", ";", "\t"):
+        if delim in line:
+            return delim
+    return None  # any run of blanks
+
+
+def _split(line: str, delim: str | None) -> list[str]:
+    if delim is None:
+        return line.split()
+    return [tok.strip() for tok in next(_csv.reader([line], delimiter=delim))]
+
+
+def _modes_from_names(names: list[str]) -> tuple[list, str]:
+    for prefix, convention in _CONVENTION_OF_PREFIX.items():
+        found = [re.fullmatch(rf"{prefix}(\d+)", n) for n in names]
+        if names and all(found):
+            return [int(f.group(1)) for f in found], convention
+    return list(names), "labels"
+
+
+@unwrap
+def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
+    """Read a log from a CSV file written by :func:`write_csv` or by other software.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    verify : bool
+        Check the SHA-256 recorded by :func:`write_csv` (modalinfo files only).
+    **hints
+        ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
+        ``metadata``, ``nonfinite``, ``start_time``: fill what the file lacks; a hint
+        contradicting the file raises ``ValueError``.
+
+    Returns
+    -------
+    ModalLog
+        The log.
+
+    Raises
+    ------
+    LogFormatError
+        Undecodable text, ragged or non-numeric rows, a header disagreeing with the
+        data, or a checksum mismatch.
+    """
+    path = Path(path)
+    check_readable(path)
+    with reading("CSV", path):
+        with open(path, encoding="utf-8", newline="") as fh:
+            lines = fh.read().splitlines()
+        header = None
+        comments: dict[str, str] = {}
+        k = 0
+        while k < len(lines) and (lines[k].startswith("#") or not lines[k].strip()):
+            line = lines[k]
+            if line.startswith(_MAGIC):
+                header = parse_header(line[len(_MAGIC) :], "CSV", path, verify=verify)
+            elif '{"modalinfo":' in line:
+                raise LogFormatError(f"corrupt CSV file '{path}': damaged '# modalinfo:' line")
+            elif ":" in line:
+                key, _, value = line[1:].partition(":")
+                if key.strip():
+                    comments[key.strip()] = value.strip()
+            k += 1
+        body = [ln for ln in lines[k:] if ln.strip() and not ln.startswith("#")]
+        if not body:
+            raise LogFormatError(f"CSV file '{path}' has no data rows")
+        delim = _delimiter(body[0])
+        first = _split(body[0], delim)
+        names = None
+        if not all(_is_number(tok) for tok in first):
+            names = first
+            body = body[1:]
+            if not body:
+                raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
+        values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2, comments=None)
+        if names is not None and len(names) != values.shape[1]:
+            raise LogFormatError(
+                f"CSV file '{path}': header row has {len(names)} names but rows have "
+                f"{values.shape[1]} values"
+            )
+        if header is not None:
+            stored = stored_from_header(header)
+            n_time = 1 if header["has_timestamps"] else 0
+            if values.shape[1] != header["shape"][1] + n_time:
+                raise LogFormatError(
+                    f"corrupt CSV file '{path}': rows have {values.shape[1]} values, header "
+                    f"announces {header['shape'][1]} modes"
+                    + (" plus a time column" if n_time else "")
+                )
+            if values.shape[0] != header["shape"][0]:
+                raise LogFormatError(
+                    f"corrupt CSV file '{path}': {values.shape[0]} rows, header announces "
+                    f"{header['shape'][0]} (truncated?)"
+                )
+            expected_names = (["time"] if n_time else []) + [
+                name.strip() for name in ModalLog._labels_of(header["modes"], header["convention"])
+            ]
+            if verify and names != expected_names:
+                raise LogFormatError(
+                    f"corrupt CSV file '{path}': header row {names!r} does not match the modes "
+                    "recorded in the '# modalinfo:' line"
+                )
+            coeffs = np.ascontiguousarray(values[:, n_time:], dtype=header["dtype"])
+            if n_time:
+                stored["timestamps"] = np.ascontiguousarray(values[:, 0])
+            if verify:
+                verify_checksum(header, "coefficients", coeffs, "CSV", path)
+                if n_time:
+                    verify_checksum(header, "timestamps", stored["timestamps"], "CSV", path)
+        else:
+            stored: dict[str, Any] = {}
+            coeffs = values
+            if names is not None and names[0].strip().lower() in _TIME_NAMES:
+                stored["timestamps"] = np.ascontiguousarray(values[:, 0])
+                coeffs = values[:, 1:]
+                names = names[1:]
+                if coeffs.shape[1] == 0:
+                    raise LogFormatError(f"CSV file '{path}' has a time column but no mode column")
+            if names is not None:
+                stored["modes"], stored["convention"] = _modes_from_names(names)
+            stored["metadata"] = {**comments, "source_file": path.name, "source_format": "csv"}
+            coeffs = np.ascontiguousarray(coeffs)
+    return build_log(coeffs, path, stored, hints)

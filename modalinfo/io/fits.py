@@ -1,0 +1,211 @@
+"""FITS logs (astropy): a primary image ``(T, M)`` plus an optional ``TIMES`` extension.
+
+Layout written by :func:`write_fits`:
+
+* primary HDU: the coefficients as an image (``NAXIS1 = M`` modes, ``NAXIS2 = T``
+  frames; BITPIX -32 or -64 as in the log), with readable keywords ``BUNIT``,
+  ``MI_CONV``, ``MI_RATE`` [Hz], ``MI_WAVE`` [m], ``TELESCOP``/``DATE-OBS``/``MI_LOOP``
+  copied from metadata when short, and ``MI_JSON``: the complete JSON header
+  (modes, metadata, ...) as one long string, split over ``CONTINUE`` cards by
+  astropy (FITS cards hold 68 characters; non-ASCII is escaped by JSON). The JSON is
+  authoritative; the short keywords are for people reading the header;
+* ``TIMES`` image extension: float64 timestamps in seconds, only when the log has
+  explicit timestamps;
+* every HDU carries ``CHECKSUM``/``DATASUM``, verified on reading.
+
+Foreign FITS: the first 2-D image HDU (primary or extension), or else the first
+binary table, whose numeric columns are the modes (a ``TIME`` column gives the
+timestamps, column names ``Z<j>`` give Noll modes). Supply the rest as hints.
+FITS data are big-endian on disk and are converted to native byte order on reading
+(values unchanged).
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo.io._common import (
+    LogFormatError,
+    atomic_write,
+    build_log,
+    check_readable,
+    dumps,
+    log_header,
+    parse_header,
+    reading,
+    stored_from_header,
+    unwrap,
+)
+from modalinfo.telemetry.log import ModalLog
+
+__all__ = ["read_fits", "write_fits"]
+
+_JSON_KEY = "MI_JSON"
+_TIME_NAMES = ("TIME", "T", "TIMES", "TIMESTAMP", "TIMESTAMPS")
+
+
+def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
+    """Write ``log`` to a FITS file with checksums, atomically.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    path : str or os.PathLike
+        Target file.
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    from astropy.io import fits
+
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    primary = fits.PrimaryHDU(data=np.ascontiguousarray(log.coeffs))
+    hdr = primary.header
+    hdr["BUNIT"] = (log.units, "units of the modal coefficients")
+    hdr["MI_CONV"] = (log.convention, "mode indexing convention")
+    if log.rate is not None:
+        hdr["MI_RATE"] = (log.rate, "[Hz] sample rate")
+    if log.wavelength is not None:
+        hdr["MI_WAVE"] = (log.wavelength, "[m] wavelength of the phase")
+    meta = log.metadata
+    for key, card in (("telescope", "TELESCOP"), ("date", "DATE-OBS"), ("loop", "MI_LOOP")):
+        value = meta.get(key)
+        if isinstance(value, str) and len(value) <= 60 and value.isascii() and value.isprintable():
+            hdr[card] = value
+    hdr[_JSON_KEY] = dumps(log_header(log, checksum=False))
+    hdus = [primary]
+    if log.timestamps is not None:
+        hdus.append(fits.ImageHDU(data=np.asarray(log.timestamps), name="TIMES"))
+        hdus[-1].header["BUNIT"] = "s"
+    hdul = fits.HDUList(hdus)
+    return atomic_write(
+        Path(path),
+        lambda name: hdul.writeto(name, checksum=True, output_verify="exception"),
+        overwrite=overwrite,
+        by_name=True,
+    )
+
+
+def _native(arr: np.ndarray) -> np.ndarray:
+    arr = np.asarray(arr)
+    if not arr.dtype.isnative:
+        arr = arr.astype(arr.dtype.newbyteorder("="))
+    return np.ascontiguousarray(arr)
+
+
+@unwrap
+def read_fits(path, **hints) -> ModalLog:
+    """Read a log from a FITS file written by :func:`write_fits` or by other software.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    **hints
+        ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
+        ``metadata``, ``nonfinite``, ``start_time``: fill what the file lacks; a hint
+        contradicting the file raises ``ValueError``.
+
+    Returns
+    -------
+    ModalLog
+        The log.
+
+    Raises
+    ------
+    LogFormatError
+        A truncated file, a checksum mismatch, or no usable 2-D data.
+    """
+    from astropy.io import fits
+
+    path = Path(path)
+    check_readable(path)
+    with reading("FITS", path):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            with fits.open(path, memmap=False, checksum=True, lazy_load_hdus=False) as hdul:
+                hdul.verify("silentfix")
+                _check_warnings(caught, path)
+                coeffs, stored = _parse(hdul, path)
+            _check_warnings(caught, path)
+    return build_log(coeffs, path, stored, hints)
+
+
+def _check_warnings(caught: list, path: Path) -> None:
+    for item in caught:
+        text = str(item.message)
+        low = text.lower()
+        if any(word in low for word in ("checksum", "datasum", "truncated", "corrupt")):
+            raise LogFormatError(f"corrupt FITS file '{path}': {text.splitlines()[0]}")
+
+
+def _parse(hdul, path: Path) -> tuple[np.ndarray, dict]:
+    primary = hdul[0]
+    if _JSON_KEY in primary.header:
+        header = parse_header(str(primary.header[_JSON_KEY]), "FITS", path)
+        data = primary.data
+        if data is None:
+            raise LogFormatError(f"corrupt FITS file '{path}': primary HDU has no data")
+        coeffs = _native(data)
+        if list(coeffs.shape) != header["shape"] or coeffs.dtype.name != header["dtype"]:
+            raise LogFormatError(
+                f"corrupt FITS file '{path}': data {coeffs.shape} {coeffs.dtype} disagree "
+                f"with the header {tuple(header['shape'])} {header['dtype']}"
+            )
+        stored = stored_from_header(header)
+        if header["has_timestamps"]:
+            if "TIMES" not in hdul:
+                raise LogFormatError(f"corrupt FITS file '{path}': TIMES extension missing")
+            stored["timestamps"] = _native(hdul["TIMES"].data)
+        return coeffs, stored
+    stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "fits"}}
+    for hdu in hdul:
+        data = getattr(hdu, "data", None)
+        if isinstance(hdu, _image_types()) and data is not None and np.ndim(data) == 2:
+            unit = hdu.header.get("BUNIT")
+            if isinstance(unit, str) and unit.strip().lower() in ("rad", "nm", "um", "waves"):
+                stored["units"] = unit.strip().lower()
+            return _native(data), stored
+    for hdu in hdul:
+        if type(hdu).__name__ == "BinTableHDU" and hdu.data is not None and len(hdu.columns):
+            names = list(hdu.columns.names)
+            cols = []
+            for name in names:
+                col = np.asarray(hdu.data[name])
+                if col.ndim != 1 or col.dtype.kind not in "fiu":
+                    raise LogFormatError(
+                        f"FITS file '{path}': table column {name!r} is not a numeric scalar column"
+                    )
+                cols.append(col.astype(np.float64))
+            if names[0].strip().upper() in _TIME_NAMES:
+                stored["timestamps"] = cols.pop(0)
+                names = names[1:]
+            if not cols:
+                raise LogFormatError(f"FITS file '{path}': table has no mode column")
+            found = [re.fullmatch(r"Z(\d+)", n.strip()) for n in names]
+            if all(found):
+                stored["modes"] = [int(f.group(1)) for f in found]
+                stored["convention"] = "noll"
+            else:
+                stored["modes"] = [n.strip() for n in names]
+                stored["convention"] = "labels"
+            return np.ascontiguousarray(np.column_stack(cols)), stored
+    raise LogFormatError(f"FITS file '{path}' holds no 2-D image nor binary table")
+
+
+def _image_types():
+    """Return the astropy HDU classes holding images (primary, extension, compressed)."""
+    from astropy.io import fits
+
+    return (fits.PrimaryHDU, fits.ImageHDU, fits.CompImageHDU)

@@ -1,0 +1,206 @@
+"""HDF5 logs (h5py): dataset ``coefficients`` plus attributes, optional ``timestamps``.
+
+Layout written by :func:`write_hdf5`:
+
+``/coefficients``
+    ``(T, M)`` float32/float64, contiguous and uncompressed (so it can be
+    memory-mapped), attributes ``units``, ``convention``, ``labels`` for people
+    browsing the file;
+``/timestamps``
+    ``(T,)`` float64 seconds, only with explicit timestamps;
+root attribute ``modalinfo``
+    the JSON header (modes, metadata, ...) including a SHA-256 of the data,
+    verified on reading (HDF5 itself has no checksum on contiguous data).
+
+``mmap=True`` memory-maps a contiguous, unfiltered dataset straight from the file
+(its byte offset comes from h5py), after checking the file is long enough; the
+checksum is then not verified (that would read everything). Chunked or compressed
+datasets are read in full.
+
+Foreign HDF5: the one 2-D numeric dataset of the file (or one named
+``coefficients``/``coeffs``/``data``), and a 1-D ``timestamps``/``times``/``time``
+dataset if present; supply the rest as hints.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo.io._common import (
+    LogFormatError,
+    atomic_write,
+    build_log,
+    check_readable,
+    dumps,
+    log_header,
+    parse_header,
+    reading,
+    stored_from_header,
+    unwrap,
+    verify_checksum,
+)
+from modalinfo.telemetry.log import ModalLog
+
+__all__ = ["read_hdf5", "write_hdf5"]
+
+_COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data")
+_TIME_NAMES = ("timestamps", "times", "time", "t")
+
+
+def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
+    """Write ``log`` to an HDF5 file, atomically.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    path : str or os.PathLike
+        Target file.
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    import h5py
+
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    header = dumps(log_header(log, checksum=True))
+
+    def write(name: Path) -> None:
+        with h5py.File(name, "w") as f:
+            dset = f.create_dataset("coefficients", shape=log.shape, dtype=log.dtype)
+            rows = 0
+            for block in log.iter_chunks(max(1, (1 << 22) // log.n_modes)):
+                dset[rows : rows + block.shape[0]] = block
+                rows += block.shape[0]
+            dset.attrs["units"] = log.units
+            dset.attrs["convention"] = log.convention
+            dset.attrs["labels"] = log.labels
+            if log.timestamps is not None:
+                f.create_dataset("timestamps", data=np.asarray(log.timestamps))
+            f.attrs["modalinfo"] = header
+
+    return atomic_write(Path(path), write, overwrite=overwrite, by_name=True)
+
+
+def _datasets(f) -> dict[str, Any]:
+    import h5py
+
+    found: dict[str, Any] = {}
+
+    def visit(name, obj):
+        if isinstance(obj, h5py.Dataset):
+            found[name] = obj
+
+    f.visititems(visit)
+    return found
+
+
+def _load(dset, path: Path, mmap: bool) -> np.ndarray:
+    if dset.dtype.kind not in "fiu":
+        raise LogFormatError(
+            f"HDF5 file '{path}': dataset {dset.name!r} has non-numeric dtype {dset.dtype}"
+        )
+    if mmap and dset.chunks is None and dset.compression is None and dset.size:
+        offset = dset.id.get_offset()
+        if offset is not None:
+            dtype = dset.dtype
+            need = int(dset.size) * dtype.itemsize
+            if path.stat().st_size < offset + need:
+                raise LogFormatError(
+                    f"corrupt HDF5 file '{path}': dataset {dset.name!r} needs bytes "
+                    f"{offset}..{offset + need} but the file has {path.stat().st_size} (truncated)"
+                )
+            return np.memmap(path, dtype=dtype, mode="r", offset=offset, shape=dset.shape)
+    return dset[()]
+
+
+@unwrap
+def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> ModalLog:
+    """Read a log from an HDF5 file written by :func:`write_hdf5` or by other software.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    mmap : bool
+        Memory-map a contiguous, uncompressed coefficient dataset instead of reading.
+    verify : bool
+        Check the SHA-256 recorded by :func:`write_hdf5` (skipped with ``mmap``).
+    **hints
+        ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
+        ``metadata``, ``nonfinite``, ``start_time``.
+
+    Returns
+    -------
+    ModalLog
+        The log.
+
+    Raises
+    ------
+    LogFormatError
+        A file h5py cannot open, a truncated dataset, a checksum mismatch or no
+        usable 2-D dataset.
+    """
+    import h5py
+
+    path = Path(path)
+    check_readable(path)
+    with reading("HDF5", path):
+        with h5py.File(path, "r") as f:
+            if "modalinfo" in f.attrs:
+                text = f.attrs["modalinfo"]
+                if isinstance(text, bytes):
+                    text = text.decode("utf-8")
+                header = parse_header(str(text), "HDF5", path, verify=verify)
+                if "coefficients" not in f:
+                    raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
+                coeffs = _load(f["coefficients"], path, mmap)
+                if list(coeffs.shape) != header["shape"] or coeffs.dtype.name != header["dtype"]:
+                    raise LogFormatError(
+                        f"corrupt HDF5 file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
+                        f"disagree with the header {tuple(header['shape'])} {header['dtype']}"
+                    )
+                stored = stored_from_header(header)
+                if header["has_timestamps"]:
+                    if "timestamps" not in f:
+                        raise LogFormatError(f"corrupt HDF5 file '{path}': timestamps missing")
+                    stored["timestamps"] = f["timestamps"][()]
+                if verify and not isinstance(coeffs, np.memmap):
+                    verify_checksum(header, "coefficients", coeffs, "HDF5", path)
+                    if header["has_timestamps"]:
+                        verify_checksum(header, "timestamps", stored["timestamps"], "HDF5", path)
+            else:
+                dsets = _datasets(f)
+                two_d = {k: d for k, d in dsets.items() if d.ndim == 2 and d.dtype.kind in "fiu"}
+                named = [k for k in two_d if k.rsplit("/", 1)[-1].lower() in _COEFF_NAMES]
+                if len(named) == 1:
+                    key = named[0]
+                elif len(two_d) == 1:
+                    key = next(iter(two_d))
+                else:
+                    raise LogFormatError(
+                        f"HDF5 file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
+                        f"datasets ({', '.join(sorted(dsets)) or 'none'}); expected exactly one"
+                    )
+                if "convention" in two_d[key].attrs and "labels" in two_d[key].attrs:
+                    raise LogFormatError(
+                        f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "
+                        "but the file's 'modalinfo' header attribute is missing"
+                    )
+                coeffs = _load(two_d[key], path, mmap)
+                stored: dict[str, Any] = {
+                    "metadata": {"source_file": path.name, "source_format": "hdf5"}
+                }
+                for name, dset in dsets.items():
+                    if name.rsplit("/", 1)[-1].lower() in _TIME_NAMES and dset.ndim == 1:
+                        stored["timestamps"] = dset[()]
+                        break
+    return build_log(coeffs, path, stored, hints)

@@ -1,0 +1,281 @@
+"""NumPy ``.npz`` logs (lossless) and plain ``.npy`` arrays (foreign, with hints).
+
+Layout written by :func:`write_npz` (``numpy.savez``, uncompressed):
+
+``coefficients``
+    ``(T, M)`` float32 or float64, as in the log;
+``timestamps``
+    ``(T,)`` float64 seconds, only when the log has explicit timestamps;
+``header``
+    0-d unicode array holding the JSON header (modes, units, rate, metadata, ...).
+
+Reading parses the zip members with :mod:`zipfile` and the ``.npy`` headers with
+:mod:`numpy.lib.format` (never unpickling: object arrays are refused, like
+``allow_pickle=False``), checks every member's declared size against its stored size
+and its CRC-32 (read in full), so truncated or altered files raise
+:class:`~modalinfo.io.LogFormatError` naming the file. ``mmap=True`` memory-maps
+the coefficients of an uncompressed member in place (size-checked; the CRC is then
+not verified, since that would read the whole member).
+"""
+
+from __future__ import annotations
+
+import struct
+import zipfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo.io._common import (
+    LogFormatError as _LogFormatError,
+)
+from modalinfo.io._common import (
+    atomic_write,
+    build_log,
+    check_readable,
+    dumps,
+    log_header,
+    parse_header,
+    reading,
+    stored_from_header,
+    unwrap,
+)
+from modalinfo.telemetry.log import ModalLog
+
+__all__ = ["read_npz", "write_npz", "read_npy"]
+
+_TIME_NAMES = ("timestamps", "times", "time", "t")
+_COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data", "modes", "zernike", "a")
+
+
+def write_npz(log: ModalLog, path, *, overwrite: bool = False) -> Path:
+    """Write ``log`` to an uncompressed ``.npz`` file, atomically.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    path : str or os.PathLike
+        Target file (the name is used as given; no extension is appended).
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    arrays: dict[str, Any] = {
+        "coefficients": np.ascontiguousarray(log.coeffs),
+        "header": np.array(dumps(log_header(log, checksum=False))),
+    }
+    if log.timestamps is not None:
+        arrays["timestamps"] = log.timestamps
+    return atomic_write(Path(path), lambda fh: np.savez(fh, **arrays), overwrite=overwrite)
+
+
+def _npy_header(fh) -> tuple[tuple[int, ...], bool, np.dtype]:
+    version = np.lib.format.read_magic(fh)
+    if version == (1, 0):
+        return np.lib.format.read_array_header_1_0(fh)
+    if version in ((2, 0), (3, 0)):
+        return np.lib.format.read_array_header_2_0(fh)
+    raise ValueError(f"unsupported .npy format version {version}")
+
+
+def _nbytes(shape, dtype) -> int:
+    return int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+
+
+def _check_dtype(dtype: np.dtype, what: str) -> None:
+    if dtype.hasobject:
+        raise ValueError(f"{what} holds Python objects (pickles are never loaded)")
+
+
+def _read_member(zf: zipfile.ZipFile, name: str) -> np.ndarray:
+    info = zf.getinfo(name)
+    with zf.open(info) as fh:
+        shape, fortran, dtype = _npy_header(fh)
+        _check_dtype(dtype, f"member {name!r}")
+        header_len = fh.tell()
+        need = _nbytes(shape, dtype)
+        if info.file_size != header_len + need:
+            raise ValueError(
+                f"member {name!r} declares {need} data bytes but stores "
+                f"{info.file_size - header_len}"
+            )
+        raw = fh.read()  # reading to the end verifies the CRC-32
+    if len(raw) != need:
+        raise ValueError(f"member {name!r} is truncated")
+    return np.frombuffer(raw, dtype=dtype).reshape(shape, order="F" if fortran else "C")
+
+
+def _mmap_member(path: Path, zf: zipfile.ZipFile, name: str) -> np.ndarray | None:
+    """Memory-map an uncompressed member in place, or None if it is compressed."""
+    info = zf.getinfo(name)
+    if info.compress_type != zipfile.ZIP_STORED:
+        return None
+    with open(path, "rb") as raw:
+        raw.seek(info.header_offset)
+        local = raw.read(30)
+        if len(local) != 30 or local[:4] != b"PK\x03\x04":
+            raise ValueError(f"bad local header for member {name!r}")
+        name_len, extra_len = struct.unpack("<HH", local[26:30])
+        start = info.header_offset + 30 + name_len + extra_len
+        raw.seek(start)
+        shape, fortran, dtype = _npy_header(raw)
+        _check_dtype(dtype, f"member {name!r}")
+        offset = raw.tell()
+    need = _nbytes(shape, dtype)
+    if info.file_size != offset - start + need:
+        raise ValueError(f"member {name!r} declares {need} data bytes but stores less")
+    if path.stat().st_size < offset + need:
+        raise ValueError(f"member {name!r} is truncated")
+    if need == 0:
+        return np.empty(shape, dtype=dtype)
+    return np.memmap(
+        path, dtype=dtype, mode="r", offset=offset, shape=shape, order="F" if fortran else "C"
+    )
+
+
+@unwrap
+def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
+    """Read a log from a ``.npz`` file written by :func:`write_npz` or by other software.
+
+    A foreign ``.npz`` (no modalinfo header) must hold exactly one 2-D numeric array
+    (or one named ``coefficients``/``coeffs``/``data``), optionally a 1-D array
+    named ``timestamps``/``times``/``time``/``t``; supply what it lacks as hints.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    mmap : bool
+        Memory-map the coefficients (uncompressed members only) instead of reading.
+    **hints
+        ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
+        ``metadata``, ``nonfinite``, ``start_time``: fill what the file lacks; a hint
+        contradicting the file raises ``ValueError``.
+
+    Returns
+    -------
+    ModalLog
+        The log.
+
+    Raises
+    ------
+    FileNotFoundError, IsADirectoryError
+        ``path`` is not a file.
+    LogFormatError
+        Corrupted, truncated or unexpected content (a ``ValueError``).
+    """
+    path = Path(path)
+    check_readable(path)
+    with reading("NPZ", path):
+        with zipfile.ZipFile(path) as zf:
+            names = {n[:-4] if n.endswith(".npy") else n: n for n in zf.namelist()}
+            if "header" in names and "coefficients" in names:
+                text = _read_member(zf, names["header"])
+                if text.dtype.kind != "U" or text.shape != ():
+                    raise ValueError("member 'header' is not a string")
+                header = parse_header(str(text[()]), "NPZ", path)
+                coeffs = _mmap_member(path, zf, names["coefficients"]) if mmap else None
+                if coeffs is None:
+                    coeffs = _read_member(zf, names["coefficients"])
+                if list(coeffs.shape) != header["shape"] or coeffs.dtype.name != header["dtype"]:
+                    raise ValueError(
+                        f"coefficients {coeffs.shape} {coeffs.dtype} disagree with the header "
+                        f"{tuple(header['shape'])} {header['dtype']}"
+                    )
+                stored = stored_from_header(header)
+                if header["has_timestamps"]:
+                    if "timestamps" not in names:
+                        raise ValueError("header announces timestamps but the member is missing")
+                    stored["timestamps"] = _read_member(zf, names["timestamps"])
+            else:
+                arrays = {}
+                for short, full in names.items():
+                    arr = _mmap_member(path, zf, full) if mmap else None
+                    arrays[short] = _read_member(zf, full) if arr is None else arr
+                coeffs, stored = _foreign(arrays, path)
+    return build_log(coeffs, path, stored, hints)
+
+
+def _foreign(arrays: dict[str, np.ndarray], path: Path) -> tuple[np.ndarray, dict]:
+    two_d = {k: a for k, a in arrays.items() if a.ndim == 2 and a.dtype.kind in "fiu"}
+    named = [k for k in _COEFF_NAMES if k in two_d]
+    if named:
+        key = named[0]
+    elif len(two_d) == 1:
+        key = next(iter(two_d))
+    else:
+        raise _LogFormatError(
+            f"NPZ file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric arrays "
+            f"({', '.join(sorted(arrays)) or 'none'}); expected exactly one (T, M) array"
+        )
+    stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "npz"}}
+    for name in _TIME_NAMES:
+        if name in arrays and arrays[name].ndim == 1:
+            stored["timestamps"] = arrays[name]
+            break
+    return two_d[key], stored
+
+
+@unwrap
+def read_npy(path, *, mmap: bool = False, **hints) -> ModalLog:
+    """Read a plain ``.npy`` array ``(T, M)`` as a log, with hints for what it lacks.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    mmap : bool
+        Memory-map the array (``numpy.load(mmap_mode="r")``) instead of reading it:
+        a log larger than memory can then be summarised chunk by chunk.
+    **hints
+        ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``,
+        ``wavelength``, ``metadata``, ``nonfinite``, ``start_time``.
+
+    Returns
+    -------
+    ModalLog
+        The log (``metadata`` records the source file).
+
+    Raises
+    ------
+    LogFormatError
+        Bad magic or header, object dtype, or a file shorter (or longer) than the
+        header declares: a truncated file is never read partially.
+    """
+    path = Path(path)
+    check_readable(path)
+    with reading("NPY", path):
+        with open(path, "rb") as fh:
+            shape, fortran, dtype = _npy_header(fh)
+            _check_dtype(dtype, "the array")
+            offset = fh.tell()
+            need = _nbytes(shape, dtype)
+            size = path.stat().st_size
+            if size != offset + need:
+                raise ValueError(
+                    f"header declares {need} data bytes for shape {shape} {dtype} "
+                    f"but the file holds {size - offset}"
+                    + (" (truncated)" if size < offset + need else "")
+                )
+            if mmap and need:
+                coeffs = np.memmap(
+                    path,
+                    dtype=dtype,
+                    mode="r",
+                    offset=offset,
+                    shape=shape,
+                    order="F" if fortran else "C",
+                )
+            else:
+                coeffs = np.fromfile(fh, dtype=dtype, count=int(np.prod(shape, dtype=np.int64)))
+                coeffs = coeffs.reshape(shape, order="F" if fortran else "C")
+    stored = {"metadata": {"source_file": path.name, "source_format": "npy"}}
+    return build_log(coeffs, path, stored, hints)
