@@ -279,6 +279,10 @@ def unwrap(func: Callable[..., ModalLog]) -> Callable[..., ModalLog]:
     return wrapper
 
 
+def _exists_message(path: Path) -> str:
+    return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -295,7 +299,7 @@ def atomic_write(
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory; give a file name")
     if path.exists() and not overwrite:
-        raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+        raise FileExistsError(_exists_message(path))
     directory = path.parent
     if not directory.is_dir():
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
@@ -319,14 +323,10 @@ def atomic_write(
             try:
                 os.link(tmp, path)
             except FileExistsError:
-                raise FileExistsError(
-                    f"'{path}' exists; pass overwrite=True to replace it"
-                ) from None
+                raise FileExistsError(_exists_message(path)) from None
             except OSError:  # filesystem without hard links
                 if path.exists():
-                    raise FileExistsError(
-                        f"'{path}' exists; pass overwrite=True to replace it"
-                    ) from None
+                    raise FileExistsError(_exists_message(path)) from None
                 os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
