@@ -1,5 +1,6 @@
 """Modal bases of the pupil: Zernike polynomials, K-L modes and turbulence statistics."""
 
+from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import (
     ansi_to_noll,
     ansi_to_zernike,
@@ -12,13 +13,26 @@ from modalinfo.bases.indexing import (
     zernike_to_fringe,
     zernike_to_noll,
 )
+from modalinfo.bases.pupil import Pupil
 from modalinfo.bases.turbulence import (
     noll_residual_variance,
     zernike_covariance,
     zernike_variance,
 )
+from modalinfo.bases.zernike import (
+    ZernikeBasis,
+    zernike_matrix,
+    zernike_polynomial,
+    zernike_radial,
+)
 
 __all__ = [
+    "Pupil",
+    "ModalBasis",
+    "ZernikeBasis",
+    "zernike_radial",
+    "zernike_polynomial",
+    "zernike_matrix",
     "noll_to_zernike",
     "zernike_to_noll",
     "ansi_to_zernike",
