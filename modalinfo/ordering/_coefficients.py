@@ -1,0 +1,158 @@
+"""Turn a log or a coefficient array into coefficients of a given basis (private).
+
+Shared by the orderings, the fitting-error curves and the stability analysis, so the
+three agree on what "the coefficients of the log in this basis" means:
+
+- a :class:`~modalinfo.telemetry.ModalLog` is converted to radians of phase (Noll
+  convention), its columns matched to the basis's Zernike modes by Noll index; for a
+  K-L basis the Zernike coefficients are changed to K-L coefficients with the basis's
+  ``coefficients_from_zernike``;
+- an array ``(T, M)`` or ``(M,)`` is taken as coefficients of the basis's own modes,
+  in radians.
+
+A basis is a :class:`~modalinfo.bases.ModalBasis` (anything with ``.matrix`` and
+``.labels``) or a bare mode matrix ``(n_valid, M)`` (labels ``"mode1"``...).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import as_float_array
+
+__all__ = ["BasisView", "as_basis", "coefficients_in_basis", "is_log"]
+
+
+@dataclass(frozen=True)
+class BasisView:
+    """The parts of a basis the ordering code uses.
+
+    Attributes
+    ----------
+    matrix : numpy.ndarray, shape (n_valid, M)
+        Mode values on the valid pupil pixels (C-contiguous float64).
+    labels : tuple of str
+        One label per mode.
+    obj : object or None
+        The basis object itself (None for a bare matrix).
+    """
+
+    matrix: np.ndarray
+    labels: tuple[str, ...]
+    obj: Any
+
+    @property
+    def n_modes(self) -> int:
+        """Number of modes M."""
+        return self.matrix.shape[1]
+
+    def gram(self) -> np.ndarray:
+        """``matrix.T @ matrix / n_valid`` (identity for a basis orthonormal on the pupil)."""
+        return self.matrix.T @ self.matrix / self.matrix.shape[0]
+
+
+def is_log(value: Any) -> bool:
+    """Tell whether `value` is a ModalLog-like object (has ``coeffs`` and ``to_units``)."""
+    return hasattr(value, "coeffs") and hasattr(value, "to_units")
+
+
+def as_basis(basis: Any, name: str = "basis") -> BasisView:
+    """Return a :class:`BasisView` of a ModalBasis-like object or a mode matrix."""
+    if isinstance(basis, BasisView):
+        return basis
+    if hasattr(basis, "matrix"):
+        matrix = as_float_array(basis.matrix, f"{name}.matrix", ndim=2)
+        labels = tuple(str(s) for s in getattr(basis, "labels", ()))
+        if len(labels) != matrix.shape[1]:
+            labels = tuple(f"mode{k + 1}" for k in range(matrix.shape[1]))
+        obj = basis
+    elif isinstance(basis, np.ndarray | list | tuple):
+        matrix = as_float_array(basis, name, ndim=2)
+        labels = tuple(f"mode{k + 1}" for k in range(matrix.shape[1]))
+        obj = None
+    else:
+        raise TypeError(
+            f"`{name}` must be a ModalBasis or a mode matrix of shape (n_valid, M); "
+            f"got {type(basis).__name__}."
+        )
+    if matrix.shape[0] < 1 or matrix.shape[1] < 1:
+        raise ValueError(f"`{name}` must have at least one pixel and one mode; got {matrix.shape}.")
+    return BasisView(matrix=matrix, labels=labels, obj=obj)
+
+
+def _column_index(log_modes: list, wanted: list, what: str) -> np.ndarray:
+    pos = {m: i for i, m in enumerate(log_modes)}
+    missing = [m for m in wanted if m not in pos]
+    if missing:
+        raise ValueError(
+            f"`log_or_coeffs` lacks the {what} the basis needs: Noll modes {missing} are not "
+            f"among the log's modes {log_modes}."
+        )
+    return np.array([pos[m] for m in wanted], dtype=np.intp)
+
+
+def coefficients_in_basis(
+    log_or_coeffs: Any, basis: BasisView, *, wavelength: float | None = None,
+    name: str = "log_or_coeffs",
+) -> np.ndarray:
+    """Coefficients ``(T, M)`` [rad] of the log (or array) in the basis's modes.
+
+    Parameters
+    ----------
+    log_or_coeffs : ModalLog or array_like, shape (T, M) or (M,)
+        A log (converted to radians, matched by Noll index) or basis coefficients [rad].
+    basis : BasisView
+        The basis.
+    wavelength : float, optional
+        Wavelength [m] for converting a log in nm or um to radians, when the log does
+        not carry one.
+    name : str
+        Argument name for error messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (T, M)
+        C-contiguous float64 coefficients in radians.
+    """
+    obj = basis.obj
+    if is_log(log_or_coeffs):
+        log = log_or_coeffs
+        if getattr(log, "convention", "noll") != "noll":
+            log = log.to_convention("noll")
+        if getattr(log, "units", "rad") != "rad":
+            if wavelength is None:
+                log = log.to_units("rad")
+            else:
+                log = log.to_units("rad", wavelength=wavelength)
+        coeffs = as_float_array(np.asarray(log.coeffs), f"{name}.coeffs", ndim=2)
+        log_modes = list(log.modes) if getattr(log, "modes", None) is not None else None
+        if obj is not None and hasattr(obj, "zernike_modes") and hasattr(
+            obj, "coefficients_from_zernike"
+        ):
+            zmodes = [int(m) for m in obj.zernike_modes]
+            if log_modes is None:
+                raise ValueError(f"`{name}` has no mode indices to match the K-L basis with.")
+            cols = _column_index(log_modes, zmodes, "Zernike modes")
+            out = np.asarray(obj.coefficients_from_zernike(coeffs[:, cols]), dtype=float)
+        elif obj is not None and hasattr(obj, "modes") and log_modes is not None:
+            bmodes = [int(m) for m in obj.modes]
+            cols = _column_index(log_modes, bmodes, "Zernike modes")
+            out = coeffs[:, cols]
+        else:
+            out = coeffs
+        out = np.ascontiguousarray(out, dtype=np.float64)
+    else:
+        out = as_float_array(log_or_coeffs, name, ndim=(1, 2))
+        if out.ndim == 1:
+            out = out[None, :]
+    if out.shape[0] < 1:
+        raise ValueError(f"`{name}` must hold at least one frame; got shape {out.shape}.")
+    if out.shape[1] != basis.n_modes:
+        raise ValueError(
+            f"`{name}` must have one coefficient per basis mode ({basis.n_modes}); "
+            f"got {out.shape[1]}."
+        )
+    return out

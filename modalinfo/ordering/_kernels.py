@@ -1,0 +1,65 @@
+"""numba kernels of the ordering subpackage (no validation, no random numbers)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalinfo._numba import jit
+
+
+@jit
+def pixel_fitting_error(coeffs, modes, out, total):
+    """Fitting error on the pupil pixels for truncations of an ordered expansion.
+
+    Parameters
+    ----------
+    coeffs : float64 (T, M), C-contiguous
+        Coefficients, columns already in the chosen order.  # IN
+    modes : float64 (M, n_valid), C-contiguous
+        Mode values on the valid pixels, rows in the same order.  # IN
+    out : float64 (T, M)
+        ``out[t, j]`` = mean over pixels of ``|sum_{k > j} coeffs[t, k] modes[k]|^2``,
+        i.e. the fitting error dPhi(j + 1) with the first j + 1 modes.  # OUT
+    total : float64 (T,)
+        dPhi(0) = mean over pixels of the full reconstruction squared.  # OUT
+    """
+    n_frames, n_modes = coeffs.shape
+    n_pix = modes.shape[1]
+    resid = np.empty(n_pix)
+    for t in range(n_frames):
+        for p in range(n_pix):
+            resid[p] = 0.0
+        for j in range(n_modes - 1, -1, -1):
+            acc = 0.0
+            for p in range(n_pix):
+                acc += resid[p] * resid[p]
+            out[t, j] = acc / n_pix
+            a = coeffs[t, j]
+            for p in range(n_pix):
+                resid[p] += a * modes[j, p]
+        acc = 0.0
+        for p in range(n_pix):
+            acc += resid[p] * resid[p]
+        total[t] = acc / n_pix
+
+
+@jit
+def gather_contributions(coeffs, matrix, frames, pixels, out):
+    """Per-mode contributions ``a_k Z_k`` at sampled (frame, pixel) pairs.
+
+    Parameters
+    ----------
+    coeffs : float64 (T, M)  # IN
+    matrix : float64 (n_valid, M)  # IN
+    frames, pixels : int64 (B,)
+        Frame and pixel index of each sample.  # IN
+    out : float64 (B, M)
+        ``out[i, k] = coeffs[frames[i], k] * matrix[pixels[i], k]``.  # OUT
+    """
+    n_samples = frames.shape[0]
+    n_modes = coeffs.shape[1]
+    for i in range(n_samples):
+        t = frames[i]
+        p = pixels[i]
+        for k in range(n_modes):
+            out[i, k] = coeffs[t, k] * matrix[p, k]

@@ -1,0 +1,306 @@
+"""Fitting-error curves of an ordered modal basis (the paper's Section 2, eq. 4).
+
+With the reference wavefront ``Phi_ref = sum_{k=1..M} a_k Z_k`` (the full
+reconstruction) and ``Phi_n`` the reconstruction with the first ``n`` modes of an
+ordering, the fitting error is
+
+    dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2 = mean_p |sum_{k > n} a_k Z_k(p)|^2,
+
+per frame and averaged over frames, in rad^2 or waves^2 (1 wave = 2 pi rad, so
+waves^2 = rad^2 / (2 pi)^2 whatever the wavelength).
+
+Three computations give the same numbers:
+
+- ``"parseval"``: ``sum_{k > n} a_k^2`` -- exact when the basis is orthonormal on the
+  pupil pixels (``gram() == I``);
+- ``"gram"``: the quadratic form ``r^T G r`` of the dropped coefficients ``r`` with the
+  Gram matrix ``G = Z^T Z / n_valid`` -- algebraically identical to the pixel sum for
+  any basis, O(T M^2);
+- ``"pixels"``: the residual wavefront summed on every pupil pixel (numba kernel),
+  O(T M n_valid); the reference the other two are tested against.
+
+``"auto"`` uses Parseval when ``gram()`` equals the identity to 1e-8 and the Gram
+form otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import as_float_array, check_choice, check_int, check_real
+from modalinfo.ordering import _kernels as kern
+from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
+
+__all__ = ["FittingErrorResult", "fitting_error", "check_order"]
+
+_UNITS = ("rad2", "waves2")
+_METHODS = ("auto", "parseval", "gram", "pixels")
+_ORTHO_ATOL = 1e-8
+_PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
+
+
+def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
+    """Validate a permutation of ``range(n_modes)``; return it as an int array.
+
+    Parameters
+    ----------
+    order : array_like of int or None
+        Indices into the basis (None: the standard order ``0..M-1``).
+    n_modes : int
+        Number of modes M.
+    name : str
+        Argument name for messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,), int64
+    """
+    if order is None:
+        return np.arange(n_modes, dtype=np.int64)
+    if hasattr(order, "order") and not isinstance(order, np.ndarray):  # an OrderingResult
+        order = order.order
+    arr = np.asarray(order)
+    if arr.ndim != 1 or not (np.issubdtype(arr.dtype, np.integer) or arr.size == 0):
+        raise TypeError(f"`{name}` must be a 1-D sequence of ints; got {arr!r}.")
+    if arr.size != n_modes or not np.array_equal(np.sort(arr), np.arange(n_modes)):
+        raise ValueError(
+            f"`{name}` must be a permutation of 0..{n_modes - 1} (one index per basis mode); "
+            f"got {arr.tolist()}."
+        )
+    return arr.astype(np.int64)
+
+
+@dataclass(frozen=True)
+class FittingErrorResult:
+    """Fitting error dPhi(n), n = 1..M, of an ordered basis.
+
+    Attributes
+    ----------
+    per_frame : numpy.ndarray, shape (T, M)
+        ``per_frame[t, n - 1]`` = dPhi(n) of frame t [``units``].
+    mean : numpy.ndarray, shape (M,)
+        dPhi(n) averaged over frames [``units``].
+    total : numpy.ndarray, shape (T,)
+        dPhi(0) = mean over the pupil of Phi_ref^2 per frame (the total variance).
+    percentiles : tuple of float
+        Percentile levels of ``bands`` (per cent).
+    bands : numpy.ndarray, shape (len(percentiles), M)
+        Percentiles over frames of dPhi(n).
+    order : numpy.ndarray, shape (M,)
+        Indices into the basis, in the order the modes were added.
+    labels : tuple of str
+        Labels of the modes in that order.
+    units : str
+        ``"rad2"`` or ``"waves2"``.
+    method : str
+        Computation used: ``"parseval"``, ``"gram"`` or ``"pixels"``.
+    """
+
+    per_frame: np.ndarray
+    mean: np.ndarray
+    total: np.ndarray
+    percentiles: tuple[float, ...]
+    bands: np.ndarray
+    order: np.ndarray
+    labels: tuple[str, ...]
+    units: str
+    method: str
+
+    @property
+    def n_frames(self) -> int:
+        """Number of frames T."""
+        return self.per_frame.shape[0]
+
+    @property
+    def n_modes(self) -> np.ndarray:
+        """The numbers of modes ``1..M`` the curve is given at."""
+        return np.arange(1, self.per_frame.shape[1] + 1)
+
+    @property
+    def mean_total(self) -> float:
+        """dPhi(0) averaged over frames (the mean total variance) [``units``]."""
+        return float(self.total.mean())
+
+    def curve(self, frame: int | None = None, *, include_zero: bool = False) -> np.ndarray:
+        """dPhi(n) for n = 1..M (or 0..M), averaged or of one frame.
+
+        Parameters
+        ----------
+        frame : int, optional
+            Frame index (negative counts from the end); None for the frame average.
+        include_zero : bool
+            Prepend dPhi(0), the total variance.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M,) or (M + 1,)
+        """
+        if frame is None:
+            values, zero = self.mean, self.mean_total
+        else:
+            t = self._frame(frame)
+            values, zero = self.per_frame[t], float(self.total[t])
+        return np.concatenate([[zero], values]) if include_zero else values.copy()
+
+    def _frame(self, frame: int) -> int:
+        t = check_int(frame, "frame", minimum=-self.n_frames, maximum=self.n_frames - 1)
+        return t % self.n_frames
+
+    def modes_to_reach(self, error: float, frame: int | None = None) -> int:
+        """Smallest number of modes n (0..M) with dPhi(n) <= ``error``.
+
+        Parameters
+        ----------
+        error : float
+            Target fitting error [``units``], >= 0.
+        frame : int, optional
+            Use one frame's curve instead of the frame average.
+
+        Returns
+        -------
+        int
+            n in 0..M (0 when the total variance is already below the target; dPhi(M)
+            is 0, so the target is always reached by n = M).
+        """
+        error = check_real(error, "error", minimum=0.0)
+        values = self.curve(frame, include_zero=True)
+        hits = np.flatnonzero(values <= error)
+        return int(hits[0]) if hits.size else int(values.size - 1)
+
+    def modes_to_reach_fraction(self, fraction: float, frame: int | None = None) -> int:
+        """Smallest n with dPhi(n) <= ``fraction`` x dPhi(0) (a fraction of the total variance).
+
+        Parameters
+        ----------
+        fraction : float
+            Fraction of the total variance, in [0, 1].
+        frame : int, optional
+            Use one frame's curve instead of the frame average.
+
+        Returns
+        -------
+        int
+            n in 0..M.
+        """
+        fraction = check_real(fraction, "fraction", minimum=0.0, maximum=1.0)
+        values = self.curve(frame, include_zero=True)
+        return self.modes_to_reach(fraction * float(values[0]), frame)
+
+
+def _parseval(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """dPhi(n) = sum of the squares of the dropped coefficients (orthonormal basis)."""
+    sq = a * a
+    rc = np.cumsum(sq[:, ::-1], axis=1)[:, ::-1]  # rc[t, j] = sum_{k >= j}
+    out = np.zeros_like(a)
+    out[:, :-1] = rc[:, 1:]
+    return out, rc[:, 0].copy()
+
+
+def _gram(a: np.ndarray, gram: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """dPhi(n) = r^T G r for the dropped coefficients r, built from the back.
+
+    With D(j) = sum_{i, k >= j} a_i a_k G_ik, D(j) = D(j + 1) + a_j^2 G_jj
+    + 2 a_j sum_{k > j} G_jk a_k.
+    """
+    upper = np.triu(gram, 1)
+    u = a @ upper.T  # u[t, j] = sum_{k > j} G_jk a_k
+    inc = a * a * np.diag(gram) + 2.0 * a * u
+    rc = np.cumsum(inc[:, ::-1], axis=1)[:, ::-1]
+    out = np.zeros_like(a)
+    out[:, :-1] = rc[:, 1:]
+    np.maximum(out, 0.0, out=out)  # rounding of a positive semi-definite form
+    return out, np.maximum(rc[:, 0], 0.0)
+
+
+def _pixels(a: np.ndarray, matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Residual wavefront on every pupil pixel (numba kernel)."""
+    out = np.empty_like(a)
+    total = np.empty(a.shape[0])
+    kern.pixel_fitting_error(a, np.ascontiguousarray(matrix.T), out, total)
+    return out, total
+
+
+def fitting_error(
+    coeffs_or_log: Any,
+    basis: Any,
+    order: Any = None,
+    *,
+    units: str = "rad2",
+    wavelength: float | None = None,
+    method: str = "auto",
+    percentiles: tuple[float, ...] = _PERCENTILES,
+) -> FittingErrorResult:
+    """Fitting error dPhi(n) of a basis truncated to the first n modes of an ordering.
+
+    Parameters
+    ----------
+    coeffs_or_log : ModalLog or array_like, shape (T, M) or (M,)
+        A log (converted to radians; matched to the basis by Noll index; changed to
+        K-L coefficients for a K-L basis) or coefficients of the basis's modes [rad].
+    basis : ModalBasis or array_like, shape (n_valid, M)
+        The basis (or its mode matrix on the valid pupil pixels).
+    order : array_like of int, OrderingResult or None
+        Permutation of the basis modes (None: standard order).
+    units : {"rad2", "waves2"}
+        Units of the result (waves^2 = rad^2 / (2 pi)^2).
+    wavelength : float, optional
+        Wavelength [m] to convert a log in nm or um that carries none.
+    method : {"auto", "parseval", "gram", "pixels"}
+        How dPhi is computed (see the module docstring).
+    percentiles : tuple of float
+        Percentile levels (per cent) of the bands over frames.
+
+    Returns
+    -------
+    FittingErrorResult
+
+    Raises
+    ------
+    ValueError
+        On a shape mismatch, an order that is not a permutation, unknown units or
+        method, or ``method="parseval"`` on a basis that is not orthonormal.
+    """
+    check_choice(units, "units", _UNITS)
+    check_choice(method, "method", _METHODS)
+    view = as_basis(basis)
+    a = coefficients_in_basis(coeffs_or_log, view, wavelength=wavelength, name="coeffs_or_log")
+    idx = check_order(order, view.n_modes)
+    levels = tuple(float(p) for p in np.atleast_1d(as_float_array(percentiles, "percentiles")))
+    if any(p < 0 or p > 100 for p in levels):
+        raise ValueError(f"`percentiles` must lie in [0, 100]; got {levels}.")
+    a = np.ascontiguousarray(a[:, idx])
+    gram = view.gram()[np.ix_(idx, idx)]
+    orthonormal = bool(np.max(np.abs(gram - np.eye(gram.shape[0]))) <= _ORTHO_ATOL)
+    if method == "auto":
+        method = "parseval" if orthonormal else "gram"
+    if method == "parseval":
+        if not orthonormal:
+            dev = float(np.max(np.abs(gram - np.eye(gram.shape[0]))))
+            raise ValueError(
+                "`method`='parseval' needs a basis orthonormal on the pupil (max |gram - I| "
+                f"<= {_ORTHO_ATOL:g}); got max |gram - I| = {dev:.3g}. Use 'gram' or 'pixels'."
+            )
+        per_frame, total = _parseval(a)
+    elif method == "gram":
+        per_frame, total = _gram(a, gram)
+    else:
+        per_frame, total = _pixels(a, view.matrix[:, idx])
+    if units == "waves2":
+        scale = 1.0 / (2.0 * np.pi) ** 2
+        per_frame = per_frame * scale
+        total = total * scale
+    bands = np.percentile(per_frame, levels, axis=0) if levels else np.empty((0, a.shape[1]))
+    return FittingErrorResult(
+        per_frame=per_frame,
+        mean=per_frame.mean(axis=0),
+        total=total,
+        percentiles=levels,
+        bands=np.atleast_2d(bands),
+        order=idx,
+        labels=tuple(view.labels[i] for i in idx),
+        units=units,
+        method=method,
+    )

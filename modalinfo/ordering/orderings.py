@@ -1,0 +1,439 @@
+"""Orderings of a modal basis: standard, variance, data-PCA and mutual information.
+
+The MI orderings follow the paper's Section 2.1 made precise in DESIGN.md. Samples are
+pupil-pixel values at (frame, pixel) pairs drawn without replacement (seeded) up to
+``sample_budget``, pooled over frames or from one frame (the paper's "typical
+wavefront representation"). With ``Phi_ref = sum_k a_k Z_k``:
+
+- ``"mi_marginal"``: score of mode k = I(Phi_ref; a_k Z_k), modes sorted by score;
+- ``"mi_greedy"``: from the empty set S, add the mode maximising I(Phi_ref; Phi_{S+k});
+  the gain of a step is the increase in MI (forward selection with a fixed target).
+  The last step adds the last mode and so reproduces Phi_ref exactly; the MI of a
+  continuous variable with itself is infinite, so that step's MI and gain are NaN
+  (not estimated) and the order of the last mode is forced.
+
+The greedy search fits one :class:`~modalinfo.information.MutualInformation` on
+Phi_ref (binning or bandwidth cached once) and keeps Phi_S on the samples, so each
+step costs one ``score`` per remaining mode on ``Phi_S + a_k Z_k``.
+
+Uncertainty: with the order held fixed, the MI of every step and its gain are
+recomputed on ``n_resamples`` bootstrap replicates: frames resampled in circular blocks
+of ``block_length`` frames (pooled; keeps the time correlation of a loop) or pixels
+resampled one by one (one frame; ignores the spatial correlation, so optimistic). The
+percentile bounds measure sampling variability at this budget, not the estimator's
+bias; a step whose lower gain bound is not above 0 adds no detectable information.
+Cost: one ``fit`` and M ``score`` calls per replicate.
+
+Baselines: ``"standard"`` (index order), ``"variance"`` (descending mean-square
+coefficient) and ``"pca"`` (the empirical K-L order: descending eigenvalue, defined for
+a basis in which the log's coefficients are uncorrelated, i.e. ``KLBasis.from_data`` of
+the same log; its fitting-error curve is the floor of every other ordering's).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import check_choice, check_int, check_real, check_rng
+from modalinfo.ordering import _kernels as kern
+from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
+from modalinfo.ordering.result import OrderingResult
+
+__all__ = ["METHODS", "order_modes", "mi_along_order", "sample_contributions"]
+
+#: Ordering methods accepted by :func:`order_modes`.
+METHODS = ("standard", "variance", "pca", "mi_marginal", "mi_greedy")
+_DECORRELATED_ATOL = 1e-6
+
+
+def _make_estimator(estimator: Any, options: dict) -> tuple[Any, str]:
+    """Return a fit/score MI estimator from a method name or a ready object."""
+    if isinstance(estimator, str):
+        from modalinfo.information import MutualInformation
+
+        return MutualInformation(method=estimator, units="nats", **options), estimator
+    if hasattr(estimator, "fit") and hasattr(estimator, "score"):
+        if options:
+            raise ValueError(
+                "`estimator_options` must be empty when `estimator` is an object; "
+                f"got {options!r}."
+            )
+        return estimator, type(estimator).__name__
+    raise TypeError(
+        "`estimator` must be a method name (e.g. 'histogram', 'kde') or an object with "
+        f"fit(x) and score(y); got {type(estimator).__name__}."
+    )
+
+
+def _draw_pairs(
+    n_frames: int, n_valid: int, budget: int, rng: np.random.Generator, frame: int | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(frame, pixel) indices of the samples, sorted, without replacement."""
+    if frame is not None:
+        if n_valid <= budget:
+            pixels = np.arange(n_valid, dtype=np.int64)
+        else:
+            pixels = np.sort(rng.choice(n_valid, size=budget, replace=False)).astype(np.int64)
+        return np.full(pixels.size, frame, dtype=np.int64), pixels
+    total = n_frames * n_valid
+    if total <= budget:
+        flat = np.arange(total, dtype=np.int64)
+    else:
+        flat = np.sort(rng.choice(total, size=budget, replace=False)).astype(np.int64)
+    return flat // n_valid, flat % n_valid
+
+
+def _contributions(a: np.ndarray, matrix: np.ndarray, frames: np.ndarray,
+                   pixels: np.ndarray) -> np.ndarray:
+    """Contributions (M, B) of every mode at the samples (rows contiguous)."""
+    out = np.empty((frames.size, a.shape[1]))
+    kern.gather_contributions(a, matrix, frames, pixels, out)
+    return np.ascontiguousarray(out.T)
+
+
+def sample_contributions(
+    log_or_coeffs: Any,
+    basis: Any,
+    *,
+    sample_budget: int = 200_000,
+    frame: int | None = None,
+    seed: Any = None,
+    wavelength: float | None = None,
+) -> np.ndarray:
+    """Per-mode wavefront contributions ``a_k Z_k`` at subsampled (frame, pixel) pairs.
+
+    Parameters
+    ----------
+    log_or_coeffs : ModalLog or array_like, shape (T, M)
+        The log, or coefficients of the basis's modes [rad].
+    basis : ModalBasis or array_like, shape (n_valid, M)
+        The basis.
+    sample_budget : int
+        Number of (frame, pixel) samples (all of them if there are fewer).
+    frame : int, optional
+        Sample only this frame's pixels.
+    seed : None, int or numpy.random.Generator
+        Seed of the subsampling.
+    wavelength : float, optional
+        Wavelength [m] for converting a log in nm or um that carries none.
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, B)
+        Row k is mode k's contribution [rad]; ``Phi_ref`` is the sum of the rows.
+    """
+    view = as_basis(basis)
+    a = coefficients_in_basis(log_or_coeffs, view, wavelength=wavelength)
+    budget = check_int(sample_budget, "sample_budget", minimum=10)
+    if frame is not None:
+        frame = check_int(frame, "frame", minimum=-a.shape[0], maximum=a.shape[0] - 1)
+        frame %= a.shape[0]
+    frames, pixels = _draw_pairs(a.shape[0], view.matrix.shape[0], budget, check_rng(seed), frame)
+    return _contributions(a, view.matrix, frames, pixels)
+
+
+def _cumulative_mi(est: Any, contrib: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """MI of Phi_ref (already fitted) with the partial sums along ``order``.
+
+    The sum of all M modes is Phi_ref itself, whose MI with itself is infinite for a
+    continuous variable: that last entry is NaN (not estimated).
+    """
+    phi = np.zeros(contrib.shape[1])
+    mi = np.full(order.size, np.nan)
+    full = order.size == contrib.shape[0]
+    for s, k in enumerate(order):
+        if full and s == order.size - 1:
+            break
+        phi += contrib[k]
+        mi[s] = float(est.score(phi))
+    return mi
+
+
+def _greedy(est: Any, contrib: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Forward selection maximising I(Phi_ref; Phi_{S+k}); Phi_ref already fitted."""
+    n_modes, n_samples = contrib.shape
+    remaining = list(range(n_modes))
+    phi_s = np.zeros(n_samples)
+    cand = np.empty(n_samples)
+    order = np.empty(n_modes, dtype=np.int64)
+    mi = np.empty(n_modes)
+    first = np.empty(n_modes)
+    for step in range(n_modes):
+        if len(remaining) == 1:
+            # the last mode completes Phi_ref: I(Phi_ref; Phi_ref) is infinite, not estimated
+            order[step] = remaining[0]
+            mi[step] = np.nan
+            if step == 0:
+                first[remaining[0]] = np.nan
+            break
+        best_k, best_v = -1, -np.inf
+        for k in remaining:
+            np.add(phi_s, contrib[k], out=cand)
+            v = float(est.score(cand))
+            if step == 0:
+                first[k] = v
+            if v > best_v:
+                best_k, best_v = k, v
+        order[step] = best_k
+        mi[step] = best_v
+        phi_s += contrib[best_k]
+        remaining.remove(best_k)
+    return order, mi, first
+
+
+def _auto_block_length(n_frames: int) -> int:
+    """Default block length T^(1/3) frames (Hall, Horowitz & Jing 1995, for variances)."""
+    return max(1, int(math.ceil(n_frames ** (1.0 / 3.0))))
+
+
+def _bootstrap(
+    est: Any,
+    a: np.ndarray,
+    matrix: np.ndarray,
+    order: np.ndarray,
+    *,
+    frames: np.ndarray,
+    pixels: np.ndarray,
+    pooled: bool,
+    n_resamples: int,
+    block_length: int,
+    rng: np.random.Generator,
+) -> tuple[np.ndarray, np.ndarray]:
+    """MI along ``order`` on bootstrap replicates; returns (mi (R, M), gain (R, M)).
+
+    Pooled: circular block bootstrap of the frames, then the same number of samples
+    drawn uniformly over (resampled frame, pixel) pairs. One frame: the sampled pixels
+    resampled with replacement.
+    """
+    n_frames, n_valid = a.shape[0], matrix.shape[0]
+    n_samples = frames.size
+    mi = np.empty((n_resamples, order.size))
+    for r in range(n_resamples):
+        if pooled:
+            n_blocks = -(-n_frames // block_length)
+            starts = rng.integers(0, n_frames, size=n_blocks)
+            boot = (starts[:, None] + np.arange(block_length)[None, :]).ravel()[:n_frames]
+            boot %= n_frames
+            f = boot[rng.integers(0, n_frames, size=n_samples)].astype(np.int64)
+            p = rng.integers(0, n_valid, size=n_samples).astype(np.int64)
+        else:
+            pick = rng.integers(0, n_samples, size=n_samples)
+            f, p = frames[pick], pixels[pick]
+        contrib = _contributions(a, matrix, f, p)
+        est.fit(contrib.sum(axis=0))
+        mi[r] = _cumulative_mi(est, contrib, order)
+    gain = np.diff(mi, axis=1, prepend=0.0)
+    return mi, gain
+
+
+def _pca_order(a: np.ndarray) -> np.ndarray:
+    """Descending eigenvalue order for coefficients that are uncorrelated; else raise."""
+    second = a.T @ a / a.shape[0]
+    centred = a - a.mean(axis=0)
+    cov = centred.T @ centred / a.shape[0]
+
+    def off_diag(m: np.ndarray) -> float:
+        d = np.sqrt(np.clip(np.diag(m), 1e-300, None))
+        c = m / np.outer(d, d)
+        return float(np.max(np.abs(c - np.diag(np.diag(c))))) if c.shape[0] > 1 else 0.0
+
+    if off_diag(second) <= _DECORRELATED_ATOL:
+        return np.argsort(-np.diag(second), kind="stable")
+    dev = off_diag(cov)
+    if dev <= _DECORRELATED_ATOL:
+        return np.argsort(-np.diag(cov), kind="stable")
+    raise ValueError(
+        "`method`='pca' orders an empirical K-L basis of the same log (coefficients "
+        f"uncorrelated to {_DECORRELATED_ATOL:g}); this basis's coefficients have "
+        f"|correlation| up to {dev:.3g}. Use KLBasis.from_data(zbasis, coeffs) as the basis, "
+        "or method='variance'."
+    )
+
+
+def _check_common(method, estimator_options, n_resamples, confidence_level, block_length):
+    check_choice(method, "method", METHODS)
+    if estimator_options is None:
+        estimator_options = {}
+    if not isinstance(estimator_options, dict):
+        raise TypeError(
+            f"`estimator_options` must be a dict or None; got {type(estimator_options).__name__}."
+        )
+    n_resamples = check_int(n_resamples, "n_resamples", minimum=0)
+    confidence_level = check_real(
+        confidence_level, "confidence_level", minimum=0.0, maximum=1.0, strict_min=True,
+        strict_max=True,
+    )
+    if block_length is not None:
+        block_length = check_int(block_length, "block_length", minimum=1)
+    return dict(estimator_options), n_resamples, confidence_level, block_length
+
+
+def order_modes(
+    log_or_coeffs: Any,
+    basis: Any,
+    method: str = "standard",
+    *,
+    estimator: Any = "histogram",
+    estimator_options: dict | None = None,
+    frame: int | None = None,
+    sample_budget: int = 200_000,
+    seed: Any = None,
+    n_resamples: int = 20,
+    confidence_level: float = 0.95,
+    block_length: int | None = None,
+    wavelength: float | None = None,
+) -> OrderingResult:
+    """Order the modes of a basis for a log.
+
+    Parameters
+    ----------
+    log_or_coeffs : ModalLog or array_like, shape (T, M)
+        A log (converted to radians; matched to the basis by Noll index; changed to
+        K-L coefficients with the basis's change-of-basis matrix for a K-L basis) or
+        coefficients of the basis's own modes [rad].
+    basis : ModalBasis or array_like, shape (n_valid, M)
+        The basis (or its mode matrix on the valid pupil pixels).
+    method : {"standard", "variance", "pca", "mi_marginal", "mi_greedy"}
+        Ordering rule (see the module docstring).
+    estimator : str or object
+        MI estimator: a ``modalinfo.information`` method name ("histogram", "kde",
+        "ksg", "gaussian") or an object with ``fit(x)`` and ``score(y)``.
+    estimator_options : dict, optional
+        Keyword options of the estimator (e.g. ``{"bins": 64}``).
+    frame : int, optional
+        Per-frame ordering on this frame's pixels (the paper's "typical wavefront
+        representation"); None pools every frame. For ``"variance"`` the frame's
+        squared coefficients are used. Not allowed with ``"pca"``.
+    sample_budget : int
+        Number of (frame, pixel) samples for the MI methods (all pairs if fewer).
+    seed : None, int or numpy.random.Generator
+        Seed of the subsampling and the bootstrap.
+    n_resamples : int
+        Bootstrap replicates for the MI and gain bounds (0: none).
+    confidence_level : float
+        Level of the bounds, in (0, 1).
+    block_length : int, optional
+        Block length [frames] of the pooled bootstrap (default ceil(T^(1/3))).
+    wavelength : float, optional
+        Wavelength [m] to convert a log in nm or um that carries none.
+
+    Returns
+    -------
+    OrderingResult
+
+    Raises
+    ------
+    ValueError
+        On an unknown method, mismatched shapes, a bad frame index, or ``"pca"`` on a
+        basis in which the coefficients are correlated.
+    TypeError
+        On arguments of the wrong type.
+    """
+    options, n_resamples, confidence_level, block_length = _check_common(
+        method, estimator_options, n_resamples, confidence_level, block_length
+    )
+    view = as_basis(basis)
+    a = coefficients_in_basis(log_or_coeffs, view, wavelength=wavelength)
+    n_frames, n_modes = a.shape
+    if frame is not None:
+        frame = check_int(frame, "frame", minimum=-n_frames, maximum=n_frames - 1) % n_frames
+    budget = check_int(sample_budget, "sample_budget", minimum=10)
+    seed_value = int(seed) if isinstance(seed, numbers.Integral) and not isinstance(
+        seed, bool) else None
+    rng = check_rng(seed)
+    common = dict(basis_labels=view.labels, method=method, pooled=frame is None, frame=frame)
+
+    def result(order: np.ndarray, **kw: Any) -> OrderingResult:
+        order = np.asarray(order, dtype=np.int64)
+        return OrderingResult(order=order, labels=tuple(view.labels[i] for i in order),
+                              **common, **kw)
+
+    if method == "standard":
+        return result(np.arange(n_modes))
+    if method in ("variance", "pca"):
+        if method == "pca":
+            if frame is not None:
+                raise ValueError(
+                    f"`frame` must be None for method='pca' (a PCA order is a property of the "
+                    f"whole log); got {frame}."
+                )
+            order = _pca_order(a)
+        else:
+            rows = a if frame is None else a[frame:frame + 1]
+            order = np.argsort(-np.mean(rows * rows, axis=0), kind="stable")
+        rows = a if frame is None else a[frame:frame + 1]
+        return result(order, scores=np.mean(rows * rows, axis=0))
+
+    est, est_name = _make_estimator(estimator, options)
+    frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
+    contrib = _contributions(a, view.matrix, frames, pixels)
+    est.fit(contrib.sum(axis=0))
+    if method == "mi_greedy":
+        order, mi, scores = _greedy(est, contrib)
+    else:
+        scores = np.array([float(est.score(contrib[k])) if n_modes > 1 else np.nan
+                           for k in range(n_modes)])
+        order = np.argsort(-scores, kind="stable")
+        mi = _cumulative_mi(est, contrib, order)
+    gain = np.diff(mi, prepend=0.0)
+    bounds: dict[str, Any] = {}
+    blen = block_length if block_length is not None else _auto_block_length(n_frames)
+    if n_resamples > 0:
+        boot_mi, boot_gain = _bootstrap(
+            est, a, view.matrix, order, frames=frames, pixels=pixels, pooled=frame is None,
+            n_resamples=n_resamples, block_length=blen, rng=rng,
+        )
+        tail = 50.0 * (1.0 - confidence_level)
+        bounds = dict(
+            mi_low=np.percentile(boot_mi, tail, axis=0),
+            mi_high=np.percentile(boot_mi, 100.0 - tail, axis=0),
+            gain_low=np.percentile(boot_gain, tail, axis=0),
+            gain_high=np.percentile(boot_gain, 100.0 - tail, axis=0),
+        )
+    return result(
+        order, mi=mi, gain=gain, scores=scores, estimator=est_name, estimator_options=options,
+        sample_budget=budget, n_samples=int(frames.size), seed=seed_value,
+        n_resamples=n_resamples, confidence_level=confidence_level,
+        block_length=blen if frame is None else None, **bounds,
+    )
+
+
+def mi_along_order(
+    log_or_coeffs: Any,
+    basis: Any,
+    order: Any = None,
+    *,
+    estimator: Any = "histogram",
+    estimator_options: dict | None = None,
+    frame: int | None = None,
+    sample_budget: int = 200_000,
+    seed: Any = None,
+    wavelength: float | None = None,
+) -> np.ndarray:
+    """I(Phi_ref; Phi_n) [nats] for n = 1..M along any ordering (e.g. to compare orders).
+
+    Parameters
+    ----------
+    log_or_coeffs, basis, estimator, estimator_options, frame, sample_budget, seed, wavelength
+        As in :func:`order_modes`.
+    order : array_like of int, OrderingResult or None
+        Permutation of the basis modes (None: standard order).
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,)
+    """
+    from modalinfo.ordering.fitting_error import check_order
+
+    options = _check_common("standard", estimator_options, 0, 0.5, None)[0]
+    view = as_basis(basis)
+    idx = check_order(order, view.n_modes)
+    contrib = sample_contributions(log_or_coeffs, view, sample_budget=sample_budget,
+                                   frame=frame, seed=seed, wavelength=wavelength)
+    est, _ = _make_estimator(estimator, options)
+    est.fit(contrib.sum(axis=0))
+    return _cumulative_mi(est, contrib, idx)

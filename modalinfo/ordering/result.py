@@ -1,0 +1,246 @@
+"""The result of a mode ordering, with a JSON round trip."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["OrderingResult"]
+
+_ARRAY_FIELDS = ("order", "mi", "gain", "mi_low", "mi_high", "gain_low", "gain_high", "scores")
+_FORMAT = "modalinfo.OrderingResult/1"
+
+
+def _to_jsonable(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return _to_jsonable(value.tolist())
+    if isinstance(value, list | tuple):
+        return [_to_jsonable(v) for v in value]
+    if isinstance(value, dict):
+        return {str(k): _to_jsonable(v) for k, v in value.items()}
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    return value
+
+
+def _float_array(values: Any) -> np.ndarray | None:
+    if values is None:
+        return None
+    out = [np.nan if v is None else float(v) for v in values]
+    return np.asarray(out, dtype=float)
+
+
+@dataclass(frozen=True)
+class OrderingResult:
+    """An ordering of the modes of a basis, and the numbers it was chosen on.
+
+    Attributes
+    ----------
+    order : numpy.ndarray, shape (M,), int64
+        Indices into the basis, most important mode first.
+    labels : tuple of str
+        Labels of the modes in that order.
+    basis_labels : tuple of str
+        Labels of the basis in its own index order (to check ``apply``).
+    method : str
+        ``"standard"``, ``"variance"``, ``"pca"``, ``"mi_marginal"`` or ``"mi_greedy"``.
+    mi : numpy.ndarray, shape (M,) or None
+        MI methods: ``mi[s]`` = I(Phi_ref; Phi_{first s + 1 modes}) [nats] on the samples.
+    gain : numpy.ndarray, shape (M,) or None
+        ``mi[s] - mi[s - 1]`` (``mi[-1]`` = 0): the information added by step s [nats].
+    mi_low, mi_high, gain_low, gain_high : numpy.ndarray, shape (M,) or None
+        Percentile confidence bounds of ``mi`` and ``gain`` from a block bootstrap over
+        frames (pooled) or a bootstrap over pixels (one frame), with the order held fixed;
+        None when ``n_resamples`` is 0 or the method is not an MI method.
+    scores : numpy.ndarray, shape (M,) or None
+        Per-mode score in the basis's index order: I(Phi_ref; a_k Z_k) [nats] for
+        ``"mi_marginal"`` and ``"mi_greedy"``, the mean-square coefficient [rad^2] for
+        ``"variance"`` and ``"pca"``; None for ``"standard"``.
+    estimator : str or None
+        Name of the MI estimator.
+    estimator_options : dict
+        Options passed to the estimator.
+    mi_units : str
+        Units of ``mi`` and ``gain`` (``"nats"``).
+    sample_budget : int
+        Requested number of (frame, pixel) samples.
+    n_samples : int
+        Samples actually used (the budget, or every pair if there are fewer).
+    seed : int or None
+        Seed of the subsampling and the bootstrap (None if not an int).
+    pooled : bool
+        True if samples pool every frame; False for a per-frame ordering.
+    frame : int or None
+        The frame of a per-frame ordering.
+    n_resamples : int
+        Bootstrap replicates behind the confidence bounds.
+    confidence_level : float
+        Level of the confidence bounds.
+    block_length : int or None
+        Block length [frames] of the block bootstrap.
+    """
+
+    order: np.ndarray
+    labels: tuple[str, ...]
+    basis_labels: tuple[str, ...]
+    method: str
+    mi: np.ndarray | None = None
+    gain: np.ndarray | None = None
+    mi_low: np.ndarray | None = None
+    mi_high: np.ndarray | None = None
+    gain_low: np.ndarray | None = None
+    gain_high: np.ndarray | None = None
+    scores: np.ndarray | None = None
+    estimator: str | None = None
+    estimator_options: dict = field(default_factory=dict)
+    mi_units: str = "nats"
+    sample_budget: int | None = None
+    n_samples: int | None = None
+    seed: int | None = None
+    pooled: bool = True
+    frame: int | None = None
+    n_resamples: int = 0
+    confidence_level: float = 0.95
+    block_length: int | None = None
+
+    @property
+    def n_modes(self) -> int:
+        """Number of modes M."""
+        return int(self.order.size)
+
+    @property
+    def informative(self) -> np.ndarray | None:
+        """Steps whose gain is significantly positive (``gain_low > 0``), or None."""
+        if self.gain_low is None:
+            return None
+        return self.gain_low > 0.0
+
+    @property
+    def n_informative(self) -> int | None:
+        """Number of leading steps before the first gain that is not significantly > 0."""
+        flags = self.informative
+        if flags is None:
+            return None
+        bad = np.flatnonzero(~flags)
+        return int(bad[0]) if bad.size else int(flags.size)
+
+    def rank(self) -> np.ndarray:
+        """Rank (0 = first) of every basis mode, in the basis's index order."""
+        ranks = np.empty(self.order.size, dtype=np.int64)
+        ranks[self.order] = np.arange(self.order.size)
+        return ranks
+
+    def apply(self, basis: Any) -> Any:
+        """Return ``basis.reorder(order)``, the basis with its modes in this order.
+
+        Parameters
+        ----------
+        basis : ModalBasis
+            The basis the ordering was computed for (same number and labels of modes).
+
+        Returns
+        -------
+        ModalBasis
+            Same class, columns and labels permuted.
+        """
+        n = getattr(basis, "n_modes", None)
+        if n is None and hasattr(basis, "matrix"):
+            n = np.shape(basis.matrix)[1]
+        if n != self.n_modes:
+            raise ValueError(
+                f"`basis` must have the {self.n_modes} modes this ordering was computed for; "
+                f"got {n}."
+            )
+        labels = tuple(getattr(basis, "labels", ()))
+        if labels and tuple(labels) != self.basis_labels:
+            raise ValueError(
+                f"`basis` labels must match the ordering's basis {list(self.basis_labels)[:5]}...; "
+                f"got {list(labels)[:5]}..."
+            )
+        return basis.reorder(self.order)
+
+    def to_dict(self) -> dict:
+        """Return a JSON-ready dict of every field (arrays as lists, NaN as null)."""
+        out = {"format": _FORMAT}
+        for f in fields(self):
+            out[f.name] = _to_jsonable(getattr(self, f.name))
+        return out
+
+    def to_json(self, path: str | Path, overwrite: bool = False) -> Path:
+        """Write the ordering to a JSON file.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            Output file.
+        overwrite : bool
+            Replace an existing file (otherwise ``FileExistsError``).
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+        """
+        path = Path(path)
+        if path.exists() and not overwrite:
+            raise FileExistsError(f"`path` '{path}' exists; pass overwrite=True to replace it.")
+        path.write_text(json.dumps(self.to_dict(), indent=1) + "\n", encoding="utf-8")
+        return path
+
+    @classmethod
+    def from_dict(cls, data: dict) -> OrderingResult:
+        """Rebuild a result from :meth:`to_dict` output."""
+        if not isinstance(data, dict) or data.get("format") != _FORMAT:
+            raise ValueError(f"`data` is not a serialised OrderingResult (format {_FORMAT!r}).")
+        kwargs = {}
+        for f in fields(cls):
+            if f.name not in data:
+                continue
+            value = data[f.name]
+            if f.name == "order":
+                value = np.asarray(value, dtype=np.int64)
+            elif f.name in _ARRAY_FIELDS:
+                value = _float_array(value)
+            elif f.name in ("labels", "basis_labels"):
+                value = tuple(value)
+            kwargs[f.name] = value
+        return cls(**kwargs)
+
+    @classmethod
+    def from_json(cls, path: str | Path) -> OrderingResult:
+        """Read an ordering written by :meth:`to_json`."""
+        path = Path(path)
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"`path` '{path}' is not valid JSON: {exc}") from exc
+        return cls.from_dict(data)
+
+    def table(self) -> str:
+        """Return a plain-text table: step, mode, score, MI, gain and its bounds."""
+        head = f"{'step':>4}  {'mode':<8}"
+        has_mi = self.mi is not None
+        if self.scores is not None:
+            head += f"  {'score':>10}"
+        if has_mi:
+            head += f"  {'MI':>8}  {'gain':>8}"
+        if self.gain_low is not None:
+            head += f"  {'gain CI':>19}"
+        lines = [head]
+        for s, k in enumerate(self.order):
+            row = f"{s + 1:>4}  {self.labels[s]:<8}"
+            if self.scores is not None:
+                row += f"  {self.scores[k]:>10.4g}"
+            if has_mi:
+                row += f"  {self.mi[s]:>8.4f}  {self.gain[s]:>8.4f}"
+            if self.gain_low is not None:
+                row += f"  [{self.gain_low[s]:>8.4f},{self.gain_high[s]:>8.4f}]"
+            lines.append(row)
+        return "\n".join(lines)

@@ -1,0 +1,218 @@
+"""How stable an ordering is across time windows of a log and across subsampling seeds.
+
+An ordering used to compress a real-time loop must not change every second: here the
+log is cut into consecutive windows, each window is ordered on its own, and the
+orderings of consecutive windows are compared with rank correlations (Spearman's rho
+and Kendall's tau, ``scipy.stats``) and the overlap of their leading modes. The same
+comparison across subsampling seeds on the whole log separates estimator noise from
+real changes of the turbulence.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from modalinfo._validation import check_int
+from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
+from modalinfo.ordering.orderings import order_modes
+
+__all__ = ["StabilityResult", "ordering_stability", "rank_agreement"]
+
+
+def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
+    """Spearman's rho and Kendall's tau between the mode ranks of two orderings.
+
+    Parameters
+    ----------
+    order_a, order_b : array_like of int, shape (M,)
+        Permutations of ``0..M-1`` (indices into the same basis).
+
+    Returns
+    -------
+    (float, float)
+        rho and tau, 1 for identical orderings, -1 for reversed ones.
+    """
+    a = np.asarray(order_a)
+    b = np.asarray(order_b)
+    if a.shape != b.shape or a.ndim != 1 or not np.array_equal(np.sort(a), np.sort(b)):
+        raise ValueError(
+            f"`order_a` and `order_b` must be permutations of the same modes; got {a.tolist()} "
+            f"and {b.tolist()}."
+        )
+    ra = np.empty(a.size)
+    rb = np.empty(b.size)
+    ra[a] = np.arange(a.size)
+    rb[b] = np.arange(b.size)
+    rho = float(stats.spearmanr(ra, rb).statistic)
+    tau = float(stats.kendalltau(ra, rb).statistic)
+    return rho, tau
+
+
+def _top_overlap(a: np.ndarray, b: np.ndarray, n: int) -> float:
+    return len(set(a[:n].tolist()) & set(b[:n].tolist())) / n
+
+
+@dataclass(frozen=True)
+class StabilityResult:
+    """Agreement of orderings across time windows and subsampling seeds.
+
+    Attributes
+    ----------
+    method : str
+        Ordering method.
+    labels : tuple of str
+        Basis labels in index order.
+    window_starts : numpy.ndarray, shape (W,)
+        First frame of each window.
+    window_length : int
+        Frames per window.
+    window_duration : float or None
+        Window length [s] (None if the log has no rate).
+    window_orders : numpy.ndarray, shape (W, M)
+        Ordering of each window.
+    window_spearman, window_kendall : numpy.ndarray, shape (W - 1,)
+        Rank correlation between consecutive windows.
+    window_top_overlap : numpy.ndarray, shape (W - 1,)
+        Fraction of the leading ``n_top`` modes shared by consecutive windows.
+    seeds : tuple of int
+        Subsampling seeds.
+    seed_orders : numpy.ndarray, shape (S, M)
+        Ordering of the whole log for each seed.
+    seed_spearman, seed_kendall : numpy.ndarray, shape (S (S - 1) / 2,)
+        Rank correlation between every pair of seeds.
+    seed_top_overlap : numpy.ndarray, shape (S (S - 1) / 2,)
+        Leading-mode overlap between every pair of seeds.
+    n_top : int
+        Number of leading modes compared by the overlaps.
+    """
+
+    method: str
+    labels: tuple[str, ...]
+    window_starts: np.ndarray
+    window_length: int
+    window_duration: float | None
+    window_orders: np.ndarray
+    window_spearman: np.ndarray
+    window_kendall: np.ndarray
+    window_top_overlap: np.ndarray
+    seeds: tuple[int, ...]
+    seed_orders: np.ndarray
+    seed_spearman: np.ndarray
+    seed_kendall: np.ndarray
+    seed_top_overlap: np.ndarray
+    n_top: int
+
+    def summary(self) -> str:
+        """Return a few lines: median rank correlations across windows and across seeds."""
+
+        def med(x: np.ndarray) -> str:
+            return f"{np.median(x):.3f}" if x.size else "n/a"
+
+        dur = f" ({self.window_duration:.3g} s)" if self.window_duration else ""
+        return "\n".join([
+            f"ordering stability, method {self.method}:",
+            f"  {self.window_orders.shape[0]} windows of {self.window_length} frames{dur}: "
+            f"median Spearman {med(self.window_spearman)}, Kendall {med(self.window_kendall)}, "
+            f"top-{self.n_top} overlap {med(self.window_top_overlap)}",
+            f"  {len(self.seeds)} seeds on the whole log: median Spearman "
+            f"{med(self.seed_spearman)}, Kendall {med(self.seed_kendall)}, "
+            f"top-{self.n_top} overlap {med(self.seed_top_overlap)}",
+        ])
+
+
+def ordering_stability(
+    log_or_coeffs: Any,
+    basis: Any,
+    method: str = "mi_greedy",
+    *,
+    window: int | None = None,
+    seeds: Any = (0, 1, 2),
+    n_top: int | None = None,
+    wavelength: float | None = None,
+    **order_options: Any,
+) -> StabilityResult:
+    """Rank correlation of orderings of consecutive windows and of different seeds.
+
+    Parameters
+    ----------
+    log_or_coeffs : ModalLog or array_like, shape (T, M)
+        The log (or coefficients of the basis's modes [rad]).
+    basis : ModalBasis or array_like, shape (n_valid, M)
+        The basis.
+    method : str
+        Ordering method of :func:`~modalinfo.ordering.order_modes`.
+    window : int, optional
+        Frames per window (default T // 5); consecutive windows do not overlap.
+    seeds : sequence of int
+        Subsampling seeds for the seed comparison on the whole log (at least 2, or
+        empty to skip).
+    n_top : int, optional
+        Leading modes compared by the overlap fraction (default min(5, M)).
+    wavelength : float, optional
+        Wavelength [m] to convert a log in nm or um that carries none.
+    **order_options
+        Passed to :func:`~modalinfo.ordering.order_modes` (``estimator``,
+        ``sample_budget``...); ``n_resamples`` defaults to 0 here.
+
+    Returns
+    -------
+    StabilityResult
+    """
+    view = as_basis(basis)
+    a = coefficients_in_basis(log_or_coeffs, view, wavelength=wavelength)
+    n_frames, n_modes = a.shape
+    if window is None:
+        window = max(1, n_frames // 5)
+    window = check_int(window, "window", minimum=1, maximum=max(1, n_frames // 2))
+    if n_top is None:
+        n_top = min(5, n_modes)
+    n_top = check_int(n_top, "n_top", minimum=1, maximum=n_modes)
+    seeds = tuple(check_int(s, "seeds[i]", minimum=0) for s in seeds)
+    if len(seeds) == 1:
+        raise ValueError(f"`seeds` must hold at least 2 seeds (or none); got {seeds}.")
+    order_options.setdefault("n_resamples", 0)
+    base_seed = order_options.pop("seed", seeds[0] if seeds else 0)
+    rate = getattr(log_or_coeffs, "rate", None)
+
+    starts = np.arange(0, n_frames - window + 1, window)
+    window_orders = np.array([
+        order_modes(a[s:s + window], view, method, seed=base_seed, **order_options).order
+        for s in starts
+    ])
+    pairs_w = [rank_agreement(window_orders[i], window_orders[i + 1])
+               for i in range(len(starts) - 1)]
+    over_w = [_top_overlap(window_orders[i], window_orders[i + 1], n_top)
+              for i in range(len(starts) - 1)]
+
+    seed_orders = np.array([
+        order_modes(a, view, method, seed=s, **order_options).order for s in seeds
+    ]).reshape(len(seeds), n_modes)
+    combos = list(combinations(range(len(seeds)), 2))
+    pairs_s = [rank_agreement(seed_orders[i], seed_orders[j]) for i, j in combos]
+    over_s = [_top_overlap(seed_orders[i], seed_orders[j], n_top) for i, j in combos]
+
+    def col(pairs: list, k: int) -> np.ndarray:
+        return np.array([p[k] for p in pairs], dtype=float)
+
+    return StabilityResult(
+        method=method,
+        labels=view.labels,
+        window_starts=starts,
+        window_length=window,
+        window_duration=float(window / rate) if rate else None,
+        window_orders=window_orders,
+        window_spearman=col(pairs_w, 0),
+        window_kendall=col(pairs_w, 1),
+        window_top_overlap=np.array(over_w, dtype=float),
+        seeds=seeds,
+        seed_orders=seed_orders,
+        seed_spearman=col(pairs_s, 0),
+        seed_kendall=col(pairs_s, 1),
+        seed_top_overlap=np.array(over_s, dtype=float),
+        n_top=n_top,
+    )
