@@ -1,0 +1,112 @@
+"""Tests of unit conversions and the Fringe peak/RMS normalisation.
+
+References: the definitions phase[rad] = 2 pi OPD / lambda and waves = OPD / lambda
+(hand-computed: 500 nm of OPD at 500 nm is 1 wave = 2 pi rad); Noll (1976) eq. 4 for
+the normalisation N_nm; the RMS over the unit disc of the peak-normalised Fringe
+polynomials computed by numerical quadrature with scipy (e.g. defocus 2 rho^2 - 1
+has RMS 1/sqrt(3)).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import integrate
+
+from modalinfo.telemetry import ModalLog
+from modalinfo.telemetry.units import (
+    UNITS,
+    peak_normalized_from_rms,
+    rms_from_peak_normalized,
+    unit_scale,
+    zernike_rms_normalization,
+)
+
+
+def test_hand_computed_values():
+    # 500 nm of OPD at a 500 nm wavelength: 1 wave, 2 pi rad
+    assert 500 * unit_scale("nm", "waves", 500e-9) == pytest.approx(1.0, rel=1e-15)
+    assert 500 * unit_scale("nm", "rad", 500e-9) == pytest.approx(2 * math.pi, rel=1e-15)
+    assert unit_scale("waves", "rad") == pytest.approx(2 * math.pi, rel=1e-15)
+    assert unit_scale("um", "nm") == pytest.approx(1000.0, rel=1e-15)
+    # 1 rad at 1.6 um is 1600 / (2 pi) nm = 254.648 nm
+    assert unit_scale("rad", "nm", 1.6e-6) == pytest.approx(254.64790894703253, rel=1e-14)
+    assert unit_scale("rad", "rad") == 1.0
+
+
+def test_log_hand_value():
+    log = ModalLog(np.array([[500.0]]), rate=1.0, units="nm")
+    assert log.to_units("waves", wavelength=500e-9).coeffs[0, 0] == pytest.approx(1.0)
+    assert log.to_units("rad", wavelength=500e-9).coeffs[0, 0] == pytest.approx(2 * math.pi)
+    assert log.to_units("um").coeffs[0, 0] == pytest.approx(0.5)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    a=st.sampled_from(UNITS),
+    b=st.sampled_from(UNITS),
+    lam=st.floats(min_value=1e-7, max_value=2e-5),
+)
+def test_round_trip_scale(a, b, lam):
+    assert unit_scale(a, b, lam) * unit_scale(b, a, lam) == pytest.approx(1.0, rel=1e-14)
+    via = unit_scale(a, "nm", lam) * unit_scale("nm", b, lam)
+    assert unit_scale(a, b, lam) == pytest.approx(via, rel=1e-14)
+
+
+def test_errors():
+    with pytest.raises(ValueError, match=r"`to_units` must be one of"):
+        unit_scale("rad", "mm", 1e-6)
+    with pytest.raises(TypeError, match=r"`from_units` must be a str"):
+        unit_scale(1, "rad")
+    with pytest.raises(ValueError, match=r"`wavelength` \(metres\) is required"):
+        unit_scale("rad", "nm")
+    with pytest.raises(ValueError, match=r"`wavelength` must be > 0.0"):
+        unit_scale("rad", "nm", -1e-6)
+
+
+def test_rms_normalization_values():
+    assert zernike_rms_normalization(0, 0) == 1.0
+    assert zernike_rms_normalization(1, 1) == pytest.approx(2.0)
+    assert zernike_rms_normalization(2, 0) == pytest.approx(math.sqrt(3))
+    np.testing.assert_allclose(
+        zernike_rms_normalization([3, 4], [-1, 0]), [math.sqrt(8), math.sqrt(5)]
+    )
+
+
+def _peak_rms(radial, azimuthal_m):
+    """RMS over the unit disc of R(rho) cos(m theta) by quadrature."""
+
+    def integrand(rho, theta):
+        return (radial(rho) * math.cos(azimuthal_m * theta)) ** 2 * rho
+
+    val, _ = integrate.dblquad(integrand, 0, 2 * math.pi, 0, 1)
+    return math.sqrt(val / math.pi)
+
+
+@pytest.mark.parametrize(
+    ("fringe", "radial", "m"),
+    [
+        (4, lambda r: 2 * r**2 - 1, 0),  # defocus
+        (2, lambda r: r, 1),  # tilt x
+        (5, lambda r: r**2, 2),  # astigmatism 0 deg
+        (9, lambda r: 6 * r**4 - 6 * r**2 + 1, 0),  # primary spherical
+    ],
+)
+def test_peak_to_rms_matches_quadrature(fringe, radial, m):
+    # a_peak Z_peak has the RMS a_peak * rms(Z_peak); in unit-RMS terms that is a_rms.
+    rms = _peak_rms(radial, m)
+    a_rms = rms_from_peak_normalized(np.array([[1.0]]), [fringe])[0, 0]
+    assert a_rms == pytest.approx(rms, rel=1e-7)
+    back = peak_normalized_from_rms(np.array([[a_rms]]), [fringe])[0, 0]
+    assert back == pytest.approx(1.0, rel=1e-14)
+
+
+def test_peak_conversion_keeps_float32():
+    x = np.ones((3, 2), dtype=np.float32)
+    assert rms_from_peak_normalized(x, [2, 4]).dtype == np.float32
+    with pytest.raises(ValueError, match=r"`modes` must be a 1-D list of Fringe indices"):
+        rms_from_peak_normalized(x, [0, 4])
