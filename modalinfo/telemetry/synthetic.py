@@ -103,6 +103,7 @@ __all__ = [
     "LoopBandwidth",
     "ClosedLoopResult",
     "open_loop_log",
+    "open_loop_psd",
     "closed_loop_log",
     "closed_loop_simulation",
     "rejection_transfer_function",
@@ -291,6 +292,92 @@ def _open_loop_array(modes: list[int], n_samples: int, sample_rate: float, diame
         unit = sfft.irfft(spec, n=n_fft, axis=1)[:, :n_samples]
         amplitude = layer.d_over_r0_at(diameter, wavelength) ** (5.0 / 6.0)
         out += amplitude * (unit.T @ chol.T)
+    result = np.empty_like(out)
+    result[:, order] = out
+    return result
+
+
+def _continuous_integral(radial_order: int, wind_speed: float, diameter: float,
+                         outer_scale: float) -> float:
+    """``integral_0^inf`` of :func:`_psd_shape` [Hz], in closed form."""
+    f_c = _CUTOFF_FACTOR * (radial_order + 1) * wind_speed / diameter
+    high = 3.0 * f_c / 14.0  # integral_fc^inf (f / fc)**(-17/3) df
+    if radial_order != 1:
+        return f_c + high
+    f_0 = min(wind_speed / outer_scale, f_c) if np.isfinite(outer_scale) else 0.0
+    flat = f_0 * (f_0 / f_c) ** _LOW_SLOPE_TILT if f_0 > 0 else 0.0
+    return flat + 3.0 * f_c * (1.0 - (f_0 / f_c) ** (1.0 / 3.0)) + high
+
+
+def open_loop_psd(
+    freqs,
+    modes: Sequence[int] = range(2, 29),
+    *,
+    diameter: float,
+    layers: Layer | Sequence[Layer],
+    outer_scale: float = np.inf,
+    wavelength: float = _R0_WAVELENGTH,
+    n_frames: int | None = None,
+    rate: float | None = None,
+) -> np.ndarray:
+    """One-sided PSD of the open-loop model of :func:`open_loop_log` [rad^2/Hz].
+
+    ``PSD_j(f) = sum_l (D/r0_l)**(5/3) sum_k L[j, k]**2 S_{n_k, l}(f)`` with ``L`` the
+    Cholesky factor of the Zernike covariance (modes sorted by Noll index) and
+    ``S_{n, l}`` the unit-variance asymptotic spectrum of radial order ``n`` for the wind
+    of layer ``l`` (module docstring).
+
+    Parameters
+    ----------
+    freqs : array_like, shape (F,)
+        Frequencies [Hz], > 0.
+    modes, diameter, layers, outer_scale, wavelength
+        As in :func:`open_loop_log`.
+    n_frames, rate : int and float, optional
+        Give both to get the expected spectrum of a record generated with these values:
+        the unit spectra are then normalised over the resolved band, as the generator
+        does (module docstring), instead of over ``(0, inf)``, and are 0 above
+        ``rate / 2``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (F, M)
+        PSD per mode; its integral over ``f > 0`` is the mode's variance.
+    """
+    f = np.atleast_1d(np.asarray(freqs, dtype=np.float64))
+    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise ValueError("`freqs` must be a 1-D array of finite frequencies > 0 Hz.")
+    mode_list = _check_modes(modes)
+    diameter, outer_scale, wavelength = _check_geometry(diameter, outer_scale, wavelength)
+    layer_tuple = _check_layers(layers)
+    if (n_frames is None) != (rate is None):
+        raise ValueError("`n_frames` and `rate` must be given together (or neither).")
+    order = np.argsort(mode_list, kind="stable")
+    sorted_modes = [mode_list[i] for i in order]
+    n_radial = [int(n) for n in np.atleast_1d(noll_to_zernike(np.array(sorted_modes)))[0]]
+    chol = np.linalg.cholesky(
+        zernike_covariance(sorted_modes, outer_scale=outer_scale, diameter=diameter))
+    weights2 = chol**2
+    out = np.zeros((f.size, len(mode_list)))
+    for layer in layer_tuple:
+        unit = np.empty((f.size, len(mode_list)))
+        for i, n in enumerate(n_radial):
+            shape = _psd_shape(f, n, layer.wind_speed, diameter, outer_scale)
+            if n_frames is None:
+                unit[:, i] = shape / _continuous_integral(n, layer.wind_speed, diameter,
+                                                          outer_scale)
+            else:
+                n_frames = check_int(n_frames, "n_frames", minimum=2)
+                rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
+                n_fft = sfft.next_fast_len(2 * n_frames, real=True)
+                h = _unit_filters(n_fft, rate, [n], layer.wind_speed, diameter,
+                                  outer_scale)[n]
+                grid = sfft.rfftfreq(n_fft, d=1.0 / rate)
+                scale = h[1] ** 2 / _psd_shape(grid[1:2], n, layer.wind_speed, diameter,
+                                               outer_scale)[0]
+                unit[:, i] = np.where(f <= rate / 2.0, 2.0 * scale * shape / rate, 0.0)
+        strength = layer.d_over_r0_at(diameter, wavelength) ** (5.0 / 3.0)
+        out += strength * (unit @ weights2.T)
     result = np.empty_like(out)
     result[:, order] = out
     return result
@@ -933,7 +1020,8 @@ def kaos_like(
         "seed": seed if isinstance(seed, numbers.Integral) else None,
         "n_frames": n_frames,
         "generator": params,
-        **_layers_metadata(layers, float(p["diameter"]), float(p["wavelength"])),
+        **{k: v for k, v in _layers_metadata(layers, float(p["diameter"]),
+                                             float(p["wavelength"])).items() if k != "layers"},
         "bandwidth_rejection_0db_hz": result.bandwidth.rejection_0db,
         "bandwidth_closed_loop_3db_hz": result.bandwidth.closed_loop_3db,
         "wavelength_m": float(p["wavelength"]),

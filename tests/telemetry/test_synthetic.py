@@ -15,12 +15,14 @@ References (outside this module):
 """
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import signal, stats
 
 from modalinfo.bases import zernike_covariance
+from modalinfo.io import load
 from modalinfo.telemetry import ModalLog
 from modalinfo.telemetry.synthetic import (
     KAOS_LIKE_DEFAULTS,
@@ -32,6 +34,7 @@ from modalinfo.telemetry.synthetic import (
     kaos_like,
     max_stable_gain,
     open_loop_log,
+    open_loop_psd,
     rejection_transfer_function,
 )
 
@@ -147,6 +150,48 @@ def test_higher_wind_moves_cutoff_up():
     assert 0.7 < pf[at30].mean() / pf[low].mean() < 1.4
 
 
+@pytest.mark.parametrize("outer_scale", [np.inf, 10.0])
+def test_model_psd_integrates_to_the_covariance(outer_scale):
+    # The closed-form normalisation of the continuous model against trapezoidal
+    # integration on a fine log grid (1e-12 .. 1e7 Hz; the missing tip/tilt power below
+    # 1e-12 Hz is (1e-12 / 6)**(1/3) ~ 1e-4 of the total). Tolerance 3e-4.
+    layers = [Layer(None, 10.0, d_over_r0=2.0), Layer(0.1, 25.0)]
+    modes = [2, 4, 8, 16, 22]
+    f = np.logspace(-12, 7, 400001)
+    psd = open_loop_psd(f, modes, diameter=1.0, layers=layers, outer_scale=outer_scale)
+    variance = np.trapezoid(psd, f, axis=0)
+    theory = (2.0 ** (5 / 3) + 10.0 ** (5 / 3)) * np.diag(
+        zernike_covariance(modes, outer_scale=outer_scale, diameter=1.0))
+    np.testing.assert_allclose(variance, theory, rtol=3e-4)
+
+
+def test_welch_psd_matches_model_including_coupled_modes():
+    # Z8 and Z16 are coupled to Z2 (same m = 1 cos family): by the Cholesky construction
+    # their PSD is a mixture of the tip/tilt and their own radial-order shapes, which
+    # open_loop_psd(n_frames=, rate=) predicts for the generated record. Band averages
+    # of the Welch/model ratio over 2-240 Hz (63 Hann segments: 12.6 % per bin; the band
+    # average over n correlated bins has ~0.126 sqrt(2 / n)); tolerance 5 of those.
+    # Discriminating: at 0.5-2 Hz the pure n = 3 spectrum of Z8 is 12-40 % below the
+    # mixture (checked below).
+    layers = [Layer(None, 10.0, d_over_r0=2.0), Layer(0.1, 25.0)]
+    modes = [2, 4, 8, 16]
+    n, rate = 2**17, 500.0
+    log = open_loop_log(modes, n_frames=n, rate=rate, diameter=1.0, layers=layers, seed=4)
+    f, p = signal.welch(log.coeffs, fs=rate, nperseg=4096, axis=0)
+    f, p = f[1:], p[1:]
+    model = open_loop_psd(f, modes, diameter=1.0, layers=layers, n_frames=n, rate=rate)
+    for lo, hi in [(0.5, 2), (2, 10), (10, 40), (40, 240)]:
+        band = (f >= lo) & (f < hi)
+        ratio = (p[band] / model[band]).mean(axis=0)
+        tol = 5 * 0.126 * np.sqrt(2 / band.sum())
+        if lo < 1:  # lowest band: Welch's window bias on the steep tip/tilt spectrum
+            tol += 0.06
+        np.testing.assert_allclose(ratio, 1.0, atol=tol)
+    pure = open_loop_psd(f, [8], diameter=1.0, layers=layers, n_frames=n, rate=rate)[:, 0]
+    low = (f >= 0.5) & (f < 2)
+    assert np.mean(model[low, 2] / pure[low]) > 1.15
+
+
 # ---------------------------------------------------------------------- closed loop
 def _reference_loop(x, gain, delay_steps, int_steps, os, noise):
     """Sample-by-sample simulation on the fine grid: DM held, WFS box-averages."""
@@ -201,6 +246,21 @@ def test_residual_psd_is_open_loop_psd_times_rejection(delay, integration, os):
     for col in range(2):
         ratio = p_res[band, col] / p_ol[band, col]
         np.testing.assert_allclose(ratio, e2, rtol=0.03)
+
+
+def test_noise_propagation_matches_rejection_integral():
+    # Turbulence-free input: the measured residual is E(z) n, so its variance is
+    # noise_rms^2 * (2 / rate) * integral_0^{rate/2} |E|^2 df (Parseval). The sample
+    # variance of 4 modes x 2^15 nearly white frames has a relative standard error of
+    # ~sqrt(2 / 131072) = 0.4 %; tolerance 2 %.
+    rate, gain, sigma = 1000.0, 0.45, 0.1
+    flat = ModalLog(np.zeros((2**15, 4)), rate=rate, modes=[2, 3, 4, 5])
+    res = closed_loop_log(flat, gain=gain, delay_frames=1.0, noise_rms=sigma, seed=9)
+    f = np.linspace(0.0, rate / 2, 200001)
+    e2 = np.abs(rejection_transfer_function(f, rate=rate, gain=gain, delay_frames=1.0)) ** 2
+    expected = sigma**2 * 2.0 / rate * np.trapezoid(e2, f)
+    assert expected > 1.3 * sigma**2  # noise is amplified overall by this loop
+    assert np.mean(res.coeffs[100:] ** 2) == pytest.approx(expected, rel=0.02)
 
 
 def test_rejection_function_two_frame_delay_closed_form():
@@ -259,6 +319,11 @@ def kaos():
     return kaos_like()
 
 
+@pytest.fixture(scope="module")
+def kaos_open():
+    return kaos_like(closed_loop=False)
+
+
 def test_kaos_like_preset(kaos):
     assert kaos.coeffs.shape == (8000, 27)
     assert kaos.modes == list(range(2, 29))
@@ -273,11 +338,11 @@ def test_kaos_like_preset(kaos):
     np.testing.assert_allclose(waves.coeffs, kaos.coeffs / (2 * np.pi), rtol=1e-12)
 
 
-def test_kaos_like_closed_loop_rejects_low_orders(kaos):
+def test_kaos_like_closed_loop_rejects_low_orders(kaos, kaos_open):
     # Same seed, same turbulence: the closed loop must reduce the tip/tilt variance by a
     # large factor (bandwidth 130 Hz vs cutoffs of a few Hz) and the open loop carry the
     # expected Kolmogorov/von Karman strength (within the sampling error of 4 s, 30 %).
-    ol = kaos_like(closed_loop=False)
+    ol = kaos_open
     assert ol.metadata["loop"] == "open"
     assert np.var(kaos.coeffs[:, 0]) < 0.01 * np.var(ol.coeffs[:, 0])
     d_over_r0 = 0.70 / 0.07
@@ -299,6 +364,20 @@ def test_kaos_like_seeding_and_overrides():
     with pytest.raises(TypeError, match="unknown override"):
         kaos_like(n_frames=500, windspeed=3)
     assert set(KAOS_LIKE_DEFAULTS) >= {"gain", "layers", "diameter"}
+
+
+@pytest.mark.parametrize(("name", "closed"), [("kaos_like_closed_loop.npz", True),
+                                              ("kaos_like_open_loop.npz", False)])
+def test_shipped_data_is_what_the_generator_makes(kaos, kaos_open, name, closed):
+    # data/make_data.py checks bit-identity on the machine that wrote the files; here a
+    # last-bit tolerance (FFT/BLAS rounding may differ on another CPU): 1e-12 rad.
+    path = Path(__file__).resolve().parents[2] / "data" / name
+    shipped = load(path)
+    fresh = kaos if closed else kaos_open
+    np.testing.assert_allclose(shipped.coeffs, fresh.coeffs, rtol=0, atol=1e-12)
+    assert shipped.metadata == fresh.metadata
+    assert shipped.modes == fresh.modes and shipped.rate == fresh.rate
+    assert shipped.wavelength == fresh.wavelength and shipped.units == "rad"
 
 
 # ------------------------------------------------------------------- seeds and inputs
@@ -380,6 +459,13 @@ def test_layer_validation_and_scaling():
     # r0 ~ lambda^(6/5): at 2 x 500 nm, r0 is 2^1.2 larger.
     layer = Layer(0.1, 5.0)
     assert layer.d_over_r0_at(1.0, 1000e-9) == pytest.approx(10.0 / 2**1.2, rel=1e-12)
+
+
+def test_open_loop_psd_bad_input():
+    with pytest.raises(ValueError, match="`freqs` must be a 1-D array"):
+        open_loop_psd([0.0, 1.0], [2], diameter=1.0, layers=ONE_LAYER)
+    with pytest.raises(ValueError, match="`n_frames` and `rate` must be given together"):
+        open_loop_psd([1.0], [2], diameter=1.0, layers=ONE_LAYER, n_frames=100)
 
 
 def test_bandwidth_bad_input():
