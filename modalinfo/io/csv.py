@@ -78,7 +78,7 @@ def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     times = log.timestamps
 
     def write(fh):
-        text = io.TextIOWrapper(fh, encoding="ascii", newline="\n")
+        text = io.TextIOWrapper(fh, encoding="utf-8", newline="\n")
         text.write(f"{_MAGIC} {dumps(header)}\n")
         names = (["time"] if times is not None else []) + log.labels
         _csv.writer(text, lineterminator="\n").writerow(names)
@@ -166,6 +166,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             line = lines[k]
             if line.startswith(_MAGIC):
                 header = parse_header(line[len(_MAGIC) :], "CSV", path, verify=verify)
+                k += 1
+                break  # the header row follows immediately
             elif '{"modalinfo":' in line:
                 raise LogFormatError(f"corrupt CSV file '{path}': damaged '# modalinfo:' line")
             elif ":" in line:
@@ -173,17 +175,28 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 if key.strip():
                     comments[key.strip()] = value.strip()
             k += 1
-        body = [ln for ln in lines[k:] if ln.strip() and not ln.startswith("#")]
-        if not body:
-            raise LogFormatError(f"CSV file '{path}' has no data rows")
-        delim = _delimiter(body[0])
-        first = _split(body[0], delim)
         names = None
-        if not all(_is_number(tok) for tok in first):
-            names = first
-            body = body[1:]
+        if header is not None:  # modalinfo layout: header row, then exactly T data rows
+            if k >= len(lines):
+                raise LogFormatError(f"corrupt CSV file '{path}': header row missing")
+            delim = ","
+            names = _split(lines[k], delim)
+            body = lines[k + 1 :]
+            if body and not body[-1]:
+                body = body[:-1]
             if not body:
-                raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
+                raise LogFormatError(f"corrupt CSV file '{path}': no data rows (truncated?)")
+        else:
+            body = [ln for ln in lines[k:] if ln.strip() and not ln.startswith("#")]
+            if not body:
+                raise LogFormatError(f"CSV file '{path}' has no data rows")
+            delim = _delimiter(body[0])
+            first = _split(body[0], delim)
+            if not all(_is_number(tok) for tok in first):
+                names = first
+                body = body[1:]
+                if not body:
+                    raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
         values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2, comments=None)
         if names is not None and len(names) != values.shape[1]:
             raise LogFormatError(

@@ -172,8 +172,11 @@ def _check_modes(modes: Any, convention: str, n_modes: int) -> list:
                 raise TypeError(
                     f"`modes` must be non-empty str labels when convention='labels'; got {label!r}."
                 )
-            if not label.isprintable():
-                raise ValueError(f"`modes` labels must be printable text; got {label!r}.")
+            if not label.isprintable() or label != label.strip():
+                raise ValueError(
+                    "`modes` labels must be printable text without leading or trailing "
+                    f"blanks; got {label!r}."
+                )
         out = list(modes)
     else:
         out = []
