@@ -13,6 +13,7 @@ from modalinfo.bases.indexing import (
     zernike_to_fringe,
     zernike_to_noll,
 )
+from modalinfo.bases.kl import KLBasis, default_zernike_modes
 from modalinfo.bases.pupil import Pupil
 from modalinfo.bases.turbulence import (
     noll_residual_variance,
@@ -30,6 +31,8 @@ __all__ = [
     "Pupil",
     "ModalBasis",
     "ZernikeBasis",
+    "KLBasis",
+    "default_zernike_modes",
     "zernike_radial",
     "zernike_polynomial",
     "zernike_matrix",
