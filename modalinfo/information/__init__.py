@@ -15,11 +15,23 @@ from modalinfo.information.api import (
     entropy,
     mutual_information,
 )
+from modalinfo.information.uncertainty import (
+    MIConfidenceResult,
+    MIPermutationResult,
+    mutual_information_ci,
+    mutual_information_permutation_test,
+    optimal_block_length,
+)
 
 __all__ = [
     "METHODS",
     "UNITS",
+    "MIConfidenceResult",
+    "MIPermutationResult",
     "MutualInformation",
     "entropy",
     "mutual_information",
+    "mutual_information_ci",
+    "mutual_information_permutation_test",
+    "optimal_block_length",
 ]

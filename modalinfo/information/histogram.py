@@ -65,8 +65,8 @@ def _width_rule_bins(x: np.ndarray, rule: str) -> int:
     if rule == "fd":
         q75, q25 = np.percentile(x, [75.0, 25.0])
         width = 2.0 * (q75 - q25) * n ** (-1.0 / 3.0)
-    else:  # scott
-        width = 3.49 * float(np.std(x)) * n ** (-1.0 / 3.0)
+    else:  # scott: (24 sqrt(pi) / n)^(1/3) sigma = 3.49 sigma n^(-1/3), as numpy
+        width = (24.0 * math.sqrt(math.pi) / n) ** (1.0 / 3.0) * float(np.std(x))
     if width <= 0.0:
         return 1
     return max(1, int(math.ceil(span / width)))

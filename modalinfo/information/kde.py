@@ -106,8 +106,8 @@ def _kernel_1d(h: float, delta: float) -> tuple[np.ndarray, float]:
     return ker, sig
 
 
-def _entropy_1d(u: np.ndarray, h: float, grid_size: int) -> float:
-    """LOO resubstitution entropy (nats) of a 1-D Gaussian KDE with bandwidth h."""
+def _loo_density_1d(u: np.ndarray, h: float, grid_size: int) -> np.ndarray:
+    """Return the leave-one-out density (n,) of a 1-D Gaussian KDE at each sample."""
     n = u.shape[0]
     lo = float(u.min()) - (_TRUNCATE + 1.0) * h
     hi = float(u.max()) + (_TRUNCATE + 1.0) * h
@@ -120,8 +120,14 @@ def _entropy_1d(u: np.ndarray, h: float, grid_size: int) -> float:
     dens = fftconvolve(grid, ker, mode="same") / n
     c = ker.shape[0] // 2
     floor = math.exp(-0.5 * _TRUNCATE**2) * ker[c] / (n - 1.0)
-    acc = kern.loo_log_density_sum_1d(dens, idx, frac, float(n), ker[c], ker[c + 1], floor)
-    return -acc / n
+    out = np.empty(n)
+    kern.loo_density_1d(dens, idx, frac, float(n), ker[c], ker[c + 1], floor, out)
+    return out
+
+
+def _entropy_1d(u: np.ndarray, h: float, grid_size: int) -> float:
+    """LOO resubstitution entropy (nats) of a 1-D Gaussian KDE with bandwidth h."""
+    return -float(np.mean(np.log(_loo_density_1d(u, h, grid_size))))
 
 
 class _Grid2D:
@@ -153,6 +159,16 @@ class _Grid2D:
         acc = kern.loo_log_density_sum_2d(dens, self.iu, self.fu, self.iv, self.fv,
                                        float(self.n), ker[c], ker[c + 1], floor)
         return -acc / self.n
+
+    def resubstitution_mi(self, h: float, fx: np.ndarray, fy: np.ndarray) -> float:
+        """Mean of log(f_uw / (f_u f_v)) over the samples, LOO densities (nats)."""
+        ker, _ = _kernel_1d(h, self.delta)
+        dens = fftconvolve(self.grid, np.outer(ker, ker), mode="same") / self.n
+        c = ker.shape[0] // 2
+        floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
+        acc = kern.loo_log_ratio_sum_2d(dens, self.iu, self.fu, self.iv, self.fv,
+                                        float(self.n), ker[c], ker[c + 1], floor, fx, fy)
+        return acc / self.n
 
 
 class KDEEngine:
@@ -188,16 +204,17 @@ class KDEEngine:
         """Cache the standardised (or copula) scores of x and its marginal entropy."""
         self._u = _standardise(x, self.copula)
         self._n = x.shape[0]
-        self._hu: dict[float, float] = {}
+        self._fu: dict[float, np.ndarray] = {}
         return self
 
-    def _marginal_u(self, h: float) -> float:
-        val = self._hu.get(h)
+    def _marginal_u(self, h: float) -> np.ndarray:
+        """LOO marginal density of the fixed variable at its samples (cached per h)."""
+        val = self._fu.get(h)
         if val is None:
-            val = _entropy_1d(self._u, h, 4 * self.grid_size)
-            if len(self._hu) > 32:
-                self._hu.clear()
-            self._hu[h] = val
+            val = _loo_density_1d(self._u, h, 4 * self.grid_size)
+            if len(self._fu) >= 4:
+                self._fu.clear()
+            self._fu[h] = val
         return val
 
     def score(self, y: np.ndarray) -> float:
@@ -216,14 +233,13 @@ class KDEEngine:
                                   bounds=(math.log(0.2), math.log(3.0)), method="bounded",
                                   options={"xatol": 0.02})
             h = h0 * math.exp(float(res.x))
-            h_uw = float(res.fun)
         else:
             h = bandwidth_factor(self.bandwidth, n, 2)
             grid = _Grid2D(u, w, self.grid_size, (_TRUNCATE + 1.0) * h)
-            h_uw = grid.entropy(h)
-        h_u = self._marginal_u(h)
-        h_v = _entropy_1d(v, h, 4 * self.grid_size)
-        return h_u + h_v - h_uw - 0.5 * math.log(one_minus)
+        f_u = self._marginal_u(h)
+        f_v = _loo_density_1d(v, h, 4 * self.grid_size)
+        # H(U) + H(V) - H(U, W) = mean log(f_uw / (f_u f_v)), one log per sample.
+        return grid.resubstitution_mi(h, f_u, f_v) - 0.5 * math.log(one_minus)
 
 
 def kde_entropy(x: np.ndarray, *, bandwidth: Any = "scott", grid_size: int = 1024) -> float:

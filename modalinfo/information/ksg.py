@@ -14,8 +14,9 @@ are returned as they are (not clipped at 0), so the estimator stays unbiased nea
 independence, which matters for permutation tests. Ties (discrete data) break the
 estimator: add noise first.
 
-The joint k-th neighbour distance uses ``scipy.spatial.cKDTree``; the marginal counts
-are exact binary searches in the sorted marginals, O(n log n).
+The joint k-th neighbour distance and the marginal counts (within
+``nextafter(eps, 0)``, the same arithmetic as scikit-learn) use
+``scipy.spatial.cKDTree``, O(n log n); the tree of the fixed x is cached by ``fit``.
 """
 
 from __future__ import annotations
@@ -29,15 +30,14 @@ from modalinfo._validation import check_int
 __all__ = ["KSGEngine", "ksg_entropy"]
 
 
-def _strict_counts(sorted_vals: np.ndarray, vals: np.ndarray, eps: np.ndarray) -> np.ndarray:
-    """Count the other samples strictly within ``eps`` of each value (sorted 1-D ref)."""
-    left = np.searchsorted(sorted_vals, vals - eps, side="right")
-    right = np.searchsorted(sorted_vals, vals + eps, side="left")
-    return np.maximum(right - left - 1, 0)
+def _strict_counts(tree: cKDTree, pts: np.ndarray, eps: np.ndarray) -> np.ndarray:
+    """Count the other samples strictly within ``eps`` of each point (max-norm)."""
+    radius = np.nextafter(eps, 0.0)
+    return tree.query_ball_point(pts, radius, p=np.inf, return_length=True) - 1.0
 
 
 class KSGEngine:
-    """KSG estimator 1 with the sorted, standardised x cached.
+    """KSG estimator 1 with the standardised x and its KD-tree cached.
 
     Parameters
     ----------
@@ -51,7 +51,7 @@ class KSGEngine:
     def fit(self, x: np.ndarray) -> KSGEngine:
         """Standardise and sort x (validated, 1-D, not constant)."""
         self._x = x / np.std(x)
-        self._xs = np.sort(self._x)
+        self._tree_x = cKDTree(self._x[:, None])
         self._n = x.shape[0]
         return self
 
@@ -62,8 +62,8 @@ class KSGEngine:
         pts = np.column_stack((self._x, y))
         dist, _ = cKDTree(pts).query(pts, k=k + 1, p=np.inf)
         eps = dist[:, -1]
-        nx = _strict_counts(self._xs, self._x, eps)
-        ny = _strict_counts(np.sort(y), y, eps)
+        nx = _strict_counts(self._tree_x, self._x[:, None], eps)
+        ny = _strict_counts(cKDTree(y[:, None]), y[:, None], eps)
         n = self._n
         return float(
             digamma(n) + digamma(k) - np.mean(digamma(nx + 1.0)) - np.mean(digamma(ny + 1.0))

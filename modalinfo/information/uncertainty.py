@@ -1,0 +1,431 @@
+"""Confidence intervals and permutation tests for MI estimates of (autocorrelated) series.
+
+Wavefront-sensor telemetry is strongly autocorrelated (an AR(1) coefficient of 0.95
+or more per frame is usual), so the n frames of a log carry far fewer than n
+independent samples. Resampling methods that treat the frames as independent then
+understate the error:
+
+- the iid bootstrap gives confidence intervals that are far too narrow (it undercovers);
+  the moving-block bootstrap (Kuensch 1989) resamples aligned (x, y) blocks and keeps
+  the dependence within each block;
+- a plain shuffle test of independence is anti-conservative (rejects far more often
+  than its nominal level under the null), because shuffling y destroys its
+  autocorrelation as well as the cross-dependence; the circular-shift test
+  (``permutation="circular"``) rotates y by random lags instead, which keeps the
+  autocorrelation of each series and breaks only the alignment.
+
+Bias. Plug-in MI estimators are biased: upward at small effective sample size
+(Miller-Madow corrects the histogram for n, but an autocorrelated series has far
+fewer independent samples), and downward for the histogram at high correlation
+(discretisation). Bootstrap replicates are biased too, but not by the same amount:
+resamples contain duplicated samples and block junctions, and the histogram bin rule
+sees a different sample. Measured on AR(1) pairs with phi = 0.95 (histogram, 100
+trials, 199 resamples, Politis-White blocks), the bootstrap bias (mean of replicates
+minus estimate) was +0.034, +0.016, +0.025, +0.024 nats where the estimator's true
+bias was +0.027, +0.003, +0.020, -0.027 (n = 2000 rho = 0.6; 8000, 0.6; 4000, 0.3;
+4000, 0.9): the sign can even be wrong. Correcting with it therefore hurts: the
+coverages of nominal 95% intervals were
+
+    interval      n=2000 r=.6  n=8000 r=.6  n=4000 r=.3  n=4000 r=.9
+    percentile        0.75         0.88         0.29         0.95
+    basic             0.88         0.82         0.77         0.82
+    normal            0.90         0.94         0.87         0.93
+
+so the default interval is ``"normal"``: the estimate plus or minus z_(1 - a/2)
+times the bootstrap standard deviation (Efron & Tibshirani 1993, eq. 13.5), which
+takes only the *spread* from the bootstrap and is centred on the (Miller-Madow
+corrected) estimate. ``"basic"`` (reverse percentile, [2 I - q_hi, 2 I - q_lo],
+Davison & Hinkley 1997, eq. 5.6) and ``"percentile"`` are available, and for the
+iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. The remaining undercoverage
+comes from the estimator's own bias at small effective n, which no interval can
+see; use longer logs or check with :func:`mutual_information_permutation_test`.
+
+Default estimator: ``"histogram"`` (fast, and unaffected by the duplicated samples
+that bootstrap resamples contain, which bias the leave-one-out KDE and KSG upward).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo.information.api import (
+    METHODS,
+    MIN_SAMPLES,
+    UNITS,
+    MutualInformation,
+)
+
+__all__ = [
+    "MIConfidenceResult",
+    "MIPermutationResult",
+    "mutual_information_ci",
+    "mutual_information_permutation_test",
+    "optimal_block_length",
+]
+
+
+@dataclass(frozen=True)
+class MIConfidenceResult:
+    """Bootstrap confidence interval of a mutual-information estimate.
+
+    Attributes
+    ----------
+    estimate : float
+        MI of the full sample, in ``units``.
+    low, high : float
+        Interval bounds, in ``units``; ``low`` is clipped at 0 only if ``clip`` was asked.
+    confidence_level : float
+        Nominal coverage, e.g. 0.95.
+    block_length : int
+        Block length of the moving-block bootstrap [samples]; 1 for the iid bootstrap.
+    n_resamples : int
+        Number of bootstrap resamples.
+    bootstrap_std : float
+        Standard deviation of the bootstrap distribution (standard error), in ``units``.
+    bootstrap_mean : float
+        Mean of the bootstrap distribution; ``bootstrap_mean - estimate`` estimates the
+        bias of the estimator.
+    bootstrap_distribution : numpy.ndarray, shape (n_resamples,)
+        MI of every resample.
+    bootstrap : str
+        ``"block"`` or ``"iid"``.
+    interval : str
+        ``"normal"``, ``"basic"``, ``"percentile"`` or ``"bca"``.
+    method, units : str
+        Estimator and units.
+    """
+
+    estimate: float
+    low: float
+    high: float
+    confidence_level: float
+    block_length: int
+    n_resamples: int
+    bootstrap_std: float
+    bootstrap_mean: float
+    bootstrap_distribution: np.ndarray
+    bootstrap: str
+    interval: str
+    method: str
+    units: str
+
+
+@dataclass(frozen=True)
+class MIPermutationResult:
+    """Permutation test of independence based on an MI estimate.
+
+    Attributes
+    ----------
+    statistic : float
+        MI of the observed pairing, in ``units``.
+    pvalue : float
+        ``(1 + #{null >= statistic}) / (1 + n_permutations)`` (Phipson & Smyth 2010).
+    null_distribution : numpy.ndarray, shape (n_permutations,)
+        MI of every permuted (or circularly shifted) pairing.
+    n_permutations : int
+        Number of permutations.
+    permutation : str
+        ``"shuffle"`` or ``"circular"``.
+    min_shift : int
+        Smallest circular shift used [samples] (0 for ``"shuffle"``).
+    method, units : str
+        Estimator and units.
+    """
+
+    statistic: float
+    pvalue: float
+    null_distribution: np.ndarray
+    n_permutations: int
+    permutation: str
+    min_shift: int
+    method: str
+    units: str
+
+
+def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
+    x = as_float_array(x, "x", ndim=1, min_length=MIN_SAMPLES)
+    y = as_float_array(y, "y", ndim=1, min_length=MIN_SAMPLES)
+    if x.shape[0] != y.shape[0]:
+        raise ValueError(
+            f"`x` and `y` must have the same length; got {x.shape[0]} and {y.shape[0]}."
+        )
+    return x, y
+
+
+def _acov(e: np.ndarray, max_lag: int) -> np.ndarray:
+    """Biased autocovariances gamma(0..max_lag) of a centred series, by FFT."""
+    n = e.shape[0]
+    nfft = 1 << int(math.ceil(math.log2(2 * n)))
+    f = np.fft.rfft(e, nfft)
+    return np.fft.irfft(f * np.conj(f), nfft)[: max_lag + 1] / n
+
+
+def _pw_block_length(x: np.ndarray) -> float:
+    """Politis-White (2004) automatic block length of one series, moving-block bootstrap.
+
+    Politis & White, Econometric Rev. 23, 53 (2004), with the correction of Patton,
+    Politis & White, Econometric Rev. 28, 372 (2009): b = (2 G^2 / D)^(1/3) n^(1/3),
+    G = sum_k lambda(k/M) |k| gamma(k), D = (4/3) g(0)^2, g(0) = sum_k lambda(k/M)
+    gamma(k) (flat-top lag window lambda), M = 2 m_hat where m_hat is the first lag
+    after which K_N = max(5, log10 n) autocorrelations are insignificant
+    (|rho| < 2 sqrt(log10 n / n)); b <= min(3 sqrt(n), n / 3).
+    """
+    n = x.shape[0]
+    e = x - x.mean()
+    kn = max(5, int(math.log10(n)))
+    m_max = int(math.ceil(math.sqrt(n))) + kn
+    m_max = min(m_max, n - 1)
+    acv = _acov(e, m_max)
+    if acv[0] <= 0:
+        return 1.0
+    rho = np.abs(acv / acv[0])
+    cv = 2.0 * math.sqrt(math.log10(n) / n)
+    m_hat = None
+    for lag in range(1, m_max - kn + 2):
+        if np.all(rho[lag : lag + kn] < cv):
+            m_hat = lag - 1
+            break
+    m = min(2 * max(m_hat, 1), m_max) if m_hat is not None else m_max
+    k = np.arange(1, m + 1)
+    lam = np.where(k / m <= 0.5, 1.0, 2.0 * (1.0 - k / m))
+    g = 2.0 * np.sum(lam * k * acv[1 : m + 1])
+    g0 = acv[0] + 2.0 * np.sum(lam * acv[1 : m + 1])
+    d = 4.0 / 3.0 * g0 * g0
+    b_max = math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
+    if d <= 0:
+        return 1.0
+    b = (2.0 * g * g / d) ** (1.0 / 3.0) * n ** (1.0 / 3.0)
+    return float(min(max(b, 1.0), b_max))
+
+
+def optimal_block_length(x: Any, y: Any | None = None) -> int:
+    """Automatic block length for the moving-block bootstrap of a series or a pair.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Series (n >= 10).
+    y : array_like, shape (n,), optional
+        Second series of a pair; the larger of the two block lengths is returned.
+
+    Returns
+    -------
+    int
+        Block length [samples] from Politis & White (2004) with the correction of
+        Patton, Politis & White (2009), rounded up; between 1 and min(3 sqrt(n), n/3).
+        For an AR(1) series with coefficient phi it grows like
+        (phi / (1 - phi^2))^(2/3) n^(1/3) (about 100 at phi = 0.95, n = 2000).
+    """
+    x = as_float_array(x, "x", ndim=1, min_length=MIN_SAMPLES)
+    b = _pw_block_length(x)
+    if y is not None:
+        x, y = _pair(x, y)
+        b = max(b, _pw_block_length(y))
+    return int(math.ceil(b))
+
+
+def _block_indices(n: int, b: int, n_resamples: int, rng: np.random.Generator) -> np.ndarray:
+    """Moving-block bootstrap indices (n_resamples, n): ceil(n / b) blocks of length b."""
+    n_blocks = -(-n // b)
+    starts = rng.integers(0, n - b + 1, size=(n_resamples, n_blocks))
+    idx = (starts[:, :, None] + np.arange(b)).reshape(n_resamples, n_blocks * b)
+    return idx[:, :n]
+
+
+def _resolve_block_length(block_length: Any, x: np.ndarray, y: np.ndarray) -> int:
+    n = x.shape[0]
+    if block_length is None or (isinstance(block_length, str) and block_length == "auto"):
+        return max(1, min(int(math.ceil(max(_pw_block_length(x), _pw_block_length(y)))), n))
+    if isinstance(block_length, str):
+        raise ValueError(f"`block_length` must be None, 'auto' or an int; got {block_length!r}.")
+    return check_int(block_length, "block_length", minimum=1, maximum=n)
+
+
+def mutual_information_ci(
+    x: Any,
+    y: Any,
+    method: str = "histogram",
+    units: str = "nats",
+    *,
+    confidence_level: float = 0.95,
+    n_resamples: int = 999,
+    block_length: int | str | None = None,
+    bootstrap: str = "block",
+    interval: str = "normal",
+    seed: Any = None,
+    **options: Any,
+) -> MIConfidenceResult:
+    """Bootstrap confidence interval for the mutual information of a paired series.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        Paired samples in time order (n >= 10, finite).
+    method : {"kde", "histogram", "ksg", "gaussian"}
+        Estimator (see :func:`modalinfo.information.mutual_information`). Default
+        ``"histogram"``: fast, and not biased by the duplicated samples of a resample.
+    units : {"nats", "bits"}
+        Units of the results.
+    confidence_level : float
+        Nominal coverage in (0, 1).
+    n_resamples : int
+        Number of bootstrap resamples (>= 10).
+    block_length : int, "auto" or None
+        Block length of the moving-block bootstrap [samples]. ``None``/``"auto"``:
+        the Politis-White (2004) automatic length, the larger of those of x and y
+        (see :func:`optimal_block_length`). Ignored by the iid bootstrap.
+    bootstrap : {"block", "iid"}
+        Moving-block bootstrap of aligned (x, y) blocks (Kuensch 1989), or the iid
+        bootstrap of pairs. Telemetry is strongly
+        autocorrelated: the iid bootstrap then understates the error and its
+        intervals undercover (measured: about 0.4 coverage for a nominal 0.95 on an
+        AR(1) pair with phi = 0.95, n = 2000, against about 0.9 for the block
+        bootstrap).
+    interval : {"normal", "basic", "percentile", "bca"}
+        ``"normal"`` (default): ``I -+ z_(1-a/2) s_boot``, centred on the estimate,
+        spread from the bootstrap; ``"basic"``: ``[2 I - q_hi, 2 I - q_lo]``, corrects
+        by the bootstrap bias, which for MI is unreliable (see the module notes);
+        ``"percentile"``: ``[q_lo, q_hi]``; ``"bca"``: bias-corrected and
+        accelerated (``scipy.stats.bootstrap``), iid bootstrap only.
+    seed : None, int or numpy.random.Generator
+        Randomness of the resampling.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    MIConfidenceResult
+        Estimate, interval, block length and bootstrap distribution.
+    """
+    check_choice(method, "method", METHODS)
+    check_choice(units, "units", tuple(UNITS))
+    x, y = _pair(x, y)
+    confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
+                                  maximum=1.0, strict_min=True, strict_max=True)
+    n_resamples = check_int(n_resamples, "n_resamples", minimum=10)
+    check_choice(bootstrap, "bootstrap", ("block", "iid"))
+    check_choice(interval, "interval", ("normal", "basic", "percentile", "bca"))
+    if interval == "bca" and bootstrap != "iid":
+        raise ValueError("`interval`='bca' needs bootstrap='iid'; got bootstrap='block'.")
+    rng = check_rng(seed)
+    est = MutualInformation(method, units, **options)
+    theta = est.estimate(x, y)
+    n = x.shape[0]
+    alpha = 1.0 - confidence_level
+
+    if interval == "bca":
+        b = 1
+        res = stats.bootstrap(
+            (x, y), lambda a, c: est.estimate(a, c), paired=True, vectorized=False,
+            n_resamples=n_resamples, confidence_level=confidence_level, method="BCa",
+            rng=rng,
+        )
+        dist = np.asarray(res.bootstrap_distribution, dtype=float)
+        low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
+    else:
+        if bootstrap == "iid":
+            b = 1
+            idx = rng.integers(0, n, size=(n_resamples, n))
+        else:
+            b = _resolve_block_length(block_length, x, y)
+            idx = _block_indices(n, b, n_resamples, rng)
+        dist = np.array([est.estimate(x[i], y[i]) for i in idx])
+        q_lo, q_hi = np.quantile(dist, [alpha / 2.0, 1.0 - alpha / 2.0])
+        if interval == "normal":
+            half = stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1)
+            low, high = theta - half, theta + half
+        elif interval == "basic":
+            low, high = 2.0 * theta - q_hi, 2.0 * theta - q_lo
+        else:
+            low, high = q_lo, q_hi
+    return MIConfidenceResult(
+        estimate=float(theta), low=float(low), high=float(high),
+        confidence_level=confidence_level, block_length=int(b), n_resamples=n_resamples,
+        bootstrap_std=float(np.std(dist, ddof=1)), bootstrap_mean=float(np.mean(dist)),
+        bootstrap_distribution=dist, bootstrap=bootstrap, interval=interval, method=method,
+        units=units,
+    )
+
+
+def mutual_information_permutation_test(
+    x: Any,
+    y: Any,
+    method: str = "histogram",
+    units: str = "nats",
+    *,
+    n_permutations: int = 999,
+    permutation: str = "shuffle",
+    min_shift: int | str | None = None,
+    seed: Any = None,
+    **options: Any,
+) -> MIPermutationResult:
+    """Permutation test of independence of x and y with an MI statistic.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        Paired samples in time order (n >= 10, finite).
+    method : {"kde", "histogram", "ksg", "gaussian"}
+        Estimator; x is fitted once and every permutation only re-scores y.
+    units : {"nats", "bits"}
+        Units of the statistic.
+    n_permutations : int
+        Number of permutations (>= 1).
+    permutation : {"shuffle", "circular"}
+        ``"shuffle"``: random permutations of y; exact for iid pairs, but
+        anti-conservative for autocorrelated series (telemetry), whose shuffled
+        copies look more independent than the series ever can. ``"circular"``:
+        y rotated by a random lag in [min_shift, n - min_shift] (Quian Quiroga et al.
+        2002 "time-shifted surrogates"), which keeps each series' autocorrelation
+        and breaks only the alignment; use it for time series.
+    min_shift : int, "auto" or None
+        Smallest circular shift [samples] for ``"circular"``; ``None``/``"auto"``:
+        the Politis-White block length of the pair (:func:`optimal_block_length`),
+        at least 1 and at most n // 2.
+    seed : None, int or numpy.random.Generator
+        Randomness of the permutations.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    MIPermutationResult
+        Statistic, p-value ``(1 + #{null >= statistic}) / (1 + n_permutations)`` and
+        the null distribution.
+    """
+    check_choice(method, "method", METHODS)
+    check_choice(units, "units", tuple(UNITS))
+    x, y = _pair(x, y)
+    n_permutations = check_int(n_permutations, "n_permutations", minimum=1)
+    check_choice(permutation, "permutation", ("shuffle", "circular"))
+    rng = check_rng(seed)
+    n = x.shape[0]
+    est = MutualInformation(method, units, **options).fit(x)
+    stat = est.score(y)
+    null = np.empty(n_permutations)
+    shift0 = 0
+    if permutation == "shuffle":
+        for i in range(n_permutations):
+            null[i] = est.score(y[rng.permutation(n)])
+    else:
+        if min_shift is None or (isinstance(min_shift, str) and min_shift == "auto"):
+            shift0 = min(max(1, _resolve_block_length(None, x, y)), n // 2)
+        elif isinstance(min_shift, str):
+            raise ValueError(f"`min_shift` must be None, 'auto' or an int; got {min_shift!r}.")
+        else:
+            shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+        shifts = rng.integers(shift0, n - shift0 + 1, size=n_permutations)
+        for i, s in enumerate(shifts):
+            null[i] = est.score(np.roll(y, int(s)))
+    pvalue = (1.0 + np.count_nonzero(null >= stat)) / (1.0 + n_permutations)
+    return MIPermutationResult(
+        statistic=float(stat), pvalue=float(pvalue), null_distribution=null,
+        n_permutations=n_permutations, permutation=permutation, min_shift=int(shift0),
+        method=method, units=units,
+    )

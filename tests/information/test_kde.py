@@ -1,0 +1,85 @@
+"""KDE MI and entropy: the FFT-grid computation against a direct O(n^2) numpy evaluation.
+
+References: a direct numpy leave-one-out resubstitution estimate with the same
+kernel (covariance h^2 S of the standardised pair, marginals with h^2 s^2), which is
+what the grid approximates; ``scipy.stats.gaussian_kde`` bandwidth factors; the
+analytic entropy of a normal variable.
+"""
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from modalinfo.information import entropy, mutual_information
+from modalinfo.information.kde import bandwidth_factor, copula_scores
+
+
+def _direct_loo_mi(x, y, h):
+    n = x.size
+    u = (x - x.mean()) / x.std()
+    v = (y - y.mean()) / y.std()
+    r = np.mean(u * v)
+    cov = h**2 * np.array([[1.0, r], [r, 1.0]])
+    z = np.column_stack([u, v])
+    d = z[:, None, :] - z[None, :, :]
+    q = np.einsum("ijk,kl,ijl->ij", d, np.linalg.inv(cov), d)
+    kxy = np.exp(-0.5 * q) / (2 * np.pi * np.sqrt(np.linalg.det(cov)))
+    kx = np.exp(-0.5 * (u[:, None] - u[None, :]) ** 2 / h**2) / (np.sqrt(2 * np.pi) * h)
+    ky = np.exp(-0.5 * (v[:, None] - v[None, :]) ** 2 / h**2) / (np.sqrt(2 * np.pi) * h)
+    for k in (kxy, kx, ky):
+        np.fill_diagonal(k, 0.0)
+    fxy, fx, fy = (k.sum(1) / (n - 1) for k in (kxy, kx, ky))
+    return np.mean(np.log(fxy / (fx * fy)))
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.5, 0.95])
+@pytest.mark.parametrize("h", [None, 0.6])
+def test_grid_matches_direct_loo_estimate(rho, h):
+    rng = np.random.default_rng(11)
+    n = 600
+    x = rng.standard_normal(n)
+    y = rho * x + np.sqrt(1 - rho**2) * rng.standard_normal(n)
+    y = y + 0.3 * np.tanh(3 * x)  # make it non-Gaussian
+    hh = bandwidth_factor("scott", n, 2) if h is None else h
+    ref = _direct_loo_mi(x, y, hh)
+    got = mutual_information(x, y, method="kde", bandwidth="scott" if h is None else h)
+    # the grid (256 points, delta/h ~ 0.1) reproduces the direct sum to ~1e-5 nats
+    assert got == pytest.approx(ref, abs=1e-4)
+
+
+def test_bandwidth_factors_match_scipy():
+    data = np.random.default_rng(1).standard_normal((2, 500))
+    kde = stats.gaussian_kde(data)
+    assert bandwidth_factor("scott", 500, 2) == pytest.approx(kde.scotts_factor())
+    assert bandwidth_factor("silverman", 500, 2) == pytest.approx(kde.silverman_factor())
+    kde1 = stats.gaussian_kde(data[0])
+    assert bandwidth_factor("silverman", 500, 1) == pytest.approx(kde1.silverman_factor())
+
+
+def test_kde_entropy_against_direct_and_analytic():
+    rng = np.random.default_rng(2)
+    x = 2.0 * rng.standard_normal(800)
+    h = bandwidth_factor("scott", 800, 1)
+    u = (x - x.mean()) / x.std()
+    k = np.exp(-0.5 * (u[:, None] - u[None, :]) ** 2 / h**2) / (np.sqrt(2 * np.pi) * h)
+    np.fill_diagonal(k, 0.0)
+    ref = -np.mean(np.log(k.sum(1) / 799)) + np.log(x.std())
+    assert entropy(x, method="kde") == pytest.approx(ref, abs=1e-3)
+    big = 2.0 * rng.standard_normal(20_000)
+    truth = 0.5 * np.log(2 * np.pi * np.e * 4.0)  # Cover & Thomas 2006, Example 8.1.2
+    assert entropy(big, method="kde") == pytest.approx(truth, abs=0.015)
+    assert entropy(big, method="kde", bandwidth="cv") == pytest.approx(truth, abs=0.015)
+
+
+def test_copula_scores_are_normal_scores_of_ranks():
+    x = np.array([3.0, -1.0, 10.0, 0.5])
+    np.testing.assert_allclose(copula_scores(x), stats.norm.ppf(np.array([3, 1, 4, 2]) / 5.0))
+
+
+def test_cv_bandwidth_gives_sensible_estimate():
+    rng = np.random.default_rng(3)
+    x = rng.standard_normal(3000)
+    y = 0.6 * x + 0.8 * rng.standard_normal(3000)
+    truth = -0.5 * np.log(1 - 0.36)
+    assert mutual_information(x, y, method="kde", bandwidth="cv") == pytest.approx(truth,
+                                                                                  abs=0.03)

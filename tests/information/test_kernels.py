@@ -1,0 +1,148 @@
+"""numba kernels of modalinfo.information against slow numpy references.
+
+References: numpy.histogram / histogram2d / bincount for binning and counting, a
+direct numpy formula for the plug-in MI, explicit loops for linear binning and
+interpolation. Each kernel is also called from inside an njit function.
+"""
+
+import numba as nb
+import numpy as np
+import pytest
+
+from modalinfo.information import _kernels as kern
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(123)
+
+
+def test_uniform_bin_index_matches_numpy_histogram(rng):
+    x = rng.standard_normal(5000)
+    k = 17
+    lo, hi = x.min(), x.max()
+    idx = np.empty(x.size, dtype=np.int64)
+    kern.uniform_bin_index(x, lo, k / (hi - lo), k, idx)
+    ref, _ = np.histogram(x, bins=k, range=(lo, hi))
+    np.testing.assert_array_equal(np.bincount(idx, minlength=k), ref)
+    assert idx.max() == k - 1  # the maximum goes to the last bin, as in numpy
+
+
+def test_joint_counts_match_histogram2d(rng):
+    x = rng.standard_normal(3000)
+    y = 0.5 * x + rng.standard_normal(3000)
+    kx, ky = 9, 13
+    ix = np.empty(x.size, dtype=np.int64)
+    kern.uniform_bin_index(x, x.min(), kx / np.ptp(x), kx, ix)
+    counts = np.empty((kx, ky), dtype=np.int64)
+    kern.joint_counts_uniform(ix, y, y.min(), ky / np.ptp(y), ky, counts)
+    ref, _, _ = np.histogram2d(x, y, bins=(kx, ky))
+    np.testing.assert_array_equal(counts, ref.astype(np.int64))
+    iy = np.empty(y.size, dtype=np.int64)
+    kern.uniform_bin_index(y, y.min(), ky / np.ptp(y), ky, iy)
+    counts2 = np.full((kx, ky), -5, dtype=np.int64)
+    kern.joint_counts_index(ix, iy, counts2)
+    np.testing.assert_array_equal(counts2, counts)
+
+
+def test_plugin_mi_from_counts_matches_numpy_formula(rng):
+    counts = rng.integers(0, 20, size=(7, 5)).astype(np.int64)
+    counts[2, :] = 0  # an empty row
+    out = np.empty(4)
+    kern.plugin_mi_from_counts(counts, out)
+    p = counts / counts.sum()
+    px = p.sum(1, keepdims=True)
+    py = p.sum(0, keepdims=True)
+    nz = p > 0
+    ref = np.sum(p[nz] * np.log(p[nz] / (px @ py)[nz]))
+    assert out[0] == pytest.approx(ref, rel=1e-12, abs=1e-15)
+    assert out[1:].tolist() == [np.count_nonzero(counts), 6, np.count_nonzero(counts.sum(0))]
+
+
+def _linear_bin_ref(u, lo, delta, g):
+    grid = np.zeros(g)
+    for val in u:
+        t = (val - lo) / delta
+        k = min(int(np.floor(t)), g - 2)
+        f = t - k
+        grid[k] += 1 - f
+        grid[k + 1] += f
+    return grid
+
+
+def test_linear_binning_1d_and_2d_against_loops(rng):
+    u = rng.standard_normal(500)
+    v = rng.standard_normal(500)
+    lo, delta, g = -6.0, 0.1, 121
+    grid = np.empty(g)
+    idx = np.empty(u.size, dtype=np.int64)
+    frac = np.empty(u.size)
+    kern.linear_bin_1d(u, lo, 1 / delta, grid, idx, frac)
+    np.testing.assert_allclose(grid, _linear_bin_ref(u, lo, delta, g), atol=1e-12)
+    assert grid.sum() == pytest.approx(u.size)
+    # The first moment is preserved exactly by linear binning.
+    nodes = lo + delta * np.arange(g)
+    assert grid @ nodes == pytest.approx(u.sum(), rel=1e-12)
+
+    grid2 = np.empty((g, g))
+    iu, iv = np.empty(u.size, dtype=np.int64), np.empty(u.size, dtype=np.int64)
+    fu, fv = np.empty(u.size), np.empty(u.size)
+    kern.linear_bin_2d(u, v, lo, lo, 1 / delta, grid2, iu, fu, iv, fv)
+    ref = np.zeros((g, g))
+    for a, b in zip(u, v, strict=True):
+        ta, tb = (a - lo) / delta, (b - lo) / delta
+        ka, kb = int(np.floor(ta)), int(np.floor(tb))
+        fa, fb = ta - ka, tb - kb
+        ref[ka, kb] += (1 - fa) * (1 - fb)
+        ref[ka + 1, kb] += fa * (1 - fb)
+        ref[ka, kb + 1] += (1 - fa) * fb
+        ref[ka + 1, kb + 1] += fa * fb
+    np.testing.assert_allclose(grid2, ref, atol=1e-12)
+    np.testing.assert_array_equal(iu, idx)
+
+
+def test_loo_density_kernels_against_numpy(rng):
+    g = 50
+    dens = rng.random(g) + 0.5
+    idx = rng.integers(0, g - 1, size=200).astype(np.int64)
+    frac = rng.random(200)
+    n, k0, k1, floor = 200.0, 0.3, 0.2, 1e-3
+    interp = (1 - frac) * dens[idx] + frac * dens[idx + 1]
+    own = ((1 - frac) ** 2 + frac**2) * k0 + 2 * frac * (1 - frac) * k1
+    ref = np.maximum((n * interp - own) / (n - 1), floor)
+    out = np.empty(200)
+    kern.loo_density_1d(dens, idx, frac, n, k0, k1, floor, out)
+    np.testing.assert_allclose(out, ref, rtol=1e-13)
+    assert kern.loo_log_density_sum_1d(dens, idx, frac, n, k0, k1, floor) == pytest.approx(
+        np.log(ref).sum(), rel=1e-12
+    )
+    dens2 = rng.random((g, g)) + 0.5
+    iu, iv = idx, rng.integers(0, g - 1, size=200).astype(np.int64)
+    fu, fv = frac, rng.random(200)
+    bil = ((1 - fu) * (1 - fv) * dens2[iu, iv] + fu * (1 - fv) * dens2[iu + 1, iv]
+           + (1 - fu) * fv * dens2[iu, iv + 1] + fu * fv * dens2[iu + 1, iv + 1])
+    own_v = ((1 - fv) ** 2 + fv**2) * k0 + 2 * fv * (1 - fv) * k1
+    ref2 = np.maximum((n * bil - own * own_v) / (n - 1), floor)
+    got = kern.loo_log_density_sum_2d(dens2, iu, fu, iv, fv, n, k0, k1, floor)
+    assert got == pytest.approx(np.log(ref2).sum(), rel=1e-12)
+    fx, fy = rng.random(200) + 0.1, rng.random(200) + 0.1
+    got = kern.loo_log_ratio_sum_2d(dens2, iu, fu, iv, fv, n, k0, k1, floor, fx, fy)
+    assert got == pytest.approx(np.log(ref2 / (fx * fy)).sum(), rel=1e-10)
+
+
+def test_kernels_callable_from_njit(rng):
+    @nb.njit
+    def driver(x, k):
+        idx = np.empty(x.shape[0], dtype=np.int64)
+        kern.uniform_bin_index(x, x.min(), k / (x.max() - x.min()), k, idx)
+        counts = np.empty((k, k), dtype=np.int64)
+        kern.joint_counts_index(idx, idx, counts)
+        out = np.empty(4)
+        kern.plugin_mi_from_counts(counts, out)
+        return out[0]
+
+    x = rng.standard_normal(1000)
+    # I(X; X) of the binned variable is its discrete entropy.
+    p = np.histogram(x, bins=8)[0] / x.size
+    p = p[p > 0]
+    assert driver(x, 8) == pytest.approx(-np.sum(p * np.log(p)), rel=1e-12)
