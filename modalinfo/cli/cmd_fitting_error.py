@@ -1,0 +1,78 @@
+"""``modalinfo fitting-error LOG``: compare orderings by their fitting-error curves (Figure 1).
+
+Each ``basis:method`` in ``--orderings`` is ordered on the log (or on one frame with
+``--frame``) and its fitting error dPhi(n), n = 1..27, computed; the command prints
+dPhi at a few n and the modes needed to reach ``--target`` (and ``--fraction`` of the
+total variance), and ``--plot`` draws the curves in the paper's Figure 1 styles
+(Zernike standard dotted blue, K-L MI dashed green, Zernike MI solid red, data-PCA
+floor thin black) with the target crossings marked.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from modalinfo.cli import CommandError
+from modalinfo.cli.cmd_reorder import add_common_arguments, check_output, load_log
+
+NAME = "fitting-error"
+HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."
+
+DEFAULT_ORDERINGS = "zernike:standard,kl-theory:mi_greedy,zernike:mi_greedy,kl-data:pca"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Fill the ``fitting-error`` parser."""
+    add_common_arguments(parser)
+    parser.add_argument("--orderings", default=DEFAULT_ORDERINGS, metavar="LIST",
+                        help=f"comma-separated basis:method (default: {DEFAULT_ORDERINGS})")
+    parser.add_argument("--units", choices=("waves2", "rad2"), default="waves2",
+                        help="units of the fitting error (default: waves2)")
+    parser.add_argument("--target", type=float, default=None, metavar="E",
+                        help="target fitting error in --units (e.g. 0.4, the paper's)")
+    parser.add_argument("--fraction", type=float, default=None, metavar="F",
+                        help="also report modes to reach F x the total variance (0 < F < 1)")
+    parser.add_argument("--plot", type=Path, default=None, metavar="PNG", help="draw the curves")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Compute the curves, print the table, draw the plot."""
+    from modalinfo.ordering.compare import compare_orderings, parse_specs, plot_comparison
+
+    check_output(args.plot, args.overwrite)
+    specs = parse_specs(args.orderings)
+    if args.target is not None and args.target < 0:
+        raise CommandError(f"--target must be >= 0; got {args.target}")
+    if args.fraction is not None and not 0 < args.fraction < 1:
+        raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
+    log = load_log(args.log)
+    comp = compare_orderings(
+        log, specs, frame=args.frame, units=args.units, estimator=args.estimator,
+        sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
+        outer_scale=args.outer_scale,
+    )
+    targets = [args.target] if args.target is not None else []
+    fractions = [args.fraction] if args.fraction is not None else []
+    print(comp.table(targets=targets, fractions=fractions))
+    first = comp.entries[0]
+    total = float(comp.curve(first)[0])
+    print(f"total variance dPhi(0) = {total:.4g} {args.units}")
+    if args.target is not None and args.target >= total:
+        print(f"note: the target {args.target:g} {args.units} is above the total variance, "
+              "so it is reached with 0 modes; try --fraction")
+    if args.plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from modalinfo.ordering.compare import save_figure
+
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        where = "frame average" if comp.frame is None else f"frame {comp.frame}"
+        plot_comparison(comp, ax, target=args.target, title=f"{args.log.name}: {where}")
+        save_figure(fig, args.plot, overwrite=args.overwrite)
+        plt.close(fig)
+        print(f"figure written to {args.plot}")
+    return 0

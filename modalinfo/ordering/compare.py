@@ -1,0 +1,361 @@
+"""Build the bases of a comparison and compare orderings by their fitting error.
+
+Used by ``modalinfo reorder``, ``modalinfo fitting-error`` and the Figure 1 script.
+A comparison is a list of ``"basis:method"`` specifications, for example the paper's
+Figure 1 plus the PCA floor: ``zernike:standard, kl-theory:mi_greedy,
+zernike:mi_greedy, kl-data:pca``.
+
+Bases: ``"zernike"`` (the log's Noll modes on the pupil), ``"kl-theory"`` (eigenvectors
+of the von Karman Zernike covariance of the log's modes, ``KLBasis.from_turbulence``)
+and ``"kl-data"`` (PCA of the log's own coefficients, ``KLBasis.from_data``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.ordering.fitting_error import FittingErrorResult, fitting_error
+from modalinfo.ordering.orderings import METHODS, order_modes
+from modalinfo.ordering.result import OrderingResult
+
+__all__ = [
+    "BASES",
+    "Comparison",
+    "ComparisonEntry",
+    "basis_for_log",
+    "compare_orderings",
+    "parse_specs",
+    "plot_comparison",
+]
+
+#: Basis names accepted by :func:`basis_for_log`.
+BASES = ("zernike", "kl-theory", "kl-data")
+
+_STYLES = {
+    ("zernike", "standard"): dict(color="tab:blue", linestyle=":", linewidth=2.0),
+    ("zernike", "mi"): dict(color="tab:red", linestyle="-", linewidth=2.0),
+    ("kl", "mi"): dict(color="tab:green", linestyle="--", linewidth=2.0),
+    ("kl-data", "pca"): dict(color="black", linestyle="-", linewidth=1.0, alpha=0.7),
+}
+
+
+def _log_geometry(log: Any) -> tuple[float | None, float | None]:
+    """Diameter [m] and outer scale [m] recorded in a log's metadata, if any."""
+    meta = getattr(log, "metadata", None) or {}
+    gen = meta.get("generator", {}) if isinstance(meta.get("generator"), dict) else {}
+    diameter = meta.get("diameter", gen.get("diameter"))
+    outer = meta.get("outer_scale", gen.get("outer_scale", "absent"))
+    if outer == "absent":
+        outer = None
+    elif outer is None:  # recorded as infinite
+        outer = math.inf
+    return (float(diameter) if diameter is not None else None,
+            float(outer) if outer is not None else None)
+
+
+def basis_for_log(
+    kind: str,
+    log: Any,
+    *,
+    n_pixels: int = 64,
+    diameter: float | None = None,
+    outer_scale: float | None = None,
+    zernike_basis: Any = None,
+) -> Any:
+    """Build the basis ``kind`` for a log's Zernike modes.
+
+    Parameters
+    ----------
+    kind : {"zernike", "kl-theory", "kl-data"}
+        Which basis.
+    log : ModalLog
+        The log (Noll modes; for ``"kl-data"`` its coefficients are analysed).
+    n_pixels : int
+        Pupil grid size across [pixels].
+    diameter : float, optional
+        Pupil diameter [m] (default: from the log's metadata, else 1 m). Matters only
+        for a finite outer scale.
+    outer_scale : float, optional
+        Von Karman outer scale [m] of the theoretical K-L (default: the log's metadata,
+        else infinite, i.e. Kolmogorov).
+    zernike_basis : ZernikeBasis, optional
+        Reuse this Zernike basis instead of building one.
+
+    Returns
+    -------
+    ModalBasis
+        A ``ZernikeBasis`` or ``KLBasis``.
+    """
+    from modalinfo.bases import Pupil, ZernikeBasis
+
+    check_choice(kind, "basis", BASES)
+    n_pixels = check_int(n_pixels, "n_pixels", minimum=4)
+    meta_d, meta_l0 = _log_geometry(log)
+    if diameter is None:
+        diameter = meta_d if meta_d is not None else 1.0
+    diameter = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+    if outer_scale is None:
+        outer_scale = meta_l0 if meta_l0 is not None else math.inf
+    outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
+                             allow_inf=True)
+    if getattr(log, "convention", "noll") != "noll":
+        log = log.to_convention("noll")
+    modes = [int(m) for m in log.modes]
+    if zernike_basis is None:
+        zernike_basis = ZernikeBasis(Pupil(n_pixels, diameter=diameter), modes=modes)
+    if kind == "zernike":
+        return zernike_basis
+    from modalinfo.bases import KLBasis
+
+    if kind == "kl-theory":
+        return KLBasis.from_turbulence(zernike_basis.pupil, len(modes), outer_scale=outer_scale,
+                                       zernike_modes=modes)
+    rad = log if getattr(log, "units", "rad") == "rad" else log.to_units("rad")
+    return KLBasis.from_data(zernike_basis, np.asarray(rad.coeffs, dtype=float))
+
+
+def parse_specs(text: str | list[str]) -> list[tuple[str, str]]:
+    """Parse ``"zernike:standard,kl-theory:mi_greedy"`` into (basis, method) pairs."""
+    items = text.split(",") if isinstance(text, str) else list(text)
+    specs = []
+    for item in items:
+        item = item.strip()
+        if not item:
+            continue
+        if item.count(":") != 1:
+            raise ValueError(
+                f"`orderings` entries must look like basis:method (e.g. zernike:mi_greedy); "
+                f"got {item!r}."
+            )
+        basis, method = (s.strip() for s in item.split(":"))
+        check_choice(basis, "orderings basis", BASES)
+        check_choice(method, "orderings method", METHODS)
+        specs.append((basis, method))
+    if not specs:
+        raise ValueError(f"`orderings` must name at least one basis:method; got {text!r}.")
+    return specs
+
+
+@dataclass(frozen=True)
+class ComparisonEntry:
+    """One ordering of one basis and its fitting-error curve.
+
+    Attributes
+    ----------
+    basis : str
+        Basis name (``"zernike"``, ``"kl-theory"``, ``"kl-data"``).
+    method : str
+        Ordering method.
+    ordering : OrderingResult
+        The ordering.
+    error : FittingErrorResult
+        Its fitting error on every frame of the log.
+    """
+
+    basis: str
+    method: str
+    ordering: OrderingResult
+    error: FittingErrorResult
+
+    @property
+    def name(self) -> str:
+        """``"basis:method"``."""
+        return f"{self.basis}:{self.method}"
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Fitting-error curves of several orderings on the same log.
+
+    Attributes
+    ----------
+    entries : tuple of ComparisonEntry
+        One per ``basis:method``.
+    frame : int or None
+        The frame compared (per-frame orderings), or None (frame average, pooled).
+    units : str
+        ``"rad2"`` or ``"waves2"``.
+    """
+
+    entries: tuple[ComparisonEntry, ...]
+    frame: int | None
+    units: str
+
+    def curve(self, entry: ComparisonEntry, *, include_zero: bool = True) -> np.ndarray:
+        """Return the compared curve of an entry (the frame's, or the frame average)."""
+        return entry.error.curve(self.frame, include_zero=include_zero)
+
+    def modes_to_reach(self, error: float) -> dict[str, int]:
+        """Modes each ordering needs to reach ``error`` [``units``]."""
+        return {e.name: e.error.modes_to_reach(error, self.frame) for e in self.entries}
+
+    def table(self, targets: list[float] | None = None, fractions: list[float] | None = None,
+              at: tuple[int, ...] = (1, 3, 5, 7, 10, 15, 20)) -> str:
+        """Plain-text table: dPhi at a few n and modes to reach each target."""
+        targets = list(targets or [])
+        fractions = list(fractions or [])
+        m = self.entries[0].error.per_frame.shape[1]
+        at = tuple(n for n in at if n <= m)
+        head = f"{'ordering':<22}" + "".join(f"{'n=' + str(n):>10}" for n in at)
+        head += "".join(f"{'<=' + format(t, '.3g'):>10}" for t in targets)
+        head += "".join(f"{'<=' + format(100 * f, '.3g') + '%':>10}" for f in fractions)
+        lines = [f"fitting error dPhi(n) [{self.units}], "
+                 + ("frame average" if self.frame is None else f"frame {self.frame}")
+                 + "; last columns: modes to reach each target", head]
+        for e in self.entries:
+            c = self.curve(e)
+            row = f"{e.name:<22}" + "".join(f"{c[n]:>10.3g}" for n in at)
+            row += "".join(f"{e.error.modes_to_reach(t, self.frame):>10d}" for t in targets)
+            row += "".join(f"{e.error.modes_to_reach_fraction(f, self.frame):>10d}"
+                           for f in fractions)
+            lines.append(row)
+        return "\n".join(lines)
+
+
+def compare_orderings(
+    log: Any,
+    specs: str | list,
+    *,
+    frame: int | None = None,
+    units: str = "waves2",
+    estimator: str = "histogram",
+    estimator_options: dict | None = None,
+    sample_budget: int = 200_000,
+    seed: Any = 0,
+    n_resamples: int = 0,
+    n_pixels: int = 64,
+    outer_scale: float | None = None,
+    bases: dict | None = None,
+) -> Comparison:
+    """Order each basis as specified and compute the fitting-error curves.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    specs : str or list
+        ``"basis:method,..."`` or a list of (basis, method) pairs.
+    frame : int, optional
+        Compare one frame: MI and variance orderings are computed on that frame alone
+        (the paper's per-frame figure); ``"pca"`` stays the whole log's PCA order.
+    units : {"rad2", "waves2"}
+        Units of the curves.
+    estimator, estimator_options, sample_budget, seed, n_resamples
+        Passed to :func:`~modalinfo.ordering.order_modes`.
+    n_pixels : int
+        Pupil grid size across [pixels].
+    outer_scale : float, optional
+        Outer scale [m] of the theoretical K-L (default: from the log's metadata).
+    bases : dict, optional
+        Prebuilt bases by name (reused, and filled with the ones built here).
+
+    Returns
+    -------
+    Comparison
+    """
+    pairs = parse_specs(specs) if isinstance(specs, str) else [tuple(p) for p in specs]
+    bases = {} if bases is None else bases
+    if frame is not None:
+        frame = check_int(frame, "frame", minimum=-log.n_frames, maximum=log.n_frames - 1)
+        frame %= log.n_frames
+    entries = []
+    for basis_name, method in pairs:
+        if basis_name not in bases:
+            bases[basis_name] = basis_for_log(
+                basis_name, log, n_pixels=n_pixels, outer_scale=outer_scale,
+                zernike_basis=bases.get("zernike"),
+            )
+        basis = bases[basis_name]
+        ordering = order_modes(
+            log, basis, method, estimator=estimator, estimator_options=estimator_options,
+            frame=None if method in ("pca", "standard") else frame,
+            sample_budget=sample_budget, seed=seed, n_resamples=n_resamples,
+        )
+        err = fitting_error(log, basis, ordering, units=units)
+        entries.append(ComparisonEntry(basis_name, method, ordering, err))
+    return Comparison(entries=tuple(entries), frame=frame, units=units)
+
+
+def _style(basis: str, method: str) -> dict:
+    family = "kl" if basis.startswith("kl") else "zernike"
+    if method.startswith("mi"):
+        return dict(_STYLES[(family, "mi")])
+    return dict(_STYLES.get((basis, method), _STYLES.get((family, method), {})))
+
+
+def plot_comparison(
+    comparison: Comparison,
+    ax: Any = None,
+    *,
+    target: float | None = None,
+    title: str | None = None,
+    log_scale: bool = True,
+) -> Any:
+    """Draw fitting error vs number of modes (Figure 1 styles) on a matplotlib axis.
+
+    Zernike standard order dotted blue, K-L MI order dashed green, Zernike MI order
+    solid red (the paper's Figure 1), the data-PCA order thin black (the floor); other
+    orderings in default colours. A horizontal line marks ``target`` and a marker the
+    first n where each curve reaches it.
+
+    Parameters
+    ----------
+    comparison : Comparison
+        The curves.
+    ax : matplotlib.axes.Axes, optional
+        Axis to draw on (a new figure if None).
+    target : float, optional
+        Target fitting error [``comparison.units``].
+    title : str, optional
+        Axis title.
+    log_scale : bool
+        Logarithmic y axis (zero values are not drawn).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 4.5))
+    for e in comparison.entries:
+        c = comparison.curve(e)
+        n = np.arange(c.size)
+        style = _style(e.basis, e.method)
+        label = e.name + (" (floor)" if e.method == "pca" and comparison.frame is None else "")
+        shown = c > 0 if log_scale else np.ones(c.size, bool)
+        line, = ax.plot(n[shown], c[shown], label=label, **style)
+        if target is not None:
+            k = e.error.modes_to_reach(target, comparison.frame)
+            if c[k] > 0 or not log_scale:
+                ax.plot([k], [c[k]], "o", color=line.get_color(), markersize=6)
+    if target is not None:
+        ax.axhline(target, color="gray", linewidth=0.8, linestyle="-.",
+                   label=f"target {target:.3g} {comparison.units}")
+    if log_scale:
+        ax.set_yscale("log")
+    unit = {"waves2": "waves$^2$", "rad2": "rad$^2$"}[comparison.units]
+    ax.set_xlabel("number of modes n")
+    ax.set_ylabel(f"fitting error $\\Delta\\Phi(n)$ [{unit}]")
+    ax.set_xlim(0, comparison.entries[0].error.per_frame.shape[1])
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    return ax
+
+
+def save_figure(fig: Any, path: str | Path, overwrite: bool = False) -> Path:
+    """Save a matplotlib figure, refusing to replace a file unless ``overwrite``."""
+    path = Path(path)
+    if path.exists() and not overwrite:
+        raise FileExistsError(f"'{path}' exists; pass --overwrite to replace it.")
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    return path
