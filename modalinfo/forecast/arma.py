@@ -1,0 +1,479 @@
+"""ARMA(p, q) forecasting as in the paper (Yule-Walker / Hannan-Rissanen estimates).
+
+Model (Brockwell & Davis 2002, eq. 3.1.1), per mode, on the centred series
+``X_t = x_t - mu``::
+
+    X_t - phi_1 X_{t-1} - ... - phi_p X_{t-p} = Z_t + theta_1 Z_{t-1} + ... + theta_q Z_{t-q}
+
+Estimation (numpy only; statsmodels is a test-only reference)
+-------------------------------------------------------------
+- ``q = 0``: Yule-Walker equations on the biased sample autocovariance (B&D 5.1.1),
+  solved by Levinson-Durbin; the estimate is always causal.
+- ``q > 0``: Hannan-Rissanen (B&D 5.1.4): a long Yule-Walker AR(m) gives innovation
+  estimates ``Z_hat``; least squares of ``X_t`` on ``X_{t-1..t-p}`` and
+  ``Z_hat_{t-1..t-q}`` gives (phi, theta); the third step (a Gauss-Newton step on
+  the conditional sum of squares, B&D eq. 5.1.30-5.1.33) refines them to
+  asymptotic efficiency. It is repeated (``n_iter`` steps, each kept only if it
+  lowers the sum of squares, halved otherwise) because on closed-loop data with
+  near-cancelling roots a single step can overshoot.
+- Stationarity and invertibility are enforced: inverse roots ``w`` of
+  ``phi(z)`` and ``theta(z)`` with ``|w| >= 1 / (1 + root_margin)`` are reflected
+  (``w -> 1 / conj(w)``, which for the MA part leaves the autocovariance shape
+  unchanged) and pulled inside modulus ``1 / (1 + root_margin)``.
+- ``sigma^2``: mean square of the one-step innovations of the fitted model on the
+  training series (the conditional recursion started from zero state), discarding the
+  first ``burn_in`` samples.
+- Order selection (``order="aic"`` or ``"bic"``, p, q <= ``max_order``) uses the
+  conditional Gaussian likelihood, ``n log sigma^2 + penalty (p + q + 1)`` with
+  ``n`` the number of innovations after the burn-in (the same for every order), the
+  usual Hannan-Rissanen residual-variance approximation to the exact likelihood.
+
+Forecasts: the one-step innovations recursion with the fitted (phi, theta) (state:
+last p centred values and last q innovations), iterated for h > 1; the h-step error
+variance is ``sigma^2 sum_{j<h} psi_j^2`` with the psi-weights of the causal
+representation (B&D 5.3), giving Gaussian prediction intervals.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import solve_toeplitz
+from scipy.signal import lfilter
+from scipy.stats import norm
+
+from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.forecast._univariate import _LinearRecursion
+
+__all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
+
+
+@dataclass(frozen=True)
+class ForecastInterval:
+    """Point forecasts with Gaussian prediction intervals.
+
+    Attributes
+    ----------
+    mean : numpy.ndarray, shape (H,) or (H, M)
+        Point forecasts for h = 1..H.
+    std : numpy.ndarray, same shape
+        Forecast error standard deviation ``sigma sqrt(sum_{j<h} psi_j^2)``.
+    lower, upper : numpy.ndarray, same shape
+        Interval bounds ``mean -/+ z std``.
+    level : float
+        Nominal coverage probability.
+    """
+
+    mean: np.ndarray
+    std: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    level: float
+
+
+def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
+    """Biased sample autocovariance ``gamma(k) = 1/n sum (x_t - m)(x_{t+k} - m)``.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (T,)
+        Series.
+    n_lags : int
+        Largest lag ``K``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K + 1,)
+        ``gamma(0..K)`` (B&D eq. 1.4.4; positive semi-definite).
+    """
+    xc = x - x.mean()
+    n = xc.size
+    nfft = 1 << int(np.ceil(np.log2(2 * n)))
+    f = np.fft.rfft(xc, nfft)
+    acov = np.fft.irfft(f * np.conj(f), nfft)[: n_lags + 1] / n
+    return acov
+
+
+def _yule_walker(gamma: np.ndarray, p: int) -> np.ndarray:
+    if p == 0:
+        return np.zeros(0)
+    return solve_toeplitz(gamma[:p], gamma[1 : p + 1])
+
+
+def _inverse_roots(coeffs: np.ndarray) -> np.ndarray:
+    """Inverse roots ``w`` of ``1 + c_1 z + ... + c_n z^n = prod (1 - w_k z)``."""
+    return np.roots(np.concatenate([[1.0], coeffs]))
+
+
+def _enforce(coeffs: np.ndarray, margin: float) -> np.ndarray:
+    """Return ``c`` with every inverse root inside modulus ``1 / (1 + margin)``."""
+    if coeffs.size == 0:
+        return coeffs
+    w = _inverse_roots(coeffs)
+    limit = 1.0 / (1.0 + margin)
+    mod = np.abs(w)
+    if np.all(mod < limit):
+        return coeffs
+    new_mod = np.where(mod >= 1.0, 1.0 / np.maximum(mod, 1e-300), mod)
+    new_mod = np.minimum(new_mod, limit)
+    w = np.where(mod > 0, w / np.maximum(mod, 1e-300) * new_mod, w)
+    return np.real(np.poly(w))[1:]
+
+
+def _enforce_ar(phi: np.ndarray, margin: float) -> np.ndarray:
+    """Causal AR coefficients: ``phi(z) = 1 - phi_1 z - ...`` has ``c = -phi``."""
+    return -_enforce(-phi, margin)
+
+
+def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
+    """Coefficients ``psi_0..psi_{n-1}`` of the causal MA(inf) representation.
+
+    ``psi_0 = 1``, ``psi_j = theta_j + sum_{i=1}^{min(j, p)} phi_i psi_{j-i}``
+    (B&D eq. 3.1.7), with ``theta_j = 0`` for ``j > q``.
+
+    Parameters
+    ----------
+    phi : numpy.ndarray, shape (p,)
+    theta : numpy.ndarray, shape (q,)
+    n : int
+        Number of weights.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+    """
+    psi = np.zeros(n)
+    psi[0] = 1.0
+    for j in range(1, n):
+        s = theta[j - 1] if j <= theta.size else 0.0
+        for i in range(1, min(j, phi.size) + 1):
+            s += phi[i - 1] * psi[j - i]
+        psi[j] = s
+    return psi
+
+
+def _innovations(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """One-step innovations of the conditional recursion from zero state."""
+    return lfilter(np.concatenate([[1.0], -phi]), np.concatenate([[1.0], theta]), xc)
+
+
+def _lstsq(design: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Least squares by the normal equations (few well-scaled columns)."""
+    gram = design.T @ design
+    rhs = design.T @ target
+    try:
+        return np.linalg.solve(gram, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(design, target, rcond=None)[0]
+
+
+def _lags(series: np.ndarray, rows: np.ndarray, n_lags: int) -> list[np.ndarray]:
+    return [series[rows - i] for i in range(1, n_lags + 1)]
+
+
+def _hannan_rissanen(xc: np.ndarray, z_long: np.ndarray, long_order: int, p: int, q: int
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Estimate an ARMA(p, q > 0) by steps 1-2 of Hannan-Rissanen (B&D section 5.1.4).
+
+    ``z_long`` are the residuals of the long Yule-Walker AR(``long_order``); ``X_t`` is
+    regressed on ``X_{t-1..t-p}`` and ``z_long_{t-1..t-q}``.
+    """
+    rows = np.arange(long_order + max(p, q), xc.size)
+    design = np.column_stack(_lags(xc, rows, p) + _lags(z_long, rows, q))
+    beta = _lstsq(design, xc[rows])
+    return beta[:p], beta[p:]
+
+
+def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: float,
+                burn: int, n_iter: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """Gauss-Newton steps on the conditional sum of squares, with step halving.
+
+    The first step is the third step of Hannan-Rissanen (B&D eq. 5.1.30-5.1.33):
+    regress the innovations ``Z_t`` on ``V_{t-1..t-p}`` and ``W_{t-1..t-q}`` with
+    ``phi(B) V = Z`` and ``theta(B) W = Z``, and add the coefficients to (phi, theta).
+    Each step is kept only if it lowers the sum of squares (halving it up to 8
+    times); every candidate is made causal and invertible first.
+    """
+    p, q = phi.size, theta.size
+    phi = _enforce_ar(phi, margin)
+    theta = _enforce(theta, margin)
+    e = _innovations(xc, phi, theta)
+    sse = float(e[burn:] @ e[burn:])
+    rows = np.arange(max(p, q, burn), xc.size)
+    for _ in range(n_iter):
+        v = lfilter([1.0], np.concatenate([[1.0], -phi]), e)
+        w = lfilter([1.0], np.concatenate([[1.0], theta]), e)
+        design = np.column_stack(_lags(v, rows, p) + _lags(w, rows, q))
+        step = _lstsq(design, e[rows])
+        improved = False
+        scale = 1.0
+        for _halving in range(8):
+            phi_new = _enforce_ar(phi + scale * step[:p], margin)
+            theta_new = _enforce(theta + scale * step[p:], margin)
+            e_new = _innovations(xc, phi_new, theta_new)
+            sse_new = float(e_new[burn:] @ e_new[burn:])
+            if sse_new < sse:
+                improved = True
+                break
+            scale *= 0.5
+        if not improved:
+            break
+        gain = (sse - sse_new) / sse
+        phi, theta, e, sse = phi_new, theta_new, e_new, sse_new
+        if gain < 1e-9:
+            break
+    return phi, theta, sse / (xc.size - burn)
+
+
+class ARMAPredictor(_LinearRecursion):
+    """ARMA(p, q) forecaster with prediction intervals (one model per mode).
+
+    See the module notes for the estimators, the root enforcement and the order
+    selection.
+
+    Parameters
+    ----------
+    order : tuple of int or {"aic", "bic"}
+        ``(p, q)`` for every mode (default the paper's ARMA(2, 3)), or the
+        criterion used to select ``p, q <= max_order`` per mode.
+    max_order : int
+        Largest ``p`` and ``q`` searched by ``"aic"``/``"bic"``.
+    long_order : int or None
+        Order ``m`` of the long AR of Hannan-Rissanen; default
+        ``max(20, ceil(10 log10 T))`` capped at ``T // 4``.
+    n_iter : int
+        Gauss-Newton steps on the conditional sum of squares after Hannan-Rissanen
+        (the first is Hannan-Rissanen's third step; 0 keeps the two-step estimate).
+    root_margin : float
+        Inverse AR and MA roots are kept inside modulus ``1 / (1 + root_margin)``.
+    burn_in : int
+        Innovations discarded at the start when estimating ``sigma^2`` and the
+        likelihood.
+    level : float
+        Default coverage of :meth:`predict_interval`.
+    horizon : int
+        Number of steps forecast by ``update``.
+    refit_every, window : int or None
+        Refit policy (the order is re-selected at each refit when ``order`` is a
+        criterion).
+
+    Attributes
+    ----------
+    orders_ : numpy.ndarray, shape (M, 2)
+        ``(p, q)`` per mode.
+    ar_coef_ : numpy.ndarray, shape (M, max p)
+        ``phi`` per mode, zero-padded.
+    ma_coef_ : numpy.ndarray, shape (M, max q)
+        ``theta`` per mode, zero-padded.
+    mean_ : numpy.ndarray, shape (M,)
+    sigma2_ : numpy.ndarray, shape (M,)
+        Innovation variance, in the units of the data squared.
+    criterion_ : numpy.ndarray or None, shape (M, max_order + 1, max_order + 1)
+        AIC/BIC of every candidate order (``None`` for a fixed order).
+    """
+
+    def __init__(self, *, order: tuple[int, int] | str = (2, 3), max_order: int = 5,
+                 long_order: int | None = None, n_iter: int = 10,
+                 root_margin: float = 1e-3, burn_in: int = 50, level: float = 0.95,
+                 horizon: int = 10, refit_every: int | None = None,
+                 window: int | None = None):
+        super().__init__(horizon=horizon, refit_every=refit_every, window=window)
+        self.order = order
+        self.max_order = max_order
+        self.long_order = long_order
+        self.n_iter = n_iter
+        self.root_margin = root_margin
+        self.burn_in = burn_in
+        self.level = level
+
+    # ------------------------------------------------------------------ checks
+    def _orders_to_try(self) -> list[tuple[int, int]]:
+        if isinstance(self.order, str):
+            check_choice(self.order, "order", ("aic", "bic"))
+            k = check_int(self.max_order, "max_order", minimum=0, maximum=20)
+            return [(p, q) for p in range(k + 1) for q in range(k + 1)]
+        try:
+            p, q = self.order
+        except (TypeError, ValueError):
+            raise TypeError(f"`order` must be a (p, q) tuple or 'aic'/'bic'; got "
+                            f"{self.order!r}.") from None
+        p = check_int(p, "order[0] (p)", minimum=0, maximum=50)
+        q = check_int(q, "order[1] (q)", minimum=0, maximum=50)
+        return [(p, q)]
+
+    def _long_order(self, n: int, p: int, q: int) -> int:
+        if self.long_order is not None:
+            return check_int(self.long_order, "long_order", minimum=max(p, q, 1))
+        return int(min(max(20, np.ceil(10 * np.log10(n)), p + q + 1), n // 4))
+
+    def _min_samples(self) -> int:
+        orders = self._orders_to_try()
+        k = max(max(p, q) for p, q in orders)
+        burn = check_int(self.burn_in, "burn_in", minimum=0)
+        return max(4 * max(20, k + 1), burn + 10 * (k + 1))
+
+    # ------------------------------------------------------------------ fitting
+    def _fit_mode(self, x: np.ndarray, orders, margin, burn, n_iter):
+        mu = x.mean()
+        xc = x - mu
+        n = xc.size
+        kmax = max(max(p, q) for p, q in orders)
+        qmax = max(q for _, q in orders)
+        long_order = self._long_order(n, kmax, qmax)
+        gamma = sample_autocovariance(xc, max(kmax, long_order) + 1)
+        z_long = None
+        if qmax > 0:
+            a_long = _yule_walker(gamma, long_order)
+            z_long = lfilter(np.concatenate([[1.0], -a_long]), [1.0], xc)
+        best = None
+        crit = np.full((self.max_order + 1,) * 2, np.nan) if len(orders) > 1 else None
+        n_eff = n - burn
+        for p, q in orders:
+            if q == 0:
+                phi, theta = _enforce_ar(_yule_walker(gamma, p), margin), np.zeros(0)
+                e = _innovations(xc, phi, theta)
+                sigma2 = float(e[burn:] @ e[burn:]) / n_eff
+            else:
+                phi, theta = _hannan_rissanen(xc, z_long, long_order, p, q)
+                phi, theta, sigma2 = _css_refine(xc, phi, theta, margin, burn, n_iter)
+            if crit is not None:
+                penalty = 2.0 if self.order == "aic" else np.log(n_eff)
+                value = n_eff * np.log(sigma2) + penalty * (p + q + 1)
+                crit[p, q] = value
+            else:
+                value = 0.0
+            if best is None or value < best[0]:
+                best = (value, p, q, phi, theta, sigma2)
+        _, p, q, phi, theta, sigma2 = best
+        return mu, p, q, phi, theta, sigma2, crit
+
+    def _fit_params(self, X, previous, name):
+        orders = self._orders_to_try()
+        margin = check_real(self.root_margin, "root_margin", minimum=0.0, strict_min=True)
+        burn = check_int(self.burn_in, "burn_in", minimum=0)
+        check_real(self.level, "level", minimum=0.0, maximum=1.0, strict_min=True,
+                   strict_max=True)
+        self._check_constant(X, name)
+        n_iter = check_int(self.n_iter, "n_iter", minimum=0)
+        fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter)
+                for m in range(X.shape[1])]
+        n_modes = X.shape[1]
+        P = max(f[1] for f in fits)
+        Q = max(f[2] for f in fits)
+        phi = np.zeros((n_modes, P))
+        theta = np.zeros((n_modes, Q))
+        for m, f in enumerate(fits):
+            phi[m, : f[1]] = f[3]
+            theta[m, : f[2]] = f[4]
+        return {
+            "mu": np.array([f[0] for f in fits]),
+            "phi": phi,
+            "theta": theta,
+            "orders": np.array([[f[1], f[2]] for f in fits], dtype=int),
+            "sigma2": np.array([f[5] for f in fits]),
+            "criterion": None if fits[0][6] is None else np.stack([f[6] for f in fits]),
+        }
+
+    # ------------------------------------------------------------------ attributes
+    @property
+    def orders_(self) -> np.ndarray:
+        """``(M, 2)`` fitted ``(p, q)`` per mode."""
+        self._check_fitted()
+        return self.params_["orders"]
+
+    @property
+    def ar_coef_(self) -> np.ndarray:
+        """``(M, max p)`` AR coefficients, zero-padded."""
+        self._check_fitted()
+        return self.params_["phi"]
+
+    @property
+    def ma_coef_(self) -> np.ndarray:
+        """``(M, max q)`` MA coefficients, zero-padded."""
+        self._check_fitted()
+        return self.params_["theta"]
+
+    @property
+    def mean_(self) -> np.ndarray:
+        """``(M,)`` process means."""
+        self._check_fitted()
+        return self.params_["mu"]
+
+    @property
+    def sigma2_(self) -> np.ndarray:
+        """``(M,)`` innovation variances."""
+        self._check_fitted()
+        return self.params_["sigma2"]
+
+    @property
+    def criterion_(self) -> np.ndarray | None:
+        """AIC/BIC table ``(M, max_order + 1, max_order + 1)`` or None."""
+        self._check_fitted()
+        return self.params_["criterion"]
+
+    # ------------------------------------------------------------------ intervals
+    @staticmethod
+    def _std_from_params(params: dict, horizon: int) -> np.ndarray:
+        n_modes = params["phi"].shape[0]
+        std = np.empty((horizon, n_modes))
+        for m in range(n_modes):
+            p, q = params["orders"][m]
+            psi = psi_weights(params["phi"][m, :p], params["theta"][m, :q], horizon)
+            std[:, m] = np.sqrt(params["sigma2"][m] * np.cumsum(psi**2))
+        return std
+
+    def forecast_std(self, horizon: int | None = None) -> np.ndarray:
+        """Forecast error standard deviation ``sigma sqrt(sum_{j<h} psi_j^2)``.
+
+        Parameters
+        ----------
+        horizon : int, optional
+            ``H``; default ``self.horizon``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (H, M)
+            For h = 1..H, with the fitted parameters (data units).
+        """
+        self._check_fitted()
+        H = self._check_common()[0] if horizon is None else check_int(horizon, "horizon",
+                                                                       minimum=1)
+        return self._std_from_params(self.params_, H)
+
+    def predict_interval(self, history, horizon: int | None = None,
+                         level: float | None = None) -> ForecastInterval:
+        """Forecasts with Gaussian prediction intervals.
+
+        Parameters
+        ----------
+        history : array_like, shape (T,) or (T, M)
+            Samples up to the forecast origin.
+        horizon : int, optional
+            ``H``; default ``self.horizon``.
+        level : float, optional
+            Coverage probability in (0, 1); default ``self.level``.
+
+        Returns
+        -------
+        ForecastInterval
+            With the parameters in force at the end of ``history`` (the last refit,
+            when a refit policy is set).
+        """
+        self._check_fitted()
+        H = self._check_common()[0] if horizon is None else check_int(horizon, "horizon",
+                                                                       minimum=1)
+        level = check_real(self.level if level is None else level, "level", minimum=0.0,
+                           maximum=1.0, strict_min=True, strict_max=True)
+        X, scalar = self._check_history(history, "history", 1)
+        self._check_n_modes(X.shape[1], "history")
+        run = self._new_run(H)
+        out = np.zeros((1, H, X.shape[1]))
+        self._feed(run, X, out, "history")
+        mean = out[0]
+        std = self._std_from_params(run.params, H)
+        z = norm.ppf(0.5 + level / 2.0)
+        if scalar:
+            mean, std = mean[:, 0], std[:, 0]
+        return ForecastInterval(mean=mean.copy(), std=std, lower=mean - z * std,
+                                upper=mean + z * std, level=level)

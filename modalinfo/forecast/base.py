@@ -1,0 +1,389 @@
+"""The :class:`Predictor` interface shared by every wavefront forecaster.
+
+A predictor is an sklearn-style estimator: hyper-parameters are stored unchanged by
+``__init__``, :meth:`Predictor.fit` sets the fitted attributes (trailing ``_``), and
+using an unfitted predictor raises :class:`NotFittedError`. It forecasts the
+``H = horizon`` samples following the end of a history, offline with
+:meth:`Predictor.predict` and online with :meth:`Predictor.reset` /
+:meth:`Predictor.update`, which the closed-loop simulator calls every loop step.
+
+Online and offline agree exactly
+--------------------------------
+Every predictor is a fixed-size recursion (the last few samples, innovations, RLS
+matrices) run by a numba kernel of :mod:`modalinfo.forecast._kernels`. ``predict``
+starts from the reset state and feeds the whole history to the kernel in one block;
+``update`` feeds one sample. The operations and their order are the same, so
+``predict(history)[h]`` equals, bit for bit, the output of the last
+``update`` after ``reset()`` and one ``update`` per sample of ``history``.
+
+Refit policy
+------------
+With ``refit_every=R`` the parameters are re-estimated every ``R`` samples from the
+last ``window=W`` samples (``W`` defaults to the length of the history given to
+``fit``): after the ``n``-th sample since ``reset`` (``n % R == 0`` and ``n >= W``)
+the model is refitted on samples ``n - W .. n - 1``. The forecasts returned for
+sample ``n`` use the parameters in force when it arrived; the new ones apply from
+sample ``n + 1``. Online, a ring buffer of the last ``W`` samples is kept only when
+a refit policy is set; the per-step cost is otherwise constant and the refit cost is
+paid once every ``R`` steps. ``predict`` replays the same schedule, so both paths
+still agree exactly.
+"""
+
+from __future__ import annotations
+
+import copy
+import inspect
+from typing import Any
+
+import numpy as np
+
+from modalinfo._validation import as_float_array, check_int
+
+__all__ = ["Predictor", "NotFittedError"]
+
+
+class NotFittedError(ValueError, AttributeError):
+    """Raised when a predictor is used before :meth:`Predictor.fit`."""
+
+
+class _Run:
+    """Running state of one forecast pass (online, or one offline ``predict``).
+
+    Attributes
+    ----------
+    params : dict
+        Parameters in force (replaced at refits).
+    state : dict
+        Kernel state arrays (fixed size).
+    horizon : int
+    n_seen : int
+        Samples processed since reset.
+    ring : numpy.ndarray or None
+        ``(W, M)`` ring buffer of the last samples (only with a refit policy).
+    """
+
+    __slots__ = ("params", "state", "horizon", "n_seen", "ring", "ring_pos", "out", "status")
+
+    def __init__(self, params, state, horizon, n_modes, window):
+        self.params = params
+        self.state = state
+        self.horizon = horizon
+        self.n_seen = 0
+        self.ring = None if window is None else np.zeros((window, n_modes))
+        self.ring_pos = 0
+        self.out = np.zeros((1, horizon, n_modes))
+        self.status = np.zeros(1, dtype=np.int64)
+
+
+class Predictor:
+    """Base class of the wavefront forecasters.
+
+    Subclasses define ``__init__`` (keyword hyper-parameters stored unchanged),
+    ``_fit_params(X, previous)`` returning a dict of kernel-ready parameter arrays,
+    ``_init_state(params, horizon)`` returning a dict of state arrays and
+    ``_filter(params, state, X, out, status)`` calling the kernel.
+
+    Parameters
+    ----------
+    horizon : int
+        Number of steps ``H`` forecast by ``update`` and by default by ``predict``.
+    refit_every : int or None
+        Re-estimate the parameters every this many samples (see the module notes).
+    window : int or None
+        Length of the sliding window used at refits; default: the length of the
+        history given to ``fit``.
+    """
+
+    #: whether modes are modelled jointly (multivariate) or one model per mode
+    _multivariate: bool = False
+
+    def __init__(self, *, horizon: int = 10, refit_every: int | None = None,
+                 window: int | None = None):
+        self.horizon = horizon
+        self.refit_every = refit_every
+        self.window = window
+
+    # ------------------------------------------------------------------ sklearn API
+    @classmethod
+    def _param_names(cls) -> list[str]:
+        sig = inspect.signature(cls.__init__)
+        return [p.name for p in sig.parameters.values()
+                if p.name != "self" and p.kind != p.VAR_KEYWORD]
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """Return the hyper-parameters as a dict (scikit-learn convention)."""
+        return {name: getattr(self, name) for name in self._param_names()}
+
+    def set_params(self, **params) -> Predictor:
+        """Set hyper-parameters; fitted attributes are left untouched until ``fit``."""
+        valid = self._param_names()
+        for key, value in params.items():
+            if key not in valid:
+                raise ValueError(
+                    f"`{key}` is not a parameter of {type(self).__name__}; "
+                    f"valid parameters: {', '.join(valid)}."
+                )
+            setattr(self, key, value)
+        return self
+
+    def clone(self, **params) -> Predictor:
+        """Return an unfitted copy with the same (optionally updated) hyper-parameters."""
+        new = type(self)(**copy.deepcopy(self.get_params()))
+        return new.set_params(**params)
+
+    def __repr__(self) -> str:
+        defaults = {p.name: p.default for p in inspect.signature(type(self).__init__).parameters
+                    .values() if p.name != "self"}
+        shown = [f"{k}={v!r}" for k, v in self.get_params().items()
+                 if not _same(defaults.get(k, inspect.Parameter.empty), v)]
+        return f"{type(self).__name__}({', '.join(shown)})"
+
+    # ------------------------------------------------------------------ validation
+    def _check_common(self) -> tuple[int, int | None, int | None]:
+        horizon = check_int(self.horizon, "horizon", minimum=1)
+        refit = None if self.refit_every is None else check_int(
+            self.refit_every, "refit_every", minimum=1)
+        window = None if self.window is None else check_int(
+            self.window, "window", minimum=self._min_samples())
+        return horizon, refit, window
+
+    def _min_samples(self) -> int:
+        """Fewest samples ``fit`` accepts (subclasses raise it)."""
+        return 1
+
+    def _check_history(self, history, name: str = "history",
+                       min_length: int = 1) -> tuple[np.ndarray, bool]:
+        arr = as_float_array(history, name, ndim=(1, 2))
+        scalar = arr.ndim == 1
+        X = arr.reshape(-1, 1) if scalar else arr
+        if X.shape[0] < min_length:
+            raise ValueError(
+                f"`{name}` needs at least {min_length} samples along axis 0 for "
+                f"{type(self).__name__}; got {X.shape[0]}."
+            )
+        if X.shape[1] < 1:
+            raise ValueError(f"`{name}` must have at least one mode (column); got shape "
+                             f"{arr.shape}.")
+        return np.ascontiguousarray(X), scalar
+
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "params_"):
+            raise NotFittedError(
+                f"This {type(self).__name__} is not fitted yet; call `fit(history)` first."
+            )
+
+    @staticmethod
+    def _check_constant(X: np.ndarray, name: str) -> None:
+        spread = np.ptp(X, axis=0)
+        bad = np.flatnonzero(spread <= 1e-12 * np.maximum(np.abs(X).max(axis=0), 1e-300))
+        if bad.size:
+            raise ValueError(
+                f"`{name}` is constant in mode column(s) {bad.tolist()}: the model's "
+                "parameters cannot be estimated from a series with zero variance."
+            )
+
+    # ------------------------------------------------------------------ fitting
+    def fit(self, history) -> Predictor:
+        """Estimate the parameters from a history.
+
+        Parameters
+        ----------
+        history : array_like, shape (T,) or (T, M)
+            Past samples, time along axis 0. Univariate predictors fit one model per
+            mode (column); multivariate ones model the modes jointly.
+
+        Returns
+        -------
+        Predictor
+            ``self``, fitted; the online state is reset.
+        """
+        _, _, window = self._check_common()
+        X, scalar = self._check_history(history, "history", self._min_samples())
+        self.params_ = self._fit_params(X, None, "history")
+        self.n_modes_ = X.shape[1]
+        self.n_samples_fit_ = X.shape[0]
+        self.scalar_input_ = scalar
+        self.window_ = X.shape[0] if window is None else window
+        self.reset()
+        return self
+
+    # subclass hooks -------------------------------------------------------------
+    def _fit_params(self, X: np.ndarray, previous: dict | None, name: str) -> dict:
+        raise NotImplementedError
+
+    def _init_state(self, params: dict, horizon: int) -> dict:
+        raise NotImplementedError
+
+    def _filter(self, params: dict, state: dict, X: np.ndarray, out: np.ndarray,
+                status: np.ndarray) -> None:
+        raise NotImplementedError
+
+    # ------------------------------------------------------------------ running
+    def _new_run(self, horizon: int) -> _Run:
+        _, refit, _ = self._check_common()
+        window = self.window_ if refit is not None else None
+        return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
+                    self.n_modes_, window)
+
+    def _raise_nonfinite(self, status: np.ndarray, offset: int, name: str) -> None:
+        if status[0]:
+            index = offset + int(status[0]) - 1
+            raise ValueError(f"`{name}` must be finite; got a NaN or infinite value at "
+                             f"sample {index}.")
+
+    def _feed(self, run: _Run, X: np.ndarray, out: np.ndarray, name: str) -> list:
+        """Feed ``X`` to ``run`` (refits included); forecasts go to ``out``.
+
+        Returns the list of ``(sample_index, params)`` after each refit.
+        """
+        refit = self.refit_every
+        n_total = X.shape[0]
+        n_out = out.shape[0]
+        start = 0
+        refits = []
+        while start < n_total:
+            stop = n_total
+            if refit is not None:
+                # next refit point: smallest n > n_seen with n % R == 0 and n >= W
+                n_next = (run.n_seen // refit + 1) * refit
+                while n_next < self.window_:
+                    n_next += refit
+                stop = min(n_total, start + n_next - run.n_seen)
+            block = X[start:stop]
+            lo = start - n_total + n_out
+            hi = stop - n_total + n_out
+            if hi <= 0:
+                sub_out = out[:0]
+            else:
+                sub_out = out[max(lo, 0):hi]
+            self._filter(run.params, run.state, block, sub_out, run.status)
+            self._raise_nonfinite(run.status, start, name)
+            run.n_seen += stop - start
+            if refit is not None:
+                if run.n_seen % refit == 0 and run.n_seen >= self.window_:
+                    window_data = X[stop - self.window_:stop] if stop >= self.window_ else None
+                    if window_data is None:  # pragma: no cover - predict starts at reset
+                        raise RuntimeError("refit window not available")
+                    run.params = self._fit_params(np.ascontiguousarray(window_data),
+                                                  run.params, name)
+                    refits.append((run.n_seen - 1, run.params))
+            start = stop
+        return refits
+
+    def _forecast_path(self, X: np.ndarray, horizon: int) -> tuple[np.ndarray, list]:
+        """Forecasts after every sample of ``X`` from the reset state.
+
+        Returns ``(path (T, H, M), refits)``; ``path[t, h - 1]`` forecasts
+        ``X[t + h]`` from ``X[:t + 1]``.
+        """
+        run = self._new_run(horizon)
+        out = np.zeros((X.shape[0], horizon, X.shape[1]))
+        refits = self._feed(run, X, out, "history")
+        return out, refits
+
+    def predict(self, history, horizon: int | None = None) -> np.ndarray:
+        """Forecast the samples following the end of ``history``.
+
+        The history is fed to the recursion from the reset state (with the fitted
+        parameters, and the refit schedule if one is set), exactly as ``reset``
+        followed by one ``update`` per sample would.
+
+        Parameters
+        ----------
+        history : array_like, shape (T,) or (T, M)
+            Samples up to the forecast origin, with as many modes as at ``fit``.
+        horizon : int, optional
+            Number of steps ``H``; default ``self.horizon``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H,)`` for 1-D input, else ``(H, M)``: forecasts for h = 1..H.
+        """
+        self._check_fitted()
+        H = self._check_common()[0] if horizon is None else check_int(horizon, "horizon",
+                                                                       minimum=1)
+        X, scalar = self._check_history(history, "history", 1)
+        self._check_n_modes(X.shape[1], "history")
+        run = self._new_run(H)
+        out = np.zeros((1, H, X.shape[1]))
+        self._feed(run, X, out, "history")
+        return out[0, :, 0].copy() if scalar else out[0].copy()
+
+    def _check_n_modes(self, n_modes: int, name: str) -> None:
+        if n_modes != self.n_modes_:
+            raise ValueError(
+                f"`{name}` must have {self.n_modes_} mode(s) as the fitted history; "
+                f"got {n_modes}."
+            )
+
+    # ------------------------------------------------------------------ online
+    def reset(self) -> None:
+        """Start a new online pass: clear the state, restore the fitted parameters."""
+        self._check_fitted()
+        self._run = self._new_run(self._check_common()[0])
+        self._run_x = np.zeros((1, self.n_modes_))
+
+    def update(self, x_t) -> np.ndarray:
+        """Ingest the newest sample and forecast the next ``horizon`` samples.
+
+        Constant cost per step: the fixed-size state is updated in place by a numba
+        kernel (plus, with a refit policy, one ring-buffer write and a refit every
+        ``refit_every`` steps).
+
+        Parameters
+        ----------
+        x_t : float or array_like, shape (M,)
+            The sample (one value per mode) measured at the current step.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H, M)`` forecasts of the next ``H`` samples (``(H,)`` for a scalar
+            sample).
+        """
+        run = getattr(self, "_run", None)
+        if run is None:
+            self._check_fitted()
+            self.reset()
+            run = self._run
+        x = self._run_x
+        if isinstance(x_t, float):
+            if self.n_modes_ != 1:
+                self._check_n_modes(1, "x_t")
+            x[0, 0] = x_t
+            scalar = True
+        else:
+            arr = np.asarray(x_t, dtype=np.float64)
+            scalar = arr.ndim == 0
+            if scalar:
+                if self.n_modes_ != 1:
+                    self._check_n_modes(1, "x_t")
+                x[0, 0] = arr
+            else:
+                if arr.shape != (self.n_modes_,):
+                    raise ValueError(f"`x_t` must have shape ({self.n_modes_},); got "
+                                     f"{arr.shape}.")
+                x[0] = arr
+        self._filter(run.params, run.state, x, run.out, run.status)
+        if run.status[0]:
+            raise ValueError("`x_t` must be finite; got a NaN or infinite value.")
+        run.n_seen += 1
+        if run.ring is not None:
+            self._online_refit(run, x)
+        return run.out[0, :, 0].copy() if scalar else run.out[0].copy()
+
+    def _online_refit(self, run: _Run, x: np.ndarray) -> None:
+        W = run.ring.shape[0]
+        run.ring[run.ring_pos] = x[0]
+        run.ring_pos = (run.ring_pos + 1) % W
+        if run.n_seen % self.refit_every == 0 and run.n_seen >= W:
+            window_data = np.concatenate([run.ring[run.ring_pos:], run.ring[:run.ring_pos]])
+            run.params = self._fit_params(window_data, run.params, "x_t")
+
+
+def _same(a, b) -> bool:
+    try:
+        return bool(a == b) if not isinstance(a, np.ndarray) else False
+    except Exception:  # noqa: BLE001 - arrays or odd objects: show them
+        return False

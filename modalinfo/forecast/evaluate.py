@@ -1,0 +1,498 @@
+"""Rolling-origin evaluation of predictors on a modal log, with no look-ahead.
+
+Protocol
+--------
+1. The first ``n_train`` frames train every predictor (``fit``).
+2. Each predictor is then reset and fed the whole log frame by frame (the online
+   recursion; its ``predict`` gives the same numbers). The forecast made at origin
+   ``t`` uses the frames ``0..t`` and parameters estimated only from frames before
+   ``t`` (from the training frames, or, with ``refit_every``, from the sliding window
+   ending at the last refit point ``<= t``). No parameter ever sees a frame after the
+   origin.
+3. Forecast origins are ``t = n_train - 1 .. T - 1 - max(horizons)``: the same origins
+   for every horizon, so the RMSE-vs-horizon curves compare like with like.
+
+Metrics
+-------
+- per-mode RMSE ``sqrt(mean_t e_m(t)^2)``;
+- whole-wavefront RMSE ``sqrt(mean_t sum_m e_m(t)^2)``: for coefficients on an
+  orthonormal basis (unit-RMS Zernike or K-L modes) this is the RMS wavefront error
+  of the forecast over the pupil, in the log's units;
+- gain over persistence ``RMSE_persistence / RMSE_predictor`` (> 1 is better);
+- interval coverage (predictors with ``forecast_std``, i.e. ARMA): fraction of
+  forecasts with ``|e| <= z sigma_h``, averaged over modes;
+- skill against the best trivial baseline (the training mean or persistence, the
+  better of the two at each horizon): a one-sided Diebold-Mariano test on the
+  difference of the summed squared errors with a Newey-West (Bartlett) long-run
+  variance of lag ``max(h - 1, floor(4 (N / 100)^(2/9)))``. A predictor is said to
+  beat the baselines only if its p-value is below ``0.05 / (number of tests)``
+  (Bonferroni over predictors and horizons), so on white noise the evaluation
+  reports that nothing beats the mean.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import numbers
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.stats import norm
+
+from modalinfo._validation import as_float_array, check_int, check_real
+from modalinfo.forecast.arma import ARMAPredictor
+from modalinfo.forecast.base import Predictor
+from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
+
+__all__ = ["evaluate", "ForecastEvaluation"]
+
+_BASELINES = ("persistence", "mean")
+
+
+@dataclass(frozen=True)
+class ForecastEvaluation:
+    """Result of :func:`evaluate`.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Predictor names (``P``), the baselines ``"persistence"`` and ``"mean"``
+        included.
+    horizons : numpy.ndarray of int, shape (H,)
+        Forecast horizons in frames.
+    labels : tuple of str
+        Mode labels (``M``).
+    rate : float or None
+        Frame rate [Hz] (horizon in seconds = h / rate).
+    units : str
+        Units of the coefficients (RMSE has the same units).
+    n_train : int
+        Training frames.
+    origins : numpy.ndarray of int, shape (N,)
+        Forecast origins (frame indices).
+    rmse : numpy.ndarray, shape (P, H, M)
+        Per-mode RMSE.
+    rmse_wavefront : numpy.ndarray, shape (P, H)
+        ``sqrt(mean_t sum_m e^2)``.
+    gain : numpy.ndarray, shape (P, H, M)
+        ``rmse[persistence] / rmse``.
+    gain_wavefront : numpy.ndarray, shape (P, H)
+        ``rmse_wavefront[persistence] / rmse_wavefront``.
+    coverage : numpy.ndarray, shape (P, H)
+        Interval coverage at ``level`` (NaN for predictors without intervals).
+    level : float
+        Nominal interval coverage.
+    dm_statistic : numpy.ndarray, shape (P, H)
+        Diebold-Mariano statistic against the best trivial baseline (negative: the
+        predictor has the smaller squared error).
+    p_value : numpy.ndarray, shape (P, H)
+        One-sided p-value of "the predictor beats the best trivial baseline".
+    beats_baseline : numpy.ndarray of bool, shape (P, H)
+        ``p_value < alpha / n_tests`` (Bonferroni), False for the baselines.
+    baseline : tuple of str
+        Name of the best trivial baseline at each horizon.
+    truth : numpy.ndarray, shape (N + max(h), M)
+        Observed frames ``origins[0] .. origins[-1] + max(h)`` (for plots).
+    one_step : numpy.ndarray, shape (P, N, M)
+        Forecasts at the first horizon (h = horizons[0]) from every origin.
+    settings : dict
+        ``refit_every``, ``window`` and each predictor's hyper-parameters (repr).
+    """
+
+    names: tuple[str, ...]
+    horizons: np.ndarray
+    labels: tuple[str, ...]
+    rate: float | None
+    units: str
+    n_train: int
+    origins: np.ndarray
+    rmse: np.ndarray
+    rmse_wavefront: np.ndarray
+    gain: np.ndarray
+    gain_wavefront: np.ndarray
+    coverage: np.ndarray
+    level: float
+    dm_statistic: np.ndarray
+    p_value: np.ndarray
+    beats_baseline: np.ndarray
+    baseline: tuple[str, ...]
+    truth: np.ndarray = field(repr=False)
+    one_step: np.ndarray = field(repr=False)
+    settings: dict = field(default_factory=dict, repr=False)
+
+    # ------------------------------------------------------------------ access
+    def index(self, name: str) -> int:
+        """Row of predictor ``name`` in the arrays."""
+        if name not in self.names:
+            raise ValueError(f"`name` must be one of {', '.join(self.names)}; got {name!r}.")
+        return self.names.index(name)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary of the metrics (without the forecast series)."""
+        def clean(a):
+            arr = np.asarray(a, dtype=float)
+            return [None if not math.isfinite(v) else v for v in arr.ravel().tolist()] \
+                if arr.ndim == 1 else [clean(r) for r in arr]
+
+        return {
+            "names": list(self.names),
+            "horizons": self.horizons.tolist(),
+            "labels": list(self.labels),
+            "rate": self.rate,
+            "units": self.units,
+            "n_train": self.n_train,
+            "n_origins": int(self.origins.size),
+            "first_origin": int(self.origins[0]),
+            "rmse": clean(self.rmse),
+            "rmse_wavefront": clean(self.rmse_wavefront),
+            "gain": clean(self.gain),
+            "gain_wavefront": clean(self.gain_wavefront),
+            "coverage": clean(self.coverage),
+            "level": self.level,
+            "dm_statistic": clean(self.dm_statistic),
+            "p_value": clean(self.p_value),
+            "beats_baseline": self.beats_baseline.tolist(),
+            "baseline": list(self.baseline),
+            "settings": self.settings,
+        }
+
+    def to_json(self, path: str | Path) -> Path:
+        """Write :meth:`to_dict` as JSON; return the path."""
+        path = Path(path)
+        path.write_text(json.dumps(self.to_dict(), indent=1))
+        return path
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write a long table ``predictor, mode, horizon, rmse, gain, coverage``.
+
+        The whole wavefront is the mode ``"wavefront"``. Returns the path.
+        """
+        path = Path(path)
+        with path.open("w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",
+                             "dm_statistic", "p_value", "beats_baseline"])
+            for i, name in enumerate(self.names):
+                for j, h in enumerate(self.horizons):
+                    writer.writerow([name, "wavefront", int(h), repr(self.rmse_wavefront[i, j]),
+                                     repr(self.gain_wavefront[i, j]), repr(self.coverage[i, j]),
+                                     repr(self.dm_statistic[i, j]), repr(self.p_value[i, j]),
+                                     bool(self.beats_baseline[i, j])])
+                    for k, label in enumerate(self.labels):
+                        writer.writerow([name, label, int(h), repr(self.rmse[i, j, k]),
+                                         repr(self.gain[i, j, k]), "", "", "", ""])
+        return path
+
+    # ------------------------------------------------------------------ text
+    def table(self) -> str:
+        """Markdown table: whole-wavefront RMSE and gain over persistence per horizon."""
+        heads = " | ".join(f"h={int(h)}" for h in self.horizons)
+        lines = [f"| predictor | {heads} |", "|---|" + "---|" * len(self.horizons)]
+        for i, name in enumerate(self.names):
+            cells = " | ".join(
+                f"{self.rmse_wavefront[i, j]:.4g} (x{self.gain_wavefront[i, j]:.2f})"
+                for j in range(len(self.horizons))
+            )
+            lines.append(f"| {name} | {cells} |")
+        return "\n".join(lines)
+
+    def summary(self) -> str:
+        """Plain-text verdict: table, best predictor, significance, coverage."""
+        h_unit = "" if not self.rate else f" (1 frame = {1e3 / self.rate:.3g} ms)"
+        out = [f"Whole-wavefront RMSE [{self.units}] (gain over persistence) by horizon"
+               f"{h_unit}; {self.origins.size} origins after {self.n_train} training "
+               "frames.", self.table(), ""]
+        skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
+        n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
+        if not skilled:
+            out.append("No predictor beats the best trivial baseline (training mean or "
+                       "persistence) by more than sampling noise (one-sided "
+                       f"Diebold-Mariano, 5% Bonferroni-corrected over {n_tests} tests).")
+        for name in skilled:
+            i = self.index(name)
+            hs = [int(h) for h, b in zip(self.horizons, self.beats_baseline[i], strict=True)
+                  if b]
+            out.append(f"{name} beats the best trivial baseline at h = "
+                       f"{', '.join(map(str, hs))} (Diebold-Mariano, 5% Bonferroni).")
+        for i, name in enumerate(self.names):
+            if np.isfinite(self.coverage[i]).any():
+                cov = ", ".join(f"{c:.3f}" for c in self.coverage[i])
+                out.append(f"{name}: coverage of the {self.level:.0%} intervals by horizon: "
+                           f"{cov}.")
+        return "\n".join(out)
+
+    # ------------------------------------------------------------------ plots
+    def plot_series(self, mode: int | str = 0, *, n_frames: int = 200, names=None, ax=None):
+        """Plot one coefficient's series with each predictor's forecasts.
+
+        Parameters
+        ----------
+        mode : int or str
+            Column index or label of the mode.
+        n_frames : int
+            Number of origins shown (from the first test origin).
+        names : sequence of str, optional
+            Predictors to show (default: all but the mean).
+        ax : matplotlib.axes.Axes, optional
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        import matplotlib.pyplot as plt
+
+        k = self.labels.index(mode) if isinstance(mode, str) else int(mode)
+        h0 = int(self.horizons[0])
+        n = min(check_int(n_frames, "n_frames", minimum=1), self.origins.size)
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 3.5))
+        t0 = int(self.origins[0])
+        frames = np.arange(t0 + 1, t0 + n + h0)
+        scale = 1.0 if not self.rate else 1e3 / self.rate
+        ax.plot(frames * scale, self.truth[1 : n + h0, k], "k-", lw=1.2, label="measured")
+        names = [nm for nm in self.names if nm != "mean"] if names is None else names
+        for name in names:
+            i = self.index(name)
+            ax.plot((self.origins[:n] + h0) * scale, self.one_step[i, :n, k], ".", ms=3,
+                    label=f"{name} (h={h0})")
+        ax.set_xlabel("time [ms]" if self.rate else "frame")
+        ax.set_ylabel(f"{self.labels[k]} [{self.units}]")
+        ax.legend(fontsize=7, ncol=2)
+        return ax
+
+    def plot_rmse(self, *, ax=None, gain: bool = False):
+        """Plot whole-wavefront RMSE (or gain over persistence) versus horizon.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+        gain : bool
+            Plot the gain over persistence instead of the RMSE.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5, 3.5))
+        values = self.gain_wavefront if gain else self.rmse_wavefront
+        for i, name in enumerate(self.names):
+            ax.plot(self.horizons, values[i], "o-", ms=3, label=name)
+        ax.set_xlabel("horizon [frames]")
+        ax.set_ylabel("gain over persistence" if gain else f"wavefront RMSE [{self.units}]")
+        if gain:
+            ax.axhline(1.0, color="0.5", lw=0.8)
+        ax.legend(fontsize=7)
+        return ax
+
+    def save_plots(self, out_dir: str | Path, *, mode: int | str = 0) -> list[Path]:
+        """Write ``forecast_series.png`` and ``forecast_rmse.png``; return the paths."""
+        import matplotlib.pyplot as plt
+
+        out_dir = Path(out_dir)
+        paths = []
+        fig, ax = plt.subplots(figsize=(8, 3.5))
+        self.plot_series(mode, ax=ax)
+        fig.tight_layout()
+        paths.append(out_dir / "forecast_series.png")
+        fig.savefig(paths[-1], dpi=120)
+        plt.close(fig)
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.5))
+        self.plot_rmse(ax=axes[0])
+        self.plot_rmse(ax=axes[1], gain=True)
+        fig.tight_layout()
+        paths.append(out_dir / "forecast_rmse.png")
+        fig.savefig(paths[-1], dpi=120)
+        plt.close(fig)
+        return paths
+
+
+# ---------------------------------------------------------------------- helpers
+def _as_data(log) -> tuple[np.ndarray, tuple[str, ...], float | None, str]:
+    if hasattr(log, "coeffs") and hasattr(log, "labels"):
+        data = as_float_array(np.asarray(log.coeffs), "log", ndim=2)
+        return data, tuple(str(lb) for lb in log.labels), log.rate, str(log.units)
+    data = as_float_array(log, "log", ndim=(1, 2))
+    if data.ndim == 1:
+        data = data[:, None]
+    return data, tuple(f"mode{k}" for k in range(data.shape[1])), None, "a.u."
+
+
+def _as_predictors(predictors) -> dict[str, Predictor]:
+    if isinstance(predictors, Predictor):
+        predictors = [predictors]
+    if isinstance(predictors, Mapping):
+        items = list(predictors.items())
+    elif isinstance(predictors, Iterable) and not isinstance(predictors, str | bytes):
+        items = []
+        for p in predictors:
+            base = type(p).__name__.removesuffix("Predictor").lower() or "predictor"
+            name, k = base, 2
+            while name in {n for n, _ in items}:
+                name, k = f"{base}{k}", k + 1
+            items.append((name, p))
+    else:
+        raise TypeError("`predictors` must be a dict of name -> Predictor or a list of "
+                        f"Predictor; got {type(predictors).__name__}.")
+    out = {}
+    for name, p in items:
+        if not isinstance(p, Predictor):
+            raise TypeError(f"`predictors[{name!r}]` must be a Predictor; got "
+                            f"{type(p).__name__}.")
+        out[str(name)] = p
+    return out
+
+
+def _n_train(train, n_frames: int, h_max: int) -> int:
+    if isinstance(train, bool) or not isinstance(train, numbers.Real):
+        raise TypeError(f"`train` must be a fraction in (0, 1) or a number of frames; got "
+                        f"{train!r}.")
+    if isinstance(train, numbers.Integral):
+        n = int(train)
+    else:
+        frac = check_real(train, "train", minimum=0.0, maximum=1.0, strict_min=True,
+                          strict_max=True)
+        n = int(round(frac * n_frames))
+    if n < 1 or n > n_frames - h_max - 1:
+        raise ValueError(
+            f"`train` must leave at least max(horizons) + 1 = {h_max + 1} test frames of "
+            f"the {n_frames}; got {train!r} ({n} training frames)."
+        )
+    return n
+
+
+def _newey_west_var(d: np.ndarray, lag: int) -> float:
+    dc = d - d.mean()
+    n = dc.size
+    var = float(dc @ dc) / n
+    for k in range(1, min(lag, n - 1) + 1):
+        w = 1.0 - k / (lag + 1.0)
+        var += 2.0 * w * float(dc[k:] @ dc[:-k]) / n
+    return max(var, 0.0)
+
+
+def _std_path(predictor, refits, origins, horizons):
+    """(N, H, M) forecast standard deviations in force at each origin, or None."""
+    if not isinstance(predictor, ARMAPredictor):
+        return None
+    h_max = int(horizons.max())
+    base = predictor._std_from_params(predictor.params_, h_max)
+    std = np.broadcast_to(base, (origins.size, h_max, base.shape[1])).copy()
+    for sample, params in refits:  # params apply to origins after `sample`
+        std[origins > sample] = predictor._std_from_params(params, h_max)
+    return std[:, horizons - 1]
+
+
+# ---------------------------------------------------------------------- main
+def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11), *,
+             refit_every: int | None = None, window: int | None = None,
+             level: float = 0.95, alpha: float = 0.05) -> ForecastEvaluation:
+    """Rolling-origin evaluation of predictors, with no look-ahead.
+
+    Parameters
+    ----------
+    predictors : dict of str -> Predictor, or list of Predictor
+        Predictors to evaluate (unfitted or fitted; each is cloned and fitted on the
+        training frames, the objects passed in are not modified). ``"persistence"``
+        and ``"mean"`` baselines are added when absent.
+    log : ModalLog or array_like, shape (T,) or (T, M)
+        Coefficient log (time along axis 0).
+    train : float or int
+        Training frames: a fraction of ``T`` in (0, 1) or a number of frames.
+    horizons : iterable of int
+        Forecast horizons in frames (>= 1).
+    refit_every, window : int or None
+        Refit policy applied to every predictor (overrides theirs when given).
+    level : float
+        Nominal coverage of the ARMA prediction intervals.
+    alpha : float
+        Family-wise level of the skill test (Bonferroni over predictors x horizons).
+
+    Returns
+    -------
+    ForecastEvaluation
+        See the module notes for the protocol and the metrics.
+    """
+    data, labels, rate, units = _as_data(log)
+    preds = _as_predictors(predictors)
+    hs = np.array(sorted({check_int(h, "horizons", minimum=1) for h in horizons}), dtype=int)
+    if hs.size == 0:
+        raise ValueError("`horizons` must hold at least one horizon >= 1; got none.")
+    h_max = int(hs.max())
+    n_frames, n_modes = data.shape
+    n_train = _n_train(train, n_frames, h_max)
+    level = check_real(level, "level", minimum=0.0, maximum=1.0, strict_min=True,
+                       strict_max=True)
+    alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
+                       strict_max=True)
+    overrides = {}
+    if refit_every is not None:
+        overrides["refit_every"] = check_int(refit_every, "refit_every", minimum=1)
+    if window is not None:
+        overrides["window"] = check_int(window, "window", minimum=1)
+
+    all_preds = {"persistence": PersistencePredictor(), "mean": MeanPredictor()}
+    for name, p in preds.items():
+        all_preds[name] = p
+    names = tuple(all_preds)
+    origins = np.arange(n_train - 1, n_frames - h_max)
+    n_o = origins.size
+    z = norm.ppf(0.5 + level / 2.0)
+    P, H = len(names), hs.size
+    sq_err = np.empty((P, H, n_o, n_modes))
+    one_step = np.empty((P, n_o, n_modes))
+    coverage = np.full((P, H), np.nan)
+    settings = {"refit_every": refit_every, "window": window, "predictors": {}}
+    train_data = data[:n_train]
+    for i, (name, proto) in enumerate(all_preds.items()):
+        pred = proto.clone(horizon=h_max, **overrides)
+        settings["predictors"][name] = repr(pred)
+        pred.fit(train_data)
+        path, refits = pred._forecast_path(data, h_max)
+        fc = path[origins][:, hs - 1]                     # (N, H, M)
+        target = data[origins[:, None] + hs[None, :]]     # (N, H, M)
+        err = target - fc
+        sq_err[i] = np.moveaxis(err**2, 1, 0)
+        one_step[i] = fc[:, 0]
+        std = _std_path(pred, refits, origins, hs)
+        if std is not None:
+            coverage[i] = np.mean(np.abs(err) <= z * std, axis=(0, 2))
+    rmse = np.sqrt(sq_err.mean(axis=2))                   # (P, H, M)
+    loss = sq_err.sum(axis=3)                             # (P, H, N)
+    rmse_wf = np.sqrt(loss.mean(axis=2))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gain = rmse[0][None] / rmse
+        gain_wf = rmse_wf[0][None] / rmse_wf
+    # skill test against the better trivial baseline at each horizon
+    base_idx = np.where(rmse_wf[0] <= rmse_wf[1], 0, 1)
+    dm = np.full((P, H), np.nan)
+    pval = np.full((P, H), np.nan)
+    nw_lag = int(np.floor(4 * (n_o / 100.0) ** (2.0 / 9.0)))
+    for i, name in enumerate(names):
+        if name in _BASELINES:
+            continue
+        for j, h in enumerate(hs):
+            d = loss[i, j] - loss[base_idx[j], j]
+            var = _newey_west_var(d, max(int(h) - 1, nw_lag))
+            if var <= 0.0:
+                stat = 0.0 if d.mean() == 0.0 else -np.inf * np.sign(-d.mean())
+            else:
+                stat = d.mean() / math.sqrt(var / n_o)
+            dm[i, j] = stat
+            pval[i, j] = norm.cdf(stat)
+    n_tests = max(1, sum(1 for n in names if n not in _BASELINES) * H)
+    beats = np.nan_to_num(pval, nan=1.0) < alpha / n_tests
+    return ForecastEvaluation(
+        names=names, horizons=hs, labels=labels, rate=rate, units=units, n_train=n_train,
+        origins=origins, rmse=rmse, rmse_wavefront=rmse_wf, gain=gain, gain_wavefront=gain_wf,
+        coverage=coverage, level=level, dm_statistic=dm, p_value=pval, beats_baseline=beats,
+        baseline=tuple(names[b] for b in base_idx),
+        truth=data[origins[0] : origins[-1] + h_max + 1].copy(), one_step=one_step,
+        settings=settings,
+    )

@@ -1,0 +1,73 @@
+"""Linear extrapolation from the last two samples (the paper's linear predictor)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalinfo._validation import check_real
+from modalinfo.forecast._univariate import _LinearRecursion
+
+__all__ = ["LinearPredictor"]
+
+
+class LinearPredictor(_LinearRecursion):
+    """``x_hat[n + 1] = a x[n] + b x[n - 1]``, iterated for h > 1.
+
+    With the paper's fixed weights ``a = 2, b = -1`` this extrapolates the last
+    slope: ``x_hat[n + h] = x[n] + h (x[n] - x[n - 1])``. With ``fit_weights=True``
+    ``a`` and ``b`` are fitted per mode by least squares (no intercept, as the
+    paper's relation) on the training history.
+
+    It beats persistence when increments are correlated (a smooth series) and loses
+    when they are not: on an AR(1) series with coefficient near 1 the one-step error
+    is ``e[n+1] + (e[n] - ...)``, about twice the innovation variance.
+
+    Parameters
+    ----------
+    a, b : float
+        Fixed weights (used when ``fit_weights`` is False). Defaults: the paper's
+        ``a = 2, b = -1``.
+    fit_weights : bool
+        Fit ``a`` and ``b`` by least squares instead.
+    horizon : int
+        Number of steps forecast by ``update``.
+    refit_every, window : int or None
+        Refit policy (only meaningful with ``fit_weights=True``).
+
+    Attributes
+    ----------
+    coef_ : numpy.ndarray, shape (M, 2)
+        ``(a, b)`` per mode, as fitted (refits during a run do not change it).
+    """
+
+    def __init__(self, *, a: float = 2.0, b: float = -1.0, fit_weights: bool = False,
+                 horizon: int = 10, refit_every: int | None = None,
+                 window: int | None = None):
+        super().__init__(horizon=horizon, refit_every=refit_every, window=window)
+        self.a = a
+        self.b = b
+        self.fit_weights = fit_weights
+
+    def _min_samples(self) -> int:
+        return 3 if self.fit_weights else 1
+
+    def _fit_params(self, X, previous, name):
+        n_modes = X.shape[1]
+        if self.fit_weights:
+            self._check_constant(X, name)
+            coef = np.empty((n_modes, 2))
+            for m in range(n_modes):
+                design = np.column_stack([X[1:-1, m], X[:-2, m]])
+                coef[m] = np.linalg.lstsq(design, X[2:, m], rcond=None)[0]
+        else:
+            a = check_real(self.a, "a")
+            b = check_real(self.b, "b")
+            coef = np.tile([a, b], (n_modes, 1))
+        return {"mu": np.zeros(n_modes), "phi": np.ascontiguousarray(coef),
+                "theta": np.zeros((n_modes, 0))}
+
+    @property
+    def coef_(self) -> np.ndarray:
+        """``(M, 2)`` weights ``(a, b)`` per mode."""
+        self._check_fitted()
+        return self.params_["phi"]

@@ -1,0 +1,174 @@
+"""Multivariate linear prediction: the recent history of all modes predicts each mode.
+
+Beyond the paper. The batch form is the regularised least-squares predictor of
+Guyon & Males (2017, "Adaptive prediction for wavefront control", the "empirical
+orthogonal functions" predictor): a vector autoregression of order ``p``,
+``x_hat[t + 1] = mu + sum_{i=1}^p A_i^T (x[t + 1 - i] - mu)``, whose ``p M x M``
+coefficients solve the Tikhonov-regularised normal equations
+``(Z^T Z + lambda I) B = Z^T Y`` with ``lambda = alpha trace(Z^T Z) / (p M)`` (so
+``alpha`` is scale-free). The recursive form updates ``B`` every step by recursive
+least squares with forgetting factor ``lambda_f`` (memory ``1 / (1 - lambda_f)``
+samples), starting from the batch solution.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalinfo._validation import check_int, check_real
+from modalinfo.forecast._kernels import rls_var_filter, var_filter
+from modalinfo.forecast.base import Predictor
+
+__all__ = ["MultivariatePredictor", "RLSMultivariatePredictor"]
+
+
+def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Regressors ``Z (T - p, p M)`` (lag 1 first) and targets ``Y (T - p, M)``."""
+    n = Xc.shape[0]
+    Z = np.concatenate([Xc[order - i : n - i] for i in range(1, order + 1)], axis=1)
+    return Z, Xc[order:]
+
+
+class MultivariatePredictor(Predictor):
+    """Batch regularised vector-autoregressive predictor (all modes -> each mode).
+
+    Parameters
+    ----------
+    order : int
+        Number of past samples ``p`` of every mode in the regression.
+    alpha : float
+        Relative Tikhonov regularisation (see module notes), >= 0.
+    horizon : int
+        Number of steps forecast by ``update``.
+    refit_every, window : int or None
+        Refit policy.
+
+    Attributes
+    ----------
+    coef_ : numpy.ndarray, shape (p, M, M)
+        ``coef_[i, k, m]``: weight of lag ``i + 1`` of mode ``k`` in the forecast of
+        mode ``m``.
+    mean_ : numpy.ndarray, shape (M,)
+    """
+
+    _multivariate = True
+
+    def __init__(self, *, order: int = 2, alpha: float = 1e-3, horizon: int = 10,
+                 refit_every: int | None = None, window: int | None = None):
+        super().__init__(horizon=horizon, refit_every=refit_every, window=window)
+        self.order = order
+        self.alpha = alpha
+
+    def _min_samples(self) -> int:
+        return 2 * check_int(self.order, "order", minimum=1) + 2
+
+    def _solve(self, X: np.ndarray, name: str):
+        order = check_int(self.order, "order", minimum=1)
+        alpha = check_real(self.alpha, "alpha", minimum=0.0)
+        self._check_constant(X, name)
+        mu = X.mean(axis=0)
+        Z, Y = _lagged(X - mu, order)
+        G = Z.T @ Z
+        lam = alpha * np.trace(G) / G.shape[0]
+        Greg = G + lam * np.eye(G.shape[0])
+        B = np.linalg.solve(Greg, Z.T @ Y)
+        n_modes = X.shape[1]
+        coef = np.ascontiguousarray(B.reshape(order, n_modes, n_modes))
+        return mu, coef, Greg, Z.shape[0]
+
+    def _fit_params(self, X, previous, name):
+        mu, coef, _, _ = self._solve(X, name)
+        return {"mu": mu, "coef": coef}
+
+    def _init_state(self, params, horizon):
+        order, n_modes, _ = params["coef"].shape
+        return {"values": np.zeros((order, n_modes)), "work": np.zeros((horizon, n_modes))}
+
+    def _filter(self, params, state, X, out, status):
+        var_filter(X, params["mu"], params["coef"], state["values"], state["work"], out,
+                   status)
+
+    @property
+    def coef_(self) -> np.ndarray:
+        """``(p, M, M)`` lag weights."""
+        self._check_fitted()
+        return self.params_["coef"]
+
+    @property
+    def mean_(self) -> np.ndarray:
+        """``(M,)`` means removed before the regression."""
+        self._check_fitted()
+        return self.params_["mu"]
+
+
+class RLSMultivariatePredictor(MultivariatePredictor):
+    """Vector-autoregressive predictor adapted every step by recursive least squares.
+
+    ``fit`` solves the batch problem of :class:`MultivariatePredictor`; ``reset``
+    restores that solution and ``update`` then adapts the weights with each new
+    sample (exponentially weighted least squares, forgetting factor ``forgetting``).
+    The RLS matrix starts as the inverse of the regularised Gram matrix per sample
+    times ``1 / (1 - forgetting)`` (the Gram matrix of an exponential window of the
+    same statistics), so the first updates are neither over- nor under-confident.
+    Cost per step: ``O((p M)^2 + p M^2 H)``.
+
+    Parameters
+    ----------
+    order : int
+        Past samples ``p`` of every mode.
+    alpha : float
+        Relative Tikhonov regularisation of the initial batch solution.
+    forgetting : float
+        Forgetting factor in (0, 1]; 1 is ordinary (growing-memory) RLS.
+    horizon : int
+        Number of steps forecast by ``update``.
+    refit_every, window : int or None
+        Refit policy (re-initialises the RLS from a batch solve on the window).
+    """
+
+    def __init__(self, *, order: int = 2, alpha: float = 1e-3, forgetting: float = 0.999,
+                 horizon: int = 10, refit_every: int | None = None,
+                 window: int | None = None):
+        super().__init__(order=order, alpha=alpha, horizon=horizon,
+                         refit_every=refit_every, window=window)
+        self.forgetting = forgetting
+
+    def _fit_params(self, X, previous, name):
+        lam = check_real(self.forgetting, "forgetting", minimum=0.0, maximum=1.0,
+                         strict_min=True)
+        mu, coef, Greg, n = self._solve(X, name)
+        memory = n if lam == 1.0 else min(n, 1.0 / (1.0 - lam))
+        gain_inv = np.linalg.inv(Greg * (memory / n))
+        gain_inv = 0.5 * (gain_inv + gain_inv.T)
+        return {"mu": mu, "coef": coef, "gain_inv": np.ascontiguousarray(gain_inv),
+                "forgetting": lam}
+
+    def _init_state(self, params, horizon):
+        order, n_modes, _ = params["coef"].shape
+        dim = order * n_modes
+        return {
+            "coef": params["coef"].copy(),
+            "gain_inv": params["gain_inv"].copy(),
+            "values": np.zeros((order, n_modes)),
+            "n_seen": np.zeros(1, dtype=np.int64),
+            "zvec": np.zeros(dim),
+            "pz": np.zeros(dim),
+            "work": np.zeros((horizon, n_modes)),
+        }
+
+    def _filter(self, params, state, X, out, status):
+        if state.get("params") is not params:
+            # a refit replaced the parameters: restart the adaptation from them
+            if "params" in state:
+                state["coef"][...] = params["coef"]
+                state["gain_inv"][...] = params["gain_inv"]
+            state["params"] = params
+        rls_var_filter(X, params["mu"], state["coef"], state["gain_inv"],
+                       params["forgetting"], state["values"], state["n_seen"],
+                       state["zvec"], state["pz"], state["work"], out, status)
+
+    @property
+    def adapted_coef_(self) -> np.ndarray:
+        """``(p, M, M)`` weights after the online updates since the last reset."""
+        self._check_fitted()
+        return self._run.state["coef"].copy()

@@ -1,0 +1,199 @@
+"""Sliding-window neural-network forecaster (the paper's three-layer network).
+
+The paper trains, per Zernike coefficient, a three-layer network (10 inputs: the last
+10 samples; 10 hidden neurons; one output: the next sample) on 10 training patterns.
+Here the network is scikit-learn's :class:`~sklearn.neural_network.MLPRegressor`;
+after training its weights are copied into a numba kernel that runs the forward
+pass online (``update``) and offline (``predict``) with the same arithmetic, so both
+agree exactly (and agree with ``MLPRegressor.predict`` to rounding). Forecasts for
+h > 1 feed the network its own outputs.
+
+Configurations
+--------------
+- :meth:`NeuralNetPredictor.paper`: the paper's 10-10-1 network on 10 patterns. It
+  is reported as published; on smooth or closed-loop-like series it is typically
+  several times worse than persistence, with a wide spread over seeds (10 patterns
+  cannot constrain 121 weights).
+- The default: the same 10-10-1 architecture trained on 1000 patterns with L-BFGS on
+  standardised inputs (mean and standard deviation of the training series), which
+  actually learns the dynamics.
+
+``ConvergenceWarning`` from scikit-learn (L-BFGS stopping at ``max_iter``) is caught
+during training and recorded in ``converged_`` instead of being raised: a network
+stopped at ``max_iter`` is still a valid (early-stopped) predictor.
+"""
+
+from __future__ import annotations
+
+import copy
+import warnings
+
+import numpy as np
+from sklearn.exceptions import ConvergenceWarning
+from sklearn.neural_network import MLPRegressor
+
+from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.forecast._kernels import mlp_filter
+from modalinfo.forecast.base import Predictor
+
+__all__ = ["NeuralNetPredictor"]
+
+_ACTIVATIONS = {"identity": 0, "relu": 1, "tanh": 2, "logistic": 3}
+
+
+class NeuralNetPredictor(Predictor):
+    """One-hidden-layer perceptron on a sliding window, one network per mode.
+
+    Parameters
+    ----------
+    n_inputs : int
+        Window length ``K`` (input neurons).
+    n_hidden : int
+        Hidden neurons.
+    n_patterns : int or None
+        Training patterns: the last ``n_patterns`` (window, next sample) pairs of the
+        history; ``None`` uses every available pair.
+    activation : {"relu", "tanh", "logistic", "identity"}
+        Hidden activation.
+    solver : {"lbfgs", "adam", "sgd"}
+        scikit-learn solver.
+    alpha : float
+        L2 penalty.
+    max_iter : int
+        Training iterations.
+    standardize : bool
+        Standardise inputs and output with the training mean and standard deviation.
+    warm_start : bool
+        At refits, start from the previous weights.
+    random_state : int
+        Seed of the weight initialisation (same for every mode).
+    horizon : int
+        Number of steps forecast by ``update``.
+    refit_every, window : int or None
+        Refit (retraining) policy.
+
+    Attributes
+    ----------
+    models_ : list of sklearn.neural_network.MLPRegressor
+        The trained network of each mode.
+    converged_ : numpy.ndarray of bool, shape (M,)
+        Whether each training stopped before ``max_iter``.
+    """
+
+    def __init__(self, *, n_inputs: int = 10, n_hidden: int = 10,
+                 n_patterns: int | None = 1000, activation: str = "tanh",
+                 solver: str = "lbfgs", alpha: float = 1e-4, max_iter: int = 500,
+                 standardize: bool = True, warm_start: bool = True, random_state: int = 0,
+                 horizon: int = 10, refit_every: int | None = None,
+                 window: int | None = None):
+        super().__init__(horizon=horizon, refit_every=refit_every, window=window)
+        self.n_inputs = n_inputs
+        self.n_hidden = n_hidden
+        self.n_patterns = n_patterns
+        self.activation = activation
+        self.solver = solver
+        self.alpha = alpha
+        self.max_iter = max_iter
+        self.standardize = standardize
+        self.warm_start = warm_start
+        self.random_state = random_state
+
+    @classmethod
+    def paper(cls, **overrides) -> NeuralNetPredictor:
+        """Return the paper's configuration: 10 inputs, 10 hidden neurons, 10 patterns.
+
+        The paper does not give the activation, training algorithm or scaling; this
+        uses the defaults of this class for those (tanh, L-BFGS, standardised).
+
+        Parameters
+        ----------
+        **overrides
+            Any other hyper-parameter (e.g. ``random_state``, ``horizon``).
+
+        Returns
+        -------
+        NeuralNetPredictor
+        """
+        params = {"n_inputs": 10, "n_hidden": 10, "n_patterns": 10}
+        params.update(overrides)
+        return cls(**params)
+
+    def _min_samples(self) -> int:
+        k = check_int(self.n_inputs, "n_inputs", minimum=1)
+        if self.n_patterns is not None:
+            check_int(self.n_patterns, "n_patterns", minimum=1)
+        return k + 2
+
+    def _fit_params(self, X, previous, name):
+        k = check_int(self.n_inputs, "n_inputs", minimum=1)
+        n_hidden = check_int(self.n_hidden, "n_hidden", minimum=1)
+        check_choice(self.activation, "activation", tuple(_ACTIVATIONS))
+        check_choice(self.solver, "solver", ("lbfgs", "adam", "sgd"))
+        alpha = check_real(self.alpha, "alpha", minimum=0.0)
+        max_iter = check_int(self.max_iter, "max_iter", minimum=1)
+        seed = check_int(self.random_state, "random_state", minimum=0)
+        self._check_constant(X, name)
+        n, n_modes = X.shape
+        n_pat = n - k if self.n_patterns is None else min(int(self.n_patterns), n - k)
+        if self.standardize:
+            x_mean = X.mean(axis=0)
+            x_scale = X.std(axis=0)
+        else:
+            x_mean = np.zeros(n_modes)
+            x_scale = np.ones(n_modes)
+        w1 = np.empty((n_modes, k, n_hidden))
+        b1 = np.empty((n_modes, n_hidden))
+        w2 = np.empty((n_modes, n_hidden))
+        b2 = np.empty(n_modes)
+        models = []
+        converged = np.ones(n_modes, dtype=bool)
+        targets = np.arange(n - n_pat, n)
+        for m in range(n_modes):
+            z = (X[:, m] - x_mean[m]) / x_scale[m]
+            inputs = np.stack([z[t - k : t] for t in targets])
+            use_prev = previous is not None and self.warm_start and "models" in previous
+            if use_prev:
+                model = copy.deepcopy(previous["models"][m])
+                model.set_params(warm_start=True)
+            else:
+                model = MLPRegressor(hidden_layer_sizes=(n_hidden,),
+                                     activation=self.activation, solver=self.solver,
+                                     alpha=alpha, max_iter=max_iter, random_state=seed,
+                                     tol=1e-6)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", ConvergenceWarning)
+                model.fit(inputs, z[targets])
+            converged[m] = not any(issubclass(w.category, ConvergenceWarning)
+                                   for w in caught)
+            for w in caught:
+                if not issubclass(w.category, ConvergenceWarning):
+                    warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            models.append(model)
+            w1[m] = model.coefs_[0]
+            b1[m] = model.intercepts_[0]
+            w2[m] = model.coefs_[1][:, 0]
+            b2[m] = model.intercepts_[1][0]
+        return {"x_mean": x_mean, "x_scale": x_scale, "w1": w1, "b1": b1, "w2": w2,
+                "b2": b2, "activation": _ACTIVATIONS[self.activation], "models": models,
+                "converged": converged}
+
+    def _init_state(self, params, horizon):
+        n_modes, k, _ = params["w1"].shape
+        return {"values": np.zeros((n_modes, k)), "work": np.zeros(horizon + k)}
+
+    def _filter(self, params, state, X, out, status):
+        mlp_filter(X, params["x_mean"], params["x_scale"], params["w1"], params["b1"],
+                   params["w2"], params["b2"], params["activation"], state["values"],
+                   state["work"], out, status)
+
+    @property
+    def models_(self) -> list:
+        """The trained ``MLPRegressor`` of each mode."""
+        self._check_fitted()
+        return self.params_["models"]
+
+    @property
+    def converged_(self) -> np.ndarray:
+        """``(M,)`` whether each training converged before ``max_iter``."""
+        self._check_fitted()
+        return self.params_["converged"]
