@@ -42,8 +42,8 @@ What is exact and what is approximate
   couples modes with equal signed ``m`` (e.g. Z2-Z8-Z16, Z4-Z11-Z22), so the lowest mode
   of each coupled family keeps the pure spectrum of its radial order, and a higher mode
   ``j`` gets the mixture ``PSD_j(f) = sum_k L[j, k]**2 S_{n_k}(f)``: e.g. Z8 (coma)
-  carries ``rho**2 = 0.069`` of its variance with the tip/tilt spectrum shape
-  (``rho = -0.26`` for Kolmogorov turbulence) and the rest with the ``n = 3`` shape.
+  carries ``rho**2 = 0.072`` of its variance with the tip/tilt spectrum shape
+  (``rho = -0.27`` for Kolmogorov turbulence) and the rest with the ``n = 3`` shape.
 - Spectral resolution. Series are made by FFT filtering of white noise over twice the
   record (then cropped, so that the record is not periodic). Power below the lowest
   resolved frequency ``1 / (2 T)`` is not represented: the normalisation puts the whole

@@ -135,6 +135,22 @@ def test_psd_slopes_follow_conan_asymptotes(long_open_log, column, band, expecte
     assert abs(slope - expected) < 5 * stderr
 
 
+@pytest.mark.parametrize(("mode", "order"), [(3, 1), (6, 2), (9, 3), (14, 4), (20, 5),
+                                             (27, 6)])
+def test_psd_slopes_all_radial_orders(mode, order):
+    # The lowest mode of each coupled family keeps the pure shape of its radial order:
+    # slopes -2/3 (n = 1) or 0 below f_c = 3 (n + 1) Hz and -17/3 above; bands 1.5x away
+    # from f_c; same tolerance rationale as test_psd_slopes_follow_conan_asymptotes.
+    log = open_loop_log([mode], n_frames=2**19, rate=1000.0, diameter=1.0, layers=ONE_LAYER,
+                        seed=order)
+    f, p = signal.welch(log.coeffs[:, 0], fs=1000.0, nperseg=2**14)
+    f_c = 3.0 * (order + 1)
+    slope, stderr = _slope(f, p, 0.3, f_c / 1.5)
+    assert abs(slope - (-2 / 3 if order == 1 else 0.0)) < 5 * stderr
+    slope, stderr = _slope(f, p, 1.5 * f_c, min(12 * f_c, 300.0))
+    assert abs(slope + 17 / 3) < 5 * stderr
+
+
 def test_higher_wind_moves_cutoff_up():
     # f_c scales with v: at 4x the wind, the Z4 PSD at 30 Hz (above f_c = 9 Hz at
     # 10 m/s, below f_c = 36 Hz at 40 m/s) is flat relative to low frequencies.
@@ -350,6 +366,34 @@ def test_kaos_like_closed_loop_rejects_low_orders(kaos, kaos_open):
                                                        diameter=0.70)
     total = np.mean(np.sum(ol.coeffs**2, axis=1))
     assert 0.7 < total / np.trace(theory) < 1.3
+
+
+def test_kaos_like_residual_variance_matches_spectral_prediction():
+    # End to end, without noise: Var(residual_j) = integral_0^{rate/2} |E(f)|^2 |B(f)|^2
+    # PSD_j(f) df, with E the sampled rejection function, B the 4-sample WFS box of the
+    # simulation grid and PSD_j the generator's model spectrum for this record
+    # (open_loop_psd with n_frames/rate of the fine grid; aliasing of the fine spectrum
+    # above 1 kHz is < 1e-6 of it and neglected). Mean over 20 seeds; tolerance 5
+    # standard errors of that mean (0.3-3 % here). Modes: Z2 (tilt), Z4, Z8 and Z16
+    # (mixtures through the Z2 family).
+    p = KAOS_LIKE_DEFAULTS
+    modes = [2, 4, 8, 16]
+    layers = [Layer(**d) for d in p["layers"]]
+    fine_rate = p["rate"] * p["oversampling"]
+    n_fine = (8000 + p["discard_frames"]) * p["oversampling"]
+    f = np.linspace(0.01, p["rate"] / 2, 200001)
+    psd = open_loop_psd(f, modes, diameter=p["diameter"], layers=layers,
+                        outer_scale=p["outer_scale"], wavelength=p["wavelength"],
+                        n_frames=n_fine, rate=fine_rate)
+    e2 = np.abs(rejection_transfer_function(f, rate=p["rate"], gain=p["gain"],
+                                            delay_frames=p["delay_frames"])) ** 2
+    k = np.arange(p["oversampling"])[:, None]
+    b2 = np.abs(np.mean(np.exp(-2j * np.pi * f * k / fine_rate), axis=0)) ** 2
+    predicted = np.trapezoid(psd * (e2 * b2)[:, None], f, axis=0)
+    v = np.array([np.mean(kaos_like(seed=s, noise_rms=0.0, modes=modes).coeffs ** 2, axis=0)
+                  for s in range(20)])
+    se = v.std(axis=0, ddof=1) / np.sqrt(v.shape[0])
+    assert np.all(np.abs(v.mean(axis=0) - predicted) < 5 * se)
 
 
 def test_kaos_like_seeding_and_overrides():
