@@ -48,10 +48,11 @@ class ModalBasis:
     identity) it equals ``matrix.T @ phase / n_valid``.
     """
 
-    def __init__(self, matrix, pupil: Pupil, labels=None) -> None:
+    def __init__(self, matrix, pupil: Pupil, labels=None, *, _copy: bool = True) -> None:
+        # _copy=False: private, for subclasses handing over a fresh array they own
         if not isinstance(pupil, Pupil):
             raise TypeError(f"`pupil` must be a modalinfo.bases.Pupil; got {type(pupil).__name__}.")
-        mat = as_float_array(matrix, "matrix", ndim=2, copy=True)
+        mat = as_float_array(matrix, "matrix", ndim=2, copy=_copy)
         if mat.shape[0] != pupil.n_valid:
             raise ValueError(
                 f"`matrix` must have n_valid={pupil.n_valid} rows (one per pupil pixel); "

@@ -138,7 +138,7 @@ class KLBasis(ModalBasis):
         if not np.allclose(gram, np.eye(change.shape[1]), atol=1e-8):
             raise ValueError("`zernike_from_kl` must have orthonormal columns.")
         super().__init__(zbasis.matrix @ change, zbasis.pupil,
-                         [f"KL{k + 1}" for k in range(change.shape[1])])
+                         [f"KL{k + 1}" for k in range(change.shape[1])], _copy=False)
         change.flags.writeable = False
         var.flags.writeable = False
         self._zbasis = zbasis

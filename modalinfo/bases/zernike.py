@@ -154,7 +154,7 @@ class ZernikeBasis(ModalBasis):
         matrix = zernike_matrix(j, pupil.rho_valid, pupil.theta_valid)
         if orthonormalize:
             matrix = _orthonormalize(matrix)
-        super().__init__(matrix, pupil, [f"Z{k}" for k in j])
+        super().__init__(matrix, pupil, [f"Z{k}" for k in j], _copy=False)
         j.flags.writeable = False
         self._modes = j
         self._orthonormalized = bool(orthonormalize)
