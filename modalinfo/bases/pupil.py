@@ -86,6 +86,9 @@ class Pupil:
     def __setattr__(self, name, value):
         raise AttributeError(f"Pupil is immutable; cannot set `{name}`.")
 
+    def __reduce__(self):
+        return (Pupil, (self.n_pixels, self.diameter, self.obscuration))
+
     def __repr__(self) -> str:
         return (
             f"Pupil(n_pixels={self.n_pixels}, diameter={self.diameter!r}, "

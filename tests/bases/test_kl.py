@@ -7,6 +7,8 @@ centred empirical K-L, and the sampling distribution of sample eigenvalues (rela
 standard deviation sqrt(2/T) for Gaussian data, Anderson 1963).
 """
 
+import pickle
+
 import numpy as np
 import pytest
 from sklearn.decomposition import PCA
@@ -145,6 +147,16 @@ def test_empirical_kl_non_centred_vs_centred_and_sklearn():
     resid = coeffs - ms.zernike_from_coefficients(a_kl)
     dropped = np.sort(np.linalg.eigvalsh(moment))[::-1][4:].sum()
     assert np.mean(np.sum(resid**2, axis=1)) == pytest.approx(dropped, rel=1e-10)
+
+
+def test_pickle_round_trip(pupil):
+    kl = KLBasis.from_turbulence(pupil, 10)
+    back = pickle.loads(pickle.dumps(kl))
+    np.testing.assert_array_equal(back.matrix, kl.matrix)
+    np.testing.assert_array_equal(back.variances, kl.variances)
+    assert back.labels == kl.labels and back.pupil == pupil
+    phase = kl.synthesize(np.arange(10.0))
+    np.testing.assert_allclose(back.project(phase), np.arange(10.0), atol=1e-9)
 
 
 def test_bad_inputs(pupil):

@@ -5,6 +5,9 @@ aotools ``circle``-free coordinate grid of ``aotools.functions.zernike.zernike_n
 disc area pi N^2 / 4 (pixel count converges to it) and the annulus area.
 """
 
+import copy
+import pickle
+
 import numpy as np
 import pytest
 
@@ -80,6 +83,10 @@ def test_immutable_and_equality():
     with pytest.raises(ValueError):
         p.mask[0, 0] = True
     assert p == Pupil(16) and p != Pupil(16, obscuration=0.1)
+    q = pickle.loads(pickle.dumps(Pupil(16, 2.0, 0.2)))
+    assert q == Pupil(16, 2.0, 0.2)
+    np.testing.assert_array_equal(q.mask, Pupil(16, 2.0, 0.2).mask)
+    assert copy.deepcopy(p) == p
 
 
 @pytest.mark.parametrize(
