@@ -48,8 +48,12 @@ What is exact and what is approximate
   record (then cropped, so that the record is not periodic). Power below the lowest
   resolved frequency ``1 / (2 T)`` is not represented: the normalisation puts the whole
   variance on the resolved band ``(0, rate/2]`` (the zero-frequency bin is zero), so for
-  a short record the tip/tilt spectrum is slightly raised compared with the continuous
-  model. No power above the Nyquist frequency is generated (no aliasing).
+  a short record the tip/tilt spectrum is raised compared with the continuous model
+  (:func:`open_loop_psd` gives both). For the 4.1 s of :func:`kaos_like` the factor is
+  1.04 / 1.02 for its 5 / 10 m/s layers with L0 = 20 m, but 1.30 / 1.23 with
+  ``L0 = inf`` (the Kolmogorov tip/tilt spectrum ``f**(-2/3)`` converges slowly); for
+  ``n >= 2`` it is below 1.01. No power above the Nyquist frequency is generated (no
+  aliasing).
 
 Closed loop
 -----------
@@ -94,7 +98,13 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import optimize, signal
 
-from modalinfo._validation import check_choice, check_int, check_real, check_rng
+from modalinfo._validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_real,
+    check_rng,
+)
 from modalinfo.bases import noll_to_zernike, zernike_covariance
 from modalinfo.telemetry.log import ModalLog
 
@@ -352,6 +362,9 @@ def open_loop_psd(
     layer_tuple = _check_layers(layers)
     if (n_frames is None) != (rate is None):
         raise ValueError("`n_frames` and `rate` must be given together (or neither).")
+    if n_frames is not None:
+        n_frames = check_int(n_frames, "n_frames", minimum=2)
+        rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
     order = np.argsort(mode_list, kind="stable")
     sorted_modes = [mode_list[i] for i in order]
     n_radial = [int(n) for n in np.atleast_1d(noll_to_zernike(np.array(sorted_modes)))[0]]
@@ -367,8 +380,6 @@ def open_loop_psd(
                 unit[:, i] = shape / _continuous_integral(n, layer.wind_speed, diameter,
                                                           outer_scale)
             else:
-                n_frames = check_int(n_frames, "n_frames", minimum=2)
-                rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
                 n_fft = sfft.next_fast_len(2 * n_frames, real=True)
                 h = _unit_filters(n_fft, rate, [n], layer.wind_speed, diameter,
                                   outer_scale)[n]
@@ -601,7 +612,7 @@ def rejection_transfer_function(
     numpy.ndarray of complex
         ``E(f)``, same shape as ``freqs``. ``E(0) = 0``.
     """
-    f = np.asarray(freqs, dtype=np.float64)
+    f = as_float_array(freqs, "freqs").reshape(np.shape(freqs))
     rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
     gain, delay_frames, integration_frames = _check_loop(gain, delay_frames, integration_frames)
     check_choice(model, "model", _MODELS)
@@ -643,7 +654,7 @@ class LoopBandwidth:
     max_amplification: float
 
 
-def _first_crossing(func, nyquist: float, name: str) -> float:
+def _first_crossing(func, nyquist: float) -> float:
     grid = np.linspace(0.0, nyquist, 4097)[1:]
     values = func(grid)
     idx = np.flatnonzero(values >= 0.0)
@@ -688,8 +699,8 @@ def closed_loop_bandwidth(
     grid = np.linspace(0.0, nyquist, 4097)
     peak = float(np.max(np.abs(rejection_transfer_function(grid, **kwargs))))
     return LoopBandwidth(
-        rejection_0db=_first_crossing(rejection, nyquist, "rejection"),
-        closed_loop_3db=_first_crossing(closed, nyquist, "closed"),
+        rejection_0db=_first_crossing(rejection, nyquist),
+        closed_loop_3db=_first_crossing(closed, nyquist),
         max_amplification=peak,
     )
 

@@ -515,5 +515,7 @@ def test_open_loop_psd_bad_input():
 def test_bandwidth_bad_input():
     with pytest.raises(ValueError, match="`bandwidth` = 900.0 Hz"):
         gain_for_bandwidth(900.0, rate=2000.0, delay_frames=1.0)
+    with pytest.raises(ValueError, match="`freqs` must be finite"):
+        rejection_transfer_function([np.nan], rate=100.0, gain=0.3, delay_frames=1.0)
     with pytest.raises(ValueError, match="`model` must be one of"):
         rejection_transfer_function([1.0], rate=100.0, gain=0.3, delay_frames=1.0, model="x")
