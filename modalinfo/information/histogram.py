@@ -32,6 +32,18 @@ _CORRECTIONS = ("miller-madow", "none")
 _BINNINGS = ("uniform", "quantile")
 
 
+def max_rule_bins(n: int) -> int:
+    """Return the cap on rule-chosen bins per axis: ceil(sqrt(n)), at least 2, at most 1000.
+
+    The cap is the "sqrt" rule: a marginal bin still holds sqrt(n) samples on
+    average. It only binds for |r| -> 1 in the Hacine-Gharbi rule (y almost a
+    function of x, where the rule diverges) and for heavy-tailed samples under the
+    width rules; it keeps the joint table small (at most 1e6 cells). Explicit integer
+    bins are not capped.
+    """
+    return int(min(1000, max(2, math.ceil(math.sqrt(n)))))
+
+
 def _hacine_gharbi_joint(n: int, r: float) -> int:
     """Bins per axis minimising the MSE of the MI estimate (Hacine-Gharbi & Ravier 2018).
 
@@ -43,7 +55,7 @@ def _hacine_gharbi_joint(n: int, r: float) -> int:
     """
     one_minus = max(1.0 - r * r, 1e-12)
     k = math.sqrt(1.0 + math.sqrt(1.0 + 24.0 * n / one_minus)) / math.sqrt(2.0)
-    return max(2, int(round(k)))
+    return min(max(2, int(round(k))), max_rule_bins(n))
 
 
 def _hacine_gharbi_marginal(n: int) -> int:
@@ -89,7 +101,8 @@ def n_bins_for(rule: Any, x: np.ndarray, *, r: float = 0.0, axis: int = 0) -> in
     Returns
     -------
     int
-        Number of bins (>= 1).
+        Number of bins (>= 1). The "hacine-gharbi", "fd" and "scott" rules are capped
+        by :func:`max_rule_bins`.
     """
     n = x.shape[0]
     if isinstance(rule, tuple):
@@ -102,7 +115,7 @@ def n_bins_for(rule: Any, x: np.ndarray, *, r: float = 0.0, axis: int = 0) -> in
         return int(math.ceil(math.log2(n))) + 1
     if rule == "sqrt":
         return int(math.ceil(math.sqrt(n)))
-    return _width_rule_bins(x, rule)
+    return min(_width_rule_bins(x, rule), max_rule_bins(n))
 
 
 def _check_bins(bins: Any) -> Any:

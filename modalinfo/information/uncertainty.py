@@ -284,9 +284,9 @@ def mutual_information_ci(
         Moving-block bootstrap of aligned (x, y) blocks (Kuensch 1989), or the iid
         bootstrap of pairs. Telemetry is strongly
         autocorrelated: the iid bootstrap then understates the error and its
-        intervals undercover (measured: about 0.4 coverage for a nominal 0.95 on an
-        AR(1) pair with phi = 0.95, n = 2000, against about 0.9 for the block
-        bootstrap).
+        intervals undercover (measured, default "normal" interval, 150 AR(1) pairs
+        with phi = 0.95, rho = 0.6, n = 4000: coverage 0.29 for a nominal 0.95,
+        against 0.93 for the block bootstrap).
     interval : {"normal", "basic", "percentile", "bca"}
         ``"normal"`` (default): ``I -+ z_(1-a/2) s_boot``, centred on the estimate,
         spread from the bootstrap; ``"basic"``: ``[2 I - q_hi, 2 I - q_lo]``, corrects

@@ -79,3 +79,15 @@ def test_histogram_entropy_uniform_and_reference():
     ref = -np.sum(p * np.log(p / np.diff(edges)[counts > 0]))
     got = entropy(x, method="histogram", bins=25, bias_correction="none")
     assert got == pytest.approx(ref, rel=1e-12)
+
+
+def test_identical_variables_give_binned_entropy_with_capped_bins():
+    # r = 1: the Hacine-Gharbi rule diverges; bins are capped at ceil(sqrt(n)) = 142 and
+    # I(X; X) of the binned variable is its discrete entropy (Cover & Thomas, eq. 2.42)
+    x = np.random.default_rng(10).standard_normal(20_000)
+    counts, _ = np.histogram(x, bins=142)
+    p = counts[counts > 0] / x.size
+    h = -np.sum(p * np.log(p))
+    k = np.count_nonzero(counts)
+    want = h - (k - k - k + 1) / (2 * x.size)  # Miller-Madow with K_xy = K_x = K_y = k
+    assert mutual_information(x, x, method="histogram") == pytest.approx(want, rel=1e-12)
