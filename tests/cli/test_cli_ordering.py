@@ -1,0 +1,92 @@
+"""``modalinfo reorder`` and ``modalinfo fitting-error`` command lines.
+
+References: the library calls they wrap (``order_modes``, ``compare_orderings``) run
+directly on the same file; the dispatcher's contract (errors: one line on stderr, exit
+status 2; outputs never overwritten without ``--overwrite``).
+"""
+
+import numpy as np
+import pytest
+
+from modalinfo.cli import main
+from modalinfo.io import load, save
+from modalinfo.ordering import OrderingResult, order_modes
+from modalinfo.ordering.compare import basis_for_log
+from modalinfo.telemetry.synthetic import kaos_like
+
+
+@pytest.fixture(scope="module")
+def log_path(tmp_path_factory):
+    path = tmp_path_factory.mktemp("logs") / "kaos.npz"
+    save(kaos_like(n_frames=300, seed=0), path)
+    return path
+
+
+def test_reorder_writes_json_matching_library(log_path, tmp_path, capsys):
+    out = tmp_path / "ord.json"
+    argv = ["reorder", str(log_path), "--basis", "zernike", "--method", "mi_greedy",
+            "--budget", "20000", "--seed", "3", "--resamples", "3", "--pupil-pixels", "24",
+            "--out", str(out)]
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "mi_greedy order" in printed and "gain CI" in printed
+    saved = OrderingResult.from_json(out)
+    log = load(log_path)
+    direct = order_modes(log, basis_for_log("zernike", log, n_pixels=24), "mi_greedy",
+                         sample_budget=20000, seed=3, n_resamples=3)
+    np.testing.assert_array_equal(saved.order, direct.order)
+    np.testing.assert_allclose(saved.gain_low, direct.gain_low)
+    # never overwrite without --overwrite
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "exists; pass --overwrite" in err
+    assert main(argv + ["--overwrite"]) == 0
+
+
+@pytest.mark.parametrize("basis,method", [("kl-theory", "variance"), ("kl-data", "pca")])
+def test_reorder_kl_bases(log_path, capsys, basis, method):
+    assert main(["reorder", str(log_path), "--basis", basis, "--method", method,
+                 "--pupil-pixels", "24"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[2].split()[1] == "KL1" or method == "variance"
+
+
+def test_fitting_error_plot_and_table(log_path, tmp_path, capsys):
+    png = tmp_path / "fig1.png"
+    argv = ["fitting-error", str(log_path), "--orderings",
+            "zernike:standard,kl-theory:mi_greedy,zernike:mi_greedy,kl-data:pca",
+            "--budget", "10000", "--pupil-pixels", "24", "--target", "0.0005",
+            "--fraction", "0.2", "--units", "waves2", "--plot", str(png)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert png.is_file() and png.stat().st_size > 1000
+    rows = {line.split()[0]: line.split() for line in out.splitlines()
+            if line.split() and ":" in line.split()[0] and not line.startswith("fitting")}
+    assert set(rows) == {"zernike:standard", "kl-theory:mi_greedy", "zernike:mi_greedy",
+                         "kl-data:pca"}
+    # modes-to-reach columns are integers between 0 and 27
+    assert all(0 <= int(r[-1]) <= 27 and 0 <= int(r[-2]) <= 27 for r in rows.values())
+    assert main(argv) == 2
+    assert "exists; pass --overwrite" in capsys.readouterr().err
+
+
+def test_fitting_error_per_frame(log_path, capsys):
+    assert main(["fitting-error", str(log_path), "--orderings", "zernike:variance,kl-data:pca",
+                 "--frame", "10", "--pupil-pixels", "24", "--target", "0.4"]) == 0
+    out = capsys.readouterr().out
+    assert "frame 10" in out and "above the total variance" in out
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["fitting-error", "{log}", "--orderings", "zernike:foo"], "`orderings method` must be one"),
+    (["fitting-error", "{log}", "--orderings", "zernike"], "must look like basis:method"),
+    (["fitting-error", "{log}", "--fraction", "2"], "--fraction must be in (0, 1)"),
+    (["fitting-error", "missing.npz"], "does not exist"),
+    (["reorder", "{log}", "--method", "pca", "--frame", "3"], "--frame cannot be used"),
+    (["reorder", "{log}", "--frame", "999999", "--pupil-pixels", "24"], "`frame` must be an int"),
+])
+def test_errors_are_one_line_exit_2(log_path, capsys, argv, message):
+    argv = [a.replace("{log}", str(log_path)) for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err
