@@ -254,3 +254,62 @@ def loo_log_ratio_sum_2d(dens, iu, fu, iv, fv, n, k0, k1, floor, fx, fy):
             val = floor
         acc += np.log(val / (fx[i] * fy[i]))
     return acc
+
+
+@jit
+def standardise(x, out):
+    """Write (x - mean) / std (population std, ddof = 0) into out; return (mean, std).
+
+    x : (n,) IN ; out : (n,) float64 OUT. Two passes, no BLAS (whose threads spin
+    under contention). std must be > 0 (checked by the wrapper).
+    """
+    n = x.shape[0]
+    s = 0.0
+    for i in range(n):
+        s += x[i]
+    mean = s / n
+    ss = 0.0
+    for i in range(n):
+        d = x[i] - mean
+        ss += d * d
+    std = np.sqrt(ss / n)
+    inv = 1.0 / std
+    for i in range(n):
+        out[i] = (x[i] - mean) * inv
+    return mean, std
+
+
+@jit
+def dot(a, b):
+    """Return sum_i a_i b_i (a, b : (n,) IN), without BLAS threads."""
+    acc = 0.0
+    for i in range(a.shape[0]):
+        acc += a[i] * b[i]
+    return acc
+
+
+@jit
+def centred_dot_and_norm(xu, y):
+    """Return (sum_i xu_i (y_i - mean y), sqrt(sum_i (y_i - mean y)^2)).
+
+    xu : (n,) IN centred, unit-norm x ; y : (n,) IN.
+    """
+    n = y.shape[0]
+    s = 0.0
+    for i in range(n):
+        s += y[i]
+    mean = s / n
+    acc = 0.0
+    ss = 0.0
+    for i in range(n):
+        d = y[i] - mean
+        acc += xu[i] * d
+        ss += d * d
+    return acc, np.sqrt(ss)
+
+
+@jit
+def whiten_pair(u, v, r, inv_s, out):
+    """Write the Cholesky-whitened second coordinate (v - r u) / s into out (n,) OUT."""
+    for i in range(u.shape[0]):
+        out[i] = (v[i] - r * u[i]) * inv_s

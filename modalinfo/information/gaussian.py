@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from modalinfo.information import _kernels as kern
+
 __all__ = ["GaussianEngine", "gaussian_entropy", "gaussian_mi_from_correlation"]
 
 #: Floor of 1 - r^2, so that an exactly linear relation gives a large finite MI
@@ -31,13 +33,13 @@ class GaussianEngine:
     def fit(self, x: np.ndarray) -> GaussianEngine:
         """Cache ``(x - mean) / ||x - mean||`` (x validated, 1-D, not constant)."""
         xc = x - x.mean()
-        self._xu = xc / math.sqrt(float(xc @ xc))
+        self._xu = xc / math.sqrt(kern.dot(xc, xc))
         return self
 
     def score(self, y: np.ndarray) -> float:
         """``-0.5 ln(1 - r^2)`` in nats (y validated, same length, not constant)."""
-        yc = y - y.mean()
-        r = float(self._xu @ yc) / math.sqrt(float(yc @ yc))
+        num, norm = kern.centred_dot_and_norm(self._xu, y)
+        r = num / norm
         return gaussian_mi_from_correlation(min(1.0, max(-1.0, r)))
 
 

@@ -189,17 +189,16 @@ class HistogramEngine:
     def fit(self, x: np.ndarray) -> HistogramEngine:
         """Cache the range, centred samples and bin indices of ``x`` (validated, 1-D)."""
         self._ax = _Axis(x, self.binning)
-        self._xc = x - x.mean()
-        self._xnorm = float(np.sqrt(self._xc @ self._xc))
+        xc = x - x.mean()
+        self._xu = xc / math.sqrt(kern.dot(xc, xc))
         self._kx_fixed = None
         if not (self.bins == "hacine-gharbi"):
             self._kx_fixed = n_bins_for(self.bins, x, axis=0)
         return self
 
     def _corr(self, y: np.ndarray) -> float:
-        yc = y - y.mean()
-        den = self._xnorm * float(np.sqrt(yc @ yc))
-        return float(self._xc @ yc) / den if den > 0 else 0.0
+        num, norm = kern.centred_dot_and_norm(self._xu, y)
+        return num / norm if norm > 0 else 0.0
 
     def score(self, y: np.ndarray) -> float:
         """I(x; y) in nats for the fitted x (``y`` validated, 1-D, same length)."""

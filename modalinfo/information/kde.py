@@ -86,9 +86,11 @@ def copula_scores(x: np.ndarray) -> np.ndarray:
 
 
 def _standardise(x: np.ndarray, copula: bool) -> np.ndarray:
+    """Return (z - mean) / std of z = x or its copula scores (std > 0)."""
     z = copula_scores(x) if copula else x
-    z = z - z.mean()
-    return np.ascontiguousarray(z / math.sqrt(float(z @ z) / z.shape[0]))
+    out = np.empty(z.shape[0])
+    kern.standardise(np.ascontiguousarray(z, dtype=float), out)
+    return out
 
 
 def _kernel_1d(h: float, delta: float) -> tuple[np.ndarray, float]:
@@ -222,10 +224,11 @@ class KDEEngine:
         n = self._n
         u = self._u
         v = _standardise(y, self.copula)
-        r = float(u @ v) / n
+        r = min(1.0, max(-1.0, kern.dot(u, v) / n))
         one_minus = max(1.0 - r * r, ONE_MINUS_R2_FLOOR)
         s = math.sqrt(one_minus)
-        w = (v - r * u) / s
+        w = np.empty(n)
+        kern.whiten_pair(u, v, r, 1.0 / s, w)
         if self.bandwidth == "cv":
             h0 = bandwidth_factor("scott", n, 2)
             grid = _Grid2D(u, w, self.grid_size, (_TRUNCATE + 1.0) * 3.0 * h0)

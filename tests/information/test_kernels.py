@@ -146,3 +146,20 @@ def test_kernels_callable_from_njit(rng):
     p = np.histogram(x, bins=8)[0] / x.size
     p = p[p > 0]
     assert driver(x, 8) == pytest.approx(-np.sum(p * np.log(p)), rel=1e-12)
+
+
+def test_moment_kernels_against_numpy(rng):
+    x = 3.0 + 2.0 * rng.standard_normal(1001)
+    y = rng.standard_normal(1001) - 0.5 * x
+    out = np.empty_like(x)
+    mean, std = kern.standardise(x, out)
+    assert mean == pytest.approx(x.mean(), rel=1e-13)
+    assert std == pytest.approx(x.std(), rel=1e-13)
+    np.testing.assert_allclose(out, (x - x.mean()) / x.std(), rtol=1e-12, atol=1e-14)
+    assert kern.dot(x, y) == pytest.approx(np.dot(x, y), rel=1e-12)
+    xu = (x - x.mean()) / np.linalg.norm(x - x.mean())
+    num, norm = kern.centred_dot_and_norm(xu, y)
+    assert num / norm == pytest.approx(np.corrcoef(x, y)[0, 1], rel=1e-12)
+    w = np.empty_like(x)
+    kern.whiten_pair(x, y, 0.3, 2.0, w)
+    np.testing.assert_allclose(w, (y - 0.3 * x) * 2.0, rtol=1e-14)
