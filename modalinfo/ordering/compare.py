@@ -42,6 +42,7 @@ _STYLES = {
     ("zernike", "mi"): dict(color="tab:red", linestyle="-", linewidth=2.0),
     ("kl", "mi"): dict(color="tab:green", linestyle="--", linewidth=2.0),
     ("kl-data", "pca"): dict(color="black", linestyle="-", linewidth=1.0, alpha=0.7),
+    ("zernike", "variance"): dict(color="gray", linestyle="-.", linewidth=1.0),
 }
 
 
