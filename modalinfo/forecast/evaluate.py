@@ -178,13 +178,14 @@ class ForecastEvaluation:
                              "dm_statistic", "p_value", "beats_baseline"])
             for i, name in enumerate(self.names):
                 for j, h in enumerate(self.horizons):
-                    writer.writerow([name, "wavefront", int(h), repr(self.rmse_wavefront[i, j]),
-                                     repr(self.gain_wavefront[i, j]), repr(self.coverage[i, j]),
-                                     repr(self.dm_statistic[i, j]), repr(self.p_value[i, j]),
-                                     bool(self.beats_baseline[i, j])])
+                    cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
+                             self.coverage[i, j], self.dm_statistic[i, j], self.p_value[i, j]]
+                    writer.writerow([name, "wavefront", int(h)]
+                                    + [repr(float(c)) for c in cells]
+                                    + [bool(self.beats_baseline[i, j])])
                     for k, label in enumerate(self.labels):
-                        writer.writerow([name, label, int(h), repr(self.rmse[i, j, k]),
-                                         repr(self.gain[i, j, k]), "", "", "", ""])
+                        writer.writerow([name, label, int(h), repr(float(self.rmse[i, j, k])),
+                                         repr(float(self.gain[i, j, k])), "", "", "", ""])
         return path
 
     # ------------------------------------------------------------------ text
