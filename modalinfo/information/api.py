@@ -54,7 +54,7 @@ def _as_sample(value: Any, name: str) -> np.ndarray:
 
 
 def _is_constant(a: np.ndarray) -> bool:
-    return bool(a[0] == a.min() == a.max())
+    return bool(np.all(a == a[0])) if a[0] == a[-1] else False
 
 
 def _mi_kde(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
@@ -192,7 +192,10 @@ class MutualInformation:
         MutualInformation
             ``self``.
         """
-        x = _as_sample(x, "x")
+        return self._fit(_as_sample(x, "x"))
+
+    def _fit(self, x: np.ndarray) -> MutualInformation:
+        """Fit a validated x."""
         self.n_samples_ = x.shape[0]
         self._x_constant = _is_constant(x)
         if not self._x_constant:
@@ -219,6 +222,10 @@ class MutualInformation:
             raise ValueError(
                 f"`y` must have the same length as `x` ({self.n_samples_}); got {y.shape[0]}."
             )
+        return self._score(y)
+
+    def _score(self, y: np.ndarray) -> float:
+        """Score a validated y of the fitted length."""
         if self._x_constant or _is_constant(y):
             return 0.0
         return float(self._engine.score(y)) * self._factor
@@ -231,7 +238,7 @@ class MutualInformation:
             raise ValueError(
                 f"`x` and `y` must have the same length; got {x.shape[0]} and {y.shape[0]}."
             )
-        return self.fit(x).score(y)
+        return self._fit(x)._score(y)
 
 
 _ENTROPY_METHODS = {
