@@ -45,6 +45,54 @@ def radial(n, m, rho, out):
 
 
 @jit
+def _setup(n_modes, m_modes):
+    """Maximum order, Noll norms and the Kintner coefficient table of a mode set."""
+    n_max = 0
+    for k in range(n_modes.shape[0]):
+        if n_modes[k] > n_max:
+            n_max = n_modes[k]
+    n_m = m_modes.shape[0]
+    norm = np.empty(n_m)
+    for k in range(n_m):
+        if m_modes[k] == 0:
+            norm[k] = np.sqrt(n_modes[k] + 1.0)
+        else:
+            norm[k] = np.sqrt(2.0 * (n_modes[k] + 1.0))
+    # Kintner coefficients depend only on (n, m): tabulate once
+    coef = np.zeros((n_max + 1, n_max + 1, 3))
+    for m in range(n_max + 1):
+        for nn in range(m + 4, n_max + 1, 2):
+            k1, k2, k3, k4 = kintner_coefficients(nn, m)
+            coef[nn, m, 0] = k2 / k1
+            coef[nn, m, 1] = k3 / k1
+            coef[nn, m, 2] = k4 / k1
+    return n_max, norm, coef
+
+
+@jit(inline="always")
+def _pixel_tables(r, theta, n_max, coef, table, cos_t, sin_t):
+    """Fill table[n, m] = R_n^m(r) and cos_t[m], sin_t[m] = cos, sin(m theta), m <= n_max."""
+    r2 = r * r
+    c1 = np.cos(theta)
+    s1 = np.sin(theta)
+    cos_t[0] = 1.0
+    sin_t[0] = 0.0
+    rm = 1.0
+    for m in range(n_max + 1):
+        if m > 0:
+            cos_t[m] = cos_t[m - 1] * c1 - sin_t[m - 1] * s1
+            sin_t[m] = sin_t[m - 1] * c1 + cos_t[m - 1] * s1
+            rm *= r
+        table[m, m] = rm
+        if m + 2 <= n_max:
+            table[m + 2, m] = rm * ((m + 2.0) * r2 - (m + 1.0))
+        for nn in range(m + 4, n_max + 1, 2):
+            table[nn, m] = (coef[nn, m, 0] * r2 + coef[nn, m, 1]) * table[nn - 2, m] + coef[
+                nn, m, 2
+            ] * table[nn - 4, m]
+
+
+@jit
 def zernike_matrix(rho, theta, n_modes, m_modes, out):
     """Fill out[p, k] = N_k R_{n_k}^{|m_k|}(rho_p) * {cos, sin, 1}(|m_k| theta_p).
 
@@ -54,54 +102,56 @@ def zernike_matrix(rho, theta, n_modes, m_modes, out):
     rho, theta : (P,) float64 IN ; n_modes, m_modes : (M,) int64 IN ;
     out : (P, M) float64 OUT
     """
-    n_max = 0
-    for k in range(n_modes.shape[0]):
-        if n_modes[k] > n_max:
-            n_max = n_modes[k]
-    n_pix = rho.shape[0]
-    n_m = m_modes.shape[0]
-    norm = np.empty(n_m)
-    for k in range(n_m):
-        if m_modes[k] == 0:
-            norm[k] = np.sqrt(n_modes[k] + 1.0)
-        else:
-            norm[k] = np.sqrt(2.0 * (n_modes[k] + 1.0))
-    # Kintner coefficients depend only on (n, m): tabulate once
-    coef = np.zeros((n_max + 1, n_max + 1, 4))
-    for m in range(n_max + 1):
-        for nn in range(m + 4, n_max + 1, 2):
-            k1, k2, k3, k4 = kintner_coefficients(nn, m)
-            coef[nn, m, 0] = k2 / k1
-            coef[nn, m, 1] = k3 / k1
-            coef[nn, m, 2] = k4 / k1
-    table = np.empty((n_max + 1, n_max + 1))  # table[n, m] = R_n^m
+    n_max, norm, coef = _setup(n_modes, m_modes)
+    table = np.empty((n_max + 1, n_max + 1))
     cos_t = np.empty(n_max + 1)
     sin_t = np.empty(n_max + 1)
-    for p in range(n_pix):
-        r = rho[p]
-        r2 = r * r
-        c1 = np.cos(theta[p])
-        s1 = np.sin(theta[p])
-        cos_t[0] = 1.0
-        sin_t[0] = 0.0
-        rm = 1.0
-        for m in range(n_max + 1):
-            if m > 0:
-                cos_t[m] = cos_t[m - 1] * c1 - sin_t[m - 1] * s1
-                sin_t[m] = sin_t[m - 1] * c1 + cos_t[m - 1] * s1
-                rm *= r
-            table[m, m] = rm
-            if m + 2 <= n_max:
-                table[m + 2, m] = rm * ((m + 2.0) * r2 - (m + 1.0))
-            for nn in range(m + 4, n_max + 1, 2):
-                table[nn, m] = (coef[nn, m, 0] * r2 + coef[nn, m, 1]) * table[nn - 2, m] + coef[
-                    nn, m, 2
-                ] * table[nn - 4, m]
-        for k in range(n_m):
-            m = m_modes[k]
-            if m > 0:
-                out[p, k] = norm[k] * table[n_modes[k], m] * cos_t[m]
-            elif m < 0:
-                out[p, k] = norm[k] * table[n_modes[k], -m] * sin_t[-m]
+    for p in range(rho.shape[0]):
+        _pixel_tables(rho[p], theta[p], n_max, coef, table, cos_t, sin_t)
+        for k in range(m_modes.shape[0]):
+            mm = m_modes[k]
+            if mm > 0:
+                out[p, k] = norm[k] * table[n_modes[k], mm] * cos_t[mm]
+            elif mm < 0:
+                out[p, k] = norm[k] * table[n_modes[k], -mm] * sin_t[-mm]
             else:
                 out[p, k] = norm[k] * table[n_modes[k], 0]
+
+
+@jit
+def zernike_combination_matrix(rho, theta, n_modes, m_modes, indptr, indices, weights, out):
+    """Fill out[p, k] = sum_i weights * Z_i(rho_p, theta_p) over a sparse change of basis.
+
+    Column k of the (n_z, K) change-of-basis matrix is given in compressed-column form:
+    rows indices[indptr[k]:indptr[k+1]] with values weights[indptr[k]:indptr[k+1]]
+    (row i is the Zernike (n_modes[i], m_modes[i])). Avoids building the (P, n_z) Zernike
+    matrix: cost per pixel is the radial table plus the non-zeros.
+
+    rho, theta : (P,) float64 IN ; n_modes, m_modes : (n_z,) int64 IN ;
+    indptr : (K + 1,) int64 IN ; indices : (nnz,) int64 IN ; weights : (nnz,) float64 IN ;
+    out : (P, K) float64 OUT
+    """
+    n_max, norm, coef = _setup(n_modes, m_modes)
+    size = n_max + 1
+    table = np.empty((size, size))
+    ang = np.empty(2 * size)  # cos(m theta) at m, sin(m theta) at size + m
+    nnz = indices.shape[0]
+    # per non-zero: weight * norm, flat index of R_n^|m| in table, index in ang
+    wn = np.empty(nnz)
+    t_idx = np.empty(nnz, dtype=np.int64)
+    a_idx = np.empty(nnz, dtype=np.int64)
+    for q in range(nnz):
+        i = indices[q]
+        mm = m_modes[i]
+        wn[q] = weights[q] * norm[i]
+        t_idx[q] = n_modes[i] * size + abs(mm)
+        a_idx[q] = mm if mm >= 0 else size - mm
+    flat = table.reshape(size * size)
+    n_cols = indptr.shape[0] - 1
+    for p in range(rho.shape[0]):
+        _pixel_tables(rho[p], theta[p], n_max, coef, table, ang[:size], ang[size:])
+        for k in range(n_cols):
+            acc = 0.0
+            for q in range(indptr[k], indptr[k + 1]):
+                acc += wn[q] * flat[t_idx[q]] * ang[a_idx[q]]
+            out[p, k] = acc

@@ -17,6 +17,7 @@ from modalinfo.bases import (
     KLBasis,
     Pupil,
     ZernikeBasis,
+    _kernels,
     default_zernike_modes,
     noll_to_zernike,
     zernike_covariance,
@@ -31,11 +32,20 @@ def pupil():
 
 def test_default_zernike_modes():
     modes = default_zernike_modes(100)
-    assert modes[0] == 2 and modes.size >= 200
+    assert modes[0] == 2 and modes.size >= 300
     n, _ = noll_to_zernike(modes)
-    assert n.max() == 19 and modes[-1] == 210  # complete radial orders 1..19
-    assert default_zernike_modes(1).tolist() == [2, 3]
+    assert n.max() == 24 and modes[-1] == 325  # complete radial orders 1..24
+    assert default_zernike_modes(1).tolist() == [2, 3, 4, 5, 6]
     assert default_zernike_modes(3).tolist() == list(range(2, 11))
+
+
+def test_default_set_converges(pupil):
+    # K-L variances from the default set vs from 860 Zernikes (radial orders <= 40)
+    small = Pupil(16)
+    for n_modes, tol in ((10, 5e-3), (27, 1e-4)):
+        kl = KLBasis.from_turbulence(small, n_modes)
+        ref = KLBasis.from_turbulence(small, n_modes, zernike_modes=range(2, 862))
+        np.testing.assert_allclose(kl.variances, ref.variances, rtol=tol)
 
 
 def test_theoretical_kl_diagonalises_covariance(pupil):
@@ -147,6 +157,27 @@ def test_empirical_kl_non_centred_vs_centred_and_sklearn():
     resid = coeffs - ms.zernike_from_coefficients(a_kl)
     dropped = np.sort(np.linalg.eigvalsh(moment))[::-1][4:].sum()
     assert np.mean(np.sum(resid**2, axis=1)) == pytest.approx(dropped, rel=1e-10)
+
+
+def test_combination_kernel_against_dense_product(pupil):
+    # numba kernel (sparse, compressed columns) vs numpy Z @ V with a sparse random V
+    rng = np.random.default_rng(4)
+    modes = np.arange(1, 56)
+    v = rng.normal(size=(55, 7)) * (rng.uniform(size=(55, 7)) < 0.3)
+    v[:, 3] = 0.0  # an empty column
+    z = ZernikeBasis(pupil, modes).matrix
+    n, m = noll_to_zernike(modes)
+    counts = (v != 0).sum(axis=0)
+    indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    rows, cols = np.nonzero((v != 0).T)
+    out = np.empty((pupil.n_valid, 7))
+    _kernels.zernike_combination_matrix(pupil.rho_valid, pupil.theta_valid, n, m, indptr,
+                                        cols.astype(np.int64), v.T[rows, cols].copy(), out)
+    np.testing.assert_allclose(out, z @ v, atol=1e-12)
+    # the theoretical K-L pixel matrix (kernel path) equals the Zernike matrix product
+    kl = KLBasis.from_turbulence(pupil, 30)
+    np.testing.assert_allclose(kl.matrix, kl.zernike_basis.matrix @ kl.zernike_from_kl,
+                               atol=1e-12)
 
 
 def test_pickle_round_trip(pupil):
