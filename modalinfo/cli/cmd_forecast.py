@@ -1,0 +1,140 @@
+"""``modalinfo forecast LOG``: rolling-origin evaluation of wavefront predictors.
+
+Example::
+
+    modalinfo forecast kaos.npz --predictors linear,arma,nn --modes 2-10 --horizon 10
+    modalinfo forecast kaos.npz --predictors multivariate --train 7000 --out results/
+
+Each predictor is trained on the first ``--train`` frames (a fraction or a number of
+frames) and evaluated on every later forecast origin without look-ahead (see
+:func:`modalinfo.forecast.evaluate`); persistence and the training mean are always
+included as baselines. The command prints the whole-wavefront RMSE and the gain over
+persistence per horizon; ``--out DIR`` writes ``forecast.json``, ``forecast.csv``,
+``forecast_series.png`` and ``forecast_rmse.png`` (never replacing files unless
+``--overwrite``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from modalinfo.cli import CommandError
+
+NAME = "forecast"
+HELP = "evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log"
+
+OUTPUTS = ("forecast.json", "forecast.csv", "forecast_series.png", "forecast_rmse.png")
+
+
+def _factories() -> dict:
+    from modalinfo.forecast import (
+        ARMAPredictor,
+        LinearPredictor,
+        MultivariatePredictor,
+        NeuralNetPredictor,
+        RLSMultivariatePredictor,
+    )
+
+    return {
+        "linear": lambda: LinearPredictor(),
+        "linear-ls": lambda: LinearPredictor(fit_weights=True),
+        "arma": lambda: ARMAPredictor(order=(2, 3)),
+        "arma-aic": lambda: ARMAPredictor(order="aic"),
+        "nn": lambda: NeuralNetPredictor(),
+        "nn-paper": lambda: NeuralNetPredictor.paper(),
+        "multivariate": lambda: MultivariatePredictor(order=4),
+        "rls": lambda: RLSMultivariatePredictor(order=4),
+    }
+
+
+NAMES = ("linear", "linear-ls", "arma", "arma-aic", "nn", "nn-paper", "multivariate", "rls")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Fill the ``forecast`` subparser."""
+    parser.add_argument("log", metavar="LOG", type=Path,
+                        help="log file (npz, csv, fits, h5), loaded with modalinfo.io.load")
+    parser.add_argument("--predictors", default="linear,arma,nn,multivariate", metavar="LIST",
+                        help=f"comma-separated, from {', '.join(NAMES)} (default: "
+                        "%(default)s); persistence and mean are always added")
+    parser.add_argument("--modes", default=None, metavar="LIST",
+                        help="modes to forecast: '2-10', '2,3,4' or labels (default: all)")
+    parser.add_argument("--horizon", type=int, default=10, metavar="H",
+                        help="largest horizon in frames; h = 1..H (default: %(default)s)")
+    parser.add_argument("--train", default="0.5", metavar="FRAC_OR_N",
+                        help="training frames: a fraction in (0, 1) or a count "
+                        "(default: %(default)s)")
+    parser.add_argument("--refit-every", type=int, default=None, metavar="R",
+                        help="re-estimate every R frames on a sliding window")
+    parser.add_argument("--window", type=int, default=None, metavar="W",
+                        help="sliding-window length for refits (default: training length)")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help="write JSON, CSV and plots into DIR (created if missing)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace existing output files")
+    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+
+
+def _parse_train(text: str) -> float | int:
+    try:
+        value = float(text)
+    except ValueError:
+        raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
+                           f"got {text!r}") from None
+    if value >= 1 and value.is_integer() and "." not in text:
+        return int(value)
+    return value
+
+
+def _parse_predictors(text: str) -> dict:
+    factories = _factories()
+    chosen = {}
+    for part in (p.strip() for p in text.split(",")):
+        if part not in factories:
+            raise CommandError(f"--predictors: unknown predictor {part!r}; choose from "
+                               f"{', '.join(NAMES)}")
+        chosen[part] = factories[part]()
+    return chosen
+
+
+def run(args: argparse.Namespace) -> int:
+    """Evaluate, print the table, write the outputs; return 0."""
+    from modalinfo.cli.cmd_info import parse_modes
+    from modalinfo.cli.cmd_reorder import load_log
+
+    if args.horizon < 1:
+        raise CommandError(f"--horizon must be an int >= 1; got {args.horizon}")
+    predictors = _parse_predictors(args.predictors)
+    train = _parse_train(args.train)
+    if args.out is not None:
+        if args.out.exists() and not args.out.is_dir():
+            raise CommandError(f"--out '{args.out}' exists and is not a directory")
+        clash = [n for n in OUTPUTS if (args.out / n).exists()]
+        if clash and not args.overwrite:
+            raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
+                               "replace it")
+    log = load_log(args.log)
+    if args.modes is not None:
+        log = log.select(modes=parse_modes(args.modes))
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from modalinfo.forecast import evaluate
+
+    ev = evaluate(predictors, log, train=train, horizons=range(1, args.horizon + 1),
+                  refit_every=args.refit_every, window=args.window)
+    if not args.quiet:
+        sys.stdout.write(f"{args.log.name}: {log.n_frames} frames x {log.n_modes} modes "
+                         f"({', '.join(ev.labels)})\n")
+        sys.stdout.write(ev.summary() + "\n")
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        ev.to_json(args.out / OUTPUTS[0])
+        ev.to_csv(args.out / OUTPUTS[1])
+        ev.save_plots(args.out)
+        if not args.quiet:
+            sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
+    return 0
