@@ -237,8 +237,10 @@ def _pca_order(a: np.ndarray) -> np.ndarray:
     cov = centred.T @ centred / a.shape[0]
 
     def off_diag(m: np.ndarray) -> float:
-        d = np.sqrt(np.clip(np.diag(m), 1e-300, None))
-        c = m / np.outer(d, d)
+        diag = np.diag(m)
+        keep = diag > 1e-12 * max(float(diag.max()), 1e-300)  # skip numerically empty modes
+        d = np.sqrt(diag[keep])
+        c = m[np.ix_(keep, keep)] / np.outer(d, d)
         return float(np.max(np.abs(c - np.diag(np.diag(c))))) if c.shape[0] > 1 else 0.0
 
     if off_diag(second) <= _DECORRELATED_ATOL:

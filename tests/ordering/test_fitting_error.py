@@ -150,7 +150,7 @@ def test_pca_curve_is_the_floor(seed, n_modes, n_frames):
     z = orthonormal_modes(120, n_modes, seed=seed)
     a = _random_log(seed, n_frames, n_modes)
     # PCA of the second-moment matrix (the fitting error is uncentred), by SVD
-    _, _, vt = np.linalg.svd(a, full_matrices=False)
+    _, _, vt = np.linalg.svd(a, full_matrices=True)  # full V also when T < M
     v = vt.T
     pca_modes = z @ v  # still orthonormal on the pixels
     b = a @ v
@@ -189,3 +189,16 @@ def test_bad_inputs():
         res.modes_to_reach(1.0, frame=4)
     with pytest.raises(ValueError, match="`fraction` must be <= 1.0"):
         res.modes_to_reach_fraction(1.5)
+
+
+def test_pca_floor_with_fewer_frames_than_modes():
+    """Rank-deficient log (T < M): the empty PCA modes go last, the floor still holds."""
+    z = orthonormal_modes(120, 8, seed=1)
+    a = _random_log(1, 3, 8)
+    _, _, vt = np.linalg.svd(a, full_matrices=True)
+    b = a @ vt.T
+    res = order_modes(b, z @ vt.T, "pca")
+    assert set(res.order[:3]) == {0, 1, 2}
+    floor = fitting_error(b, z @ vt.T, res).mean
+    np.testing.assert_allclose(floor[2:], 0.0, atol=1e-12)
+    assert np.all(floor <= fitting_error(a, z).mean + 1e-12)
