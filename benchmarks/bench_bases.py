@@ -5,7 +5,7 @@ costs are excluded) of
   - 100 Noll Zernike modes: modalinfo ZernikeBasis vs aotools.zernikeArray vs
     hcipy.make_zernike_basis (use_cache=False, else repeats are served from its cache);
   - 100 theoretical Kolmogorov K-L modes: modalinfo KLBasis.from_turbulence (Zernike
-    covariance + eigen-decomposition over 209 Zernikes) vs aotools make_kl (Yorick-style
+    covariance + eigen-decomposition over 324 Zernikes) vs aotools make_kl (Yorick-style
     generalised K-L on a polar grid; it needs an obscuration ri > 0, so ri = 0.01).
 hcipy 0.7 has no K-L basis (its karhunen_loeve module is empty).
 
