@@ -101,7 +101,7 @@ def plugin_mi_from_counts(counts, out):
 
 @jit
 def linear_bin_1d(u, lo, inv_delta, grid, idx, frac):
-    """Linear binning of samples onto a 1-D grid (Wand & Jones 1995, sec. D.2).
+    """Linear binning of samples onto a 1-D grid (Wand & Jones 1995, app. D).
 
     u : (n,) IN ; grid : (G,) float64 OUT (zeroed here, weights sum to n) ;
     idx : (n,) int64 OUT left node ; frac : (n,) float64 OUT weight of the right node.

