@@ -7,8 +7,10 @@ Arizona) table of Wyant & Creath (1992), Table 2 (first 36 terms); hcipy's indep
 """
 
 import hcipy
+import hypothesis.strategies as st
 import numpy as np
 import pytest
+from hypothesis import given
 
 from modalinfo.bases import (
     ansi_to_noll,
@@ -88,6 +90,15 @@ def test_round_trips_arrays():
             np.sort(to_j(n_all, m_all)), np.arange(start, start + n_all.size)
         )
     assert len(set(zernike_to_fringe(n_all, m_all).tolist())) == n_all.size
+
+
+@given(st.integers(min_value=1, max_value=10**9))
+def test_round_trip_property(j):
+    assert zernike_to_noll(*noll_to_zernike(j)) == j
+    assert fringe_to_noll(noll_to_fringe(j)) == j
+    assert ansi_to_noll(noll_to_ansi(j)) == j
+    n, m = noll_to_zernike(j)
+    assert abs(m) <= n and (n - abs(m)) % 2 == 0 and n * (n + 1) // 2 < j <= (n + 1) * (n + 2) // 2
 
 
 def test_scalar_types():

@@ -166,6 +166,18 @@ def test_tip_tilt_decreases_with_outer_scale():
     assert np.isfinite(zernike_covariance([1, 2], outer_scale=25.0)).all()
 
 
+def test_von_karman_residuals_consistent():
+    # Delta_1(L0) (piston-filtered spectrum integral) minus the sum of von Karman
+    # variances must approach the Kolmogorov residual at high J, where L0 no longer
+    # matters: checks the two von Karman integrals against each other.
+    J = np.array([1, 3, 21, 300])
+    vk = noll_residual_variance(J, outer_scale=25.0, diameter=4.0)
+    kol = noll_residual_variance(J)
+    assert np.all(np.diff(vk) < 0) and np.all(vk > 0)
+    assert vk[0] < 0.4 * kol[0]  # L0 = 6 D removes most of the tip/tilt-dominated Delta_1
+    assert vk[3] == pytest.approx(kol[3], rel=2e-3)
+
+
 def test_diameter_only_through_ratio():
     a = zernike_covariance(range(2, 30), outer_scale=25.0, diameter=4.0)
     b = zernike_covariance(range(2, 30), outer_scale=6.25, diameter=1.0)
