@@ -281,6 +281,7 @@ def order_modes(
     *,
     estimator: Any = "histogram",
     estimator_options: dict | None = None,
+    pooled: bool = True,
     frame: int | None = None,
     sample_budget: int = 200_000,
     seed: Any = None,
@@ -306,6 +307,9 @@ def order_modes(
         "ksg", "gaussian") or an object with ``fit(x)`` and ``score(y)``.
     estimator_options : dict, optional
         Keyword options of the estimator (e.g. ``{"bins": 64}``).
+    pooled : bool
+        Pool the samples over every frame (default). ``False`` asks for a per-frame
+        ordering and needs ``frame``; giving ``frame`` alone is enough.
     frame : int, optional
         Per-frame ordering on this frame's pixels (the paper's "typical wavefront
         representation"); None pools every frame. For ``"variance"`` the frame's
@@ -341,6 +345,10 @@ def order_modes(
     view = as_basis(basis)
     a = coefficients_in_basis(log_or_coeffs, view, wavelength=wavelength)
     n_frames, n_modes = a.shape
+    if not isinstance(pooled, bool | np.bool_):
+        raise TypeError(f"`pooled` must be a bool; got {pooled!r}.")
+    if not pooled and frame is None:
+        raise ValueError("`pooled`=False (a per-frame ordering) needs `frame`; got frame=None.")
     if frame is not None:
         frame = check_int(frame, "frame", minimum=-n_frames, maximum=n_frames - 1) % n_frames
     budget = check_int(sample_budget, "sample_budget", minimum=10)

@@ -94,8 +94,8 @@ def test_per_frame_ordering_uses_one_frame():
     a = rng.standard_normal((30, 5)) * 0.1
     a[4, 2] = 5.0  # in frame 4 mode 3 dominates; elsewhere nothing special
     z = orthonormal_modes(150, 5)
-    res = order_modes(a, z, "mi_greedy", estimator=GaussianMI(), frame=4, n_resamples=4,
-                      seed=0)
+    res = order_modes(a, z, "mi_greedy", estimator=GaussianMI(), pooled=False, frame=4,
+                      n_resamples=4, seed=0)
     assert res.order[0] == 2 and res.frame == 4 and not res.pooled
     assert res.n_samples == 150 and res.block_length is None
     var = order_modes(a, z, "variance", frame=-26)
@@ -184,3 +184,7 @@ def test_bad_inputs():
         order_modes(a, z, "mi_greedy", seed="x")
     with pytest.raises(ValueError, match="`method` must be one of"):
         order_modes(a, z, "mi_greedy", estimator="bogus")
+    with pytest.raises(ValueError, match="`pooled`=False \\(a per-frame ordering\\) needs `frame`"):
+        order_modes(a, z, "mi_greedy", pooled=False)
+    with pytest.raises(TypeError, match="`pooled` must be a bool"):
+        order_modes(a, z, "mi_greedy", pooled="yes")

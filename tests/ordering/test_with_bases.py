@@ -121,3 +121,20 @@ def test_data_kl_pca_is_the_floor_on_a_log(bases):
     for method in ("standard", "variance"):
         other = fitting_error(log, ortho, order_modes(log, ortho, method)).mean
         assert np.all(pca <= other * (1 + 1e-9) + 1e-12)
+
+
+def test_parseval_equals_pixels_on_orthonormalised_zernikes():
+    zb = ZernikeBasis(Pupil(32), MODES, orthonormalize=True)
+    rng = np.random.default_rng(4)
+    a = rng.standard_normal((30, 27)) * np.linspace(1, 0.1, 27)
+    order = rng.permutation(27)
+    parseval = fitting_error(a, zb, order)
+    assert parseval.method == "parseval"
+    pixels = fitting_error(a, zb, order, method="pixels")
+    np.testing.assert_allclose(parseval.per_frame, pixels.per_frame, rtol=1e-9, atol=1e-12)
+    # the plain sampled Zernikes are not orthonormal on a 32-pixel grid: Gram form used
+    plain = ZernikeBasis(Pupil(32), MODES)
+    assert fitting_error(a, plain).method == "gram"
+    np.testing.assert_allclose(fitting_error(a, plain, order).per_frame,
+                               fitting_error(a, plain, order, method="pixels").per_frame,
+                               rtol=1e-9, atol=1e-12)
