@@ -9,6 +9,8 @@ diagonalises the second-moment matrix of a log's own Zernike coefficients.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 from modalinfo._validation import as_float_array, check_int, check_real
@@ -196,9 +198,10 @@ class KLBasis(ModalBasis):
         outer_scale : float
             Von Karman outer scale ``L0`` [m]; ``inf`` for Kolmogorov.
         zernike_modes : iterable of int or int, optional
-            Noll indices of the Zernikes combined (piston only with finite ``L0``);
-            default :func:`default_zernike_modes`: ``2..J`` with complete radial orders
-            and at least ``3 M`` modes.
+            Noll indices of the Zernikes combined (piston only with finite ``L0``); an
+            int ``J`` means ``2..J`` (piston excluded, unlike ``ZernikeBasis``); default
+            :func:`default_zernike_modes`: ``2..J`` with complete radial orders and at
+            least ``3 M`` modes.
 
         Returns
         -------
@@ -211,8 +214,13 @@ class KLBasis(ModalBasis):
         n_modes = check_int(n_modes, "n_modes", minimum=1)
         outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                                  allow_inf=True)
-        modes = default_zernike_modes(n_modes) if zernike_modes is None else _parse_modes(
-            zernike_modes)
+        if zernike_modes is None:
+            modes = default_zernike_modes(n_modes)
+        elif isinstance(zernike_modes, numbers.Integral) and not isinstance(zernike_modes, bool):
+            j_max = check_int(zernike_modes, "zernike_modes", minimum=2)
+            modes = np.arange(2, j_max + 1, dtype=np.int64)
+        else:
+            modes = _parse_modes(zernike_modes)
         if n_modes > modes.size:
             raise ValueError(
                 f"`n_modes` must be <= the number of Zernike modes ({modes.size}); got {n_modes}."

@@ -72,6 +72,13 @@ def test_kl_beats_zernikes(pupil):
     assert np.cumsum(kl.variances)[9] > np.cumsum(zvar)[9] + 1e-4
 
 
+def test_int_zernike_modes_excludes_piston(pupil):
+    kl = KLBasis.from_turbulence(pupil, 5, zernike_modes=21)
+    assert kl.zernike_modes.tolist() == list(range(2, 22))
+    with pytest.raises(ValueError, match=r"`zernike_modes` must be an int >= 2; got 1"):
+        KLBasis.from_turbulence(pupil, 1, zernike_modes=1)
+
+
 def test_modes_are_pure_cos_or_sin(pupil):
     kl = KLBasis.from_turbulence(pupil, 40)
     n, m = noll_to_zernike(kl.zernike_modes)
