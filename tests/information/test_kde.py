@@ -83,3 +83,15 @@ def test_cv_bandwidth_gives_sensible_estimate():
     truth = -0.5 * np.log(1 - 0.36)
     assert mutual_information(x, y, method="kde", bandwidth="cv") == pytest.approx(truth,
                                                                                   abs=0.03)
+
+
+def test_separable_fft_smoothing_equals_scipy_fftconvolve():
+    from scipy.signal import fftconvolve
+
+    from modalinfo.information.kde import _smooth_2d
+
+    rng = np.random.default_rng(4)
+    grid = rng.random((57, 73))
+    ker = np.exp(-0.5 * np.linspace(-3, 3, 13) ** 2)
+    np.testing.assert_allclose(_smooth_2d(grid, ker),
+                               fftconvolve(grid, np.outer(ker, ker), mode="same"), atol=1e-12)
