@@ -34,35 +34,34 @@ def _row_is_finite(x, n):
 
 
 @jit
-def arma_filter(x, mu, phi, theta, values, innov, pred1, work, out, status):
+def arma_filter(x, coef, n_ar, n_ma, state, work, out, status):
     """ARMA(P, Q) one-step innovations recursion and h-step forecasts.
+
+    Parameters and state are packed in two arrays (fewer arguments make the
+    per-call overhead of the online ``update`` smaller).
 
     Parameters
     ----------
     x : (N, M) float64 IN
         New samples.
-    mu : (M,) IN
-        Process means.
-    phi : (M, P) IN
-        AR coefficients (zero-padded per mode).
-    theta : (M, Q) IN
-        MA coefficients (zero-padded per mode).
-    values : (M, P) INOUT
-        Last ``P`` centred samples, ``values[m, 0]`` the most recent.
-    innov : (M, Q) INOUT
-        Last ``Q`` innovations, ``innov[m, 0]`` the most recent.
-    pred1 : (M,) INOUT
-        Centred one-step forecast of the next sample (defines the next innovation).
+    coef : (M, 1 + P + Q) IN
+        Per mode: the mean ``mu``, then ``phi_1..phi_P``, then ``theta_1..theta_Q``
+        (zero-padded per mode).
+    n_ar, n_ma : int
+        ``P`` and ``Q``.
+    state : (M, P + Q + 1) INOUT
+        Per mode: the last ``P`` centred samples (most recent first), the last ``Q``
+        innovations (most recent first), then the centred one-step forecast of the
+        next sample (which defines the next innovation).
     work : (H,) scratch
     out : (n_out, H, M) OUT
         Forecasts ``x_hat[n + h]``, h = 1..H, after each sample.
     status : (1,) int64 OUT
     """
     n_samples, n_modes = x.shape
-    n_ar = phi.shape[1]
-    n_ma = theta.shape[1]
     n_out = out.shape[0]
     horizon = out.shape[1]
+    i_pred = n_ar + n_ma
     status[0] = 0
     for n in range(n_samples):
         if not _row_is_finite(x, n):
@@ -70,30 +69,31 @@ def arma_filter(x, mu, phi, theta, values, innov, pred1, work, out, status):
             return
         o = n - n_samples + n_out
         for m in range(n_modes):
-            xc = x[n, m] - mu[m]
-            e = xc - pred1[m]
+            mu = coef[m, 0]
+            xc = x[n, m] - mu
+            e = xc - state[m, i_pred]
             for i in range(n_ar - 1, 0, -1):
-                values[m, i] = values[m, i - 1]
+                state[m, i] = state[m, i - 1]
             if n_ar > 0:
-                values[m, 0] = xc
+                state[m, 0] = xc
             for j in range(n_ma - 1, 0, -1):
-                innov[m, j] = innov[m, j - 1]
+                state[m, n_ar + j] = state[m, n_ar + j - 1]
             if n_ma > 0:
-                innov[m, 0] = e
+                state[m, n_ar] = e
             for h in range(horizon):
                 s = 0.0
                 for i in range(n_ar):
                     k = h - 1 - i
                     if k >= 0:
-                        s += phi[m, i] * work[k]
+                        s += coef[m, 1 + i] * work[k]
                     else:
-                        s += phi[m, i] * values[m, -k - 1]
+                        s += coef[m, 1 + i] * state[m, -k - 1]
                 for j in range(h, n_ma):
-                    s += theta[m, j] * innov[m, j - h]
+                    s += coef[m, 1 + n_ar + j] * state[m, n_ar + j - h]
                 work[h] = s
                 if o >= 0:
-                    out[o, h, m] = s + mu[m]
-            pred1[m] = work[0]
+                    out[o, h, m] = s + mu
+            state[m, i_pred] = work[0]
 
 
 @jit

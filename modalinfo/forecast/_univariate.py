@@ -8,6 +8,16 @@ from modalinfo.forecast._kernels import arma_filter
 from modalinfo.forecast.base import Predictor
 
 
+def _pack(params: dict) -> tuple[np.ndarray, int, int]:
+    """Kernel layout ``(M, 1 + P + Q)``: mean, AR then MA coefficients per mode."""
+    coef = params.get("_packed")
+    if coef is None:
+        coef = np.ascontiguousarray(
+            np.column_stack([params["mu"], params["phi"], params["theta"]]))
+        params["_packed"] = coef
+    return coef, params["phi"].shape[1], params["theta"].shape[1]
+
+
 class _LinearRecursion(Predictor):
     """A predictor run by :func:`~modalinfo.forecast._kernels.arma_filter`.
 
@@ -17,13 +27,17 @@ class _LinearRecursion(Predictor):
     def _init_state(self, params: dict, horizon: int) -> dict:
         n_modes, n_ar = params["phi"].shape
         n_ma = params["theta"].shape[1]
-        return {
-            "values": np.zeros((n_modes, n_ar)),
-            "innov": np.zeros((n_modes, n_ma)),
-            "pred1": np.zeros(n_modes),
-            "work": np.zeros(horizon),
-        }
+        return {"state": np.zeros((n_modes, n_ar + n_ma + 1)), "work": np.zeros(horizon)}
 
     def _filter(self, params, state, X, out, status):
-        arma_filter(X, params["mu"], params["phi"], params["theta"], state["values"],
-                    state["innov"], state["pred1"], state["work"], out, status)
+        coef, n_ar, n_ma = _pack(params)
+        arma_filter(X, coef, n_ar, n_ma, state["state"], state["work"], out, status)
+
+    def _step_function(self, params, state, out, status):
+        coef, n_ar, n_ma = _pack(params)
+        st, work = state["state"], state["work"]
+
+        def step(X):
+            arma_filter(X, coef, n_ar, n_ma, st, work, out, status)
+
+        return step

@@ -62,7 +62,8 @@ class _Run:
         ``(W, M)`` ring buffer of the last samples (only with a refit policy).
     """
 
-    __slots__ = ("params", "state", "horizon", "n_seen", "ring", "ring_pos", "out", "status")
+    __slots__ = ("params", "state", "horizon", "n_seen", "ring", "ring_pos", "out", "status",
+                 "x", "step")
 
     def __init__(self, params, state, horizon, n_modes, window):
         self.params = params
@@ -73,6 +74,8 @@ class _Run:
         self.ring_pos = 0
         self.out = np.zeros((1, horizon, n_modes))
         self.status = np.zeros(1, dtype=np.int64)
+        self.x = np.zeros((1, n_modes))
+        self.step = None
 
 
 class Predictor:
@@ -218,6 +221,18 @@ class Predictor:
                 status: np.ndarray) -> None:
         raise NotImplementedError
 
+    def _step_function(self, params: dict, state: dict, out: np.ndarray,
+                       status: np.ndarray):
+        """Return ``step(X)`` running the kernel on a block with bound arguments.
+
+        Subclasses may bind the kernel arguments in a closure to shave the per-call
+        overhead of ``update``.
+        """
+        def step(X):
+            self._filter(params, state, X, out, status)
+
+        return step
+
     # ------------------------------------------------------------------ running
     def _new_run(self, horizon: int) -> _Run:
         _, refit, _ = self._check_common()
@@ -321,8 +336,9 @@ class Predictor:
     def reset(self) -> None:
         """Start a new online pass: clear the state, restore the fitted parameters."""
         self._check_fitted()
-        self._run = self._new_run(self._check_common()[0])
-        self._run_x = np.zeros((1, self.n_modes_))
+        run = self._new_run(self._check_common()[0])
+        run.step = self._step_function(run.params, run.state, run.out, run.status)
+        self._run = run
 
     def update(self, x_t) -> np.ndarray:
         """Ingest the newest sample and forecast the next ``horizon`` samples.
@@ -342,14 +358,15 @@ class Predictor:
             ``(H, M)`` forecasts of the next ``H`` samples (``(H,)`` for a scalar
             sample).
         """
-        run = getattr(self, "_run", None)
-        if run is None:
+        try:
+            run = self._run
+        except AttributeError:
             self._check_fitted()
             self.reset()
             run = self._run
-        x = self._run_x
-        if isinstance(x_t, float):
-            if self.n_modes_ != 1:
+        x = run.x
+        if type(x_t) is float:
+            if x.shape[1] != 1:
                 self._check_n_modes(1, "x_t")
             x[0, 0] = x_t
             scalar = True
@@ -357,15 +374,15 @@ class Predictor:
             arr = np.asarray(x_t, dtype=np.float64)
             scalar = arr.ndim == 0
             if scalar:
-                if self.n_modes_ != 1:
+                if x.shape[1] != 1:
                     self._check_n_modes(1, "x_t")
                 x[0, 0] = arr
             else:
-                if arr.shape != (self.n_modes_,):
-                    raise ValueError(f"`x_t` must have shape ({self.n_modes_},); got "
+                if arr.shape != (x.shape[1],):
+                    raise ValueError(f"`x_t` must have shape ({x.shape[1]},); got "
                                      f"{arr.shape}.")
                 x[0] = arr
-        self._filter(run.params, run.state, x, run.out, run.status)
+        run.step(x)
         if run.status[0]:
             raise ValueError("`x_t` must be finite; got a NaN or infinite value.")
         run.n_seen += 1
@@ -380,6 +397,7 @@ class Predictor:
         if run.n_seen % self.refit_every == 0 and run.n_seen >= W:
             window_data = np.concatenate([run.ring[run.ring_pos:], run.ring[:run.ring_pos]])
             run.params = self._fit_params(window_data, run.params, "x_t")
+            run.step = self._step_function(run.params, run.state, run.out, run.status)
 
 
 def _same(a, b) -> bool:

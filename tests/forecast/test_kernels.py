@@ -51,8 +51,9 @@ def test_arma_filter_matches_reference(p, q):
     theta = rng.uniform(-0.4, 0.4, q)
     out = np.zeros((n, H, 1))
     status = np.zeros(1, dtype=np.int64)
-    K.arma_filter(x[:, None].copy(), np.array([0.7]), phi[None].copy(), theta[None].copy(),
-                  np.zeros((1, p)), np.zeros((1, q)), np.zeros(1), np.zeros(H), out, status)
+    coef = np.r_[0.7, phi, theta][None].copy()
+    K.arma_filter(x[:, None].copy(), coef, p, q, np.zeros((1, p + q + 1)), np.zeros(H), out,
+                  status)
     assert status[0] == 0
     np.testing.assert_allclose(out[:, :, 0], _arma_reference(x, 0.7, phi, theta, H),
                                rtol=1e-12, atol=1e-12)
@@ -62,15 +63,14 @@ def test_arma_filter_last_only_and_nonfinite():
     x = np.arange(10.0)[:, None]
     last = np.zeros((1, 3, 1))
     full = np.zeros((10, 3, 1))
-    args = (np.zeros(1), np.ones((1, 1)), np.zeros((1, 0)))
+    coef = np.array([[0.0, 1.0]])  # persistence: mu = 0, phi = 1
     for out in (last, full):
-        K.arma_filter(x, *args, np.zeros((1, 1)), np.zeros((1, 0)), np.zeros(1),
-                      np.zeros(3), out, np.zeros(1, dtype=np.int64))
+        K.arma_filter(x, coef, 1, 0, np.zeros((1, 2)), np.zeros(3), out,
+                      np.zeros(1, dtype=np.int64))
     np.testing.assert_array_equal(last[0], full[-1])
     x[4, 0] = np.nan
     status = np.zeros(1, dtype=np.int64)
-    K.arma_filter(x, *args, np.zeros((1, 1)), np.zeros((1, 0)), np.zeros(1), np.zeros(3),
-                  full, status)
+    K.arma_filter(x, coef, 1, 0, np.zeros((1, 2)), np.zeros(3), full, status)
     assert status[0] == 5
 
 
@@ -146,8 +146,8 @@ def test_rls_filter_matches_textbook_rls():
 def test_kernels_callable_from_njit():
     @nb.njit
     def run(x, out, status):
-        K.arma_filter(x, np.zeros(1), np.ones((1, 1)), np.zeros((1, 0)), np.zeros((1, 1)),
-                      np.zeros((1, 0)), np.zeros(1), np.zeros(2), out, status)
+        K.arma_filter(x, np.array([[0.0, 1.0]]), 1, 0, np.zeros((1, 2)), np.zeros(2), out,
+                      status)
         return out[0, 1, 0]
 
     out = np.zeros((1, 2, 1))
