@@ -176,8 +176,13 @@ def _greedy(est: Any, contrib: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
             v = float(est.score(cand))
             if step == 0:
                 first[k] = v
-            if v > best_v:
+            if v > best_v:  # NaN never wins
                 best_k, best_v = k, v
+        if best_k < 0:
+            raise ValueError(
+                f"the MI estimator returned no finite score at greedy step {step + 1}; "
+                "check `estimator_options`."
+            )
         order[step] = best_k
         mi[step] = best_v
         phi_s += contrib[best_k]
