@@ -163,3 +163,18 @@ def test_moment_kernels_against_numpy(rng):
     w = np.empty_like(x)
     kern.whiten_pair(x, y, 0.3, 2.0, w)
     np.testing.assert_allclose(w, (y - 0.3 * x) * 2.0, rtol=1e-14)
+
+
+def test_log_ratio_sum_survives_extreme_ratios(rng):
+    # eight ratios of 1e+100 (then eight of 1e-100) overflow (underflow) a plain product
+    g = 10
+    dens = np.full((g, g), 1.0)
+    m = 16
+    iu = np.zeros(m, dtype=np.int64)
+    fu = np.zeros(m)
+    fx = np.where(np.arange(m) < 8, 1e-100, 1e100)
+    fy = np.ones(m)
+    n, k0, k1, floor = 1e6, 0.0, 0.0, 1e-300
+    got = kern.loo_log_ratio_sum_2d(dens, iu, fu, iu, fu, n, k0, k1, floor, fx, fy)
+    want = np.sum(np.log((n * 1.0) / (n - 1) / fx))
+    assert got == pytest.approx(want, abs=1e-9)
