@@ -2,7 +2,9 @@
 
 Builds the basis for the log's Noll modes (``zernike``, theoretical ``kl-theory`` or the
 log's own PCA ``kl-data``), orders it with ``modalinfo.ordering.order_modes`` and
-prints a table (mode, score, MI after each step, gain and its bootstrap bounds).
+prints a table (mode, score, MI after each step, gain and its bootstrap bounds);
+``--stability FRAMES`` adds the rank correlation of orderings of consecutive windows
+and of subsampling seeds.
 ``--out`` writes the ordering as JSON (never over an existing file unless
 ``--overwrite``).
 """
@@ -47,6 +49,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--resamples", type=int, default=20, metavar="R",
                         help="bootstrap replicates for the gain bounds (default: 20; 0: none)")
     parser.add_argument("--out", type=Path, default=None, help="write the ordering as JSON")
+    parser.add_argument("--stability", type=int, default=None, metavar="FRAMES",
+                        help="also order consecutive windows of FRAMES frames and seeds 0-2, "
+                             "and print their rank correlations")
 
 
 def check_output(path: Path | None, overwrite: bool) -> None:
@@ -92,6 +97,15 @@ def run(args: argparse.Namespace) -> int:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
               f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
               "the last step completes Phi_ref and is not estimated")
+    if args.stability is not None:
+        from modalinfo.ordering import ordering_stability
+
+        if args.method == "pca" or args.frame is not None:
+            raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
+        stab = ordering_stability(log, basis, args.method, window=args.stability,
+                                  seeds=(0, 1, 2), estimator=args.estimator,
+                                  sample_budget=args.budget)
+        print(stab.summary())
     if args.out is not None:
         result.to_json(args.out, overwrite=args.overwrite)
         print(f"ordering written to {args.out}")

@@ -70,6 +70,13 @@ def test_fitting_error_plot_and_table(log_path, tmp_path, capsys):
     assert "exists; pass --overwrite" in capsys.readouterr().err
 
 
+def test_reorder_stability(log_path, capsys):
+    assert main(["reorder", str(log_path), "--method", "variance", "--pupil-pixels", "24",
+                 "--stability", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "3 windows of 100 frames" in out and "3 seeds" in out
+
+
 def test_fitting_error_per_frame(log_path, capsys):
     assert main(["fitting-error", str(log_path), "--orderings", "zernike:variance,kl-data:pca",
                  "--frame", "10", "--pupil-pixels", "24", "--target", "0.4"]) == 0
