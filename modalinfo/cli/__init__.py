@@ -66,6 +66,14 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         return int(args._run(args) or 0)
+    except BrokenPipeError:
+        # the reader (e.g. `| head`) closed the pipe: not an input error; silence the
+        # flush at exit as the Python docs recommend (signal module, "Note on SIGPIPE")
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
     except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         sys.stderr.write(f"modalinfo {args.command}: error: {message}\n")
