@@ -167,8 +167,11 @@ def load(path, fmt: str | None = None, *, mmap: bool = False, **hints) -> ModalL
         Bad ``fmt`` or hints, or content that is not a valid log.
     """
     path = as_path(path)
+    if fmt is not None:
+        fmt = _check_fmt(fmt, FORMATS)
     check_readable(path)
-    fmt = detect_format(path) if fmt is None else _check_fmt(fmt, FORMATS)
+    if fmt is None:
+        fmt = detect_format(path)
     reader = _READERS[fmt]
     if mmap and fmt in ("npz", "npy", "hdf5"):
         return reader(path, mmap=True, **hints)

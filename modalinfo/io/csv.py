@@ -5,6 +5,7 @@ Layout written by :func:`write_csv`::
     # modalinfo: {"modalinfo":1,"shape":[T,M],"dtype":"float64","rate":1000.0,...}
     time,Z2,Z3,Z4            <- header row (``time`` only with explicit timestamps)
     0.0,1.25e-07,...         <- one row per frame
+    # end of modalinfo log   <- end marker: a truncated file is always detected
 
 Values are written with Python's ``repr`` of the float64 value, the shortest
 decimal that reads back to the same double, so float64 round-trips bitwise; a
@@ -50,6 +51,7 @@ from modalinfo.telemetry.log import ModalLog
 __all__ = ["read_csv", "write_csv"]
 
 _MAGIC = "# modalinfo:"
+_END = "# end of modalinfo log"
 _TIME_NAMES = ("time", "t", "time_s", "timestamp", "timestamps", "time[s]", "time (s)")
 _ROWS_PER_WRITE = 4096
 _CONVENTION_OF_PREFIX = {"Z": "noll", "A": "ansi", "F": "fringe"}
@@ -93,6 +95,7 @@ def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
                 lines = [",".join(map(repr, row)) for row in rows]
             text.write("\n".join(lines))
             text.write("\n")
+        text.write(f"{_END}\n")
         text.flush()
         text.detach()
 
@@ -182,8 +185,11 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             delim = ","
             names = _split(lines[k], delim)
             body = lines[k + 1 :]
-            if body and not body[-1]:
-                body = body[:-1]
+            if not body or body[-1] != _END:
+                raise LogFormatError(
+                    f"corrupt CSV file '{path}': end marker {_END!r} missing (truncated?)"
+                )
+            body = body[:-1]
             if not body:
                 raise LogFormatError(f"corrupt CSV file '{path}': no data rows (truncated?)")
         else:

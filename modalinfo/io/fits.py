@@ -134,7 +134,11 @@ def read_fits(path, **hints) -> ModalLog:
     with reading("FITS", path):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            with fits.open(path, memmap=False, checksum=True, lazy_load_hdus=False) as hdul:
+            # open the file ourselves so it is closed even when astropy fails half-way
+            with (
+                open(path, "rb") as fh,
+                fits.open(fh, memmap=False, checksum=True, lazy_load_hdus=False) as hdul,
+            ):
                 hdul.verify("silentfix")
                 _check_warnings(caught, path)
                 coeffs, stored = _parse(hdul, path)

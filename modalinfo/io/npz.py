@@ -46,7 +46,7 @@ from modalinfo.telemetry.log import ModalLog
 __all__ = ["read_npz", "write_npz", "read_npy"]
 
 _TIME_NAMES = ("timestamps", "times", "time", "t")
-_COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data", "modes", "zernike", "a")
+_COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data", "zernike")
 
 
 def write_npz(log: ModalLog, path, *, overwrite: bool = False) -> Path:
@@ -141,6 +141,29 @@ def _mmap_member(path: Path, zf: zipfile.ZipFile, name: str) -> np.ndarray | Non
     )
 
 
+def _check_entry_count(path: Path, zf: zipfile.ZipFile) -> None:
+    """Compare the entries zipfile parsed with the count in the end-of-directory record.
+
+    A damaged central directory can make :mod:`zipfile` skip members silently; the
+    end record (the last 22 bytes when the archive has no comment, as ``numpy.savez``
+    writes it) states how many there are. Zip64 archives (count 0xFFFF) are skipped.
+    """
+    with open(path, "rb") as fh:
+        fh.seek(0, 2)
+        size = fh.tell()
+        if size < 22:
+            return
+        fh.seek(size - 22)
+        end = fh.read(22)
+    if end[:4] != b"PK\x05\x06":
+        return
+    total = struct.unpack("<H", end[10:12])[0]
+    if total != 0xFFFF and total != len(zf.infolist()):
+        raise ValueError(
+            f"the zip directory lists {len(zf.infolist())} members but its end record {total}"
+        )
+
+
 @unwrap
 def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
     """Read a log from a ``.npz`` file written by :func:`write_npz` or by other software.
@@ -176,6 +199,7 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
     check_readable(path)
     with reading("NPZ", path):
         with zipfile.ZipFile(path) as zf:
+            _check_entry_count(path, zf)
             names = {n[:-4] if n.endswith(".npy") else n: n for n in zf.namelist()}
             if "header" in names and "coefficients" in names:
                 text = _read_member(zf, names["header"])
