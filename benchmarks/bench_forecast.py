@@ -120,6 +120,21 @@ def bench_update(quick):
                 row.append(f"history {n_hist:>6}: {c * 1e6:6.2f} us/step "
                            f"({c * 1e6 / m:5.2f} us/mode)")
             print(f"M={m:2d} {name:16s} " + " | ".join(row))
+    # the other predictors, for information (M = 27, history 1000)
+    from modalinfo.forecast import (
+        MultivariatePredictor,
+        NeuralNetPredictor,
+        RLSMultivariatePredictor,
+    )
+
+    x = _series(5000 + n_steps + 10, seed=2, m=27)
+    for name, pred in (("NN 10-10-1", NeuralNetPredictor(n_patterns=200, max_iter=50)),
+                       ("VAR(4) batch", MultivariatePredictor(order=4)),
+                       ("VAR(4) RLS", RLSMultivariatePredictor(order=4))):
+        pred.fit(x[:3000])
+        c = float(np.median([_update_cost(pred, x, 1000, n_steps) for _ in range(3)]))
+        print(f"M=27 {name:16s} history   1000: {c * 1e6:7.2f} us/step "
+              f"({c * 1e6 / 27:5.2f} us/mode)")
     print()
 
 

@@ -391,7 +391,7 @@ def _std_path(predictor, refits, origins, horizons):
 
 
 # ---------------------------------------------------------------------- main
-def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11), *,
+def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
              refit_every: int | None = None, window: int | None = None,
              level: float = 0.95, alpha: float = 0.05) -> ForecastEvaluation:
     """Rolling-origin evaluation of predictors, with no look-ahead.
