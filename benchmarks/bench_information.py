@@ -8,18 +8,26 @@ For n = 1e4, 1e5, 1e6 samples of a bivariate normal pair (rho = 0.6, true MI
 ``mutual_info_regression`` (KSG, k = 3) and a ``numpy.histogram2d`` plug-in MI with
 the same bins. Medians over repeats; the first (numba-compiling) call is excluded.
 scikit-learn is skipped at a size where its extrapolated time exceeds 60 s.
+Everything runs single-threaded (OpenMP/BLAS thread pools set to 1 before numpy is
+imported): on a shared 2-core machine, idle OpenMP worker threads left spinning after
+scikit-learn's neighbour search otherwise inflate every later timing 2-3 times.
 """
 
-import argparse
-import math
-import time
-from functools import partial
+import os
 
-import numpy as np
-from sklearn.feature_selection import mutual_info_regression
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 
-from modalinfo.information import MutualInformation, mutual_information
-from modalinfo.information.histogram import _hacine_gharbi_joint
+import argparse  # noqa: E402
+import math  # noqa: E402
+import time  # noqa: E402
+from functools import partial  # noqa: E402
+
+import numpy as np  # noqa: E402
+from sklearn.feature_selection import mutual_info_regression  # noqa: E402
+
+from modalinfo.information import MutualInformation, mutual_information  # noqa: E402
+from modalinfo.information.histogram import _hacine_gharbi_joint  # noqa: E402
 
 RHO = 0.6
 TRUTH = -0.5 * math.log(1 - RHO**2)

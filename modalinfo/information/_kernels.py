@@ -323,3 +323,148 @@ def whiten_pair(u, v, r, inv_s, out):
     """Write the Cholesky-whitened second coordinate (v - r u) / s into out (n,) OUT."""
     for i in range(u.shape[0]):
         out[i] = (v[i] - r * u[i]) * inv_s
+
+
+@jit
+def pair_moments(u, y):
+    """One pass over (u, y): return (mean of y, std of y (ddof 0), corr(u, y)).
+
+    u : (n,) IN standardised (mean 0, std 1) ; y : (n,) IN, not constant. Sums are
+    taken of y - y[0] to limit cancellation; corr uses sum u = 0.
+    """
+    n = y.shape[0]
+    y0 = y[0]
+    s = 0.0
+    ss = 0.0
+    su = 0.0
+    for i in range(n):
+        d = y[i] - y0
+        s += d
+        ss += d * d
+        su += u[i] * d
+    m = s / n
+    var = ss / n - m * m
+    if var < 0.0:
+        var = 0.0
+    std = np.sqrt(var)
+    return y0 + m, std, su / (n * std)
+
+
+@jit
+def standardise_whiten(u, y, mean, inv_std, r, inv_s, v, w):
+    """Write v = (y - mean) inv_std and w = (v - r u) inv_s; return their min and max.
+
+    u, y : (n,) IN ; v, w : (n,) float64 OUT. Returns (v_min, v_max, w_min, w_max).
+    """
+    vmin = np.inf
+    vmax = -np.inf
+    wmin = np.inf
+    wmax = -np.inf
+    for i in range(y.shape[0]):
+        a = (y[i] - mean) * inv_std
+        b = (a - r * u[i]) * inv_s
+        v[i] = a
+        w[i] = b
+        if a < vmin:
+            vmin = a
+        if a > vmax:
+            vmax = a
+        if b < wmin:
+            wmin = b
+        if b > wmax:
+            wmax = b
+    return vmin, vmax, wmin, wmax
+
+
+@jit
+def bin_pair_and_marginal(u, w, v, lo_u, lo_w, inv_d2, lo_v, inv_d1, grid2, iu, fu, iw, fw,
+                          grid1, iv, fv):
+    """Bilinear binning of (u, w) on grid2 and linear binning of v on grid1, one pass.
+
+    As :func:`linear_bin_2d` (step 1/inv_d2) and :func:`linear_bin_1d` (step 1/inv_d1);
+    all outputs (grids zeroed here, indices, fractions) are OUT.
+    """
+    grid2[:, :] = 0.0
+    grid1[:] = 0.0
+    last_u = grid2.shape[0] - 2
+    last_w = grid2.shape[1] - 2
+    last_v = grid1.shape[0] - 2
+    for i in range(u.shape[0]):
+        t = (u[i] - lo_u) * inv_d2
+        k = int(t)
+        if k > last_u:
+            k = last_u
+        elif k < 0:
+            k = 0
+        a = t - k
+        t = (w[i] - lo_w) * inv_d2
+        m = int(t)
+        if m > last_w:
+            m = last_w
+        elif m < 0:
+            m = 0
+        b = t - m
+        iu[i] = k
+        fu[i] = a
+        iw[i] = m
+        fw[i] = b
+        grid2[k, m] += (1.0 - a) * (1.0 - b)
+        grid2[k + 1, m] += a * (1.0 - b)
+        grid2[k, m + 1] += (1.0 - a) * b
+        grid2[k + 1, m + 1] += a * b
+        t = (v[i] - lo_v) * inv_d1
+        j = int(t)
+        if j > last_v:
+            j = last_v
+        elif j < 0:
+            j = 0
+        c = t - j
+        iv[i] = j
+        fv[i] = c
+        grid1[j] += 1.0 - c
+        grid1[j + 1] += c
+
+
+@jit
+def loo_mi_sum(dens2, iu, fu, iw, fw, k0_2, k1_2, floor2, dens1, iv, fv, k0_1, k1_1,
+               floor1, f_u, n):
+    """Sum of log(f_uw / (f_u f_v)) with LOO joint and v-marginal densities from grids.
+
+    dens2 (Gu, Gw), iu, fu, iw, fw, k0_2, k1_2, floor2: joint grid as in
+    :func:`loo_log_density_sum_2d`; dens1 (Gv,), iv, fv, k0_1, k1_1, floor1: v-marginal
+    grid as in :func:`loo_density_1d`; f_u : (n,) IN LOO marginal density of u.
+    Products of up to 8 ratios per logarithm, as in :func:`loo_log_ratio_sum_2d`.
+    """
+    acc = 0.0
+    prod = 1.0
+    count = 0
+    for i in range(iu.shape[0]):
+        k = iu[i]
+        m = iw[i]
+        a = fu[i]
+        b = fw[i]
+        val = (
+            (1.0 - a) * (1.0 - b) * dens2[k, m]
+            + a * (1.0 - b) * dens2[k + 1, m]
+            + (1.0 - a) * b * dens2[k, m + 1]
+            + a * b * dens2[k + 1, m + 1]
+        )
+        own_u = ((1.0 - a) * (1.0 - a) + a * a) * k0_2 + 2.0 * a * (1.0 - a) * k1_2
+        own_w = ((1.0 - b) * (1.0 - b) + b * b) * k0_2 + 2.0 * b * (1.0 - b) * k1_2
+        val = (n * val - own_u * own_w) / (n - 1.0)
+        if val < floor2:
+            val = floor2
+        j = iv[i]
+        c = fv[i]
+        fvv = (1.0 - c) * dens1[j] + c * dens1[j + 1]
+        own_v = ((1.0 - c) * (1.0 - c) + c * c) * k0_1 + 2.0 * c * (1.0 - c) * k1_1
+        fvv = (n * fvv - own_v) / (n - 1.0)
+        if fvv < floor1:
+            fvv = floor1
+        prod *= val / (f_u[i] * fvv)
+        count += 1
+        if count == 8 or prod > 1e150 or prod < 1e-150:
+            acc += np.log(prod)
+            prod = 1.0
+            count = 0
+    return acc + np.log(prod)

@@ -107,7 +107,7 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
 
         - ``"kde"``: Gaussian kernel following the data covariance, on a grid by FFT,
           leave-one-out resubstitution. Options ``bandwidth`` ("scott", "silverman",
-          "cv" or a float factor h), ``grid_size`` (256), ``copula`` (False).
+          "cv" or a float factor h), ``grid_size`` (128), ``copula`` (False).
           Measured bias at n = 1e4 on Gaussian pairs (20 seeds): -0.0037 to -0.0022
           nats for rho in 0..0.9.
         - ``"histogram"``: plug-in estimate on equal-width (or equiprobable) bins with
