@@ -857,7 +857,8 @@ class LogSummary:
 def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
     """Per-mode mean, std, RMS and lag-1 autocorrelation in one chunked pass.
 
-    Welford updates per sample (numerically stable for any offset), so memory is one
+    Each chunk is reduced in two passes about its own mean and merged with Chan et
+    al.'s pairwise update (numerically stable for any offset), so memory is one
     chunk and a few ``(M,)`` accumulators: a memory-mapped log much larger than RAM
     is summarised with a small resident set.
 
@@ -876,7 +877,7 @@ def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
     LogSummary
         The statistics.
     """
-    from modalinfo.telemetry._kernels import lag1_finalize, welford_lag1_update
+    from modalinfo.telemetry._kernels import chunk_stats_update, lag1_finalize
 
     chunk_frames = check_int(chunk_frames, "chunk_frames", minimum=1)
     if isinstance(log, ModalLog):
@@ -885,11 +886,11 @@ def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
         arr = _as_coeffs(log)
         labels, units = [f"col{j}" for j in range(arr.shape[1])], ""
     m = arr.shape[1]
-    state = np.zeros((8, m), dtype=np.float64)  # see _kernels.welford_lag1_update
+    state = np.zeros((8, m), dtype=np.float64)  # see _kernels.chunk_stats_update
     last = np.full(m, np.nan)
     bad = np.zeros(m, dtype=np.int64)
     for block in _row_blocks(arr, chunk_frames):
-        welford_lag1_update(np.ascontiguousarray(block), state, last, bad)
+        chunk_stats_update(np.ascontiguousarray(block), state, last, bad)
         if progress is not None:
             progress(block.shape[0])
     mean = np.empty(m)

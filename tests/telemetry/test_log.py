@@ -14,7 +14,7 @@ import pytest
 from statsmodels.tsa.stattools import acf
 
 from modalinfo.telemetry import ModalLog, summarize
-from modalinfo.telemetry._kernels import lag1_finalize, welford_lag1_update
+from modalinfo.telemetry._kernels import chunk_stats_update, lag1_finalize
 
 
 def make(T=100, M=5, dtype=np.float64, seed=0, **kw):
@@ -302,7 +302,7 @@ def test_with_metadata():
 
 # ----------------------------------------------------------------- summary
 def _slow_reference(x):
-    """Pure-Python Welford + pair co-moment, the loop the kernel is meant to be."""
+    """Pure-Python sample-by-sample Welford + pair co-moment: an independent algorithm."""
     T, M = x.shape
     state = np.zeros((8, M))
     last = np.full(M, np.nan)
@@ -337,7 +337,7 @@ def test_kernel_matches_slow_reference_with_gaps():
     last = np.full(3, np.nan)
     bad = np.zeros(3, dtype=np.int64)
     for i0 in range(0, 57, 10):  # chunked, to exercise the carried last sample
-        welford_lag1_update(np.ascontiguousarray(x[i0 : i0 + 10]), state, last, bad)
+        chunk_stats_update(np.ascontiguousarray(x[i0 : i0 + 10]), state, last, bad)
     ref_state, ref_bad = _slow_reference(x)
     np.testing.assert_allclose(state, ref_state, rtol=1e-12, atol=1e-12)
     np.testing.assert_array_equal(bad, ref_bad)
@@ -348,7 +348,7 @@ def test_kernel_callable_from_njit():
 
     @njit
     def caller(x, state, last, bad):
-        welford_lag1_update(x, state, last, bad)
+        chunk_stats_update(x, state, last, bad)
         out = np.empty((4, x.shape[1]))
         lag1_finalize(state, out[0], out[1], out[2], out[3])
         return out
