@@ -1,9 +1,10 @@
 """Telemetry logs of modal coefficients: ``ModalLog``, units and one-pass summaries.
 
-``modalinfo.telemetry.synthetic`` (synthetic open/closed-loop logs) is written
-separately; it is imported below only when present.
+``modalinfo.telemetry.synthetic`` holds the synthetic open/closed-loop logs
+(``open_loop_log``, ``closed_loop_log``, ``kaos_like``).
 """
 
+from modalinfo.telemetry import synthetic  # imports telemetry.log itself: order-free
 from modalinfo.telemetry.log import (
     CONVENTIONS,
     NONFINITE_POLICIES,
@@ -26,6 +27,7 @@ __all__ = [
     "LogSummary",
     "ModalLog",
     "summarize",
+    "synthetic",
     "unit_scale",
     "zernike_rms_normalization",
     "rms_from_peak_normalized",

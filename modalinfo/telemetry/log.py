@@ -444,6 +444,16 @@ class ModalLog:
         new._repairs = ()
         return new
 
+    def __getstate__(self) -> dict:
+        return {name: getattr(self, name) for name in self.__slots__}
+
+    def __setstate__(self, state: dict) -> None:
+        for name, value in state.items():
+            object.__setattr__(self, name, value)
+        for arr in (self._coeffs, self._timestamps):
+            if isinstance(arr, np.ndarray) and arr.flags.writeable:
+                arr.flags.writeable = False  # unpickled copies stay read-only
+
     # ------------------------------------------------------------------ properties
     @property
     def coeffs(self) -> np.ndarray:

@@ -396,3 +396,13 @@ def test_summarize_constant_and_single_frame():
     assert s1.count[0] == 1 and np.isnan(s1.lag1[0])
     with pytest.raises(ValueError, match="`chunk_frames` must be an int >= 1"):
         summarize(ModalLog(np.ones((5, 1)), rate=1.0), chunk_frames=0)
+
+
+def test_pickle_round_trip_stays_read_only():
+    import pickle
+
+    log = make(T=20, M=3, metadata={"loop": "open"}, units="nm", wavelength=5e-7)
+    back = pickle.loads(pickle.dumps(log))
+    np.testing.assert_array_equal(back.coeffs, log.coeffs)
+    assert back.metadata == log.metadata and back.modes == log.modes and back.rate == log.rate
+    assert not back.coeffs.flags.writeable
