@@ -246,42 +246,39 @@ class Predictor:
             raise ValueError(f"`{name}` must be finite; got a NaN or infinite value at "
                              f"sample {index}.")
 
-    def _feed(self, run: _Run, X: np.ndarray, out: np.ndarray, name: str) -> list:
-        """Feed ``X`` to ``run`` (refits included); forecasts go to ``out``.
+    def _feed(self, run: _Run, X: np.ndarray, out: np.ndarray, name: str,
+              begin: int = 0, end: int | None = None) -> list:
+        """Feed samples ``X[begin:end]`` to ``run`` (refits included).
 
-        Returns the list of ``(sample_index, params)`` after each refit.
+        ``run`` must have seen exactly ``X[:begin]`` (so sample indices are absolute
+        and refit windows are read from ``X``). The forecasts made after the last
+        ``out.shape[0]`` samples of the range go to ``out``. Returns the list of
+        ``(sample_index, params)`` of the refits made.
         """
         refit = self.refit_every
-        n_total = X.shape[0]
+        end = X.shape[0] if end is None else end
         n_out = out.shape[0]
-        start = 0
+        start = begin
         refits = []
-        while start < n_total:
-            stop = n_total
+        while start < end:
+            stop = end
             if refit is not None:
                 # next refit point: smallest n > n_seen with n % R == 0 and n >= W
                 n_next = (run.n_seen // refit + 1) * refit
                 while n_next < self.window_:
                     n_next += refit
-                stop = min(n_total, start + n_next - run.n_seen)
-            block = X[start:stop]
-            lo = start - n_total + n_out
-            hi = stop - n_total + n_out
-            if hi <= 0:
-                sub_out = out[:0]
-            else:
-                sub_out = out[max(lo, 0):hi]
-            self._filter(run.params, run.state, block, sub_out, run.status)
+                stop = min(end, start + n_next - run.n_seen)
+            lo = start - end + n_out
+            hi = stop - end + n_out
+            sub_out = out[:0] if hi <= 0 else out[max(lo, 0):hi]
+            self._filter(run.params, run.state, X[start:stop], sub_out, run.status)
             self._raise_nonfinite(run.status, start, name)
             run.n_seen += stop - start
-            if refit is not None:
-                if run.n_seen % refit == 0 and run.n_seen >= self.window_:
-                    window_data = X[stop - self.window_:stop] if stop >= self.window_ else None
-                    if window_data is None:  # pragma: no cover - predict starts at reset
-                        raise RuntimeError("refit window not available")
-                    run.params = self._fit_params(np.ascontiguousarray(window_data),
-                                                  run.params, name)
-                    refits.append((run.n_seen - 1, run.params))
+            if (refit is not None and run.n_seen % refit == 0
+                    and run.n_seen >= self.window_):
+                window_data = np.ascontiguousarray(X[stop - self.window_:stop])
+                run.params = self._fit_params(window_data, run.params, name)
+                refits.append((run.n_seen - 1, run.params))
             start = stop
         return refits
 

@@ -95,10 +95,10 @@ class ForecastEvaluation:
         ``p_value < alpha / n_tests`` (Bonferroni), False for the baselines.
     baseline : tuple of str
         Name of the best trivial baseline at each horizon.
-    truth : numpy.ndarray, shape (N + max(h), M)
-        Observed frames ``origins[0] .. origins[-1] + max(h)`` (for plots).
-    one_step : numpy.ndarray, shape (P, N, M)
-        Forecasts at the first horizon (h = horizons[0]) from every origin.
+    truth : numpy.ndarray, shape (K + max(h), M)
+        Observed frames from ``origins[0]`` on (for plots); ``K = min(N, keep_series)``.
+    one_step : numpy.ndarray, shape (P, K, M)
+        Forecasts at the first horizon (h = horizons[0]) from the first ``K`` origins.
     settings : dict
         ``refit_every``, ``window`` and each predictor's hyper-parameters (repr).
     """
@@ -248,7 +248,7 @@ class ForecastEvaluation:
 
         k = self.labels.index(mode) if isinstance(mode, str) else int(mode)
         h0 = int(self.horizons[0])
-        n = min(check_int(n_frames, "n_frames", minimum=1), self.origins.size)
+        n = min(check_int(n_frames, "n_frames", minimum=1), self.one_step.shape[1])
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 3.5))
         t0 = int(self.origins[0])
@@ -393,7 +393,8 @@ def _std_path(predictor, refits, origins, horizons):
 # ---------------------------------------------------------------------- main
 def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
              refit_every: int | None = None, window: int | None = None,
-             level: float = 0.95, alpha: float = 0.05) -> ForecastEvaluation:
+             level: float = 0.95, alpha: float = 0.05, keep_series: int = 5000,
+             chunk_frames: int = 8192) -> ForecastEvaluation:
     """Rolling-origin evaluation of predictors, with no look-ahead.
 
     Parameters
@@ -414,6 +415,13 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         Nominal coverage of the ARMA prediction intervals.
     alpha : float
         Family-wise level of the skill test (Bonferroni over predictors x horizons).
+    keep_series : int
+        Forecasts at the first horizon are kept (for plots) for the first this many
+        origins only.
+    chunk_frames : int
+        The log is fed to the predictors in chunks of this many frames, so memory is
+        ``O(chunk_frames H M)`` plus ``O(P H N)`` for the per-origin losses of the
+        skill test, whatever the log length (a ``numpy.memmap`` is read in order).
 
     Returns
     -------
@@ -446,26 +454,44 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     n_o = origins.size
     z = norm.ppf(0.5 + level / 2.0)
     P, H = len(names), hs.size
-    sq_err = np.empty((P, H, n_o, n_modes))
-    one_step = np.empty((P, n_o, n_modes))
-    coverage = np.full((P, H), np.nan)
+    n_keep = min(n_o, check_int(keep_series, "keep_series", minimum=1))
+    chunk = check_int(chunk_frames, "chunk_frames", minimum=1)
+    sse = np.zeros((P, H, n_modes))
+    loss = np.empty((P, H, n_o))                          # sum over modes, per origin
+    one_step = np.empty((P, n_keep, n_modes))
+    covered = np.zeros((P, H))
+    has_interval = np.zeros(P, dtype=bool)
     settings = {"refit_every": refit_every, "window": window, "predictors": {}}
     train_data = data[:n_train]
+    last = int(origins[-1]) + 1                           # frames fed: 0 .. last origin
     for i, (name, proto) in enumerate(all_preds.items()):
         pred = proto.clone(horizon=h_max, **overrides)
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
-        path, refits = pred._forecast_path(data, h_max)
-        fc = path[origins][:, hs - 1]                     # (N, H, M)
-        target = data[origins[:, None] + hs[None, :]]     # (N, H, M)
-        err = target - fc
-        sq_err[i] = np.moveaxis(err**2, 1, 0)
-        one_step[i] = fc[:, 0]
-        std = _std_path(pred, refits, origins, hs)
-        if std is not None:
-            coverage[i] = np.mean(np.abs(err) <= z * std, axis=(0, 2))
-    rmse = np.sqrt(sq_err.mean(axis=2))                   # (P, H, M)
-    loss = sq_err.sum(axis=3)                             # (P, H, N)
+        has_interval[i] = isinstance(pred, ARMAPredictor)
+        run = pred._new_run(h_max)
+        refits: list = []
+        for begin in range(0, last, chunk):
+            end = min(begin + chunk, last)
+            out = np.empty((end - begin, h_max, n_modes))
+            refits += pred._feed(run, data, out, "log", begin, end)
+            first = max(begin, int(origins[0]))
+            if first >= end:
+                continue
+            idx = np.arange(first, end)                   # origins in this chunk
+            k = idx - int(origins[0])
+            fc = out[idx - begin][:, hs - 1]              # (n, H, M)
+            err = data[idx[:, None] + hs[None, :]] - fc   # targets after the origin
+            err2 = err**2
+            sse[i] += err2.sum(axis=0)
+            loss[i][:, k] = err2.sum(axis=2).T
+            keep = k < n_keep
+            one_step[i, k[keep]] = fc[keep, 0]
+            if has_interval[i]:
+                std = _std_path(pred, refits, idx, hs)
+                covered[i] += np.sum(np.abs(err) <= z * std, axis=(0, 2))
+    rmse = np.sqrt(sse / n_o)                             # (P, H, M)
+    coverage = np.where(has_interval[:, None], covered / (n_o * n_modes), np.nan)
     rmse_wf = np.sqrt(loss.mean(axis=2))
     with np.errstate(divide="ignore", invalid="ignore"):
         gain = rmse[0][None] / rmse
@@ -494,6 +520,6 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         origins=origins, rmse=rmse, rmse_wavefront=rmse_wf, gain=gain, gain_wavefront=gain_wf,
         coverage=coverage, level=level, dm_statistic=dm, p_value=pval, beats_baseline=beats,
         baseline=tuple(names[b] for b in base_idx),
-        truth=data[origins[0] : origins[-1] + h_max + 1].copy(), one_step=one_step,
+        truth=np.array(data[origins[0] : origins[0] + n_keep + h_max]), one_step=one_step,
         settings=settings,
     )

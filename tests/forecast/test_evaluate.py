@@ -131,3 +131,18 @@ def dataclasses_error():
     import dataclasses
 
     return dataclasses.FrozenInstanceError
+
+
+def test_chunked_feeding_gives_the_same_numbers():
+    rng = np.random.default_rng(5)
+    x = np.cumsum(rng.standard_normal((1500, 2)), axis=0)
+    preds = {"arma": ARMAPredictor(order=(1, 1)), "var": MultivariatePredictor(order=2)}
+    a = evaluate(preds, x, train=500, horizons=[1, 4], refit_every=170, window=300)
+    b = evaluate(preds, x, train=500, horizons=[1, 4], refit_every=170, window=300,
+                 chunk_frames=97, keep_series=50)
+    # forecasts and coverage counts identical; sums differ only by summation order
+    np.testing.assert_array_equal(a.one_step[:, :50], b.one_step)
+    np.testing.assert_array_equal(a.coverage, b.coverage)
+    np.testing.assert_allclose(a.rmse, b.rmse, rtol=1e-13)
+    np.testing.assert_allclose(a.dm_statistic, b.dm_statistic, rtol=1e-10)
+    assert b.truth.shape == (50 + 4, 2)
