@@ -132,7 +132,9 @@ def _check_fmt(fmt, allowed) -> str:
     return fmt.lower()
 
 
-def load(path, fmt: str | None = None, *, mmap: bool = False, **hints) -> ModalLog:
+def load(
+    path, fmt: str | None = None, *, mmap: bool = False, verify: bool = True, **hints
+) -> ModalLog:
     """Read a telemetry log.
 
     Parameters
@@ -146,6 +148,10 @@ def load(path, fmt: str | None = None, *, mmap: bool = False, **hints) -> ModalL
         Memory-map the coefficients instead of reading them (NPY, uncompressed NPZ,
         contiguous HDF5); other formats are read in full. Use it for logs larger
         than memory with :func:`modalinfo.telemetry.summarize`.
+    verify : bool
+        Check the SHA-256 checksums that CSV and HDF5 files written by modalinfo
+        carry (``False`` accepts a deliberately edited CSV). NPZ (CRC-32) and FITS
+        (``DATASUM``) checksums are always verified.
     **hints
         ``rate`` [Hz], ``timestamps`` [s], ``modes``, ``convention``, ``units``,
         ``wavelength`` [m], ``metadata``, ``nonfinite``, ``start_time`` [s]: supply
@@ -172,10 +178,12 @@ def load(path, fmt: str | None = None, *, mmap: bool = False, **hints) -> ModalL
     check_readable(path)
     if fmt is None:
         fmt = detect_format(path)
-    reader = _READERS[fmt]
+    options: dict = {}
     if mmap and fmt in ("npz", "npy", "hdf5"):
-        return reader(path, mmap=True, **hints)
-    return reader(path, **hints)
+        options["mmap"] = True
+    if fmt in ("csv", "hdf5"):
+        options["verify"] = bool(verify)
+    return _READERS[fmt](path, **options, **hints)
 
 
 def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -> Path:

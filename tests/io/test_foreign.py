@@ -196,3 +196,17 @@ def test_crash_during_write_leaves_no_file(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match="disk full"):
         save(ModalLog(X, rate=1.0), tmp_path / "a.npz")
     assert os.listdir(tmp_path) == []
+
+
+def test_edited_csv_needs_verify_false(tmp_path):
+    log = ModalLog(X[:5, :2], rate=10.0, metadata={"loop": "open"})
+    path = save(log, tmp_path / "e.csv")
+    lines = path.read_text().splitlines()
+    lines[2] = "0.5,0.25"  # a person edits the first data row
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(LogFormatError, match=r"coefficients do not match their SHA-256"):
+        load(path)
+    edited = load(path, verify=False)
+    np.testing.assert_array_equal(edited.coeffs[0], [0.5, 0.25])
+    np.testing.assert_array_equal(edited.coeffs[1:], X[1:5, :2])
+    assert edited.metadata == {"loop": "open"}
