@@ -13,37 +13,49 @@ from modalinfo._numba import jit
 
 
 @jit
-def uniform_bin_index(x, lo, inv_width, n_bins, idx):
-    """Equal-width bin index of each sample: floor((x - lo) * inv_width) clipped to bins.
+def uniform_bin_index(x, lo, inv_width, edges, idx):
+    """Equal-width bin index of each sample, exactly as numpy.histogram assigns it.
 
-    x : (n,) float64 IN ; idx : (n,) int64 OUT. The sample equal to the upper edge goes
-    to the last bin, as in numpy.histogram.
+    x : (n,) float64 IN ; edges : (k + 1,) IN = numpy.linspace(lo, hi, k + 1) ;
+    idx : (n,) int64 OUT. The index floor((x - lo) * inv_width) is corrected by one
+    against the actual edges (numpy's rule: bins [e_j, e_j+1), the last one closed),
+    so samples on an edge land where numpy puts them.
     """
-    last = n_bins - 1
+    last = edges.shape[0] - 2
     for i in range(x.shape[0]):
-        k = int((x[i] - lo) * inv_width)
+        v = x[i]
+        k = int((v - lo) * inv_width)
         if k > last:
             k = last
         elif k < 0:
             k = 0
+        if v < edges[k] and k > 0:
+            k -= 1
+        elif k < last and v >= edges[k + 1]:
+            k += 1
         idx[i] = k
 
 
 @jit
-def joint_counts_uniform(ix, y, lo, inv_width, n_bins_y, counts):
+def joint_counts_uniform(ix, y, lo, inv_width, edges, counts):
     """Joint histogram of (bin index of x, equal-width bin of y) in one pass over y.
 
-    ix : (n,) int64 IN, x bin indices ; y : (n,) float64 IN ;
-    counts : (n_bins_x, n_bins_y) int64 OUT (zeroed here).
+    ix : (n,) int64 IN, x bin indices ; y : (n,) float64 IN ; edges : (ky + 1,) IN y
+    edges as in :func:`uniform_bin_index` ; counts : (kx, ky) int64 OUT (zeroed here).
     """
     counts[:, :] = 0
-    last = n_bins_y - 1
+    last = edges.shape[0] - 2
     for i in range(y.shape[0]):
-        k = int((y[i] - lo) * inv_width)
+        v = y[i]
+        k = int((v - lo) * inv_width)
         if k > last:
             k = last
         elif k < 0:
             k = 0
+        if v < edges[k] and k > 0:
+            k -= 1
+        elif k < last and v >= edges[k + 1]:
+            k += 1
         counts[ix[i], k] += 1
 
 

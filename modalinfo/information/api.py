@@ -155,8 +155,8 @@ class MutualInformation:
 
     ``MutualInformation(method, units, **options).fit(x)`` caches what depends only on
     x: its bin indices and range (histogram), its standardised or copula scores and
-    marginal kernel entropy (KDE), its sorted standardised values (KSG), its
-    normalised centred vector (Gaussian). ``.score(y)`` then costs only the y-side
+    marginal leave-one-out kernel density (KDE), its standardised values and KD-tree
+    (KSG), its normalised centred vector (Gaussian). ``.score(y)`` then costs only the y-side
     work, so a greedy search that holds x fixed and varies y pays once for x.
 
     Parameters

@@ -171,7 +171,7 @@ class _Axis:
             idx = np.empty(self.n, dtype=np.int64)
             if self.binning == "uniform":
                 inv = k / (self.hi - self.lo) if self.hi > self.lo else 0.0
-                kern.uniform_bin_index(self.x, self.lo, inv, k, idx)
+                kern.uniform_bin_index(self.x, self.lo, inv, self.edges(k), idx)
             else:
                 inner = self.edges(k)[1:-1]
                 idx[:] = np.searchsorted(inner, self.x, side="right")
@@ -226,7 +226,7 @@ class HistogramEngine:
         if self.binning == "uniform":
             lo, hi = float(y.min()), float(y.max())
             inv = ky / (hi - lo) if hi > lo else 0.0
-            kern.joint_counts_uniform(ix, y, lo, inv, ky, counts)
+            kern.joint_counts_uniform(ix, y, lo, inv, np.linspace(lo, hi, ky + 1), counts)
         else:
             iy = _Axis(y, "quantile").index(ky)
             kern.joint_counts_index(ix, iy, counts)

@@ -47,7 +47,7 @@ that bootstrap resamples contain, which bias the leave-one-out KDE and KSG upwar
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -109,7 +109,7 @@ class MIConfidenceResult:
     n_resamples: int
     bootstrap_std: float
     bootstrap_mean: float
-    bootstrap_distribution: np.ndarray
+    bootstrap_distribution: np.ndarray = field(repr=False)
     bootstrap: str
     interval: str
     method: str
@@ -140,7 +140,7 @@ class MIPermutationResult:
 
     statistic: float
     pvalue: float
-    null_distribution: np.ndarray
+    null_distribution: np.ndarray = field(repr=False)
     n_permutations: int
     permutation: str
     min_shift: int
@@ -267,9 +267,12 @@ def mutual_information_ci(
     ----------
     x, y : array_like, shape (n,)
         Paired samples in time order (n >= 10, finite).
-    method : {"kde", "histogram", "ksg", "gaussian"}
+    method : {"histogram", "kde", "gaussian"}
         Estimator (see :func:`modalinfo.information.mutual_information`). Default
-        ``"histogram"``: fast, and not biased by the duplicated samples of a resample.
+        ``"histogram"``: fast, and not biased by the duplicated samples of a resample
+        (the leave-one-out KDE is, upward by ~0.02 nats at n = 2000, which the default
+        "normal" interval ignores since it takes only the spread). ``"ksg"`` is
+        refused: repeated samples break nearest-neighbour estimators.
     units : {"nats", "bits"}
         Units of the results.
     confidence_level : float
@@ -304,6 +307,12 @@ def mutual_information_ci(
         Estimate, interval, block length and bootstrap distribution.
     """
     check_choice(method, "method", METHODS)
+    if method == "ksg":
+        raise ValueError(
+            "`method`='ksg' cannot be bootstrapped: resamples repeat samples, which the "
+            "nearest-neighbour estimator sees as zero distances (bootstrap mean 0.90 "
+            "nats for an estimate of 0.10, measured); use 'histogram' or 'kde'."
+        )
     check_choice(units, "units", tuple(UNITS))
     x, y = _pair(x, y)
     confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,

@@ -116,6 +116,8 @@ def test_bad_inputs(pair):
 
 def test_bad_inputs_uncertainty(pair):
     x, y = pair
+    with pytest.raises(ValueError, match=r"`method`='ksg' cannot be bootstrapped"):
+        mutual_information_ci(x, y, method="ksg")
     with pytest.raises(ValueError, match=r"`confidence_level` must be < 1.0; got 1.0"):
         mutual_information_ci(x, y, confidence_level=1.0)
     with pytest.raises(ValueError, match=r"`n_resamples` must be an int >= 10; got 2"):

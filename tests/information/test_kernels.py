@@ -22,10 +22,23 @@ def test_uniform_bin_index_matches_numpy_histogram(rng):
     k = 17
     lo, hi = x.min(), x.max()
     idx = np.empty(x.size, dtype=np.int64)
-    kern.uniform_bin_index(x, lo, k / (hi - lo), k, idx)
+    kern.uniform_bin_index(x, lo, k / (hi - lo), np.linspace(lo, hi, k + 1), idx)
     ref, _ = np.histogram(x, bins=k, range=(lo, hi))
     np.testing.assert_array_equal(np.bincount(idx, minlength=k), ref)
     assert idx.max() == k - 1  # the maximum goes to the last bin, as in numpy
+
+
+def test_uniform_binning_of_values_on_edges_matches_numpy():
+    # rounded data put many samples exactly on (or one ulp off) computed edges
+    x = np.round(np.random.default_rng(3).standard_normal(3000), 1)
+    for k in (2, 3, 7, 16, 25):
+        edges = np.linspace(x.min(), x.max(), k + 1)
+        idx = np.empty(x.size, dtype=np.int64)
+        kern.uniform_bin_index(x, x.min(), k / np.ptp(x), edges, idx)
+        ref = np.searchsorted(edges, x, side="right") - 1
+        ref[ref == k] = k - 1
+        np.testing.assert_array_equal(idx, ref)
+        np.testing.assert_array_equal(np.bincount(idx, minlength=k), np.histogram(x, k)[0])
 
 
 def test_joint_counts_match_histogram2d(rng):
@@ -33,13 +46,14 @@ def test_joint_counts_match_histogram2d(rng):
     y = 0.5 * x + rng.standard_normal(3000)
     kx, ky = 9, 13
     ix = np.empty(x.size, dtype=np.int64)
-    kern.uniform_bin_index(x, x.min(), kx / np.ptp(x), kx, ix)
+    kern.uniform_bin_index(x, x.min(), kx / np.ptp(x), np.linspace(x.min(), x.max(), kx + 1), ix)
     counts = np.empty((kx, ky), dtype=np.int64)
-    kern.joint_counts_uniform(ix, y, y.min(), ky / np.ptp(y), ky, counts)
+    ey = np.linspace(y.min(), y.max(), ky + 1)
+    kern.joint_counts_uniform(ix, y, y.min(), ky / np.ptp(y), ey, counts)
     ref, _, _ = np.histogram2d(x, y, bins=(kx, ky))
     np.testing.assert_array_equal(counts, ref.astype(np.int64))
     iy = np.empty(y.size, dtype=np.int64)
-    kern.uniform_bin_index(y, y.min(), ky / np.ptp(y), ky, iy)
+    kern.uniform_bin_index(y, y.min(), ky / np.ptp(y), ey, iy)
     counts2 = np.full((kx, ky), -5, dtype=np.int64)
     kern.joint_counts_index(ix, iy, counts2)
     np.testing.assert_array_equal(counts2, counts)
@@ -134,7 +148,8 @@ def test_kernels_callable_from_njit(rng):
     @nb.njit
     def driver(x, k):
         idx = np.empty(x.shape[0], dtype=np.int64)
-        kern.uniform_bin_index(x, x.min(), k / (x.max() - x.min()), k, idx)
+        kern.uniform_bin_index(x, x.min(), k / (x.max() - x.min()),
+                               np.linspace(x.min(), x.max(), k + 1), idx)
         counts = np.empty((k, k), dtype=np.int64)
         kern.joint_counts_index(idx, idx, counts)
         out = np.empty(4)
