@@ -3,8 +3,8 @@
 The maths
 ---------
 The joint density of z = (x, y) is estimated with a Gaussian kernel whose covariance
-follows the data covariance, ``H = h^2 S`` (S the sample covariance, h the bandwidth
-factor), as ``scipy.stats.gaussian_kde`` does:
+follows the data covariance, ``H = h^2 S`` (S the sample covariance with ddof = 0, h the
+bandwidth factor), as ``scipy.stats.gaussian_kde`` does (it uses ddof = 1):
 
     f(z) = (1/n) sum_j N(z - z_j; h^2 S).
 
