@@ -10,13 +10,17 @@ h > 1 feed the network its own outputs.
 
 Configurations
 --------------
-- :meth:`NeuralNetPredictor.paper`: the paper's 10-10-1 network on 10 patterns. It
-  is reported as published; on smooth or closed-loop-like series it is typically
-  several times worse than persistence, with a wide spread over seeds (10 patterns
-  cannot constrain 121 weights).
-- The default: the same 10-10-1 architecture trained on 1000 patterns with L-BFGS on
-  standardised inputs (mean and standard deviation of the training series), which
-  actually learns the dynamics.
+- :meth:`NeuralNetPredictor.paper`: the paper's 10-10-1 network on 10 patterns, trained
+  without regularisation (scikit-learn's default ``alpha = 1e-4``, as the paper's plain
+  back-propagation). It is reported as published; on smooth or closed-loop-like series
+  it is typically several times worse than persistence, with a wide spread over seeds
+  (10 patterns cannot constrain 121 weights).
+- The default: the same 10-10-1 architecture trained on 2000 patterns with L-BFGS on
+  standardised inputs (mean and standard deviation of the training series) and an L2
+  penalty ``alpha = 1``, which actually learns the dynamics. Measured on the KAOS-like
+  closed-loop log (6 modes, 7000 training frames): one-step gain over persistence
+  1.13-1.18 with ``alpha = 1`` against 0.99-1.09 with ``alpha = 1e-4`` (over-fitting),
+  and 5x faster training.
 
 ``ConvergenceWarning`` from scikit-learn (L-BFGS stopping at ``max_iter``) is caught
 during training and recorded in ``converged_`` instead of being raised: a network
@@ -58,7 +62,7 @@ class NeuralNetPredictor(Predictor):
     solver : {"lbfgs", "adam", "sgd"}
         scikit-learn solver.
     alpha : float
-        L2 penalty.
+        L2 penalty (scikit-learn's ``alpha``, on standardised data).
     max_iter : int
         Training iterations.
     standardize : bool
@@ -81,8 +85,8 @@ class NeuralNetPredictor(Predictor):
     """
 
     def __init__(self, *, n_inputs: int = 10, n_hidden: int = 10,
-                 n_patterns: int | None = 1000, activation: str = "tanh",
-                 solver: str = "lbfgs", alpha: float = 1e-4, max_iter: int = 500,
+                 n_patterns: int | None = 2000, activation: str = "tanh",
+                 solver: str = "lbfgs", alpha: float = 1.0, max_iter: int = 500,
                  standardize: bool = True, warm_start: bool = True, random_state: int = 0,
                  horizon: int = 10, refit_every: int | None = None,
                  window: int | None = None):
@@ -103,7 +107,8 @@ class NeuralNetPredictor(Predictor):
         """Return the paper's configuration: 10 inputs, 10 hidden neurons, 10 patterns.
 
         The paper does not give the activation, training algorithm or scaling; this
-        uses the defaults of this class for those (tanh, L-BFGS, standardised).
+        uses the defaults of this class for those (tanh, L-BFGS, standardised) and no
+        regularisation (``alpha = 1e-4``, scikit-learn's default).
 
         Parameters
         ----------
@@ -114,7 +119,7 @@ class NeuralNetPredictor(Predictor):
         -------
         NeuralNetPredictor
         """
-        params = {"n_inputs": 10, "n_hidden": 10, "n_patterns": 10}
+        params = {"n_inputs": 10, "n_hidden": 10, "n_patterns": 10, "alpha": 1e-4}
         params.update(overrides)
         return cls(**params)
 
