@@ -1,6 +1,26 @@
-"""Wavefront forecasting: persistence, linear, ARMA, neural-net and multivariate predictors."""
+"""Wavefront forecasting: persistence, linear, ARMA, neural-net and multivariate predictors.
 
-from modalinfo.forecast.arma import ARMAPredictor, ForecastInterval, psi_weights
+Every predictor shares the :class:`Predictor` interface: ``fit(history)``,
+``predict(history, horizon)`` offline, and ``reset()`` / ``update(x_t)`` online (what
+the closed-loop simulator calls each loop step), with bit-identical forecasts on both
+paths. :func:`evaluate` compares predictors on a log, rolling-origin and without
+look-ahead, and returns a :class:`ForecastEvaluation` (RMSE per mode and for the whole
+wavefront, gain over persistence, interval coverage, skill test).
+
+Example
+-------
+>>> from modalinfo.forecast import ARMAPredictor, LinearPredictor, evaluate
+>>> result = evaluate({"arma": ARMAPredictor(), "linear": LinearPredictor()}, log,
+...                   train=7000)                                  # doctest: +SKIP
+>>> print(result.summary())                                        # doctest: +SKIP
+"""
+
+from modalinfo.forecast.arma import (
+    ARMAPredictor,
+    ForecastInterval,
+    psi_weights,
+    sample_autocovariance,
+)
 from modalinfo.forecast.base import NotFittedError, Predictor
 from modalinfo.forecast.evaluate import ForecastEvaluation, evaluate
 from modalinfo.forecast.linear import LinearPredictor
@@ -20,6 +40,7 @@ __all__ = [
     "RLSMultivariatePredictor",
     "ForecastInterval",
     "psi_weights",
+    "sample_autocovariance",
     "evaluate",
     "ForecastEvaluation",
 ]
