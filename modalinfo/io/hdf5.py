@@ -8,9 +8,15 @@ Layout written by :func:`write_hdf5`:
     browsing the file;
 ``/timestamps``
     ``(T,)`` float64 seconds, only with explicit timestamps;
-root attribute ``modalinfo``
-    the JSON header (modes, metadata, ...) including a SHA-256 of the data,
-    verified on reading (HDF5 itself has no checksum on contiguous data).
+``/modalinfo_header``
+    the JSON header (modes, metadata, ...) as a ``uint8`` dataset of ASCII bytes,
+    including a SHA-256 of the data, verified on reading (HDF5 itself has no
+    checksum on contiguous data).
+
+Nothing is stored as a variable-length string: libhdf5 1.14 (through h5py)
+crashes the interpreter with a segmentation fault when it reads a variable-length
+string whose global-heap reference is damaged (found by flipping single bits of
+test files), whereas damaged fixed-size data give an error or a checksum mismatch.
 
 ``mmap=True`` memory-maps a contiguous, unfiltered dataset straight from the file
 (its byte offset comes from h5py), after checking the file is long enough; the
@@ -46,6 +52,7 @@ from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_hdf5", "write_hdf5"]
 
+_HEADER = "modalinfo_header"
 _COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data")
 _TIME_NAMES = ("timestamps", "times", "time", "t")
 
@@ -80,12 +87,13 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
             for block in log.iter_chunks(max(1, (1 << 22) // log.n_modes)):
                 dset[rows : rows + block.shape[0]] = block
                 rows += block.shape[0]
-            dset.attrs["units"] = log.units
-            dset.attrs["convention"] = log.convention
-            dset.attrs["labels"] = log.labels
+            # fixed-length byte strings: no variable-length heap references (see module doc)
+            dset.attrs["units"] = np.bytes_(log.units)
+            dset.attrs["convention"] = np.bytes_(log.convention)
+            dset.attrs["labels"] = np.array([lab.encode("utf-8") for lab in log.labels])
             if log.timestamps is not None:
                 f.create_dataset("timestamps", data=np.asarray(log.timestamps))
-            f.attrs["modalinfo"] = header
+            f.create_dataset(_HEADER, data=np.frombuffer(header.encode("ascii"), dtype=np.uint8))
 
     return atomic_write(Path(path), write, overwrite=overwrite, by_name=True)
 
@@ -155,11 +163,12 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
     check_readable(path)
     with reading("HDF5", path):
         with h5py.File(path, "r") as f:
-            if "modalinfo" in f.attrs:
-                text = f.attrs["modalinfo"]
-                if isinstance(text, bytes):
-                    text = text.decode("utf-8")
-                header = parse_header(str(text), "HDF5", path, verify=verify)
+            if _HEADER in f:
+                raw = f[_HEADER]
+                if raw.dtype != np.uint8 or raw.ndim != 1:
+                    raise LogFormatError(f"corrupt HDF5 file '{path}': bad {_HEADER} dataset")
+                text = raw[()].tobytes().decode("ascii")
+                header = parse_header(text, "HDF5", path, verify=verify)
                 if "coefficients" not in f:
                     raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
                 coeffs = _load(f["coefficients"], path, mmap)
@@ -193,7 +202,7 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
                 if "convention" in two_d[key].attrs and "labels" in two_d[key].attrs:
                     raise LogFormatError(
                         f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "
-                        "but the file's 'modalinfo' header attribute is missing"
+                        f"but the file's {_HEADER!r} dataset is missing"
                     )
                 coeffs = _load(two_d[key], path, mmap)
                 stored: dict[str, Any] = {

@@ -108,8 +108,10 @@ def _count_nonfinite(arr: np.ndarray) -> int:
     """Count NaN/inf values in ``arr``, scanning in blocks (cheap when all finite)."""
     bad = 0
     for block in _row_blocks(arr, _scan_rows(arr)):
-        if np.isfinite(block.sum(dtype=np.float64)):
-            continue  # a NaN or inf anywhere would make the sum non-finite
+        with np.errstate(over="ignore", invalid="ignore"):
+            total = block.sum(dtype=np.float64)
+        if np.isfinite(total):
+            continue  # a NaN or inf anywhere would make the sum non-finite (or overflow)
         bad += int(block.size - np.count_nonzero(np.isfinite(block)))
     return bad
 

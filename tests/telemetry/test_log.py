@@ -444,3 +444,9 @@ def test_memmap_summary_releases_pages(tmp_path):
     np.asarray(mm).sum()  # control: an ordinary full read leaves the map resident
     assert _mapped_rss_kib("big.npy") > 48 * 1024
     assert resident < 8 * 1024, f"{resident} KiB of the 64 MiB map stayed resident"
+
+
+def test_huge_finite_values_are_not_mistaken_for_nonfinite():
+    big = np.finfo(np.float64).max
+    log = ModalLog(np.array([[big, big], [big, -big]]), rate=1.0)  # the sum overflows
+    assert log.n_frames == 2 and log.repairs == ()
