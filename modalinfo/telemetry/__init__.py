@@ -1,10 +1,10 @@
 """Telemetry logs of modal coefficients: ``ModalLog``, units and one-pass summaries.
 
 ``modalinfo.telemetry.synthetic`` holds the synthetic open/closed-loop logs
-(``open_loop_log``, ``closed_loop_log``, ``kaos_like``).
+(``open_loop_log``, ``closed_loop_log``, ``kaos_like``); it is imported on first
+use (it needs scipy), so reading and summarising logs stays light.
 """
 
-from modalinfo.telemetry import synthetic  # imports telemetry.log itself: order-free
 from modalinfo.telemetry.log import (
     CONVENTIONS,
     NONFINITE_POLICIES,
@@ -33,3 +33,11 @@ __all__ = [
     "rms_from_peak_normalized",
     "peak_normalized_from_rms",
 ]
+
+
+def __getattr__(name: str):
+    if name == "synthetic":
+        import importlib
+
+        return importlib.import_module("modalinfo.telemetry.synthetic")
+    raise AttributeError(f"module 'modalinfo.telemetry' has no attribute {name!r}")
