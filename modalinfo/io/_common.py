@@ -183,14 +183,19 @@ def parse_header(text: str, fmt: str, path: Path, *, verify: bool = True) -> dic
 
 
 def sha256_of(arr: np.ndarray) -> str:
-    """SHA-256 hex digest of ``arr``'s values in C order, hashed block by block."""
+    """SHA-256 hex digest of ``arr``'s *values* (little-endian, C order), block by block.
+
+    Hashing values rather than raw bytes means a damaged byte-order flag (which
+    leaves the bytes intact but changes every value) is caught too.
+    """
     digest = hashlib.sha256()
+    little = arr.dtype.newbyteorder("<")
     if arr.ndim == 1:
-        digest.update(np.ascontiguousarray(arr).data)
+        digest.update(np.ascontiguousarray(arr, dtype=little).data)
         return digest.hexdigest()
     rows = max(1, _SCAN_ELEMENTS // max(1, arr.shape[1]))
     for i0 in range(0, arr.shape[0], rows):
-        digest.update(np.ascontiguousarray(arr[i0 : i0 + rows]).data)
+        digest.update(np.ascontiguousarray(arr[i0 : i0 + rows], dtype=little).data)
     return digest.hexdigest()
 
 

@@ -172,7 +172,9 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
                 if "coefficients" not in f:
                     raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
                 coeffs = _load(f["coefficients"], path, mmap)
-                if list(coeffs.shape) != header["shape"] or coeffs.dtype.name != header["dtype"]:
+                if list(coeffs.shape) != header["shape"] or coeffs.dtype.str != "<" + (
+                    "f4" if header["dtype"] == "float32" else "f8"
+                ):
                     raise LogFormatError(
                         f"corrupt HDF5 file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
                         f"disagree with the header {tuple(header['shape'])} {header['dtype']}"
@@ -182,6 +184,11 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
                     if "timestamps" not in f:
                         raise LogFormatError(f"corrupt HDF5 file '{path}': timestamps missing")
                     stored["timestamps"] = f["timestamps"][()]
+                    if stored["timestamps"].dtype.str != "<f8":
+                        raise LogFormatError(
+                            f"corrupt HDF5 file '{path}': timestamps have dtype "
+                            f"{stored['timestamps'].dtype.str}, expected <f8"
+                        )
                 if verify and not isinstance(coeffs, np.memmap):
                     verify_checksum(header, "coefficients", coeffs, "HDF5", path)
                     if header["has_timestamps"]:

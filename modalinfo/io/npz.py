@@ -209,7 +209,8 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
                 coeffs = _mmap_member(path, zf, names["coefficients"]) if mmap else None
                 if coeffs is None:
                     coeffs = _read_member(zf, names["coefficients"])
-                if list(coeffs.shape) != header["shape"] or coeffs.dtype.name != header["dtype"]:
+                want = "<f4" if header["dtype"] == "float32" else "<f8"
+                if list(coeffs.shape) != header["shape"] or coeffs.dtype.str != want:
                     raise ValueError(
                         f"coefficients {coeffs.shape} {coeffs.dtype} disagree with the header "
                         f"{tuple(header['shape'])} {header['dtype']}"
