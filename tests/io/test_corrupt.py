@@ -227,3 +227,29 @@ def test_fuzz_npz_only_documented_errors(members, cut):
         except _ALLOWED:
             return
         assert isinstance(log, ModalLog)
+
+
+@pytest.mark.parametrize("mmap", [False, True])
+def test_hdf5_byte_order_flag_damage_detected(tmp_path, mmap):
+    """Same bytes, other byte order: every value changes, so it must not load."""
+    import h5py
+
+    log = ModalLog(np.random.default_rng(3).standard_normal((30, 3)), rate=10.0)
+    path = save(log, tmp_path / "x.h5")
+    with h5py.File(path, "r+") as f:
+        del f["coefficients"]
+        f.create_dataset("coefficients", data=np.asarray(log.coeffs).view(">f8"))
+    with pytest.raises(LogFormatError, match=r"corrupt HDF5 file .*>f8 disagree"):
+        load(path, mmap=mmap)
+
+
+def test_hdf5_checksum_covers_values(tmp_path):
+    import h5py
+
+    log = ModalLog(np.random.default_rng(4).standard_normal((30, 3)), rate=10.0)
+    path = save(log, tmp_path / "y.h5")
+    with h5py.File(path, "r+") as f:
+        f["coefficients"][5, 1] = 0.0
+    with pytest.raises(LogFormatError, match=r"coefficients do not match their SHA-256"):
+        load(path)
+    assert load(path, verify=False).coeffs[5, 1] == 0.0
