@@ -685,7 +685,10 @@ class ModalLog:
         """
         out = self
         if modes is not None:
-            out = out._take_modes(out._column_indices(modes, "modes"))
+            columns = out._column_indices(modes, "modes")
+            if len(set(columns)) != len(columns):
+                raise ValueError(f"`modes` must not name a mode twice; got {modes!r}.")
+            out = out._take_modes(columns)
         if time is not None:
             if out.times is None:
                 raise ValueError(

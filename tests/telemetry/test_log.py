@@ -242,6 +242,8 @@ def test_select_and_drop_modes():
     assert log.without_piston_tiptilt().modes == [4, 5, 6, 7]
     with pytest.raises(ValueError, match=r"`modes` entry 11 is not a mode of this log"):
         log.select(modes=[11])
+    with pytest.raises(ValueError, match="must not name a mode twice"):
+        log.select(modes=[4, "Z4"])
     with pytest.raises(ValueError, match="leaves no mode"):
         log.drop_modes(log.modes)
     with pytest.raises(TypeError, match="entries must be mode indices or labels"):
