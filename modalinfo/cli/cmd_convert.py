@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from modalinfo.cli.cmd_info import add_hint_arguments, hints_from_args
+from modalinfo.cli._common import add_hint_arguments, hints_from_args
 
 NAME = "convert"
 HELP = "Convert a telemetry log between formats (npz/csv/fits/h5), units and conventions."

@@ -14,7 +14,8 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli.cmd_reorder import add_common_arguments, check_output, load_log
+from modalinfo.cli._common import check_output, load_log
+from modalinfo.cli.cmd_reorder import add_common_arguments
 
 NAME = "fitting-error"
 HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."

@@ -101,8 +101,7 @@ def _parse_predictors(text: str) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     """Evaluate, print the table, write the outputs; return 0."""
-    from modalinfo.cli.cmd_info import parse_modes
-    from modalinfo.cli.cmd_reorder import load_log
+    from modalinfo.cli._common import load_log, parse_modes
 
     if args.horizon < 1:
         raise CommandError(f"--horizon must be an int >= 1; got {args.horizon}")

@@ -15,6 +15,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
+from modalinfo.cli._common import check_output, load_log
 
 NAME = "reorder"
 HELP = "Order the modes of a Zernike or K-L basis by mutual information (or a baseline)."
@@ -52,25 +53,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--stability", type=int, default=None, metavar="FRAMES",
                         help="also order consecutive windows of FRAMES frames and seeds 0-2, "
                              "and print their rank correlations")
-
-
-def check_output(path: Path | None, overwrite: bool) -> None:
-    """Refuse an existing output unless ``--overwrite``; the directory must exist."""
-    if path is None:
-        return
-    if path.exists() and not overwrite:
-        raise CommandError(f"output '{path}' exists; pass --overwrite to replace it")
-    if not path.parent.exists():
-        raise CommandError(f"output directory '{path.parent}' does not exist")
-
-
-def load_log(path: Path):
-    """Read a log with ``modalinfo.io.load`` (errors become one-line messages)."""
-    from modalinfo.io import load
-
-    if not path.is_file():
-        raise CommandError(f"log file '{path}' does not exist")
-    return load(path)
 
 
 def run(args: argparse.Namespace) -> int:
