@@ -11,6 +11,111 @@ import numpy as np
 
 from modalinfo._numba import jit
 
+# ---------------------------------------------------------------------------------
+# Small helpers: the one place where each piece of grid logic is written. numba
+# compiles calls between jitted functions as direct calls and LLVM inlines them.
+# ---------------------------------------------------------------------------------
+
+
+@jit(inline="always")
+def _edge_bin(v, lo, inv_width, edges, last):
+    """Equal-width bin of v among bins 0..last, corrected against the actual edges."""
+    k = int((v - lo) * inv_width)
+    if k > last:
+        k = last
+    elif k < 0:
+        k = 0
+    if v < edges[k] and k > 0:
+        k -= 1
+    elif k < last and v >= edges[k + 1]:
+        k += 1
+    return k
+
+
+@jit(inline="always")
+def _cell(x, lo, inv_delta, last):
+    """Left grid node k in [0, last] of x and its fraction (x - lo) inv_delta - k."""
+    t = (x - lo) * inv_delta
+    k = int(t)
+    if k > last:
+        k = last
+    elif k < 0:
+        k = 0
+    return k, t - k
+
+
+@jit(inline="always")
+def _spread_1d(grid, k, f):
+    """Add a unit sample with fraction f to nodes k and k + 1 (linear binning)."""
+    grid[k] += 1.0 - f
+    grid[k + 1] += f
+
+
+@jit(inline="always")
+def _spread_2d(grid, k, m, a, b):
+    """Add a unit sample with fractions (a, b) to the four nodes of cell (k, m)."""
+    grid[k, m] += (1.0 - a) * (1.0 - b)
+    grid[k + 1, m] += a * (1.0 - b)
+    grid[k, m + 1] += (1.0 - a) * b
+    grid[k + 1, m + 1] += a * b
+
+
+@jit(inline="always")
+def _self_kernel(f, k0, k1):
+    """Own contribution s(f) = ((1-f)^2 + f^2) k0 + 2 f (1-f) k1 of a binned sample."""
+    return ((1.0 - f) * (1.0 - f) + f * f) * k0 + 2.0 * f * (1.0 - f) * k1
+
+
+@jit(inline="always")
+def _loo(val, own, n, floor):
+    """Leave-one-out density (n val - own) / (n - 1), floored at ``floor``."""
+    val = (n * val - own) / (n - 1.0)
+    if val < floor:
+        val = floor
+    return val
+
+
+@jit(inline="always")
+def _loo_at_1d(dens, k, f, n, k0, k1, floor):
+    """LOO density of a sample at node k, fraction f, linearly interpolated from dens."""
+    val = (1.0 - f) * dens[k] + f * dens[k + 1]
+    return _loo(val, _self_kernel(f, k0, k1), n, floor)
+
+
+@jit(inline="always")
+def _loo_at_2d(dens, k, m, a, b, n, k0, k1, floor):
+    """LOO density of a sample in cell (k, m), fractions (a, b), bilinear from dens."""
+    val = (
+        (1.0 - a) * (1.0 - b) * dens[k, m]
+        + a * (1.0 - b) * dens[k + 1, m]
+        + (1.0 - a) * b * dens[k, m + 1]
+        + a * b * dens[k + 1, m + 1]
+    )
+    return _loo(val, _self_kernel(a, k0, k1) * _self_kernel(b, k0, k1), n, floor)
+
+
+@jit(inline="always")
+def _log_product_step(acc, prod, count, ratio):
+    """Multiply ``ratio`` into a running product, folding its log into acc when due.
+
+    ln(prod) is added to acc every 8 factors, or earlier when prod leaves
+    1e-150 .. 1e150. Returns the new (acc, prod, count).
+    """
+    prod *= ratio
+    count += 1
+    if count == 8 or prod > 1e150 or prod < 1e-150:
+        acc += np.log(prod)
+        prod = 1.0
+        count = 0
+    return acc, prod, count
+
+
+@jit(inline="always")
+def _whiten(u, y, mean, inv_std, r, inv_s):
+    """Return v = (y - mean) inv_std and w = (v - r u) inv_s of one sample."""
+    v = (y - mean) * inv_std
+    return v, (v - r * u) * inv_s
+
 
 @jit
 def uniform_bin_index(x, lo, inv_width, edges, idx):
@@ -23,17 +128,7 @@ def uniform_bin_index(x, lo, inv_width, edges, idx):
     """
     last = edges.shape[0] - 2
     for i in range(x.shape[0]):
-        v = x[i]
-        k = int((v - lo) * inv_width)
-        if k > last:
-            k = last
-        elif k < 0:
-            k = 0
-        if v < edges[k] and k > 0:
-            k -= 1
-        elif k < last and v >= edges[k + 1]:
-            k += 1
-        idx[i] = k
+        idx[i] = _edge_bin(x[i], lo, inv_width, edges, last)
 
 
 @jit
@@ -46,17 +141,7 @@ def joint_counts_uniform(ix, y, lo, inv_width, edges, counts):
     counts[:, :] = 0
     last = edges.shape[0] - 2
     for i in range(y.shape[0]):
-        v = y[i]
-        k = int((v - lo) * inv_width)
-        if k > last:
-            k = last
-        elif k < 0:
-            k = 0
-        if v < edges[k] and k > 0:
-            k -= 1
-        elif k < last and v >= edges[k + 1]:
-            k += 1
-        counts[ix[i], k] += 1
+        counts[ix[i], _edge_bin(y[i], lo, inv_width, edges, last)] += 1
 
 
 @jit
@@ -112,175 +197,99 @@ def plugin_mi_from_counts(counts, out):
 
 
 @jit
-def linear_bin_1d(u, lo, inv_delta, grid, idx, frac):
+def linear_bin_1d(u, lo, inv_delta, grid):
     """Linear binning of samples onto a 1-D grid (Wand & Jones 1995, app. D).
 
-    u : (n,) IN ; grid : (G,) float64 OUT (zeroed here, weights sum to n) ;
-    idx : (n,) int64 OUT left node ; frac : (n,) float64 OUT weight of the right node.
-    Samples must lie in [lo, lo + (G - 1) / inv_delta].
+    u : (n,) IN ; grid : (G,) float64 OUT (zeroed here, weights sum to n). Sample i
+    goes to nodes k, k + 1 with weights 1 - f, f, where k + f = (u_i - lo) inv_delta
+    (k clamped to [0, G - 2]). Samples must lie in [lo, lo + (G - 1) / inv_delta].
+    The interpolation kernels below recompute k and f the same way, bit for bit.
     """
     grid[:] = 0.0
     last = grid.shape[0] - 2
     for i in range(u.shape[0]):
-        t = (u[i] - lo) * inv_delta
-        k = int(t)
-        if k > last:
-            k = last
-        elif k < 0:
-            k = 0
-        f = t - k
-        idx[i] = k
-        frac[i] = f
-        grid[k] += 1.0 - f
-        grid[k + 1] += f
+        k, f = _cell(u[i], lo, inv_delta, last)
+        _spread_1d(grid, k, f)
 
 
 @jit
-def linear_bin_2d(u, v, lo_u, lo_v, inv_delta, grid, iu, fu, iv, fv):
+def linear_bin_2d(u, v, lo_u, lo_v, inv_delta, grid):
     """Bilinear binning of points onto a 2-D grid with square cells of side 1/inv_delta.
 
-    u, v : (n,) IN ; grid : (Gu, Gv) float64 OUT (zeroed here, weights sum to n) ;
-    iu, iv : (n,) int64 OUT lower-left node ; fu, fv : (n,) float64 OUT fractions.
+    u, v : (n,) IN ; grid : (Gu, Gv) float64 OUT (zeroed here, weights sum to n).
     """
     grid[:, :] = 0.0
     last_u = grid.shape[0] - 2
     last_v = grid.shape[1] - 2
     for i in range(u.shape[0]):
-        t = (u[i] - lo_u) * inv_delta
-        k = int(t)
-        if k > last_u:
-            k = last_u
-        elif k < 0:
-            k = 0
-        a = t - k
-        s = (v[i] - lo_v) * inv_delta
-        m = int(s)
-        if m > last_v:
-            m = last_v
-        elif m < 0:
-            m = 0
-        b = s - m
-        iu[i] = k
-        fu[i] = a
-        iv[i] = m
-        fv[i] = b
-        grid[k, m] += (1.0 - a) * (1.0 - b)
-        grid[k + 1, m] += a * (1.0 - b)
-        grid[k, m + 1] += (1.0 - a) * b
-        grid[k + 1, m + 1] += a * b
+        k, a = _cell(u[i], lo_u, inv_delta, last_u)
+        m, b = _cell(v[i], lo_v, inv_delta, last_v)
+        _spread_2d(grid, k, m, a, b)
 
 
 @jit
-def loo_log_density_sum_1d(dens, idx, frac, n, k0, k1, floor):
-    """Sum of log leave-one-out densities of the samples, interpolated from a grid.
+def loo_density_1d(u, lo, inv_delta, dens, n, k0, k1, floor, out):
+    """Leave-one-out density of each sample, linearly interpolated from a 1-D grid.
 
-    dens : (G,) IN = (1/n) sum_j (binned sample j convolved with the kernel), i.e.
-    the density on the grid including every sample's own contribution. The own
-    contribution of a sample with fraction f, after linear binning, convolution and
-    linear interpolation, is exactly ``s(f) = ((1-f)^2 + f^2) k0 + 2 f (1-f) k1``
-    (k0, k1: kernel values at 0 and 1 grid step). f_loo = (n dens_i - s) / (n - 1),
-    floored at ``floor``. Returns sum_i log f_loo.
+    u, lo, inv_delta : as given to :func:`linear_bin_1d` ; dens : (G,) IN = (1/n)
+    sum_j (binned sample j convolved with the kernel), i.e. the density on the grid
+    including every sample's own contribution. The own contribution of a sample with
+    fraction f, after linear binning, convolution and linear interpolation, is
+    exactly ``s(f) = ((1-f)^2 + f^2) k0 + 2 f (1-f) k1`` (k0, k1: kernel values at 0
+    and 1 grid step). out : (n,) float64 OUT, f_loo = (n dens_i - s) / (n - 1),
+    floored at ``floor``.
     """
+    last = dens.shape[0] - 2
+    for i in range(u.shape[0]):
+        k, f = _cell(u[i], lo, inv_delta, last)
+        out[i] = _loo_at_1d(dens, k, f, n, k0, k1, floor)
+
+
+@jit
+def loo_log_density_sum_2d(u, v, lo_u, lo_v, inv_delta, dens, n, k0, k1, floor):
+    """Sum of log leave-one-out densities of the points, bilinear from a 2-D grid.
+
+    The 2-D counterpart of :func:`loo_density_1d` for a separable kernel: u, v,
+    lo_u, lo_v, inv_delta as given to :func:`linear_bin_2d` ; dens : (Gu, Gv) IN; the
+    own contribution is the product s(a) s(b) of the 1-D ones (k0, k1 of the 1-D
+    factor kernel, same step on both axes). Returns sum_i log f_loo.
+    """
+    last_u = dens.shape[0] - 2
+    last_v = dens.shape[1] - 2
     acc = 0.0
-    for i in range(idx.shape[0]):
-        k = idx[i]
-        f = frac[i]
-        val = (1.0 - f) * dens[k] + f * dens[k + 1]
-        own = ((1.0 - f) * (1.0 - f) + f * f) * k0 + 2.0 * f * (1.0 - f) * k1
-        val = (n * val - own) / (n - 1.0)
-        if val < floor:
-            val = floor
-        acc += np.log(val)
+    for i in range(u.shape[0]):
+        k, a = _cell(u[i], lo_u, inv_delta, last_u)
+        m, b = _cell(v[i], lo_v, inv_delta, last_v)
+        acc += np.log(_loo_at_2d(dens, k, m, a, b, n, k0, k1, floor))
     return acc
 
 
 @jit
-def loo_log_density_sum_2d(dens, iu, fu, iv, fv, n, k0, k1, floor):
-    """2-D counterpart of :func:`loo_log_density_sum_1d` for a separable kernel.
+def loo_log_ratio_sum_2d(u, v, lo_u, lo_v, inv_delta, dens, n, k0, k1, floor, fx, fy):
+    """Sum over points of log(f_xy_loo / (f_x_loo f_y_loo)): the resubstitution MI x n.
 
-    dens : (Gu, Gv) IN, bilinear interpolation; the own contribution is the product
-    s(fu) s(fv) of the 1-D ones (k0, k1 of the 1-D factor kernel, same step on both
-    axes).
+    u, v, lo_u, lo_v, inv_delta, dens, n, k0, k1, floor as in
+    :func:`loo_log_density_sum_2d`; fx, fy : (n,) IN marginal leave-one-out densities
+    (> 0). The ratios are multiplied in runs of up to 8 and one logarithm is taken
+    per run; a run is closed early when the running product leaves 1e-150 .. 1e150,
+    so it never under- or overflows (each ratio is bounded by the density floors).
     """
-    acc = 0.0
-    for i in range(iu.shape[0]):
-        k = iu[i]
-        m = iv[i]
-        a = fu[i]
-        b = fv[i]
-        val = (
-            (1.0 - a) * (1.0 - b) * dens[k, m]
-            + a * (1.0 - b) * dens[k + 1, m]
-            + (1.0 - a) * b * dens[k, m + 1]
-            + a * b * dens[k + 1, m + 1]
-        )
-        own_u = ((1.0 - a) * (1.0 - a) + a * a) * k0 + 2.0 * a * (1.0 - a) * k1
-        own_v = ((1.0 - b) * (1.0 - b) + b * b) * k0 + 2.0 * b * (1.0 - b) * k1
-        val = (n * val - own_u * own_v) / (n - 1.0)
-        if val < floor:
-            val = floor
-        acc += np.log(val)
-    return acc
-
-
-@jit
-def loo_density_1d(dens, idx, frac, n, k0, k1, floor, out):
-    """Leave-one-out density of each sample from a 1-D grid (see loo_log_density_sum_1d).
-
-    out : (n,) float64 OUT, floored at ``floor``.
-    """
-    for i in range(idx.shape[0]):
-        k = idx[i]
-        f = frac[i]
-        val = (1.0 - f) * dens[k] + f * dens[k + 1]
-        own = ((1.0 - f) * (1.0 - f) + f * f) * k0 + 2.0 * f * (1.0 - f) * k1
-        val = (n * val - own) / (n - 1.0)
-        if val < floor:
-            val = floor
-        out[i] = val
-
-
-@jit
-def loo_log_ratio_sum_2d(dens, iu, fu, iv, fv, n, k0, k1, floor, fx, fy):
-    """Sum over samples of log(f_xy_loo / (f_x_loo f_y_loo)): the resubstitution MI x n.
-
-    dens, iu, fu, iv, fv, n, k0, k1, floor as in :func:`loo_log_density_sum_2d`;
-    fx, fy : (n,) IN marginal leave-one-out densities (> 0). The ratios are multiplied
-    in runs of up to 8 and one logarithm is taken per run; a run is closed early when
-    the running product leaves 1e-150 .. 1e150, so it never under- or overflows (each
-    ratio is bounded by the density floors).
-    """
+    last_u = dens.shape[0] - 2
+    last_v = dens.shape[1] - 2
     acc = 0.0
     prod = 1.0
     count = 0
-    for i in range(iu.shape[0]):
-        k = iu[i]
-        m = iv[i]
-        a = fu[i]
-        b = fv[i]
-        val = (
-            (1.0 - a) * (1.0 - b) * dens[k, m]
-            + a * (1.0 - b) * dens[k + 1, m]
-            + (1.0 - a) * b * dens[k, m + 1]
-            + a * b * dens[k + 1, m + 1]
-        )
-        own_u = ((1.0 - a) * (1.0 - a) + a * a) * k0 + 2.0 * a * (1.0 - a) * k1
-        own_v = ((1.0 - b) * (1.0 - b) + b * b) * k0 + 2.0 * b * (1.0 - b) * k1
-        val = (n * val - own_u * own_v) / (n - 1.0)
-        if val < floor:
-            val = floor
-        prod *= val / (fx[i] * fy[i])
-        count += 1
-        if count == 8 or prod > 1e150 or prod < 1e-150:
-            acc += np.log(prod)
-            prod = 1.0
-            count = 0
+    for i in range(u.shape[0]):
+        k, a = _cell(u[i], lo_u, inv_delta, last_u)
+        m, b = _cell(v[i], lo_v, inv_delta, last_v)
+        val = _loo_at_2d(dens, k, m, a, b, n, k0, k1, floor)
+        acc, prod, count = _log_product_step(acc, prod, count, val / (fx[i] * fy[i]))
     return acc + np.log(prod)
 
 
 @jit
 def standardise(x, out):
-    """Write (x - mean) / std (population std, ddof = 0) into out; return (mean, std).
+    """Write (x - mean) / std (ddof = 0) into out; return (mean, std, min, max of out).
 
     x : (n,) IN ; out : (n,) float64 OUT. Two passes, no BLAS (whose threads spin
     under contention). std must be > 0 (checked by the wrapper).
@@ -296,9 +305,14 @@ def standardise(x, out):
         ss += d * d
     std = np.sqrt(ss / n)
     inv = 1.0 / std
+    lo = np.inf
+    hi = -np.inf
     for i in range(n):
-        out[i] = (x[i] - mean) * inv
-    return mean, std
+        z = (x[i] - mean) * inv
+        out[i] = z
+        lo = min(lo, z)
+        hi = max(hi, z)
+    return mean, std, lo, hi
 
 
 @jit
@@ -339,7 +353,7 @@ def whiten_pair(u, v, r, inv_s, out):
 
 @jit
 def pair_moments(u, y):
-    """One pass over (u, y): return (mean of y, std of y (ddof 0), corr(u, y)).
+    """One pass over (u, y): return (mean, std (ddof 0), min, max of y, corr(u, y)).
 
     u : (n,) IN standardised (mean 0, std 1) ; y : (n,) IN, not constant. Sums are
     taken of y - y[0] to limit cancellation; corr uses sum u = 0.
@@ -349,52 +363,48 @@ def pair_moments(u, y):
     s = 0.0
     ss = 0.0
     su = 0.0
+    lo = y0
+    hi = y0
     for i in range(n):
-        d = y[i] - y0
+        yi = y[i]
+        d = yi - y0
         s += d
         ss += d * d
         su += u[i] * d
+        lo = min(lo, yi)
+        hi = max(hi, yi)
     m = s / n
     var = ss / n - m * m
     if var < 0.0:
         var = 0.0
     std = np.sqrt(var)
-    return y0 + m, std, su / (n * std)
+    return y0 + m, std, lo, hi, su / (n * std)
 
 
 @jit
-def standardise_whiten(u, y, mean, inv_std, r, inv_s, v, w):
-    """Write v = (y - mean) inv_std and w = (v - r u) inv_s; return their min and max.
+def whitened_range(u, y, mean, inv_std, r, inv_s):
+    """Return (min, max) over samples of w = ((y - mean) inv_std - r u) inv_s.
 
-    u, y : (n,) IN ; v, w : (n,) float64 OUT. Returns (v_min, v_max, w_min, w_max).
+    u, y : (n,) IN. The whitened pair is not stored: the binning and interpolation
+    kernels recompute it with the same expression (:func:`_whiten`).
     """
-    vmin = np.inf
-    vmax = -np.inf
     wmin = np.inf
     wmax = -np.inf
     for i in range(y.shape[0]):
-        a = (y[i] - mean) * inv_std
-        b = (a - r * u[i]) * inv_s
-        v[i] = a
-        w[i] = b
-        if a < vmin:
-            vmin = a
-        if a > vmax:
-            vmax = a
-        if b < wmin:
-            wmin = b
-        if b > wmax:
-            wmax = b
-    return vmin, vmax, wmin, wmax
+        _, w = _whiten(u[i], y[i], mean, inv_std, r, inv_s)
+        wmin = min(wmin, w)
+        wmax = max(wmax, w)
+    return wmin, wmax
 
 
 @jit
-def bin_pair_and_marginal(u, w, v, lo_u, lo_w, inv_d2, lo_v, inv_d1, grid2, iu, fu, iw, fw,
-                          grid1, iv, fv):
-    """Bilinear binning of (u, w) on grid2 and linear binning of v on grid1, one pass.
+def bin_whitened(u, y, mean, inv_std, r, inv_s, lo_u, lo_w, inv_d2, lo_v, inv_d1, grid2,
+                 grid1):
+    """One pass: bilinear binning of (u, w) on grid2 and linear binning of v on grid1.
 
-    As :func:`linear_bin_2d` (step 1/inv_d2) and :func:`linear_bin_1d` (step 1/inv_d1);
-    all outputs (grids zeroed here, indices, fractions) are OUT.
+    v = (y - mean) inv_std and w = (v - r u) inv_s are computed on the fly. As
+    :func:`linear_bin_2d` (step 1/inv_d2) and :func:`linear_bin_1d` (step 1/inv_d1);
+    grid2 (Gu, Gw) and grid1 (Gv,) are OUT, zeroed here.
     """
     grid2[:, :] = 0.0
     grid1[:] = 0.0
@@ -402,81 +412,37 @@ def bin_pair_and_marginal(u, w, v, lo_u, lo_w, inv_d2, lo_v, inv_d1, grid2, iu, 
     last_w = grid2.shape[1] - 2
     last_v = grid1.shape[0] - 2
     for i in range(u.shape[0]):
-        t = (u[i] - lo_u) * inv_d2
-        k = int(t)
-        if k > last_u:
-            k = last_u
-        elif k < 0:
-            k = 0
-        a = t - k
-        t = (w[i] - lo_w) * inv_d2
-        m = int(t)
-        if m > last_w:
-            m = last_w
-        elif m < 0:
-            m = 0
-        b = t - m
-        iu[i] = k
-        fu[i] = a
-        iw[i] = m
-        fw[i] = b
-        grid2[k, m] += (1.0 - a) * (1.0 - b)
-        grid2[k + 1, m] += a * (1.0 - b)
-        grid2[k, m + 1] += (1.0 - a) * b
-        grid2[k + 1, m + 1] += a * b
-        t = (v[i] - lo_v) * inv_d1
-        j = int(t)
-        if j > last_v:
-            j = last_v
-        elif j < 0:
-            j = 0
-        c = t - j
-        iv[i] = j
-        fv[i] = c
-        grid1[j] += 1.0 - c
-        grid1[j + 1] += c
+        v, w = _whiten(u[i], y[i], mean, inv_std, r, inv_s)
+        k, a = _cell(u[i], lo_u, inv_d2, last_u)
+        m, b = _cell(w, lo_w, inv_d2, last_w)
+        _spread_2d(grid2, k, m, a, b)
+        j, c = _cell(v, lo_v, inv_d1, last_v)
+        _spread_1d(grid1, j, c)
 
 
 @jit
-def loo_mi_sum(dens2, iu, fu, iw, fw, k0_2, k1_2, floor2, dens1, iv, fv, k0_1, k1_1,
-               floor1, f_u, n):
+def loo_mi_sum(u, y, mean, inv_std, r, inv_s, lo_u, lo_w, inv_d2, dens2, k0_2, k1_2,
+               floor2, lo_v, inv_d1, dens1, k0_1, k1_1, floor1, f_u, n):
     """Sum of log(f_uw / (f_u f_v)) with LOO joint and v-marginal densities from grids.
 
-    dens2 (Gu, Gw), iu, fu, iw, fw, k0_2, k1_2, floor2: joint grid as in
-    :func:`loo_log_density_sum_2d`; dens1 (Gv,), iv, fv, k0_1, k1_1, floor1: v-marginal
-    grid as in :func:`loo_density_1d`; f_u : (n,) IN LOO marginal density of u.
+    u, y, mean, inv_std, r, inv_s, lo_u, lo_w, inv_d2, lo_v, inv_d1 : as given to
+    :func:`bin_whitened`; dens2 (Gu, Gw), k0_2, k1_2, floor2 : joint grid as in
+    :func:`loo_log_density_sum_2d`; dens1 (Gv,), k0_1, k1_1, floor1 : v-marginal grid
+    as in :func:`loo_density_1d`; f_u : (n,) IN LOO marginal density of u.
     Products of up to 8 ratios per logarithm, as in :func:`loo_log_ratio_sum_2d`.
     """
+    last_u = dens2.shape[0] - 2
+    last_w = dens2.shape[1] - 2
+    last_v = dens1.shape[0] - 2
     acc = 0.0
     prod = 1.0
     count = 0
-    for i in range(iu.shape[0]):
-        k = iu[i]
-        m = iw[i]
-        a = fu[i]
-        b = fw[i]
-        val = (
-            (1.0 - a) * (1.0 - b) * dens2[k, m]
-            + a * (1.0 - b) * dens2[k + 1, m]
-            + (1.0 - a) * b * dens2[k, m + 1]
-            + a * b * dens2[k + 1, m + 1]
-        )
-        own_u = ((1.0 - a) * (1.0 - a) + a * a) * k0_2 + 2.0 * a * (1.0 - a) * k1_2
-        own_w = ((1.0 - b) * (1.0 - b) + b * b) * k0_2 + 2.0 * b * (1.0 - b) * k1_2
-        val = (n * val - own_u * own_w) / (n - 1.0)
-        if val < floor2:
-            val = floor2
-        j = iv[i]
-        c = fv[i]
-        fvv = (1.0 - c) * dens1[j] + c * dens1[j + 1]
-        own_v = ((1.0 - c) * (1.0 - c) + c * c) * k0_1 + 2.0 * c * (1.0 - c) * k1_1
-        fvv = (n * fvv - own_v) / (n - 1.0)
-        if fvv < floor1:
-            fvv = floor1
-        prod *= val / (f_u[i] * fvv)
-        count += 1
-        if count == 8 or prod > 1e150 or prod < 1e-150:
-            acc += np.log(prod)
-            prod = 1.0
-            count = 0
+    for i in range(u.shape[0]):
+        v, w = _whiten(u[i], y[i], mean, inv_std, r, inv_s)
+        k, a = _cell(u[i], lo_u, inv_d2, last_u)
+        m, b = _cell(w, lo_w, inv_d2, last_w)
+        f_uw = _loo_at_2d(dens2, k, m, a, b, n, k0_2, k1_2, floor2)
+        j, c = _cell(v, lo_v, inv_d1, last_v)
+        f_v = _loo_at_1d(dens1, j, c, n, k0_1, k1_1, floor1)
+        acc, prod, count = _log_product_step(acc, prod, count, f_uw / (f_u[i] * f_v))
     return acc + np.log(prod)

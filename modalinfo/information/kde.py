@@ -36,15 +36,18 @@ leave-one-out density f_{-i} (Hall & Morton 1993; Beirlant et al. 1997).
 
 Computation (Wand & Jones 1995, app. D; Silverman 1982): samples are linearly binned
 onto a grid (square cells of side delta), the grid is convolved with the sampled
-kernel by FFT (``scipy.signal.fftconvolve`` in 1-D, ``scipy.fft`` in 2-D) and the
-density is read back at each sample by (bi)linear interpolation with the same cell
-indices. Cost O(n + G^2 log G).
+kernel by real FFT (``scipy.fft``, zero-padded to a fast length) and the density is
+read back at each sample by (bi)linear interpolation with the same cell indices,
+which the interpolation kernels recompute from the sample coordinates (nothing per
+sample is stored). Cost O(n + G^2 log G); a score with the x side fitted is four
+passes over (x, y): moments and range of y, range of the whitened w, binning,
+interpolation.
 The kernel is separable in the whitened coordinates, so its 2-D transform is the
 outer product of two 1-D transforms (``_smooth_2d``).
 Binning and interpolation each add a variance delta^2 / 6 per axis, so the sampled
 kernel uses h_grid^2 = h^2 - delta^2 / 3 to keep the effective bandwidth at h. The
 leave-one-out step removes each sample's own contribution *as computed on the grid*
-(see ``_kernels.loo_log_density_sum_1d``), rescaled by n / (n - 1). The kernel is
+(see ``_kernels.loo_density_1d``), rescaled by n / (n - 1). The kernel is
 truncated at 5 h; a sample with no other sample within that radius gets the density
 floor of one neighbour at the truncation radius, exp(-12.5) k(0) / (n - 1) per axis.
 """
@@ -57,7 +60,6 @@ from typing import Any
 import numpy as np
 from scipy import fft as sfft
 from scipy.optimize import minimize_scalar
-from scipy.signal import fftconvolve
 from scipy.special import ndtri
 from scipy.stats import rankdata
 
@@ -91,12 +93,12 @@ def copula_scores(x: np.ndarray) -> np.ndarray:
     return ndtri(rankdata(x) / (n + 1.0))
 
 
-def _standardise(x: np.ndarray, copula: bool) -> np.ndarray:
-    """Return (z - mean) / std of z = x or its copula scores (std > 0)."""
+def _standardise(x: np.ndarray, copula: bool) -> tuple[np.ndarray, float, float]:
+    """Return (z - mean) / std of z = x or its copula scores (std > 0), its min and max."""
     z = copula_scores(x) if copula else x
     out = np.empty(z.shape[0])
-    kern.standardise(np.ascontiguousarray(z, dtype=float), out)
-    return out
+    _, _, lo, hi = kern.standardise(np.ascontiguousarray(z, dtype=float), out)
+    return out, lo, hi
 
 
 def _kernel_1d(h: float, delta: float) -> tuple[np.ndarray, float]:
@@ -114,28 +116,47 @@ def _kernel_1d(h: float, delta: float) -> tuple[np.ndarray, float]:
     return ker, sig
 
 
-def _loo_density_1d(u: np.ndarray, h: float, grid_size: int) -> np.ndarray:
-    """Return the leave-one-out density (n,) of a 1-D Gaussian KDE at each sample."""
+def _smooth_1d(grid: np.ndarray, ker: np.ndarray) -> np.ndarray:
+    """Convolve ``grid`` with ``ker`` (odd length), "same" size, by real FFT.
+
+    Equal to ``scipy.signal.fftconvolve(grid, ker, mode="same")`` without its
+    argument handling (zero padding to a fast length >= G + L - 1: no wrap-around).
+    """
+    g = grid.shape[0]
+    length = ker.shape[0]
+    size = sfft.next_fast_len(g + length - 1, real=True)
+    spec = sfft.rfft(grid, size)
+    spec *= sfft.rfft(ker, size)
+    half = length // 2
+    return sfft.irfft(spec, size)[half : half + g]
+
+
+def _loo_density_1d(u: np.ndarray, umin: float, umax: float, h: float,
+                    grid_size: int) -> np.ndarray:
+    """Return the leave-one-out density (n,) of a 1-D Gaussian KDE at each sample.
+
+    ``umin``, ``umax``: the sample's min and max.
+    """
     n = u.shape[0]
-    lo = float(u.min()) - (_TRUNCATE + 1.0) * h
-    hi = float(u.max()) + (_TRUNCATE + 1.0) * h
+    lo = umin - (_TRUNCATE + 1.0) * h
+    hi = umax + (_TRUNCATE + 1.0) * h
     delta = (hi - lo) / (grid_size - 1)
     ker, _ = _kernel_1d(h, delta)
     grid = np.empty(grid_size)
-    idx = np.empty(n, dtype=np.int64)
-    frac = np.empty(n)
-    kern.linear_bin_1d(u, lo, 1.0 / delta, grid, idx, frac)
-    dens = fftconvolve(grid, ker, mode="same") / n
+    kern.linear_bin_1d(u, lo, 1.0 / delta, grid)
+    dens = _smooth_1d(grid, ker)
+    dens /= n
     c = ker.shape[0] // 2
     floor = math.exp(-0.5 * _TRUNCATE**2) * ker[c] / (n - 1.0)
     out = np.empty(n)
-    kern.loo_density_1d(dens, idx, frac, float(n), ker[c], ker[c + 1], floor, out)
+    kern.loo_density_1d(u, lo, 1.0 / delta, dens, float(n), ker[c], ker[c + 1], floor, out)
     return out
 
 
 def _entropy_1d(u: np.ndarray, h: float, grid_size: int) -> float:
     """LOO resubstitution entropy (nats) of a 1-D Gaussian KDE with bandwidth h."""
-    return -float(np.mean(np.log(_loo_density_1d(u, h, grid_size))))
+    dens = _loo_density_1d(u, float(u.min()), float(u.max()), h, grid_size)
+    return -float(np.mean(np.log(dens)))
 
 
 def _smooth_2d(grid: np.ndarray, ker: np.ndarray) -> np.ndarray:
@@ -160,20 +181,15 @@ class _Grid2D:
     """Linear binning of a whitened pair, reusable for several bandwidths."""
 
     def __init__(self, u: np.ndarray, w: np.ndarray, grid_size: int, pad: float):
-        n = u.shape[0]
         lo_u, hi_u = float(u.min()) - pad, float(u.max()) + pad
         lo_w, hi_w = float(w.min()) - pad, float(w.max()) + pad
         self.delta = max(hi_u - lo_u, hi_w - lo_w) / (grid_size - 1)
         gu = int(math.ceil((hi_u - lo_u) / self.delta)) + 2
         gw = int(math.ceil((hi_w - lo_w) / self.delta)) + 2
-        self.n = n
+        self.n = u.shape[0]
+        self.u, self.w, self.lo_u, self.lo_w = u, w, lo_u, lo_w
         self.grid = np.empty((gu, gw))
-        self.iu = np.empty(n, dtype=np.int64)
-        self.fu = np.empty(n)
-        self.iv = np.empty(n, dtype=np.int64)
-        self.fv = np.empty(n)
-        kern.linear_bin_2d(u, w, lo_u, lo_w, 1.0 / self.delta, self.grid, self.iu, self.fu,
-                        self.iv, self.fv)
+        kern.linear_bin_2d(u, w, lo_u, lo_w, 1.0 / self.delta, self.grid)
 
     def entropy(self, h: float) -> float:
         """LOO resubstitution entropy (nats) of the isotropic KDE N(0, h^2 I)."""
@@ -181,8 +197,9 @@ class _Grid2D:
         dens = _smooth_2d(self.grid, ker) / self.n
         c = ker.shape[0] // 2
         floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
-        acc = kern.loo_log_density_sum_2d(dens, self.iu, self.fu, self.iv, self.fv,
-                                       float(self.n), ker[c], ker[c + 1], floor)
+        acc = kern.loo_log_density_sum_2d(self.u, self.w, self.lo_u, self.lo_w,
+                                          1.0 / self.delta, dens, float(self.n), ker[c],
+                                          ker[c + 1], floor)
         return -acc / self.n
 
     def resubstitution_mi(self, h: float, fx: np.ndarray, fy: np.ndarray) -> float:
@@ -191,8 +208,9 @@ class _Grid2D:
         dens = _smooth_2d(self.grid, ker) / self.n
         c = ker.shape[0] // 2
         floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
-        acc = kern.loo_log_ratio_sum_2d(dens, self.iu, self.fu, self.iv, self.fv,
-                                        float(self.n), ker[c], ker[c + 1], floor, fx, fy)
+        acc = kern.loo_log_ratio_sum_2d(self.u, self.w, self.lo_u, self.lo_w,
+                                        1.0 / self.delta, dens, float(self.n), ker[c],
+                                        ker[c + 1], floor, fx, fy)
         return acc / self.n
 
 
@@ -230,9 +248,7 @@ class KDEEngine:
 
     def fit(self, x: np.ndarray) -> KDEEngine:
         """Cache the standardised (or copula) scores of x and its marginal entropy."""
-        self._u = _standardise(x, self.copula)
-        self._umin = float(self._u.min())
-        self._umax = float(self._u.max())
+        self._u, self._umin, self._umax = _standardise(x, self.copula)
         self._n = x.shape[0]
         self._fu: dict[float, np.ndarray] = {}
         return self
@@ -241,7 +257,7 @@ class KDEEngine:
         """LOO marginal density of the fixed variable at its samples (cached per h)."""
         val = self._fu.get(h)
         if val is None:
-            val = _loo_density_1d(self._u, h, 4 * self.grid_size)
+            val = _loo_density_1d(self._u, self._umin, self._umax, h, 4 * self.grid_size)
             if len(self._fu) >= 4:
                 self._fu.clear()
             self._fu[h] = val
@@ -254,13 +270,16 @@ class KDEEngine:
         n = self._n
         u = self._u
         z = copula_scores(y) if self.copula else y
-        mean, std, r = kern.pair_moments(u, z)
+        # four passes over the samples: moments and range of y, range of the whitened
+        # w, binning, interpolation; v and w are recomputed in each (never stored)
+        mean, std, ymin, ymax, r = kern.pair_moments(u, z)
         r = min(1.0, max(-1.0, r))
         one_minus = max(1.0 - r * r, ONE_MINUS_R2_FLOOR)
-        v = np.empty(n)
-        w = np.empty(n)
-        vmin, vmax, wmin, wmax = kern.standardise_whiten(u, z, mean, 1.0 / std, r,
-                                                         1.0 / math.sqrt(one_minus), v, w)
+        inv_std, inv_s = 1.0 / std, 1.0 / math.sqrt(one_minus)
+        # v = (z - mean) / std is monotone in z (also in floating point), so its range
+        # is that of z mapped
+        vmin, vmax = (ymin - mean) * inv_std, (ymax - mean) * inv_std
+        wmin, wmax = kern.whitened_range(u, z, mean, inv_std, r, inv_s)
         h = bandwidth_factor(self.bandwidth, n, 2)
         pad = (_TRUNCATE + 1.0) * h
         # joint grid: square cells over the padded (u, w) box, grid_size on the longer side
@@ -275,24 +294,21 @@ class KDEEngine:
         d1 = (vmax - vmin + 2.0 * pad) / (g1 - 1)
         grid2 = np.empty((gu, gw))
         grid1 = np.empty(g1)
-        iu = np.empty(n, dtype=np.int64)
-        iw = np.empty(n, dtype=np.int64)
-        iv = np.empty(n, dtype=np.int64)
-        fu = np.empty(n)
-        fw = np.empty(n)
-        fv = np.empty(n)
-        kern.bin_pair_and_marginal(u, w, v, lo_u, lo_w, 1.0 / d2, lo_v, 1.0 / d1, grid2, iu,
-                                   fu, iw, fw, grid1, iv, fv)
+        kern.bin_whitened(u, z, mean, inv_std, r, inv_s, lo_u, lo_w, 1.0 / d2, lo_v,
+                          1.0 / d1, grid2, grid1)
         ker2, _ = _kernel_1d(h, d2)
         ker1, _ = _kernel_1d(h, d1)
-        dens2 = _smooth_2d(grid2, ker2) / n
-        dens1 = fftconvolve(grid1, ker1, mode="same") / n
+        dens2 = _smooth_2d(grid2, ker2)
+        dens2 /= n
+        dens1 = _smooth_1d(grid1, ker1)
+        dens1 /= n
         c2, c1 = ker2.shape[0] // 2, ker1.shape[0] // 2
         tail = math.exp(-0.5 * _TRUNCATE**2)
         floor2 = (tail * ker2[c2]) ** 2 / (n - 1.0)
         floor1 = tail * ker1[c1] / (n - 1.0)
-        acc = kern.loo_mi_sum(dens2, iu, fu, iw, fw, ker2[c2], ker2[c2 + 1], floor2, dens1, iv,
-                              fv, ker1[c1], ker1[c1 + 1], floor1, self._marginal_u(h), float(n))
+        acc = kern.loo_mi_sum(u, z, mean, inv_std, r, inv_s, lo_u, lo_w, 1.0 / d2, dens2,
+                              ker2[c2], ker2[c2 + 1], floor2, lo_v, 1.0 / d1, dens1, ker1[c1],
+                              ker1[c1 + 1], floor1, self._marginal_u(h), float(n))
         # H(U) + H(V) - H(U, W) = mean log(f_uw / (f_u f_v)), then the Jacobian term
         return acc / n - 0.5 * math.log(one_minus)
 
@@ -300,7 +316,7 @@ class KDEEngine:
         """Score with the bandwidth chosen by leave-one-out likelihood of the joint."""
         n = self._n
         u = self._u
-        v = _standardise(y, self.copula)
+        v, vmin, vmax = _standardise(y, self.copula)
         r = min(1.0, max(-1.0, kern.dot(u, v) / n))
         one_minus = max(1.0 - r * r, ONE_MINUS_R2_FLOOR)
         w = np.empty(n)
@@ -311,7 +327,7 @@ class KDEEngine:
                               bounds=(math.log(0.2), math.log(3.0)), method="bounded",
                               options={"xatol": 0.02})
         h = h0 * math.exp(float(res.x))
-        f_v = _loo_density_1d(v, h, 4 * self.grid_size)
+        f_v = _loo_density_1d(v, vmin, vmax, h, 4 * self.grid_size)
         return grid.resubstitution_mi(h, self._marginal_u(h), f_v) - 0.5 * math.log(one_minus)
 
 

@@ -95,3 +95,15 @@ def test_separable_fft_smoothing_equals_scipy_fftconvolve():
     ker = np.exp(-0.5 * np.linspace(-3, 3, 13) ** 2)
     np.testing.assert_allclose(_smooth_2d(grid, ker),
                                fftconvolve(grid, np.outer(ker, ker), mode="same"), atol=1e-12)
+
+
+def test_1d_fft_smoothing_equals_scipy_fftconvolve():
+    from scipy.signal import fftconvolve
+
+    from modalinfo.information.kde import _smooth_1d
+
+    rng = np.random.default_rng(5)
+    grid = rng.random(301)
+    ker = np.exp(-0.5 * np.linspace(-4, 4, 41) ** 2)
+    np.testing.assert_allclose(_smooth_1d(grid, ker), fftconvolve(grid, ker, mode="same"),
+                               atol=1e-12)
