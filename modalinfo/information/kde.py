@@ -37,11 +37,10 @@ leave-one-out density f_{-i} (Hall & Morton 1993; Beirlant et al. 1997).
 Computation (Wand & Jones 1995, app. D; Silverman 1982): samples are linearly binned
 onto a grid (square cells of side delta), the grid is convolved with the sampled
 kernel by real FFT (``scipy.fft``, zero-padded to a fast length) and the density is
-read back at each sample by (bi)linear interpolation with the same cell indices,
-which the interpolation kernels recompute from the sample coordinates (nothing per
-sample is stored). Cost O(n + G^2 log G); a score with the x side fitted is four
-passes over (x, y): moments and range of y, range of the whitened w, binning,
-interpolation.
+read back at each sample by (bi)linear interpolation with the same cell indices.
+Cost O(n + G^2 log G); a score with the x side fitted is four passes over the
+samples: moments of y, range of the standardised and whitened pair (not stored),
+binning (which stores the cells), interpolation.
 The kernel is separable in the whitened coordinates, so its 2-D transform is the
 outer product of two 1-D transforms (``_smooth_2d``).
 Binning and interpolation each add a variance delta^2 / 6 per axis, so the sampled
@@ -143,13 +142,15 @@ def _loo_density_1d(u: np.ndarray, umin: float, umax: float, h: float,
     delta = (hi - lo) / (grid_size - 1)
     ker, _ = _kernel_1d(h, delta)
     grid = np.empty(grid_size)
-    kern.linear_bin_1d(u, lo, 1.0 / delta, grid)
+    idx = np.empty(n, dtype=np.int32)
+    frac = np.empty(n)
+    kern.linear_bin_1d(u, lo, 1.0 / delta, grid, idx, frac)
     dens = _smooth_1d(grid, ker)
     dens /= n
     c = ker.shape[0] // 2
     floor = math.exp(-0.5 * _TRUNCATE**2) * ker[c] / (n - 1.0)
-    out = np.empty(n)
-    kern.loo_density_1d(u, lo, 1.0 / delta, dens, float(n), ker[c], ker[c + 1], floor, out)
+    out = frac  # overwritten in place: each fraction is read before its density is written
+    kern.loo_density_1d(dens, idx, frac, float(n), ker[c], ker[c + 1], floor, out)
     return out
 
 
@@ -165,6 +166,7 @@ def _smooth_2d(grid: np.ndarray, ker: np.ndarray) -> np.ndarray:
     Equal to ``fftconvolve(grid, np.outer(ker, ker), mode="same")`` but the kernel's
     transform is the outer product of two 1-D transforms, so only the grid needs a
     2-D forward and inverse real FFT (zero padding to >= G + L - 1: no wrap-around).
+    Returns a C-contiguous array (the kernels read it flattened).
     """
     gu, gv = grid.shape
     length = ker.shape[0]
@@ -174,7 +176,7 @@ def _smooth_2d(grid: np.ndarray, ker: np.ndarray) -> np.ndarray:
     spec = sfft.rfft2(grid, s=(su, sv))
     spec *= sfft.fft(ker, su)[:, None] * sfft.rfft(ker, sv)[None, :]
     full = sfft.irfft2(spec, s=(su, sv))
-    return full[half : half + gu, half : half + gv]
+    return np.ascontiguousarray(full[half : half + gu, half : half + gv])
 
 
 class _Grid2D:
@@ -186,32 +188,30 @@ class _Grid2D:
         self.delta = max(hi_u - lo_u, hi_w - lo_w) / (grid_size - 1)
         gu = int(math.ceil((hi_u - lo_u) / self.delta)) + 2
         gw = int(math.ceil((hi_w - lo_w) / self.delta)) + 2
-        self.n = u.shape[0]
-        self.u, self.w, self.lo_u, self.lo_w = u, w, lo_u, lo_w
+        n = self.n = u.shape[0]
         self.grid = np.empty((gu, gw))
-        kern.linear_bin_2d(u, w, lo_u, lo_w, 1.0 / self.delta, self.grid)
+        self.cell = np.empty(n, dtype=np.int32)
+        self.fu = np.empty(n)
+        self.fv = np.empty(n)
+        kern.linear_bin_2d(u, w, lo_u, lo_w, 1.0 / self.delta, self.grid, self.cell, self.fu,
+                           self.fv)
+
+    def _args(self, h: float) -> tuple:
+        """Arguments of the grid-interpolation kernels for bandwidth h."""
+        ker, _ = _kernel_1d(h, self.delta)
+        dens = _smooth_2d(self.grid, ker)
+        dens /= self.n
+        c = ker.shape[0] // 2
+        floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
+        return (dens, self.cell, self.fu, self.fv, float(self.n), ker[c], ker[c + 1], floor)
 
     def entropy(self, h: float) -> float:
         """LOO resubstitution entropy (nats) of the isotropic KDE N(0, h^2 I)."""
-        ker, _ = _kernel_1d(h, self.delta)
-        dens = _smooth_2d(self.grid, ker) / self.n
-        c = ker.shape[0] // 2
-        floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
-        acc = kern.loo_log_density_sum_2d(self.u, self.w, self.lo_u, self.lo_w,
-                                          1.0 / self.delta, dens, float(self.n), ker[c],
-                                          ker[c + 1], floor)
-        return -acc / self.n
+        return -kern.loo_log_density_sum_2d(*self._args(h)) / self.n
 
     def resubstitution_mi(self, h: float, fx: np.ndarray, fy: np.ndarray) -> float:
         """Mean of log(f_uw / (f_u f_v)) over the samples, LOO densities (nats)."""
-        ker, _ = _kernel_1d(h, self.delta)
-        dens = _smooth_2d(self.grid, ker) / self.n
-        c = ker.shape[0] // 2
-        floor = (math.exp(-0.5 * _TRUNCATE**2) * ker[c]) ** 2 / (self.n - 1.0)
-        acc = kern.loo_log_ratio_sum_2d(self.u, self.w, self.lo_u, self.lo_w,
-                                        1.0 / self.delta, dens, float(self.n), ker[c],
-                                        ker[c + 1], floor, fx, fy)
-        return acc / self.n
+        return kern.loo_log_ratio_sum_2d(*self._args(h), fx, fy) / self.n
 
 
 class KDEEngine:
@@ -270,16 +270,14 @@ class KDEEngine:
         n = self._n
         u = self._u
         z = copula_scores(y) if self.copula else y
-        # four passes over the samples: moments and range of y, range of the whitened
-        # w, binning, interpolation; v and w are recomputed in each (never stored)
-        mean, std, ymin, ymax, r = kern.pair_moments(u, z)
+        # four passes over the samples: moments of y; range of the standardised v and
+        # the whitened w (not stored); binning, which recomputes v and w and stores the
+        # cells; interpolation
+        mean, std, r = kern.pair_moments(u, z)
         r = min(1.0, max(-1.0, r))
         one_minus = max(1.0 - r * r, ONE_MINUS_R2_FLOOR)
         inv_std, inv_s = 1.0 / std, 1.0 / math.sqrt(one_minus)
-        # v = (z - mean) / std is monotone in z (also in floating point), so its range
-        # is that of z mapped
-        vmin, vmax = (ymin - mean) * inv_std, (ymax - mean) * inv_std
-        wmin, wmax = kern.whitened_range(u, z, mean, inv_std, r, inv_s)
+        vmin, vmax, wmin, wmax = kern.whitened_range(u, z, mean, inv_std, r, inv_s)
         h = bandwidth_factor(self.bandwidth, n, 2)
         pad = (_TRUNCATE + 1.0) * h
         # joint grid: square cells over the padded (u, w) box, grid_size on the longer side
@@ -294,8 +292,13 @@ class KDEEngine:
         d1 = (vmax - vmin + 2.0 * pad) / (g1 - 1)
         grid2 = np.empty((gu, gw))
         grid1 = np.empty(g1)
-        kern.bin_whitened(u, z, mean, inv_std, r, inv_s, lo_u, lo_w, 1.0 / d2, lo_v,
-                          1.0 / d1, grid2, grid1)
+        cell = np.empty(n, dtype=np.int32)
+        iv = np.empty(n, dtype=np.int32)
+        fu = np.empty(n)
+        fw = np.empty(n)
+        fv = np.empty(n)
+        kern.bin_whitened(u, z, mean, inv_std, r, inv_s, lo_u, lo_w, 1.0 / d2, lo_v, 1.0 / d1,
+                          grid2, cell, fu, fw, grid1, iv, fv)
         ker2, _ = _kernel_1d(h, d2)
         ker1, _ = _kernel_1d(h, d1)
         dens2 = _smooth_2d(grid2, ker2)
@@ -306,9 +309,8 @@ class KDEEngine:
         tail = math.exp(-0.5 * _TRUNCATE**2)
         floor2 = (tail * ker2[c2]) ** 2 / (n - 1.0)
         floor1 = tail * ker1[c1] / (n - 1.0)
-        acc = kern.loo_mi_sum(u, z, mean, inv_std, r, inv_s, lo_u, lo_w, 1.0 / d2, dens2,
-                              ker2[c2], ker2[c2 + 1], floor2, lo_v, 1.0 / d1, dens1, ker1[c1],
-                              ker1[c1 + 1], floor1, self._marginal_u(h), float(n))
+        acc = kern.loo_mi_sum(dens2, cell, fu, fw, ker2[c2], ker2[c2 + 1], floor2, dens1, iv, fv,
+                              ker1[c1], ker1[c1 + 1], floor1, self._marginal_u(h), float(n))
         # H(U) + H(V) - H(U, W) = mean log(f_uw / (f_u f_v)), then the Jacobian term
         return acc / n - 0.5 * math.log(one_minus)
 

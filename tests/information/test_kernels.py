@@ -97,43 +97,52 @@ def _bilinear_bin_ref(u, v, lo_u, lo_v, delta, shape):
     return ref
 
 
-def test_linear_binning_1d_and_2d_against_loops(rng):
-    u = rng.standard_normal(500)
-    v = rng.standard_normal(500)
-    lo, delta, g = -6.0, 0.1, 121
-    grid = np.empty(g)
-    kern.linear_bin_1d(u, lo, 1 / delta, grid)
-    np.testing.assert_allclose(grid, _linear_bin_ref(u, lo, delta, g), atol=1e-12)
-    assert grid.sum() == pytest.approx(u.size)
-    # The first moment is preserved exactly by linear binning.
-    nodes = lo + delta * np.arange(g)
-    assert grid @ nodes == pytest.approx(u.sum(), rel=1e-12)
-
-    grid2 = np.empty((g, g))
-    kern.linear_bin_2d(u, v, lo, lo, 1 / delta, grid2)
-    np.testing.assert_allclose(grid2, _bilinear_bin_ref(u, v, lo, lo, delta, (g, g)),
-                               atol=1e-12)
-
-
 def _cells(x, lo, delta):
     t = (x - lo) / delta
     k = np.floor(t).astype(np.int64)
     return k, t - k
 
 
+def test_linear_binning_1d_and_2d_against_loops(rng):
+    u = rng.standard_normal(500)
+    v = rng.standard_normal(500)
+    lo, delta, g = -6.0, 0.1, 121
+    grid = np.empty(g)
+    idx = np.empty(u.size, dtype=np.int32)
+    frac = np.empty(u.size)
+    kern.linear_bin_1d(u, lo, 1 / delta, grid, idx, frac)
+    np.testing.assert_allclose(grid, _linear_bin_ref(u, lo, delta, g), atol=1e-12)
+    assert grid.sum() == pytest.approx(u.size)
+    k, f = _cells(u, lo, delta)
+    np.testing.assert_array_equal(idx, k)
+    np.testing.assert_allclose(frac, f, atol=1e-12)
+    # The first moment is preserved exactly by linear binning.
+    nodes = lo + delta * np.arange(g)
+    assert grid @ nodes == pytest.approx(u.sum(), rel=1e-12)
+
+    shape = (g, g - 7)
+    grid2 = np.empty(shape)
+    cell = np.empty(u.size, dtype=np.int32)
+    fu, fv = np.empty(u.size), np.empty(u.size)
+    kern.linear_bin_2d(u, v, lo, lo + 0.3, 1 / delta, grid2, cell, fu, fv)
+    np.testing.assert_allclose(grid2, _bilinear_bin_ref(u, v, lo, lo + 0.3, delta, shape),
+                               atol=1e-12)
+    kv, f_v = _cells(v, lo + 0.3, delta)
+    np.testing.assert_array_equal(cell, k * shape[1] + kv)  # flat row-major lower-left node
+    np.testing.assert_allclose(fu, f, atol=1e-12)
+    np.testing.assert_allclose(fv, f_v, atol=1e-12)
+
+
 def _own_ref(f, k0, k1):
     return ((1 - f) ** 2 + f**2) * k0 + 2 * f * (1 - f) * k1
 
 
-def _loo_1d_ref(x, lo, delta, dens, n, k0, k1, floor):
-    k, f = _cells(x, lo, delta)
-    interp = (1 - f) * dens[k] + f * dens[k + 1]
-    return np.maximum((n * interp - _own_ref(f, k0, k1)) / (n - 1), floor)
+def _loo_1d_ref(idx, frac, dens, n, k0, k1, floor):
+    interp = (1 - frac) * dens[idx] + frac * dens[idx + 1]
+    return np.maximum((n * interp - _own_ref(frac, k0, k1)) / (n - 1), floor)
 
 
-def _loo_2d_ref(u, v, lo_u, lo_v, delta, dens, n, k0, k1, floor):
-    iu, fu = _cells(u, lo_u, delta)
-    iv, fv = _cells(v, lo_v, delta)
+def _loo_2d_ref(iu, fu, iv, fv, dens, n, k0, k1, floor):
     bil = ((1 - fu) * (1 - fv) * dens[iu, iv] + fu * (1 - fv) * dens[iu + 1, iv]
            + (1 - fu) * fv * dens[iu, iv + 1] + fu * fv * dens[iu + 1, iv + 1])
     own = _own_ref(fu, k0, k1) * _own_ref(fv, k0, k1)
@@ -142,25 +151,30 @@ def _loo_2d_ref(u, v, lo_u, lo_v, delta, dens, n, k0, k1, floor):
 
 def test_loo_density_kernels_against_numpy(rng):
     g = 50
-    lo, delta = -2.0, 0.1
     dens = rng.random(g) + 0.5
-    u = lo + delta * (g - 1) * rng.random(200)
+    idx = rng.integers(0, g - 1, size=200).astype(np.int32)
+    frac = rng.random(200)
     n, k0, k1, floor = 200.0, 0.3, 0.2, 1e-3
-    ref = _loo_1d_ref(u, lo, delta, dens, n, k0, k1, floor)
+    ref = _loo_1d_ref(idx, frac, dens, n, k0, k1, floor)
     out = np.empty(200)
-    kern.loo_density_1d(u, lo, 1 / delta, dens, n, k0, k1, floor, out)
+    kern.loo_density_1d(dens, idx, frac, n, k0, k1, floor, out)
     np.testing.assert_allclose(out, ref, rtol=1e-13)
-    dens2 = rng.random((g, g)) + 0.5
-    v = -1.0 + delta * (g - 1) * rng.random(200)
-    ref2 = _loo_2d_ref(u, v, lo, -1.0, delta, dens2, n, k0, k1, floor)
-    got = kern.loo_log_density_sum_2d(u, v, lo, -1.0, 1 / delta, dens2, n, k0, k1, floor)
+    # in place over the fractions, as the KDE wrapper calls it
+    frac_copy = frac.copy()
+    kern.loo_density_1d(dens, idx, frac_copy, n, k0, k1, floor, frac_copy)
+    np.testing.assert_allclose(frac_copy, ref, rtol=1e-13)
+    dens2 = rng.random((g, g + 3)) + 0.5
+    iu, iv = idx, rng.integers(0, g + 2, size=200).astype(np.int32)
+    fu, fv = frac, rng.random(200)
+    cell = (iu * (g + 3) + iv).astype(np.int32)
+    ref2 = _loo_2d_ref(iu, fu, iv, fv, dens2, n, k0, k1, floor)
+    got = kern.loo_log_density_sum_2d(dens2, cell, fu, fv, n, k0, k1, floor)
     assert got == pytest.approx(np.log(ref2).sum(), rel=1e-12)
     fx, fy = rng.random(200) + 0.1, rng.random(200) + 0.1
-    got = kern.loo_log_ratio_sum_2d(u, v, lo, -1.0, 1 / delta, dens2, n, k0, k1, floor, fx, fy)
+    got = kern.loo_log_ratio_sum_2d(dens2, cell, fu, fv, n, k0, k1, floor, fx, fy)
     assert got == pytest.approx(np.log(ref2 / (fx * fy)).sum(), rel=1e-10)
     # the floor binds where the grid density is below the own contribution
-    low = np.full(g, 1e-9)
-    kern.loo_density_1d(u, lo, 1 / delta, low, n, k0, k1, floor, out)
+    kern.loo_density_1d(np.full(g, 1e-9), idx, frac, n, k0, k1, floor, out)
     np.testing.assert_array_equal(out, floor)
 
 
@@ -169,15 +183,15 @@ def test_fused_score_kernels_against_numpy(rng):
     u = rng.standard_normal(n)
     u = (u - u.mean()) / u.std()
     y = 2.0 + 0.7 * u + 0.5 * rng.standard_normal(n) ** 3
-    mean, std, ymin, ymax, r = kern.pair_moments(u, y)
+    mean, std, r = kern.pair_moments(u, y)
     assert mean == pytest.approx(y.mean(), rel=1e-13)
     assert std == pytest.approx(y.std(), rel=1e-12)
-    assert (ymin, ymax) == (y.min(), y.max())
     assert r == pytest.approx(np.corrcoef(u, y)[0, 1], rel=1e-12)
     inv_std, inv_s = 1 / std, 1 / np.sqrt(1 - r * r)
     v = (y - mean) * inv_std
     w = (v - r * u) * inv_s
-    assert kern.whitened_range(u, y, mean, inv_std, r, inv_s) == (w.min(), w.max())
+    got = kern.whitened_range(u, y, mean, inv_std, r, inv_s)
+    np.testing.assert_allclose(got, [v.min(), v.max(), w.min(), w.max()], rtol=1e-14)
     pad, g2, g1 = 1.0, 90, 300
     lo_u, lo_w, lo_v = u.min() - pad, w.min() - pad, v.min() - pad
     d2 = (max(np.ptp(u), np.ptp(w)) + 2 * pad) / (g2 - 1)
@@ -185,19 +199,26 @@ def test_fused_score_kernels_against_numpy(rng):
     gu = int(np.ceil((np.ptp(u) + 2 * pad) / d2)) + 2
     gw = int(np.ceil((np.ptp(w) + 2 * pad) / d2)) + 2
     grid2, grid1 = np.empty((gu, gw)), np.empty(g1)
+    cell, iv = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
+    fu, fw, fv = np.empty(n), np.empty(n), np.empty(n)
     kern.bin_whitened(u, y, mean, inv_std, r, inv_s, lo_u, lo_w, 1 / d2, lo_v, 1 / d1, grid2,
-                      grid1)
+                      cell, fu, fw, grid1, iv, fv)
     np.testing.assert_allclose(grid2, _bilinear_bin_ref(u, w, lo_u, lo_w, d2, (gu, gw)),
                                atol=1e-12)
     np.testing.assert_allclose(grid1, _linear_bin_ref(v, lo_v, d1, g1), atol=1e-12)
+    (ku, au), (kw, aw), (kv, av) = _cells(u, lo_u, d2), _cells(w, lo_w, d2), _cells(v, lo_v, d1)
+    np.testing.assert_array_equal(cell, ku * gw + kw)
+    np.testing.assert_array_equal(iv, kv)
+    np.testing.assert_allclose(np.column_stack([fu, fw, fv]), np.column_stack([au, aw, av]),
+                               atol=1e-10)
     dens2 = rng.random((gu, gw)) + 0.5
     dens1 = rng.random(g1) + 0.5
     f_u = rng.random(n) + 0.1
     k0_2, k1_2, k0_1, k1_1, floor2, floor1 = 0.3, 0.2, 0.4, 0.35, 1e-3, 2e-3
-    f_uw = _loo_2d_ref(u, w, lo_u, lo_w, d2, dens2, n, k0_2, k1_2, floor2)
-    f_v = _loo_1d_ref(v, lo_v, d1, dens1, n, k0_1, k1_1, floor1)
-    got = kern.loo_mi_sum(u, y, mean, inv_std, r, inv_s, lo_u, lo_w, 1 / d2, dens2, k0_2, k1_2,
-                          floor2, lo_v, 1 / d1, dens1, k0_1, k1_1, floor1, f_u, float(n))
+    f_uw = _loo_2d_ref(ku, au, kw, aw, dens2, n, k0_2, k1_2, floor2)
+    f_v = _loo_1d_ref(kv, av, dens1, n, k0_1, k1_1, floor1)
+    got = kern.loo_mi_sum(dens2, cell, fu, fw, k0_2, k1_2, floor2, dens1, iv, fv, k0_1, k1_1,
+                          floor1, f_u, float(n))
     assert got == pytest.approx(np.log(f_uw / (f_u * f_v)).sum(), rel=1e-10)
 
 
@@ -243,10 +264,11 @@ def test_log_ratio_sum_survives_extreme_ratios(rng):
     g = 10
     dens = np.full((g, g), 1.0)
     m = 16
-    pts = np.zeros(m)  # all on grid node (0, 0)
+    cell = np.zeros(m, dtype=np.int32)
+    fu = np.zeros(m)
     fx = np.where(np.arange(m) < 8, 1e-100, 1e100)
     fy = np.ones(m)
     n, k0, k1, floor = 1e6, 0.0, 0.0, 1e-300
-    got = kern.loo_log_ratio_sum_2d(pts, pts, 0.0, 0.0, 1.0, dens, n, k0, k1, floor, fx, fy)
+    got = kern.loo_log_ratio_sum_2d(dens, cell, fu, fu, n, k0, k1, floor, fx, fy)
     want = np.sum(np.log((n * 1.0) / (n - 1) / fx))
     assert got == pytest.approx(want, abs=1e-9)
