@@ -32,10 +32,16 @@ roadmap and is not built yet, so this report does not draw them.
 
 def main(argv: list[str] | None = None) -> int:
     """Make every figure and ``report.md``; return the exit status."""
-    parser = argparse.ArgumentParser(prog="python -m paper_figures", description=__doc__.split("\n")[1])
-    parser.add_argument("--log", type=Path, default=DEFAULT_LOG,
-                        help="closed-loop modal log to analyse (default: the shipped KAOS-like log)")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="output directory (default: out)")
+    parser = argparse.ArgumentParser(
+        prog="python -m paper_figures", description=__doc__.split("\n")[1]
+    )
+    parser.add_argument(
+        "--log", type=Path, default=DEFAULT_LOG,
+        help="closed-loop modal log to analyse (default: the shipped KAOS-like log)",
+    )
+    parser.add_argument(
+        "--out", type=Path, default=Path("out"), help="output directory (default: out)"
+    )
     parser.add_argument("--overwrite", action="store_true",
                         help="replace figures and report already in the output directory")
     args = parser.parse_args(argv)

@@ -21,12 +21,13 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+from paper_figures._common import figure_main, load_log
 
 SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy"), ("zernike", "mi_greedy"),
          ("kl-data", "pca"), ("zernike", "variance")]
@@ -44,15 +45,6 @@ LABELS = {
     "zernike:variance": "Zernike, a_k^2 order",
 }
 
-
-def _load(log_path: Path | None):
-    from modalinfo.telemetry.synthetic import kaos_like
-
-    if log_path is None:
-        return kaos_like(seed=0), "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
-    from modalinfo.io import load
-
-    return load(log_path), f"`{log_path}`"
 
 
 def _typical_frame(log, basis) -> int:
@@ -94,7 +86,7 @@ def make(out_dir: Path, log_path: Path | None) -> str:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
-    log, source = _load(log_path)
+    log, source = load_log(log_path)
     bases: dict = {}
     bases["zernike"] = basis_for_log("zernike", log)
     frame = _typical_frame(log, bases["zernike"])
@@ -268,21 +260,9 @@ _(computed in {elapsed:.1f} s)_
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
-    parser = argparse.ArgumentParser(prog="python -m paper_figures.fig1_fitting_error",
-                                     description="Regenerate Figure 1 (fitting error).")
-    parser.add_argument("--log", type=Path, default=None,
-                        help="modal log (default: synthetic kaos_like(seed=0))")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")
-    parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
-    args = parser.parse_args(argv)
-    if (args.out / FIGURE_NAME).exists() and not args.overwrite:
-        sys.stderr.write(f"fig1: error: '{args.out / FIGURE_NAME}' exists; pass --overwrite\n")
-        return 2
-    if args.log is not None and not args.log.is_file():
-        sys.stderr.write(f"fig1: error: log file '{args.log}' does not exist\n")
-        return 2
-    print(make(args.out, args.log))
-    return 0
+    return figure_main(argv, prog="python -m paper_figures.fig1_fitting_error",
+                       description="Regenerate Figure 1 (fitting error).",
+                       figure_name=FIGURE_NAME, make=make)
 
 
 if __name__ == "__main__":

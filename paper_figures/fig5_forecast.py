@@ -19,12 +19,13 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+from paper_figures._common import figure_main, load_log
 
 FIGURE_NAME = "fig5_forecast.png"
 JSON_NAME = "fig5_forecast.json"
@@ -34,35 +35,11 @@ H_ARMA = 10         # the paper's ARMA forecast: frames 7001-7010
 PAPER_SEEDS = (0, 1, 2, 3, 4)
 
 
-def _load(log_path: Path | None):
-    from modalinfo.telemetry.synthetic import kaos_like
-
-    if log_path is None:
-        return kaos_like(seed=0), "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
-    from modalinfo.io import load
-
-    return load(log_path), f"`{log_path}`"
-
 
 def _predictors():
-    from modalinfo.forecast import (
-        ARMAPredictor,
-        LinearPredictor,
-        MultivariatePredictor,
-        NeuralNetPredictor,
-        RLSMultivariatePredictor,
-    )
+    from modalinfo.forecast.presets import PRESETS
 
-    return {
-        "linear (a=2, b=-1)": LinearPredictor(),
-        "linear (LS a, b)": LinearPredictor(fit_weights=True),
-        "ARMA(2,3)": ARMAPredictor(order=(2, 3)),
-        "ARMA (AIC)": ARMAPredictor(order="aic"),
-        "NN 10-10-1, 2000 patterns": NeuralNetPredictor(),
-        "NN paper (10 patterns)": NeuralNetPredictor.paper(),
-        "multivariate VAR(4)": MultivariatePredictor(order=4),
-        "multivariate RLS": RLSMultivariatePredictor(order=4),
-    }
+    return {label: factory() for label, factory in PRESETS.values()}
 
 
 def _increment_correlation(x: np.ndarray) -> np.ndarray:
@@ -88,7 +65,7 @@ def make(out_dir: Path, log_path: Path | None) -> str:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
-    log, source = _load(log_path)
+    log, source = load_log(log_path)
     if log.n_frames < N_FIT + 2 * H_ARMA:
         raise ValueError(f"`log_path` must hold at least {N_FIT + 2 * H_ARMA} frames for "
                          f"Figure 5; got {log.n_frames}.")
@@ -271,21 +248,9 @@ _(computed in {elapsed:.1f} s)_
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
-    parser = argparse.ArgumentParser(prog="python -m paper_figures.fig5_forecast",
-                                     description="Regenerate Figure 5 (forecasts).")
-    parser.add_argument("--log", type=Path, default=None,
-                        help="modal log (default: synthetic kaos_like(seed=0))")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")
-    parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
-    args = parser.parse_args(argv)
-    if (args.out / FIGURE_NAME).exists() and not args.overwrite:
-        sys.stderr.write(f"fig5: error: '{args.out / FIGURE_NAME}' exists; pass --overwrite\n")
-        return 2
-    if args.log is not None and not args.log.is_file():
-        sys.stderr.write(f"fig5: error: log file '{args.log}' does not exist\n")
-        return 2
-    print(make(args.out, args.log))
-    return 0
+    return figure_main(argv, prog="python -m paper_figures.fig5_forecast",
+                       description="Regenerate Figure 5 (forecasts).",
+                       figure_name=FIGURE_NAME, make=make)
 
 
 if __name__ == "__main__":

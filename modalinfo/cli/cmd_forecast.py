@@ -28,28 +28,8 @@ HELP = "evaluate wavefront predictors (linear, ARMA, neural net, multivariate) o
 OUTPUTS = ("forecast.json", "forecast.csv", "forecast_series.png", "forecast_rmse.png")
 
 
-def _factories() -> dict:
-    from modalinfo.forecast import (
-        ARMAPredictor,
-        LinearPredictor,
-        MultivariatePredictor,
-        NeuralNetPredictor,
-        RLSMultivariatePredictor,
-    )
-
-    return {
-        "linear": lambda: LinearPredictor(),
-        "linear-ls": lambda: LinearPredictor(fit_weights=True),
-        "arma": lambda: ARMAPredictor(order=(2, 3)),
-        "arma-aic": lambda: ARMAPredictor(order="aic"),
-        "nn": lambda: NeuralNetPredictor(),
-        "nn-paper": lambda: NeuralNetPredictor.paper(),
-        "multivariate": lambda: MultivariatePredictor(order=4),
-        "rls": lambda: RLSMultivariatePredictor(order=4),
-    }
-
-
 NAMES = ("linear", "linear-ls", "arma", "arma-aic", "nn", "nn-paper", "multivariate", "rls")
+"""The preset names of :mod:`modalinfo.forecast.presets`, listed without importing it."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -89,13 +69,14 @@ def _parse_train(text: str) -> float | int:
 
 
 def _parse_predictors(text: str) -> dict:
-    factories = _factories()
+    from modalinfo.forecast.presets import make_predictor
+
     chosen = {}
     for part in (p.strip() for p in text.split(",")):
-        if part not in factories:
+        if part not in NAMES:
             raise CommandError(f"--predictors: unknown predictor {part!r}; choose from "
                                f"{', '.join(NAMES)}")
-        chosen[part] = factories[part]()
+        chosen[part] = make_predictor(part)
     return chosen
 
 

@@ -27,6 +27,7 @@ from modalinfo.forecast.linear import LinearPredictor
 from modalinfo.forecast.multivariate import MultivariatePredictor, RLSMultivariatePredictor
 from modalinfo.forecast.nn import NeuralNetPredictor
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
+from modalinfo.forecast.presets import PRESETS, make_predictor
 
 __all__ = [
     "Predictor",
@@ -43,4 +44,6 @@ __all__ = [
     "sample_autocovariance",
     "evaluate",
     "ForecastEvaluation",
+    "PRESETS",
+    "make_predictor",
 ]

@@ -100,3 +100,15 @@ def test_shapes_and_parameters():
         evaluate([LinearPredictor()], X, train=1.5)
     with pytest.raises(TypeError, match=r"`predictors\['a'\]` must be a Predictor"):
         evaluate({"a": object()}, X)
+
+
+def test_cli_names_are_the_presets():
+    # the CLI lists the names without importing the forecast package; they must agree
+    from modalinfo.cli.cmd_forecast import NAMES
+    from modalinfo.forecast.presets import PRESETS, make_predictor
+
+    assert tuple(PRESETS) == NAMES
+    a, b = make_predictor("arma"), make_predictor("arma")
+    assert a is not b and a.get_params() == b.get_params()
+    with pytest.raises(ValueError, match="`name` must be one of"):
+        make_predictor("kalman")

@@ -1,0 +1,47 @@
+"""What every figure script shares: loading its log and its stand-alone command line."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+__all__ = ["load_log", "figure_main"]
+
+
+def load_log(log_path: Path | None):
+    """Return ``(log, description)``: the file's log, or the synthetic KAOS-like one."""
+    if log_path is None:
+        from modalinfo.telemetry.synthetic import kaos_like
+
+        return kaos_like(seed=0), "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
+    from modalinfo.io import load
+
+    return load(log_path), f"`{log_path}`"
+
+
+def figure_main(
+    argv: list[str] | None,
+    *,
+    prog: str,
+    description: str,
+    figure_name: str,
+    make: Callable[[Path, Path | None], str],
+) -> int:
+    """Stand-alone command line of one figure: draw it and print its report section."""
+    parser = argparse.ArgumentParser(prog=prog, description=description)
+    parser.add_argument("--log", type=Path, default=None,
+                        help="modal log (default: synthetic kaos_like(seed=0))")
+    parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
+    args = parser.parse_args(argv)
+    short = prog.rsplit(".", 1)[-1].split("_", 1)[0]
+    if (args.out / figure_name).exists() and not args.overwrite:
+        sys.stderr.write(f"{short}: error: '{args.out / figure_name}' exists; pass --overwrite\n")
+        return 2
+    if args.log is not None and not args.log.is_file():
+        sys.stderr.write(f"{short}: error: log file '{args.log}' does not exist\n")
+        return 2
+    print(make(args.out, args.log))
+    return 0
