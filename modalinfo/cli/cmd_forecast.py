@@ -23,7 +23,7 @@ from pathlib import Path
 from modalinfo.cli import CommandError
 
 NAME = "forecast"
-HELP = "evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log"
+HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
 
 OUTPUTS = ("forecast.json", "forecast.csv", "forecast_series.png", "forecast_rmse.png")
 

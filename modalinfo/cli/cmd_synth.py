@@ -16,7 +16,7 @@ import sys
 from modalinfo.cli import CommandError
 
 NAME = "synth"
-HELP = "write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)"
+HELP = "Write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)."
 
 PRESETS = ("kaos-like",)
 
