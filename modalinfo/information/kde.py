@@ -96,8 +96,8 @@ def _standardise(x: np.ndarray, copula: bool) -> tuple[np.ndarray, float, float]
     """Return (z - mean) / std of z = x or its copula scores (std > 0), its min and max."""
     z = copula_scores(x) if copula else x
     out = np.empty(z.shape[0])
-    _, _, lo, hi = kern.standardise(np.ascontiguousarray(z, dtype=float), out)
-    return out, lo, hi
+    kern.standardise(np.ascontiguousarray(z, dtype=float), out)
+    return out, float(out.min()), float(out.max())
 
 
 def _kernel_1d(h: float, delta: float) -> tuple[np.ndarray, float]:
@@ -292,6 +292,7 @@ class KDEEngine:
         d1 = (vmax - vmin + 2.0 * pad) / (g1 - 1)
         grid2 = np.empty((gu, gw))
         grid1 = np.empty(g1)
+        f_u = self._marginal_u(h)
         cell = np.empty(n, dtype=np.int32)
         iv = np.empty(n, dtype=np.int32)
         fu = np.empty(n)
@@ -310,7 +311,7 @@ class KDEEngine:
         floor2 = (tail * ker2[c2]) ** 2 / (n - 1.0)
         floor1 = tail * ker1[c1] / (n - 1.0)
         acc = kern.loo_mi_sum(dens2, cell, fu, fw, ker2[c2], ker2[c2 + 1], floor2, dens1, iv, fv,
-                              ker1[c1], ker1[c1 + 1], floor1, self._marginal_u(h), float(n))
+                              ker1[c1], ker1[c1 + 1], floor1, f_u, float(n))
         # H(U) + H(V) - H(U, W) = mean log(f_uw / (f_u f_v)), then the Jacobian term
         return acc / n - 0.5 * math.log(one_minus)
 

@@ -245,11 +245,10 @@ def test_moment_kernels_against_numpy(rng):
     x = 3.0 + 2.0 * rng.standard_normal(1001)
     y = rng.standard_normal(1001) - 0.5 * x
     out = np.empty_like(x)
-    mean, std, lo, hi = kern.standardise(x, out)
+    mean, std = kern.standardise(x, out)
     assert mean == pytest.approx(x.mean(), rel=1e-13)
     assert std == pytest.approx(x.std(), rel=1e-13)
     np.testing.assert_allclose(out, (x - x.mean()) / x.std(), rtol=1e-12, atol=1e-14)
-    assert (lo, hi) == (out.min(), out.max())
     assert kern.dot(x, y) == pytest.approx(np.dot(x, y), rel=1e-12)
     xu = (x - x.mean()) / np.linalg.norm(x - x.mean())
     num, norm = kern.centred_dot_and_norm(xu, y)
