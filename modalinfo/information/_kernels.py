@@ -1,7 +1,8 @@
 """numba kernels of the MI estimators: one-pass binning, counting and grid interpolation.
 
 Preconditions (checked by the wrappers, never here): arrays are C-contiguous float64
-or int64, finite, of matching lengths; bin counts are >= 1; ``inv_width > 0``.
+or int64 (int32 cells: grids of < 2^31 nodes), finite, of matching lengths; bin
+counts are >= 1; ``inv_width > 0``.
 Outputs are preallocated by the caller and marked ``# OUT``.
 
 Grid cells of the samples are stored compactly, since at large n the interpolation
