@@ -1,6 +1,19 @@
-"""Shared pytest configuration: slow statistical checks run only with ``--runslow``."""
+"""Shared pytest configuration.
+
+- Slow statistical checks (``@pytest.mark.slow``) run only with ``--runslow``.
+- Hypothesis: no per-example deadline (the first example of a test may pay a numba
+  compilation, and the machine is shared), and under CI (``CI`` set) a derandomised
+  search so that a run is reproducible; locally the search stays random.
+"""
+
+import os
 
 import pytest
+from hypothesis import settings
+
+settings.register_profile("modalinfo", deadline=None, print_blob=True)
+settings.register_profile("modalinfo-ci", deadline=None, print_blob=True, derandomize=True)
+settings.load_profile("modalinfo-ci" if os.environ.get("CI") else "modalinfo")
 
 
 def pytest_addoption(parser):
