@@ -14,6 +14,7 @@ import argparse
 import sys
 
 from modalinfo.cli import CommandError
+from modalinfo.cli._common import check_output
 
 NAME = "synth"
 HELP = "Write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)."
@@ -58,8 +59,7 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.telemetry.synthetic import kaos_like
 
     out = Path(args.out)
-    if out.exists() and not args.overwrite:
-        raise CommandError(f"'{out}' exists; pass --overwrite to replace it.")
+    check_output(out, args.overwrite)  # before the generator runs, not after
     log = kaos_like(n_frames=args.frames, closed_loop=args.closed_loop, seed=args.seed)
     written = save(log, out, overwrite=args.overwrite)
     if not args.quiet:
