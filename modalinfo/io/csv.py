@@ -35,6 +35,7 @@ import numpy as np
 
 from modalinfo.io._common import (
     LogFormatError,
+    as_path,
     atomic_write,
     build_log,
     check_readable,
@@ -76,6 +77,7 @@ def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     """
     if not isinstance(log, ModalLog):
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    path = as_path(path)
     header = log_header(log, checksum=True)
     times = log.timestamps
 
@@ -99,7 +101,7 @@ def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
         text.flush()
         text.detach()
 
-    return atomic_write(Path(path), write, overwrite=overwrite)
+    return atomic_write(path, write, overwrite=overwrite)
 
 
 def _is_number(token: str) -> bool:
@@ -157,7 +159,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
         Undecodable text, ragged or non-numeric rows, a header disagreeing with the
         data, or a checksum mismatch.
     """
-    path = Path(path)
+    path = as_path(path)
     check_readable(path)
     with reading("CSV", path):
         with open(path, encoding="utf-8", newline="") as fh:

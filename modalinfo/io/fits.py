@@ -31,6 +31,7 @@ import numpy as np
 
 from modalinfo.io._common import (
     LogFormatError,
+    as_path,
     atomic_write,
     build_log,
     check_readable,
@@ -70,6 +71,7 @@ def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
 
     if not isinstance(log, ModalLog):
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    path = as_path(path)
     primary = fits.PrimaryHDU(data=np.ascontiguousarray(log.coeffs))
     hdr = primary.header
     hdr["BUNIT"] = (log.units, "units of the modal coefficients")
@@ -90,7 +92,7 @@ def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
         hdus[-1].header["BUNIT"] = "s"
     hdul = fits.HDUList(hdus)
     return atomic_write(
-        Path(path),
+        path,
         lambda name: hdul.writeto(name, checksum=True, output_verify="exception"),
         overwrite=overwrite,
         by_name=True,
@@ -129,7 +131,7 @@ def read_fits(path, **hints) -> ModalLog:
     """
     from astropy.io import fits
 
-    path = Path(path)
+    path = as_path(path)
     check_readable(path)
     with reading("FITS", path):
         with warnings.catch_warnings(record=True) as caught:

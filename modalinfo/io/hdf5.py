@@ -37,6 +37,7 @@ import numpy as np
 
 from modalinfo.io._common import (
     LogFormatError,
+    as_path,
     atomic_write,
     build_log,
     check_readable,
@@ -78,6 +79,7 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
 
     if not isinstance(log, ModalLog):
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    path = as_path(path)
     header = dumps(log_header(log, checksum=True))
 
     def write(name: Path) -> None:
@@ -95,7 +97,7 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
                 f.create_dataset("timestamps", data=np.asarray(log.timestamps))
             f.create_dataset(_HEADER, data=np.frombuffer(header.encode("ascii"), dtype=np.uint8))
 
-    return atomic_write(Path(path), write, overwrite=overwrite, by_name=True)
+    return atomic_write(path, write, overwrite=overwrite, by_name=True)
 
 
 def _datasets(f) -> dict[str, Any]:
@@ -159,7 +161,7 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
     """
     import h5py
 
-    path = Path(path)
+    path = as_path(path)
     check_readable(path)
     with reading("HDF5", path):
         with h5py.File(path, "r") as f:

@@ -31,6 +31,7 @@ from modalinfo.io._common import (
     LogFormatError as _LogFormatError,
 )
 from modalinfo.io._common import (
+    as_path,
     atomic_write,
     build_log,
     check_readable,
@@ -68,13 +69,14 @@ def write_npz(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     """
     if not isinstance(log, ModalLog):
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    path = as_path(path)
     arrays: dict[str, Any] = {
         "coefficients": np.ascontiguousarray(log.coeffs),
         "header": np.array(dumps(log_header(log, checksum=False))),
     }
     if log.timestamps is not None:
         arrays["timestamps"] = log.timestamps
-    return atomic_write(Path(path), lambda fh: np.savez(fh, **arrays), overwrite=overwrite)
+    return atomic_write(path, lambda fh: np.savez(fh, **arrays), overwrite=overwrite)
 
 
 def _npy_header(fh) -> tuple[tuple[int, ...], bool, np.dtype]:
@@ -195,7 +197,7 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
     LogFormatError
         Corrupted, truncated or unexpected content (a ``ValueError``).
     """
-    path = Path(path)
+    path = as_path(path)
     check_readable(path)
     with reading("NPZ", path):
         with zipfile.ZipFile(path) as zf:
@@ -275,7 +277,7 @@ def read_npy(path, *, mmap: bool = False, **hints) -> ModalLog:
         Bad magic or header, object dtype, or a file shorter (or longer) than the
         header declares: a truncated file is never read partially.
     """
-    path = Path(path)
+    path = as_path(path)
     check_readable(path)
     with reading("NPY", path):
         with open(path, "rb") as fh:

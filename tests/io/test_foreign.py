@@ -166,6 +166,17 @@ def test_path_errors(tmp_path):
         load(tmp_path / "x", fmt="xls")
 
 
+@pytest.mark.parametrize("fmt", ["npz", "npy", "csv", "fits", "hdf5"])
+def test_format_functions_name_a_bad_path(fmt):
+    import modalinfo.io as mio
+
+    with pytest.raises(TypeError, match=r"`path` must be a str or os.PathLike; got int"):
+        getattr(mio, f"read_{fmt}")(3)
+    if fmt != "npy":
+        with pytest.raises(TypeError, match=r"`path` must be a str or os.PathLike; got int"):
+            getattr(mio, f"write_{fmt}")(ModalLog(X, rate=1.0), 3)
+
+
 def test_save_never_overwrites_and_is_atomic(tmp_path):
     log = ModalLog(X, rate=1.0)
     path = save(log, tmp_path / "a.npz")
