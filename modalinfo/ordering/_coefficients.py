@@ -123,10 +123,7 @@ def coefficients_in_basis(
         if getattr(log, "convention", "noll") != "noll":
             log = log.to_convention("noll")
         if getattr(log, "units", "rad") != "rad":
-            if wavelength is None:
-                log = log.to_units("rad")
-            else:
-                log = log.to_units("rad", wavelength=wavelength)
+            log = log.to_units("rad", wavelength=wavelength)
         coeffs = as_float_array(np.asarray(log.coeffs), f"{name}.coeffs", ndim=2)
         log_modes = list(log.modes) if getattr(log, "modes", None) is not None else None
         if obj is not None and hasattr(obj, "zernike_modes") and hasattr(

@@ -370,18 +370,15 @@ def order_modes(
     if method == "standard":
         return result(np.arange(n_modes))
     if method in ("variance", "pca"):
-        if method == "pca":
-            if frame is not None:
-                raise ValueError(
-                    f"`frame` must be None for method='pca' (a PCA order is a property of the "
-                    f"whole log); got {frame}."
-                )
-            order = _pca_order(a)
-        else:
-            rows = a if frame is None else a[frame:frame + 1]
-            order = np.argsort(-np.mean(rows * rows, axis=0), kind="stable")
+        if method == "pca" and frame is not None:
+            raise ValueError(
+                f"`frame` must be None for method='pca' (a PCA order is a property of the "
+                f"whole log); got {frame}."
+            )
         rows = a if frame is None else a[frame:frame + 1]
-        return result(order, scores=np.mean(rows * rows, axis=0))
+        mean_square = np.mean(rows * rows, axis=0)
+        order = _pca_order(a) if method == "pca" else np.argsort(-mean_square, kind="stable")
+        return result(order, scores=mean_square)
 
     est, est_name = _make_estimator(estimator, options)
     frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
