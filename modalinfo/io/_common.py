@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.telemetry.log import _SCAN_ELEMENTS, ModalLog
+from modalinfo.telemetry.log import ModalLog, _row_blocks, _scan_rows
 
 __all__ = ["LogFormatError"]
 
@@ -190,12 +190,10 @@ def sha256_of(arr: np.ndarray) -> str:
     """
     digest = hashlib.sha256()
     little = arr.dtype.newbyteorder("<")
-    if arr.ndim == 1:
-        digest.update(np.ascontiguousarray(arr, dtype=little).data)
-        return digest.hexdigest()
-    rows = max(1, _SCAN_ELEMENTS // max(1, arr.shape[1]))
-    for i0 in range(0, arr.shape[0], rows):
-        digest.update(np.ascontiguousarray(arr[i0 : i0 + rows], dtype=little).data)
+    # row blocks as the log's own scans: a memory-mapped log is hashed with a small RSS
+    blocks = (arr,) if arr.ndim == 1 else _row_blocks(arr, _scan_rows(arr))
+    for block in blocks:
+        digest.update(np.ascontiguousarray(block, dtype=little).data)
     return digest.hexdigest()
 
 

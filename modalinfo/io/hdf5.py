@@ -49,7 +49,7 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
-from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.log import ModalLog, _scan_rows
 
 __all__ = ["read_hdf5", "write_hdf5"]
 
@@ -86,7 +86,7 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
         with h5py.File(name, "w") as f:
             dset = f.create_dataset("coefficients", shape=log.shape, dtype=log.dtype)
             rows = 0
-            for block in log.iter_chunks(max(1, (1 << 22) // log.n_modes)):
+            for block in log.iter_chunks(_scan_rows(log.coeffs)):
                 dset[rows : rows + block.shape[0]] = block
                 rows += block.shape[0]
             # fixed-length byte strings: no variable-length heap references (see module doc)
