@@ -186,13 +186,12 @@ class OrderingResult:
         Returns
         -------
         pathlib.Path
-            The path written.
+            The path written (atomically: a crash leaves the old file or none).
         """
-        path = Path(path)
-        if path.exists() and not overwrite:
-            raise FileExistsError(f"`path` '{path}' exists; pass overwrite=True to replace it.")
-        path.write_text(json.dumps(self.to_dict(), indent=1) + "\n", encoding="utf-8")
-        return path
+        from modalinfo.io._common import atomic_write
+
+        data = (json.dumps(self.to_dict(), indent=1) + "\n").encode("utf-8")
+        return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
     @classmethod
     def from_dict(cls, data: dict) -> OrderingResult:
