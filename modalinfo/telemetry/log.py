@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo._validation import check_choice, check_int, check_real
-from modalinfo.telemetry.units import check_units, unit_scale
+from modalinfo.telemetry.units import check_units, check_wavelength, unit_scale
 
 __all__ = ["ModalLog", "LogSummary", "summarize", "CONVENTIONS", "NONFINITE_POLICIES"]
 
@@ -59,7 +59,6 @@ _FIRST_DEFAULT = {"noll": 2, "ansi": 1, "fringe": 2}
 _MIN_INDEX = {"noll": 1, "ansi": 0, "fringe": 1}
 _PISTON_TIPTILT = {"noll": (1, 2, 3), "ansi": (0, 1, 2), "fringe": (1, 2, 3)}
 _RATE_RTOL = 1e-3
-_MAX_WAVELENGTH = 1e-3  # metres; anything larger is surely given in nm or um by mistake
 _SCAN_ELEMENTS = 1 << 22  # elements per block when scanning a large array
 
 
@@ -340,12 +339,7 @@ class ModalLog:
         if rate is not None:
             rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
         if wavelength is not None:
-            wavelength = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
-            if wavelength > _MAX_WAVELENGTH:
-                raise ValueError(
-                    f"`wavelength` must be in metres, <= {_MAX_WAVELENGTH}; got {wavelength} "
-                    f"(did you mean {wavelength:g}e-9 m?)."
-                )
+            wavelength = check_wavelength(wavelength)
         start_time = check_real(start_time, "start_time")
         t = None if timestamps is None else _check_timestamps(timestamps, n_frames)
         if t is not None and rate is not None and n_frames > 1:
@@ -746,11 +740,7 @@ class ModalLog:
         units = check_units(units)
         lam = self._wavelength
         if wavelength is not None:
-            wavelength = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
-            if wavelength > _MAX_WAVELENGTH:
-                raise ValueError(
-                    f"`wavelength` must be in metres, <= {_MAX_WAVELENGTH}; got {wavelength}."
-                )
+            wavelength = check_wavelength(wavelength)
             if (
                 lam is not None
                 and self._units in ("rad", "waves")

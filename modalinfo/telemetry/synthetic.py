@@ -107,6 +107,7 @@ from modalinfo._validation import (
 )
 from modalinfo.bases import noll_to_zernike, zernike_covariance
 from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.units import check_wavelength
 
 __all__ = [
     "Layer",
@@ -181,7 +182,7 @@ class Layer:
         object.__setattr__(
             self,
             "r0_wavelength",
-            check_real(self.r0_wavelength, "r0_wavelength", minimum=0.0, strict_min=True),
+            check_wavelength(self.r0_wavelength, "r0_wavelength"),
         )
 
     def d_over_r0_at(self, diameter: float, wavelength: float) -> float:
@@ -398,9 +399,7 @@ def _check_geometry(diameter, outer_scale, wavelength):
     diameter = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
     outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                              allow_inf=True)
-    wavelength = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
-    if wavelength > 1e-3:
-        raise ValueError(f"`wavelength` must be in metres, <= 1e-3; got {wavelength}.")
+    wavelength = check_wavelength(wavelength)
     return diameter, outer_scale, wavelength
 
 

@@ -32,6 +32,7 @@ from modalinfo._validation import check_choice, check_real
 __all__ = [
     "UNITS",
     "check_units",
+    "check_wavelength",
     "unit_scale",
     "zernike_rms_normalization",
     "rms_from_peak_normalized",
@@ -44,6 +45,7 @@ UNITS = ("rad", "nm", "um", "waves")
 # Each unit expressed in its family's base: phase family base is rad, OPD base is metres.
 _PHASE = {"rad": 1.0, "waves": 2.0 * math.pi}
 _OPD = {"nm": 1e-9, "um": 1e-6}
+_MAX_WAVELENGTH = 1e-3  # metres; anything larger is surely given in nm or um by mistake
 
 
 def check_units(units, name: str = "units") -> str:
@@ -51,6 +53,20 @@ def check_units(units, name: str = "units") -> str:
     if not isinstance(units, str):
         raise TypeError(f"`{name}` must be a str, one of {UNITS}; got {units!r}.")
     return check_choice(units, name, UNITS)
+
+
+def check_wavelength(wavelength, name: str = "wavelength") -> float:
+    """Return ``wavelength`` as a float in metres, in ``(0, 1e-3]``, else raise.
+
+    The upper bound catches a wavelength given in nanometres or micrometres.
+    """
+    lam = check_real(wavelength, name, minimum=0.0, strict_min=True)
+    if lam > _MAX_WAVELENGTH:
+        raise ValueError(
+            f"`{name}` must be in metres, <= {_MAX_WAVELENGTH}; got {lam} "
+            f"(did you mean {lam:g}e-9 m?)."
+        )
+    return lam
 
 
 def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) -> float:
@@ -61,8 +77,9 @@ def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) 
     from_units, to_units : {"rad", "nm", "um", "waves"}
         Source and target units.
     wavelength : float, optional
-        Wavelength in metres at which phase (rad, waves) is defined; required only
-        when converting between the phase family (rad, waves) and OPD (nm, um).
+        Wavelength in metres, in ``(0, 1e-3]``, at which phase (rad, waves) is
+        defined; required only when converting between the phase family (rad,
+        waves) and OPD (nm, um).
 
     Returns
     -------
@@ -72,7 +89,8 @@ def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) 
     Raises
     ------
     ValueError
-        Unknown units, or a missing or non-positive wavelength where one is needed.
+        Unknown units, or a missing, non-positive or larger than 1 mm wavelength
+        where one is needed.
 
     Examples
     --------
@@ -93,7 +111,7 @@ def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) 
             f"`wavelength` (metres) is required to convert {from_units!r} to {to_units!r}; "
             "got None."
         )
-    lam = check_real(wavelength, "wavelength", minimum=0.0, strict_min=True)
+    lam = check_wavelength(wavelength)
     if from_units in _PHASE:  # phase -> OPD: opd[m] = rad * lambda / (2 pi)
         metres = _PHASE[from_units] * lam / (2.0 * math.pi)
         return metres / _OPD[to_units]

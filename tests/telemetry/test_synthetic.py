@@ -500,6 +500,8 @@ def test_layer_validation_and_scaling():
         Layer(0.1, 0.0)
     with pytest.raises(ValueError, match="`r0` must be > 0"):
         Layer(-0.1, 5.0)
+    with pytest.raises(ValueError, match="`r0_wavelength` must be in metres"):
+        Layer(0.1, 5.0, r0_wavelength=500.0)
     # r0 ~ lambda^(6/5): at 2 x 500 nm, r0 is 2^1.2 larger.
     layer = Layer(0.1, 5.0)
     assert layer.d_over_r0_at(1.0, 1000e-9) == pytest.approx(10.0 / 2**1.2, rel=1e-12)

@@ -20,6 +20,7 @@ from scipy import integrate
 from modalinfo.telemetry import ModalLog
 from modalinfo.telemetry.units import (
     UNITS,
+    check_wavelength,
     peak_normalized_from_rms,
     rms_from_peak_normalized,
     unit_scale,
@@ -66,6 +67,11 @@ def test_errors():
         unit_scale("rad", "nm")
     with pytest.raises(ValueError, match=r"`wavelength` must be > 0.0"):
         unit_scale("rad", "nm", -1e-6)
+    with pytest.raises(ValueError, match=r"`wavelength` must be in metres, <= 0.001; got 500.0"):
+        unit_scale("rad", "nm", 500.0)
+    assert check_wavelength(1e-3) == 1e-3
+    with pytest.raises(ValueError, match=r"`lam` must be > 0.0; got 0.0"):
+        check_wavelength(0.0, "lam")
 
 
 def test_rms_normalization_values():
