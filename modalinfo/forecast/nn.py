@@ -33,8 +33,6 @@ import copy
 import warnings
 
 import numpy as np
-from sklearn.exceptions import ConvergenceWarning
-from sklearn.neural_network import MLPRegressor
 
 from modalinfo._validation import check_choice, check_int, check_real
 from modalinfo.forecast._kernels import mlp_filter
@@ -130,6 +128,11 @@ class NeuralNetPredictor(Predictor):
         return k + 2
 
     def _fit_params(self, X, previous, name):
+        # scikit-learn only trains; imported here so that importing modalinfo.forecast
+        # (e.g. for ARMA alone) does not pay its ~0.4 s import
+        from sklearn.exceptions import ConvergenceWarning
+        from sklearn.neural_network import MLPRegressor
+
         k = check_int(self.n_inputs, "n_inputs", minimum=1)
         n_hidden = check_int(self.n_hidden, "n_hidden", minimum=1)
         check_choice(self.activation, "activation", tuple(_ACTIVATIONS))
