@@ -153,10 +153,8 @@ def _von_karman_radial(n1: np.ndarray, n2: np.ndarray, x0: float) -> np.ndarray:
     x, w = _quadrature(float(x0), int(orders.max()))
     bessel = special.jv(orders[:, None] + 1, x[None, :])  # (n_orders, n_nodes)
     table = (bessel * w[None, :]) @ bessel.T
-    index = {int(o): i for i, o in enumerate(orders)}
-    i1 = np.vectorize(index.__getitem__, otypes=[np.int64])(n1)
-    i2 = np.vectorize(index.__getitem__, otypes=[np.int64])(n2)
-    return _RADIAL_PREFACTOR * table[i1, i2]
+    # orders is sorted and holds every n: searchsorted is the row of each n in table
+    return _RADIAL_PREFACTOR * table[np.searchsorted(orders, n1), np.searchsorted(orders, n2)]
 
 
 def zernike_covariance(modes, *, outer_scale: float = np.inf, diameter: float = 1.0) -> np.ndarray:
