@@ -378,15 +378,16 @@ def _newey_west_var(d: np.ndarray, lag: int) -> float:
     return max(var, 0.0)
 
 
-def _std_path(predictor, refits, origins, horizons):
-    """(N, H, M) forecast standard deviations in force at each origin, or None."""
-    if not isinstance(predictor, ARMAPredictor):
-        return None
-    h_max = int(horizons.max())
-    base = predictor._std_from_params(predictor.params_, h_max)
-    std = np.broadcast_to(base, (origins.size, h_max, base.shape[1])).copy()
-    for sample, params in refits:  # params apply to origins after `sample`
-        std[origins > sample] = predictor._std_from_params(params, h_max)
+def _std_path(stds, origins, horizons):
+    """(N, H, M) forecast standard deviations in force at each origin.
+
+    ``stds`` lists ``(sample, std (max(horizons), M))`` in time order: the fitted
+    parameters' first (sample -1), then one per refit, applying to origins after
+    ``sample``.
+    """
+    std = np.empty((origins.size,) + stds[0][1].shape)
+    for sample, s in stds:
+        std[origins > sample] = s
     return std[:, horizons - 1]
 
 
@@ -470,11 +471,15 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         pred.fit(train_data)
         has_interval[i] = isinstance(pred, ARMAPredictor)
         run = pred._new_run(h_max)
-        refits: list = []
+        if has_interval[i]:  # interval widths of the parameters in force, each computed once
+            stds = [(-1, pred._std_from_params(pred.params_, h_max))]
         for begin in range(0, last, chunk):
             end = min(begin + chunk, last)
             out = np.empty((end - begin, h_max, n_modes))
-            refits += pred._feed(run, data, out, "log", begin, end)
+            refits = pred._feed(run, data, out, "log", begin, end)
+            if has_interval[i]:
+                stds += [(sample, pred._std_from_params(params, h_max))
+                         for sample, params in refits]
             first = max(begin, int(origins[0]))
             if first >= end:
                 continue
@@ -488,7 +493,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             keep = k < n_keep
             one_step[i, k[keep]] = fc[keep, 0]
             if has_interval[i]:
-                std = _std_path(pred, refits, idx, hs)
+                std = _std_path(stds, idx, hs)
                 covered[i] += np.sum(np.abs(err) <= z * std, axis=(0, 2))
     rmse = np.sqrt(sse / n_o)                             # (P, H, M)
     coverage = np.where(has_interval[:, None], covered / (n_o * n_modes), np.nan)
