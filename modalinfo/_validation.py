@@ -153,7 +153,11 @@ def check_choice(value: Any, name: str, choices) -> Any:
 
 
 def check_rng(seed: Any, name: str = "seed") -> np.random.Generator:
-    """Return a ``numpy.random.Generator`` from ``None``, an int or a Generator."""
+    """Return a ``numpy.random.Generator`` from ``None``, an int, a SeedSequence or a Generator.
+
+    A Generator is returned as is (not copied), so a caller passing one generator to
+    several functions draws one continuous stream, as ``numpy.random.default_rng`` does.
+    """
     if seed is None or isinstance(seed, np.random.Generator):
         return np.random.default_rng(seed)
     if isinstance(seed, bool) or not isinstance(seed, numbers.Integral | np.random.SeedSequence):
