@@ -202,7 +202,23 @@ class MutualInformation:
         return float(self._engine.score(y)) * self._factor
 
     def estimate(self, x: Any, y: Any) -> float:
-        """Fit x and score y in one call (``self.fit(x).score(y)``)."""
+        """Fit x and score y in one call (``self.fit(x).score(y)``).
+
+        Parameters
+        ----------
+        x, y : array_like, shape (n,)
+            Paired samples (n >= 10, finite, same length).
+
+        Returns
+        -------
+        float
+            MI in ``self.units``; 0.0 if x or y is constant.
+
+        Raises
+        ------
+        ValueError
+            If x or y is not 1-D, too short or not finite, or their lengths differ.
+        """
         x = _as_sample(x, "x")
         y = _as_sample(y, "y")
         if x.shape[0] != y.shape[0]:
