@@ -114,11 +114,38 @@ class Predictor:
                 if p.name != "self" and p.kind != p.VAR_KEYWORD]
 
     def get_params(self, deep: bool = True) -> dict[str, Any]:
-        """Return the hyper-parameters as a dict (scikit-learn convention)."""
+        """Return the hyper-parameters as a dict (scikit-learn convention).
+
+        Parameters
+        ----------
+        deep : bool
+            Accepted for scikit-learn compatibility; predictors hold no sub-estimators.
+
+        Returns
+        -------
+        dict
+            ``{name: value}`` for every ``__init__`` keyword.
+        """
         return {name: getattr(self, name) for name in self._param_names()}
 
     def set_params(self, **params) -> Predictor:
-        """Set hyper-parameters; fitted attributes are left untouched until ``fit``."""
+        """Set hyper-parameters; fitted attributes are left untouched until ``fit``.
+
+        Parameters
+        ----------
+        **params
+            ``__init__`` keywords and their new values (not validated until ``fit``).
+
+        Returns
+        -------
+        Predictor
+            ``self``.
+
+        Raises
+        ------
+        ValueError
+            If a name is not a hyper-parameter of this class.
+        """
         valid = self._param_names()
         for key, value in params.items():
             if key not in valid:
@@ -130,7 +157,18 @@ class Predictor:
         return self
 
     def clone(self, **params) -> Predictor:
-        """Return an unfitted copy with the same (optionally updated) hyper-parameters."""
+        """Return an unfitted copy with the same (optionally updated) hyper-parameters.
+
+        Parameters
+        ----------
+        **params
+            Hyper-parameters to change in the copy (see :meth:`set_params`).
+
+        Returns
+        -------
+        Predictor
+            A new instance of the same class; hyper-parameters are deep-copied.
+        """
         new = type(self)(**copy.deepcopy(self.get_params()))
         return new.set_params(**params)
 

@@ -126,7 +126,18 @@ class ForecastEvaluation:
 
     # ------------------------------------------------------------------ access
     def index(self, name: str) -> int:
-        """Row of predictor ``name`` in the arrays."""
+        """Row of predictor ``name`` in the arrays.
+
+        Parameters
+        ----------
+        name : str
+            One of :attr:`names`.
+
+        Returns
+        -------
+        int
+            Index along the first axis of the ``(P, ...)`` arrays.
+        """
         if name not in self.names:
             raise ValueError(f"`name` must be one of {', '.join(self.names)}; got {name!r}.")
         return self.names.index(name)
@@ -161,7 +172,18 @@ class ForecastEvaluation:
         }
 
     def to_json(self, path: str | Path) -> Path:
-        """Write :meth:`to_dict` as JSON; return the path."""
+        """Write :meth:`to_dict` as JSON (NaN as null); an existing file is replaced.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            Output file.
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
+        """
         path = Path(path)
         path.write_text(json.dumps(self.to_dict(), indent=1))
         return path
@@ -169,7 +191,17 @@ class ForecastEvaluation:
     def to_csv(self, path: str | Path) -> Path:
         """Write a long table ``predictor, mode, horizon, rmse, gain, coverage``.
 
-        The whole wavefront is the mode ``"wavefront"``. Returns the path.
+        The whole wavefront is the mode ``"wavefront"``; an existing file is replaced.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            Output file.
+
+        Returns
+        -------
+        pathlib.Path
+            The path written.
         """
         path = Path(path)
         with path.open("w", newline="") as fh:
@@ -293,7 +325,20 @@ class ForecastEvaluation:
         return ax
 
     def save_plots(self, out_dir: str | Path, *, mode: int | str = 0) -> list[Path]:
-        """Write ``forecast_series.png`` and ``forecast_rmse.png``; return the paths."""
+        """Write ``forecast_series.png`` and ``forecast_rmse.png`` (replacing them).
+
+        Parameters
+        ----------
+        out_dir : str or pathlib.Path
+            Existing output directory.
+        mode : int or str
+            Mode shown by the series plot (see :meth:`plot_series`).
+
+        Returns
+        -------
+        list of pathlib.Path
+            The two files written.
+        """
         import matplotlib.pyplot as plt
 
         out_dir = Path(out_dir)
