@@ -182,6 +182,20 @@ def parse_header(text: str, fmt: str, path: Path, *, verify: bool = True) -> dic
     return header
 
 
+def check_stored_coefficients(coeffs: np.ndarray, header: dict, fmt: str, path: Path) -> None:
+    """Raise ``LogFormatError`` unless ``coeffs`` has the header's shape and little-endian dtype.
+
+    The byte order is checked exactly: formats that store raw little-endian arrays
+    (NPZ, HDF5) would otherwise read a flipped byte-order flag as garbage values.
+    """
+    want = "<f4" if header["dtype"] == "float32" else "<f8"
+    if list(coeffs.shape) != header["shape"] or coeffs.dtype.str != want:
+        raise LogFormatError(
+            f"corrupt {fmt} file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
+            f"disagree with the header {tuple(header['shape'])} {header['dtype']}"
+        )
+
+
 def sha256_of(arr: np.ndarray) -> str:
     """SHA-256 hex digest of ``arr``'s *values* (little-endian, C order), block by block.
 

@@ -41,6 +41,7 @@ from modalinfo.io._common import (
     atomic_write,
     build_log,
     check_readable,
+    check_stored_coefficients,
     dumps,
     log_header,
     parse_header,
@@ -174,13 +175,7 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
                 if "coefficients" not in f:
                     raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
                 coeffs = _load(f["coefficients"], path, mmap)
-                if list(coeffs.shape) != header["shape"] or coeffs.dtype.str != "<" + (
-                    "f4" if header["dtype"] == "float32" else "f8"
-                ):
-                    raise LogFormatError(
-                        f"corrupt HDF5 file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
-                        f"disagree with the header {tuple(header['shape'])} {header['dtype']}"
-                    )
+                check_stored_coefficients(coeffs, header, "HDF5", path)
                 stored = stored_from_header(header)
                 if header["has_timestamps"]:
                     if "timestamps" not in f:

@@ -35,6 +35,7 @@ from modalinfo.io._common import (
     atomic_write,
     build_log,
     check_readable,
+    check_stored_coefficients,
     dumps,
     log_header,
     parse_header,
@@ -211,12 +212,7 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
                 coeffs = _mmap_member(path, zf, names["coefficients"]) if mmap else None
                 if coeffs is None:
                     coeffs = _read_member(zf, names["coefficients"])
-                want = "<f4" if header["dtype"] == "float32" else "<f8"
-                if list(coeffs.shape) != header["shape"] or coeffs.dtype.str != want:
-                    raise ValueError(
-                        f"coefficients {coeffs.shape} {coeffs.dtype} disagree with the header "
-                        f"{tuple(header['shape'])} {header['dtype']}"
-                    )
+                check_stored_coefficients(coeffs, header, "NPZ", path)
                 stored = stored_from_header(header)
                 if header["has_timestamps"]:
                     if "timestamps" not in names:

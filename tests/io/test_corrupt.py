@@ -243,6 +243,18 @@ def test_hdf5_byte_order_flag_damage_detected(tmp_path, mmap):
         load(path, mmap=mmap)
 
 
+@pytest.mark.parametrize("mmap", [False, True])
+def test_npz_byte_order_flag_damage_detected(tmp_path, mmap):
+    """An NPZ whose valid (CRC-correct) member has the other byte order must not load."""
+    log = ModalLog(np.random.default_rng(5).standard_normal((30, 3)), rate=10.0)
+    path = save(log, tmp_path / "x.npz")
+    with np.load(path) as z:
+        header = z["header"]
+    np.savez(tmp_path / "y.npz", coefficients=np.asarray(log.coeffs).view(">f8"), header=header)
+    with pytest.raises(LogFormatError, match=r"corrupt NPZ file .*>f8 disagree with the header"):
+        load(tmp_path / "y.npz", mmap=mmap)
+
+
 def test_hdf5_checksum_covers_values(tmp_path):
     import h5py
 
