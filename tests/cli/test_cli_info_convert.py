@@ -181,3 +181,27 @@ def test_subprocess_success(tmp_path):
     assert result.returncode == 0, result.stderr
     assert "5 frames x 2 modes" in result.stdout
     assert result.stderr == ""  # not a tty: no progress bar
+
+
+def test_option_choices_match_the_library():
+    """The CLI spells its choices out (no numpy at parser build); they must not drift."""
+    import argparse
+
+    from modalinfo.cli import build_parser
+    from modalinfo.io import FORMATS
+    from modalinfo.telemetry import CONVENTIONS, NONFINITE_POLICIES, UNITS
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+
+    def choices(command, option):
+        action = next(a for a in sub.choices[command]._actions if option in a.option_strings)
+        return tuple(action.choices)
+
+    for command in ("info", "convert"):
+        assert choices(command, "--fmt") == FORMATS
+        assert choices(command, "--in-units") == UNITS
+        assert choices(command, "--in-convention") == CONVENTIONS
+        assert choices(command, "--nonfinite") == NONFINITE_POLICIES
+    assert set(choices("convert", "--units")) == set(UNITS)
+    assert set(choices("convert", "--convention")) == set(CONVENTIONS) - {"labels"}
+    assert set(choices("convert", "--to-fmt")) == set(FORMATS) - {"npy"}
