@@ -33,6 +33,7 @@ import numpy as np
 from modalinfo._validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
+from modalinfo.telemetry.units import unit_scale
 
 __all__ = ["FittingErrorResult", "fitting_error", "check_order"]
 
@@ -289,7 +290,7 @@ def fitting_error(
     else:
         per_frame, total = _pixels(a, view.matrix[:, idx])
     if units == "waves2":
-        scale = 1.0 / (2.0 * np.pi) ** 2
+        scale = unit_scale("rad", "waves") ** 2
         per_frame = per_frame * scale
         total = total * scale
     bands = np.percentile(per_frame, levels, axis=0) if levels else np.empty((0, a.shape[1]))
