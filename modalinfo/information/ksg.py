@@ -49,7 +49,7 @@ class KSGEngine:
         self.k = check_int(k, "k", minimum=1)
 
     def fit(self, x: np.ndarray) -> KSGEngine:
-        """Standardise and sort x (validated, 1-D, not constant)."""
+        """Standardise x and build its KD-tree (x validated, 1-D, not constant)."""
         self._x = x / np.std(x)
         self._tree_x = cKDTree(self._x[:, None])
         self._n = x.shape[0]
