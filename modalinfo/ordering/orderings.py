@@ -261,14 +261,20 @@ def _pca_order(a: np.ndarray) -> np.ndarray:
     )
 
 
-def _check_common(method, estimator_options, n_resamples, confidence_level, block_length):
-    check_choice(method, "method", METHODS)
+def _check_estimator_options(estimator_options: Any) -> dict:
+    """Return a copy of ``estimator_options`` (None: empty) after checking it is a dict."""
     if estimator_options is None:
-        estimator_options = {}
+        return {}
     if not isinstance(estimator_options, dict):
         raise TypeError(
             f"`estimator_options` must be a dict or None; got {type(estimator_options).__name__}."
         )
+    return dict(estimator_options)
+
+
+def _check_common(method, estimator_options, n_resamples, confidence_level, block_length):
+    check_choice(method, "method", METHODS)
+    options = _check_estimator_options(estimator_options)
     n_resamples = check_int(n_resamples, "n_resamples", minimum=0)
     confidence_level = check_real(
         confidence_level, "confidence_level", minimum=0.0, maximum=1.0, strict_min=True,
@@ -276,7 +282,7 @@ def _check_common(method, estimator_options, n_resamples, confidence_level, bloc
     )
     if block_length is not None:
         block_length = check_int(block_length, "block_length", minimum=1)
-    return dict(estimator_options), n_resamples, confidence_level, block_length
+    return options, n_resamples, confidence_level, block_length
 
 
 def order_modes(
@@ -441,7 +447,7 @@ def mi_along_order(
     """
     from modalinfo.ordering.fitting_error import check_order
 
-    options = _check_common("standard", estimator_options, 0, 0.5, None)[0]
+    options = _check_estimator_options(estimator_options)
     view = as_basis(basis)
     idx = check_order(order, view.n_modes)
     contrib = sample_contributions(log_or_coeffs, view, sample_budget=sample_budget,
