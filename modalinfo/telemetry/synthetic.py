@@ -278,6 +278,21 @@ def _unit_filters(n_fft: int, sample_rate: float, radial_orders: Sequence[int],
     return out
 
 
+def _mode_model(modes: list[int], outer_scale: float,
+                diameter: float) -> tuple[np.ndarray, list[int], np.ndarray]:
+    """Spatial model of a mode set, shared by the generator and its PSD.
+
+    Returns the sort order of ``modes`` by Noll index, the radial orders of the sorted
+    modes and the Cholesky factor of their Zernike covariance (sorted), in units of
+    ``(D/r0)**(5/6) rad``.
+    """
+    order = np.argsort(modes, kind="stable")
+    sorted_modes = [modes[i] for i in order]
+    n_radial = [int(n) for n in np.atleast_1d(noll_to_zernike(np.array(sorted_modes)))[0]]
+    cov = zernike_covariance(sorted_modes, outer_scale=outer_scale, diameter=diameter)
+    return order, n_radial, np.linalg.cholesky(cov)
+
+
 def _open_loop_array(modes: list[int], n_samples: int, sample_rate: float, diameter: float,
                      layers: tuple[Layer, ...], outer_scale: float, wavelength: float,
                      rng: np.random.Generator) -> np.ndarray:
@@ -286,11 +301,7 @@ def _open_loop_array(modes: list[int], n_samples: int, sample_rate: float, diame
     Preconditions: arguments validated. Draws ``len(layers) * M * n_fft`` normals from
     ``rng`` in that order (layer, mode sorted by Noll index, time).
     """
-    order = np.argsort(modes, kind="stable")
-    sorted_modes = [modes[i] for i in order]
-    n_radial = [int(n) for n in np.atleast_1d(noll_to_zernike(np.array(sorted_modes)))[0]]
-    cov = zernike_covariance(sorted_modes, outer_scale=outer_scale, diameter=diameter)
-    chol = np.linalg.cholesky(cov)
+    order, n_radial, chol = _mode_model(modes, outer_scale, diameter)
     n_fft = sfft.next_fast_len(2 * n_samples, real=True)
     out = np.zeros((n_samples, len(modes)))
     for layer in layers:
@@ -366,27 +377,25 @@ def open_loop_psd(
     if n_frames is not None:
         n_frames = check_int(n_frames, "n_frames", minimum=2)
         rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
-    order = np.argsort(mode_list, kind="stable")
-    sorted_modes = [mode_list[i] for i in order]
-    n_radial = [int(n) for n in np.atleast_1d(noll_to_zernike(np.array(sorted_modes)))[0]]
-    chol = np.linalg.cholesky(
-        zernike_covariance(sorted_modes, outer_scale=outer_scale, diameter=diameter))
+    order, n_radial, chol = _mode_model(mode_list, outer_scale, diameter)
     weights2 = chol**2
+    if n_frames is not None:
+        n_fft = sfft.next_fast_len(2 * n_frames, real=True)
+        first_bin = sfft.rfftfreq(n_fft, d=1.0 / rate)[1:2]
     out = np.zeros((f.size, len(mode_list)))
     for layer in layer_tuple:
         unit = np.empty((f.size, len(mode_list)))
+        if n_frames is not None:
+            filters = _unit_filters(n_fft, rate, n_radial, layer.wind_speed, diameter,
+                                    outer_scale)
         for i, n in enumerate(n_radial):
             shape = _psd_shape(f, n, layer.wind_speed, diameter, outer_scale)
             if n_frames is None:
                 unit[:, i] = shape / _continuous_integral(n, layer.wind_speed, diameter,
                                                           outer_scale)
             else:
-                n_fft = sfft.next_fast_len(2 * n_frames, real=True)
-                h = _unit_filters(n_fft, rate, [n], layer.wind_speed, diameter,
-                                  outer_scale)[n]
-                grid = sfft.rfftfreq(n_fft, d=1.0 / rate)
-                scale = h[1] ** 2 / _psd_shape(grid[1:2], n, layer.wind_speed, diameter,
-                                               outer_scale)[0]
+                scale = filters[n][1] ** 2 / _psd_shape(first_bin, n, layer.wind_speed,
+                                                        diameter, outer_scale)[0]
                 unit[:, i] = np.where(f <= rate / 2.0, 2.0 * scale * shape / rate, 0.0)
         strength = layer.d_over_r0_at(diameter, wavelength) ** (5.0 / 3.0)
         out += strength * (unit @ weights2.T)
