@@ -135,9 +135,16 @@ def zernike_rms_normalization(n, m):
     -------
     float or numpy.ndarray
         The factor(s).
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``n``, ``m`` are not integers with ``n >= 0``, ``|m| <= n``, ``n - |m|`` even
+        (the check of the index converters in :mod:`modalinfo.bases.indexing`).
     """
-    n = np.asarray(n)
-    m = np.asarray(m)
+    from modalinfo.bases.indexing import _check_nm  # lazy: modalinfo.bases imports scipy
+
+    n, m, _ = _check_nm(n, m)
     out = np.sqrt(np.where(m == 0, 1.0, 2.0) * (n + 1.0))
     return float(out) if out.ndim == 0 else out
 

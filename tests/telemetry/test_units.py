@@ -76,6 +76,10 @@ def test_errors():
 
 def test_rms_normalization_values():
     assert zernike_rms_normalization(0, 0) == 1.0
+    with pytest.raises(ValueError, match=r"`n` must be >= 0; got -2"):
+        zernike_rms_normalization(-2, 0)  # was a silent NaN
+    with pytest.raises(ValueError, match=r"`m` must satisfy \|m\| <= n with n - \|m\| even"):
+        zernike_rms_normalization(2, 1)
     assert zernike_rms_normalization(1, 1) == pytest.approx(2.0)
     assert zernike_rms_normalization(2, 0) == pytest.approx(math.sqrt(3))
     np.testing.assert_allclose(
