@@ -43,6 +43,7 @@ from scipy.linalg import solve_toeplitz
 from scipy.signal import lfilter
 from scipy.stats import norm
 
+from modalinfo._stats import sample_autocovariance
 from modalinfo._validation import check_choice, check_int, check_real
 from modalinfo.forecast._univariate import _LinearRecursion
 
@@ -70,29 +71,6 @@ class ForecastInterval:
     lower: np.ndarray
     upper: np.ndarray
     level: float
-
-
-def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
-    """Biased sample autocovariance ``gamma(k) = 1/n sum (x_t - m)(x_{t+k} - m)``.
-
-    Parameters
-    ----------
-    x : numpy.ndarray, shape (T,)
-        Series.
-    n_lags : int
-        Largest lag ``K``.
-
-    Returns
-    -------
-    numpy.ndarray, shape (K + 1,)
-        ``gamma(0..K)`` (B&D eq. 1.4.4; positive semi-definite).
-    """
-    xc = x - x.mean()
-    n = xc.size
-    nfft = 1 << int(np.ceil(np.log2(2 * n)))
-    f = np.fft.rfft(xc, nfft)
-    acov = np.fft.irfft(f * np.conj(f), nfft)[: n_lags + 1] / n
-    return acov
 
 
 def _yule_walker(gamma: np.ndarray, p: int) -> np.ndarray:

@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo._stats import sample_autocovariance
 from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import (
     METHODS,
@@ -158,14 +159,6 @@ def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
     return x, y
 
 
-def _acov(e: np.ndarray, max_lag: int) -> np.ndarray:
-    """Biased autocovariances gamma(0..max_lag) of a centred series, by FFT."""
-    n = e.shape[0]
-    nfft = 1 << int(math.ceil(math.log2(2 * n)))
-    f = np.fft.rfft(e, nfft)
-    return np.fft.irfft(f * np.conj(f), nfft)[: max_lag + 1] / n
-
-
 def _pw_block_length(x: np.ndarray) -> float:
     """Politis-White (2004) automatic block length of one series, moving-block bootstrap.
 
@@ -181,7 +174,7 @@ def _pw_block_length(x: np.ndarray) -> float:
     kn = max(5, int(math.log10(n)))
     m_max = int(math.ceil(math.sqrt(n))) + kn
     m_max = min(m_max, n - 1)
-    acv = _acov(e, m_max)
+    acv = sample_autocovariance(e, m_max)
     if acv[0] <= 0:
         return 1.0
     rho = np.abs(acv / acv[0])
