@@ -47,7 +47,7 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
-from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.log import _PREFIX, ModalLog
 
 __all__ = ["read_csv", "write_csv"]
 
@@ -55,7 +55,7 @@ _MAGIC = "# modalinfo:"
 _END = "# end of modalinfo log"
 _TIME_NAMES = ("time", "t", "time_s", "timestamp", "timestamps", "time[s]", "time (s)")
 _ROWS_PER_WRITE = 4096
-_CONVENTION_OF_PREFIX = {"Z": "noll", "A": "ansi", "F": "fringe"}
+_CONVENTION_OF_PREFIX = {prefix: conv for conv, prefix in _PREFIX.items()}  # "Z" -> "noll"
 
 
 def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:

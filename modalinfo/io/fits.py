@@ -43,6 +43,7 @@ from modalinfo.io._common import (
     unwrap,
 )
 from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.units import UNITS
 
 __all__ = ["read_fits", "write_fits"]
 
@@ -180,7 +181,7 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict]:
         data = getattr(hdu, "data", None)
         if isinstance(hdu, _image_types()) and data is not None and np.ndim(data) == 2:
             unit = hdu.header.get("BUNIT")
-            if isinstance(unit, str) and unit.strip().lower() in ("rad", "nm", "um", "waves"):
+            if isinstance(unit, str) and unit.strip().lower() in UNITS:
                 stored["units"] = unit.strip().lower()
             return _native(data), stored
     for hdu in hdul:
