@@ -705,7 +705,23 @@ class ModalLog:
         return out
 
     def drop_modes(self, modes) -> ModalLog:
-        """Return the log without the given modes (indices or labels)."""
+        """Return the log without the given modes.
+
+        Parameters
+        ----------
+        modes : int, str or sequence of int or str
+            Modes to remove: indices in the log's convention or labels (``"Z4"``).
+
+        Returns
+        -------
+        ModalLog
+            The remaining columns in their order.
+
+        Raises
+        ------
+        ValueError
+            A mode not in the log, or no mode left.
+        """
         drop = set(self._column_indices(modes, "modes"))
         return self._take_modes([c for c in range(self.n_modes) if c not in drop])
 
@@ -804,7 +820,18 @@ class ModalLog:
         )
 
     def with_metadata(self, **items: Any) -> ModalLog:
-        """Return a copy whose metadata is updated with ``items`` (JSON-serialisable)."""
+        """Return a copy whose metadata is updated with ``items``.
+
+        Parameters
+        ----------
+        **items
+            Entries to add or replace; JSON-serialisable, no NaN or infinity.
+
+        Returns
+        -------
+        ModalLog
+            Same coefficients, new metadata.
+        """
         meta = dict(self._metadata)
         meta.update(items)
         return self._derive(_metadata=_check_metadata(meta))
@@ -812,9 +839,19 @@ class ModalLog:
     def iter_chunks(self, n_frames: int) -> Iterator[np.ndarray]:
         """Yield the coefficients in consecutive blocks of at most ``n_frames`` frames.
 
-        Blocks are read-only views ``(n, M)``. For a memory-mapped log the pages of a
-        block are released after the consumer asks for the next one, so iterating a
-        log larger than memory keeps the resident set small.
+        For a memory-mapped log the pages of a block are released after the consumer
+        asks for the next one, so iterating a log larger than memory keeps the
+        resident set small.
+
+        Parameters
+        ----------
+        n_frames : int
+            Frames per block, ``>= 1``.
+
+        Yields
+        ------
+        numpy.ndarray
+            Read-only views ``(n, M)``, ``n <= n_frames``, in the log's units.
         """
         n_frames = check_int(n_frames, "n_frames", minimum=1)
         return _row_blocks(self._coeffs, n_frames)
