@@ -165,7 +165,20 @@ def ansi_to_zernike(j):
 
 
 def zernike_to_ansi(n, m):
-    """ANSI/OSA index ``(n (n + 2) + m) / 2`` of the mode ``(n, m)``."""
+    """ANSI/OSA index ``(n (n + 2) + m) / 2`` of the mode ``(n, m)``.
+
+    Parameters
+    ----------
+    n : int or array_like of int
+        Radial order, ``n >= 0``.
+    m : int or array_like of int
+        Signed azimuthal frequency, ``|m| <= n``, ``n - |m|`` even.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        ANSI/OSA index ``j >= 0``, same shape as the broadcast ``n``, ``m``.
+    """
     n_arr, m_arr, scalar = _check_nm(n, m)
     return _out((n_arr * (n_arr + 2) + m_arr) // 2, scalar)
 
@@ -194,7 +207,20 @@ def fringe_to_zernike(j):
 
 
 def zernike_to_fringe(n, m):
-    """Fringe index of the mode ``(n, m)``."""
+    """Fringe index of the mode ``(n, m)``.
+
+    Parameters
+    ----------
+    n : int or array_like of int
+        Radial order, ``n >= 0``.
+    m : int or array_like of int
+        Signed azimuthal frequency, ``|m| <= n``, ``n - |m|`` even.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        Fringe index ``j >= 1``, same shape as the broadcast ``n``, ``m``.
+    """
     n_arr, m_arr, scalar = _check_nm(n, m)
     m_abs = np.abs(m_arr)
     j = (1 + (n_arr + m_abs) // 2) ** 2 - 2 * m_abs + (m_arr < 0)
@@ -202,20 +228,64 @@ def zernike_to_fringe(n, m):
 
 
 def noll_to_ansi(j):
-    """ANSI/OSA index of Noll index ``j >= 1``."""
+    """ANSI/OSA index of Noll index ``j >= 1``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        Noll index, ``j >= 1``.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        ANSI/OSA index of the same mode, same shape as ``j``.
+    """
     return zernike_to_ansi(*noll_to_zernike(j))
 
 
 def ansi_to_noll(j):
-    """Noll index of ANSI/OSA index ``j >= 0``."""
+    """Noll index of ANSI/OSA index ``j >= 0``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        ANSI/OSA index, ``j >= 0``.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        Noll index of the same mode, same shape as ``j``.
+    """
     return zernike_to_noll(*ansi_to_zernike(j))
 
 
 def noll_to_fringe(j):
-    """Fringe index of Noll index ``j >= 1``."""
+    """Fringe index of Noll index ``j >= 1``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        Noll index, ``j >= 1``.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        Fringe index of the same mode, same shape as ``j``.
+    """
     return zernike_to_fringe(*noll_to_zernike(j))
 
 
 def fringe_to_noll(j):
-    """Noll index of Fringe index ``j >= 1``."""
+    """Noll index of Fringe index ``j >= 1``.
+
+    Parameters
+    ----------
+    j : int or array_like of int
+        Fringe index, ``j >= 1``.
+
+    Returns
+    -------
+    int or numpy.ndarray
+        Noll index of the same mode, same shape as ``j``.
+    """
     return zernike_to_noll(*fringe_to_zernike(j))
