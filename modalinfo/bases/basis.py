@@ -213,7 +213,7 @@ class ModalBasis:
 def _check_order(order, n_modes: int) -> np.ndarray:
     if isinstance(order, numbers.Integral) or isinstance(order, str):
         raise TypeError(f"`order` must be a sequence of column indices; got {order!r}.")
-    arr = np.asarray(list(order) if isinstance(order, range) else order)
+    arr = np.asarray(order)
     if arr.ndim != 1 or arr.size == 0:
         raise ValueError(f"`order` must be a non-empty 1-D sequence; got shape {arr.shape}.")
     if not np.issubdtype(arr.dtype, np.integer):

@@ -73,8 +73,6 @@ _RADIAL_PREFACTOR: float = 8 * np.pi ** (8 / 3) * KOLMOGOROV_PSD_CONSTANT
 def _check_modes(modes: Any, outer_scale: float) -> np.ndarray:
     if isinstance(modes, numbers.Integral) and not isinstance(modes, bool):
         modes = [modes]
-    elif isinstance(modes, range):
-        modes = list(modes)
     if np.size(modes) == 0:
         raise ValueError("`modes` must be a non-empty 1-D sequence of Noll indices; got none.")
     j, _ = _as_index(modes, "modes", minimum=1)

@@ -88,8 +88,7 @@ def zernike_matrix(modes, rho, theta) -> np.ndarray:
     numpy.ndarray
         ``(P, M)`` values, column ``k`` is ``Z_{modes[k]}``.
     """
-    j, _ = _as_index(np.atleast_1d(np.asarray(list(modes) if isinstance(modes, range)
-                                              else modes)), "modes", minimum=1)
+    j, _ = _as_index(np.atleast_1d(modes), "modes", minimum=1)
     r = as_float_array(rho, "rho", ndim=1)
     t = as_float_array(theta, "theta", shape=(r.shape[0],))
     n, m = noll_to_zernike(j.ravel())
