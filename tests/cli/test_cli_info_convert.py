@@ -205,3 +205,12 @@ def test_option_choices_match_the_library():
     assert set(choices("convert", "--units")) == set(UNITS)
     assert set(choices("convert", "--convention")) == set(CONVENTIONS) - {"labels"}
     assert set(choices("convert", "--to-fmt")) == set(FORMATS) - {"npy"}
+
+    from modalinfo.information.api import METHODS as ESTIMATORS
+    from modalinfo.ordering.compare import BASES
+    from modalinfo.ordering.orderings import METHODS
+
+    assert set(choices("reorder", "--estimator")) == set(ESTIMATORS)
+    assert set(choices("reorder", "--basis")) == set(BASES)
+    assert set(choices("reorder", "--method")) == set(METHODS)
+    assert set(choices("fitting-error", "--estimator")) == set(ESTIMATORS)
