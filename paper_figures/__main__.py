@@ -50,9 +50,18 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"paper_figures: error: log file '{args.log}' does not exist\n")
         return 2
     report_path = args.out / "report.md"
-    if report_path.exists() and not args.overwrite:
+    modules = [(importlib.import_module(f"paper_figures.{name}"), label, title)
+               for name, label, title in FIGURES]
+    outputs = [report_path] + [
+        args.out / getattr(module, attr)
+        for module, _, _ in modules
+        for attr in ("FIGURE_NAME", "JSON_NAME")
+        if hasattr(module, attr)
+    ]
+    existing = [path for path in outputs if path.exists()]
+    if existing and not args.overwrite:
         sys.stderr.write(
-            f"paper_figures: error: '{report_path}' exists; pass --overwrite to replace it\n"
+            f"paper_figures: error: '{existing[0]}' exists; pass --overwrite to replace it\n"
         )
         return 2
     args.out.mkdir(parents=True, exist_ok=True)
@@ -61,8 +70,7 @@ def main(argv: list[str] | None = None) -> int:
         "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
         f"Input log: `{args.log}`. Python {platform.python_version()}, {platform.machine()}.\n",
     ]
-    for name, label, title in FIGURES:
-        module = importlib.import_module(f"paper_figures.{name}")
+    for module, label, title in modules:
         start = time.perf_counter()
         print(f"[paper_figures] {label}: {title} ...", flush=True)
         text = module.make(args.out, args.log)

@@ -112,9 +112,9 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(ev.summary() + "\n")
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)
-        ev.to_json(args.out / OUTPUTS[0])
-        ev.to_csv(args.out / OUTPUTS[1])
-        ev.save_plots(args.out)
+        ev.to_json(args.out / OUTPUTS[0], overwrite=args.overwrite)
+        ev.to_csv(args.out / OUTPUTS[1], overwrite=args.overwrite)
+        ev.save_plots(args.out, overwrite=args.overwrite)
         if not args.quiet:
             sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
     return 0

@@ -33,6 +33,7 @@ Metrics
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import numbers
@@ -52,6 +53,13 @@ __all__ = ["evaluate", "ForecastEvaluation"]
 
 _BASELINES = ("persistence", "mean")
 
+
+
+def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
+    """Write ``data`` to ``path`` atomically, refusing to replace it unless ``overwrite``."""
+    from modalinfo.io._common import atomic_write
+
+    return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
 @dataclass(frozen=True)
 class ForecastEvaluation:
@@ -171,54 +179,56 @@ class ForecastEvaluation:
             "settings": self.settings,
         }
 
-    def to_json(self, path: str | Path) -> Path:
-        """Write :meth:`to_dict` as JSON (NaN as null); an existing file is replaced.
+    def to_json(self, path: str | Path, *, overwrite: bool = False) -> Path:
+        """Write :meth:`to_dict` as JSON (NaN as null), atomically.
 
         Parameters
         ----------
         path : str or pathlib.Path
             Output file.
+        overwrite : bool
+            Replace an existing file; otherwise ``FileExistsError``.
 
         Returns
         -------
         pathlib.Path
             The path written.
         """
-        path = Path(path)
-        path.write_text(json.dumps(self.to_dict(), indent=1))
-        return path
+        text = json.dumps(self.to_dict(), indent=1).encode("utf-8")
+        return _write_bytes(path, text, overwrite)
 
-    def to_csv(self, path: str | Path) -> Path:
-        """Write a long table ``predictor, mode, horizon, rmse, gain, coverage``.
+    def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
+        """Write a long table ``predictor, mode, horizon, rmse, gain, coverage``, atomically.
 
-        The whole wavefront is the mode ``"wavefront"``; an existing file is replaced.
+        The whole wavefront is the mode ``"wavefront"``.
 
         Parameters
         ----------
         path : str or pathlib.Path
             Output file.
+        overwrite : bool
+            Replace an existing file; otherwise ``FileExistsError``.
 
         Returns
         -------
         pathlib.Path
             The path written.
         """
-        path = Path(path)
-        with path.open("w", newline="") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",
-                             "dm_statistic", "p_value", "beats_baseline"])
-            for i, name in enumerate(self.names):
-                for j, h in enumerate(self.horizons):
-                    cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
-                             self.coverage[i, j], self.dm_statistic[i, j], self.p_value[i, j]]
-                    writer.writerow([name, "wavefront", int(h)]
-                                    + [repr(float(c)) for c in cells]
-                                    + [bool(self.beats_baseline[i, j])])
-                    for k, label in enumerate(self.labels):
-                        writer.writerow([name, label, int(h), repr(float(self.rmse[i, j, k])),
-                                         repr(float(self.gain[i, j, k])), "", "", "", ""])
-        return path
+        buffer = io.StringIO(newline="")
+        writer = csv.writer(buffer)
+        writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",
+                         "dm_statistic", "p_value", "beats_baseline"])
+        for i, name in enumerate(self.names):
+            for j, h in enumerate(self.horizons):
+                cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
+                         self.coverage[i, j], self.dm_statistic[i, j], self.p_value[i, j]]
+                writer.writerow([name, "wavefront", int(h)]
+                                + [repr(float(c)) for c in cells]
+                                + [bool(self.beats_baseline[i, j])])
+                for k, label in enumerate(self.labels):
+                    writer.writerow([name, label, int(h), repr(float(self.rmse[i, j, k])),
+                                     repr(float(self.gain[i, j, k])), "", "", "", ""])
+        return _write_bytes(path, buffer.getvalue().encode("utf-8"), overwrite)
 
     # ------------------------------------------------------------------ text
     def table(self) -> str:
@@ -324,8 +334,10 @@ class ForecastEvaluation:
         ax.legend(fontsize=7)
         return ax
 
-    def save_plots(self, out_dir: str | Path, *, mode: int | str = 0) -> list[Path]:
-        """Write ``forecast_series.png`` and ``forecast_rmse.png`` (replacing them).
+    def save_plots(
+        self, out_dir: str | Path, *, mode: int | str = 0, overwrite: bool = False
+    ) -> list[Path]:
+        """Write ``forecast_series.png`` and ``forecast_rmse.png``, atomically.
 
         Parameters
         ----------
@@ -333,6 +345,9 @@ class ForecastEvaluation:
             Existing output directory.
         mode : int or str
             Mode shown by the series plot (see :meth:`plot_series`).
+        overwrite : bool
+            Replace existing files; otherwise ``FileExistsError`` before anything is
+            written.
 
         Returns
         -------
@@ -341,21 +356,27 @@ class ForecastEvaluation:
         """
         import matplotlib.pyplot as plt
 
+        from modalinfo.io._common import atomic_write
+
         out_dir = Path(out_dir)
-        paths = []
-        fig, ax = plt.subplots(figsize=(8, 3.5))
+        paths = [out_dir / "forecast_series.png", out_dir / "forecast_rmse.png"]
+        if not overwrite:
+            for path in paths:
+                if path.exists():
+                    raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+        fig_series, ax = plt.subplots(figsize=(8, 3.5))
         self.plot_series(mode, ax=ax)
-        fig.tight_layout()
-        paths.append(out_dir / "forecast_series.png")
-        fig.savefig(paths[-1], dpi=120)
-        plt.close(fig)
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3.5))
+        fig_rmse, axes = plt.subplots(1, 2, figsize=(10, 3.5))
         self.plot_rmse(ax=axes[0])
         self.plot_rmse(ax=axes[1], gain=True)
-        fig.tight_layout()
-        paths.append(out_dir / "forecast_rmse.png")
-        fig.savefig(paths[-1], dpi=120)
-        plt.close(fig)
+        try:
+            for fig, path in zip((fig_series, fig_rmse), paths, strict=True):
+                fig.tight_layout()
+                atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=120, format="png"),
+                             overwrite=overwrite, by_name=True)
+        finally:
+            plt.close(fig_series)
+            plt.close(fig_rmse)
         return paths
 
 

@@ -123,6 +123,15 @@ def test_modallog_outputs_round_trip(tmp_path):
     assert float(row["rmse"]) == ev.rmse[3, 1, 1]
     paths = ev.save_plots(tmp_path)
     assert all(p.stat().st_size > 1000 for p in paths)
+    # nothing is replaced unasked; with overwrite=True the same content comes back
+    before = (tmp_path / "ev.json").read_bytes()
+    for write in (lambda: ev.to_json(tmp_path / "ev.json"),
+                  lambda: ev.to_csv(tmp_path / "ev.csv"),
+                  lambda: ev.save_plots(tmp_path)):
+        with pytest.raises(FileExistsError, match="exists"):
+            write()
+    assert ev.to_json(tmp_path / "ev.json", overwrite=True).read_bytes() == before
+    assert len(ev.save_plots(tmp_path, overwrite=True)) == 2
     with pytest.raises(dataclasses_error()):
         ev.n_train = 3
 
