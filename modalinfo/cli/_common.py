@@ -10,11 +10,15 @@ from modalinfo.cli import CommandError
 __all__ = ["add_hint_arguments", "parse_modes", "hints_from_args", "check_output", "load_log"]
 
 
-def add_hint_arguments(parser: argparse.ArgumentParser, *, is_info: bool = True) -> None:
-    """Add the options that supply what a foreign log file lacks (shared with convert).
+def add_hint_arguments(
+    parser: argparse.ArgumentParser, *, is_info: bool = True, modes_flag: str = "--modes"
+) -> None:
+    """Add the options that supply what a foreign log file lacks (every command reading a log).
 
     ``info`` also accepts ``--units`` and ``--wavelength`` as input hints; ``convert``
-    uses those names for the conversion target and takes ``--in-units`` only.
+    uses those names for the conversion target and takes ``--in-units`` only. Commands
+    with a ``--modes`` option of their own (``forecast`` selects modes with it) take the
+    column hint as ``modes_flag="--in-modes"``.
     """
     group = parser.add_argument_group("hints for files that lack the information")
     group.add_argument("--fmt", choices=("npz", "npy", "csv", "fits", "hdf5"), help="input format")
@@ -31,7 +35,8 @@ def add_hint_arguments(parser: argparse.ArgumentParser, *, is_info: bool = True)
         help="indexing convention of the input modes",
     )
     group.add_argument(
-        "--modes",
+        modes_flag,
+        dest="in_modes",
         metavar="LIST",
         help="modes of the columns: '2-28', '4,5,6' or labels 'KL1,KL2'",
     )
@@ -73,8 +78,8 @@ def hints_from_args(args: argparse.Namespace) -> dict:
         "convention": args.in_convention,
         "nonfinite": args.nonfinite,
     }
-    if args.modes is not None:
-        modes = parse_modes(args.modes)
+    if args.in_modes is not None:
+        modes = parse_modes(args.in_modes)
         hints["modes"] = modes
         if modes and isinstance(modes[0], str) and args.in_convention is None:
             hints["convention"] = "labels"
@@ -91,10 +96,15 @@ def check_output(path: Path | None, overwrite: bool) -> None:
         raise CommandError(f"output directory '{path.parent}' does not exist")
 
 
-def load_log(path: Path):
-    """Read a log with ``modalinfo.io.load`` (errors become one-line messages)."""
+def load_log(path: Path, args: argparse.Namespace | None = None):
+    """Read a log with ``modalinfo.io.load``, with the hint options of ``args`` if given.
+
+    Errors become one-line messages through the dispatcher.
+    """
     from modalinfo.io import load
 
     if not path.is_file():
         raise CommandError(f"log file '{path}' does not exist")
-    return load(path)
+    if args is None:
+        return load(path)
+    return load(path, fmt=args.fmt, **hints_from_args(args))

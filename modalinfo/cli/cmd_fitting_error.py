@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--target must be >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
-    log = load_log(args.log)
+    log = load_log(args.log, args)
     comp = compare_orderings(
         log, specs, frame=args.frame, units=args.units, estimator=args.estimator,
         sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,

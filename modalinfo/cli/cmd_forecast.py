@@ -21,6 +21,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
+from modalinfo.cli._common import add_hint_arguments
 
 NAME = "forecast"
 HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
@@ -55,6 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true",
                         help="replace existing output files")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+    add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
 
 
 def _parse_train(text: str) -> float | int:
@@ -95,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
                                "replace it")
-    log = load_log(args.log)
+    log = load_log(args.log, args)
     if args.modes is not None:
         log = log.select(modes=parse_modes(args.modes))
 

@@ -15,7 +15,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import check_output, load_log
+from modalinfo.cli._common import add_hint_arguments, check_output, load_log
 
 NAME = "reorder"
 HELP = "Order the modes of a Zernike or K-L basis by mutual information (or a baseline)."
@@ -37,6 +37,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
                         help="outer scale of the theoretical K-L in metres "
                              "(default: from the log's metadata, else infinite)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing outputs")
+    add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -61,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.ordering.compare import basis_for_log
 
     check_output(args.out, args.overwrite)
-    log = load_log(args.log)
+    log = load_log(args.log, args)
     if args.frame is not None and args.method == "pca":
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
     basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
