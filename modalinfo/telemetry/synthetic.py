@@ -88,7 +88,6 @@ Noll, R. J. 1976, JOSA 66, 207. Conan, J.-M., Rousset, G. & Madec, P.-Y. 1995, J
 from __future__ import annotations
 
 import dataclasses
-import math
 import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -96,16 +95,25 @@ from typing import Any
 
 import numpy as np
 from scipy import fft as sfft
-from scipy import optimize, signal
+from scipy import signal
 
 from modalinfo._validation import (
-    as_float_array,
-    check_choice,
     check_int,
     check_real,
     check_rng,
 )
 from modalinfo.bases import noll_to_zernike, zernike_covariance
+from modalinfo.servo import (  # noqa: F401  (re-exported: the servo model lives in modalinfo.servo)
+    LoopBandwidth,
+    check_loop,
+    check_stable,
+    closed_loop_bandwidth,
+    command_weights,
+    gain_for_bandwidth,
+    loop_denominator,
+    max_stable_gain,
+    rejection_transfer_function,
+)
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import check_wavelength
 
@@ -130,8 +138,6 @@ _R0_WAVELENGTH = 500e-9
 _CUTOFF_FACTOR = 0.3  # f_c = 0.3 (n + 1) v / D (Conan et al. 1995)
 _LOW_SLOPE_TILT = -2.0 / 3.0
 _HIGH_SLOPE = -17.0 / 3.0
-_MODELS = ("sampled", "continuous")
-_DEFINITIONS = ("rejection_0db", "closed_loop_3db")
 
 
 # ---------------------------------------------------------------------------- layers
@@ -494,277 +500,6 @@ def open_loop_log(
                     wavelength=wavelength, metadata=metadata)
 
 
-# ----------------------------------------------------------------------- the loop
-def _check_loop(gain, delay_frames, integration_frames):
-    gain = check_real(gain, "gain", minimum=0.0, strict_min=True)
-    delay_frames = check_real(delay_frames, "delay_frames", minimum=0.0)
-    integration_frames = check_real(integration_frames, "integration_frames", minimum=0.0,
-                                    maximum=1.0, strict_min=True)
-    return gain, delay_frames, integration_frames
-
-
-def _command_weights(delay_frames: float, integration_frames: float) -> np.ndarray:
-    """``w_j``: fraction of frame k's integration window during which ``c[k-j]`` is applied.
-
-    Frame ``k`` integrates over ``[-iota, 0]`` (frame units, relative to its end);
-    command ``c[k-j]`` is applied on ``[delta - j, delta - j + 1)``. ``w[0] = 0`` since
-    ``delta >= 0``; the weights sum to 1.
-    """
-    delta, iota = delay_frames, integration_frames
-    n = int(math.floor(delta + iota)) + 2
-    j = np.arange(n, dtype=np.float64)
-    lo = np.maximum(delta - j, -iota)
-    hi = np.minimum(delta - j + 1.0, 0.0)
-    w = np.clip(hi - lo, 0.0, None) / iota
-    w[np.abs(w) < 1e-15] = 0.0
-    last = np.flatnonzero(w)[-1]
-    return w[: last + 1]
-
-
-def _loop_denominator(gain: float, weights: np.ndarray) -> np.ndarray:
-    """Coefficients ``a`` of ``1 - z**-1 + g W(z)`` in powers of ``z**-1``."""
-    a = gain * np.concatenate([weights, np.zeros(max(0, 2 - weights.size))])
-    a[0] += 1.0
-    a[1] -= 1.0
-    return a
-
-
-def _pole_radius(gain: float, delay_frames: float, integration_frames: float) -> float:
-    a = _loop_denominator(gain, _command_weights(delay_frames, integration_frames))
-    a = np.trim_zeros(a, "b")
-    if a.size < 2:
-        return 0.0
-    return float(np.max(np.abs(np.roots(a))))
-
-
-def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0) -> float:
-    """Largest integrator gain for which the sampled loop is stable.
-
-    Parameters
-    ----------
-    delay_frames : float
-        Delay between the end of the WFS integration and the command update [frames].
-    integration_frames : float
-        WFS integration time [frames], in (0, 1].
-
-    Returns
-    -------
-    float
-        Gain at which the largest closed-loop pole reaches the unit circle (to 1e-10).
-    """
-    _, delay_frames, integration_frames = _check_loop(1.0, delay_frames, integration_frames)
-
-    def excess(g):
-        return _pole_radius(g, delay_frames, integration_frames) - 1.0
-
-    hi = 1.0
-    while excess(hi) < 0.0:
-        hi *= 2.0
-    lo = 1e-9
-    return float(optimize.brentq(excess, lo, hi, xtol=1e-12))
-
-
-def _check_stable(gain: float, delay_frames: float, integration_frames: float) -> None:
-    radius = _pole_radius(gain, delay_frames, integration_frames)
-    if radius >= 1.0 - 1e-12:
-        limit = max_stable_gain(delay_frames, integration_frames)
-        raise ValueError(
-            f"`gain` = {gain} makes the loop unstable (largest closed-loop pole modulus "
-            f"{radius:.4f} >= 1) for delay_frames={delay_frames}, "
-            f"integration_frames={integration_frames}; the loop is stable for gain < "
-            f"{limit:.4f}."
-        )
-
-
-def rejection_transfer_function(
-    freqs,
-    *,
-    rate: float,
-    gain: float,
-    delay_frames: float,
-    integration_frames: float = 1.0,
-    model: str = "sampled",
-) -> np.ndarray:
-    """Rejection transfer function of the modal integrator loop.
-
-    ``E(f) = 1 / (1 + g W(z) / (1 - z**-1))`` with ``z = exp(2 i pi f / rate)``: residual
-    over open-loop turbulence. The closed-loop transfer function (correction over
-    turbulence) is ``1 - E``.
-
-    Parameters
-    ----------
-    freqs : array_like
-        Frequencies [Hz].
-    rate : float
-        Loop frame rate [Hz]; frame period ``T = 1 / rate``.
-    gain : float
-        Integrator gain ``g`` (> 0).
-    delay_frames : float
-        Delay ``tau / T`` from the end of the WFS integration to the command update
-        (fractional allowed, >= 0).
-    integration_frames : float
-        WFS integration time ``T_i / T`` in (0, 1].
-    model : {"sampled", "continuous"}
-        ``"sampled"``: the exact discrete-time function from the open-loop WFS
-        measurement sequence to the closed-loop one, ``W(z) = sum_j w_j z**-j`` with
-        ``w_j`` the fraction of the integration window during which the command of
-        ``j`` frames earlier is applied (zero-order hold, delay and box integration,
-        exact for fractional values). ``"continuous"``: the usual continuous-time
-        approximation ``W = sinc(f T_i) e**(-i pi f T_i) sinc(f T) e**(-i pi f T)
-        e**(-2 i pi f tau)`` (WFS box, zero-order hold, delay), without aliasing: within
-        ~1 % of the sampled model below ``rate / 10`` for ``integration_frames = 1``, up
-        to ~10 % off for shorter integrations.
-
-    Returns
-    -------
-    numpy.ndarray of complex
-        ``E(f)``, same shape as ``freqs``. ``E(0) = 0``.
-    """
-    f = as_float_array(freqs, "freqs").reshape(np.shape(freqs))
-    rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
-    gain, delay_frames, integration_frames = _check_loop(gain, delay_frames, integration_frames)
-    check_choice(model, "model", _MODELS)
-    period = 1.0 / rate
-    zinv = np.exp(-2j * np.pi * f * period)
-    if model == "sampled":
-        weights = _command_weights(delay_frames, integration_frames)
-        wz = np.polyval(weights[::-1], zinv)
-    else:
-        t_i = integration_frames * period
-        wz = (np.sinc(f * t_i) * np.exp(-1j * np.pi * f * t_i)
-              * np.sinc(f * period) * np.exp(-1j * np.pi * f * period)
-              * np.exp(-2j * np.pi * f * delay_frames * period))
-    one_minus = 1.0 - zinv
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out = one_minus / (one_minus + gain * wz)
-    return np.where(np.abs(one_minus) == 0.0, 0.0 + 0.0j, out)
-
-
-@dataclass(frozen=True)
-class LoopBandwidth:
-    """Bandwidths of a modal integrator loop.
-
-    Attributes
-    ----------
-    rejection_0db : float
-        Lowest frequency [Hz] where ``|E(f)| = 1`` (0 dB crossing of the rejection
-        transfer function): below it turbulence is attenuated.
-    closed_loop_3db : float
-        Lowest frequency [Hz] where the closed-loop transfer function ``|1 - E(f)|``
-        falls to ``1 / sqrt(2)`` (-3 dB).
-    max_amplification : float
-        ``max_f |E(f)|`` up to the Nyquist frequency (noise and turbulence amplification
-        above the bandwidth; 1 means none).
-    """
-
-    rejection_0db: float
-    closed_loop_3db: float
-    max_amplification: float
-
-
-def _first_crossing(func, nyquist: float) -> float:
-    grid = np.linspace(0.0, nyquist, 4097)[1:]
-    values = func(grid)
-    idx = np.flatnonzero(values >= 0.0)
-    if idx.size == 0:
-        return float("nan")
-    i = int(idx[0])
-    if i == 0:
-        return float(optimize.brentq(func, 1e-9 * nyquist, grid[0], xtol=1e-10))
-    return float(optimize.brentq(func, grid[i - 1], grid[i], xtol=1e-10))
-
-
-def closed_loop_bandwidth(
-    *,
-    rate: float,
-    gain: float,
-    delay_frames: float,
-    integration_frames: float = 1.0,
-    model: str = "sampled",
-) -> LoopBandwidth:
-    """Bandwidths of the loop from :func:`rejection_transfer_function`.
-
-    Parameters are those of :func:`rejection_transfer_function`. Crossings are searched
-    on a 4096-point grid up to ``rate / 2`` and refined with Brent's method (NaN if
-    there is none below Nyquist).
-
-    Returns
-    -------
-    LoopBandwidth
-        0 dB crossing of ``|E|``, -3 dB point of ``|1 - E|`` and the peak of ``|E|``.
-    """
-    rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
-    kwargs = dict(rate=rate, gain=gain, delay_frames=delay_frames,
-                  integration_frames=integration_frames, model=model)
-    nyquist = rate / 2.0
-
-    def rejection(f):
-        return np.abs(rejection_transfer_function(f, **kwargs)) - 1.0
-
-    def closed(f):
-        return 1.0 / np.sqrt(2.0) - np.abs(1.0 - rejection_transfer_function(f, **kwargs))
-
-    grid = np.linspace(0.0, nyquist, 4097)
-    peak = float(np.max(np.abs(rejection_transfer_function(grid, **kwargs))))
-    return LoopBandwidth(
-        rejection_0db=_first_crossing(rejection, nyquist),
-        closed_loop_3db=_first_crossing(closed, nyquist),
-        max_amplification=peak,
-    )
-
-
-def gain_for_bandwidth(
-    bandwidth: float,
-    *,
-    rate: float,
-    delay_frames: float,
-    integration_frames: float = 1.0,
-    definition: str = "rejection_0db",
-    model: str = "sampled",
-) -> float:
-    """Integrator gain giving a loop bandwidth (by ``definition``), among stable gains.
-
-    Parameters
-    ----------
-    bandwidth : float
-        Wanted bandwidth [Hz], below ``rate / 2``.
-    rate, delay_frames, integration_frames, model
-        As in :func:`rejection_transfer_function`.
-    definition : {"rejection_0db", "closed_loop_3db"}
-        Which bandwidth of :class:`LoopBandwidth` to match.
-
-    Returns
-    -------
-    float
-        The gain (Brent's method, to 1e-12).
-
-    Raises
-    ------
-    ValueError
-        If no stable gain reaches ``bandwidth``.
-    """
-    rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
-    bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, maximum=rate / 2.0,
-                           strict_min=True, strict_max=True)
-    check_choice(definition, "definition", _DEFINITIONS)
-    limit = max_stable_gain(delay_frames, integration_frames)
-
-    def excess(g):
-        bw = closed_loop_bandwidth(rate=rate, gain=g, delay_frames=delay_frames,
-                                   integration_frames=integration_frames, model=model)
-        value = getattr(bw, definition)
-        return (value if np.isfinite(value) else rate) - bandwidth
-
-    lo, hi = 1e-6 * limit, (1.0 - 1e-6) * limit
-    if excess(hi) < 0.0:
-        raise ValueError(
-            f"`bandwidth` = {bandwidth} Hz ({definition}) is out of reach of a stable "
-            f"integrator at rate={rate} Hz, delay_frames={delay_frames}, "
-            f"integration_frames={integration_frames} (stable gains < {limit:.4f})."
-        )
-    return float(optimize.brentq(excess, lo, hi, xtol=1e-12))
-
-
 @dataclass(frozen=True)
 class ClosedLoopResult:
     """Logs of a simulated modal integrator loop (all at the loop frame rate).
@@ -825,12 +560,12 @@ def closed_loop_simulation(
         raise TypeError(f"`open_log` must be a ModalLog; got {type(open_log).__name__}.")
     if open_log.rate is None:
         raise ValueError("`open_log` must have a `rate` (regularly sampled); got rate=None.")
-    gain, delay_frames, integration_frames = _check_loop(gain, delay_frames, integration_frames)
+    gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
     noise_rms = check_real(noise_rms, "noise_rms", minimum=0.0)
     oversampling = check_int(oversampling, "oversampling", minimum=1)
     _as_steps(delay_frames, oversampling, "delay_frames")
     n_int = _as_steps(integration_frames, oversampling, "integration_frames")
-    _check_stable(gain, delay_frames, integration_frames)
+    check_stable(gain, delay_frames, integration_frames)
     log = open_log if open_log.units == "rad" else open_log.to_units("rad")
     x = np.asarray(log.coeffs, dtype=np.float64)
     n_frames = x.shape[0] // oversampling
@@ -847,8 +582,8 @@ def closed_loop_simulation(
     frames = x[: n_frames * oversampling].reshape(n_frames, oversampling, x.shape[1])
     y = frames[:, oversampling - n_int:, :].mean(axis=1)
     noise = noise_rms * rng.standard_normal(y.shape) if noise_rms > 0 else 0.0
-    weights = _command_weights(delay_frames, integration_frames)
-    a = _loop_denominator(gain, weights)
+    weights = command_weights(delay_frames, integration_frames)
+    a = loop_denominator(gain, weights)
     residual = signal.lfilter([1.0, -1.0], a, y + noise, axis=0)
     commands = signal.lfilter([gain], [1.0, -1.0], residual, axis=0)
     bandwidth = closed_loop_bandwidth(rate=frame_rate, gain=gain, delay_frames=delay_frames,
