@@ -1,0 +1,483 @@
+"""Configuration of an MCAO simulation: small frozen dataclasses, validated, TOML/JSON.
+
+A :class:`SimulationConfig` holds the telescope, the turbulent layers, the deformable
+mirrors (DMs), the wavefront sensors (WFSs), the loop timing and gain, the science field
+grid and the wavelengths. Every value is checked when the object is built; a bad value
+raises ``ValueError``/``TypeError`` naming its key (``layers[1].wind_speed``), the rule and
+the value. ``to_dict`` / ``from_dict`` give the plain form that TOML and JSON files hold
+(:func:`load_config`, :func:`save_config`).
+
+Units: metres, seconds, arcseconds on the sky, degrees for wind directions (measured
+from +x, the pupil's column axis, towards +y), radians of phase at ``r0_wavelength``
+inside the simulator. ``d_over_r0`` of a layer is its own ``D / r0`` at
+``r0_wavelength``; the total is ``(sum_l (D/r0_l)**(5/3))**(3/5)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "TelescopeConfig",
+    "LayerConfig",
+    "DMConfig",
+    "WFSConfig",
+    "LoopConfig",
+    "FieldConfig",
+    "SimulationConfig",
+    "load_config",
+    "save_config",
+]
+
+DM_KINDS = ("zernike", "ideal")
+WFS_KINDS = ("shack_hartmann", "ideal")
+
+
+def _fail(key: str, rule: str, value: Any, exc=ValueError):
+    raise exc(f"`{key}` must be {rule}; got {value!r}.")
+
+
+def _real(value, key, *, minimum=None, maximum=None, strict_min=False, allow_inf=False):
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        _fail(key, "a real number", value, TypeError)
+    value = float(value)
+    if math.isnan(value) or (math.isinf(value) and not allow_inf):
+        _fail(key, "a finite number" if not allow_inf else "a number (not NaN)", value)
+    if minimum is not None and (value < minimum or (strict_min and value == minimum)):
+        _fail(key, f"{'>' if strict_min else '>='} {minimum:g}", value)
+    if maximum is not None and value > maximum:
+        _fail(key, f"<= {maximum:g}", value)
+    return value
+
+
+def _int(value, key, *, minimum=None):
+    if isinstance(value, bool) or not isinstance(value, int):
+        _fail(key, "an integer", value, TypeError)
+    if minimum is not None and value < minimum:
+        _fail(key, f"an integer >= {minimum}", value)
+    return int(value)
+
+
+def _choice(value, key, choices):
+    if value not in choices:
+        _fail(key, f"one of {', '.join(map(repr, choices))}", value)
+    return value
+
+
+def _set(obj, name, value):
+    object.__setattr__(obj, name, value)
+
+
+@dataclass(frozen=True)
+class TelescopeConfig:
+    """The telescope.
+
+    Attributes
+    ----------
+    diameter : float
+        Aperture diameter D [m].
+    obscuration : float
+        Central obscuration, as a fraction of D, in [0, 1).
+    zenith_angle : float
+        Zenith angle [deg]; turbulence strength scales as sec(z) and altitudes as
+        sec(z) (Table 1's "azimuthal angle 0 deg" is read as observing at the zenith).
+    n_pixels : int
+        Pupil sampling: pixels across D (the phase grid's pitch is D / n_pixels).
+    """
+
+    diameter: float = 4.0
+    obscuration: float = 0.0
+    zenith_angle: float = 0.0
+    n_pixels: int = 64
+
+    def _validate(self, p: str) -> None:
+        _set(self, "diameter", _real(self.diameter, p + "diameter", minimum=0, strict_min=True))
+        _set(self, "obscuration", _real(self.obscuration, p + "obscuration", minimum=0,
+                                        maximum=0.95))
+        _set(self, "zenith_angle", _real(self.zenith_angle, p + "zenith_angle", minimum=0,
+                                         maximum=75))
+        _set(self, "n_pixels", _int(self.n_pixels, p + "n_pixels", minimum=8))
+
+
+@dataclass(frozen=True)
+class LayerConfig:
+    """One frozen-flow turbulent layer.
+
+    Attributes
+    ----------
+    altitude : float
+        Height above the telescope [m] (at the zenith).
+    d_over_r0 : float
+        ``D / r0`` of this layer alone at ``r0_wavelength`` and the zenith.
+    wind_speed : float
+        [m/s].
+    wind_direction : float
+        [deg] from +x towards +y.
+    outer_scale : float
+        von Karman outer scale L0 [m]; ``inf`` for Kolmogorov turbulence.
+    """
+
+    altitude: float
+    d_over_r0: float
+    wind_speed: float
+    wind_direction: float = 0.0
+    outer_scale: float = math.inf
+
+    def _validate(self, p: str) -> None:
+        _set(self, "altitude", _real(self.altitude, p + "altitude", minimum=0))
+        _set(self, "d_over_r0", _real(self.d_over_r0, p + "d_over_r0", minimum=0,
+                                      strict_min=True))
+        _set(self, "wind_speed", _real(self.wind_speed, p + "wind_speed", minimum=0))
+        _set(self, "wind_direction", _real(self.wind_direction, p + "wind_direction"))
+        _set(self, "outer_scale", _real(self.outer_scale, p + "outer_scale", minimum=0,
+                                        strict_min=True, allow_inf=True))
+
+
+@dataclass(frozen=True)
+class DMConfig:
+    """A deformable mirror conjugated to an altitude.
+
+    Attributes
+    ----------
+    altitude : float
+        Conjugation height [m].
+    n_modes : int
+        Number of controlled modes: Zernike Z2 .. Z(n_modes + 1) over the DM's disc
+        (``kind="zernike"``); ignored by ``kind="ideal"``.
+    kind : {"zernike", "ideal"}
+        ``"zernike"``: modal mirror with unit-RMS Noll Zernike shapes over its disc (piston
+        is not controlled). ``"ideal"``: a zonal mirror that takes any shape sampled on the
+        phase grid (no fitting error; for verification).
+    diameter : float or None
+        Diameter of the controlled disc [m]; ``None``: the meta-pupil its WFS senses,
+        ``D + 2 h tan(field_of_view / 2)``. The mirror is flat outside.
+    """
+
+    altitude: float
+    n_modes: int = 119
+    kind: str = "zernike"
+    diameter: float | None = None
+
+    def _validate(self, p: str) -> None:
+        _set(self, "altitude", _real(self.altitude, p + "altitude", minimum=0))
+        _set(self, "n_modes", _int(self.n_modes, p + "n_modes", minimum=1))
+        _choice(self.kind, p + "kind", DM_KINDS)
+        if self.diameter is not None:
+            _set(self, "diameter", _real(self.diameter, p + "diameter", minimum=0,
+                                         strict_min=True))
+
+
+@dataclass(frozen=True)
+class WFSConfig:
+    """A layer-oriented wavefront sensor with its own field of view.
+
+    Attributes
+    ----------
+    altitude : float
+        Conjugation height [m].
+    field_of_view : float
+        Diameter of the co-added field [arcsec] (0: on axis only).
+    n_subapertures : int
+        Shack-Hartmann subapertures across its sensed meta-pupil.
+    noise : float
+        Measurement noise [arcsec RMS per slope axis per subaperture per frame].
+    kind : {"shack_hartmann", "ideal"}
+        ``"shack_hartmann"``: mean gradient per subaperture (the geometric limit of a
+        correlating SH on granulation), averaged over the field, least-squares modal
+        reconstructor. ``"ideal"``: least-squares projection of the field-averaged
+        residual onto the DM's modes (no aliasing, no noise; for verification).
+    field_samples : int
+        Rings of directions sampling the field (1: the centre only; r rings: 1 + 3 r (r - 1)
+        directions on a hexagonal grid).
+    dm : int
+        Index of the DM this WFS drives (layer-oriented: one WFS per DM).
+    """
+
+    altitude: float
+    field_of_view: float
+    n_subapertures: int = 16
+    noise: float = 0.0
+    kind: str = "shack_hartmann"
+    field_samples: int = 3
+    dm: int = 0
+
+    def _validate(self, p: str) -> None:
+        _set(self, "altitude", _real(self.altitude, p + "altitude", minimum=0))
+        _set(self, "field_of_view", _real(self.field_of_view, p + "field_of_view", minimum=0))
+        _set(self, "n_subapertures", _int(self.n_subapertures, p + "n_subapertures", minimum=2))
+        _set(self, "noise", _real(self.noise, p + "noise", minimum=0))
+        _choice(self.kind, p + "kind", WFS_KINDS)
+        _set(self, "field_samples", _int(self.field_samples, p + "field_samples", minimum=1))
+        _set(self, "dm", _int(self.dm, p + "dm", minimum=0))
+
+
+@dataclass(frozen=True)
+class LoopConfig:
+    """Timing and control of the loop.
+
+    Attributes
+    ----------
+    time_step : float
+        Loop frame period T [s] (WFS frame and command update).
+    integration_time : float
+        WFS exposure [s], in (0, T], ending at the frame's end.
+    delay : float
+        Time from the end of the exposure to the command update [s] (>= 0).
+    gain : float
+        Integrator gain (per mode).
+    leak : float
+        Integrator leak in [0, 1): ``c[k] = (1 - leak) c[k-1] + gain m[k]``.
+    """
+
+    time_step: float = 1e-3
+    integration_time: float = 1e-3
+    delay: float = 0.5e-3
+    gain: float = 0.5
+    leak: float = 0.0
+
+    def _validate(self, p: str) -> None:
+        _set(self, "time_step", _real(self.time_step, p + "time_step", minimum=0,
+                                      strict_min=True))
+        _set(self, "integration_time", _real(self.integration_time, p + "integration_time",
+                                             minimum=0, strict_min=True,
+                                             maximum=self.time_step))
+        _set(self, "delay", _real(self.delay, p + "delay", minimum=0))
+        _set(self, "gain", _real(self.gain, p + "gain", minimum=0, strict_min=True))
+        _set(self, "leak", _real(self.leak, p + "leak", minimum=0, maximum=0.999))
+
+    @property
+    def delay_frames(self) -> float:
+        """Delay in frames."""
+        return self.delay / self.time_step
+
+    @property
+    def integration_frames(self) -> float:
+        """Integration time in frames."""
+        return self.integration_time / self.time_step
+
+    @property
+    def oversampling(self) -> int:
+        """Internal steps per frame: the smallest making delay and exposure whole steps."""
+        for n in range(1, 65):
+            if all(abs(v * n - round(v * n)) < 1e-9
+                   for v in (self.delay_frames, self.integration_frames)):
+                return n
+        raise ValueError(
+            f"`loop.delay` / `loop.time_step` = {self.delay_frames:g} and "
+            f"`loop.integration_time` / `loop.time_step` = {self.integration_frames:g} must be "
+            "multiples of time_step / n for some n <= 64."
+        )
+
+
+@dataclass(frozen=True)
+class FieldConfig:
+    """The square grid of science directions where the Strehl ratio is computed.
+
+    Attributes
+    ----------
+    size : float
+        Full width of the grid [arcsec] (directions from -size/2 to +size/2 per axis).
+    n_points : int
+        Directions per axis (odd, so the axis is on the grid).
+    """
+
+    size: float = 120.0
+    n_points: int = 9
+
+    def _validate(self, p: str) -> None:
+        _set(self, "size", _real(self.size, p + "size", minimum=0))
+        _set(self, "n_points", _int(self.n_points, p + "n_points", minimum=1))
+        if self.n_points % 2 == 0:
+            _fail(p + "n_points", "odd (the optical axis is on the grid)", self.n_points)
+
+
+_SECTIONS = {"telescope": TelescopeConfig, "loop": LoopConfig, "field": FieldConfig}
+_LISTS = {"layers": LayerConfig, "dms": DMConfig, "wfss": WFSConfig}
+
+
+@dataclass(frozen=True)
+class SimulationConfig:
+    """Everything that defines a simulation (see the module docstring for units).
+
+    Attributes
+    ----------
+    telescope, loop, field : TelescopeConfig, LoopConfig, FieldConfig
+    layers : tuple of LayerConfig
+    dms : tuple of DMConfig
+    wfss : tuple of WFSConfig
+        One per DM (``wfss[i].dm`` names the DM it drives).
+    wavelength : float
+        Science wavelength [m] at which the Strehl ratio is computed.
+    r0_wavelength : float
+        Wavelength [m] at which the layers' ``d_over_r0`` are given, and of the phase
+        inside the simulator (rad).
+    seed : int
+        Seed of the atmosphere and the WFS noise.
+    name : str
+        A label (the preset's name).
+    """
+
+    telescope: TelescopeConfig = field(default_factory=TelescopeConfig)
+    layers: tuple[LayerConfig, ...] = ()
+    dms: tuple[DMConfig, ...] = ()
+    wfss: tuple[WFSConfig, ...] = ()
+    loop: LoopConfig = field(default_factory=LoopConfig)
+    field: FieldConfig = field(default_factory=FieldConfig)
+    wavelength: float = 630e-9
+    r0_wavelength: float = 500e-9
+    seed: int = 0
+    name: str = "custom"
+
+    def __post_init__(self) -> None:
+        for key, cls in _SECTIONS.items():
+            value = getattr(self, key)
+            if not isinstance(value, cls):
+                _fail(key, f"a {cls.__name__}", type(value).__name__, TypeError)
+            value._validate(key + ".")
+        for key, cls in _LISTS.items():
+            items = getattr(self, key)
+            if isinstance(items, cls) or not isinstance(items, list | tuple):
+                _fail(key, f"a list of {cls.__name__}", type(items).__name__, TypeError)
+            items = tuple(items)
+            _set(self, key, items)
+            if not items:
+                _fail(key, "a non-empty list", items)
+            for i, item in enumerate(items):
+                if not isinstance(item, cls):
+                    _fail(f"{key}[{i}]", f"a {cls.__name__}", type(item).__name__, TypeError)
+                item._validate(f"{key}[{i}].")
+        for name in ("wavelength", "r0_wavelength"):
+            value = _real(getattr(self, name), name, minimum=0, strict_min=True, maximum=1e-3)
+            _set(self, name, value)
+        _set(self, "seed", _int(self.seed, "seed", minimum=0))
+        if not isinstance(self.name, str):
+            _fail("name", "a string", self.name, TypeError)
+        if len(self.wfss) != len(self.dms):
+            _fail("wfss", f"one WFS per DM ({len(self.dms)} DMs)", f"{len(self.wfss)} WFSs")
+        driven = sorted(w.dm for w in self.wfss)
+        if driven != list(range(len(self.dms))):
+            _fail("wfss[*].dm", f"each DM index 0..{len(self.dms) - 1} exactly once", driven)
+        for i, w in enumerate(self.wfss):
+            if abs(w.altitude - self.dms[w.dm].altitude) > 1e-6:
+                _fail(f"wfss[{i}].altitude", f"the altitude of the DM it drives "
+                      f"(dms[{w.dm}].altitude = {self.dms[w.dm].altitude:g} m)", w.altitude)
+
+    # ---------------------------------------------------------------- plain form
+    def to_dict(self) -> dict[str, Any]:
+        """Plain nested dict (the TOML/JSON form); ``from_dict`` inverts it exactly."""
+        out: dict[str, Any] = {"name": self.name, "seed": self.seed,
+                               "wavelength": self.wavelength,
+                               "r0_wavelength": self.r0_wavelength}
+        for key in _SECTIONS:
+            out[key] = _plain(getattr(self, key))
+        for key in _LISTS:
+            out[key] = [_plain(item) for item in getattr(self, key)]
+        return out
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> SimulationConfig:
+        """Build (and validate) a config from :meth:`to_dict`'s form.
+
+        Missing keys take their defaults; unknown keys are refused by name.
+        """
+        if not isinstance(d, dict):
+            _fail("config", "a dict (a table)", type(d).__name__, TypeError)
+        _check_keys(d, {f.name for f in dataclasses.fields(cls)}, "")
+        kwargs: dict[str, Any] = {}
+        for key, value in d.items():
+            if key in _SECTIONS:
+                kwargs[key] = _build(_SECTIONS[key], value, key)
+            elif key in _LISTS:
+                if not isinstance(value, list | tuple):
+                    _fail(key, "a list of tables", type(value).__name__, TypeError)
+                kwargs[key] = tuple(_build(_LISTS[key], item, f"{key}[{i}]")
+                                    for i, item in enumerate(value))
+            else:
+                kwargs[key] = value
+        return cls(**kwargs)
+
+    def replace(self, **changes) -> SimulationConfig:
+        """A copy with top-level fields replaced (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    @property
+    def d_over_r0(self) -> float:
+        """Total ``D / r0`` at ``r0_wavelength`` (zenith): ``(sum (D/r0_l)**(5/3))**(3/5)``."""
+        return sum(layer.d_over_r0 ** (5 / 3) for layer in self.layers) ** 0.6
+
+
+def _plain(obj) -> dict[str, Any]:
+    # None and inf (Kolmogorov's outer scale) are the defaults: leaving them out keeps the
+    # TOML/JSON/metadata forms standard (JSON has no infinity)
+    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)
+            if getattr(obj, f.name) is not None
+            and not (isinstance(getattr(obj, f.name), float) and math.isinf(getattr(obj, f.name)))}
+
+
+def _check_keys(d: dict, allowed: set[str], prefix: str) -> None:
+    unknown = sorted(set(d) - allowed)
+    if unknown:
+        raise ValueError(f"unknown key `{prefix}{unknown[0]}` in the config; allowed keys "
+                         f"there: {', '.join(sorted(allowed))}.")
+
+
+def _build(cls, value, key):
+    if not isinstance(value, dict):
+        _fail(key, "a table (dict)", type(value).__name__, TypeError)
+    _check_keys(value, {f.name for f in dataclasses.fields(cls)}, key + ".")
+    try:
+        obj = cls(**value)
+    except TypeError as exc:  # a required key missing
+        missing = [f.name for f in dataclasses.fields(cls)
+                   if f.name not in value and f.default is dataclasses.MISSING
+                   and f.default_factory is dataclasses.MISSING]
+        if missing:
+            raise ValueError(f"`{key}.{missing[0]}` is required in the config.") from exc
+        raise
+    return obj
+
+
+def load_config(path: str | Path) -> SimulationConfig:
+    """Read a config from a TOML (``.toml``) or JSON (``.json``) file."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".toml", ".json"):
+        raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
+    if not path.is_file():
+        raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
+    text = path.read_text(encoding="utf-8")
+    try:
+        data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
+    return SimulationConfig.from_dict(data)
+
+
+def config_text(config: SimulationConfig, fmt: str = "toml") -> str:
+    """Return the config as TOML or JSON text."""
+    _choice(fmt, "fmt", ("toml", "json"))
+    if fmt == "json":
+        return json.dumps(config.to_dict(), indent=2) + "\n"
+    import tomli_w
+
+    return tomli_w.dumps(config.to_dict())
+
+
+def save_config(config: SimulationConfig, path: str | Path, *, overwrite: bool = False) -> Path:
+    """Write a config as TOML or JSON (by extension), atomically, never replacing unasked."""
+    from modalinfo.io._common import atomic_write
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".toml", ".json"):
+        raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
+    text = config_text(config, suffix[1:])
+    data = text.encode("utf-8")
+    atomic_write(path, lambda fh: fh.write(data), overwrite=overwrite)
+    return path

@@ -1,0 +1,135 @@
+"""Per-mode integrator with pseudo-open-loop (POL) prediction, on the shared servo model.
+
+Timing (exact on the simulator's internal grid, the model of :mod:`modalinfo.servo`):
+frame ``k`` ends at ``t_k = (k + 1) T``; the WFS integrated the residual over the last
+``integration_time`` of the frame; the command ``c_k`` computed from it is applied from
+``t_k + delay`` until ``c_{k+1}`` replaces it. The WFS therefore saw the combination
+``sum_j w_j c_{k-j}`` of past commands (``modalinfo.servo.command_weights``), and the
+pseudo-open-loop coefficients are
+
+    p_k = m_k + sum_j w_j c_{k-j}
+
+(measured modal residual plus what the mirror did during the exposure): the modal
+turbulence the WFS would have measured without correction.
+
+The control law is the integrator with the POL replaced by its forecast:
+
+    c_k = (1 - leak) c_{k-1} + g (p^_k - sum_j w_j c_{k-j}),
+
+where ``p^_k`` is the forecast of the POL over the lead ``L = delay / T + 1/2 +
+integration / (2 T)`` frames (from the middle of the exposure to the middle of the
+application window). Without a predictor ``p^_k = p_k`` and the law is exactly the
+classic integrator ``c_k = (1 - leak) c_{k-1} + g m_k``; the persistence predictor gives
+the same thing, bit for bit. A predictor is any ``modalinfo.forecast.Predictor`` (fitted
+beforehand): ``reset()`` once, ``update(p_k)`` each frame (O(1)), returning forecasts for
+horizons 1..H; a fractional lead is interpolated linearly between the two whole horizons
+around it (horizon 0 being ``p_k`` itself).
+
+How this relates to the paper: LOST applied its predictors "as filters on the correction
+signals". Here they filter the POL signal, the open-loop modal turbulence reconstructed
+from the measurement and the known commands, which is what a forecast must extrapolate
+(the closed-loop residual is whitened by the loop itself); the integrator then follows
+the forecast instead of the last measurement.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from modalinfo.servo import check_loop, check_stable, command_weights
+
+__all__ = ["Controller", "lead_frames"]
+
+
+def lead_frames(delay_frames: float, integration_frames: float) -> float:
+    """Forecast lead [frames]: middle of the exposure to the middle of the command's hold."""
+    return delay_frames + 0.5 + integration_frames / 2.0
+
+
+class Controller:
+    """Integrators of all modes, with an optional POL predictor.
+
+    Parameters
+    ----------
+    n_modes : int
+        Total number of controlled modes (all DMs concatenated).
+    gain, leak : float
+        Integrator gain and leak.
+    delay_frames, integration_frames : float
+        Loop timing in frames.
+    predictor : modalinfo.forecast.Predictor or None
+        Fitted predictor of the POL coefficients, or None.
+    """
+
+    def __init__(self, n_modes: int, *, gain: float, leak: float, delay_frames: float,
+                 integration_frames: float, predictor=None):
+        gain, delay_frames, integration_frames = check_loop(gain, delay_frames,
+                                                            integration_frames)
+        check_stable(gain, delay_frames, integration_frames)
+        self.gain = gain
+        self.leak = leak
+        self.weights = command_weights(delay_frames, integration_frames)
+        self.lead = lead_frames(delay_frames, integration_frames)
+        self.predictor = predictor
+        self.n_modes = n_modes
+        # history of past commands c_{k-1}, c_{k-2}, ... (newest first)
+        self._history = np.zeros((self.weights.size, n_modes))
+        if predictor is not None:
+            horizon = int(getattr(predictor, "horizon", 1))
+            if horizon < math.ceil(self.lead):
+                raise ValueError(
+                    f"`predictor.horizon` must be >= {math.ceil(self.lead)} (the lead of "
+                    f"{self.lead:g} frames rounded up); got {horizon}."
+                )
+            predictor.reset()
+
+    @property
+    def command(self) -> np.ndarray:
+        """The latest command ``c_{k-1}``."""
+        return self._history[0]
+
+    def seen_commands(self) -> np.ndarray:
+        """``sum_j w_j c_{k-j}``: what the mirror did during frame k's exposure (``w_0 = 0``)."""
+        # weights[j] multiplies c_{k-j}; _history[j - 1] holds c_{k-j}
+        return self.weights[1:] @ self._history[: self.weights.size - 1]
+
+    def step(self, measured: np.ndarray, forecast_pol: np.ndarray | None = None) -> tuple:
+        """Advance one frame from the modal residual ``m_k``.
+
+        Parameters
+        ----------
+        measured : (M,) ndarray
+            Reconstructed modal residual of frame ``k``.
+        forecast_pol : (M,) ndarray or None
+            An externally supplied POL forecast (the oracle); overrides the predictor.
+
+        Returns
+        -------
+        command, pol, forecast : (M,) ndarrays
+            The new command ``c_k``, the POL ``p_k`` and the forecast ``p^_k`` used.
+        """
+        seen = self.seen_commands()
+        pol = measured + seen
+        if forecast_pol is not None:
+            forecast = forecast_pol
+        elif self.predictor is not None:
+            forecast = self._forecast(pol)
+        else:
+            forecast = pol
+        command = (1.0 - self.leak) * self._history[0] + self.gain * (forecast - seen)
+        self._history[1:] = self._history[:-1]
+        self._history[0] = command
+        return command, pol, forecast
+
+    def _forecast(self, pol: np.ndarray) -> np.ndarray:
+        out = np.asarray(self.predictor.update(pol), dtype=np.float64)
+        out = out.reshape(out.shape[0], -1)
+        lo = math.floor(self.lead)
+        frac = self.lead - lo
+        below = pol if lo == 0 else out[lo - 1]
+        if frac == 0.0:
+            return np.array(below)
+        # below + frac (above - below): exact when the two horizons agree (persistence)
+        return below + frac * (out[lo] - below)

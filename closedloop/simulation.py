@@ -1,0 +1,372 @@
+"""The closed loop: one function that composes atmosphere, mirrors, sensors and control.
+
+:func:`simulate` runs the loop on an internal grid ``oversampling`` times finer than the
+frame (so that a fractional delay or exposure is exact, as in :mod:`modalinfo.servo`):
+
+at every internal step ``s`` (time ``t_s``)
+    1. a command whose time has come is put on its DM (one matrix product per DM),
+    2. the layers move to ``t_s`` (frozen flow), and each plane's residual map is its
+       layers' phase minus its DMs' surfaces,
+    3. inside the exposure window the maps are accumulated for the WFSs;
+at the last step of frame ``k``
+    4. the science camera takes the piston-removed residual variance in every direction,
+    5. each WFS measures the exposure-averaged maps (plus noise) and reconstructs its
+       DM's modal residual; the controller forms the POL, asks the predictor, and
+       computes the command, which waits for ``delay`` before it is applied.
+
+Everything random (screens, noise) comes from one ``numpy.random.SeedSequence(seed)``:
+the same seed and thread count give the same bits.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from collections.abc import Callable
+
+import numpy as np
+
+from closedloop import _kernels
+from closedloop.atmosphere import Atmosphere, AtmosphericLayer
+from closedloop.config import SimulationConfig
+from closedloop.control import Controller
+from closedloop.dm import DeformableMirror
+from closedloop.geometry import Geometry
+from closedloop.result import SimulationResult
+from closedloop.science import ScienceCamera
+from closedloop.wfs import WavefrontSensor
+from modalinfo._validation import check_real
+from modalinfo.bases import zernike_covariance
+
+__all__ = ["simulate", "ORACLE", "LoopModel"]
+
+#: pass as ``predictor`` to forecast with the true future POL (the upper bound)
+ORACLE = "oracle"
+_NOISE_FLOOR = 1e-4
+_SNR_CUT = 1.0
+_RCOND = 1e-3
+_ALIAS = 0.3
+
+
+class LoopModel:
+    """The static parts of a configuration: geometry, DMs, WFSs, science camera.
+
+    Building the WFS operators and reconstructors is the expensive part of the set-up;
+    a ``LoopModel`` can be reused for several runs of the same configuration.
+    """
+
+    def __init__(self, config: SimulationConfig):
+        if not isinstance(config, SimulationConfig):
+            raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
+        self.config = config
+        self.geometry = Geometry(config)
+        self.dms = [DeformableMirror(self.geometry, i) for i in range(len(config.dms))]
+        self.wfss = [WavefrontSensor(self.geometry, j, self.dms[w.dm])
+                     for j, w in enumerate(config.wfss)]
+        self.science = ScienceCamera(self.geometry, self.geometry.directions)
+        sizes = [dm.n_modes for dm in self.dms]
+        self.mode_slices = [slice(a, a + n) for a, n in
+                            zip(np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes, strict=True)]
+        self.n_modes = int(sum(sizes))
+        self.reconstructor = self._global_reconstructor()
+
+    def _global_reconstructor(self):
+        """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).
+
+        Each layer-oriented WFS also sees the other DMs (blurred by its field). With one
+        least-squares reconstructor per WFS-DM pair these cross-couplings make the loops
+        fight (the coupled loop matrix has complex eigenvalues; table1 diverges at gain
+        0.5), and a joint least-squares inverse splits the modes that several DMs share
+        (tilt is the same at every altitude) evenly between them, so that off axis half
+        of the ground layer's tilt goes uncorrected. The joint maximum a posteriori
+        reconstructor ``R = (G^T N^-1 G + C^-1)^-1 G^T N^-1`` (Fusco, Conan, Rousset,
+        Mugnier & Michau 2001, JOSA A 18, 2527) settles both: ``G`` is the full
+        interaction matrix (rows: every WFS, columns: every DM's modes), ``N`` the
+        measurement-noise variances and ``C`` the prior variance of each DM mode, the
+        Noll/von Karman variance of the turbulence assigned to that DM (each layer to the
+        nearest DM altitude) over the DM's disc. A noise-free WFS gets a floor of 1e-4 of
+        the mean signal, so the prior still breaks ties. ``None`` (one reconstructor
+        per WFS) with a single DM or a zonal ("ideal") DM.
+        """
+        if len(self.dms) == 1 or any(dm.shapes is None for dm in self.dms):
+            return None
+        g = self.geometry
+        cfg = self.config
+        full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
+        prior = np.empty(self.n_modes)
+        dm_alts = np.array([dm.altitude for dm in self.dms])
+        strength = np.zeros(len(self.dms))
+        for lay in cfg.layers:
+            d = int(np.argmin(np.abs(dm_alts - g.los(lay.altitude))))
+            r0 = cfg.telescope.diameter / lay.d_over_r0 * g.airmass ** (-0.6)
+            strength[d] += (self.dms[d].diameter / r0) ** (5.0 / 3.0)
+        floor = 1e-6 * max(strength.max(), 1e-12)
+        for d, dm in enumerate(self.dms):
+            var = np.diag(zernike_covariance(dm.modes))
+            prior[self.mode_slices[d]] = max(strength[d], floor) * var
+        noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2
+                                        + _ALIAS * self._slope_variance(w))
+                                for w in self.wfss])
+        signal_level = np.mean(np.sum(full ** 2, axis=0) * prior) / full.shape[0]
+        noise = np.maximum(noise, _NOISE_FLOOR * signal_level)
+        # truncated SVD in the noise- and prior-whitened space: R G is then an exact
+        # projector, so commands never drift along directions the WFSs barely see
+        whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+        u, sv, vt = np.linalg.svd(whitened, full_matrices=False)
+        keep = sv > max(_SNR_CUT, _RCOND * sv[0])
+        self.n_controlled = int(keep.sum())
+        r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
+        return r / np.sqrt(noise)[None, :]
+
+    def _slope_variance(self, wfs) -> float:
+        """Turbulent slope variance per axis of one subaperture [(rad/m)^2], all layers.
+
+        Z-tilt of a square subaperture of side ``d`` approximated by the disc of diameter
+        ``d``: ``a_2`` variance ``0.449 (d / r0)**(5/3)`` and slope ``4 a_2 / d``.
+        """
+        cfg = self.config
+        if wfs.kind != "shack_hartmann":
+            return 0.0
+        d = wfs.pitch
+        total = sum((d / (cfg.telescope.diameter / lay.d_over_r0 * self.geometry.airmass ** -0.6))
+                    ** (5.0 / 3.0) for lay in cfg.layers)
+        return 16.0 * 0.449 * total / d ** 2
+
+    def measure(self, plane_maps: list[np.ndarray], rng: np.random.Generator | None) -> np.ndarray:
+        """Modal residual of every DM (concatenated) from the exposure-averaged maps."""
+        out = np.empty(self.n_modes)
+        if self.reconstructor is None:
+            for wfs in self.wfss:
+                noise = (rng.standard_normal(wfs.n_measurements)
+                         if rng is not None and wfs.noise_rms > 0 else None)
+                out[self.mode_slices[wfs.dm.index]] = wfs.measure(plane_maps, noise)
+            return out
+        parts = []
+        for wfs in self.wfss:
+            noise = (rng.standard_normal(wfs.n_measurements)
+                     if rng is not None and wfs.noise_rms > 0 else None)
+            parts.append(wfs.slopes(plane_maps, noise))
+        return self.reconstructor @ np.concatenate(parts)
+
+    def atmosphere(self, seed: int, duration: float) -> Atmosphere:
+        """The configuration's layers on their planes' grids, seeded by ``seed``."""
+        g = self.geometry
+        cfg = self.config
+        seeds = np.random.SeedSequence(seed).spawn(len(cfg.layers) + 1)
+        layers = []
+        for i, lay in enumerate(cfg.layers):
+            plane = g.planes[g.layer_plane[i]]
+            r0 = cfg.telescope.diameter / lay.d_over_r0 * g.airmass ** (-0.6)
+            ang = np.radians(lay.wind_direction)
+            layers.append(AtmosphericLayer(
+                n_pixels=plane.n, pixel_scale=g.dx, r0=r0,
+                velocity=(lay.wind_speed * np.cos(ang), lay.wind_speed * np.sin(ang)),
+                outer_scale=lay.outer_scale, altitude=plane.altitude,
+                duration_hint=duration, seed=np.random.default_rng(seeds[i])))
+        return Atmosphere(layers)
+
+    def noise_rng(self, seed: int) -> np.random.Generator:
+        """The WFS-noise generator of a run seeded by ``seed``."""
+        seeds = np.random.SeedSequence(seed).spawn(len(self.config.layers) + 1)
+        return np.random.default_rng(seeds[-1])
+
+
+def _fill_planes(model: LoopModel, atm: Atmosphere, views: list[np.ndarray],
+                 surfaces: list[np.ndarray] | None, layer_buf: dict) -> None:
+    """Residual (or, with ``surfaces=None``, turbulence) map of every plane."""
+    g = model.geometry
+    for p, plane in enumerate(g.planes):
+        view = views[p]
+        if not plane.layers:
+            view[:] = 0.0
+        else:
+            atm.layers[plane.layers[0]].phase(out=view)
+            for li in plane.layers[1:]:
+                buf = layer_buf.setdefault(p, np.empty_like(view))
+                atm.layers[li].phase(out=buf)
+                view += buf
+        if surfaces is not None:
+            for d in plane.dms:
+                _kernels.subtract_scatter(view, model.dms[d].pixels, surfaces[d], 1.0)
+
+
+def simulate(
+    config: SimulationConfig,
+    duration: float,
+    *,
+    predictor=None,
+    seed: int | None = None,
+    progress: bool | None = None,
+    model: LoopModel | None = None,
+    snapshot_every: int | None = None,
+    snapshot_directions: np.ndarray | None = None,
+    callback: Callable[[int], None] | None = None,
+) -> SimulationResult:
+    """Run the closed loop for ``duration`` seconds.
+
+    Parameters
+    ----------
+    config : SimulationConfig
+    duration : float
+        Simulated time [s] (a whole number of frames is run: ``round(duration / T)``).
+    predictor : modalinfo.forecast.Predictor, "oracle" or None
+        Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
+        must be fitted and its ``horizon`` must cover the lead. ``"oracle"`` uses the
+        true future (noise-free WFS measurement of the turbulence alone over the
+        command's hold): the bound no predictor can beat.
+    seed : int or None
+        Overrides ``config.seed``.
+    progress : bool or None
+        tqdm bar on stderr; None: only when stderr is a terminal.
+    model : LoopModel or None
+        Reuse the set-up of an earlier run of the same config.
+    snapshot_every : int or None
+        Every this many frames, store the residual pupil phase of ``snapshot_directions``
+        (for FFT-PSF checks).
+    snapshot_directions : (n, 2) array or None
+        Directions [arcsec] of the snapshots (default: the optical axis).
+    callback : callable or None
+        Called with the frame index after every frame.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    duration = check_real(duration, "duration", minimum=0.0, strict_min=True)
+    if model is None:
+        model = LoopModel(config)
+    elif model.config != config:
+        raise ValueError("`model` was built for another config.")
+    seed = config.seed if seed is None else seed
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"`seed` must be a non-negative int; got {seed!r}.")
+    seed = int(seed)
+    loop = config.loop
+    n_os = loop.oversampling
+    n_int = round(loop.integration_frames * n_os)
+    n_delay = round(loop.delay_frames * n_os)
+    n_frames = max(1, round(duration / loop.time_step))
+    dt = loop.time_step / n_os
+
+    oracle = isinstance(predictor, str)
+    if oracle and predictor != ORACLE:
+        raise ValueError(f"`predictor` must be a Predictor, {ORACLE!r} or None; got {predictor!r}.")
+    if predictor is not None and not oracle and not hasattr(predictor, "update"):
+        raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
+                        f"Predictor); got {type(predictor).__name__}.")
+    controller = Controller(model.n_modes, gain=loop.gain, leak=loop.leak,
+                            delay_frames=loop.delay_frames,
+                            integration_frames=loop.integration_frames,
+                            predictor=None if oracle else predictor)
+
+    total = n_frames * n_os + n_delay + n_os
+    atm = model.atmosphere(seed, total * dt)
+    atm.reset()
+    future = model.atmosphere(seed, total * dt) if oracle else None
+    rng = model.noise_rng(seed)
+    science = model.science
+    views = science.plane_views()
+    acc = [np.zeros_like(v) for v in views]
+    fut_views = [np.zeros_like(v) for v in views] if oracle else None
+    fut_acc = [np.zeros_like(v) for v in views] if oracle else None
+    layer_buf: dict = {}
+    surfaces = [np.zeros(dm.pixels.size) for dm in model.dms]
+    pending: deque = deque()
+
+    n_dir = len(science.directions)
+    variance = np.empty((n_frames, n_dir))
+    measured_log = np.empty((n_frames, model.n_modes))
+    pol_log = np.empty((n_frames, model.n_modes))
+    command_log = np.empty((n_frames, model.n_modes))
+    snaps = []
+    snap_cam = None
+    if snapshot_every:
+        dirs = np.zeros((1, 2)) if snapshot_directions is None else snapshot_directions
+        snap_cam = ScienceCamera(model.geometry, np.asarray(dirs, dtype=np.float64))
+        snap_cam._flat = science._flat  # same maps, other directions
+
+    bar = _progress_bar(progress, n_frames)
+    scale_sci = (config.r0_wavelength / config.wavelength) ** 2
+    start = time.perf_counter()
+    try:
+        for k in range(n_frames):
+            for i in range(n_os):
+                s = k * n_os + i
+                while pending and pending[0][0] <= s:
+                    _, command = pending.popleft()
+                    for d, dm in enumerate(model.dms):
+                        surfaces[d] = dm.surface(command[model.mode_slices[d]])
+                atm.evolve_until(s * dt)
+                _fill_planes(model, atm, views, surfaces, layer_buf)
+                if i >= n_os - n_int:
+                    for a, v in zip(acc, views, strict=True):
+                        a += v
+            science.measure()
+            variance[k] = science.variance
+            if snap_cam is not None and k % snapshot_every == 0:
+                snaps.append(np.stack([snap_cam.residual_phase(d)
+                                       for d in range(len(snap_cam.directions))]))
+            for a in acc:
+                a /= n_int
+            measured = model.measure(acc, rng)
+            for a in acc:
+                a[:] = 0.0
+            forecast = None
+            if oracle:
+                forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
+                                       (k + 1) * n_os + n_delay, n_os, dt)
+            command, pol, _ = controller.step(measured, forecast)
+            measured_log[k] = measured
+            pol_log[k] = pol
+            command_log[k] = command
+            pending.append(((k + 1) * n_os + n_delay, command.copy()))
+            if bar is not None:
+                bar.update(1)
+            if callback is not None:
+                callback(k)
+    finally:
+        if bar is not None:
+            bar.close()
+    elapsed = time.perf_counter() - start
+    return SimulationResult.from_run(
+        config=config, seed=seed, model=model,
+        variance=variance * scale_sci, measured=measured_log, pol=pol_log,
+        commands=command_log, elapsed=elapsed,
+        predictor_name=_predictor_name(predictor),
+        snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
+        snapshot_directions=None if snap_cam is None else snap_cam.directions,
+    )
+
+
+def _oracle_pol(model, future, views, acc, layer_buf, first_step, n_os, dt):
+    """Noise-free WFS measurement of the turbulence alone, averaged over the hold window."""
+    for a in acc:
+        a[:] = 0.0
+    for s in range(first_step, first_step + n_os):
+        future.evolve_until(s * dt)
+        _fill_planes(model, future, views, None, layer_buf)
+        for a, v in zip(acc, views, strict=True):
+            a += v
+    for a in acc:
+        a /= n_os
+    return model.measure(acc, None)
+
+
+def _predictor_name(predictor) -> str:
+    if predictor is None:
+        return "none"
+    if isinstance(predictor, str):
+        return predictor
+    return type(predictor).__name__
+
+
+def _progress_bar(progress, total):
+    import sys
+
+    if progress is None:
+        progress = sys.stderr.isatty()
+    if not progress:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="frame", desc="closedloop", file=sys.stderr, leave=False)

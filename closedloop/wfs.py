@@ -1,0 +1,226 @@
+"""Multiple-field-of-view layer-oriented wavefront sensors (geometric Shack-Hartmann).
+
+WFS ``j`` is conjugated to altitude ``h_j`` and co-adds the light of its field (a disc
+of diameter ``field_of_view``, sampled by a hexagonal set of directions ``theta_s``).
+A point ``u`` of its conjugate plane, seen from direction ``theta_s``, carries the phase
+``sum_p r_p(u + (h_p - h_j) theta_s)``, where ``r_p`` is the residual (turbulence minus
+DMs) on plane ``p``: its own altitude's residual is seen sharply by every direction, the
+others shifted by an amount that grows with the altitude difference, so averaging over
+the field blurs them (Ragazzoni et al. 2002, A&A 396, 731). The light reaches ``u`` from
+``theta_s`` only if it passed through the telescope pupil, ``|u - h_j theta_s| <= D/2``
+(and outside the central obscuration): the co-addition counts only those beams.
+
+Shack-Hartmann (``kind="shack_hartmann"``): ``n_subapertures`` across the sensed
+meta-pupil (diameter ``D + 2 h_j tan(field/2)``). A subaperture's slope is the mean
+phase gradient over its illuminated part, averaged over the field, in the geometric
+limit of a correlating SH on extended granulation: the mean of the pixel-pair
+differences ``(phi(u + dx) - phi(u)) / dx`` whose midpoints fall in the subaperture,
+over every illuminated (pair, direction). Subapertures with less than half of the
+pairs of a fully illuminated one are not used. Each slope gets white Gaussian noise
+(``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``). A
+least-squares modal reconstructor (SVD pseudo-inverse of the interaction matrix of the
+WFS's own DM, modes with singular values below 1e-3 of the largest dropped) gives the
+modal residual. Aliasing (high orders leaking into the measured low orders) and noise
+propagation come out of this model; nothing is added by hand.
+
+Ideal (``kind="ideal"``): the field-averaged residual on the DM's disc is projected on
+the DM's modes by least squares; no aliasing (up to the projection's own) and no noise.
+
+The whole sensor is a fixed linear map from the plane maps to the slopes, built once as
+scipy sparse matrices (one per plane), so a measurement is a few sparse products.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import sparse
+
+from closedloop.dm import DeformableMirror
+from closedloop.geometry import ARCSEC, Geometry
+
+__all__ = ["WavefrontSensor", "bilinear_matrix"]
+
+
+def bilinear_matrix(cols: np.ndarray, rows: np.ndarray, n: int) -> sparse.csr_matrix:
+    """Sparse ``(n_points, n*n)`` bilinear interpolation on an ``n x n`` grid.
+
+    ``cols``/``rows`` are fractional pixel indices; points must lie in ``[0, n-1]``.
+    """
+    ic = np.floor(cols).astype(np.int64)
+    ir = np.floor(rows).astype(np.int64)
+    ic = np.minimum(ic, n - 2)
+    ir = np.minimum(ir, n - 2)
+    if ic.size and (ic.min() < 0 or ir.min() < 0):
+        raise ValueError("a beam leaves its plane's grid (internal geometry error).")
+    tc = cols - ic
+    tr = rows - ir
+    base = ir * n + ic
+    data = np.concatenate([(1 - tr) * (1 - tc), (1 - tr) * tc, tr * (1 - tc), tr * tc])
+    colidx = np.concatenate([base, base + 1, base + n, base + n + 1])
+    rowidx = np.tile(np.arange(cols.size), 4)
+    return sparse.csr_matrix((data, (rowidx, colidx)), shape=(cols.size, n * n))
+
+
+class WavefrontSensor:
+    """One layer-oriented WFS and its reconstructor onto its DM's modes.
+
+    Parameters
+    ----------
+    geometry : Geometry
+    index : int
+        Which WFS of the configuration.
+    dm : DeformableMirror
+        The DM it drives.
+
+    Attributes
+    ----------
+    operators : list of scipy.sparse.csr_matrix
+        ``(n_meas, n_p**2)`` per plane: measurement = ``sum_p operators[p] @ r_p.ravel()``.
+    reconstructor : (M, n_meas) ndarray
+        Measurements to modal residual [rad per measurement unit].
+    interaction : (n_meas, M) ndarray
+        Measurements of a unit command of each mode.
+    noise_rms : float
+        Per-measurement noise [rad / m for a SH; 0 for ideal].
+    n_valid_subapertures : int
+    """
+
+    def __init__(self, geometry: Geometry, index: int, dm: DeformableMirror, *,
+                 rcond: float = 1e-3):
+        cfg = geometry.config.wfss[index]
+        self.index = index
+        self.kind = cfg.kind
+        self.altitude = geometry.los(cfg.altitude)
+        self.samples = geometry.wfs_samples[index]
+        self.dm = dm
+        self._geometry = geometry
+        if cfg.kind == "shack_hartmann":
+            self._build_shack_hartmann(cfg)
+            lam = geometry.config.r0_wavelength
+            self.noise_rms = 2.0 * math.pi * cfg.noise * ARCSEC / lam
+        else:
+            self._build_ideal()
+            self.noise_rms = 0.0
+        self.interaction = self.interaction_with(dm)
+        if cfg.kind == "ideal" and dm.shapes is None:
+            self.reconstructor = None  # identity: the measurement is the disc's phase
+        else:
+            self.reconstructor = np.linalg.pinv(self.interaction, rcond=rcond)
+
+    # ------------------------------------------------------------------ building
+    def _illuminated(self, u: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        g = self._geometry
+        x = u - self.altitude * theta * ARCSEC
+        r = np.hypot(x[..., 0], x[..., 1]) / (g.diameter / 2.0)
+        return (r <= 1.0) & (r >= g.config.telescope.obscuration)
+
+    def _sample_matrix(self, p: int, points: np.ndarray, theta: np.ndarray):
+        """Bilinear operator on plane ``p`` for points ``u`` (m) seen from ``theta`` (arcsec)."""
+        g = self._geometry
+        plane = g.planes[p]
+        shift = (plane.altitude - self.altitude) * theta * ARCSEC
+        pos = (points + shift) / g.dx + plane.centre
+        return bilinear_matrix(pos[:, 0], pos[:, 1], plane.n)
+
+    def _build_shack_hartmann(self, cfg) -> None:
+        g = self._geometry
+        d_wfs = g.diameter + 2.0 * self.altitude * math.tan(cfg.field_of_view / 2.0 * ARCSEC)
+        n_sub = cfg.n_subapertures
+        pitch = d_wfs / n_sub
+        self.pitch = pitch
+        plane = g.planes[self.dm.plane]
+        coords = g.plane_coords(self.dm.plane)
+        # pixel pairs: start pixel (i, j) and its +x / +y neighbour, midpoints on the grid
+        jj, ii = np.meshgrid(np.arange(plane.n - 1), np.arange(plane.n - 1), indexing="xy")
+        start = np.column_stack([coords[jj.ravel()], coords[ii.ravel()]])
+        ops = [[] for _ in g.planes]
+        full_pairs = None
+        for axis in (0, 1):
+            step = np.zeros(2)
+            step[axis] = g.dx
+            mid = start + step / 2.0
+            sub_c = np.floor((mid[:, 0] + d_wfs / 2.0) / pitch).astype(np.int64)
+            sub_r = np.floor((mid[:, 1] + d_wfs / 2.0) / pitch).astype(np.int64)
+            inside = (sub_c >= 0) & (sub_c < n_sub) & (sub_r >= 0) & (sub_r < n_sub)
+            pairs = np.flatnonzero(inside)
+            sub = sub_r[pairs] * n_sub + sub_c[pairs]
+            if full_pairs is None:
+                full_pairs = np.bincount(sub, minlength=n_sub * n_sub).max() * len(self.samples)
+            counts = np.zeros(n_sub * n_sub)
+            entries = []
+            for theta in self.samples:
+                lit = (self._illuminated(start[pairs], theta)
+                       & self._illuminated(start[pairs] + step, theta))
+                entries.append((theta, pairs[lit], sub[lit]))
+                counts += np.bincount(sub[lit], minlength=n_sub * n_sub)
+            if axis == 0:
+                valid = counts >= 0.5 * full_pairs
+                self.valid_subapertures = np.flatnonzero(valid)
+                meas_index = -np.ones(n_sub * n_sub, dtype=np.int64)
+                meas_index[self.valid_subapertures] = np.arange(self.valid_subapertures.size)
+            n_valid = self.valid_subapertures.size
+            for theta, lit_pairs, lit_sub in entries:
+                keep = meas_index[lit_sub] >= 0
+                lit_pairs, lit_sub = lit_pairs[keep], lit_sub[keep]
+                row = meas_index[lit_sub] + axis * n_valid
+                w = 1.0 / (counts[lit_sub] * g.dx)
+                for p in range(len(g.planes)):
+                    a = self._sample_matrix(p, start[lit_pairs] + step, theta)
+                    b = self._sample_matrix(p, start[lit_pairs], theta)
+                    diff = (a - b).tocoo()
+                    ops[p].append((row[diff.row], diff.col, diff.data * w[diff.row]))
+        self.n_valid_subapertures = int(self.valid_subapertures.size)
+        self.n_measurements = 2 * self.n_valid_subapertures
+        self.operators = [
+            sparse.csr_matrix(
+                (np.concatenate([e[2] for e in ops[p]]),
+                 (np.concatenate([e[0] for e in ops[p]]), np.concatenate([e[1] for e in ops[p]]))),
+                shape=(self.n_measurements, g.planes[p].n ** 2))
+            for p in range(len(g.planes))
+        ]
+        for op in self.operators:
+            op.sum_duplicates()
+            op.eliminate_zeros()
+
+    def _build_ideal(self) -> None:
+        g = self._geometry
+        coords = g.plane_coords(self.dm.plane)
+        n = g.planes[self.dm.plane].n
+        pix = self.dm.pixels
+        points = np.column_stack([coords[pix % n], coords[pix // n]])
+        n_s = len(self.samples)
+        self.operators = []
+        for p in range(len(g.planes)):
+            op = sum(self._sample_matrix(p, points, theta) for theta in self.samples) / n_s
+            op = sparse.csr_matrix(op)
+            op.sum_duplicates()
+            self.operators.append(op)
+        self.n_measurements = int(pix.size)
+        self.n_valid_subapertures = 0
+
+    # ------------------------------------------------------------------ measuring
+    def slopes(self, plane_maps: list[np.ndarray], noise: np.ndarray | None = None) -> np.ndarray:
+        """Raw measurements from the plane maps, ``(n_measurements,)``.
+
+        ``noise``: standard normal draws ``(n_measurements,)`` scaled here by ``noise_rms``.
+        """
+        s = self.operators[0] @ plane_maps[0].ravel()
+        for op, r in zip(self.operators[1:], plane_maps[1:], strict=True):
+            s += op @ r.ravel()
+        if noise is not None and self.noise_rms > 0.0:
+            s += self.noise_rms * noise
+        return s
+
+    def measure(self, plane_maps: list[np.ndarray], noise: np.ndarray | None = None) -> np.ndarray:
+        """Modal residual of this WFS's own DM alone (``(M,)`` [rad]): :meth:`slopes`, reconstructed."""
+        s = self.slopes(plane_maps, noise)
+        if self.reconstructor is None:
+            return s
+        return self.reconstructor @ s
+
+    def interaction_with(self, dm: DeformableMirror) -> np.ndarray:
+        """Measurements of a unit command of each mode of ``dm``: ``(n_measurements, M_dm)``."""
+        block = self.operators[dm.plane][:, dm.pixels]
+        return block.toarray() if dm.shapes is None else np.asarray(block @ dm.shapes)
