@@ -1,0 +1,93 @@
+"""numba kernels of :mod:`closedloop.atmosphere` and :mod:`closedloop.phase_screen`.
+
+Arrays and scalars only; the Python wrappers validate. No random numbers here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalinfo._numba import jit
+
+__all__ = ["add_separable_terms", "shift_separable"]
+
+
+@jit
+def add_separable_terms(screen, left, right):
+    """Add ``left @ right`` to ``screen`` in place.
+
+    ``screen`` (G, H), ``left`` (G, K), ``right`` (K, H): a sum of K separable
+    (outer-product) terms, the real form of the subharmonic Fourier terms. Written out
+    so the result does not depend on a BLAS thread count.
+    """
+    g, h = screen.shape
+    k_terms = left.shape[1]
+    for r in range(g):
+        for k in range(k_terms):
+            a = left[r, k]
+            for c in range(h):
+                screen[r, c] += a * right[k, c]
+
+
+@jit
+def shift_separable(screen, row0, col0, wy, wx, work, out):
+    """Resample a periodic screen with a separable filter: the sub-pixel frozen-flow shift.
+
+    ``out[i, j] = sum_a sum_b wy[a] wx[b] screen[(row0 + i + a) % G, (col0 + j + b) % H]``
+
+    Parameters
+    ----------
+    screen : (G, H) float64
+    row0, col0 : int
+        Screen row and column of the first filter tap for output pixel (0, 0),
+        already reduced modulo G and H.
+    wy, wx : (taps,) float64
+        Filter weights along rows and columns (2 for bilinear, 4 for Keys cubic).
+    work : (n_rows + taps - 1, n_cols) float64
+        Scratch space for the column pass.
+    out : (n_rows, n_cols) float64
+        Output, written in place.
+    """
+    g, h = screen.shape
+    n_rows, n_cols = out.shape
+    ty = wy.shape[0]
+    tx = wx.shape[0]
+    span = n_cols + tx - 1
+    wraps = col0 + span > h
+    segment = np.empty(span)
+    r = row0
+    for i in range(n_rows + ty - 1):
+        if wraps:  # copy the wrapped columns into a contiguous segment
+            c = col0
+            for j in range(span):
+                segment[j] = screen[r, c]
+                c += 1
+                if c == h:
+                    c = 0
+            row = segment
+        else:
+            row = screen[r, col0:col0 + span]
+        dst = work[i]
+        # one contiguous (vectorisable) pass per tap; 1-D views let LLVM vectorise
+        w = wx[0]
+        for j in range(n_cols):
+            dst[j] = w * row[j]
+        for b in range(1, tx):
+            w = wx[b]
+            src = row[b:b + n_cols]
+            for j in range(n_cols):
+                dst[j] += w * src[j]
+        r += 1
+        if r == g:
+            r = 0
+    for i in range(n_rows):
+        dst = out[i]
+        src = work[i]
+        w = wy[0]
+        for j in range(n_cols):
+            dst[j] = w * src[j]
+        for a in range(1, ty):
+            src = work[i + a]
+            w = wy[a]
+            for j in range(n_cols):
+                dst[j] += w * src[j]
