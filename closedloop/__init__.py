@@ -1,8 +1,37 @@
-"""closedloop: numba-accelerated closed-loop MCAO simulator (not yet built).
+"""closedloop: a numba-accelerated layer-oriented MCAO simulator of a 4 m solar telescope.
 
-The simulator of the paper's Section 3.4 (Table 1 preset, Figures 2-4) is the next
-milestone of the roadmap. It will import bases, predictors and ``ModalLog`` from
-modalinfo; modalinfo never imports closedloop.
+The simulator of the paper's Section 3.4 (LOST simulations, Table 1, Figures 2-4). It
+composes the parts of ``modalinfo`` (Zernike bases, the servo model, ``ModalLog``, the
+forecast predictors used online) and returns residual wavefronts and telemetry that the
+analysis library reads unchanged. ``modalinfo`` never imports closedloop.
+
+Public surface::
+
+    from closedloop import presets, simulate, SimulationConfig, SimulationResult
+    config = presets.get("table1")
+    result = simulate(config, 1.0, predictor=None, seed=0)
+    result.strehl_peak, result.strehl_map(), result.corrected_fov_diameter(0.3)
+    result.logs["dm0.pol"]          # a modalinfo.telemetry.ModalLog
+    result.save("run.h5"); SimulationResult.load("run.h5")
+
+Parts: ``config`` (frozen dataclasses, TOML/JSON), ``presets``, ``geometry``,
+``atmosphere`` / ``phase_screen`` (frozen flow), ``dm``, ``wfs`` (MFoV layer-oriented
+Shack-Hartmann), ``control`` (POL integrator and predictor hook), ``science`` (Strehl
+over the field), ``simulation`` (the loop), ``result``, ``predictors``, ``cli``.
 """
 
-__all__: list[str] = []
+from closedloop import presets
+from closedloop.config import SimulationConfig, load_config, save_config
+from closedloop.result import SimulationResult
+from closedloop.simulation import ORACLE, LoopModel, simulate
+
+__all__ = [
+    "presets",
+    "simulate",
+    "LoopModel",
+    "ORACLE",
+    "SimulationConfig",
+    "SimulationResult",
+    "load_config",
+    "save_config",
+]

@@ -403,7 +403,7 @@ class SimulationConfig:
         return cls(**kwargs)
 
     def replace(self, **changes) -> SimulationConfig:
-        """A copy with top-level fields replaced (validated again)."""
+        """Return a copy with top-level fields replaced (validated again)."""
         return dataclasses.replace(self, **changes)
 
     @property

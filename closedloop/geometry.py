@@ -31,7 +31,7 @@ _MARGIN = 3
 
 
 def science_directions(size: float, n_points: int) -> np.ndarray:
-    """The square science grid: ``(n_points**2, 2)`` directions ``(x, y)`` [arcsec].
+    """Return the square science grid: ``(n_points**2, 2)`` directions ``(x, y)`` [arcsec].
 
     Row-major: direction ``i * n_points + j`` has ``y = v[i]``, ``x = v[j]`` with
     ``v = linspace(-size/2, size/2, n_points)``, so ``.reshape(n, n)`` is an image with
@@ -137,7 +137,7 @@ class Geometry:
         planes = []
         for h in alts:
             reach = tel.diameter / 2.0 + h * sci
-            for j, w in enumerate(config.wfss):
+            for w in config.wfss:
                 hj = self.los(w.altitude)
                 rho = w.field_of_view / 2.0 * ARCSEC
                 reach = max(reach, tel.diameter / 2.0 + hj * rho + abs(h - hj) * rho)
@@ -162,7 +162,7 @@ class Geometry:
         return float(altitude) * self.airmass
 
     def dm_diameter(self, i: int) -> float:
-        """Controlled disc of DM ``i`` [m]: its configured diameter or its WFS's meta-pupil."""
+        """Return the controlled disc of DM ``i`` [m] (configured, or its WFS's meta-pupil)."""
         dm = self.config.dms[i]
         if dm.diameter is not None:
             return dm.diameter

@@ -56,7 +56,7 @@ __all__ = ["get", "names", "table1", "mcao3"]
 
 
 def table1() -> SimulationConfig:
-    """The paper's Table 1 with the documented defaults of the module docstring."""
+    """Return the paper's Table 1 with the documented defaults of the module docstring."""
     return SimulationConfig(
         name="table1",
         telescope=TelescopeConfig(diameter=4.0, obscuration=0.0, zenith_angle=0.0, n_pixels=64),
@@ -114,7 +114,7 @@ def names() -> list[str]:
 
 
 def get(name: str) -> SimulationConfig:
-    """The preset ``name`` (see :func:`names`) as a :class:`SimulationConfig`."""
+    """Return the preset ``name`` (see :func:`names`) as a :class:`SimulationConfig`."""
     if name not in _PRESETS:
         raise ValueError(f"`name` must be one of {', '.join(_PRESETS)}; got {name!r}.")
     return _PRESETS[name]()

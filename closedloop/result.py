@@ -1,4 +1,4 @@
-"""What a simulation returns: Strehl over field and time, modal logs, and derived views.
+r"""What a simulation returns: Strehl over field and time, modal logs, and derived views.
 
 :class:`SimulationResult` holds the per-frame piston-removed residual variance in every
 science direction (rad^2 at the science wavelength) and the residual, pseudo-open-loop
@@ -104,7 +104,8 @@ class SimulationResult:
             for name, arr in (("residual", measured), ("pol", pol), ("commands", commands)):
                 logs[f"dm{i}.{name}"] = ModalLog(
                     np.ascontiguousarray(arr[:, sl]), rate=rate, modes=modes,
-                    units="rad", wavelength=config.r0_wavelength,
+                    convention="noll" if dm.modes else "labels", units="rad",
+                    wavelength=config.r0_wavelength,
                     start_time=config.loop.time_step,
                     metadata={**meta, "quantity": name})
         times = (np.arange(variance.shape[0]) + 1) * config.loop.time_step
@@ -263,8 +264,10 @@ class SimulationResult:
             config = SimulationConfig.from_dict(json.loads(f.attrs["config"]))
             logs = {}
             for name, d in f["logs"].items():
-                logs[name] = ModalLog(d[()], rate=float(d.attrs["rate"]),
-                                      modes=json.loads(d.attrs["modes"]), units="rad",
+                modes = json.loads(d.attrs["modes"])
+                logs[name] = ModalLog(d[()], rate=float(d.attrs["rate"]), modes=modes,
+                                      convention="labels" if isinstance(modes[0], str)
+                                      else "noll", units="rad",
                                       wavelength=float(d.attrs["wavelength"]),
                                       start_time=float(d.attrs["start_time"]),
                                       metadata=json.loads(d.attrs["metadata"]))

@@ -63,9 +63,14 @@ class ScienceCamera:
     def __init__(self, geometry: Geometry, directions: np.ndarray):
         self.geometry = geometry
         self.directions = np.ascontiguousarray(directions, dtype=np.float64).reshape(-1, 2)
-        rows, cols = np.nonzero(geometry.pupil_mask)
-        self._rows = rows.astype(np.int64)
-        self._cols = cols.astype(np.int64)
+        mask = geometry.pupil_mask
+        if geometry.config.telescope.obscuration > 0:
+            raise NotImplementedError("an obscured pupil's rows are not single spans")
+        has = mask.any(axis=1)
+        lo = np.where(has, np.argmax(mask, axis=1), 0)
+        hi = np.where(has, mask.shape[1] - np.argmax(mask[:, ::-1], axis=1), 0)
+        self._span_lo = lo.astype(np.int64)
+        self._span_hi = hi.astype(np.int64)
         self._shifts = np.ascontiguousarray(geometry.pupil_shifts(self.directions))
         sizes = np.array([p.n for p in geometry.planes], dtype=np.int64)
         self._sizes = sizes
@@ -86,12 +91,12 @@ class ScienceCamera:
         each plane (default all 1).
         """
         w = np.ones(len(self._sizes)) if weights is None else np.asarray(weights, float)
-        _kernels.direction_moments(self._flat, self._offsets, self._sizes, self._rows,
-                                   self._cols, self._shifts, w, self.mean, self.variance)
+        _kernels.direction_moments(self._flat, self._offsets, self._sizes, self._span_lo,
+                                   self._span_hi, self._shifts, w, self.mean, self.variance)
         return self.variance
 
     def residual_phase(self, k: int) -> np.ndarray:
-        """The residual phase over the pupil grid seen in direction ``k`` (NaN outside).
+        """Return the residual phase over the pupil grid seen in direction ``k`` (NaN outside).
 
         A plain-numpy evaluation (bilinear reads of every plane), used for checks.
         """

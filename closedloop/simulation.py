@@ -149,7 +149,7 @@ class LoopModel:
         return self.reconstructor @ np.concatenate(parts)
 
     def atmosphere(self, seed: int, duration: float) -> Atmosphere:
-        """The configuration's layers on their planes' grids, seeded by ``seed``."""
+        """Return the configuration's layers on their planes' grids, seeded by ``seed``."""
         g = self.geometry
         cfg = self.config
         seeds = np.random.SeedSequence(seed).spawn(len(cfg.layers) + 1)
@@ -166,7 +166,7 @@ class LoopModel:
         return Atmosphere(layers)
 
     def noise_rng(self, seed: int) -> np.random.Generator:
-        """The WFS-noise generator of a run seeded by ``seed``."""
+        """Return the WFS-noise generator of a run seeded by ``seed``."""
         seeds = np.random.SeedSequence(seed).spawn(len(self.config.layers) + 1)
         return np.random.default_rng(seeds[-1])
 

@@ -106,6 +106,12 @@ class WavefrontSensor:
         self.interaction = self.interaction_with(dm)
         if cfg.kind == "ideal" and dm.shapes is None:
             self.reconstructor = None  # identity: the measurement is the disc's phase
+        elif cfg.kind == "ideal":
+            # fit piston too and drop it: pixel-sampled Zernikes are not exactly zero-mean,
+            # so a fit without piston would spend modes on the (unsensed) piston
+            with_piston = np.column_stack([np.ones(self.interaction.shape[0]),
+                                           self.interaction])
+            self.reconstructor = np.linalg.pinv(with_piston, rcond=rcond)[1:]
         else:
             self.reconstructor = np.linalg.pinv(self.interaction, rcond=rcond)
 
@@ -214,7 +220,7 @@ class WavefrontSensor:
         return s
 
     def measure(self, plane_maps: list[np.ndarray], noise: np.ndarray | None = None) -> np.ndarray:
-        """Modal residual of this WFS's own DM alone (``(M,)`` [rad]): :meth:`slopes`, reconstructed."""
+        """Return the modal residual ``(M,)`` [rad] of this WFS's own DM from :meth:`slopes`."""
         s = self.slopes(plane_maps, noise)
         if self.reconstructor is None:
             return s

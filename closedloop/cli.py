@@ -1,0 +1,228 @@
+"""The ``closedloop`` command: run, compare, inspect and configure MCAO simulations.
+
+::
+
+    closedloop run --preset table1 --predictor arma --duration 1.0 --seed 0 --out run.h5
+    closedloop compare --preset table1 --predictors none,linear,arma,nn-paper,oracle
+    closedloop info run.h5
+    closedloop config --preset table1 > my.toml     # edit, then: run --config my.toml
+
+Errors print one line on stderr and exit 2 (no traceback); Ctrl-C ends cleanly (130).
+Predictors that need training are fitted on the no-prediction run of the same config,
+seed and duration after its loop closure, as in the paper (``--train-seed`` uses
+another atmosphere instead).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from modalinfo.cli import CommandError, _Parser
+
+__all__ = ["main"]
+
+
+def _config(args):
+    from closedloop import presets
+    from closedloop.config import load_config
+
+    if args.config is not None:
+        return load_config(args.config)
+    return presets.get(args.preset)
+
+
+def _check_out(path: Path | None, overwrite: bool) -> None:
+    if path is None:
+        return
+    if path.suffix.lower() not in (".h5", ".hdf5"):
+        raise CommandError(f"--out must end in .h5 or .hdf5; got '{path}'")
+    if path.exists() and not overwrite:
+        raise CommandError(f"'{path}' exists; pass --overwrite to replace it")
+    if not path.parent.is_dir():
+        raise CommandError(f"directory '{path.parent}' does not exist (for --out '{path}')")
+
+
+def _progress(args) -> bool | None:
+    return False if args.quiet else None
+
+
+def _run_with(config, name, duration, seed, train_seed, progress, reference=None, model=None):
+    from closedloop import predictors
+    from closedloop.simulation import LoopModel, simulate
+
+    model = model or LoopModel(config)
+    predictor = predictors.make(name)
+    if predictors.needs_training(predictor):
+        if reference is None or (train_seed is not None and train_seed != seed):
+            reference = simulate(config, duration, seed=seed if train_seed is None else train_seed,
+                                 model=model, progress=progress)
+        predictors.train(predictor, reference)
+    return simulate(config, duration, predictor=predictor, seed=seed, model=model,
+                    progress=progress)
+
+
+def _summary_line(result) -> str:
+    s = result.summary()
+    return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} after closure at "
+            f"{s['closure_time_s'] * 1e3:.0f} ms, field-mean SR {s['strehl_field_mean']:.3f}, "
+            f"corrected FoV d = {s['corrected_fov_diameter_arcmin']:.2f}' (SR > 0.3), "
+            f"{s['steps_per_second']:.0f} steps/s")
+
+
+# --------------------------------------------------------------------- subcommands
+def _add_common(p: argparse.ArgumentParser) -> None:
+    from closedloop import presets
+
+    src = p.add_mutually_exclusive_group()
+    src.add_argument("--preset", default="table1", choices=presets.names(),
+                     help="named configuration (default table1)")
+    src.add_argument("--config", type=Path, help="TOML or JSON config (from `closedloop config`)")
+    p.add_argument("--duration", type=float, default=1.0, help="simulated time [s] (default 1)")
+    p.add_argument("--seed", type=int, default=None, help="seed (default: the config's)")
+    p.add_argument("--train-seed", type=int, default=None,
+                   help="train predictors on the no-prediction run of this seed "
+                        "(default: the same atmosphere, as in the paper)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _cmd_run(args) -> int:
+    from closedloop import predictors
+
+    if args.predictor not in predictors.NAMES:
+        raise CommandError(f"--predictor must be one of {', '.join(predictors.NAMES)}; "
+                           f"got '{args.predictor}'")
+    _check_out(args.out, args.overwrite)
+    if args.duration <= 0:
+        raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    config = _config(args)
+    seed = config.seed if args.seed is None else args.seed
+    result = _run_with(config, args.predictor, args.duration, seed, args.train_seed,
+                       _progress(args))
+    if args.out is not None:
+        result.save(args.out, overwrite=args.overwrite)
+    print(_summary_line(result))
+    return 0
+
+
+def _cmd_compare(args) -> int:
+    from closedloop import predictors
+    from closedloop.simulation import LoopModel, simulate
+
+    names = [n.strip() for n in args.predictors.split(",") if n.strip()]
+    bad = [n for n in names if n not in predictors.NAMES]
+    if bad or not names:
+        raise CommandError(f"--predictors must be a comma list of {', '.join(predictors.NAMES)}; "
+                           f"got '{args.predictors}'")
+    if args.duration <= 0:
+        raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    config = _config(args)
+    seed = config.seed if args.seed is None else args.seed
+    model = LoopModel(config)
+    reference = simulate(config, args.duration, seed=seed, model=model,
+                         progress=_progress(args))
+    rows = []
+    for name in names:
+        result = reference if name == "none" else _run_with(
+            config, name, args.duration, seed, args.train_seed, _progress(args),
+            reference=reference, model=model)
+        s = result.summary()
+        rows.append((name, s["strehl_peak_mean"], s["strehl_field_mean"],
+                     s["corrected_fov_diameter_arcmin"], s["closure_time_s"] * 1e3,
+                     s["steps_per_second"]))
+    print(f"{config.name}, seed {seed}, {args.duration:g} s; SR at "
+          f"{config.wavelength * 1e9:.0f} nm after loop closure")
+    print(f"{'predictor':<14}{'SR peak':>9}{'SR field':>10}{'FoV d [arcmin]':>16}"
+          f"{'closure [ms]':>14}{'steps/s':>9}")
+    for row in rows:
+        print(f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{row[3]:>16.2f}{row[4]:>14.0f}"
+              f"{row[5]:>9.0f}")
+    return 0
+
+
+def _cmd_info(args) -> int:
+    from closedloop.result import SimulationResult
+
+    result = SimulationResult.load(args.result)
+    c = result.config
+    print(f"{args.result}: closedloop result (modalinfo {result.version}), preset {c.name}, "
+          f"seed {result.seed}, predictor {result.predictor}")
+    print(f"  {result.times.size} frames of {c.loop.time_step * 1e3:g} ms, "
+          f"{len(result.directions)} directions over {c.field.size:g}\", "
+          f"{len(c.layers)} layers, {len(c.dms)} DMs, D/r0 = {c.d_over_r0:.1f} at "
+          f"{c.r0_wavelength * 1e9:.0f} nm")
+    print("  " + _summary_line(result))
+    for name, log in result.logs.items():
+        print(f"  log {name}: {log.n_frames} x {log.n_modes} ({log.labels[0]} .. "
+              f"{log.labels[-1]}), {log.units} at {log.wavelength * 1e9:.0f} nm")
+    return 0
+
+
+def _cmd_config(args) -> int:
+    from closedloop.config import config_text, save_config
+
+    config = _config(args)
+    if args.out is None:
+        sys.stdout.write(config_text(config, args.fmt))
+        return 0
+    save_config(config, args.out, overwrite=args.overwrite)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the ``closedloop`` parser."""
+    from closedloop import predictors
+
+    parser = _Parser(prog="closedloop", description="Layer-oriented MCAO simulator of a "
+                     "4 m solar telescope (the paper's LOST simulations).")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    p = sub.add_parser("run", help="run one simulation")
+    _add_common(p)
+    p.add_argument("--predictor", default="none",
+                   help=f"one of {', '.join(predictors.NAMES)} (default none)")
+    p.add_argument("--out", type=Path, help="write the result (HDF5)")
+    p.add_argument("--overwrite", action="store_true", help="replace --out if it exists")
+    p.set_defaults(_run=_cmd_run)
+    p = sub.add_parser("compare", help="several predictors on the same atmosphere, one table")
+    _add_common(p)
+    p.add_argument("--predictors", default="none,linear,arma,nn-paper,oracle",
+                   help="comma-separated names (default none,linear,arma,nn-paper,oracle)")
+    p.set_defaults(_run=_cmd_compare)
+    p = sub.add_parser("info", help="summarise a result file")
+    p.add_argument("result", type=Path)
+    p.set_defaults(_run=_cmd_info)
+    p = sub.add_parser("config", help="print a preset as TOML (edit it, pass it to --config)")
+    src = p.add_mutually_exclusive_group()
+    from closedloop import presets
+
+    src.add_argument("--preset", default="table1", choices=presets.names())
+    src.add_argument("--config", type=Path)
+    p.add_argument("--fmt", choices=("toml", "json"), default="toml")
+    p.add_argument("--out", type=Path, help="write to this file instead of stdout")
+    p.add_argument("--overwrite", action="store_true")
+    p.set_defaults(_run=_cmd_config)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "_run", None) is None:
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return int(args._run(args) or 0)
+    except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
+        text = str(exc).strip()
+        message = text.splitlines()[0] if text else type(exc).__name__
+        sys.stderr.write(f"closedloop {args.command}: error: {message}\n")
+        return 2
+    except KeyboardInterrupt:
+        sys.stderr.write("closedloop: interrupted\n")
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
