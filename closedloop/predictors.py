@@ -43,7 +43,7 @@ def make(name: str):
 
 def needs_training(predictor) -> bool:
     """Whether ``predictor`` must be fitted on a no-prediction run before use."""
-    return predictor is not None and not isinstance(predictor, str | PersistencePredictor)
+    return predictor is not None and not isinstance(predictor, str)
 
 
 def training_data(reference: SimulationResult) -> np.ndarray:
@@ -53,8 +53,8 @@ def training_data(reference: SimulationResult) -> np.ndarray:
                          f"{reference.predictor!r}.")
     pols = [reference.logs[f"dm{i}.pol"].coeffs for i in range(len(reference.config.dms))]
     pol = np.hstack(pols)
-    start = max(reference.closure_index, int(np.searchsorted(reference.times,
-                                                             _PAPER_TRAINING_START)))
+    start = max(reference.closure_index,
+                int(np.searchsorted(reference.times, _PAPER_TRAINING_START, side="right")))
     if pol.shape[0] - start < 20:
         raise ValueError(f"the reference run has {pol.shape[0] - start} frames after its "
                          "loop closure; run it longer to train a predictor.")
