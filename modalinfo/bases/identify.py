@@ -145,6 +145,27 @@ class ZernikeIdentification:
         lines.append(self.summary())
         return "\n".join(lines)
 
+    @classmethod
+    def from_dict(cls, data: dict) -> ZernikeIdentification:
+        """Rebuild an identification from :meth:`to_dict` (e.g. a log's metadata)."""
+        try:
+            after = data.get("noll_after_transform")
+            corr = np.asarray(data["correlation"], dtype=np.float64)
+            return cls(
+                noll=np.asarray(data["noll"], dtype=np.int64),
+                correlation=corr,
+                sign=np.where(corr < 0, -1, 1),
+                second=np.asarray(data["second"], dtype=np.float64),
+                is_zernike=np.asarray(data["is_zernike"], dtype=bool),
+                threshold=float(data["threshold"]),
+                transform=data.get("transform"),
+                order=data.get("order"),
+                noll_after_transform=None if after is None else np.asarray(after, dtype=np.int64),
+                n_pixels=int(data["n_pixels"]),
+            )
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError(f"`data` is not a ZernikeIdentification dict: {exc!r}.") from exc
+
     def to_dict(self) -> dict:
         """JSON-serialisable form (plain lists, floats rounded to 6 digits)."""
         return {

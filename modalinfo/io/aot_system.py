@@ -37,6 +37,7 @@ __all__ = [
     "SourceSpec",
     "TelescopeSpec",
     "build_system",
+    "config_of",
     "geometry_of",
     "import_aotpy",
     "integrator_filter",
@@ -347,6 +348,8 @@ def build_system(
         System name.
     config : str, optional
         Free-form configuration text (e.g. the simulator's configuration as TOML).
+        FITS cards hold printable ASCII only: other text (newlines, non-ASCII) is
+        stored JSON-quoted; :func:`config_of` gives it back.
     date_beginning : datetime.datetime, optional
         Start of the recording (UTC).
 
@@ -498,12 +501,26 @@ def build_system(
     if geometry:
         text = json.dumps(geometry, ensure_ascii=True, allow_nan=False, separators=(",", ":"))
         metadata.append(aotpy.Metadatum(AOT_EXTRA_KEY, text))
+    if config is not None and not (config.isascii() and config.isprintable()):
+        config = json.dumps(config, ensure_ascii=True)
     return aotpy.AOSystem(
         ao_mode=ao_mode, name=name, config=config, date_beginning=date_beginning,
         main_telescope=tel, sources=list(srcs.values()), wavefront_sensors=list(wfss.values()),
         wavefront_correctors=list(wfcs.values()), loops=aot_loops, atmosphere_params=atmos,
         metadata=metadata,
     )
+
+
+def config_of(system) -> str | None:
+    """Return a system's configuration text, undoing the JSON quoting of build_system."""
+    text = getattr(system, "config", None)
+    if isinstance(text, str) and len(text) >= 2 and text[0] == text[-1] == '"':
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            return text
+        return value if isinstance(value, str) else text
+    return text
 
 
 def geometry_of(system) -> dict[str, Any]:
