@@ -264,20 +264,18 @@ def identify_zernike(
     cands = _candidates(arr.shape[0], max_noll)
     z = zernike_matrix(cands, pupil.rho_valid, pupil.theta_valid)
 
-    results = {}
-    for name, fn in TRANSFORMS.items():
-        t_pupil_mask = fn(pupil.mask)
-        if not np.array_equal(t_pupil_mask, pupil.mask):
-            continue  # the pupil itself is not symmetric under this map
-        f = np.ascontiguousarray(fn(square)[:, pupil.mask].T)
-        results[name] = _match(f, z)
-        if name == "none":
-            base = results[name]
-    best, corr, second = base
+    def match(name):
+        f = np.ascontiguousarray(TRANSFORMS[name](square)[:, pupil.mask].T)
+        return _match(f, z)
+
+    best, corr, second = base = match("none")
     noll = cands[best]
     is_z = np.abs(corr) >= threshold
     transform = order = after = None
-    for name, (b, c, _) in results.items():
+    for name, fn in TRANSFORMS.items():
+        if not np.array_equal(fn(pupil.mask), pupil.mask):
+            continue  # the pupil itself is not symmetric under this map
+        b, c, _ = base if name == "none" else match(name)  # lazily: "none" usually wins
         j = cands[b]
         if np.all(c >= threshold) and np.unique(j).size == j.size:
             kind = _ordered(j)
