@@ -156,3 +156,17 @@ def test_convert_to_aot_and_back(naomi_file, tmp_path, capsys):
     a, b = load(naomi_file, loop="Main Loop"), load(out)
     assert np.array_equal(a.coeffs, b.coeffs) and np.array_equal(a.timestamps, b.timestamps)
     assert a.metadata == b.metadata and a.modes == b.modes
+
+
+def test_modes_count_mismatch_is_one_line(tmp_path, capsys):
+    from modalinfo.io.aot import write_system
+    from modalinfo.io.aot_system import CorrectorSpec, LoopSpec, SensorSpec, build_system
+
+    system = build_system([LoopSpec("L", "W", "DM", modal_coefficients=np.zeros((8, 4)),
+                                    modes=np.ones((3, 16, 16)))],
+                          sensors=[SensorSpec("W", "source")], correctors=[CorrectorSpec("DM")])
+    path = write_system(system, tmp_path / "mismatch.fits")
+    assert main(["info", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "mismatch.fits" in err
+    assert "has 3 modes but its coefficients have 4 columns" in err

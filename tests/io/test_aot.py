@@ -192,16 +192,18 @@ def test_build_system_complete_export_round_trip(tmp_path):
     modes = np.nan_to_num(basis.pupil.to_image(basis.matrix.T))
     num, den = integrator_filter(0.4, leak=0.99)
     loops, sensors, correctors = [], [], []
-    coeffs = {}
+    coeffs, meas, cmds, m2m = {}, {}, {}, {}
     for k, alt in enumerate((0.0, 8000.0)):
         coeffs[k] = rng.standard_normal((50, 4))
-        sensors.append(SensorSpec(f"WFS{k}", "sun", 12, measurements=rng.standard_normal(
-            (50, 2, 12)), field_of_view=(60.0, 20.0)[k], altitude=alt))
+        meas[k] = rng.standard_normal((50, 2, 12)).astype(np.float32)
+        cmds[k] = rng.standard_normal((50, 30))
+        m2m[k] = rng.standard_normal((4, 2, 12))
+        sensors.append(SensorSpec(f"WFS{k}", "sun", 12, measurements=meas[k],
+                                  field_of_view=(60.0, 20.0)[k], altitude=alt))
         correctors.append(CorrectorSpec(f"DM{k}", 30, altitude=alt))
         loops.append(LoopSpec(f"L{k}", f"WFS{k}", f"DM{k}", modal_coefficients=coeffs[k],
                               units="rad", timestamps=t, framerate=1000.0, delay=1.5,
-                              modes=modes, measurements_to_modes=rng.standard_normal((4, 2, 12)),
-                              commands=rng.standard_normal((50, 30)),
+                              modes=modes, measurements_to_modes=m2m[k], commands=cmds[k],
                               time_filter_num=num, time_filter_den=den))
     system = build_system(
         loops, sensors=sensors, correctors=correctors,
@@ -220,6 +222,12 @@ def test_build_system_complete_export_round_trip(tmp_path):
     atm = read.atmosphere_params[0]
     assert np.array_equal(atm.layers_wind_speed.data, [[7.0, 70.0]])
     for k in (0, 1):
+        lp = read.loops[k]  # what aotpy reads: the same bits, dtype kept
+        for got, want in ((lp.input_sensor.measurements.data, meas[k]),
+                          (lp.commands.data, cmds[k]), (lp.measurements_to_modes.data, m2m[k]),
+                          (lp.modes.data, modes)):
+            got = np.asarray(got)
+            assert got.dtype.newbyteorder("=") == want.dtype and np.array_equal(got, want)
         log = load(path, loop=f"L{k}")
         assert np.array_equal(log.coeffs, coeffs[k]) and np.array_equal(log.timestamps, t)
         assert log.modes == [2, 3, 4, 5]  # identified from the mode images
