@@ -142,12 +142,16 @@ def read_aot_system(path, *, verify: bool = True):
     LogFormatError
         Not an AOT file, truncated, or failing aotpy's verification.
     """
+    return _read_system(as_path(path), verify)[0]
+
+
+def _read_system(path: Path, verify: bool):
+    """Return the system and aotpy's verification notes (its warnings, first lines)."""
     aotpy = import_aotpy()
-    path = as_path(path)
     check_readable(path)
-    with _aot_reading(path):
+    with _aot_reading(path) as notes:
         system = aotpy.AOSystem.read_from_file(path, file_type="fits", checksum=bool(verify))
-    return system
+    return system, notes
 
 
 def _control_loops(system, path: Path) -> list:
@@ -164,6 +168,11 @@ def aot_loops(path) -> list[str]:
     return [lp.uid for lp in _control_loops(read_aot_system(path), path)]
 
 
+def _check_loop(loop) -> None:
+    if loop is not None and not isinstance(loop, str):
+        raise TypeError(f"`loop` must be a str (a loop uid); got {type(loop).__name__}.")
+
+
 def _pick_loop(system, path: Path, loop: str | None):
     loops = _control_loops(system, path)
     uids = ", ".join(repr(lp.uid) for lp in loops)
@@ -177,8 +186,6 @@ def _pick_loop(system, path: Path, loop: str | None):
             f"AOT file '{path}' has {len(loops)} control loops ({uids}); choose one with "
             "loop=UID (command line: --loop UID)"
         )
-    if not isinstance(loop, str):
-        raise TypeError(f"`loop` must be a str (a loop uid); got {type(loop).__name__}.")
     for lp in loops:
         if lp.uid == loop:
             return lp, loops
@@ -248,6 +255,8 @@ def _coefficients(lp, path: Path) -> tuple[np.ndarray, str]:
 
 def _times(lp, n_frames: int, path: Path) -> tuple[np.ndarray | None, list | None]:
     time = getattr(lp.modal_coefficients, "time", None) or lp.time
+    if time is None and lp.modal_coefficients is None:  # reconstructed: the measurements'
+        time = getattr(getattr(lp.input_sensor, "measurements", None), "time", None)
     if time is None:
         return None, None
     stamps = np.asarray(time.timestamps, dtype=np.float64)
@@ -375,8 +384,8 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
         from the coefficients' columns, timestamps of another length.
     """
     path = as_path(path)
-    check_readable(path)
-    system = read_aot_system(path, verify=verify)
+    _check_loop(loop)
+    system, notes = _read_system(path, verify)
     with reading("AOT", path):
         lp, loops = _pick_loop(system, path, loop)
         coeffs, origin = _coefficients(lp, path)
@@ -396,6 +405,8 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
             stored = _stored_from_system(system, lp, loops, path, coeffs, origin, stamps,
                                          frames, ident)
             coeffs = stored.pop("_coeffs")
+            if notes:  # aotpy's verification remarks on a foreign file, kept, not hidden
+                stored["metadata"]["aot_warnings"] = list(dict.fromkeys(notes))[:10]
     return build_log(coeffs, path, stored, hints)
 
 
@@ -479,6 +490,7 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
     from modalinfo.bases.image_basis import basis_from_images
 
     path = as_path(path)
+    _check_loop(loop)
     system = read_aot_system(path, verify=verify)
     with reading("AOT", path):
         lp, _ = _pick_loop(system, path, loop)

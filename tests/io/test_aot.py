@@ -256,6 +256,11 @@ def test_several_loops_need_a_choice_listing_the_uids(multi):
         load(path, loop="X")
 
 
+def test_loop_must_be_a_str(multi):
+    with pytest.raises(TypeError, match="`loop` must be a str"):
+        load(multi[0], loop=3)
+
+
 def test_loop_hint_on_another_format_is_refused(tmp_path):
     path = save(ModalLog(np.ones((3, 2)), rate=1.0), tmp_path / "a.npz")
     with pytest.raises(ValueError, match="`loop` selects a control loop of an AOT file"):
@@ -308,3 +313,16 @@ def test_altered_data_fails_its_checksum(tmp_path):
     path.write_bytes(bytes(raw))
     with pytest.raises(LogFormatError, match="x.fits"):
         load(path)
+
+
+def test_aotpy_verification_remarks_are_kept(multi, tmp_path):
+    """A WARNING-level defect (data in the primary HDU) is read, and said in metadata."""
+    from aotpy.io.fits import AOTFITSWriter
+
+    hdul = AOTFITSWriter(read_aot_system(multi[0])).get_hdulist()
+    hdul[0].data = np.ones(2)
+    hdul.writeto(tmp_path / "odd.fits")
+    log = load(tmp_path / "odd.fits", loop="HO")
+    assert np.array_equal(log.coeffs, multi[1]["HO"])
+    assert any("Primary HDU should not contain data" in w
+               for w in log.metadata["aot_warnings"])
