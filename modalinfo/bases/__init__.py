@@ -1,6 +1,8 @@
 """Modal bases of the pupil: Zernike polynomials, K-L modes and turbulence statistics."""
 
 from modalinfo.bases.basis import ModalBasis
+from modalinfo.bases.identify import ZernikeIdentification, identify_zernike
+from modalinfo.bases.image_basis import MaskedPupil, basis_from_images, pupil_from_mask
 from modalinfo.bases.indexing import (
     ansi_to_noll,
     ansi_to_zernike,
@@ -30,6 +32,11 @@ from modalinfo.bases.zernike import (
 __all__ = [
     "Pupil",
     "ModalBasis",
+    "MaskedPupil",
+    "basis_from_images",
+    "pupil_from_mask",
+    "identify_zernike",
+    "ZernikeIdentification",
     "ZernikeBasis",
     "KLBasis",
     "default_zernike_modes",

@@ -21,7 +21,9 @@ def add_hint_arguments(
     column hint as ``modes_flag="--in-modes"``.
     """
     group = parser.add_argument_group("hints for files that lack the information")
-    group.add_argument("--fmt", choices=("npz", "npy", "csv", "fits", "hdf5"), help="input format")
+    group.add_argument("--fmt", choices=("npz", "npy", "csv", "fits", "hdf5", "aot"),
+                       help="input format")
+    group.add_argument("--loop", metavar="UID", help="control loop of an AOT file (its uid)")
     group.add_argument("--rate", type=float, metavar="HZ", help="sample rate in Hz")
     flags = ("--in-units", "--units") if is_info else ("--in-units",)
     group.add_argument(
@@ -77,6 +79,7 @@ def hints_from_args(args: argparse.Namespace) -> dict:
         "wavelength": getattr(args, "wavelength", None) if args.command == "info" else None,
         "convention": args.in_convention,
         "nonfinite": args.nonfinite,
+        "loop": getattr(args, "loop", None),
     }
     if args.in_modes is not None:
         modes = parse_modes(args.in_modes)

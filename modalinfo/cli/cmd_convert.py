@@ -1,8 +1,8 @@
 """``modalinfo convert IN OUT``: change a log's format, units or mode convention.
 
 The output format comes from OUT's extension (``.npz``, ``.csv``, ``.fits``, ``.h5``)
-or ``--to-fmt``. Writing is atomic and refuses to replace OUT without
-``--overwrite``.
+or ``--to-fmt`` (``aot`` writes an AO Telemetry file). Writing is atomic and refuses
+to replace OUT without ``--overwrite``.
 """
 
 from __future__ import annotations
@@ -38,7 +38,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="re-index the Zernike modes in this convention",
     )
     parser.add_argument(
-        "--to-fmt", choices=("npz", "csv", "fits", "hdf5"), help="output format (default: ext)"
+        "--to-fmt", choices=("npz", "csv", "fits", "hdf5", "aot"),
+        help="output format (default: ext; aot: an AO Telemetry file, give it explicitly)"
     )
     parser.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import check_output, load_log
-from modalinfo.cli.cmd_reorder import add_common_arguments
+from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis
 
 NAME = "fitting-error"
 HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."
@@ -48,10 +48,11 @@ def run(args: argparse.Namespace) -> int:
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     log = load_log(args.log, args)
+    bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     comp = compare_orderings(
         log, specs, frame=args.frame, units=args.units, estimator=args.estimator,
         sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
-        outer_scale=args.outer_scale,
+        outer_scale=args.outer_scale, bases=bases,
     )
     targets = [args.target] if args.target is not None else []
     fractions = [args.fraction] if args.fraction is not None else []

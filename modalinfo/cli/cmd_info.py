@@ -62,12 +62,18 @@ def run(args: argparse.Namespace) -> int:
     out.write(f"units       {log.units}{wave}\n")
     out.write(f"loop        {meta.get('loop', 'unknown')}\n")
     for key in sorted(meta):
-        if key in ("loop", "repairs"):
+        if key in ("loop", "repairs", "modes_identification"):
             continue
         text = str(meta[key])
         out.write(f"meta        {key}: {text if len(text) <= 70 else text[:67] + '...'}\n")
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
+    if isinstance(meta.get("modes_identification"), dict):
+        from modalinfo.bases.identify import ZernikeIdentification
+
+        ident = ZernikeIdentification.from_dict(meta["modes_identification"])
+        out.write("\nthe file's modes against our Zernikes (x along columns, y along rows):\n")
+        out.write(ident.table() + "\n")
 
     show_bar = not args.quiet and sys.stderr.isatty() and log.n_frames >= _PROGRESS_MIN_FRAMES
     bar = None

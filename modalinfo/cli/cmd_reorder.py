@@ -40,11 +40,27 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
     add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
 
 
+def file_basis(args: argparse.Namespace, log):
+    """Return the basis of the AOT file ``args.log`` (loop ``--loop``) for ``--basis file``."""
+    from modalinfo.io import detect_format
+    from modalinfo.io.aot import read_aot_basis
+
+    if detect_format(args.log) != "aot":
+        raise CommandError(f"basis 'file' needs an AOT file with modes; '{args.log}' is not AOT")
+    basis, _ = read_aot_basis(args.log, loop=args.loop or log.metadata.get("loop_uid"))
+    if basis.n_modes != log.n_modes:
+        raise CommandError(f"'{args.log}': the loop's {basis.n_modes} modes do not match the "
+                           f"log's {log.n_modes} columns")
+    return basis
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Fill the ``reorder`` parser."""
     add_common_arguments(parser)
-    parser.add_argument("--basis", choices=("zernike", "kl-theory", "kl-data"),
-                        default="zernike", help="basis to order (default: zernike)")
+    parser.add_argument("--basis", choices=("zernike", "kl-theory", "kl-data", "file"),
+                        default="zernike",
+                        help="basis to order (default: zernike; file: the modes of the AOT "
+                             "file's loop, on its own pupil)")
     parser.add_argument("--method", default="mi_greedy",
                         choices=("mi_greedy", "mi_marginal", "variance", "pca", "standard"),
                         help="ordering rule (default: mi_greedy)")
@@ -65,8 +81,11 @@ def run(args: argparse.Namespace) -> int:
     log = load_log(args.log, args)
     if args.frame is not None and args.method == "pca":
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
-    basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
-                          outer_scale=args.outer_scale)
+    if args.basis == "file":
+        basis = file_basis(args, log)
+    else:
+        basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
+                              outer_scale=args.outer_scale)
     result = order_modes(
         log, basis, args.method, estimator=args.estimator, frame=args.frame,
         sample_budget=args.budget, seed=args.seed, n_resamples=args.resamples,

@@ -1,4 +1,4 @@
-"""Readers and writers of telemetry logs: NPZ, CSV, FITS, HDF5 (lossless) and NPY (read).
+"""Readers and writers of telemetry logs: NPZ, CSV, FITS, HDF5, AOT (lossless) and NPY (read).
 
 ``save(log, path)`` writes any ``ModalLog`` so that ``load(path)`` gives it back
 exactly: bitwise coefficients (float32 or float64), timestamps or rate, modes,
@@ -9,6 +9,10 @@ file unless ``overwrite=True``.
 extension, and also opens files written by other software (a plain 2-D array in
 NPY/NPZ, a numeric CSV, a FITS image or table, an HDF5 file with one 2-D dataset);
 ``**hints`` supply what such files lack (``rate=``, ``units=``, ``modes=``, ...).
+
+A FITS file whose primary header has ``AOT-VERS`` is AOT (Adaptive Optics Telemetry,
+read and written with ``aotpy``): ``load`` returns one control loop, chosen with
+``loop=UID`` when there are several (:mod:`modalinfo.io.aot`).
 
 Errors: ``FileNotFoundError`` / ``IsADirectoryError`` / ``FileExistsError``
 (``OSError``) for paths; :class:`LogFormatError` (a ``ValueError``) naming the file
@@ -21,6 +25,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from modalinfo.io._common import HINTS, LogFormatError, as_path, check_readable
+from modalinfo.io.aot import is_aot, read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
 from modalinfo.io.fits import read_fits, write_fits
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
@@ -43,10 +48,12 @@ __all__ = [
     "write_fits",
     "read_hdf5",
     "write_hdf5",
+    "read_aot",
+    "write_aot",
 ]
 
 #: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
-FORMATS = ("npz", "npy", "csv", "fits", "hdf5")
+FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
 
 _EXTENSIONS = {
     ".npz": "npz",
@@ -102,7 +109,7 @@ def detect_format(path) -> str:
         raise LogFormatError(f"'{path}' is empty")
     for magic, fmt in _MAGIC:
         if head.startswith(magic):
-            return fmt
+            return "aot" if fmt == "fits" and is_aot(path) else fmt
     by_ext = _from_extension(path)
     if by_ext is not None and by_ext != "csv":
         return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
@@ -122,8 +129,11 @@ _READERS = {
     "csv": read_csv,
     "fits": read_fits,
     "hdf5": read_hdf5,
+    "aot": read_aot,
 }
-_WRITERS = {"npz": write_npz, "csv": write_csv, "fits": write_fits, "hdf5": write_hdf5}
+_WRITERS = {
+    "npz": write_npz, "csv": write_csv, "fits": write_fits, "hdf5": write_hdf5, "aot": write_aot
+}
 
 
 def _check_fmt(fmt, allowed) -> str:
@@ -141,7 +151,7 @@ def load(
     ----------
     path : str or os.PathLike
         The file.
-    fmt : {"npz", "npy", "csv", "fits", "hdf5"}, optional
+    fmt : {"npz", "npy", "csv", "fits", "hdf5", "aot"}, optional
         Force a format; by default it is detected from the content, then the
         extension.
     mmap : bool
@@ -151,12 +161,12 @@ def load(
     verify : bool
         Check the SHA-256 checksums that CSV and HDF5 files written by modalinfo
         carry (``False`` accepts a deliberately edited CSV). NPZ (CRC-32) and FITS
-        (``DATASUM``) checksums are always verified.
+        (``DATASUM``) checksums are always verified (AOT: where the file has them).
     **hints
         ``rate`` [Hz], ``timestamps`` [s], ``modes``, ``convention``, ``units``,
         ``wavelength`` [m], ``metadata``, ``nonfinite``, ``start_time`` [s]: supply
         what a foreign file lacks. A hint contradicting the file raises
-        ``ValueError``.
+        ``ValueError``. ``loop`` (AOT only): uid of the control loop to read.
 
     Returns
     -------
@@ -179,9 +189,11 @@ def load(
     if fmt is None:
         fmt = detect_format(path)
     options: dict = {}
+    if fmt != "aot" and hints.pop("loop", None) is not None:
+        raise ValueError(f"`loop` selects a control loop of an AOT file; '{path}' is {fmt}.")
     if mmap and fmt in ("npz", "npy", "hdf5"):
         options["mmap"] = True
-    if fmt in ("csv", "hdf5"):
+    if fmt in ("csv", "hdf5", "aot"):
         options["verify"] = bool(verify)
     return _READERS[fmt](path, **options, **hints)
 
@@ -195,8 +207,9 @@ def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -
         The log.
     path : str or os.PathLike
         Target file.
-    fmt : {"npz", "csv", "fits", "hdf5"}, optional
-        Format; by default from the extension of ``path``.
+    fmt : {"npz", "csv", "fits", "hdf5", "aot"}, optional
+        Format; by default from the extension of ``path`` (``.fits`` is our FITS
+        layout; pass ``fmt="aot"`` for an AOT file).
     overwrite : bool
         Replace an existing file; otherwise ``FileExistsError`` naming it.
 

@@ -120,8 +120,8 @@ def coefficients_in_basis(
     obj = basis.obj
     if is_log(log_or_coeffs):
         log = log_or_coeffs
-        if getattr(log, "convention", "noll") != "noll":
-            log = log.to_convention("noll")
+        if getattr(log, "convention", "noll") not in ("noll", "labels"):
+            log = log.to_convention("noll")  # labelled columns: taken in order
         if getattr(log, "units", "rad") != "rad":
             log = log.to_units("rad", wavelength=wavelength)
         coeffs = as_float_array(np.asarray(log.coeffs), f"{name}.coeffs", ndim=2)

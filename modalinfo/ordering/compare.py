@@ -7,7 +7,9 @@ zernike:mi_greedy, kl-data:pca``.
 
 Bases: ``"zernike"`` (the log's Noll modes on the pupil), ``"kl-theory"`` (eigenvectors
 of the von Karman Zernike covariance of the log's modes, ``KLBasis.from_turbulence``)
-and ``"kl-data"`` (PCA of the log's own coefficients, ``KLBasis.from_data``).
+and ``"kl-data"`` (PCA of the log's own coefficients, ``KLBasis.from_data``), and
+``"file"``: the modes an AOT file carries for the loop the log was read from
+(:func:`modalinfo.io.aot.read_aot_basis`, on the file's own pupil).
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ __all__ = [
 ]
 
 #: Basis names accepted by :func:`basis_for_log`.
-BASES = ("zernike", "kl-theory", "kl-data")
+BASES = ("zernike", "kl-theory", "kl-data", "file")
 
 _STYLES = {
     ("zernike", "standard"): dict(color="tab:blue", linestyle=":", linewidth=2.0),
@@ -73,8 +75,10 @@ def basis_for_log(
 
     Parameters
     ----------
-    kind : {"zernike", "kl-theory", "kl-data"}
-        Which basis.
+    kind : {"zernike", "kl-theory", "kl-data", "file"}
+        Which basis (``"file"``: the modes of the AOT file named by the log's
+        ``metadata["aot_file"]``, loop ``metadata["loop_uid"]``; ``n_pixels`` and
+        ``diameter`` are the file's).
     log : ModalLog
         The log (Noll modes; for ``"kl-data"`` its coefficients are analysed).
     n_pixels : int
@@ -96,6 +100,8 @@ def basis_for_log(
     from modalinfo.bases import Pupil, ZernikeBasis
 
     check_choice(kind, "basis", BASES)
+    if kind == "file":
+        return _file_basis(log)
     n_pixels = check_int(n_pixels, "n_pixels", minimum=4)
     meta_d, meta_l0 = _log_geometry(log)
     if diameter is None:
@@ -119,6 +125,26 @@ def basis_for_log(
                                        zernike_modes=modes)
     rad = log if getattr(log, "units", "rad") == "rad" else log.to_units("rad")
     return KLBasis.from_data(zernike_basis, np.asarray(rad.coeffs, dtype=float))
+
+
+def _file_basis(log: Any) -> Any:
+    """Return the basis of the AOT file a log was read from (its loop's mode images)."""
+    meta = getattr(log, "metadata", None) or {}
+    path = meta.get("aot_file")
+    if not isinstance(path, str):
+        raise ValueError(
+            "basis 'file' is the modes of the AOT file the log was read from; this log has "
+            "no metadata['aot_file'] (read an AOT file whose loop has modes, or pass "
+            "bases={'file': modalinfo.io.aot.read_aot_basis(path)[0]})."
+        )
+    from modalinfo.io.aot import read_aot_basis
+
+    basis, _ = read_aot_basis(path, loop=meta.get("loop_uid"))
+    if basis.n_modes != getattr(log, "n_modes", basis.n_modes):
+        raise ValueError(
+            f"basis 'file' has {basis.n_modes} modes but the log has {log.n_modes} columns."
+        )
+    return basis
 
 
 def parse_specs(text: str | list[str]) -> list[tuple[str, str]]:

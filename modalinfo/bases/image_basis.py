@@ -1,0 +1,224 @@
+"""A modal basis from mode images sampled on a grid (e.g. the ``modes`` of an AOT loop).
+
+Files describe their modes as images ``(M, h, w)``: zero (or NaN) outside the
+pupil. :func:`pupil_from_mask` turns the images' support into a :class:`Pupil`
+(the circular/annular :class:`Pupil` itself when the support is exactly one, else a
+:class:`MaskedPupil` holding the mask), and :func:`basis_from_images` samples the
+images on it into a :class:`ModalBasis`. Geometry follows the package convention:
+``x`` along columns (axis 1), ``y`` along rows (axis 0), the pupil centred on the
+support's bounding box, whose larger side spans the diameter.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalinfo._validation import as_float_array, check_real
+from modalinfo.bases.basis import ModalBasis
+from modalinfo.bases.pupil import Pupil, _readonly
+
+__all__ = ["MaskedPupil", "pupil_from_mask", "support_of", "basis_from_images"]
+
+
+class MaskedPupil(Pupil):
+    """A pupil of arbitrary shape: a boolean mask on an ``N x N`` grid.
+
+    Coordinates are those of :class:`Pupil` (pixel centres, ``x`` along columns, ``y``
+    along rows, centred on the grid, ``N`` pixels across ``diameter``); ``rho`` is
+    normalised to 1 at ``diameter / 2``. Use it for pupils that are not a centred
+    disc or annulus (spiders, segments, vignetting).
+
+    Parameters
+    ----------
+    mask : array_like of bool
+        ``(N, N)`` True inside the pupil; at least one pixel.
+    diameter : float
+        Diameter ``D`` [m] spanned by the ``N`` pixels, ``> 0``.
+    """
+
+    __slots__ = ()
+
+    def __init__(self, mask, diameter: float = 1.0) -> None:  # noqa: D107
+        m = np.asarray(mask)
+        if m.ndim != 2 or m.shape[0] != m.shape[1] or m.shape[0] < 2:
+            raise ValueError(f"`mask` must be a square 2-D array (N, N), N >= 2; got {m.shape}.")
+        if m.dtype != bool:
+            raise TypeError(f"`mask` must be boolean; got dtype {m.dtype}.")
+        if not m.any():
+            raise ValueError("`mask` must hold at least one pupil pixel; got none.")
+        d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+        n = m.shape[0]
+        centres = (np.arange(n) + 0.5 - n / 2) * (d / n)
+        x, y = np.meshgrid(centres, centres)
+        rho = np.hypot(x, y) / (d / 2)
+        theta = np.arctan2(y, x)
+        mask = np.array(m, dtype=bool)
+        values = {
+            "n_pixels": n, "diameter": d, "obscuration": 0.0, "x": _readonly(x),
+            "y": _readonly(y), "rho": _readonly(rho), "theta": _readonly(theta),
+            "mask": _readonly(mask), "n_valid": int(mask.sum()),
+            "rho_valid": _readonly(np.ascontiguousarray(rho[mask])),
+            "theta_valid": _readonly(np.ascontiguousarray(theta[mask])),
+            "pixel_area": (d / n) ** 2,
+        }
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+    def __reduce__(self):
+        return (MaskedPupil, (np.array(self.mask), self.diameter))
+
+    def __repr__(self) -> str:
+        return (f"MaskedPupil(n_pixels={self.n_pixels}, diameter={self.diameter!r}, "
+                f"n_valid={self.n_valid})")
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Pupil):
+            return NotImplemented
+        return (self.n_pixels == other.n_pixels and self.diameter == other.diameter
+                and bool(np.array_equal(self.mask, other.mask)))
+
+    def __hash__(self) -> int:
+        return hash((self.n_pixels, self.diameter, self.n_valid))
+
+
+def support_of(images, *, name: str = "images") -> np.ndarray:
+    """Return the support of mode images: pixels finite and non-zero in at least one image.
+
+    Parameters
+    ----------
+    images : array_like
+        ``(M, h, w)`` or ``(h, w)`` images.
+    name : str
+        Argument name for error messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(h, w)`` bool.
+    """
+    arr = np.asarray(images)
+    if arr.ndim == 2:
+        arr = arr[None]
+    if arr.ndim != 3:
+        raise ValueError(f"`{name}` must be images (M, h, w); got shape {arr.shape}.")
+    finite = np.isfinite(arr)
+    return np.all(finite, axis=0) & np.any(finite & (arr != 0), axis=0)
+
+
+def pupil_from_mask(mask, diameter: float = 1.0) -> Pupil:
+    """Return the pupil of a support mask: a :class:`Pupil` if it is one exactly.
+
+    The mask is cropped to the square around its bounding box (centred, side the
+    larger extent). If that square's mask equals ``Pupil(N, diameter, obscuration)``
+    for the obscuration read from the mask's central hole, that :class:`Pupil` is
+    returned; otherwise a :class:`MaskedPupil`.
+
+    Parameters
+    ----------
+    mask : array_like of bool
+        ``(h, w)`` True inside the pupil.
+    diameter : float
+        Diameter [m] of the pupil (the bounding box's larger side), ``> 0``.
+
+    Returns
+    -------
+    Pupil
+        ``Pupil`` or ``MaskedPupil``.
+    """
+    square, _ = _square_crop(np.asarray(mask, dtype=bool))
+    d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+    n = square.shape[0]
+    if n >= 8:
+        disc = Pupil(n, diameter=d)
+        if np.array_equal(disc.mask, square):
+            return disc
+        # an annulus: every pixel from the innermost one out to the rim
+        inner = float(disc.rho[square].min())
+        if 0.0 < inner < 1.0:
+            annulus = Pupil(n, diameter=d, obscuration=inner)
+            if np.array_equal(annulus.mask, square):
+                return annulus
+    return MaskedPupil(square, diameter=d)
+
+
+def _square_crop(mask: np.ndarray) -> tuple[np.ndarray, tuple[slice, slice, int, int]]:
+    """Crop ``mask`` to the square centred on its bounding box (zero-padded if needed).
+
+    Returns the square mask and ``(rows, cols, pad_row, pad_col)``: the slices of the
+    original array taken and the offsets at which they land in the square.
+    """
+    if mask.ndim != 2 or not mask.any():
+        raise ValueError(f"`mask` must be 2-D with at least one pupil pixel; got {mask.shape}.")
+    rows = np.flatnonzero(mask.any(axis=1))
+    cols = np.flatnonzero(mask.any(axis=0))
+    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+    side = max(r1 - r0, c1 - c0)
+    # grow the shorter side symmetrically (half-pixel asymmetry goes to the end)
+    rs = r0 - (side - (r1 - r0)) // 2
+    cs = c0 - (side - (c1 - c0)) // 2
+    out = np.zeros((side, side), dtype=bool)
+    src_r = slice(max(rs, 0), min(rs + side, mask.shape[0]))
+    src_c = slice(max(cs, 0), min(cs + side, mask.shape[1]))
+    pr, pc = src_r.start - rs, src_c.start - cs
+    out[pr:pr + src_r.stop - src_r.start, pc:pc + src_c.stop - src_c.start] = mask[src_r, src_c]
+    return out, (src_r, src_c, pr, pc)
+
+
+def crop_images(images, mask) -> np.ndarray:
+    """Crop ``(M, h, w)`` images to the square of :func:`pupil_from_mask` (zero padding)."""
+    arr = np.asarray(images)
+    square, (src_r, src_c, pr, pc) = _square_crop(np.asarray(mask, dtype=bool))
+    side = square.shape[0]
+    out = np.zeros(arr.shape[:-2] + (side, side), dtype=np.float64)
+    out[..., pr:pr + src_r.stop - src_r.start, pc:pc + src_c.stop - src_c.start] = arr[
+        ..., src_r, src_c
+    ]
+    return out
+
+
+def basis_from_images(images, *, mask=None, diameter: float = 1.0, labels=None) -> ModalBasis:
+    """Build a :class:`ModalBasis` from mode images on their own pupil.
+
+    Parameters
+    ----------
+    images : array_like
+        ``(M, h, w)`` mode images (values per unit coefficient; zero or NaN outside
+        the pupil).
+    mask : array_like of bool, optional
+        ``(h, w)`` pupil mask; default: the images' support (:func:`support_of`).
+    diameter : float
+        Pupil diameter [m] (the mask's bounding box, larger side), ``> 0``.
+    labels : sequence of str, optional
+        ``M`` mode names (default ``"mode1"``...).
+
+    Returns
+    -------
+    ModalBasis
+        Columns ``images[k][pupil.mask]`` after cropping to the pupil's square.
+
+    Raises
+    ------
+    ValueError
+        Images that are not ``(M, h, w)``, a mask of another shape or with no pixel,
+        or a non-finite value inside the mask.
+    """
+    arr = np.asarray(images)
+    if arr.ndim != 3 or min(arr.shape) < 1:
+        raise ValueError(f"`images` must be mode images (M, h, w); got shape {arr.shape}.")
+    if arr.dtype.kind not in "fiu":
+        raise TypeError(f"`images` must be numeric; got dtype {arr.dtype}.")
+    if mask is None:
+        mask = support_of(arr)
+    else:
+        mask = np.asarray(mask)
+        if mask.shape != arr.shape[1:]:
+            raise ValueError(
+                f"`mask` must have the images' shape {arr.shape[1:]}; got {mask.shape}."
+            )
+        mask = mask.astype(bool)
+    if not mask.any():
+        raise ValueError("`images` have no pupil: every pixel is zero or NaN in every mode.")
+    pupil = pupil_from_mask(mask, diameter)
+    cropped = crop_images(arr, mask)
+    matrix = as_float_array(cropped[:, pupil.mask].T, "images inside the pupil", ndim=2)
+    return ModalBasis(matrix, pupil, labels, _copy=False)

@@ -1,0 +1,616 @@
+"""AO Telemetry (AOT) files, read and written with ``aotpy``: one control loop as a ``ModalLog``.
+
+An AOT file (FITS; primary keyword ``AOT-VERS``) describes a whole AO system. The
+reader returns the log of one *control loop*:
+
+* coefficients: the loop's ``modal_coefficients`` ``(t, m)``; when it has none but
+  its sensor has ``measurements`` ``(t, d, s_v)`` and the loop a
+  ``measurements_to_modes`` ``(m, d, s_v)``, their product (stated in
+  ``metadata["coefficients"]``; reference measurements are not subtracted);
+* time: the coefficients' (or the loop's) ``Time`` timestamps [s] and the loop's
+  ``framerate`` [Hz] (dropped, and kept in metadata, if it disagrees with the
+  timestamps);
+* units: the coefficient image's ``BUNIT`` when it is one of ours (``"m"`` is
+  converted to ``"nm"``, said in metadata); otherwise the file does not say and the
+  caller may pass ``units=``;
+* modes: when the loop has ``modes`` (m images), they are identified as Zernikes of
+  our convention (:func:`modalinfo.bases.identify.identify_zernike`); the columns are
+  labelled with their Noll indices when every mode is a distinct positive Zernike,
+  else ``"mode1"``... (``convention="labels"``); the identification is in
+  ``metadata["modes_identification"]`` and :func:`read_aot_basis` gives the basis;
+* metadata: system, telescope diameter, sensor type and subapertures, corrector,
+  delay [frames], time filter, loop state, the file's control loops.
+
+Files written by :func:`write_aot` carry the log's own header (JSON card ``MI_JSON``
+on the coefficient image), so ``load(save(log))`` gives the log back exactly: same
+coefficients (float32 or float64, bit for bit: AOT images keep their dtype),
+timestamps (float64), rate, modes, units, wavelength and metadata.
+
+Several loops: choose with ``loop=UID``; the error lists the uids.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from modalinfo.io._common import (
+    LogFormatError,
+    as_path,
+    atomic_write,
+    build_log,
+    check_readable,
+    dumps,
+    log_header,
+    parse_header,
+    reading,
+    stored_from_header,
+    unwrap,
+)
+from modalinfo.io.aot_system import (
+    CorrectorSpec,
+    LoopSpec,
+    SensorSpec,
+    TelescopeSpec,
+    build_system,
+    geometry_of,
+    import_aotpy,
+)
+from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.units import UNITS
+
+__all__ = [
+    "is_aot",
+    "aot_loops",
+    "read_aot",
+    "read_aot_basis",
+    "read_aot_system",
+    "write_aot",
+    "write_system",
+]
+
+_JSON_KEY = "MI_JSON"
+_VERSION_KEY = "AOT-VERS"
+_HEADER_BLOCKS = 36  # primary-header blocks scanned for AOT-VERS (100 kB)
+
+
+def is_aot(path) -> bool:
+    """Tell whether a file is AOT: a FITS primary header holding ``AOT-VERS``.
+
+    Only the primary header's 80-character cards are scanned (up to its ``END``);
+    nothing is parsed beyond that.
+    """
+    path = as_path(path)
+    try:
+        with open(path, "rb") as fh:
+            for _ in range(_HEADER_BLOCKS):
+                block = fh.read(2880)
+                if not block:
+                    return False
+                for i in range(0, len(block) - 79, 80):
+                    key = block[i:i + 8].rstrip()
+                    if key == _VERSION_KEY.encode() and block[i + 8:i + 10] == b"= ":
+                        return True
+                    if key == b"END":
+                        return False
+    except OSError:
+        return False
+    return False
+
+
+@contextlib.contextmanager
+def _aot_reading(path: Path) -> Iterator[list]:
+    """Read inside: aotpy failures -> ``LogFormatError``; its warnings are collected."""
+    with reading("AOT", path), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        notes: list = []
+        yield notes
+        for item in caught:
+            text = str(item.message).strip().splitlines()[0] if str(item.message) else ""
+            low = text.lower()
+            if any(w in low for w in ("checksum", "datasum", "truncated", "corrupt",
+                                      "multiple of 2880", "extra bytes")):
+                raise LogFormatError(f"corrupt AOT file '{path}': {text}")
+            notes.append(text)
+
+
+def read_aot_system(path, *, verify: bool = True):
+    """Read an AOT file into an ``aotpy.AOSystem`` (errors name the file).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    verify : bool
+        Verify FITS checksums where the file has them.
+
+    Returns
+    -------
+    aotpy.AOSystem
+        The system.
+
+    Raises
+    ------
+    LogFormatError
+        Not an AOT file, truncated, or failing aotpy's verification.
+    """
+    return _read_system(as_path(path), verify)[0]
+
+
+def _read_system(path: Path, verify: bool):
+    """Return the system and aotpy's verification notes (its warnings, first lines)."""
+    aotpy = import_aotpy()
+    check_readable(path)
+    with _aot_reading(path) as notes:
+        system = aotpy.AOSystem.read_from_file(path, file_type="fits", checksum=bool(verify))
+    return system, notes
+
+
+def _control_loops(system, path: Path) -> list:
+    aotpy = import_aotpy()
+    loops = [lp for lp in system.loops if isinstance(lp, aotpy.ControlLoop)]
+    if not loops:
+        raise LogFormatError(f"AOT file '{path}' has no control loop")
+    return loops
+
+
+def aot_loops(path) -> list[str]:
+    """Return the uids of the control loops of an AOT file, in file order."""
+    path = as_path(path)
+    return [lp.uid for lp in _control_loops(read_aot_system(path), path)]
+
+
+def _check_loop(loop) -> None:
+    if loop is not None and not isinstance(loop, str):
+        raise TypeError(f"`loop` must be a str (a loop uid); got {type(loop).__name__}.")
+
+
+def _pick_loop(system, path: Path, loop: str | None):
+    loops = _control_loops(system, path)
+    uids = ", ".join(repr(lp.uid) for lp in loops)
+    if loop is None:
+        usable = [lp for lp in loops if _has_coefficients(lp)]
+        if len(usable) == 1:
+            return usable[0], loops
+        if len(loops) == 1:
+            return loops[0], loops
+        raise LogFormatError(
+            f"AOT file '{path}' has {len(loops)} control loops ({uids}); choose one with "
+            "loop=UID (command line: --loop UID)"
+        )
+    for lp in loops:
+        if lp.uid == loop:
+            return lp, loops
+    raise LogFormatError(f"AOT file '{path}' has no control loop {loop!r}; its loops: {uids}")
+
+
+def _data(image) -> np.ndarray | None:
+    if image is None or getattr(image, "data", None) is None:
+        return None
+    arr = np.asarray(image.data)
+    if not arr.dtype.isnative:
+        arr = arr.astype(arr.dtype.newbyteorder("="))  # FITS is big-endian; values kept
+    return np.ascontiguousarray(arr)
+
+
+def _has_coefficients(lp) -> bool:
+    return lp.modal_coefficients is not None or (
+        lp.measurements_to_modes is not None and lp.input_sensor is not None
+        and lp.input_sensor.measurements is not None
+    )
+
+
+def _number(value) -> float | None:
+    if value is None:
+        return None
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def _int(value) -> int | None:
+    v = _number(value)
+    return None if v is None or v < 0 else int(v)
+
+
+def _coefficients(lp, path: Path) -> tuple[np.ndarray, str]:
+    if lp.modal_coefficients is not None:
+        c = _data(lp.modal_coefficients)
+        if c.ndim != 2 or c.dtype.kind not in "fiu":
+            raise LogFormatError(
+                f"AOT file '{path}': loop {lp.uid!r} modal_coefficients must be a numeric "
+                f"(t, m) image; got {c.dtype} shape {c.shape}"
+            )
+        return c, "modal_coefficients"
+    wfs = lp.input_sensor
+    if lp.measurements_to_modes is None or wfs is None or wfs.measurements is None:
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} has neither modal_coefficients nor sensor "
+            "measurements with measurements_to_modes"
+        )
+    meas = _data(wfs.measurements)
+    rec = _data(lp.measurements_to_modes)
+    t = meas.shape[0] if meas.ndim >= 1 else 0
+    flat_m = meas.reshape(t, -1) if meas.ndim >= 2 else None
+    flat_r = rec.reshape(rec.shape[0], -1) if rec.ndim >= 2 else None
+    if flat_m is None or flat_r is None or flat_m.shape[1] != flat_r.shape[1]:
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} measurements {meas.shape} and "
+            f"measurements_to_modes {rec.shape} do not match (need (t, d, s_v) and (m, d, s_v))"
+        )
+    coeffs = np.ascontiguousarray(flat_m.astype(np.float64) @ flat_r.astype(np.float64).T)
+    return coeffs, (f"reconstructed: measurements_to_modes @ measurements of sensor "
+                    f"{wfs.uid!r} (reference measurements not subtracted)")
+
+
+def _times(lp, n_frames: int, path: Path) -> tuple[np.ndarray | None, list | None]:
+    time = getattr(lp.modal_coefficients, "time", None) or lp.time
+    if time is None and lp.modal_coefficients is None:  # reconstructed: the measurements'
+        time = getattr(getattr(lp.input_sensor, "measurements", None), "time", None)
+    if time is None:
+        return None, None
+    stamps = np.asarray(time.timestamps, dtype=np.float64)
+    frames = list(time.frame_numbers) if time.frame_numbers else None
+    if stamps.size == 0:
+        return None, frames
+    if stamps.shape != (n_frames,):
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} has {stamps.size} timestamps for "
+            f"{n_frames} frames"
+        )
+    return stamps, frames
+
+
+def _describe(system, lp, loops, path: Path) -> dict:
+    """Describe the system as JSON-able metadata (numbers finite or absent)."""
+    geom = geometry_of(system)
+    meta: dict[str, Any] = {
+        "source_file": path.name,
+        "source_format": "aot",
+        "aot_file": str(path.resolve()),
+        "loop": "closed" if lp.closed else "open",
+        "loop_uid": lp.uid,
+        "loops": [x.uid for x in loops],
+        "ao_mode": system.ao_mode,
+    }
+    if system.name:
+        meta["system"] = system.name
+    if system.date_beginning is not None:
+        meta["date"] = system.date_beginning.isoformat()
+    tel = system.main_telescope
+    if tel is not None:
+        meta["telescope"] = tel.uid
+        d = _number(tel.enclosing_diameter) or _number(tel.inscribed_diameter)
+        if d is not None:
+            meta["diameter"] = d
+        obs = _number(tel.obstruction_diameter)
+        if obs is not None:
+            meta["obstruction_diameter"] = obs
+    wfs = lp.input_sensor
+    if wfs is not None:
+        sensor = {"uid": wfs.uid, "type": type(wfs).__name__,
+                  "n_valid_subapertures": _int(wfs.n_valid_subapertures),
+                  "dimensions": _int(wfs.dimensions), "wavelength": _number(wfs.wavelength),
+                  "source": getattr(wfs.source, "uid", None),
+                  "source_type": type(wfs.source).__name__ if wfs.source is not None else None}
+        sensor.update(geom.get("sensors", {}).get(wfs.uid, {}))
+        meta["wfs"] = {k: v for k, v in sensor.items() if v is not None}
+    cor = lp.commanded_corrector
+    if cor is not None:
+        corrector = {"uid": cor.uid, "type": type(cor).__name__,
+                     "n_valid_actuators": _int(cor.n_valid_actuators)}
+        corrector.update(geom.get("correctors", {}).get(cor.uid, {}))
+        meta["corrector"] = {k: v for k, v in corrector.items() if v is not None}
+    delay = _number(lp.delay)
+    if delay is not None:
+        meta["delay_frames"] = delay
+    filt = {}
+    for key, image in (("num", lp.time_filter_num), ("den", lp.time_filter_den)):
+        arr = _data(image)
+        if arr is not None and arr.size <= 4096 and np.all(np.isfinite(arr)):
+            filt[key] = arr.astype(np.float64).tolist()
+    if filt:
+        meta["time_filter"] = filt
+    return meta
+
+
+def _identify(lp, system, n_cols: int, path: Path):
+    """Identification of the loop's modes, or None; checks the mode count."""
+    modes = _data(lp.modes)
+    if modes is None:
+        return None
+    if modes.ndim != 3:
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} modes must be (m, h, w) images; got shape "
+            f"{modes.shape}"
+        )
+    if modes.shape[0] != n_cols:
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} has {modes.shape[0]} modes but its "
+            f"coefficients have {n_cols} columns"
+        )
+    from modalinfo.bases.identify import identify_zernike
+
+    return identify_zernike(modes, mask=_pupil_mask(lp, system, modes))
+
+
+def _pupil_mask(lp, system, modes: np.ndarray) -> np.ndarray | None:
+    """Return the corrector's or telescope's pupil mask if it has the modes' shape, else None."""
+    for owner in (lp.commanded_corrector, system.main_telescope):
+        mask = _data(getattr(owner, "pupil_mask", None))
+        if mask is not None and mask.shape == modes.shape[1:] and mask.any():
+            return mask != 0
+    return None
+
+
+@unwrap
+def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> ModalLog:
+    """Read one control loop of an AOT file as a ``ModalLog``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    loop : str, optional
+        uid of the control loop; needed when the file has several.
+    verify : bool
+        Verify FITS checksums where the file has them.
+    **hints
+        ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
+        ``metadata``, ``nonfinite``, ``start_time``: fill what the file lacks; a hint
+        contradicting the file raises ``ValueError``.
+
+    Returns
+    -------
+    ModalLog
+        The loop's coefficients with time axis, units, modes and the system's
+        description in ``metadata``.
+
+    Raises
+    ------
+    LogFormatError
+        Truncated or invalid AOT, no control loop, an unknown ``loop`` (the message
+        lists the uids), several loops and no ``loop``, modes whose count differs
+        from the coefficients' columns, timestamps of another length.
+    """
+    path = as_path(path)
+    _check_loop(loop)
+    system, notes = _read_system(path, verify)
+    with reading("AOT", path):
+        lp, loops = _pick_loop(system, path, loop)
+        coeffs, origin = _coefficients(lp, path)
+        stamps, frames = _times(lp, coeffs.shape[0], path)
+        ident = _identify(lp, system, coeffs.shape[1], path)
+        own = _own_header(lp, path)
+        if own is not None:
+            stored = stored_from_header(own)
+            if own["has_timestamps"]:
+                stored["timestamps"] = stamps
+            if list(coeffs.shape) != own["shape"] or coeffs.dtype.name != own["dtype"]:
+                raise LogFormatError(
+                    f"corrupt AOT file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
+                    f"disagree with the header {tuple(own['shape'])} {own['dtype']}"
+                )
+        else:
+            stored = _stored_from_system(system, lp, loops, path, coeffs, origin, stamps,
+                                         frames, ident)
+            coeffs = stored.pop("_coeffs")
+            if notes:  # aotpy's verification remarks on a foreign file, kept, not hidden
+                stored["metadata"]["aot_warnings"] = list(dict.fromkeys(notes))[:10]
+    return build_log(coeffs, path, stored, hints)
+
+
+def _own_header(lp, path: Path) -> dict | None:
+    image = lp.modal_coefficients
+    if image is None:
+        return None
+    for md in image.metadata:
+        if md.key == _JSON_KEY:
+            return parse_header(str(md.value), "AOT", path)
+    return None
+
+
+def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames, ident) -> dict:
+    meta = _describe(system, lp, loops, path)
+    meta["coefficients"] = origin
+    stored: dict[str, Any] = {"metadata": meta, "timestamps": stamps}
+    unit = getattr(lp.modal_coefficients, "unit", None)
+    if isinstance(unit, str) and unit.strip():
+        meta["aot_unit"] = unit.strip()
+        u = unit.strip().lower()
+        if u in UNITS:
+            stored["units"] = u
+        elif u == "m":
+            coeffs = coeffs.astype(np.float64) * 1e9
+            stored["units"] = "nm"
+            meta["unit_conversion"] = "coefficients in m in the file, converted to nm"
+    rate = _number(lp.framerate)
+    if rate is not None and rate > 0:
+        if stamps is not None and stamps.size > 1:
+            dt = float(np.median(np.diff(stamps)))
+            if dt > 0 and abs(dt * rate - 1.0) <= 1e-3:
+                stored["rate"] = rate
+            else:
+                meta["framerate"] = rate  # disagrees with the timestamps: kept apart
+        else:
+            stored["rate"] = rate
+    if frames:
+        meta["frame_numbers"] = [_number(frames[0]), _number(frames[-1])]
+    if ident is None:
+        meta["modes_note"] = ("the loop has no mode images: the column labels are the default "
+                              "(Noll 2..m+1) unless given")
+    else:
+        meta["modes_identification"] = ident.to_dict()
+        if ident.all_zernike and bool(np.all(ident.sign > 0)):
+            stored["modes"] = [int(j) for j in ident.noll]
+            stored["convention"] = "noll"
+        else:
+            stored["modes"] = [f"mode{k + 1}" for k in range(coeffs.shape[1])]
+            stored["convention"] = "labels"
+    stored["_coeffs"] = coeffs
+    return stored
+
+
+def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
+    """Return the modal basis a loop of an AOT file carries, on the file's pupil.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    loop : str, optional
+        uid of the control loop (needed when the file has several).
+    verify : bool
+        Verify FITS checksums where the file has them.
+
+    Returns
+    -------
+    basis : ModalBasis
+        Columns: the loop's mode images on the pupil (the corrector's or telescope's
+        pupil mask when it has the images' shape, else the images' support); labels
+        ``"Z<j>"`` for modes identified as positive Zernikes, else ``"mode<k>"``.
+    identification : ZernikeIdentification
+        Which Zernike each mode is (our convention).
+
+    Raises
+    ------
+    LogFormatError
+        No such loop, or a loop without ``modes``.
+    """
+    from modalinfo.bases.image_basis import basis_from_images
+
+    path = as_path(path)
+    _check_loop(loop)
+    system = read_aot_system(path, verify=verify)
+    with reading("AOT", path):
+        lp, _ = _pick_loop(system, path, loop)
+        modes = _data(lp.modes)
+        if modes is None:
+            raise LogFormatError(f"AOT file '{path}': loop {lp.uid!r} has no modes")
+        n_cols = None
+        if _has_coefficients(lp):
+            n_cols = _coefficients(lp, path)[0].shape[1]
+        ident = _identify(lp, system, modes.shape[0] if n_cols is None else n_cols, path)
+        tel = system.main_telescope
+        d = (_number(tel.enclosing_diameter) if tel is not None else None) or 1.0
+        labels = [f"Z{int(j)}" if ok and s > 0 else f"mode{k + 1}"
+                  for k, (j, ok, s) in enumerate(zip(ident.noll, ident.is_zernike, ident.sign,
+                                                     strict=True))]
+        if len(set(labels)) != len(labels):
+            labels = [f"mode{k + 1}" for k in range(len(labels))]
+        basis = basis_from_images(modes, mask=_pupil_mask(lp, system, modes), diameter=d,
+                                  labels=labels)
+    return basis, ident
+
+
+def write_system(system, path, *, overwrite: bool = False) -> Path:
+    """Write an ``aotpy.AOSystem`` to an AOT FITS file, atomically, with checksums.
+
+    Parameters
+    ----------
+    system : aotpy.AOSystem
+        The system (e.g. from :func:`modalinfo.io.aot_system.build_system`).
+    path : str or os.PathLike
+        Target file.
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    path = as_path(path)
+
+    def write(name: Path) -> None:
+        with warnings.catch_warnings():
+            # aotpy notes empty optional tables as warnings; the file is valid AOT
+            warnings.filterwarnings("ignore", message=r".*contains no data.*")
+            system.write_to_file(os.fspath(name), file_type="fits", checksum=True,
+                                 output_verify="exception")
+
+    return atomic_write(path, write, overwrite=overwrite, by_name=True)
+
+
+def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
+              loop: str = "loop") -> Path:
+    """Write ``log`` as a minimal valid AOT system (one control loop), atomically.
+
+    The system holds a telescope (diameter from ``metadata["diameter"]`` or the
+    basis's pupil), a natural source, a Shack-Hartmann sensor and a deformable
+    mirror (their counts from the log's AOT metadata when present, else 0: unknown),
+    and the loop: ``modal_coefficients`` (the log's dtype), ``Time`` timestamps when
+    the log has them, ``framerate``, delay, and the log's JSON header as the card
+    ``MI_JSON`` so that :func:`read_aot` gives the log back exactly.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    path : str or os.PathLike
+        Target file.
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError``.
+    basis : ModalBasis, optional
+        Also write its modes as the loop's ``modes`` images (0 outside the pupil) and
+        its pupil as the telescope's pupil mask; ``basis.n_modes`` must equal
+        ``log.n_modes``.
+    loop : str
+        uid of the loop.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    path = as_path(path)
+    meta = log.metadata
+    wfs_meta = meta.get("wfs") if isinstance(meta.get("wfs"), dict) else {}
+    cor_meta = meta.get("corrector") if isinstance(meta.get("corrector"), dict) else {}
+    modes = pupil_mask = None
+    diameter = _number(meta.get("diameter"))
+    if basis is not None:
+        if not hasattr(basis, "matrix") or not hasattr(basis, "pupil"):
+            raise TypeError(f"`basis` must be a ModalBasis; got {type(basis).__name__}.")
+        if basis.n_modes != log.n_modes:
+            raise ValueError(f"`basis` has {basis.n_modes} modes but the log has {log.n_modes} "
+                             "columns; they must match.")
+        modes = np.nan_to_num(basis.pupil.to_image(np.asarray(basis.matrix).T), nan=0.0)
+        pupil_mask = basis.pupil.mask
+        diameter = diameter if diameter is not None else float(basis.pupil.diameter)
+    units = log.units
+    header = dumps(log_header(log, checksum=False))
+    spec = LoopSpec(
+        uid=str(loop), sensor=str(wfs_meta.get("uid", "wfs")),
+        corrector=str(cor_meta.get("uid", "dm")),
+        modal_coefficients=np.ascontiguousarray(log.coeffs), units=units,
+        timestamps=None if log.timestamps is None else np.asarray(log.timestamps),
+        framerate=log._rate,  # noqa: SLF001 - the nominal rate as given (None if none)
+        delay=_number(meta.get("delay_frames")),
+        modes=modes, closed=meta.get("loop") != "open",
+        coefficient_metadata={_JSON_KEY: header},
+    )
+    system = build_system(
+        [spec],
+        sensors=[SensorSpec(uid=spec.sensor, source="source",
+                            n_valid_subapertures=_int(wfs_meta.get("n_valid_subapertures")) or 0)],
+        correctors=[CorrectorSpec(uid=spec.corrector,
+                                  n_valid_actuators=_int(cor_meta.get("n_valid_actuators")) or 0)],
+        telescope=TelescopeSpec(uid=str(meta.get("telescope", "telescope")) or "telescope",
+                                diameter=diameter, pupil_mask=pupil_mask),
+        name=meta.get("system") if isinstance(meta.get("system"), str) else None,
+        config=json.dumps({"written_by": "modalinfo", "n_valid_counts": "0 means unknown"}),
+    )
+    return write_system(system, path, overwrite=overwrite)
