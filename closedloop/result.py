@@ -74,6 +74,9 @@ class SimulationResult:
     snapshots : (n_snap, n_sd, N, N) ndarray or None
         Residual pupil phase [rad at the science wavelength] in ``snapshot_directions``.
     snapshot_directions : (n_sd, 2) ndarray or None
+    measurements : list of (T, n_meas_j) ndarray
+        Each WFS's measurements per frame (SH: x slopes of the valid subapertures, then
+        y slopes [rad/m]; ideal: the field-averaged phase on its DM's disc [rad]).
     """
 
     config: SimulationConfig
@@ -87,11 +90,13 @@ class SimulationResult:
     version: str = ""
     snapshots: np.ndarray | None = None
     snapshot_directions: np.ndarray | None = None
+    measurements: list = field(default_factory=list)
 
     # ------------------------------------------------------------------ building
     @classmethod
     def from_run(cls, *, config, seed, model, variance, measured, pol, commands, elapsed,
-                 predictor_name, snapshots=None, snapshot_directions=None) -> SimulationResult:
+                 predictor_name, snapshots=None, snapshot_directions=None,
+                 measurements=()) -> SimulationResult:
         """Assemble a result from the loop's arrays (used by :func:`closedloop.simulate`)."""
         rate = 1.0 / config.loop.time_step
         logs = {}
@@ -112,7 +117,7 @@ class SimulationResult:
         return cls(config=config, seed=seed, predictor=predictor_name, times=times,
                    directions=np.array(model.geometry.directions), residual_variance=variance,
                    logs=logs, elapsed=elapsed, version=_version(), snapshots=snapshots,
-                   snapshot_directions=snapshot_directions)
+                   snapshot_directions=snapshot_directions, measurements=list(measurements))
 
     # ------------------------------------------------------------------ views
     @property
@@ -235,6 +240,9 @@ class SimulationResult:
                 if self.snapshots is not None:
                     f["snapshots"] = self.snapshots
                     f["snapshot_directions"] = self.snapshot_directions
+                m = f.create_group("measurements")
+                for j, arr in enumerate(self.measurements):
+                    m[f"wfs{j}"] = arr
                 g = f.create_group("logs")
                 for name, log in self.logs.items():
                     d = g.create_dataset(name, data=np.asarray(log.coeffs))
@@ -273,9 +281,12 @@ class SimulationResult:
                                       metadata=json.loads(d.attrs["metadata"]))
             snaps = f["snapshots"][()] if "snapshots" in f else None
             snap_dirs = f["snapshot_directions"][()] if "snapshot_directions" in f else None
+            group = f["measurements"] if "measurements" in f else {}
+            measurements = [group[f"wfs{j}"][()] for j in range(len(group))]
             return cls(config=config, seed=int(f.attrs["seed"]),
                        predictor=str(f.attrs["predictor"]), times=f["times"][()],
                        directions=f["directions"][()],
                        residual_variance=f["residual_variance"][()], logs=logs,
                        elapsed=float(f.attrs["elapsed"]), version=str(f.attrs["version"]),
-                       snapshots=snaps, snapshot_directions=snap_dirs)
+                       snapshots=snaps, snapshot_directions=snap_dirs,
+                       measurements=measurements)

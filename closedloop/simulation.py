@@ -132,21 +132,29 @@ class LoopModel:
                     ** (5.0 / 3.0) for lay in cfg.layers)
         return 16.0 * 0.449 * total / d ** 2
 
-    def measure(self, plane_maps: list[np.ndarray], rng: np.random.Generator | None) -> np.ndarray:
-        """Modal residual of every DM (concatenated) from the exposure-averaged maps."""
-        out = np.empty(self.n_modes)
-        if self.reconstructor is None:
-            for wfs in self.wfss:
-                noise = (rng.standard_normal(wfs.n_measurements)
-                         if rng is not None and wfs.noise_rms > 0 else None)
-                out[self.mode_slices[wfs.dm.index]] = wfs.measure(plane_maps, noise)
-            return out
-        parts = []
+    def slopes(self, plane_maps: list[np.ndarray],
+               rng: np.random.Generator | None) -> list[np.ndarray]:
+        """Every WFS's measurements (with noise drawn from ``rng``, none if None)."""
+        out = []
         for wfs in self.wfss:
             noise = (rng.standard_normal(wfs.n_measurements)
                      if rng is not None and wfs.noise_rms > 0 else None)
-            parts.append(wfs.slopes(plane_maps, noise))
-        return self.reconstructor @ np.concatenate(parts)
+            out.append(wfs.slopes(plane_maps, noise))
+        return out
+
+    def reconstruct(self, slopes: list[np.ndarray]) -> np.ndarray:
+        """Modal residual of every DM (concatenated) from every WFS's measurements."""
+        if self.reconstructor is not None:
+            return self.reconstructor @ np.concatenate(slopes)
+        out = np.empty(self.n_modes)
+        for wfs, s in zip(self.wfss, slopes, strict=True):
+            out[self.mode_slices[wfs.dm.index]] = (s if wfs.reconstructor is None
+                                                   else wfs.reconstructor @ s)
+        return out
+
+    def measure(self, plane_maps: list[np.ndarray], rng: np.random.Generator | None) -> np.ndarray:
+        """Modal residual of every DM (concatenated) from the exposure-averaged maps."""
+        return self.reconstruct(self.slopes(plane_maps, rng))
 
     def atmosphere(self, seed: int, duration: float) -> Atmosphere:
         """Return the configuration's layers on their planes' grids, seeded by ``seed``."""
@@ -278,6 +286,7 @@ def simulate(
     measured_log = np.empty((n_frames, model.n_modes))
     pol_log = np.empty((n_frames, model.n_modes))
     command_log = np.empty((n_frames, model.n_modes))
+    slope_logs = [np.empty((n_frames, w.n_measurements)) for w in model.wfss]
     snaps = []
     snap_cam = None
     if snapshot_every:
@@ -308,7 +317,10 @@ def simulate(
                                        for d in range(len(snap_cam.directions))]))
             for a in acc:
                 a /= n_int
-            measured = model.measure(acc, rng)
+            slopes = model.slopes(acc, rng)
+            measured = model.reconstruct(slopes)
+            for log, sl in zip(slope_logs, slopes, strict=True):
+                log[k] = sl
             for a in acc:
                 a[:] = 0.0
             forecast = None
@@ -331,7 +343,7 @@ def simulate(
     return SimulationResult.from_run(
         config=config, seed=seed, model=model,
         variance=variance * scale_sci, measured=measured_log, pol=pol_log,
-        commands=command_log, elapsed=elapsed,
+        commands=command_log, elapsed=elapsed, measurements=slope_logs,
         predictor_name=_predictor_name(predictor),
         snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
         snapshot_directions=None if snap_cam is None else snap_cam.directions,

@@ -135,6 +135,9 @@ def test_result_round_trip_and_no_overwrite(reference, tmp_path):
         assert back.logs[name].metadata == log.metadata
         np.testing.assert_array_equal(back.logs[name].times, log.times)
     assert back.corrected_fov_diameter() == reference.corrected_fov_diameter()
+    assert len(back.measurements) == len(reference.config.wfss)
+    for a, b in zip(back.measurements, reference.measurements, strict=True):
+        np.testing.assert_array_equal(a, b)
     with pytest.raises(FileExistsError):
         reference.save(path)
     reference.save(path, overwrite=True)
