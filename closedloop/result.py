@@ -37,6 +37,7 @@ __all__ = ["SimulationResult"]
 
 _FORMAT = "closedloop-result"
 _FORMAT_VERSION = 1
+_BUDGET_FIELDS = ("directions", "fitting", "aliasing", "temporal", "noise", "measured", "frames")
 
 
 def _version() -> str:
@@ -74,6 +75,8 @@ class SimulationResult:
     snapshots : (n_snap, n_sd, N, N) ndarray or None
         Residual pupil phase [rad at the science wavelength] in ``snapshot_directions``.
     snapshot_directions : (n_sd, 2) ndarray or None
+    budget : closedloop.budget.ErrorBudget or None
+        Error budget per direction (``simulate(..., budget_every=N)``).
     measurements : list of (T, n_meas_j) ndarray
         Each WFS's measurements per frame (SH: x slopes of the valid subapertures, then
         y slopes [rad/m]; ideal: the field-averaged phase on its DM's disc [rad]).
@@ -91,6 +94,7 @@ class SimulationResult:
     snapshots: np.ndarray | None = None
     snapshot_directions: np.ndarray | None = None
     measurements: list = field(default_factory=list)
+    budget: Any = None
 
     # ------------------------------------------------------------------ building
     @classmethod
@@ -240,6 +244,10 @@ class SimulationResult:
                 if self.snapshots is not None:
                     f["snapshots"] = self.snapshots
                     f["snapshot_directions"] = self.snapshot_directions
+                if self.budget is not None:
+                    b = f.create_group("budget")
+                    for name in _BUDGET_FIELDS:
+                        b[name] = getattr(self.budget, name)
                 m = f.create_group("measurements")
                 for j, arr in enumerate(self.measurements):
                     m[f"wfs{j}"] = arr
@@ -281,6 +289,11 @@ class SimulationResult:
                                       metadata=json.loads(d.attrs["metadata"]))
             snaps = f["snapshots"][()] if "snapshots" in f else None
             snap_dirs = f["snapshot_directions"][()] if "snapshot_directions" in f else None
+            budget = None
+            if "budget" in f:
+                from closedloop.budget import ErrorBudget
+
+                budget = ErrorBudget(**{n: f["budget"][n][()] for n in _BUDGET_FIELDS})
             group = f["measurements"] if "measurements" in f else {}
             measurements = [group[f"wfs{j}"][()] for j in range(len(group))]
             return cls(config=config, seed=int(f.attrs["seed"]),
@@ -289,4 +302,4 @@ class SimulationResult:
                        residual_variance=f["residual_variance"][()], logs=logs,
                        elapsed=float(f.attrs["elapsed"]), version=str(f.attrs["version"]),
                        snapshots=snaps, snapshot_directions=snap_dirs,
-                       measurements=measurements)
+                       measurements=measurements, budget=budget)

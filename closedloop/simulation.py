@@ -20,6 +20,7 @@ the same seed and thread count give the same bits.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections import deque
 from collections.abc import Callable
@@ -36,7 +37,7 @@ from closedloop.result import SimulationResult
 from closedloop.science import ScienceCamera
 from closedloop.wfs import WavefrontSensor
 from modalinfo._validation import check_real
-from modalinfo.bases import zernike_covariance
+from modalinfo.bases import noll_residual_variance, zernike_covariance
 
 __all__ = ["simulate", "ORACLE", "LoopModel"]
 
@@ -105,7 +106,7 @@ class LoopModel:
             var = np.diag(zernike_covariance(dm.modes))
             prior[self.mode_slices[d]] = max(strength[d], floor) * var
         noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2
-                                        + _ALIAS * self._slope_variance(w))
+                                        + self._model_error_variance(w))
                                 for w in self.wfss])
         signal_level = np.mean(np.sum(full ** 2, axis=0) * prior) / full.shape[0]
         noise = np.maximum(noise, _NOISE_FLOOR * signal_level)
@@ -118,19 +119,32 @@ class LoopModel:
         r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
         return r / np.sqrt(noise)[None, :]
 
-    def _slope_variance(self, wfs) -> float:
-        """Turbulent slope variance per axis of one subaperture [(rad/m)^2], all layers.
+    def _model_error_variance(self, wfs) -> float:
+        """Return the extra noise per measurement the reconstructor assumes (model error).
 
-        Z-tilt of a square subaperture of side ``d`` approximated by the disc of diameter
-        ``d``: ``a_2`` variance ``0.449 (d / r0)**(5/3)`` and slope ``4 a_2 / d``.
+        Neither sensor model sees only the DMs' modes: a Shack-Hartmann also measures the
+        turbulence's slopes beyond them (aliasing), an ideal sensor the phase beyond them
+        (generalised fitting). Left out of ``N``, these inconsistencies between the WFSs
+        are fitted by wild combinations of the DMs' nearly degenerate modes that cancel on
+        axis and not off axis. SH: ``_ALIAS`` (0.3) times the turbulent slope variance of
+        one subaperture, the Z-tilt of a disc of the subaperture's size:
+        ``16 * 0.449 (d / r0)**(5/3) / d**2`` summed over layers [(rad/m)^2]. Ideal:
+        Noll's residual variance after the DM's modes, ``Delta_J (D_dm / r0)**(5/3)``
+        summed over layers [rad^2].
         """
         cfg = self.config
-        if wfs.kind != "shack_hartmann":
+        r0s = [cfg.telescope.diameter / lay.d_over_r0 * self.geometry.airmass ** -0.6
+               for lay in cfg.layers]
+        if wfs.kind == "shack_hartmann":
+            d = wfs.pitch
+            total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
+            return _ALIAS * 16.0 * 0.449 * total / d ** 2
+        dm = wfs.dm
+        if dm.shapes is None:
             return 0.0
-        d = wfs.pitch
-        total = sum((d / (cfg.telescope.diameter / lay.d_over_r0 * self.geometry.airmass ** -0.6))
-                    ** (5.0 / 3.0) for lay in cfg.layers)
-        return 16.0 * 0.449 * total / d ** 2
+        j_max = max(dm.modes)
+        return float(noll_residual_variance(j_max)) * sum(
+            (dm.diameter / r0) ** (5.0 / 3.0) for r0 in r0s)
 
     def slopes(self, plane_maps: list[np.ndarray],
                rng: np.random.Generator | None) -> list[np.ndarray]:
@@ -209,6 +223,7 @@ def simulate(
     snapshot_every: int | None = None,
     snapshot_directions: np.ndarray | None = None,
     callback: Callable[[int], None] | None = None,
+    budget_every: int | None = None,
 ) -> SimulationResult:
     """Run the closed loop for ``duration`` seconds.
 
@@ -235,6 +250,9 @@ def simulate(
         Directions [arcsec] of the snapshots (default: the optical axis).
     callback : callable or None
         Called with the frame index after every frame.
+    budget_every : int or None
+        Estimate the error budget (:mod:`closedloop.budget`) every this many frames;
+        ``result.budget`` then holds it (None otherwise). Costs about one more loop.
 
     Returns
     -------
@@ -294,6 +312,11 @@ def simulate(
         snap_cam = ScienceCamera(model.geometry, np.asarray(dirs, dtype=np.float64))
         snap_cam._flat = science._flat  # same maps, other directions
 
+    probe = None
+    if budget_every:
+        from closedloop.budget import BudgetProbe
+
+        probe = BudgetProbe(model, predictor, int(budget_every))
     bar = _progress_bar(progress, n_frames)
     scale_sci = (config.r0_wavelength / config.wavelength) ** 2
     start = time.perf_counter()
@@ -307,6 +330,8 @@ def simulate(
                         surfaces[d] = dm.surface(command[model.mode_slices[d]])
                 atm.evolve_until(s * dt)
                 _fill_planes(model, atm, views, surfaces, layer_buf)
+                if probe is not None:
+                    probe.step(s, atm, layer_buf, i >= n_os - n_int, _fill_planes)
                 if i >= n_os - n_int:
                     for a, v in zip(acc, views, strict=True):
                         a += v
@@ -328,6 +353,8 @@ def simulate(
                 forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
                                        (k + 1) * n_os + n_delay, n_os, dt)
             command, pol, _ = controller.step(measured, forecast)
+            if probe is not None:
+                probe.frame_end(k, n_int, (k + 1) * n_os + n_delay, fut_acc)
             measured_log[k] = measured
             pol_log[k] = pol
             command_log[k] = command
@@ -340,7 +367,7 @@ def simulate(
         if bar is not None:
             bar.close()
     elapsed = time.perf_counter() - start
-    return SimulationResult.from_run(
+    result = SimulationResult.from_run(
         config=config, seed=seed, model=model,
         variance=variance * scale_sci, measured=measured_log, pol=pol_log,
         commands=command_log, elapsed=elapsed, measurements=slope_logs,
@@ -348,6 +375,10 @@ def simulate(
         snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
         snapshot_directions=None if snap_cam is None else snap_cam.directions,
     )
+    if probe is not None:
+        budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
+        result = dataclasses.replace(result, budget=budget)
+    return result
 
 
 def _oracle_pol(model, future, views, acc, layer_buf, first_step, n_os, dt):

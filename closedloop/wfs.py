@@ -96,6 +96,10 @@ class WavefrontSensor:
         self.samples = geometry.wfs_samples[index]
         self.dm = dm
         self._geometry = geometry
+        # an ideal sensor of a modal DM measures the phase less its mean: piston is not
+        # sensed (as by a SH), and pixel-sampled Zernikes are not exactly zero-mean, so
+        # a fit with piston left in would spend modes on it
+        self._centred = cfg.kind == "ideal" and dm.shapes is not None
         if cfg.kind == "shack_hartmann":
             self._build_shack_hartmann(cfg)
             lam = geometry.config.r0_wavelength
@@ -106,12 +110,6 @@ class WavefrontSensor:
         self.interaction = self.interaction_with(dm)
         if cfg.kind == "ideal" and dm.shapes is None:
             self.reconstructor = None  # identity: the measurement is the disc's phase
-        elif cfg.kind == "ideal":
-            # fit piston too and drop it: pixel-sampled Zernikes are not exactly zero-mean,
-            # so a fit without piston would spend modes on the (unsensed) piston
-            with_piston = np.column_stack([np.ones(self.interaction.shape[0]),
-                                           self.interaction])
-            self.reconstructor = np.linalg.pinv(with_piston, rcond=rcond)[1:]
         else:
             self.reconstructor = np.linalg.pinv(self.interaction, rcond=rcond)
 
@@ -196,14 +194,27 @@ class WavefrontSensor:
         n = g.planes[self.dm.plane].n
         pix = self.dm.pixels
         points = np.column_stack([coords[pix % n], coords[pix // n]])
-        n_s = len(self.samples)
+        # average, per disc pixel, over the field directions whose light reaches it
+        # through the pupil (as the SH does); pixels no direction reaches are not measured
+        lit = np.array([self._illuminated(points, theta) for theta in self.samples])
+        count = lit.sum(axis=0)
+        rows = np.flatnonzero(count > 0)
+        self.measured_pixels = rows
         self.operators = []
         for p in range(len(g.planes)):
-            op = sum(self._sample_matrix(p, points, theta) for theta in self.samples) / n_s
+            op = None
+            for s_idx, theta in enumerate(self.samples):
+                keep = rows[lit[s_idx, rows]]
+                m = self._sample_matrix(p, points[keep], theta)
+                w = sparse.csr_matrix((1.0 / count[keep], (np.searchsorted(rows, keep),
+                                                           np.arange(keep.size))),
+                                      shape=(rows.size, keep.size))
+                term = w @ m
+                op = term if op is None else op + term
             op = sparse.csr_matrix(op)
             op.sum_duplicates()
             self.operators.append(op)
-        self.n_measurements = int(pix.size)
+        self.n_measurements = int(rows.size)
         self.n_valid_subapertures = 0
 
     # ------------------------------------------------------------------ measuring
@@ -217,6 +228,8 @@ class WavefrontSensor:
             s += op @ r.ravel()
         if noise is not None and self.noise_rms > 0.0:
             s += self.noise_rms * noise
+        if self._centred:
+            s -= s.mean()
         return s
 
     def measure(self, plane_maps: list[np.ndarray], noise: np.ndarray | None = None) -> np.ndarray:
@@ -229,4 +242,5 @@ class WavefrontSensor:
     def interaction_with(self, dm: DeformableMirror) -> np.ndarray:
         """Measurements of a unit command of each mode of ``dm``: ``(n_measurements, M_dm)``."""
         block = self.operators[dm.plane][:, dm.pixels]
-        return block.toarray() if dm.shapes is None else np.asarray(block @ dm.shapes)
+        out = block.toarray() if dm.shapes is None else np.asarray(block @ dm.shapes)
+        return out - out.mean(axis=0) if self._centred else out

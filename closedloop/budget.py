@@ -1,0 +1,225 @@
+"""Error budget of a run, per science direction, from independent estimates of each term.
+
+:func:`closedloop.simulate` with ``budget_every=N`` runs, beside the real loop and on the
+same atmosphere, the estimates below every N frames; :class:`ErrorBudget` adds them up
+and compares the sum with the residual the loop really left in the same frames. The
+terms are estimated separately, not as differences from the measured residual, so the
+comparison can fail; cross terms between them are neglected (the usual assumption of
+an error budget).
+
+fitting (with generalised fitting and anisoplanatism)
+    The residual of the best the mirrors can do with what their WFSs see: the
+    instantaneous turbulence projected, noise-free, by *ideal* layer-oriented sensors
+    (the field-averaged phase on each DM's disc) onto all DMs' modes with the joint MAP
+    reconstructor, then looked at in each direction. It holds the modes the DMs lack,
+    the layers seen blurred by the WFS fields, and the footprint of each direction
+    outside the DMs' sensed discs.
+aliasing
+    The same projection done by the real Shack-Hartmann sensors (noise-free) minus the
+    ideal one: what the high orders the SH cannot resolve put into the low ones.
+temporal
+    The servo lag: a copy of the controller (same gain, delay, predictor) driven by the
+    ideal sensors' exposure-averaged modal turbulence, and the difference between the
+    instantaneous ideal projection and the command this copy has on the mirror, seen in
+    each direction.
+noise
+    WFS noise through the reconstructor and the loop: the command covariance
+    ``noise_propagation(g, delay, exposure) R N R^T`` (:mod:`modalinfo.servo`), seen in
+    each direction by a Monte-Carlo average of 64 draws. With a predictor the loop
+    filters noise differently; the integrator's factor is used (a stated approximation).
+"""
+
+from __future__ import annotations
+
+import copy
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from closedloop import _kernels
+from closedloop.config import SimulationConfig, WFSConfig
+from closedloop.control import Controller
+from closedloop.science import ScienceCamera
+from modalinfo.servo import noise_propagation
+
+__all__ = ["ErrorBudget", "BudgetProbe"]
+
+_N_NOISE_DRAWS = 64
+
+
+@dataclass(frozen=True)
+class ErrorBudget:
+    """Error terms per direction [rad^2 at the science wavelength], averaged over frames.
+
+    Attributes
+    ----------
+    directions : (n_dir, 2) ndarray
+        [arcsec].
+    fitting, aliasing, temporal, noise : (n_dir,) ndarray
+        The terms (see the module docstring); ``fitting`` includes generalised fitting and
+        anisoplanatism.
+    measured : (n_dir,) ndarray
+        Residual variance the loop left in the same frames.
+    frames : (n_b,) ndarray of int
+        Frames averaged (after the loop closure).
+    """
+
+    directions: np.ndarray
+    fitting: np.ndarray
+    aliasing: np.ndarray
+    temporal: np.ndarray
+    noise: np.ndarray
+    measured: np.ndarray
+    frames: np.ndarray
+
+    @property
+    def total(self) -> np.ndarray:
+        """Sum of the four terms, ``(n_dir,)``."""
+        return self.fitting + self.aliasing + self.temporal + self.noise
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """``total / measured`` per direction."""
+        return self.total / self.measured
+
+    def table(self) -> str:
+        """Return a plain-text table, one row per direction (rad^2; x, y in arcsec)."""
+        heads = ("x", "y", "fitting", "aliasing", "temporal", "noise", "sum", "measured",
+                 "sum/meas")
+        widths = (7, 7, 9, 9, 9, 8, 8, 9, 9)
+        lines = ["".join(f"{h:>{w}}" for h, w in zip(heads, widths, strict=True))]
+        for k, (x, y) in enumerate(self.directions):
+            lines.append(f"{x:7.1f}{y:7.1f}{self.fitting[k]:9.3f}{self.aliasing[k]:9.3f}"
+                         f"{self.temporal[k]:9.3f}{self.noise[k]:8.3f}{self.total[k]:8.3f}"
+                         f"{self.measured[k]:9.3f}{self.ratio[k]:9.3f}")
+        return "\n".join(lines)
+
+
+def _ideal_config(config: SimulationConfig) -> SimulationConfig:
+    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
+                           n_subapertures=w.n_subapertures, noise=0.0, kind="ideal",
+                           field_samples=w.field_samples, dm=w.dm) for w in config.wfss)
+    return config.replace(wfss=wfss)
+
+
+class BudgetProbe:
+    """Runs the budget's estimates alongside :func:`closedloop.simulate` (internal).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The run's model.
+    predictor : Predictor, "oracle" or None
+        The run's predictor (deep-copied: its fitted state, not its running state).
+    every : int
+        Estimate every this many frames.
+    """
+
+    def __init__(self, model, predictor, every: int):
+        from closedloop.simulation import LoopModel
+
+        self.model = model
+        self.ideal = LoopModel(_ideal_config(model.config))
+        self.every = every
+        loop = model.config.loop
+        self.oracle = isinstance(predictor, str)
+        self.controller = Controller(
+            model.n_modes, gain=loop.gain, leak=loop.leak, delay_frames=loop.delay_frames,
+            integration_frames=loop.integration_frames,
+            predictor=None if (predictor is None or self.oracle) else copy.deepcopy(predictor))
+        self.cam = ScienceCamera(model.geometry, model.science.directions)
+        self.turb = [np.zeros_like(v) for v in self.cam.plane_views()]
+        self.acc = [np.zeros_like(v) for v in self.turb]
+        self.pending: deque = deque()
+        self.applied = np.zeros(model.n_modes)
+        self.rows: dict[str, list] = {"frame": [], "fitting": [], "sh": [], "temporal": []}
+
+    # ------------------------------------------------------------------ loop hooks
+    def step(self, s: int, atm, layer_buf: dict, in_exposure: bool, fill) -> None:
+        """At internal step ``s``: apply due commands, take the turbulence, accumulate."""
+        while self.pending and self.pending[0][0] <= s:
+            self.applied = self.pending.popleft()[1]
+        fill(self.model, atm, self.turb, None, layer_buf)
+        if in_exposure:
+            for a, t in zip(self.acc, self.turb, strict=True):
+                a += t
+
+    def frame_end(self, k: int, n_int: int, apply_step: int, future_maps=None) -> None:
+        """At the end of frame ``k`` (after the science sample of the real loop)."""
+        if k % self.every == 0:
+            fit = self.ideal.measure(self.turb, None)
+            sh = self.model.measure(self.turb, None)
+            self.rows["frame"].append(k)
+            self.rows["fitting"].append(self._variance(self.turb, fit))
+            self.rows["sh"].append(self._variance(self.turb, sh))
+            self.rows["temporal"].append(self._variance(None, fit - self.applied))
+        for a in self.acc:
+            a /= n_int
+        # the ideal sensors see the modal turbulence y; the residual they would measure is
+        # y less what this controller's mirror did during the exposure
+        y = self.ideal.measure(self.acc, None)
+        for a in self.acc:
+            a[:] = 0.0
+        forecast = None
+        if self.oracle and future_maps is not None:
+            forecast = self.ideal.measure(future_maps, None)
+        command, _, _ = self.controller.step(y - self.controller.seen_commands(), forecast)
+        self.pending.append((apply_step, command.copy()))
+
+    def _variance(self, turbulence, commands) -> np.ndarray:
+        """Piston-removed variance per direction of ``turbulence - DMs(commands)``."""
+        views = self.cam.plane_views()
+        for p, v in enumerate(views):
+            if turbulence is None:
+                v[:] = 0.0
+            else:
+                v[:] = turbulence[p]
+        for d, dm in enumerate(self.model.dms):
+            _kernels.subtract_scatter(views[dm.plane], dm.pixels,
+                                      dm.surface(commands[self.model.mode_slices[d]]), 1.0)
+        return self.cam.measure().copy()
+
+    # ------------------------------------------------------------------ result
+    def _noise_variance(self, seed: int) -> np.ndarray:
+        model = self.model
+        loop = model.config.loop
+        noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2)
+                                for w in model.wfss])
+        if not np.any(noise > 0):
+            return np.zeros(len(self.cam.directions))
+        if model.reconstructor is not None:
+            rec = model.reconstructor
+        else:
+            rec = np.zeros((model.n_modes, noise.size))
+            start = 0
+            for w in model.wfss:
+                block = (np.eye(w.n_measurements) if w.reconstructor is None
+                         else w.reconstructor)
+                rec[model.mode_slices[w.dm.index], start:start + w.n_measurements] = block
+                start += w.n_measurements
+        factor = noise_propagation(gain=loop.gain, delay_frames=loop.delay_frames,
+                                   integration_frames=loop.integration_frames)
+        # draws c = sqrt(factor) R n with n ~ N(0, diag(noise)): covariance factor R N R^T
+        rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+        out = np.zeros(len(self.cam.directions))
+        for _ in range(_N_NOISE_DRAWS):
+            c = np.sqrt(factor) * (rec @ (np.sqrt(noise) * rng.standard_normal(noise.size)))
+            out += self._variance(None, c)
+        return out / _N_NOISE_DRAWS
+
+    def result(self, measured: np.ndarray, start: int, scale: float, seed: int) -> ErrorBudget:
+        """Return the budget over the probed frames from ``start`` on (``scale``: to science)."""
+        frames = np.array(self.rows["frame"], dtype=np.int64)
+        keep = frames >= start
+        if not np.any(keep):
+            keep = np.ones_like(frames, dtype=bool)
+        fit = np.array(self.rows["fitting"])[keep].mean(axis=0)
+        sh = np.array(self.rows["sh"])[keep].mean(axis=0)
+        temporal = np.array(self.rows["temporal"])[keep].mean(axis=0)
+        noise = self._noise_variance(seed)
+        return ErrorBudget(directions=np.array(self.cam.directions), fitting=fit * scale,
+                           aliasing=(sh - fit) * scale, temporal=temporal * scale,
+                           noise=noise * scale,
+                           measured=measured[frames[keep]].mean(axis=0),
+                           frames=frames[keep])
