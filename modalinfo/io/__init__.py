@@ -24,13 +24,16 @@ from modalinfo.io._common import HINTS, LogFormatError, as_path, check_readable
 from modalinfo.io.csv import read_csv, write_csv
 from modalinfo.io.fits import read_fits, write_fits
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
+from modalinfo.io.integrity import IntegrityCheck, integrity_check
 from modalinfo.io.npz import read_npy, read_npz, write_npz
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = [
     "FORMATS",
     "HINTS",
+    "IntegrityCheck",
     "LogFormatError",
+    "integrity_check",
     "detect_format",
     "load",
     "save",

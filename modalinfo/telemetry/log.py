@@ -945,7 +945,7 @@ class LogSummary:
     units: str
 
 
-def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
+def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogSummary:
     """Per-mode mean, std, RMS and lag-1 autocorrelation in one chunked pass.
 
     Each chunk is reduced in two passes about its own mean and merged with Chan et
@@ -962,6 +962,10 @@ def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
     progress : callable, optional
         Called with the number of frames of each chunk once it is processed
         (e.g. ``tqdm.update``).
+    visit : callable, optional
+        Called with each raw chunk ``(n, M)`` of the coefficients, in order, before
+        it is reduced (e.g. :meth:`modalinfo.io.IntegrityCheck.update`, which
+        checksums a memory-mapped log in the same pass).
 
     Returns
     -------
@@ -981,6 +985,8 @@ def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
     last = np.full(m, np.nan)
     bad = np.zeros(m, dtype=np.int64)
     for block in _row_blocks(arr, chunk_frames):
+        if visit is not None:
+            visit(block)
         chunk_stats_update(np.ascontiguousarray(block), state, last, bad)
         if progress is not None:
             progress(block.shape[0])
