@@ -189,12 +189,14 @@ def input_notes(log, path: Path) -> list[str]:
     assumed = meta.get("assumed")
     if isinstance(assumed, dict) and assumed:
         keys = [k for k in ("units", "convention", "modes") if k in assumed]
+        if "modes" in keys and "convention" in keys:
+            keys.remove("convention")  # the modes text names the convention
         what = ", ".join(f"{k} {assumed[k]}" for k in keys)
         flags = ", ".join(_HINT_OF[k] for k in keys)
         notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
                      f"(state them with {flags})")
     layout = meta.get("layout")
-    if isinstance(layout, dict) and "file's" in str(layout.get("transposed", "")):
+    if isinstance(layout, dict) and "hint" not in str(layout.get("transposed", "hint")):
         notes.append(f"'{path.name}' is stored modes x frames and was read transposed "
                      f"({layout['transposed']})")
     return notes

@@ -81,9 +81,11 @@ def run(args: argparse.Namespace) -> int:
     if sampling is not None and sampling.n_frames > 1:
         out.write(f"sampling    {_sampling_text(sampling)}\n")
     shown = ", ".join(labels) if len(labels) <= 8 else f"{labels[0]} .. {labels[-1]}"
-    conv = f"{log.convention}, assumed" if "convention" in assumed else log.convention
-    mark = " (assumed)" if "modes" in assumed else ""
-    out.write(f"modes       {shown} ({conv}){mark}\n")
+    if "modes" in assumed:  # the default modes: their convention is assumed with them
+        out.write(f"modes       {shown} ({log.convention}) (assumed)\n")
+    else:
+        conv = f"{log.convention}, assumed" if "convention" in assumed else log.convention
+        out.write(f"modes       {shown} ({conv})\n")
     wave = "" if log.wavelength is None else f" at wavelength {log.wavelength:.6g} m"
     mark = " (assumed)" if "units" in assumed else ""
     out.write(f"units       {log.units}{mark}{wave}\n")
@@ -91,8 +93,10 @@ def run(args: argparse.Namespace) -> int:
     for key in sorted(meta):
         if key in ("loop", "repairs", "assumed"):
             continue
-        text = str(meta[key])
-        out.write(f"meta        {key}: {text if len(text) <= 70 else text[:67] + '...'}\n")
+        value = meta[key]
+        text = "; ".join(f"{k} {v}" for k, v in value.items()) if isinstance(
+            value, dict) else str(value)
+        out.write(f"meta        {key}: {text if len(text) <= 90 else text[:87] + '...'}\n")
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
 

@@ -136,7 +136,7 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
                 f"{'modes x frames' if layout == 'modes_first' else 'frames x modes'}."
             )
         if layout == "modes_first":
-            return coeffs.T, {"stored": "modes x frames", "transposed": f"by the file's {reason}"}
+            return coeffs.T, {"stored": "modes x frames", "transposed": f"by {reason}"}
         return coeffs, None
     if transpose:
         return coeffs.T, {"stored": "modes x frames", "transposed": "by the hint transpose=True"}

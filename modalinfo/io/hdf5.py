@@ -289,7 +289,9 @@ def _annotation(dset) -> tuple[str, str] | None:
                 continue
             names = _text_list(value)
             if names is not None:
-                found = axis_layout(names, f"attribute {key}={[str(n) for n in names]}")
+                names = [n.decode("utf-8", "replace") if isinstance(n, bytes) else str(n)
+                         for n in names]
+                found = axis_layout(names, f"attribute {key}={names}")
                 if found is not None:
                     return found
     try:

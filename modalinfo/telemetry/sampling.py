@@ -30,7 +30,7 @@ __all__ = ["Sampling", "sampling_of", "require_contiguous", "GAP_FACTOR"]
 
 #: An interval longer than this many median intervals is a gap.
 GAP_FACTOR = 1.5
-_MAD_TO_SIGMA = 1.4826
+_MAD_TO_SIGMA = 1.482602218505602  # 1 / Phi^-1(3/4): normal-consistent MAD
 
 
 @dataclass(frozen=True)
