@@ -372,25 +372,32 @@ def _foreign_relabel(stored: dict, hints: dict, records: dict, describe) -> None
     """Let ``modes``/``convention`` hints replace what foreign column names said."""
     if stored.get("modes") is None:
         return
+    old_conv = stored.get("convention") or "noll"
     new_modes = hints.get("modes", stored["modes"])
-    new_conv = hints.get("convention", stored.get("convention", "noll"))
     if isinstance(new_modes, np.ndarray):
         new_modes = new_modes.tolist()
-    same = _same(list(stored["modes"]), list(new_modes)) and new_conv == stored.get(
-        "convention", "noll"
+    ints = all(
+        isinstance(m, int | np.integer) and not isinstance(m, bool) for m in list(new_modes)
     )
-    if same:
+    if "convention" in hints:
+        new_conv = str(hints["convention"]).lower()
+    elif ints and old_conv == "labels":
+        new_conv = None  # labels relabelled by indices: the default convention, assumed
+    else:
+        new_conv = old_conv
+    if _same(list(stored["modes"]), list(new_modes)) and new_conv == old_conv:
         return
     try:
-        before = describe(list(stored["modes"]), stored.get("convention", "noll"))
-        after = describe(list(new_modes), str(new_conv).lower())
+        before = describe(list(stored["modes"]), old_conv)
+        after = describe(list(new_modes), new_conv or "noll")
     except (TypeError, ValueError, KeyError, IndexError):
         before, after = "the file's column names", "the hints"
     records["relabelled"] = f"columns {before} relabelled {after} by the caller's hints"
     stored["modes"] = None
     stored["convention"] = None
     hints.setdefault("modes", new_modes)
-    hints.setdefault("convention", new_conv)
+    if new_conv is not None:
+        hints.setdefault("convention", new_conv)
 
 
 def unwrap(func: Callable[..., ModalLog]) -> Callable[..., ModalLog]:

@@ -217,6 +217,10 @@ def test_hints_relabel_foreign_column_names(tmp_path):
     )
     ansi = load(tmp_path / "r.csv", convention="ansi")
     assert ansi.labels == ["A2", "A3", "A4"] and "relabelled" in ansi.metadata
+    (tmp_path / "k.csv").write_text("KL1,KL2\n1,2\n3,4\n5,6\n")
+    kl = load(tmp_path / "k.csv", modes=[4, 5])  # labels relabelled as mode indices
+    assert kl.labels == ["Z4", "Z5"] and kl.metadata["assumed"]["convention"] == "noll"
+    assert kl.metadata["relabelled"].startswith("columns KL1..KL2 (labels) relabelled Z4..Z5")
     # a modalinfo file is authoritative: a contradicting hint is still refused
     path = save(ModalLog(X[:20, :3], rate=10.0), tmp_path / "m.csv")
     with pytest.raises(ValueError, match="hint `modes`=.* contradicts"):
