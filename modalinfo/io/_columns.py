@@ -26,7 +26,7 @@ import re
 
 import numpy as np
 
-__all__ = ["mode_columns", "time_kind", "time_arrays", "TIME_UNITS"]
+__all__ = ["mode_columns", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS"]
 
 #: Seconds per unit of a time column.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "frame": None}
@@ -128,3 +128,26 @@ def _unit_attribute(arr) -> str | None:
                        "frames": "frame"}
             return aliases.get(text)
     return None
+
+
+def mode_arrays(arrays: dict) -> tuple[list[str], list] | None:
+    """Find per-mode 1-D arrays (``z2``, ``z3``, ... one array per mode) among ``arrays``.
+
+    Returns ``(names, arrays)`` sorted by mode index when at least one 1-D numeric
+    array that is not a time array has a mode name and all such arrays have mode
+    names of one pattern and the same length; otherwise None.
+    """
+    ones = {
+        name: arr for name, arr in arrays.items()
+        if getattr(arr, "ndim", 0) == 1 and getattr(arr, "dtype", np.dtype("O")).kind in "fiu"
+        and time_kind(name.rsplit("/", 1)[-1]) is None
+    }
+    if not ones:
+        return None
+    short = [name.rsplit("/", 1)[-1] for name in ones]
+    modes, convention, _ = mode_columns(short)
+    if convention == "labels" or len({int(a.shape[0]) for a in ones.values()}) != 1:
+        return None
+    order = np.argsort(modes, kind="stable")
+    names = [list(ones)[k] for k in order]
+    return names, [ones[n] for n in names]

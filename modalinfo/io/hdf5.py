@@ -28,6 +28,9 @@ Foreign HDF5: the one 2-D numeric dataset of the file (or one named
 time dataset if present: ``timestamps``/``times``/``time``/``t`` in seconds,
 ``time_ms`` in milliseconds, or any of them with a ``units`` attribute (``"s"``,
 ``"ms"``, ``"us"``), converted to seconds; ``frame`` numbers need a ``rate`` hint.
+Column names come from a ``labels``/``modes``/``columns`` attribute of the dataset
+(``["z2", "z3", ...]``); a file of 1-D datasets ``z2``, ``z3``, ... (one per mode) is
+read as their columns.
 An axis annotation (attribute ``axes``/``dims``/``dimension_labels`` such as
 ``["mode", "time"]``, attribute ``layout="modes_first"``, or dimension-scale
 labels) is followed: a modes x frames dataset is read transposed and
@@ -41,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.io._columns import time_arrays
+from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
     LogFormatError,
     as_path,
@@ -220,6 +223,18 @@ def read_hdf5(
 def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray, dict]:
     dsets = _datasets(f)
     two_d = {k: d for k, d in dsets.items() if d.ndim == 2 and d.dtype.kind in "fiu"}
+    if dataset is None and not two_d:
+        per_mode = mode_arrays(dsets)
+        if per_mode is not None:  # one 1-D dataset per mode: z2, z3, ...
+            names, columns = per_mode
+            meta = {"source_file": path.name, "source_format": "hdf5"}
+            stored: dict[str, Any] = {"metadata": meta}
+            short = [n.rsplit("/", 1)[-1] for n in names]
+            stored["modes"], stored["convention"], assumed = mode_columns(short)
+            if assumed:
+                stored["_convention_assumed"] = True
+            time_arrays(dsets, stored, meta)
+            return np.column_stack([np.asarray(c[()], dtype=np.float64) for c in columns]), stored
     if dataset is not None:
         key = dataset.strip("/")
         if key not in dsets:
@@ -256,10 +271,28 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
         meta["source_dataset"] = key
     stored: dict[str, Any] = {"metadata": meta}
     time_arrays(dsets, stored, meta)
+    names = _column_names(dset)
+    if names is not None and len(names) == dset.shape[1]:
+        stored["modes"], stored["convention"], assumed = mode_columns(names)
+        if assumed:
+            stored["_convention_assumed"] = True
     layout = _annotation(dset)
     if layout is not None:
         stored["_layout"] = layout
     return coeffs, stored
+
+
+def _column_names(dset) -> list[str] | None:
+    """Column names a foreign dataset gives in an attribute (``labels``, ``modes``, ...)."""
+    for key in ("labels", "modes", "columns", "column_names", "mode_names"):
+        if key in dset.attrs:
+            try:
+                items = list(np.asarray(dset.attrs[key]).ravel())
+            except (TypeError, ValueError):
+                return None
+            return [i.decode("utf-8", "replace") if isinstance(i, bytes) else str(i)
+                    for i in items]
+    return None
 
 
 def _text_list(value) -> list | None:

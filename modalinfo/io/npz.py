@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.io._columns import time_arrays
+from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
     LogFormatError as _LogFormatError,
 )
@@ -173,9 +173,10 @@ def read_npz(path, *, mmap: bool = False, dataset: str | None = None, **hints) -
 
     A foreign ``.npz`` (no modalinfo header) must hold exactly one 2-D numeric array
     (or one named ``coefficients``/``coeffs``/``data``, or the one named by
-    ``dataset``), optionally a 1-D time array named ``timestamps``/``times``/``time``/
-    ``t`` (seconds), ``time_ms`` (milliseconds) or ``frame`` (frame numbers, used with
-    a ``rate`` hint); supply what it lacks as hints.
+    ``dataset``) or one 1-D array per mode named ``z2``, ``noll_3``, ... (see
+    :mod:`modalinfo.io._columns`), optionally a 1-D time array named
+    ``timestamps``/``times``/``time``/``t`` (seconds), ``time_ms`` (milliseconds) or
+    ``frame`` (frame numbers, used with a ``rate`` hint); supply what it lacks as hints.
 
     Parameters
     ----------
@@ -242,6 +243,17 @@ def _foreign(
     arrays: dict[str, np.ndarray], path: Path, dataset: str | None = None
 ) -> tuple[np.ndarray, dict]:
     two_d = {k: a for k, a in arrays.items() if a.ndim == 2 and a.dtype.kind in "fiu"}
+    if dataset is None and not two_d:
+        per_mode = mode_arrays(arrays)
+        if per_mode is not None:  # one 1-D array per mode: z2, z3, ...
+            names, columns = per_mode
+            meta = {"source_file": path.name, "source_format": "npz"}
+            stored = {"metadata": meta}
+            stored["modes"], stored["convention"], assumed = mode_columns(names)
+            if assumed:
+                stored["_convention_assumed"] = True
+            time_arrays(arrays, stored, meta)
+            return np.column_stack([np.asarray(c, dtype=np.float64) for c in columns]), stored
     if dataset is not None:
         if dataset not in arrays:
             raise _LogFormatError(

@@ -270,3 +270,26 @@ def test_dataset_picks_among_several(tmp_path):
     mine = save(ModalLog(X, rate=1.0), tmp_path / "m.h5")
     with pytest.raises(LogFormatError, match="its coefficients are 'coefficients'"):
         load(mine, dataset="other")
+
+
+def test_one_array_per_mode_and_column_name_attributes(tmp_path):
+    t = np.arange(400) / 500.0
+    np.savez(tmp_path / "cols.npz", z3=X[:, 1], z2=X[:, 0], mode_4=X[:, 2], t=t)
+    with pytest.raises(LogFormatError):  # names of two patterns are not one mode list
+        load(tmp_path / "cols.npz")
+    np.savez(tmp_path / "cols.npz", z3=X[:, 1], z2=X[:, 0], z4=X[:, 2], t=t)
+    log = load(tmp_path / "cols.npz")
+    np.testing.assert_array_equal(log.coeffs, X[:, :3])  # sorted by mode index
+    assert log.modes == [2, 3, 4] and log.rate == pytest.approx(500.0)
+    with h5py.File(tmp_path / "cols.h5", "w") as f:
+        for j in (4, 2, 3):
+            f[f"modes/noll_{j}"] = X[:, j - 2]
+        f["modes/time_ms"] = t * 1e3
+    log = load(tmp_path / "cols.h5")
+    np.testing.assert_array_equal(log.coeffs, X[:, :3])
+    assert log.modes == [2, 3, 4] and log.sampling().median_rate == pytest.approx(500.0)
+    with h5py.File(tmp_path / "lab.h5", "w") as f:
+        d = f.create_dataset("wfs", data=X[:, :3])
+        d.attrs["modes"] = np.array([b"a4", b"a5", b"a6"])
+    log = load(tmp_path / "lab.h5")
+    assert log.modes == [4, 5, 6] and log.metadata["assumed"]["convention"] == "noll"
