@@ -205,7 +205,8 @@ def load(
     if dataset is not None:
         if fmt not in ("npz", "hdf5"):
             raise ValueError(
-                f"`dataset` ({dataset!r}) applies to HDF5 and NPZ files; '{path}' is {fmt}."
+                f"dataset={dataset!r} (command line: --dataset) applies only to HDF5 and NPZ "
+                f"files; '{path}' is {fmt.upper()}"
             )
         if not isinstance(dataset, str) or not dataset.strip("/"):
             raise TypeError(f"`dataset` must be a non-empty str; got {dataset!r}.")
