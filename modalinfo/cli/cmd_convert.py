@@ -69,8 +69,7 @@ def run(args: argparse.Namespace) -> int:
             f"--units {args.units}: '{args.input}' does not record the units of its "
             "coefficients; give them with --in-units (rad, nm, um or waves)"
         )
-    if not args.quiet:
-        queue_notes(args, input_notes(log, Path(args.input)))
+    queue_notes(args, input_notes(log, Path(args.input)))  # a warning: even with --quiet
     if args.units is not None or args.wavelength is not None:
         log = log.to_units(args.units or log.units, wavelength=args.wavelength)
     if args.convention is not None:
