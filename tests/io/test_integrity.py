@@ -99,5 +99,10 @@ def test_formats_without_a_pending_check(tmp_path):
     assert check.status == "none" and "NPY files carry no checksum" in check.describe()
     path = save(ModalLog(X, rate=1.0), tmp_path / "m.fits")
     assert integrity_check(path, load(path)).status == "verified"
+    from astropy.io import fits
+
+    fits.PrimaryHDU(X).writeto(tmp_path / "plain.fits")  # written without checksums
+    check = integrity_check(tmp_path / "plain.fits", load(tmp_path / "plain.fits"))
+    assert check.status == "none" and "no DATASUM" in check.describe()
     path = save(ModalLog(X, rate=1.0), tmp_path / "m.npz")
     assert integrity_check(path, load(path), mmap=False).status == "verified"
