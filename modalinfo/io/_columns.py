@@ -12,11 +12,13 @@ name                          convention  read from the name?
 ``A2`` / ``F2`` (upper case)  ansi/fringe yes (the labels modalinfo writes)
 ``a2``, ``a_2`` (lower case)  noll        assumed (Noll's coefficients ``a_j``)
 ``mode2``, ``mode_2``         noll        assumed (the name gives no convention)
+``2`` (a list of indices)     noll        assumed
 ============================  ==========  ==========================================
 
 Time names: ``time``, ``t``, ``time_s``, ``timestamp(s)``, ``times``, ``time[s]``,
 ``time (s)`` are seconds; ``time_ms``, ``t_ms``, ``time[ms]``, ``time (ms)`` are
-milliseconds (converted to seconds); ``frame``, ``frames``, ``frame_number``,
+milliseconds, ``time_us`` and ``time_ns`` micro- and nanoseconds (converted to
+seconds); ``frame``, ``frames``, ``frame_number``,
 ``frame_index`` are frame numbers, which become times only with a ``rate``.
 """
 
@@ -29,12 +31,13 @@ import numpy as np
 __all__ = ["mode_columns", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS"]
 
 #: Seconds per unit of a time column.
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "frame": None}
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "frame": None}
 
 _SECONDS = {"time", "t", "time_s", "t_s", "timestamp", "timestamps", "times", "time[s]",
             "time (s)", "time/s", "timestamp_s"}
 _MILLI = {"time_ms", "t_ms", "time[ms]", "time (ms)", "time/ms", "timestamp_ms"}
 _MICRO = {"time_us", "t_us", "time[us]", "time (us)", "timestamp_us"}
+_NANO = {"time_ns", "t_ns", "time[ns]", "time (ns)", "timestamp_ns"}
 _FRAMES = {"frame", "frames", "frame_number", "frame_index", "frame_no", "framenumber"}
 
 # (regex, convention, convention assumed?) tried in order; the first that names every
@@ -48,6 +51,7 @@ _PATTERNS = (
     (re.compile(r"F(\d+)"), "fringe", False),
     (re.compile(r"a_?(\d+)"), "noll", True),
     (re.compile(r"mode_?(\d+)", re.IGNORECASE), "noll", True),
+    (re.compile(r"(\d+)"), "noll", True),  # bare indices (an HDF5/NPZ ``modes`` list)
 )
 
 
@@ -60,6 +64,8 @@ def time_kind(name: str) -> str | None:
         return "ms"
     if key in _MICRO:
         return "us"
+    if key in _NANO:
+        return "ns"
     if key in _FRAMES:
         return "frame"
     return None
@@ -124,7 +130,8 @@ def _unit_attribute(arr) -> str | None:
             text = str(value).strip().lower()
             aliases = {"s": "s", "sec": "s", "second": "s", "seconds": "s", "ms": "ms",
                        "millisecond": "ms", "milliseconds": "ms", "us": "us",
-                       "microsecond": "us", "microseconds": "us", "frame": "frame",
+                       "microsecond": "us", "microseconds": "us", "ns": "ns",
+                       "nanosecond": "ns", "nanoseconds": "ns", "frame": "frame",
                        "frames": "frame"}
             return aliases.get(text)
     return None

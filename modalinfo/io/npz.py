@@ -176,7 +176,8 @@ def read_npz(path, *, mmap: bool = False, dataset: str | None = None, **hints) -
     ``dataset``) or one 1-D array per mode named ``z2``, ``noll_3``, ... (see
     :mod:`modalinfo.io._columns`), optionally a 1-D time array named
     ``timestamps``/``times``/``time``/``t`` (seconds), ``time_ms`` (milliseconds) or
-    ``frame`` (frame numbers, used with a ``rate`` hint); supply what it lacks as hints.
+    ``frame`` (frame numbers, used with a ``rate`` hint), and a 1-D ``modes``/``labels``
+    array naming the columns; supply what it lacks as hints.
 
     Parameters
     ----------
@@ -283,6 +284,20 @@ def _foreign(
         meta["source_dataset"] = key
     stored: dict[str, Any] = {"metadata": meta}
     time_arrays(arrays, stored, meta)
+    for name in ("modes", "labels", "columns", "mode_names"):
+        names = arrays.get(name)
+        if (
+            names is not None
+            and names.ndim == 1
+            and names.dtype.kind in "USiu"
+            and names.shape[0] == two_d[key].shape[1]
+        ):
+            text = [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v)
+                    for v in names.tolist()]
+            stored["modes"], stored["convention"], assumed = mode_columns(text)
+            if assumed:
+                stored["_convention_assumed"] = True
+            break
     return two_d[key], stored
 
 

@@ -294,3 +294,20 @@ def test_one_array_per_mode_and_column_name_attributes(tmp_path):
         d.attrs["modes"] = np.array([b"a4", b"a5", b"a6"])
     log = load(tmp_path / "lab.h5")
     assert log.modes == [4, 5, 6] and log.metadata["assumed"]["convention"] == "noll"
+
+
+def test_npz_and_hdf5_mode_lists_and_nanosecond_times(tmp_path):
+    t_ns = np.arange(400, dtype=np.int64) * 500_000  # 2 kHz in integer nanoseconds
+    np.savez(tmp_path / "m.npz", data=X[:, :3], modes=np.array([4, 5, 6]), timestamp_ns=t_ns)
+    log = load(tmp_path / "m.npz")
+    assert log.modes == [4, 5, 6] and log.metadata["assumed"]["convention"] == "noll"
+    np.testing.assert_allclose(log.timestamps, t_ns * 1e-9)
+    np.savez(tmp_path / "l.npz", data=X[:, :2], labels=np.array(["KL1", "KL2"]))
+    assert load(tmp_path / "l.npz").labels == ["KL1", "KL2"]
+    with h5py.File(tmp_path / "m.h5", "w") as f:
+        d = f.create_dataset("data", data=X[:, :3])
+        d.attrs["modes"] = np.array([2, 3, 4])
+        f["time"] = t_ns
+        f["time"].attrs["units"] = "ns"
+    log = load(tmp_path / "m.h5")
+    assert log.modes == [2, 3, 4] and log.sampling().median_rate == pytest.approx(2000.0)
