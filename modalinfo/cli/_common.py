@@ -40,6 +40,8 @@ def add_hint_arguments(
     *,
     wavelength: bool = True,
     deprecated: tuple[str, ...] = (),
+    is_info: bool | None = None,
+    modes_flag: str | None = None,
 ) -> None:
     """Add the input hints: what a foreign log file lacks (every command reading a log).
 
@@ -51,7 +53,10 @@ def add_hint_arguments(
     the command (``convert``, where it is also the wavelength of the converted
     phase). ``deprecated`` names old spellings kept as aliases with a note:
     ``"--modes"`` (= ``--in-modes``) and ``"--units"`` (= ``--in-units``).
+    ``is_info`` and ``modes_flag`` (the former per-command spellings) are accepted
+    and ignored, so callers written against the old signature get the same flags.
     """
+    del is_info, modes_flag
     group = parser.add_argument_group("input hints (for files that lack the information)")
     group.add_argument("--fmt", choices=("npz", "npy", "csv", "fits", "hdf5"),
                        help="input format (default: from the content, then the extension)")
