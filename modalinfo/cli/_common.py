@@ -35,6 +35,17 @@ class _DeprecatedAlias(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class _Renamed(argparse.Action):
+    """A retired spelling whose name now means something else elsewhere: refuse it."""
+
+    def __init__(self, option_strings, dest, *, message: str, **kwargs) -> None:
+        self.message = message
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        parser.error(f"{option_string}: {self.message}")
+
+
 def add_hint_arguments(
     parser: argparse.ArgumentParser,
     *,
@@ -51,8 +62,10 @@ def add_hint_arguments(
     options (``convert --units``/``--convention``) and selections (``forecast
     --modes``) are the commands' own. ``wavelength=False`` leaves ``--wavelength`` to
     the command (``convert``, where it is also the wavelength of the converted
-    phase). ``deprecated`` names old spellings kept as aliases with a note:
-    ``"--modes"`` (= ``--in-modes``) and ``"--units"`` (= ``--in-units``).
+    phase). ``deprecated`` names old spellings: ``"--modes"`` stays an alias of
+    ``--in-modes`` with a note; ``"--units"`` (formerly ``info``'s input units) is
+    refused with a pointer to ``--in-units``, since ``--units`` means output units in
+    ``convert``.
     ``is_info`` and ``modes_flag`` (the former per-command spellings) are accepted
     and ignored, so callers written against the old signature get the same flags.
     """
@@ -67,9 +80,11 @@ def add_hint_arguments(
     group.add_argument("--in-units", dest="in_units", choices=units,
                        help="units of the input coefficients (default: the file's, else rad, "
                        "marked as assumed)")
-    if "--units" in deprecated:
-        group.add_argument("--units", dest="in_units", choices=units, action=_DeprecatedAlias,
-                           new="--in-units", help="deprecated spelling of --in-units")
+    if "--units" in deprecated:  # --units means OUTPUT units (convert): never an input hint
+        group.add_argument("--units", dest="_retired_units", metavar="UNITS", action=_Renamed,
+                           message="renamed --in-units (the units of the file); --units "
+                           "means the output units of convert only",
+                           help="retired: use --in-units")
     if wavelength:
         group.add_argument("--wavelength", type=float, metavar="M",
                            help="wavelength in metres at which the phase is defined (needed "

@@ -14,7 +14,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import _DeprecatedAlias, check_output, load_log
+from modalinfo.cli._common import _Renamed, check_output, load_log
 from modalinfo.cli.cmd_reorder import add_common_arguments
 
 NAME = "fitting-error"
@@ -30,9 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"comma-separated basis:method (default: {DEFAULT_ORDERINGS})")
     parser.add_argument("--error-units", dest="error_units", choices=("waves2", "rad2"),
                         default="waves2", help="units of the fitting error (default: waves2)")
-    parser.add_argument("--units", dest="error_units", choices=("waves2", "rad2"),
-                        action=_DeprecatedAlias, new="--error-units",
-                        help="deprecated spelling of --error-units")
+    parser.add_argument("--units", dest="_retired_units", metavar="UNITS", action=_Renamed,
+                        message="renamed --error-units; --units means the output units of "
+                        "convert only", help="retired: use --error-units")
     parser.add_argument("--target", type=float, default=None, metavar="E",
                         help="target fitting error in --error-units (e.g. 0.4, the paper's)")
     parser.add_argument("--fraction", type=float, default=None, metavar="F",

@@ -108,17 +108,23 @@ def test_analysis_commands_note_assumed_values(tmp_path, capsys):
     assert "--in-units" in err
 
 
-def test_deprecated_spellings_keep_their_meaning(tmp_path, capsys):
+def test_old_spellings_keep_one_meaning(tmp_path, capsys):
     np.save(tmp_path / "a.npy", X)
-    assert main(["info", str(tmp_path / "a.npy"), "--modes", "4-8", "--units", "nm"]) == 0
+    # info --modes keeps its meaning (the column hint) as a deprecated alias
+    assert main(["info", str(tmp_path / "a.npy"), "--modes", "4-8", "--in-units", "nm"]) == 0
     cap = capsys.readouterr()
     assert "Z4, Z5, Z6, Z7, Z8" in cap.out and "units       nm" in cap.out
     assert "--modes is deprecated; use --in-modes" in cap.err
-    assert "--units is deprecated; use --in-units" in cap.err
+    # --units means output units (convert) only: the old input/other spellings are refused
+    for argv, needle in ((["info", "--units", "nm"], "--units: renamed --in-units"),
+                         (["fitting-error", "--units", "rad2"], "renamed --error-units")):
+        with pytest.raises(SystemExit) as exc:  # a usage error, as argparse reports them
+            main([argv[0], str(tmp_path / "a.npy"), *argv[1:]])
+        assert exc.value.code == 2
+        _one_line_error(capsys, needle)
     assert main(["fitting-error", str(tmp_path / "a.npy"), "--orderings", "zernike:standard",
-                 "--pupil-pixels", "16", "--units", "rad2", "--in-units", "rad"]) == 0
-    cap = capsys.readouterr()
-    assert "rad2" in cap.out and "--units is deprecated; use --error-units" in cap.err
+                 "--pupil-pixels", "16", "--error-units", "rad2", "--in-units", "rad"]) == 0
+    assert "rad2" in capsys.readouterr().out
 
 
 def test_convert_never_assumes_input_units(tmp_path, capsys):
