@@ -277,7 +277,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     frames = stored.pop("_frame_numbers", None)
     convention_assumed = bool(stored.pop("_convention_assumed", False))
     if foreign:
-        _foreign_time_axis(stored, hints, frames, records)
+        _foreign_time_axis(stored, hints, frames, records, path)
         _foreign_relabel(stored, hints, records, describe_modes)
     kwargs = {k: v for k, v in stored.items() if v is not None}
     for key, value in hints.items():
@@ -332,9 +332,21 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         raise _PassthroughError(error) from exc
 
 
-def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict) -> None:
+def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:
     """Frame numbers need a rate; an explicit rate wins over disagreeing timestamps."""
     rate = hints.get("rate")
+    times = stored.get("timestamps")
+    if rate is None and times is not None and "timestamps" not in hints:
+        t = np.asarray(times, dtype=np.float64)
+        bad = np.flatnonzero(np.diff(t) <= 0) if t.ndim == 1 else np.zeros(0)
+        if bad.size:
+            i = int(bad[0])
+            rule = "repeated" if t[i + 1] == t[i] else "decreasing"
+            raise ValueError(
+                f"'{path}': the file's timestamps are not strictly increasing ({rule} at "
+                f"frame {i + 1}: {t[i]!r} then {t[i + 1]!r} s); pass rate= (command line: "
+                "--rate) to replace them with a uniform time axis"
+            )
     if frames is not None:
         if rate is None or "timestamps" in hints:
             records["time_axis"] = (
@@ -357,11 +369,13 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict) -> None
         return
     dt = np.diff(t)
     median = float(np.median(dt)) if dt.size else 0.0
-    if median > 0 and abs(median * float(rate) - 1.0) <= 1e-3:
+    if median > 0 and abs(median * float(rate) - 1.0) <= 1e-3 and np.all(dt > 0):
         return  # they agree: keep both (gaps stay visible)
     stored["timestamps"] = None
     stored.setdefault("start_time", float(t[0]))
     file_rate = f"{1.0 / median:.6g} Hz" if median > 0 else "not increasing"
+    if np.any(dt <= 0):
+        file_rate += ", not strictly increasing"
     records["time_axis"] = (
         f"rate {float(rate):g} Hz given by the caller replaces the file's timestamps "
         f"(median rate {file_rate})"

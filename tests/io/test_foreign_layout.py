@@ -311,3 +311,16 @@ def test_npz_and_hdf5_mode_lists_and_nanosecond_times(tmp_path):
         f["time"].attrs["units"] = "ns"
     log = load(tmp_path / "m.h5")
     assert log.modes == [2, 3, 4] and log.sampling().median_rate == pytest.approx(2000.0)
+
+
+def test_broken_foreign_timestamps_point_to_rate(tmp_path):
+    t = np.arange(400) / 100.0
+    t[200] = t[199]  # a repeated timestamp, as a logger writing at a coarse clock does
+    with h5py.File(tmp_path / "a.h5", "w") as f:
+        f["data"] = X
+        f["time"] = t
+    with pytest.raises(ValueError, match=r"a\.h5': the file's timestamps are not strictly "
+                       r"increasing \(repeated at frame 200.*--rate"):
+        load(tmp_path / "a.h5")
+    log = load(tmp_path / "a.h5", rate=100.0)
+    assert log.timestamps is None and log.rate == 100.0 and "time_axis" in log.metadata
