@@ -44,7 +44,10 @@ def _fmt(value: float) -> str:
 
 def _sampling_text(s) -> str:
     """Jitter and gaps of a timestamped log, one line."""
-    text = f"jitter {100 * s.jitter:.3g}% of the median interval; "
+    if s.jitter < 1e-6:  # rounding of the stored times only
+        text = "jitter none (< 1e-6 of the median interval); "
+    else:
+        text = f"jitter {100 * s.jitter:.3g}% of the median interval; "
     if s.uniform:
         return text + f"no gaps (interval > {s.gap_factor:g} x median)"
     k = int(s.gap_duration.argmax())

@@ -259,3 +259,19 @@ def test_info_detects_a_flipped_byte(tmp_path, capsys, kind, mmap):
     path.write_bytes(bytes(data))
     assert main(["info", str(path), *extra]) == 2
     _one_line_error(capsys, f"m.{kind}", "checksum" if kind == "h5" else "CRC")
+
+
+def test_info_reports_clock_jitter(tmp_path, capsys):
+    from scipy.stats import median_abs_deviation
+
+    dt = 5e-4 * (1 + 0.02 * np.random.default_rng(2).standard_normal(1199))
+    t = np.concatenate([[0.0], np.cumsum(dt)])
+    np.savez(tmp_path / "j.npz", data=X, time=t)
+    assert main(["info", str(tmp_path / "j.npz")]) == 0
+    out = capsys.readouterr().out
+    jitter = median_abs_deviation(np.diff(t), scale="normal") / np.median(np.diff(t))
+    line = next(ln for ln in out.splitlines() if ln.startswith("sampling"))
+    assert line.endswith("of the median interval; no gaps (interval > 1.5 x median)")
+    shown = float(line.split("jitter ")[1].split("%")[0])  # printed to 3 digits
+    assert shown == pytest.approx(100 * jitter, rel=6e-3)
+    assert 1.5 < shown < 2.5  # the 2% clock noise put in
