@@ -25,8 +25,9 @@ def test_noise_propagation_equals_band_integral(gain, delay, integ):
     rate = 1000.0
 
     def sq(f):
-        return abs(servo.noise_transfer_function(np.array([f]), rate=rate, gain=gain,
-                                                 delay_frames=delay, integration_frames=integ)[0]) ** 2
+        n = servo.noise_transfer_function(np.array([f]), rate=rate, gain=gain,
+                                          delay_frames=delay, integration_frames=integ)
+        return abs(n[0]) ** 2
 
     integral, _ = integrate.quad(sq, 0.0, rate / 2, limit=500)
     expected = integral / (rate / 2)

@@ -65,7 +65,10 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
-        return int(args._run(args) or 0)
+        code = int(args._run(args) or 0)
+        for note in getattr(args, "_notes", None) or ():
+            sys.stderr.write(note + "\n")  # notes queued by the command (e.g. assumed units)
+        return code
     except BrokenPipeError:
         # the reader (e.g. `| head`) closed the pipe: not an input error; silence the
         # flush at exit as the Python docs recommend (signal module, "Note on SIGPIPE")

@@ -7,59 +7,126 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 
-__all__ = ["add_hint_arguments", "parse_modes", "hints_from_args", "check_output", "load_log"]
+__all__ = [
+    "add_hint_arguments",
+    "add_gap_argument",
+    "parse_modes",
+    "hints_from_args",
+    "check_output",
+    "load_log",
+    "input_notes",
+    "queue_notes",
+    "split_gaps",
+]
+
+
+class _DeprecatedAlias(argparse.Action):
+    """An old spelling of an option with the same meaning: stores, and says so once."""
+
+    def __init__(self, option_strings, dest, *, new: str, **kwargs) -> None:
+        self.new = new
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        notes = getattr(namespace, "_notes", None) or []
+        notes.append(f"{parser.prog}: note: {option_string} is deprecated; use {self.new} "
+                     "(same meaning)")
+        namespace._notes = notes  # printed by the dispatcher once the command succeeds
+        setattr(namespace, self.dest, values)
+
+
+class _Renamed(argparse.Action):
+    """A retired spelling whose name now means something else elsewhere: refuse it."""
+
+    def __init__(self, option_strings, dest, *, message: str, **kwargs) -> None:
+        self.message = message
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        parser.error(f"{option_string}: {self.message}")
 
 
 def add_hint_arguments(
-    parser: argparse.ArgumentParser, *, is_info: bool = True, modes_flag: str = "--modes"
+    parser: argparse.ArgumentParser,
+    *,
+    wavelength: bool = True,
+    deprecated: tuple[str, ...] = (),
+    is_info: bool | None = None,
+    modes_flag: str | None = None,
 ) -> None:
-    """Add the options that supply what a foreign log file lacks (every command reading a log).
+    """Add the input hints: what a foreign log file lacks (every command reading a log).
 
-    ``info`` also accepts ``--units`` and ``--wavelength`` as input hints; ``convert``
-    uses those names for the conversion target and takes ``--in-units`` only. Commands
-    with a ``--modes`` option of their own (``forecast`` selects modes with it) take the
-    column hint as ``modes_flag="--in-modes"``.
+    The same spelling means the same thing in every command: ``--fmt``, ``--rate``,
+    ``--in-units``, ``--in-convention``, ``--in-modes``, ``--wavelength``,
+    ``--nonfinite``, ``--transpose``/``--no-transpose`` and ``--dataset``. Output
+    options (``convert --units``/``--convention``) and selections (``forecast
+    --modes``) are the commands' own. ``wavelength=False`` leaves ``--wavelength`` to
+    the command (``convert``, where it is also the wavelength of the converted
+    phase). ``deprecated`` names old spellings: ``"--modes"`` stays an alias of
+    ``--in-modes`` with a note; ``"--units"`` (formerly ``info``'s input units) is
+    refused with a pointer to ``--in-units``, since ``--units`` means output units in
+    ``convert``.
+    ``is_info`` and ``modes_flag`` (the former per-command spellings) are accepted
+    and ignored, so callers written against the old signature get the same flags.
     """
-    group = parser.add_argument_group("hints for files that lack the information")
+    del is_info, modes_flag
+    group = parser.add_argument_group("input hints (for files that lack the information)")
     group.add_argument("--fmt", choices=("npz", "npy", "csv", "fits", "hdf5", "aot"),
-                       help="input format")
+                       help="input format (default: from the content, then the extension)")
     group.add_argument("--loop", metavar="UID", help="control loop of an AOT file (its uid)")
-    group.add_argument("--rate", type=float, metavar="HZ", help="sample rate in Hz")
-    flags = ("--in-units", "--units") if is_info else ("--in-units",)
-    group.add_argument(
-        *flags, dest="in_units", choices=("rad", "nm", "um", "waves"), help="input units"
-    )
-    if is_info:
-        group.add_argument("--wavelength", type=float, metavar="M", help="wavelength in metres")
-    group.add_argument(
-        "--in-convention",
-        choices=("noll", "ansi", "fringe", "labels"),
-        help="indexing convention of the input modes",
-    )
-    group.add_argument(
-        modes_flag,
-        dest="in_modes",
-        metavar="LIST",
-        help="modes of the columns: '2-28', '4,5,6' or labels 'KL1,KL2'",
-    )
-    group.add_argument(
-        "--nonfinite",
-        choices=("raise", "drop", "interpolate"),
-        default="raise",
-        help="what to do with NaN/inf values (default: raise)",
-    )
+    group.add_argument("--rate", type=float, metavar="HZ",
+                       help="sample rate in Hz; given explicitly it replaces a foreign "
+                       "file's timestamps that disagree with it (recorded in the metadata)")
+    units = ("rad", "nm", "um", "waves")
+    group.add_argument("--in-units", dest="in_units", choices=units,
+                       help="units of the input coefficients (default: the file's, else rad, "
+                       "marked as assumed)")
+    if "--units" in deprecated:  # --units means OUTPUT units (convert): never an input hint
+        group.add_argument("--units", dest="_retired_units", metavar="UNITS", action=_Renamed,
+                           message="renamed --in-units (the units of the file); --units "
+                           "means the output units of convert only",
+                           help="retired: use --in-units")
+    if wavelength:
+        group.add_argument("--wavelength", type=float, metavar="M",
+                           help="wavelength in metres at which the phase is defined (needed "
+                           "to analyse a log in nm or um)")
+    group.add_argument("--in-convention", choices=("noll", "ansi", "fringe", "labels"),
+                       help="indexing convention of the input modes")
+    group.add_argument("--in-modes", dest="in_modes", metavar="LIST",
+                       help="modes of the columns: '2-28', '4,5,6' or labels 'KL1,KL2' "
+                       "(relabels a foreign file's column names)")
+    if "--modes" in deprecated:
+        group.add_argument("--modes", dest="in_modes", metavar="LIST", action=_DeprecatedAlias,
+                           new="--in-modes", help="deprecated spelling of --in-modes")
+    group.add_argument("--nonfinite", choices=("raise", "drop", "interpolate"),
+                       default="raise", help="what to do with NaN/inf values (default: raise)")
+    group.add_argument("--transpose", action=argparse.BooleanOptionalAction, default=None,
+                       help="the file stores modes x frames: read it transposed "
+                       "(--no-transpose: keep a wide array as frames x modes)")
+    group.add_argument("--dataset", metavar="PATH",
+                       help="HDF5 dataset path or NPZ array name of the coefficients")
 
 
-def parse_modes(text: str) -> list:
-    """Parse ``--modes``: comma-separated ints, ``a-b`` ranges (inclusive) or labels."""
+def add_gap_argument(parser: argparse.ArgumentParser) -> None:
+    """Add ``--split-gaps`` (analyses that need equally spaced frames)."""
+    parser.add_argument("--split-gaps", action="store_true",
+                        help="if the timestamps have gaps (an interval > 1.5 x the median), "
+                        "analyse the longest contiguous segment (default: refuse the log)")
+
+
+def parse_modes(text: str, flag: str = "--modes") -> list:
+    """Parse a mode list (``flag`` names the option in errors).
+
+    Comma-separated ints, ``a-b`` ranges (inclusive) or labels.
+    """
     out: list = []
     for part in (p.strip() for p in text.split(",")):
         if not part:
-            raise CommandError(f"--modes: empty entry in {text!r}")
+            raise CommandError(f"{flag}: empty entry in {text!r}")
         lo, sep, hi = part.partition("-")
         if sep and lo.isdigit() and hi.isdigit():
             if int(hi) < int(lo):
-                raise CommandError(f"--modes: range {part!r} is decreasing")
+                raise CommandError(f"{flag}: range {part!r} is decreasing")
             out.extend(range(int(lo), int(hi) + 1))
         elif part.isdigit():
             out.append(int(part))
@@ -67,7 +134,7 @@ def parse_modes(text: str) -> list:
             out.append(part)
     kinds = {type(x) for x in out}
     if len(kinds) > 1:
-        raise CommandError(f"--modes mixes indices and labels: {text!r}")
+        raise CommandError(f"{flag} mixes indices and labels: {text!r}")
     return out
 
 
@@ -76,13 +143,14 @@ def hints_from_args(args: argparse.Namespace) -> dict:
     hints = {
         "rate": args.rate,
         "units": args.in_units,
-        "wavelength": getattr(args, "wavelength", None) if args.command == "info" else None,
+        "wavelength": getattr(args, "wavelength", None) if args.command != "convert" else None,
         "convention": args.in_convention,
         "nonfinite": args.nonfinite,
         "loop": getattr(args, "loop", None),
+        "transpose": getattr(args, "transpose", None),
     }
     if args.in_modes is not None:
-        modes = parse_modes(args.in_modes)
+        modes = parse_modes(args.in_modes, "--in-modes")
         hints["modes"] = modes
         if modes and isinstance(modes[0], str) and args.in_convention is None:
             hints["convention"] = "labels"
@@ -99,15 +167,75 @@ def check_output(path: Path | None, overwrite: bool) -> None:
         raise CommandError(f"output directory '{path.parent}' does not exist")
 
 
-def load_log(path: Path, args: argparse.Namespace | None = None):
+_HINT_OF = {"units": "--in-units", "convention": "--in-convention", "modes": "--in-modes"}
+
+
+def load_log(path: Path, args: argparse.Namespace | None = None, *, mmap: bool = False,
+             announce: bool = True):
     """Read a log with ``modalinfo.io.load``, with the hint options of ``args`` if given.
 
-    Errors become one-line messages through the dispatcher.
+    With ``announce``, values the file does not record and no hint gave (see
+    ``metadata["assumed"]``) are named in one note on stderr, as is a layout read
+    transposed because the file's annotation says so; the notes are queued on
+    ``args`` and printed by the dispatcher once the command succeeds, so an error
+    stays the only line on stderr. Errors become one-line messages through the
+    dispatcher.
     """
     from modalinfo.io import load
 
+    path = Path(path)
     if not path.is_file():
         raise CommandError(f"log file '{path}' does not exist")
     if args is None:
         return load(path)
-    return load(path, fmt=args.fmt, **hints_from_args(args))
+    log = load(path, fmt=args.fmt, mmap=mmap, dataset=getattr(args, "dataset", None),
+               **hints_from_args(args))
+    if announce:
+        queue_notes(args, input_notes(log, path))
+    return log
+
+
+def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
+    """Queue one-line notes for stderr, printed by the dispatcher after success."""
+    queued = getattr(args, "_notes", None)
+    if queued is None:
+        queued = []
+        args._notes = queued
+    queued.extend(f"modalinfo {args.command}: note: {line}" for line in lines)
+
+
+def input_notes(log, path: Path) -> list[str]:
+    """One-line notes on what was assumed or reinterpreted while reading ``path``."""
+    meta = log.metadata
+    notes = []
+    assumed = meta.get("assumed")
+    if isinstance(assumed, dict) and assumed:
+        keys = [k for k in ("units", "convention", "modes") if k in assumed]
+        if "modes" in keys and "convention" in keys:
+            keys.remove("convention")  # the modes text names the convention
+        what = ", ".join(f"{k} {assumed[k]}" for k in keys)
+        flags = ", ".join(_HINT_OF[k] for k in keys)
+        notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
+                     f"(state them with {flags})")
+    layout = meta.get("layout")
+    if isinstance(layout, dict) and "hint" not in str(layout.get("transposed", "hint")):
+        notes.append(f"'{path.name}' is stored modes x frames and was read transposed "
+                     f"({layout['transposed']})")
+    return notes
+
+
+def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
+    """Refuse a log whose timestamps have gaps, or keep its longest segment (``--split-gaps``)."""
+    s = log.sampling()
+    if s is None or s.uniform:
+        return log
+    a, b = s.longest_segment
+    if not getattr(args, "split_gaps", False):
+        raise CommandError(
+            f"'{path}' has {s.n_gaps} timestamp gap(s), the first of {s.describe_gap(0)}; "
+            f"{purpose} needs equally spaced frames: pass --split-gaps to analyse the "
+            f"longest contiguous segment (frames {a}..{b - 1})"
+        )
+    queue_notes(args, [f"--split-gaps: analysed frames {a}..{b - 1} ({b - a} of "
+                       f"{log.n_frames}), the longest of {len(s.segments)} contiguous segments"])
+    return log.longest_segment()

@@ -3,14 +3,21 @@
 The output format comes from OUT's extension (``.npz``, ``.csv``, ``.fits``, ``.h5``)
 or ``--to-fmt`` (``aot`` writes an AO Telemetry file). Writing is atomic and refuses
 to replace OUT without ``--overwrite``.
+
+``--units`` and ``--convention`` are the OUTPUT units and convention (the input's are
+the hints ``--in-units``/``--in-convention``, as in every command). A conversion of
+units never assumes the input units: a file that does not record them needs
+``--in-units``.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
-from modalinfo.cli._common import add_hint_arguments, hints_from_args
+from modalinfo.cli import CommandError
+from modalinfo.cli._common import add_hint_arguments, hints_from_args, input_notes, queue_notes
 
 NAME = "convert"
 HELP = "Convert a telemetry log between formats (npz/csv/fits/h5), units and conventions."
@@ -23,19 +30,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--units",
         choices=("rad", "nm", "um", "waves"),
-        help="convert the coefficients to these units (needs a wavelength between "
-        "phase and OPD units)",
+        help="OUTPUT units: convert the coefficients to these (the input units come from "
+        "the file or --in-units; a wavelength is needed between phase and OPD units)",
     )
     parser.add_argument(
         "--wavelength",
         type=float,
         metavar="M",
-        help="wavelength in metres for the unit conversion (or to record on a log lacking one)",
+        help="wavelength in metres at which the phase is defined: the input's if the file "
+        "lacks it, else that of the phase converted from OPD (nm, um)",
     )
     parser.add_argument(
         "--convention",
         choices=("noll", "ansi", "fringe"),
-        help="re-index the Zernike modes in this convention",
+        help="OUTPUT convention: re-index the Zernike modes in it",
     )
     parser.add_argument(
         "--to-fmt", choices=("npz", "csv", "fits", "hdf5", "aot"),
@@ -43,14 +51,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
-    add_hint_arguments(parser, is_info=False)
+    add_hint_arguments(parser, wavelength=False)
 
 
 def run(args: argparse.Namespace) -> int:
     """Read IN, convert, write OUT."""
     from modalinfo.io import load, save
 
-    log = load(args.input, fmt=args.fmt, **hints_from_args(args))
+    log = load(args.input, fmt=args.fmt, dataset=args.dataset, **hints_from_args(args))
+    assumed = log.metadata.get("assumed")
+    if (
+        args.units is not None
+        and isinstance(assumed, dict)
+        and "units" in assumed
+        and args.units != log.units
+    ):
+        raise CommandError(
+            f"--units {args.units}: '{args.input}' does not record the units of its "
+            "coefficients; give them with --in-units (rad, nm, um or waves)"
+        )
+    queue_notes(args, input_notes(log, Path(args.input)))  # a warning: even with --quiet
     if args.units is not None or args.wavelength is not None:
         log = log.to_units(args.units or log.units, wavelength=args.wavelength)
     if args.convention is not None:

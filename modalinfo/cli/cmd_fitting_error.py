@@ -14,7 +14,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import check_output, load_log
+from modalinfo.cli._common import _Renamed, check_output, load_log
 from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis
 
 NAME = "fitting-error"
@@ -28,10 +28,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_common_arguments(parser)
     parser.add_argument("--orderings", default=DEFAULT_ORDERINGS, metavar="LIST",
                         help=f"comma-separated basis:method (default: {DEFAULT_ORDERINGS})")
-    parser.add_argument("--units", choices=("waves2", "rad2"), default="waves2",
-                        help="units of the fitting error (default: waves2)")
+    parser.add_argument("--error-units", dest="error_units", choices=("waves2", "rad2"),
+                        default="waves2", help="units of the fitting error (default: waves2)")
+    parser.add_argument("--units", dest="_retired_units", metavar="UNITS", action=_Renamed,
+                        message="renamed --error-units; --units means the output units of "
+                        "convert only", help="retired: use --error-units")
     parser.add_argument("--target", type=float, default=None, metavar="E",
-                        help="target fitting error in --units (e.g. 0.4, the paper's)")
+                        help="target fitting error in --error-units (e.g. 0.4, the paper's)")
     parser.add_argument("--fraction", type=float, default=None, metavar="F",
                         help="also report modes to reach F x the total variance (0 < F < 1)")
     parser.add_argument("--plot", type=Path, default=None, metavar="PNG", help="draw the curves")
@@ -50,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     log = load_log(args.log, args)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     comp = compare_orderings(
-        log, specs, frame=args.frame, units=args.units, estimator=args.estimator,
+        log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
         sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
         outer_scale=args.outer_scale, bases=bases,
     )
@@ -59,9 +62,9 @@ def run(args: argparse.Namespace) -> int:
     print(comp.table(targets=targets, fractions=fractions))
     first = comp.entries[0]
     total = float(comp.curve(first)[0])
-    print(f"total variance dPhi(0) = {total:.4g} {args.units}")
+    print(f"total variance dPhi(0) = {total:.4g} {args.error_units}")
     if args.target is not None and args.target >= total:
-        print(f"note: the target {args.target:g} {args.units} is above the total variance, "
+        print(f"note: the target {args.target:g} {args.error_units} is above the total variance, "
               "so it is reached with 0 modes; try --fraction")
     if args.plot is not None:
         import matplotlib

@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments
+from modalinfo.cli._common import add_gap_argument, add_hint_arguments, split_gaps
 
 NAME = "forecast"
 HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
@@ -41,7 +41,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"comma-separated, from {', '.join(NAMES)} (default: "
                         "%(default)s); persistence and mean are always added")
     parser.add_argument("--modes", default=None, metavar="LIST",
-                        help="modes to forecast: '2-10', '2,3,4' or labels (default: all)")
+                        help="SELECTION of the modes to forecast: '2-10', '2,3,4' or labels "
+                        "(default: all); what the columns are is the hint --in-modes")
     parser.add_argument("--horizon", type=int, default=10, metavar="H",
                         help="largest horizon in frames; h = 1..H (default: %(default)s)")
     parser.add_argument("--train", default="0.5", metavar="FRAC_OR_N",
@@ -56,7 +57,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--overwrite", action="store_true",
                         help="replace existing output files")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
-    add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
+    add_hint_arguments(parser)
+    add_gap_argument(parser)
 
 
 def _parse_train(text: str) -> float | int:
@@ -98,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
                                "replace it")
     log = load_log(args.log, args)
+    log = split_gaps(log, args, args.log, "forecasting")
     if args.modes is not None:
         log = log.select(modes=parse_modes(args.modes))
 

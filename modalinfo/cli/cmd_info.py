@@ -1,9 +1,12 @@
 """``modalinfo info LOG``: describe a telemetry log and summarise every mode in one pass.
 
-Prints the shape, time axis, modes, units, loop state and metadata, then a table of
-per-mode mean, RMS, standard deviation and lag-1 autocorrelation computed chunk by
-chunk (NPY, NPZ and HDF5 logs are memory-mapped, so a log larger than memory is
-fine). A progress bar goes to stderr when it is a terminal, unless ``--quiet``.
+Prints the shape, time axis (the median rate, jitter and gaps of timestamps), modes,
+units, loop state and metadata, then a table of per-mode mean, RMS, standard deviation
+and lag-1 autocorrelation computed chunk by chunk (NPY, NPZ and HDF5 logs are
+memory-mapped, so a log larger than memory is fine). Values the file does not record
+and no hint gave are marked "(assumed)". The checksum of a memory-mapped NPZ/HDF5 log
+is verified during the same pass; the "integrity" line says what was verified. A
+progress bar goes to stderr when it is a terminal, unless ``--quiet``.
 """
 
 from __future__ import annotations
@@ -32,40 +35,71 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.add_argument("--no-mmap", action="store_true", help="read the file instead of mapping")
-    add_hint_arguments(parser)
+    add_hint_arguments(parser, deprecated=("--modes", "--units"))
 
 
 def _fmt(value: float) -> str:
     return "n/a" if value != value else f"{value:.4f}"  # NaN: constant mode
 
 
+def _sampling_text(s) -> str:
+    """Jitter and gaps of a timestamped log, one line."""
+    if s.jitter < 1e-6:  # rounding of the stored times only
+        text = "jitter none (< 1e-6 of the median interval); "
+    else:
+        text = f"jitter {100 * s.jitter:.3g}% of the median interval; "
+    if s.uniform:
+        return text + f"no gaps (interval > {s.gap_factor:g} x median)"
+    k = int(s.gap_duration.argmax())
+    a, b = s.longest_segment
+    return text + (
+        f"{s.n_gaps} gap(s) (interval > {s.gap_factor:g} x median), first {s.describe_gap(0)}"
+        + ("" if k == 0 else f", largest {s.describe_gap(k)}")
+        + f"; longest contiguous segment frames {a}..{b - 1}"
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     """Print the description and the per-mode summary of the log."""
-    from modalinfo.io import load
+    from modalinfo.io import integrity_check, load
     from modalinfo.telemetry import summarize
 
     if args.chunk_frames < 1:
         raise CommandError(f"--chunk-frames must be >= 1; got {args.chunk_frames}")
-    log = load(args.log, fmt=args.fmt, mmap=not args.no_mmap, **hints_from_args(args))
+    log = load(args.log, fmt=args.fmt, mmap=not args.no_mmap, dataset=args.dataset,
+               **hints_from_args(args))
     out = sys.stdout
     meta = log.metadata
     labels = log.labels
     out.write(f"file        {args.log}\n")
     out.write(f"shape       {log.n_frames} frames x {log.n_modes} modes ({log.dtype})\n")
+    assumed = meta.get("assumed") if isinstance(meta.get("assumed"), dict) else {}
+    sampling = log.sampling()
     rate = "unknown (pass --rate)" if log.rate is None else f"{log.rate:.6g} Hz"
+    if sampling is not None and sampling.n_frames > 1 and log._rate is None:  # noqa: SLF001
+        rate = f"{sampling.median_rate:.6g} Hz median (mean {sampling.mean_rate:.6g} Hz)"
     duration = "unknown" if log.duration is None else f"{log.duration:.6g} s"
     axis = "timestamps" if log.timestamps is not None else "uniform"
     out.write(f"rate        {rate}, duration {duration} ({axis})\n")
+    if sampling is not None and sampling.n_frames > 1:
+        out.write(f"sampling    {_sampling_text(sampling)}\n")
     shown = ", ".join(labels) if len(labels) <= 8 else f"{labels[0]} .. {labels[-1]}"
-    out.write(f"modes       {shown} ({log.convention})\n")
+    if "modes" in assumed:  # the default modes: their convention is assumed with them
+        out.write(f"modes       {shown} ({log.convention}) (assumed)\n")
+    else:
+        conv = f"{log.convention}, assumed" if "convention" in assumed else log.convention
+        out.write(f"modes       {shown} ({conv})\n")
     wave = "" if log.wavelength is None else f" at wavelength {log.wavelength:.6g} m"
-    out.write(f"units       {log.units}{wave}\n")
+    mark = " (assumed)" if "units" in assumed else ""
+    out.write(f"units       {log.units}{mark}{wave}\n")
     out.write(f"loop        {meta.get('loop', 'unknown')}\n")
     for key in sorted(meta):
-        if key in ("loop", "repairs", "modes_identification"):
+        if key in ("loop", "repairs", "assumed", "modes_identification"):
             continue
-        text = str(meta[key])
-        out.write(f"meta        {key}: {text if len(text) <= 70 else text[:67] + '...'}\n")
+        value = meta[key]
+        text = "; ".join(f"{k} {v}" for k, v in value.items()) if isinstance(
+            value, dict) else str(value)
+        out.write(f"meta        {key}: {text if len(text) <= 90 else text[:87] + '...'}\n")
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
     if isinstance(meta.get("modes_identification"), dict):
@@ -81,13 +115,17 @@ def run(args: argparse.Namespace) -> int:
         from tqdm import tqdm
 
         bar = tqdm(total=log.n_frames, unit="frame", unit_scale=True, file=sys.stderr)
+    check = integrity_check(args.log, log, fmt=args.fmt, mmap=not args.no_mmap)
     try:
         summary = summarize(
-            log, chunk_frames=args.chunk_frames, progress=None if bar is None else bar.update
+            log, chunk_frames=args.chunk_frames, progress=None if bar is None else bar.update,
+            visit=check.update,
         )
     finally:
         if bar is not None:
             bar.close()
+    check.finish()  # a checksum skipped by memory mapping is verified in the same pass
+    out.write(f"integrity   {check.describe()}\n")
     unit = log.units
     width = max(6, *(len(label) for label in labels))
     out.write(

@@ -15,7 +15,13 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, check_output, load_log
+from modalinfo.cli._common import (
+    add_gap_argument,
+    add_hint_arguments,
+    check_output,
+    load_log,
+    split_gaps,
+)
 
 NAME = "reorder"
 HELP = "Order the modes of a Zernike or K-L basis by mutual information (or a baseline)."
@@ -37,7 +43,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
                         help="outer scale of the theoretical K-L in metres "
                              "(default: from the log's metadata, else infinite)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing outputs")
-    add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
+    add_hint_arguments(parser)
 
 
 def file_basis(args: argparse.Namespace, log):
@@ -70,6 +76,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--stability", type=int, default=None, metavar="FRAMES",
                         help="also order consecutive windows of FRAMES frames and seeds 0-2, "
                              "and print their rank correlations")
+    add_gap_argument(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -79,6 +86,9 @@ def run(args: argparse.Namespace) -> int:
 
     check_output(args.out, args.overwrite)
     log = load_log(args.log, args)
+    blocks = args.method.startswith("mi_") and args.frame is None and args.resamples > 0
+    if blocks or args.stability is not None or args.split_gaps:
+        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
     if args.frame is not None and args.method == "pca":
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
     if args.basis == "file":

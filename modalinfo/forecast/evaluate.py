@@ -383,6 +383,10 @@ class ForecastEvaluation:
 # ---------------------------------------------------------------------- helpers
 def _as_data(log) -> tuple[np.ndarray, tuple[str, ...], float | None, str]:
     if hasattr(log, "coeffs") and hasattr(log, "labels"):
+        if hasattr(log, "sampling"):
+            from modalinfo.telemetry.sampling import require_contiguous
+
+            require_contiguous(log, "forecast evaluation")
         data = as_float_array(np.asarray(log.coeffs), "log", ndim=2)
         return data, tuple(str(lb) for lb in log.labels), log.rate, str(log.units)
     data = as_float_array(log, "log", ndim=(1, 2))
@@ -471,7 +475,9 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         training frames, the objects passed in are not modified). ``"persistence"``
         and ``"mean"`` baselines are added when absent.
     log : ModalLog or array_like, shape (T,) or (T, M)
-        Coefficient log (time along axis 0).
+        Coefficient log (time along axis 0). Frames are taken as equally spaced: a
+        ``ModalLog`` whose timestamps have gaps (:meth:`ModalLog.sampling`) raises
+        ``ValueError`` naming the first gap; evaluate ``log.longest_segment()``.
     train : float or int
         Training frames: a fraction of ``T`` in (0, 1) or a number of frames.
     horizons : iterable of int

@@ -29,13 +29,16 @@ from modalinfo.io.aot import is_aot, read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
 from modalinfo.io.fits import read_fits, write_fits
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
+from modalinfo.io.integrity import IntegrityCheck, integrity_check
 from modalinfo.io.npz import read_npy, read_npz, write_npz
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = [
     "FORMATS",
     "HINTS",
+    "IntegrityCheck",
     "LogFormatError",
+    "integrity_check",
     "detect_format",
     "load",
     "save",
@@ -143,7 +146,13 @@ def _check_fmt(fmt, allowed) -> str:
 
 
 def load(
-    path, fmt: str | None = None, *, mmap: bool = False, verify: bool = True, **hints
+    path,
+    fmt: str | None = None,
+    *,
+    mmap: bool = False,
+    verify: bool = True,
+    dataset: str | None = None,
+    **hints,
 ) -> ModalLog:
     """Read a telemetry log.
 
@@ -161,12 +170,28 @@ def load(
     verify : bool
         Check the SHA-256 checksums that CSV and HDF5 files written by modalinfo
         carry (``False`` accepts a deliberately edited CSV). NPZ (CRC-32) and FITS
-        (``DATASUM``) checksums are always verified (AOT: where the file has them).
+        (``DATASUM``) checksums are always verified (AOT: where the file has them). A
+        memory-mapped coefficient array is not read here, so its checksum is not
+        verified on loading:
+        :func:`integrity_check` verifies it during a later pass over the data.
+    dataset : str, optional
+        HDF5 dataset path or NPZ array name of the coefficients, for a foreign file
+        holding several 2-D arrays (the error lists them).
     **hints
         ``rate`` [Hz], ``timestamps`` [s], ``modes``, ``convention``, ``units``,
         ``wavelength`` [m], ``metadata``, ``nonfinite``, ``start_time`` [s]: supply
         what a foreign file lacks. A hint contradicting the file raises
-        ``ValueError``. ``loop`` (AOT only): uid of the control loop to read.
+        ``ValueError``, except for a foreign file's column names (``modes`` /
+        ``convention`` relabel them) and timestamps (an explicit ``rate`` replaces
+        timestamps that disagree with it); both are recorded in the metadata.
+        ``loop`` (AOT only): uid of the control loop to read.
+        ``transpose``: ``True`` reads a foreign array stored modes x frames,
+        ``False`` keeps it as stored; by default an array that looks transposed
+        (far more columns than rows) raises :class:`LogFormatError`, unless the file
+        annotates its axes (FITS ``CTYPEn``, HDF5 attributes).
+
+    Values a foreign file does not record and no hint gives (units ``rad``,
+    convention ``noll``, modes after piston) are listed in ``metadata["assumed"]``.
 
     Returns
     -------
@@ -191,6 +216,15 @@ def load(
     options: dict = {}
     if fmt != "aot" and hints.pop("loop", None) is not None:
         raise ValueError(f"`loop` selects a control loop of an AOT file; '{path}' is {fmt}.")
+    if dataset is not None:
+        if fmt not in ("npz", "hdf5"):
+            raise ValueError(
+                f"dataset={dataset!r} (command line: --dataset) applies only to HDF5 and NPZ "
+                f"files; '{path}' is {fmt.upper()}"
+            )
+        if not isinstance(dataset, str) or not dataset.strip("/"):
+            raise TypeError(f"`dataset` must be a non-empty str; got {dataset!r}.")
+        options["dataset"] = dataset
     if mmap and fmt in ("npz", "npy", "hdf5"):
         options["mmap"] = True
     if fmt in ("csv", "hdf5", "aot"):

@@ -39,6 +39,7 @@ HINTS = (
     "metadata",
     "nonfinite",
     "start_time",
+    "transpose",
 )
 
 
@@ -242,19 +243,44 @@ def _same(a: Any, b: Any) -> bool:
     return a == b
 
 
-def build_log(coeffs, path: Path, stored: dict, hints: dict) -> ModalLog:
+def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = False) -> ModalLog:
     """Build a ``ModalLog`` from what the file ``stored`` plus the caller's ``hints``.
 
     A hint fills what the file lacks (``None`` in ``stored``); a hint that contradicts
-    the file raises ``ValueError``. ``metadata`` hints are merged key by key.
+    the file raises ``ValueError``. ``metadata`` hints are merged key by key. For a
+    ``foreign`` file (not written by modalinfo) the rules of
+    :mod:`modalinfo.io._foreign` apply: layout check (``transpose``), relabelling
+    hints for modes read from column names, an explicit ``rate`` winning over the
+    file's timestamps, and every assumed value listed in ``metadata["assumed"]``.
+    Private ``stored`` entries: ``_layout`` (axis annotation), ``_frame_numbers``
+    (a frame-number column), ``_convention_assumed`` (convention guessed from names).
     """
+    from modalinfo.io._foreign import describe_modes, orient
+
     for key in hints:
         if key not in HINTS:
             raise TypeError(f"unknown hint `{key}`; hints are {', '.join(HINTS)}.")
+    hints = {k: v for k, v in hints.items() if v is not None}
+    stored = dict(stored)
+    records: dict[str, Any] = {}
+    if foreign:
+        coeffs, layout = orient(coeffs, path, stored, hints)
+        if layout is not None:
+            records["layout"] = layout
+    elif hints.get("transpose"):
+        raise ValueError(
+            f"hint `transpose`=True: '{path}' was written by modalinfo, whose layout is "
+            "known (frames x modes)."
+        )
+    hints.pop("transpose", None)
+    stored.pop("_layout", None)
+    frames = stored.pop("_frame_numbers", None)
+    convention_assumed = bool(stored.pop("_convention_assumed", False))
+    if foreign:
+        _foreign_time_axis(stored, hints, frames, records, path)
+        _foreign_relabel(stored, hints, records, describe_modes)
     kwargs = {k: v for k, v in stored.items() if v is not None}
     for key, value in hints.items():
-        if value is None:
-            continue
         if key == "metadata":
             if not isinstance(value, dict):
                 raise TypeError(f"hint `metadata` must be a dict; got {type(value).__name__}.")
@@ -273,11 +299,119 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict) -> ModalLog:
             raise ValueError(
                 f"hint `{key}`={shown} contradicts the value {stored[key]!r} stored in '{path}'."
             )
+    if foreign:
+        assumed: dict[str, str] = {}
+        if "units" not in kwargs:
+            assumed["units"] = "rad"
+        if "convention" not in kwargs and kwargs.get("modes") is None:
+            assumed["convention"] = "noll"
+        elif "convention" not in kwargs and all(
+            isinstance(m, int | np.integer) for m in kwargs["modes"]
+        ):
+            assumed["convention"] = "noll"
+        elif convention_assumed and "convention" not in hints:
+            assumed["convention"] = kwargs["convention"]
+        if kwargs.get("modes") is None and np.ndim(coeffs) == 2:
+            from modalinfo.telemetry.log import _FIRST_DEFAULT
+
+            conv = str(kwargs.get("convention", "noll")).lower()
+            if conv in _FIRST_DEFAULT:
+                first = _FIRST_DEFAULT[conv]
+                n = int(np.shape(coeffs)[1])
+                assumed["modes"] = describe_modes(list(range(first, first + n)), conv)
+        if assumed:
+            records["assumed"] = assumed
+    if records:
+        meta = dict(kwargs.get("metadata") or {})
+        meta.update(records)
+        kwargs["metadata"] = meta
     try:
         return ModalLog(coeffs, **kwargs)
     except (ValueError, TypeError) as exc:
         error = type(exc)(f"'{path}': {exc}")
         raise _PassthroughError(error) from exc
+
+
+def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:
+    """Frame numbers need a rate; an explicit rate wins over disagreeing timestamps."""
+    rate = hints.get("rate")
+    times = stored.get("timestamps")
+    if rate is None and times is not None and "timestamps" not in hints:
+        t = np.asarray(times, dtype=np.float64)
+        bad = np.flatnonzero(np.diff(t) <= 0) if t.ndim == 1 else np.zeros(0)
+        if bad.size:
+            i = int(bad[0])
+            rule = "repeated" if t[i + 1] == t[i] else "decreasing"
+            raise ValueError(
+                f"'{path}': the file's timestamps are not strictly increasing ({rule} at "
+                f"frame {i + 1}: {t[i]!r} then {t[i + 1]!r} s); pass rate= (command line: "
+                "--rate) to replace them with a uniform time axis"
+            )
+    if frames is not None:
+        if rate is None or "timestamps" in hints:
+            records["time_axis"] = (
+                "the file's frame numbers were not used (give a rate to turn them into times)"
+            )
+            return
+        from modalinfo._validation import check_real
+
+        rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
+        numbers = np.asarray(frames, dtype=np.float64)
+        stored["timestamps"] = (numbers - numbers[0]) / rate + float(hints.get("start_time", 0.0))
+        hints.pop("start_time", None)
+        records["time_axis"] = f"frame numbers of the file at rate {rate:g} Hz (given)"
+        return
+    times = stored.get("timestamps")
+    if rate is None or times is None or "timestamps" in hints:
+        return
+    t = np.asarray(times, dtype=np.float64)
+    if t.ndim != 1 or t.size < 2:
+        return
+    dt = np.diff(t)
+    median = float(np.median(dt)) if dt.size else 0.0
+    if median > 0 and abs(median * float(rate) - 1.0) <= 1e-3 and np.all(dt > 0):
+        return  # they agree: keep both (gaps stay visible)
+    stored["timestamps"] = None
+    stored.setdefault("start_time", float(t[0]))
+    file_rate = f"{1.0 / median:.6g} Hz" if median > 0 else "not increasing"
+    if np.any(dt <= 0):
+        file_rate += ", not strictly increasing"
+    records["time_axis"] = (
+        f"rate {float(rate):g} Hz given by the caller replaces the file's timestamps "
+        f"(median rate {file_rate})"
+    )
+
+
+def _foreign_relabel(stored: dict, hints: dict, records: dict, describe) -> None:
+    """Let ``modes``/``convention`` hints replace what foreign column names said."""
+    if stored.get("modes") is None:
+        return
+    old_conv = stored.get("convention") or "noll"
+    new_modes = hints.get("modes", stored["modes"])
+    if isinstance(new_modes, np.ndarray):
+        new_modes = new_modes.tolist()
+    ints = all(
+        isinstance(m, int | np.integer) and not isinstance(m, bool) for m in list(new_modes)
+    )
+    if "convention" in hints:
+        new_conv = str(hints["convention"]).lower()
+    elif ints and old_conv == "labels":
+        new_conv = None  # labels relabelled by indices: the default convention, assumed
+    else:
+        new_conv = old_conv
+    if _same(list(stored["modes"]), list(new_modes)) and new_conv == old_conv:
+        return
+    try:
+        before = describe(list(stored["modes"]), old_conv)
+        after = describe(list(new_modes), new_conv or "noll")
+    except (TypeError, ValueError, KeyError, IndexError):
+        before, after = "the file's column names", "the hints"
+    records["relabelled"] = f"columns {before} relabelled {after} by the caller's hints"
+    stored["modes"] = None
+    stored["convention"] = None
+    hints.setdefault("modes", new_modes)
+    if new_conv is not None:
+        hints.setdefault("convention", new_conv)
 
 
 def unwrap(func: Callable[..., ModalLog]) -> Callable[..., ModalLog]:

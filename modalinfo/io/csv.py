@@ -17,22 +17,26 @@ deliberately edited file).
 
 Foreign CSV (no ``# modalinfo:`` line): optional ``# key: value`` comment lines
 (kept as string metadata), an optional header row, then numbers separated by
-commas, semicolons, tabs or blanks. A first column named ``time``, ``t``,
-``time_s``, ``timestamp`` or ``timestamps`` gives the timestamps (seconds). Header
-names ``Z<j>`` / ``A<j>`` / ``F<j>`` give Noll / ANSI / Fringe modes; other names
-become labels. Missing information comes from hints.
+commas, semicolons, tabs or blanks. A column (in any position) named ``time``,
+``t``, ``time_s``, ``timestamp`` (seconds), ``time_ms`` (milliseconds, converted) or
+``frame`` (frame numbers: times only with a ``rate`` hint) gives the time axis.
+Header names ``Z2``, ``z_2``, ``noll2``, ``mode_2``, ``a2``, ``A<j>`` (ANSI), ... give
+the modes (see :mod:`modalinfo.io._columns`); other names become labels, and
+``modes=``/``convention=`` hints may relabel them. Missing information comes from
+hints; a likely transposed table (far more columns than rows, no header) is
+refused unless ``transpose=`` says which way round it is.
 """
 
 from __future__ import annotations
 
 import csv as _csv
 import io
-import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
     LogFormatError,
     as_path,
@@ -47,15 +51,13 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
-from modalinfo.telemetry.log import _PREFIX, ModalLog
+from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_csv", "write_csv"]
 
 _MAGIC = "# modalinfo:"
 _END = "# end of modalinfo log"
-_TIME_NAMES = ("time", "t", "time_s", "timestamp", "timestamps", "time[s]", "time (s)")
 _ROWS_PER_WRITE = 4096
-_CONVENTION_OF_PREFIX = {prefix: conv for conv, prefix in _PREFIX.items()}  # "Z" -> "noll"
 
 
 def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
@@ -125,12 +127,39 @@ def _split(line: str, delim: str | None) -> list[str]:
     return [tok.strip() for tok in next(_csv.reader([line], delimiter=delim))]
 
 
-def _modes_from_names(names: list[str]) -> tuple[list, str]:
-    for prefix, convention in _CONVENTION_OF_PREFIX.items():
-        found = [re.fullmatch(rf"{prefix}(\d+)", n) for n in names]
-        if names and all(found):
-            return [int(f.group(1)) for f in found], convention
-    return list(names), "labels"
+def _time_columns(
+    values: np.ndarray, names: list[str], path: Path, stored: dict, meta: dict
+) -> tuple[np.ndarray, list[str]]:
+    """Take the time column (any position) out of ``values``; return the mode columns.
+
+    Seconds and milliseconds become ``stored["timestamps"]`` (s); frame numbers
+    ``stored["_frame_numbers"]`` (times only with a rate). A frame-number column
+    beside a time column is dropped (recorded in ``meta``); two time columns are
+    refused.
+    """
+    kinds = [time_kind(n) for n in names]
+    timed = [k for k, kind in enumerate(kinds) if kind not in (None, "frame")]
+    framed = [k for k, kind in enumerate(kinds) if kind == "frame"]
+    if len(timed) > 1 or len(framed) > 1:
+        both = [names[k] for k in (timed if len(timed) > 1 else framed)]
+        raise LogFormatError(
+            f"CSV file '{path}' has {len(both)} time columns ({', '.join(both)}); expected one"
+        )
+    drop = timed + framed
+    if timed:
+        k = timed[0]
+        scale = TIME_UNITS[kinds[k]]
+        stored["timestamps"] = np.ascontiguousarray(values[:, k]) * scale
+        if kinds[k] != "s":
+            meta["time_column"] = f"{names[k]} ({kinds[k]}, converted to s)"
+        if framed:
+            meta["frame_column"] = f"{names[framed[0]]} (frame numbers, unused: the file has times)"
+    elif framed:
+        stored["_frame_numbers"] = np.ascontiguousarray(values[:, framed[0]])
+    keep = [k for k in range(len(names)) if k not in drop]
+    if not keep:
+        raise LogFormatError(f"CSV file '{path}' has a time column but no mode column")
+    return values[:, keep], [names[k] for k in keep]
 
 
 @unwrap
@@ -243,14 +272,12 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
         else:
             stored: dict[str, Any] = {}
             coeffs = values
-            if names is not None and names[0].strip().lower() in _TIME_NAMES:
-                stored["timestamps"] = np.ascontiguousarray(values[:, 0])
-                coeffs = values[:, 1:]
-                names = names[1:]
-                if coeffs.shape[1] == 0:
-                    raise LogFormatError(f"CSV file '{path}' has a time column but no mode column")
+            meta = {**comments, "source_file": path.name, "source_format": "csv"}
             if names is not None:
-                stored["modes"], stored["convention"] = _modes_from_names(names)
-            stored["metadata"] = {**comments, "source_file": path.name, "source_format": "csv"}
+                coeffs, names = _time_columns(values, names, path, stored, meta)
+                stored["modes"], stored["convention"], assumed = mode_columns(names)
+                if assumed:
+                    stored["_convention_assumed"] = True
+            stored["metadata"] = meta
             coeffs = np.ascontiguousarray(coeffs)
-    return build_log(coeffs, path, stored, hints)
+    return build_log(coeffs, path, stored, hints, foreign=header is None)

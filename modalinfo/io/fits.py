@@ -14,21 +14,25 @@ Layout written by :func:`write_fits`:
 * every HDU carries ``CHECKSUM``/``DATASUM``, verified on reading.
 
 Foreign FITS: the first 2-D image HDU (primary or extension), or else the first
-binary table, whose numeric columns are the modes (a ``TIME`` column gives the
-timestamps, column names ``Z<j>`` give Noll modes). Supply the rest as hints.
+binary table, whose numeric columns are the modes (a ``TIME``/``TIME_MS``/``FRAME``
+column anywhere gives the time axis, column names ``Z<j>``, ``NOLL_<j>``, ... the
+modes, see :mod:`modalinfo.io._columns`). An image whose ``CTYPE1``/``CTYPE2`` name
+the axes (``CTYPE1 = 'MODE'``, ``CTYPE2 = 'TIME'`` for frames x modes) is read the
+right way round; a modes x frames image is transposed and ``metadata["layout"]``
+says so. Supply the rest as hints.
 FITS data are big-endian on disk and are converted to native byte order on reading
 (values unchanged).
 """
 
 from __future__ import annotations
 
-import re
 import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
     LogFormatError,
     as_path,
@@ -42,13 +46,13 @@ from modalinfo.io._common import (
     stored_from_header,
     unwrap,
 )
+from modalinfo.io._foreign import axis_layout
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import UNITS
 
 __all__ = ["read_fits", "write_fits"]
 
 _JSON_KEY = "MI_JSON"
-_TIME_NAMES = ("TIME", "T", "TIMES", "TIMESTAMP", "TIMESTAMPS")
 
 
 def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
@@ -144,9 +148,9 @@ def read_fits(path, **hints) -> ModalLog:
             ):
                 hdul.verify("silentfix")
                 _check_warnings(caught, path)
-                coeffs, stored = _parse(hdul, path)
+                coeffs, stored, foreign = _parse(hdul, path)
             _check_warnings(caught, path)
-    return build_log(coeffs, path, stored, hints)
+    return build_log(coeffs, path, stored, hints, foreign=foreign)
 
 
 def _check_warnings(caught: list, path: Path) -> None:
@@ -157,7 +161,7 @@ def _check_warnings(caught: list, path: Path) -> None:
             raise LogFormatError(f"corrupt FITS file '{path}': {text.splitlines()[0]}")
 
 
-def _parse(hdul, path: Path) -> tuple[np.ndarray, dict]:
+def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
     primary = hdul[0]
     if _JSON_KEY in primary.header:
         header = parse_header(str(primary.header[_JSON_KEY]), "FITS", path)
@@ -175,7 +179,7 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict]:
             if "TIMES" not in hdul:
                 raise LogFormatError(f"corrupt FITS file '{path}': TIMES extension missing")
             stored["timestamps"] = _native(hdul["TIMES"].data)
-        return coeffs, stored
+        return coeffs, stored, False
     stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "fits"}}
     for hdu in hdul:
         data = getattr(hdu, "data", None)
@@ -183,7 +187,14 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict]:
             unit = hdu.header.get("BUNIT")
             if isinstance(unit, str) and unit.strip().lower() in UNITS:
                 stored["units"] = unit.strip().lower()
-            return _native(data), stored
+            # FITS axis 1 runs fastest: numpy's last axis (the columns)
+            ctypes = [hdu.header.get("CTYPE2"), hdu.header.get("CTYPE1")]
+            layout = axis_layout(
+                ctypes, f"keywords CTYPE1={ctypes[1]!r}, CTYPE2={ctypes[0]!r}"
+            )
+            if layout is not None:
+                stored["_layout"] = layout
+            return _native(data), stored, True
     for hdu in hdul:
         if type(hdu).__name__ == "BinTableHDU" and hdu.data is not None and len(hdu.columns):
             names = list(hdu.columns.names)
@@ -195,19 +206,31 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict]:
                         f"FITS file '{path}': table column {name!r} is not a numeric scalar column"
                     )
                 cols.append(col.astype(np.float64))
-            if names[0].strip().upper() in _TIME_NAMES:
-                stored["timestamps"] = cols.pop(0)
-                names = names[1:]
+            kinds = [time_kind(n) for n in names]
+            timed = [k for k, kind in enumerate(kinds) if kind is not None]
+            if len(timed) > 1:
+                raise LogFormatError(
+                    f"FITS file '{path}': table has {len(timed)} time columns "
+                    f"({', '.join(names[k] for k in timed)}); expected one"
+                )
+            if timed:
+                k = timed[0]
+                if kinds[k] == "frame":
+                    stored["_frame_numbers"] = cols[k]
+                else:
+                    stored["timestamps"] = cols[k] * TIME_UNITS[kinds[k]]
+                    if kinds[k] != "s":
+                        stored["metadata"]["time_column"] = (
+                            f"{names[k]} ({kinds[k]}, converted to s)"
+                        )
+                cols.pop(k)
+                names = names[:k] + names[k + 1 :]
             if not cols:
                 raise LogFormatError(f"FITS file '{path}': table has no mode column")
-            found = [re.fullmatch(r"Z(\d+)", n.strip()) for n in names]
-            if all(found):
-                stored["modes"] = [int(f.group(1)) for f in found]
-                stored["convention"] = "noll"
-            else:
-                stored["modes"] = [n.strip() for n in names]
-                stored["convention"] = "labels"
-            return np.ascontiguousarray(np.column_stack(cols)), stored
+            stored["modes"], stored["convention"], assumed = mode_columns(names)
+            if assumed:
+                stored["_convention_assumed"] = True
+            return np.ascontiguousarray(np.column_stack(cols)), stored, True
     raise LogFormatError(f"FITS file '{path}' holds no 2-D image nor binary table")
 
 

@@ -24,8 +24,17 @@ checksum is then not verified (that would read everything). Chunked or compresse
 datasets are read in full.
 
 Foreign HDF5: the one 2-D numeric dataset of the file (or one named
-``coefficients``/``coeffs``/``data``), and a 1-D ``timestamps``/``times``/``time``
-dataset if present; supply the rest as hints.
+``coefficients``/``coeffs``/``data``, or the one ``dataset=`` names), and a 1-D
+time dataset if present: ``timestamps``/``times``/``time``/``t`` in seconds,
+``time_ms`` in milliseconds, or any of them with a ``units`` attribute (``"s"``,
+``"ms"``, ``"us"``), converted to seconds; ``frame`` numbers need a ``rate`` hint.
+Column names come from a ``labels``/``modes``/``columns`` attribute of the dataset
+(``["z2", "z3", ...]``); a file of 1-D datasets ``z2``, ``z3``, ... (one per mode) is
+read as their columns.
+An axis annotation (attribute ``axes``/``dims``/``dimension_labels`` such as
+``["mode", "time"]``, attribute ``layout="modes_first"``, or dimension-scale
+labels) is followed: a modes x frames dataset is read transposed and
+``metadata["layout"]`` says so. Supply the rest as hints.
 """
 
 from __future__ import annotations
@@ -35,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
     LogFormatError,
     as_path,
@@ -50,13 +60,13 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
+from modalinfo.io._foreign import axis_layout
 from modalinfo.telemetry.log import ModalLog, _scan_rows
 
 __all__ = ["read_hdf5", "write_hdf5"]
 
 _HEADER = "modalinfo_header"
 _COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data")
-_TIME_NAMES = ("timestamps", "times", "time", "t")
 
 
 def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
@@ -134,7 +144,9 @@ def _load(dset, path: Path, mmap: bool) -> np.ndarray:
 
 
 @unwrap
-def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> ModalLog:
+def read_hdf5(
+    path, *, mmap: bool = False, verify: bool = True, dataset: str | None = None, **hints
+) -> ModalLog:
     """Read a log from an HDF5 file written by :func:`write_hdf5` or by other software.
 
     Parameters
@@ -144,10 +156,16 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
     mmap : bool
         Memory-map a contiguous, uncompressed coefficient dataset instead of reading.
     verify : bool
-        Check the SHA-256 recorded by :func:`write_hdf5` (skipped with ``mmap``).
+        Check the SHA-256 recorded by :func:`write_hdf5`. With ``mmap`` the header
+        and timestamps are checked on reading but the coefficients are not (that
+        would read them all): :func:`modalinfo.io.integrity_check` verifies them
+        during a later pass over the data (``modalinfo info`` does).
+    dataset : str, optional
+        Path of the coefficient dataset in a foreign file with several 2-D numeric
+        datasets (the error lists them), e.g. ``"loop/modes"``.
     **hints
         ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
-        ``metadata``, ``nonfinite``, ``start_time``.
+        ``metadata``, ``nonfinite``, ``start_time``, ``transpose``.
 
     Returns
     -------
@@ -164,6 +182,7 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
 
     path = as_path(path)
     check_readable(path)
+    foreign = False
     with reading("HDF5", path):
         with h5py.File(path, "r") as f:
             if _HEADER in f:
@@ -186,34 +205,132 @@ def read_hdf5(path, *, mmap: bool = False, verify: bool = True, **hints) -> Moda
                             f"corrupt HDF5 file '{path}': timestamps have dtype "
                             f"{stored['timestamps'].dtype.str}, expected <f8"
                         )
+                if verify and header["has_timestamps"]:
+                    verify_checksum(header, "timestamps", stored["timestamps"], "HDF5", path)
                 if verify and not isinstance(coeffs, np.memmap):
                     verify_checksum(header, "coefficients", coeffs, "HDF5", path)
-                    if header["has_timestamps"]:
-                        verify_checksum(header, "timestamps", stored["timestamps"], "HDF5", path)
+                if dataset is not None and dataset.strip("/") != "coefficients":
+                    raise LogFormatError(
+                        f"HDF5 file '{path}' was written by modalinfo; its coefficients are "
+                        f"'coefficients', not {dataset!r}"
+                    )
             else:
-                dsets = _datasets(f)
-                two_d = {k: d for k, d in dsets.items() if d.ndim == 2 and d.dtype.kind in "fiu"}
-                named = [k for k in two_d if k.rsplit("/", 1)[-1].lower() in _COEFF_NAMES]
-                if len(named) == 1:
-                    key = named[0]
-                elif len(two_d) == 1:
-                    key = next(iter(two_d))
-                else:
-                    raise LogFormatError(
-                        f"HDF5 file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
-                        f"datasets ({', '.join(sorted(dsets)) or 'none'}); expected exactly one"
-                    )
-                if "convention" in two_d[key].attrs and "labels" in two_d[key].attrs:
-                    raise LogFormatError(
-                        f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "
-                        f"but the file's {_HEADER!r} dataset is missing"
-                    )
-                coeffs = _load(two_d[key], path, mmap)
-                stored: dict[str, Any] = {
-                    "metadata": {"source_file": path.name, "source_format": "hdf5"}
-                }
-                for name, dset in dsets.items():
-                    if name.rsplit("/", 1)[-1].lower() in _TIME_NAMES and dset.ndim == 1:
-                        stored["timestamps"] = dset[()]
-                        break
-    return build_log(coeffs, path, stored, hints)
+                foreign = True
+                coeffs, stored = _foreign(f, path, mmap, dataset)
+    return build_log(coeffs, path, stored, hints, foreign=foreign)
+
+
+def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray, dict]:
+    dsets = _datasets(f)
+    two_d = {k: d for k, d in dsets.items() if d.ndim == 2 and d.dtype.kind in "fiu"}
+    if dataset is None and not two_d:
+        per_mode = mode_arrays(dsets)
+        if per_mode is not None:  # one 1-D dataset per mode: z2, z3, ...
+            names, columns = per_mode
+            meta = {"source_file": path.name, "source_format": "hdf5"}
+            stored: dict[str, Any] = {"metadata": meta}
+            short = [n.rsplit("/", 1)[-1] for n in names]
+            stored["modes"], stored["convention"], assumed = mode_columns(short)
+            if assumed:
+                stored["_convention_assumed"] = True
+            time_arrays(dsets, stored, meta)
+            return np.column_stack([np.asarray(c[()], dtype=np.float64) for c in columns]), stored
+    if dataset is not None:
+        key = dataset.strip("/")
+        if key not in dsets:
+            raise LogFormatError(
+                f"HDF5 file '{path}' has no dataset {dataset!r}; its 2-D numeric datasets: "
+                f"{', '.join(sorted(two_d)) or 'none'}"
+            )
+        if key not in two_d:
+            raise LogFormatError(
+                f"HDF5 file '{path}': dataset {dataset!r} is not a 2-D numeric array "
+                f"(shape {dsets[key].shape}, dtype {dsets[key].dtype})"
+            )
+    else:
+        named = [k for k in two_d if k.rsplit("/", 1)[-1].lower() in _COEFF_NAMES]
+        if len(named) == 1:
+            key = named[0]
+        elif len(two_d) == 1:
+            key = next(iter(two_d))
+        else:
+            raise LogFormatError(
+                f"HDF5 file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
+                f"datasets ({', '.join(sorted(two_d)) or 'none'}); pick one with dataset= "
+                "(command line: --dataset PATH)"
+            )
+    dset = two_d[key]
+    if "convention" in dset.attrs and "labels" in dset.attrs:
+        raise LogFormatError(
+            f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "
+            f"but the file's {_HEADER!r} dataset is missing"
+        )
+    coeffs = _load(dset, path, mmap)
+    meta: dict[str, Any] = {"source_file": path.name, "source_format": "hdf5"}
+    if dataset is not None or len(two_d) > 1:
+        meta["source_dataset"] = key
+    stored: dict[str, Any] = {"metadata": meta}
+    time_arrays(dsets, stored, meta)
+    names = _column_names(dset)
+    if names is not None and len(names) == dset.shape[1]:
+        stored["modes"], stored["convention"], assumed = mode_columns(names)
+        if assumed:
+            stored["_convention_assumed"] = True
+    layout = _annotation(dset)
+    if layout is not None:
+        stored["_layout"] = layout
+    return coeffs, stored
+
+
+def _column_names(dset) -> list[str] | None:
+    """Column names a foreign dataset gives in an attribute (``labels``, ``modes``, ...)."""
+    for key in ("labels", "modes", "columns", "column_names", "mode_names"):
+        if key in dset.attrs:
+            try:
+                items = list(np.asarray(dset.attrs[key]).ravel())
+            except (TypeError, ValueError):
+                return None
+            return [i.decode("utf-8", "replace") if isinstance(i, bytes) else str(i)
+                    for i in items]
+    return None
+
+
+def _text_list(value) -> list | None:
+    if isinstance(value, bytes | str):
+        text = value.decode("utf-8", "replace") if isinstance(value, bytes) else value
+        parts = [p for p in text.replace(";", ",").replace(" ", ",").split(",") if p]
+        return parts if len(parts) == 2 else None
+    try:
+        items = list(np.asarray(value).ravel())
+    except (TypeError, ValueError):
+        return None
+    return items if len(items) == 2 else None
+
+
+def _annotation(dset) -> tuple[str, str] | None:
+    """Axis layout a foreign dataset declares: attributes or dimension-scale labels."""
+    for key in ("axes", "dims", "dimensions", "axis_names", "dimension_labels", "layout"):
+        if key in dset.attrs:
+            value = dset.attrs[key]
+            if key == "layout":
+                text = value.decode() if isinstance(value, bytes) else str(value)
+                text = text.strip().lower().replace("-", "_").replace(" ", "_")
+                if text in ("frames_first", "time_first", "frames_x_modes", "time_x_modes"):
+                    return "frames_first", f"attribute layout={text!r}"
+                if text in ("modes_first", "modes_x_frames", "modes_x_time"):
+                    return "modes_first", f"attribute layout={text!r}"
+                continue
+            names = _text_list(value)
+            if names is not None:
+                names = [n.decode("utf-8", "replace") if isinstance(n, bytes) else str(n)
+                         for n in names]
+                found = axis_layout(names, f"attribute {key}={names}")
+                if found is not None:
+                    return found
+    try:
+        labels = [dim.label for dim in dset.dims]
+    except (AttributeError, TypeError, ValueError, RuntimeError):
+        return None
+    if len(labels) == 2 and all(labels):
+        return axis_layout(labels, f"dimension labels {labels}")
+    return None

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
     LogFormatError as _LogFormatError,
 )
@@ -47,7 +48,6 @@ from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_npz", "write_npz", "read_npy"]
 
-_TIME_NAMES = ("timestamps", "times", "time", "t")
 _COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data", "zernike")
 
 
@@ -168,12 +168,16 @@ def _check_entry_count(path: Path, zf: zipfile.ZipFile) -> None:
 
 
 @unwrap
-def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
+def read_npz(path, *, mmap: bool = False, dataset: str | None = None, **hints) -> ModalLog:
     """Read a log from a ``.npz`` file written by :func:`write_npz` or by other software.
 
     A foreign ``.npz`` (no modalinfo header) must hold exactly one 2-D numeric array
-    (or one named ``coefficients``/``coeffs``/``data``), optionally a 1-D array
-    named ``timestamps``/``times``/``time``/``t``; supply what it lacks as hints.
+    (or one named ``coefficients``/``coeffs``/``data``, or the one named by
+    ``dataset``) or one 1-D array per mode named ``z2``, ``noll_3``, ... (see
+    :mod:`modalinfo.io._columns`), optionally a 1-D time array named
+    ``timestamps``/``times``/``time``/``t`` (seconds), ``time_ms`` (milliseconds) or
+    ``frame`` (frame numbers, used with a ``rate`` hint), and a 1-D ``modes``/``labels``
+    array naming the columns; supply what it lacks as hints.
 
     Parameters
     ----------
@@ -181,10 +185,13 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
         The file.
     mmap : bool
         Memory-map the coefficients (uncompressed members only) instead of reading.
+    dataset : str, optional
+        Name of the array holding the coefficients in a foreign file with several
+        2-D arrays (the error lists them).
     **hints
         ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
-        ``metadata``, ``nonfinite``, ``start_time``: fill what the file lacks; a hint
-        contradicting the file raises ``ValueError``.
+        ``metadata``, ``nonfinite``, ``start_time``, ``transpose``: fill what the file
+        lacks; a hint contradicting the file raises ``ValueError``.
 
     Returns
     -------
@@ -204,7 +211,13 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
         with zipfile.ZipFile(path) as zf:
             _check_entry_count(path, zf)
             names = {n[:-4] if n.endswith(".npy") else n: n for n in zf.namelist()}
-            if "header" in names and "coefficients" in names:
+            foreign = not ("header" in names and "coefficients" in names)
+            if not foreign:
+                if dataset is not None and dataset != "coefficients":
+                    raise _LogFormatError(
+                        f"NPZ file '{path}' was written by modalinfo; its coefficients are "
+                        f"'coefficients', not {dataset!r}"
+                    )
                 text = _read_member(zf, names["header"])
                 if text.dtype.kind != "U" or text.shape != ():
                     raise ValueError("member 'header' is not a string")
@@ -223,26 +236,67 @@ def read_npz(path, *, mmap: bool = False, **hints) -> ModalLog:
                 for short, full in names.items():
                     arr = _mmap_member(path, zf, full) if mmap else None
                     arrays[short] = _read_member(zf, full) if arr is None else arr
-                coeffs, stored = _foreign(arrays, path)
-    return build_log(coeffs, path, stored, hints)
+                coeffs, stored = _foreign(arrays, path, dataset)
+    return build_log(coeffs, path, stored, hints, foreign=foreign)
 
 
-def _foreign(arrays: dict[str, np.ndarray], path: Path) -> tuple[np.ndarray, dict]:
+def _foreign(
+    arrays: dict[str, np.ndarray], path: Path, dataset: str | None = None
+) -> tuple[np.ndarray, dict]:
     two_d = {k: a for k, a in arrays.items() if a.ndim == 2 and a.dtype.kind in "fiu"}
-    named = [k for k in _COEFF_NAMES if k in two_d]
-    if named:
-        key = named[0]
-    elif len(two_d) == 1:
-        key = next(iter(two_d))
+    if dataset is None and not two_d:
+        per_mode = mode_arrays(arrays)
+        if per_mode is not None:  # one 1-D array per mode: z2, z3, ...
+            names, columns = per_mode
+            meta = {"source_file": path.name, "source_format": "npz"}
+            stored = {"metadata": meta}
+            stored["modes"], stored["convention"], assumed = mode_columns(names)
+            if assumed:
+                stored["_convention_assumed"] = True
+            time_arrays(arrays, stored, meta)
+            return np.column_stack([np.asarray(c, dtype=np.float64) for c in columns]), stored
+    if dataset is not None:
+        if dataset not in arrays:
+            raise _LogFormatError(
+                f"NPZ file '{path}' has no array {dataset!r}; it holds "
+                f"{', '.join(sorted(arrays)) or 'none'}"
+            )
+        if dataset not in two_d:
+            raise _LogFormatError(
+                f"NPZ file '{path}': array {dataset!r} is not a 2-D numeric array "
+                f"(shape {arrays[dataset].shape}, dtype {arrays[dataset].dtype})"
+            )
+        key = dataset
     else:
-        raise _LogFormatError(
-            f"NPZ file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric arrays "
-            f"({', '.join(sorted(arrays)) or 'none'}); expected exactly one (T, M) array"
-        )
-    stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "npz"}}
-    for name in _TIME_NAMES:
-        if name in arrays and arrays[name].ndim == 1:
-            stored["timestamps"] = arrays[name]
+        named = [k for k in _COEFF_NAMES if k in two_d]
+        if named:
+            key = named[0]
+        elif len(two_d) == 1:
+            key = next(iter(two_d))
+        else:
+            raise _LogFormatError(
+                f"NPZ file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
+                f"arrays ({', '.join(sorted(two_d)) or 'none'}); pick one with dataset= "
+                "(command line: --dataset NAME)"
+            )
+    meta: dict[str, Any] = {"source_file": path.name, "source_format": "npz"}
+    if dataset is not None:
+        meta["source_dataset"] = key
+    stored: dict[str, Any] = {"metadata": meta}
+    time_arrays(arrays, stored, meta)
+    for name in ("modes", "labels", "columns", "mode_names"):
+        names = arrays.get(name)
+        if (
+            names is not None
+            and names.ndim == 1
+            and names.dtype.kind in "USiu"
+            and names.shape[0] == two_d[key].shape[1]
+        ):
+            text = [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v)
+                    for v in names.tolist()]
+            stored["modes"], stored["convention"], assumed = mode_columns(text)
+            if assumed:
+                stored["_convention_assumed"] = True
             break
     return two_d[key], stored
 
@@ -301,4 +355,4 @@ def read_npy(path, *, mmap: bool = False, **hints) -> ModalLog:
                 coeffs = np.fromfile(fh, dtype=dtype, count=int(np.prod(shape, dtype=np.int64)))
                 coeffs = coeffs.reshape(shape, order="F" if fortran else "C")
     stored = {"metadata": {"source_file": path.name, "source_format": "npy"}}
-    return build_log(coeffs, path, stored, hints)
+    return build_log(coeffs, path, stored, hints, foreign=True)

@@ -308,7 +308,9 @@ def order_modes(
     log_or_coeffs : ModalLog or array_like, shape (T, M)
         A log (converted to radians; matched to the basis by Noll index; changed to
         K-L coefficients with the basis's change-of-basis matrix for a K-L basis) or
-        coefficients of the basis's own modes [rad].
+        coefficients of the basis's own modes [rad]. The pooled MI bootstrap
+        (``n_resamples > 0``) resamples blocks of consecutive frames, so a log whose
+        timestamps have gaps raises ``ValueError`` (use ``log.longest_segment()``).
     basis : ModalBasis or array_like, shape (n_valid, M)
         The basis (or its mode matrix on the valid pupil pixels).
     method : {"standard", "variance", "pca", "mi_marginal", "mi_greedy"}
@@ -353,6 +355,12 @@ def order_modes(
     options, n_resamples, confidence_level, block_length = _check_common(
         method, estimator_options, n_resamples, confidence_level, block_length
     )
+    if n_resamples > 0 and frame is None and str(method).startswith("mi_") and hasattr(
+        log_or_coeffs, "sampling"
+    ):
+        from modalinfo.telemetry.sampling import require_contiguous
+
+        require_contiguous(log_or_coeffs, "the block bootstrap of the MI gains (n_resamples > 0)")
     view = as_basis(basis)
     a = coefficients_in_basis(log_or_coeffs, view, wavelength=wavelength)
     n_frames, n_modes = a.shape

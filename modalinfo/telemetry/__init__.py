@@ -12,6 +12,7 @@ from modalinfo.telemetry.log import (
     ModalLog,
     summarize,
 )
+from modalinfo.telemetry.sampling import Sampling, require_contiguous, sampling_of
 from modalinfo.telemetry.units import (
     UNITS,
     peak_normalized_from_rms,
@@ -26,6 +27,9 @@ __all__ = [
     "UNITS",
     "LogSummary",
     "ModalLog",
+    "Sampling",
+    "require_contiguous",
+    "sampling_of",
     "summarize",
     "synthetic",
     "unit_scale",

@@ -836,6 +836,55 @@ class ModalLog:
         meta.update(items)
         return self._derive(_metadata=_check_metadata(meta))
 
+    # ------------------------------------------------------------------ sampling
+    def sampling(self, gap_factor: float = 1.5):
+        """Median rate, jitter and gaps of the timestamps (None without timestamps).
+
+        Parameters
+        ----------
+        gap_factor : float
+            An interval longer than ``gap_factor`` median intervals is a gap.
+
+        Returns
+        -------
+        modalinfo.telemetry.sampling.Sampling or None
+            None when the time axis comes from ``rate`` (uniform by construction) or
+            the log has no time axis.
+        """
+        from modalinfo.telemetry.sampling import sampling_of
+
+        if self._timestamps is None:
+            return None
+        return sampling_of(self._timestamps, gap_factor)
+
+    def segments(self, gap_factor: float = 1.5) -> list[tuple[int, int]]:
+        """Contiguous frame ranges ``[(start, stop), ...]`` between timestamp gaps.
+
+        A log without timestamps is one segment ``[(0, T)]``.
+        """
+        s = self.sampling(gap_factor)
+        return [(0, self.n_frames)] if s is None else s.segments
+
+    def longest_segment(self, gap_factor: float = 1.5) -> ModalLog:
+        """Return the longest run of frames without a timestamp gap (the log if none).
+
+        Returns
+        -------
+        ModalLog
+            ``log[start:stop]``; ``metadata["segment"]`` records the frames kept.
+        """
+        segs = self.segments(gap_factor)
+        if len(segs) == 1:
+            return self
+        start, stop = max(segs, key=lambda ab: ab[1] - ab[0])
+        out = self._take_frames(slice(start, stop, 1))
+        meta = dict(out._metadata)
+        meta["segment"] = (
+            f"frames {start}..{stop - 1} of {self.n_frames}: the longest of {len(segs)} "
+            "contiguous segments"
+        )
+        return out._derive(_metadata=meta)
+
     def iter_chunks(self, n_frames: int) -> Iterator[np.ndarray]:
         """Yield the coefficients in consecutive blocks of at most ``n_frames`` frames.
 
@@ -896,7 +945,7 @@ class LogSummary:
     units: str
 
 
-def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
+def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogSummary:
     """Per-mode mean, std, RMS and lag-1 autocorrelation in one chunked pass.
 
     Each chunk is reduced in two passes about its own mean and merged with Chan et
@@ -913,6 +962,10 @@ def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
     progress : callable, optional
         Called with the number of frames of each chunk once it is processed
         (e.g. ``tqdm.update``).
+    visit : callable, optional
+        Called with each raw chunk ``(n, M)`` of the coefficients, in order, before
+        it is reduced (e.g. :meth:`modalinfo.io.IntegrityCheck.update`, which
+        checksums a memory-mapped log in the same pass).
 
     Returns
     -------
@@ -932,6 +985,8 @@ def summarize(log, chunk_frames: int = 65536, progress=None) -> LogSummary:
     last = np.full(m, np.nan)
     bad = np.zeros(m, dtype=np.int64)
     for block in _row_blocks(arr, chunk_frames):
+        if visit is not None:
+            visit(block)
         chunk_stats_update(np.ascontiguousarray(block), state, last, bad)
         if progress is not None:
             progress(block.shape[0])

@@ -69,7 +69,8 @@ def test_info_foreign_npy_with_hints(tmp_path, capsys):
     np.save(tmp_path / "a.npy", np.ones((10, 2)))
     assert main(["info", str(tmp_path / "a.npy"), "--rate", "50", "--modes", "4-5", "--quiet"]) == 0
     out = capsys.readouterr().out
-    assert "50 Hz" in out and "Z4, Z5 (noll)" in out
+    # integer modes given, convention and units not: both are marked as assumed
+    assert "50 Hz" in out and "Z4, Z5 (noll, assumed)" in out and "rad (assumed)" in out
     assert main(["info", str(tmp_path / "a.npy"), "--modes", "KL1,KL2"]) == 0
     out = capsys.readouterr().out
     assert "rate        unknown (pass --rate)" in out and "KL1, KL2 (labels)" in out
@@ -90,7 +91,7 @@ def test_info_reports_repairs(tmp_path, capsys):
         (["info", "{tmp}/n.csv"], "must be finite"),
         (["info", "{tmp}/log.npz", "--rate", "5"], "hint `rate`=5.0 contradicts"),
         (["info", "{tmp}/log.npz", "--chunk-frames", "0"], "--chunk-frames must be >= 1"),
-        (["info", "{tmp}/log.npz", "--modes", "4,KL"], "--modes mixes indices and labels"),
+        (["info", "{tmp}/log.npz", "--in-modes", "4,KL"], "--in-modes mixes indices and labels"),
         (["convert", "{tmp}/log.npz", "{tmp}/log.npz"], "exists; pass overwrite=True"),
         (["convert", "{tmp}/log.npz", "{tmp}/o.xls"], "cannot tell the format"),
         (

@@ -56,7 +56,7 @@ def test_fitting_error_plot_and_table(log_path, tmp_path, capsys):
     argv = ["fitting-error", str(log_path), "--orderings",
             "zernike:standard,kl-theory:mi_greedy,zernike:mi_greedy,kl-data:pca",
             "--budget", "10000", "--pupil-pixels", "24", "--target", "0.0005",
-            "--fraction", "0.2", "--units", "waves2", "--plot", str(png)]
+            "--fraction", "0.2", "--error-units", "waves2", "--plot", str(png)]
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert png.is_file() and png.stat().st_size > 1000

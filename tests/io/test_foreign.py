@@ -26,7 +26,10 @@ def test_plain_npy_with_hints(tmp_path):
     log = load(tmp_path / "a.npy", rate=500.0, units="nm", modes=[4, 5, 6, 7], wavelength=5e-7)
     np.testing.assert_array_equal(log.coeffs, X.astype(np.float32))
     assert log.dtype == np.float32 and log.rate == 500.0 and log.modes == [4, 5, 6, 7]
-    assert log.metadata == {"source_file": "a.npy", "source_format": "npy"}
+    # integer modes without a convention: Noll indexing is assumed, and said so
+    assert log.metadata == {
+        "source_file": "a.npy", "source_format": "npy", "assumed": {"convention": "noll"}
+    }
     mm = load(tmp_path / "a.npy", mmap=True)
     assert isinstance(mm.coeffs, np.memmap) and mm.rate is None
 

@@ -1,0 +1,163 @@
+"""Rules for files written by other software: layout, relabelling hints, time axis.
+
+A file written by modalinfo describes itself completely; a *foreign* file (a bare
+array, a CSV, a FITS image, an HDF5 dataset) does not, and the reader must neither
+guess silently nor refuse what the caller states. The rules, applied by
+:func:`modalinfo.io._common.build_log`:
+
+* **Layout.** Logs are ``(T frames, M modes)``. A stored array that looks like
+  ``(M, T)`` is refused with the fix unless the file or the caller says which way
+  round it is: the hint ``transpose=True`` (read the array transposed) or
+  ``transpose=False`` (as stored), or an axis annotation in the file (FITS
+  ``CTYPE1``/``CTYPE2``, an HDF5 dataset attribute ``axes``/``dims``/
+  ``dimension_labels`` or dimension-scale labels). It looks transposed when it has
+  more columns than rows and either more than :data:`MAX_MODES` columns or at least
+  :data:`COLUMN_RATIO` times as many columns as rows (and more than
+  :data:`MIN_SUSPECT_COLUMNS`), or when a ``modes`` hint or the file's time axis has
+  one entry per *row*. Column names (a CSV header row, table columns) or a ``modes``
+  hint with one entry per column confirm the stored layout. A transposition is
+  recorded in ``metadata["layout"]``.
+* **Relabelling.** Modes and convention read from foreign column names may be
+  replaced by ``modes=`` / ``convention=`` hints (recorded in
+  ``metadata["relabelled"]``) instead of being refused as a contradiction.
+* **Time axis.** An explicit ``rate=`` wins over foreign timestamps that disagree
+  with it (recorded in ``metadata["time_axis"]``); frame-number columns become
+  times ``frame / rate`` only with a rate.
+* **Assumed values.** Every value neither read from the file nor given by the
+  caller (units ``rad``, convention ``noll``, the default modes) is listed in
+  ``metadata["assumed"]``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["MAX_MODES", "COLUMN_RATIO", "MIN_SUSPECT_COLUMNS", "orient", "axis_layout"]
+
+#: More modes than any wavefront sensor measures: such a width means frames.
+MAX_MODES = 5000
+#: Columns at least this many times the rows look like a transposed log ...
+COLUMN_RATIO = 4
+#: ... when there are more than this many columns.
+MIN_SUSPECT_COLUMNS = 64
+
+_TIME_WORDS = {"time", "times", "t", "frame", "frames", "sample", "samples", "epoch",
+               "timestamp", "timestamps", "iteration", "iterations", "step", "steps"}
+_MODE_WORDS = {"mode", "modes", "zernike", "zernikes", "coefficient", "coefficients",
+               "coeff", "coeffs", "noll", "kl", "actuator", "actuators", "index"}
+
+
+def _word(text: Any) -> str | None:
+    if isinstance(text, bytes):
+        text = text.decode("utf-8", "replace")
+    if not isinstance(text, str):
+        return None
+    key = text.strip().lower().replace("-", "").replace("_", "")
+    if key in {w.replace("_", "") for w in _TIME_WORDS}:
+        return "time"
+    if key in _MODE_WORDS:
+        return "mode"
+    return None
+
+
+def axis_layout(names: list, source: str) -> tuple[str, str] | None:
+    """Return ``(layout, reason)`` from two axis names in numpy order, else None.
+
+    ``names[0]`` labels the rows (axis 0), ``names[1]`` the columns. The layout is
+    ``"frames_first"`` or ``"modes_first"``; ``reason`` quotes ``source``.
+    """
+    if len(names) != 2:
+        return None
+    kinds = [_word(n) for n in names]
+    if kinds == ["time", "mode"]:
+        return "frames_first", source
+    if kinds == ["mode", "time"]:
+        return "modes_first", source
+    return None
+
+
+def _evidence(shape: tuple[int, int], stored: dict, hints: dict) -> str | None:
+    """Why a foreign ``(rows, cols)`` array looks transposed (None: it does not)."""
+    n_rows, n_cols = shape
+    modes = hints.get("modes")
+    if modes is not None and not isinstance(modes, str | bytes):
+        try:
+            n = len(modes)
+        except TypeError:
+            n = None
+        if n == n_cols:
+            return None  # the caller names every column: the layout is confirmed
+        if n == n_rows:
+            return f"the modes hint names {n} modes, one per row"
+    if "modes" in stored:
+        return None  # the file names its columns
+    times = stored.get("timestamps")
+    if times is None:
+        times = stored.get("_frame_numbers")
+    if times is not None and np.ndim(times) == 1:
+        if len(times) == n_rows:
+            return None
+        if len(times) == n_cols:
+            return f"its time axis has {n_cols} entries, one per column"
+    if n_cols <= n_rows:
+        return None
+    if n_cols > MAX_MODES:
+        return f"{n_cols} columns would be more modes than any wavefront sensor measures"
+    if n_cols > MIN_SUSPECT_COLUMNS and n_cols >= COLUMN_RATIO * n_rows:
+        return f"{n_cols} columns (modes) for only {n_rows} rows (frames)"
+    return None
+
+
+def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | None]:
+    """Apply the layout rule; return the ``(T, M)`` array and the metadata record.
+
+    ``stored["_layout"]`` is an annotation ``(layout, reason)`` read from the file;
+    ``hints["transpose"]`` the caller's statement. Raises ``LogFormatError`` for a
+    likely transposed array nobody vouched for, ``ValueError`` for a hint
+    contradicting the file's annotation.
+    """
+    from modalinfo.io._common import LogFormatError
+
+    transpose = hints.get("transpose")
+    if transpose is not None and not isinstance(transpose, bool | np.bool_):
+        raise TypeError(f"hint `transpose` must be a bool; got {transpose!r}.")
+    annotation = stored.get("_layout")
+    if np.ndim(coeffs) != 2:
+        return coeffs, None  # ModalLog reports the wrong dimensions
+    if annotation is not None:
+        layout, reason = annotation
+        if transpose is not None and bool(transpose) != (layout == "modes_first"):
+            raise ValueError(
+                f"hint `transpose`={bool(transpose)} contradicts '{path}', whose {reason} "
+                "says the array is stored "
+                f"{'modes x frames' if layout == 'modes_first' else 'frames x modes'}."
+            )
+        if layout == "modes_first":
+            return coeffs.T, {"stored": "modes x frames", "transposed": f"by {reason}"}
+        return coeffs, None
+    if transpose:
+        return coeffs.T, {"stored": "modes x frames", "transposed": "by the hint transpose=True"}
+    if transpose is False:
+        return coeffs, None
+    why = _evidence(coeffs.shape, stored, hints)
+    if why is not None:
+        n_rows, n_cols = coeffs.shape
+        raise LogFormatError(
+            f"'{path}' holds a {n_rows} x {n_cols} array that looks transposed (modes x "
+            f"frames): {why}; pass transpose=True (command line: --transpose) to read "
+            f"{n_cols} frames of {n_rows} modes, or transpose=False (--no-transpose) to "
+            f"keep {n_rows} frames of {n_cols} modes"
+        )
+    return coeffs, None
+
+
+def describe_modes(modes: list, convention: str) -> str:
+    """``"Z2..Z28 (noll)"``-style text for metadata records."""
+    from modalinfo.telemetry.log import ModalLog
+
+    labels = ModalLog._labels_of(list(modes), convention)  # noqa: SLF001
+    shown = labels[0] if len(labels) == 1 else f"{labels[0]}..{labels[-1]}"
+    return f"{shown} ({convention})"

@@ -1,0 +1,167 @@
+"""Sampling of a log's time axis: median rate, jitter, gaps and contiguous segments.
+
+Real loops drop frames and their clocks jitter. The *mean* rate of such timestamps
+(``(T - 1) / span``) is biased low by every gap, so a 2 kHz log with one 0.1 s gap
+in 4000 frames has a mean rate of 1.43 kHz; the median interval is robust to gaps
+and gives the nominal rate. Definitions:
+
+* ``median_interval``: median of ``diff(times)``; ``median_rate`` its inverse;
+* ``jitter``: robust spread of the intervals that are not gaps, ``1.4826 *
+  MAD(dt) / median_interval`` (the normal-consistent MAD; 0 for a uniform clock);
+* a **gap** is an interval longer than ``gap_factor`` (default 1.5) times the
+  median: at least one frame is missing there;
+* **segments** are the maximal runs of frames without a gap, ``[start, stop)``.
+
+Analyses that treat frames as equally spaced (forecasting, block bootstraps,
+sliding windows) refuse a log with gaps (:func:`require_contiguous`) and name the
+first one; :meth:`modalinfo.telemetry.ModalLog.longest_segment` gives the longest
+contiguous part.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from modalinfo._validation import check_real
+
+__all__ = ["Sampling", "sampling_of", "require_contiguous", "GAP_FACTOR"]
+
+#: An interval longer than this many median intervals is a gap.
+GAP_FACTOR = 1.5
+_MAD_TO_SIGMA = 1.482602218505602  # 1 / Phi^-1(3/4): normal-consistent MAD
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """Sampling statistics of a time axis (see the module docstring).
+
+    Attributes
+    ----------
+    n_frames : int
+        Number of frames.
+    median_interval : float
+        Median frame interval [s] (NaN with fewer than two frames).
+    median_rate : float
+        ``1 / median_interval`` [Hz].
+    mean_rate : float
+        ``(T - 1) / (t[-1] - t[0])`` [Hz], lowered by gaps.
+    jitter : float
+        Robust relative spread of the non-gap intervals (dimensionless).
+    gap_factor : float
+        Threshold used, in median intervals.
+    gap_after : numpy.ndarray of int, shape (G,)
+        Frame index ``i`` of each gap: the gap lies between frames ``i`` and ``i + 1``.
+    gap_start : numpy.ndarray, shape (G,)
+        Time of frame ``i`` [s].
+    gap_duration : numpy.ndarray, shape (G,)
+        Interval ``t[i + 1] - t[i]`` [s].
+    """
+
+    n_frames: int
+    median_interval: float
+    median_rate: float
+    mean_rate: float
+    jitter: float
+    gap_factor: float
+    gap_after: np.ndarray
+    gap_start: np.ndarray
+    gap_duration: np.ndarray
+
+    @property
+    def n_gaps(self) -> int:
+        """Number of gaps."""
+        return int(self.gap_after.size)
+
+    @property
+    def uniform(self) -> bool:
+        """True when the time axis has no gap."""
+        return self.n_gaps == 0
+
+    @property
+    def segments(self) -> list[tuple[int, int]]:
+        """Contiguous frame ranges ``[(start, stop), ...]`` between the gaps."""
+        edges = [0, *(int(i) + 1 for i in self.gap_after), self.n_frames]
+        return [(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True) if b > a]
+
+    @property
+    def longest_segment(self) -> tuple[int, int]:
+        """The longest contiguous range ``(start, stop)`` (the first of equal ones)."""
+        return max(self.segments, key=lambda ab: ab[1] - ab[0])
+
+    def describe_gap(self, k: int = 0) -> str:
+        """One-line description of gap ``k`` (0: the first)."""
+        i = int(self.gap_after[k])
+        dur = float(self.gap_duration[k])
+        return (
+            f"{dur:.6g} s ({dur / self.median_interval:.3g} sample intervals) after frame {i} "
+            f"(t = {float(self.gap_start[k]):.6g} s)"
+        )
+
+
+def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
+    """Median rate, jitter and gaps of strictly increasing ``times`` [s].
+
+    Parameters
+    ----------
+    times : array_like, shape (T,)
+        Frame times in seconds, strictly increasing.
+    gap_factor : float
+        An interval longer than ``gap_factor`` median intervals is a gap (> 1).
+
+    Returns
+    -------
+    Sampling
+        The statistics.
+    """
+    gap_factor = check_real(gap_factor, "gap_factor", minimum=1.0, strict_min=True)
+    t = np.asarray(times, dtype=np.float64)
+    if t.ndim != 1:
+        raise ValueError(f"`times` must be 1-D; got shape {t.shape}.")
+    empty = np.zeros(0, dtype=np.int64)
+    if t.size < 2:
+        nan = float("nan")
+        return Sampling(int(t.size), nan, nan, nan, nan, gap_factor, empty,
+                        np.zeros(0), np.zeros(0))
+    dt = np.diff(t)
+    median = float(np.median(dt))
+    is_gap = dt > gap_factor * median
+    gaps = np.flatnonzero(is_gap)
+    regular = dt[~is_gap]
+    jitter = float(_MAD_TO_SIGMA * np.median(np.abs(regular - np.median(regular))) / median)
+    return Sampling(
+        n_frames=int(t.size),
+        median_interval=median,
+        median_rate=1.0 / median,
+        mean_rate=float((t.size - 1) / (t[-1] - t[0])),
+        jitter=jitter,
+        gap_factor=gap_factor,
+        gap_after=gaps.astype(np.int64),
+        gap_start=t[gaps],
+        gap_duration=dt[gaps],
+    )
+
+
+def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> None:
+    """Raise ``ValueError`` if ``log``'s timestamps have a gap.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log (a log without timestamps is uniform by construction).
+    purpose : str
+        What needs uniform sampling, for the message (e.g. ``"forecast evaluation"``).
+    gap_factor : float
+        Gap threshold in median intervals.
+    """
+    s = log.sampling(gap_factor)
+    if s is None or s.uniform:
+        return
+    a, b = s.longest_segment
+    raise ValueError(
+        f"{purpose} assumes equally spaced frames but the log's timestamps have "
+        f"{s.n_gaps} gap(s), the first of {s.describe_gap(0)}; analyse the longest "
+        f"contiguous segment (frames {a}..{b - 1}) with log.longest_segment() "
+        "(command line: --split-gaps)"
+    )

@@ -1,0 +1,93 @@
+"""Median rate, jitter, gaps and segments of timestamps; analyses refusing gaps.
+
+References: NumPy's median of the intervals, scipy's ``median_abs_deviation`` with
+``scale="normal"`` for the jitter, the mean rate ``(T - 1) / span`` computed by hand,
+gaps placed by construction, and frame slices of the log for the segments.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.stats import median_abs_deviation
+
+from modalinfo.telemetry import ModalLog, require_contiguous, sampling_of
+
+
+def _gappy(n=4000, rate=2000.0, gap_at=1999, gap=0.1):
+    t = np.arange(n) / rate
+    t[gap_at + 1:] += gap
+    return t
+
+
+def test_gap_log_median_rate_and_gap():
+    t = _gappy()
+    s = sampling_of(t)
+    assert s.median_rate == pytest.approx(2000.0, rel=1e-9)
+    assert s.mean_rate == pytest.approx(3999 / (t[-1] - t[0]), rel=1e-12)
+    assert s.mean_rate < 1910  # the mean is biased by the gap; the median is not
+    assert s.n_gaps == 1 and s.gap_after.tolist() == [1999]
+    assert s.gap_duration[0] == pytest.approx(0.1005)
+    assert s.segments == [(0, 2000), (2000, 4000)]
+    assert "after frame 1999" in s.describe_gap(0)
+
+
+def test_jitter_matches_scipy_mad():
+    rng = np.random.default_rng(3)
+    dt = 1e-3 * (1 + 0.05 * rng.standard_normal(5000)).clip(0.8, 1.2)
+    t = np.concatenate([[0.0], np.cumsum(dt)])
+    s = sampling_of(t)
+    assert s.uniform
+    expected = median_abs_deviation(np.diff(t), scale="normal") / np.median(np.diff(t))
+    assert s.jitter == pytest.approx(expected, rel=1e-9)
+    assert 0.04 < s.jitter < 0.06  # the 5% clock noise put in
+
+
+def test_log_segments_and_longest_segment():
+    rng = np.random.default_rng(1)
+    x = rng.standard_normal((300, 3))
+    t = np.arange(300) / 100.0
+    t[100:] += 1.0  # gap after frame 99
+    t[250:] += 1.0  # gap after frame 249
+    log = ModalLog(x, timestamps=t)
+    assert log.segments() == [(0, 100), (100, 250), (250, 300)]
+    longest = log.longest_segment()
+    np.testing.assert_array_equal(longest.coeffs, x[100:250])
+    np.testing.assert_array_equal(longest.timestamps, t[100:250])
+    assert longest.sampling().uniform
+    assert "frames 100..249 of 300" in longest.metadata["segment"]
+    uniform = ModalLog(x, rate=100.0)
+    assert uniform.sampling() is None and uniform.segments() == [(0, 300)]
+    assert uniform.longest_segment() is uniform
+    with pytest.raises(ValueError, match=r"2 gap\(s\), the first of 1.01 s .* after frame 99"):
+        require_contiguous(log, "this analysis")
+
+
+def test_gap_factor_threshold():
+    t = np.array([0.0, 1.0, 2.0, 3.4, 4.4, 6.0])  # intervals 1, 1, 1.4, 1, 1.6
+    assert sampling_of(t).gap_after.tolist() == [4]
+    assert sampling_of(t, gap_factor=1.3).gap_after.tolist() == [2, 4]
+    with pytest.raises(ValueError, match="gap_factor"):
+        sampling_of(t, gap_factor=1.0)
+
+
+def test_forecast_and_bootstrap_refuse_gaps():
+    from modalinfo.bases import Pupil, ZernikeBasis
+    from modalinfo.forecast import LinearPredictor, evaluate
+    from modalinfo.ordering import order_modes
+
+    rng = np.random.default_rng(0)
+    x = np.cumsum(rng.standard_normal((600, 3)), axis=0) * 0.01
+    t = np.arange(600) / 1000.0
+    t[300:] += 0.05
+    log = ModalLog(x, timestamps=t)
+    with pytest.raises(ValueError, match=r"forecast evaluation assumes equally spaced frames"
+                       r".*after frame 299.*log\.longest_segment\(\)"):
+        evaluate([LinearPredictor()], log, horizons=[1])
+    ev = evaluate([LinearPredictor()], log.longest_segment(), horizons=[1])
+    assert ev.labels == ("Z2", "Z3", "Z4")
+    basis = ZernikeBasis(Pupil(16), modes=[2, 3, 4])
+    with pytest.raises(ValueError, match="block bootstrap of the MI gains"):
+        order_modes(log, basis, "mi_greedy", sample_budget=2000, n_resamples=5, seed=0)
+    res = order_modes(log, basis, "mi_greedy", sample_budget=2000, n_resamples=0, seed=0)
+    assert sorted(res.order.tolist()) == [0, 1, 2]  # frame order does not matter here
