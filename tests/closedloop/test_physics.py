@@ -166,3 +166,36 @@ def test_science_variance_equals_the_plain_numpy_pupil_variance():
     for k in (3, 7):
         plain = np.nanvar(result.snapshots[k], axis=(1, 2))
         assert result.residual_variance[k] == pytest.approx(plain * scale ** 0, rel=1e-10)
+
+
+def _budget_check(cfg, duration, every):
+    result = simulate(cfg, duration, seed=1, progress=False, budget_every=every)
+    b = result.budget
+    assert b.frames.min() >= result.closure_index
+    assert np.all(b.fitting > 0) and np.all(b.temporal > 0) and np.all(b.noise > 0)
+    # the four independent estimates add up to the residual the loop left (cross terms
+    # neglected): within 15 % in every direction
+    np.testing.assert_allclose(b.total, b.measured, rtol=0.15)
+    return result
+
+
+def test_error_budget_adds_up_small_mcao(tmp_path):
+    from closedloop import SimulationResult
+
+    from .test_loop import small
+
+    result = _budget_check(small(), 0.15, 2)
+    result.save(tmp_path / "b.h5")
+    back = SimulationResult.load(tmp_path / "b.h5").budget
+    np.testing.assert_array_equal(back.total, result.budget.total)
+    assert "sum/meas" in back.table()
+
+
+@pytest.mark.slow
+def test_error_budget_adds_up_table1_3x3():
+    from closedloop import presets
+
+    cfg = presets.get("table1")
+    cfg = cfg.replace(field=FieldConfig(size=cfg.field.size, n_points=3))
+    result = _budget_check(cfg, 0.3, 3)
+    assert result.budget.directions.shape == (9, 2)
