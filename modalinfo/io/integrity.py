@@ -128,7 +128,7 @@ def integrity_check(path, log, *, fmt: str | None = None, mmap: bool = False,
     fmt = detect_format(path) if fmt is None else fmt
     if fmt == "npy":
         return IntegrityCheck(path, "none", "NPY files carry no checksum")
-    if fmt == "fits":
+    if fmt in ("fits", "aot"):  # an AOT file is a FITS file
         from astropy.io import fits
 
         with fits.open(path, memmap=True, lazy_load_hdus=False) as hdul:
