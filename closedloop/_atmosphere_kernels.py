@@ -9,7 +9,7 @@ import numpy as np
 
 from modalinfo._numba import jit
 
-__all__ = ["add_separable_terms", "shift_separable"]
+__all__ = ["add_separable_terms", "aliased_power", "shift_separable"]
 
 
 @jit
@@ -91,3 +91,29 @@ def shift_separable(screen, row0, col0, wy, wx, work, out):
             w = wy[a]
             for j in range(n_cols):
                 dst[j] += w * src[j]
+
+
+@jit
+def aliased_power(fq, k, k0sq, orders, out):
+    """Add ``sum_{(m, n) != 0, |m|,|n| <= orders} ((fx + m k)^2 + (fy + n k)^2 + k0sq)^(-11/6)``.
+
+    ``fq`` (H,) frequencies [1/m] of the quarter lattice, ``k = 1 / dx``; ``out`` (H, H),
+    row index along ``f_y``, column index along ``f_x``; the spectrum's constant and the
+    ``r0`` factor are applied by the caller.
+    """
+    h = fq.shape[0]
+    for i in range(h):
+        fy = fq[i]
+        for j in range(i, h):  # symmetric in (fx, fy): the other triangle is a copy
+            fx = fq[j]
+            acc = 0.0
+            for m in range(-orders, orders + 1):
+                ax = fx + m * k
+                for n in range(-orders, orders + 1):
+                    if m == 0 and n == 0:
+                        continue
+                    ay = fy + n * k
+                    acc += (ax * ax + ay * ay + k0sq) ** (-11.0 / 6.0)
+            out[i, j] += acc
+            if j != i:
+                out[j, i] += acc
