@@ -469,3 +469,34 @@ def test_fft_phase_screen_validates_and_is_zero_mean():
         fft_phase_screen(64, 0.1, 0.1, levels=-1)
     with pytest.raises(ValueError, match="n_pixels"):
         fft_phase_screen(4, 0.1, 0.1)
+
+
+@pytest.mark.parametrize("outer_scale", [np.inf, 20.0])
+def test_screen_is_the_fourier_sum_of_its_terms(outer_scale):
+    # the FFT plus the grouped separable evaluation of the extra terms equals the direct
+    # sum over every term (definition in the module docstring) with the same numbers
+    from closedloop.phase_screen import _spectral_terms
+
+    g, dx, r0, seed = 32, 0.1, 0.1, 3
+    screen = fft_phase_screen(g, dx, r0, outer_scale=outer_scale, seed=seed)
+    spec = _spectral_terms(g, dx, r0, outer_scale, 5, True)
+    rng = np.random.default_rng(seed)
+    noise = rng.standard_normal((2, g, g))
+    z = rng.standard_normal((2, spec.fx.size))
+    grad = rng.standard_normal(2) * np.sqrt(spec.tail_variance)
+    coords = (np.arange(g) - g / 2) * dx
+    x, y = np.meshgrid(coords, coords)
+    f = np.fft.fftfreq(g, dx)
+    direct = np.zeros((g, g))
+    for q in range(g):  # lattice terms, one by one
+        for p in range(g):
+            c = (noise[0, q, p] + 1j * noise[1, q, p]) * spec.amplitude[q, p]
+            if c:
+                direct += np.real(c * np.exp(2j * np.pi * (f[p] * (x - coords[0])
+                                                           + f[q] * (y - coords[0]))))
+    for k in range(spec.fx.size):
+        c = (z[0, k] + 1j * z[1, k]) * np.sqrt(spec.power[k])
+        direct += np.real(c * np.exp(2j * np.pi * (spec.fx[k] * x + spec.fy[k] * y)))
+    direct += grad[0] * x + grad[1] * y
+    direct -= direct.mean()
+    np.testing.assert_allclose(screen, direct, rtol=0, atol=1e-9 * np.abs(direct).max())
