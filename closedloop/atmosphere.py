@@ -210,7 +210,7 @@ class AtmosphericLayer:
             )
         taps = 2 if self.interpolation == "bilinear" else 4
         self._taps = taps
-        self._work = np.empty((n + taps - 1, n))
+        self._work = np.empty((taps, n))
         self._t = 0.0
 
     # -- clock -----------------------------------------------------------------------

@@ -296,7 +296,7 @@ def test_shift_kernel_reproduces_polynomials(taps, degree):
         r0, c0 = 4, 6
         py, px = 5 + fy, 7 + fx
     out = np.empty((20, 20))
-    shift_separable(field, r0, c0, wy, wx, np.empty((20 + taps - 1, 20)), out)
+    shift_separable(field, r0, c0, wy, wx, np.empty((taps, 20)), out)
     yy, xx = np.mgrid[0:20, 0:20] + np.array([py, px])[:, None, None]
     expect = 0.3 * xx - 0.2 * yy + 1.0 + (0.01 * xx * xx - 0.02 * xx * yy + 0.005 * yy * yy
                                          if degree == 2 else 0.0)
@@ -304,7 +304,7 @@ def test_shift_kernel_reproduces_polynomials(taps, degree):
     # wrapped columns take the same path as contiguous ones (periodic field: sin)
     per = np.sin(2 * np.pi * 3 * x / g)
     out2 = np.empty((10, 10))
-    shift_separable(per, 3, g - 5, wy, wx, np.empty((10 + taps - 1, 10)), out2)
+    shift_separable(per, 3, g - 5, wy, wx, np.empty((taps, 10)), out2)
     ref = sum(wy[a] * wx[b] * np.roll(per, (-(3 + a), -(g - 5 + b)), axis=(0, 1))[:10, :10]
               for a in range(taps) for b in range(taps))
     np.testing.assert_allclose(out2, ref, atol=1e-12)
