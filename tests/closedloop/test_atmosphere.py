@@ -382,6 +382,7 @@ def test_atmosphere_composes_layers():
               AtmosphericLayer(32, 0.1, 0.3, velocity=(0.0, 20.0), altitude=5000.0, seed=2)]
     atm = Atmosphere(layers)
     assert atm.layers == tuple(layers) and len(atm) == 2 and atm[1] is layers[1]
+    assert atm.covered_time == min(layer.covered_time for layer in layers) >= 1.0
     atm.evolve_until(0.25)
     assert atm.t == 0.25 and all(layer.t == 0.25 for layer in layers)
     p = [layer.phase().copy() for layer in atm]
