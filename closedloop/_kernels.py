@@ -54,6 +54,11 @@ def direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights,
                 e = w * tr * tc
                 i0 = offsets[p] + (ir + r) * n + ic + lo
                 i1 = i0 + n
+                if tc == 0.0 and tr == 0.0:
+                    # whole-pixel shift (the ground plane): one read per pixel
+                    for k in range(m):
+                        row[k] += w * flat[i0 + k]
+                    continue
                 for k in range(m):
                     row[k] += (a * flat[i0 + k] + b * flat[i0 + k + 1]
                                + c * flat[i1 + k] + e * flat[i1 + k + 1])
