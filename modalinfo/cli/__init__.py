@@ -51,7 +51,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for module in _commands():
-        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        epilog = getattr(module, "EPILOG", None)  # e.g. the columns of a printed table
+        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP,
+                             epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter
+                             if epilog else argparse.HelpFormatter)
         module.add_arguments(cmd)
         cmd.set_defaults(_run=module.run)
     return parser

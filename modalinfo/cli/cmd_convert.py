@@ -1,7 +1,8 @@
 """``modalinfo convert IN OUT``: change a log's format, units or mode convention.
 
 The output format comes from OUT's extension (``.npz``, ``.csv``, ``.fits``, ``.h5``)
-or ``--to-fmt``. Writing is atomic and refuses to replace OUT without
+or ``--to-fmt`` (any other extension, ``.txt`` included, needs ``--to-fmt``, as in
+``synth``). Writing is atomic and refuses to replace OUT without
 ``--overwrite``.
 """
 
@@ -10,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from modalinfo.cli._common import add_hint_arguments, hints_from_args
+from modalinfo.cli._common import add_hint_arguments, check_log_output, hints_from_args
 
 NAME = "convert"
 HELP = "Convert a telemetry log between formats (npz/csv/fits/h5), units and conventions."
@@ -47,14 +48,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read IN, convert, write OUT."""
+    from pathlib import Path
+
     from modalinfo.io import load, save
 
+    fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     log = load(args.input, fmt=args.fmt, **hints_from_args(args))
     if args.units is not None or args.wavelength is not None:
         log = log.to_units(args.units or log.units, wavelength=args.wavelength)
     if args.convention is not None:
         log = log.to_convention(args.convention)
-    path = save(log, args.output, fmt=args.to_fmt, overwrite=args.overwrite)
+    path = save(log, args.output, fmt=fmt, overwrite=args.overwrite)
     if not args.quiet:
         sys.stdout.write(
             f"wrote {path}: {log.n_frames} frames x {log.n_modes} modes, {log.units}, "

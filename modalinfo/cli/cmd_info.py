@@ -69,19 +69,11 @@ def run(args: argparse.Namespace) -> int:
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
 
-    show_bar = not args.quiet and sys.stderr.isatty() and log.n_frames >= _PROGRESS_MIN_FRAMES
-    bar = None
-    if show_bar:
-        from tqdm import tqdm
+    from modalinfo.cli._common import progress
 
-        bar = tqdm(total=log.n_frames, unit="frame", unit_scale=True, file=sys.stderr)
-    try:
-        summary = summarize(
-            log, chunk_frames=args.chunk_frames, progress=None if bar is None else bar.update
-        )
-    finally:
-        if bar is not None:
-            bar.close()
+    with progress(args, log.n_frames, unit="frame", desc="info",
+                  min_total=_PROGRESS_MIN_FRAMES) as advance:
+        summary = summarize(log, chunk_frames=args.chunk_frames, progress=advance)
     unit = log.units
     width = max(6, *(len(label) for label in labels))
     out.write(

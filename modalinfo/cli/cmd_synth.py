@@ -14,7 +14,7 @@ import argparse
 import sys
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import check_output
+from modalinfo.cli._common import check_log_output
 
 NAME = "synth"
 HELP = "Write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)."
@@ -38,6 +38,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     parser.add_argument("--frames", type=int, default=8000,
                         help="number of frames (default: %(default)s)")
+    parser.add_argument("--to-fmt", choices=("npz", "csv", "fits", "hdf5"),
+                        help="output format (default: from OUT's extension)")
     parser.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
 
@@ -59,9 +61,9 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.telemetry.synthetic import kaos_like
 
     out = Path(args.out)
-    check_output(out, args.overwrite)  # before the generator runs, not after
+    fmt = check_log_output(out, args.overwrite, args.to_fmt)  # before the generator runs
     log = kaos_like(n_frames=args.frames, closed_loop=args.closed_loop, seed=args.seed)
-    written = save(log, out, overwrite=args.overwrite)
+    written = save(log, out, fmt=fmt, overwrite=args.overwrite)
     if not args.quiet:
         meta = log.metadata
         sys.stdout.write(

@@ -470,7 +470,7 @@ def _std_path(stds, origins, horizons):
 def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
              refit_every: int | None = None, window: int | None = None,
              level: float = 0.95, alpha: float = 0.05, keep_series: int = 5000,
-             chunk_frames: int = 8192) -> ForecastEvaluation:
+             chunk_frames: int = 8192, progress=None) -> ForecastEvaluation:
     """Rolling-origin evaluation of predictors, with no look-ahead.
 
     Parameters
@@ -498,6 +498,9 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         The log is fed to the predictors in chunks of this many frames, so memory is
         ``O(chunk_frames H M)`` plus ``O(P H N)`` for the per-origin losses of the
         skill test, whatever the log length (a ``numpy.memmap`` is read in order).
+    progress : callable, optional
+        Called as ``progress(1)`` after each predictor is fitted and run (the
+        baselines included: ``len(predictors) + 2`` calls when both are added).
 
     Returns
     -------
@@ -572,6 +575,8 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             if has_interval[i]:
                 std = _std_path(stds, idx, hs)
                 covered[i] += np.sum(np.abs(err) <= z * std, axis=(0, 2))
+        if progress is not None:
+            progress(1)
     rmse = np.sqrt(sse / n_o)                             # (P, H, M)
     coverage = np.where(has_interval[:, None], covered / (n_o * n_modes), np.nan)
     rmse_wf = np.sqrt(loss.mean(axis=2))

@@ -91,8 +91,8 @@ def test_info_reports_repairs(tmp_path, capsys):
         (["info", "{tmp}/log.npz", "--rate", "5"], "hint `rate`=5.0 contradicts"),
         (["info", "{tmp}/log.npz", "--chunk-frames", "0"], "--chunk-frames must be >= 1"),
         (["info", "{tmp}/log.npz", "--modes", "4,KL"], "--modes mixes indices and labels"),
-        (["convert", "{tmp}/log.npz", "{tmp}/log.npz"], "exists; pass overwrite=True"),
-        (["convert", "{tmp}/log.npz", "{tmp}/o.xls"], "cannot tell the format"),
+        (["convert", "{tmp}/log.npz", "{tmp}/log.npz"], "exists; pass --overwrite to replace it"),
+        (["convert", "{tmp}/log.npz", "{tmp}/o.xls"], "cannot tell the log format"),
         (
             ["convert", "{tmp}/log.npz", "{tmp}/o.csv", "--units", "nm", "--wavelength", "6e-7"],
             "differs from the wavelength",
