@@ -24,6 +24,8 @@ __all__ = [
 def _describe(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"array of shape {value.shape} and dtype {value.dtype}"
+    if isinstance(value, np.generic):
+        value = value.item()  # 0.0505, not np.float64(0.0505)
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 

@@ -70,7 +70,10 @@ def _parse_train(text: str) -> float | int:
     except ValueError:
         raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
                            f"got {text!r}") from None
-    if value >= 1 and value.is_integer() and "." not in text:
+    if value >= 1:
+        if not value.is_integer():
+            raise CommandError(f"--train must be a fraction in (0, 1) or a whole number of "
+                               f"frames; got {text}")
         return int(value)
     return value
 

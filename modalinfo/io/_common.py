@@ -300,6 +300,19 @@ def _exists_message(path: Path) -> str:
     return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
 
 
+def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
+    """Re-raise ``exc`` with the temporary file's name replaced by the target's."""
+    text = str(exc)
+    if tmp not in text and Path(tmp).name not in text:
+        raise exc
+    text = text.replace(tmp, str(path)).replace(Path(tmp).name, path.name)
+    try:
+        new = type(exc)(text)
+    except Exception:  # noqa: BLE001 - an exception type with another signature
+        raise exc from None
+    raise new from exc
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -322,17 +335,20 @@ def atomic_write(
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
     try:
-        if by_name:
-            os.close(fd)
-            os.unlink(tmp)  # libraries may refuse to write over an existing file
-            write(Path(tmp))
-            with open(tmp, "rb+") as fh:
-                os.fsync(fh.fileno())
-        else:
-            with os.fdopen(fd, "wb") as fh:
-                write(fh)
-                fh.flush()
-                os.fsync(fh.fileno())
+        try:
+            if by_name:
+                os.close(fd)
+                os.unlink(tmp)  # libraries may refuse to write over an existing file
+                write(Path(tmp))
+                with open(tmp, "rb+") as fh:
+                    os.fsync(fh.fileno())
+            else:
+                with os.fdopen(fd, "wb") as fh:
+                    write(fh)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+        except (OSError, ValueError, TypeError) as exc:
+            _rename_in_message(exc, tmp, path)  # the user knows the target, not the temp
         os.chmod(tmp, 0o644)
         if overwrite:
             os.replace(tmp, path)

@@ -88,7 +88,7 @@ def test_info_reports_repairs(tmp_path, capsys):
         (["info", "{tmp}"], "is a directory"),
         (["info", "{tmp}/bad.npz"], "corrupt NPZ file"),
         (["info", "{tmp}/n.csv"], "must be finite"),
-        (["info", "{tmp}/log.npz", "--rate", "5"], "hint `rate`=5.0 contradicts"),
+        (["info", "{tmp}/log.npz", "--rate", "5"], "hint --rate 5.0 contradicts"),
         (["info", "{tmp}/log.npz", "--chunk-frames", "0"], "--chunk-frames must be >= 1"),
         (["info", "{tmp}/log.npz", "--modes", "4,KL"], "--modes mixes indices and labels"),
         (["convert", "{tmp}/log.npz", "{tmp}/log.npz"], "exists; pass --overwrite to replace it"),
