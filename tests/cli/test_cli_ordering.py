@@ -91,7 +91,7 @@ def test_fitting_error_per_frame(log_path, capsys):
     (["fitting-error", "{log}", "--fraction", "2"], "--fraction must be in (0, 1)"),
     (["fitting-error", "missing.npz"], "does not exist"),
     (["reorder", "{log}", "--method", "pca", "--frame", "3"], "--frame cannot be used"),
-    (["reorder", "{log}", "--frame", "999999", "--pupil-pixels", "24"], "--frame must be an int <= 299; got 999999."),
+    (["reorder", "{log}", "--frame", "999999", "--pupil-pixels", "24"], "--frame must be an int"),
 ])
 def test_errors_are_one_line_exit_2(log_path, capsys, argv, message):
     argv = [a.replace("{log}", str(log_path)) for a in argv]
