@@ -251,3 +251,15 @@ def test_too_few_training_frames_names_model_needed_given(kaos, tmp_path, capsys
     assert "too few training frames (--train): ARMAPredictor needs at least 110" in err
     assert err.rstrip().endswith("got 60.")
     assert not out.exists()
+
+
+def test_readme_pandas_reads_our_csv_with_comment(kaos, tmp_path, capsys):
+    # the README's advice, checked with pandas (a statsmodels dependency) as reference
+    pandas = pytest.importorskip("pandas")
+    out = tmp_path / "k.csv"
+    assert main(["convert", str(kaos), str(out), "--quiet"]) == 0
+    assert out.read_text().startswith("# modalinfo: {")
+    frame = pandas.read_csv(out, comment="#")
+    log = load(kaos)
+    assert list(frame.columns) == list(log.labels)
+    np.testing.assert_array_equal(frame.to_numpy(), log.coeffs)
