@@ -263,3 +263,23 @@ def test_readme_pandas_reads_our_csv_with_comment(kaos, tmp_path, capsys):
     log = load(kaos)
     assert list(frame.columns) == list(log.labels)
     np.testing.assert_array_equal(frame.to_numpy(), log.coeffs)
+
+
+@pytest.mark.parametrize("command", ["synth", "convert"])
+def test_progress_bar_for_big_synth_and_convert(kaos, tmp_path, capsys, monkeypatch, command):
+    from modalinfo.cli import cmd_convert, cmd_synth
+
+    # thresholds lowered so that the small test log counts as big
+    monkeypatch.setattr(cmd_synth, "_PROGRESS_MIN_FRAMES", 10)
+    monkeypatch.setattr(cmd_convert, "_PROGRESS_MIN_BYTES", 0)
+    argv = (["synth", "{out}", "--frames", "100"] if command == "synth"
+            else ["convert", str(kaos), "{out}"])
+    assert main([a.format(out=tmp_path / "a.npz") for a in argv]) == 0   # piped: no bar
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    assert main([a.format(out=tmp_path / "b.npz") for a in argv]) == 0
+    assert f"{command}:" in capsys.readouterr().err
+    assert main([a.format(out=tmp_path / "c.npz") for a in argv] + ["--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    np.testing.assert_array_equal(load(tmp_path / "a.npz").coeffs,
+                                  load(tmp_path / "c.npz").coeffs)
