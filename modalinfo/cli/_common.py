@@ -7,8 +7,7 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 
-__all__ = ["add_hint_arguments", "parse_modes", "hints_from_args", "check_output", "load_log",
-           "check_log_output", "check_figure_output", "progress", "LOG_SUFFIXES"]
+__all__ = ["add_hint_arguments", "parse_modes", "hints_from_args", "check_output", "load_log"]
 
 
 def add_hint_arguments(
@@ -111,6 +110,8 @@ def check_output(
     if path.exists() and not overwrite:
         raise CommandError(f"{flag} '{path}' exists; pass --overwrite to replace it")
 
+
+__all__ += ["check_log_output", "check_figure_output", "progress", "LOG_SUFFIXES"]
 
 #: Extensions a log is written to (one rule for ``synth`` and ``convert``): other
 #: extensions, ``.txt`` included, need ``--to-fmt``.

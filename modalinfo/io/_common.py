@@ -300,6 +300,14 @@ def _exists_message(path: Path) -> str:
     return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
 
 
+def _renamed(write: Callable[[Any], None], target: Any, tmp: str, path: Path) -> None:
+    """Call ``write(target)``; an error naming the temporary file names ``path`` instead."""
+    try:
+        write(target)
+    except (OSError, ValueError, TypeError) as exc:  # the user knows the target, not the temp
+        _rename_in_message(exc, tmp, path)
+
+
 def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
     """Re-raise ``exc`` with the temporary file's name replaced by the target's."""
     text = str(exc)
@@ -335,20 +343,17 @@ def atomic_write(
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
     try:
-        try:
-            if by_name:
-                os.close(fd)
-                os.unlink(tmp)  # libraries may refuse to write over an existing file
-                write(Path(tmp))
-                with open(tmp, "rb+") as fh:
-                    os.fsync(fh.fileno())
-            else:
-                with os.fdopen(fd, "wb") as fh:
-                    write(fh)
-                    fh.flush()
-                    os.fsync(fh.fileno())
-        except (OSError, ValueError, TypeError) as exc:
-            _rename_in_message(exc, tmp, path)  # the user knows the target, not the temp
+        if by_name:
+            os.close(fd)
+            os.unlink(tmp)  # libraries may refuse to write over an existing file
+            _renamed(write, Path(tmp), tmp, path)
+            with open(tmp, "rb+") as fh:
+                os.fsync(fh.fileno())
+        else:
+            with os.fdopen(fd, "wb") as fh:
+                _renamed(write, fh, tmp, path)
+                fh.flush()
+                os.fsync(fh.fileno())
         os.chmod(tmp, 0o644)
         if overwrite:
             os.replace(tmp, path)
