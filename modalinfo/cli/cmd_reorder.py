@@ -108,9 +108,12 @@ def run(args: argparse.Namespace) -> int:
     if args.stability is not None:
         from modalinfo.ordering import ordering_stability
 
-        stab = ordering_stability(log, basis, args.method, window=args.stability,
-                                  seeds=(0, 1, 2), estimator=args.estimator,
-                                  sample_budget=args.budget)
+        n_orders = log.n_frames // max(args.stability, 1) + 3  # windows, then 3 seeds
+        steps = n_orders * (basis.n_modes - 1) if args.method.startswith("mi_") else 0
+        with progress(args, steps, desc="stability") as advance:
+            stab = ordering_stability(log, basis, args.method, window=args.stability,
+                                      seeds=(0, 1, 2), estimator=args.estimator,
+                                      sample_budget=args.budget, progress=advance)
         print(stab.summary())
     if args.out is not None:
         result.to_json(args.out, overwrite=args.overwrite)

@@ -143,15 +143,17 @@ def test_a_failed_write_names_the_target_not_the_temporary_file(tmp_path):
 
 
 # ---------------------------------------------------------------- progress bars
-@pytest.mark.parametrize("argv", [
-    ["forecast", "{log}", "--predictors", "linear", "--horizon", "2"],
-    ["reorder", "{log}", "--budget", "2000", "--resamples", "2", "--pupil-pixels", "16"],
-    ["fitting-error", "{log}", "--orderings", "zernike:standard,zernike:variance",
-     "--pupil-pixels", "16"],
+@pytest.mark.parametrize(("argv", "desc"), [
+    (["forecast", "{log}", "--predictors", "linear", "--horizon", "2"], "forecast:"),
+    (["reorder", "{log}", "--budget", "2000", "--resamples", "2", "--pupil-pixels", "16"],
+     "reorder:"),
+    (["reorder", "{log}", "--budget", "2000", "--resamples", "0", "--pupil-pixels", "16",
+      "--stability", "200"], "stability:"),
+    (["fitting-error", "{log}", "--orderings", "zernike:standard,zernike:variance",
+      "--pupil-pixels", "16"], "fitting-error:"),
 ])
-def test_progress_bar_on_a_terminal_only(kaos, capsys, monkeypatch, argv):
+def test_progress_bar_on_a_terminal_only(kaos, capsys, monkeypatch, argv, desc):
     argv = [a.format(log=kaos) for a in argv]
-    desc = argv[0] + ":"
     assert main(argv) == 0                               # piped (captured): no bar
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
