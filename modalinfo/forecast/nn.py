@@ -22,9 +22,10 @@ Configurations
   1.13-1.18 with ``alpha = 1`` against 0.99-1.09 with ``alpha = 1e-4`` (over-fitting),
   and 5x faster training. L-BFGS stops at ``max_iter = 100`` iterations (early
   stopping; it was 500): on the same 6 modes the one-step gain is 1.157 against 1.139
-  with 500, and training 15x faster (2.7 s against 41.9 s on a loaded 2-core machine);
-  on all 27 modes of the 8000-frame log (``modalinfo forecast``'s default split) the
-  NN took 44 s against 212 s, gains 1.167 / 1.148 at h = 1.
+  with 500, and the evaluation 7.3x faster (5.9 s against 43.1 s on a loaded 2-core
+  machine, ``benchmarks/bench_forecast_nn.py``); on all 27 modes of the 8000-frame log
+  (``modalinfo forecast``'s default split) the NN took 44 s against 212 s, gains
+  1.167 / 1.148 at h = 1.
 
 ``ConvergenceWarning`` from scikit-learn (L-BFGS stopping at ``max_iter``) is caught
 during training and recorded in ``converged_`` instead of being raised: a network
