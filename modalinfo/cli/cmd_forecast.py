@@ -113,6 +113,9 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         if args.out.exists() and not args.out.is_dir():
             raise CommandError(f"--out '{args.out}' exists and is not a directory")
+        if not args.out.exists() and args.out.suffix.lower() in (".json", ".csv", ".png"):
+            raise CommandError(f"--out '{args.out}' names a file; --out takes a directory "
+                               f"(it receives {', '.join(OUTPUTS)})")
         clash = [n for n in OUTPUTS if (args.out / n).exists()]
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "

@@ -53,6 +53,8 @@ def _never(*args, **kwargs):
      "cannot tell the log format from the extension '.txt'"),
     (["convert", "{log}", "{tmp}/x.txt"], "modalinfo.io.load", "OUT",
      "cannot tell the log format from the extension '.txt'"),
+    (["forecast", "{log}", "--out", "{tmp}/r.json"], "modalinfo.io.load", "--out",
+     "names a file; --out takes a directory"),
     (["convert", "{log}", "{tmp}/x.npz", "--overwrite", "--to-fmt", "csv", "--units", "nm"],
      None, None, None),
 ])
