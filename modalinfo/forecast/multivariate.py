@@ -89,11 +89,13 @@ class MultivariatePredictor(Predictor):
         if keep.any():
             B[np.ix_(keep, ~constant)] = np.linalg.solve(
                 Greg[np.ix_(keep, keep)], (Z.T @ Y)[np.ix_(keep, ~constant)])
-        if not keep.all():  # the lag rows of a constant mode: the identity of the RLS gain
+        if not keep.all():
+            # decouple the lags of constant modes in the Gram matrix the RLS starts from:
+            # their regressors are 0, so any positive diagonal leaves their weights at 0
             drop = np.flatnonzero(~keep)
             Greg[drop, :] = 0.0
             Greg[:, drop] = 0.0
-            Greg[drop, drop] = max(lam, 1.0) if keep.any() else 1.0
+            Greg[drop, drop] = 1.0
         coef = np.ascontiguousarray(B.reshape(order, n_modes, n_modes))
         return mu, coef, Greg, Z.shape[0]
 
