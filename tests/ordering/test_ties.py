@@ -7,7 +7,9 @@ tip and tilt coefficients (defocus and Z5 ~ xy are symmetric under the swap), th
 at step 1 is the same number, so the margin is exactly 0 and its bootstrap interval,
 symmetric about 0 in distribution, reaches 0 (a tie). A mode with four times the
 variance of the next wins by a margin many bootstrap spreads wide (no tie). The
-footnote test builds a result whose gain lies outside its interval by hand.
+footnote test builds a result whose gain lies outside its interval by hand. The slow
+test checks the rate of ties over data seeds for independent equal-variance modes (a
+coin-flip order by construction) against a binomial bound.
 """
 
 import numpy as np
