@@ -17,12 +17,15 @@ __all__ = [
     "check_real",
     "check_choice",
     "check_rng",
+    "check_square_range",
 ]
 
 
 def _describe(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"array of shape {value.shape} and dtype {value.dtype}"
+    if isinstance(value, np.generic):
+        value = value.item()  # 0.0505, not np.float64(0.0505)
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
@@ -167,3 +170,52 @@ def check_rng(seed: Any, name: str = "seed") -> np.random.Generator:
     if isinstance(seed, numbers.Integral) and seed < 0:
         raise ValueError(f"`{name}` must be a non-negative int; got {seed}.")
     return np.random.default_rng(seed)
+
+
+def check_square_range(
+    data: np.ndarray, name: str, labels=None, *, n_terms: int | None = None
+) -> None:
+    """Refuse columns whose sums of squares would overflow float64.
+
+    Variances, least-squares fits and fitting errors sum squares and cross products
+    of (centred) values over the rows and columns; a column with values beyond
+    ``sqrt(float64 max / (4 n_terms))`` can overflow them, which shows up as
+    ``inf``/``NaN`` results and RuntimeWarnings far from the cause. This names the
+    first such column and the fix instead.
+
+    Parameters
+    ----------
+    data : numpy.ndarray, shape (T, M)
+        Finite values.
+    name : str
+        Argument name used in the message.
+    labels : sequence of str, optional
+        Column labels (mode names) used in the message; default ``column k``.
+    n_terms : int, optional
+        Number of squared terms summed (default ``T x M``).
+
+    Raises
+    ------
+    ValueError
+        Naming the column, its largest magnitude and the limit.
+    """
+    arr = data if isinstance(data, np.ndarray) else np.asarray(data)
+    if arr.size == 0:
+        return
+    arr2 = arr.reshape(arr.shape[0], -1)
+    terms = arr2.size if n_terms is None else max(int(n_terms), 1)
+    limit = float(np.sqrt(np.finfo(np.float64).max / (4.0 * terms)))
+    peak = np.zeros(arr2.shape[1])
+    for start in range(0, arr2.shape[0], 65536):  # chunks: a memory map stays on disk
+        block = np.abs(arr2[start : start + 65536])
+        peak = np.maximum(peak, block.max(axis=0))  # NaN propagates: refused below
+    bad = np.flatnonzero(~(peak <= limit))
+    if bad.size:
+        k = int(bad[0])
+        column = f"mode {labels[k]}" if labels is not None else f"column {k}"
+        more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+        raise ValueError(
+            f"`{name}`: {column}{more} reaches {float(peak[k]):.3g}, beyond {limit:.3g}, "
+            "where its sums of squares overflow float64; rescale the data (e.g. convert "
+            "it to smaller units) before this analysis."
+        )

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import pkgutil
+import re
 import sys
 
 __all__ = ["main", "CommandError"]
@@ -31,6 +32,47 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # noqa: D102
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(2)
+
+
+#: library argument names (as written in messages, between backticks) -> what the user
+#: typed or sees on the command line
+_WORDS = {
+    "sample_budget": "--budget", "n_resamples": "--resamples", "n_pixels": "--pupil-pixels",
+    "outer_scale": "--outer-scale", "chunk_frames": "--chunk-frames",
+    "refit_every": "--refit-every", "horizons": "--horizon", "horizon": "--horizon",
+    "train": "--train", "window": "--window", "frame": "--frame", "seed": "--seed",
+    "rate": "--rate", "wavelength": "--wavelength", "stability": "--stability",
+    "history": "the training frames (--train)", "log": "the log", "coeffs": "the data",
+    "log_or_coeffs": "the log", "timestamps": "the timestamps", "fmt": "--fmt",
+}
+_REWRITES = (
+    (re.compile(r"`history` needs at least (\d+) samples along axis 0 for (\w+)"),
+     r"too few training frames (--train): \2 needs at least \1"),
+    # "pass nonfinite='drop' or 'interpolate'" -> "use --nonfinite drop or interpolate"
+    (re.compile(r"pass nonfinite='(\w+)' or '(\w+)'"), r"use --nonfinite \1 or --nonfinite \2"),
+    (re.compile(r"pass overwrite=True(?: \(command line: --overwrite\))?"), "pass --overwrite"),
+    (re.compile(r"pass fmt="), "pass --to-fmt"),
+    (re.compile(r"max\(horizons\) \+ 1"), "--horizon + 1"),
+    # hint `rate`=2000.0 -> --rate 2000
+    (re.compile(r"hint `(\w+)`="), lambda m: f"hint {_WORDS.get(m.group(1), m.group(1))} "),
+    (re.compile(r"`(\w+)(\.coeffs)?`"), lambda m: _WORDS.get(m.group(1), m.group(0))),
+    # numpy scalar reprs: np.float64(0.0505) -> 0.0505
+    (re.compile(r"np\.(?:float|int|uint)\d*\(([-+0-9.eE]+|nan|inf)\)"),
+     lambda m: f"{float(m.group(1)):g}"),
+)
+
+
+def cli_words(message: str) -> str:
+    """Say a library error message in command-line terms.
+
+    Library messages name Python arguments (`` `sample_budget` ``,
+    ``nonfinite='drop'``, ``overwrite=True``) and may show numpy scalar reprs; on
+    the command line the user typed flags and numbers, so those are rewritten
+    (``--budget``, ``--nonfinite drop``, ``--overwrite``, ``0.0505``).
+    """
+    for pattern, repl in _REWRITES:
+        message = pattern.sub(repl, message)
+    return message
 
 
 def _commands():
@@ -51,7 +93,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for module in _commands():
-        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        epilog = getattr(module, "EPILOG", None)  # e.g. the columns of a printed table
+        cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP,
+                             epilog=epilog, formatter_class=argparse.RawDescriptionHelpFormatter
+                             if epilog else argparse.HelpFormatter)
         module.add_arguments(cmd)
         cmd.set_defaults(_run=module.run)
     return parser
@@ -79,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        sys.stderr.write(f"modalinfo {args.command}: error: {message}\n")
+        sys.stderr.write(f"modalinfo {args.command}: error: {cli_words(message)}\n")
         return 2
     except KeyboardInterrupt:
         sys.stderr.write("modalinfo: interrupted\n")

@@ -157,14 +157,99 @@ def hints_from_args(args: argparse.Namespace) -> dict:
     return {k: v for k, v in hints.items() if v is not None}
 
 
-def check_output(path: Path | None, overwrite: bool) -> None:
-    """Refuse an existing output unless ``--overwrite``; the directory must exist."""
+def check_output(
+    path: Path | None, overwrite: bool, *, suffixes: tuple[str, ...] | None = None,
+    flag: str = "output",
+) -> None:
+    """Check an output before any work: its extension, its directory, no overwrite.
+
+    Every command writing a file calls this (or :func:`check_log_output` /
+    :func:`check_figure_output`) before it loads or computes anything, so a bad
+    output path costs nothing. ``suffixes`` lists the accepted extensions
+    (lower case, with the dot); ``flag`` names the option in the message.
+    """
     if path is None:
         return
-    if path.exists() and not overwrite:
-        raise CommandError(f"output '{path}' exists; pass --overwrite to replace it")
+    path = Path(path)
+    if suffixes is not None and path.suffix.lower() not in suffixes:
+        raise CommandError(f"{flag} '{path}': unsupported extension "
+                           f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
+    if path.is_dir():
+        raise CommandError(f"{flag} '{path}' is a directory; give a file name")
     if not path.parent.exists():
-        raise CommandError(f"output directory '{path.parent}' does not exist")
+        raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
+    if path.exists() and not overwrite:
+        raise CommandError(f"{flag} '{path}' exists; pass --overwrite to replace it")
+
+
+__all__ += ["check_log_output", "check_figure_output", "progress", "LOG_SUFFIXES"]
+
+#: Extensions a log is written to (one rule for ``synth`` and ``convert``): other
+#: extensions, ``.txt`` included, need ``--to-fmt``.
+LOG_SUFFIXES = {".npz": "npz", ".csv": "csv", ".fits": "fits", ".fit": "fits",
+                ".fts": "fits", ".h5": "hdf5", ".hdf5": "hdf5"}
+
+
+def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "OUT") -> str:
+    """Check a log output before any work; return its format (``--to-fmt`` or extension)."""
+    path = Path(path)
+    if fmt is None:
+        fmt = LOG_SUFFIXES.get(path.suffix.lower())
+        if fmt is None:
+            raise CommandError(
+                f"{flag} '{path}': cannot tell the log format from the extension "
+                f"'{path.suffix or '(none)'}'; use {', '.join(LOG_SUFFIXES)} or pass "
+                "--to-fmt (npz, csv, fits, hdf5, aot)")
+    check_output(path, overwrite, flag=flag)
+    return fmt
+
+
+def check_figure_output(path: Path | None, overwrite: bool, flag: str = "--plot") -> None:
+    """Check a figure output before any work (extension one matplotlib writes)."""
+    if path is None:
+        return
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    kinds = tuple(f".{k}" for k in sorted(FigureCanvasBase.get_supported_filetypes()))
+    check_output(path, overwrite, suffixes=kinds, flag=flag)
+
+
+class _Progress:
+    """A tqdm bar on stderr (a terminal, not ``--quiet``), or nothing; see :func:`progress`."""
+
+    def __init__(self, bar):
+        self.bar = bar
+
+    def __call__(self, n: int = 1) -> None:
+        if self.bar is not None:
+            self.bar.update(n)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def progress(args: argparse.Namespace, total: int, *, unit: str = "step",
+             desc: str | None = None, min_total: int = 1) -> _Progress:
+    """Return a callable ``advance(n=1)`` for the library's ``progress=`` hooks.
+
+    It drives a tqdm bar on stderr when stderr is a terminal, ``--quiet`` is not
+    given and ``total >= min_total``; otherwise it does nothing (piped output stays
+    clean). Use it as a context manager so the bar is closed.
+    """
+    import sys
+
+    show = (not getattr(args, "quiet", False) and sys.stderr.isatty()
+            and total >= min_total)
+    if not show:
+        return _Progress(None)
+    from tqdm import tqdm
+
+    return _Progress(tqdm(total=total, unit=unit, desc=desc, file=sys.stderr,
+                          unit_scale=unit == "frame", leave=False))
 
 
 _HINT_OF = {"units": "--in-units", "convention": "--in-convention", "modes": "--in-modes"}

@@ -1,8 +1,9 @@
 """``modalinfo convert IN OUT``: change a log's format, units or mode convention.
 
 The output format comes from OUT's extension (``.npz``, ``.csv``, ``.fits``, ``.h5``)
-or ``--to-fmt`` (``aot`` writes an AO Telemetry file). Writing is atomic and refuses
-to replace OUT without ``--overwrite``.
+or ``--to-fmt`` (``aot`` writes an AO Telemetry file; any other extension, ``.txt``
+included, needs ``--to-fmt``, as in ``synth``). Writing is atomic and refuses to replace
+OUT without ``--overwrite``.
 
 ``--units`` and ``--convention`` are the OUTPUT units and convention (the input's are
 the hints ``--in-units``/``--in-convention``, as in every command). A conversion of
@@ -17,10 +18,19 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, hints_from_args, input_notes, queue_notes
+from modalinfo.cli._common import (
+    add_hint_arguments,
+    check_log_output,
+    hints_from_args,
+    input_notes,
+    progress,
+    queue_notes,
+)
 
 NAME = "convert"
+
 HELP = "Convert a telemetry log between formats (npz/csv/fits/h5), units and conventions."
+_PROGRESS_MIN_BYTES = 16 * 2**20  # a bar (load, convert, write) from 16 MiB: seconds of work
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -50,7 +60,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="output format (default: ext; aot: an AO Telemetry file, give it explicitly)"
     )
     parser.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
-    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+    parser.add_argument("--quiet", action="store_true",
+                        help="print nothing on success (and no progress bar)")
     add_hint_arguments(parser, wavelength=False)
 
 
@@ -58,24 +69,31 @@ def run(args: argparse.Namespace) -> int:
     """Read IN, convert, write OUT."""
     from modalinfo.io import load, save
 
-    log = load(args.input, fmt=args.fmt, dataset=args.dataset, **hints_from_args(args))
-    assumed = log.metadata.get("assumed")
-    if (
-        args.units is not None
-        and isinstance(assumed, dict)
-        and "units" in assumed
-        and args.units != log.units
-    ):
-        raise CommandError(
-            f"--units {args.units}: '{args.input}' does not record the units of its "
-            "coefficients; give them with --in-units (rad, nm, um or waves)"
-        )
-    queue_notes(args, input_notes(log, Path(args.input)))  # a warning: even with --quiet
-    if args.units is not None or args.wavelength is not None:
-        log = log.to_units(args.units or log.units, wavelength=args.wavelength)
-    if args.convention is not None:
-        log = log.to_convention(args.convention)
-    path = save(log, args.output, fmt=args.to_fmt, overwrite=args.overwrite)
+    fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
+    source = Path(args.input)
+    big = source.is_file() and source.stat().st_size >= _PROGRESS_MIN_BYTES
+    with progress(args, 3 if big else 0, unit="stage", desc="convert") as advance:
+        log = load(args.input, fmt=args.fmt, dataset=args.dataset, **hints_from_args(args))
+        advance(1)
+        assumed = log.metadata.get("assumed")
+        if (
+            args.units is not None
+            and isinstance(assumed, dict)
+            and "units" in assumed
+            and args.units != log.units
+        ):
+            raise CommandError(
+                f"--units {args.units}: '{args.input}' does not record the units of its "
+                "coefficients; give them with --in-units (rad, nm, um or waves)"
+            )
+        queue_notes(args, input_notes(log, Path(args.input)))  # a warning: even with --quiet
+        if args.units is not None or args.wavelength is not None:
+            log = log.to_units(args.units or log.units, wavelength=args.wavelength)
+        if args.convention is not None:
+            log = log.to_convention(args.convention)
+        advance(1)
+        path = save(log, args.output, fmt=fmt, overwrite=args.overwrite)
+        advance(1)
     if not args.quiet:
         sys.stdout.write(
             f"wrote {path}: {log.n_frames} frames x {log.n_modes} modes, {log.units}, "

@@ -14,7 +14,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import _Renamed, check_output, load_log
+from modalinfo.cli._common import _Renamed, check_figure_output, load_log
 from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis
 
 NAME = "fitting-error"
@@ -42,9 +42,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute the curves, print the table, draw the plot."""
+    from modalinfo.cli._common import progress
     from modalinfo.ordering.compare import compare_orderings, parse_specs, plot_comparison
 
-    check_output(args.plot, args.overwrite)
+    check_figure_output(args.plot, args.overwrite)
     specs = parse_specs(args.orderings)
     if args.target is not None and args.target < 0:
         raise CommandError(f"--target must be >= 0; got {args.target}")
@@ -52,11 +53,12 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     log = load_log(args.log, args)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
-    comp = compare_orderings(
-        log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
-        sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
-        outer_scale=args.outer_scale, bases=bases,
-    )
+    with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:
+        comp = compare_orderings(
+            log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
+            sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
+            outer_scale=args.outer_scale, bases=bases, progress=advance,
+        )
     targets = [args.target] if args.target is not None else []
     fractions = [args.fraction] if args.fraction is not None else []
     print(comp.table(targets=targets, fractions=fractions))

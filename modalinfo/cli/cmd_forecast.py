@@ -56,7 +56,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write JSON, CSV and plots into DIR (created if missing)")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace existing output files")
-    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+    parser.add_argument("--skip-constant", action="store_true",
+                        help="leave out modes constant over the training frames (a zeroed "
+                        "or dead mode); by default they are kept and every predictor "
+                        "forecasts them as that constant (exact, as persistence)")
+    parser.add_argument("--quiet", action="store_true",
+                        help="print nothing on success (and no progress bar)")
     add_hint_arguments(parser)
     add_gap_argument(parser)
 
@@ -67,7 +72,10 @@ def _parse_train(text: str) -> float | int:
     except ValueError:
         raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
                            f"got {text!r}") from None
-    if value >= 1 and value.is_integer() and "." not in text:
+    if value >= 1:
+        if not value.is_integer():
+            raise CommandError(f"--train must be a fraction in (0, 1) or a whole number of "
+                               f"frames; got {text}")
         return int(value)
     return value
 
@@ -84,6 +92,18 @@ def _parse_predictors(text: str) -> dict:
     return chosen
 
 
+def _constant_modes(log, train: float | int, horizon: int) -> list[str]:
+    """Labels of the modes constant over the training frames (the predictors' rule)."""
+    import numpy as np
+
+    from modalinfo.forecast.base import Predictor
+
+    n_train = train if isinstance(train, int) else int(round(train * log.n_frames))
+    n_train = min(max(n_train, 1), log.n_frames)
+    constant = Predictor._constant_columns(np.asarray(log.coeffs[:n_train]))[0]
+    return [label for label, c in zip(log.labels, constant, strict=True) if c]
+
+
 def run(args: argparse.Namespace) -> int:
     """Evaluate, print the table, write the outputs; return 0."""
     from modalinfo.cli._common import load_log, parse_modes
@@ -95,6 +115,9 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         if args.out.exists() and not args.out.is_dir():
             raise CommandError(f"--out '{args.out}' exists and is not a directory")
+        if not args.out.exists() and args.out.suffix.lower() in (".json", ".csv", ".png"):
+            raise CommandError(f"--out '{args.out}' names a file; --out takes a directory "
+                               f"(it receives {', '.join(OUTPUTS)})")
         clash = [n for n in OUTPUTS if (args.out / n).exists()]
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
@@ -103,17 +126,29 @@ def run(args: argparse.Namespace) -> int:
     log = split_gaps(log, args, args.log, "forecasting")
     if args.modes is not None:
         log = log.select(modes=parse_modes(args.modes))
+    skipped = _constant_modes(log, train, args.horizon) if args.skip_constant else []
+    if skipped:
+        if len(skipped) == log.n_modes:
+            raise CommandError(f"--skip-constant: every mode is constant over the "
+                               f"training frames ({', '.join(skipped)}); nothing to forecast")
+        log = log.drop_modes(skipped)
 
     import matplotlib
 
     matplotlib.use("Agg")
+    from modalinfo.cli._common import progress
     from modalinfo.forecast import evaluate
 
-    ev = evaluate(predictors, log, train=train, horizons=range(1, args.horizon + 1),
-                  refit_every=args.refit_every, window=args.window)
+    n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
+    with progress(args, n_pred, unit="predictor", desc="forecast") as advance:
+        ev = evaluate(predictors, log, train=train, horizons=range(1, args.horizon + 1),
+                      refit_every=args.refit_every, window=args.window, progress=advance)
     if not args.quiet:
         sys.stdout.write(f"{args.log.name}: {log.n_frames} frames x {log.n_modes} modes "
                          f"({', '.join(ev.labels)})\n")
+        if skipped:
+            sys.stdout.write(f"skipped constant mode(s) (--skip-constant): "
+                             f"{', '.join(skipped)}\n")
         sys.stdout.write(ev.summary() + "\n")
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)

@@ -109,21 +109,13 @@ def run(args: argparse.Namespace) -> int:
         out.write("\nthe file's modes against our Zernikes (x along columns, y along rows):\n")
         out.write(ident.table() + "\n")
 
-    show_bar = not args.quiet and sys.stderr.isatty() and log.n_frames >= _PROGRESS_MIN_FRAMES
-    bar = None
-    if show_bar:
-        from tqdm import tqdm
+    from modalinfo.cli._common import progress
 
-        bar = tqdm(total=log.n_frames, unit="frame", unit_scale=True, file=sys.stderr)
     check = integrity_check(args.log, log, fmt=args.fmt, mmap=not args.no_mmap)
-    try:
-        summary = summarize(
-            log, chunk_frames=args.chunk_frames, progress=None if bar is None else bar.update,
-            visit=check.update,
-        )
-    finally:
-        if bar is not None:
-            bar.close()
+    with progress(args, log.n_frames, unit="frame", desc="info",
+                  min_total=_PROGRESS_MIN_FRAMES) as advance:
+        summary = summarize(log, chunk_frames=args.chunk_frames, progress=advance,
+                            visit=check.update)
     check.finish()  # a checksum skipped by memory mapping is verified in the same pass
     out.write(f"integrity   {check.describe()}\n")
     unit = log.units

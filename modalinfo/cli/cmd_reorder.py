@@ -43,6 +43,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
                         help="outer scale of the theoretical K-L in metres "
                              "(default: from the log's metadata, else infinite)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing outputs")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     add_hint_arguments(parser)
 
 
@@ -79,32 +80,56 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_gap_argument(parser)
 
 
+EPILOG = """\
+columns of the table:
+  step     rank in the order (1 = most important); '~' before it: this rank is within
+           noise of the rank above (the bootstrap interval of the margin by which the
+           rank above won reaches 0), so their order is not determined
+  score    I(Phi_ref; a_k Z_k): MI of the wavefront with this mode alone [nats]
+           (mean-square coefficient [rad^2] for --method variance/pca)
+  MI       I(Phi_ref; sum of the modes up to this step) [nats]
+  gain     the MI this step adds [nats]; the last step completes Phi_ref (nan)
+  gain CI  bootstrap percentile interval of the gain (--resamples replicates, order
+           held fixed); '*': the gain lies outside it, because the MI estimator's
+           bias shifts every replicate the same way (the interval shows the spread)
+"""
+
+
 def run(args: argparse.Namespace) -> int:
     """Order the basis, print the table, write the JSON."""
+    from modalinfo.cli._common import progress
     from modalinfo.ordering import order_modes
     from modalinfo.ordering.compare import basis_for_log
 
-    check_output(args.out, args.overwrite)
+    check_output(args.out, args.overwrite, suffixes=(".json",), flag="--out")
+    if args.frame is not None and args.method == "pca":
+        raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
+    if args.stability is not None and (args.method == "pca" or args.frame is not None):
+        raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
     log = load_log(args.log, args)
     blocks = args.method.startswith("mi_") and args.frame is None and args.resamples > 0
     if blocks or args.stability is not None or args.split_gaps:
         log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
-    if args.frame is not None and args.method == "pca":
-        raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
     if args.basis == "file":
         basis = file_basis(args, log)
     else:
         basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
                               outer_scale=args.outer_scale)
-    result = order_modes(
-        log, basis, args.method, estimator=args.estimator, frame=args.frame,
-        sample_budget=args.budget, seed=args.seed, n_resamples=args.resamples,
-    )
+    steps = basis.n_modes - 1 + args.resamples if args.method.startswith("mi_") else 0
+    with progress(args, steps, desc="reorder") as advance:
+        result = order_modes(
+            log, basis, args.method, estimator=args.estimator, frame=args.frame,
+            sample_budget=args.budget, seed=args.seed, n_resamples=args.resamples,
+            progress=advance,
+        )
     where = "pooled over all frames" if result.pooled else f"frame {result.frame}"
     print(f"{args.basis} basis, {args.method} order ({where}"
           + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
              if result.mi is not None else "") + ")")
+    print(result.legend())
     print(result.table())
+    for note in result.notes():
+        print(note)
     if result.gain_low is not None:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
               f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
@@ -112,11 +137,12 @@ def run(args: argparse.Namespace) -> int:
     if args.stability is not None:
         from modalinfo.ordering import ordering_stability
 
-        if args.method == "pca" or args.frame is not None:
-            raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
-        stab = ordering_stability(log, basis, args.method, window=args.stability,
-                                  seeds=(0, 1, 2), estimator=args.estimator,
-                                  sample_budget=args.budget)
+        n_orders = log.n_frames // max(args.stability, 1) + 3  # windows, then 3 seeds
+        steps = n_orders * (basis.n_modes - 1) if args.method.startswith("mi_") else 0
+        with progress(args, steps, desc="stability") as advance:
+            stab = ordering_stability(log, basis, args.method, window=args.stability,
+                                      seeds=(0, 1, 2), estimator=args.estimator,
+                                      sample_budget=args.budget, progress=advance)
         print(stab.summary())
     if args.out is not None:
         result.to_json(args.out, overwrite=args.overwrite)

@@ -14,12 +14,13 @@ import argparse
 import sys
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import check_output
+from modalinfo.cli._common import check_log_output, progress
 
 NAME = "synth"
 HELP = "Write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)."
 
 PRESETS = ("kaos-like",)
+_PROGRESS_MIN_FRAMES = 20_000
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,8 +39,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     parser.add_argument("--frames", type=int, default=8000,
                         help="number of frames (default: %(default)s)")
+    parser.add_argument("--to-fmt", choices=("npz", "csv", "fits", "hdf5"),
+                        help="output format (default: from OUT's extension)")
     parser.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
-    parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+    parser.add_argument("--quiet", action="store_true",
+                        help="print nothing on success (and no progress bar)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -59,9 +63,15 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.telemetry.synthetic import kaos_like
 
     out = Path(args.out)
-    check_output(out, args.overwrite)  # before the generator runs, not after
-    log = kaos_like(n_frames=args.frames, closed_loop=args.closed_loop, seed=args.seed)
-    written = save(log, out, overwrite=args.overwrite)
+    fmt = check_log_output(out, args.overwrite, args.to_fmt)  # before the generator runs
+    # two stages (generate, write): a bar for logs that take seconds (FFT-based, ~1 s per
+    # 10^4 frames on a loaded 2-core machine)
+    stages = 2 if args.frames >= _PROGRESS_MIN_FRAMES else 0
+    with progress(args, stages, unit="stage", desc="synth") as advance:
+        log = kaos_like(n_frames=args.frames, closed_loop=args.closed_loop, seed=args.seed)
+        advance(1)
+        written = save(log, out, fmt=fmt, overwrite=args.overwrite)
+        advance(1)
     if not args.quiet:
         meta = log.metadata
         sys.stdout.write(

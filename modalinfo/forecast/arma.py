@@ -210,6 +210,13 @@ class ARMAPredictor(_LinearRecursion):
     See the module notes for the estimators, the root enforcement and the order
     selection.
 
+    Minimum samples: ``burn_in + 10 (p + q + 1)`` (ten innovations after the burn-in
+    per estimated parameter: p AR and q MA coefficients and the mean; with
+    ``order="aic"``/``"bic"`` the largest p + q searched, ``2 max_order``), e.g. 110
+    for the default ARMA(2, 3). A constant column (range at most 1e-12 of its
+    magnitude: a zeroed or dead mode) is not modelled: its forecast is the constant
+    (order (0, 0) about it, ``sigma2_`` its mean square deviation, 0 if exact).
+
     Parameters
     ----------
     order : tuple of int or {"aic", "bic"}
@@ -285,14 +292,20 @@ class ARMAPredictor(_LinearRecursion):
             return check_int(self.long_order, "long_order", minimum=max(p, q, 1))
         return int(min(max(20, np.ceil(10 * np.log10(n)), p + q + 1), n // 4))
 
-    def _min_samples(self) -> int:
+    def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
         orders = self._orders_to_try()
-        k = max(max(p, q) for p, q in orders)
+        n_par = max(p + q for p, q in orders) + 1
         burn = check_int(self.burn_in, "burn_in", minimum=0)
-        return max(4 * max(20, k + 1), burn + 10 * (k + 1))
+        return burn + 10 * n_par, (f"burn_in {burn} + 10 per parameter x {n_par} "
+                                   "parameters: p + q + the mean")
 
     # ------------------------------------------------------------------ fitting
     def _fit_mode(self, x: np.ndarray, orders, margin, burn, n_iter):
+        constant, value = self._constant_columns(x[:, None])
+        if constant[0]:  # forecast as the constant itself: ARMA(0, 0) about it
+            e = x - value[0]
+            crit = np.full((self.max_order + 1,) * 2, np.nan) if len(orders) > 1 else None
+            return value[0], 0, 0, np.zeros(0), np.zeros(0), float(e @ e) / x.size, crit
         mu = x.mean()
         xc = x - mu
         n = xc.size
@@ -332,7 +345,6 @@ class ARMAPredictor(_LinearRecursion):
         burn = check_int(self.burn_in, "burn_in", minimum=0)
         check_real(self.level, "level", minimum=0.0, maximum=1.0, strict_min=True,
                    strict_max=True)
-        self._check_constant(X, name)
         n_iter = check_int(self.n_iter, "n_iter", minimum=0)
         fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter)
                 for m in range(X.shape[1])]

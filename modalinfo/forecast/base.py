@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_int
+from modalinfo._validation import as_float_array, check_int, check_square_range
 
 __all__ = ["Predictor", "NotFittedError"]
 
@@ -180,17 +180,40 @@ class Predictor:
         return f"{type(self).__name__}({', '.join(shown)})"
 
     # ------------------------------------------------------------------ validation
-    def _check_common(self) -> tuple[int, int | None, int | None]:
+    def _check_common(self, n_modes: int = 1) -> tuple[int, int | None, int | None]:
         horizon = check_int(self.horizon, "horizon", minimum=1)
         refit = None if self.refit_every is None else check_int(
             self.refit_every, "refit_every", minimum=1)
         window = None if self.window is None else check_int(
-            self.window, "window", minimum=self._min_samples())
+            self.window, "window", minimum=self._min_samples(n_modes))
         return horizon, refit, window
 
-    def _min_samples(self) -> int:
-        """Fewest samples ``fit`` accepts (subclasses raise it)."""
-        return 1
+    def _min_samples(self, n_modes: int = 1) -> int:
+        """Fewest samples ``fit`` accepts for ``n_modes`` modes (see :meth:`min_samples`)."""
+        return self._min_samples_rule(n_modes)[0]
+
+    def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
+        """``(fewest samples, the rule in words)``; subclasses with parameters raise it."""
+        return 1, "no parameters to estimate"
+
+    def min_samples(self, n_modes: int = 1) -> int:
+        """Fewest samples ``fit`` (and a refit window) accepts.
+
+        Each class states its rule in its docstring (derived from the number of
+        parameters it estimates); the error raised for a shorter history repeats it.
+
+        Parameters
+        ----------
+        n_modes : int
+            Number of modes (columns) of the history (it matters for the
+            multivariate predictors only).
+
+        Returns
+        -------
+        int
+            The minimum number of samples along axis 0.
+        """
+        return self._min_samples(check_int(n_modes, "n_modes", minimum=1))
 
     def _check_history(self, history, name: str = "history",
                        min_length: int = 1) -> tuple[np.ndarray, bool]:
@@ -214,14 +237,25 @@ class Predictor:
             )
 
     @staticmethod
-    def _check_constant(X: np.ndarray, name: str) -> None:
-        spread = np.ptp(X, axis=0)
-        bad = np.flatnonzero(spread <= 1e-12 * np.maximum(np.abs(X).max(axis=0), 1e-300))
-        if bad.size:
-            raise ValueError(
-                f"`{name}` is constant in mode column(s) {bad.tolist()}: the model's "
-                "parameters cannot be estimated from a series with zero variance."
-            )
+    def _constant_columns(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Columns treated as constant, and the constant of each column.
+
+        A column is constant when its range is at most ``1e-12`` times its largest
+        magnitude (a zeroed piston, a dead mode). No model parameter can be
+        estimated from it, and none is needed: every predictor forecasts such a
+        column as its median over the fitting samples, which is exactly the
+        constant (so it is as exact as persistence).
+
+        Returns
+        -------
+        constant : numpy.ndarray of bool, shape (M,)
+        value : numpy.ndarray, shape (M,)
+            Median of each column (meaningful where ``constant``).
+        """
+        with np.errstate(over="ignore", invalid="ignore"):
+            spread = np.ptp(X, axis=0)
+            constant = spread <= 1e-12 * np.abs(X).max(axis=0)
+        return constant, np.median(X, axis=0)
 
     # ------------------------------------------------------------------ fitting
     def fit(self, history) -> Predictor:
@@ -238,8 +272,15 @@ class Predictor:
         Predictor
             ``self``, fitted; the online state is reset.
         """
-        _, _, window = self._check_common()
-        X, scalar = self._check_history(history, "history", self._min_samples())
+        X, scalar = self._check_history(history, "history", 1)
+        n_min, rule = self._min_samples_rule(X.shape[1])
+        if X.shape[0] < n_min:
+            raise ValueError(
+                f"`history` needs at least {n_min} samples along axis 0 for "
+                f"{type(self).__name__} ({rule}); got {X.shape[0]}."
+            )
+        _, _, window = self._check_common(X.shape[1])
+        check_square_range(X, "history")
         self.params_ = self._fit_params(X, None, "history")
         self.n_modes_ = X.shape[1]
         self.n_samples_fit_ = X.shape[0]

@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import norm
 
-from modalinfo._validation import as_float_array, check_int, check_real
+from modalinfo._validation import as_float_array, check_int, check_real, check_square_range
 from modalinfo.forecast.arma import ARMAPredictor
 from modalinfo.forecast.base import Predictor
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
@@ -109,6 +109,10 @@ class ForecastEvaluation:
         Forecasts at the first horizon (h = horizons[0]) from the first ``K`` origins.
     settings : dict
         ``refit_every``, ``window`` and each predictor's hyper-parameters (repr).
+    constant_modes : tuple of str
+        Modes constant over the training frames (a zeroed or dead mode): every
+        predictor forecasts them as that constant (their per-mode gain is NaN when
+        the constant holds, 0 / 0).
     """
 
     names: tuple[str, ...]
@@ -131,6 +135,7 @@ class ForecastEvaluation:
     truth: np.ndarray = field(repr=False)
     one_step: np.ndarray = field(repr=False)
     settings: dict = field(default_factory=dict, repr=False)
+    constant_modes: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ access
     def index(self, name: str) -> int:
@@ -177,6 +182,7 @@ class ForecastEvaluation:
             "beats_baseline": self.beats_baseline.tolist(),
             "baseline": list(self.baseline),
             "settings": self.settings,
+            "constant_modes": list(self.constant_modes),
         }
 
     def to_json(self, path: str | Path, *, overwrite: bool = False) -> Path:
@@ -249,6 +255,9 @@ class ForecastEvaluation:
         out = [f"Whole-wavefront RMSE [{self.units}] (gain over persistence) by horizon"
                f"{h_unit}; {self.origins.size} origins after {self.n_train} training "
                "frames.", self.table(), ""]
+        if self.constant_modes:
+            out.append(f"Constant over the training frames, forecast as that constant by "
+                       f"every predictor: {', '.join(self.constant_modes)}.")
         skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
         n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
         if not skilled:
@@ -465,7 +474,7 @@ def _std_path(stds, origins, horizons):
 def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
              refit_every: int | None = None, window: int | None = None,
              level: float = 0.95, alpha: float = 0.05, keep_series: int = 5000,
-             chunk_frames: int = 8192) -> ForecastEvaluation:
+             chunk_frames: int = 8192, progress=None) -> ForecastEvaluation:
     """Rolling-origin evaluation of predictors, with no look-ahead.
 
     Parameters
@@ -495,6 +504,9 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         The log is fed to the predictors in chunks of this many frames, so memory is
         ``O(chunk_frames H M)`` plus ``O(P H N)`` for the per-origin losses of the
         skill test, whatever the log length (a ``numpy.memmap`` is read in order).
+    progress : callable, optional
+        Called as ``progress(1)`` after each predictor is fitted and run (the
+        baselines included: ``len(predictors) + 2`` calls when both are added).
 
     Returns
     -------
@@ -502,6 +514,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         See the module notes for the protocol and the metrics.
     """
     data, labels, rate, units = _as_data(log)
+    check_square_range(data, "log", labels)
     preds = _as_predictors(predictors)
     hs = np.array(sorted({check_int(h, "horizons", minimum=1) for h in horizons}), dtype=int)
     if hs.size == 0:
@@ -536,6 +549,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     has_interval = np.zeros(P, dtype=bool)
     settings = {"refit_every": refit_every, "window": window, "predictors": {}}
     train_data = data[:n_train]
+    constant = Predictor._constant_columns(np.asarray(train_data))[0]
     last = int(origins[-1]) + 1                           # frames fed: 0 .. last origin
     for i, (name, proto) in enumerate(all_preds.items()):
         pred = proto.clone(horizon=h_max, **overrides)
@@ -567,6 +581,8 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             if has_interval[i]:
                 std = _std_path(stds, idx, hs)
                 covered[i] += np.sum(np.abs(err) <= z * std, axis=(0, 2))
+        if progress is not None:
+            progress(1)
     rmse = np.sqrt(sse / n_o)                             # (P, H, M)
     coverage = np.where(has_interval[:, None], covered / (n_o * n_modes), np.nan)
     rmse_wf = np.sqrt(loss.mean(axis=2))
@@ -599,4 +615,5 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         baseline=tuple(names[b] for b in base_idx),
         truth=np.array(data[origins[0] : origins[0] + n_keep + h_max]), one_step=one_step,
         settings=settings,
+        constant_modes=tuple(lb for lb, c in zip(labels, constant, strict=True) if c),
     )

@@ -22,6 +22,11 @@ class LinearPredictor(_LinearRecursion):
     when they are not: on an AR(1) series with coefficient near 1 the one-step error
     is ``e[n+1] + (e[n] - ...)``, about twice the innovation variance.
 
+    Minimum samples with ``fit_weights=True``: 22 (ten least-squares rows per
+    fitted weight, after the two lags); with fixed weights, 1. A constant column
+    (range at most 1e-12 of its magnitude) gets no fitted weights: it is forecast
+    as the constant (the fixed weights extrapolate a constant exactly as well).
+
     Parameters
     ----------
     a, b : float
@@ -48,22 +53,28 @@ class LinearPredictor(_LinearRecursion):
         self.b = b
         self.fit_weights = fit_weights
 
-    def _min_samples(self) -> int:
-        return 3 if self.fit_weights else 1
+    def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
+        if self.fit_weights:
+            return 22, "2 lags + 10 regression rows per weight x 2 weights (a, b)"
+        return 1, "fixed weights, nothing to estimate"
 
     def _fit_params(self, X, previous, name):
         n_modes = X.shape[1]
+        mu = np.zeros(n_modes)
         if self.fit_weights:
-            self._check_constant(X, name)
-            coef = np.empty((n_modes, 2))
+            constant, value = self._constant_columns(X)
+            coef = np.zeros((n_modes, 2))
             for m in range(n_modes):
+                if constant[m]:  # forecast the constant: mu + 0 (x - mu)
+                    mu[m] = value[m]
+                    continue
                 design = np.column_stack([X[1:-1, m], X[:-2, m]])
                 coef[m] = np.linalg.lstsq(design, X[2:, m], rcond=None)[0]
         else:
             a = check_real(self.a, "a")
             b = check_real(self.b, "b")
             coef = np.tile([a, b], (n_modes, 1))
-        return {"mu": np.zeros(n_modes), "phi": np.ascontiguousarray(coef),
+        return {"mu": mu, "phi": np.ascontiguousarray(coef),
                 "theta": np.zeros((n_modes, 0))}
 
     @property

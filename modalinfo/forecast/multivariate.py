@@ -43,6 +43,11 @@ class MultivariatePredictor(Predictor):
     refit_every, window : int or None
         Refit policy.
 
+    Minimum samples: ``p + 10 p M`` (ten regression rows per coefficient of one
+    mode's equation, which has ``p M``), e.g. 84 for VAR(4) on 2 modes and 1084 on
+    27. A constant column (range at most 1e-12 of its magnitude: a zeroed or dead
+    mode) is left out of the regression and forecast as the constant.
+
     Attributes
     ----------
     coef_ : numpy.ndarray, shape (p, M, M)
@@ -59,20 +64,38 @@ class MultivariatePredictor(Predictor):
         self.order = order
         self.alpha = alpha
 
-    def _min_samples(self) -> int:
-        return 2 * check_int(self.order, "order", minimum=1) + 2
+    def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
+        order = check_int(self.order, "order", minimum=1)
+        n_coef = order * n_modes
+        return order + 10 * n_coef, (f"order {order} + 10 regression rows per coefficient "
+                                     f"x {n_coef} coefficients per mode (order x "
+                                     f"{n_modes} modes)")
 
     def _solve(self, X: np.ndarray, name: str):
         order = check_int(self.order, "order", minimum=1)
         alpha = check_real(self.alpha, "alpha", minimum=0.0)
-        self._check_constant(X, name)
-        mu = X.mean(axis=0)
-        Z, Y = _lagged(X - mu, order)
+        constant, value = self._constant_columns(X)
+        mu = np.where(constant, value, X.mean(axis=0))
+        Xc = X - mu
+        Xc[:, constant] = 0.0  # exactly 0 for a constant; a near-constant is not modelled
+        Z, Y = _lagged(Xc, order)
         G = Z.T @ Z
-        lam = alpha * np.trace(G) / G.shape[0]
-        Greg = G + lam * np.eye(G.shape[0])
-        B = np.linalg.solve(Greg, Z.T @ Y)
         n_modes = X.shape[1]
+        # constant modes are left out of the regression: no weight to or from them
+        keep = np.tile(~constant, order)
+        lam = alpha * np.trace(G) / max(int(keep.sum()), 1)
+        Greg = G + lam * np.eye(G.shape[0])
+        B = np.zeros((G.shape[0], n_modes))
+        if keep.any():
+            B[np.ix_(keep, ~constant)] = np.linalg.solve(
+                Greg[np.ix_(keep, keep)], (Z.T @ Y)[np.ix_(keep, ~constant)])
+        if not keep.all():
+            # decouple the lags of constant modes in the Gram matrix the RLS starts from:
+            # their regressors are 0, so any positive diagonal leaves their weights at 0
+            drop = np.flatnonzero(~keep)
+            Greg[drop, :] = 0.0
+            Greg[:, drop] = 0.0
+            Greg[drop, drop] = 1.0
         coef = np.ascontiguousarray(B.reshape(order, n_modes, n_modes))
         return mu, coef, Greg, Z.shape[0]
 

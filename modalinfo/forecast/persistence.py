@@ -56,5 +56,7 @@ class MeanPredictor(_LinearRecursion):
 
     def _fit_params(self, X, previous, name):
         n_modes = X.shape[1]
-        return {"mu": X.mean(axis=0), "phi": np.zeros((n_modes, 0)),
+        constant, value = self._constant_columns(X)
+        mu = np.where(constant, value, X.mean(axis=0))  # a constant exactly, not its mean
+        return {"mu": mu, "phi": np.zeros((n_modes, 0)),
                 "theta": np.zeros((n_modes, 0))}

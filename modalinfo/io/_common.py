@@ -434,6 +434,27 @@ def _exists_message(path: Path) -> str:
     return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
 
 
+def _renamed(write: Callable[[Any], None], target: Any, tmp: str, path: Path) -> None:
+    """Call ``write(target)``; an error naming the temporary file names ``path`` instead."""
+    try:
+        write(target)
+    except (OSError, ValueError, TypeError) as exc:  # the user knows the target, not the temp
+        _rename_in_message(exc, tmp, path)
+
+
+def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
+    """Re-raise ``exc`` with the temporary file's name replaced by the target's."""
+    text = str(exc)
+    if tmp not in text and Path(tmp).name not in text:
+        raise exc
+    text = text.replace(tmp, str(path)).replace(Path(tmp).name, path.name)
+    try:
+        new = type(exc)(text)
+    except Exception:  # noqa: BLE001 - an exception type with another signature
+        raise exc from None
+    raise new from exc
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -459,12 +480,12 @@ def atomic_write(
         if by_name:
             os.close(fd)
             os.unlink(tmp)  # libraries may refuse to write over an existing file
-            write(Path(tmp))
+            _renamed(write, Path(tmp), tmp, path)
             with open(tmp, "rb+") as fh:
                 os.fsync(fh.fileno())
         else:
             with os.fdopen(fd, "wb") as fh:
-                write(fh)
+                _renamed(write, fh, tmp, path)
                 fh.flush()
                 os.fsync(fh.fileno())
         os.chmod(tmp, 0o644)

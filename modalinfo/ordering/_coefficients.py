@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array
+from modalinfo._validation import as_float_array, check_square_range
 
 __all__ = ["BasisView", "as_basis", "coefficients_in_basis", "is_log"]
 
@@ -125,6 +125,7 @@ def coefficients_in_basis(
         if getattr(log, "units", "rad") != "rad":
             log = log.to_units("rad", wavelength=wavelength)
         coeffs = as_float_array(np.asarray(log.coeffs), f"{name}.coeffs", ndim=2)
+        check_square_range(coeffs, name, getattr(log, "labels", None))
         log_modes = list(log.modes) if getattr(log, "modes", None) is not None else None
         if obj is not None and hasattr(obj, "zernike_modes") and hasattr(
             obj, "coefficients_from_zernike"
@@ -145,6 +146,7 @@ def coefficients_in_basis(
         out = as_float_array(log_or_coeffs, name, ndim=(1, 2))
         if out.ndim == 1:
             out = out[None, :]
+        check_square_range(out, name)
     if out.shape[0] < 1:
         raise ValueError(f"`{name}` must hold at least one frame; got shape {out.shape}.")
     if out.shape[1] != basis.n_modes:

@@ -259,6 +259,7 @@ def compare_orderings(
     n_pixels: int = 64,
     outer_scale: float | None = None,
     bases: dict | None = None,
+    progress: Any = None,
 ) -> Comparison:
     """Order each basis as specified and compute the fitting-error curves.
 
@@ -281,6 +282,8 @@ def compare_orderings(
         Outer scale [m] of the theoretical K-L (default: from the log's metadata).
     bases : dict, optional
         Prebuilt bases by name (reused, and filled with the ones built here).
+    progress : callable, optional
+        Called as ``progress(1)`` after each ordering (``len(specs)`` calls).
 
     Returns
     -------
@@ -306,6 +309,8 @@ def compare_orderings(
         )
         err = fitting_error(log, basis, ordering, units=units)
         entries.append(ComparisonEntry(basis_name, method, ordering, err))
+        if progress is not None:
+            progress(1)
     return Comparison(entries=tuple(entries), frame=frame, units=units)
 
 
@@ -381,8 +386,12 @@ def plot_comparison(
 
 def save_figure(fig: Any, path: str | Path, overwrite: bool = False) -> Path:
     """Save a matplotlib figure, refusing to replace a file unless ``overwrite``."""
+    from modalinfo.io._common import atomic_write
+
     path = Path(path)
     if path.exists() and not overwrite:
         raise FileExistsError(f"'{path}' exists; pass --overwrite to replace it.")
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    return path
+    kind = path.suffix.lstrip(".").lower() or None  # the temporary file has no extension
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120, bbox_inches="tight",
+                                                      format=kind),
+                        overwrite=overwrite, by_name=True)

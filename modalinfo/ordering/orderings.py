@@ -22,6 +22,9 @@ of ``block_length`` frames (pooled; keeps the time correlation of a loop) or pix
 resampled one by one (one frame; ignores the spatial correlation, so optimistic). The
 percentile bounds measure sampling variability at this budget, not the estimator's
 bias; a step whose lower gain bound is not above 0 adds no detectable information.
+Ties: the *margin* of step s is I(Phi_ref; Phi_s) minus the MI had step s taken the
+next step's mode instead; when its bootstrap interval reaches 0, ranks s and s + 1
+are within noise of each other (their order is not determined at this budget).
 Cost: one ``fit`` and M ``score`` calls per replicate.
 
 Baselines: ``"standard"`` (index order), ``"variance"`` (descending mean-square
@@ -153,7 +156,22 @@ def _cumulative_mi(est: Any, contrib: np.ndarray, order: np.ndarray) -> np.ndarr
     return mi
 
 
-def _greedy(est: Any, contrib: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _swapped_mi(est: Any, contrib: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """MI had step s taken the next step's mode instead: I(Phi_ref; Phi_{s-1} + a_{s+1}).
+
+    ``mi[s] - swapped[s]`` is the margin by which step s's mode beat the next one;
+    NaN for the last step (no next mode).
+    """
+    phi = np.zeros(contrib.shape[1])
+    out = np.full(order.size, np.nan)
+    for s in range(order.size - 1):
+        out[s] = float(est.score(phi + contrib[order[s + 1]]))
+        phi += contrib[order[s]]
+    return out
+
+
+def _greedy(est: Any, contrib: np.ndarray, progress: Any = None
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Forward selection maximising I(Phi_ref; Phi_{S+k}); Phi_ref already fitted."""
     n_modes, n_samples = contrib.shape
     remaining = list(range(n_modes))
@@ -187,6 +205,8 @@ def _greedy(est: Any, contrib: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
         mi[step] = best_v
         phi_s += contrib[best_k]
         remaining.remove(best_k)
+        if progress is not None:
+            progress(1)
     return order, mi, first
 
 
@@ -207,8 +227,11 @@ def _bootstrap(
     n_resamples: int,
     block_length: int,
     rng: np.random.Generator,
-) -> tuple[np.ndarray, np.ndarray]:
-    """MI along ``order`` on bootstrap replicates; returns (mi (R, M), gain (R, M)).
+    progress: Any = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """MI along ``order`` on bootstrap replicates: (mi, gain, margin), each (R, M).
+
+    ``margin`` is ``mi`` minus :func:`_swapped_mi` on the replicate.
 
     Pooled: circular block bootstrap of the frames, then the same number of samples
     drawn uniformly over (resampled frame, pixel) pairs. One frame: the sampled pixels
@@ -217,6 +240,7 @@ def _bootstrap(
     n_frames, n_valid = a.shape[0], matrix.shape[0]
     n_samples = frames.size
     mi = np.empty((n_resamples, order.size))
+    margin = np.empty((n_resamples, order.size))
     for r in range(n_resamples):
         if pooled:
             n_blocks = -(-n_frames // block_length)
@@ -231,8 +255,11 @@ def _bootstrap(
         contrib = _contributions(a, matrix, f, p)
         est.fit(contrib.sum(axis=0))
         mi[r] = _cumulative_mi(est, contrib, order)
+        margin[r] = mi[r] - _swapped_mi(est, contrib, order)
+        if progress is not None:
+            progress(1)
     gain = np.diff(mi, axis=1, prepend=0.0)
-    return mi, gain
+    return mi, gain, margin
 
 
 def _pca_order(a: np.ndarray) -> np.ndarray:
@@ -300,6 +327,7 @@ def order_modes(
     confidence_level: float = 0.95,
     block_length: int | None = None,
     wavelength: float | None = None,
+    progress: Any = None,
 ) -> OrderingResult:
     """Order the modes of a basis for a log.
 
@@ -339,10 +367,16 @@ def order_modes(
         Block length [frames] of the pooled bootstrap (default ceil(T^(1/3))).
     wavelength : float, optional
         Wavelength [m] to convert a log in nm or um that carries none.
+    progress : callable, optional
+        For the MI methods, called as ``progress(1)`` after each estimated greedy step
+        (``M - 1``; once with ``M - 1`` for ``"mi_marginal"``) and each bootstrap
+        replicate: ``M - 1 + n_resamples`` in all (e.g. ``tqdm.update``).
 
     Returns
     -------
     OrderingResult
+        With bootstrap replicates, ``margin`` and its bounds tell which adjacent
+        ranks are ties (:attr:`OrderingResult.tied_with_previous`).
 
     Raises
     ------
@@ -399,19 +433,22 @@ def order_modes(
     contrib = _contributions(a, view.matrix, frames, pixels)
     est.fit(contrib.sum(axis=0))
     if method == "mi_greedy":
-        order, mi, scores = _greedy(est, contrib)
+        order, mi, scores = _greedy(est, contrib, progress)
     else:
         scores = np.array([float(est.score(contrib[k])) if n_modes > 1 else np.nan
                            for k in range(n_modes)])
         order = np.argsort(-scores, kind="stable")
         mi = _cumulative_mi(est, contrib, order)
+        if progress is not None:
+            progress(n_modes - 1)
     gain = np.diff(mi, prepend=0.0)
+    margin = mi - _swapped_mi(est, contrib, order)
     bounds: dict[str, Any] = {}
     blen = block_length if block_length is not None else _auto_block_length(n_frames)
     if n_resamples > 0:
-        boot_mi, boot_gain = _bootstrap(
+        boot_mi, boot_gain, boot_margin = _bootstrap(
             est, a, view.matrix, order, frames=frames, pixels=pixels, pooled=frame is None,
-            n_resamples=n_resamples, block_length=blen, rng=rng,
+            n_resamples=n_resamples, block_length=blen, rng=rng, progress=progress,
         )
         tail = 50.0 * (1.0 - confidence_level)
         bounds = dict(
@@ -419,9 +456,12 @@ def order_modes(
             mi_high=np.percentile(boot_mi, 100.0 - tail, axis=0),
             gain_low=np.percentile(boot_gain, tail, axis=0),
             gain_high=np.percentile(boot_gain, 100.0 - tail, axis=0),
+            margin_low=np.percentile(boot_margin, tail, axis=0),
+            margin_high=np.percentile(boot_margin, 100.0 - tail, axis=0),
         )
     return result(
-        order, mi=mi, gain=gain, scores=scores, estimator=est_name, estimator_options=options,
+        order, mi=mi, gain=gain, margin=margin, scores=scores, estimator=est_name,
+        estimator_options=options,
         sample_budget=budget, n_samples=int(frames.size), seed=seed_value,
         n_resamples=n_resamples, confidence_level=confidence_level,
         block_length=blen if frame is None else None, **bounds,

@@ -12,7 +12,8 @@ import numpy as np
 
 __all__ = ["OrderingResult"]
 
-_ARRAY_FIELDS = ("order", "mi", "gain", "mi_low", "mi_high", "gain_low", "gain_high", "scores")
+_ARRAY_FIELDS = ("order", "mi", "gain", "mi_low", "mi_high", "gain_low", "gain_high", "scores",
+                 "margin", "margin_low", "margin_high")
 _FORMAT = "modalinfo.OrderingResult/1"
 
 
@@ -85,6 +86,12 @@ class OrderingResult:
         Level of the confidence bounds.
     block_length : int or None
         Block length [frames] of the block bootstrap.
+    margin : numpy.ndarray, shape (M,) or None
+        MI methods: ``mi[s]`` minus the MI had step s taken the mode of step s + 1
+        instead [nats]: how clearly step s's mode beat the next one (NaN for the
+        last step).
+    margin_low, margin_high : numpy.ndarray, shape (M,) or None
+        Bootstrap percentile bounds of ``margin`` (order fixed), as for ``gain``.
     """
 
     order: np.ndarray
@@ -109,6 +116,38 @@ class OrderingResult:
     n_resamples: int = 0
     confidence_level: float = 0.95
     block_length: int | None = None
+    margin: np.ndarray | None = None
+    margin_low: np.ndarray | None = None
+    margin_high: np.ndarray | None = None
+
+    @property
+    def tied_with_previous(self) -> np.ndarray | None:
+        """``(M,)`` True where rank s is within noise of rank s - 1, or None.
+
+        Ranks s - 1 and s are tied when the bootstrap interval of ``margin[s - 1]``
+        is not above 0: on some replicates taking rank s's mode first does as well.
+        """
+        if self.margin_low is None:
+            return None
+        low = np.asarray(self.margin_low, dtype=float)
+        tied = np.zeros(low.size, dtype=bool)
+        tied[1:] = ~(low[:-1] > 0.0)
+        tied[1:] &= np.isfinite(low[:-1])
+        return tied
+
+    @property
+    def gain_outside_interval(self) -> np.ndarray | None:
+        """``(M,)`` True where the gain lies outside its own bootstrap interval, or None.
+
+        A percentile interval of a biased estimator can miss the point estimate: the
+        plug-in MI estimators depend on the sample (a bootstrap replicate repeats
+        frames, which shifts every replicate the same way), so the interval shows the
+        spread of the gain, shifted by that bias.
+        """
+        if self.gain_low is None:
+            return None
+        with np.errstate(invalid="ignore"):
+            return (self.gain < self.gain_low) | (self.gain > self.gain_high)
 
     @property
     def n_modes(self) -> int:
@@ -222,9 +261,52 @@ class OrderingResult:
             raise ValueError(f"`path` '{path}' is not valid JSON: {exc}") from exc
         return cls.from_dict(data)
 
+    def legend(self) -> str:
+        """Return the explanation of the columns of :meth:`table`, one line each."""
+        level = f"{100 * self.confidence_level:.0f}%"
+        lines = ["step: rank in the order (1 = most important); '~' before it: within "
+                 "noise of the rank above (their order is not determined)"]
+        if self.scores is not None:
+            if self.method in ("variance", "pca"):
+                lines.append("score: mean-square coefficient of the mode [rad^2]")
+            else:
+                lines.append("score: I(Phi_ref; a_k Z_k), the MI of the wavefront with "
+                             "this mode alone [nats]")
+        if self.mi is not None:
+            lines.append("MI: I(Phi_ref; sum of the modes up to this step) [nats]; gain: "
+                         "the MI this step adds (the last step completes Phi_ref: not "
+                         "estimated, nan)")
+        if self.gain_low is not None:
+            lines.append(f"gain CI: {level} bootstrap percentile interval of the gain "
+                         f"({self.n_resamples} replicates, order held fixed); '*': the "
+                         "gain lies outside it (see the note below the table)")
+        return "\n".join(lines)
+
+    def notes(self) -> list[str]:
+        """Footnotes for :meth:`table` (ties and gains outside their interval)."""
+        out = []
+        outside = self.gain_outside_interval
+        if outside is not None and outside.any():
+            steps = ", ".join(str(s + 1) for s in np.flatnonzero(outside))
+            out.append(
+                f"* step(s) {steps}: the gain lies outside its percentile interval. The "
+                "MI estimate depends on the samples (a bootstrap replicate repeats "
+                "frames, which biases every replicate the same way), so the interval "
+                "measures the spread of the gain, not its location."
+            )
+        tied = self.tied_with_previous
+        if tied is not None and tied.any():
+            out.append(
+                f"~ {int(tied.sum())} rank(s) are within noise of the rank above: the "
+                "bootstrap interval of the margin by which that choice won reaches 0."
+            )
+        return out
+
     def table(self) -> str:
         """Return a plain-text table: step, mode, score, MI, gain and its bounds."""
-        head = f"{'step':>4}  {'mode':<8}"
+        tied = self.tied_with_previous
+        outside = self.gain_outside_interval
+        head = f"{'step':>5}  {'mode':<8}"
         has_mi = self.mi is not None
         if self.scores is not None:
             head += f"  {'score':>10}"
@@ -234,12 +316,14 @@ class OrderingResult:
             head += f"  {'gain CI':>19}"
         lines = [head]
         for s, k in enumerate(self.order):
-            row = f"{s + 1:>4}  {self.labels[s]:<8}"
+            mark = "~" if tied is not None and tied[s] else " "
+            row = f"{mark}{s + 1:>4}  {self.labels[s]:<8}"
             if self.scores is not None:
                 row += f"  {self.scores[k]:>10.4g}"
             if has_mi:
                 row += f"  {self.mi[s]:>8.4f}  {self.gain[s]:>8.4f}"
             if self.gain_low is not None:
                 row += f"  [{self.gain_low[s]:>8.4f},{self.gain_high[s]:>8.4f}]"
+                row += "*" if outside[s] else ""
             lines.append(row)
         return "\n".join(lines)

@@ -134,7 +134,7 @@ def _as_coeffs(coeffs: Any) -> np.ndarray:
     if arr.ndim != 2:
         raise ValueError(
             f"`coeffs` must be 2-D (T frames, M modes); got {arr.ndim}-D with shape {arr.shape}"
-            " (use x[:, None] for a single mode)."
+            " (a single mode's series needs shape (T, 1): one column)."
         )
     if arr.shape[0] == 0 or arr.shape[1] == 0:
         raise ValueError(f"`coeffs` must hold at least one frame and one mode; got {arr.shape}.")
@@ -243,7 +243,7 @@ def _check_timestamps(timestamps: Any, n_frames: int) -> np.ndarray:
             rule = "duplicated" if dt[i] == 0 else "decreasing"
             raise ValueError(
                 f"`timestamps` must be strictly increasing; {rule} at index {i + 1} "
-                f"({t[i]!r} then {t[i + 1]!r})."
+                f"({t[i]:.10g} s then {t[i + 1]:.10g} s)."
             )
     t.flags.writeable = False
     return t
@@ -347,7 +347,8 @@ class ModalLog:
             if abs(median_dt * rate - 1.0) > _RATE_RTOL:
                 raise ValueError(
                     f"`rate` ({rate} Hz) disagrees with `timestamps` (median interval "
-                    f"{median_dt!r} s, i.e. {1.0 / median_dt:.6g} Hz); give one or make them agree."
+                    f"{median_dt:.6g} s, i.e. {1.0 / median_dt:.6g} Hz); give one or make them "
+                    "agree."
                 )
         mode_list = _check_modes(modes, convention, n_modes)
         meta = _check_metadata(metadata)
@@ -945,6 +946,36 @@ class LogSummary:
     units: str
 
 
+def _summarize_scaled(arr, cols, chunk_frames, mean, std, rms, lag1) -> None:
+    """Redo the summary of columns whose sums overflowed, on values scaled by 2^-e.
+
+    A power of two scales exactly, and mean, std and RMS scale with it (lag-1 is
+    scale-free), so values near the float range get their true statistics. Columns
+    still overflowing after scaling (not possible for finite values) raise.
+    """
+    from modalinfo.telemetry._kernels import chunk_stats_update, lag1_finalize
+
+    peak = np.zeros(cols.size)
+    for block in _row_blocks(arr, chunk_frames):
+        with np.errstate(invalid="ignore"):
+            sub = np.abs(np.asarray(block, dtype=np.float64)[:, cols])
+            sub[~np.isfinite(sub)] = 0.0
+        peak = np.maximum(peak, sub.max(axis=0, initial=0.0))
+    scale = np.ldexp(1.0, np.frexp(peak)[1])  # power of two >= peak: |x| / scale <= 1
+    state = np.zeros((8, cols.size), dtype=np.float64)
+    last = np.full(cols.size, np.nan)
+    bad = np.zeros(cols.size, dtype=np.int64)
+    for block in _row_blocks(arr, chunk_frames):
+        chunk_stats_update(np.ascontiguousarray(np.asarray(block, dtype=np.float64)[:, cols]
+                                                / scale), state, last, bad)
+    out = [np.empty(cols.size) for _ in range(4)]
+    lag1_finalize(state, *out)
+    mean[cols] = out[0] * scale
+    std[cols] = out[1] * scale
+    rms[cols] = out[2] * scale
+    lag1[cols] = out[3]
+
+
 def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogSummary:
     """Per-mode mean, std, RMS and lag-1 autocorrelation in one chunked pass.
 
@@ -995,6 +1026,9 @@ def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogS
     rms = np.empty(m)
     lag1 = np.empty(m)
     lag1_finalize(state, mean, std, rms, lag1)
+    overflow = (state[0] > 0) & ~(np.isfinite(rms) & np.isfinite(state[6]))
+    if overflow.any():  # values near the float range: redo those columns scaled
+        _summarize_scaled(arr, np.flatnonzero(overflow), chunk_frames, mean, std, rms, lag1)
     return LogSummary(
         n_frames=int(arr.shape[0]),
         labels=list(labels),

@@ -55,7 +55,7 @@ def test_forecast_bad_input_exit_2(tmp_path, capsys):
         (["--predictors", "linear,oracle"], "unknown predictor 'oracle'"),
         (["--horizon", "0"], "--horizon must be an int >= 1; got 0"),
         (["--train", "abc"], "--train must be a fraction"),
-        (["--train", "795"], "`train` must leave at least"),
+        (["--train", "795"], "--train must leave at least --horizon + 1 = 11"),
         (["--modes", "40-41"], "modes"),
     ]
     for extra, message in cases:

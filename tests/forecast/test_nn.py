@@ -71,11 +71,12 @@ def test_warm_start_refit_changes_weights_deterministically():
     np.testing.assert_array_equal(nn.models_[0].coefs_[0], w_fit[0])
 
 
-@pytest.mark.parametrize("n", [11, 12])
+@pytest.mark.parametrize("n", [130, 131])
 def test_shortest_history(n):
-    x = _smooth(50, 4)[:n]
-    if n < 12:
-        with pytest.raises(ValueError, match="`history` needs at least 12 samples"):
+    # 10 inputs + one pattern per weight of the 10-10-1 network: 10 (10 + 2) + 1 = 121
+    x = _smooth(200, 4)[:n]
+    if n < 131:
+        with pytest.raises(ValueError, match="`history` needs at least 131 samples"):
             NeuralNetPredictor().fit(x)
     else:
         assert NeuralNetPredictor(max_iter=20).fit(x).predict(x).shape == (10,)

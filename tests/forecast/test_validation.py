@@ -11,6 +11,7 @@ import pytest
 from modalinfo.forecast import (
     ARMAPredictor,
     LinearPredictor,
+    MeanPredictor,
     MultivariatePredictor,
     NeuralNetPredictor,
     PersistencePredictor,
@@ -22,26 +23,75 @@ RNG = np.random.default_rng(0)
 X = RNG.standard_normal((500, 2))
 
 
+# Minimum samples, each rule counted here from the model's free parameters:
+# ARMA(p, q): burn_in + 10 (p + q + 1); linear LS: 2 lags + 10 x 2 weights;
+# NN K-J-1: K + J (K + 2) + 1 (one pattern per weight) or K + n_patterns if fewer;
+# VAR(p) on M modes: p + 10 p M.
 @pytest.mark.parametrize("pred,n_min", [
-    (ARMAPredictor(order=(2, 3)), 90),
-    (NeuralNetPredictor(), 12),
-    (LinearPredictor(fit_weights=True), 3),
-    (MultivariatePredictor(order=4), 10),
+    (ARMAPredictor(order=(2, 3)), 50 + 10 * (2 + 3 + 1)),
+    (ARMAPredictor(order=(1, 0), burn_in=0), 10 * 2),
+    (ARMAPredictor(order="aic", max_order=2), 50 + 10 * (2 + 2 + 1)),
+    (NeuralNetPredictor(max_iter=20), 10 + 10 * (10 + 2) + 1),
+    (NeuralNetPredictor(n_inputs=3, n_hidden=2, max_iter=20), 3 + 2 * (3 + 2) + 1),
+    (NeuralNetPredictor.paper(max_iter=20), 10 + 10),
+    (LinearPredictor(fit_weights=True), 2 + 10 * 2),
+    (MultivariatePredictor(order=4), 4 + 10 * 4 * 2),
+    (RLSMultivariatePredictor(order=1), 1 + 10 * 1 * 2),
+    (LinearPredictor(), 1),
+    (PersistencePredictor(), 1),
+    (MeanPredictor(), 1),
 ])
-def test_series_shorter_than_order(pred, n_min):
-    with pytest.raises(ValueError, match=f"`history` needs at least {n_min} samples"):
-        pred.fit(X[: n_min - 1])
+def test_series_shorter_than_the_rule(pred, n_min):
+    assert pred.min_samples(n_modes=2) == n_min
+    if n_min > 1:
+        name = type(pred).__name__
+        with pytest.raises(ValueError, match=f"`history` needs at least {n_min} samples "
+                           f"along axis 0 for {name} \\(.*\\); got {n_min - 1}\\."):
+            pred.fit(X[: n_min - 1])
     pred.fit(X[:n_min])
 
 
-@pytest.mark.parametrize("pred", [ARMAPredictor(), NeuralNetPredictor(),
-                                  LinearPredictor(fit_weights=True),
-                                  MultivariatePredictor(), RLSMultivariatePredictor()])
-def test_constant_series(pred):
-    Y = X.copy()
-    Y[:, 1] = 3.0
-    with pytest.raises(ValueError, match=r"`history` is constant in mode column\(s\) \[1\]"):
-        pred.fit(Y)
+def test_multivariate_rule_grows_with_the_modes():
+    wide = RNG.standard_normal((400, 9))
+    with pytest.raises(ValueError, match=r"at least 364 samples .*36 coefficients per mode"):
+        MultivariatePredictor(order=4).fit(wide[:363])   # 4 + 10 x 4 x 9 = 364
+    MultivariatePredictor(order=4).fit(wide[:364])
+    with pytest.raises(ValueError, match="`window` must be an int >= 364"):
+        MultivariatePredictor(order=4, refit_every=10, window=300).fit(wide)
+
+
+ALL = [ARMAPredictor(), ARMAPredictor(order="aic", max_order=1), NeuralNetPredictor(
+    max_iter=30), LinearPredictor(fit_weights=True), LinearPredictor(), MultivariatePredictor(),
+    RLSMultivariatePredictor(), PersistencePredictor(), MeanPredictor()]
+
+
+@pytest.mark.parametrize("pred", ALL, ids=lambda p: repr(p))
+@pytest.mark.parametrize("value", [3.0, 0.0, 0.1])
+def test_constant_column_forecast_exactly(pred, value):
+    # reference: a constant series' future is the constant; every model must say so
+    # bit for bit, online and offline, and model the other columns as without it
+    Y = np.insert(X, 1, value, axis=1)
+    fitted = pred.clone(horizon=3).fit(Y[:400])
+    path, _ = fitted._forecast_path(Y, 3)
+    assert np.all(path[1:, :, 1] == value)  # fixed a=2, b=-1 extrapolate from 0 at t = 0
+    fitted.reset()
+    for row in Y[:50]:
+        step = fitted.update(row)
+    assert np.all(step[:, 1] == value)
+    alone = pred.clone(horizon=3).fit(X[:400])
+    path_alone, _ = alone._forecast_path(X, 3)
+    np.testing.assert_allclose(path[:, :, [0, 2]], path_alone, rtol=1e-9, atol=1e-12)
+
+
+def test_constant_column_in_refit_window():
+    # the constant appears only in the sliding window of a refit: still exact after it
+    Y = np.random.default_rng(1).standard_normal((700, 2))
+    Y[300:, 1] = -2.5
+    pred = ARMAPredictor(order=(1, 1), horizon=2, refit_every=100, window=200).fit(Y[:200])
+    path, refits = pred._forecast_path(Y, 2)
+    assert [r[0] for r in refits] == [199, 299, 399, 499, 599, 699]
+    assert not np.all(path[400:500, :, 1] == -2.5)  # window 200..399 is not constant
+    assert np.all(path[500:, :, 1] == -2.5)  # parameters from the window 300..499 on
 
 
 def test_constant_series_fine_for_persistence():
@@ -112,3 +162,26 @@ def test_cli_names_are_the_presets():
     assert a is not b and a.get_params() == b.get_params()
     with pytest.raises(ValueError, match="`name` must be one of"):
         make_predictor("kalman")
+
+
+@pytest.mark.parametrize("pred", ALL, ids=lambda p: repr(p))
+def test_values_near_the_float_range_refused_naming_the_column(pred):
+    # reference: float64 max is 1.8e308, so squares of 1e300-scaled values overflow;
+    # the fit must say which column instead of returning inf/NaN (warnings are errors)
+    Y = X.copy()
+    Y[:, 1] *= 1e300
+    with pytest.raises(ValueError, match=r"`history`: column 1 reaches .*e\+300, beyond "
+                       r".*overflow float64; rescale"):
+        pred.fit(Y[:400])
+    Y[:, 1] = X[:, 1] * 1e140   # squares summed over 400 x 2 terms stay finite: accepted
+    pred.fit(Y[:400])
+
+
+def test_evaluate_names_the_overflowing_mode_by_label():
+    from modalinfo.telemetry import ModalLog
+
+    Y = X.copy()
+    Y[:, 0] *= 1e300
+    log = ModalLog(Y, rate=1000.0, modes=[2, 3])
+    with pytest.raises(ValueError, match=r"`log`: mode Z2 reaches"):
+        evaluate([LinearPredictor()], log)
