@@ -96,6 +96,16 @@ def _index_grid(n: int, flat: np.ndarray) -> np.ndarray:
     return grid.reshape(n, n)
 
 
+def _sensed_pixels(wfs) -> np.ndarray:
+    """Flat plane-grid indices of the pixels an ideal sensor measures, in measurement order."""
+    rows = getattr(wfs, "measured_pixels", None)  # the lit part of the disc, when recorded
+    pixels = wfs.dm.pixels if rows is None else wfs.dm.pixels[rows]
+    if pixels.size != wfs.n_measurements:
+        raise ValueError(f"ideal sensor {wfs.index}: {pixels.size} pixels for "
+                         f"{wfs.n_measurements} measurements (internal geometry error).")
+    return pixels
+
+
 def _mode_images(dm, n: int) -> np.ndarray | None:
     if dm.shapes is None:
         return None
@@ -201,13 +211,14 @@ def build_aot_system(result, model=None):
         else:
             extra.update(kind="ideal", note=(
                 "AOT has no ideal (phase) sensor type: written as a Pyramid record with one "
-                "value per subaperture; its subapertures are the pixels of its DM's disc "
-                "(mask on the DM plane grid) and its measurements the field-averaged phase"))
+                "value per subaperture; its subapertures are the measured pixels of its DM's "
+                "disc (mask on the DM plane grid), its measurements their field-averaged "
+                "phase [rad] as the simulator's sensor gives them"))
             n_p = g.planes[wfs.dm.plane].n
             sensors.append(SensorSpec(
                 uid=f"wfs{j}", source="sun", kind="pyramid", dimensions=1,
                 n_valid_subapertures=wfs.n_measurements, measurements=meas,
-                subaperture_mask=_index_grid(n_p, wfs.dm.pixels),
+                subaperture_mask=_index_grid(n_p, _sensed_pixels(wfs)),
                 field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
                 extra=extra))
 
