@@ -122,6 +122,8 @@ def test_geometry_atmosphere_and_config_are_described(run, cfg, model, system):
                                   [lay.wind_speed for lay in cfg.layers])
     np.testing.assert_array_equal(_native(atm.layers_wind_direction).ravel(),
                                   [lay.wind_direction for lay in cfg.layers])
+    np.testing.assert_array_equal(_native(atm.layers_l0).ravel(),  # inf: Kolmogorov, kept
+                                  [lay.outer_scale for lay in cfg.layers])
     text = config_of(system)
     assert SimulationConfig.from_dict(tomllib.loads(text)) == run.config
 
