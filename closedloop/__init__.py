@@ -17,7 +17,8 @@ Public surface::
 Parts: ``config`` (frozen dataclasses, TOML/JSON), ``presets``, ``geometry``,
 ``atmosphere`` / ``phase_screen`` (frozen flow), ``dm``, ``wfs`` (MFoV layer-oriented
 Shack-Hartmann), ``control`` (POL integrator and predictor hook), ``science`` (Strehl
-over the field), ``simulation`` (the loop), ``result``, ``predictors``, ``cli``.
+over the field), ``simulation`` (the loop), ``result``, ``aot`` (export as an AO Telemetry
+system: ``result.to_aot(path)``), ``predictors``, ``cli``.
 """
 
 from closedloop import presets

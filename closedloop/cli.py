@@ -5,6 +5,7 @@
     closedloop run --preset table1 --predictor arma --duration 1.0 --seed 0 --out run.h5
     closedloop compare --preset table1 --predictors none,linear,arma,nn-paper,oracle
     closedloop info run.h5
+    closedloop export run.h5 run.fits               # the run as an AO Telemetry (AOT) system
     closedloop config --preset table1 > my.toml     # edit, then: run --config my.toml
 
 Errors print one line on stderr and exit 2 (no traceback); Ctrl-C ends cleanly (130).
@@ -159,6 +160,26 @@ def _cmd_info(args) -> int:
     return 0
 
 
+def _cmd_export(args) -> int:
+    from closedloop.result import SimulationResult
+
+    out = args.out
+    if out.suffix.lower() not in (".fits", ".fit", ".fts"):
+        raise CommandError(f"OUT must end in .fits (an AOT file is FITS); got '{out}'")
+    if out.is_dir():
+        raise CommandError(f"OUT '{out}' is a directory; give a file name")
+    if out.exists() and not args.overwrite:
+        raise CommandError(f"'{out}' exists; pass --overwrite to replace it")
+    if not out.parent.is_dir():
+        raise CommandError(f"directory '{out.parent}' does not exist (for OUT '{out}')")
+    result = SimulationResult.load(args.result)
+    path = result.to_aot(out, overwrite=args.overwrite)
+    loops = ", ".join(f"dm{i}" for i in range(len(result.config.dms)))
+    print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
+          f"{len(result.config.dms)} DMs (loops {loops}, POL in dm<i>.pol)")
+    return 0
+
+
 def _cmd_config(args) -> int:
     from closedloop.config import config_text, save_config
 
@@ -192,6 +213,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("info", help="summarise a result file")
     p.add_argument("result", type=Path)
     p.set_defaults(_run=_cmd_info)
+    p = sub.add_parser("export", help="write a result as an AO Telemetry (AOT) FITS file")
+    p.add_argument("result", type=Path, help="result file (HDF5, from `closedloop run --out`)")
+    p.add_argument("out", type=Path, help="AOT file to write (.fits)")
+    p.add_argument("--overwrite", action="store_true", help="replace OUT if it exists")
+    p.set_defaults(_run=_cmd_export)
     p = sub.add_parser("config", help="print a preset as TOML (edit it, pass it to --config)")
     src = p.add_mutually_exclusive_group()
     from closedloop import presets

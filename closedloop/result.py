@@ -262,6 +262,17 @@ class SimulationResult:
 
         return atomic_write(path, write, overwrite=overwrite, by_name=True)
 
+    def to_aot(self, path: str | Path, *, overwrite: bool = False, model=None) -> Path:
+        """Write the run as a complete AO Telemetry (AOT) system (see :mod:`closedloop.aot`).
+
+        Loops ``"dm{i}"`` (residual coefficients, commands, modes, reconstructor, time
+        filter, delay), ``"dm{i}.pol"`` (POL coefficients); atomic, refuses to replace a
+        file unless ``overwrite``. ``model``: the run's ``LoopModel`` (rebuilt if None).
+        """
+        from closedloop.aot import export_aot
+
+        return export_aot(self, path, overwrite=overwrite, model=model)
+
     @classmethod
     def load(cls, path: str | Path) -> SimulationResult:
         """Read a result written by :meth:`save`."""

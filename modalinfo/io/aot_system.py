@@ -138,6 +138,10 @@ class SensorSpec:
         Conjugation altitude [m] (kept in ``MI_GEOM``).
     n_sides : int
         Pyramid sides (pyramid only).
+    dimensions : int or None
+        Values per subaperture ``d`` of a pyramid (default 4; a Shack-Hartmann has 2).
+    units : str or None
+        Units of the measurements (``BUNIT``; AOT: user defined).
     extra : dict
         JSON-serialisable extras, kept in ``MI_GEOM``.
     """
@@ -152,6 +156,8 @@ class SensorSpec:
     field_of_view: float | None = None
     altitude: float | None = None
     n_sides: int = 4
+    dimensions: int | None = None
+    units: str | None = None
     extra: dict = field(default_factory=dict)
 
 
@@ -242,7 +248,10 @@ class LoopSpec:
     modes_to_commands : numpy.ndarray or None
         ``(a_v, m)``.
     commands : numpy.ndarray or None
-        ``(t, a_v)`` corrector commands [m].
+        ``(t, a_v)`` corrector commands (AOT: [m]).
+    command_units : str
+        Units written for ``commands`` (default ``"m"``, AOT's; a modal corrector whose
+        "actuators" are modes may say e.g. ``"rad"``).
     time_filter_num, time_filter_den : numpy.ndarray or None
         ``(m or 1, i)`` and ``(m or 1, j)`` controller coefficients (powers of
         ``z^-1``; see :func:`integrator_filter`).
@@ -266,6 +275,7 @@ class LoopSpec:
     measurements_to_modes: np.ndarray | None = None
     modes_to_commands: np.ndarray | None = None
     commands: np.ndarray | None = None
+    command_units: str = "m"
     time_filter_num: np.ndarray | None = None
     time_filter_den: np.ndarray | None = None
     closed: bool = True
@@ -423,14 +433,16 @@ def build_system(
                     break
         common = dict(
             uid=s.uid, source=srcs[s.source], n_valid_subapertures=int(s.n_valid_subapertures),
-            measurements=_image(aotpy, f"{s.uid} MEASUREMENTS", s.measurements, time=time),
+            measurements=_image(aotpy, f"{s.uid} MEASUREMENTS", s.measurements, time=time,
+                                unit=s.units),
             subaperture_mask=_image(aotpy, f"{s.uid} SUBAPERTURE_MASK", s.subaperture_mask),
             wavelength=s.wavelength,
         )
         if s.kind == "shack-hartmann":
             wfss[s.uid] = aotpy.ShackHartmann(**common)
         elif s.kind == "pyramid":
-            wfss[s.uid] = aotpy.Pyramid(**common, n_sides=int(s.n_sides))
+            dims = {} if s.dimensions is None else {"dimensions": int(s.dimensions)}
+            wfss[s.uid] = aotpy.Pyramid(**common, n_sides=int(s.n_sides), **dims)
         else:
             raise ValueError(f"sensor {s.uid!r}: `kind` must be 'shack-hartmann' or 'pyramid'; "
                              f"got {s.kind!r}.")
@@ -477,7 +489,8 @@ def build_system(
             measurements_to_modes=_image(aotpy, f"{lp.uid} MEASUREMENTS_TO_MODES",
                                          lp.measurements_to_modes),
             modes_to_commands=_image(aotpy, f"{lp.uid} MODES_TO_COMMANDS", lp.modes_to_commands),
-            commands=_image(aotpy, f"{lp.uid} COMMANDS", lp.commands, unit="m", time=time),
+            commands=_image(aotpy, f"{lp.uid} COMMANDS", lp.commands, unit=lp.command_units,
+                            time=time),
             time_filter_num=_image(aotpy, f"{lp.uid} TIME_FILTER_NUM", lp.time_filter_num),
             time_filter_den=_image(aotpy, f"{lp.uid} TIME_FILTER_DEN", lp.time_filter_den),
         ))

@@ -1,0 +1,334 @@
+r"""Export a simulation as an AO Telemetry (AOT) system, read back by ``aotpy`` and ``modalinfo``.
+
+:func:`export_aot` (and :meth:`closedloop.SimulationResult.to_aot`) writes one FITS
+file describing the whole simulated system, built with
+:func:`modalinfo.io.aot_system.build_system` and written atomically (never over an
+existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
+
+* **telescope** ``"telescope"``: diameter, central obstruction, the pupil mask on the
+  ``n_pixels`` grid, elevation ``90 - zenith_angle``;
+* **source** ``"sun"``: a ``"natural"`` source (AOT has no extended-source type),
+  ``extra = {"extended": "sun"}`` in the ``MI_GEOM`` card;
+* **sensors** ``"wfs{j}"``: a Shack-Hartmann: valid subapertures, the
+  ``(n_sub, n_sub)`` subaperture mask (``-1`` outside, else the index), measurements
+  ``(T, 2, s_v)`` (x slopes then y slopes [rad/m] of the phase at ``r0_wavelength``:
+  the result's ``(T, 2 s_v)`` rows reshaped, same bits) on the loop's timestamps;
+  conjugation altitude [m above the telescope] and field of view [arcsec] in
+  ``MI_GEOM`` (AOT has no field for them). An ``"ideal"`` sensor has no AOT type: it is
+  written as a one-value-per-subaperture ``Pyramid`` record whose "subapertures" are
+  the pixels of its DM's disc (mask on the DM's plane grid) and whose measurements are
+  the field-averaged phase [rad]; ``MI_GEOM`` says ``"kind": "ideal"``;
+* **correctors** ``"dm{i}"``: deformable mirrors, modal: each "actuator" is one mode
+  (``n_valid_actuators = M``), the pupil mask is the controlled disc on the DM's plane
+  grid ``(n_p, n_p)``; altitude in ``MI_GEOM``;
+* **atmosphere** ``"atmosphere"``: layer heights [m above the telescope], fractions
+  ``(D/r0_l)^(5/3) / sum``, wind speeds [m/s] and directions [deg, as configured: from
+  +x towards +y of the simulator's grid, which has no sky orientation; AOT asks 0 =
+  North, eastward], outer scales [m] (``inf``: Kolmogorov) and the total r0 [m] at
+  ``r0_wavelength`` and the zenith;
+* **loops**, per DM ``i`` driven by sensor ``j``:
+
+  - ``"dm{i}"``: modal coefficients = the ``dm{i}.residual`` log (the WFS-reconstructed
+    modal residual, rad at ``r0_wavelength``). That is what the AOT field means for a
+    closed loop (the modes seen by the sensor and corrected on the mirror), and it is
+    the product ``measurements_to_modes @ measurements`` that AOT readers recompute
+    when coefficients are absent. Also: the mode images ``(M, n_p, n_p)`` (unit-RMS
+    Noll Zernikes Z2.. over the disc, 0 outside), ``modes_to_commands`` = identity
+    (commands are modal coefficients), the commands (the ``dm{i}.commands`` log, in
+    rad: ``BUNIT = 'rad'``, not AOT's metres, because the "actuators" are modes),
+    ``measurements_to_modes``, the integrator time filter, delay [frames] and framerate;
+  - ``"dm{i}.pol"``: the pseudo-open-loop coefficients (the ``dm{i}.pol`` log, what a
+    predictor forecasts). AOT has no field for them; they are a second loop record of
+    the same sensor and corrector, without modes or reconstructor (their columns are
+    the same Noll modes Z2..);
+  - ``"dm{i}.wfs{k}"`` (global MAP reconstructor only, one per other sensor ``k``): AOT's
+    ``measurements_to_modes`` maps *one* sensor to a loop's modes, but the MCAO
+    reconstructor makes every DM's modes from *all* sensors. The loop ``"dm{i}"``
+    holds the block of its own sensor, and each ``"dm{i}.wfs{k}"`` the block of sensor
+    ``k`` (no coefficients), so that ``sum_k measurements_to_modes_ik @ s_k`` gives
+    the ``dm{i}`` coefficients and the file holds the whole reconstructor.
+
+  Each loop's coefficient image carries the card ``MI_QUANT`` (``residual``, ``pol``
+  or ``contribution``). The time filter is :func:`~modalinfo.io.aot_system.integrator_filter`
+  ``(gain, 1 - leak)``: ``c_k = (1 - leak) c_{k-1} + gain m_k`` (with a predictor the
+  controller filters the forecast POL instead; the card ``MI_CLOOP`` names it).
+
+* the configuration as TOML (``aotpy``: ``AOSystem.config``; JSON-quoted because FITS
+  cards hold no newlines: :func:`modalinfo.io.aot_system.config_of` unquotes it), the
+  mean Strehl over the field after loop closure at the science wavelength
+  (``strehl_ratio``, ``strehl_wavelength``), and the card ``MI_CLOOP`` (JSON: version,
+  seed, predictor, what each loop holds, conventions).
+
+Reading back, ``aotpy.AOSystem.read_from_file`` and ``modalinfo.io.load(path,
+loop="dm0")`` give the result's arrays bit for bit (coefficients, timestamps,
+measurements, commands: AOT images keep their float64 dtype).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["build_aot_system", "export_aot"]
+
+#: system card describing what the closedloop export holds (JSON)
+CLOSEDLOOP_KEY = "MI_CLOOP"
+
+
+def _own_sensor(config, i: int) -> int:
+    for j, w in enumerate(config.wfss):
+        if w.dm == i:
+            return j
+    raise ValueError(f"DM {i} is driven by no WFS (`wfss[j].dm`); cannot export its loop.")
+
+
+def _disc_mask(dm, n: int) -> np.ndarray:
+    mask = np.zeros(n * n, dtype=np.int16)
+    mask[dm.pixels] = 1
+    return mask.reshape(n, n)
+
+
+def _index_grid(n: int, flat: np.ndarray) -> np.ndarray:
+    grid = -np.ones(n * n, dtype=np.int32)
+    grid[flat] = np.arange(flat.size, dtype=np.int32)
+    return grid.reshape(n, n)
+
+
+def _sensed_pixels(wfs) -> np.ndarray:
+    """Flat plane-grid indices of the pixels an ideal sensor measures, in measurement order."""
+    rows = getattr(wfs, "measured_pixels", None)  # the lit part of the disc, when recorded
+    pixels = wfs.dm.pixels if rows is None else wfs.dm.pixels[rows]
+    if pixels.size != wfs.n_measurements:
+        raise ValueError(f"ideal sensor {wfs.index}: {pixels.size} pixels for "
+                         f"{wfs.n_measurements} measurements (internal geometry error).")
+    return pixels
+
+
+def _mode_images(dm, n: int) -> np.ndarray | None:
+    if dm.shapes is None:
+        return None
+    img = np.zeros((dm.n_modes, n * n))
+    img[:, dm.pixels] = dm.shapes.T
+    return img.reshape(dm.n_modes, n, n)
+
+
+def _as_dsv(wfs, arr: np.ndarray) -> np.ndarray:
+    """``(rows, n_meas)`` -> ``(rows, d, s_v)``: SH (x..., y...) -> ``d = 2``, ideal ``d = 1``."""
+    arr = np.ascontiguousarray(arr)
+    d = 2 if wfs.kind == "shack_hartmann" else 1
+    return arr.reshape(arr.shape[0], d, wfs.n_measurements // d)
+
+
+def _blocks(model, i: int) -> list[np.ndarray]:
+    """Reconstructor of DM ``i``'s modes from each sensor's measurements: ``[(M_i, n_meas_k)]``."""
+    sl = model.mode_slices[i]
+    if model.reconstructor is not None:
+        edges = np.concatenate([[0], np.cumsum([w.n_measurements for w in model.wfss])])
+        return [model.reconstructor[sl, edges[k]:edges[k + 1]] for k in range(len(model.wfss))]
+    out = []
+    for w in model.wfss:
+        if w.dm.index != i:
+            out.append(None)
+        elif w.reconstructor is None:  # ideal sensor on a zonal DM: the identity
+            out.append(np.eye(w.n_measurements))
+        else:
+            out.append(w.reconstructor)
+    return out
+
+
+def build_aot_system(result, model=None):
+    """Build the ``aotpy.AOSystem`` of a simulation (see the module docstring).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+    model : LoopModel, optional
+        The run's static parts (rebuilt from ``result.config`` if not given; it is
+        deterministic).
+
+    Returns
+    -------
+    aotpy.AOSystem
+    """
+    from closedloop.config import config_text
+    from closedloop.simulation import LoopModel
+    from modalinfo.io.aot_system import (
+        AtmosphereSpec,
+        CorrectorSpec,
+        LoopSpec,
+        SensorSpec,
+        SourceSpec,
+        TelescopeSpec,
+        build_system,
+        import_aotpy,
+        integrator_filter,
+    )
+
+    cfg = result.config
+    if model is None:
+        model = LoopModel(cfg)
+    elif model.config != cfg:
+        raise ValueError("`model` was built for another config than the result's.")
+    g = model.geometry
+    times = np.asarray(result.times, dtype=np.float64)
+    n_frames = times.size
+    rate = 1.0 / cfg.loop.time_step
+    delay = cfg.loop.delay_frames
+    num, den = integrator_filter(cfg.loop.gain, 1.0 - cfg.loop.leak)
+    have_meas = len(result.measurements) == len(model.wfss)
+
+    telescope = TelescopeSpec(
+        uid="telescope", diameter=cfg.telescope.diameter,
+        obscuration_diameter=(cfg.telescope.obscuration * cfg.telescope.diameter
+                              if cfg.telescope.obscuration > 0 else None),
+        pupil_mask=g.pupil_mask, elevation=90.0 - cfg.telescope.zenith_angle)
+    sun = SourceSpec(uid="sun", kind="natural",
+                     extra={"extended": "sun", "note": "AOT has no extended-source type"})
+
+    sensors = []
+    for j, (wfs, wcfg) in enumerate(zip(model.wfss, cfg.wfss, strict=True)):
+        meas = None
+        if have_meas:
+            meas = np.asarray(result.measurements[j])
+            if meas.shape != (n_frames, wfs.n_measurements):
+                raise ValueError(f"result.measurements[{j}] has shape {meas.shape}; expected "
+                                 f"{(n_frames, wfs.n_measurements)}.")
+            meas = _as_dsv(wfs, meas)
+        extra = {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
+                 "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
+        if wfs.kind == "shack_hartmann":
+            extra.update(subaperture_pitch=wfs.pitch, n_subapertures=wcfg.n_subapertures,
+                         order="d = 0: x slopes, d = 1: y slopes; mask rows are y")
+            sensors.append(SensorSpec(
+                uid=f"wfs{j}", source="sun", kind="shack-hartmann",
+                n_valid_subapertures=wfs.n_valid_subapertures, measurements=meas,
+                subaperture_mask=_index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
+                field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
+                extra=extra))
+        else:
+            extra.update(kind="ideal", note=(
+                "AOT has no ideal (phase) sensor type: written as a Pyramid record with one "
+                "value per subaperture; its subapertures are the measured pixels of its DM's "
+                "disc (mask on the DM plane grid), its measurements their field-averaged "
+                "phase [rad] as the simulator's sensor gives them"))
+            n_p = g.planes[wfs.dm.plane].n
+            sensors.append(SensorSpec(
+                uid=f"wfs{j}", source="sun", kind="pyramid", dimensions=1,
+                n_valid_subapertures=wfs.n_measurements, measurements=meas,
+                subaperture_mask=_index_grid(n_p, _sensed_pixels(wfs)),
+                field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
+                extra=extra))
+
+    correctors = []
+    loops_main, loops_pol, loops_cross = [], [], []
+    described = {}
+    for i, dm in enumerate(model.dms):
+        n_p = g.planes[dm.plane].n
+        modal = dm.shapes is not None
+        correctors.append(CorrectorSpec(
+            uid=f"dm{i}", kind="dm", n_valid_actuators=dm.n_modes, altitude=cfg.dms[i].altitude,
+            pupil_mask=_disc_mask(dm, n_p),
+            extra={"model": "modal: each actuator is one mode, commands are modal "
+                            "coefficients [rad at r0_wavelength]" if modal else
+                            "zonal (ideal): each actuator is one pixel of the disc",
+                   "modes": f"Z{dm.modes[0]}..Z{dm.modes[-1]} (Noll)" if modal else "pixels",
+                   "disc_diameter": dm.diameter, "line_of_sight_altitude": dm.altitude,
+                   "plane_pixels": n_p, "pixel_scale": g.dx}))
+        j = _own_sensor(cfg, i)
+        blocks = _blocks(model, i)
+        common = dict(sensor=f"wfs{j}", corrector=f"dm{i}", timestamps=times, framerate=rate,
+                      delay=delay, time_filter_num=num, time_filter_den=den, closed=True)
+        loops_main.append(LoopSpec(
+            uid=f"dm{i}", **common, units="rad",
+            modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
+            modes=_mode_images(dm, n_p),
+            measurements_to_modes=_as_dsv(model.wfss[j], blocks[j]),
+            modes_to_commands=np.eye(dm.n_modes) if modal else None,
+            commands=np.ascontiguousarray(result.logs[f"dm{i}.commands"].coeffs),
+            command_units="rad", coefficient_metadata={"MI_QUANT": "residual"}))
+        described[f"dm{i}"] = ("modal residual reconstructed from the WFS measurements "
+                               f"(log dm{i}.residual); commands = log dm{i}.commands")
+        loops_pol.append(LoopSpec(
+            uid=f"dm{i}.pol", **common, units="rad",
+            modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.pol"].coeffs),
+            coefficient_metadata={"MI_QUANT": "pol"}))
+        described[f"dm{i}.pol"] = f"pseudo-open-loop coefficients of dm{i} (log dm{i}.pol)"
+        for k, block in enumerate(blocks):
+            if k == j or block is None:
+                continue
+            loops_cross.append(LoopSpec(
+                uid=f"dm{i}.wfs{k}", **{**common, "sensor": f"wfs{k}"},
+                measurements_to_modes=_as_dsv(model.wfss[k], block),
+                coefficient_metadata={"MI_QUANT": "contribution"}))
+            described[f"dm{i}.wfs{k}"] = (f"block of the global reconstructor: wfs{k} "
+                                          f"measurements to dm{i} modes (no coefficients)")
+
+    strength = np.array([lay.d_over_r0 ** (5.0 / 3.0) for lay in cfg.layers])
+    atmosphere = AtmosphereSpec(
+        uid="atmosphere", wavelength=cfg.r0_wavelength,
+        r0=cfg.telescope.diameter / float(strength.sum()) ** 0.6,
+        heights=np.array([lay.altitude for lay in cfg.layers]),
+        weights=strength / strength.sum(),
+        wind_speeds=np.array([lay.wind_speed for lay in cfg.layers]),
+        wind_directions=np.array([lay.wind_direction for lay in cfg.layers]),
+        outer_scales=np.array([lay.outer_scale for lay in cfg.layers]))
+
+    system = build_system(
+        loops_main + loops_pol + loops_cross, sensors=sensors, correctors=correctors,
+        sources=[sun], telescope=telescope, atmosphere=[atmosphere],
+        name=f"closedloop {cfg.name}", config=config_text(cfg, "toml"))
+    s = result.summary()
+    system.strehl_ratio = float(s["strehl_field_mean"])
+    system.strehl_wavelength = float(cfg.wavelength)
+    notes = {
+        "written_by": "closedloop", "version": result.version, "seed": int(result.seed),
+        "predictor": result.predictor, "loops": described,
+        "reconstructor": ("global MAP: dm{i} modes = sum over sensors k of the blocks in "
+                          "loops dm{i} (own sensor) and dm{i}.wfs{k}"
+                          if model.reconstructor is not None else
+                          "one per sensor: loop dm{i}.measurements_to_modes"),
+        "units": "phase in rad at r0_wavelength; slopes in rad/m",
+        "r0_wavelength": cfg.r0_wavelength,
+        "altitudes": "m above the telescope (line of sight: times sec(zenith_angle))",
+        "wind_direction": "deg from +x towards +y of the simulator's grid (no sky orientation)",
+        "strehl_ratio": "Marechal SR averaged over the field grid after loop closure",
+        "time_filter": "integrator c_k = (1 - leak) c_{k-1} + gain m_k"
+                       + ("" if result.predictor == "none" else
+                          f"; the loop ran with predictor {result.predictor!r}, which "
+                          "filters the forecast POL instead"),
+    }
+    aotpy = import_aotpy()
+    system.metadata.append(aotpy.Metadatum(
+        CLOSEDLOOP_KEY, json.dumps(notes, ensure_ascii=True, separators=(",", ":"))))
+    return system
+
+
+def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
+    """Write a simulation as a complete AOT system (FITS), atomically.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+    path : str or os.PathLike
+        Target file (``.fits``).
+    overwrite : bool
+        Replace an existing file; otherwise ``FileExistsError`` (checked before any work).
+    model : LoopModel, optional
+        The run's static parts (rebuilt from the config when not given).
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    from modalinfo.io._common import as_path
+    from modalinfo.io.aot import write_system
+
+    path = as_path(path)
+    if path.exists() and not overwrite and not path.is_dir():
+        raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+    return write_system(build_aot_system(result, model), path, overwrite=overwrite)
