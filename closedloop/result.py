@@ -10,7 +10,7 @@ It saves to and loads from HDF5 losslessly (:meth:`save`, :meth:`load`).
 Derived views
 -------------
 - Loop closure (:attr:`closure_index`): the first frame from which the SR peak stays
-  inside its steady-state band, the band being the median of the second half of the
+  for 5 ms above its steady-state band's floor, the median of the second half of the
   run minus three robust standard deviations (1.4826 MAD). Detected, not fixed.
 - :meth:`strehl_map`: time average of the Strehl after closure, on the field grid.
 - :meth:`corrected_fov_diameter`: the area ``A`` where the time-averaged SR exceeds a
@@ -150,8 +150,14 @@ class SimulationResult:
         med = np.median(tail)
         spread = 1.4826 * np.median(np.abs(tail - med))
         low = med - 3.0 * spread
-        below = np.flatnonzero(peak[: n // 2] < low)
-        return int(below[-1] + 1) if below.size else 0
+        # the first frame from which the SR peak stays in the band for 5 ms: later dips
+        # are turbulence, not the loop closing
+        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        inside = peak >= low
+        for k in range(n // 2):
+            if inside[k:k + window].all():
+                return k
+        return n // 2
 
     @property
     def closure_time(self) -> float:
