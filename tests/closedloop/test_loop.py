@@ -42,23 +42,23 @@ def model(cfg):
 
 @pytest.fixture(scope="module")
 def reference(cfg, model):
-    return simulate(cfg, 0.12, seed=5, model=model, progress=False)
+    return simulate(cfg, 0.15, seed=5, model=model, progress=False)
 
 
 def test_same_seed_same_bits_other_seed_other_bits(cfg, model, reference):
-    again = simulate(cfg, 0.12, seed=5, model=model, progress=False)
+    again = simulate(cfg, 0.15, seed=5, model=model, progress=False)
     np.testing.assert_array_equal(again.residual_variance, reference.residual_variance)
     np.testing.assert_array_equal(again.logs["dm1.commands"].coeffs,
                                   reference.logs["dm1.commands"].coeffs)
-    fresh = simulate(cfg, 0.12, seed=5, progress=False)  # a new LoopModel too
+    fresh = simulate(cfg, 0.15, seed=5, progress=False)  # a new LoopModel too
     np.testing.assert_array_equal(fresh.residual_variance, reference.residual_variance)
-    other = simulate(cfg, 0.12, seed=6, model=model, progress=False)
+    other = simulate(cfg, 0.15, seed=6, model=model, progress=False)
     assert not np.array_equal(other.residual_variance, reference.residual_variance)
 
 
 def test_persistence_reproduces_the_no_predictor_run(cfg, model, reference):
     persistence = PersistencePredictor(horizon=3).fit(training_data(reference))
-    run = simulate(cfg, 0.12, seed=5, model=model, predictor=persistence, progress=False)
+    run = simulate(cfg, 0.15, seed=5, model=model, predictor=persistence, progress=False)
     np.testing.assert_array_equal(run.residual_variance, reference.residual_variance)
     assert run.predictor == "PersistencePredictor"
 
@@ -97,9 +97,9 @@ def test_oracle_reaches_the_zero_delay_run(cfg, model, reference):
     # the oracle knows the POL over each command's hold: it must do at least as well as
     # the same loop with no delay at all. Tolerance: the frame-to-frame scatter of the
     # SR peak's mean (its s.e. over ~100 correlated frames is ~0.01).
-    oracle = simulate(cfg, 0.12, seed=5, model=model, predictor="oracle", progress=False)
+    oracle = simulate(cfg, 0.15, seed=5, model=model, predictor="oracle", progress=False)
     zero = small(delay=0.0)
-    zero_run = simulate(zero, 0.12, seed=5, progress=False)
+    zero_run = simulate(zero, 0.15, seed=5, progress=False)
     a = oracle.strehl_peak[oracle.closure_index:].mean()
     b = zero_run.strehl_peak[zero_run.closure_index:].mean()
     c = reference.strehl_peak[reference.closure_index:].mean()
@@ -113,7 +113,7 @@ def test_trained_predictors_run_online(cfg, model, reference):
     assert data.shape[0] <= reference.times.size - 15  # after 15 ms, as in the paper
     arma = train(make("arma"), reference)
     assert isinstance(arma, ARMAPredictor)
-    run = simulate(cfg, 0.12, seed=5, model=model, predictor=arma, progress=False)
+    run = simulate(cfg, 0.15, seed=5, model=model, predictor=arma, progress=False)
     assert np.all(np.isfinite(run.residual_variance))
     with pytest.raises(ValueError, match="no-prediction"):
         training_data(run)
