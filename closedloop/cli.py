@@ -20,7 +20,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from modalinfo.cli import CommandError, _Parser
+from modalinfo.cli import CommandError, _Parser, dispatch
 
 __all__ = ["main"]
 
@@ -233,21 +233,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if getattr(args, "_run", None) is None:
-        parser.print_help(sys.stderr)
-        return 2
-    try:
-        return int(args._run(args) or 0)
-    except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
-        text = str(exc).strip()
-        message = text.splitlines()[0] if text else type(exc).__name__
-        sys.stderr.write(f"closedloop {args.command}: error: {message}\n")
-        return 2
-    except KeyboardInterrupt:
-        sys.stderr.write("closedloop: interrupted\n")
-        return 130
+    return dispatch(build_parser(), argv, "closedloop")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -19,7 +19,7 @@ import pkgutil
 import re
 import sys
 
-__all__ = ["main", "CommandError"]
+__all__ = ["main", "dispatch", "CommandError"]
 
 
 class CommandError(Exception):
@@ -102,9 +102,14 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run the command line; return the exit status."""
-    parser = build_parser()
+def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
+             words=None) -> int:
+    """Parse ``argv`` and run the chosen subcommand's ``_run``; return the exit status.
+
+    Shared by ``modalinfo`` and ``closedloop``: queued notes after success, one line on
+    stderr and status 2 for an input error (through ``words``, which rewrites library
+    names in command-line terms), a quiet exit for a closed pipe, 130 for Ctrl-C.
+    """
     args = parser.parse_args(argv)
     if getattr(args, "_run", None) is None:
         parser.print_help(sys.stderr)
@@ -124,11 +129,18 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        sys.stderr.write(f"modalinfo {args.command}: error: {cli_words(message)}\n")
+        if words is not None:
+            message = words(message)
+        sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
         return 2
     except KeyboardInterrupt:
-        sys.stderr.write("modalinfo: interrupted\n")
+        sys.stderr.write(f"{prog}: interrupted\n")
         return 130
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; return the exit status."""
+    return dispatch(build_parser(), argv, "modalinfo", words=cli_words)
 
 
 if __name__ == "__main__":  # pragma: no cover
