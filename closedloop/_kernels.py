@@ -6,8 +6,7 @@ from numba import prange
 from modalinfo._numba import jit
 
 
-@jit(parallel=True)
-def direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights,
+def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights,
                       out_mean, out_var):
     """Mean and variance over the pupil of the summed plane maps, for every direction.
 
@@ -69,6 +68,12 @@ def direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights,
         mean = s / count
         out_mean[d] = mean
         out_var[d] = max(s2 / count - mean * mean, 0.0)
+
+
+# one body, two compilations: threads pay off only for many directions (a parallel region
+# costs a thread wake-up, milliseconds on a loaded machine)
+direction_moments = jit(parallel=True)(_direction_moments)
+direction_moments_serial = jit(_direction_moments)
 
 
 @jit

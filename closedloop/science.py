@@ -18,6 +18,9 @@ from closedloop.geometry import Geometry
 
 __all__ = ["ScienceCamera", "fft_strehl", "marechal_strehl"]
 
+#: pixel-directions above which the science kernel runs on threads
+_PARALLEL_WORK = 50_000
+
 
 def marechal_strehl(variance) -> np.ndarray:
     """``exp(-variance)`` (variance in rad^2 at the science wavelength)."""
@@ -76,6 +79,8 @@ class ScienceCamera:
         self._sizes = sizes
         self._offsets = np.concatenate([[0], np.cumsum(sizes ** 2)[:-1]]).astype(np.int64)
         self._flat = np.zeros(int((sizes ** 2).sum()))
+        # threads for the full field grid; a few directions run serially
+        self._parallel = len(self.directions) * int(mask.sum()) >= _PARALLEL_WORK
         self.mean = np.zeros(len(self.directions))
         self.variance = np.zeros(len(self.directions))
 
@@ -91,7 +96,9 @@ class ScienceCamera:
         each plane (default all 1).
         """
         w = np.ones(len(self._sizes)) if weights is None else np.asarray(weights, float)
-        _kernels.direction_moments(self._flat, self._offsets, self._sizes, self._span_lo,
+        kernel = (_kernels.direction_moments if self._parallel
+                  else _kernels.direction_moments_serial)
+        kernel(self._flat, self._offsets, self._sizes, self._span_lo,
                                    self._span_hi, self._shifts, w, self.mean, self.variance)
         return self.variance
 
