@@ -51,6 +51,8 @@ _REWRITES = (
     # "pass nonfinite='drop' or 'interpolate'" -> "use --nonfinite drop or interpolate"
     (re.compile(r"pass nonfinite='(\w+)' or '(\w+)'"), r"use --nonfinite \1 or --nonfinite \2"),
     (re.compile(r"pass overwrite=True(?: \(command line: --overwrite\))?"), "pass --overwrite"),
+    # "pass transpose=True (command line: --transpose)" -> "pass --transpose"
+    (re.compile(r"\w+=\S* \(command line: (--[\w-]+(?: [A-Z]+)?)\)"), r"\1"),
     (re.compile(r"pass fmt="), "pass --to-fmt"),
     (re.compile(r"max\(horizons\) \+ 1"), "--horizon + 1"),
     # hint `rate`=2000.0 -> --rate 2000

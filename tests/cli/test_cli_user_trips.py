@@ -109,7 +109,7 @@ def test_messages_speak_cli(tmp_path, capsys):
         (["info", "{tmp}/nan.npy"], "use --nonfinite drop or --nonfinite interpolate"),
         (["forecast", "{tmp}/nan.npy"], "use --nonfinite drop"),
         (["info", "{tmp}/one.npy"], "needs shape (T, 1)"),
-        (["info", "{tmp}/dup.csv"], "duplicated at index 10 (0.0045 s then 0.0045 s)"),
+        (["info", "{tmp}/dup.csv"], "repeated at frame 10: 0.0045 then 0.0045 s); pass --rate"),
         (["reorder", "{tmp}/nan.npy", "--nonfinite", "drop", "--budget", "3"],
          "--budget must be an int >= 10; got 3"),
         (["forecast", "{tmp}/nan.npy", "--nonfinite", "drop", "--train", "2.5"],
