@@ -125,9 +125,13 @@ def _cmd_compare(args) -> int:
                          progress=_progress(args))
     rows = []
     for name in names:
-        result = reference if name == "none" else _run_with(
-            config, name, args.duration, seed, args.train_seed, _progress(args),
-            reference=reference, model=model)
+        try:
+            result = reference if name == "none" else _run_with(
+                config, name, args.duration, seed, args.train_seed, _progress(args),
+                reference=reference, model=model)
+        except ValueError as exc:  # e.g. too few frames to train it: say so, go on
+            rows.append((name, str(exc).splitlines()[0]))
+            continue
         s = result.summary()
         rows.append((name, s["strehl_peak_mean"], s["strehl_field_mean"],
                      s["corrected_fov_diameter_arcmin"], s["closure_time_s"] * 1e3,
@@ -137,6 +141,9 @@ def _cmd_compare(args) -> int:
     print(f"{'predictor':<14}{'SR peak':>9}{'SR field':>10}{'FoV d [arcmin]':>16}"
           f"{'closure [ms]':>14}{'steps/s':>9}")
     for row in rows:
+        if len(row) == 2:
+            print(f"{row[0]:<14}not run: {row[1]}")
+            continue
         print(f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{row[3]:>16.2f}{row[4]:>14.0f}"
               f"{row[5]:>9.0f}")
     return 0
