@@ -190,7 +190,10 @@ def _forecast(log: Any, p: dict) -> dict:
     predictors = {n: make_predictor(n) for n in names}
     horizon = int(p["horizon"])
     train = p["train"]
-    ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1))
+    # no forecast series are kept (the batch plots none): memory is the chunk buffers,
+    # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
+    ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
+                  keep_series=1, chunk_frames=2048)
     row: dict[str, Any] = {"n_train": int(ev.n_train), "n_origins": int(ev.origins.size)}
     for name in names:
         i = ev.index(name)
@@ -218,7 +221,8 @@ def run_log_task(payload: dict) -> dict:
     ----------
     payload : dict
         ``path``, ``fmt`` (or None), ``hints`` (dict), ``analysis``, ``params``
-        (complete, see :func:`resolve_params`).
+        (complete, see :func:`resolve_params`) and optionally ``window``
+        ``[start, stop)`` in frames.
 
     Returns
     -------
@@ -234,6 +238,9 @@ def run_log_task(payload: dict) -> dict:
     if not os.path.isfile(path):
         raise FileNotFoundError(f"no such file: '{path}'")
     log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
+    if payload.get("window") is not None:
+        start, stop = payload["window"]
+        log = log[start:stop]  # a view of the mapped file: only the window is read
     row = log_columns(log)
     row.update(ANALYSES[payload["analysis"]](log, payload["params"]))
     return row

@@ -1,10 +1,12 @@
 """``analyse_archive``: the analyses of ``modalinfo batch`` over an archive of logs, on Dask.
 
-Work is partitioned as one task per (log, analysis), keyed by the SHA-256 of the
-log's bytes, the analysis, its parameters, the input hints and the package version
-(:func:`modalinfo.batch.engine.task_key`). The SHA-256 of each log is itself computed
-by a task on the workers and cached in ``<out>/hashes.json`` by (path, size, mtime),
-so a re-run neither re-reads nor re-analyses anything it has done.
+Work is partitioned as one task per (log, analysis) -- or per (log, analysis, time
+window) with ``window_frames`` -- keyed by the SHA-256 of the log's bytes, the
+analysis, its parameters, the input hints, the window and the package version
+(:func:`modalinfo.batch.engine.task_key`). The SHA-256 of each log (and its frame
+count when windows are asked for) is itself computed by a task on the workers and
+cached in ``<out>/hashes.json`` by (path, size, mtime, format, hints), so a re-run
+neither re-reads nor re-analyses anything it has done.
 
 Output directory layout::
 
@@ -39,11 +41,11 @@ from modalinfo.batch.engine import (
 )
 from modalinfo.batch.manifest import LogEntry, collect_logs
 
-__all__ = ["BatchResult", "analyse_archive", "build_specs"]
+__all__ = ["BatchResult", "analyse_archive", "build_specs", "time_windows"]
 
 #: Leading columns of the table.
-FIRST_COLUMNS = ("path", "analysis", "status", "error_type", "error_message", "sha256",
-                 "version", "params", "hints", "key")
+FIRST_COLUMNS = ("path", "analysis", "window", "window_start", "window_stop", "status",
+                 "error_type", "error_message", "sha256", "version", "params", "hints", "key")
 
 
 @dataclass(frozen=True)
@@ -82,11 +84,24 @@ class BatchResult:
         return sum(r.get("status") != "ok" for r in self.rows)
 
 
-def _hash_or_none(path: str) -> str | None:
+def _probe(path: str, fmt: str | None, hints: dict, frames: bool) -> list:
+    """[SHA-256 or None, frame count] of one file (run on a worker).
+
+    The frame count is None when not asked for, -1 when the file cannot be loaded.
+    """
     try:
-        return sha256_file(path)
+        digest = sha256_file(path)
     except OSError:
-        return None
+        return [None, None]
+    n_frames = None
+    if frames:
+        from modalinfo.io import load
+
+        try:
+            n_frames = int(load(path, fmt=fmt, mmap=True, **hints).n_frames)
+        except Exception:  # noqa: BLE001 - the analysis task reports why as an error row
+            n_frames = -1
+    return [digest, n_frames]
 
 
 def _stat(path: str) -> list | None:
@@ -97,11 +112,14 @@ def _stat(path: str) -> list | None:
     return [st.st_size, st.st_mtime_ns]
 
 
-def _hashes(entries: list[LogEntry], out_dir: Path,
-            get_client: Callable[[], Any]) -> tuple[dict, int]:
-    """SHA-256 of every entry (None for unreadable files); computed on the workers.
+def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any],
+            frames: bool) -> tuple[dict, int]:
+    """SHA-256 (and frame count if ``frames``) of every entry, computed on the workers.
 
-    ``get_client()`` is called only when a file is missing from the cache.
+    Cached in ``hashes.json`` by path, size, modification time, format and hints;
+    ``get_client()`` is called only when some file is missing from the cache. Returns
+    ``({path: [sha256 or None, n_frames]}, files probed)`` (``n_frames``: None when
+    not asked for, -1 for a file that does not load).
     """
     from modalinfo.io._common import atomic_write
 
@@ -110,48 +128,73 @@ def _hashes(entries: list[LogEntry], out_dir: Path,
     if cache_path.is_file():
         with contextlib.suppress(ValueError, OSError):
             cache = json.loads(cache_path.read_text(encoding="utf-8"))
-    result: dict[str, str | None] = {}
+    result: dict[str, list] = {}
     todo = []
     for e in entries:
         stat = _stat(e.path)
-        hit = cache.get(e.path)
-        if stat is not None and isinstance(hit, list) and hit[:2] == stat:
-            result[e.path] = hit[2]
-        elif stat is None:
-            result[e.path] = None
+        name = e.path + "\n" + canonical_json([e.fmt, e.hints])
+        hit = cache.get(name)
+        if stat is None:
+            result[e.path] = [None, None]
+        elif (isinstance(hit, list) and hit[:2] == stat
+              and (not frames or hit[3] is not None or hit[2] is None)):
+            result[e.path] = hit[2:4]
         else:
-            todo.append((e.path, stat))
+            todo.append((e, name, stat))
     if todo:
         client = get_client()
-        paths = [p for p, _ in todo]
-        keys = ["modalinfo-sha256-" + task_key("sha256", p, s) for p, s in todo]
-        digests = client.gather(client.map(_hash_or_none, paths, key=keys, pure=True))
-        for (path, stat), digest in zip(todo, digests, strict=True):
-            result[path] = digest
+        keys = ["modalinfo-probe-" + task_key("probe", n, s, frames) for _, n, s in todo]
+        found = client.gather(client.map(
+            _probe, [e.path for e, _, _ in todo], [e.fmt for e, _, _ in todo],
+            [e.hints for e, _, _ in todo], [frames] * len(todo), key=keys, pure=True))
+        for (e, name, stat), (digest, n_frames) in zip(todo, found, strict=True):
+            result[e.path] = [digest, n_frames]
             if digest is not None:
-                cache[path] = [*stat, digest]
+                cache[name] = [*stat, digest, n_frames]
         text = canonical_json(cache).encode()
         atomic_write(cache_path, lambda fh: fh.write(text), overwrite=True)
     return result, len(todo)
 
 
+def time_windows(n_frames: int, window: int) -> list[tuple[int, int]]:
+    """Consecutive windows of ``window`` frames; the last one takes the remainder.
+
+    ``n_frames // window`` windows (at least one); the last runs to the end, so it has
+    between ``window`` and ``2 window - 1`` frames and no window is a short tail.
+    """
+    count = max(1, n_frames // window)
+    starts = [i * window for i in range(count)]
+    return [(a, b) for a, b in zip(starts, [*starts[1:], n_frames], strict=True)]
+
+
 def build_specs(entries: list[LogEntry], analyses: list[str], params: dict,
-                hashes: dict) -> list[TaskSpec]:
-    """One spec per (log, analysis), keyed by content, analysis, parameters and hints."""
+                probes: dict, window_frames: int | None = None) -> list[TaskSpec]:
+    """One spec per (log, analysis[, time window]), keyed by content and parameters.
+
+    The key covers the log's SHA-256 (its path when unreadable), the analysis, its
+    parameters, the format and hints, the window and the package version.
+    """
     version = package_version()
     specs = []
     for e in entries:
-        digest = hashes.get(e.path)
+        digest, n_frames = probes.get(e.path, [None, None])
         ident = digest if digest is not None else ["unreadable", e.path]
+        windows: list = [None]
+        if window_frames is not None and n_frames is not None and n_frames > 0:
+            windows = time_windows(n_frames, window_frames)
         for name in analyses:
             p = params[name]
-            key = task_key(ident, name, p, e.fmt, e.hints)
-            payload = {"path": e.path, "fmt": e.fmt, "hints": e.hints, "analysis": name,
-                       "params": p}
-            labels = {"path": e.path, "analysis": name, "sha256": digest, "version": version,
-                      "params": canonical_json(p), "hints": canonical_json(
-                          {"fmt": e.fmt, **e.hints})}
-            specs.append(TaskSpec(key, payload, labels))
+            for w, bounds in enumerate(windows):
+                key = task_key(ident, name, p, e.fmt, e.hints, bounds)
+                payload = {"path": e.path, "fmt": e.fmt, "hints": e.hints, "analysis": name,
+                           "params": p}
+                labels = {"path": e.path, "analysis": name, "sha256": digest,
+                          "version": version, "params": canonical_json(p),
+                          "hints": canonical_json({"fmt": e.fmt, **e.hints})}
+                if bounds is not None:
+                    payload["window"] = list(bounds)
+                    labels.update(window=w, window_start=bounds[0], window_stop=bounds[1])
+                specs.append(TaskSpec(key, payload, labels))
     return specs
 
 
@@ -189,6 +232,7 @@ def analyse_archive(
     threads_per_worker: int | None = None,
     memory_limit: str | float | None = None,
     client: Any = None,
+    window_frames: int | None = None,
     retries: int = 2,
     retry_errors: bool = False,
     progress: bool = True,
@@ -217,6 +261,13 @@ def analyse_archive(
         Local cluster shape (see :func:`modalinfo.batch.engine.open_client`).
     client : distributed.Client, optional
         Use this client (then ``scheduler`` and the cluster shape must be None).
+    window_frames : int, optional
+        Split each log into consecutive windows of this many frames (the last takes
+        the remainder, see :func:`time_windows`) and analyse each window as a log of
+        its own: one task and one row per window (columns ``window``,
+        ``window_start``, ``window_stop``; ``start_time``/``date`` are the window's).
+        A task then maps only its window, so a worker's memory follows the window,
+        not the log. None: whole logs.
     retries : int
         Extra attempts of a task whose worker died.
     retry_errors : bool
@@ -238,6 +289,10 @@ def analyse_archive(
         ``distributed`` or ``pyarrow`` missing (install ``modalinfo[dist]``).
     """
     names = _parse_analyses(analyses)
+    if window_frames is not None and (isinstance(window_frames, bool)
+                                      or not isinstance(window_frames, int)
+                                      or window_frames < 2):
+        raise ValueError(f"`window_frames` must be an int >= 2 or None; got {window_frames!r}")
     params = dict(params or {})
     unknown = sorted(set(params) - set(names))
     if unknown:
@@ -261,14 +316,14 @@ def analyse_archive(
                     memory_limit=memory_limit))
             return started[0]
 
-        hashes, n_hashed = _hashes(entries, out_dir, get_client)
-        specs = build_specs(entries, names, resolved, hashes)
+        probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None)
+        specs = build_specs(entries, names, resolved, probes, window_frames)
         report = run_tasks(specs, run_log_task, store, get_client, retries=retries,
                            progress=progress, retry_errors=retry_errors)
     wanted = {s.key for s in specs}
     order = {n: i for i, n in enumerate(names)}
     rows = [r for r in store.rows() if r["key"] in wanted]
-    rows.sort(key=lambda r: (r["path"], order[r["analysis"]]))
+    rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
     csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
     drawn: tuple = ()
     if plots:

@@ -236,7 +236,8 @@ def open_client(
     memory_limit : str or float, optional
         Per-worker memory limit of the local cluster (``"2GB"``; default ``"auto"``).
     dashboard_address : str or None
-        Dashboard of the local cluster (``":0"``: a free port; None: none).
+        Dashboard of the local cluster (``":0"``: a free port; None: no dashboard, the
+        scheduler's HTTP server still takes a free port, never a fixed one).
 
     Yields
     ------
@@ -274,7 +275,8 @@ def open_client(
         memory_limit="auto" if memory_limit is None else memory_limit,
         processes=True,
         env=thread_env(threads),
-        dashboard_address=dashboard_address,
+        dashboard_address=":0" if dashboard_address is None else dashboard_address,
+        scheduler_kwargs={"dashboard": dashboard_address is not None},
         silence_logs=logging.ERROR,
     )
     try:

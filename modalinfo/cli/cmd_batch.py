@@ -42,6 +42,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output directory (new, empty, or an earlier batch's to resume)")
     parser.add_argument("--set", dest="settings", action="append", default=[],
                         metavar="ANALYSIS.NAME=VALUE", help="change an analysis parameter")
+    parser.add_argument("--window-frames", type=int, default=None, metavar="N",
+                        help="analyse each log in consecutive windows of N frames "
+                        "(one row per window; bounded worker memory for long logs)")
     parser.add_argument("--scheduler", default=None, metavar="ADDR",
                         help="address of a running Dask scheduler (tcp://host:8786); "
                         "default: start a local cluster")
@@ -94,7 +97,8 @@ def run(args: argparse.Namespace) -> int:
             args.inputs, args.analyses, args.out, params=parse_settings(args.settings),
             fmt=args.fmt, hints=hints, scheduler=args.scheduler, n_workers=args.workers,
             threads_per_worker=args.threads_per_worker, memory_limit=args.memory_limit,
-            retries=args.retries, retry_errors=args.retry_errors, progress=not args.quiet,
+            window_frames=args.window_frames, retries=args.retries,
+            retry_errors=args.retry_errors, progress=not args.quiet,
             plots=not args.no_plots,
         )
     except ImportError as exc:

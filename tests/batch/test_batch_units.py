@@ -189,3 +189,16 @@ def test_cli_refuses_a_foreign_output_directory(tmp_path, capsys, helpers):
     assert main(["batch", str(tmp_path), "--out", str(other)]) == 2
     assert "holds no earlier batch" in capsys.readouterr().err
     assert sorted(p.name for p in other.iterdir()) == ["thesis.tex"]
+
+
+def test_time_windows_cover_the_log_without_short_tails():
+    from modalinfo.batch.archive import time_windows
+
+    assert time_windows(256, 100) == [(0, 100), (100, 256)]
+    assert time_windows(300, 100) == [(0, 100), (100, 200), (200, 300)]
+    assert time_windows(50, 100) == [(0, 50)]
+    for n, w in ((1000, 7), (999, 1000), (12345, 100)):
+        win = time_windows(n, w)
+        assert win[0][0] == 0 and win[-1][1] == n
+        assert all(a[1] == b[0] for a, b in zip(win, win[1:], strict=False))
+        assert all(w <= b - a < 2 * w for a, b in win) or len(win) == 1
