@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import itertools
 import json
 import logging
 import os
@@ -312,6 +313,7 @@ def run_tasks(
     progress: bool = True,
     retry_errors: bool = False,
     on_row: Callable[[str, dict], None] | None = None,
+    max_pending: int = 10_000,
 ) -> EngineReport:
     """Run the specs not yet in ``store`` on ``client``; write one row per spec.
 
@@ -336,6 +338,9 @@ def run_tasks(
         Also re-run specs whose stored row is an error.
     on_row : callable, optional
         Called as ``on_row(key, row)`` after each row is written.
+    max_pending : int
+        At most this many tasks are on the scheduler at once (one more is submitted
+        as each finishes), so a year of logs does not sit in the scheduler's memory.
 
     Returns
     -------
@@ -353,12 +358,21 @@ def run_tasks(
         if callable(client) and not hasattr(client, "map"):
             client = client()
         threads = getattr(client, "modalinfo_task_threads", None)
-        futures = client.map(
-            _limited_call, [func] * len(todo), [s.payload for s in todo],
-            [threads] * len(todo), key=[f"modalinfo-{s.key}" for s in todo],
-            pure=True, retries=retries,
-        )
-        by_future = {f.key: s for f, s in zip(futures, todo, strict=True)}
+        by_future: dict = {}
+
+        def submit(batch: list[TaskSpec]) -> list:
+            if not batch:
+                return []
+            futures = client.map(
+                _limited_call, [func] * len(batch), [s.payload for s in batch],
+                [threads] * len(batch), key=[f"modalinfo-{s.key}" for s in batch],
+                pure=True, retries=retries,
+            )
+            by_future.update({f.key: s for f, s in zip(futures, batch, strict=True)})
+            return futures
+
+        queue = iter(todo)
+        first = list(itertools.islice(queue, max_pending))
         bar = None
         if progress:
             link = dashboard_link(client)
@@ -368,8 +382,9 @@ def run_tasks(
 
             bar = tqdm(total=len(todo), unit="task", file=sys.stderr, smoothing=0.1)
         try:
-            for future in distributed.as_completed(futures):
-                spec = by_future[future.key]
+            pending = distributed.as_completed(submit(first))
+            for future in pending:
+                spec = by_future.pop(future.key)
                 try:
                     row = future.result()
                 except Exception as exc:  # noqa: BLE001 - the task's workers died
@@ -382,6 +397,8 @@ def run_tasks(
                 if on_row is not None:
                     on_row(spec.key, row)
                 future.release()
+                for new in submit(list(itertools.islice(queue, 1))):  # keep max_pending
+                    pending.add(new)
                 if bar is not None:
                     bar.update(1)
         finally:

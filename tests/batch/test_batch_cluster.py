@@ -225,3 +225,26 @@ def test_time_windows_are_analysed_as_logs(client, tmp_path, helpers):
     again = analyse_archive(root, "summary", out, window_frames=100, client=client,
                             progress=False, plots=False)
     assert again.report.n_submitted == 0 and again.n_hashed == 0
+
+
+def test_engine_keeps_at_most_max_pending_tasks_and_loses_none(client, tmp_path):
+    from modalinfo.batch.engine import RowStore, TaskSpec, run_tasks
+
+    def square_or_fail(payload):
+        if payload["i"] % 7 == 3:
+            raise ValueError(f"input {payload['i']} is bad")
+        return {"square": payload["i"] ** 2}
+
+    specs = [TaskSpec(f"k{i:02d}", {"i": i}, {"i": i}) for i in range(25)]
+    store = RowStore(tmp_path)
+    seen = []
+    report = run_tasks(specs, square_or_fail, store, client, progress=False, max_pending=3,
+                       on_row=lambda key, row: seen.append(key))
+    assert (report.n_submitted, report.n_ok, report.n_error) == (25, 21, 4)
+    rows = {r["i"]: r for r in store.rows()}
+    assert sorted(rows) == list(range(25)) and sorted(seen) == sorted(s.key for s in specs)
+    for i, row in rows.items():
+        if i % 7 == 3:
+            assert row["error_message"] == f"input {i} is bad"
+        else:
+            assert row["square"] == i * i
