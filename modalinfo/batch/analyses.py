@@ -36,12 +36,12 @@ DEFAULTS: dict[str, dict[str, Any]] = {
     "ordering": {
         "basis": "zernike", "method": "mi_greedy", "estimator": "histogram",
         "budget": 200_000, "seed": 0, "pupil_pixels": 64, "resamples": 0,
-        "windows": 4, "seeds": [0, 1, 2],
+        "windows": 4, "seeds": [0, 1, 2], "modes": None,
     },
     "fitting_error": {
         "orderings": "zernike:standard,zernike:mi_greedy,kl-data:pca",
         "units": "waves2", "target": None, "fraction": 0.1, "estimator": "histogram",
-        "budget": 200_000, "seed": 0, "pupil_pixels": 64,
+        "budget": 200_000, "seed": 0, "pupil_pixels": 64, "modes": None,
     },
     "forecast": {
         "predictors": "linear,linear-ls,arma", "horizon": 5, "train": 0.5, "modes": None,
@@ -109,6 +109,17 @@ def log_columns(log: Any) -> dict:
 
 
 # ----------------------------------------------------------------------- analyses
+def _select(log: Any, modes: Any) -> Any:
+    """Restrict the log to ``modes`` (``"2-101"``, ``"4,5,6"`` or a list) if given."""
+    if modes is None:
+        return log
+    if isinstance(modes, str):
+        from modalinfo.cli._common import parse_modes
+
+        modes = parse_modes(modes)
+    return log.select(modes=list(modes))
+
+
 def _summary(log: Any, p: dict) -> dict:
     from modalinfo.telemetry import summarize
 
@@ -129,11 +140,13 @@ def _ordering(log: Any, p: dict) -> dict:
     from modalinfo.ordering import order_modes, ordering_stability
     from modalinfo.ordering.compare import basis_for_log
 
+    log = _select(log, p["modes"])
     basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
     result = order_modes(log, basis, p["method"], estimator=p["estimator"],
                          sample_budget=int(p["budget"]), seed=int(p["seed"]),
                          n_resamples=int(p["resamples"]))
-    row: dict[str, Any] = {"order": " ".join(result.labels), "first_mode": result.labels[0]}
+    row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "order": " ".join(result.labels),
+                           "first_mode": result.labels[0]}
     if result.mi is not None:
         finite = np.asarray(result.mi, dtype=float)
         finite = finite[np.isfinite(finite)]
@@ -165,10 +178,12 @@ def _ordering(log: Any, p: dict) -> dict:
 def _fitting_error(log: Any, p: dict) -> dict:
     from modalinfo.ordering.compare import compare_orderings, parse_specs
 
+    log = _select(log, p["modes"])
     comp = compare_orderings(log, parse_specs(p["orderings"]), units=p["units"],
                              estimator=p["estimator"], sample_budget=int(p["budget"]),
                              seed=int(p["seed"]), n_pixels=int(p["pupil_pixels"]))
-    row: dict[str, Any] = {"total_variance": float(comp.curve(comp.entries[0])[0])}
+    row: dict[str, Any] = {"modes_analysed": int(log.n_modes),
+                           "total_variance": float(comp.curve(comp.entries[0])[0])}
     for e in comp.entries:
         if p["target"] is not None:
             row[f"modes_to_target.{e.name}"] = e.error.modes_to_reach(float(p["target"]))
@@ -182,10 +197,7 @@ def _forecast(log: Any, p: dict) -> dict:
     from modalinfo.forecast import evaluate
     from modalinfo.forecast.presets import make_predictor
 
-    if p["modes"] is not None:
-        from modalinfo.cli._common import parse_modes
-
-        log = log.select(modes=parse_modes(str(p["modes"])))
+    log = _select(log, p["modes"])
     names = [n.strip() for n in str(p["predictors"]).split(",") if n.strip()]
     predictors = {n: make_predictor(n) for n in names}
     horizon = int(p["horizon"])
@@ -194,7 +206,8 @@ def _forecast(log: Any, p: dict) -> dict:
     # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
     ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
                   keep_series=1, chunk_frames=2048)
-    row: dict[str, Any] = {"n_train": int(ev.n_train), "n_origins": int(ev.origins.size)}
+    row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "n_train": int(ev.n_train),
+                           "n_origins": int(ev.origins.size)}
     for name in names:
         i = ev.index(name)
         row[f"gain_h1.{name}"] = float(ev.gain_wavefront[i, 0])

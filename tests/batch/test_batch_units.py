@@ -202,3 +202,18 @@ def test_time_windows_cover_the_log_without_short_tails():
         assert win[0][0] == 0 and win[-1][1] == n
         assert all(a[1] == b[0] for a, b in zip(win, win[1:], strict=False))
         assert all(w <= b - a < 2 * w for a, b in win) or len(win) == 1
+
+
+def test_modes_parameter_restricts_the_analysed_modes(tmp_path, helpers):
+    """A 1000-mode system orders a subset: the row names exactly the modes asked for."""
+    from modalinfo.io import save
+
+    save(helpers.make_log(0, n_modes=8), tmp_path / "a.npz")  # Z2..Z9
+    base = {"path": str(tmp_path / "a.npz"), "fmt": None, "hints": {}}
+    row = run_log_task({**base, "analysis": "ordering", "params": resolve_params(
+        "ordering", {"modes": "3-6", "budget": 2000, "pupil_pixels": 16, "windows": 0})})
+    assert row["n_modes"] == 8 and row["modes_analysed"] == 4
+    assert sorted(row["order"].split()) == ["Z3", "Z4", "Z5", "Z6"]
+    row = run_log_task({**base, "analysis": "forecast", "params": resolve_params(
+        "forecast", {"modes": [2, 9], "predictors": "linear"})})
+    assert row["modes_analysed"] == 2
