@@ -193,11 +193,11 @@ def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | No
     """Run ``func(payload)`` on a worker with a thread budget; exceptions become rows."""
     from threadpoolctl import threadpool_limits
 
-    if threads is None:  # a cluster we did not start: share the worker's cores
-        from distributed import get_worker
-
-        worker = get_worker()
-        threads = task_threads(1, int(getattr(getattr(worker, "state", None), "nthreads", 1)))
+    if threads is None:
+        # a cluster we did not start: it may run several worker processes per node
+        # (dask worker --nworkers), which a task cannot see; 1 thread, as Dask's nanny
+        # sets OMP/MKL/OPENBLAS_NUM_THREADS=1 by default (distributed.nanny.pre-spawn-environ)
+        threads = 1
     start = time.perf_counter()
     try:
         import numba
@@ -244,7 +244,7 @@ def open_client(
     ------
     distributed.Client
         With ``client.modalinfo_task_threads`` set: the thread budget of one task
-        (None on a remote cluster: each task derives it from its worker).
+        (None on a remote cluster: each task then uses 1 thread).
     """
     distributed = require("distributed")
     if scheduler is not None:

@@ -167,6 +167,9 @@ def test_threads_per_task_are_limited(client):
                         pure=False).result()
     assert row["status"] == "ok"
     assert row["numba"] <= int(expected) and row["blas_max"] <= int(expected)
+    # on a cluster we did not start (no budget known), a task runs single-threaded
+    row = client.submit(_limited_call, probe, {}, None, pure=False).result()
+    assert (row["numba"], row["blas_max"]) == (1, 1)
 
 
 def test_cli_on_a_scheduler_address(client, tmp_path, capsys, helpers):
