@@ -233,7 +233,7 @@ def analyse_archive(
     memory_limit: str | float | None = None,
     client: Any = None,
     window_frames: int | None = None,
-    retries: int = 2,
+    retries: int | None = None,
     retry_errors: bool = False,
     progress: bool = True,
     plots: bool = True,
@@ -268,8 +268,10 @@ def analyse_archive(
         ``window_start``, ``window_stop``; ``start_time``/``date`` are the window's).
         A task then maps only its window, so a worker's memory follows the window,
         not the log. None: whole logs.
-    retries : int
-        Extra attempts of a task whose worker died.
+    retries : int, optional
+        Re-runs of a task whose worker died, on the local cluster started here
+        (default Dask's ``allowed-failures``, 3); a task that keeps killing its
+        worker becomes a ``lost`` row, retried by the next run.
     retry_errors : bool
         Re-run analyses whose earlier row is an error.
     progress : bool
@@ -302,8 +304,8 @@ def analyse_archive(
     out_dir = Path(out_dir)
     _check_out_dir(out_dir)
     entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints)
-    if client is not None and any(v is not None for v in (scheduler, n_workers,
-                                                           threads_per_worker, memory_limit)):
+    if client is not None and any(v is not None for v in (
+            scheduler, n_workers, threads_per_worker, memory_limit, retries)):
         raise ValueError("give either `client` or a scheduler / cluster shape, not both")
     store = RowStore(out_dir)
     with contextlib.ExitStack() as stack:
@@ -313,13 +315,13 @@ def analyse_archive(
             if started[0] is None:
                 started[0] = stack.enter_context(open_client(
                     scheduler, n_workers=n_workers, threads_per_worker=threads_per_worker,
-                    memory_limit=memory_limit))
+                    memory_limit=memory_limit, retries=retries))
             return started[0]
 
         probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None)
         specs = build_specs(entries, names, resolved, probes, window_frames)
-        report = run_tasks(specs, run_log_task, store, get_client, retries=retries,
-                           progress=progress, retry_errors=retry_errors)
+        report = run_tasks(specs, run_log_task, store, get_client, progress=progress,
+                           retry_errors=retry_errors)
     wanted = {s.key for s in specs}
     order = {n: i for i, n in enumerate(names)}
     rows = [r for r in store.rows() if r["key"] in wanted]

@@ -12,8 +12,9 @@ Guarantees
   a temporary file and ``os.replace``; a row is either complete or absent, and the
   final tables are assembled from the row files only at the end.
 - **Exactly once**: the file name is the key, so a task the scheduler re-runs after a
-  worker died (``retries``, and ``distributed.scheduler.allowed-failures``) still gives
-  one row. Only the client writes rows, so workers need no shared file system.
+  worker died (``distributed.scheduler.allowed-failures`` times; ``retries`` of
+  :func:`open_client` for a local cluster) still gives one row. Only the client
+  writes rows, so workers need no shared file system.
 - **Errors are rows**: an exception inside a task becomes an error row (key, the
   spec's labels, ``error_type``, ``error_message``); a task lost with its workers
   (``KilledWorker``) becomes an error row with ``status="lost"``, which a later run
@@ -221,6 +222,7 @@ def open_client(
     n_workers: int | None = None,
     threads_per_worker: int | None = None,
     memory_limit: str | float | None = None,
+    retries: int | None = None,
     dashboard_address: str | None = ":0",
 ) -> Iterator[Any]:
     """Open a ``distributed.Client`` on a new ``LocalCluster`` or on a running scheduler.
@@ -236,6 +238,10 @@ def open_client(
         Tasks run at once per worker (default 1).
     memory_limit : str or float, optional
         Per-worker memory limit of the local cluster (``"2GB"``; default ``"auto"``).
+    retries : int, optional
+        Times the local cluster's scheduler re-runs a task whose worker died before
+        giving up on it (``distributed.scheduler.allowed-failures``; default Dask's, 3).
+        Exceptions raised by a task are never retried: they are its error row.
     dashboard_address : str or None
         Dashboard of the local cluster (``":0"``: a free port; None: no dashboard, the
         scheduler's HTTP server still takes a free port, never a fixed one).
@@ -249,7 +255,7 @@ def open_client(
     distributed = require("distributed")
     if scheduler is not None:
         given = {"workers": n_workers, "threads-per-worker": threads_per_worker,
-                 "memory-limit": memory_limit}
+                 "memory-limit": memory_limit, "retries": retries}
         clash = [k for k, v in given.items() if v is not None]
         if clash:
             raise ValueError(
@@ -270,16 +276,24 @@ def open_client(
         raise ValueError(f"`n_workers` must be >= 1; got {n_workers}")
     n_workers = int(n_workers)
     threads = task_threads(n_workers, threads_per_worker, cpus)
-    cluster = distributed.LocalCluster(
-        n_workers=n_workers,
-        threads_per_worker=threads_per_worker,
-        memory_limit="auto" if memory_limit is None else memory_limit,
-        processes=True,
-        env=thread_env(threads),
-        dashboard_address=":0" if dashboard_address is None else dashboard_address,
-        scheduler_kwargs={"dashboard": dashboard_address is not None},
-        silence_logs=logging.ERROR,
-    )
+    failures = {}
+    if retries is not None:
+        if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
+            raise ValueError(f"`retries` must be an int >= 0; got {retries!r}")
+        failures = {"distributed.scheduler.allowed-failures": retries}
+    import dask
+
+    with dask.config.set(failures):  # read once, by the scheduler created here
+        cluster = distributed.LocalCluster(
+            n_workers=n_workers,
+            threads_per_worker=threads_per_worker,
+            memory_limit="auto" if memory_limit is None else memory_limit,
+            processes=True,
+            env=thread_env(threads),
+            dashboard_address=":0" if dashboard_address is None else dashboard_address,
+            scheduler_kwargs={"dashboard": dashboard_address is not None},
+            silence_logs=logging.ERROR,
+        )
     try:
         with distributed.Client(cluster) as client:
             client.modalinfo_task_threads = threads
@@ -309,7 +323,6 @@ def run_tasks(
     store: RowStore,
     client: Any,
     *,
-    retries: int = 2,
     progress: bool = True,
     retry_errors: bool = False,
     on_row: Callable[[str, dict], None] | None = None,
@@ -330,8 +343,6 @@ def run_tasks(
     client : distributed.Client or callable
         The scheduler, or a function returning it, called only when some spec is
         not yet done (so a finished batch starts no cluster).
-    retries : int
-        Extra attempts the scheduler makes when a task's worker dies.
     progress : bool
         Show a progress bar (and the dashboard link) on stderr.
     retry_errors : bool
@@ -366,7 +377,7 @@ def run_tasks(
             futures = client.map(
                 _limited_call, [func] * len(batch), [s.payload for s in batch],
                 [threads] * len(batch), key=[f"modalinfo-{s.key}" for s in batch],
-                pure=True, retries=retries,
+                pure=True,
             )
             by_future.update({f.key: s for f, s in zip(futures, batch, strict=True)})
             return futures

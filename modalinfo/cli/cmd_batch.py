@@ -54,8 +54,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="tasks at once per local worker (default 1)")
     parser.add_argument("--memory-limit", default=None, metavar="SIZE",
                         help="memory limit per local worker, e.g. 2GB (default: auto)")
-    parser.add_argument("--retries", type=int, default=2, metavar="R",
-                        help="extra attempts of a task whose worker died (default 2)")
+    parser.add_argument("--retries", type=int, default=None, metavar="R",
+                        help="re-runs of a task whose local worker died (default: Dask's "
+                        "allowed-failures, 3); exceptions are error rows, never retried")
     parser.add_argument("--retry-errors", action="store_true",
                         help="re-run analyses whose earlier row is an error")
     parser.add_argument("--no-plots", action="store_true", help="skip the summary plots")
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
                         ("--threads-per-worker", args.threads_per_worker)):
         if value is not None and value < 1:
             raise CommandError(f"{flag} must be >= 1; got {value}")
-    if args.retries < 0:
+    if args.retries is not None and args.retries < 0:
         raise CommandError(f"--retries must be >= 0; got {args.retries}")
     hints = hints_from_args(args)
     if hints.get("nonfinite") == "raise":

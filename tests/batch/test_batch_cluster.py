@@ -251,3 +251,33 @@ def test_engine_keeps_at_most_max_pending_tasks_and_loses_none(client, tmp_path)
             assert row["error_message"] == f"input {i} is bad"
         else:
             assert row["square"] == i * i
+
+
+def test_a_task_that_kills_its_worker_is_a_lost_row_then_redone(tmp_path):
+    """A crash (e.g. a segfault in a reader) loses that task only; the next run redoes it."""
+    from modalinfo.batch.engine import RowStore, TaskSpec, open_client, run_tasks
+
+    def crash_once(payload):
+        import os as _os
+
+        if payload["crash"] and not _os.path.exists(payload["marker"]):
+            open(payload["marker"], "w").close()
+            _os._exit(1)  # the worker process dies mid-task, as on a segfault
+        return {"double": 2 * payload["i"]}
+
+    marker = str(tmp_path / "crashed")
+    specs = [TaskSpec(f"k{i}", {"i": i, "crash": i == 0, "marker": marker}, {"i": i})
+             for i in range(6)]
+    store = RowStore(tmp_path / "out")
+    with open_client(n_workers=1, threads_per_worker=1, memory_limit="1GB", retries=0,
+                     dashboard_address=None) as client:
+        first = run_tasks(specs, crash_once, store, client, progress=False)
+        lost = {r["i"] for r in store.rows() if r["status"] == "lost"}
+        assert 0 in lost and first.n_lost == len(lost) and first.n_ok == 6 - len(lost)
+        assert all(r["error_type"] == "KilledWorker" for r in store.rows()
+                   if r["status"] == "lost")
+        again = run_tasks(specs, crash_once, store, client, progress=False)
+    assert again.n_submitted == len(lost) and again.n_ok == len(lost)
+    rows = store.rows()
+    assert sorted(r["i"] for r in rows) == list(range(6))
+    assert all(r["status"] == "ok" and r["double"] == 2 * r["i"] for r in rows)
