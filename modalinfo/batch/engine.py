@@ -391,7 +391,9 @@ def run_tasks(
                 sys.stderr.write(f"dask dashboard: {link}\n")
             from tqdm import tqdm
 
-            bar = tqdm(total=len(todo), unit="task", file=sys.stderr, smoothing=0.1)
+            # disable=None: no bar when stderr is not a terminal (logs, CI, batch jobs)
+            bar = tqdm(total=len(todo), unit="task", file=sys.stderr, smoothing=0.1,
+                       disable=None)
         try:
             pending = distributed.as_completed(submit(first))
             for future in pending:
