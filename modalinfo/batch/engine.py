@@ -47,10 +47,14 @@ __all__ = [
     "RowStore",
     "TaskSpec",
     "canonical_json",
+    "dashboard_link",
     "open_client",
+    "package_version",
     "run_tasks",
     "task_key",
+    "task_threads",
     "thread_env",
+    "write_table",
 ]
 
 #: Row statuses: a task's result, an exception inside it, or a task lost with workers.
