@@ -146,15 +146,27 @@ def main() -> int:
             analyse_archive(paths[:4], ANALYSES, Path(tmp) / f"warm{workers}", params=PARAMS,
                             client=clients[workers], progress=False, plots=False)
         times: dict = {"loop": [], 1: [], 2: []}
+        cpu: dict = {"loop": [], 1: [], 2: []}  # CPU seconds: less sensitive to the load
+        busiest: dict = {1: [], 2: []}  # CPU seconds of the busiest worker process
         noops: dict = {1: [], 2: []}
         for r in range(args.repeats):  # interleaved: the machine's load hits all alike
+            c0 = time.process_time()
             times["loop"].append(sequential(paths))
+            cpu["loop"].append(time.process_time() - c0)
             for workers, client in clients.items():
+                w0 = client.run(time.process_time)
+                c0 = time.process_time()  # this process: client + local scheduler
                 t = time.perf_counter()
                 res = analyse_archive(root, ANALYSES, Path(tmp) / f"out{workers}_{r}",
                                       params=PARAMS, client=client, progress=False,
                                       plots=False)
                 times[workers].append(time.perf_counter() - t)
+                here = time.process_time() - c0
+                w1 = client.run(time.process_time)
+                spent = [w1[a] - w0[a] for a in w1 if a in w0]
+                assert len(spent) == workers, "a worker restarted during the run"
+                cpu[workers].append(here + sum(spent))
+                busiest[workers].append(max(spent))
                 assert res.n_ok == n_tasks, res.report
                 store = RowStore(Path(tmp) / f"noop{workers}_{r}")
                 specs = [TaskSpec(f"n{r}_{i}", {"i": i}) for i in range(args.noop_tasks)]
@@ -175,6 +187,13 @@ def main() -> int:
     print(f"overhead of 1 worker vs loop: {1000 * over:.1f} ms per task, "
           f"{1000 * over * len(ANALYSES):.0f} ms per log")
     print(f"speed-up 2 workers vs 1     : {med[1] / med[2]:.2f}x")
+    mcpu = {k: statistics.median(v) for k, v in cpu.items()}
+    print(f"CPU seconds per log (all processes): loop {mcpu['loop'] / args.logs:.3f}, "
+          f"1 worker {mcpu[1] / args.logs:.3f}, 2 workers {mcpu[2] / args.logs:.3f}; "
+          f"busiest worker {statistics.median(busiest[2]) / args.logs:.3f} with 2 workers "
+          f"(ideal 2-core time {statistics.median(busiest[2]):.2f} s = "
+          f"{60 * args.logs / statistics.median(busiest[2]):.0f} logs/min if the client "
+          "and scheduler had a core of their own)")
     print("all times [s]: " + "; ".join(f"{k}: {', '.join(f'{x:.2f}' for x in v)}"
                                         for k, v in times.items()))
     return 0
