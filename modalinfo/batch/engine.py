@@ -194,10 +194,34 @@ def task_threads(n_workers: int, threads_per_worker: int, cpus: int | None = Non
     return max(1, cpus // max(1, n_workers * threads_per_worker))
 
 
-def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | None) -> dict:
-    """Run ``func(payload)`` on a worker with a thread budget; exceptions become rows."""
+#: BLAS/OpenMP thread limit already applied to this worker process (see _blas_limit).
+_PROCESS_LIMIT: list = [None]
+
+
+def _blas_limit(threads: int) -> contextlib.AbstractContextManager:
+    """Limit BLAS/OpenMP threads: once per worker process, else around the call.
+
+    ``threadpoolctl`` scans the loaded libraries at each call (~5 ms), so a worker
+    process applies the limit once and keeps it (libraries loaded later read the
+    ``*_NUM_THREADS`` variables its nanny set); outside a worker (a single-process
+    run) the limit is scoped to the call.
+    """
     from threadpoolctl import threadpool_limits
 
+    try:
+        from distributed import get_worker
+
+        get_worker()
+    except (ImportError, ValueError):
+        return threadpool_limits(limits=threads)
+    if _PROCESS_LIMIT[0] != threads:
+        threadpool_limits(limits=threads)  # process-wide, kept
+        _PROCESS_LIMIT[0] = threads
+    return contextlib.nullcontext()
+
+
+def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | None) -> dict:
+    """Run ``func(payload)`` on a worker with a thread budget; exceptions become rows."""
     if threads is None:
         # a cluster we did not start: it may run several worker processes per node
         # (dask worker --nworkers), which a task cannot see; 1 thread, as Dask's nanny
@@ -208,7 +232,7 @@ def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | No
         import numba
 
         numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
-        with threadpool_limits(limits=threads):
+        with _blas_limit(threads):
             row = dict(func(payload))
         row["status"] = "ok"
     except Exception as exc:  # noqa: BLE001 - any failure of one input is that input's row
