@@ -265,7 +265,8 @@ def analyse_archive(
         Split each log into consecutive windows of this many frames (the last takes
         the remainder, see :func:`time_windows`) and analyse each window as a log of
         its own: one task and one row per window (columns ``window``,
-        ``window_start``, ``window_stop``; ``start_time``/``date`` are the window's).
+        ``window_start``, ``window_stop``; ``start_time`` is the window's, and
+        ``date`` too unless the metadata carries a date of its own).
         A task then maps only its window, so a worker's memory follows the window,
         not the log. None: whole logs.
     retries : int, optional
