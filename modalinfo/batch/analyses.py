@@ -1,0 +1,259 @@
+"""Per-log analyses of ``modalinfo batch``: each turns one log into one row of scalars.
+
+Every analysis calls the library exactly as the matching command does:
+
+- ``summary``: :func:`modalinfo.telemetry.summarize` (``modalinfo info``), chunked, so
+  a memory-mapped log is read a chunk at a time;
+- ``ordering``: :func:`modalinfo.ordering.order_modes` and
+  :func:`modalinfo.ordering.ordering_stability` (``modalinfo reorder --stability``);
+- ``fitting_error``: :func:`modalinfo.ordering.compare.compare_orderings` and
+  ``modes_to_reach`` (``modalinfo fitting-error``);
+- ``forecast``: :func:`modalinfo.forecast.evaluate` with the presets of
+  :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
+  in chunks, so memory does not grow with the log.
+
+:func:`run_log_task` is the task function the engine sends to the workers; running
+it in one process gives the same row, bit for bit.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+from collections.abc import Callable
+from datetime import UTC, datetime
+from typing import Any
+
+import numpy as np
+
+__all__ = ["ANALYSES", "DEFAULTS", "log_columns", "resolve_params", "run_log_task",
+           "sha256_file"]
+
+#: Default parameters of each analysis (a user's values override them key by key).
+DEFAULTS: dict[str, dict[str, Any]] = {
+    "summary": {"chunk_frames": 65536},
+    "ordering": {
+        "basis": "zernike", "method": "mi_greedy", "estimator": "histogram",
+        "budget": 200_000, "seed": 0, "pupil_pixels": 64, "resamples": 0,
+        "windows": 4, "seeds": [0, 1, 2], "modes": None,
+    },
+    "fitting_error": {
+        "orderings": "zernike:standard,zernike:mi_greedy,kl-data:pca",
+        "units": "waves2", "target": None, "fraction": 0.1, "estimator": "histogram",
+        "budget": 200_000, "seed": 0, "pupil_pixels": 64, "modes": None,
+    },
+    "forecast": {
+        "predictors": "linear,linear-ls,arma", "horizon": 5, "train": 0.5, "modes": None,
+    },
+}
+
+#: Frames per chunk of the SHA-256 of a file [bytes].
+_HASH_CHUNK = 1 << 20
+
+#: Metadata keys copied into every row when a log carries them (row column: key).
+_META_COLUMNS = {
+    "r0_m": "r0_m", "r0": "r0_m", "seeing": "seeing_arcsec", "seeing_arcsec": "seeing_arcsec",
+    "d_over_r0": "d_over_r0", "loop": "loop", "date": "date", "date_obs": "date",
+    "DATE-OBS": "date", "site": "site", "telescope": "telescope", "rate_hz": "meta_rate_hz",
+}
+
+#: ``start_time`` above this many seconds is read as a Unix time (after 1973).
+_EPOCH_MIN = 1e8
+
+
+def sha256_file(path: str) -> str:
+    """SHA-256 of a file's bytes, read in 1 MiB chunks."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while block := fh.read(_HASH_CHUNK):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def resolve_params(analysis: str, params: dict | None = None) -> dict:
+    """Return the analysis's defaults updated by ``params`` (unknown names: ValueError)."""
+    if analysis not in DEFAULTS:
+        raise ValueError(f"`analyses` must be among {', '.join(DEFAULTS)}; got {analysis!r}")
+    params = dict(params or {})
+    unknown = sorted(set(params) - set(DEFAULTS[analysis]))
+    if unknown:
+        raise ValueError(f"unknown parameter {analysis}.{unknown[0]}; {analysis} takes "
+                         f"{', '.join(DEFAULTS[analysis])}")
+    return {**DEFAULTS[analysis], **params}
+
+
+def _scalar(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, bool | int | float | str) or value is None:
+        return value
+    return str(value)
+
+
+def log_columns(log: Any) -> dict:
+    """Columns describing a log: shape, rate, duration, units, date and site metadata."""
+    row: dict[str, Any] = {
+        "n_frames": int(log.n_frames), "n_modes": int(log.n_modes),
+        "rate": None if log.rate is None else float(log.rate),
+        "duration": None if log.duration is None else float(log.duration),
+        "units": str(log.units), "start_time": float(log.start_time),
+    }
+    meta = log.metadata or {}
+    for key, column in _META_COLUMNS.items():
+        if key in meta and column not in row:
+            row[column] = _scalar(meta[key])
+    if "date" not in row and log.start_time >= _EPOCH_MIN:
+        row["date"] = datetime.fromtimestamp(log.start_time, UTC).isoformat()
+    return row
+
+
+# ----------------------------------------------------------------------- analyses
+def _select(log: Any, modes: Any) -> Any:
+    """Restrict the log to ``modes`` (``"2-101"``, ``"4,5,6"`` or a list) if given."""
+    if modes is None:
+        return log
+    if isinstance(modes, str):
+        from modalinfo.cli._common import parse_modes
+
+        modes = parse_modes(modes)
+    return log.select(modes=list(modes))
+
+
+def _summary(log: Any, p: dict) -> dict:
+    from modalinfo.telemetry import summarize
+
+    s = summarize(log, chunk_frames=int(p["chunk_frames"]))
+    top = int(np.nanargmax(s.rms)) if np.isfinite(s.rms).any() else 0
+    return {
+        "n_nonfinite": int(s.n_nonfinite.sum()),
+        "rms_total": float(np.sqrt(np.nansum(s.rms * s.rms))),
+        "std_total": float(np.sqrt(np.nansum(s.std * s.std))),
+        "lag1_median": float(np.nanmedian(s.lag1)) if np.isfinite(s.lag1).any() else math.nan,
+        "lag1_min": float(np.nanmin(s.lag1)) if np.isfinite(s.lag1).any() else math.nan,
+        "largest_mode": str(s.labels[top]),
+        "largest_rms": float(s.rms[top]),
+    }
+
+
+def _ordering(log: Any, p: dict) -> dict:
+    from modalinfo.ordering import order_modes, ordering_stability
+    from modalinfo.ordering.compare import basis_for_log
+
+    log = _select(log, p["modes"])
+    basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
+    result = order_modes(log, basis, p["method"], estimator=p["estimator"],
+                         sample_budget=int(p["budget"]), seed=int(p["seed"]),
+                         n_resamples=int(p["resamples"]))
+    row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "order": " ".join(result.labels),
+                           "first_mode": result.labels[0]}
+    if result.mi is not None:
+        finite = np.asarray(result.mi, dtype=float)
+        finite = finite[np.isfinite(finite)]
+        # the last step completes Phi_ref and is not estimated (NaN): report the last
+        # estimated cumulative MI and the first mode's
+        row["mi_last_estimated"] = float(finite[-1]) if finite.size else math.nan
+        row["mi_first"] = float(result.mi[0])
+    if result.n_informative is not None:
+        row["n_informative"] = int(result.n_informative)
+    windows = int(p["windows"])
+    if windows >= 2 and p["method"] != "pca":
+        stab = ordering_stability(log, basis, p["method"], window=log.n_frames // windows,
+                                  seeds=tuple(p["seeds"]), estimator=p["estimator"],
+                                  sample_budget=int(p["budget"]), seed=int(p["seed"]))
+
+        def med(x: np.ndarray) -> float:
+            return float(np.median(x)) if x.size else math.nan
+
+        row.update({
+            "window_spearman": med(stab.window_spearman),
+            "window_kendall": med(stab.window_kendall),
+            "window_top_overlap": med(stab.window_top_overlap),
+            "seed_spearman": med(stab.seed_spearman),
+            "seed_top_overlap": med(stab.seed_top_overlap),
+        })
+    return row
+
+
+def _fitting_error(log: Any, p: dict) -> dict:
+    from modalinfo.ordering.compare import compare_orderings, parse_specs
+
+    log = _select(log, p["modes"])
+    comp = compare_orderings(log, parse_specs(p["orderings"]), units=p["units"],
+                             estimator=p["estimator"], sample_budget=int(p["budget"]),
+                             seed=int(p["seed"]), n_pixels=int(p["pupil_pixels"]))
+    row: dict[str, Any] = {"modes_analysed": int(log.n_modes),
+                           "total_variance": float(comp.curve(comp.entries[0])[0])}
+    for e in comp.entries:
+        if p["target"] is not None:
+            row[f"modes_to_target.{e.name}"] = e.error.modes_to_reach(float(p["target"]))
+        if p["fraction"] is not None:
+            row[f"modes_to_fraction.{e.name}"] = e.error.modes_to_reach_fraction(
+                float(p["fraction"]))
+    return row
+
+
+def _forecast(log: Any, p: dict) -> dict:
+    from modalinfo.forecast import evaluate
+    from modalinfo.forecast.presets import make_predictor
+
+    log = _select(log, p["modes"])
+    names = [n.strip() for n in str(p["predictors"]).split(",") if n.strip()]
+    predictors = {n: make_predictor(n) for n in names}
+    horizon = int(p["horizon"])
+    train = p["train"]
+    # no forecast series are kept (the batch plots none): memory is the chunk buffers,
+    # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
+    ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
+                  keep_series=1, chunk_frames=2048)
+    row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "n_train": int(ev.n_train),
+                           "n_origins": int(ev.origins.size)}
+    for name in names:
+        i = ev.index(name)
+        row[f"gain_h1.{name}"] = float(ev.gain_wavefront[i, 0])
+        row[f"gain_h{horizon}.{name}"] = float(ev.gain_wavefront[i, -1])
+        row[f"beats_baseline_h1.{name}"] = bool(ev.beats_baseline[i, 0])
+    best = max(names, key=lambda n: ev.gain_wavefront[ev.index(n), 0])
+    row["best_h1"] = best
+    return row
+
+
+#: analysis name -> function(log, params) -> dict of scalars.
+ANALYSES: dict[str, Callable[[Any, dict], dict]] = {
+    "summary": _summary,
+    "ordering": _ordering,
+    "fitting_error": _fitting_error,
+    "forecast": _forecast,
+}
+
+
+def run_log_task(payload: dict) -> dict:
+    """Load one log (memory-mapped where the format allows) and run one analysis.
+
+    Parameters
+    ----------
+    payload : dict
+        ``path``, ``fmt`` (or None), ``hints`` (dict), ``analysis``, ``params``
+        (complete, see :func:`resolve_params`) and optionally ``window``
+        ``[start, stop)`` in frames.
+
+    Returns
+    -------
+    dict
+        The log's columns (:func:`log_columns`) and the analysis's scalars.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")  # a predictor or analysis may import pyplot on a worker
+    from modalinfo.io import load
+
+    path = payload["path"]
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"no such file: '{path}'")
+    log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
+    if payload.get("window") is not None:
+        start, stop = payload["window"]
+        log = log[start:stop]  # a view of the mapped file: only the window is read
+    row = log_columns(log)
+    row.update(ANALYSES[payload["analysis"]](log, payload["params"]))
+    return row

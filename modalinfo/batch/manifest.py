@@ -1,0 +1,219 @@
+"""The logs of an archive: from directories, glob patterns and manifest CSV files.
+
+A *manifest* is a CSV file whose header row has a ``path`` column; its other columns
+are per-file input hints for :func:`modalinfo.io.load` (an empty cell gives none):
+
+=============  =====================================================
+column         meaning
+=============  =====================================================
+path           log file (relative paths are relative to the manifest)
+fmt            npz, npy, csv, fits, hdf5 (forced format)
+rate           sample rate [Hz]
+in_units       rad, nm, um, waves (also ``units``)
+wavelength     [m]
+in_modes       ``2-28``, ``4,5,6`` or labels (also ``modes``)
+in_convention  noll, ansi, fringe, labels (also ``convention``)
+nonfinite      raise, drop, interpolate
+start_time     time of the first frame [s] (e.g. Unix time)
+=============  =====================================================
+
+A CSV file without a ``path`` header column is a log, not a manifest.
+"""
+
+from __future__ import annotations
+
+import csv
+import glob
+import os
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = ["LogEntry", "collect_logs", "read_manifest"]
+
+_ALIASES = {
+    "in_units": "units", "units": "units", "in_modes": "modes", "modes": "modes",
+    "in_convention": "convention", "convention": "convention", "rate": "rate",
+    "wavelength": "wavelength", "nonfinite": "nonfinite", "start_time": "start_time",
+    "fmt": "fmt",
+}
+_FLOATS = ("rate", "wavelength", "start_time")
+_FALLBACK_EXTENSIONS = (".npz", ".npy", ".csv", ".txt", ".dat", ".tsv", ".fits", ".fit",
+                        ".fts", ".h5", ".hdf5", ".hdf", ".he5")
+
+
+@dataclass(frozen=True)
+class LogEntry:
+    """One log of the archive and how to read it.
+
+    Attributes
+    ----------
+    path : str
+        Absolute path of the file.
+    fmt : str or None
+        Forced format, or None (detected by ``modalinfo.io.load``).
+    hints : dict
+        Keyword hints of ``modalinfo.io.load`` (JSON-able).
+    """
+
+    path: str
+    fmt: str | None = None
+    hints: dict = field(default_factory=dict)
+
+
+def _extensions() -> tuple[str, ...]:
+    import modalinfo.io as mio
+
+    known = getattr(mio, "_EXTENSIONS", None)
+    return tuple(known) if isinstance(known, dict) and known else _FALLBACK_EXTENSIONS
+
+
+def _is_manifest(path: Path) -> bool:
+    if path.suffix.lower() != ".csv" or not path.is_file():
+        return False
+    with open(path, encoding="utf-8", errors="replace", newline="") as fh:
+        for line in fh:
+            if line.strip() and not line.lstrip().startswith("#"):
+                names = [c.strip().lower() for c in next(csv.reader([line]))]
+                return "path" in names
+    return False
+
+
+def _hint(name: str, text: str, where: str) -> Any:
+    if name in _FLOATS:
+        try:
+            return float(text)
+        except ValueError:
+            raise ValueError(f"{where}: column {name!r} must be a number; got {text!r}") from None
+    if name == "modes":
+        from modalinfo.cli import CommandError
+        from modalinfo.cli._common import parse_modes
+
+        try:
+            return parse_modes(text)
+        except CommandError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+    return text
+
+
+def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
+    """Read a manifest CSV (see the module docstring).
+
+    Raises
+    ------
+    ValueError
+        An unknown column, a bad value or a missing path, naming the row.
+    """
+    path = Path(path)
+    entries = []
+    with open(path, encoding="utf-8", newline="") as fh:
+        lines = (line for line in fh if line.strip() and not line.lstrip().startswith("#"))
+        reader = csv.DictReader(lines)
+        columns = [c.strip().lower() for c in reader.fieldnames or []]
+        unknown = [c for c in columns if c != "path" and c not in _ALIASES]
+        if unknown:
+            raise ValueError(
+                f"manifest '{path}': unknown column {unknown[0]!r}; columns are path, "
+                f"{', '.join(sorted(_ALIASES))}"
+            )
+        for n, raw in enumerate(reader, start=2):
+            row = {k.strip().lower(): (v or "").strip() for k, v in raw.items() if k}
+            where = f"manifest '{path}' row {n}"
+            if not row.get("path"):
+                raise ValueError(f"{where}: empty path")
+            file = Path(row["path"])
+            if not file.is_absolute():
+                file = path.parent / file
+            hints: dict = {}
+            fmt = None
+            for name, text in row.items():
+                if name == "path" or not text:
+                    continue
+                key = _ALIASES[name]
+                if key == "fmt":
+                    fmt = text.lower()
+                else:
+                    hints[key] = _hint(key, text, where)
+            if isinstance(hints.get("modes", [0])[0], str) and "convention" not in hints:
+                hints["convention"] = "labels"
+            entries.append(LogEntry(str(file.resolve()), fmt, hints))
+    return entries
+
+
+def _walk(directory: Path, exclude: Sequence[Path]) -> Iterable[Path]:
+    exts = {e.lower() for e in _extensions()}
+    for root, dirs, files in os.walk(directory):
+        here = Path(root)
+        dirs[:] = sorted(d for d in dirs if not d.startswith(".")
+                         and not any((here / d).resolve() == x for x in exclude))
+        for name in sorted(files):
+            if not name.startswith(".") and Path(name).suffix.lower() in exts:
+                yield here / name
+
+
+def collect_logs(
+    inputs: str | os.PathLike | Sequence[str | os.PathLike],
+    *,
+    exclude: Sequence[str | os.PathLike] = (),
+    fmt: str | None = None,
+    hints: dict | None = None,
+) -> list[LogEntry]:
+    """List the logs named by directories, glob patterns, manifests and files.
+
+    Parameters
+    ----------
+    inputs : path or sequence of paths
+        A directory (searched recursively for files with a log extension; hidden
+        files skipped), a glob pattern (``**`` allowed), a manifest CSV, or a log.
+    exclude : sequence of paths
+        Directories never searched (the batch's own output directory).
+    fmt, hints : optional
+        Defaults for every log; a manifest's columns take precedence.
+
+    Returns
+    -------
+    list of LogEntry
+        In input order, each file once (first occurrence wins).
+
+    Raises
+    ------
+    ValueError
+        An input matching nothing, or no logs at all.
+    """
+    if isinstance(inputs, str | os.PathLike):
+        inputs = [inputs]
+    skip = [Path(x).resolve() for x in exclude]
+    base_hints = dict(hints or {})
+    found: dict[str, LogEntry] = {}
+
+    def add(entry: LogEntry) -> None:
+        if not any(Path(entry.path).is_relative_to(x) for x in skip):
+            found.setdefault(entry.path, entry)
+
+    def plain(file: Path) -> LogEntry:
+        return LogEntry(str(file.resolve()), fmt, dict(base_hints))
+
+    for item in inputs:
+        text = os.fspath(item)
+        path = Path(text)
+        if path.is_dir():
+            for file in _walk(path, skip):
+                add(plain(file))
+        elif _is_manifest(path):
+            for entry in read_manifest(path):
+                add(LogEntry(entry.path, entry.fmt or fmt, {**base_hints, **entry.hints}))
+        elif path.exists():
+            add(plain(path))
+        elif glob.has_magic(text):
+            matches = sorted(glob.glob(text, recursive=True))
+            files = [Path(m) for m in matches if Path(m).is_file()]
+            if not files:
+                raise ValueError(f"input pattern {text!r} matches no file")
+            for file in files:
+                add(plain(file))
+        else:
+            raise ValueError(f"input {text!r} is neither a file, a directory nor a pattern")
+    if not found:
+        raise ValueError(f"no log files found in {', '.join(map(os.fspath, inputs))}")
+    return list(found.values())

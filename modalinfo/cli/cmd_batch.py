@@ -1,0 +1,121 @@
+"""``modalinfo batch INPUTS... --out DIR``: analyse an archive of logs on Dask.
+
+Example::
+
+    modalinfo batch /data/2026/ --analyses summary,forecast --out season/
+    modalinfo batch 'logs/**/*.h5' manifest.csv --scheduler tcp://head:8786 --out season/
+
+Inputs are directories (searched recursively), glob patterns, manifest CSV files (a
+``path`` column plus per-file hint columns) or log files. One task per log and
+analysis runs on a Dask ``LocalCluster`` (``--workers``, ``--threads-per-worker``,
+``--memory-limit``) or on the scheduler at ``--scheduler``. The table
+``DIR/batch.csv`` / ``DIR/batch.parquet`` has one row per log and analysis; a log
+that cannot be read becomes an error row. Running the same command again resumes:
+finished rows are skipped. ``--set analysis.name=value`` changes a parameter (value
+read as JSON when it parses, else as text), e.g. ``--set forecast.horizon=10``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from modalinfo.cli import CommandError
+from modalinfo.cli._common import add_hint_arguments, hints_from_args
+
+NAME = "batch"
+HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
+
+ANALYSES = ("summary", "ordering", "fitting_error", "forecast")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Fill the ``batch`` parser."""
+    parser.add_argument("inputs", nargs="+", metavar="INPUT",
+                        help="directory, glob pattern, manifest CSV or log file")
+    parser.add_argument("--analyses", default="summary", metavar="LIST",
+                        help=f"comma-separated, from {', '.join(ANALYSES)} "
+                        "(default: %(default)s)")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR",
+                        help="output directory (new, empty, or an earlier batch's to resume)")
+    parser.add_argument("--set", dest="settings", action="append", default=[],
+                        metavar="ANALYSIS.NAME=VALUE", help="change an analysis parameter")
+    parser.add_argument("--window-frames", type=int, default=None, metavar="N",
+                        help="analyse each log in consecutive windows of N frames "
+                        "(one row per window; bounded worker memory for long logs)")
+    parser.add_argument("--scheduler", default=None, metavar="ADDR",
+                        help="address of a running Dask scheduler (tcp://host:8786); "
+                        "default: start a local cluster")
+    parser.add_argument("--workers", type=int, default=None, metavar="N",
+                        help="local worker processes (default: CPUs / threads per worker)")
+    parser.add_argument("--threads-per-worker", type=int, default=None, metavar="K",
+                        help="tasks at once per local worker (default 1)")
+    parser.add_argument("--memory-limit", default=None, metavar="SIZE",
+                        help="memory limit per local worker, e.g. 2GB (default: auto)")
+    parser.add_argument("--retries", type=int, default=None, metavar="R",
+                        help="re-runs of a task whose local worker died (default: Dask's "
+                        "allowed-failures, 3); exceptions are error rows, never retried")
+    parser.add_argument("--retry-errors", action="store_true",
+                        help="re-run analyses whose earlier row is an error")
+    parser.add_argument("--no-plots", action="store_true", help="skip the summary plots")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary")
+    add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
+
+
+def parse_settings(items: list[str]) -> dict:
+    """``["forecast.horizon=10"]`` -> ``{"forecast": {"horizon": 10}}``."""
+    out: dict = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        analysis, dot, param = name.strip().partition(".")
+        if not sep or not dot or not analysis or not param:
+            raise CommandError(f"--set must look like analysis.name=value; got {item!r}")
+        try:
+            value = json.loads(text)
+        except ValueError:
+            value = text
+        out.setdefault(analysis, {})[param] = value
+    return out
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the batch and print what was done."""
+    from modalinfo.batch import analyse_archive
+
+    for flag, value in (("--workers", args.workers),
+                        ("--threads-per-worker", args.threads_per_worker)):
+        if value is not None and value < 1:
+            raise CommandError(f"{flag} must be >= 1; got {value}")
+    if args.retries is not None and args.retries < 0:
+        raise CommandError(f"--retries must be >= 0; got {args.retries}")
+    hints = hints_from_args(args)
+    if hints.get("nonfinite") == "raise":
+        hints.pop("nonfinite")  # the reader's default: keeps the task keys of plain runs
+    try:
+        result = analyse_archive(
+            args.inputs, args.analyses, args.out, params=parse_settings(args.settings),
+            fmt=args.fmt, hints=hints, scheduler=args.scheduler, n_workers=args.workers,
+            threads_per_worker=args.threads_per_worker, memory_limit=args.memory_limit,
+            window_frames=args.window_frames, retries=args.retries,
+            retry_errors=args.retry_errors, progress=not args.quiet,
+            plots=not args.no_plots,
+        )
+    except ImportError as exc:
+        raise CommandError(str(exc)) from None
+    if not args.quiet:
+        rep = result.report
+        out = sys.stdout
+        out.write(f"{rep.n_specs} tasks: {rep.n_skipped} already done, {rep.n_submitted} run "
+                  f"({rep.n_ok} ok, {rep.n_error} error, {rep.n_lost} lost) in "
+                  f"{rep.elapsed:.1f} s\n")
+        out.write(f"table: {result.n_ok} result rows, {result.n_error} error rows -> "
+                  f"{result.csv_path}, {result.parquet_path}\n")
+        for row in result.rows:
+            if row.get("status") != "ok":
+                out.write(f"error  {row['path']} [{row['analysis']}]: "
+                          f"{row.get('error_type')}: {row.get('error_message')}\n")
+        for path in result.plots:
+            out.write(f"plot: {path}\n")
+    return 0
