@@ -49,7 +49,8 @@ def _progress(args) -> bool | None:
     return False if args.quiet else None
 
 
-def _run_with(config, name, duration, seed, train_seed, progress, reference=None, model=None):
+def _run_with(config, name, duration, seed, train_seed, progress, reference=None, model=None,
+              budget_every=None):
     from closedloop import predictors
     from closedloop.simulation import LoopModel, simulate
 
@@ -61,7 +62,7 @@ def _run_with(config, name, duration, seed, train_seed, progress, reference=None
                                  model=model, progress=progress)
         predictors.train(predictor, reference)
     return simulate(config, duration, predictor=predictor, seed=seed, model=model,
-                    progress=progress)
+                    progress=progress, budget_every=budget_every)
 
 
 def _summary_line(result) -> str:
@@ -198,6 +199,27 @@ def _cmd_config(args) -> int:
     return 0
 
 
+def _cmd_sweep(args) -> int:
+    from closedloop.sweep import load_grid, sweep
+
+    grid = load_grid(args.grid)
+    if args.out.exists() and not args.out.is_dir():
+        raise CommandError(f"--out '{args.out}' exists and is not a directory")
+    rows, report = sweep(grid, args.out, scheduler=args.scheduler, n_workers=args.workers,
+                         threads_per_worker=args.threads_per_worker,
+                         memory_limit=args.memory_limit, progress=not args.quiet)
+    print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
+          f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
+    for row in sorted(rows, key=lambda r: (str(r["override"]), r["seed"], r["predictor"])):
+        head = f"  {row['override']:<20} seed {row['seed']:<4} {row['predictor']:<12} "
+        if row.get("status") == "ok":
+            fov = row["corrected_fov_diameter_arcmin"]
+            print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {fov:.2f}'")
+        else:
+            print(f"{head}{row.get('status')}: {row.get('error_message', '')}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Return the ``closedloop`` parser."""
     from closedloop import predictors
@@ -217,6 +239,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--predictors", default="none,linear,arma,nn-paper,oracle",
                    help="comma-separated names (default none,linear,arma,nn-paper,oracle)")
     p.set_defaults(_run=_cmd_compare)
+    p = sub.add_parser("sweep", help="a grid of runs (overrides x seeds x predictors) on Dask")
+    p.add_argument("grid", type=Path, help="grid TOML (see closedloop.sweep)")
+    p.add_argument("--out", type=Path, required=True, help="output directory (resumable)")
+    p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler "
+                   "(tcp://host:8786); default: a LocalCluster")
+    p.add_argument("--workers", type=int, default=None, help="local worker processes")
+    p.add_argument("--threads-per-worker", type=int, default=None)
+    p.add_argument("--memory-limit", default=None, help="per local worker, e.g. 4GB")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(_run=_cmd_sweep)
     p = sub.add_parser("info", help="summarise a result file")
     p.add_argument("result", type=Path)
     p.set_defaults(_run=_cmd_info)

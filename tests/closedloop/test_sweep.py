@@ -1,0 +1,63 @@
+"""closedloop sweep on a real 2-worker LocalCluster.
+
+References: each row equals a direct single-process run of the same config, seed and
+predictor (closedloop.simulate); a failing run is an error row and the rest go on; the
+same grid run again submits nothing (the engine's resume, tested in tests/batch).
+"""
+
+import pytest
+
+pytest.importorskip("distributed")
+
+from closedloop import simulate  # noqa: E402
+from closedloop.cli import main  # noqa: E402
+from closedloop.config import save_config  # noqa: E402
+from closedloop.sweep import load_grid, override, sweep  # noqa: E402
+
+from .test_loop import small  # noqa: E402
+
+GRID = """
+config = "small.toml"
+duration = 0.05
+seeds = [0, 1]
+predictors = ["none"]
+
+[[overrides]]
+name = "base"
+
+[[overrides]]
+name = "gain 0.3"
+"loop.gain" = 0.3
+
+[[overrides]]
+name = "unstable"
+"loop.gain" = 9.0
+"""
+
+
+def test_sweep_rows_resume_and_errors(tmp_path, capsys):
+    save_config(small(), tmp_path / "small.toml")
+    (tmp_path / "grid.toml").write_text(GRID)
+    grid = load_grid(tmp_path / "grid.toml")
+    rows, report = sweep(grid, tmp_path / "out", n_workers=2, threads_per_worker=1,
+                         progress=False)
+    assert report.n_specs == 6 and report.n_ok == 4 and report.n_error == 2
+    ok = {(r["override"], r["seed"]): r for r in rows if r["status"] == "ok"}
+    direct = simulate(override(small(), {"loop.gain": 0.3}), 0.05, seed=1, progress=False)
+    assert ok[("gain 0.3", 1)]["strehl_peak_mean"] == direct.summary()["strehl_peak_mean"]
+    errors = [r for r in rows if r["status"] == "error"]
+    assert {r["override"] for r in errors} == {"unstable"}
+    assert "unstable" in errors[0]["error_message"]
+    assert (tmp_path / "out" / "sweep.parquet").is_file()
+    # again: nothing to do, no cluster
+    assert main(["sweep", str(tmp_path / "grid.toml"), "--out", str(tmp_path / "out"),
+                 "--quiet"]) == 0
+    assert "6 already done, 0 ran" in capsys.readouterr().out
+
+
+def test_bad_grid(tmp_path, capsys):
+    (tmp_path / "g.toml").write_text('preset = "table1"\nseed = [1]\n')
+    assert main(["sweep", str(tmp_path / "g.toml"), "--out", str(tmp_path / "o")]) == 2
+    assert "unknown key `seed`" in capsys.readouterr().err
+    with pytest.raises(ValueError, match="unknown key `loop.gian`"):
+        override(small(), {"loop.gian": 0.1})
