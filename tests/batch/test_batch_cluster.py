@@ -281,3 +281,21 @@ def test_a_task_that_kills_its_worker_is_a_lost_row_then_redone(tmp_path):
     rows = store.rows()
     assert sorted(r["i"] for r in rows) == list(range(6))
     assert all(r["status"] == "ok" and r["double"] == 2 * r["i"] for r in rows)
+
+
+def test_aot_files_are_analysed_like_any_other_format(client, tmp_path, helpers):
+    # issue 13 item 4; reference: the summary of the same log read in this process
+    from modalinfo.io import load, save
+    from modalinfo.telemetry import summarize
+
+    root = tmp_path / "logs"
+    root.mkdir()
+    save(helpers.make_log(3), root / "a.fits", fmt="aot")
+    save(helpers.make_log(4), root / "b.npz")
+    result = analyse_archive(root, ["summary"], tmp_path / "out", client=client,
+                             progress=False, plots=False)
+    assert result.n_ok == 2 and result.n_error == 0
+    row = next(r for r in result.rows if r["path"].endswith("a.fits"))
+    expected = summarize(load(root / "a.fits"))
+    assert row["rms_total"] == pytest.approx(float(np.sqrt(np.sum(expected.rms ** 2))),
+                                             rel=1e-12)
