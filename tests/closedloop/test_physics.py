@@ -199,3 +199,38 @@ def test_error_budget_adds_up_table1_3x3():
     cfg = cfg.replace(field=FieldConfig(size=cfg.field.size, n_points=3))
     result = _budget_check(cfg, 0.3, 3)
     assert result.budget.directions.shape == (9, 2)
+
+
+def test_delay_and_anisoplanatism_scalings():
+    # the sweep of issue 10: the pure-delay error against v tau and the anisoplanatic
+    # error against h theta, 1 to 8 px (6.25 to 50 cm, D = 4 m), each within 15 % of
+    # the exact piston-removed expectation, whose log-log slope (printed) approaches 5/3
+    # for shifts << D as the piston share falls
+    n = 64
+    dx = 4.0 / n
+    r0 = 0.2
+    measured_delay, measured_aniso, expected = [], [], []
+    for px in (1, 2, 4, 8):
+        # one internal step per frame (exposure = frame, no delay): the screen moves a
+        # whole number of pixels per step, so no interpolation smooths it
+        cfg = _single(n_pixels=n, d_over_r0=20.0, wind=px * dx / 1e-3, dm_kind="ideal",
+                      time_step=1e-3, integration=1e-3, delay=0.0)
+        model = LoopModel(cfg)
+        measured_delay.append(np.mean([
+            simulate(cfg, 0.02, seed=s, model=model, progress=False).residual_variance[5:, 0]
+            for s in range(3)]))
+        h = 5000.0
+        theta = px * dx / h / ARCSEC
+        cfg = _single(n_pixels=n, d_over_r0=20.0, altitude=h, dm_kind="ideal",
+                      field=FieldConfig(size=2 * theta, n_points=3))
+        model = LoopModel(cfg)
+        measured_aniso.append(np.mean([
+            simulate(cfg, 3e-3, seed=s, model=model, progress=False).residual_variance[-1, 5]
+            for s in range(6)]))
+        expected.append(shifted_difference_variance(model.geometry.pupil_mask, dx,
+                                                    (px * dx, 0.0), r0))
+    np.testing.assert_allclose(measured_delay, expected, rtol=0.15)
+    np.testing.assert_allclose(measured_aniso, expected, rtol=0.15)
+    slope = np.polyfit(np.log([1, 2, 4, 8]), np.log(measured_delay), 1)[0]
+    print(f"delay: log-log slope {slope:.3f}; expected "
+          f"{np.polyfit(np.log([1, 2, 4, 8]), np.log(expected), 1)[0]:.3f}")
