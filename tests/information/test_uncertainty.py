@@ -4,7 +4,10 @@ References: the analytic MI of a bivariate normal pair whose components are AR(1
 series (-0.5 ln(1 - rho^2), unchanged by the autocorrelation); the analytic
 Politis-White block length of an AR(1) series, (6 phi^2 / (1 - phi^2)^2)^(1/3)
 n^(1/3); the binomial distribution of the rejection count of a level-alpha test
-under the null; the p-value definition of Phipson & Smyth (2010).
+under the null; the p-value definition of Phipson & Smyth (2010). BCa intervals:
+``scipy.stats.bootstrap(method="BCa")`` called directly with the same generator, and,
+where BCa is undefined (every replicate above the estimate), ``numpy.quantile`` of
+the replicates (the percentile interval).
 """
 
 import numpy as np
@@ -130,3 +133,31 @@ def test_block_bootstrap_covers_ar1_pair_iid_undercovers():
     print(f"coverage of nominal 0.95 intervals: {cov}")
     assert cov["block"] >= 0.85
     assert cov["iid"] <= 0.6
+
+
+def test_bca_matches_scipy_when_defined():
+    x, y = _ar1_pair(0.0, 0.6, 200, 5)
+    res = mutual_information_ci(x, y, n_resamples=99, seed=3, bootstrap="iid", interval="bca")
+    ref = stats.bootstrap((x, y), lambda a, c: mutual_information(a, c, method="histogram"),
+                          paired=True, vectorized=False, n_resamples=99, method="BCa",
+                          rng=np.random.default_rng(3))
+    assert res.interval == "bca" and res.note == ""
+    assert res.low == ref.confidence_interval.low and res.high == ref.confidence_interval.high
+
+
+def test_bca_falls_back_to_percentile_when_every_replicate_is_above():
+    # A 3 x 3 table of counts 36 p_i p_j with p = (3, 2, 1) / 6: the plug-in MI is 0
+    # exactly, and that of any resample whose table is not an exact product is > 0, so
+    # z0 = Phi^-1(0) = -inf and BCa is undefined (scipy returns NaN bounds).
+    counts = np.outer([3, 2, 1], [3, 2, 1])
+    ij = np.repeat(np.arange(9), counts.ravel())
+    x, y = (ij // 3).astype(float), (ij % 3).astype(float)
+    res = mutual_information_ci(x, y, n_resamples=99, seed=0, bootstrap="iid", interval="bca",
+                                bins=3, bias_correction="none")
+    assert res.estimate == 0.0
+    assert np.all(res.bootstrap_distribution > res.estimate)  # the situation tested
+    assert np.isfinite(res.low) and np.isfinite(res.high)
+    want = np.quantile(res.bootstrap_distribution, [0.025, 0.975])
+    np.testing.assert_allclose([res.low, res.high], want, rtol=1e-12)
+    assert res.interval == "percentile"
+    assert res.note.startswith("BCa undefined: 0 of 99 bootstrap replicates lie below")
