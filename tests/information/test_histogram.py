@@ -152,3 +152,19 @@ def test_entropy_miller_madow_removes_the_plugin_bias():
     tol = abs(second) + 5 * np.std(mm, ddof=1) / np.sqrt(reps)
     assert np.mean(plugin) == pytest.approx(-(K - 1) / (2 * n) + second, abs=tol)
     assert np.mean(mm) == pytest.approx(second, abs=tol)
+
+
+@pytest.mark.parametrize("n", [20, 1000, 20_000])
+def test_default_entropy_bins_follow_hacine_gharbi_2012(n):
+    # Hacine-Gharbi et al. (2012), Pattern Recognit. Lett. 33, 1302: the MSE-optimal
+    # number of bins for a 1-D entropy, k = round(xi/6 + 2/(3 xi) + 1/3) with
+    # xi = (8 + 324 n + 12 sqrt(36 n + 729 n^2))^(1/3) -- written out here from the paper
+    xi = (8 + 324 * n + 12 * np.sqrt(36 * n + 729 * n**2)) ** (1 / 3)
+    k = int(round(xi / 6 + 2 / (3 * xi) + 1 / 3))
+    x = np.random.default_rng(n).standard_normal(n)
+    assert entropy(x, method="histogram") == entropy(x, method="histogram", bins=k)
+    assert entropy(x, method="histogram") != entropy(x, method="histogram", bins=k + 1)
+    counts, edges = np.histogram(x, bins=k)
+    p = counts[counts > 0] / n
+    want = -np.sum(p * np.log(p / np.diff(edges)[counts > 0])) + (p.size - 1) / (2 * n)
+    assert entropy(x, method="histogram") == pytest.approx(want, rel=1e-12)
