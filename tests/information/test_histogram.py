@@ -168,3 +168,20 @@ def test_default_entropy_bins_follow_hacine_gharbi_2012(n):
     p = counts[counts > 0] / n
     want = -np.sum(p * np.log(p / np.diff(edges)[counts > 0])) + (p.size - 1) / (2 * n)
     assert entropy(x, method="histogram") == pytest.approx(want, rel=1e-12)
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.5, 0.9, -0.97])
+@pytest.mark.parametrize("n", [30, 700, 5000])
+def test_joint_bins_follow_hacine_gharbi_2018_with_offsets(n, rho):
+    # Hacine-Gharbi & Ravier (2018): k = round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt 2)
+    # with r the sample correlation (numpy.corrcoef), capped at ceil(sqrt(n)) and >= 2;
+    # data far from zero mean, so a mean not removed would change r
+    rng = np.random.default_rng(n)
+    x = rng.standard_normal(n)
+    y = rho * x + np.sqrt(1 - rho**2) * rng.standard_normal(n)
+    x, y = 50.0 + 3.0 * x, -20.0 + 0.1 * y
+    r = np.corrcoef(x, y)[0, 1]
+    k = int(round(np.sqrt(1 + np.sqrt(1 + 24 * n / (1 - r**2))) / np.sqrt(2)))
+    k = min(max(2, k), int(np.ceil(np.sqrt(n))))
+    assert mutual_information(x, y, method="histogram") == pytest.approx(
+        _plugin_ref(x, y, k, True), rel=1e-12, abs=1e-14)
