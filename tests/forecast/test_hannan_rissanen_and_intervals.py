@@ -7,7 +7,11 @@ References:
 - ``scipy.stats.norm.ppf`` for the interval half-width ``z_(1/2 + level/2) std`` at
   levels other than 0.95, on both sides of the mean;
 - the binomial distribution of the number of covered one-step errors (nominal
-  coverage 0.8), its tolerance computed in the test.
+  coverage 0.8), its tolerance computed in the test;
+- the conditional-sum-of-squares optimum found by ``scipy.optimize.least_squares`` on
+  the same innovations (zero initial state, first ``burn_in`` discarded), which the
+  Gauss-Newton refinement must reach;
+- the documented validation rules and defaults of ``ARMAPredictor``.
 """
 
 import warnings
@@ -15,6 +19,7 @@ import warnings
 import numpy as np
 import pytest
 from scipy import stats
+from scipy.optimize import least_squares
 from scipy.signal import lfilter
 from statsmodels.tsa.arima.estimators.hannan_rissanen import hannan_rissanen
 
@@ -76,3 +81,36 @@ def test_coverage_at_level_080_within_binomial_tolerance():
     fitted = ARMAPredictor(order=(2, 3), horizon=1).fit(x[:4000])
     half = stats.norm.ppf(0.9) * fitted.forecast_std(1)[0, 0]
     assert np.mean(np.abs(err) <= half) == pytest.approx(cov, abs=1e-12)
+
+
+def test_refinement_reaches_the_conditional_least_squares_optimum():
+    x = _arma23(5000, 24)
+    xc, burn = x - x.mean(), 50
+
+    def innovations(p):
+        return lfilter(np.r_[1.0, -p[:2]], np.r_[1.0, p[2:]], xc)[burn:]
+
+    ref = least_squares(innovations, np.r_[PHI, THETA], xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    ours = ARMAPredictor(order=(2, 3), burn_in=burn).fit(x)
+    np.testing.assert_allclose(np.r_[ours.ar_coef_[0], ours.ma_coef_[0]], ref.x, atol=1e-4)
+    assert ours.sigma2_[0] == pytest.approx(np.mean(ref.fun**2), rel=1e-8)
+    # the two-step estimate alone is not at the optimum (the refinement matters)
+    hr = ARMAPredictor(order=(2, 3), burn_in=burn, n_iter=0).fit(x)
+    assert np.abs(np.r_[hr.ar_coef_[0], hr.ma_coef_[0]] - ref.x).max() > 1e-2
+
+
+def test_interval_validation_and_defaults():
+    pred = ARMAPredictor(order=(1, 1)).fit(_arma23(600, 25))
+    assert (pred.n_iter, pred.burn_in, pred.horizon, pred.level) == (10, 50, 10, 0.95)
+    assert pred.forecast_std().shape == (10, 1) and pred.forecast_std(3).shape == (3, 1)
+    assert pred.predict_interval(np.zeros(50)).mean.shape == (10,)
+    assert pred.predict_interval(np.zeros(50), horizon=1).mean.shape == (1,)
+    for bad in (0.0, 1.0, 1.5, -0.2):
+        with pytest.raises(ValueError, match=r"`level` must be (>|<) "):
+            pred.predict_interval(np.zeros(50), level=bad)
+    with pytest.raises(ValueError, match=r"`horizon` must be an int >= 1; got 0"):
+        pred.predict_interval(np.zeros(50), horizon=0)
+    with pytest.raises(ValueError, match=r"`horizon` must be an int >= 1; got 0"):
+        pred.forecast_std(0)
+    with pytest.raises(ValueError, match=r"`history`"):
+        pred.predict_interval(np.zeros((50, 3)))
