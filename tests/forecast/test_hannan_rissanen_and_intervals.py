@@ -114,3 +114,25 @@ def test_interval_validation_and_defaults():
         pred.forecast_std(0)
     with pytest.raises(ValueError, match=r"`history`"):
         pred.predict_interval(np.zeros((50, 3)))
+
+
+def test_order_options_validation_and_full_aic_grid():
+    x = _arma23(1500, 26)
+    sel = ARMAPredictor(order="bic", max_order=2).fit(x)
+    assert sel.criterion_.shape == (1, 3, 3) and np.all(np.isfinite(sel.criterion_))
+    assert ARMAPredictor(order=(0, 0)).fit(x).orders_.tolist() == [[0, 0]]
+    assert ARMAPredictor(order="aic", max_order=0).fit(x).orders_.tolist() == [[0, 0]]
+    cases = [
+        ({"order": "hqic"}, ValueError, r"`order` must be one of 'aic', 'bic'; got 'hqic'"),
+        ({"order": "aic", "max_order": -1}, ValueError, r"`max_order` must be an int >= 0; got -1"),
+        ({"order": "aic", "max_order": 21}, ValueError, r"`max_order` must be an int <= 20; got 21"),
+        ({"order": 3}, TypeError, r"`order` must be a \(p, q\) tuple or 'aic'/'bic'; got 3"),
+        ({"order": (-1, 1)}, ValueError, r"`order\[0\] \(p\)` must be an int >= 0; got -1"),
+        ({"order": (51, 1)}, ValueError, r"`order\[0\] \(p\)` must be an int <= 50; got 51"),
+        ({"order": (1, -1)}, ValueError, r"`order\[1\] \(q\)` must be an int >= 0; got -1"),
+        ({"order": (1, 51)}, ValueError, r"`order\[1\] \(q\)` must be an int <= 50; got 51"),
+        ({"order": (2, 3), "long_order": 2}, ValueError, r"`long_order` must be an int >= 3"),
+    ]
+    for kwargs, exc, msg in cases:
+        with pytest.raises(exc, match=msg):
+            ARMAPredictor(**kwargs).fit(x)
