@@ -125,7 +125,8 @@ def test_order_options_validation_and_full_aic_grid():
     cases = [
         ({"order": "hqic"}, ValueError, r"`order` must be one of 'aic', 'bic'; got 'hqic'"),
         ({"order": "aic", "max_order": -1}, ValueError, r"`max_order` must be an int >= 0; got -1"),
-        ({"order": "aic", "max_order": 21}, ValueError, r"`max_order` must be an int <= 20; got 21"),
+        ({"order": "aic", "max_order": 21}, ValueError,
+         r"`max_order` must be an int <= 20; got 21"),
         ({"order": 3}, TypeError, r"`order` must be a \(p, q\) tuple or 'aic'/'bic'; got 3"),
         ({"order": (-1, 1)}, ValueError, r"`order\[0\] \(p\)` must be an int >= 0; got -1"),
         ({"order": (51, 1)}, ValueError, r"`order\[0\] \(p\)` must be an int <= 50; got 51"),
