@@ -1,6 +1,9 @@
 """Shared pytest configuration.
 
-- Slow statistical checks (``@pytest.mark.slow``) run only with ``--runslow``.
+- Long end-to-end runs (``@pytest.mark.slow``: the full paper figures on the default
+  synthetic log) run only with ``--runslow``. The statistical-validity checks
+  (coverage of intervals, levels of tests) are in the default tier, sized so that
+  their binomial tolerances are computed in the test.
 - Hypothesis: no per-example deadline (the first example of a test may pay a numba
   compilation, and the machine is shared), and under CI (``CI`` set) a derandomised
   search so that a run is reproducible; locally the search stays random.
@@ -25,7 +28,7 @@ def pytest_addoption(parser):
 def pytest_collection_modifyitems(config, items):
     if config.getoption("--runslow"):
         return
-    skip = pytest.mark.skip(reason="slow statistical check: run with --runslow")
+    skip = pytest.mark.skip(reason="long end-to-end run: run with --runslow")
     for item in items:
         if "slow" in item.keywords:
             item.add_marker(skip)

@@ -92,8 +92,12 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
           Freedman-Diaconis rule (~3 n^(1/3) narrow bins) overestimates MI even after
           Miller-Madow (measured +0.046 nats at rho = 0.3, n = 1e4). Rule-chosen bin
           numbers are capped at ceil(sqrt(n)) (it binds only as |r| -> 1).
-        - ``"ksg"``: Kraskov et al. (2004) estimator 1, option ``k`` (3).
+        - ``"ksg"``: Kraskov et al. (2004) estimator 1, options ``k`` (3) and ``seed``
+          (0) of the tiny noise that breaks ties when a variable has repeated values
+          (rounded, integer or boolean data), as scikit-learn does.
         - ``"gaussian"``: ``-0.5 ln(1 - r^2)``; blind to non-linear dependence.
+          Scale invariant: each variable is divided by its largest magnitude before
+          the correlation is computed (no underflow at 1e-300, no overflow at 1e300).
     units : {"nats", "bits"}
         Units of the result.
     **options

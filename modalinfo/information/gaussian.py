@@ -15,7 +15,7 @@ import numpy as np
 
 from modalinfo.information import _kernels as kern
 
-__all__ = ["GaussianEngine", "gaussian_entropy", "gaussian_mi_from_correlation"]
+__all__ = ["GaussianEngine", "gaussian_entropy", "gaussian_mi_from_correlation", "unit_scaled"]
 
 #: Floor of 1 - r^2, so that an exactly linear relation gives a large finite MI
 #: (-0.5 ln 1e-15 = 17.3 nats) instead of infinity.
@@ -27,18 +27,33 @@ def gaussian_mi_from_correlation(r: float) -> float:
     return -0.5 * math.log(max(1.0 - r * r, ONE_MINUS_R2_FLOOR))
 
 
+def unit_scaled(a: np.ndarray) -> np.ndarray:
+    """Return ``a / max |a|``, shape (n,), values in [-1, 1].
+
+    Sums of squares of the result neither underflow (data ~1e-170 and below) nor
+    overflow (~1e154 and above); correlations are unchanged. ``a`` not all zero.
+    """
+    return a / np.max(np.abs(a))
+
+
 class GaussianEngine:
-    """Gaussian MI from the Pearson correlation; caches the centred, normalised x."""
+    """Gaussian MI from the Pearson correlation; caches the centred, normalised x.
+
+    Scale invariant: both variables are divided by their largest magnitude first.
+    """
 
     def fit(self, x: np.ndarray) -> GaussianEngine:
         """Cache ``(x - mean) / ||x - mean||`` (x validated, 1-D, not constant)."""
-        xc = x - x.mean()
+        xs = unit_scaled(x)
+        xc = xs - xs.mean()
         self._xu = xc / math.sqrt(kern.dot(xc, xc))
         return self
 
     def score(self, y: np.ndarray) -> float:
         """``-0.5 ln(1 - r^2)`` in nats (y validated, same length, not constant)."""
-        num, norm = kern.centred_dot_and_norm(self._xu, y)
+        num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(y))
+        if not norm > 0.0:  # y constant after rounding of its mean: no correlation
+            return 0.0
         r = num / norm
         return gaussian_mi_from_correlation(min(1.0, max(-1.0, r)))
 

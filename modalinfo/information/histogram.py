@@ -37,6 +37,7 @@ import numpy as np
 
 from modalinfo._validation import check_choice, check_int
 from modalinfo.information import _kernels as kern
+from modalinfo.information.gaussian import unit_scaled
 
 __all__ = ["BIN_RULES", "max_rule_bins", "n_bins_for"]
 
@@ -203,7 +204,8 @@ class HistogramEngine:
     def fit(self, x: np.ndarray) -> HistogramEngine:
         """Cache the range, centred samples and bin indices of ``x`` (validated, 1-D)."""
         self._ax = _Axis(x, self.binning)
-        xc = x - x.mean()
+        xs = unit_scaled(x)  # scale invariant: no underflow of the sum of squares
+        xc = xs - xs.mean()
         self._xu = xc / math.sqrt(kern.dot(xc, xc))
         self._kx_fixed = None
         if not (self.bins == "hacine-gharbi"):
@@ -211,7 +213,7 @@ class HistogramEngine:
         return self
 
     def _corr(self, y: np.ndarray) -> float:
-        num, norm = kern.centred_dot_and_norm(self._xu, y)
+        num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(y))
         return num / norm if norm > 0 else 0.0
 
     def score(self, y: np.ndarray) -> float:

@@ -65,7 +65,7 @@ from scipy.stats import rankdata
 
 from modalinfo._validation import check_choice, check_int, check_real
 from modalinfo.information import _kernels as kern
-from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, unit_scaled
 
 __all__ = ["KDEEngine", "kde_entropy", "bandwidth_factor", "copula_scores"]
 
@@ -95,7 +95,7 @@ def copula_scores(x: np.ndarray) -> np.ndarray:
 
 def _standardise(x: np.ndarray, copula: bool) -> tuple[np.ndarray, float, float]:
     """Return (z - mean) / std of z = x or its copula scores (std > 0), its min and max."""
-    z = copula_scores(x) if copula else x
+    z = copula_scores(x) if copula else unit_scaled(x)  # no under/overflow of the variance
     out = np.empty(z.shape[0])
     kern.standardise(np.ascontiguousarray(z, dtype=float), out)
     return out, float(out.min()), float(out.max())
@@ -297,7 +297,7 @@ class KDEEngine:
             return self._score_cv(y)
         n = self._n
         u = self._u
-        z = copula_scores(y) if self.copula else y
+        z = copula_scores(y) if self.copula else unit_scaled(y)
         # four passes over the samples: moments of y; range of the standardised v and
         # the whitened w (not stored); binning, which recomputes v and w and stores the
         # cells; interpolation

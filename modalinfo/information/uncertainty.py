@@ -47,6 +47,7 @@ that bootstrap resamples contain, which bias the leave-one-out KDE and KSG upwar
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -100,6 +101,11 @@ class MIConfidenceResult:
         ``"normal"``, ``"basic"``, ``"percentile"`` or ``"bca"``.
     method, units : str
         Estimator and units.
+    note : str
+        Why the interval differs from the one asked for, or ``""``. BCa falls back to
+        the percentile interval (``interval`` then reads ``"percentile"``) when every
+        bootstrap replicate lies on one side of the estimate: its bias correction
+        ``z0 = Phi^-1(fraction of replicates below the estimate)`` is then infinite.
     """
 
     estimate: float
@@ -115,6 +121,7 @@ class MIConfidenceResult:
     interval: str
     method: str
     units: str
+    note: str = ""
 
 
 @dataclass(frozen=True)
@@ -288,7 +295,11 @@ def mutual_information_ci(
         spread from the bootstrap; ``"basic"``: ``[2 I - q_hi, 2 I - q_lo]``, corrects
         by the bootstrap bias, which for MI is unreliable (see the module notes);
         ``"percentile"``: ``[q_lo, q_hi]``; ``"bca"``: bias-corrected and
-        accelerated (``scipy.stats.bootstrap``), iid bootstrap only.
+        accelerated (``scipy.stats.bootstrap``), iid bootstrap only. BCa is undefined
+        when every replicate lies on one side of the estimate (infinite bias
+        correction; common for MI, whose resamples are biased upward): the percentile
+        interval of the same replicates is returned, with ``interval="percentile"``
+        and the reason in ``note``.
     seed : None, int or numpy.random.Generator
         Randomness of the resampling.
     **options
@@ -321,15 +332,28 @@ def mutual_information_ci(
     n = x.shape[0]
     alpha = 1.0 - confidence_level
 
+    note = ""
     if interval == "bca":
         b = 1
-        res = stats.bootstrap(
-            (x, y), lambda a, c: est.estimate(a, c), paired=True, vectorized=False,
-            n_resamples=n_resamples, confidence_level=confidence_level, method="BCa",
-            rng=rng,
-        )
+        with warnings.catch_warnings(), np.errstate(divide="ignore", invalid="ignore"):
+            # scipy warns, then returns NaN bounds, when z0 is infinite or the jackknife
+            # is degenerate (0/0 acceleration): handled below
+            warnings.simplefilter("ignore", stats.DegenerateDataWarning)
+            res = stats.bootstrap(
+                (x, y), lambda a, c: est.estimate(a, c), paired=True, vectorized=False,
+                n_resamples=n_resamples, confidence_level=confidence_level, method="BCa",
+                rng=rng,
+            )
         dist = np.asarray(res.bootstrap_distribution, dtype=float)
         low, high = float(res.confidence_interval.low), float(res.confidence_interval.high)
+        if not (math.isfinite(low) and math.isfinite(high)):
+            below = int(np.count_nonzero(dist < theta))
+            note = (
+                f"BCa undefined: {below} of {n_resamples} bootstrap replicates lie below "
+                f"the estimate (infinite bias correction); percentile interval given"
+            )
+            interval = "percentile"
+            low, high = np.quantile(dist, [alpha / 2.0, 1.0 - alpha / 2.0])
     else:
         if bootstrap == "iid":
             b = 1
@@ -351,7 +375,7 @@ def mutual_information_ci(
         confidence_level=confidence_level, block_length=int(b), n_resamples=n_resamples,
         bootstrap_std=float(np.std(dist, ddof=1)), bootstrap_mean=float(np.mean(dist)),
         bootstrap_distribution=dist, bootstrap=bootstrap, interval=interval, method=method,
-        units=units,
+        units=units, note=note,
     )
 
 

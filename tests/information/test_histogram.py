@@ -3,13 +3,17 @@
 References: ``numpy.histogram2d`` plug-in MI computed directly (exact agreement),
 ``numpy.histogram_bin_edges`` bin numbers for "fd", "scott", "sturges", "sqrt",
 the Miller-Madow formula (Paninski 2003, eq. 3.4), and the analytic entropy of a
-uniform variable.
+uniform variable. The entropy's Miller-Madow term against ``scipy.stats.entropy`` of
+the counts plus exactly +(K - 1) / (2 n), and against the known bias of the plug-in
+entropy of a discrete uniform distribution, E[H_plugin] - H = -(K - 1) / (2 n) +
+(1 - sum_i 1 / p_i) / (12 n^2) + O(n^-3) (Miller 1955; Paninski 2003, eq. 3.4).
 """
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy import stats
 
 from modalinfo.information import entropy, mutual_information
 from modalinfo.information.histogram import n_bins_for
@@ -115,3 +119,69 @@ def test_plugin_mi_is_a_nonnegative_symmetric_kl_divergence(n, bins, seed, scale
     assert a >= -1e-12
     assert a == pytest.approx(b, abs=1e-12)
     assert a == pytest.approx(_plugin_ref(x, y, bins, False), abs=1e-12)
+
+
+def test_entropy_miller_madow_term_is_plus_k_minus_1_over_2n():
+    # values 0, 1, 2, 3, 6 with counts 10, 20, 30, 39, 1 in 6 unit bins over [0, 6]
+    # (the bin [4, 5) is empty): K = 5 occupied bins, n = 100
+    counts = np.array([10, 20, 30, 39, 1])
+    x = np.repeat([0.0, 1.0, 2.0, 3.0, 6.0], counts)
+    n, k = counts.sum(), counts.size
+    width = (x.max() - x.min()) / 6
+    plugin = stats.entropy(counts / n) + np.log(width)
+    got_none = entropy(x, method="histogram", bins=6, bias_correction="none")
+    got_mm = entropy(x, method="histogram", bins=6)
+    assert got_none == pytest.approx(plugin, rel=1e-12)
+    assert got_mm - got_none == pytest.approx((k - 1) / (2 * n), rel=1e-9)
+
+
+def test_entropy_miller_madow_removes_the_plugin_bias():
+    # discrete uniform on K = 20 values (both end values forced present so that the
+    # bins are the K unit cells), n = 100, 400 samples. Plug-in bias -(K-1)/(2n) =
+    # -0.095; after Miller-Madow the second-order term (1 - K^2) / (12 n^2) = -0.0033
+    # remains. Tolerance: that term plus 5 standard errors of the 400-sample mean.
+    K, n, reps = 20, 100, 400
+    truth = np.log(K) + np.log((K - 1) / K)  # ln K of the cells plus ln(bin width)
+    rng = np.random.default_rng(0)
+    mm, plugin = [], []
+    for _ in range(reps):
+        x = np.concatenate([[0, K - 1], rng.integers(0, K, n - 2)]) + 0.5
+        mm.append(entropy(x, method="histogram", bins=K) - truth)
+        plugin.append(entropy(x, method="histogram", bins=K, bias_correction="none") - truth)
+    second = (1 - K**2) / (12 * n**2)
+    tol = abs(second) + 5 * np.std(mm, ddof=1) / np.sqrt(reps)
+    assert np.mean(plugin) == pytest.approx(-(K - 1) / (2 * n) + second, abs=tol)
+    assert np.mean(mm) == pytest.approx(second, abs=tol)
+
+
+@pytest.mark.parametrize("n", [20, 1000, 20_000])
+def test_default_entropy_bins_follow_hacine_gharbi_2012(n):
+    # Hacine-Gharbi et al. (2012), Pattern Recognit. Lett. 33, 1302: the MSE-optimal
+    # number of bins for a 1-D entropy, k = round(xi/6 + 2/(3 xi) + 1/3) with
+    # xi = (8 + 324 n + 12 sqrt(36 n + 729 n^2))^(1/3) -- written out here from the paper
+    xi = (8 + 324 * n + 12 * np.sqrt(36 * n + 729 * n**2)) ** (1 / 3)
+    k = int(round(xi / 6 + 2 / (3 * xi) + 1 / 3))
+    x = np.random.default_rng(n).standard_normal(n)
+    assert entropy(x, method="histogram") == entropy(x, method="histogram", bins=k)
+    assert entropy(x, method="histogram") != entropy(x, method="histogram", bins=k + 1)
+    counts, edges = np.histogram(x, bins=k)
+    p = counts[counts > 0] / n
+    want = -np.sum(p * np.log(p / np.diff(edges)[counts > 0])) + (p.size - 1) / (2 * n)
+    assert entropy(x, method="histogram") == pytest.approx(want, rel=1e-12)
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.5, 0.9, -0.97])
+@pytest.mark.parametrize("n", [30, 700, 5000])
+def test_joint_bins_follow_hacine_gharbi_2018_with_offsets(n, rho):
+    # Hacine-Gharbi & Ravier (2018): k = round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt 2)
+    # with r the sample correlation (numpy.corrcoef), capped at ceil(sqrt(n)) and >= 2;
+    # data far from zero mean, so a mean not removed would change r
+    rng = np.random.default_rng(n)
+    x = rng.standard_normal(n)
+    y = rho * x + np.sqrt(1 - rho**2) * rng.standard_normal(n)
+    x, y = 50.0 + 3.0 * x, -20.0 + 0.1 * y
+    r = np.corrcoef(x, y)[0, 1]
+    k = int(round(np.sqrt(1 + np.sqrt(1 + 24 * n / (1 - r**2))) / np.sqrt(2)))
+    k = min(max(2, k), int(np.ceil(np.sqrt(n))))
+    assert mutual_information(x, y, method="histogram") == pytest.approx(
+        _plugin_ref(x, y, k, True), rel=1e-12, abs=1e-14)

@@ -4,7 +4,10 @@ References: the analytic MI of a bivariate normal pair whose components are AR(1
 series (-0.5 ln(1 - rho^2), unchanged by the autocorrelation); the analytic
 Politis-White block length of an AR(1) series, (6 phi^2 / (1 - phi^2)^2)^(1/3)
 n^(1/3); the binomial distribution of the rejection count of a level-alpha test
-under the null; the p-value definition of Phipson & Smyth (2010).
+under the null; the p-value definition of Phipson & Smyth (2010). BCa intervals:
+``scipy.stats.bootstrap(method="BCa")`` called directly with the same generator, and,
+where BCa is undefined (every replicate above the estimate), ``numpy.quantile`` of
+the replicates (the percentile interval).
 """
 
 import numpy as np
@@ -83,50 +86,81 @@ def test_permutation_pvalue_definition():
     assert 1 <= auto.min_shift <= 200
 
 
-@pytest.mark.slow
+def _binomial_bounds(n, p, tail=1e-4):
+    """Counts outside which Binomial(n, p) lies with probability < tail on each side."""
+    return int(stats.binom.ppf(tail, n, p)), int(stats.binom.isf(tail, n, p))
+
+
 def test_permutation_rejection_rate_under_null():
-    # 200 independent iid pairs, level 0.05: rejections ~ Binomial(200, 0.05),
-    # mean 10, sd 3.1; accept 3..19 (~ +-3 sd)
+    # 200 independent iid pairs, 99 permutations: P(p-value <= 0.05) = 5/100 exactly
+    # under the null (exchangeability), so rejections ~ Binomial(200, 0.05); accept
+    # its central 1 - 2e-4 range (computed: 1 .. 23)
     rejections = 0
     for seed in range(200):
         rng = np.random.default_rng(10_000 + seed)
         x, y = rng.standard_normal((2, 300))
         res = mutual_information_permutation_test(x, y, n_permutations=99, seed=seed)
         rejections += res.pvalue <= 0.05
-    print(f"shuffle test, iid null: {rejections}/200 rejections at alpha = 0.05")
-    assert 3 <= rejections <= 19
+    lo, hi = _binomial_bounds(200, 0.05)  # measured 10
+    assert lo <= rejections <= hi, (rejections, lo, hi)
 
 
-@pytest.mark.slow
 def test_circular_shift_test_holds_level_for_autocorrelated_null():
-    # independent AR(1) series, phi = 0.95: the shuffle test is anti-conservative,
-    # the circular-shift test stays near its level (Binomial(100, 0.05): <= 12)
+    # independent AR(1) series, phi = 0.95: the shuffle test is anti-conservative
+    # (its rejection count is far above any Binomial(60, 0.05) count: measured 60 of
+    # 60), the circular-shift test stays within the binomial range of its level
     counts = {"shuffle": 0, "circular": 0}
-    for seed in range(100):
+    for seed in range(60):
         rng = np.random.default_rng(20_000 + seed)
         x, y = _ar1(0.95, 1000, rng), _ar1(0.95, 1000, rng)
         for perm in counts:
             res = mutual_information_permutation_test(x, y, n_permutations=99, seed=seed,
                                                       permutation=perm)
             counts[perm] += res.pvalue <= 0.05
-    print(f"AR(1) null, rejections out of 100 at alpha = 0.05: {counts}")
-    assert counts["shuffle"] >= 30
-    assert counts["circular"] <= 12
+    _, hi = _binomial_bounds(60, 0.05)
+    assert counts["shuffle"] > hi, counts  # measured 60 (hi = 11)
+    assert counts["circular"] <= hi, counts  # measured 4
 
 
-@pytest.mark.slow
 def test_block_bootstrap_covers_ar1_pair_iid_undercovers():
     # AR(1) pair, phi = 0.95, rho = 0.6, n = 4000 (effective n ~ 100); nominal 0.95.
-    # 150 trials: binomial sd of a coverage near 0.9 is 0.025.
-    phi, rho, n, trials = 0.95, 0.6, 4000, 150
+    # Documented: block coverage >= 0.85, iid <= 0.6. With 60 trials the hit count is
+    # Binomial(60, c): a true coverage of 0.85 (0.6) passes with probability 0.999.
+    phi, rho, n, trials = 0.95, 0.6, 4000, 60
     truth = -0.5 * np.log(1 - rho**2)
     hits = {"block": 0, "iid": 0}
     for seed in range(trials):
         x, y = _ar1_pair(phi, rho, n, 30_000 + seed)
         for boot in hits:
-            r = mutual_information_ci(x, y, n_resamples=199, bootstrap=boot, seed=seed)
+            r = mutual_information_ci(x, y, n_resamples=99, bootstrap=boot, seed=seed)
             hits[boot] += r.low <= truth <= r.high
-    cov = {k: v / trials for k, v in hits.items()}
-    print(f"coverage of nominal 0.95 intervals: {cov}")
-    assert cov["block"] >= 0.85
-    assert cov["iid"] <= 0.6
+    assert hits["block"] >= stats.binom.ppf(1e-3, trials, 0.85), hits  # 55 >= 42
+    assert hits["iid"] <= stats.binom.isf(1e-3, trials, 0.6), hits  # 16 <= 47
+
+
+def test_bca_matches_scipy_when_defined():
+    x, y = _ar1_pair(0.0, 0.6, 200, 5)
+    res = mutual_information_ci(x, y, n_resamples=99, seed=3, bootstrap="iid", interval="bca")
+    ref = stats.bootstrap((x, y), lambda a, c: mutual_information(a, c, method="histogram"),
+                          paired=True, vectorized=False, n_resamples=99, method="BCa",
+                          rng=np.random.default_rng(3))
+    assert res.interval == "bca" and res.note == ""
+    assert res.low == ref.confidence_interval.low and res.high == ref.confidence_interval.high
+
+
+def test_bca_falls_back_to_percentile_when_every_replicate_is_above():
+    # A 3 x 3 table of counts 36 p_i p_j with p = (3, 2, 1) / 6: the plug-in MI is 0
+    # exactly, and that of any resample whose table is not an exact product is > 0, so
+    # z0 = Phi^-1(0) = -inf and BCa is undefined (scipy returns NaN bounds).
+    counts = np.outer([3, 2, 1], [3, 2, 1])
+    ij = np.repeat(np.arange(9), counts.ravel())
+    x, y = (ij // 3).astype(float), (ij % 3).astype(float)
+    res = mutual_information_ci(x, y, n_resamples=99, seed=0, bootstrap="iid", interval="bca",
+                                bins=3, bias_correction="none")
+    assert res.estimate == 0.0
+    assert np.all(res.bootstrap_distribution > res.estimate)  # the situation tested
+    assert np.isfinite(res.low) and np.isfinite(res.high)
+    want = np.quantile(res.bootstrap_distribution, [0.025, 0.975])
+    np.testing.assert_allclose([res.low, res.high], want, rtol=1e-12)
+    assert res.interval == "percentile"
+    assert res.note.startswith("BCa undefined: 0 of 99 bootstrap replicates lie below")

@@ -4,7 +4,10 @@ References: hand-computed curves (Parseval for an orthonormal basis), a slow num
 pixel-by-pixel reference for the numba kernels, ``numpy.percentile`` for the bands,
 the identity waves^2 = rad^2 / (2 pi)^2, and the Eckart-Young theorem (the PCA of the
 data's second moments is the mean-square optimum among all rank-n truncations), with
-the PCA computed independently by ``numpy.linalg.svd``.
+the PCA computed independently by ``numpy.linalg.svd``. Automatic method choice:
+a basis built with a known Gram deviation (``Q sqrtm(I + E)``, ``scipy.linalg.sqrtm``)
+must use Parseval only when max |G - I| <= 1e-8, and its curve must equal the
+pixel-by-pixel reference, from which Parseval differs by about |E|.
 """
 
 import numba
@@ -202,3 +205,30 @@ def test_pca_floor_with_fewer_frames_than_modes():
     floor = fitting_error(b, z @ vt.T, res).mean
     np.testing.assert_allclose(floor[2:], 0.0, atol=1e-12)
     assert np.all(floor <= fitting_error(a, z).mean + 1e-12)
+
+
+@pytest.mark.parametrize(("dev", "want"), [(1e-4, "gram"), (1e-7, "gram"), (1e-11, "parseval")])
+def test_auto_uses_parseval_only_for_gram_within_1e_8(dev, want):
+    from scipy.linalg import sqrtm
+
+    rng = np.random.default_rng(5)
+    q = orthonormal_modes(500, 10, seed=2)
+    e = np.zeros((10, 10))
+    e[3, 7] = e[7, 3] = dev  # Gram of q @ sqrtm(I + E) is I + E exactly
+    z = q @ np.real(sqrtm(np.eye(10) + e))
+    gram = z.T @ z / z.shape[0]
+    assert np.max(np.abs(gram - np.eye(10))) == pytest.approx(dev, rel=1e-3)
+    a = rng.standard_normal((30, 10)) * np.linspace(2, 0.2, 10)
+    order = rng.permutation(10)
+    res = fitting_error(a, z, order)
+    assert res.method == want
+    ref, total = slow_pixel_curve(a, z, order)
+    np.testing.assert_allclose(res.per_frame, ref, rtol=1e-12 if want == "gram" else 1e-9,
+                               atol=1e-12)
+    if want == "gram":
+        # Parseval on this basis is off by ~dev: the choice matters at this tolerance
+        with pytest.raises(ValueError, match="needs a basis orthonormal"):
+            fitting_error(a, z, order, method="parseval")
+        naive = np.cumsum((a[:, order] ** 2)[:, ::-1], axis=1)[:, ::-1]
+        naive = np.concatenate([naive[:, 1:], np.zeros((30, 1))], axis=1)
+        assert np.max(np.abs(naive - ref) / np.maximum(ref, 1e-300)) > 1e-3 * dev
