@@ -135,9 +135,10 @@ def report(fig2: Figure2) -> str:
     if "oracle" in fig2.peak_mean:
         diff = runs.runs["oracle"].strehl_peak[fig2.start:] - none.strehl_peak[fig2.start:]
         oracle += (f" Oracle minus no prediction: {diff.mean():+.4f} on average "
-                   f"(frame-to-frame RMS of the difference {diff.std():.4f}); with the "
-                   "gain-0.5 integrator following it, even an exact forecast of the POL does "
-                   "not put the future turbulence on the mirrors.")
+                   f"(frame-to-frame RMS of the difference {diff.std():.4f})"
+                   + ("; with the integrator (gain < 1) following it, even an exact "
+                      "forecast of the POL does not put the future turbulence on the "
+                      "mirrors." if diff.mean() < 0 else "."))
     worse = [n for n in runs.runs if n not in ("none", "oracle") and g[n] < 1.0]
     if worse:
         oracle += (" Below no prediction: "

@@ -205,18 +205,18 @@ prediction, resolution {df:.1f} Hz); band power = the PSD integrated over
 
 {markdown_table(table_rows(fig3))}
 
-RMS of the SR peak after closure: {rms_text}. Above 20 Hz the no-prediction spectrum
-peaks at {f_peak:.0f} Hz (near the integrator's overshoot band). Predictors whose
-behaviour in both bands matches the paper's description: {matching}.
-{amp_text} Statistical precision: with {n_after} frames the band powers carry a
-relative standard error of about {err50:.0%} (~50 Hz) and {errh:.0%} (> 70 Hz), so
-their ratios can scatter by up to about {ratio_err50:.0%} and {ratio_errh:.0%} (less: the
-runs share one atmosphere) without any effect. {lost_text}The SR-peak oscillations are the fluctuations of the whole
-residual, dominated by fitting and aliasing (Figure 2's budget), of which the temporal
-term that prediction changes is a few per cent; the oracle, whose forecast is exact,
-changes the band powers too, so these ratios measure how each control law reshapes
-the residual's fluctuations, not the quality of the forecast. The paper gives no
-numbers for its spectra, only the statements in the table.
+RMS of the SR peak after closure: {rms_text}. Above 20 Hz the no-prediction
+spectrum peaks at {f_peak:.0f} Hz. Predictors whose behaviour in both bands matches the
+paper's description: {matching}. {amp_text} Statistical precision: with {n_after}
+frames the band powers carry a relative standard error of about {err50:.0%} (~50 Hz)
+and {errh:.0%} (> 70 Hz), so their ratios can scatter by up to about {ratio_err50:.0%}
+and {ratio_errh:.0%} (less: the runs share one atmosphere) without any effect.
+{lost_text}The SR-peak oscillations are the fluctuations of the whole residual,
+dominated by fitting and aliasing (Figure 2's budget), of which the temporal term that
+prediction changes is a few per cent; the oracle, whose forecast is exact, changes the
+band powers too, so these ratios measure how each control law reshapes the residual's
+fluctuations, not the quality of the forecast. The paper gives no numbers for its
+spectra, only the statements in the table.
 """
 
 
