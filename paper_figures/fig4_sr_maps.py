@@ -93,7 +93,8 @@ def plot(fig4: Figure4, out_dir: Path) -> list[Path]:
                 transform=ax.transAxes, color="w", fontsize=8,
                 bbox={"facecolor": "k", "alpha": 0.5, "pad": 2})
         ax.set_xlabel("x [arcsec]")
-        ax.set_ylabel("y [arcsec]")
+        if pos[1] == 0:
+            ax.set_ylabel("y [arcsec]")
     for i in range(n_rows):
         for j in range(n_cols):
             if (i, j) not in used:
@@ -146,7 +147,9 @@ def report(fig4: Figure4) -> str:
 
 ![Figure 4]({FIGURE_NAME})
 
-SR averaged after each run's detected closure on the {n}x{n} science grid over
+SR averaged after each run's own detected closure
+(`SimulationResult.strehl_map`; the closure times are listed under Figure 2, so the
+windows differ between runs) on the {n}x{n} science grid over
 {runs.field_size:g}" (one cell = {cell:.1f}"); the diameter d = 2 sqrt(A / pi) of the
 area with SR > {THRESHOLD:g} is measured on the grid refined 16 times by bilinear
 interpolation, so it is known to about a cell ({cell / 60:.2f}'); a region that reaches
