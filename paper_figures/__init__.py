@@ -1,8 +1,11 @@
 """Scripts that regenerate every figure of the paper, one module per figure.
 
-Each figure module exposes ``make(out_dir, log_path) -> str`` returning a Markdown
-section for the report, and runs stand-alone (``python -m paper_figures.fig1_fitting_error``).
-``python -m paper_figures`` makes them all and writes ``report.md`` beside them.
+Figures 1 and 5 analyse a modal log: ``make(out_dir, log_path) -> str``. Figures 2-4
+(``NEEDS_RUNS = True``) draw the closed-loop runs that they share
+(:mod:`paper_figures.closedloop_runs`, computed once): ``make(out_dir, runs) -> str``;
+each of them has a ``compute`` (numbers), ``plot`` and ``report`` step. Every ``make``
+returns a Markdown section for the report. ``python -m paper_figures`` makes them all
+and writes ``report.md`` beside them.
 """
 
 __all__ = ["FIGURES"]
@@ -10,5 +13,8 @@ __all__ = ["FIGURES"]
 #: (module name, paper figure, short title) in the order the report presents them.
 FIGURES = [
     ("fig1_fitting_error", "Figure 1", "Fitting error vs number of modes (MI reordering)"),
+    ("fig2_sr_peak", "Figure 2", "SR peak vs time (closed-loop MCAO, every predictor)"),
+    ("fig3_sr_spectrum", "Figure 3", "Power spectra of the SR-peak oscillations"),
+    ("fig4_sr_maps", "Figure 4", "Time-averaged SR maps and the corrected field of view"),
     ("fig5_forecast", "Figure 5", "Forecasts of a modal coefficient (linear, ARMA, NN)"),
 ]
