@@ -9,7 +9,7 @@ Figures 1 and 5 analyse the modal log. Figures 2-4 draw closed-loop MCAO runs of
 paper's Table 1 (``closedloop`` preset ``table1``, one atmosphere, every predictor;
 :mod:`paper_figures.closedloop_runs`), computed once and shared: 0.5 s of simulated time
 by default (a few minutes on an idle 2-core machine, most of it training the paper's
-neural net), or with ``--quick`` 0.15 s on a 5x5 field grid with the neural net trained
+neural net), or with ``--quick`` 0.2 s on a 5x5 field grid with the neural net trained
 for 50 iterations (reduced settings for Figures 2-4 only; Figures 1 and 5 are unchanged).
 """
 
@@ -58,10 +58,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--only", default=None,
                         help="comma-separated figure numbers to make (default: all)")
     parser.add_argument("--quick", action="store_true",
-                        help="reduced closed-loop settings for Figures 2-4 (0.15 s, 5x5 field)")
+                        help="reduced closed-loop settings for Figures 2-4 (0.2 s, 5x5 field)")
     parser.add_argument("--duration", type=float, default=None,
                         help="simulated time of the Figures 2-4 runs [s] (default 0.5, "
-                             "quick 0.15)")
+                             "quick 0.2)")
     parser.add_argument("--seed", type=int, default=0,
                         help="atmosphere of the Figures 2-4 runs (default 0)")
     args = parser.parse_args(argv)

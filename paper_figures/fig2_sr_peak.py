@@ -7,7 +7,7 @@ with every predictor against "SR = 0.4" without, ARMA best.
 
 Here: the same four lines from ``closedloop`` runs of ``table1`` on one atmosphere
 (:mod:`paper_figures.closedloop_runs`), plus the ``oracle`` (true future POL: the upper
-bound of any predictor) and our multivariate VAR(4), with the detected loop closure
+bound of any predictor) and our ARMA with AIC orders, with the detected loop closure
 marked. Three steps: :func:`compute` (numbers), :func:`plot`, :func:`report`.
 """
 
@@ -108,7 +108,7 @@ def table_rows(fig2: Figure2) -> list[tuple[str, str, str]]:
     rows.append(("best of linear / ARMA / NN", "ARMA",
                  fig2.runs.runs[fig2.best_paper_predictor].label
                  if fig2.best_paper_predictor in fig2.runs.runs else "-"))
-    for name in ("oracle", "multivariate"):
+    for name in ("oracle", "arma-aic"):
         if name in p:
             rows.append((f"SR peak, {fig2.runs.runs[name].label} (not in the paper)", "-",
                          f"{p[name]:.3f}"))

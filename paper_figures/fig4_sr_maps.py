@@ -10,7 +10,7 @@ a disc of area A; we use d = 2 sqrt(A / pi)
 by bilinear interpolation).
 
 Here: the same 2x2 layout from the shared runs (:mod:`paper_figures.closedloop_runs`),
-with a third column for the oracle and our multivariate VAR(4); isocontours every 0.1,
+with a third column for the oracle and our ARMA with AIC orders; isocontours every 0.1,
 the SR = 0.3 contour in white, d printed on each panel, axes in arcsec. Steps:
 :func:`compute`, :func:`plot`, :func:`report`.
 """
@@ -33,7 +33,7 @@ THRESHOLD = 0.3  # the paper's "SR ~ 0.3 ... acceptable" (Sect. 3.4)
 PAPER_DIAMETER = {"none": 0.9, "linear": 1.25, "nn-paper": 1.5, "arma": 1.6}
 # panel positions (row, column): the paper's 2x2, then our extra column
 LAYOUT = {"none": (0, 0), "linear": (0, 1), "arma": (1, 0), "nn-paper": (1, 1),
-          "oracle": (0, 2), "multivariate": (1, 2)}
+          "oracle": (0, 2), "arma-aic": (1, 2)}
 
 
 @dataclass(frozen=True)
