@@ -233,6 +233,10 @@ class LoopConfig:
         Integrator gain (per mode).
     leak : float
         Integrator leak in [0, 1): ``c[k] = (1 - leak) c[k-1] + gain m[k]``.
+    model_error : float
+        Share of a subaperture's turbulent slope variance that the MAP reconstructor
+        counts as measurement noise (aliasing it cannot model); a setting of the
+        reconstructor, not of the physics (``closedloop.simulation.LoopModel``).
     """
 
     time_step: float = 1e-3
@@ -240,6 +244,7 @@ class LoopConfig:
     delay: float = 0.5e-3
     gain: float = 0.5
     leak: float = 0.0
+    model_error: float = 0.3
 
     def _validate(self, p: str) -> None:
         _set(self, "time_step", _real(self.time_step, p + "time_step", minimum=0,
@@ -250,6 +255,7 @@ class LoopConfig:
         _set(self, "delay", _real(self.delay, p + "delay", minimum=0))
         _set(self, "gain", _real(self.gain, p + "gain", minimum=0, strict_min=True))
         _set(self, "leak", _real(self.leak, p + "leak", minimum=0, maximum=0.999))
+        _set(self, "model_error", _real(self.model_error, p + "model_error", minimum=0))
 
     @property
     def delay_frames(self) -> float:

@@ -48,6 +48,12 @@ def _modes(ground: int, upper: int):
     return change
 
 
+def _model_error(share: float):
+    def change(c: SimulationConfig) -> SimulationConfig:
+        return c.replace(loop=dataclasses.replace(c.loop, model_error=share))
+    return change
+
+
 #: (parameter, value label, change) applied one at a time to table1
 VARIATIONS: list[tuple[str, str, Callable]] = [
     ("upper-layer altitude", "5 km", _upper_altitude(5_000.0)),
@@ -56,6 +62,8 @@ VARIATIONS: list[tuple[str, str, Callable]] = [
     ("WFS fields (ground, upper)", "90\", 30\"", _wfs_fields(90.0, 30.0)),
     ("modes per DM (ground, upper)", "65, 35", _modes(65, 35)),
     ("modes per DM (ground, upper)", "189, 90", _modes(189, 90)),
+    ("reconstructor model error", "0.1", _model_error(0.1)),
+    ("reconstructor model error", "1.0", _model_error(1.0)),
 ]
 _WAVELENGTHS = (500e-9, 800e-9)
 

@@ -46,7 +46,6 @@ ORACLE = "oracle"
 _NOISE_FLOOR = 1e-4
 _SNR_CUT = 1.0
 _RCOND = 1e-3
-_ALIAS = 0.3
 
 
 class LoopModel:
@@ -126,7 +125,7 @@ class LoopModel:
         turbulence's slopes beyond them (aliasing), an ideal sensor the phase beyond them
         (generalised fitting). Left out of ``N``, these inconsistencies between the WFSs
         are fitted by wild combinations of the DMs' nearly degenerate modes that cancel on
-        axis and not off axis. SH: ``_ALIAS`` (0.3) times the turbulent slope variance of
+        axis and not off axis. SH: ``loop.model_error`` (0.3) times the turbulent slope variance of
         one subaperture, the Z-tilt of a disc of the subaperture's size:
         ``16 * 0.449 (d / r0)**(5/3) / d**2`` summed over layers [(rad/m)^2]. Ideal:
         Noll's residual variance after the DM's modes, ``Delta_J (D_dm / r0)**(5/3)``
@@ -138,7 +137,7 @@ class LoopModel:
         if wfs.kind == "shack_hartmann":
             d = wfs.pitch
             total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
-            return _ALIAS * 16.0 * 0.449 * total / d ** 2
+            return cfg.loop.model_error * 16.0 * 0.449 * total / d ** 2
         dm = wfs.dm
         if dm.shapes is None:
             return 0.0
