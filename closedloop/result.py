@@ -170,23 +170,37 @@ class SimulationResult:
         n = self.config.field.n_points
         return (n, n)
 
-    def strehl_map(self, *, after_closure: bool = True) -> np.ndarray:
-        """Time-averaged Strehl on the field grid, ``(n_points, n_points)`` (y rows, x columns)."""
-        start = self.closure_index if after_closure else 0
-        return self.strehl[start:].mean(axis=0).reshape(self.field_shape)
+    def _start(self, start: int | None) -> int:
+        if start is None:
+            return self.closure_index
+        if isinstance(start, bool) or not isinstance(start, int | np.integer) or not (
+                0 <= start < self.times.size):
+            raise ValueError(f"`start` must be a frame index in [0, {self.times.size}); "
+                             f"got {start!r}.")
+        return int(start)
 
-    def corrected_fov_diameter(self, threshold: float = 0.3, *, refine: int = 16) -> float:
+    def strehl_map(self, *, after_closure: bool = True, start: int | None = None) -> np.ndarray:
+        """Time-averaged Strehl on the field grid, ``(n_points, n_points)`` (y rows, x columns).
+
+        Averaged from ``start`` (a frame index; default the detected closure, or frame 0
+        with ``after_closure=False``), e.g. a common window for several runs.
+        """
+        first = self._start(start) if after_closure or start is not None else 0
+        return self.strehl[first:].mean(axis=0).reshape(self.field_shape)
+
+    def corrected_fov_diameter(self, threshold: float = 0.3, *, refine: int = 16,
+                               start: int | None = None) -> float:
         """Equivalent diameter [arcmin] of the field where the mean SR exceeds ``threshold``.
 
         ``d = 2 sqrt(A / pi)``, ``A`` measured on the field grid refined ``refine`` times
         by bilinear interpolation. A region that reaches the grid's edge is clipped by
-        it: the diameter is then a lower bound.
+        it: the diameter is then a lower bound. ``start``: as in :meth:`strehl_map`.
         """
         from scipy.interpolate import RegularGridInterpolator
 
         if not 0.0 < threshold < 1.0:
             raise ValueError(f"`threshold` must be in (0, 1); got {threshold!r}.")
-        smap = self.strehl_map()
+        smap = self.strehl_map(start=start)
         n = smap.shape[0]
         size = self.config.field.size
         if n == 1:
@@ -203,11 +217,11 @@ class SimulationResult:
         area = float(np.sum((values > threshold) * np.outer(w, w).ravel()) * cell)
         return 2.0 * np.sqrt(area / np.pi) / 60.0
 
-    def strehl_peak_spectrum(self, *, nperseg: int | None = None):
-        """Welch PSD of the SR peak after closure: ``(freqs [Hz], psd [1/Hz])``."""
+    def strehl_peak_spectrum(self, *, nperseg: int | None = None, start: int | None = None):
+        """Welch PSD of the SR peak from ``start`` (default closure): (freqs [Hz], psd)."""
         from scipy import signal
 
-        x = self.strehl_peak[self.closure_index:]
+        x = self.strehl_peak[self._start(start):]
         rate = 1.0 / self.config.loop.time_step
         nper = min(x.size, nperseg or 256)
         return signal.welch(x - x.mean(), fs=rate, nperseg=nper)

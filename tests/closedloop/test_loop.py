@@ -172,6 +172,13 @@ def test_views(reference):
     assert 0.0 <= d <= 2 * np.sqrt(2) * reference.config.field.size / 60 / np.sqrt(np.pi) + 1e-9
     with pytest.raises(ValueError, match="threshold"):
         reference.corrected_fov_diameter(1.5)
+    # a common window: the mean over the frames from `start`, recomputed here
+    np.testing.assert_allclose(reference.strehl_map(start=50).ravel(),
+                               reference.strehl[50:].mean(axis=0))
+    assert reference.strehl_map(after_closure=False).ravel() == pytest.approx(
+        reference.strehl.mean(axis=0))
+    with pytest.raises(ValueError, match="start"):
+        reference.strehl_map(start=10_000)
 
 
 def test_corrected_fov_of_a_known_disc():
