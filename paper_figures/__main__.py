@@ -86,7 +86,8 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"paper_figures: error: log file '{args.log}' does not exist\n")
         return 2
     report_path = args.out / "report.md"
-    outputs = [report_path] + [
+    html_path = args.out / "report.html"
+    outputs = [report_path, html_path] + [
         args.out / getattr(module, attr)
         for module, _, _ in modules
         for attr in ("FIGURE_NAME", "PDF_NAME", "JSON_NAME")
@@ -127,8 +128,12 @@ def main(argv: list[str] | None = None) -> int:
         elapsed = time.perf_counter() - start
         print(f"[paper_figures] {label} done in {elapsed:.1f} s", flush=True)
         sections.append(text.rstrip() + f"\n\n_({label} made in {elapsed:.1f} s.)_\n")
-    report_path.write_text("\n".join(sections), encoding="utf-8")
-    print(f"[paper_figures] report written to {report_path}")
+    from paper_figures._html import report_html
+
+    text = "\n".join(sections)
+    report_path.write_text(text, encoding="utf-8")
+    html_path.write_text(report_html(text, args.out), encoding="utf-8")
+    print(f"[paper_figures] report written to {report_path} and {html_path}")
     return 0
 
 
