@@ -21,6 +21,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError, _Parser, dispatch
+from modalinfo.cli._common import check_output
 
 __all__ = ["main"]
 
@@ -32,17 +33,6 @@ def _config(args):
     if args.config is not None:
         return load_config(args.config)
     return presets.get(args.preset)
-
-
-def _check_out(path: Path | None, overwrite: bool) -> None:
-    if path is None:
-        return
-    if path.suffix.lower() not in (".h5", ".hdf5"):
-        raise CommandError(f"--out must end in .h5 or .hdf5; got '{path}'")
-    if path.exists() and not overwrite:
-        raise CommandError(f"'{path}' exists; pass --overwrite to replace it")
-    if not path.parent.is_dir():
-        raise CommandError(f"directory '{path.parent}' does not exist (for --out '{path}')")
 
 
 def _progress(args) -> bool | None:
@@ -95,7 +85,7 @@ def _cmd_run(args) -> int:
     if args.predictor not in predictors.NAMES:
         raise CommandError(f"--predictor must be one of {', '.join(predictors.NAMES)}; "
                            f"got '{args.predictor}'")
-    _check_out(args.out, args.overwrite)
+    check_output(args.out, args.overwrite, suffixes=(".h5", ".hdf5"), flag="--out")
     if args.duration <= 0:
         raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
     config = _config(args)
@@ -172,14 +162,7 @@ def _cmd_export(args) -> int:
     from closedloop.result import SimulationResult
 
     out = args.out
-    if out.suffix.lower() not in (".fits", ".fit", ".fts"):
-        raise CommandError(f"OUT must end in .fits (an AOT file is FITS); got '{out}'")
-    if out.is_dir():
-        raise CommandError(f"OUT '{out}' is a directory; give a file name")
-    if out.exists() and not args.overwrite:
-        raise CommandError(f"'{out}' exists; pass --overwrite to replace it")
-    if not out.parent.is_dir():
-        raise CommandError(f"directory '{out.parent}' does not exist (for OUT '{out}')")
+    check_output(out, args.overwrite, suffixes=(".fits", ".fit", ".fts"), flag="OUT (AOT FITS)")
     result = SimulationResult.load(args.result)
     path = result.to_aot(out, overwrite=args.overwrite)
     loops = ", ".join(f"dm{i}" for i in range(len(result.config.dms)))

@@ -161,6 +161,14 @@ class Geometry:
         """Distance along the line of sight [m] of a plane at ``altitude`` (zenith-corrected)."""
         return float(altitude) * self.airmass
 
+    def layer_r0(self, i: int) -> float:
+        """Fried parameter [m] of layer ``i`` along the line of sight (at ``r0_wavelength``).
+
+        ``D / (D/r0)`` at the zenith, times ``sec(z)**(-3/5)``.
+        """
+        layer = self.config.layers[i]
+        return self.diameter / layer.d_over_r0 * self.airmass ** (-0.6)
+
     def dm_diameter(self, i: int) -> float:
         """Return the controlled disc of DM ``i`` [m] (configured, or its WFS's meta-pupil)."""
         dm = self.config.dms[i]

@@ -96,9 +96,9 @@ class LoopModel:
         prior = np.empty(self.n_modes)
         dm_alts = np.array([dm.altitude for dm in self.dms])
         strength = np.zeros(len(self.dms))
-        for lay in cfg.layers:
+        for li, lay in enumerate(cfg.layers):
             d = int(np.argmin(np.abs(dm_alts - g.los(lay.altitude))))
-            r0 = cfg.telescope.diameter / lay.d_over_r0 * g.airmass ** (-0.6)
+            r0 = g.layer_r0(li)
             strength[d] += (self.dms[d].diameter / r0) ** (5.0 / 3.0)
         floor = 1e-6 * max(strength.max(), 1e-12)
         for d, dm in enumerate(self.dms):
@@ -132,8 +132,7 @@ class LoopModel:
         summed over layers [rad^2].
         """
         cfg = self.config
-        r0s = [cfg.telescope.diameter / lay.d_over_r0 * self.geometry.airmass ** -0.6
-               for lay in cfg.layers]
+        r0s = [self.geometry.layer_r0(i) for i in range(len(cfg.layers))]
         if wfs.kind == "shack_hartmann":
             d = wfs.pitch
             total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
@@ -177,7 +176,7 @@ class LoopModel:
         layers = []
         for i, lay in enumerate(cfg.layers):
             plane = g.planes[g.layer_plane[i]]
-            r0 = cfg.telescope.diameter / lay.d_over_r0 * g.airmass ** (-0.6)
+            r0 = g.layer_r0(i)
             ang = np.radians(lay.wind_direction)
             layers.append(AtmosphericLayer(
                 n_pixels=plane.n, pixel_scale=g.dx, r0=r0,

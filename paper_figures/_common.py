@@ -7,7 +7,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["load_log", "figure_main"]
+__all__ = ["load_log", "figure_main", "save_png_pdf"]
 
 
 def load_log(log_path: Path | None):
@@ -19,6 +19,18 @@ def load_log(log_path: Path | None):
     from modalinfo.io import load
 
     return load(log_path), f"`{log_path}`"
+
+
+def save_png_pdf(fig, out_dir: Path, png_name: str, pdf_name: str) -> list[Path]:
+    """Save ``fig`` as PNG (110 dpi) and PDF in ``out_dir``, close it; return the paths."""
+    import matplotlib.pyplot as plt
+
+    out_dir = Path(out_dir)
+    paths = [out_dir / png_name, out_dir / pdf_name]
+    fig.savefig(paths[0], dpi=110)
+    fig.savefig(paths[1])
+    plt.close(fig)
+    return paths
 
 
 def figure_main(

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from paper_figures._common import save_png_pdf
 from paper_figures.closedloop_runs import STYLES, ClosedLoopRuns, budget_sentence
 
 FIGURE_NAME = "fig2_sr_peak.png"
@@ -89,12 +90,7 @@ def plot(fig2: Figure2, out_dir: Path) -> list[Path]:
     ax.set_ylim(0, 1)
     ax.legend(fontsize=7, title="predictor (mean after the closure line)", title_fontsize=7)
     fig.tight_layout()
-    out_dir = Path(out_dir)
-    paths = [out_dir / FIGURE_NAME, out_dir / PDF_NAME]
-    fig.savefig(paths[0], dpi=110)
-    fig.savefig(paths[1])
-    plt.close(fig)
-    return paths
+    return save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
 
 
 def table_rows(fig2: Figure2) -> list[tuple[str, str, str]]:

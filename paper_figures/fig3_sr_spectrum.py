@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from paper_figures._common import save_png_pdf
 from paper_figures.closedloop_runs import STYLES, ClosedLoopRuns
 
 FIGURE_NAME = "fig3_sr_spectrum.png"
@@ -98,12 +99,7 @@ def plot(fig3: Figure3, out_dir: Path) -> list[Path]:
                  + (" (quick)" if runs.quick else ""))
     ax.legend(fontsize=7)
     fig.tight_layout()
-    out_dir = Path(out_dir)
-    paths = [out_dir / FIGURE_NAME, out_dir / PDF_NAME]
-    fig.savefig(paths[0], dpi=110)
-    fig.savefig(paths[1])
-    plt.close(fig)
-    return paths
+    return save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
 
 
 #: a run whose mean SR peak falls below this fraction of no prediction's has lost the

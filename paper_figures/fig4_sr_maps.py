@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from paper_figures._common import save_png_pdf
 from paper_figures.closedloop_runs import ClosedLoopRuns
 
 FIGURE_NAME = "fig4_sr_maps.png"
@@ -104,12 +105,7 @@ def plot(fig4: Figure4, out_dir: Path) -> list[Path]:
                      label=f"SR after closure ({runs.wavelength * 1e9:.0f} nm)")
     fig.suptitle(f"Figure 4: time-averaged SR maps, {runs.config_name}, seed {runs.seed}"
                  + (" (quick)" if runs.quick else ""))
-    out_dir = Path(out_dir)
-    paths = [out_dir / FIGURE_NAME, out_dir / PDF_NAME]
-    fig.savefig(paths[0], dpi=110)
-    fig.savefig(paths[1])
-    plt.close(fig)
-    return paths
+    return save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
 
 
 def table_rows(fig4: Figure4) -> list[tuple[str, str, str]]:

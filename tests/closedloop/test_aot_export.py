@@ -226,7 +226,7 @@ def test_command_line_export(run, tmp_path, capsys):
     before = out.read_bytes()
     for argv, needle in [
         (["export", str(h5), str(out)], "--overwrite"),
-        (["export", str(h5), str(tmp_path / "run.h5x")], "must end in .fits"),
+        (["export", str(h5), str(tmp_path / "run.h5x")], "unsupported extension '.h5x'; use .fits"),
         (["export", str(tmp_path / "missing.h5"), str(tmp_path / "new.fits")], "does not exist"),
         (["export", str(h5), str(tmp_path / "nodir" / "a.fits")], "does not exist"),
     ]:

@@ -59,7 +59,7 @@ def test_info_and_config(config_file, tmp_path, capsys):
 @pytest.mark.parametrize("argv,needle", [
     (["run", "--predictor", "kalman"], "--predictor must be one of"),
     (["run", "--duration", "-1", "--quiet"], "--duration must be > 0"),
-    (["run", "--out", "x.txt"], "--out must end in .h5"),
+    (["run", "--out", "x.txt"], "--out 'x.txt': unsupported extension '.txt'; use .h5"),
     (["compare", "--predictors", "none,foo"], "--predictors must be"),
     (["info", "missing.h5"], "does not exist"),
     (["run", "--config", "nope.toml"], "does not exist"),

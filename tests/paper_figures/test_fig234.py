@@ -7,7 +7,7 @@ each run (``exp(-residual_variance)`` maximised over the field for the SR peak,
 the paper's column is checked against its constants; the oracle bound (a loop told the
 true future POL does not do worse than the same loop without prediction beyond the
 frame-to-frame scatter of their difference).
-Small configuration (as in tests/closedloop/test_loop.py): 32 px, 3x3 field, 35 + 20
+Small configuration (``small()`` of tests/closedloop/test_loop.py): 32 px, 3x3 field, 35 + 20
 modes, 0.2 s (ARMA with AIC orders needs up to 160 training frames after 15 ms).
 """
 
@@ -17,25 +17,13 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from closedloop import presets
-from closedloop.config import DMConfig, FieldConfig, LoopConfig, TelescopeConfig, WFSConfig
 from paper_figures import closedloop_runs, fig2_sr_peak, fig3_sr_spectrum, fig4_sr_maps
 from paper_figures.__main__ import main
 
+from ..closedloop.test_loop import small  # the small MCAO of the closedloop tests
+
 NAMES = ("none", "linear", "arma", "oracle", "arma-aic")
 DURATION = 0.2
-
-
-def small(name="table1", **loop):
-    c = presets.get(name)
-    modes = (35, 20, 14)[:len(c.dms)]
-    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
-                for d, m in zip(c.dms, modes, strict=True))
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
-                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
-    return c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
-                     field=FieldConfig(size=60.0, n_points=3),
-                     loop=LoopConfig(**{**vars(c.loop), **loop}))
 
 
 @pytest.fixture(scope="module")
