@@ -1,4 +1,4 @@
-"""Named simulation configurations: the paper's Table 1 and a larger MCAO case.
+"""Named simulation configurations: the paper's Table 1, a larger MCAO case, and KAOS.
 
 ``table1`` is Table 1 of Stangalini et al. (LOST simulations): D = 4 m, zenith, 1 ms
 time step, 1 ms integration, 0.5 ms loop delay, two Kolmogorov layers with D/r0 = 26
@@ -38,6 +38,43 @@ science field               9x9 directions over 120"     the ~2' corrected field
 ``mcao3`` has five layers (Big Bear-like: 60 % below 500 m, 35 % at 1-7 km, 5 % near the
 tropopause; Kellerer et al. 2012) and three DMs at 0, 4 and 10 km: it shows that nothing
 is hard-wired to two layers or two DMs.
+
+``kaos`` is single-conjugate AO at a 0.7 m solar telescope, the kind of system whose log
+the paper's Figures 1 and 5 analyse (KAOS at the VTT, Tenerife; the paper's log is not
+public). It writes the shipped closed-loop log ``data/kaos_closedloop.npz``
+(``data/make_data.py``) and runs the compression x prediction study (Figure 6):
+
+==========================  ===========================  ========================================
+parameter                   value                        why
+==========================  ===========================  ========================================
+aperture                    D = 0.70 m, unobstructed     the VTT's entrance aperture (paper,
+                                                         Sect. 2.1; von der Luehe et al. 2003)
+Shack-Hartmann              7 x 7 subapertures of 10 cm  the paper's 36 subapertures: 7 across
+                                                         gives 37 with >= half their area lit
+modes                       Z2-Z28 (27)                  the KAOS reconstruction (paper)
+frame rate                  2 kHz, 1 frame exposure,     ~2 kHz (paper); a 1-frame
+                            1 frame (0.5 ms) delay       computation/transfer delay, as in
+                                                         ``telemetry.synthetic.kaos_like``
+integrator gain             0.4664                       0 dB rejection bandwidth 130 Hz for
+                                                         this timing (``modalinfo.servo.
+                                                         gain_for_bandwidth``); KAOS-class loops
+                                                         quote 100-130 Hz
+seeing                      r0 = 7 cm at 500 nm          a moderate daytime r0 (D/r0 = 10), the
+                            (D/r0 = 10), L0 = 20 m       value of the spectral KAOS-like log
+layers                      70 % ground, 5 m/s; 30 % at  the split of ``kaos_like``; daytime
+                            3 km, 10 m/s, orthogonal     profiles put most turbulence near the
+                                                         ground and a weaker layer at a few km
+                                                         (Kellerer et al. 2012)
+WFS field                   10" (correlating SH)         a ~10" granulation subfield per
+                                                         subaperture
+WFS noise                   0.01" per axis per subap     a 10 cm subaperture on granulation:
+                                                         twice table1's 0.005" (Loefdahl 2010:
+                                                         the shift error grows as the
+                                                         subaperture shrinks)
+pupil sampling              56 px (1.25 cm, r0 / 5.6)    8 px per subaperture
+science                     630 nm, 3x3 over 10"         the isoplanatic patch of a 3 km layer
+                                                         at r0 = 7 cm is a few arcsec
+==========================  ===========================  ========================================
 """
 
 from __future__ import annotations
@@ -52,7 +89,7 @@ from closedloop.config import (
     WFSConfig,
 )
 
-__all__ = ["get", "names", "table1", "mcao3"]
+__all__ = ["get", "names", "table1", "mcao3", "kaos"]
 
 
 def table1() -> SimulationConfig:
@@ -105,7 +142,38 @@ def mcao3() -> SimulationConfig:
     )
 
 
-_PRESETS = {"table1": table1, "mcao3": mcao3}
+#: integrator gain of ``kaos``: 130 Hz 0 dB rejection bandwidth at 2 kHz with a 1-frame
+#: exposure and a 1-frame delay (``modalinfo.servo.gain_for_bandwidth``; a test checks it)
+KAOS_GAIN = 0.4664
+KAOS_BANDWIDTH = 130.0
+
+
+def kaos() -> SimulationConfig:
+    """Single-conjugate AO at a 0.7 m solar telescope (KAOS-like; module docstring)."""
+    total = 10.0 ** (5 / 3)
+    fractions = (0.7, 0.3)
+    return SimulationConfig(
+        name="kaos",
+        telescope=TelescopeConfig(diameter=0.7, obscuration=0.0, zenith_angle=0.0,
+                                  n_pixels=56),
+        layers=tuple(
+            LayerConfig(altitude=h, d_over_r0=(f * total) ** 0.6, wind_speed=v,
+                        wind_direction=d, outer_scale=20.0)
+            for f, h, v, d in zip(fractions, (0.0, 3_000.0), (5.0, 10.0), (0.0, 90.0),
+                                  strict=True)),
+        dms=(DMConfig(altitude=0.0, n_modes=27),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=10.0, n_subapertures=7, noise=0.01,
+                        dm=0),),
+        loop=LoopConfig(time_step=0.5e-3, integration_time=0.5e-3, delay=0.5e-3,
+                        gain=KAOS_GAIN),
+        field=FieldConfig(size=10.0, n_points=3),
+        wavelength=630e-9,
+        r0_wavelength=500e-9,
+        seed=0,
+    )
+
+
+_PRESETS = {"table1": table1, "mcao3": mcao3, "kaos": kaos}
 
 
 def names() -> list[str]:

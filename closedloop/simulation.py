@@ -222,6 +222,7 @@ def simulate(
     snapshot_directions: np.ndarray | None = None,
     callback: Callable[[int], None] | None = None,
     budget_every: int | None = None,
+    control_basis: np.ndarray | None = None,
 ) -> SimulationResult:
     """Run the closed loop for ``duration`` seconds.
 
@@ -251,6 +252,14 @@ def simulate(
     budget_every : int or None
         Estimate the error budget (:mod:`closedloop.budget`) every this many frames;
         ``result.budget`` then holds it (None otherwise). Costs about one more loop.
+    control_basis : (M, n) array or None
+        Control only the span of these ``n`` orthonormal columns of the space of every
+        DM's mode coefficients (``M = model.n_modes``, DM 0 first): the reconstructed
+        residual is projected, ``m_n = B^T m``, the integrators and the predictor run on
+        the ``n`` coefficients (the predictor sees ``B^T p``), and the command is
+        ``B c_n``. The logs keep all ``M`` modes (the POL of an uncontrolled direction is
+        its measured residual). None: every mode (``B = I``). Used by the compression
+        study (:mod:`closedloop.compression`).
 
     Returns
     -------
@@ -278,7 +287,12 @@ def simulate(
     if predictor is not None and not oracle and not hasattr(predictor, "update"):
         raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
                         f"Predictor); got {type(predictor).__name__}.")
-    controller = Controller(model.n_modes, gain=loop.gain, leak=loop.leak,
+    basis = _check_control_basis(control_basis, model.n_modes)
+    if basis is not None and budget_every:
+        raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
+                         "models a loop that controls every mode).")
+    n_control = model.n_modes if basis is None else basis.shape[1]
+    controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
                             delay_frames=loop.delay_frames,
                             integration_frames=loop.integration_frames,
                             predictor=None if oracle else predictor)
@@ -350,7 +364,14 @@ def simulate(
             if oracle:
                 forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
                                        (k + 1) * n_os + n_delay, n_os, dt)
-            command, pol, _ = controller.step(measured, forecast)
+            if basis is None:
+                command, pol, _ = controller.step(measured, forecast)
+            else:
+                command_n, pol_n, _ = controller.step(
+                    basis.T @ measured, None if forecast is None else basis.T @ forecast)
+                command = basis @ command_n
+                # measured + B (seen commands): the uncontrolled directions keep m
+                pol = measured + basis @ (pol_n - basis.T @ measured)
             if probe is not None:
                 probe.frame_end(k, n_int, (k + 1) * n_os + n_delay, fut_acc)
             measured_log[k] = measured
@@ -377,6 +398,23 @@ def simulate(
         budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
         result = dataclasses.replace(result, budget=budget)
     return result
+
+
+def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
+    """Validate ``control_basis``: ``(n_modes, n)`` with orthonormal columns."""
+    if basis is None:
+        return None
+    b = np.asarray(basis, dtype=np.float64)
+    if b.ndim != 2 or b.shape[0] != n_modes or not 1 <= b.shape[1] <= n_modes:
+        raise ValueError(f"`control_basis` must have shape ({n_modes}, n) with 1 <= n <= "
+                         f"{n_modes}; got {b.shape}.")
+    if not np.all(np.isfinite(b)):
+        raise ValueError("`control_basis` must be finite.")
+    err = float(np.abs(b.T @ b - np.eye(b.shape[1])).max())
+    if err > 1e-8:
+        raise ValueError("`control_basis` must have orthonormal columns (B^T B = I); "
+                         f"largest deviation {err:.3g}.")
+    return np.ascontiguousarray(b)
 
 
 def _oracle_pol(model, future, views, acc, layer_buf, first_step, n_os, dt):
