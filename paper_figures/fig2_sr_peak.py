@@ -93,27 +93,50 @@ def plot(fig2: Figure2, out_dir: Path) -> list[Path]:
     return save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
 
 
-def table_rows(fig2: Figure2) -> list[tuple[str, str, str]]:
-    """Rows ``(quantity, paper, ours)`` of the comparison table."""
+def table_rows(fig2: Figure2) -> list[tuple[str, str, str, str]]:
+    """Rows ``(quantity, paper, ours, why they differ)`` of the comparison table."""
     p = fig2.peak_mean
-    rows = [("SR peak, no prediction", f"{PAPER_SR_NONE:g}", f"{p['none']:.3f}")]
+    _, nums = budget_sentence(fig2.runs)
+    if nums:
+        budget = (f"our residual at the best direction is fitting {nums['fitting']:.3f} + "
+                  f"aliasing {nums['aliasing']:.3f} + temporal {nums['temporal']:.3f} + "
+                  f"noise {nums['noise']:.3f} rad^2; the paper publishes no budget")
+        room = (f"a predictor can remove at most the temporal {nums['temporal']:.3f} rad^2 "
+                f"(SR {nums['sr_now']:.3f} -> {nums['sr_bound']:.3f}); the paper's "
+                f"0.4 -> 0.6 needs {np.log(PAPER_SR_PREDICTED_MIN / PAPER_SR_NONE):.2f} "
+                "rad^2 of temporal error")
+    else:
+        budget = room = "no error budget estimated in this run"
+    rows = [("SR peak, no prediction", f"{PAPER_SR_NONE:g}", f"{p['none']:.3f}", budget)]
     for name in PAPER_PREDICTED:
         if name in p:
+            why = room
+            if p[name] < p["none"]:
+                why = ("below no prediction: a forecast worse than the measurement injects "
+                       "its errors into the commands")
             rows.append((f"SR peak, {fig2.runs.runs[name].label}",
-                         f"> {PAPER_SR_PREDICTED_MIN:g}", f"{p[name]:.3f}"))
+                         f"> {PAPER_SR_PREDICTED_MIN:g}", f"{p[name]:.3f}", why))
+    best = fig2.best_paper_predictor
+    present = [p[n] for n in PAPER_PREDICTED if n in p]
+    spread = (f"the predictors differ by {max(present) - min(present):.3f} in SR, within "
+              "the small temporal term" if present else "-")
     rows.append(("best of linear / ARMA / NN", "ARMA",
-                 fig2.runs.runs[fig2.best_paper_predictor].label
-                 if fig2.best_paper_predictor in fig2.runs.runs else "-"))
+                 fig2.runs.runs[best].label if best in fig2.runs.runs else "-", spread))
     for name in ("oracle", "arma-aic"):
         if name in p:
             rows.append((f"SR peak, {fig2.runs.runs[name].label} (not in the paper)", "-",
-                         f"{p[name]:.3f}"))
+                         f"{p[name]:.3f}", "our addition"))
     return rows
 
 
 def markdown_table(rows) -> str:
-    lines = ["| quantity | paper | ours |", "|---|---|---|"]
-    lines += [f"| {a} | {b} | {c} |" for a, b, c in rows]
+    """Markdown table of ``(quantity, paper, ours[, why])`` rows."""
+    if rows and len(rows[0]) == 4:
+        lines = ["| quantity | paper | ours | why they differ |", "|---|---|---|---|"]
+        lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
+    else:
+        lines = ["| quantity | paper | ours |", "|---|---|---|"]
+        lines += [f"| {a} | {b} | {c} |" for a, b, c, *_ in rows]
     return "\n".join(lines)
 
 

@@ -108,13 +108,23 @@ def plot(fig4: Figure4, out_dir: Path) -> list[Path]:
     return save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
 
 
-def table_rows(fig4: Figure4) -> list[tuple[str, str, str]]:
-    """Rows ``(quantity, paper, ours)``: corrected-FoV diameters [arcmin]."""
+def table_rows(fig4: Figure4) -> list[tuple[str, str, str, str]]:
+    """Rows ``(quantity, paper, ours, why)``: corrected-FoV diameters [arcmin]."""
+    from paper_figures.closedloop_runs import budget_sentence
+
+    _, nums = budget_sentence(fig4.runs)
+    why_none = ("off axis our residual is fitting + aliasing "
+                f"{nums.get('fit_alias_mean', float('nan')):.3f} rad^2 (field mean), which "
+                "sets d; the paper's system and budget are not published")
+    why_pred = (f"a predictor acts only on the temporal term, "
+                f"{nums.get('temporal_mean', float('nan')):.3f} rad^2 field mean here")
     rows = []
     for name, r in fig4.runs.runs.items():
         paper = PAPER_DIAMETER.get(name)
         rows.append((f"corrected-FoV diameter (SR > {THRESHOLD:g}), {r.label}",
-                     "-" if paper is None else f"{paper:g}'", f"{fig4.diameter[name]:.2f}'"))
+                     "-" if paper is None else f"{paper:g}'", f"{fig4.diameter[name]:.2f}'",
+                     "not in the paper" if paper is None
+                     else (why_none if name == "none" else why_pred)))
     return rows
 
 

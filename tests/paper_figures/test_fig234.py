@@ -43,7 +43,7 @@ def _row(text, quantity):
     """The ``ours`` cell of the report row whose quantity is ``quantity``."""
     for line in text.splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 3 and cells[0] == quantity:
+        if len(cells) in (3, 4) and cells[0] == quantity:
             return cells[1], cells[2]
     raise AssertionError(f"no row {quantity!r} in the report")
 
