@@ -217,7 +217,7 @@ def compute(log, *, source: str = "a modal log") -> Figure5:
 
     start = time.perf_counter()
     if log.n_frames < N_FIT + 2 * H_ARMA:
-        raise ValueError(f"`log_path` must hold at least {N_FIT + 2 * H_ARMA} frames for "
+        raise ValueError(f"`log` must hold at least {N_FIT + 2 * H_ARMA} frames for "
                          f"Figure 5; got {log.n_frames}.")
     data = np.asarray(log.coeffs, dtype=float)
     x = np.ascontiguousarray(data[:, 0])
