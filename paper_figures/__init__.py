@@ -1,9 +1,12 @@
 """Scripts that regenerate every figure of the paper, one module per figure.
 
-Figures 1 and 5 analyse a modal log: ``make(out_dir, log_path) -> str``. Figures 2-4
-(``NEEDS_RUNS = True``) draw the closed-loop runs that they share
-(:mod:`paper_figures.closedloop_runs`, computed once): ``make(out_dir, runs) -> str``;
-each of them has a ``compute`` (numbers), ``plot`` and ``report`` step. Every ``make``
+Figures 1 and 5 analyse a modal log: ``make(out_dir, log_path, *, suffix="") -> str``,
+with ``compute(log, *, source=...)`` (a frozen result of numbers), ``plot(result,
+out_dir, *, suffix="")``, ``report(result, *, suffix="")``, ``table_rows(result)``
+(paper vs ours) and ``output_names(suffix)``. Figures 2-4 (``NEEDS_RUNS = True``) draw
+the closed-loop runs that they share (:mod:`paper_figures.closedloop_runs`, computed
+once): ``make(out_dir, runs) -> str``; each of them has a ``compute`` (numbers),
+``plot`` and ``report`` step. Every ``make``
 returns a Markdown section for the report. ``python -m paper_figures`` makes them all
 and writes ``report.md`` beside them.
 """

@@ -39,21 +39,35 @@ def figure_main(
     prog: str,
     description: str,
     figure_name: str,
-    make: Callable[[Path, Path | None], str],
+    make: Callable[..., str],
+    output_names: Callable[[str], list[str]] | None = None,
 ) -> int:
-    """Stand-alone command line of one figure: draw it and print its report section."""
+    """Stand-alone command line of one figure: draw it and print its report section.
+
+    With ``output_names`` (the module's ``output_names(suffix)``), the command also takes
+    ``--suffix`` (passed to ``make(out, log, suffix=...)``) and refuses to replace any
+    of the files it lists; without it, only ``figure_name`` is checked.
+    """
     parser = argparse.ArgumentParser(prog=prog, description=description)
     parser.add_argument("--log", type=Path, default=None,
                         help="modal log (default: synthetic kaos_like(seed=0))")
     parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
+    if output_names is not None:
+        parser.add_argument("--suffix", default="",
+                            help="inserted before the extension of every output file name")
     args = parser.parse_args(argv)
     short = prog.rsplit(".", 1)[-1].split("_", 1)[0]
-    if (args.out / figure_name).exists() and not args.overwrite:
-        sys.stderr.write(f"{short}: error: '{args.out / figure_name}' exists; pass --overwrite\n")
+    names = [figure_name] if output_names is None else output_names(args.suffix)
+    existing = [args.out / name for name in names if (args.out / name).exists()]
+    if existing and not args.overwrite:
+        sys.stderr.write(f"{short}: error: '{existing[0]}' exists; pass --overwrite\n")
         return 2
     if args.log is not None and not args.log.is_file():
         sys.stderr.write(f"{short}: error: log file '{args.log}' does not exist\n")
         return 2
-    print(make(args.out, args.log))
+    if output_names is None:
+        print(make(args.out, args.log))
+    else:
+        print(make(args.out, args.log, suffix=args.suffix))
     return 0

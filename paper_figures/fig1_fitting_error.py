@@ -14,26 +14,34 @@ median total variance; per-frame MI orderings on its pupil pixels; the same coun
 over frames (pooled MI orderings) and (c) the same turbulence in open loop (synthetic
 ``kaos_like(closed_loop=False)``), where K-L modes are expected to win.
 
+Three steps, as in :mod:`paper_figures.fig2_sr_peak`: :func:`compute` (numbers, a
+:class:`Figure1`), :func:`plot` (PNG and PDF), :func:`report` (Markdown);
+:func:`table_rows` gives the paper-vs-ours rows and :func:`make` chains them.
+
 Usage::
 
-    python -m paper_figures.fig1_fitting_error [--log LOG] [--out DIR]
+    python -m paper_figures.fig1_fitting_error [--log LOG] [--out DIR] [--suffix S]
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, load_log
+from paper_figures._common import figure_main, load_log, save_png_pdf
 
 SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy"), ("zernike", "mi_greedy"),
          ("kl-data", "pca"), ("zernike", "variance")]
 PAPER = {"zernike:standard": 20, "kl-theory:mi_greedy": 15, "zernike:mi_greedy": 7}
 PAPER_TARGET = 0.4  # waves^2
+PAPER_REFERENCE_MODES = 20  # modes of the standard order at PAPER_TARGET (calibration)
 FIGURE_NAME = "fig1_fitting_error.png"
+PDF_NAME = "fig1_fitting_error.pdf"
 POOLED_BUDGET = 100_000
 OPEN_LOOP_FRAMES = 2000
 N_FRAMES = 15
@@ -46,6 +54,147 @@ LABELS = {
 }
 
 
+def _suffixed(name: str, suffix: str) -> str:
+    stem, dot, ext = name.rpartition(".")
+    return f"{stem}{suffix}{dot}{ext}"
+
+
+def output_names(suffix: str = "") -> list[str]:
+    """Every file :func:`plot` (and so :func:`make`) writes for ``suffix``."""
+    return [_suffixed(FIGURE_NAME, suffix), _suffixed(PDF_NAME, suffix)]
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One panel of Figure 1: fitting-error curves and the modes they need.
+
+    Attributes
+    ----------
+    comparison : modalinfo.ordering.compare.Comparison
+        The curves dPhi(n) [waves^2] of every ordering of :data:`SPECS` (``frame``
+        set for per-frame orderings, None for the frame average).
+    total : float
+        Total variance dPhi(0) [waves^2] (standard-order curve at n = 0).
+    target : float
+        Calibrated target [waves^2]: dPhi(20) of the standard Zernike order.
+    modes_at_paper_target : dict of str to int
+        Modes each ordering (``"basis:method"``) needs to reach :data:`PAPER_TARGET`.
+    modes_at_target : dict of str to int
+        Modes each ordering needs to reach ``target``.
+    """
+
+    comparison: Any
+    total: float
+    target: float
+    modes_at_paper_target: dict
+    modes_at_target: dict
+
+    @property
+    def target_fraction(self) -> float:
+        """``target / total`` (dimensionless)."""
+        return self.target / self.total
+
+
+def _panel(comp) -> Panel:
+    # the error at which the standard Zernike order needs 20 modes on our data
+    # (the same place on the curve as in the paper)
+    target = float(comp.curve(comp.entries[0])[PAPER_REFERENCE_MODES])
+    return Panel(
+        comparison=comp,
+        total=float(comp.curve(comp.entries[0])[0]),
+        target=target,
+        modes_at_paper_target=comp.modes_to_reach(PAPER_TARGET),
+        modes_at_target=comp.modes_to_reach(target),
+    )
+
+
+@dataclass(frozen=True)
+class Figure1:
+    """Figure 1's numbers: three panels, the spread over frames, the order's stability.
+
+    Attributes
+    ----------
+    source : str
+        Description of the input log (Markdown).
+    n_frames, n_modes : int
+        Frames and modes of the log.
+    frame : int
+        The typical frame (median total variance of the Zernike fitting error).
+    typical, pooled, open_loop : Panel
+        (a) per-frame orderings on ``frame``; (b) pooled orderings averaged over the
+        frames; (c) pooled orderings on ``open_loop_frames`` frames of the same
+        turbulence in open loop (synthetic ``kaos_like(closed_loop=False, seed=0)``).
+    open_loop_frames : int
+        Frames of the open-loop log.
+    orthonormality : float
+        max |G - I| of the Gram matrix G of the sampled Zernikes (dimensionless).
+    variance_spread : float
+        max / min over modes of the mean-square coefficient (dimensionless).
+    sample_frames : tuple of int
+        The ``N_FRAMES`` frames spread evenly through the log.
+    sample_counts : dict of str to tuple of int
+        Modes each ordering needs at each sample frame's own calibrated target
+        (per-frame orderings), in the order of ``sample_frames``.
+    stability_window : int
+        Frames per window of the pooled-order stability test.
+    stability_window_duration : float
+        That window [s] (0 if the log has no rate).
+    window_spearman, window_kendall, window_top_overlap : float
+        Medians between consecutive windows of Spearman rho, Kendall tau and the top-
+        ``n_top`` overlap (fraction) of the pooled MI-greedy Zernike order.
+    n_top : int
+        Size of the top set of the overlap.
+    seed_spearman : float
+        Median Spearman rho across subsampling seeds 0, 1, 2 on the whole log.
+    consecutive_spearman, consecutive_top_overlap : float
+        Medians between the per-frame orders of 10 consecutive frames from ``frame``.
+    consecutive_n_top : int
+        Size of the top set of that overlap.
+    elapsed : float
+        Time :func:`compute` took [s].
+    """
+
+    source: str
+    n_frames: int
+    n_modes: int
+    frame: int
+    typical: Panel
+    pooled: Panel
+    open_loop: Panel
+    open_loop_frames: int
+    orthonormality: float
+    variance_spread: float
+    sample_frames: tuple
+    sample_counts: dict
+    stability_window: int
+    stability_window_duration: float
+    window_spearman: float
+    window_kendall: float
+    window_top_overlap: float
+    n_top: int
+    seed_spearman: float
+    consecutive_spearman: float
+    consecutive_top_overlap: float
+    consecutive_n_top: int
+    elapsed: float
+
+    @property
+    def panels(self) -> tuple[Panel, Panel, Panel]:
+        """``(typical, pooled, open_loop)``: panels (a), (b), (c)."""
+        return self.typical, self.pooled, self.open_loop
+
+    @property
+    def sample_quartiles(self) -> dict:
+        """Per ordering, the (25%, 50%, 75%) percentiles of ``sample_counts`` [modes]."""
+        return {name: tuple(float(q) for q in np.percentile(np.asarray(v), [25, 50, 75]))
+                for name, v in self.sample_counts.items()}
+
+    @property
+    def sample_below(self) -> dict:
+        """Per ordering, how many sample frames need fewer than 20 modes."""
+        return {name: int(np.sum(np.asarray(v) < PAPER_REFERENCE_MODES))
+                for name, v in self.sample_counts.items()}
+
 
 def _typical_frame(log, basis) -> int:
     from modalinfo.ordering import fitting_error
@@ -54,39 +203,25 @@ def _typical_frame(log, basis) -> int:
     return int(np.argsort(total, kind="stable")[total.size // 2])
 
 
-def _panel(ax, comp, title, target):
-    from modalinfo.ordering.compare import plot_comparison
+def compute(log, *, source: str = "a modal log") -> Figure1:
+    """Figure 1's numbers from a modal log (and its open-loop panel (c)).
 
-    plot_comparison(comp, ax, target=target, title=title)
-    handles, labels = ax.get_legend_handles_labels()
-    labels = [LABELS.get(lbl.replace(" (floor)", ""), lbl) + (" (floor)" if "floor" in lbl else "")
-              for lbl in labels]
-    ax.legend(handles, labels, fontsize=7)
+    Parameters
+    ----------
+    log : modalinfo.telemetry.ModalLog
+        The closed-loop log.
+    source : str
+        Description of the log used in the report's text.
 
-
-def _rows(comp, targets: dict) -> list[str]:
-    lines = []
-    for e in comp.entries:
-        row = [LABELS[e.name], str(PAPER.get(e.name, "-"))]
-        row += [str(e.error.modes_to_reach(t, comp.frame)) for t in targets.values()]
-        lines.append("| " + " | ".join(row) + " |")
-    return lines
-
-
-def make(out_dir: Path, log_path: Path | None) -> str:
-    """Draw Figure 1 into ``out_dir`` and return the report section (Markdown)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    Returns
+    -------
+    Figure1
+    """
+    from modalinfo.ordering import ordering_stability
     from modalinfo.ordering.compare import basis_for_log, compare_orderings
     from modalinfo.telemetry.synthetic import kaos_like
 
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
-    log, source = load_log(log_path)
     bases: dict = {}
     bases["zernike"] = basis_for_log("zernike", log)
     gram = bases["zernike"].gram()
@@ -101,109 +236,162 @@ def make(out_dir: Path, log_path: Path | None) -> str:
     open_comp = compare_orderings(open_log, SPECS, units="waves2", seed=0,
                                   sample_budget=POOLED_BUDGET // 2)
 
-    # targets: the paper's 0.4 waves^2, and the error at which the standard Zernike order
-    # needs 20 modes on our data (the same place on the curve as in the paper)
-    def calibrated(comp):
-        return float(comp.curve(comp.entries[0])[20])
-
-    t_frame, t_pool, t_open = calibrated(per_frame), calibrated(pooled), calibrated(open_comp)
-    fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
-    _panel(axes[0], per_frame, f"(a) typical frame {frame} (per-frame orderings)", t_frame)
-    _panel(axes[1], pooled, f"(b) average over {log.n_frames} frames (pooled orderings)",
-           t_pool)
-    _panel(axes[2], open_comp, f"(c) open loop, same turbulence ({OPEN_LOOP_FRAMES} frames)",
-           t_open)
-    fig.tight_layout()
-    fig.savefig(out_dir / FIGURE_NAME, dpi=110)
-    plt.close(fig)
-
-    total_frame = float(per_frame.curve(per_frame.entries[0])[0])
-    total_pool = float(pooled.curve(pooled.entries[0])[0])
-    total_open = float(open_comp.curve(open_comp.entries[0])[0])
-    head = ("| ordering | paper (0.4 waves^2) | our: 0.4 waves^2 | our: calibrated target |\n"
-            "|---|---|---|---|")
-    sections = []
-    for name, comp, target, total in (
-        (f"(a) typical frame {frame}", per_frame, t_frame, total_frame),
-        (f"(b) average over {log.n_frames} frames", pooled, t_pool, total_pool),
-        (f"(c) open loop, {OPEN_LOOP_FRAMES} frames", open_comp, t_open, total_open),
-    ):
-        sections.append(
-            f"**{name}**: total variance dPhi(0) = {total:.3g} waves^2; calibrated target "
-            f"{target:.3g} waves^2 = {100 * target / total:.1f}% of it.\n\n{head}\n"
-            + "\n".join(_rows(comp, {"paper": PAPER_TARGET, "cal": target})) + "\n"
-        )
-
-    def need(comp, key, target):
-        e = next(e for e in comp.entries if e.name == key)
-        return e.error.modes_to_reach(target, comp.frame)
-
     # many frames: is the typical frame typical?
     sample_frames = np.linspace(0, log.n_frames - 1, N_FRAMES).astype(int)
-    counts = {name: [] for name in LABELS}
+    counts: dict = {name: [] for name in LABELS}
     for f in sample_frames:
         comp = compare_orderings(log, SPECS, frame=int(f), units="waves2", seed=0, bases=bases)
-        target = calibrated(comp)
-        for e in comp.entries:
-            counts[e.name].append(e.error.modes_to_reach(target, comp.frame))
-    many = ["| ordering | median | quartiles | frames below 20 |", "|---|---|---|---|"]
-    med = {}
-    for name, vals in counts.items():
-        v = np.asarray(vals)
-        q1, q2, q3 = np.percentile(v, [25, 50, 75])
-        med[name] = q2
-        many.append(f"| {LABELS[name]} | {q2:.0f} | {q1:.0f}-{q3:.0f} | "
-                    f"{int(np.sum(v < 20))}/{v.size} |")
+        for name, n in _panel(comp).modes_at_target.items():
+            counts[name].append(n)
 
     # stability: pooled orderings of 1 s windows and seeds; per-frame orderings of
     # consecutive frames (is a per-frame ordering usable from one frame to the next?)
-    from modalinfo.ordering import ordering_stability
-
     window = int(round(log.rate)) if log.rate else log.n_frames // 4
     window = max(1, min(window, log.n_frames // 2))
     stab = ordering_stability(log, bases["zernike"], "mi_greedy", window=window,
                               seeds=(0, 1, 2), sample_budget=POOLED_BUDGET // 2)
     consecutive = ordering_stability(log[frame:frame + 10], bases["zernike"], "mi_greedy",
                                      window=1, seeds=())
+    return Figure1(
+        source=source,
+        n_frames=int(log.n_frames),
+        n_modes=int(log.n_modes),
+        frame=frame,
+        typical=_panel(per_frame),
+        pooled=_panel(pooled),
+        open_loop=_panel(open_comp),
+        open_loop_frames=OPEN_LOOP_FRAMES,
+        orthonormality=ortho,
+        variance_spread=spread,
+        sample_frames=tuple(int(f) for f in sample_frames),
+        sample_counts={name: tuple(v) for name, v in counts.items()},
+        stability_window=window,
+        stability_window_duration=float(stab.window_duration or 0),
+        window_spearman=float(np.median(stab.window_spearman)),
+        window_kendall=float(np.median(stab.window_kendall)),
+        window_top_overlap=float(np.median(stab.window_top_overlap)),
+        n_top=int(stab.n_top),
+        seed_spearman=float(np.median(stab.seed_spearman)),
+        consecutive_spearman=float(np.median(consecutive.window_spearman)),
+        consecutive_top_overlap=float(np.median(consecutive.window_top_overlap)),
+        consecutive_n_top=int(consecutive.n_top),
+        elapsed=time.perf_counter() - start,
+    )
+
+
+def _titles(fig1: Figure1) -> list[str]:
+    return [f"(a) typical frame {fig1.frame}",
+            f"(b) average over {fig1.n_frames} frames",
+            f"(c) open loop, {fig1.open_loop_frames} frames"]
+
+
+def plot(fig1: Figure1, out_dir: Path, *, suffix: str = "") -> list[Path]:
+    """Draw Figure 1 (PNG and PDF, names of :func:`output_names`) into ``out_dir``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from modalinfo.ordering.compare import plot_comparison
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    titles = [f"(a) typical frame {fig1.frame} (per-frame orderings)",
+              f"(b) average over {fig1.n_frames} frames (pooled orderings)",
+              f"(c) open loop, same turbulence ({fig1.open_loop_frames} frames)"]
+    fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
+    for ax, panel, title in zip(axes, fig1.panels, titles, strict=True):
+        plot_comparison(panel.comparison, ax, target=panel.target, title=title)
+        handles, labels = ax.get_legend_handles_labels()
+        labels = [LABELS.get(lbl.replace(" (floor)", ""), lbl)
+                  + (" (floor)" if "floor" in lbl else "") for lbl in labels]
+        ax.legend(handles, labels, fontsize=7)
+    fig.tight_layout()
+    png, pdf = output_names(suffix)
+    return save_png_pdf(fig, out_dir, png, pdf)
+
+
+def _verdict(n, ref=PAPER_REFERENCE_MODES):
+    return "fewer than" if n < ref else ("as many as" if n == ref else "more than")
+
+
+def table_rows(fig1: Figure1) -> list[tuple[str, str, str, str]]:
+    """Rows ``(quantity, paper, ours, why they differ)`` of the comparison table.
+
+    The paper's counts are those of its "typical wavefront representation": ours are
+    panel (a), the typical frame, at the paper's 0.4 waves^2 and at the calibrated
+    target (the error the standard order reaches with 20 modes), with the median over
+    the ``N_FRAMES`` sample frames in the explanation.
+    """
+    a = fig1.typical
+    med = {name: q[1] for name, q in fig1.sample_quartiles.items()}
+    rows = []
+    for name, paper in PAPER.items():
+        n04, ncal = a.modes_at_paper_target[name], a.modes_at_target[name]
+        why = (f"our closed-loop residual on the typical frame totals {a.total:.2g} "
+               f"waves^2, so {PAPER_TARGET:g} waves^2 is reached with {n04} modes; at the "
+               f"calibrated target {a.target:.3g} waves^2 ({100 * a.target_fraction:.1f}% "
+               f"of the total, where the standard order needs {PAPER_REFERENCE_MODES}) it "
+               f"needs {ncal} (median {med[name]:.0f} over {len(fig1.sample_frames)} frames)")
+        rows.append((f"modes to reach {PAPER_TARGET:g} waves^2, {LABELS[name]}", str(paper),
+                     f"{n04} ({ncal} at the calibrated target)", why))
+    return rows
+
+
+def report(fig1: Figure1, *, suffix: str = "") -> str:
+    """Figure 1's section of the report (Markdown); the image is the ``suffix`` one."""
+    head = ("| ordering | paper (0.4 waves^2) | our: 0.4 waves^2 | our: calibrated target |\n"
+            "|---|---|---|---|")
+    sections = []
+    for name, panel in zip(_titles(fig1), fig1.panels, strict=True):
+        rows = [f"| {LABELS[e.name]} | {PAPER.get(e.name, '-')} | "
+                f"{panel.modes_at_paper_target[e.name]} | {panel.modes_at_target[e.name]} |"
+                for e in panel.comparison.entries]
+        sections.append(
+            f"**{name}**: total variance dPhi(0) = {panel.total:.3g} waves^2; calibrated "
+            f"target {panel.target:.3g} waves^2 = {100 * panel.target_fraction:.1f}% of "
+            f"it.\n\n{head}\n" + "\n".join(rows) + "\n"
+        )
+    many = ["| ordering | median | quartiles | frames below 20 |", "|---|---|---|---|"]
+    quart, below = fig1.sample_quartiles, fig1.sample_below
+    for name in fig1.sample_counts:
+        q1, q2, q3 = quart[name]
+        many.append(f"| {LABELS[name]} | {q2:.0f} | {q1:.0f}-{q3:.0f} | "
+                    f"{below[name]}/{len(fig1.sample_counts[name])} |")
+    med = {name: q[1] for name, q in quart.items()}
+
     stab_text = (
-        f"**Stability of the MI-greedy Zernike order.** Pooled over windows of {window} "
-        f"frames ({stab.window_duration or 0:.2g} s): median Spearman rho "
-        f"{np.median(stab.window_spearman):.2f} between consecutive windows (Kendall tau "
-        f"{np.median(stab.window_kendall):.2f}, top-{stab.n_top} overlap "
-        f"{np.median(stab.window_top_overlap):.2f}); across 3 subsampling seeds on the whole "
-        f"log rho {np.median(stab.seed_spearman):.2f}. Per-frame orderings of 10 consecutive "
-        f"frames from frame {frame}: median rho {np.median(consecutive.window_spearman):.2f}, "
-        f"top-{consecutive.n_top} overlap {np.median(consecutive.window_top_overlap):.2f} "
+        f"**Stability of the MI-greedy Zernike order.** Pooled over windows of "
+        f"{fig1.stability_window} frames ({fig1.stability_window_duration:.2g} s): median "
+        f"Spearman rho {fig1.window_spearman:.2f} between consecutive windows (Kendall tau "
+        f"{fig1.window_kendall:.2f}, top-{fig1.n_top} overlap "
+        f"{fig1.window_top_overlap:.2f}); across 3 subsampling seeds on the whole "
+        f"log rho {fig1.seed_spearman:.2f}. Per-frame orderings of 10 consecutive "
+        f"frames from frame {fig1.frame}: median rho {fig1.consecutive_spearman:.2f}, "
+        f"top-{fig1.consecutive_n_top} overlap {fig1.consecutive_top_overlap:.2f} "
         "from one frame to the next, so a per-frame MI ordering "
         + ("changes from frame to frame and could not be used as a fixed compression of a "
            "real-time loop."
-           if np.median(consecutive.window_spearman) < 0.8
+           if fig1.consecutive_spearman < 0.8
            else "is fairly stable from frame to frame.")
     )
 
-    mi_z = need(per_frame, "zernike:mi_greedy", t_frame)
-    mi_kl = need(per_frame, "kl-theory:mi_greedy", t_frame)
-    var_z = need(per_frame, "zernike:variance", t_frame)
-    pooled_n = {e.name: need(pooled, e.name, t_pool) for e in pooled.entries}
-    open_n = {e.name: need(open_comp, e.name, t_open) for e in open_comp.entries}
-
-    def verdict(n, ref=20):
-        return "fewer than" if n < ref else ("as many as" if n == ref else "more than")
-
+    a, pooled_n, open_n = (fig1.typical.modes_at_target, fig1.pooled.modes_at_target,
+                           fig1.open_loop.modes_at_target)
     reading = [
-        f"On the typical frame the MI-ordered Zernikes need {mi_z} modes and the MI-ordered "
-        f"K-L {mi_kl} to reach the error the standard order reaches with 20 (paper: 7 and "
-        f"15). Over {N_FRAMES} frames spread through the log the medians are "
+        f"On the typical frame the MI-ordered Zernikes need {a['zernike:mi_greedy']} modes "
+        f"and the MI-ordered K-L {a['kl-theory:mi_greedy']} to reach the error the standard "
+        f"order reaches with 20 (paper: 7 and "
+        f"15). Over {len(fig1.sample_frames)} frames spread through the log the medians are "
         f"{med['zernike:mi_greedy']:.0f} (MI Zernike) and {med['kl-theory:mi_greedy']:.0f} "
-        f"(MI K-L): per-frame MI reordering needs {verdict(med['zernike:mi_greedy'])} the "
-        f"standard 20 for Zernikes and {verdict(med['kl-theory:mi_greedy'])} 20 for K-L on "
+        f"(MI K-L): per-frame MI reordering needs {_verdict(med['zernike:mi_greedy'])} the "
+        f"standard 20 for Zernikes and {_verdict(med['kl-theory:mi_greedy'])} 20 for K-L on "
         "this log.",
-        f"The per-frame a_k^2 order needs {var_z} modes on the typical frame (median "
-        f"{med['zernike:variance']:.0f}); for an orthonormal basis it is the exact per-frame "
-        "optimum (the error is the sum of the dropped a_k^2; our 64-pixel Zernikes are "
-        f"orthonormal to {ortho:.0%}), so it, not the standard order, is the baseline a "
-        "per-frame "
-        "reordering has to beat: "
+        f"The per-frame a_k^2 order needs {a['zernike:variance']} modes on the typical frame "
+        f"(median {med['zernike:variance']:.0f}); for an orthonormal basis it is the exact "
+        "per-frame optimum (the error is the sum of the dropped a_k^2; our 64-pixel "
+        f"Zernikes are orthonormal to {fig1.orthonormality:.0%}), so it, not the standard "
+        "order, is the baseline a per-frame reordering has to beat: "
         + ("MI order does not beat it here."
            if med["zernike:mi_greedy"] >= med["zernike:variance"]
            else "MI order beats it here, which a non-orthonormal sampled basis allows."),
@@ -211,8 +399,8 @@ def make(out_dir: Path, log_path: Path | None) -> str:
         f"{min(pooled_n.values())}-{max(pooled_n.values())} modes (MI Zernike "
         f"{pooled_n['zernike:mi_greedy']}, MI K-L {pooled_n['kl-theory:mi_greedy']}, "
         f"data-PCA floor {pooled_n['kl-data:pca']}): a fixed ordering gains little on this "
-        f"closed-loop log, whose mode variances span only a factor {spread:.1f} (max/min "
-        "mean-square coefficient).",
+        f"closed-loop log, whose mode variances span only a factor "
+        f"{fig1.variance_spread:.1f} (max/min mean-square coefficient).",
         f"In open loop (same turbulence) the MI-ordered theoretical K-L needs "
         f"{open_n['kl-theory:mi_greedy']} modes and the data-PCA {open_n['kl-data:pca']}, "
         f"against {open_n['zernike:standard']} for standard Zernikes (MI Zernikes "
@@ -228,47 +416,60 @@ def make(out_dir: Path, log_path: Path | None) -> str:
         "total variance), which is why the spread over frames is given; and the MI "
         "estimator, its binning and the pupil sampling are ours.",
     ]
-    elapsed = time.perf_counter() - start
     return f"""## Figure 1: fitting error vs number of modes (MI reordering)
 
-![Figure 1]({FIGURE_NAME})
+![Figure 1]({output_names(suffix)[0]})
 
-Input: {source}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2 with
-Phi_ref the full {log.n_modes}-mode reconstruction, in waves^2 (64-pixel pupil; MI by the histogram
-estimator; per-frame orderings use every pixel of the frame, pooled orderings
-{POOLED_BUDGET} (frame, pixel) samples, seed 0). Curves: Zernike standard order (dotted
-blue), theoretical K-L in MI order (dashed green), Zernike in MI order (solid red), as in
-the paper; plus the data-PCA order (thin black, the mean-square floor of panels b and c;
-on one frame it is only the log's PCA order) and the Zernike a_k^2 order of the frame
-(grey dash-dot). Dots mark where each curve reaches the calibrated target (horizontal
-line).
+Input: {fig1.source}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
+with Phi_ref the full {fig1.n_modes}-mode reconstruction, in waves^2 (64-pixel pupil; MI
+by the histogram estimator; per-frame orderings use every pixel of the frame, pooled
+orderings {POOLED_BUDGET} (frame, pixel) samples, seed 0). Curves: Zernike standard order
+(dotted blue), theoretical K-L in MI order (dashed green), Zernike in MI order (solid
+red), as in the paper; plus the data-PCA order (thin black, the mean-square floor of
+panels b and c; on one frame it is only the log's PCA order) and the Zernike a_k^2 order
+of the frame (grey dash-dot). Dots mark where each curve reaches the calibrated target
+(horizontal line).
 
 **Targets.** The paper's 0.4 waves^2 cannot be used as such: the whole residual of this
-closed-loop log is only {total_pool:.2g} waves^2 on average ({total_frame:.2g} on the
-typical frame), so 0.4 waves^2 is "reached" with 0 modes by every ordering (0.4 waves^2
-= 16 rad^2 of residual would be an open loop, not a closed one). We therefore also use a
-calibrated target: the error at which the standard Zernike order needs 20 modes on our
-data, the same place on the reference curve as in the paper, and count how many modes
-the other orderings need there (the paper's counts are 20, 15 and 7).
+closed-loop log is only {fig1.pooled.total:.2g} waves^2 on average
+({fig1.typical.total:.2g} on the typical frame), so 0.4 waves^2 is "reached" with 0 modes
+by every ordering (0.4 waves^2 = 16 rad^2 of residual would be an open loop, not a closed
+one). We therefore also use a calibrated target: the error at which the standard Zernike
+order needs 20 modes on our data, the same place on the reference curve as in the paper,
+and count how many modes the other orderings need there (the paper's counts are 20, 15
+and 7).
 
 {chr(10).join(sections)}
-**Per-frame orderings on {N_FRAMES} frames** evenly spread through the log (calibrated
-target of each frame; modes needed):
+**Per-frame orderings on {len(fig1.sample_frames)} frames** evenly spread through the log
+(calibrated target of each frame; modes needed):
 
 {chr(10).join(many)}
 
 {stab_text}
 
 **Reading.** {" ".join(reading)}
-_(computed in {elapsed:.1f} s)_
+
+_(computed in {fig1.elapsed:.1f} s)_
 """
+
+
+def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
+    """Compute Figure 1 from ``log_path``, draw it into ``out_dir``, return its report.
+
+    ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written:
+    :func:`output_names` of ``suffix``.
+    """
+    log, source = load_log(log_path)
+    fig1 = compute(log, source=source)
+    plot(fig1, out_dir, suffix=suffix)
+    return report(fig1, suffix=suffix)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
     return figure_main(argv, prog="python -m paper_figures.fig1_fitting_error",
                        description="Regenerate Figure 1 (fitting error).",
-                       figure_name=FIGURE_NAME, make=make)
+                       figure_name=FIGURE_NAME, make=make, output_names=output_names)
 
 
 if __name__ == "__main__":

@@ -12,28 +12,52 @@ whole-wavefront RMSE and the gain over persistence versus horizon (1-10 frames) 
 every predictor, evaluated rolling-origin without look-ahead on the 1000 frames after
 the 7000-frame training window.
 
+Three steps, as in :mod:`paper_figures.fig2_sr_peak`: :func:`compute` (numbers, a
+:class:`Figure5`), :func:`plot` (PNG, PDF and the evaluation's JSON), :func:`report`
+(Markdown); :func:`table_rows` gives the paper-vs-ours rows and :func:`make` chains them.
+
 Usage::
 
-    python -m paper_figures.fig5_forecast [--log LOG] [--out DIR] [--overwrite]
+    python -m paper_figures.fig5_forecast [--log LOG] [--out DIR] [--suffix S] [--overwrite]
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, load_log
+from paper_figures._common import figure_main, load_log, save_png_pdf
 
 FIGURE_NAME = "fig5_forecast.png"
+PDF_NAME = "fig5_forecast.pdf"
 JSON_NAME = "fig5_forecast.json"
 N_FIT = 7000        # the paper's ARMA fit window (frames 0..6999)
 NN_END = 6980       # the paper's NN training ends at this frame
 H_ARMA = 10         # the paper's ARMA forecast: frames 7001-7010
 PAPER_SEEDS = (0, 1, 2, 3, 4)
+HORIZONS = range(1, 11)  # frames of the rolling-origin evaluation
+REPORT_HORIZONS = (1, 2, 3, 5, 10)  # columns of the report's table
+# Stangalini et al., Sect. 4: "the model which best represented the time series was
+# again an ARMA(2,3)"; "a good prediction accuracy, at least on short time scales
+# (2-3 ms)" (at 3500 ms for 7000 frames: 0.5 ms per frame)
+PAPER_ARMA_ORDER = (2, 3)
+PAPER_HORIZON_MS = (2.0, 3.0)
+ARMA_NAME = "ARMA(2,3)"
 
+
+def _suffixed(name: str, suffix: str) -> str:
+    stem, dot, ext = name.rpartition(".")
+    return f"{stem}{suffix}{dot}{ext}"
+
+
+def output_names(suffix: str = "") -> list[str]:
+    """Every file :func:`plot` (and so :func:`make`) writes for ``suffix``: PNG, PDF, JSON."""
+    return [_suffixed(name, suffix) for name in (FIGURE_NAME, PDF_NAME, JSON_NAME)]
 
 
 def _predictors():
@@ -48,13 +72,142 @@ def _increment_correlation(x: np.ndarray) -> np.ndarray:
     return np.sum(d[1:] * d[:-1], axis=0) / np.sum(d * d, axis=0)
 
 
-def make(out_dir: Path, log_path: Path | None) -> str:
-    """Draw Figure 5 into ``out_dir`` and return the report section (Markdown)."""
-    import matplotlib
+@dataclass(frozen=True)
+class Figure5:
+    """Figure 5's numbers: the three forecast panels and the rolling-origin evaluation.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Attributes
+    ----------
+    source : str
+        Description of the input log (Markdown).
+    label : str
+        Label of the first logged mode, the one of panels (a)-(c).
+    n_frames, n_modes : int
+        Frames and modes of the log.
+    rate : float or None
+        Frame rate [Hz].
+    units : str
+        Units of the coefficients (``units`` below).
+    frame_ms : float
+        One frame [ms] (1.0 when the log has no rate: times are then in frames).
+    t_unit : str
+        ``"ms"``, or ``"frames"`` without a rate.
+    x : numpy.ndarray, shape (n_frames,)
+        The first mode's coefficients [units].
+    linear_frames : numpy.ndarray of int
+        Frames of panel (a).
+    linear_one_step : numpy.ndarray
+        Linear predictor's (a = 2, b = -1, fitted on frames 0-6999) one-step forecasts of
+        those frames [units].
+    arma_interval_mean, arma_interval_lower, arma_interval_upper : numpy.ndarray, (H_ARMA,)
+        ARMA(2,3) forecast of frames ``N_FIT`` .. ``N_FIT + H_ARMA - 1`` from the end of
+        the fit window and its 95% interval [units].
+    nn_frames : numpy.ndarray of int
+        Frames of panel (c).
+    nn_one_step, nn_paper_one_step : numpy.ndarray
+        One-step forecasts of those frames [units] by the working NN (2000 patterns)
+        and the paper's (10 patterns), both trained on frames 0-``NN_END``.
+    evaluation : modalinfo.forecast.ForecastEvaluation
+        Rolling-origin evaluation of every preset predictor on every mode (fit on
+        frames 0-6999, horizons 1-10 frames): RMSE [units], gains over persistence
+        (dimensionless), interval coverage (fraction).
+    paper_nn_gains : tuple of float
+        One-step gain over persistence on the first mode of the paper's NN, one per
+        seed of ``PAPER_SEEDS`` (dimensionless).
+    increment_correlation : numpy.ndarray, shape (n_modes,)
+        Lag-1 correlation of the increments of each mode on frames 0-6999.
+    aic_orders : numpy.ndarray of int, shape (n_modes, 2)
+        ARMA orders (p, q) AIC picks per mode on frames 0-6999 (p, q <= 5).
+    elapsed : float
+        Time :func:`compute` took [s].
+    """
 
+    source: str
+    label: str
+    n_frames: int
+    n_modes: int
+    rate: float | None
+    units: str
+    frame_ms: float
+    t_unit: str
+    x: np.ndarray
+    linear_frames: np.ndarray
+    linear_one_step: np.ndarray
+    arma_interval_mean: np.ndarray
+    arma_interval_lower: np.ndarray
+    arma_interval_upper: np.ndarray
+    nn_frames: np.ndarray
+    nn_one_step: np.ndarray
+    nn_paper_one_step: np.ndarray
+    evaluation: Any
+    paper_nn_gains: tuple
+    increment_correlation: np.ndarray
+    aic_orders: np.ndarray
+    elapsed: float
+
+    # ---------------------------------------------------------------- derived
+    def gain(self, name: str, horizon: int = 1) -> float:
+        """Whole-wavefront gain over persistence of predictor ``name`` at ``horizon``."""
+        ev = self.evaluation
+        j = int(np.flatnonzero(ev.horizons == horizon)[0])
+        return float(ev.gain_wavefront[ev.index(name), j])
+
+    @property
+    def best_one_step(self) -> str:
+        """Predictor with the largest whole-wavefront gain at the first horizon."""
+        ev = self.evaluation
+        return ev.names[int(np.argmax(ev.gain_wavefront[:, 0]))]
+
+    def accurate_horizon(self, name: str) -> int:
+        """Longest horizon [frames] up to which ``name`` beats persistence at every horizon.
+
+        "Beats": whole-wavefront gain over persistence > 1 in the rolling-origin
+        evaluation. 0 if it does not at the first horizon; the longest evaluated
+        horizon if it does at all of them.
+        """
+        ev = self.evaluation
+        good = ev.gain_wavefront[ev.index(name)] > 1.0
+        n = int(np.argmin(good)) if not good.all() else good.size
+        return int(ev.horizons[n - 1]) if n else 0
+
+    @property
+    def aic_order_counts(self) -> list[tuple[tuple[int, int], int]]:
+        """``((p, q), modes)`` of the AIC orders, most frequent first (ties: (p, q) order)."""
+        pairs, counts = np.unique(self.aic_orders, axis=0, return_counts=True)
+        return sorted(((tuple(int(v) for v in p), int(c)) for p, c in
+                       zip(pairs, counts, strict=True)), key=lambda t: -t[1])
+
+    @property
+    def aic_larger(self) -> int:
+        """Modes for which AIC picks p + q > 5 (larger than (2,3))."""
+        return int(np.sum(self.aic_orders.sum(axis=1) > sum(PAPER_ARMA_ORDER)))
+
+    @property
+    def arma_forecast_max_error(self) -> float:
+        """Largest |error| of the ARMA(2,3) ``H_ARMA``-step forecast of panel (b) [units]."""
+        return float(np.abs(self.x[N_FIT:N_FIT + H_ARMA] - self.arma_interval_mean).max())
+
+    @property
+    def arma_forecast_inside(self) -> int:
+        """Measured values of panel (b)'s forecast frames inside the 95% interval."""
+        y = self.x[N_FIT:N_FIT + H_ARMA]
+        return int(np.sum((y >= self.arma_interval_lower) & (y <= self.arma_interval_upper)))
+
+
+def compute(log, *, source: str = "a modal log") -> Figure5:
+    """Figure 5's numbers from a modal log of at least ``N_FIT + 2 H_ARMA`` frames.
+
+    Parameters
+    ----------
+    log : modalinfo.telemetry.ModalLog
+        The (closed-loop) log.
+    source : str
+        Description of the log used in the report's text.
+
+    Returns
+    -------
+    Figure5
+    """
     from modalinfo.forecast import (
         ARMAPredictor,
         LinearPredictor,
@@ -62,26 +215,19 @@ def make(out_dir: Path, log_path: Path | None) -> str:
         evaluate,
     )
 
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
-    log, source = load_log(log_path)
     if log.n_frames < N_FIT + 2 * H_ARMA:
-        raise ValueError(f"`log_path` must hold at least {N_FIT + 2 * H_ARMA} frames for "
+        raise ValueError(f"`log` must hold at least {N_FIT + 2 * H_ARMA} frames for "
                          f"Figure 5; got {log.n_frames}.")
     data = np.asarray(log.coeffs, dtype=float)
-    label = log.labels[0]
     x = np.ascontiguousarray(data[:, 0])
-    ms = 1e3 / log.rate if log.rate else 1.0
-    t_unit = "ms" if log.rate else "frames"
-    units = log.units
 
     # (a) linear one-step predictions (paper's a = 2, b = -1) over a stretch of the log
     lin = LinearPredictor(horizon=1).fit(x[:N_FIT])
     lin_path, _ = lin._forecast_path(x[:, None], 1)
     span_a = np.arange(N_FIT - 60, N_FIT + 20)
     # (b) ARMA(2,3) fitted on frames 0..6999, forecast 7000..7009 from the end of the window
-    arma = ARMAPredictor(order=(2, 3), horizon=H_ARMA).fit(x[:N_FIT])
+    arma = ARMAPredictor(order=PAPER_ARMA_ORDER, horizon=H_ARMA).fit(x[:N_FIT])
     interval = arma.predict_interval(x[:N_FIT])
     # (c) NN trained on patterns ending at frame 6980, one-step forecasts afterwards
     nn = NeuralNetPredictor(horizon=1).fit(x[: NN_END + 1])
@@ -91,17 +237,62 @@ def make(out_dir: Path, log_path: Path | None) -> str:
     span_c = np.arange(NN_END + 1, NN_END + 61)
 
     # rolling-origin evaluation of every predictor on every mode
-    ev = evaluate(_predictors(), log, train=N_FIT, horizons=range(1, 11))
-    ev.to_json(out_dir / JSON_NAME, overwrite=True)  # the caller checked (figure_main, __main__)
+    ev = evaluate(_predictors(), log, train=N_FIT, horizons=HORIZONS)
     # spread of the paper's NN over seeds (first mode only)
     paper_gain = []
     pers_rmse = np.sqrt(np.mean((x[N_FIT + 1 :] - x[N_FIT:-1]) ** 2))
     for seed in PAPER_SEEDS:
         p = NeuralNetPredictor.paper(horizon=1, random_state=seed).fit(x[:N_FIT])
         path, _ = p._forecast_path(x[:, None], 1)
-        paper_gain.append(pers_rmse / np.sqrt(np.mean((x[N_FIT + 1 :]
-                                                       - path[N_FIT:-1, 0, 0]) ** 2)))
+        paper_gain.append(float(pers_rmse / np.sqrt(np.mean((x[N_FIT + 1 :]
+                                                             - path[N_FIT:-1, 0, 0]) ** 2))))
     rho = _increment_correlation(data[:N_FIT])
+    # orders AIC selects per mode on the training window (as the evaluation's clone did)
+    all_orders = np.asarray(ARMAPredictor(order="aic").fit(data[:N_FIT]).orders_)
+    return Figure5(
+        source=source,
+        label=log.labels[0],
+        n_frames=int(log.n_frames),
+        n_modes=int(log.n_modes),
+        rate=log.rate,
+        units=log.units,
+        frame_ms=1e3 / log.rate if log.rate else 1.0,
+        t_unit="ms" if log.rate else "frames",
+        x=x,
+        linear_frames=span_a,
+        linear_one_step=lin_path[span_a - 1, 0, 0],
+        arma_interval_mean=np.asarray(interval.mean),
+        arma_interval_lower=np.asarray(interval.lower),
+        arma_interval_upper=np.asarray(interval.upper),
+        nn_frames=span_c,
+        nn_one_step=nn_path[span_c - 1, 0, 0],
+        nn_paper_one_step=nnp_path[span_c - 1, 0, 0],
+        evaluation=ev,
+        paper_nn_gains=tuple(paper_gain),
+        increment_correlation=rho,
+        aic_orders=all_orders,
+        elapsed=time.perf_counter() - start,
+    )
+
+
+def plot(fig5: Figure5, out_dir: Path, *, suffix: str = "") -> list[Path]:
+    """Draw Figure 5 (PNG, PDF) and write the evaluation's JSON into ``out_dir``.
+
+    The JSON (``ForecastEvaluation.to_json``, the numbers behind the lower panels) is
+    written here so that :func:`plot` writes every file of :func:`output_names`;
+    returns their paths in that order. Existing files are replaced (the callers check:
+    ``figure_main``, ``python -m paper_figures``).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    png, pdf, json_name = output_names(suffix)
+    ev, x, ms, label = fig5.evaluation, fig5.x, fig5.frame_ms, fig5.label
+    json_path = ev.to_json(out_dir / json_name, overwrite=True)
 
     fig = plt.figure(figsize=(16, 8.5))
     grid = fig.add_gridspec(2, 6)
@@ -111,99 +302,134 @@ def make(out_dir: Path, log_path: Path | None) -> str:
     ax_r = fig.add_subplot(grid[1, 0:3])
     ax_g = fig.add_subplot(grid[1, 3:6])
 
+    span_a = fig5.linear_frames
     ax_a.plot(span_a * ms, x[span_a], "k-", lw=1, label="measured")
-    ax_a.plot(span_a * ms, lin_path[span_a - 1, 0, 0], "r.", ms=5,
-              label="linear, one step ahead")
+    ax_a.plot(span_a * ms, fig5.linear_one_step, "r.", ms=5, label="linear, one step ahead")
     ax_a.set_title(f"(a) linear predictor, {label}")
 
     span_b = np.arange(N_FIT - 40, N_FIT + H_ARMA)
     fut = np.arange(N_FIT, N_FIT + H_ARMA)
     ax_b.plot(span_b * ms, x[span_b], "k-", lw=1, label="measured")
-    ax_b.fill_between(fut * ms, interval.lower, interval.upper, color="C0", alpha=0.25,
-                      label="95% interval")
-    ax_b.plot(fut * ms, interval.mean, "o-", color="C0", ms=4,
+    ax_b.fill_between(fut * ms, fig5.arma_interval_lower, fig5.arma_interval_upper,
+                      color="C0", alpha=0.25, label="95% interval")
+    ax_b.plot(fut * ms, fig5.arma_interval_mean, "o-", color="C0", ms=4,
               label=f"ARMA(2,3), {H_ARMA}-step forecast")
     ax_b.axvline((N_FIT - 0.5) * ms, color="0.6", lw=0.8)
     ax_b.set_title(f"(b) ARMA(2,3) fitted on frames 0-{N_FIT - 1}")
 
+    span_c = fig5.nn_frames
     ax_c.plot(span_c * ms, x[span_c], "k-", lw=1, label="measured")
-    ax_c.plot(span_c * ms, nn_path[span_c - 1, 0, 0], "m^", ms=4,
-              label="NN 10-10-1, 2000 patterns")
-    ax_c.plot(span_c * ms, nnp_path[span_c - 1, 0, 0], "v", color="orange", ms=4,
+    ax_c.plot(span_c * ms, fig5.nn_one_step, "m^", ms=4, label="NN 10-10-1, 2000 patterns")
+    ax_c.plot(span_c * ms, fig5.nn_paper_one_step, "v", color="orange", ms=4,
               label="NN paper (10 patterns)")
     ax_c.set_title(f"(c) neural net, training ended at frame {NN_END}")
     for ax in (ax_a, ax_b, ax_c):
-        ax.set_xlabel(f"time [{t_unit}]")
-        ax.set_ylabel(f"{label} [{units}]")
+        ax.set_xlabel(f"time [{fig5.t_unit}]")
+        ax.set_ylabel(f"{label} [{fig5.units}]")
         ax.legend(fontsize=7)
     ev.plot_rmse(ax=ax_r)
     ax_r.set_yscale("log")
-    ax_r.set_title(f"whole-wavefront RMSE vs horizon ({log.n_modes} modes, "
+    ax_r.set_title(f"whole-wavefront RMSE vs horizon ({fig5.n_modes} modes, "
                    f"{ev.origins.size} forecast origins)")
     ev.plot_rmse(ax=ax_g, gain=True)
     ax_g.set_title("gain over persistence")
     fig.tight_layout()
-    fig.savefig(out_dir / FIGURE_NAME, dpi=110)
-    plt.close(fig)
-    elapsed = time.perf_counter() - start
+    return [*save_png_pdf(fig, out_dir, png, pdf), Path(json_path)]
 
-    # ---------------------------------------------------------------- text
-    def row(name):
-        i = ev.index(name)
-        return ev.gain_wavefront[i]
 
-    hs = [1, 2, 3, 5, 10]
-    cols = [int(np.flatnonzero(ev.horizons == h)[0]) for h in hs]
-    table = ["| predictor | " + " | ".join(f"h={h}" for h in hs) + " |",
-             "|---|" + "---|" * len(hs)]
+def _horizon_text(fig5: Figure5, name: str) -> str:
+    h = fig5.accurate_horizon(name)
+    longest = int(fig5.evaluation.horizons[-1])
+    at_least = ">= " if h == longest else ""
+    if fig5.t_unit == "ms":
+        return f"{at_least}{h * fig5.frame_ms:g} ms ({h} frames)"
+    return f"{at_least}{h} frames"
+
+
+def table_rows(fig5: Figure5) -> list[tuple[str, str, str, str]]:
+    """Rows ``(quantity, paper, ours, why they differ)`` of the comparison table.
+
+    Best ARMA order: the (p, q) AIC picks for most modes, with the gains of ARMA(2,3)
+    and of ARMA (AIC). Accurate horizon: the longest horizon up to which the predictor
+    beats persistence on the whole wavefront at every horizon of the rolling-origin
+    evaluation (:meth:`Figure5.accurate_horizon`), for ARMA(2,3) and for the best
+    predictor at h = 1.
+    """
+    ev = fig5.evaluation
+    (p, q), k = fig5.aic_order_counts[0]
+    n_paper = int(np.sum(np.all(fig5.aic_orders == PAPER_ARMA_ORDER, axis=1)))
+    paper_order = f"({PAPER_ARMA_ORDER[0]},{PAPER_ARMA_ORDER[1]})"
+    g_arma, g_aic = fig5.gain(ARMA_NAME), fig5.gain("ARMA (AIC)")
+    order_why = (f"AIC over p, q <= 5 on frames 0-{N_FIT - 1} picks ({p},{q}) for {k} of "
+                 f"{fig5.n_modes} modes and {paper_order} for {n_paper}; at h = 1 "
+                 f"ARMA{paper_order} gains x{g_arma:.2f} over persistence on the whole "
+                 f"wavefront, ARMA with AIC orders x{g_aic:.2f}")
+    best = fig5.best_one_step
+    longest = int(ev.horizons[-1])
+    paper_h = f"{PAPER_HORIZON_MS[0]:g}-{PAPER_HORIZON_MS[1]:g} ms"
+    h_why = (f"defined here as the longest horizon up to which the predictor beats "
+             f"persistence (whole-wavefront gain > 1) at every horizon 1-{longest} frames "
+             f"of the rolling-origin evaluation ({ev.origins.size} origins after frame "
+             f"{N_FIT - 1}); ARMA{paper_order} gains x{g_arma:.2f} at h = 1 and "
+             f"x{fig5.gain(ARMA_NAME, longest):.2f} at h = {longest}, {best} "
+             f"x{fig5.gain(best):.2f} and x{fig5.gain(best, longest):.2f}; the paper judges "
+             f"one mode's forecast by eye")
+    return [
+        ("best ARMA order (p,q)", paper_order, f"({p},{q}) ({k}/{fig5.n_modes} modes)",
+         order_why),
+        ("forecast horizon that stays accurate", paper_h,
+         f"ARMA{paper_order}: {_horizon_text(fig5, ARMA_NAME)}; {best}: "
+         f"{_horizon_text(fig5, best)}", h_why),
+    ]
+
+
+def report(fig5: Figure5, *, suffix: str = "") -> str:
+    """Figure 5's section of the report (Markdown); the image is the ``suffix`` one."""
+    ev, label, units = fig5.evaluation, fig5.label, fig5.units
+    ms, t_unit = fig5.frame_ms, fig5.t_unit
+    cols = [int(np.flatnonzero(ev.horizons == h)[0]) for h in REPORT_HORIZONS]
+    table = ["| predictor | " + " | ".join(f"h={h}" for h in REPORT_HORIZONS) + " |",
+             "|---|" + "---|" * len(REPORT_HORIZONS)]
     for i, name in enumerate(ev.names):
         cells = " | ".join(f"{ev.rmse_wavefront[i, j]:.4f} (x{ev.gain_wavefront[i, j]:.2f})"
                            for j in cols)
         table.append(f"| {name} | {cells} |")
-    # orders AIC selects per mode on the training window (as the evaluation's clone did)
-    all_orders = ARMAPredictor(order="aic").fit(data[:N_FIT]).orders_
-    orders = all_orders[0]
-    pairs, counts = np.unique(all_orders, axis=0, return_counts=True)
-    order_counts = ", ".join(f"({p},{q}) x{c}" for (p, q), c in
-                             sorted(zip(map(tuple, pairs), counts, strict=True),
-                                    key=lambda t: -t[1]))
-    n_larger = int(np.sum(all_orders.sum(axis=1) > 5))
+    orders = fig5.aic_orders[0]
+    order_counts = ", ".join(f"({p},{q}) x{c}" for (p, q), c in fig5.aic_order_counts)
+    n_larger = fig5.aic_larger
     aic_verdict = (f"on this log AIC picks orders larger than (2,3) for {n_larger} of the "
-                   f"{len(all_orders)} modes" if n_larger
+                   f"{len(fig5.aic_orders)} modes" if n_larger
                    else "on this log AIC picks no order larger than (2,3)")
-    i_arma = ev.index("ARMA(2,3)")
-    cov = ev.coverage[i_arma]
-    g_lin = row("linear (a=2, b=-1)")[0]
-    g_lin_ls = row("linear (LS a, b)")[0]
-    g_arma = row("ARMA(2,3)")[0]
-    g_aic = row("ARMA (AIC)")[0]
-    g_nn = row("NN 10-10-1, 2000 patterns")[0]
-    g_nnp = row("NN paper (10 patterns)")[0]
-    g_var = row("multivariate VAR(4)")[0]
-    g_rls = row("multivariate RLS")[0]
-    best = ev.names[int(np.argmax(ev.gain_wavefront[:, 0]))]
-    err10 = float(np.abs(x[N_FIT : N_FIT + H_ARMA] - interval.mean).max())
-    inside = int(np.sum((x[N_FIT : N_FIT + H_ARMA] >= interval.lower)
-                        & (x[N_FIT : N_FIT + H_ARMA] <= interval.upper)))
+    cov = ev.coverage[ev.index(ARMA_NAME)]
+    g_lin = fig5.gain("linear (a=2, b=-1)")
+    g_lin_ls = fig5.gain("linear (LS a, b)")
+    g_arma = fig5.gain(ARMA_NAME)
+    g_aic = fig5.gain("ARMA (AIC)")
+    g_nn = fig5.gain("NN 10-10-1, 2000 patterns")
+    g_nnp = fig5.gain("NN paper (10 patterns)")
+    g_var = fig5.gain("multivariate VAR(4)")
+    g_rls = fig5.gain("multivariate RLS")
+    rho = fig5.increment_correlation
+    paper_gain = fig5.paper_nn_gains
     verdict_lin = (
         f"The paper's linear extrapolation (a = 2, b = -1) **loses to persistence** on this "
-        f"log (wavefront gain x{g_lin:.2f} at h = 1 and worse at longer horizons): "
-        "extrapolating the last slope beats persistence only when successive increments "
-        "are positively correlated with coefficient > 0.5 (its one-step error is "
-        "Delta x[n+1] - Delta x[n], of variance 2 (1 - rho) Var(Delta x)); here the "
-        f"lag-1 correlation of the increments is {np.mean(rho):.2f} on average over the "
-        f"modes ({rho.min():.2f} to {rho.max():.2f}): the closed-loop residual plus WFS "
-        "noise has rough, anti-correlated increments. With least-squares weights the "
-        f"same two-tap predictor gains x{g_lin_ls:.2f}."
+        f"log (wavefront gain x{g_lin:.2f} at h = 1 and worse at longer horizons):\n"
+        "  extrapolating the last slope beats persistence only when successive increments\n"
+        "  are positively correlated with coefficient > 0.5 (its one-step error is\n"
+        "  Delta x[n+1] - Delta x[n], of variance 2 (1 - rho) Var(Delta x)); here the\n"
+        f"  lag-1 correlation of the increments is {np.mean(rho):.2f} on average over the "
+        f"modes ({rho.min():.2f} to {rho.max():.2f}):\n"
+        "  the closed-loop residual plus WFS noise has rough, anti-correlated increments.\n"
+        f"  With least-squares weights the same two-tap predictor gains x{g_lin_ls:.2f}."
         if g_lin < 1 else
         f"The paper's linear extrapolation gains x{g_lin:.2f} over persistence at h = 1 "
         f"(mean lag-1 increment correlation {np.mean(rho):.2f} > 0.5)."
     )
-    text = f"""## Figure 5: forecasting a modal coefficient (linear, ARMA, neural net)
+    return f"""## Figure 5: forecasting a modal coefficient (linear, ARMA, neural net)
 
-![Figure 5]({FIGURE_NAME})
+![Figure 5]({output_names(suffix)[0]})
 
-Input: {source}, {log.n_frames} frames x {log.n_modes} modes at {log.rate:g} Hz
+Input: {fig5.source}, {fig5.n_frames} frames x {fig5.n_modes} modes at {fig5.rate:g} Hz
 (1 frame = {ms:.3g} {t_unit}). Panels (a)-(c) show the first logged mode, **{label}**
 (tip): the paper's caption says "Zernike 1", which in Noll's numbering is piston, a mode
 no wavefront sensor measures, so we take the first mode the log contains.
@@ -211,9 +437,10 @@ no wavefront sensor measures, so we take the first mode the log contains.
 - (a) Linear predictor x[n+1] = 2 x[n] - x[n-1], one-step predictions.
 - (b) ARMA(2,3) (Yule-Walker/Hannan-Rissanen + conditional least squares) fitted on frames
   0-{N_FIT - 1}; {H_ARMA}-step forecast of frames {N_FIT}-{N_FIT + H_ARMA - 1} from the end of
-  the window with its 95% interval (psi-weights): {inside}/{H_ARMA} measured values inside,
-  largest error {err10:.3g} {units}. AIC over p, q <= 5 picks ({orders[0]},{orders[1]}) for
-  {label}; over the {log.n_modes} modes: {order_counts}.
+  the window with its 95% interval (psi-weights): {fig5.arma_forecast_inside}/{H_ARMA} measured
+  values inside, largest error {fig5.arma_forecast_max_error:.3g} {units}. AIC over p, q <= 5
+  picks ({orders[0]},{orders[1]}) for {label}; over the {fig5.n_modes} modes:
+  {order_counts}.
 - (c) Neural net 10-10-1 trained on patterns ending at frame {NN_END}, one-step forecasts
   (triangles) for the working configuration (2000 patterns, L-BFGS, standardised inputs,
   L2 penalty 1) and the paper's (10 patterns, unregularised).
@@ -231,8 +458,9 @@ What this shows, honestly:
 - {verdict_lin}
 - ARMA(2,3), as in the paper, gains x{g_arma:.2f} at h = 1; letting AIC choose the order per
   mode gives x{g_aic:.2f} (the paper found (2,3) best on its closed-loop data;
-  {aic_verdict}). The 95% one-step intervals cover
-  {cov[0]:.1%} of the test values ({cov[-1]:.1%} at h = 10).
+  {aic_verdict}).
+  The 95% one-step intervals cover {cov[0]:.1%} of the test values ({cov[-1]:.1%} at
+  h = 10).
 - The neural net in a configuration that learns (2000 patterns) gains x{g_nn:.2f}; the
   paper's configuration (10 patterns for 121 weights) gains x{g_nnp:.2f} on the wavefront
   and, on {label} alone over seeds {PAPER_SEEDS[0]}-{PAPER_SEEDS[-1]}, between
@@ -240,21 +468,32 @@ What this shows, honestly:
   seed-dependent. We report it as published, beside the working one.
 - Beyond the paper, the multivariate predictors that use the history of all modes gain
   x{g_var:.2f} (batch VAR(4), Tikhonov-regularised) and x{g_rls:.2f} (RLS, forgetting
-  0.999). Best at h = 1: **{best}**.
+  0.999). Best at h = 1: **{fig5.best_one_step}**.
 - This is a synthetic KAOS-like log (an integrator loop with a one-frame delay and WFS
   noise), not the paper's VTT data; the paper shows the forecasts qualitatively and gives
   no RMSE, so there is no number to compare with.
 
-_(computed in {elapsed:.1f} s)_
+_(computed in {fig5.elapsed:.1f} s)_
 """
-    return text
+
+
+def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
+    """Compute Figure 5 from ``log_path``, draw it into ``out_dir``, return its report.
+
+    ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written (by
+    :func:`plot`): :func:`output_names` of ``suffix``.
+    """
+    log, source = load_log(log_path)
+    fig5 = compute(log, source=source)
+    plot(fig5, out_dir, suffix=suffix)
+    return report(fig5, suffix=suffix)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
     return figure_main(argv, prog="python -m paper_figures.fig5_forecast",
                        description="Regenerate Figure 5 (forecasts).",
-                       figure_name=FIGURE_NAME, make=make)
+                       figure_name=FIGURE_NAME, make=make, output_names=output_names)
 
 
 if __name__ == "__main__":

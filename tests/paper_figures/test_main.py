@@ -16,7 +16,8 @@ def test_shipped_log_exists():
     assert DEFAULT_LOG.is_file()
 
 
-@pytest.mark.parametrize("name", ["report.md", "fig1_fitting_error.png", "fig5_forecast.json"])
+@pytest.mark.parametrize("name", ["report.md", "fig1_fitting_error.png", "fig1_fitting_error.pdf",
+                                  "fig5_forecast.json", "fig5_forecast.pdf"])
 def test_refuses_existing_outputs(tmp_path, capsys, name):
     (tmp_path / name).write_text("mine")
     assert main(["--out", str(tmp_path)]) == 2
