@@ -6,9 +6,11 @@ out_dir, *, suffix="")``, ``report(result, *, suffix="")``, ``table_rows(result)
 (paper vs ours) and ``output_names(suffix)``. Figures 2-4 (``NEEDS_RUNS = True``) draw
 the closed-loop runs that they share (:mod:`paper_figures.closedloop_runs`, computed
 once): ``make(out_dir, runs) -> str``; each of them has a ``compute`` (numbers),
-``plot`` and ``report`` step. Every ``make``
-returns a Markdown section for the report. ``python -m paper_figures`` makes them all
-and writes ``report.md`` beside them.
+``plot`` and ``report`` step. Figure 6 (``NEEDS_LOG = False``, not in the paper: the
+study its conclusion proposes) runs its own loops: ``compute(quick=, seed=)``. Every
+module has ``table_rows(result)``: ``(quantity, paper, ours, why they differ)`` rows of
+the report's comparison table. ``python -m paper_figures`` makes them all and writes
+``report.md`` and ``report.html`` beside them.
 """
 
 __all__ = ["FIGURES"]
@@ -20,4 +22,6 @@ FIGURES = [
     ("fig3_sr_spectrum", "Figure 3", "Power spectra of the SR-peak oscillations"),
     ("fig4_sr_maps", "Figure 4", "Time-averaged SR maps and the corrected field of view"),
     ("fig5_forecast", "Figure 5", "Forecasts of a modal coefficient (linear, ARMA, NN)"),
+    ("fig6_compression", "Figure 6",
+     "Compression x prediction: controlled modes of each ordering, with latency"),
 ]

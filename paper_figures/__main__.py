@@ -1,16 +1,21 @@
-"""Regenerate every paper figure that the package can make, and write a report.
+"""Regenerate every figure of the paper, and write a report with the paper's numbers beside ours.
 
 Usage::
 
-    python -m paper_figures [--log data/kaos_like_closed_loop.npz] [--out out] [--overwrite]
-                            [--only 1,2,3,4,5] [--quick] [--duration S] [--seed N]
+    python -m paper_figures [--log LOG] [--out out] [--overwrite] [--only 1,2,3,4,5,6]
+                            [--quick] [--duration S] [--seed N]
 
-Figures 1 and 5 analyse the modal log. Figures 2-4 draw closed-loop MCAO runs of the
-paper's Table 1 (``closedloop`` preset ``table1``, one atmosphere, every predictor;
-:mod:`paper_figures.closedloop_runs`), computed once and shared: 0.5 s of simulated time
-by default (a few minutes on an idle 2-core machine, most of it training the paper's
-neural net), or with ``--quick`` 0.2 s on a 5x5 field grid with the neural net trained
-for 50 iterations (reduced settings for Figures 2-4 only; Figures 1 and 5 are unchanged).
+Figures 1 and 5 analyse modal logs: by default both shipped KAOS-like logs, the
+spectral one (``data/kaos_like_closed_loop.npz``) and the one the ``closedloop``
+simulator wrote (``data/kaos_closedloop.npz``, files with the suffix ``_closedloop``);
+``--log`` analyses a user's log instead (any format ``modalinfo.io`` reads). Figures 2-4
+draw closed-loop MCAO runs of the paper's Table 1 (``closedloop`` preset ``table1``, one
+atmosphere, every predictor; :mod:`paper_figures.closedloop_runs`), computed once and
+shared: 0.5 s of simulated time by default, or with ``--quick`` 0.2 s on a 5x5 field
+grid with the neural net trained for 50 iterations. Figure 6 (the compression x
+prediction study the paper proposes) runs the ``kaos`` preset; ``--quick`` uses three
+mode counts. ``report.md`` and ``report.html`` (figures inline) open with a table of
+every headline number of the paper beside ours, each difference explained.
 """
 
 from __future__ import annotations
@@ -24,7 +29,14 @@ from pathlib import Path
 
 from paper_figures import FIGURES
 
-DEFAULT_LOG = Path(__file__).resolve().parent.parent / "data" / "kaos_like_closed_loop.npz"
+DATA = Path(__file__).resolve().parent.parent / "data"
+DEFAULT_LOG = DATA / "kaos_like_closed_loop.npz"
+SIMULATED_LOG = DATA / "kaos_closedloop.npz"
+#: (path, file suffix, key, description) of the logs of Figures 1 and 5 by default
+SHIPPED_LOGS = (
+    (DEFAULT_LOG, "", "spectral", "spectral KAOS-like log"),
+    (SIMULATED_LOG, "_closedloop", "simulated", "simulated kaos closed-loop log"),
+)
 
 
 def _parse_only(text: str | None) -> list[int]:
@@ -41,14 +53,35 @@ def _parse_only(text: str | None) -> list[int]:
     return chosen
 
 
+def _kind(module) -> str:
+    if getattr(module, "NEEDS_RUNS", False):
+        return "runs"
+    return "log" if getattr(module, "NEEDS_LOG", True) else "own"
+
+
+def _outputs(module, logs) -> list[str]:
+    if _kind(module) == "log":
+        return [name for _, suffix, _, _ in logs for name in module.output_names(suffix)]
+    return [getattr(module, a) for a in ("FIGURE_NAME", "PDF_NAME", "JSON_NAME")
+            if hasattr(module, a)]
+
+
+def comparison_table(rows: list[tuple[str, tuple]]) -> str:
+    """Markdown table of ``(figure, (quantity, paper, ours, why))`` rows."""
+    lines = ["| figure | quantity | paper | ours | why they differ |", "|---|---|---|---|---|"]
+    for figure, (quantity, paper, ours, why) in rows:
+        lines.append(f"| {figure} | {quantity} | {paper} | {ours} | {why} |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Make every figure and ``report.md``; return the exit status."""
+    """Make every figure, ``report.md`` and ``report.html``; return the exit status."""
     parser = argparse.ArgumentParser(
-        prog="python -m paper_figures", description=__doc__.split("\n")[1]
+        prog="python -m paper_figures", description=__doc__.split("\n")[0]
     )
     parser.add_argument(
-        "--log", type=Path, default=DEFAULT_LOG,
-        help="closed-loop modal log to analyse (default: the shipped KAOS-like log)",
+        "--log", type=Path, default=None,
+        help="modal log for Figures 1 and 5 (default: both shipped KAOS-like logs)",
     )
     parser.add_argument(
         "--out", type=Path, default=Path("out"), help="output directory (default: out)"
@@ -58,12 +91,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--only", default=None,
                         help="comma-separated figure numbers to make (default: all)")
     parser.add_argument("--quick", action="store_true",
-                        help="reduced closed-loop settings for Figures 2-4 (0.2 s, 5x5 field)")
+                        help="reduced closed-loop settings for Figures 2-4 and 6")
     parser.add_argument("--duration", type=float, default=None,
                         help="simulated time of the Figures 2-4 runs [s] (default 0.5, "
                              "quick 0.2)")
     parser.add_argument("--seed", type=int, default=0,
-                        help="atmosphere of the Figures 2-4 runs (default 0)")
+                        help="atmosphere of the closed-loop runs (default 0)")
     args = parser.parse_args(argv)
 
     try:
@@ -81,18 +114,18 @@ def main(argv: list[str] | None = None) -> int:
               if int(label.split()[-1]) in only]
     modules = [(importlib.import_module(f"paper_figures.{name}"), label, title)
                for name, label, title in chosen]
-    needs_log = any(not getattr(m, "NEEDS_RUNS", False) for m, _, _ in modules)
-    if needs_log and not args.log.is_file():
-        sys.stderr.write(f"paper_figures: error: log file '{args.log}' does not exist\n")
-        return 2
+    needs_log = any(_kind(m) == "log" for m, _, _ in modules)
+    logs = (SHIPPED_LOGS if args.log is None
+            else ((args.log, "", "user", f"`{args.log}`"),))
+    if needs_log:
+        for path, *_ in logs:
+            if not path.is_file():
+                sys.stderr.write(f"paper_figures: error: log file '{path}' does not exist\n")
+                return 2
     report_path = args.out / "report.md"
     html_path = args.out / "report.html"
-    outputs = [report_path, html_path] + [
-        args.out / getattr(module, attr)
-        for module, _, _ in modules
-        for attr in ("FIGURE_NAME", "PDF_NAME", "JSON_NAME")
-        if hasattr(module, attr)
-    ]
+    outputs = [report_path, html_path] + [args.out / name for module, _, _ in modules
+                                          for name in _outputs(module, logs)]
     existing = [path for path in outputs if path.exists()]
     if existing and not args.overwrite:
         sys.stderr.write(
@@ -101,15 +134,20 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     args.out.mkdir(parents=True, exist_ok=True)
 
-    sections = [
-        "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
-        f"Python {platform.python_version()}, {platform.machine()}."
-        + (f" Input log of Figures 1 and 5: `{args.log}`." if needs_log else "") + "\n",
-    ]
+    loaded = {}
+    if needs_log:
+        from paper_figures._common import load_log
+
+        loaded = {key: (load_log(path), suffix, desc) for path, suffix, key, desc in logs}
+    sections: list[str] = []
+    rows: list[tuple[str, tuple]] = []
+    per_log: dict[str, dict] = {}
     runs = None
+    total_start = time.perf_counter()
     for module, label, title in modules:
         start = time.perf_counter()
-        if getattr(module, "NEEDS_RUNS", False) and runs is None:
+        kind = _kind(module)
+        if kind == "runs" and runs is None:
             from paper_figures import closedloop_runs
 
             print(f"[paper_figures] closed-loop runs for Figures 2-4"
@@ -121,16 +159,53 @@ def main(argv: list[str] | None = None) -> int:
             sections.append(closedloop_runs.report_section(runs, elapsed))
             start = time.perf_counter()
         print(f"[paper_figures] {label}: {title} ...", flush=True)
-        if getattr(module, "NEEDS_RUNS", False):
-            text = module.make(args.out, runs)
+        if kind == "log":
+            texts = []
+            for key, ((log, source), suffix, desc) in loaded.items():
+                result = module.compute(log, source=source)
+                module.plot(result, args.out, suffix=suffix)
+                text = module.report(result, suffix=suffix)
+                if len(loaded) > 1:
+                    # one section per log: say which in the heading
+                    text = text.replace(f"## {label}:", f"## {label} ({desc}):", 1)
+                texts.append(text)
+                per_log.setdefault(label, {})[key] = result
+                tag = f"{label} ({desc})" if len(loaded) > 1 else label
+                rows += [(tag, row) for row in module.table_rows(result)]
+            text = "\n".join(texts)
         else:
-            text = module.make(args.out, args.log)
+            if kind == "runs":
+                result = module.compute(runs)
+            else:
+                result = module.compute(quick=args.quick, seed=args.seed)
+            module.plot(result, args.out)
+            text = module.report(result)
+            rows += [(label, row) for row in module.table_rows(result)]
         elapsed = time.perf_counter() - start
         print(f"[paper_figures] {label} done in {elapsed:.1f} s", flush=True)
         sections.append(text.rstrip() + f"\n\n_({label} made in {elapsed:.1f} s.)_\n")
+    if needs_log and {"spectral", "simulated"} <= set(loaded):
+        from paper_figures import logs_compared
+
+        cmp = logs_compared.compute(loaded["spectral"][0][0], loaded["simulated"][0][0])
+        sections.append(logs_compared.report(cmp, per_log.get("Figure 1"),
+                                             per_log.get("Figure 5")))
+    total = time.perf_counter() - total_start
+    head = [
+        "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
+        f"Python {platform.python_version()}, {platform.machine()}; made in {total:.0f} s"
+        + (" with `--quick` (reduced closed-loop settings)" if args.quick else "") + "."
+        + (" Input logs of Figures 1 and 5: "
+           + ", ".join(f"`{p}` ({d})" for p, _, _, d in logs) + "." if needs_log else "")
+        + "\n",
+        "## The paper's numbers beside ours\n",
+        "Every number in the *ours* column is computed by this run (the paper's column "
+        "quotes the paper); the last column says why they differ.\n",
+        comparison_table(rows) + "\n",
+    ]
     from paper_figures._html import report_html
 
-    text = "\n".join(sections)
+    text = "\n".join(head + sections)
     report_path.write_text(text, encoding="utf-8")
     html_path.write_text(report_html(text, args.out), encoding="utf-8")
     print(f"[paper_figures] report written to {report_path} and {html_path}")

@@ -119,12 +119,21 @@ def table_rows(fig4: Figure4) -> list[tuple[str, str, str, str]]:
     why_pred = (f"a predictor acts only on the temporal term, "
                 f"{nums.get('temporal_mean', float('nan')):.3f} rad^2 field mean here")
     rows = []
+    ref = fig4.field_mean["none"]
     for name, r in fig4.runs.runs.items():
         paper = PAPER_DIAMETER.get(name)
+        if paper is None:
+            why = "not in the paper"
+        elif name == "none":
+            why = why_none
+        elif fig4.field_mean[name] < 0.5 * ref:
+            why = (f"the loop was lost (field-mean SR {fig4.field_mean[name]:.3f} against "
+                   f"{ref:.3f} without prediction)")
+        else:
+            why = why_pred
         rows.append((f"corrected-FoV diameter (SR > {THRESHOLD:g}), {r.label}",
                      "-" if paper is None else f"{paper:g}'", f"{fig4.diameter[name]:.2f}'",
-                     "not in the paper" if paper is None
-                     else (why_none if name == "none" else why_pred)))
+                     why))
     return rows
 
 
