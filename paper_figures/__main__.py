@@ -2,13 +2,15 @@
 
 Usage::
 
-    python -m paper_figures [--log LOG] [--out out] [--overwrite] [--only 1,2,3,4,5,6]
-                            [--quick] [--duration S] [--seed N]
+    python -m paper_figures [--log LOG [input hints]] [--out out] [--overwrite]
+                            [--only 1,2,3,4,5,6] [--quick] [--duration S] [--seed N]
 
 Figures 1 and 5 analyse modal logs: by default both shipped KAOS-like logs, the
 spectral one (``data/kaos_like_closed_loop.npz``) and the one the ``closedloop``
 simulator wrote (``data/kaos_closedloop.npz``, files with the suffix ``_closedloop``);
-``--log`` analyses a user's log instead (any format ``modalinfo.io`` reads). Figures 2-4
+``--log`` analyses a user's log instead (any format ``modalinfo.io`` reads, with the
+input hints of every ``modalinfo`` command: ``--rate``, ``--in-units``, ``--in-modes``,
+``--wavelength``, ``--fmt``, ...). Figures 2-4
 draw closed-loop MCAO runs of the paper's Table 1 (``closedloop`` preset ``table1``, one
 atmosphere, every predictor; :mod:`paper_figures.closedloop_runs`), computed once and
 shared: 0.5 s of simulated time by default, or with ``--quick`` 0.2 s on a 5x5 field
@@ -97,6 +99,11 @@ def main(argv: list[str] | None = None) -> int:
                              "quick 0.2)")
     parser.add_argument("--seed", type=int, default=0,
                         help="atmosphere of the closed-loop runs (default 0)")
+    from modalinfo.cli._common import add_hint_arguments
+
+    # the same input hints as every modalinfo command, for --log
+    add_hint_arguments(parser)
+    parser.set_defaults(command="paper_figures")
     args = parser.parse_args(argv)
 
     try:
@@ -116,7 +123,7 @@ def main(argv: list[str] | None = None) -> int:
                for name, label, title in chosen]
     needs_log = any(_kind(m) == "log" for m, _, _ in modules)
     logs = (SHIPPED_LOGS if args.log is None
-            else ((args.log, "", "user", f"`{args.log}`"),))
+            else ((args.log, "", "user", "user log"),))
     if needs_log:
         for path, *_ in logs:
             if not path.is_file():
@@ -136,9 +143,23 @@ def main(argv: list[str] | None = None) -> int:
 
     loaded = {}
     if needs_log:
-        from paper_figures._common import load_log
+        from modalinfo.cli._common import hints_from_args, input_notes
+        from modalinfo.io import load
 
-        loaded = {key: (load_log(path), suffix, desc) for path, suffix, key, desc in logs}
+        try:
+            for path, suffix, key, desc in logs:
+                if key == "user":
+                    log = load(path, fmt=args.fmt, dataset=args.dataset,
+                               **hints_from_args(args))
+                    for note in input_notes(log, path):  # what was assumed, as the CLI
+                        sys.stderr.write(f"paper_figures: note: {note}\n")
+                else:
+                    log = load(path)
+                loaded[key] = ((log, f"`{path}`"), suffix, desc)
+        except (ValueError, TypeError, OSError, KeyError) as exc:
+            message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            sys.stderr.write(f"paper_figures: error: --log: {message}\n")
+            return 2
     sections: list[str] = []
     rows: list[tuple[str, tuple]] = []
     per_log: dict[str, dict] = {}
@@ -162,7 +183,15 @@ def main(argv: list[str] | None = None) -> int:
         if kind == "log":
             texts = []
             for key, ((log, source), suffix, desc) in loaded.items():
-                result = module.compute(log, source=source)
+                try:
+                    result = module.compute(log, source=source)
+                except ValueError as exc:
+                    if key != "user":
+                        raise
+                    # a user's log the figure cannot use (too short, no rate): one line
+                    sys.stderr.write(f"paper_figures: error: {label} on --log: "
+                                     f"{str(exc).splitlines()[0]}\n")
+                    return 2
                 module.plot(result, args.out, suffix=suffix)
                 text = module.report(result, suffix=suffix)
                 if len(loaded) > 1:
