@@ -1,0 +1,76 @@
+"""The science kernel against the plain-numpy science step, on random maps.
+
+Reference: the piston-removed variance over the pupil of the sum of the bilinearly
+shifted plane maps, written in plain numpy one direction at a time (fancy-indexed
+bilinear reads, two-pass ``numpy.var``): the computation the kernel replaces, as in
+``benchmarks/bench_closedloop.py``. The kernel reads direction-independent planes once
+and accumulates per pupil column, so it agrees with the reference to rounding only.
+"""
+
+import numpy as np
+import pytest
+
+from closedloop import _kernels, presets
+from closedloop.geometry import Geometry
+from closedloop.science import ScienceCamera
+
+
+def plain_numpy(cam, weights):
+    """Mean and variance per direction, plain numpy (the benchmark's reference step)."""
+    n = cam.geometry.n_pixels
+    jj, ii = np.meshgrid(np.arange(n), np.arange(n), indexing="xy")
+    mask = cam.geometry.pupil_mask
+    cols, rows = jj[mask], ii[mask]
+    mean = np.empty(len(cam.directions))
+    var = np.empty(len(cam.directions))
+    for d in range(len(cam.directions)):
+        v = np.zeros(cols.size)
+        for p, view in enumerate(cam.plane_views()):
+            fc, fr = cam._shifts[d, p]
+            ic, ir = int(np.floor(fc)), int(np.floor(fr))
+            tc, tr = fc - ic, fr - ir
+            r0, c0 = rows + ir, cols + ic
+            v += weights[p] * ((1 - tr) * (1 - tc) * view[r0, c0]
+                               + (1 - tr) * tc * view[r0, c0 + 1]
+                               + tr * (1 - tc) * view[r0 + 1, c0]
+                               + tr * tc * view[r0 + 1, c0 + 1])
+        mean[d] = v.mean()
+        var[d] = v.var()
+    return mean, var
+
+
+@pytest.fixture(scope="module", params=["table1", "mcao3"])
+def camera(request):
+    geometry = Geometry(presets.get(request.param))
+    return ScienceCamera(geometry, geometry.directions)
+
+
+@pytest.mark.parametrize("piston", [0.0, 50.0])
+@pytest.mark.parametrize("weights", [None, (1.0, 0.0, 1.0), (0.5, 2.0, -1.0)])
+def test_kernel_matches_plain_numpy_on_random_maps(camera, piston, weights):
+    n_planes = len(camera._sizes)
+    w = np.ones(n_planes) if weights is None else np.resize(np.array(weights), n_planes)
+    rng = np.random.default_rng(3)
+    camera._flat[:] = rng.standard_normal(camera._flat.size) + piston
+    got = camera.measure(None if weights is None else w).copy()
+    mean, var = plain_numpy(camera, w)
+    # a large common piston must not cost accuracy (moments taken about a pupil pixel)
+    np.testing.assert_allclose(got, var, rtol=1e-12)
+    np.testing.assert_allclose(camera.mean, mean, rtol=1e-12, atol=1e-12)
+
+
+def test_ground_plane_is_read_once_and_threads_give_the_same_bits(camera):
+    # the ground plane sits at the same place for every direction, the others do not
+    assert camera._common[0] and not camera._common[1:].any()
+    camera._flat[:] = np.random.default_rng(4).standard_normal(camera._flat.size)
+    args = (camera._flat, camera._offsets, camera._sizes, camera._span_lo, camera._span_hi,
+            camera._shifts, np.ones(len(camera._sizes)), camera._common, camera._base)
+    out = [np.empty((2, len(camera.directions))) for _ in range(2)]
+    _kernels.direction_moments_serial(*args, out[0][0], out[0][1])
+    _kernels.direction_moments(*args, out[1][0], out[1][1])
+    np.testing.assert_array_equal(out[0], out[1])
+    # treating no plane as common (every plane read per direction) changes rounding only
+    flags = np.zeros_like(camera._common)
+    other = np.empty((2, len(camera.directions)))
+    _kernels.direction_moments_serial(*args[:7], flags, camera._base, other[0], other[1])
+    np.testing.assert_allclose(other, out[0], rtol=1e-13)
