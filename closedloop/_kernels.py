@@ -128,3 +128,45 @@ def subtract_scatter(plane_map, index, values, scale):
     flat = plane_map.reshape(-1)
     for k in range(index.shape[0]):
         flat[index[k]] -= scale * values[k]
+
+
+@jit
+def mirror_synthesis(quad_t, starts, signs, commands, positions, acc, out):
+    """DM surface ``B c`` from the mode shapes on one quadrant of a mirror-symmetric disc.
+
+    quad_t     (M, n_q) float64   IN  mode shapes on the quadrant's pixels, modes grouped
+                                      by parity class (class g: rows starts[g]:starts[g+1])
+    starts     (5,) int64         IN  class boundaries
+    signs      (4, 4) float64     IN  signs[k, g]: factor (+-1) of class g on mirror image k
+                                      of the quadrant (identity, x-flip, y-flip, both)
+    commands   (M,) float64       IN  commands in the order of ``quad_t``'s rows
+    positions  (4, n_q) int64     IN  index in ``out`` of mirror image k of quadrant pixel q
+    acc        (4, n_q) float64   SCRATCH per-class partial sums
+    out        (n_disc,) float64  OUT surface on the disc's pixels
+
+    Each mode is even or odd under x -> -x and under y -> -y, so the four images of a
+    quadrant pixel take the four per-class sums with signs: a quarter of the reads and
+    multiplies of ``B c``. The sums run over modes in order, element-wise over pixels
+    (vectorised, the same bits whatever the thread count).
+    """
+    n_q = quad_t.shape[1]
+    for g in range(4):
+        a = acc[g]
+        a[:] = 0.0
+        for k in range(starts[g], starts[g + 1]):
+            ck = commands[k]
+            row = quad_t[k]
+            for q in range(n_q):
+                a[q] += ck * row[q]
+    a0 = acc[0]
+    a1 = acc[1]
+    a2 = acc[2]
+    a3 = acc[3]
+    for m in range(4):
+        s0 = signs[m, 0]
+        s1 = signs[m, 1]
+        s2 = signs[m, 2]
+        s3 = signs[m, 3]
+        pos = positions[m]
+        for q in range(n_q):
+            out[pos[q]] = ((s0 * a0[q] + s1 * a1[q]) + s2 * a2[q]) + s3 * a3[q]

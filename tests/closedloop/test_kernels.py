@@ -1,16 +1,21 @@
-"""The science kernel against the plain-numpy science step, on random maps.
+"""The loop's numba kernels against the plain computations they replace, on random inputs.
 
-Reference: the piston-removed variance over the pupil of the sum of the bilinearly
+Science step. Reference: the piston-removed variance over the pupil of the sum of the bilinearly
 shifted plane maps, written in plain numpy one direction at a time (fancy-indexed
 bilinear reads, two-pass ``numpy.var``): the computation the kernel replaces, as in
 ``benchmarks/bench_closedloop.py``. The kernel reads direction-independent planes once
 and accumulates per pupil column, so it agrees with the reference to rounding only.
+
+DM synthesis. Reference: the matrix product ``shapes @ c``; the kernel reads one
+quadrant of the disc and the modes' parities, so again rounding only.
 """
 
 import numpy as np
 import pytest
 
 from closedloop import _kernels, presets
+from closedloop.config import DMConfig
+from closedloop.dm import DeformableMirror
 from closedloop.geometry import Geometry
 from closedloop.science import ScienceCamera
 
@@ -74,3 +79,38 @@ def test_ground_plane_is_read_once_and_threads_give_the_same_bits(camera):
     other = np.empty((2, len(camera.directions)))
     _kernels.direction_moments_serial(*args[:7], flags, camera._base, other[0], other[1])
     np.testing.assert_allclose(other, out[0], rtol=1e-13)
+
+
+@pytest.mark.parametrize("name", ["table1", "mcao3"])
+def test_dm_surface_from_one_quadrant_matches_the_matrix_product(name):
+    geometry = Geometry(presets.get(name))
+    rng = np.random.default_rng(5)
+    for i in range(len(geometry.config.dms)):
+        dm = DeformableMirror(geometry, i)
+        assert dm._mirror is not None  # even plane sides: the fast path is taken
+        for _ in range(3):
+            c = rng.standard_normal(dm.n_modes)
+            ref = dm.shapes @ c
+            np.testing.assert_allclose(dm.surface(c), ref, rtol=0,
+                                       atol=1e-14 * np.max(np.abs(ref)))
+        # one mode at a time: its own shape, sign and all
+        for j in (0, 1, 2, dm.n_modes - 1):
+            e = np.zeros(dm.n_modes)
+            e[j] = 1.0
+            np.testing.assert_allclose(dm.surface(e), dm.shapes[:, j], rtol=0, atol=1e-12)
+
+
+def test_dm_surface_without_symmetry_falls_back_to_the_product():
+    cfg = presets.get("table1")
+    geometry = Geometry(cfg.replace(dms=(DMConfig(altitude=0.0, n_modes=20),
+                                         DMConfig(altitude=10_000.0, n_modes=9))))
+    dm = DeformableMirror(geometry, 0)
+    # a disc that is not symmetric: the tables refuse it and surface() is B c
+    from closedloop.dm import _mirror_tables
+
+    n = geometry.planes[dm.plane].n
+    assert _mirror_tables(dm.pixels[1:], dm.shapes[1:], n) is None
+    assert _mirror_tables(dm.pixels, dm.shapes, n + 1) is None
+    dm._mirror = None
+    c = np.arange(20.0)
+    np.testing.assert_array_equal(dm.surface(c), dm.shapes @ c)
