@@ -55,31 +55,49 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
             if common[p]:
                 _add_bilinear_row(flat, offsets[p], sizes[p], shifts[0, p, 0],
                                   shifts[0, p, 1], weights[p], r, lo, row)
+    first = 0  # first non-empty pupil row
+    while span_hi[first] <= span_lo[first]:
+        first += 1
+    # the one direction-dependent plane, if there is just one (table1): fused loop below
+    single = -1
+    for p in range(n_planes):
+        if not common[p]:
+            single = p if single == -1 else -2
     for d in prange(n_dir):
         row = np.empty(n_cols)
         cs = np.zeros(n_cols)
         cs2 = np.zeros(n_cols)
-        ref = np.nan
-        for r in range(n_rows):
-            lo = span_lo[r]
-            m = span_hi[r] - lo
-            if m <= 0:
-                continue
-            b = base[r, lo:lo + m]
-            v = row[:m]
-            v[:] = b
-            for p in range(n_planes):
-                if not common[p]:
-                    _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
-                                      shifts[d, p, 1], weights[p], r, lo, v)
-            if ref != ref:
-                ref = v[0]
-            c1 = cs[lo:lo + m]
-            c2 = cs2[lo:lo + m]
-            for k in range(m):
-                x = v[k] - ref
-                c1[k] += x
-                c2[k] += x * x
+        # moments about the value of the first pupil pixel, computed as below
+        lo = span_lo[first]
+        v = row[:1]
+        v[0] = base[first, lo]
+        for p in range(n_planes):
+            if not common[p]:
+                _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
+                                  shifts[d, p, 1], weights[p], first, lo, v)
+        ref = v[0]
+        if single >= 0:
+            _moments_one_plane(flat, offsets[single], sizes[single], shifts[d, single, 0],
+                               shifts[d, single, 1], weights[single], span_lo, span_hi,
+                               base, ref, cs, cs2)
+        else:
+            for r in range(n_rows):
+                lo = span_lo[r]
+                m = span_hi[r] - lo
+                if m <= 0:
+                    continue
+                v = row[:m]
+                v[:] = base[r, lo:lo + m]
+                for p in range(n_planes):
+                    if not common[p]:
+                        _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
+                                          shifts[d, p, 1], weights[p], r, lo, v)
+                c1 = cs[lo:lo + m]
+                c2 = cs2[lo:lo + m]
+                for k in range(m):
+                    x = v[k] - ref
+                    c1[k] += x
+                    c2[k] += x * x
         s = 0.0
         s2 = 0.0
         for k in range(n_cols):
@@ -88,6 +106,46 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
         mean = s / count
         out_mean[d] = ref + mean
         out_var[d] = max(s2 / count - mean * mean, 0.0)
+
+
+@jit(inline="always")
+def _moments_one_plane(flat, offset, n, fc, fr, w, span_lo, span_hi, base, ref, cs, cs2):
+    """``cs[k] += x``, ``cs2[k] += x * x`` over the pupil, ``x = base + (bilinear read) - ref``.
+
+    One pass per row for a single direction-dependent plane: the same sums, in the same
+    order, as building the row with :func:`_add_bilinear_row` and then accumulating.
+    """
+    ic = int(np.floor(fc))
+    ir = int(np.floor(fr))
+    tc = fc - ic
+    tr = fr - ir
+    a = w * (1.0 - tr) * (1.0 - tc)
+    b = w * (1.0 - tr) * tc
+    c = w * tr * (1.0 - tc)
+    e = w * tr * tc
+    whole = tc == 0.0 and tr == 0.0
+    for r in range(span_lo.shape[0]):
+        lo = span_lo[r]
+        m = span_hi[r] - lo
+        if m <= 0:
+            continue
+        i0 = offset + (ir + r) * n + ic + lo
+        g = base[r, lo:lo + m]
+        c1 = cs[lo:lo + m]
+        c2 = cs2[lo:lo + m]
+        if whole:
+            src = flat[i0:i0 + m]
+            for k in range(m):
+                x = (g[k] + w * src[k]) - ref
+                c1[k] += x
+                c2[k] += x * x
+            continue
+        top = flat[i0:i0 + m + 1]
+        bot = flat[i0 + n:i0 + n + m + 1]
+        for k in range(m):
+            x = (g[k] + (a * top[k] + b * top[k + 1] + c * bot[k] + e * bot[k + 1])) - ref
+            c1[k] += x
+            c2[k] += x * x
 
 
 @jit(inline="always")
