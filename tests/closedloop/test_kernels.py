@@ -8,10 +8,14 @@ and accumulates per pupil column, so it agrees with the reference to rounding on
 
 DM synthesis. Reference: the matrix product ``shapes @ c``; the kernel reads one
 quadrant of the disc and the modes' parities, so again rounding only.
+
+WFS products. Reference: scipy's CSR product, which the kernel reproduces bit for bit
+(same order of additions in every row).
 """
 
 import numpy as np
 import pytest
+from scipy import sparse
 
 from closedloop import _kernels, presets
 from closedloop.config import DMConfig
@@ -114,3 +118,40 @@ def test_dm_surface_without_symmetry_falls_back_to_the_product():
     dm._mirror = None
     c = np.arange(20.0)
     np.testing.assert_array_equal(dm.surface(c), dm.shapes @ c)
+
+
+@pytest.mark.parametrize("n_rows", [1, 4, 7, 13])
+def test_csr_matvec_has_scipys_bits(n_rows):
+    rng = np.random.default_rng(n_rows)
+    a = sparse.random(n_rows, 300, density=0.2, format="csr", random_state=rng)
+    a.data = rng.standard_normal(a.nnz) * 1e3
+    b = sparse.random(n_rows, 50, density=0.5, format="csr", random_state=rng)
+    x = rng.standard_normal(300) * 7.0
+    y = rng.standard_normal(50)
+    out = np.full(n_rows, np.nan)
+    args = [(m.indptr.astype(np.int64), m.indices.astype(np.uint32), m.data) for m in (a, b)]
+    _kernels.csr_matvec(*args[0], x, out, False)
+    np.testing.assert_array_equal(out, a @ x)
+    _kernels.csr_matvec(*args[1], y, out, True)
+    ref = a @ x
+    ref += b @ y
+    np.testing.assert_array_equal(out, ref)
+
+
+def test_wfs_slopes_have_the_sparse_products_bits():
+    from closedloop import LoopModel
+
+    from .test_loop import small
+
+    model = LoopModel(small())
+    rng = np.random.default_rng(8)
+    maps = [rng.standard_normal((p.n, p.n)) for p in model.geometry.planes]
+    for wfs in model.wfss:
+        noise = rng.standard_normal(wfs.n_measurements)
+        ref = wfs.operators[0] @ maps[0].ravel()
+        for op, r in zip(wfs.operators[1:], maps[1:], strict=True):
+            ref += op @ r.ravel()
+        ref += wfs.noise_rms * noise
+        np.testing.assert_array_equal(wfs.slopes(maps, noise), ref)
+        with pytest.raises(ValueError, match="maps"):
+            wfs.slopes(maps[:1])
