@@ -155,3 +155,15 @@ def test_wfs_slopes_have_the_sparse_products_bits():
         np.testing.assert_array_equal(wfs.slopes(maps, noise), ref)
         with pytest.raises(ValueError, match="maps"):
             wfs.slopes(maps[:1])
+
+
+def test_one_direction_every_plane_common():
+    # a single direction: every plane has "the same shift in every direction", so the
+    # whole sum goes into the base map and no plane is interpolated per direction
+    geometry = Geometry(presets.get("table1"))
+    cam = ScienceCamera(geometry, np.array([[20.0, -35.0]]))
+    assert cam._common.all()
+    cam._flat[:] = np.random.default_rng(6).standard_normal(cam._flat.size) + 10.0
+    mean, var = plain_numpy(cam, np.ones(len(cam._sizes)))
+    np.testing.assert_allclose(cam.measure(), var, rtol=1e-12)
+    np.testing.assert_allclose(cam.mean, mean, rtol=1e-12)
