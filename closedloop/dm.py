@@ -4,10 +4,11 @@ A modal mirror (``kind="zernike"``) takes unit-RMS Noll Zernike shapes Z2 .. Z(M
 over its controlled disc (``modalinfo.bases.zernike_matrix``, evaluated at the plane's
 pixel centres) and is flat outside: the shape is the matrix product ``B c``, done once
 per command update (not per internal step). When the disc's pixels are symmetric about
-both axes (an even plane side, the usual case), ``B c`` is synthesised from one
-quadrant (:func:`closedloop._kernels.mirror_synthesis`): every Zernike is even or odd in
-x and in y, so a quarter of ``B`` is read, which matters because ``B`` (3 MB for 119
-modes on a 64-pixel disc) streams from memory at every command. An ``"ideal"`` mirror is zonal: one
+both axes (an even plane side, the usual case) and ``B`` exceeds 1 MB, ``B c`` is
+synthesised from one quadrant (:func:`closedloop._kernels.mirror_synthesis`): every
+Zernike is even or odd in x and in y, so a quarter of ``B`` is read, which matters
+because ``B`` (3 MB for 119 modes on a 64-pixel disc) streams from memory at every
+command. An ``"ideal"`` mirror is zonal: one
 "mode" per pixel of its disc, so it can take any sampled shape (no fitting error); it
 exists to verify the rest of the loop against Noll's and Fried's laws.
 
@@ -26,6 +27,12 @@ from closedloop.geometry import Geometry
 from modalinfo.bases import zernike_matrix
 
 __all__ = ["DeformableMirror"]
+
+#: smallest ``B`` (bytes) synthesised from a quadrant: the gain is memory traffic, and a
+#: ``B`` that stays in a core's L2 cache (1 MB here) costs ~0.05 ms as a plain product
+#: either way; the product also keeps the bits of runs made before the quadrant path
+#: (``data/kaos_closedloop.npz``, 0.5 MB of shapes, regenerates bit for bit)
+_MIRROR_MIN_BYTES = 1_000_000
 
 
 class DeformableMirror:
@@ -74,8 +81,8 @@ class DeformableMirror:
             self.modes = []
             self.shapes = None
             self.n_modes = int(self.pixels.size)
-        self._mirror = None if self.shapes is None else _mirror_tables(
-            self.pixels, self.shapes, len(coords))
+        self._mirror = (None if self.shapes is None or self.shapes.nbytes < _MIRROR_MIN_BYTES
+                        else _mirror_tables(self.pixels, self.shapes, len(coords)))
         self.labels = ([f"Z{j}" for j in self.modes] if self.modes
                        else [f"pix{k}" for k in range(self.n_modes)])
 
