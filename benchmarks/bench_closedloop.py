@@ -5,7 +5,8 @@ Runs ``closedloop.simulate`` on the ``table1`` preset (64 px pupil, two planes o
 after a JIT warm-up, and the same loop with the science step (the piston-removed
 variance over the pupil of every direction, the hot spot) written in plain numpy
 (bilinear reads by fancy indexing, one direction at a time). Prints the median of
-``--repeats`` runs, the ratio, and a cProfile breakdown of where the time goes.
+``--repeats`` runs, the ratio, and a cProfile breakdown of where the time goes. The
+machine may be shared: the load average is printed before and after (quote medians).
 
     python benchmarks/bench_closedloop.py --frames 300 --repeats 3
 """
@@ -15,6 +16,7 @@ from __future__ import annotations
 import argparse
 import cProfile
 import io
+import os
 import pstats
 import time
 
@@ -61,6 +63,7 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args()
 
+    load_before = os.getloadavg()
     config = presets.get("table1")
     t = time.perf_counter()
     model = LoopModel(config)
@@ -95,6 +98,8 @@ def main() -> None:
     print(f"ratio                      : {ours / plain:8.1f}x")
     print(f"science kernel alone       : {kernel_ms:8.3f} ms per step (81 directions)")
     print(f"real time (1000 steps/s)   : {ours / 1000:8.3f} of it")
+    print(f"load average (1, 5, 15 min): before {', '.join(f'{x:.2f}' for x in load_before)}; "
+          f"after {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
     prof = cProfile.Profile()
     prof.enable()

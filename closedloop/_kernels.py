@@ -6,8 +6,8 @@ from numba import prange
 from modalinfo._numba import jit
 
 
-def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights,
-                      out_mean, out_var):
+def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, common,
+                       base, out_mean, out_var):
     """Mean and variance over the pupil of the summed plane maps, for every direction.
 
     flat       (sum n_p**2,) float64   IN  plane maps, row-major, concatenated
@@ -18,60 +18,164 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights,
                                            union of these spans (convex rows)
     shifts     (n_dir, P, 2) float64   IN  fractional (col, row) on plane p of pupil pixel (0, 0)
     weights    (P,) float64            IN  factor of each plane (1, or 0 to leave it out)
+    common     (P,) bool               IN  plane p has the same shift in every direction
+                                           (the ground plane); resampled once into ``base``
+    base       (N, N) float64          SCRATCH the common planes' sum on the pupil grid
     out_mean, out_var (n_dir,)         OUT piston and piston-removed variance
+
+    Per pixel the value is ``sum_p w_p (bilinear read of plane p)``, the common planes'
+    sum first, then the others, each group in plane order. Two things make it fast. The
+    common planes are read once per call, not once per direction. The moments are
+    accumulated per pupil column (``cs[k] += v``), not in two scalar sums: a scalar
+    float reduction is a serial dependency chain that LLVM does not vectorise without
+    reassociation (fastmath, which would tie the bits to the vector width), while
+    per-column sums are element-wise, so they vectorise and the order of additions stays
+    fixed (rows in order for each column, then columns in order) whatever the thread
+    count. The moments are taken
+    about the direction's first pupil pixel, not zero: ``E[x^2] - E[x]^2`` then cancels
+    only the piston's distance to that pixel, not the whole piston (an uncorrected piston
+    of tens of radians cost ~1e-11 relative on a variance of ~1 rad^2).
     """
     n_dir = shifts.shape[0]
     n_planes = offsets.shape[0]
     n_rows = span_lo.shape[0]
-    width = 0
+    n_cols = base.shape[1]
     count = 0
     for r in range(n_rows):
-        width = max(width, span_hi[r] - span_lo[r])
         count += span_hi[r] - span_lo[r]
+    # the direction-independent part, once
+    for r in range(n_rows):
+        lo = span_lo[r]
+        m = span_hi[r] - lo
+        if m <= 0:
+            continue
+        row = base[r, lo:lo + m]
+        row[:] = 0.0
+        for p in range(n_planes):
+            if common[p]:
+                _add_bilinear_row(flat, offsets[p], sizes[p], shifts[0, p, 0],
+                                  shifts[0, p, 1], weights[p], r, lo, row)
+    first = 0  # first non-empty pupil row
+    while span_hi[first] <= span_lo[first]:
+        first += 1
+    # the one direction-dependent plane, if there is just one (table1): fused loop below
+    single = -1
+    for p in range(n_planes):
+        if not common[p]:
+            single = p if single == -1 else -2
     for d in prange(n_dir):
-        row = np.empty(width)
+        row = np.empty(n_cols)
+        cs = np.zeros(n_cols)
+        cs2 = np.zeros(n_cols)
+        # moments about the value of the first pupil pixel, computed as below
+        lo = span_lo[first]
+        v = row[:1]
+        v[0] = base[first, lo]
+        for p in range(n_planes):
+            if not common[p]:
+                _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
+                                  shifts[d, p, 1], weights[p], first, lo, v)
+        ref = v[0]
+        if single >= 0:
+            _moments_one_plane(flat, offsets[single], sizes[single], shifts[d, single, 0],
+                               shifts[d, single, 1], weights[single], span_lo, span_hi,
+                               base, ref, cs, cs2)
+        else:
+            for r in range(n_rows):
+                lo = span_lo[r]
+                m = span_hi[r] - lo
+                if m <= 0:
+                    continue
+                v = row[:m]
+                v[:] = base[r, lo:lo + m]
+                for p in range(n_planes):
+                    if not common[p]:
+                        _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
+                                          shifts[d, p, 1], weights[p], r, lo, v)
+                c1 = cs[lo:lo + m]
+                c2 = cs2[lo:lo + m]
+                for k in range(m):
+                    x = v[k] - ref
+                    c1[k] += x
+                    c2[k] += x * x
         s = 0.0
         s2 = 0.0
-        for r in range(n_rows):
-            lo = span_lo[r]
-            m = span_hi[r] - lo
-            if m <= 0:
-                continue
-            row[:m] = 0.0
-            for p in range(n_planes):
-                fc = shifts[d, p, 0]
-                fr = shifts[d, p, 1]
-                ic = int(np.floor(fc))
-                ir = int(np.floor(fr))
-                tc = fc - ic
-                tr = fr - ir
-                n = sizes[p]
-                w = weights[p]
-                a = w * (1.0 - tr) * (1.0 - tc)
-                b = w * (1.0 - tr) * tc
-                c = w * tr * (1.0 - tc)
-                e = w * tr * tc
-                i0 = offsets[p] + (ir + r) * n + ic + lo
-                i1 = i0 + n
-                if tc == 0.0 and tr == 0.0:
-                    # whole-pixel shift (the ground plane): one read per pixel
-                    for k in range(m):
-                        row[k] += w * flat[i0 + k]
-                    continue
-                for k in range(m):
-                    row[k] += (a * flat[i0 + k] + b * flat[i0 + k + 1]
-                               + c * flat[i1 + k] + e * flat[i1 + k + 1])
-            for k in range(m):
-                v = row[k]
-                s += v
-                s2 += v * v
+        for k in range(n_cols):
+            s += cs[k]
+            s2 += cs2[k]
         mean = s / count
-        out_mean[d] = mean
+        out_mean[d] = ref + mean
         out_var[d] = max(s2 / count - mean * mean, 0.0)
 
 
+@jit(inline="always")
+def _moments_one_plane(flat, offset, n, fc, fr, w, span_lo, span_hi, base, ref, cs, cs2):
+    """``cs[k] += x``, ``cs2[k] += x * x`` over the pupil, ``x = base + (bilinear read) - ref``.
+
+    One pass per row for a single direction-dependent plane: the same sums, in the same
+    order, as building the row with :func:`_add_bilinear_row` and then accumulating.
+    """
+    ic = int(np.floor(fc))
+    ir = int(np.floor(fr))
+    tc = fc - ic
+    tr = fr - ir
+    a = w * (1.0 - tr) * (1.0 - tc)
+    b = w * (1.0 - tr) * tc
+    c = w * tr * (1.0 - tc)
+    e = w * tr * tc
+    whole = tc == 0.0 and tr == 0.0
+    for r in range(span_lo.shape[0]):
+        lo = span_lo[r]
+        m = span_hi[r] - lo
+        if m <= 0:
+            continue
+        i0 = offset + (ir + r) * n + ic + lo
+        g = base[r, lo:lo + m]
+        c1 = cs[lo:lo + m]
+        c2 = cs2[lo:lo + m]
+        if whole:
+            src = flat[i0:i0 + m]
+            for k in range(m):
+                x = (g[k] + w * src[k]) - ref
+                c1[k] += x
+                c2[k] += x * x
+            continue
+        top = flat[i0:i0 + m + 1]
+        bot = flat[i0 + n:i0 + n + m + 1]
+        for k in range(m):
+            x = (g[k] + (a * top[k] + b * top[k + 1] + c * bot[k] + e * bot[k + 1])) - ref
+            c1[k] += x
+            c2[k] += x * x
+
+
+@jit(inline="always")
+def _add_bilinear_row(flat, offset, n, fc, fr, w, r, lo, row):
+    """``row[k] += w * (bilinear read of plane (offset, n) at (fc + lo + k, fr + r))``."""
+    ic = int(np.floor(fc))
+    ir = int(np.floor(fr))
+    tc = fc - ic
+    tr = fr - ir
+    i0 = offset + (ir + r) * n + ic + lo
+    m = row.shape[0]
+    if tc == 0.0 and tr == 0.0:
+        # whole-pixel shift (the ground plane): one read per pixel
+        src = flat[i0:i0 + m]
+        for k in range(m):
+            row[k] += w * src[k]
+        return
+    a = w * (1.0 - tr) * (1.0 - tc)
+    b = w * (1.0 - tr) * tc
+    c = w * tr * (1.0 - tc)
+    e = w * tr * tc
+    top = flat[i0:i0 + m + 1]
+    bot = flat[i0 + n:i0 + n + m + 1]
+    for k in range(m):
+        row[k] += a * top[k] + b * top[k + 1] + c * bot[k] + e * bot[k + 1]
+
+
 # one body, two compilations: threads pay off only for many directions (a parallel region
-# costs a thread wake-up, milliseconds on a loaded machine)
+# costs a thread wake-up, milliseconds on a loaded machine, against ~0.35 ms for table1's
+# whole serial call)
 direction_moments = jit(parallel=True)(_direction_moments)
 direction_moments_serial = jit(_direction_moments)
 
@@ -82,3 +186,113 @@ def subtract_scatter(plane_map, index, values, scale):
     flat = plane_map.reshape(-1)
     for k in range(index.shape[0]):
         flat[index[k]] -= scale * values[k]
+
+
+@jit
+def mirror_synthesis(quad_t, starts, signs, commands, positions, acc, out):
+    """DM surface ``B c`` from the mode shapes on one quadrant of a mirror-symmetric disc.
+
+    quad_t     (M, n_q) float64   IN  mode shapes on the quadrant's pixels, modes grouped
+                                      by parity class (class g: rows starts[g]:starts[g+1])
+    starts     (5,) int64         IN  class boundaries
+    signs      (4, 4) float64     IN  signs[k, g]: factor (+-1) of class g on mirror image k
+                                      of the quadrant (identity, x-flip, y-flip, both)
+    commands   (M,) float64       IN  commands in the order of ``quad_t``'s rows
+    positions  (4, n_q) int64     IN  index in ``out`` of mirror image k of quadrant pixel q
+    acc        (4, n_q) float64   SCRATCH per-class partial sums
+    out        (n_disc,) float64  OUT surface on the disc's pixels
+
+    Each mode is even or odd under x -> -x and under y -> -y, so the four images of a
+    quadrant pixel take the four per-class sums with signs: a quarter of the reads and
+    multiplies of ``B c``. The sums run over modes in order, element-wise over pixels
+    (vectorised, the same bits whatever the thread count).
+    """
+    n_q = quad_t.shape[1]
+    for g in range(4):
+        a = acc[g]
+        a[:] = 0.0
+        for k in range(starts[g], starts[g + 1]):
+            ck = commands[k]
+            row = quad_t[k]
+            for q in range(n_q):
+                a[q] += ck * row[q]
+    a0 = acc[0]
+    a1 = acc[1]
+    a2 = acc[2]
+    a3 = acc[3]
+    for m in range(4):
+        s0 = signs[m, 0]
+        s1 = signs[m, 1]
+        s2 = signs[m, 2]
+        s3 = signs[m, 3]
+        pos = positions[m]
+        for q in range(n_q):
+            out[pos[q]] = ((s0 * a0[q] + s1 * a1[q]) + s2 * a2[q]) + s3 * a3[q]
+
+
+@jit
+def csr_matvec(indptr, indices, data, x, out, accumulate):
+    """``out = A @ x`` (or ``out += A @ x`` if ``accumulate``) for a CSR matrix ``A``.
+
+    indptr (n + 1,) int64, indices (nnz,) uint32, data (nnz,) float64: ``A`` in CSR form
+    (unsigned column indices: numba then skips the negative-index wrap on every read).
+
+    Each row's sum starts at 0 and runs over its entries in stored order, as scipy's
+    ``csr_matvec`` does, so the result has the same bits as ``A @ x`` (and as
+    ``out += A @ x``). What differs is speed: a row's sum is a chain of dependent
+    additions (latency-bound; the rows of the WFS operators hold 200-430 entries), so
+    four rows are summed side by side, four independent chains (eight were slower).
+    """
+    n = out.shape[0]
+    i = 0
+    while i + 4 <= n:
+        a0 = indptr[i]
+        a1 = indptr[i + 1]
+        a2 = indptr[i + 2]
+        a3 = indptr[i + 3]
+        a4 = indptr[i + 4]
+        m = min(min(a1 - a0, a2 - a1), min(a3 - a2, a4 - a3))
+        d0 = data[a0:a0 + m]
+        d1 = data[a1:a1 + m]
+        d2 = data[a2:a2 + m]
+        d3 = data[a3:a3 + m]
+        j0 = indices[a0:a0 + m]
+        j1 = indices[a1:a1 + m]
+        j2 = indices[a2:a2 + m]
+        j3 = indices[a3:a3 + m]
+        t0 = 0.0
+        t1 = 0.0
+        t2 = 0.0
+        t3 = 0.0
+        for k in range(m):
+            t0 += d0[k] * x[j0[k]]
+            t1 += d1[k] * x[j1[k]]
+            t2 += d2[k] * x[j2[k]]
+            t3 += d3[k] * x[j3[k]]
+        for jj in range(a0 + m, a1):
+            t0 += data[jj] * x[indices[jj]]
+        for jj in range(a1 + m, a2):
+            t1 += data[jj] * x[indices[jj]]
+        for jj in range(a2 + m, a3):
+            t2 += data[jj] * x[indices[jj]]
+        for jj in range(a3 + m, a4):
+            t3 += data[jj] * x[indices[jj]]
+        if accumulate:
+            out[i] += t0
+            out[i + 1] += t1
+            out[i + 2] += t2
+            out[i + 3] += t3
+        else:
+            out[i] = t0
+            out[i + 1] = t1
+            out[i + 2] = t2
+            out[i + 3] = t3
+        i += 4
+    for r in range(i, n):
+        t = 0.0
+        for jj in range(indptr[r], indptr[r + 1]):
+            t += data[jj] * x[indices[jj]]
+        if accumulate:
+            out[r] += t
+        else:
+            out[r] = t

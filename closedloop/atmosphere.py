@@ -271,6 +271,10 @@ class AtmosphericLayer:
                 f"got shape {out.shape}, dtype {out.dtype}, "
                 f"C-contiguous={out.flags.c_contiguous}, writeable={out.flags.writeable}."
             )
+        return self._phase_into(out)
+
+    def _phase_into(self, out: np.ndarray) -> np.ndarray:
+        """:meth:`phase` into a checked ``out`` (the simulator's hot loop: no validation)."""
         vx, vy = self.velocity
         row0, fy = self._offsets(self.row_start, vy * self._t / self.pixel_scale)
         col0, fx = self._offsets(self.col_start, vx * self._t / self.pixel_scale)
@@ -348,7 +352,7 @@ class Atmosphere:
         """Move every layer to time ``t`` [s]."""
         t = check_real(t, "t", minimum=0.0)
         for layer in self.layers:
-            layer.evolve_until(t)
+            layer._t = t  # checked once above, not once per layer
         self._t = t
 
     def __len__(self) -> int:

@@ -2,9 +2,10 @@
 
 The residual seen in direction ``theta`` is ``sum_p r_p(x + h_p theta)`` over the pupil,
 ``r_p`` the residual map (turbulence minus DMs) of plane ``p``. Its piston-removed
-variance is computed for all directions at once by a numba kernel (one parallel pass,
-four bilinear reads per plane and pixel; the four weights are shared by the whole
-pupil because all planes have the pupil's pitch). The Strehl ratio is the extended
+variance is computed for all directions at once by a numba kernel (four bilinear reads
+per plane and pixel; the four weights are shared by the whole pupil because all planes
+have the pupil's pitch; a plane whose shift is the same in every direction, the ground
+plane, is read once for all directions). The Strehl ratio is the extended
 Marechal approximation ``exp(-sigma**2)`` at the science wavelength (Ross 2009, Appl.
 Opt. 48, 1812); :func:`fft_strehl` computes the PSF peak by FFT to check it.
 """
@@ -18,8 +19,10 @@ from closedloop.geometry import Geometry
 
 __all__ = ["ScienceCamera", "fft_strehl", "marechal_strehl"]
 
-#: pixel-directions above which the science kernel runs on threads
-_PARALLEL_WORK = 50_000
+#: pixel-directions above which the science kernel runs on threads: table1's 81 x 3228
+#: (0.26 M) take ~0.35 ms serially, and two threads were slower than one even idle
+#: (0.40 ms), much slower on a loaded machine (a thread wake-up costs up to milliseconds)
+_PARALLEL_WORK = 4_000_000
 
 
 def marechal_strehl(variance) -> np.ndarray:
@@ -79,10 +82,15 @@ class ScienceCamera:
         self._sizes = sizes
         self._offsets = np.concatenate([[0], np.cumsum(sizes ** 2)[:-1]]).astype(np.int64)
         self._flat = np.zeros(int((sizes ** 2).sum()))
-        # threads for the full field grid; a few directions run serially
+        # planes seen at the same place from every direction (the ground): read once
+        self._common = np.array([bool(np.all(self._shifts[:, p] == self._shifts[0, p]))
+                                 for p in range(sizes.size)], dtype=np.bool_)
+        self._base = np.zeros(mask.shape)
+        # threads only for very many pixel-directions (see _PARALLEL_WORK)
         self._parallel = len(self.directions) * int(mask.sum()) >= _PARALLEL_WORK
         self.mean = np.zeros(len(self.directions))
         self.variance = np.zeros(len(self.directions))
+        self._ones = np.ones(sizes.size)
 
     def plane_views(self) -> list[np.ndarray]:
         """Writable ``(n_p, n_p)`` views of the residual maps, one per plane, in one buffer."""
@@ -95,11 +103,11 @@ class ScienceCamera:
         Reads the maps written into :meth:`plane_views`; ``weights`` (per plane) scales
         each plane (default all 1).
         """
-        w = np.ones(len(self._sizes)) if weights is None else np.asarray(weights, float)
+        w = self._ones if weights is None else np.asarray(weights, float)
         kernel = (_kernels.direction_moments if self._parallel
                   else _kernels.direction_moments_serial)
-        kernel(self._flat, self._offsets, self._sizes, self._span_lo,
-                                   self._span_hi, self._shifts, w, self.mean, self.variance)
+        kernel(self._flat, self._offsets, self._sizes, self._span_lo, self._span_hi,
+               self._shifts, w, self._common, self._base, self.mean, self.variance)
         return self.variance
 
     def residual_phase(self, k: int) -> np.ndarray:

@@ -195,15 +195,18 @@ def _fill_planes(model: LoopModel, atm: Atmosphere, views: list[np.ndarray],
                  surfaces: list[np.ndarray] | None, layer_buf: dict) -> None:
     """Residual (or, with ``surfaces=None``, turbulence) map of every plane."""
     g = model.geometry
+    layers = atm.layers
     for p, plane in enumerate(g.planes):
         view = views[p]
         if not plane.layers:
             view[:] = 0.0
         else:
-            atm.layers[plane.layers[0]].phase(out=view)
+            # the views are the science camera's float64 C-contiguous plane maps, of
+            # their layers' grid size: phase()'s checks are skipped (hot loop)
+            layers[plane.layers[0]]._phase_into(view)
             for li in plane.layers[1:]:
                 buf = layer_buf.setdefault(p, np.empty_like(view))
-                atm.layers[li].phase(out=buf)
+                layers[li]._phase_into(buf)
                 view += buf
         if surfaces is not None:
             for d in plane.dms:

@@ -27,7 +27,8 @@ Ideal (``kind="ideal"``): the field-averaged residual on the DM's disc is projec
 the DM's modes by least squares; no aliasing (up to the projection's own) and no noise.
 
 The whole sensor is a fixed linear map from the plane maps to the slopes, built once as
-scipy sparse matrices (one per plane), so a measurement is a few sparse products.
+scipy sparse matrices (one per plane), so a measurement is a few sparse products (a numba
+kernel, :func:`closedloop._kernels.csr_matvec`, with the same bits as scipy's product).
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ import math
 import numpy as np
 from scipy import sparse
 
+from closedloop import _kernels
 from closedloop.dm import DeformableMirror
 from closedloop.geometry import ARCSEC, Geometry
 
@@ -107,6 +109,10 @@ class WavefrontSensor:
         else:
             self._build_ideal()
             self.noise_rms = 0.0
+        # the operators' CSR arrays as the matvec kernel takes them (unsigned columns)
+        self._csr = [(op.indptr.astype(np.int64), op.indices.astype(np.uint32),
+                      np.ascontiguousarray(op.data, dtype=np.float64))
+                     for op in self.operators]
         self.interaction = self.interaction_with(dm)
         if cfg.kind == "ideal" and dm.shapes is None:
             self.reconstructor = None  # identity: the measurement is the disc's phase
@@ -223,9 +229,17 @@ class WavefrontSensor:
 
         ``noise``: standard normal draws ``(n_measurements,)`` scaled here by ``noise_rms``.
         """
-        s = self.operators[0] @ plane_maps[0].ravel()
-        for op, r in zip(self.operators[1:], plane_maps[1:], strict=True):
-            s += op @ r.ravel()
+        if len(plane_maps) != len(self._csr):
+            raise ValueError(f"`plane_maps` must hold {len(self._csr)} maps; "
+                             f"got {len(plane_maps)}.")
+        # s = operators[0] @ r_0, then s += operators[p] @ r_p: scipy's arithmetic
+        s = np.empty(self.n_measurements)
+        for p, (indptr, indices, data) in enumerate(self._csr):
+            x = np.ascontiguousarray(plane_maps[p], dtype=np.float64).reshape(-1)
+            if x.size != self.operators[p].shape[1]:
+                raise ValueError(f"`plane_maps[{p}]` must have {self.operators[p].shape[1]} "
+                                 f"pixels; got {x.size}.")
+            _kernels.csr_matvec(indptr, indices, data, x, s, p > 0)
         if noise is not None and self.noise_rms > 0.0:
             s += self.noise_rms * noise
         if self._centred:
