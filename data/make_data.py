@@ -80,8 +80,7 @@ def kaos_closedloop(n_frames: int = N_FRAMES, seed: int = SEED):
                                      f"'{KAOS_PRESET}'), {total} * 0.5e-3, seed={seed})"
                                      f".logs['dm0.residual'][{KAOS_DISCARD}:]"),
                     "preset": KAOS_PRESET, "discarded_frames": KAOS_DISCARD,
-                    "closure_index": int(result.closure_index),
-                    "sr_peak_mean": float(np.mean(result.strehl_peak[KAOS_DISCARD:]))},
+                    "closure_index": int(result.closure_index)},
         **{ENVIRONMENT_KEY: environment()})
 
 
