@@ -44,7 +44,7 @@ from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
 
 __all__ = ["ORDERINGS", "control_orderings", "rtc_compute_time", "rtc_scaling", "LatencyModel",
-           "CompressionStudy", "compression_study"]
+           "CompressionStudy", "compression_study", "predictor_screen"]
 
 #: ordering name -> label
 ORDERINGS = {
@@ -320,6 +320,35 @@ class CompressionStudy:
         return int(self.n_values[ok[0]]) if ok.size else None
 
 
+def predictor_screen(config: SimulationConfig, candidates, *, duration: float, seed: int = 0,
+                     model: LoopModel | None = None) -> dict[str, float]:
+    """Mean SR peak of each predictor on the loop that controls every mode.
+
+    Trained predictors are fitted on the no-prediction run (after the closure and 15
+    ms, as the paper trains); the window of the means is that run's (from the closure
+    and 15 ms on). ``"none"`` and ``"oracle"`` are always included, as references.
+
+    Returns
+    -------
+    dict
+        name -> mean SR peak.
+    """
+    if model is None:
+        model = LoopModel(config)
+    reference = simulate(config, duration, model=model, seed=seed, progress=False)
+    start = _window_start(reference)
+    out = {"none": float(np.mean(reference.strehl_peak[start:]))}
+    for name in ("oracle", *candidates):
+        if name in out:
+            continue
+        pred = cl_predictors.make(name)
+        if cl_predictors.needs_training(pred):
+            pred.fit(np.asarray(reference.logs["dm0.pol"].coeffs[start:]))
+        r = simulate(config, duration, model=model, seed=seed, progress=False, predictor=pred)
+        out[name] = float(np.mean(r.strehl_peak[start:]))
+    return out
+
+
 def compression_study(config: SimulationConfig, *, n_values, duration: float,
                       orderings=tuple(ORDERINGS), predictor: str = "multivariate",
                       seed: int = 0, latency: LatencyModel | None = None,
@@ -363,10 +392,10 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     n_values = np.array(sorted({int(n) for n in n_values}), dtype=np.int64)
     if n_values.size == 0 or n_values[0] < 1 or n_values[-1] > m:
         raise ValueError(f"`n_values` must lie in 1..{m}; got {n_values.tolist()}.")
-    if predictor not in cl_predictors.NAMES or not cl_predictors.needs_training(
-            cl_predictors.make(predictor)):
-        raise ValueError(f"`predictor` must be a trained predictor name of "
-                         f"closedloop.predictors.NAMES; got {predictor!r}.")
+    if predictor not in cl_predictors.NAMES or predictor in ("none", "oracle"):
+        raise ValueError(f"`predictor` must be a predictor name of "
+                         f"closedloop.predictors.NAMES other than 'none' and 'oracle'; got "
+                         f"{predictor!r}.")
     orderings = tuple(orderings)
     latency = LatencyModel(readout=config.loop.delay) if latency is None else latency
     say = progress or (lambda text: None)

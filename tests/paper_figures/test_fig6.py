@@ -20,9 +20,10 @@ def figure():
                               orderings=("zernike", "kl", "kl-mi", "pca"),
                               predictor="linear-ls")
     n = np.array([27, 54, 108])
-    scaling = {"none": 1e-6 * n, "linear-ls": 1e-8 * n ** 2.0}
-    return fig6.Figure6(study=study, scaling_n=n, scaling_time=scaling, quick=True,
-                        elapsed=1.0)
+    scaling = {"none": 1e-6 * n, "linear-ls": 1e-8 * n ** 2.0, "multivariate": 5e-8 * n ** 2}
+    screen = {"none": 0.5, "oracle": 0.52, "linear-ls": 0.51}
+    return fig6.Figure6(study=study, screen=screen, scaling_n=n, scaling_time=scaling,
+                        quick=True, elapsed=1.0)
 
 
 def test_report_cells_are_the_study(figure):
@@ -48,6 +49,13 @@ def test_table_rows_are_the_study(figure):
     n_opt, sr_opt = s.optimum(max(s.orderings, key=lambda o: s.optimum(
         o, "linear-ls", latency=True)[1]), "linear-ls", latency=True)
     assert f"n = {n_opt}" in rows[1][2] and f"{sr_opt:.3f}" in rows[1][2]
+    # t = 5e-8 n^2 reaches a 0.5 ms frame at n = 100
+    assert "at about 100 modes" in rows[1][3]
+
+
+def test_report_names_the_screen(figure):
+    text = fig6.report(figure)
+    assert "linear-ls 0.5100" in text and "oracle 0.5200" in text
 
 
 def test_crossing_on_a_power_law(figure):
@@ -68,3 +76,9 @@ def test_main_refuses_to_overwrite(tmp_path, capsys):
     assert fig6.main(["--out", str(tmp_path)]) == 2
     assert "--overwrite" in capsys.readouterr().err
     assert (tmp_path / fig6.PDF_NAME).read_text() == "mine"
+
+
+def test_extrapolated_crossing_follows_the_power_law(figure):
+    # beyond the measured sizes: the last two points' law, t = 5e-8 n^2 (2 ms at 200)
+    assert figure.extrapolated_crossing("multivariate", 2e-3) == pytest.approx(200.0)
+    assert figure.extrapolated_crossing("multivariate", 5e-4) == pytest.approx(100.0)
