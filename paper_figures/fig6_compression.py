@@ -51,6 +51,11 @@ DURATION = 0.6          # s: 1200 frames, enough to fit a VAR(4) on 27 modes aft
 QUICK_DURATION = 0.6
 SCALING_N = (27, 50, 100, 200, 400)
 QUICK_SCALING_N = (27, 60)
+#: the sensitivity to the RTC's speed (the paper leaves it open): an RTC this much slower
+#: than this machine running our code, on two orderings and three mode counts
+SLOW_RTC_SPEED = 0.1
+SLOW_ORDERINGS = ("zernike", "pca")
+SLOW_N_VALUES = (6, 15, 27)
 SR_FRACTION = 0.9       # "modes needed": SR peak within this fraction of all modes'
 
 STYLES = {
@@ -76,6 +81,9 @@ class Figure6:
         Mode counts of the synthetic cost measurement.
     scaling_time : dict
         ``"none"`` / predictor name -> ``(K,)`` measured RTC step time [s].
+    slow_rtc : closedloop.compression.CompressionStudy or None
+        The same study with an RTC ``SLOW_RTC_SPEED`` times this machine's speed
+        (None with ``quick``).
     quick : bool
     elapsed : float
         Wall time of the computation [s].
@@ -85,6 +93,7 @@ class Figure6:
     screen: dict
     scaling_n: np.ndarray
     scaling_time: dict
+    slow_rtc: object
     quick: bool
     elapsed: float
 
@@ -127,7 +136,12 @@ class Figure6:
 def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
     """Run the study on the ``kaos`` preset and measure the cost scaling."""
     from closedloop import LoopModel, presets
-    from closedloop.compression import compression_study, predictor_screen, rtc_scaling
+    from closedloop.compression import (
+        LatencyModel,
+        compression_study,
+        predictor_screen,
+        rtc_scaling,
+    )
 
     start = time.perf_counter()
     config = presets.get(PRESET)
@@ -144,8 +158,15 @@ def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
     # the VAR(4) always: its n^2 step is where latency would start to bind
     scaling = {name: rtc_scaling(scaling_n, predictor=None if name == "none" else name)
                for name in dict.fromkeys(("none", best, VAR))}
+    slow = None
+    if not quick:
+        slow = compression_study(config, n_values=SLOW_N_VALUES, duration=duration,
+                                 predictor=best, seed=seed, progress=progress, model=model,
+                                 orderings=SLOW_ORDERINGS,
+                                 latency=LatencyModel(readout=config.loop.delay,
+                                                      rtc_speed=SLOW_RTC_SPEED))
     return Figure6(study=study, screen=screen, scaling_n=scaling_n, scaling_time=scaling,
-                   quick=quick, elapsed=time.perf_counter() - start)
+                   slow_rtc=slow, quick=quick, elapsed=time.perf_counter() - start)
 
 
 def plot(fig6: Figure6, out_dir: Path) -> list[Path]:
@@ -171,10 +192,19 @@ def plot(fig6: Figure6, out_dir: Path) -> list[Path]:
             if fig6.latency_binds():
                 ax.plot(s.n_values, table[(True, o, s.predictor)], ":",
                         color=st.get("color"), lw=0.9)
+        slow = fig6.slow_rtc
+        if slow is not None:
+            tab = slow.strehl_peak if table is s.strehl_peak else slow.strehl_field
+            for o in slow.orderings:
+                ax.plot(slow.n_values, tab[(True, o, slow.predictor)], "x:",
+                        color=STYLES.get(o, {}).get("color"), lw=0.9, ms=6)
         ax.set_xlabel("controlled modes n")
         ax.set_ylabel(f"{what} ({s.wavelength * 1e9:.0f} nm)")
         ax.set_ylim(0, None)
     axes[0].plot([], [], "k--", lw=0.9, label=f"dashed: with {s.predictor} prediction")
+    if fig6.slow_rtc is not None:
+        axes[0].plot([], [], "kx:", lw=0.9,
+                     label=f"x: with prediction, RTC x{fig6.slow_rtc.latency.rtc_speed:g}")
     axes[0].legend(fontsize=7)
     axes[0].set_title(f"(a) {s.config_name}: SR peak vs controlled modes")
     axes[1].set_title(f"(b) field average ({s.duration:g} s, seed {s.seed})")
@@ -328,10 +358,41 @@ def report(fig6: Figure6) -> str:
            " (without prediction it stays well below a frame)")
         + ": for DKIST/EST-class systems (over a thousand modes) compression would pay "
           "for prediction's latency, in a loop of KAOS's size it does not.")
-    best = {o: s.optimum(o, s.predictor, latency=True) for o in s.orderings}
+    best = {(o, name): s.optimum(o, name, latency=True)
+            for o in s.orderings for name in ("none", s.predictor)}
     screen_text = ", ".join(f"{k} {v:.4f}" for k, v in fig6.screen.items())
+    slow_text = ""
+    if fig6.slow_rtc is not None:
+        w = fig6.slow_rtc
+        delays = "; ".join(
+            f"{'no prediction' if k == 'none' else k}: "
+            + ", ".join(f"{d * 1e3:.4g}" for d in v) + " ms" for k, v in w.delay.items())
+        moves = "; ".join(
+            f"{ORDERINGS[o]}: "
+            + ", ".join(
+                f"n={n} {w.strehl_peak[(False, o, name)][i]:.3f} -> "
+                f"{w.strehl_peak[(True, o, name)][i]:.3f}"
+                for i, n in enumerate(w.n_values) for name in (w.predictor,))
+            for o in w.orderings)
+        gain = {o: w.strehl_peak[(True, o, w.predictor)] - w.strehl_peak[(True, o, "none")]
+                for o in w.orderings}
+        gains = "; ".join(f"{ORDERINGS[o]} n={n}: {gain[o][i]:+.3f}"
+                          for o in w.orderings for i, n in enumerate(w.n_values))
+        opt = ", ".join(f"{ORDERINGS[o]} n = {w.optimum(o, w.predictor, latency=True)[0]}"
+                        for o in w.orderings)
+        slow_text = (
+            f"\n\n**How much this moves with the RTC's speed** (the paper leaves it open): "
+            f"with an RTC {1 / w.latency.rtc_speed:g} times slower than this machine "
+            f"running our code (rtc_speed {w.latency.rtc_speed:g}; crosses in panels a and b), "
+            f"the modelled delays for n = {', '.join(map(str, w.n_values))} are {delays}. "
+            f"SR peak with {w.predictor}, fixed delay -> slow RTC: {moves}. Prediction's gain "
+            f"over no prediction with the same slow RTC: {gains}. Optimum n with prediction: "
+            f"{opt}.")
     quick_text = "(Quick settings: fewer orderings and mode counts.)" if fig6.quick else ""
-    best_text = ", ".join(f"{ORDERINGS[o]} n = {n} (SR {v:.3f})" for o, (n, v) in best.items())
+    best_text = "; ".join(
+        f"{ORDERINGS[o]}: n = {best[(o, 'none')][0]} (SR {best[(o, 'none')][1]:.3f}) / "
+        f"n = {best[(o, s.predictor)][0]} (SR {best[(o, s.predictor)][1]:.3f})"
+        for o in s.orderings)
     return f"""## Figure 6: compression x prediction (the study the paper proposes)
 
 ![Figure 6]({FIGURE_NAME})
@@ -361,7 +422,7 @@ matrix-vector product, POL and integrator update, predictor update), rtc_speed =
 real-time computer is a CPU core running this code (CPU real-time controllers such as
 DARC serve AO up to 8 m class; Basden et al. 2010, Appl. Opt. 49, 6354). Measured
 compute(n), no prediction / {s.predictor}: {comp}. {latency_text} Optimum n per ordering
-with prediction and the latency model: {best_text}.
+with the latency model, no prediction / {s.predictor}: {best_text}.{slow_text}
 
 {scale_text}
 

@@ -23,7 +23,7 @@ def figure():
     scaling = {"none": 1e-6 * n, "linear-ls": 1e-8 * n ** 2.0, "multivariate": 5e-8 * n ** 2}
     screen = {"none": 0.5, "oracle": 0.52, "linear-ls": 0.51}
     return fig6.Figure6(study=study, screen=screen, scaling_n=n, scaling_time=scaling,
-                        quick=True, elapsed=1.0)
+                        slow_rtc=None, quick=True, elapsed=1.0)
 
 
 def test_report_cells_are_the_study(figure):
@@ -82,3 +82,16 @@ def test_extrapolated_crossing_follows_the_power_law(figure):
     # beyond the measured sizes: the last two points' law, t = 5e-8 n^2 (2 ms at 200)
     assert figure.extrapolated_crossing("multivariate", 2e-3) == pytest.approx(200.0)
     assert figure.extrapolated_crossing("multivariate", 5e-4) == pytest.approx(100.0)
+
+
+def test_slow_rtc_section_quotes_its_study(figure, tmp_path):
+    import dataclasses
+
+    s = figure.study
+    with_slow = dataclasses.replace(figure, slow_rtc=s)
+    text = fig6.report(with_slow)
+    o = s.orderings[0]
+    i = len(s.n_values) - 1
+    assert (f"n={s.n_values[i]} {s.strehl_peak[(False, o, 'linear-ls')][i]:.3f} -> "
+            f"{s.strehl_peak[(True, o, 'linear-ls')][i]:.3f}") in text
+    assert fig6.plot(with_slow, tmp_path)[0].stat().st_size > 5_000
