@@ -167,13 +167,18 @@ def rtc_compute_time(model: LoopModel, basis: np.ndarray, predictor=None, *,
                             integration_frames=loop.integration_frames, predictor=predictor)
     rng = np.random.default_rng(seed)
     slopes = rng.standard_normal((64, r_n.shape[1])) * 1e-7
+    return _time_steps(controller, r_n, slopes, repeats, batches)
+
+
+def _time_steps(controller, reconstructor, slopes, repeats: int, batches: int) -> float:
+    """Median over ``batches`` of the mean time [s] of one reconstruct + control step."""
     for k in range(50):  # warm-up (JIT, caches)
-        controller.step(r_n @ slopes[k % 64])
+        controller.step(reconstructor @ slopes[k % len(slopes)])
     times = []
     for _ in range(batches):
         t = time.perf_counter()
         for k in range(repeats):
-            controller.step(r_n @ slopes[k % 64])
+            controller.step(reconstructor @ slopes[k % len(slopes)])
         times.append((time.perf_counter() - t) / repeats)
     return float(np.median(times))
 
@@ -213,15 +218,7 @@ def rtc_scaling(n_values, *, predictor: str | None = None, measurements_per_mode
         controller = Controller(n, gain=gain, leak=0.0, delay_frames=1.0,
                                 integration_frames=1.0, predictor=pred)
         slopes = rng.standard_normal((64, n_meas))
-        for k in range(20):
-            controller.step(r @ slopes[k % 64])
-        times = []
-        for _ in range(3):
-            t = time.perf_counter()
-            for k in range(repeats):
-                controller.step(r @ slopes[k % 64])
-            times.append((time.perf_counter() - t) / repeats)
-        out.append(float(np.median(times)))
+        out.append(_time_steps(controller, r, slopes, repeats, 3))
     return np.array(out)
 
 
