@@ -387,6 +387,7 @@ def report(fig5: Figure5, *, suffix: str = "") -> str:
     """Figure 5's section of the report (Markdown); the image is the ``suffix`` one."""
     ev, label, units = fig5.evaluation, fig5.label, fig5.units
     ms, t_unit = fig5.frame_ms, fig5.t_unit
+    rate_text = f"{fig5.rate:g} Hz" if fig5.rate else "an unknown rate (no --rate)"
     cols = [int(np.flatnonzero(ev.horizons == h)[0]) for h in REPORT_HORIZONS]
     table = ["| predictor | " + " | ".join(f"h={h}" for h in REPORT_HORIZONS) + " |",
              "|---|" + "---|" * len(REPORT_HORIZONS)]
@@ -429,7 +430,7 @@ def report(fig5: Figure5, *, suffix: str = "") -> str:
 
 ![Figure 5]({output_names(suffix)[0]})
 
-Input: {fig5.source}, {fig5.n_frames} frames x {fig5.n_modes} modes at {fig5.rate:g} Hz
+Input: {fig5.source}, {fig5.n_frames} frames x {fig5.n_modes} modes at {rate_text}
 (1 frame = {ms:.3g} {t_unit}). Panels (a)-(c) show the first logged mode, **{label}**
 (tip): the paper's caption says "Zernike 1", which in Noll's numbering is piston, a mode
 no wavefront sensor measures, so we take the first mode the log contains.

@@ -69,3 +69,13 @@ def test_user_log_errors_are_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.strip().splitlines()[-1].startswith("paper_figures: error: Figure 5")
     assert "7020 frames" in err
+
+
+def test_user_log_without_a_rate_counts_in_frames(tmp_path):
+    _csv(tmp_path / "norate.csv", 7100, modes=3)
+    assert main(["--out", str(tmp_path / "o"), "--only", "5", "--log",
+                 str(tmp_path / "norate.csv"), "--in-units", "nm", "--wavelength", "5e-7"]) == 0
+    report = (tmp_path / "o" / "report.md").read_text()
+    assert "at an unknown rate" in report
+    row = [line for line in report.splitlines() if "forecast horizon" in line][0]
+    assert " frames" in row and " ms (" not in row.split("|")[4]
