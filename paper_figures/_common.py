@@ -7,7 +7,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["load_log", "figure_main", "save_png_pdf"]
+__all__ = ["load_log", "figure_main", "save_png_pdf", "suffixed"]
 
 
 def load_log(log_path: Path | None):
@@ -19,6 +19,12 @@ def load_log(log_path: Path | None):
     from modalinfo.io import load
 
     return load(log_path), f"`{log_path}`"
+
+
+def suffixed(name: str, suffix: str) -> str:
+    """``name`` with ``suffix`` before its extension (``fig1.png`` -> ``fig1_x.png``)."""
+    stem, dot, ext = name.rpartition(".")
+    return f"{stem}{suffix}{dot}{ext}"
 
 
 def save_png_pdf(fig, out_dir: Path, png_name: str, pdf_name: str) -> list[Path]:

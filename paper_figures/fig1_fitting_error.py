@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, load_log, save_png_pdf
+from paper_figures._common import figure_main, load_log, save_png_pdf, suffixed
 
 SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy"), ("zernike", "mi_greedy"),
          ("kl-data", "pca"), ("zernike", "variance")]
@@ -54,14 +54,9 @@ LABELS = {
 }
 
 
-def _suffixed(name: str, suffix: str) -> str:
-    stem, dot, ext = name.rpartition(".")
-    return f"{stem}{suffix}{dot}{ext}"
-
-
 def output_names(suffix: str = "") -> list[str]:
     """Every file :func:`plot` (and so :func:`make`) writes for ``suffix``."""
-    return [_suffixed(FIGURE_NAME, suffix), _suffixed(PDF_NAME, suffix)]
+    return [suffixed(FIGURE_NAME, suffix), suffixed(PDF_NAME, suffix)]
 
 
 @dataclass(frozen=True)

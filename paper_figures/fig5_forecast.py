@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, load_log, save_png_pdf
+from paper_figures._common import figure_main, load_log, save_png_pdf, suffixed
 
 FIGURE_NAME = "fig5_forecast.png"
 PDF_NAME = "fig5_forecast.pdf"
@@ -50,14 +50,9 @@ PAPER_HORIZON_MS = (2.0, 3.0)
 ARMA_NAME = "ARMA(2,3)"
 
 
-def _suffixed(name: str, suffix: str) -> str:
-    stem, dot, ext = name.rpartition(".")
-    return f"{stem}{suffix}{dot}{ext}"
-
-
 def output_names(suffix: str = "") -> list[str]:
     """Every file :func:`plot` (and so :func:`make`) writes for ``suffix``: PNG, PDF, JSON."""
-    return [_suffixed(name, suffix) for name in (FIGURE_NAME, PDF_NAME, JSON_NAME)]
+    return [suffixed(name, suffix) for name in (FIGURE_NAME, PDF_NAME, JSON_NAME)]
 
 
 def _predictors():
