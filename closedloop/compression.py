@@ -55,9 +55,6 @@ ORDERINGS = {
     "pca": "data K-L (PCA of the POL)",
 }
 
-#: the paper trains after 15 ms; the averaging window of the study starts there too
-_START_TIME = 15e-3
-
 
 def _single_dm(model: LoopModel) -> None:
     if len(model.dms) != 1 or model.dms[0].shapes is None:
@@ -101,7 +98,7 @@ def control_orderings(reference: SimulationResult, *, orderings=tuple(ORDERINGS)
                          f"{unknown[0]!r}.")
     if reference.predictor != "none" or len(reference.config.dms) != 1:
         raise ValueError("`reference` must be a no-prediction run of a single-DM config.")
-    start = _window_start(reference)
+    start = cl_predictors.training_start(reference)
     log = reference.logs["dm0.pol"][start:]
     dm_diameter = float(log.metadata["dm_diameter_m"])
     l0 = min(layer.outer_scale for layer in reference.config.layers)
@@ -126,19 +123,10 @@ def control_orderings(reference: SimulationResult, *, orderings=tuple(ORDERINGS)
                                 n_resamples=0).order
             out[name] = np.array(kl.zernike_from_kl)[:, order]
         elif name == "pca":
-            pol = np.asarray(log.coeffs, dtype=np.float64)
-            values, vectors = np.linalg.eigh(pol.T @ pol / pol.shape[0])
-            vectors = vectors[:, np.argsort(values)[::-1]]
-            # sign convention: largest component positive (the span is what matters)
-            signs = np.sign(vectors[np.argmax(np.abs(vectors), axis=0), np.arange(m)])
-            out[name] = vectors * signs
+            # modalinfo's data K-L: eigenvectors of the POL's mean-square matrix
+            out[name] = np.array(basis_for_log("kl-data", log, zernike_basis=zb)
+                                 .zernike_from_kl)
     return out
-
-
-def _window_start(result: SimulationResult) -> int:
-    """First frame of the averaging window: after the closure and after 15 ms."""
-    return max(result.closure_index,
-               int(np.searchsorted(result.times, _START_TIME, side="right")))
 
 
 def _full_reconstructor(model: LoopModel) -> np.ndarray:
@@ -333,14 +321,12 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
     if model is None:
         model = LoopModel(config)
     reference = simulate(config, duration, model=model, seed=seed, progress=False)
-    start = _window_start(reference)
+    start = cl_predictors.training_start(reference)
     out = {"none": float(np.mean(reference.strehl_peak[start:]))}
     for name in ("oracle", *candidates):
         if name in out:
             continue
-        pred = cl_predictors.make(name)
-        if cl_predictors.needs_training(pred):
-            pred.fit(np.asarray(reference.logs["dm0.pol"].coeffs[start:]))
+        pred = cl_predictors.train(cl_predictors.make(name), reference)
         r = simulate(config, duration, model=model, seed=seed, progress=False, predictor=pred)
         out[name] = float(np.mean(r.strehl_peak[start:]))
     return out
@@ -370,7 +356,7 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     orderings : iterable of str
         Names from :data:`ORDERINGS`.
     predictor : str
-        A name of :data:`closedloop.predictors.NAMES` that needs training.
+        A name of :data:`closedloop.predictors.NAMES` other than "none" and "oracle".
     seed : int
     latency : LatencyModel or None
         Default: ``LatencyModel(readout=config.loop.delay)``.
@@ -405,14 +391,13 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     t0 = time.perf_counter()
     say("reference run (every mode, no prediction)")
     reference = simulate(config, duration, model=model, seed=seed, progress=False)
-    start = _window_start(reference)
+    start = cl_predictors.training_start(reference)
     bases = control_orderings(reference, orderings=orderings, seed=seed)
     timings["orderings"] = time.perf_counter() - t0
 
     def fitted(basis, ref_run):
-        pred = cl_predictors.make(predictor)
-        pol = ref_run.logs["dm0.pol"].coeffs[_window_start(ref_run):]
-        return pred.fit(np.asarray(pol) @ basis)
+        # the paper's training data, projected on the controlled subspace
+        return cl_predictors.make(predictor).fit(cl_predictors.training_data(ref_run) @ basis)
 
     # measured RTC step time per n (it does not depend on the ordering)
     t0 = time.perf_counter()

@@ -19,7 +19,7 @@ from closedloop.result import SimulationResult
 from modalinfo.forecast import PersistencePredictor
 from modalinfo.forecast.presets import PRESETS, make_predictor
 
-__all__ = ["NAMES", "make", "train", "needs_training", "training_data"]
+__all__ = ["NAMES", "make", "train", "needs_training", "training_data", "training_start"]
 
 #: every name ``closedloop run --predictor`` accepts
 NAMES: tuple[str, ...] = ("none", "persistence", "oracle", *PRESETS)
@@ -46,6 +46,12 @@ def needs_training(predictor) -> bool:
     return predictor is not None and not isinstance(predictor, str)
 
 
+def training_start(result: SimulationResult) -> int:
+    """First frame the paper would train on: after the loop closure and after 15 ms."""
+    return max(result.closure_index,
+               int(np.searchsorted(result.times, _PAPER_TRAINING_START, side="right")))
+
+
 def training_data(reference: SimulationResult) -> np.ndarray:
     """POL coefficients ``(T, M)`` of every DM after the loop closure (and after 15 ms)."""
     if reference.predictor != "none":
@@ -53,8 +59,7 @@ def training_data(reference: SimulationResult) -> np.ndarray:
                          f"{reference.predictor!r}.")
     pols = [reference.logs[f"dm{i}.pol"].coeffs for i in range(len(reference.config.dms))]
     pol = np.hstack(pols)
-    start = max(reference.closure_index,
-                int(np.searchsorted(reference.times, _PAPER_TRAINING_START, side="right")))
+    start = training_start(reference)
     if pol.shape[0] - start < 20:
         raise ValueError(f"the reference run has {pol.shape[0] - start} frames after its "
                          "loop closure; run it longer to train a predictor.")

@@ -94,9 +94,9 @@ def test_orderings_are_orthogonal_changes_of_basis(bases):
 def test_pca_ordering_matches_scikit_learn(reference, bases):
     from sklearn.decomposition import PCA
 
-    from closedloop.compression import _window_start
+    from closedloop.predictors import training_start
 
-    pol = np.asarray(reference.logs["dm0.pol"].coeffs)[_window_start(reference):]
+    pol = np.asarray(reference.logs["dm0.pol"].coeffs)[training_start(reference):]
     # our PCA is uncentred (second moments, as modalinfo's data K-L); centre explicitly
     # to compare with scikit-learn on the same matrix
     pca = PCA().fit(np.vstack([pol, -pol]))
