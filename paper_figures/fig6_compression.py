@@ -306,21 +306,24 @@ def report(fig6: Figure6) -> str:
     from closedloop.compression import ORDERINGS
 
     s = fig6.study
-    lines = ["| ordering | " + " | ".join(f"n={n}" for n in s.n_values) + " | modes for "
-             f"{SR_FRACTION:.0%} of all-mode SR |", "|---|" + "---|" * (len(s.n_values) + 1)]
-    for o in s.orderings:
-        cells = [f"{a:.3f} / {b:.3f}" for a, b in zip(s.strehl_peak[(False, o, 'none')],
-                                                      s.strehl_peak[(False, o, s.predictor)],
-                                                      strict=True)]
-        lines.append(f"| {ORDERINGS[o]} | " + " | ".join(cells)
-                     + f" | {_fmt_n(s.modes_to_reach(SR_FRACTION, o))} |")
-    field_lines = ["| ordering | " + " | ".join(f"n={n}" for n in s.n_values) + " |",
-                   "|---|" + "---|" * len(s.n_values)]
-    for o in s.orderings:
-        field_lines.append(f"| {ORDERINGS[o]} | " + " | ".join(
-            f"{a:.3f} / {b:.3f}" for a, b in zip(s.strehl_field[(False, o, 'none')],
-                                                  s.strehl_field[(False, o, s.predictor)],
-                                                  strict=True)) + " |")
+    def sr_table(table, extra=None) -> list[str]:
+        # "no prediction / with prediction" per n, one row per ordering
+        head = "| ordering | " + " | ".join(f"n={n}" for n in s.n_values) + " |"
+        rule = "|---|" + "---|" * len(s.n_values)
+        if extra:
+            head, rule = head + f" {extra[0]} |", rule + "---|"
+        out = [head, rule]
+        for o in s.orderings:
+            cells = [f"{a:.3f} / {b:.3f}" for a, b in zip(table[(False, o, "none")],
+                                                          table[(False, o, s.predictor)],
+                                                          strict=True)]
+            out.append(f"| {ORDERINGS[o]} | " + " | ".join(cells) + " |"
+                       + (f" {extra[1](o)} |" if extra else ""))
+        return out
+
+    lines = sr_table(s.strehl_peak, (f"modes for {SR_FRACTION:.0%} of all-mode SR",
+                                     lambda o: _fmt_n(s.modes_to_reach(SR_FRACTION, o))))
+    field_lines = sr_table(s.strehl_field)
     comp = ", ".join(f"n={n}: {a * 1e6:.1f} / {b * 1e6:.1f} us" for n, a, b in
                      zip(s.n_values, s.compute_time["none"], s.compute_time[s.predictor],
                          strict=True))

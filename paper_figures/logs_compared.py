@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from modalinfo.bases import noll_to_zernike
+
 __all__ = ["LogStatistics", "LogsCompared", "statistics", "compute", "report"]
 
 
@@ -61,7 +63,7 @@ def statistics(log, name: str) -> LogStatistics:
     x = x - x.mean(axis=0)
     var = x.var(axis=0)
     modes = [int(m) for m in log.modes]
-    radial = np.array([int(np.ceil((-3 + np.sqrt(9 + 8 * (j - 1))) / 2)) for j in modes])
+    radial, _ = noll_to_zernike(np.array(modes))
     std = x / np.sqrt(var)
     lagged = std[:-1].T @ std[1:] / (x.shape[0] - 1)
     off = np.abs(lagged - np.diag(np.diag(lagged)))
