@@ -306,12 +306,14 @@ class CompressionStudy:
 
 
 def predictor_screen(config: SimulationConfig, candidates, *, duration: float, seed: int = 0,
-                     model: LoopModel | None = None) -> dict[str, float]:
+                     model: LoopModel | None = None,
+                     reference: SimulationResult | None = None) -> dict[str, float]:
     """Mean SR peak of each predictor on the loop that controls every mode.
 
     Trained predictors are fitted on the no-prediction run (after the closure and 15
     ms, as the paper trains); the window of the means is that run's (from the closure
     and 15 ms on). ``"none"`` and ``"oracle"`` are always included, as references.
+    ``reference``: that no-prediction run, if already made (same config, duration, seed).
 
     Returns
     -------
@@ -320,7 +322,8 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
     """
     if model is None:
         model = LoopModel(config)
-    reference = simulate(config, duration, model=model, seed=seed, progress=False)
+    if reference is None:
+        reference = simulate(config, duration, model=model, seed=seed, progress=False)
     start = cl_predictors.training_start(reference)
     out = {"none": float(np.mean(reference.strehl_peak[start:]))}
     for name in ("oracle", *candidates):
@@ -335,7 +338,8 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
 def compression_study(config: SimulationConfig, *, n_values, duration: float,
                       orderings=tuple(ORDERINGS), predictor: str = "multivariate",
                       seed: int = 0, latency: LatencyModel | None = None,
-                      model: LoopModel | None = None, progress=None) -> CompressionStudy:
+                      model: LoopModel | None = None, progress=None,
+                      reference: SimulationResult | None = None) -> CompressionStudy:
     """Run the compression x prediction grid on one atmosphere.
 
     For every ordering and every ``n`` in ``n_values``: a no-prediction run controlling
@@ -363,6 +367,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     model : LoopModel or None
     progress : callable or None
         Called with a short text before every run.
+    reference : SimulationResult or None
+        The no-prediction run that controls every mode (same config, duration and
+        seed), if already made.
 
     Returns
     -------
@@ -389,8 +396,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                         control_basis=basis, predictor=pred)
 
     t0 = time.perf_counter()
-    say("reference run (every mode, no prediction)")
-    reference = simulate(config, duration, model=model, seed=seed, progress=False)
+    if reference is None:
+        say("reference run (every mode, no prediction)")
+        reference = simulate(config, duration, model=model, seed=seed, progress=False)
     start = cl_predictors.training_start(reference)
     bases = control_orderings(reference, orderings=orderings, seed=seed)
     timings["orderings"] = time.perf_counter() - t0

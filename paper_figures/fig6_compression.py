@@ -135,7 +135,7 @@ class Figure6:
 
 def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
     """Run the study on the ``kaos`` preset and measure the cost scaling."""
-    from closedloop import LoopModel, presets
+    from closedloop import LoopModel, presets, simulate
     from closedloop.compression import (
         LatencyModel,
         compression_study,
@@ -147,12 +147,14 @@ def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
     config = presets.get(PRESET)
     model = LoopModel(config)
     duration = QUICK_DURATION if quick else DURATION
+    # one no-prediction all-mode run serves the screen and every study
+    reference = simulate(config, duration, model=model, seed=seed, progress=False)
     screen = predictor_screen(config, QUICK_CANDIDATES if quick else CANDIDATES,
-                              duration=duration, seed=seed, model=model)
+                              duration=duration, seed=seed, model=model, reference=reference)
     best = max((n for n in screen if n not in ("none", "oracle")), key=screen.get)
     study = compression_study(config, n_values=QUICK_N_VALUES if quick else N_VALUES,
                               duration=duration, predictor=best, seed=seed,
-                              progress=progress, model=model,
+                              progress=progress, model=model, reference=reference,
                               **({"orderings": QUICK_ORDERINGS} if quick else {}))
     scaling_n = np.array(QUICK_SCALING_N if quick else SCALING_N)
     # the VAR(4) always: its n^2 step is where latency would start to bind
@@ -162,7 +164,7 @@ def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
     if not quick:
         slow = compression_study(config, n_values=SLOW_N_VALUES, duration=duration,
                                  predictor=best, seed=seed, progress=progress, model=model,
-                                 orderings=SLOW_ORDERINGS,
+                                 orderings=SLOW_ORDERINGS, reference=reference,
                                  latency=LatencyModel(readout=config.loop.delay,
                                                       rtc_speed=SLOW_RTC_SPEED))
     return Figure6(study=study, screen=screen, scaling_n=scaling_n, scaling_time=scaling,
