@@ -143,20 +143,18 @@ def main(argv: list[str] | None = None) -> int:
 
     loaded = {}
     if needs_log:
-        from modalinfo.cli._common import hints_from_args, input_notes
-        from modalinfo.io import load
+        from modalinfo.cli import CommandError
+        from modalinfo.cli._common import input_notes, load_log
 
         try:
             for path, suffix, key, desc in logs:
+                # a user's log with the CLI's input hints; the shipped ones as they are
+                log = load_log(path, args if key == "user" else None, announce=False)
                 if key == "user":
-                    log = load(path, fmt=args.fmt, dataset=args.dataset,
-                               **hints_from_args(args))
                     for note in input_notes(log, path):  # what was assumed, as the CLI
                         sys.stderr.write(f"paper_figures: note: {note}\n")
-                else:
-                    log = load(path)
                 loaded[key] = ((log, f"`{path}`"), suffix, desc)
-        except (ValueError, TypeError, OSError, KeyError) as exc:
+        except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
             message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
             sys.stderr.write(f"paper_figures: error: --log: {message}\n")
             return 2
