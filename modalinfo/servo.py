@@ -18,6 +18,12 @@ with ``y`` the open-loop WFS measurement and ``n`` the WFS noise. From it:
   noise), and :func:`noise_propagation` its mean square over the band;
 - :func:`max_stable_gain`, :func:`closed_loop_bandwidth`, :func:`gain_for_bandwidth`.
 
+Every function here is bounded in time: delays are limited to :data:`MAX_DELAY_FRAMES`
+frames (a loop whose command arrives seconds after its measurement is not an AO
+loop, and the characteristic polynomial's degree grows with the delay), the stability
+limit is found on the unit circle (cost linear in the delay, not the cubic cost of
+polynomial roots) and the noise propagation by FFTs of bounded size.
+
 :mod:`modalinfo.telemetry.synthetic` (spectral telemetry) and the MCAO simulator
 ``closedloop`` both use these functions, so the loop they simulate is the loop analysed
 here. Reference: Madec, P.-Y. 1999, in *Adaptive Optics in Astronomy* (Roddier ed.), ch. 6.
@@ -29,11 +35,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize, signal
+from scipy import optimize
 
 from modalinfo._validation import as_float_array, check_choice, check_real
 
 __all__ = [
+    "MAX_DELAY_FRAMES",
     "LoopBandwidth",
     "check_loop",
     "command_weights",
@@ -47,6 +54,15 @@ __all__ = [
     "gain_for_bandwidth",
 ]
 
+#: Longest loop delay [frames] the servo model accepts: beyond it every computation
+#: would still be bounded but slow (the loop polynomial has degree ~ delay), and the
+#: largest stable integrator gain is below 2e-3 (pi / (2 delay)), no AO loop.
+MAX_DELAY_FRAMES = 1000.0
+#: Largest polynomial degree for which pole moduli come from ``np.roots`` (cubic cost).
+_MAX_ROOTS_DEGREE = 64
+#: Largest FFT in :func:`noise_propagation` (2**22 points, 0.1 s).
+_MAX_FFT = 2 ** 22
+
 _MODELS = ("sampled", "continuous")
 _DEFINITIONS = ("rejection_0db", "closed_loop_3db")
 
@@ -54,11 +70,16 @@ _DEFINITIONS = ("rejection_0db", "closed_loop_3db")
 def check_loop(gain, delay_frames, integration_frames) -> tuple[float, float, float]:
     """Validate the loop parameters and return them as floats.
 
-    ``gain`` > 0, ``delay_frames`` >= 0 and ``integration_frames`` in (0, 1]; a bad
-    value raises ``ValueError`` naming it.
+    ``gain`` > 0, ``delay_frames`` in [0, :data:`MAX_DELAY_FRAMES`] and
+    ``integration_frames`` in (0, 1]; a bad value raises ``ValueError`` naming it.
     """
     gain = check_real(gain, "gain", minimum=0.0, strict_min=True)
     delay_frames = check_real(delay_frames, "delay_frames", minimum=0.0)
+    if delay_frames > MAX_DELAY_FRAMES:
+        raise ValueError(
+            f"`delay_frames` must be <= {MAX_DELAY_FRAMES:g} frames (the longest delay the "
+            f"servo model accepts: the stable gain there is below 2e-3); got "
+            f"{delay_frames:g}.")
     integration_frames = check_real(integration_frames, "integration_frames", minimum=0.0,
                                     maximum=1.0, strict_min=True)
     return gain, delay_frames, integration_frames
@@ -90,12 +111,64 @@ def loop_denominator(gain: float, weights: np.ndarray) -> np.ndarray:
     return a
 
 
-def _pole_radius(gain: float, delay_frames: float, integration_frames: float) -> float:
+def _pole_radius(gain: float, delay_frames: float, integration_frames: float) -> float | None:
+    """Largest closed-loop pole modulus; None when the polynomial is too long for roots."""
     a = loop_denominator(gain, command_weights(delay_frames, integration_frames))
     a = np.trim_zeros(a, "b")
     if a.size < 2:
         return 0.0
+    if a.size - 1 > _MAX_ROOTS_DEGREE:
+        return None
     return float(np.max(np.abs(np.roots(a))))
+
+
+def _crossing_gain(weights: np.ndarray) -> float:
+    """Smallest gain > 0 that puts a pole of ``1 - z**-1 + g W(z)`` on the unit circle.
+
+    A pole sits at ``z = exp(i w)`` for the gain ``G(w) = -(1 - exp(-i w)) / W(exp(i w))``
+    when ``G(w)`` is real and positive; for small gains every pole is inside (the
+    integrator's at ``1 - g``, the others at 0), so the smallest such ``G`` is the
+    stability limit (the gain margin of the Nyquist criterion). ``Im G`` changes sign
+    at most once per ``pi / len(W)`` in ``w``, so a grid 16 times finer than that
+    brackets every crossing; each is refined by Brent's method. ``W`` has at most three
+    non-zero taps, so the cost is linear in the delay.
+    """
+    taps = np.flatnonzero(weights)
+    tw = weights[taps]
+
+    def g_of(w):
+        w = np.asarray(w, dtype=np.float64)
+        wz = np.exp(-1j * np.multiply.outer(w, taps)) @ tw
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return -(1.0 - np.exp(-1j * w)) / wz
+
+    n = max(4096, 16 * weights.size)
+    grid = np.linspace(0.0, np.pi, n + 1)[1:-1]  # w = pi apart, below
+    with np.errstate(over="ignore"):
+        values = g_of(grid)
+    candidates = []
+    # w = pi: G = -2 / W(-1) is real (real coefficients); none if W(-1) = 0
+    w_pi = float(np.sum(tw * (-1.0) ** taps))
+    if w_pi < -1e-12:
+        candidates.append(-2.0 / w_pi)
+    im = values.imag
+    hits = np.abs(im) <= 1e-12 * np.abs(values)  # a crossing on a grid point
+    candidates.extend(values.real[hits & (values.real > 0.0)].tolist())
+    change = np.flatnonzero(np.sign(im[:-1]) * np.sign(im[1:]) < 0)
+    change = change[(values.real[change] > 0.0) | (values.real[change + 1] > 0.0)]
+    if change.size:
+        coarse = np.minimum(np.abs(values[change]), np.abs(values[change + 1]))
+        # refine only the brackets that can hold the smallest gain
+        for i in change[coarse <= 2.0 * coarse.min()]:
+            w0 = float(optimize.brentq(lambda w: g_of(w).imag, grid[i], grid[i + 1],
+                                       xtol=1e-15, rtol=4 * np.finfo(float).eps))
+            value = g_of(w0)
+            if np.isfinite(value.real) and value.real > 0.0 and abs(value.imag) <= (
+                    1e-8 * abs(value)):
+                candidates.append(float(value.real))
+    if not candidates:  # pragma: no cover - an integrator with a delay always has one
+        return math.inf
+    return min(candidates)
 
 
 def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0) -> float:
@@ -104,37 +177,39 @@ def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0) 
     Parameters
     ----------
     delay_frames : float
-        Delay between the end of the WFS integration and the command update [frames].
+        Delay between the end of the WFS integration and the command update [frames],
+        at most :data:`MAX_DELAY_FRAMES`.
     integration_frames : float
         WFS integration time [frames], in (0, 1].
 
     Returns
     -------
     float
-        Gain at which the largest closed-loop pole reaches the unit circle (to 1e-10).
+        Gain at which a closed-loop pole reaches the unit circle (relative accuracy
+        ~1e-12): the smallest positive real value of ``-(1 - z**-1) / W(z)`` on the unit
+        circle. Cost linear in the delay (no polynomial roots).
     """
     _, delay_frames, integration_frames = check_loop(1.0, delay_frames, integration_frames)
-
-    def excess(g):
-        return _pole_radius(g, delay_frames, integration_frames) - 1.0
-
-    hi = 1.0
-    while excess(hi) < 0.0:
-        hi *= 2.0
-    lo = 1e-9
-    return float(optimize.brentq(excess, lo, hi, xtol=1e-12))
+    return _crossing_gain(command_weights(delay_frames, integration_frames))
 
 
 def check_stable(gain: float, delay_frames: float, integration_frames: float) -> None:
     """Raise ``ValueError`` (with the stability limit) if the sampled loop is unstable."""
+    gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
     radius = _pole_radius(gain, delay_frames, integration_frames)
-    if radius >= 1.0 - 1e-12:
+    if radius is not None:
+        unstable = radius >= 1.0 - 1e-12
+    else:
         limit = max_stable_gain(delay_frames, integration_frames)
+        unstable = gain >= limit * (1.0 - 1e-12)
+    if unstable:
+        limit = max_stable_gain(delay_frames, integration_frames)
+        pole = ("" if radius is None
+                else f" (largest closed-loop pole modulus {radius:.4f} >= 1)")
         raise ValueError(
-            f"`gain` = {gain} makes the loop unstable (largest closed-loop pole modulus "
-            f"{radius:.4f} >= 1) for delay_frames={delay_frames}, "
-            f"integration_frames={integration_frames}; the loop is stable for gain < "
-            f"{limit:.4f}."
+            f"`gain` = {gain} makes the loop unstable{pole} for delay_frames="
+            f"{delay_frames}, integration_frames={integration_frames}; the loop is stable "
+            f"for gain < {limit:.4f}."
         )
 
 
@@ -243,7 +318,7 @@ def noise_propagation(*, gain: float, delay_frames: float,
     """Mean square of :func:`noise_transfer_function` over the band: command / noise variance.
 
     ``(1 / pi) int_0^pi |N(e**(i w))|**2 dw``, computed exactly as the sum of the squared
-    impulse response of ``N`` (Parseval), which converges geometrically for a stable loop.
+    impulse response of ``N`` (Parseval), from FFTs of growing size until it settles.
 
     Parameters
     ----------
@@ -258,13 +333,24 @@ def noise_propagation(*, gain: float, delay_frames: float,
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
     check_stable(gain, delay_frames, integration_frames)
     a = loop_denominator(gain, command_weights(delay_frames, integration_frames))
-    radius = _pole_radius(gain, delay_frames, integration_frames)
-    # enough samples for the slowest pole to decay below 1e-17 of its start
-    n = int(min(10_000_000, max(1000, math.ceil(-40.0 / math.log(max(radius, 1e-12))))))
-    impulse = np.zeros(n)
-    impulse[0] = gain
-    h = signal.lfilter([1.0], a, impulse)
-    return float(np.dot(h, h))
+    # the mean of |g / D|**2 over n points of the unit circle is the sum of squares of
+    # the impulse response aliased modulo n, exact to O(r**n) for the slowest pole r:
+    # double n until it settles (bounded by _MAX_FFT; each FFT is a Ctrl-C point)
+    n = 1 << max(10, int(a.size - 1).bit_length() + 2)
+    previous = math.nan
+    while True:
+        power = gain ** 2 / np.abs(np.fft.rfft(a, n)) ** 2  # bins 0 .. n/2 of n
+        value = float((power[0] + power[-1] + 2.0 * power[1:-1].sum()) / n)
+        if abs(value - previous) <= 1e-13 * value:
+            return value
+        if n >= _MAX_FFT:
+            raise ValueError(
+                f"`gain` = {gain} is too close to the stability limit for the noise "
+                f"propagation to converge (delay_frames={delay_frames}, "
+                f"integration_frames={integration_frames}; limit "
+                f"{max_stable_gain(delay_frames, integration_frames):.6g}).")
+        previous = value
+        n *= 2
 
 
 @dataclass(frozen=True)
