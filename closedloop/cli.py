@@ -17,6 +17,8 @@ another atmosphere instead).
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -39,8 +41,52 @@ def _progress(args) -> bool | None:
     return False if args.quiet else None
 
 
+def _memory_limit(args) -> float | None:
+    """``--memory-limit`` in bytes (``4GB``, ``500MB``, ``2e9``), or None (the default share)."""
+    text = getattr(args, "memory_limit", None)
+    if text is None:
+        return None
+    from dask.utils import parse_bytes
+
+    try:
+        value = float(parse_bytes(text))
+    except (ValueError, TypeError):
+        value = -1.0
+    if not value > 0:
+        raise CommandError(f"--memory-limit must be a size such as 4GB or 500MB; got '{text}'")
+    return value
+
+
+def _check_resources(args, config, *, oracle: bool = False, budget: bool = False):
+    """Estimate the run and refuse it past the memory limit (before any work)."""
+    from closedloop.resources import check_resources
+
+    if not args.duration > 0 or args.duration != args.duration:
+        raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    try:
+        return check_resources(config, args.duration, limit=_memory_limit(args),
+                               oracle=oracle, budget=budget)
+    except ValueError as exc:
+        raise CommandError(f"{exc} (--memory-limit raises the limit)") from None
+
+
+def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
+    """Refuse an output whose directory is not writable or lacks ``need_bytes`` free."""
+    if path is None:
+        return
+    from closedloop.resources import format_bytes
+
+    parent = Path(path).parent
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise CommandError(f"{flag} '{path}': directory '{parent}' is not writable")
+    free = shutil.disk_usage(parent).free
+    if free < need_bytes:
+        raise CommandError(f"{flag} '{path}': about {format_bytes(need_bytes)} is needed, "
+                           f"'{parent}' has {format_bytes(free)} free")
+
+
 def _run_with(config, name, duration, seed, train_seed, progress, reference=None, model=None,
-              budget_every=None):
+              budget_every=None, memory_limit=None):
     from closedloop import predictors
     from closedloop.simulation import LoopModel, simulate
 
@@ -49,18 +95,23 @@ def _run_with(config, name, duration, seed, train_seed, progress, reference=None
     if predictors.needs_training(predictor):
         if reference is None or (train_seed is not None and train_seed != seed):
             reference = simulate(config, duration, seed=seed if train_seed is None else train_seed,
-                                 model=model, progress=progress)
+                                 model=model, progress=progress, memory_limit=memory_limit)
         predictors.train(predictor, reference)
     return simulate(config, duration, predictor=predictor, seed=seed, model=model,
-                    progress=progress, budget_every=budget_every)
+                    progress=progress, budget_every=budget_every, memory_limit=memory_limit)
 
 
 def _summary_line(result) -> str:
     s = result.summary()
+    numbers = (f"field-mean SR {s['strehl_field_mean']:.3f}, corrected FoV d = "
+               f"{s['corrected_fov_diameter_arcmin']:.2f}' (SR > 0.3), "
+               f"{s['steps_per_second']:.0f} steps/s")
+    if not s["closed"]:
+        # never "closure at 0 ms": say what happened, then the numbers for what they are
+        return (f"{result.predictor}: loop {s['loop_status']}; SR peak "
+                f"{s['strehl_peak_mean']:.3f} (second half of the run), {numbers}")
     return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} after closure at "
-            f"{s['closure_time_s'] * 1e3:.0f} ms, field-mean SR {s['strehl_field_mean']:.3f}, "
-            f"corrected FoV d = {s['corrected_fov_diameter_arcmin']:.2f}' (SR > 0.3), "
-            f"{s['steps_per_second']:.0f} steps/s")
+            f"{s['closure_time_s'] * 1e3:.0f} ms, {numbers}")
 
 
 # --------------------------------------------------------------------- subcommands
@@ -77,6 +128,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                    help="train predictors on the no-prediction run of this seed "
                         "(default: the same atmosphere, as in the paper)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--memory-limit", default=None, metavar="SIZE",
+                   help="refuse runs estimated to need more (e.g. 8GB; default: half the "
+                        "available memory; see `closedloop config --estimate`)")
 
 
 def _cmd_run(args) -> int:
@@ -86,12 +140,14 @@ def _cmd_run(args) -> int:
         raise CommandError(f"--predictor must be one of {', '.join(predictors.NAMES)}; "
                            f"got '{args.predictor}'")
     check_output(args.out, args.overwrite, suffixes=(".h5", ".hdf5"), flag="--out")
-    if args.duration <= 0:
+    if not args.duration > 0:
         raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
     config = _config(args)
+    est = _check_resources(args, config, oracle=args.predictor == "oracle")
+    _check_writable(args.out, est.parts["logs"], "--out")
     seed = config.seed if args.seed is None else args.seed
     result = _run_with(config, args.predictor, args.duration, seed, args.train_seed,
-                       _progress(args))
+                       _progress(args), memory_limit=_memory_limit(args))
     if args.out is not None:
         result.save(args.out, overwrite=args.overwrite)
     print(_summary_line(result))
@@ -107,26 +163,28 @@ def _cmd_compare(args) -> int:
     if bad or not names:
         raise CommandError(f"--predictors must be a comma list of {', '.join(predictors.NAMES)}; "
                            f"got '{args.predictors}'")
-    if args.duration <= 0:
+    if not args.duration > 0:
         raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
     config = _config(args)
+    _check_resources(args, config, oracle="oracle" in names)
+    limit = _memory_limit(args)
     seed = config.seed if args.seed is None else args.seed
     model = LoopModel(config)
     reference = simulate(config, args.duration, seed=seed, model=model,
-                         progress=_progress(args))
+                         progress=_progress(args), memory_limit=limit)
     rows = []
     for name in names:
         try:
             result = reference if name == "none" else _run_with(
                 config, name, args.duration, seed, args.train_seed, _progress(args),
-                reference=reference, model=model)
+                reference=reference, model=model, memory_limit=limit)
         except ValueError as exc:  # e.g. too few frames to train it: say so, go on
             rows.append((name, str(exc).splitlines()[0]))
             continue
         s = result.summary()
         rows.append((name, s["strehl_peak_mean"], s["strehl_field_mean"],
                      s["corrected_fov_diameter_arcmin"], s["closure_time_s"] * 1e3,
-                     s["steps_per_second"]))
+                     s["steps_per_second"], s["loop_status"]))
     print(f"{config.name}, seed {seed}, {args.duration:g} s; SR at "
           f"{config.wavelength * 1e9:.0f} nm after loop closure")
     print(f"{'predictor':<14}{'SR peak':>9}{'SR field':>10}{'FoV d [arcmin]':>16}"
@@ -135,8 +193,10 @@ def _cmd_compare(args) -> int:
         if len(row) == 2:
             print(f"{row[0]:<14}not run: {row[1]}")
             continue
-        print(f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{row[3]:>16.2f}{row[4]:>14.0f}"
-              f"{row[5]:>9.0f}")
+        closure = f"{row[4]:>14.0f}" if row[6] == "closed" else f"{'-':>14}"
+        line = (f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{row[3]:>16.2f}{closure}"
+                f"{row[5]:>9.0f}")
+        print(line if row[6] == "closed" else f"{line}  loop {row[6]}")
     return 0
 
 
@@ -163,6 +223,11 @@ def _cmd_export(args) -> int:
 
     out = args.out
     check_output(out, args.overwrite, suffixes=(".fits", ".fit", ".fts"), flag="OUT (AOT FITS)")
+    if not args.result.is_file():
+        raise CommandError(f"RESULT '{args.result}' does not exist or is not a file")
+    # the AOT file holds the result's logs and measurements plus the model's matrices:
+    # ask for twice the result's size
+    _check_writable(out, 2.0 * args.result.stat().st_size, "OUT (AOT FITS)")
     result = SimulationResult.load(args.result)
     path = result.to_aot(out, overwrite=args.overwrite)
     loops = ", ".join(f"dm{i}" for i in range(len(result.config.dms)))
@@ -175,6 +240,16 @@ def _cmd_config(args) -> int:
     from closedloop.config import config_text, save_config
 
     config = _config(args)
+    if args.estimate:
+        from closedloop.resources import available_memory, estimate, format_bytes
+
+        if not args.duration > 0:
+            raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+        print(f"{config.name}, {args.duration:g} s: "
+              + estimate(config, args.duration).describe())
+        print(f"  machine: {format_bytes(available_memory())} available; runs are refused "
+              "past half of it (run/compare --memory-limit)")
+        return 0
     if args.out is None:
         sys.stdout.write(config_text(config, args.fmt))
         return 0
@@ -249,6 +324,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fmt", choices=("toml", "json"), default="toml")
     p.add_argument("--out", type=Path, help="write to this file instead of stdout")
     p.add_argument("--overwrite", action="store_true")
+    p.add_argument("--estimate", action="store_true",
+                   help="print the memory and time a run of --duration would need")
+    p.add_argument("--duration", type=float, default=1.0,
+                   help="simulated time [s] for --estimate (default 1)")
     p.set_defaults(_run=_cmd_config)
     return parser
 

@@ -253,6 +253,12 @@ class LoopConfig:
                                              minimum=0, strict_min=True,
                                              maximum=self.time_step))
         _set(self, "delay", _real(self.delay, p + "delay", minimum=0))
+        from modalinfo.servo import MAX_DELAY_FRAMES
+
+        if self.delay > MAX_DELAY_FRAMES * self.time_step * (1 + 1e-12):
+            _fail(p + "delay", f"<= {MAX_DELAY_FRAMES:g} frames (loop.time_step = "
+                  f"{self.time_step:g} s: at most {MAX_DELAY_FRAMES * self.time_step:g} s; the "
+                  "stable gain there is below 2e-3, no AO loop)", self.delay)
         _set(self, "gain", _real(self.gain, p + "gain", minimum=0, strict_min=True))
         _set(self, "leak", _real(self.leak, p + "leak", minimum=0, maximum=0.999))
         _set(self, "model_error", _real(self.model_error, p + "model_error", minimum=0))
@@ -373,6 +379,7 @@ class SimulationConfig:
             if abs(w.altitude - self.dms[w.dm].altitude) > 1e-6:
                 _fail(f"wfss[{i}].altitude", f"the altitude of the DM it drives "
                       f"(dms[{w.dm}].altitude = {self.dms[w.dm].altitude:g} m)", w.altitude)
+        _check_sampling(self)
 
     # ---------------------------------------------------------------- plain form
     def to_dict(self) -> dict[str, Any]:
@@ -416,6 +423,47 @@ class SimulationConfig:
     def d_over_r0(self) -> float:
         """Total ``D / r0`` at ``r0_wavelength`` (zenith): ``(sum (D/r0_l)**(5/3))**(3/5)``."""
         return sum(layer.d_over_r0 ** (5 / 3) for layer in self.layers) ** 0.6
+
+
+#: pupil pixels per cycle of the finest Zernike a DM uses, and per SH subaperture
+_PIXELS_PER_CYCLE = 2
+_PIXELS_PER_SUBAPERTURE = 2
+
+
+def _check_sampling(cfg: SimulationConfig) -> None:
+    """Refuse modes or subapertures finer than the pupil grid can represent.
+
+    A Zernike of radial order ``n`` has ``n`` zero crossings across its disc: with fewer
+    than 2 pixels per cycle (``n > pixels across / 2``) its sampled shape aliases onto
+    lower modes and the DM's modes stop being independent. A Shack-Hartmann gradient
+    needs at least 2 pixels per subaperture.
+    """
+    from closedloop.geometry import dm_disc_diameter, wfs_meta_pupil
+    from modalinfo.bases import noll_to_zernike
+
+    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+    for i, dm in enumerate(cfg.dms):
+        if dm.kind != "zernike":
+            continue
+        across = dm_disc_diameter(cfg, i) / dx
+        n_max = int(across // _PIXELS_PER_CYCLE)
+        order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
+        if order > n_max:
+            limit = (n_max + 1) * (n_max + 2) // 2 - 1
+            _fail(f"dms[{i}].n_modes", f"<= {limit} (Zernike radial order <= pixels across "
+                  f"the DM's disc / {_PIXELS_PER_CYCLE} = {n_max} for {across:.0f} pixels at "
+                  f"telescope.n_pixels = {cfg.telescope.n_pixels}; {dm.n_modes} modes reach "
+                  f"order {order})", dm.n_modes)
+    for j, w in enumerate(cfg.wfss):
+        if w.kind != "shack_hartmann":
+            continue
+        across = wfs_meta_pupil(cfg, j) / dx
+        limit = int(across // _PIXELS_PER_SUBAPERTURE)
+        if w.n_subapertures > limit:
+            _fail(f"wfss[{j}].n_subapertures", f"<= {limit} (at least "
+                  f"{_PIXELS_PER_SUBAPERTURE} pixels per subaperture across the "
+                  f"{across:.0f}-pixel meta-pupil at telescope.n_pixels = "
+                  f"{cfg.telescope.n_pixels})", w.n_subapertures)
 
 
 def _plain(obj) -> dict[str, Any]:

@@ -40,7 +40,27 @@ import numpy as np
 
 from modalinfo.servo import check_loop, check_stable, command_weights
 
-__all__ = ["Controller", "lead_frames"]
+__all__ = ["Controller", "PredictorFault", "lead_frames", "PREDICTOR_FAULT_ACTIONS"]
+
+#: what the loop does when a predictor's output is unusable (``on_predictor_fault``)
+PREDICTOR_FAULT_ACTIONS = ("raise", "hold")
+
+
+class PredictorFault(ValueError):  # noqa: N818 - a fault, not an error of the loop
+    """A predictor returned an unusable forecast inside the loop.
+
+    Attributes
+    ----------
+    step : int
+        Loop frame at which it happened (0-based).
+    mode : int or None
+        Index of the first offending mode (all DMs concatenated), None for a shape fault.
+    """
+
+    def __init__(self, message: str, *, step: int, mode: int | None):
+        super().__init__(message)
+        self.step = step
+        self.mode = mode
 
 
 def lead_frames(delay_frames: float, integration_frames: float) -> float:
@@ -60,11 +80,21 @@ class Controller:
     delay_frames, integration_frames : float
         Loop timing in frames.
     predictor : modalinfo.forecast.Predictor or None
-        Fitted predictor of the POL coefficients, or None.
+        Fitted predictor of the POL coefficients, or None. Its output at every step must
+        be finite and of shape exactly ``(predictor.horizon, n_modes)`` (a ``(n_modes,)``
+        vector is refused, not reshaped).
+    on_predictor_fault : {"raise", "hold"}
+        A wrong shape or a non-finite value raises :class:`PredictorFault` naming the
+        predictor, the step and the mode (``"raise"``), or keeps the last command for
+        that frame and counts it in :attr:`n_faults` (``"hold"``).
     """
 
     def __init__(self, n_modes: int, *, gain: float, leak: float, delay_frames: float,
-                 integration_frames: float, predictor=None):
+                 integration_frames: float, predictor=None, on_predictor_fault: str = "raise"):
+        if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
+            raise ValueError(f"`on_predictor_fault` must be one of "
+                             f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
+                             f"{on_predictor_fault!r}.")
         gain, delay_frames, integration_frames = check_loop(gain, delay_frames,
                                                             integration_frames)
         check_stable(gain, delay_frames, integration_frames)
@@ -74,6 +104,10 @@ class Controller:
         self.lead = lead_frames(delay_frames, integration_frames)
         self.predictor = predictor
         self.n_modes = n_modes
+        self.on_predictor_fault = on_predictor_fault
+        #: frames whose forecast was unusable and whose command was held ("hold")
+        self.n_faults = 0
+        self._step = 0
         # history of past commands c_{k-1}, c_{k-2}, ... (newest first)
         self._history = np.zeros((self.weights.size, n_modes))
         if predictor is not None:
@@ -84,6 +118,7 @@ class Controller:
                     f"{self.lead:g} frames rounded up); got {horizon}."
                 )
             predictor.reset()
+            self._expected = (horizon, n_modes)
 
     @property
     def command(self) -> np.ndarray:
@@ -112,10 +147,21 @@ class Controller:
         """
         seen = self.seen_commands()
         pol = measured + seen
+        step = self._step
+        self._step += 1
         if forecast_pol is not None:
             forecast = forecast_pol
         elif self.predictor is not None:
-            forecast = self._forecast(pol)
+            try:
+                forecast = self._forecast(pol, step)
+            except PredictorFault:
+                if self.on_predictor_fault == "raise":
+                    raise
+                self.n_faults += 1
+                command = self._history[0].copy()  # hold: the mirror keeps c_{k-1}
+                self._history[1:] = self._history[:-1]
+                self._history[0] = command
+                return command, pol, pol
         else:
             forecast = pol
         command = (1.0 - self.leak) * self._history[0] + self.gain * (forecast - seen)
@@ -123,9 +169,27 @@ class Controller:
         self._history[0] = command
         return command, pol, forecast
 
-    def _forecast(self, pol: np.ndarray) -> np.ndarray:
-        out = np.asarray(self.predictor.update(pol), dtype=np.float64)
-        out = out.reshape(out.shape[0], -1)
+    def _forecast(self, pol: np.ndarray, step: int) -> np.ndarray:
+        raw = self.predictor.update(pol)
+        name = type(self.predictor).__name__
+        hint = " (on_predictor_fault='hold' keeps the last command instead)"
+        try:
+            out = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise PredictorFault(f"predictor {name} returned {type(raw).__name__} at step "
+                                 f"{step}, not an array of numbers{hint}.", step=step,
+                                 mode=None) from exc
+        if out.shape != self._expected:
+            raise PredictorFault(
+                f"predictor {name} returned shape {out.shape} at step {step}; the loop "
+                f"needs exactly {self._expected} (horizons x modes){hint}.",
+                step=step, mode=None)
+        # one pass per step (~2 us for 10 x 200): the loop never runs on NaN or inf
+        if not np.isfinite(out).all():
+            h, m = np.argwhere(~np.isfinite(out))[0]
+            raise PredictorFault(
+                f"predictor {name} returned {out[h, m]} at step {step} for mode {m} "
+                f"(horizon {h + 1}){hint}.", step=step, mode=int(m))
         lo = math.floor(self.lead)
         frac = self.lead - lo
         below = pol if lo == 0 else out[lo - 1]

@@ -22,7 +22,8 @@ import numpy as np
 
 from closedloop.config import SimulationConfig
 
-__all__ = ["ARCSEC", "Geometry", "field_samples", "science_directions"]
+__all__ = ["ARCSEC", "Geometry", "field_samples", "science_directions", "plane_layout",
+           "dm_disc_diameter", "wfs_meta_pupil"]
 
 #: radians per arcsecond
 ARCSEC = math.pi / (180.0 * 3600.0)
@@ -58,6 +59,64 @@ def field_samples(field_of_view: float, rings: int) -> np.ndarray:
                 pts.append((q + r / 2.0, r * math.sqrt(3.0) / 2.0))
     pts = np.array(pts)
     return pts * (field_of_view / 2.0) / (rings - 1)
+
+
+def _airmass(config: SimulationConfig) -> float:
+    return 1.0 / math.cos(math.radians(config.telescope.zenith_angle))
+
+
+def wfs_meta_pupil(config: SimulationConfig, j: int) -> float:
+    """Return the meta-pupil WFS ``j`` senses [m]: ``D + 2 h sec(z) tan(fov / 2)``."""
+    w = config.wfss[j]
+    return config.telescope.diameter + 2.0 * w.altitude * _airmass(config) * math.tan(
+        w.field_of_view / 2.0 * ARCSEC)
+
+
+def dm_disc_diameter(config: SimulationConfig, i: int) -> float:
+    """Return the controlled disc of DM ``i`` [m]: configured, or its WFS's meta-pupil.
+
+    Needs no grid (the config's physical checks and resource estimate call it).
+    """
+    dm = config.dms[i]
+    if dm.diameter is not None:
+        return dm.diameter
+    j = next(j for j, w in enumerate(config.wfss) if w.dm == i)
+    # the DM's own altitude (equal to its WFS's, checked by the config)
+    w = config.wfss[j]
+    return config.telescope.diameter + 2.0 * dm.altitude * _airmass(config) * math.tan(
+        w.field_of_view / 2.0 * ARCSEC)
+
+
+def plane_layout(config: SimulationConfig) -> list[tuple[float, int, tuple, tuple]]:
+    """``(altitude, n, layers, dms)`` of every plane, lowest first, without any grid.
+
+    ``n`` is the plane's side in pixels: the farthest reach of any beam at that altitude
+    (science corners, WFS fields, the DM's disc) plus a margin, with the parity of
+    ``n_pixels`` (see :class:`Geometry`).
+    """
+    tel = config.telescope
+    airmass = _airmass(config)
+    dx = tel.diameter / tel.n_pixels
+    half = config.field.size / 2.0 if config.field.n_points > 1 else 0.0
+    sci = math.hypot(half, half) * ARCSEC  # farthest science direction (a grid corner)
+    layer_alts = [float(layer.altitude) * airmass for layer in config.layers]
+    dm_alts = [float(dm.altitude) * airmass for dm in config.dms]
+    out = []
+    for h in sorted(set(layer_alts) | set(dm_alts)):
+        reach = tel.diameter / 2.0 + h * sci
+        for w in config.wfss:
+            hj = float(w.altitude) * airmass
+            rho = w.field_of_view / 2.0 * ARCSEC
+            reach = max(reach, tel.diameter / 2.0 + hj * rho + abs(h - hj) * rho)
+        for i, hd in enumerate(dm_alts):
+            if hd == h:
+                reach = max(reach, dm_disc_diameter(config, i) / 2.0)
+        n = 2 * math.ceil(reach / dx) + 2 * _MARGIN
+        if n % 2 != tel.n_pixels % 2:
+            n += 1
+        out.append((h, n, tuple(i for i, a in enumerate(layer_alts) if a == h),
+                    tuple(i for i, a in enumerate(dm_alts) if a == h)))
+    return out
 
 
 @dataclass(frozen=True)
@@ -129,30 +188,9 @@ class Geometry:
         self.directions = science_directions(config.field.size, config.field.n_points)
         self.wfs_samples = [field_samples(w.field_of_view, w.field_samples)
                             for w in config.wfss]
-
-        alts = sorted({self.los(layer.altitude) for layer in config.layers}
-                      | {self.los(dm.altitude) for dm in config.dms})
-        # farthest reach of any beam at each altitude: science corners and WFS fields
-        sci = float(np.max(np.hypot(*self.directions.T))) * ARCSEC if len(self.directions) else 0
-        planes = []
-        for h in alts:
-            reach = tel.diameter / 2.0 + h * sci
-            for w in config.wfss:
-                hj = self.los(w.altitude)
-                rho = w.field_of_view / 2.0 * ARCSEC
-                reach = max(reach, tel.diameter / 2.0 + hj * rho + abs(h - hj) * rho)
-            for i, dm in enumerate(config.dms):
-                if self.los(dm.altitude) == h:
-                    reach = max(reach, self.dm_diameter(i) / 2.0)
-            n = 2 * math.ceil(reach / self.dx) + 2 * _MARGIN
-            if n % 2 != self.n_pixels % 2:
-                n += 1
-            planes.append(Plane(
-                altitude=h, n=n,
-                layers=tuple(i for i, lay in enumerate(config.layers)
-                             if self.los(lay.altitude) == h),
-                dms=tuple(i for i, dm in enumerate(config.dms) if self.los(dm.altitude) == h),
-            ))
+        planes = [Plane(altitude=h, n=n, layers=layers, dms=dms)
+                  for h, n, layers, dms in plane_layout(config)]
+        alts = [plane.altitude for plane in planes]
         self.planes = planes
         self.layer_plane = [alts.index(self.los(lay.altitude)) for lay in config.layers]
         self.dm_plane = [alts.index(self.los(dm.altitude)) for dm in config.dms]
@@ -171,12 +209,7 @@ class Geometry:
 
     def dm_diameter(self, i: int) -> float:
         """Return the controlled disc of DM ``i`` [m] (configured, or its WFS's meta-pupil)."""
-        dm = self.config.dms[i]
-        if dm.diameter is not None:
-            return dm.diameter
-        wfs = next(w for w in self.config.wfss if w.dm == i)
-        return self.diameter + 2.0 * self.los(dm.altitude) * math.tan(
-            wfs.field_of_view / 2.0 * ARCSEC)
+        return dm_disc_diameter(self.config, i)
 
     def plane_coords(self, p: int) -> np.ndarray:
         """Pixel-centre coordinates of plane ``p`` along one axis [m]."""

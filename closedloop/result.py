@@ -12,6 +12,16 @@ Derived views
 - Loop closure (:attr:`closure_index`): the first frame from which the SR peak stays
   for 5 ms above its steady-state band's floor, the median of the second half of the
   run minus three robust standard deviations (1.4826 MAD). Detected, not fixed.
+- Whether the loop closed (:attr:`closed`, :attr:`diverged`, :attr:`loop_status`):
+  the loop *diverged* if the residual is not finite, ends (mean of the last quarter of
+  the run, field mean) above 3 times the open-loop level (frame 0, before any command
+  reached the mirrors), or, having once fallen below half that level, grows to more
+  than :data:`GROWTH_FACTOR` times its lowest 5-ms mean;
+  it *closed* if it did not diverge, the run has at least 4 frames, a closure was
+  detected in the first half of the run, and the residual after it is below half the
+  open-loop level. A run that did neither "did not close" (too short, or a loop that
+  never corrects, e.g. a delay as long as the run). The headline numbers of a run that
+  did not close are those of its second half, and the summary says so.
 - :meth:`strehl_map`: time average of the Strehl after closure, on the field grid.
 - :meth:`corrected_fov_diameter`: the area ``A`` where the time-averaged SR exceeds a
   threshold, on the field grid refined 16 times by bilinear interpolation (the grid's
@@ -33,7 +43,13 @@ import numpy as np
 from closedloop.config import SimulationConfig
 from modalinfo.telemetry import ModalLog
 
-__all__ = ["SimulationResult"]
+__all__ = ["SimulationResult", "GROWTH_FACTOR"]
+
+#: a residual whose last-quarter mean exceeds this many times its lowest 5-ms mean grew:
+#: the loop diverged (a closed loop's 5-ms means scatter by a factor ~2 at most)
+GROWTH_FACTOR = 4.0
+#: a residual ending above this many times the open-loop level diverged
+_ABOVE_OPEN_LOOP = 3.0
 
 _FORMAT = "closedloop-result"
 _FORMAT_VERSION = 1
@@ -159,6 +175,62 @@ class SimulationResult:
                 return k
         return n // 2
 
+    def _closure_found(self) -> bool:
+        peak = self.strehl_peak
+        n = peak.size
+        if n < 4:
+            return False
+        k = self.closure_index
+        if k < n // 2:
+            return True
+        # the search's fallback (n // 2) unless the band holds from there
+        tail = peak[n // 2:]
+        med = np.median(tail)
+        low = med - 3.0 * 1.4826 * np.median(np.abs(tail - med))
+        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        return bool(np.all(peak[k:k + window] >= low))
+
+    @property
+    def loop_status(self) -> str:
+        """``"closed"``, ``"diverged: <why>"`` or ``"did not close: <why>"`` (module docstring)."""
+        v = self.residual_variance.mean(axis=1)  # field mean per frame [rad^2]
+        n = v.size
+        if not np.all(np.isfinite(v)):
+            first = int(np.argmin(np.isfinite(v)))
+            return f"diverged: the residual is not finite from frame {first}"
+        open_loop = float(v[0])
+        tail = float(v[n - max(1, n // 4):].mean())
+        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        lowest = float(np.convolve(v, np.ones(window) / window, mode="valid").min()
+                       if n >= 2 * window else v.min())
+        # an uncorrected loop wanders around the open-loop level (frame 0, one sample):
+        # only well above it is a loop that amplifies
+        if n > 1 and tail > _ABOVE_OPEN_LOOP * open_loop:
+            return (f"diverged: the residual at the end ({tail:.3g} rad^2, field mean) is "
+                    f"{tail / open_loop:.1f} times the open-loop level ({open_loop:.3g} rad^2)")
+        if lowest < 0.5 * open_loop and tail > GROWTH_FACTOR * lowest:
+            return (f"diverged: the residual grew to {tail / lowest:.1f} times its lowest "
+                    f"5-ms mean ({tail:.3g} against {lowest:.3g} rad^2, field mean)")
+        if n < 4:
+            return f"did not close: {n} frames are too few to detect the loop closure"
+        if not self._closure_found():
+            return "did not close: the SR peak reaches no steady state in the first half of the run"
+        steady = float(v[self.closure_index:].mean())
+        if steady >= 0.5 * open_loop:
+            return (f"did not close: the residual ({steady:.3g} rad^2, field mean) stays above "
+                    f"half the open-loop level ({open_loop:.3g} rad^2)")
+        return "closed"
+
+    @property
+    def closed(self) -> bool:
+        """True if the loop closed (see :attr:`loop_status`)."""
+        return self.loop_status == "closed"
+
+    @property
+    def diverged(self) -> bool:
+        """True if the loop diverged (see :attr:`loop_status`)."""
+        return self.loop_status.startswith("diverged")
+
     @property
     def closure_time(self) -> float:
         """Time of :attr:`closure_index` [s]."""
@@ -227,13 +299,23 @@ class SimulationResult:
         return signal.welch(x - x.mean(), fs=rate, nperseg=nper)
 
     def summary(self) -> dict[str, Any]:
-        """Headline numbers: SR peak and field mean after closure, FoV diameter, speed."""
+        """Headline numbers: SR peak and field mean after closure, FoV diameter, speed.
+
+        ``closed`` / ``diverged`` / ``loop_status`` say whether the loop closed; if it did
+        not, ``closure_time_s`` is NaN and the numbers are those from the detected start
+        (the second half of the run when no closure was found).
+        """
         start = self.closure_index
+        status = self.loop_status
+        closed = status == "closed"
         return {
             "predictor": self.predictor,
             "seed": self.seed,
             "frames": int(self.times.size),
-            "closure_time_s": self.closure_time,
+            "closed": closed,
+            "diverged": status.startswith("diverged"),
+            "loop_status": status,
+            "closure_time_s": self.closure_time if closed else float("nan"),
             "strehl_peak_mean": float(self.strehl_peak[start:].mean()),
             "strehl_field_mean": float(self.strehl[start:].mean()),
             "corrected_fov_diameter_arcmin": self.corrected_fov_diameter(),

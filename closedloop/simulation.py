@@ -30,7 +30,7 @@ import numpy as np
 from closedloop import _kernels
 from closedloop.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.config import SimulationConfig
-from closedloop.control import Controller
+from closedloop.control import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
 from closedloop.dm import DeformableMirror
 from closedloop.geometry import Geometry
 from closedloop.result import SimulationResult
@@ -226,6 +226,8 @@ def simulate(
     callback: Callable[[int], None] | None = None,
     budget_every: int | None = None,
     control_basis: np.ndarray | None = None,
+    on_predictor_fault: str = "raise",
+    memory_limit: float | None = None,
 ) -> SimulationResult:
     """Run the closed loop for ``duration`` seconds.
 
@@ -233,7 +235,8 @@ def simulate(
     ----------
     config : SimulationConfig
     duration : float
-        Simulated time [s] (a whole number of frames is run: ``round(duration / T)``).
+        Simulated time [s] (a whole number of frames is run: ``round(duration / T)``);
+        longer than ``T + loop.delay`` (the first command reaches the mirror then).
     predictor : modalinfo.forecast.Predictor, "oracle" or None
         Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
         must be fitted and its ``horizon`` must cover the lead. ``"oracle"`` uses the
@@ -247,14 +250,15 @@ def simulate(
         Reuse the set-up of an earlier run of the same config.
     snapshot_every : int or None
         Every this many frames, store the residual pupil phase of ``snapshot_directions``
-        (for FFT-PSF checks).
+        (for FFT-PSF checks); an int in [1, number of frames].
     snapshot_directions : (n, 2) array or None
         Directions [arcsec] of the snapshots (default: the optical axis).
     callback : callable or None
         Called with the frame index after every frame.
     budget_every : int or None
         Estimate the error budget (:mod:`closedloop.budget`) every this many frames;
-        ``result.budget`` then holds it (None otherwise). Costs about one more loop.
+        ``result.budget`` then holds it (None otherwise). Costs about one more loop. An
+        int in [1, ceil(frames / 2)], so that frames after the loop closure are probed.
     control_basis : (M, n) array or None
         Control only the span of these ``n`` orthonormal columns of the space of every
         DM's mode coefficients (``M = model.n_modes``, DM 0 first): the reconstructed
@@ -263,12 +267,33 @@ def simulate(
         ``B c_n``. The logs keep all ``M`` modes (the POL of an uncontrolled direction is
         its measured residual). None: every mode (``B = I``). Used by the compression
         study (:mod:`closedloop.compression`).
+    on_predictor_fault : {"raise", "hold"}
+        The predictor's output is checked at every step (shape exactly ``(horizon, M)``,
+        every value finite). ``"raise"``: stop with
+        :class:`closedloop.control.PredictorFault` naming the predictor, the step and the
+        mode. ``"hold"``: keep the last command for that frame and go on; a
+        ``RuntimeWarning`` at the end says how many frames were held.
+    memory_limit : float or None
+        Refuse (``MemoryError``, before any work) a run whose estimated memory
+        (:func:`closedloop.resources.estimate`) exceeds this many bytes; None: half the
+        machine's available memory.
 
     Returns
     -------
     SimulationResult
     """
     duration = check_real(duration, "duration", minimum=0.0, strict_min=True)
+    if not isinstance(config, SimulationConfig):
+        raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
+    if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
+        raise ValueError(f"`on_predictor_fault` must be one of "
+                         f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
+                         f"{on_predictor_fault!r}.")
+    _check_run_length(config, duration, budget_every, snapshot_every)
+    from closedloop.resources import check_resources
+
+    check_resources(config, duration, limit=memory_limit, oracle=isinstance(predictor, str),
+                    budget=bool(budget_every), setup=model is None)
     if model is None:
         model = LoopModel(config)
     elif model.config != config:
@@ -298,7 +323,8 @@ def simulate(
     controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
                             delay_frames=loop.delay_frames,
                             integration_frames=loop.integration_frames,
-                            predictor=None if oracle else predictor)
+                            predictor=None if oracle else predictor,
+                            on_predictor_fault=on_predictor_fault)
 
     total = n_frames * n_os + n_delay + n_os
     atm = model.atmosphere(seed, total * dt)
@@ -367,14 +393,17 @@ def simulate(
             if oracle:
                 forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
                                        (k + 1) * n_os + n_delay, n_os, dt)
-            if basis is None:
-                command, pol, _ = controller.step(measured, forecast)
-            else:
-                command_n, pol_n, _ = controller.step(
-                    basis.T @ measured, None if forecast is None else basis.T @ forecast)
-                command = basis @ command_n
-                # measured + B (seen commands): the uncontrolled directions keep m
-                pol = measured + basis @ (pol_n - basis.T @ measured)
+            try:
+                if basis is None:
+                    command, pol, _ = controller.step(measured, forecast)
+                else:
+                    command_n, pol_n, _ = controller.step(
+                        basis.T @ measured, None if forecast is None else basis.T @ forecast)
+                    command = basis @ command_n
+                    # measured + B (seen commands): the uncontrolled directions keep m
+                    pol = measured + basis @ (pol_n - basis.T @ measured)
+            except PredictorFault as exc:
+                raise _labelled(exc, model, basis) from None
             if probe is not None:
                 probe.frame_end(k, n_int, (k + 1) * n_os + n_delay, fut_acc)
             measured_log[k] = measured
@@ -389,6 +418,12 @@ def simulate(
         if bar is not None:
             bar.close()
     elapsed = time.perf_counter() - start
+    if controller.n_faults:
+        import warnings
+
+        warnings.warn(f"predictor {_predictor_name(predictor)} returned an unusable forecast "
+                      f"on {controller.n_faults} of {n_frames} frames; the last command was "
+                      "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=2)
     result = SimulationResult.from_run(
         config=config, seed=seed, model=model,
         variance=variance * scale_sci, measured=measured_log, pol=pol_log,
@@ -401,6 +436,52 @@ def simulate(
         budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
         result = dataclasses.replace(result, budget=budget)
     return result
+
+
+def _check_run_length(config: SimulationConfig, duration: float, budget_every,
+                      snapshot_every) -> None:
+    """Refuse runs too short for the loop to act and intervals outside the run."""
+    from modalinfo.servo import check_stable
+
+    loop = config.loop
+    try:  # before any set-up: an unstable gain costs nothing
+        check_stable(loop.gain, loop.delay_frames, loop.integration_frames)
+    except ValueError as exc:
+        raise ValueError(str(exc).replace("`gain`", "`loop.gain`", 1)) from None
+    n_frames = round(duration / loop.time_step)
+    first = loop.time_step + loop.delay
+    if n_frames < 1:
+        raise ValueError(f"`duration` must be at least one frame (loop.time_step = "
+                         f"{loop.time_step:g} s); got {duration:g} s.")
+    if n_frames * loop.time_step <= first * (1 + 1e-9):
+        raise ValueError(
+            f"`duration` must be longer than loop.time_step + loop.delay = {first:g} s (the "
+            f"first command reaches the mirror then, so a shorter run never closes the "
+            f"loop); got {duration:g} s ({n_frames} frames).")
+    for name, value, high, why in (
+            ("budget_every", budget_every, n_frames - n_frames // 2,
+             "at most half the run, so that the budget averages frames after the loop "
+             "closure"),
+            ("snapshot_every", snapshot_every, n_frames, "at most the run")):
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or not (
+                1 <= value <= high):
+            raise ValueError(f"`{name}` must be None or an int in [1, {high}] frames ({why}, "
+                             f"{n_frames} frames); got {value!r}.")
+
+
+def _labelled(exc: PredictorFault, model: LoopModel, basis) -> PredictorFault:
+    """Return ``exc`` with the DM and Zernike mode of its mode index in the message."""
+    if exc.mode is None or basis is not None:
+        return exc
+    for d, sl in enumerate(model.mode_slices):
+        if sl.start <= exc.mode < sl.stop:
+            label = model.dms[d].labels[exc.mode - sl.start]
+            text = str(exc).replace(f"for mode {exc.mode} ",
+                                    f"for mode {exc.mode} (dm{d} {label}) ", 1)
+            return PredictorFault(text, step=exc.step, mode=exc.mode)
+    return exc
 
 
 def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:

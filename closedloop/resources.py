@@ -1,0 +1,328 @@
+"""Memory and time a simulation will need, estimated from its config before any work.
+
+:func:`estimate` adds up the arrays a run of a config builds, from the sizes the config
+implies (no grid is built, so a config that would need terabytes costs microseconds to
+refuse):
+
+- ``baseline``: the interpreter with numpy, scipy, numba and the compiled kernels
+  (measured, :data:`BASELINE_BYTES`);
+- ``pupil``: the pupil grids of :class:`closedloop.geometry.Geometry` (``N = n_pixels``);
+- ``screens``: every layer's phase screen, ``G**2`` float64 with ``G`` from
+  :func:`closedloop.atmosphere.screen_size` (the plane's size, the wind's travel over
+  the run, capped), twice for the oracle's second atmosphere, plus the FFT transient of
+  the largest one while it is drawn;
+- ``planes``: the plane maps (residual, exposure sums, per-layer buffers);
+- ``dm_shapes``: each Zernike DM's ``(n_disc, M)`` mode shapes with their mirror tables;
+- ``wfs_build``: the sparse operators of each WFS while they are assembled, the peak of
+  the set-up: one entry per pixel pair (Shack-Hartmann) or disc pixel (ideal), per field
+  sample (``1 + 3 r (r - 1)`` for ``r = field_samples`` rings), per plane;
+- ``reconstructor``: interaction matrices, SVD and MAP reconstructor (dense);
+- ``logs``: the run's logs, ``frames x (3 M + directions + measurements)`` float64, and
+  their copies in the result's ModalLogs.
+
+The peak is taken as ``baseline + max(set-up, run)`` with set-up the WFS build and the
+screens' transient, run everything that stays. The constants were fitted to the peak
+resident memory of ``closedloop run`` on every preset (``benchmarks/RESULTS.md``).
+:func:`check_resources` refuses a run whose estimate exceeds a limit (default
+:data:`DEFAULT_SHARE` of the memory the machine has available, from
+``/proc/meminfo``), naming the config key that drives the largest part.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+
+from closedloop.atmosphere import screen_size
+from closedloop.config import SimulationConfig
+from closedloop.geometry import dm_disc_diameter, plane_layout, wfs_meta_pupil
+
+__all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
+           "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "format_bytes"]
+
+#: share of the available memory a run may use by default
+DEFAULT_SHARE = 0.5
+#: resident memory of the interpreter with the simulator's modules and kernels loaded
+BASELINE_BYTES = 190e6
+#: bytes per sparse entry while a WFS operator is assembled (row, column, value, in the
+#: per-sample lists, their concatenation and the CSR conversion)
+_BUILD_BYTES_PER_ENTRY = 60.0
+#: peak bytes per screen pixel while it is drawn (complex spectrum, buffer, result)
+_SCREEN_TRANSIENT = 40.0
+#: share of its build a WFS operator keeps once in CSR form (duplicates summed)
+_KEPT_SHARE = 0.1
+#: seconds per unit of work per frame (see :func:`estimate`), fitted on table1
+_SECONDS_PER_OP = 2.5e-9
+_MARGIN_PIXELS = 3
+
+
+class ResourceError(ValueError, MemoryError):
+    """A run would need more memory than allowed (a ``ValueError`` and a ``MemoryError``)."""
+
+
+@dataclass(frozen=True)
+class ResourceEstimate:
+    """What a run of a config needs.
+
+    Attributes
+    ----------
+    parts : dict of str to float
+        Bytes of each part (see the module docstring).
+    drivers : dict of str to str
+        The config key that sets each part's size.
+    peak_bytes : float
+        Estimated peak resident memory [bytes].
+    n_frames : int
+        Frames the run has.
+    seconds_per_frame : float
+        Estimated wall time per frame [s] on one core of the reference machine (rough:
+        within a factor ~2).
+    setup_bytes, run_bytes : float
+        The two phases whose larger one makes the peak (beyond the baseline).
+    """
+
+    parts: dict = field(default_factory=dict)
+    drivers: dict = field(default_factory=dict)
+    peak_bytes: float = 0.0
+    n_frames: int = 0
+    seconds_per_frame: float = 0.0
+    setup_bytes: float = 0.0
+    run_bytes: float = 0.0
+
+    @property
+    def largest(self) -> str:
+        """Name of the largest part (the baseline excluded)."""
+        return max((k for k in self.parts if k != "baseline"), key=self.parts.__getitem__)
+
+    @property
+    def driver(self) -> str:
+        """Config key that drives the largest part."""
+        return self.drivers[self.largest]
+
+    @property
+    def seconds(self) -> float:
+        """Estimated wall time of the loop [s] (set-up excluded)."""
+        return self.n_frames * self.seconds_per_frame
+
+    def describe(self) -> str:
+        """Multi-line text: the peak, each part with its driver, and the time."""
+        lines = [f"estimated peak memory {format_bytes(self.peak_bytes)} "
+                 f"({self.n_frames} frames, about {self.seconds:.3g} s of loop at "
+                 f"{self.seconds_per_frame * 1e3:.3g} ms/frame)"]
+        for name, value in sorted(self.parts.items(), key=lambda kv: -kv[1]):
+            driver = self.drivers.get(name, "-")
+            lines.append(f"  {name:<14}{format_bytes(value):>10}   driven by "
+                         + ("-" if driver == "-" else f"`{driver}`"))
+        return "\n".join(lines)
+
+
+def format_bytes(n: float) -> str:
+    """``n`` bytes in kB/MB/GB/TB (powers of 1000)."""
+    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= scale:
+            return f"{n / scale:.3g} {unit}"
+    return f"{n:.0f} B"
+
+
+def _hex_points(rings: int, field_of_view: float) -> int:
+    return 1 if rings == 1 or field_of_view == 0.0 else 1 + 3 * rings * (rings - 1)
+
+
+def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
+             budget: bool = False) -> ResourceEstimate:
+    """Estimate the peak memory and the time per frame of ``simulate(config, duration)``.
+
+    Parameters
+    ----------
+    config : SimulationConfig
+    duration : float
+        Simulated time [s].
+    oracle : bool
+        The run uses the oracle (a second atmosphere).
+    budget : bool
+        The run estimates the error budget (ideal sensors beside the real ones).
+
+    Returns
+    -------
+    ResourceEstimate
+    """
+    if not isinstance(config, SimulationConfig):
+        raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
+    tel = config.telescope
+    loop = config.loop
+    dx = tel.diameter / tel.n_pixels
+    n_frames = max(1, round(duration / loop.time_step))
+    n_os = loop.oversampling
+    total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
+    layout = plane_layout(config)
+    sizes = [n for _, n, _, _ in layout]
+    biggest_plane = max(range(len(layout)), key=lambda p: sizes[p])
+    parts: dict[str, float] = {"baseline": BASELINE_BYTES}
+    drivers: dict[str, str] = {"baseline": "-"}
+
+    def plane_driver(p: int) -> str:
+        alt, n, layers, dms = layout[p]
+        if n <= tel.n_pixels + 2 * _MARGIN_PIXELS + 1:
+            return "telescope.n_pixels"
+        if layers:
+            return f"layers[{layers[0]}].altitude"
+        return f"dms[{dms[0]}].altitude"
+
+    # pupil grids: xx, yy, r, mask and pupil coordinates
+    parts["pupil"] = 5.0 * tel.n_pixels ** 2 * 8
+    drivers["pupil"] = "telescope.n_pixels"
+
+    # screens
+    screen_bytes, transient, screen_key = 0.0, 0.0, "layers"
+    worst = -1.0
+    for i, layer in enumerate(config.layers):
+        p = next(k for k, (_, _, layers, _) in enumerate(layout) if i in layers)
+        n = sizes[p]
+        ang = math.radians(layer.wind_direction)
+        vel = (layer.wind_speed * math.cos(ang), layer.wind_speed * math.sin(ang))
+        g = screen_size(n, dx, vel, total_time, max(4096, 4 * n))
+        size = 8.0 * g * g
+        screen_bytes += size
+        transient = max(transient, _SCREEN_TRANSIENT * g * g)
+        if size > worst:
+            worst = size
+            travel = max(abs(vel[0]), abs(vel[1])) * total_time / dx
+            screen_key = ("duration" if n + 3 + travel > 4 * n else plane_driver(p))
+    parts["screens"] = screen_bytes * (2 if oracle else 1)
+    drivers["screens"] = screen_key
+
+    # plane maps: the residual views, exposure sums and one layer buffer (oracle: two more)
+    parts["planes"] = (3 + (2 if oracle else 0)) * 8.0 * sum(n * n for n in sizes)
+    drivers["planes"] = plane_driver(biggest_plane)
+
+    # DMs: shapes, mirror tables, and the build's grids (meshgrid, rho, angle, mask)
+    dm_bytes, dm_key, dm_worst = 0.0, "dms", -1.0
+    n_modes_total = 0
+    for i, dm in enumerate(config.dms):
+        p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
+        n_disc = math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
+        modes = dm.n_modes if dm.kind == "zernike" else n_disc
+        n_modes_total += modes
+        size = (2.0 * 8.0 * n_disc * modes if dm.kind == "zernike" else 0.0) \
+            + 5.0 * 8.0 * sizes[p] ** 2
+        dm_bytes += size
+        if size > dm_worst:
+            dm_worst = size
+            dm_key = f"dms[{i}].n_modes" if dm.kind == "zernike" else "telescope.n_pixels"
+    parts["dm_shapes"] = dm_bytes
+    drivers["dm_shapes"] = dm_key
+
+    # WFS operators while they are assembled (the set-up's peak: one WFS at a time, the
+    # others kept as CSR, about a quarter of their build), and the measurements
+    builds, build_key, n_meas_total = [], "wfss", 0.0
+    for j, w in enumerate(config.wfss):
+        samples = _hex_points(w.field_samples, w.field_of_view)
+        across = wfs_meta_pupil(config, j) / dx
+        if w.kind == "shack_hartmann":
+            n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
+            # two axes, 8 entries (two bilinear reads) per pixel pair
+            entries = 2 * samples * len(layout) * (math.pi / 4.0 * across ** 2) * 8
+        else:
+            n_meas = math.pi / 4.0 * (dm_disc_diameter(config, w.dm) / dx) ** 2
+            entries = samples * len(layout) * n_meas * 4
+        n_meas_total += n_meas
+        builds.append(_BUILD_BYTES_PER_ENTRY * entries)
+        if builds[-1] >= max(builds):
+            build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
+                         f"`telescope.n_pixels" if samples > 1 else plane_driver(biggest_plane))
+    kept_operators = _KEPT_SHARE * sum(builds)
+    parts["wfs_build"] = max(builds) * (2.0 if budget else 1.0) + kept_operators
+    drivers["wfs_build"] = build_key
+
+    # dense matrices: interaction (full and per WFS), whitened copy, SVD, reconstructors
+    parts["reconstructor"] = 6.0 * 8.0 * n_meas_total * n_modes_total
+    drivers["reconstructor"] = "dms[*].n_modes` x `wfss[*].n_subapertures"
+
+    # logs: measured, POL, commands, variance, slopes; the result's ModalLogs copy them
+    n_dir = config.field.n_points ** 2
+    parts["logs"] = 2.0 * 8.0 * n_frames * (3 * n_modes_total + n_dir + n_meas_total)
+    drivers["logs"] = "duration"
+
+    kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
+    setup = parts["pupil"] + parts["dm_shapes"] + parts["wfs_build"]
+    run = kept + parts["screens"] + parts["planes"] + parts["logs"]
+    peak = BASELINE_BYTES + max(setup, kept + parts["screens"] + transient, run)
+
+    # time per frame: plane fills (per internal step and layer), science moments, DM
+    # surfaces, WFS products, reconstructor; fitted on table1
+    n_pupil = math.pi / 4.0 * tel.n_pixels ** 2
+    ops = (n_os * sum(n * n * (1 + len(layers)) for _, n, layers, _ in layout)
+           + n_dir * n_pupil * len(layout) * 2
+           + n_os * sum(math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
+                        * (d.n_modes if d.kind == "zernike" else 1)
+                        for i, d in enumerate(config.dms)) / 4
+           + n_meas_total * n_modes_total
+           + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
+    return ResourceEstimate(parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
+                            seconds_per_frame=_SECONDS_PER_OP * ops, setup_bytes=setup,
+                            run_bytes=run)
+
+
+def available_memory() -> float:
+    """Memory the machine has available [bytes] (``MemAvailable`` of ``/proc/meminfo``).
+
+    Falls back to ``os.sysconf`` physical pages where ``/proc/meminfo`` is missing.
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except OSError:
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - exotic platforms
+        return math.inf
+
+
+def check_resources(config: SimulationConfig, duration: float, *, limit: float | None = None,
+                    oracle: bool = False, budget: bool = False,
+                    setup: bool = True) -> ResourceEstimate:
+    """Estimate a run and refuse it if it needs more than ``limit`` bytes.
+
+    Parameters
+    ----------
+    config, duration, oracle, budget
+        As in :func:`estimate`.
+    limit : float or None
+        Largest peak memory allowed [bytes]; None: :data:`DEFAULT_SHARE` of
+        :func:`available_memory`.
+    setup : bool
+        Count the set-up (False: the model exists already, only the run's own arrays,
+        screens, plane maps and logs, are checked).
+
+    Returns
+    -------
+    ResourceEstimate
+
+    Raises
+    ------
+    ResourceError
+        One line naming the config key that drives the largest part, the estimate and
+        the limit.
+    """
+    if limit is None:
+        limit = DEFAULT_SHARE * available_memory()
+        source = f"{DEFAULT_SHARE:.0%} of the {format_bytes(available_memory())} available"
+    else:
+        if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:
+            raise ValueError(f"`memory_limit` must be a number of bytes > 0; got {limit!r}.")
+        source = "the limit given"
+    est = estimate(config, duration, oracle=oracle, budget=budget)
+    need = est.peak_bytes if setup else BASELINE_BYTES + est.run_bytes
+    if need > limit:
+        part = est.largest if setup else max(("screens", "planes", "logs"),
+                                             key=est.parts.__getitem__)
+        raise ResourceError(
+            f"this run needs about {format_bytes(need)} of memory, more than "
+            f"{format_bytes(limit)} ({source}); the largest part, {part} "
+            f"({format_bytes(est.parts[part])}), is driven by `{est.drivers[part]}`: reduce "
+            f"it (see `closedloop config --estimate`).")
+    return est

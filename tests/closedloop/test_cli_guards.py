@@ -1,0 +1,98 @@
+"""``closedloop`` checks its outputs and the run's size before any work.
+
+References: the file system itself (a file that exists, a directory without write
+permission, a disk reported full), and a ``simulate`` replaced by one that fails the test
+if called, which shows that a refusal came before any simulation; the estimate printed
+by ``config --estimate`` against :func:`closedloop.resources.estimate` called directly.
+"""
+
+import os
+
+import pytest
+
+import closedloop.simulation
+from closedloop import presets
+from closedloop.cli import main
+from closedloop.config import SimulationConfig, save_config
+from closedloop.resources import estimate, format_bytes
+
+
+@pytest.fixture
+def no_simulation(monkeypatch):
+    def fail(*args, **kwargs):
+        raise AssertionError("a simulation started before the refusal")
+
+    monkeypatch.setattr(closedloop.simulation, "simulate", fail)
+    monkeypatch.setattr(closedloop.simulation, "LoopModel", fail)
+
+
+def _one_line(capsys, *needles):
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+def test_full_disk_is_found_before_the_run(tmp_path, capsys, monkeypatch, no_simulation):
+    import shutil
+
+    usage = shutil.disk_usage(tmp_path)
+    monkeypatch.setattr(shutil, "disk_usage",
+                        lambda p: usage._replace(free=1000))
+    code = main(["run", "--preset", "kaos", "--duration", "2", "--out",
+                 str(tmp_path / "r.h5"), "--quiet"])
+    assert code == 2
+    _one_line(capsys, "is needed", "has 1 kB free")
+    assert not (tmp_path / "r.h5").exists()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only directories")
+def test_unwritable_directory_is_found_before_the_run(tmp_path, capsys, no_simulation):
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        code = main(["run", "--preset", "kaos", "--out", str(locked / "r.h5"), "--quiet"])
+    finally:
+        locked.chmod(0o700)
+    assert code == 2
+    _one_line(capsys, "is not writable")
+
+
+def test_export_checks_before_reading(tmp_path, capsys):
+    existing = tmp_path / "old.fits"
+    existing.write_bytes(b"keep")
+    code = main(["export", str(tmp_path / "missing.h5"), str(existing)])
+    assert code == 2
+    _one_line(capsys, "exists; pass --overwrite")
+    assert existing.read_bytes() == b"keep"
+    code = main(["export", str(tmp_path), str(tmp_path / "new.fits")])
+    assert code == 2
+    _one_line(capsys, "RESULT", "is not a file")
+
+
+def test_memory_limit_refuses_in_one_line_naming_the_key(tmp_path, capsys, no_simulation):
+    code = main(["run", "--preset", "table1", "--duration", "0.5", "--memory-limit", "50MB",
+                 "--quiet"])
+    assert code == 2
+    _one_line(capsys, "more than 50 MB (the limit given)", "driven by", "--memory-limit")
+    d = presets.get("kaos").to_dict()
+    d["telescope"]["n_pixels"] = 2400
+    path = tmp_path / "big.toml"
+    save_config(SimulationConfig.from_dict(d), path)
+    code = main(["compare", "--config", str(path), "--memory-limit", "4GB",
+                 "--predictors", "none,oracle", "--quiet"])
+    assert code == 2
+    _one_line(capsys, "`telescope.n_pixels`")
+    code = main(["run", "--preset", "kaos", "--memory-limit", "lots"])
+    assert code == 2
+    _one_line(capsys, "--memory-limit must be a size")
+
+
+def test_config_estimate_prints_the_library_estimate(capsys):
+    assert main(["config", "--preset", "mcao3", "--estimate", "--duration", "3"]) == 0
+    out = capsys.readouterr().out
+    est = estimate(presets.get("mcao3"), 3.0)
+    assert f"estimated peak memory {format_bytes(est.peak_bytes)}" in out
+    assert "3000 frames" in out and "logs" in out and "`duration`" in out

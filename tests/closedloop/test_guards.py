@@ -1,0 +1,241 @@
+"""Guard rails: meaningless configs refused, loops that did not close said so, resources.
+
+References (outside the code under test):
+- sampling rules written out here: a Zernike of radial order n (Noll's (n+1)(n+2)/2
+  modes up to order n) needs 2 pixels per cycle across its disc, a subaperture 2 pixels;
+  the disc of a DM conjugated at h with a field theta is D + 2 h tan(theta / 2);
+- loop states of residual-variance histories built here by hand (a drop to a floor, an
+  exponential growth, no correction, too few frames, a NaN), and of real runs whose
+  fate follows from servo theory (a forecast 3 times the POL makes the effective
+  integrator gain 3 x 0.5 = 1.5 at a half-frame delay, beyond the stability limit 1.0...
+  see the test; a gain of 1e-4 cannot correct anything in 40 frames);
+- memory: the byte count of the arrays a config implies, computed here by hand (a layer
+  screen G**2 float64, logs frames x columns float64), and refusal past a limit.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from closedloop import presets, simulate
+from closedloop.config import (
+    DMConfig,
+    FieldConfig,
+    LayerConfig,
+    SimulationConfig,
+    TelescopeConfig,
+    WFSConfig,
+)
+from closedloop.geometry import ARCSEC
+from closedloop.resources import ResourceError, check_resources, estimate
+from closedloop.result import SimulationResult
+from modalinfo.forecast import PersistencePredictor
+
+
+def small(**loop):
+    """table1's layout on a 32-pixel pupil, 35 + 20 modes, 8 subapertures."""
+    c = presets.get("table1")
+    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
+                for d, m in zip(c.dms, (35, 20), strict=True))
+    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
+                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
+    d = c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
+                  field=FieldConfig(size=60.0, n_points=3)).to_dict()
+    d["loop"].update(loop)
+    return SimulationConfig.from_dict(d)
+
+
+# ---------------------------------------------------------------- physical sense
+def _with(cfg, section, index, **values):
+    d = cfg.to_dict()
+    if index is None:
+        d[section].update(values)
+    else:
+        d[section][index].update(values)
+    return SimulationConfig.from_dict(d)
+
+
+def test_modes_beyond_the_pupil_sampling_are_refused():
+    cfg = small()
+    # upper DM: disc D + 2 h tan(fov / 2) at 32 pixels per 4 m
+    fov = cfg.wfss[1].field_of_view
+    across = (4.0 + 2 * 10_000 * math.tan(fov / 2 * ARCSEC)) / (4.0 / 32)
+    n_max = int(across // 2)
+    limit = (n_max + 1) * (n_max + 2) // 2 - 1  # modes Z2 .. up to radial order n_max
+    _with(cfg, "dms", 1, n_modes=limit)  # the largest allowed
+    with pytest.raises(ValueError, match=rf"`dms\[1\].n_modes` must be <= {limit} .* got "
+                                         rf"{limit + 1}\."):
+        _with(cfg, "dms", 1, n_modes=limit + 1)
+    with pytest.raises(ValueError, match=r"`dms\[0\].n_modes` must be <= 152 \(Zernike "
+                                         r"radial order .* = 16 for 32 pixels.*got 800"):
+        _with(cfg, "dms", 0, n_modes=800)  # 32 px across the ground DM: orders <= 16
+
+
+def test_subapertures_beyond_the_pupil_sampling_are_refused():
+    cfg = small()
+    with pytest.raises(ValueError, match=r"`wfss\[0\].n_subapertures` must be <= 16 \(at "
+                                         r"least 2 pixels per subaperture.* got 17"):
+        _with(cfg, "wfss", 0, n_subapertures=17)
+    _with(cfg, "wfss", 0, n_subapertures=16)
+
+
+def test_delay_beyond_the_servo_limit_is_refused_at_load():
+    with pytest.raises(ValueError, match=r"`loop.delay` must be <= 1000 frames .* got 0.25"):
+        small(time_step=2e-4, integration_time=2e-4, delay=0.25)
+
+
+@pytest.mark.parametrize(("duration", "match"), [
+    (0.0004, r"`duration` must be at least one frame .*got 0.0004 s"),
+    (0.0015, r"`duration` must be longer than loop.time_step \+ loop.delay = 0.0025 s"),
+])
+def test_runs_too_short_for_the_loop_are_refused(duration, match):
+    cfg = small(delay=1.5e-3)
+    with pytest.raises(ValueError, match=match):
+        simulate(cfg, duration, progress=False)
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    ({"budget_every": 16}, r"`budget_every` must be None or an int in \[1, 15\] frames"),
+    ({"budget_every": 0}, r"`budget_every` must be None or an int in \[1, 15\]"),
+    ({"budget_every": -2}, r"got -2"),
+    ({"snapshot_every": 31}, r"`snapshot_every` must be None or an int in \[1, 30\]"),
+    ({"snapshot_every": 2.5}, r"got 2.5"),
+])
+def test_intervals_outside_the_run_are_refused(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        simulate(small(), 0.03, progress=False, **kwargs)
+
+
+def test_unstable_gain_is_refused_before_the_setup():
+    # half-frame delay, full exposure: stable for gain < 2 x 0.5... the servo limit is 2.0
+    # for W = [0, .5, .5]? it is 1/(w1 + ...) -- the stated limit is checked in test_servo
+    with pytest.raises(ValueError, match=r"`loop.gain` = 2.5 makes the loop unstable"):
+        simulate(small(gain=2.5), 0.02, progress=False)
+
+
+# ---------------------------------------------------------------- loop status
+def _result(variance):
+    cfg = small()
+    v = np.asarray(variance, dtype=float)[:, None] * np.ones((1, 9))
+    times = (np.arange(v.shape[0]) + 1) * cfg.loop.time_step
+    return SimulationResult(config=cfg, seed=0, predictor="none", times=times,
+                            directions=np.zeros((9, 2)), residual_variance=v, logs={},
+                            elapsed=1.0, version="test")
+
+
+def test_loop_status_of_hand_made_histories():
+    rng = np.random.default_rng(0)
+    floor = 0.8 + 0.05 * rng.standard_normal(200)
+    drop = np.concatenate([[40.0, 20.0, 9.0, 4.0], floor[4:]])
+    r = _result(drop)
+    assert r.closed and not r.diverged and r.loop_status == "closed"
+    assert r.summary()["closure_time_s"] == pytest.approx(r.closure_time)
+
+    growth = np.concatenate([[40.0, 10.0, 2.0], 1.0 * 1.015 ** np.arange(147)])  # x9
+    r = _result(growth)
+    assert r.diverged and not r.closed
+    assert r.loop_status.startswith("diverged: the residual grew to")
+
+    worse = np.concatenate([[40.0], np.linspace(40.0, 200.0, 99)])
+    assert _result(worse).loop_status.startswith("diverged: the residual at the end")
+
+    flat = 40.0 + rng.standard_normal(100)  # never corrected: a delay as long as the run
+    r = _result(flat)
+    assert not r.closed and not r.diverged
+    assert r.loop_status.startswith("did not close: the residual")
+    s = r.summary()
+    assert math.isnan(s["closure_time_s"]) and s["loop_status"] == r.loop_status
+
+    assert _result([40.0, 2.0, 1.0]).loop_status.startswith("did not close: 3 frames")
+    nan = drop.copy()
+    nan[120:] = np.nan
+    assert _result(nan).loop_status == "diverged: the residual is not finite from frame 120"
+
+
+class Amplified(PersistencePredictor):
+    """Forecasts ``factor`` times the last POL (the integrator then over-corrects)."""
+
+    def __init__(self, horizon=2, factor=3.0):
+        super().__init__(horizon=horizon)
+        self.factor = factor
+
+    def update(self, x_t):
+        return self.factor * super().update(x_t)
+
+
+def test_real_runs_that_diverge_or_never_close_say_so(capsys):
+    from closedloop.cli import _summary_line
+
+    cfg = small()
+    bad = Amplified().fit(np.zeros((20, 55)))
+    run = simulate(cfg, 0.06, predictor=bad, progress=False)
+    assert run.diverged, run.loop_status
+    line = _summary_line(run)
+    assert "loop diverged" in line and "closure at" not in line
+    slow = simulate(small(gain=1e-4), 0.04, progress=False)
+    assert slow.loop_status.startswith("did not close"), slow.loop_status
+    assert "did not close" in _summary_line(slow)
+
+
+# ---------------------------------------------------------------- resources
+def test_estimate_counts_the_arrays_a_config_implies():
+    cfg = small()
+    long = estimate(cfg, 2.0)
+    short = estimate(cfg, 1.0)
+    # logs: frames x (3 x 55 modes + 9 directions + measurements) float64, twice; the
+    # increment per second is that, whatever the constant parts are
+    n_meas = sum(2 * math.pi / 4 * 8 ** 2 for _ in cfg.wfss)
+    per_frame = 2 * 8 * (3 * 55 + 9 + n_meas)
+    assert long.parts["logs"] - short.parts["logs"] == pytest.approx(1000 * per_frame)
+    assert long.drivers["logs"] == "duration"
+    # a layer 1000 km up: its plane reaches h x field corner = 1e6 m x 30 sqrt(2)" (the
+    # science corner) -> screen 4 n pixels on a side, float64
+    d = cfg.to_dict()
+    d["layers"][1]["altitude"] = 1e6
+    high = SimulationConfig.from_dict(d)
+    reach = 2.0 + 1e6 * 30 * math.sqrt(2) * ARCSEC
+    n = 2 * math.ceil(reach / (4.0 / 32)) + 6
+    est = estimate(high, 0.01)
+    assert est.parts["screens"] >= 8.0 * (4 * n) ** 2
+    assert est.parts["screens"] <= 8.0 * (4 * n * 1.25) ** 2 + short.parts["screens"]
+    assert est.drivers["screens"] == "layers[1].altitude"
+
+
+@pytest.mark.parametrize(("change", "key"), [
+    ({"telescope": {"n_pixels": 6000}}, "telescope.n_pixels"),
+    ({"layers": [LayerConfig(altitude=0.0, d_over_r0=20.0, wind_speed=5.0),
+                 LayerConfig(altitude=3e7, d_over_r0=2.0, wind_speed=30.0)]},
+     "layers[1].altitude"),
+    ({"wfss": "field_samples=90"}, "wfss[0].field_samples"),
+])
+def test_runs_past_the_limit_are_refused_naming_the_key(change, key):
+    cfg = small()
+    d = cfg.to_dict()
+    for k, v in change.items():
+        if k == "telescope":
+            d[k].update(v)
+            d["dms"][0]["n_modes"] = 9
+            d["dms"][1]["n_modes"] = 9
+        elif k == "layers":
+            d[k] = [vars(layer) for layer in v]
+        else:
+            d["wfss"][0]["field_samples"] = 90
+    big = SimulationConfig.from_dict(d)
+    with pytest.raises(ResourceError, match=rf"driven by .*`{re_escape(key)}`"):
+        check_resources(big, 0.05, limit=2e9)
+    with pytest.raises(MemoryError, match="more than 2 GB"):
+        simulate(big, 0.05, memory_limit=2e9, progress=False)
+
+
+def test_long_duration_is_refused_by_its_logs():
+    with pytest.raises(ResourceError, match=r"largest part, logs .* driven by `duration`"):
+        check_resources(small(), 1e6, limit=4e9)
+    with pytest.raises(ValueError, match=r"`memory_limit` must be a number of bytes > 0"):
+        check_resources(small(), 0.1, limit=-1)
+
+
+def re_escape(text):
+    import re
+
+    return re.escape(text)
