@@ -44,16 +44,18 @@ __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
 #: resident memory of the interpreter with the simulator's modules and kernels loaded
-BASELINE_BYTES = 190e6
+BASELINE_BYTES = 195e6
 #: bytes per sparse entry while a WFS operator is assembled (row, column, value, in the
 #: per-sample lists, their concatenation and the CSR conversion)
-_BUILD_BYTES_PER_ENTRY = 60.0
+_BUILD_BYTES_PER_ENTRY = 24.0
 #: peak bytes per screen pixel while it is drawn (complex spectrum, buffer, result)
 _SCREEN_TRANSIENT = 40.0
 #: share of its build a WFS operator keeps once in CSR form (duplicates summed)
 _KEPT_SHARE = 0.1
-#: seconds per unit of work per frame (see :func:`estimate`), fitted on table1
-_SECONDS_PER_OP = 2.5e-9
+#: time per frame = _SECONDS_PER_FRAME + _SECONDS_PER_OP x work (see :func:`estimate`),
+#: fitted on table1 (1200 steps/s) and kaos (2500 steps/s) on an idle machine
+_SECONDS_PER_FRAME = 3.5e-4
+_SECONDS_PER_OP = 2.4e-10
 _MARGIN_PIXELS = 3
 
 
@@ -76,8 +78,8 @@ class ResourceEstimate:
     n_frames : int
         Frames the run has.
     seconds_per_frame : float
-        Estimated wall time per frame [s] on one core of the reference machine (rough:
-        within a factor ~2).
+        Estimated wall time per frame [s] on one idle core of the reference machine
+        (rough: within a factor ~2; a loaded machine is slower).
     setup_bytes, run_bytes : float
         The two phases whose larger one makes the peak (beyond the baseline).
     """
@@ -260,7 +262,8 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
            + n_meas_total * n_modes_total
            + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
     return ResourceEstimate(parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
-                            seconds_per_frame=_SECONDS_PER_OP * ops, setup_bytes=setup,
+                            seconds_per_frame=_SECONDS_PER_FRAME + _SECONDS_PER_OP * ops,
+                            setup_bytes=setup,
                             run_bytes=run)
 
 

@@ -18,10 +18,12 @@ Derived views
   reached the mirrors), or, having once fallen below half that level, grows to more
   than :data:`GROWTH_FACTOR` times its lowest 5-ms mean;
   it *closed* if it did not diverge, the run has at least 4 frames, a closure was
-  detected in the first half of the run, and the residual after it is below half the
-  open-loop level. A run that did neither "did not close" (too short, or a loop that
-  never corrects, e.g. a delay as long as the run). The headline numbers of a run that
-  did not close are those of its second half, and the summary says so.
+  detected in the first half of the run after the first command reached the mirrors
+  (an earlier one means the SR never rose above its open-loop value), and the residual
+  after it is below half the open-loop level. A run that did neither "did not close"
+  (too short, or a loop that never corrects, e.g. a delay as long as the run). The
+  headline numbers of a run that did not close are those from the detected start (the
+  second half of the run if none), and the summary says so.
 - :meth:`strehl_map`: time average of the Strehl after closure, on the field grid.
 - :meth:`corrected_fov_diameter`: the area ``A`` where the time-averaged SR exceeds a
   threshold, on the field grid refined 16 times by bilinear interpolation (the grid's
@@ -34,6 +36,7 @@ Derived views
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -215,6 +218,14 @@ class SimulationResult:
             return f"did not close: {n} frames are too few to detect the loop closure"
         if not self._closure_found():
             return "did not close: the SR peak reaches no steady state in the first half of the run"
+        # frame k sees a command once (k + 1) T > T + delay: a "closure" before that is
+        # a steady band so wide that it holds the open loop (an SR that never rose)
+        first = int(math.floor(self.config.loop.delay_frames)) + 1
+        if self.closure_index < first:
+            peak = self.strehl_peak
+            return (f"did not close: the SR peak ({float(peak[n // 2:].mean()):.3g} in the "
+                    f"second half) never rose clearly above its open-loop value "
+                    f"({float(peak[0]):.3g})")
         steady = float(v[self.closure_index:].mean())
         if steady >= 0.5 * open_loop:
             return (f"did not close: the residual ({steady:.3g} rad^2, field mean) stays above "
