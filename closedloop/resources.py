@@ -47,7 +47,7 @@ DEFAULT_SHARE = 0.5
 BASELINE_BYTES = 195e6
 #: bytes per sparse entry while a WFS operator is assembled (row, column, value, in the
 #: per-sample lists, their concatenation and the CSR conversion)
-_BUILD_BYTES_PER_ENTRY = 24.0
+_BUILD_BYTES_PER_ENTRY = 16.0
 #: peak bytes per screen pixel while it is drawn (complex spectrum, buffer, result)
 _SCREEN_TRANSIENT = 40.0
 #: share of its build a WFS operator keeps once in CSR form (duplicates summed)

@@ -22,8 +22,8 @@ Derived views
   (an earlier one means the SR never rose above its open-loop value), and the residual
   after it is below half the open-loop level. A run that did neither "did not close"
   (too short, or a loop that never corrects, e.g. a delay as long as the run). The
-  headline numbers of a run that did not close are those from the detected start (the
-  second half of the run if none), and the summary says so.
+  headline numbers of a run that did not close are those of its second half, and the
+  summary says so.
 - :meth:`strehl_map`: time average of the Strehl after closure, on the field grid.
 - :meth:`corrected_fov_diameter`: the area ``A`` where the time-averaged SR exceeds a
   threshold, on the field grid refined 16 times by bilinear interpolation (the grid's
@@ -313,12 +313,11 @@ class SimulationResult:
         """Headline numbers: SR peak and field mean after closure, FoV diameter, speed.
 
         ``closed`` / ``diverged`` / ``loop_status`` say whether the loop closed; if it did
-        not, ``closure_time_s`` is NaN and the numbers are those from the detected start
-        (the second half of the run when no closure was found).
+        not, ``closure_time_s`` is NaN and the numbers are those of the run's second half.
         """
-        start = self.closure_index
         status = self.loop_status
         closed = status == "closed"
+        start = self.closure_index if closed else self.times.size // 2
         return {
             "predictor": self.predictor,
             "seed": self.seed,
@@ -329,7 +328,7 @@ class SimulationResult:
             "closure_time_s": self.closure_time if closed else float("nan"),
             "strehl_peak_mean": float(self.strehl_peak[start:].mean()),
             "strehl_field_mean": float(self.strehl[start:].mean()),
-            "corrected_fov_diameter_arcmin": self.corrected_fov_diameter(),
+            "corrected_fov_diameter_arcmin": self.corrected_fov_diameter(start=start),
             "steps_per_second": self.steps_per_second,
         }
 
