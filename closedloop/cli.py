@@ -58,11 +58,13 @@ def _memory_limit(args) -> float | None:
 
 
 def _check_resources(args, config, *, oracle: bool = False, budget: bool = False):
-    """Estimate the run and refuse it past the memory limit (before any work)."""
+    """Refuse a run that cannot work or exceeds the memory limit (before any work)."""
     from closedloop.resources import check_resources
+    from closedloop.simulation import check_run
 
     if not args.duration > 0 or args.duration != args.duration:
         raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    check_run(config, args.duration)
     try:
         return check_resources(config, args.duration, limit=_memory_limit(args),
                                oracle=oracle, budget=budget)

@@ -39,7 +39,7 @@ from closedloop.wfs import WavefrontSensor
 from modalinfo._validation import check_real
 from modalinfo.bases import noll_residual_variance, zernike_covariance
 
-__all__ = ["simulate", "ORACLE", "LoopModel"]
+__all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
 #: pass as ``predictor`` to forecast with the true future POL (the upper bound)
 ORACLE = "oracle"
@@ -289,7 +289,7 @@ def simulate(
         raise ValueError(f"`on_predictor_fault` must be one of "
                          f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
                          f"{on_predictor_fault!r}.")
-    _check_run_length(config, duration, budget_every, snapshot_every)
+    check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
     from closedloop.resources import check_resources
 
     check_resources(config, duration, limit=memory_limit, oracle=isinstance(predictor, str),
@@ -438,9 +438,15 @@ def simulate(
     return result
 
 
-def _check_run_length(config: SimulationConfig, duration: float, budget_every,
-                      snapshot_every) -> None:
-    """Refuse runs too short for the loop to act and intervals outside the run."""
+def check_run(config: SimulationConfig, duration: float, *, budget_every: int | None = None,
+              snapshot_every: int | None = None) -> None:
+    """Refuse, before any set-up, a run :func:`simulate` would refuse (cheap).
+
+    The loop gain must be stable (:func:`modalinfo.servo.check_stable`), the run longer
+    than ``time_step + delay`` (when the first command reaches the mirrors), and the
+    intervals inside the run (see :func:`simulate`). Raises ``ValueError`` naming the
+    argument or config key, the rule and the value.
+    """
     from modalinfo.servo import check_stable
 
     loop = config.loop

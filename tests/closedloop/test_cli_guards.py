@@ -96,3 +96,18 @@ def test_config_estimate_prints_the_library_estimate(capsys):
     est = estimate(presets.get("mcao3"), 3.0)
     assert f"estimated peak memory {format_bytes(est.peak_bytes)}" in out
     assert "3000 frames" in out and "logs" in out and "`duration`" in out
+
+
+@pytest.mark.parametrize(("loop", "duration", "needle"), [
+    ({"delay": 0.35}, "1", "makes the loop unstable"),  # 700 frames of 0.5 ms
+    ({"delay": 0.004, "gain": 0.1}, "0.004", "`duration` must be longer than"),
+])
+def test_loops_that_cannot_work_are_refused_before_the_setup(tmp_path, capsys, no_simulation,
+                                                             loop, duration, needle):
+    d = presets.get("kaos").to_dict()
+    d["loop"].update(loop)
+    path = tmp_path / "c.toml"
+    save_config(SimulationConfig.from_dict(d), path)
+    for command in ("run", "compare"):
+        assert main([command, "--config", str(path), "--duration", duration, "--quiet"]) == 2
+        _one_line(capsys, needle)
