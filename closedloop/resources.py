@@ -44,7 +44,7 @@ __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
 #: resident memory of the interpreter with the simulator's modules and kernels loaded
-BASELINE_BYTES = 195e6
+BASELINE_BYTES = 200e6
 #: bytes per sparse entry while a WFS operator is assembled (row, column, value, in the
 #: per-sample lists, their concatenation and the CSR conversion)
 _BUILD_BYTES_PER_ENTRY = 16.0
