@@ -232,9 +232,13 @@ def _cmd_export(args) -> int:
     _check_writable(out, 2.0 * args.result.stat().st_size, "OUT (AOT FITS)")
     result = SimulationResult.load(args.result)
     path = result.to_aot(out, overwrite=args.overwrite)
-    loops = ", ".join(f"dm{i}" for i in range(len(result.config.dms)))
+    from modalinfo.io.aot import aot_loops
+
+    # the loops the file holds (residual, POL and reconstructor blocks), read back
+    loops = aot_loops(path)
     print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
-          f"{len(result.config.dms)} DMs (loops {loops}, POL in dm<i>.pol)")
+          f"{len(result.config.dms)} DMs, {len(loops)} loops ({', '.join(loops)}; POL in "
+          "dm<i>.pol)")
     return 0
 
 

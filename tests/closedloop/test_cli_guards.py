@@ -111,3 +111,29 @@ def test_loops_that_cannot_work_are_refused_before_the_setup(tmp_path, capsys, n
     for command in ("run", "compare"):
         assert main([command, "--config", str(path), "--duration", duration, "--quiet"]) == 2
         _one_line(capsys, needle)
+
+
+def test_export_names_every_loop_it_wrote(tmp_path, capsys):
+    # two DMs with the joint MAP reconstructor: per DM its residual loop, its POL loop
+    # and the block of the other WFS (closedloop.aot's layout): 6 loops
+    from closedloop.config import DMConfig, FieldConfig, TelescopeConfig, WFSConfig
+
+    c = presets.get("table1")
+    small = c.replace(
+        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
+        dms=tuple(DMConfig(altitude=d.altitude, n_modes=m)
+                  for d, m in zip(c.dms, (20, 14), strict=True)),
+        wfss=tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
+                             n_subapertures=8, dm=w.dm, field_samples=1) for w in c.wfss),
+        field=FieldConfig(size=30.0, n_points=1))
+    cfg = tmp_path / "c.toml"
+    save_config(small, cfg)
+    h5 = tmp_path / "r.h5"
+    assert main(["run", "--config", str(cfg), "--duration", "0.02", "--out", str(h5),
+                 "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["export", str(h5), str(tmp_path / "r.fits")]) == 0
+    out = capsys.readouterr().out
+    assert "6 loops (" in out
+    for uid in ("dm0", "dm1", "dm0.pol", "dm1.pol", "dm0.wfs1", "dm1.wfs0"):
+        assert uid + "," in out or uid + ";" in out
