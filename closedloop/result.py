@@ -17,7 +17,8 @@ Derived views
   the run, field mean) above 3 times the open-loop level (frame 0, before any command
   reached the mirrors), or, having once fallen below half that level, grows to more
   than :data:`GROWTH_FACTOR` times its lowest 5-ms mean;
-  it *closed* if it did not diverge, the run has at least 4 frames, a closure was
+  it *closed* if it did not diverge, the run has at least 4 frames and twice the 5-ms
+  window of the closure detection, a closure was
   detected in the first half of the run after the first command reached the mirrors
   (an earlier one means the SR never rose above its open-loop value), and the residual
   after it is below half the open-loop level. A run that did neither "did not close"
@@ -214,8 +215,10 @@ class SimulationResult:
         if lowest < 0.5 * open_loop and tail > GROWTH_FACTOR * lowest:
             return (f"diverged: the residual grew to {tail / lowest:.1f} times its lowest "
                     f"5-ms mean ({tail:.3g} against {lowest:.3g} rad^2, field mean)")
-        if n < 4:
-            return f"did not close: {n} frames are too few to detect the loop closure"
+        if n < max(4, 2 * window):
+            # the closure must hold for 5 ms inside the first half of the run
+            return (f"did not close: {n} frames are too few to detect the loop closure (it "
+                    f"needs {max(4, 2 * window)}: twice the 5-ms window)")
         if not self._closure_found():
             return "did not close: the SR peak reaches no steady state in the first half of the run"
         # frame k sees a command once (k + 1) T > T + delay: a "closure" before that is

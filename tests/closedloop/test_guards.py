@@ -148,6 +148,9 @@ def test_loop_status_of_hand_made_histories():
     assert math.isnan(s["closure_time_s"]) and s["loop_status"] == r.loop_status
 
     assert _result([40.0, 2.0, 1.0]).loop_status.startswith("did not close: 3 frames")
+    # 1-ms frames: closure must hold 5 ms inside the first half, so 10 frames at least
+    assert _result(drop[:9]).loop_status.startswith("did not close: 9 frames are too few")
+    assert _result(drop[:10]).closed
     nan = drop.copy()
     nan[120:] = np.nan
     assert _result(nan).loop_status == "diverged: the residual is not finite from frame 120"
