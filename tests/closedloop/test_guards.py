@@ -6,9 +6,10 @@ References (outside the code under test):
   the disc of a DM conjugated at h with a field theta is D + 2 h tan(theta / 2);
 - loop states of residual-variance histories built here by hand (a drop to a floor, an
   exponential growth, no correction, too few frames, a NaN), and of real runs whose
-  fate follows from servo theory (a forecast 3 times the POL makes the effective
-  integrator gain 3 x 0.5 = 1.5 at a half-frame delay, beyond the stability limit 1.0...
-  see the test; a gain of 1e-4 cannot correct anything in 40 frames);
+  fate follows from the control law: a forecast 3 times the POL ``p = m + s`` (``s``
+  the commands seen) gives ``c_k = c_{k-1} + g (3 m + 2 s)``, and with ``s ~ c_{k-1}``
+  the commands grow by ``1 + 2 g = 2`` per frame; a gain of 1e-4 corrects nothing in
+  40 frames;
 - memory: the byte count of the arrays a config implies, computed here by hand (a layer
   screen G**2 float64, logs frames x columns float64), and refusal past a limit.
 """
@@ -108,8 +109,8 @@ def test_intervals_outside_the_run_are_refused(kwargs, match):
 
 
 def test_unstable_gain_is_refused_before_the_setup():
-    # half-frame delay, full exposure: stable for gain < 2 x 0.5... the servo limit is 2.0
-    # for W = [0, .5, .5]? it is 1/(w1 + ...) -- the stated limit is checked in test_servo
+    # half-frame delay, full exposure: W = (z**-1 + z**-2) / 2, stable for gain < 2
+    # (test_servo_bounds checks the limits against the polynomial roots)
     with pytest.raises(ValueError, match=r"`loop.gain` = 2.5 makes the loop unstable"):
         simulate(small(gain=2.5), 0.02, progress=False)
 
