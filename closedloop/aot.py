@@ -305,7 +305,8 @@ def build_aot_system(result, model=None):
         j = _own_sensor(cfg, i)
         blocks = _blocks(model, i)
         common = dict(sensor=f"wfs{j}", corrector=f"dm{i}", timestamps=times, framerate=rate,
-                      delay=delay, time_filter_num=num, time_filter_den=den, closed=True)
+                      delay=delay, time_filter_num=num, time_filter_den=den,
+                      closed=not result.open_loop)
         loops_main.append(LoopSpec(
             uid=f"dm{i}", **common, units="rad",
             modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),

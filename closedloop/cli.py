@@ -57,8 +57,10 @@ def _run_with(config, name, duration, seed, train_seed, progress, reference=None
 
 def _summary_line(result) -> str:
     s = result.summary()
-    return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} after closure at "
-            f"{s['closure_time_s'] * 1e3:.0f} ms, field-mean SR {s['strehl_field_mean']:.3f}, "
+    when = ("in open loop (no correction)" if s.get("open_loop")
+            else f"after closure at {s['closure_time_s'] * 1e3:.0f} ms")
+    return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} {when}, "
+            f"field-mean SR {s['strehl_field_mean']:.3f}, "
             f"corrected FoV d = {s['corrected_fov_diameter_arcmin']:.2f}' (SR > 0.3), "
             f"{s['steps_per_second']:.0f} steps/s")
 

@@ -140,8 +140,20 @@ class SimulationResult:
         return self.times.size / self.elapsed if self.elapsed > 0 else float("nan")
 
     @property
+    def open_loop(self) -> bool:
+        """True for an open-loop run (``loop.closed = false``): nothing was corrected."""
+        return not self.config.loop.closed
+
+    @property
     def closure_index(self) -> int:
-        """First frame of the closed-loop steady state (see the module docstring)."""
+        """First frame of the closed-loop steady state (see the module docstring).
+
+        0 in open loop: there is no closure to wait for, the statistics are those of the
+        turbulence from the first frame (every "after closure" average is then over the
+        whole run).
+        """
+        if self.open_loop:
+            return 0
         peak = self.strehl_peak
         n = peak.size
         if n < 4:
@@ -227,13 +239,18 @@ class SimulationResult:
         return signal.welch(x - x.mean(), fs=rate, nperseg=nper)
 
     def summary(self) -> dict[str, Any]:
-        """Headline numbers: SR peak and field mean after closure, FoV diameter, speed."""
+        """Headline numbers: SR peak and field mean after closure, FoV diameter, speed.
+
+        In open loop (``open_loop`` True) no closure is claimed: ``closure_time_s`` is NaN
+        and the means are over the whole run.
+        """
         start = self.closure_index
         return {
             "predictor": self.predictor,
             "seed": self.seed,
             "frames": int(self.times.size),
-            "closure_time_s": self.closure_time,
+            "open_loop": self.open_loop,
+            "closure_time_s": float("nan") if self.open_loop else self.closure_time,
             "strehl_peak_mean": float(self.strehl_peak[start:].mean()),
             "strehl_field_mean": float(self.strehl[start:].mean()),
             "corrected_fov_diameter_arcmin": self.corrected_fov_diameter(),

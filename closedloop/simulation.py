@@ -14,6 +14,12 @@ at the last step of frame ``k``
        DM's modal residual; the controller forms the POL, asks the predictor, and
        computes the command, which waits for ``delay`` before it is applied.
 
+The science camera therefore samples the residual once per frame, at the frame's last
+internal step (an instantaneous Strehl, not one averaged over the frame's internal steps;
+see :mod:`closedloop.science`). In open loop (``loop.closed = false``) step 5 stops at the
+measurement: no command is computed or applied, the DMs stay flat, and the residual and
+POL logs are both the open-loop modal turbulence the WFSs see.
+
 Everything random (screens, noise) comes from one ``numpy.random.SeedSequence(seed)``:
 the same seed and thread count give the same bits.
 """
@@ -238,7 +244,8 @@ def simulate(
         Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
         must be fitted and its ``horizon`` must cover the lead. ``"oracle"`` uses the
         true future (noise-free WFS measurement of the turbulence alone over the
-        command's hold): the bound no predictor can beat.
+        command's hold): the bound no predictor can beat. Must be None in open loop
+        (``config.loop.closed`` False), as must ``budget_every`` and ``control_basis``.
     seed : int or None
         Overrides ``config.seed``.
     progress : bool or None
@@ -294,11 +301,13 @@ def simulate(
     if basis is not None and budget_every:
         raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
                          "models a loop that controls every mode).")
+    open_loop = not loop.closed
+    if open_loop:
+        _check_open_loop(predictor, budget_every, control_basis)
     n_control = model.n_modes if basis is None else basis.shape[1]
-    controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
-                            delay_frames=loop.delay_frames,
-                            integration_frames=loop.integration_frames,
-                            predictor=None if oracle else predictor)
+    controller = None if open_loop else Controller(
+        n_control, gain=loop.gain, leak=loop.leak, delay_frames=loop.delay_frames,
+        integration_frames=loop.integration_frames, predictor=None if oracle else predictor)
 
     total = n_frames * n_os + n_delay + n_os
     atm = model.atmosphere(seed, total * dt)
@@ -367,7 +376,10 @@ def simulate(
             if oracle:
                 forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
                                        (k + 1) * n_os + n_delay, n_os, dt)
-            if basis is None:
+            if open_loop:
+                # nothing reaches the DMs: the residual is the turbulence, and so the POL
+                command, pol = np.zeros(model.n_modes), measured
+            elif basis is None:
                 command, pol, _ = controller.step(measured, forecast)
             else:
                 command_n, pol_n, _ = controller.step(
@@ -380,7 +392,8 @@ def simulate(
             measured_log[k] = measured
             pol_log[k] = pol
             command_log[k] = command
-            pending.append(((k + 1) * n_os + n_delay, command.copy()))
+            if not open_loop:
+                pending.append(((k + 1) * n_os + n_delay, command.copy()))
             if bar is not None:
                 bar.update(1)
             if callback is not None:
@@ -401,6 +414,16 @@ def simulate(
         budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
         result = dataclasses.replace(result, budget=budget)
     return result
+
+
+def _check_open_loop(predictor, budget_every, control_basis) -> None:
+    """Refuse what has no meaning when no command is applied (``loop.closed = false``)."""
+    given = [name for name, value in (("predictor", predictor is not None),
+                                      ("budget_every", bool(budget_every)),
+                                      ("control_basis", control_basis is not None)) if value]
+    if given:
+        raise ValueError(f"`{given[0]}` must be None in open loop (`loop.closed = false`: no "
+                         "command is computed or applied); got a value.")
 
 
 def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
