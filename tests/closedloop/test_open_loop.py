@@ -148,3 +148,17 @@ def test_open_loop_aot_export_says_open(tmp_path):
     system = aotpy.AOSystem.read_from_file(r.to_aot(tmp_path / "open.fits"))
     loops = [lp for lp in system.loops if lp.uid.startswith("dm0")]
     assert loops and all(lp.closed is False for lp in loops)
+
+
+def test_open_loop_cli_line_and_saved_result(tmp_path, capsys):
+    from closedloop.cli import main
+    from closedloop.result import SimulationResult
+
+    path = save_config(_config(closed=False, wind=5.0), tmp_path / "open.toml")
+    out = tmp_path / "open.h5"
+    assert main(["run", "--config", str(path), "--duration", "0.005", "--seed", "2",
+                 "--out", str(out), "--quiet"]) == 0
+    line = capsys.readouterr().out.strip()
+    assert "in open loop (no correction)" in line and "closure" not in line
+    saved = SimulationResult.load(out)
+    assert saved.open_loop and saved.config == _config(closed=False, wind=5.0)
