@@ -64,7 +64,9 @@ class SimulationResult:
     directions : (n_dir, 2) ndarray
         Science directions [arcsec], row-major over the square field grid.
     residual_variance : (T, n_dir) ndarray
-        Piston-removed residual phase variance [rad^2 at the science wavelength].
+        Piston-removed residual phase variance [rad^2 at the science wavelength],
+        sampled at the end of each frame (its last internal step; not averaged over the
+        frame, see :mod:`closedloop.science`).
     logs : dict of str -> ModalLog
         ``"dm{i}.residual"`` (WFS-reconstructed modal residual), ``"dm{i}.pol"``,
         ``"dm{i}.commands"`` for each DM.
@@ -126,7 +128,7 @@ class SimulationResult:
     # ------------------------------------------------------------------ views
     @property
     def strehl(self) -> np.ndarray:
-        """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``."""
+        """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``, at each frame's end."""
         return np.exp(-self.residual_variance)
 
     @property
