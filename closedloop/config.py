@@ -241,7 +241,8 @@ class LoopConfig:
         ``True`` (default): the loop applies its commands. ``False``: open loop, the DMs
         stay flat and no command is computed; the WFSs measure the turbulence alone, so
         the ``residual`` and ``pol`` logs both hold the open-loop modal turbulence (the
-        same numbers) and ``commands`` is zero (``gain`` and ``leak`` are then unused).
+        same numbers) and ``commands`` is zero (``gain`` and ``leak`` are still validated
+        but do not act).
         Left out of the plain (TOML/JSON) form when ``True``, so the files and checksums
         of closed-loop configs are those written before the key existed.
     """

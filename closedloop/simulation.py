@@ -305,9 +305,10 @@ def simulate(
     if open_loop:
         _check_open_loop(predictor, budget_every, control_basis)
     n_control = model.n_modes if basis is None else basis.shape[1]
-    controller = None if open_loop else Controller(
-        n_control, gain=loop.gain, leak=loop.leak, delay_frames=loop.delay_frames,
-        integration_frames=loop.integration_frames, predictor=None if oracle else predictor)
+    controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
+                            delay_frames=loop.delay_frames,
+                            integration_frames=loop.integration_frames,
+                            predictor=None if oracle else predictor)
 
     total = n_frames * n_os + n_delay + n_os
     atm = model.atmosphere(seed, total * dt)
@@ -376,10 +377,7 @@ def simulate(
             if oracle:
                 forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
                                        (k + 1) * n_os + n_delay, n_os, dt)
-            if open_loop:
-                # nothing reaches the DMs: the residual is the turbulence, and so the POL
-                command, pol = np.zeros(model.n_modes), measured
-            elif basis is None:
+            if basis is None:
                 command, pol, _ = controller.step(measured, forecast)
             else:
                 command_n, pol_n, _ = controller.step(
@@ -387,13 +385,16 @@ def simulate(
                 command = basis @ command_n
                 # measured + B (seen commands): the uncontrolled directions keep m
                 pol = measured + basis @ (pol_n - basis.T @ measured)
+            if open_loop:
+                # the controller's command is dropped and a zero one sent: the DMs stay
+                # flat, the residual is the turbulence, and so is the POL
+                command, pol = np.zeros(model.n_modes), measured
             if probe is not None:
                 probe.frame_end(k, n_int, (k + 1) * n_os + n_delay, fut_acc)
             measured_log[k] = measured
             pol_log[k] = pol
             command_log[k] = command
-            if not open_loop:
-                pending.append(((k + 1) * n_os + n_delay, command.copy()))
+            pending.append(((k + 1) * n_os + n_delay, command.copy()))
             if bar is not None:
                 bar.update(1)
             if callback is not None:
