@@ -238,13 +238,13 @@ class LoopConfig:
         counts as measurement noise (aliasing it cannot model); a setting of the
         reconstructor, not of the physics (``closedloop.simulation.LoopModel``).
     closed : bool
-        ``True`` (default): the loop applies its commands. ``False``: open loop, the DMs
-        stay flat and no command is computed; the WFSs measure the turbulence alone, so
-        the ``residual`` and ``pol`` logs both hold the open-loop modal turbulence (the
-        same numbers) and ``commands`` is zero (``gain`` and ``leak`` are still validated
-        but do not act).
-        Left out of the plain (TOML/JSON) form when ``True``, so the files and checksums
-        of closed-loop configs are those written before the key existed.
+        ``True`` (default): the loop applies its commands. ``False``: open loop, every
+        command is replaced by zero and the DMs stay flat; the WFSs measure the turbulence
+        alone, so the ``residual`` and ``pol`` logs both hold the open-loop modal
+        turbulence (the same numbers) and ``commands`` is zero (``gain`` and ``leak`` are
+        still validated but do not act). Left out of the plain (TOML/JSON) form when
+        ``True``, so the files and checksums of closed-loop configs are those written
+        before the key existed.
     """
 
     time_step: float = 1e-3

@@ -16,9 +16,9 @@ at the last step of frame ``k``
 
 The science camera therefore samples the residual once per frame, at the frame's last
 internal step (an instantaneous Strehl, not one averaged over the frame's internal steps;
-see :mod:`closedloop.science`). In open loop (``loop.closed = false``) step 5 stops at the
-measurement: no command is computed or applied, the DMs stay flat, and the residual and
-POL logs are both the open-loop modal turbulence the WFSs see.
+see :mod:`closedloop.science`). In open loop (``loop.closed = false``) every command is
+replaced by zero: the DMs stay flat, and the residual and POL logs are both the open-loop
+modal turbulence the WFSs see.
 
 Everything random (screens, noise) comes from one ``numpy.random.SeedSequence(seed)``:
 the same seed and thread count give the same bits.
@@ -424,7 +424,7 @@ def _check_open_loop(predictor, budget_every, control_basis) -> None:
                                       ("control_basis", control_basis is not None)) if value]
     if given:
         raise ValueError(f"`{given[0]}` must be None in open loop (`loop.closed = false`: no "
-                         "command is computed or applied); got a value.")
+                         "command is applied); got a value.")
 
 
 def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
