@@ -419,12 +419,13 @@ def simulate(
 
 def _check_open_loop(predictor, budget_every, control_basis) -> None:
     """Refuse what has no meaning when no command is applied (``loop.closed = false``)."""
-    given = [name for name, value in (("predictor", predictor is not None),
-                                      ("budget_every", bool(budget_every)),
-                                      ("control_basis", control_basis is not None)) if value]
-    if given:
-        raise ValueError(f"`{given[0]}` must be None in open loop (`loop.closed = false`: no "
-                         "command is applied); got a value.")
+    for name, value, given in (("predictor", predictor, predictor is not None),
+                               ("budget_every", budget_every, bool(budget_every)),
+                               ("control_basis", control_basis, control_basis is not None)):
+        if given:
+            shown = repr(value) if isinstance(value, str | int) else type(value).__name__
+            raise ValueError(f"`{name}` must be None in open loop (`loop.closed = false`: no "
+                             f"command is applied); got {shown}.")
 
 
 def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
