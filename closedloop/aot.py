@@ -22,10 +22,11 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
   (``n_valid_actuators = M``), the pupil mask is the controlled disc on the DM's plane
   grid ``(n_p, n_p)``; altitude in ``MI_GEOM``;
 * **atmosphere** ``"atmosphere"``: layer heights [m above the telescope], fractions
-  ``(D/r0_l)^(5/3) / sum``, wind speeds [m/s] and directions [deg, as configured: from
-  +x towards +y of the simulator's grid, which has no sky orientation; AOT asks 0 =
-  North, eastward], outer scales [m] (``inf``: Kolmogorov) and the total r0 [m] at
-  ``r0_wavelength`` and the zenith;
+  ``(D/r0_l)^(5/3) / sum``, wind speeds [m/s] and directions in AOT's convention
+  (:func:`aot_wind_direction`: deg, 0 = North, increasing eastward, the direction the
+  wind blows *from*, with the simulator's +x taken as East and +y as North), outer
+  scales [m] (``inf``: Kolmogorov) and the total r0 [m] at ``r0_wavelength`` and the
+  zenith;
 * **loops**, per DM ``i`` driven by sensor ``j``:
 
   - ``"dm{i}"``: modal coefficients = the ``dm{i}.residual`` log (the WFS-reconstructed
@@ -36,7 +37,9 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
     Noll Zernikes Z2.. over the disc, 0 outside), ``modes_to_commands`` = identity
     (commands are modal coefficients), the commands (the ``dm{i}.commands`` log, in
     rad: ``BUNIT = 'rad'``, not AOT's metres, because the "actuators" are modes),
-    ``measurements_to_modes``, the integrator time filter, delay [frames] and framerate;
+    ``measurements_to_modes`` (absent for an ideal sensor on a zonal DM, where it is the
+    identity: a dense ``(pixels x pixels)`` image is not written), the integrator time
+    filter, delay [frames] and framerate;
   - ``"dm{i}.pol"``: the pseudo-open-loop coefficients (the ``dm{i}.pol`` log, what a
     predictor forecasts). AOT has no field for them; they are a second loop record of
     the same sensor and corrector, without modes or reconstructor (their columns are
@@ -71,10 +74,70 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["build_aot_system", "export_aot"]
+__all__ = ["aot_wind_direction", "build_aot_system", "export_aot", "wind_direction_from_aot"]
 
 #: system card describing what the closedloop export holds (JSON)
 CLOSEDLOOP_KEY = "MI_CLOOP"
+
+#: the wind-direction convention of the export, as written in the ``MI_CLOOP`` card
+WIND_CONVENTION = ("AOT LAYERS_WIND_DIRECTION: deg, 0 = North, increasing eastward, the "
+                   "direction the wind blows from (meteorological); the simulator's grid is "
+                   "a map of the layer seen from above with +x = East, +y = North, and its "
+                   "wind_direction a (deg from +x towards +y, where the screen moves to) is "
+                   "written as (270 - a) mod 360; the configured values are in the config")
+
+
+def aot_wind_direction(direction) -> np.ndarray:
+    """Convert the simulator's wind direction to AOT's: ``(270 - a) mod 360`` [deg].
+
+    The simulator's ``LayerConfig.wind_direction`` ``a`` is the direction the screen moves
+    to, counter-clockwise from +x towards +y of its grid (velocity ``v (cos a, sin a)``,
+    x along columns, y along rows). The AOT standard (``aotpy``:
+    ``AtmosphericParameters.layers_wind_direction``) gives "0 deg being North, increasing
+    eastward", the azimuth convention of its telescope field. The standard does not say
+    "to" or "from"; the meteorological "wind direction" is where the wind comes *from*,
+    and ``aotpy``'s ESO translators fill the field with ESO's ambient wind direction
+    (``TEL AMBI WINDDIR``, a meteorological, from-direction azimuth) unchanged, so this
+    export writes the from-direction. The grid has no sky orientation; it is taken as a
+    map of the layer seen from above with +x = East and +y = North (the frame in which an
+    azimuth runs from North through East). The blow-to bearing is then ``90 - a`` and
+    the from-bearing ``270 - a``.
+
+    Parameters
+    ----------
+    direction : float or array_like
+        Simulator wind direction(s) [deg], any real value.
+
+    Returns
+    -------
+    numpy.ndarray
+        AOT wind direction(s) [deg] in ``[0, 360)``. Examples: wind along +x (to the
+        East, a = 0) -> 270 (from the West); along +y (to the North, a = 90) -> 180.
+    """
+    a = np.asarray(direction, dtype=np.float64)
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"`direction` must be finite [deg]; got {direction!r}.")
+    return _degrees(270.0 - a)
+
+
+def _degrees(x: np.ndarray) -> np.ndarray:
+    """``x mod 360`` in ``[0, 360)`` (``np.mod`` rounds a tiny negative ``x`` up to 360)."""
+    out = np.mod(x, 360.0)
+    return np.where(out >= 360.0, out - 360.0, out)
+
+
+def wind_direction_from_aot(aot_direction) -> np.ndarray:
+    """Convert AOT wind direction(s) to the simulator's: ``(270 - b) mod 360`` [deg].
+
+    The inverse of :func:`aot_wind_direction` (the map ``x -> 270 - x`` is its own
+    inverse modulo 360): ``b`` is the AOT azimuth the wind blows from (0 = North,
+    increasing eastward), the result the simulator's direction of motion,
+    counter-clockwise from +x (East) towards +y (North), in ``[0, 360)``.
+    """
+    b = np.asarray(aot_direction, dtype=np.float64)
+    if not np.all(np.isfinite(b)):
+        raise ValueError(f"`aot_direction` must be finite [deg]; got {aot_direction!r}.")
+    return _degrees(270.0 - b)
 
 
 def _own_sensor(config, i: int) -> int:
@@ -131,8 +194,10 @@ def _blocks(model, i: int) -> list[np.ndarray]:
     for w in model.wfss:
         if w.dm.index != i:
             out.append(None)
-        elif w.reconstructor is None:  # ideal sensor on a zonal DM: the identity
-            out.append(np.eye(w.n_measurements))
+        elif w.reconstructor is None:
+            # ideal sensor on a zonal DM: the identity, not written (a dense (pixels x
+            # pixels) image, 200 MB at 80 px); the MI_CLOOP card says so
+            out.append(None)
         else:
             out.append(w.reconstructor)
     return out
@@ -240,12 +305,14 @@ def build_aot_system(result, model=None):
         j = _own_sensor(cfg, i)
         blocks = _blocks(model, i)
         common = dict(sensor=f"wfs{j}", corrector=f"dm{i}", timestamps=times, framerate=rate,
-                      delay=delay, time_filter_num=num, time_filter_den=den, closed=True)
+                      delay=delay, time_filter_num=num, time_filter_den=den,
+                      closed=not result.open_loop)
         loops_main.append(LoopSpec(
             uid=f"dm{i}", **common, units="rad",
             modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
             modes=_mode_images(dm, n_p),
-            measurements_to_modes=_as_dsv(model.wfss[j], blocks[j]),
+            measurements_to_modes=(None if blocks[j] is None
+                                   else _as_dsv(model.wfss[j], blocks[j])),
             modes_to_commands=np.eye(dm.n_modes) if modal else None,
             commands=np.ascontiguousarray(result.logs[f"dm{i}.commands"].coeffs),
             command_units="rad", coefficient_metadata={"MI_QUANT": "residual"}))
@@ -273,7 +340,7 @@ def build_aot_system(result, model=None):
         heights=np.array([lay.altitude for lay in cfg.layers]),
         weights=strength / strength.sum(),
         wind_speeds=np.array([lay.wind_speed for lay in cfg.layers]),
-        wind_directions=np.array([lay.wind_direction for lay in cfg.layers]),
+        wind_directions=aot_wind_direction([lay.wind_direction for lay in cfg.layers]),
         outer_scales=np.array([lay.outer_scale for lay in cfg.layers]))
 
     system = build_system(
@@ -289,11 +356,12 @@ def build_aot_system(result, model=None):
         "reconstructor": ("global MAP: dm{i} modes = sum over sensors k of the blocks in "
                           "loops dm{i} (own sensor) and dm{i}.wfs{k}"
                           if model.reconstructor is not None else
-                          "one per sensor: loop dm{i}.measurements_to_modes"),
+                          "one per sensor: loop dm{i}.measurements_to_modes (absent: the "
+                          "identity, an ideal sensor on a zonal DM)"),
         "units": "phase in rad at r0_wavelength; slopes in rad/m",
         "r0_wavelength": cfg.r0_wavelength,
         "altitudes": "m above the telescope (line of sight: times sec(zenith_angle))",
-        "wind_direction": "deg from +x towards +y of the simulator's grid (no sky orientation)",
+        "wind_direction": WIND_CONVENTION,
         "strehl_ratio": "Marechal SR averaged over the field grid after loop closure",
         "time_filter": "integrator c_k = (1 - leak) c_{k-1} + gain m_k"
                        + ("" if result.predictor == "none" else

@@ -108,6 +108,9 @@ def _summary_line(result) -> str:
     numbers = (f"field-mean SR {s['strehl_field_mean']:.3f}, corrected FoV d = "
                f"{s['corrected_fov_diameter_arcmin']:.2f}' (SR > 0.3), "
                f"{s['steps_per_second']:.0f} steps/s")
+    if s["open_loop"]:
+        return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} in open loop "
+                f"(no correction), {numbers}")
     if not s["closed"]:
         # never "closure at 0 ms": say what happened, then the numbers for what they are
         return (f"{result.predictor}: loop {s['loop_status']}; SR peak "

@@ -237,6 +237,14 @@ class LoopConfig:
         Share of a subaperture's turbulent slope variance that the MAP reconstructor
         counts as measurement noise (aliasing it cannot model); a setting of the
         reconstructor, not of the physics (``closedloop.simulation.LoopModel``).
+    closed : bool
+        ``True`` (default): the loop applies its commands. ``False``: open loop, every
+        command is replaced by zero and the DMs stay flat; the WFSs measure the turbulence
+        alone, so the ``residual`` and ``pol`` logs both hold the open-loop modal
+        turbulence (the same numbers) and ``commands`` is zero (``gain`` and ``leak`` are
+        still validated but do not act). Left out of the plain (TOML/JSON) form when
+        ``True``, so the files and checksums of closed-loop configs are those written
+        before the key existed.
     """
 
     time_step: float = 1e-3
@@ -245,6 +253,7 @@ class LoopConfig:
     gain: float = 0.5
     leak: float = 0.0
     model_error: float = 0.3
+    closed: bool = field(default=True, metadata={"omit_default": True})
 
     def _validate(self, p: str) -> None:
         _set(self, "time_step", _real(self.time_step, p + "time_step", minimum=0,
@@ -262,6 +271,9 @@ class LoopConfig:
         _set(self, "gain", _real(self.gain, p + "gain", minimum=0, strict_min=True))
         _set(self, "leak", _real(self.leak, p + "leak", minimum=0, maximum=0.999))
         _set(self, "model_error", _real(self.model_error, p + "model_error", minimum=0))
+        if not isinstance(self.closed, bool):
+            _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
+                  TypeError)
 
     @property
     def delay_frames(self) -> float:
@@ -468,10 +480,13 @@ def _check_sampling(cfg: SimulationConfig) -> None:
 
 def _plain(obj) -> dict[str, Any]:
     # None and inf (Kolmogorov's outer scale) are the defaults: leaving them out keeps the
-    # TOML/JSON/metadata forms standard (JSON has no infinity)
+    # TOML/JSON/metadata forms standard (JSON has no infinity); a field marked
+    # ``omit_default`` (added after files were written) is left out at its default, so
+    # those files and their checksums stay what they were
     return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)
             if getattr(obj, f.name) is not None
-            and not (isinstance(getattr(obj, f.name), float) and math.isinf(getattr(obj, f.name)))}
+            and not (isinstance(getattr(obj, f.name), float) and math.isinf(getattr(obj, f.name)))
+            and not (f.metadata.get("omit_default") and getattr(obj, f.name) == f.default)}
 
 
 def _check_keys(d: dict, allowed: set[str], prefix: str) -> None:

@@ -10,7 +10,11 @@ Zernike is even or odd in x and in y, so a quarter of ``B`` is read, which matte
 because ``B`` (3 MB for 119 modes on a 64-pixel disc) streams from memory at every
 command. An ``"ideal"`` mirror is zonal: one
 "mode" per pixel of its disc, so it can take any sampled shape (no fitting error); it
-exists to verify the rest of the loop against Noll's and Fried's laws.
+exists to verify the rest of the loop against Noll's and Fried's laws. It holds no shape
+matrix (``shapes`` is None: the identity is implicit, its surface is its command vector),
+and a sensor's interaction with it is a sparse matrix
+(:meth:`closedloop.wfs.WavefrontSensor.interaction_with`): dense, either would be
+``(pixels x pixels)``, 200 MB at 80 pixels across.
 
 Why modal Zernike shapes: the paper's analysis library orders Zernike and K-L modes, so
 the mirrors speak the same basis and their command logs are Zernike coefficients that

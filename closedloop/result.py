@@ -84,7 +84,9 @@ class SimulationResult:
     directions : (n_dir, 2) ndarray
         Science directions [arcsec], row-major over the square field grid.
     residual_variance : (T, n_dir) ndarray
-        Piston-removed residual phase variance [rad^2 at the science wavelength].
+        Piston-removed residual phase variance [rad^2 at the science wavelength],
+        sampled at the end of each frame (its last internal step; not averaged over the
+        frame, see :mod:`closedloop.science`).
     logs : dict of str -> ModalLog
         ``"dm{i}.residual"`` (WFS-reconstructed modal residual), ``"dm{i}.pol"``,
         ``"dm{i}.commands"`` for each DM.
@@ -146,7 +148,7 @@ class SimulationResult:
     # ------------------------------------------------------------------ views
     @property
     def strehl(self) -> np.ndarray:
-        """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``."""
+        """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``, at each frame's end."""
         return np.exp(-self.residual_variance)
 
     @property
@@ -160,8 +162,20 @@ class SimulationResult:
         return self.times.size / self.elapsed if self.elapsed > 0 else float("nan")
 
     @property
+    def open_loop(self) -> bool:
+        """True for an open-loop run (``loop.closed = false``): nothing was corrected."""
+        return not self.config.loop.closed
+
+    @property
     def closure_index(self) -> int:
-        """First frame of the closed-loop steady state (see the module docstring)."""
+        """First frame of the closed-loop steady state (see the module docstring).
+
+        0 in open loop: there is no closure to wait for, the statistics are those of the
+        turbulence from the first frame (every "after closure" average is then over the
+        whole run).
+        """
+        if self.open_loop:
+            return 0
         peak = self.strehl_peak
         n = peak.size
         if n < 4:
@@ -196,7 +210,12 @@ class SimulationResult:
 
     @property
     def loop_status(self) -> str:
-        """``"closed"``, ``"diverged: <why>"`` or ``"did not close: <why>"`` (module docstring)."""
+        """``"closed"``, ``"diverged: <why>"``, ``"did not close: <why>"`` or ``"open loop"``.
+
+        See the module docstring; ``"open loop"`` for a run with ``loop.closed = false``.
+        """
+        if self.open_loop:
+            return "open loop"
         v = self.residual_variance.mean(axis=1)  # field mean per frame [rad^2]
         n = v.size
         if not np.all(np.isfinite(v)):
@@ -317,14 +336,20 @@ class SimulationResult:
 
         ``closed`` / ``diverged`` / ``loop_status`` say whether the loop closed; if it did
         not, ``closure_time_s`` is NaN and the numbers are those of the run's second half.
+        In open loop (``open_loop`` True, ``loop_status`` "open loop") no closure is
+        claimed: ``closure_time_s`` is NaN and the means are over the whole run.
         """
         status = self.loop_status
         closed = status == "closed"
-        start = self.closure_index if closed else self.times.size // 2
+        if self.open_loop:
+            start = 0
+        else:
+            start = self.closure_index if closed else self.times.size // 2
         return {
             "predictor": self.predictor,
             "seed": self.seed,
             "frames": int(self.times.size),
+            "open_loop": self.open_loop,
             "closed": closed,
             "diverged": status.startswith("diverged"),
             "loop_status": status,

@@ -8,6 +8,17 @@ have the pupil's pitch; a plane whose shift is the same in every direction, the 
 plane, is read once for all directions). The Strehl ratio is the extended
 Marechal approximation ``exp(-sigma**2)`` at the science wavelength (Ross 2009, Appl.
 Opt. 48, 1812); :func:`fft_strehl` computes the PSF peak by FFT to check it.
+
+When: :func:`closedloop.simulate` measures once per frame, at the frame's last internal
+step, so a frame's Strehl is the instantaneous one at the frame's end, not an exposure
+average over the frame's ``loop.oversampling`` internal steps. An exposure-averaged
+Strehl (a camera adds intensities, so the mean of ``exp(-sigma_s**2)`` over the steps,
+which by Jensen's inequality is at least the Marechal value of the frame-averaged
+variance ``exp(-<sigma_s**2>)``) would cost one science pass per internal step. On
+table1 (two steps per frame, the last one right after a command update) the end-of-frame
+sampling reads the freshest correction: SR peak 0.3995 against 0.3968 for the mean of
+``exp(-sigma_s**2)`` and 0.3964 for ``exp(-<sigma_s**2>)``, field mean 0.1823 against
+0.1812 and 0.1811 (seed 1, 0.3 s, after closure): +0.7 % and +0.6 %, relative.
 """
 
 from __future__ import annotations

@@ -14,6 +14,12 @@ at the last step of frame ``k``
        DM's modal residual; the controller forms the POL, asks the predictor, and
        computes the command, which waits for ``delay`` before it is applied.
 
+The science camera therefore samples the residual once per frame, at the frame's last
+internal step (an instantaneous Strehl, not one averaged over the frame's internal steps;
+see :mod:`closedloop.science`). In open loop (``loop.closed = false``) every command is
+replaced by zero: the DMs stay flat, and the residual and POL logs are both the open-loop
+modal turbulence the WFSs see.
+
 Everything random (screens, noise) comes from one ``numpy.random.SeedSequence(seed)``:
 the same seed and thread count give the same bits.
 """
@@ -241,7 +247,8 @@ def simulate(
         Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
         must be fitted and its ``horizon`` must cover the lead. ``"oracle"`` uses the
         true future (noise-free WFS measurement of the turbulence alone over the
-        command's hold): the bound no predictor can beat.
+        command's hold): the bound no predictor can beat. Must be None in open loop
+        (``config.loop.closed`` False), as must ``budget_every`` and ``control_basis``.
     seed : int or None
         Overrides ``config.seed``.
     progress : bool or None
@@ -289,6 +296,8 @@ def simulate(
         raise ValueError(f"`on_predictor_fault` must be one of "
                          f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
                          f"{on_predictor_fault!r}.")
+    if not config.loop.closed:
+        _check_open_loop(predictor, budget_every, control_basis)
     check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
     from closedloop.resources import check_resources
 
@@ -319,6 +328,7 @@ def simulate(
     if basis is not None and budget_every:
         raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
                          "models a loop that controls every mode).")
+    open_loop = not loop.closed
     n_control = model.n_modes if basis is None else basis.shape[1]
     controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
                             delay_frames=loop.delay_frames,
@@ -404,6 +414,10 @@ def simulate(
                     pol = measured + basis @ (pol_n - basis.T @ measured)
             except PredictorFault as exc:
                 raise _labelled(exc, model, basis) from None
+            if open_loop:
+                # the controller's command is dropped and a zero one sent: the DMs stay
+                # flat, the residual is the turbulence, and so is the POL
+                command, pol = np.zeros(model.n_modes), measured
             if probe is not None:
                 probe.frame_end(k, n_int, (k + 1) * n_os + n_delay, fut_acc)
             measured_log[k] = measured
@@ -459,7 +473,8 @@ def check_run(config: SimulationConfig, duration: float, *, budget_every: int | 
     if n_frames < 1:
         raise ValueError(f"`duration` must be at least one frame (loop.time_step = "
                          f"{loop.time_step:g} s); got {duration:g} s.")
-    if n_frames * loop.time_step <= first * (1 + 1e-9):
+    # open loop applies no command: any whole number of frames is a valid run
+    if loop.closed and n_frames * loop.time_step <= first * (1 + 1e-9):
         raise ValueError(
             f"`duration` must be longer than loop.time_step + loop.delay = {first:g} s (the "
             f"first command reaches the mirror then, so a shorter run never closes the "
@@ -488,6 +503,17 @@ def _labelled(exc: PredictorFault, model: LoopModel, basis) -> PredictorFault:
                                     f"for mode {exc.mode} (dm{d} {label}) ", 1)
             return PredictorFault(text, step=exc.step, mode=exc.mode)
     return exc
+
+
+def _check_open_loop(predictor, budget_every, control_basis) -> None:
+    """Refuse what has no meaning when no command is applied (``loop.closed = false``)."""
+    for name, value, given in (("predictor", predictor, predictor is not None),
+                               ("budget_every", budget_every, bool(budget_every)),
+                               ("control_basis", control_basis, control_basis is not None)):
+        if given:
+            shown = repr(value) if isinstance(value, str | int) else type(value).__name__
+            raise ValueError(f"`{name}` must be None in open loop (`loop.closed = false`: no "
+                             f"command is applied); got {shown}.")
 
 
 def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:

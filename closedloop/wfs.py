@@ -82,8 +82,9 @@ class WavefrontSensor:
         ``(n_meas, n_p**2)`` per plane: measurement = ``sum_p operators[p] @ r_p.ravel()``.
     reconstructor : (M, n_meas) ndarray
         Measurements to modal residual [rad per measurement unit].
-    interaction : (n_meas, M) ndarray
-        Measurements of a unit command of each mode.
+    interaction : (n_meas, M) ndarray or scipy.sparse.csr_matrix
+        Measurements of a unit command of each mode (sparse for a zonal DM, see
+        :meth:`interaction_with`).
     noise_rms : float
         Per-measurement noise [rad / m for a SH; 0 for ideal].
     n_valid_subapertures : int
@@ -117,7 +118,9 @@ class WavefrontSensor:
         if cfg.kind == "ideal" and dm.shapes is None:
             self.reconstructor = None  # identity: the measurement is the disc's phase
         else:
-            self.reconstructor = np.linalg.pinv(self.interaction, rcond=rcond)
+            inter = self.interaction
+            self.reconstructor = np.linalg.pinv(
+                inter.toarray() if sparse.issparse(inter) else inter, rcond=rcond)
 
     # ------------------------------------------------------------------ building
     def _illuminated(self, u: np.ndarray, theta: np.ndarray) -> np.ndarray:
@@ -253,8 +256,17 @@ class WavefrontSensor:
             return s
         return self.reconstructor @ s
 
-    def interaction_with(self, dm: DeformableMirror) -> np.ndarray:
-        """Measurements of a unit command of each mode of ``dm``: ``(n_measurements, M_dm)``."""
+    def interaction_with(self, dm: DeformableMirror):
+        """Measurements of a unit command of each mode of ``dm``: ``(n_measurements, M_dm)``.
+
+        A dense ndarray for a modal DM; a ``scipy.sparse.csr_matrix`` for a zonal
+        (``"ideal"``) DM, whose "modes" are its disc's pixels: as a dense array that block
+        is ``(pixels x pixels)``, 200 MB at 80 pixels across, and mostly zeros (each
+        measurement reads a few pixels per field sample). ``_centred`` only applies to a
+        modal DM, so the sparse block is never centred.
+        """
         block = self.operators[dm.plane][:, dm.pixels]
-        out = block.toarray() if dm.shapes is None else np.asarray(block @ dm.shapes)
+        if dm.shapes is None:
+            return sparse.csr_matrix(block)
+        out = np.asarray(block @ dm.shapes)
         return out - out.mean(axis=0) if self._centred else out

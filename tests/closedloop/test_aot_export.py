@@ -120,8 +120,12 @@ def test_geometry_atmosphere_and_config_are_described(run, cfg, model, system):
                                   [lay.altitude for lay in cfg.layers])
     np.testing.assert_array_equal(_native(atm.layers_wind_speed).ravel(),
                                   [lay.wind_speed for lay in cfg.layers])
-    np.testing.assert_array_equal(_native(atm.layers_wind_direction).ravel(),
-                                  [lay.wind_direction for lay in cfg.layers])
+    # AOT: 0 = North, increasing eastward, blowing from; +x = East, +y = North, written
+    # in code here: the from-vector -(cos a, sin a) as a bearing atan2(east, north)
+    a = np.radians([lay.wind_direction for lay in cfg.layers])
+    bearing = np.degrees(np.arctan2(-np.cos(a), -np.sin(a))) % 360.0
+    np.testing.assert_allclose(_native(atm.layers_wind_direction).ravel(), bearing,
+                               rtol=0, atol=1e-12)
     np.testing.assert_array_equal(_native(atm.layers_l0).ravel(),  # inf: Kolmogorov, kept
                                   [lay.outer_scale for lay in cfg.layers])
     text = config_of(system)
