@@ -106,7 +106,8 @@ def test_forecasts_scale_with_the_data(name, kind):
         _, other_seed = _forecasts(lambda: NeuralNetPredictor.paper(horizon=3,
                                                                     random_state=1), x)
         tol = np.abs(other_seed - ref).max(axis=(0, 1))
-    for s in SCALES:
+    # networks train for seconds: the extreme scales and the nm conversion suffice there
+    for s in (1e-6, 500 / (2 * np.pi), 1e6) if name.startswith("nn") else SCALES:
         _, got = _forecasts(PREDICTORS[name], x * s)
         err = np.abs(got / s - ref).max(axis=(0, 1))
         assert np.all(err <= tol), (s, err / x.std(axis=0))
