@@ -27,7 +27,8 @@ Estimation (numpy only; statsmodels is a test-only reference)
   Well-posedness (issue 18). The fit used to stop after ten Gauss-Newton steps with
   step halving and a rounding-level accept/reject, on that ridge: where it stopped
   depended on the units (on Z12 of ``kaos_like_closed_loop.npz`` phi = (0.659,
-  0.294) in rad, (0.504, 0.374) in nm, with CSS 0.1 % and 2.9 % above the optimum).
+  0.294) in rad, (0.504, 0.374) in nm, both near a local minimum of the CSS 5 % above
+  the one at phi = (1.780, -0.793) that the converged fit now finds in any units).
   Of the remedies (a ridge penalty, reducing near-common factors to the lower order,
   a deterministic choice among near-equal optima) none is needed once the CSS is
   minimised to convergence from a start that is itself a continuous, unit-free

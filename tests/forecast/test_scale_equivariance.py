@@ -167,7 +167,7 @@ def test_arma21_matches_statsmodels_within_standard_errors_at_every_scale():
 
 def test_closed_loop_fit_reaches_the_css_optimum_found_by_minpack():
     # Z12 of the spectral log, the mode issue 18 reported: the old ten Gauss-Newton
-    # steps stopped 0.1 % (rad) to 2.9 % (nm) above this optimum, at different phi
+    # steps stopped at different phi in rad and in nm, with a CSS 5 % above this one
     x = _log("kaos_like_closed_loop.npz", 7000, [10])[:, 0]
     burn = 50
     xc = (x - x.mean()) / x.std()
