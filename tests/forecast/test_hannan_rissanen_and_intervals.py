@@ -101,7 +101,9 @@ def test_refinement_reaches_the_conditional_least_squares_optimum():
 
 def test_interval_validation_and_defaults():
     pred = ARMAPredictor(order=(1, 1)).fit(_arma23(600, 25))
-    assert (pred.n_iter, pred.burn_in, pred.horizon, pred.level) == (10, 50, 10, 0.95)
+    # n_iter caps the damped Newton steps run to convergence (was 10 fixed Gauss-Newton
+    # steps, which stopped short on closed-loop series: issue 18)
+    assert (pred.n_iter, pred.burn_in, pred.horizon, pred.level) == (50, 50, 10, 0.95)
     assert pred.forecast_std().shape == (10, 1) and pred.forecast_std(3).shape == (3, 1)
     assert pred.predict_interval(np.zeros(50)).mean.shape == (10,)
     assert pred.predict_interval(np.zeros(50), horizon=1).mean.shape == (1,)
