@@ -121,7 +121,7 @@ def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any
     ``({path: [sha256 or None, n_frames]}, files probed)`` (``n_frames``: None when
     not asked for, -1 for a file that does not load).
     """
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     cache_path = out_dir / "hashes.json"
     cache: dict = {}

@@ -87,12 +87,11 @@ def _hint(name: str, text: str, where: str) -> Any:
         except ValueError:
             raise ValueError(f"{where}: column {name!r} must be a number; got {text!r}") from None
     if name == "modes":
-        from modalinfo.cli import CommandError
-        from modalinfo.cli._common import parse_modes
+        from modalinfo.bases.indexing import parse_modes
 
         try:
             return parse_modes(text)
-        except CommandError as exc:
+        except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
     return text
 

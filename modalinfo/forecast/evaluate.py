@@ -57,7 +57,7 @@ _BASELINES = ("persistence", "mean")
 
 def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
     """Write ``data`` to ``path`` atomically, refusing to replace it unless ``overwrite``."""
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
@@ -365,7 +365,7 @@ class ForecastEvaluation:
         """
         import matplotlib.pyplot as plt
 
-        from modalinfo.io._common import atomic_write
+        from modalinfo.io import atomic_write
 
         out_dir = Path(out_dir)
         paths = [out_dir / "forecast_series.png", out_dir / "forecast_rmse.png"]

@@ -24,9 +24,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from modalinfo.io._common import HINTS, LogFormatError, as_path, check_readable
+from modalinfo.io._common import HINTS
 from modalinfo.io.aot import is_aot, read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.io.fits import read_fits, write_fits
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
 from modalinfo.io.integrity import IntegrityCheck, integrity_check
@@ -38,6 +39,7 @@ __all__ = [
     "HINTS",
     "IntegrityCheck",
     "LogFormatError",
+    "atomic_write",
     "integrity_check",
     "detect_format",
     "load",

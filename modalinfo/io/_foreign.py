@@ -35,6 +35,8 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.io.files import LogFormatError
+
 __all__ = ["MAX_MODES", "COLUMN_RATIO", "MIN_SUSPECT_COLUMNS", "orient", "axis_layout"]
 
 #: More modes than any wavefront sensor measures: such a width means frames.
@@ -119,8 +121,6 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
     likely transposed array nobody vouched for, ``ValueError`` for a hint
     contradicting the file's annotation.
     """
-    from modalinfo.io._common import LogFormatError
-
     transpose = hints.get("transpose")
     if transpose is not None and not isinstance(transpose, bool | np.bool_):
         raise TypeError(f"hint `transpose` must be a bool; got {transpose!r}.")

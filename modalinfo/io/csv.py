@@ -38,11 +38,7 @@ import numpy as np
 
 from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     dumps,
     log_header,
     parse_header,
@@ -51,6 +47,7 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_csv", "write_csv"]

@@ -34,11 +34,7 @@ import numpy as np
 
 from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     dumps,
     log_header,
     parse_header,
@@ -47,6 +43,7 @@ from modalinfo.io._common import (
     unwrap,
 )
 from modalinfo.io._foreign import axis_layout
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import UNITS
 

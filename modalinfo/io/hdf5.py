@@ -46,11 +46,7 @@ import numpy as np
 
 from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     check_stored_coefficients,
     dumps,
     log_header,
@@ -61,6 +57,7 @@ from modalinfo.io._common import (
     verify_checksum,
 )
 from modalinfo.io._foreign import axis_layout
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog, _scan_rows
 
 __all__ = ["read_hdf5", "write_hdf5"]

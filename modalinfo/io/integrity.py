@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from modalinfo.io._common import LogFormatError, as_path, sha256_of
+from modalinfo.io._common import sha256_of
+from modalinfo.io.files import LogFormatError, as_path
 
 __all__ = ["IntegrityCheck", "integrity_check"]
 

@@ -29,13 +29,7 @@ import numpy as np
 
 from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
-    LogFormatError as _LogFormatError,
-)
-from modalinfo.io._common import (
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     check_stored_coefficients,
     dumps,
     log_header,
@@ -44,6 +38,8 @@ from modalinfo.io._common import (
     stored_from_header,
     unwrap,
 )
+from modalinfo.io.files import LogFormatError as _LogFormatError
+from modalinfo.io.files import as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_npz", "write_npz", "read_npy"]
