@@ -39,8 +39,6 @@ _ALIASES = {
     "fmt": "fmt",
 }
 _FLOATS = ("rate", "wavelength", "start_time")
-_FALLBACK_EXTENSIONS = (".npz", ".npy", ".csv", ".txt", ".dat", ".tsv", ".fits", ".fit",
-                        ".fts", ".h5", ".hdf5", ".hdf", ".he5")
 
 
 @dataclass(frozen=True)
@@ -63,10 +61,9 @@ class LogEntry:
 
 
 def _extensions() -> tuple[str, ...]:
-    import modalinfo.io as mio
+    from modalinfo.io.formats import EXTENSIONS
 
-    known = getattr(mio, "_EXTENSIONS", None)
-    return tuple(known) if isinstance(known, dict) and known else _FALLBACK_EXTENSIONS
+    return tuple(EXTENSIONS)
 
 
 def _is_manifest(path: Path) -> bool:

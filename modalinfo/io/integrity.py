@@ -123,7 +123,7 @@ def integrity_check(path, log, *, fmt: str | None = None, mmap: bool = False,
         :meth:`IntegrityCheck.update` with the coefficient row blocks, then call
         :meth:`IntegrityCheck.finish`.
     """
-    from modalinfo.io import detect_format
+    from modalinfo.io.formats import detect_format
 
     path = as_path(path)
     fmt = detect_format(path) if fmt is None else fmt
