@@ -21,7 +21,9 @@ import numpy as np
 
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.files import LogFormatError
-from modalinfo.telemetry.log import ModalLog, _row_blocks, _scan_rows
+from modalinfo.telemetry.checks import default_modes
+from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.scan import row_blocks, scan_rows
 
 FORMAT_VERSION = 1
 HEADER_KEY = "modalinfo"
@@ -182,7 +184,7 @@ def sha256_of(arr: np.ndarray) -> str:
     digest = hashlib.sha256()
     little = arr.dtype.newbyteorder("<")
     # row blocks as the log's own scans: a memory-mapped log is hashed with a small RSS
-    blocks = (arr,) if arr.ndim == 1 else _row_blocks(arr, _scan_rows(arr))
+    blocks = (arr,) if arr.ndim == 1 else row_blocks(arr, scan_rows(arr))
     for block in blocks:
         digest.update(np.ascontiguousarray(block, dtype=little).data)
     return digest.hexdigest()
@@ -286,13 +288,10 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         elif convention_assumed and "convention" not in hints:
             assumed["convention"] = kwargs["convention"]
         if kwargs.get("modes") is None and np.ndim(coeffs) == 2:
-            from modalinfo.telemetry.log import _FIRST_DEFAULT
-
             conv = str(kwargs.get("convention", "noll")).lower()
-            if conv in _FIRST_DEFAULT:
-                first = _FIRST_DEFAULT[conv]
-                n = int(np.shape(coeffs)[1])
-                assumed["modes"] = describe_modes(list(range(first, first + n)), conv)
+            modes = default_modes(conv, int(np.shape(coeffs)[1]))
+            if modes is not None:
+                assumed["modes"] = describe_modes(modes, conv)
         if assumed:
             records["assumed"] = assumed
     if records:

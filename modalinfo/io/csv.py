@@ -48,6 +48,7 @@ from modalinfo.io._common import (
     verify_checksum,
 )
 from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.telemetry.checks import mode_labels
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_csv", "write_csv"]
@@ -252,7 +253,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     f"{header['shape'][0]} (truncated?)"
                 )
             expected_names = (["time"] if n_time else []) + [
-                name.strip() for name in ModalLog._labels_of(header["modes"], header["convention"])
+                name.strip() for name in mode_labels(header["modes"], header["convention"])
             ]
             if verify and names != expected_names:
                 raise LogFormatError(
