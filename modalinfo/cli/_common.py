@@ -13,7 +13,7 @@ __all__ = [
     "add_gap_argument",
     "hints_from_args",
     "check_output",
-    "load_log",
+    "load_log_with_hints",
     "input_notes",
     "queue_notes",
     "split_gaps",
@@ -231,8 +231,8 @@ def progress(args: argparse.Namespace, total: int, *, unit: str = "step",
 _HINT_OF = {"units": "--in-units", "convention": "--in-convention", "modes": "--in-modes"}
 
 
-def load_log(path: Path, args: argparse.Namespace | None = None, *, mmap: bool = False,
-             announce: bool = True):
+def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
+                        mmap: bool = False, announce: bool = True):
     """Read a log with ``modalinfo.io.load``, with the hint options of ``args`` if given.
 
     With ``announce``, values the file does not record and no hint gave (see
