@@ -485,7 +485,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         and ``"mean"`` baselines are added when absent.
     log : ModalLog or array_like, shape (T,) or (T, M)
         Coefficient log (time along axis 0). Frames are taken as equally spaced: a
-        ``ModalLog`` whose timestamps have gaps (:meth:`ModalLog.sampling`) raises
+        ``ModalLog`` whose timestamps have gaps (``log.sampling()``) raises
         ``ValueError`` naming the first gap; evaluate ``log.longest_segment()``.
     train : float or int
         Training frames: a fraction of ``T`` in (0, 1) or a number of frames.

@@ -12,7 +12,7 @@ NPY/NPZ, a numeric CSV, a FITS image or table, an HDF5 file with one 2-D dataset
 
 A FITS file whose primary header has ``AOT-VERS`` is AOT (Adaptive Optics Telemetry,
 read and written with ``aotpy``): ``load`` returns one control loop, chosen with
-``loop=UID`` when there are several (:mod:`modalinfo.io.aot`).
+``loop=UID`` when there are several (``modalinfo.io.aot``).
 
 Errors: ``FileNotFoundError`` / ``IsADirectoryError`` / ``FileExistsError``
 (``OSError``) for paths; :class:`LogFormatError` (a ``ValueError``) naming the file

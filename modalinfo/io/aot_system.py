@@ -1,6 +1,6 @@
 """Build an AOT system (``aotpy.AOSystem``) from plain descriptions of its parts.
 
-The writer of :mod:`modalinfo.io.aot` uses it for one loop around a ``ModalLog``;
+The writer of ``modalinfo.io.aot`` uses it for one loop around a ``ModalLog``;
 the closed-loop simulator uses it to export a complete run: the telescope, its
 sources (the Sun is a ``"natural"`` guide source: AOT has no extended-source type),
 each wavefront sensor with its measurements, each corrector, the atmosphere's layers
@@ -405,7 +405,7 @@ def build_system(
     Returns
     -------
     aotpy.AOSystem
-        The system; write it with :func:`modalinfo.io.aot.write_system`.
+        The system; write it with ``modalinfo.io.aot.write_system``.
 
     Raises
     ------

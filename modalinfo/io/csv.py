@@ -21,7 +21,7 @@ commas, semicolons, tabs or blanks. A column (in any position) named ``time``,
 ``t``, ``time_s``, ``timestamp`` (seconds), ``time_ms`` (milliseconds, converted) or
 ``frame`` (frame numbers: times only with a ``rate`` hint) gives the time axis.
 Header names ``Z2``, ``z_2``, ``noll2``, ``mode_2``, ``a2``, ``A<j>`` (ANSI), ... give
-the modes (see :mod:`modalinfo.io._columns`); other names become labels, and
+the modes (see ``modalinfo.io._columns``); other names become labels, and
 ``modes=``/``convention=`` hints may relabel them. Missing information comes from
 hints; a likely transposed table (far more columns than rows, no header) is
 refused unless ``transpose=`` says which way round it is.

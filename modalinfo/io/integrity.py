@@ -120,7 +120,7 @@ def integrity_check(path, log, *, fmt: str | None = None, mmap: bool = False,
     -------
     IntegrityCheck
         ``status="pending"`` when ``load`` memory-mapped checksummed data: feed
-        :meth:`IntegrityCheck.update` with the coefficient row blocks, then call
+        ``IntegrityCheck.update`` with the coefficient row blocks, then call
         :meth:`IntegrityCheck.finish`.
     """
     from modalinfo.io.formats import detect_format

@@ -170,7 +170,7 @@ def read_npz(path, *, mmap: bool = False, dataset: str | None = None, **hints) -
     A foreign ``.npz`` (no modalinfo header) must hold exactly one 2-D numeric array
     (or one named ``coefficients``/``coeffs``/``data``, or the one named by
     ``dataset``) or one 1-D array per mode named ``z2``, ``noll_3``, ... (see
-    :mod:`modalinfo.io._columns`), optionally a 1-D time array named
+    ``modalinfo.io._columns``), optionally a 1-D time array named
     ``timestamps``/``times``/``time``/``t`` (seconds), ``time_ms`` (milliseconds) or
     ``frame`` (frame numbers, used with a ``rate`` hint), and a 1-D ``modes``/``labels``
     array naming the columns; supply what it lacks as hints.

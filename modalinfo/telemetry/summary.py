@@ -101,7 +101,7 @@ def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogS
         (e.g. ``tqdm.update``).
     visit : callable, optional
         Called with each raw chunk ``(n, M)`` of the coefficients, in order, before
-        it is reduced (e.g. :meth:`modalinfo.io.IntegrityCheck.update`, which
+        it is reduced (e.g. ``modalinfo.io.IntegrityCheck.update``, which
         checksums a memory-mapped log in the same pass).
 
     Returns

@@ -2,15 +2,15 @@
 
 The test and demonstration data of the package, in three modules:
 
-- :mod:`~modalinfo.telemetry.synthetic.spectra`: seeded open-loop series whose
+- ``spectra``: seeded open-loop series whose
   zero-lag covariance and temporal spectra follow turbulence theory (``Layer``,
   ``open_loop_log``, ``open_loop_psd``; what is exact and what approximate is
   documented there);
-- :mod:`~modalinfo.telemetry.synthetic.closed_loop`: the residuals of a modal
+- ``closed_loop``: the residuals of a modal
   integrator loop run on them (``closed_loop_log``, ``closed_loop_simulation``); its
   servo model (rejection transfer function, bandwidths, stability) is
   :mod:`modalinfo.servo`;
-- :mod:`~modalinfo.telemetry.synthetic.presets`: ``kaos_like``, a KAOS-like log.
+- ``presets``: ``kaos_like``, a KAOS-like log.
 """
 
 from modalinfo.telemetry.synthetic.closed_loop import (

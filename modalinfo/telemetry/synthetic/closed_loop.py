@@ -193,10 +193,11 @@ def closed_loop_log(
     ----------
     open_log : ModalLog
         Open-loop turbulence sampled ``oversampling`` times faster than the loop frames
-        (e.g. from :func:`open_loop_log` with ``rate = oversampling * frame_rate``).
+        (e.g. from :func:`~modalinfo.telemetry.synthetic.open_loop_log` with
+        ``rate = oversampling * frame_rate``).
         Converted to rad if needed.
     gain : float
-        Integrator gain (> 0, below :func:`max_stable_gain`).
+        Integrator gain (> 0, below :func:`modalinfo.servo.max_stable_gain`).
     delay_frames : float
         Delay from the end of the integration to the command update [frames], >= 0.
         ``delay_frames * oversampling`` must be an integer.

@@ -48,9 +48,9 @@ def kaos_like(
     Defaults (:data:`KAOS_LIKE_DEFAULTS`): 27 modes Z2-Z28 (Noll), 2 kHz frames, a
     0.70 m aperture, r0 = 7 cm at 500 nm split 70/30 between a 5 m/s and a 10 m/s layer,
     von Karman outer scale 20 m, coefficients in rad at 500 nm; an integrator with
-    gain 0.4664 (0 dB rejection bandwidth 130.0 Hz by the sampled model,
-    see :func:`closed_loop_bandwidth`), 1 frame WFS integration, 1 frame delay after it,
-    WFS noise 0.02 rad RMS per mode per frame, simulated with 4 samples per frame.
+    gain 0.4664 (0 dB rejection bandwidth 130.0 Hz by the sampled model, see
+    :func:`modalinfo.servo.closed_loop_bandwidth`), 1 frame WFS integration, 1 frame delay
+    after it, WFS noise 0.02 rad RMS per mode per frame, simulated with 4 samples per frame.
     The first ``discard_frames`` frames (loop transient) are generated and dropped.
 
     Parameters

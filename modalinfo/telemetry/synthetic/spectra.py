@@ -2,7 +2,7 @@
 
 Seeded time series of Noll-indexed Zernike coefficients whose zero-lag covariance and
 temporal spectra follow turbulence theory (:func:`open_loop_log`, :func:`open_loop_psd`).
-The closed loop run on them is :mod:`modalinfo.telemetry.synthetic.closed_loop`.
+The closed loop run on them is ``modalinfo.telemetry.synthetic.closed_loop``.
 
 What is exact and what is approximate
 -------------------------------------
