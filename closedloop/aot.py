@@ -53,7 +53,7 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
 
   Each loop's coefficient image carries the card ``MI_QUANT`` (``residual``, ``pol``
   or ``contribution``). The time filter is :func:`~modalinfo.io.aot_system.integrator_filter`
-  ``(gain, 1 - leak)``: ``c_k = (1 - leak) c_{k-1} + gain m_k`` (with a predictor the
+  ``(gain, leak)``: ``c_k = (1 - leak) c_{k-1} + gain m_k`` (with a predictor the
   controller filters the forecast POL instead; the card ``MI_CLOOP`` names it).
 
 * the configuration as TOML (``aotpy``: ``AOSystem.config``; JSON-quoted because FITS
@@ -242,7 +242,7 @@ def build_aot_system(result, model=None):
     n_frames = times.size
     rate = 1.0 / cfg.loop.time_step
     delay = cfg.loop.delay_frames
-    num, den = integrator_filter(cfg.loop.gain, 1.0 - cfg.loop.leak)
+    num, den = integrator_filter(cfg.loop.gain, cfg.loop.leak)
     have_meas = len(result.measurements) == len(model.wfss)
 
     telescope = TelescopeSpec(
@@ -393,8 +393,8 @@ def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
     pathlib.Path
         The written path.
     """
-    from modalinfo.io._common import as_path
     from modalinfo.io.aot import write_system
+    from modalinfo.io.files import as_path
 
     path = as_path(path)
     if path.exists() and not overwrite and not path.is_dir():

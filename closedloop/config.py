@@ -540,7 +540,7 @@ def config_text(config: SimulationConfig, fmt: str = "toml") -> str:
 
 def save_config(config: SimulationConfig, path: str | Path, *, overwrite: bool = False) -> Path:
     """Write a config as TOML or JSON (by extension), atomically, never replacing unasked."""
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     path = Path(path)
     suffix = path.suffix.lower()

@@ -365,7 +365,7 @@ class SimulationResult:
         """Write the result to HDF5 (atomic; refuses to replace a file unless ``overwrite``)."""
         import h5py
 
-        from modalinfo.io._common import atomic_write
+        from modalinfo.io import atomic_write
 
         path = Path(path)
 

@@ -144,12 +144,12 @@ def main(argv: list[str] | None = None) -> int:
     loaded = {}
     if needs_log:
         from modalinfo.cli import CommandError
-        from modalinfo.cli._common import input_notes, load_log
+        from modalinfo.cli._common import input_notes, load_log_with_hints
 
         try:
             for path, suffix, key, desc in logs:
                 # a user's log with the CLI's input hints; the shipped ones as they are
-                log = load_log(path, args if key == "user" else None, announce=False)
+                log = load_log_with_hints(path, args if key == "user" else None, announce=False)
                 if key == "user":
                     for note in input_notes(log, path):  # what was assumed, as the CLI
                         sys.stderr.write(f"paper_figures: note: {note}\n")

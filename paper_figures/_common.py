@@ -1,4 +1,4 @@
-"""What every figure script shares: loading its log and its stand-alone command line."""
+"""What the figure scripts share: their log, report tables, outputs and command line."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["load_log", "figure_main", "save_png_pdf", "suffixed"]
+__all__ = ["log_or_kaos_like", "figure_main", "markdown_table", "save_png_pdf", "suffixed"]
 
 
-def load_log(log_path: Path | None):
+def log_or_kaos_like(log_path: Path | None):
     """Return ``(log, description)``: the file's log, or the synthetic KAOS-like one."""
     if log_path is None:
         from modalinfo.telemetry.synthetic import kaos_like
@@ -19,6 +19,17 @@ def load_log(log_path: Path | None):
     from modalinfo.io import load
 
     return load(log_path), f"`{log_path}`"
+
+
+def markdown_table(rows) -> str:
+    """Markdown table of ``(quantity, paper, ours[, why])`` rows."""
+    if rows and len(rows[0]) == 4:
+        lines = ["| quantity | paper | ours | why they differ |", "|---|---|---|---|"]
+        lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
+    else:
+        lines = ["| quantity | paper | ours |", "|---|---|---|"]
+        lines += [f"| {a} | {b} | {c} |" for a, b, c, *_ in rows]
+    return "\n".join(lines)
 
 
 def suffixed(name: str, suffix: str) -> str:

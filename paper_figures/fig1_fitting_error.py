@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, load_log, save_png_pdf, suffixed
+from paper_figures._common import figure_main, log_or_kaos_like, save_png_pdf, suffixed
 
 SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy"), ("zernike", "mi_greedy"),
          ("kl-data", "pca"), ("zernike", "variance")]
@@ -454,7 +454,7 @@ def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written:
     :func:`output_names` of ``suffix``.
     """
-    log, source = load_log(log_path)
+    log, source = log_or_kaos_like(log_path)
     fig1 = compute(log, source=source)
     plot(fig1, out_dir, suffix=suffix)
     return report(fig1, suffix=suffix)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from paper_figures._common import save_png_pdf
+from paper_figures._common import markdown_table, save_png_pdf
 from paper_figures.closedloop_runs import STYLES, ClosedLoopRuns, budget_sentence
 
 FIGURE_NAME = "fig2_sr_peak.png"
@@ -134,17 +134,6 @@ def table_rows(fig2: Figure2) -> list[tuple[str, str, str, str]]:
             rows.append((f"SR peak, {fig2.runs.runs[name].label} (not in the paper)", "-",
                          f"{p[name]:.3f}", "our addition"))
     return rows
-
-
-def markdown_table(rows) -> str:
-    """Markdown table of ``(quantity, paper, ours[, why])`` rows."""
-    if rows and len(rows[0]) == 4:
-        lines = ["| quantity | paper | ours | why they differ |", "|---|---|---|---|"]
-        lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
-    else:
-        lines = ["| quantity | paper | ours |", "|---|---|---|"]
-        lines += [f"| {a} | {b} | {c} |" for a, b, c, *_ in rows]
-    return "\n".join(lines)
 
 
 def report(fig2: Figure2) -> str:

@@ -177,7 +177,7 @@ def table_rows(fig3: Figure3) -> list[tuple[str, str, str, str]]:
 
 def report(fig3: Figure3) -> str:
     """Figure 3's section of the report (Markdown)."""
-    from paper_figures.fig2_sr_peak import markdown_table
+    from paper_figures._common import markdown_table
 
     runs = fig3.runs
     none = runs.runs["none"]

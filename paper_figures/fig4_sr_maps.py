@@ -139,8 +139,8 @@ def table_rows(fig4: Figure4) -> list[tuple[str, str, str, str]]:
 
 def report(fig4: Figure4) -> str:
     """Figure 4's section of the report (Markdown)."""
+    from paper_figures._common import markdown_table
     from paper_figures.closedloop_runs import budget_sentence
-    from paper_figures.fig2_sr_peak import markdown_table
 
     runs = fig4.runs
     n = runs.runs["none"].strehl_map.shape[0]

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, load_log, save_png_pdf, suffixed
+from paper_figures._common import figure_main, log_or_kaos_like, save_png_pdf, suffixed
 
 FIGURE_NAME = "fig5_forecast.png"
 PDF_NAME = "fig5_forecast.pdf"
@@ -479,7 +479,7 @@ def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written (by
     :func:`plot`): :func:`output_names` of ``suffix``.
     """
-    log, source = load_log(log_path)
+    log, source = log_or_kaos_like(log_path)
     fig5 = compute(log, source=source)
     plot(fig5, out_dir, suffix=suffix)
     return report(fig5, suffix=suffix)

@@ -2,8 +2,7 @@
 
 References: the noise propagation is checked against a direct numerical integral of
 |N(f)|^2 (scipy.integrate.quad) and against a brute-force time-domain integrator loop
-written out here step by step (zero-order hold on a fine grid); the re-export from
-modalinfo.telemetry.synthetic must be the same objects.
+written out here step by step (zero-order hold on a fine grid).
 """
 
 import numpy as np
@@ -11,13 +10,6 @@ import pytest
 from scipy import integrate
 
 from modalinfo import servo
-from modalinfo.telemetry import synthetic
-
-
-def test_synthetic_reexports_the_same_servo_model():
-    for name in ("rejection_transfer_function", "closed_loop_bandwidth", "gain_for_bandwidth",
-                 "max_stable_gain", "LoopBandwidth"):
-        assert getattr(synthetic, name) is getattr(servo, name)
 
 
 @pytest.mark.parametrize("gain,delay,integ", [(0.5, 0.5, 1.0), (0.3, 1.0, 1.0), (0.8, 0.25, 0.5)])

@@ -63,7 +63,7 @@ class ZernikeIdentification:
     threshold : float
         The threshold used.
     transform : str or None
-        Name in :data:`TRANSFORMS` of the grid symmetry taking the file's axes to ours
+        Name in ``TRANSFORMS`` of the grid symmetry taking the file's axes to ours
         under which the modes are Zernikes with positive signs in increasing Noll (or
         ANSI) order; ``"none"`` when they already are; None when no symmetry makes
         them so.

@@ -185,7 +185,7 @@ def basis_from_images(images, *, mask=None, diameter: float = 1.0, labels=None) 
         ``(M, h, w)`` mode images (values per unit coefficient; zero or NaN outside
         the pupil).
     mask : array_like of bool, optional
-        ``(h, w)`` pupil mask; default: the images' support (:func:`support_of`).
+        ``(h, w)`` pupil mask; default: the images' support (``support_of``).
     diameter : float
         Pupil diameter [m] (the mask's bounding box, larger side), ``> 0``.
     labels : sequence of str, optional

@@ -32,6 +32,7 @@ __all__ = [
     "ansi_to_noll",
     "noll_to_fringe",
     "fringe_to_noll",
+    "parse_modes",
 ]
 
 
@@ -289,3 +290,42 @@ def fringe_to_noll(j):
         Noll index of the same mode, same shape as ``j``.
     """
     return zernike_to_noll(*fringe_to_zernike(j))
+
+
+def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
+    """Parse a mode list written as text, e.g. ``"2-28"``, ``"4,5,6"`` or ``"Z4,Z5"``.
+
+    Parameters
+    ----------
+    text : str
+        Comma-separated indices, inclusive ``a-b`` ranges of indices, or labels.
+    name : str, optional
+        What the errors call the text (an argument name, a command-line flag).
+
+    Returns
+    -------
+    list of int or list of str
+        The indices in the order given (ranges expanded), or the labels.
+
+    Raises
+    ------
+    ValueError
+        An empty entry, a decreasing range, or indices mixed with labels.
+    """
+    out: list = []
+    for part in (p.strip() for p in text.split(",")):
+        if not part:
+            raise ValueError(f"{name}: empty entry in {text!r}")
+        lo, sep, hi = part.partition("-")
+        if sep and lo.isdigit() and hi.isdigit():
+            if int(hi) < int(lo):
+                raise ValueError(f"{name}: range {part!r} is decreasing")
+            out.extend(range(int(lo), int(hi) + 1))
+        elif part.isdigit():
+            out.append(int(part))
+        else:
+            out.append(part)
+    kinds = {type(x) for x in out}
+    if len(kinds) > 1:
+        raise ValueError(f"{name} mixes indices and labels: {text!r}")
+    return out

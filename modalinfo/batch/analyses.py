@@ -114,7 +114,7 @@ def _select(log: Any, modes: Any) -> Any:
     if modes is None:
         return log
     if isinstance(modes, str):
-        from modalinfo.cli._common import parse_modes
+        from modalinfo.bases.indexing import parse_modes
 
         modes = parse_modes(modes)
     return log.select(modes=list(modes))

@@ -121,7 +121,7 @@ def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any
     ``({path: [sha256 or None, n_frames]}, files probed)`` (``n_frames``: None when
     not asked for, -1 for a file that does not load).
     """
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     cache_path = out_dir / "hashes.json"
     cache: dict = {}
@@ -244,26 +244,26 @@ def analyse_archive(
     ----------
     inputs : path, pattern or sequence of them
         Directories, glob patterns, manifest CSV files or log files (see
-        :func:`modalinfo.batch.manifest.collect_logs`).
+        ``modalinfo.batch.manifest.collect_logs``).
     analyses : str or list of str
         Among ``summary``, ``ordering``, ``fitting_error``, ``forecast``
         (comma-separated or a list).
     out_dir : path
         Output directory (new, empty, or an earlier batch's to resume it).
     params : dict, optional
-        ``{analysis: {name: value}}`` overriding :data:`~modalinfo.batch.analyses.DEFAULTS`.
+        ``{analysis: {name: value}}`` overriding ``modalinfo.batch.analyses.DEFAULTS``.
     fmt, hints : optional
         Format and ``modalinfo.io.load`` hints for every log (a manifest's columns
         take precedence).
     scheduler : str, optional
         Address of a running Dask scheduler; None starts a ``LocalCluster``.
     n_workers, threads_per_worker, memory_limit : optional
-        Local cluster shape (see :func:`modalinfo.batch.engine.open_client`).
+        Local cluster shape (see ``modalinfo.batch.engine.open_client``).
     client : distributed.Client, optional
         Use this client (then ``scheduler`` and the cluster shape must be None).
     window_frames : int, optional
         Split each log into consecutive windows of this many frames (the last takes
-        the remainder, see :func:`time_windows`) and analyse each window as a log of
+        the remainder, see ``time_windows``) and analyse each window as a log of
         its own: one task and one row per window (columns ``window``,
         ``window_start``, ``window_stop``; ``start_time`` is the window's, and
         ``date`` too unless the metadata carries a date of its own).

@@ -164,7 +164,7 @@ class RowStore:
 
     def write(self, key: str, row: dict) -> Path:
         """Write one row atomically (replacing an earlier row of the same key)."""
-        from modalinfo.io._common import atomic_write
+        from modalinfo.io import atomic_write
 
         data = canonical_json({**row, "key": key}).encode()
         return atomic_write(self._path(key), lambda fh: fh.write(data), overwrite=True)
@@ -470,7 +470,7 @@ def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str]
     pa = require("pyarrow")
     pacsv = require("pyarrow.csv")
     pq = require("pyarrow.parquet")
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     columns = _column_order(rows, first)
     data = {}

@@ -39,8 +39,6 @@ _ALIASES = {
     "fmt": "fmt",
 }
 _FLOATS = ("rate", "wavelength", "start_time")
-_FALLBACK_EXTENSIONS = (".npz", ".npy", ".csv", ".txt", ".dat", ".tsv", ".fits", ".fit",
-                        ".fts", ".h5", ".hdf5", ".hdf", ".he5")
 
 
 @dataclass(frozen=True)
@@ -63,10 +61,9 @@ class LogEntry:
 
 
 def _extensions() -> tuple[str, ...]:
-    import modalinfo.io as mio
+    from modalinfo.io.formats import EXTENSIONS
 
-    known = getattr(mio, "_EXTENSIONS", None)
-    return tuple(known) if isinstance(known, dict) and known else _FALLBACK_EXTENSIONS
+    return tuple(EXTENSIONS)
 
 
 def _is_manifest(path: Path) -> bool:
@@ -87,12 +84,11 @@ def _hint(name: str, text: str, where: str) -> Any:
         except ValueError:
             raise ValueError(f"{where}: column {name!r} must be a number; got {text!r}") from None
     if name == "modes":
-        from modalinfo.cli import CommandError
-        from modalinfo.cli._common import parse_modes
+        from modalinfo.bases.indexing import parse_modes
 
         try:
             return parse_modes(text)
-        except CommandError as exc:
+        except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
     return text
 

@@ -5,15 +5,15 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from modalinfo.bases.indexing import parse_modes
 from modalinfo.cli import CommandError
 
 __all__ = [
     "add_hint_arguments",
     "add_gap_argument",
-    "parse_modes",
     "hints_from_args",
     "check_output",
-    "load_log",
+    "load_log_with_hints",
     "input_notes",
     "queue_notes",
     "split_gaps",
@@ -112,30 +112,6 @@ def add_gap_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--split-gaps", action="store_true",
                         help="if the timestamps have gaps (an interval > 1.5 x the median), "
                         "analyse the longest contiguous segment (default: refuse the log)")
-
-
-def parse_modes(text: str, flag: str = "--modes") -> list:
-    """Parse a mode list (``flag`` names the option in errors).
-
-    Comma-separated ints, ``a-b`` ranges (inclusive) or labels.
-    """
-    out: list = []
-    for part in (p.strip() for p in text.split(",")):
-        if not part:
-            raise CommandError(f"{flag}: empty entry in {text!r}")
-        lo, sep, hi = part.partition("-")
-        if sep and lo.isdigit() and hi.isdigit():
-            if int(hi) < int(lo):
-                raise CommandError(f"{flag}: range {part!r} is decreasing")
-            out.extend(range(int(lo), int(hi) + 1))
-        elif part.isdigit():
-            out.append(int(part))
-        else:
-            out.append(part)
-    kinds = {type(x) for x in out}
-    if len(kinds) > 1:
-        raise CommandError(f"{flag} mixes indices and labels: {text!r}")
-    return out
 
 
 def hints_from_args(args: argparse.Namespace) -> dict:
@@ -255,8 +231,8 @@ def progress(args: argparse.Namespace, total: int, *, unit: str = "step",
 _HINT_OF = {"units": "--in-units", "convention": "--in-convention", "modes": "--in-modes"}
 
 
-def load_log(path: Path, args: argparse.Namespace | None = None, *, mmap: bool = False,
-             announce: bool = True):
+def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
+                        mmap: bool = False, announce: bool = True):
     """Read a log with ``modalinfo.io.load``, with the hint options of ``args`` if given.
 
     With ``announce``, values the file does not record and no hint gave (see

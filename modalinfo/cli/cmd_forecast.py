@@ -106,7 +106,8 @@ def _constant_modes(log, train: float | int, horizon: int) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Evaluate, print the table, write the outputs; return 0."""
-    from modalinfo.cli._common import load_log, parse_modes
+    from modalinfo.bases.indexing import parse_modes
+    from modalinfo.cli._common import load_log_with_hints
 
     if args.horizon < 1:
         raise CommandError(f"--horizon must be an int >= 1; got {args.horizon}")
@@ -122,10 +123,10 @@ def run(args: argparse.Namespace) -> int:
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
                                "replace it")
-    log = load_log(args.log, args)
+    log = load_log_with_hints(args.log, args)
     log = split_gaps(log, args, args.log, "forecasting")
     if args.modes is not None:
-        log = log.select(modes=parse_modes(args.modes))
+        log = log.select(modes=parse_modes(args.modes, "--modes"))
     skipped = _constant_modes(log, train, args.horizon) if args.skip_constant else []
     if skipped:
         if len(skipped) == log.n_modes:

@@ -19,7 +19,7 @@ from modalinfo.cli._common import (
     add_gap_argument,
     add_hint_arguments,
     check_output,
-    load_log,
+    load_log_with_hints,
     split_gaps,
 )
 
@@ -106,7 +106,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
     if args.stability is not None and (args.method == "pca" or args.frame is not None):
         raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
-    log = load_log(args.log, args)
+    log = load_log_with_hints(args.log, args)
     blocks = args.method.startswith("mi_") and args.frame is None and args.resamples > 0
     if blocks or args.stability is not None or args.split_gaps:
         log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")

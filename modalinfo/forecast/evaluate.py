@@ -57,7 +57,7 @@ _BASELINES = ("persistence", "mean")
 
 def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
     """Write ``data`` to ``path`` atomically, refusing to replace it unless ``overwrite``."""
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
@@ -365,7 +365,7 @@ class ForecastEvaluation:
         """
         import matplotlib.pyplot as plt
 
-        from modalinfo.io._common import atomic_write
+        from modalinfo.io import atomic_write
 
         out_dir = Path(out_dir)
         paths = [out_dir / "forecast_series.png", out_dir / "forecast_rmse.png"]
@@ -485,7 +485,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         and ``"mean"`` baselines are added when absent.
     log : ModalLog or array_like, shape (T,) or (T, M)
         Coefficient log (time along axis 0). Frames are taken as equally spaced: a
-        ``ModalLog`` whose timestamps have gaps (:meth:`ModalLog.sampling`) raises
+        ``ModalLog`` whose timestamps have gaps (``log.sampling()``) raises
         ``ValueError`` naming the first gap; evaluate ``log.longest_segment()``.
     train : float or int
         Training frames: a fraction of ``T`` in (0, 1) or a number of frames.

@@ -5,7 +5,7 @@ grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 20
 and ``"gaussian"`` (-0.5 ln(1 - r^2)), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`; bootstrap confidence
 intervals and permutation tests for autocorrelated telemetry in
-:mod:`modalinfo.information.uncertainty`.
+``modalinfo.information.uncertainty``.
 """
 
 from modalinfo.information.api import (

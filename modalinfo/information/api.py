@@ -91,7 +91,7 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
           +0.003, +0.001, -0.005, -0.030 nats at rho = 0, 0.3, 0.6, 0.9. The
           Freedman-Diaconis rule (~3 n^(1/3) narrow bins) overestimates MI even after
           Miller-Madow (measured +0.046 nats at rho = 0.3, n = 1e4). Rule-chosen bin
-          numbers are capped at ceil(sqrt(n)) (it binds only as |r| -> 1).
+          numbers are capped at ceil(sqrt(n)) (it binds only as ``|r| -> 1``).
         - ``"ksg"``: Kraskov et al. (2004) estimator 1, options ``k`` (3) and ``seed``
           (0) of the tiny noise that breaks ties when a variable has repeated values
           (rounded, integer or boolean data), as scikit-learn does.

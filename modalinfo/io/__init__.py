@@ -12,7 +12,7 @@ NPY/NPZ, a numeric CSV, a FITS image or table, an HDF5 file with one 2-D dataset
 
 A FITS file whose primary header has ``AOT-VERS`` is AOT (Adaptive Optics Telemetry,
 read and written with ``aotpy``): ``load`` returns one control loop, chosen with
-``loop=UID`` when there are several (:mod:`modalinfo.io.aot`).
+``loop=UID`` when there are several (``modalinfo.io.aot``).
 
 Errors: ``FileNotFoundError`` / ``IsADirectoryError`` / ``FileExistsError``
 (``OSError``) for paths; :class:`LogFormatError` (a ``ValueError``) naming the file
@@ -24,10 +24,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from modalinfo.io._common import HINTS, LogFormatError, as_path, check_readable
-from modalinfo.io.aot import is_aot, read_aot, write_aot
+from modalinfo.io._common import HINTS
+from modalinfo.io.aot import read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.io.fits import read_fits, write_fits
+from modalinfo.io.formats import FORMATS, detect_format, format_from_extension
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
 from modalinfo.io.integrity import IntegrityCheck, integrity_check
 from modalinfo.io.npz import read_npy, read_npz, write_npz
@@ -38,6 +40,7 @@ __all__ = [
     "HINTS",
     "IntegrityCheck",
     "LogFormatError",
+    "atomic_write",
     "integrity_check",
     "detect_format",
     "load",
@@ -54,76 +57,6 @@ __all__ = [
     "read_aot",
     "write_aot",
 ]
-
-#: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
-FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
-
-_EXTENSIONS = {
-    ".npz": "npz",
-    ".npy": "npy",
-    ".csv": "csv",
-    ".txt": "csv",
-    ".dat": "csv",
-    ".tsv": "csv",
-    ".fits": "fits",
-    ".fit": "fits",
-    ".fts": "fits",
-    ".h5": "hdf5",
-    ".hdf5": "hdf5",
-    ".hdf": "hdf5",
-    ".he5": "hdf5",
-}
-_MAGIC = (
-    (b"PK\x03\x04", "npz"),
-    (b"PK\x05\x06", "npz"),  # empty zip
-    (b"\x93NUMPY", "npy"),
-    (b"SIMPLE  =", "fits"),
-    (b"\x89HDF\r\n\x1a\n", "hdf5"),
-)
-
-
-def _from_extension(path: Path) -> str | None:
-    return _EXTENSIONS.get(path.suffix.lower())
-
-
-def detect_format(path) -> str:
-    """Return the format of an existing file: magic bytes first, then the extension.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file.
-
-    Returns
-    -------
-    str
-        One of :data:`FORMATS`.
-
-    Raises
-    ------
-    LogFormatError
-        An empty file, or binary content of no known format.
-    """
-    path = as_path(path)
-    check_readable(path)
-    with open(path, "rb") as fh:
-        head = fh.read(512)
-    if not head:
-        raise LogFormatError(f"'{path}' is empty")
-    for magic, fmt in _MAGIC:
-        if head.startswith(magic):
-            return "aot" if fmt == "fits" and is_aot(path) else fmt
-    by_ext = _from_extension(path)
-    if by_ext is not None and by_ext != "csv":
-        return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
-    try:
-        head.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        if exc.start < len(head) - 4:  # not just a multi-byte char cut at the end
-            raise LogFormatError(
-                f"'{path}' is neither text (CSV) nor NPZ/NPY/FITS/HDF5 (starts {head[:8]!r})"
-            ) from None
-    return "csv"
 
 
 _READERS = {
@@ -256,7 +189,7 @@ def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
     path = as_path(path)
     if fmt is None:
-        fmt = _from_extension(path)
+        fmt = format_from_extension(path)
         if fmt is None or fmt == "npy":
             raise ValueError(
                 f"cannot tell the format of '{path}' from its extension; use .npz, .csv, "

@@ -1,4 +1,4 @@
-"""Shared pieces of the readers and writers: header, hints, atomic writes, errors.
+"""Shared pieces of the readers and writers: the header, hints, building the log.
 
 Every file written by modalinfo carries one JSON *header* (format version, time
 axis, modes, convention, units, wavelength, dtype, metadata and, for formats
@@ -13,17 +13,17 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
-import os
-import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from modalinfo.telemetry.log import ModalLog, _row_blocks, _scan_rows
-
-__all__ = ["LogFormatError"]
+from modalinfo.io._foreign import describe_modes, orient
+from modalinfo.io.files import LogFormatError
+from modalinfo.telemetry.checks import default_modes
+from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.scan import row_blocks, scan_rows
 
 FORMAT_VERSION = 1
 HEADER_KEY = "modalinfo"
@@ -41,28 +41,6 @@ HINTS = (
     "start_time",
     "transpose",
 )
-
-
-class LogFormatError(ValueError):
-    """A file is not a readable log: truncated, corrupted or of an unexpected layout.
-
-    A subclass of ``ValueError``; the message names the file and what is wrong.
-    """
-
-
-def as_path(path: Any, name: str = "path") -> Path:
-    """Return ``path`` as a ``Path`` (``TypeError`` for anything but str / PathLike)."""
-    if not isinstance(path, str | os.PathLike):
-        raise TypeError(f"`{name}` must be a str or os.PathLike; got {type(path).__name__}.")
-    return Path(path)
-
-
-def check_readable(path: Path) -> None:
-    """Raise ``FileNotFoundError`` / ``IsADirectoryError`` naming ``path`` if it is no file."""
-    if not path.exists():
-        raise FileNotFoundError(f"no such file: '{path}'")
-    if path.is_dir():
-        raise IsADirectoryError(f"'{path}' is a directory, not a log file")
 
 
 @contextlib.contextmanager
@@ -206,7 +184,7 @@ def sha256_of(arr: np.ndarray) -> str:
     digest = hashlib.sha256()
     little = arr.dtype.newbyteorder("<")
     # row blocks as the log's own scans: a memory-mapped log is hashed with a small RSS
-    blocks = (arr,) if arr.ndim == 1 else _row_blocks(arr, _scan_rows(arr))
+    blocks = (arr,) if arr.ndim == 1 else row_blocks(arr, scan_rows(arr))
     for block in blocks:
         digest.update(np.ascontiguousarray(block, dtype=little).data)
     return digest.hexdigest()
@@ -255,8 +233,6 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     Private ``stored`` entries: ``_layout`` (axis annotation), ``_frame_numbers``
     (a frame-number column), ``_convention_assumed`` (convention guessed from names).
     """
-    from modalinfo.io._foreign import describe_modes, orient
-
     for key in hints:
         if key not in HINTS:
             raise TypeError(f"unknown hint `{key}`; hints are {', '.join(HINTS)}.")
@@ -312,13 +288,10 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         elif convention_assumed and "convention" not in hints:
             assumed["convention"] = kwargs["convention"]
         if kwargs.get("modes") is None and np.ndim(coeffs) == 2:
-            from modalinfo.telemetry.log import _FIRST_DEFAULT
-
             conv = str(kwargs.get("convention", "noll")).lower()
-            if conv in _FIRST_DEFAULT:
-                first = _FIRST_DEFAULT[conv]
-                n = int(np.shape(coeffs)[1])
-                assumed["modes"] = describe_modes(list(range(first, first + n)), conv)
+            modes = default_modes(conv, int(np.shape(coeffs)[1]))
+            if modes is not None:
+                assumed["modes"] = describe_modes(modes, conv)
         if assumed:
             records["assumed"] = assumed
     if records:
@@ -430,77 +403,3 @@ def unwrap(func: Callable[..., ModalLog]) -> Callable[..., ModalLog]:
     return wrapper
 
 
-def _exists_message(path: Path) -> str:
-    return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
-
-
-def _renamed(write: Callable[[Any], None], target: Any, tmp: str, path: Path) -> None:
-    """Call ``write(target)``; an error naming the temporary file names ``path`` instead."""
-    try:
-        write(target)
-    except (OSError, ValueError, TypeError) as exc:  # the user knows the target, not the temp
-        _rename_in_message(exc, tmp, path)
-
-
-def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
-    """Re-raise ``exc`` with the temporary file's name replaced by the target's."""
-    text = str(exc)
-    if tmp not in text and Path(tmp).name not in text:
-        raise exc
-    text = text.replace(tmp, str(path)).replace(Path(tmp).name, path.name)
-    try:
-        new = type(exc)(text)
-    except Exception:  # noqa: BLE001 - an exception type with another signature
-        raise exc from None
-    raise new from exc
-
-
-def atomic_write(
-    path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
-) -> Path:
-    """Write a file through ``write`` into a temporary file, then move it in place.
-
-    ``write`` receives a binary file object, or with ``by_name=True`` the temporary
-    file's ``Path`` (for libraries such as h5py and astropy that open files by name).
-    The temporary file lives in the target directory, so the final rename is atomic:
-    a crash leaves either the old file or none, never half a file. Without
-    ``overwrite`` an existing target raises ``FileExistsError`` (checked again at the
-    final step with a hard link, which cannot clobber).
-    """
-    path = Path(path)
-    if path.is_dir():
-        raise IsADirectoryError(f"'{path}' is a directory; give a file name")
-    if path.exists() and not overwrite:
-        raise FileExistsError(_exists_message(path))
-    directory = path.parent
-    if not directory.is_dir():
-        raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    try:
-        if by_name:
-            os.close(fd)
-            os.unlink(tmp)  # libraries may refuse to write over an existing file
-            _renamed(write, Path(tmp), tmp, path)
-            with open(tmp, "rb+") as fh:
-                os.fsync(fh.fileno())
-        else:
-            with os.fdopen(fd, "wb") as fh:
-                _renamed(write, fh, tmp, path)
-                fh.flush()
-                os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
-        if overwrite:
-            os.replace(tmp, path)
-        else:
-            try:
-                os.link(tmp, path)
-            except FileExistsError:
-                raise FileExistsError(_exists_message(path)) from None
-            except OSError:  # filesystem without hard links
-                if path.exists():
-                    raise FileExistsError(_exists_message(path)) from None
-                os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return path

@@ -35,6 +35,9 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.io.files import LogFormatError
+from modalinfo.telemetry.checks import mode_labels
+
 __all__ = ["MAX_MODES", "COLUMN_RATIO", "MIN_SUSPECT_COLUMNS", "orient", "axis_layout"]
 
 #: More modes than any wavefront sensor measures: such a width means frames.
@@ -119,8 +122,6 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
     likely transposed array nobody vouched for, ``ValueError`` for a hint
     contradicting the file's annotation.
     """
-    from modalinfo.io._common import LogFormatError
-
     transpose = hints.get("transpose")
     if transpose is not None and not isinstance(transpose, bool | np.bool_):
         raise TypeError(f"hint `transpose` must be a bool; got {transpose!r}.")
@@ -156,8 +157,6 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
 
 def describe_modes(modes: list, convention: str) -> str:
     """``"Z2..Z28 (noll)"``-style text for metadata records."""
-    from modalinfo.telemetry.log import ModalLog
-
-    labels = ModalLog._labels_of(list(modes), convention)  # noqa: SLF001
+    labels = mode_labels(list(modes), convention)
     shown = labels[0] if len(labels) == 1 else f"{labels[0]}..{labels[-1]}"
     return f"{shown} ({convention})"

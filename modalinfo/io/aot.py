@@ -43,11 +43,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     dumps,
     log_header,
     parse_header,
@@ -64,6 +60,7 @@ from modalinfo.io.aot_system import (
     geometry_of,
     import_aotpy,
 )
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import UNITS
 

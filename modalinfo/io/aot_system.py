@@ -1,6 +1,6 @@
 """Build an AOT system (``aotpy.AOSystem``) from plain descriptions of its parts.
 
-The writer of :mod:`modalinfo.io.aot` uses it for one loop around a ``ModalLog``;
+The writer of ``modalinfo.io.aot`` uses it for one loop around a ``ModalLog``;
 the closed-loop simulator uses it to export a complete run: the telescope, its
 sources (the Sun is a ``"natural"`` guide source: AOT has no extended-source type),
 each wavefront sensor with its measurements, each corrector, the atmosphere's layers
@@ -16,8 +16,9 @@ and reading gives the same bits.
 
 Time filter convention (AOT: "the first numerator is the loop gain"): numerator and
 denominator coefficients in powers of ``z^-1``, one row per mode or one row for all;
-an integrator ``u_k = leak u_{k-1} + g e_k`` is ``num = [[g]]``, ``den = [[1, -leak]]``
-(:func:`integrator_filter`).
+an integrator ``u_k = (1 - leak) u_{k-1} + g e_k`` (``leak`` 0: pure integrator, as in the
+simulator) is ``num = [[g]]``, ``den = [[1, -(1 - leak)]]`` (:func:`integrator_filter`,
+read back by :func:`integrator_from_filter`).
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ __all__ = [
     "geometry_of",
     "import_aotpy",
     "integrator_filter",
+    "integrator_from_filter",
 ]
 
 #: Primary-header keyword holding what AOT has no field for (altitudes, fields, extras).
@@ -282,28 +284,65 @@ class LoopSpec:
     coefficient_metadata: dict = field(default_factory=dict)
 
 
-def integrator_filter(gain, leak: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """AOT time filter of a (leaky) integrator ``u_k = leak u_{k-1} + gain e_k``.
+def integrator_filter(gain, leak: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """AOT time filter of a (leaky) integrator ``u_k = (1 - leak) u_{k-1} + gain e_k``.
+
+    The AOT boundary for ``leak``: here, as in the simulator (``closedloop``'s
+    ``LoopConfig.leak``), 0 is a pure integrator; the file's denominator holds what
+    the standard defines, the factor ``1 - leak`` applied to the previous command.
+    :func:`integrator_from_filter` reads it back.
 
     Parameters
     ----------
     gain : float or array_like
         Loop gain, one for all modes or ``(m,)`` per mode.
     leak : float
-        Leak factor (1: pure integrator).
+        Leak in [0, 1): the fraction of the previous command forgotten at each step
+        (0: pure integrator).
 
     Returns
     -------
     num, den : numpy.ndarray
-        ``(m, 1)`` numerators ``[[gain]]`` and ``(m, 2)`` denominators ``[[1, -leak]]``
-        in powers of ``z^-1``.
+        ``(m, 1)`` numerators ``[[gain]]`` and ``(m, 2)`` denominators
+        ``[[1, -(1 - leak)]]`` in powers of ``z^-1``.
     """
     g = np.atleast_1d(np.asarray(gain, dtype=np.float64))
     if g.ndim != 1:
         raise ValueError(f"`gain` must be a scalar or 1-D; got shape {g.shape}.")
     num = g[:, None].copy()
-    den = np.tile(np.array([[1.0, -float(leak)]]), (g.size, 1))
+    den = np.tile(np.array([[1.0, -(1.0 - float(leak))]]), (g.size, 1))
     return num, den
+
+
+def integrator_from_filter(num, den) -> tuple[np.ndarray, np.ndarray]:
+    """Gain and leak of an AOT integrator time filter (the inverse of :func:`integrator_filter`).
+
+    Parameters
+    ----------
+    num, den : array_like
+        ``(m, 1)`` numerators and ``(m, 2)`` denominators ``[[1, -(1 - leak)]]`` in
+        powers of ``z^-1`` (one row per mode, or one row for all).
+
+    Returns
+    -------
+    gain, leak : numpy.ndarray
+        ``(m,)`` each; ``leak`` 0 is a pure integrator.
+
+    Raises
+    ------
+    ValueError
+        A filter that is not an integrator (other shapes, or ``den[:, 0] != 1``).
+    """
+    num = np.atleast_2d(np.asarray(num, dtype=np.float64))
+    den = np.atleast_2d(np.asarray(den, dtype=np.float64))
+    if num.ndim != 2 or num.shape[1] != 1 or den.ndim != 2 or den.shape[1] != 2:
+        raise ValueError(
+            f"an integrator's time filter has num (m, 1) and den (m, 2); got "
+            f"{num.shape} and {den.shape}."
+        )
+    if not np.all(den[:, 0] == 1.0):
+        raise ValueError(f"`den` must start with 1 in every row; got {den[:, 0].tolist()}.")
+    return num[:, 0].copy(), 1.0 + den[:, 1]
 
 
 def _image(aotpy, name: str, data, *, unit=None, time=None, metadata=None):
@@ -366,7 +405,7 @@ def build_system(
     Returns
     -------
     aotpy.AOSystem
-        The system; write it with :func:`modalinfo.io.aot.write_system`.
+        The system; write it with ``modalinfo.io.aot.write_system``.
 
     Raises
     ------

@@ -21,7 +21,7 @@ commas, semicolons, tabs or blanks. A column (in any position) named ``time``,
 ``t``, ``time_s``, ``timestamp`` (seconds), ``time_ms`` (milliseconds, converted) or
 ``frame`` (frame numbers: times only with a ``rate`` hint) gives the time axis.
 Header names ``Z2``, ``z_2``, ``noll2``, ``mode_2``, ``a2``, ``A<j>`` (ANSI), ... give
-the modes (see :mod:`modalinfo.io._columns`); other names become labels, and
+the modes (see ``modalinfo.io._columns``); other names become labels, and
 ``modes=``/``convention=`` hints may relabel them. Missing information comes from
 hints; a likely transposed table (far more columns than rows, no header) is
 refused unless ``transpose=`` says which way round it is.
@@ -38,11 +38,7 @@ import numpy as np
 
 from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     dumps,
     log_header,
     parse_header,
@@ -51,6 +47,8 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.telemetry.checks import mode_labels
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_csv", "write_csv"]
@@ -255,7 +253,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     f"{header['shape'][0]} (truncated?)"
                 )
             expected_names = (["time"] if n_time else []) + [
-                name.strip() for name in ModalLog._labels_of(header["modes"], header["convention"])
+                name.strip() for name in mode_labels(header["modes"], header["convention"])
             ]
             if verify and names != expected_names:
                 raise LogFormatError(

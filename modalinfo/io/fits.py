@@ -16,7 +16,7 @@ Layout written by :func:`write_fits`:
 Foreign FITS: the first 2-D image HDU (primary or extension), or else the first
 binary table, whose numeric columns are the modes (a ``TIME``/``TIME_MS``/``FRAME``
 column anywhere gives the time axis, column names ``Z<j>``, ``NOLL_<j>``, ... the
-modes, see :mod:`modalinfo.io._columns`). An image whose ``CTYPE1``/``CTYPE2`` name
+modes, see ``modalinfo.io._columns``). An image whose ``CTYPE1``/``CTYPE2`` name
 the axes (``CTYPE1 = 'MODE'``, ``CTYPE2 = 'TIME'`` for frames x modes) is read the
 right way round; a modes x frames image is transposed and ``metadata["layout"]``
 says so. Supply the rest as hints.
@@ -34,11 +34,7 @@ import numpy as np
 
 from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     dumps,
     log_header,
     parse_header,
@@ -47,6 +43,7 @@ from modalinfo.io._common import (
     unwrap,
 )
 from modalinfo.io._foreign import axis_layout
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import UNITS
 

@@ -46,11 +46,7 @@ import numpy as np
 
 from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
-    LogFormatError,
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     check_stored_coefficients,
     dumps,
     log_header,
@@ -61,7 +57,9 @@ from modalinfo.io._common import (
     verify_checksum,
 )
 from modalinfo.io._foreign import axis_layout
-from modalinfo.telemetry.log import ModalLog, _scan_rows
+from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.scan import scan_rows
 
 __all__ = ["read_hdf5", "write_hdf5"]
 
@@ -97,7 +95,7 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
         with h5py.File(name, "w") as f:
             dset = f.create_dataset("coefficients", shape=log.shape, dtype=log.dtype)
             rows = 0
-            for block in log.iter_chunks(_scan_rows(log.coeffs)):
+            for block in log.iter_chunks(scan_rows(log.coeffs)):
                 dset[rows : rows + block.shape[0]] = block
                 rows += block.shape[0]
             # fixed-length byte strings: no variable-length heap references (see module doc)

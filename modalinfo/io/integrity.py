@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from modalinfo.io._common import LogFormatError, as_path, sha256_of
+from modalinfo.io._common import sha256_of
+from modalinfo.io.files import LogFormatError, as_path
 
 __all__ = ["IntegrityCheck", "integrity_check"]
 
@@ -119,10 +120,10 @@ def integrity_check(path, log, *, fmt: str | None = None, mmap: bool = False,
     -------
     IntegrityCheck
         ``status="pending"`` when ``load`` memory-mapped checksummed data: feed
-        :meth:`IntegrityCheck.update` with the coefficient row blocks, then call
+        ``IntegrityCheck.update`` with the coefficient row blocks, then call
         :meth:`IntegrityCheck.finish`.
     """
-    from modalinfo.io import detect_format
+    from modalinfo.io.formats import detect_format
 
     path = as_path(path)
     fmt = detect_format(path) if fmt is None else fmt

@@ -29,13 +29,7 @@ import numpy as np
 
 from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
-    LogFormatError as _LogFormatError,
-)
-from modalinfo.io._common import (
-    as_path,
-    atomic_write,
     build_log,
-    check_readable,
     check_stored_coefficients,
     dumps,
     log_header,
@@ -44,6 +38,8 @@ from modalinfo.io._common import (
     stored_from_header,
     unwrap,
 )
+from modalinfo.io.files import LogFormatError as _LogFormatError
+from modalinfo.io.files import as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_npz", "write_npz", "read_npy"]
@@ -174,7 +170,7 @@ def read_npz(path, *, mmap: bool = False, dataset: str | None = None, **hints) -
     A foreign ``.npz`` (no modalinfo header) must hold exactly one 2-D numeric array
     (or one named ``coefficients``/``coeffs``/``data``, or the one named by
     ``dataset``) or one 1-D array per mode named ``z2``, ``noll_3``, ... (see
-    :mod:`modalinfo.io._columns`), optionally a 1-D time array named
+    ``modalinfo.io._columns``), optionally a 1-D time array named
     ``timestamps``/``times``/``time``/``t`` (seconds), ``time_ms`` (milliseconds) or
     ``frame`` (frame numbers, used with a ``rate`` hint), and a 1-D ``modes``/``labels``
     array naming the columns; supply what it lacks as hints.

@@ -386,7 +386,7 @@ def plot_comparison(
 
 def save_figure(fig: Any, path: str | Path, overwrite: bool = False) -> Path:
     """Save a matplotlib figure, refusing to replace a file unless ``overwrite``."""
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     path = Path(path)
     if path.exists() and not overwrite:

@@ -5,14 +5,10 @@
 use (it needs scipy), so reading and summarising logs stays light.
 """
 
-from modalinfo.telemetry.log import (
-    CONVENTIONS,
-    NONFINITE_POLICIES,
-    LogSummary,
-    ModalLog,
-    summarize,
-)
+from modalinfo.telemetry.checks import CONVENTIONS, NONFINITE_POLICIES
+from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.sampling import Sampling, require_contiguous, sampling_of
+from modalinfo.telemetry.summary import LogSummary, summarize
 from modalinfo.telemetry.units import (
     UNITS,
     peak_normalized_from_rms,

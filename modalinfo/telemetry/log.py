@@ -34,222 +34,32 @@ Decisions documented here (see also ``docs/ARCHITECTURE.md``):
 from __future__ import annotations
 
 import copy
-import json
 import math
-import mmap
 import numbers
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.telemetry.checks import (
+    CONVENTIONS,
+    NONFINITE_POLICIES,
+    PISTON_TIPTILT,
+    as_coeffs,
+    check_metadata,
+    check_modes,
+    check_timestamps,
+    mode_labels,
+)
+from modalinfo.telemetry.scan import count_nonfinite, row_blocks
 from modalinfo.telemetry.units import check_units, check_wavelength, unit_scale
 
-__all__ = ["ModalLog", "LogSummary", "summarize", "CONVENTIONS", "NONFINITE_POLICIES"]
+__all__ = ["ModalLog"]
 
-#: Mode-indexing conventions a log can carry.
-CONVENTIONS = ("noll", "ansi", "fringe", "labels")
-#: What to do with NaN / inf in the coefficients.
-NONFINITE_POLICIES = ("raise", "drop", "interpolate")
-
-_PREFIX = {"noll": "Z", "ansi": "A", "fringe": "F"}
-_FIRST_DEFAULT = {"noll": 2, "ansi": 1, "fringe": 2}
-_MIN_INDEX = {"noll": 1, "ansi": 0, "fringe": 1}
-_PISTON_TIPTILT = {"noll": (1, 2, 3), "ansi": (0, 1, 2), "fringe": (1, 2, 3)}
 _RATE_RTOL = 1e-3
-_SCAN_ELEMENTS = 1 << 22  # elements per block when scanning a large array
 
 
-# ----------------------------------------------------------------------------- helpers
-def _release_pages(arr: np.ndarray, block: np.ndarray) -> None:
-    """Drop the pages of ``block`` (a row block of the read-only memmap ``arr``) from RSS.
-
-    File-backed pages of a memory map count in the process's resident set until the
-    kernel evicts them; scanning a multi-GB log would otherwise look like loading it.
-    ``MADV_DONTNEED`` is safe for a read-only shared mapping: the next access reads
-    the page again from the page cache or the file.
-    """
-    if not isinstance(arr, np.memmap) or getattr(arr, "mode", None) != "r":
-        return
-    mm = getattr(arr, "_mmap", None)
-    if not isinstance(mm, mmap.mmap) or not hasattr(mmap, "MADV_DONTNEED") or block.size == 0:
-        return
-    try:
-        base = np.frombuffer(mm, dtype=np.uint8).ctypes.data
-        start = block.ctypes.data - base
-        stop = start + block.nbytes
-        page = mmap.PAGESIZE
-        start = (start // page) * page
-        stop = min(len(mm), -(-stop // page) * page)
-        if 0 <= start < stop:
-            mm.madvise(mmap.MADV_DONTNEED, start, stop - start)
-    except (ValueError, OSError, BufferError):  # pragma: no cover - best effort only
-        return
-
-
-def _row_blocks(arr: np.ndarray, rows: int, release: bool = True) -> Iterator[np.ndarray]:
-    """Yield ``arr[i:i + rows]`` blocks; release memmap pages after each one."""
-    n = arr.shape[0]
-    for i0 in range(0, n, rows):
-        block = arr[i0 : i0 + rows]
-        yield np.asarray(block)
-        if release:
-            _release_pages(arr, block)
-
-
-def _scan_rows(arr: np.ndarray) -> int:
-    return max(1, _SCAN_ELEMENTS // max(1, arr.shape[1]))
-
-
-def _count_nonfinite(arr: np.ndarray) -> int:
-    """Count NaN/inf values in ``arr``, scanning in blocks (cheap when all finite)."""
-    bad = 0
-    for block in _row_blocks(arr, _scan_rows(arr)):
-        with np.errstate(over="ignore", invalid="ignore"):
-            total = block.sum(dtype=np.float64)
-        if np.isfinite(total):
-            continue  # a NaN or inf anywhere would make the sum non-finite (or overflow)
-        bad += int(block.size - np.count_nonzero(np.isfinite(block)))
-    return bad
-
-
-def _as_coeffs(coeffs: Any) -> np.ndarray:
-    if isinstance(coeffs, ModalLog):
-        raise TypeError("`coeffs` must be an array (T, M); got a ModalLog (use log.coeffs).")
-    if isinstance(coeffs, np.ndarray):
-        arr = coeffs
-    else:
-        try:
-            arr = np.asarray(coeffs)
-        except (ValueError, TypeError) as exc:
-            raise TypeError(
-                f"`coeffs` must be a numeric array (T, M); got {type(coeffs).__name__}."
-            ) from exc
-    kind = arr.dtype.kind
-    if kind not in "fiu":
-        what = "complex" if kind == "c" else str(arr.dtype)
-        raise TypeError(f"`coeffs` must be a real numeric array (T, M); got dtype {what}.")
-    if arr.ndim != 2:
-        raise ValueError(
-            f"`coeffs` must be 2-D (T frames, M modes); got {arr.ndim}-D with shape {arr.shape}"
-            " (a single mode's series needs shape (T, 1): one column)."
-        )
-    if arr.shape[0] == 0 or arr.shape[1] == 0:
-        raise ValueError(f"`coeffs` must hold at least one frame and one mode; got {arr.shape}.")
-    if kind in "iu" or arr.dtype.itemsize not in (4, 8):
-        arr = arr.astype(np.float64)
-    elif not arr.dtype.isnative:
-        arr = arr.astype(arr.dtype.newbyteorder("="))
-    view = arr.view()
-    view.flags.writeable = False
-    return view
-
-
-def _check_modes(modes: Any, convention: str, n_modes: int) -> list:
-    if modes is None:
-        if convention == "labels":
-            raise ValueError(
-                "`modes` is required when convention='labels' (one str label per column)."
-            )
-        first = _FIRST_DEFAULT[convention]
-        return list(range(first, first + n_modes))
-    if isinstance(modes, str | bytes):
-        raise TypeError(f"`modes` must be a sequence of mode indices or labels; got {modes!r}.")
-    if isinstance(modes, np.ndarray):
-        modes = modes.tolist()
-    try:
-        modes = list(modes)
-    except TypeError as exc:
-        raise TypeError(f"`modes` must be a sequence; got {type(modes).__name__}.") from exc
-    if len(modes) != n_modes:
-        raise ValueError(
-            f"`modes` must have one entry per column of `coeffs` ({n_modes}); got {len(modes)}."
-        )
-    if convention == "labels":
-        for label in modes:
-            if not isinstance(label, str) or not label:
-                raise TypeError(
-                    f"`modes` must be non-empty str labels when convention='labels'; got {label!r}."
-                )
-            if not label.isprintable() or label != label.strip():
-                raise ValueError(
-                    "`modes` labels must be printable text without leading or trailing "
-                    f"blanks; got {label!r}."
-                )
-        out = list(modes)
-    else:
-        out = []
-        lo = _MIN_INDEX[convention]
-        for j in modes:
-            if isinstance(j, bool) or not isinstance(j, numbers.Integral):
-                raise TypeError(
-                    f"`modes` must be int {convention} indices (or use convention='labels'); "
-                    f"got {j!r}."
-                )
-            if j < lo:
-                raise ValueError(f"`modes` must be {convention} indices >= {lo}; got {int(j)}.")
-            out.append(int(j))
-    if len(set(out)) != len(out):
-        seen, dup = set(), None
-        for j in out:
-            if j in seen:
-                dup = j
-                break
-            seen.add(j)
-        raise ValueError(f"`modes` must be unique; {dup!r} appears more than once.")
-    return out
-
-
-def _check_metadata(metadata: Any) -> dict:
-    if metadata is None:
-        return {}
-    if not isinstance(metadata, dict):
-        raise TypeError(f"`metadata` must be a dict; got {type(metadata).__name__}.")
-    for key in metadata:
-        if not isinstance(key, str):
-            raise TypeError(f"`metadata` keys must be str; got {key!r}.")
-    try:
-        text = json.dumps(metadata, allow_nan=False)
-    except TypeError as exc:
-        raise TypeError(f"`metadata` must be JSON-serialisable: {exc}.") from exc
-    except ValueError as exc:
-        raise ValueError(f"`metadata` must not hold NaN or infinite floats: {exc}.") from exc
-    return json.loads(text)
-
-
-def _check_timestamps(timestamps: Any, n_frames: int) -> np.ndarray:
-    try:
-        t = np.asarray(timestamps)
-    except (ValueError, TypeError) as exc:
-        raise TypeError("`timestamps` must be a 1-D numeric array of seconds.") from exc
-    if t.dtype.kind not in "fiu":
-        raise TypeError(f"`timestamps` must be a numeric array of seconds; got dtype {t.dtype}.")
-    if t.ndim != 1 or t.shape[0] != n_frames:
-        raise ValueError(
-            f"`timestamps` must have shape ({n_frames},) to match `coeffs`; got {t.shape}."
-        )
-    t = np.array(t, dtype=np.float64)
-    if not np.all(np.isfinite(t)):
-        raise ValueError(
-            f"`timestamps` must be finite; got {int(np.sum(~np.isfinite(t)))} non-finite value(s)."
-        )
-    if n_frames > 1:
-        dt = np.diff(t)
-        bad = np.flatnonzero(dt <= 0)
-        if bad.size:
-            i = int(bad[0])
-            rule = "duplicated" if dt[i] == 0 else "decreasing"
-            raise ValueError(
-                f"`timestamps` must be strictly increasing; {rule} at index {i + 1} "
-                f"({t[i]:.10g} s then {t[i + 1]:.10g} s)."
-            )
-    t.flags.writeable = False
-    return t
-
-
-# ----------------------------------------------------------------------------- the log
 class ModalLog:
     """A telemetry log of modal coefficients ``(T, M)`` with time axis, modes and units.
 
@@ -329,7 +139,9 @@ class ModalLog:
         nonfinite: str = "raise",
         start_time: float = 0.0,
     ) -> None:
-        arr = _as_coeffs(coeffs)
+        if isinstance(coeffs, ModalLog):
+            raise TypeError("`coeffs` must be an array (T, M); got a ModalLog (use log.coeffs).")
+        arr = as_coeffs(coeffs)
         n_frames, n_modes = arr.shape
         if not isinstance(convention, str):
             raise TypeError(f"`convention` must be a str; got {convention!r}.")
@@ -341,7 +153,7 @@ class ModalLog:
         if wavelength is not None:
             wavelength = check_wavelength(wavelength)
         start_time = check_real(start_time, "start_time")
-        t = None if timestamps is None else _check_timestamps(timestamps, n_frames)
+        t = None if timestamps is None else check_timestamps(timestamps, n_frames)
         if t is not None and rate is not None and n_frames > 1:
             median_dt = float(np.median(np.diff(t)))
             if abs(median_dt * rate - 1.0) > _RATE_RTOL:
@@ -350,11 +162,11 @@ class ModalLog:
                     f"{median_dt:.6g} s, i.e. {1.0 / median_dt:.6g} Hz); give one or make them "
                     "agree."
                 )
-        mode_list = _check_modes(modes, convention, n_modes)
-        meta = _check_metadata(metadata)
+        mode_list = check_modes(modes, convention, n_modes)
+        meta = check_metadata(metadata)
 
         repairs: list[str] = []
-        n_bad = _count_nonfinite(arr)
+        n_bad = count_nonfinite(arr)
         if n_bad:
             finite = np.isfinite(arr)
             bad_rows = np.flatnonzero(~finite.all(axis=1))
@@ -522,14 +334,7 @@ class ModalLog:
     @property
     def labels(self) -> list[str]:
         """Column labels: ``"Z4"`` (Noll), ``"A4"`` (ANSI), ``"F4"`` (Fringe) or the labels."""
-        return self._labels_of(self._modes, self._convention)
-
-    @staticmethod
-    def _labels_of(modes: list, convention: str) -> list[str]:
-        if convention == "labels":
-            return [str(m) for m in modes]
-        prefix = _PREFIX.get(convention, "?")
-        return [f"{prefix}{j}" for j in modes]
+        return mode_labels(self._modes, self._convention)
 
     @property
     def convention(self) -> str:
@@ -732,7 +537,7 @@ class ModalLog:
             raise ValueError(
                 "without_piston_tiptilt needs Zernike modes; this log has convention='labels'."
             )
-        ptt = set(_PISTON_TIPTILT[self._convention])
+        ptt = set(PISTON_TIPTILT[self._convention])
         return self._take_modes([c for c, j in enumerate(self._modes) if j not in ptt])
 
     # ------------------------------------------------------------------ conversions
@@ -835,7 +640,7 @@ class ModalLog:
         """
         meta = dict(self._metadata)
         meta.update(items)
-        return self._derive(_metadata=_check_metadata(meta))
+        return self._derive(_metadata=check_metadata(meta))
 
     # ------------------------------------------------------------------ sampling
     def sampling(self, gap_factor: float = 1.5):
@@ -904,139 +709,4 @@ class ModalLog:
             Read-only views ``(n, M)``, ``n <= n_frames``, in the log's units.
         """
         n_frames = check_int(n_frames, "n_frames", minimum=1)
-        return _row_blocks(self._coeffs, n_frames)
-
-
-# ----------------------------------------------------------------------------- summary
-@dataclass(frozen=True)
-class LogSummary:
-    """Per-mode one-pass statistics of a log (see :func:`summarize`).
-
-    Attributes
-    ----------
-    n_frames : int
-        Number of frames ``T``.
-    labels : list of str
-        Column labels.
-    count : numpy.ndarray, shape (M,)
-        Finite samples per mode.
-    n_nonfinite : numpy.ndarray, shape (M,)
-        NaN/inf samples per mode (skipped by every statistic).
-    mean : numpy.ndarray, shape (M,)
-        Mean, in the log's units.
-    std : numpy.ndarray, shape (M,)
-        Population standard deviation (``ddof=0``).
-    rms : numpy.ndarray, shape (M,)
-        Root mean square ``sqrt(mean(x**2))`` (includes the mean).
-    lag1 : numpy.ndarray, shape (M,)
-        Lag-1 autocorrelation ``sum (x_t - m)(x_{t+1} - m) / sum (x_t - m)^2`` over
-        consecutive finite pairs (the biased ACF estimator of ``statsmodels.acf``).
-    units : str
-        Units of ``mean``, ``std`` and ``rms``.
-    """
-
-    n_frames: int
-    labels: list
-    count: np.ndarray
-    n_nonfinite: np.ndarray
-    mean: np.ndarray
-    std: np.ndarray
-    rms: np.ndarray
-    lag1: np.ndarray
-    units: str
-
-
-def _summarize_scaled(arr, cols, chunk_frames, mean, std, rms, lag1) -> None:
-    """Redo the summary of columns whose sums overflowed, on values scaled by 2^-e.
-
-    A power of two scales exactly, and mean, std and RMS scale with it (lag-1 is
-    scale-free), so values near the float range get their true statistics. Columns
-    still overflowing after scaling (not possible for finite values) raise.
-    """
-    from modalinfo.telemetry._kernels import chunk_stats_update, lag1_finalize
-
-    peak = np.zeros(cols.size)
-    for block in _row_blocks(arr, chunk_frames):
-        with np.errstate(invalid="ignore"):
-            sub = np.abs(np.asarray(block, dtype=np.float64)[:, cols])
-            sub[~np.isfinite(sub)] = 0.0
-        peak = np.maximum(peak, sub.max(axis=0, initial=0.0))
-    scale = np.ldexp(1.0, np.frexp(peak)[1])  # power of two >= peak: |x| / scale <= 1
-    state = np.zeros((8, cols.size), dtype=np.float64)
-    last = np.full(cols.size, np.nan)
-    bad = np.zeros(cols.size, dtype=np.int64)
-    for block in _row_blocks(arr, chunk_frames):
-        chunk_stats_update(np.ascontiguousarray(np.asarray(block, dtype=np.float64)[:, cols]
-                                                / scale), state, last, bad)
-    out = [np.empty(cols.size) for _ in range(4)]
-    lag1_finalize(state, *out)
-    mean[cols] = out[0] * scale
-    std[cols] = out[1] * scale
-    rms[cols] = out[2] * scale
-    lag1[cols] = out[3]
-
-
-def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogSummary:
-    """Per-mode mean, std, RMS and lag-1 autocorrelation in one chunked pass.
-
-    Each chunk is reduced in two passes about its own mean and merged with Chan et
-    al.'s pairwise update (numerically stable for any offset), so memory is one
-    chunk and a few ``(M,)`` accumulators: a memory-mapped log much larger than RAM
-    is summarised with a small resident set.
-
-    Parameters
-    ----------
-    log : ModalLog or array_like, shape (T, M)
-        The log (non-finite values of a raw array are counted and skipped).
-    chunk_frames : int
-        Frames per chunk.
-    progress : callable, optional
-        Called with the number of frames of each chunk once it is processed
-        (e.g. ``tqdm.update``).
-    visit : callable, optional
-        Called with each raw chunk ``(n, M)`` of the coefficients, in order, before
-        it is reduced (e.g. :meth:`modalinfo.io.IntegrityCheck.update`, which
-        checksums a memory-mapped log in the same pass).
-
-    Returns
-    -------
-    LogSummary
-        The statistics.
-    """
-    from modalinfo.telemetry._kernels import chunk_stats_update, lag1_finalize
-
-    chunk_frames = check_int(chunk_frames, "chunk_frames", minimum=1)
-    if isinstance(log, ModalLog):
-        arr, labels, units = log.coeffs, log.labels, log.units
-    else:
-        arr = _as_coeffs(log)
-        labels, units = [f"col{j}" for j in range(arr.shape[1])], ""
-    m = arr.shape[1]
-    state = np.zeros((8, m), dtype=np.float64)  # see _kernels.chunk_stats_update
-    last = np.full(m, np.nan)
-    bad = np.zeros(m, dtype=np.int64)
-    for block in _row_blocks(arr, chunk_frames):
-        if visit is not None:
-            visit(block)
-        chunk_stats_update(np.ascontiguousarray(block), state, last, bad)
-        if progress is not None:
-            progress(block.shape[0])
-    mean = np.empty(m)
-    std = np.empty(m)
-    rms = np.empty(m)
-    lag1 = np.empty(m)
-    lag1_finalize(state, mean, std, rms, lag1)
-    overflow = (state[0] > 0) & ~(np.isfinite(rms) & np.isfinite(state[6]))
-    if overflow.any():  # values near the float range: redo those columns scaled
-        _summarize_scaled(arr, np.flatnonzero(overflow), chunk_frames, mean, std, rms, lag1)
-    return LogSummary(
-        n_frames=int(arr.shape[0]),
-        labels=list(labels),
-        count=state[0].astype(np.int64),
-        n_nonfinite=bad,
-        mean=mean,
-        std=std,
-        rms=rms,
-        lag1=lag1,
-        units=units,
-    )
+        return row_blocks(self._coeffs, n_frames)

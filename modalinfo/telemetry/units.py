@@ -140,7 +140,7 @@ def zernike_rms_normalization(n, m):
     ------
     TypeError, ValueError
         If ``n``, ``m`` are not integers with ``n >= 0``, ``|m| <= n``, ``n - |m|`` even
-        (the check of the index converters in :mod:`modalinfo.bases.indexing`).
+        (the check of the index converters in ``modalinfo.bases.indexing``).
     """
     from modalinfo.bases.indexing import _check_nm  # lazy: modalinfo.bases imports scipy
 

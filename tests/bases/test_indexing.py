@@ -3,7 +3,8 @@
 References: Noll (1976) JOSA 66, 207, Table 1 (first 21 modes); the ANSI/OSA definition
 j = (n (n + 2) + m) / 2 (ISO 24157, Thibos et al. 2002); the Fringe (University of
 Arizona) table of Wyant & Creath (1992), Table 2 (first 36 terms); hcipy's independent
-``noll_to_zernike`` / ``ansi_to_zernike`` as a second implementation; round trips.
+``noll_to_zernike`` / ``ansi_to_zernike`` as a second implementation; round trips;
+for ``parse_modes``, lists written out by hand from its grammar.
 """
 
 import hcipy
@@ -20,6 +21,7 @@ from modalinfo.bases import (
     noll_to_ansi,
     noll_to_fringe,
     noll_to_zernike,
+    parse_modes,
     zernike_to_ansi,
     zernike_to_fringe,
     zernike_to_noll,
@@ -139,3 +141,34 @@ def test_bad_types_and_nm():
         zernike_to_ansi(1, 3)
     with pytest.raises(ValueError, match="`n` must be >= 0"):
         zernike_to_fringe(-1, 0)
+
+
+# ---------------------------------------------------------------- parse_modes
+# Reference: the lists written out by hand from the documented grammar.
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("2-5", [2, 3, 4, 5]),
+        ("4, 2,7-8", [4, 2, 7, 8]),
+        ("6-6", [6]),
+        ("Z4,KL1", ["Z4", "KL1"]),
+        ("tip-tilt", ["tip-tilt"]),  # not two digits: a label, not a range
+    ],
+)
+def test_parse_modes(text, expected):
+    assert parse_modes(text) == expected
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("2,,3", r"^modes: empty entry in '2,,3'$"),
+        ("9-4", r"^modes: range '9-4' is decreasing$"),
+        ("4,KL1", r"^modes mixes indices and labels: '4,KL1'$"),
+    ],
+)
+def test_parse_modes_errors_name_the_argument(text, match):
+    with pytest.raises(ValueError, match=match):
+        parse_modes(text)
+    with pytest.raises(ValueError, match=r"^--in-modes"):
+        parse_modes(text, "--in-modes")

@@ -133,7 +133,7 @@ def test_numpy_scalars_in_messages_are_numbers():
 
 
 def test_a_failed_write_names_the_target_not_the_temporary_file(tmp_path):
-    from modalinfo.io._common import atomic_write
+    from modalinfo.io import atomic_write
 
     def write(tmp):
         raise OSError(f"disk full while writing {tmp}")

@@ -4,7 +4,8 @@ References: ``aotpy`` itself (systems are built and read back with ``aotpy.AOSys
 directly, independently of our builder), exact round trips (bitwise equality), the
 matrix product ``measurements_to_modes @ measurements`` computed here with numpy,
 and the documented error contract of ``modalinfo.io`` (``LogFormatError`` naming the
-file).
+file); the integrator time filter against the recursion ``u_k = (1 - leak) u_{k-1} +
+g e_k`` written out here, and its round trip through ``integrator_from_filter``.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from modalinfo.io.aot_system import (  # noqa: E402
     config_of,
     geometry_of,
     integrator_filter,
+    integrator_from_filter,
 )
 from modalinfo.telemetry import ModalLog  # noqa: E402
 
@@ -190,7 +192,7 @@ def test_build_system_complete_export_round_trip(tmp_path):
     t = np.arange(50) * 1e-3
     basis = ZernikeBasis(Pupil(16), modes=range(2, 6))
     modes = np.nan_to_num(basis.pupil.to_image(basis.matrix.T))
-    num, den = integrator_filter(0.4, leak=0.99)
+    num, den = integrator_filter(0.4, leak=0.01)  # den [[1, -0.99]]
     loops, sensors, correctors = [], [], []
     coeffs, meas, cmds, m2m = {}, {}, {}, {}
     for k, alt in enumerate((0.0, 8000.0)):
@@ -234,6 +236,33 @@ def test_build_system_complete_export_round_trip(tmp_path):
         assert log.metadata["corrector"]["altitude"] == (0.0, 8000.0)[k]
         assert log.metadata["wfs"]["field_of_view"] == (60.0, 20.0)[k]
         assert log.metadata["time_filter"] == {"num": [[0.4]], "den": [[1.0, -0.99]]}
+
+
+@pytest.mark.parametrize("leak", [0.0, 0.01, 0.3, 0.5, 0.999])
+def test_integrator_filter_is_the_simulator_integrator(leak):
+    from scipy.signal import lfilter
+
+    gain = np.array([0.4, 0.25])
+    num, den = integrator_filter(gain, leak)
+    e = np.random.default_rng(0).standard_normal((40, 2))
+    u = np.zeros(2)
+    expected = []
+    for e_k in e:  # the simulator's controller: leak 0 is a pure integrator
+        u = (1.0 - leak) * u + gain * e_k
+        expected.append(u)
+    got = np.column_stack([lfilter(num[i], den[i], e[:, i]) for i in range(2)])
+    np.testing.assert_allclose(got, np.array(expected), rtol=1e-12, atol=1e-13)
+    g_back, leak_back = integrator_from_filter(num, den)
+    assert np.array_equal(g_back, gain)
+    # 1 - leak rounds once (at most 2^-53 absolute for leak in [0, 1)); 1 + den is exact
+    np.testing.assert_allclose(leak_back, leak, rtol=0, atol=2.0**-53)
+
+
+def test_integrator_from_filter_rejects_other_filters():
+    with pytest.raises(ValueError, match="num \\(m, 1\\) and den \\(m, 2\\)"):
+        integrator_from_filter([[0.4, 0.1]], [[1.0, -0.9]])
+    with pytest.raises(ValueError, match="`den` must start with 1"):
+        integrator_from_filter([[0.4]], [[2.0, -0.9]])
 
 
 def test_build_system_rejects_unknown_references():

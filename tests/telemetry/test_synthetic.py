@@ -23,19 +23,21 @@ from scipy import signal, stats
 
 from modalinfo.bases import zernike_covariance
 from modalinfo.io import load
+from modalinfo.servo import (
+    closed_loop_bandwidth,
+    gain_for_bandwidth,
+    max_stable_gain,
+    rejection_transfer_function,
+)
 from modalinfo.telemetry import ModalLog
 from modalinfo.telemetry.synthetic import (
     KAOS_LIKE_DEFAULTS,
     Layer,
-    closed_loop_bandwidth,
     closed_loop_log,
     closed_loop_simulation,
-    gain_for_bandwidth,
     kaos_like,
-    max_stable_gain,
     open_loop_log,
     open_loop_psd,
-    rejection_transfer_function,
 )
 
 ONE_LAYER = [Layer(None, 10.0, d_over_r0=1.0)]

@@ -1,8 +1,8 @@
-"""Synthetic open-loop and closed-loop Zernike telemetry with known statistics.
+"""Open-loop turbulence telemetry: temporal spectra of Zernike modes and their synthesis.
 
-This module makes the test and demonstration data of the package: seeded time series of
-Noll-indexed Zernike coefficients whose zero-lag covariance and temporal spectra follow
-turbulence theory, and the residuals of a modal integrator loop run on them.
+Seeded time series of Noll-indexed Zernike coefficients whose zero-lag covariance and
+temporal spectra follow turbulence theory (:func:`open_loop_log`, :func:`open_loop_psd`).
+The closed loop run on them is ``modalinfo.telemetry.synthetic.closed_loop``.
 
 What is exact and what is approximate
 -------------------------------------
@@ -14,10 +14,6 @@ What is exact and what is approximate
   wavelength. Each unit series is normalised from its *discrete* spectrum, so
   ``E[x_t x_t^T]`` equals the target to rounding, not only asymptotically.
 - Gaussian statistics (a linear filter of Gaussian white noise).
-- The closed loop of :func:`closed_loop_log`: the recursion is solved exactly on the
-  simulation grid, and :func:`rejection_transfer_function` (``model="sampled"``) is the
-  exact transfer function from the open-loop WFS measurement to the closed-loop WFS
-  measurement, including fractional delay and integration time.
 
 *Approximate (by construction; documented so that nobody mistakes it for frozen flow)*
 
@@ -55,30 +51,6 @@ What is exact and what is approximate
   ``n >= 2`` it is below 1.01. No power above the Nyquist frequency is generated (no
   aliasing).
 
-Closed loop
------------
-:func:`closed_loop_log` runs a per-mode integrator ``c[k] = c[k-1] + g m[k]`` on the
-open-loop series, sampled on a grid ``oversampling`` times finer than the loop frames.
-Frame ``k`` integrates the residual ``x - d`` over the ``integration_frames`` frame
-periods that end at ``t_k = (k + 1) T`` (a box average, the mean of the fine samples in
-the window), adds white noise of RMS ``noise_rms`` per mode, and the command computed from
-it is held (zero-order hold) from ``t_k + delay_frames T`` until the next command
-replaces it. Because the command is piecewise constant, the WFS sees a fixed linear
-combination of past commands, ``(B d)_k = sum_j w_j c[k-j]`` with ``w_j`` the fraction of
-the integration window where ``c[k-j]`` is applied, and the loop is the exact recursion
-
-    m = (y + n) (1 - z**-1) / (1 - z**-1 + g W(z)),   W(z) = sum_j w_j z**-j,
-
-where ``y`` is the open-loop WFS measurement (box-averaged turbulence). This is what
-:func:`rejection_transfer_function` returns (``model="sampled"``). The textbook
-continuous-time approximation (``model="continuous"``) replaces ``W`` by the product of
-the WFS box response ``sinc(f T_i) exp(-i pi f T_i)``, the zero-order hold
-``sinc(f T) exp(-i pi f T)`` and the delay ``exp(-2 i pi f tau)``; ``W`` is the aliased sum
-of that product. Below ``rate / 10`` the two ``|E|`` agree to about 1 % when the WFS
-integrates the whole frame (``integration_frames = 1``) but differ by up to ~10 % for
-shorter integrations, whose aliased terms are of first order in ``f``; the sampled
-model is the one the simulated logs obey.
-
 References
 ----------
 Noll, R. J. 1976, JOSA 66, 207. Conan, J.-M., Rousset, G. & Madec, P.-Y. 1995, JOSA A 12,
@@ -95,7 +67,6 @@ from typing import Any
 
 import numpy as np
 from scipy import fft as sfft
-from scipy import signal
 
 from modalinfo._validation import (
     check_int,
@@ -103,35 +74,10 @@ from modalinfo._validation import (
     check_rng,
 )
 from modalinfo.bases import noll_to_zernike, zernike_covariance
-from modalinfo.servo import (  # noqa: F401  (re-exported: the servo model lives in modalinfo.servo)
-    LoopBandwidth,
-    check_loop,
-    check_stable,
-    closed_loop_bandwidth,
-    command_weights,
-    gain_for_bandwidth,
-    loop_denominator,
-    max_stable_gain,
-    rejection_transfer_function,
-)
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import check_wavelength
 
-__all__ = [
-    "Layer",
-    "LoopBandwidth",
-    "ClosedLoopResult",
-    "open_loop_log",
-    "open_loop_psd",
-    "closed_loop_log",
-    "closed_loop_simulation",
-    "rejection_transfer_function",
-    "closed_loop_bandwidth",
-    "gain_for_bandwidth",
-    "max_stable_gain",
-    "kaos_like",
-    "KAOS_LIKE_DEFAULTS",
-]
+__all__ = ["Layer", "open_loop_log", "open_loop_psd"]
 
 #: Reference wavelength of ``Layer.r0`` by default (m).
 _R0_WAVELENGTH = 500e-9
@@ -500,287 +446,3 @@ def open_loop_log(
                     wavelength=wavelength, metadata=metadata)
 
 
-@dataclass(frozen=True)
-class ClosedLoopResult:
-    """Logs of a simulated modal integrator loop (all at the loop frame rate).
-
-    Attributes
-    ----------
-    residual : ModalLog
-        What the WFS measures in closed loop: box-averaged residual plus noise [rad].
-    commands : ModalLog
-        Integrator output ``c[k]`` [rad], computed at the end of frame ``k`` and applied
-        ``delay_frames`` later.
-    open_loop : ModalLog
-        What the WFS would measure without correction and without noise (box-averaged
-        turbulence) [rad]; ``residual = E(z) (open_loop + noise)`` exactly.
-    bandwidth : LoopBandwidth
-        Bandwidths of the loop (``model="sampled"``).
-    """
-
-    residual: ModalLog
-    commands: ModalLog
-    open_loop: ModalLog
-    bandwidth: LoopBandwidth
-
-
-def _as_steps(value: float, oversampling: int, name: str) -> int:
-    steps = value * oversampling
-    rounded = round(steps)
-    if abs(steps - rounded) > 1e-9:
-        raise ValueError(
-            f"`{name}` * `oversampling` must be an integer (the loop is simulated on a grid "
-            f"oversampling times finer than the frames); got {name}={value} with "
-            f"oversampling={oversampling}."
-        )
-    return int(rounded)
-
-
-def closed_loop_simulation(
-    open_log: ModalLog,
-    *,
-    gain: float,
-    delay_frames: float = 1.0,
-    integration_frames: float = 1.0,
-    noise_rms: float = 0.0,
-    oversampling: int = 1,
-    seed: int | np.random.Generator | None = None,
-) -> ClosedLoopResult:
-    """Run a per-mode integrator loop on an open-loop log and return all its logs.
-
-    See :func:`closed_loop_log` for the parameters; this function returns the residual,
-    the commands and the open-loop WFS measurement together.
-
-    Returns
-    -------
-    ClosedLoopResult
-        Residual, commands and open-loop measurement logs, and the loop bandwidths.
-    """
-    if not isinstance(open_log, ModalLog):
-        raise TypeError(f"`open_log` must be a ModalLog; got {type(open_log).__name__}.")
-    if open_log.rate is None:
-        raise ValueError("`open_log` must have a `rate` (regularly sampled); got rate=None.")
-    gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
-    noise_rms = check_real(noise_rms, "noise_rms", minimum=0.0)
-    oversampling = check_int(oversampling, "oversampling", minimum=1)
-    _as_steps(delay_frames, oversampling, "delay_frames")
-    n_int = _as_steps(integration_frames, oversampling, "integration_frames")
-    check_stable(gain, delay_frames, integration_frames)
-    log = open_log if open_log.units == "rad" else open_log.to_units("rad")
-    x = np.asarray(log.coeffs, dtype=np.float64)
-    n_frames = x.shape[0] // oversampling
-    if n_frames < 2:
-        raise ValueError(
-            f"`open_log` must hold at least 2 * oversampling = {2 * oversampling} samples; "
-            f"got {x.shape[0]}."
-        )
-    rng = check_rng(seed)
-    frame_rate = log.rate / oversampling
-
-    # Open-loop WFS measurement: mean of the fine samples in each integration window,
-    # which ends at fine index (k + 1) * oversampling (exclusive).
-    frames = x[: n_frames * oversampling].reshape(n_frames, oversampling, x.shape[1])
-    y = frames[:, oversampling - n_int:, :].mean(axis=1)
-    noise = noise_rms * rng.standard_normal(y.shape) if noise_rms > 0 else 0.0
-    weights = command_weights(delay_frames, integration_frames)
-    a = loop_denominator(gain, weights)
-    residual = signal.lfilter([1.0, -1.0], a, y + noise, axis=0)
-    commands = signal.lfilter([gain], [1.0, -1.0], residual, axis=0)
-    bandwidth = closed_loop_bandwidth(rate=frame_rate, gain=gain, delay_frames=delay_frames,
-                                      integration_frames=integration_frames)
-
-    loop_meta = {
-        "gain": gain,
-        "delay_frames": delay_frames,
-        "integration_frames": integration_frames,
-        "noise_rms_rad": noise_rms,
-        "oversampling": oversampling,
-        "frame_rate_hz": frame_rate,
-        "seed": seed if isinstance(seed, numbers.Integral) else None,
-        "bandwidth_rejection_0db_hz": bandwidth.rejection_0db,
-        "bandwidth_closed_loop_3db_hz": bandwidth.closed_loop_3db,
-        "max_rejection_amplification": bandwidth.max_amplification,
-    }
-    base = dict(log.metadata)
-    common = dict(rate=frame_rate, modes=list(log.modes), convention=log.convention,
-                  units="rad", wavelength=log.wavelength)
-
-    def make(arr, **extra):
-        meta = {"open_loop_generator": base, "closed_loop": loop_meta, "synthetic": True}
-        meta.update(extra)
-        return ModalLog(np.ascontiguousarray(arr), metadata=meta, **common)
-
-    return ClosedLoopResult(
-        residual=make(residual, loop="closed", quantity="WFS-measured residual (with noise)"),
-        commands=make(commands, loop="closed", quantity="integrator commands"),
-        open_loop=make(y, loop="open", quantity="WFS-measured open-loop turbulence (no noise)"),
-        bandwidth=bandwidth,
-    )
-
-
-def closed_loop_log(
-    open_log: ModalLog,
-    *,
-    gain: float,
-    delay_frames: float = 1.0,
-    integration_frames: float = 1.0,
-    noise_rms: float = 0.0,
-    oversampling: int = 1,
-    seed: int | np.random.Generator | None = None,
-) -> ModalLog:
-    """Residual log of a per-mode integrator loop run on an open-loop log.
-
-    The loop: frame ``k`` integrates the residual over ``integration_frames`` frame
-    periods ending at ``t_k``, adds WFS noise, the integrator updates
-    ``c[k] = c[k-1] + gain * m[k]`` and the DM holds ``c[k]`` from
-    ``t_k + delay_frames / rate``. Exact on the simulation grid (module docstring);
-    the loop starts closed at frame 0 on a flat DM (discard a few ``1 / gain`` frames of
-    transient if needed).
-
-    Parameters
-    ----------
-    open_log : ModalLog
-        Open-loop turbulence sampled ``oversampling`` times faster than the loop frames
-        (e.g. from :func:`open_loop_log` with ``rate = oversampling * frame_rate``).
-        Converted to rad if needed.
-    gain : float
-        Integrator gain (> 0, below :func:`max_stable_gain`).
-    delay_frames : float
-        Delay from the end of the integration to the command update [frames], >= 0.
-        ``delay_frames * oversampling`` must be an integer.
-    integration_frames : float
-        WFS integration time [frames] in (0, 1]; times ``oversampling`` an integer.
-    noise_rms : float
-        White WFS noise [rad RMS per mode per frame].
-    oversampling : int
-        Simulation samples per loop frame.
-    seed : None, int or numpy.random.Generator
-        Randomness of the WFS noise.
-
-    Returns
-    -------
-    ModalLog
-        WFS-measured residual ``(T // oversampling, M)`` in rad at the frame rate.
-
-    Raises
-    ------
-    ValueError
-        Bad argument, or a gain that makes the loop unstable (a diverging log is useless;
-        the message gives the stability limit).
-    """
-    return closed_loop_simulation(
-        open_log, gain=gain, delay_frames=delay_frames, integration_frames=integration_frames,
-        noise_rms=noise_rms, oversampling=oversampling, seed=seed,
-    ).residual
-
-
-# ---------------------------------------------------------------------- presets
-#: Default parameters of :func:`kaos_like` (see its docstring for the rationale).
-KAOS_LIKE_DEFAULTS: dict[str, Any] = {
-    "modes": list(range(2, 29)),
-    "rate": 2000.0,
-    "diameter": 0.70,
-    "wavelength": 500e-9,
-    "outer_scale": 20.0,
-    # r0 = 7 cm at 500 nm in total: 70 % of the turbulence in a slow ground layer, 30 %
-    # in a faster one; r0_l = r0 * fraction_l**(-3/5).
-    "layers": [
-        {"r0": 0.07 * 0.7 ** (-0.6), "wind_speed": 5.0},
-        {"r0": 0.07 * 0.3 ** (-0.6), "wind_speed": 10.0},
-    ],
-    "gain": 0.4664,
-    "delay_frames": 1.0,
-    "integration_frames": 1.0,
-    "noise_rms": 0.02,
-    "oversampling": 4,
-    "discard_frames": 200,
-}
-
-
-def kaos_like(
-    n_frames: int = 8000,
-    closed_loop: bool = True,
-    seed: int | np.random.Generator | None = 0,
-    **overrides: Any,
-) -> ModalLog:
-    """Return a synthetic log resembling KAOS telemetry at the VTT (not real data).
-
-    Defaults (:data:`KAOS_LIKE_DEFAULTS`): 27 modes Z2-Z28 (Noll), 2 kHz frames, a
-    0.70 m aperture, r0 = 7 cm at 500 nm split 70/30 between a 5 m/s and a 10 m/s layer,
-    von Karman outer scale 20 m, coefficients in rad at 500 nm; an integrator with
-    gain 0.4664 (0 dB rejection bandwidth 130.0 Hz by the sampled model,
-    see :func:`closed_loop_bandwidth`), 1 frame WFS integration, 1 frame delay after it,
-    WFS noise 0.02 rad RMS per mode per frame, simulated with 4 samples per frame.
-    The first ``discard_frames`` frames (loop transient) are generated and dropped.
-
-    Parameters
-    ----------
-    n_frames : int
-        Frames in the returned log (>= 2).
-    closed_loop : bool
-        True: the WFS-measured closed-loop residual (with noise). False: the open-loop
-        WFS measurement of the same turbulence (box-averaged over the integration time,
-        without noise).
-    seed : None, int or numpy.random.Generator
-        One generator draws the turbulence, then the noise.
-    **overrides
-        Any key of :data:`KAOS_LIKE_DEFAULTS`; ``layers`` as Layer objects or dicts.
-
-    Returns
-    -------
-    ModalLog
-        ``(n_frames, M)`` in rad at ``wavelength`` with every generator parameter in
-        ``metadata`` (JSON-serialisable).
-    """
-    unknown = sorted(set(overrides) - set(KAOS_LIKE_DEFAULTS))
-    if unknown:
-        raise TypeError(
-            f"kaos_like() got unknown override(s) {unknown}; allowed: "
-            f"{sorted(KAOS_LIKE_DEFAULTS)}."
-        )
-    n_frames = check_int(n_frames, "n_frames", minimum=2)
-    if not isinstance(closed_loop, bool | np.bool_):
-        raise TypeError(f"`closed_loop` must be a bool; got {closed_loop!r}.")
-    p = {**KAOS_LIKE_DEFAULTS, **overrides}
-    oversampling = check_int(p["oversampling"], "oversampling", minimum=1)
-    discard = check_int(p["discard_frames"], "discard_frames", minimum=0)
-    rate = check_real(p["rate"], "rate", minimum=0.0, strict_min=True)
-    layers = _check_layers(p["layers"])
-    rng = check_rng(seed)
-    total = n_frames + discard
-    open_fine = open_loop_log(
-        p["modes"], n_frames=total * oversampling, rate=rate * oversampling,
-        diameter=p["diameter"], layers=layers, outer_scale=p["outer_scale"],
-        wavelength=p["wavelength"], seed=rng,
-    )
-    result = closed_loop_simulation(
-        open_fine, gain=p["gain"], delay_frames=p["delay_frames"],
-        integration_frames=p["integration_frames"], noise_rms=p["noise_rms"],
-        oversampling=oversampling, seed=rng,
-    )
-    chosen = result.residual if closed_loop else result.open_loop
-    params = {k: v for k, v in p.items() if k != "layers"}
-    params["layers"] = [layer.to_dict() for layer in layers]
-    params["outer_scale"] = None if not np.isfinite(p["outer_scale"]) else float(
-        p["outer_scale"])
-    metadata = {
-        "telescope": "VTT-like (synthetic)",
-        "instrument": "KAOS-like WFS (synthetic)",
-        "source": "modalinfo.telemetry.synthetic.kaos_like",
-        "synthetic": True,
-        "loop": "closed" if closed_loop else "open",
-        "quantity": ("WFS-measured closed-loop residual (with noise)" if closed_loop
-                     else "WFS-measured open-loop turbulence (box-averaged, no noise)"),
-        "seed": seed if isinstance(seed, numbers.Integral) else None,
-        "n_frames": n_frames,
-        "generator": params,
-        **{k: v for k, v in _layers_metadata(layers, float(p["diameter"]),
-                                             float(p["wavelength"])).items() if k != "layers"},
-        "bandwidth_rejection_0db_hz": result.bandwidth.rejection_0db,
-        "bandwidth_closed_loop_3db_hz": result.bandwidth.closed_loop_3db,
-        "wavelength_m": float(p["wavelength"]),
-        "units_note": "coefficients in rad of phase at wavelength_m; Noll-normalised Zernikes",
-    }
-    coeffs = np.ascontiguousarray(chosen.coeffs[discard:])
-    return ModalLog(coeffs, rate=rate, modes=list(chosen.modes), convention="noll",
-                    units="rad", wavelength=float(p["wavelength"]), metadata=metadata)

@@ -1,0 +1,83 @@
+"""Which format a log file is in: its magic bytes first, then its extension."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from modalinfo.io.aot import is_aot
+from modalinfo.io.files import LogFormatError, as_path, check_readable
+
+__all__ = ["EXTENSIONS", "FORMATS", "detect_format", "format_from_extension"]
+
+#: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
+FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
+
+#: File-name extensions (lower case) and the format each one means.
+EXTENSIONS = {
+    ".npz": "npz",
+    ".npy": "npy",
+    ".csv": "csv",
+    ".txt": "csv",
+    ".dat": "csv",
+    ".tsv": "csv",
+    ".fits": "fits",
+    ".fit": "fits",
+    ".fts": "fits",
+    ".h5": "hdf5",
+    ".hdf5": "hdf5",
+    ".hdf": "hdf5",
+    ".he5": "hdf5",
+}
+#: Leading bytes of each binary format.
+_MAGIC = (
+    (b"PK\x03\x04", "npz"),
+    (b"PK\x05\x06", "npz"),  # empty zip
+    (b"\x93NUMPY", "npy"),
+    (b"SIMPLE  =", "fits"),
+    (b"\x89HDF\r\n\x1a\n", "hdf5"),
+)
+
+
+def format_from_extension(path: Path) -> str | None:
+    """Return the format a file name's extension means (:data:`EXTENSIONS`), or None."""
+    return EXTENSIONS.get(path.suffix.lower())
+
+
+def detect_format(path) -> str:
+    """Return the format of an existing file: magic bytes first, then the extension.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+
+    Returns
+    -------
+    str
+        One of :data:`FORMATS`.
+
+    Raises
+    ------
+    LogFormatError
+        An empty file, or binary content of no known format.
+    """
+    path = as_path(path)
+    check_readable(path)
+    with open(path, "rb") as fh:
+        head = fh.read(512)
+    if not head:
+        raise LogFormatError(f"'{path}' is empty")
+    for magic, fmt in _MAGIC:
+        if head.startswith(magic):
+            return "aot" if fmt == "fits" and is_aot(path) else fmt
+    by_ext = format_from_extension(path)
+    if by_ext is not None and by_ext != "csv":
+        return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 4:  # not just a multi-byte char cut at the end
+            raise LogFormatError(
+                f"'{path}' is neither text (CSV) nor NPZ/NPY/FITS/HDF5 (starts {head[:8]!r})"
+            ) from None
+    return "csv"

@@ -1,0 +1,203 @@
+"""What a log may hold: conventions, default modes and labels, and the input checks.
+
+The rules ``ModalLog`` enforces on its inputs (documented in
+:mod:`modalinfo.telemetry.log`), as functions that raise ``ValueError`` /
+``TypeError`` naming the argument, so that readers can apply the same rules.
+"""
+
+from __future__ import annotations
+
+import json
+import numbers
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "CONVENTIONS",
+    "NONFINITE_POLICIES",
+    "PISTON_TIPTILT",
+    "as_coeffs",
+    "check_metadata",
+    "check_modes",
+    "check_timestamps",
+    "default_modes",
+    "mode_labels",
+]
+
+#: Mode-indexing conventions a log can carry.
+CONVENTIONS = ("noll", "ansi", "fringe", "labels")
+
+
+#: What to do with NaN / inf in the coefficients.
+NONFINITE_POLICIES = ("raise", "drop", "interpolate")
+
+
+_PREFIX = {"noll": "Z", "ansi": "A", "fringe": "F"}
+
+
+_FIRST_DEFAULT = {"noll": 2, "ansi": 1, "fringe": 2}
+
+
+_MIN_INDEX = {"noll": 1, "ansi": 0, "fringe": 1}
+
+
+#: Piston, tip and tilt in each Zernike convention.
+PISTON_TIPTILT = {"noll": (1, 2, 3), "ansi": (0, 1, 2), "fringe": (1, 2, 3)}
+
+
+def default_modes(convention: str, n_modes: int) -> list[int] | None:
+    """Return the modes of ``n_modes`` columns when none are given (None for ``"labels"``).
+
+    The first modes after piston, which is what WFS loops log: Noll / Fringe
+    ``2 .. n_modes + 1``, ANSI ``1 .. n_modes``.
+    """
+    first = _FIRST_DEFAULT.get(convention)
+    return None if first is None else list(range(first, first + n_modes))
+
+
+def mode_labels(modes: list, convention: str) -> list[str]:
+    """Column labels: ``"Z4"`` (Noll), ``"A4"`` (ANSI), ``"F4"`` (Fringe) or the labels."""
+    if convention == "labels":
+        return [str(m) for m in modes]
+    prefix = _PREFIX.get(convention, "?")
+    return [f"{prefix}{j}" for j in modes]
+
+
+def as_coeffs(coeffs: Any) -> np.ndarray:
+    """Return ``coeffs`` as a read-only 2-D float32/float64 view, or raise naming it.
+
+    Integers become float64; float32 and float64 are kept (a ``numpy.memmap`` stays
+    one); a non-native byte order is converted.
+    """
+    if isinstance(coeffs, np.ndarray):
+        arr = coeffs
+    else:
+        try:
+            arr = np.asarray(coeffs)
+        except (ValueError, TypeError) as exc:
+            raise TypeError(
+                f"`coeffs` must be a numeric array (T, M); got {type(coeffs).__name__}."
+            ) from exc
+    kind = arr.dtype.kind
+    if kind not in "fiu":
+        what = "complex" if kind == "c" else str(arr.dtype)
+        raise TypeError(f"`coeffs` must be a real numeric array (T, M); got dtype {what}.")
+    if arr.ndim != 2:
+        raise ValueError(
+            f"`coeffs` must be 2-D (T frames, M modes); got {arr.ndim}-D with shape {arr.shape}"
+            " (a single mode's series needs shape (T, 1): one column)."
+        )
+    if arr.shape[0] == 0 or arr.shape[1] == 0:
+        raise ValueError(f"`coeffs` must hold at least one frame and one mode; got {arr.shape}.")
+    if kind in "iu" or arr.dtype.itemsize not in (4, 8):
+        arr = arr.astype(np.float64)
+    elif not arr.dtype.isnative:
+        arr = arr.astype(arr.dtype.newbyteorder("="))
+    view = arr.view()
+    view.flags.writeable = False
+    return view
+
+
+def check_modes(modes: Any, convention: str, n_modes: int) -> list:
+    """Return ``modes`` as a list checked against ``convention``; None gives the default."""
+    if modes is None:
+        if convention == "labels":
+            raise ValueError(
+                "`modes` is required when convention='labels' (one str label per column)."
+            )
+        return default_modes(convention, n_modes)
+    if isinstance(modes, str | bytes):
+        raise TypeError(f"`modes` must be a sequence of mode indices or labels; got {modes!r}.")
+    if isinstance(modes, np.ndarray):
+        modes = modes.tolist()
+    try:
+        modes = list(modes)
+    except TypeError as exc:
+        raise TypeError(f"`modes` must be a sequence; got {type(modes).__name__}.") from exc
+    if len(modes) != n_modes:
+        raise ValueError(
+            f"`modes` must have one entry per column of `coeffs` ({n_modes}); got {len(modes)}."
+        )
+    if convention == "labels":
+        for label in modes:
+            if not isinstance(label, str) or not label:
+                raise TypeError(
+                    f"`modes` must be non-empty str labels when convention='labels'; got {label!r}."
+                )
+            if not label.isprintable() or label != label.strip():
+                raise ValueError(
+                    "`modes` labels must be printable text without leading or trailing "
+                    f"blanks; got {label!r}."
+                )
+        out = list(modes)
+    else:
+        out = []
+        lo = _MIN_INDEX[convention]
+        for j in modes:
+            if isinstance(j, bool) or not isinstance(j, numbers.Integral):
+                raise TypeError(
+                    f"`modes` must be int {convention} indices (or use convention='labels'); "
+                    f"got {j!r}."
+                )
+            if j < lo:
+                raise ValueError(f"`modes` must be {convention} indices >= {lo}; got {int(j)}.")
+            out.append(int(j))
+    if len(set(out)) != len(out):
+        seen, dup = set(), None
+        for j in out:
+            if j in seen:
+                dup = j
+                break
+            seen.add(j)
+        raise ValueError(f"`modes` must be unique; {dup!r} appears more than once.")
+    return out
+
+
+def check_metadata(metadata: Any) -> dict:
+    """Return a JSON round-tripped copy of ``metadata`` (str keys, JSON values, no NaN)."""
+    if metadata is None:
+        return {}
+    if not isinstance(metadata, dict):
+        raise TypeError(f"`metadata` must be a dict; got {type(metadata).__name__}.")
+    for key in metadata:
+        if not isinstance(key, str):
+            raise TypeError(f"`metadata` keys must be str; got {key!r}.")
+    try:
+        text = json.dumps(metadata, allow_nan=False)
+    except TypeError as exc:
+        raise TypeError(f"`metadata` must be JSON-serialisable: {exc}.") from exc
+    except ValueError as exc:
+        raise ValueError(f"`metadata` must not hold NaN or infinite floats: {exc}.") from exc
+    return json.loads(text)
+
+
+def check_timestamps(timestamps: Any, n_frames: int) -> np.ndarray:
+    """Return ``timestamps`` as read-only float64 seconds, finite and strictly increasing."""
+    try:
+        t = np.asarray(timestamps)
+    except (ValueError, TypeError) as exc:
+        raise TypeError("`timestamps` must be a 1-D numeric array of seconds.") from exc
+    if t.dtype.kind not in "fiu":
+        raise TypeError(f"`timestamps` must be a numeric array of seconds; got dtype {t.dtype}.")
+    if t.ndim != 1 or t.shape[0] != n_frames:
+        raise ValueError(
+            f"`timestamps` must have shape ({n_frames},) to match `coeffs`; got {t.shape}."
+        )
+    t = np.array(t, dtype=np.float64)
+    if not np.all(np.isfinite(t)):
+        raise ValueError(
+            f"`timestamps` must be finite; got {int(np.sum(~np.isfinite(t)))} non-finite value(s)."
+        )
+    if n_frames > 1:
+        dt = np.diff(t)
+        bad = np.flatnonzero(dt <= 0)
+        if bad.size:
+            i = int(bad[0])
+            rule = "duplicated" if dt[i] == 0 else "decreasing"
+            raise ValueError(
+                f"`timestamps` must be strictly increasing; {rule} at index {i + 1} "
+                f"({t[i]:.10g} s then {t[i + 1]:.10g} s)."
+            )
+    t.flags.writeable = False
+    return t
