@@ -30,7 +30,7 @@ DX = 4.0 / N_PIXELS
 T = 1e-3
 
 
-def _config(speed, direction, altitude):
+def _config(speed, direction, altitude, field=None):
     return SimulationConfig(
         name="wind",
         telescope=TelescopeConfig(diameter=4.0, n_pixels=N_PIXELS),
@@ -40,7 +40,8 @@ def _config(speed, direction, altitude):
         wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", field_samples=1),),
         # a negligible gain: the residual is the turbulence (to 1e-9 of it)
         loop=LoopConfig(time_step=T, integration_time=T, delay=0.0, gain=1e-9),
-        field=FieldConfig(size=0.0, n_points=1), wavelength=500e-9, r0_wavelength=500e-9)
+        field=field or FieldConfig(size=0.0, n_points=1), wavelength=500e-9,
+        r0_wavelength=500e-9)
 
 
 def _displacement(a, b, max_shift=7):
@@ -96,3 +97,21 @@ def test_displacement_estimator_on_a_known_shift():
     b = field[10 - 2:58 - 2, 10 - 3:58 - 3]  # b(x, y) = a(x - 3, y - 2)
     dx, dy = _displacement(a, b)
     assert dx == pytest.approx(3.0, abs=0.05) and dy == pytest.approx(2.0, abs=0.05)
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+def test_direction_theta_sees_the_layer_at_x_plus_h_theta(axis):
+    # DESIGN.md: direction theta sees phi(x + h theta); theta = (x, y) with x along
+    # columns. A static layer at h, directions h theta = 4 whole pixels off axis along x
+    # and along y: the off-axis pupil is the on-axis one displaced by -4 px on that axis
+    h = 5000.0
+    theta = 4 * DX / h * 648000.0 / math.pi  # arcsec
+    cfg = _config(0.0, 0.0, h, FieldConfig(size=2 * theta, n_points=3))  # planes hold it
+    off = [0.0, 0.0]
+    off[axis] = theta
+    result = simulate(cfg, 2 * T, seed=5, progress=False, snapshot_every=1,
+                      snapshot_directions=np.array([[0.0, 0.0], off]))
+    a, b = result.snapshots[0]
+    dx, dy = _displacement(a, b)
+    expected = (-4.0, 0.0) if axis == 0 else (0.0, -4.0)
+    assert dx == pytest.approx(expected[0], abs=0.1) and dy == pytest.approx(expected[1], abs=0.1)
