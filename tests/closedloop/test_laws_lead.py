@@ -176,13 +176,21 @@ def test_the_oracle_forecast_is_the_true_future_at_the_lead(delay, integration):
             layer.evolve_until(t)
             acc = acc + layer.phase().ravel()[dm.pixels]
         np.testing.assert_allclose(forecast[k], acc / n_os, atol=1e-9)
-    # and the POL is the same turbulence over the exposure (the oracle's forecast at the
-    # lead, when the lead is a whole number of frames, is the POL of a later frame)
+    # the POL is the turbulence over the exposure: the last `integration` of the frame,
+    # [(k + 1) T - integration, (k + 1) T) on the same grid
+    n_int = round(integration * n_os)
+    pol = result.logs["dm0.pol"].coeffs
+    for k in range(n_frames):
+        acc = 0.0
+        for i in range(n_os - n_int, n_os):
+            layer.evolve_until((k + i / n_os) * 1e-3)
+            acc = acc + layer.phase().ravel()[dm.pixels]
+        np.testing.assert_allclose(pol[k], acc / n_int, atol=1e-9)
+    # the oracle's forecast at a lead of a whole number of frames is a later frame's POL
     lead = _lead(delay, integration)
     if integration == 1.0 and lead == round(lead):
         # hold window of c_k = exposure of frame k + lead
         shift = int(lead) - 1
-        pol = result.logs["dm0.pol"].coeffs
         np.testing.assert_allclose(forecast[:n_frames - shift - 1],
                                    pol[shift + 1:], atol=1e-9)
 

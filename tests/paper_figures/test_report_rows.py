@@ -107,3 +107,26 @@ def test_statistics_name_and_order_of_the_logs(logs, expected):
         assert stats.high_order_share == pytest.approx(ref["high"], rel=1e-10)
         assert stats.lagged_cross == pytest.approx(ref["cross"], rel=1e-10)
         assert stats.lag1 == pytest.approx(ref["lag1"], rel=1e-10)
+
+
+def test_figure5_best_predictor_and_accurate_horizon_by_definition():
+    # the definitions the report states, on an evaluation where every choice differs:
+    # best at h = 1 is the largest whole-wavefront gain in the first horizon's column;
+    # the accurate horizon is the last horizon before the gain first drops to <= 1
+    from types import SimpleNamespace
+
+    from paper_figures.fig5_forecast import Figure5
+
+    names = ["persistence", "a", "b", "c"]
+    gain = np.array([[1.0, 1.0, 1.0, 1.0],
+                     [1.3, 1.2, 0.9, 1.5],   # best at h = 1; beats persistence up to h = 2
+                     [1.1, 1.4, 1.6, 1.7],   # best at the longer horizons
+                     [0.9, 1.1, 1.2, 1.3]])  # loses at h = 1
+    ev = SimpleNamespace(names=names, gain_wavefront=gain, horizons=np.array([1, 2, 3, 4]),
+                         index=names.index)
+    fig = SimpleNamespace(evaluation=ev)
+    assert Figure5.best_one_step.fget(fig) == "a"
+    assert Figure5.accurate_horizon(fig, "a") == 2
+    assert Figure5.accurate_horizon(fig, "b") == 4
+    assert Figure5.accurate_horizon(fig, "c") == 0
+    assert Figure5.gain(fig, "b", 3) == 1.6
