@@ -130,7 +130,7 @@ def test_controller_forecasts_the_pol_over_the_exact_lead(delay, integration, si
         history = [command] + history[:-1]
 
 
-def _loop_config(delay, integration, *, wind=7.0, direction=30.0, predictor_gain=0.6):
+def _loop_config(delay, integration, *, wind=7.0, direction=30.0, gain=0.6):
     # a zonal (ideal) DM and an ideal WFS: the measurement is the phase on the DM's disc,
     # so the POL is the turbulence itself
     return SimulationConfig(
@@ -141,7 +141,7 @@ def _loop_config(delay, integration, *, wind=7.0, direction=30.0, predictor_gain
         dms=(DMConfig(altitude=0.0, kind="ideal"),),
         wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", field_samples=1),),
         loop=LoopConfig(time_step=1e-3, integration_time=integration * 1e-3,
-                        delay=delay * 1e-3, gain=predictor_gain),
+                        delay=delay * 1e-3, gain=gain),
         field=FieldConfig(size=0.0, n_points=1), wavelength=500e-9, r0_wavelength=500e-9)
 
 
