@@ -59,6 +59,14 @@ class LoopModel:
 
     Building the WFS operators and reconstructors is the expensive part of the set-up;
     a ``LoopModel`` can be reused for several runs of the same configuration.
+
+    Attributes
+    ----------
+    prior : (n_modes,) ndarray or None
+        Prior variance [rad^2 at ``r0_wavelength``] of each DM mode (DM 0 first) that the
+        joint MAP reconstructor assumes: each layer's Noll variances over the disc of the
+        DM nearest to it; None when there is no joint reconstructor (one DM, or a zonal
+        DM).
     """
 
     def __init__(self, config: SimulationConfig):
@@ -74,6 +82,7 @@ class LoopModel:
         self.mode_slices = [slice(a, a + n) for a, n in
                             zip(np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes, strict=True)]
         self.n_modes = int(sum(sizes))
+        self.prior = None
         self.reconstructor = self._global_reconstructor()
 
     def _global_reconstructor(self):
@@ -110,6 +119,7 @@ class LoopModel:
         for d, dm in enumerate(self.dms):
             var = np.diag(zernike_covariance(dm.modes))
             prior[self.mode_slices[d]] = max(strength[d], floor) * var
+        self.prior = prior
         noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2
                                         + self._model_error_variance(w))
                                 for w in self.wfss])

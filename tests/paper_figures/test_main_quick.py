@@ -6,7 +6,11 @@ SR oscillations damped at ~50 Hz and above 70 Hz; corrected-FoV diameters 0.9' /
 1.5' / 1.6'), each of which must have a row; and the run's own files: the Figure 5 rows
 are recomputed from the evaluation the run wrote (``fig5_forecast*.json``), the Figure 1
 counts from the shipped logs with ``modalinfo.ordering`` in the test, so the numbers are
-shown to come from the run and not from typed text.
+shown to come from the run and not from typed text. Every cell of Figure 5's predictor
+tables (both logs, the paper's NN among the rows) and the gains its text quotes are
+recomputed from those JSON files; the logs comparison's lines on Figures 1 and 5 from the
+JSON files and from the comparison rows; the Figure 1 comparison rows from the section's
+panel (a) table, column by column.
 """
 
 import json
@@ -112,3 +116,93 @@ def test_figure1_totals_come_from_the_logs(table):
         # the fitting-error curve integrates over the sampled pupil: equal to the
         # Parseval sum of the unit-RMS coefficients to the pupil's sampling error
         assert quoted == pytest.approx(typical, rel=0.1)
+
+
+def _sections(out):
+    """Report sections by heading line (the text up to the next ``## `` heading)."""
+    text = (out / "report.md").read_text()
+    parts = re.split(r"^(## .*)$", text, flags=re.M)
+    return {parts[i]: parts[i + 1] for i in range(1, len(parts) - 1, 2)}
+
+
+def _section(out, start, tag):
+    found = [body for head, body in _sections(out).items()
+             if head.startswith(start) and tag in head]
+    assert len(found) == 1, (start, tag)
+    return found[0]
+
+
+def _evaluations(out):
+    """The run's own Figure 5 evaluations: log tag -> JSON dict."""
+    return {tag: json.loads((out / f"fig5_forecast{suffix}.json").read_text())
+            for suffix, tag in (("", "spectral"), ("_closedloop", "simulated"))}
+
+
+def _gain(ev, name, horizon=1):
+    j = ev["horizons"].index(horizon)
+    return float(np.asarray(ev["gain_wavefront"])[ev["names"].index(name), j])
+
+
+def test_figure5_predictor_tables_and_gains_come_from_the_run(out):
+    # every cell of each log's table (RMSE and gain of every predictor at every shown
+    # horizon), and the gains the text quotes -- the paper's NN among them -- from the
+    # evaluation the run wrote
+    from paper_figures.fig5_forecast import REPORT_HORIZONS
+
+    for tag, ev in _evaluations(out).items():
+        body = _section(out, "## Figure 5", tag)
+        rmse, gain = np.asarray(ev["rmse_wavefront"]), np.asarray(ev["gain_wavefront"])
+        header = "| predictor | " + " | ".join(f"h={h}" for h in REPORT_HORIZONS) + " |"
+        assert header in body
+        for i, name in enumerate(ev["names"]):
+            cells = [f"{rmse[i, ev['horizons'].index(h)]:.4f} "
+                     f"(x{gain[i, ev['horizons'].index(h)]:.2f})" for h in REPORT_HORIZONS]
+            assert f"| {name} | {' | '.join(cells)} |" in body, (tag, name)
+        flat = " ".join(body.split())
+        assert (f"paper's configuration (10 patterns for 121 weights) gains "
+                f"x{_gain(ev, 'NN paper (10 patterns)'):.2f} on the wavefront") in flat
+        assert (f"(2000 patterns) gains x{_gain(ev, 'NN 10-10-1, 2000 patterns'):.2f}"
+                in flat)
+        assert f"ARMA(2,3), as in the paper, gains x{_gain(ev, 'ARMA(2,3)'):.2f}" in flat
+        assert f"gives x{_gain(ev, 'ARMA (AIC)'):.2f}" in flat
+        assert (f"gain x{_gain(ev, 'multivariate VAR(4)'):.2f} (batch VAR(4)" in flat
+                and f"x{_gain(ev, 'multivariate RLS'):.2f} (RLS" in flat)
+        best = ev["names"][int(np.argmax(gain[:, 0]))]
+        assert f"Best at h = 1: **{best}**" in flat
+
+
+def test_logs_compared_section_quotes_figures_1_and_5_of_each_log(out, table):
+    body = " ".join(_section(out, "## The spectral and the simulated", "").split())
+    evs = _evaluations(out)
+    a, b = evs["spectral"], evs["simulated"]
+
+    def best(ev):
+        return ev["names"][int(np.argmax(np.asarray(ev["gain_wavefront"])[:, 0]))]
+
+    assert (f"ARMA(2,3) x{_gain(a, 'ARMA(2,3)'):.2f} (spectral) vs "
+            f"x{_gain(b, 'ARMA(2,3)'):.2f} (simulated); best predictor {best(a)} vs "
+            f"{best(b)}") in body
+    # Figure 1: the calibrated-target counts of each log's comparison rows, in the
+    # order standard Zernike / MI K-L / MI Zernike
+    counts = {}
+    for tag in ("spectral", "simulated"):
+        counts[tag] = []
+        for part in ("Zernike, standard order", "K-L (theory), MI order", "Zernike, MI order"):
+            row = [r for r in _find(table, "Figure 1", part) if tag in r[0]][0]
+            counts[tag].append(re.search(r"\((\d+) at the calibrated target\)", row[3]).group(1))
+    assert (f"spectral {' / '.join(counts['spectral'])}, simulated "
+            f"{' / '.join(counts['simulated'])}.") in body
+
+
+def test_figure1_comparison_rows_are_the_typical_frame_panel(out, table):
+    # the comparison table's "n at 0.4 (m at the calibrated target)" of each log are the
+    # two count columns of the section's panel (a), in that order
+    for tag in ("spectral", "simulated"):
+        body = _section(out, "## Figure 1", tag)
+        panel = body.split("**(a) typical frame")[1].split("**(b)")[0]
+        for part in ("Zernike, standard order", "K-L (theory), MI order", "Zernike, MI order"):
+            line = [ln for ln in panel.splitlines() if ln.startswith(f"| {part} |")]
+            assert len(line) == 1, (tag, part)
+            _, paper, at_04, at_cal = [c.strip() for c in line[0].strip().strip("|").split("|")]
+            row = [r for r in _find(table, "Figure 1", part) if tag in r[0]][0]
+            assert (row[2], row[3]) == (paper, f"{at_04} ({at_cal} at the calibrated target)")
