@@ -14,6 +14,8 @@ References (independent of closedloop's code):
   screen, far apart on a high layer, and several independent screens.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from scipy import integrate, special
@@ -103,6 +105,8 @@ def _open_loop_ratios(wavelength, seeds, r0_wavelength=500e-9, outer_scale=8.0):
     h = 10.0 / (200.0 * ARCSEC)
     cfg = _config(wavelength, altitude=h, field=FieldConfig(size=1600.0, n_points=9),
                   r0_wavelength=r0_wavelength, wind=0.0, outer_scale=outer_scale)
+    # open loop (`loop.closed = false`): a one-frame run is then valid
+    cfg = dataclasses.replace(cfg, loop=dataclasses.replace(cfg.loop, closed=False))
     model = LoopModel(cfg)
     # r0(lambda) = r0(lambda_r0) (lambda / lambda_r0)^(6/5); L0 does not depend on lambda
     d_over_r0_sci = 10.0 * (wavelength / r0_wavelength) ** (-6.0 / 5.0)
