@@ -26,6 +26,7 @@ from modalinfo.information.conditional import (
     transfer_entropy,
     transfer_entropy_variables,
 )
+from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.uncertainty import (
     MIConfidenceResult,
     MIPermutationResult,
@@ -37,6 +38,8 @@ from modalinfo.information.uncertainty import (
 __all__ = [
     "CMI_METHODS",
     "METHODS",
+    "InputSelection",
+    "SelectedInput",
     "UNITS",
     "MIConfidenceResult",
     "MIPermutationResult",
@@ -49,6 +52,7 @@ __all__ = [
     "mutual_information_ci",
     "mutual_information_permutation_test",
     "optimal_block_length",
+    "select_inputs",
     "transfer_entropy",
     "transfer_entropy_variables",
 ]

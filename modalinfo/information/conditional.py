@@ -182,8 +182,17 @@ def _logdet(corr: np.ndarray) -> float:
 def _cmi_gaussian(x, y, z) -> float:
     """``0.5 ln(det S_xz det S_yz / (det S_z det S_xyz))`` (Cover & Thomas 2006, eq. 8.56)."""
     u = _standardise_columns(np.concatenate([x, y, z], axis=1))
-    c = (u.T @ u) / u.shape[0]
-    dx, dy = x.shape[1], y.shape[1]
+    return gaussian_cmi_from_covariance((u.T @ u) / u.shape[0], x.shape[1], y.shape[1])
+
+
+def gaussian_cmi_from_covariance(c: np.ndarray, dx: int, dy: int) -> float:
+    """Gaussian CMI (nats) of the blocks (x, y, z) = (first dx, next dy, rest) of ``c``.
+
+    ``c`` is a covariance (or correlation) matrix, shape (d, d); it is scaled to a
+    correlation matrix first, and eigenvalues are floored at 1e-15.
+    """
+    sd = np.sqrt(np.diag(c))
+    c = c / np.outer(sd, sd)
     ix = np.arange(dx)
     iy = np.arange(dx, dx + dy)
     iz = np.arange(dx + dy, c.shape[0])
