@@ -58,7 +58,14 @@ from modalinfo.information.conditional import (
 )
 from modalinfo.information.uncertainty import _block_indices
 
-__all__ = ["InputSelection", "SelectedInput", "lagged_candidates", "select_inputs"]
+__all__ = [
+    "InputSelection",
+    "SelectedInput",
+    "greedy_gaussian_gram",
+    "lagged_candidates",
+    "select_inputs",
+    "unit_candidates",
+]
 
 
 @dataclass(frozen=True)
@@ -260,6 +267,152 @@ def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
     return gain - half, gain + half
 
 
+#: From this many surrogates on, the Gaussian null uses FFT cross-correlations of all
+#: shifts (cost ~ m L log L per step) instead of one matrix product (~ S n m).
+_FFT_MIN_SURROGATES = 64
+
+
+def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centred unit-norm candidate columns and the mask of non-constant ones."""
+    Cu, norms = _unit_columns(C)
+    return Cu, norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
+
+
+def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarray, *,
+                   method: str, est, factor: float, alpha: float, n_surrogates: int,
+                   max_inputs: int, shift0: int, rng: np.random.Generator,
+                   spectra: tuple[np.ndarray, int] | None = None
+                   ) -> tuple[list[tuple[int, float, float]], str, float]:
+    """Run the greedy search; return ``[(column, gain [nats], p-value)], stop, last p``.
+
+    Preconditions: ``y`` (n,), ``C`` (n, m) and its unit columns ``Cu`` validated,
+    ``alive`` (m,) bool marks usable candidates (copied here, as are ``Cu`` and
+    ``spectra``, the rfft of ``Cu.T`` on length L >= 2n, used by the Gaussian null).
+    """
+    n, m_all = C.shape
+    alive = alive.copy()
+    F, L = (None, 0) if spectra is None else (spectra[0].copy(), spectra[1])
+    r, ynorm = _unit_columns(y[:, None])
+    r = r[:, 0].copy()
+    R = Cu.copy()
+    chosen: list[int] = []
+    picked: list[tuple[int, float, float]] = []
+    stop, last_p = "budget reached", math.nan
+    while True:
+        if len(chosen) >= max_inputs:
+            break
+        if not alive.any() or ynorm[0] == 0:
+            stop = "no candidate left"
+            break
+        shifts = rng.integers(shift0, n - shift0 + 1, size=n_surrogates)
+        Z = C[:, chosen] if chosen else np.empty((n, 0))
+        if method == "gaussian":
+            gains = _gauss_gains(r, R, alive)
+            best = int(np.argmax(np.where(alive, gains, -np.inf)))
+            # null: the target residual rotated against every candidate residual, by
+            # the circular cross-correlation sum_t r[t - s] R[t, j] at the drawn shifts
+            cn = np.sqrt(np.einsum("ij,ij->j", R, R))
+            ok = alive & (cn > 0)
+            if F is None:
+                xc = r[(np.arange(n)[None, :] - shifts[:, None]) % n] @ R[:, ok]
+            else:
+                # from the linear correlation c[k] by FFT on L >= 2n: circular[s] =
+                # c[s] + c[s - n], c[k < 0] at index L + k. F follows the Gram-Schmidt
+                # updates linearly, so a step costs one inverse FFT.
+                lin = sfft.irfft(F[ok] * np.conj(sfft.rfft(r, L))[None, :], L, axis=1)
+                xc = (lin[:, shifts] + lin[:, L + shifts - n]).T
+            rho = xc / (cn[ok][None, :] * math.sqrt(float(r @ r)))
+            null = (-0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))).max(axis=1)
+            gain = float(gains[best])
+        else:
+            idx = np.flatnonzero(alive)
+            gains = np.full(m_all, -np.inf)
+            for j in idx:
+                gains[j] = est(y[:, None], C[:, j : j + 1], Z) / factor
+            best = int(np.argmax(gains))
+            gain = float(gains[best])
+            null = np.array([max(est(y[:, None], np.roll(C[:, j : j + 1], int(s), axis=0), Z)
+                                 for j in idx) for s in shifts]) / factor
+        pvalue = (1.0 + np.count_nonzero(null >= gain)) / (1.0 + n_surrogates)
+        if pvalue > alpha:
+            stop, last_p = f"next gain not significant (p = {pvalue:.3g} > {alpha})", pvalue
+            break
+        chosen.append(best)
+        picked.append((best, gain, pvalue))
+        # Gram-Schmidt: remove the chosen direction from the target and the candidates
+        q = R[:, best] / math.sqrt(float(R[:, best] @ R[:, best]))
+        r -= q * float(q @ r)
+        qR = q @ R
+        R -= np.outer(q, qR)
+        if F is not None:
+            F -= qR[:, None] * sfft.rfft(q, L)[None, :]
+        alive[best] = False
+        # a candidate now (numerically) spanned by the chosen ones is dropped
+        alive &= np.sqrt(np.einsum("ij,ij->j", R, R)) > 1e-6
+    return picked, stop, last_p
+
+
+def greedy_gaussian_gram(G: np.ndarray, cy: np.ndarray, alive: np.ndarray, n: int, *,
+                         max_inputs: int, penalty: float) -> list[tuple[int, float]]:
+    """Greedy Gaussian-CMI selection from cross-products, stopped by a penalty.
+
+    The sample-domain Gram-Schmidt of :func:`select_inputs` carried out on the Gram
+    matrix: with ``G = Cu^T Cu`` (unit-norm centred candidates) and ``cy = Cu^T y_u``
+    (unit-norm centred target), the residual cross-products after choosing b are
+    ``G - G[:, b] G[b, :] / G[b, b]`` and ``cy - G[:, b] cy[b] / G[b, b]``, and the gain
+    of j is ``-0.5 ln(1 - cy_j^2 / (e G_jj))`` with e the residual target energy.
+    Cost O(m^2) per step, independent of n, so one Gram serves many targets.
+
+    A candidate is added while ``2 n gain > penalty``: with ``penalty = ln n +
+    2 ln m`` this is the extended BIC of Chen & Chen (Biometrika 95, 759, 2008, gamma
+    = 1) for a greedy search over m candidates, since ``2 n gain = n ln(RSS_S /
+    RSS_{S+j})`` is the likelihood-ratio statistic of one more regressor.
+
+    Parameters
+    ----------
+    G : numpy.ndarray, shape (m, m)
+    cy : numpy.ndarray, shape (m,)
+    alive : numpy.ndarray of bool, shape (m,)
+        Usable candidates.
+    n : int
+        Number of rows behind the cross-products.
+    max_inputs : int
+        Budget.
+    penalty : float
+        Threshold of ``2 n gain``.
+
+    Returns
+    -------
+    list of (int, float)
+        Chosen columns and their gains [nats], in order.
+    """
+    Rg = G.copy()
+    ry = cy.copy()
+    e = 1.0
+    alive = alive.copy()
+    picked: list[tuple[int, float]] = []
+    while len(picked) < max_inputs and alive.any() and e > 1e-12:
+        diag = np.diag(Rg)
+        ok = alive & (diag > 1e-12)
+        if not ok.any():
+            break
+        rho2 = np.zeros_like(ry)
+        rho2[ok] = ry[ok] ** 2 / (e * diag[ok])
+        gains = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+        gains[~ok] = -np.inf
+        best = int(np.argmax(gains))
+        if not 2.0 * n * gains[best] > penalty:
+            break
+        picked.append((best, float(gains[best])))
+        col = Rg[:, best].copy()
+        piv = col[best]
+        e -= ry[best] ** 2 / piv
+        ry -= col * (ry[best] / piv)
+        Rg -= np.outer(col, col) / piv
+        alive[best] = False
+    return picked
+
+
 def select_inputs(
     data: Any, target: int | str, *, horizon: int = 1, max_lag: int = 10,
     extra: Any = None, method: str = "gaussian", units: str = "nats", alpha: float = 0.05,
@@ -351,68 +504,16 @@ def select_inputs(
     est = _estimator(method, units, options)
     factor = UNITS[units]
 
-    Cu, norms = _unit_columns(C)
-    alive = norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
+    Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())
-    r, ynorm = _unit_columns(y[:, None])
-    r = r[:, 0].copy()
-    R = Cu.copy()
-    F, L = None, 0
-    if method == "gaussian":
+    spectra = None
+    if method == "gaussian" and n_surrogates >= _FFT_MIN_SURROGATES:
         L = sfft.next_fast_len(2 * n, real=True)
-        F = sfft.rfft(np.ascontiguousarray(R.T), L, axis=1)
-    chosen: list[int] = []
-    picked: list[tuple[int, float, float]] = []
-    stop, last_p = "budget reached", math.nan
-    while True:
-        if len(chosen) >= max_inputs:
-            break
-        if not alive.any() or ynorm[0] == 0:
-            stop = "no candidate left"
-            break
-        shifts = rng.integers(shift0, n - shift0 + 1, size=n_surrogates)
-        Z = C[:, chosen] if chosen else np.empty((n, 0))
-        if method == "gaussian":
-            gains = _gauss_gains(r, R, alive)
-            best = int(np.argmax(np.where(alive, gains, -np.inf)))
-            # null: the target residual rotated against every candidate residual
-            # circular cross-correlation sum_t r[t - s] R[t, j] of every candidate
-            # residual with the target residual at the drawn shifts, from the linear
-            # one c[k] by FFT on a fast length L >= 2n: circular[s] = c[s] + c[s - n],
-            # c[k < 0] at index L + k. F (the candidates' spectra) follows the
-            # Gram-Schmidt updates linearly, so each step costs one inverse FFT.
-            cn = np.sqrt(np.einsum("ij,ij->j", R, R))
-            ok = alive & (cn > 0)
-            lin = sfft.irfft(F[ok] * np.conj(sfft.rfft(r, L))[None, :], L, axis=1)
-            xc = (lin[:, shifts] + lin[:, L + shifts - n]).T
-            rho = xc / (cn[ok][None, :] * math.sqrt(float(r @ r)))
-            null = (-0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))).max(axis=1)
-            gain = float(gains[best])
-        else:
-            idx = np.flatnonzero(alive)
-            gains = np.full(m_all, -np.inf)
-            for j in idx:
-                gains[j] = est(y[:, None], C[:, j : j + 1], Z) / factor
-            best = int(np.argmax(gains))
-            gain = float(gains[best])
-            null = np.array([max(est(y[:, None], np.roll(C[:, j : j + 1], int(s), axis=0), Z)
-                                 for j in idx) for s in shifts]) / factor
-        pvalue = (1.0 + np.count_nonzero(null >= gain)) / (1.0 + n_surrogates)
-        if pvalue > alpha:
-            stop, last_p = f"next gain not significant (p = {pvalue:.3g} > {alpha})", pvalue
-            break
-        chosen.append(best)
-        picked.append((best, gain, pvalue))
-        # Gram-Schmidt: remove the chosen direction from the target and the candidates
-        q = R[:, best] / math.sqrt(float(R[:, best] @ R[:, best]))
-        r -= q * float(q @ r)
-        qR = q @ R
-        R -= np.outer(q, qR)
-        if F is not None:
-            F -= qR[:, None] * sfft.rfft(q, L)[None, :]
-        alive[best] = False
-        # a candidate now (numerically) spanned by the chosen ones is dropped
-        alive &= np.sqrt(np.einsum("ij,ij->j", R, R)) > 1e-6
+        spectra = (sfft.rfft(np.ascontiguousarray(Cu.T), L, axis=1), L)
+    picked, stop, last_p = _greedy_search(
+        y, C, Cu, alive, method=method, est=est, factor=factor, alpha=alpha,
+        n_surrogates=n_surrogates, max_inputs=max_inputs, shift0=shift0, rng=rng,
+        spectra=spectra)
     inputs = []
     for i, (j, gain, p) in enumerate(picked):
         low = high = math.nan
