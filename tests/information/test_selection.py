@@ -129,3 +129,25 @@ def test_validation_messages():
         select_inputs(X, 0, extra=X[:100])
     with pytest.raises(ValueError, match="needs at least"):
         select_inputs(X[:25], 0, max_lag=10)
+
+
+def test_gram_greedy_equals_a_brute_force_greedy():
+    # reference: at each step the argmax over candidates of the Gaussian CMI given the
+    # columns chosen so far, computed from the samples by conditional_mutual_information
+    from modalinfo.information.selection import greedy_gaussian_gram, unit_candidates
+
+    X, _ = sparse_var2(2000, 9)
+    origins, C, _ = lagged_candidates(X, 1, 2)
+    y = X[origins + 1, 1]
+    Cu, alive = unit_candidates(C)
+    yu = (y - y.mean()) / np.linalg.norm(y - y.mean())
+    picked = greedy_gaussian_gram(Cu.T @ Cu, Cu.T @ yu, alive, len(y), max_inputs=4,
+                                  penalty=0.0)
+    chosen = []
+    for j, gain in picked:
+        scores = [-np.inf if c in chosen else conditional_mutual_information(
+            y, C[:, c], C[:, chosen] if chosen else None, method="gaussian")
+            for c in range(C.shape[1])]
+        assert j == int(np.argmax(scores))
+        assert gain == pytest.approx(max(scores), rel=1e-8)
+        chosen.append(j)
