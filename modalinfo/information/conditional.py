@@ -33,6 +33,16 @@ Estimators (``method=``), each a private function of :data:`_CMI_METHODS`:
   correlation matrix (eigenvalues floored at 1e-15); exact for jointly Gaussian data
   and blind to non-linear dependence.
 
+Measured accuracy on the transfer entropy of a bivariate VAR(1) (x_t = 0.6 x_{t-1} +
+0.5 y_{t-1} + e, y_t = 0.8 y_{t-1} + f; TE = 0.1854 nats; 8 seeds; mean error, sd):
+gaussian +0.001 (0.012) at n = 1e3, -0.001 (0.004) at 1e4; ksg -0.005 (0.021),
+-0.002 (0.006); histogram -0.015 (0.010), -0.020 (0.003) (discretisation of the
+default bins: more bins lower it but raise the bias at zero coupling, +0.009 nats at
+12 bins, n = 1e4); kde -0.020 (0.015) at 1e3. Coverage of the nominal 95% block-
+bootstrap interval (40 trials): gaussian 0.95 (n = 1e3) and 0.90 (1e4); histogram
+0.93 (1e3) but 0.05 (1e4), where its bias exceeds its spread: use the histogram for
+fast tests (the surrogates share its bias) and "gaussian"/"ksg" for values.
+
 Significance and intervals for autocorrelated series reuse the MI machinery of
 :mod:`modalinfo.information.uncertainty`: :func:`conditional_mutual_information_test`
 rotates y against (x, z) by random circular shifts of at least the Politis-White
