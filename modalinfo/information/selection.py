@@ -40,6 +40,7 @@ chosen before it (:func:`~modalinfo.information.conditional_mutual_information_c
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from typing import Any
 
@@ -187,6 +188,25 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
     return arr, [f"m{j}" for j in range(arr.shape[1])]
 
 
+#: Arrays of the candidates' size a search holds at once (the matrix, its unit-norm
+#: and residual copies, and the spectra of the FFT null at twice the length, complex).
+_WORKING_COPIES = 7
+
+
+def _check_memory(n_values: int) -> None:
+    """Refuse a search whose working arrays would not fit in the available memory."""
+    need = _WORKING_COPIES * 8 * n_values
+    try:
+        avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):  # not available on this platform
+        return
+    if need > avail:
+        raise ValueError(
+            f"the candidate search needs about {need / 2**20:.1f} MiB ({_WORKING_COPIES} "
+            f"arrays of frames x modes x max_lag = {n_values} values) and "
+            f"{avail / 2**20:.1f} MiB is available; use fewer frames, modes or lags.")
+
+
 def lagged_candidates(series: np.ndarray, horizon: int, max_lag: int
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Target rows and the lagged candidate matrix of a forecast at ``horizon``.
@@ -210,6 +230,7 @@ def lagged_candidates(series: np.ndarray, horizon: int, max_lag: int
         ``(source column j, lag l)`` of each candidate column.
     """
     T, M = series.shape
+    _check_memory(max(T - horizon - max_lag + 1, 0) * M * max_lag)
     origins = np.arange(max_lag - 1, T - horizon)
     blocks = [series[max_lag - 1 - lag : T - horizon - lag] for lag in range(max_lag)]
     cols = np.array([(j, lag) for lag in range(max_lag) for j in range(M)], dtype=np.int64)

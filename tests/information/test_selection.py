@@ -166,3 +166,17 @@ def test_gram_bootstrap_interval_equals_the_resampling_one():
     low, high = _gaussian_block_ci(data, ref.estimate, 50, 0.95, np.random.default_rng(4))
     # same resamples; sums of 3000 products in another order: agreement to 1e-9
     assert low == pytest.approx(ref.low, abs=1e-9) and high == pytest.approx(ref.high, abs=1e-9)
+
+
+def test_refuses_a_search_larger_than_the_available_memory(monkeypatch):
+    import modalinfo.information.selection as sel
+
+    X = np.random.default_rng(0).standard_normal((1000, 3))
+    # 1 MiB "available": 7 working copies of 998 x 3 x 2 float64 need 0.3 MiB, of
+    # 991 x 3 x 10 need 1.6 MiB
+    monkeypatch.setattr(sel.os, "sysconf",
+                        lambda name: 256 if name == "SC_AVPHYS_PAGES" else 4096)
+    select_inputs(X, 0, max_lag=2, n_surrogates=19, intervals=False)
+    with pytest.raises(ValueError,
+                       match=r"needs about 1.6 MiB .* and 1.0 MiB is available; use fewer"):
+        select_inputs(X, 0, max_lag=10, n_surrogates=19, intervals=False)
