@@ -57,6 +57,8 @@ def test_select_errors_are_one_line(tmp_path, capsys):
         (["--target", "7"], "--target column 7 is out of range"),
         (["--target", "Z5", "--extra", str(short)], "the two logs must share the clock"),
         (["--target", "Z5", "--horizon", "0"], "--horizon must be an int >= 1"),
+        (["--target", "Z5", "--max-lag", "0"], "--max-lag must be an int >= 1"),
+        (["--target", "Z5", "--surrogates", "0"], "--surrogates must be an int >= 1"),
     ]:
         assert main(["select", str(p1), *argv]) == 2
         err = capsys.readouterr().err.strip().splitlines()
