@@ -44,6 +44,8 @@ _WORDS = {
     "rate": "--rate", "wavelength": "--wavelength", "stability": "--stability",
     "history": "the training frames (--train)", "log": "the log", "coeffs": "the data",
     "log_or_coeffs": "the log", "timestamps": "the timestamps", "fmt": "--fmt",
+    "max_lag": "--max-lag", "max_inputs": "--max-inputs", "n_surrogates": "--surrogates",
+    "extra": "--extra",
 }
 _REWRITES = (
     (re.compile(r"`history` needs at least (\d+) samples along axis 0 for (\w+)"),

@@ -29,7 +29,8 @@ HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) o
 OUTPUTS = ("forecast.json", "forecast.csv", "forecast_series.png", "forecast_rmse.png")
 
 
-NAMES = ("linear", "linear-ls", "arma", "arma-aic", "nn", "nn-paper", "multivariate", "rls")
+NAMES = ("linear", "linear-ls", "arma", "arma-aic", "nn", "nn-paper", "multivariate", "rls",
+         "info")
 """The preset names of :mod:`modalinfo.forecast.presets`, listed without importing it."""
 
 

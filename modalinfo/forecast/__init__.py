@@ -23,6 +23,7 @@ from modalinfo.forecast.arma import (
 )
 from modalinfo.forecast.base import NotFittedError, Predictor
 from modalinfo.forecast.evaluate import ForecastEvaluation, evaluate
+from modalinfo.forecast.info import InfoPredictor
 from modalinfo.forecast.linear import LinearPredictor
 from modalinfo.forecast.multivariate import MultivariatePredictor, RLSMultivariatePredictor
 from modalinfo.forecast.nn import NeuralNetPredictor
@@ -39,6 +40,7 @@ __all__ = [
     "NeuralNetPredictor",
     "MultivariatePredictor",
     "RLSMultivariatePredictor",
+    "InfoPredictor",
     "ForecastInterval",
     "psi_weights",
     "sample_autocovariance",

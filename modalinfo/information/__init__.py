@@ -5,7 +5,10 @@ grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 20
 and ``"gaussian"`` (-0.5 ln(1 - r^2)), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`; bootstrap confidence
 intervals and permutation tests for autocorrelated telemetry in
-``modalinfo.information.uncertainty``.
+``modalinfo.information.uncertainty``. Conditional MI and transfer entropy of
+multivariate samples (same four methods, surrogate tests and block-bootstrap
+intervals) in ``modalinfo.information.conditional``; greedy selection of a
+forecast's inputs in ``modalinfo.information.selection``.
 """
 
 from modalinfo.information.api import (
@@ -15,6 +18,15 @@ from modalinfo.information.api import (
     entropy,
     mutual_information,
 )
+from modalinfo.information.conditional import (
+    CMI_METHODS,
+    conditional_mutual_information,
+    conditional_mutual_information_ci,
+    conditional_mutual_information_test,
+    transfer_entropy,
+    transfer_entropy_variables,
+)
+from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.uncertainty import (
     MIConfidenceResult,
     MIPermutationResult,
@@ -24,14 +36,23 @@ from modalinfo.information.uncertainty import (
 )
 
 __all__ = [
+    "CMI_METHODS",
     "METHODS",
+    "InputSelection",
+    "SelectedInput",
     "UNITS",
     "MIConfidenceResult",
     "MIPermutationResult",
     "MutualInformation",
+    "conditional_mutual_information",
+    "conditional_mutual_information_ci",
+    "conditional_mutual_information_test",
     "entropy",
     "mutual_information",
     "mutual_information_ci",
     "mutual_information_permutation_test",
     "optimal_block_length",
+    "select_inputs",
+    "transfer_entropy",
+    "transfer_entropy_variables",
 ]

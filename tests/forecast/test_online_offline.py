@@ -13,6 +13,7 @@ from scipy.signal import lfilter
 
 from modalinfo.forecast import (
     ARMAPredictor,
+    InfoPredictor,
     LinearPredictor,
     MeanPredictor,
     MultivariatePredictor,
@@ -46,6 +47,9 @@ PREDICTORS = {
                                            refit_every=250, window=300),
     "rls_refit": lambda: RLSMultivariatePredictor(horizon=4, refit_every=100, window=250),
     "mean_refit": lambda: MeanPredictor(horizon=4, refit_every=1, window=5),
+    "info": lambda: InfoPredictor(max_lag=5, max_inputs=4, horizon=4),
+    "info_refit": lambda: InfoPredictor(max_lag=3, max_inputs=3, horizon=4, refit_every=90,
+                                        window=300),
 }
 
 
@@ -91,7 +95,7 @@ def test_longer_horizon_prefix_consistent():
 
 def test_state_is_fixed_size():
     X = _series(T=3000)
-    for name in ("arma23", "linear", "var", "rls", "nn"):
+    for name in ("arma23", "linear", "var", "rls", "nn", "info"):
         pred = PREDICTORS[name]().fit(X[:400])
         pred.reset()
         pred.update(X[0])

@@ -1,0 +1,561 @@
+"""Conditional mutual information and transfer entropy of multivariate samples.
+
+``I(X; Y | Z) = H(X, Z) + H(Y, Z) - H(X, Y, Z) - H(Z)`` (DESIGN.md, "Information in
+time"), for x, y, z each of shape ``(n,)`` or ``(n, d)`` (z may be ``None``: then it is
+the MI of the two groups). Transfer entropy from Y to X at lag l with history k is
+``I(X_t; Y_{t-l} | X_{t-1}, ..., X_{t-k})`` (Schreiber, Phys. Rev. Lett. 85, 461, 2000).
+Results in nats (or bits with ``units="bits"``), as :func:`mutual_information`.
+
+Estimators (``method=``), each a private function of :data:`_CMI_METHODS`:
+
+- ``"histogram"``: plug-in entropies of a joint histogram with the Miller-Madow
+  correction of *each* of the four entropy terms (Miller 1955; Paninski 2003, eq. 5),
+  ``+(K - 1) / (2 n)`` per entropy with K its number of occupied cells, which for the
+  CMI adds ``(K_xz + K_yz - K_xyz - K_z) / (2 n)``. Every column is cut into the same
+  number k of bins (``binning="quantile"``, equiprobable, by default; or
+  ``"uniform"``), the binning of :mod:`modalinfo.information.histogram`; default
+  ``k = round((6 n)^(1 / (d + 2)))`` for d columns in all: the n^(-1/(d+2)) scaling
+  of the MSE-optimal bin width of a d-dimensional histogram (Scott 1992, ch. 3), with
+  the constant of the Hacine-Gharbi & Ravier (2018) rule, which it equals for d = 2
+  at r = 0. Counting is one numba pass into a dense table (or a sort when the table
+  would be much larger than the sample).
+- ``"kde"``: leave-one-out resubstitution entropies (Hall & Morton 1993) of a Gaussian
+  KDE with kernel covariance ``h^2 S`` on the joint sample, the kernel of
+  :mod:`modalinfo.information.kde`; the four entropies use the marginals of that one
+  kernel (so they are consistent), each evaluated exactly in whitened coordinates,
+  O(n^2 d) (refused above :data:`KDE_MAX_SAMPLES`). ``h`` from
+  :func:`~modalinfo.information.kde.bandwidth_factor` for the joint dimension.
+- ``"ksg"``: the conditional KSG estimator of Frenzel & Pompe (Phys. Rev. Lett. 99,
+  204101, 2007, eq. 3), ``psi(k) - < psi(n_xz + 1) + psi(n_yz + 1) - psi(n_z + 1) >``,
+  with the max-norm k-th neighbour distance in the joint space and the strict counts
+  and tie noise of :mod:`modalinfo.information.ksg`; with no z it is KSG estimator 1.
+- ``"gaussian"``: ``0.5 ln(det S_xz det S_yz / (det S_z det S_xyz))`` from the sample
+  correlation matrix (eigenvalues floored at 1e-15); exact for jointly Gaussian data
+  and blind to non-linear dependence.
+
+Measured accuracy on the transfer entropy of a bivariate VAR(1) (x_t = 0.6 x_{t-1} +
+0.5 y_{t-1} + e, y_t = 0.8 y_{t-1} + f; TE = 0.1854 nats; 8 seeds; mean error, sd):
+gaussian +0.001 (0.012) at n = 1e3, -0.001 (0.004) at 1e4; ksg -0.005 (0.021),
+-0.002 (0.006); histogram -0.015 (0.010), -0.020 (0.003) (discretisation of the
+default bins: more bins lower it but raise the bias at zero coupling, +0.009 nats at
+12 bins, n = 1e4); kde -0.020 (0.015) at 1e3. Coverage of the nominal 95% block-
+bootstrap interval (40 trials): gaussian 0.95 (n = 1e3) and 0.90 (1e4); histogram
+0.93 (1e3) but 0.05 (1e4), where its bias exceeds its spread: use the histogram for
+fast tests (the surrogates share its bias) and "gaussian"/"ksg" for values.
+
+Significance and intervals for autocorrelated series reuse the MI machinery of
+:mod:`modalinfo.information.uncertainty`: :func:`conditional_mutual_information_test`
+rotates y against (x, z) by random circular shifts of at least the Politis-White
+block length (time-shifted surrogates: each series keeps its autocorrelation, only
+the alignment of y is broken); :func:`conditional_mutual_information_ci` is the
+moving-block bootstrap with the "normal" interval of :func:`mutual_information_ci`.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from typing import Any
+
+import numpy as np
+from scipy import stats
+from scipy.spatial import cKDTree
+from scipy.special import digamma
+
+from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo.information import _cmi_kernels as ckern
+from modalinfo.information.api import MIN_SAMPLES, UNITS
+from modalinfo.information.gaussian import unit_scaled
+from modalinfo.information.histogram import _Axis, max_rule_bins
+from modalinfo.information.kde import bandwidth_factor
+from modalinfo.information.ksg import _standardised, _strict_counts
+from modalinfo.information.uncertainty import (
+    MIConfidenceResult,
+    MIPermutationResult,
+    _block_indices,
+    _pw_block_length,
+)
+
+__all__ = [
+    "CMI_METHODS",
+    "KDE_MAX_SAMPLES",
+    "conditional_mutual_information",
+    "conditional_mutual_information_ci",
+    "conditional_mutual_information_test",
+    "transfer_entropy",
+    "transfer_entropy_variables",
+]
+
+#: Estimator names accepted by ``method=``.
+CMI_METHODS = ("histogram", "kde", "ksg", "gaussian")
+#: Largest sample the exact O(n^2) KDE accepts (about 1 minute per entropy there).
+KDE_MAX_SAMPLES = 50_000
+#: Largest dense count table of the histogram estimator [cells].
+_DENSE_MAX_CELLS = 1 << 21
+#: Floor of the eigenvalues of a correlation matrix (as ONE_MINUS_R2_FLOOR for MI).
+_EIG_FLOOR = 1e-15
+
+
+# ----------------------------------------------------------------------------- inputs
+def _as_group(value: Any, name: str, n: int | None) -> np.ndarray:
+    """Return ``value`` as a C-contiguous ``(n, d)`` float array (1-D -> one column)."""
+    arr = as_float_array(value, name, ndim=(1, 2), min_length=MIN_SAMPLES)
+    arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+    if arr.shape[1] < 1:
+        raise ValueError(f"`{name}` must have at least one column; got shape {arr.shape}.")
+    if n is not None and arr.shape[0] != n:
+        raise ValueError(f"`{name}` must have {n} samples as `x`; got {arr.shape[0]}.")
+    return np.ascontiguousarray(arr)
+
+
+def _varying(arr: np.ndarray) -> np.ndarray:
+    """Drop constant columns: they carry no information and break every estimator."""
+    keep = ~np.all(arr == arr[:1], axis=0)
+    return arr if keep.all() else np.ascontiguousarray(arr[:, keep])
+
+
+def _triple(x: Any, y: Any, z: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    xa = _as_group(x, "x", None)
+    n = xa.shape[0]
+    ya = _as_group(y, "y", n)
+    za = np.empty((n, 0)) if z is None else _as_group(z, "z", n)
+    return xa, ya, za
+
+
+# ----------------------------------------------------------------------------- engines
+def _bins_per_axis(bins: Any, n: int, d: int) -> int:
+    if isinstance(bins, str):
+        check_choice(bins, "bins", ("auto",))
+        return min(max(2, int(round((6.0 * n) ** (1.0 / (d + 2.0))))), max_rule_bins(n))
+    return check_int(bins, "bins", minimum=2)
+
+
+def _group_codes(arr: np.ndarray, k: int, binning: str) -> tuple[np.ndarray, int]:
+    """Mixed-radix cell code (n,) int64 of each row and the number of cells k^d."""
+    code = np.zeros(arr.shape[0], dtype=np.int64)
+    for j in range(arr.shape[1]):
+        code = code * k + _Axis(np.ascontiguousarray(arr[:, j]), binning).index(k)
+    return code, k ** arr.shape[1]
+
+
+def _sorted_sum(codes: np.ndarray) -> tuple[float, float]:
+    out = np.empty(2)
+    ckern.sorted_runs_c_log_c(np.sort(codes), out)
+    return out[0], out[1]
+
+
+def _cmi_histogram(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
+                   bias_correction: str = "miller-madow") -> float:
+    """Histogram CMI, plug-in plus Miller-Madow per entropy term (module notes)."""
+    check_choice(binning, "binning", ("quantile", "uniform"))
+    check_choice(bias_correction, "bias_correction", ("miller-madow", "none"))
+    n = x.shape[0]
+    d = x.shape[1] + y.shape[1] + z.shape[1]
+    k = _bins_per_axis(bins, n, d)
+    if d * math.log2(k) > 62:
+        raise ValueError(f"`bins`={k} per axis over {d} columns overflows the int64 cell "
+                         f"codes (k^d >= 2^62); use fewer bins or fewer columns.")
+    cx, nx = _group_codes(x, k, binning)
+    cy, ny = _group_codes(y, k, binning)
+    cz, nz = _group_codes(z, k, binning)
+    cells = nx * ny * nz
+    if cells <= min(_DENSE_MAX_CELLS, 8 * n + 4096):
+        out = np.empty(8)
+        ckern.cmi_dense_counts(cx, cy, cz, nx, ny, nz, np.empty((nz, nx, ny), np.int64), out)
+        s_xyz, s_xz, s_yz, s_z, k_xyz, k_xz, k_yz, k_z = out
+    else:
+        s_xyz, k_xyz = _sorted_sum((cz * nx + cx) * ny + cy)
+        s_xz, k_xz = _sorted_sum(cz * nx + cx)
+        s_yz, k_yz = _sorted_sum(cz * ny + cy)
+        s_z, k_z = _sorted_sum(cz)
+    # H = ln n - S / n for each table; the ln n terms cancel in the CMI
+    cmi = (s_xyz + s_z - s_xz - s_yz) / n
+    if bias_correction == "miller-madow":
+        cmi += (k_xz + k_yz - k_xyz - k_z) / (2.0 * n)
+    return float(cmi)
+
+
+def _standardise_columns(a: np.ndarray) -> np.ndarray:
+    out = np.empty_like(a)
+    for j in range(a.shape[1]):
+        u = unit_scaled(a[:, j])
+        out[:, j] = (u - u.mean()) / u.std()
+    return out
+
+
+def _logdet(corr: np.ndarray) -> float:
+    if corr.shape[0] == 0:
+        return 0.0
+    return float(np.sum(np.log(np.maximum(np.linalg.eigvalsh(corr), _EIG_FLOOR))))
+
+
+def _cmi_gaussian(x, y, z) -> float:
+    """``0.5 ln(det S_xz det S_yz / (det S_z det S_xyz))`` (Cover & Thomas 2006, eq. 8.56)."""
+    u = _standardise_columns(np.concatenate([x, y, z], axis=1))
+    return gaussian_cmi_from_covariance((u.T @ u) / u.shape[0], x.shape[1], y.shape[1])
+
+
+def gaussian_cmi_from_covariance(c: np.ndarray, dx: int, dy: int) -> float:
+    """Gaussian CMI (nats) of the blocks (x, y, z) = (first dx, next dy, rest) of ``c``.
+
+    ``c`` is a covariance (or correlation) matrix, shape (d, d); it is scaled to a
+    correlation matrix first, and eigenvalues are floored at 1e-15.
+    """
+    sd = np.sqrt(np.diag(c))
+    c = c / np.outer(sd, sd)
+    ix = np.arange(dx)
+    iy = np.arange(dx, dx + dy)
+    iz = np.arange(dx + dy, c.shape[0])
+
+    def ld(idx):
+        return _logdet(c[np.ix_(idx, idx)])
+
+    return 0.5 * (ld(np.r_[ix, iz]) + ld(np.r_[iy, iz]) - ld(iz) - ld(np.arange(c.shape[0])))
+
+
+def _kde_entropy_block(u: np.ndarray, h: float) -> float:
+    """LOO entropy (nats) of standardised columns ``u`` under the kernel ``h^2 S_u``."""
+    corr = (u.T @ u) / u.shape[0]
+    chol = np.linalg.cholesky(corr + _EIG_FLOOR * np.eye(corr.shape[0]))
+    w = np.ascontiguousarray(np.linalg.solve(chol, u.T).T)
+    # density of u = density of w / det(chol): H(u) = H(w) + ln det(chol)
+    return -ckern.gaussian_loo_log_density_mean(w, h) + float(np.sum(np.log(np.diag(chol))))
+
+
+def _cmi_kde(x, y, z, *, bandwidth: Any = "scott") -> float:
+    """LOO Gaussian-KDE CMI with kernel ``h^2 S`` and its marginals (module notes)."""
+    n = x.shape[0]
+    if n > KDE_MAX_SAMPLES:
+        raise ValueError(f"method='kde' is exact O(n^2) and accepts at most "
+                         f"{KDE_MAX_SAMPLES} samples; got {n}. Use 'histogram' or 'ksg'.")
+    if isinstance(bandwidth, str):
+        check_choice(bandwidth, "bandwidth", ("scott", "silverman"))
+    else:
+        check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
+    d = x.shape[1] + y.shape[1] + z.shape[1]
+    h = bandwidth_factor(bandwidth, n, d)
+    u = _standardise_columns(np.concatenate([x, y, z], axis=1))
+    dx, dy = x.shape[1], y.shape[1]
+    xz = np.r_[np.arange(dx), np.arange(dx + dy, d)]
+    yz = np.arange(dx, d)
+    iz = np.arange(dx + dy, d)
+    hz = _kde_entropy_block(np.ascontiguousarray(u[:, iz]), h) if iz.size else 0.0
+    return (_kde_entropy_block(np.ascontiguousarray(u[:, xz]), h)
+            + _kde_entropy_block(np.ascontiguousarray(u[:, yz]), h)
+            - _kde_entropy_block(u, h) - hz)
+
+
+def _cmi_ksg(x, y, z, *, k: int = 3, seed: int = 0) -> float:
+    """Frenzel & Pompe (2007) conditional KSG estimate (module notes)."""
+    k = check_int(k, "k", minimum=1)
+    seed = check_int(seed, "seed", minimum=0)
+    n = x.shape[0]
+    k = min(k, n - 1)
+    cols = np.concatenate([x, y, z], axis=1)
+    u = np.column_stack([_standardised(cols[:, j], seed, j) for j in range(cols.shape[1])])
+    dx, dy = x.shape[1], y.shape[1]
+    dist, _ = cKDTree(u).query(u, k=k + 1, p=np.inf)
+    eps = dist[:, -1]
+
+    def count(idx):
+        pts = np.ascontiguousarray(u[:, idx])
+        return _strict_counts(cKDTree(pts), pts, eps)
+
+    d = u.shape[1]
+    n_xz = count(np.r_[np.arange(dx), np.arange(dx + dy, d)])
+    n_yz = count(np.arange(dx, d))
+    psi_z = (np.mean(digamma(count(np.arange(dx + dy, d)) + 1.0)) if d > dx + dy
+             else digamma(n))
+    return float(digamma(k) - np.mean(digamma(n_xz + 1.0)) - np.mean(digamma(n_yz + 1.0))
+                 + psi_z)
+
+
+_CMI_METHODS = {
+    "histogram": _cmi_histogram,
+    "kde": _cmi_kde,
+    "ksg": _cmi_ksg,
+    "gaussian": _cmi_gaussian,
+}
+
+
+def _estimator(method: str, units: str, options: dict[str, Any]):
+    """Validate ``method``, ``units`` and option names; return ``f(x, y, z) -> value``."""
+    check_choice(method, "method", CMI_METHODS)
+    check_choice(units, "units", tuple(UNITS))
+    fn = _CMI_METHODS[method]
+    allowed = set(list(inspect.signature(fn).parameters)[3:])
+    unknown = sorted(set(options) - allowed)
+    if unknown:
+        raise TypeError(f"method={method!r} does not accept option(s) {', '.join(unknown)}; "
+                        f"allowed: {', '.join(sorted(allowed)) if allowed else 'none'}.")
+    factor = UNITS[units]
+
+    def estimate(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
+        x, y, z = _varying(x), _varying(y), _varying(z)
+        if x.shape[1] == 0 or y.shape[1] == 0:
+            return 0.0  # a constant carries no information
+        return float(fn(x, y, z, **options)) * factor
+
+    return estimate
+
+
+# ----------------------------------------------------------------------------- public API
+def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str = "histogram",
+                                   units: str = "nats", **options: Any) -> float:
+    """Conditional mutual information I(X; Y | Z) of (multivariate) samples.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,) or (n, d)
+        Paired samples (n >= 10, finite); a 2-D group is one multivariate variable.
+        Any units (CMI is dimensionless).
+    z : array_like, shape (n,) or (n, d), or None
+        Conditioning variables; ``None`` gives the MI of the groups x and y.
+    method : {"histogram", "kde", "ksg", "gaussian"}
+        Estimator (see the module notes). Options: ``"histogram"``: ``bins``
+        ("auto" or an int >= 2 per axis), ``binning`` ("quantile" or "uniform"),
+        ``bias_correction`` ("miller-madow" or "none"); ``"kde"``: ``bandwidth``
+        ("scott", "silverman" or a float factor); ``"ksg"``: ``k`` (3), ``seed`` (0).
+    units : {"nats", "bits"}
+        Units of the result.
+    **options
+        Estimator options; an unknown one raises ``TypeError``.
+
+    Returns
+    -------
+    float
+        Estimated CMI in ``units``; 0.0 if every column of x or of y is constant.
+        Not clipped at 0 (bias corrections can give slightly negative values).
+
+    Raises
+    ------
+    ValueError
+        If an input is not 1-D/2-D, shorter than 10 samples, not finite, or the lengths
+        differ; if ``method``, ``units`` or an option value is invalid.
+    TypeError
+        If an option is unknown for the method or of the wrong type.
+    """
+    est = _estimator(method, units, options)
+    return est(*_triple(x, y, z))
+
+
+def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
+                               history: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return the (x, y, z) whose CMI is the transfer entropy from source to target.
+
+    Parameters
+    ----------
+    source, target : array_like, shape (T,) or (T, d)
+        Series in time order, same length.
+    lag : int
+        Lag l >= 0 of the source [samples].
+    history : int
+        Number k >= 0 of past target samples conditioned on.
+
+    Returns
+    -------
+    x : numpy.ndarray, shape (n, d_target)
+        ``target[t]`` for t = max(l, k) .. T - 1 (n = T - max(l, k)).
+    y : numpy.ndarray, shape (n, d_source)
+        ``source[t - l]``.
+    z : numpy.ndarray, shape (n, k d_target)
+        ``target[t - 1], ..., target[t - k]`` side by side.
+    """
+    lag = check_int(lag, "lag", minimum=0)
+    history = check_int(history, "history", minimum=0)
+    tgt = as_float_array(target, "target", ndim=(1, 2))
+    src = as_float_array(source, "source", ndim=(1, 2))
+    tgt = tgt.reshape(-1, 1) if tgt.ndim == 1 else tgt
+    src = src.reshape(-1, 1) if src.ndim == 1 else src
+    if src.shape[0] != tgt.shape[0]:
+        raise ValueError(f"`source` and `target` must have the same length; got "
+                         f"{src.shape[0]} and {tgt.shape[0]}.")
+    t0 = max(lag, history)
+    T = tgt.shape[0]
+    if T - t0 < MIN_SAMPLES:
+        raise ValueError(f"`target` needs at least {t0 + MIN_SAMPLES} samples for lag={lag}, "
+                         f"history={history}; got {T}.")
+    x = tgt[t0:]
+    y = src[t0 - lag : T - lag]
+    z = (np.concatenate([tgt[t0 - i : T - i] for i in range(1, history + 1)], axis=1)
+         if history else np.empty((T - t0, 0)))
+    return np.ascontiguousarray(x), np.ascontiguousarray(y), np.ascontiguousarray(z)
+
+
+def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1,
+                     method: str = "histogram", units: str = "nats", **options: Any) -> float:
+    """Transfer entropy from ``source`` to ``target``: I(X_t; Y_{t-l} | X_{t-1..t-k}).
+
+    Parameters
+    ----------
+    source, target : array_like, shape (T,) or (T, d)
+        Series in time order, same length (T >= max(lag, history) + 10).
+    lag : int
+        Source lag l >= 0 [samples].
+    history : int
+        Target history k >= 0 [samples] (k = 0: the lagged MI).
+    method : {"histogram", "kde", "ksg", "gaussian"}
+        Estimator (see :func:`conditional_mutual_information`).
+    units : {"nats", "bits"}
+        Units of the result.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    float
+        Transfer entropy in ``units``. For significance and an interval, pass
+        :func:`transfer_entropy_variables` to :func:`conditional_mutual_information_test`
+        and :func:`conditional_mutual_information_ci`.
+    """
+    est = _estimator(method, units, options)
+    return est(*transfer_entropy_variables(source, target, lag=lag, history=history))
+
+
+def _auto_block(*groups: np.ndarray) -> int:
+    """Politis-White block length: the largest over the columns of the groups."""
+    n = groups[0].shape[0]
+    b = max(_pw_block_length(np.ascontiguousarray(g[:, j]))
+            for g in groups for j in range(g.shape[1]))
+    return max(1, min(int(math.ceil(b)), n))
+
+
+def conditional_mutual_information_ci(
+    x: Any, y: Any, z: Any = None, *, method: str = "histogram", units: str = "nats",
+    confidence_level: float = 0.95, n_resamples: int = 199,
+    block_length: int | str | None = None, seed: Any = None, **options: Any,
+) -> MIConfidenceResult:
+    """Moving-block bootstrap interval of a CMI estimate (autocorrelated series).
+
+    Rows ``(x_t, y_t, z_t)`` are resampled in aligned blocks (Kuensch 1989), the
+    scheme of :func:`~modalinfo.information.mutual_information_ci`, and the interval is
+    its default ``"normal"`` one: the estimate -+ z_(1-a/2) times the bootstrap
+    standard deviation (the bootstrap bias of entropy estimators is unreliable; see
+    :mod:`modalinfo.information.uncertainty`).
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        As :func:`conditional_mutual_information`, in time order.
+    method : {"histogram", "kde", "gaussian"}
+        Estimator; ``"ksg"`` is refused (resamples repeat rows, which nearest-neighbour
+        estimators see as zero distances).
+    units : {"nats", "bits"}
+        Units.
+    confidence_level : float
+        Nominal coverage in (0, 1).
+    n_resamples : int
+        Bootstrap resamples (>= 10).
+    block_length : int, "auto" or None
+        Block length [samples]; ``None``/``"auto"``: the largest Politis-White
+        length over the columns of x, y and z.
+    seed : None, int or numpy.random.Generator
+        Randomness of the resampling.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    MIConfidenceResult
+        Estimate, interval (``interval="normal"``, ``bootstrap="block"``) and the
+        bootstrap distribution.
+    """
+    check_choice(method, "method", CMI_METHODS)
+    if method == "ksg":
+        raise ValueError("`method`='ksg' cannot be bootstrapped: resamples repeat rows, "
+                         "which the nearest-neighbour estimator sees as zero distances; "
+                         "use 'histogram', 'kde' or 'gaussian'.")
+    est = _estimator(method, units, options)
+    xa, ya, za = _triple(x, y, z)
+    confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
+                                  maximum=1.0, strict_min=True, strict_max=True)
+    n_resamples = check_int(n_resamples, "n_resamples", minimum=10)
+    rng = check_rng(seed)
+    n = xa.shape[0]
+    if block_length is None or (isinstance(block_length, str) and block_length == "auto"):
+        b = _auto_block(xa, ya, za)
+    elif isinstance(block_length, str):
+        raise ValueError(f"`block_length` must be None, 'auto' or an int; got {block_length!r}.")
+    else:
+        b = check_int(block_length, "block_length", minimum=1, maximum=n)
+    theta = est(xa, ya, za)
+    idx = _block_indices(n, b, n_resamples, rng)
+    dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])
+    alpha = 1.0 - confidence_level
+    half = float(stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1))
+    return MIConfidenceResult(
+        estimate=float(theta), low=float(theta - half), high=float(theta + half),
+        confidence_level=confidence_level, block_length=int(b), n_resamples=n_resamples,
+        bootstrap_std=float(np.std(dist, ddof=1)), bootstrap_mean=float(np.mean(dist)),
+        bootstrap_distribution=dist, bootstrap="block", interval="normal", method=method,
+        units=units,
+    )
+
+
+def conditional_mutual_information_test(
+    x: Any, y: Any, z: Any = None, *, method: str = "histogram", units: str = "nats",
+    n_surrogates: int = 199, surrogate: str = "circular", min_shift: int | str | None = None,
+    seed: Any = None, **options: Any,
+) -> MIPermutationResult:
+    """Surrogate test of I(X; Y | Z) = 0 for (autocorrelated) series.
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        As :func:`conditional_mutual_information`, in time order.
+    method : {"histogram", "kde", "ksg", "gaussian"}
+        Estimator.
+    units : {"nats", "bits"}
+        Units of the statistic.
+    n_surrogates : int
+        Number of surrogates (>= 1); the smallest attainable p-value is
+        ``1 / (1 + n_surrogates)`` (199 -> 0.005).
+    surrogate : {"circular", "shuffle"}
+        ``"circular"`` (time-shifted surrogates, Quian Quiroga et al. 2002): the rows of
+        y are rotated against (x, z) by a random shift in [min_shift, n - min_shift];
+        each series keeps its autocorrelation. ``"shuffle"``: random permutations of
+        the rows of y, exact only for iid samples. Both break the dependence of y on
+        z as well as on x, so the null is "y independent of (x, z)", slightly stronger
+        than conditional independence (as the source surrogates of IDTxl); for a
+        greedy input search this is the usual, mildly conservative choice.
+    min_shift : int, "auto" or None
+        Smallest circular shift [samples]; ``None``/``"auto"``: the largest
+        Politis-White block length over the columns of x, y, z (at most n // 2).
+    seed : None, int or numpy.random.Generator
+        Randomness of the surrogates.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    MIPermutationResult
+        Statistic, p-value ``(1 + #{null >= statistic}) / (1 + n_surrogates)`` (one
+        test: no multiple-comparison correction here) and the null distribution.
+    """
+    est = _estimator(method, units, options)
+    xa, ya, za = _triple(x, y, z)
+    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    check_choice(surrogate, "surrogate", ("circular", "shuffle"))
+    rng = check_rng(seed)
+    n = xa.shape[0]
+    stat = est(xa, ya, za)
+    null = np.empty(n_surrogates)
+    shift0 = 0
+    if surrogate == "shuffle":
+        for i in range(n_surrogates):
+            null[i] = est(xa, ya[rng.permutation(n)], za)
+    else:
+        if min_shift is None or (isinstance(min_shift, str) and min_shift == "auto"):
+            shift0 = min(_auto_block(xa, ya, za), n // 2)
+        elif isinstance(min_shift, str):
+            raise ValueError(f"`min_shift` must be None, 'auto' or an int; got {min_shift!r}.")
+        else:
+            shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+        for i, s in enumerate(rng.integers(shift0, n - shift0 + 1, size=n_surrogates)):
+            null[i] = est(xa, np.roll(ya, int(s), axis=0), za)
+    pvalue = (1.0 + np.count_nonzero(null >= stat)) / (1.0 + n_surrogates)
+    return MIPermutationResult(
+        statistic=float(stat), pvalue=float(pvalue), null_distribution=null,
+        n_permutations=n_surrogates, permutation=surrogate, min_shift=int(shift0),
+        method=method, units=units,
+    )

@@ -1,0 +1,562 @@
+"""Greedy selection of a forecast's inputs by conditional mutual information.
+
+For a target mode x and a horizon h, the candidates are the past values ``s_j[t - l]``
+(lags l = 0 .. max_lag - 1 relative to the forecast origin t) of every mode j of a
+log, optionally of the modes of a second log on the same clock (the other WFS or DM
+of an MCAO run). Starting from the empty set S, each step adds the candidate with the
+largest gain ``I(x[t + h]; c | S)`` (DESIGN.md, "Information in time") while the gain
+is significant, up to ``max_inputs``.
+
+Significance and family-wise control. At each step the statistic is the *largest*
+gain over all m candidates, and its null distribution is that of the largest gain
+over the same m candidates after a random circular time shift (at least the
+Politis-White block length of the target) that breaks their alignment with the target
+while keeping every series' autocorrelation: the maximum-statistic test
+(Westfall & Young 1993, as in IDTxl's greedy search, Novelli et al. 2019), which
+controls the family-wise error over the m candidates of the step at ``alpha``. The
+search stops at the first step that is not significant, so a step is only tested
+after all earlier ones rejected (a fixed-sequence procedure; the error of adding one
+spurious input is at most ``alpha`` for the whole search). The p-value is
+``(1 + #{null max >= observed max}) / (1 + n_surrogates)``: with the default 199
+surrogates the smallest is 0.005.
+
+Estimators. ``method="gaussian"`` (default) is a closed form: with the target and the
+candidates orthogonalised against the selected inputs (Gram-Schmidt, updated once
+per step), the gain of candidate c is ``-0.5 ln(1 - rho^2)`` with rho the partial
+correlation, which is exactly the Gaussian CMI and equals
+``0.5 ln(var(x | S) / var(x | S, c))``, the log ratio of the least-squares residual
+variances -- the criterion that matters for the linear predictor built on the result
+(:class:`modalinfo.forecast.info.InfoPredictor`). All candidates are scored by one
+matrix product; the surrogates rotate the target's residual against the candidates'
+residuals (the null of zero partial correlation). The other methods of
+:func:`~modalinfo.information.conditional_mutual_information` score each candidate
+with the estimator and rotate the candidate against (target, selected); they cost
+``m (1 + n_surrogates)`` estimates per step.
+
+Intervals: moving-block bootstrap of the gain of each chosen input given the inputs
+chosen before it (:func:`~modalinfo.information.conditional_mutual_information_ci`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import fft as sfft
+from scipy import stats
+
+from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo.information.api import UNITS
+from modalinfo.information.conditional import (
+    CMI_METHODS,
+    _auto_block,
+    _estimator,
+    conditional_mutual_information_ci,
+    gaussian_cmi_from_covariance,
+)
+from modalinfo.information.uncertainty import _block_indices
+
+__all__ = [
+    "InputSelection",
+    "SelectedInput",
+    "greedy_gaussian_gram",
+    "lagged_candidates",
+    "select_inputs",
+    "unit_candidates",
+]
+
+
+@dataclass(frozen=True)
+class SelectedInput:
+    """One input chosen by :func:`select_inputs`.
+
+    Attributes
+    ----------
+    label : str
+        Candidate name, ``"<mode label>[t-<lag>]"``.
+    source : int
+        Column of the mode in the stacked candidate series (the log's columns, then
+        those of ``extra``).
+    mode : str
+        Label of the mode (``"extra:"`` prefixed for the second log).
+    lag : int
+        Lag relative to the forecast origin [samples]: the value ``mode[t - lag]``
+        forecasts ``target[t + horizon]``.
+    gain : float
+        ``I(target; input | inputs chosen before)`` in the selection's units.
+    low, high : float
+        Block-bootstrap interval of the gain ("normal" interval); NaN if intervals
+        were not asked or the method is "ksg" (resamples repeat rows).
+    pvalue : float
+        Maximum-statistic surrogate p-value of the step that added it.
+    """
+
+    label: str
+    source: int
+    mode: str
+    lag: int
+    gain: float
+    low: float
+    high: float
+    pvalue: float
+
+
+@dataclass(frozen=True)
+class InputSelection:
+    """Result of :func:`select_inputs`.
+
+    Attributes
+    ----------
+    target : str
+        Label of the target mode.
+    horizon : int
+        Forecast horizon h [samples].
+    max_lag : int
+        Lags 0 .. max_lag - 1 were candidates.
+    inputs : tuple of SelectedInput
+        Chosen inputs, in the order they were added.
+    information : float
+        ``I(target; all chosen inputs)`` = the sum of the gains, in ``units``.
+    n_candidates : int
+        Number of candidates m (series x lags, constant ones excluded).
+    n_samples : int
+        Rows used (forecast origins).
+    stop_reason : str
+        Why the search stopped (not significant, budget, no candidate left).
+    last_pvalue : float
+        p-value of the step that was not significant (NaN otherwise).
+    method, units : str
+        Estimator and units.
+    alpha : float
+        Family-wise level of each step.
+    n_surrogates : int
+        Surrogates per step.
+    min_shift : int
+        Smallest circular shift of the surrogates [samples].
+    """
+
+    target: str
+    horizon: int
+    max_lag: int
+    inputs: tuple[SelectedInput, ...]
+    information: float
+    n_candidates: int
+    n_samples: int
+    stop_reason: str
+    last_pvalue: float
+    method: str
+    units: str
+    alpha: float
+    n_surrogates: int
+    min_shift: int
+
+    @property
+    def sources(self) -> np.ndarray:
+        """``(k,)`` int: stacked-series column of each chosen input."""
+        return np.array([s.source for s in self.inputs], dtype=np.int64)
+
+    @property
+    def lags(self) -> np.ndarray:
+        """``(k,)`` int: lag of each chosen input [samples]."""
+        return np.array([s.lag for s in self.inputs], dtype=np.int64)
+
+    def table(self) -> str:
+        """Return a plain-text table of the chosen inputs (one row each)."""
+        head = (f"target {self.target}, horizon {self.horizon}, lags 0..{self.max_lag - 1}, "
+                f"{self.n_candidates} candidates, n = {self.n_samples}, method "
+                f"{self.method}, alpha {self.alpha} (max-statistic over candidates, "
+                f"{self.n_surrogates} time-shift surrogates)")
+        rows = [head, f"{'#':>2}  {'input':<18} {'gain':>9} {'interval':>21} {'p':>7}"]
+        for i, s in enumerate(self.inputs, 1):
+            rows.append(f"{i:>2}  {s.label:<18} {s.gain:9.4f} [{s.low:9.4f}, {s.high:9.4f}] "
+                        f"{s.pvalue:7.4f}")
+        rows.append(f"total I(target; inputs) = {self.information:.4f} {self.units}; "
+                    f"stopped: {self.stop_reason}")
+        return "\n".join(rows)
+
+
+def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
+    """``(T, M)`` float array and labels of a ModalLog (``coeffs``/``labels``) or an array."""
+    if hasattr(data, "coeffs") and hasattr(data, "labels"):
+        arr = as_float_array(np.asarray(data.coeffs), name, ndim=2)
+        return arr, [str(label) for label in data.labels]
+    arr = as_float_array(data, name, ndim=(1, 2))
+    arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+    return arr, [f"m{j}" for j in range(arr.shape[1])]
+
+
+#: Arrays of the candidates' size a search holds at once (the matrix, its unit-norm
+#: and residual copies, and the spectra of the FFT null at twice the length, complex).
+_WORKING_COPIES = 7
+
+
+def _check_memory(n_values: int) -> None:
+    """Refuse a search whose working arrays would not fit in the available memory."""
+    need = _WORKING_COPIES * 8 * n_values
+    try:
+        avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):  # not available on this platform
+        return
+    if need > avail:
+        raise ValueError(
+            f"the candidate search needs about {need / 2**20:.1f} MiB ({_WORKING_COPIES} "
+            f"arrays of frames x modes x max_lag = {n_values} values) and "
+            f"{avail / 2**20:.1f} MiB is available; use fewer frames, modes or lags.")
+
+
+def lagged_candidates(series: np.ndarray, horizon: int, max_lag: int
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Target rows and the lagged candidate matrix of a forecast at ``horizon``.
+
+    Parameters
+    ----------
+    series : numpy.ndarray, shape (T, M)
+        Candidate series in time order.
+    horizon : int
+        h >= 1.
+    max_lag : int
+        Lags 0 .. max_lag - 1.
+
+    Returns
+    -------
+    origins : numpy.ndarray, shape (n,)
+        Forecast origins t = max_lag - 1 .. T - 1 - h (n = T - h - max_lag + 1).
+    candidates : numpy.ndarray, shape (n, M max_lag)
+        Column ``l M + j`` is ``series[t - l, j]``.
+    columns : numpy.ndarray, shape (M max_lag, 2)
+        ``(source column j, lag l)`` of each candidate column.
+    """
+    T, M = series.shape
+    _check_memory(max(T - horizon - max_lag + 1, 0) * M * max_lag)
+    origins = np.arange(max_lag - 1, T - horizon)
+    blocks = [series[max_lag - 1 - lag : T - horizon - lag] for lag in range(max_lag)]
+    cols = np.array([(j, lag) for lag in range(max_lag) for j in range(M)], dtype=np.int64)
+    return origins, np.ascontiguousarray(np.concatenate(blocks, axis=1)), cols
+
+
+def _unit_columns(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre columns and scale to unit norm; also return the norms (0 for constants)."""
+    a = a - a.mean(axis=0)
+    norms = np.sqrt(np.einsum("ij,ij->j", a, a))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = np.where(norms > 0, a / np.where(norms > 0, norms, 1.0), 0.0)
+    return u, norms
+
+
+def _gauss_gains(r: np.ndarray, R: np.ndarray, alive: np.ndarray) -> np.ndarray:
+    """``-0.5 ln(1 - rho^2)`` of the residual target ``r`` with each residual column."""
+    rn = math.sqrt(float(r @ r))
+    cn = np.sqrt(np.einsum("ij,ij->j", R, R))
+    ok = alive & (cn > 0) & (rn > 0)
+    rho = np.zeros(R.shape[1])
+    rho[ok] = (r @ R[:, ok]) / (rn * cn[ok])
+    return -0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))
+
+
+def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
+                       confidence_level: float, rng: np.random.Generator
+                       ) -> tuple[float, float]:
+    """Block-bootstrap "normal" interval (nats) of the Gaussian CMI of columns 0; 1 | 2:.
+
+    The same resamples as :func:`conditional_mutual_information_ci` (same block
+    length rule, same draws of ``_block_indices``), but each resample's covariance
+    is summed from cumulative sums of the rows' moments instead of re-reading
+    n rows: O(n d^2) once plus O(n / b d^2) per resample.
+    """
+    n, d = data.shape
+    b = _auto_block(data)
+    u = data - data.mean(axis=0)
+    u /= np.sqrt(np.einsum("ij,ij->j", u, u) / n)
+    s1 = np.zeros((n + 1, d))
+    s1[1:] = np.cumsum(u, axis=0)
+    s2 = np.zeros((n + 1, d, d))
+    s2[1:] = np.cumsum(u[:, :, None] * u[:, None, :], axis=0)
+    idx = _block_indices(n, b, n_resamples, rng)
+    n_blocks = -(-n // b)
+    starts = idx[:, ::b]  # first index of every block (the last one may be cut)
+    lens = np.full(n_blocks, b)
+    lens[-1] = n - b * (n_blocks - 1)
+    ends = starts + lens
+    m1 = (s1[ends] - s1[starts]).sum(axis=1) / n
+    m2 = (s2[ends] - s2[starts]).sum(axis=1) / n
+    dist = np.array([gaussian_cmi_from_covariance(m2[k] - np.outer(m1[k], m1[k]), 1, 1)
+                     for k in range(n_resamples)])
+    half = float(stats.norm.ppf(0.5 + 0.5 * confidence_level) * np.std(dist, ddof=1))
+    return gain - half, gain + half
+
+
+#: From this many surrogates on, the Gaussian null uses FFT cross-correlations of all
+#: shifts (cost ~ m L log L per step) instead of one matrix product (~ S n m).
+_FFT_MIN_SURROGATES = 64
+
+
+def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centred unit-norm candidate columns and the mask of non-constant ones."""
+    Cu, norms = _unit_columns(C)
+    return Cu, norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
+
+
+def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarray, *,
+                   method: str, est, factor: float, alpha: float, n_surrogates: int,
+                   max_inputs: int, shift0: int, rng: np.random.Generator,
+                   spectra: tuple[np.ndarray, int] | None = None
+                   ) -> tuple[list[tuple[int, float, float]], str, float]:
+    """Run the greedy search; return ``[(column, gain [nats], p-value)], stop, last p``.
+
+    Preconditions: ``y`` (n,), ``C`` (n, m) and its unit columns ``Cu`` validated,
+    ``alive`` (m,) bool marks usable candidates (copied here, as are ``Cu`` and
+    ``spectra``, the rfft of ``Cu.T`` on length L >= 2n, used by the Gaussian null).
+    """
+    n, m_all = C.shape
+    alive = alive.copy()
+    F, L = (None, 0) if spectra is None else (spectra[0].copy(), spectra[1])
+    r, ynorm = _unit_columns(y[:, None])
+    r = r[:, 0].copy()
+    R = Cu.copy()
+    chosen: list[int] = []
+    picked: list[tuple[int, float, float]] = []
+    stop, last_p = "budget reached", math.nan
+    while True:
+        if len(chosen) >= max_inputs:
+            break
+        if not alive.any() or ynorm[0] == 0:
+            stop = "no candidate left"
+            break
+        shifts = rng.integers(shift0, n - shift0 + 1, size=n_surrogates)
+        Z = C[:, chosen] if chosen else np.empty((n, 0))
+        if method == "gaussian":
+            gains = _gauss_gains(r, R, alive)
+            best = int(np.argmax(np.where(alive, gains, -np.inf)))
+            # null: the target residual rotated against every candidate residual, by
+            # the circular cross-correlation sum_t r[t - s] R[t, j] at the drawn shifts
+            cn = np.sqrt(np.einsum("ij,ij->j", R, R))
+            ok = alive & (cn > 0)
+            if F is None:
+                xc = r[(np.arange(n)[None, :] - shifts[:, None]) % n] @ R[:, ok]
+            else:
+                # from the linear correlation c[k] by FFT on L >= 2n: circular[s] =
+                # c[s] + c[s - n], c[k < 0] at index L + k. F follows the Gram-Schmidt
+                # updates linearly, so a step costs one inverse FFT.
+                lin = sfft.irfft(F[ok] * np.conj(sfft.rfft(r, L))[None, :], L, axis=1)
+                xc = (lin[:, shifts] + lin[:, L + shifts - n]).T
+            rho = xc / (cn[ok][None, :] * math.sqrt(float(r @ r)))
+            null = (-0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))).max(axis=1)
+            gain = float(gains[best])
+        else:
+            idx = np.flatnonzero(alive)
+            gains = np.full(m_all, -np.inf)
+            for j in idx:
+                gains[j] = est(y[:, None], C[:, j : j + 1], Z) / factor
+            best = int(np.argmax(gains))
+            gain = float(gains[best])
+            null = np.array([max(est(y[:, None], np.roll(C[:, j : j + 1], int(s), axis=0), Z)
+                                 for j in idx) for s in shifts]) / factor
+        pvalue = (1.0 + np.count_nonzero(null >= gain)) / (1.0 + n_surrogates)
+        if pvalue > alpha:
+            stop, last_p = f"next gain not significant (p = {pvalue:.3g} > {alpha})", pvalue
+            break
+        chosen.append(best)
+        picked.append((best, gain, pvalue))
+        # Gram-Schmidt: remove the chosen direction from the target and the candidates
+        q = R[:, best] / math.sqrt(float(R[:, best] @ R[:, best]))
+        r -= q * float(q @ r)
+        qR = q @ R
+        R -= np.outer(q, qR)
+        if F is not None:
+            F -= qR[:, None] * sfft.rfft(q, L)[None, :]
+        alive[best] = False
+        # a candidate now (numerically) spanned by the chosen ones is dropped
+        alive &= np.sqrt(np.einsum("ij,ij->j", R, R)) > 1e-6
+    return picked, stop, last_p
+
+
+def greedy_gaussian_gram(G: np.ndarray, cy: np.ndarray, alive: np.ndarray, n: int, *,
+                         max_inputs: int, penalty: float) -> list[tuple[int, float]]:
+    """Greedy Gaussian-CMI selection from cross-products, stopped by a penalty.
+
+    The sample-domain Gram-Schmidt of :func:`select_inputs` carried out on the Gram
+    matrix: with ``G = Cu^T Cu`` (unit-norm centred candidates) and ``cy = Cu^T y_u``
+    (unit-norm centred target), the residual cross-products after choosing b are
+    ``G - G[:, b] G[b, :] / G[b, b]`` and ``cy - G[:, b] cy[b] / G[b, b]``, and the gain
+    of j is ``-0.5 ln(1 - cy_j^2 / (e G_jj))`` with e the residual target energy.
+    Cost O(m^2) per step, independent of n, so one Gram serves many targets.
+
+    A candidate is added while ``2 n gain > penalty``: with ``penalty = ln n +
+    2 ln m`` this is the extended BIC of Chen & Chen (Biometrika 95, 759, 2008, gamma
+    = 1) for a greedy search over m candidates, since ``2 n gain = n ln(RSS_S /
+    RSS_{S+j})`` is the likelihood-ratio statistic of one more regressor.
+
+    Parameters
+    ----------
+    G : numpy.ndarray, shape (m, m)
+    cy : numpy.ndarray, shape (m,)
+    alive : numpy.ndarray of bool, shape (m,)
+        Usable candidates.
+    n : int
+        Number of rows behind the cross-products.
+    max_inputs : int
+        Budget.
+    penalty : float
+        Threshold of ``2 n gain``.
+
+    Returns
+    -------
+    list of (int, float)
+        Chosen columns and their gains [nats], in order.
+    """
+    Rg = G.copy()
+    ry = cy.copy()
+    e = 1.0
+    alive = alive.copy()
+    picked: list[tuple[int, float]] = []
+    while len(picked) < max_inputs and alive.any() and e > 1e-12:
+        diag = np.diag(Rg)
+        ok = alive & (diag > 1e-12)
+        if not ok.any():
+            break
+        rho2 = np.zeros_like(ry)
+        rho2[ok] = ry[ok] ** 2 / (e * diag[ok])
+        gains = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+        gains[~ok] = -np.inf
+        best = int(np.argmax(gains))
+        if not 2.0 * n * gains[best] > penalty:
+            break
+        picked.append((best, float(gains[best])))
+        col = Rg[:, best].copy()
+        piv = col[best]
+        e -= ry[best] ** 2 / piv
+        ry -= col * (ry[best] / piv)
+        Rg -= np.outer(col, col) / piv
+        alive[best] = False
+    return picked
+
+
+def select_inputs(
+    data: Any, target: int | str, *, horizon: int = 1, max_lag: int = 10,
+    extra: Any = None, method: str = "gaussian", units: str = "nats", alpha: float = 0.05,
+    n_surrogates: int = 199, max_inputs: int = 10, intervals: bool = True,
+    n_resamples: int = 199, confidence_level: float = 0.95,
+    min_shift: int | None = None, seed: Any = None, **options: Any,
+) -> InputSelection:
+    """Greedy CMI selection of the past values that forecast a mode ``horizon`` ahead.
+
+    Parameters
+    ----------
+    data : ModalLog or array_like, shape (T, M)
+        Telemetry in time order (a ``ModalLog``'s ``coeffs`` and ``labels`` are used;
+        an array's columns are labelled ``m0, m1, ...``). Regular sampling assumed.
+    target : int or str
+        Column index or label (e.g. ``"Z5"``) of the mode to forecast.
+    horizon : int
+        h >= 1 [samples].
+    max_lag : int
+        Candidate lags 0 .. max_lag - 1 relative to the forecast origin (>= 1).
+    extra : ModalLog or array_like, shape (T, M2), optional
+        Second log on the same clock (e.g. the other WFS of an MCAO run); its modes
+        are candidates too, labelled ``"extra:<label>"``.
+    method : {"gaussian", "histogram", "kde", "ksg"}
+        CMI estimator (see the module notes; "gaussian" is fast and is the criterion
+        of the linear predictor).
+    units : {"nats", "bits"}
+        Units of the gains.
+    alpha : float
+        Family-wise level of each step, in (0, 1).
+    n_surrogates : int
+        Circular-shift surrogates per step (>= 1; at least 1 / alpha - 1 for a step to
+        be able to pass).
+    max_inputs : int
+        Budget of inputs (>= 1).
+    intervals : bool
+        Compute a block-bootstrap interval for each chosen gain.
+    n_resamples, confidence_level : int, float
+        Bootstrap resamples and nominal coverage of the intervals.
+    min_shift : int, optional
+        Smallest surrogate shift [samples]; default the Politis-White block length of
+        the target's future values (at most n // 2).
+    seed : None, int or numpy.random.Generator
+        Randomness of the surrogates and the bootstrap.
+    **options
+        Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
+
+    Returns
+    -------
+    InputSelection
+        The chosen inputs with gains, intervals and p-values.
+    """
+    series, labels = _series(data, "data")
+    if extra is not None:
+        ex, ex_labels = _series(extra, "extra")
+        if ex.shape[0] != series.shape[0]:
+            raise ValueError(f"`extra` must have {series.shape[0]} frames as `data`; got "
+                             f"{ex.shape[0]}.")
+        series = np.concatenate([series, ex], axis=1)
+        labels = labels + [f"extra:{s}" for s in ex_labels]
+    n_main = len(labels) if extra is None else len(labels) - ex.shape[1]
+    if isinstance(target, str):
+        if target not in labels[:n_main]:
+            raise ValueError(f"`target` must be a mode label of `data` "
+                             f"({', '.join(labels[:min(n_main, 6)])}...); got {target!r}.")
+        target_col = labels.index(target)
+    else:
+        target_col = check_int(target, "target", minimum=0, maximum=n_main - 1)
+    horizon = check_int(horizon, "horizon", minimum=1)
+    max_lag = check_int(max_lag, "max_lag", minimum=1)
+    check_choice(method, "method", CMI_METHODS)
+    check_choice(units, "units", tuple(UNITS))
+    alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
+                       strict_max=True)
+    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    max_inputs = check_int(max_inputs, "max_inputs", minimum=1)
+    rng = check_rng(seed)
+    T = series.shape[0]
+    if T - horizon - max_lag + 1 < 20:
+        raise ValueError(f"`data` needs at least {horizon + max_lag + 19} frames for "
+                         f"horizon={horizon}, max_lag={max_lag}; got {T}.")
+    origins, C, cols = lagged_candidates(series, horizon, max_lag)
+    y = np.ascontiguousarray(series[origins + horizon, target_col])
+    n, m_all = C.shape
+    if min_shift is None:
+        shift0 = min(_auto_block(y[:, None]), n // 2)
+    else:
+        shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+    est = _estimator(method, units, options)
+    factor = UNITS[units]
+
+    Cu, alive = unit_candidates(C)
+    n_cand = int(alive.sum())
+    spectra = None
+    if method == "gaussian" and n_surrogates >= _FFT_MIN_SURROGATES:
+        L = sfft.next_fast_len(2 * n, real=True)
+        spectra = (sfft.rfft(np.ascontiguousarray(Cu.T), L, axis=1), L)
+    picked, stop, last_p = _greedy_search(
+        y, C, Cu, alive, method=method, est=est, factor=factor, alpha=alpha,
+        n_surrogates=n_surrogates, max_inputs=max_inputs, shift0=shift0, rng=rng,
+        spectra=spectra)
+    inputs = []
+    for i, (j, gain, p) in enumerate(picked):
+        low = high = math.nan
+        prev_cols = [c for c, _, _ in picked[:i]]
+        if intervals and method == "gaussian":
+            low, high = _gaussian_block_ci(
+                np.column_stack([y, C[:, j], C[:, prev_cols]]), gain, n_resamples,
+                confidence_level, rng)
+            low, high = low * factor, high * factor
+        elif intervals and method != "ksg":  # ksg: bootstrap resamples break k-NN
+            prev = C[:, prev_cols] if i else None
+            ci = conditional_mutual_information_ci(
+                y, C[:, j], prev, method=method, units=units, n_resamples=n_resamples,
+                confidence_level=confidence_level, seed=rng, **options)
+            low, high = ci.low, ci.high
+        src, lag = int(cols[j, 0]), int(cols[j, 1])
+        inputs.append(SelectedInput(
+            label=f"{labels[src]}[t-{lag}]" if lag else f"{labels[src]}[t]", source=src,
+            mode=labels[src], lag=lag, gain=gain * factor, low=low, high=high, pvalue=p))
+    return InputSelection(
+        target=labels[target_col], horizon=horizon, max_lag=max_lag, inputs=tuple(inputs),
+        information=float(sum(s.gain for s in inputs)), n_candidates=n_cand, n_samples=n,
+        stop_reason=stop, last_pvalue=last_p, method=method, units=units, alpha=alpha,
+        n_surrogates=n_surrogates, min_shift=int(shift0),
+    )
