@@ -81,8 +81,9 @@ def parse_settings(items: list[str]) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the batch and print what was done."""
+    """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
+    from modalinfo.batch.engine import NoWorkersError, check_memory_limit
 
     for flag, value in (("--workers", args.workers),
                         ("--threads-per-worker", args.threads_per_worker)):
@@ -90,12 +91,21 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"{flag} must be >= 1; got {value}")
     if args.retries is not None and args.retries < 0:
         raise CommandError(f"--retries must be >= 0; got {args.retries}")
+    if args.window_frames is not None and args.window_frames < 2:
+        raise CommandError(f"--window-frames must be >= 2; got {args.window_frames}")
+    try:
+        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+    except ValueError as exc:
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")) from None
+    settings = parse_settings(args.settings)
     hints = hints_from_args(args)
     if hints.get("nonfinite") == "raise":
         hints.pop("nonfinite")  # the reader's default: keeps the task keys of plain runs
+    if args.dataset is not None:
+        hints["dataset"] = args.dataset
     try:
         result = analyse_archive(
-            args.inputs, args.analyses, args.out, params=parse_settings(args.settings),
+            args.inputs, args.analyses, args.out, params=settings,
             fmt=args.fmt, hints=hints, scheduler=args.scheduler, n_workers=args.workers,
             threads_per_worker=args.threads_per_worker, memory_limit=args.memory_limit,
             window_frames=args.window_frames, retries=args.retries,
@@ -104,6 +114,9 @@ def run(args: argparse.Namespace) -> int:
         )
     except ImportError as exc:
         raise CommandError(str(exc)) from None
+    except NoWorkersError as exc:
+        sys.stderr.write(f"modalinfo batch: error: {exc}\n")
+        return 1
     if not args.quiet:
         rep = result.report
         out = sys.stdout
@@ -118,4 +131,11 @@ def run(args: argparse.Namespace) -> int:
                           f"{row.get('error_type')}: {row.get('error_message')}\n")
         for path in result.plots:
             out.write(f"plot: {path}\n")
+    if result.n_error:
+        lost = sum(r.get("status") == "lost" for r in result.rows)
+        sys.stderr.write(
+            f"modalinfo batch: {result.n_error} of {len(result.rows)} rows failed"
+            + (f" ({lost} lost with their workers: run again to retry them)" if lost else "")
+            + f"; see {result.csv_path}\n")
+        return 1
     return 0
