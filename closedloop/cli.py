@@ -184,13 +184,27 @@ def _cmd_config(args) -> int:
 
 def _cmd_sweep(args) -> int:
     from closedloop.sweep import load_grid, sweep
+    from modalinfo.batch.engine import NoWorkersError, check_memory_limit
 
+    for flag, value in (("--workers", args.workers),
+                        ("--threads-per-worker", args.threads_per_worker)):
+        if value is not None and value < 1:
+            raise CommandError(f"{flag} must be >= 1; got {value}")
+    try:
+        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+    except ValueError as exc:
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")) from None
     grid = load_grid(args.grid)
     if args.out.exists() and not args.out.is_dir():
         raise CommandError(f"--out '{args.out}' exists and is not a directory")
-    rows, report = sweep(grid, args.out, scheduler=args.scheduler, n_workers=args.workers,
-                         threads_per_worker=args.threads_per_worker,
-                         memory_limit=args.memory_limit, progress=not args.quiet)
+    try:
+        rows, report = sweep(grid, args.out, scheduler=args.scheduler,
+                             n_workers=args.workers,
+                             threads_per_worker=args.threads_per_worker,
+                             memory_limit=args.memory_limit, progress=not args.quiet)
+    except NoWorkersError as exc:
+        sys.stderr.write(f"closedloop sweep: error: {exc}\n")
+        return 1
     print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
           f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
     for row in sorted(rows, key=lambda r: (str(r["override"]), r["seed"], r["predictor"])):
@@ -200,6 +214,11 @@ def _cmd_sweep(args) -> int:
             print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {fov:.2f}'")
         else:
             print(f"{head}{row.get('status')}: {row.get('error_message', '')}")
+    failed = sum(r.get("status") != "ok" for r in rows)
+    if failed:
+        sys.stderr.write(f"closedloop sweep: {failed} of {len(rows)} runs failed; see "
+                         f"{args.out / 'sweep.csv'}\n")
+        return 1
     return 0
 
 
@@ -222,8 +241,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--predictors", default="none,linear,arma,nn-paper,oracle",
                    help="comma-separated names (default none,linear,arma,nn-paper,oracle)")
     p.set_defaults(_run=_cmd_compare)
-    p = sub.add_parser("sweep", help="a grid of runs (overrides x seeds x predictors) on Dask")
-    p.add_argument("grid", type=Path, help="grid TOML (see closedloop.sweep)")
+    from closedloop.sweep import GRID_HELP
+
+    p = sub.add_parser("sweep", help="a grid of runs (overrides x seeds x predictors) on Dask",
+                       description="Run every (override, seed, predictor) of a grid as one "
+                       "task on Dask; resumable; exit 1 when some run failed.",
+                       epilog=GRID_HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("grid", type=Path, help="grid TOML (format below)")
     p.add_argument("--out", type=Path, required=True, help="output directory (resumable)")
     p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler "
                    "(tcp://host:8786); default: a LocalCluster")
