@@ -165,10 +165,26 @@ def _cmd_export(args) -> int:
     check_output(out, args.overwrite, suffixes=(".fits", ".fit", ".fts"), flag="OUT (AOT FITS)")
     result = SimulationResult.load(args.result)
     path = result.to_aot(out, overwrite=args.overwrite)
-    loops = ", ".join(f"dm{i}" for i in range(len(result.config.dms)))
     print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
-          f"{len(result.config.dms)} DMs (loops {loops}, POL in dm<i>.pol)")
+          f"{len(result.config.dms)} DMs; {_aot_loops_text(path)}")
     return 0
+
+
+def _aot_loops_text(path) -> str:
+    """Describe the loops of a written AOT file, grouped by what their coefficients are."""
+    import aotpy
+
+    kinds = {"residual": "residuals", "pol": "pseudo-open loop",
+             "contribution": "reconstructor blocks, no coefficients"}
+    groups: dict[str, list[str]] = {}
+    loops = aotpy.AOSystem.read_from_file(str(path)).loops
+    for lp in loops:
+        cards = getattr(lp.modal_coefficients, "metadata", None) or []
+        kind = next((m.value for m in cards if m.key == "MI_QUANT"), "contribution"
+                    if lp.modal_coefficients is None else "other")
+        groups.setdefault(kinds.get(kind, str(kind)), []).append(lp.uid)
+    parts = "; ".join(f"{', '.join(uids)} ({what})" for what, uids in groups.items())
+    return f"{len(loops)} loops: {parts}"
 
 
 def _cmd_config(args) -> int:
