@@ -210,6 +210,9 @@ def _cmd_sweep(args) -> int:
         check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
     except ValueError as exc:
         raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")) from None
+    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
+        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
+                           f"{args.worker_wait:g}")
     grid = load_grid(args.grid)
     if args.out.exists() and not args.out.is_dir():
         raise CommandError(f"--out '{args.out}' exists and is not a directory")
@@ -217,7 +220,8 @@ def _cmd_sweep(args) -> int:
         rows, report = sweep(grid, args.out, scheduler=args.scheduler,
                              n_workers=args.workers,
                              threads_per_worker=args.threads_per_worker,
-                             memory_limit=args.memory_limit, progress=not args.quiet)
+                             memory_limit=args.memory_limit, progress=not args.quiet,
+                             worker_wait=args.worker_wait)
     except NoWorkersError as exc:
         sys.stderr.write(f"closedloop sweep: error: {exc}\n")
         return 1
@@ -270,6 +274,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=int, default=None, help="local worker processes")
     p.add_argument("--threads-per-worker", type=int, default=None)
     p.add_argument("--memory-limit", default=None, help="per local worker, e.g. 4GB")
+    p.add_argument("--worker-wait", type=float, default=None, metavar="S",
+                   help="give up (exit 1, finished runs kept) after S seconds with no "
+                   "running worker (default 60)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(_run=_cmd_sweep)
     p = sub.add_parser("info", help="summarise a result file")

@@ -215,9 +215,9 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
     modalinfo.batch.engine.NoWorkersError
         No worker ran a run for ``worker_wait`` seconds; finished rows are kept.
     """
+    from modalinfo.batch import engine
     from modalinfo.batch.archive import check_out_dir, locked_out_dir
     from modalinfo.batch.engine import (
-        WORKER_WAIT,
         RowStore,
         check_memory_limit,
         open_client,
@@ -245,7 +245,7 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
             return started[0]
 
         report = run_tasks(specs, run_one, store, get_client, progress=progress,
-                           worker_wait=WORKER_WAIT if worker_wait is None else worker_wait,
+                           worker_wait=engine.WORKER_WAIT if worker_wait is None else worker_wait,
                            name="closedloop sweep")
         keys = {s.key for s in specs}
         rows = [r for r in store.rows() if r.get("key") in keys]

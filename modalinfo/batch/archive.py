@@ -28,9 +28,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from modalinfo.batch import engine
 from modalinfo.batch.analyses import resolve_params, run_log_task, sha256_file
 from modalinfo.batch.engine import (
-    WORKER_WAIT,
     EngineReport,
     RowStore,
     TaskSpec,
@@ -296,7 +296,7 @@ def analyse_archive(
     retry_errors: bool = False,
     progress: bool = True,
     plots: bool = True,
-    worker_wait: float = WORKER_WAIT,
+    worker_wait: float | None = None,
 ) -> BatchResult:
     """Run per-log analyses over an archive on Dask; resumable, errors become rows.
 
@@ -339,9 +339,10 @@ def analyse_archive(
         Progress bar and dashboard link on stderr.
     plots : bool
         Draw the summary plots into ``<out>/plots``.
-    worker_wait : float
+    worker_wait : float, optional
         Seconds to wait while no worker is running before giving up
-        (:class:`~modalinfo.batch.engine.NoWorkersError`).
+        (:class:`~modalinfo.batch.engine.NoWorkersError`; default
+        :data:`~modalinfo.batch.engine.WORKER_WAIT`).
 
     Returns
     -------
@@ -393,7 +394,8 @@ def analyse_archive(
         probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None)
         specs = build_specs(entries, names, resolved, probes, window_frames)
         report = run_tasks(specs, run_log_task, store, get_client, progress=progress,
-                           retry_errors=retry_errors, worker_wait=worker_wait,
+                           retry_errors=retry_errors,
+                           worker_wait=engine.WORKER_WAIT if worker_wait is None else worker_wait,
                            name="modalinfo batch")
         wanted = {s.key for s in specs}
         order = {n: i for i, n in enumerate(names)}
