@@ -132,6 +132,7 @@ def _load_logs(args, logs, modules) -> dict:
     from paper_figures._common import check_log_for
 
     loaded = {}
+    notes: list[str] = []  # printed once every check passed: a refusal stays one line
     for path, suffix, key, desc in logs:
         try:
             # a user's log with the CLI's input hints; the shipped ones as they are
@@ -139,9 +140,9 @@ def _load_logs(args, logs, modules) -> dict:
             if key == "user":
                 args._notes = []
                 log = split_gaps(log, args, path, "Figures 1 and 5")
-                notes = [n.split(": note: ", 1)[-1] for n in args._notes]
-                for note in input_notes(log, path) + notes:  # what was assumed, as the CLI
-                    sys.stderr.write(f"paper_figures: note: {note}\n")
+                # what was assumed or cut, as the CLI says it
+                notes += input_notes(log, path) + [n.split(": note: ", 1)[-1]
+                                                   for n in args._notes]
         except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
             message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
             raise _RefusedError(f"--log: {message}") from None
@@ -155,6 +156,8 @@ def _load_logs(args, logs, modules) -> dict:
                 where = "--log" if key == "user" else f"shipped log '{path}'"
                 raise _RefusedError(f"{label} on {where}: {message}") from None
         loaded[key] = ((log, f"`{path}`"), suffix, desc)
+    for note in notes:
+        sys.stderr.write(f"paper_figures: note: {note}\n")
     return loaded
 
 

@@ -418,6 +418,8 @@ def check_memory_limit(memory_limit: str | float | None, threads_per_worker: int
             raise ValueError
         value = parse_memory_limit(memory_limit, threads_per_worker,
                                    logger=logging.getLogger(__name__))
+        if value is not None and value < 0:  # parse_bytes("-2GB") is -2e9, no error
+            raise ValueError
     except (ValueError, TypeError):
         raise ValueError(f"`memory_limit` must be a size such as '2GB', 'auto', 0 (no "
                          f"limit) or a fraction of the machine's memory in (0, 1]; got "
