@@ -253,3 +253,45 @@ def test_cli_on_a_scheduler_without_workers_exits_1(tmp_path, capsys, helpers):
     assert code == 1
     assert err.strip().splitlines()[-1].startswith("modalinfo batch: error: no Dask worker")
     assert not (out / OutputLock.NAME).exists()  # the lock is released on the way out
+
+
+# ----------------------------------------------------------------------- manifests
+def test_manifest_takes_the_transpose_dataset_and_loop_hints_of_the_cli(tmp_path, helpers):
+    import numpy as np
+
+    from modalinfo.batch.manifest import collect_logs
+    from modalinfo.io import load
+
+    x = helpers.make_log(3, n_frames=40, n_modes=5).coeffs
+    np.save(tmp_path / "wide.npy", np.ascontiguousarray(x.T))  # modes x frames
+    np.savez(tmp_path / "two.npz", calib=np.eye(3), coeffs=x)
+    (tmp_path / "m.csv").write_text("path,transpose,dataset,rate\n"
+                                    "wide.npy,true,,500\n"
+                                    "two.npz,,coeffs,500\n")
+    entries = {e.path.rsplit("/", 1)[1]: e for e in collect_logs(tmp_path / "m.csv")}
+    assert entries["wide.npy"].hints == {"transpose": True, "rate": 500.0}
+    assert entries["two.npz"].hints == {"dataset": "coeffs", "rate": 500.0}
+    for name, entry in entries.items():  # the hints give what load gives with them
+        log = load(entry.path, fmt=entry.fmt, **entry.hints)
+        np.testing.assert_array_equal(log.coeffs, x)
+    (tmp_path / "bad.csv").write_text("path,transpose\nwide.npy,maybe\n")
+    with pytest.raises(ValueError, match="column 'transpose' must be true or false"):
+        collect_logs(tmp_path / "bad.csv")
+    (tmp_path / "aot.csv").write_text("path,loop\nwide.npy,dm0\n")
+    assert collect_logs(tmp_path / "aot.csv")[0].hints == {"loop": "dm0"}
+
+
+def test_a_manifest_without_a_path_column_is_not_read_as_a_log(tmp_path, helpers):
+    import numpy as np
+
+    from modalinfo.batch.manifest import collect_logs
+
+    (tmp_path / "files.csv").write_text("file,rate\nnight1.h5,1000\nnight2.fits,1000\n")
+    with pytest.raises(ValueError, match="names files .'night1.h5'. like a manifest but "
+                                         "its header has no 'path' column"):
+        collect_logs(tmp_path / "files.csv")
+    # a numeric CSV log (header of mode labels) is still a log
+    np.savetxt(tmp_path / "log.csv", helpers.make_log(0, 20, 3).coeffs, delimiter=",",
+               header="Z2,Z3,Z4", comments="")
+    (entry,) = collect_logs(tmp_path / "log.csv")
+    assert entry.path == str((tmp_path / "log.csv").resolve())
