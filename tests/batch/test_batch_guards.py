@@ -271,7 +271,7 @@ def test_manifest_takes_the_transpose_dataset_and_loop_hints_of_the_cli(tmp_path
     entries = {e.path.rsplit("/", 1)[1]: e for e in collect_logs(tmp_path / "m.csv")}
     assert entries["wide.npy"].hints == {"transpose": True, "rate": 500.0}
     assert entries["two.npz"].hints == {"dataset": "coeffs", "rate": 500.0}
-    for name, entry in entries.items():  # the hints give what load gives with them
+    for entry in entries.values():  # the hints give what load gives with them
         log = load(entry.path, fmt=entry.fmt, **entry.hints)
         np.testing.assert_array_equal(log.coeffs, x)
     (tmp_path / "bad.csv").write_text("path,transpose\nwide.npy,maybe\n")

@@ -54,7 +54,8 @@ def test_sweep_rows_resume_and_errors(tmp_path, capsys):
                  "--quiet"]) == 1
     captured = capsys.readouterr()
     assert "6 already done, 0 ran" in captured.out
-    assert captured.err == f"closedloop sweep: 2 of 6 runs failed; see {tmp_path / 'out' / 'sweep.csv'}\n"
+    table = tmp_path / "out" / "sweep.csv"
+    assert captured.err == f"closedloop sweep: 2 of 6 runs failed; see {table}\n"
 
 
 def test_bad_grid(tmp_path, capsys):
