@@ -200,7 +200,11 @@ def _cmd_config(args) -> int:
 
 def _cmd_sweep(args) -> int:
     from closedloop.sweep import load_grid, sweep
-    from modalinfo.batch.engine import NoWorkersError, check_memory_limit
+    from modalinfo.batch.engine import (
+        NoWorkersError,
+        check_memory_limit,
+        check_worker_count,
+    )
 
     for flag, value in (("--workers", args.workers),
                         ("--threads-per-worker", args.threads_per_worker)):
@@ -208,8 +212,11 @@ def _cmd_sweep(args) -> int:
             raise CommandError(f"{flag} must be >= 1; got {value}")
     try:
         check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+        if args.workers is not None and args.scheduler is None:
+            check_worker_count(args.workers)
     except ValueError as exc:
-        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")) from None
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
+                           .replace("`n_workers`", "--workers")) from None
     if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
         raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
                            f"{args.worker_wait:g}")

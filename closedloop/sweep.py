@@ -107,6 +107,24 @@ def _base(grid: dict) -> SimulationConfig:
     return presets.get(grid.get("preset", "table1"))
 
 
+def _check_memory(config: SimulationConfig, duration: float, budget_every: int | None,
+                  predictor: str) -> None:
+    """Refuse, before any cluster starts, a run that needs more memory than the machine.
+
+    Uses ``closedloop.resources.check_resources`` when this version of closedloop has
+    it (without it, ``simulate``'s own checks make such a run an error row). A run the
+    simulator refuses for other reasons (an unstable gain, a run too short) is not
+    refused here: it is an error row of the sweep, found in well under a second, as a
+    sweep across a stability limit expects.
+    """
+    try:
+        from closedloop.resources import check_resources
+    except ImportError:
+        return
+    check_resources(config, duration, oracle=predictor == "oracle",
+                    budget=budget_every is not None)
+
+
 def sweep_specs(grid: dict) -> list:
     """One :class:`modalinfo.batch.engine.TaskSpec` per (override, seed, predictor)."""
     from closedloop.predictors import NAMES
@@ -151,6 +169,8 @@ def sweep_specs(grid: dict) -> list:
         name = str(ov.get("name", ", ".join(f"{k}={v}" for k, v in changes.items()) or "base"))
         try:
             config = override(base, changes)
+            for predictor in dict.fromkeys(predictors):
+                _check_memory(config, duration, budget_every, predictor)
         except (ValueError, TypeError) as exc:
             raise ValueError(f"grid override {name!r}: {exc}") from None
         for seed in seeds:

@@ -259,8 +259,12 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
             print(f"[paper_figures] closed-loop runs for Figures 2-4"
                   f"{' (quick)' if args.quick else ''} ...", flush=True)
-            runs = closedloop_runs.compute(quick=args.quick, duration=args.duration,
-                                           seed=args.seed)
+            try:
+                runs = closedloop_runs.compute(quick=args.quick, duration=args.duration,
+                                               seed=args.seed)
+            except ValueError as exc:  # a run the simulator refuses (--duration, memory)
+                raise _RefusedError(f"closed-loop runs of Figures 2-4: "
+                                    f"{str(exc).splitlines()[0]}") from None
             elapsed = time.perf_counter() - start
             print(f"[paper_figures] closed-loop runs done in {elapsed:.1f} s", flush=True)
             sections.append(closedloop_runs.report_section(runs, elapsed))
@@ -287,10 +291,13 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
                 rows += [(tag, row) for row in module.table_rows(result)]
             text = "\n".join(texts)
         else:
-            if kind == "runs":
-                result = module.compute(runs)
-            else:
-                result = module.compute(quick=args.quick, seed=args.seed)
+            try:
+                if kind == "runs":
+                    result = module.compute(runs)
+                else:
+                    result = module.compute(quick=args.quick, seed=args.seed)
+            except ValueError as exc:  # e.g. a run the simulator refuses (memory, length)
+                raise _RefusedError(f"{label}: {str(exc).splitlines()[0]}") from None
             module.plot(result, stage)
             text = module.report(result)
             rows += [(label, row) for row in module.table_rows(result)]

@@ -59,6 +59,7 @@ __all__ = [
     "TaskSpec",
     "canonical_json",
     "check_memory_limit",
+    "check_worker_count",
     "dashboard_link",
     "open_client",
     "package_version",
@@ -384,6 +385,28 @@ def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | No
 
 
 # ----------------------------------------------------------------------- client
+#: Memory of one idle worker process (interpreter, numpy, numba, distributed) [bytes].
+WORKER_BASELINE = 150 * 2**20
+
+
+def check_worker_count(n_workers: int) -> None:
+    """Refuse more local worker processes than the machine's free memory can start.
+
+    Raises
+    ------
+    ValueError
+        ``n_workers x`` :data:`WORKER_BASELINE` exceeds the available memory.
+    """
+    import psutil
+
+    available = psutil.virtual_memory().available
+    if n_workers * WORKER_BASELINE > available:
+        most = max(1, available // WORKER_BASELINE)
+        raise ValueError(f"`n_workers` must be at most {most} here: each worker process "
+                         f"holds ~{WORKER_BASELINE // 2**20} MB before any task and "
+                         f"{available / 2**30:.1f} GiB is available; got {n_workers}")
+
+
 def check_memory_limit(memory_limit: str | float | None, threads_per_worker: int = 1) -> None:
     """Refuse a per-worker memory limit a worker cannot run under, before any cluster.
 
@@ -492,6 +515,7 @@ def open_client(
         raise ValueError(f"`n_workers` must be >= 1; got {n_workers}")
     n_workers = int(n_workers)
     check_memory_limit(memory_limit, threads_per_worker)
+    check_worker_count(n_workers)
     threads = task_threads(n_workers, threads_per_worker, cpus)
     failures = {}
     if retries is not None:

@@ -91,7 +91,11 @@ def parse_settings(items: list[str]) -> dict:
 def run(args: argparse.Namespace) -> int:
     """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
-    from modalinfo.batch.engine import NoWorkersError, check_memory_limit
+    from modalinfo.batch.engine import (
+        NoWorkersError,
+        check_memory_limit,
+        check_worker_count,
+    )
 
     for flag, value in (("--workers", args.workers),
                         ("--threads-per-worker", args.threads_per_worker)):
@@ -106,8 +110,11 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--window-frames must be >= 2; got {args.window_frames}")
     try:
         check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+        if args.workers is not None and args.scheduler is None:
+            check_worker_count(args.workers)
     except ValueError as exc:
-        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")) from None
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
+                           .replace("`n_workers`", "--workers")) from None
     settings = parse_settings(args.settings)
     hints = hints_from_args(args)
     if hints.get("nonfinite") == "raise":

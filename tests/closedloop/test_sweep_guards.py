@@ -134,3 +134,14 @@ def test_export_lists_the_loops_of_the_file_and_info_names_pol_data(tmp_path, ca
     assert modalinfo_main(["info", str(tmp_path / "run.fits"), "--loop", "dm0"]) == 0
     line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("loop "))
     assert "pseudo-open-loop" not in line and "residual" in line
+
+
+def test_a_grid_point_needing_more_memory_than_the_machine_is_refused(tmp_path, capsys):
+    pytest.importorskip("closedloop.resources")  # the simulator's memory estimate
+    (tmp_path / "g.toml").write_text('preset = "table1"\nduration = 0.01\n'
+                                     '[[overrides]]\nname = "huge"\n'
+                                     '"telescope.n_pixels" = 30000\n')
+    assert main(["sweep", str(tmp_path / "g.toml"), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "grid override 'huge'" in err
+    assert not (tmp_path / "o").exists()

@@ -209,3 +209,17 @@ def test_a_finished_run_moves_every_file_into_place(tmp_path, capsys, stand_ins)
     nested = tmp_path / "a" / "b"
     assert main(["--only", "2", "--out", str(nested)]) == 0
     assert (nested / "fig2_sr_peak.png").read_bytes() == b"new fig2"
+
+
+def test_a_run_the_simulator_refuses_is_one_line_and_writes_nothing(tmp_path, capsys,
+                                                                   stand_ins, monkeypatch):
+    from paper_figures import closedloop_runs
+
+    def refuse(**kw):
+        raise ValueError("`duration` needs 9.1 TB; 12 GB is available.")
+
+    monkeypatch.setattr(closedloop_runs, "compute", refuse)
+    out = tmp_path / "out"
+    err = _refused(capsys, ["--only", "2", "--duration", "1e9", "--out", str(out)],
+                   "closed-loop runs of Figures 2-4: `duration` needs 9.1 TB")
+    assert "Traceback" not in err and not out.exists() and _leftovers(tmp_path) == []
