@@ -249,8 +249,8 @@ def _check_foreign(out_dir: Path, marker: str = "rows") -> None:
 def locked_out_dir(out_dir: Path, command: str, marker: str = "rows"):
     """Create ``out_dir`` if needed, take its lock, refuse a foreign directory; yield.
 
-    On leaving, the lock is released, and a directory created here that is still
-    empty is removed (a run refused at its start leaves nothing behind).
+    On leaving, the lock is released, and a directory created here that holds no
+    row is removed (a run that failed at its start leaves nothing behind).
     """
     from modalinfo.batch.engine import OutputLock
 
@@ -263,9 +263,10 @@ def locked_out_dir(out_dir: Path, command: str, marker: str = "rows"):
             _check_foreign(out_dir, marker)
             yield out_dir
     finally:
-        if created:
+        if created:  # a run that wrote no row leaves no folder behind
             with contextlib.suppress(OSError):
-                out_dir.rmdir()  # only if empty
+                (out_dir / marker).rmdir()  # only if empty
+                out_dir.rmdir()
 
 
 def _parse_analyses(analyses: str | list[str]) -> list[str]:
