@@ -295,3 +295,13 @@ def test_a_manifest_without_a_path_column_is_not_read_as_a_log(tmp_path, helpers
                header="Z2,Z3,Z4", comments="")
     (entry,) = collect_logs(tmp_path / "log.csv")
     assert entry.path == str((tmp_path / "log.csv").resolve())
+
+
+def test_a_scheduler_that_cannot_be_reached_leaves_no_folder(tmp_path, capsys, helpers):
+    helpers.write_archive(tmp_path, n_good=1, corrupt=False)
+    out = tmp_path / "out"
+    assert main(["batch", str(tmp_path), "--out", str(out), "--scheduler", "no-port-here",
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no-port-here" in err
+    assert not out.exists()
