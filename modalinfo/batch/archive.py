@@ -264,9 +264,9 @@ def locked_out_dir(out_dir: Path, command: str, marker: str = "rows"):
             yield out_dir
     finally:
         if created:  # a run that wrote no row leaves no folder behind
-            with contextlib.suppress(OSError):
-                (out_dir / marker).rmdir()  # only if empty
-                out_dir.rmdir()
+            for folder in (out_dir / marker, out_dir):
+                with contextlib.suppress(OSError):
+                    folder.rmdir()  # only if empty
 
 
 def _parse_analyses(analyses: str | list[str]) -> list[str]:
