@@ -234,6 +234,9 @@ def _run(args) -> int:
     html_path = args.out / "report.html"
     outputs = [report_path, html_path] + [args.out / name for module, _, _ in modules
                                           for name in _outputs(module, logs)]
+    folders = [path for path in outputs if path.is_dir()]
+    if folders:
+        raise _RefusedError(f"'{folders[0]}' is a folder; the run writes a file of that name")
     existing = [path for path in outputs if path.exists()]
     if existing and not args.overwrite:
         raise _RefusedError(f"'{existing[0]}' exists; pass --overwrite to replace it")

@@ -81,7 +81,13 @@ def staged_output(out: Path) -> Iterator[Path]:
             out.parent.mkdir(parents=True, exist_ok=True)
             os.replace(stage, out)
         else:
-            for item in sorted(stage.iterdir()):
+            items = sorted(stage.iterdir())
+            clash = [out / i.name for i in items if (out / i.name).is_dir() != i.is_dir()
+                     and (out / i.name).exists()]
+            if clash:  # found before anything is moved: `out` stays as it was
+                raise OutputError(f"'{clash[0]}' is in the way: the run writes a "
+                                  f"{'folder' if clash[0].is_file() else 'file'} there")
+            for item in items:
                 target = out / item.name
                 if item.is_dir() and target.is_dir():
                     shutil.copytree(item, target, dirs_exist_ok=True)

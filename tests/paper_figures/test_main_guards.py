@@ -223,3 +223,13 @@ def test_a_run_the_simulator_refuses_is_one_line_and_writes_nothing(tmp_path, ca
     err = _refused(capsys, ["--only", "2", "--duration", "1e9", "--out", str(out)],
                    "closed-loop runs of Figures 2-4: `duration` needs 9.1 TB")
     assert "Traceback" not in err and not out.exists() and _leftovers(tmp_path) == []
+
+
+def test_a_folder_where_an_output_file_goes_is_refused(tmp_path, capsys):
+    out = tmp_path / "out"
+    (out / "report.md").mkdir(parents=True)
+    (out / "report.md" / "draft.txt").write_text("mine")
+    before = _state(out)
+    _refused(capsys, ["--only", "3", "--out", str(out), "--overwrite"],
+             "report.md' is a folder; the run writes a file of that name")
+    assert _state(out) == before
