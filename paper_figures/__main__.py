@@ -30,7 +30,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import platform
+import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -200,6 +202,11 @@ def main(argv: list[str] | None = None) -> int:
     add_gap_argument(parser)
     parser.set_defaults(command="paper_figures")
     args = parser.parse_args(argv)
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        # `kill` / a batch system's time limit: clean up as for Ctrl-C (the temporary
+        # folder is removed, the output folder stays as it was)
+        previous = signal.signal(signal.SIGTERM, _terminated)
     try:
         return _run(args)
     except _RefusedError as exc:
@@ -213,6 +220,13 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
                          f"; '{args.out}' is as it was\n")
         return 1
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _terminated(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 def _run(args) -> int:
