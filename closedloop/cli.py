@@ -235,14 +235,26 @@ def _cmd_export(args) -> int:
     _check_writable(out, 2.0 * args.result.stat().st_size, "OUT (AOT FITS)")
     result = SimulationResult.load(args.result)
     path = result.to_aot(out, overwrite=args.overwrite)
-    from modalinfo.io.aot import aot_loops
-
-    # the loops the file holds (residual, POL and reconstructor blocks), read back
-    loops = aot_loops(path)
     print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
-          f"{len(result.config.dms)} DMs, {len(loops)} loops ({', '.join(loops)}; POL in "
-          "dm<i>.pol)")
+          f"{len(result.config.dms)} DMs; {_aot_loops_text(path)}")
     return 0
+
+
+def _aot_loops_text(path) -> str:
+    """Describe the loops of a written AOT file, grouped by what their coefficients are."""
+    import aotpy
+
+    kinds = {"residual": "residuals", "pol": "pseudo-open loop",
+             "contribution": "reconstructor blocks, no coefficients"}
+    groups: dict[str, list[str]] = {}
+    loops = aotpy.AOSystem.read_from_file(str(path)).loops
+    for lp in loops:
+        cards = getattr(lp.modal_coefficients, "metadata", None) or []
+        kind = next((m.value for m in cards if m.key == "MI_QUANT"), "contribution"
+                    if lp.modal_coefficients is None else "other")
+        groups.setdefault(kinds.get(kind, str(kind)), []).append(lp.uid)
+    parts = "; ".join(f"{', '.join(uids)} ({what})" for what, uids in groups.items())
+    return f"{len(loops)} loops: {parts}"
 
 
 def _cmd_config(args) -> int:
@@ -268,13 +280,38 @@ def _cmd_config(args) -> int:
 
 def _cmd_sweep(args) -> int:
     from closedloop.sweep import load_grid, sweep
+    from modalinfo.batch.engine import (
+        NoWorkersError,
+        check_memory_limit,
+        check_worker_count,
+    )
 
+    for flag, value in (("--workers", args.workers),
+                        ("--threads-per-worker", args.threads_per_worker)):
+        if value is not None and value < 1:
+            raise CommandError(f"{flag} must be >= 1; got {value}")
+    try:
+        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+        if args.workers is not None and args.scheduler is None:
+            check_worker_count(args.workers)
+    except ValueError as exc:
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
+                           .replace("`n_workers`", "--workers")) from None
+    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
+        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
+                           f"{args.worker_wait:g}")
     grid = load_grid(args.grid)
     if args.out.exists() and not args.out.is_dir():
         raise CommandError(f"--out '{args.out}' exists and is not a directory")
-    rows, report = sweep(grid, args.out, scheduler=args.scheduler, n_workers=args.workers,
-                         threads_per_worker=args.threads_per_worker,
-                         memory_limit=args.memory_limit, progress=not args.quiet)
+    try:
+        rows, report = sweep(grid, args.out, scheduler=args.scheduler,
+                             n_workers=args.workers,
+                             threads_per_worker=args.threads_per_worker,
+                             memory_limit=args.memory_limit, progress=not args.quiet,
+                             worker_wait=args.worker_wait)
+    except NoWorkersError as exc:
+        sys.stderr.write(f"closedloop sweep: error: {exc}\n")
+        return 1
     print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
           f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
     for row in sorted(rows, key=lambda r: (str(r["override"]), r["seed"], r["predictor"])):
@@ -284,6 +321,11 @@ def _cmd_sweep(args) -> int:
             print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {fov:.2f}'")
         else:
             print(f"{head}{row.get('status')}: {row.get('error_message', '')}")
+    failed = sum(r.get("status") != "ok" for r in rows)
+    if failed:
+        sys.stderr.write(f"closedloop sweep: {failed} of {len(rows)} runs failed; see "
+                         f"{args.out / 'sweep.csv'}\n")
+        return 1
     return 0
 
 
@@ -306,14 +348,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--predictors", default="none,linear,arma,nn-paper,oracle",
                    help="comma-separated names (default none,linear,arma,nn-paper,oracle)")
     p.set_defaults(_run=_cmd_compare)
-    p = sub.add_parser("sweep", help="a grid of runs (overrides x seeds x predictors) on Dask")
-    p.add_argument("grid", type=Path, help="grid TOML (see closedloop.sweep)")
+    from closedloop.sweep import GRID_HELP
+
+    p = sub.add_parser("sweep", help="a grid of runs (overrides x seeds x predictors) on Dask",
+                       description="Run every (override, seed, predictor) of a grid as one "
+                       "task on Dask; resumable; exit 1 when some run failed.",
+                       epilog=GRID_HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("grid", type=Path, help="grid TOML (format below)")
     p.add_argument("--out", type=Path, required=True, help="output directory (resumable)")
     p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler "
                    "(tcp://host:8786); default: a LocalCluster")
     p.add_argument("--workers", type=int, default=None, help="local worker processes")
     p.add_argument("--threads-per-worker", type=int, default=None)
     p.add_argument("--memory-limit", default=None, help="per local worker, e.g. 4GB")
+    p.add_argument("--worker-wait", type=float, default=None, metavar="S",
+                   help="give up (exit 1, finished runs kept) after S seconds with no "
+                   "running worker (default 60)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(_run=_cmd_sweep)
     p = sub.add_parser("info", help="summarise a result file")

@@ -11,22 +11,7 @@ runs with a bounded number of threads. Each run writes its result file
 one row: SR peak and field-mean SR after closure, corrected-FoV diameter, the error
 budget's on-axis terms, steps/s.
 
-Grid file::
-
-    preset = "table1"          # or: config = "my.toml"
-    duration = 0.3             # s
-    seeds = [0, 1]
-    predictors = ["none", "arma"]
-    budget_every = 5           # optional: error budget every 5 frames
-
-    [[overrides]]              # optional; none = the base alone
-    name = "gain 0.3"
-    "loop.gain" = 0.3
-    [[overrides]]
-    name = "upper at 15 km"
-    "layers.1.altitude" = 15000.0
-    "dms.1.altitude" = 15000.0
-    "wfss.1.altitude" = 15000.0
+The grid file's format is :data:`GRID_HELP` (printed by ``closedloop sweep --help``).
 """
 
 from __future__ import annotations
@@ -42,7 +27,29 @@ import numpy as np
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config
 
-__all__ = ["load_grid", "sweep_specs", "run_one", "sweep"]
+__all__ = ["GRID_HELP", "load_grid", "sweep_specs", "run_one", "sweep"]
+
+#: The grid file's format, as printed by ``closedloop sweep --help`` (and in the README).
+GRID_HELP = """grid file (TOML); every key is optional:
+
+    preset = "table1"          # or: config = "my.toml" (relative to the grid file)
+    duration = 0.3             # s of simulated time per run (default 0.3)
+    seeds = [0, 1]             # atmospheres (default: the base config's seed)
+    predictors = ["none", "arma"]   # closedloop predictors (default ["none"])
+    budget_every = 5           # optional: error budget every 5 frames
+
+    [[overrides]]              # optional; none = the base alone
+    name = "gain 0.3"          # label of the rows (default: the changes)
+    "loop.gain" = 0.3          # dotted config key (as in `closedloop config`) = value
+    [[overrides]]
+    name = "upper at 15 km"
+    "layers.1.altitude" = 15000.0
+    "dms.1.altitude" = 15000.0
+    "wfss.1.altitude" = 15000.0
+
+Runs = overrides x seeds x predictors, one task each; a run's row holds its SR peak,
+field-mean SR, corrected-FoV diameter and (with budget_every) the on-axis error budget.
+Outputs in --out: sweep.csv, sweep.parquet, runs/<key>.h5, rows/ (resume state)."""
 
 _GRID_KEYS = {"preset", "config", "duration", "seeds", "predictors", "overrides",
               "budget_every"}
@@ -56,10 +63,12 @@ def _apply(d: dict, dotted: str, value: Any) -> None:
     last = parts[-1]
     if isinstance(node, list):
         node[int(last)] = value
-    else:
-        if last not in node and not isinstance(node, dict):
-            raise KeyError(dotted)
+    elif isinstance(node, dict):
+        if last not in node:  # a typo would otherwise add a key the config ignores
+            raise KeyError(f"{last!r} is not among {', '.join(sorted(node))}")
         node[last] = value
+    else:
+        raise KeyError(f"{'.'.join(parts[:-1])} is a value, not a table")
 
 
 def override(config: SimulationConfig, changes: dict[str, Any]) -> SimulationConfig:
@@ -69,7 +78,8 @@ def override(config: SimulationConfig, changes: dict[str, Any]) -> SimulationCon
         try:
             _apply(d, key, value)
         except (KeyError, IndexError, ValueError, TypeError) as exc:
-            raise ValueError(f"override `{key}`: no such config entry ({exc}).") from exc
+            why = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+            raise ValueError(f"unknown key `{key}` ({why}).") from None
     return SimulationConfig.from_dict(d)
 
 
@@ -97,27 +107,72 @@ def _base(grid: dict) -> SimulationConfig:
     return presets.get(grid.get("preset", "table1"))
 
 
+def _check_memory(config: SimulationConfig, duration: float, budget_every: int | None,
+                  predictor: str) -> None:
+    """Refuse, before any cluster starts, a run that needs more memory than the machine.
+
+    Uses ``closedloop.resources.check_resources`` when this version of closedloop has
+    it (without it, ``simulate``'s own checks make such a run an error row). A run the
+    simulator refuses for other reasons (an unstable gain, a run too short) is not
+    refused here: it is an error row of the sweep, found in well under a second, as a
+    sweep across a stability limit expects.
+    """
+    try:
+        from closedloop.resources import check_resources
+    except ImportError:
+        return
+    check_resources(config, duration, oracle=predictor == "oracle",
+                    budget=budget_every is not None)
+
+
 def sweep_specs(grid: dict) -> list:
     """One :class:`modalinfo.batch.engine.TaskSpec` per (override, seed, predictor)."""
     from closedloop.predictors import NAMES
     from modalinfo.batch.engine import TaskSpec, task_key
 
     base = _base(grid)
-    duration = float(grid.get("duration", 0.3))
-    if duration <= 0:
-        raise ValueError(f"grid `duration` must be > 0 s; got {duration:g}")
-    seeds = [int(s) for s in grid.get("seeds", [base.seed])]
-    predictors = list(grid.get("predictors", ["none"]))
+    duration = grid.get("duration", 0.3)
+    if isinstance(duration, bool) or not isinstance(duration, int | float) or not (
+            0 < duration < float("inf")):
+        raise ValueError(f"grid `duration` must be a number of seconds > 0; got {duration!r}")
+    duration = float(duration)
+    seeds = grid.get("seeds", [base.seed])
+    if (not isinstance(seeds, list) or not seeds
+            or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds)):
+        raise ValueError(f"grid `seeds` must be a non-empty list of ints >= 0; got {seeds!r}")
+    predictors = grid.get("predictors", ["none"])
+    if not isinstance(predictors, list) or not predictors or not all(
+            isinstance(p, str) for p in predictors):
+        raise ValueError(f"grid `predictors` must be a non-empty list of names from "
+                         f"{', '.join(NAMES)}; got {predictors!r}")
     bad = [p for p in predictors if p not in NAMES]
     if bad:
         raise ValueError(f"grid `predictors`: {bad[0]!r} is not one of {', '.join(NAMES)}")
-    overrides = grid.get("overrides") or [{"name": "base"}]
+    overrides = grid.get("overrides", [])
+    if not isinstance(overrides, list) or not all(isinstance(o, dict) for o in overrides):
+        raise ValueError("grid `overrides` must be an array of tables ([[overrides]] "
+                         f"sections); got {overrides!r}")
+    overrides = overrides or [{"name": "base"}]
     budget_every = grid.get("budget_every")
+    if budget_every is not None and (isinstance(budget_every, bool)
+                                     or not isinstance(budget_every, int) or budget_every < 1):
+        raise ValueError(f"grid `budget_every` must be an int >= 1 (frames); got "
+                         f"{budget_every!r}")
+    names = [str(o["name"]) for o in overrides if "name" in o]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"grid `overrides`: the name {twice[0]!r} is used twice; rows "
+                         "are told apart by name")
     specs = []
     for ov in overrides:
         changes = {k: v for k, v in ov.items() if k != "name"}
         name = str(ov.get("name", ", ".join(f"{k}={v}" for k, v in changes.items()) or "base"))
-        config = override(base, changes)
+        try:
+            config = override(base, changes)
+            for predictor in dict.fromkeys(predictors):
+                _check_memory(config, duration, budget_every, predictor)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"grid override {name!r}: {exc}") from None
         for seed in seeds:
             for predictor in predictors:
                 payload = {"config": config.to_dict(), "seed": seed, "predictor": predictor,
@@ -157,18 +212,49 @@ def run_one(payload: dict) -> dict:
 
 def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
           n_workers: int | None = None, threads_per_worker: int | None = None,
-          memory_limit: str | None = None, progress: bool = True):
-    """Run a grid; write ``sweep.csv`` / ``sweep.parquet`` and the runs; return the rows."""
-    from modalinfo.batch.engine import RowStore, open_client, run_tasks, write_table
+          memory_limit: str | None = None, progress: bool = True,
+          worker_wait: float | None = None):
+    """Run a grid; write ``sweep.csv`` / ``sweep.parquet`` and the runs; return the rows.
+
+    Everything is checked before any run: the grid (every override builds a valid
+    config), the memory limit, and the output directory (a directory or creatable,
+    writable, with free space, not foreign, not in use by another batch or sweep:
+    ``<out>/.lock``).
+
+    Returns
+    -------
+    rows : list of dict
+        One row per (override, seed, predictor), ``status`` ``ok``, ``error`` or ``lost``.
+    report : modalinfo.batch.engine.EngineReport
+
+    Raises
+    ------
+    ValueError
+        A bad grid, memory limit or output directory; ``OutputInUseError`` (a
+        ValueError) when another run holds the directory.
+    modalinfo.batch.engine.NoWorkersError
+        No worker ran a run for ``worker_wait`` seconds; finished rows are kept.
+    """
+    from modalinfo.batch import engine
+    from modalinfo.batch.archive import check_out_dir, locked_out_dir
+    from modalinfo.batch.engine import (
+        RowStore,
+        check_memory_limit,
+        open_client,
+        run_tasks,
+        write_table,
+    )
 
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    check_out_dir(out_dir)
     specs = sweep_specs(grid)
+    check_memory_limit(memory_limit, threads_per_worker or 1)
     for spec in specs:
-        spec.payload["out_dir"] = str(out_dir)
+        spec.payload["out_dir"] = str(out_dir.resolve())
         spec.payload["key"] = spec.key
-    store = RowStore(out_dir)
     with contextlib.ExitStack() as stack:
+        stack.enter_context(locked_out_dir(out_dir, "closedloop sweep"))
+        store = RowStore(out_dir)
         started: list = [None]
 
         def get_client():  # a cluster is started only when some run is left to do
@@ -178,9 +264,10 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
                     memory_limit=memory_limit))
             return started[0]
 
-        report = run_tasks(specs, run_one, store, get_client, progress=progress)
-    keys = {s.key for s in specs}
-    rows = [r for r in store.rows() if r.get("key") in keys]
-    write_table(rows, out_dir, "sweep", first=("override", "seed", "predictor", "status"))
+        report = run_tasks(specs, run_one, store, get_client, progress=progress,
+                           worker_wait=engine.WORKER_WAIT if worker_wait is None else worker_wait,
+                           name="closedloop sweep")
+        keys = {s.key for s in specs}
+        rows = [r for r in store.rows() if r.get("key") in keys]
+        write_table(rows, out_dir, "sweep", first=("override", "seed", "predictor", "status"))
     return rows, report
-

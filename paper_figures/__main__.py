@@ -10,7 +10,8 @@ spectral one (``data/kaos_like_closed_loop.npz``) and the one the ``closedloop``
 simulator wrote (``data/kaos_closedloop.npz``, files with the suffix ``_closedloop``);
 ``--log`` analyses a user's log instead (any format ``modalinfo.io`` reads, with the
 input hints of every ``modalinfo`` command: ``--rate``, ``--in-units``, ``--in-modes``,
-``--wavelength``, ``--fmt``, ...). Figures 2-4
+``--wavelength``, ``--fmt``, ... and ``--split-gaps`` for a log whose timestamps have
+gaps). Figures 2-4
 draw closed-loop MCAO runs of the paper's Table 1 (``closedloop`` preset ``table1``, one
 atmosphere, every predictor; :mod:`paper_figures.closedloop_runs`), computed once and
 shared: 0.5 s of simulated time by default, or with ``--quick`` 0.2 s on a 5x5 field
@@ -18,6 +19,10 @@ grid with the neural net trained for 50 iterations. Figure 6 (the compression x
 prediction study the paper proposes) runs the ``kaos`` preset; ``--quick`` uses three
 mode counts. ``report.md`` and ``report.html`` (figures inline) open with a table of
 every headline number of the paper beside ours, each difference explained.
+
+All or nothing: options, logs and the output folder are checked before any work, and
+the files are written into a temporary sibling folder moved into place at the end, so
+a failed or interrupted run leaves the output folder as it was.
 """
 
 from __future__ import annotations
@@ -25,7 +30,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import platform
+import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -76,8 +83,97 @@ def comparison_table(rows: list[tuple[str, tuple]]) -> str:
     return "\n".join(lines)
 
 
+class _RefusedError(Exception):
+    """A one-line refusal (exit status 2) found before any work."""
+
+
+#: Input-hint options and their defaults: given without --log they would be ignored.
+_HINT_DEFAULTS = {"fmt": None, "loop": None, "rate": None, "in_units": None,
+                  "wavelength": None, "in_convention": None, "in_modes": None,
+                  "nonfinite": "raise", "transpose": None, "dataset": None,
+                  "split_gaps": False}
+
+
+def _flag(dest: str) -> str:
+    return "--" + dest.replace("_", "-")
+
+
+def _check_args(args, modules, logs, needs_log) -> None:
+    """Every refusal that needs no computation: options, log files, output folder."""
+    from paper_figures._common import OutputError, check_out_dir
+
+    if args.duration is not None and not 0 < args.duration < float("inf"):
+        raise _RefusedError(f"--duration must be a number of seconds > 0; got {args.duration:g}")
+    if args.seed < 0:
+        raise _RefusedError(f"--seed must be >= 0; got {args.seed}")
+    numbers = ",".join(label.split()[-1] for _, label, _ in modules)
+    if args.log is None:
+        given = [_flag(d) for d, v in _HINT_DEFAULTS.items() if getattr(args, d, v) != v]
+        if given:
+            raise _RefusedError(f"{given[0]} describes a user's log and needs --log; the shipped "
+                           "logs record it")
+    elif not needs_log:
+        raise _RefusedError(f"--log is read by Figures 1 and 5 only; --only {numbers} makes "
+                       "neither (add 1 or 5, or drop --log)")
+    if needs_log:
+        for path, *_ in logs:
+            if path.is_dir():
+                raise _RefusedError(f"--log '{path}' is a folder, not a log file")
+            if not path.is_file():
+                raise _RefusedError(f"log file '{path}' does not exist")
+    try:
+        check_out_dir(args.out)
+    except OutputError as exc:
+        raise _RefusedError(str(exc)) from None
+
+
+def _load_logs(args, logs, modules) -> dict:
+    """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
+    from modalinfo.cli import CommandError
+    from modalinfo.cli._common import input_notes, load_log_with_hints, split_gaps
+    from paper_figures._common import check_log_for
+
+    loaded = {}
+    notes: list[str] = []  # printed once every check passed: a refusal stays one line
+    for path, suffix, key, desc in logs:
+        try:
+            # a user's log with the CLI's input hints; the shipped ones as they are
+            log = load_log_with_hints(path, args if key == "user" else None, announce=False)
+            if key == "user":
+                args._notes = []
+                log = split_gaps(log, args, path, "Figures 1 and 5")
+                # what was assumed or cut, as the CLI says it
+                notes += input_notes(log, path) + [n.split(": note: ", 1)[-1]
+                                                   for n in args._notes]
+        except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
+            message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            raise _RefusedError(f"--log: {message}") from None
+        for module, label, _ in modules:
+            if _kind(module) != "log":
+                continue
+            try:
+                check_log_for(module, log)
+            except ValueError as exc:
+                message = str(exc).strip().splitlines()[0].replace("`log`", "the log")
+                where = "--log" if key == "user" else f"shipped log '{path}'"
+                raise _RefusedError(f"{label} on {where}: {message}") from None
+        loaded[key] = ((log, f"`{path}`"), suffix, desc)
+    for note in notes:
+        sys.stderr.write(f"paper_figures: note: {note}\n")
+    return loaded
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Make every figure, ``report.md`` and ``report.html``; return the exit status."""
+    """Make every figure, ``report.md`` and ``report.html``; return the exit status.
+
+    Everything that needs no computation is checked first (options, log files, each
+    log against the figures that read it, the output folder: a folder, writable, with
+    free space, no file replaced without ``--overwrite``). The figures are then
+    written into a temporary sibling folder that is moved into place only when every
+    figure and the report are done: a failed or interrupted run leaves the output
+    folder as it was. Exit status: 0 done, 2 refused (one line on stderr), 1 a
+    failure while computing or writing (nothing written), 130 Ctrl-C.
+    """
     parser = argparse.ArgumentParser(
         prog="python -m paper_figures", description=__doc__.split("\n")[0]
     )
@@ -99,24 +195,47 @@ def main(argv: list[str] | None = None) -> int:
                              "quick 0.2)")
     parser.add_argument("--seed", type=int, default=0,
                         help="atmosphere of the closed-loop runs (default 0)")
-    from modalinfo.cli._common import add_hint_arguments
+    from modalinfo.cli._common import add_gap_argument, add_hint_arguments
 
     # the same input hints as every modalinfo command, for --log
     add_hint_arguments(parser)
+    add_gap_argument(parser)
     parser.set_defaults(command="paper_figures")
     args = parser.parse_args(argv)
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        # `kill` / a batch system's time limit: clean up as for Ctrl-C (the temporary
+        # folder is removed, the output folder stays as it was)
+        previous = signal.signal(signal.SIGTERM, _terminated)
+    try:
+        return _run(args)
+    except _RefusedError as exc:
+        sys.stderr.write(f"paper_figures: error: {exc}\n")
+        return 2
+    except KeyboardInterrupt:
+        sys.stderr.write(f"paper_figures: interrupted; '{args.out}' is as it was\n")
+        return 130
+    except (OSError, MemoryError) as exc:
+        what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        sys.stderr.write(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
+                         f"; '{args.out}' is as it was\n")
+        return 1
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _terminated(signum, frame) -> None:
+    raise KeyboardInterrupt
+
+
+def _run(args) -> int:
+    from paper_figures._common import staged_output
 
     try:
         only = _parse_only(args.only)
     except ValueError as exc:
-        sys.stderr.write(f"paper_figures: error: {exc}\n")
-        return 2
-    if args.duration is not None and args.duration <= 0:
-        sys.stderr.write(f"paper_figures: error: --duration must be > 0 s; got {args.duration:g}\n")
-        return 2
-    if args.seed < 0:
-        sys.stderr.write(f"paper_figures: error: --seed must be >= 0; got {args.seed}\n")
-        return 2
+        raise _RefusedError(str(exc)) from None
     chosen = [(name, label, title) for name, label, title in FIGURES
               if int(label.split()[-1]) in only]
     modules = [(importlib.import_module(f"paper_figures.{name}"), label, title)
@@ -124,40 +243,26 @@ def main(argv: list[str] | None = None) -> int:
     needs_log = any(_kind(m) == "log" for m, _, _ in modules)
     logs = (SHIPPED_LOGS if args.log is None
             else ((args.log, "", "user", "user log"),))
-    if needs_log:
-        for path, *_ in logs:
-            if not path.is_file():
-                sys.stderr.write(f"paper_figures: error: log file '{path}' does not exist\n")
-                return 2
+    _check_args(args, modules, logs, needs_log)
     report_path = args.out / "report.md"
     html_path = args.out / "report.html"
     outputs = [report_path, html_path] + [args.out / name for module, _, _ in modules
                                           for name in _outputs(module, logs)]
+    folders = [path for path in outputs if path.is_dir()]
+    if folders:
+        raise _RefusedError(f"'{folders[0]}' is a folder; the run writes a file of that name")
     existing = [path for path in outputs if path.exists()]
     if existing and not args.overwrite:
-        sys.stderr.write(
-            f"paper_figures: error: '{existing[0]}' exists; pass --overwrite to replace it\n"
-        )
-        return 2
-    args.out.mkdir(parents=True, exist_ok=True)
+        raise _RefusedError(f"'{existing[0]}' exists; pass --overwrite to replace it")
+    loaded = _load_logs(args, logs, modules) if needs_log else {}
+    with staged_output(args.out) as stage:
+        _make(args, modules, loaded, logs, needs_log, stage)
+    print(f"[paper_figures] report written to {report_path} and {html_path}")
+    return 0
 
-    loaded = {}
-    if needs_log:
-        from modalinfo.cli import CommandError
-        from modalinfo.cli._common import input_notes, load_log_with_hints
 
-        try:
-            for path, suffix, key, desc in logs:
-                # a user's log with the CLI's input hints; the shipped ones as they are
-                log = load_log_with_hints(path, args if key == "user" else None, announce=False)
-                if key == "user":
-                    for note in input_notes(log, path):  # what was assumed, as the CLI
-                        sys.stderr.write(f"paper_figures: note: {note}\n")
-                loaded[key] = ((log, f"`{path}`"), suffix, desc)
-        except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
-            message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
-            sys.stderr.write(f"paper_figures: error: --log: {message}\n")
-            return 2
+def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
+    """Compute and draw every chosen figure into ``stage``, then the two reports."""
     sections: list[str] = []
     rows: list[tuple[str, tuple]] = []
     per_log: dict[str, dict] = {}
@@ -171,8 +276,12 @@ def main(argv: list[str] | None = None) -> int:
 
             print(f"[paper_figures] closed-loop runs for Figures 2-4"
                   f"{' (quick)' if args.quick else ''} ...", flush=True)
-            runs = closedloop_runs.compute(quick=args.quick, duration=args.duration,
-                                           seed=args.seed)
+            try:
+                runs = closedloop_runs.compute(quick=args.quick, duration=args.duration,
+                                               seed=args.seed)
+            except ValueError as exc:  # a run the simulator refuses (--duration, memory)
+                raise _RefusedError(f"closed-loop runs of Figures 2-4: "
+                                    f"{str(exc).splitlines()[0]}") from None
             elapsed = time.perf_counter() - start
             print(f"[paper_figures] closed-loop runs done in {elapsed:.1f} s", flush=True)
             sections.append(closedloop_runs.report_section(runs, elapsed))
@@ -186,11 +295,9 @@ def main(argv: list[str] | None = None) -> int:
                 except ValueError as exc:
                     if key != "user":
                         raise
-                    # a user's log the figure cannot use (too short, no rate): one line
-                    sys.stderr.write(f"paper_figures: error: {label} on --log: "
-                                     f"{str(exc).splitlines()[0]}\n")
-                    return 2
-                module.plot(result, args.out, suffix=suffix)
+                    # a user's log the figure cannot use (found while computing): one line
+                    raise _RefusedError(f"{label} on --log: {str(exc).splitlines()[0]}") from None
+                module.plot(result, stage, suffix=suffix)
                 text = module.report(result, suffix=suffix)
                 if len(loaded) > 1:
                     # one section per log: say which in the heading
@@ -201,11 +308,14 @@ def main(argv: list[str] | None = None) -> int:
                 rows += [(tag, row) for row in module.table_rows(result)]
             text = "\n".join(texts)
         else:
-            if kind == "runs":
-                result = module.compute(runs)
-            else:
-                result = module.compute(quick=args.quick, seed=args.seed)
-            module.plot(result, args.out)
+            try:
+                if kind == "runs":
+                    result = module.compute(runs)
+                else:
+                    result = module.compute(quick=args.quick, seed=args.seed)
+            except ValueError as exc:  # e.g. a run the simulator refuses (memory, length)
+                raise _RefusedError(f"{label}: {str(exc).splitlines()[0]}") from None
+            module.plot(result, stage)
             text = module.report(result)
             rows += [(label, row) for row in module.table_rows(result)]
         elapsed = time.perf_counter() - start
@@ -233,10 +343,8 @@ def main(argv: list[str] | None = None) -> int:
     from paper_figures._html import report_html
 
     text = "\n".join(head + sections)
-    report_path.write_text(text, encoding="utf-8")
-    html_path.write_text(report_html(text, args.out), encoding="utf-8")
-    print(f"[paper_figures] report written to {report_path} and {html_path}")
-    return 0
+    (stage / "report.md").write_text(text, encoding="utf-8")
+    (stage / "report.html").write_text(report_html(text, stage), encoding="utf-8")
 
 
 if __name__ == "__main__":

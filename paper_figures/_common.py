@@ -3,11 +3,131 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
+import shutil
 import sys
-from collections.abc import Callable
+import tempfile
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
-__all__ = ["log_or_kaos_like", "figure_main", "markdown_table", "save_png_pdf", "suffixed"]
+__all__ = ["MIN_FREE_BYTES", "OutputError", "check_log_for", "check_out_dir", "figure_main",
+           "log_or_kaos_like", "markdown_table", "save_png_pdf", "staged_output", "suffixed"]
+
+#: Free space the output folder's file system must have before a run [bytes]: the six
+#: figures (PNG and PDF), the JSON evaluations and the two reports take ~10 MB.
+MIN_FREE_BYTES = 64 * 2**20
+
+
+class OutputError(ValueError):
+    """An output location that cannot take the run's files (checked before any work)."""
+
+
+def _existing_ancestor(path: Path) -> Path:
+    path = Path(os.path.abspath(path))
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def check_out_dir(out: Path, flag: str = "--out") -> Path:
+    """Check an output folder before any work; return the existing folder that will hold it.
+
+    ``out`` may not exist yet (it and its missing parents are created at the end). The
+    nearest existing ancestor must be a folder where this process can write, with
+    :data:`MIN_FREE_BYTES` free.
+
+    Raises
+    ------
+    OutputError
+        ``out`` is a file, an ancestor is a file, the folder is not writable, or the
+        file system is nearly full (naming ``flag``, the path and the rule).
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"{flag} '{out}' is a file; give a folder (new or existing)")
+    base = _existing_ancestor(out)
+    if not base.is_dir():
+        raise OutputError(f"{flag} '{out}': '{base}' is a file, not a folder")
+    try:  # a real write: permissions, read-only mounts and ACLs all answer here
+        with tempfile.TemporaryFile(dir=base):
+            pass
+    except OSError as exc:
+        raise OutputError(f"{flag} '{out}': cannot write in '{base}' "
+                          f"({exc.strerror or exc})") from None
+    free = shutil.disk_usage(base).free
+    if free < MIN_FREE_BYTES:
+        raise OutputError(f"{flag} '{out}': only {free / 2**20:.1f} MiB free in '{base}'; "
+                          f"a run needs at least {MIN_FREE_BYTES // 2**20} MiB")
+    return base
+
+
+@contextlib.contextmanager
+def staged_output(out: Path) -> Iterator[Path]:
+    """Yield a temporary sibling folder to write into; move its files into ``out`` at the end.
+
+    All or nothing: when the block raises (an error, Ctrl-C), the temporary folder is
+    removed and ``out`` is as it was; when it succeeds, a new ``out`` is the temporary
+    folder renamed, an existing one receives each file by ``os.replace`` (same file
+    system: no copy, no half-written file).
+    """
+    out = Path(out)
+    base = check_out_dir(out)
+    # in the nearest existing ancestor: the same file system as `out`, so moves are renames
+    stage = Path(tempfile.mkdtemp(prefix=f".{out.name or 'out'}.partial-", dir=base))
+    try:
+        yield stage
+        if not out.exists():
+            out.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(stage, out)
+        else:
+            items = sorted(stage.iterdir())
+            clash = [out / i.name for i in items if (out / i.name).is_dir() != i.is_dir()
+                     and (out / i.name).exists()]
+            if clash:  # found before anything is moved: `out` stays as it was
+                raise OutputError(f"'{clash[0]}' is in the way: the run writes a "
+                                  f"{'folder' if clash[0].is_file() else 'file'} there")
+            for item in items:
+                target = out / item.name
+                if item.is_dir() and target.is_dir():
+                    shutil.copytree(item, target, dirs_exist_ok=True)
+                else:
+                    os.replace(item, target)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+
+
+def check_log_for(module, log) -> None:
+    """Refuse a log a figure module cannot serve, before any work.
+
+    Uses the module's ``check_log(log)`` when it has one, and its frame needs
+    (``MIN_FRAMES``, or ``N_FIT + 2 H_ARMA`` for Figure 5's fit and forecast windows);
+    every figure needs modes that vary (an all-zero or constant column makes its
+    statistics 0/0).
+
+    Raises
+    ------
+    ValueError
+        Naming the rule and the value (the caller names the figure).
+    """
+    import numpy as np
+
+    check = getattr(module, "check_log", None)
+    if check is not None:
+        check(log)
+        return
+    need = getattr(module, "MIN_FRAMES", None)
+    if need is None and hasattr(module, "N_FIT") and hasattr(module, "H_ARMA"):
+        need = module.N_FIT + 2 * module.H_ARMA
+    if need is not None and log.n_frames < need:
+        raise ValueError(f"`log` must hold at least {need} frames; got {log.n_frames}.")
+    x = np.asarray(log.coeffs, dtype=float)
+    flat = np.flatnonzero(np.ptp(x, axis=0) == 0)
+    if flat.size:
+        what = ("every mode is constant (an all-zero log?)" if flat.size == log.n_modes
+                else f"{flat.size} mode(s) do not vary, the first {log.labels[flat[0]]}")
+        raise ValueError(f"`log` must have modes that vary: {what}; the figure's "
+                         "statistics are 0/0 otherwise.")
 
 
 def log_or_kaos_like(log_path: Path | None):
@@ -75,16 +195,37 @@ def figure_main(
                             help="inserted before the extension of every output file name")
     args = parser.parse_args(argv)
     short = prog.rsplit(".", 1)[-1].split("_", 1)[0]
+
+    def fail(message: str, code: int = 2) -> int:
+        sys.stderr.write(f"{short}: error: {message}\n")
+        return code
+
     names = [figure_name] if output_names is None else output_names(args.suffix)
+    if output_names is not None and any(c in args.suffix for c in "/\\\0"):
+        return fail(f"--suffix must not contain a path separator; got {args.suffix!r}")
+    try:
+        check_out_dir(args.out)
+    except OutputError as exc:
+        return fail(str(exc))
     existing = [args.out / name for name in names if (args.out / name).exists()]
     if existing and not args.overwrite:
-        sys.stderr.write(f"{short}: error: '{existing[0]}' exists; pass --overwrite\n")
-        return 2
+        return fail(f"'{existing[0]}' exists; pass --overwrite")
+    if args.log is not None and args.log.is_dir():
+        return fail(f"--log '{args.log}' is a folder, not a log file")
     if args.log is not None and not args.log.is_file():
-        sys.stderr.write(f"{short}: error: log file '{args.log}' does not exist\n")
-        return 2
-    if output_names is None:
-        print(make(args.out, args.log))
-    else:
-        print(make(args.out, args.log, suffix=args.suffix))
+        return fail(f"log file '{args.log}' does not exist")
+    try:
+        with staged_output(args.out) as stage:
+            if output_names is None:
+                text = make(stage, args.log)
+            else:
+                text = make(stage, args.log, suffix=args.suffix)
+    except (ValueError, TypeError) as exc:
+        message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+        return fail(message)
+    except (OSError, MemoryError) as exc:
+        return fail(f"{type(exc).__name__}: {exc}; nothing was written", 1)
+    except KeyboardInterrupt:
+        return fail("interrupted; nothing was written", 130)
+    print(text)
     return 0

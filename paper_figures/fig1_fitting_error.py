@@ -45,6 +45,11 @@ PDF_NAME = "fig1_fitting_error.pdf"
 POOLED_BUDGET = 100_000
 OPEN_LOOP_FRAMES = 2000
 N_FRAMES = 15
+#: Fewest frames of a log Figure 1 analyses: its MI estimates pool the frames and its
+#: stability check compares two windows of at least 50 frames each.
+MIN_FRAMES = 100
+#: Fewest modes: the calibrated target is the standard order's error at 20 modes.
+MIN_MODES = PAPER_REFERENCE_MODES + 1
 LABELS = {
     "zernike:standard": "Zernike, standard order",
     "kl-theory:mi_greedy": "K-L (theory), MI order",
@@ -52,6 +57,31 @@ LABELS = {
     "kl-data:pca": "data K-L (PCA) order",
     "zernike:variance": "Zernike, a_k^2 order",
 }
+
+
+def check_log(log) -> None:
+    """Refuse a log Figure 1 cannot analyse, before any work.
+
+    Raises
+    ------
+    ValueError
+        Fewer than :data:`MIN_FRAMES` frames or :data:`MIN_MODES` modes, or a mode
+        that does not vary over the log (an all-zero log among them): its fitting
+        error and MI ordering are undefined (0/0).
+    """
+    if log.n_frames < MIN_FRAMES:
+        raise ValueError(f"`log` must hold at least {MIN_FRAMES} frames; got "
+                         f"{log.n_frames}.")
+    if log.n_modes < MIN_MODES:
+        raise ValueError(f"`log` must hold at least {MIN_MODES} modes (the target is the "
+                         f"error of the first {PAPER_REFERENCE_MODES}); got {log.n_modes}.")
+    x = np.asarray(log.coeffs, dtype=float)
+    flat = np.flatnonzero(np.ptp(x, axis=0) == 0)
+    if flat.size:
+        what = ("every mode is constant (an all-zero log?)" if flat.size == log.n_modes
+                else f"{flat.size} mode(s) do not vary, the first {log.labels[flat[0]]}")
+        raise ValueError(f"`log` must have modes that vary: {what}; the fitting error "
+                         "and MI ordering are 0/0 otherwise.")
 
 
 def output_names(suffix: str = "") -> list[str]:
@@ -211,11 +241,17 @@ def compute(log, *, source: str = "a modal log") -> Figure1:
     Returns
     -------
     Figure1
+
+    Raises
+    ------
+    ValueError
+        A log :func:`check_log` refuses (too short, too few modes, a constant mode).
     """
     from modalinfo.ordering import ordering_stability
     from modalinfo.ordering.compare import basis_for_log, compare_orderings
     from modalinfo.telemetry.synthetic import kaos_like
 
+    check_log(log)
     start = time.perf_counter()
     bases: dict = {}
     bases["zernike"] = basis_for_log("zernike", log)

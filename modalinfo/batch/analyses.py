@@ -27,6 +27,8 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo._validation import check_choice, check_int, check_real
+
 __all__ = ["ANALYSES", "DEFAULTS", "log_columns", "resolve_params", "run_log_task",
            "sha256_file"]
 
@@ -71,8 +73,138 @@ def sha256_file(path: str) -> str:
     return digest.hexdigest()
 
 
+def _modes_value(value: Any, name: str) -> None:
+    if value is None:
+        return
+    if isinstance(value, str):
+        from modalinfo.cli import CommandError
+        from modalinfo.cli._common import parse_modes
+
+        try:
+            parse_modes(value, name)
+        except CommandError as exc:
+            raise ValueError(str(exc)) from None
+        return
+    ok = isinstance(value, list) and value and (
+        all(isinstance(v, int) and not isinstance(v, bool) and v >= 1 for v in value)
+        or all(isinstance(v, str) and v for v in value))
+    if not ok:
+        raise ValueError(f"{name} must be a mode list ('2-28', '4,5,6', labels) or a JSON "
+                         f"list of mode numbers >= 1; got {value!r}")
+
+
+def _predictor_names(value: Any, name: str) -> None:
+    from modalinfo.forecast.presets import PRESETS
+
+    names = [n.strip() for n in value.split(",")] if isinstance(value, str) else None
+    if not names or not all(names):
+        raise ValueError(f"{name} must be a comma list of predictors from "
+                         f"{', '.join(PRESETS)}; got {value!r}")
+    bad = [n for n in names if n not in PRESETS]
+    if bad:
+        raise ValueError(f"{name}: {bad[0]!r} is not a predictor; use "
+                         f"{', '.join(PRESETS)}")
+
+
+def _train_value(value: Any, name: str) -> None:
+    if isinstance(value, int) and not isinstance(value, bool):
+        check_int(value, name, minimum=2)
+    elif isinstance(value, float):
+        check_real(value, name, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
+    else:
+        raise ValueError(f"{name} must be a fraction in (0, 1) or a number of frames >= 2; "
+                         f"got {value!r}")
+
+
+def _seeds_value(value: Any, name: str) -> None:
+    if not isinstance(value, list) or not value:
+        raise ValueError(f"{name} must be a non-empty JSON list of seeds; got {value!r}")
+    for seed in value:
+        check_int(seed, name, minimum=0)
+
+
+def _optional_real(**bounds: Any) -> Callable[[Any, str], None]:
+    def check(value: Any, name: str) -> None:
+        if value is not None:
+            check_real(value, name, **bounds)
+    return check
+
+
+def _int_at_least(minimum: int) -> Callable[[Any, str], None]:
+    def check(value: Any, name: str) -> None:
+        check_int(value, name, minimum=minimum)
+    return check
+
+
+def _choice(get: Callable[[], Any]) -> Callable[[Any, str], None]:
+    def check(value: Any, name: str) -> None:
+        check_choice(value, name, tuple(get()))
+    return check
+
+
+def _orderings(value: Any, name: str) -> None:
+    from modalinfo.ordering.compare import parse_specs
+
+    if not isinstance(value, str | list):
+        raise ValueError(f"{name} must be a comma list of basis:method; got {value!r}")
+    try:
+        parse_specs(value)
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from None
+
+
+def _bases() -> tuple:
+    from modalinfo.ordering.compare import BASES
+
+    return BASES
+
+
+def _methods() -> tuple:
+    from modalinfo.ordering import METHODS
+
+    return METHODS
+
+
+def _estimators() -> tuple:
+    from modalinfo.information.api import METHODS
+
+    return METHODS
+
+
+#: analysis -> parameter -> check(value, name) raising ValueError/TypeError; every
+#: parameter of DEFAULTS has one, so a bad ``--set`` is refused before any work.
+_CHECKS: dict[str, dict[str, Callable[[Any, str], None]]] = {
+    "summary": {"chunk_frames": _int_at_least(1)},
+    "ordering": {
+        "basis": _choice(_bases), "method": _choice(_methods),
+        "estimator": _choice(_estimators), "budget": _int_at_least(1),
+        "seed": _int_at_least(0), "pupil_pixels": _int_at_least(4),
+        "resamples": _int_at_least(0), "windows": _int_at_least(0), "seeds": _seeds_value,
+        "modes": _modes_value,
+    },
+    "fitting_error": {
+        "orderings": _orderings, "units": _choice(lambda: ("waves2", "rad2")),
+        "target": _optional_real(minimum=0.0, strict_min=True),
+        "fraction": _optional_real(minimum=0.0, maximum=1.0, strict_min=True),
+        "estimator": _choice(_estimators), "budget": _int_at_least(1),
+        "seed": _int_at_least(0), "pupil_pixels": _int_at_least(4), "modes": _modes_value,
+    },
+    "forecast": {
+        "predictors": _predictor_names, "horizon": _int_at_least(1), "train": _train_value,
+        "modes": _modes_value,
+    },
+}
+
+
 def resolve_params(analysis: str, params: dict | None = None) -> dict:
-    """Return the analysis's defaults updated by ``params`` (unknown names: ValueError)."""
+    """Return the analysis's defaults updated by ``params``, each value checked.
+
+    Raises
+    ------
+    ValueError
+        An unknown analysis or parameter, or a value outside its rule (type, range,
+        choice), naming ``analysis.name``, the rule and the value.
+    """
     if analysis not in DEFAULTS:
         raise ValueError(f"`analyses` must be among {', '.join(DEFAULTS)}; got {analysis!r}")
     params = dict(params or {})
@@ -80,6 +212,12 @@ def resolve_params(analysis: str, params: dict | None = None) -> dict:
     if unknown:
         raise ValueError(f"unknown parameter {analysis}.{unknown[0]}; {analysis} takes "
                          f"{', '.join(DEFAULTS[analysis])}")
+    for name, value in params.items():
+        try:
+            _CHECKS[analysis][name](value, f"parameter {analysis}.{name}")
+        except (TypeError, ValueError) as exc:
+            # one message form whatever the checker: backticks of check_* dropped
+            raise ValueError(str(exc).replace("`", "").rstrip(".")) from None
     return {**DEFAULTS[analysis], **params}
 
 

@@ -15,6 +15,7 @@ Output directory layout::
     <out>/batch.csv            the tidy table (one row per log and analysis)
     <out>/batch.parquet        the same table (pyarrow)
     <out>/plots/*.png          summary plots across the archive
+    <out>/.lock                pid and host of the batch running in it (removed at its end)
 """
 
 from __future__ import annotations
@@ -27,12 +28,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from modalinfo.batch import engine
 from modalinfo.batch.analyses import resolve_params, run_log_task, sha256_file
 from modalinfo.batch.engine import (
     EngineReport,
     RowStore,
     TaskSpec,
     canonical_json,
+    check_memory_limit,
     open_client,
     package_version,
     run_tasks,
@@ -41,7 +44,8 @@ from modalinfo.batch.engine import (
 )
 from modalinfo.batch.manifest import LogEntry, collect_logs
 
-__all__ = ["BatchResult", "analyse_archive", "build_specs", "time_windows"]
+__all__ = ["BatchResult", "analyse_archive", "build_specs", "check_out_dir", "locked_out_dir",
+           "time_windows"]
 
 #: Leading columns of the table.
 FIRST_COLUMNS = ("path", "analysis", "window", "window_start", "window_stop", "status",
@@ -198,15 +202,71 @@ def build_specs(entries: list[LogEntry], analyses: list[str], params: dict,
     return specs
 
 
-def _check_out_dir(out_dir: Path) -> None:
-    if out_dir.exists():
-        if not out_dir.is_dir():
-            raise ValueError(f"output '{out_dir}' exists and is not a directory")
-        if any(out_dir.iterdir()) and not (out_dir / "rows").is_dir():
-            raise ValueError(f"output directory '{out_dir}' is not empty and holds no "
-                             "earlier batch (no rows/); choose a new or empty directory")
-    elif not out_dir.parent.is_dir():
-        raise ValueError(f"output directory's parent '{out_dir.parent}' does not exist")
+#: Free space an output directory must have before a batch or sweep starts [bytes]:
+#: rows (~1 kB each), the tables and the plots of a large archive fit many times over.
+MIN_FREE_BYTES = 64 * 2**20
+
+
+def check_out_dir(out_dir: Path, flag: str = "output directory") -> None:
+    """Check an output directory before any work: a directory, writable, with free space.
+
+    The directory may not exist yet (its parent must). Raises ValueError naming
+    ``flag``, the path and the rule.
+    """
+    import shutil
+    import tempfile
+
+    out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise ValueError(f"{flag} '{out_dir}' exists and is not a directory")
+    where = out_dir if out_dir.is_dir() else out_dir.parent
+    if not where.is_dir():
+        what = "is not a directory" if where.exists() else "does not exist"
+        raise ValueError(f"{flag} '{out_dir}': its parent '{where}' {what}")
+    try:  # a real write: permissions, read-only mounts and ACLs all answer here
+        with tempfile.TemporaryFile(dir=where):
+            pass
+    except OSError as exc:
+        raise ValueError(f"{flag} '{out_dir}': cannot write in '{where}' "
+                         f"({exc.strerror or exc})") from None
+    free = shutil.disk_usage(where).free
+    if free < MIN_FREE_BYTES:
+        raise ValueError(f"{flag} '{out_dir}': only {free / 2**20:.1f} MiB free in "
+                         f"'{where}'; at least {MIN_FREE_BYTES // 2**20} MiB needed")
+
+
+def _check_foreign(out_dir: Path, marker: str = "rows") -> None:
+    """Refuse a non-empty directory that holds no earlier run (no ``marker``)."""
+    from modalinfo.batch.engine import OutputLock
+
+    others = [p for p in out_dir.iterdir() if not p.name.startswith(OutputLock.NAME)]
+    if others and not (out_dir / marker).is_dir():
+        raise ValueError(f"output directory '{out_dir}' is not empty and holds no "
+                         f"earlier batch or sweep (no {marker}/); choose a new or empty directory")
+
+
+@contextlib.contextmanager
+def locked_out_dir(out_dir: Path, command: str, marker: str = "rows"):
+    """Create ``out_dir`` if needed, take its lock, refuse a foreign directory; yield.
+
+    On leaving, the lock is released, and a directory created here that holds no
+    row is removed (a run that failed at its start leaves nothing behind).
+    """
+    from modalinfo.batch.engine import OutputLock
+
+    out_dir = Path(out_dir)
+    created = not out_dir.exists()
+    out_dir.mkdir(exist_ok=True)
+    lock = OutputLock(out_dir, command)
+    try:
+        with lock:
+            _check_foreign(out_dir, marker)
+            yield out_dir
+    finally:
+        if created:  # a run that wrote no row leaves no folder behind
+            for folder in (out_dir / marker, out_dir):
+                with contextlib.suppress(OSError):
+                    folder.rmdir()  # only if empty
 
 
 def _parse_analyses(analyses: str | list[str]) -> list[str]:
@@ -237,6 +297,7 @@ def analyse_archive(
     retry_errors: bool = False,
     progress: bool = True,
     plots: bool = True,
+    worker_wait: float | None = None,
 ) -> BatchResult:
     """Run per-log analyses over an archive on Dask; resumable, errors become rows.
 
@@ -279,6 +340,10 @@ def analyse_archive(
         Progress bar and dashboard link on stderr.
     plots : bool
         Draw the summary plots into ``<out>/plots``.
+    worker_wait : float, optional
+        Seconds to wait while no worker is running before giving up
+        (:class:`~modalinfo.batch.engine.NoWorkersError`; default
+        :data:`~modalinfo.batch.engine.WORKER_WAIT`).
 
     Returns
     -------
@@ -287,7 +352,13 @@ def analyse_archive(
     Raises
     ------
     ValueError
-        Unknown analysis or parameter, no input found, or an unusable output directory.
+        Unknown analysis or parameter, a bad parameter value, a memory limit too
+        small for a worker, no input found, or an unusable output directory
+        (not a directory, not writable, too little free space, foreign content).
+    OutputInUseError
+        Another batch holds the output directory (``<out>/.lock``; a ValueError).
+    NoWorkersError
+        No worker ran a task for ``worker_wait`` seconds; finished rows are kept.
     ImportError
         ``distributed`` or ``pyarrow`` missing (install ``modalinfo[dist]``).
     """
@@ -303,13 +374,15 @@ def analyse_archive(
                          f"analyses run ({', '.join(names)})")
     resolved = {n: resolve_params(n, params.get(n)) for n in names}
     out_dir = Path(out_dir)
-    _check_out_dir(out_dir)
+    check_out_dir(out_dir)
     entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints)
     if client is not None and any(v is not None for v in (
             scheduler, n_workers, threads_per_worker, memory_limit, retries)):
         raise ValueError("give either `client` or a scheduler / cluster shape, not both")
-    store = RowStore(out_dir)
+    check_memory_limit(memory_limit, threads_per_worker or 1)
     with contextlib.ExitStack() as stack:
+        stack.enter_context(locked_out_dir(out_dir, "modalinfo batch"))
+        store = RowStore(out_dir)
         started: list = [client]
 
         def get_client() -> Any:  # a cluster is started only when there is work
@@ -322,16 +395,18 @@ def analyse_archive(
         probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None)
         specs = build_specs(entries, names, resolved, probes, window_frames)
         report = run_tasks(specs, run_log_task, store, get_client, progress=progress,
-                           retry_errors=retry_errors)
-    wanted = {s.key for s in specs}
-    order = {n: i for i, n in enumerate(names)}
-    rows = [r for r in store.rows() if r["key"] in wanted]
-    rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
-    csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
-    drawn: tuple = ()
-    if plots:
-        from modalinfo.batch.report import plot_archive
+                           retry_errors=retry_errors,
+                           worker_wait=engine.WORKER_WAIT if worker_wait is None else worker_wait,
+                           name="modalinfo batch")
+        wanted = {s.key for s in specs}
+        order = {n: i for i, n in enumerate(names)}
+        rows = [r for r in store.rows() if r["key"] in wanted]
+        rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
+        csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
+        drawn: tuple = ()
+        if plots:
+            from modalinfo.batch.report import plot_archive
 
-        drawn = tuple(plot_archive(rows, out_dir / "plots"))
+            drawn = tuple(plot_archive(rows, out_dir / "plots"))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed)

@@ -19,6 +19,13 @@ Guarantees
   spec's labels, ``error_type``, ``error_message``); a task lost with its workers
   (``KilledWorker``) becomes an error row with ``status="lost"``, which a later run
   retries. The batch goes on either way.
+- **Never a silent wait**: when stderr is not a terminal, a progress line every
+  :data:`PROGRESS_EVERY` seconds; when no worker is running (all gone, or all paused
+  by their memory limit) a notice, and :class:`NoWorkersError` after ``worker_wait``
+  seconds (the rows already written are kept: the next run resumes).
+- **One run per output directory**: :class:`OutputLock` (``<out>/.lock`` with the
+  pid and host of its holder) keeps a second batch or sweep out of a directory in
+  use; a lock left by a dead process on this host is taken over.
 - **Threads**: a task runs with ``threads`` BLAS/OpenMP threads (``threadpoolctl``) and
   numba threads, so workers x threads-per-worker x task threads stays within the
   machine; a local cluster also passes the limits to its workers as environment
@@ -33,6 +40,7 @@ import itertools
 import json
 import logging
 import os
+import socket
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -44,9 +52,14 @@ from modalinfo.batch._deps import require
 
 __all__ = [
     "EngineReport",
+    "NoWorkersError",
+    "OutputInUseError",
+    "OutputLock",
     "RowStore",
     "TaskSpec",
     "canonical_json",
+    "check_memory_limit",
+    "check_worker_count",
     "dashboard_link",
     "open_client",
     "package_version",
@@ -59,6 +72,25 @@ __all__ = [
 
 #: Row statuses: a task's result, an exception inside it, or a task lost with workers.
 STATUSES = ("ok", "error", "lost")
+
+#: Seconds between two progress lines on a stderr that is not a terminal.
+PROGRESS_EVERY = 5.0
+
+#: Seconds :func:`run_tasks` waits for a running worker before giving up.
+WORKER_WAIT = 60.0
+
+#: Smallest per-worker memory limit of a local cluster [bytes]: a worker process with
+#: numpy, numba and the library imported holds ~150 MB, and Dask pauses a worker at 80 %
+#: of its limit, so a smaller limit leaves workers paused for ever.
+MIN_MEMORY_LIMIT = 256 * 2**20
+
+
+class NoWorkersError(RuntimeError):
+    """No worker ran a task for ``worker_wait`` seconds (gone, or paused by memory)."""
+
+
+class OutputInUseError(ValueError):
+    """The output directory is locked by another running batch or sweep."""
 
 
 def canonical_json(value: Any) -> str:
@@ -178,6 +210,116 @@ class RowStore:
         return out
 
 
+# ----------------------------------------------------------------------- lock
+def _pid_alive(pid: int) -> bool:
+    """Tell whether process ``pid`` exists on this host (True when unsure: no permission)."""
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # someone else's process: alive
+        return True
+    return True
+
+
+class OutputLock:
+    """Exclusive use of an output directory by one batch or sweep (a context manager).
+
+    The lock is the file ``<out>/.lock`` holding JSON ``{"pid", "host", "started",
+    "command"}``; it is created complete or not at all (written to a temporary file,
+    then hard-linked to its name, which fails if the name exists), so two runs
+    starting together cannot both hold it. A lock whose holder is a dead process on
+    this host is stale and taken over; a lock held by a live process, or by a
+    process on another host (which cannot be checked from here), raises
+    :class:`OutputInUseError` naming the holder and the file to remove if that run is
+    known to be over.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        An existing directory.
+    command : str
+        What holds the lock (``"modalinfo batch"``), recorded in the file.
+    """
+
+    NAME = ".lock"
+
+    def __init__(self, out_dir: str | os.PathLike, command: str = "modalinfo batch") -> None:
+        self.path = Path(out_dir) / self.NAME
+        self.command = command
+        self.held = False
+
+    def _holder(self) -> dict | None:
+        """Return the lock file's content; None when absent; {} when unreadable."""
+        try:
+            text = self.path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            return None
+        except OSError:
+            return {}
+        try:
+            data = json.loads(text)
+        except ValueError:
+            return {}
+        return data if isinstance(data, dict) else {}
+
+    def _stale(self, holder: dict) -> bool:
+        pid = holder.get("pid")
+        if holder.get("host") != socket.gethostname() or not isinstance(pid, int):
+            return False
+        return pid != os.getpid() and not _pid_alive(pid)
+
+    def acquire(self) -> OutputLock:
+        """Take the lock (taking over a stale one); raise OutputInUseError if held."""
+        info = canonical_json({"pid": os.getpid(), "host": socket.gethostname(),
+                               "started": time.time(), "command": self.command})
+        tmp = self.path.with_name(f".lock.{os.getpid()}.{time.monotonic_ns()}.tmp")
+        tmp.write_text(info, encoding="utf-8")
+        try:
+            for _ in range(3):  # a stale lock removed by us (or another taker) in between
+                try:
+                    os.link(tmp, self.path)
+                    self.held = True
+                    return self
+                except FileExistsError:
+                    pass
+                holder = self._holder()
+                if holder is None:
+                    continue  # released between our link and our read: try again
+                if not self._stale(holder):
+                    who = (f"{holder.get('command', 'a run')} (pid {holder.get('pid')} on "
+                           f"{holder.get('host')})" if holder else "another run")
+                    raise OutputInUseError(
+                        f"output directory '{self.path.parent}' is in use by {who}; wait "
+                        f"for it to finish, or remove '{self.path}' if it is no longer running")
+                # stale: remove it only if it is still the same dead holder's file
+                with contextlib.suppress(FileNotFoundError):
+                    if self._holder() == holder:
+                        self.path.unlink()
+            raise OutputInUseError(f"output directory '{self.path.parent}': could not take "
+                                   f"the lock '{self.path}' (others keep taking it)")
+        finally:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+    def release(self) -> None:
+        """Remove the lock file if this process holds it."""
+        if self.held:
+            holder = self._holder()
+            if holder and holder.get("pid") == os.getpid():
+                with contextlib.suppress(FileNotFoundError):
+                    self.path.unlink()
+            self.held = False
+
+    def __enter__(self) -> OutputLock:
+        return self.acquire()
+
+    def __exit__(self, *exc: Any) -> None:
+        self.release()
+
+
 # ----------------------------------------------------------------------- threads
 def thread_env(threads: int) -> dict[str, str]:
     """Environment variables limiting numba, OpenMP and BLAS threads of a worker."""
@@ -243,6 +385,75 @@ def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | No
 
 
 # ----------------------------------------------------------------------- client
+#: Memory of one idle worker process (interpreter, numpy, numba, distributed) [bytes].
+WORKER_BASELINE = 150 * 2**20
+
+
+def check_worker_count(n_workers: int) -> None:
+    """Refuse more local worker processes than the machine's free memory can start.
+
+    Raises
+    ------
+    ValueError
+        ``n_workers x`` :data:`WORKER_BASELINE` exceeds the available memory.
+    """
+    import psutil
+
+    available = psutil.virtual_memory().available
+    if n_workers * WORKER_BASELINE > available:
+        most = max(1, available // WORKER_BASELINE)
+        raise ValueError(f"`n_workers` must be at most {most} here: each worker process "
+                         f"holds ~{WORKER_BASELINE // 2**20} MB before any task and "
+                         f"{available / 2**30:.1f} GiB is available; got {n_workers}")
+
+
+def check_memory_limit(memory_limit: str | float | None, threads_per_worker: int = 1) -> None:
+    """Refuse a per-worker memory limit a worker cannot run under, before any cluster.
+
+    Accepts what ``distributed.LocalCluster`` accepts: None or ``"auto"``, ``0`` (no
+    limit), a size (``"2GB"``, ``"512 MiB"``, bytes as a number > 1) or a fraction
+    ``0 < f <= 1`` of the machine's memory.
+
+    Raises
+    ------
+    ValueError
+        A limit that does not parse, is negative, or is below :data:`MIN_MEMORY_LIMIT`
+        (a worker would be paused by its own memory before running a task).
+    """
+    if memory_limit is None or memory_limit == "auto":
+        return
+    from dask.utils import format_bytes, parse_bytes
+    from distributed.worker_memory import parse_memory_limit
+
+    text = str(memory_limit).strip()
+    try:
+        if isinstance(memory_limit, bool):
+            raise ValueError
+        if isinstance(memory_limit, str):
+            number = None
+            with contextlib.suppress(ValueError):
+                number = float(text)
+            if number is None:
+                parse_bytes(text)  # raises ValueError on an unknown unit
+            elif number < 0:
+                raise ValueError
+        elif float(memory_limit) < 0:
+            raise ValueError
+        value = parse_memory_limit(memory_limit, threads_per_worker,
+                                   logger=logging.getLogger(__name__))
+        if value is not None and value < 0:  # parse_bytes("-2GB") is -2e9, no error
+            raise ValueError
+    except (ValueError, TypeError):
+        raise ValueError(f"`memory_limit` must be a size such as '2GB', 'auto', 0 (no "
+                         f"limit) or a fraction of the machine's memory in (0, 1]; got "
+                         f"{memory_limit!r}") from None
+    if value is not None and value < MIN_MEMORY_LIMIT:
+        raise ValueError(f"`memory_limit` must be at least {format_bytes(MIN_MEMORY_LIMIT)} "
+                         f"per worker (a worker process alone holds ~150 MB and Dask pauses "
+                         f"it at 80 % of its limit); got {memory_limit!r} = "
+                         f"{format_bytes(value)}")
+
+
 @contextlib.contextmanager
 def open_client(
     scheduler: str | None = None,
@@ -303,6 +514,8 @@ def open_client(
     if int(n_workers) < 1:
         raise ValueError(f"`n_workers` must be >= 1; got {n_workers}")
     n_workers = int(n_workers)
+    check_memory_limit(memory_limit, threads_per_worker)
+    check_worker_count(n_workers)
     threads = task_threads(n_workers, threads_per_worker, cpus)
     failures = {}
     if retries is not None:
@@ -345,6 +558,91 @@ def dashboard_link(client: Any) -> str | None:
 
 
 # ----------------------------------------------------------------------- run
+def _running_workers(client: Any) -> int | None:
+    """Workers of the scheduler able to run a task now (not paused, not closing).
+
+    None when the scheduler cannot be asked (connection lost): the caller treats it
+    as no worker.
+    """
+    try:
+        if getattr(client, "status", "running") not in ("running", "connecting"):
+            return None
+        info = client.scheduler_info()
+    except Exception:  # noqa: BLE001 - an unreachable scheduler runs nothing
+        return None
+    workers = (info or {}).get("workers", {}) or {}
+    return sum(1 for w in workers.values() if w.get("status", "running") == "running")
+
+
+class _Heartbeat:
+    """Progress lines (stderr not a terminal) and the watch for running workers."""
+
+    def __init__(self, client: Any, total: int, *, name: str, progress: bool,
+                 worker_wait: float, progress_every: float) -> None:
+        self.client = client
+        self.total = total
+        self.name = name
+        self.lines = progress and not _isatty(sys.stderr)
+        self.worker_wait = float(worker_wait)
+        self.progress_every = float(progress_every)
+        self.start = self.last_line = self.seen_workers = time.monotonic()
+        self.next_check = self.start
+        self.warned = False
+
+    def line(self, counts: dict, force: bool = False) -> None:
+        now = time.monotonic()
+        if self.lines and (force or now - self.last_line >= self.progress_every):
+            done = sum(counts.values())
+            sys.stderr.write(
+                f"{self.name}: {done}/{self.total} tasks done ({counts['ok']} ok, "
+                f"{counts['error']} error, {counts['lost']} lost), "
+                f"{now - self.start:.0f} s elapsed\n")
+            sys.stderr.flush()
+            self.last_line = now
+
+    def idle(self, counts: dict) -> None:
+        """Check the workers (about once a second) while no task has finished."""
+        now = time.monotonic()
+        self.line(counts)
+        if now < self.next_check:
+            return
+        self.next_check = now + 1.0
+        running = _running_workers(self.client)
+        if running:
+            if self.warned:
+                sys.stderr.write(f"{self.name}: {running} worker(s) running again\n")
+                self.warned = False
+            self.seen_workers = now
+            return
+        waited = now - self.seen_workers
+        if not self.warned:
+            why = ("the scheduler cannot be reached" if running is None else
+                   "no Dask worker is running (none connected, or all paused by their "
+                   "memory limit)")
+            sys.stderr.write(f"{self.name}: {why}; waiting up to {self.worker_wait:g} s "
+                             "for one\n")
+            sys.stderr.flush()
+            self.warned = True
+        if waited >= self.worker_wait:
+            raise NoWorkersError(
+                f"no Dask worker ran a task for {waited:.0f} s ("
+                + ("the scheduler cannot be reached" if running is None else
+                   "none connected, or all paused by their memory limit")
+                + f"); {sum(counts.values())} of {self.total} tasks finished and are kept: "
+                "run the same command again to resume")
+
+    def seen(self) -> None:
+        """Record that a task finished: some worker ran it."""
+        self.seen_workers = time.monotonic()
+
+
+def _isatty(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
 def run_tasks(
     specs: Sequence[TaskSpec],
     func: Callable[[dict], dict],
@@ -355,6 +653,9 @@ def run_tasks(
     retry_errors: bool = False,
     on_row: Callable[[str, dict], None] | None = None,
     max_pending: int = 10_000,
+    worker_wait: float = WORKER_WAIT,
+    progress_every: float = PROGRESS_EVERY,
+    name: str = "batch",
 ) -> EngineReport:
     """Run the specs not yet in ``store`` on ``client``; write one row per spec.
 
@@ -372,7 +673,8 @@ def run_tasks(
         The scheduler, or a function returning it, called only when some spec is
         not yet done (so a finished batch starts no cluster).
     progress : bool
-        Show a progress bar (and the dashboard link) on stderr.
+        Show progress on stderr: a bar on a terminal (and the dashboard link),
+        else one line every ``progress_every`` seconds and a last one at the end.
     retry_errors : bool
         Also re-run specs whose stored row is an error.
     on_row : callable, optional
@@ -380,10 +682,24 @@ def run_tasks(
     max_pending : int
         At most this many tasks are on the scheduler at once (one more is submitted
         as each finishes), so a year of logs does not sit in the scheduler's memory.
+    worker_wait : float
+        Seconds to wait while no worker is running (none connected, all paused by
+        their memory limit, or the scheduler unreachable) before raising
+        :class:`NoWorkersError`; a notice is written on stderr when the wait starts,
+        whatever ``progress``.
+    progress_every : float
+        Seconds between progress lines when stderr is not a terminal.
+    name : str
+        Prefix of the progress lines and notices (``"modalinfo batch"``).
 
     Returns
     -------
     EngineReport
+
+    Raises
+    ------
+    NoWorkersError
+        No worker for ``worker_wait`` seconds; the rows written so far are kept.
     """
     distributed = require("distributed")
     start = time.perf_counter()
@@ -413,35 +729,49 @@ def run_tasks(
         queue = iter(todo)
         first = list(itertools.islice(queue, max_pending))
         bar = None
+        beat = _Heartbeat(client, len(todo), name=name, progress=progress,
+                          worker_wait=worker_wait, progress_every=progress_every)
         if progress:
             link = dashboard_link(client)
             if link:
                 sys.stderr.write(f"dask dashboard: {link}\n")
             from tqdm import tqdm
 
-            # disable=None: no bar when stderr is not a terminal (logs, CI, batch jobs)
+            # disable=None: no bar when stderr is not a terminal (logs, CI, batch jobs),
+            # where the heartbeat writes a line every few seconds instead
             bar = tqdm(total=len(todo), unit="task", file=sys.stderr, smoothing=0.1,
                        disable=None)
         try:
             pending = distributed.as_completed(submit(first))
-            for future in pending:
-                spec = by_future.pop(future.key)
-                try:
-                    row = future.result()
-                except Exception as exc:  # noqa: BLE001 - the task's workers died
-                    row = {"status": "lost", "error_type": type(exc).__name__,
-                           "error_message": str(exc).strip().splitlines()[0]
-                           if str(exc).strip() else ""}
-                row = {**spec.labels, **row}
-                store.write(spec.key, row)
-                counts[row["status"]] += 1
-                if on_row is not None:
-                    on_row(spec.key, row)
-                future.release()
-                for new in submit(list(itertools.islice(queue, 1))):  # keep max_pending
-                    pending.add(new)
-                if bar is not None:
-                    bar.update(1)
+            while not pending.is_empty():
+                ready = pending.next_batch(block=False)
+                if not ready:
+                    beat.idle(counts)
+                    # woken by the next finished task (as as_completed's own __next__)
+                    with pending.thread_condition:
+                        pending.thread_condition.wait(timeout=0.2)
+                    continue
+                beat.seen()
+                for future in ready:
+                    spec = by_future.pop(future.key)
+                    try:
+                        row = future.result()
+                    except Exception as exc:  # noqa: BLE001 - the task's workers died
+                        row = {"status": "lost", "error_type": type(exc).__name__,
+                               "error_message": str(exc).strip().splitlines()[0]
+                               if str(exc).strip() else ""}
+                    row = {**spec.labels, **row}
+                    store.write(spec.key, row)
+                    counts[row["status"]] += 1
+                    if on_row is not None:
+                        on_row(spec.key, row)
+                    future.release()
+                    for new in submit(list(itertools.islice(queue, 1))):  # keep max_pending
+                        pending.add(new)
+                    if bar is not None:
+                        bar.update(1)
+                beat.line(counts)
+            beat.line(counts, force=True)
         finally:
             if bar is not None:
                 bar.close()

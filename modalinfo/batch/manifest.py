@@ -15,15 +15,21 @@ in_modes       ``2-28``, ``4,5,6`` or labels (also ``modes``)
 in_convention  noll, ansi, fringe, labels (also ``convention``)
 nonfinite      raise, drop, interpolate
 start_time     time of the first frame [s] (e.g. Unix time)
+transpose      true / false: the file stores modes x frames (``--transpose``)
+dataset        HDF5 dataset path or NPZ array name (``--dataset``)
+loop           control loop uid of an AOT file (``--loop``)
 =============  =====================================================
 
-A CSV file without a ``path`` header column is a log, not a manifest.
+A CSV file without a ``path`` header column is a log, not a manifest; one whose
+first row names a file with a log extension (a manifest whose path column is
+misnamed) is refused rather than read as numbers.
 """
 
 from __future__ import annotations
 
 import csv
 import glob
+import itertools
 import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -36,8 +42,9 @@ _ALIASES = {
     "in_units": "units", "units": "units", "in_modes": "modes", "modes": "modes",
     "in_convention": "convention", "convention": "convention", "rate": "rate",
     "wavelength": "wavelength", "nonfinite": "nonfinite", "start_time": "start_time",
-    "fmt": "fmt",
+    "fmt": "fmt", "transpose": "transpose", "dataset": "dataset", "loop": "loop",
 }
+_BOOLEANS = {"true": True, "yes": True, "1": True, "false": False, "no": False, "0": False}
 _FLOATS = ("rate", "wavelength", "start_time")
 
 
@@ -77,7 +84,39 @@ def _is_manifest(path: Path) -> bool:
     return False
 
 
+def _misnamed_manifest(path: Path) -> str | None:
+    """Return a cell of a CSV's first rows naming a log file, else None.
+
+    Such a CSV is a manifest whose ``path`` column is misnamed, not a log.
+    """
+    if path.suffix.lower() != ".csv" or not path.is_file():
+        return None
+    exts = tuple(e.lower() for e in _extensions())
+    with open(path, encoding="utf-8", errors="replace", newline="") as fh:
+        lines = [line for line in itertools.islice(
+            (ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")), 2)]
+    for row in csv.reader(lines):
+        for cell in row:
+            cell = cell.strip()
+            if cell.lower().endswith(exts) and not _is_number(cell):
+                return cell
+    return None
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _hint(name: str, text: str, where: str) -> Any:
+    if name == "transpose":
+        value = _BOOLEANS.get(text.lower())
+        if value is None:
+            raise ValueError(f"{where}: column 'transpose' must be true or false; got {text!r}")
+        return value
     if name in _FLOATS:
         try:
             return float(text)
@@ -199,6 +238,10 @@ def collect_logs(
         elif _is_manifest(path):
             for entry in read_manifest(path):
                 add(LogEntry(entry.path, entry.fmt or fmt, {**base_hints, **entry.hints}))
+        elif (named := _misnamed_manifest(path)) is not None:
+            raise ValueError(
+                f"input '{path}' names files ({named!r}) like a manifest but its header has "
+                "no 'path' column; name the file column 'path' (a CSV log holds numbers)")
         elif path.exists():
             add(plain(path))
         elif glob.has_magic(text):

@@ -245,6 +245,8 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     from modalinfo.io import load
 
     path = Path(path)
+    if path.is_dir():
+        raise CommandError(f"'{path}' is a directory, not a log file")
     if not path.is_file():
         raise CommandError(f"log file '{path}' does not exist")
     if args is None:

@@ -11,8 +11,13 @@ analysis runs on a Dask ``LocalCluster`` (``--workers``, ``--threads-per-worker`
 ``--memory-limit``) or on the scheduler at ``--scheduler``. The table
 ``DIR/batch.csv`` / ``DIR/batch.parquet`` has one row per log and analysis; a log
 that cannot be read becomes an error row. Running the same command again resumes:
-finished rows are skipped. ``--set analysis.name=value`` changes a parameter (value
-read as JSON when it parses, else as text), e.g. ``--set forecast.horizon=10``.
+finished rows are skipped. Exit status 1 when some row failed (the count on stderr),
+or when no worker ran a task for ``--worker-wait`` seconds; 2 for an input error,
+found before any work (a ``--set`` value, ``--memory-limit`` below 256 MiB, an
+output directory in use by another batch: ``DIR/.lock``). When stderr is not a
+terminal, a progress line every few seconds replaces the bar.
+``--set analysis.name=value`` changes a parameter (value read as JSON when it parses,
+else as text), e.g. ``--set forecast.horizon=10``.
 """
 
 from __future__ import annotations
@@ -57,6 +62,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--retries", type=int, default=None, metavar="R",
                         help="re-runs of a task whose local worker died (default: Dask's "
                         "allowed-failures, 3); exceptions are error rows, never retried")
+    parser.add_argument("--worker-wait", type=float, default=None, metavar="S",
+                        help="give up (exit 1, finished rows kept) after S seconds with no "
+                        "running worker (default 60)")
     parser.add_argument("--retry-errors", action="store_true",
                         help="re-run analyses whose earlier row is an error")
     parser.add_argument("--no-plots", action="store_true", help="skip the summary plots")
@@ -81,8 +89,13 @@ def parse_settings(items: list[str]) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the batch and print what was done."""
+    """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
+    from modalinfo.batch.engine import (
+        NoWorkersError,
+        check_memory_limit,
+        check_worker_count,
+    )
 
     for flag, value in (("--workers", args.workers),
                         ("--threads-per-worker", args.threads_per_worker)):
@@ -90,20 +103,38 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"{flag} must be >= 1; got {value}")
     if args.retries is not None and args.retries < 0:
         raise CommandError(f"--retries must be >= 0; got {args.retries}")
+    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
+        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
+                           f"{args.worker_wait:g}")
+    if args.window_frames is not None and args.window_frames < 2:
+        raise CommandError(f"--window-frames must be >= 2; got {args.window_frames}")
+    try:
+        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+        if args.workers is not None and args.scheduler is None:
+            check_worker_count(args.workers)
+    except ValueError as exc:
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
+                           .replace("`n_workers`", "--workers")) from None
+    settings = parse_settings(args.settings)
     hints = hints_from_args(args)
     if hints.get("nonfinite") == "raise":
         hints.pop("nonfinite")  # the reader's default: keeps the task keys of plain runs
+    if args.dataset is not None:
+        hints["dataset"] = args.dataset
     try:
         result = analyse_archive(
-            args.inputs, args.analyses, args.out, params=parse_settings(args.settings),
+            args.inputs, args.analyses, args.out, params=settings,
             fmt=args.fmt, hints=hints, scheduler=args.scheduler, n_workers=args.workers,
             threads_per_worker=args.threads_per_worker, memory_limit=args.memory_limit,
             window_frames=args.window_frames, retries=args.retries,
             retry_errors=args.retry_errors, progress=not args.quiet,
-            plots=not args.no_plots,
+            plots=not args.no_plots, worker_wait=args.worker_wait,
         )
     except ImportError as exc:
         raise CommandError(str(exc)) from None
+    except NoWorkersError as exc:
+        sys.stderr.write(f"modalinfo batch: error: {exc}\n")
+        return 1
     if not args.quiet:
         rep = result.report
         out = sys.stdout
@@ -118,4 +149,11 @@ def run(args: argparse.Namespace) -> int:
                           f"{row.get('error_type')}: {row.get('error_message')}\n")
         for path in result.plots:
             out.write(f"plot: {path}\n")
+    if result.n_error:
+        lost = sum(r.get("status") == "lost" for r in result.rows)
+        sys.stderr.write(
+            f"modalinfo batch: {result.n_error} of {len(result.rows)} rows failed"
+            + (f" ({lost} lost with their workers: run again to retry them)" if lost else "")
+            + f"; see {result.csv_path}\n")
+        return 1
     return 0

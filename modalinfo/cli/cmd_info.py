@@ -23,6 +23,24 @@ HELP = "Describe a telemetry log: shape, rate, modes, units and per-mode RMS / l
 _PROGRESS_MIN_FRAMES = 1_000_000
 
 
+#: What an AOT loop's coefficients are (closedloop's MI_QUANT card) -> the words of ``info``.
+_QUANTITIES = {
+    "pol": "pseudo-open-loop coefficients (the turbulence the loop corrected: residual "
+           "plus applied commands), not the loop's residual",
+    "residual": "the loop's residual",
+}
+
+
+def _loop_text(meta: dict) -> str:
+    """Return the ``loop`` line: open/closed, and what the coefficients are if the file says."""
+    loop = meta.get("loop", "unknown")
+    quantity = meta.get("coefficient_quantity")
+    if quantity is None:
+        return str(loop)
+    what = _QUANTITIES.get(quantity, f"coefficients of kind {quantity!r}")
+    return f"{loop} during the recording; these are {what}"
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Fill the ``info`` parser."""
     parser.add_argument("log", metavar="LOG", help="log file (npz, npy, csv, fits, h5)")
@@ -92,9 +110,10 @@ def run(args: argparse.Namespace) -> int:
     wave = "" if log.wavelength is None else f" at wavelength {log.wavelength:.6g} m"
     mark = " (assumed)" if "units" in assumed else ""
     out.write(f"units       {log.units}{mark}{wave}\n")
-    out.write(f"loop        {meta.get('loop', 'unknown')}\n")
+    out.write(f"loop        {_loop_text(meta)}\n")
     for key in sorted(meta):
-        if key in ("loop", "repairs", "assumed", "modes_identification"):
+        if key in ("loop", "repairs", "assumed", "modes_identification",
+                   "coefficient_quantity"):
             continue
         value = meta[key]
         text = "; ".join(f"{k} {v}" for k, v in value.items()) if isinstance(

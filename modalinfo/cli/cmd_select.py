@@ -17,7 +17,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, load_log
+from modalinfo.cli._common import add_hint_arguments, load_log_with_hints
 
 NAME = "select"
 HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional MI."
@@ -60,10 +60,10 @@ def run(args: argparse.Namespace) -> int:
     """Run the selection and print the table."""
     from modalinfo.information.selection import select_inputs
 
-    log = load_log(args.log, args)
+    log = load_log_with_hints(args.log, args)
     extra = None
     if args.extra is not None:
-        extra = load_log(args.extra, args)
+        extra = load_log_with_hints(args.extra, args)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")

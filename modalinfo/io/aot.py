@@ -280,6 +280,12 @@ def _describe(system, lp, loops, path: Path) -> dict:
         "loops": [x.uid for x in loops],
         "ao_mode": system.ao_mode,
     }
+    # what the coefficients are (closedloop's MI_QUANT card: residual, pol, ...): a
+    # pseudo-open-loop series of a closed loop is not that loop's residual
+    cards = getattr(lp.modal_coefficients, "metadata", None) or []
+    quantity = next((m.value for m in cards if getattr(m, "key", None) == "MI_QUANT"), None)
+    if isinstance(quantity, str) and quantity:
+        meta["coefficient_quantity"] = quantity
     if system.name:
         meta["system"] = system.name
     if system.date_beginning is not None:

@@ -49,10 +49,13 @@ def test_sweep_rows_resume_and_errors(tmp_path, capsys):
     assert {r["override"] for r in errors} == {"unstable"}
     assert "unstable" in errors[0]["error_message"]
     assert (tmp_path / "out" / "sweep.parquet").is_file()
-    # again: nothing to do, no cluster
+    # again: nothing to do, no cluster; the 2 error rows make the exit status 1
     assert main(["sweep", str(tmp_path / "grid.toml"), "--out", str(tmp_path / "out"),
-                 "--quiet"]) == 0
-    assert "6 already done, 0 ran" in capsys.readouterr().out
+                 "--quiet"]) == 1
+    captured = capsys.readouterr()
+    assert "6 already done, 0 ran" in captured.out
+    table = tmp_path / "out" / "sweep.csv"
+    assert captured.err == f"closedloop sweep: 2 of 6 runs failed; see {table}\n"
 
 
 def test_bad_grid(tmp_path, capsys):
