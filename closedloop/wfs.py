@@ -20,7 +20,7 @@ pixel-pair differences ``(phi(u + dx) - phi(u)) / dx``, each weighted by the sha
 its ``dx x dx`` cell that lies in the subaperture (:func:`_window_entries`; a pair
 straddling an edge counts in both neighbours by its share, so the window is centred on
 the subaperture; until issue 17 such pairs all went to the right-hand one, a window
-offset by half a pixel that added a third to the aliasing), over every
+offset by half a pixel, with 1.3-1.5 times the single-conjugate aliasing), over every
 illuminated (pair, direction). Subapertures with less than half of the weight of a
 fully illuminated one are not used. Each slope gets white Gaussian noise
 (``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``). A
