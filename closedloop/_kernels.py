@@ -6,8 +6,8 @@ from numba import prange
 from modalinfo._numba import jit
 
 
-def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, common,
-                       base, out_mean, out_var):
+def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights,
+                       common, base, out_mean, out_var):
     """Mean and variance over the pupil of the summed plane maps, for every direction.
 
     flat       (sum n_p**2,) float64   IN  plane maps, row-major, concatenated
@@ -17,13 +17,18 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
                                            (lo == hi for an empty row); the pupil is the
                                            union of these spans (convex rows)
     shifts     (n_dir, P, 2) float64   IN  fractional (col, row) on plane p of pupil pixel (0, 0)
+    taps       (n_dir, P, 2, 4) float64 IN the read's weights along columns (``[.., 0, :]``)
+                                           and rows (``[.., 1, :]``) at offsets -1, 0, 1, 2
+                                           from ``floor(shift)``
+                                           (:func:`closedloop.science.read_weights`)
     weights    (P,) float64            IN  factor of each plane (1, or 0 to leave it out)
     common     (P,) bool               IN  plane p has the same shift in every direction
                                            (the ground plane); resampled once into ``base``
     base       (N, N) float64          SCRATCH the common planes' sum on the pupil grid
     out_mean, out_var (n_dir,)         OUT piston and piston-removed variance
 
-    Per pixel the value is ``sum_p w_p (bilinear read of plane p)``, the common planes'
+    Per pixel the value is ``sum_p w_p (4 x 4-tap read of plane p)`` (a copy at a whole
+    pixel shift), the common planes'
     sum first, then the others, each group in plane order. Two things make it fast. The
     common planes are read once per call, not once per direction. The moments are
     accumulated per pupil column (``cs[k] += v``), not in two scalar sums: a scalar
@@ -44,6 +49,7 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
     for r in range(n_rows):
         count += span_hi[r] - span_lo[r]
     # the direction-independent part, once
+    tmp0 = np.empty(n_cols + 3)
     for r in range(n_rows):
         lo = span_lo[r]
         m = span_hi[r] - lo
@@ -53,8 +59,8 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
         row[:] = 0.0
         for p in range(n_planes):
             if common[p]:
-                _add_bilinear_row(flat, offsets[p], sizes[p], shifts[0, p, 0],
-                                  shifts[0, p, 1], weights[p], r, lo, row)
+                _add_read_row(flat, offsets[p], sizes[p], shifts[0, p, 0], shifts[0, p, 1],
+                              taps[0, p], weights[p], r, lo, row, tmp0)
     first = 0  # first non-empty pupil row
     while span_hi[first] <= span_lo[first]:
         first += 1
@@ -65,6 +71,7 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
             single = p if single == -1 else -2
     for d in prange(n_dir):
         row = np.empty(n_cols)
+        tmp = np.empty(n_cols + 3)
         cs = np.zeros(n_cols)
         cs2 = np.zeros(n_cols)
         # moments about the value of the first pupil pixel, computed as below
@@ -73,13 +80,13 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
         v[0] = base[first, lo]
         for p in range(n_planes):
             if not common[p]:
-                _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
-                                  shifts[d, p, 1], weights[p], first, lo, v)
+                _add_read_row(flat, offsets[p], sizes[p], shifts[d, p, 0], shifts[d, p, 1],
+                              taps[d, p], weights[p], first, lo, v, tmp)
         ref = v[0]
         if single >= 0:
             _moments_one_plane(flat, offsets[single], sizes[single], shifts[d, single, 0],
-                               shifts[d, single, 1], weights[single], span_lo, span_hi,
-                               base, ref, cs, cs2)
+                               shifts[d, single, 1], taps[d, single], weights[single],
+                               span_lo, span_hi, base, ref, cs, cs2, tmp)
         else:
             for r in range(n_rows):
                 lo = span_lo[r]
@@ -90,8 +97,8 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
                 v[:] = base[r, lo:lo + m]
                 for p in range(n_planes):
                     if not common[p]:
-                        _add_bilinear_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
-                                          shifts[d, p, 1], weights[p], r, lo, v)
+                        _add_read_row(flat, offsets[p], sizes[p], shifts[d, p, 0],
+                                      shifts[d, p, 1], taps[d, p], weights[p], r, lo, v, tmp)
                 c1 = cs[lo:lo + m]
                 c2 = cs2[lo:lo + m]
                 for k in range(m):
@@ -109,68 +116,83 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, weights, 
 
 
 @jit(inline="always")
-def _moments_one_plane(flat, offset, n, fc, fr, w, span_lo, span_hi, base, ref, cs, cs2):
-    """``cs[k] += x``, ``cs2[k] += x * x`` over the pupil, ``x = base + (bilinear read) - ref``.
+def _combine_rows(flat, i0, n, wy, m, tmp):
+    """``tmp[k] = sum_a wy[a] flat[i0 + a n + k]`` for ``k < m + 3`` (the rows' weighted sum)."""
+    w0 = wy[0]
+    w1 = wy[1]
+    w2 = wy[2]
+    w3 = wy[3]
+    r0 = flat[i0:i0 + m + 3]
+    r1 = flat[i0 + n:i0 + n + m + 3]
+    r2 = flat[i0 + 2 * n:i0 + 2 * n + m + 3]
+    r3 = flat[i0 + 3 * n:i0 + 3 * n + m + 3]
+    for k in range(m + 3):
+        tmp[k] = ((w0 * r0[k] + w1 * r1[k]) + w2 * r2[k]) + w3 * r3[k]
+
+
+@jit(inline="always")
+def _moments_one_plane(flat, offset, n, fc, fr, taps, w, span_lo, span_hi, base, ref, cs,
+                       cs2, tmp):
+    """``cs[k] += x``, ``cs2[k] += x * x`` over the pupil, ``x = base + w (read) - ref``.
 
     One pass per row for a single direction-dependent plane: the same sums, in the same
-    order, as building the row with :func:`_add_bilinear_row` and then accumulating.
+    order, as building the row with :func:`_add_read_row` and then accumulating.
     """
     ic = int(np.floor(fc))
     ir = int(np.floor(fr))
-    tc = fc - ic
-    tr = fr - ir
-    a = w * (1.0 - tr) * (1.0 - tc)
-    b = w * (1.0 - tr) * tc
-    c = w * tr * (1.0 - tc)
-    e = w * tr * tc
-    whole = tc == 0.0 and tr == 0.0
+    whole = fc == ic and fr == ir
+    wx0 = w * taps[0, 0]
+    wx1 = w * taps[0, 1]
+    wx2 = w * taps[0, 2]
+    wx3 = w * taps[0, 3]
     for r in range(span_lo.shape[0]):
         lo = span_lo[r]
         m = span_hi[r] - lo
         if m <= 0:
             continue
-        i0 = offset + (ir + r) * n + ic + lo
         g = base[r, lo:lo + m]
         c1 = cs[lo:lo + m]
         c2 = cs2[lo:lo + m]
         if whole:
+            i0 = offset + (ir + r) * n + ic + lo
             src = flat[i0:i0 + m]
             for k in range(m):
                 x = (g[k] + w * src[k]) - ref
                 c1[k] += x
                 c2[k] += x * x
             continue
-        top = flat[i0:i0 + m + 1]
-        bot = flat[i0 + n:i0 + n + m + 1]
+        _combine_rows(flat, offset + (ir + r - 1) * n + ic + lo - 1, n, taps[1], m, tmp)
         for k in range(m):
-            x = (g[k] + (a * top[k] + b * top[k + 1] + c * bot[k] + e * bot[k + 1])) - ref
+            x = (g[k] + (((wx0 * tmp[k] + wx1 * tmp[k + 1]) + wx2 * tmp[k + 2])
+                         + wx3 * tmp[k + 3])) - ref
             c1[k] += x
             c2[k] += x * x
 
 
 @jit(inline="always")
-def _add_bilinear_row(flat, offset, n, fc, fr, w, r, lo, row):
-    """``row[k] += w * (bilinear read of plane (offset, n) at (fc + lo + k, fr + r))``."""
+def _add_read_row(flat, offset, n, fc, fr, taps, w, r, lo, row, tmp):
+    """``row[k] += w * (read of plane (offset, n) at (fc + lo + k, fr + r))``.
+
+    A copy at a whole-pixel shift, else the separable 4 x 4-tap read with ``taps``
+    (rows combined first, then columns).
+    """
     ic = int(np.floor(fc))
     ir = int(np.floor(fr))
-    tc = fc - ic
-    tr = fr - ir
-    i0 = offset + (ir + r) * n + ic + lo
     m = row.shape[0]
-    if tc == 0.0 and tr == 0.0:
+    if fc == ic and fr == ir:
         # whole-pixel shift (the ground plane): one read per pixel
+        i0 = offset + (ir + r) * n + ic + lo
         src = flat[i0:i0 + m]
         for k in range(m):
             row[k] += w * src[k]
         return
-    a = w * (1.0 - tr) * (1.0 - tc)
-    b = w * (1.0 - tr) * tc
-    c = w * tr * (1.0 - tc)
-    e = w * tr * tc
-    top = flat[i0:i0 + m + 1]
-    bot = flat[i0 + n:i0 + n + m + 1]
+    _combine_rows(flat, offset + (ir + r - 1) * n + ic + lo - 1, n, taps[1], m, tmp)
+    wx0 = w * taps[0, 0]
+    wx1 = w * taps[0, 1]
+    wx2 = w * taps[0, 2]
+    wx3 = w * taps[0, 3]
     for k in range(m):
-        row[k] += a * top[k] + b * top[k + 1] + c * bot[k] + e * bot[k + 1]
+        row[k] += ((wx0 * tmp[k] + wx1 * tmp[k + 1]) + wx2 * tmp[k + 2]) + wx3 * tmp[k + 3]
 
 
 # one body, two compilations: threads pay off only for many directions (a parallel region

@@ -6,7 +6,7 @@ optical axis at that altitude, large enough for every beam the simulation uses (
 directions and WFS field samples): it is that altitude's meta-pupil. A pupil point
 ``x`` looking in direction ``theta`` crosses plane ``p`` at ``x + h_p theta``; because
 all planes share the pitch, the sub-pixel part of that shift is the same for every
-pupil pixel, so one set of four bilinear weights serves a whole (direction, plane) pair.
+pupil pixel, so one set of read weights serves a whole (direction, plane) pair.
 
 Grids have the parity of ``n_pixels``, so the ground plane (``h = 0``) is read at whole
 pixels (no interpolation at all). Altitudes and r0 follow the zenith angle ``z``:
@@ -27,7 +27,7 @@ __all__ = ["ARCSEC", "Geometry", "field_samples", "science_directions", "plane_l
 
 #: radians per arcsecond
 ARCSEC = math.pi / (180.0 * 3600.0)
-#: spare pixels around every beam (bilinear reads and rounding)
+#: spare pixels around every beam (the science path's 4-tap reads and rounding)
 _MARGIN = 3
 
 

@@ -13,10 +13,16 @@ the field blurs them (Ragazzoni et al. 2002, A&A 396, 731). The light reaches ``
 Shack-Hartmann (``kind="shack_hartmann"``): ``n_subapertures`` across the sensed
 meta-pupil (diameter ``D + 2 h_j tan(field/2)``). A subaperture's slope is the mean
 phase gradient over its illuminated part, averaged over the field, in the geometric
-limit of a correlating SH on extended granulation: the mean of the pixel-pair
-differences ``(phi(u + dx) - phi(u)) / dx`` whose midpoints fall in the subaperture,
-over every illuminated (pair, direction). Subapertures with less than half of the
-pairs of a fully illuminated one are not used. Each slope gets white Gaussian noise
+limit of a correlating SH on extended granulation: the mean over the subaperture's
+square of the phase gradient, the phase taken linear between pixel centres along the
+slope's axis and constant across each pixel, written as a weighted mean of the
+pixel-pair differences ``(phi(u + dx) - phi(u)) / dx``, each weighted by the share of
+its ``dx x dx`` cell that lies in the subaperture (:func:`_window_entries`; a pair
+straddling an edge counts in both neighbours by its share, so the window is centred on
+the subaperture; until issue 17 such pairs all went to the right-hand one, a window
+offset by half a pixel, with 1.3-1.5 times the single-conjugate aliasing), over every
+illuminated (pair, direction). Subapertures with less than half of the weight of a
+fully illuminated one are not used. Each slope gets white Gaussian noise
 (``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``). A
 least-squares modal reconstructor (SVD pseudo-inverse of the interaction matrix of the
 WFS's own DM, modes with singular values below 1e-3 of the largest dropped) gives the
@@ -63,6 +69,61 @@ def bilinear_matrix(cols: np.ndarray, rows: np.ndarray, n: int) -> sparse.csr_ma
     colidx = np.concatenate([base, base + 1, base + n, base + n + 1])
     rowidx = np.tile(np.arange(cols.size), 4)
     return sparse.csr_matrix((data, (rowidx, colidx)), shape=(cols.size, n * n))
+
+
+def _window_entries(start: np.ndarray, axis: int, dx: float, d_wfs: float, n_sub: int):
+    """Weights of the pixel-pair differences in the subapertures' mean gradients.
+
+    The pair ``(u, u + dx e_axis)`` carries the derivative along ``axis`` of the phase
+    taken linear along ``axis`` between the two pixel centres and constant across the
+    pixel's width: a ``dx x dx`` cell centred on the pair's midpoint. Its weight in
+    subaperture ``S`` is the area of that cell inside ``S`` over ``dx**2`` (its overlap
+    along ``axis`` times its overlap across). With these weights the sum over pairs of
+    ``weight * difference / dx``, over ``(pitch / dx)**2``, is exactly the mean over ``S``
+    of that phase's gradient: centred on ``S`` (a pair straddling an edge counts in both
+    subapertures by its share), exact for planes, and for quadratics where the edges
+    sit symmetrically on the grid.
+
+    Parameters
+    ----------
+    start : (n_pairs, 2) ndarray
+        ``(x, y)`` of each pair's first pixel [m], relative to the sensed meta-pupil's centre.
+    axis : int
+        0 for x-slopes, 1 for y-slopes.
+    dx : float
+        Grid pitch [m].
+    d_wfs : float
+        Side of the square of subapertures [m].
+    n_sub : int
+        Subapertures across.
+
+    Returns
+    -------
+    pair, sub, weight : (n_entries,) ndarrays
+        Pair index, subaperture index ``row * n_sub + column``, and weight (> 0).
+    """
+    pitch = d_wfs / n_sub
+    s = start[:, axis] + d_wfs / 2.0      # cell [s, s + dx] along the slope's axis
+    y = start[:, 1 - axis] + d_wfs / 2.0  # and [y - dx/2, y + dx/2] across it
+    i0 = np.floor(s / pitch).astype(np.int64)
+    j0 = np.floor((y - dx / 2.0) / pitch).astype(np.int64)
+    pairs, subs, weights = [], [], []
+    for ka in range(int(math.ceil(dx / pitch)) + 1):
+        i = i0 + ka
+        along = np.clip(np.minimum(s + dx, (i + 1) * pitch) - np.maximum(s, i * pitch),
+                        0.0, None) / dx
+        for kc in range(int(math.ceil(dx / pitch)) + 1):
+            j = j0 + kc
+            across = np.clip(np.minimum(y + dx / 2.0, (j + 1) * pitch)
+                             - np.maximum(y - dx / 2.0, j * pitch), 0.0, None) / dx
+            w = along * across
+            ok = (w > 1e-12) & (i >= 0) & (i < n_sub) & (j >= 0) & (j < n_sub)
+            idx = np.flatnonzero(ok)
+            col, row = (i[idx], j[idx]) if axis == 0 else (j[idx], i[idx])
+            pairs.append(idx)
+            subs.append(row * n_sub + col)
+            weights.append(w[idx])
+    return np.concatenate(pairs), np.concatenate(subs), np.concatenate(weights)
 
 
 class WavefrontSensor:
@@ -145,45 +206,45 @@ class WavefrontSensor:
         self.pitch = pitch
         plane = g.planes[self.dm.plane]
         coords = g.plane_coords(self.dm.plane)
-        # pixel pairs: start pixel (i, j) and its +x / +y neighbour, midpoints on the grid
+        # pixel pairs: start pixel (i, j) and its +x / +y neighbour
         jj, ii = np.meshgrid(np.arange(plane.n - 1), np.arange(plane.n - 1), indexing="xy")
         start = np.column_stack([coords[jj.ravel()], coords[ii.ravel()]])
         ops = [[] for _ in g.planes]
-        full_pairs = None
+        full = None
+        n_samples = len(self.samples)
         for axis in (0, 1):
             step = np.zeros(2)
             step[axis] = g.dx
-            mid = start + step / 2.0
-            sub_c = np.floor((mid[:, 0] + d_wfs / 2.0) / pitch).astype(np.int64)
-            sub_r = np.floor((mid[:, 1] + d_wfs / 2.0) / pitch).astype(np.int64)
-            inside = (sub_c >= 0) & (sub_c < n_sub) & (sub_r >= 0) & (sub_r < n_sub)
-            pairs = np.flatnonzero(inside)
-            sub = sub_r[pairs] * n_sub + sub_c[pairs]
-            if full_pairs is None:
-                full_pairs = np.bincount(sub, minlength=n_sub * n_sub).max() * len(self.samples)
+            pair, sub, weight = _window_entries(start, axis, g.dx, d_wfs, n_sub)
+            if full is None:
+                full = np.bincount(sub, weights=weight, minlength=n_sub * n_sub).max()
+                full *= n_samples
             counts = np.zeros(n_sub * n_sub)
             entries = []
             for theta in self.samples:
-                lit = (self._illuminated(start[pairs], theta)
-                       & self._illuminated(start[pairs] + step, theta))
-                entries.append((theta, pairs[lit], sub[lit]))
-                counts += np.bincount(sub[lit], minlength=n_sub * n_sub)
+                lit = (self._illuminated(start, theta)
+                       & self._illuminated(start + step, theta))[pair]
+                entries.append((theta, pair[lit], sub[lit], weight[lit]))
+                counts += np.bincount(sub[lit], weights=weight[lit], minlength=n_sub * n_sub)
             if axis == 0:
-                valid = counts >= 0.5 * full_pairs
+                valid = counts >= 0.5 * full
                 self.valid_subapertures = np.flatnonzero(valid)
                 meas_index = -np.ones(n_sub * n_sub, dtype=np.int64)
                 meas_index[self.valid_subapertures] = np.arange(self.valid_subapertures.size)
             n_valid = self.valid_subapertures.size
-            for theta, lit_pairs, lit_sub in entries:
+            for theta, lit_pair, lit_sub, lit_w in entries:
                 keep = meas_index[lit_sub] >= 0
-                lit_pairs, lit_sub = lit_pairs[keep], lit_sub[keep]
+                lit_pair, lit_sub, lit_w = lit_pair[keep], lit_sub[keep], lit_w[keep]
+                # the pairs this direction uses, once each; W: (measurement, pair) weights
+                used, col = np.unique(lit_pair, return_inverse=True)
                 row = meas_index[lit_sub] + axis * n_valid
-                w = 1.0 / (counts[lit_sub] * g.dx)
+                w = sparse.csr_matrix((lit_w / (counts[lit_sub] * g.dx), (row, col)),
+                                      shape=(2 * n_valid, used.size))
                 for p in range(len(g.planes)):
-                    a = self._sample_matrix(p, start[lit_pairs] + step, theta)
-                    b = self._sample_matrix(p, start[lit_pairs], theta)
-                    diff = (a - b).tocoo()
-                    ops[p].append((row[diff.row], diff.col, diff.data * w[diff.row]))
+                    a = self._sample_matrix(p, start[used] + step, theta)
+                    b = self._sample_matrix(p, start[used], theta)
+                    term = (w @ (a - b)).tocoo()
+                    ops[p].append((term.row, term.col, term.data))
         self.n_valid_subapertures = int(self.valid_subapertures.size)
         self.n_measurements = 2 * self.n_valid_subapertures
         self.operators = [

@@ -355,6 +355,7 @@ def test_interpolation_smoothing_at_half_pixel(interpolation):
 
 
 # ------------------------------------------------------------------------ bookkeeping
+@pytest.mark.reproducibility
 def test_same_seed_same_bits_and_reset():
     kw = dict(velocity=(7.3, -2.1), outer_scale=30.0, duration_hint=0.3)
     a = AtmosphericLayer(48, 0.05, 0.12, seed=11, **kw)

@@ -1,8 +1,9 @@
 """The loop's numba kernels against the plain computations they replace, on random inputs.
 
-Science step. Reference: the piston-removed variance over the pupil of the sum of the bilinearly
-shifted plane maps, written in plain numpy one direction at a time (fancy-indexed
-bilinear reads, two-pass ``numpy.var``): the computation the kernel replaces, as in
+Science step. Reference: the piston-removed variance over the pupil of the sum of the
+shifted plane maps, written in plain numpy one direction at a time (fancy-indexed 4 x 4
+reads with ``closedloop.science.read_weights``, a copy at whole pixels; two-pass
+``numpy.var``): the computation the kernel replaces, as in
 ``benchmarks/bench_closedloop.py``. The kernel reads direction-independent planes once
 and accumulates per pupil column, so it agrees with the reference to rounding only.
 
@@ -21,7 +22,7 @@ from closedloop import _kernels, presets
 from closedloop.config import DMConfig
 from closedloop.dm import DeformableMirror
 from closedloop.geometry import Geometry
-from closedloop.science import ScienceCamera
+from closedloop.science import ScienceCamera, read_weights
 
 
 def plain_numpy(cam, weights):
@@ -37,12 +38,14 @@ def plain_numpy(cam, weights):
         for p, view in enumerate(cam.plane_views()):
             fc, fr = cam._shifts[d, p]
             ic, ir = int(np.floor(fc)), int(np.floor(fr))
-            tc, tr = fc - ic, fr - ir
             r0, c0 = rows + ir, cols + ic
-            v += weights[p] * ((1 - tr) * (1 - tc) * view[r0, c0]
-                               + (1 - tr) * tc * view[r0, c0 + 1]
-                               + tr * (1 - tc) * view[r0 + 1, c0]
-                               + tr * tc * view[r0 + 1, c0 + 1])
+            if fc == ic and fr == ir:
+                v += weights[p] * view[r0, c0]
+                continue
+            wx, wy = read_weights(fc - ic), read_weights(fr - ir)
+            for a in range(4):
+                for b in range(4):
+                    v += weights[p] * wy[a] * wx[b] * view[r0 + a - 1, c0 + b - 1]
         mean[d] = v.mean()
         var[d] = v.var()
     return mean, var
@@ -73,7 +76,8 @@ def test_ground_plane_is_read_once_and_threads_give_the_same_bits(camera):
     assert camera._common[0] and not camera._common[1:].any()
     camera._flat[:] = np.random.default_rng(4).standard_normal(camera._flat.size)
     args = (camera._flat, camera._offsets, camera._sizes, camera._span_lo, camera._span_hi,
-            camera._shifts, np.ones(len(camera._sizes)), camera._common, camera._base)
+            camera._shifts, camera._taps, np.ones(len(camera._sizes)), camera._common,
+            camera._base)
     out = [np.empty((2, len(camera.directions))) for _ in range(2)]
     _kernels.direction_moments_serial(*args, out[0][0], out[0][1])
     _kernels.direction_moments(*args, out[1][0], out[1][1])
@@ -81,7 +85,7 @@ def test_ground_plane_is_read_once_and_threads_give_the_same_bits(camera):
     # treating no plane as common (every plane read per direction) changes rounding only
     flags = np.zeros_like(camera._common)
     other = np.empty((2, len(camera.directions)))
-    _kernels.direction_moments_serial(*args[:7], flags, camera._base, other[0], other[1])
+    _kernels.direction_moments_serial(*args[:8], flags, camera._base, other[0], other[1])
     np.testing.assert_allclose(other, out[0], rtol=1e-13)
 
 

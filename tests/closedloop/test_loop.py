@@ -45,6 +45,7 @@ def reference(cfg, model):
     return simulate(cfg, 0.15, seed=5, model=model, progress=False)
 
 
+@pytest.mark.reproducibility
 def test_same_seed_same_bits_other_seed_other_bits(cfg, model, reference):
     again = simulate(cfg, 0.15, seed=5, model=model, progress=False)
     np.testing.assert_array_equal(again.residual_variance, reference.residual_variance)
