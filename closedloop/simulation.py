@@ -287,12 +287,12 @@ def simulate(
     on_predictor_fault : {"raise", "hold"}
         The predictor's output is checked at every step (shape exactly ``(horizon, M)``,
         every value finite). ``"raise"``: stop with
-        :class:`closedloop.control.PredictorFault` naming the predictor, the step and the
+        ``closedloop.control.PredictorFault`` naming the predictor, the step and the
         mode. ``"hold"``: keep the last command for that frame and go on; a
         ``RuntimeWarning`` at the end says how many frames were held.
     memory_limit : float or None
         Refuse (``MemoryError``, before any work) a run whose estimated memory
-        (:func:`closedloop.resources.estimate`) exceeds this many bytes; None: half the
+        (``closedloop.resources.estimate``) exceeds this many bytes; None: half the
         machine's available memory.
 
     Returns

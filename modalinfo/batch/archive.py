@@ -342,8 +342,8 @@ def analyse_archive(
         Draw the summary plots into ``<out>/plots``.
     worker_wait : float, optional
         Seconds to wait while no worker is running before giving up
-        (:class:`~modalinfo.batch.engine.NoWorkersError`; default
-        :data:`~modalinfo.batch.engine.WORKER_WAIT`).
+        (``NoWorkersError``; default
+        ``modalinfo.batch.engine.WORKER_WAIT``).
 
     Returns
     -------

@@ -44,7 +44,7 @@ bootstrap interval (40 trials): gaussian 0.95 (n = 1e3) and 0.90 (1e4); histogra
 fast tests (the surrogates share its bias) and "gaussian"/"ksg" for values.
 
 Significance and intervals for autocorrelated series reuse the MI machinery of
-:mod:`modalinfo.information.uncertainty`: :func:`conditional_mutual_information_test`
+``modalinfo.information.uncertainty``: :func:`conditional_mutual_information_test`
 rotates y against (x, z) by random circular shifts of at least the Politis-White
 block length (time-shifted surrogates: each series keeps its autocorrelation, only
 the alignment of y is broken); :func:`conditional_mutual_information_ci` is the
@@ -431,7 +431,7 @@ def conditional_mutual_information_ci(
     scheme of :func:`~modalinfo.information.mutual_information_ci`, and the interval is
     its default ``"normal"`` one: the estimate -+ z_(1-a/2) times the bootstrap
     standard deviation (the bootstrap bias of entropy estimators is unreliable; see
-    :mod:`modalinfo.information.uncertainty`).
+    ``modalinfo.information.uncertainty``).
 
     Parameters
     ----------
