@@ -117,7 +117,7 @@ def _stat(path: str) -> list | None:
 
 
 def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any],
-            frames: bool) -> tuple[dict, int]:
+            frames: bool, worker_wait: float) -> tuple[dict, int]:
     """SHA-256 (and frame count if ``frames``) of every entry, computed on the workers.
 
     Cached in ``hashes.json`` by path, size, modification time, format and hints;
@@ -148,9 +148,10 @@ def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any
     if todo:
         client = get_client()
         keys = ["modalinfo-probe-" + task_key("probe", n, s, frames) for _, n, s in todo]
-        found = client.gather(client.map(
+        found = engine.gather_watched(client, client.map(
             _probe, [e.path for e, _, _ in todo], [e.fmt for e, _, _ in todo],
-            [e.hints for e, _, _ in todo], [frames] * len(todo), key=keys, pure=True))
+            [e.hints for e, _, _ in todo], [frames] * len(todo), key=keys, pure=True),
+            worker_wait=worker_wait)
         for (e, name, stat), (digest, n_frames) in zip(todo, found, strict=True):
             result[e.path] = [digest, n_frames]
             if digest is not None:
@@ -392,11 +393,12 @@ def analyse_archive(
                     memory_limit=memory_limit, retries=retries))
             return started[0]
 
-        probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None)
+        wait = engine.WORKER_WAIT if worker_wait is None else worker_wait
+        probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None,
+                                   wait)
         specs = build_specs(entries, names, resolved, probes, window_frames)
         report = run_tasks(specs, run_log_task, store, get_client, progress=progress,
-                           retry_errors=retry_errors,
-                           worker_wait=engine.WORKER_WAIT if worker_wait is None else worker_wait,
+                           retry_errors=retry_errors, worker_wait=wait,
                            name="modalinfo batch")
         wanted = {s.key for s in specs}
         order = {n: i for i, n in enumerate(names)}

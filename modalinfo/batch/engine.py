@@ -53,6 +53,7 @@ from modalinfo.batch._deps import require
 __all__ = [
     "EngineReport",
     "NoWorkersError",
+    "gather_watched",
     "OutputInUseError",
     "OutputLock",
     "RowStore",
@@ -634,6 +635,34 @@ class _Heartbeat:
     def seen(self) -> None:
         """Record that a task finished: some worker ran it."""
         self.seen_workers = time.monotonic()
+
+
+def gather_watched(client: Any, futures: list, *, worker_wait: float = WORKER_WAIT,
+                   name: str = "modalinfo batch") -> list:
+    """Return ``client.gather(futures)``, but never wait forever for absent workers.
+
+    While no future finishes, the scheduler is asked (about once a second) for running
+    workers, as :func:`run_tasks` does: a notice on stderr when there is none, and
+    :class:`NoWorkersError` after ``worker_wait`` seconds without one.
+    """
+    import distributed
+
+    beat = _Heartbeat(client, len(futures), name=name, progress=False,
+                      worker_wait=worker_wait, progress_every=float("inf"))
+    counts = {"ok": 0, "error": 0, "lost": 0}
+    pending = list(futures)
+    while pending:
+        try:
+            distributed.wait(pending, timeout=0.5, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            beat.idle(counts)
+            continue
+        still = [f for f in pending if not f.done()]
+        if len(still) < len(pending):
+            beat.seen()
+            counts["ok"] += len(pending) - len(still)
+        pending = still
+    return client.gather(futures)
 
 
 def _isatty(stream: Any) -> bool:
