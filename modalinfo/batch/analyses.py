@@ -77,13 +77,9 @@ def _modes_value(value: Any, name: str) -> None:
     if value is None:
         return
     if isinstance(value, str):
-        from modalinfo.cli import CommandError
-        from modalinfo.cli._common import parse_modes
+        from modalinfo.bases.indexing import parse_modes
 
-        try:
-            parse_modes(value, name)
-        except CommandError as exc:
-            raise ValueError(str(exc)) from None
+        parse_modes(value, name)  # raises ValueError naming `name`
         return
     ok = isinstance(value, list) and value and (
         all(isinstance(v, int) and not isinstance(v, bool) and v >= 1 for v in value)
