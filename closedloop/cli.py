@@ -17,8 +17,6 @@ another atmosphere instead).
 from __future__ import annotations
 
 import argparse
-import os
-import shutil
 import sys
 from pathlib import Path
 
@@ -77,11 +75,13 @@ def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
     if path is None:
         return
     from closedloop.resources import format_bytes
+    from modalinfo.io.files import writable_free_bytes
 
     parent = Path(path).parent
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise CommandError(f"{flag} '{path}': directory '{parent}' is not writable")
-    free = shutil.disk_usage(parent).free
+    try:
+        free = writable_free_bytes(parent)
+    except OSError:
+        raise CommandError(f"{flag} '{path}': directory '{parent}' is not writable") from None
     if free < need_bytes:
         raise CommandError(f"{flag} '{path}': about {format_bytes(need_bytes)} is needed, "
                            f"'{parent}' has {format_bytes(free)} free")

@@ -49,13 +49,13 @@ def check_out_dir(out: Path, flag: str = "--out") -> Path:
     base = _existing_ancestor(out)
     if not base.is_dir():
         raise OutputError(f"{flag} '{out}': '{base}' is a file, not a folder")
-    try:  # a real write: permissions, read-only mounts and ACLs all answer here
-        with tempfile.TemporaryFile(dir=base):
-            pass
+    from modalinfo.io.files import writable_free_bytes
+
+    try:
+        free = writable_free_bytes(base)
     except OSError as exc:
         raise OutputError(f"{flag} '{out}': cannot write in '{base}' "
                           f"({exc.strerror or exc})") from None
-    free = shutil.disk_usage(base).free
     if free < MIN_FREE_BYTES:
         raise OutputError(f"{flag} '{out}': only {free / 2**20:.1f} MiB free in '{base}'; "
                           f"a run needs at least {MIN_FREE_BYTES // 2**20} MiB")

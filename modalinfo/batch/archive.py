@@ -214,8 +214,7 @@ def check_out_dir(out_dir: Path, flag: str = "output directory") -> None:
     The directory may not exist yet (its parent must). Raises ValueError naming
     ``flag``, the path and the rule.
     """
-    import shutil
-    import tempfile
+    from modalinfo.io.files import writable_free_bytes
 
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
@@ -224,13 +223,11 @@ def check_out_dir(out_dir: Path, flag: str = "output directory") -> None:
     if not where.is_dir():
         what = "is not a directory" if where.exists() else "does not exist"
         raise ValueError(f"{flag} '{out_dir}': its parent '{where}' {what}")
-    try:  # a real write: permissions, read-only mounts and ACLs all answer here
-        with tempfile.TemporaryFile(dir=where):
-            pass
+    try:
+        free = writable_free_bytes(where)
     except OSError as exc:
         raise ValueError(f"{flag} '{out_dir}': cannot write in '{where}' "
                          f"({exc.strerror or exc})") from None
-    free = shutil.disk_usage(where).free
     if free < MIN_FREE_BYTES:
         raise ValueError(f"{flag} '{out_dir}': only {free / 2**20:.1f} MiB free in "
                          f"'{where}'; at least {MIN_FREE_BYTES // 2**20} MiB needed")

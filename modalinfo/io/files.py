@@ -15,7 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-__all__ = ["LogFormatError", "as_path", "atomic_write", "check_readable"]
+__all__ = ["LogFormatError", "as_path", "atomic_write", "check_readable", "writable_free_bytes"]
 
 
 class LogFormatError(ValueError):
@@ -38,6 +38,20 @@ def check_readable(path: Path) -> None:
         raise FileNotFoundError(f"no such file: '{path}'")
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+
+
+def writable_free_bytes(folder: Path) -> int:
+    """Return the free bytes of ``folder``'s file system after a real test write in it.
+
+    A real write (a temporary file, removed at once) answers for permissions, read-only
+    mounts and ACLs alike, where ``os.access`` does not. Raises the ``OSError`` of that
+    write when the folder cannot take a file.
+    """
+    import shutil
+
+    with tempfile.TemporaryFile(dir=folder):
+        pass
+    return shutil.disk_usage(folder).free
 
 
 def _exists_message(path: Path) -> str:
