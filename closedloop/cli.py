@@ -280,26 +280,10 @@ def _cmd_config(args) -> int:
 
 def _cmd_sweep(args) -> int:
     from closedloop.sweep import load_grid, sweep
-    from modalinfo.batch.engine import (
-        NoWorkersError,
-        check_memory_limit,
-        check_worker_count,
-    )
+    from modalinfo.batch.engine import NoWorkersError
+    from modalinfo.cli._common import check_cluster_args
 
-    for flag, value in (("--workers", args.workers),
-                        ("--threads-per-worker", args.threads_per_worker)):
-        if value is not None and value < 1:
-            raise CommandError(f"{flag} must be >= 1; got {value}")
-    try:
-        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
-        if args.workers is not None and args.scheduler is None:
-            check_worker_count(args.workers)
-    except ValueError as exc:
-        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
-                           .replace("`n_workers`", "--workers")) from None
-    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
-        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
-                           f"{args.worker_wait:g}")
+    check_cluster_args(args)
     grid = load_grid(args.grid)
     if args.out.exists() and not args.out.is_dir():
         raise CommandError(f"--out '{args.out}' exists and is not a directory")

@@ -302,3 +302,31 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
     queue_notes(args, [f"--split-gaps: analysed frames {a}..{b - 1} ({b - a} of "
                        f"{log.n_frames}), the longest of {len(s.segments)} contiguous segments"])
     return log.longest_segment()
+
+
+__all__ += ["check_cluster_args"]
+
+
+def check_cluster_args(args: argparse.Namespace) -> None:
+    """Refuse bad cluster options of ``batch`` and ``closedloop sweep`` before any work.
+
+    ``--workers`` and ``--threads-per-worker`` >= 1, ``--worker-wait`` a finite number of
+    seconds > 0, ``--memory-limit`` and (on a local cluster) the worker count within the
+    machine (:func:`modalinfo.batch.engine.check_memory_limit`, ``check_worker_count``).
+    """
+    from modalinfo.batch.engine import check_memory_limit, check_worker_count
+
+    for flag, value in (("--workers", args.workers),
+                        ("--threads-per-worker", args.threads_per_worker)):
+        if value is not None and value < 1:
+            raise CommandError(f"{flag} must be >= 1; got {value}")
+    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
+        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
+                           f"{args.worker_wait:g}")
+    try:
+        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+        if args.workers is not None and args.scheduler is None:
+            check_worker_count(args.workers)
+    except ValueError as exc:
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
+                           .replace("`n_workers`", "--workers")) from None

@@ -28,7 +28,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, hints_from_args
+from modalinfo.cli._common import add_hint_arguments, check_cluster_args, hints_from_args
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -91,30 +91,13 @@ def parse_settings(items: list[str]) -> dict:
 def run(args: argparse.Namespace) -> int:
     """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
-    from modalinfo.batch.engine import (
-        NoWorkersError,
-        check_memory_limit,
-        check_worker_count,
-    )
+    from modalinfo.batch.engine import NoWorkersError
 
-    for flag, value in (("--workers", args.workers),
-                        ("--threads-per-worker", args.threads_per_worker)):
-        if value is not None and value < 1:
-            raise CommandError(f"{flag} must be >= 1; got {value}")
+    check_cluster_args(args)
     if args.retries is not None and args.retries < 0:
         raise CommandError(f"--retries must be >= 0; got {args.retries}")
-    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
-        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
-                           f"{args.worker_wait:g}")
     if args.window_frames is not None and args.window_frames < 2:
         raise CommandError(f"--window-frames must be >= 2; got {args.window_frames}")
-    try:
-        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
-        if args.workers is not None and args.scheduler is None:
-            check_worker_count(args.workers)
-    except ValueError as exc:
-        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
-                           .replace("`n_workers`", "--workers")) from None
     settings = parse_settings(args.settings)
     hints = hints_from_args(args)
     if hints.get("nonfinite") == "raise":
