@@ -12,7 +12,8 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 __all__ = ["MIN_FREE_BYTES", "OutputError", "check_log_for", "check_out_dir", "figure_main",
-           "log_or_kaos_like", "markdown_table", "save_png_pdf", "staged_output", "suffixed"]
+           "log_or_kaos_like", "markdown_table", "require_varying_modes", "save_png_pdf",
+           "staged_output", "suffixed"]
 
 #: Free space the output folder's file system must have before a run [bytes]: the six
 #: figures (PNG and PDF), the JSON evaluations and the two reports take ~10 MB.
@@ -110,8 +111,6 @@ def check_log_for(module, log) -> None:
     ValueError
         Naming the rule and the value (the caller names the figure).
     """
-    import numpy as np
-
     check = getattr(module, "check_log", None)
     if check is not None:
         check(log)
@@ -121,13 +120,26 @@ def check_log_for(module, log) -> None:
         need = module.N_FIT + 2 * module.H_ARMA
     if need is not None and log.n_frames < need:
         raise ValueError(f"`log` must hold at least {need} frames; got {log.n_frames}.")
+    require_varying_modes(log, "the figure's statistics")
+
+
+def require_varying_modes(log, statistics: str) -> None:
+    """Refuse a log with a constant (e.g. all-zero) mode: ``statistics`` would be 0/0.
+
+    Raises
+    ------
+    ValueError
+        Naming the first constant mode, or saying that every mode is constant.
+    """
+    import numpy as np
+
     x = np.asarray(log.coeffs, dtype=float)
     flat = np.flatnonzero(np.ptp(x, axis=0) == 0)
     if flat.size:
         what = ("every mode is constant (an all-zero log?)" if flat.size == log.n_modes
                 else f"{flat.size} mode(s) do not vary, the first {log.labels[flat[0]]}")
-        raise ValueError(f"`log` must have modes that vary: {what}; the figure's "
-                         "statistics are 0/0 otherwise.")
+        raise ValueError(f"`log` must have modes that vary: {what}; {statistics} "
+                         "are 0/0 otherwise.")
 
 
 def log_or_kaos_like(log_path: Path | None):

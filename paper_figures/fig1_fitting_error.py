@@ -33,7 +33,13 @@ from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, log_or_kaos_like, save_png_pdf, suffixed
+from paper_figures._common import (
+    figure_main,
+    log_or_kaos_like,
+    require_varying_modes,
+    save_png_pdf,
+    suffixed,
+)
 
 SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy"), ("zernike", "mi_greedy"),
          ("kl-data", "pca"), ("zernike", "variance")]
@@ -75,13 +81,7 @@ def check_log(log) -> None:
     if log.n_modes < MIN_MODES:
         raise ValueError(f"`log` must hold at least {MIN_MODES} modes (the target is the "
                          f"error of the first {PAPER_REFERENCE_MODES}); got {log.n_modes}.")
-    x = np.asarray(log.coeffs, dtype=float)
-    flat = np.flatnonzero(np.ptp(x, axis=0) == 0)
-    if flat.size:
-        what = ("every mode is constant (an all-zero log?)" if flat.size == log.n_modes
-                else f"{flat.size} mode(s) do not vary, the first {log.labels[flat[0]]}")
-        raise ValueError(f"`log` must have modes that vary: {what}; the fitting error "
-                         "and MI ordering are 0/0 otherwise.")
+    require_varying_modes(log, "the fitting error and MI ordering")
 
 
 def output_names(suffix: str = "") -> list[str]:
