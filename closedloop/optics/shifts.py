@@ -1,0 +1,244 @@
+"""Image-shift measurement for a correlating (solar) Shack-Hartmann.
+
+The methods Loefdahl (2010, A&A 524, A90, "Evaluation of image-shift measurement
+algorithms for solar Shack-Hartmann wavefront sensors") evaluates, on a "live" image
+against a reference image of the same scene:
+
+``method``
+    ``"sdf"``  square difference function ``C(d) = sum_x (i(x) - r(x - d))**2`` over a
+               window of the live image; minimum at the shift.
+    ``"adf2"`` absolute difference function, squared: ``C(d) = (sum_x |i(x) - r(x - d)|)**2``
+               (squaring makes the surface near its minimum closer to a paraboloid).
+    ``"cfi"``  covariance function computed with FFTs (``-`` the cyclic cross-covariance
+               of the mean-subtracted windows), whose maximum is the shift.
+
+``interpolation`` (sub-pixel position of the extremum from the 3x3 values around the
+integer one; Loefdahl 2010, Sect. 3.2)
+    ``"2d-quadratic"``     (2QI) the paraboloid ``a1 + a2 x + a3 x^2 + a4 y + a5 y^2 +
+                           a6 x y`` through the centre and its 4 neighbours with the
+                           cross term from the corners (Yi & Molowny-Horas 1992);
+                           Loefdahl's recommended choice with SDF and ADF^2.
+    ``"1d-quadratic"``     (1QI) a parabola along each axis through 3 points.
+    ``"2d-least-squares"`` (2LS) the same paraboloid fitted to all 9 points.
+
+The difference functions are computed by a numba kernel over the whole batch
+(:func:`closedloop.optics._shift_kernels.difference_surfaces`), the covariance by numpy's
+real FFT. Shifts are in pixels, ``(x, y)`` = (columns, rows), positive when the live
+image is displaced towards larger indices relative to the reference.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from closedloop.optics import _shift_kernels
+
+__all__ = ["ShiftResult", "measure_shifts", "METHODS", "INTERPOLATIONS"]
+
+METHODS = ("sdf", "adf2", "cfi")
+INTERPOLATIONS = ("2d-quadratic", "1d-quadratic", "2d-least-squares")
+
+
+@dataclass(frozen=True)
+class ShiftResult:
+    """Measured image shifts.
+
+    Attributes
+    ----------
+    shifts : (n_images, 2) ndarray
+        Shift ``(x, y)`` of each image relative to its reference [pixels].
+    integer : (n_images, 2) ndarray of int
+        The integer lag ``(x, y)`` of the extremum before interpolation.
+    at_edge : (n_images,) ndarray of bool
+        True where the extremum sits on the edge of the search range (``|lag| ==
+        max_shift``): the true shift may lie beyond it.
+    """
+
+    shifts: np.ndarray
+    integer: np.ndarray
+    at_edge: np.ndarray
+
+
+# ----------------------------------------------------------------------- surfaces
+def _surfaces_difference(refs, images, r0, c0, win, lag, squared):
+    """SDF / ADF^2 surfaces by the numba kernel; preconditions as the kernel's."""
+    out = np.empty((images.shape[0], 2 * lag + 1, 2 * lag + 1))
+    _shift_kernels.difference_surfaces(refs, images, r0, c0, win, lag, squared, out)
+    return out
+
+
+def _surfaces_numpy(refs, images, r0, c0, win, lag, squared):
+    """Compute the same surfaces with numpy slicing (one pass per lag); for benchmarks."""
+    n = images.shape[0]
+    out = np.empty((n, 2 * lag + 1, 2 * lag + 1))
+    live = images[:, r0:r0 + win, c0:c0 + win]
+    for iy, dy in enumerate(range(-lag, lag + 1)):
+        for ix, dx in enumerate(range(-lag, lag + 1)):
+            d = live - refs[:, r0 - dy:r0 - dy + win, c0 - dx:c0 - dx + win]
+            out[:, iy, ix] = ((d * d).sum(axis=(1, 2)) if squared
+                              else np.abs(d).sum(axis=(1, 2)) ** 2)
+    return out
+
+
+def _surfaces_cfi(refs, images, r0, c0, win, lag):
+    """Minus the cyclic cross-covariance of the mean-subtracted windows (Loefdahl's CFI)."""
+    live = images[:, r0:r0 + win, c0:c0 + win]
+    ref = refs[:, r0:r0 + win, c0:c0 + win]
+    live = live - live.mean(axis=(1, 2), keepdims=True)
+    ref = ref - ref.mean(axis=(1, 2), keepdims=True)
+    # c(d) = sum_x i(x) r(x - d): FT(c) = FT(i) conj(FT(r))
+    cov = np.fft.irfft2(np.fft.rfft2(live) * np.conj(np.fft.rfft2(ref)), s=(win, win))
+    idx = np.arange(-lag, lag + 1) % win
+    return -cov[:, idx[:, None], idx[None, :]]
+
+
+# ----------------------------------------------------------------------- interpolation
+def _paraboloid_vertex(a2, a3, a4, a5, a6):
+    """Stationary point of ``a2 x + a3 x^2 + a4 y + a5 y^2 + a6 x y``; 0 where degenerate."""
+    det = a6 * a6 - 4.0 * a3 * a5
+    ok = det != 0.0
+    safe = np.where(ok, det, 1.0)
+    x = np.where(ok, (2.0 * a2 * a5 - a4 * a6) / safe, 0.0)
+    y = np.where(ok, (2.0 * a3 * a4 - a2 * a6) / safe, 0.0)
+    return x, y
+
+
+def _interp_2qi(c):
+    """2QI: Yi & Molowny-Horas (1992) as Loefdahl (2010) Sect. 3.2 writes it; ``c[:, y, x]``."""
+    a2 = (c[:, 1, 2] - c[:, 1, 0]) / 2.0
+    a3 = (c[:, 1, 2] - 2.0 * c[:, 1, 1] + c[:, 1, 0]) / 2.0
+    a4 = (c[:, 2, 1] - c[:, 0, 1]) / 2.0
+    a5 = (c[:, 2, 1] - 2.0 * c[:, 1, 1] + c[:, 0, 1]) / 2.0
+    a6 = (c[:, 2, 2] - c[:, 2, 0] - c[:, 0, 2] + c[:, 0, 0]) / 4.0
+    return _paraboloid_vertex(a2, a3, a4, a5, a6)
+
+
+def _interp_1qi(c):
+    """1QI: a parabola through 3 points per axis, ``x = (c_- - c_+) / 2 (c_- - 2 c_0 + c_+)``."""
+    def one(m, z, p):
+        den = m - 2.0 * z + p
+        ok = den != 0.0
+        return np.where(ok, (m - p) / (2.0 * np.where(ok, den, 1.0)), 0.0)
+    return one(c[:, 1, 0], c[:, 1, 1], c[:, 1, 2]), one(c[:, 0, 1], c[:, 1, 1], c[:, 2, 1])
+
+
+_YY, _XX = np.mgrid[-1:2, -1:2]
+#: 2LS: least-squares paraboloid on the 3x3 points (columns a1..a6)
+_LS_PINV = np.linalg.pinv(np.column_stack([np.ones(9), _XX.ravel(), _XX.ravel() ** 2,
+                                           _YY.ravel(), _YY.ravel() ** 2,
+                                           (_XX * _YY).ravel()]).astype(np.float64))
+
+
+def _interp_2ls(c):
+    """2LS: the paraboloid of :func:`_interp_2qi` fitted by least squares to all 9 points."""
+    a = c.reshape(c.shape[0], 9) @ _LS_PINV.T
+    return _paraboloid_vertex(a[:, 1], a[:, 2], a[:, 3], a[:, 4], a[:, 5])
+
+
+_INTERP = {"2d-quadratic": _interp_2qi, "1d-quadratic": _interp_1qi,
+           "2d-least-squares": _interp_2ls}
+
+
+# ----------------------------------------------------------------------- wrapper
+def _as_stack(name: str, a) -> np.ndarray:
+    arr = np.asarray(a)
+    if arr.dtype.kind not in "fiu":
+        raise TypeError(f"`{name}` must be a real numeric array; got dtype {arr.dtype}.")
+    if arr.ndim == 2:
+        arr = arr[None]
+    if arr.ndim != 3:
+        raise ValueError(f"`{name}` must be (H, W) or (n, H, W); got shape {arr.shape}.")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"`{name}` must be finite; it holds NaN or inf.")
+    return np.ascontiguousarray(arr, dtype=np.float64)
+
+
+def measure_shifts(reference, images, *, method: str = "sdf",
+                   interpolation: str = "2d-quadratic", max_shift: int = 3,
+                   window: int | None = None) -> ShiftResult:
+    """Measure the shift of each image against its reference.
+
+    Parameters
+    ----------
+    reference : (H, W) or (n_images, H, W) array_like
+        One reference for all images, or one per image [any intensity unit].
+    images : (H, W) or (n_images, H, W) array_like
+        Live images, same ``(H, W)``.
+    method : {"sdf", "adf2", "cfi"}
+        Matching function (module docstring).
+    interpolation : {"2d-quadratic", "1d-quadratic", "2d-least-squares"}
+        Sub-pixel interpolation of the extremum.
+    max_shift : int
+        Largest integer lag searched [pixels], >= 1; the difference functions are
+        evaluated one pixel further so that an extremum at ``max_shift`` can be
+        interpolated.
+    window : int, optional
+        Side of the centred square of the live image that is compared [pixels]. For
+        ``sdf``/``adf2`` it must leave ``max_shift + 1`` pixels of the reference on
+        every side (``window + 2 (max_shift + 1) <= min(H, W)``; default the largest
+        such). For ``cfi`` it is the FFT size (``2 max_shift + 3 <= window <=
+        min(H, W)``; default ``min(H, W)``).
+
+    Returns
+    -------
+    ShiftResult
+        ``shifts`` ``(n_images, 2)`` [pixels], ``(x, y)``.
+    """
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {METHODS}; got {method!r}.")
+    if interpolation not in _INTERP:
+        raise ValueError(f"`interpolation` must be one of {INTERPOLATIONS}; "
+                         f"got {interpolation!r}.")
+    if isinstance(max_shift, bool) or not isinstance(max_shift, (int, np.integer)) \
+            or max_shift < 1:
+        raise ValueError(f"`max_shift` must be an int >= 1; got {max_shift!r}.")
+    refs = _as_stack("reference", reference)
+    imgs = _as_stack("images", images)
+    if imgs.shape[1:] != refs.shape[1:]:
+        raise ValueError(f"`reference` and `images` must have the same (H, W); got "
+                         f"{refs.shape[1:]} and {imgs.shape[1:]}.")
+    if refs.shape[0] not in (1, imgs.shape[0]):
+        raise ValueError(f"`reference` must hold 1 image or one per image "
+                         f"({imgs.shape[0]}); got {refs.shape[0]}.")
+    h, w = imgs.shape[1:]
+    lag = int(max_shift) + 1
+    side = min(h, w)
+    if method == "cfi":
+        low, high = 2 * lag + 1, side
+    else:
+        low, high = 3, side - 2 * lag
+    if window is None:
+        window = high
+    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) \
+            or not low <= window <= high:
+        raise ValueError(f"`window` must be an int in [{low}, {high}] for images of "
+                         f"{h}x{w} with `max_shift` = {max_shift} and method {method!r}; "
+                         f"got {window!r}.")
+    win = int(window)
+    r0 = (h - win) // 2
+    c0 = (w - win) // 2
+    if method == "cfi":
+        surf = _surfaces_cfi(refs, imgs, r0, c0, win, lag)
+    else:
+        surf = _surfaces_difference(refs, imgs, r0, c0, win, lag, method == "sdf")
+    n = imgs.shape[0]
+    # the extremum among the lags |d| <= max_shift; its 3x3 neighbourhood always exists
+    inner = surf[:, 1:-1, 1:-1].reshape(n, -1)
+    flat = np.argmin(inner, axis=1)
+    m = 2 * lag - 1
+    iy = flat // m + 1
+    ix = flat % m + 1
+    k = np.arange(n)
+    rows = iy[:, None, None] + np.arange(-1, 2)[None, :, None]
+    cols = ix[:, None, None] + np.arange(-1, 2)[None, None, :]
+    nb = surf[k[:, None, None], rows, cols]
+    fx, fy = _INTERP[interpolation](nb)
+    # an interpolated vertex outside the 3x3 cell is an extrapolation: keep it inside
+    fx = np.clip(fx, -1.0, 1.0)
+    fy = np.clip(fy, -1.0, 1.0)
+    integer = np.column_stack([ix - lag, iy - lag]).astype(np.int64)
+    shifts = integer + np.column_stack([fx, fy])
+    at_edge = np.abs(integer).max(axis=1) == max_shift
+    return ShiftResult(shifts=shifts, integer=integer, at_edge=at_edge)
