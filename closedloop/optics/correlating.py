@@ -1,0 +1,418 @@
+"""Image formation and measurement of a correlating (solar) Shack-Hartmann, standalone.
+
+Each subaperture images the WFS's field of an extended scene (granulation). The field
+(``field_pixels`` across, at ``pixel_scale_arcsec``) is split into ``n_patches x
+n_patches`` sub-directions (isoplanatic patches, as SAOS and DASP do); a patch's light
+crossed the atmosphere along its own direction, so it carries its own phase over the
+subaperture. The subaperture image is
+
+    I(x) = sum_d w_d(x) [S_blur * PSF_{d,s}](x),
+
+where ``S_blur`` is the scene with the fixed blur applied once (the detector pixel's
+MTF ``sinc(f p)`` and an optional Gaussian for the optics), ``PSF_{d,s}`` the diffraction
+PSF of subaperture ``s`` with the phase of direction ``d`` (a matrix Fourier transform
+of the square pupil ``p x p`` pixels sampled straight at the detector's pixels), ``*``
+a cyclic FFT convolution on the field plus a margin, and ``w_d`` smooth weights: a
+product of ``cos^2`` ramps between neighbouring patch centres (a partition of unity, so
+a uniform phase gives the single-patch image).
+
+Detector: the image is scaled to the photon budget (:class:`PhotonBudget`), optional
+fixed per-pixel gain and offset errors (flat-field and bias residuals) are applied, then
+Poisson photon noise and Gaussian read noise are drawn from ``rng``.
+
+Measurement: :func:`closedloop.optics.shifts.measure_shifts` of each subaperture image
+against a reference: the stored noise-free image of an unaberrated subaperture, or (as
+solar systems do) the image of one subaperture of the same frame, which makes the slopes
+relative to that subaperture (the global tip-tilt then comes from a separate correlation
+tracker). A shift ``s`` pixels is the wavefront tilt ``s * pixel_scale`` [rad on the sky]
+and the phase gradient ``2 pi s pixel_scale / lambda`` [rad/m] at ``lambda`` (the geometric
+SH of :mod:`closedloop.wfs` reports gradients in rad/m of the phase at the loop's
+``r0_wavelength``: multiply by ``wavelength / r0_wavelength``).
+
+Photon budget. The disc-centre continuum is taken as a blackbody at the brightness
+temperature ``T_b`` (default 6300 K; the visible disc-centre continuum of Neckel & Labs
+1984 has ``T_b`` ~ 6200-6400 K). Through a 25 cm subaperture, 0.5" pixels, 10 nm and
+1 ms that is ~10^8 photons per pixel: far more than a detector well holds, so real solar
+WFSs attenuate (neutral density, beam-splitter fraction) to run near full well, and the
+photon noise is set by the full well, not by the Sun. The budget therefore caps the mean
+signal at ``fill * full_well`` (defaults 0.5 x 30 000 e-; read noise 2 e-, the class of
+the fast CMOS/sCMOS cameras used in solar WFSs) and records the attenuation it needed.
+These are documented choices, not one instrument's specification.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from closedloop.optics.shifts import measure_shifts
+
+__all__ = ["PhotonBudget", "CorrelatingMeasurement", "CorrelatingSubapertures",
+           "solar_spectral_radiance"]
+
+_H = 6.62607015e-34   # Planck [J s]
+_C = 2.99792458e8     # speed of light [m/s]
+_K = 1.380649e-23     # Boltzmann [J/K]
+_ARCSEC = math.pi / (180.0 * 3600.0)
+
+
+def solar_spectral_radiance(wavelength: float, brightness_temperature: float = 6300.0) -> float:
+    """Return the disc-centre continuum radiance as a blackbody [W m^-2 sr^-1 m^-1].
+
+    Parameters
+    ----------
+    wavelength : float
+        [m].
+    brightness_temperature : float
+        [K].
+    """
+    x = _H * _C / (wavelength * _K * brightness_temperature)
+    return 2.0 * _H * _C ** 2 / wavelength ** 5 / math.expm1(x)
+
+
+@dataclass(frozen=True)
+class PhotonBudget:
+    """Photons reaching one WFS pixel per exposure, and the detector's noise.
+
+    Attributes
+    ----------
+    wavelength : float
+        Centre of the WFS band [m] (default 500 nm).
+    bandwidth : float
+        Filter width [m] (default 10 nm).
+    exposure : float
+        Exposure [s] (default 1 ms, table1's integration time).
+    throughput : float
+        Telescope, relay and WFS optics to the detector, before any attenuation (0.3).
+    quantum_efficiency : float
+        Detector QE (0.6).
+    read_noise : float
+        [e- rms per pixel] (2).
+    full_well : float
+        [e-] (30 000).
+    fill : float
+        Mean signal as a fraction of the full well the attenuation aims at (0.5).
+    brightness_temperature : float
+        Disc-centre continuum brightness temperature [K] (6300).
+    """
+
+    wavelength: float = 500e-9
+    bandwidth: float = 10e-9
+    exposure: float = 1e-3
+    throughput: float = 0.3
+    quantum_efficiency: float = 0.6
+    read_noise: float = 2.0
+    full_well: float = 30_000.0
+    fill: float = 0.5
+    brightness_temperature: float = 6300.0
+
+    def __post_init__(self):
+        for name in ("wavelength", "bandwidth", "exposure", "throughput",
+                     "quantum_efficiency", "full_well", "fill", "brightness_temperature"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0 \
+                    or not math.isfinite(v):
+                raise ValueError(f"`{name}` must be a finite number > 0; got {v!r}.")
+        for name in ("throughput", "quantum_efficiency", "fill"):
+            if getattr(self, name) > 1.0:
+                raise ValueError(f"`{name}` must be <= 1; got {getattr(self, name)!r}.")
+        if not isinstance(self.read_noise, (int, float)) or not self.read_noise >= 0:
+            raise ValueError(f"`read_noise` must be a number >= 0; got {self.read_noise!r}.")
+
+    def unattenuated_electrons(self, subaperture_area: float, pixel_scale_arcsec: float) -> float:
+        """Mean photo-electrons per pixel without attenuation.
+
+        Parameters
+        ----------
+        subaperture_area : float
+            [m^2].
+        pixel_scale_arcsec : float
+            [arcsec].
+        """
+        radiance = solar_spectral_radiance(self.wavelength, self.brightness_temperature)
+        photon_radiance = radiance * self.wavelength / (_H * _C)  # photons s^-1 m^-2 sr^-1 m^-1
+        omega = (pixel_scale_arcsec * _ARCSEC) ** 2
+        return (photon_radiance * self.bandwidth * self.exposure * subaperture_area * omega
+                * self.throughput * self.quantum_efficiency)
+
+    def electrons(self, subaperture_area: float, pixel_scale_arcsec: float) -> float:
+        """Mean photo-electrons per pixel: unattenuated, capped at ``fill * full_well``."""
+        return min(self.unattenuated_electrons(subaperture_area, pixel_scale_arcsec),
+                   self.fill * self.full_well)
+
+
+@dataclass(frozen=True)
+class CorrelatingMeasurement:
+    """One frame of the correlating SH.
+
+    Attributes
+    ----------
+    images : (n_sub, N, N) ndarray
+        Detector images [e-] (noise-free when no ``rng`` was given).
+    shifts : (n_sub, 2) ndarray
+        Measured shifts ``(x, y)`` [pixels] against the reference.
+    slopes : (n_sub, 2) ndarray
+        Wavefront gradients ``(x, y)`` [rad/m] of the phase at the WFS wavelength.
+    at_edge : (n_sub,) ndarray of bool
+        Shift at the edge of the search range (unreliable).
+    """
+
+    images: np.ndarray
+    shifts: np.ndarray
+    slopes: np.ndarray
+    at_edge: np.ndarray
+
+
+def _cos2_weights(n: int, n_patches: int) -> np.ndarray:
+    """``(n_patches, n)`` 1-D blending weights: cos^2 ramps between patch centres, sum 1."""
+    if n_patches == 1:
+        return np.ones((1, n))
+    spacing = n / n_patches
+    centres = (np.arange(n_patches) + 0.5) * spacing - 0.5
+    x = np.arange(n, dtype=np.float64)
+    d = np.abs(x[None, :] - centres[:, None]) / spacing
+    w = np.where(d < 1.0, np.cos(0.5 * np.pi * d) ** 2, 0.0)
+    # beyond the outermost centres only one patch remains: it takes the whole weight
+    w[0, x <= centres[0]] = 1.0
+    w[-1, x >= centres[-1]] = 1.0
+    return w / w.sum(axis=0, keepdims=True)
+
+
+def _linear_upsampling(p: int, q: int) -> np.ndarray:
+    """``(p q, p)`` linear interpolation from ``p`` pixel-centre samples to ``p q`` finer ones.
+
+    Fine sample ``i`` sits at ``(i + 0.5) / q - 0.5`` coarse pixels; beyond the outer
+    centres the end segments are extended (linear extrapolation), so a plane stays a plane.
+    """
+    pos = (np.arange(p * q) + 0.5) / q - 0.5
+    i0 = np.clip(np.floor(pos).astype(np.int64), 0, p - 2)
+    t = pos - i0
+    out = np.zeros((p * q, p))
+    out[np.arange(p * q), i0] = 1.0 - t
+    out[np.arange(p * q), i0 + 1] += t
+    return out
+
+
+class CorrelatingSubapertures:
+    """The subaperture images and shift measurements of one correlating SH.
+
+    Parameters
+    ----------
+    scene : (ny, nx) ndarray
+        Intensity (mean ~1), sampled at ``pixel_scale_arcsec``; periodic (cut with wrap).
+    pixel_scale_arcsec : float
+        Detector pixel on the sky [arcsec]; also the scene's sampling.
+    subaperture_diameter : float
+        Side of the square subaperture [m].
+    n_pupil : int
+        Pupil samples across a subaperture (the phase's ``p``), >= 2.
+    field_pixels : int
+        Detector pixels across a subaperture image (its field of view), >= 8.
+    n_patches : int
+        Sub-directions across the field (``n_patches**2`` in all), >= 1.
+    budget : PhotonBudget
+        Photon budget and detector (its wavelength is the WFS's).
+    field_centre : (2,) sequence of float
+        Scene pixel ``(x, y)`` at the field's centre.
+    blur_fwhm_arcsec : float
+        Extra fixed Gaussian blur of the optics [arcsec FWHM] (0: pixel MTF only).
+    gain_rms, offset_rms : float
+        Fixed per-pixel gain errors (relative) and offset errors [e-], drawn once with
+        ``detector_seed``.
+    detector_seed : int
+    method, interpolation, max_shift, window
+        Passed to :func:`closedloop.optics.shifts.measure_shifts`.
+    pupil_oversampling : int, optional
+        Fine pupil samples per phase sample for the PSF (linear interpolation of the
+        phase); default the smallest for which the PSF does not alias within its support.
+    """
+
+    def __init__(self, scene: np.ndarray, pixel_scale_arcsec: float, subaperture_diameter: float,
+                 n_pupil: int, field_pixels: int, *, n_patches: int = 1,
+                 budget: PhotonBudget | None = None, field_centre=None,
+                 blur_fwhm_arcsec: float = 0.0, gain_rms: float = 0.0, offset_rms: float = 0.0,
+                 detector_seed: int = 0, method: str = "sdf",
+                 interpolation: str = "2d-quadratic", max_shift: int = 3,
+                 window: int | None = None, pupil_oversampling: int | None = None):
+        scene = np.asarray(scene, dtype=np.float64)
+        if scene.ndim != 2 or not np.all(np.isfinite(scene)):
+            raise ValueError(f"`scene` must be a finite 2-D array; got shape {scene.shape}.")
+        for name, v in (("pixel_scale_arcsec", pixel_scale_arcsec),
+                        ("subaperture_diameter", subaperture_diameter)):
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0:
+                raise ValueError(f"`{name}` must be a number > 0; got {v!r}.")
+        for name, v, low in (("n_pupil", n_pupil, 2), ("field_pixels", field_pixels, 8),
+                             ("n_patches", n_patches, 1)):
+            if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < low:
+                raise ValueError(f"`{name}` must be an int >= {low}; got {v!r}.")
+        if n_patches > field_pixels // 4:
+            raise ValueError(f"`n_patches` must be <= field_pixels // 4 = {field_pixels // 4} "
+                             f"(a patch needs a few pixels); got {n_patches}.")
+        for name, v in (("blur_fwhm_arcsec", blur_fwhm_arcsec), ("gain_rms", gain_rms),
+                        ("offset_rms", offset_rms)):
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not v >= 0:
+                raise ValueError(f"`{name}` must be a number >= 0; got {v!r}.")
+        self.budget = PhotonBudget() if budget is None else budget
+        self.wavelength = self.budget.wavelength
+        self.pixel_scale_arcsec = float(pixel_scale_arcsec)
+        self.subaperture_diameter = float(subaperture_diameter)
+        self.n_pupil = int(n_pupil)
+        self.field_pixels = int(field_pixels)
+        self.n_patches = int(n_patches)
+        self.method = method
+        self.interpolation = interpolation
+        self.max_shift = max_shift
+        self.window = window
+        # PSF support: the field plus a margin of the PSF core's extent each side
+        lam_d = self.wavelength / subaperture_diameter / _ARCSEC / self.pixel_scale_arcsec
+        self.margin = int(math.ceil(4.0 * lam_d)) + max_shift + 1
+        m = self.field_pixels + 2 * self.margin
+        # a PSF from pupil samples du apart repeats every lambda / du on the sky: the phase
+        # is interpolated linearly (exact for tilts) onto q x finer samples so that the
+        # repeat lies beyond the support
+        du = subaperture_diameter / n_pupil
+        q_min = max(1, math.ceil(m * self.pixel_scale_arcsec * _ARCSEC * du / self.wavelength))
+        if pupil_oversampling is None:
+            pupil_oversampling = q_min
+        if not isinstance(pupil_oversampling, (int, np.integer)) or pupil_oversampling < q_min:
+            raise ValueError(f"`pupil_oversampling` must be an int >= {q_min} (the PSF of "
+                             f"pupil samples {du:.3g} m apart must not repeat within the "
+                             f"{m * self.pixel_scale_arcsec:.3g}\" support); "
+                             f"got {pupil_oversampling!r}.")
+        self.pupil_oversampling = q = int(pupil_oversampling)
+        self.support = m
+        if min(scene.shape) < m:
+            raise ValueError(f"`scene` must be at least {m} pixels across (field + margins); "
+                             f"got {scene.shape}.")
+        # the fixed blur, once: pixel MTF and the optional Gaussian
+        fy = np.fft.fftfreq(scene.shape[0])
+        fx = np.fft.fftfreq(scene.shape[1])
+        mtf = np.outer(np.sinc(fy), np.sinc(fx))
+        if blur_fwhm_arcsec > 0:
+            fwhm_px = blur_fwhm_arcsec / self.pixel_scale_arcsec
+            sig = fwhm_px / (2.0 * math.sqrt(2.0 * math.log(2.0)))
+            mtf *= np.exp(-2.0 * (math.pi * sig) ** 2 * (fy[:, None] ** 2 + fx[None, :] ** 2))
+        blurred = np.fft.ifft2(np.fft.fft2(scene) * mtf).real
+        if field_centre is None:
+            field_centre = (scene.shape[1] / 2.0, scene.shape[0] / 2.0)
+        cx, cy = (int(round(float(v))) for v in field_centre)
+        rows = (cy - m // 2 + np.arange(m)) % scene.shape[0]
+        cols = (cx - m // 2 + np.arange(m)) % scene.shape[1]
+        self._patch = np.ascontiguousarray(blurred[np.ix_(rows, cols)])
+        self._patch_ft = np.fft.rfft2(self._patch)
+        # MFT matrix: A[k, j] = exp(-2 pi i alpha_k u_j / lambda), PSF centred at index m // 2
+        self._upsample = _linear_upsampling(self.n_pupil, q)
+        u = (np.arange(self.n_pupil * q) - (self.n_pupil * q - 1) / 2.0) * (du / q)
+        alpha = (np.arange(m) - m // 2) * self.pixel_scale_arcsec * _ARCSEC
+        self._mft = np.exp(-2j * math.pi * np.outer(alpha, u) / self.wavelength)
+        w1 = _cos2_weights(self.field_pixels, self.n_patches)
+        # (n_dir, N, N), direction d = iy * n_patches + ix (row-major, y along rows)
+        self.weights = np.einsum("ay,bx->abyx", w1, w1).reshape(
+            self.n_patches ** 2, self.field_pixels, self.field_pixels)
+        spacing = self.field_pixels / self.n_patches * self.pixel_scale_arcsec
+        v = ((np.arange(self.n_patches) + 0.5) * spacing
+             - self.field_pixels * self.pixel_scale_arcsec / 2.0)
+        yy, xx = np.meshgrid(v, v, indexing="ij")
+        self.directions_arcsec = np.column_stack([xx.ravel(), yy.ravel()])
+        area = subaperture_diameter ** 2
+        self.electrons_per_pixel = self.budget.electrons(area, self.pixel_scale_arcsec)
+        self.attenuation = self.electrons_per_pixel / self.budget.unattenuated_electrons(
+            area, self.pixel_scale_arcsec)
+        det = np.random.default_rng(detector_seed)
+        shape = (self.field_pixels, self.field_pixels)
+        self.gain = 1.0 + gain_rms * det.standard_normal(shape) if gain_rms > 0 else None
+        self.offset = offset_rms * det.standard_normal(shape) if offset_rms > 0 else None
+        flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
+        self.reference = self.images(flat)[0]
+
+    # ------------------------------------------------------------------ image formation
+    def psfs(self, phase: np.ndarray) -> np.ndarray:
+        """PSFs at the detector's sampling, unit sum: ``(..., M, M)`` for phase ``(..., p, p)``.
+
+        Parameters
+        ----------
+        phase : (..., p, p) ndarray
+            [rad] at the WFS wavelength, rows along y.
+        """
+        fine = self._upsample @ np.asarray(phase, dtype=np.float64) @ self._upsample.T
+        field_ = np.exp(1j * fine)
+        amp = self._mft @ field_ @ self._mft.T
+        psf = amp.real ** 2 + amp.imag ** 2
+        return psf / psf.sum(axis=(-2, -1), keepdims=True)
+
+    def _check_phase(self, phase) -> np.ndarray:
+        phase = np.asarray(phase, dtype=np.float64)
+        want = (self.n_patches ** 2, self.n_pupil, self.n_pupil)
+        if phase.ndim != 4 or (phase.shape[0],) + phase.shape[2:] != want:
+            raise ValueError(f"`phase` must be (n_dir={want[0]}, n_sub, {self.n_pupil}, "
+                             f"{self.n_pupil}); got {phase.shape}.")
+        if not np.all(np.isfinite(phase)):
+            raise ValueError("`phase` must be finite; it holds NaN or inf.")
+        return phase
+
+    def images(self, phase, rng: np.random.Generator | None = None) -> np.ndarray:
+        """Detector images ``(n_sub, N, N)`` [e-] for the phases ``(n_dir, n_sub, p, p)``.
+
+        Parameters
+        ----------
+        phase : (n_dir, n_sub, p, p) array_like
+            Phase over each subaperture for each sub-direction [rad, WFS wavelength].
+        rng : numpy.random.Generator, optional
+            Draws the photon and read noise; none without it.
+        """
+        phase = self._check_phase(phase)
+        m, n, g = self.support, self.field_pixels, self.margin
+        psf = self.psfs(phase)                                  # (n_dir, n_sub, M, M)
+        otf = np.fft.rfft2(np.fft.ifftshift(psf, axes=(-2, -1)))
+        conv = np.fft.irfft2(otf * self._patch_ft, s=(m, m))[..., g:g + n, g:g + n]
+        img = np.einsum("dyx,dsyx->syx", self.weights, conv)
+        img *= self.electrons_per_pixel
+        if self.gain is not None:
+            img = img * self.gain
+        if rng is not None:
+            img = rng.poisson(np.clip(img, 0.0, None)).astype(np.float64)
+            if self.budget.read_noise > 0:
+                img += self.budget.read_noise * rng.standard_normal(img.shape)
+        if self.offset is not None:
+            img = img + self.offset
+        return img
+
+    # ------------------------------------------------------------------ measurement
+    def measure(self, phase, rng: np.random.Generator | None = None,
+                reference: int | np.ndarray | None = None) -> CorrelatingMeasurement:
+        """Form the images and measure their shifts and slopes.
+
+        Parameters
+        ----------
+        phase : (n_dir, n_sub, p, p) array_like
+            [rad] at the WFS wavelength.
+        rng : numpy.random.Generator, optional
+            Noise draws (noise-free without).
+        reference : None, int or (N, N) ndarray
+            None: the stored noise-free image of a flat wavefront; an int ``k``: the image of
+            subaperture ``k`` of this frame (slopes relative to it); an array: that image.
+
+        Returns
+        -------
+        CorrelatingMeasurement
+        """
+        imgs = self.images(phase, rng)
+        if reference is None:
+            ref = self.reference
+        elif isinstance(reference, (int, np.integer)) and not isinstance(reference, bool):
+            if not 0 <= reference < imgs.shape[0]:
+                raise ValueError(f"`reference` must be a subaperture index in "
+                                 f"[0, {imgs.shape[0] - 1}]; got {reference}.")
+            ref = imgs[reference]
+        else:
+            ref = np.asarray(reference, dtype=np.float64)
+            if ref.shape != imgs.shape[1:]:
+                raise ValueError(f"`reference` must be an image of shape {imgs.shape[1:]}; "
+                                 f"got {ref.shape}.")
+        res = measure_shifts(ref, imgs, method=self.method, interpolation=self.interpolation,
+                             max_shift=self.max_shift, window=self.window)
+        slopes = 2.0 * math.pi * res.shifts * self.pixel_scale_arcsec * _ARCSEC / self.wavelength
+        return CorrelatingMeasurement(images=imgs, shifts=res.shifts, slopes=slopes,
+                                      at_edge=res.at_edge)
