@@ -265,21 +265,26 @@ class CorrelatingSubapertures:
         self.interpolation = interpolation
         self.max_shift = max_shift
         self.window = window
-        # PSF support: the field plus a margin of the PSF core's extent each side
+        # PSF: computed over +-(4 lambda/d + max_shift + 1) pixels (its core and first
+        # rings wherever a measurable tilt puts it; beyond ~4 lambda/d the sinc^2 wings of
+        # a square subaperture hold a few per cent of the light), then padded into the
+        # convolution support: the field plus that half-width on each side
         lam_d = self.wavelength / subaperture_diameter / _ARCSEC / self.pixel_scale_arcsec
         self.margin = int(math.ceil(4.0 * lam_d)) + max_shift + 1
         m = self.field_pixels + 2 * self.margin
+        mp = 2 * self.margin + 1
+        self.psf_pixels = mp
         # a PSF from pupil samples du apart repeats every lambda / du on the sky: the phase
         # is interpolated linearly (exact for tilts) onto q x finer samples so that the
-        # repeat lies beyond the support
+        # repeat lies beyond the PSF's support
         du = subaperture_diameter / n_pupil
-        q_min = max(1, math.ceil(m * self.pixel_scale_arcsec * _ARCSEC * du / self.wavelength))
+        q_min = max(1, math.ceil(mp * self.pixel_scale_arcsec * _ARCSEC * du / self.wavelength))
         if pupil_oversampling is None:
             pupil_oversampling = q_min
         if not isinstance(pupil_oversampling, (int, np.integer)) or pupil_oversampling < q_min:
             raise ValueError(f"`pupil_oversampling` must be an int >= {q_min} (the PSF of "
                              f"pupil samples {du:.3g} m apart must not repeat within the "
-                             f"{m * self.pixel_scale_arcsec:.3g}\" support); "
+                             f"{mp * self.pixel_scale_arcsec:.3g}\" PSF support); "
                              f"got {pupil_oversampling!r}.")
         self.pupil_oversampling = q = int(pupil_oversampling)
         self.support = m
@@ -302,10 +307,10 @@ class CorrelatingSubapertures:
         cols = (cx - m // 2 + np.arange(m)) % scene.shape[1]
         self._patch = np.ascontiguousarray(blurred[np.ix_(rows, cols)])
         self._patch_ft = np.fft.rfft2(self._patch)
-        # MFT matrix: A[k, j] = exp(-2 pi i alpha_k u_j / lambda), PSF centred at index m // 2
+        # MFT matrix: A[k, j] = exp(-2 pi i alpha_k u_j / lambda), PSF centred at mp // 2
         self._upsample = _linear_upsampling(self.n_pupil, q)
         u = (np.arange(self.n_pupil * q) - (self.n_pupil * q - 1) / 2.0) * (du / q)
-        alpha = (np.arange(m) - m // 2) * self.pixel_scale_arcsec * _ARCSEC
+        alpha = (np.arange(mp) - mp // 2) * self.pixel_scale_arcsec * _ARCSEC
         self._mft = np.exp(-2j * math.pi * np.outer(alpha, u) / self.wavelength)
         w1 = _cos2_weights(self.field_pixels, self.n_patches)
         # (n_dir, N, N), direction d = iy * n_patches + ix (row-major, y along rows)
@@ -329,7 +334,9 @@ class CorrelatingSubapertures:
 
     # ------------------------------------------------------------------ image formation
     def psfs(self, phase: np.ndarray) -> np.ndarray:
-        """PSFs at the detector's sampling, unit sum: ``(..., M, M)`` for phase ``(..., p, p)``.
+        """PSFs at the detector's sampling, unit sum: ``(..., mp, mp)`` for phase ``(..., p, p)``.
+
+        ``mp = psf_pixels``, the PSF centred at index ``mp // 2``.
 
         Parameters
         ----------
@@ -364,8 +371,12 @@ class CorrelatingSubapertures:
         """
         phase = self._check_phase(phase)
         m, n, g = self.support, self.field_pixels, self.margin
-        psf = self.psfs(phase)                                  # (n_dir, n_sub, M, M)
-        otf = np.fft.rfft2(np.fft.ifftshift(psf, axes=(-2, -1)))
+        psf = self.psfs(phase)                                  # (n_dir, n_sub, mp, mp)
+        # centre index mp // 2 = g goes to 0: the PSF's rows -g..g wrap around the support
+        padded = np.zeros(psf.shape[:2] + (m, m))
+        idx = np.r_[m - g:m, 0:g + 1]
+        padded[..., idx[:, None], idx[None, :]] = psf
+        otf = np.fft.rfft2(padded)
         conv = np.fft.irfft2(otf * self._patch_ft, s=(m, m))[..., g:g + n, g:g + n]
         img = np.einsum("dyx,dsyx->syx", self.weights, conv)
         img *= self.electrons_per_pixel
