@@ -18,7 +18,8 @@ a uniform phase gives the single-patch image).
 
 Detector: the image is scaled to the photon budget (:class:`PhotonBudget`), optional
 fixed per-pixel gain and offset errors (flat-field and bias residuals) are applied, then
-Poisson photon noise and Gaussian read noise are drawn from ``rng``.
+Poisson photon noise and Gaussian read noise are drawn from ``rng`` (above a mean of
+1000 e- per pixel, the usual case, both as one Gaussian of variance ``mean + RON^2``).
 
 Measurement: :func:`closedloop.optics.shifts.measure_shifts` of each subaperture image
 against a reference: the stored noise-free image of an unaberrated subaperture, or (as
@@ -46,6 +47,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.fft import next_fast_len
 
 from closedloop.optics.shifts import measure_shifts
 
@@ -56,6 +58,8 @@ _H = 6.62607015e-34   # Planck [J s]
 _C = 2.99792458e8     # speed of light [m/s]
 _K = 1.380649e-23     # Boltzmann [J/K]
 _ARCSEC = math.pi / (180.0 * 3600.0)
+#: mean signal [e-] above which photon noise is drawn as a Gaussian (skewness < 3 %)
+_GAUSSIAN_ABOVE = 1000.0
 
 
 def solar_spectral_radiance(wavelength: float, brightness_temperature: float = 6300.0) -> float:
@@ -271,7 +275,9 @@ class CorrelatingSubapertures:
         # convolution support: the field plus that half-width on each side
         lam_d = self.wavelength / subaperture_diameter / _ARCSEC / self.pixel_scale_arcsec
         self.margin = int(math.ceil(4.0 * lam_d)) + max_shift + 1
-        m = self.field_pixels + 2 * self.margin
+        # the convolution's size: at least the field plus both margins, rounded up to a
+        # size with small prime factors (134 = 2 x 67 is 4x slower to transform than 135)
+        m = next_fast_len(self.field_pixels + 2 * self.margin, real=True)
         mp = 2 * self.margin + 1
         self.psf_pixels = mp
         # a PSF from pupil samples du apart repeats every lambda / du on the sky: the phase
@@ -383,9 +389,17 @@ class CorrelatingSubapertures:
         if self.gain is not None:
             img = img * self.gain
         if rng is not None:
-            img = rng.poisson(np.clip(img, 0.0, None)).astype(np.float64)
-            if self.budget.read_noise > 0:
-                img += self.budget.read_noise * rng.standard_normal(img.shape)
+            img = np.clip(img, 0.0, None)
+            if self.electrons_per_pixel >= _GAUSSIAN_ABOVE:
+                # photon and read noise as one Gaussian of variance mean + RON^2 (3x faster
+                # than Poisson draws; the Poisson's skewness is < 3 % at these levels and
+                # the shift noise depends on the variance only)
+                img = img + np.sqrt(img + self.budget.read_noise ** 2) * rng.standard_normal(
+                    img.shape)
+            else:
+                img = rng.poisson(img).astype(np.float64)
+                if self.budget.read_noise > 0:
+                    img += self.budget.read_noise * rng.standard_normal(img.shape)
         if self.offset is not None:
             img = img + self.offset
         return img
