@@ -49,6 +49,32 @@ def cpu_median(fn, repeats):
     return float(np.median(times))
 
 
+def time_correlation(ref, imgs, max_shift, repeats):
+    """CPU time per subaperture [s] of each correlation engine on one batch."""
+    refs = np.ascontiguousarray(np.broadcast_to(ref, imgs.shape))
+    lag = max_shift + 1
+    win = imgs.shape[-1] - 2 * lag
+    r0 = (imgs.shape[-1] - win) // 2
+    per = {}
+    for name, fn in [
+        ("sdf numba", lambda: shifts.measure_shifts(ref, imgs, method="sdf",
+                                                    max_shift=max_shift)),
+        ("adf2 numba", lambda: shifts.measure_shifts(ref, imgs, method="adf2",
+                                                     max_shift=max_shift)),
+        ("sdf surfaces numba", lambda: shifts._surfaces_difference(
+            refs, imgs, r0, r0, win, lag, True)),
+        ("sdf surfaces numpy", lambda: shifts._surfaces_numpy(
+            refs, imgs, r0, r0, win, lag, True)),
+        ("cfi numpy fft", lambda: shifts.measure_shifts(ref, imgs, method="cfi",
+                                                        max_shift=max_shift)),
+    ]:
+        per[name] = cpu_median(fn, repeats) / imgs.shape[0]
+        print(f"  correlation {name:20s} {per[name] * 1e6:9.1f} us / subaperture")
+    print(f"  numpy / numba (SDF surfaces): "
+          f"{per['sdf surfaces numpy'] / per['sdf surfaces numba']:.1f}x")
+    return per
+
+
 def table1_wfs():
     """(n_valid, field [arcsec], pitch [m]) of table1's two WFSs."""
     cfg = presets.get("table1")
@@ -85,27 +111,7 @@ def main():
                                      max_shift=args.max_shift)
         imgs = cs.images(rng.normal(0, 0.5, (1, args.batch, p, p)), rng=rng)
         ref = imgs[0]
-        refs = np.ascontiguousarray(np.broadcast_to(ref, imgs.shape))
-        lag = args.max_shift + 1
-        win = n_img - 2 * lag
-        r0 = (n_img - win) // 2
-        per = {}
-        for name, fn in [
-            ("sdf numba", lambda: shifts.measure_shifts(ref, imgs, method="sdf",
-                                                        max_shift=args.max_shift)),
-            ("adf2 numba", lambda: shifts.measure_shifts(ref, imgs, method="adf2",
-                                                         max_shift=args.max_shift)),
-            ("sdf surfaces numba", lambda: shifts._surfaces_difference(
-                refs, imgs, r0, r0, win, lag, True)),
-            ("sdf surfaces numpy", lambda: shifts._surfaces_numpy(
-                refs, imgs, r0, r0, win, lag, True)),
-            ("cfi numpy fft", lambda: shifts.measure_shifts(ref, imgs, method="cfi",
-                                                            max_shift=args.max_shift)),
-        ]:
-            per[name] = cpu_median(fn, args.repeats) / args.batch
-            print(f"  correlation {name:20s} {per[name] * 1e6:9.1f} us / subaperture")
-        print(f"  numpy / numba (SDF surfaces): "
-              f"{per['sdf surfaces numpy'] / per['sdf surfaces numba']:.1f}x")
+        per = time_correlation(ref, imgs, args.max_shift, args.repeats)
         for n_patches in (1, 3):
             cs_p = CorrelatingSubapertures(scene, args.pixel, pitch, p, n_img,
                                            n_patches=n_patches, max_shift=args.max_shift)
