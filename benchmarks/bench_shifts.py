@@ -103,7 +103,10 @@ def main():
     for n_valid, fov, pitch in wfss:
         n_img = int(round(fov / args.pixel))
         n_scene = 1 << max(7, math.ceil(math.log2(2 * n_img)))
-        scene = granulation_scene(n_scene, args.pixel, seed=1)
+        # granules must span 2 scene pixels: coarse pixels bin a finer scene
+        binning = max(1, math.ceil(args.pixel / 0.5))
+        scene = granulation_scene(n_scene * binning, args.pixel / binning, seed=1)
+        scene = scene.reshape(n_scene, binning, n_scene, binning).mean(axis=(1, 3))
         p = max(2, int(round(pitch / dx)))
         print(f"\nWFS field {fov:g}\": {n_valid} valid subapertures of {pitch:.3f} m "
               f"({p} pupil px), images {n_img} x {n_img} px")

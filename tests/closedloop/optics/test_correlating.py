@@ -16,7 +16,10 @@ References:
   whose contrast differs 4x between the field's halves, so that the weighted and the
   plain means differ;
 - the photon budget against astropy's BlackBody (an independent Planck law);
-- detector statistics: Poisson + read noise variance ``mean + RON^2`` on a flat scene.
+- detector statistics: Poisson + read noise variance ``mean + RON^2`` on a flat scene;
+- end to end, the slope noise from the photon budget against the linearised SDF law
+  (``shifts.sdf_noise_rms``, itself checked against Monte Carlo in test_shifts) within
+  15 %.
 """
 
 import math
@@ -26,6 +29,7 @@ import pytest
 
 from closedloop.optics.correlating import CorrelatingSubapertures, PhotonBudget
 from closedloop.optics.granulation import granulation_scene
+from closedloop.optics.shifts import sdf_noise_rms
 
 PS = 0.25          # arcsec / pixel
 D_SUB = 0.25       # m, table1's 4 m / 16
@@ -128,6 +132,19 @@ def test_same_frame_reference_gives_relative_slopes(scene):
     absolute = cs.measure(phase).shifts
     relative = cs.measure(phase, reference=1).shifts
     np.testing.assert_allclose(relative, absolute - absolute[1], atol=0.06)
+
+
+@pytest.mark.parametrize("exposure", [1e-3, 3e-8])  # well-limited 15 000 e-; ~500 e-
+def test_slope_noise_from_photon_budget_follows_the_law(scene, exposure):
+    budget = PhotonBudget(exposure=exposure, read_noise=3.0)
+    cs = CorrelatingSubapertures(scene, PS, D_SUB, P, 24, budget=budget, field_centre=(70, 80))
+    m = cs.measure(np.zeros((1, 600, P, P)), rng=np.random.default_rng(2))
+    law = sdf_noise_rms(cs.reference, cs.reference + 3.0 ** 2, max_shift=cs.max_shift)
+    # 600 draws: the rms's sampling error is 3 %; the law's own error on granulation < 5 %
+    np.testing.assert_allclose(m.shifts.std(axis=0), law, rtol=0.15)
+    # the slopes' noise in the loop's units: 2 pi rms(shift) pixel / lambda
+    np.testing.assert_allclose(m.slopes.std(axis=0), 2 * math.pi * law * PX_RAD / LAM,
+                               rtol=0.15)
 
 
 def test_photon_budget_against_astropy_planck():
