@@ -204,3 +204,13 @@ def test_validation():
         measure_shifts(np.ones(5), ref)
     with pytest.raises(TypeError, match="`images` must be a real numeric array"):
         measure_shifts(ref, np.full((12, 12), "a"))
+
+
+def test_noise_law_validation():
+    ref = np.ones((12, 12))
+    with pytest.raises(ValueError, match=r"`reference` must be one \(H, W\) image"):
+        sdf_noise_rms(np.ones((2, 12, 12)), 1.0)
+    with pytest.raises(ValueError, match="`noise_variance` must be finite and >= 0"):
+        sdf_noise_rms(ref, -1.0)
+    with pytest.raises(ValueError, match=r"`window` must be an int in \[3, 4\]"):
+        sdf_noise_rms(ref, 1.0, max_shift=3, window=6)
