@@ -231,6 +231,24 @@ class CorrelatingSubapertures:
     pupil_oversampling : int, optional
         Fine pupil samples per phase sample for the PSF (linear interpolation of the
         phase); default the smallest for which the PSF does not alias within its support.
+
+    Attributes
+    ----------
+    reference : (N, N) ndarray
+        Stored noise-free image of a flat wavefront [e-].
+    weights : (n_dir, N, N) ndarray
+        Blending weights of the sub-directions (sum 1 at every pixel).
+    directions_arcsec : (n_dir, 2) ndarray
+        Patch centres ``(x, y)`` relative to the field's centre [arcsec]; direction
+        ``d = iy * n_patches + ix``.
+    electrons_per_pixel : float
+        Mean signal [e-] (the photon budget, capped at the well's fill level).
+    attenuation : float
+        Fraction of the Sun's photons kept to stay within the well (1: none needed).
+    support, psf_pixels, margin : int
+        Convolution size, PSF support and margin [pixels].
+    pupil_oversampling : int
+        Fine pupil samples per phase sample.
     """
 
     def __init__(self, scene: np.ndarray, pixel_scale_arcsec: float, subaperture_diameter: float,
@@ -251,6 +269,9 @@ class CorrelatingSubapertures:
                              ("n_patches", n_patches, 1)):
             if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < low:
                 raise ValueError(f"`{name}` must be an int >= {low}; got {v!r}.")
+        if isinstance(max_shift, bool) or not isinstance(max_shift, (int, np.integer)) \
+                or max_shift < 1:
+            raise ValueError(f"`max_shift` must be an int >= 1; got {max_shift!r}.")
         if n_patches > field_pixels // 4:
             raise ValueError(f"`n_patches` must be <= field_pixels // 4 = {field_pixels // 4} "
                              f"(a patch needs a few pixels); got {n_patches}.")
@@ -337,6 +358,9 @@ class CorrelatingSubapertures:
         self.offset = offset_rms * det.standard_normal(shape) if offset_rms > 0 else None
         flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
         self.reference = self.images(flat)[0]
+        # the measurement's options are checked now, not at the first frame
+        measure_shifts(self.reference, self.reference, method=method,
+                       interpolation=interpolation, max_shift=max_shift, window=window)
 
     # ------------------------------------------------------------------ image formation
     def psfs(self, phase: np.ndarray) -> np.ndarray:

@@ -202,6 +202,10 @@ def test_validation(scene):
         CorrelatingSubapertures(scene, PS, D_SUB, 4, 24, pupil_oversampling=1)
     with pytest.raises(ValueError, match="`scene` must be at least"):
         CorrelatingSubapertures(scene[:30, :30], PS, D_SUB, P, 24)
+    with pytest.raises(ValueError, match="`max_shift` must be an int >= 1"):
+        CorrelatingSubapertures(scene, PS, D_SUB, P, 24, max_shift=0)
+    with pytest.raises(ValueError, match="`method` must be one of"):
+        CorrelatingSubapertures(scene, PS, D_SUB, P, 24, method="xcorr")
     with pytest.raises(ValueError, match="`fill` must be <= 1"):
         PhotonBudget(fill=2.0)
     cs = CorrelatingSubapertures(scene, PS, D_SUB, P, 24)
