@@ -428,6 +428,33 @@ class CorrelatingSubapertures:
             img = img + self.offset
         return img
 
+    def direction_weights(self) -> np.ndarray:
+        """Weight of each sub-direction's tilt in the measured slope, to first order.
+
+        Linearising the SDF of ``I = sum_d w_d r(x - s_d)`` about the reference ``r``
+        gives ``s = sum_d c_d s_d / sum_d c_d`` with ``c_d = sum_window w_d (D r)^2``
+        (``D`` the central difference along the slope's axis): the field's tilts
+        averaged with the scene's local contrast as weights. A geometric sensor that
+        averages its field samples with these weights reproduces this sensor's slopes
+        to first order.
+
+        Returns
+        -------
+        (n_dir, 2) ndarray
+            Weights for the x and y slopes (each column sums to 1).
+        """
+        ref = self.reference
+        n = self.field_pixels
+        lag = self.max_shift + 1
+        win = n - 2 * lag if self.window is None else self.window
+        a = (n - win) // 2
+        sl = slice(a, a + win)
+        dx = (ref[sl, a + 1:a + win + 1] - ref[sl, a - 1:a + win - 1]) / 2.0
+        dy = (ref[a + 1:a + win + 1, sl] - ref[a - 1:a + win - 1, sl]) / 2.0
+        w = self.weights[:, sl, sl]
+        c = np.column_stack([(w * dx ** 2).sum(axis=(1, 2)), (w * dy ** 2).sum(axis=(1, 2))])
+        return c / c.sum(axis=0, keepdims=True)
+
     # ------------------------------------------------------------------ measurement
     def measure(self, phase, rng: np.random.Generator | None = None,
                 reference: int | np.ndarray | None = None) -> CorrelatingMeasurement:

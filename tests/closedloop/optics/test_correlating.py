@@ -119,6 +119,9 @@ def test_wide_field_is_contrast_weighted_mean_of_patch_tilts(scene):
         weighted = np.array([(tilts[:, 0] * cx).sum() / cx.sum(),
                              (tilts[:, 1] * cy).sum() / cy.sum()])
         np.testing.assert_allclose(m.shifts[0], weighted, atol=0.04)
+        # the library's linearised weights are these
+        np.testing.assert_allclose(cs.direction_weights(),
+                                   np.column_stack([cx / cx.sum(), cy / cy.sum()]), rtol=1e-12)
         err_w.append(m.shifts[0, 0] - weighted[0])
         err_plain.append(m.shifts[0, 0] - tilts[:, 0].mean())
     # the weights matter: the plain mean is far worse than the contrast-weighted one
