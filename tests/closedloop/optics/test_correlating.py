@@ -19,7 +19,7 @@ References:
 - detector statistics: Poisson + read noise variance ``mean + RON^2`` on a flat scene;
 - end to end, the slope noise from the photon budget against the linearised SDF law
   (``shifts.sdf_noise_rms``, itself checked against Monte Carlo in test_shifts) within
-  15 %.
+  15 %, and twice its variance with a noisy same-frame reference subaperture.
 """
 
 import math
@@ -148,6 +148,18 @@ def test_slope_noise_from_photon_budget_follows_the_law(scene, exposure):
     # the slopes' noise in the loop's units: 2 pi rms(shift) pixel / lambda
     np.testing.assert_allclose(m.slopes.std(axis=0), 2 * math.pi * law * PX_RAD / LAM,
                                rtol=0.15)
+
+
+def test_same_frame_reference_doubles_the_noise_variance(scene):
+    # the reference subaperture's noise enters every other slope: variance law x 2
+    cs = CorrelatingSubapertures(scene, PS, D_SUB, P, 24, budget=PhotonBudget(read_noise=3.0),
+                                 field_centre=(70, 80))
+    law = sdf_noise_rms(cs.reference, cs.reference + 3.0 ** 2, max_shift=cs.max_shift)
+    rng = np.random.default_rng(3)
+    # 40 frames: the reference's share is sampled 40 times, so the rms is known to ~3 %
+    shifts = np.concatenate([cs.measure(np.zeros((1, 16, P, P)), rng=rng, reference=0)
+                             .shifts[1:] for _ in range(40)])
+    np.testing.assert_allclose(shifts.std(axis=0), math.sqrt(2.0) * law, rtol=0.15)
 
 
 def test_photon_budget_against_astropy_planck():
