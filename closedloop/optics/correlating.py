@@ -330,8 +330,10 @@ class CorrelatingSubapertures:
         if field_centre is None:
             field_centre = (scene.shape[1] / 2.0, scene.shape[0] / 2.0)
         cx, cy = (int(round(float(v))) for v in field_centre)
-        rows = (cy - m // 2 + np.arange(m)) % scene.shape[0]
-        cols = (cx - m // 2 + np.arange(m)) % scene.shape[1]
+        # patch index g + N // 2 (the cropped field's centre pixel) is the scene's (cx, cy)
+        first = self.margin + self.field_pixels // 2
+        rows = (cy - first + np.arange(m)) % scene.shape[0]
+        cols = (cx - first + np.arange(m)) % scene.shape[1]
         self._patch = np.ascontiguousarray(blurred[np.ix_(rows, cols)])
         self._patch_ft = np.fft.rfft2(self._patch)
         # MFT matrix: A[k, j] = exp(-2 pi i alpha_k u_j / lambda), PSF centred at mp // 2
@@ -398,6 +400,12 @@ class CorrelatingSubapertures:
             Phase over each subaperture for each sub-direction [rad, WFS wavelength].
         rng : numpy.random.Generator, optional
             Draws the photon and read noise; none without it.
+
+        Notes
+        -----
+        Each PSF is computed over ``psf_pixels`` and normalised to unit sum there: a tilt
+        that moves its core beyond ``max_shift + 1`` pixels, outside the sensor's search
+        range, is not imaged faithfully.
         """
         phase = self._check_phase(phase)
         m, n, g = self.support, self.field_pixels, self.margin
