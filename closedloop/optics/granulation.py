@@ -3,15 +3,15 @@
 The model is cellular, as granulation is: bright granules (upflows) separated by a
 connected network of narrow dark intergranular lanes (downflows). Granule centres sit on
 a jittered square lattice of pitch ``granule_scale_arcsec`` over a periodic field (a
-lattice rather than Poisson points, because observed granules have a preferred size:
-the spatial power spectrum of granulation peaks near 1-2 arcsec, e.g. Rimmele's and
-Loefdahl's simulated SH data are built on that scale). Each pixel's intensity is a lane
-profile ``1 - exp(-(d2 - d1) / w)``, where ``d1`` and ``d2`` are the distances to the
-nearest and second-nearest centre (``d2 - d1`` is zero on the Voronoi edge: the lane) and
-``w`` the lane half-width, times a per-granule brightness; the field is then smoothed
-by a Gaussian of ``0.07"`` sigma (the resolution of the radiative MHD simulations the
-contrast comes from, ~0.1" FWHM) and scaled to the requested rms contrast around a
-mean of 1.
+lattice rather than Poisson points, because observed granules have a preferred size of
+~1-1.5", where the spatial power spectrum of granulation peaks). Each pixel's intensity
+is a lane profile ``1 - exp(-(d2 - d1) / w)``, where ``d1`` and ``d2`` are the distances
+to the nearest and second-nearest centre (``d2 - d1`` is zero on the Voronoi edge: the
+lane) and ``w`` the lane half-width (0.08 of the pitch), times a per-granule brightness
+(uniform in [0.6, 1]) and a brightening towards the granule's centre; lanes narrower
+than a pixel are integrated on a finer grid. The map is then smoothed by a Gaussian of
+0.07" sigma (0.16" FWHM, so that it has no structure sharper than the lanes) and
+scaled to the requested rms contrast around a mean of 1.
 
 Contrast. The rms continuum contrast of granulation at full resolution is 14.4 % at
 630 nm in MURaM radiative MHD simulations (Danilovic et al. 2008, A&A 484, L17; the
@@ -20,7 +20,8 @@ Temperature fluctuations ``dT/T`` map to intensity as ``(hc / lambda k T) dT/T``
 Wien limit, so the contrast scales as ``1 / lambda``; :func:`granulation_contrast`
 uses that law anchored at Danilovic et al.'s value (it gives 18 % at 500 nm and 21 %
 at 430 nm, the G-band; Wedemeyer-Boehm & Rouppe van der Voort 2009, A&A 503, 225,
-find the same trend with wavelength in Hinode's broadband filters). This is the
+compare simulated and Hinode contrasts at several wavelengths: the law is a first-order
+stand-in for such a table, not a fit to it). This is the
 *intrinsic* contrast; the WFS sees far less after its subaperture's diffraction
 (``lambda / d`` ~ 0.4" for a 25 cm subaperture at 500 nm), which the image formation
 applies.
@@ -43,7 +44,7 @@ __all__ = ["granulation_contrast", "granulation_scene", "load_scene", "GRANULE_S
 GRANULE_SCALE_ARCSEC = 1.3
 #: anchor of the contrast law: rms contrast 14.4 % at 630 nm (Danilovic et al. 2008)
 _CONTRAST_630 = 0.144
-#: Gaussian smoothing of the cellular pattern [arcsec, sigma]: ~0.1" FWHM simulations
+#: Gaussian smoothing of the cellular pattern [arcsec, sigma] (0.16" FWHM)
 _SMOOTH_ARCSEC = 0.07
 #: lane half-width as a fraction of the granule scale (lanes ~0.1-0.2 Mm wide)
 _LANE_FRACTION = 0.08

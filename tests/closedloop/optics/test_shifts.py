@@ -3,13 +3,15 @@
 References:
 - known sub-pixel shifts applied by the Fourier shift theorem to synthetic granulation
   blurred by a 10 cm square subaperture at 500 nm (triangle OTF) and 0.4" pixels (a
-  Loefdahl-2010-like SH subimage: 24x24 pixels, 16x16 live window). Loefdahl 2010
-  (A&A 524, A90, Sect. 5 and its conclusions) finds SDF and ADF^2 with 2D quadratic
-  interpolation the most accurate, at a few hundredths of a pixel over shifts of
-  +-1 px, and the FFT covariance (CFI) clearly worse. We check the same ranking and
-  that order of magnitude (measured here, 12 subfields x 9 shifts: SDF/ADF^2 + 2QI max
-  |bias| 0.03 px, scatter 0.010-0.013 px; 1QI bias 0.06, scatter 0.02-0.025 px; CFI
-  bias 0.096 px);
+  solar-SH-like subimage: 24x24 pixels, 16x16 live window). Loefdahl 2010 (A&A 524,
+  A90; abstract and conclusions) finds SDF and ADF^2 with 2D quadratic interpolation the
+  most accurate and measures the error of every method on artificial granulation with
+  known shifts; the FFT covariance without apodisation suffers from its edges. We check
+  the ranking (SDF/ADF^2 + 2QI best, 1QI worse, CFI worst) and an order of magnitude of
+  a few hundredths of a pixel (measured here, 12 subfields x 9 shifts: SDF/ADF^2 + 2QI
+  max |bias| 0.03 px, scatter 0.010-0.013 px; 1QI bias 0.06, scatter 0.02-0.025 px; CFI
+  bias 0.096 px). The full text was not available offline: the figure-by-figure values
+  of his paper are not compared here;
 - noise: the linearised least-squares (Michau et al. 1992) law for the SDF with quadratic
   interpolation: with live-image noise of variance ``s2(x)``, the 1-D estimate
   ``x = (C(-1) - C(1)) / 2 (C(-1) - 2 C(0) + C(1))`` has, to first order,
