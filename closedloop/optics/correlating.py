@@ -223,11 +223,13 @@ class CorrelatingSubapertures:
     blur_fwhm_arcsec : float
         Extra fixed Gaussian blur of the optics [arcsec FWHM] (0: pixel MTF only).
     gain_rms, offset_rms : float
-        Fixed per-pixel gain errors (relative) and offset errors [e-], drawn once with
-        ``detector_seed``.
+        Fixed per-pixel gain errors (relative) and offset errors [e-] of each
+        subaperture's pixels, drawn from ``detector_seed`` (:meth:`detector_maps`).
     detector_seed : int
-    method, interpolation, max_shift, window
-        Passed to :func:`closedloop.optics.shifts.measure_shifts`.
+    method, interpolation, max_shift, window, normalize
+        Passed to :func:`closedloop.optics.shifts.measure_shifts` (``normalize``: divide
+        each image by its mean first, against intensity differences between
+        subapertures).
     pupil_oversampling : int, optional
         Fine pupil samples per phase sample for the PSF (linear interpolation of the
         phase); default the smallest for which the PSF does not alias within its support.
@@ -235,7 +237,8 @@ class CorrelatingSubapertures:
     Attributes
     ----------
     reference : (N, N) ndarray
-        Stored noise-free image of a flat wavefront [e-].
+        Stored noise-free image of a flat wavefront [e-], without detector errors (as a
+        flat-fielded, dark-subtracted reference).
     weights : (n_dir, N, N) ndarray
         Blending weights of the sub-directions (sum 1 at every pixel).
     directions_arcsec : (n_dir, 2) ndarray
@@ -257,7 +260,8 @@ class CorrelatingSubapertures:
                  blur_fwhm_arcsec: float = 0.0, gain_rms: float = 0.0, offset_rms: float = 0.0,
                  detector_seed: int = 0, method: str = "sdf",
                  interpolation: str = "2d-quadratic", max_shift: int = 3,
-                 window: int | None = None, pupil_oversampling: int | None = None):
+                 window: int | None = None, pupil_oversampling: int | None = None,
+                 normalize: bool = False):
         scene = np.asarray(scene, dtype=np.float64)
         if scene.ndim != 2 or not np.all(np.isfinite(scene)):
             raise ValueError(f"`scene` must be a finite 2-D array; got shape {scene.shape}.")
@@ -290,6 +294,7 @@ class CorrelatingSubapertures:
         self.interpolation = interpolation
         self.max_shift = max_shift
         self.window = window
+        self.normalize = normalize
         # PSF: computed over +-(4 lambda/d + max_shift + 1) pixels (its core and first
         # rings wherever a measurable tilt puts it; beyond ~4 lambda/d the sinc^2 wings of
         # a square subaperture hold a few per cent of the light), then padded into the
@@ -354,15 +359,17 @@ class CorrelatingSubapertures:
         self.electrons_per_pixel = self.budget.electrons(area, self.pixel_scale_arcsec)
         self.attenuation = self.electrons_per_pixel / self.budget.unattenuated_electrons(
             area, self.pixel_scale_arcsec)
-        det = np.random.default_rng(detector_seed)
-        shape = (self.field_pixels, self.field_pixels)
-        self.gain = 1.0 + gain_rms * det.standard_normal(shape) if gain_rms > 0 else None
-        self.offset = offset_rms * det.standard_normal(shape) if offset_rms > 0 else None
+        self.gain_rms = float(gain_rms)
+        self.offset_rms = float(offset_rms)
+        self.detector_seed = detector_seed
+        self._maps: dict[int, tuple] = {}
         flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
-        self.reference = self.images(flat)[0]
+        # the stored reference is an ideal (flat-fielded, dark-subtracted) image
+        self.reference = self._form(self._check_phase(flat))[0]
         # the measurement's options are checked now, not at the first frame
         measure_shifts(self.reference, self.reference, method=method,
-                       interpolation=interpolation, max_shift=max_shift, window=window)
+                       interpolation=interpolation, max_shift=max_shift, window=window,
+                       normalize=normalize)
 
     # ------------------------------------------------------------------ image formation
     def psfs(self, phase: np.ndarray) -> np.ndarray:
@@ -407,19 +414,10 @@ class CorrelatingSubapertures:
         that moves its core beyond ``max_shift + 1`` pixels, outside the sensor's search
         range, is not imaged faithfully.
         """
-        phase = self._check_phase(phase)
-        m, n, g = self.support, self.field_pixels, self.margin
-        psf = self.psfs(phase)                                  # (n_dir, n_sub, mp, mp)
-        # centre index mp // 2 = g goes to 0: the PSF's rows -g..g wrap around the support
-        padded = np.zeros(psf.shape[:2] + (m, m))
-        idx = np.r_[m - g:m, 0:g + 1]
-        padded[..., idx[:, None], idx[None, :]] = psf
-        otf = np.fft.rfft2(padded)
-        conv = np.fft.irfft2(otf * self._patch_ft, s=(m, m))[..., g:g + n, g:g + n]
-        img = np.einsum("dyx,dsyx->syx", self.weights, conv)
-        img *= self.electrons_per_pixel
-        if self.gain is not None:
-            img = img * self.gain
+        img = self._form(self._check_phase(phase))
+        gain, offset = self.detector_maps(img.shape[0])
+        if gain is not None:
+            img = img * gain
         if rng is not None:
             img = np.clip(img, 0.0, None)
             if self.electrons_per_pixel >= _GAUSSIAN_ABOVE:
@@ -432,8 +430,37 @@ class CorrelatingSubapertures:
                 img = rng.poisson(img).astype(np.float64)
                 if self.budget.read_noise > 0:
                     img += self.budget.read_noise * rng.standard_normal(img.shape)
-        if self.offset is not None:
-            img = img + self.offset
+        if offset is not None:
+            img = img + offset
+        return img
+
+    def detector_maps(self, n_sub: int):
+        """Return the fixed gain and offset maps ``(n_sub, N, N)`` (None if not configured).
+
+        Each subaperture's image falls on its own pixels, so each has its own map; the
+        maps are drawn from ``detector_seed`` (gains first, then offsets) and are the
+        same at every frame.
+        """
+        if n_sub not in self._maps:
+            det = np.random.default_rng(self.detector_seed)
+            shape = (n_sub, self.field_pixels, self.field_pixels)
+            gain = 1.0 + self.gain_rms * det.standard_normal(shape) if self.gain_rms > 0 else None
+            offset = self.offset_rms * det.standard_normal(shape) if self.offset_rms > 0 else None
+            self._maps[n_sub] = (gain, offset)
+        return self._maps[n_sub]
+
+    def _form(self, phase: np.ndarray) -> np.ndarray:
+        """Noise-free, error-free images [e-] of checked phases ``(n_dir, n_sub, p, p)``."""
+        m, n, g = self.support, self.field_pixels, self.margin
+        psf = self.psfs(phase)                                  # (n_dir, n_sub, mp, mp)
+        # centre index mp // 2 = g goes to 0: the PSF's rows -g..g wrap around the support
+        padded = np.zeros(psf.shape[:2] + (m, m))
+        idx = np.r_[m - g:m, 0:g + 1]
+        padded[..., idx[:, None], idx[None, :]] = psf
+        otf = np.fft.rfft2(padded)
+        conv = np.fft.irfft2(otf * self._patch_ft, s=(m, m))[..., g:g + n, g:g + n]
+        img = np.einsum("dyx,dsyx->syx", self.weights, conv)
+        img *= self.electrons_per_pixel
         return img
 
     def direction_weights(self) -> np.ndarray:
@@ -496,7 +523,8 @@ class CorrelatingSubapertures:
                 raise ValueError(f"`reference` must be an image of shape {imgs.shape[1:]}; "
                                  f"got {ref.shape}.")
         res = measure_shifts(ref, imgs, method=self.method, interpolation=self.interpolation,
-                             max_shift=self.max_shift, window=self.window)
+                             max_shift=self.max_shift, window=self.window,
+                             normalize=self.normalize)
         slopes = 2.0 * math.pi * res.shifts * self.pixel_scale_arcsec * _ARCSEC / self.wavelength
         return CorrelatingMeasurement(images=imgs, shifts=res.shifts, slopes=slopes,
                                       at_edge=res.at_edge)

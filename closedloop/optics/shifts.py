@@ -157,7 +157,7 @@ def _as_stack(name: str, a) -> np.ndarray:
 
 def measure_shifts(reference, images, *, method: str = "sdf",
                    interpolation: str = "2d-quadratic", max_shift: int = 3,
-                   window: int | None = None) -> ShiftResult:
+                   window: int | None = None, normalize: bool = False) -> ShiftResult:
     """Measure the shift of each image against its reference.
 
     Parameters
@@ -180,6 +180,10 @@ def measure_shifts(reference, images, *, method: str = "sdf",
         every side (``window + 2 (max_shift + 1) <= min(H, W)``; default the largest
         such). For ``cfi`` it is the FFT size (``2 max_shift + 3 <= window <=
         min(H, W)``; default ``min(H, W)``).
+    normalize : bool
+        Divide every image and reference by its mean first, so that a difference of
+        intensity between subapertures (vignetting, gain errors: Loefdahl's "bias
+        mismatch") does not bias SDF/ADF^2 (CFI subtracts the means anyway).
 
     Returns
     -------
@@ -202,6 +206,15 @@ def measure_shifts(reference, images, *, method: str = "sdf",
     if refs.shape[0] not in (1, imgs.shape[0]):
         raise ValueError(f"`reference` must hold 1 image or one per image "
                          f"({imgs.shape[0]}); got {refs.shape[0]}.")
+    if not isinstance(normalize, (bool, np.bool_)):
+        raise TypeError(f"`normalize` must be a bool; got {normalize!r}.")
+    if normalize:
+        for name, a in (("reference", refs), ("images", imgs)):
+            mean = a.mean(axis=(1, 2), keepdims=True)
+            if np.any(mean <= 0):
+                raise ValueError(f"`{name}` must have a positive mean to be normalised.")
+        refs = refs / refs.mean(axis=(1, 2), keepdims=True)
+        imgs = imgs / imgs.mean(axis=(1, 2), keepdims=True)
     h, w = imgs.shape[1:]
     lag = int(max_shift) + 1
     side = min(h, w)

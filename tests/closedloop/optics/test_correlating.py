@@ -206,6 +206,11 @@ def test_detector_gain_and_offset():
     gain = 1 + 0.01 * det.standard_normal((16, 16))
     offset = 3.0 * det.standard_normal((16, 16))
     np.testing.assert_allclose(clean, mean * gain + offset, rtol=1e-9)
+    # the stored reference is ideal; each subaperture has its own fixed maps
+    np.testing.assert_allclose(cs2.reference, mean, rtol=1e-12)
+    two = cs2.images(np.zeros((1, 2, 8, 8)))
+    assert not np.allclose(two[0], two[1])
+    np.testing.assert_array_equal(two, cs2.images(np.zeros((1, 2, 8, 8))))
 
 
 def test_validation(scene):
