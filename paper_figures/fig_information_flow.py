@@ -62,7 +62,7 @@ LAGS = (1, 2, 3, 5, 8, 13, 21, 34)
 HISTORY = 2
 N_SURROGATES = 99
 ALPHA = 0.05
-DURATION = 0.4          # s of table1-wind (loop closure ~7 ms)
+DURATION = 0.3          # s of table1-wind (loop closure ~7 ms)
 QUICK_DURATION = 0.15
 QUICK_FRAMES = 3000     # --quick: first frames of the shipped logs
 QUICK_SURROGATES = 39
@@ -114,16 +114,29 @@ class FigureFlow:
     elapsed: float
 
 
-def table1_wind_pol(duration: float, seed: int) -> tuple[Any, Any, int]:
+def _config(quick: bool):
+    """table1-wind; ``quick``: on-axis SR only and 2 rings of field samples per WFS."""
+    import dataclasses
+
+    from closedloop import presets
+    from closedloop.config import FieldConfig
+
+    cfg = presets.get(PRESET)
+    if not quick:
+        return cfg
+    return cfg.replace(field=FieldConfig(size=cfg.field.size, n_points=1),
+                       wfss=tuple(dataclasses.replace(w, field_samples=2) for w in cfg.wfss))
+
+
+def table1_wind_pol(config, duration: float, seed: int) -> tuple[Any, Any, int]:
     """POL logs of the two DMs of a no-prediction table1-wind run, after loop closure.
 
     The one place that runs the loop (closedloop's public API of today). Returns the
     two POL ``ModalLog``s (frames from the closure on) and the closure frame.
     """
-    from closedloop import presets
     from closedloop.simulation import simulate
 
-    result = simulate(presets.get(PRESET), duration, seed=seed)
+    result = simulate(config, duration, seed=seed)
     start = int(result.closure_index)
     return result.logs["dm0.pol"][start:], result.logs["dm1.pol"][start:], start
 
@@ -140,9 +153,10 @@ def _datasets(quick: bool, seed: int) -> tuple[list[tuple], float]:
         sets.append((key, f"{desc} (`{path.name}`)", log, None, list(range(N_MODES)), None))
     t0 = time.perf_counter()
     duration = QUICK_DURATION if quick else DURATION
-    dm0, dm1, start = table1_wind_pol(duration, seed)
+    dm0, dm1, start = table1_wind_pol(_config(quick), duration, seed)
     run_s = time.perf_counter() - t0
-    sets.append(("table1-wind", f"POL of `{PRESET}` ({duration:g} s, seed {seed}, no "
+    what = " (quick: WFS fields sampled by 2 rings)" if quick else ""
+    sets.append(("table1-wind", f"POL of `{PRESET}`{what} ({duration:g} s, seed {seed}, no "
                  f"prediction, frames after the loop closure at frame {start}); DM 0 "
                  "(ground WFS) beside DM 1 (`extra:`, upper WFS)", dm0, dm1,
                  list(range(N_MODES_MCAO)), list(range(N_MODES_MCAO))))
@@ -198,7 +212,9 @@ def plot(fig8: FigureFlow, out_dir: Path) -> list[Path]:
     from paper_figures._common import save_png_pdf
 
     n = len(fig8.sets)
-    fig, axes = plt.subplots(n, 2, figsize=(10, 3.6 * n), squeeze=False)
+    fig, axes = plt.subplots(n, 2, figsize=(10, 3.6 * n), squeeze=False,
+                             gridspec_kw={"wspace": 0.35, "hspace": 0.55})
+    # fixed margins, not tight_layout: a layout pass redraws every tick label
     for row, fs in zip(axes, fig8.sets, strict=True):
         f = fs.flow
         labels = [_short(s) for s in f.labels]
@@ -218,20 +234,20 @@ def plot(fig8: FigureFlow, out_dir: Path) -> list[Path]:
                          "significant pairs)", fontsize=8)
         fig.colorbar(im, ax=row[0], fraction=0.046)
         ms = 1e3 / fs.rate
+        pos = np.arange(f.lags.size)  # lags are log-spaced: equal steps on the axis
         for s, t, _, _, _ in f.links()[:TOP_LINKS]:
             j, i = f.labels.index(s), f.labels.index(t)
-            row[1].plot(f.lags * ms, f.te[j, i], marker="o", ms=3,
-                        label=f"{_short(s)} -> {_short(t)}")
+            row[1].plot(pos, f.te[j, i], marker="o", ms=3, label=f"{_short(s)} -> {_short(t)}")
         row[1].axhline(np.quantile(f.null_max, 1 - f.alpha) if f.null_max.size else 0,
                        color="k", ls=":", lw=0.8, label=f"family-wise {f.alpha:g} threshold")
-        row[1].set_xscale("log")
+        row[1].set_xticks(pos, [f"{lag * ms:g}" for lag in f.lags], fontsize=7)
         row[1].set_xlabel("lag [ms]")
         row[1].set_ylabel("TE [nats]")
         row[1].set_title(f"{fs.key}: strongest links vs lag", fontsize=8)
         row[1].legend(fontsize=6)
     fig.suptitle("Figure 8 (extension, not in the paper): transfer entropy between modes",
                  fontsize=10)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.08, right=0.97, top=0.93, bottom=0.08)
     paths = save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
     payload = {fs.key: {"labels": list(fs.flow.labels), "lags": fs.flow.lags.tolist(),
                         "rate": fs.rate, "n_samples": fs.flow.n_samples,
