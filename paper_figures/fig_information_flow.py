@@ -318,13 +318,16 @@ def report(fig8: FigureFlow) -> str:
                 lines.append(f"| {s} | {t} | {lag} | {lag * ms:g} | {te:.4f} | {p:.3f} |")
             lines.append("")
     lines.append(
-        "Reading: the spectral log has no frozen flow (its modes are mixtures of series "
-        "with real cross-spectra), so a link there is the zero-lag mixing of modes with "
-        "different temporal spectra (e.g. Z3 inside Z7's coma family), not transport. "
-        "In the simulated logs the layers move across the pupil: a mode's future is "
-        "informed by other modes' past at lags of the wind's crossing time (for "
+        "Reading: a TE that peaks at one lag is transport (a layer carrying a pattern "
+        "from one mode, or one WFS, to another); a TE flat over the lags is a slowly "
+        "varying component two modes share, not transport. The spectral log has no "
+        "frozen flow (its modes are mixtures of series with real cross-spectra), so a "
+        "link there is the zero-lag mixing of modes with different temporal spectra "
+        "(tilt and coma are one coupled family of the Zernike covariance). In the "
+        "simulated logs the layers move across the pupil, and a mode's future is "
+        "informed by other modes' past at lags up to the wind's crossing time (for "
         "table1-wind, the 70 m/s upper layer crosses the 4 m pupil in 57 ms, the 21 m/s "
-        "ground layer in 190 ms).")
+        "ground layer in 190 ms). In the figure, `U:` marks the upper WFS (DM 1).")
     if fig8.run_seconds:
         lines.append(f"\nThe table1-wind run took {fig8.run_seconds:.1f} s.")
     return "\n".join(lines) + "\n"
