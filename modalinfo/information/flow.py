@@ -27,8 +27,13 @@ the statistic is the *largest* TE over every cell of the map. A cell's p-value i
 ``(1 + #{null max >= TE}) / (1 + n_surrogates)``: the single-step maximum-statistic
 adjustment (Westfall & Young 1993), which controls the family-wise error over all
 ``S (S - 1) L`` cells at ``alpha`` (so one spurious link anywhere in the map has
-probability <= alpha). It is conservative for cells whose own null is narrower than
-the map's maximum. With 199 surrogates the smallest p-value is 0.005.
+probability about alpha). It is conservative for cells whose own null is narrower than
+the map's maximum. With 199 surrogates the smallest p-value is 0.005. Measured on
+independent AR(1) series (coefficient 0.7, history 1, 49 surrogates, alpha = 0.1): a
+2-series 1-lag map rejects 0.03 per cell (300 maps), but a 4-series 4-lag map (48 cells)
+has a spurious link in 0.14 (n = 500, 500 maps) and 0.13 (n = 2000, 200 maps) of the maps,
+about 2.5 standard errors above alpha: the time-shift null is slightly liberal for large
+maps (cause not yet found; take ``alpha`` half the level wanted for a strict bound).
 
 Bivariate TE does not separate direct from indirect transfer (a chain j -> m -> i, or a
 common driver of i and j, shows as j -> i); :func:`~modalinfo.information.select_inputs`
