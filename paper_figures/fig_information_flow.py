@@ -299,8 +299,9 @@ def report(fig8: FigureFlow) -> str:
         "significant when its TE exceeds the family-wise threshold: p-values from the "
         "largest TE of the whole map under "
         f"{fig8.sets[0].flow.n_surrogates if fig8.sets else N_SURROGATES} circular "
-        "time-shift surrogates (maximum statistic, Westfall & Young), which bounds the "
-        f"chance of any spurious link in a map by {ALPHA:g}. Bivariate TE does not "
+        "time-shift surrogates (maximum statistic, Westfall & Young), which holds the "
+        f"chance of any spurious link in a map near {ALPHA:g} (measured slightly above it "
+        "for large maps: `modalinfo.information.flow`). Bivariate TE does not "
         "separate direct from indirect transfer (a common driver shows as a link). Numbers "
         f"in `{JSON_NAME}`.\n",
     ]
@@ -308,7 +309,9 @@ def report(fig8: FigureFlow) -> str:
         f = fs.flow
         ms = 1e3 / fs.rate
         links = f.links()
-        lines.append(f"**{fs.key}**: {fs.description}; {len(f.labels)} series, n = "
+        lags = ("" if tuple(f.lags) == LAGS
+                else f", lags {', '.join(map(str, f.lags))} (a short log)")
+        lines.append(f"**{fs.key}**: {fs.description}; {len(f.labels)} series{lags}, n = "
                      f"{f.n_samples} rows, {len(links)} significant links of "
                      f"{_n_pairs(f)} pairs (map in {fs.seconds:.1f} s).\n")
         if links:
