@@ -7,7 +7,9 @@ out_dir, *, suffix="")``, ``report(result, *, suffix="")``, ``table_rows(result)
 the closed-loop runs that they share (:mod:`paper_figures.closedloop_runs`, computed
 once): ``make(out_dir, runs) -> str``; each of them has a ``compute`` (numbers),
 ``plot`` and ``report`` step. Figure 6 (``NEEDS_LOG = False``, not in the paper: the
-study its conclusion proposes) runs its own loops: ``compute(quick=, seed=)``. Every
+study its conclusion proposes) runs its own loops: ``compute(quick=, seed=)``; so does
+Figure 8 (an extension: the transfer-entropy map of the shipped logs and a table1-wind
+run). Every
 module has ``table_rows(result)``: ``(quantity, paper, ours, why they differ)`` rows of
 the report's comparison table. ``python -m paper_figures`` makes them all and writes
 ``report.md`` and ``report.html`` beside them.
@@ -24,4 +26,6 @@ FIGURES = [
     ("fig5_forecast", "Figure 5", "Forecasts of a modal coefficient (linear, ARMA, NN)"),
     ("fig6_compression", "Figure 6",
      "Compression x prediction: controlled modes of each ordering, with latency"),
+    ("fig_information_flow", "Figure 8",
+     "Information flow between modes (transfer entropy; extension, not in the paper)"),
 ]

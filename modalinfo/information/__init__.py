@@ -8,7 +8,8 @@ intervals and permutation tests for autocorrelated telemetry in
 ``modalinfo.information.uncertainty``. Conditional MI and transfer entropy of
 multivariate samples (same four methods, surrogate tests and block-bootstrap
 intervals) in ``modalinfo.information.conditional``; greedy selection of a
-forecast's inputs in ``modalinfo.information.selection``.
+forecast's inputs in ``modalinfo.information.selection``; the map of transfer entropy
+between every pair of modes at every lag in ``modalinfo.information.flow``.
 """
 
 from modalinfo.information.api import (
@@ -26,6 +27,7 @@ from modalinfo.information.conditional import (
     transfer_entropy,
     transfer_entropy_variables,
 )
+from modalinfo.information.flow import TransferEntropyMap, transfer_entropy_map
 from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.uncertainty import (
     MIConfidenceResult,
@@ -40,6 +42,7 @@ __all__ = [
     "METHODS",
     "InputSelection",
     "SelectedInput",
+    "TransferEntropyMap",
     "UNITS",
     "MIConfidenceResult",
     "MIPermutationResult",
@@ -54,5 +57,6 @@ __all__ = [
     "optimal_block_length",
     "select_inputs",
     "transfer_entropy",
+    "transfer_entropy_map",
     "transfer_entropy_variables",
 ]
