@@ -11,9 +11,10 @@ x, term by term, to float error: the term in direction (x, y) of the mirrored sc
 equals the term in direction (-x, y) of the screens themselves. The law is written in
 the test (flipping the screens' columns and the 9-point science grid) and needs no
 statistics. It fails for a window offset by half a pixel (the pre-issue 17 slope:
-pairs on a subaperture edge all counted in the right-hand subaperture), for an index or
-offset error that moves one plane's read, its footprint or a DM relative to the others,
-and for a budget term taken from the wrong direction. (Measured on table1 with 100
+pairs on a subaperture edge all counted in the right-hand subaperture) and for an index
+or offset error that moves one plane's read, its footprint or a DM relative to the
+others (a shift is not mirror-symmetric); an error that is itself a mirror (a sign
+flip of all directions) is not its business. (Measured on table1 with 100
 independent screens, the left/right aliasing asymmetry of one 0.3 s run, (-60, 0)"
 1.36 against (60, 0)" 0.27 rad^2, is sampling noise: the ensemble map is symmetric
 within its standard error, docs/CLOSEDLOOP.md.)
