@@ -217,3 +217,39 @@ def test_controller_reset_replays():
     ctl.reset()
     again = [ctl.step(m)[0].copy() for m in inputs]
     np.testing.assert_array_equal(np.array(first), np.array(again))
+
+
+def test_a_new_sensor_kind_is_one_class_and_a_registry_entry(model, monkeypatch):
+    """A kind unknown to the code (an ideal sensor with twice the gain) runs the model.
+
+    Reference: the ideal sensor itself. Its measurements are exactly twice the ideal's
+    (a scale by 2 is exact in floating point), and the modal residual it reconstructs is
+    the ideal's (the pseudo-inverse halves).
+    """
+    import closedloop.config as config_module
+    from closedloop import wfs as wfs_module
+
+    class Doubled(IdealSensor):
+        kind = "doubled"
+
+        def _build(self, cfg) -> None:
+            super()._build(cfg)
+            self.operators = [2.0 * op for op in self.operators]
+
+    monkeypatch.setattr(config_module, "WFS_KINDS", (*WFS_KINDS, "doubled"))
+    monkeypatch.setattr(wfs_module, "SENSORS", dict(SENSORS))
+    register_sensor(Doubled)
+    cfg = model.config
+    wfss = tuple(dataclasses.replace(w, kind="doubled" if w.kind == "ideal" else w.kind)
+                 for w in cfg.wfss)
+    new = LoopModel(cfg.replace(wfss=wfss))
+    j = [w.kind for w in cfg.wfss].index("ideal")
+    assert type(new.wfss[j]) is Doubled
+    maps = [np.random.default_rng(p).standard_normal((pl.n, pl.n))
+            for p, pl in enumerate(model.geometry.planes)]
+    np.testing.assert_array_equal(new.wfss[j].forward(maps), 2.0 * model.wfss[j].forward(maps))
+    sl = model.mode_slices[model.wfss[j].dm.index]
+    ideal = model.wfss[j].reconstructor @ model.wfss[j].forward(maps)
+    doubled = new.wfss[j].reconstructor @ new.wfss[j].forward(maps)
+    np.testing.assert_allclose(doubled, ideal, rtol=1e-9, atol=1e-12 * np.abs(ideal).max())
+    assert new.sense(maps, None)[sl].shape == ideal.shape
