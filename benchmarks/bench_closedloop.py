@@ -26,7 +26,7 @@ from closedloop import LoopModel, presets, simulate
 from closedloop.science import ScienceCamera
 
 
-def numpy_measure(self, weights=None):
+def numpy_forward(self, weights=None):
     """The science step in plain numpy (same maths as the numba kernel)."""
     n = self.geometry.n_pixels
     jj, ii = np.meshgrid(np.arange(n), np.arange(n), indexing="xy")
@@ -75,21 +75,21 @@ def main() -> None:
     simulate(config, 0.01, model=model, progress=False)  # JIT warm-up (cached kernels)
     ours, ours_all = steps_per_second(config, model, args.frames, args.repeats)
 
-    original = ScienceCamera.measure
-    ScienceCamera.measure = numpy_measure
+    original = ScienceCamera.forward
+    ScienceCamera.forward = numpy_forward
     try:
         plain, plain_all = steps_per_second(config, model, max(20, args.frames // 10),
                                             args.repeats)
     finally:
-        ScienceCamera.measure = original
+        ScienceCamera.forward = original
 
     cam = model.science
     cam._flat[:] = np.random.default_rng(0).standard_normal(cam._flat.size)
-    cam.measure()
+    cam.forward()
     reps = 200
     t = time.perf_counter()
     for _ in range(reps):
-        cam.measure()
+        cam.forward()
     kernel_ms = (time.perf_counter() - t) / reps * 1e3
 
     print(f"table1: {len(model.science.directions)} directions, planes "

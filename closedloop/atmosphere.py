@@ -60,7 +60,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 from scipy import fft as sfft
@@ -354,6 +354,22 @@ class Atmosphere:
         for layer in self.layers:
             layer._t = t  # checked once above, not once per layer
         self._t = t
+
+    def forward(self, out: np.ndarray, layers: Sequence[int],
+                work: np.ndarray | None = None) -> np.ndarray:
+        """Sum of the phases [rad] of ``layers`` (indices) at the current time, into ``out``.
+
+        The loop's hot path: ``out`` (and ``work``, needed for more than one layer) must be
+        writeable C-contiguous float64 arrays of the layers' ``(n, n)`` grid, which every
+        layer of the sum shares; nothing is checked here (:meth:`AtmosphericLayer.phase`
+        checks). The first layer is written into ``out``, the next ones into ``work`` and
+        added. Returns ``out``.
+        """
+        self.layers[layers[0]]._phase_into(out)
+        for li in layers[1:]:
+            self.layers[li]._phase_into(work)
+            out += work
+        return out
 
     def __len__(self) -> int:
         return len(self.layers)

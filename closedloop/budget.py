@@ -40,7 +40,9 @@ import numpy as np
 from closedloop import _kernels
 from closedloop.config import SimulationConfig, WFSConfig
 from closedloop.control import Controller
+from closedloop.model import LoopModel
 from closedloop.science import ScienceCamera
+from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
 
 __all__ = ["ErrorBudget", "BudgetProbe"]
@@ -110,24 +112,26 @@ class BudgetProbe:
     ----------
     model : LoopModel
         The run's model.
-    predictor : Predictor, "oracle" or None
-        The run's predictor (deep-copied: its fitted state, not its running state).
+    predictor : modalinfo.forecast.Predictor or None
+        The run's predictor (deep-copied: its fitted state, not its running state); None
+        without a predictor and for the oracle.
     every : int
         Estimate every this many frames.
+    oracle : bool
+        The run forecasts with the true future: :meth:`frame_end` then gets the oracle's
+        exposure-averaged turbulence maps.
     """
 
-    def __init__(self, model, predictor, every: int):
-        from closedloop.simulation import LoopModel
-
+    def __init__(self, model: LoopModel, predictor, every: int, *, oracle: bool = False):
         self.model = model
         self.ideal = LoopModel(_ideal_config(model.config))
         self.every = every
         loop = model.config.loop
-        self.oracle = isinstance(predictor, str)
+        self.oracle = oracle
         self.controller = Controller(
             model.n_modes, gain=loop.gain, leak=loop.leak, delay_frames=loop.delay_frames,
             integration_frames=loop.integration_frames,
-            predictor=None if (predictor is None or self.oracle) else copy.deepcopy(predictor))
+            predictor=None if predictor is None else copy.deepcopy(predictor))
         self.cam = ScienceCamera(model.geometry, model.science.directions)
         self.turb = [np.zeros_like(v) for v in self.cam.plane_views()]
         self.acc = [np.zeros_like(v) for v in self.turb]
@@ -136,20 +140,25 @@ class BudgetProbe:
         self.rows: dict[str, list] = {"frame": [], "fitting": [], "sh": [], "temporal": []}
 
     # ------------------------------------------------------------------ loop hooks
-    def step(self, s: int, atm, layer_buf: dict, in_exposure: bool, fill) -> None:
-        """At internal step ``s``: apply due commands, take the turbulence, accumulate."""
+    def step(self, s: int, state: LoopState, in_exposure: bool) -> None:
+        """At internal step ``s``: apply due commands, take the run's turbulence, accumulate."""
         while self.pending and self.pending[0][0] <= s:
             self.applied = self.pending.popleft()[1]
-        fill(self.model, atm, self.turb, None, layer_buf)
+        state.turbulence(self.turb)
         if in_exposure:
             for a, t in zip(self.acc, self.turb, strict=True):
                 a += t
 
-    def frame_end(self, k: int, n_int: int, apply_step: int, future_maps=None) -> None:
-        """At the end of frame ``k`` (after the science sample of the real loop)."""
+    def frame_end(self, k: int, n_int: int, apply_step: int,
+                  future_maps: list[np.ndarray] | None = None) -> None:
+        """At the end of frame ``k`` (after the science sample of the real loop).
+
+        ``apply_step``: the internal step at which this frame's command reaches the
+        mirrors; ``future_maps``: the oracle's maps (None without the oracle).
+        """
         if k % self.every == 0:
-            fit = self.ideal.measure(self.turb, None)
-            sh = self.model.measure(self.turb, None)
+            fit = self.ideal.sense(self.turb, None)
+            sh = self.model.sense(self.turb, None)
             self.rows["frame"].append(k)
             self.rows["fitting"].append(self._variance(self.turb, fit))
             self.rows["sh"].append(self._variance(self.turb, sh))
@@ -158,12 +167,12 @@ class BudgetProbe:
             a /= n_int
         # the ideal sensors see the modal turbulence y; the residual they would measure is
         # y less what this controller's mirror did during the exposure
-        y = self.ideal.measure(self.acc, None)
+        y = self.ideal.sense(self.acc, None)
         for a in self.acc:
             a[:] = 0.0
         forecast = None
         if self.oracle and future_maps is not None:
-            forecast = self.ideal.measure(future_maps, None)
+            forecast = self.ideal.sense(future_maps, None)
         command, _, _ = self.controller.step(y - self.controller.seen_commands(), forecast)
         self.pending.append((apply_step, command.copy()))
 
@@ -177,8 +186,8 @@ class BudgetProbe:
                 v[:] = turbulence[p]
         for d, dm in enumerate(self.model.dms):
             _kernels.subtract_scatter(views[dm.plane], dm.pixels,
-                                      dm.surface(commands[self.model.mode_slices[d]]), 1.0)
-        return self.cam.measure().copy()
+                                      dm.forward(commands[self.model.mode_slices[d]]), 1.0)
+        return self.cam.forward().copy()
 
     # ------------------------------------------------------------------ result
     def _noise_variance(self, seed: int) -> np.ndarray:

@@ -120,6 +120,14 @@ class Controller:
             predictor.reset()
             self._expected = (horizon, n_modes)
 
+    def reset(self) -> None:
+        """Back to the state after construction: no past command, step 0, the predictor reset."""
+        self.n_faults = 0
+        self._step = 0
+        self._history[:] = 0.0
+        if self.predictor is not None:
+            self.predictor.reset()
+
     @property
     def command(self) -> np.ndarray:
         """The latest command ``c_{k-1}``."""

@@ -90,7 +90,10 @@ class DeformableMirror:
         self.labels = ([f"Z{j}" for j in self.modes] if self.modes
                        else [f"pix{k}" for k in range(self.n_modes)])
 
-    def surface(self, commands: np.ndarray) -> np.ndarray:
+    def reset(self) -> None:
+        """Nothing to reset: a mirror's surface is a function of its command (no state)."""
+
+    def forward(self, commands: np.ndarray) -> np.ndarray:
         """Mirror phase on its disc's pixels [rad], ``(n_disc,)``, for ``commands`` ``(M,)``."""
         if self.shapes is None:
             return np.asarray(commands, dtype=np.float64)

@@ -27,7 +27,7 @@ within -0.9 / +0.6 % at every fraction in x and y (Keys: -1.8 / 0 %, bilinear: -
 the mean and reproduces linear phase (tilt) exactly. The WFS operators keep bilinear
 reads: they average over subapertures and over their field.
 
-When: :func:`closedloop.simulate` measures once per frame, at the frame's last internal
+When: :func:`closedloop.simulate` samples once per frame, at the frame's last internal
 step, so a frame's Strehl is the instantaneous one at the frame's end, not an exposure
 average over the frame's ``loop.oversampling`` internal steps. An exposure-averaged
 Strehl (a camera adds intensities, so the mean of ``exp(-sigma_s**2)`` over the steps,
@@ -156,7 +156,23 @@ class ScienceCamera:
         return [self._flat[o:o + n * n].reshape(n, n)
                 for o, n in zip(self._offsets, self._sizes, strict=True)]
 
-    def measure(self, weights: np.ndarray | None = None) -> np.ndarray:
+    def reset(self) -> None:
+        """Zero the plane maps and the last variances."""
+        self._flat[:] = 0.0
+        self.mean[:] = 0.0
+        self.variance[:] = 0.0
+
+    def looking_at(self, directions: np.ndarray) -> ScienceCamera:
+        """Return a camera for other ``directions`` [arcsec] that reads this camera's maps.
+
+        What the loop writes into :meth:`plane_views` is seen by both (the snapshots of
+        :func:`closedloop.simulate` use this).
+        """
+        other = ScienceCamera(self.geometry, directions)
+        other._flat = self._flat
+        return other
+
+    def forward(self, weights: np.ndarray | None = None) -> np.ndarray:
         """Piston-removed variance [rad^2 at the phase wavelength] per direction, ``(n_dir,)``.
 
         Reads the maps written into :meth:`plane_views`; ``weights`` (per plane) scales

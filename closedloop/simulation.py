@@ -1,5 +1,12 @@
 """The closed loop: one function that composes atmosphere, mirrors, sensors and control.
 
+The parts share one protocol (:mod:`closedloop.parts`); the static ones live in a
+:class:`~closedloop.model.LoopModel`, the time-varying ones in a
+:class:`~closedloop.state.LoopState`, and :func:`simulate` is the loop over them. Its
+options are small parts of their own here: the oracle (:class:`_Oracle`), the
+control-basis projection and open loop (:class:`_Control`), the snapshots
+(:class:`_Snapshots`) and the error-budget probe (:class:`closedloop.budget.BudgetProbe`).
+
 :func:`simulate` runs the loop on an internal grid ``oversampling`` times finer than the
 frame (so that a fractional delay or exposure is exact, as in :mod:`modalinfo.servo`):
 
@@ -33,200 +40,19 @@ from collections.abc import Callable
 
 import numpy as np
 
-from closedloop import _kernels
-from closedloop.atmosphere import Atmosphere, AtmosphericLayer
-from closedloop.config import SimulationConfig
+from closedloop.budget import BudgetProbe
+from closedloop.config import LoopConfig, SimulationConfig
 from closedloop.control import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
-from closedloop.dm import DeformableMirror
-from closedloop.geometry import Geometry
+from closedloop.model import LoopModel
 from closedloop.result import SimulationResult
 from closedloop.science import ScienceCamera
-from closedloop.wfs import WavefrontSensor
+from closedloop.state import LoopState
 from modalinfo._validation import check_real
-from modalinfo.bases import noll_residual_variance, zernike_covariance
 
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
 #: pass as ``predictor`` to forecast with the true future POL (the upper bound)
 ORACLE = "oracle"
-_NOISE_FLOOR = 1e-4
-_SNR_CUT = 1.0
-_RCOND = 1e-3
-
-
-class LoopModel:
-    """The static parts of a configuration: geometry, DMs, WFSs, science camera.
-
-    Building the WFS operators and reconstructors is the expensive part of the set-up;
-    a ``LoopModel`` can be reused for several runs of the same configuration.
-
-    Attributes
-    ----------
-    prior : (n_modes,) ndarray or None
-        Prior variance [rad^2 at ``r0_wavelength``] of each DM mode (DM 0 first) that the
-        joint MAP reconstructor assumes: each layer's Noll variances over the disc of the
-        DM nearest to it; None when there is no joint reconstructor (one DM, or a zonal
-        DM).
-    """
-
-    def __init__(self, config: SimulationConfig):
-        if not isinstance(config, SimulationConfig):
-            raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
-        self.config = config
-        self.geometry = Geometry(config)
-        self.dms = [DeformableMirror(self.geometry, i) for i in range(len(config.dms))]
-        self.wfss = [WavefrontSensor(self.geometry, j, self.dms[w.dm])
-                     for j, w in enumerate(config.wfss)]
-        self.science = ScienceCamera(self.geometry, self.geometry.directions)
-        sizes = [dm.n_modes for dm in self.dms]
-        self.mode_slices = [slice(a, a + n) for a, n in
-                            zip(np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes, strict=True)]
-        self.n_modes = int(sum(sizes))
-        self.prior = None
-        self.reconstructor = self._global_reconstructor()
-
-    def _global_reconstructor(self):
-        """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).
-
-        Each layer-oriented WFS also sees the other DMs (blurred by its field). With one
-        least-squares reconstructor per WFS-DM pair these cross-couplings make the loops
-        fight (the coupled loop matrix has complex eigenvalues; table1 diverges at gain
-        0.5), and a joint least-squares inverse splits the modes that several DMs share
-        (tilt is the same at every altitude) evenly between them, so that off axis half
-        of the ground layer's tilt goes uncorrected. The joint maximum a posteriori
-        reconstructor ``R = (G^T N^-1 G + C^-1)^-1 G^T N^-1`` (Fusco, Conan, Rousset,
-        Mugnier & Michau 2001, JOSA A 18, 2527) settles both: ``G`` is the full
-        interaction matrix (rows: every WFS, columns: every DM's modes), ``N`` the
-        measurement-noise variances and ``C`` the prior variance of each DM mode, the
-        Noll/von Karman variance of the turbulence assigned to that DM (each layer to the
-        nearest DM altitude) over the DM's disc. A noise-free WFS gets a floor of 1e-4 of
-        the mean signal, so the prior still breaks ties. ``None`` (one reconstructor
-        per WFS) with a single DM or a zonal ("ideal") DM.
-        """
-        if len(self.dms) == 1 or any(dm.shapes is None for dm in self.dms):
-            return None
-        g = self.geometry
-        cfg = self.config
-        full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
-        prior = np.empty(self.n_modes)
-        dm_alts = np.array([dm.altitude for dm in self.dms])
-        strength = np.zeros(len(self.dms))
-        for li, lay in enumerate(cfg.layers):
-            d = int(np.argmin(np.abs(dm_alts - g.los(lay.altitude))))
-            r0 = g.layer_r0(li)
-            strength[d] += (self.dms[d].diameter / r0) ** (5.0 / 3.0)
-        floor = 1e-6 * max(strength.max(), 1e-12)
-        for d, dm in enumerate(self.dms):
-            var = np.diag(zernike_covariance(dm.modes))
-            prior[self.mode_slices[d]] = max(strength[d], floor) * var
-        self.prior = prior
-        noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2
-                                        + self._model_error_variance(w))
-                                for w in self.wfss])
-        signal_level = np.mean(np.sum(full ** 2, axis=0) * prior) / full.shape[0]
-        noise = np.maximum(noise, _NOISE_FLOOR * signal_level)
-        # truncated SVD in the noise- and prior-whitened space: R G is then an exact
-        # projector, so commands never drift along directions the WFSs barely see
-        whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
-        u, sv, vt = np.linalg.svd(whitened, full_matrices=False)
-        keep = sv > max(_SNR_CUT, _RCOND * sv[0])
-        self.n_controlled = int(keep.sum())
-        r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
-        return r / np.sqrt(noise)[None, :]
-
-    def _model_error_variance(self, wfs) -> float:
-        """Return the extra noise per measurement the reconstructor assumes (model error).
-
-        Neither sensor model sees only the DMs' modes: a Shack-Hartmann also measures the
-        turbulence's slopes beyond them (aliasing), an ideal sensor the phase beyond them
-        (generalised fitting). Left out of ``N``, these inconsistencies between the WFSs
-        are fitted by wild combinations of the DMs' nearly degenerate modes that cancel on
-        axis and not off axis. SH: ``loop.model_error`` (0.3) times the turbulent slope variance of
-        one subaperture, the Z-tilt of a disc of the subaperture's size:
-        ``16 * 0.449 (d / r0)**(5/3) / d**2`` summed over layers [(rad/m)^2]. Ideal:
-        Noll's residual variance after the DM's modes, ``Delta_J (D_dm / r0)**(5/3)``
-        summed over layers [rad^2].
-        """
-        cfg = self.config
-        r0s = [self.geometry.layer_r0(i) for i in range(len(cfg.layers))]
-        if wfs.kind == "shack_hartmann":
-            d = wfs.pitch
-            total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
-            return cfg.loop.model_error * 16.0 * 0.449 * total / d ** 2
-        dm = wfs.dm
-        if dm.shapes is None:
-            return 0.0
-        j_max = max(dm.modes)
-        return float(noll_residual_variance(j_max)) * sum(
-            (dm.diameter / r0) ** (5.0 / 3.0) for r0 in r0s)
-
-    def slopes(self, plane_maps: list[np.ndarray],
-               rng: np.random.Generator | None) -> list[np.ndarray]:
-        """Every WFS's measurements (with noise drawn from ``rng``, none if None)."""
-        out = []
-        for wfs in self.wfss:
-            noise = (rng.standard_normal(wfs.n_measurements)
-                     if rng is not None and wfs.noise_rms > 0 else None)
-            out.append(wfs.slopes(plane_maps, noise))
-        return out
-
-    def reconstruct(self, slopes: list[np.ndarray]) -> np.ndarray:
-        """Modal residual of every DM (concatenated) from every WFS's measurements."""
-        if self.reconstructor is not None:
-            return self.reconstructor @ np.concatenate(slopes)
-        out = np.empty(self.n_modes)
-        for wfs, s in zip(self.wfss, slopes, strict=True):
-            out[self.mode_slices[wfs.dm.index]] = (s if wfs.reconstructor is None
-                                                   else wfs.reconstructor @ s)
-        return out
-
-    def measure(self, plane_maps: list[np.ndarray], rng: np.random.Generator | None) -> np.ndarray:
-        """Modal residual of every DM (concatenated) from the exposure-averaged maps."""
-        return self.reconstruct(self.slopes(plane_maps, rng))
-
-    def atmosphere(self, seed: int, duration: float) -> Atmosphere:
-        """Return the configuration's layers on their planes' grids, seeded by ``seed``."""
-        g = self.geometry
-        cfg = self.config
-        seeds = np.random.SeedSequence(seed).spawn(len(cfg.layers) + 1)
-        layers = []
-        for i, lay in enumerate(cfg.layers):
-            plane = g.planes[g.layer_plane[i]]
-            r0 = g.layer_r0(i)
-            ang = np.radians(lay.wind_direction)
-            layers.append(AtmosphericLayer(
-                n_pixels=plane.n, pixel_scale=g.dx, r0=r0,
-                velocity=(lay.wind_speed * np.cos(ang), lay.wind_speed * np.sin(ang)),
-                outer_scale=lay.outer_scale, altitude=plane.altitude,
-                duration_hint=duration, seed=np.random.default_rng(seeds[i])))
-        return Atmosphere(layers)
-
-    def noise_rng(self, seed: int) -> np.random.Generator:
-        """Return the WFS-noise generator of a run seeded by ``seed``."""
-        seeds = np.random.SeedSequence(seed).spawn(len(self.config.layers) + 1)
-        return np.random.default_rng(seeds[-1])
-
-
-def _fill_planes(model: LoopModel, atm: Atmosphere, views: list[np.ndarray],
-                 surfaces: list[np.ndarray] | None, layer_buf: dict) -> None:
-    """Residual (or, with ``surfaces=None``, turbulence) map of every plane."""
-    g = model.geometry
-    layers = atm.layers
-    for p, plane in enumerate(g.planes):
-        view = views[p]
-        if not plane.layers:
-            view[:] = 0.0
-        else:
-            # the views are the science camera's float64 C-contiguous plane maps, of
-            # their layers' grid size: phase()'s checks are skipped (hot loop)
-            layers[plane.layers[0]]._phase_into(view)
-            for li in plane.layers[1:]:
-                buf = layer_buf.setdefault(p, np.empty_like(view))
-                layers[li]._phase_into(buf)
-                view += buf
-        if surfaces is not None:
-            for d in plane.dms:
-                _kernels.subtract_scatter(view, model.dms[d].pixels, surfaces[d], 1.0)
 
 
 def simulate(
@@ -299,141 +125,56 @@ def simulate(
     -------
     SimulationResult
     """
-    duration = check_real(duration, "duration", minimum=0.0, strict_min=True)
-    if not isinstance(config, SimulationConfig):
-        raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
-    if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
-        raise ValueError(f"`on_predictor_fault` must be one of "
-                         f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
-                         f"{on_predictor_fault!r}.")
-    if not config.loop.closed:
-        _check_open_loop(predictor, budget_every, control_basis)
-    check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
+    duration, oracle = _check_arguments(config, duration, predictor, on_predictor_fault,
+                                        budget_every, control_basis, snapshot_every)
     from closedloop.resources import check_resources
 
-    check_resources(config, duration, limit=memory_limit, oracle=isinstance(predictor, str),
+    check_resources(config, duration, limit=memory_limit, oracle=oracle,
                     budget=bool(budget_every), setup=model is None)
-    if model is None:
-        model = LoopModel(config)
-    elif model.config != config:
-        raise ValueError("`model` was built for another config.")
-    seed = config.seed if seed is None else seed
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(f"`seed` must be a non-negative int; got {seed!r}.")
-    seed = int(seed)
-    loop = config.loop
-    n_os = loop.oversampling
-    n_int = round(loop.integration_frames * n_os)
-    n_delay = round(loop.delay_frames * n_os)
-    n_frames = max(1, round(duration / loop.time_step))
-    dt = loop.time_step / n_os
-
-    oracle = isinstance(predictor, str)
-    if oracle and predictor != ORACLE:
-        raise ValueError(f"`predictor` must be a Predictor, {ORACLE!r} or None; got {predictor!r}.")
-    if predictor is not None and not oracle and not hasattr(predictor, "update"):
-        raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
-                        f"Predictor); got {type(predictor).__name__}.")
+    model = _model_for(config, model)
+    seed = _check_seed(config.seed if seed is None else seed)
     basis = _check_control_basis(control_basis, model.n_modes)
     if basis is not None and budget_every:
         raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
                          "models a loop that controls every mode).")
-    open_loop = not loop.closed
-    n_control = model.n_modes if basis is None else basis.shape[1]
-    controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
-                            delay_frames=loop.delay_frames,
-                            integration_frames=loop.integration_frames,
-                            predictor=None if oracle else predictor,
-                            on_predictor_fault=on_predictor_fault)
-
-    total = n_frames * n_os + n_delay + n_os
-    atm = model.atmosphere(seed, total * dt)
-    atm.reset()
-    future = model.atmosphere(seed, total * dt) if oracle else None
-    rng = model.noise_rng(seed)
-    science = model.science
-    views = science.plane_views()
-    acc = [np.zeros_like(v) for v in views]
-    fut_views = [np.zeros_like(v) for v in views] if oracle else None
-    fut_acc = [np.zeros_like(v) for v in views] if oracle else None
-    layer_buf: dict = {}
-    surfaces = [np.zeros(dm.pixels.size) for dm in model.dms]
-    pending: deque = deque()
-
-    n_dir = len(science.directions)
-    variance = np.empty((n_frames, n_dir))
-    measured_log = np.empty((n_frames, model.n_modes))
-    pol_log = np.empty((n_frames, model.n_modes))
-    command_log = np.empty((n_frames, model.n_modes))
-    slope_logs = [np.empty((n_frames, w.n_measurements)) for w in model.wfss]
-    snaps = []
-    snap_cam = None
-    if snapshot_every:
-        dirs = np.zeros((1, 2)) if snapshot_directions is None else snapshot_directions
-        snap_cam = ScienceCamera(model.geometry, np.asarray(dirs, dtype=np.float64))
-        snap_cam._flat = science._flat  # same maps, other directions
-
-    probe = None
-    if budget_every:
-        from closedloop.budget import BudgetProbe
-
-        probe = BudgetProbe(model, predictor, int(budget_every))
-    bar = _progress_bar(progress, n_frames)
-    scale_sci = (config.r0_wavelength / config.wavelength) ** 2
+    clock = _Clock.of(config.loop, duration)
+    state = LoopState(model, model.atmosphere(seed, clock.run_time),
+                      model.science.plane_views())
+    state.reset()
+    forecaster = None if oracle else predictor  # the oracle is no Predictor
+    control = _Control(model, config.loop, forecaster, basis, on_predictor_fault)
+    future = _Oracle(model, seed, clock) if oracle else None
+    probe = (BudgetProbe(model, forecaster, int(budget_every), oracle=oracle)
+             if budget_every else None)
+    exposure, logs = _Exposure(state.maps), _Logs(model, clock.n_frames)
+    snapshots = _Snapshots(model.science, snapshot_every, snapshot_directions)
+    rng, pending = model.noise_rng(seed), deque()
+    bar = _progress_bar(progress, clock.n_frames)
     start = time.perf_counter()
     try:
-        for k in range(n_frames):
-            for i in range(n_os):
-                s = k * n_os + i
-                while pending and pending[0][0] <= s:
-                    _, command = pending.popleft()
-                    for d, dm in enumerate(model.dms):
-                        surfaces[d] = dm.surface(command[model.mode_slices[d]])
-                atm.evolve_until(s * dt)
-                _fill_planes(model, atm, views, surfaces, layer_buf)
+        for k in range(clock.n_frames):
+            for i in range(clock.n_os):
+                s = k * clock.n_os + i
+                while pending and pending[0][0] <= s:  # a command whose time has come
+                    state.apply(pending.popleft()[1])
+                state.evolve_until(s * clock.dt)
+                state.forward()
                 if probe is not None:
-                    probe.step(s, atm, layer_buf, i >= n_os - n_int, _fill_planes)
-                if i >= n_os - n_int:
-                    for a, v in zip(acc, views, strict=True):
-                        a += v
-            science.measure()
-            variance[k] = science.variance
-            if snap_cam is not None and k % snapshot_every == 0:
-                snaps.append(np.stack([snap_cam.residual_phase(d)
-                                       for d in range(len(snap_cam.directions))]))
-            for a in acc:
-                a /= n_int
-            slopes = model.slopes(acc, rng)
-            measured = model.reconstruct(slopes)
-            for log, sl in zip(slope_logs, slopes, strict=True):
-                log[k] = sl
-            for a in acc:
-                a[:] = 0.0
-            forecast = None
-            if oracle:
-                forecast = _oracle_pol(model, future, fut_views, fut_acc, layer_buf,
-                                       (k + 1) * n_os + n_delay, n_os, dt)
-            try:
-                if basis is None:
-                    command, pol, _ = controller.step(measured, forecast)
-                else:
-                    command_n, pol_n, _ = controller.step(
-                        basis.T @ measured, None if forecast is None else basis.T @ forecast)
-                    command = basis @ command_n
-                    # measured + B (seen commands): the uncontrolled directions keep m
-                    pol = measured + basis @ (pol_n - basis.T @ measured)
-            except PredictorFault as exc:
-                raise _labelled(exc, model, basis) from None
-            if open_loop:
-                # the controller's command is dropped and a zero one sent: the DMs stay
-                # flat, the residual is the turbulence, and so is the POL
-                command, pol = np.zeros(model.n_modes), measured
+                    probe.step(s, state, clock.in_exposure(i))
+                if clock.in_exposure(i):
+                    exposure.add(state.maps)
+            logs.variance[k] = model.science.forward()
+            snapshots.take(k)
+            measurements = model.measure(exposure.mean(clock.n_int), rng)
+            measured = model.reconstruct(measurements)
+            exposure.clear()
+            forecast = None if future is None else future.forecast(clock.apply_step(k))
+            command, pol = control.step(measured, forecast)
             if probe is not None:
-                probe.frame_end(k, n_int, (k + 1) * n_os + n_delay, fut_acc)
-            measured_log[k] = measured
-            pol_log[k] = pol
-            command_log[k] = command
-            pending.append(((k + 1) * n_os + n_delay, command.copy()))
+                probe.frame_end(k, clock.n_int, clock.apply_step(k),
+                                None if future is None else future.maps)
+            logs.record(k, measured, pol, command, measurements)
+            pending.append((clock.apply_step(k), command.copy()))
             if bar is not None:
                 bar.update(1)
             if callback is not None:
@@ -442,24 +183,8 @@ def simulate(
         if bar is not None:
             bar.close()
     elapsed = time.perf_counter() - start
-    if controller.n_faults:
-        import warnings
-
-        warnings.warn(f"predictor {_predictor_name(predictor)} returned an unusable forecast "
-                      f"on {controller.n_faults} of {n_frames} frames; the last command was "
-                      "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=2)
-    result = SimulationResult.from_run(
-        config=config, seed=seed, model=model,
-        variance=variance * scale_sci, measured=measured_log, pol=pol_log,
-        commands=command_log, elapsed=elapsed, measurements=slope_logs,
-        predictor_name=_predictor_name(predictor),
-        snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
-        snapshot_directions=None if snap_cam is None else snap_cam.directions,
-    )
-    if probe is not None:
-        budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
-        result = dataclasses.replace(result, budget=budget)
-    return result
+    _warn_held(control.controller, predictor, clock.n_frames)
+    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, predictor)
 
 
 def check_run(config: SimulationConfig, duration: float, *, budget_every: int | None = None,
@@ -543,18 +268,244 @@ def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
     return np.ascontiguousarray(b)
 
 
-def _oracle_pol(model, future, views, acc, layer_buf, first_step, n_os, dt):
-    """Noise-free WFS measurement of the turbulence alone, averaged over the hold window."""
-    for a in acc:
-        a[:] = 0.0
-    for s in range(first_step, first_step + n_os):
-        future.evolve_until(s * dt)
-        _fill_planes(model, future, views, None, layer_buf)
-        for a, v in zip(acc, views, strict=True):
+def _check_arguments(config, duration, predictor, on_predictor_fault, budget_every,
+                     control_basis, snapshot_every) -> tuple[float, bool]:
+    """Refuse what :func:`simulate` refuses before any set-up.
+
+    Returns the checked duration and whether the oracle is asked for.
+    """
+    duration = check_real(duration, "duration", minimum=0.0, strict_min=True)
+    if not isinstance(config, SimulationConfig):
+        raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
+    if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
+        raise ValueError(f"`on_predictor_fault` must be one of "
+                         f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
+                         f"{on_predictor_fault!r}.")
+    if not config.loop.closed:
+        _check_open_loop(predictor, budget_every, control_basis)
+    check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
+    return duration, _oracle_mode(predictor)
+
+
+def _model_for(config: SimulationConfig, model: LoopModel | None) -> LoopModel:
+    """Return ``model`` if it was built for ``config``, else a new one."""
+    if model is None:
+        return LoopModel(config)
+    if model.config != config:
+        raise ValueError("`model` was built for another config.")
+    return model
+
+
+def _check_seed(seed) -> int:
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"`seed` must be a non-negative int; got {seed!r}.")
+    return int(seed)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Clock:
+    """The run's internal steps: ``n_os`` per frame, ``dt`` apart [s].
+
+    Attributes
+    ----------
+    n_os, n_int, n_delay : int
+        Internal steps per frame, per exposure, and of the loop delay.
+    n_frames : int
+    dt : float
+        Internal step [s].
+    """
+
+    n_os: int
+    n_int: int
+    n_delay: int
+    n_frames: int
+    dt: float
+
+    @classmethod
+    def of(cls, loop: LoopConfig, duration: float) -> _Clock:
+        n_os = loop.oversampling
+        return cls(n_os=n_os, n_int=round(loop.integration_frames * n_os),
+                   n_delay=round(loop.delay_frames * n_os),
+                   n_frames=max(1, round(duration / loop.time_step)),
+                   dt=loop.time_step / n_os)
+
+    @property
+    def run_time(self) -> float:
+        """Time [s] the atmosphere must cover (the run, the delay, the oracle's last hold)."""
+        return (self.n_frames * self.n_os + self.n_delay + self.n_os) * self.dt
+
+    def in_exposure(self, i: int) -> bool:
+        """Whether internal step ``i`` of a frame is inside the WFS exposure (its end)."""
+        return i >= self.n_os - self.n_int
+
+    def apply_step(self, k: int) -> int:
+        """Return the internal step at which frame ``k``'s command reaches the mirrors."""
+        return (k + 1) * self.n_os + self.n_delay
+
+
+class _Exposure:
+    """Sum of the plane maps over a WFS exposure (in place, no allocation per step)."""
+
+    def __init__(self, maps: list[np.ndarray]):
+        self.maps = [np.zeros_like(v) for v in maps]
+
+    def add(self, maps: list[np.ndarray]) -> None:
+        for a, v in zip(self.maps, maps, strict=True):
             a += v
-    for a in acc:
-        a /= n_os
-    return model.measure(acc, None)
+
+    def mean(self, n: int) -> list[np.ndarray]:
+        """Divide the sums by ``n`` steps (in place) and return them."""
+        for a in self.maps:
+            a /= n
+        return self.maps
+
+    def clear(self) -> None:
+        for a in self.maps:
+            a[:] = 0.0
+
+
+class _Oracle:
+    """The true future: the noise-free sensing of the turbulence alone over a command's hold.
+
+    Runs its own copy of the run's atmosphere (same seed), so it reads ahead of the loop.
+    """
+
+    def __init__(self, model: LoopModel, seed: int, clock: _Clock):
+        self.model = model
+        self.clock = clock
+        self.state = LoopState(model, model.atmosphere(seed, clock.run_time))
+        self.exposure = _Exposure(self.state.maps)
+
+    @property
+    def maps(self) -> list[np.ndarray]:
+        """Turbulence maps averaged over the last forecast's hold window."""
+        return self.exposure.maps
+
+    def forecast(self, first_step: int) -> np.ndarray:
+        """Modal turbulence of every DM averaged over internal steps ``first_step + [0, n_os)``."""
+        self.exposure.clear()
+        for s in range(first_step, first_step + self.clock.n_os):
+            self.state.evolve_until(s * self.clock.dt)
+            self.exposure.add(self.state.turbulence(self.state.maps))
+        return self.model.sense(self.exposure.mean(self.clock.n_os), None)
+
+
+class _Control:
+    """The controller as the loop uses it: control-basis projection, open loop, fault labels."""
+
+    def __init__(self, model: LoopModel, loop: LoopConfig, predictor, basis: np.ndarray | None,
+                 on_predictor_fault: str):
+        n_control = model.n_modes if basis is None else basis.shape[1]
+        self.controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
+                                     delay_frames=loop.delay_frames,
+                                     integration_frames=loop.integration_frames,
+                                     predictor=predictor, on_predictor_fault=on_predictor_fault)
+        self.model = model
+        self.basis = basis
+        self.open_loop = not loop.closed
+
+    def step(self, measured: np.ndarray, forecast: np.ndarray | None) -> tuple:
+        """Return the command and the POL ``(n_modes,)`` of a frame from its modal residual."""
+        basis = self.basis
+        try:
+            if basis is None:
+                command, pol, _ = self.controller.step(measured, forecast)
+            else:
+                command_n, pol_n, _ = self.controller.step(
+                    basis.T @ measured, None if forecast is None else basis.T @ forecast)
+                command = basis @ command_n
+                # measured + B (seen commands): the uncontrolled directions keep m
+                pol = measured + basis @ (pol_n - basis.T @ measured)
+        except PredictorFault as exc:
+            raise _labelled(exc, self.model, basis) from None
+        if self.open_loop:
+            # the controller's command is dropped and a zero one sent: the DMs stay
+            # flat, the residual is the turbulence, and so is the POL
+            command, pol = np.zeros(self.model.n_modes), measured
+        return command, pol
+
+
+class _Logs:
+    """Per-frame arrays of a run (science variance, modal residual, POL, commands, WFSs)."""
+
+    def __init__(self, model: LoopModel, n_frames: int):
+        self.variance = np.empty((n_frames, len(model.science.directions)))
+        self.measured = np.empty((n_frames, model.n_modes))
+        self.pol = np.empty((n_frames, model.n_modes))
+        self.commands = np.empty((n_frames, model.n_modes))
+        self.measurements = [np.empty((n_frames, w.n_measurements)) for w in model.wfss]
+
+    def record(self, k: int, measured, pol, command, measurements) -> None:
+        self.measured[k] = measured
+        self.pol[k] = pol
+        self.commands[k] = command
+        for log, m in zip(self.measurements, measurements, strict=True):
+            log[k] = m
+
+
+class _Snapshots:
+    """Residual pupil phase in some directions every ``every`` frames (FFT-PSF checks)."""
+
+    def __init__(self, science: ScienceCamera, every: int | None, directions):
+        self.every = every
+        self.frames: list[np.ndarray] = []
+        self.camera = None
+        if every:
+            dirs = np.zeros((1, 2)) if directions is None else directions
+            self.camera = science.looking_at(np.asarray(dirs, dtype=np.float64))
+
+    def take(self, k: int) -> None:
+        cam = self.camera
+        if cam is not None and k % self.every == 0:
+            self.frames.append(np.stack([cam.residual_phase(d)
+                                         for d in range(len(cam.directions))]))
+
+    @property
+    def directions(self) -> np.ndarray | None:
+        return None if self.camera is None else self.camera.directions
+
+
+def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, elapsed,
+              predictor) -> SimulationResult:
+    """Return the run's result (science numbers at the science wavelength)."""
+    scale_sci = (config.r0_wavelength / config.wavelength) ** 2
+    snaps = snapshots.frames
+    result = SimulationResult.from_run(
+        config=config, seed=seed, model=model,
+        variance=logs.variance * scale_sci, measured=logs.measured, pol=logs.pol,
+        commands=logs.commands, elapsed=elapsed, measurements=logs.measurements,
+        predictor_name=_predictor_name(predictor),
+        snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
+        snapshot_directions=snapshots.directions,
+    )
+    if probe is not None:
+        budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
+        result = dataclasses.replace(result, budget=budget)
+    return result
+
+
+def _warn_held(controller: Controller, predictor, n_frames: int) -> None:
+    """Say at the end how many frames kept their last command (``on_predictor_fault="hold"``)."""
+    if controller.n_faults:
+        import warnings
+
+        warnings.warn(f"predictor {_predictor_name(predictor)} returned an unusable forecast "
+                      f"on {controller.n_faults} of {n_frames} frames; the last command was "
+                      "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=3)
+
+
+def _oracle_mode(predictor) -> bool:
+    """Whether ``predictor`` asks for the oracle; refuse anything else than a Predictor or None.
+
+    The one place (with :func:`_predictor_name`) that knows the shapes of ``predictor``.
+    """
+    oracle = isinstance(predictor, str)
+    if oracle and predictor != ORACLE:
+        raise ValueError(f"`predictor` must be a Predictor, {ORACLE!r} or None; got {predictor!r}.")
+    if predictor is not None and not oracle and not hasattr(predictor, "update"):
+        raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
+                        f"Predictor); got {type(predictor).__name__}.")
+    return oracle
 
 
 def _predictor_name(predictor) -> str:

@@ -40,6 +40,7 @@ kernel, :func:`closedloop._kernels.csr_matvec`, with the same bits as scipy's pr
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 import numpy as np
 from scipy import sparse
@@ -47,8 +48,10 @@ from scipy import sparse
 from closedloop import _kernels
 from closedloop.dm import DeformableMirror
 from closedloop.geometry import ARCSEC, Geometry
+from modalinfo.bases import noll_residual_variance
 
-__all__ = ["WavefrontSensor", "bilinear_matrix"]
+__all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SENSORS", "register_sensor",
+           "make_sensor", "bilinear_matrix"]
 
 
 def bilinear_matrix(cols: np.ndarray, rows: np.ndarray, n: int) -> sparse.csr_matrix:
@@ -127,7 +130,14 @@ def _window_entries(start: np.ndarray, axis: int, dx: float, d_wfs: float, n_sub
 
 
 class WavefrontSensor:
-    """One layer-oriented WFS and its reconstructor onto its DM's modes.
+    """One layer-oriented WFS and its reconstructor onto its DM's modes (base of every kind).
+
+    A kind is a subclass that sets :attr:`kind` and builds :attr:`operators` in
+    ``_build`` (and, for a noisy sensor, :attr:`noise_rms`), registered with
+    :func:`register_sensor`; :func:`make_sensor` builds the kind the config names. The
+    measurement path (:meth:`forward`, sparse products), the interaction matrix and the
+    least-squares reconstructor are shared. It implements
+    :class:`closedloop.parts.Sensor`.
 
     Parameters
     ----------
@@ -136,6 +146,9 @@ class WavefrontSensor:
         Which WFS of the configuration.
     dm : DeformableMirror
         The DM it drives.
+    rcond : float
+        Singular values below ``rcond`` times the largest are dropped from the
+        reconstructor's pseudo-inverse.
 
     Attributes
     ----------
@@ -151,37 +164,50 @@ class WavefrontSensor:
     n_valid_subapertures : int
     """
 
+    #: the config's ``wfss[j].kind`` this class implements (the registry key)
+    kind: ClassVar[str] = ""
+
     def __init__(self, geometry: Geometry, index: int, dm: DeformableMirror, *,
                  rcond: float = 1e-3):
         cfg = geometry.config.wfss[index]
+        if cfg.kind != self.kind:
+            raise ValueError(f"`geometry.config.wfss[{index}].kind` must be {self.kind!r} for "
+                             f"{type(self).__name__}; got {cfg.kind!r} (use make_sensor).")
         self.index = index
-        self.kind = cfg.kind
         self.altitude = geometry.los(cfg.altitude)
         self.samples = geometry.wfs_samples[index]
         self.dm = dm
         self._geometry = geometry
-        # an ideal sensor of a modal DM measures the phase less its mean: piston is not
-        # sensed (as by a SH), and pixel-sampled Zernikes are not exactly zero-mean, so
-        # a fit with piston left in would spend modes on it
-        self._centred = cfg.kind == "ideal" and dm.shapes is not None
-        if cfg.kind == "shack_hartmann":
-            self._build_shack_hartmann(cfg)
-            lam = geometry.config.r0_wavelength
-            self.noise_rms = 2.0 * math.pi * cfg.noise * ARCSEC / lam
-        else:
-            self._build_ideal()
-            self.noise_rms = 0.0
+        self._centred = False
+        self.noise_rms = 0.0
+        self._build(cfg)
         # the operators' CSR arrays as the matvec kernel takes them (unsigned columns)
         self._csr = [(op.indptr.astype(np.int64), op.indices.astype(np.uint32),
                       np.ascontiguousarray(op.data, dtype=np.float64))
                      for op in self.operators]
         self.interaction = self.interaction_with(dm)
-        if cfg.kind == "ideal" and dm.shapes is None:
-            self.reconstructor = None  # identity: the measurement is the disc's phase
-        else:
-            inter = self.interaction
-            self.reconstructor = np.linalg.pinv(
-                inter.toarray() if sparse.issparse(inter) else inter, rcond=rcond)
+        self.reconstructor = self._least_squares(rcond)
+
+    def _build(self, cfg) -> None:
+        """Set ``operators`` and ``n_measurements`` (and ``noise_rms``) for this kind."""
+        raise NotImplementedError(f"{type(self).__name__} must implement _build")
+
+    def _least_squares(self, rcond: float) -> np.ndarray | None:
+        """Pseudo-inverse of the interaction matrix with its own DM."""
+        inter = self.interaction
+        return np.linalg.pinv(inter.toarray() if sparse.issparse(inter) else inter,
+                              rcond=rcond)
+
+    def reset(self) -> None:
+        """Nothing to reset: a sensor's measurement is a fixed linear map (no state)."""
+
+    def model_error_variance(self, r0s: list[float], model_error: float) -> float:
+        """Extra noise per measurement the joint MAP reconstructor assumes (model error).
+
+        See :class:`closedloop.model.LoopModel`. ``r0s``: each layer's Fried parameter [m]
+        at the phase wavelength; ``model_error``: ``loop.model_error``.
+        """
+        raise NotImplementedError(f"{type(self).__name__} must implement model_error_variance")
 
     # ------------------------------------------------------------------ building
     def _illuminated(self, u: np.ndarray, theta: np.ndarray) -> np.ndarray:
@@ -198,7 +224,81 @@ class WavefrontSensor:
         pos = (points + shift) / g.dx + plane.centre
         return bilinear_matrix(pos[:, 0], pos[:, 1], plane.n)
 
-    def _build_shack_hartmann(self, cfg) -> None:
+    # ------------------------------------------------------------------ measuring
+    def forward(self, plane_maps: list[np.ndarray],
+                noise: np.ndarray | None = None) -> np.ndarray:
+        """Measurements from the residual maps of every plane, ``(n_measurements,)``.
+
+        ``noise``: standard normal draws ``(n_measurements,)`` scaled here by ``noise_rms``.
+        """
+        if len(plane_maps) != len(self._csr):
+            raise ValueError(f"`plane_maps` must hold {len(self._csr)} maps; "
+                             f"got {len(plane_maps)}.")
+        # s = operators[0] @ r_0, then s += operators[p] @ r_p: scipy's arithmetic
+        s = np.empty(self.n_measurements)
+        for p, (indptr, indices, data) in enumerate(self._csr):
+            x = np.ascontiguousarray(plane_maps[p], dtype=np.float64).reshape(-1)
+            if x.size != self.operators[p].shape[1]:
+                raise ValueError(f"`plane_maps[{p}]` must have {self.operators[p].shape[1]} "
+                                 f"pixels; got {x.size}.")
+            _kernels.csr_matvec(indptr, indices, data, x, s, p > 0)
+        if noise is not None and self.noise_rms > 0.0:
+            s += self.noise_rms * noise
+        if self._centred:
+            s -= s.mean()
+        return s
+
+    def interaction_with(self, dm: DeformableMirror):
+        """Measurements of a unit command of each mode of ``dm``: ``(n_measurements, M_dm)``.
+
+        A dense ndarray for a modal DM; a ``scipy.sparse.csr_matrix`` for a zonal
+        (``"ideal"``) DM, whose "modes" are its disc's pixels: as a dense array that block
+        is ``(pixels x pixels)``, 200 MB at 80 pixels across, and mostly zeros (each
+        measurement reads a few pixels per field sample). ``_centred`` only applies to a
+        modal DM, so the sparse block is never centred.
+        """
+        block = self.operators[dm.plane][:, dm.pixels]
+        if dm.shapes is None:
+            return sparse.csr_matrix(block)
+        out = np.asarray(block @ dm.shapes)
+        return out - out.mean(axis=0) if self._centred else out
+
+
+#: sensor kinds by the config's ``wfss[j].kind`` (see :func:`register_sensor`)
+SENSORS: dict[str, type[WavefrontSensor]] = {}
+
+
+def register_sensor(cls: type[WavefrontSensor]) -> type[WavefrontSensor]:
+    """Register a :class:`WavefrontSensor` subclass under its ``kind`` (a class decorator).
+
+    The config must accept the kind too (``closedloop.config.WFS_KINDS``).
+    """
+    if not (isinstance(cls, type) and issubclass(cls, WavefrontSensor)) or not cls.kind:
+        raise TypeError(f"`cls` must be a WavefrontSensor subclass with a `kind`; got {cls!r}.")
+    if cls.kind in SENSORS and SENSORS[cls.kind] is not cls:
+        raise ValueError(f"`cls.kind` must be a new sensor kind; {cls.kind!r} is "
+                         f"{SENSORS[cls.kind].__name__}.")
+    SENSORS[cls.kind] = cls
+    return cls
+
+
+def make_sensor(geometry: Geometry, index: int, dm: DeformableMirror) -> WavefrontSensor:
+    """Build WFS ``index`` of ``geometry.config`` as the kind its config names."""
+    kind = geometry.config.wfss[index].kind
+    if kind not in SENSORS:
+        raise ValueError(f"`wfss[{index}].kind` must be one of {', '.join(map(repr, SENSORS))}; "
+                         f"got {kind!r}.")
+    return SENSORS[kind](geometry, index, dm)
+
+
+@register_sensor
+class ShackHartmann(WavefrontSensor):
+    """Geometric Shack-Hartmann (``kind="shack_hartmann"``, see the module docstring)."""
+
+    kind: ClassVar[str] = "shack_hartmann"
+
+    def _build(self, cfg) -> None:
+        self.noise_rms = 2.0 * math.pi * cfg.noise * ARCSEC / self._geometry.config.r0_wavelength
         g = self._geometry
         d_wfs = g.diameter + 2.0 * self.altitude * math.tan(cfg.field_of_view / 2.0 * ARCSEC)
         n_sub = cfg.n_subapertures
@@ -258,7 +358,28 @@ class WavefrontSensor:
             op.sum_duplicates()
             op.eliminate_zeros()
 
-    def _build_ideal(self) -> None:
+    def model_error_variance(self, r0s: list[float], model_error: float) -> float:
+        """``model_error`` times the turbulent slope variance of one subaperture [(rad/m)^2].
+
+        The Z-tilt of a disc of the subaperture's size, ``16 * 0.449 (d / r0)**(5/3) / d**2``,
+        summed over the layers: a Shack-Hartmann also measures slopes beyond the DMs' modes.
+        """
+        d = self.pitch
+        total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
+        return model_error * 16.0 * 0.449 * total / d ** 2
+
+
+@register_sensor
+class IdealSensor(WavefrontSensor):
+    """The field-averaged residual on the DM's disc (``kind="ideal"``; noise-free)."""
+
+    kind: ClassVar[str] = "ideal"
+
+    def _build(self, cfg) -> None:
+        # an ideal sensor of a modal DM measures the phase less its mean: piston is not
+        # sensed (as by a SH), and pixel-sampled Zernikes are not exactly zero-mean, so
+        # a fit with piston left in would spend modes on it
+        self._centred = self.dm.shapes is not None
         g = self._geometry
         coords = g.plane_coords(self.dm.plane)
         n = g.planes[self.dm.plane].n
@@ -287,47 +408,21 @@ class WavefrontSensor:
         self.n_measurements = int(rows.size)
         self.n_valid_subapertures = 0
 
-    # ------------------------------------------------------------------ measuring
-    def slopes(self, plane_maps: list[np.ndarray], noise: np.ndarray | None = None) -> np.ndarray:
-        """Raw measurements from the plane maps, ``(n_measurements,)``.
+    def _least_squares(self, rcond: float) -> np.ndarray | None:
+        """None on a zonal DM (the identity: the measurement is the disc's phase)."""
+        if self.dm.shapes is None:
+            return None
+        return super()._least_squares(rcond)
 
-        ``noise``: standard normal draws ``(n_measurements,)`` scaled here by ``noise_rms``.
+    def model_error_variance(self, r0s: list[float], model_error: float) -> float:
+        """Noll's residual after the DM's modes, ``Delta_J (D_dm / r0)**(5/3)`` [rad^2].
+
+        Summed over the layers (generalised fitting: the phase beyond the DMs' modes); 0 on
+        a zonal DM. ``model_error`` is not used (it scales the SH's term).
         """
-        if len(plane_maps) != len(self._csr):
-            raise ValueError(f"`plane_maps` must hold {len(self._csr)} maps; "
-                             f"got {len(plane_maps)}.")
-        # s = operators[0] @ r_0, then s += operators[p] @ r_p: scipy's arithmetic
-        s = np.empty(self.n_measurements)
-        for p, (indptr, indices, data) in enumerate(self._csr):
-            x = np.ascontiguousarray(plane_maps[p], dtype=np.float64).reshape(-1)
-            if x.size != self.operators[p].shape[1]:
-                raise ValueError(f"`plane_maps[{p}]` must have {self.operators[p].shape[1]} "
-                                 f"pixels; got {x.size}.")
-            _kernels.csr_matvec(indptr, indices, data, x, s, p > 0)
-        if noise is not None and self.noise_rms > 0.0:
-            s += self.noise_rms * noise
-        if self._centred:
-            s -= s.mean()
-        return s
-
-    def measure(self, plane_maps: list[np.ndarray], noise: np.ndarray | None = None) -> np.ndarray:
-        """Return the modal residual ``(M,)`` [rad] of this WFS's own DM from :meth:`slopes`."""
-        s = self.slopes(plane_maps, noise)
-        if self.reconstructor is None:
-            return s
-        return self.reconstructor @ s
-
-    def interaction_with(self, dm: DeformableMirror):
-        """Measurements of a unit command of each mode of ``dm``: ``(n_measurements, M_dm)``.
-
-        A dense ndarray for a modal DM; a ``scipy.sparse.csr_matrix`` for a zonal
-        (``"ideal"``) DM, whose "modes" are its disc's pixels: as a dense array that block
-        is ``(pixels x pixels)``, 200 MB at 80 pixels across, and mostly zeros (each
-        measurement reads a few pixels per field sample). ``_centred`` only applies to a
-        modal DM, so the sparse block is never centred.
-        """
-        block = self.operators[dm.plane][:, dm.pixels]
+        dm = self.dm
         if dm.shapes is None:
-            return sparse.csr_matrix(block)
-        out = np.asarray(block @ dm.shapes)
-        return out - out.mean(axis=0) if self._centred else out
+            return 0.0
+        j_max = max(dm.modes)
+        return float(noll_residual_variance(j_max)) * sum(
+            (dm.diameter / r0) ** (5.0 / 3.0) for r0 in r0s)

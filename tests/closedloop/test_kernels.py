@@ -64,7 +64,7 @@ def test_kernel_matches_plain_numpy_on_random_maps(camera, piston, weights):
     w = np.ones(n_planes) if weights is None else np.resize(np.array(weights), n_planes)
     rng = np.random.default_rng(3)
     camera._flat[:] = rng.standard_normal(camera._flat.size) + piston
-    got = camera.measure(None if weights is None else w).copy()
+    got = camera.forward(None if weights is None else w).copy()
     mean, var = plain_numpy(camera, w)
     # a large common piston must not cost accuracy (moments taken about a pupil pixel)
     np.testing.assert_allclose(got, var, rtol=1e-12)
@@ -99,13 +99,13 @@ def test_dm_surface_from_one_quadrant_matches_the_matrix_product(name):
         for _ in range(3):
             c = rng.standard_normal(dm.n_modes)
             ref = dm.shapes @ c
-            np.testing.assert_allclose(dm.surface(c), ref, rtol=0,
+            np.testing.assert_allclose(dm.forward(c), ref, rtol=0,
                                        atol=1e-14 * np.max(np.abs(ref)))
         # one mode at a time: its own shape, sign and all
         for j in (0, 1, 2, dm.n_modes - 1):
             e = np.zeros(dm.n_modes)
             e[j] = 1.0
-            np.testing.assert_allclose(dm.surface(e), dm.shapes[:, j], rtol=0, atol=1e-12)
+            np.testing.assert_allclose(dm.forward(e), dm.shapes[:, j], rtol=0, atol=1e-12)
 
 
 def test_dm_surface_without_symmetry_falls_back_to_the_product():
@@ -115,7 +115,7 @@ def test_dm_surface_without_symmetry_falls_back_to_the_product():
     dm = DeformableMirror(geometry, 0)
     # 3228 x 20 shapes (0.5 MB) stay in cache: the plain product, its bits
     assert dm._mirror is None
-    np.testing.assert_array_equal(dm.surface(np.ones(20)), dm.shapes @ np.ones(20))
+    np.testing.assert_array_equal(dm.forward(np.ones(20)), dm.shapes @ np.ones(20))
     # a disc that is not symmetric: the tables refuse it and surface() is B c
     from closedloop.dm import _mirror_tables
 
@@ -124,7 +124,7 @@ def test_dm_surface_without_symmetry_falls_back_to_the_product():
     assert _mirror_tables(dm.pixels, dm.shapes, n + 1) is None
     dm._mirror = None
     c = np.arange(20.0)
-    np.testing.assert_array_equal(dm.surface(c), dm.shapes @ c)
+    np.testing.assert_array_equal(dm.forward(c), dm.shapes @ c)
 
 
 @pytest.mark.parametrize("n_rows", [1, 4, 7, 13])
@@ -159,9 +159,9 @@ def test_wfs_slopes_have_the_sparse_products_bits():
         for op, r in zip(wfs.operators[1:], maps[1:], strict=True):
             ref += op @ r.ravel()
         ref += wfs.noise_rms * noise
-        np.testing.assert_array_equal(wfs.slopes(maps, noise), ref)
+        np.testing.assert_array_equal(wfs.forward(maps, noise), ref)
         with pytest.raises(ValueError, match="maps"):
-            wfs.slopes(maps[:1])
+            wfs.forward(maps[:1])
 
 
 def test_one_direction_every_plane_common():
@@ -172,5 +172,5 @@ def test_one_direction_every_plane_common():
     assert cam._common.all()
     cam._flat[:] = np.random.default_rng(6).standard_normal(cam._flat.size) + 10.0
     mean, var = plain_numpy(cam, np.ones(len(cam._sizes)))
-    np.testing.assert_allclose(cam.measure(), var, rtol=1e-12)
+    np.testing.assert_allclose(cam.forward(), var, rtol=1e-12)
     np.testing.assert_allclose(cam.mean, mean, rtol=1e-12)

@@ -118,7 +118,7 @@ def test_ideal_wfs_sees_a_high_layer_through_its_field_footprint(period_px, chec
     high = g.layer_plane[1]
     f = 1.0 / (period_px * DX)
     wfs = model.wfss[0]
-    measured = wfs.slopes(_sinusoid_maps(model, high, f))
+    measured = wfs.forward(_sinusoid_maps(model, high, f))
     dm = model.dms[0]
     n = g.planes[dm.plane].n
     x_pix = g.plane_coords(dm.plane)[dm.pixels % n][wfs.measured_pixels]
@@ -126,7 +126,7 @@ def test_ideal_wfs_sees_a_high_layer_through_its_field_footprint(period_px, chec
     np.testing.assert_allclose(measured, transfer * np.cos(2 * math.pi * f * x_pix),
                                atol=1e-12)
     # the same layer on the WFS's own plane is seen sharply
-    sharp = wfs.slopes(_sinusoid_maps(model, g.layer_plane[0], f))
+    sharp = wfs.forward(_sinusoid_maps(model, g.layer_plane[0], f))
     np.testing.assert_allclose(sharp, np.cos(2 * math.pi * f * x_pix), atol=1e-12)
     if check_disc:  # a disc of diameter h F, to the hexagon's approximation of it
         assert transfer == pytest.approx(_airy(f), abs=0.03)
@@ -140,7 +140,7 @@ def test_shack_hartmann_slopes_of_a_high_layer_are_blurred_by_the_same_footprint
     g = model.geometry
     f = 1.0 / (period_px * DX)
     wfs = model.wfss[0]
-    high = wfs.slopes(_sinusoid_maps(model, g.layer_plane[1], f))
-    ground = wfs.slopes(_sinusoid_maps(model, g.layer_plane[0], f))
+    high = wfs.forward(_sinusoid_maps(model, g.layer_plane[1], f))
+    ground = wfs.forward(_sinusoid_maps(model, g.layer_plane[0], f))
     assert np.abs(ground).max() > 0.1 * 2 * math.pi * f  # the sinusoid is seen
     np.testing.assert_allclose(high, _transfer(f) * ground, atol=1e-12 * np.abs(ground).max())

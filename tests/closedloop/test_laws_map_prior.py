@@ -121,7 +121,7 @@ def _tilt_share_on_dm0(model):
     maps = [np.zeros((p.n, p.n)) for p in g.planes]
     x = g.plane_coords(g.dm_plane[0])
     maps[g.dm_plane[0]] = np.tile(slope * x, (g.planes[g.dm_plane[0]].n, 1))
-    est = model.measure(maps, None)
+    est = model.sense(maps, None)
     # Z2 over a disc of diameter D_d has the slope 4 / D_d per unit coefficient
     physical = [est[model.mode_slices[d]][0] * 4.0 / model.dms[d].diameter for d in range(2)]
     return physical[0] / sum(physical), sum(physical) / slope

@@ -64,14 +64,14 @@ def test_slope_noise_is_the_configured_angle_as_a_phase_gradient(alpha, waveleng
     for p, plane in enumerate(g.planes):
         x = g.plane_coords(p)
         maps.append(np.tile(expected * x, (plane.n, 1)))
-    tilt = wfs.slopes(maps)
+    tilt = wfs.forward(maps)
     n_sub = wfs.n_measurements // 2
     np.testing.assert_allclose(tilt[:n_sub], expected, rtol=1e-9)
     np.testing.assert_allclose(tilt[n_sub:], 0.0, atol=1e-9 * expected)
     # the noise of a WFS that sees no phase: 500 draws of every slope
     zero = [np.zeros((p.n, p.n)) for p in g.planes]
     rng = model.noise_rng(7)
-    draws = np.array([model.slopes(zero, rng)[0] for _ in range(500)])
+    draws = np.array([model.measure(zero, rng)[0] for _ in range(500)])
     # 500 x n_meas (~100) Gaussian draws: the RMS has a relative s.e. of ~0.3 %
     rel_se = 1.0 / math.sqrt(2.0 * draws.size)
     assert np.sqrt(np.mean(draws ** 2)) == pytest.approx(expected, rel=5 * rel_se)

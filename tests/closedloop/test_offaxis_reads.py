@@ -63,7 +63,7 @@ def _ratios(n_screens, screen_pixels, step):
                 upper_view[:] = screen[i:i + upper.n, j:j + upper.n]
                 ground_view[:] = 0.0
                 ground_view[g0r:g0r + n, g0c:g0c + n] = -upper_view[r0:r0 + n, c0:c0 + n]
-                values.append(cam.measure().copy())
+                values.append(cam.forward().copy())
         values = np.array(values)
         assert np.all(values[:, 0] < 1e-20)  # on axis: perfect
         per_screen.append(values[:, 1:].mean(axis=0) / expected)

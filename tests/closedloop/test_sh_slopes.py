@@ -57,7 +57,7 @@ def _slopes(geometry, wfs, f):
     coords = geometry.plane_coords(0)
     yy, xx = np.meshgrid(coords, coords, indexing="ij")
     phase = f(xx, yy)
-    s = wfs.slopes([phase])
+    s = wfs.forward([phase])
     n = wfs.n_valid_subapertures
     return phase, s[:n], s[n:]
 

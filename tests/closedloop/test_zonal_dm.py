@@ -2,7 +2,7 @@
 
 Reference: the dense interaction matrix built independently, column by column, by
 poking one pixel of the DM's disc at a time and measuring it through the sensor's own
-measurement path (``WavefrontSensor.slopes``, the product the loop uses), which is what
+measurement path (``WavefrontSensor.forward``, the product the loop uses), which is what
 the former ``block.toarray()`` held. Memory: ``tracemalloc`` around the set-up of an
 80-pixel model, against the ``8 n_disc**2`` bytes a dense block would take.
 """
@@ -47,7 +47,7 @@ def _poked(model: LoopModel) -> np.ndarray:
     for pix in dm.pixels:
         maps = [np.zeros((p.n, p.n)) for p in g.planes]
         maps[dm.plane].reshape(-1)[pix] = 1.0
-        cols.append(wfs.slopes(maps))
+        cols.append(wfs.forward(maps))
     return np.array(cols).T
 
 

@@ -1,0 +1,161 @@
+"""The static parts of a loop: geometry, DMs, WFSs, science camera, joint reconstructor.
+
+Words used for a sensor's work, one meaning each: a WFS *measures* (its measurements,
+``WavefrontSensor.forward``; every WFS's, :meth:`LoopModel.measure`), the model
+*reconstructs* the modal residual of every DM from the measurements
+(:meth:`LoopModel.reconstruct`), and *senses* (measure, then reconstruct:
+:meth:`LoopModel.sense`). The science camera's step is ``ScienceCamera.forward``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from closedloop.atmosphere import Atmosphere, AtmosphericLayer
+from closedloop.config import SimulationConfig
+from closedloop.dm import DeformableMirror
+from closedloop.geometry import Geometry
+from closedloop.science import ScienceCamera
+from closedloop.wfs import make_sensor
+from modalinfo.bases import zernike_covariance
+
+__all__ = ["LoopModel"]
+
+_NOISE_FLOOR = 1e-4
+_SNR_CUT = 1.0
+_RCOND = 1e-3
+
+
+class LoopModel:
+    """The static parts of a configuration: geometry, DMs, WFSs, science camera.
+
+    Building the WFS operators and reconstructors is the expensive part of the set-up;
+    a ``LoopModel`` can be reused for several runs of the same configuration.
+
+    Attributes
+    ----------
+    prior : (n_modes,) ndarray or None
+        Prior variance [rad^2 at ``r0_wavelength``] of each DM mode (DM 0 first) that the
+        joint MAP reconstructor assumes: each layer's Noll variances over the disc of the
+        DM nearest to it; None when there is no joint reconstructor (one DM, or a zonal
+        DM).
+    """
+
+    def __init__(self, config: SimulationConfig):
+        if not isinstance(config, SimulationConfig):
+            raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
+        self.config = config
+        self.geometry = Geometry(config)
+        self.dms = [DeformableMirror(self.geometry, i) for i in range(len(config.dms))]
+        self.wfss = [make_sensor(self.geometry, j, self.dms[w.dm])
+                     for j, w in enumerate(config.wfss)]
+        self.science = ScienceCamera(self.geometry, self.geometry.directions)
+        sizes = [dm.n_modes for dm in self.dms]
+        self.mode_slices = [slice(a, a + n) for a, n in
+                            zip(np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes, strict=True)]
+        self.n_modes = int(sum(sizes))
+        self.prior = None
+        self.reconstructor = self._global_reconstructor()
+
+    def _global_reconstructor(self):
+        """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).
+
+        Each layer-oriented WFS also sees the other DMs (blurred by its field). With one
+        least-squares reconstructor per WFS-DM pair these cross-couplings make the loops
+        fight (the coupled loop matrix has complex eigenvalues; table1 diverges at gain
+        0.5), and a joint least-squares inverse splits the modes that several DMs share
+        (tilt is the same at every altitude) evenly between them, so that off axis half
+        of the ground layer's tilt goes uncorrected. The joint maximum a posteriori
+        reconstructor ``R = (G^T N^-1 G + C^-1)^-1 G^T N^-1`` (Fusco, Conan, Rousset,
+        Mugnier & Michau 2001, JOSA A 18, 2527) settles both: ``G`` is the full
+        interaction matrix (rows: every WFS, columns: every DM's modes), ``N`` the
+        measurement-noise variances and ``C`` the prior variance of each DM mode, the
+        Noll/von Karman variance of the turbulence assigned to that DM (each layer to the
+        nearest DM altitude) over the DM's disc. A noise-free WFS gets a floor of 1e-4 of
+        the mean signal, so the prior still breaks ties. ``None`` (one reconstructor
+        per WFS) with a single DM or a zonal ("ideal") DM.
+
+        ``N`` also holds each sensor's model error (``model_error_variance`` of its kind):
+        neither sensor model sees only the DMs' modes (a Shack-Hartmann also measures the
+        slopes beyond them, aliasing; an ideal sensor the phase beyond them, generalised
+        fitting). Left out, these inconsistencies between the WFSs are fitted by wild
+        combinations of the DMs' nearly degenerate modes that cancel on axis and not off
+        axis.
+        """
+        if len(self.dms) == 1 or any(dm.shapes is None for dm in self.dms):
+            return None
+        g = self.geometry
+        cfg = self.config
+        full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
+        prior = np.empty(self.n_modes)
+        dm_alts = np.array([dm.altitude for dm in self.dms])
+        strength = np.zeros(len(self.dms))
+        for li, lay in enumerate(cfg.layers):
+            d = int(np.argmin(np.abs(dm_alts - g.los(lay.altitude))))
+            r0 = g.layer_r0(li)
+            strength[d] += (self.dms[d].diameter / r0) ** (5.0 / 3.0)
+        floor = 1e-6 * max(strength.max(), 1e-12)
+        for d, dm in enumerate(self.dms):
+            var = np.diag(zernike_covariance(dm.modes))
+            prior[self.mode_slices[d]] = max(strength[d], floor) * var
+        self.prior = prior
+        r0s = [g.layer_r0(i) for i in range(len(cfg.layers))]
+        noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2
+                                        + w.model_error_variance(r0s, cfg.loop.model_error))
+                                for w in self.wfss])
+        signal_level = np.mean(np.sum(full ** 2, axis=0) * prior) / full.shape[0]
+        noise = np.maximum(noise, _NOISE_FLOOR * signal_level)
+        # truncated SVD in the noise- and prior-whitened space: R G is then an exact
+        # projector, so commands never drift along directions the WFSs barely see
+        whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+        u, sv, vt = np.linalg.svd(whitened, full_matrices=False)
+        keep = sv > max(_SNR_CUT, _RCOND * sv[0])
+        self.n_controlled = int(keep.sum())
+        r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
+        return r / np.sqrt(noise)[None, :]
+
+    def measure(self, plane_maps: list[np.ndarray],
+                rng: np.random.Generator | None) -> list[np.ndarray]:
+        """Every WFS's measurements (with noise drawn from ``rng``, none if None)."""
+        out = []
+        for wfs in self.wfss:
+            noise = (rng.standard_normal(wfs.n_measurements)
+                     if rng is not None and wfs.noise_rms > 0 else None)
+            out.append(wfs.forward(plane_maps, noise))
+        return out
+
+    def reconstruct(self, measurements: list[np.ndarray]) -> np.ndarray:
+        """Modal residual of every DM (concatenated) from every WFS's measurements."""
+        if self.reconstructor is not None:
+            return self.reconstructor @ np.concatenate(measurements)
+        out = np.empty(self.n_modes)
+        for wfs, s in zip(self.wfss, measurements, strict=True):
+            out[self.mode_slices[wfs.dm.index]] = (s if wfs.reconstructor is None
+                                                   else wfs.reconstructor @ s)
+        return out
+
+    def sense(self, plane_maps: list[np.ndarray], rng: np.random.Generator | None) -> np.ndarray:
+        """Modal residual of every DM (concatenated) from the maps: measure, then reconstruct."""
+        return self.reconstruct(self.measure(plane_maps, rng))
+
+    def atmosphere(self, seed: int, duration: float) -> Atmosphere:
+        """Return the configuration's layers on their planes' grids, seeded by ``seed``."""
+        g = self.geometry
+        cfg = self.config
+        seeds = np.random.SeedSequence(seed).spawn(len(cfg.layers) + 1)
+        layers = []
+        for i, lay in enumerate(cfg.layers):
+            plane = g.planes[g.layer_plane[i]]
+            r0 = g.layer_r0(i)
+            ang = np.radians(lay.wind_direction)
+            layers.append(AtmosphericLayer(
+                n_pixels=plane.n, pixel_scale=g.dx, r0=r0,
+                velocity=(lay.wind_speed * np.cos(ang), lay.wind_speed * np.sin(ang)),
+                outer_scale=lay.outer_scale, altitude=plane.altitude,
+                duration_hint=duration, seed=np.random.default_rng(seeds[i])))
+        return Atmosphere(layers)
+
+    def noise_rng(self, seed: int) -> np.random.Generator:
+        """Return the WFS-noise generator of a run seeded by ``seed``."""
+        seeds = np.random.SeedSequence(seed).spawn(len(self.config.layers) + 1)
+        return np.random.default_rng(seeds[-1])
