@@ -42,6 +42,7 @@ from closedloop.config import SimulationConfig
 from closedloop.control import Controller
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
+from closedloop.training import run_trained
 
 __all__ = ["ORDERINGS", "control_orderings", "rtc_compute_time", "rtc_scaling", "LatencyModel",
            "CompressionStudy", "compression_study", "predictor_screen"]
@@ -194,7 +195,7 @@ def rtc_scaling(n_values, *, predictor: str | None = None, measurements_per_mode
         r = rng.standard_normal((n, n_meas)) / math.sqrt(n_meas)
         pred = None
         if predictor is not None:
-            pred = cl_predictors.make(predictor)
+            pred = cl_predictors.LoopPredictor.from_name(predictor).predictor
             need = getattr(pred, "_min_samples_rule", lambda k: (200, ""))(n)[0]
             length = max(int(need * 1.2), 200)
             x = np.empty((length, n))
@@ -329,8 +330,8 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
     for name in ("oracle", *candidates):
         if name in out:
             continue
-        pred = cl_predictors.train(cl_predictors.make(name), reference)
-        r = simulate(config, duration, model=model, seed=seed, progress=False, predictor=pred)
+        r = run_trained(config, name, duration, seed=seed, reference=reference, model=model,
+                        progress=False)
         out[name] = float(np.mean(r.strehl_peak[start:]))
     return out
 
@@ -382,7 +383,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     n_values = np.array(sorted({int(n) for n in n_values}), dtype=np.int64)
     if n_values.size == 0 or n_values[0] < 1 or n_values[-1] > m:
         raise ValueError(f"`n_values` must lie in 1..{m}; got {n_values.tolist()}.")
-    if predictor not in cl_predictors.NAMES or predictor in ("none", "oracle"):
+    spec = (cl_predictors.LoopPredictor.from_name(predictor)
+            if predictor in cl_predictors.NAMES else None)
+    if spec is None or not spec.needs_training:
         raise ValueError(f"`predictor` must be a predictor name of "
                          f"closedloop.predictors.NAMES other than 'none' and 'oracle'; got "
                          f"{predictor!r}.")
@@ -390,10 +393,6 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     latency = LatencyModel(readout=config.loop.delay) if latency is None else latency
     say = progress or (lambda text: None)
     timings: dict = {}
-
-    def run(cfg, mdl, basis, pred):
-        return simulate(cfg, duration, model=mdl, seed=seed, progress=False,
-                        control_basis=basis, predictor=pred)
 
     t0 = time.perf_counter()
     if reference is None:
@@ -403,10 +402,6 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     bases = control_orderings(reference, orderings=orderings, seed=seed)
     timings["orderings"] = time.perf_counter() - t0
 
-    def fitted(basis, ref_run):
-        # the paper's training data, projected on the controlled subspace
-        return cl_predictors.make(predictor).fit(cl_predictors.training_data(ref_run) @ basis)
-
     # measured RTC step time per n (it does not depend on the ordering)
     t0 = time.perf_counter()
     compute = {"none": np.empty(n_values.size), predictor: np.empty(n_values.size)}
@@ -414,7 +409,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     for i, n in enumerate(n_values):
         b = first[:, :n]
         compute["none"][i] = rtc_compute_time(model, b)
-        compute[predictor][i] = rtc_compute_time(model, b, fitted(b, reference))
+        # the paper's training data, projected on the controlled subspace
+        compute[predictor][i] = rtc_compute_time(model, b,
+                                                 spec.trained(reference, basis=b).predictor)
     timings["compute_time"] = time.perf_counter() - t0
     delays = {k: np.array([latency.delay(c, config.loop.time_step) for c in v])
               for k, v in compute.items()}
@@ -457,9 +454,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                     mdl = model_for(delay)
                     # the predictor learns the turbulence (POL), not the loop: every run
                     # uses the one trained on the fixed-delay no-prediction run
-                    pred = (None if name == "none"
-                            else fitted(b, fixed_runs[(o, int(n), "run")]))
-                    r = run(mdl.config, mdl, b, pred)
+                    r = run_trained(mdl.config, "none" if name == "none" else spec, duration,
+                                    seed=seed, model=mdl, progress=False, control_basis=b,
+                                    reference=fixed_runs.get((o, int(n), "run")))
                     summary[name] = (float(np.mean(r.strehl_peak[start:])),
                                      float(np.mean(r.strehl[start:])))
                     if not lat:

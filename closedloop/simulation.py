@@ -39,6 +39,7 @@ from closedloop.config import SimulationConfig
 from closedloop.control import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
 from closedloop.dm import DeformableMirror
 from closedloop.geometry import Geometry
+from closedloop.predictors import ORACLE, loop_predictor
 from closedloop.result import SimulationResult
 from closedloop.science import ScienceCamera
 from closedloop.wfs import WavefrontSensor
@@ -47,8 +48,6 @@ from modalinfo.bases import noll_residual_variance, zernike_covariance
 
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
-#: pass as ``predictor`` to forecast with the true future POL (the upper bound)
-ORACLE = "oracle"
 _NOISE_FLOOR = 1e-4
 _SNR_CUT = 1.0
 _RCOND = 1e-3
@@ -253,12 +252,16 @@ def simulate(
     duration : float
         Simulated time [s] (a whole number of frames is run: ``round(duration / T)``);
         longer than ``T + loop.delay`` (the first command reaches the mirror then).
-    predictor : modalinfo.forecast.Predictor, "oracle" or None
+    predictor : closedloop.predictors.LoopPredictor, modalinfo.forecast.Predictor or None
         Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
-        must be fitted and its ``horizon`` must cover the lead. ``"oracle"`` uses the
+        must be fitted (a ``LoopPredictor`` trained, see :func:`closedloop.run_trained`)
+        and its ``horizon`` must cover the lead. The result stores its name (a bare
+        ``Predictor``'s: its class name). :data:`closedloop.ORACLE` uses the
         true future (noise-free WFS measurement of the turbulence alone over the
         command's hold): the bound no predictor can beat. Must be None in open loop
         (``config.loop.closed`` False), as must ``budget_every`` and ``control_basis``.
+        The string ``"oracle"`` is deprecated (a ``DeprecationWarning``); other names
+        are refused (they need training: :func:`closedloop.run_trained`).
     seed : int or None
         Overrides ``config.seed``.
     progress : bool or None
@@ -306,12 +309,19 @@ def simulate(
         raise ValueError(f"`on_predictor_fault` must be one of "
                          f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
                          f"{on_predictor_fault!r}.")
+    loop_pred = loop_predictor(predictor)  # the one check of `predictor`
+    if loop_pred.needs_training:
+        raise ValueError(f"`predictor` {loop_pred.name!r} is not trained: use "
+                         "closedloop.run_trained, or LoopPredictor.trained(reference).")
+    oracle = loop_pred.oracle
+    predictor = "oracle" if oracle else loop_pred.predictor  # BudgetProbe's contract
     if not config.loop.closed:
-        _check_open_loop(predictor, budget_every, control_basis)
+        _check_open_loop(None if loop_pred.is_none else loop_pred.name, budget_every,
+                         control_basis)
     check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
     from closedloop.resources import check_resources
 
-    check_resources(config, duration, limit=memory_limit, oracle=isinstance(predictor, str),
+    check_resources(config, duration, limit=memory_limit, oracle=oracle,
                     budget=bool(budget_every), setup=model is None)
     if model is None:
         model = LoopModel(config)
@@ -328,12 +338,6 @@ def simulate(
     n_frames = max(1, round(duration / loop.time_step))
     dt = loop.time_step / n_os
 
-    oracle = isinstance(predictor, str)
-    if oracle and predictor != ORACLE:
-        raise ValueError(f"`predictor` must be a Predictor, {ORACLE!r} or None; got {predictor!r}.")
-    if predictor is not None and not oracle and not hasattr(predictor, "update"):
-        raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
-                        f"Predictor); got {type(predictor).__name__}.")
     basis = _check_control_basis(control_basis, model.n_modes)
     if basis is not None and budget_every:
         raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
@@ -445,14 +449,14 @@ def simulate(
     if controller.n_faults:
         import warnings
 
-        warnings.warn(f"predictor {_predictor_name(predictor)} returned an unusable forecast "
+        warnings.warn(f"predictor {loop_pred.name} returned an unusable forecast "
                       f"on {controller.n_faults} of {n_frames} frames; the last command was "
                       "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=2)
     result = SimulationResult.from_run(
         config=config, seed=seed, model=model,
         variance=variance * scale_sci, measured=measured_log, pol=pol_log,
         commands=command_log, elapsed=elapsed, measurements=slope_logs,
-        predictor_name=_predictor_name(predictor),
+        predictor_name=loop_pred.name,
         snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
         snapshot_directions=None if snap_cam is None else snap_cam.directions,
     )
@@ -555,14 +559,6 @@ def _oracle_pol(model, future, views, acc, layer_buf, first_step, n_os, dt):
     for a in acc:
         a /= n_os
     return model.measure(acc, None)
-
-
-def _predictor_name(predictor) -> str:
-    if predictor is None:
-        return "none"
-    if isinstance(predictor, str):
-        return predictor
-    return type(predictor).__name__
 
 
 def _progress_bar(progress, total):
