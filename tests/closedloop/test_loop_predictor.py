@@ -17,31 +17,19 @@ import h5py
 import numpy as np
 import pytest
 
-from closedloop import ORACLE, LoopModel, SimulationResult, run_trained, simulate
+from closedloop import ORACLE, SimulationResult, run_trained, simulate
 from closedloop.cli import main
 from closedloop.config import save_config
 from closedloop.predictors import NAMES, NO_PREDICTION, LoopPredictor, training_data
 from modalinfo.forecast import ARMAPredictor
 from modalinfo.forecast.presets import PRESETS, make_predictor
 
-from .test_loop import small
+from . import test_loop
+
+# the fixtures of the loop tests: their small MCAO and its no-prediction run (0.15 s, seed 5)
+cfg, model, reference = test_loop.cfg, test_loop.model, test_loop.reference
 
 DURATION = 0.2  # ARMA with AIC orders needs up to 160 training frames after 15 ms
-
-
-@pytest.fixture(scope="module")
-def cfg():
-    return small()
-
-
-@pytest.fixture(scope="module")
-def model(cfg):
-    return LoopModel(cfg)
-
-
-@pytest.fixture(scope="module")
-def reference(cfg, model):
-    return simulate(cfg, 0.15, seed=5, model=model, progress=False)
 
 
 def test_names_are_the_forecast_presets_plus_three():
