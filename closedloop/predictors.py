@@ -54,9 +54,10 @@ _PAPER_TRAINING_START = 15e-3
 class LoopPredictor:
     """A predictor in the loop: its name, its forecaster and how it is trained.
 
-    Make one with :meth:`from_name` (a name of :data:`NAMES`, the one place names are
-    checked) or :meth:`from_fitted` (a fitted :mod:`modalinfo.forecast` predictor); the
-    two without a forecaster are the sentinels :data:`NO_PREDICTION` and :data:`ORACLE`.
+    Make one with :meth:`from_name` (a name of ``closedloop.predictors.NAMES``, the one
+    place names are checked) or :meth:`from_fitted` (a fitted :mod:`modalinfo.forecast`
+    predictor); the two without a forecaster are the sentinels ``NO_PREDICTION`` and
+    ``ORACLE``.
 
     Attributes
     ----------
@@ -66,10 +67,10 @@ class LoopPredictor:
         The forecaster of the POL coefficients of every DM (DM 0 first); None for no
         prediction and for the oracle.
     training : str or None
-        :data:`REFERENCE_POL`: must be fitted on a no-prediction run before use
+        ``REFERENCE_POL``: must be fitted on a no-prediction run before use
         (:meth:`trained`); None: ready to run.
     oracle : bool
-        The true future instead of a forecast (only :data:`ORACLE`).
+        The true future instead of a forecast (only ``ORACLE``).
     """
 
     name: str
@@ -84,7 +85,7 @@ class LoopPredictor:
         Raises
         ------
         ValueError
-            If ``name`` is not one of :data:`NAMES`.
+            If ``name`` is not one of ``closedloop.predictors.NAMES``.
         """
         if not isinstance(name, str) or name not in NAMES:
             raise ValueError(f"`predictor` must be one of {', '.join(NAMES)}; got {name!r}.")
@@ -128,7 +129,7 @@ class LoopPredictor:
         ----------
         reference : SimulationResult
             The run without prediction (same conditions): its POL after the loop closure
-            and after 15 ms (:func:`training_data`) is the training set.
+            and after 15 ms (``closedloop.predictors.training_data``) is the training set.
         basis : (M, n) array or None
             Fit on the projection ``POL @ basis`` (a run with this ``control_basis``
             feeds the predictor ``B^T p``); None: every mode.

@@ -31,7 +31,7 @@ def run_trained(config: SimulationConfig, predictor: str | LoopPredictor, durati
     ----------
     config : SimulationConfig
     predictor : str or LoopPredictor
-        A name of :data:`closedloop.predictors.NAMES` (checked here, once) or a
+        A name of ``closedloop.predictors.NAMES`` (checked here, once) or a
         :class:`LoopPredictor` (trained already or not).
     duration : float
         Simulated time of the run and of the reference run [s].
