@@ -402,20 +402,51 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     bases = control_orderings(reference, orderings=orderings, seed=seed)
     timings["orderings"] = time.perf_counter() - t0
 
-    # measured RTC step time per n (it does not depend on the ordering)
     t0 = time.perf_counter()
-    compute = {"none": np.empty(n_values.size), predictor: np.empty(n_values.size)}
-    first = bases[orderings[0]]
+    compute, delays = _rtc_delays(model, bases[orderings[0]], n_values, spec, reference,
+                                  latency, config.loop.time_step)
+    timings["compute_time"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    peak, field_sr = _grid_runs(config, model, bases, orderings, n_values, spec, delays,
+                                duration=duration, seed=seed, start=start, say=say)
+    timings["runs"] = time.perf_counter() - t0
+    return CompressionStudy(
+        config_name=config.name, seed=seed, duration=duration, n_values=n_values,
+        orderings=orderings, predictor=predictor, strehl_peak=peak, strehl_field=field_sr,
+        compute_time=compute, delay=delays, latency=latency,
+        time_step=config.loop.time_step, window_start=float(reference.times[start]),
+        wavelength=config.wavelength, timings=timings)
+
+
+def _rtc_delays(model: LoopModel, first: np.ndarray, n_values: np.ndarray,
+                spec: cl_predictors.LoopPredictor, reference: SimulationResult,
+                latency: LatencyModel, time_step: float) -> tuple[dict, dict]:
+    """Return the RTC step time [s] per ``n``, measured, and the delay [s] it makes.
+
+    The time does not depend on the ordering; ``latency`` models the loop delay for it.
+    Keys: ``"none"`` and the predictor's name.
+    """
+    compute = {"none": np.empty(n_values.size), spec.name: np.empty(n_values.size)}
     for i, n in enumerate(n_values):
         b = first[:, :n]
         compute["none"][i] = rtc_compute_time(model, b)
         # the paper's training data, projected on the controlled subspace
-        compute[predictor][i] = rtc_compute_time(model, b,
+        compute[spec.name][i] = rtc_compute_time(model, b,
                                                  spec.trained(reference, basis=b).predictor)
-    timings["compute_time"] = time.perf_counter() - t0
-    delays = {k: np.array([latency.delay(c, config.loop.time_step) for c in v])
-              for k, v in compute.items()}
+    delays = {k: np.array([latency.delay(c, time_step) for c in v]) for k, v in compute.items()}
+    return compute, delays
 
+
+def _grid_runs(config: SimulationConfig, model: LoopModel, bases: dict, orderings: tuple,
+               n_values: np.ndarray, spec: cl_predictors.LoopPredictor, delays: dict, *,
+               duration: float, seed: int, start: int, say) -> tuple[dict, dict]:
+    """Return the mean SR peak and field SR of every run of :func:`compression_study`.
+
+    Keyed ``(latency, ordering, predictor)``, ``(len(n_values),)`` each, averaged from
+    frame ``start`` on.
+    """
+    m = model.n_modes
+    names = ("none", spec.name)
     peak: dict = {}
     field_sr: dict = {}
     models = {config.loop.delay: model}
@@ -428,10 +459,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
 
     shared: dict = {}
     fixed_runs: dict = {}
-    t0 = time.perf_counter()
     for lat in (False, True):
         for o in orderings:
-            for name in ("none", predictor):
+            for name in names:
                 peak[(lat, o, name)] = np.full(n_values.size, np.nan)
                 field_sr[(lat, o, name)] = np.full(n_values.size, np.nan)
         for i, n in enumerate(n_values):
@@ -443,7 +473,7 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                         field_sr[(lat, o, name)][i] = f
                     continue
                 summary = {}
-                for name in ("none", predictor):
+                for name in names:
                     delay = delays[name][i] if lat else config.loop.delay
                     if lat and delay == config.loop.delay:
                         # the same run as with the fixed delay (the simulator is
@@ -468,11 +498,4 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                     field_sr[(lat, o, name)][i] = f
                 if n == m:
                     shared[(lat, n)] = summary
-    timings["runs"] = time.perf_counter() - t0
-    return CompressionStudy(
-        config_name=config.name, seed=seed, duration=duration, n_values=n_values,
-        orderings=orderings, predictor=predictor, strehl_peak=peak, strehl_field=field_sr,
-        compute_time=compute, delay=delays, latency=latency,
-        time_step=config.loop.time_step, window_start=float(reference.times[start]),
-        wavelength=config.wavelength, timings=timings)
-
+    return peak, field_sr
