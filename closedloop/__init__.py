@@ -10,6 +10,7 @@ Public surface::
     from closedloop import presets, simulate, SimulationConfig, SimulationResult
     config = presets.get("table1")
     result = simulate(config, 1.0, predictor=None, seed=0)
+    result = run_trained(config, "arma-aic", 1.0, seed=0)   # train on the no-prediction run
     result.strehl_peak, result.strehl_map(), result.corrected_fov_diameter(0.3)
     result.logs["dm0.pol"]          # a modalinfo.telemetry.ModalLog
     result.save("run.h5"); SimulationResult.load("run.h5")
@@ -18,18 +19,23 @@ Parts: ``config`` (frozen dataclasses, TOML/JSON), ``presets``, ``geometry``,
 ``atmosphere`` / ``phase_screen`` (frozen flow), ``dm``, ``wfs`` (MFoV layer-oriented
 Shack-Hartmann), ``control`` (POL integrator and predictor hook), ``science`` (Strehl
 over the field), ``simulation`` (the loop), ``result``, ``aot`` (export as an AO Telemetry
-system: ``result.to_aot(path)``), ``predictors``, ``cli``.
+system: ``aot.export_aot(result, path)``), ``predictors`` (:class:`LoopPredictor`, :data:`ORACLE`),
+``training`` (:func:`run_trained`), ``cli``.
 """
 
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config, save_config
+from closedloop.predictors import ORACLE, LoopPredictor
 from closedloop.result import SimulationResult
-from closedloop.simulation import ORACLE, LoopModel, simulate
+from closedloop.simulation import LoopModel, simulate
+from closedloop.training import run_trained
 
 __all__ = [
     "presets",
     "simulate",
+    "run_trained",
     "LoopModel",
+    "LoopPredictor",
     "ORACLE",
     "SimulationConfig",
     "SimulationResult",

@@ -1,6 +1,6 @@
 r"""Export a simulation as an AO Telemetry (AOT) system, read back by ``aotpy`` and ``modalinfo``.
 
-:func:`export_aot` (and :meth:`closedloop.SimulationResult.to_aot`) writes one FITS
+:func:`export_aot` writes one FITS
 file describing the whole simulated system, built with
 :func:`modalinfo.io.aot_system.build_system` and written atomically (never over an
 existing file unless asked) by :func:`modalinfo.io.aot.write_system`:

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import copy
 from collections import deque
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -41,6 +40,7 @@ from closedloop import _kernels
 from closedloop.config import SimulationConfig, WFSConfig
 from closedloop.control import Controller
 from closedloop.model import LoopModel
+from closedloop.result import ErrorBudget  # the budget's numbers live with the run's result
 from closedloop.science import ScienceCamera
 from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
@@ -48,54 +48,6 @@ from modalinfo.servo import noise_propagation
 __all__ = ["ErrorBudget", "BudgetProbe"]
 
 _N_NOISE_DRAWS = 64
-
-
-@dataclass(frozen=True)
-class ErrorBudget:
-    """Error terms per direction [rad^2 at the science wavelength], averaged over frames.
-
-    Attributes
-    ----------
-    directions : (n_dir, 2) ndarray
-        [arcsec].
-    fitting, aliasing, temporal, noise : (n_dir,) ndarray
-        The terms (see the module docstring); ``fitting`` includes generalised fitting and
-        anisoplanatism.
-    measured : (n_dir,) ndarray
-        Residual variance the loop left in the same frames.
-    frames : (n_b,) ndarray of int
-        Frames averaged (after the loop closure).
-    """
-
-    directions: np.ndarray
-    fitting: np.ndarray
-    aliasing: np.ndarray
-    temporal: np.ndarray
-    noise: np.ndarray
-    measured: np.ndarray
-    frames: np.ndarray
-
-    @property
-    def total(self) -> np.ndarray:
-        """Sum of the four terms, ``(n_dir,)``."""
-        return self.fitting + self.aliasing + self.temporal + self.noise
-
-    @property
-    def ratio(self) -> np.ndarray:
-        """``total / measured`` per direction."""
-        return self.total / self.measured
-
-    def table(self) -> str:
-        """Return a plain-text table, one row per direction (rad^2; x, y in arcsec)."""
-        heads = ("x", "y", "fitting", "aliasing", "temporal", "noise", "sum", "measured",
-                 "sum/meas")
-        widths = (7, 7, 9, 9, 9, 8, 8, 9, 9)
-        lines = ["".join(f"{h:>{w}}" for h, w in zip(heads, widths, strict=True))]
-        for k, (x, y) in enumerate(self.directions):
-            lines.append(f"{x:7.1f}{y:7.1f}{self.fitting[k]:9.3f}{self.aliasing[k]:9.3f}"
-                         f"{self.temporal[k]:9.3f}{self.noise[k]:8.3f}{self.total[k]:8.3f}"
-                         f"{self.measured[k]:9.3f}{self.ratio[k]:9.3f}")
-        return "\n".join(lines)
 
 
 def _ideal_config(config: SimulationConfig) -> SimulationConfig:

@@ -87,20 +87,15 @@ def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
                            f"'{parent}' has {format_bytes(free)} free")
 
 
-def _run_with(config, name, duration, seed, train_seed, progress, reference=None, model=None,
-              budget_every=None, memory_limit=None):
-    from closedloop import predictors
-    from closedloop.simulation import LoopModel, simulate
+def _loop_predictor(name: str, flag: str):
+    """Return the predictor called ``name`` (the one check of a name), or a one-line error."""
+    from closedloop.predictors import LoopPredictor
 
-    model = model or LoopModel(config)
-    predictor = predictors.make(name)
-    if predictors.needs_training(predictor):
-        if reference is None or (train_seed is not None and train_seed != seed):
-            reference = simulate(config, duration, seed=seed if train_seed is None else train_seed,
-                                 model=model, progress=progress, memory_limit=memory_limit)
-        predictors.train(predictor, reference)
-    return simulate(config, duration, predictor=predictor, seed=seed, model=model,
-                    progress=progress, budget_every=budget_every, memory_limit=memory_limit)
+    try:
+        return LoopPredictor.from_name(name)
+    except ValueError as exc:
+        # the library's message, worded for the flag: "--predictor must be one of ..."
+        raise CommandError(f"{flag} {str(exc).removeprefix('`predictor` ').rstrip('.')}") from None
 
 
 def _summary_line(result) -> str:
@@ -139,20 +134,18 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 
 
 def _cmd_run(args) -> int:
-    from closedloop import predictors
+    from closedloop.training import run_trained
 
-    if args.predictor not in predictors.NAMES:
-        raise CommandError(f"--predictor must be one of {', '.join(predictors.NAMES)}; "
-                           f"got '{args.predictor}'")
+    predictor = _loop_predictor(args.predictor, "--predictor")
     check_output(args.out, args.overwrite, suffixes=(".h5", ".hdf5"), flag="--out")
     if not args.duration > 0:
         raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
     config = _config(args)
-    est = _check_resources(args, config, oracle=args.predictor == "oracle")
+    est = _check_resources(args, config, oracle=predictor.oracle)
     _check_writable(args.out, est.parts["logs"], "--out")
-    seed = config.seed if args.seed is None else args.seed
-    result = _run_with(config, args.predictor, args.duration, seed, args.train_seed,
-                       _progress(args), memory_limit=_memory_limit(args))
+    result = run_trained(config, predictor, args.duration, seed=args.seed,
+                         train_seed=args.train_seed, progress=_progress(args),
+                         memory_limit=_memory_limit(args))
     if args.out is not None:
         result.save(args.out, overwrite=args.overwrite)
     print(_summary_line(result))
@@ -160,29 +153,33 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from closedloop import predictors
+    from closedloop.predictors import NAMES, LoopPredictor
     from closedloop.simulation import LoopModel, simulate
+    from closedloop.training import run_trained
 
     names = [n.strip() for n in args.predictors.split(",") if n.strip()]
-    bad = [n for n in names if n not in predictors.NAMES]
-    if bad or not names:
-        raise CommandError(f"--predictors must be a comma list of {', '.join(predictors.NAMES)}; "
+    try:
+        specs = [LoopPredictor.from_name(n) for n in names]
+    except ValueError:
+        specs = []
+    if not specs:
+        raise CommandError(f"--predictors must be a comma list of {', '.join(NAMES)}; "
                            f"got '{args.predictors}'")
     if not args.duration > 0:
         raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
     config = _config(args)
-    _check_resources(args, config, oracle="oracle" in names)
+    _check_resources(args, config, oracle=any(p.oracle for p in specs))
     limit = _memory_limit(args)
     seed = config.seed if args.seed is None else args.seed
     model = LoopModel(config)
     reference = simulate(config, args.duration, seed=seed, model=model,
                          progress=_progress(args), memory_limit=limit)
     rows = []
-    for name in names:
+    for name, spec in zip(names, specs, strict=True):
         try:
-            result = reference if name == "none" else _run_with(
-                config, name, args.duration, seed, args.train_seed, _progress(args),
-                reference=reference, model=model, memory_limit=limit)
+            result = reference if spec.is_none else run_trained(
+                config, spec, args.duration, seed=seed, train_seed=args.train_seed,
+                reference=reference, model=model, progress=_progress(args), memory_limit=limit)
         except ValueError as exc:  # e.g. too few frames to train it: say so, go on
             rows.append((name, str(exc).splitlines()[0]))
             continue
@@ -224,6 +221,7 @@ def _cmd_info(args) -> int:
 
 
 def _cmd_export(args) -> int:
+    from closedloop.aot import export_aot
     from closedloop.result import SimulationResult
 
     out = args.out
@@ -234,7 +232,7 @@ def _cmd_export(args) -> int:
     # ask for twice the result's size
     _check_writable(out, 2.0 * args.result.stat().st_size, "OUT (AOT FITS)")
     result = SimulationResult.load(args.result)
-    path = result.to_aot(out, overwrite=args.overwrite)
+    path = export_aot(result, out, overwrite=args.overwrite)
     print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
           f"{len(result.config.dms)} DMs; {_aot_loops_text(path)}")
     return 0

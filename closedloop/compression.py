@@ -42,6 +42,7 @@ from closedloop.config import SimulationConfig
 from closedloop.control import Controller
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
+from closedloop.training import run_trained
 
 __all__ = ["ORDERINGS", "control_orderings", "rtc_compute_time", "rtc_scaling", "LatencyModel",
            "CompressionStudy", "compression_study", "predictor_screen"]
@@ -194,7 +195,7 @@ def rtc_scaling(n_values, *, predictor: str | None = None, measurements_per_mode
         r = rng.standard_normal((n, n_meas)) / math.sqrt(n_meas)
         pred = None
         if predictor is not None:
-            pred = cl_predictors.make(predictor)
+            pred = cl_predictors.LoopPredictor.from_name(predictor).predictor
             need = getattr(pred, "_min_samples_rule", lambda k: (200, ""))(n)[0]
             length = max(int(need * 1.2), 200)
             x = np.empty((length, n))
@@ -329,8 +330,8 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
     for name in ("oracle", *candidates):
         if name in out:
             continue
-        pred = cl_predictors.train(cl_predictors.make(name), reference)
-        r = simulate(config, duration, model=model, seed=seed, progress=False, predictor=pred)
+        r = run_trained(config, name, duration, seed=seed, reference=reference, model=model,
+                        progress=False)
         out[name] = float(np.mean(r.strehl_peak[start:]))
     return out
 
@@ -382,7 +383,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     n_values = np.array(sorted({int(n) for n in n_values}), dtype=np.int64)
     if n_values.size == 0 or n_values[0] < 1 or n_values[-1] > m:
         raise ValueError(f"`n_values` must lie in 1..{m}; got {n_values.tolist()}.")
-    if predictor not in cl_predictors.NAMES or predictor in ("none", "oracle"):
+    spec = (cl_predictors.LoopPredictor.from_name(predictor)
+            if predictor in cl_predictors.NAMES else None)
+    if spec is None or not spec.needs_training:
         raise ValueError(f"`predictor` must be a predictor name of "
                          f"closedloop.predictors.NAMES other than 'none' and 'oracle'; got "
                          f"{predictor!r}.")
@@ -390,10 +393,6 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     latency = LatencyModel(readout=config.loop.delay) if latency is None else latency
     say = progress or (lambda text: None)
     timings: dict = {}
-
-    def run(cfg, mdl, basis, pred):
-        return simulate(cfg, duration, model=mdl, seed=seed, progress=False,
-                        control_basis=basis, predictor=pred)
 
     t0 = time.perf_counter()
     if reference is None:
@@ -403,22 +402,51 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     bases = control_orderings(reference, orderings=orderings, seed=seed)
     timings["orderings"] = time.perf_counter() - t0
 
-    def fitted(basis, ref_run):
-        # the paper's training data, projected on the controlled subspace
-        return cl_predictors.make(predictor).fit(cl_predictors.training_data(ref_run) @ basis)
-
-    # measured RTC step time per n (it does not depend on the ordering)
     t0 = time.perf_counter()
-    compute = {"none": np.empty(n_values.size), predictor: np.empty(n_values.size)}
-    first = bases[orderings[0]]
+    compute, delays = _rtc_delays(model, bases[orderings[0]], n_values, spec, reference,
+                                  latency, config.loop.time_step)
+    timings["compute_time"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    peak, field_sr = _grid_runs(config, model, bases, orderings, n_values, spec, delays,
+                                duration=duration, seed=seed, start=start, say=say)
+    timings["runs"] = time.perf_counter() - t0
+    return CompressionStudy(
+        config_name=config.name, seed=seed, duration=duration, n_values=n_values,
+        orderings=orderings, predictor=predictor, strehl_peak=peak, strehl_field=field_sr,
+        compute_time=compute, delay=delays, latency=latency,
+        time_step=config.loop.time_step, window_start=float(reference.times[start]),
+        wavelength=config.wavelength, timings=timings)
+
+
+def _rtc_delays(model: LoopModel, first: np.ndarray, n_values: np.ndarray,
+                spec: cl_predictors.LoopPredictor, reference: SimulationResult,
+                latency: LatencyModel, time_step: float) -> tuple[dict, dict]:
+    """Return the RTC step time [s] per ``n``, measured, and the delay [s] it makes.
+
+    The time does not depend on the ordering; ``latency`` models the loop delay for it.
+    Keys: ``"none"`` and the predictor's name.
+    """
+    compute = {"none": np.empty(n_values.size), spec.name: np.empty(n_values.size)}
     for i, n in enumerate(n_values):
         b = first[:, :n]
         compute["none"][i] = rtc_compute_time(model, b)
-        compute[predictor][i] = rtc_compute_time(model, b, fitted(b, reference))
-    timings["compute_time"] = time.perf_counter() - t0
-    delays = {k: np.array([latency.delay(c, config.loop.time_step) for c in v])
-              for k, v in compute.items()}
+        # the paper's training data, projected on the controlled subspace
+        compute[spec.name][i] = rtc_compute_time(model, b,
+                                                 spec.trained(reference, basis=b).predictor)
+    delays = {k: np.array([latency.delay(c, time_step) for c in v]) for k, v in compute.items()}
+    return compute, delays
 
+
+def _grid_runs(config: SimulationConfig, model: LoopModel, bases: dict, orderings: tuple,
+               n_values: np.ndarray, spec: cl_predictors.LoopPredictor, delays: dict, *,
+               duration: float, seed: int, start: int, say) -> tuple[dict, dict]:
+    """Return the mean SR peak and field SR of every run of :func:`compression_study`.
+
+    Keyed ``(latency, ordering, predictor)``, ``(len(n_values),)`` each, averaged from
+    frame ``start`` on.
+    """
+    m = model.n_modes
+    names = ("none", spec.name)
     peak: dict = {}
     field_sr: dict = {}
     models = {config.loop.delay: model}
@@ -431,10 +459,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
 
     shared: dict = {}
     fixed_runs: dict = {}
-    t0 = time.perf_counter()
     for lat in (False, True):
         for o in orderings:
-            for name in ("none", predictor):
+            for name in names:
                 peak[(lat, o, name)] = np.full(n_values.size, np.nan)
                 field_sr[(lat, o, name)] = np.full(n_values.size, np.nan)
         for i, n in enumerate(n_values):
@@ -446,7 +473,7 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                         field_sr[(lat, o, name)][i] = f
                     continue
                 summary = {}
-                for name in ("none", predictor):
+                for name in names:
                     delay = delays[name][i] if lat else config.loop.delay
                     if lat and delay == config.loop.delay:
                         # the same run as with the fixed delay (the simulator is
@@ -457,9 +484,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                     mdl = model_for(delay)
                     # the predictor learns the turbulence (POL), not the loop: every run
                     # uses the one trained on the fixed-delay no-prediction run
-                    pred = (None if name == "none"
-                            else fitted(b, fixed_runs[(o, int(n), "run")]))
-                    r = run(mdl.config, mdl, b, pred)
+                    r = run_trained(mdl.config, "none" if name == "none" else spec, duration,
+                                    seed=seed, model=mdl, progress=False, control_basis=b,
+                                    reference=fixed_runs.get((o, int(n), "run")))
                     summary[name] = (float(np.mean(r.strehl_peak[start:])),
                                      float(np.mean(r.strehl[start:])))
                     if not lat:
@@ -471,11 +498,4 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                     field_sr[(lat, o, name)][i] = f
                 if n == m:
                     shared[(lat, n)] = summary
-    timings["runs"] = time.perf_counter() - t0
-    return CompressionStudy(
-        config_name=config.name, seed=seed, duration=duration, n_values=n_values,
-        orderings=orderings, predictor=predictor, strehl_peak=peak, strehl_field=field_sr,
-        compute_time=compute, delay=delays, latency=latency,
-        time_step=config.loop.time_step, window_start=float(reference.times[start]),
-        wavelength=config.wavelength, timings=timings)
-
+    return peak, field_sr

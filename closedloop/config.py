@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from modalinfo._validation import check_choice, check_int, check_real
+
 __all__ = [
     "TelescopeConfig",
     "LayerConfig",
@@ -33,6 +35,10 @@ __all__ = [
     "SimulationConfig",
     "load_config",
     "save_config",
+    "ARCSEC",
+    "airmass",
+    "dm_disc_diameter",
+    "wfs_meta_pupil",
 ]
 
 DM_KINDS = ("zernike", "ideal")
@@ -41,33 +47,6 @@ WFS_KINDS = ("shack_hartmann", "ideal")
 
 def _fail(key: str, rule: str, value: Any, exc=ValueError):
     raise exc(f"`{key}` must be {rule}; got {value!r}.")
-
-
-def _real(value, key, *, minimum=None, maximum=None, strict_min=False, allow_inf=False):
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        _fail(key, "a real number", value, TypeError)
-    value = float(value)
-    if math.isnan(value) or (math.isinf(value) and not allow_inf):
-        _fail(key, "a finite number" if not allow_inf else "a number (not NaN)", value)
-    if minimum is not None and (value < minimum or (strict_min and value == minimum)):
-        _fail(key, f"{'>' if strict_min else '>='} {minimum:g}", value)
-    if maximum is not None and value > maximum:
-        _fail(key, f"<= {maximum:g}", value)
-    return value
-
-
-def _int(value, key, *, minimum=None):
-    if isinstance(value, bool) or not isinstance(value, int):
-        _fail(key, "an integer", value, TypeError)
-    if minimum is not None and value < minimum:
-        _fail(key, f"an integer >= {minimum}", value)
-    return int(value)
-
-
-def _choice(value, key, choices):
-    if value not in choices:
-        _fail(key, f"one of {', '.join(map(repr, choices))}", value)
-    return value
 
 
 def _set(obj, name, value):
@@ -97,12 +76,13 @@ class TelescopeConfig:
     n_pixels: int = 64
 
     def _validate(self, p: str) -> None:
-        _set(self, "diameter", _real(self.diameter, p + "diameter", minimum=0, strict_min=True))
-        _set(self, "obscuration", _real(self.obscuration, p + "obscuration", minimum=0,
+        _set(self, "diameter", check_real(self.diameter, p + "diameter", minimum=0,
+                                          strict_min=True))
+        _set(self, "obscuration", check_real(self.obscuration, p + "obscuration", minimum=0,
                                         maximum=0.95))
-        _set(self, "zenith_angle", _real(self.zenith_angle, p + "zenith_angle", minimum=0,
+        _set(self, "zenith_angle", check_real(self.zenith_angle, p + "zenith_angle", minimum=0,
                                          maximum=75))
-        _set(self, "n_pixels", _int(self.n_pixels, p + "n_pixels", minimum=8))
+        _set(self, "n_pixels", check_int(self.n_pixels, p + "n_pixels", minimum=8))
 
 
 @dataclass(frozen=True)
@@ -130,12 +110,12 @@ class LayerConfig:
     outer_scale: float = math.inf
 
     def _validate(self, p: str) -> None:
-        _set(self, "altitude", _real(self.altitude, p + "altitude", minimum=0))
-        _set(self, "d_over_r0", _real(self.d_over_r0, p + "d_over_r0", minimum=0,
+        _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
+        _set(self, "d_over_r0", check_real(self.d_over_r0, p + "d_over_r0", minimum=0,
                                       strict_min=True))
-        _set(self, "wind_speed", _real(self.wind_speed, p + "wind_speed", minimum=0))
-        _set(self, "wind_direction", _real(self.wind_direction, p + "wind_direction"))
-        _set(self, "outer_scale", _real(self.outer_scale, p + "outer_scale", minimum=0,
+        _set(self, "wind_speed", check_real(self.wind_speed, p + "wind_speed", minimum=0))
+        _set(self, "wind_direction", check_real(self.wind_direction, p + "wind_direction"))
+        _set(self, "outer_scale", check_real(self.outer_scale, p + "outer_scale", minimum=0,
                                         strict_min=True, allow_inf=True))
 
 
@@ -165,11 +145,11 @@ class DMConfig:
     diameter: float | None = None
 
     def _validate(self, p: str) -> None:
-        _set(self, "altitude", _real(self.altitude, p + "altitude", minimum=0))
-        _set(self, "n_modes", _int(self.n_modes, p + "n_modes", minimum=1))
-        _choice(self.kind, p + "kind", DM_KINDS)
+        _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
+        _set(self, "n_modes", check_int(self.n_modes, p + "n_modes", minimum=1))
+        check_choice(self.kind, p + "kind", DM_KINDS)
         if self.diameter is not None:
-            _set(self, "diameter", _real(self.diameter, p + "diameter", minimum=0,
+            _set(self, "diameter", check_real(self.diameter, p + "diameter", minimum=0,
                                          strict_min=True))
 
 
@@ -208,13 +188,14 @@ class WFSConfig:
     dm: int = 0
 
     def _validate(self, p: str) -> None:
-        _set(self, "altitude", _real(self.altitude, p + "altitude", minimum=0))
-        _set(self, "field_of_view", _real(self.field_of_view, p + "field_of_view", minimum=0))
-        _set(self, "n_subapertures", _int(self.n_subapertures, p + "n_subapertures", minimum=2))
-        _set(self, "noise", _real(self.noise, p + "noise", minimum=0))
-        _choice(self.kind, p + "kind", WFS_KINDS)
-        _set(self, "field_samples", _int(self.field_samples, p + "field_samples", minimum=1))
-        _set(self, "dm", _int(self.dm, p + "dm", minimum=0))
+        _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
+        _set(self, "field_of_view", check_real(self.field_of_view, p + "field_of_view", minimum=0))
+        _set(self, "n_subapertures", check_int(self.n_subapertures, p + "n_subapertures",
+                                               minimum=2))
+        _set(self, "noise", check_real(self.noise, p + "noise", minimum=0))
+        check_choice(self.kind, p + "kind", WFS_KINDS)
+        _set(self, "field_samples", check_int(self.field_samples, p + "field_samples", minimum=1))
+        _set(self, "dm", check_int(self.dm, p + "dm", minimum=0))
 
 
 @dataclass(frozen=True)
@@ -256,21 +237,21 @@ class LoopConfig:
     closed: bool = field(default=True, metadata={"omit_default": True})
 
     def _validate(self, p: str) -> None:
-        _set(self, "time_step", _real(self.time_step, p + "time_step", minimum=0,
+        _set(self, "time_step", check_real(self.time_step, p + "time_step", minimum=0,
                                       strict_min=True))
-        _set(self, "integration_time", _real(self.integration_time, p + "integration_time",
+        _set(self, "integration_time", check_real(self.integration_time, p + "integration_time",
                                              minimum=0, strict_min=True,
                                              maximum=self.time_step))
-        _set(self, "delay", _real(self.delay, p + "delay", minimum=0))
+        _set(self, "delay", check_real(self.delay, p + "delay", minimum=0))
         from modalinfo.servo import MAX_DELAY_FRAMES
 
         if self.delay > MAX_DELAY_FRAMES * self.time_step * (1 + 1e-12):
             _fail(p + "delay", f"<= {MAX_DELAY_FRAMES:g} frames (loop.time_step = "
                   f"{self.time_step:g} s: at most {MAX_DELAY_FRAMES * self.time_step:g} s; the "
                   "stable gain there is below 2e-3, no AO loop)", self.delay)
-        _set(self, "gain", _real(self.gain, p + "gain", minimum=0, strict_min=True))
-        _set(self, "leak", _real(self.leak, p + "leak", minimum=0, maximum=0.999))
-        _set(self, "model_error", _real(self.model_error, p + "model_error", minimum=0))
+        _set(self, "gain", check_real(self.gain, p + "gain", minimum=0, strict_min=True))
+        _set(self, "leak", check_real(self.leak, p + "leak", minimum=0, maximum=0.999))
+        _set(self, "model_error", check_real(self.model_error, p + "model_error", minimum=0))
         if not isinstance(self.closed, bool):
             _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
                   TypeError)
@@ -315,8 +296,8 @@ class FieldConfig:
     n_points: int = 9
 
     def _validate(self, p: str) -> None:
-        _set(self, "size", _real(self.size, p + "size", minimum=0))
-        _set(self, "n_points", _int(self.n_points, p + "n_points", minimum=1))
+        _set(self, "size", check_real(self.size, p + "size", minimum=0))
+        _set(self, "n_points", check_int(self.n_points, p + "n_points", minimum=1))
         if self.n_points % 2 == 0:
             _fail(p + "n_points", "odd (the optical axis is on the grid)", self.n_points)
 
@@ -377,9 +358,9 @@ class SimulationConfig:
                     _fail(f"{key}[{i}]", f"a {cls.__name__}", type(item).__name__, TypeError)
                 item._validate(f"{key}[{i}].")
         for name in ("wavelength", "r0_wavelength"):
-            value = _real(getattr(self, name), name, minimum=0, strict_min=True, maximum=1e-3)
+            value = check_real(getattr(self, name), name, minimum=0, strict_min=True, maximum=1e-3)
             _set(self, name, value)
-        _set(self, "seed", _int(self.seed, "seed", minimum=0))
+        _set(self, "seed", check_int(self.seed, "seed", minimum=0))
         if not isinstance(self.name, str):
             _fail("name", "a string", self.name, TypeError)
         if len(self.wfss) != len(self.dms):
@@ -442,6 +423,40 @@ _PIXELS_PER_CYCLE = 2
 _PIXELS_PER_SUBAPERTURE = 2
 
 
+#: radians per arcsecond
+ARCSEC = math.pi / (180.0 * 3600.0)
+
+
+def airmass(config: SimulationConfig) -> float:
+    """Return ``sec z``, the airmass of the telescope's zenith angle."""
+    return 1.0 / math.cos(math.radians(config.telescope.zenith_angle))
+
+
+def _meta_pupil(config: SimulationConfig, altitude: float, field_of_view: float) -> float:
+    """``D + 2 h sec(z) tan(fov / 2)`` [m]: the beam footprint at ``altitude``."""
+    return config.telescope.diameter + 2.0 * altitude * airmass(config) * math.tan(
+        field_of_view / 2.0 * ARCSEC)
+
+
+def wfs_meta_pupil(config: SimulationConfig, j: int) -> float:
+    """Return the meta-pupil WFS ``j`` senses [m]: ``D + 2 h sec(z) tan(fov / 2)``."""
+    w = config.wfss[j]
+    return _meta_pupil(config, w.altitude, w.field_of_view)
+
+
+def dm_disc_diameter(config: SimulationConfig, i: int) -> float:
+    """Return the controlled disc of DM ``i`` [m]: configured, or its WFS's meta-pupil.
+
+    Needs no grid (the config's physical checks and resource estimate call it).
+    """
+    dm = config.dms[i]
+    if dm.diameter is not None:
+        return dm.diameter
+    j = next(j for j, w in enumerate(config.wfss) if w.dm == i)
+    # the DM's own altitude (equal to its WFS's, checked by the config)
+    return _meta_pupil(config, dm.altitude, config.wfss[j].field_of_view)
+
+
 def _check_sampling(cfg: SimulationConfig) -> None:
     """Refuse modes or subapertures finer than the pupil grid can represent.
 
@@ -450,7 +465,6 @@ def _check_sampling(cfg: SimulationConfig) -> None:
     lower modes and the DM's modes stop being independent. A Shack-Hartmann gradient
     needs at least 2 pixels per subaperture.
     """
-    from closedloop.geometry import dm_disc_diameter, wfs_meta_pupil
     from modalinfo.bases import noll_to_zernike
 
     dx = cfg.telescope.diameter / cfg.telescope.n_pixels
@@ -530,7 +544,7 @@ def load_config(path: str | Path) -> SimulationConfig:
 
 def config_text(config: SimulationConfig, fmt: str = "toml") -> str:
     """Return the config as TOML or JSON text."""
-    _choice(fmt, "fmt", ("toml", "json"))
+    check_choice(fmt, "fmt", ("toml", "json"))
     if fmt == "json":
         return json.dumps(config.to_dict(), indent=2) + "\n"
     import tomli_w

@@ -20,13 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from closedloop.config import SimulationConfig
+# the disc and meta-pupil sizes are config's (its checks need them, and geometry needs config)
+from closedloop.config import ARCSEC, SimulationConfig, dm_disc_diameter, wfs_meta_pupil
+from closedloop.config import airmass as _airmass
 
 __all__ = ["ARCSEC", "Geometry", "field_samples", "science_directions", "plane_layout",
            "dm_disc_diameter", "wfs_meta_pupil"]
 
-#: radians per arcsecond
-ARCSEC = math.pi / (180.0 * 3600.0)
 #: spare pixels around every beam (the science path's 4-tap reads and rounding)
 _MARGIN = 3
 
@@ -59,32 +59,6 @@ def field_samples(field_of_view: float, rings: int) -> np.ndarray:
                 pts.append((q + r / 2.0, r * math.sqrt(3.0) / 2.0))
     pts = np.array(pts)
     return pts * (field_of_view / 2.0) / (rings - 1)
-
-
-def _airmass(config: SimulationConfig) -> float:
-    return 1.0 / math.cos(math.radians(config.telescope.zenith_angle))
-
-
-def wfs_meta_pupil(config: SimulationConfig, j: int) -> float:
-    """Return the meta-pupil WFS ``j`` senses [m]: ``D + 2 h sec(z) tan(fov / 2)``."""
-    w = config.wfss[j]
-    return config.telescope.diameter + 2.0 * w.altitude * _airmass(config) * math.tan(
-        w.field_of_view / 2.0 * ARCSEC)
-
-
-def dm_disc_diameter(config: SimulationConfig, i: int) -> float:
-    """Return the controlled disc of DM ``i`` [m]: configured, or its WFS's meta-pupil.
-
-    Needs no grid (the config's physical checks and resource estimate call it).
-    """
-    dm = config.dms[i]
-    if dm.diameter is not None:
-        return dm.diameter
-    j = next(j for j, w in enumerate(config.wfss) if w.dm == i)
-    # the DM's own altitude (equal to its WFS's, checked by the config)
-    w = config.wfss[j]
-    return config.telescope.diameter + 2.0 * dm.altitude * _airmass(config) * math.tan(
-        w.field_of_view / 2.0 * ARCSEC)
 
 
 def plane_layout(config: SimulationConfig) -> list[tuple[float, int, tuple, tuple]]:

@@ -1,49 +1,195 @@
-"""Predictors inside the loop: names, and training on a no-prediction run as in the paper.
+"""Predictors inside the loop: one type, :class:`LoopPredictor`, for every shape of one.
 
-The paper trains its ARMA and neural net on "the standard MFoV MCAO simulation" (the run
-without prediction, same conditions), after the loop closure: the NN on 10 patterns of
-10 values taken after 15 ms, the ARMA(2,3) from the autocovariance. :func:`train` does
-that with the POL coefficients of a no-prediction :class:`SimulationResult` (every DM's
-modes side by side), and :func:`make` names the configurations: the paper's
-(``linear``: a = 2, b = -1; ``arma``: ARMA(2,3); ``nn-paper``: 10 patterns) beside the
-working defaults of :mod:`modalinfo.forecast` (``nn``, ``arma-aic``, ``multivariate``,
-...), all from :data:`modalinfo.forecast.presets.PRESETS`, plus ``persistence`` and the
-``oracle`` (the true future; no training).
+A predictor in the loop is what ``closedloop run --predictor NAME`` asks for: no
+prediction (:data:`NO_PREDICTION`, name ``"none"``), the true future (:data:`ORACLE`,
+``"oracle"``: the bound no predictor can beat), or a :mod:`modalinfo.forecast` predictor
+that is fitted on a no-prediction run before use, as in the paper. The paper trains its
+ARMA and neural net on "the standard MFoV MCAO simulation" (the run without prediction,
+same conditions), after the loop closure: the NN on 10 patterns of 10 values taken after
+15 ms, the ARMA(2,3) from the autocovariance. :meth:`LoopPredictor.trained` does that with
+the POL coefficients of a no-prediction :class:`SimulationResult` (every DM's modes side by
+side), and :func:`closedloop.training.run_trained` runs that reference, trains and
+simulates.
+
+Names (:data:`NAMES`, checked once, by :meth:`LoopPredictor.from_name`): ``none``,
+``persistence``, ``oracle`` and the keys of :data:`modalinfo.forecast.presets.PRESETS`:
+the paper's configurations (``linear``: a = 2, b = -1; ``arma``: ARMA(2,3); ``nn-paper``:
+10 patterns) beside the working defaults of :mod:`modalinfo.forecast` (``nn``,
+``arma-aic``, ``multivariate``, ...). A run's result keeps the name given (``arma-aic``,
+not the class name); a fitted predictor handed over directly is named by its class.
 """
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import warnings
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
-from closedloop.result import SimulationResult
 from modalinfo.forecast import PersistencePredictor
-from modalinfo.forecast.presets import PRESETS, make_predictor
+from modalinfo.forecast.presets import PRESETS
 
-__all__ = ["NAMES", "make", "train", "needs_training", "training_data", "training_start"]
+if TYPE_CHECKING:
+    from closedloop.result import SimulationResult
 
-#: every name ``closedloop run --predictor`` accepts
+__all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "loop_predictor",
+           "training_data", "training_start"]
+
+#: every name ``closedloop run --predictor`` accepts (the forecast presets' list, plus
+#: the three that are not forecast presets)
 NAMES: tuple[str, ...] = ("none", "persistence", "oracle", *PRESETS)
+
+#: how a predictor is trained: fitted on the POL of the no-prediction run of the same
+#: conditions, after the loop closure and after 15 ms (the paper's way)
+REFERENCE_POL = "reference-pol"
 
 #: the paper trains after the loop closure, from t > 15 ms
 _PAPER_TRAINING_START = 15e-3
 
 
-def make(name: str):
-    """Return a fresh predictor for ``name`` (None for "none", the string for "oracle")."""
-    if name not in NAMES:
-        raise ValueError(f"`predictor` must be one of {', '.join(NAMES)}; got {name!r}.")
-    if name == "none":
-        return None
-    if name == "oracle":
-        return "oracle"
-    if name == "persistence":
-        return PersistencePredictor()
-    return make_predictor(name)
+@dataclass(frozen=True)
+class LoopPredictor:
+    """A predictor in the loop: its name, its forecaster and how it is trained.
+
+    Make one with :meth:`from_name` (a name of ``closedloop.predictors.NAMES``, the one
+    place names are checked) or :meth:`from_fitted` (a fitted :mod:`modalinfo.forecast`
+    predictor); the two without a forecaster are the sentinels ``NO_PREDICTION`` and
+    ``ORACLE``.
+
+    Attributes
+    ----------
+    name : str
+        The name the user gave (``"arma-aic"``); a run's result stores it.
+    predictor : modalinfo.forecast.Predictor or None
+        The forecaster of the POL coefficients of every DM (DM 0 first); None for no
+        prediction and for the oracle.
+    training : str or None
+        ``REFERENCE_POL``: must be fitted on a no-prediction run before use
+        (:meth:`trained`); None: ready to run.
+    oracle : bool
+        The true future instead of a forecast (only ``ORACLE``).
+    """
+
+    name: str
+    predictor: Any = None
+    training: str | None = None
+    oracle: bool = False
+
+    @classmethod
+    def from_name(cls, name: str) -> LoopPredictor:
+        """Return the predictor called ``name`` (unfitted, with a fresh forecaster).
+
+        Raises
+        ------
+        ValueError
+            If ``name`` is not one of ``closedloop.predictors.NAMES``.
+        """
+        if not isinstance(name, str) or name not in NAMES:
+            raise ValueError(f"`predictor` must be one of {', '.join(NAMES)}; got {name!r}.")
+        if name == "none":
+            return NO_PREDICTION
+        if name == "oracle":
+            return ORACLE
+        forecaster = PersistencePredictor() if name == "persistence" else PRESETS[name][1]()
+        return cls(name=name, predictor=forecaster, training=REFERENCE_POL)
+
+    @classmethod
+    def from_fitted(cls, predictor, name: str | None = None) -> LoopPredictor:
+        """Wrap a fitted forecaster (named by its class unless ``name`` is given).
+
+        Raises
+        ------
+        TypeError
+            If ``predictor`` has no ``update`` (not a :mod:`modalinfo.forecast` predictor).
+        """
+        if not hasattr(predictor, "update") or not hasattr(predictor, "reset"):
+            raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
+                            f"Predictor); got {type(predictor).__name__}.")
+        return cls(name=type(predictor).__name__ if name is None else name,
+                   predictor=predictor)
+
+    @property
+    def is_none(self) -> bool:
+        """True for no prediction (the loop's plain integrator)."""
+        return self.predictor is None and not self.oracle
+
+    @property
+    def needs_training(self) -> bool:
+        """Whether :meth:`trained` must run before the loop can use it."""
+        return self.training is not None
+
+    def trained(self, reference: SimulationResult,
+                basis: np.ndarray | None = None) -> LoopPredictor:
+        """Return this predictor fitted on the no-prediction run ``reference``.
+
+        Parameters
+        ----------
+        reference : SimulationResult
+            The run without prediction (same conditions): its POL after the loop closure
+            and after 15 ms (``closedloop.predictors.training_data``) is the training set.
+        basis : (M, n) array or None
+            Fit on the projection ``POL @ basis`` (a run with this ``control_basis``
+            feeds the predictor ``B^T p``); None: every mode.
+
+        Returns
+        -------
+        LoopPredictor
+            A new one, ready to run (``training`` None); ``self`` is unchanged (its
+            forecaster is copied before fitting). Itself when nothing is to train.
+        """
+        if not self.needs_training:
+            return self
+        data = training_data(reference)
+        if basis is not None:
+            data = data @ basis
+        forecaster = copy.deepcopy(self.predictor)
+        forecaster.fit(data)
+        return dataclasses.replace(self, predictor=forecaster, training=None)
+
+    def __repr__(self) -> str:
+        state = ", untrained" if self.needs_training else ""
+        return f"LoopPredictor({self.name!r}{state})"
 
 
-def needs_training(predictor) -> bool:
-    """Whether ``predictor`` must be fitted on a no-prediction run before use."""
-    return predictor is not None and not isinstance(predictor, str)
+#: no prediction: the loop's integrator alone
+NO_PREDICTION = LoopPredictor(name="none")
+#: the true future POL (noise-free measurement of the turbulence over the command's hold)
+ORACLE = LoopPredictor(name="oracle", oracle=True)
+
+
+def loop_predictor(predictor) -> LoopPredictor:
+    """Read a ``predictor`` argument of :func:`closedloop.simulate` (the one place it is read).
+
+    A :class:`LoopPredictor` is returned as is; None is :data:`NO_PREDICTION`; a fitted
+    :mod:`modalinfo.forecast` predictor is wrapped (named by its class); the string
+    ``"oracle"`` is :data:`ORACLE` with a ``DeprecationWarning`` (pass
+    ``closedloop.ORACLE``). Other names need training: they are refused, pointing to
+    :func:`closedloop.run_trained` and :meth:`LoopPredictor.from_name`.
+
+    Raises
+    ------
+    ValueError
+        A string other than ``"oracle"``.
+    TypeError
+        Anything else that is not a predictor.
+    """
+    if isinstance(predictor, LoopPredictor):
+        return predictor
+    if predictor is None:
+        return NO_PREDICTION
+    if isinstance(predictor, str):
+        if predictor == "oracle":
+            warnings.warn("simulate(predictor='oracle') is deprecated; pass closedloop.ORACLE.",
+                          DeprecationWarning, stacklevel=3)
+            return ORACLE
+        raise ValueError(f"`predictor` must be a LoopPredictor, a fitted Predictor or None; "
+                         f"got the name {predictor!r} (a name is trained first: "
+                         "closedloop.run_trained(config, name, ...) or "
+                         "LoopPredictor.from_name(name).trained(reference)).")
+    return LoopPredictor.from_fitted(predictor)
 
 
 def training_start(result: SimulationResult) -> int:
@@ -64,10 +210,3 @@ def training_data(reference: SimulationResult) -> np.ndarray:
         raise ValueError(f"the reference run has {pol.shape[0] - start} frames after its "
                          "loop closure; run it longer to train a predictor.")
     return pol[start:]
-
-
-def train(predictor, reference: SimulationResult):
-    """Fit ``predictor`` on the POL of the no-prediction run ``reference``; return it."""
-    if needs_training(predictor):
-        predictor.fit(training_data(reference))
-    return predictor

@@ -35,8 +35,8 @@ import os
 from dataclasses import dataclass, field
 
 from closedloop.atmosphere import screen_size
-from closedloop.config import SimulationConfig
-from closedloop.geometry import dm_disc_diameter, plane_layout, wfs_meta_pupil
+from closedloop.config import SimulationConfig, dm_disc_diameter, wfs_meta_pupil
+from closedloop.geometry import plane_layout
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
            "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "format_bytes"]

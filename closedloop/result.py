@@ -36,6 +36,7 @@ Derived views
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass, field
@@ -47,7 +48,7 @@ import numpy as np
 from closedloop.config import SimulationConfig
 from modalinfo.telemetry import ModalLog
 
-__all__ = ["SimulationResult", "GROWTH_FACTOR"]
+__all__ = ["SimulationResult", "ErrorBudget", "GROWTH_FACTOR"]
 
 #: a residual whose last-quarter mean exceeds this many times its lowest 5-ms mean grew:
 #: the loop diverged (a closed loop's 5-ms means scatter by a factor ~2 at most)
@@ -56,8 +57,62 @@ GROWTH_FACTOR = 4.0
 _ABOVE_OPEN_LOOP = 3.0
 
 _FORMAT = "closedloop-result"
-_FORMAT_VERSION = 1
-_BUDGET_FIELDS = ("directions", "fitting", "aliasing", "temporal", "noise", "measured", "frames")
+#: 2: each log a group in modalinfo.io's HDF5 layout (checksummed); 1: bare datasets
+_FORMAT_VERSION = 2
+
+
+@dataclass(frozen=True)
+class ErrorBudget:
+    """Error terms per direction [rad^2 at the science wavelength], averaged over frames.
+
+    The error budget of a run (estimated by :mod:`closedloop.budget`; ``result.budget``).
+
+    Attributes
+    ----------
+    directions : (n_dir, 2) ndarray
+        [arcsec].
+    fitting, aliasing, temporal, noise : (n_dir,) ndarray
+        The terms (see :mod:`closedloop.budget`); ``fitting`` includes generalised
+        fitting and anisoplanatism.
+    measured : (n_dir,) ndarray
+        Residual variance the loop left in the same frames.
+    frames : (n_b,) ndarray of int
+        Frames averaged (after the loop closure).
+    """
+
+    directions: np.ndarray
+    fitting: np.ndarray
+    aliasing: np.ndarray
+    temporal: np.ndarray
+    noise: np.ndarray
+    measured: np.ndarray
+    frames: np.ndarray
+
+    @property
+    def total(self) -> np.ndarray:
+        """Sum of the four terms, ``(n_dir,)``."""
+        return self.fitting + self.aliasing + self.temporal + self.noise
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """``total / measured`` per direction."""
+        return self.total / self.measured
+
+    def table(self) -> str:
+        """Return a plain-text table, one row per direction (rad^2; x, y in arcsec)."""
+        heads = ("x", "y", "fitting", "aliasing", "temporal", "noise", "sum", "measured",
+                 "sum/meas")
+        widths = (7, 7, 9, 9, 9, 8, 8, 9, 9)
+        lines = ["".join(f"{h:>{w}}" for h, w in zip(heads, widths, strict=True))]
+        for k, (x, y) in enumerate(self.directions):
+            lines.append(f"{x:7.1f}{y:7.1f}{self.fitting[k]:9.3f}{self.aliasing[k]:9.3f}"
+                         f"{self.temporal[k]:9.3f}{self.noise[k]:8.3f}{self.total[k]:8.3f}"
+                         f"{self.measured[k]:9.3f}{self.ratio[k]:9.3f}")
+        return "\n".join(lines)
+
+
+#: the datasets of a result file's ``budget`` group: ErrorBudget's fields
+_BUDGET_FIELDS = tuple(f.name for f in dataclasses.fields(ErrorBudget))
 
 
 def _version() -> str:
@@ -97,7 +152,7 @@ class SimulationResult:
     snapshots : (n_snap, n_sd, N, N) ndarray or None
         Residual pupil phase [rad at the science wavelength] in ``snapshot_directions``.
     snapshot_directions : (n_sd, 2) ndarray or None
-    budget : closedloop.budget.ErrorBudget or None
+    budget : ErrorBudget or None
         Error budget per direction (``simulate(..., budget_every=N)``).
     measurements : list of (T, n_meas_j) ndarray
         Each WFS's measurements per frame (SH: x slopes of the valid subapertures, then
@@ -366,6 +421,7 @@ class SimulationResult:
         import h5py
 
         from modalinfo.io import atomic_write
+        from modalinfo.io.hdf5 import write_log_group
 
         path = Path(path)
 
@@ -393,30 +449,16 @@ class SimulationResult:
                     m[f"wfs{j}"] = arr
                 g = f.create_group("logs")
                 for name, log in self.logs.items():
-                    d = g.create_dataset(name, data=np.asarray(log.coeffs))
-                    d.attrs["modes"] = json.dumps(list(log.modes))
-                    d.attrs["metadata"] = json.dumps(log.metadata)
-                    d.attrs["rate"] = log.rate
-                    d.attrs["start_time"] = float(log.times[0])
-                    d.attrs["wavelength"] = log.wavelength
+                    write_log_group(g.create_group(name), log)
 
         return atomic_write(path, write, overwrite=overwrite, by_name=True)
 
-    def to_aot(self, path: str | Path, *, overwrite: bool = False, model=None) -> Path:
-        """Write the run as a complete AO Telemetry (AOT) system (see :mod:`closedloop.aot`).
-
-        Loops ``"dm{i}"`` (residual coefficients, commands, modes, reconstructor, time
-        filter, delay), ``"dm{i}.pol"`` (POL coefficients); atomic, refuses to replace a
-        file unless ``overwrite``. ``model``: the run's ``LoopModel`` (rebuilt if None).
-        """
-        from closedloop.aot import export_aot
-
-        return export_aot(self, path, overwrite=overwrite, model=model)
-
     @classmethod
     def load(cls, path: str | Path) -> SimulationResult:
-        """Read a result written by :meth:`save`."""
+        """Read a result written by :meth:`save` (also by closedloop's format 1)."""
         import h5py
+
+        from modalinfo.io.hdf5 import read_log_group
 
         path = Path(path)
         if not path.is_file():
@@ -429,21 +471,13 @@ class SimulationResult:
             if f.attrs.get("format") != _FORMAT:
                 raise ValueError(f"{path}: not a closedloop result (no format={_FORMAT!r}).")
             config = SimulationConfig.from_dict(json.loads(f.attrs["config"]))
-            logs = {}
-            for name, d in f["logs"].items():
-                modes = json.loads(d.attrs["modes"])
-                logs[name] = ModalLog(d[()], rate=float(d.attrs["rate"]), modes=modes,
-                                      convention="labels" if isinstance(modes[0], str)
-                                      else "noll", units="rad",
-                                      wavelength=float(d.attrs["wavelength"]),
-                                      start_time=float(d.attrs["start_time"]),
-                                      metadata=json.loads(d.attrs["metadata"]))
+            logs = {name: (read_log_group(d, path) if isinstance(d, h5py.Group)
+                           else _legacy_log(d))
+                    for name, d in f["logs"].items()}
             snaps = f["snapshots"][()] if "snapshots" in f else None
             snap_dirs = f["snapshot_directions"][()] if "snapshot_directions" in f else None
             budget = None
             if "budget" in f:
-                from closedloop.budget import ErrorBudget
-
                 budget = ErrorBudget(**{n: f["budget"][n][()] for n in _BUDGET_FIELDS})
             group = f["measurements"] if "measurements" in f else {}
             measurements = [group[f"wfs{j}"][()] for j in range(len(group))]
@@ -454,3 +488,13 @@ class SimulationResult:
                        elapsed=float(f.attrs["elapsed"]), version=str(f.attrs["version"]),
                        snapshots=snaps, snapshot_directions=snap_dirs,
                        measurements=measurements, budget=budget)
+
+
+def _legacy_log(d) -> ModalLog:
+    """Read a log of a format-1 result file (a bare dataset with JSON attributes)."""
+    modes = json.loads(d.attrs["modes"])
+    return ModalLog(d[()], rate=float(d.attrs["rate"]), modes=modes,
+                    convention="labels" if isinstance(modes[0], str) else "noll", units="rad",
+                    wavelength=float(d.attrs["wavelength"]),
+                    start_time=float(d.attrs["start_time"]),
+                    metadata=json.loads(d.attrs["metadata"]))

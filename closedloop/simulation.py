@@ -44,6 +44,7 @@ from closedloop.budget import BudgetProbe
 from closedloop.config import LoopConfig, SimulationConfig
 from closedloop.control import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
 from closedloop.model import LoopModel
+from closedloop.predictors import ORACLE, LoopPredictor, loop_predictor
 from closedloop.result import SimulationResult
 from closedloop.science import ScienceCamera
 from closedloop.state import LoopState
@@ -51,8 +52,6 @@ from modalinfo._validation import check_real
 
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
-#: pass as ``predictor`` to forecast with the true future POL (the upper bound)
-ORACLE = "oracle"
 
 
 def simulate(
@@ -79,12 +78,16 @@ def simulate(
     duration : float
         Simulated time [s] (a whole number of frames is run: ``round(duration / T)``);
         longer than ``T + loop.delay`` (the first command reaches the mirror then).
-    predictor : modalinfo.forecast.Predictor, "oracle" or None
+    predictor : closedloop.predictors.LoopPredictor, modalinfo.forecast.Predictor or None
         Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
-        must be fitted and its ``horizon`` must cover the lead. ``"oracle"`` uses the
+        must be fitted (a ``LoopPredictor`` trained, see :func:`closedloop.run_trained`)
+        and its ``horizon`` must cover the lead. The result stores its name (a bare
+        ``Predictor``'s: its class name). :data:`closedloop.ORACLE` uses the
         true future (noise-free WFS measurement of the turbulence alone over the
         command's hold): the bound no predictor can beat. Must be None in open loop
         (``config.loop.closed`` False), as must ``budget_every`` and ``control_basis``.
+        The string ``"oracle"`` is deprecated (a ``DeprecationWarning``); other names
+        are refused (they need training: :func:`closedloop.run_trained`).
     seed : int or None
         Overrides ``config.seed``.
     progress : bool or None
@@ -125,8 +128,9 @@ def simulate(
     -------
     SimulationResult
     """
-    duration, oracle = _check_arguments(config, duration, predictor, on_predictor_fault,
-                                        budget_every, control_basis, snapshot_every)
+    duration, loop_pred = _check_arguments(config, duration, predictor, on_predictor_fault,
+                                           budget_every, control_basis, snapshot_every)
+    oracle = loop_pred.oracle
     from closedloop.resources import check_resources
 
     check_resources(config, duration, limit=memory_limit, oracle=oracle,
@@ -141,7 +145,7 @@ def simulate(
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
     state.reset()
-    forecaster = None if oracle else predictor  # the oracle is no Predictor
+    forecaster = loop_pred.predictor  # None for the oracle and without prediction
     control = _Control(model, config.loop, forecaster, basis, on_predictor_fault)
     future = _Oracle(model, seed, clock) if oracle else None
     probe = (BudgetProbe(model, forecaster, int(budget_every), oracle=oracle)
@@ -183,8 +187,8 @@ def simulate(
         if bar is not None:
             bar.close()
     elapsed = time.perf_counter() - start
-    _warn_held(control.controller, predictor, clock.n_frames)
-    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, predictor)
+    _warn_held(control.controller, loop_pred.name, clock.n_frames)
+    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, loop_pred.name)
 
 
 def check_run(config: SimulationConfig, duration: float, *, budget_every: int | None = None,
@@ -269,10 +273,10 @@ def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
 
 
 def _check_arguments(config, duration, predictor, on_predictor_fault, budget_every,
-                     control_basis, snapshot_every) -> tuple[float, bool]:
+                     control_basis, snapshot_every) -> tuple[float, LoopPredictor]:
     """Refuse what :func:`simulate` refuses before any set-up.
 
-    Returns the checked duration and whether the oracle is asked for.
+    Returns the checked duration and the run's predictor (the one check of ``predictor``).
     """
     duration = check_real(duration, "duration", minimum=0.0, strict_min=True)
     if not isinstance(config, SimulationConfig):
@@ -281,10 +285,15 @@ def _check_arguments(config, duration, predictor, on_predictor_fault, budget_eve
         raise ValueError(f"`on_predictor_fault` must be one of "
                          f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
                          f"{on_predictor_fault!r}.")
+    loop_pred = loop_predictor(predictor)
+    if loop_pred.needs_training:
+        raise ValueError(f"`predictor` {loop_pred.name!r} is not trained: use "
+                         "closedloop.run_trained, or LoopPredictor.trained(reference).")
     if not config.loop.closed:
-        _check_open_loop(predictor, budget_every, control_basis)
+        _check_open_loop(None if loop_pred.is_none else loop_pred.name, budget_every,
+                         control_basis)
     check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
-    return duration, _oracle_mode(predictor)
+    return duration, loop_pred
 
 
 def _model_for(config: SimulationConfig, model: LoopModel | None) -> LoopModel:
@@ -466,7 +475,7 @@ class _Snapshots:
 
 
 def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, elapsed,
-              predictor) -> SimulationResult:
+              predictor: str) -> SimulationResult:
     """Return the run's result (science numbers at the science wavelength)."""
     scale_sci = (config.r0_wavelength / config.wavelength) ** 2
     snaps = snapshots.frames
@@ -474,7 +483,7 @@ def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, el
         config=config, seed=seed, model=model,
         variance=logs.variance * scale_sci, measured=logs.measured, pol=logs.pol,
         commands=logs.commands, elapsed=elapsed, measurements=logs.measurements,
-        predictor_name=_predictor_name(predictor),
+        predictor_name=predictor,
         snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
         snapshot_directions=snapshots.directions,
     )
@@ -484,36 +493,14 @@ def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, el
     return result
 
 
-def _warn_held(controller: Controller, predictor, n_frames: int) -> None:
+def _warn_held(controller: Controller, predictor: str, n_frames: int) -> None:
     """Say at the end how many frames kept their last command (``on_predictor_fault="hold"``)."""
     if controller.n_faults:
         import warnings
 
-        warnings.warn(f"predictor {_predictor_name(predictor)} returned an unusable forecast "
+        warnings.warn(f"predictor {predictor} returned an unusable forecast "
                       f"on {controller.n_faults} of {n_frames} frames; the last command was "
                       "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=3)
-
-
-def _oracle_mode(predictor) -> bool:
-    """Whether ``predictor`` asks for the oracle; refuse anything else than a Predictor or None.
-
-    The one place (with :func:`_predictor_name`) that knows the shapes of ``predictor``.
-    """
-    oracle = isinstance(predictor, str)
-    if oracle and predictor != ORACLE:
-        raise ValueError(f"`predictor` must be a Predictor, {ORACLE!r} or None; got {predictor!r}.")
-    if predictor is not None and not oracle and not hasattr(predictor, "update"):
-        raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
-                        f"Predictor); got {type(predictor).__name__}.")
-    return oracle
-
-
-def _predictor_name(predictor) -> str:
-    if predictor is None:
-        return "none"
-    if isinstance(predictor, str):
-        return predictor
-    return type(predictor).__name__
 
 
 def _progress_bar(progress, total):

@@ -108,7 +108,7 @@ def _base(grid: dict) -> SimulationConfig:
 
 
 def _check_memory(config: SimulationConfig, duration: float, budget_every: int | None,
-                  predictor: str) -> None:
+                  oracle: bool) -> None:
     """Refuse, before any cluster starts, a run that needs more memory than the machine.
 
     Uses ``closedloop.resources.check_resources`` when this version of closedloop has
@@ -121,13 +121,13 @@ def _check_memory(config: SimulationConfig, duration: float, budget_every: int |
         from closedloop.resources import check_resources
     except ImportError:
         return
-    check_resources(config, duration, oracle=predictor == "oracle",
+    check_resources(config, duration, oracle=oracle,
                     budget=budget_every is not None)
 
 
 def sweep_specs(grid: dict) -> list:
     """One :class:`modalinfo.batch.engine.TaskSpec` per (override, seed, predictor)."""
-    from closedloop.predictors import NAMES
+    from closedloop.predictors import NAMES, LoopPredictor
     from modalinfo.batch.engine import TaskSpec, task_key
 
     base = _base(grid)
@@ -145,9 +145,13 @@ def sweep_specs(grid: dict) -> list:
             isinstance(p, str) for p in predictors):
         raise ValueError(f"grid `predictors` must be a non-empty list of names from "
                          f"{', '.join(NAMES)}; got {predictors!r}")
-    bad = [p for p in predictors if p not in NAMES]
-    if bad:
-        raise ValueError(f"grid `predictors`: {bad[0]!r} is not one of {', '.join(NAMES)}")
+    loop_predictors = {}
+    for name in predictors:  # the one check of a name (LoopPredictor.from_name)
+        try:
+            loop_predictors[name] = LoopPredictor.from_name(name)
+        except ValueError:
+            raise ValueError(f"grid `predictors`: {name!r} is not one of "
+                             f"{', '.join(NAMES)}") from None
     overrides = grid.get("overrides", [])
     if not isinstance(overrides, list) or not all(isinstance(o, dict) for o in overrides):
         raise ValueError("grid `overrides` must be an array of tables ([[overrides]] "
@@ -169,8 +173,8 @@ def sweep_specs(grid: dict) -> list:
         name = str(ov.get("name", ", ".join(f"{k}={v}" for k, v in changes.items()) or "base"))
         try:
             config = override(base, changes)
-            for predictor in dict.fromkeys(predictors):
-                _check_memory(config, duration, budget_every, predictor)
+            for predictor in loop_predictors.values():
+                _check_memory(config, duration, budget_every, predictor.oracle)
         except (ValueError, TypeError) as exc:
             raise ValueError(f"grid override {name!r}: {exc}") from None
         for seed in seeds:
@@ -186,13 +190,12 @@ def sweep_specs(grid: dict) -> list:
 
 def run_one(payload: dict) -> dict:
     """Run one simulation of a sweep (a module-level function, importable by workers)."""
-    from closedloop.cli import _run_with
-    from closedloop.simulation import LoopModel
+    from closedloop.training import run_trained
 
     config = SimulationConfig.from_dict(payload["config"])
-    model = LoopModel(config)
-    result = _run_with(config, payload["predictor"], payload["duration"], payload["seed"],
-                       None, False, model=model, budget_every=payload.get("budget_every"))
+    result = run_trained(config, payload["predictor"], payload["duration"],
+                         seed=payload["seed"], progress=False,
+                         budget_every=payload.get("budget_every"))
     row = dict(result.summary())
     row.pop("predictor", None)
     row.pop("seed", None)

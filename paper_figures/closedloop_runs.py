@@ -8,7 +8,7 @@ no predictor can beat) and our best own predictor that trains on one run (``arma
 ARMA with AIC-chosen orders per mode; the VAR(4) on all 184 modes would need 7364
 training frames under modalinfo's minimum-samples rule). Predictors that need training
 are fitted on the no-prediction run after its loop closure and after 15 ms, as the paper
-did (:func:`closedloop.predictors.train`).
+did (:func:`closedloop.run_trained`).
 The no-prediction run also estimates the error budget (``budget_every``).
 
 :func:`summarize` reduces the :class:`closedloop.SimulationResult` of each run to the
@@ -177,12 +177,12 @@ def quick_config():
     return cfg.replace(field=FieldConfig(size=cfg.field.size, n_points=5))
 
 
-def _make_predictor(name: str, nn_max_iter: int | None):
-    from closedloop import predictors
+def _loop_predictor(name: str, nn_max_iter: int | None):
+    from closedloop.predictors import LoopPredictor
 
-    p = predictors.make(name)
+    p = LoopPredictor.from_name(name)
     if nn_max_iter is not None and name in ("nn", "nn-paper"):
-        p.max_iter = int(nn_max_iter)
+        p.predictor.max_iter = int(nn_max_iter)  # a fresh forecaster of this run's own
     return p
 
 
@@ -215,8 +215,8 @@ def run_all(config, duration: float, *, seed: int = 0,
     results : dict of str -> closedloop.SimulationResult
     timings : dict of str -> (train_seconds, run_seconds)
     """
-    from closedloop import predictors
-    from closedloop.simulation import LoopModel, simulate
+    from closedloop.simulation import LoopModel
+    from closedloop.training import run_trained
 
     names = ("none", *[n for n in names if n != "none"])
     model = LoopModel(config)
@@ -224,13 +224,13 @@ def run_all(config, duration: float, *, seed: int = 0,
     timings: dict = {}
     for name in names:
         t0 = time.perf_counter()
-        predictor = _make_predictor(name, nn_max_iter)
-        if predictors.needs_training(predictor):
-            predictors.train(predictor, results["none"])
+        predictor = _loop_predictor(name, nn_max_iter)
+        if predictor.needs_training:  # here, not in run_trained, to time it apart
+            predictor = predictor.trained(results["none"])
         t1 = time.perf_counter()
-        results[name] = simulate(config, duration, predictor=predictor, seed=seed, model=model,
-                                 progress=progress,
-                                 budget_every=budget_every if name == "none" else None)
+        results[name] = run_trained(config, predictor, duration, seed=seed, model=model,
+                                    progress=progress,
+                                    budget_every=budget_every if name == "none" else None)
         t2 = time.perf_counter()
         timings[name] = (t1 - t0, t2 - t1)
         s = results[name].summary()

@@ -61,7 +61,7 @@ from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_read
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.scan import scan_rows
 
-__all__ = ["read_hdf5", "write_hdf5"]
+__all__ = ["read_hdf5", "write_hdf5", "read_log_group", "write_log_group"]
 
 _HEADER = "modalinfo_header"
 _COEFF_NAMES = ("coefficients", "coeffs", "coefs", "data")
@@ -89,24 +89,72 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     if not isinstance(log, ModalLog):
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
     path = as_path(path)
-    header = dumps(log_header(log, checksum=True))
 
     def write(name: Path) -> None:
         with h5py.File(name, "w") as f:
-            dset = f.create_dataset("coefficients", shape=log.shape, dtype=log.dtype)
-            rows = 0
-            for block in log.iter_chunks(scan_rows(log.coeffs)):
-                dset[rows : rows + block.shape[0]] = block
-                rows += block.shape[0]
-            # fixed-length byte strings: no variable-length heap references (see module doc)
-            dset.attrs["units"] = np.bytes_(log.units)
-            dset.attrs["convention"] = np.bytes_(log.convention)
-            dset.attrs["labels"] = np.array([lab.encode("utf-8") for lab in log.labels])
-            if log.timestamps is not None:
-                f.create_dataset("timestamps", data=np.asarray(log.timestamps))
-            f.create_dataset(_HEADER, data=np.frombuffer(header.encode("ascii"), dtype=np.uint8))
+            write_log_group(f, log)
 
     return atomic_write(path, write, overwrite=overwrite, by_name=True)
+
+
+def write_log_group(group, log: ModalLog) -> None:
+    """Write ``log`` into an open ``h5py`` group, in :func:`write_hdf5`'s layout.
+
+    The one HDF5 writer of a ``ModalLog``: :func:`write_hdf5` writes at a file's root,
+    other files (e.g. a ``closedloop`` result) hold several logs, one group each.
+
+    Parameters
+    ----------
+    group : h5py.Group
+        An empty group (or file) open for writing.
+    log : ModalLog
+        The log.
+    """
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    header = dumps(log_header(log, checksum=True))
+    dset = group.create_dataset("coefficients", shape=log.shape, dtype=log.dtype)
+    rows = 0
+    for block in log.iter_chunks(scan_rows(log.coeffs)):
+        dset[rows : rows + block.shape[0]] = block
+        rows += block.shape[0]
+    # fixed-length byte strings: no variable-length heap references (see module doc)
+    dset.attrs["units"] = np.bytes_(log.units)
+    dset.attrs["convention"] = np.bytes_(log.convention)
+    dset.attrs["labels"] = np.array([lab.encode("utf-8") for lab in log.labels])
+    if log.timestamps is not None:
+        group.create_dataset("timestamps", data=np.asarray(log.timestamps))
+    group.create_dataset(_HEADER, data=np.frombuffer(header.encode("ascii"), dtype=np.uint8))
+
+
+def read_log_group(group, path, *, verify: bool = True) -> ModalLog:
+    """Read a log written by :func:`write_log_group` from an open ``h5py`` group.
+
+    Parameters
+    ----------
+    group : h5py.Group
+        The group (or file) holding the log.
+    path : str or os.PathLike
+        The file, for messages.
+    verify : bool
+        Check the recorded SHA-256 of the header, coefficients and timestamps.
+
+    Returns
+    -------
+    ModalLog
+
+    Raises
+    ------
+    LogFormatError
+        A group without modalinfo's header, or a damaged one.
+    """
+    path = as_path(path)
+    with reading("HDF5", path):
+        if _HEADER not in group:
+            raise LogFormatError(f"HDF5 file '{path}': group '{group.name}' holds no "
+                                 "modalinfo log")
+        coeffs, stored = _read_own(group, path, mmap=False, verify=verify, dataset=None)
+    return build_log(coeffs, path, stored, {})
 
 
 def _datasets(f) -> dict[str, Any]:
@@ -184,38 +232,45 @@ def read_hdf5(
     with reading("HDF5", path):
         with h5py.File(path, "r") as f:
             if _HEADER in f:
-                raw = f[_HEADER]
-                if raw.dtype != np.uint8 or raw.ndim != 1:
-                    raise LogFormatError(f"corrupt HDF5 file '{path}': bad {_HEADER} dataset")
-                text = raw[()].tobytes().decode("ascii")
-                header = parse_header(text, "HDF5", path, verify=verify)
-                if "coefficients" not in f:
-                    raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
-                coeffs = _load(f["coefficients"], path, mmap)
-                check_stored_coefficients(coeffs, header, "HDF5", path)
-                stored = stored_from_header(header)
-                if header["has_timestamps"]:
-                    if "timestamps" not in f:
-                        raise LogFormatError(f"corrupt HDF5 file '{path}': timestamps missing")
-                    stored["timestamps"] = f["timestamps"][()]
-                    if stored["timestamps"].dtype.str != "<f8":
-                        raise LogFormatError(
-                            f"corrupt HDF5 file '{path}': timestamps have dtype "
-                            f"{stored['timestamps'].dtype.str}, expected <f8"
-                        )
-                if verify and header["has_timestamps"]:
-                    verify_checksum(header, "timestamps", stored["timestamps"], "HDF5", path)
-                if verify and not isinstance(coeffs, np.memmap):
-                    verify_checksum(header, "coefficients", coeffs, "HDF5", path)
-                if dataset is not None and dataset.strip("/") != "coefficients":
-                    raise LogFormatError(
-                        f"HDF5 file '{path}' was written by modalinfo; its coefficients are "
-                        f"'coefficients', not {dataset!r}"
-                    )
+                coeffs, stored = _read_own(f, path, mmap, verify, dataset)
             else:
                 foreign = True
                 coeffs, stored = _foreign(f, path, mmap, dataset)
     return build_log(coeffs, path, stored, hints, foreign=foreign)
+
+
+def _read_own(f, path: Path, mmap: bool, verify: bool,
+              dataset: str | None) -> tuple[np.ndarray, dict]:
+    """Coefficients and stored values of a log written by :func:`write_log_group`."""
+    raw = f[_HEADER]
+    if raw.dtype != np.uint8 or raw.ndim != 1:
+        raise LogFormatError(f"corrupt HDF5 file '{path}': bad {_HEADER} dataset")
+    text = raw[()].tobytes().decode("ascii")
+    header = parse_header(text, "HDF5", path, verify=verify)
+    if "coefficients" not in f:
+        raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
+    coeffs = _load(f["coefficients"], path, mmap)
+    check_stored_coefficients(coeffs, header, "HDF5", path)
+    stored = stored_from_header(header)
+    if header["has_timestamps"]:
+        if "timestamps" not in f:
+            raise LogFormatError(f"corrupt HDF5 file '{path}': timestamps missing")
+        stored["timestamps"] = f["timestamps"][()]
+        if stored["timestamps"].dtype.str != "<f8":
+            raise LogFormatError(
+                f"corrupt HDF5 file '{path}': timestamps have dtype "
+                f"{stored['timestamps'].dtype.str}, expected <f8"
+            )
+    if verify and header["has_timestamps"]:
+        verify_checksum(header, "timestamps", stored["timestamps"], "HDF5", path)
+    if verify and not isinstance(coeffs, np.memmap):
+        verify_checksum(header, "coefficients", coeffs, "HDF5", path)
+    if dataset is not None and dataset.strip("/") != "coefficients":
+        raise LogFormatError(
+            f"HDF5 file '{path}' was written by modalinfo; its coefficients are "
+            f"'coefficients', not {dataset!r}"
+        )
+    return coeffs, stored
 
 
 def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray, dict]:

@@ -18,6 +18,7 @@ import pytest
 aotpy = pytest.importorskip("aotpy")
 
 from closedloop import LoopModel, SimulationConfig, simulate  # noqa: E402
+from closedloop.aot import export_aot  # noqa: E402
 from closedloop.cli import main as closedloop_main  # noqa: E402
 from closedloop.config import DMConfig, WFSConfig  # noqa: E402
 from modalinfo.cli import main as modalinfo_main  # noqa: E402
@@ -45,7 +46,7 @@ def run(cfg, model):
 @pytest.fixture(scope="module")
 def exported(run, model, tmp_path_factory):
     path = tmp_path_factory.mktemp("aot") / "run.fits"
-    run.to_aot(path, model=model)
+    export_aot(run, path, model=model)
     return path
 
 
@@ -183,9 +184,9 @@ def test_modalinfo_info_identifies_the_dm_modes_as_zernikes(exported, capsys, ui
 def test_never_overwrites_unasked(run, model, exported):
     before = exported.read_bytes()
     with pytest.raises(FileExistsError, match="overwrite"):
-        run.to_aot(exported, model=model)
+        export_aot(run, exported, model=model)
     assert exported.read_bytes() == before
-    run.to_aot(exported, model=model, overwrite=True)
+    export_aot(run, exported, model=model, overwrite=True)
     again = aotpy.AOSystem.read_from_file(exported)
     np.testing.assert_array_equal(_native(_loop(again, "dm1").modal_coefficients),
                                   run.logs["dm1.residual"].coeffs)
@@ -194,7 +195,7 @@ def test_never_overwrites_unasked(run, model, exported):
 def test_model_of_another_config_is_refused(run, tmp_path):
     other = LoopModel(small(leak=0.02))
     with pytest.raises(ValueError, match="another config"):
-        run.to_aot(tmp_path / "x.fits", model=other)
+        export_aot(run, tmp_path / "x.fits", model=other)
     assert not (tmp_path / "x.fits").exists()
 
 
@@ -205,7 +206,7 @@ def test_ideal_sensors_single_dm(tmp_path):
                                      kind="ideal", field_samples=1, dm=0),),
                      layers=base.layers[:1])
     r = simulate(c, 0.01, seed=1, progress=False)
-    path = r.to_aot(tmp_path / "ideal.fits")
+    path = export_aot(r, tmp_path / "ideal.fits")
     system = aotpy.AOSystem.read_from_file(path)
     (w,) = system.wavefront_sensors
     assert isinstance(w, aotpy.Pyramid) and geometry_of(system)["sensors"]["wfs0"]["extra"][

@@ -21,6 +21,7 @@ aotpy = pytest.importorskip("aotpy")
 from closedloop.aot import (  # noqa: E402
     CLOSEDLOOP_KEY,
     aot_wind_direction,
+    export_aot,
     wind_direction_from_aot,
 )
 from closedloop.config import (  # noqa: E402
@@ -101,7 +102,7 @@ def test_round_trip_through_aotpy(tmp_path):
         loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=0.0, gain=0.5),
         field=FieldConfig(size=0.0, n_points=1))
     run = simulate(cfg, 0.005, seed=2, progress=False)
-    path = run.to_aot(tmp_path / "wind.fits")
+    path = export_aot(run, tmp_path / "wind.fits")
     system = aotpy.AOSystem.read_from_file(path)
     (atm,) = system.atmosphere_params
     written = np.asarray(atm.layers_wind_direction.data, dtype=float).ravel()

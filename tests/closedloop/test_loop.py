@@ -13,7 +13,7 @@ import pytest
 from closedloop import LoopModel, SimulationResult, presets, simulate
 from closedloop.config import DMConfig, FieldConfig, LoopConfig, TelescopeConfig, WFSConfig
 from closedloop.control import Controller
-from closedloop.predictors import make, train, training_data
+from closedloop.predictors import ORACLE, LoopPredictor, training_data
 from modalinfo.forecast import ARMAPredictor, PersistencePredictor
 from modalinfo.ordering import fitting_error
 
@@ -98,7 +98,7 @@ def test_oracle_reaches_the_zero_delay_run(cfg, model, reference):
     # the oracle knows the POL over each command's hold: it must do at least as well as
     # the same loop with no delay at all. Tolerance: the frame-to-frame scatter of the
     # SR peak's mean (its s.e. over ~100 correlated frames is ~0.01).
-    oracle = simulate(cfg, 0.15, seed=5, model=model, predictor="oracle", progress=False)
+    oracle = simulate(cfg, 0.15, seed=5, model=model, predictor=ORACLE, progress=False)
     zero = small(delay=0.0)
     zero_run = simulate(zero, 0.15, seed=5, progress=False)
     a = oracle.strehl_peak[oracle.closure_index:].mean()
@@ -112,14 +112,15 @@ def test_trained_predictors_run_online(cfg, model, reference):
     data = training_data(reference)
     assert data.shape[1] == model.n_modes
     assert data.shape[0] <= reference.times.size - 15  # after 15 ms, as in the paper
-    arma = train(make("arma"), reference)
-    assert isinstance(arma, ARMAPredictor)
+    arma = LoopPredictor.from_name("arma").trained(reference)
+    assert isinstance(arma.predictor, ARMAPredictor)
     run = simulate(cfg, 0.15, seed=5, model=model, predictor=arma, progress=False)
     assert np.all(np.isfinite(run.residual_variance))
+    assert run.predictor == "arma"  # the name given, not the class name
     with pytest.raises(ValueError, match="no-prediction"):
         training_data(run)
     with pytest.raises(ValueError, match="predictor"):
-        make("kalman")
+        LoopPredictor.from_name("kalman")
 
 
 def test_result_round_trip_and_no_overwrite(reference, tmp_path):

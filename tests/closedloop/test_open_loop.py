@@ -144,8 +144,10 @@ def test_open_loop_refuses_what_needs_commands(kwargs, match):
 
 def test_open_loop_aot_export_says_open(tmp_path):
     aotpy = pytest.importorskip("aotpy")
+    from closedloop.aot import export_aot
+
     r = simulate(_config(closed=False, wind=5.0), 5e-3, seed=1, progress=False)
-    system = aotpy.AOSystem.read_from_file(r.to_aot(tmp_path / "open.fits"))
+    system = aotpy.AOSystem.read_from_file(export_aot(r, tmp_path / "open.fits"))
     loops = [lp for lp in system.loops if lp.uid.startswith("dm0")]
     assert loops and all(lp.closed is False for lp in loops)
 
