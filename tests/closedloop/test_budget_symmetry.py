@@ -86,11 +86,15 @@ def _budget(model: LoopModel, maps: list[np.ndarray]):
     """The budget probe's terms for one frame whose turbulence is ``maps``."""
     probe = BudgetProbe(model, None, every=1)
 
-    def fill(_model, _atm, views, _surfaces, _buf):
-        for v, m in zip(views, maps, strict=True):
-            v[:] = m
+    class _Frozen:
+        """A loop state whose turbulence is ``maps`` (the probe's only call into it)."""
 
-    probe.step(0, None, {}, True, fill)
+        def turbulence(self, out):
+            for v, m in zip(out, maps, strict=True):
+                v[:] = m
+            return out
+
+    probe.step(0, _Frozen(), True)
     probe.frame_end(0, 1, 1)
     n_dir = len(model.science.directions)
     return probe.result(np.zeros((1, n_dir)), 0, 1.0, seed=0)
