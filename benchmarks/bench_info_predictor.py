@@ -22,7 +22,7 @@ Run: nice /work/main/.venv/bin/python benchmarks/bench_info_predictor.py
 2. In the loop: ``table1-wind`` for ``--loop-duration`` s with ``none``, ``info``,
    ``arma``, ``arma-aic`` and the ``oracle`` on one atmosphere (seed 0, one
    ``LoopModel``), the trained predictors fitted on the no-prediction run's POL after
-   its loop closure and 15 ms (:func:`closedloop.predictors.train`); SR peak mean and
+   its loop closure and 15 ms (:func:`closedloop.run_trained`); SR peak mean and
    corrected-FoV diameter from :meth:`closedloop.SimulationResult.summary`.
 
 Single-threaded BLAS (set before numpy is imported), as the other benchmarks.
@@ -50,21 +50,16 @@ LOOP_PREDICTORS = ("none", "info", "arma", "arma-aic", "oracle")
 
 
 def run_trained(config, duration: float, names, *, seed: int = 0) -> dict:
-    """One closed-loop run per predictor name, trained ones fitted on the ``none`` run.
-
-    The one place that trains-then-runs with closedloop's public API of today (to be
-    switched to closedloop's own train-then-run helper when it exists).
-    """
-    from closedloop import predictors
-    from closedloop.simulation import LoopModel, simulate
+    """One closed-loop run per predictor name, trained ones fitted on the ``none`` run."""
+    import closedloop
+    from closedloop.simulation import LoopModel
 
     model = LoopModel(config)
-    results = {}
-    for name in ("none", *[n for n in names if n != "none"]):
-        p = predictors.make(name)
-        if predictors.needs_training(p):
-            predictors.train(p, results["none"])
-        results[name] = simulate(config, duration, predictor=p, seed=seed, model=model)
+    results = {"none": closedloop.simulate(config, duration, seed=seed, model=model)}
+    for name in names:
+        if name != "none":
+            results[name] = closedloop.run_trained(config, name, duration, seed=seed,
+                                                   reference=results["none"], model=model)
     return results
 
 
