@@ -3,7 +3,7 @@
 The table1 atmosphere (two layers, D/r0 = 26 and 2 at D = 4 m, winds 7 and 70 m/s along
 x, 1 ms steps) sampled at 6.25 cm (4 m / 64 px):
   - at 64 px (the 4 m pupil) and at 160 px (the 10 m meta-pupil);
-  - ours: ``closedloop.atmosphere.AtmosphericLayer`` (FFT screen with subharmonics, sized
+  - ours: ``closedloop.optics.atmosphere.AtmosphericLayer`` (FFT screen with subharmonics, sized
     for the run, bilinear sub-pixel shift in a numba kernel), ``evolve_until(t)`` then
     ``phase(out)`` for both layers per step;
   - hcipy 0.7: ``InfiniteAtmosphericLayer`` (row extrusion, Assemat et al. 2006) on
@@ -26,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from closedloop.atmosphere import Atmosphere, AtmosphericLayer
+from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
 
 D_TEL, WAVELENGTH = 4.0, 500e-9
 LAYERS = [(26.0, 7.0, 0.0), (2.0, 70.0, 8000.0)]  # (D/r0, wind [m/s], altitude [m])

@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from closedloop import LoopModel, presets, simulate
-from closedloop.science import ScienceCamera
+from closedloop.optics.science import ScienceCamera
 
 
 def numpy_forward(self, weights=None):

@@ -86,7 +86,7 @@ def _n_inputs(name: str, pred, n_modes: int) -> float:
 
 def offline(duration: float, seed: int, per_dm: int) -> None:
     from closedloop import presets
-    from closedloop.predictors import training_data
+    from closedloop.control.predictors import training_data
 
     config = presets.get("table1-wind")
     t0 = time.perf_counter()

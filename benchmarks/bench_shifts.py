@@ -14,7 +14,7 @@ Two costs per subaperture and frame, each the median of ``--repeats`` timed bloc
 
 The frame rate of a table1-like correlating WFS pair is then estimated as
 ``1 / sum_wfs n_valid * (formation + correlation)``: the valid subapertures are counted
-from the ``table1`` preset's geometric sensors (``closedloop.wfs``), the field of each
+from the ``table1`` preset's geometric sensors (``closedloop.optics.wfs``), the field of each
 subaperture image is its WFS's field of view (60" ground, 20" upper) at ``--pixel``
 arcsec per pixel, the subaperture pitch is its meta-pupil over 16, and the pupil is
 sampled at the loop's 6.25 cm. The goal of issue 20 is >= 100 frames/s.
@@ -31,12 +31,12 @@ import time
 import numpy as np
 
 from closedloop import presets
-from closedloop.dm import DeformableMirror
-from closedloop.geometry import Geometry, wfs_meta_pupil
 from closedloop.optics import shifts
 from closedloop.optics.correlating import CorrelatingSubapertures
+from closedloop.optics.dm import DeformableMirror
+from closedloop.optics.geometry import Geometry, wfs_meta_pupil
 from closedloop.optics.granulation import granulation_scene
-from closedloop.wfs import WavefrontSensor
+from closedloop.optics.wfs import WavefrontSensor
 
 
 def cpu_median(fn, repeats):

@@ -15,17 +15,28 @@ Public surface::
     result.logs["dm0.pol"]          # a modalinfo.telemetry.ModalLog
     result.save("run.h5"); SimulationResult.load("run.h5")
 
-Parts: ``config`` (frozen dataclasses, TOML/JSON), ``presets``, ``geometry``,
-``atmosphere`` / ``phase_screen`` (frozen flow), ``dm``, ``wfs`` (MFoV layer-oriented
-Shack-Hartmann), ``control`` (POL integrator and predictor hook), ``science`` (Strehl
-over the field), ``simulation`` (the loop), ``result``, ``aot`` (export as an AO Telemetry
-system: ``aot.export_aot(result, path)``), ``predictors`` (:class:`LoopPredictor`, :data:`ORACLE`),
-``training`` (:func:`run_trained`), ``cli``.
+Rooms (see docs/ARCHITECTURE.md):
+
+- ``closedloop.optics``: what light meets, each a part of the loop's protocol
+  (``parts.py``): ``atmosphere`` / ``phase_screen`` (frozen flow), ``geometry`` (planes,
+  footprints), ``dm``, ``wfs`` (MFoV layer-oriented Shack-Hartmann and the ideal sensor,
+  through a registry), ``science`` (Strehl over the field), their numba kernels, and the
+  solar sensor in progress (``granulation``, ``shifts``, ``correlating``; issue 20);
+- ``closedloop.control``: ``controller`` (POL integrator and predictor hook) and
+  ``predictors`` (:class:`LoopPredictor`, :data:`ORACLE`);
+- the loop itself, top level: ``config`` (frozen dataclasses, TOML/JSON), ``presets``,
+  ``model`` (:class:`LoopModel`), ``state`` (``LoopState``), ``simulation`` (the loop),
+  ``budget`` (error-budget probe), ``result``, ``training`` (:func:`run_trained`),
+  ``resources``, ``theory``, ``aot`` (export as an AO Telemetry system:
+  ``aot.export_aot(result, path)``);
+- ``closedloop.studies``: studies made of runs (``compression``: Figure 6;
+  ``sensitivity``);
+- the command line apart: ``cli``, ``sweep`` (grids of runs on ``modalinfo.batch``).
 """
 
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config, save_config
-from closedloop.predictors import ORACLE, LoopPredictor
+from closedloop.control.predictors import ORACLE, LoopPredictor
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
 from closedloop.training import run_trained

@@ -36,12 +36,12 @@ from collections import deque
 
 import numpy as np
 
-from closedloop import _kernels
 from closedloop.config import SimulationConfig, WFSConfig
-from closedloop.control import Controller
+from closedloop.control.controller import Controller
 from closedloop.model import LoopModel
+from closedloop.optics import _kernels
+from closedloop.optics.science import ScienceCamera
 from closedloop.result import ErrorBudget  # the budget's numbers live with the run's result
-from closedloop.science import ScienceCamera
 from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
 

@@ -89,7 +89,7 @@ def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
 
 def _loop_predictor(name: str, flag: str):
     """Return the predictor called ``name`` (the one check of a name), or a one-line error."""
-    from closedloop.predictors import LoopPredictor
+    from closedloop.control.predictors import LoopPredictor
 
     try:
         return LoopPredictor.from_name(name)
@@ -153,7 +153,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from closedloop.predictors import NAMES, LoopPredictor
+    from closedloop.control.predictors import NAMES, LoopPredictor
     from closedloop.simulation import LoopModel, simulate
     from closedloop.training import run_trained
 
@@ -313,7 +313,7 @@ def _cmd_sweep(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """Return the ``closedloop`` parser."""
-    from closedloop import predictors
+    from closedloop.control import predictors
 
     parser = _Parser(prog="closedloop", description="Layer-oriented MCAO simulator of a "
                      "4 m solar telescope (the paper's LOST simulations).")

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from closedloop.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.config import SimulationConfig
-from closedloop.dm import DeformableMirror
-from closedloop.geometry import Geometry
-from closedloop.science import ScienceCamera
-from closedloop.wfs import make_sensor
+from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
+from closedloop.optics.dm import DeformableMirror
+from closedloop.optics.geometry import Geometry
+from closedloop.optics.science import ScienceCamera
+from closedloop.optics.wfs import make_sensor
 from modalinfo.bases import zernike_covariance
 
 __all__ = ["LoopModel"]

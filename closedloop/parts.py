@@ -7,14 +7,14 @@ construction); a part in which time matters also has the ``t`` property and
 receives to what it gives (the atmosphere: its phase on a plane; a DM: its surface from
 a command; a WFS: its measurements from the plane maps; the science camera: the
 residual variance in each direction). The controller's step is
-:meth:`closedloop.control.Controller.step` (a command from a modal residual).
+:meth:`closedloop.control.controller.Controller.step` (a command from a modal residual).
 :class:`closedloop.state.LoopState` composes them over one run, and
 :func:`closedloop.simulate` is the loop over a :class:`~closedloop.state.LoopState`.
 
 A new kind of wavefront sensor is one class implementing :class:`Sensor` (usually a
-subclass of :class:`closedloop.wfs.WavefrontSensor`, which supplies the sparse
+subclass of :class:`closedloop.optics.wfs.WavefrontSensor`, which supplies the sparse
 measurement path and the reconstructor) registered with
-:func:`closedloop.wfs.register_sensor` under its config ``kind``.
+:func:`closedloop.optics.wfs.register_sensor` under its config ``kind``.
 """
 
 from __future__ import annotations

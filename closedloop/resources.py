@@ -6,9 +6,9 @@ refuse):
 
 - ``baseline``: the interpreter with numpy, scipy, numba and the compiled kernels
   (measured, :data:`BASELINE_BYTES`);
-- ``pupil``: the pupil grids of :class:`closedloop.geometry.Geometry` (``N = n_pixels``);
+- ``pupil``: the pupil grids of :class:`closedloop.optics.geometry.Geometry` (``N = n_pixels``);
 - ``screens``: every layer's phase screen, ``G**2`` float64 with ``G`` from
-  :func:`closedloop.atmosphere.screen_size` (the plane's size, the wind's travel over
+  :func:`closedloop.optics.atmosphere.screen_size` (the plane's size, the wind's travel over
   the run, capped), twice for the oracle's second atmosphere, plus the FFT transient of
   the largest one while it is drawn;
 - ``planes``: the plane maps (residual, exposure sums, per-layer buffers);
@@ -34,9 +34,9 @@ import math
 import os
 from dataclasses import dataclass, field
 
-from closedloop.atmosphere import screen_size
 from closedloop.config import SimulationConfig, dm_disc_diameter, wfs_meta_pupil
-from closedloop.geometry import plane_layout
+from closedloop.optics.atmosphere import screen_size
+from closedloop.optics.geometry import plane_layout
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
            "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "format_bytes"]

@@ -23,7 +23,7 @@ at the last step of frame ``k``
 
 The science camera therefore samples the residual once per frame, at the frame's last
 internal step (an instantaneous Strehl, not one averaged over the frame's internal steps;
-see :mod:`closedloop.science`). In open loop (``loop.closed = false``) every command is
+see :mod:`closedloop.optics.science`). In open loop (``loop.closed = false``) every command is
 replaced by zero: the DMs stay flat, and the residual and POL logs are both the open-loop
 modal turbulence the WFSs see.
 
@@ -42,11 +42,11 @@ import numpy as np
 
 from closedloop.budget import BudgetProbe
 from closedloop.config import LoopConfig, SimulationConfig
-from closedloop.control import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
+from closedloop.control.controller import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
+from closedloop.control.predictors import ORACLE, LoopPredictor, loop_predictor
 from closedloop.model import LoopModel
-from closedloop.predictors import ORACLE, LoopPredictor, loop_predictor
+from closedloop.optics.science import ScienceCamera
 from closedloop.result import SimulationResult
-from closedloop.science import ScienceCamera
 from closedloop.state import LoopState
 from modalinfo._validation import check_real
 
@@ -78,7 +78,7 @@ def simulate(
     duration : float
         Simulated time [s] (a whole number of frames is run: ``round(duration / T)``);
         longer than ``T + loop.delay`` (the first command reaches the mirror then).
-    predictor : closedloop.predictors.LoopPredictor, modalinfo.forecast.Predictor or None
+    predictor : closedloop.control.predictors.LoopPredictor, modalinfo.forecast.Predictor or None
         Forecaster of the POL coefficients of all DMs (concatenated, DM 0 first); it
         must be fitted (a ``LoopPredictor`` trained, see :func:`closedloop.run_trained`)
         and its ``horizon`` must cover the lead. The result stores its name (a bare
@@ -112,11 +112,11 @@ def simulate(
         the ``n`` coefficients (the predictor sees ``B^T p``), and the command is
         ``B c_n``. The logs keep all ``M`` modes (the POL of an uncontrolled direction is
         its measured residual). None: every mode (``B = I``). Used by the compression
-        study (:mod:`closedloop.compression`).
+        study (:mod:`closedloop.studies.compression`).
     on_predictor_fault : {"raise", "hold"}
         The predictor's output is checked at every step (shape exactly ``(horizon, M)``,
         every value finite). ``"raise"``: stop with
-        ``closedloop.control.PredictorFault`` naming the predictor, the step and the
+        ``closedloop.control.controller.PredictorFault`` naming the predictor, the step and the
         mode. ``"hold"``: keep the last command for that frame and go on; a
         ``RuntimeWarning`` at the end says how many frames were held.
     memory_limit : float or None

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from closedloop import _kernels
-from closedloop.atmosphere import Atmosphere
+from closedloop.optics import _kernels
+from closedloop.optics.atmosphere import Atmosphere
 
 __all__ = ["LoopState"]
 

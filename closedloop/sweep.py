@@ -127,7 +127,7 @@ def _check_memory(config: SimulationConfig, duration: float, budget_every: int |
 
 def sweep_specs(grid: dict) -> list:
     """One :class:`modalinfo.batch.engine.TaskSpec` per (override, seed, predictor)."""
-    from closedloop.predictors import NAMES, LoopPredictor
+    from closedloop.control.predictors import NAMES, LoopPredictor
     from modalinfo.batch.engine import TaskSpec, task_key
 
     base = _base(grid)

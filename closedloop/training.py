@@ -4,7 +4,7 @@ The one place the paper's recipe is written (the command line's ``run`` and ``co
 sweeps, the figures' runs and the compression study all call it): a predictor that
 needs training is fitted on the POL of the no-prediction run of the same config and
 duration (the same atmosphere unless ``train_seed`` names another), after its loop
-closure and after 15 ms (:meth:`closedloop.predictors.LoopPredictor.trained`).
+closure and after 15 ms (:meth:`closedloop.control.predictors.LoopPredictor.trained`).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from closedloop.config import SimulationConfig
-from closedloop.predictors import LoopPredictor
+from closedloop.control.predictors import LoopPredictor
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
 
@@ -31,7 +31,7 @@ def run_trained(config: SimulationConfig, predictor: str | LoopPredictor, durati
     ----------
     config : SimulationConfig
     predictor : str or LoopPredictor
-        A name of ``closedloop.predictors.NAMES`` (checked here, once) or a
+        A name of ``closedloop.control.predictors.NAMES`` (checked here, once) or a
         :class:`LoopPredictor` (trained already or not).
     duration : float
         Simulated time of the run and of the reference run [s].

@@ -74,7 +74,7 @@ class PredictorRun:
     Attributes
     ----------
     name : str
-        Predictor name (:data:`closedloop.predictors.NAMES`).
+        Predictor name (:data:`closedloop.control.predictors.NAMES`).
     summary : dict
         :meth:`closedloop.SimulationResult.summary`.
     times : (T,) ndarray
@@ -178,7 +178,7 @@ def quick_config():
 
 
 def _loop_predictor(name: str, nn_max_iter: int | None):
-    from closedloop.predictors import LoopPredictor
+    from closedloop.control.predictors import LoopPredictor
 
     p = LoopPredictor.from_name(name)
     if nn_max_iter is not None and name in ("nn", "nn-paper"):

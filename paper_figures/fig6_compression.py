@@ -4,12 +4,12 @@ The paper ends by proposing to combine its two results: an MI-ordered basis so t
 fewest modes carry the wavefront, and prediction to beat the loop delay, compressing the
 basis also to save real-time computation. Here, in the closed loop of the ``kaos`` preset
 (single conjugate, 0.7 m, 27 Zernike modes, 2 kHz; :mod:`closedloop.presets`), every
-ordering of :data:`closedloop.compression.ORDERINGS` controls only its first ``n``
+ordering of :data:`closedloop.studies.compression.ORDERINGS` controls only its first ``n``
 modes, without prediction and with the best of the predictors screened on the loop
-that controls every mode (:func:`closedloop.compression.predictor_screen`), for a
+that controls every mode (:func:`closedloop.studies.compression.predictor_screen`), for a
 range of ``n``; then the loop delay is modelled as readout + compute(n)
 with the measured cost of our reconstruction and prediction
-(:class:`closedloop.compression.LatencyModel`).
+(:class:`closedloop.studies.compression.LatencyModel`).
 
 Panels: (a) SR peak and (b) field-averaged SR against ``n`` for every ordering, solid
 without and dashed with prediction (fixed delay); (c) the measured real-time step time
@@ -73,7 +73,7 @@ class Figure6:
 
     Attributes
     ----------
-    study : closedloop.compression.CompressionStudy
+    study : closedloop.studies.compression.CompressionStudy
     screen : dict
         Predictor name -> mean SR peak on the loop that controls every mode (with
         ``"none"`` and ``"oracle"``); the study's predictor is the best screened one.
@@ -81,7 +81,7 @@ class Figure6:
         Mode counts of the synthetic cost measurement.
     scaling_time : dict
         ``"none"`` / predictor name -> ``(K,)`` measured RTC step time [s].
-    slow_rtc : closedloop.compression.CompressionStudy or None
+    slow_rtc : closedloop.studies.compression.CompressionStudy or None
         The same study with an RTC ``SLOW_RTC_SPEED`` times this machine's speed
         (None with ``quick``).
     quick : bool
@@ -136,7 +136,7 @@ class Figure6:
 def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
     """Run the study on the ``kaos`` preset and measure the cost scaling."""
     from closedloop import LoopModel, presets, simulate
-    from closedloop.compression import (
+    from closedloop.studies.compression import (
         LatencyModel,
         compression_study,
         predictor_screen,
@@ -178,7 +178,7 @@ def plot(fig6: Figure6, out_dir: Path) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from closedloop.compression import ORDERINGS
+    from closedloop.studies.compression import ORDERINGS
 
     s = fig6.study
     out_dir = Path(out_dir)
@@ -263,7 +263,7 @@ def synergy(fig6: Figure6, n: int) -> dict:
 
 def table_rows(fig6: Figure6) -> list[tuple[str, str, str, str]]:
     """Rows ``(quantity, paper, ours, why)`` of the comparison table."""
-    from closedloop.compression import ORDERINGS
+    from closedloop.studies.compression import ORDERINGS
 
     s = fig6.study
     mid = int(s.n_values[len(s.n_values) // 2 - (1 if len(s.n_values) % 2 == 0 else 0)])
@@ -305,7 +305,7 @@ def table_rows(fig6: Figure6) -> list[tuple[str, str, str, str]]:
 
 def report(fig6: Figure6) -> str:
     """Figure 6's section of the report (Markdown)."""
-    from closedloop.compression import ORDERINGS
+    from closedloop.studies.compression import ORDERINGS
 
     s = fig6.study
     def sr_table(table, extra=None) -> list[str]:

@@ -27,7 +27,7 @@ solar systems do) the image of one subaperture of the same frame, which makes th
 relative to that subaperture (the global tip-tilt then comes from a separate correlation
 tracker). A shift ``s`` pixels is the wavefront tilt ``s * pixel_scale`` [rad on the sky]
 and the phase gradient ``2 pi s pixel_scale / lambda`` [rad/m] at ``lambda`` (the geometric
-SH of :mod:`closedloop.wfs` reports gradients in rad/m of the phase at the loop's
+SH of :mod:`closedloop.optics.wfs` reports gradients in rad/m of the phase at the loop's
 ``r0_wavelength``: multiply by ``wavelength / r0_wavelength``).
 
 Photon budget. The disc-centre continuum is taken as a blackbody at the brightness

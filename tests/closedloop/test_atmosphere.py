@@ -1,4 +1,4 @@
-"""Tests of closedloop.atmosphere and closedloop.phase_screen.
+"""Tests of closedloop.optics.atmosphere and closedloop.optics.phase_screen.
 
 References (from outside the module under test):
 - the von Karman / Kolmogorov phase structure function computed here by numerical
@@ -30,9 +30,9 @@ import numpy as np
 import pytest
 from scipy import integrate, ndimage, special
 
-from closedloop._atmosphere_kernels import shift_separable
-from closedloop.atmosphere import Atmosphere, AtmosphericLayer, screen_size
-from closedloop.phase_screen import expected_structure_function, fft_phase_screen
+from closedloop.optics._atmosphere_kernels import shift_separable
+from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer, screen_size
+from closedloop.optics.phase_screen import expected_structure_function, fft_phase_screen
 from modalinfo.bases import (
     Pupil,
     ZernikeBasis,
@@ -286,7 +286,7 @@ def test_shift_kernel_reproduces_polynomials(taps, degree):
     field = 0.3 * x - 0.2 * y + 1.0 + (0.01 * x * x - 0.02 * x * y + 0.005 * y * y
                                        if degree == 2 else 0.0)
     fy, fx = 0.37, 0.81
-    from closedloop.atmosphere import _keys_weights
+    from closedloop.optics.atmosphere import _keys_weights
     if taps == 2:
         wy, wx = np.array([1 - fy, fy]), np.array([1 - fx, fx])
         r0, c0 = 5, 7
@@ -333,7 +333,7 @@ def test_interpolation_smoothing_at_half_pixel(interpolation):
     # along x, predicted D ratio at 1 px: bilinear 2^(5/3)/4 = 0.794, Keys cubic 0.870.
     dx, r0, n = 0.0625, 0.15, 64
     d = lambda r: 6.8839 * (np.asarray(r) * dx / r0) ** (5 / 3)  # noqa: E731
-    from closedloop.atmosphere import _keys_weights
+    from closedloop.optics.atmosphere import _keys_weights
     wx = np.array([0.5, 0.5]) if interpolation == "bilinear" else _keys_weights(0.5)
     measured = {1: [], 2: []}
     for seed in range(40):
@@ -477,7 +477,7 @@ def test_fft_phase_screen_validates_and_is_zero_mean():
 def test_screen_is_the_fourier_sum_of_its_terms(outer_scale):
     # the FFT plus the grouped separable evaluation of the extra terms equals the direct
     # sum over every term (definition in the module docstring) with the same numbers
-    from closedloop.phase_screen import _spectral_terms
+    from closedloop.optics.phase_screen import _spectral_terms
 
     g, dx, r0, seed = 32, 0.1, 0.1, 3
     screen = fft_phase_screen(g, dx, r0, outer_scale=outer_scale, seed=seed)

@@ -128,7 +128,7 @@ def test_mirrored_turbulence_gives_the_mirrored_budget_map(model, axis):
 
 def test_half_pixel_offset_window_breaks_the_law(model, monkeypatch):
     """A slope window shifted by half a pixel (the pre-issue 17 SH) fails the mirror law."""
-    from closedloop import wfs as wfs_module
+    from closedloop.optics import wfs as wfs_module
 
     original = wfs_module._window_entries
 

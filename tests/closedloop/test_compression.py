@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from closedloop import LoopModel, presets, simulate
-from closedloop.compression import (
+from closedloop.studies.compression import (
     ORDERINGS,
     LatencyModel,
     compression_study,
@@ -94,7 +94,7 @@ def test_orderings_are_orthogonal_changes_of_basis(bases):
 def test_pca_ordering_matches_scikit_learn(reference, bases):
     from sklearn.decomposition import PCA
 
-    from closedloop.predictors import training_start
+    from closedloop.control.predictors import training_start
 
     pol = np.asarray(reference.logs["dm0.pol"].coeffs)[training_start(reference):]
     # our PCA is uncentred (second moments, as modalinfo's data K-L); centre explicitly

@@ -28,7 +28,7 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
-from closedloop.geometry import ARCSEC
+from closedloop.optics.geometry import ARCSEC
 from closedloop.resources import ResourceError, check_resources, estimate
 from closedloop.result import SimulationResult
 from modalinfo.forecast import PersistencePredictor

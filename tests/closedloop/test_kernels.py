@@ -2,7 +2,7 @@
 
 Science step. Reference: the piston-removed variance over the pupil of the sum of the
 shifted plane maps, written in plain numpy one direction at a time (fancy-indexed 4 x 4
-reads with ``closedloop.science.read_weights``, a copy at whole pixels; two-pass
+reads with ``closedloop.optics.science.read_weights``, a copy at whole pixels; two-pass
 ``numpy.var``): the computation the kernel replaces, as in
 ``benchmarks/bench_closedloop.py``. The kernel reads direction-independent planes once
 and accumulates per pupil column, so it agrees with the reference to rounding only.
@@ -18,11 +18,12 @@ import numpy as np
 import pytest
 from scipy import sparse
 
-from closedloop import _kernels, presets
+from closedloop import presets
 from closedloop.config import DMConfig
-from closedloop.dm import DeformableMirror
-from closedloop.geometry import Geometry
-from closedloop.science import ScienceCamera, read_weights
+from closedloop.optics import _kernels
+from closedloop.optics.dm import DeformableMirror
+from closedloop.optics.geometry import Geometry
+from closedloop.optics.science import ScienceCamera, read_weights
 
 
 def plain_numpy(cam, weights):
@@ -117,7 +118,7 @@ def test_dm_surface_without_symmetry_falls_back_to_the_product():
     assert dm._mirror is None
     np.testing.assert_array_equal(dm.forward(np.ones(20)), dm.shapes @ np.ones(20))
     # a disc that is not symmetric: the tables refuse it and surface() is B c
-    from closedloop.dm import _mirror_tables
+    from closedloop.optics.dm import _mirror_tables
 
     n = geometry.planes[dm.plane].n
     assert _mirror_tables(dm.pixels[1:], dm.shapes[1:], n) is None

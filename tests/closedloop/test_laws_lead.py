@@ -29,7 +29,7 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
-from closedloop.control import Controller
+from closedloop.control.controller import Controller
 from closedloop.simulation import ORACLE, LoopModel, simulate
 
 

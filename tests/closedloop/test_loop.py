@@ -12,8 +12,8 @@ import pytest
 
 from closedloop import LoopModel, SimulationResult, presets, simulate
 from closedloop.config import DMConfig, FieldConfig, LoopConfig, TelescopeConfig, WFSConfig
-from closedloop.control import Controller
-from closedloop.predictors import ORACLE, LoopPredictor, training_data
+from closedloop.control.controller import Controller
+from closedloop.control.predictors import ORACLE, LoopPredictor, training_data
 from modalinfo.forecast import ARMAPredictor, PersistencePredictor
 from modalinfo.ordering import fitting_error
 
@@ -217,7 +217,7 @@ def test_sensitivity_rows():
     # recomputed here; a variation row equals a direct run of the changed config
     import dataclasses
 
-    from closedloop.sensitivity import markdown, sensitivity
+    from closedloop.studies.sensitivity import markdown, sensitivity
 
     base = small()
 

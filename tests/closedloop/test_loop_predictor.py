@@ -3,7 +3,7 @@ and the name the user gave kept in the result.
 
 References: the paper's recipe written out here by hand (a fresh
 :func:`modalinfo.forecast.presets.make_predictor` fitted on
-:func:`closedloop.predictors.training_data` of the no-prediction run, then
+:func:`closedloop.control.predictors.training_data` of the no-prediction run, then
 :func:`closedloop.simulate`), compared bit for bit with :func:`closedloop.run_trained`;
 the forecasts of a hand-fitted predictor against :meth:`LoopPredictor.trained`'s; the
 list of names against :data:`modalinfo.forecast.presets.PRESETS` (the one list); and,
@@ -20,7 +20,7 @@ import pytest
 from closedloop import ORACLE, SimulationResult, run_trained, simulate
 from closedloop.cli import main
 from closedloop.config import save_config
-from closedloop.predictors import NAMES, NO_PREDICTION, LoopPredictor, training_data
+from closedloop.control.predictors import NAMES, NO_PREDICTION, LoopPredictor, training_data
 from modalinfo.forecast import ARMAPredictor
 from modalinfo.forecast.presets import PRESETS, make_predictor
 

@@ -5,7 +5,7 @@ Reference: the exact expectation of the piston-removed variance over the pupil o
 structure function 6.8839 (s / r0)^(5/3) less the piston's share, computed from the
 pupil's autocorrelation), at shifts ``s = h theta`` with fractional parts 0 to 0.75
 pixel along x, along y and diagonally. The phase is a Kolmogorov FFT screen with
-subharmonics (``closedloop.phase_screen``, whose structure function is tested against
+subharmonics (``closedloop.optics.phase_screen``, whose structure function is tested against
 the same law); the science camera reads it on its 7 km plane from each direction, with
 the on-axis phase subtracted on the ground plane (a perfect on-axis correction), so
 what it returns is exactly the anisoplanatic residual. On the fast tier's screens a
@@ -22,9 +22,9 @@ import numpy as np
 import pytest
 
 from closedloop.config import FieldConfig
-from closedloop.geometry import ARCSEC, Geometry
-from closedloop.phase_screen import fft_phase_screen
-from closedloop.science import ScienceCamera, read_weights
+from closedloop.optics.geometry import ARCSEC, Geometry
+from closedloop.optics.phase_screen import fft_phase_screen
+from closedloop.optics.science import ScienceCamera, read_weights
 from closedloop.theory import shifted_difference_variance
 
 from .test_physics import _single

@@ -30,8 +30,8 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
-from closedloop.geometry import ARCSEC
-from closedloop.science import fft_strehl
+from closedloop.optics.geometry import ARCSEC
+from closedloop.optics.science import fft_strehl
 from closedloop.simulation import LoopModel, simulate
 from closedloop.theory import shifted_difference_variance
 from modalinfo.bases import noll_residual_variance

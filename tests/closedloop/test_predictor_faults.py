@@ -10,7 +10,7 @@ import pytest
 
 from closedloop import LoopModel, presets, simulate
 from closedloop.config import DMConfig, FieldConfig, TelescopeConfig, WFSConfig
-from closedloop.control import Controller, PredictorFault
+from closedloop.control.controller import Controller, PredictorFault
 from modalinfo.forecast import PersistencePredictor
 
 

@@ -1,6 +1,6 @@
 """Figure 6: the report's and table's numbers are the study's; the plot; the crossing.
 
-References: the :class:`closedloop.compression.CompressionStudy` the figure is built
+References: the :class:`closedloop.studies.compression.CompressionStudy` the figure is built
 from (the report's cells are recomputed from it here), and a power law for
 ``Figure6.crossing`` (log-log interpolation is exact on a power law).
 """
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from closedloop import LoopModel, presets
-from closedloop.compression import compression_study
+from closedloop.studies.compression import compression_study
 from paper_figures import fig6_compression as fig6
 
 

@@ -4,7 +4,7 @@ References:
 - Z-tilt vs G-tilt: for a phase ``t x / R + b (x / R)^3`` over a square subaperture of
   half-side ``R``, the least-squares (Z) tilt is ``(t + 3 b / 5) / R`` (computed here by
   ``np.linalg.lstsq`` on the pupil samples) and the mean gradient (G-tilt, what the
-  geometric SH of ``closedloop.wfs`` reports) ``(t + b) / R``: they differ by
+  geometric SH of ``closedloop.optics.wfs`` reports) ``(t + b) / R``: they differ by
   ``2 b / (5 R)``. Loefdahl (2010, A&A 524, A90) shows that SDF/ADF^2 correlation
   measures the Z-tilt. Noise-free, one patch: the slopes equal the Z-tilt within the
   2QI interpolation bias (0.08 px; test_shifts measures 0.03 px max on pure shifts, the

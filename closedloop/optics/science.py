@@ -44,8 +44,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from closedloop import _kernels
-from closedloop.geometry import Geometry
+from closedloop.optics import _kernels
+from closedloop.optics.geometry import Geometry
 
 __all__ = ["ScienceCamera", "fft_strehl", "marechal_strehl", "read_weights"]
 

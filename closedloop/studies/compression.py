@@ -37,9 +37,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from closedloop import predictors as cl_predictors
 from closedloop.config import SimulationConfig
-from closedloop.control import Controller
+from closedloop.control import predictors as cl_predictors
+from closedloop.control.controller import Controller
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
 from closedloop.training import run_trained
@@ -178,7 +178,7 @@ def rtc_scaling(n_values, *, predictor: str | None = None, measurements_per_mode
 
     The same step as :func:`rtc_compute_time` (reconstruction, integrator, predictor
     update) for ``n`` modes and ``measurements_per_mode * n`` measurements, with a random
-    reconstructor and the predictor (a :data:`closedloop.predictors.NAMES` name, or
+    reconstructor and the predictor (a :data:`closedloop.control.predictors.NAMES` name, or
     None) fitted on a random AR(1) series of the length its fit requires: how the cost
     grows with the number of controlled modes, beyond the preset's modes.
 
@@ -255,7 +255,7 @@ class CompressionStudy:
         Numbers of controlled modes.
     orderings : tuple of str
     predictor : str
-        The predictor beside no prediction (``closedloop.predictors`` name).
+        The predictor beside no prediction (``closedloop.control.predictors`` name).
     strehl_peak : dict
         Mean over the window of the SR peak over the field.
     strehl_field : dict
@@ -361,7 +361,7 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     orderings : iterable of str
         Names from :data:`ORDERINGS`.
     predictor : str
-        A name of :data:`closedloop.predictors.NAMES` other than "none" and "oracle".
+        A name of :data:`closedloop.control.predictors.NAMES` other than "none" and "oracle".
     seed : int
     latency : LatencyModel or None
         Default: ``LatencyModel(readout=config.loop.delay)``.
@@ -387,7 +387,7 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
             if predictor in cl_predictors.NAMES else None)
     if spec is None or not spec.needs_training:
         raise ValueError(f"`predictor` must be a predictor name of "
-                         f"closedloop.predictors.NAMES other than 'none' and 'oracle'; got "
+                         f"closedloop.control.predictors.NAMES other than 'none' and 'oracle'; got "
                          f"{predictor!r}.")
     orderings = tuple(orderings)
     latency = LatencyModel(readout=config.loop.delay) if latency is None else latency

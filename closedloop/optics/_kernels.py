@@ -20,7 +20,7 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, taps, wei
     taps       (n_dir, P, 2, 4) float64 IN the read's weights along columns (``[.., 0, :]``)
                                            and rows (``[.., 1, :]``) at offsets -1, 0, 1, 2
                                            from ``floor(shift)``
-                                           (:func:`closedloop.science.read_weights`)
+                                           (:func:`closedloop.optics.science.read_weights`)
     weights    (P,) float64            IN  factor of each plane (1, or 0 to leave it out)
     common     (P,) bool               IN  plane p has the same shift in every direction
                                            (the ground plane); resampled once into ``base``

@@ -6,7 +6,7 @@ returns one row per run: SR peak and field-mean SR after closure, corrected-FoV
 diameter, and the error budget's terms on axis. The science wavelength needs no new run
 (the phase variance scales as ``lambda**-2``): its rows rescale the base run.
 
-    python -m closedloop.sensitivity --duration 0.3 > docs/SENSITIVITY.md
+    python -m closedloop.studies.sensitivity --duration 0.3 > docs/SENSITIVITY.md
 """
 
 from __future__ import annotations
@@ -136,7 +136,7 @@ def markdown(rows: list[dict]) -> str:
 
 def main(argv=None) -> int:
     """Print the sensitivity table of table1 as Markdown."""
-    ap = argparse.ArgumentParser(prog="python -m closedloop.sensitivity")
+    ap = argparse.ArgumentParser(prog="python -m closedloop.studies.sensitivity")
     ap.add_argument("--duration", type=float, default=0.3)
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args(argv)

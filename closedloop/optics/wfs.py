@@ -34,7 +34,7 @@ the DM's modes by least squares; no aliasing (up to the projection's own) and no
 
 The whole sensor is a fixed linear map from the plane maps to the slopes, built once as
 scipy sparse matrices (one per plane), so a measurement is a few sparse products (a numba
-kernel, :func:`closedloop._kernels.csr_matvec`, with the same bits as scipy's product).
+kernel, :func:`closedloop.optics._kernels.csr_matvec`, with the same bits as scipy's product).
 """
 
 from __future__ import annotations
@@ -45,9 +45,9 @@ from typing import ClassVar
 import numpy as np
 from scipy import sparse
 
-from closedloop import _kernels
-from closedloop.dm import DeformableMirror
-from closedloop.geometry import ARCSEC, Geometry
+from closedloop.optics import _kernels
+from closedloop.optics.dm import DeformableMirror
+from closedloop.optics.geometry import ARCSEC, Geometry
 from modalinfo.bases import noll_residual_variance
 
 __all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SENSORS", "register_sensor",

@@ -61,7 +61,7 @@ Why a finite FFT screen and not an extruded "infinite" one: row extrusion (Assem
 numerically ill-conditioned for very large L0 (hcipy and aotools fail there); the FFT
 screen needs only the spectrum, which is well defined for every L0, and subharmonics plus
 the tilt tail give the low orders their power at any L0. The cost is memory: the screen
-must be long enough for the wind to cross it (see :mod:`closedloop.atmosphere`).
+must be long enough for the wind to cross it (see :mod:`closedloop.optics.atmosphere`).
 """
 
 from __future__ import annotations
@@ -73,7 +73,7 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import integrate
 
-from closedloop._atmosphere_kernels import add_separable_terms, aliased_power
+from closedloop.optics._atmosphere_kernels import add_separable_terms, aliased_power
 from modalinfo._validation import check_int, check_real, check_rng
 from modalinfo.bases.turbulence import KOLMOGOROV_PSD_CONSTANT
 

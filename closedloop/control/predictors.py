@@ -54,7 +54,7 @@ _PAPER_TRAINING_START = 15e-3
 class LoopPredictor:
     """A predictor in the loop: its name, its forecaster and how it is trained.
 
-    Make one with :meth:`from_name` (a name of ``closedloop.predictors.NAMES``, the one
+    Make one with :meth:`from_name` (a name of ``closedloop.control.predictors.NAMES``, the one
     place names are checked) or :meth:`from_fitted` (a fitted :mod:`modalinfo.forecast`
     predictor); the two without a forecaster are the sentinels ``NO_PREDICTION`` and
     ``ORACLE``.
@@ -85,7 +85,7 @@ class LoopPredictor:
         Raises
         ------
         ValueError
-            If ``name`` is not one of ``closedloop.predictors.NAMES``.
+            If ``name`` is not one of ``closedloop.control.predictors.NAMES``.
         """
         if not isinstance(name, str) or name not in NAMES:
             raise ValueError(f"`predictor` must be one of {', '.join(NAMES)}; got {name!r}.")
@@ -129,7 +129,7 @@ class LoopPredictor:
         ----------
         reference : SimulationResult
             The run without prediction (same conditions): its POL after the loop closure
-            and after 15 ms (``closedloop.predictors.training_data``) is the training set.
+            and after 15 ms (``closedloop.control.predictors.training_data``) is the training set.
         basis : (M, n) array or None
             Fit on the projection ``POL @ basis`` (a run with this ``control_basis``
             feeds the predictor ``B^T p``); None: every mode.

@@ -1,7 +1,7 @@
 """Frozen-flow atmosphere: layers of Kolmogorov / von Karman phase moving with the wind.
 
 Each :class:`AtmosphericLayer` owns one square phase screen drawn once at construction
-by :func:`closedloop.phase_screen.fft_phase_screen` (FFT synthesis with the aliased
+by :func:`closedloop.optics.phase_screen.fft_phase_screen` (FFT synthesis with the aliased
 spectrum, split cells next to DC, Lane et al. 1992 subharmonics and a tilt tail; see
 that module for the method and the sources) and returns, at any time ``t``, the phase
 on its output grid (the layer's meta-pupil) translated by the wind::
@@ -19,7 +19,7 @@ The screen is square, ``G = max(4 n, n + 3 + max(|v_x|, |v_y|) T / dx)`` pixels 
 to an FFT-friendly size, with ``T = duration_hint``: ``4 n`` keeps the structure function
 close to theory up to lags of ``n`` pixels (the screen's expected structure function is
 0.999 of the theory up to ``G / 16`` and 0.993 / 0.992 / 0.983 at ``G / 4`` for
-L0 = inf / 1e4 m / 25 m, see :func:`closedloop.phase_screen.expected_structure_function`),
+L0 = inf / 1e4 m / 25 m, see :func:`closedloop.optics.phase_screen.expected_structure_function`),
 and the second term lets the
 output grid travel ``|v| T`` without ever reading a pixel twice. The start position is
 chosen so that during ``[0, T]`` the grid never crosses the screen's edge. ``G`` is capped
@@ -37,7 +37,7 @@ Sub-pixel shifts
 ----------------
 The shift ``v t / dx`` is the same for every output pixel, so the resampling is a
 separable filter applied to the screen (numba kernel
-:func:`closedloop._atmosphere_kernels.shift_separable`): Keys cubic convolution (4 taps,
+:func:`closedloop.optics._atmosphere_kernels.shift_separable`): Keys cubic convolution (4 taps,
 ``a = -1/2``; Keys 1981, IEEE TASSP 29, 1153; the default) or bilinear (2 taps). At an
 integer shift both reduce to an exact copy. Interpolation smooths the phase at the
 pixel scale. Predicted from the Kolmogorov structure function of the point samples and
@@ -65,8 +65,8 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 from scipy import fft as sfft
 
-from closedloop._atmosphere_kernels import shift_separable
-from closedloop.phase_screen import fft_phase_screen
+from closedloop.optics._atmosphere_kernels import shift_separable
+from closedloop.optics.phase_screen import fft_phase_screen
 from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
 
 __all__ = ["AtmosphericLayer", "Atmosphere", "screen_size"]

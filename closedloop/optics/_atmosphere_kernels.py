@@ -1,4 +1,4 @@
-"""numba kernels of :mod:`closedloop.atmosphere` and :mod:`closedloop.phase_screen`.
+"""numba kernels of :mod:`closedloop.optics.atmosphere` and :mod:`closedloop.optics.phase_screen`.
 
 Arrays and scalars only; the Python wrappers validate. No random numbers here.
 """

@@ -5,7 +5,7 @@ over its controlled disc (``modalinfo.bases.zernike_matrix``, evaluated at the p
 pixel centres) and is flat outside: the shape is the matrix product ``B c``, done once
 per command update (not per internal step). When the disc's pixels are symmetric about
 both axes (an even plane side, the usual case) and ``B`` exceeds 1 MB, ``B c`` is
-synthesised from one quadrant (:func:`closedloop._kernels.mirror_synthesis`): every
+synthesised from one quadrant (:func:`closedloop.optics._kernels.mirror_synthesis`): every
 Zernike is even or odd in x and in y, so a quarter of ``B`` is read, which matters
 because ``B`` (3 MB for 119 modes on a 64-pixel disc) streams from memory at every
 command. An ``"ideal"`` mirror is zonal: one
@@ -13,7 +13,7 @@ command. An ``"ideal"`` mirror is zonal: one
 exists to verify the rest of the loop against Noll's and Fried's laws. It holds no shape
 matrix (``shapes`` is None: the identity is implicit, its surface is its command vector),
 and a sensor's interaction with it is a sparse matrix
-(:meth:`closedloop.wfs.WavefrontSensor.interaction_with`): dense, either would be
+(:meth:`closedloop.optics.wfs.WavefrontSensor.interaction_with`): dense, either would be
 ``(pixels x pixels)``, 200 MB at 80 pixels across.
 
 Why modal Zernike shapes: the paper's analysis library orders Zernike and K-L modes, so
@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from closedloop import _kernels
-from closedloop.geometry import Geometry
+from closedloop.optics import _kernels
+from closedloop.optics.geometry import Geometry
 from modalinfo.bases import zernike_matrix
 
 __all__ = ["DeformableMirror"]
@@ -107,7 +107,7 @@ class DeformableMirror:
 
 
 def _mirror_tables(pixels: np.ndarray, shapes: np.ndarray, n: int):
-    """Tables of :func:`closedloop._kernels.mirror_synthesis` (None: use ``B c``).
+    """Tables of :func:`closedloop.optics._kernels.mirror_synthesis` (None: use ``B c``).
 
     None if the disc is not mirror-symmetric or a mode has no definite parity.
     ``pixels``: flat indices on the ``n x n`` plane; the quadrant is rows and columns

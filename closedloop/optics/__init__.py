@@ -1,0 +1,8 @@
+"""What the light meets: atmosphere, planes and footprints, DMs, WFSs, the science camera.
+
+Each part follows the protocol of :mod:`closedloop.parts` (``reset``, ``evolve_until``,
+``forward``); numba kernels sit beside their wrappers (``_kernels``,
+``_atmosphere_kernels``, ``_shift_kernels``). The solar correlating Shack-Hartmann
+(``granulation``, ``shifts``, ``correlating``) is being built here (issue 20) and is not yet
+a sensor kind of the loop.
+"""
