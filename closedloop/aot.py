@@ -203,47 +203,9 @@ def _blocks(model, i: int) -> list[np.ndarray]:
     return out
 
 
-def build_aot_system(result, model=None):
-    """Build the ``aotpy.AOSystem`` of a simulation (see the module docstring).
-
-    Parameters
-    ----------
-    result : SimulationResult
-        The run.
-    model : LoopModel, optional
-        The run's static parts (rebuilt from ``result.config`` if not given; it is
-        deterministic).
-
-    Returns
-    -------
-    aotpy.AOSystem
-    """
-    from closedloop.config import config_text
-    from closedloop.simulation import LoopModel
-    from modalinfo.io.aot_system import (
-        AtmosphereSpec,
-        CorrectorSpec,
-        LoopSpec,
-        SensorSpec,
-        SourceSpec,
-        TelescopeSpec,
-        build_system,
-        import_aotpy,
-        integrator_filter,
-    )
-
-    cfg = result.config
-    if model is None:
-        model = LoopModel(cfg)
-    elif model.config != cfg:
-        raise ValueError("`model` was built for another config than the result's.")
-    g = model.geometry
-    times = np.asarray(result.times, dtype=np.float64)
-    n_frames = times.size
-    rate = 1.0 / cfg.loop.time_step
-    delay = cfg.loop.delay_frames
-    num, den = integrator_filter(cfg.loop.gain, cfg.loop.leak)
-    have_meas = len(result.measurements) == len(model.wfss)
+def _telescope_and_source(cfg, g):
+    """Build the telescope record (pupil mask on the ``n_pixels`` grid) and the sun as a source."""
+    from modalinfo.io.aot_system import SourceSpec, TelescopeSpec
 
     telescope = TelescopeSpec(
         uid="telescope", diameter=cfg.telescope.diameter,
@@ -252,9 +214,44 @@ def build_aot_system(result, model=None):
         pupil_mask=g.pupil_mask, elevation=90.0 - cfg.telescope.zenith_angle)
     sun = SourceSpec(uid="sun", kind="natural",
                      extra={"extended": "sun", "note": "AOT has no extended-source type"})
+    return telescope, sun
 
+
+def _sensor(model, j: int, wcfg, meas):
+    """Build sensor ``j``'s record: Shack-Hartmann, or an ideal sensor as a Pyramid record."""
+    from modalinfo.io.aot_system import SensorSpec
+
+    wfs = model.wfss[j]
+    extra = {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
+             "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
+    if wfs.kind == "shack_hartmann":
+        extra.update(subaperture_pitch=wfs.pitch, n_subapertures=wcfg.n_subapertures,
+                     order="d = 0: x slopes, d = 1: y slopes; mask rows are y")
+        return SensorSpec(
+            uid=f"wfs{j}", source="sun", kind="shack-hartmann",
+            n_valid_subapertures=wfs.n_valid_subapertures, measurements=meas,
+            subaperture_mask=_index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
+            field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
+            extra=extra)
+    extra.update(kind="ideal", note=(
+        "AOT has no ideal (phase) sensor type: written as a Pyramid record with one "
+        "value per subaperture; its subapertures are the measured pixels of its DM's "
+        "disc (mask on the DM plane grid), its measurements their field-averaged "
+        "phase [rad] as the simulator's sensor gives them"))
+    n_p = model.geometry.planes[wfs.dm.plane].n
+    return SensorSpec(
+        uid=f"wfs{j}", source="sun", kind="pyramid", dimensions=1,
+        n_valid_subapertures=wfs.n_measurements, measurements=meas,
+        subaperture_mask=_index_grid(n_p, _sensed_pixels(wfs)),
+        field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
+        extra=extra)
+
+
+def _sensors(result, model, n_frames: int) -> list:
+    """Build every sensor's record, with its measurements ``(T, d, s_v)`` if the result has them."""
+    have_meas = len(result.measurements) == len(model.wfss)
     sensors = []
-    for j, (wfs, wcfg) in enumerate(zip(model.wfss, cfg.wfss, strict=True)):
+    for j, (wfs, wcfg) in enumerate(zip(model.wfss, result.config.wfss, strict=True)):
         meas = None
         if have_meas:
             meas = np.asarray(result.measurements[j])
@@ -262,79 +259,75 @@ def build_aot_system(result, model=None):
                 raise ValueError(f"result.measurements[{j}] has shape {meas.shape}; expected "
                                  f"{(n_frames, wfs.n_measurements)}.")
             meas = _as_dsv(wfs, meas)
-        extra = {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
-                 "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
-        if wfs.kind == "shack_hartmann":
-            extra.update(subaperture_pitch=wfs.pitch, n_subapertures=wcfg.n_subapertures,
-                         order="d = 0: x slopes, d = 1: y slopes; mask rows are y")
-            sensors.append(SensorSpec(
-                uid=f"wfs{j}", source="sun", kind="shack-hartmann",
-                n_valid_subapertures=wfs.n_valid_subapertures, measurements=meas,
-                subaperture_mask=_index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
-                field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
-                extra=extra))
-        else:
-            extra.update(kind="ideal", note=(
-                "AOT has no ideal (phase) sensor type: written as a Pyramid record with one "
-                "value per subaperture; its subapertures are the measured pixels of its DM's "
-                "disc (mask on the DM plane grid), its measurements their field-averaged "
-                "phase [rad] as the simulator's sensor gives them"))
-            n_p = g.planes[wfs.dm.plane].n
-            sensors.append(SensorSpec(
-                uid=f"wfs{j}", source="sun", kind="pyramid", dimensions=1,
-                n_valid_subapertures=wfs.n_measurements, measurements=meas,
-                subaperture_mask=_index_grid(n_p, _sensed_pixels(wfs)),
-                field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
-                extra=extra))
+        sensors.append(_sensor(model, j, wcfg, meas))
+    return sensors
 
-    correctors = []
-    loops_main, loops_pol, loops_cross = [], [], []
-    described = {}
-    for i, dm in enumerate(model.dms):
-        n_p = g.planes[dm.plane].n
-        modal = dm.shapes is not None
-        correctors.append(CorrectorSpec(
-            uid=f"dm{i}", kind="dm", n_valid_actuators=dm.n_modes, altitude=cfg.dms[i].altitude,
-            pupil_mask=_disc_mask(dm, n_p),
-            extra={"model": "modal: each actuator is one mode, commands are modal "
-                            "coefficients [rad at r0_wavelength]" if modal else
-                            "zonal (ideal): each actuator is one pixel of the disc",
-                   "modes": f"Z{dm.modes[0]}..Z{dm.modes[-1]} (Noll)" if modal else "pixels",
-                   "disc_diameter": dm.diameter, "line_of_sight_altitude": dm.altitude,
-                   "plane_pixels": n_p, "pixel_scale": g.dx}))
-        j = _own_sensor(cfg, i)
-        blocks = _blocks(model, i)
-        common = dict(sensor=f"wfs{j}", corrector=f"dm{i}", timestamps=times, framerate=rate,
-                      delay=delay, time_filter_num=num, time_filter_den=den,
-                      closed=not result.open_loop)
-        loops_main.append(LoopSpec(
-            uid=f"dm{i}", **common, units="rad",
-            modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
-            modes=_mode_images(dm, n_p),
-            measurements_to_modes=(None if blocks[j] is None
-                                   else _as_dsv(model.wfss[j], blocks[j])),
-            modes_to_commands=np.eye(dm.n_modes) if modal else None,
-            commands=np.ascontiguousarray(result.logs[f"dm{i}.commands"].coeffs),
-            command_units="rad", coefficient_metadata={"MI_QUANT": "residual"}))
-        described[f"dm{i}"] = ("modal residual reconstructed from the WFS measurements "
-                               f"(log dm{i}.residual); commands = log dm{i}.commands")
-        loops_pol.append(LoopSpec(
-            uid=f"dm{i}.pol", **common, units="rad",
-            modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.pol"].coeffs),
-            coefficient_metadata={"MI_QUANT": "pol"}))
-        described[f"dm{i}.pol"] = f"pseudo-open-loop coefficients of dm{i} (log dm{i}.pol)"
-        for k, block in enumerate(blocks):
-            if k == j or block is None:
-                continue
-            loops_cross.append(LoopSpec(
-                uid=f"dm{i}.wfs{k}", **{**common, "sensor": f"wfs{k}"},
-                measurements_to_modes=_as_dsv(model.wfss[k], block),
-                coefficient_metadata={"MI_QUANT": "contribution"}))
-            described[f"dm{i}.wfs{k}"] = (f"block of the global reconstructor: wfs{k} "
-                                          f"measurements to dm{i} modes (no coefficients)")
+
+def _corrector(cfg, model, i: int):
+    """Build DM ``i``'s record: one actuator per mode (or disc pixel), its disc as mask."""
+    from modalinfo.io.aot_system import CorrectorSpec
+
+    g, dm = model.geometry, model.dms[i]
+    n_p = g.planes[dm.plane].n
+    modal = dm.shapes is not None
+    return CorrectorSpec(
+        uid=f"dm{i}", kind="dm", n_valid_actuators=dm.n_modes,
+        altitude=cfg.dms[i].altitude, pupil_mask=_disc_mask(dm, n_p),
+        extra={"model": "modal: each actuator is one mode, commands are modal "
+                        "coefficients [rad at r0_wavelength]" if modal else
+                        "zonal (ideal): each actuator is one pixel of the disc",
+               "modes": f"Z{dm.modes[0]}..Z{dm.modes[-1]} (Noll)" if modal else "pixels",
+               "disc_diameter": dm.diameter, "line_of_sight_altitude": dm.altitude,
+               "plane_pixels": n_p, "pixel_scale": g.dx})
+
+
+def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
+    """DM ``i``'s loops: residual, POL and the global reconstructor's other-sensor blocks.
+
+    ``common`` holds the fields every loop shares (timestamps, time filter, ...) but the
+    sensor and corrector; ``described`` gets one line per loop for the ``MI_CLOOP`` card.
+    """
+    from modalinfo.io.aot_system import LoopSpec
+
+    dm = model.dms[i]
+    j = _own_sensor(result.config, i)
+    blocks = _blocks(model, i)
+    common = dict(sensor=f"wfs{j}", corrector=f"dm{i}", **common)
+    main = LoopSpec(
+        uid=f"dm{i}", **common, units="rad",
+        modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
+        modes=_mode_images(dm, model.geometry.planes[dm.plane].n),
+        measurements_to_modes=(None if blocks[j] is None
+                               else _as_dsv(model.wfss[j], blocks[j])),
+        modes_to_commands=np.eye(dm.n_modes) if dm.shapes is not None else None,
+        commands=np.ascontiguousarray(result.logs[f"dm{i}.commands"].coeffs),
+        command_units="rad", coefficient_metadata={"MI_QUANT": "residual"})
+    described[f"dm{i}"] = ("modal residual reconstructed from the WFS measurements "
+                           f"(log dm{i}.residual); commands = log dm{i}.commands")
+    pol = LoopSpec(
+        uid=f"dm{i}.pol", **common, units="rad",
+        modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.pol"].coeffs),
+        coefficient_metadata={"MI_QUANT": "pol"})
+    described[f"dm{i}.pol"] = f"pseudo-open-loop coefficients of dm{i} (log dm{i}.pol)"
+    cross = []
+    for k, block in enumerate(blocks):
+        if k == j or block is None:
+            continue
+        cross.append(LoopSpec(
+            uid=f"dm{i}.wfs{k}", **{**common, "sensor": f"wfs{k}"},
+            measurements_to_modes=_as_dsv(model.wfss[k], block),
+            coefficient_metadata={"MI_QUANT": "contribution"}))
+        described[f"dm{i}.wfs{k}"] = (f"block of the global reconstructor: wfs{k} "
+                                      f"measurements to dm{i} modes (no coefficients)")
+    return main, pol, cross
+
+
+def _atmosphere(cfg):
+    """Build the atmosphere record: heights, ``(D/r0_l)^(5/3)`` fractions, winds, total r0."""
+    from modalinfo.io.aot_system import AtmosphereSpec
 
     strength = np.array([lay.d_over_r0 ** (5.0 / 3.0) for lay in cfg.layers])
-    atmosphere = AtmosphereSpec(
+    return AtmosphereSpec(
         uid="atmosphere", wavelength=cfg.r0_wavelength,
         r0=cfg.telescope.diameter / float(strength.sum()) ** 0.6,
         heights=np.array([lay.altitude for lay in cfg.layers]),
@@ -343,14 +336,11 @@ def build_aot_system(result, model=None):
         wind_directions=aot_wind_direction([lay.wind_direction for lay in cfg.layers]),
         outer_scales=np.array([lay.outer_scale for lay in cfg.layers]))
 
-    system = build_system(
-        loops_main + loops_pol + loops_cross, sensors=sensors, correctors=correctors,
-        sources=[sun], telescope=telescope, atmosphere=[atmosphere],
-        name=f"closedloop {cfg.name}", config=config_text(cfg, "toml"))
-    s = result.summary()
-    system.strehl_ratio = float(s["strehl_field_mean"])
-    system.strehl_wavelength = float(cfg.wavelength)
-    notes = {
+
+def _notes(result, model, described: dict) -> dict:
+    """Gather the ``MI_CLOOP`` card's content: provenance, what each loop holds, conventions."""
+    cfg = result.config
+    return {
         "written_by": "closedloop", "version": result.version, "seed": int(result.seed),
         "predictor": result.predictor, "loops": described,
         "reconstructor": ("global MAP: dm{i} modes = sum over sensors k of the blocks in "
@@ -368,9 +358,60 @@ def build_aot_system(result, model=None):
                           f"; the loop ran with predictor {result.predictor!r}, which "
                           "filters the forecast POL instead"),
     }
+
+
+def build_aot_system(result, model=None):
+    """Build the ``aotpy.AOSystem`` of a simulation (see the module docstring).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run.
+    model : LoopModel, optional
+        The run's static parts (rebuilt from ``result.config`` if not given; it is
+        deterministic).
+
+    Returns
+    -------
+    aotpy.AOSystem
+    """
+    from closedloop.config import config_text
+    from closedloop.simulation import LoopModel
+    from modalinfo.io.aot_system import build_system, import_aotpy, integrator_filter
+
+    cfg = result.config
+    if model is None:
+        model = LoopModel(cfg)
+    elif model.config != cfg:
+        raise ValueError("`model` was built for another config than the result's.")
+    times = np.asarray(result.times, dtype=np.float64)
+    num, den = integrator_filter(cfg.loop.gain, cfg.loop.leak)
+    telescope, sun = _telescope_and_source(cfg, model.geometry)
+    sensors = _sensors(result, model, times.size)
+
+    correctors, loops_main, loops_pol, loops_cross = [], [], [], []
+    described = {}
+    common = dict(timestamps=times, framerate=1.0 / cfg.loop.time_step,
+                  delay=cfg.loop.delay_frames, time_filter_num=num, time_filter_den=den,
+                  closed=not result.open_loop)
+    for i in range(len(model.dms)):
+        correctors.append(_corrector(cfg, model, i))
+        main, pol, cross = _dm_loops(result, model, i, common, described)
+        loops_main.append(main)
+        loops_pol.append(pol)
+        loops_cross.extend(cross)
+
+    system = build_system(
+        loops_main + loops_pol + loops_cross, sensors=sensors, correctors=correctors,
+        sources=[sun], telescope=telescope, atmosphere=[_atmosphere(cfg)],
+        name=f"closedloop {cfg.name}", config=config_text(cfg, "toml"))
+    s = result.summary()
+    system.strehl_ratio = float(s["strehl_field_mean"])
+    system.strehl_wavelength = float(cfg.wavelength)
     aotpy = import_aotpy()
     system.metadata.append(aotpy.Metadatum(
-        CLOSEDLOOP_KEY, json.dumps(notes, ensure_ascii=True, separators=(",", ":"))))
+        CLOSEDLOOP_KEY, json.dumps(_notes(result, model, described), ensure_ascii=True,
+                                   separators=(",", ":"))))
     return system
 
 

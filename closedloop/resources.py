@@ -131,6 +131,120 @@ def _hex_points(rings: int, field_of_view: float) -> int:
     return 1 if rings == 1 or field_of_view == 0.0 else 1 + 3 * rings * (rings - 1)
 
 
+def _plane_driver(config: SimulationConfig, layout: list, p: int) -> str:
+    """Config key that sets the size of plane ``p`` of ``layout``."""
+    alt, n, layers, dms = layout[p]
+    if n <= config.telescope.n_pixels + 2 * _MARGIN_PIXELS + 1:
+        return "telescope.n_pixels"
+    if layers:
+        return f"layers[{layers[0]}].altitude"
+    return f"dms[{dms[0]}].altitude"
+
+
+def _biggest_plane(layout: list) -> int:
+    """Index of the largest plane of ``layout`` (the first one on a tie)."""
+    sizes = [n for _, n, _, _ in layout]
+    return max(range(len(layout)), key=lambda p: sizes[p])
+
+
+def _screens(config: SimulationConfig, layout: list, dx: float,
+             total_time: float) -> tuple[float, float, str]:
+    """Bytes of one atmosphere's screens, the FFT transient of the largest, and its driver."""
+    sizes = [n for _, n, _, _ in layout]
+    screen_bytes, transient, screen_key = 0.0, 0.0, "layers"
+    worst = -1.0
+    for i, layer in enumerate(config.layers):
+        p = next(k for k, (_, _, layers, _) in enumerate(layout) if i in layers)
+        n = sizes[p]
+        ang = math.radians(layer.wind_direction)
+        vel = (layer.wind_speed * math.cos(ang), layer.wind_speed * math.sin(ang))
+        g = screen_size(n, dx, vel, total_time, max(4096, 4 * n))
+        size = 8.0 * g * g
+        screen_bytes += size
+        transient = max(transient, _SCREEN_TRANSIENT * g * g)
+        if size > worst:
+            worst = size
+            travel = max(abs(vel[0]), abs(vel[1])) * total_time / dx
+            screen_key = ("duration" if n + 3 + travel > 4 * n
+                          else _plane_driver(config, layout, p))
+    return screen_bytes, transient, screen_key
+
+
+def _planes(layout: list, oracle: bool) -> float:
+    """Bytes of the plane maps: residual views, exposure sums, a layer buffer (oracle: +2)."""
+    return (3 + (2 if oracle else 0)) * 8.0 * sum(n * n for _, n, _, _ in layout)
+
+
+def _dms(config: SimulationConfig, layout: list, dx: float) -> tuple[float, str, float]:
+    """Bytes of the DMs (shapes, mirror tables, build grids), their driver, and the mode count."""
+    sizes = [n for _, n, _, _ in layout]
+    dm_bytes, dm_key, dm_worst = 0.0, "dms", -1.0
+    n_modes_total = 0
+    for i, dm in enumerate(config.dms):
+        p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
+        n_disc = math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
+        modes = dm.n_modes if dm.kind == "zernike" else n_disc
+        n_modes_total += modes
+        size = (2.0 * 8.0 * n_disc * modes if dm.kind == "zernike" else 0.0) \
+            + 5.0 * 8.0 * sizes[p] ** 2
+        dm_bytes += size
+        if size > dm_worst:
+            dm_worst = size
+            dm_key = f"dms[{i}].n_modes" if dm.kind == "zernike" else "telescope.n_pixels"
+    return dm_bytes, dm_key, n_modes_total
+
+
+def _wfs_builds(config: SimulationConfig, layout: list,
+                dx: float) -> tuple[list[float], str, float]:
+    """Bytes of each WFS's operator build, the largest's driver, and the measurement count."""
+    builds, build_key, n_meas_total = [], "wfss", 0.0
+    for j, w in enumerate(config.wfss):
+        samples = _hex_points(w.field_samples, w.field_of_view)
+        across = wfs_meta_pupil(config, j) / dx
+        if w.kind == "shack_hartmann":
+            n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
+            # two axes, 8 entries (two bilinear reads) per pixel pair
+            entries = 2 * samples * len(layout) * (math.pi / 4.0 * across ** 2) * 8
+        else:
+            n_meas = math.pi / 4.0 * (dm_disc_diameter(config, w.dm) / dx) ** 2
+            entries = samples * len(layout) * n_meas * 4
+        n_meas_total += n_meas
+        builds.append(_BUILD_BYTES_PER_ENTRY * entries)
+        if builds[-1] >= max(builds):
+            build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
+                         f"`telescope.n_pixels" if samples > 1
+                         else _plane_driver(config, layout, _biggest_plane(layout)))
+    return builds, build_key, n_meas_total
+
+
+def _matrices(n_frames: int, n_dir: int, n_meas_total: float,
+              n_modes_total: float) -> tuple[float, float]:
+    """Bytes of the dense reconstructor matrices and of the run's logs."""
+    # interaction (full and per WFS), whitened copy, SVD, reconstructors
+    reconstructor = 6.0 * 8.0 * n_meas_total * n_modes_total
+    # measured, POL, commands, variance, slopes; the result's ModalLogs copy them
+    logs = 2.0 * 8.0 * n_frames * (3 * n_modes_total + n_dir + n_meas_total)
+    return reconstructor, logs
+
+
+def _seconds_per_frame(config: SimulationConfig, layout: list, dx: float, n_meas_total: float,
+                       n_modes_total: float, kept_operators: float) -> float:
+    """Wall time per frame [s]: a fixed cost plus the frame's work, fitted on table1 and kaos."""
+    # plane fills (per internal step and layer), science moments, DM surfaces, WFS
+    # products, reconstructor
+    n_os = config.loop.oversampling
+    n_dir = config.field.n_points ** 2
+    n_pupil = math.pi / 4.0 * config.telescope.n_pixels ** 2
+    ops = (n_os * sum(n * n * (1 + len(layers)) for _, n, layers, _ in layout)
+           + n_dir * n_pupil * len(layout) * 2
+           + n_os * sum(math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
+                        * (d.n_modes if d.kind == "zernike" else 1)
+                        for i, d in enumerate(config.dms)) / 4
+           + n_meas_total * n_modes_total
+           + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
+    return _SECONDS_PER_FRAME + _SECONDS_PER_OP * ops
+
+
 def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
              budget: bool = False) -> ResourceEstimate:
     """Estimate the peak memory and the time per frame of ``simulate(config, duration)``.
@@ -151,120 +265,41 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     """
     if not isinstance(config, SimulationConfig):
         raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
-    tel = config.telescope
-    loop = config.loop
+    tel, loop = config.telescope, config.loop
     dx = tel.diameter / tel.n_pixels
     n_frames = max(1, round(duration / loop.time_step))
-    n_os = loop.oversampling
     total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
     layout = plane_layout(config)
-    sizes = [n for _, n, _, _ in layout]
-    biggest_plane = max(range(len(layout)), key=lambda p: sizes[p])
-    parts: dict[str, float] = {"baseline": BASELINE_BYTES}
-    drivers: dict[str, str] = {"baseline": "-"}
-
-    def plane_driver(p: int) -> str:
-        alt, n, layers, dms = layout[p]
-        if n <= tel.n_pixels + 2 * _MARGIN_PIXELS + 1:
-            return "telescope.n_pixels"
-        if layers:
-            return f"layers[{layers[0]}].altitude"
-        return f"dms[{dms[0]}].altitude"
-
-    # pupil grids: xx, yy, r, mask and pupil coordinates
-    parts["pupil"] = 5.0 * tel.n_pixels ** 2 * 8
-    drivers["pupil"] = "telescope.n_pixels"
-
-    # screens
-    screen_bytes, transient, screen_key = 0.0, 0.0, "layers"
-    worst = -1.0
-    for i, layer in enumerate(config.layers):
-        p = next(k for k, (_, _, layers, _) in enumerate(layout) if i in layers)
-        n = sizes[p]
-        ang = math.radians(layer.wind_direction)
-        vel = (layer.wind_speed * math.cos(ang), layer.wind_speed * math.sin(ang))
-        g = screen_size(n, dx, vel, total_time, max(4096, 4 * n))
-        size = 8.0 * g * g
-        screen_bytes += size
-        transient = max(transient, _SCREEN_TRANSIENT * g * g)
-        if size > worst:
-            worst = size
-            travel = max(abs(vel[0]), abs(vel[1])) * total_time / dx
-            screen_key = ("duration" if n + 3 + travel > 4 * n else plane_driver(p))
-    parts["screens"] = screen_bytes * (2 if oracle else 1)
-    drivers["screens"] = screen_key
-
-    # plane maps: the residual views, exposure sums and one layer buffer (oracle: two more)
-    parts["planes"] = (3 + (2 if oracle else 0)) * 8.0 * sum(n * n for n in sizes)
-    drivers["planes"] = plane_driver(biggest_plane)
-
-    # DMs: shapes, mirror tables, and the build's grids (meshgrid, rho, angle, mask)
-    dm_bytes, dm_key, dm_worst = 0.0, "dms", -1.0
-    n_modes_total = 0
-    for i, dm in enumerate(config.dms):
-        p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
-        n_disc = math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
-        modes = dm.n_modes if dm.kind == "zernike" else n_disc
-        n_modes_total += modes
-        size = (2.0 * 8.0 * n_disc * modes if dm.kind == "zernike" else 0.0) \
-            + 5.0 * 8.0 * sizes[p] ** 2
-        dm_bytes += size
-        if size > dm_worst:
-            dm_worst = size
-            dm_key = f"dms[{i}].n_modes" if dm.kind == "zernike" else "telescope.n_pixels"
-    parts["dm_shapes"] = dm_bytes
-    drivers["dm_shapes"] = dm_key
-
-    # WFS operators while they are assembled (the set-up's peak: one WFS at a time, the
-    # others kept as CSR, about a quarter of their build), and the measurements
-    builds, build_key, n_meas_total = [], "wfss", 0.0
-    for j, w in enumerate(config.wfss):
-        samples = _hex_points(w.field_samples, w.field_of_view)
-        across = wfs_meta_pupil(config, j) / dx
-        if w.kind == "shack_hartmann":
-            n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
-            # two axes, 8 entries (two bilinear reads) per pixel pair
-            entries = 2 * samples * len(layout) * (math.pi / 4.0 * across ** 2) * 8
-        else:
-            n_meas = math.pi / 4.0 * (dm_disc_diameter(config, w.dm) / dx) ** 2
-            entries = samples * len(layout) * n_meas * 4
-        n_meas_total += n_meas
-        builds.append(_BUILD_BYTES_PER_ENTRY * entries)
-        if builds[-1] >= max(builds):
-            build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
-                         f"`telescope.n_pixels" if samples > 1 else plane_driver(biggest_plane))
+    screens, transient, screen_key = _screens(config, layout, dx, total_time)
+    dm_bytes, dm_key, n_modes_total = _dms(config, layout, dx)
+    builds, build_key, n_meas_total = _wfs_builds(config, layout, dx)
+    # the set-up's peak: one WFS built at a time, the others kept as CSR
     kept_operators = _KEPT_SHARE * sum(builds)
-    parts["wfs_build"] = max(builds) * (2.0 if budget else 1.0) + kept_operators
-    drivers["wfs_build"] = build_key
-
-    # dense matrices: interaction (full and per WFS), whitened copy, SVD, reconstructors
-    parts["reconstructor"] = 6.0 * 8.0 * n_meas_total * n_modes_total
-    drivers["reconstructor"] = "dms[*].n_modes` x `wfss[*].n_subapertures"
-
-    # logs: measured, POL, commands, variance, slopes; the result's ModalLogs copy them
-    n_dir = config.field.n_points ** 2
-    parts["logs"] = 2.0 * 8.0 * n_frames * (3 * n_modes_total + n_dir + n_meas_total)
-    drivers["logs"] = "duration"
+    reconstructor, logs = _matrices(n_frames, config.field.n_points ** 2, n_meas_total,
+                                    n_modes_total)
+    parts = {"baseline": BASELINE_BYTES,
+             "pupil": 5.0 * tel.n_pixels ** 2 * 8,  # xx, yy, r, mask, pupil coordinates
+             "screens": screens * (2 if oracle else 1),
+             "planes": _planes(layout, oracle),
+             "dm_shapes": dm_bytes,
+             "wfs_build": max(builds) * (2.0 if budget else 1.0) + kept_operators,
+             "reconstructor": reconstructor,
+             "logs": logs}
+    drivers = {"baseline": "-", "pupil": "telescope.n_pixels", "screens": screen_key,
+               "planes": _plane_driver(config, layout, _biggest_plane(layout)),
+               "dm_shapes": dm_key, "wfs_build": build_key,
+               "reconstructor": "dms[*].n_modes` x `wfss[*].n_subapertures",
+               "logs": "duration"}
 
     kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
     setup = parts["pupil"] + parts["dm_shapes"] + parts["wfs_build"]
     run = kept + parts["screens"] + parts["planes"] + parts["logs"]
     peak = BASELINE_BYTES + max(setup, kept + parts["screens"] + transient, run)
-
-    # time per frame: plane fills (per internal step and layer), science moments, DM
-    # surfaces, WFS products, reconstructor; fitted on table1
-    n_pupil = math.pi / 4.0 * tel.n_pixels ** 2
-    ops = (n_os * sum(n * n * (1 + len(layers)) for _, n, layers, _ in layout)
-           + n_dir * n_pupil * len(layout) * 2
-           + n_os * sum(math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
-                        * (d.n_modes if d.kind == "zernike" else 1)
-                        for i, d in enumerate(config.dms)) / 4
-           + n_meas_total * n_modes_total
-           + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
-    return ResourceEstimate(parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
-                            seconds_per_frame=_SECONDS_PER_FRAME + _SECONDS_PER_OP * ops,
-                            setup_bytes=setup,
-                            run_bytes=run)
+    return ResourceEstimate(
+        parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
+        seconds_per_frame=_seconds_per_frame(config, layout, dx, n_meas_total, n_modes_total,
+                                             kept_operators),
+        setup_bytes=setup, run_bytes=run)
 
 
 def available_memory() -> float:
