@@ -141,7 +141,7 @@ class SimulationResult:
     residual_variance : (T, n_dir) ndarray
         Piston-removed residual phase variance [rad^2 at the science wavelength],
         sampled at the end of each frame (its last internal step; not averaged over the
-        frame, see :mod:`closedloop.optics.science`).
+        frame, see ``closedloop.optics.science``).
     logs : dict of str -> ModalLog
         ``"dm{i}.residual"`` (WFS-reconstructed modal residual), ``"dm{i}.pol"``,
         ``"dm{i}.commands"`` for each DM.

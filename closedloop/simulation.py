@@ -23,7 +23,7 @@ at the last step of frame ``k``
 
 The science camera therefore samples the residual once per frame, at the frame's last
 internal step (an instantaneous Strehl, not one averaged over the frame's internal steps;
-see :mod:`closedloop.optics.science`). In open loop (``loop.closed = false``) every command is
+see ``closedloop.optics.science``). In open loop (``loop.closed = false``) every command is
 replaced by zero: the DMs stay flat, and the residual and POL logs are both the open-loop
 modal turbulence the WFSs see.
 
@@ -112,7 +112,7 @@ def simulate(
         the ``n`` coefficients (the predictor sees ``B^T p``), and the command is
         ``B c_n``. The logs keep all ``M`` modes (the POL of an uncontrolled direction is
         its measured residual). None: every mode (``B = I``). Used by the compression
-        study (:mod:`closedloop.studies.compression`).
+        study (``closedloop.studies.compression``).
     on_predictor_fault : {"raise", "hold"}
         The predictor's output is checked at every step (shape exactly ``(horizon, M)``,
         every value finite). ``"raise"``: stop with

@@ -199,6 +199,33 @@ def _linear_upsampling(p: int, q: int) -> np.ndarray:
     return out
 
 
+def _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels,
+                     n_patches, max_shift, blur_fwhm_arcsec, gain_rms, offset_rms) -> np.ndarray:
+    """Refuse what :class:`CorrelatingSubapertures` cannot image; return the scene as float64."""
+    scene = np.asarray(scene, dtype=np.float64)
+    if scene.ndim != 2 or not np.all(np.isfinite(scene)):
+        raise ValueError(f"`scene` must be a finite 2-D array; got shape {scene.shape}.")
+    for name, v in (("pixel_scale_arcsec", pixel_scale_arcsec),
+                    ("subaperture_diameter", subaperture_diameter)):
+        if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0:
+            raise ValueError(f"`{name}` must be a number > 0; got {v!r}.")
+    for name, v, low in (("n_pupil", n_pupil, 2), ("field_pixels", field_pixels, 8),
+                         ("n_patches", n_patches, 1)):
+        if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < low:
+            raise ValueError(f"`{name}` must be an int >= {low}; got {v!r}.")
+    if isinstance(max_shift, bool) or not isinstance(max_shift, (int, np.integer)) \
+            or max_shift < 1:
+        raise ValueError(f"`max_shift` must be an int >= 1; got {max_shift!r}.")
+    if n_patches > field_pixels // 4:
+        raise ValueError(f"`n_patches` must be <= field_pixels // 4 = {field_pixels // 4} "
+                         f"(a patch needs a few pixels); got {n_patches}.")
+    for name, v in (("blur_fwhm_arcsec", blur_fwhm_arcsec), ("gain_rms", gain_rms),
+                    ("offset_rms", offset_rms)):
+        if not isinstance(v, (int, float)) or isinstance(v, bool) or not v >= 0:
+            raise ValueError(f"`{name}` must be a number >= 0; got {v!r}.")
+    return scene
+
+
 class CorrelatingSubapertures:
     """The subaperture images and shift measurements of one correlating SH.
 
@@ -262,27 +289,9 @@ class CorrelatingSubapertures:
                  interpolation: str = "2d-quadratic", max_shift: int = 3,
                  window: int | None = None, pupil_oversampling: int | None = None,
                  normalize: bool = False):
-        scene = np.asarray(scene, dtype=np.float64)
-        if scene.ndim != 2 or not np.all(np.isfinite(scene)):
-            raise ValueError(f"`scene` must be a finite 2-D array; got shape {scene.shape}.")
-        for name, v in (("pixel_scale_arcsec", pixel_scale_arcsec),
-                        ("subaperture_diameter", subaperture_diameter)):
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0:
-                raise ValueError(f"`{name}` must be a number > 0; got {v!r}.")
-        for name, v, low in (("n_pupil", n_pupil, 2), ("field_pixels", field_pixels, 8),
-                             ("n_patches", n_patches, 1)):
-            if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < low:
-                raise ValueError(f"`{name}` must be an int >= {low}; got {v!r}.")
-        if isinstance(max_shift, bool) or not isinstance(max_shift, (int, np.integer)) \
-                or max_shift < 1:
-            raise ValueError(f"`max_shift` must be an int >= 1; got {max_shift!r}.")
-        if n_patches > field_pixels // 4:
-            raise ValueError(f"`n_patches` must be <= field_pixels // 4 = {field_pixels // 4} "
-                             f"(a patch needs a few pixels); got {n_patches}.")
-        for name, v in (("blur_fwhm_arcsec", blur_fwhm_arcsec), ("gain_rms", gain_rms),
-                        ("offset_rms", offset_rms)):
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not v >= 0:
-                raise ValueError(f"`{name}` must be a number >= 0; got {v!r}.")
+        scene = _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil,
+                                 field_pixels, n_patches, max_shift, blur_fwhm_arcsec, gain_rms,
+                                 offset_rms)
         self.budget = PhotonBudget() if budget is None else budget
         self.wavelength = self.budget.wavelength
         self.pixel_scale_arcsec = float(pixel_scale_arcsec)
@@ -295,6 +304,30 @@ class CorrelatingSubapertures:
         self.max_shift = max_shift
         self.window = window
         self.normalize = normalize
+        du = subaperture_diameter / n_pupil
+        self._set_sampling(du, pupil_oversampling, scene.shape)
+        self._patch = self._blurred_patch(scene, blur_fwhm_arcsec, field_centre)
+        self._patch_ft = np.fft.rfft2(self._patch)
+        self._set_patches(du)
+        area = subaperture_diameter ** 2
+        self.electrons_per_pixel = self.budget.electrons(area, self.pixel_scale_arcsec)
+        self.attenuation = self.electrons_per_pixel / self.budget.unattenuated_electrons(
+            area, self.pixel_scale_arcsec)
+        self.gain_rms = float(gain_rms)
+        self.offset_rms = float(offset_rms)
+        self.detector_seed = detector_seed
+        self._maps: dict[int, tuple] = {}
+        flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
+        # the stored reference is an ideal (flat-fielded, dark-subtracted) image
+        self.reference = self._form(self._check_phase(flat))[0]
+        # the measurement's options are checked now, not at the first frame
+        measure_shifts(self.reference, self.reference, method=method,
+                       interpolation=interpolation, max_shift=max_shift, window=window,
+                       normalize=normalize)
+
+    def _set_sampling(self, du: float, pupil_oversampling, scene_shape) -> None:
+        """Set the PSF's support, the convolution's size and the pupil's oversampling."""
+        subaperture_diameter, max_shift = self.subaperture_diameter, self.max_shift
         # PSF: computed over +-(4 lambda/d + max_shift + 1) pixels (its core and first
         # rings wherever a measurable tilt puts it; beyond ~4 lambda/d the sinc^2 wings of
         # a square subaperture hold a few per cent of the light), then padded into the
@@ -309,7 +342,6 @@ class CorrelatingSubapertures:
         # a PSF from pupil samples du apart repeats every lambda / du on the sky: the phase
         # is interpolated linearly (exact for tilts) onto q x finer samples so that the
         # repeat lies beyond the PSF's support
-        du = subaperture_diameter / n_pupil
         q_min = max(1, math.ceil(mp * self.pixel_scale_arcsec * _ARCSEC * du / self.wavelength))
         if pupil_oversampling is None:
             pupil_oversampling = q_min
@@ -318,11 +350,16 @@ class CorrelatingSubapertures:
                              f"pupil samples {du:.3g} m apart must not repeat within the "
                              f"{mp * self.pixel_scale_arcsec:.3g}\" PSF support); "
                              f"got {pupil_oversampling!r}.")
-        self.pupil_oversampling = q = int(pupil_oversampling)
+        self.pupil_oversampling = int(pupil_oversampling)
         self.support = m
-        if min(scene.shape) < m:
+        if min(scene_shape) < m:
             raise ValueError(f"`scene` must be at least {m} pixels across (field + margins); "
-                             f"got {scene.shape}.")
+                             f"got {scene_shape}.")
+
+    def _blurred_patch(self, scene: np.ndarray, blur_fwhm_arcsec: float,
+                       field_centre) -> np.ndarray:
+        """Return the scene blurred once (pixel MTF, optional Gaussian), cropped to the support."""
+        m = self.support
         # the fixed blur, once: pixel MTF and the optional Gaussian
         fy = np.fft.fftfreq(scene.shape[0])
         fx = np.fft.fftfreq(scene.shape[1])
@@ -339,8 +376,11 @@ class CorrelatingSubapertures:
         first = self.margin + self.field_pixels // 2
         rows = (cy - first + np.arange(m)) % scene.shape[0]
         cols = (cx - first + np.arange(m)) % scene.shape[1]
-        self._patch = np.ascontiguousarray(blurred[np.ix_(rows, cols)])
-        self._patch_ft = np.fft.rfft2(self._patch)
+        return np.ascontiguousarray(blurred[np.ix_(rows, cols)])
+
+    def _set_patches(self, du: float) -> None:
+        """Set the PSFs' MFT, the sub-directions' blending weights and their directions."""
+        mp, q = self.psf_pixels, self.pupil_oversampling
         # MFT matrix: A[k, j] = exp(-2 pi i alpha_k u_j / lambda), PSF centred at mp // 2
         self._upsample = _linear_upsampling(self.n_pupil, q)
         u = (np.arange(self.n_pupil * q) - (self.n_pupil * q - 1) / 2.0) * (du / q)
@@ -355,21 +395,6 @@ class CorrelatingSubapertures:
              - self.field_pixels * self.pixel_scale_arcsec / 2.0)
         yy, xx = np.meshgrid(v, v, indexing="ij")
         self.directions_arcsec = np.column_stack([xx.ravel(), yy.ravel()])
-        area = subaperture_diameter ** 2
-        self.electrons_per_pixel = self.budget.electrons(area, self.pixel_scale_arcsec)
-        self.attenuation = self.electrons_per_pixel / self.budget.unattenuated_electrons(
-            area, self.pixel_scale_arcsec)
-        self.gain_rms = float(gain_rms)
-        self.offset_rms = float(offset_rms)
-        self.detector_seed = detector_seed
-        self._maps: dict[int, tuple] = {}
-        flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
-        # the stored reference is an ideal (flat-fielded, dark-subtracted) image
-        self.reference = self._form(self._check_phase(flat))[0]
-        # the measurement's options are checked now, not at the first frame
-        measure_shifts(self.reference, self.reference, method=method,
-                       interpolation=interpolation, max_shift=max_shift, window=window,
-                       normalize=normalize)
 
     # ------------------------------------------------------------------ image formation
     def psfs(self, phase: np.ndarray) -> np.ndarray:

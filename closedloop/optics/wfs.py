@@ -12,8 +12,10 @@ the field blurs them (Ragazzoni et al. 2002, A&A 396, 731). The light reaches ``
 
 Shack-Hartmann (``kind="shack_hartmann"``): ``n_subapertures`` across the sensed
 meta-pupil (diameter ``D + 2 h_j tan(field/2)``). A subaperture's slope is the mean
-phase gradient over its illuminated part, averaged over the field, in the geometric
-limit of a correlating SH on extended granulation: the mean over the subaperture's
+phase gradient over its illuminated part (the G-tilt), averaged over the field; a
+correlating SH on granulation measures the Z-tilt instead (Loefdahl 2010; see
+``closedloop.optics.correlating``), equal to it for tilts and differing by coma-like
+terms. Here: the mean over the subaperture's
 square of the phase gradient, the phase taken linear between pixel centres along the
 slope's axis and constant across each pixel, written as a weighted mean of the
 pixel-pair differences ``(phi(u + dx) - phi(u)) / dx``, each weighted by the share of
