@@ -1,4 +1,4 @@
-"""Fixtures of the batch tests: one 2-process LocalCluster and a small mixed archive.
+"""Fixtures of the batch tests: a 2-process LocalCluster per file and a small mixed archive.
 
 The archive holds 47 readable logs in five formats (written with ``modalinfo.io.save``
 and ``numpy.save``) and 3 corrupt files (a truncated NPZ, a FITS file with a garbage
@@ -70,9 +70,14 @@ def archive(tmp_path_factory):
     return root, write_archive(root)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def client():
-    """A real LocalCluster of 2 worker processes x 1 thread, opened as the CLI opens it."""
+    """A real LocalCluster of 2 worker processes x 1 thread, opened as the CLI opens it.
+
+    Module scope, not session: an idle cluster's processes keep polling (about 5 s of
+    CPU per 30 s, measured on the 2-core machine), so one kept open until the end of
+    the run costs more than opening one per test file that uses it (two files).
+    """
     pytest.importorskip("distributed")
     from modalinfo.batch.engine import open_client
 

@@ -12,6 +12,7 @@ modes of an ARMA(1,1) process, computed once per module; the full run on
 ``kaos_like(seed=0)`` is marked slow.
 """
 
+import dataclasses
 import json
 from collections import Counter
 
@@ -46,9 +47,21 @@ def _rows(text):
             if line.startswith("| ") and "(x" in line}
 
 
-def test_make_writes_the_figure_and_json(log_file, tmp_path):
-    path, _ = log_file
+def test_make_writes_the_figure_and_json(log_file, result, tmp_path, monkeypatch):
+    # make = load + compute + plot + report. Its compute is this module's ``result`` (the
+    # same function on the same file, which the other tests check), given make's source
+    # text: one fit of every predictor per module instead of two.
+    path, coeffs = log_file
+    calls = []
+
+    def computed_once(log, *, source):
+        calls.append(source)
+        np.testing.assert_array_equal(np.asarray(log.coeffs), coeffs)  # make read the file
+        return dataclasses.replace(result, source=source)
+
+    monkeypatch.setattr(fig5_forecast, "compute", computed_once)
     text = fig5_forecast.make(tmp_path / "out", path)
+    assert len(calls) == 1
     assert (tmp_path / "out" / "fig5_forecast.png").stat().st_size > 10_000
     assert (tmp_path / "out" / "fig5_forecast.pdf").read_bytes()[:4] == b"%PDF"
     data = json.loads((tmp_path / "out" / "fig5_forecast.json").read_text())

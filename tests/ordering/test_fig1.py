@@ -9,6 +9,7 @@ from the report; the report and the table rows must print those numbers.
 Short synthetic log: ``kaos_like(n_frames=400, seed=1)``, computed once per module.
 """
 
+import dataclasses
 import re
 
 import numpy as np
@@ -29,10 +30,23 @@ def _modes(curve, target):
     return int(np.flatnonzero(np.asarray(curve) <= target)[0])
 
 
-def test_make_on_a_short_log(tmp_path):
+def test_make_on_a_short_log(result, tmp_path, monkeypatch):
+    # make = load + compute + plot + report. Its compute is this module's ``result`` (the
+    # same function on the same log, which the other tests check), given make's source
+    # text: one computation of the figure per module instead of two.
+    log = kaos_like(n_frames=400, seed=1)
     log_path = tmp_path / "short.npz"
-    save(kaos_like(n_frames=400, seed=1), log_path)
+    save(log, log_path)
+    calls = []
+
+    def computed_once(read, *, source):
+        calls.append(source)
+        np.testing.assert_array_equal(np.asarray(read.coeffs), np.asarray(log.coeffs))
+        return dataclasses.replace(result, source=source)
+
+    monkeypatch.setattr(fig1, "compute", computed_once)
     text = fig1.make(tmp_path, log_path)
+    assert len(calls) == 1
     png = tmp_path / fig1.FIGURE_NAME
     assert png.is_file() and png.stat().st_size > 10_000
     assert (tmp_path / fig1.PDF_NAME).is_file()
