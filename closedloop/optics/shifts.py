@@ -222,6 +222,11 @@ def measure_shifts(reference, images, *, method: str = "sdf",
         low, high = 2 * lag + 1, side
     else:
         low, high = 3, side - 2 * lag
+    if high < low:
+        # no window fits: name the search range, not a window the user never gave
+        raise ValueError(f"`max_shift` = {max_shift} is too large for images of {h}x{w} "
+                         f"with method {method!r}: it must be <= "
+                         f"{(side - 3) // 2 if method == 'cfi' else (side - 5) // 2}.")
     if window is None:
         window = high
     if isinstance(window, bool) or not isinstance(window, (int, np.integer)) \
@@ -296,6 +301,9 @@ def sdf_noise_rms(reference, noise_variance, *, max_shift: int = 3,
     h, w = ref.shape
     lag = int(max_shift) + 1
     side = min(h, w)
+    if side - 2 * lag < 3:
+        raise ValueError(f"`max_shift` = {max_shift} is too large for images of {h}x{w}: "
+                         f"it must be <= {(side - 5) // 2}.")
     if window is None:
         window = side - 2 * lag
     if not 3 <= window <= side - 2 * lag:

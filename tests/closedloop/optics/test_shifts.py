@@ -256,3 +256,16 @@ def test_noise_law_many_fields_and_levels():
                 assert sd == pytest.approx(law, rel=0.15)
                 print(seed, a, b, nph, round(sd / law, 3),
                       round(_noisy_sd(ref, nph, "adf2", rng, m=3000) / law, 3))
+
+
+@pytest.mark.parametrize(("method", "largest"), [("sdf", 1), ("adf2", 1), ("cfi", 2)])
+def test_search_range_too_large_names_max_shift(method, largest):
+    # 8x8 images: a difference method needs a window of >= 3 px inside the +-(s+1) search,
+    # 8 - 2 (s + 1) >= 3, so s <= 1; the FFT method a window of 2 (s + 1) + 1 <= 8, s <= 2
+    im = np.random.default_rng(0).random((8, 8))
+    measure_shifts(im, im[None], max_shift=largest, method=method)
+    with pytest.raises(ValueError, match=rf"`max_shift` = {largest + 1} is too large .* "
+                                         rf"must be <= {largest}\."):
+        measure_shifts(im, im[None], max_shift=largest + 1, method=method)
+    with pytest.raises(ValueError, match=r"`max_shift` = 2 is too large .* must be <= 1\."):
+        sdf_noise_rms(im, 1.0, max_shift=2)
