@@ -407,13 +407,17 @@ def greedy_gaussian_gram(G: np.ndarray, cy: np.ndarray, alive: np.ndarray, n: in
     list of (int, float)
         Chosen columns and their gains [nats], in order.
     """
-    Rg = G.copy()
+    # The residual Gram is never formed: its diagonal and the columns of the chosen
+    # candidates are all a step needs, each updated with the same operations, in the same
+    # order, as the full update ``Rg -= outer(col, col) / piv`` (so the picks are bit for
+    # bit those of it) at O(m k) per step instead of O(m^2).
+    diag = np.diag(G).copy()
     ry = cy.copy()
     e = 1.0
     alive = alive.copy()
     picked: list[tuple[int, float]] = []
+    pivots: list[tuple[np.ndarray, float]] = []
     while len(picked) < max_inputs and alive.any() and e > 1e-12:
-        diag = np.diag(Rg)
         ok = alive & (diag > 1e-12)
         if not ok.any():
             break
@@ -425,11 +429,14 @@ def greedy_gaussian_gram(G: np.ndarray, cy: np.ndarray, alive: np.ndarray, n: in
         if not 2.0 * n * gains[best] > penalty:
             break
         picked.append((best, float(gains[best])))
-        col = Rg[:, best].copy()
+        col = G[:, best].copy()
+        for prev, prev_piv in pivots:
+            col -= (prev * prev[best]) / prev_piv
         piv = col[best]
         e -= ry[best] ** 2 / piv
         ry -= col * (ry[best] / piv)
-        Rg -= np.outer(col, col) / piv
+        diag -= (col * col) / piv
+        pivots.append((col, piv))
         alive[best] = False
     return picked
 
