@@ -18,6 +18,7 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_square_range",
+    "free_memory_bytes",
 ]
 
 
@@ -219,3 +220,19 @@ def check_square_range(
             "where its sums of squares overflow float64; rescale the data (e.g. convert "
             "it to smaller units) before this analysis."
         )
+
+
+def free_memory_bytes() -> float:
+    """Physical memory free now [bytes] (``os.sysconf`` pages); ``inf`` where unknown.
+
+    The measure the library's guard rails refuse work against before they allocate
+    (closedloop's run estimate reads ``MemAvailable`` instead, a larger figure that
+    counts reclaimable caches).
+    """
+    import math
+    import os
+
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # not available on this platform
+        return math.inf

@@ -52,14 +52,13 @@ sizes to reduce. The hot loop of the Gaussian path is a matrix product per targe
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real, check_rng
+from modalinfo._validation import check_choice, check_int, check_real, check_rng, free_memory_bytes
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _auto_block, _estimator
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
@@ -209,13 +208,6 @@ def _check_lags(lags: Any) -> np.ndarray:
     if arr.min() < 0 or len(set(arr.tolist())) != arr.size:
         raise ValueError(f"`lags` must be distinct ints >= 0; got {arr.tolist()}.")
     return np.sort(arr.astype(np.int64))
-
-
-def _available_bytes() -> float:
-    try:
-        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # not available on this platform
-        return math.inf
 
 
 def _lagged_block(series: np.ndarray, lags: np.ndarray, t0: int) -> np.ndarray:
@@ -390,7 +382,7 @@ def transfer_entropy_map(
         for s in (1, 2, 3):  # as the surrogates: rolled copies
             est(x, np.roll(y, s, axis=0), z)
         seconds = (time.perf_counter() - t_start) / 3 * cells * (1 + n_surrogates)
-    avail = _available_bytes()
+    avail = free_memory_bytes()
     if need > avail:
         raise ValueError(f"the transfer map needs about {need / 2**20:.0f} MiB ({S} series x "
                          f"{L} lags x {n} rows, {n_surrogates} surrogates) and "

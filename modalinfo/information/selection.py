@@ -40,7 +40,6 @@ chosen before it (:func:`~modalinfo.information.conditional_mutual_information_c
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from typing import Any
 
@@ -48,7 +47,14 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import stats
 
-from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo._validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_real,
+    check_rng,
+    free_memory_bytes,
+)
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import (
     CMI_METHODS,
@@ -196,10 +202,7 @@ _WORKING_COPIES = 7
 def _check_memory(n_values: int) -> None:
     """Refuse a search whose working arrays would not fit in the available memory."""
     need = _WORKING_COPIES * 8 * n_values
-    try:
-        avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):  # not available on this platform
-        return
+    avail = free_memory_bytes()
     if need > avail:
         raise ValueError(
             f"the candidate search needs about {need / 2**20:.1f} MiB ({_WORKING_COPIES} "

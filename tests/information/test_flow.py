@@ -183,6 +183,6 @@ def test_refusals_name_the_argument():
 
 
 def test_refuses_a_map_larger_than_the_available_memory(monkeypatch):
-    monkeypatch.setattr(flow_mod, "_available_bytes", lambda: 1000.0)
+    monkeypatch.setattr(flow_mod, "free_memory_bytes", lambda: 1000.0)
     with pytest.raises(ValueError, match=r"needs about \d+ MiB .* is available"):
         transfer_entropy_map(_planted_network(300, 4))

@@ -169,12 +169,12 @@ def test_gram_bootstrap_interval_equals_the_resampling_one():
 
 
 def test_refuses_a_search_larger_than_the_available_memory(monkeypatch):
-    import modalinfo.information.selection as sel
+    import os
 
     X = np.random.default_rng(0).standard_normal((1000, 3))
     # 1 MiB "available": 7 working copies of 998 x 3 x 2 float64 need 0.3 MiB, of
     # 991 x 3 x 10 need 1.6 MiB
-    monkeypatch.setattr(sel.os, "sysconf",
+    monkeypatch.setattr(os, "sysconf",
                         lambda name: 256 if name == "SC_AVPHYS_PAGES" else 4096)
     select_inputs(X, 0, max_lag=2, n_surrogates=19, intervals=False)
     with pytest.raises(ValueError,

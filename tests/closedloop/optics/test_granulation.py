@@ -115,3 +115,18 @@ def test_load_scene_validation(tmp_path):
     np.save(tmp_path / "d.npy", -np.ones((16, 16)))
     with pytest.raises(ValueError, match="must be an intensity"):
         load_scene(tmp_path / "d.npy")
+
+
+def test_a_scene_that_cannot_fit_is_refused_before_any_work(monkeypatch):
+    # a free memory set here: 64 x 64 pixels of 0.3" (lanes of 0.08 x 1.27" need 3x
+    # supersampling) need about 160 bytes x 192^2 = 5.6 MiB: refused with 5 MiB free,
+    # made with 6 MiB
+    import closedloop.optics.granulation as granulation
+
+    monkeypatch.setattr(granulation, "free_memory_bytes", lambda: 5.0 * 2**20)
+    with pytest.raises(ValueError, match=r"a 64 x 64 scene \(supersampled 3x\) needs about "
+                                         r".* GiB and .* GiB is free; use fewer pixels "
+                                         r"\(`n_pix`\)"):
+        granulation.granulation_scene(64, 0.3, seed=0)
+    monkeypatch.setattr(granulation, "free_memory_bytes", lambda: 6.0 * 2**20)
+    assert granulation.granulation_scene(64, 0.3, seed=0).shape == (64, 64)
