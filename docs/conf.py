@@ -50,6 +50,10 @@ nitpick_ignore_regex = [
     (r"py:(meth|attr)", r"[A-Z]\w*\.\w+"),
     # closedloop's modules get their pages after its restructure (rooms)
     (r"py:mod", r"closedloop\.\w+"),
+    # the optics room documents granulation, shifts and correlating only (PUBLIC below)
+    (r"py:mod", r"closedloop\.optics\.(atmosphere|dm|geometry|phase_screen|science|wfs)"),
+    # private modules (numba kernels) never get pages
+    (r"py:(mod|func|obj)", r"closedloop(\.\w+)*\._\w+(\.\w+)*"),
 ]
 # headings such as "### `closedloop`" in the markdown pages get anchors for links
 myst_heading_anchors = 3
@@ -67,6 +71,10 @@ PUBLIC = [
     ("modalinfo", "modalinfo.forecast", "Predictors and their evaluation"),
     ("modalinfo", "modalinfo.batch", "Archives on Dask"),
     ("closedloop", "closedloop", "The MCAO simulator"),
+    ("closedloop", "closedloop.optics.granulation", "Synthetic solar granulation scenes"),
+    ("closedloop", "closedloop.optics.shifts", "Image-shift measurement (SDF, ADF^2, CFI)"),
+    ("closedloop", "closedloop.optics.correlating",
+     "Correlating Shack-Hartmann: image formation and photon budget"),
 ]
 
 

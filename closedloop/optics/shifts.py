@@ -5,21 +5,28 @@ algorithms for solar Shack-Hartmann wavefront sensors") evaluates, on a "live" i
 against a reference image of the same scene:
 
 ``method``
-    ``"sdf"``  square difference function ``C(d) = sum_x (i(x) - r(x - d))**2`` over a
-               window of the live image; minimum at the shift.
-    ``"adf2"`` absolute difference function, squared: ``C(d) = (sum_x |i(x) - r(x - d)|)**2``
-               (squaring makes the surface near its minimum closer to a paraboloid).
-    ``"cfi"``  covariance function computed with FFTs (``-`` the cyclic cross-covariance
-               of the mean-subtracted windows), whose maximum is the shift.
+    ``"sdf"``
+        square difference function ``C(d) = sum_x (i(x) - r(x - d))**2`` over a window
+        of the live image; minimum at the shift.
+    ``"adf2"``
+        absolute difference function, squared: ``C(d) = (sum_x |i(x) - r(x - d)|)**2``
+        (squaring makes the surface near its minimum closer to a paraboloid).
+    ``"cfi"``
+        covariance function computed with FFTs (``-`` the cyclic cross-covariance of
+        the mean-subtracted windows), whose maximum is the shift.
 
-``interpolation`` (sub-pixel position of the extremum from the 3x3 values around the
-integer one; Loefdahl 2010, Sect. 3.2)
-    ``"2d-quadratic"``     (2QI) the paraboloid ``a1 + a2 x + a3 x^2 + a4 y + a5 y^2 +
-                           a6 x y`` through the centre and its 4 neighbours with the
-                           cross term from the corners (Yi & Molowny-Horas 1992);
-                           Loefdahl's recommended choice with SDF and ADF^2.
-    ``"1d-quadratic"``     (1QI) a parabola along each axis through 3 points.
-    ``"2d-least-squares"`` (2LS) the same paraboloid fitted to all 9 points.
+``interpolation``
+    Sub-pixel position of the extremum from the 3x3 values around the integer one
+    (Loefdahl 2010, Sect. 3.2):
+
+    ``"2d-quadratic"``
+        (2QI) the paraboloid ``a1 + a2 x + a3 x^2 + a4 y + a5 y^2 + a6 x y`` through the
+        centre and its 4 neighbours with the cross term from the corners (Yi &
+        Molowny-Horas 1992); Loefdahl's recommended choice with SDF and ADF^2.
+    ``"1d-quadratic"``
+        (1QI) a parabola along each axis through 3 points.
+    ``"2d-least-squares"``
+        (2LS) the same paraboloid fitted to all 9 points.
 
 The difference functions are computed by a numba kernel over the whole batch
 (:func:`closedloop.optics._shift_kernels.difference_surfaces`), the covariance by numpy's
