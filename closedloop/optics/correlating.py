@@ -32,13 +32,26 @@ SH of :mod:`closedloop.optics.wfs` reports gradients in rad/m of the phase at th
 
 Photon budget. The disc-centre continuum is taken as a blackbody at the brightness
 temperature ``T_b`` (default 6300 K; the visible disc-centre continuum of Neckel & Labs
-1984 has ``T_b`` ~ 6200-6400 K). Through a 25 cm subaperture, 0.5" pixels, 10 nm and
-1 ms that is ~10^8 photons per pixel: far more than a detector well holds, so real solar
-WFSs attenuate (neutral density, beam-splitter fraction) to run near full well, and the
-photon noise is set by the full well, not by the Sun. The budget therefore caps the mean
-signal at ``fill * full_well`` (defaults 0.5 x 30 000 e-; read noise 2 e-, the class of
-the fast CMOS/sCMOS cameras used in solar WFSs) and records the attenuation it needed.
-These are documented choices, not one instrument's specification.
+1984 has ``T_b`` ~ 6200-6400 K). Through a 25 cm subaperture (table1's ground WFS), 0.5"
+pixels, 10 nm, 1 ms, throughput 0.3 and QE 0.6 that is ~7e7 photo-electrons per pixel, and
+through the 7.5 cm subapertures of the DST's AO76 at its 2500 frames/s (0.4 ms) still
+~2e6: far more than a detector well holds. Solar WFSs attenuate (neutral density, a
+beam-splitter fraction: DKIST feeds its WFSs with 4 %) to run near full well, so their
+noise is the photon noise of the well, not of the Sun ("photon noise dominates, detector
+noise is not an issue; CCDs with large wells are preferred", NSO's ATST AO design), and
+the slope noise is set by the contrast of the subaperture image, 1-3 % on granulation
+(Rimmele & Marino 2011, Living Rev. Sol. Phys. 8, 2, Sect. 2.3; Michau et al. 1992). The
+budget therefore caps the mean signal at ``fill * full_well`` (defaults 0.5 x 30 000 e-;
+read noise 2 e-) and records the attenuation it needed: at 15 000 e- the photon noise
+(122 e-) is 60 times the read noise, so the well and the fill set the noise and the read-noise
+default hardly matters. The 0.5" pixel is the sampling of AO76's correlating SH (20x20
+pixels over a 10"x10" field per subaperture; Rimmele & Marino 2011, Sect. 4-5), whose
+field is the usual 10-12" of solar SHs (Berkefeld et al. on GREGOR's 9.2 cm subapertures).
+The 1 ms exposure is table1's frame time; the 2-2.5 kHz systems (AO76, SST, DKIST) expose
+at most 0.4-0.5 ms, which changes nothing once the signal is capped. Not taken from a
+design (no published figure was reachable here): the 10 nm bandwidth, the throughput, the
+QE, the 30 000 e- well and the 2 e- read noise. The designs and their sources:
+``docs/CLOSEDLOOP.md``, "Solar WFS designs behind the photon budget".
 """
 
 from __future__ import annotations
