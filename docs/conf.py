@@ -75,6 +75,8 @@ PUBLIC = [
     ("closedloop", "closedloop.optics.shifts", "Image-shift measurement (SDF, ADF^2, CFI)"),
     ("closedloop", "closedloop.optics.correlating",
      "Correlating Shack-Hartmann: image formation and photon budget"),
+    ("closedloop", "closedloop.optics.correlating_sensor",
+     "The correlating Shack-Hartmann as a loop part (kind 'correlating')"),
 ]
 
 

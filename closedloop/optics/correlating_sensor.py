@@ -59,13 +59,14 @@ against the image of the subaperture nearest the centre; slopes less their mean 
 above, and the tracker as in the linear mode (linear, with its noise). It checks the
 linear mode (tests: equal within the interpolation bias without noise; noise within
 15 %); it costs ~1 ms per subaperture image (benchmarks/RESULTS.md), so
-:func:`closedloop.resources.estimate` refuses long runs of it.
+``closedloop.resources.estimate`` refuses long runs of it.
 
 The scene is a :func:`closedloop.optics.granulation.granulation_scene` (seed 0, so the
 sensor does not change with the run's seed) at the WFS's pixel scale, with ``contrast``
-(default: :func:`granulation_contrast` at the WFS wavelength, 500 nm); the photon
-budget is :class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean
-signal ``signal`` e- per pixel when given (capped at what the Sun supplies).
+(default: :func:`~closedloop.optics.granulation.granulation_contrast` at the WFS
+wavelength, 500 nm); the photon budget is
+:class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean signal
+``signal`` e- per pixel when given (capped at what the Sun supplies).
 """
 
 from __future__ import annotations
@@ -103,8 +104,10 @@ _MIN_LIT = 0.5
 class CorrelatingShackHartmann(ShackHartmann):
     """Correlating Shack-Hartmann on granulation (``kind="correlating"``; module docstring).
 
-    Attributes (beyond :class:`~closedloop.optics.wfs.WavefrontSensor`'s)
-    ----------------------------------------------------------------------
+    Besides those of ``closedloop.optics.wfs.WavefrontSensor``:
+
+    Attributes
+    ----------
     n_valid_subapertures : int
     valid_subapertures : (n_valid,) ndarray of int
         Subaperture indices ``row * n_sub + column``.
