@@ -154,16 +154,16 @@ class _Axis:
         self.hi = float(x.max())
         self.binning = binning
         self._idx: dict[int, np.ndarray] = {}
-        self._sorted: np.ndarray | None = None
 
     def edges(self, k: int) -> np.ndarray:
         """Bin edges (k + 1,) for ``k`` bins."""
         if self.binning == "uniform":
             return np.linspace(self.lo, self.hi, k + 1)
-        if self._sorted is None:
-            self._sorted = np.sort(self.x)
+        # np.interp(pos, arange(n), sort(x)) by a bucket selection (no sort)
         pos = np.linspace(0.0, self.n - 1.0, k + 1)
-        return np.interp(pos, np.arange(self.n, dtype=float), self._sorted)
+        out = np.empty(k + 1)
+        kern.quantile_edges(self.x, self.lo, self.hi, pos, out)
+        return out
 
     def index(self, k: int) -> np.ndarray:
         """Bin index (n,) int64 of every sample for ``k`` bins (cached)."""
@@ -174,8 +174,8 @@ class _Axis:
                 inv = k / (self.hi - self.lo) if self.hi > self.lo else 0.0
                 kern.uniform_bin_index(self.x, self.lo, inv, self.edges(k), idx)
             else:
-                inner = self.edges(k)[1:-1]
-                idx[:] = np.searchsorted(inner, self.x, side="right")
+                inner = np.ascontiguousarray(self.edges(k)[1:-1])
+                kern.sorted_edges_bin_index(self.x, self.lo, self.hi, inner, idx)
             if len(self._idx) >= 16:  # keep the cache small; rules use few distinct k
                 self._idx.pop(next(iter(self._idx)))
             self._idx[k] = idx

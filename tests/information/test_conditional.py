@@ -8,8 +8,9 @@ References (all from outside the code under test):
 - for the ``"gaussian"`` estimator on a sample: the log ratio of least-squares residual
   variances computed in the test with ``numpy.linalg.lstsq``;
 - for the histogram: ``infomeasure`` (``approach="discrete"`` and ``"miller_madow"``)
-  on the very same bin codes (equal to float rounding), and the existing 2-D MI
-  estimators of this package when z is empty;
+  on the very same bin codes (equal to float rounding), an independent numpy
+  reference written here (sort, interp, searchsorted, unique), and the existing 2-D
+  MI estimators of this package when z is empty;
 - significance: the nominal level of the surrogate test under zero coupling, checked
   by a binomial bound over many seeds; coverage of the block-bootstrap interval of the
   true TE, likewise.
@@ -148,6 +149,56 @@ def test_histogram_equals_infomeasure_on_the_same_bins():
                                         abs=1e-12)
     assert ours_mm == pytest.approx(im.cmi(cx, cy, cond=cz, approach="miller_madow"),
                                     abs=1e-12)
+
+
+def numpy_histogram_cmi(x, y, z, k):
+    """Independent numpy reference of the quantile-histogram CMI with Miller-Madow.
+
+    Each column cut at ``numpy.interp(linspace(0, n - 1, k + 1), arange(n), sort(col))``,
+    bins by ``numpy.searchsorted(inner edges, col, "right")``, cells counted by
+    ``numpy.unique(rows, axis=0)``, and H = -sum p ln p + (K - 1) / (2 n) per term.
+    """
+    n = x.shape[0]
+    pos = np.linspace(0.0, n - 1.0, k + 1)
+
+    def bins(a):
+        cols = [np.searchsorted(np.interp(pos, np.arange(n, dtype=float), np.sort(c))[1:-1],
+                                c, side="right") for c in a.T]
+        return np.stack(cols, axis=1) if cols else np.zeros((n, 0), dtype=np.int64)
+
+    bx, by, bz = bins(x), bins(y), bins(z)
+
+    def entropy(*groups):
+        rows = np.concatenate(groups, axis=1)
+        if rows.shape[1] == 0:
+            return 0.0
+        counts = np.unique(rows, axis=0, return_counts=True)[1]
+        p = counts / n
+        return float(-np.sum(p * np.log(p)) + (counts.size - 1) / (2.0 * n))
+
+    return entropy(bx, bz) + entropy(by, bz) - entropy(bx, by, bz) - entropy(bz)
+
+
+@pytest.mark.parametrize("n, dx, dz, k", [
+    (200, 1, 0, 5), (3000, 1, 1, 9), (3000, 2, 3, 4), (20_000, 1, 2, 8),
+    (2000, 1, 3, 12),  # 12^5 cells > 8 n: the sorted (sparse) counting path
+])
+def test_histogram_equals_an_independent_numpy_reference(n, dx, dz, k):
+    # the numba pipeline (selection instead of sort, bucketed bin search, fused
+    # counting) must give the numpy definition's value: sums of ~n terms, so 1e-12
+    rng = np.random.default_rng(n + dz)
+    X = rng.standard_normal((n, dx + 1 + dz)) @ rng.standard_normal((dx + 1 + dz,) * 2)
+    X[: n // 10] = np.round(X[: n // 10], 1)  # ties
+    x, y, z = X[:, :dx], X[:, dx], (X[:, dx + 1 :] if dz else None)
+    ref = numpy_histogram_cmi(x, y.reshape(-1, 1), np.zeros((n, 0)) if z is None else z, k)
+    got = conditional_mutual_information(x, y, z, bins=k)
+    assert got == pytest.approx(ref, rel=1e-12, abs=1e-14)
+    # the default bin rule (module notes): round((6 n)^(1 / (d + 2))), capped at ceil(sqrt n)
+    d = dx + 1 + dz
+    k_auto = min(max(2, round((6.0 * n) ** (1.0 / (d + 2)))), math.ceil(math.sqrt(n)))
+    ref = numpy_histogram_cmi(x, y.reshape(-1, 1), np.zeros((n, 0)) if z is None else z,
+                              k_auto)
+    assert conditional_mutual_information(x, y, z) == pytest.approx(ref, rel=1e-12, abs=1e-14)
 
 
 def test_ksg_agrees_with_infomeasure_ksg_within_its_scatter():
