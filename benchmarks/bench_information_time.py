@@ -1,14 +1,18 @@
 """Timing of conditional MI and of the greedy input selection, side by side.
 
-Run: /work/main/.venv/bin/python benchmarks/bench_information_time.py [--quick]
+Run: /work/main/.venv/bin/python benchmarks/bench_information_time.py [--quick] [--cmi-only]
 
-1. Conditional MI I(X; Y | Z) of a trivariate normal sample at n = 1e5 (skipped with
-   --quick) and 2e4: our histogram estimator (from the float samples: binning included,
-   default (6 n)^(1/5) quantile bins per axis, Miller-Madow), against infomeasure's
-   ``discrete`` and ``miller_madow`` estimators given the *same bin codes* (so its
-   time excludes the binning, and the values agree to float rounding), and at 2e4
-   KSG (Frenzel-Pompe, k = 3): ours (scipy cKDTree) and infomeasure's. Medians of
-   repeats, the first (numba-compiling) call excluded.
+1. Conditional MI I(X; Y | Z) of a trivariate normal sample at n = 1e3, 1e4, 1e5
+   (1e5 skipped with --quick), and at 1e5 with a 3-column z: our histogram estimator
+   from the float samples (binning included: default (6 n)^(1/(d+2)) quantile bins
+   per axis, Miller-Madow), against infomeasure's ``discrete`` and ``miller_madow``
+   estimators given the *same bin codes* (its time excludes the binning; infomeasure
+   does not bin floats itself: its discrete estimators take symbols), and against
+   the same codes made by numpy (sort, interp, searchsorted: what a user of
+   infomeasure would write) plus infomeasure ``miller_madow`` (floats in, value out,
+   as ours). KSG (Frenzel-Pompe, k = 3): ours (scipy cKDTree) at every n,
+   infomeasure's at 1e3 and 1e4 (at 1e5 it takes minutes). Medians of repeats, the
+   first (numba-compiling) call excluded.
 2. The greedy selection on the shipped 27-mode closed-loop log
    (data/kaos_like_closed_loop.npz, 8000 frames), lags 0..9 (270 candidates), horizon
    2: one target (Z5) with the defaults (199 surrogates per step, block-bootstrap
@@ -60,10 +64,29 @@ def median_time(fn, repeats):
     return float(np.median(times)), out
 
 
-def bench_cmi(n, repeats, ksg=True):
-    X = np.random.default_rng(0).multivariate_normal(np.zeros(3), COV, size=n)
-    x, y, z = X[:, 0], X[:, 1], X[:, 2]
-    print(f"CMI, trivariate normal, n = {n}, true {true_cmi():.4f} nats")
+def numpy_codes(X, k):
+    """Quantile bin codes of each column by numpy: sort, interp, searchsorted (as ours)."""
+    n = X.shape[0]
+    pos = np.linspace(0.0, n - 1.0, k + 1)
+    return [np.searchsorted(np.interp(pos, np.arange(n, dtype=float), np.sort(c))[1:-1], c,
+                            side="right") for c in X.T]
+
+
+def mixed_radix(codes, k):
+    """One symbol per row of several code columns (infomeasure takes 1-D conditions)."""
+    out = np.zeros_like(codes[0])
+    for c in codes:
+        out = out * k + c
+    return out
+
+
+def bench_cmi(n, repeats, dz=1, ksg=True, im_ksg=True):
+    cov = np.eye(2 + dz)
+    cov[:3, :3] = COV
+    X = np.random.default_rng(0).multivariate_normal(np.zeros(2 + dz), cov, size=n)
+    x, y, z = X[:, 0], X[:, 1], X[:, 2:]
+    truth = f", true {true_cmi():.4f} nats" if dz == 1 else ""
+    print(f"CMI, {2 + dz}-variate normal, z with {dz} column(s), n = {n}{truth}")
     conditional_mutual_information(x[:1000], y[:1000], z[:1000])  # compile
     t_ours, v_ours = median_time(lambda: conditional_mutual_information(x, y, z), repeats)
     rows = [("ours histogram (MM, from floats)", t_ours, v_ours)]
@@ -73,22 +96,31 @@ def bench_cmi(n, repeats, ksg=True):
             import infomeasure as im
     except ImportError:  # test extra not installed
         im = None
-    k = _bins_per_axis("auto", n, 3)
-    codes = [_group_codes(X[:, j : j + 1], k, "quantile")[0] for j in range(3)]
+    k = _bins_per_axis("auto", n, 2 + dz)
+    codes = [_group_codes(X[:, j : j + 1], k, "quantile")[0] for j in range(2 + dz)]
+    cz = mixed_radix(codes[2:], k)
     if im is not None:
         for approach in ("discrete", "miller_madow"):
-            im.cmi(codes[0][:1000], codes[1][:1000], cond=codes[2][:1000], approach=approach)
-            t, v = median_time(lambda a=approach: im.cmi(codes[0], codes[1], cond=codes[2],
-                                                         approach=a), max(1, repeats // 2))
+            im.cmi(codes[0][:1000], codes[1][:1000], cond=cz[:1000], approach=approach)
+            t, v = median_time(lambda a=approach: im.cmi(codes[0], codes[1], cond=cz,
+                                                         approach=a), repeats)
             rows.append((f"infomeasure {approach} (same codes)", t, v))
+
+        def numpy_then_im():
+            c = numpy_codes(X, k)
+            return im.cmi(c[0], c[1], cond=mixed_radix(c[2:], k), approach="miller_madow")
+
+        t, v = median_time(numpy_then_im, repeats)
+        rows.append(("numpy binning + infomeasure MM (floats)", t, v))
     if ksg:
         t, v = median_time(lambda: conditional_mutual_information(x, y, z, method="ksg"), 1)
         rows.append(("ours KSG k=3 (cKDTree)", t, v))
-        if im is not None:
-            t, v = median_time(lambda: im.cmi(x, y, cond=z, approach="ksg", k=3), 1)
+        if im is not None and im_ksg:
+            t, v = median_time(lambda: im.cmi(x, y, cond=z[:, 0], approach="ksg", k=3), 1)
             rows.append(("infomeasure KSG k=3", t, v))
+    print(f"  ({k} bins per axis)")
     for name, t, v in rows:
-        print(f"  {name:<38} {t * 1e3:10.1f} ms  {v:.4f} nats  ratio to ours "
+        print(f"  {name:<40} {t * 1e3:10.2f} ms  {v:.4f} nats  time / ours "
               f"{t / t_ours:8.1f}x")
 
 
@@ -115,13 +147,17 @@ def bench_selection(quick):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="n = 2e4, fewer runs")
+    parser.add_argument("--quick", action="store_true", help="n <= 1e4, fewer runs")
+    parser.add_argument("--cmi-only", action="store_true", help="skip the selection timings")
     args = parser.parse_args()
-    n = 20_000 if args.quick else 100_000
-    if not args.quick:  # histograms at 1e5; KSG at 2e4 (infomeasure's takes ~30 s there)
-        bench_cmi(n, 5, ksg=False)
-    bench_cmi(20_000, 3)
-    bench_selection(args.quick)
+    n = 10_000 if args.quick else 100_000
+    bench_cmi(1_000, 9)
+    bench_cmi(10_000, 7)
+    if not args.quick:
+        bench_cmi(100_000, 7, im_ksg=False)
+        bench_cmi(100_000, 7, dz=3, ksg=False)
+    if not args.cmi_only:
+        bench_selection(args.quick)
     print(f"(python {'.'.join(map(str, __import__('sys').version_info[:3]))}, "
           f"load average {os.getloadavg()[0]:.1f}, log2(n) = {math.log2(n):.1f})")
 

@@ -202,17 +202,39 @@ def quantile_edges(x, lo, hi, pos, out):
     x : (n,) float64 IN, finite ; lo, hi : min and max of x ; pos : (m,) float64 IN,
     positions in [0, n - 1] ; out : (m,) float64 OUT.
     """
+    nb = selection_buckets(x.shape[0])
+    quantile_edges_scratch(x, lo, hi, pos, out, np.empty(nb + 1, dtype=np.int64),
+                           np.empty(nb, dtype=np.int64))
+
+
+@jit
+def selection_buckets(n):
+    """Return the number of buckets of :func:`quantile_edges` for n samples (~8 per bucket).
+
+    Few enough that the two scratch arrays stay small (fresh pages are costly: a
+    page fault per 4 KiB), many enough that the buckets to sort hold few samples.
+    """
+    return max(1, n // 8)
+
+
+@jit
+def quantile_edges_scratch(x, lo, hi, pos, out, start, slot):
+    """:func:`quantile_edges` with caller-owned scratch.
+
+    start : (nb + 1,) int64 scratch ; slot : (nb,) int64 scratch, with
+    nb = :func:`selection_buckets` (n) (reused over the columns of a sample).
+    """
     n = x.shape[0]
     m = pos.shape[0]
-    nb = max(1, n // 4)
+    nb = slot.shape[0]
     inv = _bucket_scale(lo, hi, nb)
-    start = np.zeros(nb + 1, dtype=np.int64)
+    start[:] = 0
     for i in range(n):
         start[_bucket(x[i], lo, inv, nb) + 1] += 1
     for b in range(nb):
         start[b + 1] += start[b]  # start[b] = number of samples in buckets < b
     # needed ranks: floor(p) and floor(p) + 1 of each position; mark their buckets
-    slot = np.full(nb, -1, dtype=np.int64)
+    slot[:] = -1
     n_slots = 0
     for j in range(m):
         r0 = int(pos[j])

@@ -138,12 +138,19 @@ def _bins_per_axis(bins: Any, n: int, d: int) -> int:
 def _group_codes(arr: np.ndarray, k: int, binning: str) -> tuple[np.ndarray, int]:
     """Mixed-radix cell code (n,) int64 of each row and the number of cells k^d."""
     code = np.zeros(arr.shape[0], dtype=np.int64)
-    if binning == "quantile":  # one numba pass per column, no sort (_cmi_kernels.py)
-        ckern.quantile_group_codes(arr, np.linspace(0.0, arr.shape[0] - 1.0, k + 1), code)
+    if binning == "quantile":  # numba, no sort (_cmi_kernels.quantile_joint_cells)
+        none = np.empty((arr.shape[0], 0))
+        ckern.quantile_joint_cells(none, arr, none, _quantile_positions(arr.shape[0], k),
+                                   np.empty(0, dtype=np.int64), code)
         return code, k ** arr.shape[1]
     for j in range(arr.shape[1]):
         code = code * k + _Axis(np.ascontiguousarray(arr[:, j]), binning).index(k)
     return code, k ** arr.shape[1]
+
+
+def _quantile_positions(n: int, k: int) -> np.ndarray:
+    """Positions (k + 1,) in the sorted sample of the k + 1 quantile edges (as _Axis)."""
+    return np.linspace(0.0, n - 1.0, k + 1)
 
 
 def _sorted_sum(codes: np.ndarray) -> tuple[float, float]:
@@ -163,18 +170,27 @@ def _cmi_histogram(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
     if d * math.log2(k) > 62:
         raise ValueError(f"`bins`={k} per axis over {d} columns overflows the int64 cell "
                          f"codes (k^d >= 2^62); use fewer bins or fewer columns.")
-    cx, nx = _group_codes(x, k, binning)
-    cy, ny = _group_codes(y, k, binning)
-    cz, nz = _group_codes(z, k, binning)
+    nx, ny, nz = k ** x.shape[1], k ** y.shape[1], k ** z.shape[1]
     cells = nx * ny * nz
-    if cells <= min(_DENSE_MAX_CELLS, 8 * n + 4096):
-        out = np.empty(8)
-        ckern.cmi_dense_counts(cx, cy, cz, nx, ny, nz, np.empty((nz, nx, ny), np.int64), out)
-        s_xyz, s_xz, s_yz, s_z, k_xyz, k_xz, k_yz, k_z = out
+    dense = cells <= min(_DENSE_MAX_CELLS, 8 * n + 4096)
+    counts = np.empty(cells if dense else 0, dtype=np.int64)
+    code = np.empty(0 if dense else n, dtype=np.int64)
+    if binning == "quantile":  # one fused numba call: edges, bins, joint cells
+        ckern.quantile_joint_cells(z, x, y, _quantile_positions(n, k), counts, code)
     else:
-        s_xyz, k_xyz = _sorted_sum((cz * nx + cx) * ny + cy)
-        s_xz, k_xz = _sorted_sum(cz * nx + cx)
-        s_yz, k_yz = _sorted_sum(cz * ny + cy)
+        code = (_group_codes(z, k, binning)[0] * nx + _group_codes(x, k, binning)[0]) * ny
+        code += _group_codes(y, k, binning)[0]
+        if dense:
+            ckern.count_cells(code, counts)
+    if dense:
+        out = np.empty(8)
+        ckern.cmi_dense_counts(counts.reshape(nz, nx, ny), out)
+        s_xyz, s_xz, s_yz, s_z, k_xyz, k_xz, k_yz, k_z = out
+    else:  # cell (z, x, y) = (cz nx + cx) ny + cy
+        cz, cxz = code // (nx * ny), code // ny
+        s_xyz, k_xyz = _sorted_sum(code)
+        s_xz, k_xz = _sorted_sum(cxz)
+        s_yz, k_yz = _sorted_sum(cz * ny + code % ny)
         s_z, k_z = _sorted_sum(cz)
     # H = ln n - S / n for each table; the ln n terms cancel in the CMI
     cmi = (s_xyz + s_z - s_xz - s_yz) / n
