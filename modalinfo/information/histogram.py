@@ -25,7 +25,10 @@ rho = 0.3 even after Miller-Madow. Rule-chosen bin numbers are capped at
 ceil(sqrt(n)) (:func:`max_rule_bins`).
 
 Binning of the samples is one numba pass (``_kernels.py``); nothing loops over samples
-in Python.
+in Python. Quantile edges are ``numpy.interp`` of the sorted sample, computed without
+sorting: a bucket selection finds the exact order statistics they need
+(``_kernels.quantile_edges``, 0.2 against 1.5 ms for a sort at n = 1e5), and each
+sample's bin is searched among the edges of its bucket only.
 """
 
 from __future__ import annotations

@@ -2,7 +2,8 @@
 
 References: numpy.histogram / histogram2d / bincount for binning and counting, a
 direct numpy formula for the plug-in MI, explicit loops for linear binning and
-interpolation. Each kernel is also called from inside an njit function.
+interpolation, numpy.interp of numpy.sort for the quantile edges (bit for bit) and
+numpy.searchsorted for the bin search. Each kernel is also called from inside an njit function.
 """
 
 import numba as nb
