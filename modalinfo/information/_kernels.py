@@ -191,7 +191,7 @@ def quantile_edges(x, lo, hi, pos, out):
 
     A bucket selection instead of a sort (O(n) instead of O(n log n); measured at
     n = 1e5: 0.2 ms against 1.5 ms for numpy.sort): the samples are counted into
-    n / 4 equal-width buckets over [lo, hi] (the bucket index is a monotone function
+    n / 8 equal-width buckets over [lo, hi] (the bucket index is a monotone function
     of x: a subtraction and a multiplication by a positive constant, both rounded
     monotonically, then truncation), the cumulative counts locate the bucket holding
     each order statistic that ``pos`` needs, and only the samples of those buckets are

@@ -22,8 +22,9 @@ Estimators (``method=``), each a private function of :data:`_CMI_METHODS`:
   is searched among the few edges of its bucket, and the cells are counted into a
   dense table (or sorted when the table would be much larger than the sample);
   values are those of the numpy definition (sort, interp, searchsorted) to float
-  rounding. Measured at n = 1e5 (3 columns, 14 bins): about 2.5 ms, against 23 ms
-  with numpy sorting and searchsorted (benchmarks/RESULTS.md).
+  rounding. Measured at n = 1e5 (3 columns, 14 bins; median CPU time on the shared
+  machine at load ~10): 4.7-6 ms, against 20 ms for the former numpy sort and
+  searchsorted and 34 ms for infomeasure's counting alone (benchmarks/RESULTS.md).
 - ``"kde"``: leave-one-out resubstitution entropies (Hall & Morton 1993) of a Gaussian
   KDE with kernel covariance ``h^2 S`` on the joint sample, the kernel of
   :mod:`modalinfo.information.kde`; the four entropies use the marginals of that one
@@ -64,8 +65,8 @@ Tibshirani 1993, ch. 10) does not help either: the block bootstrap's bias (+0.05
 TE 0.20, 0.00, 0.00 (its binned estimand 0.80, 0.20, 0.00; the basic interval
 0.78, 0.20, 0.00); BCa (ch. 14), whose z0 measures that same bias, was not adopted.
 More bins (undersmoothing: Hall, Ann. Statist. 20, 675, 1992) trade it for the
-Miller-Madow residual bias,
-which grows faster (n = 1e4: -0.017, +0.017, +0.108 nats at k = 9, 14, 20). So the
+Miller-Madow residual bias, which grows faster (n = 1e4: error -0.017, +0.017,
++0.108 nats at k = 9, 14, 20). So the
 histogram interval is an interval for the binned CMI at the estimator's bins
 (comparisons at equal n and bins, significance, whose surrogates share the bias);
 use "gaussian", "kde" or "ksg" for values of the CMI itself.
