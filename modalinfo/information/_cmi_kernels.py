@@ -11,6 +11,12 @@ import math
 import numpy as np
 
 from modalinfo._numba import jit
+from modalinfo.information._kernels import (
+    bin_of,
+    edge_buckets,
+    quantile_edges_scratch,
+    selection_buckets,
+)
 
 
 @jit
@@ -19,28 +25,98 @@ def _c_log_c(c):
 
 
 @jit
-def cmi_dense_counts(cx, cy, cz, nx, ny, nz, counts, out):
+def _column_bins(col, pos, edges, start, slot, j, inner, lo_inv, bases):
+    """Quantile edges of one column and the bucket table of :func:`bin_of` (row j)."""
+    k = pos.shape[0] - 1
+    lo = col[0]
+    hi = col[0]
+    for i in range(col.shape[0]):
+        v = col[i]
+        lo = min(lo, v)
+        hi = max(hi, v)
+    quantile_edges_scratch(col, lo, hi, pos, edges, start, slot)
+    inner[j, :] = edges[1:k]
+    base, inv, nb = edge_buckets(inner[j], lo, hi)
+    bases[j, :] = base
+    lo_inv[j, 0] = lo
+    lo_inv[j, 1] = inv
+
+
+@jit
+def quantile_joint_cells(z, x, y, pos, counts, code):
+    """Joint cell of every row of (z, x, y) under quantile binning of each column.
+
+    Column c is cut at ``numpy.interp(pos, arange(n), sort(c))`` (k + 1 edges, exact
+    order statistics by :func:`~modalinfo.information._kernels.quantile_edges_scratch`,
+    no sort), a sample's bin is ``searchsorted(edges[1:-1], v, "right")``
+    (:func:`~modalinfo.information._kernels.bin_of`), and the row's cell is the
+    mixed-radix code over the columns of z, then x, then y (radix k): the flat index
+    of the (nz, nx, ny) table of :func:`cmi_dense_counts`. One pass over the rows after
+    the edges; no per-sample array is allocated when counting.
+
+    z, x, y : (n, dz), (n, dx), (n, dy) float64 IN, finite (dz may be 0) ;
+    pos : (k + 1,) float64 IN = numpy.linspace(0, n - 1, k + 1) ;
+    counts : (nz nx ny,) int64 OUT, the joint table, or empty ;
+    code : (n,) int64 OUT, the cell of each row (written only if counts is empty).
+    """
+    n = x.shape[0]
+    k = pos.shape[0] - 1
+    dz, dx, dy = z.shape[1], x.shape[1], y.shape[1]
+    d = dz + dx + dy
+    nbk = 64 * k  # buckets of edge_buckets for k - 1 inner edges
+    inner = np.empty((d, k - 1))
+    lo_inv = np.empty((d, 2))
+    bases = np.empty((d, nbk + 1), dtype=np.int64)
+    edges = np.empty(k + 1)
+    nsel = selection_buckets(n)
+    start = np.empty(nsel + 1, dtype=np.int64)
+    slot = np.empty(nsel, dtype=np.int64)
+    for j in range(dz):
+        _column_bins(z[:, j], pos, edges, start, slot, j, inner, lo_inv, bases)
+    for j in range(dx):
+        _column_bins(x[:, j], pos, edges, start, slot, dz + j, inner, lo_inv, bases)
+    for j in range(dy):
+        _column_bins(y[:, j], pos, edges, start, slot, dz + dx + j, inner, lo_inv, bases)
+    dense = counts.shape[0] > 0
+    if dense:
+        counts[:] = 0
+    for i in range(n):
+        c = 0
+        for j in range(dz):
+            c = c * k + bin_of(z[i, j], inner[j], lo_inv[j, 0], lo_inv[j, 1], nbk, bases[j])
+        for j in range(dx):
+            q = dz + j
+            c = c * k + bin_of(x[i, j], inner[q], lo_inv[q, 0], lo_inv[q, 1], nbk, bases[q])
+        for j in range(dy):
+            q = dz + dx + j
+            c = c * k + bin_of(y[i, j], inner[q], lo_inv[q, 0], lo_inv[q, 1], nbk, bases[q])
+        if dense:
+            counts[c] += 1
+        else:
+            code[i] = c
+
+
+@jit
+def count_cells(code, counts):
+    """Histogram of int64 cell codes: counts (m,) int64 OUT (zeroed here)."""
+    counts[:] = 0
+    for i in range(code.shape[0]):
+        counts[code[i]] += 1
+
+
+@jit
+def cmi_dense_counts(counts, out):
     """Compute ``sum c ln c`` and the occupied cells of the four tables of a CMI.
 
     Parameters
     ----------
-    cx, cy, cz : (n,) int64 IN
-        Cell code of each sample in the x, y and z groups (0 <= code < nx, ny, nz).
-    nx, ny, nz : int
-        Number of cells of each group.
-    counts : (nz, nx, ny) int64 scratch
-        Joint table (overwritten).
+    counts : (nz, nx, ny) int64 IN
+        Joint table of the cells (z, x, y).
     out : (8,) float64 OUT
         ``S_xyz, S_xz, S_yz, S_z`` (sums of c ln c) then ``K_xyz, K_xz, K_yz, K_z``
         (numbers of occupied cells).
     """
-    n = cx.shape[0]
-    for a in range(nz):
-        for b in range(nx):
-            for c in range(ny):
-                counts[a, b, c] = 0
-    for i in range(n):
-        counts[cz[i], cx[i], cy[i]] += 1
+    nz, nx, ny = counts.shape
     for j in range(8):
         out[j] = 0.0
     yz = np.zeros(ny, dtype=np.int64)

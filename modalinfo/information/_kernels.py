@@ -167,6 +167,184 @@ def joint_counts_uniform(ix, y, lo, inv_width, edges, counts):
 
 
 @jit
+def _interp_sorted(s_lo, s_hi, p, j, n):
+    """``numpy.interp(p, arange(n), s)`` given ``j = floor(p)``, s_lo = s[j], s_hi = s[j+1].
+
+    The formula and special cases of numpy's C ``interp`` (numpy 1.x-2.x): the last
+    node and exact nodes return the node value; otherwise ``slope (p - j) + s[j]`` with
+    ``slope = (s[j+1] - s[j]) / 1``, retried from the right node if that is nan.
+    """
+    if j >= n - 1 or p == j:
+        return s_lo
+    slope = s_hi - s_lo
+    v = slope * (p - j) + s_lo
+    if np.isnan(v):
+        v = slope * (p - (j + 1.0)) + s_hi
+        if np.isnan(v) and s_lo == s_hi:
+            v = s_lo
+    return v
+
+
+@jit
+def quantile_edges(x, lo, hi, pos, out):
+    """Interpolated order statistics of x, equal to ``numpy.interp(pos, arange(n), sort(x))``.
+
+    A bucket selection instead of a sort (O(n) instead of O(n log n); measured at
+    n = 1e5: 0.2 ms against 1.5 ms for numpy.sort): the samples are counted into
+    n / 8 equal-width buckets over [lo, hi] (the bucket index is a monotone function
+    of x: a subtraction and a multiplication by a positive constant, both rounded
+    monotonically, then truncation), the cumulative counts locate the bucket holding
+    each order statistic that ``pos`` needs, and only the samples of those buckets are
+    collected and sorted. The values are exact order statistics whatever the data:
+    heavy tails only make the needed buckets fuller (at worst, all samples in one
+    bucket: a full sort).
+
+    x : (n,) float64 IN, finite ; lo, hi : min and max of x ; pos : (m,) float64 IN,
+    positions in [0, n - 1] ; out : (m,) float64 OUT.
+    """
+    nb = selection_buckets(x.shape[0])
+    quantile_edges_scratch(x, lo, hi, pos, out, np.empty(nb + 1, dtype=np.int64),
+                           np.empty(nb, dtype=np.int64))
+
+
+@jit
+def selection_buckets(n):
+    """Return the number of buckets of :func:`quantile_edges` for n samples (~8 per bucket).
+
+    Few enough that the two scratch arrays stay small (fresh pages are costly: a
+    page fault per 4 KiB), many enough that the buckets to sort hold few samples.
+    """
+    return max(1, n // 8)
+
+
+@jit
+def quantile_edges_scratch(x, lo, hi, pos, out, start, slot):
+    """:func:`quantile_edges` with caller-owned scratch.
+
+    start : (nb + 1,) int64 scratch ; slot : (nb,) int64 scratch, with
+    nb = :func:`selection_buckets` (n) (reused over the columns of a sample).
+    """
+    n = x.shape[0]
+    m = pos.shape[0]
+    nb = slot.shape[0]
+    inv = _bucket_scale(lo, hi, nb)
+    start[:] = 0
+    for i in range(n):
+        start[_bucket(x[i], lo, inv, nb) + 1] += 1
+    for b in range(nb):
+        start[b + 1] += start[b]  # start[b] = number of samples in buckets < b
+    # needed ranks: floor(p) and floor(p) + 1 of each position; mark their buckets
+    slot[:] = -1
+    n_slots = 0
+    for j in range(m):
+        r0 = int(pos[j])
+        for r in range(r0, min(r0 + 2, n)):
+            b = np.searchsorted(start, r, side="right") - 1
+            if slot[b] < 0:
+                slot[b] = n_slots
+                n_slots += 1
+    # offsets of the collected buckets in one buffer
+    first = np.empty(n_slots + 1, dtype=np.int64)
+    bucket_of = np.empty(n_slots, dtype=np.int64)
+    for b in range(nb):
+        if slot[b] >= 0:
+            bucket_of[slot[b]] = b
+    first[0] = 0
+    for s in range(n_slots):
+        b = bucket_of[s]
+        first[s + 1] = first[s] + start[b + 1] - start[b]
+    buf = np.empty(first[n_slots], dtype=np.float64)
+    fill = first[:n_slots].copy()
+    for i in range(n):
+        s = slot[_bucket(x[i], lo, inv, nb)]
+        if s >= 0:
+            buf[fill[s]] = x[i]
+            fill[s] += 1
+    for s in range(n_slots):
+        buf[first[s]:first[s + 1]].sort()
+    for j in range(m):
+        p = pos[j]
+        r0 = int(p)
+        vals = np.empty(2)
+        for t in range(2):
+            r = min(r0 + t, n - 1)
+            b = np.searchsorted(start, r, side="right") - 1
+            vals[t] = buf[first[slot[b]] + r - start[b]]
+        out[j] = _interp_sorted(vals[0], vals[1], p, r0, n)
+
+
+@jit
+def _bucket(v, lo, inv, nb):
+    """Bucket index of v in nb equal buckets from lo: a monotone non-decreasing map.
+
+    A subtraction and a multiplication by a positive constant are rounded
+    monotonically and truncation and clamping are monotone, so v <= w implies
+    bucket(v) <= bucket(w): bucket(v) < bucket(w) implies v < w.
+    """
+    b = int((v - lo) * inv)
+    if b >= nb:
+        b = nb - 1
+    elif b < 0:
+        b = 0
+    return b
+
+
+@jit
+def _bucket_scale(lo, hi, nb):
+    """``nb / (hi - lo)``, or 0 (one bucket for all) if that is not finite and positive."""
+    span = hi - lo
+    inv = nb / span if span > 0.0 else 0.0
+    return inv if np.isfinite(inv) else 0.0
+
+
+@jit
+def edge_buckets(inner, lo, hi):
+    """Bucket the sorted inner edges for :func:`bin_of`: ``(base, inv, nb)``.
+
+    nb = 64 k equal buckets over [lo, hi] (k - 1 = number of inner edges); base (nb + 1,)
+    int64: ``base[b]`` = number of edges in buckets < b, so the edges of bucket b are
+    ``inner[base[b]:base[b + 1]]`` (the bucket map is monotone and inner sorted).
+    """
+    ke = inner.shape[0]
+    nb = 64 * (ke + 1)
+    inv = _bucket_scale(lo, hi, nb)
+    base = np.zeros(nb + 1, dtype=np.int64)
+    for e in range(ke):
+        base[_bucket(inner[e], lo, inv, nb) + 1] += 1
+    for b in range(nb):
+        base[b + 1] += base[b]
+    return base, inv, nb
+
+
+@jit(inline="always")
+def bin_of(v, inner, lo, inv, nb, base):
+    """Return the number of inner edges <= v (``searchsorted(inner, v, "right")``).
+
+    Edges of lower buckets are below v and those of higher buckets above it (monotone
+    bucket map, :func:`_bucket`), so only the edges sharing v's bucket are compared.
+    """
+    b = _bucket(v, lo, inv, nb)
+    c = base[b]
+    for e in range(base[b], base[b + 1]):
+        c += v >= inner[e]
+    return c
+
+
+@jit
+def sorted_edges_bin_index(x, lo, hi, inner, idx):
+    """Bin index of each sample against sorted inner edges: ``searchsorted(inner, x, "right")``.
+
+    x : (n,) float64 IN, within [lo, hi] ; inner : (k - 1,) float64 IN, ascending ;
+    idx : (n,) int64 OUT, the number of inner edges <= x (:func:`bin_of`; measured at
+    n = 1e5, k = 14: 0.3 ms against 0.6 ms comparing all 13 edges and 3.3 ms for
+    numpy.searchsorted).
+    """
+    base, inv, nb = edge_buckets(inner, lo, hi)
+    for i in range(x.shape[0]):
+        idx[i] = bin_of(x[i], inner, lo, inv, nb, base)
+
+
+@jit
 def joint_counts_index(ix, iy, counts):
     """Joint histogram from two precomputed bin-index arrays.
 

@@ -25,7 +25,10 @@ rho = 0.3 even after Miller-Madow. Rule-chosen bin numbers are capped at
 ceil(sqrt(n)) (:func:`max_rule_bins`).
 
 Binning of the samples is one numba pass (``_kernels.py``); nothing loops over samples
-in Python.
+in Python. Quantile edges are ``numpy.interp`` of the sorted sample, computed without
+sorting: a bucket selection finds the exact order statistics they need
+(``_kernels.quantile_edges``, 0.2 against 1.5 ms for a sort at n = 1e5), and each
+sample's bin is searched among the edges of its bucket only.
 """
 
 from __future__ import annotations
@@ -154,16 +157,16 @@ class _Axis:
         self.hi = float(x.max())
         self.binning = binning
         self._idx: dict[int, np.ndarray] = {}
-        self._sorted: np.ndarray | None = None
 
     def edges(self, k: int) -> np.ndarray:
         """Bin edges (k + 1,) for ``k`` bins."""
         if self.binning == "uniform":
             return np.linspace(self.lo, self.hi, k + 1)
-        if self._sorted is None:
-            self._sorted = np.sort(self.x)
+        # np.interp(pos, arange(n), sort(x)) by a bucket selection (no sort)
         pos = np.linspace(0.0, self.n - 1.0, k + 1)
-        return np.interp(pos, np.arange(self.n, dtype=float), self._sorted)
+        out = np.empty(k + 1)
+        kern.quantile_edges(self.x, self.lo, self.hi, pos, out)
+        return out
 
     def index(self, k: int) -> np.ndarray:
         """Bin index (n,) int64 of every sample for ``k`` bins (cached)."""
@@ -174,8 +177,8 @@ class _Axis:
                 inv = k / (self.hi - self.lo) if self.hi > self.lo else 0.0
                 kern.uniform_bin_index(self.x, self.lo, inv, self.edges(k), idx)
             else:
-                inner = self.edges(k)[1:-1]
-                idx[:] = np.searchsorted(inner, self.x, side="right")
+                inner = np.ascontiguousarray(self.edges(k)[1:-1])
+                kern.sorted_edges_bin_index(self.x, self.lo, self.hi, inner, idx)
             if len(self._idx) >= 16:  # keep the cache small; rules use few distinct k
                 self._idx.pop(next(iter(self._idx)))
             self._idx[k] = idx

@@ -2,7 +2,8 @@
 
 References: numpy.histogram / histogram2d / bincount for binning and counting, a
 direct numpy formula for the plug-in MI, explicit loops for linear binning and
-interpolation. Each kernel is also called from inside an njit function.
+interpolation, numpy.interp of numpy.sort for the quantile edges (bit for bit) and
+numpy.searchsorted for the bin search. Each kernel is also called from inside an njit function.
 """
 
 import numba as nb
@@ -271,3 +272,40 @@ def test_log_ratio_sum_survives_extreme_ratios(rng):
     got = kern.loo_log_ratio_sum_2d(dens, cell, fu, fu, n, k0, k1, floor, fx, fy)
     want = np.sum(np.log((n * 1.0) / (n - 1) / fx))
     assert got == pytest.approx(want, abs=1e-9)
+
+
+def _hard_samples(rng, n):
+    """Samples that stress a bucket selection: ties, heavy tails, a huge range, sorted."""
+    return {
+        "normal": rng.standard_normal(n),
+        "heavy": rng.standard_cauchy(n) ** 3,
+        "discrete": rng.integers(0, 5, n).astype(float),
+        "tiny-ties": np.round(rng.standard_normal(n), 1) * 1e-300,
+        "huge-range": np.where(rng.random(n) < 0.5, 1e308, -1e308) * rng.random(n),
+        "descending": np.sort(rng.standard_normal(n))[::-1].copy(),
+        "one-outlier": np.r_[rng.standard_normal(n - 1), 1e12],
+    }
+
+
+@pytest.mark.parametrize("n", [10, 11, 97, 4000])
+def test_quantile_edges_equal_numpy_interp_of_the_sorted_sample(rng, n):
+    # reference: the definition, numpy.interp over numpy.sort (bit for bit)
+    for name, x in _hard_samples(rng, n).items():
+        for k in (2, 3, 7, 14, 40):
+            pos = np.linspace(0.0, n - 1.0, k + 1)
+            ref = np.interp(pos, np.arange(n, dtype=float), np.sort(x))
+            out = np.empty(k + 1)
+            kern.quantile_edges(x, x.min(), x.max(), pos, out)
+            np.testing.assert_array_equal(out, ref, err_msg=f"{name}, k = {k}")
+
+
+@pytest.mark.parametrize("n", [10, 4000])
+def test_sorted_edges_bin_index_equals_searchsorted(rng, n):
+    # reference: numpy.searchsorted(inner, x, side="right"), incl. samples on edges
+    for name, x in _hard_samples(rng, n).items():
+        for k in (2, 5, 14, 40):
+            inner = np.sort(rng.choice(x, k - 1))  # edges that are samples: ties on edges
+            idx = np.empty(n, dtype=np.int64)
+            kern.sorted_edges_bin_index(x, x.min(), x.max(), inner, idx)
+            np.testing.assert_array_equal(idx, np.searchsorted(inner, x, side="right"),
+                                          err_msg=f"{name}, k = {k}")
