@@ -531,7 +531,10 @@ def transfer_entropy_map(
     if method == "gaussian":
         need = 8 * (3 * n * S * L + n_surrogates * (3 * n + 3 * S * L)
                     + (3 * n_surrogates + 2) * S * S * L)
-        seconds = S * n * S * L * (2 * (history + 1) + n_surrogates) / _GAUSS_RATE
+        # original: residualise and score; null: one cross-correlation of the target's
+        # residual and one per history column with every lagged source, per surrogate
+        seconds = S * n * S * L * (2 * (history + 1) + n_surrogates * (1 + history)) \
+            / _GAUSS_RATE
     else:
         need = 8 * (n * (history + 3) * (1 + 2) + (3 * n_surrogates + 2) * S * S * L)
         x, z = series[t0:, :1], _history(series[:, 0], history, t0)
