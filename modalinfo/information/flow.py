@@ -536,13 +536,13 @@ def transfer_entropy_map(
     cells = S * (S - 1) * L
     if method == "gaussian":
         need = 8 * (3 * n * S * L + n_surrogates * (3 * n + 3 * S * L)
-                    + (3 * n_surrogates + 2) * S * S * L)
+                    + (4 * n_surrogates + 2) * S * S * L)
         # original: residualise and score; null: one cross-correlation of the target's
         # residual and one per history column with every lagged source, per surrogate
         seconds = S * n * S * L * (2 * (history + 1) + n_surrogates * (1 + history)) \
             / _GAUSS_RATE
     else:
-        need = 8 * (n * (history + 3) * (1 + 2) + (3 * n_surrogates + 2) * S * S * L)
+        need = 8 * (n * (history + 3) * (1 + 2) + (4 * n_surrogates + 2) * S * S * L)
         x, z = series[t0:, :1], _history(series[:, 0], history, t0)
         y = np.ascontiguousarray(series[t0 - lags[0] : T - lags[0], 1:2])
         est(x, y, z)  # the first call may compile the estimator's kernels: not timed
