@@ -341,8 +341,10 @@ def surrogate_shifts(n: int, n_surrogates: int, max_lag: int, spacing: int | Non
     original is then exchangeable with the surrogates (a randomisation test over the
     subgroup of rotations by multiples of b), and the p-value
     ``(1 + #{surrogate >= original}) / (1 + n_surrogates)`` is exact for circularly
-    stationary series. Shifts drawn from ``[m, n - m]`` at random are not: they may
-    lie close to each other but never close to the original, which removes from the
+    stationary series when b divides n and no multiple is left out (approximately
+    otherwise: the measured rates are in the module notes). Shifts drawn from
+    ``[m, n - m]`` at random are not: they may lie close to each other but never close
+    to the original, which removes from the
     comparison exactly the values most correlated with the original, and the test
     is liberal by an amount that grows with ``m / n`` and with the size of the map
     (module notes). A spacing below the span of the lags plus the series'
