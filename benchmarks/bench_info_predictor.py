@@ -2,7 +2,7 @@
 
 Run: nice /work/main/.venv/bin/python benchmarks/bench_info_predictor.py
      [--duration 2.5] [--modes-per-dm 14] [--loop-duration 0.4] [--seed 0]
-     [--skip-offline] [--skip-loop]
+     [--skip-offline] [--skip-loop] [--shipped] [--predictors info,info-nn,...]
 
 1. Offline (issue 21 must-show). One no-prediction ``closedloop`` run of the preset
    ``table1-wind`` (``--duration`` s of simulated time, seed 0); the POL coefficients of
@@ -11,7 +11,9 @@ Run: nice /work/main/.venv/bin/python benchmarks/bench_info_predictor.py
    candidates) after the loop closure and 15 ms, the first 2/3 for training and the
    rest for a rolling-origin evaluation (:func:`modalinfo.forecast.evaluate`, horizons
    1-10, no refit). Predictors: ``info`` (the preset: CMI-selected sparse direct LS,
-   lags 0..9, extended-BIC stop), the full VAR (the ``multivariate`` preset, VAR(4):
+   lags 0..9, extended-BIC stop), ``info-nn`` (the preset: ``info`` plus random tanh
+   features of its inputs, :class:`modalinfo.forecast.InfoNNPredictor`), the full
+   VAR (the ``multivariate`` preset, VAR(4):
    every mode at every lag; on all 184 modes it would need 7364 training frames under
    the 10-rows-per-coefficient rule, hence the subset), ARMA(2,3) and ARMA with AIC
    orders; persistence is the baseline of the gains. Reported: whole-wavefront gain
@@ -40,6 +42,7 @@ import numpy as np  # noqa: E402
 
 from modalinfo.forecast import (  # noqa: E402
     ARMAPredictor,
+    InfoNNPredictor,
     InfoPredictor,
     MultivariatePredictor,
     evaluate,
@@ -84,7 +87,66 @@ def _n_inputs(name: str, pred, n_modes: int) -> float:
     return 1.0  # persistence: the last value
 
 
-def offline(duration: float, seed: int, per_dm: int) -> None:
+#: offline predictors: key (``--predictors``) -> (table label, factory)
+OFFLINE = {
+    "info": ("info", InfoPredictor),
+    "info-nn": ("info-nn", InfoNNPredictor),
+    "var": ("full VAR(4)", lambda: MultivariatePredictor(order=4)),
+    "arma": ("ARMA(2,3)", lambda: ARMAPredictor(order=(2, 3))),
+    "arma-aic": ("ARMA (AIC)", lambda: ARMAPredictor(order="aic")),
+}
+
+
+def _make(names) -> dict:
+    return {OFFLINE[k][0]: OFFLINE[k][1]() for k in names}
+
+
+def _table(preds: dict, data: np.ndarray, n_train: int) -> None:
+    """Evaluate, fit-time and update-cost table of ``preds`` on ``data``."""
+    t0 = time.perf_counter()
+    ev = evaluate(preds, data, train=n_train, horizons=HORIZONS)
+    print(f"evaluation: {time.perf_counter() - t0:.0f} s (train {n_train} frames, test "
+          f"{data.shape[0] - n_train})", flush=True)
+    rows = []
+    for name, proto in [("persistence", None), *preds.items()]:
+        if proto is None:
+            from modalinfo.forecast import PersistencePredictor
+
+            proto = PersistencePredictor()
+        pred = proto.clone(horizon=max(HORIZONS))
+        t0 = time.perf_counter()
+        pred.fit(data[:n_train])
+        fit_s = time.perf_counter() - t0
+        cost = _update_cost(pred, data[n_train:])
+        i = ev.names.index(name)
+        extra = (f" (network on in {np.mean(pred.n_active_):.2f} of the models)"
+                 if isinstance(pred, InfoNNPredictor) else "")
+        rows.append((name + extra, ev.gain_wavefront[i], _n_inputs(name, pred, data.shape[1]),
+                     fit_s, cost))
+    hs = list(HORIZONS)
+    print("\n| predictor | " + " | ".join(f"h={h}" for h in hs)
+          + " | inputs per mode | fit [s] | update [ms] |")
+    print("|---|" + "---|" * len(hs) + "---|---|---|")
+    for name, gains, n_in, fit_s, cost in rows:
+        print(f"| {name} | " + " | ".join(f"{g:.3f}" for g in gains)
+              + f" | {n_in:.1f} | {fit_s:.2f} | {1e3 * cost:.3f} |", flush=True)
+
+
+def shipped(names) -> None:
+    """The offline table on the shipped logs (train on the first half, as the CLI)."""
+    from pathlib import Path
+
+    from modalinfo.io import load
+
+    data_dir = Path(__file__).resolve().parent.parent / "data"
+    for log_name in ("kaos_like_closed_loop", "kaos_closedloop"):
+        log = load(data_dir / f"{log_name}.npz")
+        data = np.ascontiguousarray(np.asarray(log.coeffs, dtype=float))
+        print(f"\n{log_name}: {data.shape}", flush=True)
+        _table(_make(names), data, data.shape[0] // 2)
+
+
+def offline(duration: float, seed: int, per_dm: int, names=tuple(OFFLINE)) -> None:
     from closedloop import presets
     from closedloop.control.predictors import training_data
 
@@ -97,37 +159,7 @@ def offline(duration: float, seed: int, per_dm: int) -> None:
     print(f"table1-wind no-prediction run, {duration} s, seed {seed}: POL {pol.shape} "
           f"({time.perf_counter() - t0:.0f} s)", flush=True)
     n_train = (2 * pol.shape[0]) // 3
-    preds = {
-        "info": InfoPredictor(),
-        "full VAR(4)": MultivariatePredictor(order=4),
-        "ARMA(2,3)": ARMAPredictor(order=(2, 3)),
-        "ARMA (AIC)": ARMAPredictor(order="aic"),
-    }
-    t0 = time.perf_counter()
-    ev = evaluate(preds, pol, train=n_train, horizons=HORIZONS)
-    print(f"evaluation: {time.perf_counter() - t0:.0f} s (train {n_train} frames, test "
-          f"{pol.shape[0] - n_train})", flush=True)
-    rows = []
-    for name, proto in [("persistence", None), *preds.items()]:
-        if proto is None:
-            from modalinfo.forecast import PersistencePredictor
-
-            proto = PersistencePredictor()
-        pred = proto.clone(horizon=max(HORIZONS))
-        t0 = time.perf_counter()
-        pred.fit(pol[:n_train])
-        fit_s = time.perf_counter() - t0
-        cost = _update_cost(pred, pol[n_train:])
-        i = ev.names.index(name)
-        rows.append((name, ev.gain_wavefront[i], _n_inputs(name, pred, pol.shape[1]),
-                     fit_s, cost))
-    hs = list(HORIZONS)
-    print("\n| predictor | " + " | ".join(f"h={h}" for h in hs)
-          + " | inputs per mode | fit [s] | update [ms] |")
-    print("|---|" + "---|" * len(hs) + "---|---|---|")
-    for name, gains, n_in, fit_s, cost in rows:
-        print(f"| {name} | " + " | ".join(f"{g:.3f}" for g in gains)
-              + f" | {n_in:.1f} | {fit_s:.2f} | {1e3 * cost:.3f} |", flush=True)
+    _table(_make(names), pol, n_train)
 
 
 def in_loop(duration: float, seed: int) -> None:
@@ -154,11 +186,21 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--skip-offline", action="store_true")
     parser.add_argument("--skip-loop", action="store_true")
+    parser.add_argument("--shipped", action="store_true",
+                        help="also the offline table on the two shipped logs")
+    parser.add_argument("--predictors", default=",".join(OFFLINE),
+                        help=f"offline predictors, from {', '.join(OFFLINE)}")
     args = parser.parse_args()
+    names = [n.strip() for n in args.predictors.split(",")]
+    for n in names:
+        if n not in OFFLINE:
+            parser.error(f"--predictors: unknown {n!r}; choose from {', '.join(OFFLINE)}")
+    if args.shipped:
+        shipped(names)
     if not args.skip_loop:
         in_loop(args.loop_duration, args.seed)
     if not args.skip_offline:
-        offline(args.duration, args.seed, args.modes_per_dm)
+        offline(args.duration, args.seed, args.modes_per_dm, names)
 
 
 if __name__ == "__main__":

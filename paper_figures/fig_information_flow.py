@@ -3,8 +3,8 @@
 Which modes inform which, at which lag: the transfer entropy
 ``TE[j -> i, l] = I(x_i[t]; x_j[t - l] | x_i[t - 1], x_i[t - 2])`` of every pair of
 modes at log-spaced lags (:func:`modalinfo.information.transfer_entropy_map`, Gaussian
-estimator, family-wise p-values from the maximum statistic over the whole map under
-time-shift surrogates), on three telemetry sets:
+estimator, family-wise p-values from the step-down maximum statistic over the whole
+map under time-shift surrogates of the sources), on three telemetry sets:
 
 - the two shipped KAOS-like logs (``data/kaos_like_closed_loop.npz``, spectral, and
   ``data/kaos_closedloop.npz``, written by the ``closedloop`` simulator), their first
@@ -239,7 +239,8 @@ def plot(fig8: FigureFlow, out_dir: Path) -> list[Path]:
             j, i = f.labels.index(s), f.labels.index(t)
             row[1].plot(pos, f.te[j, i], marker="o", ms=3, label=f"{_short(s)} -> {_short(t)}")
         row[1].axhline(np.quantile(f.null_max, 1 - f.alpha) if f.null_max.size else 0,
-                       color="k", ls=":", lw=0.8, label=f"family-wise {f.alpha:g} threshold")
+                       color="k", ls=":", lw=0.8,
+                       label=f"single-step family-wise {f.alpha:g} threshold")
         row[1].set_xticks(pos, [f"{lag * ms:g}" for lag in f.lags], fontsize=7)
         row[1].set_xlabel("lag [ms]")
         row[1].set_ylabel("TE [nats]")
@@ -296,12 +297,12 @@ def report(fig8: FigureFlow) -> str:
         "Transfer entropy `TE[j -> i, l] = I(x_i[t]; x_j[t-l] | x_i[t-1], x_i[t-2])` of every "
         f"pair of modes at lags {', '.join(map(str, LAGS))} frames "
         "(`modalinfo.information.transfer_entropy_map`, Gaussian estimator). A link is "
-        "significant when its TE exceeds the family-wise threshold: p-values from the "
-        "largest TE of the whole map under "
+        "significant when its family-wise p-value is at most the level: step-down maxT "
+        "(Westfall & Young) over the largest TE of the map under "
         f"{fig8.sets[0].flow.n_surrogates if fig8.sets else N_SURROGATES} circular "
-        "time-shift surrogates (maximum statistic, Westfall & Young), which holds the "
-        f"chance of any spurious link in a map near {ALPHA:g} (measured slightly above it "
-        "for large maps: `modalinfo.information.flow`). Bivariate TE does not "
+        "time shifts of the sources, which holds the chance of any spurious link in a map "
+        f"at {ALPHA:g} (measured within the Monte-Carlo error on maps of 2 to 100 cells: "
+        "`modalinfo.information.flow`). Bivariate TE does not "
         "separate direct from indirect transfer (a common driver shows as a link). Numbers "
         f"in `{JSON_NAME}`.\n",
     ]

@@ -30,7 +30,7 @@ OUTPUTS = ("forecast.json", "forecast.csv", "forecast_series.png", "forecast_rms
 
 
 NAMES = ("linear", "linear-ls", "arma", "arma-aic", "nn", "nn-paper", "multivariate", "rls",
-         "info")
+         "info", "info-nn")
 """The preset names of :mod:`modalinfo.forecast.presets`, listed without importing it."""
 
 

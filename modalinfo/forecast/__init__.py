@@ -24,6 +24,7 @@ from modalinfo.forecast.arma import (
 from modalinfo.forecast.base import NotFittedError, Predictor
 from modalinfo.forecast.evaluate import ForecastEvaluation, evaluate
 from modalinfo.forecast.info import InfoPredictor
+from modalinfo.forecast.info_nn import InfoNNPredictor
 from modalinfo.forecast.linear import LinearPredictor
 from modalinfo.forecast.multivariate import MultivariatePredictor, RLSMultivariatePredictor
 from modalinfo.forecast.nn import NeuralNetPredictor
@@ -41,6 +42,7 @@ __all__ = [
     "MultivariatePredictor",
     "RLSMultivariatePredictor",
     "InfoPredictor",
+    "InfoNNPredictor",
     "ForecastInterval",
     "psi_weights",
     "sample_autocovariance",

@@ -11,6 +11,7 @@ from collections.abc import Callable
 from modalinfo.forecast.arma import ARMAPredictor
 from modalinfo.forecast.base import Predictor
 from modalinfo.forecast.info import InfoPredictor
+from modalinfo.forecast.info_nn import InfoNNPredictor
 from modalinfo.forecast.linear import LinearPredictor
 from modalinfo.forecast.multivariate import MultivariatePredictor, RLSMultivariatePredictor
 from modalinfo.forecast.nn import NeuralNetPredictor
@@ -28,6 +29,7 @@ PRESETS: dict[str, tuple[str, Callable[[], Predictor]]] = {
     "multivariate": ("multivariate VAR(4)", lambda: MultivariatePredictor(order=4)),
     "rls": ("multivariate RLS", lambda: RLSMultivariatePredictor(order=4)),
     "info": ("info (CMI-selected sparse LS)", lambda: InfoPredictor()),
+    "info-nn": ("info-nn (info + random tanh features)", lambda: InfoNNPredictor()),
 }
 
 

@@ -18,24 +18,49 @@ with the partial-correlation scorer of :mod:`modalinfo.information.selection`. T
 other methods of :func:`~modalinfo.information.conditional_mutual_information`
 estimate each cell with the estimator (``cells x (1 + n_surrogates)`` estimates).
 
-Family-wise control. One set of circular time shifts (at least the largest
-Politis-White block length of the targets, at most n // 2) is drawn for the whole map;
-under surrogate s every target is rotated by s against its lagged sources (each series
-keeps its autocorrelation; the Gaussian path rotates the target's residual against the
-sources' residuals, the null of zero partial correlation, as the selection does), and
-the statistic is the *largest* TE over every cell of the map. A cell's p-value is
-``(1 + #{null max >= TE}) / (1 + n_surrogates)``: the single-step maximum-statistic
-adjustment (Westfall & Young 1993), which controls the family-wise error over all
-``S (S - 1) L`` cells at ``alpha`` (so one spurious link anywhere in the map has
-probability about alpha). It is conservative for cells whose own null is narrower than
-the map's maximum. With 199 surrogates the smallest p-value is 0.005. Measured on
-independent AR(1) series (coefficient 0.7, history 1, 49 surrogates, alpha = 0.1): a
-2-series 1-lag map rejects 0.03 per cell (300 maps), but a 4-series 4-lag map (48 cells)
-has a spurious link in 0.14 (n = 500, 500 maps) and 0.13 (n = 2000, 200 maps) of the maps,
-about 2.5 standard errors above alpha: the time-shift null is slightly liberal for large
-maps (cause not yet found; on the same 200 maps at n = 500, ``min_shift`` = 5, 21 (the
-default), 60 and 124 gave 0.13, 0.145, 0.125 and 0.095; take ``alpha`` half the level
-wanted for a strict bound).
+Family-wise control. One set of circular time shifts is used for the whole map; under
+surrogate s every lagged source is rotated by s rows against its target and the
+target's history, and each cell is recomputed exactly as the original (the Gaussian
+path: the rotated source residualised against the target's history, the target's
+residual unchanged), so every series keeps its autocorrelation and only the alignment
+of source and target is broken. The shifts are multiples of a spacing b (about
+``n / (n_surrogates + 1)``) with the original at 0 (:func:`surrogate_shifts`), so the
+original and the surrogates are all at least b apart: a randomisation test over the
+rotations by multiples of b. The statistic of a surrogate is the *largest* TE over the
+cells, and the p-values are the step-down maxT of Westfall & Young (1993, Algorithm
+4.1; :func:`maxt_pvalues`): the strongest cell is compared with the surrogate maximum
+over the whole map (the single-step test, as the greedy step of IDTxl; Lizier et al.
+2011, Novelli et al. 2019), the next with the maximum over the cells not yet
+rejected, and so on. Both control the family-wise error over all ``S (S - 1) L``
+cells at ``alpha`` (the chance of one spurious link anywhere in the map); the
+step-down rejects at least what the single step does. With N surrogates an exact
+test rejects with probability ``floor(alpha (N + 1)) / (N + 1)`` and the smallest
+p-value is ``1 / (N + 1)`` (0.005 with the default 199).
+
+Why the earlier map was liberal (``benchmarks/bench_flow_fwer.py``, RESULTS.md): it
+rotated the target's *residual* against the sources' residuals and drew the shifts
+at random from ``[m, n - m]`` (m the Politis-White block length). (1) The rotated
+residual is no longer orthogonal to the target's own past, and its null scale fell
+short of the original's (``n rho^2`` per cell 1.010 against 1.024 on 3 000 maps of
+independent AR(1) series; the rotated source: 1.016); a maximum over many cells sits
+deep in the tail, where a small scale error is multiplied (about ``c / 2`` for a
+threshold c of a chi-square tail), so the error grew with the map. (2) Random shifts
+can fall close to each other but never close to the original, so the values most
+correlated with the original (the near shifts) are missing from the comparison:
+with the sources rotated but random shifts the 48-cell map still rejected 0.054 at
+the exact level 0.040 (49 surrogates, 4 000 maps). (3) Near s = n / 2 the cells
+``j -> i`` and ``i -> j`` read the same part of the cross-correlation and become
+copies (excluded now). Measured now, 2 000 maps each of 2, 12, 48 and 100 cells
+(n = 500, AR(1) 0.7, history 1, alpha = 0.05 and 0.1): within 1.8 binomial standard
+errors of the exact level in every case (the earlier map: 1.5-3.5 above in 9 of 10);
+recall of a planted network unchanged (1.000 at coupling 0.4; 0.892 against 0.900 at
+0.15). The lattice costs power only when its spacing, about ``n / (n_surrogates +
+1)``, falls below the span of the lags plus the series' correlation time (a surrogate
+can then re-align a true link at another lag): for short series use fewer
+surrogates. The cells share one null scale when the history whitens each target (the
+Gaussian cell is then a partial correlation of a white residual); with a history
+too short for a target, cells of slowly varying sources have a wider null and
+dominate the maximum -- still valid, but less power for the other cells.
 
 Bivariate TE does not separate direct from indirect transfer (a chain j -> m -> i, or a
 common driver of i and j, shows as j -> i); :func:`~modalinfo.information.select_inputs`
@@ -60,10 +85,13 @@ import numpy as np
 
 from modalinfo._validation import check_choice, check_int, check_real, check_rng, free_memory_bytes
 from modalinfo.information.api import UNITS
-from modalinfo.information.conditional import CMI_METHODS, _auto_block, _estimator
+from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
 
-__all__ = ["TransferEntropyMap", "transfer_entropy_map"]
+__all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_entropy_map"]
+
+#: Family-wise adjustments of :func:`transfer_entropy_map`.
+ADJUSTMENTS = ("step-down", "single-step")
 
 #: Multiply-adds per second assumed for the time estimate of a Gaussian map: the rate
 #: measured on the project's shared 2-core machine at a load average of 13 (9 series,
@@ -88,8 +116,8 @@ class TransferEntropyMap:
         ``te[j, i, a]``: TE from source j to target i at lag ``lags[a]``, in ``units``;
         NaN on the diagonal j = i.
     pvalue : numpy.ndarray, shape (S, S, L)
-        Family-wise adjusted (maximum-statistic) p-value of each cell; NaN on the
-        diagonal.
+        Family-wise adjusted (maximum-statistic, ``adjust``) p-value of each cell; NaN
+        on the diagonal.
     null_max : numpy.ndarray, shape (n_surrogates,)
         Largest TE of the whole map under each time-shift surrogate, in ``units``.
     history : int
@@ -103,9 +131,11 @@ class TransferEntropyMap:
     n_surrogates : int
         Number of surrogates.
     min_shift : int
-        Smallest circular shift of the surrogates [samples].
+        Spacing of the surrogates' circular shifts [samples] (0 without surrogates).
     estimated_seconds : float
         The time estimate checked before work [s].
+    adjust : str
+        Family-wise adjustment of :attr:`pvalue` ("step-down" or "single-step").
     """
 
     labels: tuple[str, ...]
@@ -122,6 +152,7 @@ class TransferEntropyMap:
     n_surrogates: int
     min_shift: int
     estimated_seconds: float
+    adjust: str = "step-down"
 
     @property
     def significant(self) -> np.ndarray:
@@ -166,9 +197,9 @@ class TransferEntropyMap:
         head = (f"transfer entropy map: {len(self.labels)} series, lags "
                 f"{self.lags.min()}..{self.lags.max()}, history {self.history}, n = "
                 f"{self.n_samples}, method {self.method}; family-wise alpha {self.alpha} "
-                f"(max-statistic over {self.te.shape[0] * (self.te.shape[0] - 1) * self.lags.size}"
-                f" cells, {self.n_surrogates} time-shift surrogates): {len(links)} "
-                f"significant links")
+                f"({self.adjust} max-statistic over "
+                f"{self.te.shape[0] * (self.te.shape[0] - 1) * self.lags.size} cells, "
+                f"{self.n_surrogates} time-shift surrogates): {len(links)} significant links")
         rows = [head, f"{'source':<14} {'target':<14} {'lag':>4} {'TE':>9} {'p':>7}"]
         for s, t, lag, te, p in links[:max_rows]:
             rows.append(f"{s:<14} {t:<14} {lag:>4} {te:9.4f} {p:7.4f}")
@@ -223,33 +254,39 @@ def _history(x: np.ndarray, k: int, t0: int) -> np.ndarray:
         np.empty((T - t0, 0))
 
 
-def _residualiser(z: np.ndarray):
-    """Return ``f(a)``: the columns of ``a`` centred and orthogonalised against ``z``."""
+def _history_basis(z: np.ndarray) -> np.ndarray:
+    """Orthonormal basis ``(n, k')`` of the centred, non-constant history columns."""
     zc = z - z.mean(axis=0)
     keep = np.sqrt(np.einsum("ij,ij->j", zc, zc)) > 0
-    q = np.linalg.qr(zc[:, keep])[0] if keep.any() else np.empty((z.shape[0], 0))
-
-    def resid(a: np.ndarray) -> np.ndarray:
-        ac = a - a.mean(axis=0)
-        return ac - q @ (q.T @ ac)
-
-    return resid
+    return np.linalg.qr(zc[:, keep])[0] if keep.any() else np.empty((z.shape[0], 0))
 
 
 def _gaussian_map(series, lags, history, t0, shifts):
-    """TE (nats) of every cell and the null maximum, the partial-correlation way."""
+    """TE (nats) of every cell and of every cell under every surrogate.
+
+    Returns ``te`` (S, S, L) and ``null`` (n_surrogates, S, S, L), 0 on the diagonal.
+    Under surrogate s the lagged source block is rotated by s rows, ``C_s[t] =
+    C[(t - s) mod n]``, and residualised against the target's history like the
+    original: the numerator ``r . P C_s = r . C_s`` (``r`` is orthogonal to the
+    history) is the circular cross-correlation ``r[(t + s) mod n] . C[t]``, and
+    ``|P C_s|^2 = |C|^2 - |Q^T C_s|^2`` with Q the history's orthonormal basis, one
+    cross-correlation per history column.
+    """
     T, S = series.shape
     L = lags.size
     n = T - t0
     C = _lagged_block(series, lags, t0)
     _, alive_all = unit_candidates(C)
+    Cc = C - C.mean(axis=0)
+    c2 = np.einsum("ij,ij->j", Cc, Cc)
     te = np.zeros((S, S, L))
-    null_max = np.zeros(shifts.size)
-    rows = (np.arange(n)[None, :] - shifts[:, None]) % n
+    null = np.zeros((shifts.size, S, S, L))
+    rows = (np.arange(n)[None, :] + shifts[:, None]) % n
     for i in range(S):
-        resid = _residualiser(_history(series[:, i], history, t0))
-        r = resid(series[t0:, i : i + 1])[:, 0]
-        R = resid(C)
+        q = _history_basis(_history(series[:, i], history, t0))
+        r = series[t0:, i] - series[t0:, i].mean()
+        r = r - q @ (q.T @ r)
+        R = Cc - q @ (q.T @ Cc)
         alive = alive_all.copy()
         alive[i::S] = False  # the target's own lags are not a transfer
         te[:, i, :] = _gauss_gains(r, R, alive).reshape(L, S).T
@@ -257,17 +294,22 @@ def _gaussian_map(series, lags, history, t0, shifts):
         ok = alive & (cn > 0)
         rn = math.sqrt(float(r @ r))
         if ok.any() and rn > 0 and shifts.size:
-            rho = (r[rows] @ R[:, ok]) / (cn[ok][None, :] * rn)
-            null_max = np.maximum(
-                null_max, (-0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))).max(axis=1))
-    return te, null_max
+            num = r[rows] @ Cc[:, ok]
+            den = np.broadcast_to(c2[ok], num.shape).copy()
+            for a in range(q.shape[1]):
+                den -= (q[:, a][rows] @ Cc[:, ok]) ** 2
+            rho2 = num * num / (np.maximum(den, 1e-300) * rn * rn)
+            cells = np.zeros((shifts.size, S * L))
+            cells[:, ok] = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+            null[:, :, i, :] = cells.reshape(shifts.size, L, S).transpose(0, 2, 1)
+    return te, null
 
 
 def _estimator_map(series, lags, history, t0, shifts, est):
-    """TE of every cell and the null maximum with a general CMI estimator."""
+    """TE of every cell and of every cell under every surrogate (the source rotated)."""
     T, S = series.shape
     te = np.zeros((S, S, lags.size))
-    null_max = np.full(shifts.size, -np.inf)
+    null = np.zeros((shifts.size, S, S, lags.size))
     for i in range(S):
         x = series[t0:, i : i + 1]
         z = _history(series[:, i], history, t0)
@@ -278,15 +320,130 @@ def _estimator_map(series, lags, history, t0, shifts, est):
                 y = np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1])
                 te[j, i, a] = est(x, y, z)
                 for s_i, s in enumerate(shifts):
-                    null_max[s_i] = max(null_max[s_i], est(x, np.roll(y, int(s), axis=0), z))
-    return te, null_max
+                    null[s_i, j, i, a] = est(x, np.roll(y, int(s), axis=0), z)
+    return te, null
+
+
+def _lattice(n: int, spacing: int, max_lag: int) -> np.ndarray:
+    """Admissible multiples of ``spacing`` (see :func:`surrogate_shifts`)."""
+    k = np.arange(1, (n - spacing) // spacing + 1) * spacing
+    d = (2 * k) % n
+    return k[np.minimum(d, n - d) >= 2 * (spacing + max_lag)]
+
+
+def surrogate_shifts(n: int, n_surrogates: int, max_lag: int, spacing: int | None = None,
+                     seed: Any = None) -> tuple[np.ndarray, int]:
+    """Circular shifts of a map's surrogates: points of a lattice with the original at 0.
+
+    The shifts are ``n_surrogates`` distinct multiples ``k b`` of a spacing b (drawn
+    at random from the admissible ones), so the original (shift 0) and every
+    surrogate are at least b apart from each other on the circle of n rows: the
+    original is then exchangeable with the surrogates (a randomisation test over the
+    subgroup of rotations by multiples of b), and the p-value
+    ``(1 + #{surrogate >= original}) / (1 + n_surrogates)`` is exact for circularly
+    stationary series when b divides n and no multiple is left out (approximately
+    otherwise: the measured rates are in the module notes). Shifts drawn from
+    ``[m, n - m]`` at random are not: they may lie close to each other but never close
+    to the original, which removes from the
+    comparison exactly the values most correlated with the original, and the test
+    is liberal by an amount that grows with ``m / n`` and with the size of the map
+    (module notes). A spacing below the span of the lags plus the series'
+    correlation time costs power (a surrogate can re-align a true link at another
+    lag), not validity.
+
+    Multiples k b with ``2 k b`` within ``2 (b + max_lag)`` of a multiple of n are left
+    out: there the cells ``j -> i`` and ``i -> j`` of a pair read the same part of the
+    two series' cross-correlation (offsets ``k b + l`` and ``-(k b + l')`` equal modulo
+    n), become copies, and the surrogate maximum falls below the null's.
+
+    Parameters
+    ----------
+    n : int
+        Rows of the map.
+    n_surrogates : int
+        Number of shifts >= 0.
+    max_lag : int
+        Largest source lag [samples].
+    spacing : int, optional
+        Lattice spacing b >= 1 [samples]; default the largest with ``n_surrogates``
+        admissible multiples (about ``n / (n_surrogates + 1)``).
+    seed : None, int or numpy.random.Generator
+        Randomness of the choice among the admissible multiples.
+
+    Returns
+    -------
+    shifts : numpy.ndarray of int, shape (n_surrogates,)
+        Ascending shifts [samples].
+    spacing : int
+        The spacing b used (0 when ``n_surrogates`` is 0).
+
+    Raises
+    ------
+    ValueError
+        If fewer than ``n_surrogates`` admissible multiples exist.
+    """
+    if n_surrogates == 0:
+        return np.empty(0, dtype=np.int64), 0
+    rng = check_rng(seed)
+    if spacing is None:
+        b = max(n // (n_surrogates + 1), 1)
+        while b > 1 and _lattice(n, b, max_lag).size < n_surrogates:
+            b -= 1
+    else:
+        b = spacing
+    allowed = _lattice(n, b, max_lag)
+    if allowed.size < n_surrogates:
+        raise ValueError(
+            f"`n_surrogates`={n_surrogates} circular shifts spaced "
+            f"{'`min_shift`=' if spacing is not None else ''}{b} apart do not fit in "
+            f"{n} rows ({allowed.size} do, lags up to {max_lag}); use fewer surrogates"
+            f"{' or a smaller `min_shift`' if spacing is not None else ''}, or more frames.")
+    pick = np.sort(rng.choice(allowed.size, size=n_surrogates, replace=False))
+    return allowed[pick].astype(np.int64), int(b)
+
+
+def maxt_pvalues(stat: np.ndarray, null: np.ndarray, step_down: bool = True) -> np.ndarray:
+    """Family-wise adjusted p-values of the maximum statistic (Westfall & Young 1993).
+
+    Parameters
+    ----------
+    stat : numpy.ndarray, shape (K,)
+        Statistic of each hypothesis (larger is more significant).
+    null : numpy.ndarray, shape (N, K)
+        The statistics under each of N surrogates (the same surrogate for all K).
+    step_down : bool
+        True: the step-down maxT of Westfall & Young (Algorithm 4.1): the cell of
+        rank k (largest first) is compared with the maximum over the cells of rank
+        >= k only, and the p-values are made monotone. False: the single-step
+        maximum over all K cells.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K,)
+        ``(1 + #{surrogate max >= stat}) / (1 + N)``, adjusted.
+    """
+    N, K = null.shape
+    if K == 0:
+        return np.empty(0)
+    if not step_down or N == 0:
+        nmax = np.sort(null.max(axis=1)) if N else np.empty(0)
+        above = N - np.searchsorted(nmax, stat, side="left")
+        return (1.0 + above) / (1.0 + N)
+    order = np.argsort(-stat, kind="stable")
+    # successive maxima: column k holds the maximum over the cells of rank >= k
+    succ = np.maximum.accumulate(null[:, order[::-1]], axis=1)[:, ::-1]
+    p = (1.0 + np.count_nonzero(succ >= stat[order][None, :], axis=0)) / (1.0 + N)
+    out = np.empty(K)
+    out[order] = np.maximum.accumulate(p)
+    return out
 
 
 def transfer_entropy_map(
     data: Any, *, extra: Any = None, modes: Any = None, extra_modes: Any = None,
     lags: Any = 10, history: int = 1, method: str = "gaussian", units: str = "nats",
     alpha: float = 0.05, n_surrogates: int = 199, min_shift: int | None = None,
-    max_seconds: float = 600.0, seed: Any = None, **options: Any,
+    adjust: str = "step-down", max_seconds: float = 600.0, seed: Any = None,
+    **options: Any,
 ) -> TransferEntropyMap:
     """Transfer entropy between every pair of modes at every lag, with family-wise p-values.
 
@@ -312,10 +469,18 @@ def transfer_entropy_map(
     alpha : float
         Family-wise level of :attr:`TransferEntropyMap.significant`, in (0, 1).
     n_surrogates : int
-        Time-shift surrogates of the maximum-statistic null (>= 0; 0 gives p = 1).
+        Time-shift surrogates of the maximum-statistic null (>= 0; 0 gives p = 1); at
+        most about ``n / (max lag + correlation time)`` for full power (module notes).
     min_shift : int, optional
-        Smallest surrogate shift [samples]; default the largest Politis-White block
-        length of the targets (at most n // 2).
+        Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
+        :func:`surrogate_shifts`); default the largest that fits ``n_surrogates``
+        shifts in the rows, about ``n / (n_surrogates + 1)``. Keep it above the span
+        of the lags plus the series' correlation time (power), and
+        ``n_surrogates x min_shift`` below the rows.
+    adjust : {"step-down", "single-step"}
+        Family-wise adjustment of the p-values: the step-down maxT of Westfall & Young
+        (default; the same family-wise control, more power for the weaker links) or
+        the single-step maximum over the whole map (:func:`maxt_pvalues`).
     max_seconds : float
         Refuse a map whose estimated time exceeds this [s].
     seed : None, int or numpy.random.Generator
@@ -357,6 +522,7 @@ def transfer_entropy_map(
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
     n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=0)
+    check_choice(adjust, "adjust", ADJUSTMENTS)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     rng = check_rng(seed)
     est = _estimator(method, units, options)
@@ -371,10 +537,14 @@ def transfer_entropy_map(
     # resources, before any work
     cells = S * (S - 1) * L
     if method == "gaussian":
-        need = 8 * (3 * n * S * L + n_surrogates * (n + S * L) + 2 * S * S * L)
-        seconds = S * n * S * L * (2 * (history + 1) + n_surrogates) / _GAUSS_RATE
+        need = 8 * (3 * n * S * L + n_surrogates * (3 * n + 3 * S * L)
+                    + (4 * n_surrogates + 2) * S * S * L)
+        # original: residualise and score; null: one cross-correlation of the target's
+        # residual and one per history column with every lagged source, per surrogate
+        seconds = S * n * S * L * (2 * (history + 1) + n_surrogates * (1 + history)) \
+            / _GAUSS_RATE
     else:
-        need = 8 * (n * (history + 3) * (1 + 2) + 2 * S * S * L)
+        need = 8 * (n * (history + 3) * (1 + 2) + (4 * n_surrogates + 2) * S * S * L)
         x, z = series[t0:, :1], _history(series[:, 0], history, t0)
         y = np.ascontiguousarray(series[t0 - lags[0] : T - lags[0], 1:2])
         est(x, y, z)  # the first call may compile the estimator's kernels: not timed
@@ -395,26 +565,26 @@ def transfer_entropy_map(
                          f"`max_seconds`={max_seconds:g}; use fewer modes, lags or "
                          f"surrogates (or raise `max_seconds`).")
 
-    if min_shift is None:
-        shift0 = min(_auto_block(series[t0:]), n // 2) if n_surrogates else 0
-    else:
-        shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
-    shifts = rng.integers(shift0, n - shift0 + 1, size=n_surrogates)
+    if min_shift is not None:
+        min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+    shifts, shift0 = surrogate_shifts(n, n_surrogates, int(lags.max()), min_shift, rng)
     factor = UNITS[units]
     if method == "gaussian":
-        te, null_max = _gaussian_map(series, lags, history, t0, shifts)
-        te, null_max = te * factor, null_max * factor
+        te, null = _gaussian_map(series, lags, history, t0, shifts)
+        te, null = te * factor, null * factor
     else:
-        te, null_max = _estimator_map(series, lags, history, t0, shifts, est)
+        te, null = _estimator_map(series, lags, history, t0, shifts, est)
     diag = np.eye(S, dtype=bool)
+    off = ~diag
+    pvalue = np.full(te.shape, np.nan)
+    null_cells = null[:, off].reshape(n_surrogates, off.sum() * L)
+    pvalue[off] = maxt_pvalues(te[off].ravel(), null_cells,
+                               step_down=adjust == "step-down").reshape(-1, L)
+    null_max = null_cells.max(axis=1) if n_surrogates else np.empty(0)
     te[diag] = np.nan
-    # #{null max >= TE} from the sorted null
-    above = n_surrogates - np.searchsorted(np.sort(null_max), np.nan_to_num(te), side="left")
-    pvalue = (1.0 + above) / (1.0 + n_surrogates)
-    pvalue[diag] = np.nan
     return TransferEntropyMap(
         labels=tuple(labels), group=np.array(group, dtype=np.int64), lags=lags, te=te,
         pvalue=pvalue, null_max=null_max, history=history, n_samples=n, method=method,
         units=units, alpha=alpha, n_surrogates=n_surrogates, min_shift=int(shift0),
-        estimated_seconds=float(seconds),
+        estimated_seconds=float(seconds), adjust=adjust,
     )

@@ -16,21 +16,42 @@ References, all from outside the code under test:
 - every Gaussian cell equals :func:`transfer_entropy` (the determinant formula of
   ``conditional.py``) on the same rows, to float rounding (1e-9: two algebraically
   equal forms of a log of ratios of O(1) determinants);
-- family-wise control: 30 maps of independent AR(1) series (48 cells each) at
-  alpha = 0.1. Uncorrected per-cell tests at 0.1 would flag nearly every map
-  (1 - 0.9^48 = 0.99); the maximum statistic flags a fraction measured at 0.13-0.14
-  over 700 maps (the module notes: slightly above alpha). The count is then
-  Binomial(30, 0.14), and >= 9 has probability 0.018; the assertion allows 8, so it
-  fails for a control much worse than measured (e.g. p = 0.5: P(<= 8) = 0.008);
+- every Gaussian surrogate cell equals :func:`conditional_mutual_information`
+  (method "gaussian", the determinant formula) of the target, the circularly
+  shifted lagged source and the target's history (the surrogate's definition), to
+  float rounding;
+- family-wise control, against the binomial law of an exact test: with N
+  surrogates the chance that an exact test rejects at alpha is
+  ``floor(alpha (N + 1)) / (N + 1)``, so over M independent maps of independent
+  AR(1) series the number of maps with any significant cell is Binomial(M, that).
+  Default tier: 100 maps of 48 cells at alpha = 0.1 (49 surrogates, level 0.1): the
+  count must lie in [3, 17] (probability 0.98 under the binomial; uncorrected
+  per-cell tests would flag 99 % of the maps, and a control as poor as 0.2 fails
+  with probability 0.8). Slow tier: 1 500 maps per size (2, 12, 48, 100 cells) at
+  alpha = 0.05 and 0.1, each rate within 3.3 binomial standard errors of the exact
+  level (the map before the lattice shifts measured 0.057 at level 0.04 on 48 cells,
+  3.3 standard errors of 1 500 maps above);
+- the step-down maxT p-values against Westfall & Young's Algorithm 4.1 written out
+  in the test (a loop over the ordered hypotheses), and the single-step ones against
+  the count over the map maximum; step-down <= single-step on a map;
+- the lattice of shifts: every pair of {0} and the shifts at least the spacing apart
+  on the circle (checked by brute force), none near n / 2;
 - refusals by message (``pytest.raises(match=...)``).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
-from modalinfo.information import TransferEntropyMap, transfer_entropy, transfer_entropy_map
+from modalinfo.information import (
+    TransferEntropyMap,
+    conditional_mutual_information,
+    transfer_entropy,
+    transfer_entropy_map,
+)
 from modalinfo.information import flow as flow_mod
 from modalinfo.telemetry import ModalLog
 
@@ -145,17 +166,119 @@ def test_frozen_flow_two_layers_show_lagged_transfer_along_each_wind(seed):
         assert res.best_lag[3 + m, m] == 3 and res.significant[3 + m, m, 2]
 
 
+def _independent_ar1(rng: np.random.Generator, n: int, s: int) -> np.ndarray:
+    e = rng.standard_normal((n + 100, s))
+    x = np.zeros_like(e)
+    for t in range(1, n + 100):
+        x[t] = 0.7 * x[t - 1] + e[t]
+    return x[100:]
+
+
+def _maps_with_a_link(n_maps: int, n_series: int, n_lags: int, alphas, seed: int):
+    rng = np.random.default_rng(seed)
+    pmin = np.array([
+        np.nanmin(transfer_entropy_map(_independent_ar1(rng, 500, n_series), lags=n_lags,
+                                       n_surrogates=49, seed=m).pvalue)
+        for m in range(n_maps)])
+    return [int(np.count_nonzero(pmin <= a + 1e-12)) for a in alphas]
+
+
+def _exact_level(alpha: float, n_surrogates: int) -> float:
+    return math.floor(alpha * (n_surrogates + 1) + 1e-9) / (n_surrogates + 1)
+
+
 def test_family_wise_error_of_the_map_under_independence():
-    hits = 0
-    for seed in range(30):
-        rng = np.random.default_rng(100 + seed)
-        e = rng.standard_normal((600, 4))
-        x = np.zeros_like(e)
-        for t in range(1, 600):
-            x[t] = 0.7 * x[t - 1] + e[t]
-        res = transfer_entropy_map(x[100:], lags=4, alpha=0.1, n_surrogates=49, seed=seed)
-        hits += bool(res.significant.any())
-    assert hits <= 8
+    (hits,) = _maps_with_a_link(100, 4, 4, [0.1], seed=100)
+    assert _exact_level(0.1, 49) == pytest.approx(0.1)
+    assert 3 <= hits <= 17
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("n_series, n_lags", [(2, 1), (3, 2), (4, 4), (5, 5)])
+def test_family_wise_error_within_monte_carlo_error(n_series, n_lags):
+    n_maps = 1500
+    alphas = (0.05, 0.1)
+    hits = _maps_with_a_link(n_maps, n_series, n_lags, alphas, seed=200 + n_series)
+    for a, h in zip(alphas, hits, strict=True):
+        level = _exact_level(a, 49)
+        se = math.sqrt(level * (1 - level) / n_maps)
+        assert abs(h / n_maps - level) <= 3.3 * se, (a, h / n_maps, level)
+
+
+def _westfall_young_step_down(stat, null):
+    """Algorithm 4.1 of Westfall & Young (1993), written out."""
+    n_surr, k = null.shape
+    order = sorted(range(k), key=lambda c: -stat[c])
+    adjusted = {}
+    running = 0.0
+    for rank, c in enumerate(order):
+        rest = order[rank:]
+        count = sum(1 for s in range(n_surr) if max(null[s, r] for r in rest) >= stat[c])
+        running = max(running, (1 + count) / (1 + n_surr))
+        adjusted[c] = running
+    return np.array([adjusted[c] for c in range(k)])
+
+
+def test_maxt_pvalues_follow_westfall_young():
+    rng = np.random.default_rng(4)
+    null = rng.gamma(0.5, size=(39, 12))
+    stat = np.concatenate([rng.gamma(0.5, size=9), [6.0, 3.5, 2.5]])
+    stat[3] = null[5, 7]  # a tie with a surrogate value counts as exceeded
+    got = flow_mod.maxt_pvalues(stat, null)
+    np.testing.assert_array_equal(got, _westfall_young_step_down(stat, null))
+    single = flow_mod.maxt_pvalues(stat, null, step_down=False)
+    ref = np.array([(1 + np.count_nonzero(null.max(axis=1) >= t)) / 40 for t in stat])
+    np.testing.assert_array_equal(single, ref)
+    assert (got <= single).all() and got[np.argmax(stat)] == single[np.argmax(stat)]
+
+
+def test_step_down_map_is_never_less_significant_than_single_step():
+    X = _planted_network(600, 5)
+    kw = dict(lags=4, n_surrogates=49, seed=1)
+    sd = transfer_entropy_map(X, **kw)
+    ss = transfer_entropy_map(X, adjust="single-step", **kw)
+    assert sd.adjust == "step-down" and ss.adjust == "single-step"
+    np.testing.assert_array_equal(sd.te, ss.te)
+    off = ~np.isnan(sd.pvalue)
+    assert (sd.pvalue[off] <= ss.pvalue[off]).all()
+    top = np.unravel_index(np.nanargmax(sd.te), sd.te.shape)
+    assert sd.pvalue[top] == ss.pvalue[top] == 1 / 50  # the first step is the single step
+    assert set(ss.links()) <= set(sd.links())
+
+
+def test_surrogate_cells_are_the_cmi_of_the_shifted_source():
+    X = _planted_network(400, 6)
+    lags, history = np.array([1, 3]), 2
+    t0, T = 3, X.shape[0]
+    shifts = np.array([17, 150, 388])
+    te, null = flow_mod._gaussian_map(X, lags, history, t0, shifts)
+    for j, i, a in [(0, 1, 0), (2, 3, 1), (5, 0, 1), (1, 0, 0)]:
+        x = X[t0:, i]
+        z = np.column_stack([X[t0 - k : T - k, i] for k in range(1, history + 1)])
+        y = X[t0 - lags[a] : T - lags[a], j]
+        assert te[j, i, a] == pytest.approx(
+            conditional_mutual_information(x, y, z, method="gaussian"), rel=1e-9, abs=1e-12)
+        for k, s in enumerate(shifts):
+            ref = conditional_mutual_information(x, np.roll(y, s), z, method="gaussian")
+            assert null[k, j, i, a] == pytest.approx(ref, rel=1e-9, abs=1e-12)
+    assert (null[:, np.eye(6, dtype=bool)] == 0).all()
+
+
+@pytest.mark.parametrize("n, n_surr, max_lag", [(496, 49, 4), (1000, 199, 10), (97, 9, 3)])
+def test_surrogate_shifts_lie_on_a_lattice_away_from_the_original(n, n_surr, max_lag):
+    shifts, b = flow_mod.surrogate_shifts(n, n_surr, max_lag, seed=0)
+    assert shifts.size == n_surr == np.unique(shifts).size
+    pts = np.concatenate([[0], shifts])
+    gaps = [min((p - q) % n, (q - p) % n) for p in pts for q in pts if p != q]
+    assert min(gaps) >= b >= 1
+    assert (shifts % b == 0).all()
+    assert all(min((2 * s) % n, n - (2 * s) % n) >= 2 * (b + max_lag) for s in shifts)
+    with pytest.raises(ValueError, match="`n_surrogates`=60 circular shifts spaced "
+                                         "`min_shift`=9 apart do not fit in 496 rows"):
+        flow_mod.surrogate_shifts(496, 60, 4, spacing=9)
+    with pytest.raises(ValueError, match="do not fit in 496 rows"):
+        transfer_entropy_map(np.random.default_rng(0).standard_normal((500, 2)), lags=4,
+                             n_surrogates=499)
 
 
 def test_refusals_name_the_argument():
