@@ -10,7 +10,9 @@ shown to come from the run and not from typed text. Every cell of Figure 5's pre
 tables (both logs, the paper's NN among the rows) and the gains its text quotes are
 recomputed from those JSON files; the logs comparison's lines on Figures 1 and 5 from the
 JSON files and from the comparison rows; the Figure 1 comparison rows from the section's
-panel (a) table, column by column.
+panel (a) table, column by column. ``--quick`` is a smoke run: Figure 5 evaluates the
+first ``QUICK_MODES`` modes of each log, whose labels the test reads from the shipped
+logs (the full ``compute`` against its quick one: ``tests/forecast/test_fig5.py``).
 """
 
 import json
@@ -206,3 +208,21 @@ def test_figure1_comparison_rows_are_the_typical_frame_panel(out, table):
             _, paper, at_04, at_cal = [c.strip() for c in line[0].strip().strip("|").split("|")]
             row = [r for r in _find(table, "Figure 1", part) if tag in r[0]][0]
             assert (row[2], row[3]) == (paper, f"{at_04} ({at_cal} at the calibrated target)")
+
+
+def test_figure5_quick_evaluates_the_first_modes_of_each_log(out):
+    # the smoke run's evaluation: the first QUICK_MODES modes of each shipped log, as the
+    # report says (labels read from the logs here)
+    from modalinfo.io import load
+    from paper_figures.fig5_forecast import QUICK_MODES, QUICK_PAPER_SEEDS
+
+    data = Path(__file__).resolve().parents[2] / "data"
+    evs = _evaluations(out)
+    for name, tag in (("kaos_like_closed_loop.npz", "spectral"),
+                      ("kaos_closedloop.npz", "simulated")):
+        labels = list(load(data / name).labels)
+        assert evs[tag]["labels"] == labels[:QUICK_MODES]
+        flat = " ".join(_section(out, "## Figure 5", tag).split())
+        assert (f"the evaluation and the AIC orders on the first {QUICK_MODES} of the "
+                f"{len(labels)} modes, the paper's NN over {len(QUICK_PAPER_SEEDS)} "
+                f"seeds.") in flat
