@@ -208,3 +208,42 @@ def test_fig5_default_kaos_like(tmp_path):
     data = json.loads((tmp_path / "fig5_forecast.json").read_text())
     gains = dict(zip(data["names"], (g[0] for g in data["gain_wavefront"]), strict=True))
     assert gains["ARMA(2,3)"] > 1.0 and gains["NN paper (10 patterns)"] < 1.0
+
+
+def test_quick_is_the_full_computation_on_the_first_modes(log_file, result, monkeypatch):
+    # quick evaluates the first QUICK_MODES modes (1 here, of the log's 2) and the paper's
+    # NN over QUICK_PAPER_SEEDS. Reference: the full computation (``result``) on the same
+    # log: every predictor that fits one model per mode from that mode's own column
+    # gives the same numbers on the first mode (to the rounding of sums over a
+    # different number of columns: 1e-12 relative), the AIC order of that mode is the
+    # same, the paper's NN gains are the full run's for those seeds. (The NNs
+    # standardise with a mean over all columns and train by L-BFGS, which can amplify a
+    # last-bit difference; the multivariate and info predictors use the other modes.)
+    path, coeffs = log_file
+    monkeypatch.setattr(fig5_forecast, "QUICK_MODES", 1)
+    quick = fig5_forecast.compute(load(path), source="an ARMA(1,1) log", quick=True)
+    assert quick.quick and not result.quick
+    ev, full = quick.evaluation, result.evaluation
+    assert ev.labels == ("Z2",) and full.labels == ("Z2", "Z3")
+    assert ev.names == full.names
+    np.testing.assert_array_equal(ev.origins, full.origins)
+    for name in ("persistence", "mean", "linear (a=2, b=-1)", "linear (LS a, b)",
+                 "ARMA(2,3)", "ARMA (AIC)"):
+        i = ev.index(name)
+        np.testing.assert_allclose(ev.rmse[i, :, 0], full.rmse[full.index(name), :, 0],
+                                   rtol=1e-12, err_msg=name)
+    np.testing.assert_array_equal(quick.aic_orders, result.aic_orders[:1])
+    assert quick.paper_nn_seeds == fig5_forecast.QUICK_PAPER_SEEDS == (0, 1)
+    assert quick.paper_nn_gains == result.paper_nn_gains[:2]
+    # the panels and the per-mode statistics of the log are the full run's
+    for name in ("x", "linear_one_step", "arma_interval_mean", "nn_one_step",
+                 "nn_paper_one_step", "increment_correlation"):
+        np.testing.assert_array_equal(getattr(quick, name), getattr(result, name))
+    # the report says it is a smoke run, and counts the modes it evaluated
+    text = " ".join(fig5_forecast.report(quick).split())
+    assert ("**Quick settings** (`--quick`): a smoke run, numbers not the paper's: the "
+            "evaluation and the AIC orders on the first 1 of the 2 modes, the paper's NN "
+            "over 2 seeds.") in text
+    assert "over seeds 0-1" in text and "over the 1 modes" in text
+    assert "Quick settings" not in fig5_forecast.report(result)
+    assert fig5_forecast.table_rows(quick)[0][2].endswith("(1/1 modes)")

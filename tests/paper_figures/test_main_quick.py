@@ -10,7 +10,9 @@ shown to come from the run and not from typed text. Every cell of Figure 5's pre
 tables (both logs, the paper's NN among the rows) and the gains its text quotes are
 recomputed from those JSON files; the logs comparison's lines on Figures 1 and 5 from the
 JSON files and from the comparison rows; the Figure 1 comparison rows from the section's
-panel (a) table, column by column.
+panel (a) table, column by column. ``--quick`` is a smoke run: Figure 5 evaluates the
+first ``QUICK_MODES`` modes of each log, whose labels the test reads from the shipped
+logs (the full ``compute`` against its quick one: ``tests/forecast/test_fig5.py``).
 """
 
 import json
@@ -29,8 +31,16 @@ STEMS = ("fig1_fitting_error", "fig2_sr_peak", "fig3_sr_spectrum", "fig4_sr_maps
 
 @pytest.fixture(scope="module")
 def out(tmp_path_factory):
+    from threadpoolctl import threadpool_limits  # scikit-learn's dependency
+
     path = tmp_path_factory.mktemp("quick")
-    assert main(["--out", str(path), "--quick"]) == 0
+    # one BLAS thread: under `pytest -n auto` every core already runs a worker, and
+    # OpenBLAS threads that wait for a busy core spin. Measured on 2 loaded cores
+    # (2026-11-26): the whole run 167 s of CPU with OpenBLAS's default threads, 105 s
+    # with one (Figure 1 49 -> 16 s, the closed-loop runs 69 -> 40 s). The tests read
+    # the run's own outputs, so they hold for either.
+    with threadpool_limits(limits=1, user_api="blas"):
+        assert main(["--out", str(path), "--quick"]) == 0
     return path
 
 
@@ -206,3 +216,21 @@ def test_figure1_comparison_rows_are_the_typical_frame_panel(out, table):
             _, paper, at_04, at_cal = [c.strip() for c in line[0].strip().strip("|").split("|")]
             row = [r for r in _find(table, "Figure 1", part) if tag in r[0]][0]
             assert (row[2], row[3]) == (paper, f"{at_04} ({at_cal} at the calibrated target)")
+
+
+def test_figure5_quick_evaluates_the_first_modes_of_each_log(out):
+    # the smoke run's evaluation: the first QUICK_MODES modes of each shipped log, as the
+    # report says (labels read from the logs here)
+    from modalinfo.io import load
+    from paper_figures.fig5_forecast import QUICK_MODES, QUICK_PAPER_SEEDS
+
+    data = Path(__file__).resolve().parents[2] / "data"
+    evs = _evaluations(out)
+    for name, tag in (("kaos_like_closed_loop.npz", "spectral"),
+                      ("kaos_closedloop.npz", "simulated")):
+        labels = list(load(data / name).labels)
+        assert evs[tag]["labels"] == labels[:QUICK_MODES]
+        flat = " ".join(_section(out, "## Figure 5", tag).split())
+        assert (f"the evaluation and the AIC orders on the first {QUICK_MODES} of the "
+                f"{len(labels)} modes, the paper's NN over {len(QUICK_PAPER_SEEDS)} "
+                f"seeds.") in flat
