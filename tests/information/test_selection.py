@@ -241,6 +241,12 @@ def test_validation_messages():
         select_inputs(X, 0, extra=X[:100])
     with pytest.raises(ValueError, match="needs at least"):
         select_inputs(X[:25], 0, max_lag=10)
+    # 199 shifts on a lattice of 190 rows cannot all be distinct multiples of 1
+    with pytest.raises(ValueError, match=r"`n_surrogates`=199 circular shifts spaced 1 "
+                                         r"apart do not fit in 190 rows"):
+        select_inputs(X, 0, max_lag=10, n_surrogates=199)
+    with pytest.raises(ValueError, match="`min_shift`=50 apart do not fit in 190 rows"):
+        select_inputs(X, 0, max_lag=10, n_surrogates=19, min_shift=50)
 
 
 def test_gram_greedy_equals_a_brute_force_greedy():
