@@ -87,6 +87,7 @@ from modalinfo._validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
+from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
 
 __all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_entropy_map"]
 
@@ -274,14 +275,12 @@ def _gaussian_map(series, lags, history, t0, shifts):
     """
     T, S = series.shape
     L = lags.size
-    n = T - t0
     C = _lagged_block(series, lags, t0)
     _, alive_all = unit_candidates(C)
     Cc = C - C.mean(axis=0)
     c2 = np.einsum("ij,ij->j", Cc, Cc)
     te = np.zeros((S, S, L))
     null = np.zeros((shifts.size, S, S, L))
-    rows = (np.arange(n)[None, :] + shifts[:, None]) % n
     for i in range(S):
         q = _history_basis(_history(series[:, i], history, t0))
         r = series[t0:, i] - series[t0:, i].mean()
@@ -294,11 +293,10 @@ def _gaussian_map(series, lags, history, t0, shifts):
         ok = alive & (cn > 0)
         rn = math.sqrt(float(r @ r))
         if ok.any() and rn > 0 and shifts.size:
-            num = r[rows] @ Cc[:, ok]
-            den = np.broadcast_to(c2[ok], num.shape).copy()
-            for a in range(q.shape[1]):
-                den -= (q[:, a][rows] @ Cc[:, ok]) ** 2
-            rho2 = num * num / (np.maximum(den, 1e-300) * rn * rn)
+            Cok = Cc[:, ok]
+            rho2 = rotated_rho2(circular_cross(r, Cok, shifts),
+                                [circular_cross(q[:, a], Cok, shifts) for a in range(q.shape[1])],
+                                c2[ok], rn * rn)
             cells = np.zeros((shifts.size, S * L))
             cells[:, ok] = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
             null[:, :, i, :] = cells.reshape(shifts.size, L, S).transpose(0, 2, 1)
@@ -322,84 +320,6 @@ def _estimator_map(series, lags, history, t0, shifts, est):
                 for s_i, s in enumerate(shifts):
                     null[s_i, j, i, a] = est(x, np.roll(y, int(s), axis=0), z)
     return te, null
-
-
-def _lattice(n: int, spacing: int, max_lag: int) -> np.ndarray:
-    """Admissible multiples of ``spacing`` (see :func:`surrogate_shifts`)."""
-    k = np.arange(1, (n - spacing) // spacing + 1) * spacing
-    d = (2 * k) % n
-    return k[np.minimum(d, n - d) >= 2 * (spacing + max_lag)]
-
-
-def surrogate_shifts(n: int, n_surrogates: int, max_lag: int, spacing: int | None = None,
-                     seed: Any = None) -> tuple[np.ndarray, int]:
-    """Circular shifts of a map's surrogates: points of a lattice with the original at 0.
-
-    The shifts are ``n_surrogates`` distinct multiples ``k b`` of a spacing b (drawn
-    at random from the admissible ones), so the original (shift 0) and every
-    surrogate are at least b apart from each other on the circle of n rows: the
-    original is then exchangeable with the surrogates (a randomisation test over the
-    subgroup of rotations by multiples of b), and the p-value
-    ``(1 + #{surrogate >= original}) / (1 + n_surrogates)`` is exact for circularly
-    stationary series when b divides n and no multiple is left out (approximately
-    otherwise: the measured rates are in the module notes). Shifts drawn from
-    ``[m, n - m]`` at random are not: they may lie close to each other but never close
-    to the original, which removes from the
-    comparison exactly the values most correlated with the original, and the test
-    is liberal by an amount that grows with ``m / n`` and with the size of the map
-    (module notes). A spacing below the span of the lags plus the series'
-    correlation time costs power (a surrogate can re-align a true link at another
-    lag), not validity.
-
-    Multiples k b with ``2 k b`` within ``2 (b + max_lag)`` of a multiple of n are left
-    out: there the cells ``j -> i`` and ``i -> j`` of a pair read the same part of the
-    two series' cross-correlation (offsets ``k b + l`` and ``-(k b + l')`` equal modulo
-    n), become copies, and the surrogate maximum falls below the null's.
-
-    Parameters
-    ----------
-    n : int
-        Rows of the map.
-    n_surrogates : int
-        Number of shifts >= 0.
-    max_lag : int
-        Largest source lag [samples].
-    spacing : int, optional
-        Lattice spacing b >= 1 [samples]; default the largest with ``n_surrogates``
-        admissible multiples (about ``n / (n_surrogates + 1)``).
-    seed : None, int or numpy.random.Generator
-        Randomness of the choice among the admissible multiples.
-
-    Returns
-    -------
-    shifts : numpy.ndarray of int, shape (n_surrogates,)
-        Ascending shifts [samples].
-    spacing : int
-        The spacing b used (0 when ``n_surrogates`` is 0).
-
-    Raises
-    ------
-    ValueError
-        If fewer than ``n_surrogates`` admissible multiples exist.
-    """
-    if n_surrogates == 0:
-        return np.empty(0, dtype=np.int64), 0
-    rng = check_rng(seed)
-    if spacing is None:
-        b = max(n // (n_surrogates + 1), 1)
-        while b > 1 and _lattice(n, b, max_lag).size < n_surrogates:
-            b -= 1
-    else:
-        b = spacing
-    allowed = _lattice(n, b, max_lag)
-    if allowed.size < n_surrogates:
-        raise ValueError(
-            f"`n_surrogates`={n_surrogates} circular shifts spaced "
-            f"{'`min_shift`=' if spacing is not None else ''}{b} apart do not fit in "
-            f"{n} rows ({allowed.size} do, lags up to {max_lag}); use fewer surrogates"
-            f"{' or a smaller `min_shift`' if spacing is not None else ''}, or more frames.")
-    pick = np.sort(rng.choice(allowed.size, size=n_surrogates, replace=False))
-    return allowed[pick].astype(np.int64), int(b)
 
 
 def maxt_pvalues(stat: np.ndarray, null: np.ndarray, step_down: bool = True) -> np.ndarray:

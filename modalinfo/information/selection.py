@@ -9,21 +9,39 @@ is significant, up to ``max_inputs``.
 
 Significance and family-wise control. At each step the statistic is the *largest*
 gain over all m candidates, and its null distribution is that of the largest gain
-over the same m candidates after a random circular time shift (at least the
-Politis-White block length of the target) that breaks their alignment with the target
-while keeping every series' autocorrelation: the maximum-statistic test
+over the same m candidates under circular time shifts that break their alignment with
+the target while keeping every series' autocorrelation: the maximum-statistic test
 (Westfall & Young 1993, as in IDTxl's greedy search, Novelli et al. 2019), which
 controls the family-wise error over the m candidates of the step at ``alpha``. The
 search stops at the first step that is not significant, so a step is only tested
 after all earlier ones rejected (a fixed-sequence procedure; the error of adding one
 spurious input is at most ``alpha`` for the whole search). The p-value is
 ``(1 + #{null max >= observed max}) / (1 + n_surrogates)``: with the default 199
-surrogates the smallest is 0.005. Measured slightly liberal after the first step, for
-the reasons found for the transfer-entropy map (:mod:`modalinfo.information.flow`: the
-rotated residual is not orthogonal to the chosen inputs; random shifts are never near
-the original): a spurious second input in 0.055 of 1 500 runs at the exact level 0.040
-(``benchmarks/bench_flow_fwer.py --part selection``); the map's repair (rotate the
-candidates, lattice shifts) is not applied here yet.
+surrogates the smallest is 0.005, and an exact test rejects with probability
+``floor(alpha (N + 1)) / (N + 1)``. The surrogates are built as the transfer-entropy
+map's (:mod:`modalinfo.information.flow`; shared helpers in
+:mod:`modalinfo.information.surrogates`): under a surrogate every candidate is rotated
+by s rows against the target and the inputs already chosen, then residualised against
+the chosen inputs exactly like the original; the shifts are one set for the whole
+search, multiples of a spacing b (about ``n / (n_surrogates + 1)``) with the original
+at 0 (:func:`~modalinfo.information.surrogates.surrogate_shifts`), so the original is
+exchangeable with them. Measured (``benchmarks/bench_flow_fwer.py --part selection``:
+a target AR(1) 0.7 and 3 independent AR(1) series, n = 496 rows, 16 candidates, 49
+surrogates, 16 000 searches whose first input, the target's last value, is the whole
+true model): a spurious second input in 0.0429 of the searches at the exact level
+0.040 (se 0.0015, +1.9 se) and 0.1029 at 0.100 (se 0.0024, +1.2 se). The previous
+test rotated the target's residual against the candidates' residuals (the rotated
+residual is no longer orthogonal to the chosen inputs, so its null scale fell short)
+with shifts drawn at random from ``[m, n - m]`` (never near the original), and
+rejected 0.0482 and 0.1108 on the same searches (+5.3 and +4.5 se). Power: the
+planted sparse VAR of the tests is recovered with recall 1.000 before and after (n =
+1 000 to 20 000); on the shipped ``kaos_closedloop`` (Z5, horizon 2, 270 candidates)
+the same 10 inputs, the last five at p = 0.010-0.020 instead of 0.005. As for the
+map, a spacing below the span of the lags plus the series' correlation time costs
+power (a surrogate can re-align a true input at another lag, or the target's own
+past), not validity: on 200 frames of AR(1) 0.9 (spacing 3 rows, correlation time
+~20) the test rejects 0.017 at the exact 0.040 (the previous one 0.068); for short,
+slowly varying series use fewer surrogates.
 
 Estimators. ``method="gaussian"`` (default) is a closed form: with the target and the
 candidates orthogonalised against the selected inputs (Gram-Schmidt, updated once
@@ -32,11 +50,13 @@ correlation, which is exactly the Gaussian CMI and equals
 ``0.5 ln(var(x | S) / var(x | S, c))``, the log ratio of the least-squares residual
 variances -- the criterion that matters for the linear predictor built on the result
 (:class:`modalinfo.forecast.info.InfoPredictor`). All candidates are scored by one
-matrix product; the surrogates rotate the target's residual against the candidates'
-residuals (the null of zero partial correlation). The other methods of
+matrix product; under a surrogate the rotated candidates' residuals need only the
+circular cross-correlations of the target's residual and of each chosen direction
+with the candidates (:func:`~modalinfo.information.surrogates.circular_cross`, by FFT
+from 64 surrogates on). The other methods of
 :func:`~modalinfo.information.conditional_mutual_information` score each candidate
-with the estimator and rotate the candidate against (target, selected); they cost
-``m (1 + n_surrogates)`` estimates per step.
+with the estimator and rotate the candidate against (target, selected), on the same
+lattice of shifts; they cost ``m (1 + n_surrogates)`` estimates per step.
 
 Intervals: moving-block bootstrap of the gain of each chosen input given the inputs
 chosen before it (:func:`~modalinfo.information.conditional_mutual_information_ci`).
@@ -68,6 +88,7 @@ from modalinfo.information.conditional import (
     conditional_mutual_information_ci,
     gaussian_cmi_from_covariance,
 )
+from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
 from modalinfo.information.uncertainty import _block_indices
 
 __all__ = [
@@ -146,7 +167,7 @@ class InputSelection:
     n_surrogates : int
         Surrogates per step.
     min_shift : int
-        Smallest circular shift of the surrogates [samples].
+        Spacing b of the surrogates' circular shifts (all multiples of it) [samples].
     """
 
     target: str
@@ -309,21 +330,33 @@ def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarray, *,
                    method: str, est, factor: float, alpha: float, n_surrogates: int,
-                   max_inputs: int, shift0: int, rng: np.random.Generator,
-                   spectra: tuple[np.ndarray, int] | None = None
+                   max_inputs: int, shift0: int | None, rng: np.random.Generator,
+                   spectra: tuple[np.ndarray, int] | None = None,
+                   shifts: np.ndarray | None = None,
                    ) -> tuple[list[tuple[int, float, float]], str, float]:
     """Run the greedy search; return ``[(column, gain [nats], p-value)], stop, last p``.
 
     Preconditions: ``y`` (n,), ``C`` (n, m) and its unit columns ``Cu`` validated,
-    ``alive`` (m,) bool marks usable candidates (copied here, as are ``Cu`` and
-    ``spectra``, the rfft of ``Cu.T`` on length L >= 2n, used by the Gaussian null).
+    ``alive`` (m,) bool marks usable candidates (copied here), ``spectra`` the rfft of
+    ``Cu.T`` on length L >= 2n (used by the Gaussian null; not modified). ``shifts``
+    (n_surrogates,) are the surrogates' circular shifts, one set for the whole search;
+    if None they are drawn by :func:`~modalinfo.information.surrogates.surrogate_shifts`
+    with its default spacing, the largest that fits. ``shift0`` is a floor on the
+    spacing (e.g. the target's block length, as :class:`~modalinfo.forecast.InfoPredictor`
+    passes): the largest spacing meets it whenever it fits, and a search never fails
+    for it (a smaller spacing costs power, not validity).
     """
     n, m_all = C.shape
     alive = alive.copy()
-    F, L = (None, 0) if spectra is None else (spectra[0].copy(), spectra[1])
+    if shifts is None:
+        shifts, _ = surrogate_shifts(n, n_surrogates, 0, None, rng)
     r, ynorm = _unit_columns(y[:, None])
     r = r[:, 0].copy()
     R = Cu.copy()
+    c2 = np.einsum("ij,ij->j", Cu, Cu)
+    # q_a . Cu_s of each chosen direction q_a (orthonormal, centred) at every shift:
+    # fixed once q_a is chosen, so computed once
+    xq: list[np.ndarray] = []
     chosen: list[int] = []
     picked: list[tuple[int, float, float]] = []
     stop, last_p = "budget reached", math.nan
@@ -333,25 +366,18 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
         if not alive.any() or ynorm[0] == 0:
             stop = "no candidate left"
             break
-        shifts = rng.integers(shift0, n - shift0 + 1, size=n_surrogates)
         Z = C[:, chosen] if chosen else np.empty((n, 0))
         if method == "gaussian":
             gains = _gauss_gains(r, R, alive)
             best = int(np.argmax(np.where(alive, gains, -np.inf)))
-            # null: the target residual rotated against every candidate residual, by
-            # the circular cross-correlation sum_t r[t - s] R[t, j] at the drawn shifts
+            # null: every candidate rotated against the target and the chosen inputs,
+            # then residualised against the chosen inputs like the original (r is
+            # orthogonal to them, so r . P Cu_s = r . Cu_s)
             cn = np.sqrt(np.einsum("ij,ij->j", R, R))
             ok = alive & (cn > 0)
-            if F is None:
-                xc = r[(np.arange(n)[None, :] - shifts[:, None]) % n] @ R[:, ok]
-            else:
-                # from the linear correlation c[k] by FFT on L >= 2n: circular[s] =
-                # c[s] + c[s - n], c[k < 0] at index L + k. F follows the Gram-Schmidt
-                # updates linearly, so a step costs one inverse FFT.
-                lin = sfft.irfft(F[ok] * np.conj(sfft.rfft(r, L))[None, :], L, axis=1)
-                xc = (lin[:, shifts] + lin[:, L + shifts - n]).T
-            rho = xc / (cn[ok][None, :] * math.sqrt(float(r @ r)))
-            null = (-0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))).max(axis=1)
+            rho2 = rotated_rho2(circular_cross(r, Cu, shifts, spectra)[:, ok],
+                                [x[:, ok] for x in xq], c2[ok], float(r @ r))
+            null = (-0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))).max(axis=1)
             gain = float(gains[best])
         else:
             idx = np.flatnonzero(alive)
@@ -371,10 +397,9 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
         # Gram-Schmidt: remove the chosen direction from the target and the candidates
         q = R[:, best] / math.sqrt(float(R[:, best] @ R[:, best]))
         r -= q * float(q @ r)
-        qR = q @ R
-        R -= np.outer(q, qR)
-        if F is not None:
-            F -= qR[:, None] * sfft.rfft(q, L)[None, :]
+        R -= np.outer(q, q @ R)
+        if method == "gaussian":
+            xq.append(circular_cross(q, Cu, shifts, spectra))
         alive[best] = False
         # a candidate now (numerically) spanned by the chosen ones is dropped
         alive &= np.sqrt(np.einsum("ij,ij->j", R, R)) > 1e-6
@@ -489,8 +514,12 @@ def select_inputs(
     n_resamples, confidence_level : int, float
         Bootstrap resamples and nominal coverage of the intervals.
     min_shift : int, optional
-        Smallest surrogate shift [samples]; default the Politis-White block length of
-        the target's future values (at most n // 2).
+        Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
+        :func:`~modalinfo.information.surrogates.surrogate_shifts`, one set for the
+        whole search); default the largest that fits ``n_surrogates`` shifts in the
+        rows, about ``n / (n_surrogates + 1)``. Keep it above the span of the lags plus
+        the series' correlation time (power), and ``n_surrogates x min_shift`` below
+        the rows.
     seed : None, int or numpy.random.Generator
         Randomness of the surrogates and the bootstrap.
     **options
@@ -500,6 +529,13 @@ def select_inputs(
     -------
     InputSelection
         The chosen inputs with gains, intervals and p-values.
+
+    Raises
+    ------
+    ValueError
+        Invalid arguments; too few frames for ``horizon`` and ``max_lag``; a search
+        whose working arrays exceed the available memory; or ``n_surrogates`` shifts
+        that do not fit in the rows at the spacing ``min_shift`` (or at spacing 1).
     """
     series, labels = _series(data, "data")
     if extra is not None:
@@ -533,10 +569,10 @@ def select_inputs(
     origins, C, cols = lagged_candidates(series, horizon, max_lag)
     y = np.ascontiguousarray(series[origins + horizon, target_col])
     n, m_all = C.shape
-    if min_shift is None:
-        shift0 = min(_auto_block(y[:, None]), n // 2)
-    else:
-        shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+    if min_shift is not None:
+        min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+    # one set of shifts for the whole search, on a lattice with the original at 0
+    shifts, shift0 = surrogate_shifts(n, n_surrogates, max_lag - 1 + horizon, min_shift, rng)
     est = _estimator(method, units, options)
     factor = UNITS[units]
 
@@ -549,7 +585,7 @@ def select_inputs(
     picked, stop, last_p = _greedy_search(
         y, C, Cu, alive, method=method, est=est, factor=factor, alpha=alpha,
         n_surrogates=n_surrogates, max_inputs=max_inputs, shift0=shift0, rng=rng,
-        spectra=spectra)
+        spectra=spectra, shifts=shifts)
     inputs = []
     for i, (j, gain, p) in enumerate(picked):
         low = high = math.nan
