@@ -189,7 +189,7 @@ def _loop_predictor(name: str, nn_max_iter: int | None):
 def run_all(config, duration: float, *, seed: int = 0,
             names: tuple[str, ...] = PAPER_PREDICTORS + EXTRA_PREDICTORS,
             budget_every: int | None = 5, nn_max_iter: int | None = None,
-            progress: bool | None = False, log=print) -> tuple[dict, dict]:
+            progress: bool | None = False, log=print, model=None) -> tuple[dict, dict]:
     """Run every predictor of ``names`` on one atmosphere; return ``(results, timings)``.
 
     Parameters
@@ -209,6 +209,8 @@ def run_all(config, duration: float, *, seed: int = 0,
         tqdm bars of the loops.
     log : callable
         Receives one progress line per run.
+    model : closedloop.LoopModel, optional
+        The config's model, if already built (else built here).
 
     Returns
     -------
@@ -219,7 +221,7 @@ def run_all(config, duration: float, *, seed: int = 0,
     from closedloop.training import run_trained
 
     names = ("none", *[n for n in names if n != "none"])
-    model = LoopModel(config)
+    model = LoopModel(config) if model is None else model
     results: dict = {}
     timings: dict = {}
     for name in names:
