@@ -42,7 +42,11 @@ __all__ = [
 ]
 
 DM_KINDS = ("zernike", "ideal")
-WFS_KINDS = ("shack_hartmann", "ideal")
+WFS_KINDS = ("shack_hartmann", "ideal", "correlating")
+#: keys only a ``kind="correlating"`` WFS uses (refused elsewhere at non-default values)
+CORRELATING_KEYS = ("pixel_scale", "signal", "contrast", "image_formation")
+#: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
+FULL_WELL = 30_000.0
 
 
 def _fail(key: str, rule: str, value: Any, exc=ValueError):
@@ -166,17 +170,40 @@ class WFSConfig:
     n_subapertures : int
         Shack-Hartmann subapertures across its sensed meta-pupil.
     noise : float
-        Measurement noise [arcsec RMS per slope axis per subaperture per frame].
-    kind : {"shack_hartmann", "ideal"}
+        Measurement noise [arcsec RMS per slope axis per subaperture per frame] of a
+        ``"shack_hartmann"``. A ``"correlating"`` WFS refuses a non-zero value: its noise
+        follows from its photon budget and scene (``signal``, ``contrast``).
+    kind : {"shack_hartmann", "ideal", "correlating"}
         ``"shack_hartmann"``: mean gradient per subaperture (the geometric limit of a
         correlating SH on granulation), averaged over the field, least-squares modal
         reconstructor. ``"ideal"``: least-squares projection of the field-averaged
         residual onto the DM's modes (no aliasing, no noise; for verification).
+        ``"correlating"``: a solar correlating SH on granulation
+        (:class:`closedloop.optics.correlating_sensor.CorrelatingShackHartmann`): Z-tilts
+        averaged over the field with the scene's contrast weights, noise from the photon
+        budget, a correlation tracker for the global tip-tilt.
     field_samples : int
         Rings of directions sampling the field (1: the centre only; r rings: 1 + 3 r (r - 1)
         directions on a hexagonal grid).
     dm : int
         Index of the DM this WFS drives (layer-oriented: one WFS per DM).
+    pixel_scale : float
+        ``"correlating"`` only: detector pixel on the sky [arcsec] (default 0.5).
+    signal : float or None
+        ``"correlating"`` only: mean photo-electrons per pixel per frame, in (0, 30000]
+        (the full well); None: the photon budget's default, half of the well
+        (:class:`closedloop.optics.correlating.PhotonBudget`).
+    contrast : float or None
+        ``"correlating"`` only: rms granulation contrast of the scene at full resolution,
+        in (0, 0.5]; None: :func:`closedloop.optics.granulation.granulation_contrast` at
+        the WFS wavelength.
+    image_formation : bool
+        ``"correlating"`` only: False (default), the fast linear sensor; True, images
+        formed and correlated every frame (the reference check of the linear one; a few
+        frames per second).
+
+    The four ``"correlating"`` keys are left out of the plain (TOML/JSON) form at their
+    defaults, so the files and checksums of other configs are those written before them.
     """
 
     altitude: float
@@ -186,6 +213,10 @@ class WFSConfig:
     kind: str = "shack_hartmann"
     field_samples: int = 3
     dm: int = 0
+    pixel_scale: float = field(default=0.5, metadata={"omit_default": True})
+    signal: float | None = None
+    contrast: float | None = None
+    image_formation: bool = field(default=False, metadata={"omit_default": True})
 
     def _validate(self, p: str) -> None:
         _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
@@ -196,6 +227,32 @@ class WFSConfig:
         check_choice(self.kind, p + "kind", WFS_KINDS)
         _set(self, "field_samples", check_int(self.field_samples, p + "field_samples", minimum=1))
         _set(self, "dm", check_int(self.dm, p + "dm", minimum=0))
+        _set(self, "pixel_scale", check_real(self.pixel_scale, p + "pixel_scale", minimum=0,
+                                             strict_min=True))
+        if self.signal is not None:
+            _set(self, "signal", check_real(self.signal, p + "signal", minimum=0,
+                                            strict_min=True, maximum=FULL_WELL))
+        if self.contrast is not None:
+            _set(self, "contrast", check_real(self.contrast, p + "contrast", minimum=0,
+                                              strict_min=True, maximum=0.5))
+        if not isinstance(self.image_formation, bool):
+            _fail(p + "image_formation", "a bool (false: linear sensor, true: images formed "
+                  "and correlated every frame)", self.image_formation, TypeError)
+        if self.kind != "correlating":
+            for name in CORRELATING_KEYS:
+                f = next(f for f in dataclasses.fields(self) if f.name == name)
+                if getattr(self, name) != f.default:
+                    _fail(p + name, f"left at its default ({f.default!r}) for kind "
+                          f"{self.kind!r} (it is a key of kind 'correlating')",
+                          getattr(self, name))
+        else:
+            if self.noise != 0.0:
+                _fail(p + "noise", "0 for kind 'correlating' (its noise follows from its "
+                      "photon budget: set `signal` and `contrast`)", self.noise)
+            if self.field_of_view / self.pixel_scale < 8:
+                _fail(p + "field_of_view", f">= 8 detector pixels of pixel_scale = "
+                      f"{self.pixel_scale:g}\" for kind 'correlating' (a subaperture image "
+                      "to correlate)", self.field_of_view)
 
 
 @dataclass(frozen=True)
@@ -481,7 +538,7 @@ def _check_sampling(cfg: SimulationConfig) -> None:
                   f"telescope.n_pixels = {cfg.telescope.n_pixels}; {dm.n_modes} modes reach "
                   f"order {order})", dm.n_modes)
     for j, w in enumerate(cfg.wfss):
-        if w.kind != "shack_hartmann":
+        if w.kind not in ("shack_hartmann", "correlating"):
             continue
         across = wfs_meta_pupil(cfg, j) / dx
         limit = int(across // _PIXELS_PER_SUBAPERTURE)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from closedloop.optics import correlating_sensor  # noqa: F401  (registers kind "correlating")
 from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry
@@ -120,7 +121,7 @@ class LoopModel:
         out = []
         for wfs in self.wfss:
             noise = (rng.standard_normal(wfs.n_measurements)
-                     if rng is not None and wfs.noise_rms > 0 else None)
+                     if rng is not None and np.any(wfs.noise_rms > 0) else None)
             out.append(wfs.forward(plane_maps, noise))
         return out
 

@@ -58,8 +58,9 @@ class Sensor(Part, Protocol):
         Which WFS of the configuration.
     n_measurements : int
         Length of one measurement vector.
-    noise_rms : float
-        Per-measurement noise RMS [measurement units] (0: noise-free).
+    noise_rms : float or (n_measurements,) ndarray
+        Per-measurement noise RMS [measurement units] (0: noise-free); an array when the
+        measurements differ in noise.
     reconstructor : (M, n_measurements) ndarray or None
         Measurements to the modal residual of its DM (None: the identity).
     """
@@ -67,7 +68,7 @@ class Sensor(Part, Protocol):
     kind: ClassVar[str]
     index: int
     n_measurements: int
-    noise_rms: float
+    noise_rms: float | np.ndarray
     reconstructor: np.ndarray | None
 
     def forward(self, plane_maps: list[np.ndarray],
@@ -77,5 +78,5 @@ class Sensor(Part, Protocol):
     def interaction_with(self, dm) -> np.ndarray:
         """Measurements of a unit command of each mode of ``dm``, ``(n_measurements, M)``."""
 
-    def model_error_variance(self, r0s: list[float], model_error: float) -> float:
-        """Extra variance per measurement the MAP reconstructor assumes (model error)."""
+    def model_error_variance(self, r0s: list[float], model_error: float) -> float | np.ndarray:
+        """Extra variance per measurement (float or array) the MAP reconstructor assumes."""

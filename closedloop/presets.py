@@ -40,6 +40,21 @@ tropopause; Kellerer et al. 2012) and three DMs at 0, 4 and 10 km: it shows that
 is hard-wired to two layers or two DMs. ``table1-wind`` is ``table1`` with the ground
 layer at 21 m/s, the case where the temporal error is large enough for prediction to pay.
 
+``table1-solar`` is ``table1`` sensed on granulation: both WFSs ``kind="correlating"``
+(:class:`closedloop.optics.correlating_sensor.CorrelatingShackHartmann`, the linear
+mode) with table1's fields (60" ground, 20" upper) and subapertures, 0.5" pixels, the
+default photon budget (half of a 30 000 e- well per pixel per 1 ms frame, 2 e- read
+noise: ``closedloop.optics.correlating.PhotonBudget``) and the default granulation
+contrast at 500 nm (18 %), so the noise follows from photons and contrast instead of
+table1's hand-set 0.005". Its loop delay is :data:`SOLAR_RTC_DELAY`, 1 ms from the end
+of the exposure to the command (table1: 0.5 ms): a correlating SH must read the whole
+subaperture images out and correlate them before reconstructing, and solar AO systems
+run with a total latency of about one to two frames of a ~1-2 kHz loop (Rimmele &
+Marino 2011, Living Rev. Sol. Phys. 8, 2, on the real-time control of solar AO). The
+number is a documented choice of a fixed value for a DKIST/GREGOR-class correlating-SH
+controller (readout ~0.5 ms plus correlation and reconstruction ~0.5 ms), not a
+measurement on this machine; the latency study varies it.
+
 ``kaos`` is single-conjugate AO at a 0.7 m solar telescope, the kind of system whose log
 the paper's Figures 1 and 5 analyse (KAOS at the VTT, Tenerife; the paper's log is not
 public). It writes the shipped closed-loop log ``data/kaos_closedloop.npz``
@@ -92,7 +107,12 @@ from closedloop.config import (
     WFSConfig,
 )
 
-__all__ = ["get", "names", "table1", "table1_wind", "mcao3", "kaos"]
+__all__ = ["get", "names", "table1", "table1_wind", "table1_solar", "mcao3", "kaos",
+           "SOLAR_RTC_DELAY"]
+
+#: loop delay of ``table1-solar`` [s]: readout plus correlation and reconstruction of a
+#: solar correlating-SH real-time controller (module docstring)
+SOLAR_RTC_DELAY = 1.0e-3
 
 
 def table1() -> SimulationConfig:
@@ -157,6 +177,14 @@ def table1_wind() -> SimulationConfig:
     return base.replace(name="table1-wind", layers=(ground, *base.layers[1:]))
 
 
+def table1_solar() -> SimulationConfig:
+    """``table1`` with correlating Shack-Hartmanns on granulation (module docstring)."""
+    base = table1()
+    wfss = tuple(dataclasses.replace(w, kind="correlating", noise=0.0) for w in base.wfss)
+    loop = dataclasses.replace(base.loop, delay=SOLAR_RTC_DELAY)
+    return base.replace(name="table1-solar", wfss=wfss, loop=loop)
+
+
 #: integrator gain of ``kaos``: 130 Hz 0 dB rejection bandwidth at 2 kHz with a 1-frame
 #: exposure and a 1-frame delay (``modalinfo.servo.gain_for_bandwidth``; a test checks it)
 KAOS_GAIN = 0.4664
@@ -188,7 +216,8 @@ def kaos() -> SimulationConfig:
     )
 
 
-_PRESETS = {"table1": table1, "table1-wind": table1_wind, "mcao3": mcao3, "kaos": kaos}
+_PRESETS = {"table1": table1, "table1-wind": table1_wind, "table1-solar": table1_solar,
+            "mcao3": mcao3, "kaos": kaos}
 
 
 def names() -> list[str]:

@@ -2,7 +2,7 @@
 
 Each part follows the protocol of :mod:`closedloop.parts` (``reset``, ``evolve_until``,
 ``forward``); numba kernels sit beside their wrappers (``_kernels``,
-``_atmosphere_kernels``, ``_shift_kernels``). The solar correlating Shack-Hartmann
-(``granulation``, ``shifts``, ``correlating``) is being built here (issue 20) and is not yet
-a sensor kind of the loop.
+``_atmosphere_kernels``, ``_shift_kernels``). The solar correlating Shack-Hartmann:
+the scene (``granulation``), shift measurement (``shifts``), standalone image formation
+(``correlating``) and the loop's sensor kind ``"correlating"`` (``correlating_sensor``).
 """

@@ -52,7 +52,7 @@ from scipy.fft import next_fast_len
 from closedloop.optics.shifts import measure_shifts
 
 __all__ = ["PhotonBudget", "CorrelatingMeasurement", "CorrelatingSubapertures",
-           "solar_spectral_radiance"]
+           "solar_spectral_radiance", "convolution_support"]
 
 _H = 6.62607015e-34   # Planck [J s]
 _C = 2.99792458e8     # speed of light [m/s]
@@ -167,6 +167,27 @@ class CorrelatingMeasurement:
     shifts: np.ndarray
     slopes: np.ndarray
     at_edge: np.ndarray
+
+
+def convolution_support(field_pixels: int, pixel_scale_arcsec: float,
+                        subaperture_diameter: float, wavelength: float,
+                        max_shift: int) -> tuple[int, int]:
+    """Return the PSF's margin and the convolution's size [pixels] of a subaperture image.
+
+    The PSF is computed over +-(4 lambda/d + max_shift + 1) pixels (its core and first
+    rings wherever a measurable tilt puts it; beyond ~4 lambda/d the sinc^2 wings of a
+    square subaperture hold a few per cent of the light), then padded into the
+    convolution support: the field plus that half-width on each side, rounded up to a
+    size with small prime factors (134 = 2 x 67 is 4x slower to transform than 135). A
+    scene must be at least the support across.
+
+    Returns
+    -------
+    margin, support : int
+    """
+    lam_d = wavelength / subaperture_diameter / _ARCSEC / pixel_scale_arcsec
+    margin = int(math.ceil(4.0 * lam_d)) + int(max_shift) + 1
+    return margin, next_fast_len(int(field_pixels) + 2 * margin, real=True)
 
 
 def _cos2_weights(n: int, n_patches: int) -> np.ndarray:
@@ -328,15 +349,9 @@ class CorrelatingSubapertures:
     def _set_sampling(self, du: float, pupil_oversampling, scene_shape) -> None:
         """Set the PSF's support, the convolution's size and the pupil's oversampling."""
         subaperture_diameter, max_shift = self.subaperture_diameter, self.max_shift
-        # PSF: computed over +-(4 lambda/d + max_shift + 1) pixels (its core and first
-        # rings wherever a measurable tilt puts it; beyond ~4 lambda/d the sinc^2 wings of
-        # a square subaperture hold a few per cent of the light), then padded into the
-        # convolution support: the field plus that half-width on each side
-        lam_d = self.wavelength / subaperture_diameter / _ARCSEC / self.pixel_scale_arcsec
-        self.margin = int(math.ceil(4.0 * lam_d)) + max_shift + 1
-        # the convolution's size: at least the field plus both margins, rounded up to a
-        # size with small prime factors (134 = 2 x 67 is 4x slower to transform than 135)
-        m = next_fast_len(self.field_pixels + 2 * self.margin, real=True)
+        # the PSF's margin and the convolution's size (see convolution_support)
+        self.margin, m = convolution_support(self.field_pixels, self.pixel_scale_arcsec,
+                                             subaperture_diameter, self.wavelength, max_shift)
         mp = 2 * self.margin + 1
         self.psf_pixels = mp
         # a PSF from pupil samples du apart repeats every lambda / du on the sky: the phase
@@ -397,7 +412,7 @@ class CorrelatingSubapertures:
         self.directions_arcsec = np.column_stack([xx.ravel(), yy.ravel()])
 
     # ------------------------------------------------------------------ image formation
-    def psfs(self, phase: np.ndarray) -> np.ndarray:
+    def psfs(self, phase: np.ndarray, amplitude: np.ndarray | None = None) -> np.ndarray:
         """PSFs at the detector's sampling, unit sum: ``(..., mp, mp)`` for phase ``(..., p, p)``.
 
         ``mp = psf_pixels``, the PSF centred at index ``mp // 2``.
@@ -406,9 +421,16 @@ class CorrelatingSubapertures:
         ----------
         phase : (..., p, p) ndarray
             [rad] at the WFS wavelength, rows along y.
+        amplitude : (..., p q, p q) ndarray, optional
+            Pupil amplitude on the fine samples (``q = pupil_oversampling``), e.g. 0 where
+            the subaperture is not illuminated (vignetted); default 1 everywhere. The PSF
+            is normalised to unit sum either way (the flux of a vignetted subaperture is
+            not lowered).
         """
         fine = self._upsample @ np.asarray(phase, dtype=np.float64) @ self._upsample.T
         field_ = np.exp(1j * fine)
+        if amplitude is not None:
+            field_ = field_ * amplitude
         amp = self._mft @ field_ @ self._mft.T
         psf = amp.real ** 2 + amp.imag ** 2
         return psf / psf.sum(axis=(-2, -1), keepdims=True)
@@ -423,7 +445,8 @@ class CorrelatingSubapertures:
             raise ValueError("`phase` must be finite; it holds NaN or inf.")
         return phase
 
-    def images(self, phase, rng: np.random.Generator | None = None) -> np.ndarray:
+    def images(self, phase, rng: np.random.Generator | None = None,
+               amplitude: np.ndarray | None = None) -> np.ndarray:
         """Detector images ``(n_sub, N, N)`` [e-] for the phases ``(n_dir, n_sub, p, p)``.
 
         Parameters
@@ -432,6 +455,8 @@ class CorrelatingSubapertures:
             Phase over each subaperture for each sub-direction [rad, WFS wavelength].
         rng : numpy.random.Generator, optional
             Draws the photon and read noise; none without it.
+        amplitude : (n_dir, n_sub, p q, p q) ndarray, optional
+            Pupil amplitude on the fine samples (see :meth:`psfs`); default 1.
 
         Notes
         -----
@@ -439,7 +464,14 @@ class CorrelatingSubapertures:
         that moves its core beyond ``max_shift + 1`` pixels, outside the sensor's search
         range, is not imaged faithfully.
         """
-        img = self._form(self._check_phase(phase))
+        phase = self._check_phase(phase)
+        if amplitude is not None:
+            fine = self.n_pupil * self.pupil_oversampling
+            amplitude = np.asarray(amplitude, dtype=np.float64)
+            if amplitude.shape != phase.shape[:2] + (fine, fine):
+                raise ValueError(f"`amplitude` must have shape {phase.shape[:2] + (fine, fine)}"
+                                 f"; got {amplitude.shape}.")
+        img = self._form(phase, amplitude)
         gain, offset = self.detector_maps(img.shape[0])
         if gain is not None:
             img = img * gain
@@ -474,10 +506,10 @@ class CorrelatingSubapertures:
             self._maps[n_sub] = (gain, offset)
         return self._maps[n_sub]
 
-    def _form(self, phase: np.ndarray) -> np.ndarray:
+    def _form(self, phase: np.ndarray, amplitude: np.ndarray | None = None) -> np.ndarray:
         """Noise-free, error-free images [e-] of checked phases ``(n_dir, n_sub, p, p)``."""
         m, n, g = self.support, self.field_pixels, self.margin
-        psf = self.psfs(phase)                                  # (n_dir, n_sub, mp, mp)
+        psf = self.psfs(phase, amplitude)                       # (n_dir, n_sub, mp, mp)
         # centre index mp // 2 = g goes to 0: the PSF's rows -g..g wrap around the support
         padded = np.zeros(psf.shape[:2] + (m, m))
         idx = np.r_[m - g:m, 0:g + 1]

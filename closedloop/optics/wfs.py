@@ -161,8 +161,9 @@ class WavefrontSensor:
     interaction : (n_meas, M) ndarray or scipy.sparse.csr_matrix
         Measurements of a unit command of each mode (sparse for a zonal DM, see
         :meth:`interaction_with`).
-    noise_rms : float
-        Per-measurement noise [rad / m for a SH; 0 for ideal].
+    noise_rms : float or (n_meas,) ndarray
+        Per-measurement noise [rad / m for a SH; 0 for ideal]; an array when the
+        measurements differ in noise (the correlating SH's slopes and tracker).
     n_valid_subapertures : int
     """
 
@@ -203,11 +204,12 @@ class WavefrontSensor:
     def reset(self) -> None:
         """Nothing to reset: a sensor's measurement is a fixed linear map (no state)."""
 
-    def model_error_variance(self, r0s: list[float], model_error: float) -> float:
+    def model_error_variance(self, r0s: list[float], model_error: float):
         """Extra noise per measurement the joint MAP reconstructor assumes (model error).
 
         See :class:`closedloop.model.LoopModel`. ``r0s``: each layer's Fried parameter [m]
-        at the phase wavelength; ``model_error``: ``loop.model_error``.
+        at the phase wavelength; ``model_error``: ``loop.model_error``. A float (the same
+        for every measurement) or an ``(n_measurements,)`` array.
         """
         raise NotImplementedError(f"{type(self).__name__} must implement model_error_variance")
 
@@ -233,21 +235,26 @@ class WavefrontSensor:
 
         ``noise``: standard normal draws ``(n_measurements,)`` scaled here by ``noise_rms``.
         """
+        s = self._operate(plane_maps)
+        if noise is not None and np.any(self.noise_rms > 0.0):
+            s += self.noise_rms * noise
+        if self._centred:
+            s -= s.mean()
+        return s
+
+    def _operate(self, plane_maps: list[np.ndarray]) -> np.ndarray:
+        """``sum_p operators[p] @ r_p`` by the sparse kernel (``(operators rows,)``)."""
         if len(plane_maps) != len(self._csr):
             raise ValueError(f"`plane_maps` must hold {len(self._csr)} maps; "
                              f"got {len(plane_maps)}.")
         # s = operators[0] @ r_0, then s += operators[p] @ r_p: scipy's arithmetic
-        s = np.empty(self.n_measurements)
+        s = np.empty(self.operators[0].shape[0])
         for p, (indptr, indices, data) in enumerate(self._csr):
             x = np.ascontiguousarray(plane_maps[p], dtype=np.float64).reshape(-1)
             if x.size != self.operators[p].shape[1]:
                 raise ValueError(f"`plane_maps[{p}]` must have {self.operators[p].shape[1]} "
                                  f"pixels; got {x.size}.")
             _kernels.csr_matvec(indptr, indices, data, x, s, p > 0)
-        if noise is not None and self.noise_rms > 0.0:
-            s += self.noise_rms * noise
-        if self._centred:
-            s -= s.mean()
         return s
 
     def interaction_with(self, dm: DeformableMirror):

@@ -1,0 +1,416 @@
+"""The correlating (solar) Shack-Hartmann as a part of the loop (``kind="correlating"``).
+
+On granulation each subaperture images an extended, low-contrast scene and the sensor
+measures the shift of that image by correlation. Two modes share one geometry (the MFoV
+layer-oriented footprints of :mod:`closedloop.optics.wfs`) and one set of subaperture
+phases: each valid subaperture's ``p x p`` phase samples (``p = round(pitch / dx)``,
+bilinear from every plane along each direction, as the geometric SH samples them),
+linearly interpolated onto the ``q``-times finer pupil samples the image formation of
+:class:`closedloop.optics.correlating.CorrelatingSubapertures` uses, and lit where the
+beam passed through the telescope pupil.
+
+Linear mode (``image_formation=False``, the default; built once, measured by the same
+sparse products as the geometric SH, so as fast):
+
+- **Z-tilt.** A subaperture's slope seen from one direction is the least-squares plane
+  fit of that (fine, lit) phase: SDF and ADF^2 measure the Z-tilt, not the mean
+  gradient (G-tilt) (Loefdahl 2010, A&A 524, A90). Weights on the coarse samples are
+  the plane-fit rows composed with the linear interpolation, so the image formation and
+  this fit see the same phase.
+- **Contrast weights.** The field's directions (the WFS's ``field_samples``) are
+  combined with the weight of the scene's contrast each one covers: the reference
+  subaperture image ``r`` (the scene blurred by the subaperture's diffraction and the
+  pixel), ``c_theta = sum (D r)^2`` over the correlation window's pixels nearest to
+  ``theta`` (``D`` the central difference along the slope's axis), normalised to sum 1
+  per axis. Linearising the square-difference function gives exactly these weights for
+  a partition of the field (``CorrelatingSubapertures.direction_weights`` is the same
+  law for its smooth patches; last session's tests check it against image formation).
+  A direction that lights fewer than 3 fine samples of a subaperture is left out of that
+  subaperture's mean and the others' weights renormalised.
+- **Noise.** White Gaussian noise per slope with the rms that
+  :func:`closedloop.optics.shifts.sdf_noise_rms` predicts for the reference image at the
+  photon budget (signal ``S`` e- per pixel, scaled by the scene, plus read noise:
+  per-pixel variance ``r + RON^2``), converted from pixels to the loop's units: a shift
+  ``s`` pixels is the angle ``s * pixel_scale`` and the phase gradient
+  ``2 pi s pixel_scale / r0_wavelength`` [rad/m of the phase at ``r0_wavelength``]. The
+  hand-set ``noise`` of the geometric SH is refused for this kind (the config says so).
+- **Reference and tracker.** Solar WFSs correlate every subaperture against the image
+  of one subaperture of the same frame (the scene evolves in seconds and moves with the
+  image motion, so a stored reference goes stale; Rimmele & Marino 2011, Living Rev.
+  Sol. Phys. 8, 2): slopes are relative, and the global tip-tilt is lost. To first order
+  the reference's own noise and tilt are common to every subaperture and drop out of
+  the slopes less their mean. The measurements are therefore: the x and y slopes less
+  their mean over the valid subapertures (``2 n_valid``), then the two means as a
+  correlation tracker measures them (its own image of the whole aperture over the same
+  field, at the same pixel scale and signal, noise from the same law). The tracker of
+  each WFS measures the mean of that WFS's subaperture Z-tilts (a simplification: a real
+  system has one tracker on the telescope's tip-tilt mirror). The slopes' noise after
+  the mean's removal is taken as independent (its correlation ``-sigma^2 / n_valid``
+  is neglected), so ``noise_rms`` is ``(sigma_x,) * n + (sigma_y,) * n + (sigma_tx,
+  sigma_ty)`` and the joint MAP reconstructor weights slopes and tracker by their own
+  variances.
+
+Imaging mode (``image_formation=True``): every frame, the phases of the sub-directions
+(``2 field_samples - 1`` patches across the field) over every valid subaperture are
+imaged (:meth:`CorrelatingSubapertures.images`, with the pupil's vignetting as an
+amplitude; photon and read noise drawn from a generator seeded by the frame's normal
+draws, so a run is reproducible from its seed) and their shifts measured with SDF + 2QI
+against the image of the subaperture nearest the centre; slopes less their mean as
+above, and the tracker as in the linear mode (linear, with its noise). It checks the
+linear mode (tests: equal within the interpolation bias without noise; noise within
+15 %); it costs ~1 ms per subaperture image (benchmarks/RESULTS.md), so
+:func:`closedloop.resources.estimate` refuses long runs of it.
+
+The scene is a :func:`closedloop.optics.granulation.granulation_scene` (seed 0, so the
+sensor does not change with the run's seed) at the WFS's pixel scale, with ``contrast``
+(default: :func:`granulation_contrast` at the WFS wavelength, 500 nm); the photon
+budget is :class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean
+signal ``signal`` e- per pixel when given (capped at what the Sun supplies).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+from scipy import sparse
+
+from closedloop.config import FULL_WELL
+from closedloop.optics.correlating import (
+    CorrelatingSubapertures,
+    PhotonBudget,
+    convolution_support,
+)
+from closedloop.optics.geometry import ARCSEC
+from closedloop.optics.granulation import granulation_contrast, granulation_scene
+from closedloop.optics.shifts import measure_shifts, sdf_noise_rms
+from closedloop.optics.wfs import ShackHartmann, bilinear_matrix, register_sensor
+
+__all__ = ["CorrelatingShackHartmann", "MAX_SHIFT", "SCENE_SEED"]
+
+#: search range of the correlation [pixels]: +-1.5" at 0.5" pixels
+MAX_SHIFT = 3
+#: seed of every correlating WFS's granulation scene
+SCENE_SEED = 0
+#: smallest lit fraction of a subaperture for a direction's plane fit to be used (the
+#: Z-tilt of a thin lit sliver extrapolates a plane from the pupil's edge, where the
+#: DMs' sampled surfaces end, and is dominated by it)
+_MIN_LIT = 0.5
+
+
+@register_sensor
+class CorrelatingShackHartmann(ShackHartmann):
+    """Correlating Shack-Hartmann on granulation (``kind="correlating"``; module docstring).
+
+    Attributes (beyond :class:`~closedloop.optics.wfs.WavefrontSensor`'s)
+    ----------------------------------------------------------------------
+    n_valid_subapertures : int
+    valid_subapertures : (n_valid,) ndarray of int
+        Subaperture indices ``row * n_sub + column``.
+    noise_rms : (2 n_valid + 2,) ndarray
+        Per measurement [rad/m at ``r0_wavelength``]: x slopes, y slopes, tracker x, y.
+    slope_noise_pixels, tracker_noise_pixels : (2,) ndarray
+        Predicted rms shift error ``(x, y)`` of a subaperture and of the tracker [pixels].
+    direction_weights : (n_samples, 2) ndarray
+        Contrast weight of each field sample for the x and y slopes (columns sum to 1).
+    imager : CorrelatingSubapertures
+        The subapertures' image formation (reference image, photon budget).
+    tracker : CorrelatingSubapertures
+        The correlation tracker's image formation (whole aperture).
+    reference_subaperture : int
+        Index among the valid subapertures of the imaging mode's reference.
+    """
+
+    kind: ClassVar[str] = "correlating"
+
+    # ------------------------------------------------------------------ building
+    def _build(self, cfg) -> None:
+        g = self._geometry
+        conf = g.config
+        self.image_formation = bool(cfg.image_formation)
+        self.pixel_scale = float(cfg.pixel_scale)
+        d_wfs = g.diameter + 2.0 * self.altitude * math.tan(cfg.field_of_view / 2.0 * ARCSEC)
+        n_sub = cfg.n_subapertures
+        pitch = d_wfs / n_sub
+        self.pitch = pitch
+        p = max(2, int(round(pitch / g.dx)))
+        budget = (PhotonBudget() if cfg.signal is None
+                  else PhotonBudget(fill=cfg.signal / FULL_WELL))
+        self.wavelength = budget.wavelength
+        n_field = int(round(cfg.field_of_view / self.pixel_scale))
+        contrast = (granulation_contrast(budget.wavelength) if cfg.contrast is None
+                    else cfg.contrast)
+        _, support = convolution_support(n_field, self.pixel_scale, pitch, budget.wavelength,
+                                         MAX_SHIFT)
+        scene = granulation_scene(support, self.pixel_scale, seed=SCENE_SEED,
+                                  contrast=contrast, wavelength=budget.wavelength)
+        n_patches = min(2 * cfg.field_samples - 1, n_field // 4) if self.image_formation else 1
+        # the pupil samples the image formation needs (p at the grid's pitch, times the
+        # oversampling that keeps the PSF from aliasing); the phase is sampled there
+        # directly from the planes, so that the fit and the images see the lit beam only
+        q = CorrelatingSubapertures(scene, self.pixel_scale, pitch, p, n_field,
+                                    budget=budget, max_shift=MAX_SHIFT).pupil_oversampling
+        self.n_pupil = p * q
+        self.imager = CorrelatingSubapertures(scene, self.pixel_scale, pitch, p * q, n_field,
+                                              n_patches=n_patches, budget=budget,
+                                              max_shift=MAX_SHIFT, pupil_oversampling=1)
+        self.tracker = CorrelatingSubapertures(scene, self.pixel_scale, g.diameter, 2, n_field,
+                                               budget=budget, max_shift=MAX_SHIFT)
+        ron2 = budget.read_noise ** 2
+        ref = self.imager.reference
+        self.slope_noise_pixels = sdf_noise_rms(ref, np.clip(ref, 0.0, None) + ron2,
+                                                max_shift=MAX_SHIFT)
+        tref = self.tracker.reference
+        self.tracker_noise_pixels = sdf_noise_rms(tref, np.clip(tref, 0.0, None) + ron2,
+                                                  max_shift=MAX_SHIFT)
+        self.direction_weights = self._contrast_weights(ref)
+        f = self.n_pupil
+        off = ((np.arange(f) + 0.5) / f - 0.5) * pitch
+        yy, xx = np.meshgrid(off, off, indexing="ij")
+        self._offsets = np.column_stack([xx.ravel(), yy.ravel()])        # (F, 2), rows along y
+        jj, ii = np.meshgrid(np.arange(n_sub), np.arange(n_sub), indexing="xy")
+        centres = np.column_stack([(jj.ravel() + 0.5) * pitch - d_wfs / 2.0,
+                                   (ii.ravel() + 0.5) * pitch - d_wfs / 2.0])
+        # valid: at least half of the samples lit, averaged over the field's directions
+        all_pts = centres[:, None, :] + self._offsets[None, :, :]
+        lit_frac = np.mean([self._lit(all_pts, th).mean(axis=1) for th in self.samples],
+                           axis=0)
+        self.valid_subapertures = np.flatnonzero(lit_frac >= 0.5)
+        n_valid = self.valid_subapertures.size
+        if n_valid < 2:
+            raise ValueError(f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves {n_valid} "
+                             "valid subaperture(s); a correlating SH needs at least 2.")
+        self.n_valid_subapertures = int(n_valid)
+        self._centres = centres[self.valid_subapertures]
+        self._points = self._centres[:, None, :] + self._offsets[None]      # (n_valid, F, 2)
+        self.operators = self._ztilt_operators()
+        self.n_measurements = 2 * n_valid + 2
+        self._transform = self._relative_transform(n_valid)
+        # noise per measurement [rad/m at r0_wavelength]
+        to_slope = 2.0 * math.pi * self.pixel_scale * ARCSEC / conf.r0_wavelength
+        self.noise_rms = np.concatenate([
+            np.full(n_valid, self.slope_noise_pixels[0] * to_slope),
+            np.full(n_valid, self.slope_noise_pixels[1] * to_slope),
+            self.tracker_noise_pixels * to_slope])
+        self._to_slope = to_slope
+        if self.image_formation:
+            self._build_imaging()
+
+    def _lit(self, u: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """Return which samples ``u`` [m] are lit from ``theta`` [arcsec], ``sqrt(2) dx`` inside.
+
+        The margin keeps every pixel a sample interpolates (bilinearly) inside the beam and
+        so inside the DMs' discs, whose surfaces end at their edge pixels: without it a
+        sample within a pixel of the edge mixes the mirror's surface with the zeros
+        outside, and a subaperture's plane fit, which extrapolates from its lit part,
+        turns that step into a spurious tilt (the upper WFS then "sees" the ground DM's
+        tilt in its relative slopes).
+        """
+        g = self._geometry
+        x = u - self.altitude * theta * ARCSEC
+        r = np.hypot(x[..., 0], x[..., 1])
+        edge = math.sqrt(2.0) * g.dx
+        return ((r <= g.diameter / 2.0 - edge)
+                & (r >= g.config.telescope.obscuration * g.diameter / 2.0 + edge))
+
+    def _contrast_weights(self, ref: np.ndarray) -> np.ndarray:
+        """``(n_samples, 2)`` contrast weights of the field samples (module docstring)."""
+        n = ref.shape[0]
+        lag = MAX_SHIFT + 1
+        win = n - 2 * lag
+        a = lag
+        sl = slice(a, a + win)
+        dx = (ref[sl, a + 1:a + win + 1] - ref[sl, a - 1:a + win - 1]) / 2.0
+        dy = (ref[a + 1:a + win + 1, sl] - ref[a - 1:a + win - 1, sl]) / 2.0
+        pos = (np.arange(a, a + win) - (n - 1) / 2.0) * self.pixel_scale   # [arcsec]
+        yy, xx = np.meshgrid(pos, pos, indexing="ij")
+        d2 = ((xx.ravel()[:, None] - self.samples[None, :, 0]) ** 2
+              + (yy.ravel()[:, None] - self.samples[None, :, 1]) ** 2)
+        cell = np.argmin(d2, axis=1)
+        k = len(self.samples)
+        c = np.column_stack([np.bincount(cell, weights=(dx ** 2).ravel(), minlength=k),
+                             np.bincount(cell, weights=(dy ** 2).ravel(), minlength=k)])
+        return c / c.sum(axis=0, keepdims=True)
+
+    def _plane_fit_rows(self, lit: np.ndarray):
+        """Z-tilt weights on the pupil samples for lit masks ``(n_valid, F)``.
+
+        Returns ``(wx, wy, usable)``: ``(n_valid, F)`` weights (0 where unlit) of the x
+        and y plane-fit slopes [1/m], and which subapertures have a well-posed fit.
+        """
+        off = self._offsets
+        m = lit.astype(np.float64)
+        cnt = m.sum(axis=1)
+        safe = np.maximum(cnt, 1.0)
+        xm = (m * off[None, :, 0]).sum(axis=1) / safe
+        ym = (m * off[None, :, 1]).sum(axis=1) / safe
+        xc = (off[None, :, 0] - xm[:, None]) * m
+        yc = (off[None, :, 1] - ym[:, None]) * m
+        sxx = (xc * xc).sum(axis=1)
+        syy = (yc * yc).sum(axis=1)
+        sxy = (xc * yc).sum(axis=1)
+        det = sxx * syy - sxy ** 2
+        usable = (cnt >= max(3.0, _MIN_LIT * lit.shape[1])) \
+            & (det > 1e-9 * np.maximum(sxx * syy, 1e-300))
+        inv = np.where(usable, 1.0 / np.where(usable, det, 1.0), 0.0)
+        wx_f = (syy[:, None] * xc - sxy[:, None] * yc) * inv[:, None]
+        wy_f = (sxx[:, None] * yc - sxy[:, None] * xc) * inv[:, None]
+        return wx_f, wy_f, usable
+
+    def _sample_clipped(self, p: int, points: np.ndarray, theta: np.ndarray):
+        """Bilinear operator on plane ``p``, positions clipped into the grid.
+
+        Only samples whose beam is vignetted can leave the grid; they carry no light
+        (amplitude 0 in the image, weight 0 in the fit) but may enter the fine samples'
+        linear interpolation near the pupil's edge.
+        """
+        g = self._geometry
+        plane = g.planes[p]
+        shift = (plane.altitude - self.altitude) * theta * ARCSEC
+        pos = np.clip((points + shift) / g.dx + plane.centre, 0.0, plane.n - 1)
+        return bilinear_matrix(pos[:, 0], pos[:, 1], plane.n)
+
+    def _ztilt_operators(self) -> list:
+        """Sparse ``(2 n_valid, n_p^2)`` per plane: contrast-weighted raw Z-tilts."""
+        g = self._geometry
+        n_valid = self.valid_subapertures.size
+        fits = []
+        total = np.zeros((n_valid, 2))
+        for t, theta in enumerate(self.samples):
+            lit = self._lit(self._points, theta)
+            wx, wy, usable = self._plane_fit_rows(lit)
+            fits.append((lit, wx, wy, usable))
+            total += usable[:, None] * self.direction_weights[t][None, :]
+        ops = [None] * len(g.planes)
+        for t, theta in enumerate(self.samples):
+            lit, wx, wy, usable = fits[t]
+            lit = lit & usable[:, None]
+            scale = self.direction_weights[t][None, :] / np.where(total > 0, total, 1.0)
+            sub, k = np.nonzero(lit)                   # lit samples only: inside the grids
+            col = np.arange(sub.size)
+            data = np.concatenate([wx[sub, k] * scale[sub, 0], wy[sub, k] * scale[sub, 1]])
+            w = sparse.csr_matrix((data, (np.concatenate([sub, sub + n_valid]),
+                                          np.concatenate([col, col]))),
+                                  shape=(2 * n_valid, sub.size))
+            pts = self._points[sub, k]
+            for p in range(len(g.planes)):
+                term = w @ self._sample_matrix(p, pts, theta)
+                ops[p] = term if ops[p] is None else ops[p] + term
+        out = []
+        for op in ops:
+            op = sparse.csr_matrix(op)
+            op.sum_duplicates()
+            op.eliminate_zeros()
+            out.append(op)
+        return out
+
+    @staticmethod
+    def _relative_transform(n: int) -> np.ndarray:
+        """``(2n + 2, 2n)``: raw Z-tilts to slopes less their mean, then the two means."""
+        t = np.zeros((2 * n + 2, 2 * n))
+        for a in range(2):
+            blk = slice(a * n, (a + 1) * n)
+            t[blk, blk] = np.eye(n) - 1.0 / n
+            t[2 * n + a, blk] = 1.0 / n
+        return t
+
+    def _build_imaging(self) -> None:
+        """Phase operators and pupil amplitudes of the imaging mode's sub-directions."""
+        g = self._geometry
+        dirs = self.imager.directions_arcsec
+        n_valid = self.valid_subapertures.size
+        f = self.n_pupil
+        pts = self._points.reshape(-1, 2)
+        self._image_ops = []
+        for pl in range(len(g.planes)):
+            op = sparse.vstack([self._sample_clipped(pl, pts, th) for th in dirs])
+            self._image_ops.append(sparse.csr_matrix(op))
+        self._amplitude = np.stack([
+            self._lit(self._points, th).astype(np.float64) for th in dirs
+        ]).reshape(len(dirs), n_valid, f, f)
+        full = self._amplitude.min(axis=(0, 2, 3)) > 0
+        dist = np.hypot(self._centres[:, 0], self._centres[:, 1])
+        self.reference_subaperture = int(np.argmin(np.where(full, dist, np.inf)))
+        self._phase_scale = self._geometry.config.r0_wavelength / self.wavelength
+
+    def model_error_variance(self, r0s: list[float], model_error: float) -> np.ndarray:
+        """Per measurement: the SH's term for each slope, ``1 / n_valid`` of it for the tracker.
+
+        The slopes less their mean carry a subaperture's unmodelled slope variance (as the
+        geometric SH's, :meth:`ShackHartmann.model_error_variance`); the tracker measures
+        the mean of ``n_valid`` Z-tilts, whose unmodelled (small-scale, nearly
+        independent between subapertures) part averages down by ``n_valid``. Counted as
+        a slope's, the two tracker rows weigh like one subaperture and the prior shrinks
+        the global tip-tilt.
+        """
+        per_slope = super().model_error_variance(r0s, model_error)
+        n = self.n_valid_subapertures
+        return np.concatenate([np.full(2 * n, per_slope), np.full(2, per_slope / n)])
+
+    # ------------------------------------------------------------------ measuring
+    def relative(self, raw: np.ndarray) -> np.ndarray:
+        """Measurements from raw per-subaperture slopes ``(x..., y...)`` (the transform)."""
+        n = self.n_valid_subapertures
+        out = np.empty(2 * n + 2)
+        for a in range(2):
+            v = raw[a * n:(a + 1) * n]
+            mean = v.mean()
+            out[a * n:(a + 1) * n] = v - mean
+            out[2 * n + a] = mean
+        return out
+
+    def forward(self, plane_maps: list[np.ndarray],
+                noise: np.ndarray | None = None) -> np.ndarray:
+        """Measurements ``(2 n_valid + 2,)``: relative slopes, then the tracker [rad/m].
+
+        ``noise``: standard normal draws ``(n_measurements,)``; the linear mode scales them
+        by ``noise_rms``; the imaging mode draws its images' noise from a generator seeded
+        by them and uses the last two for the tracker. None: noise-free.
+        """
+        raw = self._operate(plane_maps)
+        s = self.relative(raw)
+        if self.image_formation:
+            n = self.n_valid_subapertures
+            s[:2 * n] = self.image_slopes(plane_maps, noise)
+            if noise is not None:
+                s[2 * n:] += self.noise_rms[2 * n:] * noise[2 * n:]
+            return s
+        if noise is not None:
+            s += self.noise_rms * noise
+        return s
+
+    def image_slopes(self, plane_maps: list[np.ndarray],
+                     noise: np.ndarray | None = None) -> np.ndarray:
+        """Slopes less their mean ``(2 n_valid,)`` [rad/m] from formed, correlated images.
+
+        Needs ``image_formation=True``. ``noise`` (None: noise-free images) seeds the
+        images' photon and read noise.
+        """
+        if not self.image_formation:
+            raise ValueError(f"`wfss[{self.index}].image_formation` must be true to form "
+                             "images; got false.")
+        n = self.n_valid_subapertures
+        phase = None
+        for pl, op in enumerate(self._image_ops):
+            x = np.ascontiguousarray(plane_maps[pl], dtype=np.float64).reshape(-1)
+            phase = op @ x if phase is None else phase + op @ x
+        phase = phase.reshape(self._amplitude.shape[0], n, self.n_pupil, self.n_pupil)
+        phase *= self._phase_scale
+        rng = None
+        if noise is not None:
+            words = np.frombuffer(np.ascontiguousarray(noise, dtype=np.float64).tobytes(),
+                                  dtype=np.uint32)
+            rng = np.random.default_rng(np.random.SeedSequence(words))
+        imgs = self.imager.images(phase, rng, amplitude=self._amplitude)
+        res = measure_shifts(imgs[self.reference_subaperture], imgs, method="sdf",
+                             max_shift=MAX_SHIFT)
+        raw = np.concatenate([res.shifts[:, 0], res.shifts[:, 1]]) * self._to_slope
+        return self.relative(raw)[:2 * n]
+
+    def interaction_with(self, dm):
+        """Measurements of a unit command of each mode of ``dm`` (raw Z-tilts transformed)."""
+        block = self.operators[dm.plane][:, dm.pixels]
+        if dm.shapes is None:
+            return sparse.csr_matrix(self._transform @ block.toarray())
+        return self._transform @ np.asarray(block @ dm.shapes)
