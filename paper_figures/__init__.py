@@ -26,6 +26,8 @@ FIGURES = [
     ("fig5_forecast", "Figure 5", "Forecasts of a modal coefficient (linear, ARMA, NN)"),
     ("fig6_compression", "Figure 6",
      "Compression x prediction: controlled modes of each ordering, with latency"),
+    ("fig7_solar", "Figure 7",
+     "Solar correlating sensing: Figures 2-4 on table1-solar (extension, not in the paper)"),
     ("fig_information_flow", "Figure 8",
      "Information flow between modes (transfer entropy; extension, not in the paper)"),
 ]

@@ -21,6 +21,7 @@ import pytest
 
 from closedloop import presets
 from closedloop.studies import solar
+from modalinfo.servo import max_stable_gain
 
 
 # ------------------------------------------------------------------ RTC presets
@@ -100,3 +101,129 @@ def test_compute_time_refusals(kw, name):
 def test_latency_refuses_a_config_without_correlating_wfs():
     with pytest.raises(ValueError, match="correlating"):
         solar.solar_latency(presets.get("table1"), timer=lambda n, p: 0.0)
+
+
+class _Sensor:
+    def __init__(self, n):
+        self.n_valid_subapertures = n
+
+
+class _Model:
+    """Stands for a LoopModel: only the valid subaperture counts are read."""
+
+    def __init__(self, *counts):
+        self.wfss = [_Sensor(n) for n in counts]
+
+
+def _solar(**wfs):
+    import dataclasses
+
+    cfg = presets.get("table1-solar")
+    if wfs:
+        cfg = cfg.replace(wfss=tuple(dataclasses.replace(w, **wfs) for w in cfg.wfss))
+    return cfg
+
+
+def test_image_sizes_are_field_over_pixel_scale():
+    assert solar.correlating_wfs_sizes(_solar(), _Model(204, 120)) == [(0, 204, 120),
+                                                                       (1, 120, 40)]
+    assert solar.correlating_wfs_sizes(_solar(pixel_scale=1.0), _Model(204, 120)) == [
+        (0, 204, 60), (1, 120, 20)]
+
+
+def test_compute_time_adds_every_wfs_and_its_tracker():
+    calls = []
+
+    def timer(n, pixels):
+        calls.append((n, pixels))
+        return 1e-6 * n * pixels ** 2
+
+    t = solar.correlating_compute_time(_solar(), _Model(204, 120), timer=timer)
+    assert calls == [(205, 120), (121, 40)]  # the subapertures and one tracker image
+    assert t == pytest.approx(1e-6 * (205 * 120 ** 2 + 121 * 40 ** 2), rel=1e-12)
+
+
+@pytest.mark.parametrize("compute", [0.0, 0.3e-3, 7.7e-3, 20e-3])
+def test_delay_is_readout_plus_compute_over_speed_on_the_grid(compute):
+    cfg = _solar()
+    rtc = solar.SolarRTC("x", 0.5e-3, 32.0)
+    c, delay = solar.solar_latency(cfg, rtc=rtc, compute_time=compute)
+    step = cfg.loop.time_step / 8
+    raw = 0.5e-3 + compute / 32.0
+    assert c == compute
+    assert delay / step == pytest.approx(round(delay / step), abs=1e-9)  # on the grid
+    assert abs(delay - raw) <= step / 2 + 1e-15                        # the nearest point
+    # the delay is a valid loop delay of the config (its validation accepts it)
+    import dataclasses
+
+    assert cfg.replace(loop=dataclasses.replace(cfg.loop, delay=delay)).loop.delay == delay
+
+
+def test_unstable_delay_is_refused_naming_the_rtc():
+    cfg = _solar()
+    with pytest.raises(ValueError, match="`rtc` 'this-machine'"):
+        solar.solar_latency(cfg, rtc="this-machine", compute_time=0.1)
+    # the same delay by an independent stability analysis: beyond the loop's limit
+    delay = 0.5e-3 + 0.1
+    frames = round(delay / (cfg.loop.time_step / 8)) / 8
+    assert max_stable_gain(frames, cfg.loop.integration_frames) < cfg.loop.gain
+    with pytest.raises(ValueError, match="rtc"):
+        solar.solar_latency(cfg, rtc="nope", compute_time=0.0)
+    with pytest.raises(ValueError, match="compute_time"):
+        solar.solar_latency(cfg, compute_time=-1.0)
+
+
+# ------------------------------------------------------------------ sensitivity guards
+@pytest.fixture
+def no_model(monkeypatch):
+    import closedloop.simulation as sim
+
+    def boom(*a, **k):
+        raise AssertionError("a model was built before the refusal")
+
+    monkeypatch.setattr(sim, "LoopModel", boom)
+
+
+def test_too_many_runs_are_refused_before_any_work(no_model):
+    with pytest.raises(ValueError, match="max_runs"):
+        # (2 + 2 + 2 + 2 variations + base) x 2 predictors = 18 runs
+        solar.solar_sensitivity(_solar(), predictors=("none", "arma"), max_runs=17)
+
+
+@pytest.mark.parametrize("kw, exc, name", [
+    ({"values": {"wind": (1.0,)}}, ValueError, "values"),
+    ({"values": {"signal": 150.0}}, TypeError, "values"),
+    ({"values": {"rtc": ("nope",)}}, ValueError, "rtc"),
+    ({"predictors": "arma"}, TypeError, "predictors"),
+    ({"predictors": ("none", "nope")}, ValueError, "predictors"),
+    ({"max_runs": 0}, ValueError, "max_runs"),
+])
+def test_sensitivity_refusals(no_model, kw, exc, name):
+    with pytest.raises(exc, match=name):
+        solar.solar_sensitivity(_solar(), **kw)
+
+
+# ------------------------------------------------------------------ physics
+def _small_solar():
+    """table1-solar shrunk for speed: 32 pupil pixels, 8 subapertures, few modes, on axis."""
+    import dataclasses
+
+    from closedloop.config import FieldConfig
+
+    cfg = _solar(n_subapertures=8, field_samples=2)
+    return cfg.replace(telescope=dataclasses.replace(cfg.telescope, n_pixels=32),
+                       dms=tuple(dataclasses.replace(d, n_modes=m)
+                                 for d, m in zip(cfg.dms, (20, 9), strict=True)),
+                       field=FieldConfig(size=cfg.field.size, n_points=1))
+
+
+def test_less_signal_or_contrast_means_more_noise_in_the_budget():
+    study = solar.solar_sensitivity(_small_solar(), values={"signal": (1500.0, 150.0),
+                                                            "contrast": (0.06, 0.03)},
+                                    predictors=("none",), duration=0.04, budget_every=5)
+    noise = {(r["knob"], r["value"]): r["noise"] for r in study.rows}
+    base = noise[("base", "")]
+    assert base > 0
+    # monotone: each step down in photons or contrast raises the noise term
+    assert base < noise[("signal", "1500 e-")] < noise[("signal", "150 e-")]
+    assert base < noise[("contrast", "0.06")] < noise[("contrast", "0.03")]
