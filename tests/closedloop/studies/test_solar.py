@@ -227,3 +227,9 @@ def test_less_signal_or_contrast_means_more_noise_in_the_budget():
     # monotone: each step down in photons or contrast raises the noise term
     assert base < noise[("signal", "1500 e-")] < noise[("signal", "150 e-")]
     assert base < noise[("contrast", "0.06")] < noise[("contrast", "0.03")]
+
+
+def test_command_line_refuses_an_unknown_knob_in_one_line(capsys, no_model):
+    assert solar.main(["--knobs", "signal,wind"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--knobs" in err and "wind" in err
