@@ -196,8 +196,10 @@ def compute(runs: ClosedLoopRuns, *, config=None, sensitivity_values: dict | Non
         "sensitivity": [dict(r) for r in study.rows],
         "knob_labels": dict(KNOB_LABELS),
     }
+    elapsed = time.perf_counter() - start
+    numbers["elapsed_s"] = elapsed  # the figure's own cost (not the table1 runs')
     return Figure7(solar=solar, table1=runs, numbers=numbers, sensitivity=study,
-                   quick=runs.quick, elapsed=time.perf_counter() - start)
+                   quick=runs.quick, elapsed=elapsed)
 
 
 def _preset_delay(runs: ClosedLoopRuns) -> float:
@@ -348,8 +350,8 @@ def table_rows(fig7: Figure7 | dict) -> list[tuple[str, str, str, str]]:
         ratio = v / sol["peak_mean"]["none"]
         why = (f"x{ratio:.3f} over no prediction (table1 "
                f"x{t / t1['peak_mean']['none']:.3f})" if p != "none" and t is not None else
-               f"noise term {_f(sb.get('noise'), '.3f')} rad^2 against table1's "
-               f"{_f(tb.get('noise'), '.3f')}")
+               f"noise term {_f(sb.get('noise'), '.4f')} rad^2 against table1's "
+               f"{_f(tb.get('noise'), '.4f')}")
         rows.append((f"SR peak, {LABELS.get(p, p)}, {name} (extension)", paper,
                      f"{v:.3f} (table1 {_f(t, '.3f')})", why))
     for p in ("none", "arma"):
@@ -362,10 +364,10 @@ def table_rows(fig7: Figure7 | dict) -> list[tuple[str, str, str, str]]:
         rows.append((f"error budget at the best direction, {name} (extension)",
                      "not published",
                      f"fitting {sb['fitting']:.3f} + aliasing {sb['aliasing']:.3f} + temporal "
-                     f"{sb['temporal']:.3f} + noise {sb['noise']:.3f} rad^2 (measured "
+                     f"{sb['temporal']:.3f} + noise {sb['noise']:.4f} rad^2 (measured "
                      f"{sb['measured']:.3f})",
                      f"table1: temporal {_f(tb.get('temporal'), '.3f')}, noise "
-                     f"{_f(tb.get('noise'), '.3f')}; a predictor acts on the temporal term only"))
+                     f"{_f(tb.get('noise'), '.4f')}; a predictor acts on the temporal term only"))
     for rtc, lat in num["latency"].items():
         c, d = lat["compute_ms"], lat["delay_ms"]
         rows.append((f"correlation latency, {rtc} RTC (extension)",
@@ -395,8 +397,8 @@ def report(fig7: Figure7) -> str:
                 f"{sb['measured']:.3f} rad^2 residual with solar sensing "
                 f"({sb['temporal'] / sb['measured']:.1%}), against {tb['temporal']:.3f} of "
                 f"{tb['measured']:.3f} ({tb['temporal'] / tb['measured']:.1%}) with table1's "
-                f"geometric sensor; the noise term is {sb['noise']:.3f} against "
-                f"{tb['noise']:.3f}. Removing the whole temporal term would raise the "
+                f"geometric sensor; the noise term is {sb['noise']:.4f} against "
+                f"{tb['noise']:.4f}. Removing the whole temporal term would raise the "
                 f"Marechal SR there from {sb['sr_now']:.3f} to at most {sb['sr_bound']:.3f}.")
     best = max((p for p in sol["peak_mean"] if p != "none"),
                key=lambda p: sol["peak_mean"][p], default="none")

@@ -100,7 +100,7 @@ def test_rows_recomputed_from_the_json(made, numbers):
     b = sol["budget"]
     r = _row(rows, "error budget at the best direction, table1-solar (extension)")
     assert r[2] == (f"fitting {b['fitting']:.3f} + aliasing {b['aliasing']:.3f} + temporal "
-                    f"{b['temporal']:.3f} + noise {b['noise']:.3f} rad^2 (measured "
+                    f"{b['temporal']:.3f} + noise {b['noise']:.4f} rad^2 (measured "
                     f"{b['measured']:.3f})")
     for rtc, lat in numbers["latency"].items():
         r = _row(rows, f"correlation latency, {rtc} RTC (extension)")
