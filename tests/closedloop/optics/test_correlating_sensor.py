@@ -283,3 +283,51 @@ def test_table1_solar_closes_its_loop():
     r = simulate(c, 0.06, progress=False)
     assert r.strehl_peak[0] < 1e-3
     assert r.strehl_peak[-20:].mean() > 0.1
+
+
+def test_aot_export_keeps_slopes_and_tracker(tmp_path):
+    # reference: the run's own measurement vectors, read back by aotpy
+    aotpy = pytest.importorskip("aotpy")
+    from closedloop.aot import export_aot
+
+    c = _config()
+    model = LoopModel(c)
+    r = simulate(c, 0.005, model=model, progress=False)
+    export_aot(r, tmp_path / "c.fits", model=model)
+    (w,) = model.wfss
+    n = w.n_valid_subapertures
+    back = np.asarray(aotpy.AOSystem.read_from_file(tmp_path / "c.fits")
+                      .wavefront_sensors[0].measurements.data)
+    meas = np.asarray(r.measurements[0])
+    assert back.shape == (meas.shape[0], 2, n + 1)
+    np.testing.assert_array_equal(back[:, 0, :n], meas[:, :n])
+    np.testing.assert_array_equal(back[:, 1, :n], meas[:, n:2 * n])
+    np.testing.assert_array_equal(back[:, :, n], meas[:, 2 * n:])
+
+
+# ---------------------------------------------------------------------- error budget
+def _solar_small():
+    from ..test_loop import small
+
+    c = small()
+    wfss = tuple(dataclasses.replace(w, kind="correlating", noise=0.0) for w in c.wfss)
+    return c.replace(wfss=wfss, loop=dataclasses.replace(c.loop, delay=presets.SOLAR_RTC_DELAY))
+
+
+def test_error_budget_adds_up_small_solar():
+    # reference: the residual the loop really left (independent estimates of each term,
+    # cross terms neglected), within 15 % in every direction of a 3x3 grid
+    from ..test_physics import _budget_check
+
+    result = _budget_check(_solar_small(), 0.15, 2)
+    assert result.budget.directions.shape == (9, 2)
+
+
+@pytest.mark.slow
+def test_error_budget_adds_up_table1_solar_3x3():
+    from ..test_physics import _budget_check
+
+    cfg = presets.get("table1-solar")
+    cfg = cfg.replace(field=FieldConfig(size=cfg.field.size, n_points=3))
+    result = _budget_check(cfg, 0.3, 3)
+    assert result.budget.directions.shape == (9, 2)
