@@ -53,6 +53,9 @@ NEEDS_RUNS = True
 PRESET = "table1-solar"
 #: the paper's four runs and the oracle (the bound of a perfect forecast)
 PREDICTORS = ("none", "linear", "arma", "nn-paper", "oracle")
+#: ``--quick``: without the paper's NN, whose training is most of the quick figure's time
+#: (117 of 210 s measured at a load average of 10)
+QUICK_PREDICTORS = ("none", "linear", "arma", "oracle")
 #: predictors of the sensitivity panel
 SENSITIVITY_PREDICTORS = ("none", "arma")
 #: one value of the photon, contrast and latency knobs (each costs a model and two runs;
@@ -126,7 +129,7 @@ def _set_numbers(runs: ClosedLoopRuns) -> dict:
 
 
 def compute(runs: ClosedLoopRuns, *, config=None, sensitivity_values: dict | None = None,
-            predictors: tuple[str, ...] = PREDICTORS,
+            predictors: tuple[str, ...] | None = None,
             sensitivity_predictors: tuple[str, ...] = SENSITIVITY_PREDICTORS,
             log=print) -> Figure7:
     """Run ``table1-solar`` like the table1 runs, its sensitivity panel, and the numbers.
@@ -141,8 +144,9 @@ def compute(runs: ClosedLoopRuns, *, config=None, sensitivity_values: dict | Non
         Knob -> values of the sensitivity panel (default :data:`SENSITIVITY_VALUES`,
         quick :data:`QUICK_SENSITIVITY_VALUES`).
     predictors, sensitivity_predictors : tuple of str
-        Predictors of the comparison (default :data:`PREDICTORS`) and of the sensitivity
-        panel (default :data:`SENSITIVITY_PREDICTORS`, a subset of ``predictors``).
+        Predictors of the comparison (default :data:`PREDICTORS`, quick
+        :data:`QUICK_PREDICTORS`) and of the sensitivity panel (default
+        :data:`SENSITIVITY_PREDICTORS`, a subset of ``predictors``).
     log : callable
         Progress lines.
     """
@@ -157,6 +161,8 @@ def compute(runs: ClosedLoopRuns, *, config=None, sensitivity_values: dict | Non
 
     start = time.perf_counter()
     cfg = solar_config(runs) if config is None else config
+    if predictors is None:
+        predictors = QUICK_PREDICTORS if runs.quick else PREDICTORS
     missing = [p for p in sensitivity_predictors if p not in predictors]
     if missing:
         raise ValueError(f"`sensitivity_predictors` must be among `predictors` "
@@ -413,8 +419,8 @@ def report(fig7: Figure7) -> str:
                     "-> delay " + (f"{v['delay_ms']:.3f} ms" if v["delay_ms"] is not None
                                    and math.isfinite(v["delay_ms"]) else "unstable")
                     for k, v in num["latency"].items())
-    quick = (" **Quick settings** (`--quick`): short runs on a 5x5 grid, one sensitivity "
-             "knob; the numbers are not the full run's." if fig7.quick else "")
+    quick = (" **Quick settings** (`--quick`): short runs on a 5x5 grid, no NN, one "
+             "sensitivity knob; the numbers are not the full run's." if fig7.quick else "")
     lat += (f" (1-minute load average {num['load_average']:.1f} on this machine's "
             f"{os.cpu_count()} cores when timed: the time grows with the load)")
     return f"""## Figure 7: Solar correlating sensing (extension, not in the paper)

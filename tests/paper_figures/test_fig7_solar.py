@@ -168,6 +168,7 @@ def test_quick_main_makes_figure_7(tmp_path):
     assert "## Figure 7" in report
     numbers = json.loads((tmp_path / fig7_solar.JSON_NAME).read_text())
     assert numbers["quick"] is True
-    for p in fig7_solar.PREDICTORS:
+    assert sorted(numbers["solar"]["peak_mean"]) == sorted(fig7_solar.QUICK_PREDICTORS)
+    for p in fig7_solar.QUICK_PREDICTORS:
         v = numbers["solar"]["peak_mean"][p]
         assert math.isfinite(v) and f"{v:.3f}" in report
