@@ -178,8 +178,16 @@ def _mode_images(dm, n: int) -> np.ndarray | None:
 
 
 def _as_dsv(wfs, arr: np.ndarray) -> np.ndarray:
-    """``(rows, n_meas)`` -> ``(rows, d, s_v)``: SH (x..., y...) -> ``d = 2``, ideal ``d = 1``."""
+    """``(rows, n_meas)`` -> ``(rows, d, s_v)``: SH (x..., y...) -> ``d = 2``, ideal ``d = 1``.
+
+    A correlating SH's ``(x..., y..., tracker x, tracker y)`` becomes ``d = 2`` with the
+    tracker as the last entry of each axis (``s_v = n_valid + 1``).
+    """
     arr = np.ascontiguousarray(arr)
+    if wfs.kind == "correlating":
+        n = wfs.n_valid_subapertures
+        order = np.r_[0:n, 2 * n, n:2 * n, 2 * n + 1]
+        return np.ascontiguousarray(arr[:, order]).reshape(arr.shape[0], 2, n + 1)
     d = 2 if wfs.kind == "shack_hartmann" else 1
     return arr.reshape(arr.shape[0], d, wfs.n_measurements // d)
 
@@ -224,12 +232,22 @@ def _sensor(model, j: int, wcfg, meas):
     wfs = model.wfss[j]
     extra = {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
              "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
-    if wfs.kind == "shack_hartmann":
+    if wfs.kind in ("shack_hartmann", "correlating"):
         extra.update(subaperture_pitch=wfs.pitch, n_subapertures=wcfg.n_subapertures,
                      order="d = 0: x slopes, d = 1: y slopes; mask rows are y")
+        n_valid = wfs.n_valid_subapertures
+        if wfs.kind == "correlating":
+            # slopes less their mean, then the correlation tracker's global Z-tilt as one
+            # more entry per axis (it has no subaperture in the mask)
+            extra.update(kind="correlating", pixel_scale=wcfg.pixel_scale,
+                         image_formation=wcfg.image_formation, note=(
+                             "correlating SH on granulation: Z-tilts less their mean; "
+                             "the last entry of each axis is the correlation tracker's "
+                             "global tilt (no subaperture in the mask)"))
+            n_valid += 1
         return SensorSpec(
             uid=f"wfs{j}", source="sun", kind="shack-hartmann",
-            n_valid_subapertures=wfs.n_valid_subapertures, measurements=meas,
+            n_valid_subapertures=n_valid, measurements=meas,
             subaperture_mask=_index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
             field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
             extra=extra)

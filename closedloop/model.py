@@ -17,7 +17,7 @@ from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera
-from closedloop.optics.wfs import make_sensor
+from closedloop.optics.wfs import has_noise, make_sensor
 from modalinfo.bases import zernike_covariance
 
 __all__ = ["LoopModel"]
@@ -121,7 +121,7 @@ class LoopModel:
         out = []
         for wfs in self.wfss:
             noise = (rng.standard_normal(wfs.n_measurements)
-                     if rng is not None and np.any(wfs.noise_rms > 0) else None)
+                     if rng is not None and has_noise(wfs.noise_rms) else None)
             out.append(wfs.forward(plane_maps, noise))
         return out
 

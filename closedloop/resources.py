@@ -14,11 +14,16 @@ refuse):
 - ``planes``: the plane maps (residual, exposure sums, per-layer buffers);
 - ``dm_shapes``: each Zernike DM's ``(n_disc, M)`` mode shapes with their mirror tables;
 - ``wfs_build``: the sparse operators of each WFS while they are assembled, the peak of
-  the set-up: one entry per pixel pair (Shack-Hartmann) or disc pixel (ideal), per field
-  sample (``1 + 3 r (r - 1)`` for ``r = field_samples`` rings), per plane;
+  the set-up: one entry per pixel pair (Shack-Hartmann), disc pixel (ideal) or pupil
+  sample (correlating), per field sample (``1 + 3 r (r - 1)`` for ``r = field_samples``
+  rings), per plane;
 - ``reconstructor``: interaction matrices, SVD and MAP reconstructor (dense);
 - ``logs``: the run's logs, ``frames x (3 M + directions + measurements)`` float64, and
   their copies in the result's ModalLogs.
+
+A correlating WFS with ``image_formation`` forms and correlates its images every frame:
+its time per frame is added, and :func:`check_resources` refuses a run that would take
+more than :data:`MAX_IMAGING_SECONDS` naming ``wfss[j].image_formation``.
 
 The peak is taken as ``baseline + max(set-up, run)`` with set-up the WFS build and the
 screens' transient, run everything that stays. The constants were fitted to the peak
@@ -39,7 +44,8 @@ from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import plane_layout
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
-           "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "format_bytes"]
+           "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "MAX_IMAGING_SECONDS",
+           "format_bytes"]
 
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
@@ -57,6 +63,12 @@ _KEPT_SHARE = 0.1
 _SECONDS_PER_FRAME = 3.5e-4
 _SECONDS_PER_OP = 2.4e-10
 _MARGIN_PIXELS = 3
+#: seconds per (image x support^2 x PSF samples across) of a correlating WFS's image
+#: formation: 28.6 ms per image at support 135, 65 PSF samples (table1-solar's 60" field),
+#: measured under load (it over-predicts the 20" field's 2.6 ms by 1.6x: a guard)
+_SECONDS_PER_IMAGE_OP = 2.4e-8
+#: longest run (wall time) of a correlating WFS with image formation that is accepted
+MAX_IMAGING_SECONDS = 3600.0
 
 
 class ResourceError(ValueError, MemoryError):
@@ -205,6 +217,16 @@ def _wfs_builds(config: SimulationConfig, layout: list,
             n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
             # two axes, 8 entries (two bilinear reads) per pixel pair
             entries = 2 * samples * len(layout) * (math.pi / 4.0 * across ** 2) * 8
+        elif w.kind == "correlating":
+            n_sub = math.pi / 4.0 * w.n_subapertures ** 2
+            n_meas = 2.0 * n_sub + 2.0
+            f, _, _, n_patches = _correlating_sampling(config, j, dx)
+            # built one field sample at a time: per plane, each pupil sample's 2 fit
+            # weights and 4 bilinear reads; the imaging mode keeps 4 reads per sample per
+            # sub-direction
+            entries = len(layout) * n_sub * f * f * 6
+            if w.image_formation:
+                entries += n_patches ** 2 * len(layout) * n_sub * f * f * 4
         else:
             n_meas = math.pi / 4.0 * (dm_disc_diameter(config, w.dm) / dx) ** 2
             entries = samples * len(layout) * n_meas * 4
@@ -215,6 +237,49 @@ def _wfs_builds(config: SimulationConfig, layout: list,
                          f"`telescope.n_pixels" if samples > 1
                          else _plane_driver(config, layout, _biggest_plane(layout)))
     return builds, build_key, n_meas_total
+
+
+def _correlating_sampling(config: SimulationConfig, j: int,
+                          dx: float) -> tuple[int, int, int, int]:
+    """Pupil samples across, convolution size, PSF samples across, patches of WFS ``j``.
+
+    As :class:`closedloop.optics.correlating_sensor.CorrelatingShackHartmann` sets them
+    (its default photon budget's wavelength, ``MAX_SHIFT``), without building anything.
+    """
+    from closedloop.optics.correlating import (
+        PhotonBudget,
+        convolution_support,
+        psf_subsampling,
+        pupil_oversampling_needed,
+    )
+    from closedloop.optics.correlating_sensor import MAX_SHIFT
+
+    w = config.wfss[j]
+    lam = PhotonBudget().wavelength
+    pitch = wfs_meta_pupil(config, j) / w.n_subapertures
+    p = max(2, int(round(pitch / dx)))
+    n_field = int(round(w.field_of_view / w.pixel_scale))
+    margin, support = convolution_support(n_field, w.pixel_scale, pitch, lam, MAX_SHIFT)
+    q = pupil_oversampling_needed(2 * margin + 1, w.pixel_scale, pitch / p, lam)
+    k = psf_subsampling(w.pixel_scale, pitch, lam)
+    n_patches = min(2 * w.field_samples - 1, n_field // 4) if w.image_formation else 1
+    return p * q, support, (2 * margin + 1) * k, n_patches
+
+
+def _imaging_seconds(config: SimulationConfig, dx: float) -> tuple[float, str]:
+    """Seconds per frame of the correlating WFSs' image formation, and its largest's key."""
+    total, key, worst = 0.0, "", -1.0
+    for j, w in enumerate(config.wfss):
+        if w.kind != "correlating" or not w.image_formation:
+            continue
+        _, support, psf_across, n_patches = _correlating_sampling(config, j, dx)
+        n_images = math.pi / 4.0 * w.n_subapertures ** 2 * n_patches ** 2
+        # the OTF's two Fourier sums dominate: support^2 x PSF samples per image
+        sec = _SECONDS_PER_IMAGE_OP * n_images * support ** 2 * psf_across
+        total += sec
+        if sec > worst:
+            worst, key = sec, f"wfss[{j}].image_formation"
+    return total, key
 
 
 def _matrices(n_frames: int, n_dir: int, n_meas_total: float,
@@ -242,7 +307,7 @@ def _seconds_per_frame(config: SimulationConfig, layout: list, dx: float, n_meas
                         for i, d in enumerate(config.dms)) / 4
            + n_meas_total * n_modes_total
            + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
-    return _SECONDS_PER_FRAME + _SECONDS_PER_OP * ops
+    return _SECONDS_PER_FRAME + _SECONDS_PER_OP * ops + _imaging_seconds(config, dx)[0]
 
 
 def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
@@ -354,6 +419,14 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
             raise ValueError(f"`memory_limit` must be a number of bytes > 0; got {limit!r}.")
         source = "the limit given"
     est = estimate(config, duration, oracle=oracle, budget=budget)
+    tel = config.telescope
+    imaging, key = _imaging_seconds(config, tel.diameter / tel.n_pixels)
+    if imaging * est.n_frames > MAX_IMAGING_SECONDS:
+        raise ResourceError(
+            f"this run forms and correlates images for about "
+            f"{imaging * est.n_frames / 3600.0:.1f} h ({imaging:.2g} s per frame, "
+            f"{est.n_frames} frames), more than {MAX_IMAGING_SECONDS / 3600.0:g} h; it is "
+            f"driven by `{key}`: set it to false (the linear sensor) or shorten `duration`.")
     need = est.peak_bytes if setup else BASELINE_BYTES + est.run_bytes
     if need > limit:
         part = est.largest if setup else max(("screens", "planes", "logs"),

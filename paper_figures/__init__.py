@@ -9,7 +9,8 @@ once): ``make(out_dir, runs) -> str``; each of them has a ``compute`` (numbers),
 ``plot`` and ``report`` step. Figure 6 (``NEEDS_LOG = False``, not in the paper: the
 study its conclusion proposes) runs its own loops: ``compute(quick=, seed=)``; so does
 Figure 8 (an extension: the transfer-entropy map of the shipped logs and a table1-wind
-run). Every
+run). Figure 7 (an extension, ``NEEDS_RUNS = True``: Figures 2-4 again with the solar
+correlating sensor) receives the table1 runs and runs ``table1-solar`` beside them. Every
 module has ``table_rows(result)``: ``(quantity, paper, ours, why they differ)`` rows of
 the report's comparison table. ``python -m paper_figures`` makes them all and writes
 ``report.md`` and ``report.html`` beside them.
@@ -26,6 +27,8 @@ FIGURES = [
     ("fig5_forecast", "Figure 5", "Forecasts of a modal coefficient (linear, ARMA, NN)"),
     ("fig6_compression", "Figure 6",
      "Compression x prediction: controlled modes of each ordering, with latency"),
+    ("fig7_solar", "Figure 7",
+     "Solar correlating sensing: Figures 2-4 on table1-solar (extension, not in the paper)"),
     ("fig_information_flow", "Figure 8",
      "Information flow between modes (transfer entropy; extension, not in the paper)"),
 ]

@@ -3,7 +3,7 @@
 Usage::
 
     python -m paper_figures [--log LOG [input hints]] [--out out] [--overwrite]
-                            [--only 1,2,3,4,5,6,8] [--quick] [--duration S] [--seed N]
+                            [--only 1,2,3,4,5,6,7,8] [--quick] [--duration S] [--seed N]
 
 Figures 1 and 5 analyse modal logs: by default both shipped KAOS-like logs, the
 spectral one (``data/kaos_like_closed_loop.npz``) and the one the ``closedloop``
@@ -17,7 +17,9 @@ atmosphere, every predictor; :mod:`paper_figures.closedloop_runs`), computed onc
 shared: 0.5 s of simulated time by default, or with ``--quick`` 0.2 s on a 5x5 field
 grid with the neural net trained for 50 iterations. Figure 6 (the compression x
 prediction study the paper proposes) runs the ``kaos`` preset; ``--quick`` uses three
-mode counts. Figure 8 (an extension: transfer entropy between modes) maps the shipped
+mode counts. Figure 7 (an extension: Figures 2-4 with the solar correlating sensor)
+runs ``table1-solar`` beside the table1 runs (``--quick``: their reduced settings).
+Figure 8 (an extension: transfer entropy between modes) maps the shipped
 logs and a short ``table1-wind`` run (``--quick``: shorter). ``report.md`` and
 ``report.html`` (figures inline) open with a table of every headline number of the
 paper beside ours, each difference explained.

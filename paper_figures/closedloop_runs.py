@@ -197,7 +197,7 @@ def run_all(config, duration: float, *, seed: int = 0,
             names: tuple[str, ...] = PAPER_PREDICTORS + EXTRA_PREDICTORS,
             budget_every: int | None = 5, nn_max_iter: int | None = None,
             arma_max_order: int | None = None, progress: bool | None = False,
-            log=print) -> tuple[dict, dict]:
+            log=print, model=None) -> tuple[dict, dict]:
     """Run every predictor of ``names`` on one atmosphere; return ``(results, timings)``.
 
     Parameters
@@ -219,6 +219,8 @@ def run_all(config, duration: float, *, seed: int = 0,
         tqdm bars of the loops.
     log : callable
         Receives one progress line per run.
+    model : closedloop.LoopModel, optional
+        The config's model, if already built (else built here).
 
     Returns
     -------
@@ -229,7 +231,7 @@ def run_all(config, duration: float, *, seed: int = 0,
     from closedloop.training import run_trained
 
     names = ("none", *[n for n in names if n != "none"])
-    model = LoopModel(config)
+    model = LoopModel(config) if model is None else model
     results: dict = {}
     timings: dict = {}
     for name in names:

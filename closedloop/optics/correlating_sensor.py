@@ -3,20 +3,22 @@
 On granulation each subaperture images an extended, low-contrast scene and the sensor
 measures the shift of that image by correlation. Two modes share one geometry (the MFoV
 layer-oriented footprints of :mod:`closedloop.optics.wfs`) and one set of subaperture
-phases: each valid subaperture's ``p x p`` phase samples (``p = round(pitch / dx)``,
-bilinear from every plane along each direction, as the geometric SH samples them),
-linearly interpolated onto the ``q``-times finer pupil samples the image formation of
-:class:`closedloop.optics.correlating.CorrelatingSubapertures` uses, and lit where the
-beam passed through the telescope pupil.
+phases: each valid subaperture's ``F = f x f`` pupil samples (``f = p q``: ``p =
+round(pitch / dx)`` times the oversampling ``q`` the image formation of
+:class:`closedloop.optics.correlating.CorrelatingSubapertures` needs so that the PSF does
+not alias), bilinear from every plane along each direction as the geometric SH samples
+them, and lit where the beam passed through the telescope pupil at least ``sqrt(2) dx``
+inside its edge (so that no sample interpolates a pixel outside the DMs' discs, whose
+surfaces stop at their edge pixels: without the margin the fit below turns that step
+into a spurious tilt). A subaperture is valid when half of its samples are lit,
+averaged over the field's directions.
 
 Linear mode (``image_formation=False``, the default; built once, measured by the same
 sparse products as the geometric SH, so as fast):
 
 - **Z-tilt.** A subaperture's slope seen from one direction is the least-squares plane
-  fit of that (fine, lit) phase: SDF and ADF^2 measure the Z-tilt, not the mean
-  gradient (G-tilt) (Loefdahl 2010, A&A 524, A90). Weights on the coarse samples are
-  the plane-fit rows composed with the linear interpolation, so the image formation and
-  this fit see the same phase.
+  fit of that lit phase: SDF and ADF^2 measure the Z-tilt, not the mean gradient
+  (G-tilt) (Loefdahl 2010, A&A 524, A90). The image formation sees the same samples.
 - **Contrast weights.** The field's directions (the WFS's ``field_samples``) are
   combined with the weight of the scene's contrast each one covers: the reference
   subaperture image ``r`` (the scene blurred by the subaperture's diffraction and the
@@ -25,15 +27,23 @@ sparse products as the geometric SH, so as fast):
   per axis. Linearising the square-difference function gives exactly these weights for
   a partition of the field (``CorrelatingSubapertures.direction_weights`` is the same
   law for its smooth patches; last session's tests check it against image formation).
-  A direction that lights fewer than 3 fine samples of a subaperture is left out of that
-  subaperture's mean and the others' weights renormalised.
-- **Noise.** White Gaussian noise per slope with the rms that
-  :func:`closedloop.optics.shifts.sdf_noise_rms` predicts for the reference image at the
-  photon budget (signal ``S`` e- per pixel, scaled by the scene, plus read noise:
-  per-pixel variance ``r + RON^2``), converted from pixels to the loop's units: a shift
-  ``s`` pixels is the angle ``s * pixel_scale`` and the phase gradient
-  ``2 pi s pixel_scale / r0_wavelength`` [rad/m of the phase at ``r0_wavelength``]. The
-  hand-set ``noise`` of the geometric SH is refused for this kind (the config says so).
+  A direction that lights less than half of a subaperture is left out of that
+  subaperture's mean and the others' weights renormalised (the Z-tilt of a thin lit
+  sliver is an extrapolation).
+- **Noise.** White Gaussian noise per slope with ``sqrt(2)`` times the rms that
+  :func:`closedloop.optics.shifts.sdf_noise_rms` predicts for the noise-free reference
+  image at the photon budget (signal ``S`` e- per pixel, scaled by the scene, plus read
+  noise: per-pixel variance ``r + RON^2``): the same-frame reference (below) is as noisy
+  as the live image, which doubles the variance (test_correlating), and its share does
+  not cancel in the slopes less their mean (it enters each subaperture's sub-pixel
+  interpolation differently: measured 1.3-1.5x the single-image law, test
+  test_correlating_sensor). Converted from pixels to the loop's units: a shift ``s``
+  pixels is the angle ``s * pixel_scale`` and the phase gradient ``2 pi s pixel_scale /
+  r0_wavelength`` [rad/m of the phase at ``r0_wavelength``]. The law is the linearised
+  one: it holds while the predicted rms is below ~0.03 px; at lower signal x contrast^2
+  the noisy reference's noise energy, which varies with the lag, adds more (2-10x at a
+  predicted 0.07 px, 400 e- and 8 % contrast). The hand-set ``noise`` of the geometric
+  SH is refused for this kind (the config says so).
 - **Reference and tracker.** Solar WFSs correlate every subaperture against the image
   of one subaperture of the same frame (the scene evolves in seconds and moves with the
   image motion, so a stored reference goes stale; Rimmele & Marino 2011, Living Rev.
@@ -42,31 +52,35 @@ sparse products as the geometric SH, so as fast):
   the slopes less their mean. The measurements are therefore: the x and y slopes less
   their mean over the valid subapertures (``2 n_valid``), then the two means as a
   correlation tracker measures them (its own image of the whole aperture over the same
-  field, at the same pixel scale and signal, noise from the same law). The tracker of
+  field, at the same pixel scale and signal, against a stored reference refreshed often
+  enough to be noise-free, so the law's rms without the ``sqrt(2)``). The tracker of
   each WFS measures the mean of that WFS's subaperture Z-tilts (a simplification: a real
   system has one tracker on the telescope's tip-tilt mirror). The slopes' noise after
   the mean's removal is taken as independent (its correlation ``-sigma^2 / n_valid``
   is neglected), so ``noise_rms`` is ``(sigma_x,) * n + (sigma_y,) * n + (sigma_tx,
   sigma_ty)`` and the joint MAP reconstructor weights slopes and tracker by their own
-  variances.
+  variances (and the tracker's model error by ``1 / n_valid`` of a slope's:
+  :meth:`CorrelatingShackHartmann.model_error_variance`).
 
 Imaging mode (``image_formation=True``): every frame, the phases of the sub-directions
 (``2 field_samples - 1`` patches across the field) over every valid subaperture are
 imaged (:meth:`CorrelatingSubapertures.images`, with the pupil's vignetting as an
 amplitude; photon and read noise drawn from a generator seeded by the frame's normal
 draws, so a run is reproducible from its seed) and their shifts measured with SDF + 2QI
-against the image of the subaperture nearest the centre; slopes less their mean as
-above, and the tracker as in the linear mode (linear, with its noise). It checks the
-linear mode (tests: equal within the interpolation bias without noise; noise within
-15 %); it costs ~1 ms per subaperture image (benchmarks/RESULTS.md), so
+(``MAX_SHIFT`` = 3 pixels) against the image of the fully lit subaperture nearest the
+centre; slopes less their mean as above, and the tracker as in the linear mode (linear,
+with its noise). It checks the linear mode on fully lit subapertures (tests: equal
+within the interpolation bias without noise; noise within 15 %). A vignetted
+subaperture's image is formed with its lit pupil (a broader PSF, normalised to the same
+flux): its shift has a larger bias and noise than the law's, which the linear mode does
+not model. It costs milliseconds per subaperture image (benchmarks/RESULTS.md), so
 ``closedloop.resources.estimate`` refuses long runs of it.
 
 The scene is a :func:`closedloop.optics.granulation.granulation_scene` (seed 0, so the
 sensor does not change with the run's seed) at the WFS's pixel scale, with ``contrast``
-(default: :func:`~closedloop.optics.granulation.granulation_contrast` at the WFS
-wavelength, 500 nm); the photon budget is
-:class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean signal
-``signal`` e- per pixel when given (capped at what the Sun supplies).
+(default: :func:`~closedloop.optics.granulation.granulation_contrast` at the WFS wavelength, 500 nm); the photon
+budget is :class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean
+signal ``signal`` e- per pixel when given (capped at what the Sun supplies).
 """
 
 from __future__ import annotations
@@ -162,8 +176,12 @@ class CorrelatingShackHartmann(ShackHartmann):
                                                budget=budget, max_shift=MAX_SHIFT)
         ron2 = budget.read_noise ** 2
         ref = self.imager.reference
-        self.slope_noise_pixels = sdf_noise_rms(ref, np.clip(ref, 0.0, None) + ron2,
-                                                max_shift=MAX_SHIFT)
+        # against a same-frame subaperture as noisy as the live one: twice the variance of
+        # the law's noise-free reference (test_correlating; the reference's share does not
+        # cancel in the slopes less their mean: it enters each subaperture's sub-pixel
+        # interpolation differently, measured in test_correlating_sensor)
+        self.slope_noise_pixels = math.sqrt(2.0) * sdf_noise_rms(
+            ref, np.clip(ref, 0.0, None) + ron2, max_shift=MAX_SHIFT)
         tref = self.tracker.reference
         self.tracker_noise_pixels = sdf_noise_rms(tref, np.clip(tref, 0.0, None) + ron2,
                                                   max_shift=MAX_SHIFT)
@@ -214,8 +232,11 @@ class CorrelatingShackHartmann(ShackHartmann):
         x = u - self.altitude * theta * ARCSEC
         r = np.hypot(x[..., 0], x[..., 1])
         edge = math.sqrt(2.0) * g.dx
-        return ((r <= g.diameter / 2.0 - edge)
-                & (r >= g.config.telescope.obscuration * g.diameter / 2.0 + edge))
+        lit = r <= g.diameter / 2.0 - edge
+        obscuration = g.config.telescope.obscuration
+        if obscuration > 0:
+            lit &= r >= obscuration * g.diameter / 2.0 + edge
+        return lit
 
     def _contrast_weights(self, ref: np.ndarray) -> np.ndarray:
         """``(n_samples, 2)`` contrast weights of the field samples (module docstring)."""
@@ -264,9 +285,8 @@ class CorrelatingShackHartmann(ShackHartmann):
     def _sample_clipped(self, p: int, points: np.ndarray, theta: np.ndarray):
         """Bilinear operator on plane ``p``, positions clipped into the grid.
 
-        Only samples whose beam is vignetted can leave the grid; they carry no light
-        (amplitude 0 in the image, weight 0 in the fit) but may enter the fine samples'
-        linear interpolation near the pupil's edge.
+        Only unlit samples can leave the grid; they carry no light (amplitude 0 in the
+        image), so their clipped phase does not matter.
         """
         g = self._geometry
         plane = g.planes[p]

@@ -53,7 +53,17 @@ from closedloop.optics.geometry import ARCSEC, Geometry
 from modalinfo.bases import noll_residual_variance
 
 __all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SENSORS", "register_sensor",
-           "make_sensor", "bilinear_matrix"]
+           "make_sensor", "bilinear_matrix", "has_noise"]
+
+
+def has_noise(noise_rms) -> bool:
+    """Return whether a sensor's ``noise_rms`` (float or array) is > 0 anywhere.
+
+    A float is compared directly (the hot loop's usual case: no numpy call per frame).
+    """
+    if isinstance(noise_rms, float):
+        return noise_rms > 0.0
+    return bool(np.any(np.asarray(noise_rms) > 0.0))
 
 
 def bilinear_matrix(cols: np.ndarray, rows: np.ndarray, n: int) -> sparse.csr_matrix:
@@ -236,7 +246,7 @@ class WavefrontSensor:
         ``noise``: standard normal draws ``(n_measurements,)`` scaled here by ``noise_rms``.
         """
         s = self._operate(plane_maps)
-        if noise is not None and np.any(self.noise_rms > 0.0):
+        if noise is not None and has_noise(self.noise_rms):
             s += self.noise_rms * noise
         if self._centred:
             s -= s.mean()

@@ -127,7 +127,7 @@ def test_figure4_diameters_come_from_the_runs(results, runs, tmp_path):
 
 
 def test_main_rejects_bad_only(tmp_path, capsys):
-    assert main(["--out", str(tmp_path), "--only", "2,7"]) == 2
+    assert main(["--out", str(tmp_path), "--only", "2,9"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--only" in err
     assert not (tmp_path / "report.md").exists()
