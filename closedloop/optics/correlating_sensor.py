@@ -78,9 +78,10 @@ not model. It costs milliseconds per subaperture image (benchmarks/RESULTS.md), 
 
 The scene is a :func:`closedloop.optics.granulation.granulation_scene` (seed 0, so the
 sensor does not change with the run's seed) at the WFS's pixel scale, with ``contrast``
-(default: :func:`~closedloop.optics.granulation.granulation_contrast` at the WFS wavelength, 500 nm); the photon
-budget is :class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean
-signal ``signal`` e- per pixel when given (capped at what the Sun supplies).
+(default: :func:`~closedloop.optics.granulation.granulation_contrast` at the WFS
+wavelength, 500 nm); the photon budget is
+:class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean signal
+``signal`` e- per pixel when given (capped at what the Sun supplies).
 """
 
 from __future__ import annotations
