@@ -83,7 +83,8 @@ class BudgetProbe:
         self.controller = Controller(
             model.n_modes, gain=loop.gain, leak=loop.leak, delay_frames=loop.delay_frames,
             integration_frames=loop.integration_frames,
-            predictor=None if predictor is None else copy.deepcopy(predictor))
+            predictor=None if predictor is None else copy.deepcopy(predictor),
+            projector=None if predictor is None else model.controlled_projector)
         self.cam = ScienceCamera(model.geometry, model.science.directions)
         self.turb = [np.zeros_like(v) for v in self.cam.plane_views()]
         self.acc = [np.zeros_like(v) for v in self.turb]

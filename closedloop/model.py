@@ -9,6 +9,8 @@ Words used for a sensor's work, one meaning each: a WFS *measures* (its measurem
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from closedloop.config import SimulationConfig
@@ -114,6 +116,33 @@ class LoopModel:
         self.n_controlled = int(keep.sum())
         r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
         return r / np.sqrt(noise)[None, :]
+
+    @functools.cached_property
+    def controlled_projector(self) -> np.ndarray | None:
+        """``R G``: the projector onto the modal commands the WFSs can see, ``(M, M)``.
+
+        ``G`` is the interaction matrix of every WFS with every DM (the joint
+        reconstructor's) or of each WFS with its own DM (one reconstructor per WFS, a
+        block per DM), ``R`` the reconstructor: ``R G`` is the identity on the modes the
+        reconstructor controls and zero on the combinations it cuts (the truncated SVD's
+        blind directions, e.g. DM-mode combinations that cancel in every WFS direction).
+        The controller keeps a predictor's forecast inside it (``Controller``). None with
+        a zonal DM (its "modes" are thousands of pixels: an ``(M, M)`` matrix would not
+        fit, and an ideal sensor sees every pixel).
+        """
+        if any(dm.shapes is None for dm in self.dms):
+            return None
+        if self.reconstructor is not None:
+            full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
+            return self.reconstructor @ full
+        blocks = [None if w.reconstructor is None else w.reconstructor @ w.interaction
+                  for w in self.wfss]
+        out = np.eye(self.n_modes)
+        for w, b in zip(self.wfss, blocks, strict=True):
+            if b is not None:
+                sl = self.mode_slices[w.dm.index]
+                out[sl, sl] = b
+        return out
 
     def measure(self, plane_maps: list[np.ndarray],
                 rng: np.random.Generator | None) -> list[np.ndarray]:

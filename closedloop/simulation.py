@@ -399,6 +399,16 @@ class _Oracle:
         return self.model.sense(self.exposure.mean(self.clock.n_os), None)
 
 
+def _projector(model: LoopModel, basis: np.ndarray | None, predictor) -> np.ndarray | None:
+    """Return the controller's projector onto the observed commands, in its coordinates."""
+    if predictor is None:
+        return None
+    p = model.controlled_projector
+    if p is None or basis is None:
+        return p
+    return basis.T @ p @ basis
+
+
 class _Control:
     """The controller as the loop uses it: control-basis projection, open loop, fault labels."""
 
@@ -408,7 +418,8 @@ class _Control:
         self.controller = Controller(n_control, gain=loop.gain, leak=loop.leak,
                                      delay_frames=loop.delay_frames,
                                      integration_frames=loop.integration_frames,
-                                     predictor=predictor, on_predictor_fault=on_predictor_fault)
+                                     predictor=predictor, on_predictor_fault=on_predictor_fault,
+                                     projector=_projector(model, basis, predictor))
         self.model = model
         self.basis = basis
         self.open_loop = not loop.closed

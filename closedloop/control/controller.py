@@ -20,10 +20,14 @@ where ``p^_k`` is the forecast of the POL over the lead ``L = delay / T + 1/2 +
 integration / (2 T)`` frames (from the middle of the exposure to the middle of the
 application window). Without a predictor ``p^_k = p_k`` and the law is exactly the
 classic integrator ``c_k = (1 - leak) c_{k-1} + g m_k``; the persistence predictor gives
-the same thing, bit for bit. A predictor is any ``modalinfo.forecast.Predictor`` (fitted
-beforehand): ``reset()`` once, ``update(p_k)`` each frame (O(1)), returning forecasts for
-horizons 1..H; a fractional lead is interpolated linearly between the two whole horizons
-around it (horizon 0 being ``p_k`` itself).
+the same thing, bit for bit. A per-mode predictor's forecast is kept inside the modes
+the reconstructor controls (``projector``: ``p^_k <- p_k + R G (p^_k - p_k)``): directions
+no WFS sees would otherwise be commanded from the predictor's own past commands alone,
+never measured, and drift (on table1-solar the ARMA lost the loop). A predictor is any
+``modalinfo.forecast.Predictor`` (fitted beforehand): ``reset()`` once, ``update(p_k)``
+each frame (O(1)), returning forecasts for horizons 1..H; a fractional lead is
+interpolated linearly between the two whole horizons around it (horizon 0 being ``p_k``
+itself).
 
 How this relates to the paper: LOST applied its predictors "as filters on the correction
 signals". Here they filter the POL signal, the open-loop modal turbulence reconstructed
@@ -87,10 +91,17 @@ class Controller:
         A wrong shape or a non-finite value raises :class:`PredictorFault` naming the
         predictor, the step and the mode (``"raise"``), or keeps the last command for
         that frame and counts it in :attr:`n_faults` (``"hold"``).
+    projector : (n_modes, n_modes) ndarray or None
+        The projector ``R G`` onto the commands the WFSs see
+        (``LoopModel.controlled_projector``). A predictor's forecast is replaced by
+        ``p_k + P (p^_k - p_k)``: its change over the POL is kept only where the loop can
+        measure it (an external forecast, the oracle's, is sensed and already lies
+        there). None: the forecast is used as it is.
     """
 
     def __init__(self, n_modes: int, *, gain: float, leak: float, delay_frames: float,
-                 integration_frames: float, predictor=None, on_predictor_fault: str = "raise"):
+                 integration_frames: float, predictor=None, on_predictor_fault: str = "raise",
+                 projector: np.ndarray | None = None):
         if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
             raise ValueError(f"`on_predictor_fault` must be one of "
                              f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
@@ -104,6 +115,12 @@ class Controller:
         self.lead = lead_frames(delay_frames, integration_frames)
         self.predictor = predictor
         self.n_modes = n_modes
+        if projector is not None:
+            projector = np.asarray(projector, dtype=np.float64)
+            if projector.shape != (n_modes, n_modes) or not np.isfinite(projector).all():
+                raise ValueError(f"`projector` must be a finite ({n_modes}, {n_modes}) "
+                                 f"array; got shape {projector.shape}.")
+        self.projector = projector
         self.on_predictor_fault = on_predictor_fault
         #: frames whose forecast was unusable and whose command was held ("hold")
         self.n_faults = 0
@@ -162,6 +179,12 @@ class Controller:
         elif self.predictor is not None:
             try:
                 forecast = self._forecast(pol, step)
+                if self.projector is not None:
+                    # a per-mode forecast leaks into the directions no WFS sees; commanded
+                    # there, they are never measured and drift (table1-solar's ARMA lost
+                    # the loop): keep only the forecast's change the loop can observe.
+                    # Persistence's change is exactly 0, so its bits stay the integrator's
+                    forecast = pol + self.projector @ (forecast - pol)
             except PredictorFault:
                 if self.on_predictor_fault == "raise":
                     raise
