@@ -24,11 +24,11 @@ target's history, and each cell is recomputed exactly as the original (the Gauss
 path: the rotated source residualised against the target's history, the target's
 residual unchanged), so every series keeps its autocorrelation and only the alignment
 of source and target is broken. The shifts are multiples of a spacing b (about
-``n / (n_surrogates + 1)``) with the original at 0 (:func:`surrogate_shifts`), so the
+``n / (n_surrogates + 1)``) with the original at 0 (``surrogate_shifts``), so the
 original and the surrogates are all at least b apart: a randomisation test over the
 rotations by multiples of b. The statistic of a surrogate is the *largest* TE over the
 cells, and the p-values are the step-down maxT of Westfall & Young (1993, Algorithm
-4.1; :func:`maxt_pvalues`): the strongest cell is compared with the surrogate maximum
+4.1; ``maxt_pvalues``): the strongest cell is compared with the surrogate maximum
 over the whole map (the single-step test, as the greedy step of IDTxl; Lizier et al.
 2011, Novelli et al. 2019), the next with the maximum over the cells not yet
 rejected, and so on. Both control the family-wise error over all ``S (S - 1) L``
@@ -393,14 +393,14 @@ def transfer_entropy_map(
         most about ``n / (max lag + correlation time)`` for full power (module notes).
     min_shift : int, optional
         Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
-        :func:`surrogate_shifts`); default the largest that fits ``n_surrogates``
+        ``surrogate_shifts``); default the largest that fits ``n_surrogates``
         shifts in the rows, about ``n / (n_surrogates + 1)``. Keep it above the span
         of the lags plus the series' correlation time (power), and
         ``n_surrogates x min_shift`` below the rows.
     adjust : {"step-down", "single-step"}
         Family-wise adjustment of the p-values: the step-down maxT of Westfall & Young
         (default; the same family-wise control, more power for the weaker links) or
-        the single-step maximum over the whole map (:func:`maxt_pvalues`).
+        the single-step maximum over the whole map (``maxt_pvalues``).
     max_seconds : float
         Refuse a map whose estimated time exceeds this [s].
     seed : None, int or numpy.random.Generator

@@ -24,7 +24,7 @@ map's (:mod:`modalinfo.information.flow`; shared helpers in
 by s rows against the target and the inputs already chosen, then residualised against
 the chosen inputs exactly like the original; the shifts are one set for the whole
 search, multiples of a spacing b (about ``n / (n_surrogates + 1)``) with the original
-at 0 (:func:`~modalinfo.information.surrogates.surrogate_shifts`), so the original is
+at 0 (``modalinfo.information.surrogates.surrogate_shifts``), so the original is
 exchangeable with them. Measured (``benchmarks/bench_flow_fwer.py --part selection``:
 a target AR(1) 0.7 and 3 independent AR(1) series, n = 496 rows, 16 candidates, 49
 surrogates, 16 000 searches whose first input, the target's last value, is the whole
@@ -340,7 +340,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
     ``alive`` (m,) bool marks usable candidates (copied here), ``spectra`` the rfft of
     ``Cu.T`` on length L >= 2n (used by the Gaussian null; not modified). ``shifts``
     (n_surrogates,) are the surrogates' circular shifts, one set for the whole search;
-    if None they are drawn by :func:`~modalinfo.information.surrogates.surrogate_shifts`
+    if None they are drawn by ``modalinfo.information.surrogates.surrogate_shifts``
     with its default spacing, the largest that fits. ``shift0`` is a floor on the
     spacing (e.g. the target's block length, as :class:`~modalinfo.forecast.InfoPredictor`
     passes): the largest spacing meets it whenever it fits, and a search never fails
@@ -515,7 +515,7 @@ def select_inputs(
         Bootstrap resamples and nominal coverage of the intervals.
     min_shift : int, optional
         Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
-        :func:`~modalinfo.information.surrogates.surrogate_shifts`, one set for the
+        ``modalinfo.information.surrogates.surrogate_shifts``, one set for the
         whole search); default the largest that fits ``n_surrogates`` shifts in the
         rows, about ``n / (n_surrogates + 1)``. Keep it above the span of the lags plus
         the series' correlation time (power), and ``n_surrogates x min_shift`` below
