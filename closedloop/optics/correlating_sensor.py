@@ -97,6 +97,7 @@ from closedloop.optics.correlating import (
     CorrelatingSubapertures,
     PhotonBudget,
     convolution_support,
+    pupil_oversampling_needed,
 )
 from closedloop.optics.geometry import ARCSEC
 from closedloop.optics.granulation import granulation_contrast, granulation_scene
@@ -159,16 +160,16 @@ class CorrelatingShackHartmann(ShackHartmann):
         n_field = int(round(cfg.field_of_view / self.pixel_scale))
         contrast = (granulation_contrast(budget.wavelength) if cfg.contrast is None
                     else cfg.contrast)
-        _, support = convolution_support(n_field, self.pixel_scale, pitch, budget.wavelength,
-                                         MAX_SHIFT)
+        margin, support = convolution_support(n_field, self.pixel_scale, pitch,
+                                              budget.wavelength, MAX_SHIFT)
         scene = granulation_scene(support, self.pixel_scale, seed=SCENE_SEED,
                                   contrast=contrast, wavelength=budget.wavelength)
         n_patches = min(2 * cfg.field_samples - 1, n_field // 4) if self.image_formation else 1
         # the pupil samples the image formation needs (p at the grid's pitch, times the
         # oversampling that keeps the PSF from aliasing); the phase is sampled there
         # directly from the planes, so that the fit and the images see the lit beam only
-        q = CorrelatingSubapertures(scene, self.pixel_scale, pitch, p, n_field,
-                                    budget=budget, max_shift=MAX_SHIFT).pupil_oversampling
+        q = pupil_oversampling_needed(2 * margin + 1, self.pixel_scale, pitch / p,
+                                      budget.wavelength)
         self.n_pupil = p * q
         self.imager = CorrelatingSubapertures(scene, self.pixel_scale, pitch, p * q, n_field,
                                               n_patches=n_patches, budget=budget,
