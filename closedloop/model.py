@@ -90,6 +90,7 @@ class LoopModel:
         g = self.geometry
         cfg = self.config
         full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
+        self._interaction = full  # G, kept for controlled_projector
         prior = np.empty(self.n_modes)
         dm_alts = np.array([dm.altitude for dm in self.dms])
         strength = np.zeros(len(self.dms))
@@ -133,8 +134,7 @@ class LoopModel:
         if any(dm.shapes is None for dm in self.dms):
             return None
         if self.reconstructor is not None:
-            full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
-            return self.reconstructor @ full
+            return self.reconstructor @ self._interaction
         blocks = [None if w.reconstructor is None else w.reconstructor @ w.interaction
                   for w in self.wfss]
         out = np.eye(self.n_modes)
