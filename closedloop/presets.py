@@ -142,7 +142,11 @@ def table1() -> SimulationConfig:
 
 
 def mcao3() -> SimulationConfig:
-    """Five layers, three DMs (0, 4, 10 km): the general case."""
+    """Five layers, three DMs (0, 4, 10 km): the general case.
+
+    The total turbulence is table1's ground layer, total D/r0 = 26 at 500 nm, split as
+    the module docstring says (fractions of (D/r0)^(5/3), layers adding by the 3/5 law).
+    """
     total = 26.0 ** (5 / 3)
     fractions = (0.45, 0.15, 0.2, 0.15, 0.05)
     altitudes = (0.0, 500.0, 4_000.0, 7_000.0, 12_000.0)
