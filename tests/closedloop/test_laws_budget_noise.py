@@ -1,0 +1,122 @@
+"""The error budget's noise term against the analytic propagation of the configured noise.
+
+References (computed in the test, not with ``modalinfo.servo`` or the budget's code):
+- the slope noise: a configured alpha arcsec RMS per axis per subaperture is the phase
+  gradient ``2 pi alpha [rad] / r0_wavelength`` rad/m (a tilt of alpha);
+- the servo's noise transfer in closed form: with a one-frame exposure and a one-frame
+  delay the integrator is ``c_k = c_{k-1} + g (n_k - c_{k-2})``, an AR(2) process
+  ``c_k = c_{k-1} - g c_{k-2} + g n_k`` whose variance per unit noise variance is
+  ``g^2 (1 - phi2) / ((1 + phi2) ((1 - phi2)^2 - phi1^2))`` with phi1 = 1, phi2 = -g
+  (Box & Jenkins 1976, eq. 3.2.27), i.e. ``g (1 + g) / ((1 - g) (2 + g))``; with a half-frame
+  delay the command seen is the mean of the last two, and the variance is the sum of the
+  squared impulse response of the difference equation written here;
+- the command covariance ``ntf sigma^2 R R^T`` (R: the WFS's reconstructor, the
+  matrix the loop applies), seen in every science direction as the piston-removed
+  variance of the mirror's modes over the pupil: ``tr(Gram C)`` with ``Gram`` the
+  modes' piston-removed inner products over the pupil pixels (a ground DM: every
+  direction sees the same footprint), converted to the science wavelength by
+  ``(r0_wavelength / wavelength)^2``.
+The budget draws the noise by Monte Carlo; the test raises its number of draws so that
+the scatter, computed here as ``sqrt(2 tr((Gram C)^2) / n_draws) / tr(Gram C)`` (the
+variance of a Gaussian quadratic form), is below 1 %, and allows 4.5 times it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from closedloop import budget as budget_module
+from closedloop.config import (
+    DMConfig,
+    FieldConfig,
+    LayerConfig,
+    LoopConfig,
+    SimulationConfig,
+    TelescopeConfig,
+    WFSConfig,
+)
+from closedloop.model import LoopModel
+from closedloop.simulation import simulate
+
+ARCSEC = math.pi / 648000.0
+N_DRAWS = 4096
+
+
+def _config(*, alpha, gain, delay):
+    # turbulence negligible (D/r0 = 1e-6): the loop sees its noise only
+    return SimulationConfig(
+        name="noise-budget",
+        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=1e-6, wind_speed=0.0),),
+        dms=(DMConfig(altitude=0.0, n_modes=20),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=8, noise=alpha,
+                        field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=delay, gain=gain),
+        field=FieldConfig(size=20.0, n_points=3), wavelength=630e-9, r0_wavelength=500e-9)
+
+
+def _ntf_closed_form(gain):
+    phi1, phi2 = 1.0, -gain
+    return gain ** 2 * (1 - phi2) / ((1 + phi2) * ((1 - phi2) ** 2 - phi1 ** 2))
+
+
+def _ntf_half_frame(gain, n=4000):
+    """Sum of squares of c_k = c_{k-1} + g (n_k - (c_{k-1} + c_{k-2}) / 2) for a unit impulse."""
+    c = np.zeros(n)
+    for k in range(n):
+        c1 = c[k - 1] if k >= 1 else 0.0
+        c2 = c[k - 2] if k >= 2 else 0.0
+        c[k] = c1 + gain * ((1.0 if k == 0 else 0.0) - 0.5 * (c1 + c2))
+    return float(np.sum(c ** 2))
+
+
+def test_closed_form_is_the_impulse_response():
+    # the AR(2) variance against a direct sum of the squared impulse response
+    g = 0.4
+    c = np.zeros(4000)
+    for k in range(c.size):
+        c[k] = (c[k - 1] if k else 0.0) + g * ((k == 0) - (c[k - 2] if k >= 2 else 0.0))
+    assert _ntf_closed_form(g) == pytest.approx(float(np.sum(c ** 2)), rel=1e-12)
+    assert _ntf_closed_form(g) == pytest.approx(g * (1 + g) / ((1 - g) * (2 + g)), rel=1e-14)
+
+
+def _pupil_gram(model):
+    """Piston-removed inner products of the DM's modes over the pupil pixels."""
+    g = model.geometry
+    dm = model.dms[0]
+    plane = g.planes[dm.plane]
+    maps = np.zeros((dm.shapes.shape[1], plane.n * plane.n))
+    maps[:, dm.pixels] = dm.shapes.T
+    maps = maps.reshape(-1, plane.n, plane.n)
+    off = plane.centre - (g.n_pixels - 1) / 2.0   # the pupil's pixels on the plane
+    o = int(round(off))
+    assert off == o
+    pup = maps[:, o:o + g.n_pixels, o:o + g.n_pixels][:, g.pupil_mask]
+    pup = pup - pup.mean(axis=1, keepdims=True)
+    return pup @ pup.T / pup.shape[1]
+
+
+@pytest.mark.parametrize("alpha,gain,delay", [(0.02, 0.4, 1e-3), (0.01, 0.5, 0.5e-3)])
+def test_noise_term_is_the_propagated_configured_noise(monkeypatch, alpha, gain, delay):
+    monkeypatch.setattr(budget_module, "_N_NOISE_DRAWS", N_DRAWS)
+    cfg = _config(alpha=alpha, gain=gain, delay=delay)
+    model = LoopModel(cfg)
+    r = model.wfss[0].reconstructor
+    sigma = 2.0 * math.pi * alpha * ARCSEC / cfg.r0_wavelength
+    ntf = _ntf_closed_form(gain) if delay == 1e-3 else _ntf_half_frame(gain)
+    cov = ntf * sigma ** 2 * (r @ r.T)
+    gc = _pupil_gram(model) @ cov
+    to_science = (cfg.r0_wavelength / cfg.wavelength) ** 2
+    expected = float(np.trace(gc)) * to_science
+    rel_se = math.sqrt(2.0 * np.trace(gc @ gc) / N_DRAWS) / float(np.trace(gc))
+    assert rel_se < 0.01
+    result = simulate(cfg, 0.01, seed=2, progress=False, model=model, budget_every=2)
+    noise = result.budget.noise
+    assert noise.shape == (9,)
+    # a ground DM: every direction sees the same footprint, so the same draws
+    np.testing.assert_allclose(noise, noise[0], rtol=1e-9)
+    assert noise[0] == pytest.approx(expected, rel=4.5 * rel_se)
+    print(f"noise term {noise[0]:.5g} vs {expected:.5g} rad^2 (s.e. {rel_se:.2%})")
