@@ -120,3 +120,41 @@ def test_no_step_does_not_close():
     r = _result(cfg, late)
     assert not r.closed
     assert r.loop_status.startswith("did not close")
+
+
+def test_headline_means_start_at_the_known_closure():
+    # the ramp of the first test: its closure frame is known in closed form, so the
+    # "after closure" means are the plain means of the synthetic series from there
+    cfg = _config(1e-3)
+    n, k0, s0, s_inf, tau, delta = 400, 10, 0.05, 0.6, 30.0, 0.004
+    k = np.arange(n)
+    sr = np.where(k < k0, s0, s_inf - (s_inf - s0) * np.exp(-(k - k0) / tau))
+    sr[n // 2:] = _alternating(n - n // 2, s_inf, delta)
+    start = math.ceil(k0 + tau * math.log((s_inf - s0) / (N_SIGMA * MAD_TO_SIGMA * delta)))
+    r = _result(cfg, sr)
+    s = r.summary()
+    assert s["closure_time_s"] == pytest.approx((start + 1) * 1e-3)
+    assert s["strehl_peak_mean"] == pytest.approx(float(sr[start:].mean()), rel=1e-12)
+    n_dir = cfg.field.n_points ** 2
+    field = np.exp(np.log(sr)[:, None] * np.linspace(1.0, 1.5, n_dir)[None, :])
+    assert s["strehl_field_mean"] == pytest.approx(float(field[start:].mean()), rel=1e-12)
+
+
+def test_strehl_peak_spectrum_is_a_density_of_the_sr_variance():
+    # Parseval: the one-sided density integrates to the variance; a sinusoid of
+    # amplitude A at f0 (a whole number of cycles per Welch segment) carries A^2 / 2 at f0
+    cfg = _config(1e-3)
+    n, k0, f0, amp = 2048, 20, 125.0, 0.02
+    t = np.arange(n) * 1e-3
+    rng = np.random.default_rng(8)
+    sr = 0.6 + amp * np.sin(2 * np.pi * f0 * t) + 0.001 * rng.standard_normal(n)
+    sr[:k0] = 0.05
+    r = _result(cfg, sr)
+    freqs, psd = r.strehl_peak_spectrum(start=k0 + 12)
+    df = freqs[1] - freqs[0]
+    assert df == pytest.approx(1000.0 / 256)
+    x = sr[k0 + 12:]
+    assert float(np.sum(psd) * df) == pytest.approx(float(x.var()), rel=0.03)
+    assert freqs[np.argmax(psd)] == pytest.approx(f0)
+    band = np.abs(freqs - f0) <= 2 * df
+    assert float(np.sum(psd[band]) * df) == pytest.approx(amp ** 2 / 2, rel=0.03)
