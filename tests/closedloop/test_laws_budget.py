@@ -1,4 +1,13 @@
-"""The error budget's noise term against the analytic propagation of the configured noise.
+"""The error budget's noise and temporal terms against outside references.
+
+Temporal: in a loop whose only error is the servo lag (ideal sensor, zonal "ideal" DM
+that takes any shape on its disc, no noise, one layer on the pupil), the fitting,
+aliasing and noise terms are 0 and the temporal term must be the residual the real loop
+left in the same frames (its science camera: an independent path from the budget's copy
+of the controller), for several gains, delays and exposures; the residual itself obeys
+the pure-delay structure-function law (test_physics.py), so the temporal term does too.
+
+Noise: the analytic propagation of the configured noise in a noise-only loop.
 
 References (computed in the test, not with ``modalinfo.servo`` or the budget's code):
 - the slope noise: a configured alpha arcsec RMS per axis per subaperture is the phase
@@ -43,6 +52,33 @@ from closedloop.simulation import simulate
 
 ARCSEC = math.pi / 648000.0
 N_DRAWS = 4096
+
+
+def _temporal_only(*, gain, delay, integration):
+    n = 32
+    dx = 4.0 / n
+    return SimulationConfig(
+        name="temporal",
+        telescope=TelescopeConfig(diameter=4.0, n_pixels=n),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=20.0, wind_speed=1.3 * dx / 1e-3),),
+        dms=(DMConfig(altitude=0.0, n_modes=20, kind="ideal"),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
+                        n_subapertures=8, field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=integration, delay=delay,
+                        gain=gain),
+        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)
+
+
+@pytest.mark.parametrize("gain,delay,integration", [
+    (1.0, 0.0, 1e-3), (0.5, 0.5e-3, 1e-3), (0.4, 1e-3, 0.5e-3)])
+def test_temporal_term_is_the_residual_of_a_lag_only_loop(gain, delay, integration):
+    cfg = _temporal_only(gain=gain, delay=delay, integration=integration)
+    b = simulate(cfg, 0.03, seed=1, progress=False, budget_every=1).budget
+    assert b.frames.size >= 10
+    for term in (b.fitting, b.aliasing, b.noise):
+        np.testing.assert_array_equal(term, 0.0)
+    assert np.all(b.temporal > 0)
+    np.testing.assert_allclose(b.temporal, b.measured, rtol=1e-9)
 
 
 def _config(*, alpha, gain, delay):
