@@ -7,6 +7,11 @@ left in the same frames (its science camera: an independent path from the budget
 of the controller), for several gains, delays and exposures; the residual itself obeys
 the pure-delay structure-function law (test_physics.py), so the temporal term does too.
 
+Fitting: in a loop whose only error is fitting (static turbulence, ideal sensor, a
+20-mode Zernike DM, gain 1, no delay) the aliasing, temporal and noise terms are 0 and
+the fitting term is the real loop's residual (which test_physics.py checks against
+Noll's Delta_J).
+
 Noise: the analytic propagation of the configured noise in a noise-only loop.
 
 References (computed in the test, not with ``modalinfo.servo`` or the budget's code):
@@ -32,6 +37,7 @@ variance of a Gaussian quadratic form), is below 1 %, and allows 4.5 times it.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -79,6 +85,19 @@ def test_temporal_term_is_the_residual_of_a_lag_only_loop(gain, delay, integrati
         np.testing.assert_array_equal(term, 0.0)
     assert np.all(b.temporal > 0)
     np.testing.assert_allclose(b.temporal, b.measured, rtol=1e-9)
+
+
+def test_fitting_term_is_the_residual_of_a_fitting_only_loop():
+    cfg = _temporal_only(gain=1.0, delay=0.0, integration=1e-3)
+    dm = dataclasses.replace(cfg.dms[0], kind="zernike")
+    layer = dataclasses.replace(cfg.layers[0], wind_speed=0.0, d_over_r0=10.0)
+    cfg = cfg.replace(dms=(dm,), layers=(layer,))
+    b = simulate(cfg, 0.02, seed=1, progress=False, budget_every=1).budget
+    assert b.frames.size >= 5
+    for term in (b.aliasing, b.temporal, b.noise):
+        np.testing.assert_array_equal(term, 0.0)
+    assert np.all(b.fitting > 0)
+    np.testing.assert_allclose(b.fitting, b.measured, rtol=1e-9)
 
 
 def _config(*, alpha, gain, delay):
