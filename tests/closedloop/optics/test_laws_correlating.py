@@ -25,7 +25,9 @@ References (computed in the test; none is an intermediate of the sensor's code):
   decides), and the slopes of a quadratic phase ``a x^2 + b y^2``: ``(2 a x_c, 2 b y_c)``
   at the centres ``x_c = (j + 1/2) d - d_wfs / 2`` of the fully lit subapertures (the
   Z-tilt and the mean gradient of a quadratic over a square are both the gradient at
-  its centre).
+  its centre); and the slopes of a WFS conjugated to 5 km on a random phase, against
+  the independent Z-tilt computation of test_correlating_sensor (its tests put the WFS
+  at the pupil, where the direction of the beam's shift cannot show).
 """
 
 from __future__ import annotations
@@ -244,3 +246,22 @@ def test_quadratic_phase_gives_the_gradient_at_the_same_centres(model, geometric
     for got in (raw, geo):
         np.testing.assert_allclose(got[:n][full], 2 * a * xc[full], rtol=1e-6, atol=1e-9)
         np.testing.assert_allclose(got[n:][full], 2 * b * yc[full], rtol=1e-6, atol=1e-9)
+
+
+def test_upper_wfs_sees_its_meta_pupil_from_every_direction(model):
+    # the other tests of the linear mode put the WFS at the pupil (altitude 0), where
+    # every field direction lights the same footprint; a WFS conjugated to 5 km sees the
+    # pupil's beam shifted by -h theta per direction: its Z-tilts against the
+    # independent computation of test_correlating_sensor (scipy interpolation + lstsq
+    # over each direction's lit samples) on a random phase on every plane
+    from .test_correlating_sensor import _independent_ztilts
+
+    rng = np.random.default_rng(5)
+    maps = [rng.standard_normal((p.n, p.n)) for p in model.geometry.planes]
+    for w in model.wfss:
+        n = w.n_valid_subapertures
+        s = w.forward(maps)
+        raw = np.concatenate([s[:n] + s[2 * n], s[n:2 * n] + s[2 * n + 1]])
+        expected = _independent_ztilts(w, maps)
+        np.testing.assert_allclose(raw, expected, rtol=1e-9,
+                                   atol=1e-9 * np.abs(expected).max())
