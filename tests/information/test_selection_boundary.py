@@ -11,6 +11,8 @@ References (the documented rule, modalinfo/information/selection.py, checked fro
   do not depend on alpha, so the number of inputs at level alpha is the index of the
   first p-value above alpha in the sequence a lenient search reports; checked at
   alpha = each p-value (kept) and just below it (stops there);
+- ties count against the candidate (``>=``): periodic series whose surrogate shifts are
+  whole periods make every surrogate the original array, hence p = 1 exactly;
 - the budget: ``max_inputs`` = k gives exactly k inputs when more are significant, the
   first k of the unlimited search, and says so.
 """
@@ -90,3 +92,22 @@ def test_max_inputs_is_a_hard_budget(coupled, budget):
     assert len(capped.inputs) == budget
     assert [s.label for s in capped.inputs] == [s.label for s in free.inputs[:budget]]
     assert capped.stop_reason == "budget reached"
+
+
+def test_a_surrogate_equal_to_the_original_counts_against_it():
+    # every series periodic with period 8 over n = 400 rows, and the surrogates' shifts
+    # multiples of 8 (min_shift): each rotated candidate is the original array, so the
+    # histogram estimator gives every surrogate exactly the observed gain. The
+    # p-value counts ties (null >= observed): (1 + N) / (1 + N) = 1, never significant,
+    # however strong the dependence (y is a function of x's last value)
+    rng = np.random.default_rng(2)
+    period, n_rows = 8, 400
+    x = np.tile(rng.standard_normal(period), n_rows // period + 1)[:n_rows + 1]
+    y = np.roll(x, 1) ** 2 + np.roll(x, 1)
+    data = np.column_stack([y, x])
+    sel = select_inputs(data, 0, horizon=1, max_lag=1, method="histogram",
+                        n_surrogates=19, min_shift=period, alpha=0.5, intervals=False,
+                        seed=1)
+    assert sel.n_samples == n_rows and sel.min_shift == period
+    assert sel.inputs == ()
+    assert sel.last_pvalue == 1.0
