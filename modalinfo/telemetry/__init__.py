@@ -7,6 +7,12 @@ use (it needs scipy), so reading and summarising logs stays light.
 
 from modalinfo.telemetry.checks import CONVENTIONS, NONFINITE_POLICIES
 from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.quality import (
+    OUTLIER_POLICIES,
+    QualityReport,
+    apply_outlier_policy,
+    assess_quality,
+)
 from modalinfo.telemetry.sampling import Sampling, require_contiguous, sampling_of
 from modalinfo.telemetry.summary import LogSummary, summarize
 from modalinfo.telemetry.units import (
@@ -20,9 +26,13 @@ from modalinfo.telemetry.units import (
 __all__ = [
     "CONVENTIONS",
     "NONFINITE_POLICIES",
+    "OUTLIER_POLICIES",
     "UNITS",
     "LogSummary",
     "ModalLog",
+    "QualityReport",
+    "apply_outlier_policy",
+    "assess_quality",
     "Sampling",
     "require_contiguous",
     "sampling_of",
