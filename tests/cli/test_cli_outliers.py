@@ -1,0 +1,159 @@
+"""Command-line tests of the shared ``--outliers warn|clip|drop|raise`` policy and ``info``'s
+quality line, and of the batch analyses applying it.
+
+References: a Gaussian log with a planted glitched frame (every mode + 100 sigma) and a
+planted stuck run at known frames; the dispatcher contract (one line on stderr, exit 2
+for a refusal, no traceback); clipped values checked against NumPy / SciPy's median and
+normal-scaled MAD; dropped frames against the planted indices.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from modalinfo.batch.analyses import resolve_params, run_log_task
+from modalinfo.cli import build_parser, main
+from modalinfo.cli._common import OUTLIER_CHOICES
+from modalinfo.io import load, save
+from modalinfo.telemetry import OUTLIER_POLICIES, ModalLog
+
+GLITCH = 1234
+STUCK = (300, 10, 4)  # first frame, length, column
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("outliers")
+    rng = np.random.default_rng(11)
+    clean = rng.standard_normal((4000, 6)) * 0.1
+    x = clean.copy()
+    x[GLITCH] += 10.0  # 100 sigma
+    i, n, j = STUCK
+    x[i:i + n, j] = x[i, j]
+    glitch = save(ModalLog(x, rate=1000.0, wavelength=5e-7), d / "glitch.npz")
+    ok = save(ModalLog(clean, rate=1000.0, wavelength=5e-7), d / "clean.npz")
+    return {"glitch": glitch, "clean": ok, "x": x, "dir": d}
+
+
+def _run(capsys, argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err.splitlines()
+
+
+def test_every_log_command_has_the_flag():
+    assert OUTLIER_CHOICES == OUTLIER_POLICIES
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    for name in ("info", "reorder", "fitting-error", "forecast", "select", "convert", "batch"):
+        opts = {o for a in sub.choices[name]._actions for o in a.option_strings}
+        assert "--outliers" in opts, name
+        extra = {"select": ["--target", "Z2"], "batch": ["--out", "d"], "convert": ["y.npz"]}
+        assert sub.choices[name].parse_args(["x"] + extra.get(name, [])).outliers == "warn"
+
+
+def test_info_quality_line_and_one_warning(files, capsys):
+    code, out, err = _run(capsys, ["info", files["glitch"]])
+    assert code == 0
+    line = next(ln for ln in out.splitlines() if ln.startswith("quality"))
+    assert "11 of 4000 frames flagged" in line  # the glitched frame + 10 stuck frames
+    assert f"1 glitched frame(s) with outliers in >= 3 modes ({GLITCH})" in line
+    assert "10 stuck value(s)" in line
+    assert len(err) == 1 and err[0].startswith("modalinfo info: warning: 'glitch.npz': 11 of")
+    assert "--outliers clip" in err[0]
+
+
+def test_info_clean_log_is_quiet(files, capsys):
+    code, out, err = _run(capsys, ["info", files["clean"]])
+    assert code == 0 and err == []
+    assert "quality     0 of 4000 frames flagged" in out
+
+
+def test_info_raise_exits_2_with_one_line(files, capsys):
+    code, out, err = _run(capsys, ["info", files["glitch"], "--outliers", "raise"])
+    assert code == 2 and out == ""
+    assert len(err) == 1 and err[0].startswith("modalinfo info: error: --outliers raise: "
+                                               "'glitch.npz': 11 of 4000 frames flagged")
+
+
+def test_info_drop_summarises_kept_frames(files, capsys):
+    code, out, err = _run(capsys, ["info", files["glitch"], "--outliers", "drop"])
+    assert code == 0 and len(err) == 1 and "dropped 11 of 4000 frames" in err[0]
+    assert "--outliers drop: dropped 11 of 4000 frames" in out
+    keep = np.ones(4000, dtype=bool)
+    keep[GLITCH] = False
+    keep[STUCK[0]:STUCK[0] + STUCK[1]] = False
+    row = next(ln for ln in out.splitlines() if ln.startswith("Z2 "))
+    assert float(row.split()[1]) == pytest.approx(files["x"][keep, 0].mean(), rel=1e-4)
+
+
+@pytest.mark.parametrize("argv, what", [
+    (["forecast", "{g}", "--outliers", "drop"], "forecasting"),
+    (["select", "{g}", "--target", "Z2", "--outliers", "drop"], "input selection"),
+    (["reorder", "{g}", "--frame", "3", "--outliers", "drop"], "renumbers the frames"),
+    (["fitting-error", "{g}", "--frame", "3", "--outliers", "drop"], "renumbers the frames"),
+])
+def test_drop_refused_where_frames_matter(files, capsys, argv, what):
+    argv = [a.format(g=files["glitch"]) for a in argv]
+    code, out, err = _run(capsys, argv)
+    assert code == 2 and out == ""
+    assert len(err) == 1 and "--outliers drop" in err[0] and what in err[0]
+
+
+def test_forecast_raise_and_clip(files, capsys):
+    base = ["forecast", files["glitch"], "--predictors", "linear", "--horizon", "1",
+            "--modes", "2-3"]
+    code, _, err = _run(capsys, base + ["--outliers", "raise"])
+    assert code == 2 and len(err) == 1 and "error: --outliers raise" in err[0]
+    code, out, err = _run(capsys, base + ["--outliers", "clip", "--quiet"])
+    assert code == 0 and out == ""
+    assert len(err) == 1 and "clipped 2 outlier value(s)" in err[0]
+
+
+def test_convert_clip_writes_clipped_log_with_record(files, capsys):
+    dst = files["dir"] / "clipped.npz"
+    code, _, err = _run(capsys, ["convert", files["glitch"], dst, "--outliers", "clip"])
+    assert code == 0 and len(err) == 1 and "warning" in err[0]
+    x = files["x"]
+    med = np.median(x, axis=0)
+    sig = stats.median_abs_deviation(x, axis=0, scale="normal")
+    back = load(dst)
+    k = back.metadata["outliers"][-1]["k"]
+    assert k == pytest.approx(stats.norm.isf(0.005 / x.size), rel=1e-9)
+    np.testing.assert_allclose(back.coeffs, np.clip(x, med - k * sig, med + k * sig),
+                               rtol=0, atol=1e-12)
+    assert back.metadata["outliers"][-1]["policy"] == "clip"
+    # the clipped file says so in info; its remaining stuck run is still reported
+    code, out, _ = _run(capsys, ["info", dst])
+    assert "outliers    earlier: clip: clipped 6 outlier value(s)" in out
+    assert "quality     10 of 4000 frames flagged: 10 stuck value(s)" in out
+
+
+def test_batch_task_rows_carry_quality(files):
+    payload = {"path": str(files["glitch"]), "fmt": None, "hints": {},
+               "analysis": "summary", "params": resolve_params("summary")}
+    row = run_log_task(payload)
+    assert row["outliers"] == "warn" and row["quality_flagged_frames"] == 11
+    assert row["quality_glitched_frames"] == 1 and row["quality_stuck_values"] == 10
+    clipped = run_log_task({**payload, "params": resolve_params("summary",
+                                                                 {"outliers": "clip"})})
+    x = files["x"]
+    med = np.median(x, axis=0)
+    half = row["quality_k"] * stats.median_abs_deviation(x, axis=0, scale="normal")
+    rms = np.sqrt(np.mean(np.clip(x, med - half, med + half) ** 2, axis=0))
+    assert clipped["largest_rms"] == pytest.approx(rms.max(), rel=1e-9)
+    assert clipped["quality_action"].startswith("clipped 6 outlier value(s)")
+    with pytest.raises(ValueError, match="'raise'"):
+        run_log_task({**payload, "params": resolve_params("summary", {"outliers": "raise"})})
+    with pytest.raises(ValueError, match="forecast.outliers"):
+        resolve_params("forecast", {"outliers": "drop"})
+
+
+def test_batch_cli_refuses_drop_with_forecast(files, capsys):
+    code, out, err = _run(capsys, ["batch", files["glitch"], "--analyses", "forecast",
+                                   "--out", files["dir"] / "b", "--outliers", "drop"])
+    assert code == 2 and len(err) == 1 and "forecast analysis" in err[0]
+    assert not (files["dir"] / "b").exists()
