@@ -405,17 +405,18 @@ def run_log_task(payload: dict) -> dict:
     row = log_columns(log)
     log, quality = apply_outlier_policy(log, params.get("outliers", "warn"),
                                         time_series=analysis == "forecast")
-    row.update(quality_columns(quality, log))
+    row.update(quality_columns(quality, log, params.get("outliers", "warn")))
     row.update(ANALYSES[analysis](log, params))
     return row
 
 
-def quality_columns(report: Any, log: Any) -> dict:
-    """Row columns of the log-quality pass and of what the outlier policy did."""
-    record = log.metadata["outliers"][-1]
+def quality_columns(report: Any, log: Any, policy: str) -> dict:
+    """Row columns of the log-quality pass and of what the outlier ``policy`` did to ``log``."""
+    action = ("none (nothing flagged)" if report.clean
+              else log.metadata["outliers"][-1]["action"])
     worst = report.worst(1)
     return {
-        "outliers": record["policy"],
+        "outliers": policy,
         "quality_flagged_frames": report.n_flagged,
         "quality_glitched_frames": int(report.glitch_frames.size),
         "quality_outlier_values": int(report.outliers.sum()),
@@ -423,5 +424,5 @@ def quality_columns(report: Any, log: Any) -> dict:
         "quality_nonfinite_values": int(report.nonfinite.sum()),
         "quality_worst_mode": worst[0][0] if worst else "",
         "quality_k": float(report.k),
-        "quality_action": record["action"],
+        "quality_action": action,
     }

@@ -127,12 +127,12 @@ def run(args: argparse.Namespace) -> int:
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
     out.write(f"quality     {quality.describe()}\n")
-    history = meta.get("outliers") if isinstance(meta.get("outliers"), list) else []
-    for record in history[:-1]:  # earlier passes recorded in the file (e.g. a clipped log)
+    earlier = loaded.metadata.get("outliers")
+    for record in earlier if isinstance(earlier, list) else []:  # e.g. a clipped file
         if isinstance(record, dict):
             out.write(f"outliers    earlier: {record.get('policy')}: {record.get('action')}\n")
-    if repaired and history:
-        out.write(f"outliers    --outliers {args.outliers}: {history[-1].get('action')}; "
+    if repaired:
+        out.write(f"outliers    --outliers {args.outliers}: {meta['outliers'][-1]['action']}; "
                   "the summary below is of the result\n")
     if isinstance(meta.get("modes_identification"), dict):
         from modalinfo.bases.identify import ZernikeIdentification

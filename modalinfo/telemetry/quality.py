@@ -470,8 +470,9 @@ def apply_outlier_policy(
     Returns
     -------
     log : ModalLog
-        The log the analysis should use, with ``metadata["outliers"]`` extended by
-        a record of the policy, the rule and the counts.
+        The log the analysis should use. When something was flagged its
+        ``metadata["outliers"]`` is extended by a record of the policy, the rule, the
+        counts and the action; a clean log is returned as it is.
     report : QualityReport
         The assessment of the input log.
 
@@ -494,11 +495,11 @@ def apply_outlier_policy(
         report = assess_quality(log, **assess)
     if policy == "raise" and not report.clean:
         raise ValueError(f"`policy`='raise': {report.describe()}.")
+    if report.clean:  # nothing to record: a clean log passes through unchanged
+        return log, report
     record = {"policy": policy, **report.to_dict()}
     out = log
-    if report.clean:
-        record["action"] = "none (nothing flagged)"
-    elif policy == "warn":
+    if policy == "warn":
         record["action"] = "warned; data used as is"
     elif policy == "clip":
         n_out = int(report.outliers.sum())
