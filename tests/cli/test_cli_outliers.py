@@ -157,3 +157,31 @@ def test_batch_cli_refuses_drop_with_forecast(files, capsys):
                                    "--out", files["dir"] / "b", "--outliers", "drop"])
     assert code == 2 and len(err) == 1 and "forecast analysis" in err[0]
     assert not (files["dir"] / "b").exists()
+
+
+def _first_ranks(out: str, n: int = 10) -> list[str]:
+    rows = [ln.split() for ln in out.splitlines()]
+    return [r[1] for r in rows if r and r[0].lstrip("~").isdigit() and int(r[0].lstrip("~")) <= n]
+
+
+def test_reorder_clip_restores_the_order_of_the_clean_log(tmp_path, capsys):
+    """Issue 27: one frame of 4000 with Z2 at 100 sigma; ``--outliers clip`` gives the
+    clean log's first 10 ranks and the glitch is reported (the shipped closed-loop log)."""
+    from pathlib import Path
+
+    data = Path(__file__).resolve().parents[2] / "data" / "kaos_like_closed_loop.npz"
+    log = load(data)[:4000]
+    y = np.array(log.coeffs)
+    y[2000, 0] += 100 * y[:, 0].std()
+    clean = save(log, tmp_path / "clean.npz")
+    glitch = save(ModalLog(y, rate=log.rate, modes=log.modes, units=log.units,
+                           wavelength=log.wavelength), tmp_path / "glitch.npz")
+    fast = ["--resamples", "0", "--budget", "50000", "--pupil-pixels", "32"]
+    code, out_clean, err = _run(capsys, ["reorder", clean, *fast])
+    assert code == 0 and err == []
+    code, out_clip, err = _run(capsys, ["reorder", glitch, *fast, "--outliers", "clip"])
+    assert code == 0 and len(err) == 1
+    assert "1 of 4000 frames flagged: 1 outlier value(s) in 1 frame(s) (most: Z2 1)" in err[0]
+    assert "clipped 1 outlier value(s)" in err[0]
+    assert len(_first_ranks(out_clean)) == 10
+    assert _first_ranks(out_clip) == _first_ranks(out_clean)
