@@ -25,9 +25,13 @@ differ from it by a few per cent on long logs.
   has probability below ``alpha^3`` per log.
 * A **stuck** value belongs to a run of at least ``stuck_run`` (default 8) equal
   consecutive values of one mode (a saturated or frozen subaperture, a repeated
-  frame). Continuous telemetry never repeats a float exactly; a mode that is
-  constant over the whole log (a zeroed or dead mode) is reported as constant, not
-  as stuck.
+  frame). Continuous telemetry almost never repeats a float exactly, but a log written
+  with few digits does: where a mode's fraction of equal consecutive pairs over the
+  log is ``q > 0``, its minimum run is raised to ``1 + log(alpha / (T M)) / log(q)``
+  when that is longer (if repeats were independent, a chance run that long somewhere
+  in the log would have probability <= ``alpha``), so quantisation alone is not
+  flagged. A mode that is constant over the whole log (a zeroed or dead mode) is
+  reported as constant, not as stuck.
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -157,7 +161,10 @@ class QualityReport:
     outliers, stuck, nonfinite : numpy.ndarray of int, shape (M,)
         Per-mode counts of outlier, stuck and non-finite values.
     frame_modes, stuck_run : int
-        The glitched-frame and stuck-run rules (see the module docstring).
+        The glitched-frame and (base) stuck-run rules (see the module docstring).
+    stuck_runs : numpy.ndarray of int, shape (M,)
+        Minimum stuck run of each mode: ``stuck_run``, longer for a quantised mode
+        (0: not tested, a constant mode).
     glitch_frames, outlier_frames, stuck_frames, nonfinite_frames : numpy.ndarray of int
         Sorted frame indices: glitched frames (outliers in >= ``frame_modes`` modes),
         frames with any outlier, with any stuck value, with any non-finite value.
@@ -180,6 +187,7 @@ class QualityReport:
     nonfinite: np.ndarray
     frame_modes: int
     stuck_run: int
+    stuck_runs: np.ndarray
     glitch_frames: np.ndarray
     outlier_frames: np.ndarray
     stuck_frames: np.ndarray
@@ -236,7 +244,8 @@ class QualityReport:
         n_stuck = int(self.stuck.sum())
         if n_stuck:
             modes = int(np.count_nonzero(self.stuck))
-            parts.append(f"{n_stuck} stuck value(s) (runs of >= {self.stuck_run} equal "
+            shortest = int(self.stuck_runs[self.stuck > 0].min())
+            parts.append(f"{n_stuck} stuck value(s) (runs of >= {shortest} equal "
                          f"values) in {modes} mode(s)")
         n_bad = int(self.nonfinite.sum())
         if n_bad:
@@ -262,14 +271,20 @@ class QualityReport:
 
 
 def _sample_and_range(arr: np.ndarray, rows: int, step: int):
-    """Pass 1: strided subsample, per-mode finite min / max and non-finite counts."""
+    """Pass 1: strided subsample, per-mode finite min / max, non-finite and repeat counts."""
     m = arr.shape[1]
     lo = np.full(m, np.inf)
     hi = np.full(m, -np.inf)
     bad = np.zeros(m, dtype=np.int64)
+    repeats = np.zeros(m, dtype=np.int64)  # equal consecutive pairs (NaN never equal)
+    prev = None
     picked = []
     i0 = 0
     for block in row_blocks(arr, rows):
+        repeats += np.count_nonzero(block[1:] == block[:-1], axis=0)
+        if prev is not None:
+            repeats += block[0] == prev
+        prev = np.array(block[-1])
         first = (-i0) % step  # rows with global index divisible by step
         picked.append(np.array(block[first::step], dtype=np.float64))
         fin = np.isfinite(block)
@@ -281,7 +296,22 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int):
             lo = np.minimum(lo, np.where(fin, block, np.inf).min(axis=0))
             hi = np.maximum(hi, np.where(fin, block, -np.inf).max(axis=0))
         i0 += block.shape[0]
-    return np.concatenate(picked, axis=0), lo, hi, bad
+    return np.concatenate(picked, axis=0), lo, hi, bad, repeats
+
+
+def _stuck_runs(repeats: np.ndarray, n: int, m: int, stuck_run: int,
+                alpha: float) -> np.ndarray:
+    """Minimum stuck run per mode: ``stuck_run``, longer where values repeat by quantisation."""
+    q = repeats / max(1, n - 1)
+    runs = np.full(m, stuck_run, dtype=np.int64)
+    partial = (q > 0) & (q < 1)
+    if partial.any():
+        # P(a chance run of L equal values at one place) = q^(L-1) if repeats were
+        # independent; Bonferroni over the T M places
+        need = 1.0 + np.log(alpha / (n * m)) / np.log(q[partial])
+        runs[partial] = np.maximum(stuck_run, np.ceil(need)).astype(np.int64)
+    runs[q >= 1] = n + 1  # every pair equal: constant (set to 0 by the caller)
+    return runs
 
 
 def _robust_scale(sample: np.ndarray, constant: np.ndarray):
@@ -356,13 +386,14 @@ def assess_quality(
         chunk_frames, "chunk_frames", minimum=1)
 
     step = max(1, -(-n // sample_frames))
-    sample, lo, hi, _ = _sample_and_range(arr, rows, step)
+    sample, lo, hi, _, repeats = _sample_and_range(arr, rows, step)
     constant = lo == hi  # every finite value equal (no finite value: lo > hi)
     med, sigma = _robust_scale(sample, constant)
     tested = np.isfinite(sigma) & (sigma > 0)
     thr = np.where(tested, k * np.where(tested, sigma, 0.0), np.inf)
     centre = np.where(np.isfinite(med), med, 0.0)
-    runs = np.where(constant | (lo > hi), 0, stuck_run).astype(np.int64)
+    runs = _stuck_runs(repeats, n, m, stuck_run, alpha)
+    runs[constant | (lo > hi)] = 0
 
     from modalinfo.telemetry._quality_kernels import flag_block
 
@@ -399,7 +430,8 @@ def assess_quality(
         n_frames=int(n), n_modes=int(m), labels=list(labels), k=float(k), alpha=used_alpha,
         false_alarm=gaussian_false_alarm(k), median=med, sigma=sigma, constant=constant,
         sample_frames=int(sample.shape[0]), outliers=n_out, stuck=n_stuck, nonfinite=n_bad,
-        frame_modes=int(frame_modes), stuck_run=int(stuck_run), glitch_frames=glitch_frames,
+        frame_modes=int(frame_modes), stuck_run=int(stuck_run), stuck_runs=runs,
+        glitch_frames=glitch_frames,
         outlier_frames=outlier_frames, stuck_frames=stuck_frames, nonfinite_frames=bad_frames,
         flagged_frames=flagged.astype(np.int64),
     )

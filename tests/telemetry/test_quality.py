@@ -212,3 +212,29 @@ def test_bad_policy_named():
     with pytest.raises(TypeError, match="`log`"):
         apply_outlier_policy(np.zeros((5, 2)), "warn")
     assert OUTLIER_POLICIES == ("warn", "clip", "drop", "raise")
+
+
+def test_quantised_log_repeats_are_not_stuck_but_a_long_run_is():
+    # AR(1) modes written with a 0.5 sigma resolution: equal consecutive values are
+    # common (q ~ 0.3-0.5), and chance runs of 8+ occur; the stuck rule lengthens per
+    # mode to 1 + log(alpha / (T M)) / log(q) and still finds a planted 200-frame run
+    rng = np.random.default_rng(9)
+    e = rng.standard_normal((T, 6)) * math.sqrt(1 - 0.95**2)
+    x = np.zeros((T, 6))
+    for t in range(1, T):
+        x[t] = 0.95 * x[t - 1] + e[t]
+    x = np.round(x * 2) / 2
+    eq = x[1:] == x[:-1]
+    lengths = [len(r) for j in range(6) for r in "".join("1" if v else "0" for v in eq[:, j])
+               .split("0") if r]
+    assert max(lengths) + 1 >= 8  # the fixed 8-value rule would flag chance runs here
+    r = assess_quality(x)
+    q = eq.mean(axis=0)
+    need = np.maximum(8, np.ceil(1 + np.log(0.01 / (T * 6)) / np.log(q)))
+    np.testing.assert_array_equal(r.stuck_runs, need)
+    assert r.stuck.sum() == 0
+    y = x.copy()
+    y[1000:1200, 2] = 7.0  # a long run at a value the mode never takes (saturation)
+    r = assess_quality(y)
+    np.testing.assert_array_equal(r.stuck_frames, np.arange(1000, 1200))
+    assert r.stuck.tolist() == [0, 0, 200, 0, 0, 0]
