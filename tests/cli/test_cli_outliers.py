@@ -185,3 +185,24 @@ def test_reorder_clip_restores_the_order_of_the_clean_log(tmp_path, capsys):
     assert "clipped 1 outlier value(s)" in err[0]
     assert len(_first_ranks(out_clean)) == 10
     assert _first_ranks(out_clip) == _first_ranks(out_clean)
+
+
+def test_batch_cli_warns_once_for_flagged_logs(files, tmp_path, capsys):
+    """The batch's warn line, from the rows of a run on an in-process Dask cluster
+    (the CLI then resumes it: every task done, no cluster needed)."""
+    distributed = pytest.importorskip("distributed")
+    from modalinfo.batch import analyse_archive
+
+    src = tmp_path / "logs"
+    src.mkdir()
+    for name in ("glitch.npz", "clean.npz"):
+        (src / name).write_bytes(files[name.split(".")[0]].read_bytes())
+    out = tmp_path / "out"
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
+                            dashboard_address=None) as client:
+        analyse_archive(src, "summary", out, client=client, progress=False, plots=False)
+    capsys.readouterr()
+    code, _, err = _run(capsys, ["batch", src, "--out", out, "--no-plots", "--quiet"])
+    assert code == 0 and len(err) == 1
+    assert err[0].startswith("modalinfo batch: warning: 1 log(s) have frames flagged")
+    assert "--outliers warn applied (clip, drop or raise act on them)" in err[0]
