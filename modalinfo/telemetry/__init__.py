@@ -1,4 +1,8 @@
-"""Telemetry logs of modal coefficients: ``ModalLog``, units and one-pass summaries.
+"""Telemetry logs of modal coefficients: ``ModalLog``, units, one-pass summaries and quality.
+
+:func:`assess_quality` finds outliers (median +- k x 1.4826 MAD), glitched frames, stuck
+runs and non-finite values; :func:`apply_outlier_policy` is the ``--outliers`` policy
+every command shares (``modalinfo.telemetry.quality``).
 
 ``modalinfo.telemetry.synthetic`` holds the synthetic open/closed-loop logs
 (``open_loop_log``, ``closed_loop_log``, ``kaos_like``); it is imported on first

@@ -206,3 +206,15 @@ def test_batch_cli_warns_once_for_flagged_logs(files, tmp_path, capsys):
     assert code == 0 and len(err) == 1
     assert err[0].startswith("modalinfo batch: warning: 1 log(s) have frames flagged")
     assert "--outliers warn applied (clip, drop or raise act on them)" in err[0]
+
+
+def test_paper_figures_log_goes_through_the_policy(files, tmp_path, capsys):
+    from paper_figures.__main__ import main as figures
+
+    for policy, what in (("drop", "--outliers drop removes frames"),
+                         ("raise", "--outliers raise: 'glitch.npz': 11 of 4000")):
+        code = figures(["--log", str(files["glitch"]), "--only", "1", "--out",
+                        str(tmp_path / "figs"), "--outliers", policy])
+        err = capsys.readouterr().err.splitlines()
+        assert code == 2 and len(err) == 1 and what in err[0]
+        assert not (tmp_path / "figs").exists()
