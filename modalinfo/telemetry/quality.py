@@ -444,6 +444,11 @@ def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
     half = np.where(tested, report.k * np.where(tested, report.sigma, 0.0), np.inf)
     centre = np.where(np.isfinite(report.median), report.median, 0.0)
     lo, hi = centre - half, centre + half
+    if arr.dtype != np.float64:  # bounds rounded inwards, so no clipped value is > k sigma
+        lo_d, hi_d = lo.astype(arr.dtype), hi.astype(arr.dtype)
+        lo_d = np.where(lo_d < lo, np.nextafter(lo_d, arr.dtype.type(np.inf)), lo_d)
+        hi_d = np.where(hi_d > hi, np.nextafter(hi_d, arr.dtype.type(-np.inf)), hi_d)
+        lo, hi = lo_d, hi_d
     out = np.empty(arr.shape, dtype=arr.dtype)
     i0 = 0
     for block in row_blocks(arr, scan_rows(arr)):

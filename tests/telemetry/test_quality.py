@@ -238,3 +238,12 @@ def test_quantised_log_repeats_are_not_stuck_but_a_long_run_is():
     r = assess_quality(y)
     np.testing.assert_array_equal(r.stuck_frames, np.arange(1000, 1200))
     assert r.stuck.tolist() == [0, 0, 200, 0, 0, 0]
+
+
+def test_clip_float32_log_leaves_no_outlier(planted):
+    log = ModalLog(planted.astype(np.float32), rate=1000.0)
+    clipped, r = apply_outlier_policy(log, "clip")
+    assert clipped.dtype == np.float32 and r.outliers.sum() == 28
+    assert assess_quality(clipped, k=r.k).outliers.sum() == 0
+    changed = clipped.coeffs != log.coeffs
+    assert changed.sum() == 28 and changed[GLITCH_FRAME].all() and changed[SPIKE]
