@@ -119,8 +119,8 @@ def run(args: argparse.Namespace) -> int:
     blocks = args.method.startswith("mi_") and args.frame is None and args.resamples > 0
     if blocks or args.stability is not None or args.split_gaps:
         log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
-    # after the gap check: frames dropped as outliers are isolated, and the pooled MI
-    # and its block bootstrap treat the remaining frames as one sample
+    # after the gap check: the pooled MI treats the frames as one sample, so dropped
+    # frames only shorten it (the block bootstrap's blocks may span a removed frame)
     log, _ = apply_outliers(log, args, args.log)
     if args.basis == "file":
         basis = file_basis(args, log)
