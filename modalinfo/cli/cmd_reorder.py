@@ -115,8 +115,12 @@ def run(args: argparse.Namespace) -> int:
     if args.stability is not None and (args.method == "pca" or args.frame is not None):
         raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
     refuse_frame_with_drop(args)
-    log = load_log_with_hints(args.log, args)
     blocks = args.method.startswith("mi_") and args.frame is None and args.resamples > 0
+    if blocks and args.outliers == "drop":
+        raise CommandError("--outliers drop leaves gaps in the time axis, which the block "
+                           "bootstrap of the gains (--resamples) cannot span; use --outliers "
+                           "clip, or --resamples 0 with drop")
+    log = load_log_with_hints(args.log, args)
     if blocks or args.stability is not None or args.split_gaps:
         log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
     # after the gap check: the pooled MI treats the frames as one sample, so dropped

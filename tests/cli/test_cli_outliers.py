@@ -95,6 +95,7 @@ def test_info_drop_summarises_kept_frames(files, capsys):
     (["select", "{g}", "--target", "Z2", "--outliers", "drop"], "input selection"),
     (["reorder", "{g}", "--frame", "3", "--outliers", "drop"], "renumbers the frames"),
     (["fitting-error", "{g}", "--frame", "3", "--outliers", "drop"], "renumbers the frames"),
+    (["reorder", "{g}", "--outliers", "drop"], "block bootstrap"),  # default --resamples 20
 ])
 def test_drop_refused_where_frames_matter(files, capsys, argv, what):
     argv = [a.format(g=files["glitch"]) for a in argv]
@@ -218,3 +219,16 @@ def test_paper_figures_log_goes_through_the_policy(files, tmp_path, capsys):
         err = capsys.readouterr().err.splitlines()
         assert code == 2 and len(err) == 1 and what in err[0]
         assert not (tmp_path / "figs").exists()
+
+
+def test_reorder_drop_without_bootstrap_removes_the_glitch(files, capsys):
+    fast = ["--resamples", "0", "--budget", "20000", "--pupil-pixels", "16", "--method",
+            "variance"]
+    code, out, err = _run(capsys, ["reorder", files["glitch"], *fast, "--outliers", "drop"])
+    assert code == 0 and len(err) == 1 and "dropped 11 of 4000 frames" in err[0]
+    keep = np.ones(4000, dtype=bool)
+    keep[GLITCH] = False
+    keep[STUCK[0]:STUCK[0] + STUCK[1]] = False
+    ms = np.mean(files["x"][keep] ** 2, axis=0)  # variance order: mean-square coefficient
+    labels = [f"Z{j}" for j in range(2, 8)]
+    assert _first_ranks(out, 6) == [labels[j] for j in np.argsort(-ms, kind="stable")]
