@@ -13,7 +13,11 @@ move them by more than its share of the sample.
 The default ``k`` controls the family-wise false-alarm rate on a clean Gaussian log:
 with ``n = T M`` values, ``k = Phi^-1(1 - alpha / (2 n))`` (Bonferroni), so the
 probability that **any** value of a Gaussian log is flagged is at most ``alpha``
-(default 1 %; 4000 x 27 values give k = 5.34, 10^7 x 27 give k = 6.62). Each value's
+(default 1 %; 4000 x 27 values give k = 5.34, 10^7 x 27 give k = 6.62). The union
+bound holds whatever the correlation between values, so it applies to autocorrelated
+telemetry as it is. Telemetry with heavier-than-Gaussian tails (turbulence bursts) gets
+more flags than ``alpha`` suggests: they are reported, never hidden, and a library
+caller may choose ``k`` to suit. Each value's
 Gaussian false-alarm probability ``2 (1 - Phi(k))`` is reported
 (:attr:`QualityReport.false_alarm`); the MAD's own sampling error (relative standard
 error ``1.17 / sqrt(N)`` for N frames; Rousseeuw & Croux 1993) makes the realised rate
