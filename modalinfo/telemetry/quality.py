@@ -349,7 +349,7 @@ def assess_quality(
     log_or_coeffs : ModalLog or array_like, shape (T, M)
         The log (a ``numpy.memmap`` is scanned in blocks).
     k : float, optional
-        Threshold in units of sigma_MAD (> 0). Default: :func:`gaussian_threshold`
+        Threshold in units of sigma_MAD (> 0). Default: ``gaussian_threshold``
         of the ``T M`` values at ``alpha``.
     alpha : float
         Family-wise Gaussian false-alarm probability of the default ``k``, in (0, 1).
