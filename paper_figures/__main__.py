@@ -40,6 +40,7 @@ import argparse
 import importlib
 import inspect
 import platform
+import re
 import signal
 import sys
 import threading
@@ -140,7 +141,12 @@ def _check_args(args, modules, logs, needs_log) -> None:
 def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
     from modalinfo.cli import CommandError
-    from modalinfo.cli._common import input_notes, load_log_with_hints, split_gaps
+    from modalinfo.cli._common import (
+        apply_outliers,
+        input_notes,
+        load_log_with_hints,
+        split_gaps,
+    )
     from paper_figures._common import check_log_for
 
     loaded = {}
@@ -152,9 +158,11 @@ def _load_logs(args, logs, modules) -> dict:
             if key == "user":
                 args._notes = []
                 log = split_gaps(log, args, path, "Figures 1 and 5")
-                # what was assumed or cut, as the CLI says it
-                notes += input_notes(log, path) + [n.split(": note: ", 1)[-1]
-                                                   for n in args._notes]
+                # --outliers as in every command; Figure 5 forecasts, so no drop
+                log, _ = apply_outliers(log, args, path, time_series=True)
+                # what was assumed, cut or flagged, as the CLI says it
+                notes += input_notes(log, path) + [
+                    re.split(r": (?:note|warning): ", n, maxsplit=1)[-1] for n in args._notes]
         except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
             message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
             raise _RefusedError(f"--log: {message}") from None

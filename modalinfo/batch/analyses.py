@@ -12,6 +12,12 @@ Every analysis calls the library exactly as the matching command does:
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
   in chunks, so memory does not grow with the log.
 
+Before any analysis the log goes through the log-quality pass and the outlier
+policy of every command (:func:`modalinfo.telemetry.quality.apply_outlier_policy`,
+parameter ``outliers``: warn, clip, drop or raise; ``drop`` is refused for
+``forecast``, whose lags need every frame); the row records the policy and what the
+pass found (``quality_*`` columns), and ``raise`` turns a flagged log into an error row.
+
 :func:`run_log_task` is the task function the engine sends to the workers; running
 it in one process gives the same row, bit for bit.
 """
@@ -29,24 +35,25 @@ import numpy as np
 
 from modalinfo._validation import check_choice, check_int, check_real
 
-__all__ = ["ANALYSES", "DEFAULTS", "log_columns", "resolve_params", "run_log_task",
-           "sha256_file"]
+__all__ = ["ANALYSES", "DEFAULTS", "log_columns", "quality_columns", "resolve_params",
+           "run_log_task", "sha256_file"]
 
 #: Default parameters of each analysis (a user's values override them key by key).
 DEFAULTS: dict[str, dict[str, Any]] = {
-    "summary": {"chunk_frames": 65536},
+    "summary": {"chunk_frames": 65536, "outliers": "warn"},
     "ordering": {
         "basis": "zernike", "method": "mi_greedy", "estimator": "histogram",
         "budget": 200_000, "seed": 0, "pupil_pixels": 64, "resamples": 0,
-        "windows": 4, "seeds": [0, 1, 2], "modes": None,
+        "windows": 4, "seeds": [0, 1, 2], "modes": None, "outliers": "warn",
     },
     "fitting_error": {
         "orderings": "zernike:standard,zernike:mi_greedy,kl-data:pca",
         "units": "waves2", "target": None, "fraction": 0.1, "estimator": "histogram",
-        "budget": 200_000, "seed": 0, "pupil_pixels": 64, "modes": None,
+        "budget": 200_000, "seed": 0, "pupil_pixels": 64, "modes": None, "outliers": "warn",
     },
     "forecast": {
         "predictors": "linear,linear-ls,arma", "horizon": 5, "train": 0.5, "modes": None,
+        "outliers": "warn",
     },
 }
 
@@ -169,14 +176,18 @@ def _estimators() -> tuple:
 
 #: analysis -> parameter -> check(value, name) raising ValueError/TypeError; every
 #: parameter of DEFAULTS has one, so a bad ``--set`` is refused before any work.
+_OUTLIERS = _choice(lambda: ("warn", "clip", "drop", "raise"))
+#: forecast lags need every frame: no drop (modalinfo.telemetry.quality, time_series)
+_OUTLIERS_TIME = _choice(lambda: ("warn", "clip", "raise"))
+
 _CHECKS: dict[str, dict[str, Callable[[Any, str], None]]] = {
-    "summary": {"chunk_frames": _int_at_least(1)},
+    "summary": {"chunk_frames": _int_at_least(1), "outliers": _OUTLIERS},
     "ordering": {
         "basis": _choice(_bases), "method": _choice(_methods),
         "estimator": _choice(_estimators), "budget": _int_at_least(1),
         "seed": _int_at_least(0), "pupil_pixels": _int_at_least(4),
         "resamples": _int_at_least(0), "windows": _int_at_least(0), "seeds": _seeds_value,
-        "modes": _modes_value,
+        "modes": _modes_value, "outliers": _OUTLIERS,
     },
     "fitting_error": {
         "orderings": _orderings, "units": _choice(lambda: ("waves2", "rad2")),
@@ -184,10 +195,11 @@ _CHECKS: dict[str, dict[str, Callable[[Any, str], None]]] = {
         "fraction": _optional_real(minimum=0.0, maximum=1.0, strict_min=True),
         "estimator": _choice(_estimators), "budget": _int_at_least(1),
         "seed": _int_at_least(0), "pupil_pixels": _int_at_least(4), "modes": _modes_value,
+        "outliers": _OUTLIERS,
     },
     "forecast": {
         "predictors": _predictor_names, "horizon": _int_at_least(1), "train": _train_value,
-        "modes": _modes_value,
+        "modes": _modes_value, "outliers": _OUTLIERS_TIME,
     },
 }
 
@@ -380,6 +392,7 @@ def run_log_task(payload: dict) -> dict:
 
     matplotlib.use("Agg")  # a predictor or analysis may import pyplot on a worker
     from modalinfo.io import load
+    from modalinfo.telemetry.quality import apply_outlier_policy
 
     path = payload["path"]
     if not os.path.isfile(path):
@@ -388,6 +401,28 @@ def run_log_task(payload: dict) -> dict:
     if payload.get("window") is not None:
         start, stop = payload["window"]
         log = log[start:stop]  # a view of the mapped file: only the window is read
+    analysis, params = payload["analysis"], payload["params"]
     row = log_columns(log)
-    row.update(ANALYSES[payload["analysis"]](log, payload["params"]))
+    log, quality = apply_outlier_policy(log, params.get("outliers", "warn"),
+                                        time_series=analysis == "forecast")
+    row.update(quality_columns(quality, log, params.get("outliers", "warn")))
+    row.update(ANALYSES[analysis](log, params))
     return row
+
+
+def quality_columns(report: Any, log: Any, policy: str) -> dict:
+    """Row columns of the log-quality pass and of what the outlier ``policy`` did to ``log``."""
+    action = ("none (nothing flagged)" if report.clean
+              else log.metadata["outliers"][-1]["action"])
+    worst = report.worst(1)
+    return {
+        "outliers": policy,
+        "quality_flagged_frames": report.n_flagged,
+        "quality_glitched_frames": int(report.glitch_frames.size),
+        "quality_outlier_values": int(report.outliers.sum()),
+        "quality_stuck_values": int(report.stuck.sum()),
+        "quality_nonfinite_values": int(report.nonfinite.sum()),
+        "quality_worst_mode": worst[0][0] if worst else "",
+        "quality_k": float(report.k),
+        "quality_action": action,
+    }

@@ -9,7 +9,11 @@ from modalinfo.bases.indexing import parse_modes
 from modalinfo.cli import CommandError
 
 __all__ = [
+    "OUTLIER_CHOICES",
     "add_hint_arguments",
+    "add_outlier_argument",
+    "apply_outliers",
+    "refuse_outlier_drop",
     "add_gap_argument",
     "hints_from_args",
     "check_output",
@@ -105,6 +109,68 @@ def add_hint_arguments(
                        "(--no-transpose: keep a wide array as frames x modes)")
     group.add_argument("--dataset", metavar="PATH",
                        help="HDF5 dataset path or NPZ array name of the coefficients")
+    add_outlier_argument(parser)
+
+
+#: ``--outliers`` choices (modalinfo.telemetry.quality.OUTLIER_POLICIES, listed without
+#: importing numba-backed code at parser build time).
+OUTLIER_CHOICES = ("warn", "clip", "drop", "raise")
+
+
+def add_outlier_argument(parser: argparse.ArgumentParser) -> None:
+    """Add ``--outliers warn|clip|drop|raise``: the log-quality policy every command shares.
+
+    Added by :func:`add_hint_arguments`, so every command reading a log has it; the
+    command applies it with :func:`apply_outliers`. The rule and the policies are
+    those of :mod:`modalinfo.telemetry.quality`.
+    """
+    group = parser.add_argument_group("log quality")
+    group.add_argument(
+        "--outliers", choices=OUTLIER_CHOICES, default="warn",
+        help="values beyond median +- k x 1.4826 MAD of their mode (k for a 1%% chance of "
+        "any false flag on a Gaussian log), stuck runs and glitched frames: warn (default: "
+        "one line on stderr, data used as is), clip (winsorise outliers to the threshold), "
+        "drop (remove flagged frames; refused by forecast and select, which need every "
+        "frame) or raise (refuse the log, exit 2)")
+
+
+def refuse_outlier_drop(args: argparse.Namespace, purpose: str) -> None:
+    """Refuse ``--outliers drop`` before any work where the analysis needs every frame."""
+    if getattr(args, "outliers", "warn") == "drop":
+        raise CommandError(f"--outliers drop removes frames, which breaks the time axis "
+                           f"{purpose} needs; use --outliers clip (winsorise in place) or warn")
+
+
+def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False):
+    """Apply ``--outliers`` to ``log``; queue one stderr line when something was flagged.
+
+    Returns the log the command analyses (clipped or with frames dropped, its
+    ``metadata["outliers"]`` recording what was done) and the
+    :class:`~modalinfo.telemetry.quality.QualityReport`. ``raise`` (or ``drop`` with
+    ``time_series``) becomes a one-line error, exit status 2.
+    """
+    from modalinfo.telemetry.quality import apply_outlier_policy
+
+    policy = getattr(args, "outliers", "warn")
+    if time_series:
+        refuse_outlier_drop(args, f"{args.command}")
+    try:
+        new, report = apply_outlier_policy(log, policy, time_series=time_series)
+    except ValueError as exc:
+        text = str(exc).replace("`policy`='raise': ", "").rstrip(".")
+        raise CommandError(f"--outliers {policy}: '{Path(path).name}': {text}") from None
+    if not report.clean:
+        action = new.metadata["outliers"][-1]["action"]
+        if policy == "warn":
+            action = ("used as is (--outliers clip winsorises the outliers, drop removes the "
+                      "frames, raise refuses the log)")
+        queued = getattr(args, "_notes", None)
+        if queued is None:
+            queued = []
+            args._notes = queued
+        queued.append(f"modalinfo {args.command}: warning: '{Path(path).name}': "
+                      f"{report.describe()}; {action}")
+    return new, report
 
 
 def add_gap_argument(parser: argparse.ArgumentParser) -> None:

@@ -28,7 +28,12 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, check_cluster_args, hints_from_args
+from modalinfo.cli._common import (
+    add_hint_arguments,
+    check_cluster_args,
+    hints_from_args,
+    refuse_outlier_drop,
+)
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -99,6 +104,12 @@ def run(args: argparse.Namespace) -> int:
     if args.window_frames is not None and args.window_frames < 2:
         raise CommandError(f"--window-frames must be >= 2; got {args.window_frames}")
     settings = parse_settings(args.settings)
+    if args.outliers != "warn":  # --set analysis.outliers=... wins for its analysis
+        chosen = [a.strip() for a in args.analyses.split(",") if a.strip()]
+        if "forecast" in chosen:
+            refuse_outlier_drop(args, "the forecast analysis")
+        for analysis in chosen:
+            settings.setdefault(analysis, {}).setdefault("outliers", args.outliers)
     hints = hints_from_args(args)
     if hints.get("nonfinite") == "raise":
         hints.pop("nonfinite")  # the reader's default: keeps the task keys of plain runs
@@ -132,6 +143,16 @@ def run(args: argparse.Namespace) -> int:
                           f"{row.get('error_type')}: {row.get('error_message')}\n")
         for path in result.plots:
             out.write(f"plot: {path}\n")
+    flagged = [r for r in result.rows if r.get("status") == "ok"
+               and (r.get("quality_flagged_frames") or 0) > 0]
+    if flagged:  # warn is never silent: one line for the batch, the counts in the table
+        logs = len({r["path"] for r in flagged})
+        sys.stderr.write(
+            f"modalinfo batch: warning: {logs} log(s) have frames flagged by the quality "
+            f"pass (outliers, glitched frames or stuck values; columns quality_* of "
+            f"{result.csv_path}); --outliers {args.outliers} applied"
+            + (" (clip, drop or raise act on them)" if args.outliers == "warn" else "")
+            + "\n")
     if result.n_error:
         lost = sum(r.get("status") == "lost" for r in result.rows)
         sys.stderr.write(

@@ -20,6 +20,7 @@ from pathlib import Path
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
     add_hint_arguments,
+    apply_outliers,
     check_log_output,
     hints_from_args,
     input_notes,
@@ -87,6 +88,8 @@ def run(args: argparse.Namespace) -> int:
                 "coefficients; give them with --in-units (rad, nm, um or waves)"
             )
         queue_notes(args, input_notes(log, Path(args.input)))  # a warning: even with --quiet
+        # --outliers clip|drop writes the repaired log; metadata["outliers"] records it
+        log, _ = apply_outliers(log, args, source)
         if args.units is not None or args.wavelength is not None:
             log = log.to_units(args.units or log.units, wavelength=args.wavelength)
         if args.convention is not None:

@@ -14,8 +14,13 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import _Renamed, check_figure_output, load_log_with_hints
-from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis
+from modalinfo.cli._common import (
+    _Renamed,
+    apply_outliers,
+    check_figure_output,
+    load_log_with_hints,
+)
+from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis, refuse_frame_with_drop
 
 NAME = "fitting-error"
 HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."
@@ -51,7 +56,9 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--target must be >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
+    refuse_frame_with_drop(args)
     log = load_log_with_hints(args.log, args)
+    log, _ = apply_outliers(log, args, args.log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:
         comp = compare_orderings(

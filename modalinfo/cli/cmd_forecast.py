@@ -21,7 +21,13 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_gap_argument, add_hint_arguments, split_gaps
+from modalinfo.cli._common import (
+    add_gap_argument,
+    add_hint_arguments,
+    apply_outliers,
+    refuse_outlier_drop,
+    split_gaps,
+)
 
 NAME = "forecast"
 HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
@@ -112,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.horizon < 1:
         raise CommandError(f"--horizon must be an int >= 1; got {args.horizon}")
+    refuse_outlier_drop(args, "forecasting")
     predictors = _parse_predictors(args.predictors)
     train = _parse_train(args.train)
     if args.out is not None:
@@ -134,6 +141,8 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"--skip-constant: every mode is constant over the "
                                f"training frames ({', '.join(skipped)}); nothing to forecast")
         log = log.drop_modes(skipped)
+    # on the modes forecast; --outliers drop was refused above (lags need every frame)
+    log, _ = apply_outliers(log, args, args.log, time_series=True)
 
     import matplotlib
 

@@ -5,8 +5,11 @@ units, loop state and metadata, then a table of per-mode mean, RMS, standard dev
 and lag-1 autocorrelation computed chunk by chunk (NPY, NPZ and HDF5 logs are
 memory-mapped, so a log larger than memory is fine). Values the file does not record
 and no hint gave are marked "(assumed)". The checksum of a memory-mapped NPZ/HDF5 log
-is verified during the same pass; the "integrity" line says what was verified. A
-progress bar goes to stderr when it is a terminal, unless ``--quiet``.
+is verified during the same pass; the "integrity" line says what was verified. The
+"quality" line reports the log-quality pass (:mod:`modalinfo.telemetry.quality`:
+outliers beyond median +- k x 1.4826 MAD, glitched frames, stuck runs), and
+``--outliers clip|drop`` summarises the repaired log (``raise`` refuses a flagged
+log). A progress bar goes to stderr when it is a terminal, unless ``--quiet``.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import argparse
 import sys
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, hints_from_args
+from modalinfo.cli._common import add_hint_arguments, apply_outliers, hints_from_args
 
 NAME = "info"
 HELP = "Describe a telemetry log: shape, rate, modes, units and per-mode RMS / lag-1 ACF."
@@ -84,8 +87,10 @@ def run(args: argparse.Namespace) -> int:
 
     if args.chunk_frames < 1:
         raise CommandError(f"--chunk-frames must be >= 1; got {args.chunk_frames}")
-    log = load(args.log, fmt=args.fmt, mmap=not args.no_mmap, dataset=args.dataset,
-               **hints_from_args(args))
+    loaded = load(args.log, fmt=args.fmt, mmap=not args.no_mmap, dataset=args.dataset,
+                  **hints_from_args(args))
+    log, quality = apply_outliers(loaded, args, args.log)  # refused here, before any output
+    repaired = log.coeffs is not loaded.coeffs  # clip / drop changed the data
     out = sys.stdout
     meta = log.metadata
     labels = log.labels
@@ -113,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
     out.write(f"loop        {_loop_text(meta)}\n")
     for key in sorted(meta):
         if key in ("loop", "repairs", "assumed", "modes_identification",
-                   "coefficient_quantity"):
+                   "coefficient_quantity", "outliers"):
             continue
         value = meta[key]
         text = "; ".join(f"{k} {v}" for k, v in value.items()) if isinstance(
@@ -121,6 +126,14 @@ def run(args: argparse.Namespace) -> int:
         out.write(f"meta        {key}: {text if len(text) <= 90 else text[:87] + '...'}\n")
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
+    out.write(f"quality     {quality.describe()}\n")
+    earlier = loaded.metadata.get("outliers")
+    for record in earlier if isinstance(earlier, list) else []:  # e.g. a clipped file
+        if isinstance(record, dict):
+            out.write(f"outliers    earlier: {record.get('policy')}: {record.get('action')}\n")
+    if repaired:
+        out.write(f"outliers    --outliers {args.outliers}: {meta['outliers'][-1]['action']}; "
+                  "the summary below is of the result\n")
     if isinstance(meta.get("modes_identification"), dict):
         from modalinfo.bases.identify import ZernikeIdentification
 
@@ -130,11 +143,14 @@ def run(args: argparse.Namespace) -> int:
 
     from modalinfo.cli._common import progress
 
-    check = integrity_check(args.log, log, fmt=args.fmt, mmap=not args.no_mmap)
+    check = integrity_check(args.log, loaded, fmt=args.fmt, mmap=not args.no_mmap)
+    if repaired:  # checksum the file's data, summarise the result
+        for block in loaded.iter_chunks(args.chunk_frames):
+            check.update(block)
     with progress(args, log.n_frames, unit="frame", desc="info",
                   min_total=_PROGRESS_MIN_FRAMES) as advance:
         summary = summarize(log, chunk_frames=args.chunk_frames, progress=advance,
-                            visit=check.update)
+                            visit=None if repaired else check.update)
     check.finish()  # a checksum skipped by memory mapping is verified in the same pass
     out.write(f"integrity   {check.describe()}\n")
     unit = log.units

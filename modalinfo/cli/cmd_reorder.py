@@ -18,6 +18,7 @@ from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
     add_gap_argument,
     add_hint_arguments,
+    apply_outliers,
     check_output,
     load_log_with_hints,
     split_gaps,
@@ -59,6 +60,13 @@ def file_basis(args: argparse.Namespace, log):
         raise CommandError(f"'{args.log}': the loop's {basis.n_modes} modes do not match the "
                            f"log's {log.n_modes} columns")
     return basis
+
+
+def refuse_frame_with_drop(args: argparse.Namespace) -> None:
+    """Refuse ``--frame K`` with ``--outliers drop``, which would renumber the frames."""
+    if args.frame is not None and args.outliers == "drop":
+        raise CommandError("--frame K with --outliers drop: dropping flagged frames renumbers "
+                           "the frames; use --outliers clip (or warn) with --frame")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -106,10 +114,18 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
     if args.stability is not None and (args.method == "pca" or args.frame is not None):
         raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
-    log = load_log_with_hints(args.log, args)
+    refuse_frame_with_drop(args)
     blocks = args.method.startswith("mi_") and args.frame is None and args.resamples > 0
+    if blocks and args.outliers == "drop":
+        raise CommandError("--outliers drop leaves gaps in the time axis, which the block "
+                           "bootstrap of the gains (--resamples) cannot span; use --outliers "
+                           "clip, or --resamples 0 with drop")
+    log = load_log_with_hints(args.log, args)
     if blocks or args.stability is not None or args.split_gaps:
         log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
+    # after the gap check: the pooled MI treats the frames as one sample, so dropped
+    # frames only shorten it (the block bootstrap's blocks may span a removed frame)
+    log, _ = apply_outliers(log, args, args.log)
     if args.basis == "file":
         basis = file_basis(args, log)
     else:

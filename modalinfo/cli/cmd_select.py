@@ -17,7 +17,12 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, load_log_with_hints
+from modalinfo.cli._common import (
+    add_hint_arguments,
+    apply_outliers,
+    load_log_with_hints,
+    refuse_outlier_drop,
+)
 
 NAME = "select"
 HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional MI."
@@ -60,10 +65,13 @@ def run(args: argparse.Namespace) -> int:
     """Run the selection and print the table."""
     from modalinfo.information.selection import select_inputs
 
+    refuse_outlier_drop(args, "input selection")
     log = load_log_with_hints(args.log, args)
+    log, _ = apply_outliers(log, args, args.log, time_series=True)
     extra = None
     if args.extra is not None:
         extra = load_log_with_hints(args.extra, args)
+        extra, _ = apply_outliers(extra, args, args.extra, time_series=True)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")

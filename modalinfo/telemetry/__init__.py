@@ -1,4 +1,8 @@
-"""Telemetry logs of modal coefficients: ``ModalLog``, units and one-pass summaries.
+"""Telemetry logs of modal coefficients: ``ModalLog``, units, one-pass summaries and quality.
+
+:func:`assess_quality` finds outliers (median +- k x 1.4826 MAD), glitched frames, stuck
+runs and non-finite values; :func:`apply_outlier_policy` is the ``--outliers`` policy
+every command shares (``modalinfo.telemetry.quality``).
 
 ``modalinfo.telemetry.synthetic`` holds the synthetic open/closed-loop logs
 (``open_loop_log``, ``closed_loop_log``, ``kaos_like``); it is imported on first
@@ -7,6 +11,12 @@ use (it needs scipy), so reading and summarising logs stays light.
 
 from modalinfo.telemetry.checks import CONVENTIONS, NONFINITE_POLICIES
 from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.quality import (
+    OUTLIER_POLICIES,
+    QualityReport,
+    apply_outlier_policy,
+    assess_quality,
+)
 from modalinfo.telemetry.sampling import Sampling, require_contiguous, sampling_of
 from modalinfo.telemetry.summary import LogSummary, summarize
 from modalinfo.telemetry.units import (
@@ -20,9 +30,13 @@ from modalinfo.telemetry.units import (
 __all__ = [
     "CONVENTIONS",
     "NONFINITE_POLICIES",
+    "OUTLIER_POLICIES",
     "UNITS",
     "LogSummary",
     "ModalLog",
+    "QualityReport",
+    "apply_outlier_policy",
+    "assess_quality",
     "Sampling",
     "require_contiguous",
     "sampling_of",

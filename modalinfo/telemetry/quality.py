@@ -1,0 +1,558 @@
+"""Log quality: glitches, outliers, stuck values and non-finite values, and the outlier policy.
+
+The rule
+--------
+Per mode ``j`` a robust centre and scale are estimated: the median ``m_j`` and the
+median absolute deviation scaled to a Gaussian standard deviation,
+``sigma_j = MAD_j / Phi^-1(3/4) = 1.4826 MAD_j`` (Hampel 1974; the "Hampel identifier"
+of Davies & Gather 1993, JASA 88, 782; Rousseeuw & Croux 1993, JASA 88, 1273, for the
+MAD as the robust scale). A value is an **outlier** when ``|x - m_j| > k sigma_j``.
+The median and the MAD have a 50 % breakdown point: a glitch, however large, cannot
+move them by more than its share of the sample.
+
+The default ``k`` controls the family-wise false-alarm rate on a clean Gaussian log:
+with ``n = T M`` values, ``k = Phi^-1(1 - alpha / (2 n))`` (Bonferroni), so the
+probability that **any** value of a Gaussian log is flagged is at most ``alpha``
+(default 1 %; 4000 x 27 values give k = 5.34, 10^7 x 27 give k = 6.62). The union
+bound holds whatever the correlation between values, so it applies to autocorrelated
+telemetry as it is. Telemetry with heavier-than-Gaussian tails (turbulence bursts) gets
+more flags than ``alpha`` suggests: they are reported, never hidden, and a library
+caller may choose ``k`` to suit. Each value's
+Gaussian false-alarm probability ``2 (1 - Phi(k))`` is reported
+(:attr:`QualityReport.false_alarm`); the MAD's own sampling error (relative standard
+error ``1.17 / sqrt(N)`` for N frames; Rousseeuw & Croux 1993) makes the realised rate
+differ from it by a few per cent on long logs.
+
+* A **glitched frame** holds outliers in at least ``frame_modes`` modes (default
+  ``min(M, 3)``): one frame where the whole wavefront is wrong (a bad readout), as
+  opposed to one mode's excursion. Under the Gaussian null with the default ``k`` it
+  has probability below ``alpha^3`` per log.
+* A **stuck** value belongs to a run of at least ``stuck_run`` (default 8) equal
+  consecutive values of one mode (a saturated or frozen subaperture, a repeated
+  frame). Continuous telemetry almost never repeats a float exactly, but a log written
+  with few digits does: where a mode's fraction of equal consecutive pairs over the
+  log is ``q > 0``, its minimum run is raised to ``1 + log(alpha / (T M)) / log(q)``
+  when that is longer (if repeats were independent, a chance run that long somewhere
+  in the log would have probability <= ``alpha``), so quantisation alone is not
+  flagged. A mode that is constant over the whole log (a zeroed or dead mode) is
+  reported as constant, not as stuck.
+* **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
+  unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
+
+A mode whose MAD is zero but which is not constant (more than half its values
+equal, e.g. quantised near zero) uses ``sqrt(pi / 2)`` times the mean absolute
+deviation from the median instead (also consistent for a Gaussian); a constant mode
+is not tested for outliers.
+
+Bounded memory and time
+-----------------------
+Two passes in row blocks (:mod:`modalinfo.telemetry.scan`, pages of a memory-mapped
+log released after each block): pass 1 takes the exact per-mode minimum, maximum and
+non-finite counts and an evenly strided subsample of at most ``sample_frames``
+(default 65,536) frames, on which the median and MAD are computed (exact when the
+log is shorter; otherwise an approximation whose relative standard error,
+``1.25 / sqrt(65536) = 0.5 %`` for the median in units of sigma and ``0.46 %`` for the
+MAD, is negligible beside ``k``); pass 2 flags every value with a numba kernel. Memory
+is one block, the subsample and one byte per frame; time is linear in ``T M``.
+
+The policy
+----------
+:func:`apply_outlier_policy` acts on a ``ModalLog``: ``"warn"`` keeps the data (the
+caller states the report), ``"clip"`` winsorises each outlier to ``m_j +- k sigma_j``
+(stuck and non-finite values are left as they are and stated), ``"drop"`` removes every
+flagged frame (outlier, stuck or non-finite; the time axis becomes timestamps, so
+the removal shows as gaps) and is refused for time-series analyses, whose lags need
+every frame (use ``"clip"``), ``"raise"`` refuses a log with any flagged value. What
+was done is appended to ``metadata["outliers"]`` of the returned log.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from statistics import NormalDist
+
+import numpy as np
+
+from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.telemetry.checks import as_coeffs
+from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.scan import row_blocks, scan_rows
+
+__all__ = [
+    "MAD_TO_SIGMA",
+    "OUTLIER_POLICIES",
+    "QualityReport",
+    "apply_outlier_policy",
+    "assess_quality",
+    "gaussian_false_alarm",
+    "gaussian_threshold",
+]
+
+#: ``1 / Phi^-1(3/4)``: the MAD of a Gaussian times this is its sigma (1.482602...).
+MAD_TO_SIGMA = 1.0 / NormalDist().inv_cdf(0.75)
+
+#: ``sqrt(pi / 2)``: the mean absolute deviation of a Gaussian times this is its sigma.
+_MEANAD_TO_SIGMA = math.sqrt(math.pi / 2.0)
+
+#: What a command does with flagged values (see :func:`apply_outlier_policy`).
+OUTLIER_POLICIES = ("warn", "clip", "drop", "raise")
+
+#: Default family-wise false-alarm probability of the threshold on a Gaussian log.
+DEFAULT_ALPHA = 0.01
+
+#: Default minimum run of equal consecutive values counted as stuck.
+DEFAULT_STUCK_RUN = 8
+
+#: Default maximum number of frames of the subsample the median and MAD come from.
+DEFAULT_SAMPLE_FRAMES = 65536
+
+
+def gaussian_threshold(n_values: int, alpha: float = DEFAULT_ALPHA) -> float:
+    """Return ``k`` such that P(any of ``n_values`` Gaussian values has ``|z| > k``) <= alpha.
+
+    Bonferroni: ``k = Phi^-1(1 - alpha / (2 n))`` (two-sided tail ``alpha / n`` per
+    value).
+
+    Parameters
+    ----------
+    n_values : int
+        Number of values tested, ``>= 1``.
+    alpha : float
+        Family-wise false-alarm probability in ``(0, 1)``.
+
+    Returns
+    -------
+    float
+        The threshold in units of sigma.
+    """
+    n_values = check_int(n_values, "n_values", minimum=1)
+    alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
+                       strict_max=True)
+    return -NormalDist().inv_cdf(alpha / (2.0 * n_values))
+
+
+def gaussian_false_alarm(k: float) -> float:
+    """Two-sided Gaussian tail ``P(|z| > k) = erfc(k / sqrt(2))`` of one value."""
+    return math.erfc(float(k) / math.sqrt(2.0))
+
+
+@dataclass(frozen=True)
+class QualityReport:
+    """What :func:`assess_quality` found in a log.
+
+    Attributes
+    ----------
+    n_frames, n_modes : int
+        Shape ``(T, M)`` of the log.
+    labels : list of str
+        Column labels.
+    k : float
+        Threshold in units of ``sigma``: an outlier has ``|x - median| > k sigma``.
+    alpha : float or None
+        Family-wise Gaussian false-alarm probability ``k`` was chosen for (None when
+        ``k`` was given).
+    false_alarm : float
+        Gaussian false-alarm probability of one value, ``2 (1 - Phi(k))``.
+    median, sigma : numpy.ndarray, shape (M,)
+        Robust centre and scale (``1.4826 MAD``) per mode, in the log's units
+        (``sigma`` 0 for a constant mode, NaN for a mode with no finite value).
+    constant : numpy.ndarray of bool, shape (M,)
+        Modes constant over the whole log (not tested for outliers or stuck runs).
+    sample_frames : int
+        Frames the median and MAD were computed on (``n_frames`` if exact).
+    outliers, stuck, nonfinite : numpy.ndarray of int, shape (M,)
+        Per-mode counts of outlier, stuck and non-finite values.
+    frame_modes, stuck_run : int
+        The glitched-frame and (base) stuck-run rules (see the module docstring).
+    stuck_runs : numpy.ndarray of int, shape (M,)
+        Minimum stuck run of each mode: ``stuck_run``, longer for a quantised mode
+        (0: not tested, a constant mode).
+    glitch_frames, outlier_frames, stuck_frames, nonfinite_frames : numpy.ndarray of int
+        Sorted frame indices: glitched frames (outliers in >= ``frame_modes`` modes),
+        frames with any outlier, with any stuck value, with any non-finite value.
+    flagged_frames : numpy.ndarray of int
+        The union of the three last sets: the frames ``"drop"`` removes.
+    """
+
+    n_frames: int
+    n_modes: int
+    labels: list
+    k: float
+    alpha: float | None
+    false_alarm: float
+    median: np.ndarray
+    sigma: np.ndarray
+    constant: np.ndarray
+    sample_frames: int
+    outliers: np.ndarray
+    stuck: np.ndarray
+    nonfinite: np.ndarray
+    frame_modes: int
+    stuck_run: int
+    stuck_runs: np.ndarray
+    glitch_frames: np.ndarray
+    outlier_frames: np.ndarray
+    stuck_frames: np.ndarray
+    nonfinite_frames: np.ndarray
+    flagged_frames: np.ndarray = field(repr=False)
+
+    @property
+    def approximate(self) -> bool:
+        """True when the median and MAD come from a strided subsample of the frames."""
+        return self.sample_frames < self.n_frames
+
+    @property
+    def n_flagged(self) -> int:
+        """Number of flagged frames (any outlier, stuck or non-finite value)."""
+        return int(self.flagged_frames.size)
+
+    @property
+    def clean(self) -> bool:
+        """True when nothing was flagged."""
+        return self.n_flagged == 0
+
+    @property
+    def expected_false_alarms(self) -> float:
+        """Outlier values expected on a clean Gaussian log of this shape, ``T M p``."""
+        return self.n_frames * self.n_modes * self.false_alarm
+
+    @property
+    def rule(self) -> str:
+        """The outlier rule in words, with its Gaussian false-alarm probability."""
+        how = f"{self.false_alarm:.2g} per Gaussian value" if self.alpha is None else (
+            f"P(any false flag) <= {self.alpha:g} on a Gaussian log")
+        return f"|x - median| > {self.k:.3g} x 1.4826 MAD ({how})"
+
+    def worst(self, n: int = 3) -> list[tuple[str, int]]:
+        """Return the ``n`` modes with the most outlier values as ``(label, count)``, count > 0."""
+        order = np.argsort(-self.outliers, kind="stable")[:n]
+        return [(self.labels[j], int(self.outliers[j])) for j in order if self.outliers[j] > 0]
+
+    def describe(self) -> str:
+        """One line: what was flagged and by which rule."""
+        if self.clean:
+            return f"0 of {self.n_frames} frames flagged by {self.rule}"
+        parts = []
+        n_out = int(self.outliers.sum())
+        if n_out:
+            worst = ", ".join(f"{label} {c}" for label, c in self.worst())
+            parts.append(f"{n_out} outlier value(s) in {self.outlier_frames.size} frame(s) "
+                         f"(most: {worst})")
+        if self.glitch_frames.size:
+            shown = ", ".join(str(int(i)) for i in self.glitch_frames[:5])
+            more = ", ..." if self.glitch_frames.size > 5 else ""
+            parts.append(f"{self.glitch_frames.size} glitched frame(s) with outliers in >= "
+                         f"{self.frame_modes} modes ({shown}{more})")
+        n_stuck = int(self.stuck.sum())
+        if n_stuck:
+            modes = int(np.count_nonzero(self.stuck))
+            shortest = int(self.stuck_runs[self.stuck > 0].min())
+            parts.append(f"{n_stuck} stuck value(s) (runs of >= {shortest} equal "
+                         f"values) in {modes} mode(s)")
+        n_bad = int(self.nonfinite.sum())
+        if n_bad:
+            parts.append(f"{n_bad} non-finite value(s)")
+        return (f"{self.n_flagged} of {self.n_frames} frames flagged: " + "; ".join(parts)
+                + f"; rule {self.rule}")
+
+    def to_dict(self) -> dict:
+        """JSON-able summary (counts and the rule; no per-frame indices)."""
+        return {
+            "rule": "|x - median| > k * 1.4826 MAD",
+            "k": float(self.k),
+            "alpha": self.alpha,
+            "false_alarm_per_value": float(self.false_alarm),
+            "sample_frames": int(self.sample_frames),
+            "flagged_frames": self.n_flagged,
+            "glitched_frames": int(self.glitch_frames.size),
+            "outlier_values": int(self.outliers.sum()),
+            "stuck_values": int(self.stuck.sum()),
+            "nonfinite_values": int(self.nonfinite.sum()),
+            "worst_modes": {label: c for label, c in self.worst()},
+        }
+
+
+def _sample_and_range(arr: np.ndarray, rows: int, step: int):
+    """Pass 1: strided subsample, per-mode finite min / max, non-finite and repeat counts."""
+    m = arr.shape[1]
+    lo = np.full(m, np.inf)
+    hi = np.full(m, -np.inf)
+    bad = np.zeros(m, dtype=np.int64)
+    repeats = np.zeros(m, dtype=np.int64)  # equal consecutive pairs (NaN never equal)
+    prev = None
+    picked = []
+    i0 = 0
+    for block in row_blocks(arr, rows):
+        repeats += np.count_nonzero(block[1:] == block[:-1], axis=0)
+        if prev is not None:
+            repeats += block[0] == prev
+        prev = np.array(block[-1])
+        first = (-i0) % step  # rows with global index divisible by step
+        picked.append(np.array(block[first::step], dtype=np.float64))
+        fin = np.isfinite(block)
+        if fin.all():
+            lo = np.minimum(lo, block.min(axis=0))
+            hi = np.maximum(hi, block.max(axis=0))
+        else:
+            bad += (~fin).sum(axis=0)
+            lo = np.minimum(lo, np.where(fin, block, np.inf).min(axis=0))
+            hi = np.maximum(hi, np.where(fin, block, -np.inf).max(axis=0))
+        i0 += block.shape[0]
+    return np.concatenate(picked, axis=0), lo, hi, bad, repeats
+
+
+def _stuck_runs(repeats: np.ndarray, n: int, m: int, stuck_run: int,
+                alpha: float) -> np.ndarray:
+    """Minimum stuck run per mode: ``stuck_run``, longer where values repeat by quantisation."""
+    q = repeats / max(1, n - 1)
+    runs = np.full(m, stuck_run, dtype=np.int64)
+    partial = (q > 0) & (q < 1)
+    if partial.any():
+        # P(a chance run of L equal values at one place) = q^(L-1) if repeats were
+        # independent; Bonferroni over the T M places
+        need = 1.0 + np.log(alpha / (n * m)) / np.log(q[partial])
+        runs[partial] = np.maximum(stuck_run, np.ceil(need)).astype(np.int64)
+    runs[q >= 1] = n + 1  # every pair equal: constant (set to 0 by the caller)
+    return runs
+
+
+def _robust_scale(sample: np.ndarray, constant: np.ndarray):
+    """Median and sigma (1.4826 MAD, or the mean-deviation fallback) of each column."""
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN columns: NaN, handled
+        med = np.nanmedian(sample, axis=0)
+        dev = np.abs(sample - med)
+        sigma = MAD_TO_SIGMA * np.nanmedian(dev, axis=0)
+        zero = (sigma == 0) & ~constant
+        if zero.any():
+            sigma[zero] = _MEANAD_TO_SIGMA * np.nanmean(dev[:, zero], axis=0)
+    sigma[constant] = 0.0
+    return med, sigma
+
+
+def assess_quality(
+    log_or_coeffs,
+    *,
+    k: float | None = None,
+    alpha: float = DEFAULT_ALPHA,
+    frame_modes: int | None = None,
+    stuck_run: int = DEFAULT_STUCK_RUN,
+    sample_frames: int = DEFAULT_SAMPLE_FRAMES,
+    chunk_frames: int | None = None,
+) -> QualityReport:
+    """Find outliers, glitched frames, stuck runs and non-finite values in a log.
+
+    Parameters
+    ----------
+    log_or_coeffs : ModalLog or array_like, shape (T, M)
+        The log (a ``numpy.memmap`` is scanned in blocks).
+    k : float, optional
+        Threshold in units of sigma_MAD (> 0). Default: ``gaussian_threshold``
+        of the ``T M`` values at ``alpha``.
+    alpha : float
+        Family-wise Gaussian false-alarm probability of the default ``k``, in (0, 1).
+    frame_modes : int, optional
+        A frame with outliers in at least this many modes is glitched (default
+        ``min(M, 3)``).
+    stuck_run : int
+        Minimum run of equal consecutive values that is stuck, ``>= 2``.
+    sample_frames : int
+        Maximum frames of the strided subsample for the median and MAD, ``>= 1``.
+    chunk_frames : int, optional
+        Frames per block of the passes (default: blocks of 4 Mi values).
+
+    Returns
+    -------
+    QualityReport
+        Counts, frame indices, the rule and its threshold.
+    """
+    if isinstance(log_or_coeffs, ModalLog):
+        arr, labels = log_or_coeffs.coeffs, log_or_coeffs.labels
+    else:
+        arr = as_coeffs(log_or_coeffs)
+        labels = [f"col{j}" for j in range(arr.shape[1])]
+    n, m = arr.shape
+    if k is not None:
+        k = check_real(k, "k", minimum=0.0, strict_min=True)
+        if not math.isfinite(k):
+            raise ValueError(f"`k` must be a finite threshold in units of sigma; got {k}.")
+        used_alpha = None
+    else:
+        k = gaussian_threshold(n * m, alpha)
+        used_alpha = float(alpha)
+    frame_modes = min(m, 3) if frame_modes is None else check_int(
+        frame_modes, "frame_modes", minimum=1)
+    stuck_run = check_int(stuck_run, "stuck_run", minimum=2)
+    sample_frames = check_int(sample_frames, "sample_frames", minimum=1)
+    rows = scan_rows(arr) if chunk_frames is None else check_int(
+        chunk_frames, "chunk_frames", minimum=1)
+
+    step = max(1, -(-n // sample_frames))
+    sample, lo, hi, _, repeats = _sample_and_range(arr, rows, step)
+    constant = lo == hi  # every finite value equal (no finite value: lo > hi)
+    med, sigma = _robust_scale(sample, constant)
+    tested = np.isfinite(sigma) & (sigma > 0)
+    thr = np.where(tested, k * np.where(tested, sigma, 0.0), np.inf)
+    centre = np.where(np.isfinite(med), med, 0.0)
+    runs = _stuck_runs(repeats, n, m, stuck_run, alpha)
+    runs[constant | (lo > hi)] = 0
+
+    from modalinfo.telemetry._quality_kernels import flag_block
+
+    last = np.full(m, np.nan)
+    run_len = np.zeros(m, dtype=np.int64)
+    run_start = np.zeros(m, dtype=np.int64)
+    n_out = np.zeros(m, dtype=np.int64)
+    n_stuck = np.zeros(m, dtype=np.int64)
+    n_bad = np.zeros(m, dtype=np.int64)
+    stuck_mask = np.zeros(n, dtype=np.bool_)
+    out_idx, glitch_idx, bad_idx = [], [], []
+    i0 = 0
+    for block in row_blocks(arr, rows):
+        b = np.ascontiguousarray(block)
+        frame_out = np.zeros(b.shape[0], dtype=np.int32)
+        frame_bad = np.zeros(b.shape[0], dtype=np.int32)
+        flag_block(b, i0, centre, thr, runs, last, run_len, run_start, n_out, n_stuck,
+                   frame_out, frame_bad, stuck_mask)
+        if frame_bad.any():
+            bad_idx.append(i0 + np.flatnonzero(frame_bad))
+            n_bad += (~np.isfinite(b)).sum(axis=0)
+        if frame_out.any():
+            out_idx.append(i0 + np.flatnonzero(frame_out))
+            glitch_idx.append(i0 + np.flatnonzero(frame_out >= frame_modes))
+        i0 += b.shape[0]
+
+    def cat(parts: list) -> np.ndarray:
+        return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
+
+    outlier_frames, glitch_frames, bad_frames = cat(out_idx), cat(glitch_idx), cat(bad_idx)
+    stuck_frames = np.flatnonzero(stuck_mask).astype(np.int64)
+    flagged = np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames)
+    return QualityReport(
+        n_frames=int(n), n_modes=int(m), labels=list(labels), k=float(k), alpha=used_alpha,
+        false_alarm=gaussian_false_alarm(k), median=med, sigma=sigma, constant=constant,
+        sample_frames=int(sample.shape[0]), outliers=n_out, stuck=n_stuck, nonfinite=n_bad,
+        frame_modes=int(frame_modes), stuck_run=int(stuck_run), stuck_runs=runs,
+        glitch_frames=glitch_frames,
+        outlier_frames=outlier_frames, stuck_frames=stuck_frames, nonfinite_frames=bad_frames,
+        flagged_frames=flagged.astype(np.int64),
+    )
+
+
+def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
+    """Winsorise every outlier of ``log`` to ``median +- k sigma`` (a new in-memory array)."""
+    arr = log.coeffs
+    tested = np.isfinite(report.sigma) & (report.sigma > 0)
+    half = np.where(tested, report.k * np.where(tested, report.sigma, 0.0), np.inf)
+    centre = np.where(np.isfinite(report.median), report.median, 0.0)
+    lo, hi = centre - half, centre + half
+    if arr.dtype != np.float64:  # bounds rounded inwards, so no clipped value is > k sigma
+        lo_d, hi_d = lo.astype(arr.dtype), hi.astype(arr.dtype)
+        lo_d = np.where(lo_d < lo, np.nextafter(lo_d, arr.dtype.type(np.inf)), lo_d)
+        hi_d = np.where(hi_d > hi, np.nextafter(hi_d, arr.dtype.type(-np.inf)), hi_d)
+        lo, hi = lo_d, hi_d
+    out = np.empty(arr.shape, dtype=arr.dtype)
+    i0 = 0
+    for block in row_blocks(arr, scan_rows(arr)):
+        out[i0:i0 + block.shape[0]] = np.clip(block, lo, hi)  # NaN stays NaN
+        i0 += block.shape[0]
+    out.flags.writeable = False
+    return log._derive(_coeffs=out)  # noqa: SLF001 - same time axis, modes and units
+
+
+def _drop(log: ModalLog, report: QualityReport) -> ModalLog:
+    """Remove the flagged frames; the time axis becomes timestamps (gaps show the removal)."""
+    keep = np.ones(log.n_frames, dtype=bool)
+    keep[report.flagged_frames] = False
+    if not keep.any():
+        raise ValueError(f"`policy`='drop' would remove every frame of the log "
+                         f"({report.n_flagged} of {log.n_frames} flagged).")
+    data = np.ascontiguousarray(log.coeffs[keep])
+    data.flags.writeable = False
+    times = log.times
+    changes: dict = {"_coeffs": data}
+    if times is not None:
+        t = np.array(times[keep], dtype=np.float64)
+        t.flags.writeable = False
+        changes.update(_timestamps=t, _start_time=float(t[0]))
+    return log._derive(**changes)  # noqa: SLF001 - rows and timestamps kept in step
+
+
+def apply_outlier_policy(
+    log: ModalLog,
+    policy: str = "warn",
+    *,
+    time_series: bool = False,
+    report: QualityReport | None = None,
+    **assess: object,
+) -> tuple[ModalLog, QualityReport]:
+    """Assess a log (:func:`assess_quality`) and act on what was flagged.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log.
+    policy : {"warn", "clip", "drop", "raise"}
+        ``"warn"``: keep the data (the caller states ``report.describe()``);
+        ``"clip"``: winsorise each outlier to ``median +- k sigma`` of its mode;
+        ``"drop"``: remove every flagged frame; ``"raise"``: refuse a log with any
+        flagged value. See the module docstring.
+    time_series : bool
+        The analysis needs every frame in time order (forecasting, input selection,
+        transfer entropy): ``"drop"`` is refused, since removing frames would make
+        lagged pairs straddle the removed frames.
+    report : QualityReport, optional
+        A report of this log already computed (not recomputed).
+    **assess
+        Options of :func:`assess_quality` (``k``, ``alpha``, ``stuck_run``, ...).
+
+    Returns
+    -------
+    log : ModalLog
+        The log the analysis should use. When something was flagged its
+        ``metadata["outliers"]`` is extended by a record of the policy, the rule, the
+        counts and the action; a clean log is returned as it is.
+    report : QualityReport
+        The assessment of the input log.
+
+    Raises
+    ------
+    ValueError
+        ``policy="raise"`` and something was flagged, ``policy="drop"`` with
+        ``time_series``, or ``"drop"`` would remove every frame.
+    """
+    if not isinstance(log, ModalLog):
+        raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
+    if not isinstance(policy, str):
+        raise TypeError(f"`policy` must be one of {', '.join(OUTLIER_POLICIES)}; got {policy!r}.")
+    check_choice(policy, "policy", OUTLIER_POLICIES)
+    if policy == "drop" and time_series:
+        raise ValueError("`policy`='drop' removes frames, which breaks the time axis a "
+                         "time-series analysis needs (lags would straddle the removed "
+                         "frames); use 'clip' (winsorise in place) or 'warn'.")
+    if report is None:
+        report = assess_quality(log, **assess)
+    if policy == "raise" and not report.clean:
+        raise ValueError(f"`policy`='raise': {report.describe()}.")
+    if report.clean:  # nothing to record: a clean log passes through unchanged
+        return log, report
+    record = {"policy": policy, **report.to_dict()}
+    out = log
+    if policy == "warn":
+        record["action"] = "warned; data used as is"
+    elif policy == "clip":
+        n_out = int(report.outliers.sum())
+        left = int(report.stuck.sum() + report.nonfinite.sum())
+        record["action"] = (f"clipped {n_out} outlier value(s) to median +- {report.k:.3g} "
+                            "sigma_MAD" + (f"; {left} stuck or non-finite value(s) left as "
+                                           "they are" if left else ""))
+        if n_out:
+            out = _clip(log, report)
+    else:  # drop
+        record["action"] = f"dropped {report.n_flagged} of {report.n_frames} frames"
+        out = _drop(log, report)
+    previous = out.metadata.get("outliers", [])
+    history = (list(previous) if isinstance(previous, list) else [previous]) + [record]
+    return out.with_metadata(outliers=history), report

@@ -1,0 +1,249 @@
+"""Tests of the log-quality pass and the outlier policy (``modalinfo.telemetry.quality``).
+
+References, all from outside the code: planted glitches and stuck runs at known frames
+(found exactly); SciPy's normal quantiles (``scipy.stats.norm``) for the MAD constant and
+the Bonferroni threshold, and ``scipy.stats.median_abs_deviation(scale="normal")`` /
+``numpy.median`` for the robust centre and scale; the Gaussian tail probability with a
+binomial tolerance (plus the MAD's known sampling error, Rousseeuw & Croux 1993) for the
+false-alarm count of a clean Gaussian log; the definition of each policy applied by hand
+with NumPy; and a save/load round trip for the recorded metadata.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from modalinfo.io import load, save
+from modalinfo.telemetry import ModalLog, apply_outlier_policy, assess_quality
+from modalinfo.telemetry.quality import (
+    MAD_TO_SIGMA,
+    OUTLIER_POLICIES,
+    gaussian_false_alarm,
+    gaussian_threshold,
+)
+
+T, M = 4000, 27
+GLITCH_FRAME = 1234  # every mode + 100 sigma
+SPIKE = (77, 0)  # one mode of one frame + 100 sigma (not a glitched frame)
+STUCK = {5: (500, 12), 9: (250, 10), 20: (3992, 8)}  # mode: (first frame, run length)
+SHORT_RUN = (14, 900, 7)  # mode, first frame, length: one below the stuck rule (8)
+
+
+def _planted() -> np.ndarray:
+    x = np.random.default_rng(20261128).standard_normal((T, M))
+    x[GLITCH_FRAME] += 100.0
+    x[SPIKE] += 100.0
+    for j, (i, n) in STUCK.items():
+        x[i:i + n, j] = x[i, j]
+    j, i, n = SHORT_RUN
+    x[i:i + n, j] = x[i, j]
+    return x
+
+
+@pytest.fixture(scope="module")
+def planted():
+    return _planted()
+
+
+def _stuck_frames() -> np.ndarray:
+    return np.unique(np.concatenate([np.arange(i, i + n) for i, n in STUCK.values()]))
+
+
+def test_constants_match_scipy():
+    assert MAD_TO_SIGMA == pytest.approx(1.0 / stats.norm.ppf(0.75), rel=1e-12)
+    for n in (1, 108_000, 270_000_000):
+        assert gaussian_threshold(n, 0.01) == pytest.approx(stats.norm.isf(0.005 / n), rel=1e-9)
+    assert gaussian_false_alarm(3.0) == pytest.approx(2 * stats.norm.sf(3.0), rel=1e-12)
+
+
+@pytest.mark.parametrize("chunk", [None, 256])  # 256: runs and the stride cross blocks
+def test_planted_glitch_and_stuck_runs_found_exactly(planted, chunk):
+    r = assess_quality(ModalLog(planted, rate=1000.0), chunk_frames=chunk)
+    assert r.glitch_frames.tolist() == [GLITCH_FRAME]
+    assert r.outlier_frames.tolist() == sorted([SPIKE[0], GLITCH_FRAME])
+    expected_out = np.ones(M, dtype=int)
+    expected_out[SPIKE[1]] += 1
+    np.testing.assert_array_equal(r.outliers, expected_out)
+    expected_stuck = np.zeros(M, dtype=int)
+    for j, (_, n) in STUCK.items():
+        expected_stuck[j] = n
+    np.testing.assert_array_equal(r.stuck, expected_stuck)
+    np.testing.assert_array_equal(r.stuck_frames, _stuck_frames())
+    expected_flagged = np.union1d(_stuck_frames(), [SPIKE[0], GLITCH_FRAME])
+    np.testing.assert_array_equal(r.flagged_frames, expected_flagged)
+    assert r.nonfinite.sum() == 0 and not r.approximate
+    assert "1 glitched frame(s)" in r.describe() and str(GLITCH_FRAME) in r.describe()
+
+
+def test_robust_centre_and_scale_match_scipy(planted):
+    r = assess_quality(planted)
+    np.testing.assert_allclose(r.median, np.median(planted, axis=0), rtol=0, atol=1e-12)
+    ref = stats.median_abs_deviation(planted, axis=0, scale="normal")
+    np.testing.assert_allclose(r.sigma, ref, rtol=1e-12)
+
+
+def test_memmap_float32_same_flags(planted, tmp_path):
+    path = tmp_path / "x.npy"
+    np.save(path, planted.astype(np.float32))
+    mm = np.load(path, mmap_mode="r")
+    r = assess_quality(mm, chunk_frames=300)
+    assert r.glitch_frames.tolist() == [GLITCH_FRAME]
+    np.testing.assert_array_equal(r.stuck_frames, _stuck_frames())
+
+
+def test_clean_gaussian_false_alarms_within_binomial_bound():
+    x = np.random.default_rng(7).standard_normal((T, M))
+    n = T * M
+    # default rule: P(any false flag) <= 1 %; bound the count at the 1e-6 binomial quantile
+    r = assess_quality(x)
+    p = r.false_alarm
+    assert p == pytest.approx(2 * stats.norm.sf(stats.norm.isf(0.005 / n)), rel=1e-9)
+    assert r.outliers.sum() <= stats.binom.ppf(1 - 1e-6, n, p)
+    assert r.glitch_frames.size == 0 and r.stuck.sum() == 0
+    # k = 3: about 292 expected flags, a test of the 1.4826 scaling (10 % off gives ~105
+    # or ~560). Spread: binomial, plus the MAD's sampling error (relative sd 1.166 /
+    # sqrt(T) per mode; Rousseeuw & Croux 1993) times d(count)/d(scale) = 2 phi(k) k T.
+    k = 3.0
+    p3 = 2 * stats.norm.sf(k)
+    sd_binom = math.sqrt(n * p3 * (1 - p3))
+    sd_mad = math.sqrt(M) * T * 2 * stats.norm.pdf(k) * k * 1.166 / math.sqrt(T)
+    r3 = assess_quality(x, k=k)
+    assert r3.alpha is None and r3.false_alarm == pytest.approx(p3)
+    assert abs(r3.outliers.sum() - n * p3) < 5 * math.hypot(sd_binom, sd_mad)
+
+
+def test_subsample_median_is_the_strided_rows():
+    x = np.random.default_rng(3).standard_normal((20_000, 4)) * [1.0, 2.0, 0.5, 3.0]
+    r = assess_quality(x, sample_frames=2000, chunk_frames=777)
+    assert r.approximate and r.sample_frames == 2000
+    np.testing.assert_allclose(r.median, np.median(x[::10], axis=0), atol=1e-12)
+    np.testing.assert_allclose(
+        r.sigma, stats.median_abs_deviation(x[::10], axis=0, scale="normal"), rtol=1e-12)
+
+
+def test_nonfinite_constant_and_zero_mad_modes():
+    rng = np.random.default_rng(5)
+    x = rng.standard_normal((1000, 4))
+    x[:, 1] = 2.5  # constant: neither stuck nor outliers
+    x[:700, 2] = 0.0  # MAD 0: the mean-deviation scale takes over
+    x[[10, 20], 3] = np.nan
+    x[30, 3] = np.inf
+    r = assess_quality(x)
+    np.testing.assert_array_equal(r.nonfinite, [0, 0, 0, 3])
+    np.testing.assert_array_equal(r.nonfinite_frames, [10, 20, 30])
+    assert r.constant.tolist() == [False, True, False, False]
+    assert r.stuck[1] == 0 and r.outliers[1] == 0
+    dev = np.abs(x[:, 2] - np.median(x[:, 2]))
+    assert r.sigma[2] == pytest.approx(math.sqrt(math.pi / 2) * dev.mean(), rel=1e-12)
+    assert r.stuck[2] == 700  # a run of 700 equal values is stuck
+
+
+def _policy_log(planted):
+    return ModalLog(planted, rate=1000.0, metadata={"site": "test"})
+
+
+def test_policy_warn_keeps_data(planted):
+    log, r = apply_outlier_policy(_policy_log(planted), "warn")
+    np.testing.assert_array_equal(log.coeffs, planted)
+    record = log.metadata["outliers"][-1]
+    assert record["policy"] == "warn" and record["flagged_frames"] == r.n_flagged
+    assert log.metadata["site"] == "test"
+
+
+def test_policy_clip_winsorises_outliers_only(planted):
+    log, r = apply_outlier_policy(_policy_log(planted), "clip")
+    med = np.median(planted, axis=0)
+    half = r.k * stats.median_abs_deviation(planted, axis=0, scale="normal")
+    expected = np.clip(planted, med - half, med + half)
+    np.testing.assert_allclose(log.coeffs, expected, rtol=0, atol=1e-12)
+    untouched = np.ones(planted.shape, dtype=bool)
+    untouched[GLITCH_FRAME] = False
+    untouched[SPIKE] = False
+    np.testing.assert_array_equal(log.coeffs[untouched], planted[untouched])
+    again = assess_quality(log)
+    assert again.outliers.sum() == 0 and again.stuck.sum() == r.stuck.sum()
+    assert "clipped 28 outlier value(s)" in log.metadata["outliers"][-1]["action"]
+
+
+def test_policy_drop_removes_flagged_frames(planted):
+    log, r = apply_outlier_policy(_policy_log(planted), "drop")
+    keep = np.ones(T, dtype=bool)
+    keep[np.union1d(_stuck_frames(), [SPIKE[0], GLITCH_FRAME])] = False
+    np.testing.assert_array_equal(log.coeffs, planted[keep])
+    np.testing.assert_allclose(log.timestamps, np.arange(T)[keep] / 1000.0, rtol=0, atol=0)
+    assert log.sampling().n_gaps > 0  # the removal shows as gaps
+    assert assess_quality(log).clean
+    with pytest.raises(ValueError, match="time-series"):
+        apply_outlier_policy(_policy_log(planted), "drop", time_series=True)
+
+
+def test_policy_raise(planted):
+    with pytest.raises(ValueError, match=r"'raise'.*glitched frame"):
+        apply_outlier_policy(_policy_log(planted), "raise")
+    clean = ModalLog(np.random.default_rng(1).standard_normal((500, 3)))
+    out, r = apply_outlier_policy(clean, "raise")
+    assert r.clean and out is clean  # a clean log passes through, metadata unchanged
+
+
+def test_recorded_policy_travels_through_save(planted, tmp_path):
+    log, _ = apply_outlier_policy(_policy_log(planted), "clip")
+    back = load(save(log, tmp_path / "clipped.npz"))
+    assert back.metadata["outliers"] == log.metadata["outliers"]
+    np.testing.assert_array_equal(back.coeffs, log.coeffs)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"k": 0.0}, "`k`"), ({"k": float("nan")}, "`k`"), ({"stuck_run": 1}, "`stuck_run`"),
+    ({"alpha": 1.5}, "`alpha`"), ({"sample_frames": 0}, "`sample_frames`"),
+])
+def test_bad_options_named(kwargs, match):
+    with pytest.raises((ValueError, TypeError), match=match):
+        assess_quality(np.zeros((10, 2)) + np.arange(10)[:, None], **kwargs)
+
+
+def test_bad_policy_named():
+    log = ModalLog(np.random.default_rng(0).standard_normal((50, 2)))
+    with pytest.raises(ValueError, match="`policy`"):
+        apply_outlier_policy(log, "ignore")
+    with pytest.raises(TypeError, match="`log`"):
+        apply_outlier_policy(np.zeros((5, 2)), "warn")
+    assert OUTLIER_POLICIES == ("warn", "clip", "drop", "raise")
+
+
+def test_quantised_log_repeats_are_not_stuck_but_a_long_run_is():
+    # AR(1) modes written with a 0.5 sigma resolution: equal consecutive values are
+    # common (q ~ 0.3-0.5), and chance runs of 8+ occur; the stuck rule lengthens per
+    # mode to 1 + log(alpha / (T M)) / log(q) and still finds a planted 200-frame run
+    rng = np.random.default_rng(9)
+    e = rng.standard_normal((T, 6)) * math.sqrt(1 - 0.95**2)
+    x = np.zeros((T, 6))
+    for t in range(1, T):
+        x[t] = 0.95 * x[t - 1] + e[t]
+    x = np.round(x * 2) / 2
+    eq = x[1:] == x[:-1]
+    lengths = [len(r) for j in range(6) for r in "".join("1" if v else "0" for v in eq[:, j])
+               .split("0") if r]
+    assert max(lengths) + 1 >= 8  # the fixed 8-value rule would flag chance runs here
+    r = assess_quality(x)
+    q = eq.mean(axis=0)
+    need = np.maximum(8, np.ceil(1 + np.log(0.01 / (T * 6)) / np.log(q)))
+    np.testing.assert_array_equal(r.stuck_runs, need)
+    assert r.stuck.sum() == 0
+    y = x.copy()
+    y[1000:1200, 2] = 7.0  # a long run at a value the mode never takes (saturation)
+    r = assess_quality(y)
+    np.testing.assert_array_equal(r.stuck_frames, np.arange(1000, 1200))
+    assert r.stuck.tolist() == [0, 0, 200, 0, 0, 0]
+
+
+def test_clip_float32_log_leaves_no_outlier(planted):
+    log = ModalLog(planted.astype(np.float32), rate=1000.0)
+    clipped, r = apply_outlier_policy(log, "clip")
+    assert clipped.dtype == np.float32 and r.outliers.sum() == 28
+    assert assess_quality(clipped, k=r.k).outliers.sum() == 0
+    changed = clipped.coeffs != log.coeffs
+    assert changed.sum() == 28 and changed[GLITCH_FRAME].all() and changed[SPIKE]
