@@ -82,10 +82,10 @@ import inspect  # noqa: E402
 import math  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
-from functools import lru_cache  # noqa: E402
+from functools import cache  # noqa: E402
 from pathlib import Path  # noqa: E402
-from typing import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 from scipy import special, stats  # noqa: E402
@@ -117,7 +117,7 @@ def gaussian_cmi(cov: np.ndarray, ix, iy, iz) -> float:
 
 
 def student_entropy(k: int, df: float) -> float:
-    """Differential entropy [nats] of a standard k-variate Student-t (Arellano-Valle 2013, eq. 7)."""
+    """Entropy [nats] of a standard k-variate Student-t (Arellano-Valle et al. 2013, eq. 7)."""
     a = 0.5 * (df + k)
     return (special.gammaln(0.5 * df) - special.gammaln(a) + 0.5 * k * math.log(df * math.pi)
             + a * (special.digamma(a) - special.digamma(0.5 * df)))
@@ -160,7 +160,7 @@ def corr2(rho: float) -> np.ndarray:
     return np.array([[1.0, rho], [rho, 1.0]])
 
 
-@lru_cache(maxsize=None)
+@cache
 def mixture_x_mi(rho: float = 0.9, half_width: float = 12.0, m: int = 1201) -> float:
     """MI [nats] of 0.5 N(0, R(rho)) + 0.5 N(0, R(-rho)) (bmi task_x).
 
@@ -179,7 +179,7 @@ def mixture_x_mi(rho: float = 0.9, half_width: float = 12.0, m: int = 1201) -> f
     return float(math.log(2.0 * math.pi * math.e) - h)
 
 
-@lru_cache(maxsize=None)
+@cache
 def rounded_normal_mi(rho: float, step: float, half_width: float = 9.0,
                       nodes: int = 24) -> float:
     """MI [nats] of a standard normal pair with correlation rho, both rounded to ``step``.
@@ -251,7 +251,7 @@ def wiggly_y(v):
 def _inverse_mixture_cdf(weights, means) -> Callable[[np.ndarray], np.ndarray]:
     """Monotone interpolant of the inverse CDF of a unit-variance normal mixture."""
     grid = np.linspace(min(means) - 12.0, max(means) + 12.0, 400_001)
-    cdf = sum(wt * special.ndtr(grid - mu) for wt, mu in zip(weights, means))
+    cdf = sum(wt * special.ndtr(grid - mu) for wt, mu in zip(weights, means, strict=True))
     keep = np.concatenate([[True], np.diff(cdf) > 0])  # strictly increasing knots
     return lambda u: np.interp(u, cdf[keep], grid[keep])
 

@@ -134,7 +134,7 @@ def test_additive_uniform_mi_by_quadrature_of_the_convolution(bench, eps):
 
     breaks = sorted({-eps, eps, 1 - eps, 1 + eps})
     h_y = sum(integrate.quad(neg_plogp, a, b, epsabs=1e-13)[0]
-              for a, b in zip(breaks[:-1], breaks[1:]))
+              for a, b in zip(breaks[:-1], breaks[1:], strict=True))
     assert bench.additive_uniform_mi(eps) == pytest.approx(h_y - math.log(2 * eps), abs=1e-9)
 
 
@@ -213,7 +213,7 @@ def test_bimodal_marginals_are_the_published_mixtures(tasks):
     x, y, _ = tasks["bimodal-1x1"].sample(np.random.default_rng(3), 20_000)
 
     def mix(weights, means):
-        return lambda v: sum(w * special.ndtr(v - m) for w, m in zip(weights, means))
+        return lambda v: sum(w * special.ndtr(v - m) for w, m in zip(weights, means, strict=True))
 
     assert stats.kstest(x[:, 0], mix((0.3, 0.7), (0.0, 5.0))).pvalue > 1e-3
     assert stats.kstest(y[:, 0], mix((0.5, 0.5), (-1.0, 3.0))).pvalue > 1e-3
