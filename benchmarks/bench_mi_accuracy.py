@@ -617,7 +617,7 @@ def main(argv=None) -> int:
         print(f"# {task.name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
     text = render(results, n, (seeds, seeds_large), names,
                   (time.perf_counter() - t_start, time.process_time() - c_start))
-    print(text)
+    print(text, end="")
     if args.out is not None:
         from modalinfo.io.files import atomic_write
 

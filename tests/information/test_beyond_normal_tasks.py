@@ -240,3 +240,29 @@ def test_contaminated_tasks_keep_the_clean_truth_and_contaminate_as_stated(tasks
     assert 45 <= np.sum(np.abs(x) > 1e3) <= 50  # 50 rows at 1e6 sd: |v| < 1e3 has p 8e-4
     x, y, _ = tasks["rounded-0.5"].sample(np.random.default_rng(0), 5000)
     assert np.allclose(x / 0.5, np.round(x / 0.5), atol=1e-12, rtol=0)
+
+
+def test_cli_refuses_bad_input_in_one_line_and_keeps_an_existing_out(bench, tmp_path, capsys):
+    existing = tmp_path / "table.md"
+    existing.write_text("mine")
+    for argv in (["--tasks", "no-such-task"], ["--n", "5"], ["--seeds", "0"],
+                 ["--out", str(existing)], ["--out", str(tmp_path / "no" / "t.md")]):
+        assert bench.main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("bench_mi_accuracy: "), argv
+    assert existing.read_text() == "mine"
+    with pytest.raises(SystemExit) as exc:
+        bench.main(["--n", "many"])
+    assert exc.value.code == 2
+    assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_cli_writes_the_printed_table(bench, tmp_path, capsys):
+    out = tmp_path / "table.md"
+    assert bench.main(["--n", "300", "--seeds", "1", "--tasks", "normal-1x1",
+                       "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert out.read_text() == printed
+    row = next(line for line in printed.splitlines() if line.startswith("| normal-1x1 |"))
+    # truth column, then the six estimators' cells
+    assert "| 0.4133 |" in row and row.count("|") == 10
