@@ -86,8 +86,9 @@ import inspect  # noqa: E402
 import math  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
+import warnings  # noqa: E402
 from collections.abc import Callable  # noqa: E402
-from dataclasses import dataclass  # noqa: E402
+from dataclasses import dataclass, field  # noqa: E402
 from functools import cache  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -438,6 +439,7 @@ class Cell:
     estimates: list
     times: list
     skipped: str = ""
+    notes: set = field(default_factory=set)  # warnings and refusals, first line of each
 
     @property
     def value(self) -> float:
@@ -469,11 +471,29 @@ def run_task(task: Task, n: int, seeds: int, max_knn_dims: int, names) -> dict[s
             continue
         for seed, (x, y, z) in enumerate(samples):
             fn = estimator(name, task, seed)
-            t0 = time.process_time()
-            value = fn(x, y, z)
-            cell.times.append(time.process_time() - t0)
+            # a default may warn, switch method with a note, or refuse (issue 27): the
+            # table records it instead of stopping
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                t0 = time.process_time()
+                try:
+                    value = fn(x, y, z)
+                except (ValueError, RuntimeError, MemoryError) as exc:
+                    cell.skipped = f"refused ({type(exc).__name__})"
+                    cell.notes.add(f"{type(exc).__name__}: {_first_line(exc)}")
+                    break
+                cell.times.append(time.process_time() - t0)
             cell.estimates.append(value)
+            cell.notes.update(f"{w.category.__name__}: {_first_line(w.message)}"
+                              for w in caught
+                              if not issubclass(w.category, (DeprecationWarning,
+                                                             PendingDeprecationWarning)))
     return cells
+
+
+def _first_line(message) -> str:
+    text = str(message).strip().splitlines()
+    return text[0][:200] if text else ""
 
 
 def warm_up() -> None:
@@ -507,6 +527,8 @@ def fmt_cell(cell: Cell, truth: float, judged: bool) -> str:
         text += " NEG"
     if judged and abs(err) > tolerance(truth):
         text = f"**{text}**"
+    if cell.notes:
+        text += " W"
     return text
 
 
@@ -527,7 +549,8 @@ def render(results, n: int, seeds: tuple, names, elapsed: tuple) -> str:
         f"n = {n}; median over {seeds[0]} seed(s) on the tasks of at most 2 x 2 dimensions, "
         f"{seeds[1]} on the larger and the CMI tasks. Each cell: estimate (estimate - truth) "
         "[nats]. **Bold**: outside max(0.05 nats, 10 %) of the truth on a task of at most "
-        "2 x 2 dimensions; NEG: below -0.01 nats.",
+        "2 x 2 dimensions; NEG: below -0.01 nats; W: the call warned (notes below the "
+        "tables); refused: the call raised (idem).",
         "",
         "| task | dims | truth | " + " | ".join(head(nm) for nm in names) + " |",
         "|---|---|---:|" + "---:|" * len(names),
@@ -549,9 +572,15 @@ def render(results, n: int, seeds: tuple, names, elapsed: tuple) -> str:
         ok = [t.name for t, c in ran if abs(c.value - t.truth) <= tolerance(t.truth)]
         miss = [t.name for t, c in ran if t.name not in ok]
         neg = [t.name for t, c in results if not c[nm].skipped and c[nm].value < NEGATIVE]
+        refused = [t.name for t, c in results if c[nm].skipped.startswith("refused")]
         lines.append(f"- {nm}: {len(ok)}/{len(ran)}"
                      + (f"; misses {', '.join(miss)}" if miss else "")
+                     + (f"; refused {', '.join(refused)}" if refused else "")
                      + (f"; below -0.01 nats: {', '.join(neg)}" if neg else ""))
+    notes = [f"- {t.name}, {nm}: {note}" for t, c in results for nm in names
+             for note in sorted(c[nm].notes)]
+    if notes:
+        lines += ["", "Warnings and refusals (first line of each):", ""] + notes
     lines += ["", f"Total run time {elapsed[0]:.0f} s wall, {elapsed[1]:.0f} s CPU."]
     return "\n".join(lines) + "\n"
 

@@ -24,6 +24,7 @@ References, each a different route to the same number:
 
 import importlib.util
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -266,3 +267,31 @@ def test_cli_writes_the_printed_table(bench, tmp_path, capsys):
     row = next(line for line in printed.splitlines() if line.startswith("| normal-1x1 |"))
     # truth column, then the six estimators' cells
     assert "| 0.4133 |" in row and row.count("|") == 10
+
+
+def test_a_warning_or_refusing_estimator_is_reported_not_fatal(bench, tasks, monkeypatch):
+    # issue 27 lets defaults switch method with a warning or refuse: the table records it
+    def fake(name, task, seed):
+        def call(x, y, z):
+            if name == "kde":
+                raise ValueError("too many conditioning columns\nsecond line")
+            if name == "histogram":
+                warnings.warn("switched to ksg", UserWarning, stacklevel=1)
+                return 0.5
+            return 0.4
+        return call
+
+    monkeypatch.setattr(bench, "estimator", fake)
+    names = ("kde", "histogram", "ksg")
+    task = tasks["normal-1x1"]
+    cells = bench.run_task(task, 100, 2, 8, names)
+    assert cells["kde"].skipped == "refused (ValueError)"
+    assert cells["kde"].notes == {"ValueError: too many conditioning columns"}
+    assert cells["histogram"].value == 0.5 and len(cells["histogram"].estimates) == 2
+    assert cells["histogram"].notes == {"UserWarning: switched to ksg"}
+    assert not cells["ksg"].notes
+    text = bench.render([(task, cells)], 100, (2, 1), names, (1.0, 1.0))
+    row = next(line for line in text.splitlines() if line.startswith("| normal-1x1 | 1x1"))
+    assert "refused (ValueError)" in row and "**0.500 (+0.087)** W" in row
+    assert "- normal-1x1, histogram: UserWarning: switched to ksg" in text
+    assert "- kde: 0/0; refused normal-1x1" in text
