@@ -59,7 +59,10 @@ Estimators, all with DEFAULT options so the table can be rerun after a change of
 defaults: ``modalinfo.information.mutual_information(x, y, method=m)`` for 1 x 1 tasks
 and ``conditional_mutual_information(x, y, z, method=m)`` (z = None for MI of groups)
 for the others, m in kde, histogram, ksg, gaussian; the package default (read from the
-function signature) is marked ``(default)``. Beside them, in the same run:
+function signatures) is marked in the header (``MI default``, ``CMI default``). A call
+that warns (a default switching method with a note) is marked ``W`` and one that raises
+(a default refusing) is reported ``refused``, with the first line of each message listed
+under the tables; neither stops the run. Beside them, in the same run:
 scikit-learn's KSG ``mutual_info_regression(x[:, None], y, n_neighbors=3)`` (1 x 1
 only: for a multivariate x it returns one MI per column, not the joint MI) and
 infomeasure's KSG (``mutual_information``/``cmi``, ``approach="ksg"``, k = 3).
