@@ -47,6 +47,14 @@ WFS_KINDS = ("shack_hartmann", "ideal", "correlating")
 CORRELATING_KEYS = ("pixel_scale", "signal", "contrast", "image_formation")
 #: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
 FULL_WELL = 30_000.0
+#: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
+#: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
+WAVELENGTH_RANGE = (300e-9, 28e-6)
+#: widest science field or WFS field of view [arcsec]: 1 degree (the solar disc is 32';
+#: the geometry's shifts ``h theta`` are small-angle)
+MAX_FIELD_ARCSEC = 3600.0
+_FIELD_RULE = (f"<= {MAX_FIELD_ARCSEC:g} arcsec (1 degree; the solar disc is 1920\" across "
+               "and the simulator's shifts h theta are small-angle)")
 
 
 def _fail(key: str, rule: str, value: Any, exc=ValueError):
@@ -221,6 +229,8 @@ class WFSConfig:
     def _validate(self, p: str) -> None:
         _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
         _set(self, "field_of_view", check_real(self.field_of_view, p + "field_of_view", minimum=0))
+        if self.field_of_view > MAX_FIELD_ARCSEC:
+            _fail(p + "field_of_view", _FIELD_RULE, self.field_of_view)
         _set(self, "n_subapertures", check_int(self.n_subapertures, p + "n_subapertures",
                                                minimum=2))
         _set(self, "noise", check_real(self.noise, p + "noise", minimum=0))
@@ -354,9 +364,14 @@ class FieldConfig:
 
     def _validate(self, p: str) -> None:
         _set(self, "size", check_real(self.size, p + "size", minimum=0))
+        if self.size > MAX_FIELD_ARCSEC:
+            _fail(p + "size", _FIELD_RULE, self.size)
         _set(self, "n_points", check_int(self.n_points, p + "n_points", minimum=1))
         if self.n_points % 2 == 0:
             _fail(p + "n_points", "odd (the optical axis is on the grid)", self.n_points)
+        if self.size == 0.0 and self.n_points > 1:
+            _fail(p + "n_points", "1 when field.size is 0 (all the directions would be the "
+                  "axis)", self.n_points)
 
 
 _SECTIONS = {"telescope": TelescopeConfig, "loop": LoopConfig, "field": FieldConfig}
@@ -415,7 +430,12 @@ class SimulationConfig:
                     _fail(f"{key}[{i}]", f"a {cls.__name__}", type(item).__name__, TypeError)
                 item._validate(f"{key}[{i}].")
         for name in ("wavelength", "r0_wavelength"):
-            value = check_real(getattr(self, name), name, minimum=0, strict_min=True, maximum=1e-3)
+            value = check_real(getattr(self, name), name, minimum=0, strict_min=True)
+            if not WAVELENGTH_RANGE[0] <= value <= WAVELENGTH_RANGE[1]:
+                _fail(name, f"in [{WAVELENGTH_RANGE[0] * 1e9:g} nm, "
+                      f"{WAVELENGTH_RANGE[1] * 1e6:g} um] (the ground-based solar range: the "
+                      "atmosphere is opaque below ~300 nm, and DKIST, the widest, covers "
+                      "0.38-28 um; Rimmele et al. 2020, Sol. Phys. 295, 172)", value)
             _set(self, name, value)
         _set(self, "seed", check_int(self.seed, "seed", minimum=0))
         if not isinstance(self.name, str):
@@ -430,6 +450,7 @@ class SimulationConfig:
                 _fail(f"wfss[{i}].altitude", f"the altitude of the DM it drives "
                       f"(dms[{w.dm}].altitude = {self.dms[w.dm].altitude:g} m)", w.altitude)
         _check_sampling(self)
+        _check_physics(self)
 
     # ---------------------------------------------------------------- plain form
     def to_dict(self) -> dict[str, Any]:
@@ -547,6 +568,91 @@ def _check_sampling(cfg: SimulationConfig) -> None:
                   f"{_PIXELS_PER_SUBAPERTURE} pixels per subaperture across the "
                   f"{across:.0f}-pixel meta-pupil at telescope.n_pixels = "
                   f"{cfg.telescope.n_pixels})", w.n_subapertures)
+
+
+def _valid_subapertures(n_sub: int, obscuration: float) -> int:
+    """Count the subapertures of an ``n_sub x n_sub`` grid whose centre lies on the (annular) disc.
+
+    The grid spans the disc's diameter; ``obscuration`` is the hole's diameter as a
+    fraction of it. An upper estimate of the Shack-Hartmann's valid subapertures (half
+    lit or more); counted row by row (no ``n_sub**2`` array).
+    """
+    count = 0
+    for i in range(n_sub):
+        y = (i + 0.5) / n_sub - 0.5  # centre, in units of the diameter
+        outer = 0.25 - y * y
+        if outer < 0:
+            continue
+        x_out = math.sqrt(outer)
+        inner = (obscuration / 2.0) ** 2 - y * y
+        x_in = math.sqrt(inner) if inner > 0 else -1.0
+        # centres x_k = (k + 0.5) / n_sub - 0.5 with x_in <= |x_k| <= x_out
+        count += _centres_within(n_sub, x_out) - _centres_within(n_sub, x_in)
+    return count
+
+
+def _centres_within(n_sub: int, bound: float) -> int:
+    """Count the ``k < n_sub`` with ``|(k + 0.5) / n_sub - 0.5| <= bound`` (0 if bound < 0)."""
+    if bound < 0:
+        return 0
+    lo = math.ceil((0.5 - bound) * n_sub - 0.5 - 1e-12)
+    hi = math.floor((0.5 + bound) * n_sub - 0.5 + 1e-12)
+    return max(0, min(hi, n_sub - 1) - max(lo, 0) + 1)
+
+
+def _check_physics(cfg: SimulationConfig) -> None:
+    """Refuse configs that break the laws the simulator rests on (each rule named).
+
+    - Controlled modes vs measurements: a Shack-Hartmann of ``n_sub x n_sub``
+      subapertures measures ``2 n_valid`` slopes; a DM driven through a least-squares
+      reconstructor cannot control more modes than its WFS measures (the interaction
+      matrix would have more columns than rows: a rank-deficient, ill-posed inversion).
+    - r0 sampled by the pupil grid: the phase power the grid cannot hold, above its
+      Nyquist frequency ``1 / (2 dx)``, is ``0.023 r0**(-5/3) int k**(-11/3) 2 pi k dk =
+      0.275 (dx / r0)**(5/3)`` rad^2 (Kolmogorov spectrum, Noll 1976); the pixel must not
+      exceed r0 at the science wavelength (the missing variance then stays <= 0.28 rad^2;
+      at dx = r0 / 2 it is 0.087 rad^2).
+    - Outer scale: r0 is defined on Kolmogorov's inertial range, which must contain the
+      pupil and r0 (L0 > D and L0 > r0 of the layer); measured L0 are 10-100 m (Ziad et
+      al. 2004, Appl. Opt. 43, 2316).
+    - Wind vs time step: a layer moving more than the pupil diameter in one frame
+      (``v T > D``) shows the loop an uncorrelated screen every frame; no frozen-flow AO
+      question is asked there.
+    """
+    tel = cfg.telescope
+    dx = tel.diameter / tel.n_pixels
+    for j, w in enumerate(cfg.wfss):
+        dm = cfg.dms[w.dm]
+        if w.kind not in ("shack_hartmann", "correlating") or dm.kind != "zernike":
+            continue
+        # the telescope's obscuration, scaled to the meta-pupil the WFS's grid spans
+        obsc = tel.obscuration * tel.diameter / wfs_meta_pupil(cfg, j)
+        n_valid = _valid_subapertures(w.n_subapertures, obsc)
+        if dm.n_modes > 2 * n_valid:
+            _fail(f"dms[{w.dm}].n_modes", f"<= {2 * n_valid}, the slopes wfss[{j}] measures "
+                  f"(2 x {n_valid} valid subapertures of {w.n_subapertures} x "
+                  f"{w.n_subapertures}: a least-squares reconstructor of more modes than "
+                  "measurements is ill-posed)", dm.n_modes)
+    scale = airmass(cfg) ** -0.6 * (cfg.wavelength / cfg.r0_wavelength) ** 1.2
+    r0 = tel.diameter / cfg.d_over_r0 * scale
+    if dx > r0:
+        _fail("layers[*].d_over_r0", f"such that r0 at the science wavelength "
+              f"({r0 * 100:.3g} cm for a total D/r0 = {cfg.d_over_r0:g}) is at least one pupil "
+              f"pixel (telescope.diameter / telescope.n_pixels = {dx * 100:.3g} cm): the "
+              f"grid cannot hold the phase above its Nyquist frequency, 0.275 (dx/r0)^(5/3)"
+              f" = {0.275 * (dx / r0) ** (5 / 3):.3g} rad^2; raise telescope.n_pixels",
+              float(f"{cfg.d_over_r0:.6g}"))
+    for i, layer in enumerate(cfg.layers):
+        r0_layer = tel.diameter / layer.d_over_r0 * scale
+        floor = max(tel.diameter, r0_layer)
+        if layer.outer_scale <= floor:
+            _fail(f"layers[{i}].outer_scale", f"> {floor:g} m (the pupil diameter and the "
+                  f"layer's r0 must lie in Kolmogorov's inertial range below L0; measured L0 "
+                  f"are 10-100 m, Ziad et al. 2004)", layer.outer_scale)
+        if layer.wind_speed * cfg.loop.time_step > tel.diameter:
+            _fail(f"layers[{i}].wind_speed", f"<= telescope.diameter / loop.time_step = "
+                  f"{tel.diameter / cfg.loop.time_step:g} m/s (the layer would move more than "
+                  f"the pupil in one frame)", layer.wind_speed)
 
 
 def _plain(obj) -> dict[str, Any]:
