@@ -31,12 +31,15 @@ over 2 seeds).
 
 All or nothing: options, logs and the output folder are checked before any work, and
 the files are written into a temporary sibling folder moved into place at the end, so
-a failed or interrupted run leaves the output folder as it was.
+a failed or interrupted run leaves the output folder as it was. One run per output
+folder: a run holds ``<out>/.lock`` (the lock of ``modalinfo batch``) while it works, and
+a second run into the same folder is refused (exit 2) rather than replacing its files.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import inspect
 import platform
@@ -242,7 +245,7 @@ def _terminated(signum, frame) -> None:
 
 
 def _run(args) -> int:
-    from paper_figures._common import staged_output
+    from paper_figures._common import OutputError, locked_output
 
     try:
         only = _parse_only(args.only)
@@ -256,6 +259,19 @@ def _run(args) -> int:
     logs = (SHIPPED_LOGS if args.log is None
             else ((args.log, "", "user", "user log"),))
     _check_args(args, modules, logs, needs_log)
+    with contextlib.ExitStack() as stack:
+        # one run per output folder (two would replace each other's files unasked)
+        try:
+            stack.enter_context(locked_output(args.out))
+        except OutputError as exc:
+            raise _RefusedError(str(exc)) from None
+        return _run_locked(args, modules, logs, needs_log)
+
+
+def _run_locked(args, modules, logs, needs_log) -> int:
+    """Refuse existing outputs, then make the figures (``_run`` holds the folder)."""
+    from paper_figures._common import staged_output
+
     report_path = args.out / "report.md"
     html_path = args.out / "report.html"
     outputs = [report_path, html_path] + [args.out / name for module, _, _ in modules
