@@ -50,6 +50,9 @@ FULL_WELL = 30_000.0
 #: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
 #: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
 WAVELENGTH_RANGE = (300e-9, 28e-6)
+#: largest finite outer scale [m]; beyond, ``inf`` (the screens' 1 / L0**2 overflows near
+#: 1e154 m, and von Karman is Kolmogorov there to (D / L0)**(1/3) ~ 1e-3)
+MAX_FINITE_OUTER_SCALE = 1e9
 #: widest science field or WFS field of view [arcsec]: 1 degree (the solar disc is 32';
 #: the geometry's shifts ``h theta`` are small-angle)
 MAX_FIELD_ARCSEC = 3600.0
@@ -110,7 +113,8 @@ class LayerConfig:
     wind_speed : float
         [m/s].
     wind_direction : float
-        [deg] from +x towards +y.
+        [deg] from +x towards +y, in [-360, 360] (beyond, a float's angle has lost its
+        digits: 1e308 deg is no direction).
     outer_scale : float
         von Karman outer scale L0 [m]; ``inf`` for Kolmogorov turbulence.
     """
@@ -126,9 +130,14 @@ class LayerConfig:
         _set(self, "d_over_r0", check_real(self.d_over_r0, p + "d_over_r0", minimum=0,
                                       strict_min=True))
         _set(self, "wind_speed", check_real(self.wind_speed, p + "wind_speed", minimum=0))
-        _set(self, "wind_direction", check_real(self.wind_direction, p + "wind_direction"))
+        _set(self, "wind_direction", check_real(self.wind_direction, p + "wind_direction",
+                                                minimum=-360.0, maximum=360.0))
         _set(self, "outer_scale", check_real(self.outer_scale, p + "outer_scale", minimum=0,
                                         strict_min=True, allow_inf=True))
+        if MAX_FINITE_OUTER_SCALE < self.outer_scale < math.inf:
+            _fail(p + "outer_scale", f"<= {MAX_FINITE_OUTER_SCALE:g} m or inf (Kolmogorov; "
+                  "von Karman differs from it by ~(D/L0)^(1/3) < 1e-2 beyond)",
+                  self.outer_scale)
 
 
 @dataclass(frozen=True)
@@ -551,6 +560,10 @@ def _check_sampling(cfg: SimulationConfig) -> None:
             continue
         across = dm_disc_diameter(cfg, i) / dx
         n_max = int(across // _PIXELS_PER_CYCLE)
+        if n_max < 1:  # only a configured diameter can be this small (the meta-pupil >= D)
+            _fail(f"dms[{i}].diameter", f">= {_PIXELS_PER_CYCLE} pupil pixels "
+                  f"({_PIXELS_PER_CYCLE * dx:g} m at telescope.n_pixels = "
+                  f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode)", dm.diameter)
         order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
         if order > n_max:
             limit = (n_max + 1) * (n_max + 2) // 2 - 1
@@ -612,9 +625,11 @@ def _check_physics(cfg: SimulationConfig) -> None:
       0.275 (dx / r0)**(5/3)`` rad^2 (Kolmogorov spectrum, Noll 1976); the pixel must not
       exceed r0 at the science wavelength (the missing variance then stays <= 0.28 rad^2;
       at dx = r0 / 2 it is 0.087 rad^2).
-    - Outer scale: r0 is defined on Kolmogorov's inertial range, which must contain the
-      pupil and r0 (L0 > D and L0 > r0 of the layer); measured L0 are 10-100 m (Ziad et
-      al. 2004, Appl. Opt. 43, 2316).
+    - Outer scale: ``d_over_r0`` describes the phase over the pupil through Kolmogorov's
+      inertial range, which must contain the pupil (L0 > D; below, the structure
+      function saturates inside the pupil); measured L0 are 10-100 m (Ziad et al. 2004,
+      Appl. Opt. 43, 2316). (r0 is not compared with L0: r0 grows with the wavelength,
+      the turbulence does not.)
     - Wind vs time step: a layer moving more than the pupil diameter in one frame
       (``v T > D``) shows the loop an uncorrelated screen every frame; no frozen-flow AO
       question is asked there.
@@ -643,12 +658,11 @@ def _check_physics(cfg: SimulationConfig) -> None:
               f" = {0.275 * (dx / r0) ** (5 / 3):.3g} rad^2; raise telescope.n_pixels",
               float(f"{cfg.d_over_r0:.6g}"))
     for i, layer in enumerate(cfg.layers):
-        r0_layer = tel.diameter / layer.d_over_r0 * scale
-        floor = max(tel.diameter, r0_layer)
-        if layer.outer_scale <= floor:
-            _fail(f"layers[{i}].outer_scale", f"> {floor:g} m (the pupil diameter and the "
-                  f"layer's r0 must lie in Kolmogorov's inertial range below L0; measured L0 "
-                  f"are 10-100 m, Ziad et al. 2004)", layer.outer_scale)
+        if layer.outer_scale <= tel.diameter:
+            _fail(f"layers[{i}].outer_scale", f"> telescope.diameter = {tel.diameter:g} m (the "
+                  f"pupil must lie in the turbulence's inertial range below L0, where "
+                  f"d_over_r0 describes it; measured L0 are 10-100 m, Ziad et al. 2004)",
+                  layer.outer_scale)
         if layer.wind_speed * cfg.loop.time_step > tel.diameter:
             _fail(f"layers[{i}].wind_speed", f"<= telescope.diameter / loop.time_step = "
                   f"{tel.diameter / cfg.loop.time_step:g} m/s (the layer would move more than "
@@ -697,9 +711,11 @@ def load_config(path: str | Path) -> SimulationConfig:
         raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
     if not path.is_file():
         raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
-    text = path.read_text(encoding="utf-8")
     try:
+        text = path.read_text(encoding="utf-8")
         data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a {suffix[1:].upper()} text file (not UTF-8)") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
     return SimulationConfig.from_dict(data)
