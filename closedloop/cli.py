@@ -65,10 +65,21 @@ def _check_duration(args) -> None:
 
 def _check_resources(args, config, *, oracle: bool = False, budget: bool = False):
     """Refuse a run that cannot work or exceeds the memory limit (before any work)."""
-    from closedloop.resources import check_resources
+    from closedloop.config import MAX_SEED
+    from closedloop.resources import MAX_FRAMES, check_resources
     from closedloop.simulation import check_run
 
     _check_duration(args)
+    if not args.duration / config.loop.time_step < MAX_FRAMES:
+        # more frames than a float counts exactly (1e308 s overflowed the frame count)
+        raise CommandError(f"--duration {args.duration:g} s is "
+                           f"{args.duration / config.loop.time_step:.3g} frames of "
+                           f"loop.time_step = {config.loop.time_step:g} s; at most "
+                           f"{MAX_FRAMES:g} frames")
+    for flag, value in (("--seed", args.seed), ("--train-seed", args.train_seed)):
+        if value is not None and not 0 <= value <= MAX_SEED:
+            raise CommandError(f"{flag} must be an int in [0, 2**63 - 1] (it is stored in "
+                               f"the result); got {value}")
     check_run(config, args.duration)
     try:
         return check_resources(config, args.duration, limit=_memory_limit(args),
@@ -171,6 +182,9 @@ def _cmd_compare(args) -> int:
     from closedloop.training import run_trained
 
     names = [n.strip() for n in args.predictors.split(",") if n.strip()]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise CommandError(f"--predictors names '{twice[0]}' twice; give each once")
     try:
         specs = [LoopPredictor.from_name(n) for n in names]
     except ValueError:

@@ -50,6 +50,13 @@ FULL_WELL = 30_000.0
 #: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
 #: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
 WAVELENGTH_RANGE = (300e-9, 28e-6)
+#: largest seed: the result file stores it as an HDF5 int64 (a larger one ran, then
+#: could not be saved)
+MAX_SEED = 2**63 - 1
+#: largest Shack-Hartmann noise [arcsec RMS]: a subaperture's field is a few arcsec
+#: (solar correlating SHs 5-10"; Rimmele & Marino 2011, Living Rev. Sol. Phys. 8, 2), a
+#: noise beyond 10" measures nothing
+MAX_SH_NOISE = 10.0
 #: largest finite outer scale [m]; beyond, ``inf`` (the screens' 1 / L0**2 overflows near
 #: 1e154 m, and von Karman is Kolmogorov there to (D / L0)**(1/3) ~ 1e-3)
 MAX_FINITE_OUTER_SCALE = 1e9
@@ -243,6 +250,10 @@ class WFSConfig:
         _set(self, "n_subapertures", check_int(self.n_subapertures, p + "n_subapertures",
                                                minimum=2))
         _set(self, "noise", check_real(self.noise, p + "noise", minimum=0))
+        if self.noise > MAX_SH_NOISE:
+            _fail(p + "noise", f"<= {MAX_SH_NOISE:g} arcsec RMS (a subaperture's field is a "
+                  "few arcsec: 5-10\" on solar Shack-Hartmanns, Rimmele & Marino 2011; a noise "
+                  "beyond it measures nothing)", self.noise)
         check_choice(self.kind, p + "kind", WFS_KINDS)
         _set(self, "field_samples", check_int(self.field_samples, p + "field_samples", minimum=1))
         _set(self, "dm", check_int(self.dm, p + "dm", minimum=0))
@@ -446,7 +457,7 @@ class SimulationConfig:
                       "atmosphere is opaque below ~300 nm, and DKIST, the widest, covers "
                       "0.38-28 um; Rimmele et al. 2020, Sol. Phys. 295, 172)", value)
             _set(self, name, value)
-        _set(self, "seed", check_int(self.seed, "seed", minimum=0))
+        _set(self, "seed", check_int(self.seed, "seed", minimum=0, maximum=MAX_SEED))
         if not isinstance(self.name, str):
             _fail("name", "a string", self.name, TypeError)
         if len(self.wfss) != len(self.dms):
