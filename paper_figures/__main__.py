@@ -117,8 +117,8 @@ def _check_args(args, modules, logs, needs_log) -> None:
 
     if args.duration is not None and not 0 < args.duration < float("inf"):
         raise _RefusedError(f"--duration must be a number of seconds > 0; got {args.duration:g}")
-    if args.seed < 0:
-        raise _RefusedError(f"--seed must be >= 0; got {args.seed}")
+    if not 0 <= args.seed <= 2**63 - 1:  # closedloop stores the seed as an int64
+        raise _RefusedError(f"--seed must be an int in [0, 2**63 - 1]; got {args.seed}")
     numbers = ",".join(label.split()[-1] for _, label, _ in modules)
     if args.log is None:
         given = [_flag(d) for d, v in _HINT_DEFAULTS.items() if getattr(args, d, v) != v]

@@ -283,3 +283,14 @@ def test_a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over(tmp_path
     assert main(["--only", "2", "--out", str(out)]) == 0
     assert (out / "fig2_sr_peak.png").read_bytes() == b"new fig2"
     assert not (out / ".lock").exists()
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["--only", "2", "--seed", str(2**70)], "--seed must be an int in [0, 2**63 - 1]"),
+    # 1e308 s is an infinite frame count: an OverflowError traceback before the fix
+    (["--only", "2", "--duration", "1e308"], "`duration` must be at most 1e+15 frames"),
+])
+def test_seeds_and_durations_the_runs_cannot_hold_are_refused(tmp_path, capsys, argv, needle):
+    out = tmp_path / "out"
+    err = _refused(capsys, argv + ["--out", str(out)], needle)
+    assert "Traceback" not in err and not out.exists() and _leftovers(tmp_path) == []
