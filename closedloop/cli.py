@@ -81,11 +81,14 @@ def _check_resources(args, config, *, oracle: bool = False, budget: bool = False
             raise CommandError(f"{flag} must be an int in [0, 2**63 - 1] (it is stored in "
                                f"the result); got {value}")
     check_run(config, args.duration)
+    from closedloop.resources import ResourceError
+
     try:
         return check_resources(config, args.duration, limit=_memory_limit(args),
                                oracle=oracle, budget=budget)
-    except ValueError as exc:
-        raise CommandError(f"{exc} (--memory-limit raises the limit)") from None
+    except ResourceError as exc:
+        hint = " (--memory-limit raises the limit)" if "memory" in str(exc) else ""
+        raise CommandError(f"{exc}{hint}") from None
 
 
 def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:

@@ -339,6 +339,12 @@ class LoopConfig:
         _set(self, "gain", check_real(self.gain, p + "gain", minimum=0, strict_min=True))
         _set(self, "leak", check_real(self.leak, p + "leak", minimum=0, maximum=0.999))
         _set(self, "model_error", check_real(self.model_error, p + "model_error", minimum=0))
+        try:  # delay and exposure must be whole internal steps (checked here, at load)
+            self.oversampling  # noqa: B018
+        except ValueError:
+            _fail(p + "delay", f"a multiple of time_step / n for some n <= 64, as "
+                  f"integration_time must be (delay / time_step = {self.delay_frames:.6g}, "
+                  f"integration_time / time_step = {self.integration_frames:.6g})", self.delay)
         if not isinstance(self.closed, bool):
             _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
                   TypeError)

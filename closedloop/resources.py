@@ -361,7 +361,9 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
                "planes": _plane_driver(config, layout, _biggest_plane(layout)),
                "dm_shapes": dm_key, "wfs_build": build_key,
                "reconstructor": "dms[*].n_modes` x `wfss[*].n_subapertures",
-               "logs": "duration"}
+               # a log's row holds 3 M modes, the directions and the measurements
+               "logs": ("field.n_points" if config.field.n_points ** 2
+                        > 3 * n_modes_total + n_meas_total else "duration")}
 
     kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
     setup = parts["pupil"] + parts["dm_shapes"] + parts["wfs_build"]

@@ -98,3 +98,22 @@ def test_the_sensitivity_study_refuses_a_bad_duration_in_one_line(capsys):
 
     assert sensitivity_main(["--duration", "-1"]) == 2
     _one_line(capsys, "sensitivity: error: `duration` must be > 0")
+
+
+def test_a_delay_that_is_no_whole_internal_step_is_refused_at_load():
+    # 0.333 ms of a 0.5 ms frame is 0.666 frames: no n <= 64 makes it whole
+    d = _kaos()
+    d["loop"]["delay"] = 0.000333
+    with pytest.raises(ValueError, match=r"`loop.delay` must be a multiple of time_step / n"):
+        SimulationConfig.from_dict(d)
+    d["loop"]["delay"] = 0.0005 / 3  # a third of a frame: 3 internal steps
+    assert SimulationConfig.from_dict(d).loop.oversampling == 3
+
+
+def test_the_memory_of_a_huge_field_grid_is_blamed_on_the_grid():
+    # 10001 x 10001 directions: the logs' rows are the directions, not the modes
+    d = _kaos()
+    d["field"]["n_points"] = 10001
+    est = estimate(SimulationConfig.from_dict(d), 0.03)
+    assert est.largest == "logs" and est.driver == "field.n_points"
+    assert estimate(presets.get("kaos"), 100.0).drivers["logs"] == "duration"
