@@ -59,8 +59,7 @@ def _memory_limit(args) -> float | None:
 def _check_duration(args) -> None:
     """Refuse a ``--duration`` that is not a finite number of seconds > 0."""
     if not 0 < args.duration < math.inf:
-        raise CommandError(f"--duration must be a finite number of seconds > 0; got "
-                           f"{args.duration:g}")
+        raise CommandError(f"--duration must be > 0 s and finite; got {args.duration:g}")
 
 
 def _check_resources(args, config, *, oracle: bool = False, budget: bool = False):

@@ -146,12 +146,12 @@ def test_export_names_every_loop_it_wrote(tmp_path, capsys):
 def test_durations_that_are_not_finite_seconds_are_refused(capsys, no_simulation, command,
                                                            duration):
     assert main([command, "--preset", "kaos", "--duration", duration, "--quiet"]) == 2
-    _one_line(capsys, "--duration must be a finite number of seconds > 0")
+    _one_line(capsys, "--duration must be > 0 s and finite")
 
 
 def test_config_estimate_refuses_an_infinite_duration(capsys):
     assert main(["config", "--preset", "kaos", "--estimate", "--duration", "inf"]) == 2
-    _one_line(capsys, "--duration must be a finite number")
+    _one_line(capsys, "--duration must be > 0 s and finite")
 
 
 def test_a_180_degree_field_is_refused_in_one_line(tmp_path, capsys, no_simulation):
