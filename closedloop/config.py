@@ -640,8 +640,10 @@ def _check_physics(cfg: SimulationConfig) -> None:
     - r0 sampled by the pupil grid: the phase power the grid cannot hold, above its
       Nyquist frequency ``1 / (2 dx)``, is ``0.023 r0**(-5/3) int k**(-11/3) 2 pi k dk =
       0.275 (dx / r0)**(5/3)`` rad^2 (Kolmogorov spectrum, Noll 1976); the pixel must not
-      exceed r0 at the science wavelength (the missing variance then stays <= 0.28 rad^2;
-      at dx = r0 / 2 it is 0.087 rad^2).
+      exceed r0 at ``r0_wavelength``, the wavelength of the simulator's phase (the missing
+      variance there then stays <= 0.28 rad^2; at dx = r0 / 2 it is 0.087 rad^2; at a
+      shorter science wavelength it grows as ``lambda**-2``, a bias of the Strehl a
+      coarse grid keeps).
     - Outer scale: ``d_over_r0`` describes the phase over the pupil through Kolmogorov's
       inertial range, which must contain the pupil (L0 > D; below, the structure
       function saturates inside the pupil); measured L0 are 10-100 m (Ziad et al. 2004,
@@ -665,10 +667,10 @@ def _check_physics(cfg: SimulationConfig) -> None:
                   f"(2 x {n_valid} valid subapertures of {w.n_subapertures} x "
                   f"{w.n_subapertures}: a least-squares reconstructor of more modes than "
                   "measurements is ill-posed)", dm.n_modes)
-    scale = airmass(cfg) ** -0.6 * (cfg.wavelength / cfg.r0_wavelength) ** 1.2
-    r0 = tel.diameter / cfg.d_over_r0 * scale
+    # r0 at r0_wavelength (the wavelength of the simulator's phase) and the zenith angle
+    r0 = tel.diameter / cfg.d_over_r0 * airmass(cfg) ** -0.6
     if dx > r0:
-        _fail("layers[*].d_over_r0", f"such that r0 at the science wavelength "
+        _fail("layers[*].d_over_r0", f"such that r0 at r0_wavelength "
               f"({r0 * 100:.3g} cm for a total D/r0 = {cfg.d_over_r0:g}) is at least one pupil "
               f"pixel (telescope.diameter / telescope.n_pixels = {dx * 100:.3g} cm): the "
               f"grid cannot hold the phase above its Nyquist frequency, 0.275 (dx/r0)^(5/3)"

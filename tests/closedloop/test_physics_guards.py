@@ -5,8 +5,8 @@ References, written out here from the laws (not from the code under test):
 - a Shack-Hartmann of ``n x n`` subapertures measures two slopes per valid subaperture;
   the valid ones are counted here on a numpy grid (subaperture centre on the annular
   pupil), and a least-squares reconstructor needs at least as many slopes as modes;
-- r0 grows as ``lambda**(6/5)`` and shrinks as ``sec(z)**(-3/5)`` (Fried 1966; Roddier
-  1981): the pixel ``D / n_pixels`` must not exceed r0 at the science wavelength;
+- r0 shrinks as ``sec(z)**(-3/5)`` (Roddier 1981): the pixel ``D / n_pixels`` must not
+  exceed r0 at ``r0_wavelength`` (the simulator's phase);
 - von Karman's outer scale must exceed the pupil (Kolmogorov's inertial range);
 - frozen flow: a layer moving ``v T`` in a frame must not cross more than the pupil;
 - the ground-based solar range of wavelengths, 300 nm to 28 um;
@@ -62,12 +62,12 @@ def test_modes_up_to_the_measured_slopes_are_accepted(obscuration):
 def test_r0_must_be_sampled_by_the_pupil_grid():
     # the issue's case: r0 of 0.4 mm (at 500 nm) on 62 mm pixels
     with pytest.raises(ValueError, match=r"`layers\[\*\].d_over_r0` must be such that r0 at "
-                                         r"the science wavelength .* one pupil pixel"):
+                                         r"r0_wavelength .* one pupil pixel"):
         _with("table1", layers__0__d_over_r0=4.0 / 0.4e-3)
-    # the bound, from r0's laws: at 630 nm and 30 deg zenith, r0 = D / (D/r0) x
-    # (630/500)^(6/5) x cos(30)^(3/5); the pixel is 4 m / 64
-    z, lam = 30.0, 630e-9
-    factor = (lam / 500e-9) ** 1.2 * math.cos(math.radians(z)) ** 0.6
+    # the bound, from r0's law: at r0_wavelength (500 nm) and 30 deg zenith, r0 = D /
+    # (D/r0) x cos(30)^(3/5); the pixel is 4 m / 64
+    z = 30.0
+    factor = math.cos(math.radians(z)) ** 0.6
     limit = 4.0 / (4.0 / 64) * factor  # largest total D/r0 (one layer)
     base = {"telescope__zenith_angle": z, "layers__1__d_over_r0": 1e-9}
     _with("table1", layers__0__d_over_r0=limit * 0.99, **base)
