@@ -634,9 +634,11 @@ def _check_physics(cfg: SimulationConfig) -> None:
     """Refuse configs that break the laws the simulator rests on (each rule named).
 
     - Controlled modes vs measurements: a Shack-Hartmann of ``n_sub x n_sub``
-      subapertures measures ``2 n_valid`` slopes; a DM driven through a least-squares
-      reconstructor cannot control more modes than its WFS measures (the interaction
-      matrix would have more columns than rows: a rank-deficient, ill-posed inversion).
+      subapertures measures ``2 n_valid`` slopes; a reconstructor cannot control more
+      modes than it is given measurements (the interaction matrix would have more
+      columns than rows: a rank-deficient, ill-posed inversion). With several modal DMs
+      the joint reconstructor sees every WFS: all the modes against all the slopes;
+      otherwise each DM against the WFS that drives it.
     - r0 sampled by the pupil grid: the phase power the grid cannot hold, above its
       Nyquist frequency ``1 / (2 dx)``, is ``0.023 r0**(-5/3) int k**(-11/3) 2 pi k dk =
       0.275 (dx / r0)**(5/3)`` rad^2 (Kolmogorov spectrum, Noll 1976); the pixel must not
@@ -655,18 +657,33 @@ def _check_physics(cfg: SimulationConfig) -> None:
     """
     tel = cfg.telescope
     dx = tel.diameter / tel.n_pixels
+    slopes = []  # per WFS: measured slopes (None: not a Shack-Hartmann)
     for j, w in enumerate(cfg.wfss):
-        dm = cfg.dms[w.dm]
-        if w.kind not in ("shack_hartmann", "correlating") or dm.kind != "zernike":
+        if w.kind not in ("shack_hartmann", "correlating"):
+            slopes.append(None)
             continue
         # the telescope's obscuration, scaled to the meta-pupil the WFS's grid spans
         obsc = tel.obscuration * tel.diameter / wfs_meta_pupil(cfg, j)
-        n_valid = _valid_subapertures(w.n_subapertures, obsc)
-        if dm.n_modes > 2 * n_valid:
-            _fail(f"dms[{w.dm}].n_modes", f"<= {2 * n_valid}, the slopes wfss[{j}] measures "
-                  f"(2 x {n_valid} valid subapertures of {w.n_subapertures} x "
-                  f"{w.n_subapertures}: a least-squares reconstructor of more modes than "
-                  "measurements is ill-posed)", dm.n_modes)
+        slopes.append(2 * _valid_subapertures(w.n_subapertures, obsc))
+    zernike = [dm.kind == "zernike" for dm in cfg.dms]
+    if len(cfg.dms) > 1 and all(zernike):
+        # one joint reconstructor (closedloop.model.LoopModel): every WFS sees every DM
+        if None not in slopes and sum(d.n_modes for d in cfg.dms) > sum(slopes):
+            n_sub = ", ".join(f"{w.n_subapertures} x {w.n_subapertures}" for w in cfg.wfss)
+            _fail("dms[*].n_modes", f"<= {sum(slopes)} in all, the slopes all the WFSs "
+                  f"measure ({' + '.join(map(str, slopes))} from subapertures {n_sub}: the "
+                  "joint reconstructor of more modes than measurements is ill-posed)",
+                  sum(d.n_modes for d in cfg.dms))
+    else:
+        # one reconstructor per WFS, for the DM it drives
+        for j, w in enumerate(cfg.wfss):
+            dm = cfg.dms[w.dm]
+            if slopes[j] is not None and dm.kind == "zernike" and dm.n_modes > slopes[j]:
+                _fail(f"dms[{w.dm}].n_modes", f"<= {slopes[j]}, the slopes wfss[{j}] "
+                      f"measures (2 x {slopes[j] // 2} valid subapertures of "
+                      f"{w.n_subapertures} x {w.n_subapertures}: a least-squares "
+                      "reconstructor of more modes than measurements is ill-posed)",
+                      dm.n_modes)
     # r0 at r0_wavelength (the wavelength of the simulator's phase) and the zenith angle
     r0 = tel.diameter / cfg.d_over_r0 * airmass(cfg) ** -0.6
     if dx > r0:

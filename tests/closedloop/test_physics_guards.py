@@ -43,9 +43,19 @@ def _valid_by_grid(n: int, obscuration: float) -> int:
 
 
 def test_two_by_two_subapertures_cannot_drive_184_modes():
-    with pytest.raises(ValueError, match=r"`dms\[0\].n_modes` must be <= 8, the slopes "
-                                         r"wfss\[0\] measures .*ill-posed.*got 184"):
-        _with("table1", dms__0__n_modes=184, wfss__0__n_subapertures=2)
+    # the issue's case: table1's 119 + 65 modes, both WFSs of 2 x 2 subapertures (4 valid
+    # each: 16 slopes for the joint reconstructor)
+    with pytest.raises(ValueError, match=r"`dms\[\*\].n_modes` must be <= 16 in all, the "
+                                         r"slopes all the WFSs measure \(8 \+ 8 .*ill-posed"
+                                         r".*got 184"):
+        _with("table1", wfss__0__n_subapertures=2, wfss__1__n_subapertures=2)
+    # the joint count: 8 x 8 subapertures on both (52 valid each, by the grid count)
+    # carry 119 + 65 = 184 <= 208 modes; 200 + 65 do not
+    assert 4 * _valid_by_grid(8, 0.0) == 208
+    eight = {"wfss__0__n_subapertures": 8, "wfss__1__n_subapertures": 8}
+    _with("table1", **eight)
+    with pytest.raises(ValueError, match=r"must be <= 208 in all.*got 265"):
+        _with("table1", dms__0__n_modes=200, **eight)
 
 
 @pytest.mark.parametrize("obscuration", [0.0, 0.4])
