@@ -17,6 +17,7 @@ another atmosphere instead).
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
@@ -55,19 +56,38 @@ def _memory_limit(args) -> float | None:
     return value
 
 
+def _check_duration(args) -> None:
+    """Refuse a ``--duration`` that is not a finite number of seconds > 0."""
+    if not 0 < args.duration < math.inf:
+        raise CommandError(f"--duration must be > 0 s and finite; got {args.duration:g}")
+
+
 def _check_resources(args, config, *, oracle: bool = False, budget: bool = False):
     """Refuse a run that cannot work or exceeds the memory limit (before any work)."""
-    from closedloop.resources import check_resources
+    from closedloop.config import MAX_SEED
+    from closedloop.resources import MAX_FRAMES, check_resources
     from closedloop.simulation import check_run
 
-    if not args.duration > 0 or args.duration != args.duration:
-        raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    _check_duration(args)
+    if not args.duration / config.loop.time_step < MAX_FRAMES:
+        # more frames than a float counts exactly (1e308 s overflowed the frame count)
+        raise CommandError(f"--duration {args.duration:g} s is "
+                           f"{args.duration / config.loop.time_step:.3g} frames of "
+                           f"loop.time_step = {config.loop.time_step:g} s; at most "
+                           f"{MAX_FRAMES:g} frames")
+    for flag, value in (("--seed", args.seed), ("--train-seed", args.train_seed)):
+        if value is not None and not 0 <= value <= MAX_SEED:
+            raise CommandError(f"{flag} must be an int in [0, 2**63 - 1] (it is stored in "
+                               f"the result); got {value}")
     check_run(config, args.duration)
+    from closedloop.resources import ResourceError
+
     try:
         return check_resources(config, args.duration, limit=_memory_limit(args),
                                oracle=oracle, budget=budget)
-    except ValueError as exc:
-        raise CommandError(f"{exc} (--memory-limit raises the limit)") from None
+    except ResourceError as exc:
+        hint = " (--memory-limit raises the limit)" if "memory" in str(exc) else ""
+        raise CommandError(f"{exc}{hint}") from None
 
 
 def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
@@ -98,11 +118,18 @@ def _loop_predictor(name: str, flag: str):
         raise CommandError(f"{flag} {str(exc).removeprefix('`predictor` ').rstrip('.')}") from None
 
 
+def _fov_text(diameter: float, width: int = 0) -> str:
+    """Format a corrected-FoV diameter [arcmin]; NaN (one field point) is "n/a"."""
+    text = "n/a (one field point)" if math.isnan(diameter) else f"{diameter:.2f}'"
+    return f"{text:>{width}}"
+
+
 def _summary_line(result) -> str:
     s = result.summary()
+    fov = s["corrected_fov_diameter_arcmin"]
     numbers = (f"field-mean SR {s['strehl_field_mean']:.3f}, corrected FoV d = "
-               f"{s['corrected_fov_diameter_arcmin']:.2f}' (SR > 0.3), "
-               f"{s['steps_per_second']:.0f} steps/s")
+               + (_fov_text(fov) if math.isnan(fov) else f"{_fov_text(fov)} (SR > 0.3)")
+               + f", {s['steps_per_second']:.0f} steps/s")
     if s["open_loop"]:
         return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} in open loop "
                 f"(no correction), {numbers}")
@@ -138,8 +165,7 @@ def _cmd_run(args) -> int:
 
     predictor = _loop_predictor(args.predictor, "--predictor")
     check_output(args.out, args.overwrite, suffixes=(".h5", ".hdf5"), flag="--out")
-    if not args.duration > 0:
-        raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    _check_duration(args)
     config = _config(args)
     est = _check_resources(args, config, oracle=predictor.oracle)
     _check_writable(args.out, est.parts["logs"], "--out")
@@ -158,6 +184,9 @@ def _cmd_compare(args) -> int:
     from closedloop.training import run_trained
 
     names = [n.strip() for n in args.predictors.split(",") if n.strip()]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise CommandError(f"--predictors names '{twice[0]}' twice; give each once")
     try:
         specs = [LoopPredictor.from_name(n) for n in names]
     except ValueError:
@@ -165,8 +194,7 @@ def _cmd_compare(args) -> int:
     if not specs:
         raise CommandError(f"--predictors must be a comma list of {', '.join(NAMES)}; "
                            f"got '{args.predictors}'")
-    if not args.duration > 0:
-        raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+    _check_duration(args)
     config = _config(args)
     _check_resources(args, config, oracle=any(p.oracle for p in specs))
     limit = _memory_limit(args)
@@ -196,9 +224,16 @@ def _cmd_compare(args) -> int:
             print(f"{row[0]:<14}not run: {row[1]}")
             continue
         closure = f"{row[4]:>14.0f}" if row[6] == "closed" else f"{'-':>14}"
-        line = (f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{row[3]:>16.2f}{closure}"
+        fov = "n/a" if math.isnan(row[3]) else f"{row[3]:.2f}"
+        line = (f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{fov:>16}{closure}"
                 f"{row[5]:>9.0f}")
         print(line if row[6] == "closed" else f"{line}  loop {row[6]}")
+    if all(len(row) == 2 for row in rows):
+        sys.stderr.write(f"closedloop compare: error: none of the {len(rows)} predictors ran "
+                         f"(first reason: {rows[0][1]})\n")
+        return 1
+    if config.field.n_points == 1:
+        print("FoV d: n/a, one field point cannot measure an area")
     return 0
 
 
@@ -262,8 +297,7 @@ def _cmd_config(args) -> int:
     if args.estimate:
         from closedloop.resources import available_memory, estimate, format_bytes
 
-        if not args.duration > 0:
-            raise CommandError(f"--duration must be > 0 s; got {args.duration:g}")
+        _check_duration(args)
         print(f"{config.name}, {args.duration:g} s: "
               + estimate(config, args.duration).describe())
         print(f"  machine: {format_bytes(available_memory())} available; runs are refused "
@@ -300,7 +334,7 @@ def _cmd_sweep(args) -> int:
         head = f"  {row['override']:<20} seed {row['seed']:<4} {row['predictor']:<12} "
         if row.get("status") == "ok":
             fov = row["corrected_fov_diameter_arcmin"]
-            print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {fov:.2f}'")
+            print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {_fov_text(fov)}")
         else:
             print(f"{head}{row.get('status')}: {row.get('error_message', '')}")
     failed = sum(r.get("status") != "ok" for r in rows)

@@ -47,6 +47,24 @@ WFS_KINDS = ("shack_hartmann", "ideal", "correlating")
 CORRELATING_KEYS = ("pixel_scale", "signal", "contrast", "image_formation")
 #: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
 FULL_WELL = 30_000.0
+#: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
+#: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
+WAVELENGTH_RANGE = (300e-9, 28e-6)
+#: largest seed: the result file stores it as an HDF5 int64 (a larger one ran, then
+#: could not be saved)
+MAX_SEED = 2**63 - 1
+#: largest Shack-Hartmann noise [arcsec RMS]: a subaperture's field is a few arcsec
+#: (solar correlating SHs 5-10"; Rimmele & Marino 2011, Living Rev. Sol. Phys. 8, 2), a
+#: noise beyond 10" measures nothing
+MAX_SH_NOISE = 10.0
+#: largest finite outer scale [m]; beyond, ``inf`` (the screens' 1 / L0**2 overflows near
+#: 1e154 m, and von Karman is Kolmogorov there to (D / L0)**(1/3) ~ 1e-3)
+MAX_FINITE_OUTER_SCALE = 1e9
+#: widest science field or WFS field of view [arcsec]: 1 degree (the solar disc is 32';
+#: the geometry's shifts ``h theta`` are small-angle)
+MAX_FIELD_ARCSEC = 3600.0
+_FIELD_RULE = (f"<= {MAX_FIELD_ARCSEC:g} arcsec (1 degree; the solar disc is 1920\" across "
+               "and the simulator's shifts h theta are small-angle)")
 
 
 def _fail(key: str, rule: str, value: Any, exc=ValueError):
@@ -102,7 +120,8 @@ class LayerConfig:
     wind_speed : float
         [m/s].
     wind_direction : float
-        [deg] from +x towards +y.
+        [deg] from +x towards +y, in [-360, 360] (beyond, a float's angle has lost its
+        digits: 1e308 deg is no direction).
     outer_scale : float
         von Karman outer scale L0 [m]; ``inf`` for Kolmogorov turbulence.
     """
@@ -118,9 +137,14 @@ class LayerConfig:
         _set(self, "d_over_r0", check_real(self.d_over_r0, p + "d_over_r0", minimum=0,
                                       strict_min=True))
         _set(self, "wind_speed", check_real(self.wind_speed, p + "wind_speed", minimum=0))
-        _set(self, "wind_direction", check_real(self.wind_direction, p + "wind_direction"))
+        _set(self, "wind_direction", check_real(self.wind_direction, p + "wind_direction",
+                                                minimum=-360.0, maximum=360.0))
         _set(self, "outer_scale", check_real(self.outer_scale, p + "outer_scale", minimum=0,
                                         strict_min=True, allow_inf=True))
+        if MAX_FINITE_OUTER_SCALE < self.outer_scale < math.inf:
+            _fail(p + "outer_scale", f"<= {MAX_FINITE_OUTER_SCALE:g} m or inf (Kolmogorov; "
+                  "von Karman differs from it by ~(D/L0)^(1/3) < 1e-2 beyond)",
+                  self.outer_scale)
 
 
 @dataclass(frozen=True)
@@ -221,9 +245,15 @@ class WFSConfig:
     def _validate(self, p: str) -> None:
         _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
         _set(self, "field_of_view", check_real(self.field_of_view, p + "field_of_view", minimum=0))
+        if self.field_of_view > MAX_FIELD_ARCSEC:
+            _fail(p + "field_of_view", _FIELD_RULE, self.field_of_view)
         _set(self, "n_subapertures", check_int(self.n_subapertures, p + "n_subapertures",
                                                minimum=2))
         _set(self, "noise", check_real(self.noise, p + "noise", minimum=0))
+        if self.noise > MAX_SH_NOISE:
+            _fail(p + "noise", f"<= {MAX_SH_NOISE:g} arcsec RMS (a subaperture's field is a "
+                  "few arcsec: 5-10\" on solar Shack-Hartmanns, Rimmele & Marino 2011; a noise "
+                  "beyond it measures nothing)", self.noise)
         check_choice(self.kind, p + "kind", WFS_KINDS)
         _set(self, "field_samples", check_int(self.field_samples, p + "field_samples", minimum=1))
         _set(self, "dm", check_int(self.dm, p + "dm", minimum=0))
@@ -309,6 +339,12 @@ class LoopConfig:
         _set(self, "gain", check_real(self.gain, p + "gain", minimum=0, strict_min=True))
         _set(self, "leak", check_real(self.leak, p + "leak", minimum=0, maximum=0.999))
         _set(self, "model_error", check_real(self.model_error, p + "model_error", minimum=0))
+        try:  # delay and exposure must be whole internal steps (checked here, at load)
+            self.oversampling  # noqa: B018
+        except ValueError:
+            _fail(p + "delay", f"a multiple of time_step / n for some n <= 64, as "
+                  f"integration_time must be (delay / time_step = {self.delay_frames:.6g}, "
+                  f"integration_time / time_step = {self.integration_frames:.6g})", self.delay)
         if not isinstance(self.closed, bool):
             _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
                   TypeError)
@@ -354,9 +390,14 @@ class FieldConfig:
 
     def _validate(self, p: str) -> None:
         _set(self, "size", check_real(self.size, p + "size", minimum=0))
+        if self.size > MAX_FIELD_ARCSEC:
+            _fail(p + "size", _FIELD_RULE, self.size)
         _set(self, "n_points", check_int(self.n_points, p + "n_points", minimum=1))
         if self.n_points % 2 == 0:
             _fail(p + "n_points", "odd (the optical axis is on the grid)", self.n_points)
+        if self.size == 0.0 and self.n_points > 1:
+            _fail(p + "n_points", "1 when field.size is 0 (all the directions would be the "
+                  "axis)", self.n_points)
 
 
 _SECTIONS = {"telescope": TelescopeConfig, "loop": LoopConfig, "field": FieldConfig}
@@ -415,9 +456,14 @@ class SimulationConfig:
                     _fail(f"{key}[{i}]", f"a {cls.__name__}", type(item).__name__, TypeError)
                 item._validate(f"{key}[{i}].")
         for name in ("wavelength", "r0_wavelength"):
-            value = check_real(getattr(self, name), name, minimum=0, strict_min=True, maximum=1e-3)
+            value = check_real(getattr(self, name), name, minimum=0, strict_min=True)
+            if not WAVELENGTH_RANGE[0] <= value <= WAVELENGTH_RANGE[1]:
+                _fail(name, f"in [{WAVELENGTH_RANGE[0] * 1e9:g} nm, "
+                      f"{WAVELENGTH_RANGE[1] * 1e6:g} um] (the ground-based solar range: the "
+                      "atmosphere is opaque below ~300 nm, and DKIST, the widest, covers "
+                      "0.38-28 um; Rimmele et al. 2020, Sol. Phys. 295, 172)", value)
             _set(self, name, value)
-        _set(self, "seed", check_int(self.seed, "seed", minimum=0))
+        _set(self, "seed", check_int(self.seed, "seed", minimum=0, maximum=MAX_SEED))
         if not isinstance(self.name, str):
             _fail("name", "a string", self.name, TypeError)
         if len(self.wfss) != len(self.dms):
@@ -430,6 +476,7 @@ class SimulationConfig:
                 _fail(f"wfss[{i}].altitude", f"the altitude of the DM it drives "
                       f"(dms[{w.dm}].altitude = {self.dms[w.dm].altitude:g} m)", w.altitude)
         _check_sampling(self)
+        _check_physics(self)
 
     # ---------------------------------------------------------------- plain form
     def to_dict(self) -> dict[str, Any]:
@@ -530,6 +577,10 @@ def _check_sampling(cfg: SimulationConfig) -> None:
             continue
         across = dm_disc_diameter(cfg, i) / dx
         n_max = int(across // _PIXELS_PER_CYCLE)
+        if n_max < 1:  # only a configured diameter can be this small (the meta-pupil >= D)
+            _fail(f"dms[{i}].diameter", f">= {_PIXELS_PER_CYCLE} pupil pixels "
+                  f"({_PIXELS_PER_CYCLE * dx:g} m at telescope.n_pixels = "
+                  f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode)", dm.diameter)
         order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
         if order > n_max:
             limit = (n_max + 1) * (n_max + 2) // 2 - 1
@@ -547,6 +598,111 @@ def _check_sampling(cfg: SimulationConfig) -> None:
                   f"{_PIXELS_PER_SUBAPERTURE} pixels per subaperture across the "
                   f"{across:.0f}-pixel meta-pupil at telescope.n_pixels = "
                   f"{cfg.telescope.n_pixels})", w.n_subapertures)
+
+
+def _valid_subapertures(n_sub: int, obscuration: float) -> int:
+    """Count the subapertures of an ``n_sub x n_sub`` grid whose centre lies on the (annular) disc.
+
+    The grid spans the disc's diameter; ``obscuration`` is the hole's diameter as a
+    fraction of it. An upper estimate of the Shack-Hartmann's valid subapertures (half
+    lit or more); counted row by row (no ``n_sub**2`` array).
+    """
+    count = 0
+    for i in range(n_sub):
+        y = (i + 0.5) / n_sub - 0.5  # centre, in units of the diameter
+        outer = 0.25 - y * y
+        if outer < 0:
+            continue
+        x_out = math.sqrt(outer)
+        inner = (obscuration / 2.0) ** 2 - y * y
+        x_in = math.sqrt(inner) if inner > 0 else -1.0
+        # centres x_k = (k + 0.5) / n_sub - 0.5 with x_in <= |x_k| <= x_out
+        count += _centres_within(n_sub, x_out) - _centres_within(n_sub, x_in)
+    return count
+
+
+def _centres_within(n_sub: int, bound: float) -> int:
+    """Count the ``k < n_sub`` with ``|(k + 0.5) / n_sub - 0.5| <= bound`` (0 if bound < 0)."""
+    if bound < 0:
+        return 0
+    lo = math.ceil((0.5 - bound) * n_sub - 0.5 - 1e-12)
+    hi = math.floor((0.5 + bound) * n_sub - 0.5 + 1e-12)
+    return max(0, min(hi, n_sub - 1) - max(lo, 0) + 1)
+
+
+def _check_physics(cfg: SimulationConfig) -> None:
+    """Refuse configs that break the laws the simulator rests on (each rule named).
+
+    - Controlled modes vs measurements: a Shack-Hartmann of ``n_sub x n_sub``
+      subapertures measures ``2 n_valid`` slopes; a reconstructor cannot control more
+      modes than it is given measurements (the interaction matrix would have more
+      columns than rows: a rank-deficient, ill-posed inversion). With several modal DMs
+      the joint reconstructor sees every WFS: all the modes against all the slopes;
+      otherwise each DM against the WFS that drives it.
+    - r0 sampled by the pupil grid: the phase power the grid cannot hold, above its
+      Nyquist frequency ``1 / (2 dx)``, is ``0.023 r0**(-5/3) int k**(-11/3) 2 pi k dk =
+      0.275 (dx / r0)**(5/3)`` rad^2 (Kolmogorov spectrum, Noll 1976); the pixel must not
+      exceed r0 at ``r0_wavelength``, the wavelength of the simulator's phase (the missing
+      variance there then stays <= 0.28 rad^2; at dx = r0 / 2 it is 0.087 rad^2; at a
+      shorter science wavelength it grows as ``lambda**-2``, a bias of the Strehl a
+      coarse grid keeps).
+    - Outer scale: ``d_over_r0`` describes the phase over the pupil through Kolmogorov's
+      inertial range, which must contain the pupil (L0 > D; below, the structure
+      function saturates inside the pupil); measured L0 are 10-100 m (Ziad et al. 2004,
+      Appl. Opt. 43, 2316). (r0 is not compared with L0: r0 grows with the wavelength,
+      the turbulence does not.)
+    - Wind vs time step: a layer moving more than the pupil diameter in one frame
+      (``v T > D``) shows the loop an uncorrelated screen every frame; no frozen-flow AO
+      question is asked there.
+    """
+    tel = cfg.telescope
+    dx = tel.diameter / tel.n_pixels
+    slopes = []  # per WFS: measured slopes (None: not a Shack-Hartmann)
+    for j, w in enumerate(cfg.wfss):
+        if w.kind not in ("shack_hartmann", "correlating"):
+            slopes.append(None)
+            continue
+        # the telescope's obscuration, scaled to the meta-pupil the WFS's grid spans
+        obsc = tel.obscuration * tel.diameter / wfs_meta_pupil(cfg, j)
+        slopes.append(2 * _valid_subapertures(w.n_subapertures, obsc))
+    zernike = [dm.kind == "zernike" for dm in cfg.dms]
+    if len(cfg.dms) > 1 and all(zernike):
+        # one joint reconstructor (closedloop.model.LoopModel): every WFS sees every DM
+        if None not in slopes and sum(d.n_modes for d in cfg.dms) > sum(slopes):
+            n_sub = ", ".join(f"{w.n_subapertures} x {w.n_subapertures}" for w in cfg.wfss)
+            _fail("dms[*].n_modes", f"<= {sum(slopes)} in all, the slopes all the WFSs "
+                  f"measure ({' + '.join(map(str, slopes))} from subapertures {n_sub}: the "
+                  "joint reconstructor of more modes than measurements is ill-posed)",
+                  sum(d.n_modes for d in cfg.dms))
+    else:
+        # one reconstructor per WFS, for the DM it drives
+        for j, w in enumerate(cfg.wfss):
+            dm = cfg.dms[w.dm]
+            if slopes[j] is not None and dm.kind == "zernike" and dm.n_modes > slopes[j]:
+                _fail(f"dms[{w.dm}].n_modes", f"<= {slopes[j]}, the slopes wfss[{j}] "
+                      f"measures (2 x {slopes[j] // 2} valid subapertures of "
+                      f"{w.n_subapertures} x {w.n_subapertures}: a least-squares "
+                      "reconstructor of more modes than measurements is ill-posed)",
+                      dm.n_modes)
+    # r0 at r0_wavelength (the wavelength of the simulator's phase) and the zenith angle
+    r0 = tel.diameter / cfg.d_over_r0 * airmass(cfg) ** -0.6
+    if dx > r0:
+        _fail("layers[*].d_over_r0", f"such that r0 at r0_wavelength "
+              f"({r0 * 100:.3g} cm for a total D/r0 = {cfg.d_over_r0:g}) is at least one pupil "
+              f"pixel (telescope.diameter / telescope.n_pixels = {dx * 100:.3g} cm): the "
+              f"grid cannot hold the phase above its Nyquist frequency, 0.275 (dx/r0)^(5/3)"
+              f" = {0.275 * (dx / r0) ** (5 / 3):.3g} rad^2; raise telescope.n_pixels",
+              float(f"{cfg.d_over_r0:.6g}"))
+    for i, layer in enumerate(cfg.layers):
+        if layer.outer_scale <= tel.diameter:
+            _fail(f"layers[{i}].outer_scale", f"> telescope.diameter = {tel.diameter:g} m (the "
+                  f"pupil must lie in the turbulence's inertial range below L0, where "
+                  f"d_over_r0 describes it; measured L0 are 10-100 m, Ziad et al. 2004)",
+                  layer.outer_scale)
+        if layer.wind_speed * cfg.loop.time_step > tel.diameter:
+            _fail(f"layers[{i}].wind_speed", f"<= telescope.diameter / loop.time_step = "
+                  f"{tel.diameter / cfg.loop.time_step:g} m/s (the layer would move more than "
+                  f"the pupil in one frame)", layer.wind_speed)
 
 
 def _plain(obj) -> dict[str, Any]:
@@ -591,9 +747,11 @@ def load_config(path: str | Path) -> SimulationConfig:
         raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
     if not path.is_file():
         raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
-    text = path.read_text(encoding="utf-8")
     try:
+        text = path.read_text(encoding="utf-8")
         data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a {suffix[1:].upper()} text file (not UTF-8)") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
     return SimulationConfig.from_dict(data)

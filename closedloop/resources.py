@@ -67,6 +67,9 @@ _MARGIN_PIXELS = 3
 #: formation: 28.6 ms per image at support 135, 65 PSF samples (table1-solar's 60" field),
 #: measured under load (it over-predicts the 20" field's 2.6 ms by 1.6x: a guard)
 _SECONDS_PER_IMAGE_OP = 2.4e-8
+#: most frames a run may count (a float counts whole frames exactly below ~9e15; 1e308 s
+#: overflowed the count)
+MAX_FRAMES = 1e15
 #: longest run (wall time) of a correlating WFS with image formation that is accepted
 MAX_IMAGING_SECONDS = 3600.0
 
@@ -332,6 +335,10 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
         raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
     tel, loop = config.telescope, config.loop
     dx = tel.diameter / tel.n_pixels
+    if not 0 < duration / loop.time_step < MAX_FRAMES:  # also refuses NaN and inf
+        raise ResourceError(f"`duration` must be a finite number of seconds > 0 and at most "
+                            f"{MAX_FRAMES:g} frames of loop.time_step = {loop.time_step:g} s; "
+                            f"got {duration:g} s.")
     n_frames = max(1, round(duration / loop.time_step))
     total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
     layout = plane_layout(config)
@@ -354,7 +361,9 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
                "planes": _plane_driver(config, layout, _biggest_plane(layout)),
                "dm_shapes": dm_key, "wfs_build": build_key,
                "reconstructor": "dms[*].n_modes` x `wfss[*].n_subapertures",
-               "logs": "duration"}
+               # a log's row holds 3 M modes, the directions and the measurements
+               "logs": ("field.n_points" if config.field.n_points ** 2
+                        > 3 * n_modes_total + n_meas_total else "duration")}
 
     kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
     setup = parts["pupil"] + parts["dm_shapes"] + parts["wfs_build"]

@@ -355,6 +355,7 @@ class SimulationResult:
         ``d = 2 sqrt(A / pi)``, ``A`` measured on the field grid refined ``refine`` times
         by bilinear interpolation. A region that reaches the grid's edge is clipped by
         it: the diameter is then a lower bound. ``start``: as in :meth:`strehl_map`.
+        NaN for a one-point field (``field.n_points == 1``): one direction has no area.
         """
         from scipy.interpolate import RegularGridInterpolator
 
@@ -364,7 +365,7 @@ class SimulationResult:
         n = smap.shape[0]
         size = self.config.field.size
         if n == 1:
-            return 0.0
+            return float("nan")  # one direction measures no area (not a field of 0')
         v = np.linspace(-size / 2, size / 2, n)
         fine = np.linspace(-size / 2, size / 2, (n - 1) * refine + 1)
         interp = RegularGridInterpolator((v, v), smap)

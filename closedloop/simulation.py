@@ -207,6 +207,11 @@ def check_run(config: SimulationConfig, duration: float, *, budget_every: int | 
         check_stable(loop.gain, loop.delay_frames, loop.integration_frames)
     except ValueError as exc:
         raise ValueError(str(exc).replace("`gain`", "`loop.gain`", 1)) from None
+    from closedloop.resources import MAX_FRAMES
+
+    if not duration / loop.time_step < MAX_FRAMES:  # 1e308 s: round() of inf overflowed
+        raise ValueError(f"`duration` must be at most {MAX_FRAMES:g} frames (loop.time_step = "
+                         f"{loop.time_step:g} s); got {duration:g} s.")
     n_frames = round(duration / loop.time_step)
     first = loop.time_step + loop.delay
     if n_frames < 1:

@@ -104,7 +104,10 @@ def load_grid(path: str | Path) -> dict:
 def _base(grid: dict) -> SimulationConfig:
     if "config" in grid:
         return load_config(grid["config"])
-    return presets.get(grid.get("preset", "table1"))
+    try:
+        return presets.get(grid.get("preset", "table1"))
+    except (ValueError, TypeError) as exc:  # the library names its argument `name`
+        raise ValueError(f"grid `preset` {str(exc).split(' ', 1)[1]}") from None
 
 
 def _check_memory(config: SimulationConfig, duration: float, budget_every: int | None,
@@ -140,11 +143,17 @@ def sweep_specs(grid: dict) -> list:
     if (not isinstance(seeds, list) or not seeds
             or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds)):
         raise ValueError(f"grid `seeds` must be a non-empty list of ints >= 0; got {seeds!r}")
+    if len(set(seeds)) < len(seeds):  # the same run twice would be one row, silently
+        twice = next(x for x in seeds if seeds.count(x) > 1)
+        raise ValueError(f"grid `seeds` names {twice} twice; give each seed once")
     predictors = grid.get("predictors", ["none"])
     if not isinstance(predictors, list) or not predictors or not all(
             isinstance(p, str) for p in predictors):
         raise ValueError(f"grid `predictors` must be a non-empty list of names from "
                          f"{', '.join(NAMES)}; got {predictors!r}")
+    if len(set(predictors)) < len(predictors):
+        twice = next(x for x in predictors if predictors.count(x) > 1)
+        raise ValueError(f"grid `predictors` names {twice!r} twice; give each once")
     loop_predictors = {}
     for name in predictors:  # the one check of a name (LoopPredictor.from_name)
         try:

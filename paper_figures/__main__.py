@@ -31,12 +31,15 @@ over 2 seeds).
 
 All or nothing: options, logs and the output folder are checked before any work, and
 the files are written into a temporary sibling folder moved into place at the end, so
-a failed or interrupted run leaves the output folder as it was.
+a failed or interrupted run leaves the output folder as it was. One run per output
+folder: a run holds ``<out>/.lock`` (the lock of ``modalinfo batch``) while it works, and
+a second run into the same folder is refused (exit 2) rather than replacing its files.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import inspect
 import platform
@@ -115,8 +118,8 @@ def _check_args(args, modules, logs, needs_log) -> None:
 
     if args.duration is not None and not 0 < args.duration < float("inf"):
         raise _RefusedError(f"--duration must be a number of seconds > 0; got {args.duration:g}")
-    if args.seed < 0:
-        raise _RefusedError(f"--seed must be >= 0; got {args.seed}")
+    if not 0 <= args.seed <= 2**63 - 1:  # closedloop stores the seed as an int64
+        raise _RefusedError(f"--seed must be an int in [0, 2**63 - 1]; got {args.seed}")
     numbers = ",".join(label.split()[-1] for _, label, _ in modules)
     if args.log is None:
         given = [_flag(d) for d, v in _HINT_DEFAULTS.items() if getattr(args, d, v) != v]
@@ -250,7 +253,7 @@ def _terminated(signum, frame) -> None:
 
 
 def _run(args) -> int:
-    from paper_figures._common import staged_output
+    from paper_figures._common import OutputError, locked_output
 
     try:
         only = _parse_only(args.only)
@@ -264,6 +267,19 @@ def _run(args) -> int:
     logs = (SHIPPED_LOGS if args.log is None
             else ((args.log, "", "user", "user log"),))
     _check_args(args, modules, logs, needs_log)
+    with contextlib.ExitStack() as stack:
+        # one run per output folder (two would replace each other's files unasked)
+        try:
+            stack.enter_context(locked_output(args.out))
+        except OutputError as exc:
+            raise _RefusedError(str(exc)) from None
+        return _run_locked(args, modules, logs, needs_log)
+
+
+def _run_locked(args, modules, logs, needs_log) -> int:
+    """Refuse existing outputs, then make the figures (``_run`` holds the folder)."""
+    from paper_figures._common import staged_output
+
     report_path = args.out / "report.md"
     html_path = args.out / "report.html"
     outputs = [report_path, html_path] + [args.out / name for module, _, _ in modules

@@ -12,8 +12,8 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 __all__ = ["MIN_FREE_BYTES", "OutputError", "check_log_for", "check_out_dir", "figure_main",
-           "log_or_kaos_like", "markdown_table", "require_varying_modes", "save_png_pdf",
-           "staged_output", "suffixed"]
+           "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
+           "save_png_pdf", "staged_output", "suffixed"]
 
 #: Free space the output folder's file system must have before a run [bytes]: the six
 #: figures (PNG and PDF), the JSON evaluations and the two reports take ~10 MB.
@@ -61,6 +61,47 @@ def check_out_dir(out: Path, flag: str = "--out") -> Path:
         raise OutputError(f"{flag} '{out}': only {free / 2**20:.1f} MiB free in '{base}'; "
                           f"a run needs at least {MIN_FREE_BYTES // 2**20} MiB")
     return base
+
+
+@contextlib.contextmanager
+def locked_output(out: Path, flag: str = "--out") -> Iterator[Path]:
+    """Hold ``out`` for this run alone: the lock ``modalinfo batch`` and sweeps take.
+
+    ``out`` (and its missing parents) are created to hold ``<out>/.lock``
+    (:class:`modalinfo.batch.engine.OutputLock`: created complete or not at all; a lock
+    left by a dead process on this host is taken over). A second run into the same
+    folder while this one holds it is refused, so two runs cannot replace each other's
+    files. On leaving, the lock is released and the folders created here are removed
+    again if the run left them empty (a failed run creates nothing).
+
+    Raises
+    ------
+    OutputError
+        Another live run holds ``out`` (naming it, and the lock file to remove if that
+        run is known to be over).
+    """
+    from modalinfo.batch.engine import OutputInUseError, OutputLock
+
+    out = Path(out)
+    created = []
+    missing = Path(os.path.abspath(out))
+    while not missing.exists():
+        created.append(missing)
+        missing = missing.parent
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        try:
+            lock = OutputLock(out, "paper_figures").acquire()
+        except OutputInUseError as exc:
+            raise OutputError(f"{flag} {exc}") from None
+        try:
+            yield out
+        finally:
+            lock.release()
+    finally:
+        for folder in created:  # innermost first; only if empty
+            with contextlib.suppress(OSError):
+                folder.rmdir()
 
 
 @contextlib.contextmanager

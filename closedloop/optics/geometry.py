@@ -157,6 +157,7 @@ class Geometry:
         idx = (np.arange(self.n_pixels) - c) * self.dx
         yy, xx = np.meshgrid(idx, idx, indexing="ij")
         r = np.hypot(xx, yy) / (tel.diameter / 2.0)
+        self._r = r
         self.pupil_mask = (r <= 1.0) & (r >= tel.obscuration)
         self.pupil_xy = np.column_stack([xx[self.pupil_mask], yy[self.pupil_mask]])
         self.directions = science_directions(config.field.size, config.field.n_points)
@@ -168,6 +169,14 @@ class Geometry:
         self.planes = planes
         self.layer_plane = [alts.index(self.los(lay.altitude)) for lay in config.layers]
         self.dm_plane = [alts.index(self.los(dm.altitude)) for dm in config.dms]
+
+    def disc_and_hole(self) -> tuple[np.ndarray, np.ndarray]:
+        """Return the pupil's outer disc and its central hole, ``(N, N)`` bool each.
+
+        ``pupil_mask`` is ``disc & ~hole``; both are convex (one span of columns per row);
+        the hole is empty without obscuration.
+        """
+        return self._r <= 1.0, self._r < self.config.telescope.obscuration
 
     def los(self, altitude: float) -> float:
         """Distance along the line of sight [m] of a plane at ``altitude`` (zenith-corrected)."""

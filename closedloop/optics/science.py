@@ -113,6 +113,14 @@ def fft_strehl(phase: np.ndarray, mask: np.ndarray, *, padding: int = 4) -> floa
     return float(psf.max() / mask.sum() ** 2)
 
 
+def _row_spans(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Columns ``[lo, hi)`` of each row of a mask whose rows are single spans (int64)."""
+    has = mask.any(axis=1)
+    lo = np.where(has, np.argmax(mask, axis=1), 0)
+    hi = np.where(has, mask.shape[1] - np.argmax(mask[:, ::-1], axis=1), 0)
+    return lo.astype(np.int64), hi.astype(np.int64)
+
+
 class ScienceCamera:
     """Piston-removed residual variance in a set of directions.
 
@@ -127,13 +135,16 @@ class ScienceCamera:
         self.geometry = geometry
         self.directions = np.ascontiguousarray(directions, dtype=np.float64).reshape(-1, 2)
         mask = geometry.pupil_mask
-        if geometry.config.telescope.obscuration > 0:
-            raise NotImplementedError("an obscured pupil's rows are not single spans")
-        has = mask.any(axis=1)
-        lo = np.where(has, np.argmax(mask, axis=1), 0)
-        hi = np.where(has, mask.shape[1] - np.argmax(mask[:, ::-1], axis=1), 0)
-        self._span_lo = lo.astype(np.int64)
-        self._span_hi = hi.astype(np.int64)
+        # the kernel sums over one span of columns per row (a convex pupil). An obscured
+        # pupil is the full disc minus the hole, both convex: the annulus's moments are
+        # the disc's minus the hole's (:meth:`forward`), so its Strehl is that of the
+        # annular pupil, as the FFT PSF of that pupil gives (test_obscured_pupil.py)
+        disc, hole = geometry.disc_and_hole()
+        self._span_lo, self._span_hi = _row_spans(disc)
+        self._hole = None
+        if hole.any():
+            self._hole = _row_spans(hole)
+            self._counts = (int(disc.sum()), int(hole.sum()))
         self._shifts = np.ascontiguousarray(geometry.pupil_shifts(self.directions))
         # read weights per (direction, plane, axis): (n_dir, P, 2, 4)
         self._taps = np.ascontiguousarray(read_weights(self._shifts - np.floor(self._shifts)))
@@ -184,6 +195,20 @@ class ScienceCamera:
         kernel(self._flat, self._offsets, self._sizes, self._span_lo, self._span_hi,
                self._shifts, self._taps, w, self._common, self._base, self.mean,
                self.variance)
+        if self._hole is not None:
+            # annulus = disc - hole: combine the moments about the disc's mean (stable
+            # for any piston), the hole's from a second pass over its spans
+            hole_mean, hole_var = np.empty_like(self.mean), np.empty_like(self.variance)
+            kernel(self._flat, self._offsets, self._sizes, self._hole[0], self._hole[1],
+                   self._shifts, self._taps, w, self._common, self._base, hole_mean,
+                   hole_var)
+            n_disc, n_hole = self._counts
+            n_ring = n_disc - n_hole
+            d = hole_mean - self.mean
+            m = -n_hole * d / n_ring
+            var = (n_disc * self.variance - n_hole * (hole_var + d * d)) / n_ring - m * m
+            self.mean += m
+            self.variance[:] = np.maximum(var, 0.0)
         return self.variance
 
     def residual_phase(self, k: int) -> np.ndarray:

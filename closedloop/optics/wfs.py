@@ -409,6 +409,11 @@ class IdealSensor(WavefrontSensor):
         lit = np.array([self._illuminated(points, theta) for theta in self.samples])
         count = lit.sum(axis=0)
         rows = np.flatnonzero(count > 0)
+        if self.dm.shapes is None:
+            # a zonal DM's reconstructor is the identity, one measurement per DM pixel:
+            # a pixel no direction reaches (an obscured pupil's hole) is measured as 0,
+            # so the mirror stays flat there (all pixels are reached without obscuration)
+            rows = np.arange(count.size)
         self.measured_pixels = rows
         self.operators = []
         for p in range(len(g.planes)):

@@ -140,7 +140,11 @@ def main(argv=None) -> int:
     ap.add_argument("--duration", type=float, default=0.3)
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args(argv)
-    rows = sensitivity(duration=args.duration, seed=args.seed)
+    try:  # a bad --duration or --seed: one line, exit 2 (as the other commands)
+        rows = sensitivity(duration=args.duration, seed=args.seed)
+    except (ValueError, TypeError) as exc:
+        sys.stderr.write(f"sensitivity: error: {str(exc).splitlines()[0]}\n")
+        return 2
     sys.stdout.write(f"table1 sensitivity: seed {args.seed}, {args.duration:g} s per run, "
                      "no prediction, one default changed at a time\n\n")
     sys.stdout.write(markdown(rows) + "\n")

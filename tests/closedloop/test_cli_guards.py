@@ -139,3 +139,45 @@ def test_export_names_every_loop_it_wrote(tmp_path, capsys):
 
     named = set(re.findall(r"\bdm\d(?:\.\w+)?\b", out.split("6 loops:", 1)[1]))
     assert named == {"dm0", "dm1", "dm0.pol", "dm1.pol", "dm0.wfs1", "dm1.wfs0"}
+
+
+@pytest.mark.parametrize("duration", ["inf", "nan", "-1", "0"])
+@pytest.mark.parametrize("command", ["run", "compare"])
+def test_durations_that_are_not_finite_seconds_are_refused(capsys, no_simulation, command,
+                                                           duration):
+    assert main([command, "--preset", "kaos", "--duration", duration, "--quiet"]) == 2
+    _one_line(capsys, "--duration must be > 0 s and finite")
+
+
+def test_config_estimate_refuses_an_infinite_duration(capsys):
+    assert main(["config", "--preset", "kaos", "--estimate", "--duration", "inf"]) == 2
+    _one_line(capsys, "--duration must be > 0 s and finite")
+
+
+def test_a_180_degree_field_is_refused_in_one_line(tmp_path, capsys, no_simulation):
+    d = presets.get("kaos").to_dict()
+    d["field"]["size"] = 180.0 * 3600.0
+    path = tmp_path / "c.json"
+    path.write_text(__import__("json").dumps(d))
+    assert main(["run", "--config", str(path), "--quiet"]) == 2
+    _one_line(capsys, "`field.size` must be <= 3600 arcsec")
+
+
+def test_compare_with_no_predictor_run_exits_non_zero(capsys):
+    # 20 frames of kaos: too few after closure to train linear or arma
+    code = main(["compare", "--preset", "kaos", "--predictors", "linear,arma",
+                 "--duration", "0.02", "--quiet"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert captured.err.count("\n") == 1 and "none of the 2 predictors ran" in captured.err
+    assert captured.out.count("not run:") == 2
+
+
+def test_one_field_point_reports_no_corrected_field(tmp_path, capsys):
+    d = presets.get("kaos").to_dict()
+    d["field"]["n_points"] = 1
+    path = tmp_path / "c.toml"
+    save_config(SimulationConfig.from_dict(d), path)
+    assert main(["run", "--config", str(path), "--duration", "0.02", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "corrected FoV d = n/a (one field point)" in out and "0.00'" not in out

@@ -58,7 +58,9 @@ def _with(cfg, section, index, **values):
 
 
 def test_modes_beyond_the_pupil_sampling_are_refused():
-    cfg = small()
+    # 16 x 16 subapertures on the upper DM (416 slopes), so that the pupil sampling, not
+    # the measurements (test_physics_guards.py), bounds its modes here
+    cfg = _with(small(), "wfss", 1, n_subapertures=16)
     # upper DM: disc D + 2 h tan(fov / 2) at 32 pixels per 4 m
     fov = cfg.wfss[1].field_of_view
     across = (4.0 + 2 * 10_000 * math.tan(fov / 2 * ARCSEC)) / (4.0 / 32)

@@ -233,3 +233,64 @@ def test_a_folder_where_an_output_file_goes_is_refused(tmp_path, capsys):
     _refused(capsys, ["--only", "3", "--out", str(out), "--overwrite"],
              "report.md' is a folder; the run writes a file of that name")
     assert _state(out) == before
+
+
+def test_a_second_run_into_a_folder_in_use_is_refused(tmp_path, capsys, stand_ins):
+    # the second run starts while the first is drawing Figure 4: it must refuse in one
+    # line (exit 2) and not replace the first run's files, even with --overwrite
+    out = tmp_path / "out"
+    second = {}
+    fig4 = stand_ins["fig4_sr_maps"]
+    real_plot = fig4.plot
+
+    def plot_and_start_another(result, out_dir):
+        second["code"] = main(["--only", "2", "--out", str(out), "--overwrite"])
+        second["err"] = capsys.readouterr().err
+        real_plot(result, out_dir)
+
+    fig4.plot = plot_and_start_another
+    assert main(["--only", "2,3,4", "--out", str(out)]) == 0
+    assert second["code"] == 2
+    err = second["err"]
+    assert err.count("\n") == 1 and "is in use by paper_figures" in err, err
+    assert (out / "fig2_sr_peak.png").read_bytes() == b"new fig2"
+    assert not (out / ".lock").exists() and _leftovers(tmp_path) == []
+    assert not list(out.rglob("*.partial-*"))
+
+
+def test_a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over(tmp_path, capsys,
+                                                                        stand_ins):
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    out.mkdir()
+    with subprocess.Popen(
+            [sys.executable, "-c", "import sys; from modalinfo.batch.engine import OutputLock;"
+             f" OutputLock({str(out)!r}, 'paper_figures').acquire(); print('held', flush=True);"
+             " sys.stdin.read()"],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True) as holder:
+        try:
+            assert holder.stdout.readline().strip() == "held"
+            _refused(capsys, ["--only", "2", "--out", str(out)],
+                     f"--out output directory '{out}' is in use by paper_figures (pid "
+                     f"{holder.pid}")
+            assert not (out / "fig2_sr_peak.png").exists()
+        finally:
+            holder.kill()
+    # the holder died without releasing: its lock is stale and taken over
+    assert (out / ".lock").exists()
+    assert main(["--only", "2", "--out", str(out)]) == 0
+    assert (out / "fig2_sr_peak.png").read_bytes() == b"new fig2"
+    assert not (out / ".lock").exists()
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["--only", "2", "--seed", str(2**70)], "--seed must be an int in [0, 2**63 - 1]"),
+    # 1e308 s is an infinite frame count: an OverflowError traceback before the fix
+    (["--only", "2", "--duration", "1e308"], "`duration` must be at most 1e+15 frames"),
+])
+def test_seeds_and_durations_the_runs_cannot_hold_are_refused(tmp_path, capsys, argv, needle):
+    out = tmp_path / "out"
+    err = _refused(capsys, argv + ["--out", str(out)], needle)
+    assert "Traceback" not in err and not out.exists() and _leftovers(tmp_path) == []
