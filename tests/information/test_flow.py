@@ -257,7 +257,8 @@ def test_surrogate_cells_are_the_cmi_of_the_shifted_source():
         z = np.column_stack([X[t0 - k : T - k, i] for k in range(1, history + 1)])
         y = X[t0 - lags[a] : T - lags[a], j]
         assert te[j, i, a] == pytest.approx(
-            conditional_mutual_information(x, y, z, method="gaussian", copula=False), rel=1e-9, abs=1e-12)
+            conditional_mutual_information(x, y, z, method="gaussian", copula=False),
+            rel=1e-9, abs=1e-12)
         for k, s in enumerate(shifts):
             ref = conditional_mutual_information(x, np.roll(y, s), z, method="gaussian",
                                                  copula=False)
