@@ -33,11 +33,16 @@ equal-width bins over the sample range (``binning="uniform"``, the former defaul
 single sample at 1e6 in a rho = 0.6 pair put every other sample in one bin and gave
 0.0003 nats against 0.22. The correlation r of the Hacine-Gharbi rule is then also
 taken from the ranks: the Pearson correlation of the normal scores
-Phi^-1((i + 1/2) / K0) of each sample's quantile bin i at K0 = min(64, ceil(sqrt n))
+Phi^-1((i + 1/2) / K0) of each sample's quantile bin i at K0 = min(64, ceil(sqrt m))
 bins (a discretised Gaussian-copula correlation; the rule is derived for a Gaussian
 pair, which is what normal scores are marginally), not the Pearson r of the values,
-which one outlier drives to 0. Measured with the rule's k at the true r, n = 1e4, 10
-seeds: mean error -0.000, -0.001, -0.008, -0.032 nats at rho = 0, 0.3, 0.6, 0.9 for
+which one outlier drives to 0. It is computed on a fixed systematic subsample of m <=
+8192 pairs (every ceil(n / 8192)-th): the rule needs r only to pick an integer k, and
+the subsample's sd of r, ~(1 - r^2) / 90, moves k by at most one bin near a rounding
+boundary, while a second quantile pass over all n samples doubled the cost of a score
+(measured at n = 2e5: 4.2 ms against 1.6 ms for equal-width bins; with the subsample
+2.2 ms against 1.8 ms in the same run). Measured with the rule's k at the true r,
+n = 1e4, 10 seeds: mean error -0.000, -0.001, -0.008, -0.032 nats at rho = 0, 0.3, 0.6, 0.9 for
 quantile bins (equal-width: +0.002, +0.000, -0.005, -0.032).
 
 Binning of the samples is one numba pass (``_kernels.py``); nothing loops over samples
@@ -67,11 +72,18 @@ _CORRECTIONS = ("miller-madow", "none")
 _BINNINGS = ("uniform", "quantile")
 #: Most quantile bins of the rank correlation that sets the Hacine-Gharbi bin number.
 _RANK_CORR_BINS = 64
+#: Most pairs of the systematic subsample on which that rank correlation is computed.
+_RANK_CORR_SAMPLES = 8192
 
 
 def _rank_corr_bins(n: int) -> int:
     """Quantile bins K0 = min(64, ceil(sqrt n)) of the rank correlation of the bin rule."""
     return min(_RANK_CORR_BINS, max_rule_bins(n))
+
+
+def _rank_corr_stride(n: int) -> int:
+    """Stride of the systematic subsample (at most 8192 pairs) of the rank correlation."""
+    return -(-n // _RANK_CORR_SAMPLES)
 
 
 def _unit_centred(a: np.ndarray) -> np.ndarray:
@@ -241,10 +253,13 @@ class HistogramEngine:
         """Cache the range, centred samples and bin indices of ``x`` (validated, 1-D)."""
         self._ax = _Axis(x, self.binning)
         if self.binning == "quantile":
-            # rank correlation for the bin rule: normal scores of K0 quantile bins
-            k0 = self._k0 = _rank_corr_bins(x.shape[0])
+            # rank correlation for the bin rule: normal scores of K0 quantile bins of a
+            # systematic subsample (module notes)
+            self._stride = _rank_corr_stride(x.shape[0])
+            xs = np.ascontiguousarray(x[:: self._stride])
+            k0 = self._k0 = _rank_corr_bins(xs.shape[0])
             self._scores0 = ndtri((np.arange(k0) + 0.5) / k0)
-            self._xu = _unit_centred(self._scores0[self._ax.index(k0)])
+            self._xu = _unit_centred(self._scores0[_Axis(xs, "quantile").index(k0)])
         else:
             self._xu = _unit_centred(x)
         self._kx_fixed = None
@@ -252,10 +267,11 @@ class HistogramEngine:
             self._kx_fixed = n_bins_for(self.bins, x, axis=0)
         return self
 
-    def _corr(self, y: np.ndarray, ay: _Axis | None) -> float:
+    def _corr(self, y: np.ndarray) -> float:
         """Correlation of the pair for the bin rule: of rank scores (quantile) or values."""
-        if ay is not None:
-            y = self._scores0[ay.index(self._k0)]
+        if self.binning == "quantile":
+            ys = np.ascontiguousarray(y[:: self._stride])
+            y = self._scores0[_Axis(ys, "quantile").index(self._k0)]
         num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(y))
         return num / norm if norm > 0 else 0.0
 
@@ -263,7 +279,7 @@ class HistogramEngine:
         """I(x; y) in nats for the fitted x (``y`` validated, 1-D, same length)."""
         ay = _Axis(y, "quantile") if self.binning == "quantile" else None
         if self.bins == "hacine-gharbi":
-            kx = ky = _hacine_gharbi_joint(self._ax.n, self._corr(y, ay))
+            kx = ky = _hacine_gharbi_joint(self._ax.n, self._corr(y))
         else:
             kx = self._kx_fixed
             ky = n_bins_for(self.bins, y, axis=1)
