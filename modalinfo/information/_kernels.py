@@ -261,16 +261,37 @@ def quantile_edges_scratch(x, lo, hi, pos, out, start, slot):
             buf[fill[s]] = x[i]
             fill[s] += 1
     for s in range(n_slots):
-        buf[first[s]:first[s + 1]].sort()
+        _sort_slice(buf, first[s], first[s + 1])
     for j in range(m):
         p = pos[j]
         r0 = int(p)
-        vals = np.empty(2)
-        for t in range(2):
-            r = min(r0 + t, n - 1)
-            b = np.searchsorted(start, r, side="right") - 1
-            vals[t] = buf[first[slot[b]] + r - start[b]]
-        out[j] = _interp_sorted(vals[0], vals[1], p, r0, n)
+        r = min(r0, n - 1)
+        b = np.searchsorted(start, r, side="right") - 1
+        v0 = buf[first[slot[b]] + r - start[b]]
+        r = min(r0 + 1, n - 1)
+        b = np.searchsorted(start, r, side="right") - 1
+        v1 = buf[first[slot[b]] + r - start[b]]
+        out[j] = _interp_sorted(v0, v1, p, r0, n)
+
+
+@jit
+def _sort_slice(buf, a, b):
+    """Sort buf[a:b] in place: insertion sort for the few samples of a bucket, else numpy's.
+
+    A bucket holds ~8 samples on average (up to ~30 at the mode of a normal sample);
+    numba's general sort costs ~1 us per call whatever the length, which made the
+    edges of many quantile bins (k ~ 400 at n = 2e5) cost 2.3 ms.
+    """
+    if b - a > 32:
+        buf[a:b].sort()
+        return
+    for i in range(a + 1, b):
+        v = buf[i]
+        j = i - 1
+        while j >= a and buf[j] > v:
+            buf[j + 1] = buf[j]
+            j -= 1
+        buf[j + 1] = v
 
 
 @jit
