@@ -366,6 +366,38 @@ def sorted_edges_bin_index(x, lo, hi, inner, idx):
 
 
 @jit
+def presorted_quantile_index(xs, order, pos, idx):
+    """Quantile-bin index of every sample from the sorted sample, one sweep.
+
+    Equal to ``sorted_edges_bin_index`` with the edges of :func:`quantile_edges`: the
+    edges ``numpy.interp(pos, arange(n), xs)`` are computed with the same
+    :func:`_interp_sorted`, and as xs ascends the number of inner edges <= xs[p] only
+    grows, so one sweep finds it for every p; it is written at the sample's place.
+
+    xs : (n,) float64 IN, ascending (x[order]) ; order : (n,) int64 IN, a sorting
+    permutation of x ; pos : (k + 1,) float64 IN, positions of the k + 1 edges ;
+    idx : (n,) int64 OUT, indexed like x.
+    """
+    n = xs.shape[0]
+    m = pos.shape[0]
+    j = 1  # next inner edge (edges 1 .. m - 2 are inner)
+    count = 0
+    edge = 0.0
+    if j < m - 1:
+        r0 = int(pos[j])
+        edge = _interp_sorted(xs[r0], xs[min(r0 + 1, n - 1)], pos[j], r0, n)
+    for p in range(n):
+        v = xs[p]
+        while j < m - 1 and v >= edge:
+            count += 1
+            j += 1
+            if j < m - 1:
+                r0 = int(pos[j])
+                edge = _interp_sorted(xs[r0], xs[min(r0 + 1, n - 1)], pos[j], r0, n)
+        idx[order[p]] = count
+
+
+@jit
 def joint_counts_index(ix, iy, counts):
     """Joint histogram from two precomputed bin-index arrays.
 

@@ -192,7 +192,14 @@ def _check_bins(bins: Any) -> Any:
 
 
 class _Axis:
-    """Cached binning of one variable: range, and bin indices per number of bins."""
+    """Cached binning of one variable: range, and bin indices per number of bins.
+
+    A quantile axis asked for a second bin number (the fixed x of a search whose
+    candidates change the rule's k) sorts its sample once; further bin numbers then
+    cost one sweep (``_kernels.presorted_quantile_index``) instead of a selection and
+    a bucketed search (measured in the greedy MI ordering at n = 2e5: ~70 of ~400
+    scores needed a new k for x).
+    """
 
     def __init__(self, x: np.ndarray, binning: str):
         self.x = x
@@ -201,6 +208,7 @@ class _Axis:
         self.hi = float(x.max())
         self.binning = binning
         self._idx: dict[int, np.ndarray] = {}
+        self._sorted: tuple[np.ndarray, np.ndarray] | None = None
 
     def edges(self, k: int) -> np.ndarray:
         """Bin edges (k + 1,) for ``k`` bins."""
@@ -220,6 +228,13 @@ class _Axis:
             if self.binning == "uniform":
                 inv = k / (self.hi - self.lo) if self.hi > self.lo else 0.0
                 kern.uniform_bin_index(self.x, self.lo, inv, self.edges(k), idx)
+            elif self._idx or self._sorted is not None:  # a second k: sort once
+                if self._sorted is None:
+                    order = np.argsort(self.x, kind="stable")
+                    self._sorted = (np.ascontiguousarray(self.x[order]), order)
+                xs, order = self._sorted
+                kern.presorted_quantile_index(xs, order, np.linspace(0.0, self.n - 1.0, k + 1),
+                                              idx)
             else:
                 inner = np.ascontiguousarray(self.edges(k)[1:-1])
                 kern.sorted_edges_bin_index(self.x, self.lo, self.hi, inner, idx)

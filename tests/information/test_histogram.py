@@ -211,3 +211,25 @@ def test_joint_bins_follow_hacine_gharbi_2018_with_offsets(n, rho):
     k = min(max(2, k), int(np.ceil(np.sqrt(n))))
     assert mutual_information(x, y, method="histogram", binning="uniform") == pytest.approx(
         _plugin_ref(x, y, k, True), rel=1e-12, abs=1e-14)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_quantile_index_of_a_fixed_variable_matches_numpy_for_every_bin_number(seed):
+    # the fixed x of a search sorts itself at its second bin number and then bins by a
+    # sweep: the index must stay numpy.searchsorted(inner edges, x, "right") with the
+    # documented edges numpy.interp(linspace(0, n - 1, k + 1), arange(n), sort(x))
+    # (numpy.quantile's positions (n - 1) q can differ from these by an ulp, which moves
+    # a tied group at an edge)
+    from modalinfo.information.histogram import _Axis
+
+    rng = np.random.default_rng(seed)
+    x = np.round(rng.standard_normal(3001), 1)  # ties, also at the edges
+    x[7] = 1e6
+    ax = _Axis(x, "quantile")
+    for k in (17, 5, 64, 17, 400):
+        pos = np.linspace(0.0, x.size - 1.0, k + 1)
+        inner = np.interp(pos, np.arange(x.size), np.sort(x))[1:-1]
+        np.testing.assert_array_equal(ax.index(k), np.searchsorted(inner, x, side="right"))
+        fresh = _Axis(x, "quantile").index(k)  # the selection path, first k of an axis
+        np.testing.assert_array_equal(fresh, np.searchsorted(inner, x, side="right"))
+    assert ax._sorted is not None  # the sweep path was used
