@@ -493,7 +493,13 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str
         Estimator (see the module notes). Options: ``"histogram"``: ``bins``
         ("auto" or an int >= 2 per axis), ``binning`` ("quantile" or "uniform"),
         ``bias_correction`` ("miller-madow" or "none"); ``"kde"``: ``bandwidth``
-        ("scott", "silverman" or a float factor); ``"ksg"``: ``k`` (3), ``seed`` (0).
+        ("scott", "silverman" or a float factor), ``copula`` (True); ``"ksg"``: ``k``
+        (3), ``seed`` (0), ``copula`` (True); ``"gaussian"``: ``copula`` (True: the
+        Gaussian-copula CMI; False: the covariance of the values). Every method:
+        ``fallback`` ("gaussian-copula", "raise" or "none"), what happens where
+        :func:`bias_rule` says the estimator's bias swamps the estimate (module notes):
+        switch to the Gaussian-copula CMI with a :class:`BiasRuleWarning` (default),
+        refuse with ``ValueError``, or keep the biased value with the warning.
     units : {"nats", "bits"}
         Units of the result.
     **options
@@ -509,9 +515,15 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str
     ------
     ValueError
         If an input is not 1-D/2-D, shorter than 10 samples, not finite, or the lengths
-        differ; if ``method``, ``units`` or an option value is invalid.
+        differ; if ``method``, ``units`` or an option value is invalid; where the bias
+        rule applies and ``fallback="raise"``.
     TypeError
         If an option is unknown for the method or of the wrong type.
+
+    Warns
+    -----
+    BiasRuleWarning
+        Where the bias rule applies (unless ``fallback="raise"``), naming the rule.
     """
     est = _estimator(method, units, options)
     return est(*_triple(x, y, z))
