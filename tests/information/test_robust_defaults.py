@@ -233,3 +233,15 @@ def test_transfer_entropy_with_history_8_switches_and_is_right():
     with pytest.warns(BiasRuleWarning):
         biased = transfer_entropy(y, x, history=8, fallback="none")
     assert abs(biased - exact) > 0.05  # the former silent answer (measured -54 % mean)
+
+
+def test_closed_form_gaussian_maps_refuse_the_copula_option():
+    # their Gram closed forms score the values; asking for normal scores must not be
+    # silently ignored
+    from modalinfo.information import select_inputs, transfer_entropy_map
+
+    X = np.random.default_rng(0).standard_normal((300, 3))
+    with pytest.raises(ValueError, match="`copula`=True is not available"):
+        transfer_entropy_map(X, method="gaussian", copula=True)
+    with pytest.raises(ValueError, match="`copula`=True is not available"):
+        select_inputs(X, 0, method="gaussian", copula=True)
