@@ -2,7 +2,8 @@
 
 Estimators: ``"kde"`` (Gaussian kernel following the data covariance, FFT on a
 grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 2004)
-and ``"gaussian"`` (-0.5 ln(1 - r^2)), all behind :func:`mutual_information`,
+and ``"gaussian"`` (-0.5 ln(1 - r^2)), each rank-based by default (normal scores or
+equiprobable bins, ``modalinfo.information.copula``), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`; bootstrap confidence
 intervals and permutation tests for autocorrelated telemetry in
 ``modalinfo.information.uncertainty``. Conditional MI and transfer entropy of

@@ -71,33 +71,50 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
     x, y : array_like, shape (n,)
         Paired samples (n >= 10, finite). Any units; MI is dimensionless.
     method : {"kde", "histogram", "ksg", "gaussian"}
-        Estimator:
+        Estimator. Every default is rank-based: MI is unchanged by a monotone map of
+        each variable (Kraskov et al. 2004), so each estimator works on the ranks
+        (normal scores Phi^-1(rank / (n + 1)), :mod:`modalinfo.information.copula`, or
+        equiprobable bins) and one glitch or a heavy tail moves the estimate by about
+        its share of the sample (one sample at 1e6 in a rho = 0.6 pair of 20,000:
+        every method within 0.02 nats of 0.223; before, -0.69 kde, 0.0003 histogram,
+        0.002 ksg). The former value-based paths stay available (``copula=False``,
+        ``binning="uniform"``).
 
         - ``"kde"``: Gaussian kernel following the data covariance, on a grid by FFT,
           leave-one-out resubstitution (Moon, Rajagopalan & Lall, Phys. Rev. E 52,
-          2318, 1995; kernel h^2 S of Silverman 1986, ch. 4). Options ``bandwidth``
-          ("scott", "silverman", "cv" or a float factor h), ``grid_size`` (128), ``copula`` (False).
-          Measured bias at n = 1e4 on Gaussian pairs (20 seeds): -0.0037 to -0.0022
-          nats for rho in 0..0.9.
-        - ``"histogram"``: plug-in estimate on equal-width (or equiprobable) bins with
-          the Miller-Madow correction. Options ``bins`` ("hacine-gharbi", "fd",
-          "scott", "sturges", "sqrt", an int, or a pair (bx, by)),
-          ``bias_correction`` ("miller-madow" or "none"), ``binning`` ("uniform" or
-          "quantile"). The default bin number per axis,
-          ``round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt(2))`` with r the sample
-          correlation, is the MSE-optimal rule for the joint entropy of
-          Hacine-Gharbi & Ravier (2018); it grows like n^(1/4) at r = 0 and adds
-          bins as the joint density narrows. Measured bias at n = 1e4 (20 seeds):
-          +0.003, +0.001, -0.005, -0.030 nats at rho = 0, 0.3, 0.6, 0.9. The
+          2318, 1995; kernel h^2 S of Silverman 1986, ch. 4), on normal scores
+          (Gaussian-copula, Ince et al. 2017). Options ``bandwidth``
+          ("scott", "silverman", "cv" or a float factor h), ``grid_size`` (128),
+          ``copula`` (True). Measured bias at n = 1e4 on Gaussian pairs (20 seeds,
+          copula=False): -0.0037 to -0.0022 nats for rho in 0..0.9.
+        - ``"histogram"``: plug-in estimate on equiprobable (quantile, the default) or
+          equal-width bins with the Miller-Madow correction. Options ``bins``
+          ("hacine-gharbi", "fd", "scott", "sturges", "sqrt", an int, or a pair
+          (bx, by)), ``bias_correction`` ("miller-madow" or "none"), ``binning``
+          ("quantile" or "uniform"). The default bin number per axis,
+          ``round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt(2))``, is the MSE-optimal
+          rule for the joint entropy of Hacine-Gharbi & Ravier (2018), with r the
+          correlation of the normal scores of the ranks (quantile bins) or the Pearson
+          r (equal-width bins); it grows like n^(1/4) at r = 0 and adds bins as the
+          joint density narrows. Measured bias at n = 1e4 (10 seeds, quantile bins):
+          -0.000, -0.001, -0.008, -0.032 nats at rho = 0, 0.3, 0.6, 0.9. The
           Freedman-Diaconis rule (~3 n^(1/3) narrow bins) overestimates MI even after
           Miller-Madow (measured +0.046 nats at rho = 0.3, n = 1e4). Rule-chosen bin
           numbers are capped at ceil(sqrt(n)) (it binds only as ``|r| -> 1``).
-        - ``"ksg"``: Kraskov et al. (2004) estimator 1, options ``k`` (3) and ``seed``
-          (0) of the tiny noise that breaks ties when a variable has repeated values
-          (rounded, integer or boolean data), as scikit-learn does.
-        - ``"gaussian"``: ``-0.5 ln(1 - r^2)``; blind to non-linear dependence.
-          Scale invariant: each variable is divided by its largest magnitude before
-          the correlation is computed (no underflow at 1e-300, no overflow at 1e300).
+        - ``"ksg"``: Kraskov et al. (2004) estimator 1 on normal scores, options ``k``
+          (3), ``seed`` (0) of the tiny noise that breaks ties when a variable has
+          repeated values (rounded, integer or boolean data), as scikit-learn does,
+          and ``copula`` (True; False: values divided by their standard deviation).
+        - ``"gaussian"``: ``-0.5 ln(1 - r^2)`` with r the correlation of the normal
+          scores (Gaussian-copula MI, Ince et al., Hum. Brain Mapp. 38, 1541, 2017;
+          ``copula=False``: the Pearson r of the values, each divided by its largest
+          magnitude first); blind to non-linear dependence.
+
+        Heavy tails: for Cauchy x and x + Cauchy noise (exact MI ln 2) at n = 2e4,
+        measured ksg 0.68-0.71, kde 0.59-0.61, histogram 0.49-0.51 (3 seeds; the
+        copula of this pair has a ridge narrowing into its corners that a fixed
+        smoothing scale or ~22 bins cannot resolve; the former value paths gave -2.7
+        and 0.003-0.04).
     units : {"nats", "bits"}
         Units of the result.
     **options
@@ -108,7 +125,7 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
     float
         Estimated MI in ``units``. If x or y is constant the MI is 0.0 (a constant
         carries no information), not NaN. Estimates may be slightly negative near
-        independence (bias corrections are not clipped). An exactly linear relation
+        independence (bias corrections are not clipped). An exactly monotone relation
         gives a large finite value for "kde" and "gaussian" (1 - r^2 is floored at
         1e-15) and H(binned x) for "histogram".
 
@@ -127,7 +144,7 @@ class MutualInformation:
     """Reusable MI estimator holding one variable fixed.
 
     ``MutualInformation(method, units, **options).fit(x)`` caches what depends only on
-    x: its bin indices and range (histogram), its standardised or copula scores and
+    x: its bin indices and range (histogram), its copula (or standardised) scores and
     marginal leave-one-out kernel density (KDE), its standardised values and KD-tree
     (KSG), its normalised centred vector (Gaussian). ``.score(y)`` then costs only the y-side
     work, so a greedy search that holds x fixed and varies y pays once for x.

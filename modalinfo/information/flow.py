@@ -13,8 +13,10 @@ The diagonal (j = i) is not a transfer and is NaN.
 Estimators. ``method="gaussian"`` (default) scores a whole target at once: the target
 and every lagged source are residualised against the target's history (a QR basis of
 the centred history), and each cell is ``-0.5 ln(1 - rho^2)`` of the two residuals'
-correlation -- exactly the Gaussian CMI of :func:`transfer_entropy` on the same rows,
-with the partial-correlation scorer of :mod:`modalinfo.information.selection`. The
+correlation -- exactly the Gaussian CMI of :func:`transfer_entropy` on the same rows
+with ``copula=False`` (the values, not the normal scores that are that function's
+default: the closed form is the least-squares one), with the partial-correlation
+scorer of :mod:`modalinfo.information.selection`. The
 other methods of :func:`~modalinfo.information.conditional_mutual_information`
 estimate each cell with the estimator (``cells x (1 + n_surrogates)`` estimates).
 
@@ -445,6 +447,10 @@ def transfer_entropy_map(
     check_choice(adjust, "adjust", ADJUSTMENTS)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     rng = check_rng(seed)
+    if method == "gaussian" and options.get("copula", False):
+        raise ValueError("`copula`=True is not available with method='gaussian' here: its "
+                         "closed form scores the values (least-squares residuals); use "
+                         "method='histogram' or 'ksg' for rank-based scores.")
     est = _estimator(method, units, options)
     T, S = series.shape
     L = lags.size

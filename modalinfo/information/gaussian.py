@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from modalinfo.information import _kernels as kern
+from modalinfo.information.copula import check_copula, copula_scores
 
 __all__ = ["GaussianEngine", "gaussian_entropy", "gaussian_mi_from_correlation", "unit_scaled"]
 
@@ -40,18 +41,36 @@ class GaussianEngine:
     """Gaussian MI from the Pearson correlation; caches the centred, normalised x.
 
     Scale invariant: both variables are divided by their largest magnitude first.
+
+    Parameters
+    ----------
+    copula : bool
+        Default True: the correlation of the normal scores Phi^-1(rank / (n + 1)) of
+        each variable (Gaussian-copula MI, Ince et al., Hum. Brain Mapp. 38, 1541,
+        2017): exact for any pair whose copula is Gaussian, whatever the marginals,
+        a lower bound of the MI otherwise, and moved by one glitch by about its share
+        of the sample. ``False``: the Pearson correlation of the values (the former
+        behaviour), which one sample at 1e6 drives to 0.
     """
+
+    def __init__(self, *, copula: bool = True):
+        self.copula = check_copula(copula)
+
+    def _prepare(self, a: np.ndarray) -> np.ndarray:
+        if self.copula:
+            return copula_scores(a)
+        return a
 
     def fit(self, x: np.ndarray) -> GaussianEngine:
         """Cache ``(x - mean) / ||x - mean||`` (x validated, 1-D, not constant)."""
-        xs = unit_scaled(x)
+        xs = unit_scaled(self._prepare(x))
         xc = xs - xs.mean()
         self._xu = xc / math.sqrt(kern.dot(xc, xc))
         return self
 
     def score(self, y: np.ndarray) -> float:
         """``-0.5 ln(1 - r^2)`` in nats (y validated, same length, not constant)."""
-        num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(y))
+        num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(self._prepare(y)))
         if not norm > 0.0:  # y constant after rounding of its mean: no correlation
             return 0.0
         r = num / norm

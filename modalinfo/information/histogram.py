@@ -24,6 +24,27 @@ Freedman-Diaconis rule (~3 n^(1/3) bins, 63 at n = 1e4) overestimates by +0.046 
 rho = 0.3 even after Miller-Madow. Rule-chosen bin numbers are capped at
 ceil(sqrt(n)) (:func:`max_rule_bins`).
 
+Default binning: equiprobable (quantile) bins, ``binning="quantile"``. An
+equiprobable partition of each axis is a function of the ranks only, so the estimate
+is invariant under monotone maps of each variable as the MI is (Darbellay & Vajda,
+IEEE Trans. Inf. Theory 45, 1315, 1999, use such marginally equiprobable partitions
+for that reason), and one glitch moves one sample by at most one bin: with
+equal-width bins over the sample range (``binning="uniform"``, the former default) a
+single sample at 1e6 in a rho = 0.6 pair put every other sample in one bin and gave
+0.0003 nats against 0.22. The correlation r of the Hacine-Gharbi rule is then also
+taken from the ranks: the Pearson correlation of the normal scores
+Phi^-1((i + 1/2) / K0) of each sample's quantile bin i at K0 = min(64, ceil(sqrt m))
+bins (a discretised Gaussian-copula correlation; the rule is derived for a Gaussian
+pair, which is what normal scores are marginally), not the Pearson r of the values,
+which one outlier drives to 0. It is computed on a fixed systematic subsample of m <=
+8192 pairs (every ceil(n / 8192)-th): the rule needs r only to pick an integer k, and
+the subsample's sd of r, ~(1 - r^2) / 90, moves k by at most one bin near a rounding
+boundary, while a second quantile pass over all n samples doubled the cost of a score
+(measured at n = 2e5: 4.2 ms against 1.6 ms for equal-width bins; with the subsample
+2.2 ms against 1.8 ms in the same run). Measured with the rule's k at the true r,
+n = 1e4, 10 seeds: mean error -0.000, -0.001, -0.008, -0.032 nats at rho = 0, 0.3, 0.6, 0.9 for
+quantile bins (equal-width: +0.002, +0.000, -0.005, -0.032).
+
 Binning of the samples is one numba pass (``_kernels.py``); nothing loops over samples
 in Python. Quantile edges are ``numpy.interp`` of the sorted sample, computed without
 sorting: a bucket selection finds the exact order statistics they need
@@ -37,6 +58,7 @@ import math
 from typing import Any
 
 import numpy as np
+from scipy.special import ndtri
 
 from modalinfo._validation import check_choice, check_int
 from modalinfo.information import _kernels as kern
@@ -48,6 +70,28 @@ __all__ = ["BIN_RULES", "max_rule_bins", "n_bins_for"]
 BIN_RULES = ("hacine-gharbi", "fd", "scott", "sturges", "sqrt")
 _CORRECTIONS = ("miller-madow", "none")
 _BINNINGS = ("uniform", "quantile")
+#: Most quantile bins of the rank correlation that sets the Hacine-Gharbi bin number.
+_RANK_CORR_BINS = 64
+#: Most pairs of the systematic subsample on which that rank correlation is computed.
+_RANK_CORR_SAMPLES = 8192
+
+
+def _rank_corr_bins(n: int) -> int:
+    """Quantile bins K0 = min(64, ceil(sqrt n)) of the rank correlation of the bin rule."""
+    return min(_RANK_CORR_BINS, max_rule_bins(n))
+
+
+def _rank_corr_stride(n: int) -> int:
+    """Stride of the systematic subsample (at most 8192 pairs) of the rank correlation."""
+    return -(-n // _RANK_CORR_SAMPLES)
+
+
+def _unit_centred(a: np.ndarray) -> np.ndarray:
+    """Return ``(a - mean) / ||a - mean||`` of a scale-safe copy of ``a`` (zeros if constant)."""
+    xs = unit_scaled(a)
+    xc = xs - xs.mean()
+    norm = math.sqrt(kern.dot(xc, xc))
+    return xc / norm if norm > 0 else xc
 
 
 def max_rule_bins(n: int) -> int:
@@ -148,7 +192,14 @@ def _check_bins(bins: Any) -> Any:
 
 
 class _Axis:
-    """Cached binning of one variable: range, and bin indices per number of bins."""
+    """Cached binning of one variable: range, and bin indices per number of bins.
+
+    A quantile axis asked for a second bin number (the fixed x of a search whose
+    candidates change the rule's k) sorts its sample once; further bin numbers then
+    cost one sweep (``_kernels.presorted_quantile_index``) instead of a selection and
+    a bucketed search (measured in the greedy MI ordering at n = 2e5: ~70 of ~400
+    scores needed a new k for x).
+    """
 
     def __init__(self, x: np.ndarray, binning: str):
         self.x = x
@@ -157,6 +208,7 @@ class _Axis:
         self.hi = float(x.max())
         self.binning = binning
         self._idx: dict[int, np.ndarray] = {}
+        self._sorted: tuple[np.ndarray, np.ndarray] | None = None
 
     def edges(self, k: int) -> np.ndarray:
         """Bin edges (k + 1,) for ``k`` bins."""
@@ -176,6 +228,13 @@ class _Axis:
             if self.binning == "uniform":
                 inv = k / (self.hi - self.lo) if self.hi > self.lo else 0.0
                 kern.uniform_bin_index(self.x, self.lo, inv, self.edges(k), idx)
+            elif self._idx or self._sorted is not None:  # a second k: sort once
+                if self._sorted is None:
+                    order = np.argsort(self.x, kind="stable")
+                    self._sorted = (np.ascontiguousarray(self.x[order]), order)
+                xs, order = self._sorted
+                kern.presorted_quantile_index(xs, order, np.linspace(0.0, self.n - 1.0, k + 1),
+                                              idx)
             else:
                 inner = np.ascontiguousarray(self.edges(k)[1:-1])
                 kern.sorted_edges_bin_index(self.x, self.lo, self.hi, inner, idx)
@@ -194,12 +253,13 @@ class HistogramEngine:
         Bin rule (see :func:`modalinfo.information.mutual_information`).
     bias_correction : {"miller-madow", "none"}
         Miller-Madow correction of the plug-in estimate, or none.
-    binning : {"uniform", "quantile"}
-        Equal-width bins over the sample range, or equiprobable (quantile) bins.
+    binning : {"quantile", "uniform"}
+        Equiprobable (quantile) bins, the default (rank-invariant; module notes), or
+        equal-width bins over the sample range (the former default).
     """
 
     def __init__(self, *, bins: Any = "hacine-gharbi", bias_correction: str = "miller-madow",
-                 binning: str = "uniform"):
+                 binning: str = "quantile"):
         self.bins = _check_bins(bins)
         self.bias_correction = check_choice(bias_correction, "bias_correction", _CORRECTIONS)
         self.binning = check_choice(binning, "binning", _BINNINGS)
@@ -207,20 +267,32 @@ class HistogramEngine:
     def fit(self, x: np.ndarray) -> HistogramEngine:
         """Cache the range, centred samples and bin indices of ``x`` (validated, 1-D)."""
         self._ax = _Axis(x, self.binning)
-        xs = unit_scaled(x)  # scale invariant: no underflow of the sum of squares
-        xc = xs - xs.mean()
-        self._xu = xc / math.sqrt(kern.dot(xc, xc))
+        if self.binning == "quantile":
+            # rank correlation for the bin rule: normal scores of K0 quantile bins of a
+            # systematic subsample (module notes)
+            self._stride = _rank_corr_stride(x.shape[0])
+            xs = np.ascontiguousarray(x[:: self._stride])
+            k0 = self._k0 = _rank_corr_bins(xs.shape[0])
+            self._scores0 = ndtri((np.arange(k0) + 0.5) / k0)
+            self._xu = _unit_centred(self._scores0[_Axis(xs, "quantile").index(k0)])
+        else:
+            self._xu = _unit_centred(x)
         self._kx_fixed = None
         if not (self.bins == "hacine-gharbi"):
             self._kx_fixed = n_bins_for(self.bins, x, axis=0)
         return self
 
     def _corr(self, y: np.ndarray) -> float:
+        """Correlation of the pair for the bin rule: of rank scores (quantile) or values."""
+        if self.binning == "quantile":
+            ys = np.ascontiguousarray(y[:: self._stride])
+            y = self._scores0[_Axis(ys, "quantile").index(self._k0)]
         num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(y))
         return num / norm if norm > 0 else 0.0
 
     def score(self, y: np.ndarray) -> float:
         """I(x; y) in nats for the fitted x (``y`` validated, 1-D, same length)."""
+        ay = _Axis(y, "quantile") if self.binning == "quantile" else None
         if self.bins == "hacine-gharbi":
             kx = ky = _hacine_gharbi_joint(self._ax.n, self._corr(y))
         else:
@@ -228,13 +300,12 @@ class HistogramEngine:
             ky = n_bins_for(self.bins, y, axis=1)
         ix = self._ax.index(kx)
         counts = np.empty((kx, ky), dtype=np.int64)
-        if self.binning == "uniform":
+        if ay is None:
             lo, hi = float(y.min()), float(y.max())
             inv = ky / (hi - lo) if hi > lo else 0.0
             kern.joint_counts_uniform(ix, y, lo, inv, np.linspace(lo, hi, ky + 1), counts)
         else:
-            iy = _Axis(y, "quantile").index(ky)
-            kern.joint_counts_index(ix, iy, counts)
+            kern.joint_counts_index(ix, ay.index(ky), counts)
         return mi_from_counts(counts, self.bias_correction)
 
 

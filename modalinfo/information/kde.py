@@ -60,11 +60,10 @@ from typing import Any
 import numpy as np
 from scipy import fft as sfft
 from scipy.optimize import minimize_scalar
-from scipy.special import ndtri
-from scipy.stats import rankdata
 
 from modalinfo._validation import check_choice, check_int, check_real
 from modalinfo.information import _kernels as kern
+from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, unit_scaled
 
 __all__ = ["KDEEngine", "kde_entropy", "bandwidth_factor", "copula_scores"]
@@ -85,12 +84,6 @@ def bandwidth_factor(rule: str | float, n: int, d: int) -> float:
             return float(n ** (-1.0 / (d + 4)))
         return float((n * (d + 2) / 4.0) ** (-1.0 / (d + 4)))
     return float(rule)
-
-
-def copula_scores(x: np.ndarray) -> np.ndarray:
-    """Return the normal scores ``Phi^-1(rank / (n + 1))`` (average ranks for ties), shape (n,)."""
-    n = x.shape[0]
-    return ndtri(rankdata(x) / (n + 1.0))
 
 
 def _standardise(x: np.ndarray, copula: bool) -> tuple[np.ndarray, float, float]:
@@ -255,7 +248,17 @@ class KDEEngine:
         far below the statistical error, and the 130 KB grid stays in cache.
     copula : bool
         Replace each variable by its normal scores Phi^-1(rank / (n + 1)) first
-        (Gaussian-copula transform; MI is invariant under it in the large-n limit).
+        (the Gaussian-copula transform of :mod:`modalinfo.information.copula`; MI is
+        invariant under monotone maps of each variable, Kraskov et al. 2004). Default
+        True: the estimate then depends on the ranks only, so one glitch or a heavy
+        tail moves it by about its share of the sample (measured: one sample at 1e6
+        in a rho = 0.6 pair of 20,000 moves it by < 0.002 nats; without the copula
+        the estimate was -0.69 against 0.22). ``False`` is the former behaviour
+        (standardised raw values): the kernel's bandwidth then follows the sample
+        standard deviation, which one outlier or a Cauchy tail inflates without bound.
+        On normal scores the Gaussian part of the dependence is exactly the
+        ``-0.5 ln(1 - r^2)`` term (r of the scores), which is why this pairing of
+        copula and covariance kernel is nearly unbiased on Gaussian-copula data.
 
     Notes
     -----
@@ -263,15 +266,13 @@ class KDEEngine:
     thread; see ``_work_arrays``), which stay allocated between calls.
     """
 
-    def __init__(self, *, bandwidth: Any = "scott", grid_size: int = 128, copula: bool = False):
+    def __init__(self, *, bandwidth: Any = "scott", grid_size: int = 128, copula: bool = True):
         if isinstance(bandwidth, str):
             self.bandwidth = check_choice(bandwidth, "bandwidth", _BW_RULES)
         else:
             self.bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
         self.grid_size = check_int(grid_size, "grid_size", minimum=32)
-        if not isinstance(copula, bool | np.bool_):
-            raise TypeError(f"`copula` must be a bool; got {copula!r}.")
-        self.copula = bool(copula)
+        self.copula = check_copula(copula)
 
     def fit(self, x: np.ndarray) -> KDEEngine:
         """Cache the standardised (or copula) scores of x and its marginal entropy."""

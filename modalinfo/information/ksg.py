@@ -7,9 +7,16 @@ eq. 8):
 
 where eps_i is the max-norm distance from point i to its k-th neighbour in the joint
 space and n_x (n_y) counts the other points with |x_j - x_i| < eps_i (|y_j - y_i| <
-eps_i). As in scikit-learn's ``mutual_info_regression``, each variable is first
-divided by its standard deviation (the max-norm is not invariant under separate
-rescaling of the axes). Negative estimates are returned as they are (not clipped at
+eps_i). The max-norm is not invariant under separate rescaling of the axes, so each
+variable is first put on a common scale. Default (``copula=True``): its normal scores
+Phi^-1(rank / (n + 1)) (:mod:`modalinfo.information.copula`). The KSG estimate is
+invariant under monotone maps of each variable only in the limit (Kraskov et al.
+2004, sec. II); on normal scores it is exactly so at every n, and a glitch or a heavy
+tail no longer stretches the axis it lies on (one sample at 1e6 in a rho = 0.6 pair
+of 4000 gave 0.002 nats on standardised values, against 0.22, because every other
+sample then sits within a tiny fraction of the x axis). ``copula=False`` is the former
+path: each variable divided by its standard deviation, as scikit-learn's
+``mutual_info_regression``. Negative estimates are returned as they are (not clipped at
 0, unlike scikit-learn), so the estimator stays unbiased near independence, which
 matters for permutation tests.
 
@@ -36,6 +43,7 @@ from scipy.spatial import cKDTree
 from scipy.special import digamma
 
 from modalinfo._validation import check_int
+from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.gaussian import unit_scaled
 
 __all__ = ["KSGEngine", "ksg_entropy"]
@@ -51,10 +59,16 @@ TIE_NOISE = 1e-10
 _TIE_SALT = 0x4B5347
 
 
-def _standardised(a: np.ndarray, seed: int, axis: int) -> np.ndarray:
-    """Return ``a / std(a)``, plus a seeded ``1e-10 max(1, mean |a|)`` noise if ``a`` has ties."""
-    u = unit_scaled(a)  # first to [-1, 1]: the variance neither underflows nor overflows
-    u = u / np.std(u)
+def _standardised(a: np.ndarray, seed: int, axis: int, copula: bool = False) -> np.ndarray:
+    """Return ``a / std(a)`` (or its normal scores if ``copula``) plus tie noise.
+
+    The seeded noise ``1e-10 max(1, mean |u|) N(0, 1)`` is added only if ``u`` has ties.
+    """
+    if copula:
+        u = copula_scores(a)
+    else:
+        u = unit_scaled(a)  # first to [-1, 1]: the variance neither underflows nor overflows
+        u = u / np.std(u)
     if np.unique(u).size < u.size:
         rng = np.random.default_rng((_TIE_SALT, seed, axis))
         u = u + TIE_NOISE * max(1.0, float(np.mean(np.abs(u)))) * rng.standard_normal(u.size)
@@ -78,15 +92,19 @@ class KSGEngine:
         Seed of the tie-breaking noise (used only by a variable with repeated values;
         x and y get independent streams, salted so that they differ from
         ``numpy.random.default_rng(seed)``).
+    copula : bool
+        Use normal scores of the ranks (default) instead of values divided by their
+        standard deviation (module notes).
     """
 
-    def __init__(self, *, k: int = 3, seed: int = 0):
+    def __init__(self, *, k: int = 3, seed: int = 0, copula: bool = True):
         self.k = check_int(k, "k", minimum=1)
         self.seed = check_int(seed, "seed", minimum=0)
+        self.copula = check_copula(copula)
 
     def fit(self, x: np.ndarray) -> KSGEngine:
         """Standardise x (tie noise if needed) and build its KD-tree (x validated, 1-D)."""
-        self._x = _standardised(x, self.seed, 0)
+        self._x = _standardised(x, self.seed, 0, self.copula)
         self._tree_x = cKDTree(self._x[:, None])
         self._n = x.shape[0]
         return self
@@ -94,7 +112,7 @@ class KSGEngine:
     def score(self, y: np.ndarray) -> float:
         """KSG-1 estimate in nats (y validated, same length, not constant)."""
         k = min(self.k, self._n - 1)
-        y = _standardised(y, self.seed, 1)
+        y = _standardised(y, self.seed, 1, self.copula)
         pts = np.column_stack((self._x, y))
         dist, _ = cKDTree(pts).query(pts, k=k + 1, p=np.inf)
         eps = dist[:, -1]

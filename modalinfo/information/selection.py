@@ -49,7 +49,10 @@ per step), the gain of candidate c is ``-0.5 ln(1 - rho^2)`` with rho the partia
 correlation, which is exactly the Gaussian CMI and equals
 ``0.5 ln(var(x | S) / var(x | S, c))``, the log ratio of the least-squares residual
 variances -- the criterion that matters for the linear predictor built on the result
-(:class:`modalinfo.forecast.info.InfoPredictor`). All candidates are scored by one
+(:class:`modalinfo.forecast.info.InfoPredictor`). It is therefore computed on the
+values, as ``conditional_mutual_information(method="gaussian", copula=False)``, not on
+the normal scores that function uses by default; the rank-based scores are those of
+``method="histogram"`` or ``"ksg"``. All candidates are scored by one
 matrix product; under a surrogate the rotated candidates' residuals need only the
 circular cross-correlations of the target's residual and of each chosen direction
 with the candidates (:func:`~modalinfo.information.surrogates.circular_cross`, by FFT
@@ -573,6 +576,10 @@ def select_inputs(
         min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
     # one set of shifts for the whole search, on a lattice with the original at 0
     shifts, shift0 = surrogate_shifts(n, n_surrogates, max_lag - 1 + horizon, min_shift, rng)
+    if method == "gaussian" and options.get("copula", False):
+        raise ValueError("`copula`=True is not available with method='gaussian' here: its "
+                         "closed form scores the values (least-squares residuals); use "
+                         "method='histogram' or 'ksg' for rank-based scores.")
     est = _estimator(method, units, options)
     factor = UNITS[units]
 

@@ -12,6 +12,16 @@ wavefront representation"). With ``Phi_ref = sum_k a_k Z_k``:
   continuous variable with itself is infinite, so that step's MI and gain are NaN
   (not estimated) and the order of the last mode is forced.
 
+Estimator: by default the histogram MI on equiprobable (quantile) bins with the bin
+rule at the rank correlation (:mod:`modalinfo.information.histogram`), a function of
+the ranks of Phi_ref and Phi_S only. A glitched frame (one mode at 100 sigma) is
+1/T of the samples and moves each score by about that share: in 4000-frame logs (the
+shipped kaos_closedloop, kaos_like seeds 0 and 1, budget 20 000) it changes none of the
+first 10 ranks, where the former equal-width bins (``estimator_options={"binning":
+"uniform"}``) changed 7-10 of them (tests/ordering/test_glitch_robustness.py).
+Ranks whose MI differs by less than that share (``~`` ties, e.g. Z2 and Z3 of an
+isotropic log) can still swap.
+
 The greedy search fits one :class:`~modalinfo.information.MutualInformation` on
 Phi_ref (binning or bandwidth cached once) and keeps Phi_S on the samples, so each
 step costs one ``score`` per remaining mode on ``Phi_S + a_k Z_k``.

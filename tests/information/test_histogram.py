@@ -1,6 +1,9 @@
 """Histogram MI and entropy against numpy references.
 
-References: ``numpy.histogram2d`` plug-in MI computed directly (exact agreement),
+References: ``numpy.histogram2d`` plug-in MI computed directly (exact agreement) on
+equal-width bins (``binning="uniform"``, the former default) and on ``numpy.quantile``
+edges (the default equiprobable bins, with the bin number of the Hacine-Gharbi rule at
+the correlation of scipy's normal scores of the ranks),
 ``numpy.histogram_bin_edges`` bin numbers for "fd", "scott", "sturges", "sqrt",
 the Miller-Madow formula (Paninski 2003, eq. 3.4), and the analytic entropy of a
 uniform variable. The entropy's Miller-Madow term against ``scipy.stats.entropy`` of
@@ -36,20 +39,40 @@ def test_matches_histogram2d_reference(bins, mm):
     rng = np.random.default_rng(5)
     x = rng.standard_normal(4000)
     y = np.sin(2 * x) + 0.3 * rng.standard_normal(4000)
-    got = mutual_information(x, y, method="histogram", bins=bins,
+    got = mutual_information(x, y, method="histogram", bins=bins, binning="uniform",
                              bias_correction="miller-madow" if mm else "none")
     assert got == pytest.approx(_plugin_ref(x, y, bins, mm), rel=1e-12, abs=1e-14)
 
 
-def test_default_rule_is_hacine_gharbi_joint_formula():
+def _hacine_gharbi_k(n, r):
+    return int(round(np.sqrt(1 + np.sqrt(1 + 24 * n / (1 - r**2))) / np.sqrt(2)))
+
+
+def test_uniform_rule_is_hacine_gharbi_joint_formula():
     rng = np.random.default_rng(6)
     x = rng.standard_normal(10_000)
     y = 0.6 * x + 0.8 * rng.standard_normal(10_000)
-    r = np.corrcoef(x, y)[0, 1]
-    k = int(round(np.sqrt(1 + np.sqrt(1 + 24 * x.size / (1 - r**2))) / np.sqrt(2)))
+    k = _hacine_gharbi_k(x.size, np.corrcoef(x, y)[0, 1])
     assert 15 <= k <= 25
-    assert mutual_information(x, y, method="histogram") == pytest.approx(
+    assert mutual_information(x, y, method="histogram", binning="uniform") == pytest.approx(
         _plugin_ref(x, y, k, True), rel=1e-12
+    )
+
+
+def test_default_is_quantile_bins_with_the_rule_at_the_rank_correlation():
+    # one glitch at 1e6 leaves the normal-score correlation (and so k) in place, while
+    # the Pearson r of the values drops to ~0; the estimate is the plug-in MI on the
+    # numpy.quantile edges with that k
+    rng = np.random.default_rng(6)
+    x = rng.standard_normal(10_000)
+    y = 0.6 * x + 0.8 * rng.standard_normal(10_000)
+    x[17] = 1e6
+    scores = [stats.norm.ppf(stats.rankdata(a) / (a.size + 1)) for a in (x, y)]
+    k = _hacine_gharbi_k(x.size, np.corrcoef(*scores)[0, 1])
+    assert 17 <= k <= 25 and _hacine_gharbi_k(x.size, np.corrcoef(x, y)[0, 1]) == 16  # r = 0
+    edges = [np.quantile(a, np.linspace(0, 1, k + 1)) for a in (x, y)]
+    assert mutual_information(x, y, method="histogram") == pytest.approx(
+        _plugin_ref(x, y, edges, True), rel=1e-12
     )
 
 
@@ -96,7 +119,8 @@ def test_identical_variables_give_binned_entropy_with_capped_bins():
     h = -np.sum(p * np.log(p))
     k = np.count_nonzero(counts)
     want = h - (k - k - k + 1) / (2 * x.size)  # Miller-Madow with K_xy = K_x = K_y = k
-    assert mutual_information(x, x, method="histogram") == pytest.approx(want, rel=1e-12)
+    got = mutual_information(x, x, method="histogram", binning="uniform")
+    assert got == pytest.approx(want, rel=1e-12)
 
 
 @settings(max_examples=40, deadline=None)
@@ -114,8 +138,10 @@ def test_plugin_mi_is_a_nonnegative_symmetric_kl_divergence(n, bins, seed, scale
     y = np.round(rng.standard_normal(n) + 0.3 * x / scale, 1)  # ties and dependence
     if np.ptp(y) == 0:
         return
-    a = mutual_information(x, y, method="histogram", bins=bins, bias_correction="none")
-    b = mutual_information(y, x, method="histogram", bins=bins, bias_correction="none")
+    a = mutual_information(x, y, method="histogram", bins=bins, bias_correction="none",
+                           binning="uniform")
+    b = mutual_information(y, x, method="histogram", bins=bins, bias_correction="none",
+                           binning="uniform")
     assert a >= -1e-12
     assert a == pytest.approx(b, abs=1e-12)
     assert a == pytest.approx(_plugin_ref(x, y, bins, False), abs=1e-12)
@@ -175,7 +201,7 @@ def test_default_entropy_bins_follow_hacine_gharbi_2012(n):
 def test_joint_bins_follow_hacine_gharbi_2018_with_offsets(n, rho):
     # Hacine-Gharbi & Ravier (2018): k = round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt 2)
     # with r the sample correlation (numpy.corrcoef), capped at ceil(sqrt(n)) and >= 2;
-    # data far from zero mean, so a mean not removed would change r
+    # data far from zero mean, so a mean not removed would change r (equal-width bins)
     rng = np.random.default_rng(n)
     x = rng.standard_normal(n)
     y = rho * x + np.sqrt(1 - rho**2) * rng.standard_normal(n)
@@ -183,5 +209,27 @@ def test_joint_bins_follow_hacine_gharbi_2018_with_offsets(n, rho):
     r = np.corrcoef(x, y)[0, 1]
     k = int(round(np.sqrt(1 + np.sqrt(1 + 24 * n / (1 - r**2))) / np.sqrt(2)))
     k = min(max(2, k), int(np.ceil(np.sqrt(n))))
-    assert mutual_information(x, y, method="histogram") == pytest.approx(
+    assert mutual_information(x, y, method="histogram", binning="uniform") == pytest.approx(
         _plugin_ref(x, y, k, True), rel=1e-12, abs=1e-14)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_quantile_index_of_a_fixed_variable_matches_numpy_for_every_bin_number(seed):
+    # the fixed x of a search sorts itself at its second bin number and then bins by a
+    # sweep: the index must stay numpy.searchsorted(inner edges, x, "right") with the
+    # documented edges numpy.interp(linspace(0, n - 1, k + 1), arange(n), sort(x))
+    # (numpy.quantile's positions (n - 1) q can differ from these by an ulp, which moves
+    # a tied group at an edge)
+    from modalinfo.information.histogram import _Axis
+
+    rng = np.random.default_rng(seed)
+    x = np.round(rng.standard_normal(3001), 1)  # ties, also at the edges
+    x[7] = 1e6
+    ax = _Axis(x, "quantile")
+    for k in (17, 5, 64, 17, 400):
+        pos = np.linspace(0.0, x.size - 1.0, k + 1)
+        inner = np.interp(pos, np.arange(x.size), np.sort(x))[1:-1]
+        np.testing.assert_array_equal(ax.index(k), np.searchsorted(inner, x, side="right"))
+        fresh = _Axis(x, "quantile").index(k)  # the selection path, first k of an axis
+        np.testing.assert_array_equal(fresh, np.searchsorted(inner, x, side="right"))
+    assert ax._sorted is not None  # the sweep path was used

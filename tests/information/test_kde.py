@@ -51,17 +51,26 @@ def _clustered_pair(n=500, seed=2):
     return x, 0.5 * c + 0.25 * rng.standard_normal(n) + 0.2 * np.sin(3 * x)
 
 
+def _normal_scores(a):
+    return stats.norm.ppf(stats.rankdata(a) / (a.size + 1))
+
+
+@pytest.mark.parametrize("copula", [True, False])
 @pytest.mark.parametrize("rho", [0.0, 0.5, 0.95])
 @pytest.mark.parametrize("h", [None, 0.6])
-def test_grid_matches_direct_loo_estimate(rho, h):
+def test_grid_matches_direct_loo_estimate(rho, h, copula):
+    # default (copula=True): the direct sum on scipy's normal scores of the ranks;
+    # copula=False (the former default): on the values
     rng = np.random.default_rng(11)
     n = 600
     x = rng.standard_normal(n)
     y = rho * x + np.sqrt(1 - rho**2) * rng.standard_normal(n)
     y = y + 0.3 * np.tanh(3 * x)  # make it non-Gaussian
     hh = bandwidth_factor("scott", n, 2) if h is None else h
-    ref = _direct_loo_mi(x, y, hh)
-    got = mutual_information(x, y, method="kde", bandwidth="scott" if h is None else h)
+    ref = (_direct_loo_mi(_normal_scores(x), _normal_scores(y), hh) if copula
+           else _direct_loo_mi(x, y, hh))
+    opts = {} if copula else {"copula": False}
+    got = mutual_information(x, y, method="kde", bandwidth="scott" if h is None else h, **opts)
     # the default grid (128 points, delta/h ~ 0.2) reproduces the direct sum to ~1e-5
     assert got == pytest.approx(ref, abs=1e-4)
 
@@ -116,7 +125,8 @@ def test_cv_bandwidth_is_the_leave_one_out_likelihood_optimum():
     scott = _direct_loo_mi(x, y, h0)
     assert abs(ref - scott) > 0.01  # the test tells the CV optimum from Scott's rule
     # the grid search stops at 2 % in h: the MI moves by < 1e-3 nats there
-    assert mutual_information(x, y, method="kde", bandwidth="cv") == pytest.approx(ref, abs=3e-3)
+    assert mutual_information(x, y, method="kde", bandwidth="cv", copula=False) == pytest.approx(
+        ref, abs=3e-3)
     # 1-D entropy: H = -max_h LOO log-likelihood of the standardised sample + ln(sd)
     u = (x - x.mean()) / x.std()
     h1 = bandwidth_factor("scott", n, 1)

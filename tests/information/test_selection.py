@@ -95,7 +95,7 @@ def test_gains_are_the_gaussian_cmi_given_the_earlier_inputs():
     for s in res.inputs:
         j = index[(s.source, s.lag)]
         ref = conditional_mutual_information(y, C[:, j], C[:, chosen] if chosen else None,
-                                             method="gaussian")
+                                             method="gaussian", copula=False)
         assert s.gain == pytest.approx(ref, rel=1e-8, abs=1e-12)
         chosen.append(j)
     assert res.information == pytest.approx(sum(s.gain for s in res.inputs))
@@ -207,7 +207,7 @@ def test_rotated_null_is_the_gaussian_cmi_of_the_rotated_candidate(fft):
     for a, s in enumerate(shifts):
         for j in (0, 4, 9, 17):
             ref = conditional_mutual_information(y, np.roll(C[:, j], s), C[:, chosen],
-                                                 method="gaussian")
+                                                 method="gaussian", copula=False)
             # the rotated chosen column j = 9 is not the chosen one: a real candidate
             assert got[a, j] == pytest.approx(ref, rel=1e-7, abs=1e-12), (s, j)
 
@@ -264,7 +264,7 @@ def test_gram_greedy_equals_a_brute_force_greedy():
     chosen = []
     for j, gain in picked:
         scores = [-np.inf if c in chosen else conditional_mutual_information(
-            y, C[:, c], C[:, chosen] if chosen else None, method="gaussian")
+            y, C[:, c], C[:, chosen] if chosen else None, method="gaussian", copula=False)
             for c in range(C.shape[1])]
         assert j == int(np.argmax(scores))
         assert gain == pytest.approx(max(scores), rel=1e-8)
@@ -280,7 +280,8 @@ def test_gram_bootstrap_interval_equals_the_resampling_one():
     X, _ = sparse_var2(3000, 11)
     data = np.column_stack([X[2:, 0], X[1:-1, 2], X[1:-1, 0], X[:-2, 3]])
     ref = conditional_mutual_information_ci(data[:, 0], data[:, 1], data[:, 2:],
-                                            method="gaussian", n_resamples=50, seed=4)
+                                            method="gaussian", n_resamples=50, seed=4,
+                                            copula=False)
     low, high = _gaussian_block_ci(data, ref.estimate, 50, 0.95, np.random.default_rng(4))
     # same resamples; sums of 3000 products in another order: agreement to 1e-9
     assert low == pytest.approx(ref.low, abs=1e-9) and high == pytest.approx(ref.high, abs=1e-9)

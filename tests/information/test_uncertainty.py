@@ -156,7 +156,7 @@ def test_bca_falls_back_to_percentile_when_every_replicate_is_above():
     ij = np.repeat(np.arange(9), counts.ravel())
     x, y = (ij // 3).astype(float), (ij % 3).astype(float)
     res = mutual_information_ci(x, y, n_resamples=99, seed=0, bootstrap="iid", interval="bca",
-                                bins=3, bias_correction="none")
+                                bins=3, bias_correction="none", binning="uniform")
     assert res.estimate == 0.0
     assert np.all(res.bootstrap_distribution > res.estimate)  # the situation tested
     assert np.isfinite(res.low) and np.isfinite(res.high)
