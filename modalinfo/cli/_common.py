@@ -9,6 +9,8 @@ from modalinfo.bases.indexing import parse_modes
 from modalinfo.cli import CommandError
 
 __all__ = [
+    "WAVELENGTH_RANGE",
+    "wavelength_arg",
     "add_hint_arguments",
     "add_gap_argument",
     "hints_from_args",
@@ -44,6 +46,28 @@ class _Renamed(argparse.Action):
 
     def __call__(self, parser, namespace, values, option_string=None) -> None:
         parser.error(f"{option_string}: {self.message}")
+
+
+#: Wavelengths [m] a command accepts: AO phase is sensed and corrected from the near UV
+#: (solar AO at 0.39 um, e.g. the Ca II K line) to the thermal infrared (10-20 um, e.g. the
+#: ELT's METIS, N and Q bands); outside 100 nm - 100 um a value is a unit slip (nm or um
+#: typed as metres) or a typo, and every phase <-> OPD conversion with it would be wrong.
+WAVELENGTH_RANGE = (1e-7, 1e-4)
+
+
+def wavelength_arg(text: str) -> float:
+    """Parse ``--wavelength`` (an argparse type): metres within :data:`WAVELENGTH_RANGE`."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of metres; got {text!r}") from None
+    low, high = WAVELENGTH_RANGE
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(
+            f"must be in metres within {low:g} - {high:g} (100 nm - 100 um, the near UV to "
+            f"the thermal infrared where AO phase is measured; outside it the value is a "
+            f"unit slip such as nm typed as metres); got {text}")
+    return value
 
 
 def add_hint_arguments(
@@ -87,7 +111,7 @@ def add_hint_arguments(
                            "means the output units of convert only",
                            help="retired: use --in-units")
     if wavelength:
-        group.add_argument("--wavelength", type=float, metavar="M",
+        group.add_argument("--wavelength", type=wavelength_arg, metavar="M",
                            help="wavelength in metres at which the phase is defined (needed "
                            "to analyse a log in nm or um)")
     group.add_argument("--in-convention", choices=("noll", "ansi", "fringe", "labels"),

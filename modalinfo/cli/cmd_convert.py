@@ -25,6 +25,7 @@ from modalinfo.cli._common import (
     input_notes,
     progress,
     queue_notes,
+    wavelength_arg,
 )
 
 NAME = "convert"
@@ -45,7 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--wavelength",
-        type=float,
+        type=wavelength_arg,
         metavar="M",
         help="wavelength in metres at which the phase is defined: the input's if the file "
         "lacks it, else that of the phase converted from OPD (nm, um)",

@@ -249,6 +249,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             "known (frames x modes)."
         )
     hints.pop("transpose", None)
+    check_has_modes(np.shape(coeffs), path)
     stored.pop("_layout", None)
     frames = stored.pop("_frame_numbers", None)
     convention_assumed = bool(stored.pop("_convention_assumed", False))
@@ -303,6 +304,19 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     except (ValueError, TypeError) as exc:
         error = type(exc)(f"'{path}': {exc}")
         raise _PassthroughError(error) from exc
+
+
+def check_has_modes(shape: tuple, path: Path) -> None:
+    """Raise ``LogFormatError`` naming ``path`` if a 2-D log of ``shape`` has no mode column.
+
+    Readers call it before anything indexes the columns, so a file with zero modes (an
+    empty table, a ``(T, 0)`` array) is one clear refusal rather than an ``IndexError``.
+    """
+    if len(shape) == 2 and shape[1] == 0:
+        raise LogFormatError(
+            f"'{path}' holds no modes: its coefficients have shape {tuple(shape)} "
+            "(frames x 0 columns), so there is nothing to read or analyse"
+        )
 
 
 def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:

@@ -156,7 +156,7 @@ def _time_columns(
         stored["_frame_numbers"] = np.ascontiguousarray(values[:, framed[0]])
     keep = [k for k in range(len(names)) if k not in drop]
     if not keep:
-        raise LogFormatError(f"CSV file '{path}' has a time column but no mode column")
+        raise LogFormatError(f"CSV file '{path}' has a time column but no modes (no mode column)")
     return values[:, keep], [names[k] for k in keep]
 
 
