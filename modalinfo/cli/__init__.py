@@ -137,6 +137,13 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
             message = words(message)
         sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
         return 2
+    except ImportError as exc:
+        from modalinfo.batch._deps import MissingDependencyError
+
+        if not isinstance(exc, MissingDependencyError):
+            raise  # a broken installation, not a missing option: keep the traceback
+        sys.stderr.write(f"{prog} {args.command}: error: {exc}\n")
+        return 2
     except KeyboardInterrupt:
         sys.stderr.write(f"{prog}: interrupted\n")
         return 130

@@ -334,12 +334,16 @@ __all__ += ["check_cluster_args"]
 def check_cluster_args(args: argparse.Namespace) -> None:
     """Refuse bad cluster options of ``batch`` and ``closedloop sweep`` before any work.
 
-    ``--workers`` and ``--threads-per-worker`` >= 1, ``--worker-wait`` a finite number of
-    seconds > 0, ``--memory-limit`` and (on a local cluster) the worker count within the
-    machine (:func:`modalinfo.batch.engine.check_memory_limit`, ``check_worker_count``).
+    The ``dist`` extra must be installed (else one line with ``pip install
+    'modalinfo[dist]'``). ``--workers`` and ``--threads-per-worker`` >= 1,
+    ``--worker-wait`` a finite number of seconds > 0, ``--memory-limit`` and (on a
+    local cluster) the worker count within the machine
+    (:func:`modalinfo.batch.engine.check_memory_limit`, ``check_worker_count``).
     """
+    from modalinfo.batch._deps import require_dist
     from modalinfo.batch.engine import check_memory_limit, check_worker_count
 
+    require_dist(str(getattr(args, "command", None) or "this command"))
     for flag, value in (("--workers", args.workers),
                         ("--threads-per-worker", args.threads_per_worker)):
         if value is not None and value < 1:

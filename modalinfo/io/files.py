@@ -1,4 +1,4 @@
-"""File-level helpers for every package: paths, the log-format error, atomic writes.
+"""File-level helpers for every package: paths, the log-format error, atomic writes, sizes.
 
 These are the public homes of what readers and writers everywhere share:
 :func:`atomic_write` (a crash leaves the old file or none, never half a file; no
@@ -10,12 +10,77 @@ modalinfo, so any layer may import them.
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-__all__ = ["LogFormatError", "as_path", "atomic_write", "check_readable", "writable_free_bytes"]
+__all__ = [
+    "LogFormatError",
+    "as_path",
+    "atomic_write",
+    "check_readable",
+    "format_size",
+    "parse_size",
+    "writable_free_bytes",
+]
+
+#: Size suffixes (lower case) -> bytes: SI (kB = 1000 B) and binary (KiB = 1024 B), with
+#: or without the ``B``, as ``dask.utils.parse_bytes`` reads them, so a ``--memory-limit``
+#: means the same here as in Dask's own configuration.
+_SIZE_UNITS = {"": 1, "b": 1}
+for _k, _p in enumerate("kmgtp", start=1):
+    _SIZE_UNITS.update({_p: 1000**_k, f"{_p}b": 1000**_k, f"{_p}i": 1024**_k,
+                        f"{_p}ib": 1024**_k})
+_SIZE = re.compile(r"([0-9]*\.?[0-9]+(?:e[-+]?[0-9]+)?|[0-9]+\.)\s*([a-z]*)")
+
+
+def parse_size(text: str | float, name: str = "size") -> int:
+    """Return a size such as ``"2GB"``, ``"512 MiB"``, ``"2e9"`` or ``1e9`` in bytes.
+
+    Parameters
+    ----------
+    text : str or float
+        A non-negative number with an optional unit: ``B``, ``kB``/``k``, ``MB``,
+        ``GB``, ``TB``, ``PB`` (powers of 1000) or ``KiB``/``Ki`` ... ``PiB`` (powers
+        of 1024), case-insensitive, as ``dask.utils.parse_bytes`` reads them; a bare
+        number is bytes. Needs no optional dependency.
+    name : str
+        The argument named in the error.
+
+    Returns
+    -------
+    int
+        Bytes (rounded down).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, the accepted forms and the value: no number, an unknown
+        unit, a negative, infinite or NaN size.
+    """
+    import math
+
+    if isinstance(text, bool) or not isinstance(text, str | int | float):
+        raise ValueError(f"`{name}` must be a size such as '2GB', '512 MiB' or a number of "
+                         f"bytes; got {text!r}")
+    match = _SIZE.fullmatch(str(text).strip().lower()) if isinstance(text, str) else None
+    if isinstance(text, str) and (match is None or match.group(2) not in _SIZE_UNITS):
+        raise ValueError(f"`{name}` must be a size such as '2GB', '512 MiB' or a number of "
+                         f"bytes (units B, kB, MB, GB, TB, KiB, MiB, GiB, TiB); got {text!r}")
+    value = float(match.group(1)) * _SIZE_UNITS[match.group(2)] if match else float(text)
+    if not math.isfinite(value) or value < 0:
+        raise ValueError(f"`{name}` must be a finite size >= 0; got {text!r}")
+    return int(value)
+
+
+def format_size(n: float) -> str:
+    """``n`` bytes in B, KiB, MiB, GiB, TiB with two decimals (``dask.utils.format_bytes``)."""
+    for k, prefix in ((4, "Ti"), (3, "Gi"), (2, "Mi"), (1, "ki")):
+        if n >= 0.9 * 1024**k:
+            return f"{n / 1024**k:.2f} {prefix}B"
+    return f"{int(n)} B"
 
 
 class LogFormatError(ValueError):
