@@ -137,6 +137,13 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
             message = words(message)
         sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
         return 2
+    except MemoryError as exc:
+        # the estimates before the work should have refused this: still one line, no
+        # traceback (numpy's message names the array that did not fit)
+        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else "MemoryError"
+        sys.stderr.write(f"{prog} {args.command}: error: out of memory: {detail}; use a "
+                         "smaller log or smaller options\n")
+        return 2
     except ImportError as exc:
         from modalinfo.batch._deps import MissingDependencyError
 

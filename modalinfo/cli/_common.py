@@ -256,7 +256,7 @@ _HINT_OF = {"units": "--in-units", "convention": "--in-convention", "modes": "--
 
 
 def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
-                        mmap: bool = False, announce: bool = True):
+                        mmap: bool = False, announce: bool = True, copies: int = 0):
     """Read a log with ``modalinfo.io.load``, with the hint options of ``args`` if given.
 
     With ``announce``, values the file does not record and no hint gave (see
@@ -275,11 +275,36 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
         raise CommandError(f"log file '{path}' does not exist")
     if args is None:
         return load(path)
-    log = load(path, fmt=args.fmt, mmap=mmap, dataset=getattr(args, "dataset", None),
-               **hints_from_args(args))
+    options = {"fmt": args.fmt, "dataset": getattr(args, "dataset", None),
+               **hints_from_args(args)}
+    if copies and not mmap:
+        _check_log_fits(path, options, copies)
+    log = load(path, mmap=mmap, **options)
+    if copies:
+        check_memory(copies * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
+                     f"{log.n_modes} modes, {copies} float64 copies)",
+                     "analyse fewer frames or modes (e.g. convert a part of the log)")
     if announce:
         queue_notes(args, input_notes(log, path))
     return log
+
+
+def _check_log_fits(path: Path, options: dict, copies: int) -> None:
+    """Refuse a log too large for ``copies`` float64 copies before reading it.
+
+    Formats that can be memory-mapped (NPY, NPZ, HDF5) are opened mapped, which reads
+    only their headers; other formats are checked once read.
+    """
+    from modalinfo.io import detect_format, load
+
+    fmt = options.get("fmt") or detect_format(path)
+    if fmt not in ("npy", "npz", "hdf5"):
+        return
+    probe = load(path, mmap=True, verify=False, **options)
+    check_memory(copies * log_bytes(probe), f"'{path.name}' ({probe.n_frames} frames x "
+                 f"{probe.n_modes} modes, {copies} float64 copies)",
+                 "analyse fewer frames or modes (e.g. convert a part of the log)")
+    del probe
 
 
 def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
@@ -358,3 +383,67 @@ def check_cluster_args(args: argparse.Namespace) -> None:
     except ValueError as exc:
         raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
                            .replace("`n_workers`", "--workers")) from None
+
+
+__all__ += ["memory_available", "check_memory", "log_bytes"]
+
+#: Float64 copies of a log a whole-log analysis holds at once (the loaded or mapped log,
+#: its float64 working copy and one derived array: centred, transposed or projected
+#: coefficients), measured: ``reorder``/``fitting-error`` allocate two (T, M) float64
+#: arrays besides the log itself before their first estimate.
+LOG_COPIES = 3
+
+
+def memory_available() -> float:
+    """Bytes this process may still allocate [bytes]: free memory, capped by ``RLIMIT_AS``.
+
+    :func:`modalinfo._validation.free_memory_bytes` (the library's guard rails) is the
+    machine's side; a process address-space limit (``ulimit -v``, a batch system's
+    cap) is the other, counted as the limit minus the process's current size
+    (``VmSize``), since memory-mapped logs count against it too.
+    """
+    from modalinfo._validation import free_memory_bytes
+
+    avail = free_memory_bytes()
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, OSError, ValueError):  # not on this platform
+        return avail
+    if soft == resource.RLIM_INFINITY or soft <= 0:
+        return avail
+    size = 0.0
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("VmSize:"):
+                    size = float(line.split()[1]) * 1024.0
+    except OSError:
+        pass
+    return max(0.0, min(avail, float(soft) - size))
+
+
+def log_bytes(log) -> int:
+    """Bytes of one float64 copy of ``log``'s coefficients (frames x modes x 8)."""
+    return int(log.n_frames) * int(log.n_modes) * 8
+
+
+def check_memory(need: float, what: str, fix: str) -> None:
+    """Refuse, before the work, an analysis estimated to need more memory than available.
+
+    Parameters
+    ----------
+    need : float
+        Estimated peak of the analysis [bytes].
+    what : str
+        What drives it, with the option that sets it (``"--resamples 100000000: ..."``).
+    fix : str
+        How to make it fit.
+    """
+    from modalinfo.io.files import format_size
+
+    avail = memory_available()
+    if need > avail:
+        raise CommandError(f"{what} needs about {format_size(need)} of memory and "
+                           f"{format_size(avail)} is available; {fix}")

@@ -14,7 +14,12 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import _Renamed, check_figure_output, load_log_with_hints
+from modalinfo.cli._common import (
+    LOG_COPIES,
+    _Renamed,
+    check_figure_output,
+    load_log_with_hints,
+)
 from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis
 
 NAME = "fitting-error"
@@ -51,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--target must be >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
-    log = load_log_with_hints(args.log, args)
+    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:
         comp = compare_orderings(

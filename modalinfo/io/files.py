@@ -9,9 +9,12 @@ modalinfo, so any layer may import them.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
+import signal
 import tempfile
+import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -23,6 +26,7 @@ __all__ = [
     "check_readable",
     "format_size",
     "parse_size",
+    "signals_end_the_save",
     "writable_free_bytes",
 ]
 
@@ -144,6 +148,65 @@ def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
     raise new from exc
 
 
+class _Signalled(BaseException):
+    """SIGINT/SIGTERM received during :func:`atomic_write` (turned into an exit below)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def signals_end_the_save():
+    """Make SIGINT and SIGTERM during a save remove its temporary file, then end the process.
+
+    Without this, SIGTERM's default action kills the process at once and leaves the
+    hidden temporary file behind, and a library that defers SIGINT while it writes
+    (astropy's ``ignore_sigint``) may let the save finish as if nothing happened. Here
+    a signal raises inside the save, the ``finally`` of :func:`atomic_write` removes the
+    temporary (the target keeps its old content or stays absent), and the process then
+    ends as the signal asks: ``KeyboardInterrupt`` for SIGINT (the command line exits
+    130) and ``SystemExit(143)`` for SIGTERM (128 + 15, the shell's convention). Only
+    signals still at their default action are handled, and only in the main thread
+    (where Python runs signal handlers): an ignored SIGINT (``nohup``, background
+    jobs) stays ignored and a caller's own handler stays in charge.
+
+    Yields ``armed``, a one-item list: set ``armed[0] = False`` before the cleanup so
+    that a signal arriving during it is recorded instead of interrupting it.
+    """
+    armed = [True]
+    received: list[int] = []
+    defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+    previous: dict = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum, default in defaults.items():
+            if signal.getsignal(signum) is default:
+                previous[signum] = default
+
+    def handler(signum, frame):  # noqa: ARG001 - the signal module's signature
+        received.append(signum)
+        if armed[0]:
+            armed[0] = False
+            raise _Signalled(signum)
+
+    for signum in previous:
+        signal.signal(signum, handler)
+    try:
+        yield armed
+    except _Signalled:
+        if not previous:
+            raise  # an enclosing save's handler raised it: that save ends the process
+        # handled below, after the handlers are restored
+    finally:
+        armed[0] = False
+        for signum, old in previous.items():
+            signal.signal(signum, old)
+    if received:
+        if received[0] == signal.SIGTERM:
+            raise SystemExit(128 + signal.SIGTERM)
+        raise KeyboardInterrupt
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -154,7 +217,9 @@ def atomic_write(
     The temporary file lives in the target directory, so the final rename is atomic:
     a crash leaves either the old file or none, never half a file. Without
     ``overwrite`` an existing target raises ``FileExistsError`` (checked again at the
-    final step with a hard link, which cannot clobber).
+    final step with a hard link, which cannot clobber). SIGINT or SIGTERM during the
+    save removes the temporary file and then ends the process (``KeyboardInterrupt``;
+    ``SystemExit(143)`` for SIGTERM), leaving the old file or none.
     """
     path = Path(path)
     if path.is_dir():
@@ -164,32 +229,34 @@ def atomic_write(
     directory = path.parent
     if not directory.is_dir():
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    try:
-        if by_name:
-            os.close(fd)
-            os.unlink(tmp)  # libraries may refuse to write over an existing file
-            _renamed(write, Path(tmp), tmp, path)
-            with open(tmp, "rb+") as fh:
-                os.fsync(fh.fileno())
-        else:
-            with os.fdopen(fd, "wb") as fh:
-                _renamed(write, fh, tmp, path)
-                fh.flush()
-                os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
-        if overwrite:
-            os.replace(tmp, path)
-        else:
-            try:
-                os.link(tmp, path)
-            except FileExistsError:
-                raise FileExistsError(_exists_message(path)) from None
-            except OSError:  # filesystem without hard links
-                if path.exists():
-                    raise FileExistsError(_exists_message(path)) from None
+    with signals_end_the_save() as armed:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+        try:
+            if by_name:
+                os.close(fd)
+                os.unlink(tmp)  # libraries may refuse to write over an existing file
+                _renamed(write, Path(tmp), tmp, path)
+                with open(tmp, "rb+") as fh:
+                    os.fsync(fh.fileno())
+            else:
+                with os.fdopen(fd, "wb") as fh:
+                    _renamed(write, fh, tmp, path)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            os.chmod(tmp, 0o644)
+            if overwrite:
                 os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+            else:
+                try:
+                    os.link(tmp, path)
+                except FileExistsError:
+                    raise FileExistsError(_exists_message(path)) from None
+                except OSError:  # filesystem without hard links
+                    if path.exists():
+                        raise FileExistsError(_exists_message(path)) from None
+                    os.replace(tmp, path)
+        finally:
+            armed[0] = False  # a signal from here on is only recorded: the cleanup runs
+            if os.path.exists(tmp):
+                os.unlink(tmp)
     return path
