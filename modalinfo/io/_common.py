@@ -11,6 +11,7 @@ from the file and the caller supplies the rest as *hints* (``rate=``, ``units=``
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 from collections.abc import Callable, Iterator
@@ -62,9 +63,18 @@ def reading(fmt: str, path: Path) -> Iterator[None]:
         _PassthroughError,
     ):
         raise
-    except MemoryError as exc:
+    except (MemoryError, OSError) as exc:
+        if isinstance(exc, OSError) and exc.errno != errno.ENOMEM:
+            detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+            raise LogFormatError(
+                f"corrupt {fmt} file '{path}': {type(exc).__name__}: {detail}".rstrip(": ")
+            ) from exc
+        # not necessarily damage: a large log under a memory or address-space limit
+        # (ulimit -v), or a damaged header declaring a huge size; say both
         raise LogFormatError(
-            f"corrupt {fmt} file '{path}': declared size does not fit in memory ({exc})"
+            f"{fmt} file '{path}' does not fit in the memory this process may use "
+            f"({exc}); free memory or raise the limit, or check the file if its size "
+            "is not what you expect"
         ) from exc
     except Exception as exc:  # noqa: BLE001 - every parser failure becomes one clear error
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
