@@ -45,7 +45,7 @@ _WORDS = {
     "history": "the training frames (--train)", "log": "the log", "coeffs": "the data",
     "log_or_coeffs": "the log", "timestamps": "the timestamps", "fmt": "--fmt",
     "max_lag": "--max-lag", "max_inputs": "--max-inputs", "n_surrogates": "--surrogates",
-    "extra": "--extra",
+    "extra": "--extra", "alpha": "--alpha", "data": "the log",
 }
 _REWRITES = (
     (re.compile(r"`history` needs at least (\d+) samples along axis 0 for (\w+)"),

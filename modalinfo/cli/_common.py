@@ -176,6 +176,12 @@ def check_output(
                            f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
     if path.is_dir():
         raise CommandError(f"{flag} '{path}' is a directory; give a file name")
+    from modalinfo.io.files import check_not_special
+
+    try:
+        check_not_special(path)
+    except OSError as exc:
+        raise CommandError(f"{flag} {exc}") from None
     if not path.parent.exists():
         raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
     if path.exists() and not overwrite:

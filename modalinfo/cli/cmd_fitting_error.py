@@ -20,7 +20,12 @@ from modalinfo.cli._common import (
     check_figure_output,
     load_log_with_hints,
 )
-from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis
+from modalinfo.cli.cmd_reorder import (
+    add_common_arguments,
+    check_pupil_memory,
+    check_window_and_frame,
+    file_basis,
+)
 
 NAME = "fitting-error"
 HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."
@@ -57,6 +62,8 @@ def run(args: argparse.Namespace) -> int:
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
+    check_window_and_frame(args, log)
+    check_pupil_memory(args, log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:
         comp = compare_orderings(

@@ -80,6 +80,14 @@ def _parse_train(text: str) -> float | int:
     except ValueError:
         raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
                            f"got {text!r}") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
+                           f"got {text}")
+    if value == 1 and not text.strip().lstrip("+").isdigit():
+        # "1.0" reads as the whole log, which leaves nothing to test; "1" is one frame
+        raise CommandError(f"--train {text} is ambiguous: a fraction must be < 1 (the "
+                           "rest of the log is the test), and a count of frames is "
+                           "written without a decimal point")
     if value >= 1:
         if not value.is_integer():
             raise CommandError(f"--train must be a fraction in (0, 1) or a whole number of "
@@ -93,6 +101,8 @@ def _parse_predictors(text: str) -> dict:
 
     chosen = {}
     for part in (p.strip() for p in text.split(",")):
+        if part in chosen:
+            raise CommandError(f"--predictors lists {part!r} twice")
         if part not in NAMES:
             raise CommandError(f"--predictors: unknown predictor {part!r}; choose from "
                                f"{', '.join(NAMES)}")

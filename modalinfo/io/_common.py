@@ -282,9 +282,9 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         elif key == "nonfinite" or stored.get(key) is None:
             kwargs[key] = value
         elif not _same(stored[key], value):
-            shown = "array" if isinstance(value, np.ndarray) else repr(value)
             raise ValueError(
-                f"hint `{key}`={shown} contradicts the value {stored[key]!r} stored in '{path}'."
+                f"hint `{key}`={_short(value)} contradicts the value {_short(stored[key])} "
+                f"stored in '{path}'."
             )
     if foreign:
         assumed: dict[str, str] = {}
@@ -327,6 +327,16 @@ def check_has_modes(shape: tuple, path: Path) -> None:
             f"'{path}' holds no modes: its coefficients have shape {tuple(shape)} "
             "(frames x 0 columns), so there is nothing to read or analyse"
         )
+
+
+def _short(value: Any, most: int = 12) -> str:
+    """``repr`` of a hint or stored value, long lists cut to their ends (one short line)."""
+    if isinstance(value, np.ndarray):
+        return "array"
+    if isinstance(value, list | tuple) and len(value) > most:
+        head = ", ".join(repr(v) for v in value[:3])
+        return f"[{head}, ..., {value[-1]!r}] ({len(value)} entries)"
+    return repr(value)
 
 
 def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:

@@ -189,7 +189,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
     path = as_path(path)
     check_readable(path)
     with reading("CSV", path):
-        with open(path, encoding="utf-8", newline="") as fh:
+        # utf-8-sig: a byte-order mark (spreadsheet exports) is not part of the first name
+        with open(path, encoding="utf-8-sig", newline="") as fh:
             lines = fh.read().splitlines()
         header = None
         comments: dict[str, str] = {}

@@ -23,6 +23,7 @@ __all__ = [
     "LogFormatError",
     "as_path",
     "atomic_write",
+    "check_not_special",
     "check_readable",
     "format_size",
     "parse_size",
@@ -107,6 +108,26 @@ def check_readable(path: Path) -> None:
         raise FileNotFoundError(f"no such file: '{path}'")
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+
+
+def check_not_special(path: Path) -> None:
+    """Refuse a target that exists and is no regular file (a device, FIFO or socket).
+
+    The final rename of :func:`atomic_write` would replace it by a regular file, so
+    ``--overwrite`` onto ``/dev/null`` would destroy the device node (as root).
+    """
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        kind = ("a character device" if stat.S_ISCHR(mode) else "a block device"
+                if stat.S_ISBLK(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
+                "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        raise OSError(f"'{path}' is {kind}, not a regular file: a log or result is "
+                      "written to a file path (it would replace the node)")
 
 
 def writable_free_bytes(folder: Path) -> int:
@@ -224,6 +245,7 @@ def atomic_write(
     path = Path(path)
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory; give a file name")
+    check_not_special(path)
     if path.exists() and not overwrite:
         raise FileExistsError(_exists_message(path))
     directory = path.parent

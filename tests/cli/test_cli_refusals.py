@@ -262,3 +262,38 @@ def test_forecast_out_refuses_a_folder_without_space_before_work(small_log, tmp_
     assert _forecast(small_log, tmp_path / "res") == 2
     _one_line(capsys, "--out", "free")
     assert not (tmp_path / "res").exists()
+
+
+# ----------------------------------------------------------------------------- own round
+def test_output_onto_a_fifo_is_refused_and_the_node_kept(small_log, tmp_path, capsys):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)  # as /dev/null would be: --overwrite must not replace the node
+    assert main(["convert", str(small_log), str(fifo), "--to-fmt", "npz",
+                 "--overwrite"]) == 2
+    _one_line(capsys, "a FIFO", "not a regular file")
+    import stat
+
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+
+
+@pytest.mark.parametrize("argv, needles", [
+    (["forecast", "{log}", "--train", "1.0"], ["--train 1.0 is ambiguous"]),
+    (["forecast", "{log}", "--train", "nan"], ["--train", "nan"]),
+    (["forecast", "{log}", "--predictors", "linear,linear"], ["'linear' twice"]),
+    (["reorder", "{log}", "--frame", "-1"], ["--frame", "0..599", "-1"]),
+    (["fitting-error", "{log}", "--frame", "600"], ["--frame", "0..599"]),
+    (["reorder", "{log}", "--stability", "1000000000"], ["--stability", "1..300"]),
+    (["reorder", "{log}", "--pupil-pixels", "100000"], ["--pupil-pixels 100000",
+                                                        "needs about"]),
+    (["fitting-error", "{log}", "--pupil-pixels", "100000"], ["--pupil-pixels 100000"]),
+    (["synth", "{tmp}/s.npz", "--frames", "1000000000000"], ["--frames", "needs about"]),
+    (["select", "{log}", "--target", "Z3", "--alpha", "nan"], ["--alpha"]),
+    (["info", "{log}", "--in-modes", "2-1000000"], ["(999999 entries)"]),
+])
+def test_absurd_options_are_one_line_before_work(small_log, tmp_path, capsys, argv,
+                                                 needles):
+    argv = [a.format(log=small_log, tmp=tmp_path) for a in argv]
+    assert main(argv) == 2
+    err = _one_line(capsys, *needles)
+    assert len(err) < 400
+    assert not (tmp_path / "s.npz").exists()

@@ -137,3 +137,24 @@ def test_parse_size_needs_no_dask(monkeypatch):
     monkeypatch.setitem(sys.modules, "dask", None)
     monkeypatch.setitem(sys.modules, "dask.utils", None)
     assert parse_size("2GB") == 2 * 10**9 and parse_size("1 KiB") == 1024
+
+
+def test_csv_with_a_byte_order_mark_reads_its_first_name(tmp_path):
+    rows = np.arange(1.0, 21.0).reshape(10, 2)
+    text = "Z2,Z3\n" + "".join(f"{a!r},{b!r}\n" for a, b in rows.tolist())
+    (tmp_path / "excel.csv").write_text(text, encoding="utf-8-sig")  # a spreadsheet export
+    log = load(tmp_path / "excel.csv", rate=100.0)
+    assert log.modes == [2, 3] and np.array_equal(log.coeffs, rows)
+
+
+def test_atomic_write_refuses_a_special_file(tmp_path):
+    import os
+    import stat
+
+    from modalinfo.io.files import atomic_write
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    with pytest.raises(OSError, match="is a FIFO, not a regular file"):
+        atomic_write(fifo, lambda fh: fh.write(b"x"), overwrite=True)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
