@@ -57,6 +57,10 @@ def run(args: argparse.Namespace) -> int:
 
     check_figure_output(args.plot, args.overwrite)
     specs = parse_specs(args.orderings)
+    seen = [tuple(s) for s in specs]
+    twice = next((s for k, s in enumerate(seen) if s in seen[:k]), None)
+    if twice is not None:
+        raise CommandError(f"--orderings lists {':'.join(map(str, twice))} twice")
     if args.target is not None and args.target < 0:
         raise CommandError(f"--target must be >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:

@@ -68,6 +68,12 @@ def run(args: argparse.Namespace) -> int:
     log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
     extra = None
     if args.extra is not None:
+        import os
+
+        if os.path.exists(args.extra) and os.path.exists(args.log) and os.path.samefile(
+                args.extra, args.log):
+            raise CommandError(f"--extra '{args.extra}' is LOG itself: its modes are "
+                               "candidates already")
         extra = load_log_with_hints(args.extra, args, copies=LOG_COPIES)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "

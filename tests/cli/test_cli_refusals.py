@@ -289,6 +289,9 @@ def test_output_onto_a_fifo_is_refused_and_the_node_kept(small_log, tmp_path, ca
     (["synth", "{tmp}/s.npz", "--frames", "1000000000000"], ["--frames", "needs about"]),
     (["select", "{log}", "--target", "Z3", "--alpha", "nan"], ["--alpha"]),
     (["info", "{log}", "--in-modes", "2-1000000"], ["(999999 entries)"]),
+    (["select", "{log}", "--target", "Z3", "--extra", "{log}"], ["is LOG itself"]),
+    (["fitting-error", "{log}", "--orderings", "zernike:standard,zernike:standard"],
+     ["zernike:standard twice"]),
 ])
 def test_absurd_options_are_one_line_before_work(small_log, tmp_path, capsys, argv,
                                                  needles):
