@@ -72,7 +72,7 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
 def check_window_and_frame(args: argparse.Namespace, log) -> None:
     """Refuse a negative ``--frame`` and a ``--stability`` window outside the log."""
     if args.frame is not None and not 0 <= args.frame < log.n_frames:
-        raise CommandError(f"--frame must be a frame index in 0..{log.n_frames - 1}; "
+        raise CommandError(f"--frame must be an int in 0..{log.n_frames - 1} (a frame index); "
                            f"got {args.frame}")
     stability = getattr(args, "stability", None)
     if stability is not None and not 1 <= stability <= max(1, log.n_frames // 2):

@@ -151,7 +151,9 @@ def test_large_mapped_log_under_an_address_space_cap_is_refused(tmp_path):
             " if l.startswith('VmSize:')][0];"
             "resource.setrlimit(resource.RLIMIT_AS, (int(size + 150e6), resource.RLIM_INFINITY));"
             "sys.exit(main(sys.argv[1:]))")
-    for command in (["forecast"], ["fitting-error"], ["select", "--target", "Z3"]):
+    # one command (each subprocess imports the stack: ~6 s); all of them share
+    # load_log_with_hints(copies=LOG_COPIES), checked in-process just below
+    for command in (["forecast"],):
         proc = subprocess.run([sys.executable, "-c", code, command[0],
                                str(tmp_path / "big.npy"), "--rate", "1000", *command[1:]],
                               env=dict(os.environ, PYTHONPATH=str(ROOT)),
@@ -159,6 +161,19 @@ def test_large_mapped_log_under_an_address_space_cap_is_refused(tmp_path):
         assert proc.returncode == 2, proc.stderr
         assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
         assert "400000 frames x 27 modes" in proc.stderr and "needs about" in proc.stderr
+
+
+@pytest.mark.parametrize("command", [["fitting-error"], ["select", "--target", "Z3"],
+                                     ["reorder"]])
+def test_every_whole_log_command_checks_the_log_copies(tmp_path, capsys, monkeypatch,
+                                                       command):
+    import modalinfo.cli._common as common
+
+    np.save(tmp_path / "big.npy", np.ones((4000, 27)))  # 3 copies: 2.59 MB
+    monkeypatch.setattr(common, "memory_available", lambda: 2.5e6)
+    assert main([command[0], str(tmp_path / "big.npy"), "--rate", "1000",
+                 *command[1:]]) == 2
+    _one_line(capsys, "4000 frames x 27 modes", "3 float64 copies", "needs about 2.47 MiB")
 
 
 def test_out_of_memory_while_reading_is_not_called_corrupt(tmp_path, monkeypatch):
