@@ -19,6 +19,8 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
+    LOG_COPIES,
+    _check_log_fits,
     add_hint_arguments,
     check_log_output,
     hints_from_args,
@@ -73,8 +75,11 @@ def run(args: argparse.Namespace) -> int:
     fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     source = Path(args.input)
     big = source.is_file() and source.stat().st_size >= _PROGRESS_MIN_BYTES
+    options = {"fmt": args.fmt, "dataset": args.dataset, **hints_from_args(args)}
+    if source.is_file():  # the log, its converted copy and the writer's buffer
+        _check_log_fits(source, options, LOG_COPIES)
     with progress(args, 3 if big else 0, unit="stage", desc="convert") as advance:
-        log = load(args.input, fmt=args.fmt, dataset=args.dataset, **hints_from_args(args))
+        log = load(args.input, **options)
         advance(1)
         assumed = log.metadata.get("assumed")
         if (

@@ -164,7 +164,7 @@ def test_large_mapped_log_under_an_address_space_cap_is_refused(tmp_path):
 
 
 @pytest.mark.parametrize("command", [["fitting-error"], ["select", "--target", "Z3"],
-                                     ["reorder"]])
+                                     ["reorder"], ["convert", "{tmp}/o.npz"]])
 def test_every_whole_log_command_checks_the_log_copies(tmp_path, capsys, monkeypatch,
                                                        command):
     import modalinfo.cli._common as common
@@ -172,7 +172,7 @@ def test_every_whole_log_command_checks_the_log_copies(tmp_path, capsys, monkeyp
     np.save(tmp_path / "big.npy", np.ones((4000, 27)))  # 3 copies: 2.59 MB
     monkeypatch.setattr(common, "memory_available", lambda: 2.5e6)
     assert main([command[0], str(tmp_path / "big.npy"), "--rate", "1000",
-                 *command[1:]]) == 2
+                 *[c.format(tmp=tmp_path) for c in command[1:]]]) == 2
     _one_line(capsys, "4000 frames x 27 modes", "3 float64 copies", "needs about 2.47 MiB")
 
 
