@@ -45,11 +45,11 @@ def _memory_limit(args) -> float | None:
     text = getattr(args, "memory_limit", None)
     if text is None:
         return None
-    from dask.utils import parse_bytes
+    from modalinfo.io.files import parse_size  # no dask: works without the `dist` extra
 
     try:
-        value = float(parse_bytes(text))
-    except (ValueError, TypeError):
+        value = float(parse_size(text, "--memory-limit"))
+    except ValueError:
         value = -1.0
     if not value > 0:
         raise CommandError(f"--memory-limit must be a size such as 4GB or 500MB; got '{text}'")

@@ -1,27 +1,43 @@
-"""Import the optional dependencies of ``modalinfo.batch`` with an error naming the extra."""
+"""Import the optional dependencies (the ``dist`` extra) with an error naming the extra."""
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
 
-__all__ = ["require"]
+__all__ = ["MissingDependencyError", "require", "require_dist"]
 
 _EXTRA = "dist"
+#: The modules of the ``dist`` extra a Dask run needs (psutil comes with distributed).
+DIST_MODULES = ("distributed", "psutil", "pyarrow")
 
 
-def require(module: str) -> ModuleType:
+class MissingDependencyError(ImportError):
+    """An optional dependency is not installed; the message is one line with the fix.
+
+    The command lines report it as that line and exit status 2.
+    """
+
+
+def require(module: str, who: str = "modalinfo batch") -> ModuleType:
     """Import ``module`` (``distributed``, ``pyarrow``...) or explain how to install it.
 
     Raises
     ------
-    ImportError
-        Naming the module and the extra: ``pip install 'modalinfo[dist]'``.
+    MissingDependencyError
+        An ``ImportError`` naming ``who``, the module and the extra:
+        ``pip install 'modalinfo[dist]'``.
     """
     try:
         return importlib.import_module(module)
     except ImportError as exc:
-        raise ImportError(
-            f"modalinfo batch needs the optional dependency '{module.split('.')[0]}' "
+        raise MissingDependencyError(
+            f"{who} needs the optional dependency '{module.split('.')[0]}' "
             f"(not importable: {exc}); install it with: pip install 'modalinfo[{_EXTRA}]'"
         ) from None
+
+
+def require_dist(who: str) -> None:
+    """Refuse, before any work, a run on Dask when the ``dist`` extra is not installed."""
+    for module in DIST_MODULES:
+        require(module, who)

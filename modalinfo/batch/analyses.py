@@ -348,6 +348,9 @@ def _forecast(log: Any, p: dict) -> dict:
     predictors = {n: make_predictor(n) for n in names}
     horizon = int(p["horizon"])
     train = p["train"]
+    if horizon >= log.n_frames:  # before `evaluate` lists the horizons 1..H
+        raise ValueError(f"`horizon` must be below the log's {log.n_frames} frames; "
+                         f"got {horizon}")
     # no forecast series are kept (the batch plots none): memory is the chunk buffers,
     # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
     ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),

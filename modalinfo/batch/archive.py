@@ -68,6 +68,9 @@ class BatchResult:
         Tasks skipped (resumed), submitted, ok, error and lost in this run.
     n_hashed : int
         Files whose SHA-256 was computed in this run (not taken from the cache).
+    identical : tuple of tuple of str
+        Groups of byte-identical input paths: each was analysed once, and each path
+        has its own rows.
     """
 
     rows: list
@@ -76,6 +79,7 @@ class BatchResult:
     plots: tuple
     report: EngineReport
     n_hashed: int
+    identical: tuple = ()
 
     @property
     def n_ok(self) -> int:
@@ -399,7 +403,10 @@ def analyse_archive(
                            name="modalinfo batch")
         wanted = {s.key for s in specs}
         order = {n: i for i, n in enumerate(names)}
-        rows = [r for r in store.rows() if r["key"] in wanted]
+        stored = {r["key"]: r for r in store.rows() if r["key"] in wanted}
+        # byte-identical logs share a task key (analysed once), yet every input path
+        # gets its own row, labelled with its own path: nothing is merged silently
+        rows = [{**stored[s.key], **s.labels} for s in specs if s.key in stored]
         rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
         csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
         drawn: tuple = ()
@@ -408,4 +415,15 @@ def analyse_archive(
 
             drawn = tuple(plot_archive(rows, out_dir / "plots"))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
-                       report=report, n_hashed=n_hashed)
+                       report=report, n_hashed=n_hashed,
+                       identical=identical_inputs(entries, probes))
+
+
+def identical_inputs(entries: list[LogEntry], probes: dict) -> tuple[tuple[str, ...], ...]:
+    """Return the groups of input paths whose bytes are identical (same SHA-256), in input order."""
+    groups: dict[str, list[str]] = {}
+    for e in entries:
+        digest = probes.get(e.path, [None, None])[0]
+        if digest is not None and e.path not in groups.setdefault(digest, []):
+            groups[digest].append(e.path)
+    return tuple(tuple(g) for g in groups.values() if len(g) > 1)

@@ -49,6 +49,7 @@ from pathlib import Path
 from typing import Any
 
 from modalinfo.batch._deps import require
+from modalinfo.io.files import format_size, parse_size
 
 __all__ = [
     "EngineReport",
@@ -398,9 +399,7 @@ def check_worker_count(n_workers: int) -> None:
     ValueError
         ``n_workers x`` :data:`WORKER_BASELINE` exceeds the available memory.
     """
-    import psutil
-
-    available = psutil.virtual_memory().available
+    available = require("psutil").virtual_memory().available
     if n_workers * WORKER_BASELINE > available:
         most = max(1, available // WORKER_BASELINE)
         raise ValueError(f"`n_workers` must be at most {most} here: each worker process "
@@ -423,36 +422,40 @@ def check_memory_limit(memory_limit: str | float | None, threads_per_worker: int
     """
     if memory_limit is None or memory_limit == "auto":
         return
-    from dask.utils import format_bytes, parse_bytes
-    from distributed.worker_memory import parse_memory_limit
-
-    text = str(memory_limit).strip()
+    # parsed here without dask (modalinfo.io.files.parse_size reads sizes as
+    # dask.utils.parse_bytes does), so the check runs, and refuses, before any import of
+    # the optional `dist` extra; the rules are distributed.worker_memory.parse_memory_limit's
+    del threads_per_worker  # only "auto" depends on it, and "auto" is always accepted
+    rule = (f"`memory_limit` must be a size such as '2GB', 'auto', 0 (no limit) or a "
+            f"fraction of the machine's memory in (0, 1]; got {memory_limit!r}")
+    if isinstance(memory_limit, bool):
+        raise ValueError(rule)
     try:
-        if isinstance(memory_limit, bool):
-            raise ValueError
-        if isinstance(memory_limit, str):
-            number = None
-            with contextlib.suppress(ValueError):
-                number = float(text)
-            if number is None:
-                parse_bytes(text)  # raises ValueError on an unknown unit
-            elif number < 0:
-                raise ValueError
-        elif float(memory_limit) < 0:
-            raise ValueError
-        value = parse_memory_limit(memory_limit, threads_per_worker,
-                                   logger=logging.getLogger(__name__))
-        if value is not None and value < 0:  # parse_bytes("-2GB") is -2e9, no error
-            raise ValueError
+        number = float(memory_limit)
     except (ValueError, TypeError):
-        raise ValueError(f"`memory_limit` must be a size such as '2GB', 'auto', 0 (no "
-                         f"limit) or a fraction of the machine's memory in (0, 1]; got "
-                         f"{memory_limit!r}") from None
+        number = None
+    try:
+        if number is not None and number <= 1:
+            if number < 0 or number != number:
+                raise ValueError(rule)
+            value = int(number * _machine_memory()) if number > 0 else None
+        else:
+            value = parse_size(memory_limit, "memory_limit") or None
+    except ValueError:
+        raise ValueError(rule) from None
     if value is not None and value < MIN_MEMORY_LIMIT:
-        raise ValueError(f"`memory_limit` must be at least {format_bytes(MIN_MEMORY_LIMIT)} "
+        raise ValueError(f"`memory_limit` must be at least {format_size(MIN_MEMORY_LIMIT)} "
                          f"per worker (a worker process alone holds ~150 MB and Dask pauses "
                          f"it at 80 % of its limit); got {memory_limit!r} = "
-                         f"{format_bytes(value)}")
+                         f"{format_size(value)}")
+
+
+def _machine_memory() -> float:
+    """Physical memory of this machine [bytes] (what a fraction ``memory_limit`` is of)."""
+    try:
+        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - exotic platforms
+        return float("inf")
 
 
 @contextlib.contextmanager

@@ -176,12 +176,21 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
     return entries
 
 
+def _is_batch_output(folder: Path) -> bool:
+    """Tell the output folder of an earlier batch or sweep (its rows and hash cache).
+
+    Its ``batch.csv`` table is not a log: read as one it would only give an error row.
+    """
+    return (folder / "rows").is_dir() and (folder / "hashes.json").is_file()
+
+
 def _walk(directory: Path, exclude: Sequence[Path]) -> Iterable[Path]:
     exts = {e.lower() for e in _extensions()}
     for root, dirs, files in os.walk(directory):
         here = Path(root)
         dirs[:] = sorted(d for d in dirs if not d.startswith(".")
-                         and not any((here / d).resolve() == x for x in exclude))
+                         and not any((here / d).resolve() == x for x in exclude)
+                         and not _is_batch_output(here / d))
         for name in sorted(files):
             if not name.startswith(".") and Path(name).suffix.lower() in exts:
                 yield here / name

@@ -45,7 +45,7 @@ _WORDS = {
     "history": "the training frames (--train)", "log": "the log", "coeffs": "the data",
     "log_or_coeffs": "the log", "timestamps": "the timestamps", "fmt": "--fmt",
     "max_lag": "--max-lag", "max_inputs": "--max-inputs", "n_surrogates": "--surrogates",
-    "extra": "--extra",
+    "extra": "--extra", "alpha": "--alpha", "data": "the log",
 }
 _REWRITES = (
     (re.compile(r"`history` needs at least (\d+) samples along axis 0 for (\w+)"),
@@ -136,6 +136,20 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
         if words is not None:
             message = words(message)
         sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
+        return 2
+    except MemoryError as exc:
+        # the estimates before the work should have refused this: still one line, no
+        # traceback (numpy's message names the array that did not fit)
+        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else "MemoryError"
+        sys.stderr.write(f"{prog} {args.command}: error: out of memory: {detail}; use a "
+                         "smaller log or smaller options\n")
+        return 2
+    except ImportError as exc:
+        from modalinfo.batch._deps import MissingDependencyError
+
+        if not isinstance(exc, MissingDependencyError):
+            raise  # a broken installation, not a missing option: keep the traceback
+        sys.stderr.write(f"{prog} {args.command}: error: {exc}\n")
         return 2
     except KeyboardInterrupt:
         sys.stderr.write(f"{prog}: interrupted\n")

@@ -10,6 +10,8 @@ from modalinfo.cli import CommandError
 
 __all__ = [
     "OUTLIER_CHOICES",
+    "WAVELENGTH_RANGE",
+    "wavelength_arg",
     "add_hint_arguments",
     "add_outlier_argument",
     "apply_outliers",
@@ -48,6 +50,28 @@ class _Renamed(argparse.Action):
 
     def __call__(self, parser, namespace, values, option_string=None) -> None:
         parser.error(f"{option_string}: {self.message}")
+
+
+#: Wavelengths [m] a command accepts: AO phase is sensed and corrected from the near UV
+#: (solar AO at 0.39 um, e.g. the Ca II K line) to the thermal infrared (10-20 um, e.g. the
+#: ELT's METIS, N and Q bands); outside 100 nm - 100 um a value is a unit slip (nm or um
+#: typed as metres) or a typo, and every phase <-> OPD conversion with it would be wrong.
+WAVELENGTH_RANGE = (1e-7, 1e-4)
+
+
+def wavelength_arg(text: str) -> float:
+    """Parse ``--wavelength`` (an argparse type): metres within :data:`WAVELENGTH_RANGE`."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of metres; got {text!r}") from None
+    low, high = WAVELENGTH_RANGE
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(
+            f"must be in metres within {low:g} - {high:g} (100 nm - 100 um, the near UV to "
+            f"the thermal infrared where AO phase is measured; outside it the value is a "
+            f"unit slip such as nm typed as metres); got {text}")
+    return value
 
 
 def add_hint_arguments(
@@ -91,7 +115,7 @@ def add_hint_arguments(
                            "means the output units of convert only",
                            help="retired: use --in-units")
     if wavelength:
-        group.add_argument("--wavelength", type=float, metavar="M",
+        group.add_argument("--wavelength", type=wavelength_arg, metavar="M",
                            help="wavelength in metres at which the phase is defined (needed "
                            "to analyse a log in nm or um)")
     group.add_argument("--in-convention", choices=("noll", "ansi", "fringe", "labels"),
@@ -218,6 +242,12 @@ def check_output(
                            f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
     if path.is_dir():
         raise CommandError(f"{flag} '{path}' is a directory; give a file name")
+    from modalinfo.io.files import check_not_special
+
+    try:
+        check_not_special(path)
+    except OSError as exc:
+        raise CommandError(f"{flag} {exc}") from None
     if not path.parent.exists():
         raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
     if path.exists() and not overwrite:
@@ -298,7 +328,7 @@ _HINT_OF = {"units": "--in-units", "convention": "--in-convention", "modes": "--
 
 
 def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
-                        mmap: bool = False, announce: bool = True):
+                        mmap: bool = False, announce: bool = True, copies: int = 0):
     """Read a log with ``modalinfo.io.load``, with the hint options of ``args`` if given.
 
     With ``announce``, values the file does not record and no hint gave (see
@@ -317,11 +347,36 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
         raise CommandError(f"log file '{path}' does not exist")
     if args is None:
         return load(path)
-    log = load(path, fmt=args.fmt, mmap=mmap, dataset=getattr(args, "dataset", None),
-               **hints_from_args(args))
+    options = {"fmt": args.fmt, "dataset": getattr(args, "dataset", None),
+               **hints_from_args(args)}
+    if copies and not mmap:
+        _check_log_fits(path, options, copies)
+    log = load(path, mmap=mmap, **options)
+    if copies:
+        check_memory(copies * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
+                     f"{log.n_modes} modes, {copies} float64 copies)",
+                     "analyse fewer frames or modes (e.g. convert a part of the log)")
     if announce:
         queue_notes(args, input_notes(log, path))
     return log
+
+
+def _check_log_fits(path: Path, options: dict, copies: int) -> None:
+    """Refuse a log too large for ``copies`` float64 copies before reading it.
+
+    Formats that can be memory-mapped (NPY, NPZ, HDF5) are opened mapped, which reads
+    only their headers; other formats are checked once read.
+    """
+    from modalinfo.io import detect_format, load
+
+    fmt = options.get("fmt") or detect_format(path)
+    if fmt not in ("npy", "npz", "hdf5"):
+        return
+    probe = load(path, mmap=True, verify=False, **options)
+    check_memory(copies * log_bytes(probe), f"'{path.name}' ({probe.n_frames} frames x "
+                 f"{probe.n_modes} modes, {copies} float64 copies)",
+                 "analyse fewer frames or modes (e.g. convert a part of the log)")
+    del probe
 
 
 def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
@@ -376,12 +431,16 @@ __all__ += ["check_cluster_args"]
 def check_cluster_args(args: argparse.Namespace) -> None:
     """Refuse bad cluster options of ``batch`` and ``closedloop sweep`` before any work.
 
-    ``--workers`` and ``--threads-per-worker`` >= 1, ``--worker-wait`` a finite number of
-    seconds > 0, ``--memory-limit`` and (on a local cluster) the worker count within the
-    machine (:func:`modalinfo.batch.engine.check_memory_limit`, ``check_worker_count``).
+    The ``dist`` extra must be installed (else one line with ``pip install
+    'modalinfo[dist]'``). ``--workers`` and ``--threads-per-worker`` >= 1,
+    ``--worker-wait`` a finite number of seconds > 0, ``--memory-limit`` and (on a
+    local cluster) the worker count within the machine
+    (:func:`modalinfo.batch.engine.check_memory_limit`, ``check_worker_count``).
     """
+    from modalinfo.batch._deps import require_dist
     from modalinfo.batch.engine import check_memory_limit, check_worker_count
 
+    require_dist(str(getattr(args, "command", None) or "this command"))
     for flag, value in (("--workers", args.workers),
                         ("--threads-per-worker", args.threads_per_worker)):
         if value is not None and value < 1:
@@ -396,3 +455,77 @@ def check_cluster_args(args: argparse.Namespace) -> None:
     except ValueError as exc:
         raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
                            .replace("`n_workers`", "--workers")) from None
+
+
+__all__ += ["memory_available", "check_memory", "log_bytes"]
+
+#: Float64 copies of a log a whole-log analysis holds at once (the loaded or mapped log,
+#: its float64 working copy and one derived array: centred, transposed or projected
+#: coefficients), measured: ``reorder``/``fitting-error`` allocate two (T, M) float64
+#: arrays besides the log itself before their first estimate.
+LOG_COPIES = 3
+
+
+def memory_available() -> float:
+    """Bytes this process may still allocate [bytes]: available memory, capped by ``RLIMIT_AS``.
+
+    The machine's side is ``MemAvailable`` of ``/proc/meminfo`` (free pages plus the
+    page cache the kernel can drop, as closedloop's run estimate reads it), else
+    :func:`modalinfo._validation.free_memory_bytes`: free pages alone would refuse a
+    log that fits on a machine whose cache holds the files just read. A process
+    address-space limit (``ulimit -v``, a batch system's cap) is the other side,
+    counted as the limit minus the process's current size (``VmSize``), since
+    memory-mapped logs count against it too.
+    """
+    from modalinfo._validation import free_memory_bytes
+
+    avail = free_memory_bytes()
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    avail = float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, OSError, ValueError):  # not on this platform
+        return avail
+    if soft == resource.RLIM_INFINITY or soft <= 0:
+        return avail
+    size = 0.0
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("VmSize:"):
+                    size = float(line.split()[1]) * 1024.0
+    except OSError:
+        pass
+    return max(0.0, min(avail, float(soft) - size))
+
+
+def log_bytes(log) -> int:
+    """Bytes of one float64 copy of ``log``'s coefficients (frames x modes x 8)."""
+    return int(log.n_frames) * int(log.n_modes) * 8
+
+
+def check_memory(need: float, what: str, fix: str) -> None:
+    """Refuse, before the work, an analysis estimated to need more memory than available.
+
+    Parameters
+    ----------
+    need : float
+        Estimated peak of the analysis [bytes].
+    what : str
+        What drives it, with the option that sets it (``"--resamples 100000000: ..."``).
+    fix : str
+        How to make it fit.
+    """
+    from modalinfo.io.files import format_size
+
+    avail = memory_available()
+    if need > avail:
+        raise CommandError(f"{what} needs about {format_size(need)} of memory and "
+                           f"{format_size(avail)} is available; {fix}")

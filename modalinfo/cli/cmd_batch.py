@@ -129,6 +129,10 @@ def run(args: argparse.Namespace) -> int:
     except NoWorkersError as exc:
         sys.stderr.write(f"modalinfo batch: error: {exc}\n")
         return 1
+    for group in result.identical:  # a warning: even with --quiet
+        sys.stderr.write(f"modalinfo batch: note: {len(group)} inputs are byte-identical "
+                         f"(same SHA-256), analysed once, one row each: "
+                         f"{', '.join(group)}\n")
     if not args.quiet:
         rep = result.report
         out = sys.stdout

@@ -19,6 +19,8 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
+    LOG_COPIES,
+    _check_log_fits,
     add_hint_arguments,
     apply_outliers,
     check_log_output,
@@ -26,6 +28,7 @@ from modalinfo.cli._common import (
     input_notes,
     progress,
     queue_notes,
+    wavelength_arg,
 )
 
 NAME = "convert"
@@ -46,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--wavelength",
-        type=float,
+        type=wavelength_arg,
         metavar="M",
         help="wavelength in metres at which the phase is defined: the input's if the file "
         "lacks it, else that of the phase converted from OPD (nm, um)",
@@ -73,8 +76,11 @@ def run(args: argparse.Namespace) -> int:
     fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     source = Path(args.input)
     big = source.is_file() and source.stat().st_size >= _PROGRESS_MIN_BYTES
+    options = {"fmt": args.fmt, "dataset": args.dataset, **hints_from_args(args)}
+    if source.is_file():  # the log, its converted copy and the writer's buffer
+        _check_log_fits(source, options, LOG_COPIES)
     with progress(args, 3 if big else 0, unit="stage", desc="convert") as advance:
-        log = load(args.input, fmt=args.fmt, dataset=args.dataset, **hints_from_args(args))
+        log = load(args.input, **options)
         advance(1)
         assumed = log.metadata.get("assumed")
         if (

@@ -15,12 +15,19 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
+    LOG_COPIES,
     _Renamed,
     apply_outliers,
     check_figure_output,
     load_log_with_hints,
 )
-from modalinfo.cli.cmd_reorder import add_common_arguments, file_basis, refuse_frame_with_drop
+from modalinfo.cli.cmd_reorder import (
+    add_common_arguments,
+    check_pupil_memory,
+    check_window_and_frame,
+    file_basis,
+    refuse_frame_with_drop,
+)
 
 NAME = "fitting-error"
 HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."
@@ -52,12 +59,18 @@ def run(args: argparse.Namespace) -> int:
 
     check_figure_output(args.plot, args.overwrite)
     specs = parse_specs(args.orderings)
+    seen = [tuple(s) for s in specs]
+    twice = next((s for k, s in enumerate(seen) if s in seen[:k]), None)
+    if twice is not None:
+        raise CommandError(f"--orderings lists {':'.join(map(str, twice))} twice")
     if args.target is not None and args.target < 0:
         raise CommandError(f"--target must be >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     refuse_frame_with_drop(args)
-    log = load_log_with_hints(args.log, args)
+    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
+    check_window_and_frame(args, log)
+    check_pupil_memory(args, log)
     log, _ = apply_outliers(log, args, args.log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:

@@ -22,9 +22,12 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
+    LOG_COPIES,
     add_gap_argument,
     add_hint_arguments,
     apply_outliers,
+    check_memory,
+    log_bytes,
     refuse_outlier_drop,
     split_gaps,
 )
@@ -79,6 +82,14 @@ def _parse_train(text: str) -> float | int:
     except ValueError:
         raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
                            f"got {text!r}") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
+                           f"got {text}")
+    if value == 1 and not text.strip().lstrip("+").isdigit():
+        # "1.0" reads as the whole log, which leaves nothing to test; "1" is one frame
+        raise CommandError(f"--train {text} is ambiguous: a fraction must be < 1 (the "
+                           "rest of the log is the test), and a count of frames is "
+                           "written without a decimal point")
     if value >= 1:
         if not value.is_integer():
             raise CommandError(f"--train must be a fraction in (0, 1) or a whole number of "
@@ -92,6 +103,8 @@ def _parse_predictors(text: str) -> dict:
 
     chosen = {}
     for part in (p.strip() for p in text.split(",")):
+        if part in chosen:
+            raise CommandError(f"--predictors lists {part!r} twice")
         if part not in NAMES:
             raise CommandError(f"--predictors: unknown predictor {part!r}; choose from "
                                f"{', '.join(NAMES)}")
@@ -109,6 +122,100 @@ def _constant_modes(log, train: float | int, horizon: int) -> list[str]:
     n_train = min(max(n_train, 1), log.n_frames)
     constant = Predictor._constant_columns(np.asarray(log.coeffs[:n_train]))[0]
     return [label for label, c in zip(log.labels, constant, strict=True) if c]
+
+
+#: Upper bound of the two PNGs [bytes]: their raw RGBA pixels at the 120 dpi of
+#: ``ForecastEvaluation.save_plots`` (8 x 3.5 in and 10 x 3.5 in figures); PNG's deflate
+#: never grows data by more than a few bytes per 64 kB block.
+_PLOT_BYTES = 4 * 120**2 * (8 * 3.5 + 10 * 3.5)
+#: Bytes of JSON and CSV per (predictor, mode or wavefront, horizon): a CSV row of six
+#: fields and three JSON numbers, at most ~25 characters each.
+_TABLE_BYTES = 200
+#: Chunk of forecast origins ``modalinfo.forecast.evaluate`` processes at once.
+_CHUNK = 8192
+
+
+def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: int) -> None:
+    """Refuse, before the evaluation, a horizon, memory or output the machine cannot take.
+
+    Memory: ``evaluate`` holds the per-origin losses, ``(P, H, origins)`` float64, and
+    per chunk of origins the forecasts and errors, ~4 arrays of ``(chunk, H, M)``
+    (see its docstring), besides the log's copies.
+    """
+    n_frames, n_modes, h = log.n_frames, log.n_modes, args.horizon
+    if h >= n_frames:
+        raise CommandError(f"--horizon must be below the log's {n_frames} frames (each "
+                           f"forecast is scored {h} frames after its origin); got {h}")
+    n_train = train if isinstance(train, int) else int(round(train * n_frames))
+    n_origins = max(n_frames - h - n_train + 1, 1)
+    need = (LOG_COPIES * log_bytes(log) + 8 * n_pred * h * n_origins
+            + 4 * 8 * min(_CHUNK, n_frames) * h * n_modes)
+    check_memory(need, f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} "
+                 f"origins x {n_modes} modes)", "use a smaller --horizon or fewer modes")
+    if args.out is not None:
+        from modalinfo.io.files import format_size, writable_free_bytes
+
+        folder = args.out if args.out.is_dir() else args.out.parent
+        while not folder.exists() and folder != folder.parent:
+            folder = folder.parent
+        size = _PLOT_BYTES + _TABLE_BYTES * n_pred * (n_modes + 1) * h + 2**20
+        try:
+            free = writable_free_bytes(folder)
+        except OSError as exc:
+            raise CommandError(f"--out '{args.out}': cannot write in '{folder}' "
+                               f"({exc.strerror or exc})") from None
+        if size > free:
+            raise CommandError(f"--out '{args.out}': the outputs need up to "
+                               f"{format_size(size)} and '{folder}' has {format_size(free)} "
+                               "free")
+
+
+def write_outputs(ev, out: Path, overwrite: bool) -> None:
+    """Write the four outputs into ``out`` all together or not at all.
+
+    Every file is first written into a hidden staging folder inside ``out``; only when
+    all four exist are they renamed into place (renames in one folder need no space),
+    the files they replace kept aside until then. Any failure, or a signal, removes the
+    staging folder, restores replaced files and removes a folder this call created:
+    a full disk leaves the old outputs or none, never some of the new ones.
+    """
+    import os
+    import shutil
+    import tempfile
+
+    from modalinfo.io.files import signals_end_the_save
+
+    created = not out.exists()
+    with signals_end_the_save() as armed:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".forecast.", suffix=".tmp", dir=out))
+        moved: list[str] = []
+        kept: dict[str, Path] = {}
+        done = False
+        try:
+            ev.to_json(staging / OUTPUTS[0])
+            ev.to_csv(staging / OUTPUTS[1])
+            ev.save_plots(staging)
+            clash = [n for n in OUTPUTS if (out / n).exists()]
+            if clash and not overwrite:
+                raise CommandError(f"'{out / clash[0]}' exists; pass --overwrite to replace it")
+            for name in clash:
+                kept[name] = staging / f"{name}.old"
+                os.replace(out / name, kept[name])
+            for name in OUTPUTS:
+                os.replace(staging / name, out / name)
+                moved.append(name)
+            done = True
+        finally:
+            armed[0] = False  # a signal now is recorded: the rollback runs to its end
+            if not done:
+                for name in moved:
+                    (out / name).unlink(missing_ok=True)
+                for name, old in kept.items():
+                    os.replace(old, out / name)
+            shutil.rmtree(staging, ignore_errors=True)
+            if not done and created:
+                shutil.rmtree(out, ignore_errors=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -131,7 +238,7 @@ def run(args: argparse.Namespace) -> int:
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
                                "replace it")
-    log = load_log_with_hints(args.log, args)
+    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
     log = split_gaps(log, args, args.log, "forecasting")
     if args.modes is not None:
         log = log.select(modes=parse_modes(args.modes, "--modes"))
@@ -144,13 +251,15 @@ def run(args: argparse.Namespace) -> int:
     # on the modes forecast; --outliers drop was refused above (lags need every frame)
     log, _ = apply_outliers(log, args, args.log, time_series=True)
 
+    n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
+    _check_resources(args, log, train, n_pred)
+
     import matplotlib
 
     matplotlib.use("Agg")
     from modalinfo.cli._common import progress
     from modalinfo.forecast import evaluate
 
-    n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
     with progress(args, n_pred, unit="predictor", desc="forecast") as advance:
         ev = evaluate(predictors, log, train=train, horizons=range(1, args.horizon + 1),
                       refit_every=args.refit_every, window=args.window, progress=advance)
@@ -162,10 +271,7 @@ def run(args: argparse.Namespace) -> int:
                              f"{', '.join(skipped)}\n")
         sys.stdout.write(ev.summary() + "\n")
     if args.out is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
-        ev.to_json(args.out / OUTPUTS[0], overwrite=args.overwrite)
-        ev.to_csv(args.out / OUTPUTS[1], overwrite=args.overwrite)
-        ev.save_plots(args.out, overwrite=args.overwrite)
+        write_outputs(ev, args.out, args.overwrite)
         if not args.quiet:
             sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
     return 0

@@ -18,8 +18,10 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._common import (
+    LOG_COPIES,
     add_hint_arguments,
     apply_outliers,
+    check_memory,
     load_log_with_hints,
     refuse_outlier_drop,
 )
@@ -63,14 +65,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the selection and print the table."""
-    from modalinfo.information.selection import select_inputs
+    from modalinfo.information.selection import _WORKING_COPIES, select_inputs
 
     refuse_outlier_drop(args, "input selection")
-    log = load_log_with_hints(args.log, args)
+    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
     log, _ = apply_outliers(log, args, args.log, time_series=True)
     extra = None
     if args.extra is not None:
-        extra = load_log_with_hints(args.extra, args)
+        import os
+
+        if os.path.exists(args.extra) and os.path.exists(args.log) and os.path.samefile(
+                args.extra, args.log):
+            raise CommandError(f"--extra '{args.extra}' is LOG itself: its modes are "
+                               "candidates already")
+        extra = load_log_with_hints(args.extra, args, copies=LOG_COPIES)
         extra, _ = apply_outliers(extra, args, args.extra, time_series=True)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
@@ -84,6 +92,13 @@ def run(args: argparse.Namespace) -> int:
     elif target not in log.labels:
         raise CommandError(f"--target {target!r} is not a mode of LOG "
                            f"({', '.join(log.labels[:5])}, ...)")
+    if args.max_lag is not None and args.max_lag >= 1:
+        # the candidate search's working arrays (information.selection's estimate),
+        # checked here against the process's address-space limit as well
+        columns = (log.n_modes + (extra.n_modes if extra is not None else 0)) * args.max_lag
+        check_memory(_WORKING_COPIES * 8 * log.n_frames * columns,
+                     f"--max-lag {args.max_lag} ({columns} candidate columns x "
+                     f"{log.n_frames} frames)", "use a smaller --max-lag or fewer frames")
     res = select_inputs(log, target, horizon=args.horizon, max_lag=args.max_lag, extra=extra,
                         method=args.method, units=args.units, alpha=args.alpha,
                         n_surrogates=args.surrogates, max_inputs=args.max_inputs,

@@ -11,6 +11,7 @@ from the file and the caller supplies the rest as *hints* (``rate=``, ``units=``
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 from collections.abc import Callable, Iterator
@@ -62,9 +63,18 @@ def reading(fmt: str, path: Path) -> Iterator[None]:
         _PassthroughError,
     ):
         raise
-    except MemoryError as exc:
+    except (MemoryError, OSError) as exc:
+        if isinstance(exc, OSError) and exc.errno != errno.ENOMEM:
+            detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+            raise LogFormatError(
+                f"corrupt {fmt} file '{path}': {type(exc).__name__}: {detail}".rstrip(": ")
+            ) from exc
+        # not necessarily damage: a large log under a memory or address-space limit
+        # (ulimit -v), or a damaged header declaring a huge size; say both
         raise LogFormatError(
-            f"corrupt {fmt} file '{path}': declared size does not fit in memory ({exc})"
+            f"{fmt} file '{path}' does not fit in the memory this process may use "
+            f"({exc}); free memory or raise the limit, or check the file if its size "
+            "is not what you expect"
         ) from exc
     except Exception as exc:  # noqa: BLE001 - every parser failure becomes one clear error
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
@@ -249,6 +259,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             "known (frames x modes)."
         )
     hints.pop("transpose", None)
+    check_has_modes(np.shape(coeffs), path)
     stored.pop("_layout", None)
     frames = stored.pop("_frame_numbers", None)
     convention_assumed = bool(stored.pop("_convention_assumed", False))
@@ -271,9 +282,9 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         elif key == "nonfinite" or stored.get(key) is None:
             kwargs[key] = value
         elif not _same(stored[key], value):
-            shown = "array" if isinstance(value, np.ndarray) else repr(value)
             raise ValueError(
-                f"hint `{key}`={shown} contradicts the value {stored[key]!r} stored in '{path}'."
+                f"hint `{key}`={_short(value)} contradicts the value {_short(stored[key])} "
+                f"stored in '{path}'."
             )
     if foreign:
         assumed: dict[str, str] = {}
@@ -303,6 +314,29 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     except (ValueError, TypeError) as exc:
         error = type(exc)(f"'{path}': {exc}")
         raise _PassthroughError(error) from exc
+
+
+def check_has_modes(shape: tuple, path: Path) -> None:
+    """Raise ``LogFormatError`` naming ``path`` if a 2-D log of ``shape`` has no mode column.
+
+    Readers call it before anything indexes the columns, so a file with zero modes (an
+    empty table, a ``(T, 0)`` array) is one clear refusal rather than an ``IndexError``.
+    """
+    if len(shape) == 2 and shape[1] == 0:
+        raise LogFormatError(
+            f"'{path}' holds no modes: its coefficients have shape {tuple(shape)} "
+            "(frames x 0 columns), so there is nothing to read or analyse"
+        )
+
+
+def _short(value: Any, most: int = 12) -> str:
+    """``repr`` of a hint or stored value, long lists cut to their ends (one short line)."""
+    if isinstance(value, np.ndarray):
+        return "array"
+    if isinstance(value, list | tuple) and len(value) > most:
+        head = ", ".join(repr(v) for v in value[:3])
+        return f"[{head}, ..., {value[-1]!r}] ({len(value)} entries)"
+    return repr(value)
 
 
 def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:

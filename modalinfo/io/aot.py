@@ -75,6 +75,21 @@ __all__ = [
 ]
 
 _JSON_KEY = "MI_JSON"
+#: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it). Any other
+#: unit (``rad/s``, ``V``, ``pix``, ``furlong``...) is not a phase or optical-path unit
+#: the analyses can use, so the reader refuses it unless the caller states the units.
+_UNIT_WORDS = {
+    **{u: (u, 1.0) for u in UNITS},
+    "radian": ("rad", 1.0), "radians": ("rad", 1.0),
+    "wave": ("waves", 1.0),
+    "nanometer": ("nm", 1.0), "nanometers": ("nm", 1.0), "nanometre": ("nm", 1.0),
+    "nanometres": ("nm", 1.0),
+    "micron": ("um", 1.0), "microns": ("um", 1.0), "\u00b5m": ("um", 1.0),
+    "micrometer": ("um", 1.0), "micrometers": ("um", 1.0), "micrometre": ("um", 1.0),
+    "micrometres": ("um", 1.0),
+    "m": ("nm", 1e9), "meter": ("nm", 1e9), "meters": ("nm", 1e9), "metre": ("nm", 1e9),
+    "metres": ("nm", 1e9),
+}
 _VERSION_KEY = "AOT-VERS"
 _HEADER_BLOCKS = 36  # primary-header blocks scanned for AOT-VERS (100 kB)
 
@@ -406,7 +421,7 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
                 )
         else:
             stored = _stored_from_system(system, lp, loops, path, coeffs, origin, stamps,
-                                         frames, ident)
+                                         frames, ident, hints.get("units"))
             coeffs = stored.pop("_coeffs")
             if notes:  # aotpy's verification remarks on a foreign file, kept, not hidden
                 stored["metadata"]["aot_warnings"] = list(dict.fromkeys(notes))[:10]
@@ -423,20 +438,31 @@ def _own_header(lp, path: Path) -> dict | None:
     return None
 
 
-def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames, ident) -> dict:
+def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames, ident,
+                        units_hint: str | None = None) -> dict:
     meta = _describe(system, lp, loops, path)
     meta["coefficients"] = origin
     stored: dict[str, Any] = {"metadata": meta, "timestamps": stamps}
     unit = getattr(lp.modal_coefficients, "unit", None)
     if isinstance(unit, str) and unit.strip():
         meta["aot_unit"] = unit.strip()
-        u = unit.strip().lower()
-        if u in UNITS:
-            stored["units"] = u
-        elif u == "m":
-            coeffs = coeffs.astype(np.float64) * 1e9
-            stored["units"] = "nm"
-            meta["unit_conversion"] = "coefficients in m in the file, converted to nm"
+        known = _UNIT_WORDS.get(unit.strip().lower())
+        if known is None and units_hint is None:
+            raise LogFormatError(
+                f"AOT file '{path}': loop {lp.uid!r} coefficient unit {unit.strip()!r} is not "
+                "a unit of phase (rad, waves) or optical path (m, nm, um); state the units "
+                "with units= (command line: --in-units) if the card is wrong"
+            )
+        if known is not None:  # a contradicting units= hint is refused by build_log
+            stored["units"], scale = known
+            if scale != 1.0:
+                coeffs = coeffs.astype(np.float64) * scale
+                meta["unit_conversion"] = (f"coefficients in {unit.strip()} in the file, "
+                                           f"converted to {stored['units']}")
+    elif units_hint is None:
+        # the file does not say: rad is the default, and it is an assumption (README
+        # "Foreign logs"), so `info` marks it and `convert --units` refuses to convert
+        meta["assumed"] = {"units": "rad"}
     rate = _number(lp.framerate)
     if rate is not None and rate > 0:
         if stamps is not None and stamps.size > 1:

@@ -156,7 +156,7 @@ def _time_columns(
         stored["_frame_numbers"] = np.ascontiguousarray(values[:, framed[0]])
     keep = [k for k in range(len(names)) if k not in drop]
     if not keep:
-        raise LogFormatError(f"CSV file '{path}' has a time column but no mode column")
+        raise LogFormatError(f"CSV file '{path}' has a time column but no modes (no mode column)")
     return values[:, keep], [names[k] for k in keep]
 
 
@@ -189,7 +189,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
     path = as_path(path)
     check_readable(path)
     with reading("CSV", path):
-        with open(path, encoding="utf-8", newline="") as fh:
+        # utf-8-sig: a byte-order mark (spreadsheet exports) is not part of the first name
+        with open(path, encoding="utf-8-sig", newline="") as fh:
             lines = fh.read().splitlines()
         header = None
         comments: dict[str, str] = {}

@@ -1,4 +1,4 @@
-"""File-level helpers for every package: paths, the log-format error, atomic writes.
+"""File-level helpers for every package: paths, the log-format error, atomic writes, sizes.
 
 These are the public homes of what readers and writers everywhere share:
 :func:`atomic_write` (a crash leaves the old file or none, never half a file; no
@@ -9,13 +9,83 @@ modalinfo, so any layer may import them.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import re
+import signal
 import tempfile
+import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-__all__ = ["LogFormatError", "as_path", "atomic_write", "check_readable", "writable_free_bytes"]
+__all__ = [
+    "LogFormatError",
+    "as_path",
+    "atomic_write",
+    "check_not_special",
+    "check_readable",
+    "format_size",
+    "parse_size",
+    "signals_end_the_save",
+    "writable_free_bytes",
+]
+
+#: Size suffixes (lower case) -> bytes: SI (kB = 1000 B) and binary (KiB = 1024 B), with
+#: or without the ``B``, as ``dask.utils.parse_bytes`` reads them, so a ``--memory-limit``
+#: means the same here as in Dask's own configuration.
+_SIZE_UNITS = {"": 1, "b": 1}
+for _k, _p in enumerate("kmgtp", start=1):
+    _SIZE_UNITS.update({_p: 1000**_k, f"{_p}b": 1000**_k, f"{_p}i": 1024**_k,
+                        f"{_p}ib": 1024**_k})
+_SIZE = re.compile(r"([0-9]*\.?[0-9]+(?:e[-+]?[0-9]+)?|[0-9]+\.)\s*([a-z]*)")
+
+
+def parse_size(text: str | float, name: str = "size") -> int:
+    """Return a size such as ``"2GB"``, ``"512 MiB"``, ``"2e9"`` or ``1e9`` in bytes.
+
+    Parameters
+    ----------
+    text : str or float
+        A non-negative number with an optional unit: ``B``, ``kB``/``k``, ``MB``,
+        ``GB``, ``TB``, ``PB`` (powers of 1000) or ``KiB``/``Ki`` ... ``PiB`` (powers
+        of 1024), case-insensitive, as ``dask.utils.parse_bytes`` reads them; a bare
+        number is bytes. Needs no optional dependency.
+    name : str
+        The argument named in the error.
+
+    Returns
+    -------
+    int
+        Bytes (rounded down).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, the accepted forms and the value: no number, an unknown
+        unit, a negative, infinite or NaN size.
+    """
+    import math
+
+    if isinstance(text, bool) or not isinstance(text, str | int | float):
+        raise ValueError(f"`{name}` must be a size such as '2GB', '512 MiB' or a number of "
+                         f"bytes; got {text!r}")
+    match = _SIZE.fullmatch(str(text).strip().lower()) if isinstance(text, str) else None
+    if isinstance(text, str) and (match is None or match.group(2) not in _SIZE_UNITS):
+        raise ValueError(f"`{name}` must be a size such as '2GB', '512 MiB' or a number of "
+                         f"bytes (units B, kB, MB, GB, TB, KiB, MiB, GiB, TiB); got {text!r}")
+    value = float(match.group(1)) * _SIZE_UNITS[match.group(2)] if match else float(text)
+    if not math.isfinite(value) or value < 0:
+        raise ValueError(f"`{name}` must be a finite size >= 0; got {text!r}")
+    return int(value)
+
+
+def format_size(n: float) -> str:
+    """``n`` bytes in B, KiB, MiB, GiB, TiB with two decimals (``dask.utils.format_bytes``)."""
+    for k, prefix in ((4, "Ti"), (3, "Gi"), (2, "Mi"), (1, "ki")):
+        if n >= 0.9 * 1024**k:
+            return f"{n / 1024**k:.2f} {prefix}B"
+    return f"{int(n)} B"
 
 
 class LogFormatError(ValueError):
@@ -38,6 +108,26 @@ def check_readable(path: Path) -> None:
         raise FileNotFoundError(f"no such file: '{path}'")
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+
+
+def check_not_special(path: Path) -> None:
+    """Refuse a target that exists and is no regular file (a device, FIFO or socket).
+
+    The final rename of :func:`atomic_write` would replace it by a regular file, so
+    ``--overwrite`` onto ``/dev/null`` would destroy the device node (as root).
+    """
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        kind = ("a character device" if stat.S_ISCHR(mode) else "a block device"
+                if stat.S_ISBLK(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
+                "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        raise OSError(f"'{path}' is {kind}, not a regular file: a log or result is "
+                      "written to a file path (it would replace the node)")
 
 
 def writable_free_bytes(folder: Path) -> int:
@@ -79,6 +169,65 @@ def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
     raise new from exc
 
 
+class _Signalled(BaseException):
+    """SIGINT/SIGTERM received during :func:`atomic_write` (turned into an exit below)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def signals_end_the_save():
+    """Make SIGINT and SIGTERM during a save remove its temporary file, then end the process.
+
+    Without this, SIGTERM's default action kills the process at once and leaves the
+    hidden temporary file behind, and a library that defers SIGINT while it writes
+    (astropy's ``ignore_sigint``) may let the save finish as if nothing happened. Here
+    a signal raises inside the save, the ``finally`` of :func:`atomic_write` removes the
+    temporary (the target keeps its old content or stays absent), and the process then
+    ends as the signal asks: ``KeyboardInterrupt`` for SIGINT (the command line exits
+    130) and ``SystemExit(143)`` for SIGTERM (128 + 15, the shell's convention). Only
+    signals still at their default action are handled, and only in the main thread
+    (where Python runs signal handlers): an ignored SIGINT (``nohup``, background
+    jobs) stays ignored and a caller's own handler stays in charge.
+
+    Yields ``armed``, a one-item list: set ``armed[0] = False`` before the cleanup so
+    that a signal arriving during it is recorded instead of interrupting it.
+    """
+    armed = [True]
+    received: list[int] = []
+    defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+    previous: dict = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum, default in defaults.items():
+            if signal.getsignal(signum) is default:
+                previous[signum] = default
+
+    def handler(signum, frame):  # noqa: ARG001 - the signal module's signature
+        received.append(signum)
+        if armed[0]:
+            armed[0] = False
+            raise _Signalled(signum)
+
+    for signum in previous:
+        signal.signal(signum, handler)
+    try:
+        yield armed
+    except _Signalled:
+        if not previous:
+            raise  # an enclosing save's handler raised it: that save ends the process
+        # handled below, after the handlers are restored
+    finally:
+        armed[0] = False
+        for signum, old in previous.items():
+            signal.signal(signum, old)
+    if received:
+        if received[0] == signal.SIGTERM:
+            raise SystemExit(128 + signal.SIGTERM)
+        raise KeyboardInterrupt
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -89,42 +238,47 @@ def atomic_write(
     The temporary file lives in the target directory, so the final rename is atomic:
     a crash leaves either the old file or none, never half a file. Without
     ``overwrite`` an existing target raises ``FileExistsError`` (checked again at the
-    final step with a hard link, which cannot clobber).
+    final step with a hard link, which cannot clobber). SIGINT or SIGTERM during the
+    save removes the temporary file and then ends the process (``KeyboardInterrupt``;
+    ``SystemExit(143)`` for SIGTERM), leaving the old file or none.
     """
     path = Path(path)
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory; give a file name")
+    check_not_special(path)
     if path.exists() and not overwrite:
         raise FileExistsError(_exists_message(path))
     directory = path.parent
     if not directory.is_dir():
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    try:
-        if by_name:
-            os.close(fd)
-            os.unlink(tmp)  # libraries may refuse to write over an existing file
-            _renamed(write, Path(tmp), tmp, path)
-            with open(tmp, "rb+") as fh:
-                os.fsync(fh.fileno())
-        else:
-            with os.fdopen(fd, "wb") as fh:
-                _renamed(write, fh, tmp, path)
-                fh.flush()
-                os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
-        if overwrite:
-            os.replace(tmp, path)
-        else:
-            try:
-                os.link(tmp, path)
-            except FileExistsError:
-                raise FileExistsError(_exists_message(path)) from None
-            except OSError:  # filesystem without hard links
-                if path.exists():
-                    raise FileExistsError(_exists_message(path)) from None
+    with signals_end_the_save() as armed:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+        try:
+            if by_name:
+                os.close(fd)
+                os.unlink(tmp)  # libraries may refuse to write over an existing file
+                _renamed(write, Path(tmp), tmp, path)
+                with open(tmp, "rb+") as fh:
+                    os.fsync(fh.fileno())
+            else:
+                with os.fdopen(fd, "wb") as fh:
+                    _renamed(write, fh, tmp, path)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            os.chmod(tmp, 0o644)
+            if overwrite:
                 os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+            else:
+                try:
+                    os.link(tmp, path)
+                except FileExistsError:
+                    raise FileExistsError(_exists_message(path)) from None
+                except OSError:  # filesystem without hard links
+                    if path.exists():
+                        raise FileExistsError(_exists_message(path)) from None
+                    os.replace(tmp, path)
+        finally:
+            armed[0] = False  # a signal from here on is only recorded: the cleanup runs
+            if os.path.exists(tmp):
+                os.unlink(tmp)
     return path

@@ -223,7 +223,7 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
                 cols.pop(k)
                 names = names[:k] + names[k + 1 :]
             if not cols:
-                raise LogFormatError(f"FITS file '{path}': table has no mode column")
+                raise LogFormatError(f"FITS file '{path}': table has no modes (no mode column)")
             stored["modes"], stored["convention"], assumed = mode_columns(names)
             if assumed:
                 stored["_convention_assumed"] = True

@@ -299,3 +299,32 @@ def test_aot_files_are_analysed_like_any_other_format(client, tmp_path, helpers)
     expected = summarize(load(root / "a.fits"))
     assert row["rms_total"] == pytest.approx(float(np.sqrt(np.sum(expected.rms ** 2))),
                                              rel=1e-12)
+
+
+def test_byte_identical_logs_each_get_their_own_row(client, tmp_path, helpers):
+    """Two copies of one log and a third log: three rows, each naming its own path."""
+    import shutil
+
+    from modalinfo.io import save
+
+    root = tmp_path / "logs"
+    root.mkdir()
+    save(helpers.make_log(0), root / "a.npz")
+    shutil.copyfile(root / "a.npz", root / "copy_of_a.npz")
+    save(helpers.make_log(1), root / "b.npz")
+    result = analyse_archive(root, "summary", tmp_path / "out", client=client,
+                             progress=False, plots=False)
+    paths = sorted(os.path.basename(r["path"]) for r in result.rows)
+    assert paths == ["a.npz", "b.npz", "copy_of_a.npz"]
+    assert result.n_ok == 3
+    assert result.report.n_submitted == 2  # the identical content was analysed once
+    by_name = {os.path.basename(r["path"]): r for r in result.rows}
+    digest = hashlib.sha256((root / "a.npz").read_bytes()).hexdigest()
+    assert by_name["a.npz"]["sha256"] == by_name["copy_of_a.npz"]["sha256"] == digest
+    assert same(by_name["a.npz"]["rms_total"], by_name["copy_of_a.npz"]["rms_total"])
+    assert [sorted(os.path.basename(p) for p in g) for g in result.identical] == [
+        ["a.npz", "copy_of_a.npz"]]
+    import pyarrow.parquet as pq
+
+    assert sorted(os.path.basename(p) for p in pq.read_table(result.parquet_path)
+                  .column("path").to_pylist()) == paths

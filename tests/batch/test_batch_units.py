@@ -217,3 +217,23 @@ def test_modes_parameter_restricts_the_analysed_modes(tmp_path, helpers):
     row = run_log_task({**base, "analysis": "forecast", "params": resolve_params(
         "forecast", {"modes": [2, 9], "predictors": "linear"})})
     assert row["modes_analysed"] == 2
+
+
+def test_forecast_horizon_beyond_the_log_is_an_error_row_at_once(tmp_path, helpers):
+    from modalinfo.batch.analyses import _forecast
+
+    params = resolve_params("forecast", {"horizon": 100_000_000, "predictors": "linear"})
+    with pytest.raises(ValueError, match="below the log's 256 frames"):
+        _forecast(helpers.make_log(0), params)
+
+
+def test_an_earlier_batch_output_inside_the_inputs_is_not_read(tmp_path, helpers):
+    from modalinfo.io import save
+
+    save(helpers.make_log(0), tmp_path / "a.npz")
+    old = tmp_path / "old_out"
+    (old / "rows").mkdir(parents=True)
+    (old / "hashes.json").write_text("{}")
+    (old / "batch.csv").write_text('"path","analysis"\n')
+    names = [os.path.basename(e.path) for e in collect_logs(tmp_path)]
+    assert names == ["a.npz"]
