@@ -248,11 +248,11 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"--skip-constant: every mode is constant over the "
                                f"training frames ({', '.join(skipped)}); nothing to forecast")
         log = log.drop_modes(skipped)
-    # on the modes forecast; --outliers drop was refused above (lags need every frame)
-    log, _ = apply_outliers(log, args, args.log, time_series=True)
-
     n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
     _check_resources(args, log, train, n_pred)
+    # on the modes forecast, after the refusals (no work before them); --outliers drop
+    # was refused above (lags need every frame)
+    log, _ = apply_outliers(log, args, args.log, time_series=True)
 
     import matplotlib
 
