@@ -1,0 +1,298 @@
+"""Golden numbers: what the project publishes at a fixed seed, computed, flattened, compared.
+
+Three sections, one JSON reference file each under ``tests/golden/``:
+
+``presets``
+    every ``closedloop`` preset (``closedloop.presets.names()``) on a short run at seed 0
+    (:data:`PRESET_FRAMES` frames, the error budget every :data:`BUDGET_EVERY` frames):
+    the loop status, closure frame and time, the SR peak and field-mean SR after the
+    closure, the corrected-FoV diameter, and each budget term (field mean and on-axis).
+``logs``
+    the shipped logs ``data/*.npz``: the one-pass summary (per-mode mean, std, RMS,
+    lag-1 ACF), the greedy-MI reorder of the Zernike basis (order and gains, a reduced
+    sample budget), the fitting-error curves of the standard and MI orders, and the
+    forecast gains of the cheap predictors (persistence, mean, linear a=2 b=-1).
+``figures``
+    every JSON file of ``python -m paper_figures --quick`` and every number of its
+    ``report.md`` (table rows and sentences), keyed by section and text around it;
+    run times are left out (they are not published numbers of the computation).
+
+Regenerate with ``python tests/golden/regenerate.py [--only SECTION]`` (docs/TESTING.md,
+"Golden numbers"); a regenerated reference goes in the same commit as the change that
+moved it, with the reason in the message.
+
+Tolerances (:data:`RTOL`) come from the float error across CPUs, measured by running
+the regeneration normally and under ``NUMBA_CPU_NAME=generic`` with a fresh numba cache
+(docs/TESTING.md gives the measurement): strings, booleans and integers (orders, closure
+frames, mode counts) must match exactly; floats within ``RTOL[section] * max(|value|,
+scale)`` where ``scale`` is the largest magnitude of the array the value belongs to (an
+element near zero of an array is compared at the array's scale); a number printed in the
+report with a decimal point within that, or one unit of its last printed digit (a value
+on a rounding boundary flips its last digit under any perturbation).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+DATA = ROOT / "data"
+SECTIONS = ("presets", "logs", "figures")
+
+#: frames of each preset's golden run: enough for the closure detection (it needs twice
+#: its 5-ms window: 10 frames at 1 ms, 20 at 0.5 ms) with budget probes after it
+PRESET_FRAMES = 40
+BUDGET_EVERY = 4
+#: greedy-MI reorder of the shipped logs on this many (frame, pixel) samples
+REORDER_BUDGET = 20_000
+#: forecast horizons [frames] and modes of the shipped-log forecast golden numbers
+FORECAST_HORIZONS = (1, 2, 5, 10)
+FORECAST_MODES = 5
+
+#: relative tolerance per section: 1e3 times the largest relative difference measured
+#: between a normal run and NUMBA_CPU_NAME=generic (docs/TESTING.md), floored at 1e-9 so
+#: that an identical measurement leaves room for another BLAS; each is far below 1 %
+RTOL = {"presets": 1e-9, "logs": 1e-9, "figures": 1e-9}
+
+REGENERATE = ("python tests/golden/regenerate.py --only {section} (docs/TESTING.md, "
+              "'Golden numbers'); commit the regenerated reference with the change that "
+              "moved it and say why in the message")
+
+
+def path_of(section: str) -> Path:
+    """The reference file of ``section``."""
+    return HERE / f"{section}.json"
+
+
+# --------------------------------------------------------------------------- computing
+def preset_numbers(name: str) -> dict:
+    """Headline numbers of the preset ``name`` on a :data:`PRESET_FRAMES`-frame run."""
+    from closedloop import presets, simulate
+
+    config = presets.get(name)
+    run = simulate(config, PRESET_FRAMES * config.loop.time_step, seed=0,
+                   budget_every=BUDGET_EVERY, progress=False)
+    summary = run.summary()
+    budget = run.budget
+    axis = int(np.argmin(np.hypot(*budget.directions.T)))
+    out = {
+        "loop_status": run.loop_status,
+        "frames": int(run.times.size),
+        "closure_index": int(run.closure_index),
+        "closure_time_s": float(run.closure_time),
+        "strehl_peak_mean": summary["strehl_peak_mean"],
+        "strehl_field_mean": summary["strehl_field_mean"],
+        "corrected_fov_diameter_arcmin": float(summary["corrected_fov_diameter_arcmin"]),
+        "budget_frames": [int(f) for f in budget.frames],
+    }
+    for term in ("fitting", "aliasing", "temporal", "noise", "measured"):
+        values = np.asarray(getattr(budget, term), dtype=float)
+        out[f"budget_{term}_field_mean_rad2"] = float(values.mean())
+        out[f"budget_{term}_on_axis_rad2"] = float(values[axis])
+    return out
+
+
+def compute_presets() -> dict:
+    from closedloop import presets
+
+    return {name: preset_numbers(name) for name in presets.names()}
+
+
+def log_numbers(path: Path) -> dict:
+    """Summary, reorder, fitting-error curves and cheap forecast gains of a shipped log."""
+    from modalinfo.forecast import LinearPredictor, evaluate
+    from modalinfo.io import load
+    from modalinfo.ordering import fitting_error, order_modes
+    from modalinfo.ordering.compare import basis_for_log
+    from modalinfo.telemetry.summary import summarize
+
+    log = load(path)
+    s = summarize(log)
+    out: dict = {"summary": {"units": s.units, "n_frames": int(s.n_frames),
+                             "labels": list(s.labels),
+                             **{k: [float(v) for v in getattr(s, k)]
+                                for k in ("mean", "std", "rms", "lag1")}}}
+    basis = basis_for_log("zernike", log, n_pixels=64)
+    mi = order_modes(log, basis, "mi_greedy", sample_budget=REORDER_BUDGET, seed=0,
+                     n_resamples=0)
+    out["reorder_mi_greedy"] = {"order": [int(i) for i in mi.order],
+                                "labels": list(mi.labels),
+                                "gain_nats": [float(g) for g in mi.gain]}
+    curves = {}
+    for tag, order in (("standard", None), ("mi_greedy", mi)):
+        fe = fitting_error(log, basis, order, units="waves2")
+        curves[tag] = {"mean_waves2": [float(v) for v in fe.mean],
+                       "total_mean_waves2": float(np.mean(fe.total))}
+    out["fitting_error"] = curves
+    head = log.select(modes=list(log.modes[:FORECAST_MODES]))
+    ev = evaluate({"linear": LinearPredictor()}, head, train=0.5,
+                  horizons=FORECAST_HORIZONS)
+    out["forecast"] = {"names": list(ev.names), "horizons": [int(h) for h in ev.horizons],
+                       "labels": list(ev.labels),
+                       "gain_wavefront": np.asarray(ev.gain_wavefront).tolist(),
+                       "rmse_wavefront": np.asarray(ev.rmse_wavefront).tolist()}
+    return out
+
+
+def compute_logs() -> dict:
+    return {p.name: log_numbers(p) for p in sorted(DATA.glob("*.npz"))}
+
+
+#: a number in running text: optional sign, digits, decimals, exponent; not part of a
+#: word (Z2, fig5, NN 10-10-1 stay text) except after "x" (a gain "x1.23")
+NUMBER = re.compile(r"((?:(?<![\w.])-)?(?<![A-Za-wyz_\d.])\d+(?:\.\d+)?(?:e[-+]?\d+)?)"
+                    r"(?![\dA-Za-z_])")
+#: run times in the report (not numbers of the computation)
+_TIMING = re.compile(r"(made in|done in|train|loop|took|in) -?\d+(?:\.\d+)? ?(s|ms|min)\b")
+
+
+def _mask(text: str) -> str:
+    return NUMBER.sub("#", text)
+
+
+def report_numbers(text: str) -> dict:
+    """Every number of a report (not run times), keyed by its section and context.
+
+    Key: ``"<section heading> | <up to 60 characters before> {#} <up to 20 after>"``
+    with every other number of the context masked as ``#``; a repeated key gets
+    `` [2]``, `` [3]``, ... Value: the number as printed (a string).
+    """
+    out: dict[str, str] = {}
+    section = "(head)"
+    for line in text.splitlines():
+        if line.startswith("#"):
+            section = _mask(line.lstrip("#").strip())
+            continue
+        if line.startswith("_(") or "made in" in line[:200] and line.startswith("Python"):
+            continue  # "_(Figure n made in 1.2 s.)_" and the run header
+        clean = _TIMING.sub(lambda m: m.group(1) + " <time>", line)
+        for m in NUMBER.finditer(clean):
+            before = _mask(clean[max(0, m.start() - 60):m.start()])
+            after = _mask(clean[m.end():m.end() + 20])
+            key = f"{section} | {before.lstrip()}{{#}}{after.rstrip()}"
+            k, n = key, 1
+            while k in out:
+                n += 1
+                k = f"{key} [{n}]"
+            out[k] = m.group(1)
+    return out
+
+
+def figure_numbers(out_dir: Path) -> dict:
+    """Every JSON file of a ``--quick`` run and the numbers of its report."""
+    res = {p.name: json.loads(p.read_text()) for p in sorted(Path(out_dir).glob("*.json"))}
+    res["report.md"] = report_numbers((Path(out_dir) / "report.md").read_text())
+    return res
+
+
+# --------------------------------------------------------------------------- comparing
+def flatten(tree, prefix: str = "") -> dict[str, tuple]:
+    """``{path: (value, group scale)}`` of every leaf; lists are indexed ``[i]``."""
+    flat: dict[str, tuple] = {}
+
+    def walk(node, path, scale):
+        if isinstance(node, dict):
+            for k in sorted(node):
+                walk(node[k], f"{path}/{k}" if path else str(k), None)
+        elif isinstance(node, list):
+            nums = [abs(v) for v in _leaves(node)
+                    if isinstance(v, float) and math.isfinite(v)]
+            s = max(nums) if nums else None
+            for i, v in enumerate(node):
+                walk(v, f"{path}[{i}]", s if scale is None else scale)
+        else:
+            flat[path] = (node, scale)
+
+    walk(tree, prefix, None)
+    return flat
+
+
+def _leaves(node):
+    if isinstance(node, list):
+        for v in node:
+            yield from _leaves(v)
+    else:
+        yield node
+
+
+def _printed_unit(text: str) -> float | None:
+    """One unit of the last printed digit of a decimal number; None for an integer."""
+    mant, _, exp = text.lower().partition("e")
+    if "." not in mant:
+        return None if not exp else 10.0 ** int(exp)
+    return 10.0 ** (-len(mant.split(".")[1]) + (int(exp) if exp else 0))
+
+
+def differences(section: str, reference: dict, current: dict, rtol: float) -> list[str]:
+    """Messages naming every number that moved beyond ``rtol`` (empty: all agree)."""
+    ref, cur = flatten(reference), flatten(current)
+    msgs = []
+    for key in sorted(set(ref) - set(cur)):
+        msgs.append(f"{key}: in the reference ({ref[key][0]!r}) but no longer produced")
+    for key in sorted(set(cur) - set(ref)):
+        msgs.append(f"{key}: produced ({cur[key][0]!r}) but not in the reference")
+    for key in sorted(set(ref) & set(cur)):
+        (a, scale), (b, _) = ref[key], cur[key]
+        if not agree(a, b, rtol, scale, printed="report.md/" in key):
+            msgs.append(f"{key}: {a!r} -> {b!r}")
+    return msgs
+
+
+def agree(a, b, rtol: float, scale: float | None = None, printed: bool = False) -> bool:
+    """Whether the reference leaf ``a`` and the current ``b`` agree (module docstring)."""
+    if printed and isinstance(a, str) and isinstance(b, str):
+        unit = _printed_unit(a)
+        if unit is None or _printed_unit(b) is None:
+            return a == b
+        fa, fb = float(a), float(b)
+        return abs(fa - fb) <= max(rtol * max(abs(fa), abs(fb)), unit) * (1 + 1e-9)
+    if isinstance(a, bool) or isinstance(b, bool) or not isinstance(a, float | int) \
+            or not isinstance(b, float | int) or (isinstance(a, int) and isinstance(b, int)):
+        return type(a) is type(b) and a == b
+    a, b = float(a), float(b)
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    if math.isinf(a) or math.isinf(b):
+        return a == b
+    size = max(abs(a), abs(b), scale or 0.0)
+    return abs(a - b) <= rtol * size
+
+
+def max_relative_difference(reference: dict, current: dict) -> tuple[float, str]:
+    """Largest ``|a - b| / max(|a|, |b|, scale)`` over the float leaves, and its key."""
+    ref, cur = flatten(reference), flatten(current)
+    worst, where = 0.0, ""
+    for key in set(ref) & set(cur):
+        (a, scale), (b, _) = ref[key], cur[key]
+        if isinstance(a, str) and isinstance(b, str):
+            try:
+                a, b = float(a), float(b)
+            except ValueError:
+                continue
+        if isinstance(a, bool) or not isinstance(a, float | int) or not isinstance(b,
+                                                                                  float | int):
+            continue
+        a, b = float(a), float(b)
+        if not (math.isfinite(a) and math.isfinite(b)) or a == b:
+            continue
+        d = abs(a - b) / max(abs(a), abs(b), scale or 0.0)
+        if d > worst:
+            worst, where = d, key
+    return worst, where
+
+
+def write(section: str, numbers: dict, path: Path | None = None) -> Path:
+    """Write a section's reference: sorted keys, one value per line."""
+    path = path or path_of(section)
+    path.write_text(json.dumps(numbers, indent=1, sort_keys=True, allow_nan=True) + "\n")
+    return path
+
+
+def read(section: str, path: Path | None = None) -> dict:
+    return json.loads((path or path_of(section)).read_text())
