@@ -145,11 +145,19 @@ def compute_logs() -> dict:
 
 
 #: a number in running text: optional sign, digits, decimals, exponent; not part of a
-#: word (Z2, fig5, NN 10-10-1 stay text) except after "x" (a gain "x1.23")
-NUMBER = re.compile(r"((?:(?<![\w.])-)?(?<![A-Za-wyz_\d.])\d+(?:\.\d+)?(?:e[-+]?\d+)?)"
+#: word (Z2, fig5 stay text) or a unit's power (rad^2), except after "x" (a gain "x1.23")
+NUMBER = re.compile(r"((?:(?<![\w.])-)?(?<![A-Za-wyz_\d.^])\d+(?:\.\d+)?(?:e[-+]?\d+)?)"
                     r"(?![\dA-Za-z_])")
 #: run times in the report (not numbers of the computation)
-_TIMING = re.compile(r"(made in|done in|train|loop|took|in) -?\d+(?:\.\d+)? ?(s|ms|min)\b")
+_TIMING = re.compile(r"(made in|done in|computed in|train|loop|took|Total|in) -?\d+(?:\.\d+)? ?"
+                     r"(s|ms|min)\b")
+#: text that marks a measurement of this machine (a timing, the load, or a latency model
+#: fed by measured compute times: Figure 6's and Figure 7's latency studies); a table
+#: row or a paragraph that contains it is left out, a table whose header does entirely
+MACHINE = re.compile(r"this machine|load average|latency model|Latency model|steps/s|"
+                     r"\[s\]|At larger sizes|\*\*Latency\*\*")
+#: JSON keys holding measurements of this machine, per file
+MACHINE_KEYS = {"fig7_solar.json": ("latency", "load_average", "elapsed_s")}
 
 
 def _mask(text: str) -> str:
@@ -157,36 +165,51 @@ def _mask(text: str) -> str:
 
 
 def report_numbers(text: str) -> dict:
-    """Every number of a report (not run times), keyed by its section and context.
+    """Every number of a report (not run times or other measurements of the machine).
 
-    Key: ``"<section heading> | <up to 60 characters before> {#} <up to 20 after>"``
+    Key: ``"<section heading> | <up to 45 characters before> {#} <up to 12 after>"``
     with every other number of the context masked as ``#``; a repeated key gets
-    `` [2]``, `` [3]``, ... Value: the number as printed (a string).
+    `` [2]``, `` [3]``, ... Value: the number as printed (a string). Left out: the
+    header line (Python version, total time), ``_(... in n s)_`` lines, run times
+    (:data:`_TIMING`), and rows and paragraphs that quote a measurement of this machine
+    (:data:`MACHINE`).
     """
     out: dict[str, str] = {}
     section = "(head)"
-    for line in text.splitlines():
-        if line.startswith("#"):
-            section = _mask(line.lstrip("#").strip())
+    for para in re.split(r"\n\s*\n", text):
+        lines = para.splitlines()
+        if not lines:
             continue
-        if line.startswith("_(") or "made in" in line[:200] and line.startswith("Python"):
-            continue  # "_(Figure n made in 1.2 s.)_" and the run header
-        clean = _TIMING.sub(lambda m: m.group(1) + " <time>", line)
-        for m in NUMBER.finditer(clean):
-            before = _mask(clean[max(0, m.start() - 60):m.start()])
-            after = _mask(clean[m.end():m.end() + 20])
-            key = f"{section} | {before.lstrip()}{{#}}{after.rstrip()}"
-            k, n = key, 1
-            while k in out:
-                n += 1
-                k = f"{key} [{n}]"
-            out[k] = m.group(1)
+        table = all(ln.lstrip().startswith("|") for ln in lines)
+        if table and MACHINE.search(lines[0]):
+            continue
+        if not table and not lines[0].startswith("#") and MACHINE.search(para):
+            continue
+        for line in lines:
+            if line.startswith("#"):
+                section = _mask(line.lstrip("#").strip())[:40]
+                continue
+            if line.startswith("_(") or line.startswith("Python ") or MACHINE.search(line):
+                continue
+            clean = _TIMING.sub(lambda m: m.group(1) + " <time>", line)
+            for m in NUMBER.finditer(clean):
+                before = _mask(clean[max(0, m.start() - 45):m.start()])
+                after = _mask(clean[m.end():m.end() + 12])
+                key = f"{section} | {before.lstrip()}{{#}}{after.rstrip()}"
+                k, n = key, 1
+                while k in out:
+                    n += 1
+                    k = f"{key} [{n}]"
+                out[k] = m.group(1)
     return out
 
 
 def figure_numbers(out_dir: Path) -> dict:
     """Every JSON file of a ``--quick`` run and the numbers of its report."""
-    res = {p.name: json.loads(p.read_text()) for p in sorted(Path(out_dir).glob("*.json"))}
+    res = {}
+    for p in sorted(Path(out_dir).glob("*.json")):
+        tree = json.loads(p.read_text())
+        res[p.name] = {k: v for k, v in tree.items() if k not in MACHINE_KEYS.get(p.name, ())}
     res["report.md"] = report_numbers((Path(out_dir) / "report.md").read_text())
     return res
 
@@ -287,10 +310,22 @@ def max_relative_difference(reference: dict, current: dict) -> tuple[float, str]
     return worst, where
 
 
+def _rounded(node):
+    # 12 significant digits: a round-off of 5e-13, far below every tolerance (RTOL)
+    if isinstance(node, dict):
+        return {k: _rounded(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_rounded(v) for v in node]
+    if isinstance(node, float) and math.isfinite(node):
+        return float(f"{node:.12g}")
+    return node
+
+
 def write(section: str, numbers: dict, path: Path | None = None) -> Path:
-    """Write a section's reference: sorted keys, one value per line."""
+    """Write a section's reference: sorted keys, one value per line, 12 digits."""
     path = path or path_of(section)
-    path.write_text(json.dumps(numbers, indent=1, sort_keys=True, allow_nan=True) + "\n")
+    path.write_text(json.dumps(_rounded(numbers), indent=1, sort_keys=True, allow_nan=True)
+                    + "\n")
     return path
 
 
