@@ -153,9 +153,10 @@ _TIMING = re.compile(r"(made in|done in|computed in|train|loop|took|Total|in) -?
                      r"(s|ms|min)\b")
 #: text that marks a measurement of this machine (a timing, the load, or a latency model
 #: fed by measured compute times: Figure 6's and Figure 7's latency studies); a table
-#: row or a paragraph that contains it is left out, a table whose header does entirely
+#: row or a sentence that contains it is left out, a table whose header does entirely
 MACHINE = re.compile(r"this machine|load average|latency model|Latency model|steps/s|"
-                     r"\[s\]|At larger sizes|\*\*Latency\*\*")
+                     r"\[s\]|At larger sizes|\*\*Latency\*\*|compute\(n\)|would fill a|"
+                     r"delay step|\bus\b")
 #: JSON keys holding measurements of this machine, per file
 MACHINE_KEYS = {"fig7_solar.json": ("latency", "load_average", "elapsed_s")}
 
@@ -171,36 +172,43 @@ def report_numbers(text: str) -> dict:
     with every other number of the context masked as ``#``; a repeated key gets
     `` [2]``, `` [3]``, ... Value: the number as printed (a string). Left out: the
     header line (Python version, total time), ``_(... in n s)_`` lines, run times
-    (:data:`_TIMING`), and rows and paragraphs that quote a measurement of this machine
-    (:data:`MACHINE`).
+    (:data:`_TIMING`), and table rows and sentences that quote a measurement of this
+    machine (:data:`MACHINE`).
     """
     out: dict[str, str] = {}
     section = "(head)"
+
+    def add(text: str) -> None:
+        clean = _TIMING.sub(lambda m: m.group(1) + " <time>", text)
+        for m in NUMBER.finditer(clean):
+            before = _mask(clean[max(0, m.start() - 45):m.start()])
+            after = _mask(clean[m.end():m.end() + 12])
+            key = f"{section} | {before.lstrip()}{{#}}{after.rstrip()}"
+            k, n = key, 1
+            while k in out:
+                n += 1
+                k = f"{key} [{n}]"
+            out[k] = m.group(1)
+
     for para in re.split(r"\n\s*\n", text):
-        lines = para.splitlines()
+        lines = [ln for ln in para.splitlines() if ln.strip()]
         if not lines:
             continue
-        table = all(ln.lstrip().startswith("|") for ln in lines)
-        if table and MACHINE.search(lines[0]):
+        if lines[0].startswith("#"):
+            section = _mask(lines[0].lstrip("#").strip())[:40]
+            lines = lines[1:]
+        if not lines or lines[0].startswith("_(") or lines[0].startswith("Python "):
             continue
-        if not table and not lines[0].startswith("#") and MACHINE.search(para):
+        if all(ln.lstrip().startswith("|") for ln in lines):  # a table: row by row
+            if not MACHINE.search(lines[0]):
+                for line in lines:
+                    if not MACHINE.search(line):
+                        add(line)
             continue
-        for line in lines:
-            if line.startswith("#"):
-                section = _mask(line.lstrip("#").strip())[:40]
-                continue
-            if line.startswith("_(") or line.startswith("Python ") or MACHINE.search(line):
-                continue
-            clean = _TIMING.sub(lambda m: m.group(1) + " <time>", line)
-            for m in NUMBER.finditer(clean):
-                before = _mask(clean[max(0, m.start() - 45):m.start()])
-                after = _mask(clean[m.end():m.end() + 12])
-                key = f"{section} | {before.lstrip()}{{#}}{after.rstrip()}"
-                k, n = key, 1
-                while k in out:
-                    n += 1
-                    k = f"{key} [{n}]"
-                out[k] = m.group(1)
+        # prose: sentence by sentence (a sentence ends at ". " before a capital)
+        for sentence in re.split(r"(?<=\.)\s+(?=[A-Z*(])", " ".join(lines)):
+            if not MACHINE.search(sentence):
+                add(sentence)
     return out
 
 

@@ -9,9 +9,9 @@ References, all outside the figure and report code:
 - input series: Figure 2's "none" line against a separate ``closedloop.simulate`` of
   the run its docstring names (table1, 5x5 field, 0.2 s, seed 0), its SR peak taken
   here as ``max over directions of exp(-residual variance)`` (Marechal); Figure 1's
-  panel (a) against the shipped logs: the frame its title names is the frame of median
-  total variance (the docstring's "typical frame"), and its standard-order curve is the
-  Parseval tail sum of that frame's coefficients in waves^2;
+  panel (a) against the shipped logs: the frame its title names has the median total
+  variance (the docstring's "typical frame"), and its standard-order curve is the
+  Parseval tail sum of that frame's coefficients in waves^2 (to the pupil's sampling);
 - sentences: Figure 7's and Figure 8's report sentences recomputed with this test's own
   arithmetic from the JSON files the run wrote (``fig7_solar.json``,
   ``fig8_information_flow.json``).
@@ -94,7 +94,8 @@ def test_figure1_axes_are_modes_and_waves2(quick_run):
         assert len(axes) == 3
         for ax in axes:
             assert ax.get_xlabel() == "number of modes n"
-            assert ax.get_ylabel().endswith("[waves^2]") or "waves" in ax.get_ylabel()
+            assert ax.get_ylabel() == "fitting error $\\Delta\\Phi(n)$ [waves$^2$]"
+            assert ax.get_yscale() == "log"
             ticks = _ticks_inside(ax)
             assert min(ticks) >= 0 and max(ticks) <= 28   # 27 modes (Z2-Z28)
 
@@ -146,16 +147,22 @@ def test_figure1_panel_a_is_the_typical_frame_of_the_shipped_logs(quick_run):
                       ("kaos_closedloop.npz", "fig1_fitting_error_closedloop.png")):
         a = np.asarray(load(DATA / name).to_units("waves").coeffs, dtype=float)
         total = np.sum(a ** 2, axis=1)
-        typical = int(np.argsort(total, kind="stable")[total.size // 2])
         ax = quick_run.figures[fig].axes[0]
-        assert re.match(rf"\(a\) typical frame {typical}\b", ax.get_title()), ax.get_title()
+        title = re.match(r"\(a\) typical frame (\d+) ", ax.get_title())
+        assert title, ax.get_title()
+        frame = int(title.group(1))
+        # the frame of median total variance (the figure ranks the pupil-sampled totals,
+        # equal to these Parseval sums to the sampling error: a rank within 2 % of the
+        # median, where a frame taken at random is further with probability 0.96)
+        rank = int(np.sum(total < total[frame]))
+        assert abs(rank - total.size / 2) <= 0.02 * total.size, (name, frame, rank)
         # standard order: dPhi(n) = sum_{k > n} a_k^2 by Parseval (unit-RMS modes), to the
         # pupil's sampling error
-        line = [ln for ln in ax.get_lines() if ln.get_label() == "Zernike, standard order"][0]
+        line = [ln for ln in ax.get_lines() if ln.get_label() == "zernike:standard"][0]
         n = np.asarray(line.get_xdata(), float).astype(int)
-        tail = np.array([np.sum(a[typical, k:] ** 2) for k in n])
+        tail = np.array([np.sum(a[frame, k:] ** 2) for k in n])
         np.testing.assert_allclose(np.asarray(line.get_ydata(), float)[n < a.shape[1]],
-                                   tail[n < a.shape[1]], rtol=0.05)
+                                   tail[n < a.shape[1]], rtol=0.1)
 
 
 # ------------------------------------------------------------------ sentences from JSON
