@@ -25,12 +25,10 @@ import golden_numbers as g  # noqa: E402
 
 
 def _quick_run(out: Path) -> None:
-    from threadpoolctl import threadpool_limits
-
     from paper_figures.__main__ import main
 
     # one BLAS thread, as the test suite's quick-run fixture (tests/paper_figures/conftest.py)
-    with threadpool_limits(limits=1, user_api="blas"):
+    with g.limit_blas_threads():
         if main(["--out", str(out), "--quick"]) != 0:
             raise SystemExit("regenerate: the quick paper_figures run failed")
 
