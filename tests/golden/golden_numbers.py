@@ -161,7 +161,7 @@ _TIMING = re.compile(r"(made in|done in|computed in|train|loop|took|Total|in) -?
 #: row or a sentence that contains it is left out, a table whose header does entirely
 MACHINE = re.compile(r"this machine|load average|latency model|Latency model|steps/s|"
                      r"\[s\]|At larger sizes|\*\*Latency\*\*|compute\(n\)|would fill a|"
-                     r"delay step|\bus\b")
+                     r"delay step|step grows|step costs|frame at about|frame is reached|\bus\b")
 #: JSON keys holding measurements of this machine, per file
 MACHINE_KEYS = {"fig7_solar.json": ("latency", "load_average", "elapsed_s")}
 

@@ -59,15 +59,16 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     for section in args.only or g.SECTIONS:
         numbers = compute(section, args.quick_out)
+        before = g.read(section) if g.path_of(section).exists() else None
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)
             path = g.write(section, numbers, args.out / f"{section}.json")
         else:
             path = g.write(section, numbers)
         print(f"regenerate: wrote {path}")
-        if args.compare and g.path_of(section).exists():
-            worst, where = g.max_relative_difference(g.read(section), numbers)
-            moved = g.differences(section, g.read(section), numbers, g.RTOL[section])
+        if args.compare and before is not None:
+            worst, where = g.max_relative_difference(before, numbers)
+            moved = g.differences(section, before, numbers, g.RTOL[section])
             print(f"regenerate: {section}: largest relative difference {worst:.3g} at "
                   f"{where or '-'}; {len(moved)} numbers beyond RTOL={g.RTOL[section]:g}")
             for m in moved[:20]:
