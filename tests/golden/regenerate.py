@@ -2,8 +2,9 @@
 
 Run from the repository root. Sections: ``presets`` (a short run of every closedloop
 preset, ~1 min), ``logs`` (the shipped-log analyses, ~20 s) and ``figures`` (a
-``python -m paper_figures --quick`` run, several minutes; ``--quick-out DIR`` reads an
-existing quick run's folder instead). ``--out DIR`` writes the JSON files there instead
+``python -m paper_figures --quick`` run with one BLAS thread, several minutes;
+``--quick-out DIR`` reads an existing quick run's folder instead, which must have been
+made with one BLAS thread too: ``OPENBLAS_NUM_THREADS=1 python -m paper_figures --quick``). ``--out DIR`` writes the JSON files there instead
 of over the references in ``tests/golden/`` (to compare two machines: ``--compare``
 prints the largest relative difference of DIR's files from the references).
 
