@@ -55,15 +55,38 @@ REORDER_BUDGET = 20_000
 FORECAST_HORIZONS = (1, 2, 5, 10)
 FORECAST_MODES = 5
 
-#: relative tolerance per section. Measured (docs/TESTING.md): every golden number of a
-#: normal run and of a NUMBA_CPU_NAME=generic run with a fresh numba cache is bit-identical
-#: on this machine (presets, logs, and all 9 924 numbers of the quick run), so the bound is
-#: set by what the measurement cannot see: the stored 12 digits (<= 5e-12 relative), and
-#: another CPU's or BLAS's reassociation, whose largest trace in the project is the shipped
-#: kaos log regenerated on another machine (7.2e-15 rad on coefficients of ~0.03 rad RMS,
-#: ~3e-13 relative; data/README.md). 1e-9 is 200 times the storage round-off and 3 000
-#: times that trace, and 1e7 times smaller than a 1 % change.
-RTOL = {"presets": 1e-9, "logs": 1e-9, "figures": 1e-9}
+#: relative tolerance per section, and of the numbers that rest on a trained neural net.
+#: Measured (docs/TESTING.md, "Golden numbers"): against NUMBA_CPU_NAME=generic with a
+#: fresh numba cache every golden number is bit-identical; against OpenBLAS's Sandybridge
+#: kernels (OPENBLAS_CORETYPE=Sandybridge, as another CPU would pick) plus generic numba,
+#: every number that does not rest on a trained NN moves by at most 4.5e-9 relative
+#: (Figure 5's ARMA-with-AIC skill statistic), so RTOL = 1e-6 (200 times that, 1e4 times
+#: below a 1 % change). The NN numbers (the paper's NN and the 2000-pattern NN: L-BFGS on
+#: a few hundred weights amplifies BLAS round-off) moved by up to 0.76 % there (Figure 5's
+#: NN RMSE) and by 6 % (Figure 3's NN band ratio 0.51 -> 0.48) between 1 and 2 BLAS
+#: threads: they are pinned at RTOL_NN = 0.2, 3 times the largest move, and a 1 % change
+#: of an NN number is not visible to a cross-CPU golden (their law tests are elsewhere).
+RTOL = {"presets": 1e-6, "logs": 1e-6, "figures": 1e-6}
+RTOL_NN = 0.2
+#: a report row or sentence that quotes a neural net's number
+_NN_TEXT = re.compile(r"\bNN\b|nn-paper|neural net")
+#: a key of a figure JSON file that holds a neural net's number: Figure 5's rows of the
+#: NN predictors, Figure 7's NN runs
+_NN_KEY = re.compile(r"nn-paper|/nn/|/nn$")
+
+
+def is_nn(key: str, reference: dict) -> bool:
+    """Whether the golden number ``key`` rests on a trained neural net (:data:`RTOL_NN`)."""
+    if key.startswith("report.md/"):
+        return key.startswith("report.md/[NN] ")
+    if _NN_KEY.search(key):
+        return True
+    m = re.match(r"(fig5_forecast[^/]*\.json)/(\w+)\[(\d+)\]", key)
+    if m and m.group(2) not in ("names", "horizons", "labels", "baseline"):
+        names = reference.get(m.group(1), {}).get("names", [])
+        i = int(m.group(3))
+        return i < len(names) and names[i].startswith("NN ")
+    return False
 
 REGENERATE = ("python tests/golden/regenerate.py --only {section} (docs/TESTING.md, "
               "'Golden numbers'); commit the regenerated reference with the change that "
@@ -186,11 +209,12 @@ def report_numbers(text: str) -> dict:
     def add(text: str) -> None:
         # a file path as its name only: the keys must not depend on the checkout's place
         text = re.sub(r"`[^`\s]*/([^/`\s]+)`", r"`\1`", text)
+        tag = "[NN] " if _NN_TEXT.search(text) else ""
         clean = _TIMING.sub(lambda m: m.group(1) + " <time>", text)
         for m in NUMBER.finditer(clean):
             before = _mask(clean[max(0, m.start() - 45):m.start()])
             after = _mask(clean[m.end():m.end() + 12])
-            key = f"{section} | {before.lstrip()}{{#}}{after.rstrip()}"
+            key = f"{tag}{section} | {before.lstrip()}{{#}}{after.rstrip()}"
             k, n = key, 1
             while k in out:
                 n += 1
@@ -285,7 +309,10 @@ def _printed_unit(text: str) -> float | None:
 
 
 def differences(section: str, reference: dict, current: dict, rtol: float) -> list[str]:
-    """Messages naming every number that moved beyond ``rtol`` (empty: all agree)."""
+    """Messages naming every number that moved beyond its tolerance (empty: all agree).
+
+    ``rtol``, or :data:`RTOL_NN` for a number that rests on a trained NN (:func:`is_nn`).
+    """
     ref, cur = flatten(reference), flatten(current)
     msgs = []
     for key in sorted(set(ref) - set(cur)):
@@ -294,8 +321,9 @@ def differences(section: str, reference: dict, current: dict, rtol: float) -> li
         msgs.append(f"{key}: produced ({cur[key][0]!r}) but not in the reference")
     for key in sorted(set(ref) & set(cur)):
         (a, scale), (b, _) = ref[key], cur[key]
-        if not agree(a, b, rtol, scale, printed="report.md/" in key):
-            msgs.append(f"{key}: {a!r} -> {b!r}")
+        tol = max(rtol, RTOL_NN) if is_nn(key, reference) else rtol
+        if not agree(a, b, tol, scale, printed=key.startswith("report.md/")):
+            msgs.append(f"{key}: {a!r} -> {b!r}" + (" (an NN number)" if tol != rtol else ""))
     return msgs
 
 

@@ -4,9 +4,10 @@ Run from the repository root. Sections: ``presets`` (a short run of every closed
 preset, ~1 min), ``logs`` (the shipped-log analyses, ~20 s) and ``figures`` (a
 ``python -m paper_figures --quick`` run with one BLAS thread, several minutes;
 ``--quick-out DIR`` reads an existing quick run's folder instead, which must have been
-made with one BLAS thread too: ``OPENBLAS_NUM_THREADS=1 python -m paper_figures --quick``). ``--out DIR`` writes the JSON files there instead
-of over the references in ``tests/golden/`` (to compare two machines: ``--compare``
-prints the largest relative difference of DIR's files from the references).
+made with one BLAS thread too: ``OPENBLAS_NUM_THREADS=1 python -m paper_figures
+--quick``). ``--out DIR`` writes the JSON files there instead of over the references in
+``tests/golden/``; ``--compare`` prints the largest relative difference from the
+references and the numbers beyond the tolerance (to compare two machines).
 
 A regenerated reference goes in the same commit as the change that moved it, with the
 reason in the commit message (docs/TESTING.md, "Golden numbers").
