@@ -221,6 +221,23 @@ def report_numbers(text: str) -> dict:
                 k = f"{key} [{n}]"
             out[k] = m.group(1)
 
+    def add_row(line: str) -> None:
+        # a table row: keyed by its first two cells and the column, so that rows whose
+        # cells look alike (a predictor table) keep their own keys
+        line = re.sub(r"`[^`\s]*/([^/`\s]+)`", r"`\1`", line)
+        tag = "[NN] " if _NN_TEXT.search(line) else ""
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        label = " / ".join(_mask(c)[:50] for c in cells[:2])
+        for j, cell in enumerate(cells):
+            clean = _TIMING.sub(lambda m: m.group(1) + " <time>", cell)
+            for i, m in enumerate(NUMBER.finditer(clean)):
+                key = f"{tag}{section} | row {label} | col {j} #{i}"
+                k, n = key, 1
+                while k in out:
+                    n += 1
+                    k = f"{key} [{n}]"
+                out[k] = m.group(1)
+
     for para in re.split(r"\n\s*\n", text):
         lines = [ln for ln in para.splitlines() if ln.strip()]
         if not lines:
@@ -234,7 +251,7 @@ def report_numbers(text: str) -> dict:
             if not MACHINE.search(lines[0]):
                 for line in lines:
                     if not MACHINE.search(line):
-                        add(line)
+                        add_row(line)
             continue
         # prose: sentence by sentence (a sentence ends at ". " before a capital)
         for sentence in re.split(r"(?<=\.)\s+(?=[A-Z*(])", " ".join(lines)):
