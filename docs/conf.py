@@ -29,7 +29,7 @@ extensions = [
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "MUTATION.md", "TESTING.md"]
+exclude_patterns = ["_build", "MUTATION.md"]
 html_theme = "alabaster"
 html_static_path: list[str] = []
 templates_path = ["_templates"]

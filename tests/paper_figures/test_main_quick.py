@@ -23,25 +23,15 @@ import numpy as np
 import pytest
 
 from paper_figures import FIGURES
-from paper_figures.__main__ import main
 
 STEMS = ("fig1_fitting_error", "fig2_sr_peak", "fig3_sr_spectrum", "fig4_sr_maps",
          "fig5_forecast", "fig6_compression")
 
 
 @pytest.fixture(scope="module")
-def out(tmp_path_factory):
-    from threadpoolctl import threadpool_limits  # scikit-learn's dependency
-
-    path = tmp_path_factory.mktemp("quick")
-    # one BLAS thread: under `pytest -n auto` every core already runs a worker, and
-    # OpenBLAS threads that wait for a busy core spin. Measured on 2 loaded cores
-    # (2026-11-26): the whole run 167 s of CPU with OpenBLAS's default threads, 105 s
-    # with one (Figure 1 49 -> 16 s, the closed-loop runs 69 -> 40 s). The tests read
-    # the run's own outputs, so they hold for either.
-    with threadpool_limits(limits=1, user_api="blas"):
-        assert main(["--out", str(path), "--quick"]) == 0
-    return path
+def out(quick_run):
+    # the session's one quick run (tests/paper_figures/conftest.py)
+    return quick_run.out
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,105 @@
+"""Golden numbers of the closedloop presets and the shipped-log analyses.
+
+Reference: the committed values in ``tests/golden/presets.json`` and
+``tests/golden/logs.json`` (what the project publishes at seed 0, written by
+``python tests/golden/regenerate.py [--only presets|logs]``), not the code's own
+intermediates. The figures' JSON files and the report's numbers are compared in
+``tests/paper_figures/test_golden_figures.py`` (they share the session's quick run).
+Tolerance: ``golden_numbers.RTOL`` (1e-6), derived from the largest relative difference
+measured between a normal run and one under ``NUMBA_CPU_NAME=generic`` with a fresh numba
+cache and OpenBLAS's Sandybridge kernels (4.5e-9; docs/TESTING.md, "Golden numbers");
+strings, orders and frame counts exactly.
+
+A failure names every number that moved, from what to what. If the change is intended,
+regenerate the section (``python tests/golden/regenerate.py --only SECTION``) and
+commit the new reference in the same commit as the change, with the reason in the
+message.
+
+Cost: the presets ~40-50 s of CPU (5 runs of 40 frames with budget probes), the logs
+~5 s; both are marked ``reproducibility`` so that CI's ``NUMBA_CPU_NAME=generic`` step
+runs them.
+"""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+_SPEC = importlib.util.spec_from_file_location(
+    "golden_numbers", Path(__file__).resolve().parent / "golden" / "golden_numbers.py")
+g = sys.modules.get("golden_numbers") or importlib.util.module_from_spec(_SPEC)
+if "golden_numbers" not in sys.modules:
+    sys.modules["golden_numbers"] = g
+    _SPEC.loader.exec_module(g)
+
+
+def check_section(section: str, current: dict) -> None:
+    """Fail with every moved number of ``section`` and how to regenerate it."""
+    moved = g.differences(section, g.read(section), current, g.RTOL[section])
+    if moved:
+        shown = "\n  ".join(moved[:40]) + ("\n  ..." if len(moved) > 40 else "")
+        pytest.fail(f"{len(moved)} golden number(s) of {g.path_of(section).name} moved "
+                    f"(relative tolerance {g.RTOL[section]:g}):\n  {shown}\nIf the change "
+                    f"is intended: {g.REGENERATE.format(section=section)}.", pytrace=False)
+
+
+@pytest.mark.reproducibility
+@pytest.mark.parametrize("name", sorted(g.read("presets")))
+def test_preset_headline_numbers(name):
+    from closedloop import presets
+
+    assert sorted(g.read("presets")) == sorted(presets.names()), \
+        "a preset was added or removed: regenerate the presets section"
+    check_section("presets", {name: g.preset_numbers(name)}
+                  | {k: v for k, v in g.read("presets").items() if k != name})
+
+
+@pytest.mark.reproducibility
+@pytest.mark.parametrize("name", sorted(g.read("logs")))
+def test_shipped_log_analyses(name):
+    assert sorted(g.read("logs")) == sorted(p.name for p in g.DATA.glob("*.npz")), \
+        "a shipped log was added or removed: regenerate the logs section"
+    check_section("logs", {name: g.log_numbers(g.DATA / name)}
+                  | {k: v for k, v in g.read("logs").items() if k != name})
+
+
+# ------------------------------------------------------------------- the comparison itself
+def test_comparison_catches_a_one_percent_change_and_names_it():
+    ref = {"run": {"sr": 0.41234, "order": [3, 1, 2], "status": "closed",
+                   "terms": [1.0, 1e-12]}}
+    same = {"run": {"sr": 0.41234 * (1 + 0.1 * g.RTOL["presets"]), "order": [3, 1, 2],
+                    "status": "closed", "terms": [1.0, 1e-12 + 1e-13]}}
+    assert g.differences("presets", ref, same, g.RTOL["presets"]) == []
+    moved = {"run": {"sr": 0.41234 * 1.01, "order": [3, 2, 1], "status": "closed",
+                     "terms": [1.0, 1e-12]}}
+    msgs = g.differences("presets", ref, moved, g.RTOL["presets"])
+    assert msgs == ["run/order[1]: 1 -> 2", "run/order[2]: 2 -> 1",
+                    f"run/sr: 0.41234 -> {0.41234 * 1.01!r}"]
+
+
+def test_only_neural_net_numbers_get_the_nn_tolerance():
+    ref = {"fig5_forecast.json": {"names": ["persistence", "NN paper (10 patterns)"],
+                                  "gain": [[1.0, 1.0], [1.2, 1.1]]},
+           "report.md": {"[NN] Figure # | row NN / # | col 1 #0": "0.2388",
+                         "Figure # | row ARMA / # | col 1 #0": "0.2388"}}
+    cur = {"fig5_forecast.json": {"names": ["persistence", "NN paper (10 patterns)"],
+                                  "gain": [[1.0, 1.01], [1.2 * 1.05, 1.1]]},
+           "report.md": {"[NN] Figure # | row NN / # | col 1 #0": "0.2406",
+                         "Figure # | row ARMA / # | col 1 #0": "0.2406"}}
+    msgs = g.differences("figures", ref, cur, g.RTOL["figures"])
+    # the NN row's 5 % passes at RTOL_NN; persistence's 1 % and the ARMA cell do not
+    assert msgs == ["fig5_forecast.json/gain[0][1]: 1.0 -> 1.01",
+                    "report.md/Figure # | row ARMA / # | col 1 #0: '0.2388' -> '0.2406'"]
+
+
+def test_printed_numbers_allow_one_unit_of_their_last_digit_only():
+    rtol = g.RTOL["figures"]
+    assert g.agree("0.412", "0.413", rtol, printed=True)       # a rounding-boundary flip
+    assert not g.agree("0.412", "0.414", rtol, printed=True)
+    assert not g.agree("0.4123", "0.4165", rtol, printed=True)  # 1 %
+    assert not g.agree("7", "8", rtol, printed=True)            # counts exactly
+    found = g.report_numbers("## Figure 2: a\n\nSR x1.23 in 2-3 ms (Z2, made in 4.5 s)\n")
+    # the gain and the range's ends; not Z2's index, not the run time
+    assert sorted(found.values()) == ["1.23", "2", "3"]
+    assert all(k.startswith("Figure #: a | SR x") and k.count("{#}") == 1 for k in found)
