@@ -3,7 +3,7 @@
 Estimators: ``"kde"`` (Gaussian kernel following the data covariance, FFT on a
 grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 2004)
 and ``"gaussian"`` (-0.5 ln(1 - r^2)), each rank-based by default (normal scores or
-equiprobable bins, ``modalinfo.information.copula``), all behind :func:`mutual_information`,
+equiprobable bins, :func:`copula_scores`), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`; bootstrap confidence
 intervals and permutation tests for autocorrelated telemetry in
 ``modalinfo.information.uncertainty``. Conditional MI and transfer entropy of
@@ -22,12 +22,15 @@ from modalinfo.information.api import (
 )
 from modalinfo.information.conditional import (
     CMI_METHODS,
+    BiasRuleWarning,
+    bias_rule,
     conditional_mutual_information,
     conditional_mutual_information_ci,
     conditional_mutual_information_test,
     transfer_entropy,
     transfer_entropy_variables,
 )
+from modalinfo.information.copula import copula_scores
 from modalinfo.information.flow import TransferEntropyMap, transfer_entropy_map
 from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.uncertainty import (
@@ -39,6 +42,7 @@ from modalinfo.information.uncertainty import (
 )
 
 __all__ = [
+    "BiasRuleWarning",
     "CMI_METHODS",
     "METHODS",
     "InputSelection",
@@ -48,9 +52,11 @@ __all__ = [
     "MIConfidenceResult",
     "MIPermutationResult",
     "MutualInformation",
+    "bias_rule",
     "conditional_mutual_information",
     "conditional_mutual_information_ci",
     "conditional_mutual_information_test",
+    "copula_scores",
     "entropy",
     "mutual_information",
     "mutual_information_ci",

@@ -73,7 +73,7 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
     method : {"kde", "histogram", "ksg", "gaussian"}
         Estimator. Every default is rank-based: MI is unchanged by a monotone map of
         each variable (Kraskov et al. 2004), so each estimator works on the ranks
-        (normal scores Phi^-1(rank / (n + 1)), :mod:`modalinfo.information.copula`, or
+        (normal scores Phi^-1(rank / (n + 1)), :func:`~modalinfo.information.copula_scores`, or
         equiprobable bins) and one glitch or a heavy tail moves the estimate by about
         its share of the sample (one sample at 1e6 in a rho = 0.6 pair of 20,000:
         every method within 0.02 nats of 0.223; before, -0.69 kde, 0.0003 histogram,

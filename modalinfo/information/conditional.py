@@ -393,9 +393,9 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     """Return why ``method`` is biased beyond use for n samples in d columns, or None.
 
     The rule of the module notes ("Bias rule"): ``"histogram"`` needs ``n >= k^d``
-    (:data:`MIN_COUNT_PER_CELL` sample per joint cell) and ``k >= 4`` bins per axis
-    (:data:`MIN_BINS`); ``"ksg"`` needs ``(k / n)^(1 / d) <= 0.4``
-    (:data:`KSG_MAX_BALL`). ``"kde"`` and ``"gaussian"`` have no rule here.
+    (``MIN_COUNT_PER_CELL`` sample per joint cell) and ``k >= 4`` bins per axis
+    (``MIN_BINS``); ``"ksg"`` needs ``(k / n)^(1 / d) <= 0.4``
+    (``KSG_MAX_BALL``). ``"kde"`` and ``"gaussian"`` have no rule here.
 
     Parameters
     ----------

@@ -70,17 +70,28 @@ def test_ksg_and_gaussian_defaults_recover_the_exact_mi(tasks, name, method):
     assert abs(mean - task.truth) <= tol, (name, method, mean, task.truth, tol)
 
 
-ISSUE_27 = pytest.mark.xfail(
-    strict=False,
-    reason="issue 27: the kde/histogram defaults are being made rank-invariant on branch "
-           "robust; at n = 1e4 they currently miss these tasks (benchmarks/RESULTS.md, "
-           "'MI accuracy (Beyond Normal tasks)')")
+# issue 27's target (within 0.05 nats or 10 % at n = 1e4). The rank-based defaults meet it
+# on one glitch and on Student-t df 1 with kde; the histogram on Student-t df 1 and both
+# on the Cauchy pair still miss it (benchmarks/RESULTS.md, 'MI accuracy (Beyond Normal
+# tasks)': the rank-transformed ridge is narrower than the kernel / the bins resolve).
+ISSUE_27_OPEN = pytest.mark.xfail(
+    strict=False, reason="issue 27 (open): rank-based kde/histogram miss heavy-tail tasks "
+                         "by 0.09-0.19 nats at n = 1e4")
 
 
-@ISSUE_27
-@pytest.mark.parametrize("method", ["kde", "histogram"])
-@pytest.mark.parametrize("name", ["student-1x1-df1", "glitch-1", "cauchy-additive"])
+@pytest.mark.parametrize("name, method", [("glitch-1", "kde"), ("glitch-1", "histogram"),
+                                          ("student-1x1-df1", "kde")])
 def test_kde_and_histogram_defaults_meet_the_issue_target(tasks, name, method):
+    task = tasks[name]
+    value = float(np.median([estimate(task, method, s) for s in SEEDS]))
+    assert abs(value - task.truth) <= max(0.05, 0.1 * task.truth)
+
+
+@ISSUE_27_OPEN
+@pytest.mark.parametrize("name, method", [("student-1x1-df1", "histogram"),
+                                          ("cauchy-additive", "kde"),
+                                          ("cauchy-additive", "histogram")])
+def test_kde_and_histogram_heavy_tail_misses(tasks, name, method):
     task = tasks[name]
     value = float(np.median([estimate(task, method, s) for s in SEEDS]))
     assert abs(value - task.truth) <= max(0.05, 0.1 * task.truth)
