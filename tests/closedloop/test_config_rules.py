@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from closedloop.config import (
+    ARCSEC,
     FULL_WELL,
     DMConfig,
     FieldConfig,
@@ -28,9 +29,12 @@ from closedloop.config import (
     SimulationConfig,
     TelescopeConfig,
     WFSConfig,
+    airmass,
     config_text,
+    dm_disc_diameter,
     load_config,
     save_config,
+    wfs_meta_pupil,
 )
 from modalinfo.servo import MAX_DELAY_FRAMES
 
@@ -80,6 +84,9 @@ RULES = [
     ("layers[0].wind_speed", [0.0], [-0.1], None),
     ("layers[0].wind_direction", [-370.0, 0.0, 370.0], [math.inf], None),
     ("layers[0].outer_scale", [1e-3, math.inf], [0.0], None),
+    ("dms[0].altitude", [0.0], [-1.0], None),
+    ("wfss[0].altitude", [0.0], [-1.0], None),
+    ("wfss[0].dm", [0], [-1], None),
     ("dms[0].n_modes", [1, 2, 14], [0], None),  # 14: Z15, radial order 4 = 8 px / 2
     ("dms[0].diameter", [0.5], [0.0], None),
     ("wfss[0].field_of_view", [0.0], [-1.0], None),
@@ -266,3 +273,44 @@ def test_missing_and_unknown_keys_are_named():
     with pytest.raises(ValueError, match=r"^unknown key `field\.aa` in the config; allowed "
                        "keys there: n_points, size"):
         SimulationConfig.from_dict(d)
+
+
+def test_meta_pupils_follow_the_documented_geometry():
+    # D + 2 h sec(z) tan(fov / 2): 60 deg from the zenith (sec z = 2), a DM at 10 km
+    # sensed over 60"; an explicit diameter wins; the ground is the pupil
+    c = SimulationConfig(
+        telescope=TelescopeConfig(diameter=1.0, n_pixels=8, zenith_angle=60.0),
+        layers=BASE.layers,
+        dms=(DMConfig(altitude=0.0, n_modes=2), DMConfig(altitude=10_000.0, n_modes=2),
+             DMConfig(altitude=5_000.0, n_modes=2, diameter=1.5)),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=60.0, n_subapertures=2, dm=0),
+              WFSConfig(altitude=10_000.0, field_of_view=60.0, n_subapertures=2, dm=1),
+              WFSConfig(altitude=5_000.0, field_of_view=20.0, n_subapertures=2, dm=2)),
+        field=BASE.field)
+    arcsec = math.pi / 180 / 3600
+    assert ARCSEC == arcsec
+    assert airmass(c) == pytest.approx(2.0, rel=1e-12)
+    assert wfs_meta_pupil(c, 0) == dm_disc_diameter(c, 0) == 1.0
+    expected = 1.0 + 2 * 10_000.0 * 2.0 * math.tan(30.0 * arcsec)
+    assert wfs_meta_pupil(c, 1) == pytest.approx(expected, rel=1e-12)
+    assert dm_disc_diameter(c, 1) == pytest.approx(expected, rel=1e-12)
+    assert dm_disc_diameter(c, 2) == 1.5
+    assert wfs_meta_pupil(c, 2) == pytest.approx(1.0 + 2 * 5_000.0 * 2.0 * math.tan(
+        10.0 * arcsec), rel=1e-12)
+
+
+def test_sampling_rules_skip_only_zonal_mirrors_and_ideal_sensors():
+    # an ideal (zonal) DM and an ideal WFS first must not end the checks of the others
+    dms = (DMConfig(altitude=0.0, kind="ideal", n_modes=500), DMConfig(altitude=0.0,
+                                                                       n_modes=15))
+    wfss = (WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", n_subapertures=50),
+            WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=2, dm=1))
+    with pytest.raises(ValueError, match=r"^`dms\[1\]\.n_modes` must be <= 14"):
+        BASE.replace(dms=dms, wfss=(dataclasses.replace(wfss[0], dm=0), wfss[1]))
+    dms = (dms[0], dataclasses.replace(dms[1], n_modes=2))
+    ok = BASE.replace(dms=dms, wfss=wfss)
+    assert ok.dms[0].n_modes == 500 and ok.wfss[0].n_subapertures == 50
+    for kind, extra in (("shack_hartmann", {}), ("correlating", {"field_of_view": 4.0})):
+        bad = dataclasses.replace(wfss[1], n_subapertures=5, kind=kind, **extra)
+        with pytest.raises(ValueError, match=r"^`wfss\[1\]\.n_subapertures` must be <= 4"):
+            BASE.replace(dms=dms, wfss=(wfss[0], bad))
