@@ -85,7 +85,7 @@ RULES = [
     ("layers[0].wind_direction", [-370.0, 0.0, 370.0], [math.inf], None),
     ("layers[0].outer_scale", [1e-3, math.inf], [0.0], None),
     ("dms[0].altitude", [0.0], [-1.0], None),
-    ("wfss[0].altitude", [0.0], [-1.0], None),
+    ("wfss[0].altitude", [0.0, 1e-6], [-1.0, 2e-6], None),  # its DM's altitude, to 1e-6 m
     ("wfss[0].dm", [0], [-1], None),
     ("dms[0].n_modes", [1, 2, 14], [0], None),  # 14: Z15, radial order 4 = 8 px / 2
     ("dms[0].diameter", [0.5], [0.0], None),
@@ -99,13 +99,13 @@ RULES = [
     ("wfss[0].field_of_view", [4.0], [3.99], CORRELATING),  # >= 8 pixels of 0.5"
     ("loop.time_step", [1e-3], [0.0], None),
     ("loop.integration_time", [1e-3, 1e-4], [0.0, 1.001e-3], None),
-    ("loop.delay", [0.0, MAX_DELAY_FRAMES * 1e-3], [-1e-4, (MAX_DELAY_FRAMES + 1) * 1e-3],
-     None),
+    ("loop.delay", [0.0, MAX_DELAY_FRAMES * 1e-3, MAX_DELAY_FRAMES * 1e-3 * (1 + 1e-12)],
+     [-1e-4, (MAX_DELAY_FRAMES + 1) * 1e-3], None),
     ("loop.gain", [1e-3], [0.0], None),
     ("loop.leak", [0.0, 0.999], [-0.01, 0.9991], None),
     ("loop.model_error", [0.0], [-0.1], None),
     ("field.size", [0.0], [-1.0], None),
-    ("field.n_points", [1, 3], [0, 2], None),
+    ("field.n_points", [1, 3], [0, 2, -1], None),
     ("wavelength", [1e-3, 1e-9], [0.0, 1.001e-3], None),
     ("r0_wavelength", [1e-3, 1e-9], [0.0, 1.001e-3], None),
     ("seed", [0, 7], [-1], None),
@@ -314,3 +314,45 @@ def test_sampling_rules_skip_only_zonal_mirrors_and_ideal_sensors():
         bad = dataclasses.replace(wfss[1], n_subapertures=5, kind=kind, **extra)
         with pytest.raises(ValueError, match=r"^`wfss\[1\]\.n_subapertures` must be <= 4"):
             BASE.replace(dms=dms, wfss=(wfss[0], bad))
+
+
+@pytest.mark.parametrize("key,value,message", [
+    ("wfss[0].image_formation", 0, "a bool (false: linear sensor, true: images formed and "
+     "correlated every frame); got 0."),
+    ("loop.closed", 1, "a bool (true: closed loop, false: open loop); got 1."),
+    ("name", 3, "a string; got 3."),
+    ("loop.delay", 1.001, "<= 1000 frames (loop.time_step = 0.001 s: at most 1 s; the stable "
+     "gain there is below 2e-3, no AO loop); got 1.001."),
+    ("field.n_points", 2, "odd (the optical axis is on the grid); got 2."),
+    ("wfss[0].dm", 1, None),
+])
+def test_whole_messages(key, value, message):
+    with pytest.raises((TypeError, ValueError)) as info:
+        SimulationConfig.from_dict(_with(key, value))
+    if message is None:  # the cross rule names every WFS's DM
+        message = "each DM index 0..0 exactly once; got [1]."
+        key = "wfss[*].dm"
+    assert str(info.value) == f"`{key}` must be {message}"
+
+
+def test_whole_messages_of_correlating_sensors_and_sections():
+    cases = [
+        (_with("wfss[0].noise", 0.005, CORRELATING), "`wfss[0].noise` must be 0 for kind "
+         "'correlating' (its noise follows from its photon budget: set `signal` and "
+         "`contrast`); got 0.005."),
+        (_with("wfss[0].field_of_view", 3.5, CORRELATING), "`wfss[0].field_of_view` must be "
+         ">= 8 detector pixels of pixel_scale = 0.5\" for kind 'correlating' (a subaperture "
+         "image to correlate); got 3.5."),
+    ]
+    for d, message in cases:
+        with pytest.raises(ValueError) as info:
+            SimulationConfig.from_dict(d)
+        assert str(info.value) == message
+    for kwargs, message in (
+            ({"telescope": {}}, "`telescope` must be a TelescopeConfig; got 'dict'."),
+            ({"dms": {}}, "`dms` must be a list of DMConfig; got 'dict'."),
+            ({"dms": ()}, "`dms` must be a non-empty list; got ()."),
+    ):
+        with pytest.raises((TypeError, ValueError)) as info:
+            BASE.replace(**kwargs)
+        assert str(info.value) == message
