@@ -309,3 +309,142 @@ def test_damage_is_refused_and_foreign_files_named(tmp_path):
     with pytest.raises(ValueError, match="other.h5: not a closedloop result "
                        r"\(no format='closedloop-result'\)"):
         SimulationResult.load(tmp_path / "other.h5")
+
+
+def test_default_start_is_the_closure_and_summary_of_a_diverged_run():
+    v = _step(dips=(24,))
+    r = _result(v)
+    np.testing.assert_allclose(r.strehl_map(), np.exp(-v[25:]).mean() * np.ones((3, 3)),
+                               rtol=1e-12)
+    np.testing.assert_allclose(r.strehl_map(after_closure=False, start=4),
+                               np.exp(-v[4:]).mean() * np.ones((3, 3)), rtol=1e-12)
+    # diverged: the numbers of the second half, each direction its own scale
+    base = np.concatenate([[2.0], np.full(20, 0.1), np.full(79, 0.9)])
+    scale = np.linspace(0.5, 2.0, 9)
+    r = _result(base[:, None] * scale[None, :])
+    s = r.summary()
+    assert s["diverged"] and not s["closed"] and math.isnan(s["closure_time_s"])
+    assert r.closure_index == 1
+    assert s["strehl_peak_mean"] == pytest.approx(math.exp(-0.45), rel=1e-12)
+    assert s["strehl_field_mean"] == pytest.approx(np.exp(-0.9 * scale).mean(), rel=1e-12)
+    fov = s["corrected_fov_diameter_arcmin"]
+    assert fov == r.corrected_fov_diameter(start=50) != r.corrected_fov_diameter(start=1)
+
+
+def test_corrected_field_weights_on_the_grid_nodes():
+    # refine=1: the 3x3 nodes themselves, each owning a 30" cell; edge nodes half of it
+    # along the edge's normal, corners a quarter (trapezoid weights)
+    cell = 30.0 ** 2
+    for column, owned in ((1, 2.0), (0, 1.0), (2, 1.0)):  # centre column: 1/2 + 1 + 1/2
+        sr = np.full((3, 3), 0.1)
+        sr[:, column] = 0.9
+        r = _result(np.tile(-np.log(sr).ravel(), (12, 1)))
+        expected = 2 * math.sqrt(owned * cell / math.pi) / 60.0
+        assert r.corrected_fov_diameter(0.3, refine=1, start=0) == pytest.approx(expected,
+                                                                                 rel=1e-12)
+    sr = np.full((3, 3), 0.1)
+    sr[1, 1] = 0.9
+    r = _result(np.tile(-np.log(sr).ravel(), (12, 1)))
+    assert r.corrected_fov_diameter(0.3, refine=1, start=0) == pytest.approx(
+        2 * math.sqrt(cell / math.pi) / 60.0, rel=1e-12)
+    # the documented default refinement is 16
+    assert r.corrected_fov_diameter(start=0) == r.corrected_fov_diameter(refine=16, start=0)
+    # the map averaged from `start`: bright first half, dark second half
+    v = np.vstack([np.full((6, 9), 0.05), np.full((6, 9), 3.0)])
+    two = _result(v)
+    assert two.corrected_fov_diameter(start=6) == 0.0
+    assert two.corrected_fov_diameter(start=0) > 1.0
+
+
+def test_spectrum_starts_at_start():
+    r = _result(_step(n=100, k0=10))
+    assert r.strehl_peak_spectrum(start=50)[0].size == 26  # 50 samples: 26 frequencies
+    assert r.strehl_peak_spectrum()[0].size == 46  # from the closure, frame 10: 90 samples
+
+
+def test_a_step_at_mid_run_closes_there_and_an_odd_run_is_checked_at_its_middle():
+    r = _result(_step(k0=100))
+    assert r.closure_index == 100 and r.loop_status == "closed"
+    # 201 frames, step at 121: the fallback frame 100 is before it, no steady state
+    r = _result(_step(n=201, k0=121))
+    assert r.closure_index == 100
+    assert r.loop_status == ("did not close: the SR peak reaches no steady state in the "
+                             "first half of the run")
+
+
+def _format_1(path, result):
+    """Rewrite a saved result in the format-1 layout (bare log datasets, JSON attributes)."""
+    import json
+
+    with h5py.File(path, "r+") as f:
+        del f.attrs["sha256"]
+        f.attrs["format_version"] = 1
+        del f["logs"]
+        g = f.create_group("logs")
+        for name, log in result.logs.items():
+            d = g.create_dataset(name, data=np.asarray(log.coeffs))
+            d.attrs["modes"] = json.dumps(list(log.modes))
+            d.attrs["metadata"] = json.dumps(log.metadata)
+            d.attrs["rate"] = log.rate
+            d.attrs["start_time"] = float(log.times[0])
+            d.attrs["wavelength"] = log.wavelength
+
+
+def test_old_files_load_with_a_warning_pointing_at_the_caller(tmp_path):
+    r = _full_result()
+    path = r.save(tmp_path / "old.h5")
+    _format_1(path, r)
+    with pytest.warns(UncheckedResultWarning) as caught:
+        back = SimulationResult.load(path)
+    assert str(caught[0].message) == (
+        f"{path}: a format-1 closedloop result, written before results carried checksums: "
+        "its datasets are not verified (saving it again adds them)")
+    assert caught[0].filename == __file__
+    for name, log in r.logs.items():
+        got = back.logs[name]
+        np.testing.assert_array_equal(got.coeffs, log.coeffs)
+        assert (got.modes, got.rate, got.wavelength, got.metadata, got.units) == (
+            log.modes, 1e3, 500e-9, log.metadata, "rad")
+        assert got.convention == "noll" and got.times[0] == T
+    # the oldest files: no format_version, no measurements
+    with h5py.File(path, "r+") as f:
+        del f.attrs["format_version"], f["measurements"]
+    with pytest.warns(UncheckedResultWarning, match="a format-1 closedloop result"):
+        assert SimulationResult.load(path).measurements == []
+
+
+def test_log_coefficients_are_checked_by_their_own_header(tmp_path):
+    r = _full_result()
+    logs = dict(r.logs)
+    logs["dm0.timed"] = ModalLog(np.ones((40, 2)), timestamps=np.arange(40) * T + T,
+                                 modes=[2, 3], wavelength=500e-9)
+    path = _result(_step(n=40, k0=5), r.config, logs=logs).save(tmp_path / "r.h5")
+    good = path.read_bytes()
+    for name in ("logs/dm0.pol/coefficients", "logs/dm0.timed/timestamps"):
+        path.write_bytes(good)
+        with h5py.File(path, "r+") as f:
+            f[name][0] = f[name][0] + 1
+        what = name.rsplit("/", 1)[1]
+        with pytest.raises(ValueError, match=rf"^corrupt HDF5 file '{path}': {what} do not "
+                           "match their SHA-256 checksum$"):
+            SimulationResult.load(path)
+
+
+def test_whole_messages_singular_and_plural(tmp_path):
+    path = _full_result().save(tmp_path / "r.h5")
+    good = path.read_bytes()
+    head = f"corrupt closedloop result '{path}': "
+    cases = [
+        (lambda f: f["times"].__setitem__(0, 5.0) or f["directions"].__setitem__(0, 5.0),
+         "datasets 'directions', 'times' do not match their SHA-256 checksums"),
+        (lambda f: f.__delitem__("times"), "dataset 'times' is missing"),
+        (lambda f: f.create_dataset("x", data=[1.0]),
+         "dataset 'x' was added after the file was written (no checksum)"),
+    ]
+    for damage, message in cases:
+        path.write_bytes(good)
+        with h5py.File(path, "r+") as f:
+            damage(f)
+        with pytest.raises(ValueError) as info:
+            SimulationResult.load(path)
+        assert str(info.value) == head + message
