@@ -257,33 +257,41 @@ class SimulationResult:
         n = peak.size
         if n < 4:
             return 0
-        tail = peak[n // 2:]
-        med = np.median(tail)
-        spread = 1.4826 * np.median(np.abs(tail - med))
-        low = med - 3.0 * spread
         # the first frame from which the SR peak stays in the band for 5 ms: later dips
         # are turbulence, not the loop closing
-        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        low, window = self._steady_band()
         inside = peak >= low
         for k in range(n // 2):
             if inside[k:k + window].all():
                 return k
         return n // 2
 
-    def _closure_found(self) -> bool:
-        peak = self.strehl_peak
-        n = peak.size
-        if n < 4:
-            return False
-        k = self.closure_index
-        if k < n // 2:
-            return True
-        # the search's fallback (n // 2) unless the band holds from there
-        tail = peak[n // 2:]
+    @property
+    def _window(self) -> int:
+        """Frames in 5 ms (at least 3): how long the closure must hold."""
+        return max(3, int(round(5e-3 / self.config.loop.time_step)))
+
+    def _steady_band(self) -> tuple[float, int]:
+        """Floor of the SR peak's steady-state band and :attr:`_window`.
+
+        The band of the second half of the run: its median minus three robust standard
+        deviations (1.4826 MAD).
+        """
+        tail = self.strehl_peak[self.times.size // 2:]
         med = np.median(tail)
-        low = med - 3.0 * 1.4826 * np.median(np.abs(tail - med))
-        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
-        return bool(np.all(peak[k:k + window] >= low))
+        return float(med - 3.0 * 1.4826 * np.median(np.abs(tail - med))), self._window
+
+    def _closure_found(self) -> bool:
+        """Tell whether :attr:`closure_index` is a closure, not the search's fallback.
+
+        The fallback is ``n // 2``; called by :attr:`loop_status` for runs long enough to
+        detect a closure.
+        """
+        k = self.closure_index
+        if k < self.times.size // 2:
+            return True
+        low, window = self._steady_band()
+        return bool(np.all(self.strehl_peak[k:k + window] >= low))
 
     @property
     def loop_status(self) -> str:
@@ -300,7 +308,7 @@ class SimulationResult:
             return f"diverged: the residual is not finite from frame {first}"
         open_loop = float(v[0])
         tail = float(v[n - max(1, n // 4):].mean())
-        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        window = self._window
         lowest = float(np.convolve(v, np.ones(window) / window, mode="valid").min()
                        if n >= 2 * window else v.min())
         # an uncorrected loop wanders around the open-loop level (frame 0, one sample):
@@ -560,12 +568,12 @@ def _attributes_digest(f) -> str:
     values = {}
     for name in _ATTRIBUTES:
         value = f.attrs.get(name)
-        if isinstance(value, bytes | np.bytes_):
-            value = value.decode("utf-8")
-        elif isinstance(value, np.integer):
+        if isinstance(value, np.integer):
             value = int(value)
         elif isinstance(value, np.floating | float):
             value = repr(float(value))  # exact, and NaN (an unset elapsed) is valid JSON
+        elif not isinstance(value, str):
+            value = repr(value)  # not what save writes (e.g. bytes): never matches it
         values[name] = value
     return hashlib.sha256(dumps(values).encode("ascii")).hexdigest()
 

@@ -225,9 +225,12 @@ def test_error_budget_sum_ratio_and_table():
 def _full_result():
     rng = np.random.default_rng(1)
     cfg = _config()
-    logs = {f"dm0.{q}": ModalLog(rng.standard_normal((40, 2)), rate=1e3, modes=[2, 3],
+    # Z4, Z5 (not the default Z2, Z3) and one log of named modes
+    logs = {f"dm0.{q}": ModalLog(rng.standard_normal((40, 2)), rate=1e3, modes=[4, 5],
                                  wavelength=500e-9, start_time=T, metadata={"quantity": q})
             for q in ("residual", "pol", "commands")}
+    logs["dm1.named"] = ModalLog(rng.standard_normal((40, 2)), rate=1e3, modes=["a", "b"],
+                                 convention="labels", wavelength=500e-9, start_time=T)
     return _result(_step(n=40, k0=5), cfg, logs=logs, snapshots=rng.standard_normal((2, 1, 8, 8)),
                    snapshot_directions=np.zeros((1, 2)),
                    measurements=[rng.standard_normal((40, 8))], budget=_budget())
@@ -404,7 +407,9 @@ def test_old_files_load_with_a_warning(tmp_path):
         np.testing.assert_array_equal(got.coeffs, log.coeffs)
         assert (got.modes, got.rate, got.wavelength, got.metadata, got.units) == (
             log.modes, 1e3, 500e-9, log.metadata, "rad")
-        assert got.convention == "noll" and got.times[0] == T
+        assert got.convention == log.convention and got.times[0] == T
+    assert back.logs["dm1.named"].convention == "labels"
+    assert back.logs["dm0.pol"].convention == "noll" and back.logs["dm0.pol"].modes == [4, 5]
     # the oldest files: no format_version, no measurements
     with h5py.File(path, "r+") as f:
         del f.attrs["format_version"], f["measurements"]
