@@ -452,3 +452,15 @@ def test_whole_messages_singular_and_plural(tmp_path):
         with pytest.raises(ValueError) as info:
             SimulationResult.load(path)
         assert str(info.value) == head + message
+
+
+@pytest.mark.parametrize("sigmas,closure", [(3.5, 25), (2.5, 20)])
+def test_band_floor_is_three_robust_sigmas_below_the_median(sigmas, closure):
+    # the documented band, from the second half (written here): median - 3 x 1.4826 MAD;
+    # a dip in the first half at `sigmas` below the median is outside it (3.5) or not (2.5)
+    v = _step()
+    tail = np.exp(-v[100:])
+    med = np.median(tail)
+    sigma = 1.4826 * np.median(np.abs(tail - med))
+    v[24] = -math.log(med - sigmas * sigma)
+    assert _result(v).closure_index == closure
