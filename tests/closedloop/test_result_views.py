@@ -464,3 +464,46 @@ def test_band_floor_is_three_robust_sigmas_below_the_median(sigmas, closure):
     sigma = 1.4826 * np.median(np.abs(tail - med))
     v[24] = -math.log(med - sigmas * sigma)
     assert _result(v).closure_index == closure
+
+
+def test_from_run_assembles_the_documented_logs():
+    from importlib.metadata import version
+
+    from closedloop import LoopModel
+
+    base = _config()
+    cfg = base.replace(
+        dms=(base.dms[0], DMConfig(altitude=0.0, kind="ideal")),
+        wfss=(base.wfss[0], WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal",
+                                      field_samples=1, dm=1)))
+    model = LoopModel(cfg)
+    widths = [sl.stop - sl.start for sl in model.mode_slices]
+    n, m = 6, sum(widths)
+    rng = np.random.default_rng(2)
+    arrays = {q: rng.standard_normal((n, m)) for q in ("measured", "pol", "commands")}
+    variance = rng.random((n, 9))
+    meas = [rng.standard_normal((n, 8))]
+    r = SimulationResult.from_run(config=cfg, seed=11, model=model, variance=variance,
+                                  elapsed=0.25, predictor_name="arma", measurements=meas,
+                                  **arrays)
+    np.testing.assert_array_equal(r.times, (np.arange(n) + 1) * T)
+    np.testing.assert_array_equal(r.directions, np.array(model.geometry.directions))
+    assert r.residual_variance is variance and r.measurements[0] is meas[0]
+    assert (r.seed, r.predictor, r.elapsed, r.version) == (11, "arma", 0.25,
+                                                           version("modalinfo"))
+    assert sorted(r.logs) == sorted(f"dm{i}.{q}" for i in range(2)
+                                    for q in ("residual", "pol", "commands"))
+    for i, dm in enumerate(model.dms):
+        sl = model.mode_slices[i]
+        for q, key in (("residual", "measured"), ("pol", "pol"), ("commands", "commands")):
+            log = r.logs[f"dm{i}.{q}"]
+            np.testing.assert_array_equal(log.coeffs, arrays[key][:, sl])
+            assert log.coeffs.flags.c_contiguous
+            assert (log.rate, log.units, log.wavelength, log.times[0]) == (
+                1e3, "rad", 500e-9, T)
+            assert log.convention == ("noll" if i == 0 else "labels")
+            assert list(log.modes) == ([2, 3] if i == 0 else list(dm.labels))
+            assert log.metadata == {
+                "source": "closedloop", "dm": i, "dm_altitude_m": 0.0,
+                "dm_diameter_m": dm.diameter, "predictor": "arma", "seed": 11,
+                "config": cfg.to_dict(), "quantity": q}
