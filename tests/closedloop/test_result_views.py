@@ -483,9 +483,11 @@ def test_from_run_assembles_the_documented_logs():
     arrays = {q: rng.standard_normal((n, m)) for q in ("measured", "pol", "commands")}
     variance = rng.random((n, 9))
     meas = [rng.standard_normal((n, 8))]
+    snaps, snap_dirs = rng.standard_normal((2, 1, 8, 8)), np.zeros((1, 2))
     r = SimulationResult.from_run(config=cfg, seed=11, model=model, variance=variance,
                                   elapsed=0.25, predictor_name="arma", measurements=meas,
-                                  **arrays)
+                                  snapshots=snaps, snapshot_directions=snap_dirs, **arrays)
+    assert r.config == cfg and r.snapshots is snaps and r.snapshot_directions is snap_dirs
     np.testing.assert_array_equal(r.times, (np.arange(n) + 1) * T)
     np.testing.assert_array_equal(r.directions, np.array(model.geometry.directions))
     assert r.residual_variance is variance and r.measurements[0] is meas[0]
