@@ -59,8 +59,10 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
 * the configuration as TOML (``aotpy``: ``AOSystem.config``; JSON-quoted because FITS
   cards hold no newlines: :func:`modalinfo.io.aot_system.config_of` unquotes it), the
   mean Strehl over the field after loop closure at the science wavelength
-  (``strehl_ratio``, ``strehl_wavelength``), and the card ``MI_CLOOP`` (JSON: version,
-  seed, predictor, what each loop holds, conventions).
+  (``strehl_ratio``, ``strehl_wavelength``; :func:`export_aot` writes the wavelength's
+  ``STREHL-L`` keyword itself, around an aotpy 3.2.1 bug that writes it over
+  ``STREHL-R``), and the card ``MI_CLOOP`` (JSON: version, seed, predictor, what each
+  loop holds, conventions).
 
 Reading back, ``aotpy.AOSystem.read_from_file`` and ``modalinfo.io.load(path,
 loop="dm0")`` give the result's arrays bit for bit (coefficients, timestamps,
@@ -458,4 +460,27 @@ def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
     path = as_path(path)
     if path.exists() and not overwrite and not path.is_dir():
         raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
-    return write_system(build_aot_system(result, model), path, overwrite=overwrite)
+    system = build_aot_system(result, model)
+    _strehl_wavelength_as_card(system)
+    return write_system(system, path, overwrite=overwrite)
+
+
+def _strehl_wavelength_as_card(system) -> None:
+    """Move ``system.strehl_wavelength`` into its own ``STREHL-L`` card before writing.
+
+    aotpy's bug (3.2.1, ``aotpy/io/fits/_file.py``, ``PrimaryHeader.to_hdu``): it
+    writes ``strehl_wavelength`` under the key ``STREHL-R``, over the Strehl ratio,
+    and no ``STREHL-L``: a file read back gives the wavelength as the Strehl ratio and
+    no wavelength. With ``strehl_wavelength`` None, aotpy writes only ``STREHL-R`` (the
+    ratio); the system card ``STREHL-L`` written here is the AOT keyword its reader
+    takes as ``strehl_wavelength`` (and leaves out of ``metadata``). Correct with a
+    fixed aotpy too, which then also sees no wavelength to write itself.
+    """
+    from modalinfo.io.aot_system import import_aotpy
+
+    wavelength = system.strehl_wavelength
+    if wavelength is None:
+        return
+    system.strehl_wavelength = None
+    system.metadata.append(import_aotpy().Metadatum(
+        "STREHL-L", float(wavelength), "Strehl ratio wavelength [m]"))

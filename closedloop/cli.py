@@ -237,10 +237,28 @@ def _cmd_compare(args) -> int:
     return 0
 
 
-def _cmd_info(args) -> int:
-    from closedloop.result import SimulationResult
+def _load_result(args):
+    """Load ``args.result``, verified; a file too old to carry checksums gets a note."""
+    import warnings
 
-    result = SimulationResult.load(args.result)
+    from closedloop.result import SimulationResult, UncheckedResultWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", UncheckedResultWarning)
+        result = SimulationResult.load(args.result)
+    unchecked = [w for w in caught if issubclass(w.category, UncheckedResultWarning)]
+    for w in caught:
+        if w not in unchecked:  # anything else goes on as it would have
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if unchecked:
+        notes = getattr(args, "_notes", None) or []
+        notes.append(f"closedloop {args.command}: note: {unchecked[0].message}")
+        args._notes = notes  # printed by the dispatcher once the command succeeds
+    return result, not unchecked
+
+
+def _cmd_info(args) -> int:
+    result, verified = _load_result(args)
     c = result.config
     print(f"{args.result}: closedloop result (modalinfo {result.version}), preset {c.name}, "
           f"seed {result.seed}, predictor {result.predictor}")
@@ -252,12 +270,14 @@ def _cmd_info(args) -> int:
     for name, log in result.logs.items():
         print(f"  log {name}: {log.n_frames} x {log.n_modes} ({log.labels[0]} .. "
               f"{log.labels[-1]}), {log.units} at {log.wavelength * 1e9:.0f} nm")
+    print("  integrity: " + ("SHA-256 of every dataset and attribute verified" if verified
+                             else "not verified (a file written before results carried "
+                             "checksums)"))
     return 0
 
 
 def _cmd_export(args) -> int:
     from closedloop.aot import export_aot
-    from closedloop.result import SimulationResult
 
     out = args.out
     check_output(out, args.overwrite, suffixes=(".fits", ".fit", ".fts"), flag="OUT (AOT FITS)")
@@ -266,7 +286,7 @@ def _cmd_export(args) -> int:
     # the AOT file holds the result's logs and measurements plus the model's matrices:
     # ask for twice the result's size
     _check_writable(out, 2.0 * args.result.stat().st_size, "OUT (AOT FITS)")
-    result = SimulationResult.load(args.result)
+    result, _ = _load_result(args)
     path = export_aot(result, out, overwrite=args.overwrite)
     print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
           f"{len(result.config.dms)} DMs; {_aot_loops_text(path)}")

@@ -7,6 +7,14 @@ science direction (rad^2 at the science wavelength) and the residual, pseudo-ope
 metadata), so the analysis commands of ``modalinfo`` run on simulator output unchanged.
 It saves to and loads from HDF5 losslessly (:meth:`save`, :meth:`load`).
 
+Integrity: a saved result (format 3) records the SHA-256 of every dataset and of its
+attributes (config, seed, predictor, ...) with modalinfo.io's checksum
+(:func:`modalinfo.io._common.sha256_of`, the one its HDF5 logs carry); :meth:`load`
+verifies them and refuses a damaged file in one line naming the dataset
+(:class:`modalinfo.io.LogFormatError`, a ``ValueError``). A file of format 1 or 2,
+written before results carried checksums, still loads, with an
+:class:`UncheckedResultWarning` saying that its datasets were not verified.
+
 Derived views
 -------------
 - Loop closure (:attr:`closure_index`): the first frame from which the SR peak stays
@@ -46,9 +54,10 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from modalinfo.io._common import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
 
-__all__ = ["SimulationResult", "ErrorBudget", "GROWTH_FACTOR"]
+__all__ = ["SimulationResult", "ErrorBudget", "GROWTH_FACTOR", "UncheckedResultWarning"]
 
 #: a residual whose last-quarter mean exceeds this many times its lowest 5-ms mean grew:
 #: the loop diverged (a closed loop's 5-ms means scatter by a factor ~2 at most)
@@ -57,8 +66,21 @@ GROWTH_FACTOR = 4.0
 _ABOVE_OPEN_LOOP = 3.0
 
 _FORMAT = "closedloop-result"
-#: 2: each log a group in modalinfo.io's HDF5 layout (checksummed); 1: bare datasets
-_FORMAT_VERSION = 2
+#: 3: every dataset and the attributes checksummed (attribute ``sha256``); 2: each log a
+#: group in modalinfo.io's HDF5 layout (the logs checksummed); 1: bare datasets
+_FORMAT_VERSION = 3
+#: the file attributes a format-3 checksum covers (all of them but ``sha256`` itself)
+_ATTRIBUTES = ("format", "format_version", "version", "seed", "predictor", "elapsed",
+               "config")
+
+
+class UncheckedResultWarning(UserWarning):
+    """A result file written before results carried checksums (format 1 or 2).
+
+    :meth:`SimulationResult.load` reads it (its logs, from format 2, are still verified
+    by their own SHA-256) but cannot verify its other datasets; saving it again adds the
+    checksums (of the data as read).
+    """
 
 
 @dataclass(frozen=True)
@@ -235,33 +257,41 @@ class SimulationResult:
         n = peak.size
         if n < 4:
             return 0
-        tail = peak[n // 2:]
-        med = np.median(tail)
-        spread = 1.4826 * np.median(np.abs(tail - med))
-        low = med - 3.0 * spread
         # the first frame from which the SR peak stays in the band for 5 ms: later dips
         # are turbulence, not the loop closing
-        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        low, window = self._steady_band()
         inside = peak >= low
         for k in range(n // 2):
             if inside[k:k + window].all():
                 return k
         return n // 2
 
-    def _closure_found(self) -> bool:
-        peak = self.strehl_peak
-        n = peak.size
-        if n < 4:
-            return False
-        k = self.closure_index
-        if k < n // 2:
-            return True
-        # the search's fallback (n // 2) unless the band holds from there
-        tail = peak[n // 2:]
+    @property
+    def _window(self) -> int:
+        """Frames in 5 ms (at least 3): how long the closure must hold."""
+        return max(3, int(round(5e-3 / self.config.loop.time_step)))
+
+    def _steady_band(self) -> tuple[float, int]:
+        """Floor of the SR peak's steady-state band and :attr:`_window`.
+
+        The band of the second half of the run: its median minus three robust standard
+        deviations (1.4826 MAD).
+        """
+        tail = self.strehl_peak[self.times.size // 2:]
         med = np.median(tail)
-        low = med - 3.0 * 1.4826 * np.median(np.abs(tail - med))
-        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
-        return bool(np.all(peak[k:k + window] >= low))
+        return float(med - 3.0 * 1.4826 * np.median(np.abs(tail - med))), self._window
+
+    def _closure_found(self) -> bool:
+        """Tell whether :attr:`closure_index` is a closure, not the search's fallback.
+
+        The fallback is ``n // 2``; called by :attr:`loop_status` for runs long enough to
+        detect a closure.
+        """
+        k = self.closure_index
+        if k < self.times.size // 2:
+            return True
+        low, window = self._steady_band()
+        return bool(np.all(self.strehl_peak[k:k + window] >= low))
 
     @property
     def loop_status(self) -> str:
@@ -278,7 +308,7 @@ class SimulationResult:
             return f"diverged: the residual is not finite from frame {first}"
         open_loop = float(v[0])
         tail = float(v[n - max(1, n // 4):].mean())
-        window = max(3, int(round(5e-3 / self.config.loop.time_step)))
+        window = self._window
         lowest = float(np.convolve(v, np.ones(window) / window, mode="valid").min()
                        if n >= 2 * window else v.min())
         # an uncorrected loop wanders around the open-loop level (frame 0, one sample):
@@ -451,12 +481,35 @@ class SimulationResult:
                 g = f.create_group("logs")
                 for name, log in self.logs.items():
                     write_log_group(g.create_group(name), log)
+                # the digests of what the file holds, read back: load recomputes the same
+                sums = {"attributes": _attributes_digest(f), "datasets": _dataset_digests(f)}
+                # fixed-length bytes, as modalinfo.io.hdf5 stores text (no heap reference)
+                f.attrs["sha256"] = np.bytes_(dumps(sums).encode("ascii"))
 
         return atomic_write(path, write, overwrite=overwrite, by_name=True)
 
     @classmethod
     def load(cls, path: str | Path) -> SimulationResult:
-        """Read a result written by :meth:`save` (also by closedloop's format 1)."""
+        """Read a result written by :meth:`save` (also by closedloop's formats 1 and 2).
+
+        Every dataset and attribute of a format-3 file is checked against the SHA-256
+        recorded when it was written (the logs' coefficients through their own header
+        checksum, as :mod:`modalinfo.io.hdf5` records it).
+
+        Raises
+        ------
+        ValueError
+            Not a closedloop result; :class:`modalinfo.io.LogFormatError` (a ValueError)
+            for a damaged file, naming the dataset(s) that changed.
+
+        Warns
+        -----
+        UncheckedResultWarning
+            A format-1 or format-2 file (written before results carried checksums):
+            loaded, its datasets unverified (its format-2 logs are verified).
+        """
+        import warnings
+
         import h5py
 
         from modalinfo.io.hdf5 import read_log_group
@@ -471,6 +524,14 @@ class SimulationResult:
         with f:
             if f.attrs.get("format") != _FORMAT:
                 raise ValueError(f"{path}: not a closedloop result (no format={_FORMAT!r}).")
+            version = int(f.attrs.get("format_version", 1))
+            if version >= 3:
+                _verify(f, path)
+            else:
+                warnings.warn(UncheckedResultWarning(
+                    f"{path}: a format-{version} closedloop result, written before results "
+                    "carried checksums: its datasets are not verified (saving it again adds "
+                    "them)"), stacklevel=2)
             config = SimulationConfig.from_dict(json.loads(f.attrs["config"]))
             logs = {name: (read_log_group(d, path) if isinstance(d, h5py.Group)
                            else _legacy_log(d))
@@ -499,3 +560,76 @@ def _legacy_log(d) -> ModalLog:
                     wavelength=float(d.attrs["wavelength"]),
                     start_time=float(d.attrs["start_time"]),
                     metadata=json.loads(d.attrs["metadata"]))
+
+
+def _attributes_digest(f) -> str:
+    """SHA-256 of the file's attributes :data:`_ATTRIBUTES` (canonical JSON of their values)."""
+    import hashlib
+
+    values = {}
+    for name in _ATTRIBUTES:
+        value = f.attrs.get(name)
+        if isinstance(value, np.integer):
+            value = int(value)
+        elif isinstance(value, np.floating | float):
+            value = repr(float(value))  # exact, and NaN (an unset elapsed) is valid JSON
+        elif not isinstance(value, str):
+            value = repr(value)  # not what save writes (e.g. bytes): never matches it
+        values[name] = value
+    return hashlib.sha256(dumps(values).encode("ascii")).hexdigest()
+
+
+def _dataset_digests(f) -> dict[str, dict]:
+    """Shape and SHA-256 (:func:`modalinfo.io._common.sha256_of`) of each dataset of ``f``.
+
+    A log group's coefficients and timestamps are left out: the log's own header records
+    their SHA-256 (and its own), verified by :func:`modalinfo.io.hdf5.read_log_group`; the
+    header dataset itself is covered here, so a log cannot be swapped or removed.
+    """
+    import h5py
+
+    digests = {}
+
+    def visit(name, obj) -> None:
+        parts = name.split("/")
+        if not isinstance(obj, h5py.Dataset) or (
+                parts[0] == "logs" and len(parts) == 3
+                and parts[2] in ("coefficients", "timestamps")):
+            return
+        digests[name] = {"shape": list(obj.shape),
+                         "sha256": sha256_of(np.atleast_1d(obj[()]))}
+
+    f.visititems(visit)
+    return digests
+
+
+def _verify(f, path: Path) -> None:
+    """Raise ``LogFormatError`` naming what of ``f`` differs from its recorded checksums."""
+    from modalinfo.io.files import LogFormatError
+
+    head = f"corrupt closedloop result '{path}'"
+    raw = f.attrs.get("sha256")
+    try:
+        sums = json.loads(bytes(raw).decode("ascii"))
+        recorded = sums["datasets"]
+        attributes = sums["attributes"]
+    except (TypeError, ValueError, KeyError, UnicodeDecodeError):
+        raise LogFormatError(f"{head}: its checksums (attribute 'sha256') are missing or "
+                             "unreadable") from None
+    if _attributes_digest(f) != attributes:
+        raise LogFormatError(f"{head}: the attributes ({', '.join(_ATTRIBUTES[2:])}) do not "
+                             "match their SHA-256 checksum")
+    found = _dataset_digests(f)
+    missing = sorted(set(recorded) - set(found))
+    added = sorted(set(found) - set(recorded))
+    changed = sorted(n for n in set(found) & set(recorded) if found[n] != recorded[n])
+    for names, one, several in (
+            (changed, "does not match its SHA-256 checksum",
+             "do not match their SHA-256 checksums"),
+            (missing, "is missing", "are missing"),
+            (added, "was added after the file was written (no checksum)",
+             "were added after the file was written (no checksums)")):
+        if names:
+            listed = ", ".join(f"'{n}'" for n in names)
+            raise LogFormatError(f"{head}: dataset {listed} {one}" if len(names) == 1 else
+                                 f"{head}: datasets {listed} {several}")

@@ -5,7 +5,10 @@ file), bitwise equality with the ``SimulationResult``'s own arrays, the simulato
 ``LoopModel`` (mode shapes, disc pixels, reconstructor) and a matrix product written
 here with numpy, analytic values of the atmosphere's description (fractions
 ``(D/r0_l)^(5/3) / sum``, ``r0 = D / sum^(3/5)``), the TOML text parsed back with
-``tomllib``, and the command-line contract (exit 2, one line, files untouched).
+``tomllib``, and the command-line contract (exit 2, one line, files untouched). The
+Strehl ratio and its wavelength read back by aotpy (and by astropy from the raw header)
+against the run's own summary and config, the loop's time filter against the analytic
+leaky integrator ``c_k = (1 - leak) c_{k-1} + gain m_k``.
 """
 
 from __future__ import annotations
@@ -241,3 +244,29 @@ def test_command_line_export(run, tmp_path, capsys):
     assert out.read_bytes() == before
     assert not (tmp_path / "new.fits").exists()
     assert closedloop_main(["export", str(h5), str(out), "--overwrite"]) == 0
+
+
+def test_strehl_ratio_wavelength_and_loop_numbers_read_back(run, cfg, system, exported):
+    # the reported bug: aotpy 3.2.1 wrote strehl_wavelength under STREHL-R (read back as
+    # the SR, 6.3e-07) and no STREHL-L (strehl_wavelength None)
+    from astropy.io import fits
+
+    sr = run.summary()["strehl_field_mean"]
+    assert 1e-3 < sr < 1.0  # a Strehl ratio, not a wavelength in metres (6.3e-07)
+    assert system.strehl_ratio == sr
+    assert system.strehl_wavelength == cfg.wavelength
+    header = fits.getheader(exported, 0)
+    assert (header["STREHL-R"], header["STREHL-L"]) == (sr, cfg.wavelength)
+    assert "STREHL-L" not in [m.key for m in system.metadata]  # an AOT keyword, not a card
+    for i in range(len(cfg.dms)):
+        lp = _loop(system, f"dm{i}")
+        assert lp.framerate == 1.0 / cfg.loop.time_step
+        assert lp.delay == cfg.loop.delay_frames
+        assert lp.closed is True
+        # c_k = (1 - leak) c_{k-1} + gain m_k: C(z) = gain / (1 - (1 - leak) z^-1)
+        np.testing.assert_array_equal(_native(lp.time_filter_num).ravel(), [cfg.loop.gain])
+        np.testing.assert_array_equal(_native(lp.time_filter_den).ravel(),
+                                      [1.0, -(1.0 - cfg.loop.leak)])
+        assert lp.commanded_corrector.uid == f"dm{i}"
+        assert lp.commanded_corrector.n_valid_actuators == cfg.dms[i].n_modes
+    assert [w.uid for w in system.wavefront_sensors] == [f"wfs{j}" for j in range(len(cfg.wfss))]
