@@ -494,7 +494,7 @@ class SimulationResult:
 
         Every dataset and attribute of a format-3 file is checked against the SHA-256
         recorded when it was written (the logs' coefficients through their own header
-        checksum, as :mod:`modalinfo.io.hdf5` records it).
+        checksum, as ``modalinfo.io.hdf5`` records it).
 
         Raises
         ------
@@ -583,7 +583,7 @@ def _dataset_digests(f) -> dict[str, dict]:
     """Shape and SHA-256 (:func:`modalinfo.io._common.sha256_of`) of each dataset of ``f``.
 
     A log group's coefficients and timestamps are left out: the log's own header records
-    their SHA-256 (and its own), verified by :func:`modalinfo.io.hdf5.read_log_group`; the
+    their SHA-256 (and its own), verified by ``modalinfo.io.hdf5.read_log_group``; the
     header dataset itself is covered here, so a log cannot be swapped or removed.
     """
     import h5py

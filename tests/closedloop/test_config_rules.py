@@ -39,10 +39,11 @@ from closedloop.config import (
 from modalinfo.servo import MAX_DELAY_FRAMES
 
 #: the smallest config the rules allow: 8 pixels across 1 m, one layer, Z2-Z3 on one DM,
-#: a 2x2 SH on axis, one science direction
+#: a 2x2 SH on axis, one science direction. D/r0 = 2: r0 = 50 cm stays above the 12.5 cm
+#: pixel at the 75 degree zenith angle (r0 x cos(z)^(3/5) = 22 cm), the r0-sampling rule
 BASE = SimulationConfig(
     telescope=TelescopeConfig(diameter=1.0, n_pixels=8),
-    layers=(LayerConfig(altitude=0.0, d_over_r0=5.0, wind_speed=10.0),),
+    layers=(LayerConfig(altitude=0.0, d_over_r0=2.0, wind_speed=10.0),),
     dms=(DMConfig(altitude=0.0, n_modes=2),),
     wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=2, field_samples=1),),
     field=FieldConfig(size=0.0, n_points=1),
@@ -75,19 +76,23 @@ def _get(config, path: str):
 
 # (key, accepted boundary values, refused values just outside, other keys of the table)
 RULES = [
-    ("telescope.diameter", [1e-3, 1.0], [0.0, -1.0], None),
-    ("telescope.obscuration", [0.0, 0.95], [-0.01, 0.951], None),
+    # 0.05 m: the smallest BASE holds with its 10 m/s wind (v T <= D) and r0 >= one pixel
+    ("telescope.diameter", [0.05, 1.0], [0.0, -1.0], None),
+    # 0.95 itself leaves no subaperture centre of the 2x2 SH on the annulus (0 slopes for
+    # the DM's 2 modes): 0.7 keeps the four centres (rho = 0.707)
+    ("telescope.obscuration", [0.0, 0.7], [-0.01, 0.951], None),
     ("telescope.zenith_angle", [0.0, 75.0], [-0.5, 75.5], None),
     ("telescope.n_pixels", [8, 9], [7], None),
     ("layers[0].altitude", [0.0], [-1.0], None),
     ("layers[0].d_over_r0", [1e-3], [0.0], None),
     ("layers[0].wind_speed", [0.0], [-0.1], None),
-    ("layers[0].wind_direction", [-370.0, 0.0, 370.0], [math.inf], None),
-    ("layers[0].outer_scale", [1e-3, math.inf], [0.0], None),
+    ("layers[0].wind_direction", [-360.0, 0.0, 360.0], [math.inf, -360.5, 360.5], None),
+    ("layers[0].outer_scale", [1.001, math.inf], [0.0, 1.0], None),  # L0 > D = 1 m
     ("dms[0].altitude", [0.0], [-1.0], None),
     ("wfss[0].altitude", [0.0, 1e-6], [-1.0, 2e-6], None),  # its DM's altitude, to 1e-6 m
     ("wfss[0].dm", [0], [-1], None),
-    ("dms[0].n_modes", [1, 2, 14], [0], None),  # 14: Z15, radial order 4 = 8 px / 2
+    # 8: the 2 x 4 slopes of the 2x2 SH (binds before the pupil sampling's 14)
+    ("dms[0].n_modes", [1, 2, 8], [0, 9], None),
     ("dms[0].diameter", [0.5], [0.0], None),
     ("wfss[0].field_of_view", [0.0], [-1.0], None),
     ("wfss[0].n_subapertures", [2, 4], [1], None),  # 4: 2 pixels each across 8
@@ -99,15 +104,17 @@ RULES = [
     ("wfss[0].field_of_view", [4.0], [3.99], CORRELATING),  # >= 8 pixels of 0.5"
     ("loop.time_step", [1e-3], [0.0], None),
     ("loop.integration_time", [1e-3, 1e-4], [0.0, 1.001e-3], None),
-    ("loop.delay", [0.0, MAX_DELAY_FRAMES * 1e-3, MAX_DELAY_FRAMES * 1e-3 * (1 + 1e-12)],
-     [-1e-4, (MAX_DELAY_FRAMES + 1) * 1e-3], None),
+    # a delay must be whole internal steps (time_step / n, n <= 64) at load: 1e-12 off is
+    # 1e-9 frames off at the longest delay, refused
+    ("loop.delay", [0.0, MAX_DELAY_FRAMES * 1e-3],
+     [-1e-4, (MAX_DELAY_FRAMES + 1) * 1e-3, MAX_DELAY_FRAMES * 1e-3 * (1 + 1e-12)], None),
     ("loop.gain", [1e-3], [0.0], None),
     ("loop.leak", [0.0, 0.999], [-0.01, 0.9991], None),
     ("loop.model_error", [0.0], [-0.1], None),
     ("field.size", [0.0], [-1.0], None),
-    ("field.n_points", [1, 3], [0, 2, -1], None),
-    ("wavelength", [1e-3, 1e-9], [0.0, 1.001e-3], None),
-    ("r0_wavelength", [1e-3, 1e-9], [0.0, 1.001e-3], None),
+    ("field.n_points", [1], [0, 2, -1, 3], None),  # a field of size 0 is the axis alone
+    ("wavelength", [3e-7, 2.8e-5], [0.0, 2.99e-7, 2.81e-5], None),  # 300 nm - 28 um
+    ("r0_wavelength", [3e-7, 2.8e-5], [0.0, 2.99e-7, 2.81e-5], None),
     ("seed", [0, 7], [-1], None),
 ]
 

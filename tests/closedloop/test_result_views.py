@@ -169,13 +169,14 @@ def test_corrected_field_of_a_bilinear_map():
     exact = 2 * math.sqrt(area / math.pi) / 60.0
     assert r.corrected_fov_diameter(0.3, refine=256, start=0) == pytest.approx(exact, rel=2e-3)
     assert r.corrected_fov_diameter(0.3, start=0) == pytest.approx(exact, rel=3e-2)
-    # everywhere above: the whole 60" square; nowhere: 0; one direction: 0
+    # everywhere above: the whole 60" square; nowhere: 0; one direction: NaN (a point
+    # measures no area; issue 27: it was reported as a corrected field of 0.00')
     full = _result(np.full((12, 9), 0.05))
     assert full.corrected_fov_diameter(start=0) == pytest.approx(
         2 * math.sqrt(60.0 ** 2 / math.pi) / 60.0, rel=1e-12)
     assert _result(np.full((12, 9), 3.0)).corrected_fov_diameter(start=0) == 0.0
     one = _result(np.full((12, 1), 0.05), _config(n_points=1, size=0.0))
-    assert one.corrected_fov_diameter(start=0) == 0.0
+    assert math.isnan(one.corrected_fov_diameter(start=0))
     for bad in (0.0, 1.0, -0.1):
         with pytest.raises(ValueError, match=rf"^`threshold` must be in \(0, 1\); got {bad}"):
             r.corrected_fov_diameter(bad)
