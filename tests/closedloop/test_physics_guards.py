@@ -4,7 +4,9 @@ References, written out here from the laws (not from the code under test):
 
 - a Shack-Hartmann of ``n x n`` subapertures measures two slopes per valid subaperture;
   the valid ones are counted here on a numpy grid (subaperture centre on the annular
-  pupil), and a least-squares reconstructor needs at least as many slopes as modes;
+  pupil), and a least-squares reconstructor needs at least as many slopes as modes; a
+  WFS at altitude h spans the meta-pupil ``D + 2 h tan(fov / 2)`` (geometry), over which
+  the telescope's hole is a smaller fraction;
 - r0 shrinks as ``sec(z)**(-3/5)`` (Roddier 1981): the pixel ``D / n_pixels`` must not
   exceed r0 at ``r0_wavelength`` (the simulator's phase);
 - von Karman's outer scale must exceed the pupil (Kolmogorov's inertial range);
@@ -67,6 +69,24 @@ def test_modes_up_to_the_measured_slopes_are_accepted(obscuration):
     with pytest.raises(ValueError, match=rf"`dms\[0\].n_modes` must be <= {limit},.*got "
                                          rf"{limit + 1}\."):
         _with("kaos", telescope__obscuration=obscuration, dms__0__n_modes=limit + 1)
+
+
+def test_the_obscuration_scales_to_the_meta_pupil_a_high_wfs_spans():
+    # a WFS (and its DM) at h = 10 km with a 10" field spans the meta-pupil D + 2 h
+    # tan(fov / 2) = 1.185 m (geometry, written out here); the telescope's 0.4 D hole is
+    # 0.236 of that grid's span: 36 valid subapertures of 7 x 7, not the 32 of an
+    # unscaled 0.4 hole (by the grid count)
+    h, fov, diameter = 10_000.0, 10.0, 0.7
+    meta = diameter + 2 * h * math.tan(math.radians(fov / 3600) / 2)
+    scaled = 0.4 * diameter / meta
+    assert (_valid_by_grid(7, scaled), _valid_by_grid(7, 0.4)) == (36, 32)
+    limit = 2 * _valid_by_grid(7, scaled)
+    high = {"telescope__obscuration": 0.4, "wfss__0__altitude": h, "dms__0__altitude": h,
+            "wfss__0__field_of_view": fov}
+    assert _with("kaos", dms__0__n_modes=limit, **high).dms[0].n_modes == limit
+    with pytest.raises(ValueError, match=rf"`dms\[0\].n_modes` must be <= {limit},.*got "
+                                         rf"{limit + 1}\."):
+        _with("kaos", dms__0__n_modes=limit + 1, **high)
 
 
 def test_r0_must_be_sampled_by_the_pupil_grid():

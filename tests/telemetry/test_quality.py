@@ -247,3 +247,26 @@ def test_clip_float32_log_leaves_no_outlier(planted):
     assert assess_quality(clipped, k=r.k).outliers.sum() == 0
     changed = clipped.coeffs != log.coeffs
     assert changed.sum() == 28 and changed[GLITCH_FRAME].all() and changed[SPIKE]
+
+
+def test_glitched_frame_rule_is_at_least_frame_modes():
+    # the rule's definition: outliers in >= frame_modes modes. Frame 100 holds spikes in
+    # exactly 3 modes (glitched at the default min(M, 3)), frame 200 in 2 (not glitched)
+    x = np.random.default_rng(11).standard_normal((2000, 6))
+    x[100, [0, 2, 4]] += 100.0
+    x[200, [1, 3]] += 100.0
+    r = assess_quality(x)
+    assert r.outlier_frames.tolist() == [100, 200]
+    assert r.glitch_frames.tolist() == [100]
+    assert assess_quality(x, frame_modes=2).glitch_frames.tolist() == [100, 200]
+
+
+def test_subsample_never_exceeds_sample_frames_when_it_does_not_divide():
+    # 20,500 frames at sample_frames = 2000: the stride is ceil(20500 / 2000) = 11, so the
+    # subsample is x[::11] (1864 rows <= 2000); a floored stride (10) would take 2050 rows
+    x = np.random.default_rng(4).standard_normal((20_500, 3)) * [1.0, 2.0, 0.5]
+    r = assess_quality(x, sample_frames=2000, chunk_frames=999)
+    assert r.sample_frames == x[::11].shape[0] <= 2000
+    np.testing.assert_allclose(r.median, np.median(x[::11], axis=0), atol=1e-12)
+    np.testing.assert_allclose(
+        r.sigma, stats.median_abs_deviation(x[::11], axis=0, scale="normal"), rtol=1e-12)
