@@ -119,6 +119,8 @@ def test_an_outer_scale_past_kolmogorov_is_refused(outer_scale):
     with pytest.raises(ValueError, match=r"outer_scale` must be <= 1e\+09 m or inf"):
         _with("kaos", layers__0__outer_scale=outer_scale)
     assert math.isinf(_with("kaos", layers__0__outer_scale=math.inf).layers[0].outer_scale)
+    # the bound itself is finite and accepted (the rule: <= 1e9 m or inf)
+    assert _with("kaos", layers__0__outer_scale=1e9).layers[0].outer_scale == 1e9
 
 
 def test_a_mirror_narrower_than_two_pixels_is_refused():

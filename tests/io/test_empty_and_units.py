@@ -127,7 +127,8 @@ def test_aot_unit_contradicting_the_hint_is_refused(tmp_path):
 
 
 SIZES = ["2GB", "512 MiB", "2e9", "100", "1.5k", "5 kB", "1Ki", "3 t", "2gb", "0", ".5G",
-         "7.", "2 GiB", "1.5e3MB", "4TiB", " 8 mb "]
+         "7.", "2 GiB", "1.5e3MB", "4TiB", " 8 mb ",
+         "1.7", "2.5B", "1.0001 kB"]  # fractions of a byte: rounded down, as dask does
 
 
 @pytest.mark.parametrize("text", SIZES)

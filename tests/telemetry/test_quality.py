@@ -240,8 +240,9 @@ def test_quantised_log_repeats_are_not_stuck_but_a_long_run_is():
     assert r.stuck.tolist() == [0, 0, 200, 0, 0, 0]
 
 
-def test_clip_float32_log_leaves_no_outlier(planted):
-    log = ModalLog(planted.astype(np.float32), rate=1000.0)
+@pytest.mark.parametrize("sign", [1.0, -1.0])  # -1: the glitches fall below the median
+def test_clip_float32_log_leaves_no_outlier(planted, sign):
+    log = ModalLog((sign * planted).astype(np.float32), rate=1000.0)
     clipped, r = apply_outlier_policy(log, "clip")
     assert clipped.dtype == np.float32 and r.outliers.sum() == 28
     assert assess_quality(clipped, k=r.k).outliers.sum() == 0
@@ -270,3 +271,24 @@ def test_subsample_never_exceeds_sample_frames_when_it_does_not_divide():
     np.testing.assert_allclose(r.median, np.median(x[::11], axis=0), atol=1e-12)
     np.testing.assert_allclose(
         r.sigma, stats.median_abs_deviation(x[::11], axis=0, scale="normal"), rtol=1e-12)
+
+
+def test_drop_of_the_first_frame_starts_the_log_at_the_first_kept_frame():
+    # frame 0 glitched in every mode: after 'drop' the first frame is frame 1, at 1 / rate
+    x = np.random.default_rng(12).standard_normal((1000, 5))
+    x[0] += 100.0
+    log, r = apply_outlier_policy(ModalLog(x, rate=500.0, start_time=2.0), "drop")
+    assert r.flagged_frames.tolist() == [0]
+    assert log.start_time == log.times[0] == log.timestamps[0] == 2.0 + 1 / 500.0
+    np.testing.assert_allclose(log.times, 2.0 + np.arange(1, 1000) / 500.0, rtol=0, atol=0)
+
+
+def test_quantised_mode_minimum_run_is_the_documented_law():
+    # 11 frames of one mode with 5 equal consecutive pairs of 10: q = 0.5, and the minimum
+    # stuck run is ceil(1 + ln(alpha / (T M)) / ln q) = ceil(11.1) = 12 (module docstring),
+    # q counted here with numpy over the T - 1 consecutive pairs
+    x = np.array([0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 5.0])[:, None]
+    q = np.mean(x[1:, 0] == x[:-1, 0])
+    assert q == 0.5
+    r = assess_quality(x, alpha=0.01)
+    assert r.stuck_runs.tolist() == [math.ceil(1 + math.log(0.01 / 11) / math.log(q))] == [12]
