@@ -123,6 +123,14 @@ def test_an_outer_scale_past_kolmogorov_is_refused(outer_scale):
     assert _with("kaos", layers__0__outer_scale=1e9).layers[0].outer_scale == 1e9
 
 
+def test_a_zero_field_takes_one_direction_only():
+    # field.size 0: every direction is the axis, so n_points must be 1 (the rule), and 1 is
+    # the on-axis run, accepted
+    assert _with("kaos", field__size=0.0, field__n_points=1).field.n_points == 1
+    with pytest.raises(ValueError, match=r"n_points` must be 1 when field.size is 0"):
+        _with("kaos", field__size=0.0, field__n_points=3)
+
+
 def test_a_mirror_narrower_than_two_pixels_is_refused():
     with pytest.raises(ValueError, match=r"`dms\[0\].diameter` must be >= 2 pupil pixels"):
         _with("kaos", dms__0__diameter=1e-9)

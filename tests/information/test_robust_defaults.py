@@ -173,6 +173,23 @@ def test_ksg_cmi_with_20_conditioning_columns_switches(twenty_conditioning_colum
     assert got == pytest.approx(exact, abs=0.04)
 
 
+def test_ksg_rule_uses_the_estimators_documented_default_k():
+    # no k given: the estimator's documented default k = 3, so over d = 4 columns the
+    # boundary is n = 3 x 2.5^4 = 117.2 (computed here): n = 118 meets the rule and 117
+    # does not, through the public function as through bias_rule
+    assert 117 < 3 * 2.5**4 < 118
+    assert bias_rule("ksg", 118, 4) is None
+    assert "k = 3, n = 117" in bias_rule("ksg", 117, 4)
+    rng = np.random.default_rng(8)
+    x, y, z = rng.standard_normal((118, 1)), rng.standard_normal((118, 1)), \
+        rng.standard_normal((118, 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", BiasRuleWarning)
+        conditional_mutual_information(x, y, z, method="ksg")
+    with pytest.warns(BiasRuleWarning, match="k = 3, n = 117"):
+        conditional_mutual_information(x[:117], y[:117], z[:117], method="ksg")
+
+
 def test_histogram_rule_boundary_is_n_equal_k_to_the_d():
     # 4 bins over 3 columns: 64 cells
     assert bias_rule("histogram", 64, 3, {"bins": 4}) is None

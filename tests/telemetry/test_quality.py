@@ -142,6 +142,15 @@ def test_nonfinite_constant_and_zero_mad_modes():
     assert r.stuck[2] == 700  # a run of 700 equal values is stuck
 
 
+def test_a_mode_without_a_finite_value_is_not_tested():
+    # no finite value: nothing to centre, scale or find stuck (stuck_runs 0: not tested)
+    x = np.random.default_rng(6).standard_normal((500, 3))
+    x[:, 1] = np.nan
+    r = assess_quality(x)
+    assert r.nonfinite.tolist() == [0, 500, 0]
+    assert r.stuck_runs.tolist() == [8, 0, 8] and r.outliers[1] == r.stuck[1] == 0
+
+
 def _policy_log(planted):
     return ModalLog(planted, rate=1000.0, metadata={"site": "test"})
 
