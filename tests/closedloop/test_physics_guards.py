@@ -195,3 +195,19 @@ def test_every_preset_still_validates():
     for name in presets.names():
         cfg = presets.get(name)
         assert SimulationConfig.from_dict(cfg.to_dict()) == cfg
+
+
+def test_wind_moving_more_than_the_pupil_in_one_frame_is_refused():
+    # frozen flow: v T <= D; kaos has D = 0.7 m and T = 0.5 ms, so v <= 1400 m/s (here)
+    bound = 0.7 / 0.5e-3
+    assert _with("kaos", layers__0__wind_speed=0.99 * bound).layers[0].wind_speed < bound
+    with pytest.raises(ValueError, match=r"`layers\[0\].wind_speed` must be <= "
+                                         r"telescope.diameter / loop.time_step = 1400 m/s"):
+        _with("kaos", layers__0__wind_speed=1.01 * bound)
+
+
+def test_shack_hartmann_noise_bound_is_10_arcsec():
+    # the rule: <= 10 arcsec RMS (a solar subaperture's field is 5-10"); 10 itself passes
+    assert _with("kaos", wfss__0__noise=10.0).wfss[0].noise == 10.0
+    with pytest.raises(ValueError, match=r"`wfss\[0\].noise` must be <= 10 arcsec RMS"):
+        _with("kaos", wfss__0__noise=10.5)
