@@ -8,7 +8,9 @@ intermediates. The figures' JSON files and the report's numbers are compared in
 Tolerance: ``golden_numbers.RTOL`` (1e-6), derived from the largest relative difference
 measured between a normal run and one under ``NUMBA_CPU_NAME=generic`` with a fresh numba
 cache and OpenBLAS's Sandybridge kernels (4.5e-9; docs/TESTING.md, "Golden numbers");
-strings, orders and frame counts exactly.
+strings, orders and frame counts exactly. The comparison itself is tested against its
+documented rule (``|a - b| <= RTOL max(|a|, |b|, scale)``, scale of a whole array),
+written out by hand on tiny trees.
 
 A failure names every number that moved, from what to what. If the change is intended,
 regenerate the section (``python tests/golden/regenerate.py --only SECTION``) and
@@ -91,6 +93,31 @@ def test_only_neural_net_numbers_get_the_nn_tolerance():
     # the NN row's 5 % passes at RTOL_NN; persistence's 1 % and the ARMA cell do not
     assert msgs == ["fig5_forecast.json/gain[0][1]: 1.0 -> 1.01",
                     "report.md/Figure # | row ARMA / # | col 1 #0: '0.2388' -> '0.2406'"]
+
+
+def test_a_lone_small_number_is_compared_relative_to_itself():
+    # the rule (golden_numbers' docstring): |a - b| <= RTOL max(|a|, |b|, scale), scale
+    # only for an array's elements; a scalar of 1e-3 (a closure time in s) moved by 100
+    # RTOL of itself must be flagged, though the move is only 0.1 RTOL of 1 (no unit
+    # scale may hide a small number's change)
+    rtol = g.RTOL["presets"]
+    ref = {"run": {"closure_time": 1e-3}}
+    moved = 1e-3 * (1 + 100 * rtol)
+    assert g.differences("presets", ref, {"run": {"closure_time": moved}}, rtol) == \
+        [f"run/closure_time: 0.001 -> {moved!r}"]
+    assert g.differences("presets", ref, {"run": {"closure_time": 1e-3 * (1 + rtol / 10)}},
+                         rtol) == []
+
+
+def test_a_nested_array_is_compared_at_its_whole_scale():
+    # an element near zero of a 2-D array (rows of a table) is compared at the largest
+    # magnitude of the whole array (1.0 here), not at that of its own row (1e-3)
+    rtol = g.RTOL["figures"]
+    ref = {"t": {"rows": [[1.0, 0.5], [1e-3, 0.0]]}}
+    near = {"t": {"rows": [[1.0, 0.5], [1e-3, 0.1 * rtol]]}}
+    assert g.differences("figures", ref, near, rtol) == []
+    far = {"t": {"rows": [[1.0, 0.5], [1e-3, 10 * rtol]]}}
+    assert g.differences("figures", ref, far, rtol) == [f"t/rows[1][1]: 0.0 -> {10 * rtol!r}"]
 
 
 def test_printed_numbers_allow_one_unit_of_their_last_digit_only():

@@ -3,7 +3,9 @@ progress lines and the bounded wait for workers.
 
 References: the rules as documented (a bad ``--set`` value, a memory limit below
 ``MIN_MEMORY_LIMIT`` and a folder in use are refused before anything is computed or
-written: the output folder is checked to be absent or unchanged); the lock's holder
+written: the output folder is checked to be absent or unchanged); a memory limit
+``distributed.worker_memory.parse_memory_limit`` resolves to enough memory (1 = the
+whole machine) is accepted; the lock's holder
 is a real process of this host (``os.kill(pid, 0)`` tells alive from dead, checked
 independently in each test with a subprocess we start and reap); the exit status and
 the failed-row count are compared with the rows of the table written (counted in the
@@ -118,6 +120,21 @@ def test_memory_limit_a_worker_cannot_run_under_is_refused(tmp_path, capsys, hel
 def test_memory_limits_dask_accepts_pass():
     for limit in (None, "auto", 0, "0", "1GB", "512 MiB", 0.5, 2**30):
         check_memory_limit(limit)
+
+
+@pytest.mark.parametrize("limit", [1, 1.0, "1", "1.0"])
+def test_memory_limit_one_is_the_whole_machine_as_in_dask(limit):
+    # distributed reads a number in (0, 1] as a fraction of the machine's memory, so 1 is
+    # all of it (not one byte); the check must accept what distributed resolves to that
+    import logging
+
+    from distributed.worker_memory import parse_memory_limit
+
+    from modalinfo.batch.engine import MIN_MEMORY_LIMIT
+
+    resolved = parse_memory_limit(limit, 1, logger=logging.getLogger(__name__))
+    assert resolved >= MIN_MEMORY_LIMIT  # this machine has more than 256 MiB
+    check_memory_limit(limit)
 
 
 def test_output_checks_before_work(tmp_path, capsys, helpers, monkeypatch):

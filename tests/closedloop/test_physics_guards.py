@@ -4,7 +4,9 @@ References, written out here from the laws (not from the code under test):
 
 - a Shack-Hartmann of ``n x n`` subapertures measures two slopes per valid subaperture;
   the valid ones are counted here on a numpy grid (subaperture centre on the annular
-  pupil), and a least-squares reconstructor needs at least as many slopes as modes;
+  pupil), and a least-squares reconstructor needs at least as many slopes as modes; a
+  WFS at altitude h spans the meta-pupil ``D + 2 h tan(fov / 2)`` (geometry), over which
+  the telescope's hole is a smaller fraction;
 - r0 shrinks as ``sec(z)**(-3/5)`` (Roddier 1981): the pixel ``D / n_pixels`` must not
   exceed r0 at ``r0_wavelength`` (the simulator's phase);
 - von Karman's outer scale must exceed the pupil (Kolmogorov's inertial range);
@@ -69,6 +71,24 @@ def test_modes_up_to_the_measured_slopes_are_accepted(obscuration):
         _with("kaos", telescope__obscuration=obscuration, dms__0__n_modes=limit + 1)
 
 
+def test_the_obscuration_scales_to_the_meta_pupil_a_high_wfs_spans():
+    # a WFS (and its DM) at h = 10 km with a 10" field spans the meta-pupil D + 2 h
+    # tan(fov / 2) = 1.185 m (geometry, written out here); the telescope's 0.4 D hole is
+    # 0.236 of that grid's span: 36 valid subapertures of 7 x 7, not the 32 of an
+    # unscaled 0.4 hole (by the grid count)
+    h, fov, diameter = 10_000.0, 10.0, 0.7
+    meta = diameter + 2 * h * math.tan(math.radians(fov / 3600) / 2)
+    scaled = 0.4 * diameter / meta
+    assert (_valid_by_grid(7, scaled), _valid_by_grid(7, 0.4)) == (36, 32)
+    limit = 2 * _valid_by_grid(7, scaled)
+    high = {"telescope__obscuration": 0.4, "wfss__0__altitude": h, "dms__0__altitude": h,
+            "wfss__0__field_of_view": fov}
+    assert _with("kaos", dms__0__n_modes=limit, **high).dms[0].n_modes == limit
+    with pytest.raises(ValueError, match=rf"`dms\[0\].n_modes` must be <= {limit},.*got "
+                                         rf"{limit + 1}\."):
+        _with("kaos", dms__0__n_modes=limit + 1, **high)
+
+
 def test_r0_must_be_sampled_by_the_pupil_grid():
     # the issue's case: r0 of 0.4 mm (at 500 nm) on 62 mm pixels
     with pytest.raises(ValueError, match=r"`layers\[\*\].d_over_r0` must be such that r0 at "
@@ -99,6 +119,16 @@ def test_an_outer_scale_past_kolmogorov_is_refused(outer_scale):
     with pytest.raises(ValueError, match=r"outer_scale` must be <= 1e\+09 m or inf"):
         _with("kaos", layers__0__outer_scale=outer_scale)
     assert math.isinf(_with("kaos", layers__0__outer_scale=math.inf).layers[0].outer_scale)
+    # the bound itself is finite and accepted (the rule: <= 1e9 m or inf)
+    assert _with("kaos", layers__0__outer_scale=1e9).layers[0].outer_scale == 1e9
+
+
+def test_a_zero_field_takes_one_direction_only():
+    # field.size 0: every direction is the axis, so n_points must be 1 (the rule), and 1 is
+    # the on-axis run, accepted
+    assert _with("kaos", field__size=0.0, field__n_points=1).field.n_points == 1
+    with pytest.raises(ValueError, match=r"n_points` must be 1 when field.size is 0"):
+        _with("kaos", field__size=0.0, field__n_points=3)
 
 
 def test_a_mirror_narrower_than_two_pixels_is_refused():
@@ -165,3 +195,19 @@ def test_every_preset_still_validates():
     for name in presets.names():
         cfg = presets.get(name)
         assert SimulationConfig.from_dict(cfg.to_dict()) == cfg
+
+
+def test_wind_moving_more_than_the_pupil_in_one_frame_is_refused():
+    # frozen flow: v T <= D; kaos has D = 0.7 m and T = 0.5 ms, so v <= 1400 m/s (here)
+    bound = 0.7 / 0.5e-3
+    assert _with("kaos", layers__0__wind_speed=0.99 * bound).layers[0].wind_speed < bound
+    with pytest.raises(ValueError, match=r"`layers\[0\].wind_speed` must be <= "
+                                         r"telescope.diameter / loop.time_step = 1400 m/s"):
+        _with("kaos", layers__0__wind_speed=1.01 * bound)
+
+
+def test_shack_hartmann_noise_bound_is_10_arcsec():
+    # the rule: <= 10 arcsec RMS (a solar subaperture's field is 5-10"); 10 itself passes
+    assert _with("kaos", wfss__0__noise=10.0).wfss[0].noise == 10.0
+    with pytest.raises(ValueError, match=r"`wfss\[0\].noise` must be <= 10 arcsec RMS"):
+        _with("kaos", wfss__0__noise=10.5)

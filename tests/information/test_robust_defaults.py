@@ -153,11 +153,41 @@ def test_histogram_cmi_with_20_conditioning_columns_switches_with_a_warning(
     assert biased < exact / 2  # what the rule guards against (was 0.004)
 
 
+def test_the_fallback_cmi_is_invariant_under_monotone_maps(twenty_conditioning_columns):
+    # CMI is invariant under a monotone map of each variable (Kraskov et al. 2004), and so
+    # is the Gaussian-copula CMI the rule falls back to (it sees the ranks only): exp and
+    # cube maps of x, y and z give the Gaussian data's value, near the exact CMI
+    x, y, z, exact = twenty_conditioning_columns
+    with pytest.warns(BiasRuleWarning, match=r"histogram CMI .* 22 columns"):
+        plain = conditional_mutual_information(x, y, z)
+    with pytest.warns(BiasRuleWarning, match=r"histogram CMI .* 22 columns"):
+        mapped = conditional_mutual_information(np.exp(2.0 * x), y**3, np.exp(z))
+    assert mapped == pytest.approx(plain, rel=1e-9)
+    assert mapped == pytest.approx(exact, abs=0.04)
+
+
 def test_ksg_cmi_with_20_conditioning_columns_switches(twenty_conditioning_columns):
     x, y, z, exact = twenty_conditioning_columns
     with pytest.warns(BiasRuleWarning, match=r"KSG CMI over 22 columns"):
         got = conditional_mutual_information(x, y, z, method="ksg")
     assert got == pytest.approx(exact, abs=0.04)
+
+
+def test_ksg_rule_uses_the_estimators_documented_default_k():
+    # no k given: the estimator's documented default k = 3, so over d = 4 columns the
+    # boundary is n = 3 x 2.5^4 = 117.2 (computed here): n = 118 meets the rule and 117
+    # does not, through the public function as through bias_rule
+    assert 117 < 3 * 2.5**4 < 118
+    assert bias_rule("ksg", 118, 4) is None
+    assert "k = 3, n = 117" in bias_rule("ksg", 117, 4)
+    rng = np.random.default_rng(8)
+    x, y, z = rng.standard_normal((118, 1)), rng.standard_normal((118, 1)), \
+        rng.standard_normal((118, 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", BiasRuleWarning)
+        conditional_mutual_information(x, y, z, method="ksg")
+    with pytest.warns(BiasRuleWarning, match="k = 3, n = 117"):
+        conditional_mutual_information(x[:117], y[:117], z[:117], method="ksg")
 
 
 def test_histogram_rule_boundary_is_n_equal_k_to_the_d():

@@ -3,7 +3,8 @@
 References: the documented error contract of ``modalinfo.io`` (a ``LogFormatError``
 naming the file; here it must also say "no modes"); the README's "Foreign logs"
 promise (a unit the file does not record is marked assumed); the SI/IEC definitions
-of the metre and its prefixes (1 m = 1e9 nm) for an AOT image in metres; and
+of the metre and its prefixes (1 m = 1e9 nm, 1 um = 1e-6 m) for an AOT image in
+metres, microns or nanometres under any spelling; and
 ``dask.utils.parse_bytes`` / ``format_bytes`` (another library) for
 :func:`modalinfo.io.files.parse_size` / ``format_size``.
 """
@@ -102,6 +103,23 @@ def test_aot_phase_and_length_units_are_read(tmp_path, unit, ours, factor):
     np.testing.assert_allclose(log.coeffs, coeffs * factor, rtol=1e-15)
 
 
+_METRES = {"nm": 1e-9, "um": 1e-6}  # SI: what one unit of our length units is in metres
+
+
+@pytest.mark.parametrize("unit, metres", [
+    ("micron", 1e-6), ("microns", 1e-6), ("micrometer", 1e-6), ("micrometres", 1e-6),
+    ("um", 1e-6), ("nanometer", 1e-9), ("nanometres", 1e-9), ("nm", 1e-9),
+    ("metre", 1.0), ("meters", 1.0), ("m", 1.0),
+])
+def test_aot_length_spellings_keep_the_physical_length(tmp_path, unit, metres):
+    # every spelling of a length unit: the values read, times the SI size of the unit the
+    # reader names, are the file's values times the SI size of the file's unit
+    coeffs = np.arange(1.0, 13.0).reshape(4, 3)
+    log = load(_aot_file(tmp_path / "u.fits", coeffs, unit))
+    np.testing.assert_allclose(np.asarray(log.coeffs) * _METRES[log.units], coeffs * metres,
+                               rtol=1e-12)
+
+
 def test_aot_unit_contradicting_the_hint_is_refused(tmp_path):
     path = _aot_file(tmp_path / "nm.fits", np.ones((4, 3)), "nm")
     with pytest.raises(ValueError, match="contradicts"):
@@ -109,7 +127,8 @@ def test_aot_unit_contradicting_the_hint_is_refused(tmp_path):
 
 
 SIZES = ["2GB", "512 MiB", "2e9", "100", "1.5k", "5 kB", "1Ki", "3 t", "2gb", "0", ".5G",
-         "7.", "2 GiB", "1.5e3MB", "4TiB", " 8 mb "]
+         "7.", "2 GiB", "1.5e3MB", "4TiB", " 8 mb ",
+         "1.7", "2.5B", "1.0001 kB"]  # fractions of a byte: rounded down, as dask does
 
 
 @pytest.mark.parametrize("text", SIZES)

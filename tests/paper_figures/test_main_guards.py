@@ -185,8 +185,8 @@ def test_a_later_figure_failing_leaves_the_output_folder_as_it_was(tmp_path, cap
     assert "Traceback" not in err and "as it was" in err
     assert _state(out) == before  # figures 2 and 3 were made, then discarded
     assert _leftovers(tmp_path) == []
-    # a new folder is not created by a failed run
-    assert main(["--only", "2,3,4", "--out", str(tmp_path / "fresh")]) == code
+    # a new folder is not created by a failed run, nor its missing parents
+    assert main(["--only", "2,3,4", "--out", str(tmp_path / "fresh" / "a" / "b")]) == code
     assert not (tmp_path / "fresh").exists() and _leftovers(tmp_path) == []
 
 

@@ -142,6 +142,15 @@ def test_nonfinite_constant_and_zero_mad_modes():
     assert r.stuck[2] == 700  # a run of 700 equal values is stuck
 
 
+def test_a_mode_without_a_finite_value_is_not_tested():
+    # no finite value: nothing to centre, scale or find stuck (stuck_runs 0: not tested)
+    x = np.random.default_rng(6).standard_normal((500, 3))
+    x[:, 1] = np.nan
+    r = assess_quality(x)
+    assert r.nonfinite.tolist() == [0, 500, 0]
+    assert r.stuck_runs.tolist() == [8, 0, 8] and r.outliers[1] == r.stuck[1] == 0
+
+
 def _policy_log(planted):
     return ModalLog(planted, rate=1000.0, metadata={"site": "test"})
 
@@ -240,10 +249,55 @@ def test_quantised_log_repeats_are_not_stuck_but_a_long_run_is():
     assert r.stuck.tolist() == [0, 0, 200, 0, 0, 0]
 
 
-def test_clip_float32_log_leaves_no_outlier(planted):
-    log = ModalLog(planted.astype(np.float32), rate=1000.0)
+@pytest.mark.parametrize("sign", [1.0, -1.0])  # -1: the glitches fall below the median
+def test_clip_float32_log_leaves_no_outlier(planted, sign):
+    log = ModalLog((sign * planted).astype(np.float32), rate=1000.0)
     clipped, r = apply_outlier_policy(log, "clip")
     assert clipped.dtype == np.float32 and r.outliers.sum() == 28
     assert assess_quality(clipped, k=r.k).outliers.sum() == 0
     changed = clipped.coeffs != log.coeffs
     assert changed.sum() == 28 and changed[GLITCH_FRAME].all() and changed[SPIKE]
+
+
+def test_glitched_frame_rule_is_at_least_frame_modes():
+    # the rule's definition: outliers in >= frame_modes modes. Frame 100 holds spikes in
+    # exactly 3 modes (glitched at the default min(M, 3)), frame 200 in 2 (not glitched)
+    x = np.random.default_rng(11).standard_normal((2000, 6))
+    x[100, [0, 2, 4]] += 100.0
+    x[200, [1, 3]] += 100.0
+    r = assess_quality(x)
+    assert r.outlier_frames.tolist() == [100, 200]
+    assert r.glitch_frames.tolist() == [100]
+    assert assess_quality(x, frame_modes=2).glitch_frames.tolist() == [100, 200]
+
+
+def test_subsample_never_exceeds_sample_frames_when_it_does_not_divide():
+    # 20,500 frames at sample_frames = 2000: the stride is ceil(20500 / 2000) = 11, so the
+    # subsample is x[::11] (1864 rows <= 2000); a floored stride (10) would take 2050 rows
+    x = np.random.default_rng(4).standard_normal((20_500, 3)) * [1.0, 2.0, 0.5]
+    r = assess_quality(x, sample_frames=2000, chunk_frames=999)
+    assert r.sample_frames == x[::11].shape[0] <= 2000
+    np.testing.assert_allclose(r.median, np.median(x[::11], axis=0), atol=1e-12)
+    np.testing.assert_allclose(
+        r.sigma, stats.median_abs_deviation(x[::11], axis=0, scale="normal"), rtol=1e-12)
+
+
+def test_drop_of_the_first_frame_starts_the_log_at_the_first_kept_frame():
+    # frame 0 glitched in every mode: after 'drop' the first frame is frame 1, at 1 / rate
+    x = np.random.default_rng(12).standard_normal((1000, 5))
+    x[0] += 100.0
+    log, r = apply_outlier_policy(ModalLog(x, rate=500.0, start_time=2.0), "drop")
+    assert r.flagged_frames.tolist() == [0]
+    assert log.start_time == log.times[0] == log.timestamps[0] == 2.0 + 1 / 500.0
+    np.testing.assert_allclose(log.times, 2.0 + np.arange(1, 1000) / 500.0, rtol=0, atol=0)
+
+
+def test_quantised_mode_minimum_run_is_the_documented_law():
+    # 11 frames of one mode with 5 equal consecutive pairs of 10: q = 0.5, and the minimum
+    # stuck run is ceil(1 + ln(alpha / (T M)) / ln q) = ceil(11.1) = 12 (module docstring),
+    # q counted here with numpy over the T - 1 consecutive pairs
+    x = np.array([0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 5.0])[:, None]
+    q = np.mean(x[1:, 0] == x[:-1, 0])
+    assert q == 0.5
+    r = assess_quality(x, alpha=0.01)
+    assert r.stuck_runs.tolist() == [math.ceil(1 + math.log(0.01 / 11) / math.log(q))] == [12]
