@@ -20,6 +20,10 @@ References (outside the budget's code):
   whose ideal WFS averages a 5-km layer over 7 field samples: the fitting term must be
   the real loop's residual (as in test_laws_budget.py), which holds only if the budget's
   ideal sensors keep the WFS's field samples.
+- The temporal term's controller: driven by the same residuals as the loop's own
+  controller (built by the simulation, with a fitted predictor, on two modal DMs whose
+  joint reconstructor's ``R G`` is not the identity), it must give the same commands bit
+  for bit (the docstring's "a copy of the controller (same gain, delay, predictor)").
 - Seeds: the project's rule "same seed -> same bits" (the noise term is a seeded
   Monte-Carlo average).
 - Frames kept: the documented contract of ``BudgetProbe.result`` (the probed frames from
@@ -47,8 +51,10 @@ from closedloop.config import (
     WFSConfig,
 )
 from closedloop.model import LoopModel
-from closedloop.simulation import simulate
+from closedloop.simulation import _Control, simulate
 from modalinfo.forecast import LinearPredictor
+
+from .test_laws_budget import _mcao_noise_config
 
 ARCSEC = math.pi / 648000.0
 N_DRAWS_ZONAL = 1024
@@ -219,3 +225,26 @@ def test_fitting_term_keeps_the_wfs_field_samples():
                                           noise=0.0, n_subapertures=8, field_samples=1),))
     b1 = simulate(on_axis, 0.02, seed=1, progress=False, budget_every=1).budget
     assert b1.fitting[0] < 0.98 * b.fitting[0]
+
+
+def test_budget_controller_is_the_loops_controller():
+    # the temporal term's copy of the controller must act as the loop's (the gain, delay,
+    # predictor and the projector R G that keeps the forecast in the controlled modes):
+    # driven by the same residuals, the two give the same commands, bit for bit. Two
+    # modal DMs with the joint MAP reconstructor, whose R G is not the identity (it cuts
+    # the DM-mode combinations no WFS sees), so a forecast left unprojected shows
+    cfg = _mcao_noise_config(0.02, shift_px=8)
+    model = LoopModel(cfg)
+    projector = model.controlled_projector
+    assert np.abs(projector - np.eye(model.n_modes)).max() > 0.1
+    rng = np.random.default_rng(3)
+    history = rng.standard_normal((200, model.n_modes)).cumsum(axis=0)
+    loop_predictor = LinearPredictor(horizon=2).fit(history)
+    probe_predictor = LinearPredictor(horizon=2).fit(history)
+    probe = BudgetProbe(model, probe_predictor, 1)
+    loop = _Control(model, cfg.loop, loop_predictor, None, "raise")
+    for _ in range(12):
+        m = rng.standard_normal(model.n_modes)
+        expected, _ = loop.step(m, None)
+        command, _, _ = probe.controller.step(m, None)
+        np.testing.assert_array_equal(command, expected)
