@@ -23,7 +23,10 @@ References (computed in the test, not with ``modalinfo.servo`` or the budget's c
   ``g^2 (1 - phi2) / ((1 + phi2) ((1 - phi2)^2 - phi1^2))`` with phi1 = 1, phi2 = -g
   (Box & Jenkins 1976, eq. 3.2.27), i.e. ``g (1 + g) / ((1 - g) (2 + g))``; with a half-frame
   delay the command seen is the mean of the last two, and the variance is the sum of the
-  squared impulse response of the difference equation written here;
+  squared impulse response of the difference equation written here; with a half-frame
+  delay and a half-frame exposure (the frame's end) each exposure sees one command only,
+  an AR(1) process of variance ``g / (2 - g)`` (this case pins the exposure's part in
+  the propagation: with a whole-frame exposure it would be the half-frame sum);
 - the command covariance ``ntf sigma^2 R R^T`` (R: the WFS's reconstructor, the
   matrix the loop applies), seen in every science direction as the piston-removed
   variance of the mirror's modes over the pupil: ``tr(Gram C)`` with ``Gram`` the
@@ -104,7 +107,7 @@ def test_fitting_term_is_the_residual_of_a_fitting_only_loop():
     np.testing.assert_allclose(b.fitting, b.measured, rtol=1e-9)
 
 
-def _config(*, alpha, gain, delay):
+def _config(*, alpha, gain, delay, integration=1e-3):
     # turbulence negligible (D/r0 = 1e-6): the loop sees its noise only
     return SimulationConfig(
         name="noise-budget",
@@ -113,7 +116,8 @@ def _config(*, alpha, gain, delay):
         dms=(DMConfig(altitude=0.0, n_modes=20),),
         wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=8, noise=alpha,
                         field_samples=1),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=delay, gain=gain),
+        loop=LoopConfig(time_step=1e-3, integration_time=integration, delay=delay,
+                        gain=gain),
         field=FieldConfig(size=20.0, n_points=3), wavelength=630e-9, r0_wavelength=500e-9)
 
 
@@ -130,6 +134,16 @@ def _ntf_half_frame(gain, n=4000):
         c2 = c[k - 2] if k >= 2 else 0.0
         c[k] = c1 + gain * ((1.0 if k == 0 else 0.0) - 0.5 * (c1 + c2))
     return float(np.sum(c ** 2))
+
+
+def _ntf_short_exposure(gain):
+    """Half-frame delay, half-frame exposure at the frame's end: AR(1) variance.
+
+    The exposure of frame k, the last half of the frame, sees only ``c_{k-1}`` (applied
+    half a frame after frame k-1's end, held one frame), so ``c_k = (1 - g) c_{k-1} +
+    g n_k`` and the variance per unit noise is ``g^2 / (1 - (1 - g)^2) = g / (2 - g)``.
+    """
+    return gain / (2.0 - gain)
 
 
 def test_closed_form_is_the_impulse_response():
@@ -158,14 +172,21 @@ def _pupil_gram(model):
     return pup @ pup.T / pup.shape[1]
 
 
-@pytest.mark.parametrize("alpha,gain,delay", [(0.02, 0.4, 1e-3), (0.01, 0.5, 0.5e-3)])
-def test_noise_term_is_the_propagated_configured_noise(monkeypatch, alpha, gain, delay):
+@pytest.mark.parametrize("alpha,gain,delay,integration", [
+    (0.02, 0.4, 1e-3, 1e-3), (0.01, 0.5, 0.5e-3, 1e-3), (0.02, 0.5, 0.5e-3, 0.5e-3)])
+def test_noise_term_is_the_propagated_configured_noise(monkeypatch, alpha, gain, delay,
+                                                       integration):
     monkeypatch.setattr(budget_module, "_N_NOISE_DRAWS", N_DRAWS)
-    cfg = _config(alpha=alpha, gain=gain, delay=delay)
+    cfg = _config(alpha=alpha, gain=gain, delay=delay, integration=integration)
     model = LoopModel(cfg)
     r = model.wfss[0].reconstructor
     sigma = 2.0 * math.pi * alpha * ARCSEC / cfg.r0_wavelength
-    ntf = _ntf_closed_form(gain) if delay == 1e-3 else _ntf_half_frame(gain)
+    if integration < 1e-3:
+        ntf = _ntf_short_exposure(gain)
+    elif delay == 1e-3:
+        ntf = _ntf_closed_form(gain)
+    else:
+        ntf = _ntf_half_frame(gain)
     cov = ntf * sigma ** 2 * (r @ r.T)
     gc = _pupil_gram(model) @ cov
     to_science = (cfg.r0_wavelength / cfg.wavelength) ** 2
