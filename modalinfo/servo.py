@@ -197,13 +197,12 @@ def check_stable(gain: float, delay_frames: float, integration_frames: float) ->
     """Raise ``ValueError`` (with the stability limit) if the sampled loop is unstable."""
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
     radius = _pole_radius(gain, delay_frames, integration_frames)
-    if radius is not None:
-        unstable = radius >= 1.0 - 1e-12
-    else:
-        limit = max_stable_gain(delay_frames, integration_frames)
-        unstable = gain >= limit * (1.0 - 1e-12)
+    limit = max_stable_gain(delay_frames, integration_frames)
+    # the gain margin decides (relative accuracy ~1e-12): a pole-modulus test alone called
+    # a tiny gain unstable, since the integrator's pole 1 - g is within rounding of 1 for
+    # g ~ 1e-12, and then printed "stable for gain < limit" with gain far below the limit
+    unstable = gain >= limit * (1.0 - 1e-12) or (radius is not None and radius > 1.0 + 1e-9)
     if unstable:
-        limit = max_stable_gain(delay_frames, integration_frames)
         pole = ("" if radius is None
                 else f" (largest closed-loop pole modulus {radius:.4f} >= 1)")
         raise ValueError(

@@ -88,3 +88,15 @@ def test_delays_beyond_the_documented_limit_are_refused():
                                                            delay_frames=bad)):
         with pytest.raises(ValueError, match=r"`delay_frames` must be <= 1000 frames.*got 1500"):
             call()
+
+
+@pytest.mark.parametrize("gain", [1e-15, 1e-13, 1e-9, 1e-6])
+@pytest.mark.parametrize(("delay", "integ"), [(0.5, 1.0), (1.5, 1.0), (2.0, 0.5)])
+def test_a_tiny_gain_is_stable(gain, delay, integ):
+    # every gain below the root-locus limit is stable (the integrator's pole sits at 1 - g,
+    # strictly inside): a pole-modulus test within rounding of 1 refused gain 1e-13 as
+    # "unstable ... stable for gain < 2.0000" (table1: gain 1e-13, delay 0.5 frame)
+    assert gain < _roots_limit(delay, integ)
+    servo.check_stable(gain, delay, integ)
+    with pytest.raises(ValueError, match=r"unstable .* stable for gain <"):
+        servo.check_stable(1.01 * _roots_limit(delay, integ), delay, integ)
