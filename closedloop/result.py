@@ -515,6 +515,9 @@ class SimulationResult:
         from modalinfo.io.hdf5 import read_log_group
 
         path = Path(path)
+        if path.is_dir():
+            raise IsADirectoryError(f"result file {str(path)!r} is a directory, not a "
+                                    "saved run (closedloop run --out RUN.h5 writes one).")
         if not path.is_file():
             raise FileNotFoundError(f"result file {str(path)!r} does not exist.")
         try:

@@ -62,6 +62,7 @@ def test_info_and_config(config_file, tmp_path, capsys):
     (["run", "--out", "x.txt"], "--out 'x.txt': unsupported extension '.txt'; use .h5"),
     (["compare", "--predictors", "none,foo"], "--predictors must be"),
     (["info", "missing.h5"], "does not exist"),
+    (["info", "."], "is a directory, not a saved run"),
     (["run", "--config", "nope.toml"], "does not exist"),
 ])
 def test_errors_are_one_line_exit_2(argv, needle, capsys):
