@@ -84,7 +84,7 @@ class TelescopeConfig:
     diameter : float
         Aperture diameter D [m].
     obscuration : float
-        Central obscuration, as a fraction of D, in [0, 1).
+        Central obscuration, as a fraction of D, in [0, 0.95] (an annular pupil).
     zenith_angle : float
         Zenith angle [deg]; turbulence strength scales as sec(z) and altitudes as
         sec(z) (Table 1's "azimuthal angle 0 deg" is read as observing at the zenith).

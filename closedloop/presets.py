@@ -19,7 +19,7 @@ upper-layer altitude        10 km                        a 70 m/s wind is a jet-
                                                          at 8-12 km (Kellerer et al. 2012)
 wind directions             0 deg (ground), 90 deg       Table 1 gives none; orthogonal winds
                             (upper)                      avoid a privileged field axis
-pupil sampling              64 px across D (6.25 cm)     r0 = 15.4 cm at 500 nm: 2.5 px per r0
+pupil sampling              64 px across D (6.25 cm)     ground r0 15.4 cm (500 nm): 2.5 px
 ground WFS                  60" field, 16x16 subaps      layer-oriented MFoV: widest field on
                                                          the ground (Ragazzoni et al. 2002);
                                                          a wide-field SH of ~1' (Kellerer 2012)
