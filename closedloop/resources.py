@@ -36,7 +36,6 @@ resident memory of ``closedloop run`` on every preset (``benchmarks/RESULTS.md``
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 
 from closedloop.config import SimulationConfig, dm_disc_diameter, wfs_meta_pupil
@@ -379,19 +378,12 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
 def available_memory() -> float:
     """Memory the machine has available [bytes] (``MemAvailable`` of ``/proc/meminfo``).
 
-    Falls back to ``os.sysconf`` physical pages where ``/proc/meminfo`` is missing.
+    :func:`modalinfo._validation.available_memory_bytes`, which falls back to the free
+    physical pages where ``/proc/meminfo`` is missing.
     """
-    try:
-        with open("/proc/meminfo", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024.0
-    except OSError:
-        pass
-    try:
-        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - exotic platforms
-        return math.inf
+    from modalinfo._validation import available_memory_bytes
+
+    return available_memory_bytes()
 
 
 def check_resources(config: SimulationConfig, duration: float, *, limit: float | None = None,

@@ -222,6 +222,23 @@ def check_square_range(
         )
 
 
+def available_memory_bytes() -> float:
+    """Memory the machine has available [bytes]: ``MemAvailable`` of ``/proc/meminfo``.
+
+    Free pages plus the page cache the kernel can drop; falls back to
+    :func:`free_memory_bytes` where ``/proc/meminfo`` is missing or unreadable. The one
+    reading behind closedloop's run estimate and the command line's memory refusals.
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return free_memory_bytes()
+
+
 def free_memory_bytes() -> float:
     """Physical memory free now [bytes] (``os.sysconf`` pages); ``inf`` where unknown.
 

@@ -470,23 +470,16 @@ def memory_available() -> float:
     """Bytes this process may still allocate [bytes]: available memory, capped by ``RLIMIT_AS``.
 
     The machine's side is ``MemAvailable`` of ``/proc/meminfo`` (free pages plus the
-    page cache the kernel can drop, as closedloop's run estimate reads it), else
-    :func:`modalinfo._validation.free_memory_bytes`: free pages alone would refuse a
-    log that fits on a machine whose cache holds the files just read. A process
+    page cache the kernel can drop, as closedloop's run estimate reads it:
+    :func:`modalinfo._validation.available_memory_bytes`): free pages alone would refuse
+    a log that fits on a machine whose cache holds the files just read. A process
     address-space limit (``ulimit -v``, a batch system's cap) is the other side,
     counted as the limit minus the process's current size (``VmSize``), since
     memory-mapped logs count against it too.
     """
-    from modalinfo._validation import free_memory_bytes
+    from modalinfo._validation import available_memory_bytes
 
-    avail = free_memory_bytes()
-    try:
-        with open("/proc/meminfo", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    avail = float(line.split()[1]) * 1024.0
-    except (OSError, ValueError, IndexError):
-        pass
+    avail = available_memory_bytes()
     try:
         import resource
 
