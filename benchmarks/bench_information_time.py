@@ -55,7 +55,7 @@ from modalinfo.information import (  # noqa: E402
     select_inputs,
     transfer_entropy_variables,
 )
-from modalinfo.information.conditional import _bins_per_axis, _group_codes  # noqa: E402
+from modalinfo.information.histogram import _bins_per_axis, _group_codes  # noqa: E402
 from modalinfo.io import load  # noqa: E402
 
 DATA = Path(__file__).resolve().parent.parent / "data" / "kaos_like_closed_loop.npz"

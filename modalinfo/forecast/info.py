@@ -33,7 +33,8 @@ import numpy as np
 from modalinfo._validation import check_choice, check_int, check_real
 from modalinfo.forecast._info_kernels import sparse_direct_filter
 from modalinfo.forecast.base import Predictor
-from modalinfo.information.conditional import _auto_block, _estimator
+from modalinfo.information.conditional import _estimator
+from modalinfo.information.conditional_uncertainty import _auto_block
 from modalinfo.information.selection import (
     _greedy_search,
     _unit_columns,

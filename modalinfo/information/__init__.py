@@ -25,14 +25,15 @@ from modalinfo.information.conditional import (
     BiasRuleWarning,
     bias_rule,
     conditional_mutual_information,
+)
+from modalinfo.information.conditional_uncertainty import (
     conditional_mutual_information_ci,
     conditional_mutual_information_test,
-    transfer_entropy,
-    transfer_entropy_variables,
 )
 from modalinfo.information.copula import copula_scores
 from modalinfo.information.flow import TransferEntropyMap, transfer_entropy_map
 from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
+from modalinfo.information.transfer_entropy import transfer_entropy, transfer_entropy_variables
 from modalinfo.information.uncertainty import (
     MIConfidenceResult,
     MIPermutationResult,

@@ -1,7 +1,7 @@
-"""numba kernels of the conditional-MI estimators (:mod:`modalinfo.information.conditional`).
+"""numba kernels of the conditional-MI estimators (``histogram_cmi``, ``kde_cmi``).
 
 Kernels take contiguous arrays and scalars only, write into preallocated outputs
-(``# OUT``) and never validate; the wrappers in ``conditional.py`` do.
+(``# OUT``) and never validate; the wrappers in ``histogram.py`` and ``kde.py`` do.
 """
 
 from __future__ import annotations

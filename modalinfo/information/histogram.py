@@ -61,6 +61,7 @@ import numpy as np
 from scipy.special import ndtri
 
 from modalinfo._validation import check_choice, check_int
+from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.gaussian import unit_scaled
 
@@ -362,3 +363,111 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     if bias_correction == "miller-madow":
         h += (occ.sum() - 1.0) / (2.0 * n)
     return h
+
+
+# ----------------------------------------------------------------------------- conditional MI
+#: Largest dense count table of the histogram CMI [cells].
+_DENSE_MAX_CELLS = 1 << 21
+#: Least mean number of samples per cell of the CMI's joint table (bias rule).
+MIN_COUNT_PER_CELL = 1
+#: Least number of CMI bins per axis (bias rule).
+MIN_BINS = 4
+
+
+def _bins_per_axis(bins: Any, n: int, d: int) -> int:
+    if isinstance(bins, str):
+        check_choice(bins, "bins", ("auto",))
+        return min(max(2, int(round((6.0 * n) ** (1.0 / (d + 2.0))))), max_rule_bins(n))
+    return check_int(bins, "bins", minimum=2)
+
+
+def _group_codes(arr: np.ndarray, k: int, binning: str) -> tuple[np.ndarray, int]:
+    """Mixed-radix cell code (n,) int64 of each row and the number of cells k^d."""
+    code = np.zeros(arr.shape[0], dtype=np.int64)
+    if binning == "quantile":  # numba, no sort (_cmi_kernels.quantile_joint_cells)
+        none = np.empty((arr.shape[0], 0))
+        ckern.quantile_joint_cells(none, arr, none, _quantile_positions(arr.shape[0], k),
+                                   np.empty(0, dtype=np.int64), code)
+        return code, k ** arr.shape[1]
+    for j in range(arr.shape[1]):
+        code = code * k + _Axis(np.ascontiguousarray(arr[:, j]), binning).index(k)
+    return code, k ** arr.shape[1]
+
+
+def _quantile_positions(n: int, k: int) -> np.ndarray:
+    """Positions (k + 1,) in the sorted sample of the k + 1 quantile edges (as _Axis)."""
+    return np.linspace(0.0, n - 1.0, k + 1)
+
+
+def _sorted_sum(codes: np.ndarray) -> tuple[float, float]:
+    out = np.empty(2)
+    ckern.sorted_runs_c_log_c(np.sort(codes), out)
+    return out[0], out[1]
+
+
+def histogram_cmi(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
+                   bias_correction: str = "miller-madow") -> float:
+    """Histogram CMI [nats], plug-in plus Miller-Madow per entropy term.
+
+    The estimator of :mod:`modalinfo.information.conditional` (module notes,
+    ``"histogram"``): x, y, z of shapes (n, dx), (n, dy), (n, dz), every column cut
+    into the same number of bins (``bins``: "auto", ``round((6 n)^(1 / (d + 2)))``
+    capped at :func:`max_rule_bins`, or an int >= 2), ``binning`` "quantile" or
+    "uniform", ``bias_correction`` "miller-madow" or "none".
+    """
+    check_choice(binning, "binning", ("quantile", "uniform"))
+    check_choice(bias_correction, "bias_correction", ("miller-madow", "none"))
+    n = x.shape[0]
+    d = x.shape[1] + y.shape[1] + z.shape[1]
+    k = _bins_per_axis(bins, n, d)
+    if d * math.log2(k) > 62:
+        raise ValueError(f"`bins`={k} per axis over {d} columns overflows the int64 cell "
+                         f"codes (k^d >= 2^62); use fewer bins or fewer columns.")
+    nx, ny, nz = k ** x.shape[1], k ** y.shape[1], k ** z.shape[1]
+    cells = nx * ny * nz
+    dense = cells <= min(_DENSE_MAX_CELLS, 8 * n + 4096)
+    counts = np.empty(cells if dense else 0, dtype=np.int64)
+    code = np.empty(0 if dense else n, dtype=np.int64)
+    if binning == "quantile":  # one fused numba call: edges, bins, joint cells
+        ckern.quantile_joint_cells(z, x, y, _quantile_positions(n, k), counts, code)
+    else:
+        code = (_group_codes(z, k, binning)[0] * nx + _group_codes(x, k, binning)[0]) * ny
+        code += _group_codes(y, k, binning)[0]
+        if dense:
+            ckern.count_cells(code, counts)
+    if dense:
+        out = np.empty(8)
+        ckern.cmi_dense_counts(counts.reshape(nz, nx, ny), out)
+        s_xyz, s_xz, s_yz, s_z, k_xyz, k_xz, k_yz, k_z = out
+    else:  # cell (z, x, y) = (cz nx + cx) ny + cy
+        cz, cxz = code // (nx * ny), code // ny
+        s_xyz, k_xyz = _sorted_sum(code)
+        s_xz, k_xz = _sorted_sum(cxz)
+        s_yz, k_yz = _sorted_sum(cz * ny + code % ny)
+        s_z, k_z = _sorted_sum(cz)
+    # H = ln n - S / n for each table; the ln n terms cancel in the CMI
+    cmi = (s_xyz + s_z - s_xz - s_yz) / n
+    if bias_correction == "miller-madow":
+        cmi += (k_xz + k_yz - k_xyz - k_z) / (2.0 * n)
+    return float(cmi)
+
+
+def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
+    """Why the histogram CMI of n samples over d columns is biased beyond use, or None.
+
+    The rule (:mod:`modalinfo.information.conditional`, "Bias rule"): ``n >= k^d``
+    (:data:`MIN_COUNT_PER_CELL` sample per joint cell) and ``k >= 4`` bins per axis
+    (:data:`MIN_BINS`), with k the bins of ``options`` ("auto" by default).
+    """
+    k = _bins_per_axis(options.get("bins", "auto"), n, d)
+    cells = float(k) ** d
+    if k < MIN_BINS:
+        return (f"histogram CMI with {k} bins per axis over {d} columns (n = {n}) "
+                f"is below the rule of at least {MIN_BINS} bins per axis: the "
+                "discretisation bias swamps the estimate")
+    if n < MIN_COUNT_PER_CELL * cells:
+        return (f"histogram CMI over {d} columns with {k} bins per axis has "
+                f"{cells:.3g} joint cells for n = {n} samples, {n / cells:.3g} per cell, "
+                f"below the rule n >= k^d: its bias, ~(cells - 1) "
+                "/ (2 n) per entropy (Miller-Madow / Panzeri-Treves), swamps the estimate")
+    return None

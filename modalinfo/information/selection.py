@@ -84,13 +84,12 @@ from modalinfo._validation import (
     free_memory_bytes,
 )
 from modalinfo.information.api import UNITS
-from modalinfo.information.conditional import (
-    CMI_METHODS,
+from modalinfo.information.conditional import CMI_METHODS, _estimator
+from modalinfo.information.conditional_uncertainty import (
     _auto_block,
-    _estimator,
     conditional_mutual_information_ci,
-    gaussian_cmi_from_covariance,
 )
+from modalinfo.information.gaussian import gaussian_cmi_from_covariance
 from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
 from modalinfo.information.uncertainty import _block_indices
 

@@ -37,7 +37,8 @@ from modalinfo.information import (
     transfer_entropy,
     transfer_entropy_variables,
 )
-from modalinfo.information.conditional import BiasRuleWarning, _group_codes
+from modalinfo.information.conditional import BiasRuleWarning
+from modalinfo.information.histogram import _group_codes
 
 
 def var1(n, a, b, c, seed, burn=500):

@@ -1,0 +1,213 @@
+"""Intervals and significance tests of conditional MI for autocorrelated series.
+
+Both reuse the MI machinery of ``modalinfo.information.uncertainty``:
+:func:`conditional_mutual_information_test` rotates y against (x, z) by random circular
+shifts of at least the Politis-White block length (time-shifted surrogates: each series
+keeps its autocorrelation, only the alignment of y is broken);
+:func:`conditional_mutual_information_ci` is the moving-block bootstrap with the
+"normal" interval of :func:`~modalinfo.information.mutual_information_ci`. The
+estimators, options and bias rule are those of
+:func:`~modalinfo.information.conditional_mutual_information`.
+
+Coverage of the nominal 95% block-bootstrap interval of the same TE (40 trials, 99
+resamples; benchmarks/RESULTS.md) at n = 1e3, 1e4, 1e5: gaussian 0.95, 0.90, 0.97;
+kde 0.97 (1e3); histogram 0.95, 0.12, 0.00 of the true TE, but 0.82, 0.78, 0.97 of
+its *binned estimand* (its own value at the same bins on a 2e6-sample series). The
+interval's width is right (bootstrap sd over the sd across seeds: 1.4, 1.0, 1.4);
+its centre is not the TE: the histogram estimates the CMI of the binned variables,
+below the TE by a discretisation bias of about -0.2 / k nats here (quantile bins,
+k = 4 ... 40 measured on 4e6 samples: -0.058, -0.023, -0.014, -0.009, -0.003 at
+k = 4, 9, 14, 20, 40), which under the default k ~ n^(1/5) shrinks as n^(-1/5)
+while the spread shrinks as n^(-1/2): discretisation bias / sd = -2.5, -4.2, -12 at
+1e3, 1e4, 1e5 (at 1e3 the finite-sample bias, +0.026, happens to cancel most of it),
+and the coverage of the TE falls to 0 as n grows. No resampling interval sees that
+bias (every resample has the same bins). Bootstrap bias correction (Efron &
+Tibshirani 1993, ch. 10) does not help either: the block bootstrap's bias (+0.050,
++0.022, +0.010 nats) is 2-7 times the estimator's finite-sample bias (+0.026,
++0.005, +0.0014), so the interval centred on ``2 theta - mean(boot)`` covered the
+TE 0.20, 0.00, 0.00 (its binned estimand 0.80, 0.20, 0.00; the basic interval
+0.78, 0.20, 0.00); BCa (ch. 14), whose z0 measures that same bias, was not adopted.
+More bins (undersmoothing: Hall, Ann. Statist. 20, 675, 1992) trade it for the
+Miller-Madow residual bias, which grows faster (n = 1e4: error -0.017, +0.017,
++0.108 nats at k = 9, 14, 20). So the
+histogram interval is an interval for the binned CMI at the estimator's bins
+(comparisons at equal n and bins, significance, whose surrogates share the bias);
+use "gaussian", "kde" or "ksg" for values of the CMI itself.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from modalinfo._validation import check_choice, check_int, check_real, check_rng
+from modalinfo.information.conditional import CMI_METHODS, _estimator, _triple
+from modalinfo.information.uncertainty import (
+    MIConfidenceResult,
+    MIPermutationResult,
+    _block_indices,
+    _pw_block_length,
+)
+
+__all__ = ["conditional_mutual_information_ci", "conditional_mutual_information_test"]
+
+
+def _auto_block(*groups: np.ndarray) -> int:
+    """Politis-White block length: the largest over the columns of the groups."""
+    n = groups[0].shape[0]
+    b = max(_pw_block_length(np.ascontiguousarray(g[:, j]))
+            for g in groups for j in range(g.shape[1]))
+    return max(1, min(int(math.ceil(b)), n))
+
+
+def conditional_mutual_information_ci(
+    x: Any, y: Any, z: Any = None, *, method: str = "histogram", units: str = "nats",
+    confidence_level: float = 0.95, n_resamples: int = 199,
+    block_length: int | str | None = None, seed: Any = None, **options: Any,
+) -> MIConfidenceResult:
+    """Moving-block bootstrap interval of a CMI estimate (autocorrelated series).
+
+    Rows ``(x_t, y_t, z_t)`` are resampled in aligned blocks (Kuensch 1989), the
+    scheme of :func:`~modalinfo.information.mutual_information_ci`, and the interval is
+    its default ``"normal"`` one: the estimate -+ z_(1-a/2) times the bootstrap
+    standard deviation (the bootstrap bias of entropy estimators is unreliable; see
+    ``modalinfo.information.uncertainty``).
+
+    Measured coverage of a nominal 95% interval (40 trials, 99 resamples, the TE of a
+    bivariate VAR(1), module notes) at n = 1e3, 1e4, 1e5: ``"gaussian"`` 0.95, 0.90,
+    0.97; ``"kde"`` 0.97 at 1e3; ``"histogram"`` 0.95, 0.12, 0.00 of the true value
+    but 0.82, 0.78, 0.97 of the binned CMI it estimates: its discretisation bias
+    (~ -0.2 / k nats there) shrinks as n^(-1/5) under the default bins, slower than
+    the interval, and no resampling sees it; the block bootstrap's own bias estimate
+    is 2-7 times too large, so a bias-corrected centre is worse (0.20, 0.00, 0.00).
+    Use the histogram interval for the binned CMI, the others for the CMI itself.
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        As :func:`conditional_mutual_information`, in time order.
+    method : {"histogram", "kde", "gaussian"}
+        Estimator; ``"ksg"`` is refused (resamples repeat rows, which nearest-neighbour
+        estimators see as zero distances).
+    units : {"nats", "bits"}
+        Units.
+    confidence_level : float
+        Nominal coverage in (0, 1).
+    n_resamples : int
+        Bootstrap resamples (>= 10).
+    block_length : int, "auto" or None
+        Block length [samples]; ``None``/``"auto"``: the largest Politis-White
+        length over the columns of x, y and z.
+    seed : None, int or numpy.random.Generator
+        Randomness of the resampling.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    MIConfidenceResult
+        Estimate, interval (``interval="normal"``, ``bootstrap="block"``) and the
+        bootstrap distribution.
+    """
+    check_choice(method, "method", CMI_METHODS)
+    if method == "ksg":
+        raise ValueError("`method`='ksg' cannot be bootstrapped: resamples repeat rows, "
+                         "which the nearest-neighbour estimator sees as zero distances; "
+                         "use 'histogram', 'kde' or 'gaussian'.")
+    est = _estimator(method, units, options)
+    xa, ya, za = _triple(x, y, z)
+    confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
+                                  maximum=1.0, strict_min=True, strict_max=True)
+    n_resamples = check_int(n_resamples, "n_resamples", minimum=10)
+    rng = check_rng(seed)
+    n = xa.shape[0]
+    if block_length is None or (isinstance(block_length, str) and block_length == "auto"):
+        b = _auto_block(xa, ya, za)
+    elif isinstance(block_length, str):
+        raise ValueError(f"`block_length` must be None, 'auto' or an int; got {block_length!r}.")
+    else:
+        b = check_int(block_length, "block_length", minimum=1, maximum=n)
+    theta = est(xa, ya, za)
+    idx = _block_indices(n, b, n_resamples, rng)
+    dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])
+    alpha = 1.0 - confidence_level
+    half = float(stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1))
+    return MIConfidenceResult(
+        estimate=float(theta), low=float(theta - half), high=float(theta + half),
+        confidence_level=confidence_level, block_length=int(b), n_resamples=n_resamples,
+        bootstrap_std=float(np.std(dist, ddof=1)), bootstrap_mean=float(np.mean(dist)),
+        bootstrap_distribution=dist, bootstrap="block", interval="normal", method=method,
+        units=units,
+    )
+
+
+def conditional_mutual_information_test(
+    x: Any, y: Any, z: Any = None, *, method: str = "histogram", units: str = "nats",
+    n_surrogates: int = 199, surrogate: str = "circular", min_shift: int | str | None = None,
+    seed: Any = None, **options: Any,
+) -> MIPermutationResult:
+    """Surrogate test of I(X; Y | Z) = 0 for (autocorrelated) series.
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        As :func:`conditional_mutual_information`, in time order.
+    method : {"histogram", "kde", "ksg", "gaussian"}
+        Estimator.
+    units : {"nats", "bits"}
+        Units of the statistic.
+    n_surrogates : int
+        Number of surrogates (>= 1); the smallest attainable p-value is
+        ``1 / (1 + n_surrogates)`` (199 -> 0.005).
+    surrogate : {"circular", "shuffle"}
+        ``"circular"`` (time-shifted surrogates, Quian Quiroga et al. 2002): the rows of
+        y are rotated against (x, z) by a random shift in [min_shift, n - min_shift];
+        each series keeps its autocorrelation. ``"shuffle"``: random permutations of
+        the rows of y, exact only for iid samples. Both break the dependence of y on
+        z as well as on x, so the null is "y independent of (x, z)", slightly stronger
+        than conditional independence (as the source surrogates of IDTxl); for a
+        greedy input search this is the usual, mildly conservative choice.
+    min_shift : int, "auto" or None
+        Smallest circular shift [samples]; ``None``/``"auto"``: the largest
+        Politis-White block length over the columns of x, y, z (at most n // 2).
+    seed : None, int or numpy.random.Generator
+        Randomness of the surrogates.
+    **options
+        Estimator options.
+
+    Returns
+    -------
+    MIPermutationResult
+        Statistic, p-value ``(1 + #{null >= statistic}) / (1 + n_surrogates)`` (one
+        test: no multiple-comparison correction here) and the null distribution.
+    """
+    est = _estimator(method, units, options)
+    xa, ya, za = _triple(x, y, z)
+    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    check_choice(surrogate, "surrogate", ("circular", "shuffle"))
+    rng = check_rng(seed)
+    n = xa.shape[0]
+    stat = est(xa, ya, za)
+    null = np.empty(n_surrogates)
+    shift0 = 0
+    if surrogate == "shuffle":
+        for i in range(n_surrogates):
+            null[i] = est(xa, ya[rng.permutation(n)], za)
+    else:
+        if min_shift is None or (isinstance(min_shift, str) and min_shift == "auto"):
+            shift0 = min(_auto_block(xa, ya, za), n // 2)
+        elif isinstance(min_shift, str):
+            raise ValueError(f"`min_shift` must be None, 'auto' or an int; got {min_shift!r}.")
+        else:
+            shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+        for i, s in enumerate(rng.integers(shift0, n - shift0 + 1, size=n_surrogates)):
+            null[i] = est(xa, np.roll(ya, int(s), axis=0), za)
+    pvalue = (1.0 + np.count_nonzero(null >= stat)) / (1.0 + n_surrogates)
+    return MIPermutationResult(
+        statistic=float(stat), pvalue=float(pvalue), null_distribution=null,
+        n_permutations=n_surrogates, permutation=surrogate, min_shift=int(shift0),
+        method=method, units=units,
+    )
