@@ -15,6 +15,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
+from modalinfo.cli._choices import MIMethodChoices
 from modalinfo.cli._common import (
     LOG_COPIES,
     add_gap_argument,
@@ -38,8 +39,9 @@ HELP = "Order the modes of a Zernike or K-L basis by mutual information (or a ba
 def add_common_arguments(parser: argparse.ArgumentParser) -> None:
     """Options shared by ``reorder`` and ``fitting-error``."""
     parser.add_argument("log", type=Path, help="telemetry log (npz, csv, fits, hdf5, npy)")
-    parser.add_argument("--estimator", choices=("histogram", "kde", "ksg", "gaussian"),
-                        default="histogram", help="MI estimator (default: histogram)")
+    parser.add_argument("--estimator", choices=MIMethodChoices(), metavar="NAME",
+                        default="histogram",
+                        help="MI estimator: %(choices)s (default: histogram)")
     parser.add_argument("--budget", type=int, default=200_000, metavar="N",
                         help="(frame, pixel) samples for the MI (default: 200000)")
     parser.add_argument("--seed", type=int, default=0, help="subsampling seed (default: 0)")

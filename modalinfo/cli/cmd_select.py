@@ -17,6 +17,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
+from modalinfo.cli._choices import MIMethodChoices
 from modalinfo.cli._common import (
     LOG_COPIES,
     add_hint_arguments,
@@ -45,10 +46,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="candidate lags 0..L-1 of every mode (default: 10)")
     parser.add_argument("--extra", type=Path, default=None, metavar="LOG2",
                         help="second log on the same clock whose modes are candidates too")
-    parser.add_argument("--method", choices=("gaussian", "histogram", "kde", "ksg"),
+    parser.add_argument("--method", choices=MIMethodChoices("cmi"), metavar="NAME",
                         default="gaussian",
-                        help="CMI estimator (default: gaussian, the linear predictor's "
-                        "criterion; the others cost one estimate per candidate and surrogate)")
+                        help="CMI estimator: %(choices)s (default: gaussian, the linear "
+                        "predictor's criterion; the others cost one estimate per candidate "
+                        "and surrogate)")
     parser.add_argument("--alpha", type=float, default=0.05,
                         help="family-wise level of each step (default: 0.05)")
     parser.add_argument("--surrogates", type=int, default=199, metavar="N",

@@ -6,13 +6,20 @@ and ``"gaussian"`` (-0.5 ln(1 - r^2)), each rank-based by default (normal scores
 equiprobable bins, :func:`copula_scores`), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`; bootstrap confidence
 intervals and permutation tests for autocorrelated telemetry in
-``modalinfo.information.uncertainty``. Conditional MI and transfer entropy of
-multivariate samples (same four methods, surrogate tests and block-bootstrap
-intervals) in ``modalinfo.information.conditional``; greedy selection of a
+``modalinfo.information.uncertainty``. Conditional MI of multivariate samples (same
+four methods) in ``modalinfo.information.conditional``, transfer entropy in
+``modalinfo.information.transfer_entropy``, their surrogate tests and block-bootstrap
+intervals in ``modalinfo.information.conditional_uncertainty``; greedy selection of a
 forecast's inputs in ``modalinfo.information.selection``; the map of transfer entropy
 between every pair of modes at every lag in ``modalinfo.information.flow``.
+
+Each method is one :class:`MIMethod` record in one registry
+(``modalinfo.information.methods``), registered by its own module; a new method is a
+module that calls :func:`register_method` (docs/ARCHITECTURE.md).
 """
 
+# the built-in methods, each registered by its own module on import
+from modalinfo.information import gaussian, histogram, kde, ksg  # noqa: F401, I001
 from modalinfo.information.api import (
     METHODS,
     UNITS,
@@ -32,6 +39,7 @@ from modalinfo.information.conditional_uncertainty import (
 )
 from modalinfo.information.copula import copula_scores
 from modalinfo.information.flow import TransferEntropyMap, transfer_entropy_map
+from modalinfo.information.methods import MIMethod, register_method, unregister_method
 from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.transfer_entropy import transfer_entropy, transfer_entropy_variables
 from modalinfo.information.uncertainty import (
@@ -47,6 +55,7 @@ __all__ = [
     "CMI_METHODS",
     "METHODS",
     "InputSelection",
+    "MIMethod",
     "SelectedInput",
     "TransferEntropyMap",
     "UNITS",
@@ -63,8 +72,10 @@ __all__ = [
     "mutual_information_ci",
     "mutual_information_permutation_test",
     "optimal_block_length",
+    "register_method",
     "select_inputs",
     "transfer_entropy",
     "transfer_entropy_map",
     "transfer_entropy_variables",
+    "unregister_method",
 ]

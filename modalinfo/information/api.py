@@ -15,27 +15,16 @@ from typing import Any
 import numpy as np
 
 from modalinfo._validation import as_float_array, check_choice
-from modalinfo.information.gaussian import GaussianEngine, gaussian_entropy
-from modalinfo.information.histogram import HistogramEngine, histogram_entropy
-from modalinfo.information.kde import KDEEngine, kde_entropy
-from modalinfo.information.ksg import KSGEngine, ksg_entropy
+from modalinfo.information.methods import METHODS, get_method
 
 __all__ = ["METHODS", "UNITS", "MutualInformation", "entropy", "mutual_information"]
 
-#: Estimator names accepted by ``method=``.
-METHODS = ("kde", "histogram", "ksg", "gaussian")
+# METHODS: the names accepted by ``method=``, a live view of the registry
+# (modalinfo.information.methods), so a method registered later is accepted too.
 #: Units accepted by ``units=`` and the factor converting from nats.
 UNITS = {"nats": 1.0, "bits": 1.0 / math.log(2.0)}
 #: Minimum number of samples of every estimator.
 MIN_SAMPLES = 10
-
-_ENGINES = {
-    "kde": KDEEngine,
-    "histogram": HistogramEngine,
-    "ksg": KSGEngine,
-    "gaussian": GaussianEngine,
-}
-
 
 def _check_options(what: str, fn, skip: str, options: dict[str, Any]) -> None:
     """Raise ``TypeError`` naming any option that is not a keyword of ``fn``."""
@@ -49,9 +38,9 @@ def _check_options(what: str, fn, skip: str, options: dict[str, Any]) -> None:
 
 
 def _make_engine(method: str, options: dict[str, Any]):
-    cls = _ENGINES[method]
-    _check_options(f"method={method!r}", cls.__init__, "self", options)
-    return cls(**options)
+    factory = get_method(method).engine
+    _check_options(f"method={method!r}", factory, "self", options)
+    return factory(**options)
 
 
 def _as_sample(value: Any, name: str) -> np.ndarray:
@@ -249,14 +238,6 @@ class MutualInformation:
         return self._fit(x)._score(y)
 
 
-_ENTROPY_METHODS = {
-    "histogram": histogram_entropy,
-    "kde": kde_entropy,
-    "ksg": ksg_entropy,
-    "gaussian": gaussian_entropy,
-}
-
-
 def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) -> float:
     """Differential entropy of a 1-D continuous sample.
 
@@ -283,11 +264,10 @@ def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) ->
         Entropy in ``units``; ``-inf`` for a constant sample (a point mass has no
         finite differential entropy).
     """
-    check_choice(method, "method", METHODS)
+    fn = get_method(method, needs="entropy").entropy
     check_choice(units, "units", tuple(UNITS))
     x = _as_sample(x, "x")
     if _is_constant(x):
         return -math.inf
-    fn = _ENTROPY_METHODS[method]
     _check_options(f"entropy method={method!r}", fn, "x", options)
     return float(fn(x, **options)) * UNITS[units]

@@ -103,14 +103,10 @@ import numpy as np
 from modalinfo._validation import as_float_array, check_choice
 from modalinfo.information.api import MIN_SAMPLES, UNITS
 from modalinfo.information.gaussian import gaussian_cmi
-from modalinfo.information.histogram import (
-    MIN_BINS,
-    MIN_COUNT_PER_CELL,
-    histogram_bias_rule,
-    histogram_cmi,
-)
-from modalinfo.information.kde import KDE_MAX_SAMPLES, kde_cmi
-from modalinfo.information.ksg import KSG_MAX_BALL, ksg_bias_rule, ksg_cmi
+from modalinfo.information.histogram import MIN_BINS, MIN_COUNT_PER_CELL
+from modalinfo.information.kde import KDE_MAX_SAMPLES
+from modalinfo.information.ksg import KSG_MAX_BALL
+from modalinfo.information.methods import CMI_METHODS, get_method
 
 __all__ = [
     "BiasRuleWarning",
@@ -124,8 +120,8 @@ __all__ = [
     "conditional_mutual_information",
 ]
 
-#: Estimator names accepted by ``method=``.
-CMI_METHODS = ("histogram", "kde", "ksg", "gaussian")
+# CMI_METHODS: the names accepted by ``method=``, a live view of the registered
+# methods that have a ``cmi`` (modalinfo.information.methods).
 #: What happens where the bias rule applies (``fallback=`` option).
 FALLBACKS = ("gaussian-copula", "raise", "none")
 
@@ -160,15 +156,6 @@ def _triple(x: Any, y: Any, z: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     return xa, ya, za
 
 
-_CMI_METHODS = {
-    "histogram": histogram_cmi,
-    "kde": kde_cmi,
-    "ksg": ksg_cmi,
-    "gaussian": gaussian_cmi,
-}
-_BIAS_RULES = {"histogram": histogram_bias_rule, "ksg": ksg_bias_rule}
-
-
 def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None) -> str | None:
     """Return why ``method`` is biased beyond use for n samples in d columns, or None.
 
@@ -193,7 +180,7 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     str or None
         One sentence naming the rule and the numbers, or None if the rule is met.
     """
-    rule = _BIAS_RULES.get(method)
+    rule = get_method(method, needs="cmi").bias_rule
     return None if rule is None else rule(n, d, options or {})
 
 
@@ -203,11 +190,11 @@ def _estimator(method: str, units: str, options: dict[str, Any]):
     The option ``fallback`` (one of :data:`FALLBACKS`) is taken out here: it says what
     :func:`bias_rule` does where it applies.
     """
-    check_choice(method, "method", CMI_METHODS)
+    record = get_method(method, needs="cmi")
     check_choice(units, "units", tuple(UNITS))
     options = dict(options)
     fallback = check_choice(options.pop("fallback", "gaussian-copula"), "fallback", FALLBACKS)
-    fn = _CMI_METHODS[method]
+    fn = record.cmi
     allowed = set(list(inspect.signature(fn).parameters)[3:])
     unknown = sorted(set(options) - allowed)
     if unknown:
@@ -219,7 +206,8 @@ def _estimator(method: str, units: str, options: dict[str, Any]):
         x, y, z = _varying(x), _varying(y), _varying(z)
         if x.shape[1] == 0 or y.shape[1] == 0:
             return 0.0  # a constant carries no information
-        why = bias_rule(method, x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options)
+        why = (None if record.bias_rule is None else
+               record.bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options))
         if why is not None:
             if fallback == "raise":
                 raise ValueError(f"{why}; use method='gaussian' (Gaussian-copula CMI), "

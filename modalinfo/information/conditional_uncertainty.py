@@ -44,7 +44,8 @@ import numpy as np
 from scipy import stats
 
 from modalinfo._validation import check_choice, check_int, check_real, check_rng
-from modalinfo.information.conditional import CMI_METHODS, _estimator, _triple
+from modalinfo.information.conditional import _estimator, _triple
+from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.uncertainty import (
     MIConfidenceResult,
     MIPermutationResult,
@@ -112,11 +113,7 @@ def conditional_mutual_information_ci(
         Estimate, interval (``interval="normal"``, ``bootstrap="block"``) and the
         bootstrap distribution.
     """
-    check_choice(method, "method", CMI_METHODS)
-    if method == "ksg":
-        raise ValueError("`method`='ksg' cannot be bootstrapped: resamples repeat rows, "
-                         "which the nearest-neighbour estimator sees as zero distances; "
-                         "use 'histogram', 'kde' or 'gaussian'.")
+    check_bootstrappable(method, needs="cmi")  # ksg: resamples repeat rows
     est = _estimator(method, units, options)
     xa, ya, za = _triple(x, y, z)
     confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,

@@ -88,6 +88,7 @@ import numpy as np
 from modalinfo._validation import check_choice, check_int, check_real, check_rng, free_memory_bytes
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
+from modalinfo.information.methods import get_method
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
 from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
 
@@ -447,8 +448,9 @@ def transfer_entropy_map(
     check_choice(adjust, "adjust", ADJUSTMENTS)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     rng = check_rng(seed)
-    if method == "gaussian" and options.get("copula", False):
-        raise ValueError("`copula`=True is not available with method='gaussian' here: its "
+    closed = get_method(method).gaussian_closed_form  # partial correlations, not est()
+    if closed and options.get("copula", False):
+        raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
                          "closed form scores the values (least-squares residuals); use "
                          "method='histogram' or 'ksg' for rank-based scores.")
     est = _estimator(method, units, options)
@@ -462,7 +464,7 @@ def transfer_entropy_map(
 
     # resources, before any work
     cells = S * (S - 1) * L
-    if method == "gaussian":
+    if closed:
         need = 8 * (3 * n * S * L + n_surrogates * (3 * n + 3 * S * L)
                     + (4 * n_surrogates + 2) * S * S * L)
         # original: residualise and score; null: one cross-correlation of the target's
@@ -495,7 +497,7 @@ def transfer_entropy_map(
         min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
     shifts, shift0 = surrogate_shifts(n, n_surrogates, int(lags.max()), min_shift, rng)
     factor = UNITS[units]
-    if method == "gaussian":
+    if closed:
         te, null = _gaussian_map(series, lags, history, t0, shifts)
         te, null = te * factor, null * factor
     else:

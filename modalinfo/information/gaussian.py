@@ -15,6 +15,7 @@ import numpy as np
 
 from modalinfo.information import _kernels as kern
 from modalinfo.information.copula import check_copula, copula_scores
+from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["GaussianEngine", "gaussian_entropy", "gaussian_mi_from_correlation", "unit_scaled"]
 
@@ -131,3 +132,10 @@ def gaussian_cmi_from_covariance(c: np.ndarray, dx: int, dy: int) -> float:
         return _logdet(c[np.ix_(idx, idx)])
 
     return 0.5 * (ld(np.r_[ix, iz]) + ld(np.r_[iy, iz]) - ld(iz) - ld(np.arange(c.shape[0])))
+
+
+#: The ``"gaussian"`` method (:mod:`modalinfo.information.methods`).
+METHOD = register_method(MIMethod(
+    name="gaussian", engine=GaussianEngine, entropy=gaussian_entropy, cmi=gaussian_cmi,
+    gaussian_closed_form=True,
+    summary="-0.5 ln(1 - r^2) of the normal scores (Gaussian copula)"))

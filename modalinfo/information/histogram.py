@@ -64,6 +64,7 @@ from modalinfo._validation import check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.gaussian import unit_scaled
+from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["BIN_RULES", "max_rule_bins", "n_bins_for"]
 
@@ -471,3 +472,10 @@ def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
                 f"below the rule n >= k^d: its bias, ~(cells - 1) "
                 "/ (2 n) per entropy (Miller-Madow / Panzeri-Treves), swamps the estimate")
     return None
+
+
+#: The ``"histogram"`` method (:mod:`modalinfo.information.methods`).
+METHOD = register_method(MIMethod(
+    name="histogram", engine=HistogramEngine, entropy=histogram_entropy, cmi=histogram_cmi,
+    bias_rule=histogram_bias_rule,
+    summary="plug-in estimate on equiprobable bins with the Miller-Madow correction"))

@@ -71,6 +71,7 @@ from modalinfo.information.gaussian import (
     _standardise_columns,
     unit_scaled,
 )
+from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["KDEEngine", "kde_entropy", "bandwidth_factor", "copula_scores"]
 
@@ -435,3 +436,9 @@ def kde_cmi(x, y, z, *, bandwidth: Any = "scott", copula: bool = True) -> float:
     return (_kde_entropy_block(np.ascontiguousarray(u[:, xz]), h)
             + _kde_entropy_block(np.ascontiguousarray(u[:, yz]), h)
             - _kde_entropy_block(u, h) - hz)
+
+
+#: The ``"kde"`` method (:mod:`modalinfo.information.methods`).
+METHOD = register_method(MIMethod(
+    name="kde", engine=KDEEngine, entropy=kde_entropy, cmi=kde_cmi,
+    summary="leave-one-out Gaussian kernel density on normal scores"))

@@ -47,6 +47,7 @@ from scipy.special import digamma
 from modalinfo._validation import check_int
 from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.gaussian import unit_scaled
+from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["KSGEngine", "ksg_entropy"]
 
@@ -203,3 +204,12 @@ def ksg_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
                 f"of side (k / n)^(1/d) = {ball:.3g} on normal scores, above the rule "
                 f"{KSG_MAX_BALL:.3g} (n >= k 2.5^d): its dimension bias swamps the estimate")
     return None
+
+
+#: The ``"ksg"`` method (:mod:`modalinfo.information.methods`). Not bootstrapped:
+#: measured bootstrap mean 0.90 nats for an estimate of 0.10.
+METHOD = register_method(MIMethod(
+    name="ksg", engine=KSGEngine, entropy=ksg_entropy, cmi=ksg_cmi, bias_rule=ksg_bias_rule,
+    bootstrap="resamples repeat rows, which the nearest-neighbour estimator sees as zero "
+              "distances",
+    summary="Kraskov-Stoegbauer-Grassberger k-nearest neighbours on normal scores"))

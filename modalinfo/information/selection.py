@@ -90,6 +90,7 @@ from modalinfo.information.conditional_uncertainty import (
     conditional_mutual_information_ci,
 )
 from modalinfo.information.gaussian import gaussian_cmi_from_covariance
+from modalinfo.information.methods import get_method
 from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
 from modalinfo.information.uncertainty import _block_indices
 
@@ -369,7 +370,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
             stop = "no candidate left"
             break
         Z = C[:, chosen] if chosen else np.empty((n, 0))
-        if method == "gaussian":
+        if get_method(method).gaussian_closed_form:
             gains = _gauss_gains(r, R, alive)
             best = int(np.argmax(np.where(alive, gains, -np.inf)))
             # null: every candidate rotated against the target and the chosen inputs,
@@ -400,7 +401,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
         q = R[:, best] / math.sqrt(float(R[:, best] @ R[:, best]))
         r -= q * float(q @ r)
         R -= np.outer(q, q @ R)
-        if method == "gaussian":
+        if get_method(method).gaussian_closed_form:
             xq.append(circular_cross(q, Cu, shifts, spectra))
         alive[best] = False
         # a candidate now (numerically) spanned by the chosen ones is dropped
@@ -575,8 +576,9 @@ def select_inputs(
         min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
     # one set of shifts for the whole search, on a lattice with the original at 0
     shifts, shift0 = surrogate_shifts(n, n_surrogates, max_lag - 1 + horizon, min_shift, rng)
-    if method == "gaussian" and options.get("copula", False):
-        raise ValueError("`copula`=True is not available with method='gaussian' here: its "
+    closed = get_method(method).gaussian_closed_form  # partial correlations, not est()
+    if closed and options.get("copula", False):
+        raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
                          "closed form scores the values (least-squares residuals); use "
                          "method='histogram' or 'ksg' for rank-based scores.")
     est = _estimator(method, units, options)
@@ -585,7 +587,7 @@ def select_inputs(
     Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())
     spectra = None
-    if method == "gaussian" and n_surrogates >= _FFT_MIN_SURROGATES:
+    if closed and n_surrogates >= _FFT_MIN_SURROGATES:
         L = sfft.next_fast_len(2 * n, real=True)
         spectra = (sfft.rfft(np.ascontiguousarray(Cu.T), L, axis=1), L)
     picked, stop, last_p = _greedy_search(
@@ -596,12 +598,12 @@ def select_inputs(
     for i, (j, gain, p) in enumerate(picked):
         low = high = math.nan
         prev_cols = [c for c, _, _ in picked[:i]]
-        if intervals and method == "gaussian":
+        if intervals and closed:
             low, high = _gaussian_block_ci(
                 np.column_stack([y, C[:, j], C[:, prev_cols]]), gain, n_resamples,
                 confidence_level, rng)
             low, high = low * factor, high * factor
-        elif intervals and method != "ksg":  # ksg: bootstrap resamples break k-NN
+        elif intervals and get_method(method).bootstrap is None:  # ksg: resamples break k-NN
             prev = C[:, prev_cols] if i else None
             ci = conditional_mutual_information_ci(
                 y, C[:, j], prev, method=method, units=units, n_resamples=n_resamples,

@@ -62,6 +62,7 @@ from modalinfo.information.api import (
     UNITS,
     MutualInformation,
 )
+from modalinfo.information.methods import check_bootstrappable
 
 __all__ = [
     "MIConfidenceResult",
@@ -310,13 +311,7 @@ def mutual_information_ci(
     MIConfidenceResult
         Estimate, interval, block length and bootstrap distribution.
     """
-    check_choice(method, "method", METHODS)
-    if method == "ksg":
-        raise ValueError(
-            "`method`='ksg' cannot be bootstrapped: resamples repeat samples, which the "
-            "nearest-neighbour estimator sees as zero distances (bootstrap mean 0.90 "
-            "nats for an estimate of 0.10, measured); use 'histogram' or 'kde'."
-        )
+    check_bootstrappable(method)  # ksg: resamples repeat samples (modalinfo.information.ksg)
     check_choice(units, "units", tuple(UNITS))
     x, y = _pair(x, y)
     confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
