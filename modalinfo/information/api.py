@@ -59,9 +59,11 @@ def mutual_information(x: Any, y: Any, method: str = "kde", units: str = "nats",
     ----------
     x, y : array_like, shape (n,)
         Paired samples (n >= 10, finite). Any units; MI is dimensionless.
-    method : {"kde", "histogram", "ksg", "gaussian"}
-        Estimator. Every default is rank-based: MI is unchanged by a monotone map of
-        each variable (Kraskov et al. 2004), so each estimator works on the ranks
+    method : {"kde", "histogram", "ksg", "gaussian"} or a registered name
+        Estimator (:data:`METHODS`; a method added with
+        :func:`~modalinfo.information.register_method` is accepted too).
+        Every default is rank-based: MI is unchanged by a monotone map of each variable
+        (Kraskov et al. 2004), so each estimator works on the ranks
         (normal scores Phi^-1(rank / (n + 1)), :func:`~modalinfo.information.copula_scores`, or
         equiprobable bins) and one glitch or a heavy tail moves the estimate by about
         its share of the sample (one sample at 1e6 in a rho = 0.6 pair of 20,000:
@@ -140,7 +142,7 @@ class MutualInformation:
 
     Parameters
     ----------
-    method : {"kde", "histogram", "ksg", "gaussian"}
+    method : {"kde", "histogram", "ksg", "gaussian"} or a registered name
         Estimator (see :func:`mutual_information`).
     units : {"nats", "bits"}
         Units of the scores.
@@ -246,7 +248,7 @@ def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) ->
     x : array_like, shape (n,)
         Samples (n >= 10, finite), in any unit u; the entropy is that of the density
         in 1/u (it shifts by ln(c) when x is scaled by c).
-    method : {"kde", "histogram", "ksg", "gaussian"}
+    method : {"kde", "histogram", "ksg", "gaussian"} or a registered name with an entropy
         ``"kde"``: leave-one-out resubstitution of a Gaussian KDE on a grid (options
         ``bandwidth``, ``grid_size``); ``"histogram"``: plug-in entropy plus the log
         bin width, Miller-Madow corrected (options ``bins`` with default the 1-D rule

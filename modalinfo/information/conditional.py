@@ -235,8 +235,8 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str
         Any units (CMI is dimensionless).
     z : array_like, shape (n,) or (n, d), or None
         Conditioning variables; ``None`` gives the MI of the groups x and y.
-    method : {"histogram", "kde", "ksg", "gaussian"}
-        Estimator (see the module notes). Options: ``"histogram"``: ``bins``
+    method : {"histogram", "kde", "ksg", "gaussian"} or a registered name with a ``cmi``
+        Estimator (see the module notes; :data:`CMI_METHODS`). Options: ``"histogram"``: ``bins``
         ("auto" or an int >= 2 per axis), ``binning`` ("quantile" or "uniform"),
         ``bias_correction`` ("miller-madow" or "none"); ``"kde"``: ``bandwidth``
         ("scott", "silverman" or a float factor), ``copula`` (True); ``"ksg"``: ``k``

@@ -385,8 +385,9 @@ def transfer_entropy_map(
         Source lags [samples]: an int L means 1..L; or distinct ints >= 0.
     history : int
         Target history k >= 0 [samples] conditioned on.
-    method : {"gaussian", "histogram", "kde", "ksg"}
-        Estimator (module notes; "gaussian" scores a target in one matrix product).
+    method : {"gaussian", "histogram", "kde", "ksg"} or a registered name with a ``cmi``
+        Estimator (module notes; "gaussian", or any method whose record has
+        ``gaussian_closed_form``, scores a target in one matrix product).
     units : {"nats", "bits"}
         Units of the TE.
     alpha : float

@@ -500,9 +500,10 @@ def select_inputs(
     extra : ModalLog or array_like, shape (T, M2), optional
         Second log on the same clock (e.g. the other WFS of an MCAO run); its modes
         are candidates too, labelled ``"extra:<label>"``.
-    method : {"gaussian", "histogram", "kde", "ksg"}
+    method : {"gaussian", "histogram", "kde", "ksg"} or a registered name with a ``cmi``
         CMI estimator (see the module notes; "gaussian" is fast and is the criterion
-        of the linear predictor).
+        of the linear predictor; a method whose record has ``gaussian_closed_form``
+        takes the same closed-form path, any other calls its ``cmi``).
     units : {"nats", "bits"}
         Units of the gains.
     alpha : float
