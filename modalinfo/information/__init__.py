@@ -19,7 +19,7 @@ module that calls :func:`register_method` (docs/ARCHITECTURE.md).
 """
 
 # the built-in methods, each registered by its own module on import
-from modalinfo.information import gaussian, histogram, kde, ksg  # noqa: F401, I001
+from modalinfo.information import gaussian, histogram, kde, ksg  # noqa: F401
 from modalinfo.information.api import (
     METHODS,
     UNITS,

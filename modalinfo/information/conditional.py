@@ -1,10 +1,11 @@
-"""Conditional mutual information and transfer entropy of multivariate samples.
+"""Conditional mutual information of multivariate samples: the front end of every CMI method.
 
 ``I(X; Y | Z) = H(X, Z) + H(Y, Z) - H(X, Y, Z) - H(Z)`` (DESIGN.md, "Information in
 time"), for x, y, z each of shape ``(n,)`` or ``(n, d)`` (z may be ``None``: then it is
 the MI of the two groups). Transfer entropy from Y to X at lag l with history k is
 ``I(X_t; Y_{t-l} | X_{t-1}, ..., X_{t-k})`` (Schreiber, Phys. Rev. Lett. 85, 461, 2000).
 Results in nats (or bits with ``units="bits"``), as :func:`mutual_information`.
+Transfer entropy: :mod:`modalinfo.information.transfer_entropy`.
 
 Estimators (``method=``): the ``cmi`` of each method's record
 (:mod:`modalinfo.information.methods`), written in the method's own module
@@ -122,6 +123,7 @@ __all__ = [
 
 # CMI_METHODS: the names accepted by ``method=``, a live view of the registered
 # methods that have a ``cmi`` (modalinfo.information.methods).
+
 #: What happens where the bias rule applies (``fallback=`` option).
 FALLBACKS = ("gaussian-copula", "raise", "none")
 
@@ -162,7 +164,8 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     The rule of the module notes ("Bias rule"): ``"histogram"`` needs ``n >= k^d``
     (``MIN_COUNT_PER_CELL`` sample per joint cell) and ``k >= 4`` bins per axis
     (``MIN_BINS``); ``"ksg"`` needs ``(k / n)^(1 / d) <= 0.4``
-    (``KSG_MAX_BALL``). ``"kde"`` and ``"gaussian"`` have no rule here.
+    (``KSG_MAX_BALL``). ``"kde"`` and ``"gaussian"`` have no rule here. The rule
+    is the ``bias_rule`` of the method's record (:mod:`modalinfo.information.methods`).
 
     Parameters
     ----------
