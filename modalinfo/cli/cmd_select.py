@@ -17,7 +17,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import (
+from modalinfo.cli.shared import (
     LOG_COPIES,
     add_hint_arguments,
     apply_outliers,

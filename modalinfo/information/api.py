@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_choice
+from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.gaussian import GaussianEngine, gaussian_entropy
 from modalinfo.information.histogram import HistogramEngine, histogram_entropy
 from modalinfo.information.kde import KDEEngine, kde_entropy

@@ -130,7 +130,13 @@ from scipy import stats
 from scipy.spatial import cKDTree
 from scipy.special import digamma
 
-from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_real,
+    check_rng,
+)
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information.api import MIN_SAMPLES, UNITS
 from modalinfo.information.copula import check_copula, copula_scores
