@@ -230,9 +230,9 @@ def _forecast(small_log, out, *extra):
 
 def _failing_third_write(monkeypatch):
     """Make the third file write fail as a full disk would (ENOSPC)."""
-    import modalinfo.io as io
+    import modalinfo.common.files as files
 
-    real = io.atomic_write
+    real = files.atomic_write
     calls = []
 
     def atomic_write(path, write, **kw):
@@ -243,7 +243,7 @@ def _failing_third_write(monkeypatch):
             return real(path, full, **kw)
         return real(path, write, **kw)
 
-    monkeypatch.setattr(io, "atomic_write", atomic_write)
+    monkeypatch.setattr(files, "atomic_write", atomic_write)
     return calls
 
 
