@@ -66,6 +66,22 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
     Shared by ``modalinfo`` and ``closedloop``: queued notes after success, one line on
     stderr and status 2 for an input error (through ``words``, which rewrites library
     names in command-line terms), a quiet exit for a closed pipe, 130 for Ctrl-C.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The command's parser (a :class:`Parser`); each subcommand sets ``_run(args) -> int``.
+    argv : list of str or None
+        The arguments (None: ``sys.argv[1:]``).
+    prog : str
+        The command's name, starting every error line (``"closedloop"``).
+    words : callable, optional
+        ``words(message) -> message``: library names said in command-line terms.
+
+    Returns
+    -------
+    int
+        The exit status: the subcommand's, or :data:`EXIT_USAGE`, :data:`EXIT_INTERRUPTED`.
     """
     args = parser.parse_args(argv)
     if getattr(args, "_run", None) is None:
@@ -113,10 +129,25 @@ def check_output(
 ) -> None:
     """Check an output before any work: its extension, its directory, no overwrite.
 
-    Every command writing a file calls this (or :func:`check_log_output` /
-    :func:`check_figure_output`) before it loads or computes anything, so a bad
-    output path costs nothing. ``suffixes`` lists the accepted extensions
-    (lower case, with the dot); ``flag`` names the option in the message.
+    Every command writing a file calls this (or modalinfo's
+    :func:`modalinfo.cli.shared.check_log_output` / ``check_figure_output``) before it
+    loads or computes anything, so a bad output path costs nothing.
+
+    Parameters
+    ----------
+    path : pathlib.Path or None
+        The output file (None: nothing to check).
+    overwrite : bool
+        Whether an existing file may be replaced.
+    suffixes : tuple of str, optional
+        The accepted extensions (lower case, with the dot).
+    flag : str
+        The option named in the message.
+
+    Raises
+    ------
+    CommandError
+        Naming ``flag``, the path and the rule.
     """
     if path is None:
         return
