@@ -654,7 +654,7 @@ def main(argv=None) -> int:
                   (time.perf_counter() - t_start, time.process_time() - c_start))
     print(text, end="")
     if args.out is not None:
-        from modalinfo.io.files import atomic_write
+        from modalinfo.common.files import atomic_write
 
         atomic_write(args.out, lambda fh: fh.write(text.encode()), overwrite=args.overwrite)
     return 0

@@ -454,8 +454,8 @@ def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
     pathlib.Path
         The written path.
     """
+    from modalinfo.common.files import as_path
     from modalinfo.io.aot import write_system
-    from modalinfo.io.files import as_path
 
     path = as_path(path)
     if path.exists() and not overwrite and not path.is_dir():

@@ -21,8 +21,7 @@ import math
 import sys
 from pathlib import Path
 
-from modalinfo.cli import CommandError, _Parser, dispatch
-from modalinfo.cli._common import check_output
+from modalinfo.common.cli import CommandError, Parser, check_output, dispatch
 
 __all__ = ["main"]
 
@@ -45,7 +44,7 @@ def _memory_limit(args) -> float | None:
     text = getattr(args, "memory_limit", None)
     if text is None:
         return None
-    from modalinfo.io.files import parse_size  # no dask: works without the `dist` extra
+    from modalinfo.common.sizes import parse_size  # no dask: works without the `dist` extra
 
     try:
         value = float(parse_size(text, "--memory-limit"))
@@ -94,17 +93,12 @@ def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
     """Refuse an output whose directory is not writable or lacks ``need_bytes`` free."""
     if path is None:
         return
-    from closedloop.resources import format_bytes
-    from modalinfo.io.files import writable_free_bytes
+    from modalinfo.common.folders import OutputError, check_room
 
-    parent = Path(path).parent
     try:
-        free = writable_free_bytes(parent)
-    except OSError:
-        raise CommandError(f"{flag} '{path}': directory '{parent}' is not writable") from None
-    if free < need_bytes:
-        raise CommandError(f"{flag} '{path}': about {format_bytes(need_bytes)} is needed, "
-                           f"'{parent}' has {format_bytes(free)} free")
+        check_room(Path(path).parent, need_bytes, f"{flag} '{path}'")
+    except OutputError as exc:
+        raise CommandError(str(exc)) from None
 
 
 def _loop_predictor(name: str, flag: str):
@@ -315,12 +309,13 @@ def _cmd_config(args) -> int:
 
     config = _config(args)
     if args.estimate:
-        from closedloop.resources import available_memory, estimate, format_bytes
+        from closedloop.resources import available_memory, estimate
+        from modalinfo.common.sizes import format_size
 
         _check_duration(args)
         print(f"{config.name}, {args.duration:g} s: "
               + estimate(config, args.duration).describe())
-        print(f"  machine: {format_bytes(available_memory())} available; runs are refused "
+        print(f"  machine: {format_size(available_memory())} available; runs are refused "
               "past half of it (run/compare --memory-limit)")
         return 0
     if args.out is None:
@@ -332,8 +327,8 @@ def _cmd_config(args) -> int:
 
 def _cmd_sweep(args) -> int:
     from closedloop.sweep import load_grid, sweep
-    from modalinfo.batch.engine import NoWorkersError
-    from modalinfo.cli._common import check_cluster_args
+    from modalinfo.common.cli import check_cluster_args
+    from modalinfo.common.tasks.watch import NoWorkersError
 
     check_cluster_args(args)
     grid = load_grid(args.grid)
@@ -369,9 +364,9 @@ def build_parser() -> argparse.ArgumentParser:
     """Return the ``closedloop`` parser."""
     from closedloop.control import predictors
 
-    parser = _Parser(prog="closedloop", description="Layer-oriented MCAO simulator of a "
+    parser = Parser(prog="closedloop", description="Layer-oriented MCAO simulator of a "
                      "4 m solar telescope (the paper's LOST simulations).")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     p = sub.add_parser("run", help="run one simulation")
     _add_common(p)
     p.add_argument("--predictor", default="none",

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 
 __all__ = [
     "TelescopeConfig",
@@ -769,7 +769,7 @@ def config_text(config: SimulationConfig, fmt: str = "toml") -> str:
 
 def save_config(config: SimulationConfig, path: str | Path, *, overwrite: bool = False) -> Path:
     """Write a config as TOML or JSON (by extension), atomically, never replacing unasked."""
-    from modalinfo.io import atomic_write
+    from modalinfo.common.files import atomic_write
 
     path = Path(path)
     suffix = path.suffix.lower()

@@ -41,10 +41,10 @@ from dataclasses import dataclass, field
 from closedloop.config import SimulationConfig, dm_disc_diameter, wfs_meta_pupil
 from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import plane_layout
+from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
-           "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "MAX_IMAGING_SECONDS",
-           "format_bytes"]
+           "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "MAX_IMAGING_SECONDS"]
 
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
@@ -123,22 +123,14 @@ class ResourceEstimate:
 
     def describe(self) -> str:
         """Multi-line text: the peak, each part with its driver, and the time."""
-        lines = [f"estimated peak memory {format_bytes(self.peak_bytes)} "
+        lines = [f"estimated peak memory {format_size(self.peak_bytes)} "
                  f"({self.n_frames} frames, about {self.seconds:.3g} s of loop at "
                  f"{self.seconds_per_frame * 1e3:.3g} ms/frame)"]
         for name, value in sorted(self.parts.items(), key=lambda kv: -kv[1]):
             driver = self.drivers.get(name, "-")
-            lines.append(f"  {name:<14}{format_bytes(value):>10}   driven by "
+            lines.append(f"  {name:<14}{format_size(value):>10}   driven by "
                          + ("-" if driver == "-" else f"`{driver}`"))
         return "\n".join(lines)
-
-
-def format_bytes(n: float) -> str:
-    """``n`` bytes in kB/MB/GB/TB (powers of 1000)."""
-    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if n >= scale:
-            return f"{n / scale:.3g} {unit}"
-    return f"{n:.0f} B"
 
 
 def _hex_points(rings: int, field_of_view: float) -> int:
@@ -378,10 +370,10 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
 def available_memory() -> float:
     """Memory the machine has available [bytes] (``MemAvailable`` of ``/proc/meminfo``).
 
-    :func:`modalinfo._validation.available_memory_bytes`, which falls back to the free
+    :func:`modalinfo.common.memory.available_memory_bytes`, which falls back to the free
     physical pages where ``/proc/meminfo`` is missing.
     """
-    from modalinfo._validation import available_memory_bytes
+    from modalinfo.common.memory import available_memory_bytes
 
     return available_memory_bytes()
 
@@ -414,7 +406,7 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
     """
     if limit is None:
         limit = DEFAULT_SHARE * available_memory()
-        source = f"{DEFAULT_SHARE:.0%} of the {format_bytes(available_memory())} available"
+        source = f"{DEFAULT_SHARE:.0%} of the {format_size(available_memory())} available"
     else:
         if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:
             raise ValueError(f"`memory_limit` must be a number of bytes > 0; got {limit!r}.")
@@ -433,8 +425,8 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
         part = est.largest if setup else max(("screens", "planes", "logs"),
                                              key=est.parts.__getitem__)
         raise ResourceError(
-            f"this run needs about {format_bytes(need)} of memory, more than "
-            f"{format_bytes(limit)} ({source}); the largest part, {part} "
-            f"({format_bytes(est.parts[part])}), is driven by `{est.drivers[part]}`: reduce "
+            f"this run needs about {format_size(need)} of memory, more than "
+            f"{format_size(limit)} ({source}); the largest part, {part} "
+            f"({format_size(est.parts[part])}), is driven by `{est.drivers[part]}`: reduce "
             f"it (see `closedloop config --estimate`).")
     return est

@@ -9,7 +9,7 @@ It saves to and loads from HDF5 losslessly (:meth:`save`, :meth:`load`).
 
 Integrity: a saved result (format 3) records the SHA-256 of every dataset and of its
 attributes (config, seed, predictor, ...) with modalinfo.io's checksum
-(:func:`modalinfo.io._common.sha256_of`, the one its HDF5 logs carry); :meth:`load`
+(:func:`modalinfo.io.checksums.sha256_of`, the one its HDF5 logs carry); :meth:`load`
 verifies them and refuses a damaged file in one line naming the dataset
 (:class:`modalinfo.io.LogFormatError`, a ``ValueError``). A file of format 1 or 2,
 written before results carried checksums, still loads, with an
@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
-from modalinfo.io._common import dumps, sha256_of
+from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
 
 __all__ = ["SimulationResult", "ErrorBudget", "GROWTH_FACTOR", "UncheckedResultWarning"]
@@ -451,7 +451,7 @@ class SimulationResult:
         """Write the result to HDF5 (atomic; refuses to replace a file unless ``overwrite``)."""
         import h5py
 
-        from modalinfo.io import atomic_write
+        from modalinfo.common.files import atomic_write
         from modalinfo.io.hdf5 import write_log_group
 
         path = Path(path)
@@ -583,7 +583,7 @@ def _attributes_digest(f) -> str:
 
 
 def _dataset_digests(f) -> dict[str, dict]:
-    """Shape and SHA-256 (:func:`modalinfo.io._common.sha256_of`) of each dataset of ``f``.
+    """Shape and SHA-256 (:func:`modalinfo.io.checksums.sha256_of`) of each dataset of ``f``.
 
     A log group's coefficients and timestamps are left out: the log's own header records
     their SHA-256 (and its own), verified by ``modalinfo.io.hdf5.read_log_group``; the

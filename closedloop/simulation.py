@@ -48,7 +48,7 @@ from closedloop.model import LoopModel
 from closedloop.optics.science import ScienceCamera
 from closedloop.result import SimulationResult
 from closedloop.state import LoopState
-from modalinfo._validation import check_real
+from modalinfo.common.validation import check_real
 
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 

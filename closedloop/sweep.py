@@ -2,7 +2,7 @@
 
 A grid (TOML) names a base (a preset or a config file), a duration, seeds, predictors
 and a list of overrides; every combination is one task of the generic engine of
-:mod:`modalinfo.batch.engine`, keyed by the SHA-256 of its resolved config, seed,
+:mod:`modalinfo.common.tasks`, keyed by the SHA-256 of its resolved config, seed,
 predictor, duration and the package version. The engine gives the guarantees: re-running
 the same grid resumes (finished runs are skipped), a failed run is an error row and the
 rest goes on, a worker killed mid-run is retried without duplicate rows, and each task
@@ -129,9 +129,9 @@ def _check_memory(config: SimulationConfig, duration: float, budget_every: int |
 
 
 def sweep_specs(grid: dict) -> list:
-    """One :class:`modalinfo.batch.engine.TaskSpec` per (override, seed, predictor)."""
+    """One :class:`modalinfo.common.tasks.keys.TaskSpec` per (override, seed, predictor)."""
     from closedloop.control.predictors import NAMES, LoopPredictor
-    from modalinfo.batch.engine import TaskSpec, task_key
+    from modalinfo.common.tasks.keys import TaskSpec, task_key
 
     base = _base(grid)
     duration = grid.get("duration", 0.3)
@@ -237,25 +237,21 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
     -------
     rows : list of dict
         One row per (override, seed, predictor), ``status`` ``ok``, ``error`` or ``lost``.
-    report : modalinfo.batch.engine.EngineReport
+    report : modalinfo.common.tasks.runner.EngineReport
 
     Raises
     ------
     ValueError
         A bad grid, memory limit or output directory; ``OutputInUseError`` (a
         ValueError) when another run holds the directory.
-    modalinfo.batch.engine.NoWorkersError
+    modalinfo.common.tasks.watch.NoWorkersError
         No worker ran a run for ``worker_wait`` seconds; finished rows are kept.
     """
-    from modalinfo.batch import engine
-    from modalinfo.batch.archive import check_out_dir, locked_out_dir
-    from modalinfo.batch.engine import (
-        RowStore,
-        check_memory_limit,
-        open_client,
-        run_tasks,
-        write_table,
-    )
+    from modalinfo.common.folders import check_out_dir, locked_out_dir
+    from modalinfo.common.tasks.cluster import check_memory_limit, open_client
+    from modalinfo.common.tasks.rows import RowStore, write_table
+    from modalinfo.common.tasks.runner import run_tasks
+    from modalinfo.common.tasks.watch import WORKER_WAIT
 
     out_dir = Path(out_dir)
     check_out_dir(out_dir)
@@ -277,7 +273,7 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
             return started[0]
 
         report = run_tasks(specs, run_one, store, get_client, progress=progress,
-                           worker_wait=engine.WORKER_WAIT if worker_wait is None else worker_wait,
+                           worker_wait=WORKER_WAIT if worker_wait is None else worker_wait,
                            name="closedloop sweep")
         keys = {s.key for s in specs}
         rows = [r for r in store.rows() if r.get("key") in keys]

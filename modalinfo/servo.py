@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
-from modalinfo._validation import as_float_array, check_choice, check_real
+from modalinfo.common.validation import as_float_array, check_choice, check_real
 
 __all__ = [
     "MAX_DELAY_FRAMES",

@@ -38,7 +38,6 @@ a second run into the same folder is refused (exit 2) rather than replacing its 
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import importlib
 import inspect
@@ -143,13 +142,13 @@ def _check_args(args, modules, logs, needs_log) -> None:
 
 def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
-    from modalinfo.cli import CommandError
-    from modalinfo.cli._common import (
+    from modalinfo.cli.shared import (
         apply_outliers,
         input_notes,
         load_log_with_hints,
         split_gaps,
     )
+    from modalinfo.common.cli import CommandError
     from paper_figures._common import check_log_for
 
     loaded = {}
@@ -195,7 +194,9 @@ def main(argv: list[str] | None = None) -> int:
     folder as it was. Exit status: 0 done, 2 refused (one line on stderr), 1 a
     failure while computing or writing (nothing written), 130 Ctrl-C.
     """
-    parser = argparse.ArgumentParser(
+    from modalinfo.common.cli import EXIT_FAILURE, EXIT_INTERRUPTED, EXIT_USAGE, Parser
+
+    parser = Parser(
         prog="python -m paper_figures", description=__doc__.split("\n")[0]
     )
     parser.add_argument(
@@ -218,7 +219,7 @@ def main(argv: list[str] | None = None) -> int:
                              "quick 0.2)")
     parser.add_argument("--seed", type=int, default=0,
                         help="atmosphere of the closed-loop runs (default 0)")
-    from modalinfo.cli._common import add_gap_argument, add_hint_arguments
+    from modalinfo.cli.shared import add_gap_argument, add_hint_arguments
 
     # the same input hints as every modalinfo command, for --log
     add_hint_arguments(parser)
@@ -234,15 +235,15 @@ def main(argv: list[str] | None = None) -> int:
         return _run(args)
     except _RefusedError as exc:
         sys.stderr.write(f"paper_figures: error: {exc}\n")
-        return 2
+        return EXIT_USAGE
     except KeyboardInterrupt:
         sys.stderr.write(f"paper_figures: interrupted; '{args.out}' is as it was\n")
-        return 130
+        return EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         sys.stderr.write(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
                          f"; '{args.out}' is as it was\n")
-        return 1
+        return EXIT_FAILURE
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import os
 import shutil
@@ -11,32 +10,21 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-__all__ = ["MIN_FREE_BYTES", "OutputError", "check_log_for", "check_out_dir", "figure_main",
+from modalinfo.common import folders
+from modalinfo.common.cli import EXIT_INTERRUPTED, EXIT_USAGE, Parser
+from modalinfo.common.folders import OutputError
+
+__all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
            "save_png_pdf", "staged_output", "suffixed"]
-
-#: Free space the output folder's file system must have before a run [bytes]: the six
-#: figures (PNG and PDF), the JSON evaluations and the two reports take ~10 MB.
-MIN_FREE_BYTES = 64 * 2**20
-
-
-class OutputError(ValueError):
-    """An output location that cannot take the run's files (checked before any work)."""
-
-
-def _existing_ancestor(path: Path) -> Path:
-    path = Path(os.path.abspath(path))
-    while not path.exists() and path != path.parent:
-        path = path.parent
-    return path
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
     """Check an output folder before any work; return the existing folder that will hold it.
 
-    ``out`` may not exist yet (it and its missing parents are created at the end). The
-    nearest existing ancestor must be a folder where this process can write, with
-    :data:`MIN_FREE_BYTES` free.
+    ``out`` may not exist yet (it and its missing parents are created at the end): the
+    ground floor's check (:func:`modalinfo.common.folders.check_out_dir` with
+    ``parents=True``), the one ``modalinfo batch`` and ``closedloop sweep`` make.
 
     Raises
     ------
@@ -44,23 +32,7 @@ def check_out_dir(out: Path, flag: str = "--out") -> Path:
         ``out`` is a file, an ancestor is a file, the folder is not writable, or the
         file system is nearly full (naming ``flag``, the path and the rule).
     """
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"{flag} '{out}' is a file; give a folder (new or existing)")
-    base = _existing_ancestor(out)
-    if not base.is_dir():
-        raise OutputError(f"{flag} '{out}': '{base}' is a file, not a folder")
-    from modalinfo.io.files import writable_free_bytes
-
-    try:
-        free = writable_free_bytes(base)
-    except OSError as exc:
-        raise OutputError(f"{flag} '{out}': cannot write in '{base}' "
-                          f"({exc.strerror or exc})") from None
-    if free < MIN_FREE_BYTES:
-        raise OutputError(f"{flag} '{out}': only {free / 2**20:.1f} MiB free in '{base}'; "
-                          f"a run needs at least {MIN_FREE_BYTES // 2**20} MiB")
-    return base
+    return folders.check_out_dir(out, flag, parents=True)
 
 
 @contextlib.contextmanager
@@ -68,8 +40,8 @@ def locked_output(out: Path, flag: str = "--out") -> Iterator[Path]:
     """Hold ``out`` for this run alone: the lock ``modalinfo batch`` and sweeps take.
 
     ``out`` (and its missing parents) are created to hold ``<out>/.lock``
-    (:class:`modalinfo.batch.engine.OutputLock`: created complete or not at all; a lock
-    left by a dead process on this host is taken over). A second run into the same
+    (:class:`modalinfo.common.folders.OutputLock`: created complete or not at all; a
+    lock left by a dead process on this host is taken over). A second run into the same
     folder while this one holds it is refused, so two runs cannot replace each other's
     files. On leaving, the lock is released and the folders created here are removed
     again if the run left them empty (a failed run creates nothing).
@@ -80,28 +52,9 @@ def locked_output(out: Path, flag: str = "--out") -> Iterator[Path]:
         Another live run holds ``out`` (naming it, and the lock file to remove if that
         run is known to be over).
     """
-    from modalinfo.batch.engine import OutputInUseError, OutputLock
-
-    out = Path(out)
-    created = []
-    missing = Path(os.path.abspath(out))
-    while not missing.exists():
-        created.append(missing)
-        missing = missing.parent
-    out.mkdir(parents=True, exist_ok=True)
-    try:
-        try:
-            lock = OutputLock(out, "paper_figures").acquire()
-        except OutputInUseError as exc:
-            raise OutputError(f"{flag} {exc}") from None
-        try:
-            yield out
-        finally:
-            lock.release()
-    finally:
-        for folder in created:  # innermost first; only if empty
-            with contextlib.suppress(OSError):
-                folder.rmdir()
+    with folders.locked_out_dir(out, "paper_figures", marker=None, parents=True,
+                                flag=flag) as held:
+        yield held
 
 
 @contextlib.contextmanager
@@ -238,7 +191,7 @@ def figure_main(
     ``--suffix`` (passed to ``make(out, log, suffix=...)``) and refuses to replace any
     of the files it lists; without it, only ``figure_name`` is checked.
     """
-    parser = argparse.ArgumentParser(prog=prog, description=description)
+    parser = Parser(prog=prog, description=description)
     parser.add_argument("--log", type=Path, default=None,
                         help="modal log (default: synthetic kaos_like(seed=0))")
     parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")
@@ -249,7 +202,7 @@ def figure_main(
     args = parser.parse_args(argv)
     short = prog.rsplit(".", 1)[-1].split("_", 1)[0]
 
-    def fail(message: str, code: int = 2) -> int:
+    def fail(message: str, code: int = EXIT_USAGE) -> int:
         sys.stderr.write(f"{short}: error: {message}\n")
         return code
 
@@ -279,6 +232,6 @@ def figure_main(
     except (OSError, MemoryError) as exc:
         return fail(f"{type(exc).__name__}: {exc}; nothing was written", 1)
     except KeyboardInterrupt:
-        return fail("interrupted; nothing was written", 130)
+        return fail("interrupted; nothing was written", EXIT_INTERRUPTED)
     print(text)
     return 0

@@ -1,4 +1,5 @@
-"""The package's import graph: no cycles, no import running up the layers.
+"""The package's import graph: no cycles, no import running up the floors, no private
+name of another package.
 
 Reference: the source itself, read with :mod:`ast` (not imported), so every import
 counts, including those inside functions and ``if TYPE_CHECKING`` blocks. An import
@@ -7,18 +8,28 @@ to ``a.b`` (a package's ``__init__``); a parent package that Python imports on t
 way is not an edge (every package's ``__init__`` imports its own modules, and that
 is not a cycle in the sense that matters: who needs whom).
 
-What is checked, for the packages listed in ``CHECKED`` (``modalinfo`` and ``closedloop``):
+What is checked, for the packages listed in ``CHECKED`` (``modalinfo``, ``closedloop``
+and ``paper_figures``):
 
 * no import cycle between its modules (strongly connected components of size 1);
 * ``modalinfo`` never imports ``closedloop`` or ``paper_figures``;
 * modalinfo's subpackages respect the declared layer order ``LAYERS``: a module may
-  import from its own layer or any lower one, never from a higher one.
+  import from its own layer or any lower one, never from a higher one; the lowest is
+  the ground floor, ``modalinfo.common`` (shared plumbing of every package);
+* the house's floors ``HOUSE`` across the three packages: the ground floor, modalinfo's
+  analysis library, closedloop, modalinfo's batch layer, modalinfo's command line,
+  paper_figures; no import runs up them (so closedloop, all of it, stands below
+  ``modalinfo.batch`` and ``modalinfo.cli``: its command line and sweeps use the
+  ground floor's command-line base and task runner);
+* no module imports a private (leading underscore) module or name of ANOTHER of the
+  three packages (``from modalinfo._x import y``, ``from modalinfo.cli import _y``);
+  within one package private imports are fine. Dunder names (``__version__``) are not
+  private. (An import by a string, ``importlib.import_module``, is not read.)
 
-For ``closedloop``: its modules respect ``CLOSEDLOOP_LAYERS`` the same way, its core
-(every module but the command line, the sweeps and ``__main__``) imports no
-``modalinfo.cli`` or ``modalinfo.batch``, and it has no import cycle
-(``KNOWN_CYCLES`` is the place for a cycle a restructure in progress has yet to remove:
-each must disappear, none may be added; empty since the issue 19 restructure).
+For ``closedloop``: its modules respect ``CLOSEDLOOP_LAYERS`` the same way, and it
+has no import cycle (``KNOWN_CYCLES`` is the place for a cycle a restructure in
+progress has yet to remove: each must disappear, none may be added; empty since the
+issue 19 restructure).
 """
 
 from __future__ import annotations
@@ -31,14 +42,14 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Packages whose graph is read.
-PACKAGES = ("modalinfo", "closedloop")
+PACKAGES = ("modalinfo", "closedloop", "paper_figures")
 #: Packages whose graph must be acyclic.
-CHECKED = ("modalinfo", "closedloop")
+CHECKED = ("modalinfo", "closedloop", "paper_figures")
 
 #: modalinfo's layers, lowest first; a module imports only from its layer or below.
 #: Top-level modules are named by their module name, subpackages by their folder.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("_numba", "_validation", "_stats"),
+    ("common", "_stats"),  # the ground floor: shared plumbing of every package
     ("bases", "servo"),
     ("telemetry",),
     ("io",),
@@ -55,10 +66,21 @@ CLOSEDLOOP_LAYERS: tuple[tuple[str, ...], ...] = (
     ("optics", "control", "parts", "presets", "resources", "result"),  # parts, what a run returns
     ("model", "state", "simulation", "budget", "training", "aot"),  # the loop, its budget
     ("studies",),  # studies made of runs
-    ("sweep", "cli", "__main__"),  # the command line and the sweeps on modalinfo.batch
+    ("sweep", "cli", "__main__"),  # the command line and the sweeps (on the ground floor)
 )
-#: closedloop's modules that may use modalinfo's command line and batch layers
-CLOSEDLOOP_FRONT = ("closedloop.cli", "closedloop.sweep", "closedloop.__main__")
+
+#: The house across the three packages, lowest floor first: a module imports only from
+#: its floor or below. A module's floor is that of the longest prefix naming it; the
+#: top-level packages' ``__init__`` modules (re-exports) are on no floor.
+HOUSE: tuple[tuple[str, ...], ...] = (
+    ("modalinfo.common", "modalinfo._stats"),  # the ground floor: shared plumbing
+    ("modalinfo.bases", "modalinfo.servo", "modalinfo.telemetry", "modalinfo.io",
+     "modalinfo.information", "modalinfo.ordering", "modalinfo.forecast"),  # the library
+    ("closedloop",),  # the simulator, its command line and sweeps included
+    ("modalinfo.batch",),  # archive analyses on the task runner
+    ("modalinfo.cli", "modalinfo.__main__"),  # the modalinfo command
+    ("paper_figures",),  # the figures and the report, on everything
+)
 #: cycles left to a restructure in progress; each must disappear, none may be added
 KNOWN_CYCLES: dict[str, list[list[str]]] = {}
 
@@ -246,30 +268,114 @@ def _closedloop_upward(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
     )
 
 
-def _core_front_imports(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
-    """Imports of modalinfo.cli / modalinfo.batch by closedloop's core modules."""
+def _floor(module: str, house=HOUSE) -> int | None:
+    """Index in ``house`` of ``module`` (longest prefix); None for a top-level package."""
+    best, floor = -1, None
+    for i, names in enumerate(house):
+        for name in names:
+            if (module == name or module.startswith(name + ".")) and len(name) > best:
+                best, floor = len(name), i
+    if floor is None and "." in module:
+        raise AssertionError(f"{module} is on no floor of HOUSE; add it (or its package)")
+    return floor
+
+
+def _house_upward(graph: dict[str, set[str]], house=HOUSE) -> list[tuple[str, str]]:
+    """Imports running up the floors of ``house``."""
     return sorted(
         (module, target)
         for module, targets in graph.items()
-        if module.split(".")[0] == "closedloop" and module not in CLOSEDLOOP_FRONT
         for target in targets
-        if target.split(".")[:2] in (["modalinfo", "cli"], ["modalinfo", "batch"])
+        if _floor(module, house) is not None and _floor(target, house) is not None
+        and _floor(target, house) > _floor(module, house)
     )
+
+
+def _is_private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _private_imports(module: str, path: Path, packages=PACKAGES) -> list[tuple[str, str]]:
+    """(module, imported name) for each private module or name of another package imported."""
+    own = module.split(".")[0]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            names = [f"{node.module}.{alias.name}" for alias in node.names]
+        else:
+            continue  # a relative import stays in its own package
+        for name in names:
+            parts = name.split(".")
+            if parts[0] in packages and parts[0] != own and any(map(_is_private, parts)):
+                found.append((module, name))
+    return sorted(found)
+
+
+def _all_private_imports(packages=PACKAGES) -> list[tuple[str, str]]:
+    found = []
+    for package in packages:
+        for module, path in _modules(package).items():
+            found += _private_imports(module, path, packages)
+    return sorted(found)
 
 
 def test_closedloop_checks_on_a_known_graph():
     graph = {"closedloop.config": {"closedloop.simulation"},  # upward
-             "closedloop.simulation": {"closedloop.config", "modalinfo.batch.engine"},
-             "closedloop.sweep": {"modalinfo.batch.engine", "closedloop.training"},
-             "closedloop.result": {"modalinfo.cli._common"}}
+             "closedloop.simulation": {"closedloop.config"}}
     assert _closedloop_upward(graph) == [("closedloop.config", "closedloop.simulation")]
-    assert _core_front_imports(graph) == [("closedloop.result", "modalinfo.cli._common"),
-                                          ("closedloop.simulation", "modalinfo.batch.engine")]
+
+
+def test_house_floors_on_a_known_graph():
+    graph = {"closedloop.cli": {"modalinfo.cli.shared", "modalinfo.common.cli"},  # up, down
+             "closedloop.sweep": {"modalinfo.batch.engine", "modalinfo.common.tasks.keys"},
+             "modalinfo.batch.archive": {"closedloop.sweep", "modalinfo.io"},  # floors allow
+             "modalinfo.common.cli": {"modalinfo.io.files"},  # the ground floor looks up
+             "paper_figures._common": {"modalinfo.cli.shared", "closedloop"},
+             "modalinfo": {"modalinfo.cli"}}  # a package's re-exports: no floor
+    assert _house_upward(graph) == [("closedloop.cli", "modalinfo.cli.shared"),
+                                    ("closedloop.sweep", "modalinfo.batch.engine"),
+                                    ("modalinfo.common.cli", "modalinfo.io.files")]
+    with pytest.raises(AssertionError, match="no floor"):
+        _floor("elsewhere.module")
+
+
+def test_private_import_finder_on_known_sources(tmp_path):
+    # each import form once; the offenders by hand
+    src = (
+        "from modalinfo._validation import check_int\n"  # private module of another: bad
+        "from modalinfo.cli import _Parser, dispatch\n"  # one private name of another: bad
+        "import modalinfo.io._common\n"  # private module by `import`: bad
+        "from modalinfo import __version__\n"  # dunder: public
+        "from modalinfo.common.validation import check_int\n"  # public: fine
+        "from closedloop.optics import _kernels\n"  # own package's private: fine
+        "from ._kernels import jit\n"  # relative: own package
+        "def f():\n"
+        "    from paper_figures._common import suffixed\n"  # inside a function: bad
+    )
+    path = tmp_path / "m.py"
+    path.write_text(src)
+    assert _private_imports("closedloop.m", path) == sorted([
+        ("closedloop.m", "modalinfo._validation.check_int"),
+        ("closedloop.m", "modalinfo.cli._Parser"),
+        ("closedloop.m", "modalinfo.io._common"),
+        ("closedloop.m", "paper_figures._common.suffixed"),
+    ])
+    # seen from modalinfo, its own private names are fine and closedloop's are not
+    assert _private_imports("modalinfo.m", path) == [
+        ("modalinfo.m", "closedloop.optics._kernels"),
+        ("modalinfo.m", "paper_figures._common.suffixed"),
+    ]
 
 
 def test_closedloop_layers_point_down():
     assert _closedloop_upward(GRAPH) == []
 
 
-def test_closedloop_core_uses_only_modalinfos_library():
-    assert _core_front_imports(GRAPH) == []
+def test_the_house_floors_point_down():
+    assert _house_upward(GRAPH) == []
+
+
+def test_no_private_import_across_packages():
+    assert _all_private_imports() == []

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 
 __all__ = ["add_separable_terms", "aliased_power", "shift_separable"]
 

@@ -3,7 +3,7 @@
 import numpy as np
 from numba import prange
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 
 
 def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights,

@@ -67,7 +67,13 @@ from scipy import fft as sfft
 
 from closedloop.optics._atmosphere_kernels import shift_separable
 from closedloop.optics.phase_screen import fft_phase_screen
-from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_real,
+    check_rng,
+)
 
 __all__ = ["AtmosphericLayer", "Atmosphere", "screen_size"]
 

@@ -38,7 +38,7 @@ import os
 import numpy as np
 from scipy.spatial import cKDTree
 
-from modalinfo._validation import free_memory_bytes
+from modalinfo.common.memory import free_memory_bytes
 
 __all__ = ["granulation_contrast", "granulation_scene", "load_scene", "GRANULE_SCALE_ARCSEC"]
 

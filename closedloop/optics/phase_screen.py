@@ -74,8 +74,8 @@ from scipy import fft as sfft
 from scipy import integrate
 
 from closedloop.optics._atmosphere_kernels import add_separable_terms, aliased_power
-from modalinfo._validation import check_int, check_real, check_rng
 from modalinfo.bases.turbulence import KOLMOGOROV_PSD_CONSTANT
+from modalinfo.common.validation import check_int, check_real, check_rng
 
 __all__ = [
     "phase_psd",

@@ -8,8 +8,8 @@ import numbers
 import numpy as np
 from scipy import linalg
 
-from modalinfo._validation import as_float_array
 from modalinfo.bases.pupil import Pupil
+from modalinfo.common.validation import as_float_array
 
 __all__ = ["ModalBasis"]
 

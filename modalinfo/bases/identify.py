@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalinfo._validation import check_int, check_real
 from modalinfo.bases.image_basis import crop_images, pupil_from_mask, support_of
 from modalinfo.bases.indexing import noll_to_ansi, noll_to_zernike
 from modalinfo.bases.zernike import zernike_matrix
+from modalinfo.common.validation import check_int, check_real
 
 __all__ = ["TRANSFORMS", "ZernikeIdentification", "identify_zernike"]
 

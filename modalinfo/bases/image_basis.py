@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_real
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.pupil import Pupil, _readonly
+from modalinfo.common.validation import as_float_array, check_real
 
 __all__ = ["MaskedPupil", "pupil_from_mask", "support_of", "basis_from_images"]
 

@@ -13,13 +13,13 @@ import numbers
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_int, check_real
 from modalinfo.bases import _kernels
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import noll_to_zernike
 from modalinfo.bases.pupil import Pupil
 from modalinfo.bases.turbulence import zernike_covariance
 from modalinfo.bases.zernike import ZernikeBasis, _parse_modes
+from modalinfo.common.validation import as_float_array, check_int, check_real
 
 __all__ = ["KLBasis", "default_zernike_modes"]
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_int, check_real
+from modalinfo.common.validation import as_float_array, check_int, check_real
 
 __all__ = ["Pupil"]
 

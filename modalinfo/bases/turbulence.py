@@ -37,8 +37,8 @@ from typing import Any
 import numpy as np
 from scipy import special
 
-from modalinfo._validation import check_real
 from modalinfo.bases.indexing import _as_index, noll_to_zernike
+from modalinfo.common.validation import check_real
 
 __all__ = [
     "zernike_covariance",

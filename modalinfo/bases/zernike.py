@@ -13,11 +13,11 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from modalinfo._validation import as_float_array
 from modalinfo.bases import _kernels
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import _as_index, _check_nm, noll_to_zernike
 from modalinfo.bases.pupil import Pupil
+from modalinfo.common.validation import as_float_array
 
 __all__ = ["zernike_radial", "zernike_polynomial", "zernike_matrix", "ZernikeBasis"]
 

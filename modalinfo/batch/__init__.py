@@ -3,9 +3,10 @@
 Modules
 -------
 engine
-    Generic resumable task runner: stable task keys, atomic one-file-per-row store,
-    errors as rows, thread budgets, ``LocalCluster`` or a scheduler address. The
-    closed-loop sweep reuses it.
+    The names of the generic resumable task runner (stable task keys, atomic
+    one-file-per-row store, errors as rows, thread budgets, ``LocalCluster`` or a
+    scheduler address), which lives on the ground floor, ``modalinfo.common.tasks``,
+    where the closed-loop sweep uses it too.
 manifest
     Logs from directories, glob patterns and manifest CSV files with per-file hints.
 analyses

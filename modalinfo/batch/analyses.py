@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 
 __all__ = ["ANALYSES", "DEFAULTS", "log_columns", "quality_columns", "resolve_params",
            "run_log_task", "sha256_file"]

@@ -3,7 +3,7 @@
 Work is partitioned as one task per (log, analysis) -- or per (log, analysis, time
 window) with ``window_frames`` -- keyed by the SHA-256 of the log's bytes, the
 analysis, its parameters, the input hints, the window and the package version
-(:func:`modalinfo.batch.engine.task_key`). The SHA-256 of each log (and its frame
+(:func:`modalinfo.common.tasks.keys.task_key`). The SHA-256 of each log (and its frame
 count when windows are asked for) is itself computed by a task on the workers and
 cached in ``<out>/hashes.json`` by (path, size, mtime, format, hints), so a re-run
 neither re-reads nor re-analyses anything it has done.
@@ -28,24 +28,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from modalinfo.batch import engine
 from modalinfo.batch.analyses import resolve_params, run_log_task, sha256_file
-from modalinfo.batch.engine import (
-    EngineReport,
-    RowStore,
-    TaskSpec,
-    canonical_json,
-    check_memory_limit,
-    open_client,
-    package_version,
-    run_tasks,
-    task_key,
-    write_table,
-)
 from modalinfo.batch.manifest import LogEntry, collect_logs
+from modalinfo.common.folders import check_out_dir, locked_out_dir
+from modalinfo.common.tasks.cluster import check_memory_limit, open_client
+from modalinfo.common.tasks.keys import TaskSpec, canonical_json, package_version, task_key
+from modalinfo.common.tasks.rows import RowStore, write_table
+from modalinfo.common.tasks.runner import EngineReport, run_tasks
+from modalinfo.common.tasks.watch import WORKER_WAIT, gather_watched
 
-__all__ = ["BatchResult", "analyse_archive", "build_specs", "check_out_dir", "locked_out_dir",
-           "time_windows"]
+__all__ = ["BatchResult", "analyse_archive", "build_specs", "time_windows"]
 
 #: Leading columns of the table.
 FIRST_COLUMNS = ("path", "analysis", "window", "window_start", "window_stop", "status",
@@ -129,7 +121,7 @@ def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any
     ``({path: [sha256 or None, n_frames]}, files probed)`` (``n_frames``: None when
     not asked for, -1 for a file that does not load).
     """
-    from modalinfo.io import atomic_write
+    from modalinfo.common.files import atomic_write
 
     cache_path = out_dir / "hashes.json"
     cache: dict = {}
@@ -152,7 +144,7 @@ def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any
     if todo:
         client = get_client()
         keys = ["modalinfo-probe-" + task_key("probe", n, s, frames) for _, n, s in todo]
-        found = engine.gather_watched(client, client.map(
+        found = gather_watched(client, client.map(
             _probe, [e.path for e, _, _ in todo], [e.fmt for e, _, _ in todo],
             [e.hints for e, _, _ in todo], [frames] * len(todo), key=keys, pure=True),
             worker_wait=worker_wait)
@@ -207,70 +199,6 @@ def build_specs(entries: list[LogEntry], analyses: list[str], params: dict,
     return specs
 
 
-#: Free space an output directory must have before a batch or sweep starts [bytes]:
-#: rows (~1 kB each), the tables and the plots of a large archive fit many times over.
-MIN_FREE_BYTES = 64 * 2**20
-
-
-def check_out_dir(out_dir: Path, flag: str = "output directory") -> None:
-    """Check an output directory before any work: a directory, writable, with free space.
-
-    The directory may not exist yet (its parent must). Raises ValueError naming
-    ``flag``, the path and the rule.
-    """
-    from modalinfo.io.files import writable_free_bytes
-
-    out_dir = Path(out_dir)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise ValueError(f"{flag} '{out_dir}' exists and is not a directory")
-    where = out_dir if out_dir.is_dir() else out_dir.parent
-    if not where.is_dir():
-        what = "is not a directory" if where.exists() else "does not exist"
-        raise ValueError(f"{flag} '{out_dir}': its parent '{where}' {what}")
-    try:
-        free = writable_free_bytes(where)
-    except OSError as exc:
-        raise ValueError(f"{flag} '{out_dir}': cannot write in '{where}' "
-                         f"({exc.strerror or exc})") from None
-    if free < MIN_FREE_BYTES:
-        raise ValueError(f"{flag} '{out_dir}': only {free / 2**20:.1f} MiB free in "
-                         f"'{where}'; at least {MIN_FREE_BYTES // 2**20} MiB needed")
-
-
-def _check_foreign(out_dir: Path, marker: str = "rows") -> None:
-    """Refuse a non-empty directory that holds no earlier run (no ``marker``)."""
-    from modalinfo.batch.engine import OutputLock
-
-    others = [p for p in out_dir.iterdir() if not p.name.startswith(OutputLock.NAME)]
-    if others and not (out_dir / marker).is_dir():
-        raise ValueError(f"output directory '{out_dir}' is not empty and holds no "
-                         f"earlier batch or sweep (no {marker}/); choose a new or empty directory")
-
-
-@contextlib.contextmanager
-def locked_out_dir(out_dir: Path, command: str, marker: str = "rows"):
-    """Create ``out_dir`` if needed, take its lock, refuse a foreign directory; yield.
-
-    On leaving, the lock is released, and a directory created here that holds no
-    row is removed (a run that failed at its start leaves nothing behind).
-    """
-    from modalinfo.batch.engine import OutputLock
-
-    out_dir = Path(out_dir)
-    created = not out_dir.exists()
-    out_dir.mkdir(exist_ok=True)
-    lock = OutputLock(out_dir, command)
-    try:
-        with lock:
-            _check_foreign(out_dir, marker)
-            yield out_dir
-    finally:
-        if created:  # a run that wrote no row leaves no folder behind
-            for folder in (out_dir / marker, out_dir):
-                with contextlib.suppress(OSError):
-                    folder.rmdir()  # only if empty
-
-
 def _parse_analyses(analyses: str | list[str]) -> list[str]:
     names = [a.strip() for a in (analyses.split(",") if isinstance(analyses, str)
                                  else analyses) if a.strip()]
@@ -321,7 +249,7 @@ def analyse_archive(
     scheduler : str, optional
         Address of a running Dask scheduler; None starts a ``LocalCluster``.
     n_workers, threads_per_worker, memory_limit : optional
-        Local cluster shape (see ``modalinfo.batch.engine.open_client``).
+        Local cluster shape (see ``modalinfo.common.tasks.cluster.open_client``).
     client : distributed.Client, optional
         Use this client (then ``scheduler`` and the cluster shape must be None).
     window_frames : int, optional
@@ -345,7 +273,7 @@ def analyse_archive(
     worker_wait : float, optional
         Seconds to wait while no worker is running before giving up
         (``NoWorkersError``; default
-        ``modalinfo.batch.engine.WORKER_WAIT``).
+        ``modalinfo.common.tasks.watch.WORKER_WAIT``).
 
     Returns
     -------
@@ -394,7 +322,7 @@ def analyse_archive(
                     memory_limit=memory_limit, retries=retries))
             return started[0]
 
-        wait = engine.WORKER_WAIT if worker_wait is None else worker_wait
+        wait = WORKER_WAIT if worker_wait is None else worker_wait
         probes, n_hashed = _probes(entries, out_dir, get_client, window_frames is not None,
                                    wait)
         specs = build_specs(entries, names, resolved, probes, window_frames)

@@ -74,7 +74,7 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from modalinfo.io import atomic_write
+    from modalinfo.common.files import atomic_write
 
     ys = _series(rows)
     written = []

@@ -19,19 +19,11 @@ import pkgutil
 import re
 import sys
 
+from modalinfo.common.cli import CommandError, Parser, dispatch
+
+# CommandError and dispatch are the ground floor's (modalinfo.common.cli), named here too
+# because code calling the command line in Python has imported them from here
 __all__ = ["main", "dispatch", "CommandError"]
-
-
-class CommandError(Exception):
-    """An input error a subcommand reports as one line and exit status 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse that reports usage errors in one line (argparse prints usage first)."""
-
-    def error(self, message: str):  # noqa: D102
-        sys.stderr.write(f"{self.prog}: error: {message}\n")
-        raise SystemExit(2)
 
 
 #: library argument names (as written in messages, between backticks) -> what the user
@@ -91,11 +83,11 @@ def _commands():
 
 def build_parser() -> argparse.ArgumentParser:
     """Return the top-level parser with every discovered subcommand."""
-    parser = _Parser(
+    parser = Parser(
         prog="modalinfo",
         description="Mutual-information analysis and forecasting of wavefront modal logs.",
     )
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for module in _commands():
         epilog = getattr(module, "EPILOG", None)  # e.g. the columns of a printed table
         cmd = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP,
@@ -106,54 +98,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
-             words=None) -> int:
-    """Parse ``argv`` and run the chosen subcommand's ``_run``; return the exit status.
-
-    Shared by ``modalinfo`` and ``closedloop``: queued notes after success, one line on
-    stderr and status 2 for an input error (through ``words``, which rewrites library
-    names in command-line terms), a quiet exit for a closed pipe, 130 for Ctrl-C.
-    """
-    args = parser.parse_args(argv)
-    if getattr(args, "_run", None) is None:
-        parser.print_help(sys.stderr)
-        return 2
-    try:
-        code = int(args._run(args) or 0)
-        for note in getattr(args, "_notes", None) or ():
-            sys.stderr.write(note + "\n")  # notes queued by the command (e.g. assumed units)
-        return code
-    except BrokenPipeError:
-        # the reader (e.g. `| head`) closed the pipe: not an input error; silence the
-        # flush at exit as the Python docs recommend (signal module, "Note on SIGPIPE")
-        import os
-
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 0
-    except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
-        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        if words is not None:
-            message = words(message)
-        sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
-        return 2
-    except MemoryError as exc:
-        # the estimates before the work should have refused this: still one line, no
-        # traceback (numpy's message names the array that did not fit)
-        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else "MemoryError"
-        sys.stderr.write(f"{prog} {args.command}: error: out of memory: {detail}; use a "
-                         "smaller log or smaller options\n")
-        return 2
-    except ImportError as exc:
-        from modalinfo.batch._deps import MissingDependencyError
-
-        if not isinstance(exc, MissingDependencyError):
-            raise  # a broken installation, not a missing option: keep the traceback
-        sys.stderr.write(f"{prog} {args.command}: error: {exc}\n")
-        return 2
-    except KeyboardInterrupt:
-        sys.stderr.write(f"{prog}: interrupted\n")
-        return 130
 
 
 def main(argv: list[str] | None = None) -> int:

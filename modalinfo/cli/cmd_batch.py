@@ -28,12 +28,12 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import (
+from modalinfo.cli.shared import (
     add_hint_arguments,
-    check_cluster_args,
     hints_from_args,
     refuse_outlier_drop,
 )
+from modalinfo.common.cli import check_cluster_args
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -96,7 +96,7 @@ def parse_settings(items: list[str]) -> dict:
 def run(args: argparse.Namespace) -> int:
     """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
-    from modalinfo.batch.engine import NoWorkersError
+    from modalinfo.common.tasks.watch import NoWorkersError
 
     check_cluster_args(args)
     if args.retries is not None and args.retries < 0:

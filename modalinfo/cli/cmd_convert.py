@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import (
+from modalinfo.cli.shared import (
     LOG_COPIES,
     _check_log_fits,
     add_hint_arguments,

@@ -14,19 +14,19 @@ import argparse
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import (
-    LOG_COPIES,
-    _Renamed,
-    apply_outliers,
-    check_figure_output,
-    load_log_with_hints,
-)
 from modalinfo.cli.cmd_reorder import (
     add_common_arguments,
     check_pupil_memory,
     check_window_and_frame,
     file_basis,
     refuse_frame_with_drop,
+)
+from modalinfo.cli.shared import (
+    LOG_COPIES,
+    _Renamed,
+    apply_outliers,
+    check_figure_output,
+    load_log_with_hints,
 )
 
 NAME = "fitting-error"
@@ -54,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute the curves, print the table, draw the plot."""
-    from modalinfo.cli._common import progress
+    from modalinfo.cli.shared import progress
     from modalinfo.ordering.compare import compare_orderings, parse_specs, plot_comparison
 
     check_figure_output(args.plot, args.overwrite)

@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import (
+from modalinfo.cli.shared import (
     LOG_COPIES,
     add_gap_argument,
     add_hint_arguments,
@@ -153,7 +153,8 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
     check_memory(need, f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} "
                  f"origins x {n_modes} modes)", "use a smaller --horizon or fewer modes")
     if args.out is not None:
-        from modalinfo.io.files import format_size, writable_free_bytes
+        from modalinfo.common.files import writable_free_bytes
+        from modalinfo.common.sizes import format_size
 
         folder = args.out if args.out.is_dir() else args.out.parent
         while not folder.exists() and folder != folder.parent:
@@ -183,7 +184,7 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
     import shutil
     import tempfile
 
-    from modalinfo.io.files import signals_end_the_save
+    from modalinfo.common.files import signals_end_the_save
 
     created = not out.exists()
     with signals_end_the_save() as armed:
@@ -221,7 +222,7 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
 def run(args: argparse.Namespace) -> int:
     """Evaluate, print the table, write the outputs; return 0."""
     from modalinfo.bases.indexing import parse_modes
-    from modalinfo.cli._common import load_log_with_hints
+    from modalinfo.cli.shared import load_log_with_hints
 
     if args.horizon < 1:
         raise CommandError(f"--horizon must be an int >= 1; got {args.horizon}")
@@ -257,7 +258,7 @@ def run(args: argparse.Namespace) -> int:
     import matplotlib
 
     matplotlib.use("Agg")
-    from modalinfo.cli._common import progress
+    from modalinfo.cli.shared import progress
     from modalinfo.forecast import evaluate
 
     with progress(args, n_pred, unit="predictor", desc="forecast") as advance:

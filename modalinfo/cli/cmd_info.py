@@ -18,7 +18,7 @@ import argparse
 import sys
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import add_hint_arguments, apply_outliers, hints_from_args
+from modalinfo.cli.shared import add_hint_arguments, apply_outliers, hints_from_args
 
 NAME = "info"
 HELP = "Describe a telemetry log: shape, rate, modes, units and per-mode RMS / lag-1 ACF."
@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
         out.write("\nthe file's modes against our Zernikes (x along columns, y along rows):\n")
         out.write(ident.table() + "\n")
 
-    from modalinfo.cli._common import progress
+    from modalinfo.cli.shared import progress
 
     check = integrity_check(args.log, loaded, fmt=args.fmt, mmap=not args.no_mmap)
     if repaired:  # checksum the file's data, summarise the result

@@ -16,17 +16,17 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._choices import MIMethodChoices
-from modalinfo.cli._common import (
+from modalinfo.cli.shared import (
     LOG_COPIES,
     add_gap_argument,
     add_hint_arguments,
     apply_outliers,
     check_memory,
-    check_output,
     load_log_with_hints,
     log_bytes,
     split_gaps,
 )
+from modalinfo.common.cli import check_output
 
 NAME = "reorder"
 #: Most bootstrap replicates ``--resamples`` takes: percentile intervals need ~1000-2000
@@ -141,7 +141,7 @@ columns of the table:
 
 def run(args: argparse.Namespace) -> int:
     """Order the basis, print the table, write the JSON."""
-    from modalinfo.cli._common import progress
+    from modalinfo.cli.shared import progress
     from modalinfo.ordering import order_modes
     from modalinfo.ordering.compare import basis_for_log
 

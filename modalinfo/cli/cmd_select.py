@@ -18,7 +18,7 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._choices import MIMethodChoices
-from modalinfo.cli._common import (
+from modalinfo.cli.shared import (
     LOG_COPIES,
     add_hint_arguments,
     apply_outliers,

@@ -14,7 +14,7 @@ import argparse
 import sys
 
 from modalinfo.cli import CommandError
-from modalinfo.cli._common import check_log_output, check_memory, progress
+from modalinfo.cli.shared import check_log_output, check_memory, progress
 
 NAME = "synth"
 HELP = "Write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)."

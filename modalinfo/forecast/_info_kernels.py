@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 from modalinfo.forecast._kernels import _row_is_finite
 
 

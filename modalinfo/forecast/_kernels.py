@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 
 
 @jit

@@ -69,7 +69,7 @@ from scipy.signal import lfilter
 from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._univariate import _LinearRecursion
 
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]

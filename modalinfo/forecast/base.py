@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_int, check_square_range
+from modalinfo.common.validation import as_float_array, check_int, check_square_range
 
 __all__ = ["Predictor", "NotFittedError"]
 

@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import norm
 
-from modalinfo._validation import as_float_array, check_int, check_real, check_square_range
+from modalinfo.common.validation import as_float_array, check_int, check_real, check_square_range
 from modalinfo.forecast.arma import ARMAPredictor
 from modalinfo.forecast.base import Predictor
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
@@ -57,7 +57,7 @@ _BASELINES = ("persistence", "mean")
 
 def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
     """Write ``data`` to ``path`` atomically, refusing to replace it unless ``overwrite``."""
-    from modalinfo.io import atomic_write
+    from modalinfo.common.files import atomic_write
 
     return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
@@ -365,7 +365,7 @@ class ForecastEvaluation:
         """
         import matplotlib.pyplot as plt
 
-        from modalinfo.io import atomic_write
+        from modalinfo.common.files import atomic_write
 
         out_dir = Path(out_dir)
         paths = [out_dir / "forecast_series.png", out_dir / "forecast_rmse.png"]

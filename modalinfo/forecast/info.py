@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._info_kernels import sparse_direct_filter
 from modalinfo.forecast.base import Predictor
 from modalinfo.information.conditional import _estimator

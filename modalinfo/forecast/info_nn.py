@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._validation import check_int, check_real
+from modalinfo.common.validation import check_int, check_real
 from modalinfo.forecast._info_kernels import sparse_direct_rf_filter
 from modalinfo.forecast.info import InfoPredictor
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._validation import check_real
+from modalinfo.common.validation import check_real
 from modalinfo.forecast._univariate import _LinearRecursion
 
 __all__ = ["LinearPredictor"]

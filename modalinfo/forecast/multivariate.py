@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._validation import check_int, check_real
+from modalinfo.common.validation import check_int, check_real
 from modalinfo.forecast._kernels import rls_var_filter, var_filter
 from modalinfo.forecast.base import Predictor
 

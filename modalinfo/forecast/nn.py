@@ -39,7 +39,7 @@ import warnings
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._kernels import mlp_filter
 from modalinfo.forecast.base import Predictor
 

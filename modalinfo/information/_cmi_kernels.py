@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 from modalinfo.information._kernels import (
     bin_of,
     edge_buckets,

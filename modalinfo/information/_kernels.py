@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 
 # ---------------------------------------------------------------------------------
 # Small helpers: the one place where each piece of grid logic is written. LLVM

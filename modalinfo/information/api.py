@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_choice
+from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.methods import METHODS, get_method
 
 __all__ = ["METHODS", "UNITS", "MutualInformation", "entropy", "mutual_information"]

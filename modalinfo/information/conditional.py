@@ -101,7 +101,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_choice
+from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.api import MIN_SAMPLES, UNITS
 from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import MIN_BINS, MIN_COUNT_PER_CELL

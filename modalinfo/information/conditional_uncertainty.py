@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo._validation import check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.uncertainty import (

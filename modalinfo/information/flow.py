@@ -85,7 +85,8 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real, check_rng, free_memory_bytes
+from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method

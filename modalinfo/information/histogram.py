@@ -60,7 +60,7 @@ from typing import Any
 import numpy as np
 from scipy.special import ndtri
 
-from modalinfo._validation import check_choice, check_int
+from modalinfo.common.validation import check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.gaussian import unit_scaled

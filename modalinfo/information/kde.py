@@ -61,7 +61,7 @@ import numpy as np
 from scipy import fft as sfft
 from scipy.optimize import minimize_scalar
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.copula import check_copula, copula_scores

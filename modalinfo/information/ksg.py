@@ -44,7 +44,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import digamma
 
-from modalinfo._validation import check_int
+from modalinfo.common.validation import check_int
 from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import MIMethod, register_method

@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from modalinfo._validation import check_choice
+from modalinfo.common.validation import check_choice
 
 __all__ = [
     "CMI_METHODS",

@@ -75,13 +75,13 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import stats
 
-from modalinfo._validation import (
+from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.validation import (
     as_float_array,
     check_choice,
     check_int,
     check_real,
     check_rng,
-    free_memory_bytes,
 )
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator

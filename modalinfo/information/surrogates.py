@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from scipy import fft as sfft
 
-from modalinfo._validation import check_rng
+from modalinfo.common.validation import check_rng
 
 __all__ = ["circular_cross", "rotated_rho2", "surrogate_shifts"]
 

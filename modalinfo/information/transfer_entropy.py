@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_int
+from modalinfo.common.validation import as_float_array, check_int
 from modalinfo.information.api import MIN_SAMPLES
 from modalinfo.information.conditional import _estimator
 

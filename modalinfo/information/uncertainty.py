@@ -55,7 +55,13 @@ import numpy as np
 from scipy import stats
 
 from modalinfo._stats import sample_autocovariance
-from modalinfo._validation import as_float_array, check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_real,
+    check_rng,
+)
 from modalinfo.information.api import (
     METHODS,
     MIN_SAMPLES,

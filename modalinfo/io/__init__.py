@@ -24,10 +24,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.io._common import HINTS
 from modalinfo.io.aot import read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
-from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.io.files import LogFormatError
 from modalinfo.io.fits import read_fits, write_fits
 from modalinfo.io.formats import FORMATS, detect_format, format_from_extension
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5

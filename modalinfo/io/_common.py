@@ -21,10 +21,10 @@ from typing import Any
 import numpy as np
 
 from modalinfo.io._foreign import describe_modes, orient
+from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import default_modes
 from modalinfo.telemetry.log import ModalLog
-from modalinfo.telemetry.scan import row_blocks, scan_rows
 
 FORMAT_VERSION = 1
 HEADER_KEY = "modalinfo"
@@ -121,11 +121,6 @@ def _header_digest(header: dict) -> str:
     return hashlib.sha256(dumps(body).encode("ascii")).hexdigest()
 
 
-def dumps(header: dict) -> str:
-    """One-line ASCII JSON (exact float reprs; non-ASCII escaped)."""
-    return json.dumps(header, ensure_ascii=True, allow_nan=False, separators=(",", ":"))
-
-
 def parse_header(text: str, fmt: str, path: Path, *, verify: bool = True) -> dict:
     """Parse and check a header string, or raise ``LogFormatError``.
 
@@ -183,21 +178,6 @@ def check_stored_coefficients(coeffs: np.ndarray, header: dict, fmt: str, path: 
             f"corrupt {fmt} file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
             f"disagree with the header {tuple(header['shape'])} {header['dtype']}"
         )
-
-
-def sha256_of(arr: np.ndarray) -> str:
-    """SHA-256 hex digest of ``arr``'s *values* (little-endian, C order), block by block.
-
-    Hashing values rather than raw bytes means a damaged byte-order flag (which
-    leaves the bytes intact but changes every value) is caught too.
-    """
-    digest = hashlib.sha256()
-    little = arr.dtype.newbyteorder("<")
-    # row blocks as the log's own scans: a memory-mapped log is hashed with a small RSS
-    blocks = (arr,) if arr.ndim == 1 else row_blocks(arr, scan_rows(arr))
-    for block in blocks:
-        digest.update(np.ascontiguousarray(block, dtype=little).data)
-    return digest.hexdigest()
 
 
 def verify_checksum(header: dict, name: str, arr: np.ndarray, fmt: str, path: Path) -> None:
@@ -360,7 +340,7 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
                 "the file's frame numbers were not used (give a rate to turn them into times)"
             )
             return
-        from modalinfo._validation import check_real
+        from modalinfo.common.validation import check_real
 
         rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
         numbers = np.asarray(frames, dtype=np.float64)

@@ -42,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -60,7 +61,7 @@ from modalinfo.io.aot_system import (
     geometry_of,
     import_aotpy,
 )
-from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import UNITS
 

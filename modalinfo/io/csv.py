@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
     build_log,
@@ -47,7 +48,7 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
-from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import mode_labels
 from modalinfo.telemetry.log import ModalLog
 

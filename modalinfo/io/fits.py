@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
 from modalinfo.io._common import (
     build_log,
@@ -43,7 +44,7 @@ from modalinfo.io._common import (
     unwrap,
 )
 from modalinfo.io._foreign import axis_layout
-from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import UNITS
 

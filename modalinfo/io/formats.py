@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from modalinfo.common.files import as_path, check_readable
 from modalinfo.io.aot import is_aot
-from modalinfo.io.files import LogFormatError, as_path, check_readable
+from modalinfo.io.files import LogFormatError
 
 __all__ = ["EXTENSIONS", "FORMATS", "detect_format", "format_from_extension"]
 

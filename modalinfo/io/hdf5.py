@@ -44,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
     build_log,
@@ -57,7 +58,7 @@ from modalinfo.io._common import (
     verify_checksum,
 )
 from modalinfo.io._foreign import axis_layout
-from modalinfo.io.files import LogFormatError, as_path, atomic_write, check_readable
+from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.scan import scan_rows
 

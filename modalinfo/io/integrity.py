@@ -24,8 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from modalinfo.io._common import sha256_of
-from modalinfo.io.files import LogFormatError, as_path
+from modalinfo.common.files import as_path
+from modalinfo.io.checksums import sha256_of
+from modalinfo.io.files import LogFormatError
 
 __all__ = ["IntegrityCheck", "integrity_check"]
 

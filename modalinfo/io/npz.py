@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
 from modalinfo.io._common import (
     build_log,
@@ -39,7 +40,6 @@ from modalinfo.io._common import (
     unwrap,
 )
 from modalinfo.io.files import LogFormatError as _LogFormatError
-from modalinfo.io.files import as_path, atomic_write, check_readable
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_npz", "write_npz", "read_npy"]

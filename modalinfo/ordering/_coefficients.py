@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_square_range
+from modalinfo.common.validation import as_float_array, check_square_range
 
 __all__ = ["BasisView", "as_basis", "coefficients_in_basis", "is_log"]
 

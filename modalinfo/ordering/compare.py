@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.ordering.fitting_error import FittingErrorResult, fitting_error
 from modalinfo.ordering.orderings import METHODS, order_modes
 from modalinfo.ordering.result import OrderingResult
@@ -386,7 +386,7 @@ def plot_comparison(
 
 def save_figure(fig: Any, path: str | Path, overwrite: bool = False) -> Path:
     """Save a matplotlib figure, refusing to replace a file unless ``overwrite``."""
-    from modalinfo.io import atomic_write
+    from modalinfo.common.files import atomic_write
 
     path = Path(path)
     if path.exists() and not overwrite:

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import as_float_array, check_choice, check_int, check_real
+from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.telemetry.units import unit_scale

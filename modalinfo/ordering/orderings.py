@@ -51,7 +51,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.result import OrderingResult

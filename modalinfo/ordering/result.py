@@ -227,7 +227,7 @@ class OrderingResult:
         pathlib.Path
             The path written (atomically: a crash leaves the old file or none).
         """
-        from modalinfo.io import atomic_write
+        from modalinfo.common.files import atomic_write
 
         data = (json.dumps(self.to_dict(), indent=1) + "\n").encode("utf-8")
         return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)

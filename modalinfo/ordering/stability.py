@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo._validation import check_int
+from modalinfo.common.validation import check_int
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.orderings import order_modes
 

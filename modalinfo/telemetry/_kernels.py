@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 
 
 @jit

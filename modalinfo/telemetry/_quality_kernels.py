@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from modalinfo._numba import jit
+from modalinfo.common.jit import jit
 
 
 @jit

@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.telemetry.checks import (
     CONVENTIONS,
     NONFINITE_POLICIES,

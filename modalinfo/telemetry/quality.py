@@ -75,7 +75,7 @@ from statistics import NormalDist
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.telemetry.checks import as_coeffs
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.scan import row_blocks, scan_rows

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalinfo._validation import check_real
+from modalinfo.common.validation import check_real
 
 __all__ = ["Sampling", "sampling_of", "require_contiguous", "GAP_FACTOR"]
 

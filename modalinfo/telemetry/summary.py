@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from modalinfo._validation import check_int
+from modalinfo.common.validation import check_int
 from modalinfo.telemetry.checks import as_coeffs
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.scan import row_blocks

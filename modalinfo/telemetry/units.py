@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from modalinfo._validation import check_choice, check_real
+from modalinfo.common.validation import check_choice, check_real
 
 __all__ = [
     "UNITS",

@@ -24,7 +24,7 @@ pytest.importorskip("pyarrow")
 
 from modalinfo.batch import analyse_archive  # noqa: E402
 from modalinfo.batch.analyses import resolve_params, run_log_task  # noqa: E402
-from modalinfo.batch.engine import _limited_call  # noqa: E402
+from modalinfo.common.tasks.threads import _limited_call  # noqa: E402
 
 FAST = {"ordering": {"budget": 3000, "pupil_pixels": 16, "windows": 2, "seeds": [0, 1]},
         "fitting_error": {"budget": 3000, "pupil_pixels": 16},

@@ -155,7 +155,7 @@ def test_output_checks_before_work(tmp_path, capsys, helpers, monkeypatch):
     usage = namedtuple("usage", "total used free")
     monkeypatch.setattr(shutil, "disk_usage", lambda _: usage(10**9, 10**9 - 2**20, 2**20))
     assert main(["batch", str(tmp_path), "--out", str(tmp_path / "new")]) == 2
-    assert "1.0 MiB free" in capsys.readouterr().err
+    assert "1.00 MiB free" in capsys.readouterr().err
     assert not (tmp_path / "new").exists()
 
 

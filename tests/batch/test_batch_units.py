@@ -18,6 +18,7 @@ import pytest
 from modalinfo.batch import engine
 from modalinfo.batch.analyses import resolve_params, run_log_task
 from modalinfo.batch.manifest import LogEntry, collect_logs, read_manifest
+from modalinfo.common.tasks.threads import _limited_call
 
 
 def test_directory_glob_and_manifest(tmp_path, helpers):
@@ -148,7 +149,7 @@ def test_thread_budget_never_oversubscribes():
 
 
 def test_errors_inside_a_task_become_rows():
-    row = engine._limited_call(run_log_task, {"path": "/nonexistent/x.npz", "fmt": None,
+    row = _limited_call(run_log_task, {"path": "/nonexistent/x.npz", "fmt": None,
                                               "hints": {}, "analysis": "summary",
                                               "params": {"chunk_frames": 10}}, 1)
     assert row["status"] == "error" and row["error_type"] == "FileNotFoundError"
@@ -156,7 +157,7 @@ def test_errors_inside_a_task_become_rows():
 
 
 def test_missing_extra_is_named():
-    from modalinfo.batch._deps import require
+    from modalinfo.common.deps import require
 
     with pytest.raises(ImportError, match=r"pip install 'modalinfo\[dist\]'"):
         require("modalinfo_no_such_module")

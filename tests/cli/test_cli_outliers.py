@@ -17,7 +17,7 @@ from scipy import stats
 
 from modalinfo.batch.analyses import resolve_params, run_log_task
 from modalinfo.cli import build_parser, main
-from modalinfo.cli._common import OUTLIER_CHOICES
+from modalinfo.cli.shared import OUTLIER_CHOICES
 from modalinfo.io import load, save
 from modalinfo.telemetry import OUTLIER_POLICIES, ModalLog
 

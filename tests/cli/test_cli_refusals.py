@@ -104,7 +104,7 @@ def test_forecast_horizon_1e8_is_refused_in_one_line(small_log, capsys):
 
 
 def test_forecast_horizon_beyond_memory_names_the_estimate(small_log, capsys, monkeypatch):
-    import modalinfo.cli._common as common
+    import modalinfo.cli.shared as common
 
     monkeypatch.setattr(common, "memory_available", lambda: 50e6)
     # 3 predictors x 500 horizons x (600 - 500 - 300 + 1 -> 1) origins, and 4 chunk
@@ -119,7 +119,7 @@ def test_forecast_horizon_beyond_memory_names_the_estimate(small_log, capsys, mo
 
 
 def test_memory_available_counts_the_address_space_limit():
-    code = ("import resource; from modalinfo.cli._common import memory_available;"
+    code = ("import resource; from modalinfo.cli.shared import memory_available;"
             "size = [float(l.split()[1]) * 1024 for l in open('/proc/self/status')"
             " if l.startswith('VmSize:')][0];"
             "resource.setrlimit(resource.RLIMIT_AS, (int(size + 300e6), resource.RLIM_INFINITY));"
@@ -168,7 +168,7 @@ def test_large_mapped_log_under_an_address_space_cap_is_refused(tmp_path):
                                      ["reorder"], ["convert", "{tmp}/o.npz"]])
 def test_every_whole_log_command_checks_the_log_copies(tmp_path, capsys, monkeypatch,
                                                        command):
-    import modalinfo.cli._common as common
+    import modalinfo.cli.shared as common
 
     np.save(tmp_path / "big.npy", np.ones((4000, 27)))  # 3 copies: 2.59 MB
     monkeypatch.setattr(common, "memory_available", lambda: 2.5e6)
@@ -230,9 +230,9 @@ def _forecast(small_log, out, *extra):
 
 def _failing_third_write(monkeypatch):
     """Make the third file write fail as a full disk would (ENOSPC)."""
-    import modalinfo.io as io
+    import modalinfo.common.files as files
 
-    real = io.atomic_write
+    real = files.atomic_write
     calls = []
 
     def atomic_write(path, write, **kw):
@@ -243,7 +243,7 @@ def _failing_third_write(monkeypatch):
             return real(path, full, **kw)
         return real(path, write, **kw)
 
-    monkeypatch.setattr(io, "atomic_write", atomic_write)
+    monkeypatch.setattr(files, "atomic_write", atomic_write)
     return calls
 
 
@@ -270,8 +270,8 @@ def test_forecast_overwrite_on_a_full_disk_keeps_the_old_outputs(small_log, tmp_
 
 def test_forecast_out_refuses_a_folder_without_space_before_work(small_log, tmp_path, capsys,
                                                                  monkeypatch):
+    import modalinfo.common.files as files
     import modalinfo.forecast as forecast
-    import modalinfo.io.files as files
 
     monkeypatch.setattr(files, "writable_free_bytes", lambda folder: 1000)
     monkeypatch.setattr(forecast, "evaluate", lambda *a, **k: pytest.fail("work was done"))

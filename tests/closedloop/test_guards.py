@@ -230,7 +230,7 @@ def test_runs_past_the_limit_are_refused_naming_the_key(change, key):
     big = SimulationConfig.from_dict(d)
     with pytest.raises(ResourceError, match=rf"driven by .*`{re_escape(key)}`"):
         check_resources(big, 0.05, limit=2e9)
-    with pytest.raises(MemoryError, match="more than 2 GB"):
+    with pytest.raises(MemoryError, match="more than 1.86 GiB"):  # 2e9 B (dask's words)
         simulate(big, 0.05, memory_limit=2e9, progress=False)
 
 

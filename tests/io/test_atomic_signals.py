@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = textwrap.dedent("""
     import sys, time
     import numpy as np
-    import modalinfo.io.files as files
+    import modalinfo.common.files as files
     from modalinfo.cli import main
 
     real = files._renamed
@@ -94,7 +94,7 @@ def test_signal_during_a_save_keeps_the_old_file_or_none(tmp_path, signum, code,
 
 
 def test_no_handler_is_left_behind(tmp_path):
-    from modalinfo.io.files import atomic_write
+    from modalinfo.common.files import atomic_write
 
     before = (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM))
     atomic_write(tmp_path / "x.bin", lambda fh: fh.write(b"abc"), overwrite=False)
@@ -103,7 +103,7 @@ def test_no_handler_is_left_behind(tmp_path):
 
 
 def test_an_ignored_sigint_stays_ignored(tmp_path):
-    from modalinfo.io.files import atomic_write
+    from modalinfo.common.files import atomic_write
 
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:

@@ -6,7 +6,7 @@ promise (a unit the file does not record is marked assumed); the SI/IEC definiti
 of the metre and its prefixes (1 m = 1e9 nm, 1 um = 1e-6 m) for an AOT image in
 metres, microns or nanometres under any spelling; and
 ``dask.utils.parse_bytes`` / ``format_bytes`` (another library) for
-:func:`modalinfo.io.files.parse_size` / ``format_size``.
+:func:`modalinfo.common.sizes.parse_size` / ``format_size``.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 from astropy.io import fits
 
+from modalinfo.common.sizes import format_size, parse_size
 from modalinfo.io import LogFormatError, load
-from modalinfo.io.files import format_size, parse_size
 
 
 def _aot_file(path, coeffs, unit):
@@ -170,7 +170,7 @@ def test_atomic_write_refuses_a_special_file(tmp_path):
     import os
     import stat
 
-    from modalinfo.io.files import atomic_write
+    from modalinfo.common.files import atomic_write
 
     fifo = tmp_path / "pipe"
     os.mkfifo(fifo)

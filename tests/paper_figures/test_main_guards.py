@@ -56,16 +56,16 @@ def _refused(capsys, argv, needle):
 def test_output_locations_are_checked_first(tmp_path, capsys, monkeypatch):
     a_file = tmp_path / "results.txt"
     a_file.write_text("mine")
-    _refused(capsys, ["--only", "3", "--out", str(a_file)], "is a file; give a folder")
+    _refused(capsys, ["--only", "3", "--out", str(a_file)], "exists and is not a directory")
     _refused(capsys, ["--only", "3", "--out", str(a_file / "deeper" / "out")],
-             f"'{a_file}' is a file, not a folder")
+             f"'{a_file}' is not a directory")
     assert a_file.read_text() == "mine"
     import shutil
     from collections import namedtuple
 
     usage = namedtuple("usage", "total used free")
     monkeypatch.setattr(shutil, "disk_usage", lambda _: usage(10**9, 10**9 - 2**19, 2**19))
-    _refused(capsys, ["--only", "3", "--out", str(tmp_path / "new")], "0.5 MiB free")
+    _refused(capsys, ["--only", "3", "--out", str(tmp_path / "new")], "has 512.00 kiB free")
     assert not (tmp_path / "new").exists() and _leftovers(tmp_path) == []
 
 
@@ -266,7 +266,7 @@ def test_a_lock_of_a_live_process_refuses_and_a_dead_ones_is_taken_over(tmp_path
     out = tmp_path / "out"
     out.mkdir()
     with subprocess.Popen(
-            [sys.executable, "-c", "import sys; from modalinfo.batch.engine import OutputLock;"
+            [sys.executable, "-c", "import sys; from modalinfo.common.folders import OutputLock;"
              f" OutputLock({str(out)!r}, 'paper_figures').acquire(); print('held', flush=True);"
              " sys.stdin.read()"],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True) as holder:

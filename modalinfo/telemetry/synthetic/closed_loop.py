@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from modalinfo._validation import check_int, check_real, check_rng
+from modalinfo.common.validation import check_int, check_real, check_rng
 from modalinfo.servo import (
     LoopBandwidth,
     check_loop,

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._validation import check_int, check_real, check_rng
+from modalinfo.common.validation import check_int, check_real, check_rng
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.synthetic.closed_loop import closed_loop_simulation
 from modalinfo.telemetry.synthetic.spectra import _check_layers, _layers_metadata, open_loop_log

@@ -68,12 +68,12 @@ from typing import Any
 import numpy as np
 from scipy import fft as sfft
 
-from modalinfo._validation import (
+from modalinfo.bases import noll_to_zernike, zernike_covariance
+from modalinfo.common.validation import (
     check_int,
     check_real,
     check_rng,
 )
-from modalinfo.bases import noll_to_zernike, zernike_covariance
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import check_wavelength
 

@@ -1,5 +1,7 @@
 """Input validation shared by every public function of modalinfo and closedloop.
 
+Part of the ground floor (:mod:`modalinfo.common`).
+
 Every message names the argument, states the rule and shows what was given, so a
 user can fix the call without reading the source.
 """
@@ -18,7 +20,6 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_square_range",
-    "free_memory_bytes",
 ]
 
 
@@ -220,36 +221,3 @@ def check_square_range(
             "where its sums of squares overflow float64; rescale the data (e.g. convert "
             "it to smaller units) before this analysis."
         )
-
-
-def available_memory_bytes() -> float:
-    """Memory the machine has available [bytes]: ``MemAvailable`` of ``/proc/meminfo``.
-
-    Free pages plus the page cache the kernel can drop; falls back to
-    :func:`free_memory_bytes` where ``/proc/meminfo`` is missing or unreadable. The one
-    reading behind closedloop's run estimate and the command line's memory refusals.
-    """
-    try:
-        with open("/proc/meminfo", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024.0
-    except (OSError, ValueError, IndexError):
-        pass
-    return free_memory_bytes()
-
-
-def free_memory_bytes() -> float:
-    """Physical memory free now [bytes] (``os.sysconf`` pages); ``inf`` where unknown.
-
-    The measure the library's guard rails refuse work against before they allocate
-    (closedloop's run estimate reads ``MemAvailable`` instead, a larger figure that
-    counts reclaimable caches).
-    """
-    import math
-    import os
-
-    try:
-        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # not available on this platform
-        return math.inf

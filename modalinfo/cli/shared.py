@@ -1,4 +1,10 @@
-"""Helpers shared by the ``modalinfo`` subcommands: mode lists, log loading, outputs."""
+"""What the ``modalinfo`` subcommands share: log input options, loading, outputs, memory.
+
+Public because ``python -m paper_figures --log`` reads a user's log with the same
+options and notes. The plumbing under every command of every package (the parser
+base, one-line errors, output checks, cluster options) is the ground floor's
+:mod:`modalinfo.common.cli`.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +12,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.bases.indexing import parse_modes
-from modalinfo.cli import CommandError
+from modalinfo.common.cli import CommandError, check_output
 
 __all__ = [
     "OUTLIER_CHOICES",
@@ -18,7 +24,6 @@ __all__ = [
     "refuse_outlier_drop",
     "add_gap_argument",
     "hints_from_args",
-    "check_output",
     "load_log_with_hints",
     "input_notes",
     "queue_notes",
@@ -223,35 +228,6 @@ def hints_from_args(args: argparse.Namespace) -> dict:
     return {k: v for k, v in hints.items() if v is not None}
 
 
-def check_output(
-    path: Path | None, overwrite: bool, *, suffixes: tuple[str, ...] | None = None,
-    flag: str = "output",
-) -> None:
-    """Check an output before any work: its extension, its directory, no overwrite.
-
-    Every command writing a file calls this (or :func:`check_log_output` /
-    :func:`check_figure_output`) before it loads or computes anything, so a bad
-    output path costs nothing. ``suffixes`` lists the accepted extensions
-    (lower case, with the dot); ``flag`` names the option in the message.
-    """
-    if path is None:
-        return
-    path = Path(path)
-    if suffixes is not None and path.suffix.lower() not in suffixes:
-        raise CommandError(f"{flag} '{path}': unsupported extension "
-                           f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
-    if path.is_dir():
-        raise CommandError(f"{flag} '{path}' is a directory; give a file name")
-    from modalinfo.io.files import check_not_special
-
-    try:
-        check_not_special(path)
-    except OSError as exc:
-        raise CommandError(f"{flag} {exc}") from None
-    if not path.parent.exists():
-        raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
-    if path.exists() and not overwrite:
-        raise CommandError(f"{flag} '{path}' exists; pass --overwrite to replace it")
 
 
 __all__ += ["check_log_output", "check_figure_output", "progress", "LOG_SUFFIXES"]
@@ -425,36 +401,6 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
     return log.longest_segment()
 
 
-__all__ += ["check_cluster_args"]
-
-
-def check_cluster_args(args: argparse.Namespace) -> None:
-    """Refuse bad cluster options of ``batch`` and ``closedloop sweep`` before any work.
-
-    The ``dist`` extra must be installed (else one line with ``pip install
-    'modalinfo[dist]'``). ``--workers`` and ``--threads-per-worker`` >= 1,
-    ``--worker-wait`` a finite number of seconds > 0, ``--memory-limit`` and (on a
-    local cluster) the worker count within the machine
-    (:func:`modalinfo.batch.engine.check_memory_limit`, ``check_worker_count``).
-    """
-    from modalinfo.batch._deps import require_dist
-    from modalinfo.batch.engine import check_memory_limit, check_worker_count
-
-    require_dist(str(getattr(args, "command", None) or "this command"))
-    for flag, value in (("--workers", args.workers),
-                        ("--threads-per-worker", args.threads_per_worker)):
-        if value is not None and value < 1:
-            raise CommandError(f"{flag} must be >= 1; got {value}")
-    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
-        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
-                           f"{args.worker_wait:g}")
-    try:
-        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
-        if args.workers is not None and args.scheduler is None:
-            check_worker_count(args.workers)
-    except ValueError as exc:
-        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
-                           .replace("`n_workers`", "--workers")) from None
 
 
 __all__ += ["memory_available", "check_memory", "log_bytes"]
@@ -471,13 +417,13 @@ def memory_available() -> float:
 
     The machine's side is ``MemAvailable`` of ``/proc/meminfo`` (free pages plus the
     page cache the kernel can drop, as closedloop's run estimate reads it:
-    :func:`modalinfo._validation.available_memory_bytes`): free pages alone would refuse
+    :func:`modalinfo.common.memory.available_memory_bytes`): free pages alone would refuse
     a log that fits on a machine whose cache holds the files just read. A process
     address-space limit (``ulimit -v``, a batch system's cap) is the other side,
     counted as the limit minus the process's current size (``VmSize``), since
     memory-mapped logs count against it too.
     """
-    from modalinfo._validation import available_memory_bytes
+    from modalinfo.common.memory import available_memory_bytes
 
     avail = available_memory_bytes()
     try:
@@ -516,7 +462,7 @@ def check_memory(need: float, what: str, fix: str) -> None:
     fix : str
         How to make it fit.
     """
-    from modalinfo.io.files import format_size
+    from modalinfo.common.sizes import format_size
 
     avail = memory_available()
     if need > avail:

@@ -1,0 +1,193 @@
+"""The command-line base every command of every package stands on.
+
+Part of the ground floor (:mod:`modalinfo.common`): ``modalinfo``, ``closedloop`` and
+``python -m paper_figures`` report errors the same way.
+
+- :class:`Parser`: ``argparse`` reporting a usage error as one line (exit 2);
+- :class:`CommandError` and :func:`dispatch`: an input error is one line on stderr and
+  exit status 2, never a traceback; Ctrl-C is 130, SIGTERM during a save 143;
+- :func:`check_output`: an output file checked before any work;
+- :func:`check_cluster_args`: the Dask options of ``modalinfo batch`` and ``closedloop
+  sweep`` checked before any cluster starts.
+
+Exit statuses (the shell's conventions): :data:`EXIT_OK` 0, :data:`EXIT_FAILURE` 1 (the
+work ran and failed), :data:`EXIT_USAGE` 2 (refused before any work),
+:data:`EXIT_INTERRUPTED` 130 (128 + SIGINT), :data:`EXIT_TERMINATED` 143 (128 + SIGTERM,
+raised by :func:`modalinfo.common.files.atomic_write`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from modalinfo.common.deps import MissingDependencyError, require_dist
+from modalinfo.common.files import check_not_special
+from modalinfo.common.tasks.cluster import check_memory_limit, check_worker_count
+
+__all__ = [
+    "EXIT_FAILURE",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "EXIT_TERMINATED",
+    "EXIT_USAGE",
+    "CommandError",
+    "Parser",
+    "check_cluster_args",
+    "check_output",
+    "dispatch",
+]
+
+#: Exit statuses of every command.
+EXIT_OK = 0
+EXIT_FAILURE = 1
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+
+
+class CommandError(Exception):
+    """An input error a subcommand reports as one line and exit status 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors in one line (argparse prints usage first)."""
+
+    def error(self, message: str):  # noqa: D102
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        raise SystemExit(EXIT_USAGE)
+
+
+def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
+             words=None) -> int:
+    """Parse ``argv`` and run the chosen subcommand's ``_run``; return the exit status.
+
+    Shared by ``modalinfo`` and ``closedloop``: queued notes after success, one line on
+    stderr and status 2 for an input error (through ``words``, which rewrites library
+    names in command-line terms), a quiet exit for a closed pipe, 130 for Ctrl-C.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The command's parser (a :class:`Parser`); each subcommand sets ``_run(args) -> int``.
+    argv : list of str or None
+        The arguments (None: ``sys.argv[1:]``).
+    prog : str
+        The command's name, starting every error line (``"closedloop"``).
+    words : callable, optional
+        ``words(message) -> message``: library names said in command-line terms.
+
+    Returns
+    -------
+    int
+        The exit status: the subcommand's, or :data:`EXIT_USAGE`, :data:`EXIT_INTERRUPTED`.
+    """
+    args = parser.parse_args(argv)
+    if getattr(args, "_run", None) is None:
+        parser.print_help(sys.stderr)
+        return EXIT_USAGE
+    try:
+        code = int(args._run(args) or 0)
+        for note in getattr(args, "_notes", None) or ():
+            sys.stderr.write(note + "\n")  # notes queued by the command (e.g. assumed units)
+        return code
+    except BrokenPipeError:
+        # the reader (e.g. `| head`) closed the pipe: not an input error; silence the
+        # flush at exit as the Python docs recommend (signal module, "Note on SIGPIPE")
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_OK
+    except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
+        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        if words is not None:
+            message = words(message)
+        sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
+        return EXIT_USAGE
+    except MemoryError as exc:
+        # the estimates before the work should have refused this: still one line, no
+        # traceback (numpy's message names the array that did not fit)
+        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else "MemoryError"
+        sys.stderr.write(f"{prog} {args.command}: error: out of memory: {detail}; use a "
+                         "smaller log or smaller options\n")
+        return EXIT_USAGE
+    except ImportError as exc:
+        if not isinstance(exc, MissingDependencyError):
+            raise  # a broken installation, not a missing option: keep the traceback
+        sys.stderr.write(f"{prog} {args.command}: error: {exc}\n")
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        sys.stderr.write(f"{prog}: interrupted\n")
+        return EXIT_INTERRUPTED
+
+
+def check_output(
+    path: Path | None, overwrite: bool, *, suffixes: tuple[str, ...] | None = None,
+    flag: str = "output",
+) -> None:
+    """Check an output before any work: its extension, its directory, no overwrite.
+
+    Every command writing a file calls this (or modalinfo's
+    :func:`modalinfo.cli.shared.check_log_output` / ``check_figure_output``) before it
+    loads or computes anything, so a bad output path costs nothing.
+
+    Parameters
+    ----------
+    path : pathlib.Path or None
+        The output file (None: nothing to check).
+    overwrite : bool
+        Whether an existing file may be replaced.
+    suffixes : tuple of str, optional
+        The accepted extensions (lower case, with the dot).
+    flag : str
+        The option named in the message.
+
+    Raises
+    ------
+    CommandError
+        Naming ``flag``, the path and the rule.
+    """
+    if path is None:
+        return
+    path = Path(path)
+    if suffixes is not None and path.suffix.lower() not in suffixes:
+        raise CommandError(f"{flag} '{path}': unsupported extension "
+                           f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
+    if path.is_dir():
+        raise CommandError(f"{flag} '{path}' is a directory; give a file name")
+    try:
+        check_not_special(path)
+    except OSError as exc:
+        raise CommandError(f"{flag} {exc}") from None
+    if not path.parent.exists():
+        raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
+    if path.exists() and not overwrite:
+        raise CommandError(f"{flag} '{path}' exists; pass --overwrite to replace it")
+
+
+def check_cluster_args(args: argparse.Namespace) -> None:
+    """Refuse bad cluster options of ``batch`` and ``closedloop sweep`` before any work.
+
+    The ``dist`` extra must be installed (else one line with ``pip install
+    'modalinfo[dist]'``). ``--workers`` and ``--threads-per-worker`` >= 1,
+    ``--worker-wait`` a finite number of seconds > 0, ``--memory-limit`` and (on a
+    local cluster) the worker count within the machine
+    (:func:`modalinfo.common.tasks.cluster.check_memory_limit`, ``check_worker_count``).
+    """
+    require_dist(str(getattr(args, "command", None) or "this command"))
+    for flag, value in (("--workers", args.workers),
+                        ("--threads-per-worker", args.threads_per_worker)):
+        if value is not None and value < 1:
+            raise CommandError(f"{flag} must be >= 1; got {value}")
+    if args.worker_wait is not None and not 0 < args.worker_wait < float("inf"):
+        raise CommandError(f"--worker-wait must be a number of seconds > 0; got "
+                           f"{args.worker_wait:g}")
+    try:
+        check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
+        if args.workers is not None and args.scheduler is None:
+            check_worker_count(args.workers)
+    except ValueError as exc:
+        raise CommandError(str(exc).replace("`memory_limit`", "--memory-limit")
+                           .replace("`n_workers`", "--workers")) from None

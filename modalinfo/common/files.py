@@ -1,0 +1,218 @@
+"""Writing files safely, for every package: path checks and atomic writes.
+
+Part of the ground floor (:mod:`modalinfo.common`): :func:`atomic_write` (a crash
+leaves the old file or none, never half a file; no overwrite unless asked; SIGINT and
+SIGTERM during a save remove the temporary file), :func:`as_path` and
+:func:`check_readable` (argument checks naming the path), :func:`check_not_special`
+(no rename onto a device node) and :func:`writable_free_bytes` (a real test write).
+Output *folders* (free space, locks) are :mod:`modalinfo.common.folders`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import tempfile
+import threading
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "as_path",
+    "atomic_write",
+    "check_not_special",
+    "check_readable",
+    "signals_end_the_save",
+    "writable_free_bytes",
+]
+
+
+def as_path(path: Any, name: str = "path") -> Path:
+    """Return ``path`` as a ``Path`` (``TypeError`` for anything but str / PathLike)."""
+    if not isinstance(path, str | os.PathLike):
+        raise TypeError(f"`{name}` must be a str or os.PathLike; got {type(path).__name__}.")
+    return Path(path)
+
+
+def check_readable(path: Path) -> None:
+    """Raise ``FileNotFoundError`` / ``IsADirectoryError`` naming ``path`` if it is no file."""
+    if not path.exists():
+        raise FileNotFoundError(f"no such file: '{path}'")
+    if path.is_dir():
+        raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+
+
+def check_not_special(path: Path) -> None:
+    """Refuse a target that exists and is no regular file (a device, FIFO or socket).
+
+    The final rename of :func:`atomic_write` would replace it by a regular file, so
+    ``--overwrite`` onto ``/dev/null`` would destroy the device node (as root).
+    """
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        kind = ("a character device" if stat.S_ISCHR(mode) else "a block device"
+                if stat.S_ISBLK(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
+                "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        raise OSError(f"'{path}' is {kind}, not a regular file: a log or result is "
+                      "written to a file path (it would replace the node)")
+
+
+def writable_free_bytes(folder: Path) -> int:
+    """Return the free bytes of ``folder``'s file system after a real test write in it.
+
+    A real write (a temporary file, removed at once) answers for permissions, read-only
+    mounts and ACLs alike, where ``os.access`` does not. Raises the ``OSError`` of that
+    write when the folder cannot take a file.
+    """
+    import shutil
+
+    with tempfile.TemporaryFile(dir=folder):
+        pass
+    return shutil.disk_usage(folder).free
+
+
+def _exists_message(path: Path) -> str:
+    return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
+
+
+def _renamed(write: Callable[[Any], None], target: Any, tmp: str, path: Path) -> None:
+    """Call ``write(target)``; an error naming the temporary file names ``path`` instead."""
+    try:
+        write(target)
+    except (OSError, ValueError, TypeError) as exc:  # the user knows the target, not the temp
+        _rename_in_message(exc, tmp, path)
+
+
+def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
+    """Re-raise ``exc`` with the temporary file's name replaced by the target's."""
+    text = str(exc)
+    if tmp not in text and Path(tmp).name not in text:
+        raise exc
+    text = text.replace(tmp, str(path)).replace(Path(tmp).name, path.name)
+    try:
+        new = type(exc)(text)
+    except Exception:  # noqa: BLE001 - an exception type with another signature
+        raise exc from None
+    raise new from exc
+
+
+class _Signalled(BaseException):
+    """SIGINT/SIGTERM received during :func:`atomic_write` (turned into an exit below)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def signals_end_the_save():
+    """Make SIGINT and SIGTERM during a save remove its temporary file, then end the process.
+
+    Without this, SIGTERM's default action kills the process at once and leaves the
+    hidden temporary file behind, and a library that defers SIGINT while it writes
+    (astropy's ``ignore_sigint``) may let the save finish as if nothing happened. Here
+    a signal raises inside the save, the ``finally`` of :func:`atomic_write` removes the
+    temporary (the target keeps its old content or stays absent), and the process then
+    ends as the signal asks: ``KeyboardInterrupt`` for SIGINT (the command line exits
+    130) and ``SystemExit(143)`` for SIGTERM (128 + 15, the shell's convention). Only
+    signals still at their default action are handled, and only in the main thread
+    (where Python runs signal handlers): an ignored SIGINT (``nohup``, background
+    jobs) stays ignored and a caller's own handler stays in charge.
+
+    Yields ``armed``, a one-item list: set ``armed[0] = False`` before the cleanup so
+    that a signal arriving during it is recorded instead of interrupting it.
+    """
+    armed = [True]
+    received: list[int] = []
+    defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+    previous: dict = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum, default in defaults.items():
+            if signal.getsignal(signum) is default:
+                previous[signum] = default
+
+    def handler(signum, frame):  # noqa: ARG001 - the signal module's signature
+        received.append(signum)
+        if armed[0]:
+            armed[0] = False
+            raise _Signalled(signum)
+
+    for signum in previous:
+        signal.signal(signum, handler)
+    try:
+        yield armed
+    except _Signalled:
+        if not previous:
+            raise  # an enclosing save's handler raised it: that save ends the process
+        # handled below, after the handlers are restored
+    finally:
+        armed[0] = False
+        for signum, old in previous.items():
+            signal.signal(signum, old)
+    if received:
+        if received[0] == signal.SIGTERM:
+            raise SystemExit(128 + signal.SIGTERM)
+        raise KeyboardInterrupt
+
+
+def atomic_write(
+    path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
+) -> Path:
+    """Write a file through ``write`` into a temporary file, then move it in place.
+
+    ``write`` receives a binary file object, or with ``by_name=True`` the temporary
+    file's ``Path`` (for libraries such as h5py and astropy that open files by name).
+    The temporary file lives in the target directory, so the final rename is atomic:
+    a crash leaves either the old file or none, never half a file. Without
+    ``overwrite`` an existing target raises ``FileExistsError`` (checked again at the
+    final step with a hard link, which cannot clobber). SIGINT or SIGTERM during the
+    save removes the temporary file and then ends the process (``KeyboardInterrupt``;
+    ``SystemExit(143)`` for SIGTERM), leaving the old file or none.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(f"'{path}' is a directory; give a file name")
+    check_not_special(path)
+    if path.exists() and not overwrite:
+        raise FileExistsError(_exists_message(path))
+    directory = path.parent
+    if not directory.is_dir():
+        raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
+    with signals_end_the_save() as armed:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+        try:
+            if by_name:
+                os.close(fd)
+                os.unlink(tmp)  # libraries may refuse to write over an existing file
+                _renamed(write, Path(tmp), tmp, path)
+                with open(tmp, "rb+") as fh:
+                    os.fsync(fh.fileno())
+            else:
+                with os.fdopen(fd, "wb") as fh:
+                    _renamed(write, fh, tmp, path)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            os.chmod(tmp, 0o644)
+            if overwrite:
+                os.replace(tmp, path)
+            else:
+                try:
+                    os.link(tmp, path)
+                except FileExistsError:
+                    raise FileExistsError(_exists_message(path)) from None
+                except OSError:  # filesystem without hard links
+                    if path.exists():
+                        raise FileExistsError(_exists_message(path)) from None
+                    os.replace(tmp, path)
+        finally:
+            armed[0] = False  # a signal from here on is only recorded: the cleanup runs
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return path

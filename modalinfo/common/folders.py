@@ -1,0 +1,291 @@
+"""Output folders for every command: the checks before any work, and the lock.
+
+Part of the ground floor (:mod:`modalinfo.common`). ``modalinfo batch``, ``closedloop
+sweep``, ``closedloop run --out`` and ``python -m paper_figures`` refuse an output the
+same way, with the same words:
+
+- :func:`check_room`: a folder this process can write in (a real test write) with a
+  given number of bytes free;
+- :func:`check_out_dir`: an output *folder* (new or existing) before any work, with
+  :data:`MIN_FREE_BYTES` free;
+- :class:`OutputLock` and :func:`locked_out_dir`: one run per output folder.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import socket
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from modalinfo.common.files import writable_free_bytes
+from modalinfo.common.sizes import format_size
+
+__all__ = [
+    "MIN_FREE_BYTES",
+    "OutputError",
+    "OutputInUseError",
+    "OutputLock",
+    "check_out_dir",
+    "check_room",
+    "locked_out_dir",
+]
+
+#: Free space an output folder must have before a batch, a sweep or the paper's figures
+#: start [bytes]: rows (~1 kB each), tables and plots of a large archive, or the figures
+#: (PNG and PDF), JSON evaluations and reports (~10 MB), fit many times over.
+MIN_FREE_BYTES = 64 * 2**20
+
+
+class OutputError(ValueError):
+    """An output location that cannot take a run's files (checked before any work)."""
+
+
+class OutputInUseError(OutputError):
+    """The output folder is locked by another running batch, sweep or figure run."""
+
+
+def check_room(folder: Path, need_bytes: float, what: str) -> None:
+    """Refuse a ``folder`` this process cannot write in, or with less than ``need_bytes`` free.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        An existing folder.
+    need_bytes : float
+        Free space required [bytes].
+    what : str
+        What is written, starting the message (``"--out 'run.h5'"``).
+
+    Raises
+    ------
+    OutputError
+        Naming ``what``, the folder and the rule (sizes in binary units).
+    """
+    try:
+        free = writable_free_bytes(folder)
+    except OSError as exc:
+        raise OutputError(f"{what}: cannot write in '{folder}' "
+                          f"({exc.strerror or exc})") from None
+    if free < need_bytes:
+        raise OutputError(f"{what}: about {format_size(need_bytes)} is needed, '{folder}' "
+                          f"has {format_size(free)} free")
+
+
+def _existing_ancestor(path: Path) -> Path:
+    path = Path(os.path.abspath(path))
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def check_out_dir(out_dir: Path, flag: str = "output directory", *,
+                  parents: bool = False) -> Path:
+    """Check an output folder before any work; return the existing folder that will hold it.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        The output folder; it may not exist yet.
+    flag : str
+        The option named in the message (``"--out"``).
+    parents : bool
+        Whether missing parents are created too (then the nearest existing ancestor is
+        checked); otherwise the parent of a new ``out_dir`` must exist.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out_dir`` when it exists, else the existing folder it will be created in.
+
+    Raises
+    ------
+    OutputError
+        ``out_dir`` or the folder to hold it is not a folder (or is missing), cannot be
+        written in, or has less than :data:`MIN_FREE_BYTES` free.
+    """
+    out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise OutputError(f"{flag} '{out_dir}' exists and is not a directory")
+    if out_dir.is_dir():
+        base = out_dir
+    else:
+        base = _existing_ancestor(out_dir) if parents else out_dir.parent
+    if not base.is_dir():
+        what = "is not a directory" if base.exists() else "does not exist"
+        raise OutputError(f"{flag} '{out_dir}': '{base}' {what}")
+    check_room(base, MIN_FREE_BYTES, f"{flag} '{out_dir}'")
+    return base
+
+
+class OutputLock:
+    """Exclusive use of an output folder by one batch, sweep or figure run (a context manager).
+
+    The lock is the file ``<out>/.lock`` holding JSON ``{"pid", "host", "started",
+    "command"}``; it is created complete or not at all (written to a temporary file,
+    then hard-linked to its name, which fails if the name exists), so two runs
+    starting together cannot both hold it. A lock whose holder is a dead process on
+    this host is stale and taken over; a lock held by a live process, or by a
+    process on another host (which cannot be checked from here), raises
+    :class:`OutputInUseError` naming the holder and the file to remove if that run is
+    known to be over.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        An existing directory.
+    command : str
+        What holds the lock (``"modalinfo batch"``), recorded in the file.
+    """
+
+    NAME = ".lock"
+
+    def __init__(self, out_dir: str | os.PathLike, command: str = "modalinfo batch") -> None:
+        self.path = Path(out_dir) / self.NAME
+        self.command = command
+        self.held = False
+
+    def _holder(self) -> dict | None:
+        """Return the lock file's content; None when absent; {} when unreadable."""
+        try:
+            text = self.path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            return None
+        except OSError:
+            return {}
+        try:
+            data = json.loads(text)
+        except ValueError:
+            return {}
+        return data if isinstance(data, dict) else {}
+
+    def _stale(self, holder: dict) -> bool:
+        pid = holder.get("pid")
+        if holder.get("host") != socket.gethostname() or not isinstance(pid, int):
+            return False
+        return pid != os.getpid() and not _pid_alive(pid)
+
+    def acquire(self) -> OutputLock:
+        """Take the lock (taking over a stale one); raise OutputInUseError if held."""
+        from modalinfo.common.tasks.keys import canonical_json
+
+        info = canonical_json({"pid": os.getpid(), "host": socket.gethostname(),
+                               "started": time.time(), "command": self.command})
+        tmp = self.path.with_name(f".lock.{os.getpid()}.{time.monotonic_ns()}.tmp")
+        tmp.write_text(info, encoding="utf-8")
+        try:
+            for _ in range(3):  # a stale lock removed by us (or another taker) in between
+                try:
+                    os.link(tmp, self.path)
+                    self.held = True
+                    return self
+                except FileExistsError:
+                    pass
+                holder = self._holder()
+                if holder is None:
+                    continue  # released between our link and our read: try again
+                if not self._stale(holder):
+                    who = (f"{holder.get('command', 'a run')} (pid {holder.get('pid')} on "
+                           f"{holder.get('host')})" if holder else "another run")
+                    raise OutputInUseError(
+                        f"output directory '{self.path.parent}' is in use by {who}; wait "
+                        f"for it to finish, or remove '{self.path}' if it is no longer running")
+                # stale: remove it only if it is still the same dead holder's file
+                with contextlib.suppress(FileNotFoundError):
+                    if self._holder() == holder:
+                        self.path.unlink()
+            raise OutputInUseError(f"output directory '{self.path.parent}': could not take "
+                                   f"the lock '{self.path}' (others keep taking it)")
+        finally:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+    def release(self) -> None:
+        """Remove the lock file if this process holds it."""
+        if self.held:
+            holder = self._holder()
+            if holder and holder.get("pid") == os.getpid():
+                with contextlib.suppress(FileNotFoundError):
+                    self.path.unlink()
+            self.held = False
+
+    def __enter__(self) -> OutputLock:
+        return self.acquire()
+
+    def __exit__(self, *exc: Any) -> None:
+        self.release()
+
+
+def _pid_alive(pid: int) -> bool:
+    """Tell whether process ``pid`` exists on this host (True when unsure: no permission)."""
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # someone else's process: alive
+        return True
+    return True
+
+
+def _check_foreign(out_dir: Path, marker: str) -> None:
+    """Refuse a non-empty directory that holds no earlier run (no ``marker``)."""
+    others = [p for p in out_dir.iterdir() if not p.name.startswith(OutputLock.NAME)]
+    if others and not (out_dir / marker).is_dir():
+        raise OutputError(f"output directory '{out_dir}' is not empty and holds no "
+                          f"earlier batch or sweep (no {marker}/); choose a new or empty "
+                          "directory")
+
+
+@contextlib.contextmanager
+def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
+                   parents: bool = False, flag: str | None = None) -> Iterator[Path]:
+    """Create ``out_dir`` if needed, take its :class:`OutputLock`; yield ``out_dir``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        The output folder.
+    command : str
+        What holds the lock (recorded in the lock file).
+    marker : str or None
+        A subfolder an earlier run of the same kind leaves (``"rows"``): a non-empty
+        folder without it is refused as someone else's. None: no such check.
+    parents : bool
+        Create missing parents too (else the parent must exist).
+    flag : str, optional
+        The option starting the message of :class:`OutputInUseError` (``"--out"``).
+
+    On leaving, the lock is released and the folders created here are removed again
+    if the run left them empty (with ``marker``: holding no row), so a run that failed
+    at its start leaves nothing behind.
+    """
+    out_dir = Path(out_dir)
+    created = []
+    missing = Path(os.path.abspath(out_dir))
+    while not missing.exists():
+        created.append(missing)
+        missing = missing.parent
+    out_dir.mkdir(parents=parents, exist_ok=True)
+    try:
+        try:
+            lock = OutputLock(out_dir, command).acquire()
+        except OutputInUseError as exc:
+            if flag is None:
+                raise
+            raise OutputInUseError(f"{flag} {exc}") from None
+        try:
+            if marker is not None:
+                _check_foreign(out_dir, marker)
+            yield out_dir
+        finally:
+            lock.release()
+    finally:
+        for folder in ([out_dir / marker] if created and marker else []) + created:
+            with contextlib.suppress(OSError):
+                folder.rmdir()  # innermost first; only if empty

@@ -1,0 +1,54 @@
+"""How much memory the machine has: the readings every guard rail refuses work against.
+
+Part of the ground floor (:mod:`modalinfo.common`): closedloop's run estimate, the
+command line's memory refusals, the estimators' work-array checks and the Dask
+cluster's worker limits read memory here, once.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+__all__ = ["available_memory_bytes", "free_memory_bytes", "machine_memory_bytes"]
+
+
+def available_memory_bytes() -> float:
+    """Memory the machine has available [bytes]: ``MemAvailable`` of ``/proc/meminfo``.
+
+    Free pages plus the page cache the kernel can drop; falls back to
+    :func:`free_memory_bytes` where ``/proc/meminfo`` is missing or unreadable. The one
+    reading behind closedloop's run estimate and the command line's memory refusals.
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return free_memory_bytes()
+
+
+def free_memory_bytes() -> float:
+    """Physical memory free now [bytes] (``os.sysconf`` pages); ``inf`` where unknown.
+
+    The measure the library's guard rails refuse work against before they allocate
+    (closedloop's run estimate reads ``MemAvailable`` instead, a larger figure that
+    counts reclaimable caches).
+    """
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # not available on this platform
+        return math.inf
+
+
+def machine_memory_bytes() -> float:
+    """Physical memory of this machine [bytes] (``os.sysconf``); ``inf`` where unknown.
+
+    What a fractional Dask ``memory_limit`` is a fraction of.
+    """
+    try:
+        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - exotic platforms
+        return float("inf")

@@ -1,0 +1,188 @@
+"""A Dask client on a new ``LocalCluster`` or a running scheduler, and its checks."""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+from collections.abc import Iterator
+from typing import Any
+
+from modalinfo.common.deps import require
+from modalinfo.common.memory import machine_memory_bytes
+from modalinfo.common.sizes import format_size, parse_size
+from modalinfo.common.tasks.threads import task_threads, thread_env
+
+__all__ = ["MIN_MEMORY_LIMIT", "WORKER_BASELINE", "check_memory_limit", "check_worker_count",
+           "dashboard_link", "open_client"]
+
+#: Smallest per-worker memory limit of a local cluster [bytes]: a worker process with
+#: numpy, numba and the library imported holds ~150 MB, and Dask pauses a worker at 80 %
+#: of its limit, so a smaller limit leaves workers paused for ever.
+MIN_MEMORY_LIMIT = 256 * 2**20
+
+
+#: Memory of one idle worker process (interpreter, numpy, numba, distributed) [bytes].
+WORKER_BASELINE = 150 * 2**20
+
+
+def check_worker_count(n_workers: int) -> None:
+    """Refuse more local worker processes than the machine's free memory can start.
+
+    Raises
+    ------
+    ValueError
+        ``n_workers x`` :data:`WORKER_BASELINE` exceeds the available memory.
+    """
+    available = require("psutil").virtual_memory().available
+    if n_workers * WORKER_BASELINE > available:
+        most = max(1, available // WORKER_BASELINE)
+        raise ValueError(f"`n_workers` must be at most {most} here: each worker process "
+                         f"holds ~{WORKER_BASELINE // 2**20} MB before any task and "
+                         f"{available / 2**30:.1f} GiB is available; got {n_workers}")
+
+
+def check_memory_limit(memory_limit: str | float | None, threads_per_worker: int = 1) -> None:
+    """Refuse a per-worker memory limit a worker cannot run under, before any cluster.
+
+    Accepts what ``distributed.LocalCluster`` accepts: None or ``"auto"``, ``0`` (no
+    limit), a size (``"2GB"``, ``"512 MiB"``, bytes as a number > 1) or a fraction
+    ``0 < f <= 1`` of the machine's memory.
+
+    Raises
+    ------
+    ValueError
+        A limit that does not parse, is negative, or is below :data:`MIN_MEMORY_LIMIT`
+        (a worker would be paused by its own memory before running a task).
+    """
+    if memory_limit is None or memory_limit == "auto":
+        return
+    # parsed here without dask (modalinfo.common.sizes.parse_size reads sizes as
+    # dask.utils.parse_bytes does), so the check runs, and refuses, before any import of
+    # the optional `dist` extra; the rules are distributed.worker_memory.parse_memory_limit's
+    del threads_per_worker  # only "auto" depends on it, and "auto" is always accepted
+    rule = (f"`memory_limit` must be a size such as '2GB', 'auto', 0 (no limit) or a "
+            f"fraction of the machine's memory in (0, 1]; got {memory_limit!r}")
+    if isinstance(memory_limit, bool):
+        raise ValueError(rule)
+    try:
+        number = float(memory_limit)
+    except (ValueError, TypeError):
+        number = None
+    try:
+        if number is not None and number <= 1:
+            if number < 0 or number != number:
+                raise ValueError(rule)
+            value = int(number * machine_memory_bytes()) if number > 0 else None
+        else:
+            value = parse_size(memory_limit, "memory_limit") or None
+    except ValueError:
+        raise ValueError(rule) from None
+    if value is not None and value < MIN_MEMORY_LIMIT:
+        raise ValueError(f"`memory_limit` must be at least {format_size(MIN_MEMORY_LIMIT)} "
+                         f"per worker (a worker process alone holds ~150 MB and Dask pauses "
+                         f"it at 80 % of its limit); got {memory_limit!r} = "
+                         f"{format_size(value)}")
+
+
+@contextlib.contextmanager
+def open_client(
+    scheduler: str | None = None,
+    *,
+    n_workers: int | None = None,
+    threads_per_worker: int | None = None,
+    memory_limit: str | float | None = None,
+    retries: int | None = None,
+    dashboard_address: str | None = ":0",
+) -> Iterator[Any]:
+    """Open a ``distributed.Client`` on a new ``LocalCluster`` or on a running scheduler.
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of a running scheduler (``tcp://host:8786``). None starts a
+        ``LocalCluster`` of worker processes, closed on exit.
+    n_workers : int, optional
+        Worker processes of the local cluster (default: CPUs // threads_per_worker).
+    threads_per_worker : int, optional
+        Tasks run at once per worker (default 1).
+    memory_limit : str or float, optional
+        Per-worker memory limit of the local cluster (``"2GB"``; default ``"auto"``).
+    retries : int, optional
+        Times the local cluster's scheduler re-runs a task whose worker died before
+        giving up on it (``distributed.scheduler.allowed-failures``; default Dask's, 3).
+        Exceptions raised by a task are never retried: they are its error row.
+    dashboard_address : str or None
+        Dashboard of the local cluster (``":0"``: a free port; None: no dashboard, the
+        scheduler's HTTP server still takes a free port, never a fixed one).
+
+    Yields
+    ------
+    distributed.Client
+        With ``client.modalinfo_task_threads`` set: the thread budget of one task
+        (None on a remote cluster: each task then uses 1 thread).
+    """
+    distributed = require("distributed")
+    if scheduler is not None:
+        given = {"workers": n_workers, "threads-per-worker": threads_per_worker,
+                 "memory-limit": memory_limit, "retries": retries}
+        clash = [k for k, v in given.items() if v is not None]
+        if clash:
+            raise ValueError(
+                f"`{clash[0]}` applies to the local cluster only; the cluster at "
+                f"{scheduler!r} sets its own workers"
+            )
+        with distributed.Client(scheduler) as client:
+            client.modalinfo_task_threads = None
+            yield client
+        return
+    cpus = os.cpu_count() or 1
+    threads_per_worker = 1 if threads_per_worker is None else int(threads_per_worker)
+    if threads_per_worker < 1:
+        raise ValueError(f"`threads_per_worker` must be >= 1; got {threads_per_worker}")
+    if n_workers is None:
+        n_workers = max(1, cpus // threads_per_worker)
+    if int(n_workers) < 1:
+        raise ValueError(f"`n_workers` must be >= 1; got {n_workers}")
+    n_workers = int(n_workers)
+    check_memory_limit(memory_limit, threads_per_worker)
+    check_worker_count(n_workers)
+    threads = task_threads(n_workers, threads_per_worker, cpus)
+    failures = {}
+    if retries is not None:
+        if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
+            raise ValueError(f"`retries` must be an int >= 0; got {retries!r}")
+        failures = {"distributed.scheduler.allowed-failures": retries}
+    import dask
+
+    with dask.config.set(failures):  # read once, by the scheduler created here
+        cluster = distributed.LocalCluster(
+            n_workers=n_workers,
+            threads_per_worker=threads_per_worker,
+            memory_limit="auto" if memory_limit is None else memory_limit,
+            processes=True,
+            env=thread_env(threads),
+            dashboard_address=":0" if dashboard_address is None else dashboard_address,
+            scheduler_kwargs={"dashboard": dashboard_address is not None},
+            silence_logs=logging.ERROR,
+        )
+    try:
+        with distributed.Client(cluster) as client:
+            client.modalinfo_task_threads = threads
+            yield client
+    finally:
+        cluster.close()
+
+
+def dashboard_link(client: Any) -> str | None:
+    """Return the dashboard URL when the scheduler serves one, else None."""
+    try:
+        services = client.scheduler_info().get("services", {})
+    except Exception:  # noqa: BLE001 - a missing dashboard is not an error
+        return None
+    if "dashboard" not in services:
+        return None
+    import importlib.util
+
+    needs = "" if importlib.util.find_spec("bokeh") else " (install bokeh to view it)"
+    return f"{client.dashboard_link}{needs}"

@@ -1,0 +1,89 @@
+"""Where the rows of a run go: one JSON file per key, then one table."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+from modalinfo.common.deps import require
+from modalinfo.common.files import atomic_write
+from modalinfo.common.tasks.keys import canonical_json
+
+__all__ = ["RowStore", "write_table"]
+
+
+class RowStore:
+    """Rows of a batch as one small JSON file per key in ``<out_dir>/rows``.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        Output directory (created if missing).
+    """
+
+    def __init__(self, out_dir: str | os.PathLike) -> None:
+        self.out_dir = Path(out_dir)
+        self.rows_dir = self.out_dir / "rows"
+        self.rows_dir.mkdir(parents=True, exist_ok=True)
+
+    def _path(self, key: str) -> Path:
+        if not key or any(c in key for c in "/\\") or key.startswith("."):
+            raise ValueError(f"`key` must be a plain file name; got {key!r}.")
+        return self.rows_dir / f"{key}.json"
+
+    def finished(self, *, retry_errors: bool = False) -> set[str]:
+        """Keys with a final row (``ok``, and ``error`` unless ``retry_errors``)."""
+        keep = {"ok"} if retry_errors else {"ok", "error"}
+        return {row["key"] for row in self.rows() if row.get("status") in keep}
+
+    def write(self, key: str, row: dict) -> Path:
+        """Write one row atomically (replacing an earlier row of the same key)."""
+        data = canonical_json({**row, "key": key}).encode()
+        return atomic_write(self._path(key), lambda fh: fh.write(data), overwrite=True)
+
+    def rows(self) -> list[dict]:
+        """Every stored row, sorted by key (temporary files are never read)."""
+        out = []
+        for path in sorted(self.rows_dir.glob("*.json")):
+            with open(path, encoding="utf-8") as fh:
+                out.append(json.load(fh))
+        return out
+
+
+def _column_order(rows: list[dict], first: Sequence[str]) -> list[str]:
+    seen = dict.fromkeys(c for c in first if any(c in r for r in rows))
+    for row in rows:
+        for name in row:
+            seen.setdefault(name, None)
+    return list(seen)
+
+
+def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str] = (),
+                overwrite: bool = True) -> tuple[Path, Path]:
+    """Write the rows as ``<stem>.csv`` and ``<stem>.parquet`` (pyarrow), atomically.
+
+    Columns are the union of the rows' keys (``first`` leading); a row lacking a
+    column has a null there. Returns the two paths.
+    """
+    pa = require("pyarrow")
+    pacsv = require("pyarrow.csv")
+    pq = require("pyarrow.parquet")
+
+    columns = _column_order(rows, first)
+    data = {}
+    for name in columns:
+        values = [r.get(name) for r in rows]
+        kinds = {type(v) for v in values if v is not None}
+        if kinds <= {int, float} and float in kinds:
+            values = [None if v is None else float(v) for v in values]
+        elif len(kinds) > 1:
+            values = [None if v is None else str(v) for v in values]
+        data[name] = pa.array(values)
+    table = pa.table(data) if columns else pa.table({"key": pa.array([], pa.string())})
+    csv_path = Path(out_dir) / f"{stem}.csv"
+    pq_path = Path(out_dir) / f"{stem}.parquet"
+    atomic_write(pq_path, lambda fh: pq.write_table(table, fh), overwrite=overwrite)
+    atomic_write(csv_path, lambda fh: pacsv.write_csv(table, fh), overwrite=overwrite)
+    return csv_path, pq_path
