@@ -574,11 +574,6 @@ class SimulationConfig:
         return sum(layer.d_over_r0 ** (5 / 3) for layer in self.layers) ** 0.6
 
 
-#: pupil pixels per cycle of the finest Zernike a DM uses, and per SH subaperture
-_PIXELS_PER_CYCLE = 2
-_PIXELS_PER_SUBAPERTURE = 2
-
-
 #: radians per arcsecond
 ARCSEC = math.pi / (180.0 * 3600.0)
 

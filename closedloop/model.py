@@ -19,7 +19,6 @@ from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera
 from closedloop.optics.wfs import has_noise
-from modalinfo.bases import zernike_covariance
 
 __all__ = ["LoopModel"]
 
@@ -101,7 +100,7 @@ class LoopModel:
             strength[d] += (self.dms[d].diameter / r0) ** (5.0 / 3.0)
         floor = 1e-6 * max(strength.max(), 1e-12)
         for d, dm in enumerate(self.dms):
-            var = np.diag(zernike_covariance(dm.modes))
+            var = dm.prior_variance()
             prior[self.mode_slices[d]] = max(strength[d], floor) * var
         self.prior = prior
         r0s = [g.layer_r0(i) for i in range(len(cfg.layers))]

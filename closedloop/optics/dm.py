@@ -38,7 +38,7 @@ from closedloop.config import SimulationConfig, dm_disc_diameter
 from closedloop.kinds import MirrorCost, MirrorKind, register_mirror_kind
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
-from modalinfo.bases import noll_to_zernike, zernike_matrix
+from modalinfo.bases import noll_to_zernike, zernike_covariance, zernike_matrix
 
 __all__ = ["DeformableMirror", "ZernikeMirror", "IdealMirror", "ZERNIKE", "IDEAL",
            "check_zernike_sampling"]
@@ -119,6 +119,16 @@ class DeformableMirror:
         """One label per mode (``Z<j>`` for Noll modes, ``pix<k>`` for a zonal mirror's pixels)."""
         return ([f"Z{j}" for j in self.modes] if self.modes
                 else [f"pix{k}" for k in range(self.n_modes)])
+
+    def prior_variance(self) -> np.ndarray:
+        """Kolmogorov variance of each mode for ``D / r0 = 1`` over the disc, ``(n_modes,)``.
+
+        The joint MAP reconstructor's prior (:class:`closedloop.model.LoopModel`, scaled by
+        the turbulence assigned to this DM). Here for Noll-indexed Zernike modes (the
+        diagonal of Noll's covariance, :func:`modalinfo.bases.zernike_covariance`); a kind
+        whose shapes are not Noll Zernikes overrides it.
+        """
+        return np.diag(zernike_covariance(self.modes))
 
     def reset(self) -> None:
         """Nothing to reset: a mirror's surface is a function of its command (no state)."""
