@@ -43,7 +43,6 @@ __all__ = [
 ]
 
 
-
 def __getattr__(name: str):
     # the kinds come from the registry (closedloop.kinds), filled when closedloop.optics is
     # imported: read at access time, so a kind registered later is listed too
@@ -52,6 +51,7 @@ def __getattr__(name: str):
     if name == "DM_KINDS":
         return mirror_kinds()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 #: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
 FULL_WELL = 30_000.0
@@ -94,6 +94,11 @@ def _kind_options(obj, kind, p: str) -> None:
             _fail(p + "options", f"None for kind {kind.name!r} (it has no options)", opts,
                   TypeError)
         return
+    clash = sorted({f.name for f in dataclasses.fields(kind.options)}
+                   & {f.name for f in dataclasses.fields(obj)})
+    if clash:  # both would be keys of the same TOML table
+        raise TypeError(f"the options of kind {kind.name!r} must not repeat a key of "
+                        f"`{p.rstrip('.')}`; {clash[0]!r} does.")
     if opts is None:
         opts = {}
     if isinstance(opts, dict):
@@ -267,7 +272,6 @@ class WFSConfig:
         ``"correlating"`` only: False (default), the fast linear sensor; True, images
         formed and correlated every frame (the reference check of the linear one; a few
         frames per second).
-
     options : dataclass instance, dict or None
         The kind's own options (``closedloop.kinds.SensorKind.options``; None for the
         built-in kinds). A dict or None becomes that type (its defaults); in the plain

@@ -238,6 +238,14 @@ def test_the_config_refuses_unknown_kinds_keys_and_bad_options(reference):
         with_dm0(kind="noll", options=3)
     with pytest.raises(ValueError, match=r"^`dms\[0\]\.first_mode` must be an int >= 2"):
         with_dm0(kind="noll", options={"first_mode": 1})
+    clashing = dataclasses.make_dataclass("Clash", [("n_modes", int, 1)], frozen=True)
+    register_mirror_kind(dataclasses.replace(NOLL, name="clash", options=clashing))
+    try:
+        with pytest.raises(TypeError, match=r"^the options of kind 'clash' must not repeat a "
+                                            r"key of `dms\[0\]`; 'n_modes' does"):
+            with_dm0(kind="clash")
+    finally:
+        unregister_mirror_kind("clash")
     with pytest.raises(ValueError, match=r"^`wfss\[1\]\.noise` must be 0 for kind "
                                          r"'perfect_slope'; got 0.01"):
         new.replace(wfss=(new.wfss[0], dataclasses.replace(new.wfss[1], noise=0.01)))
