@@ -26,7 +26,7 @@ from typing import ClassVar
 import numpy as np
 import pytest
 
-from closedloop import LoopModel, simulate
+from closedloop import LoopModel, presets, simulate
 from closedloop.config import (
     DMConfig,
     FieldConfig,
@@ -276,8 +276,11 @@ def test_the_plain_form_holds_the_options_as_keys_and_round_trips(reference, tmp
     # an option left out takes its default; the built-in kinds' tables have no new key
     del plain["dms"][0]["first_mode"]
     assert SimulationConfig.from_dict(plain).dms[0].options == NollOptions()
-    assert all("options" not in t for t in (*reference.to_dict()["wfss"],
-                                            *reference.to_dict()["dms"]))
+    for name in presets.names():  # the presets' files: no new key, the same config back
+        preset = presets.get(name)
+        plain = preset.to_dict()
+        assert all("options" not in t for t in (*plain["wfss"], *plain["dms"])), name
+        assert SimulationConfig.from_dict(plain) == preset, name
 
 
 # ---------------------------------------------------------------- the loop, bit for bit
