@@ -21,7 +21,6 @@ the mirrors speak the same basis and their command logs are Zernike coefficients
 ``modalinfo`` reads unchanged. A zonal influence-function model (Gaussian or cubic
 actuators) would add the actuator-coupling fitting error; it is not modelled here.
 
-
 The two kinds are registered here (:data:`ZERNIKE`, :data:`IDEAL`,
 :class:`closedloop.kinds.MirrorKind` records): their rules against the pupil grid and the
 WFSs, their memory estimate and their AOT description sit beside their shapes.
@@ -92,7 +91,6 @@ class DeformableMirror:
                              f"{type(self).__name__}; got {cfg.kind!r} (build it through "
                              "closedloop.kinds.mirror_kind(kind).build).")
         self.index = index
-        self.kind = cfg.kind
         self.altitude = geometry.los(cfg.altitude)
         self.plane = geometry.dm_plane[index]
         self.diameter = geometry.dm_diameter(index)
