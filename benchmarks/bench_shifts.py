@@ -39,9 +39,9 @@ import time
 import numpy as np
 
 from closedloop import presets
+from closedloop.kinds import mirror_kind
 from closedloop.optics import shifts
 from closedloop.optics.correlating import CorrelatingSubapertures
-from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry, wfs_meta_pupil
 from closedloop.optics.granulation import granulation_contrast, granulation_scene
 from closedloop.optics.wfs import WavefrontSensor
@@ -110,7 +110,7 @@ def table1_wfs():
     g = Geometry(cfg)
     out = []
     for j, w in enumerate(cfg.wfss):
-        dm = DeformableMirror(g, w.dm)
+        dm = mirror_kind(g.config.dms[w.dm].kind).build(g, w.dm)
         s = WavefrontSensor(g, j, dm)
         out.append((s.n_valid_subapertures, w.field_of_view,
                     wfs_meta_pupil(cfg, j) / w.n_subapertures))

@@ -17,10 +17,14 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
   ``MI_GEOM`` (AOT has no field for them). An ``"ideal"`` sensor has no AOT type: it is
   written as a one-value-per-subaperture ``Pyramid`` record whose "subapertures" are
   the pixels of its DM's disc (mask on the DM's plane grid) and whose measurements are
-  the field-averaged phase [rad]; ``MI_GEOM`` says ``"kind": "ideal"``;
+  the field-averaged phase [rad]; ``MI_GEOM`` says ``"kind": "ideal"``; a correlating SH
+  is a Shack-Hartmann record whose last entry per axis is its correlation tracker. Each
+  kind writes its own record (``aot_record`` and ``aot_layout`` of its
+  :class:`closedloop.kinds.SensorKind`);
 * **correctors** ``"dm{i}"``: deformable mirrors, modal: each "actuator" is one mode
   (``n_valid_actuators = M``), the pupil mask is the controlled disc on the DM's plane
-  grid ``(n_p, n_p)``; altitude in ``MI_GEOM``;
+  grid ``(n_p, n_p)``; altitude in ``MI_GEOM``, and what an "actuator" is (the kind's
+  ``aot_description``, :class:`closedloop.kinds.MirrorKind`);
 * **atmosphere** ``"atmosphere"``: layer heights [m above the telescope], fractions
   ``(D/r0_l)^(5/3) / sum``, wind speeds [m/s] and directions in AOT's convention
   (:func:`aot_wind_direction`: deg, 0 = North, increasing eastward, the direction the
@@ -75,6 +79,8 @@ import json
 from pathlib import Path
 
 import numpy as np
+
+from closedloop.kinds import mirror_kind, sensor_kind
 
 __all__ = ["aot_wind_direction", "build_aot_system", "export_aot", "wind_direction_from_aot"]
 
@@ -155,22 +161,6 @@ def _disc_mask(dm, n: int) -> np.ndarray:
     return mask.reshape(n, n)
 
 
-def _index_grid(n: int, flat: np.ndarray) -> np.ndarray:
-    grid = -np.ones(n * n, dtype=np.int32)
-    grid[flat] = np.arange(flat.size, dtype=np.int32)
-    return grid.reshape(n, n)
-
-
-def _sensed_pixels(wfs) -> np.ndarray:
-    """Flat plane-grid indices of the pixels an ideal sensor measures, in measurement order."""
-    rows = getattr(wfs, "measured_pixels", None)  # the lit part of the disc, when recorded
-    pixels = wfs.dm.pixels if rows is None else wfs.dm.pixels[rows]
-    if pixels.size != wfs.n_measurements:
-        raise ValueError(f"ideal sensor {wfs.index}: {pixels.size} pixels for "
-                         f"{wfs.n_measurements} measurements (internal geometry error).")
-    return pixels
-
-
 def _mode_images(dm, n: int) -> np.ndarray | None:
     if dm.shapes is None:
         return None
@@ -180,18 +170,8 @@ def _mode_images(dm, n: int) -> np.ndarray | None:
 
 
 def _as_dsv(wfs, arr: np.ndarray) -> np.ndarray:
-    """``(rows, n_meas)`` -> ``(rows, d, s_v)``: SH (x..., y...) -> ``d = 2``, ideal ``d = 1``.
-
-    A correlating SH's ``(x..., y..., tracker x, tracker y)`` becomes ``d = 2`` with the
-    tracker as the last entry of each axis (``s_v = n_valid + 1``).
-    """
-    arr = np.ascontiguousarray(arr)
-    if wfs.kind == "correlating":
-        n = wfs.n_valid_subapertures
-        order = np.r_[0:n, 2 * n, n:2 * n, 2 * n + 1]
-        return np.ascontiguousarray(arr[:, order]).reshape(arr.shape[0], 2, n + 1)
-    d = 2 if wfs.kind == "shack_hartmann" else 1
-    return arr.reshape(arr.shape[0], d, wfs.n_measurements // d)
+    """``(rows, n_meas)`` -> ``(rows, d, s_v)``, as the sensor's kind lays it out."""
+    return sensor_kind(wfs.kind).aot_layout(wfs, arr)
 
 
 def _blocks(model, i: int) -> list[np.ndarray]:
@@ -227,46 +207,6 @@ def _telescope_and_source(cfg, g):
     return telescope, sun
 
 
-def _sensor(model, j: int, wcfg, meas):
-    """Build sensor ``j``'s record: Shack-Hartmann, or an ideal sensor as a Pyramid record."""
-    from modalinfo.io.aot_system import SensorSpec
-
-    wfs = model.wfss[j]
-    extra = {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
-             "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
-    if wfs.kind in ("shack_hartmann", "correlating"):
-        extra.update(subaperture_pitch=wfs.pitch, n_subapertures=wcfg.n_subapertures,
-                     order="d = 0: x slopes, d = 1: y slopes; mask rows are y")
-        n_valid = wfs.n_valid_subapertures
-        if wfs.kind == "correlating":
-            # slopes less their mean, then the correlation tracker's global Z-tilt as one
-            # more entry per axis (it has no subaperture in the mask)
-            extra.update(kind="correlating", pixel_scale=wcfg.pixel_scale,
-                         image_formation=wcfg.image_formation, note=(
-                             "correlating SH on granulation: Z-tilts less their mean; "
-                             "the last entry of each axis is the correlation tracker's "
-                             "global tilt (no subaperture in the mask)"))
-            n_valid += 1
-        return SensorSpec(
-            uid=f"wfs{j}", source="sun", kind="shack-hartmann",
-            n_valid_subapertures=n_valid, measurements=meas,
-            subaperture_mask=_index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
-            field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
-            extra=extra)
-    extra.update(kind="ideal", note=(
-        "AOT has no ideal (phase) sensor type: written as a Pyramid record with one "
-        "value per subaperture; its subapertures are the measured pixels of its DM's "
-        "disc (mask on the DM plane grid), its measurements their field-averaged "
-        "phase [rad] as the simulator's sensor gives them"))
-    n_p = model.geometry.planes[wfs.dm.plane].n
-    return SensorSpec(
-        uid=f"wfs{j}", source="sun", kind="pyramid", dimensions=1,
-        n_valid_subapertures=wfs.n_measurements, measurements=meas,
-        subaperture_mask=_index_grid(n_p, _sensed_pixels(wfs)),
-        field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
-        extra=extra)
-
-
 def _sensors(result, model, n_frames: int) -> list:
     """Build every sensor's record, with its measurements ``(T, d, s_v)`` if the result has them."""
     have_meas = len(result.measurements) == len(model.wfss)
@@ -279,7 +219,7 @@ def _sensors(result, model, n_frames: int) -> list:
                 raise ValueError(f"result.measurements[{j}] has shape {meas.shape}; expected "
                                  f"{(n_frames, wfs.n_measurements)}.")
             meas = _as_dsv(wfs, meas)
-        sensors.append(_sensor(model, j, wcfg, meas))
+        sensors.append(sensor_kind(wfs.kind).aot_record(model, j, wcfg, meas))
     return sensors
 
 
@@ -289,14 +229,11 @@ def _corrector(cfg, model, i: int):
 
     g, dm = model.geometry, model.dms[i]
     n_p = g.planes[dm.plane].n
-    modal = dm.shapes is not None
+    described = mirror_kind(dm.kind).aot_description(dm)
     return CorrectorSpec(
         uid=f"dm{i}", kind="dm", n_valid_actuators=dm.n_modes,
         altitude=cfg.dms[i].altitude, pupil_mask=_disc_mask(dm, n_p),
-        extra={"model": "modal: each actuator is one mode, commands are modal "
-                        "coefficients [rad at r0_wavelength]" if modal else
-                        "zonal (ideal): each actuator is one pixel of the disc",
-               "modes": f"Z{dm.modes[0]}..Z{dm.modes[-1]} (Noll)" if modal else "pixels",
+        extra={"model": described["model"], "modes": described["modes"],
                "disc_diameter": dm.diameter, "line_of_sight_altitude": dm.altitude,
                "plane_pixels": n_p, "pixel_scale": g.dx})
 

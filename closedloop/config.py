@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from closedloop.kinds import mirror_kind, mirror_kinds, sensor_kind, sensor_kinds
 from modalinfo.common.validation import check_choice, check_int, check_real
 
 __all__ = [
@@ -41,10 +42,17 @@ __all__ = [
     "wfs_meta_pupil",
 ]
 
-DM_KINDS = ("zernike", "ideal")
-WFS_KINDS = ("shack_hartmann", "ideal", "correlating")
-#: keys only a ``kind="correlating"`` WFS uses (refused elsewhere at non-default values)
-CORRELATING_KEYS = ("pixel_scale", "signal", "contrast", "image_formation")
+
+def __getattr__(name: str):
+    # the kinds come from the registry (closedloop.kinds), filled when closedloop.optics is
+    # imported: read at access time, so a kind registered later is listed too
+    if name == "WFS_KINDS":
+        return sensor_kinds()
+    if name == "DM_KINDS":
+        return mirror_kinds()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 #: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
 FULL_WELL = 30_000.0
 #: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
@@ -73,6 +81,32 @@ def _fail(key: str, rule: str, value: Any, exc=ValueError):
 
 def _set(obj, name, value):
     object.__setattr__(obj, name, value)
+
+
+def _kind_options(obj, kind, p: str) -> None:
+    """Check ``obj.options`` against its kind's options type; a dict or None becomes one.
+
+    ``obj.kind`` must have been checked already.
+    """
+    opts = obj.options
+    if kind.options is None:
+        if opts is not None:
+            _fail(p + "options", f"None for kind {kind.name!r} (it has no options)", opts,
+                  TypeError)
+        return
+    clash = sorted({f.name for f in dataclasses.fields(kind.options)}
+                   & {f.name for f in dataclasses.fields(obj)})
+    if clash:  # both would be keys of the same TOML table
+        raise TypeError(f"the options of kind {kind.name!r} must not repeat a key of "
+                        f"`{p.rstrip('.')}`; {clash[0]!r} does.")
+    if opts is None:
+        opts = {}
+    if isinstance(opts, dict):
+        opts = _build(kind.options, opts, p.rstrip("."))
+    elif not isinstance(opts, kind.options):
+        _fail(p + "options", f"a {kind.options.__name__} (the options of kind "
+              f"{kind.name!r}), a dict or None", type(opts).__name__, TypeError)
+    _set(obj, "options", opts)
 
 
 @dataclass(frozen=True)
@@ -165,20 +199,32 @@ class DMConfig:
     diameter : float or None
         Diameter of the controlled disc [m]; ``None``: the meta-pupil its WFS senses,
         ``D + 2 h tan(field_of_view / 2)``. The mirror is flat outside.
+    options : dataclass instance, dict or None
+        The kind's own options (``closedloop.kinds.MirrorKind.options``; None for the
+        built-in kinds). A dict or None becomes that type (its defaults); in the plain
+        (TOML/JSON) form its fields are keys of the ``dms[i]`` table itself.
+
+    ``kind`` is any registered mirror kind (:func:`closedloop.kinds.mirror_kinds`).
     """
 
     altitude: float
     n_modes: int = 119
     kind: str = "zernike"
     diameter: float | None = None
+    options: Any = field(default=None, metadata={"flatten": True})
 
     def _validate(self, p: str) -> None:
         _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
         _set(self, "n_modes", check_int(self.n_modes, p + "n_modes", minimum=1))
-        check_choice(self.kind, p + "kind", DM_KINDS)
+        check_choice(self.kind, p + "kind", mirror_kinds())
         if self.diameter is not None:
             _set(self, "diameter", check_real(self.diameter, p + "diameter", minimum=0,
                                          strict_min=True))
+        kind = mirror_kind(self.kind)
+        _check_owned_fields(self, kind, mirror_kinds(), mirror_kind, p)
+        _kind_options(self, kind, p)
+        if kind.validate is not None:
+            kind.validate(self, p)
 
 
 @dataclass(frozen=True)
@@ -197,7 +243,8 @@ class WFSConfig:
         Measurement noise [arcsec RMS per slope axis per subaperture per frame] of a
         ``"shack_hartmann"``. A ``"correlating"`` WFS refuses a non-zero value: its noise
         follows from its photon budget and scene (``signal``, ``contrast``).
-    kind : {"shack_hartmann", "ideal", "correlating"}
+    kind : str
+        A registered sensor kind (:func:`closedloop.kinds.sensor_kinds`); built in:
         ``"shack_hartmann"``: mean gradient per subaperture (the geometric limit of a
         correlating SH on granulation), averaged over the field, least-squares modal
         reconstructor. ``"ideal"``: least-squares projection of the field-averaged
@@ -216,7 +263,7 @@ class WFSConfig:
     signal : float or None
         ``"correlating"`` only: mean photo-electrons per pixel per frame, in (0, 30000]
         (the full well); None: the photon budget's default, half of the well
-        (:class:`closedloop.optics.correlating.PhotonBudget`).
+        (:class:`closedloop.optics.photon_budget.PhotonBudget`).
     contrast : float or None
         ``"correlating"`` only: rms granulation contrast of the scene at full resolution,
         in (0, 0.5]; None: :func:`closedloop.optics.granulation.granulation_contrast` at
@@ -225,9 +272,15 @@ class WFSConfig:
         ``"correlating"`` only: False (default), the fast linear sensor; True, images
         formed and correlated every frame (the reference check of the linear one; a few
         frames per second).
+    options : dataclass instance, dict or None
+        The kind's own options (``closedloop.kinds.SensorKind.options``; None for the
+        built-in kinds). A dict or None becomes that type (its defaults); in the plain
+        (TOML/JSON) form its fields are keys of the ``wfss[j]`` table itself.
 
     The four ``"correlating"`` keys are left out of the plain (TOML/JSON) form at their
     defaults, so the files and checksums of other configs are those written before them.
+    They predate ``options`` and stay fields (the correlating kind's ``fields``); a new
+    kind's keys are its ``options``.
     """
 
     altitude: float
@@ -241,6 +294,7 @@ class WFSConfig:
     signal: float | None = None
     contrast: float | None = None
     image_formation: bool = field(default=False, metadata={"omit_default": True})
+    options: Any = field(default=None, metadata={"flatten": True})
 
     def _validate(self, p: str) -> None:
         _set(self, "altitude", check_real(self.altitude, p + "altitude", minimum=0))
@@ -254,7 +308,7 @@ class WFSConfig:
             _fail(p + "noise", f"<= {MAX_SH_NOISE:g} arcsec RMS (a subaperture's field is a "
                   "few arcsec: 5-10\" on solar Shack-Hartmanns, Rimmele & Marino 2011; a noise "
                   "beyond it measures nothing)", self.noise)
-        check_choice(self.kind, p + "kind", WFS_KINDS)
+        check_choice(self.kind, p + "kind", sensor_kinds())
         _set(self, "field_samples", check_int(self.field_samples, p + "field_samples", minimum=1))
         _set(self, "dm", check_int(self.dm, p + "dm", minimum=0))
         _set(self, "pixel_scale", check_real(self.pixel_scale, p + "pixel_scale", minimum=0,
@@ -268,21 +322,23 @@ class WFSConfig:
         if not isinstance(self.image_formation, bool):
             _fail(p + "image_formation", "a bool (false: linear sensor, true: images formed "
                   "and correlated every frame)", self.image_formation, TypeError)
-        if self.kind != "correlating":
-            for name in CORRELATING_KEYS:
-                f = next(f for f in dataclasses.fields(self) if f.name == name)
-                if getattr(self, name) != f.default:
-                    _fail(p + name, f"left at its default ({f.default!r}) for kind "
-                          f"{self.kind!r} (it is a key of kind 'correlating')",
-                          getattr(self, name))
-        else:
-            if self.noise != 0.0:
-                _fail(p + "noise", "0 for kind 'correlating' (its noise follows from its "
-                      "photon budget: set `signal` and `contrast`)", self.noise)
-            if self.field_of_view / self.pixel_scale < 8:
-                _fail(p + "field_of_view", f">= 8 detector pixels of pixel_scale = "
-                      f"{self.pixel_scale:g}\" for kind 'correlating' (a subaperture image "
-                      "to correlate)", self.field_of_view)
+        kind = sensor_kind(self.kind)
+        _check_owned_fields(self, kind, sensor_kinds(), sensor_kind, p)
+        _kind_options(self, kind, p)
+        if kind.validate is not None:
+            kind.validate(self, p)
+
+
+def _check_owned_fields(obj, kind, names, lookup, p: str) -> None:
+    """Refuse a key another kind owns (``fields`` of its record) at a non-default value."""
+    defaults = {f.name: f.default for f in dataclasses.fields(obj)}
+    for other in names:
+        if other == kind.name:
+            continue
+        for name in lookup(other).fields:
+            if getattr(obj, name) != defaults[name]:
+                _fail(p + name, f"left at its default ({defaults[name]!r}) for kind "
+                      f"{kind.name!r} (it is a key of kind {other!r})", getattr(obj, name))
 
 
 @dataclass(frozen=True)
@@ -522,11 +578,6 @@ class SimulationConfig:
         return sum(layer.d_over_r0 ** (5 / 3) for layer in self.layers) ** 0.6
 
 
-#: pupil pixels per cycle of the finest Zernike a DM uses, and per SH subaperture
-_PIXELS_PER_CYCLE = 2
-_PIXELS_PER_SUBAPERTURE = 2
-
-
 #: radians per arcsecond
 ARCSEC = math.pi / (180.0 * 3600.0)
 
@@ -562,45 +613,22 @@ def dm_disc_diameter(config: SimulationConfig, i: int) -> float:
 
 
 def _check_sampling(cfg: SimulationConfig) -> None:
-    """Refuse modes or subapertures finer than the pupil grid can represent.
+    """Refuse mirrors and sensors finer than the pupil grid can represent (each kind's ``check``).
 
-    A Zernike of radial order ``n`` has ``n`` zero crossings across its disc: with fewer
-    than 2 pixels per cycle (``n > pixels across / 2``) its sampled shape aliases onto
-    lower modes and the DM's modes stop being independent. A Shack-Hartmann gradient
-    needs at least 2 pixels per subaperture.
+    E.g. a Zernike mirror's modes need 2 pixels per cycle across its disc, a
+    Shack-Hartmann's subapertures 2 pixels each (``closedloop.optics.dm``, ``.wfs``).
     """
-    from modalinfo.bases import noll_to_zernike
-
-    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
     for i, dm in enumerate(cfg.dms):
-        if dm.kind != "zernike":
-            continue
-        across = dm_disc_diameter(cfg, i) / dx
-        n_max = int(across // _PIXELS_PER_CYCLE)
-        if n_max < 1:  # only a configured diameter can be this small (the meta-pupil >= D)
-            _fail(f"dms[{i}].diameter", f">= {_PIXELS_PER_CYCLE} pupil pixels "
-                  f"({_PIXELS_PER_CYCLE * dx:g} m at telescope.n_pixels = "
-                  f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode)", dm.diameter)
-        order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
-        if order > n_max:
-            limit = (n_max + 1) * (n_max + 2) // 2 - 1
-            _fail(f"dms[{i}].n_modes", f"<= {limit} (Zernike radial order <= pixels across "
-                  f"the DM's disc / {_PIXELS_PER_CYCLE} = {n_max} for {across:.0f} pixels at "
-                  f"telescope.n_pixels = {cfg.telescope.n_pixels}; {dm.n_modes} modes reach "
-                  f"order {order})", dm.n_modes)
+        check = mirror_kind(dm.kind).check
+        if check is not None:
+            check(cfg, i)
     for j, w in enumerate(cfg.wfss):
-        if w.kind not in ("shack_hartmann", "correlating"):
-            continue
-        across = wfs_meta_pupil(cfg, j) / dx
-        limit = int(across // _PIXELS_PER_SUBAPERTURE)
-        if w.n_subapertures > limit:
-            _fail(f"wfss[{j}].n_subapertures", f"<= {limit} (at least "
-                  f"{_PIXELS_PER_SUBAPERTURE} pixels per subaperture across the "
-                  f"{across:.0f}-pixel meta-pupil at telescope.n_pixels = "
-                  f"{cfg.telescope.n_pixels})", w.n_subapertures)
+        check = sensor_kind(w.kind).check
+        if check is not None:
+            check(cfg, j)
 
 
-def _valid_subapertures(n_sub: int, obscuration: float) -> int:
+def valid_subapertures(n_sub: int, obscuration: float) -> int:
     """Count the subapertures of an ``n_sub x n_sub`` grid whose centre lies on the (annular) disc.
 
     The grid spans the disc's diameter; ``obscuration`` is the hole's diameter as a
@@ -657,33 +685,30 @@ def _check_physics(cfg: SimulationConfig) -> None:
     """
     tel = cfg.telescope
     dx = tel.diameter / tel.n_pixels
-    slopes = []  # per WFS: measured slopes (None: not a Shack-Hartmann)
+    slopes = []  # per WFS: measurements (None: it measures the phase itself)
     for j, w in enumerate(cfg.wfss):
-        if w.kind not in ("shack_hartmann", "correlating"):
-            slopes.append(None)
-            continue
-        # the telescope's obscuration, scaled to the meta-pupil the WFS's grid spans
-        obsc = tel.obscuration * tel.diameter / wfs_meta_pupil(cfg, j)
-        slopes.append(2 * _valid_subapertures(w.n_subapertures, obsc))
-    zernike = [dm.kind == "zernike" for dm in cfg.dms]
-    if len(cfg.dms) > 1 and all(zernike):
+        count = sensor_kind(w.kind).measurement_count
+        slopes.append(None if count is None else count(cfg, j))
+    # per DM: controlled modes (None: zonal, no shape matrix)
+    modes = [None if (count := mirror_kind(dm.kind).controlled_modes) is None
+             else count(cfg, i) for i, dm in enumerate(cfg.dms)]
+    if len(cfg.dms) > 1 and None not in modes:
         # one joint reconstructor (closedloop.model.LoopModel): every WFS sees every DM
-        if None not in slopes and sum(d.n_modes for d in cfg.dms) > sum(slopes):
+        if None not in slopes and sum(modes) > sum(slopes):
             n_sub = ", ".join(f"{w.n_subapertures} x {w.n_subapertures}" for w in cfg.wfss)
             _fail("dms[*].n_modes", f"<= {sum(slopes)} in all, the slopes all the WFSs "
                   f"measure ({' + '.join(map(str, slopes))} from subapertures {n_sub}: the "
                   "joint reconstructor of more modes than measurements is ill-posed)",
-                  sum(d.n_modes for d in cfg.dms))
+                  sum(modes))
     else:
         # one reconstructor per WFS, for the DM it drives
         for j, w in enumerate(cfg.wfss):
-            dm = cfg.dms[w.dm]
-            if slopes[j] is not None and dm.kind == "zernike" and dm.n_modes > slopes[j]:
+            m = modes[w.dm]
+            if slopes[j] is not None and m is not None and m > slopes[j]:
                 _fail(f"dms[{w.dm}].n_modes", f"<= {slopes[j]}, the slopes wfss[{j}] "
                       f"measures (2 x {slopes[j] // 2} valid subapertures of "
                       f"{w.n_subapertures} x {w.n_subapertures}: a least-squares "
-                      "reconstructor of more modes than measurements is ill-posed)",
-                      dm.n_modes)
+                      "reconstructor of more modes than measurements is ill-posed)", m)
     # r0 at r0_wavelength (the wavelength of the simulator's phase) and the zenith angle
     r0 = tel.diameter / cfg.d_over_r0 * airmass(cfg) ** -0.6
     if dx > r0:
@@ -710,10 +735,15 @@ def _plain(obj) -> dict[str, Any]:
     # TOML/JSON/metadata forms standard (JSON has no infinity); a field marked
     # ``omit_default`` (added after files were written) is left out at its default, so
     # those files and their checksums stay what they were
-    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)
-            if getattr(obj, f.name) is not None
-            and not (isinstance(getattr(obj, f.name), float) and math.isinf(getattr(obj, f.name)))
-            and not (f.metadata.get("omit_default") and getattr(obj, f.name) == f.default)}
+    # a ``flatten`` field (a kind's options) gives its own fields as keys of the same table
+    out = {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)
+           if getattr(obj, f.name) is not None and not f.metadata.get("flatten")
+           and not (isinstance(getattr(obj, f.name), float) and math.isinf(getattr(obj, f.name)))
+           and not (f.metadata.get("omit_default") and getattr(obj, f.name) == f.default)}
+    for f in dataclasses.fields(obj):
+        if f.metadata.get("flatten") and getattr(obj, f.name) is not None:
+            out.update(_plain(getattr(obj, f.name)))
+    return out
 
 
 def _check_keys(d: dict, allowed: set[str], prefix: str) -> None:
@@ -726,7 +756,15 @@ def _check_keys(d: dict, allowed: set[str], prefix: str) -> None:
 def _build(cls, value, key):
     if not isinstance(value, dict):
         _fail(key, "a table (dict)", type(value).__name__, TypeError)
-    _check_keys(value, {f.name for f in dataclasses.fields(cls)}, key + ".")
+    flat = [f.name for f in dataclasses.fields(cls) if f.metadata.get("flatten")]
+    allowed = {f.name for f in dataclasses.fields(cls) if f.name not in flat}
+    if flat:  # a part with a kind: the kind's options are keys of the same table
+        value, options = _gather_options(cls, value)
+        _check_keys(value, allowed, key + ".")
+        if options is not None:
+            value = {**value, flat[0]: options}
+    else:
+        _check_keys(value, allowed, key + ".")
     try:
         obj = cls(**value)
     except TypeError as exc:  # a required key missing
@@ -737,6 +775,21 @@ def _build(cls, value, key):
             raise ValueError(f"`{key}.{missing[0]}` is required in the config.") from exc
         raise
     return obj
+
+
+def _gather_options(cls, value: dict) -> tuple[dict, dict | None]:
+    """Split a part's table into its own keys and its kind's options (None: no options)."""
+    default = next(f.default for f in dataclasses.fields(cls) if f.name == "kind")
+    lookup = {DMConfig: mirror_kind, WFSConfig: sensor_kind}[cls]
+    try:
+        kind = lookup(value.get("kind", default))
+    except ValueError:  # an unknown kind: the part's own check names it
+        return value, None
+    if kind.options is None:
+        return value, None
+    keys = {f.name for f in dataclasses.fields(kind.options)}
+    return ({k: v for k, v in value.items() if k not in keys},
+            {k: v for k, v in value.items() if k in keys})
 
 
 def load_config(path: str | Path) -> SimulationConfig:

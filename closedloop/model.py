@@ -14,13 +14,11 @@ import functools
 import numpy as np
 
 from closedloop.config import SimulationConfig
-from closedloop.optics import correlating_sensor  # noqa: F401  (registers kind "correlating")
+from closedloop.kinds import mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
-from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera
-from closedloop.optics.wfs import has_noise, make_sensor
-from modalinfo.bases import zernike_covariance
+from closedloop.optics.wfs import has_noise
 
 __all__ = ["LoopModel"]
 
@@ -49,8 +47,10 @@ class LoopModel:
             raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
         self.config = config
         self.geometry = Geometry(config)
-        self.dms = [DeformableMirror(self.geometry, i) for i in range(len(config.dms))]
-        self.wfss = [make_sensor(self.geometry, j, self.dms[w.dm])
+        # each part built by its kind's record (closedloop.kinds)
+        self.dms = [mirror_kind(d.kind).build(self.geometry, i)
+                    for i, d in enumerate(config.dms)]
+        self.wfss = [sensor_kind(w.kind).build(self.geometry, j, self.dms[w.dm])
                      for j, w in enumerate(config.wfss)]
         self.science = ScienceCamera(self.geometry, self.geometry.directions)
         sizes = [dm.n_modes for dm in self.dms]
@@ -100,7 +100,7 @@ class LoopModel:
             strength[d] += (self.dms[d].diameter / r0) ** (5.0 / 3.0)
         floor = 1e-6 * max(strength.max(), 1e-12)
         for d, dm in enumerate(self.dms):
-            var = np.diag(zernike_covariance(dm.modes))
+            var = dm.prior_variance()
             prior[self.mode_slices[d]] = max(strength[d], floor) * var
         self.prior = prior
         r0s = [g.layer_r0(i) for i in range(len(cfg.layers))]

@@ -13,8 +13,10 @@ residual variance in each direction). The controller's step is
 
 A new kind of wavefront sensor is one class implementing :class:`Sensor` (usually a
 subclass of :class:`closedloop.optics.wfs.WavefrontSensor`, which supplies the sparse
-measurement path and the reconstructor) registered with
-:func:`closedloop.optics.wfs.register_sensor` under its config ``kind``.
+measurement path and the reconstructor), the ``build`` of a
+:class:`closedloop.kinds.SensorKind` registered under its config ``kind`` with
+:func:`closedloop.kinds.register_sensor_kind` (docs/ARCHITECTURE.md, "To add a sensor
+kind / a DM kind").
 """
 
 from __future__ import annotations

@@ -12,18 +12,23 @@ refuse):
   the run, capped), twice for the oracle's second atmosphere, plus the FFT transient of
   the largest one while it is drawn;
 - ``planes``: the plane maps (residual, exposure sums, per-layer buffers);
-- ``dm_shapes``: each Zernike DM's ``(n_disc, M)`` mode shapes with their mirror tables;
+- ``dm_shapes``: each DM's shapes (a Zernike DM's ``(n_disc, M)`` mode shapes with their
+  mirror tables) and its plane's build grids;
 - ``wfs_build``: the sparse operators of each WFS while they are assembled, the peak of
   the set-up: one entry per pixel pair (Shack-Hartmann), disc pixel (ideal) or pupil
   sample (correlating), per field sample (``1 + 3 r (r - 1)`` for ``r = field_samples``
   rings), per plane;
+
+each kind gives its own numbers (``estimate`` of its :mod:`closedloop.kinds` record:
+:class:`~closedloop.kinds.MirrorCost`, :class:`~closedloop.kinds.SensorCost`);
 - ``reconstructor``: interaction matrices, SVD and MAP reconstructor (dense);
 - ``logs``: the run's logs, ``frames x (3 M + directions + measurements)`` float64, and
   their copies in the result's ModalLogs.
 
-A correlating WFS with ``image_formation`` forms and correlates its images every frame:
-its time per frame is added, and :func:`check_resources` refuses a run that would take
-more than :data:`MAX_IMAGING_SECONDS` naming ``wfss[j].image_formation``.
+A sensor may cost time per frame beyond its sparse products (``SensorCost.frame_seconds``:
+a correlating WFS with ``image_formation`` forms and correlates its images every frame):
+that time is added, and :func:`check_resources` refuses a run that would spend more than
+:data:`MAX_IMAGING_SECONDS` in it, naming the key (``wfss[j].image_formation``).
 
 The peak is taken as ``baseline + max(set-up, run)`` with set-up the WFS build and the
 screens' transient, run everything that stays. The constants were fitted to the peak
@@ -38,9 +43,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from closedloop.config import SimulationConfig, dm_disc_diameter, wfs_meta_pupil
+from closedloop.config import SimulationConfig, dm_disc_diameter
+from closedloop.kinds import SensorCost, mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import screen_size
-from closedloop.optics.geometry import plane_layout
+from closedloop.optics.geometry import n_field_samples, plane_layout
 from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
@@ -62,14 +68,11 @@ _KEPT_SHARE = 0.1
 _SECONDS_PER_FRAME = 3.5e-4
 _SECONDS_PER_OP = 2.4e-10
 _MARGIN_PIXELS = 3
-#: seconds per (image x support^2 x PSF samples across) of a correlating WFS's image
-#: formation: 28.6 ms per image at support 135, 65 PSF samples (table1-solar's 60" field),
-#: measured under load (it over-predicts the 20" field's 2.6 ms by 1.6x: a guard)
-_SECONDS_PER_IMAGE_OP = 2.4e-8
 #: most frames a run may count (a float counts whole frames exactly below ~9e15; 1e308 s
 #: overflowed the count)
 MAX_FRAMES = 1e15
-#: longest run (wall time) of a correlating WFS with image formation that is accepted
+#: longest run (wall time) of the sensors' per-frame work beyond their sparse products
+#: (a correlating WFS's image formation) that is accepted
 MAX_IMAGING_SECONDS = 3600.0
 
 
@@ -133,8 +136,6 @@ class ResourceEstimate:
         return "\n".join(lines)
 
 
-def _hex_points(rings: int, field_of_view: float) -> int:
-    return 1 if rings == 1 or field_of_view == 0.0 else 1 + 3 * rings * (rings - 1)
 
 
 def _plane_driver(config: SimulationConfig, layout: list, p: int) -> str:
@@ -188,44 +189,30 @@ def _dms(config: SimulationConfig, layout: list, dx: float) -> tuple[float, str,
     n_modes_total = 0
     for i, dm in enumerate(config.dms):
         p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
-        n_disc = math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
-        modes = dm.n_modes if dm.kind == "zernike" else n_disc
-        n_modes_total += modes
-        size = (2.0 * 8.0 * n_disc * modes if dm.kind == "zernike" else 0.0) \
-            + 5.0 * 8.0 * sizes[p] ** 2
+        cost = mirror_kind(dm.kind).estimate(config, i, dx)
+        n_modes_total += cost.n_modes
+        size = cost.shape_bytes + 5.0 * 8.0 * sizes[p] ** 2
         dm_bytes += size
         if size > dm_worst:
             dm_worst = size
-            dm_key = f"dms[{i}].n_modes" if dm.kind == "zernike" else "telescope.n_pixels"
+            dm_key = cost.driver
     return dm_bytes, dm_key, n_modes_total
 
 
+def _sensor_costs(config: SimulationConfig, n_planes: int, dx: float) -> list[SensorCost]:
+    """Each WFS's :class:`~closedloop.kinds.SensorCost`, from its kind's record."""
+    return [sensor_kind(w.kind).estimate(config, j, n_planes, dx)
+            for j, w in enumerate(config.wfss)]
+
+
 def _wfs_builds(config: SimulationConfig, layout: list,
-                dx: float) -> tuple[list[float], str, float]:
+                costs: list[SensorCost]) -> tuple[list[float], str, float]:
     """Bytes of each WFS's operator build, the largest's driver, and the measurement count."""
     builds, build_key, n_meas_total = [], "wfss", 0.0
-    for j, w in enumerate(config.wfss):
-        samples = _hex_points(w.field_samples, w.field_of_view)
-        across = wfs_meta_pupil(config, j) / dx
-        if w.kind == "shack_hartmann":
-            n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
-            # two axes, 8 entries (two bilinear reads) per pixel pair
-            entries = 2 * samples * len(layout) * (math.pi / 4.0 * across ** 2) * 8
-        elif w.kind == "correlating":
-            n_sub = math.pi / 4.0 * w.n_subapertures ** 2
-            n_meas = 2.0 * n_sub + 2.0
-            f, _, _, n_patches = _correlating_sampling(config, j, dx)
-            # built one field sample at a time: per plane, each pupil sample's 2 fit
-            # weights and 4 bilinear reads; the imaging mode keeps 4 reads per sample per
-            # sub-direction
-            entries = len(layout) * n_sub * f * f * 6
-            if w.image_formation:
-                entries += n_patches ** 2 * len(layout) * n_sub * f * f * 4
-        else:
-            n_meas = math.pi / 4.0 * (dm_disc_diameter(config, w.dm) / dx) ** 2
-            entries = samples * len(layout) * n_meas * 4
-        n_meas_total += n_meas
-        builds.append(_BUILD_BYTES_PER_ENTRY * entries)
+    for j, (w, cost) in enumerate(zip(config.wfss, costs, strict=True)):
+        samples = n_field_samples(w.field_of_view, w.field_samples)
+        n_meas_total += cost.n_measurements
+        builds.append(_BUILD_BYTES_PER_ENTRY * cost.build_entries)
         if builds[-1] >= max(builds):
             build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
                          f"`telescope.n_pixels" if samples > 1
@@ -233,46 +220,15 @@ def _wfs_builds(config: SimulationConfig, layout: list,
     return builds, build_key, n_meas_total
 
 
-def _correlating_sampling(config: SimulationConfig, j: int,
-                          dx: float) -> tuple[int, int, int, int]:
-    """Pupil samples across, convolution size, PSF samples across, patches of WFS ``j``.
-
-    As :class:`closedloop.optics.correlating_sensor.CorrelatingShackHartmann` sets them
-    (its default photon budget's wavelength, ``MAX_SHIFT``), without building anything.
-    """
-    from closedloop.optics.correlating import (
-        PhotonBudget,
-        convolution_support,
-        psf_subsampling,
-        pupil_oversampling_needed,
-    )
-    from closedloop.optics.correlating_sensor import MAX_SHIFT
-
-    w = config.wfss[j]
-    lam = PhotonBudget().wavelength
-    pitch = wfs_meta_pupil(config, j) / w.n_subapertures
-    p = max(2, int(round(pitch / dx)))
-    n_field = int(round(w.field_of_view / w.pixel_scale))
-    margin, support = convolution_support(n_field, w.pixel_scale, pitch, lam, MAX_SHIFT)
-    q = pupil_oversampling_needed(2 * margin + 1, w.pixel_scale, pitch / p, lam)
-    k = psf_subsampling(w.pixel_scale, pitch, lam)
-    n_patches = min(2 * w.field_samples - 1, n_field // 4) if w.image_formation else 1
-    return p * q, support, (2 * margin + 1) * k, n_patches
-
-
-def _imaging_seconds(config: SimulationConfig, dx: float) -> tuple[float, str]:
-    """Seconds per frame of the correlating WFSs' image formation, and its largest's key."""
+def _frame_seconds(costs: list[SensorCost]) -> tuple[float, str]:
+    """Seconds per frame the WFSs spend beyond their sparse products, and the largest's key."""
     total, key, worst = 0.0, "", -1.0
-    for j, w in enumerate(config.wfss):
-        if w.kind != "correlating" or not w.image_formation:
+    for cost in costs:
+        if not cost.frame_key:
             continue
-        _, support, psf_across, n_patches = _correlating_sampling(config, j, dx)
-        n_images = math.pi / 4.0 * w.n_subapertures ** 2 * n_patches ** 2
-        # the OTF's two Fourier sums dominate: support^2 x PSF samples per image
-        sec = _SECONDS_PER_IMAGE_OP * n_images * support ** 2 * psf_across
-        total += sec
-        if sec > worst:
-            worst, key = sec, f"wfss[{j}].image_formation"
+        total += cost.frame_seconds
+        if cost.frame_seconds > worst:
+            worst, key = cost.frame_seconds, cost.frame_key
     return total, key
 
 
@@ -287,7 +243,8 @@ def _matrices(n_frames: int, n_dir: int, n_meas_total: float,
 
 
 def _seconds_per_frame(config: SimulationConfig, layout: list, dx: float, n_meas_total: float,
-                       n_modes_total: float, kept_operators: float) -> float:
+                       n_modes_total: float, kept_operators: float,
+                       costs: list[SensorCost]) -> float:
     """Wall time per frame [s]: a fixed cost plus the frame's work, fitted on table1 and kaos."""
     # plane fills (per internal step and layer), science moments, DM surfaces, WFS
     # products, reconstructor
@@ -297,11 +254,11 @@ def _seconds_per_frame(config: SimulationConfig, layout: list, dx: float, n_meas
     ops = (n_os * sum(n * n * (1 + len(layers)) for _, n, layers, _ in layout)
            + n_dir * n_pupil * len(layout) * 2
            + n_os * sum(math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
-                        * (d.n_modes if d.kind == "zernike" else 1)
+                        * mirror_kind(d.kind).estimate(config, i, dx).ops_per_pixel
                         for i, d in enumerate(config.dms)) / 4
            + n_meas_total * n_modes_total
            + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
-    return _SECONDS_PER_FRAME + _SECONDS_PER_OP * ops + _imaging_seconds(config, dx)[0]
+    return _SECONDS_PER_FRAME + _SECONDS_PER_OP * ops + _frame_seconds(costs)[0]
 
 
 def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
@@ -335,7 +292,8 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     layout = plane_layout(config)
     screens, transient, screen_key = _screens(config, layout, dx, total_time)
     dm_bytes, dm_key, n_modes_total = _dms(config, layout, dx)
-    builds, build_key, n_meas_total = _wfs_builds(config, layout, dx)
+    costs = _sensor_costs(config, len(layout), dx)
+    builds, build_key, n_meas_total = _wfs_builds(config, layout, costs)
     # the set-up's peak: one WFS built at a time, the others kept as CSR
     kept_operators = _KEPT_SHARE * sum(builds)
     reconstructor, logs = _matrices(n_frames, config.field.n_points ** 2, n_meas_total,
@@ -363,7 +321,7 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     return ResourceEstimate(
         parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
         seconds_per_frame=_seconds_per_frame(config, layout, dx, n_meas_total, n_modes_total,
-                                             kept_operators),
+                                             kept_operators, costs),
         setup_bytes=setup, run_bytes=run)
 
 
@@ -413,7 +371,8 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
         source = "the limit given"
     est = estimate(config, duration, oracle=oracle, budget=budget)
     tel = config.telescope
-    imaging, key = _imaging_seconds(config, tel.diameter / tel.n_pixels)
+    dx = tel.diameter / tel.n_pixels
+    imaging, key = _frame_seconds(_sensor_costs(config, len(plane_layout(config)), dx))
     if imaging * est.n_frames > MAX_IMAGING_SECONDS:
         raise ResourceError(
             f"this run forms and correlates images for about "

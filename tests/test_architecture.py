@@ -62,7 +62,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 
 #: closedloop's layers, lowest first (same rule). The package's ``__init__`` is above all.
 CLOSEDLOOP_LAYERS: tuple[tuple[str, ...], ...] = (
-    ("config", "theory"),  # numbers and the config
+    ("config", "kinds", "theory"),  # numbers, the config and the registry of kinds
     ("optics", "control", "parts", "presets", "resources", "result"),  # parts, what a run returns
     ("model", "state", "simulation", "budget", "training", "aot"),  # the loop, its budget
     ("studies",),  # studies made of runs

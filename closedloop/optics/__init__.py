@@ -4,5 +4,12 @@ Each part follows the protocol of :mod:`closedloop.parts` (``reset``, ``evolve_u
 ``forward``); numba kernels sit beside their wrappers (``_kernels``,
 ``_atmosphere_kernels``, ``_shift_kernels``). The solar correlating Shack-Hartmann:
 the scene (``granulation``), shift measurement (``shifts``), standalone image formation
-(``correlating``) and the loop's sensor kind ``"correlating"`` (``correlating_sensor``).
+(``correlating``, with ``photon_budget`` and ``image_sampling``) and the loop's sensor
+kind ``"correlating"`` (``correlating_sensor``).
+
+The built-in sensor and mirror kinds register themselves with :mod:`closedloop.kinds`
+when their modules are imported; the import below is the one place that lists them (a
+new kind's module is added to it).
 """
+
+from closedloop.optics import correlating_sensor, dm, wfs  # noqa: F401  (register the kinds)

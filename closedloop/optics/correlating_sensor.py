@@ -80,7 +80,7 @@ The scene is a :func:`closedloop.optics.granulation.granulation_scene` (seed 0, 
 sensor does not change with the run's seed) at the WFS's pixel scale, with ``contrast``
 (default: :func:`~closedloop.optics.granulation.granulation_contrast` at the WFS
 wavelength, 500 nm); the photon budget is
-:class:`closedloop.optics.correlating.PhotonBudget`'s defaults with the mean signal
+:class:`closedloop.optics.photon_budget.PhotonBudget`'s defaults with the mean signal
 ``signal`` e- per pixel when given (capped at what the Sun supplies).
 """
 
@@ -92,19 +92,27 @@ from typing import ClassVar
 import numpy as np
 from scipy import sparse
 
-from closedloop.config import FULL_WELL
-from closedloop.optics.correlating import (
-    CorrelatingSubapertures,
-    PhotonBudget,
-    convolution_support,
-    pupil_oversampling_needed,
-)
+from closedloop.config import FULL_WELL, SimulationConfig, wfs_meta_pupil
+from closedloop.kinds import SensorCost, SensorKind, register_sensor_kind
+from closedloop.optics.correlating import CorrelatingSubapertures
 from closedloop.optics.geometry import ARCSEC
 from closedloop.optics.granulation import granulation_contrast, granulation_scene
+from closedloop.optics.image_sampling import (
+    convolution_support,
+    psf_subsampling,
+    pupil_oversampling_needed,
+)
+from closedloop.optics.photon_budget import PhotonBudget
 from closedloop.optics.shifts import measure_shifts, sdf_noise_rms
-from closedloop.optics.wfs import ShackHartmann, bilinear_matrix, register_sensor
+from closedloop.optics.wfs import (
+    ShackHartmann,
+    bilinear_matrix,
+    check_subaperture_sampling,
+    slope_count,
+    slopes_aot_record,
+)
 
-__all__ = ["CorrelatingShackHartmann", "MAX_SHIFT", "SCENE_SEED"]
+__all__ = ["CorrelatingShackHartmann", "CORRELATING", "MAX_SHIFT", "SCENE_SEED"]
 
 #: search range of the correlation [pixels]: +-1.5" at 0.5" pixels
 MAX_SHIFT = 3
@@ -114,9 +122,14 @@ SCENE_SEED = 0
 #: Z-tilt of a thin lit sliver extrapolates a plane from the pupil's edge, where the
 #: DMs' sampled surfaces end, and is dominated by it)
 _MIN_LIT = 0.5
+#: seconds per (image x support^2 x PSF samples across) of a correlating WFS's image
+#: formation: 28.6 ms per image at support 135, 65 PSF samples (table1-solar's 60" field),
+#: measured under load (it over-predicts the 20" field's 2.6 ms by 1.6x: a guard)
+_SECONDS_PER_IMAGE_OP = 2.4e-8
+#: keys of ``WFSConfig`` only this kind uses
+KEYS = ("pixel_scale", "signal", "contrast", "image_formation")
 
 
-@register_sensor
 class CorrelatingShackHartmann(ShackHartmann):
     """Correlating Shack-Hartmann on granulation (``kind="correlating"``; module docstring).
 
@@ -439,3 +452,77 @@ class CorrelatingShackHartmann(ShackHartmann):
         if dm.shapes is None:
             return sparse.csr_matrix(self._transform @ block.toarray())
         return self._transform @ np.asarray(block @ dm.shapes)
+
+
+# ---------------------------------------------------------------------- the kind's record
+def _validate(w, p: str) -> None:
+    """Refuse a hand-set noise and a subaperture image under 8 pixels (the kind's rules)."""
+    if w.noise != 0.0:
+        raise ValueError(f"`{p}noise` must be 0 for kind 'correlating' (its noise follows "
+                         f"from its photon budget: set `signal` and `contrast`); got "
+                         f"{w.noise!r}.")
+    if w.field_of_view / w.pixel_scale < 8:
+        raise ValueError(f"`{p}field_of_view` must be >= 8 detector pixels of pixel_scale = "
+                         f"{w.pixel_scale:g}\" for kind 'correlating' (a subaperture image to "
+                         f"correlate); got {w.field_of_view!r}.")
+
+
+def _sampling(config: SimulationConfig, j: int, dx: float) -> tuple[int, int, int, int]:
+    """Pupil samples across, convolution size, PSF samples across, patches of WFS ``j``.
+
+    As :class:`CorrelatingShackHartmann` sets them (its default photon budget's
+    wavelength, :data:`MAX_SHIFT`), without building anything.
+    """
+    w = config.wfss[j]
+    lam = PhotonBudget().wavelength
+    pitch = wfs_meta_pupil(config, j) / w.n_subapertures
+    p = max(2, int(round(pitch / dx)))
+    n_field = int(round(w.field_of_view / w.pixel_scale))
+    margin, support = convolution_support(n_field, w.pixel_scale, pitch, lam, MAX_SHIFT)
+    q = pupil_oversampling_needed(2 * margin + 1, w.pixel_scale, pitch / p, lam)
+    k = psf_subsampling(w.pixel_scale, pitch, lam)
+    n_patches = min(2 * w.field_samples - 1, n_field // 4) if w.image_formation else 1
+    return p * q, support, (2 * margin + 1) * k, n_patches
+
+
+def _cost(config: SimulationConfig, j: int, n_planes: int, dx: float) -> SensorCost:
+    w = config.wfss[j]
+    n_sub = math.pi / 4.0 * w.n_subapertures ** 2
+    n_meas = 2.0 * n_sub + 2.0
+    f, support, psf_across, n_patches = _sampling(config, j, dx)
+    # built one field sample at a time: per plane, each pupil sample's 2 fit weights and 4
+    # bilinear reads; the imaging mode keeps 4 reads per sample per sub-direction
+    entries = n_planes * n_sub * f * f * 6
+    if not w.image_formation:
+        return SensorCost(n_measurements=n_meas, build_entries=entries)
+    entries += n_patches ** 2 * n_planes * n_sub * f * f * 4
+    n_images = math.pi / 4.0 * w.n_subapertures ** 2 * n_patches ** 2
+    # the OTF's two Fourier sums dominate: support^2 x PSF samples per image
+    seconds = _SECONDS_PER_IMAGE_OP * n_images * support ** 2 * psf_across
+    return SensorCost(n_measurements=n_meas, build_entries=entries, frame_seconds=seconds,
+                      frame_key=f"wfss[{j}].image_formation")
+
+
+def _aot_record(model, j: int, wcfg, meas):
+    # slopes less their mean, then the correlation tracker's global Z-tilt as one more
+    # entry per axis (it has no subaperture in the mask)
+    return slopes_aot_record(model, j, wcfg, meas, n_extra=1, extra=dict(
+        kind="correlating", pixel_scale=wcfg.pixel_scale, image_formation=wcfg.image_formation,
+        note=("correlating SH on granulation: Z-tilts less their mean; the last entry of "
+              "each axis is the correlation tracker's global tilt (no subaperture in the "
+              "mask)")))
+
+
+def _aot_layout(wfs, arr: np.ndarray) -> np.ndarray:
+    """``(x..., y..., tracker x, tracker y)`` -> ``(rows, 2, n_valid + 1)``, tracker last."""
+    arr = np.ascontiguousarray(arr)
+    n = wfs.n_valid_subapertures
+    order = np.r_[0:n, 2 * n, n:2 * n, 2 * n + 1]
+    return np.ascontiguousarray(arr[:, order]).reshape(arr.shape[0], 2, n + 1)
+
+
+#: the correlating (solar) Shack-Hartmann
+CORRELATING = register_sensor_kind(SensorKind(
+    name="correlating", build=CorrelatingShackHartmann, estimate=_cost,
+    aot_record=_aot_record, aot_layout=_aot_layout, validate=_validate,
+    check=check_subaperture_sampling, measurement_count=slope_count, fields=KEYS))

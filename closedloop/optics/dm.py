@@ -19,18 +19,28 @@ and a sensor's interaction with it is a sparse matrix
 Why modal Zernike shapes: the paper's analysis library orders Zernike and K-L modes, so
 the mirrors speak the same basis and their command logs are Zernike coefficients that
 ``modalinfo`` reads unchanged. A zonal influence-function model (Gaussian or cubic
-actuators) would add the actuator-coupling fitting error; it is not modelled.
+actuators) would add the actuator-coupling fitting error; it is not modelled here.
+
+The two kinds are registered here (:data:`ZERNIKE`, :data:`IDEAL`,
+:class:`closedloop.kinds.MirrorKind` records): their rules against the pupil grid and the
+WFSs, their memory estimate and their AOT description sit beside their shapes.
 """
 
 from __future__ import annotations
 
+import math
+from typing import ClassVar
+
 import numpy as np
 
+from closedloop.config import SimulationConfig, dm_disc_diameter
+from closedloop.kinds import MirrorCost, MirrorKind, register_mirror_kind
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
-from modalinfo.bases import zernike_matrix
+from modalinfo.bases import noll_to_zernike, zernike_covariance, zernike_matrix
 
-__all__ = ["DeformableMirror"]
+__all__ = ["DeformableMirror", "ZernikeMirror", "IdealMirror", "ZERNIKE", "IDEAL",
+           "check_zernike_sampling"]
 
 #: smallest ``B`` (bytes) synthesised from a quadrant: the gain is memory traffic, and a
 #: ``B`` that stays in a core's L2 cache (1 MB here) costs ~0.05 ms as a plain product
@@ -39,8 +49,15 @@ __all__ = ["DeformableMirror"]
 _MIRROR_MIN_BYTES = 1_000_000
 
 
+#: pupil pixels per cycle of the finest Zernike a modal DM uses (Nyquist)
+PIXELS_PER_CYCLE = 2
+
+
 class DeformableMirror:
-    """One DM on its plane.
+    """One DM on its plane (base of every kind: its disc, its surface from a command).
+
+    A kind is a subclass that sets :attr:`kind` and gives its shapes in ``_shapes``
+    (None: zonal, the identity), registered as a :class:`closedloop.kinds.MirrorKind`.
 
     Parameters
     ----------
@@ -64,10 +81,16 @@ class DeformableMirror:
     n_modes : int
     """
 
+    #: the config's ``dms[i].kind`` this class implements (the registry key)
+    kind: ClassVar[str] = ""
+
     def __init__(self, geometry: Geometry, index: int):
         cfg = geometry.config.dms[index]
+        if cfg.kind != self.kind:
+            raise ValueError(f"`geometry.config.dms[{index}].kind` must be {self.kind!r} for "
+                             f"{type(self).__name__}; got {cfg.kind!r} (build it through "
+                             "closedloop.kinds.mirror_kind(kind).build).")
         self.index = index
-        self.kind = cfg.kind
         self.altitude = geometry.los(cfg.altitude)
         self.plane = geometry.dm_plane[index]
         self.diameter = geometry.dm_diameter(index)
@@ -76,19 +99,34 @@ class DeformableMirror:
         rho = np.hypot(xx, yy) / (self.diameter / 2.0)
         inside = rho <= 1.0
         self.pixels = np.flatnonzero(inside).astype(np.int64)
-        if cfg.kind == "zernike":
-            self.modes = list(range(2, cfg.n_modes + 2))
-            self.shapes = np.ascontiguousarray(
-                zernike_matrix(self.modes, rho[inside], np.arctan2(yy, xx)[inside]))
-            self.n_modes = cfg.n_modes
-        else:
-            self.modes = []
-            self.shapes = None
-            self.n_modes = int(self.pixels.size)
+        self.modes, self.shapes = self._shapes(cfg, rho[inside], np.arctan2(yy, xx)[inside])
+        self.n_modes = int(self.pixels.size if self.shapes is None else self.shapes.shape[1])
         self._mirror = (None if self.shapes is None or self.shapes.nbytes < _MIRROR_MIN_BYTES
                         else _mirror_tables(self.pixels, self.shapes, len(coords)))
-        self.labels = ([f"Z{j}" for j in self.modes] if self.modes
-                       else [f"pix{k}" for k in range(self.n_modes)])
+        self.labels = self._labels()
+
+    def _shapes(self, cfg, rho: np.ndarray, theta: np.ndarray):
+        """Return ``(modes, shapes)``: mode labels' indices and ``(n_disc, M)`` shapes or None.
+
+        ``rho``, ``theta``: the disc pixels' polar coordinates (units of the disc's radius,
+        rad), in the order of :attr:`pixels`.
+        """
+        raise NotImplementedError(f"{type(self).__name__} must implement _shapes")
+
+    def _labels(self) -> list[str]:
+        """One label per mode (``Z<j>`` for Noll modes, ``pix<k>`` for a zonal mirror's pixels)."""
+        return ([f"Z{j}" for j in self.modes] if self.modes
+                else [f"pix{k}" for k in range(self.n_modes)])
+
+    def prior_variance(self) -> np.ndarray:
+        """Kolmogorov variance of each mode for ``D / r0 = 1`` over the disc, ``(n_modes,)``.
+
+        The joint MAP reconstructor's prior (:class:`closedloop.model.LoopModel`, scaled by
+        the turbulence assigned to this DM). Here for Noll-indexed Zernike modes (the
+        diagonal of Noll's covariance, :func:`modalinfo.bases.zernike_covariance`); a kind
+        whose shapes are not Noll Zernikes overrides it.
+        """
+        return np.diag(zernike_covariance(self.modes))
 
     def reset(self) -> None:
         """Nothing to reset: a mirror's surface is a function of its command (no state)."""
@@ -104,6 +142,89 @@ class DeformableMirror:
         out = np.empty(self.pixels.size)
         _kernels.mirror_synthesis(quad_t, starts, signs, c, positions, acc, out)
         return out
+
+
+class ZernikeMirror(DeformableMirror):
+    """Modal mirror: unit-RMS Noll Zernikes Z2 .. Z(n_modes + 1) over its disc (``"zernike"``)."""
+
+    kind: ClassVar[str] = "zernike"
+
+    def _shapes(self, cfg, rho, theta):
+        modes = list(range(2, cfg.n_modes + 2))
+        return modes, np.ascontiguousarray(zernike_matrix(modes, rho, theta))
+
+
+class IdealMirror(DeformableMirror):
+    """Zonal mirror: one "mode" per disc pixel, any sampled shape (``"ideal"``)."""
+
+    kind: ClassVar[str] = "ideal"
+
+    def _shapes(self, cfg, rho, theta):
+        return [], None
+
+
+def check_zernike_sampling(cfg: SimulationConfig, i: int) -> None:
+    """Refuse Zernike modes finer than the pupil grid can represent on DM ``i``'s disc.
+
+    A Zernike of radial order ``n`` has ``n`` zero crossings across its disc: with fewer
+    than :data:`PIXELS_PER_CYCLE` pixels per cycle (``n > pixels across / 2``) its
+    sampled shape aliases onto lower modes and the DM's modes stop being independent.
+    """
+    dm = cfg.dms[i]
+    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+    across = dm_disc_diameter(cfg, i) / dx
+    n_max = int(across // PIXELS_PER_CYCLE)
+    if n_max < 1:  # only a configured diameter can be this small (the meta-pupil >= D)
+        raise ValueError(
+            f"`dms[{i}].diameter` must be >= {PIXELS_PER_CYCLE} pupil pixels "
+            f"({PIXELS_PER_CYCLE * dx:g} m at telescope.n_pixels = "
+            f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode); got {dm.diameter!r}.")
+    order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
+    if order > n_max:
+        limit = (n_max + 1) * (n_max + 2) // 2 - 1
+        raise ValueError(
+            f"`dms[{i}].n_modes` must be <= {limit} (Zernike radial order <= pixels across "
+            f"the DM's disc / {PIXELS_PER_CYCLE} = {n_max} for {across:.0f} pixels at "
+            f"telescope.n_pixels = {cfg.telescope.n_pixels}; {dm.n_modes} modes reach "
+            f"order {order}); got {dm.n_modes!r}.")
+
+
+def _disc_pixels(config: SimulationConfig, i: int, dx: float) -> float:
+    """Pixels of DM ``i``'s disc, ``pi / 4 (disc / dx)**2`` (no grid built)."""
+    return math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
+
+
+def _zernike_cost(config: SimulationConfig, i: int, dx: float) -> MirrorCost:
+    # its (n_disc, M) shapes and the quadrant tables of the same size; M products per pixel
+    n_disc = _disc_pixels(config, i, dx)
+    m = config.dms[i].n_modes
+    return MirrorCost(n_modes=m, shape_bytes=2.0 * 8.0 * n_disc * m, ops_per_pixel=m,
+                      driver=f"dms[{i}].n_modes")
+
+
+def _ideal_cost(config: SimulationConfig, i: int, dx: float) -> MirrorCost:
+    # no shape matrix; one "mode" per disc pixel, one copy per pixel per update
+    return MirrorCost(n_modes=_disc_pixels(config, i, dx), shape_bytes=0.0, ops_per_pixel=1,
+                      driver="telescope.n_pixels")
+
+
+def _zernike_aot(dm: DeformableMirror) -> dict:
+    return {"model": "modal: each actuator is one mode, commands are modal coefficients "
+                     "[rad at r0_wavelength]",
+            "modes": f"Z{dm.modes[0]}..Z{dm.modes[-1]} (Noll)"}
+
+
+def _ideal_aot(dm: DeformableMirror) -> dict:
+    return {"model": "zonal (ideal): each actuator is one pixel of the disc", "modes": "pixels"}
+
+
+#: the modal Zernike mirror
+ZERNIKE = register_mirror_kind(MirrorKind(
+    name="zernike", build=ZernikeMirror, estimate=_zernike_cost, aot_description=_zernike_aot,
+    check=check_zernike_sampling, controlled_modes=lambda cfg, i: cfg.dms[i].n_modes))
+#: the zonal mirror (verification; no fitting error)
+IDEAL = register_mirror_kind(MirrorKind(
+    name="ideal", build=IdealMirror, estimate=_ideal_cost, aot_description=_ideal_aot))
 
 
 def _mirror_tables(pixels: np.ndarray, shapes: np.ndarray, n: int):

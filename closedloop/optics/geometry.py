@@ -61,6 +61,11 @@ def field_samples(field_of_view: float, rings: int) -> np.ndarray:
     return pts * (field_of_view / 2.0) / (rings - 1)
 
 
+def n_field_samples(field_of_view: float, rings: int) -> int:
+    """Return how many directions :func:`field_samples` gives: ``1 + 3 r (r - 1)``, 1 on axis."""
+    return 1 if rings == 1 or field_of_view == 0.0 else 1 + 3 * rings * (rings - 1)
+
+
 def plane_layout(config: SimulationConfig) -> list[tuple[float, int, tuple, tuple]]:
     """``(altitude, n, layers, dms)`` of every plane, lowest first, without any grid.
 

@@ -37,6 +37,10 @@ the DM's modes by least squares; no aliasing (up to the projection's own) and no
 The whole sensor is a fixed linear map from the plane maps to the slopes, built once as
 scipy sparse matrices (one per plane), so a measurement is a few sparse products (a numba
 kernel, :func:`closedloop.optics._kernels.csr_matvec`, with the same bits as scipy's product).
+
+The two kinds are registered here (:data:`SHACK_HARTMANN`, :data:`IDEAL`,
+:class:`closedloop.kinds.SensorKind` records): their rules against the pupil grid, their
+memory estimate and their AOT records sit beside their classes.
 """
 
 from __future__ import annotations
@@ -47,13 +51,24 @@ from typing import ClassVar
 import numpy as np
 from scipy import sparse
 
+from closedloop.config import (
+    SimulationConfig,
+    dm_disc_diameter,
+    valid_subapertures,
+    wfs_meta_pupil,
+)
+from closedloop.kinds import SensorCost, SensorKind, register_sensor_kind
 from closedloop.optics import _kernels
 from closedloop.optics.dm import DeformableMirror
-from closedloop.optics.geometry import ARCSEC, Geometry
+from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
 from modalinfo.bases import noll_residual_variance
 
-__all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SENSORS", "register_sensor",
-           "make_sensor", "bilinear_matrix", "has_noise"]
+__all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SHACK_HARTMANN", "IDEAL",
+           "bilinear_matrix", "has_noise", "check_subaperture_sampling",
+           "slope_count", "slopes_aot_record", "slopes_aot_layout", "index_grid"]
+
+#: pupil pixels per Shack-Hartmann subaperture (a gradient needs two)
+PIXELS_PER_SUBAPERTURE = 2
 
 
 def has_noise(noise_rms) -> bool:
@@ -145,8 +160,9 @@ class WavefrontSensor:
     """One layer-oriented WFS and its reconstructor onto its DM's modes (base of every kind).
 
     A kind is a subclass that sets :attr:`kind` and builds :attr:`operators` in
-    ``_build`` (and, for a noisy sensor, :attr:`noise_rms`), registered with
-    :func:`register_sensor`; :func:`make_sensor` builds the kind the config names. The
+    ``_build`` (and, for a noisy sensor, :attr:`noise_rms`), registered as the ``build``
+    of a :class:`closedloop.kinds.SensorKind`; ``closedloop.model.LoopModel`` builds the
+    kind the config names through the registry. The
     measurement path (:meth:`forward`, sparse products), the interaction matrix and the
     least-squares reconstructor are shared. It implements
     :class:`closedloop.parts.Sensor`.
@@ -185,7 +201,8 @@ class WavefrontSensor:
         cfg = geometry.config.wfss[index]
         if cfg.kind != self.kind:
             raise ValueError(f"`geometry.config.wfss[{index}].kind` must be {self.kind!r} for "
-                             f"{type(self).__name__}; got {cfg.kind!r} (use make_sensor).")
+                             f"{type(self).__name__}; got {cfg.kind!r} (build it through "
+                             "closedloop.kinds.sensor_kind(kind).build).")
         self.index = index
         self.altitude = geometry.los(cfg.altitude)
         self.samples = geometry.wfs_samples[index]
@@ -283,34 +300,6 @@ class WavefrontSensor:
         return out - out.mean(axis=0) if self._centred else out
 
 
-#: sensor kinds by the config's ``wfss[j].kind`` (see :func:`register_sensor`)
-SENSORS: dict[str, type[WavefrontSensor]] = {}
-
-
-def register_sensor(cls: type[WavefrontSensor]) -> type[WavefrontSensor]:
-    """Register a :class:`WavefrontSensor` subclass under its ``kind`` (a class decorator).
-
-    The config must accept the kind too (``closedloop.config.WFS_KINDS``).
-    """
-    if not (isinstance(cls, type) and issubclass(cls, WavefrontSensor)) or not cls.kind:
-        raise TypeError(f"`cls` must be a WavefrontSensor subclass with a `kind`; got {cls!r}.")
-    if cls.kind in SENSORS and SENSORS[cls.kind] is not cls:
-        raise ValueError(f"`cls.kind` must be a new sensor kind; {cls.kind!r} is "
-                         f"{SENSORS[cls.kind].__name__}.")
-    SENSORS[cls.kind] = cls
-    return cls
-
-
-def make_sensor(geometry: Geometry, index: int, dm: DeformableMirror) -> WavefrontSensor:
-    """Build WFS ``index`` of ``geometry.config`` as the kind its config names."""
-    kind = geometry.config.wfss[index].kind
-    if kind not in SENSORS:
-        raise ValueError(f"`wfss[{index}].kind` must be one of {', '.join(map(repr, SENSORS))}; "
-                         f"got {kind!r}.")
-    return SENSORS[kind](geometry, index, dm)
-
-
-@register_sensor
 class ShackHartmann(WavefrontSensor):
     """Geometric Shack-Hartmann (``kind="shack_hartmann"``, see the module docstring)."""
 
@@ -388,7 +377,6 @@ class ShackHartmann(WavefrontSensor):
         return model_error * 16.0 * 0.449 * total / d ** 2
 
 
-@register_sensor
 class IdealSensor(WavefrontSensor):
     """The field-averaged residual on the DM's disc (``kind="ideal"``; noise-free)."""
 
@@ -450,3 +438,135 @@ class IdealSensor(WavefrontSensor):
         j_max = max(dm.modes)
         return float(noll_residual_variance(j_max)) * sum(
             (dm.diameter / r0) ** (5.0 / 3.0) for r0 in r0s)
+
+
+# ---------------------------------------------------------------------- the kinds' records
+def check_subaperture_sampling(cfg: SimulationConfig, j: int) -> None:
+    """Refuse subapertures of WFS ``j`` narrower than :data:`PIXELS_PER_SUBAPERTURE` pixels."""
+    w = cfg.wfss[j]
+    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+    across = wfs_meta_pupil(cfg, j) / dx
+    limit = int(across // PIXELS_PER_SUBAPERTURE)
+    if w.n_subapertures > limit:
+        raise ValueError(
+            f"`wfss[{j}].n_subapertures` must be <= {limit} (at least "
+            f"{PIXELS_PER_SUBAPERTURE} pixels per subaperture across the "
+            f"{across:.0f}-pixel meta-pupil at telescope.n_pixels = "
+            f"{cfg.telescope.n_pixels}); got {w.n_subapertures!r}.")
+
+
+def slope_count(cfg: SimulationConfig, j: int) -> int:
+    """Slopes WFS ``j`` measures, ``2 n_valid``, from the config (no grid).
+
+    ``n_valid``: :func:`closedloop.config.valid_subapertures` with the telescope's
+    obscuration scaled to the meta-pupil the WFS's grid spans.
+    """
+    tel = cfg.telescope
+    obsc = tel.obscuration * tel.diameter / wfs_meta_pupil(cfg, j)
+    return 2 * valid_subapertures(cfg.wfss[j].n_subapertures, obsc)
+
+
+def _shack_hartmann_cost(config: SimulationConfig, j: int, n_planes: int,
+                         dx: float) -> SensorCost:
+    w = config.wfss[j]
+    samples = n_field_samples(w.field_of_view, w.field_samples)
+    across = wfs_meta_pupil(config, j) / dx
+    n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
+    # two axes, 8 entries (two bilinear reads) per pixel pair
+    entries = 2 * samples * n_planes * (math.pi / 4.0 * across ** 2) * 8
+    return SensorCost(n_measurements=n_meas, build_entries=entries)
+
+
+def _ideal_cost(config: SimulationConfig, j: int, n_planes: int, dx: float) -> SensorCost:
+    w = config.wfss[j]
+    samples = n_field_samples(w.field_of_view, w.field_samples)
+    n_meas = math.pi / 4.0 * (dm_disc_diameter(config, w.dm) / dx) ** 2
+    # a bilinear read (4 entries) per disc pixel per direction
+    return SensorCost(n_measurements=n_meas, build_entries=samples * n_planes * n_meas * 4)
+
+
+def index_grid(n: int, flat: np.ndarray) -> np.ndarray:
+    """``(n, n)`` int32 grid: ``k`` at ``flat[k]``, ``-1`` elsewhere (AOT's subaperture mask)."""
+    grid = -np.ones(n * n, dtype=np.int32)
+    grid[flat] = np.arange(flat.size, dtype=np.int32)
+    return grid.reshape(n, n)
+
+
+def _sensor_extra(wfs, wcfg) -> dict:
+    return {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
+            "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
+
+
+def slopes_aot_record(model, j: int, wcfg, meas, *, extra: dict | None = None,
+                      n_extra: int = 0):
+    """AOT ``SensorSpec`` of a Shack-Hartmann WFS ``j`` (``"shack-hartmann"``, slopes [rad/m]).
+
+    ``extra``: more ``MI_GEOM`` entries (a kind's own); ``n_extra``: entries per axis
+    beyond the valid subapertures (the correlating SH's tracker).
+    """
+    from modalinfo.io.aot_system import SensorSpec
+
+    wfs = model.wfss[j]
+    info = _sensor_extra(wfs, wcfg)
+    info.update(subaperture_pitch=wfs.pitch, n_subapertures=wcfg.n_subapertures,
+                order="d = 0: x slopes, d = 1: y slopes; mask rows are y")
+    info.update(extra or {})
+    return SensorSpec(
+        uid=f"wfs{j}", source="sun", kind="shack-hartmann",
+        n_valid_subapertures=wfs.n_valid_subapertures + n_extra, measurements=meas,
+        subaperture_mask=index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
+        field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
+        extra=info)
+
+
+def slopes_aot_layout(wfs, arr: np.ndarray) -> np.ndarray:
+    """``(rows, 2 n)`` slopes ``(x..., y...)`` -> ``(rows, 2, n)``."""
+    arr = np.ascontiguousarray(arr)
+    return arr.reshape(arr.shape[0], 2, wfs.n_measurements // 2)
+
+
+def _sensed_pixels(wfs) -> np.ndarray:
+    """Flat plane-grid indices of the pixels an ideal sensor measures, in measurement order."""
+    rows = getattr(wfs, "measured_pixels", None)  # the lit part of the disc, when recorded
+    pixels = wfs.dm.pixels if rows is None else wfs.dm.pixels[rows]
+    if pixels.size != wfs.n_measurements:
+        raise ValueError(f"ideal sensor {wfs.index}: {pixels.size} pixels for "
+                         f"{wfs.n_measurements} measurements (internal geometry error).")
+    return pixels
+
+
+def _ideal_aot_record(model, j: int, wcfg, meas):
+    """Return an ideal sensor as a one-value-per-subaperture Pyramid record (no AOT type)."""
+    from modalinfo.io.aot_system import SensorSpec
+
+    wfs = model.wfss[j]
+    info = _sensor_extra(wfs, wcfg)
+    info.update(kind="ideal", note=(
+        "AOT has no ideal (phase) sensor type: written as a Pyramid record with one "
+        "value per subaperture; its subapertures are the measured pixels of its DM's "
+        "disc (mask on the DM plane grid), its measurements their field-averaged "
+        "phase [rad] as the simulator's sensor gives them"))
+    n_p = model.geometry.planes[wfs.dm.plane].n
+    return SensorSpec(
+        uid=f"wfs{j}", source="sun", kind="pyramid", dimensions=1,
+        n_valid_subapertures=wfs.n_measurements, measurements=meas,
+        subaperture_mask=index_grid(n_p, _sensed_pixels(wfs)),
+        field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
+        extra=info)
+
+
+def _ideal_aot_layout(wfs, arr: np.ndarray) -> np.ndarray:
+    """``(rows, n)`` phase values -> ``(rows, 1, n)``."""
+    arr = np.ascontiguousarray(arr)
+    return arr.reshape(arr.shape[0], 1, wfs.n_measurements)
+
+
+#: the geometric Shack-Hartmann
+SHACK_HARTMANN = register_sensor_kind(SensorKind(
+    name="shack_hartmann", build=ShackHartmann, estimate=_shack_hartmann_cost,
+    aot_record=slopes_aot_record, aot_layout=slopes_aot_layout,
+    check=check_subaperture_sampling, measurement_count=slope_count))
+#: the ideal (phase) sensor (verification; no aliasing, no noise)
+IDEAL = register_sensor_kind(SensorKind(
+    name="ideal", build=IdealSensor, estimate=_ideal_cost, aot_record=_ideal_aot_record,
+    aot_layout=_ideal_aot_layout))

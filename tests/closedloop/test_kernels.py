@@ -20,8 +20,8 @@ from scipy import sparse
 
 from closedloop import presets
 from closedloop.config import DMConfig
+from closedloop.kinds import mirror_kind
 from closedloop.optics import _kernels
-from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera, read_weights
 
@@ -95,7 +95,7 @@ def test_dm_surface_from_one_quadrant_matches_the_matrix_product(name):
     geometry = Geometry(presets.get(name))
     rng = np.random.default_rng(5)
     for i in range(len(geometry.config.dms)):
-        dm = DeformableMirror(geometry, i)
+        dm = mirror_kind(geometry.config.dms[i].kind).build(geometry, i)
         assert dm._mirror is not None  # even plane sides: the fast path is taken
         for _ in range(3):
             c = rng.standard_normal(dm.n_modes)
@@ -113,7 +113,7 @@ def test_dm_surface_without_symmetry_falls_back_to_the_product():
     cfg = presets.get("table1")
     geometry = Geometry(cfg.replace(dms=(DMConfig(altitude=0.0, n_modes=20),
                                          DMConfig(altitude=10_000.0, n_modes=9))))
-    dm = DeformableMirror(geometry, 0)
+    dm = mirror_kind(geometry.config.dms[0].kind).build(geometry, 0)
     # 3228 x 20 shapes (0.5 MB) stay in cache: the plain product, its bits
     assert dm._mirror is None
     np.testing.assert_array_equal(dm.forward(np.ones(20)), dm.shapes @ np.ones(20))

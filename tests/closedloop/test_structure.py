@@ -20,9 +20,15 @@ import closedloop
 from closedloop import presets
 from closedloop.config import WFS_KINDS, DMConfig, FieldConfig, TelescopeConfig, WFSConfig
 from closedloop.control.controller import Controller
+from closedloop.kinds import (
+    register_sensor_kind,
+    sensor_kind,
+    sensor_kinds,
+    unregister_sensor_kind,
+)
 from closedloop.model import LoopModel
 from closedloop.optics.science import ScienceCamera
-from closedloop.optics.wfs import SENSORS, IdealSensor, ShackHartmann, make_sensor, register_sensor
+from closedloop.optics.wfs import IDEAL, IdealSensor, ShackHartmann
 from closedloop.parts import Part, Sensor, TimedPart
 from closedloop.state import LoopState
 
@@ -145,22 +151,18 @@ def test_parts_follow_the_protocol(model):
 
 
 def test_sensor_registry(model):
-    assert set(SENSORS) == set(WFS_KINDS)
-    assert SENSORS["shack_hartmann"] is ShackHartmann and SENSORS["ideal"] is IdealSensor
+    assert set(sensor_kinds()) == set(WFS_KINDS) == {"shack_hartmann", "ideal", "correlating"}
+    assert sensor_kind("shack_hartmann").build is ShackHartmann
+    assert sensor_kind("ideal").build is IdealSensor
     for wfs, cfg in zip(model.wfss, model.config.wfss, strict=True):
-        assert type(wfs) is SENSORS[cfg.kind]
-    with pytest.raises(TypeError, match="`cls` must be a WavefrontSensor subclass"):
-        register_sensor(dict)
-
-    class Other(IdealSensor):
-        kind = "shack_hartmann"
-
-    with pytest.raises(ValueError, match="`cls.kind` must be a new sensor kind; "
-                                         "'shack_hartmann' is ShackHartmann"):
-        register_sensor(Other)
+        assert type(wfs) is sensor_kind(cfg.kind).build
+    with pytest.raises(TypeError, match="`kind` must be a SensorKind"):
+        register_sensor_kind(IdealSensor)
+    with pytest.raises(ValueError, match="`kind.name` must be a new sensor kind; "
+                                         "'shack_hartmann' is registered already"):
+        register_sensor_kind(dataclasses.replace(IDEAL, name="shack_hartmann"))
     with pytest.raises(ValueError, match=r"must be 'ideal' for IdealSensor; got 'shack_hartmann'"):
         IdealSensor(model.geometry, 0, model.dms[model.config.wfss[0].dm])
-    assert type(make_sensor(model.geometry, 0, model.dms[0])) is SENSORS[model.config.wfss[0].kind]
 
 
 def test_loop_state_step_against_numpy(model):
@@ -215,16 +217,13 @@ def test_controller_reset_replays():
     np.testing.assert_array_equal(np.array(first), np.array(again))
 
 
-def test_a_new_sensor_kind_is_one_class_and_a_registry_entry(model, monkeypatch):
+def test_a_new_sensor_kind_is_one_class_and_a_registry_entry(model):
     """A kind unknown to the code (an ideal sensor with twice the gain) runs the model.
 
     Reference: the ideal sensor itself. Its measurements are exactly twice the ideal's
     (a scale by 2 is exact in floating point), and the modal residual it reconstructs is
     the ideal's (the pseudo-inverse halves).
     """
-    import closedloop.config as config_module
-    from closedloop.optics import wfs as wfs_module
-
     class Doubled(IdealSensor):
         kind = "doubled"
 
@@ -232,9 +231,14 @@ def test_a_new_sensor_kind_is_one_class_and_a_registry_entry(model, monkeypatch)
             super()._build(cfg)
             self.operators = [2.0 * op for op in self.operators]
 
-    monkeypatch.setattr(config_module, "WFS_KINDS", (*WFS_KINDS, "doubled"))
-    monkeypatch.setattr(wfs_module, "SENSORS", dict(SENSORS))
-    register_sensor(Doubled)
+    register_sensor_kind(dataclasses.replace(IDEAL, name="doubled", build=Doubled))
+    try:
+        _check_doubled(model, Doubled)
+    finally:
+        unregister_sensor_kind("doubled")
+
+
+def _check_doubled(model, Doubled):
     cfg = model.config
     wfss = tuple(dataclasses.replace(w, kind="doubled" if w.kind == "ideal" else w.kind)
                  for w in cfg.wfss)

@@ -27,8 +27,9 @@ import math
 import numpy as np
 import pytest
 
-from closedloop.optics.correlating import CorrelatingSubapertures, PhotonBudget
+from closedloop.optics.correlating import CorrelatingSubapertures
 from closedloop.optics.granulation import granulation_scene
+from closedloop.optics.photon_budget import PhotonBudget
 from closedloop.optics.shifts import sdf_noise_rms
 
 PS = 0.25          # arcsec / pixel

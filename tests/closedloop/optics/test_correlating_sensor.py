@@ -36,9 +36,9 @@ from closedloop.config import (
     load_config,
     save_config,
 )
+from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics.correlating_sensor import CorrelatingShackHartmann
-from closedloop.optics.wfs import SENSORS
 
 
 def _config(*, field_samples=1, image_formation=False, layer_altitude=0.0, d_over_r0=4.0,
@@ -64,7 +64,7 @@ def _turbulence(model: LoopModel, seed: int) -> list[np.ndarray]:
 
 
 def test_registered_and_configured():
-    assert SENSORS["correlating"] is CorrelatingShackHartmann
+    assert sensor_kind("correlating").build is CorrelatingShackHartmann
     model = LoopModel(_config())
     (w,) = model.wfss
     assert isinstance(w, CorrelatingShackHartmann)
