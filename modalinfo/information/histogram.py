@@ -10,7 +10,7 @@ bins, which for I = H(X) + H(Y) - H(X, Y) gives
 
     I_MM = I_plugin - (K_xy - K_x - K_y + 1) / (2 n).
 
-Default bin number. Equal-width bins, the same number k on both axes,
+Bin number of ``bins="hacine-gharbi"`` (the default before issue 27), the same k on both axes,
 ``k = round(sqrt(1 + sqrt(1 + 24 n / (1 - r^2))) / sqrt(2))`` with r the sample
 correlation: the rule of Hacine-Gharbi & Ravier (2018) minimising the mean square
 error of the bi-histogram joint-entropy (hence MI) estimate for a Gaussian pair. It
