@@ -93,7 +93,7 @@ CAUSES = {
     "corners, thinner than any fixed kernel on normal scores: -0.130 (n = 1e4: -0.097)",
     ("cauchy-additive", "histogram"): "the same ridge is thinner than the equiprobable cells "
     "in the corners: -0.201 (n = 1e4, 35 bins: -0.143)",
-    ("outliers-1pct", "histogram"): "discretisation bias of 28 bins per axis at n = 4000 "
+    ("outliers-1pct", "histogram"): "discretisation bias of 22 bins per axis at n = 4000 "
     "(-0.056; n = 1e4, 35 bins: -0.047)",
     ("student-2x2-df1", "kde"): "the 4-D conditional KDE (Scott h on normal scores) smooths "
     "away the Student-t copula's tail dependence: -0.100 (n = 1e4: -0.072)",
