@@ -79,7 +79,7 @@ Phi^-1(rank / (n + 1)) (``copula=True``; :mod:`modalinfo.information.copula`), s
 ``"gaussian"`` is the Gaussian-copula CMI of Ince et al. (Hum. Brain Mapp. 38, 1541,
 2017). ``copula=False`` is the former path (standardised values).
 
-Bias rule (:func:`bias_rule`, applied before every estimate). Two estimators have a
+Bias rule (:func:`bias_rule`, applied before every estimate). Three estimators have a
 bias that grows with the number of columns d = d_x + d_y + d_z until it swamps the
 answer; where the rule says so, the estimate is switched to the Gaussian-copula CMI
 (fast, exact for Gaussian-copula data, a lower bound otherwise) with a
