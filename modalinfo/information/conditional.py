@@ -57,7 +57,7 @@ Phi^-1(rank / (n + 1)) (``copula=True``; :mod:`modalinfo.information.copula`), s
 ``"gaussian"`` is the Gaussian-copula CMI of Ince et al. (Hum. Brain Mapp. 38, 1541,
 2017). ``copula=False`` is the former path (standardised values).
 
-Bias rule (:func:`bias_rule`, applied before every estimate). Two estimators have a
+Bias rule (:func:`bias_rule`, applied before every estimate). Three estimators have a
 bias that grows with the number of columns d = d_x + d_y + d_z until it swamps the
 answer; where the rule says so, the estimate is switched to the Gaussian-copula CMI
 (fast, exact for Gaussian-copula data, a lower bound otherwise) with a
@@ -87,6 +87,20 @@ still with the warning):
   d = 3, 4, 6, 10, 22 gave +0.008, +0.007, -0.016, -0.080, -0.169 nats (ball 0.07 ...
   0.69); on the VAR(1) TE, -5 % to -11 % at balls 0.29-0.38 (d = 6, 8) and -11 % to
   -18 % at 0.44-0.49 (d = 8, 10). The rule admits d <= 8 at n = 1e4, d <= 6 at n = 1e3.
+- ``"kde"``: the leave-one-out entropies have a smoothing bias O(h^2) and a
+  variance bias O(1 / (n h^d)) (Hall & Morton, Ann. Inst. Stat. Math. 45, 69, 1993;
+  Beirlant et al. 1997, sec. 3), and the mean number of samples under one kernel's
+  h-ball in d dimensions, the occupancy ``n h^d`` (Scott's h = n^(-1/(d+4)):
+  n^(4/(d+4))), falls with d: 193, 100, 40, 28, 14, 7.7, 4.1 at d = 3, 4, 6, 7, 10,
+  14, 22 for n = 1e4. The rule: ``n h^d >= 30`` (:data:`KDE_MIN_OCCUPANCY`), with h
+  the bandwidth factor in use. Measured on the Gaussian CMI tasks of
+  benchmarks/bench_mi_accuracy.py (x, y given d - 2 columns, truth 0.247 and 0)
+  at n = 1e4 (1 seed) and 2e3 (mean of 4): where the rule holds (d <= 6 at 1e4,
+  d <= 4 at 2e3) the error was -0.010 to -0.034 nats; where it fails, -0.028 to
+  -0.048 at d = 5-14 (at a true CMI of 0: -0.030 to -0.046, negative beyond any
+  stated bias) and +0.081 (1e4) / +0.118 (2e3) at d = 22, where the occupancy is ~4
+  and the four entropies stop cancelling. The rule admits d <= 6 at n = 1e4, d <= 4
+  at n = 2e3 (2 x 2 groups at n >= 900).
 
 Significance and intervals for autocorrelated series:
 :mod:`modalinfo.information.conditional_uncertainty`; transfer entropy as a CMI of
@@ -105,7 +119,7 @@ from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.api import MIN_SAMPLES, UNITS
 from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import MIN_BINS, MIN_COUNT_PER_CELL
-from modalinfo.information.kde import KDE_MAX_SAMPLES
+from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
 from modalinfo.information.ksg import KSG_MAX_BALL
 from modalinfo.information.methods import CMI_METHODS, get_method
 
@@ -115,6 +129,7 @@ __all__ = [
     "FALLBACKS",
     "KDE_MAX_SAMPLES",
     "KSG_MAX_BALL",
+    "KDE_MIN_OCCUPANCY",
     "MIN_BINS",
     "MIN_COUNT_PER_CELL",
     "bias_rule",
@@ -164,8 +179,9 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     The rule of the module notes ("Bias rule"): ``"histogram"`` needs ``n >= k^d``
     (``MIN_COUNT_PER_CELL`` sample per joint cell) and ``k >= 4`` bins per axis
     (``MIN_BINS``); ``"ksg"`` needs ``(k / n)^(1 / d) <= 0.4``
-    (``KSG_MAX_BALL``). ``"kde"`` and ``"gaussian"`` have no rule here. The rule
-    is the ``bias_rule`` of the method's record (:mod:`modalinfo.information.methods`).
+    (``KSG_MAX_BALL``); ``"kde"`` needs ``n h^d >= 30`` (``KDE_MIN_OCCUPANCY``).
+    ``"gaussian"`` has no rule. The rule is the ``bias_rule`` of the method's record
+    (:mod:`modalinfo.information.methods`).
 
     Parameters
     ----------
@@ -176,7 +192,8 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     d : int
         Number of (non-constant) columns of x, y and z together.
     options : dict, optional
-        The estimator's options (``bins`` of the histogram, ``k`` of KSG).
+        The estimator's options (``bins`` of the histogram, ``k`` of KSG,
+        ``bandwidth`` of the KDE).
 
     Returns
     -------

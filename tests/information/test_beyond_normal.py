@@ -5,10 +5,10 @@ Reference: the exact MI of each task (Czyz et al., NeurIPS 2023, regenerated in
 ``test_beyond_normal_tasks.py``). The full table at n = 1e4 is in
 ``benchmarks/RESULTS.md``; this is its test-tier slice at n = 4000.
 
-Only the ``ksg`` and ``gaussian`` methods are asserted, with DEFAULT options: their
-defaults are not being changed by issue 27, while the ``kde`` and ``histogram``
-defaults are (rank / copula inputs, quantile bins), so their checks, against the
-issue's target (within max(0.05 nats, 10 %)), are marked non-strict xfail until then.
+The ``ksg`` and ``gaussian`` methods are asserted with the tolerance below. The
+``kde`` and ``histogram`` defaults are checked against the issue's target (within
+max(0.05 nats, 10 %) of the truth, median of 3 seeds): strictly where they meet it,
+non-strict xfail, with the cause named, where they do not yet.
 
 Tolerance: the mean of 3 seeds must lie within ``0.01 + 4 sd / sqrt(3)`` of the
 truth, with sd the standard deviation of one estimate at n = 4000 measured over 20
@@ -54,12 +54,12 @@ def tasks():
     return module.build_tasks()
 
 
-def estimate(task, method, seed):
-    """The public API with default options, as the benchmark calls it."""
+def estimate(task, method, seed, **options):
+    """The public API with default options (unless given), as the benchmark calls it."""
     x, y, z = task.sample(np.random.default_rng(seed), N)
     if task.dx == task.dy == 1 and not task.dz:
-        return mutual_information(x[:, 0], y[:, 0], method=method)
-    return conditional_mutual_information(x, y, z, method=method)
+        return mutual_information(x[:, 0], y[:, 0], method=method, **options)
+    return conditional_mutual_information(x, y, z, method=method, **options)
 
 
 @pytest.mark.parametrize("name, method", sorted(SD))
@@ -70,28 +70,50 @@ def test_ksg_and_gaussian_defaults_recover_the_exact_mi(tasks, name, method):
     assert abs(mean - task.truth) <= tol, (name, method, mean, task.truth, tol)
 
 
-# issue 27's target (within 0.05 nats or 10 % at n = 1e4). The rank-based defaults meet it
-# on one glitch and on Student-t df 1 with kde; the histogram on Student-t df 1 and both
-# on the Cauchy pair still miss it (benchmarks/RESULTS.md, 'MI accuracy (Beyond Normal
-# tasks)': the rank-transformed ridge is narrower than the kernel / the bins resolve).
-ISSUE_27_OPEN = pytest.mark.xfail(
-    strict=False, reason="issue 27 (open): rank-based kde/histogram miss heavy-tail tasks "
-                         "by 0.09-0.19 nats at n = 1e4")
-
-
+# issue 27's target (within 0.05 nats or 10 % at n = 1e4), asserted at this tier's n = 4000
+# where the default meets it with a margin (median of 3 seeds, measured at n = 4000: kde
+# glitch -0.018, Student-t df 1 -0.013, rounded to 0.5 sd -0.005 (discrete pairs: the
+# Miller-Madow plug-in of their table), 1 % outliers -0.026; histogram glitch -0.015,
+# Student-t df 1 -0.022, X mixture -0.027 with bins="auto" (8 samples per joint cell), which
+# is an option, not the default: see test_histogram_auto_bins_meet_the_target).
 @pytest.mark.parametrize("name, method", [("glitch-1", "kde"), ("glitch-1", "histogram"),
-                                          ("student-1x1-df1", "kde")])
+                                          ("student-1x1-df1", "kde"),
+                                          ("rounded-0.5", "kde"), ("outliers-1pct", "kde")])
 def test_kde_and_histogram_defaults_meet_the_issue_target(tasks, name, method):
     task = tasks[name]
     value = float(np.median([estimate(task, method, s) for s in SEEDS]))
     assert abs(value - task.truth) <= max(0.05, 0.1 * task.truth)
 
 
-@ISSUE_27_OPEN
-@pytest.mark.parametrize("name, method", [("student-1x1-df1", "histogram"),
-                                          ("cauchy-additive", "kde"),
-                                          ("cauchy-additive", "histogram")])
-def test_kde_and_histogram_heavy_tail_misses(tasks, name, method):
+@pytest.mark.parametrize("name", ["student-1x1-df1", "X-mixture-1x1"])
+def test_histogram_auto_bins_meet_the_target(tasks, name):
+    task = tasks[name]
+    value = float(np.median([estimate(task, "histogram", s, bins="auto") for s in SEEDS]))
+    assert abs(value - task.truth) <= max(0.05, 0.1 * task.truth)
+
+
+# The misses left open, each with its cause (benchmarks/RESULTS.md, 'MI accuracy (Beyond
+# Normal tasks)', 'After the accuracy round'); measured at n = 4000, median of 3 seeds.
+CAUSES = {
+    ("cauchy-additive", "kde"): "the copula of (x, x + Cauchy) is a ridge narrowing into its "
+    "corners, thinner than any fixed kernel on normal scores: -0.130 (n = 1e4: -0.097)",
+    ("cauchy-additive", "histogram"): "the same ridge is thinner than the equiprobable cells "
+    "in the corners: -0.201 (n = 1e4, 35 bins: -0.143)",
+    ("student-1x1-df1", "histogram"): "the default Hacine-Gharbi bins, derived for a "
+    "Gaussian pair, are too few for the Student-t copula's tails (bins='auto' meets it: "
+    "above; it is not the default because of its larger spread, histogram module notes)",
+    ("X-mixture-1x1", "histogram"): "the default Hacine-Gharbi rule keeps 16 bins at a rank "
+    "correlation ~0 and misses the X's thin arms (bins='auto' meets it, above)",
+    ("outliers-1pct", "histogram"): "discretisation bias of the equiprobable bins (even "
+    "bins='auto', 22 bins per axis at n = 4000: -0.056; n = 1e4, 35 bins: -0.047)",
+    ("student-2x2-df1", "kde"): "the 4-D conditional KDE (Scott h on normal scores) smooths "
+    "away the Student-t copula's tail dependence: -0.100 (n = 1e4: -0.072)",
+    ("sparse-2x2", "histogram"): "the grouped histogram's (6 n)^(1/(d+2)) bins per axis, 5 at "
+    "d = 4 and n = 4000, cannot resolve two pairs at rho 0.8: -0.220 (n = 1e4, 6 bins: -0.185)",
+}
+@pytest.mark.parametrize("name, method", [pytest.param(*key, marks=pytest.mark.xfail(
+    strict=False, reason=f"issue 27 (open): {cause}")) for key, cause in CAUSES.items()])
+def test_kde_and_histogram_misses_left_open(tasks, name, method):
     task = tasks[name]
     value = float(np.median([estimate(task, method, s) for s in SEEDS]))
     assert abs(value - task.truth) <= max(0.05, 0.1 * task.truth)

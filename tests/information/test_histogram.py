@@ -3,7 +3,7 @@
 References: ``numpy.histogram2d`` plug-in MI computed directly (exact agreement) on
 equal-width bins (``binning="uniform"``, the former default) and on ``numpy.quantile``
 edges (the default equiprobable bins, with the bin number of the Hacine-Gharbi rule at
-the correlation of scipy's normal scores of the ranks),
+the correlation of scipy's normal scores of the ranks, or floor(sqrt(n / 8)) if larger),
 ``numpy.histogram_bin_edges`` bin numbers for "fd", "scott", "sturges", "sqrt",
 the Miller-Madow formula (Paninski 2003, eq. 3.4), and the analytic entropy of a
 uniform variable. The entropy's Miller-Madow term against ``scipy.stats.entropy`` of
@@ -54,12 +54,13 @@ def test_uniform_rule_is_hacine_gharbi_joint_formula():
     y = 0.6 * x + 0.8 * rng.standard_normal(10_000)
     k = _hacine_gharbi_k(x.size, np.corrcoef(x, y)[0, 1])
     assert 15 <= k <= 25
-    assert mutual_information(x, y, method="histogram", binning="uniform") == pytest.approx(
+    assert mutual_information(x, y, method="histogram", binning="uniform",
+                              bins="hacine-gharbi") == pytest.approx(
         _plugin_ref(x, y, k, True), rel=1e-12
     )
 
 
-def test_default_is_quantile_bins_with_the_rule_at_the_rank_correlation():
+def test_hacine_gharbi_quantile_bins_use_the_rule_at_the_rank_correlation():
     # one glitch at 1e6 leaves the normal-score correlation (and so k) in place, while
     # the Pearson r of the values drops to ~0; the estimate is the plug-in MI on the
     # numpy.quantile edges with that k
@@ -71,6 +72,39 @@ def test_default_is_quantile_bins_with_the_rule_at_the_rank_correlation():
     k = _hacine_gharbi_k(x.size, np.corrcoef(*scores)[0, 1])
     assert 17 <= k <= 25 and _hacine_gharbi_k(x.size, np.corrcoef(x, y)[0, 1]) == 16  # r = 0
     edges = [np.quantile(a, np.linspace(0, 1, k + 1)) for a in (x, y)]
+    assert mutual_information(x, y, method="histogram", bins="hacine-gharbi") == pytest.approx(
+        _plugin_ref(x, y, edges, True), rel=1e-12
+    )
+
+
+@pytest.mark.parametrize("n, rho", [(8000, 0.6), (8000, 0.0), (500, 0.95), (2000, 0.9)])
+def test_auto_bins_are_the_larger_of_hacine_gharbi_and_8_samples_per_cell(n, rho):
+    # bins="auto": k = max(Hacine-Gharbi k at the rank correlation, floor(sqrt(n / 8))),
+    # quantile edges (numpy.quantile); at n = 8000 the cell rule gives 31 bins, above the
+    # Hacine-Gharbi 15-22; at n = 500, rho = 0.95 Hacine-Gharbi's k exceeds floor(sqrt 62) = 7
+    rng = np.random.default_rng(n + int(100 * rho))
+    x = rng.standard_normal(n)
+    y = rho * x + np.sqrt(1 - rho**2) * rng.standard_normal(n)
+    # the documented rank correlation of the rule (histogram module notes): Pearson r of
+    # the normal scores Phi^-1((i + 1/2) / K0) of each sample's quantile bin i, K0 =
+    # min(64, ceil(sqrt n)) numpy.quantile bins (n <= 8192: no subsample)
+    k0 = min(64, int(np.ceil(np.sqrt(n))))
+    scores = [stats.norm.ppf((np.searchsorted(np.quantile(a, np.linspace(0, 1, k0 + 1))[1:-1],
+                                              a, side="right") + 0.5) / k0) for a in (x, y)]
+    k_hg = _hacine_gharbi_k(n, np.corrcoef(*scores)[0, 1])
+    k_cells = int(np.floor(np.sqrt(n / 8)))
+    assert n / k_cells**2 >= 8 > n / (k_cells + 1) ** 2
+    k = max(k_hg, k_cells)
+    if n == 8000:
+        assert k == k_cells == 31
+    if n == 500:
+        assert k == k_hg > k_cells
+    edges = [np.quantile(a, np.linspace(0, 1, k + 1)) for a in (x, y)]
+    assert mutual_information(x, y, method="histogram", bins="auto") == pytest.approx(
+        _plugin_ref(x, y, edges, True), rel=1e-12
+    )
+    # the default is the Hacine-Gharbi rule alone (histogram module notes)
+    edges = [np.quantile(a, np.linspace(0, 1, k_hg + 1)) for a in (x, y)]
     assert mutual_information(x, y, method="histogram") == pytest.approx(
         _plugin_ref(x, y, edges, True), rel=1e-12
     )
@@ -209,7 +243,8 @@ def test_joint_bins_follow_hacine_gharbi_2018_with_offsets(n, rho):
     r = np.corrcoef(x, y)[0, 1]
     k = int(round(np.sqrt(1 + np.sqrt(1 + 24 * n / (1 - r**2))) / np.sqrt(2)))
     k = min(max(2, k), int(np.ceil(np.sqrt(n))))
-    assert mutual_information(x, y, method="histogram", binning="uniform") == pytest.approx(
+    assert mutual_information(x, y, method="histogram", binning="uniform",
+                              bins="hacine-gharbi") == pytest.approx(
         _plugin_ref(x, y, k, True), rel=1e-12, abs=1e-14)
 
 

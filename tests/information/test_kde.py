@@ -5,7 +5,10 @@ kernel (covariance h^2 S of the standardised pair, marginals with h^2 s^2), whic
 what the grid approximates; ``scipy.stats.gaussian_kde`` bandwidth factors; the
 analytic entropy of a normal variable. ``bandwidth="cv"``: the direct leave-one-out
 likelihood maximised over h by ``scipy.optimize.minimize_scalar`` (same search
-interval, tight tolerance), and the direct estimate at that optimum.
+interval, tight tolerance), and the direct estimate at that optimum. Discrete pairs
+(few distinct values): the Miller-Madow plug-in MI of the contingency table written
+out with ``scipy.stats.entropy`` (Miller 1955), and the exact MI of a binary symmetric
+channel, ln 2 - H_b(p).
 """
 
 import numpy as np
@@ -182,3 +185,38 @@ def test_reused_work_arrays_give_the_same_estimates_across_sizes_and_threads():
         scores = list(pool.map(lambda _: est.score(pairs[0][1]), range(8)))
     assert got == [serial[k % 3] for k in range(24)]
     assert scores == [serial[0]] * 8
+
+
+def _mm_plugin(x, y):
+    _, cx = np.unique(x, return_inverse=True)
+    _, cy = np.unique(y, return_inverse=True)
+    joint = np.zeros((cx.max() + 1, cy.max() + 1))
+    np.add.at(joint, (cx, cy), 1.0)
+    n = x.size
+    h = [stats.entropy(c[c > 0]) + ((c > 0).sum() - 1) / (2 * n)
+         for c in (joint.sum(1), joint.sum(0), joint.ravel())]
+    return h[0] + h[1] - h[2]
+
+
+def test_discrete_pair_is_the_miller_madow_plugin_of_its_table():
+    # x with 4 levels, y with 5 at n = 200: 20 cells, exactly 10 samples per cell on
+    # average, the rule's boundary (m_x m_y <= n / 10) -> the table's plug-in
+    rng = np.random.default_rng(3)
+    xi = rng.integers(0, 4, 200)
+    x = xi * 0.7 - 3.0
+    y = np.clip(xi + rng.integers(-1, 3, 200), 0, 4).astype(float)
+    assert np.unique(x).size * np.unique(y).size == 20
+    assert mutual_information(x, y) == pytest.approx(_mm_plugin(x, y), rel=1e-12)
+    # one sample fewer: 20 cells > 199 / 10, the kernel path (a different number)
+    assert mutual_information(x[:199], y[:199]) != pytest.approx(_mm_plugin(x[:199], y[:199]),
+                                                                 rel=1e-3)
+
+
+def test_binary_symmetric_channel_mi():
+    # X ~ Bernoulli(1/2), Y = X xor Bernoulli(0.1): I = ln 2 - H_b(0.1) = 0.3681 nats; the
+    # plug-in's sd at n = 4000 is ~0.01 (sqrt(Var[ln p(x,y)/(p(x)p(y))] / n))
+    rng = np.random.default_rng(5)
+    x = rng.integers(0, 2, 4000)
+    y = x ^ (rng.random(4000) < 0.1)
+    exact = np.log(2.0) + 0.1 * np.log(0.1) + 0.9 * np.log(0.9)
+    assert mutual_information(x, y.astype(float)) == pytest.approx(exact, abs=0.03)

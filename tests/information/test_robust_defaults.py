@@ -13,7 +13,8 @@ References (from outside the code):
   default estimates must not change under exp / cube maps;
 - jointly Gaussian (x, y, z): I(X; Y | Z) = 0.5 ln(det S_xz det S_yz / (det S_z
   det S_xyz)) of the population covariance S, built here from the linear model;
-- the bias rule's boundaries n = k^d (histogram) and n = k 2.5^d (KSG), computed here.
+- the bias rule's boundaries n = k^d (histogram), n = k 2.5^d (KSG) and
+  n h^d = 30 (KDE, h from Scott's or Silverman's formula), computed here.
 """
 
 import math
@@ -201,7 +202,37 @@ def test_ksg_rule_boundary_is_n_equal_k_times_2_5_to_the_d():
     # k 2.5^d = 3 * 39.0625 = 117.2 for d = 4
     assert bias_rule("ksg", 118, 4, {"k": 3}) is None
     assert "above the rule 0.4" in bias_rule("ksg", 117, 4, {"k": 3})
-    assert bias_rule("kde", 20, 30) is None and bias_rule("gaussian", 20, 30) is None
+    assert bias_rule("gaussian", 20, 30) is None
+
+
+def test_kde_rule_boundary_is_occupancy_30():
+    # Scott's h = n^(-1/(d+4)), so n h^d = n^(4/(d+4)) >= 30 <=> n >= 30^((d+4)/4);
+    # d = 3: 30^1.75 = 384.5 (computed here), so n = 385 meets the rule and 384 does not
+    assert 384 < 30**1.75 < 385
+    assert bias_rule("kde", 385, 3) is None
+    assert "n h^d = 29.98 samples per kernel" in bias_rule("kde", 384, 3)
+    # Silverman's factor (n (d + 2) / 4)^(-1/(d+4)) is smaller: d = 3 needs
+    # n^(4/7) (5/4)^(-3/7) >= 30, n >= 30^1.75 (5/4)^0.75 = 454.6
+    assert 454 < 30**1.75 * 1.25**0.75 < 455
+    assert bias_rule("kde", 455, 3, {"bandwidth": "silverman"}) is None
+    assert bias_rule("kde", 454, 3, {"bandwidth": "silverman"}) is not None
+    rng = np.random.default_rng(9)
+    x, y, z = rng.standard_normal((3, 385, 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", BiasRuleWarning)
+        conditional_mutual_information(x, y, z, method="kde")
+    with pytest.warns(BiasRuleWarning, match=r"KDE CMI over 3 columns .* n = 384"):
+        conditional_mutual_information(x[:384], y[:384], z[:384], method="kde")
+
+
+def test_kde_cmi_with_20_conditioning_columns_switches(twenty_conditioning_columns):
+    # n = 5000 over 22 columns: n h^d = 5000^(4/26) = 3.7, far below 30
+    x, y, z, exact = twenty_conditioning_columns
+    with pytest.warns(BiasRuleWarning, match=r"KDE CMI over 22 columns"):
+        got = conditional_mutual_information(x, y, z, method="kde")
+    assert got == pytest.approx(exact, abs=0.04)
+    with pytest.raises(ValueError, match="KDE CMI over 22 columns"):
+        conditional_mutual_information(x, y, z, method="kde", fallback="raise")
 
 
 def test_rule_met_means_no_warning_and_the_estimator_itself():
