@@ -1,0 +1,358 @@
+"""Karhunen-Loeve modes in the space of a deformable mirror (DM-space K-L).
+
+The modes a DM of actuators is controlled through, as OOPAO
+(``OOPAO.calibration.compute_KL_modal_basis.compute_KL_basis`` -> ``compute_M2C``, the
+"double diagonalisation" of Gendron 1995, also OOMAO's ``KLBasisDecomposition``) and
+COMPASS (``shesha.ao.basis.compute_KL2V``) build them:
+
+1. **Geometric diagonalisation** -- the DM metric. With ``M`` the influence functions
+   on the ``n`` pupil pixels (``(n, n_act)``, :class:`~modalinfo.bases.InfluenceFunctions`),
+   the Gram matrix ``G = M^T M / n`` is the pupil-mean inner product of mirror shapes;
+   ``G = L L^T`` (Cholesky) whitens it: ``z = L^T c`` are coordinates in which mirror
+   shapes are orthonormal.
+2. **Statistical diagonalisation** -- the turbulence prior. The least-squares fit of a
+   phase ``phi`` by the mirror has whitened coordinates ``z = L^{-1} M^T phi / n``,
+   whose covariance is ``C_z = L^{-1} S L^{-T}``, ``S = M^T C_phi M / n^2``. ``C_phi``
+   is the piston-removed von Karman covariance over the pupil,
+   ``C_phi = -1/2 P D P`` with ``D[p, q] = D_phi(|x_p - x_q|)`` the phase structure
+   function and ``P = I - 1 1^T / n`` the pupil-piston remover (the constant
+   ``B(0)`` of the covariance, infinite for Kolmogorov turbulence, cancels in ``P``).
+3. **Piston removed, tip/tilt apart.** The mirror's best fits of piston, ``x`` and
+   ``y`` (``b = L^{-1} M^T t / n``) are orthonormalised in that order (Gram-Schmidt):
+   the second and third vectors are **exactly the DM's best tip and tilt** (made
+   piston-free) and become modes 1 and 2; piston is dropped; ``C_z`` is diagonalised
+   in the orthogonal complement of the three, and its eigenvectors, by decreasing
+   eigenvalue, are modes 3, 4, ... (With ``tip_tilt_apart=False`` only piston is
+   removed and every mode is an eigenvector, as the library's theoretical K-L.)
+   The modes' commands are ``M2C = L^{-T} [u_1 .. u_M]`` ``(n_act, M)``; their
+   surfaces are orthonormal over the pupil (``M2C^T G M2C = I``), have zero pupil mean,
+   and modes >= 3 have zero tip/tilt content. Tip/tilt keep their correlation with the
+   coma-like modes (turbulence correlates Z2 and Z8): only the block of modes >= 3 is
+   diagonal under the prior.
+
+No ``(pixels x pixels)`` matrix is formed: ``D`` is Toeplitz on the pixel grid
+(stationarity), so ``D M`` is, column by column, the convolution of the masked influence
+function with ``D_phi`` sampled on the ``(2N - 1)^2`` lags, done by FFT in batches;
+``M^T (D M)`` follows from the sparse ``M``. At 44 x 44 actuators on a 172-pixel pupil
+that is ~1,500 FFTs of 343^2 points (seconds) instead of a 23k x 23k covariance.
+
+Structure function (von Karman, Conan 2000 PhD thesis; Sasiela 2007, eq. 2.49)::
+
+    D_phi(r) = 2 (B(0) - B(r)),
+    B(r) = (L0/r0)^(5/3) 2^(-5/6) Gamma(11/6) / pi^(8/3) [24/5 Gamma(6/5)]^(5/6)
+           (2 pi r / L0)^(5/6) K_{5/6}(2 pi r / L0),
+    B(0) = (L0/r0)^(5/3) Gamma(11/6) Gamma(5/6) / (2 pi^(8/3)) [24/5 Gamma(6/5)]^(5/6)
+         = 0.0863 (L0/r0)^(5/3),
+
+and ``D_phi(r) = 6.8839 (r/r0)^(5/3)`` for ``L0 = inf`` (Kolmogorov), its limit for
+``r << L0``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import fft as sfft
+from scipy import linalg, special
+
+from modalinfo._validation import as_float_array, check_int, check_real
+from modalinfo.bases.basis import ModalBasis
+from modalinfo.bases.influence import InfluenceFunctions
+
+__all__ = ["DMKLBasis", "dm_kl_modes", "von_karman_structure_function"]
+
+#: 2 [(24/5) Gamma(6/5)]^(5/6): Kolmogorov structure-function constant
+_KOLMOGOROV_D = 2.0 * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0)
+_VK_B = (2.0 ** (-5.0 / 6.0) * math.gamma(11.0 / 6.0) / math.pi ** (8.0 / 3.0)
+         * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0))
+_VK_B0 = (math.gamma(11.0 / 6.0) * math.gamma(5.0 / 6.0) / (2.0 * math.pi ** (8.0 / 3.0))
+          * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0))
+#: actuators per FFT batch (memory ~ batch x P^2 x 16 bytes: 60 MB at P = 343)
+_BATCH = 32
+
+
+def von_karman_structure_function(r, r0: float, outer_scale: float = np.inf) -> np.ndarray:
+    """Phase structure function of von Karman turbulence [rad^2].
+
+    Parameters
+    ----------
+    r : array_like
+        Separations [m], ``>= 0``.
+    r0 : float
+        Fried parameter [m] at the phase's wavelength, ``> 0``.
+    outer_scale : float
+        Outer scale ``L0`` [m], ``> 0``; ``inf`` for Kolmogorov ``6.8839 (r/r0)^(5/3)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``D_phi(r)``, the shape of ``r`` (module docstring for the formula).
+    """
+    r0 = check_real(r0, "r0", minimum=0.0, strict_min=True)
+    outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
+                             allow_inf=True)
+    r = np.abs(np.asarray(r, dtype=np.float64))
+    if math.isinf(outer_scale):
+        return _KOLMOGOROV_D * (r / r0) ** (5.0 / 3.0)
+    u = 2.0 * math.pi * r / outer_scale
+    scale = (outer_scale / r0) ** (5.0 / 3.0)
+    with np.errstate(invalid="ignore"):
+        b = np.where(u > 0, _VK_B * u ** (5.0 / 6.0) * special.kv(5.0 / 6.0, np.maximum(u, 1e-300)),
+                     _VK_B0)
+    return 2.0 * scale * (_VK_B0 - b)
+
+
+def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: float):
+    """``(G_D, u, v, s)`` for ``M^T D M``, ``M^T 1``, ``M^T D 1 / n``, ``1^T D 1 / n^2``.
+
+    ``D M`` column by column: an actuator whose support lies inside the pupil (its
+    influence function unmasked) is a whole-pixel translate of any other such actuator
+    with the same sub-pixel position, so one convolution per sub-pixel class serves all
+    of them (read at shifted pixels); only the actuators the pupil's edge cuts need one
+    FFT each.
+    """
+    pupil = influence.pupil
+    n_side = pupil.n_pixels
+    mask = np.asarray(pupil.mask)
+    flat = np.flatnonzero(mask.ravel())
+    rows, cols = flat // n_side, flat % n_side
+    n = flat.size
+    dx = influence.pixel_scale
+    mat = influence.matrix
+    csc = mat.tocsc()
+    n_act = mat.shape[1]
+    g_d = np.empty((n_act, n_act))
+
+    def kernel_fft(size: int, reach: int) -> np.ndarray:
+        lag = np.arange(size)
+        lag = np.where(lag < reach, lag, lag - size).astype(np.float64)  # wrapped lags
+        dist = np.hypot(lag[:, None], lag[None, :]) * dx
+        return sfft.rfft2(von_karman_structure_function(dist, r0, outer_scale))
+
+    size = sfft.next_fast_len(2 * n_side - 1, real=True)
+    kernel = kernel_fft(size, n_side)
+
+    def convolve(images: np.ndarray) -> np.ndarray:
+        """``D`` applied to ``(b, N, N)`` images, read at the pupil pixels: ``(n, b)``."""
+        spec = sfft.rfft2(images, s=(size, size), axes=(1, 2))
+        spec *= kernel
+        full = sfft.irfft2(spec, s=(size, size), axes=(1, 2))[:, :n_side, :n_side]
+        return full.reshape(images.shape[0], -1)[:, flat].T
+
+    # sub-pixel class and whole-pixel position of every valid actuator, and which ones
+    # the pupil leaves whole (support inside the mask, not clipped by the grid)
+    act = influence.valid_positions  # (x, y)
+    pos = (act - influence.coords[0]) / dx  # fractional pixel index (column, row)
+    whole = np.floor(pos + 1e-9).astype(np.int64)
+    frac = np.round(pos - whole, 9)
+    reach = int(math.ceil(influence.radius / dx))
+    interior = np.zeros(n_act, dtype=bool)
+    for a in range(n_act):
+        lo, hi = whole[a] - reach, whole[a] + reach + 1
+        if lo.min() >= 0 and hi.max() <= n_side:
+            interior[a] = bool(mask[lo[1]:hi[1], lo[0]:hi[0]].all())
+    classes: dict[tuple[float, float], list[int]] = {}
+    for a in np.flatnonzero(interior):
+        classes.setdefault((frac[a, 0], frac[a, 1]), []).append(int(a))
+    edge = list(np.flatnonzero(~interior))
+    for members in classes.values():
+        if len(members) == 1:
+            edge.extend(members)
+            continue
+        # reference: the first member's image, convolved on a window 3N wide
+        # (pixel q of the window is grid pixel q - N), enough for every member's shift
+        ref = members[0]
+        big = 3 * n_side
+        size_big = sfft.next_fast_len(big + n_side, real=True)
+        image = np.zeros((size_big, size_big))
+        col = csc[:, ref].toarray().ravel()
+        image[rows + n_side, cols + n_side] = col
+        window = sfft.irfft2(sfft.rfft2(image) * kernel_fft(size_big, size_big // 2),
+                             s=(size_big, size_big))
+        members = np.asarray(members)
+        for start in range(0, members.size, 4 * _BATCH):
+            chunk = members[start:start + 4 * _BATCH]
+            shift = whole[chunk] - whole[ref]  # (b, 2) (column, row)
+            block = window[rows[:, None] - shift[None, :, 1] + n_side,
+                           cols[:, None] - shift[None, :, 0] + n_side]  # (n, b)
+            g_d[:, chunk] = mat.T @ block
+    edge = np.sort(np.asarray(edge, dtype=np.int64))
+    images = np.zeros((_BATCH, n_side * n_side))
+    for start in range(0, edge.size, _BATCH):
+        chunk = edge[start:start + _BATCH]
+        b = chunk.size
+        images[:b] = 0.0
+        images[:b, flat] = csc[:, chunk].toarray().T
+        g_d[:, chunk] = mat.T @ convolve(images[:b].reshape(b, n_side, n_side))
+    u = np.asarray(mat.sum(axis=0)).ravel()
+    d_w = convolve(mask.astype(np.float64)[None])[:, 0] / n
+    v = mat.T @ d_w
+    s = float(d_w.sum() / n)
+    return 0.5 * (g_d + g_d.T), u, v, s
+
+
+def _whitened_covariance(influence: InfluenceFunctions, r0: float,
+                         outer_scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Cholesky factor ``L`` of the DM metric and the prior covariance ``C_z`` [rad^2]."""
+    n = influence.pupil.n_valid
+    g_d, u, v, s = _structure_operator(influence, r0, outer_scale)
+    # M^T C_phi M with C_phi = -1/2 P D P, P = I - 1 1^T / n
+    s_mat = -0.5 * (g_d - np.outer(u, v) - np.outer(v, u) + s * np.outer(u, u)) / n**2
+    chol = linalg.cholesky(influence.gram(), lower=True)
+    half = linalg.solve_triangular(chol, s_mat, lower=True)
+    c_z = linalg.solve_triangular(chol, half.T, lower=True)
+    return chol, 0.5 * (c_z + c_z.T)
+
+
+def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = np.inf, *,
+                n_modes: int | None = None,
+                tip_tilt_apart: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Modal-to-command matrix and prior variances of the DM-space K-L modes.
+
+    Parameters
+    ----------
+    influence : InfluenceFunctions
+        The mirror (its pupil is where the modes are orthonormal).
+    r0 : float
+        Fried parameter [m] at the phase's wavelength, ``> 0``.
+    outer_scale : float
+        Von Karman outer scale ``L0`` [m], ``> 0`` (``inf``: Kolmogorov).
+    n_modes : int, optional
+        Modes kept, ``1 <= n_modes <= n_valid - 1`` (default all: ``n_valid - 1``).
+    tip_tilt_apart : bool
+        True (default): modes 1-2 are the DM's best tip and tilt, the rest diagonalise
+        the prior in their complement (OOPAO, COMPASS); False: every mode diagonalises
+        the prior (piston removed only).
+
+    Returns
+    -------
+    m2c : (n_valid, n_modes) float64
+        Actuator strokes of each mode (unit-RMS surface over the pupil).
+    variances : (n_modes,) float64
+        Prior variance [rad^2] of each mode's coefficient.
+    """
+    if not isinstance(influence, InfluenceFunctions):
+        raise TypeError("`influence` must be a modalinfo.bases.InfluenceFunctions; got "
+                        f"{type(influence).__name__}.")
+    r0 = check_real(r0, "r0", minimum=0.0, strict_min=True)
+    outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
+                             allow_inf=True)
+    if not isinstance(tip_tilt_apart, bool | np.bool_):
+        raise TypeError(f"`tip_tilt_apart` must be a bool; got {tip_tilt_apart!r}.")
+    n_act = influence.n_valid
+    if n_act < 4:
+        raise ValueError(f"`influence` must have at least 4 valid actuators; got {n_act}.")
+    n_keep = n_act - 1 if n_modes is None else check_int(n_modes, "n_modes", minimum=1,
+                                                         maximum=n_act - 1)
+    chol, c_z = _whitened_covariance(influence, r0, outer_scale)
+    pupil = influence.pupil
+    mask = np.asarray(pupil.mask)
+    targets = np.stack([np.ones(pupil.n_valid), np.asarray(pupil.x)[mask],
+                        np.asarray(pupil.y)[mask]], axis=1)
+    b = linalg.solve_triangular(chol, influence.matrix.T @ targets / pupil.n_valid, lower=True)
+    n_fixed = 3 if tip_tilt_apart else 1
+    q, r = np.linalg.qr(b[:, :n_fixed], mode="complete")
+    q[:, :n_fixed] *= np.sign(np.diag(r))  # tip along +x, tilt along +y
+    rest = q[:, n_fixed:]
+    values, vectors = np.linalg.eigh(rest.T @ c_z @ rest)
+    order = np.argsort(values)[::-1]
+    values, vectors = values[order], vectors[:, order]
+    # deterministic signs: the largest-magnitude stroke of every mode positive
+    z_rest = rest @ vectors
+    if tip_tilt_apart:
+        z = np.concatenate([q[:, 1:3], z_rest], axis=1)[:, :n_keep]
+        tt = np.einsum("ik,ij,jk->k", q[:, 1:3], c_z, q[:, 1:3])
+        var = np.concatenate([tt, values])[:n_keep]
+    else:
+        z = z_rest[:, :n_keep]
+        var = values[:n_keep]
+    m2c = linalg.solve_triangular(chol.T, z, lower=False)
+    if tip_tilt_apart:
+        fix = slice(2, None)
+    else:
+        fix = slice(0, None)
+    sub = m2c[:, fix]
+    idx = np.argmax(np.abs(sub), axis=0)
+    signs = np.sign(sub[idx, np.arange(sub.shape[1])])
+    signs[signs == 0] = 1.0
+    m2c[:, fix] = sub * signs
+    return np.ascontiguousarray(m2c), np.clip(var, 0.0, None)
+
+
+class DMKLBasis(ModalBasis):
+    """DM-space K-L modes: surfaces of a mirror's K-L commands on its pupil.
+
+    Build with :meth:`from_influence`. A :class:`~modalinfo.bases.ModalBasis` like the
+    others (reorder, project, log, export); the pixel matrix is
+    ``influence.matrix @ m2c`` (dense ``(n_pupil_pixels, M)``).
+
+    Parameters
+    ----------
+    influence : InfluenceFunctions
+    m2c : (n_valid, M) array_like
+        Actuator strokes of each mode.
+    variances : (M,) array_like
+        Prior variance of each mode [rad^2].
+    labels : sequence of str, optional
+        Default ``"DMKL1"``...
+
+    Attributes
+    ----------
+    m2c : (n_valid, M) float64
+        Modal-to-command matrix.
+    variances : (M,) float64
+        Prior variances [rad^2] (at the ``r0`` of :meth:`from_influence`).
+    influence : InfluenceFunctions
+    """
+
+    def __init__(self, influence: InfluenceFunctions, m2c, variances, labels=None) -> None:
+        if not isinstance(influence, InfluenceFunctions):
+            raise TypeError("`influence` must be a modalinfo.bases.InfluenceFunctions; got "
+                            f"{type(influence).__name__}.")
+        m2c = as_float_array(m2c, "m2c", ndim=2, copy=True)
+        if m2c.shape[0] != influence.n_valid:
+            raise ValueError(f"`m2c` must have n_valid={influence.n_valid} rows (one per "
+                             f"actuator); got shape {m2c.shape}.")
+        var = as_float_array(variances, "variances", shape=(m2c.shape[1],), copy=True)
+        if labels is None:
+            labels = [f"DMKL{k + 1}" for k in range(m2c.shape[1])]
+        matrix = np.asarray(influence.matrix @ m2c)
+        super().__init__(matrix, influence.pupil, labels, _copy=False)
+        m2c.flags.writeable = False
+        var.flags.writeable = False
+        self._influence = influence
+        self._m2c = m2c
+        self._variances = var
+
+    @classmethod
+    def from_influence(cls, influence: InfluenceFunctions, r0: float,
+                       outer_scale: float = np.inf, *, n_modes: int | None = None,
+                       tip_tilt_apart: bool = True) -> DMKLBasis:
+        """DM-space K-L modes of von Karman turbulence (see :func:`dm_kl_modes`)."""
+        m2c, var = dm_kl_modes(influence, r0, outer_scale, n_modes=n_modes,
+                               tip_tilt_apart=tip_tilt_apart)
+        return cls(influence, m2c, var)
+
+    @property
+    def m2c(self) -> np.ndarray:
+        """Modal-to-command matrix ``(n_valid, M)``."""
+        return self._m2c
+
+    @property
+    def variances(self) -> np.ndarray:
+        """Prior variance of each mode ``(M,)`` [rad^2]."""
+        return self._variances
+
+    @property
+    def influence(self) -> InfluenceFunctions:
+        """The mirror's influence functions."""
+        return self._influence
+
+    def _permute_extra(self, new: ModalBasis, index: np.ndarray) -> None:
+        m2c = np.ascontiguousarray(self._m2c[:, index])
+        var = self._variances[index].copy()
+        m2c.flags.writeable = False
+        var.flags.writeable = False
+        new._m2c = m2c
+        new._variances = var
