@@ -16,19 +16,20 @@ def separable_surface(grid, first, values, rows, cols, work, out):
     grid : (n_act, n_act) float64 IN, commands on the actuator grid (row = y, column = x)
     first : (n,) int64 IN ; values : (n, w) float64 IN
     rows, cols : (P,) int64 IN, pixel row (y) and column (x) on the ``n x n`` grid
-    work : (n_act, n) float64 SCRATCH ; out : (P,) float64 OUT
+    work : (n, n_act) float64 SCRATCH ; out : (P,) float64 OUT
     """
     n_act = grid.shape[0]
     n = first.shape[0]
     w = values.shape[1]
-    # work[a, j] = sum_b grid[a, b] F[j, b]: one pass along x for every actuator row
+    # work[j, a] = sum_b grid[a, b] F[j, b]: one pass along x for every actuator row,
+    # stored column-major so that the pass along y reads a contiguous band
     for a in range(n_act):
         for j in range(n):
             s = 0.0
             f0 = first[j]
             for k in range(w):
                 s += grid[a, f0 + k] * values[j, k]
-            work[a, j] = s
+            work[j, a] = s
     # then along y, only at the requested pixels
     for p in range(rows.shape[0]):
         i = rows[p]
@@ -36,5 +37,5 @@ def separable_surface(grid, first, values, rows, cols, work, out):
         f0 = first[i]
         s = 0.0
         for k in range(w):
-            s += values[i, k] * work[f0 + k, j]
+            s += values[i, k] * work[j, f0 + k]
         out[p] = s

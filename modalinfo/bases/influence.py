@@ -207,7 +207,7 @@ class InfluenceFunctions:
         self._rows = (flat // n).astype(np.int64)
         self._cols = (flat % n).astype(np.int64)
         self._first, self._values = _band(self.factor)
-        self._work = np.empty((self.n_actuators, n))
+        self._work = np.empty((n, self.n_actuators))
         self._grid = np.zeros((self.n_actuators, self.n_actuators))
         self._matrix = None
         self._gram = None
