@@ -255,7 +255,16 @@ def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = n
     q, r = np.linalg.qr(b[:, :n_fixed], mode="complete")
     q[:, :n_fixed] *= np.sign(np.diag(r))  # tip along +x, tilt along +y
     rest = q[:, n_fixed:]
-    values, vectors = np.linalg.eigh(rest.T @ c_z @ rest)
+    prior = rest.T @ c_z @ rest
+    dim = prior.shape[0]
+    n_eig = max(1, min(dim, n_keep - (n_fixed - 1)))  # eigenvectors after tip/tilt
+    if n_eig < dim:
+        # only the largest: MRRR on a subset (a 76 x 76 altitude DM has 4,600 actuators
+        # and is controlled through ~1,500 modes)
+        values, vectors = linalg.eigh(prior, subset_by_index=[dim - n_eig, dim - 1],
+                                      driver="evr")
+    else:
+        values, vectors = np.linalg.eigh(prior)
     order = np.argsort(values)[::-1]
     values, vectors = values[order], vectors[:, order]
     # deterministic signs: the largest-magnitude stroke of every mode positive

@@ -147,6 +147,19 @@ def test_basis_is_a_modal_basis(mirror):
     assert np.allclose(r.matrix, mirror.matrix @ r.m2c, atol=1e-14)
 
 
+def test_fewer_modes_same_variances(mirror):
+    # the first n_modes from a partial eigen-decomposition (MRRR subset) against all
+    m2c_all, var_all = dm_kl_modes(mirror, R0, L0)
+    for apart in (True, False):
+        m2c, var = dm_kl_modes(mirror, R0, L0, n_modes=12, tip_tilt_apart=apart)
+        full = var_all if apart else dm_kl_modes(mirror, R0, L0, tip_tilt_apart=False)[1]
+        assert np.allclose(var, full[:12], rtol=1e-9, atol=1e-12 * full.max())
+        assert np.max(np.abs(m2c.T @ mirror.gram() @ m2c - np.eye(12))) <= 1e-10
+    # tip and tilt do not depend on the prior's decomposition: the same strokes
+    assert np.allclose(m2c_all[:, :2], dm_kl_modes(mirror, R0, L0, n_modes=12)[0][:, :2],
+                       atol=1e-12)
+
+
 def test_same_inputs_same_bits(mirror):
     a = dm_kl_modes(mirror, R0, L0)
     b = dm_kl_modes(mirror, R0, L0)
