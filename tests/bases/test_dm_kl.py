@@ -82,10 +82,38 @@ def dense_prior(mirror):
     return m.T @ cov @ m / n ** 2
 
 
+def _dense_structure(f):
+    p = f.pupil
+    xy = np.column_stack([p.x[p.mask], p.y[p.mask]])
+    m = f.matrix.toarray()
+    return m.T @ von_karman_structure_function(cdist(xy, xy), R0, L0) @ m
+
+
 def test_fft_projection_equals_dense(mirror, dense_prior):
     chol, c_z = dm_kl_module._whitened_covariance(mirror, R0, L0)
     s = chol @ c_z @ chol.T
     assert np.max(np.abs(s - dense_prior)) <= 1e-10 * np.max(np.abs(dense_prior))
+
+
+@pytest.mark.parametrize("n_pix, n_act, pitch, classes", [
+    (48, 13, None, 1),  # pitch 4 px: the interior actuators are translates of one
+    (48, 14, 3.5 * 4.0 / 48, 2),  # pitch 3.5 px: several sub-pixel classes
+])
+def test_translate_path_equals_dense(n_pix, n_act, pitch, classes):
+    f = InfluenceFunctions(Pupil(n_pix, 4.0), n_act, pitch)
+    # the shared-convolution path is taken: at least `classes` classes of >= 2 members
+    pos = (f.valid_positions - f.coords[0]) / f.pixel_scale
+    reach = int(np.ceil(f.radius / f.pixel_scale))
+    whole = np.floor(pos + 1e-9).astype(int)
+    inside = [a for a in range(f.n_valid)
+              if whole[a].min() >= reach and whole[a].max() + reach < n_pix
+              and f.pupil.mask[whole[a, 1] - reach:whole[a, 1] + reach + 1,
+                               whole[a, 0] - reach:whole[a, 0] + reach + 1].all()]
+    _, counts = np.unique(np.round(pos[inside] - whole[inside], 9), axis=0, return_counts=True)
+    assert np.sum(counts >= 2) >= classes
+    g_d = dm_kl_module._structure_operator(f, R0, L0)[0]
+    ref = _dense_structure(f)
+    assert np.max(np.abs(g_d - ref)) <= 1e-12 * np.max(np.abs(ref))
 
 
 @pytest.mark.parametrize("apart", [True, False])
