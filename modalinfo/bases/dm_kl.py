@@ -54,7 +54,7 @@ import math
 
 import numpy as np
 from scipy import fft as sfft
-from scipy import linalg, special
+from scipy import linalg, signal, special
 
 from modalinfo._validation import as_float_array, check_int, check_real
 from modalinfo.bases.basis import ModalBasis
@@ -156,10 +156,10 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
     for a in np.flatnonzero(interior):
         classes.setdefault((frac[a, 0], frac[a, 1]), []).append(int(a))
     edge = list(np.flatnonzero(~interior))
-    for members in classes.values():
-        if len(members) == 1:
-            edge.extend(members)
-            continue
+    multi = [m for m in classes.values() if len(m) >= 2]
+    edge.extend(a for m in classes.values() if len(m) == 1 for a in m)
+    table = None  # (members, lag table): the interior block of a single class
+    for members in multi:
         # reference: the first member's image, convolved on a window 3N wide
         # (pixel q of the window is grid pixel q - N), enough for every member's shift
         ref = members[0]
@@ -171,6 +171,16 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
         window = sfft.irfft2(sfft.rfft2(image) * kernel_fft(size_big, size_big // 2),
                              s=(size_big, size_big))
         members = np.asarray(members)
+        if len(multi) == 1:
+            # G_D[a, b] = sum_t IF_ref(t) (D IF_ref)(t + s_a - s_b): a lag table of the
+            # whole-pixel offset, read for every interior pair; the columns of the cut
+            # actuators (below) give the rest
+            wx, wy = whole[ref]
+            box = image[wy - reach + n_side:wy + reach + 1 + n_side,
+                        wx - reach + n_side:wx + reach + 1 + n_side]
+            lags = signal.correlate(window[:big, :big], box, mode="valid")
+            table = (members, lags, whole[ref] - reach + n_side)
+            continue
         for start in range(0, members.size, 4 * _BATCH):
             chunk = members[start:start + 4 * _BATCH]
             shift = whole[chunk] - whole[ref]  # (b, 2) (column, row)
@@ -205,6 +215,11 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
         rows_ = sfft.ifft(spec, axis=1, overwrite_x=True)[:, :n_side, :]
         full = sfft.irfft(rows_, n=size, axis=2)[:, :, :n_side]
         g_d[:, chunk] = mat.T @ full.reshape(b, -1)[:, flat].T
+    if table is not None:
+        members, lags, origin = table
+        d = whole[members][:, None, :] - whole[members][None, :, :]  # s_a - s_b
+        g_d[np.ix_(members, members)] = lags[origin[1] + d[..., 1], origin[0] + d[..., 0]]
+        g_d[np.ix_(edge, members)] = g_d[np.ix_(members, edge)].T
     u = np.asarray(mat.sum(axis=0)).ravel()
     d_w = convolve(mask.astype(np.float64)[None])[:, 0] / n
     v = mat.T @ d_w
