@@ -33,7 +33,7 @@ import time
 import numpy as np
 
 from modalinfo.bases import InfluenceFunctions, MaskedPupil, Pupil, dm_kl_modes
-from modalinfo.bases.dm_kl import _whitened_covariance
+from modalinfo.bases.dm_kl import _command_prior
 
 ARCSEC = math.pi / 180 / 3600
 
@@ -112,7 +112,7 @@ def main() -> None:
         f = InfluenceFunctions(pupil, n_act, pitch)
         f.gram()  # the metric (0.3 s) is the mirror's, built once with it
         t0 = time.process_time()
-        _whitened_covariance(f, 0.07, 27.0)
+        _command_prior(f, 0.07, 27.0)
         prior = time.process_time() - t0
         t0 = time.process_time()
         m2c, var = dm_kl_modes(f, 0.07, 27.0)

@@ -227,17 +227,13 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
     return 0.5 * (g_d + g_d.T), u, v, s
 
 
-def _whitened_covariance(influence: InfluenceFunctions, r0: float,
-                         outer_scale: float) -> tuple[np.ndarray, np.ndarray]:
-    """Cholesky factor ``L`` of the DM metric and the prior covariance ``C_z`` [rad^2]."""
+def _command_prior(influence: InfluenceFunctions, r0: float, outer_scale: float) -> np.ndarray:
+    """``S = M^T C_phi M / n^2`` [rad^2], the prior covariance of ``M^T phi / n``."""
     n = influence.pupil.n_valid
     g_d, u, v, s = _structure_operator(influence, r0, outer_scale)
     # M^T C_phi M with C_phi = -1/2 P D P, P = I - 1 1^T / n
     s_mat = -0.5 * (g_d - np.outer(u, v) - np.outer(v, u) + s * np.outer(u, u)) / n**2
-    chol = linalg.cholesky(influence.gram(), lower=True)
-    half = linalg.solve_triangular(chol, s_mat, lower=True)
-    c_z = linalg.solve_triangular(chol, half.T, lower=True)
-    return chol, 0.5 * (c_z + c_z.T)
+    return 0.5 * (s_mat + s_mat.T)
 
 
 def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = np.inf, *,
@@ -280,38 +276,69 @@ def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = n
         raise ValueError(f"`influence` must have at least 4 valid actuators; got {n_act}.")
     n_keep = n_act - 1 if n_modes is None else check_int(n_modes, "n_modes", minimum=1,
                                                          maximum=n_act - 1)
-    chol, c_z = _whitened_covariance(influence, r0, outer_scale)
+    s_mat = _command_prior(influence, r0, outer_scale)
+    gram = influence.gram()
     pupil = influence.pupil
     mask = np.asarray(pupil.mask)
-    targets = np.stack([np.ones(pupil.n_valid), np.asarray(pupil.x)[mask],
-                        np.asarray(pupil.y)[mask]], axis=1)
-    b = linalg.solve_triangular(chol, influence.matrix.T @ targets / pupil.n_valid, lower=True)
     n_fixed = 3 if tip_tilt_apart else 1
-    q, r = np.linalg.qr(b[:, :n_fixed], mode="complete")
-    q[:, :n_fixed] *= np.sign(np.diag(r))  # tip along +x, tilt along +y
-    rest = q[:, n_fixed:]
-    prior = rest.T @ c_z @ rest
-    dim = prior.shape[0]
+    targets = np.stack([np.ones(pupil.n_valid), np.asarray(pupil.x)[mask],
+                        np.asarray(pupil.y)[mask]], axis=1)[:, :n_fixed]
+    # the DM's least-squares fits of piston, x, y, orthonormalised in that order in the
+    # DM metric (Gram-Schmidt, twice for rounding): tip and tilt are the DM's best ones
+    chol = linalg.cholesky(gram, lower=True)
+    fits = linalg.cho_solve((chol, True), influence.matrix.T @ targets / pupil.n_valid)
+    fixed = np.empty((n_act, n_fixed))
+    for k in range(n_fixed):
+        vec = fits[:, k].copy()
+        for _ in range(2):
+            vec -= fixed[:, :k] @ (fixed[:, :k].T @ (gram @ vec))
+        fixed[:, k] = vec / math.sqrt(vec @ gram @ vec)
+    # whitened coordinates z = L^T c (G = L L^T): mirror shapes orthonormal, the prior
+    # L^-1 S L^-T; the complement of the fixed directions is spanned by the last
+    # columns of the Householder Q of L^T F, applied as its 1-3 reflectors (O(n^2)
+    # each) rather than as an n x n matrix, so modes >= 3 are orthogonal to them to
+    # rounding whatever their variance
+    half = linalg.solve_triangular(chol, s_mat, lower=True)
+    std = linalg.solve_triangular(chol, half.T, lower=True)
+    std = 0.5 * (std + std.T)
+    (qr_raw, tau), _ = linalg.qr(chol.T @ fixed, mode="raw")
+    reflectors = []
+    for k in range(n_fixed):
+        vec = np.zeros(n_act)
+        vec[k] = 1.0
+        vec[k + 1:] = qr_raw[k + 1:, k]
+        reflectors.append((vec, tau[k]))
+    for vec, t in reflectors:  # std <- H std H, H = I - t v v^T (Q^T std Q, Q = H1 H2 H3)
+        av = std @ vec
+        std -= t * np.outer(vec, av) + t * np.outer(av, vec) - t * t * (vec @ av) * np.outer(
+            vec, vec)
+    prior = std[n_fixed:, n_fixed:]
+    prior = 0.5 * (prior + prior.T)
+    dim = n_act - n_fixed
     n_eig = max(1, min(dim, n_keep - (n_fixed - 1)))  # eigenvectors after tip/tilt
+    # MRRR for the largest n_eig only (a 76 x 76 altitude DM has 4,600 actuators and
+    # ~1,500 modes), else divide and conquer
     if n_eig < dim:
-        # only the largest: MRRR on a subset (a 76 x 76 altitude DM has 4,600 actuators
-        # and is controlled through ~1,500 modes)
         values, vectors = linalg.eigh(prior, subset_by_index=[dim - n_eig, dim - 1],
                                       driver="evr")
     else:
         values, vectors = np.linalg.eigh(prior)
+    z = np.zeros((n_act, vectors.shape[1]))
+    z[n_fixed:] = vectors
+    for vec, t in reversed(reflectors):  # z <- Q z = H1 H2 H3 z
+        z -= t * np.outer(vec, vec @ z)
+    vectors = linalg.solve_triangular(chol.T, z, lower=False)
     order = np.argsort(values)[::-1]
     values, vectors = values[order], vectors[:, order]
-    # deterministic signs: the largest-magnitude stroke of every mode positive
-    z_rest = rest @ vectors
     if tip_tilt_apart:
-        z = np.concatenate([q[:, 1:3], z_rest], axis=1)[:, :n_keep]
-        tt = np.einsum("ik,ij,jk->k", q[:, 1:3], c_z, q[:, 1:3])
+        m2c = np.concatenate([fixed[:, 1:3], vectors], axis=1)[:, :n_keep]
+        tt = np.einsum("ik,ij,jk->k", fixed[:, 1:3], s_mat, fixed[:, 1:3])
         var = np.concatenate([tt, values])[:n_keep]
     else:
-        z = z_rest[:, :n_keep]
+        m2c = vectors[:, :n_keep]
         var = values[:n_keep]
-    m2c = linalg.solve_triangular(chol.T, z, lower=False)
+    m2c = np.array(m2c)
+    # deterministic signs: the largest-magnitude stroke of every K-L mode positive
     if tip_tilt_apart:
         fix = slice(2, None)
     else:
