@@ -32,11 +32,16 @@ COMPASS (``shesha.ao.basis.compute_KL2V``) build them:
 
 No ``(pixels x pixels)`` matrix is formed: ``D`` is Toeplitz on the pixel grid
 (stationarity), so ``D M`` is, column by column, the convolution of the masked influence
-function with ``D_phi`` sampled on the ``(2N - 1)^2`` lags, done by FFT in batches;
-``M^T (D M)`` follows from the sparse ``M``. At 44 x 44 actuators on a 172-pixel pupil
-that is ~1,500 FFTs of 343^2 points (seconds) instead of a 23k x 23k covariance.
+function with ``D_phi`` sampled on the ``(2N - 1)^2`` lags. Actuators the pupil leaves
+whole are whole-pixel translates of one another within a sub-pixel class: one
+convolution serves a class (with a single class, ``M^T D M`` of its members is read
+from one lag table); each actuator the rim cuts takes one FFT pair on its support
+window. The complement of piston/tip/tilt is taken with their 1-3 Householder
+reflectors in the whitened space (no ``n x n`` orthogonal matrix). At 44 x 44 actuators
+on a 172-pixel pupil the whole build takes ~3 s of CPU (``benchmarks/RESULTS.md``).
 
-Structure function (von Karman, Conan 2000 PhD thesis; Sasiela 2007, eq. 2.49)::
+Structure function (von Karman; the closed form of the PSD's Hankel transform, e.g.
+Conan 2000, PhD thesis, Universite Paris XI; the tests check it against the integral)::
 
     D_phi(r) = 2 (B(0) - B(r)),
     B(r) = (L0/r0)^(5/3) 2^(-5/6) Gamma(11/6) / pi^(8/3) [24/5 Gamma(6/5)]^(5/6)
