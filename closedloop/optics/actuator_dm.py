@@ -11,7 +11,7 @@ telescope's pitch.
 ``M2C_KL``, COMPASS's ``KL2V``): ``n_modes`` DM-space K-L modes
 (:func:`modalinfo.bases.dm_kl_modes`: DM's best tip and tilt first, then the von Karman
 prior diagonalised in the DM metric, piston removed), unit RMS over the disc. The
-strokes are ``m2c @ commands`` (dense ``(n_actuators, n_modes)``, 18 MB at 1,520 x 1,519)
+strokes are ``m2c @ commands`` (dense ``(n_actuators, n_modes)``, 20 MB at 1,584 x 1,583)
 and the surface is the separable banded influence operator applied to them
 (:meth:`modalinfo.bases.InfluenceFunctions.surface`), never a dense
 ``(pixels x modes)`` product per frame: the loop's logs, prior and reconstructor stay
