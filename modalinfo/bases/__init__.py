@@ -1,4 +1,4 @@
-"""Modal bases of the pupil: Zernike polynomials, K-L modes and turbulence statistics."""
+"""Modal bases of the pupil: Zernike, K-L (theoretical, empirical, DM-space), actuator IFs."""
 
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.dm_kl import DMKLBasis, dm_kl_modes, von_karman_structure_function
