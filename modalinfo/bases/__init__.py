@@ -1,6 +1,7 @@
-"""Modal bases of the pupil: Zernike polynomials, K-L modes and turbulence statistics."""
+"""Modal bases of the pupil: Zernike, K-L (theoretical, empirical, DM-space), actuator IFs."""
 
 from modalinfo.bases.basis import ModalBasis
+from modalinfo.bases.dm_kl import DMKLBasis, dm_kl_modes, von_karman_structure_function
 from modalinfo.bases.identify import ZernikeIdentification, identify_zernike
 from modalinfo.bases.image_basis import MaskedPupil, basis_from_images, pupil_from_mask
 from modalinfo.bases.indexing import (
@@ -16,6 +17,7 @@ from modalinfo.bases.indexing import (
     zernike_to_fringe,
     zernike_to_noll,
 )
+from modalinfo.bases.influence import InfluenceFunctions
 from modalinfo.bases.kl import KLBasis, default_zernike_modes
 from modalinfo.bases.pupil import Pupil
 from modalinfo.bases.turbulence import (
@@ -40,6 +42,10 @@ __all__ = [
     "ZernikeIdentification",
     "ZernikeBasis",
     "KLBasis",
+    "InfluenceFunctions",
+    "DMKLBasis",
+    "dm_kl_modes",
+    "von_karman_structure_function",
     "default_zernike_modes",
     "zernike_radial",
     "zernike_polynomial",

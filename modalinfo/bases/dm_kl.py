@@ -1,0 +1,434 @@
+"""Karhunen-Loeve modes in the space of a deformable mirror (DM-space K-L).
+
+The modes a DM of actuators is controlled through, as OOPAO
+(``OOPAO.calibration.compute_KL_modal_basis.compute_KL_basis`` -> ``compute_M2C``, the
+"double diagonalisation" of Gendron 1995, also OOMAO's ``KLBasisDecomposition``) and
+COMPASS (``shesha.ao.basis.compute_KL2V``) build them:
+
+1. **Geometric diagonalisation** -- the DM metric. With ``M`` the influence functions
+   on the ``n`` pupil pixels (``(n, n_act)``, :class:`~modalinfo.bases.InfluenceFunctions`),
+   the Gram matrix ``G = M^T M / n`` is the pupil-mean inner product of mirror shapes;
+   ``G = L L^T`` (Cholesky) whitens it: ``z = L^T c`` are coordinates in which mirror
+   shapes are orthonormal.
+2. **Statistical diagonalisation** -- the turbulence prior. The least-squares fit of a
+   phase ``phi`` by the mirror has whitened coordinates ``z = L^{-1} M^T phi / n``,
+   whose covariance is ``C_z = L^{-1} S L^{-T}``, ``S = M^T C_phi M / n^2``. ``C_phi``
+   is the piston-removed von Karman covariance over the pupil,
+   ``C_phi = -1/2 P D P`` with ``D[p, q] = D_phi(|x_p - x_q|)`` the phase structure
+   function and ``P = I - 1 1^T / n`` the pupil-piston remover (the constant
+   ``B(0)`` of the covariance, infinite for Kolmogorov turbulence, cancels in ``P``).
+3. **Piston removed, tip/tilt apart.** The mirror's best fits of piston, ``x`` and
+   ``y`` (``b = L^{-1} M^T t / n``) are orthonormalised in that order (Gram-Schmidt):
+   the second and third vectors are **exactly the DM's best tip and tilt** (made
+   piston-free) and become modes 1 and 2; piston is dropped; ``C_z`` is diagonalised
+   in the orthogonal complement of the three, and its eigenvectors, by decreasing
+   eigenvalue, are modes 3, 4, ... (With ``tip_tilt_apart=False`` only piston is
+   removed and every mode is an eigenvector, as the library's theoretical K-L.)
+   The modes' commands are ``M2C = L^{-T} [u_1 .. u_M]`` ``(n_act, M)``; their
+   surfaces are orthonormal over the pupil (``M2C^T G M2C = I``), have zero pupil mean,
+   and modes >= 3 have zero tip/tilt content. Tip/tilt keep their correlation with the
+   coma-like modes (turbulence correlates Z2 and Z8): only the block of modes >= 3 is
+   diagonal under the prior.
+
+No ``(pixels x pixels)`` matrix is formed: ``D`` is Toeplitz on the pixel grid
+(stationarity), so ``D M`` is, column by column, the convolution of the masked influence
+function with ``D_phi`` sampled on the ``(2N - 1)^2`` lags. Actuators the pupil leaves
+whole are whole-pixel translates of one another within a sub-pixel class: one
+convolution serves a class (with a single class, ``M^T D M`` of its members is read
+from one lag table); each actuator the rim cuts takes one FFT pair on its support
+window. The complement of piston/tip/tilt is taken with their 1-3 Householder
+reflectors in the whitened space (no ``n x n`` orthogonal matrix). At 44 x 44 actuators
+on a 172-pixel pupil the whole build takes ~3 s of CPU (``benchmarks/RESULTS.md``).
+
+Structure function (von Karman; the closed form of the PSD's Hankel transform, e.g.
+Conan 2000, PhD thesis, Universite Paris XI; the tests check it against the integral)::
+
+    D_phi(r) = 2 (B(0) - B(r)),
+    B(r) = (L0/r0)^(5/3) 2^(-5/6) Gamma(11/6) / pi^(8/3) [24/5 Gamma(6/5)]^(5/6)
+           (2 pi r / L0)^(5/6) K_{5/6}(2 pi r / L0),
+    B(0) = (L0/r0)^(5/3) Gamma(11/6) Gamma(5/6) / (2 pi^(8/3)) [24/5 Gamma(6/5)]^(5/6)
+         = 0.0863 (L0/r0)^(5/3),
+
+and ``D_phi(r) = 6.8839 (r/r0)^(5/3)`` for ``L0 = inf`` (Kolmogorov), its limit for
+``r << L0``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import fft as sfft
+from scipy import linalg, signal, special
+
+from modalinfo.common.validation import as_float_array, check_int, check_real
+from modalinfo.bases.basis import ModalBasis
+from modalinfo.bases.influence import InfluenceFunctions
+
+__all__ = ["DMKLBasis", "dm_kl_modes", "von_karman_structure_function"]
+
+#: 2 [(24/5) Gamma(6/5)]^(5/6): Kolmogorov structure-function constant
+_KOLMOGOROV_D = 2.0 * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0)
+_VK_B = (2.0 ** (-5.0 / 6.0) * math.gamma(11.0 / 6.0) / math.pi ** (8.0 / 3.0)
+         * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0))
+_VK_B0 = (math.gamma(11.0 / 6.0) * math.gamma(5.0 / 6.0) / (2.0 * math.pi ** (8.0 / 3.0))
+          * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0))
+#: actuators per FFT batch (memory ~ batch x P^2 x 16 bytes: 60 MB at P = 343)
+_BATCH = 32
+
+
+def von_karman_structure_function(r, r0: float, outer_scale: float = np.inf) -> np.ndarray:
+    """Phase structure function of von Karman turbulence [rad^2].
+
+    Parameters
+    ----------
+    r : array_like
+        Separations [m], ``>= 0``.
+    r0 : float
+        Fried parameter [m] at the phase's wavelength, ``> 0``.
+    outer_scale : float
+        Outer scale ``L0`` [m], ``> 0``; ``inf`` for Kolmogorov ``6.8839 (r/r0)^(5/3)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``D_phi(r)``, the shape of ``r`` (module docstring for the formula).
+    """
+    r0 = check_real(r0, "r0", minimum=0.0, strict_min=True)
+    outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
+                             allow_inf=True)
+    r = np.abs(np.asarray(r, dtype=np.float64))
+    if math.isinf(outer_scale):
+        return _KOLMOGOROV_D * (r / r0) ** (5.0 / 3.0)
+    u = 2.0 * math.pi * r / outer_scale
+    scale = (outer_scale / r0) ** (5.0 / 3.0)
+    with np.errstate(invalid="ignore"):
+        b = np.where(u > 0, _VK_B * u ** (5.0 / 6.0) * special.kv(5.0 / 6.0, np.maximum(u, 1e-300)),
+                     _VK_B0)
+    return 2.0 * scale * (_VK_B0 - b)
+
+
+def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: float):
+    """``(G_D, u, v, s)`` for ``M^T D M``, ``M^T 1``, ``M^T D 1 / n``, ``1^T D 1 / n^2``.
+
+    ``D M`` column by column: an actuator whose support lies inside the pupil (its
+    influence function unmasked) is a whole-pixel translate of any other such actuator
+    with the same sub-pixel position, so one convolution per sub-pixel class serves all
+    of them (read at shifted pixels); only the actuators the pupil's edge cuts need one
+    FFT each.
+    """
+    pupil = influence.pupil
+    n_side = pupil.n_pixels
+    mask = np.asarray(pupil.mask)
+    flat = np.flatnonzero(mask.ravel())
+    rows, cols = flat // n_side, flat % n_side
+    n = flat.size
+    dx = influence.pixel_scale
+    mat = influence.matrix
+    csc = mat.tocsc()
+    n_act = mat.shape[1]
+    g_d = np.empty((n_act, n_act))
+
+    def kernel_fft(size: int, reach: int) -> np.ndarray:
+        lag = np.arange(size)
+        lag = np.where(lag < reach, lag, lag - size).astype(np.float64)  # wrapped lags
+        dist = np.hypot(lag[:, None], lag[None, :]) * dx
+        return sfft.rfft2(von_karman_structure_function(dist, r0, outer_scale))
+
+    size = sfft.next_fast_len(2 * n_side - 1, real=True)
+    kernel = kernel_fft(size, n_side)
+
+    def convolve(images: np.ndarray) -> np.ndarray:
+        """``D`` applied to ``(b, N, N)`` images, read at the pupil pixels: ``(n, b)``."""
+        spec = sfft.rfft2(images, s=(size, size), axes=(1, 2))
+        spec *= kernel
+        full = sfft.irfft2(spec, s=(size, size), axes=(1, 2))[:, :n_side, :n_side]
+        return full.reshape(images.shape[0], -1)[:, flat].T
+
+    # sub-pixel class and whole-pixel position of every valid actuator, and which ones
+    # the pupil leaves whole (support inside the mask, not clipped by the grid)
+    act = influence.valid_positions  # (x, y)
+    pos = (act - influence.coords[0]) / dx  # fractional pixel index (column, row)
+    whole = np.floor(pos + 1e-9).astype(np.int64)
+    frac = np.round(pos - whole, 9)
+    reach = int(math.ceil(influence.radius / dx))
+    interior = np.zeros(n_act, dtype=bool)
+    for a in range(n_act):
+        lo, hi = whole[a] - reach, whole[a] + reach + 1
+        if lo.min() >= 0 and hi.max() <= n_side:
+            interior[a] = bool(mask[lo[1]:hi[1], lo[0]:hi[0]].all())
+    classes: dict[tuple[float, float], list[int]] = {}
+    for a in np.flatnonzero(interior):
+        classes.setdefault((frac[a, 0], frac[a, 1]), []).append(int(a))
+    edge = list(np.flatnonzero(~interior))
+    multi = [m for m in classes.values() if len(m) >= 2]
+    edge.extend(a for m in classes.values() if len(m) == 1 for a in m)
+    table = None  # (members, lag table): the interior block of a single class
+    for members in multi:
+        # reference: the first member's image, convolved on a window 3N wide
+        # (pixel q of the window is grid pixel q - N), enough for every member's shift
+        ref = members[0]
+        big = 3 * n_side
+        size_big = sfft.next_fast_len(big + n_side, real=True)
+        image = np.zeros((size_big, size_big))
+        col = csc[:, ref].toarray().ravel()
+        image[rows + n_side, cols + n_side] = col
+        window = sfft.irfft2(sfft.rfft2(image) * kernel_fft(size_big, size_big // 2),
+                             s=(size_big, size_big))
+        members = np.asarray(members)
+        if len(multi) == 1:
+            # G_D[a, b] = sum_t IF_ref(t) (D IF_ref)(t + s_a - s_b): a lag table of the
+            # whole-pixel offset, read for every interior pair; the columns of the cut
+            # actuators (below) give the rest
+            wx, wy = whole[ref]
+            box = image[wy - reach + n_side:wy + reach + 1 + n_side,
+                        wx - reach + n_side:wx + reach + 1 + n_side]
+            lags = signal.correlate(window[:big, :big], box, mode="valid")
+            table = (members, lags, whole[ref] - reach + n_side)
+            continue
+        for start in range(0, members.size, 4 * _BATCH):
+            chunk = members[start:start + 4 * _BATCH]
+            shift = whole[chunk] - whole[ref]  # (b, 2) (column, row)
+            block = window[rows[:, None] - shift[None, :, 1] + n_side,
+                           cols[:, None] - shift[None, :, 0] + n_side]  # (n, b)
+            g_d[:, chunk] = mat.T @ block
+    edge = np.sort(np.asarray(edge, dtype=np.int64))
+    # each cut actuator's image is non-zero in a (2 reach + 2)^2 window only: its
+    # forward transform runs along x on the window's rows and along y with the shift
+    # theorem, and the inverse along x only on the N rows read (~1/3 less than two
+    # full 2-D transforms)
+    side = 2 * reach + 2
+    pad = side
+    ky = np.fft.fftfreq(size)[None, :, None]
+    kx = np.fft.rfftfreq(size)[None, None, :]
+    images = np.zeros((_BATCH, n_side + 2 * pad, n_side + 2 * pad))
+    for start in range(0, edge.size, _BATCH):
+        chunk = edge[start:start + _BATCH]
+        b = chunk.size
+        images[:b] = 0.0
+        images[np.arange(b)[:, None], rows[None, :] + pad,
+               cols[None, :] + pad] = csc[:, chunk].toarray().T
+        x0 = whole[chunk, 0] - reach  # window origin on the grid (may be < 0)
+        y0 = whole[chunk, 1] - reach
+        windows = np.stack([images[k, y0[k] + pad:y0[k] + pad + side,
+                                   x0[k] + pad:x0[k] + pad + side] for k in range(b)])
+        spec = sfft.rfft(windows, n=size, axis=2)
+        spec *= np.exp(-2j * np.pi * kx * x0[:, None, None])
+        spec = sfft.fft(spec, n=size, axis=1)
+        spec *= np.exp(-2j * np.pi * ky * y0[:, None, None])
+        spec *= kernel
+        rows_ = sfft.ifft(spec, axis=1, overwrite_x=True)[:, :n_side, :]
+        full = sfft.irfft(rows_, n=size, axis=2)[:, :, :n_side]
+        g_d[:, chunk] = mat.T @ full.reshape(b, -1)[:, flat].T
+    if table is not None:
+        members, lags, origin = table
+        d = whole[members][:, None, :] - whole[members][None, :, :]  # s_a - s_b
+        g_d[np.ix_(members, members)] = lags[origin[1] + d[..., 1], origin[0] + d[..., 0]]
+        g_d[np.ix_(edge, members)] = g_d[np.ix_(members, edge)].T
+    u = np.asarray(mat.sum(axis=0)).ravel()
+    d_w = convolve(mask.astype(np.float64)[None])[:, 0] / n
+    v = mat.T @ d_w
+    s = float(d_w.sum() / n)
+    return 0.5 * (g_d + g_d.T), u, v, s
+
+
+def _command_prior(influence: InfluenceFunctions, r0: float, outer_scale: float) -> np.ndarray:
+    """``S = M^T C_phi M / n^2`` [rad^2], the prior covariance of ``M^T phi / n``."""
+    n = influence.pupil.n_valid
+    g_d, u, v, s = _structure_operator(influence, r0, outer_scale)
+    # M^T C_phi M with C_phi = -1/2 P D P, P = I - 1 1^T / n
+    s_mat = -0.5 * (g_d - np.outer(u, v) - np.outer(v, u) + s * np.outer(u, u)) / n**2
+    return 0.5 * (s_mat + s_mat.T)
+
+
+def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = np.inf, *,
+                n_modes: int | None = None,
+                tip_tilt_apart: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Modal-to-command matrix and prior variances of the DM-space K-L modes.
+
+    Parameters
+    ----------
+    influence : InfluenceFunctions
+        The mirror (its pupil is where the modes are orthonormal).
+    r0 : float
+        Fried parameter [m] at the phase's wavelength, ``> 0``.
+    outer_scale : float
+        Von Karman outer scale ``L0`` [m], ``> 0`` (``inf``: Kolmogorov).
+    n_modes : int, optional
+        Modes kept, ``1 <= n_modes <= n_valid - 1`` (default all: ``n_valid - 1``).
+    tip_tilt_apart : bool
+        True (default): modes 1-2 are the DM's best tip and tilt, the rest diagonalise
+        the prior in their complement (OOPAO, COMPASS); False: every mode diagonalises
+        the prior (piston removed only).
+
+    Returns
+    -------
+    m2c : (n_valid, n_modes) float64
+        Actuator strokes of each mode (unit-RMS surface over the pupil).
+    variances : (n_modes,) float64
+        Prior variance [rad^2] of each mode's coefficient.
+    """
+    if not isinstance(influence, InfluenceFunctions):
+        raise TypeError("`influence` must be a modalinfo.bases.InfluenceFunctions; got "
+                        f"{type(influence).__name__}.")
+    r0 = check_real(r0, "r0", minimum=0.0, strict_min=True)
+    outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
+                             allow_inf=True)
+    if not isinstance(tip_tilt_apart, bool | np.bool_):
+        raise TypeError(f"`tip_tilt_apart` must be a bool; got {tip_tilt_apart!r}.")
+    n_act = influence.n_valid
+    if n_act < 4:
+        raise ValueError(f"`influence` must have at least 4 valid actuators; got {n_act}.")
+    n_keep = n_act - 1 if n_modes is None else check_int(n_modes, "n_modes", minimum=1,
+                                                         maximum=n_act - 1)
+    s_mat = _command_prior(influence, r0, outer_scale)
+    gram = influence.gram()
+    pupil = influence.pupil
+    mask = np.asarray(pupil.mask)
+    n_fixed = 3 if tip_tilt_apart else 1
+    targets = np.stack([np.ones(pupil.n_valid), np.asarray(pupil.x)[mask],
+                        np.asarray(pupil.y)[mask]], axis=1)[:, :n_fixed]
+    # the DM's least-squares fits of piston, x, y, orthonormalised in that order in the
+    # DM metric (Gram-Schmidt, twice for rounding): tip and tilt are the DM's best ones
+    chol = linalg.cholesky(gram, lower=True)
+    fits = linalg.cho_solve((chol, True), influence.matrix.T @ targets / pupil.n_valid)
+    fixed = np.empty((n_act, n_fixed))
+    for k in range(n_fixed):
+        vec = fits[:, k].copy()
+        for _ in range(2):
+            vec -= fixed[:, :k] @ (fixed[:, :k].T @ (gram @ vec))
+        fixed[:, k] = vec / math.sqrt(vec @ gram @ vec)
+    # whitened coordinates z = L^T c (G = L L^T): mirror shapes orthonormal, the prior
+    # L^-1 S L^-T; the complement of the fixed directions is spanned by the last
+    # columns of the Householder Q of L^T F, applied as its 1-3 reflectors (O(n^2)
+    # each) rather than as an n x n matrix, so modes >= 3 are orthogonal to them to
+    # rounding whatever their variance
+    half = linalg.solve_triangular(chol, s_mat, lower=True)
+    std = linalg.solve_triangular(chol, half.T, lower=True)
+    std = 0.5 * (std + std.T)
+    (qr_raw, tau), _ = linalg.qr(chol.T @ fixed, mode="raw")
+    reflectors = []
+    for k in range(n_fixed):
+        vec = np.zeros(n_act)
+        vec[k] = 1.0
+        vec[k + 1:] = qr_raw[k + 1:, k]
+        reflectors.append((vec, tau[k]))
+    for vec, t in reflectors:  # std <- H std H, H = I - t v v^T (Q^T std Q, Q = H1 H2 H3)
+        av = std @ vec
+        std -= t * np.outer(vec, av) + t * np.outer(av, vec) - t * t * (vec @ av) * np.outer(
+            vec, vec)
+    prior = std[n_fixed:, n_fixed:]
+    prior = 0.5 * (prior + prior.T)
+    dim = n_act - n_fixed
+    n_eig = max(1, min(dim, n_keep - (n_fixed - 1)))  # eigenvectors after tip/tilt
+    # MRRR for the largest n_eig only (a 76 x 76 altitude DM has 4,600 actuators and
+    # ~1,500 modes), else divide and conquer
+    if n_eig < dim:
+        values, vectors = linalg.eigh(prior, subset_by_index=[dim - n_eig, dim - 1],
+                                      driver="evr")
+    else:
+        values, vectors = np.linalg.eigh(prior)
+    z = np.zeros((n_act, vectors.shape[1]))
+    z[n_fixed:] = vectors
+    for vec, t in reversed(reflectors):  # z <- Q z = H1 H2 H3 z
+        z -= t * np.outer(vec, vec @ z)
+    vectors = linalg.solve_triangular(chol.T, z, lower=False)
+    order = np.argsort(values)[::-1]
+    values, vectors = values[order], vectors[:, order]
+    if tip_tilt_apart:
+        m2c = np.concatenate([fixed[:, 1:3], vectors], axis=1)[:, :n_keep]
+        tt = np.einsum("ik,ij,jk->k", fixed[:, 1:3], s_mat, fixed[:, 1:3])
+        var = np.concatenate([tt, values])[:n_keep]
+    else:
+        m2c = vectors[:, :n_keep]
+        var = values[:n_keep]
+    m2c = np.array(m2c)
+    # deterministic signs: the largest-magnitude stroke of every K-L mode positive
+    if tip_tilt_apart:
+        fix = slice(2, None)
+    else:
+        fix = slice(0, None)
+    sub = m2c[:, fix]
+    idx = np.argmax(np.abs(sub), axis=0)
+    signs = np.sign(sub[idx, np.arange(sub.shape[1])])
+    signs[signs == 0] = 1.0
+    m2c[:, fix] = sub * signs
+    return np.ascontiguousarray(m2c), np.clip(var, 0.0, None)
+
+
+class DMKLBasis(ModalBasis):
+    """DM-space K-L modes: surfaces of a mirror's K-L commands on its pupil.
+
+    Build with :meth:`from_influence`. A :class:`~modalinfo.bases.ModalBasis` like the
+    others (reorder, project, log, export); the pixel matrix is
+    ``influence.matrix @ m2c`` (dense ``(n_pupil_pixels, M)``).
+
+    Parameters
+    ----------
+    influence : InfluenceFunctions
+    m2c : (n_valid, M) array_like
+        Actuator strokes of each mode.
+    variances : (M,) array_like
+        Prior variance of each mode [rad^2].
+    labels : sequence of str, optional
+        Default ``"DMKL1"``...
+
+    Attributes
+    ----------
+    m2c : (n_valid, M) float64
+        Modal-to-command matrix.
+    variances : (M,) float64
+        Prior variances [rad^2] (at the ``r0`` of :meth:`from_influence`).
+    influence : InfluenceFunctions
+    """
+
+    def __init__(self, influence: InfluenceFunctions, m2c, variances, labels=None) -> None:
+        if not isinstance(influence, InfluenceFunctions):
+            raise TypeError("`influence` must be a modalinfo.bases.InfluenceFunctions; got "
+                            f"{type(influence).__name__}.")
+        m2c = as_float_array(m2c, "m2c", ndim=2, copy=True)
+        if m2c.shape[0] != influence.n_valid:
+            raise ValueError(f"`m2c` must have n_valid={influence.n_valid} rows (one per "
+                             f"actuator); got shape {m2c.shape}.")
+        var = as_float_array(variances, "variances", shape=(m2c.shape[1],), copy=True)
+        if labels is None:
+            labels = [f"DMKL{k + 1}" for k in range(m2c.shape[1])]
+        matrix = np.asarray(influence.matrix @ m2c)
+        super().__init__(matrix, influence.pupil, labels, _copy=False)
+        m2c.flags.writeable = False
+        var.flags.writeable = False
+        self._influence = influence
+        self._m2c = m2c
+        self._variances = var
+
+    @classmethod
+    def from_influence(cls, influence: InfluenceFunctions, r0: float,
+                       outer_scale: float = np.inf, *, n_modes: int | None = None,
+                       tip_tilt_apart: bool = True) -> DMKLBasis:
+        """DM-space K-L modes of von Karman turbulence (see :func:`dm_kl_modes`)."""
+        m2c, var = dm_kl_modes(influence, r0, outer_scale, n_modes=n_modes,
+                               tip_tilt_apart=tip_tilt_apart)
+        return cls(influence, m2c, var)
+
+    @property
+    def m2c(self) -> np.ndarray:
+        """Modal-to-command matrix ``(n_valid, M)``."""
+        return self._m2c
+
+    @property
+    def variances(self) -> np.ndarray:
+        """Prior variance of each mode ``(M,)`` [rad^2]."""
+        return self._variances
+
+    @property
+    def influence(self) -> InfluenceFunctions:
+        """The mirror's influence functions."""
+        return self._influence
+
+    def _permute_extra(self, new: ModalBasis, index: np.ndarray) -> None:
+        m2c = np.ascontiguousarray(self._m2c[:, index])
+        var = self._variances[index].copy()
+        m2c.flags.writeable = False
+        var.flags.writeable = False
+        new._m2c = m2c
+        new._variances = var
