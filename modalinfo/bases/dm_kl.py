@@ -61,9 +61,9 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import linalg, signal, special
 
-from modalinfo.common.validation import as_float_array, check_int, check_real
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.influence import InfluenceFunctions
+from modalinfo.common.validation import as_float_array, check_int, check_real
 
 __all__ = ["DMKLBasis", "dm_kl_modes", "von_karman_structure_function"]
 

@@ -57,9 +57,9 @@ import math
 import numpy as np
 from scipy import linalg, sparse
 
-from modalinfo.common.validation import as_float_array, check_int, check_real
 from modalinfo.bases import _influence_kernels
 from modalinfo.bases.pupil import Pupil
+from modalinfo.common.validation import as_float_array, check_int, check_real
 
 __all__ = ["InfluenceFunctions", "DEFAULT_COUPLING", "DEFAULT_TRUNCATION",
            "DEFAULT_THRESHOLD", "gaussian_factor"]
