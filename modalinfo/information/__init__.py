@@ -32,13 +32,13 @@ from modalinfo.information.conditional import (
 )
 from modalinfo.information.copula import copula_scores
 from modalinfo.information.flow import TransferEntropyMap, transfer_entropy_map
+from modalinfo.information.resampling import optimal_block_length
 from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.uncertainty import (
     MIConfidenceResult,
     MIPermutationResult,
     mutual_information_ci,
     mutual_information_permutation_test,
-    optimal_block_length,
 )
 
 __all__ = [

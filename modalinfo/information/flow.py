@@ -88,8 +88,9 @@ import numpy as np
 from modalinfo._validation import check_choice, check_int, check_real, check_rng, free_memory_bytes
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
+from modalinfo.information.resampling import surrogate_shifts
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
-from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
+from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
 __all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_entropy_map"]
 
