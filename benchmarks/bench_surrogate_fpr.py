@@ -1,7 +1,7 @@
 """False-positive rate of every surrogate test of modalinfo (issue 28, item 3).
 
 Run: nice -n 5 /work/main/.venv/bin/python benchmarks/bench_surrogate_fpr.py
-     [--trials 1000] [--n 1000] [--surrogates 199] [--jobs 1] [--tests ...]
+     [--trials 1000] [--n 500] [--surrogates 99] [--jobs 1] [--tests ...]
 
 Null: x and y are independent stationary AR(1) series (coefficient phi = 0.9 and
 0.99, unit innovations, stationary start), n samples. Every trial draws one pair and
@@ -105,8 +105,8 @@ def one_trial(args: tuple) -> dict[str, float]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, default=1000)
-    ap.add_argument("--n", type=int, default=1000)
-    ap.add_argument("--surrogates", type=int, default=199)
+    ap.add_argument("--n", type=int, default=500)
+    ap.add_argument("--surrogates", type=int, default=99)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--tests", nargs="+", default=list(TESTS), choices=TESTS)
     a = ap.parse_args()

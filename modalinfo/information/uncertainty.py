@@ -11,8 +11,10 @@ understate the error:
 - a plain shuffle test of independence is anti-conservative (rejects far more often
   than its nominal level under the null), because shuffling y destroys its
   autocorrelation as well as the cross-dependence; the circular-shift test
-  (``permutation="circular"``) rotates y by random lags instead, which keeps the
-  autocorrelation of each series and breaks only the alignment.
+  (``permutation="circular"``) rotates y instead, by distinct multiples of a spacing
+  with the original at 0 (:mod:`modalinfo.information.resampling`, which also holds
+  the block bootstrap and the block length), which keeps the autocorrelation of each
+  series and breaks only the alignment.
 
 Bias. Plug-in MI estimators are biased: upward at small effective sample size
 (Miller-Madow corrects the histogram for n, but an autocorrelated series has far
