@@ -1,7 +1,7 @@
 """False-positive rate of every surrogate test of modalinfo (issue 28, item 3).
 
 Run: nice -n 5 /work/main/.venv/bin/python benchmarks/bench_surrogate_fpr.py
-     [--trials 1000] [--n 500] [--surrogates 99] [--jobs 1] [--tests ...]
+     [--trials 1000] [--n 500] [--surrogates 99] [--jobs 1] [--tests ...] [--phis ...]
 
 Null: x and y are independent stationary AR(1) series (coefficient phi = 0.9 and
 0.99, unit innovations, stationary start), n samples. Every trial draws one pair and
@@ -109,12 +109,15 @@ def main() -> None:
     ap.add_argument("--surrogates", type=int, default=99)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--tests", nargs="+", default=list(TESTS), choices=TESTS)
+    ap.add_argument("--phis", nargs="+", type=float, default=list(PHIS), choices=PHIS)
     a = ap.parse_args()
     print(f"n = {a.n}, {a.surrogates} surrogates, {a.trials} trials per coefficient, "
           f"Gaussian estimator")
     print(f"{'test':13s} {'phi':>5s} " + " ".join(
         f"{'FPR@' + format(al, 'g'):>9s} {'se':>6s} {'dev/se':>6s}" for al in ALPHAS))
     for i, phi in enumerate(PHIS):
+        if phi not in a.phis:
+            continue
         t0 = time.perf_counter()
         jobs = [(i, k, a.n, a.surrogates, tuple(a.tests)) for k in range(a.trials)]
         if a.jobs > 1:

@@ -338,9 +338,13 @@ def mutual_information_permutation_test(
         multiples of a spacing b with the original at 0
         (:func:`~modalinfo.information.resampling.surrogate_shifts`), which keeps each
         series' autocorrelation and breaks only the alignment; use it for time
-        series. (Before issue 28 the shifts were drawn at random from
-        ``[b, n - b]``, never near the original, which made the test liberal:
-        ``benchmarks/RESULTS.md``, "False-positive rate of the surrogate tests".)
+        series. Measured on 1 000 independent AR(1) pairs, n = 500, 99 shifts
+        (``benchmarks/RESULTS.md``, "False-positive rate of the surrogate tests"):
+        rejects 0.048 at 0.05 for phi = 0.9, but 0.076 for phi = 0.99, whose
+        correlation time is n / 5 (a rotated series is less persistent than the
+        original); for such series use longer logs or test the whitened series. The
+        shifts drawn at random from ``[b, n - b]`` before issue 28 rejected 0.058 and
+        0.114.
     min_shift : int, "auto" or None
         Spacing b of the circular shifts [samples], in ``[1, n // 2]``; ``None``
         (default): the largest that fits ``n_permutations`` shifts, about
