@@ -342,9 +342,9 @@ def mutual_information_permutation_test(
         (``benchmarks/RESULTS.md``, "False-positive rate of the surrogate tests"):
         rejects 0.048 at 0.05 for phi = 0.9, but 0.076 for phi = 0.99, whose
         correlation time is n / 5 (a rotated series is less persistent than the
-        original); for such series use longer logs or test the whitened series. The
-        shifts drawn at random from ``[b, n - b]`` before issue 28 rejected 0.058 and
-        0.114.
+        original); at n = 2000 (n / 20) 0.058. Use series at least ~20 correlation
+        times long, or test the whitened series. The shifts drawn at random from
+        ``[b, n - b]`` before issue 28 rejected 0.058, 0.114 and 0.083.
     min_shift : int, "auto" or None
         Spacing b of the circular shifts [samples], in ``[1, n // 2]``; ``None``
         (default): the largest that fits ``n_permutations`` shifts, about
