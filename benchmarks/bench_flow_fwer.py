@@ -70,7 +70,7 @@ from scipy.signal import lfilter  # noqa: E402
 
 from modalinfo.information import flow as flow_mod  # noqa: E402
 from modalinfo.information import transfer_entropy_map  # noqa: E402
-from modalinfo.information.conditional_uncertainty import _auto_block  # noqa: E402
+from modalinfo.information.resampling import auto_block_length as _auto_block  # noqa: E402
 
 N_ROWS = 500
 AR = 0.7

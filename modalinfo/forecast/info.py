@@ -34,7 +34,7 @@ from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._info_kernels import sparse_direct_filter
 from modalinfo.forecast.base import Predictor
 from modalinfo.information.conditional import _estimator
-from modalinfo.information.conditional_uncertainty import _auto_block
+from modalinfo.information.resampling import auto_block_length
 from modalinfo.information.selection import (
     _greedy_search,
     _unit_columns,
@@ -146,7 +146,7 @@ class InfoPredictor(Predictor):
                                                   max_inputs=k_max, penalty=penalty)
                     chosen = [j for j, _ in picked]
                 else:
-                    shift0 = min(_auto_block(y[:, None]), n // 2)
+                    shift0 = min(auto_block_length(y), n // 2)
                     picked3, _, _ = _greedy_search(
                         y, C, Cu, alive, method="gaussian", est=est, factor=1.0,
                         alpha=alpha, n_surrogates=n_surr, max_inputs=k_max, shift0=shift0,

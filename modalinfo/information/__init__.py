@@ -40,6 +40,7 @@ from modalinfo.information.conditional_uncertainty import (
 from modalinfo.information.copula import copula_scores
 from modalinfo.information.flow import TransferEntropyMap, transfer_entropy_map
 from modalinfo.information.methods import MIMethod, register_method, unregister_method
+from modalinfo.information.resampling import optimal_block_length
 from modalinfo.information.selection import InputSelection, SelectedInput, select_inputs
 from modalinfo.information.transfer_entropy import transfer_entropy, transfer_entropy_variables
 from modalinfo.information.uncertainty import (
@@ -47,7 +48,6 @@ from modalinfo.information.uncertainty import (
     MIPermutationResult,
     mutual_information_ci,
     mutual_information_permutation_test,
-    optimal_block_length,
 )
 
 __all__ = [

@@ -1,9 +1,10 @@
 """Intervals and significance tests of conditional MI for autocorrelated series.
 
-Both reuse the MI machinery of ``modalinfo.information.uncertainty``:
-:func:`conditional_mutual_information_test` rotates y against (x, z) by random circular
-shifts of at least the Politis-White block length (time-shifted surrogates: each series
-keeps its autocorrelation, only the alignment of y is broken);
+Both reuse the MI machinery of ``modalinfo.information.uncertainty`` and
+``modalinfo.information.resampling``: :func:`conditional_mutual_information_test`
+rotates y against (x, z) by circular shifts on a lattice with the original at 0
+(time-shifted surrogates: each series keeps its autocorrelation, only the alignment of
+y is broken);
 :func:`conditional_mutual_information_ci` is the moving-block bootstrap with the
 "normal" interval of :func:`~modalinfo.information.mutual_information_ci`. The
 estimators, options and bias rule are those of
@@ -37,7 +38,6 @@ use "gaussian", "kde" or "ksg" for values of the CMI itself.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -46,22 +46,15 @@ from scipy import stats
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
-from modalinfo.information.uncertainty import (
-    MIConfidenceResult,
-    MIPermutationResult,
-    _block_indices,
-    _pw_block_length,
+from modalinfo.information.resampling import (
+    block_bootstrap_indices,
+    resolve_block_length,
+    surrogate_pvalue,
+    surrogate_shifts,
 )
+from modalinfo.information.uncertainty import MIConfidenceResult, MIPermutationResult
 
 __all__ = ["conditional_mutual_information_ci", "conditional_mutual_information_test"]
-
-
-def _auto_block(*groups: np.ndarray) -> int:
-    """Politis-White block length: the largest over the columns of the groups."""
-    n = groups[0].shape[0]
-    b = max(_pw_block_length(np.ascontiguousarray(g[:, j]))
-            for g in groups for j in range(g.shape[1]))
-    return max(1, min(int(math.ceil(b)), n))
 
 
 def conditional_mutual_information_ci(
@@ -121,14 +114,9 @@ def conditional_mutual_information_ci(
     n_resamples = check_int(n_resamples, "n_resamples", minimum=10)
     rng = check_rng(seed)
     n = xa.shape[0]
-    if block_length is None or (isinstance(block_length, str) and block_length == "auto"):
-        b = _auto_block(xa, ya, za)
-    elif isinstance(block_length, str):
-        raise ValueError(f"`block_length` must be None, 'auto' or an int; got {block_length!r}.")
-    else:
-        b = check_int(block_length, "block_length", minimum=1, maximum=n)
+    b = resolve_block_length(block_length, xa, ya, za)
     theta = est(xa, ya, za)
-    idx = _block_indices(n, b, n_resamples, rng)
+    idx = block_bootstrap_indices(n, b, n_resamples, rng)
     dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])
     alpha = 1.0 - confidence_level
     half = float(stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1))
@@ -161,15 +149,19 @@ def conditional_mutual_information_test(
         ``1 / (1 + n_surrogates)`` (199 -> 0.005).
     surrogate : {"circular", "shuffle"}
         ``"circular"`` (time-shifted surrogates, Quian Quiroga et al. 2002): the rows of
-        y are rotated against (x, z) by a random shift in [min_shift, n - min_shift];
+        y are rotated against (x, z) by distinct multiples of a spacing with the
+        original at 0 (:func:`~modalinfo.information.resampling.surrogate_shifts`;
+        formerly random shifts in [min_shift, n - min_shift], liberal: issue 28);
         each series keeps its autocorrelation. ``"shuffle"``: random permutations of
         the rows of y, exact only for iid samples. Both break the dependence of y on
         z as well as on x, so the null is "y independent of (x, z)", slightly stronger
         than conditional independence (as the source surrogates of IDTxl); for a
         greedy input search this is the usual, mildly conservative choice.
     min_shift : int, "auto" or None
-        Smallest circular shift [samples]; ``None``/``"auto"``: the largest
-        Politis-White block length over the columns of x, y, z (at most n // 2).
+        Spacing of the circular shifts [samples], in ``[1, n // 2]``; ``None``: the
+        largest that fits ``n_surrogates`` shifts (about ``n / (n_surrogates + 1)``);
+        ``"auto"``: the largest Politis-White block length over the columns of x, y, z
+        (at most n // 2).
     seed : None, int or numpy.random.Generator
         Randomness of the surrogates.
     **options
@@ -194,17 +186,13 @@ def conditional_mutual_information_test(
         for i in range(n_surrogates):
             null[i] = est(xa, ya[rng.permutation(n)], za)
     else:
-        if min_shift is None or (isinstance(min_shift, str) and min_shift == "auto"):
-            shift0 = min(_auto_block(xa, ya, za), n // 2)
-        elif isinstance(min_shift, str):
-            raise ValueError(f"`min_shift` must be None, 'auto' or an int; got {min_shift!r}.")
-        else:
-            shift0 = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
-        for i, s in enumerate(rng.integers(shift0, n - shift0 + 1, size=n_surrogates)):
+        spacing = None if min_shift is None else resolve_block_length(
+            min_shift, xa, ya, za, name="min_shift", maximum=n // 2)
+        shifts, shift0 = surrogate_shifts(n, n_surrogates, 0, spacing, rng)
+        for i, s in enumerate(shifts):
             null[i] = est(xa, np.roll(ya, int(s), axis=0), za)
-    pvalue = (1.0 + np.count_nonzero(null >= stat)) / (1.0 + n_surrogates)
     return MIPermutationResult(
-        statistic=float(stat), pvalue=float(pvalue), null_distribution=null,
+        statistic=float(stat), pvalue=surrogate_pvalue(stat, null), null_distribution=null,
         n_permutations=n_surrogates, permutation=surrogate, min_shift=int(shift0),
         method=method, units=units,
     )

@@ -90,8 +90,9 @@ from modalinfo.common.validation import check_choice, check_int, check_real, che
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
+from modalinfo.information.resampling import surrogate_shifts
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
-from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
+from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
 __all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_entropy_map"]
 

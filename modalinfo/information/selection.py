@@ -20,11 +20,12 @@ spurious input is at most ``alpha`` for the whole search). The p-value is
 surrogates the smallest is 0.005, and an exact test rejects with probability
 ``floor(alpha (N + 1)) / (N + 1)``. The surrogates are built as the transfer-entropy
 map's (:mod:`modalinfo.information.flow`; shared helpers in
-:mod:`modalinfo.information.surrogates`): under a surrogate every candidate is rotated
+:mod:`modalinfo.information.surrogates`, shifts in
+:mod:`modalinfo.information.resampling`): under a surrogate every candidate is rotated
 by s rows against the target and the inputs already chosen, then residualised against
 the chosen inputs exactly like the original; the shifts are one set for the whole
 search, multiples of a spacing b (about ``n / (n_surrogates + 1)``) with the original
-at 0 (``modalinfo.information.surrogates.surrogate_shifts``), so the original is
+at 0 (``modalinfo.information.resampling.surrogate_shifts``), so the original is
 exchangeable with them. Measured (``benchmarks/bench_flow_fwer.py --part selection``:
 a target AR(1) 0.7 and 3 independent AR(1) series, n = 496 rows, 16 candidates, 49
 surrogates, 16 000 searches whose first input, the target's last value, is the whole
@@ -86,13 +87,17 @@ from modalinfo.common.validation import (
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.conditional_uncertainty import (
-    _auto_block,
     conditional_mutual_information_ci,
 )
 from modalinfo.information.gaussian import gaussian_cmi_from_covariance
 from modalinfo.information.methods import get_method
-from modalinfo.information.surrogates import circular_cross, rotated_rho2, surrogate_shifts
-from modalinfo.information.uncertainty import _block_indices
+from modalinfo.information.resampling import (
+    auto_block_length,
+    block_bootstrap_indices,
+    surrogate_pvalue,
+    surrogate_shifts,
+)
+from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
 __all__ = [
     "InputSelection",
@@ -294,19 +299,19 @@ def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
     """Block-bootstrap "normal" interval (nats) of the Gaussian CMI of columns 0; 1 | 2:.
 
     The same resamples as :func:`conditional_mutual_information_ci` (same block
-    length rule, same draws of ``_block_indices``), but each resample's covariance
+    length rule, same draws of ``block_bootstrap_indices``), but each resample's covariance
     is summed from cumulative sums of the rows' moments instead of re-reading
     n rows: O(n d^2) once plus O(n / b d^2) per resample.
     """
     n, d = data.shape
-    b = _auto_block(data)
+    b = auto_block_length(data)
     u = data - data.mean(axis=0)
     u /= np.sqrt(np.einsum("ij,ij->j", u, u) / n)
     s1 = np.zeros((n + 1, d))
     s1[1:] = np.cumsum(u, axis=0)
     s2 = np.zeros((n + 1, d, d))
     s2[1:] = np.cumsum(u[:, :, None] * u[:, None, :], axis=0)
-    idx = _block_indices(n, b, n_resamples, rng)
+    idx = block_bootstrap_indices(n, b, n_resamples, rng)
     n_blocks = -(-n // b)
     starts = idx[:, ::b]  # first index of every block (the last one may be cut)
     lens = np.full(n_blocks, b)
@@ -343,7 +348,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
     ``alive`` (m,) bool marks usable candidates (copied here), ``spectra`` the rfft of
     ``Cu.T`` on length L >= 2n (used by the Gaussian null; not modified). ``shifts``
     (n_surrogates,) are the surrogates' circular shifts, one set for the whole search;
-    if None they are drawn by ``modalinfo.information.surrogates.surrogate_shifts``
+    if None they are drawn by ``modalinfo.information.resampling.surrogate_shifts``
     with its default spacing, the largest that fits. ``shift0`` is a floor on the
     spacing (e.g. the target's block length, as :class:`~modalinfo.forecast.InfoPredictor`
     passes): the largest spacing meets it whenever it fits, and a search never fails
@@ -391,7 +396,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
             gain = float(gains[best])
             null = np.array([max(est(y[:, None], np.roll(C[:, j : j + 1], int(s), axis=0), Z)
                                  for j in idx) for s in shifts]) / factor
-        pvalue = (1.0 + np.count_nonzero(null >= gain)) / (1.0 + n_surrogates)
+        pvalue = surrogate_pvalue(gain, null)
         if pvalue > alpha:
             stop, last_p = f"next gain not significant (p = {pvalue:.3g} > {alpha})", pvalue
             break
@@ -519,7 +524,7 @@ def select_inputs(
         Bootstrap resamples and nominal coverage of the intervals.
     min_shift : int, optional
         Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
-        ``modalinfo.information.surrogates.surrogate_shifts``, one set for the
+        ``modalinfo.information.resampling.surrogate_shifts``, one set for the
         whole search); default the largest that fits ``n_surrogates`` shifts in the
         rows, about ``n / (n_surrogates + 1)``. Keep it above the span of the lags plus
         the series' correlation time (power), and ``n_surrogates x min_shift`` below

@@ -52,6 +52,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
+from modalinfo.information.resampling import block_bootstrap_indices
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.result import OrderingResult
@@ -243,9 +244,10 @@ def _bootstrap(
 
     ``margin`` is ``mi`` minus :func:`_swapped_mi` on the replicate.
 
-    Pooled: circular block bootstrap of the frames, then the same number of samples
-    drawn uniformly over (resampled frame, pixel) pairs. One frame: the sampled pixels
-    resampled with replacement.
+    Pooled: circular block bootstrap of the frames
+    (:func:`~modalinfo.information.resampling.block_bootstrap_indices`), then the same
+    number of samples drawn uniformly over (resampled frame, pixel) pairs. One frame:
+    the sampled pixels resampled with replacement.
     """
     n_frames, n_valid = a.shape[0], matrix.shape[0]
     n_samples = frames.size
@@ -253,10 +255,7 @@ def _bootstrap(
     margin = np.empty((n_resamples, order.size))
     for r in range(n_resamples):
         if pooled:
-            n_blocks = -(-n_frames // block_length)
-            starts = rng.integers(0, n_frames, size=n_blocks)
-            boot = (starts[:, None] + np.arange(block_length)[None, :]).ravel()[:n_frames]
-            boot %= n_frames
+            boot = block_bootstrap_indices(n_frames, block_length, 1, rng, circular=True)[0]
             f = boot[rng.integers(0, n_frames, size=n_samples)].astype(np.int64)
             p = rng.integers(0, n_valid, size=n_samples).astype(np.int64)
         else:

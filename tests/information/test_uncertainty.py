@@ -78,12 +78,18 @@ def test_permutation_pvalue_definition():
     res = mutual_information_permutation_test(x, y, n_permutations=49, seed=5)
     count = np.count_nonzero(res.null_distribution >= res.statistic)
     assert res.pvalue == (1 + count) / 50
-    strong = mutual_information_permutation_test(x, x + 0.1 * y, n_permutations=49, seed=5,
+    # shifts are multiples of min_shift (issue 28): 18 fit in 400 rows at spacing 20
+    strong = mutual_information_permutation_test(x, x + 0.1 * y, n_permutations=9, seed=5,
                                                  permutation="circular", min_shift=20)
-    assert strong.pvalue == 1 / 50 and strong.min_shift == 20
+    assert strong.pvalue == 1 / 10 and strong.min_shift == 20
     auto = mutual_information_permutation_test(x, y, n_permutations=9, seed=5,
-                                               permutation="circular", method="kde")
+                                               permutation="circular", method="kde",
+                                               min_shift="auto")
     assert 1 <= auto.min_shift <= 200
+    with pytest.raises(ValueError, match=r"`n_permutations`=49 circular shifts spaced "
+                                         r"`min_shift`=20 apart do not fit in 400 rows"):
+        mutual_information_permutation_test(x, y, n_permutations=49, seed=5,
+                                            permutation="circular", min_shift=20)
 
 
 def _binomial_bounds(n, p, tail=1e-4):

@@ -1,0 +1,338 @@
+"""Resampling of time series: block bootstrap, automatic block length, shift surrogates.
+
+One home for the resampling that the interval and the significance tests of the
+information package share (:mod:`~modalinfo.information.uncertainty`,
+:mod:`~modalinfo.information.conditional`, :mod:`~modalinfo.information.selection`,
+:mod:`~modalinfo.information.flow`, and the ordering bootstrap of
+:mod:`modalinfo.ordering.orderings`). Telemetry is autocorrelated (AR(1)
+coefficients of 0.9-0.99 per frame), so resampling frames one by one understates
+errors and overstates significance; everything here keeps the time structure.
+
+Intervals (bootstrap). :func:`block_bootstrap_indices` resamples blocks of
+consecutive samples: the moving-block bootstrap (Kuensch 1989, Ann. Statist. 17,
+1217), blocks starting uniformly in ``[0, n - b]``, or the circular-block bootstrap
+(Politis & Romano 1992, in *Exploring the Limits of Bootstrap*, 263), blocks starting
+anywhere and wrapping around, so every sample is drawn with the same probability.
+The block length b comes from :func:`resolve_block_length`, the one parser of
+``block_length`` (``None``/``"auto"``/int); ``"auto"`` is :func:`auto_block_length`,
+the Politis & White (2004) rule with the correction of Patton, Politis & White (2009).
+
+Tests (surrogates). :func:`surrogate_shifts` draws the circular shifts of
+time-shifted surrogates (each series keeps its autocorrelation, only the alignment
+is broken): distinct multiples of a spacing b, with the original at shift 0, so the
+original is exchangeable with the surrogates and the p-value of
+:func:`surrogate_pvalue`, ``(1 + #{T_s >= T_0}) / (S + 1)``, is exact for circularly
+stationary series (a randomisation test over the rotations by multiples of b;
+Phipson & Smyth 2010 for the ``+1``). Shifts drawn at random from ``[m, n - m]``
+(never near the original) are not: that scheme, formerly used by
+``mutual_information_permutation_test`` and ``conditional_mutual_information_test``,
+rejected independent AR(1) pairs too often (``benchmarks/bench_surrogate_fpr.py``,
+table in ``benchmarks/RESULTS.md``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from modalinfo._stats import sample_autocovariance
+from modalinfo.common.validation import as_float_array, check_int, check_rng
+from modalinfo.information.api import MIN_SAMPLES
+
+__all__ = [
+    "auto_block_length",
+    "block_bootstrap_indices",
+    "optimal_block_length",
+    "politis_white_length",
+    "resolve_block_length",
+    "surrogate_pvalue",
+    "surrogate_shifts",
+]
+
+# ----------------------------------------------------------------- block length
+def politis_white_length(x: np.ndarray) -> float:
+    """Politis-White automatic block length of one series (moving-block bootstrap).
+
+    Politis & White, Econometric Rev. 23, 53 (2004), with the correction of Patton,
+    Politis & White, Econometric Rev. 28, 372 (2009): ``b = (2 G^2 / D)^(1/3) n^(1/3)``,
+    ``G = sum_k lambda(k/M) |k| gamma(k)``, ``D = (4/3) g(0)^2``,
+    ``g(0) = sum_k lambda(k/M) gamma(k)`` (flat-top lag window lambda), ``M = 2 m_hat``
+    where m_hat is the first lag after which ``K_N = max(5, log10 n)`` autocorrelations
+    are insignificant (``|rho| < 2 sqrt(log10 n / n)``).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n,)
+        Finite float series, n >= 2 (not checked: callers validate).
+
+    Returns
+    -------
+    float
+        Block length [samples], not rounded, in ``[1, ceil(min(3 sqrt(n), n / 3))]``;
+        1 for a constant series.
+    """
+    n = x.shape[0]
+    e = x - x.mean()
+    kn = max(5, int(math.log10(n)))
+    m_max = int(math.ceil(math.sqrt(n))) + kn
+    m_max = min(m_max, n - 1)
+    acv = sample_autocovariance(e, m_max)
+    if acv[0] <= 0:
+        return 1.0
+    rho = np.abs(acv / acv[0])
+    cv = 2.0 * math.sqrt(math.log10(n) / n)
+    m_hat = None
+    for lag in range(1, m_max - kn + 2):
+        if np.all(rho[lag : lag + kn] < cv):
+            m_hat = lag - 1
+            break
+    m = min(2 * max(m_hat, 1), m_max) if m_hat is not None else m_max
+    k = np.arange(1, m + 1)
+    lam = np.where(k / m <= 0.5, 1.0, 2.0 * (1.0 - k / m))
+    g = 2.0 * np.sum(lam * k * acv[1 : m + 1])
+    g0 = acv[0] + 2.0 * np.sum(lam * acv[1 : m + 1])
+    d = 4.0 / 3.0 * g0 * g0
+    b_max = math.ceil(min(3.0 * math.sqrt(n), n / 3.0))
+    if d <= 0:
+        return 1.0
+    b = (2.0 * g * g / d) ** (1.0 / 3.0) * n ** (1.0 / 3.0)
+    return float(min(max(b, 1.0), b_max))
+
+
+def auto_block_length(*groups: np.ndarray) -> int:
+    """Automatic block length of aligned series: the largest Politis-White length.
+
+    Parameters
+    ----------
+    *groups : numpy.ndarray, each shape (n,) or (n, d)
+        Validated float series on the same n rows; every column counts.
+
+    Returns
+    -------
+    int
+        ``ceil`` of the largest :func:`politis_white_length` over all columns, clipped
+        to ``[1, n]`` [samples].
+    """
+    n = groups[0].shape[0]
+    b = max(politis_white_length(np.ascontiguousarray(col))
+            for g in groups for col in (g.T if g.ndim == 2 else (g,)))
+    return max(1, min(int(math.ceil(b)), n))
+
+
+def optimal_block_length(x: Any, y: Any | None = None) -> int:
+    """Automatic block length for the moving-block bootstrap of a series or a pair.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Series (n >= 10).
+    y : array_like, shape (n,), optional
+        Second series of a pair; the larger of the two block lengths is returned.
+
+    Returns
+    -------
+    int
+        Block length [samples] from Politis & White (2004) with the correction of
+        Patton, Politis & White (2009), rounded up; between 1 and min(3 sqrt(n), n/3).
+        For an AR(1) series with coefficient phi it grows like
+        (phi / (1 - phi^2))^(2/3) n^(1/3) (about 100 at phi = 0.95, n = 2000).
+
+    Raises
+    ------
+    ValueError
+        If a series is shorter than 10 samples, not finite, or the lengths differ.
+    """
+    x = as_float_array(x, "x", ndim=1, min_length=MIN_SAMPLES)
+    if y is None:
+        return int(math.ceil(politis_white_length(x)))
+    y = as_float_array(y, "y", ndim=1, min_length=MIN_SAMPLES)
+    if x.shape[0] != y.shape[0]:
+        raise ValueError(
+            f"`x` and `y` must have the same length; got {x.shape[0]} and {y.shape[0]}."
+        )
+    return auto_block_length(x, y)
+
+
+def resolve_block_length(value: Any, *groups: np.ndarray, name: str = "block_length",
+                         maximum: int | None = None) -> int:
+    """Parse a block length (or a shift spacing) argument: the one parser of it.
+
+    Parameters
+    ----------
+    value : None, "auto" or int
+        ``None``/``"auto"``: :func:`auto_block_length` of ``groups``, clipped to
+        ``maximum``; an int: checked to lie in ``[1, maximum]``.
+    *groups : numpy.ndarray, each shape (n,) or (n, d)
+        The validated series the length is for.
+    name : str
+        Argument name for the error message.
+    maximum : int, optional
+        Largest admissible length [samples]; default n.
+
+    Returns
+    -------
+    int
+        Block length [samples].
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is neither None, a string nor an int.
+    ValueError
+        If ``value`` is another string or an int outside ``[1, maximum]``.
+    """
+    n = groups[0].shape[0]
+    top = n if maximum is None else maximum
+    if value is None or (isinstance(value, str) and value == "auto"):
+        return max(1, min(auto_block_length(*groups), top))
+    if isinstance(value, str):
+        raise ValueError(f"`{name}` must be None, 'auto' or an int; got {value!r}.")
+    return check_int(value, name, minimum=1, maximum=top)
+
+
+# ------------------------------------------------------------------ bootstrap
+def block_bootstrap_indices(n: int, block_length: int, n_resamples: int,
+                            rng: np.random.Generator, *, circular: bool = False
+                            ) -> np.ndarray:
+    """Row indices of block-bootstrap resamples of a series of n samples.
+
+    Each resample is ``ceil(n / b)`` blocks of b consecutive indices, concatenated and
+    cut to n. Moving blocks (default; Kuensch 1989): a block starts uniformly in
+    ``[0, n - b]``, so the first and last b - 1 samples are drawn less often. Circular
+    blocks (Politis & Romano 1992): a block starts uniformly in ``[0, n - 1]`` and
+    wraps around the end, so every sample is drawn with probability 1 / n per
+    position and a resample's mean is unbiased for the series' mean.
+
+    Parameters
+    ----------
+    n : int
+        Samples of the series (>= 1).
+    block_length : int
+        Block length b in ``[1, n]`` [samples].
+    n_resamples : int
+        Number of resamples (>= 0).
+    rng : numpy.random.Generator
+        Randomness; one call ``rng.integers(low, high, size=(n_resamples, ceil(n / b)))``.
+    circular : bool
+        Circular-block instead of moving-block bootstrap.
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (n_resamples, n)
+        Indices in ``[0, n - 1]``.
+    """
+    b = int(block_length)
+    n_blocks = -(-n // b)
+    high = n if circular else n - b + 1
+    starts = rng.integers(0, high, size=(n_resamples, n_blocks))
+    idx = (starts[:, :, None] + np.arange(b)).reshape(n_resamples, n_blocks * b)[:, :n]
+    if circular:
+        idx %= n
+    return idx
+
+
+# ----------------------------------------------------------------- surrogates
+def _lattice(n: int, spacing: int, max_lag: int) -> np.ndarray:
+    """Admissible multiples of ``spacing`` (see :func:`surrogate_shifts`)."""
+    k = np.arange(1, (n - spacing) // spacing + 1) * spacing
+    d = (2 * k) % n
+    return k[np.minimum(d, n - d) >= 2 * (spacing + max_lag)]
+
+
+def surrogate_shifts(n: int, n_surrogates: int, max_lag: int = 0, spacing: int | None = None,
+                     seed: Any = None, *, name: str = "n_surrogates"
+                     ) -> tuple[np.ndarray, int]:
+    """Circular shifts of time-shifted surrogates: points of a lattice, original at 0.
+
+    The shifts are ``n_surrogates`` distinct multiples ``k b`` of a spacing b (drawn
+    at random from the admissible ones), so the original (shift 0) and every
+    surrogate are at least b apart from each other on the circle of n rows: the
+    original is then exchangeable with the surrogates (a randomisation test over the
+    subgroup of rotations by multiples of b), and the p-value
+    ``(1 + #{surrogate >= original}) / (1 + n_surrogates)`` (:func:`surrogate_pvalue`)
+    is exact for circularly stationary series when b divides n and no multiple is
+    left out (approximately otherwise: measured rates in ``benchmarks/RESULTS.md``).
+    Shifts drawn from ``[m, n - m]`` at random are not: they may lie close to each
+    other but never close to the original, which removes from the comparison exactly
+    the values most correlated with the original, and the test is liberal by an
+    amount that grows with ``m / n`` and with the number of candidates. A spacing
+    below the span of the lags plus the series' correlation time costs power (a
+    surrogate can re-align a true link at another lag), not validity.
+
+    Multiples k b with ``2 k b`` within ``2 (b + max_lag)`` of a multiple of n are left
+    out: there the cells ``j -> i`` and ``i -> j`` of a pair read the same part of the
+    two series' cross-correlation (offsets ``k b + l`` and ``-(k b + l')`` equal modulo
+    n), become copies, and the surrogate maximum falls below the null's.
+
+    Parameters
+    ----------
+    n : int
+        Rows of the series.
+    n_surrogates : int
+        Number of shifts >= 0.
+    max_lag : int
+        Largest source lag [samples] (0 for a test of one aligned pair).
+    spacing : int, optional
+        Lattice spacing b >= 1 [samples]; default the largest with ``n_surrogates``
+        admissible multiples (about ``n / (n_surrogates + 1)``).
+    seed : None, int or numpy.random.Generator
+        Randomness of the choice among the admissible multiples.
+    name : str
+        The caller's name of ``n_surrogates``, for the error message.
+
+    Returns
+    -------
+    shifts : numpy.ndarray of int64, shape (n_surrogates,)
+        Ascending shifts in ``[b, n - b]`` [samples].
+    spacing : int
+        The spacing b used (0 when ``n_surrogates`` is 0).
+
+    Raises
+    ------
+    ValueError
+        If fewer than ``n_surrogates`` admissible multiples exist.
+    """
+    if n_surrogates == 0:
+        return np.empty(0, dtype=np.int64), 0
+    rng = check_rng(seed)
+    if spacing is None:
+        b = max(n // (n_surrogates + 1), 1)
+        while b > 1 and _lattice(n, b, max_lag).size < n_surrogates:
+            b -= 1
+    else:
+        b = spacing
+    allowed = _lattice(n, b, max_lag)
+    if allowed.size < n_surrogates:
+        raise ValueError(
+            f"`{name}`={n_surrogates} circular shifts spaced "
+            f"{'`min_shift`=' if spacing is not None else ''}{b} apart do not fit in "
+            f"{n} rows ({allowed.size} do, lags up to {max_lag}); use fewer surrogates"
+            f"{' or a smaller `min_shift`' if spacing is not None else ''}, or more frames.")
+    pick = np.sort(rng.choice(allowed.size, size=n_surrogates, replace=False))
+    return allowed[pick].astype(np.int64), int(b)
+
+
+def surrogate_pvalue(statistic: float, null: np.ndarray) -> float:
+    """Exact Monte-Carlo p-value ``(1 + #{null >= statistic}) / (1 + S)``.
+
+    Phipson & Smyth, Stat. Appl. Genet. Mol. Biol. 9, 39 (2010): counting the
+    original among the S surrogates makes ``P(p <= a) <= a`` when the original is
+    exchangeable with the surrogates (with equality at ``a = k / (S + 1)``); the
+    smallest p-value is ``1 / (S + 1)``.
+
+    Parameters
+    ----------
+    statistic : float
+        The statistic of the original (larger is more significant).
+    null : numpy.ndarray, shape (S,)
+        The statistic of each surrogate.
+
+    Returns
+    -------
+    float
+        p-value in ``[1 / (S + 1), 1]``.
+    """
+    null = np.asarray(null)
+    return float((1.0 + np.count_nonzero(null >= statistic)) / (1.0 + null.shape[0]))
