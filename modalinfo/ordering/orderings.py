@@ -227,6 +227,7 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
     key = np.empty(n_modes)
     if screened:
         kern.row_variances(contrib, key)
+        seen = np.ones(n_modes)  # estimates averaged in each key (the first: v_k)
         ref = contrib.sum(axis=0)
         resid = np.empty(n_samples)
     remaining = np.ones(n_modes, dtype=bool)
@@ -267,7 +268,8 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
             if step == 0:
                 first[k] = v
             elif screened and v == v:  # a mode the estimator cannot score keeps its key
-                key[k] = r_s * -math.expm1(-2.0 * (v - base))
+                seen[k] += 1
+                key[k] += (r_s * -math.expm1(-2.0 * (v - base)) - key[k]) / seen[k]
             if v > best_v or (v == best_v and k < best_k):  # NaN never wins
                 best_k, best_v = k, v
                 best_key = key[k]
