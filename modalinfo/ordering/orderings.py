@@ -34,10 +34,12 @@ index):
 - ``search="screened"`` (``"auto"`` above 64 modes) scores every mode at step 1 (the
   marginal scores are part of the result), then at each step takes the remaining
   modes in descending *key* and scores them exactly until the next key, times 1.05,
-  is below the key of the step's best. The key is the mode's variance share in the
-  Gaussian closed form: for jointly Gaussian, mutually orthogonal contributions the
-  gain of adding k to S is ``g = -ln(1 - v_k / R_S) / 2`` (``v_k`` the variance of
-  ``a_k Z_k``, ``R_S`` that of ``Phi_ref - Phi_S``), so ``R_S (1 - exp(-2 g)) = v_k``
+  is below the key of the step's best (the last 16 steps score every remaining mode:
+  near Phi_ref the histogram MI saturates and departs most from the key). The key is
+  the mode's variance share in the Gaussian closed form: for jointly Gaussian,
+  mutually orthogonal contributions the gain of adding k to S is
+  ``g = -ln(1 - v_k / R_S) / 2`` (``v_k`` the variance of ``a_k Z_k``, ``R_S`` that of
+  ``Phi_ref - Phi_S``), so ``R_S (1 - exp(-2 g)) = v_k``
   at every step; the key is the running mean of ``v_k`` on the samples and of
   ``R_S (1 - exp(-2 g))`` for every estimated gain of k (a mean, so one noisy low
   estimate cannot starve a mode). A few scores per step: 2,000 modes x 1e5 frames in
@@ -92,6 +94,10 @@ METHODS = ("standard", "variance", "pca", "mi_marginal", "mi_greedy")
 SEARCHES = ("auto", "screened", "exhaustive")
 #: ``search="auto"`` scores every candidate at every step up to this many modes.
 _EXHAUSTIVE_MAX_MODES = 64
+#: The screened search scores every remaining mode once this few are left (<= 136
+#: scores): near Phi_ref the histogram MI saturates (bins capped at sqrt(n)) and its
+#: gains, 0.1-0.3 nats per step there, depart most from the Gaussian key.
+_EXHAUSTIVE_TAIL = 16
 #: Relative margin on the screening key (module notes: measured misses against cost).
 _SCREEN_TOLERANCE = 0.05
 _DECORRELATED_ATOL = 1e-6
@@ -236,7 +242,8 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
     so ``R_S (1 - exp(-2 g)) = v_k`` whatever S is. The key starts at ``v_k`` on the
     samples and becomes ``R_S (1 - exp(-2 g))`` of the estimated gain each time k is
     scored. It is not a bound of the histogram gain: module notes for where the two
-    searches may differ.
+    searches may differ. With ``_EXHAUSTIVE_TAIL`` or fewer modes left, every one is
+    scored.
 
     Returns
     -------
@@ -282,12 +289,13 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
                 swapped[step - 1] = before[left[0]]
             break
         best_k, best_v, best_key = -1, -np.inf, -np.inf
-        if screened and step > 0:
+        screen = screened and step > 0 and left.size > _EXHAUSTIVE_TAIL
+        if screen:
             np.subtract(ref, phi_s, out=resid)
             r_s = float(np.var(resid))
             left = left[np.argsort(-key[left], kind="stable")]
         for k in left:
-            if screened and step > 0:
+            if screen:
                 if best_k >= 0 and key[k] * (1.0 + tolerance) < best_key:
                     break  # every later key is smaller still
             np.add(phi_s, contrib[k], out=cand)
@@ -295,7 +303,7 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
             now[k] = v
             if step == 0:
                 first[k] = v
-            elif screened and v == v:  # a mode the estimator cannot score keeps its key
+            elif screen and v == v:  # a mode the estimator cannot score keeps its key
                 seen[k] += 1
                 key[k] += (r_s * -math.expm1(-2.0 * (v - base)) - key[k]) / seen[k]
             if v > best_v or (v == best_v and k < best_k):  # NaN never wins
