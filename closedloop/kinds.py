@@ -77,12 +77,16 @@ class MirrorCost:
         Multiply-adds per disc pixel per surface update (its synthesis).
     driver : str
         The config key that drives ``shape_bytes`` (``dms[i].n_modes`` ...).
+    setup_seconds : float
+        CPU time to build it beyond its shapes' evaluation [s] (e.g. an eigen-decomposition
+        for its modes; 0: negligible).
     """
 
     n_modes: float
     shape_bytes: float
     ops_per_pixel: float
     driver: str
+    setup_seconds: float = 0.0
 
 
 @dataclass(frozen=True)
