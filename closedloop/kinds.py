@@ -24,7 +24,7 @@ who asks                     what (the record's field)
 This module is on closedloop's ground floor beside ``config`` (it imports nothing of
 the simulator): the records hold functions, so the config asks a kind without
 importing its module. The built-in kinds are registered by their modules in
-``closedloop/optics`` (``wfs``, ``correlating_sensor``, ``dm``), which
+``closedloop/optics`` (``wfs``, ``correlating_sensor``, ``dm``, ``actuator_dm``), which
 ``closedloop/optics/__init__.py`` imports: that import list is the one place a new
 built-in kind is added (docs/ARCHITECTURE.md, "To add a sensor kind / a DM kind").
 """

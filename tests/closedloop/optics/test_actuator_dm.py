@@ -137,7 +137,7 @@ def test_modes_and_prior(geometry, mirror):
 
 def test_the_variance_the_modes_leave(geometry, mirrors):
     # all the modes of a 13-across ground mirror: what they leave plus what they hold is
-    # Noll's piston-removed variance (pixel sampling: measured +1.0 %), and what they
+    # Noll's piston-removed variance (pixel sampling: measured +0.5 %), and what they
     # leave is the fitting law at this pitch, a (p/D)^(5/3) in units of (D/r0)^(5/3)
     cfg = geometry.config
     n_valid = valid_actuators(cfg, 0)
@@ -147,9 +147,10 @@ def test_the_variance_the_modes_leave(geometry, mirrors):
     assert dm.influence.n_valid == n_valid
     rest = dm.residual_variance()
     assert rest + dm.prior_variance().sum() == pytest.approx(NOLL_PISTON_REMOVED, rel=0.02)
-    # measured -13 % (the rim: a finite mirror, 8 pitches across the disc's radius)
+    # measured -4.7 % (149 valid actuators; the rim: tests/bases/test_influence.py
+    # measures -4.6 % at 16 across on screens), hence test_influence's 10 %
     assert rest == pytest.approx(FITTING_A * (dm.influence.pitch / dm.diameter) ** (5 / 3),
-                                 rel=0.25)
+                                 rel=0.10)
     # 119 of the modes leave more: the variances of those dropped (the same modes)
     few = mirrors[0]
     assert few.n_modes < dm.n_modes
