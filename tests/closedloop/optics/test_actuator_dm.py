@@ -217,6 +217,7 @@ def test_the_resource_estimate_counts_the_mirror(table1, geometry, mirrors):
     est = estimate(table1, 0.01)
     held = sum(d.shapes.nbytes + d.m2c.nbytes for d in mirrors)
     # shapes and m2c, the influence matrices, the K-L build and the planes' build grids
+    # (measured: 1.98 x the held arrays beyond the grids)
     assert held <= est.parts["dm_shapes"] <= 3 * held + 5 * 8 * sum(
         p.n ** 2 for p in geometry.planes)
     assert est.drivers["dm_shapes"] == "dms[1].n_actuators"  # the wider disc
