@@ -191,11 +191,16 @@ class DMConfig:
         Conjugation height [m].
     n_modes : int
         Number of controlled modes: Zernike Z2 .. Z(n_modes + 1) over the DM's disc
-        (``kind="zernike"``); ignored by ``kind="ideal"``.
-    kind : {"zernike", "ideal"}
-        ``"zernike"``: modal mirror with unit-RMS Noll Zernike shapes over its disc (piston
-        is not controlled). ``"ideal"``: a zonal mirror that takes any shape sampled on the
-        phase grid (no fitting error; for verification).
+        (``kind="zernike"``), DM-space K-L modes (``kind="actuators"``); ignored by
+        ``kind="ideal"``.
+    kind : str
+        A registered mirror kind; built in: ``"zernike"``: modal mirror with unit-RMS Noll
+        Zernike shapes over its disc (piston is not controlled). ``"ideal"``: a zonal
+        mirror that takes any shape sampled on the phase grid (no fitting error; for
+        verification). ``"actuators"``: Gaussian influence functions on a square grid,
+        commanded in DM-space K-L coefficients
+        (:mod:`closedloop.optics.actuator_dm`; options ``n_actuators``, ``coupling``,
+        ``threshold``).
     diameter : float or None
         Diameter of the controlled disc [m]; ``None``: the meta-pupil its WFS senses,
         ``D + 2 h tan(field_of_view / 2)``. The mirror is flat outside.

@@ -24,7 +24,7 @@ who asks                     what (the record's field)
 This module is on closedloop's ground floor beside ``config`` (it imports nothing of
 the simulator): the records hold functions, so the config asks a kind without
 importing its module. The built-in kinds are registered by their modules in
-``closedloop/optics`` (``wfs``, ``correlating_sensor``, ``dm``), which
+``closedloop/optics`` (``wfs``, ``correlating_sensor``, ``dm``, ``actuator_dm``), which
 ``closedloop/optics/__init__.py`` imports: that import list is the one place a new
 built-in kind is added (docs/ARCHITECTURE.md, "To add a sensor kind / a DM kind").
 """
@@ -77,12 +77,16 @@ class MirrorCost:
         Multiply-adds per disc pixel per surface update (its synthesis).
     driver : str
         The config key that drives ``shape_bytes`` (``dms[i].n_modes`` ...).
+    setup_seconds : float
+        CPU time to build it beyond its shapes' evaluation [s] (e.g. an eigen-decomposition
+        for its modes; 0: negligible).
     """
 
     n_modes: float
     shape_bytes: float
     ops_per_pixel: float
     driver: str
+    setup_seconds: float = 0.0
 
 
 @dataclass(frozen=True)

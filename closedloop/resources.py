@@ -99,6 +99,9 @@ class ResourceEstimate:
         (rough: within a factor ~2; a loaded machine is slower).
     setup_bytes, run_bytes : float
         The two phases whose larger one makes the peak (beyond the baseline).
+    setup_seconds : float
+        Estimated CPU time of the set-up's costly builds the kinds report [s]
+        (``MirrorCost.setup_seconds``: an actuator DM's K-L modes; 0 when negligible).
     """
 
     parts: dict = field(default_factory=dict)
@@ -108,6 +111,7 @@ class ResourceEstimate:
     seconds_per_frame: float = 0.0
     setup_bytes: float = 0.0
     run_bytes: float = 0.0
+    setup_seconds: float = 0.0
 
     @property
     def largest(self) -> str:
@@ -129,6 +133,8 @@ class ResourceEstimate:
         lines = [f"estimated peak memory {format_size(self.peak_bytes)} "
                  f"({self.n_frames} frames, about {self.seconds:.3g} s of loop at "
                  f"{self.seconds_per_frame * 1e3:.3g} ms/frame)"]
+        if self.setup_seconds > 0:  # only kinds with a costly build report one
+            lines.append(f"  set-up builds about {self.setup_seconds:.3g} s of CPU")
         for name, value in sorted(self.parts.items(), key=lambda kv: -kv[1]):
             driver = self.drivers.get(name, "-")
             lines.append(f"  {name:<14}{format_size(value):>10}   driven by "
@@ -182,21 +188,24 @@ def _planes(layout: list, oracle: bool) -> float:
     return (3 + (2 if oracle else 0)) * 8.0 * sum(n * n for _, n, _, _ in layout)
 
 
-def _dms(config: SimulationConfig, layout: list, dx: float) -> tuple[float, str, float]:
-    """Bytes of the DMs (shapes, mirror tables, build grids), their driver, and the mode count."""
+def _dms(config: SimulationConfig, layout: list,
+         dx: float) -> tuple[float, str, float, float]:
+    """Bytes of the DMs (shapes, tables, build grids), driver, mode count, set-up seconds."""
     sizes = [n for _, n, _, _ in layout]
     dm_bytes, dm_key, dm_worst = 0.0, "dms", -1.0
     n_modes_total = 0
+    setup_seconds = 0.0
     for i, dm in enumerate(config.dms):
         p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
         cost = mirror_kind(dm.kind).estimate(config, i, dx)
         n_modes_total += cost.n_modes
+        setup_seconds += cost.setup_seconds
         size = cost.shape_bytes + 5.0 * 8.0 * sizes[p] ** 2
         dm_bytes += size
         if size > dm_worst:
             dm_worst = size
             dm_key = cost.driver
-    return dm_bytes, dm_key, n_modes_total
+    return dm_bytes, dm_key, n_modes_total, setup_seconds
 
 
 def _sensor_costs(config: SimulationConfig, n_planes: int, dx: float) -> list[SensorCost]:
@@ -291,7 +300,7 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
     layout = plane_layout(config)
     screens, transient, screen_key = _screens(config, layout, dx, total_time)
-    dm_bytes, dm_key, n_modes_total = _dms(config, layout, dx)
+    dm_bytes, dm_key, n_modes_total, dm_setup_seconds = _dms(config, layout, dx)
     costs = _sensor_costs(config, len(layout), dx)
     builds, build_key, n_meas_total = _wfs_builds(config, layout, costs)
     # the set-up's peak: one WFS built at a time, the others kept as CSR
@@ -322,7 +331,7 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
         parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
         seconds_per_frame=_seconds_per_frame(config, layout, dx, n_meas_total, n_modes_total,
                                              kept_operators, costs),
-        setup_bytes=setup, run_bytes=run)
+        setup_bytes=setup, run_bytes=run, setup_seconds=dm_setup_seconds)
 
 
 def available_memory() -> float:

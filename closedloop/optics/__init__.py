@@ -12,4 +12,9 @@ when their modules are imported; the import below is the one place that lists th
 new kind's module is added to it).
 """
 
-from closedloop.optics import correlating_sensor, dm, wfs  # noqa: F401  (register the kinds)
+from closedloop.optics import (  # noqa: F401  (register the kinds)
+    actuator_dm,
+    correlating_sensor,
+    dm,
+    wfs,
+)

@@ -1,146 +1,349 @@
-"""A deformable mirror of actuators, controlled through its DM-space K-L modes.
+"""The DM kind ``"actuators"``: a mirror of actuators, controlled through its DM-space K-L modes.
 
 The mirror the telescopes of issue 29 are built with (DKIST's 1,600-actuator DM, EST's
 adaptive secondary and altitude DMs): Gaussian influence functions on a square grid
-(:class:`modalinfo.bases.InfluenceFunctions`: coupling 0.35 at the neighbour as OOPAO,
-valid actuators by illumination), conjugated to any altitude, where it covers its
-plane's controlled disc (the meta-pupil of its WFS's field) with actuators at the
-telescope's pitch.
+(:class:`modalinfo.bases.InfluenceFunctions`: the coupling at the neighbour is OOPAO's
+``mechCoupling`` default, 0.35, valid actuators by illumination, COMPASS's ``thresh``
+rule with 0.05), conjugated to any altitude, covering its plane's controlled disc (the
+meta-pupil of the WFS that drives it).
+
+**Geometry.** ``n_actuators`` counts the actuators across the mirror's controlled disc
+(``dms[i].diameter``, by default the meta-pupil its WFS senses; for a ground DM, the
+pupil), at pitch ``disc / (n_actuators - 1)``: the outermost actuators on the rim. The
+default is the driving WFS's ``n_subapertures + 1``: the WFS's subapertures tile the
+same disc, so the actuators sit on the subapertures' corners (Fried geometry, at any
+altitude); a finer pitch would add modes that WFS cannot see.
 
 **Commands are K-L coefficients**, as peers control such mirrors (OOPAO's
-``M2C_KL``, COMPASS's ``KL2V``): ``n_modes`` DM-space K-L modes
-(:func:`modalinfo.bases.dm_kl_modes`: DM's best tip and tilt first, then the von Karman
-prior diagonalised in the DM metric, piston removed), unit RMS over the disc. The
-strokes are ``m2c @ commands`` (dense ``(n_actuators, n_modes)``, 20 MB at 1,584 x 1,583)
-and the surface is the separable banded influence operator applied to them
-(:meth:`modalinfo.bases.InfluenceFunctions.surface`), never a dense
-``(pixels x modes)`` product per frame: the loop's logs, prior and reconstructor stay
-modal, and the command log is a :class:`modalinfo.bases.DMKLBasis`'s coefficients.
+``M2C_KL``, COMPASS's ``KL2V``): ``dms[i].n_modes`` DM-space K-L modes
+(:func:`modalinfo.bases.dm_kl_modes`: the DM's best tip and tilt first, then the von
+Karman prior diagonalised in the DM metric, piston removed), unit RMS over the disc,
+at most ``n_valid - 1`` (the valid actuators less piston). The strokes are
+``m2c @ commands`` and the surface is the separable banded influence operator applied
+to them (:meth:`modalinfo.bases.InfluenceFunctions.surface`), never a dense
+``(pixels x modes)`` product per frame; the dense ``shapes`` are held for the
+interaction matrices and the AOT export. The logs, prior and reconstructor stay modal,
+and a command log is a :class:`modalinfo.bases.DMKLBasis`'s coefficients
+(:meth:`ActuatorDeformableMirror.basis`).
 
-The class has the interface of :class:`closedloop.optics.dm.DeformableMirror`
-(``index, kind, altitude, plane, diameter, pixels, shapes, modes, n_modes, labels,
-reset(), forward(commands)``) plus what a modal prior needs (``prior_variances``) and
-what a sparse interaction matrix needs (``influence``, ``m2c``).
+**Prior and model error.** The K-L variances are computed for ``r0`` = the disc's
+diameter at the outer scale of the configuration's strongest layer, i.e. in units of
+``(disc / r0)**(5/3)``: :class:`closedloop.model.LoopModel` scales them by the
+turbulence assigned to this mirror (the joint MAP prior). What the modes leave of the
+phase (:meth:`ActuatorDeformableMirror.residual_variance`, an ideal sensor's model
+error) is the piston-removed variance over the disc less the controlled modes'
+variances: the modes are orthonormal, so the rest is the phase outside their span.
+
+The kind's record (:data:`ACTUATORS`) is registered here: options
+(:class:`ActuatorOptions`), rules, memory and time estimate, AOT description, build.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
+from scipy import signal
 
+from closedloop.config import SimulationConfig, dm_disc_diameter
+from closedloop.kinds import MirrorCost, MirrorKind, register_mirror_kind
+from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry
-from modalinfo.bases import DMKLBasis, InfluenceFunctions, MaskedPupil, dm_kl_modes
+from modalinfo.bases import (
+    DMKLBasis,
+    InfluenceFunctions,
+    MaskedPupil,
+    dm_kl_modes,
+    von_karman_structure_function,
+)
 from modalinfo.bases.influence import DEFAULT_COUPLING, DEFAULT_THRESHOLD, DEFAULT_TRUNCATION
+from modalinfo.common.validation import check_int, check_real
 
-__all__ = ["ActuatorDeformableMirror"]
+__all__ = ["ActuatorDeformableMirror", "ActuatorOptions", "ACTUATORS", "actuators_across",
+           "valid_actuators", "PIXELS_PER_PITCH"]
+
+#: fewest pupil pixels per actuator pitch: a Gaussian of coupling 0.35 has sigma = 0.69
+#: pitch, and 2 pixels per pitch are the Nyquist sampling of the finest mode the grid
+#: of actuators holds (period 2 pitches; waffle) with a pixel to spare per half period
+PIXELS_PER_PITCH = 2
+#: seconds of CPU per valid actuator cubed to build the K-L modes (Cholesky, whitening,
+#: eigen-decomposition): 3.4 s at 1,584 and 52 s at 4,596 valid actuators on this
+#: machine (docs/CLOSEDLOOP.md, "Actuator DM"); 7e-10 is within a factor 1.6 of both
+_KL_SECONDS_PER_ACTUATOR3 = 7e-10
+#: dense n_valid x n_valid float64 arrays alive at once while the K-L modes are built
+#: (Gram, its Cholesky factor, the structure operator, the prior, its whitened copy and
+#: the eigenvectors)
+_KL_DENSE_ARRAYS = 6
 
 
-class ActuatorDeformableMirror:
+@dataclass(frozen=True)
+class ActuatorOptions:
+    """The ``"actuators"`` mirror's own keys (keys of its ``dms[i]`` table).
+
+    Attributes
+    ----------
+    n_actuators : int or None
+        Actuators across the controlled disc, ``>= 3``; None: the driving WFS's
+        ``n_subapertures + 1`` (Fried geometry).
+    coupling : float
+        Influence at the nearest actuator, in (0.001, 1) (default 0.35: OOPAO's
+        ``mechCoupling``, a continuous-facesheet piezo mirror).
+    threshold : float
+        Least illuminated fraction of a valid actuator's influence, in (0, 1] (default
+        0.05: the rim's actuators just outside the disc are kept; ``modalinfo.bases.
+        influence``, measured fitting error 1.04x hcipy's full grid).
+    """
+
+    n_actuators: int | None = None
+    coupling: float = DEFAULT_COUPLING
+    threshold: float = DEFAULT_THRESHOLD
+
+
+def _validate(dm, p: str) -> None:
+    """Check the options' own rules (types and ranges), each error naming ``p + key``."""
+    opts = dm.options
+    if opts.n_actuators is not None:
+        object.__setattr__(opts, "n_actuators", check_int(opts.n_actuators, p + "n_actuators",
+                                                          minimum=3))
+    object.__setattr__(opts, "coupling", check_real(
+        opts.coupling, p + "coupling", minimum=DEFAULT_TRUNCATION, maximum=1.0,
+        strict_min=True, strict_max=True))
+    object.__setattr__(opts, "threshold", check_real(
+        opts.threshold, p + "threshold", minimum=0.0, maximum=1.0, strict_min=True))
+
+
+def actuators_across(config: SimulationConfig, i: int) -> int:
+    """Actuators across DM ``i``'s disc: ``n_actuators``, or its WFS's ``n_subapertures + 1``."""
+    n = config.dms[i].options.n_actuators
+    if n is not None:
+        return n
+    j = next(j for j, w in enumerate(config.wfss) if w.dm == i)
+    return config.wfss[j].n_subapertures + 1
+
+
+def _disc_mask(disc: float, dx: float, parity: int) -> np.ndarray:
+    """Return the disc's pixels on its bounding square, as on a plane grid of ``parity``.
+
+    A plane's pixel centres are ``(k - (n - 1) / 2) dx`` with ``n`` of the pupil grid's
+    parity (:class:`closedloop.optics.geometry.Geometry`); the same centres and the
+    same test as :class:`closedloop.optics.dm.DeformableMirror`'s (``rho <= 1``) give the
+    same pixels, in the same row-major order.
+    """
+    m = 2 * math.ceil(disc / (2.0 * dx)) + 2
+    if m % 2 != parity:
+        m += 1
+    coords = (np.arange(m) - (m - 1) / 2.0) * dx
+    yy, xx = np.meshgrid(coords, coords, indexing="ij")
+    inside = np.hypot(xx, yy) / (disc / 2.0) <= 1.0
+    used = np.flatnonzero(inside.any(axis=0))
+    lo, hi = int(used[0]), int(used[-1]) + 1  # symmetric: the disc is centred
+    return inside[lo:hi, lo:hi]
+
+
+def _influence(disc: float, dx: float, parity: int, n_act: int, coupling: float,
+               threshold: float) -> InfluenceFunctions:
+    mask = _disc_mask(disc, dx, parity)
+    pupil = MaskedPupil(mask, diameter=mask.shape[0] * dx)
+    return InfluenceFunctions(pupil, n_act, disc / (n_act - 1), coupling=coupling,
+                              threshold=threshold)
+
+
+@functools.lru_cache(maxsize=64)
+def _valid_count(disc: float, dx: float, parity: int, n_act: int, coupling: float,
+                 threshold: float) -> int:
+    # cached: the config's rule and the estimate ask it for the same mirror
+    return _influence(disc, dx, parity, n_act, coupling, threshold).n_valid
+
+
+def valid_actuators(config: SimulationConfig, i: int) -> int:
+    """Count DM ``i``'s valid actuators (illumination ``>= threshold``) from the config.
+
+    The influence functions' illumination on the disc's pixels (no plane grid built; a
+    few milliseconds, cached).
+    """
+    tel = config.telescope
+    opts = config.dms[i].options
+    return _valid_count(dm_disc_diameter(config, i), tel.diameter / tel.n_pixels,
+                        tel.n_pixels % 2, actuators_across(config, i), opts.coupling,
+                        opts.threshold)
+
+
+def _check(config: SimulationConfig, i: int) -> None:
+    """Check the mirror against the pupil grid and its modes (each error names its key)."""
+    dm = config.dms[i]
+    tel = config.telescope
+    dx = tel.diameter / tel.n_pixels
+    disc = dm_disc_diameter(config, i)
+    n_act = actuators_across(config, i)
+    key = f"dms[{i}].n_actuators"
+    where = ("" if dm.options.n_actuators is not None
+             else " (the default: its WFS's n_subapertures + 1)")
+    limit = int(disc / (PIXELS_PER_PITCH * dx) + 1e-9) + 1
+    if n_act > limit:
+        raise ValueError(
+            f"`{key}` must be <= {limit} (at least {PIXELS_PER_PITCH} pupil pixels per "
+            f"actuator pitch across the {disc / dx:.0f}-pixel disc at telescope.n_pixels = "
+            f"{tel.n_pixels}){where}; got {n_act!r}.")
+    n_valid = valid_actuators(config, i)
+    if n_valid < 4:  # the K-L modes need piston, tip, tilt and one more
+        raise ValueError(f"`{key}` must leave at least 4 valid actuators (illumination >= "
+                         f"dms[{i}].threshold = {dm.options.threshold:g}){where}; got "
+                         f"{n_act!r} ({n_valid} valid).")
+    if dm.n_modes > n_valid - 1:
+        raise ValueError(
+            f"`dms[{i}].n_modes` must be <= {n_valid - 1} (the DM-space K-L modes of "
+            f"{n_valid} valid actuators of {n_act} x {n_act}, piston removed); "
+            f"got {dm.n_modes!r}.")
+
+
+def _cost(config: SimulationConfig, i: int, dx: float) -> MirrorCost:
+    """Shapes, ``m2c``, the sparse influence matrix and the K-L build; the per-update work."""
+    opts = config.dms[i].options
+    disc = dm_disc_diameter(config, i)
+    n_act = actuators_across(config, i)
+    n_valid = valid_actuators(config, i)
+    m = config.dms[i].n_modes
+    n_disc = math.pi / 4.0 * (disc / dx) ** 2
+    pitch = disc / (n_act - 1)
+    radius = pitch * math.sqrt(math.log(DEFAULT_TRUNCATION) / math.log(opts.coupling))
+    band = 2.0 * radius / pitch + 1.0  # actuators a pixel's 1-D factor reaches
+    nnz = n_valid * (2.0 * radius / dx + 1.0) ** 2  # sparse influence matrix (CSR, 12 B)
+    shape_bytes = (8.0 * n_disc * m + 8.0 * n_valid * m + 12.0 * nnz
+                   + _KL_DENSE_ARRAYS * 8.0 * n_valid ** 2)
+    # per update: strokes m2c @ c, then the separable product (columns, then rows)
+    side = disc / dx
+    ops = n_valid * m + n_act * side * band + n_disc * band
+    return MirrorCost(n_modes=m, shape_bytes=shape_bytes, ops_per_pixel=ops / n_disc,
+                      driver=f"dms[{i}].n_actuators",
+                      setup_seconds=_KL_SECONDS_PER_ACTUATOR3 * float(n_valid) ** 3)
+
+
+def _aot(dm: ActuatorDeformableMirror) -> dict:
+    f = dm.influence
+    return {"model": (f"modal: each actuator is one DM-space K-L mode of a mirror of "
+                      f"{f.n_valid} valid actuators ({f.n_actuators} x {f.n_actuators}, "
+                      f"pitch {f.pitch:.6g} m, Gaussian influence, coupling "
+                      f"{f.coupling:g}); commands are K-L coefficients [rad at "
+                      f"r0_wavelength], strokes = m2c @ commands"),
+            "modes": f"{dm.labels[0]}..{dm.labels[-1]} (DM-space K-L, tip and tilt first)"}
+
+
+def _strongest_outer_scale(config: SimulationConfig) -> float:
+    """``L0`` of the layer with the largest ``(D / r0)**(5/3)`` (inf without layers)."""
+    layers = config.layers
+    if not layers:
+        return math.inf
+    k = int(np.argmax([lay.d_over_r0 for lay in layers]))
+    return float(layers[k].outer_scale)
+
+
+def _piston_removed_variance(mask: np.ndarray, dx: float, r0: float,
+                             outer_scale: float) -> float:
+    """Mean variance of the piston-removed phase over ``mask`` [rad^2].
+
+    ``1/2 <D(|x - y|)>`` over pairs of pixels (``C = -1/2 P D P``, ``P`` the piston
+    projector; Kolmogorov's infinite ``B(0)`` cancels): the pairs' lags are the mask's
+    autocorrelation, one FFT.
+    """
+    m = mask.astype(np.float64)
+    pairs = np.rint(signal.fftconvolve(m, m[::-1, ::-1]))  # lags -(n-1)..(n-1)
+    lag = np.arange(-(mask.shape[0] - 1), mask.shape[0]) * dx
+    dist = np.hypot(lag[:, None], lag[None, :])
+    n = m.sum()
+    return float(0.5 * np.sum(pairs * von_karman_structure_function(dist, r0, outer_scale))
+                 / n ** 2)
+
+
+class ActuatorDeformableMirror(DeformableMirror):
     """One DM of actuators on its plane, commanded in DM-space K-L coefficients.
+
+    Built by the registry (``closedloop.kinds.mirror_kind("actuators").build``); see the
+    module docstring.
 
     Parameters
     ----------
     geometry : Geometry
     index : int
-        Which DM of the configuration (``geometry.config.dms[index]``; its ``n_modes``
-        is the number of K-L modes controlled, at most ``n_valid - 1``).
-    n_actuators : int, optional
-        Actuators across the telescope's pupil diameter; default the DM's WFS's
-        ``n_subapertures + 1`` (Fried geometry: actuators on the subaperture corners).
-    pitch : float, optional
-        Actuator pitch [m] at the DM's plane; default ``D / (n_actuators - 1)``.
-    coupling, truncation, threshold : float
-        Influence-function options of :class:`modalinfo.bases.InfluenceFunctions`.
-    outer_scale : float, optional
-        ``L0`` [m] of the K-L prior; default that of the configuration's strongest layer.
+        Which DM of the configuration (``geometry.config.dms[index]``, kind
+        ``"actuators"``; its ``n_modes`` K-L modes are controlled).
 
     Attributes
     ----------
-    plane : int
-        Index of its plane in ``geometry.planes``.
-    diameter : float
-        Controlled disc [m].
-    pixels : (n_disc,) int64
-        Flat indices of the disc's pixels on the plane grid.
     influence : InfluenceFunctions
-        The actuators on the disc (grid of ``n_grid`` across the disc).
+        The actuators on the disc's bounding square (pupil: the disc's pixels, in the
+        order of :attr:`pixels`).
     m2c : (n_valid, n_modes) float64
-        Strokes [rad] of each K-L mode.
+        Strokes [rad] of each K-L mode (read-only).
     prior_variances : (n_modes,) float64
-        Von Karman variance of each mode in units of ``(diameter / r0)**(5/3) rad^2``.
+        Von Karman variance of each mode in units of ``(diameter / r0)**(5/3)`` rad^2 at
+        :attr:`outer_scale` (read-only).
+    outer_scale : float
+        ``L0`` [m] of the prior (the strongest layer's).
+    shapes : (n_disc, n_modes) float64
+        Mode surfaces on the disc's pixels [rad per unit command] (interaction
+        matrices, AOT; :meth:`forward` does not read them).
     modes : list of int
-        ``[]``: the modes are not Zernikes.
-    n_modes : int
+        ``[]``: the modes are not Noll Zernikes.
     labels : list of str
         ``"DMKL1"``, ...
     """
 
-    kind = "actuators"
+    kind: ClassVar[str] = "actuators"
 
-    def __init__(self, geometry: Geometry, index: int, *, n_actuators: int | None = None,
-                 pitch: float | None = None, coupling: float = DEFAULT_COUPLING,
-                 truncation: float = DEFAULT_TRUNCATION, threshold: float = DEFAULT_THRESHOLD,
-                 outer_scale: float | None = None):
-        cfg = geometry.config
-        dm_cfg = cfg.dms[index]
-        self.index = index
-        self.altitude = geometry.los(dm_cfg.altitude)
-        self.plane = geometry.dm_plane[index]
-        self.diameter = geometry.dm_diameter(index)
-        n = geometry.planes[self.plane].n
-        coords = geometry.plane_coords(self.plane)
-        yy, xx = np.meshgrid(coords, coords, indexing="ij")
-        inside = np.hypot(xx, yy) <= self.diameter / 2.0
-        self.pixels = np.flatnonzero(inside).astype(np.int64)
-        if n_actuators is None:
-            wfs = [w for w in cfg.wfss if w.dm == index]
-            n_actuators = (wfs[0].n_subapertures if wfs else 16) + 1
-        if pitch is None:
-            pitch = geometry.diameter / (n_actuators - 1)
-        # the grid spans the disc at the telescope's pitch (a meta-pupil needs more
-        # actuators across than the pupil), centred on the axis
-        n_grid = max(int(n_actuators), int(math.ceil(self.diameter / pitch - 1e-9)) + 1)
-        # the influence functions live on the disc's bounding square (centred on the
-        # plane's centre, so its pixel centres are the plane's): the prior's FFTs scale
-        # with it, not with the plane (twice as wide at altitude in table1)
-        used = np.flatnonzero(inside.any(axis=0))
-        lo, hi = int(used[0]), int(used[-1]) + 1
-        if lo + hi != n:  # pragma: no cover - a centred disc is symmetric
-            lo, hi = 0, n
-        pupil = MaskedPupil(inside[lo:hi, lo:hi], diameter=(hi - lo) * geometry.dx)
-        self.influence = InfluenceFunctions(pupil, n_grid, pitch, coupling=coupling,
-                                            truncation=truncation, threshold=threshold)
-        if outer_scale is None:
-            outer_scale = _strongest_outer_scale(geometry)
-        self.outer_scale = float(outer_scale)
-        n_modes = min(int(dm_cfg.n_modes), self.influence.n_valid - 1)
+    def __init__(self, geometry: Geometry, index: int):
+        self._geometry = geometry
+        self._index = index
+        super().__init__(geometry, index)
+
+    def _shapes(self, cfg, rho, theta):
+        g = self._geometry
+        config = g.config
+        opts = cfg.options
+        disc = g.dm_diameter(self._index)
+        self.influence = _influence(disc, g.dx, g.n_pixels % 2,
+                                    actuators_across(config, self._index), opts.coupling,
+                                    opts.threshold)
+        if self.influence.pupil.n_valid != rho.size:  # pragma: no cover - same test, centres
+            raise RuntimeError("the influence functions' disc differs from the mirror's")
+        self.outer_scale = _strongest_outer_scale(config)
         # r0 = the disc's diameter: variances in units of (diameter / r0)**(5/3)
-        self.m2c, self.prior_variances = dm_kl_modes(self.influence, self.diameter,
-                                                     self.outer_scale, n_modes=n_modes)
+        self.m2c, self.prior_variances = dm_kl_modes(self.influence, disc, self.outer_scale,
+                                                     n_modes=cfg.n_modes)
         self.m2c.flags.writeable = False
         self.prior_variances.flags.writeable = False
-        self.n_modes = n_modes
-        self.modes: list[int] = []
-        self.labels = [f"DMKL{k + 1}" for k in range(n_modes)]
+        shapes = np.ascontiguousarray(self.influence.matrix @ self.m2c)
+        shapes.flags.writeable = False
+        return [], shapes
+
+    def _synthesis_tables(self, n: int):
+        return None  # forward is the separable influence product, not B c
+
+    def _labels(self) -> list[str]:
+        return [f"DMKL{k + 1}" for k in range(self.n_modes)]
+
+    def prior_variance(self) -> np.ndarray:
+        """Von Karman variance of each K-L mode for ``diameter / r0 = 1``, ``(n_modes,)``."""
+        return self.prior_variances
 
     @functools.cached_property
-    def shapes(self) -> np.ndarray:
-        """Mode surfaces on the disc's pixels, dense ``(n_disc, n_modes)`` [rad per unit].
+    def _total_variance(self) -> float:
+        return _piston_removed_variance(np.asarray(self.influence.pupil.mask),
+                                        self._geometry.dx, self.diameter, self.outer_scale)
 
-        Built on first access (for interaction matrices); ``forward`` never uses it.
+    def residual_variance(self) -> float:
+        """Variance the controlled K-L modes leave, ``diameter / r0 = 1`` [rad^2].
+
+        The piston-removed variance over the disc (at :attr:`outer_scale`) less the
+        modes' prior variances (orthonormal modes: the rest is outside their span).
         """
-        out = np.ascontiguousarray(self.influence.matrix @ self.m2c)
-        out.flags.writeable = False
-        return out
+        return max(self._total_variance - float(np.sum(self.prior_variances)), 0.0)
 
     def basis(self) -> DMKLBasis:
         """Return the modes as a :class:`modalinfo.bases.DMKLBasis` on the disc (logs, MI)."""
         return DMKLBasis(self.influence, self.m2c, self.prior_variances, self.labels)
-
-    def reset(self) -> None:
-        """Nothing to reset: a mirror's surface is a function of its command (no state)."""
 
     def strokes(self, commands: np.ndarray) -> np.ndarray:
         """Actuator strokes [rad] ``(n_valid,)`` for K-L ``commands`` ``(n_modes,)``."""
@@ -151,10 +354,8 @@ class ActuatorDeformableMirror:
         return self.influence.surface(self.strokes(commands))
 
 
-def _strongest_outer_scale(geometry: Geometry) -> float:
-    """``L0`` of the layer with the largest ``(D / r0)**(5/3)`` (inf without layers)."""
-    layers = geometry.config.layers
-    if not layers:
-        return math.inf
-    k = int(np.argmax([lay.d_over_r0 for lay in layers]))
-    return float(layers[k].outer_scale)
+#: the mirror of actuators (DM-space K-L commands)
+ACTUATORS = register_mirror_kind(MirrorKind(
+    name="actuators", build=ActuatorDeformableMirror, estimate=_cost, aot_description=_aot,
+    options=ActuatorOptions, validate=_validate, check=_check,
+    controlled_modes=lambda cfg, i: cfg.dms[i].n_modes))

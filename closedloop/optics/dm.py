@@ -37,7 +37,12 @@ from closedloop.config import SimulationConfig, dm_disc_diameter
 from closedloop.kinds import MirrorCost, MirrorKind, register_mirror_kind
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
-from modalinfo.bases import noll_to_zernike, zernike_covariance, zernike_matrix
+from modalinfo.bases import (
+    noll_residual_variance,
+    noll_to_zernike,
+    zernike_covariance,
+    zernike_matrix,
+)
 
 __all__ = ["DeformableMirror", "ZernikeMirror", "IdealMirror", "ZERNIKE", "IDEAL",
            "check_zernike_sampling"]
@@ -101,8 +106,7 @@ class DeformableMirror:
         self.pixels = np.flatnonzero(inside).astype(np.int64)
         self.modes, self.shapes = self._shapes(cfg, rho[inside], np.arctan2(yy, xx)[inside])
         self.n_modes = int(self.pixels.size if self.shapes is None else self.shapes.shape[1])
-        self._mirror = (None if self.shapes is None or self.shapes.nbytes < _MIRROR_MIN_BYTES
-                        else _mirror_tables(self.pixels, self.shapes, len(coords)))
+        self._mirror = self._synthesis_tables(len(coords))
         self.labels = self._labels()
 
     def _shapes(self, cfg, rho: np.ndarray, theta: np.ndarray):
@@ -112,6 +116,15 @@ class DeformableMirror:
         rad), in the order of :attr:`pixels`.
         """
         raise NotImplementedError(f"{type(self).__name__} must implement _shapes")
+
+    def _synthesis_tables(self, n: int):
+        """Tables of :meth:`forward`'s quadrant synthesis on the ``n x n`` plane (None: ``B c``).
+
+        A kind whose ``forward`` does not read ``shapes`` returns None (nothing to build).
+        """
+        if self.shapes is None or self.shapes.nbytes < _MIRROR_MIN_BYTES:
+            return None
+        return _mirror_tables(self.pixels, self.shapes, n)
 
     def _labels(self) -> list[str]:
         """One label per mode (``Z<j>`` for Noll modes, ``pix<k>`` for a zonal mirror's pixels)."""
@@ -127,6 +140,19 @@ class DeformableMirror:
         whose shapes are not Noll Zernikes overrides it.
         """
         return np.diag(zernike_covariance(self.modes))
+
+    def residual_variance(self) -> float:
+        """Kolmogorov variance of the phase beyond its modes, ``D / r0 = 1`` over the disc [rad^2].
+
+        What a perfect fit on the mirror's modes leaves (generalised fitting; an ideal
+        sensor's model error, :meth:`closedloop.optics.wfs.IdealSensor.model_error_variance`).
+        Here Noll's ``Delta_J`` after Noll modes up to ``max(modes)``
+        (:func:`modalinfo.bases.noll_residual_variance`), 0 for a zonal mirror; a kind
+        whose shapes are not Noll Zernikes overrides it.
+        """
+        if self.shapes is None:
+            return 0.0
+        return float(noll_residual_variance(max(self.modes)))
 
     def reset(self) -> None:
         """Nothing to reset: a mirror's surface is a function of its command (no state)."""

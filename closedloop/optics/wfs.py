@@ -61,7 +61,6 @@ from closedloop.kinds import SensorCost, SensorKind, register_sensor_kind
 from closedloop.optics import _kernels
 from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
-from modalinfo.bases import noll_residual_variance
 
 __all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SHACK_HARTMANN", "IDEAL",
            "bilinear_matrix", "has_noise", "check_subaperture_sampling",
@@ -427,17 +426,17 @@ class IdealSensor(WavefrontSensor):
         return super()._least_squares(rcond)
 
     def model_error_variance(self, r0s: list[float], model_error: float) -> float:
-        """Noll's residual after the DM's modes, ``Delta_J (D_dm / r0)**(5/3)`` [rad^2].
+        """Return the residual after the DM's modes [rad^2], summed over the layers.
 
-        Summed over the layers (generalised fitting: the phase beyond the DMs' modes); 0 on
-        a zonal DM. ``model_error`` is not used (it scales the SH's term).
+        ``dm.residual_variance() (D_dm / r0)**(5/3)`` per layer (Noll's ``Delta_J`` for a
+        Zernike mirror, :meth:`closedloop.optics.dm.DeformableMirror.residual_variance`):
+        generalised fitting, the phase beyond the DMs' modes; 0 on a zonal DM.
+        ``model_error`` is not used (it scales the SH's term).
         """
         dm = self.dm
         if dm.shapes is None:
             return 0.0
-        j_max = max(dm.modes)
-        return float(noll_residual_variance(j_max)) * sum(
-            (dm.diameter / r0) ** (5.0 / 3.0) for r0 in r0s)
+        return dm.residual_variance() * sum((dm.diameter / r0) ** (5.0 / 3.0) for r0 in r0s)
 
 
 # ---------------------------------------------------------------------- the kinds' records
