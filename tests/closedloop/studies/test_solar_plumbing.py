@@ -478,7 +478,7 @@ def _study():
                 row.update(fitting=0.1, aliasing=0.02, temporal=0.3, noise=0.04, measured=0.5)
             rows.append(row)
     return solar.SolarSensitivity("table1-solar", 3, 0.1, ("none", "arma"), tuple(rows),
-                                  {"workstation": (4e-3, 0.625e-3),
+                                  {"workstation": (0.1, 0.625e-3),
                                    "this-machine": (4e-3, float("nan"))}, 12.4)
 
 
@@ -523,7 +523,7 @@ def test_command_line_passes_its_options_and_prints_the_study(monkeypatch, capsy
     head, table = out.out.split("\n\n")
     assert head.startswith(
         "table1-solar sensitivity: seed 3, 0.1 s per run, one knob changed at a time (12 s). "
-        "Latency: workstation: correlation 4.00 ms on this machine -> delay 0.625 ms; "
+        "Latency: workstation: correlation 100.00 ms on this machine -> delay 0.625 ms; "
         "this-machine: correlation 4.00 ms on this machine -> ")
     # (the unstable RTC's words are not pinned: they read "delay unstable loop", reported)
     assert head.endswith("unstable loop.")
@@ -553,3 +553,90 @@ def test_documented_knob_values():
     assert solar.QUICK_VALUES == {"signal": (150.0,), "contrast": (0.03,),
                                   "n_subapertures": (8,), "rtc": ("workstation",)}
     assert solar.MAX_RUNS == 60 and solar.DEFAULT_PIXEL_SCALE == 0.5
+
+
+def test_command_line_help_names_the_program_and_its_options(capsys):
+    with pytest.raises(SystemExit) as exc:
+        solar.main(["--help"])
+    assert exc.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert text.startswith("usage: python -m closedloop.studies.solar ")
+    assert "Sensitivity of table1-solar to the solar knobs." in text
+    assert "--quick one value per knob" in text
+    assert ("--knobs KNOBS comma list of knobs to vary (default all: "
+            "signal,contrast,n_subapertures,rtc)") in text
+
+
+def test_markdown_labels_an_unlisted_knob_by_its_name():
+    study = _study()
+    rows = tuple(dict(r, knob="wind") if r["knob"] == "signal" else r for r in study.rows)
+    text = solar.markdown(dataclasses.replace(study, rows=rows))
+    assert text.splitlines()[3].startswith("| wind | 150 e- | 1.000 |")
+
+
+def test_latency_without_a_timer_measures_with_repeats_and_seed(monkeypatch):
+    calls = []
+
+    def measured(n, pixels, **kw):
+        calls.append((n, pixels, kw))
+        return 0.0
+
+    monkeypatch.setattr(solar, "correlation_compute_time", measured)
+    solar.solar_latency(_solar(), model=_Model(204, 120))
+    assert calls == [(205, 120, {"repeats": 5, "seed": 0}), (121, 40, {"repeats": 5, "seed": 0})]
+    calls.clear()
+    solar.solar_latency(_solar(), model=_Model(204, 120), repeats=2, seed=9)
+    assert [c[2] for c in calls] == [{"repeats": 2, "seed": 9}] * 2
+
+
+def test_sizes_build_the_loop_model_when_none_is_given(monkeypatch):
+    import closedloop.simulation as sim
+
+    built = []
+
+    def fake_model(config):
+        built.append(config)
+        return _Model(11, 12)
+
+    monkeypatch.setattr(sim, "LoopModel", fake_model)
+    cfg = _solar()
+    assert solar.correlating_wfs_sizes(cfg) == [(0, 11, 120), (1, 12, 40)]
+    assert built == [cfg]
+    solar.correlating_wfs_sizes(cfg, _Model(1, 2))
+    assert built == [cfg]  # a given model is used as it is
+
+
+def test_stability_limit_uses_the_exposure_and_the_boundary_is_refused():
+    cfg = _solar()
+    half = cfg.replace(loop=dataclasses.replace(cfg.loop, integration_time=0.5e-3))
+    limit = max_stable_gain(10.5, 0.5)  # 0.5 + 10 ms, half-frame exposure
+    assert f"{limit:.3f}" != f"{max_stable_gain(10.5, 1.0):.3f}"
+    with pytest.raises(ValueError) as exc:
+        solar.solar_latency(half, rtc="this-machine", compute_time=0.01)
+    assert str(exc.value) == (
+        "`rtc` 'this-machine' (readout 0.5 ms, rtc_speed 1) gives a delay of 10.500 ms "
+        "(10.00 ms of correlation on this machine): the loop gain 0.5 is beyond the largest "
+        f"stable gain {limit:.3f} there; use a faster RTC or a lower gain.")
+    # a gain exactly at the limit is not stable (the limit is where a pole reaches |z| = 1)
+    limit = max_stable_gain(4.5, 1.0)
+    at = cfg.replace(loop=dataclasses.replace(cfg.loop, gain=limit))
+    with pytest.raises(ValueError, match="beyond the largest stable gain"):
+        solar.solar_latency(at, rtc="this-machine", compute_time=4e-3)
+
+
+def test_study_defaults_and_its_own_base(recorder, monkeypatch):
+    timed = []
+    monkeypatch.setattr(solar, "correlating_compute_time",
+                        lambda config, model=None, **kw: timed.append(config) or 4e-3)
+    base = _solar(signal=3000.0)
+    study = solar.solar_sensitivity(base, values={"rtc": ("workstation",)},
+                                    predictors=("none",), model=object())
+    # the base given, not the preset; the RTC's correlations timed on that base
+    assert recorder.calls[0]["cfg"] == base and timed == [base]
+    assert recorder.calls[1]["cfg"] == base.replace(
+        loop=dataclasses.replace(base.loop, delay=0.625e-3))
+    assert [c["duration"] for c in recorder.calls] == [0.3, 0.3]  # the documented default
+    assert study.duration == 0.3 and study.config_name == "table1-solar"
+    with pytest.raises(ValueError) as exc:
+        solar.solar_sensitivity(base, max_runs=0)
+    assert str(exc.value) == "`max_runs` must be an int >= 1; got 0."
