@@ -328,6 +328,8 @@ def recorder(monkeypatch):
         calls.append(dict(cfg=cfg, name=name, duration=duration, seed=seed, model=model,
                           reference=reference, progress=progress, budget_every=budget_every))
         run = _Run(cfg, seed, duration, len(calls))
+        if budget_every is None:  # as simulate: no budget asked, none made
+            run.budget = None
         calls[-1]["run"] = run
         return run
 
@@ -385,6 +387,7 @@ def test_study_runs_each_variation_for_each_predictor(recorder):
         assert r["strehl_peak"] == pytest.approx(peak, rel=1e-12)
         assert r["strehl_field"] == pytest.approx(field, rel=1e-12)
         assert r["fov_arcmin"] == 0.5 * k
+        assert r["parameter"] == r["knob"]  # the sensitivity study's own key, the same
         assert r["delay"] == (0.625e-3 if r["knob"] == "rtc" else base.loop.delay)
         terms = ("fitting", "aliasing", "temporal", "noise", "measured")
         if r["predictor"] == "none":
@@ -627,12 +630,15 @@ def test_stability_limit_uses_the_exposure_and_the_boundary_is_refused():
 def test_study_defaults_and_its_own_base(recorder, monkeypatch):
     timed = []
     monkeypatch.setattr(solar, "correlating_compute_time",
-                        lambda config, model=None, **kw: timed.append(config) or 4e-3)
-    base = _solar(signal=3000.0)
+                        lambda config, model=None, **kw: timed.append((config, model)) or 4e-3)
+    ticks = iter([10.0, 12.5, 20.0])
+    monkeypatch.setattr(solar, "time", SimpleNamespace(perf_counter=lambda: next(ticks)))
+    base, model = _solar(signal=3000.0), object()
     study = solar.solar_sensitivity(base, values={"rtc": ("workstation",)},
-                                    predictors=("none",), model=object())
-    # the base given, not the preset; the RTC's correlations timed on that base
-    assert recorder.calls[0]["cfg"] == base and timed == [base]
+                                    predictors=("none",), model=model)
+    # the base given, not the preset; the RTC's correlations timed on that base and model
+    assert recorder.calls[0]["cfg"] == base and timed == [(base, model)]
+    assert study.elapsed == 2.5  # wall time from start to end of the study
     assert recorder.calls[1]["cfg"] == base.replace(
         loop=dataclasses.replace(base.loop, delay=0.625e-3))
     assert [c["duration"] for c in recorder.calls] == [0.3, 0.3]  # the documented default
