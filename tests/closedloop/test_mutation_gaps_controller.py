@@ -121,8 +121,8 @@ def test_projector_keeps_only_the_observable_change():
     pred = _Known(2)
     p = np.array([[1.0, 0.0], [0.0, 0.0]])  # mode 1 is not seen by any WFS
     ctl = Controller(2, gain=0.5, leak=0.0, delay_frames=0.5, integration_frames=1.0,
-                     predictor=pred, projector=p.tolist())
-    assert ctl.projector.dtype == np.float64
+                     predictor=pred, projector=p.astype(int).tolist())
+    assert ctl.projector.dtype == np.float64 and ctl.n_modes == 2
     _, pol, forecast = ctl.step(np.array([1.0, 2.0]))
     assert forecast[0] == pytest.approx(pol[0] + 15.0) and forecast[1] == pol[1]
     # an external forecast (the oracle's) is used as it is, and the predictor not updated
@@ -201,3 +201,30 @@ def test_fault_messages_name_predictor_step_and_mode(bad, message, mode):
     assert exc.value.step == 1 and exc.value.mode == mode
     assert isinstance(exc.value.mode, (int, type(None)))
     assert ctl.n_faults == 0
+
+
+def test_a_held_frame_shifts_every_past_command():
+    # delay 1.5, exposure 1: frame k sees c_{k-2} and c_{k-3} half each (weights by hand)
+    pred = _Known(3, bad={3: np.full((3, 2), np.nan)})
+    ctl = Controller(2, gain=0.5, leak=0.0, delay_frames=1.5, integration_frames=1.0,
+                     predictor=pred, on_predictor_fault="hold")
+    assert ctl.weights == pytest.approx([0.0, 0.0, 0.5, 0.5])
+    c = [ctl.step(m)[0] for m in (np.array([1.0, 0.0]), np.array([0.0, 2.0]),
+                                   np.array([3.0, 1.0]))]
+    held, _, _ = ctl.step(np.zeros(2))
+    assert np.array_equal(held, c[2])
+    # history now c_3 = c_2 (held), c_2, c_1: the next frame sees c_2 and c_1 half each
+    assert ctl.seen_commands() == pytest.approx(0.5 * c[2] + 0.5 * c[1])
+
+
+def test_steps_count_from_zero_again_after_reset():
+    pred = _Known(2, bad={0: np.zeros(3)})
+    ctl = Controller(2, gain=0.5, leak=0.0, delay_frames=0.5, integration_frames=1.0,
+                     predictor=pred)
+    with pytest.raises(PredictorFault) as exc:
+        ctl.step(np.zeros(2))
+    assert exc.value.step == 0
+    ctl.reset()
+    with pytest.raises(PredictorFault) as exc:
+        ctl.step(np.zeros(2))
+    assert exc.value.step == 0 and "at step 0;" in str(exc.value)
