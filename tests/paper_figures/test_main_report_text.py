@@ -312,3 +312,73 @@ def test_extreme_seed_and_repeated_figures_are_accepted(figs, tmp_path):
 def test_only_defaults_to_every_figure():
     assert pf._parse_only(None) == [1, 2, 3, 4, 5, 6, 7, 8]
     assert pf._parse_only("8, 1,1") == [1, 8]
+
+
+# ------------------------------------------------------------------ a user's log: notes
+def _save(path, x, **kw):
+    save(ModalLog(x, modes=list(range(2, 2 + x.shape[1])), convention="noll", units="rad",
+                  wavelength=5e-7, **kw), path)
+    return path
+
+
+def test_a_flagged_user_log_gets_one_note_without_the_cli_prefix(figs, tmp_path, capsys):
+    x = np.random.default_rng(1).normal(size=(300, 6)) * 0.01
+    x[100, 2] = 1.0  # one outlier, 100 sigma: flagged (|x - median| > 4.54 x 1.4826 MAD)
+    log = _save(tmp_path / "out.npz", x, rate=2000.0)
+    assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert err.startswith("paper_figures: note: 'out.npz': 1 of 300 frames flagged: ")
+    assert err.endswith("; used as is (--outliers clip winsorises the outliers, drop removes "
+                        "the frames, raise refuses the log)\n")
+    # Figure 5 forecasts: dropping frames would break the time axis, so drop is refused
+    assert main(["--only", "1", "--log", str(log), "--outliers", "drop",
+                 "--out", str(tmp_path / "p")]) == 2
+    assert capsys.readouterr().err == (
+        "paper_figures: error: --log: --outliers drop removes frames, which breaks the time "
+        "axis paper_figures needs; use --outliers clip (winsorise in place) or warn\n")
+
+
+def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_path, capsys):
+    t = np.arange(300) / 2000.0
+    t[150:] += 0.01
+    x = np.random.default_rng(2).normal(size=(300, 6)) * 0.01
+    log = _save(tmp_path / "gap.npz", x, timestamps=t)
+    assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"paper_figures: error: --log: '{log}' has 1 timestamp gap(s), ")
+    assert err.endswith("; Figures 1 and 5 needs equally spaced frames: pass --split-gaps to "
+                        "analyse the longest contiguous segment (frames 0..149)\n")
+    assert main(["--only", "1", "--log", str(log), "--split-gaps",
+                 "--out", str(tmp_path / "o")]) == 0
+    assert capsys.readouterr().err == ("paper_figures: note: --split-gaps: analysed frames "
+                                       "0..149 (150 of 300), the longest of 2 contiguous "
+                                       "segments\n")
+    assert figs.mods["fig1_fitting_error"].calls[-2] == ("check", 150)
+
+
+def test_a_clean_user_log_without_a_rate_prints_nothing(figs, tmp_path, capsys):
+    x = np.random.default_rng(3).normal(size=(300, 6)) * 0.01
+    log = _save(tmp_path / "norate.npz", x)
+    assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_a_reader_error_without_text_is_named_by_its_type(figs, tmp_path, capsys,
+                                                           monkeypatch):
+    import modalinfo.cli._common as common
+
+    def fail(*a, **k):
+        raise ValueError()
+
+    monkeypatch.setattr(common, "load_log_with_hints", fail)
+    log = _save(tmp_path / "m.npz", np.random.default_rng(4).normal(size=(300, 6)))
+    assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err == "paper_figures: error: --log: ValueError()\n"
+
+    def fail_text(*a, **k):
+        raise OSError("  disk gone \n more")
+
+    monkeypatch.setattr(common, "load_log_with_hints", fail_text)
+    assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err == "paper_figures: error: --log: disk gone \n"  # 1st line
