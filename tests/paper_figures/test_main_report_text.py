@@ -34,6 +34,7 @@ class _Fig:
 
     def __init__(self, number, kind, quick_param=False, fail=None):
         self.number, self.kind, self.fail, self.calls = number, kind, fail, []
+        self.frames = []  # n_frames of each log computed on
         if kind == "runs":
             self.NEEDS_RUNS = True
         elif kind == "own":
@@ -58,9 +59,11 @@ class _Fig:
         return [f"f{self.number}{suffix}.png"]
 
     def _compute_log(self, log, *, source):
+        self.frames.append(log.n_frames)
         return self._result(("log", source))
 
     def _compute_quick(self, log, *, source, quick=False):
+        self.frames.append(log.n_frames)
         return self._result(("log", source, quick))
 
     def _compute_runs(self, runs):
@@ -80,7 +83,7 @@ class _Fig:
                                                                        self.PDF_NAME,
                                                                        self.JSON_NAME]
         for name in names:
-            (out_dir / name).write_bytes(b"x")
+            (out_dir / name).write_bytes(result.encode())
 
     def report(self, result, *, suffix=""):
         return f"## Figure {self.number}: about {result}\n\nbody {result}{suffix}\n\n\n"
@@ -192,6 +195,13 @@ def test_report_of_log_runs_and_own_figures_written_by_hand(figs, tmp_path, caps
     # the logs compared: the two shipped logs, and Figures 1 and 5's results of each
     assert figs.cmp[1] == ("CMP", {"spectral": "r1.3", "simulated": "r1.4"},
                            {"spectral": "r5.3", "simulated": "r5.4"})
+    from modalinfo.io import load
+
+    frames = [load(DEFAULT_LOG).n_frames, load(SIMULATED_LOG).n_frames]
+    assert m["fig1_fitting_error"].frames == frames and m["fig5_forecast"].frames == frames
+    assert (out / "f1.png").read_bytes() == b"r1.3"  # each log's result drawn
+    assert (out / "f1_closedloop.png").read_bytes() == b"r1.4"
+    assert (out / "f6.json").read_bytes() == b"r6.1"
     assert sorted(p.name for p in out.iterdir()) == sorted(
         ["report.md", "report.html", "f1.png", "f1_closedloop.png", "f2.png", "f2.pdf",
          "f2.json", "f5.png", "f5_closedloop.png", "f6.png", "f6.pdf", "f6.json"])
@@ -382,3 +392,13 @@ def test_a_reader_error_without_text_is_named_by_its_type(figs, tmp_path, capsys
     monkeypatch.setattr(common, "load_log_with_hints", fail_text)
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
     assert capsys.readouterr().err == "paper_figures: error: --log: disk gone \n"  # 1st line
+
+
+def test_only_the_section_heading_names_the_log(figs, tmp_path):
+    fig1 = figs.mods["fig1_fitting_error"]
+    fig1.report = lambda result, suffix="": (f"## Figure 1: head {result}\n\nquotes "
+                                             f"\"## Figure 1: head\"\n")
+    assert main(["--only", "1", "--out", str(tmp_path / "o")]) == 0
+    text = (tmp_path / "o" / "report.md").read_text(encoding="utf-8")
+    assert "## Figure 1 (spectral KAOS-like log): head r1.3\n\nquotes \"## Figure 1: head\"" \
+        in text
