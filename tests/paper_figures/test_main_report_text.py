@@ -402,3 +402,15 @@ def test_only_the_section_heading_names_the_log(figs, tmp_path):
     text = (tmp_path / "o" / "report.md").read_text(encoding="utf-8")
     assert "## Figure 1 (spectral KAOS-like log): head r1.3\n\nquotes \"## Figure 1: head\"" \
         in text
+
+
+@pytest.mark.parametrize("name", ["f1.png", "f1_closedloop.png", "f2.png", "f2.pdf", "f2.json",
+                                  "f6.png", "f6.pdf", "f6.json", "report.html"])
+def test_every_output_of_every_kind_is_protected(figs, tmp_path, capsys, name):
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / name).write_bytes(b"mine")
+    assert main(["--only", "1,2,6", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"paper_figures: error: '{out / name}' exists; pass "
+                                       "--overwrite to replace it\n")
+    assert (out / name).read_bytes() == b"mine" and figs.runs == []
