@@ -414,3 +414,27 @@ def test_every_output_of_every_kind_is_protected(figs, tmp_path, capsys, name):
     assert capsys.readouterr().err == (f"paper_figures: error: '{out / name}' exists; pass "
                                        "--overwrite to replace it\n")
     assert (out / name).read_bytes() == b"mine" and figs.runs == []
+
+
+def test_help_names_the_program_its_purpose_and_defaults(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--help"])
+    assert exc.value.code == 0
+    raw = capsys.readouterr().out
+    assert raw.startswith("usage: python -m paper_figures ")
+    # the description is the first line of the module's docstring
+    assert ("\n\nRegenerate every figure of the paper, and write a report with the paper's "
+            "numbers beside ours.\n\n") in raw
+    text = " ".join(raw.split())
+    for option in ("--log LOG modal log for Figures 1 and 5 (default: both shipped KAOS-like "
+                   "logs)", "--out OUT output directory (default: out)",
+                   "--only ONLY comma-separated figure numbers to make (default: all)",
+                   "--seed SEED atmosphere of the closed-loop runs (default 0)"):
+        assert option in text
+
+
+def test_defaults_of_out_and_log(figs, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["--only", "6"]) == 0
+    assert (tmp_path / "out" / "report.md").is_file()  # --out defaults to ./out
+    assert "Input logs" not in (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
