@@ -130,7 +130,7 @@ def figs(monkeypatch):
 
     monkeypatch.setattr(logs_compared, "compute", cmp_compute)
     monkeypatch.setattr(logs_compared, "report", cmp_report)
-    ticks = iter(np.cumsum(np.arange(0, 100)))  # 0, 1, 3, 6, 10, ...: steps 1, 2, 3, ...
+    ticks = iter(100 + np.cumsum(np.arange(0, 100)))  # 100, 101, 103, 106: steps 1, 2, 3
     monkeypatch.setattr(pf, "time", SimpleNamespace(perf_counter=lambda: float(next(ticks))))
     return SimpleNamespace(mods=mods, runs=runs_calls, cmp=cmp_calls)
 
