@@ -577,8 +577,8 @@ def main(argv=None) -> int:
     except (ValueError, TypeError) as exc:
         sys.stderr.write(f"solar: error: {str(exc).splitlines()[0]}\n")
         return 2
-    lat = "; ".join(f"{k}: correlation {c * 1e3:.2f} ms on this machine -> delay "
-                    + (f"{d * 1e3:.3f} ms" if math.isfinite(d) else "unstable loop")
+    lat = "; ".join(f"{k}: correlation {c * 1e3:.2f} ms on this machine -> "
+                    + (f"delay {d * 1e3:.3f} ms" if math.isfinite(d) else "unstable loop")
                     for k, (c, d) in study.latency.items())
     sys.stdout.write(f"{study.config_name} sensitivity: seed {study.seed}, {study.duration:g} s "
                      f"per run, one knob changed at a time ({study.elapsed:.0f} s). "
