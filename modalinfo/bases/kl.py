@@ -126,23 +126,26 @@ def _eig_blocks(blocks: list[tuple[np.ndarray, np.ndarray]], modes: np.ndarray,
     for b, (idx, block) in enumerate(blocks):
         w, v = np.linalg.eigh(block)
         values.append(w)
-        columns.append(v)
+        # _fix_signs per column: the largest |entry| (first of ties) made positive; the
+        # rows of a block ascend in idx, so "first" is the same as in the dense column
+        signs = np.sign(v[np.argmax(np.abs(v), axis=0), np.arange(v.shape[1])])
+        signs[signs == 0] = 1.0
+        columns.append(v * signs)
         # every column of a block lives on the block's rows: its kind is the block's
         kinds.append(np.full(idx.size, kind[idx[0]]))
-        owners.append(np.stack([np.full(idx.size, b), np.arange(idx.size)], axis=1))
+        owners.append(np.full(idx.size, b))
     values = np.concatenate(values)
     kinds = np.concatenate(kinds)
     owners = np.concatenate(owners)
+    local = np.concatenate([np.arange(v.shape[1]) for v in columns])
     scale = np.abs(values).max() if values.size else 1.0
     rounded = np.round(values / scale, 10)
     order = np.lexsort((kinds, -rounded))[:n_keep]
     out = np.zeros((modes.size, n_keep))
-    for col, (b, k) in enumerate(owners[order]):
-        idx = blocks[b][0]
-        vec = columns[b][:, k]
-        # _fix_signs: the largest |entry| (first of ties) made positive; rows ascend in idx
-        sign = np.sign(vec[np.argmax(np.abs(vec))])
-        out[idx, col] = vec * (sign if sign != 0 else 1.0)
+    kept_owner = owners[order]
+    for b in np.unique(kept_owner):
+        cols = np.flatnonzero(kept_owner == b)
+        out[np.ix_(blocks[b][0], cols)] = columns[b][:, local[order[cols]]]
     return values[order], out
 
 

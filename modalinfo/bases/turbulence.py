@@ -187,25 +187,25 @@ def _covariance_blocks(j: np.ndarray, outer_scale: float,
     """
     n, m = noll_to_zernike(j)
     keys = _angular_keys(j, m)
-    table = None
-    if not np.isinf(outer_scale):
-        # one Bessel table over every radial order, as in the dense formula
-        orders = np.unique(n)
-        table = _von_karman_table(orders, np.pi * diameter / outer_scale)
+    # the radial factor and the norm depend on (n, n') only: one table over the radial
+    # orders present, indexed per block (the same elementwise expressions as the dense form)
+    orders = np.unique(n)
+    o1, o2 = orders[:, None], orders[None, :]
+    if np.isinf(outer_scale):
+        radial = _NOLL_K * _kolmogorov_radial(o1, o2)
+    else:
+        radial = _RADIAL_PREFACTOR * _von_karman_table(orders, np.pi * diameter / outer_scale)
+    norm = np.sqrt((o1 + 1.0) * (o2 + 1.0))
+    rows = np.searchsorted(orders, n)
+    by_key = np.argsort(keys, kind="stable")  # grouped by key, positions ascending in a group
+    unique_keys, starts = np.unique(keys[by_key], return_index=True)
     blocks = []
-    for key in np.unique(keys):
-        idx = np.flatnonzero(keys == key)
+    for key, idx in zip(unique_keys, np.split(by_key, starts[1:]), strict=True):
+        r1, r2 = rows[idx][:, None], rows[idx][None, :]
         nb = n[idx]
-        n1, n2 = nb[:, None], nb[None, :]
-        m_abs = int(key) // 3
-        sign = np.where(((n1 + n2 - 2 * m_abs) // 2) % 2 == 0, 1.0, -1.0)
-        norm = np.sqrt((n1 + 1.0) * (n2 + 1.0))
-        if table is None:
-            radial = _NOLL_K * _kolmogorov_radial(n1, n2)
-        else:
-            rows = np.searchsorted(orders, nb)
-            radial = _RADIAL_PREFACTOR * table[rows[:, None], rows[None, :]]
-        block = (sign * norm) * radial
+        sign = np.where(((nb[:, None] + nb[None, :] - 2 * (int(key) // 3)) // 2) % 2 == 0,
+                        1.0, -1.0)
+        block = (sign * norm[r1, r2]) * radial[r1, r2]
         blocks.append((idx, 0.5 * (block + block.T)))
     return blocks
 
