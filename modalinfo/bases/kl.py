@@ -123,8 +123,14 @@ def _eig_blocks(blocks: list[tuple[np.ndarray, np.ndarray]], modes: np.ndarray,
     _, m = noll_to_zernike(modes)
     kind = _angular_keys(modes, m) % 3  # 0: m=0, 1: cos, 2: sin
     values, kinds, owners, columns = [], [], [], []
+    solved: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
     for b, (idx, block) in enumerate(blocks):
-        w, v = np.linalg.eigh(block)
+        # the cos and sin blocks of one |m| are the same matrix over complete radial
+        # orders: decompose it once (the same input gives the same eigh output)
+        cache_key = block.tobytes()
+        if cache_key not in solved:
+            solved[cache_key] = np.linalg.eigh(block)
+        w, v = solved[cache_key]
         values.append(w)
         # _fix_signs per column: the largest |entry| (first of ties) made positive; the
         # rows of a block ascend in idx, so "first" is the same as in the dense column

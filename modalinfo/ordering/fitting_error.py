@@ -233,8 +233,9 @@ def _bands(per_frame: np.ndarray, levels: tuple[float, ...]) -> np.ndarray:
 
     Percentiles are order statistics and a linear interpolation between two of them per
     column, so computing them column block by column block gives the same bits; each block
-    is copied frames-contiguous first so the partial sorts run on contiguous lanes (several
-    times faster than along the strided frame axis of a ``(T, M)`` array).
+    is copied frames-contiguous first so the partial sorts run on contiguous lanes (1.3-1.4x
+    less CPU than along the strided frame axis at 3,000 modes x 2e4 frames) and the
+    partition's copy is one block, not the whole ``(T, M)`` array.
     """
     n_frames, n_modes = per_frame.shape
     if not levels:

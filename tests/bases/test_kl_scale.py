@@ -28,6 +28,7 @@ def _kl_from_blocks(n_modes, outer_scale=np.inf, modes=None):
 @pytest.mark.parametrize("outer_scale, modes", [
     (np.inf, default_zernike_modes(200)),    # 629 Zernikes, Noll closed form
     (20.0, np.arange(1, 67)),                # piston included, numerical von Karman integral
+    (np.inf, np.random.default_rng(0).permutation(np.arange(2, 92))),  # any order of modes
 ])
 def test_blocks_equal_dense_construction_bit_for_bit(outer_scale, modes):
     dense = tb._dense_zernike_covariance(modes, outer_scale, 4.0)
