@@ -17,7 +17,7 @@ from modalinfo.bases import _kernels
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import noll_to_zernike
 from modalinfo.bases.pupil import Pupil
-from modalinfo.bases.turbulence import zernike_covariance
+from modalinfo.bases.turbulence import _angular_keys, _check_modes, _covariance_blocks
 from modalinfo.bases.zernike import ZernikeBasis, _parse_modes
 from modalinfo.common.validation import as_float_array, check_int, check_real
 
@@ -101,6 +101,58 @@ def _eig_by_symmetry(cov: np.ndarray, modes: np.ndarray) -> tuple[np.ndarray, np
     col_kind = kind[np.argmax(np.abs(vectors), axis=0)]
     order = np.lexsort((col_kind, -rounded))
     return values[order], vectors[:, order]
+
+
+def _eig_blocks(blocks: list[tuple[np.ndarray, np.ndarray]], modes: np.ndarray,
+                n_keep: int) -> tuple[np.ndarray, np.ndarray]:
+    """Return the ``n_keep`` leading K-L modes from the covariance blocks, signs fixed.
+
+    The same eigen-decomposition, order and signs as :func:`_eig_by_symmetry` followed by
+    :func:`_fix_signs` on the kept columns (bit for bit), without the dense ``(n_z, n_z)``
+    covariance and eigenvector matrices: ``blocks`` are the ``(idx, block)`` pairs of
+    ``turbulence._covariance_blocks`` in increasing key order, and only the kept columns
+    are scattered into the ``(n_z, n_keep)`` result.
+
+    Returns
+    -------
+    values : numpy.ndarray
+        ``(n_keep,)`` decreasing variances.
+    vectors : numpy.ndarray
+        ``(n_z, n_keep)`` C-contiguous eigenvectors in the Zernike rows.
+    """
+    _, m = noll_to_zernike(modes)
+    kind = _angular_keys(modes, m) % 3  # 0: m=0, 1: cos, 2: sin
+    values, kinds, owners, columns = [], [], [], []
+    solved: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+    for b, (idx, block) in enumerate(blocks):
+        # the cos and sin blocks of one |m| are the same matrix over complete radial
+        # orders: decompose it once (the same input gives the same eigh output)
+        cache_key = block.tobytes()
+        if cache_key not in solved:
+            solved[cache_key] = np.linalg.eigh(block)
+        w, v = solved[cache_key]
+        values.append(w)
+        # _fix_signs per column: the largest |entry| (first of ties) made positive; the
+        # rows of a block ascend in idx, so "first" is the same as in the dense column
+        signs = np.sign(v[np.argmax(np.abs(v), axis=0), np.arange(v.shape[1])])
+        signs[signs == 0] = 1.0
+        columns.append(v * signs)
+        # every column of a block lives on the block's rows: its kind is the block's
+        kinds.append(np.full(idx.size, kind[idx[0]]))
+        owners.append(np.full(idx.size, b))
+    values = np.concatenate(values)
+    kinds = np.concatenate(kinds)
+    owners = np.concatenate(owners)
+    local = np.concatenate([np.arange(v.shape[1]) for v in columns])
+    scale = np.abs(values).max() if values.size else 1.0
+    rounded = np.round(values / scale, 10)
+    order = np.lexsort((kinds, -rounded))[:n_keep]
+    out = np.zeros((modes.size, n_keep))
+    kept_owner = owners[order]
+    for b in np.unique(kept_owner):
+        cols = np.flatnonzero(kept_owner == b)
+        out[np.ix_(blocks[b][0], cols)] = columns[b][:, local[order[cols]]]
+    return values[order], out
 
 
 class KLBasis(ModalBasis):
@@ -225,9 +277,11 @@ class KLBasis(ModalBasis):
             raise ValueError(
                 f"`n_modes` must be <= the number of Zernike modes ({modes.size}); got {n_modes}."
             )
-        cov = zernike_covariance(modes, outer_scale=outer_scale, diameter=pupil.diameter)
-        values, vectors = _eig_by_symmetry(cov, modes)
-        vectors = np.ascontiguousarray(_fix_signs(vectors[:, :n_modes]))
+        # the checks of zernike_covariance (piston refused for Kolmogorov), then only its
+        # non-zero blocks: the dense (n_z, n_z) matrix is never formed
+        checked = _check_modes(modes, outer_scale)
+        blocks = _covariance_blocks(checked, outer_scale, pupil.diameter)
+        values, vectors = _eig_blocks(blocks, modes, n_modes)
         modes = modes.copy()
         modes.flags.writeable = False
         new = cls.__new__(cls)

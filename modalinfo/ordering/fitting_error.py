@@ -191,13 +191,61 @@ class FittingErrorResult:
         return self.modes_to_reach(fraction * float(values[0]), frame)
 
 
+# Frames per block of the chunked loops: ~8 MB of float64 at 1,000 modes, so the squares
+# and their cumulative sums stay in cache-sized temporaries whatever T is.
+_CHUNK_ELEMENTS = 1 << 20
+
+
 def _parseval(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """dPhi(n) = sum of the squares of the dropped coefficients (orthonormal basis)."""
+    """dPhi(n) = sum of the squares of the dropped coefficients (orthonormal basis).
+
+    The whole-array form (three ``(T, M)`` temporaries); :func:`_parseval_chunked` gives the
+    same bits in bounded memory and is what :func:`fitting_error` uses.
+    """
     sq = a * a
     rc = np.cumsum(sq[:, ::-1], axis=1)[:, ::-1]  # rc[t, j] = sum_{k >= j}
     out = np.zeros_like(a)
     out[:, :-1] = rc[:, 1:]
     return out, rc[:, 0].copy()
+
+
+def _parseval_chunked(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_parseval` by blocks of frames, written straight into the result.
+
+    The same reversed cumulative sum per frame (``np.cumsum`` adds sequentially along a
+    row), so the same bits, with ``O(chunk x M)`` temporaries instead of ``3 (T, M)``.
+    """
+    n_frames, n_modes = a.shape
+    out = np.empty_like(a)
+    total = np.empty(n_frames)
+    step = max(1, _CHUNK_ELEMENTS // max(n_modes, 1))
+    for t0 in range(0, n_frames, step):
+        block = a[t0:t0 + step]
+        rc = np.cumsum((block * block)[:, ::-1], axis=1)[:, ::-1]  # rc[t, j] = sum_{k >= j}
+        out[t0:t0 + step, :-1] = rc[:, 1:]
+        out[t0:t0 + step, -1] = 0.0
+        total[t0:t0 + step] = rc[:, 0]
+    return out, total
+
+
+def _bands(per_frame: np.ndarray, levels: tuple[float, ...]) -> np.ndarray:
+    """``np.percentile(per_frame, levels, axis=0)`` by blocks of modes, frames contiguous.
+
+    Percentiles are order statistics and a linear interpolation between two of them per
+    column, so computing them column block by column block gives the same bits; each block
+    is copied frames-contiguous first so the partial sorts run on contiguous lanes (1.3-1.4x
+    less CPU than along the strided frame axis at 3,000 modes x 2e4 frames) and the
+    partition's copy is one block, not the whole ``(T, M)`` array.
+    """
+    n_frames, n_modes = per_frame.shape
+    if not levels:
+        return np.empty((0, n_modes))
+    out = np.empty((len(levels), n_modes))
+    step = max(1, _CHUNK_ELEMENTS // max(n_frames, 1))
+    for c0 in range(0, n_modes, step):
+        lanes = np.ascontiguousarray(per_frame[:, c0:c0 + step].T)
+        out[:, c0:c0 + step] = np.percentile(lanes, levels, axis=1)
+    return out
 
 
 def _gram(a: np.ndarray, gram: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -272,8 +320,12 @@ def fitting_error(
     levels = tuple(float(p) for p in np.atleast_1d(as_float_array(percentiles, "percentiles")))
     if any(p < 0 or p > 100 for p in levels):
         raise ValueError(f"`percentiles` must lie in [0, 100]; got {levels}.")
-    a = np.ascontiguousarray(a[:, idx])
-    gram = view.gram()[np.ix_(idx, idx)]
+    identity = bool(np.array_equal(idx, np.arange(idx.size)))
+    # the standard order needs no (T, M) reordered copy (a is C-contiguous already)
+    a = np.ascontiguousarray(a) if identity else np.ascontiguousarray(a[:, idx])
+    gram = view.gram()
+    if not identity:
+        gram = gram[np.ix_(idx, idx)]
     orthonormal = bool(np.max(np.abs(gram - np.eye(gram.shape[0]))) <= _ORTHO_ATOL)
     if method == "auto":
         method = "parseval" if orthonormal else "gram"
@@ -284,16 +336,16 @@ def fitting_error(
                 "`method`='parseval' needs a basis orthonormal on the pupil (max |gram - I| "
                 f"<= {_ORTHO_ATOL:g}); got max |gram - I| = {dev:.3g}. Use 'gram' or 'pixels'."
             )
-        per_frame, total = _parseval(a)
+        per_frame, total = _parseval_chunked(a)
     elif method == "gram":
         per_frame, total = _gram(a, gram)
     else:
         per_frame, total = _pixels(a, view.matrix[:, idx])
     if units == "waves2":
         scale = unit_scale("rad", "waves") ** 2
-        per_frame = per_frame * scale
-        total = total * scale
-    bands = np.percentile(per_frame, levels, axis=0) if levels else np.empty((0, a.shape[1]))
+        per_frame *= scale  # in place: per_frame and total are this call's own arrays
+        total *= scale
+    bands = _bands(per_frame, levels)
     return FittingErrorResult(
         per_frame=per_frame,
         mean=per_frame.mean(axis=0),
