@@ -23,7 +23,6 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from dataclasses import dataclass
@@ -31,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from modalinfo.common.cli import Parser
 from paper_figures._common import save_png_pdf
 
 FIGURE_NAME = "fig6_compression.png"
@@ -451,7 +451,7 @@ def make(out_dir: Path, *, quick: bool = False, seed: int = 0) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
-    parser = argparse.ArgumentParser(prog="python -m paper_figures.fig6_compression",
+    parser = Parser(prog="python -m paper_figures.fig6_compression",
                                      description="Regenerate Figure 6 (compression x "
                                                  "prediction).")
     parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")

@@ -31,7 +31,6 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -43,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.cli import Parser
 from paper_figures._common import markdown_table, save_png_pdf
 from paper_figures.closedloop_runs import LABELS, STYLES, ClosedLoopRuns
 
@@ -460,7 +460,7 @@ def make(out_dir: Path, runs: ClosedLoopRuns) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: the table1 runs, Figure 7, and its report section printed."""
-    parser = argparse.ArgumentParser(prog="python -m paper_figures.fig7_solar",
+    parser = Parser(prog="python -m paper_figures.fig7_solar",
                                      description="Figure 7: the comparison of Figures 2-4 "
                                                  "with solar correlating sensing.")
     parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")

@@ -31,7 +31,6 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -40,6 +39,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from modalinfo.common.cli import Parser
 
 FIGURE_NAME = "fig8_information_flow.png"
 PDF_NAME = "fig8_information_flow.pdf"
@@ -346,7 +347,7 @@ def make(out_dir: Path, *, quick: bool = False, seed: int = 0) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
-    parser = argparse.ArgumentParser(prog="python -m paper_figures.fig_information_flow",
+    parser = Parser(prog="python -m paper_figures.fig_information_flow",
                                      description="Figure 8: information flow between modes.")
     parser.add_argument("--out", type=Path, default=Path("out"), help="output directory")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")

@@ -11,7 +11,6 @@ diameter, and the error budget's terms on axis. The science wavelength needs no 
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import sys
 from collections.abc import Callable
@@ -21,6 +20,7 @@ import numpy as np
 from closedloop import presets
 from closedloop.config import SimulationConfig
 from closedloop.simulation import simulate
+from modalinfo.common.cli import Parser
 
 __all__ = ["VARIATIONS", "sensitivity", "markdown"]
 
@@ -136,7 +136,7 @@ def markdown(rows: list[dict]) -> str:
 
 def main(argv=None) -> int:
     """Print the sensitivity table of table1 as Markdown."""
-    ap = argparse.ArgumentParser(prog="python -m closedloop.studies.sensitivity")
+    ap = Parser(prog="python -m closedloop.studies.sensitivity")
     ap.add_argument("--duration", type=float, default=0.3)
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args(argv)

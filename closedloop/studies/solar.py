@@ -51,7 +51,6 @@ choices, not one instrument's specification:
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import math
 import sys
@@ -64,6 +63,7 @@ import numpy as np
 from closedloop.config import SimulationConfig
 from closedloop.optics.correlating_sensor import MAX_SHIFT as CORRELATING_MAX_SHIFT
 from closedloop.studies.compression import LatencyModel
+from modalinfo.common.cli import Parser
 
 __all__ = ["SolarRTC", "RTC_PRESETS", "correlation_compute_time", "correlating_wfs_sizes",
            "correlating_compute_time",
@@ -553,7 +553,7 @@ def markdown(study: SolarSensitivity) -> str:
 
 def main(argv=None) -> int:
     """Print the latency of ``table1-solar`` and its sensitivity table as Markdown."""
-    ap = argparse.ArgumentParser(prog="python -m closedloop.studies.solar",
+    ap = Parser(prog="python -m closedloop.studies.solar",
                                  description="Sensitivity of table1-solar to the solar knobs.")
     ap.add_argument("--duration", type=float, default=0.3)
     ap.add_argument("--seed", type=int, default=0)

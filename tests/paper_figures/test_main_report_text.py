@@ -376,7 +376,7 @@ def test_a_clean_user_log_without_a_rate_prints_nothing(figs, tmp_path, capsys):
 
 def test_a_reader_error_without_text_is_named_by_its_type(figs, tmp_path, capsys,
                                                            monkeypatch):
-    import modalinfo.cli._common as common
+    import modalinfo.cli.shared as common
 
     def fail(*a, **k):
         raise ValueError()
