@@ -70,6 +70,7 @@ from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
 from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.forecast._kernels import css_filters
 from modalinfo.forecast._univariate import _LinearRecursion
 
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
@@ -268,18 +269,19 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     sse = float(e[burn:] @ e[burn:])
     start = max(p, q, burn)
     lam = _LAMBDA0
+    v, w, u, y = (np.empty(xc.size) for _ in range(4))
+    z_ar, z_ma = np.empty(max(p, 1)), np.empty((3, max(q, 1)))
     for _ in range(n_iter):
         ar = np.concatenate([[1.0], -phi])
         ma = np.concatenate([[1.0], theta])
-        v = lfilter([1.0], ar, e)
-        w = lfilter([1.0], ma, e)
+        # v, w and (used when q > 0) u = theta(B)^-1 v, y = theta(B)^-1 w: the
+        # lfilter calls of these recursions, in one pass and the same bits
+        css_filters(e, ar, ma, v, w, u, y, z_ar, z_ma[0], z_ma[1], z_ma[2])
         design = _lag_matrix(start, (v, p), (w, q))
         gram = design.T @ design
         grad = design.T @ e[start:]          # minus half the gradient of the sum
         hess = gram.copy()                   # half the Hessian
         if q > 0:
-            u = lfilter([1.0], ma, v) if p > 0 else None
-            y = lfilter([1.0], ma, w)
             for i in range(p):
                 for j in range(q):
                     c = _lagged_dot(e, u, start, i + j + 2)
