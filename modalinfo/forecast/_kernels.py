@@ -353,3 +353,46 @@ def css_filters(e, ar, ma, v, w, u, y, zv, zw, zu, zy):
         w[t] = wn
         u[t] = un
         y[t] = yn
+
+
+@jit
+def arma_innovations(x, phi, theta, e, z):
+    """``e = lfilter([1, -phi], [1, theta], x)`` (``theta`` non-empty), scipy's bits.
+
+    scipy's direct form II transposed loop (``DOUBLE_filt`` of ``_lfilter.c``, the path
+    ``lfilter`` takes when the denominator has more than one coefficient) with ``b =
+    [1, -phi]`` and ``a = [1, theta]`` zero-padded to one length ``L = max(p, q) + 1``:
+    ``e_t = z_0 + 1 x_t``, ``z_k = z_{k+1} + x_t b_{k+1} - e_t a_{k+1}``, ``z_{L-2} = x_t
+    b_{L-1} - e_t a_{L-1}``: the same operations in the same order (checked against
+    scipy in ``tests/forecast/test_arma_fast_paths.py``), without lfilter's per-call
+    overhead, for the CSS refinement's many short fits.
+
+    Parameters
+    ----------
+    x : (T,) float64 IN
+        Centred series.
+    phi : (p,) float64 IN
+    theta : (q,) float64 IN, q >= 1
+    e : (T,) float64 OUT
+        Innovations from zero state.
+    z : (max(p, q) + 1,) x 3 float64 scratch
+        Rows: the padded numerator, the padded denominator, the filter state.
+    """
+    n = max(phi.shape[0], theta.shape[0])
+    for k in range(n + 1):
+        z[0, k] = 0.0
+        z[1, k] = 0.0
+        z[2, k] = 0.0
+    z[0, 0] = 1.0
+    z[1, 0] = 1.0
+    for k in range(phi.shape[0]):
+        z[0, k + 1] = -phi[k]
+    for k in range(theta.shape[0]):
+        z[1, k + 1] = theta[k]
+    for t in range(x.shape[0]):
+        xn = x[t]
+        en = z[2, 0] + 1.0 * xn
+        for k in range(n - 1):
+            z[2, k] = z[2, k + 1] + xn * z[0, k + 1] - en * z[1, k + 1]
+        z[2, n - 1] = xn * z[0, n] - en * z[1, n]
+        e[t] = en

@@ -70,7 +70,7 @@ from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
 from modalinfo.common.validation import check_choice, check_int, check_real
-from modalinfo.forecast._kernels import css_filters
+from modalinfo.forecast._kernels import arma_innovations, css_filters
 from modalinfo.forecast._univariate import _LinearRecursion
 
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
@@ -190,7 +190,11 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
 
 def _innovations(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """One-step innovations of the conditional recursion from zero state."""
-    return lfilter(np.concatenate([[1.0], -phi]), np.concatenate([[1.0], theta]), xc)
+    if theta.size == 0:  # lfilter's FIR path (a convolution): keep its bits
+        return lfilter(np.concatenate([[1.0], -phi]), [1.0], xc)
+    e = np.empty(xc.size)  # lfilter's IIR loop, same bits, without its call overhead
+    arma_innovations(xc, phi, theta, e, np.empty((3, max(phi.size, theta.size) + 1)))
+    return e
 
 
 def _lstsq(design: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -2,7 +2,8 @@
 
 References (outside the fast paths): ``numpy.roots`` for the root test that
 ``_clearly_inside`` short-cuts, ``numpy.column_stack`` of fancy-indexed lags for
-``_lag_matrix``, ``scipy.signal.lfilter`` for the filters of ``css_filters``; and the
+``_lag_matrix``, ``scipy.signal.lfilter`` for the filters of ``css_filters`` and
+``arma_innovations``; and the
 whole fit re-run with the fast paths swapped for those references (the code before
 issue 30), compared bit for bit. Small sizes: the file runs in a few seconds.
 """
@@ -97,6 +98,11 @@ def _scipy_css_filters(e, ar, ma, v, w, u, y, *scratch):
     y[:] = lfilter([1.0], ma, w)
 
 
+def _scipy_innovations(x, phi, theta, e, scratch):
+    """The lfilter call that ``arma_innovations`` replaced."""
+    e[:] = lfilter(np.r_[1.0, -phi], np.r_[1.0, theta], x)
+
+
 @pytest.mark.parametrize("order", [(2, 3), "aic"])
 def test_fit_bit_identical_without_fast_paths(monkeypatch, order):
     rng = np.random.default_rng(4)
@@ -110,9 +116,23 @@ def test_fit_bit_identical_without_fast_paths(monkeypatch, order):
     fast = make().fit(x).params_
     monkeypatch.setattr(A, "_clearly_inside", lambda coeffs, radius: False)
     monkeypatch.setattr(A, "css_filters", _scipy_css_filters)
+    monkeypatch.setattr(A, "arma_innovations", _scipy_innovations)
     slow = make().fit(x).params_
     for key in ("mu", "phi", "theta", "orders", "sigma2", "criterion"):
         if slow[key] is None:
             assert fast[key] is None
         else:
             assert np.array_equal(fast[key], slow[key], equal_nan=True), key
+
+
+@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 2), (1, 5)])
+def test_arma_innovations_equal_lfilter(p, q):
+    from modalinfo.forecast._kernels import arma_innovations
+
+    rng = np.random.default_rng(5)
+    x = rng.standard_normal(3000)
+    phi = -_random_coeffs(rng, p, 0.95) if p else np.zeros(0)
+    theta = _random_coeffs(rng, q, 0.95)
+    e = np.full(x.size, np.nan)
+    arma_innovations(x, phi, theta, e, np.empty((3, max(p, q) + 1)))
+    assert np.array_equal(e, lfilter(np.r_[1.0, -phi], np.r_[1.0, theta], x))
