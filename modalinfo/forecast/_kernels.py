@@ -287,3 +287,112 @@ def rls_var_filter(x, mu, coef, gain_inv, forgetting, values, n_seen, zvec, pz, 
         for k in range(n_modes):
             values[0, k] = x[n, k] - mu[k]
         _var_forecast(mu, coef, values, work, out, o)
+
+
+
+@jit
+def css_filters(e, ar, ma, v, w, u, y, zv, zw, zu, zy):
+    """Run the four all-pole filters of one CSS Newton step in one pass over time.
+
+    ``v = lfilter([1], ar, e)``, ``w = lfilter([1], ma, e)``, ``u = lfilter([1], ma,
+    v)`` and ``y = lfilter([1], ma, w)`` (the first and second derivatives of the
+    innovations, see ``arma._css_refine``), each bit for bit what scipy returns: scipy's
+    direct form II transposed loop (``DOUBLE_filt`` of ``_lfilter.c``) with the
+    numerator ``[1]`` zero-padded to the denominator's length ``L``, per sample
+    ``y_t = z_0 + 1 x_t``, ``z_k = z_{k+1} + x_t 0 - y_t a_{k+1}``, ``z_{L-2} = x_t 0 -
+    y_t a_{L-1}`` (the ``x 0`` products are kept: they are what scipy computes), and
+    for ``L = 1`` (scipy's convolution path) ``y = x``. Checked against scipy in
+    ``tests/forecast/test_kernels.py``. One pass runs the four independent recursions
+    side by side instead of four scipy calls.
+
+    Parameters
+    ----------
+    e : (T,) float64 IN
+        Innovations.
+    ar, ma : (p + 1,), (q + 1,) float64 IN
+        ``[1, -phi_1, ..]`` and ``[1, theta_1, ..]``.
+    v, w, u, y : (T,) float64 OUT
+    zv, zw, zu, zy : (max(p, 1),), (max(q, 1),) x 3 scratch
+        Filter states (zeroed here: the recursions start from zero state).
+    """
+    n_ar = ar.shape[0] - 1
+    n_ma = ma.shape[0] - 1
+    for k in range(zv.shape[0]):
+        zv[k] = 0.0
+    for k in range(zw.shape[0]):
+        zw[k] = 0.0
+        zu[k] = 0.0
+        zy[k] = 0.0
+    for t in range(e.shape[0]):
+        x = e[t]
+        if n_ar == 0:
+            vn = x
+        else:
+            vn = zv[0] + 1.0 * x
+            for k in range(n_ar - 1):
+                zv[k] = zv[k + 1] + x * 0.0 - vn * ar[k + 1]
+            zv[n_ar - 1] = x * 0.0 - vn * ar[n_ar]
+        if n_ma == 0:
+            wn = x
+            un = vn
+            yn = wn
+        else:
+            wn = zw[0] + 1.0 * x
+            un = zu[0] + 1.0 * vn
+            yn = zy[0] + 1.0 * wn
+            for k in range(n_ma - 1):
+                c = ma[k + 1]
+                zw[k] = zw[k + 1] + x * 0.0 - wn * c
+                zu[k] = zu[k + 1] + vn * 0.0 - un * c
+                zy[k] = zy[k + 1] + wn * 0.0 - yn * c
+            c = ma[n_ma]
+            zw[n_ma - 1] = x * 0.0 - wn * c
+            zu[n_ma - 1] = vn * 0.0 - un * c
+            zy[n_ma - 1] = wn * 0.0 - yn * c
+        v[t] = vn
+        w[t] = wn
+        u[t] = un
+        y[t] = yn
+
+
+@jit
+def arma_innovations(x, phi, theta, e, z):
+    """``e = lfilter([1, -phi], [1, theta], x)`` (``theta`` non-empty), scipy's bits.
+
+    scipy's direct form II transposed loop (``DOUBLE_filt`` of ``_lfilter.c``, the path
+    ``lfilter`` takes when the denominator has more than one coefficient) with ``b =
+    [1, -phi]`` and ``a = [1, theta]`` zero-padded to one length ``L = max(p, q) + 1``:
+    ``e_t = z_0 + 1 x_t``, ``z_k = z_{k+1} + x_t b_{k+1} - e_t a_{k+1}``, ``z_{L-2} = x_t
+    b_{L-1} - e_t a_{L-1}``: the same operations in the same order (checked against
+    scipy in ``tests/forecast/test_arma_fast_paths.py``), without lfilter's per-call
+    overhead, for the CSS refinement's many short fits.
+
+    Parameters
+    ----------
+    x : (T,) float64 IN
+        Centred series.
+    phi : (p,) float64 IN
+    theta : (q,) float64 IN, q >= 1
+    e : (T,) float64 OUT
+        Innovations from zero state.
+    z : (max(p, q) + 1,) x 3 float64 scratch
+        Rows: the padded numerator, the padded denominator, the filter state.
+    """
+    n = max(phi.shape[0], theta.shape[0])
+    for k in range(n + 1):
+        z[0, k] = 0.0
+        z[1, k] = 0.0
+        z[2, k] = 0.0
+    z[0, 0] = 1.0
+    z[1, 0] = 1.0
+    for k in range(phi.shape[0]):
+        z[0, k + 1] = -phi[k]
+    for k in range(theta.shape[0]):
+        z[1, k + 1] = theta[k]
+    for t in range(x.shape[0]):
+        xn = x[t]
+        en = z[2, 0] + 1.0 * xn
+        for k in range(n - 1):
+            z[2, k] = z[2, k + 1] + xn * z[0, k + 1] - en * z[1, k + 1]
+        z[2, n - 1] = xn * z[0, n] - en * z[1, n]
+        e[t] = en

@@ -70,6 +70,7 @@ from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
 from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.forecast._kernels import arma_innovations, css_filters
 from modalinfo.forecast._univariate import _LinearRecursion
 
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
@@ -109,10 +110,41 @@ def _inverse_roots(coeffs: np.ndarray) -> np.ndarray:
     return np.roots(np.concatenate([[1.0], coeffs]))
 
 
+#: relative safety margin of :func:`_clearly_inside`: far above the rounding of its
+#: step-down recursion and of np.roots for simple and double roots (~1e-8)
+_SAFE = 1e-6
+
+
+def _clearly_inside(coeffs: np.ndarray, radius: float) -> bool:
+    """Return True when every inverse root of ``1 + c_1 z + ...`` is inside ``radius (1 - 1e-6)``.
+
+    Schur-Cohn's step-down test (Levinson-Durbin run backwards: every reflection
+    coefficient of the monic polynomial ``prod (s - w_k / r)`` strictly inside the unit
+    disc iff all its roots are) on the inverse roots scaled by ``r = radius (1 - _SAFE)``,
+    with the reflection coefficients also kept ``_SAFE`` from 1. It only answers "yes"
+    when the roots are inside by a margin far above the rounding of np.roots, so where
+    it answers "yes" :func:`_enforce`'s root test would also return ``coeffs``
+    unchanged; every other case (roots near or beyond the limit) takes the root path,
+    so results are bit for bit those of the root test, at a fraction of its cost.
+    """
+    r = radius * (1.0 - _SAFE)
+    a = [float(c) / r ** (k + 1) for k, c in enumerate(coeffs)]
+    while a:
+        k = a[-1]
+        if not abs(k) < 1.0 - _SAFE:
+            return False
+        den = 1.0 - k * k
+        n = len(a)
+        a = [(a[i] - k * a[n - 2 - i]) / den for i in range(n - 1)]
+    return True
+
+
 def _enforce(coeffs: np.ndarray, margin: float) -> np.ndarray:
     """Return ``c`` with every inverse root inside modulus ``1 / (1 + margin)``."""
     if coeffs.size == 0:
         return coeffs
+    if _clearly_inside(coeffs, 1.0 / (1.0 + margin)):
+        return coeffs  # what the root test below returns, without np.roots' cost
     w = _inverse_roots(coeffs)
     limit = 1.0 / (1.0 + margin)
     mod = np.abs(w)
@@ -158,7 +190,11 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
 
 def _innovations(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """One-step innovations of the conditional recursion from zero state."""
-    return lfilter(np.concatenate([[1.0], -phi]), np.concatenate([[1.0], theta]), xc)
+    if theta.size == 0:  # lfilter's FIR path (a convolution): keep its bits
+        return lfilter(np.concatenate([[1.0], -phi]), [1.0], xc)
+    e = np.empty(xc.size)  # lfilter's IIR loop, same bits, without its call overhead
+    arma_innovations(xc, phi, theta, e, np.empty((3, max(phi.size, theta.size) + 1)))
+    return e
 
 
 def _lstsq(design: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -171,8 +207,22 @@ def _lstsq(design: np.ndarray, target: np.ndarray) -> np.ndarray:
         return np.linalg.lstsq(design, target, rcond=None)[0]
 
 
-def _lags(series: np.ndarray, rows: np.ndarray, n_lags: int) -> list[np.ndarray]:
-    return [series[rows - i] for i in range(1, n_lags + 1)]
+def _lag_matrix(start: int, *blocks: tuple[np.ndarray, int]) -> np.ndarray:
+    """``(T - start, sum n)`` matrix of lags 1..n of each ``(series, n)``, time ``>= start``.
+
+    Column ``i - 1`` of a block holds ``series[start - i : T - i]``: the array that
+    ``np.column_stack([series[rows - i] ...])`` built, written into one C-ordered
+    buffer by slices instead of fancy-indexed copies (same values, same layout, so the
+    BLAS products on it are unchanged).
+    """
+    n = blocks[0][0].size
+    out = np.empty((n - start, sum(k for _, k in blocks)))
+    col = 0
+    for series, n_lags in blocks:
+        for i in range(1, n_lags + 1):
+            out[:, col] = series[start - i : n - i]
+            col += 1
+    return out
 
 
 def _hannan_rissanen(xc: np.ndarray, z_long: np.ndarray, long_order: int, p: int, q: int
@@ -182,9 +232,9 @@ def _hannan_rissanen(xc: np.ndarray, z_long: np.ndarray, long_order: int, p: int
     ``z_long`` are the residuals of the long Yule-Walker AR(``long_order``); ``X_t`` is
     regressed on ``X_{t-1..t-p}`` and ``z_long_{t-1..t-q}``.
     """
-    rows = np.arange(long_order + max(p, q), xc.size)
-    design = np.column_stack(_lags(xc, rows, p) + _lags(z_long, rows, q))
-    beta = _lstsq(design, xc[rows])
+    start = long_order + max(p, q)
+    design = _lag_matrix(start, (xc, p), (z_long, q))
+    beta = _lstsq(design, xc[start:])
     return beta[:p], beta[p:]
 
 
@@ -222,20 +272,20 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     e = _innovations(xc, phi, theta)
     sse = float(e[burn:] @ e[burn:])
     start = max(p, q, burn)
-    rows = np.arange(start, xc.size)
     lam = _LAMBDA0
+    v, w, u, y = (np.empty(xc.size) for _ in range(4))
+    z_ar, z_ma = np.empty(max(p, 1)), np.empty((3, max(q, 1)))
     for _ in range(n_iter):
         ar = np.concatenate([[1.0], -phi])
         ma = np.concatenate([[1.0], theta])
-        v = lfilter([1.0], ar, e)
-        w = lfilter([1.0], ma, e)
-        design = np.column_stack(_lags(v, rows, p) + _lags(w, rows, q))
+        # v, w and (used when q > 0) u = theta(B)^-1 v, y = theta(B)^-1 w: the
+        # lfilter calls of these recursions, in one pass and the same bits
+        css_filters(e, ar, ma, v, w, u, y, z_ar, z_ma[0], z_ma[1], z_ma[2])
+        design = _lag_matrix(start, (v, p), (w, q))
         gram = design.T @ design
-        grad = design.T @ e[rows]            # minus half the gradient of the sum
+        grad = design.T @ e[start:]          # minus half the gradient of the sum
         hess = gram.copy()                   # half the Hessian
         if q > 0:
-            u = lfilter([1.0], ma, v) if p > 0 else None
-            y = lfilter([1.0], ma, w)
             for i in range(p):
                 for j in range(q):
                     c = _lagged_dot(e, u, start, i + j + 2)

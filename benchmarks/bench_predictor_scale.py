@@ -1,0 +1,165 @@
+"""ARMA predictors at the scale of a 4-m telescope (issue 30, item 3, ARMA part).
+
+Run::
+
+    nice /work/main/.venv/bin/python benchmarks/bench_predictor_scale.py
+        [--sizes 27,184,500,1500] [--aic-sizes 27,184] [--frames 10000]
+        [--baseline OLD_ARMA.py] [--sm-modes 3] [--sm-aic-modes 0] [--cache DIR]
+
+Data: one synthetic closed-loop log of ``max(sizes)`` Kolmogorov-correlated Zernike modes
+(Z2 onwards, :func:`modalinfo.telemetry.synthetic.kaos_like`, seed 0: von Karman
+turbulence through the KAOS-like integrator loop), ``--frames`` frames; a size ``M`` takes
+its first ``M`` modes. ``--cache DIR`` keeps the generated log as ``.npy`` (generation is
+~2 min at 1,500 modes on a loaded machine).
+
+Timed (median of ``--repeats`` runs, CPU-bound, single-threaded BLAS):
+
+1. ``ARMAPredictor(order=(2, 3)).fit`` (the ``arma`` preset) at every ``--sizes``.
+2. The ``arma-aic`` preset's fit (p, q <= 5 by AIC) at every ``--aic-sizes``.
+3. With ``--baseline FILE`` (an earlier ``modalinfo/forecast/arma.py``, e.g. from
+   ``git show REV:modalinfo/forecast/arma.py > /tmp/arma_before.py``), the same fits by
+   that module in the same run: before/after ratio, and whether the fitted parameters
+   (and the AIC table) are bit-identical.
+4. statsmodels' ``ARIMA(order=(2, 0, 3)).fit()`` per mode on the first ``--sm-modes``
+   modes, and (``--sm-aic-modes``) ``arma_order_select_ic(max_ar=5, max_ma=5,
+   ic="aic")`` per mode: our cost per mode against theirs, same run.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import argparse  # noqa: E402
+import importlib.util  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import warnings  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from modalinfo.forecast.presets import make_predictor  # noqa: E402
+from modalinfo.telemetry.synthetic import kaos_like  # noqa: E402
+
+_KEYS = ("mu", "phi", "theta", "orders", "sigma2", "criterion")
+
+
+def _log(n_modes: int, n_frames: int, cache: Path | None) -> np.ndarray:
+    path = None if cache is None else cache / f"kaos_like_{n_modes}x{n_frames}.npy"
+    if path is not None and path.exists():
+        return np.load(path)
+    t0 = time.perf_counter()
+    x = np.asarray(kaos_like(n_frames=n_frames, modes=list(range(2, 2 + n_modes)),
+                             seed=0).coeffs, dtype=float)
+    print(f"generated {n_modes} modes x {n_frames} frames in {time.perf_counter() - t0:.1f} s")
+    if path is not None:
+        cache.mkdir(parents=True, exist_ok=True)
+        np.save(path, x)
+    return x
+
+
+def _load_baseline(path: str):
+    spec = importlib.util.spec_from_file_location("arma_baseline", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["arma_baseline"] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module.ARMAPredictor
+
+
+def _median_time(fn, repeats: int):
+    times, out = [], None
+    for _ in range(repeats):
+        t0 = time.process_time()
+        out = fn()
+        times.append(time.process_time() - t0)
+    return float(np.median(times)), out
+
+
+def _identical(a: dict, b: dict) -> bool:
+    for key in _KEYS:
+        if (a[key] is None) != (b[key] is None):
+            return False
+        if a[key] is not None and not np.array_equal(a[key], b[key], equal_nan=True):
+            return False
+    return True
+
+
+def _rows(x, sizes, label, make, make_old, repeats):
+    out = {}
+    for m in sizes:
+        data = np.ascontiguousarray(x[:, :m])
+        t_new, fit_new = _median_time(lambda d=data: make().fit(d), repeats)
+        line = f"{label:10s} {m:5d} modes: {t_new:8.2f} s  ({t_new / m * 1e3:7.2f} ms/mode)"
+        if make_old is not None:
+            t_old, fit_old = _median_time(lambda d=data: make_old().fit(d), repeats)
+            same = _identical(fit_new.params_, fit_old.params_)
+            line += (f" | baseline {t_old:8.2f} s, ratio {t_old / t_new:5.2f}x, "
+                     f"{'bit-identical' if same else 'PARAMETERS DIFFER'}")
+        print(line, flush=True)
+        out[m] = t_new / m
+    return out
+
+
+def _statsmodels(x, n_sm, n_sm_aic):
+    from statsmodels.tsa.arima.model import ARIMA
+    from statsmodels.tsa.stattools import arma_order_select_ic
+
+    per_mode = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if n_sm:
+            t0 = time.process_time()
+            for m in range(n_sm):
+                ARIMA(x[:, m], order=(2, 0, 3)).fit()
+            per_mode["arma"] = (time.process_time() - t0) / n_sm
+            print(f"statsmodels ARIMA(2,0,3).fit: {per_mode['arma']:.3f} s/mode "
+                  f"({n_sm} modes)", flush=True)
+        if n_sm_aic:
+            t0 = time.process_time()
+            for m in range(n_sm_aic):
+                arma_order_select_ic(x[:, m], max_ar=5, max_ma=5, ic="aic")
+            per_mode["aic"] = (time.process_time() - t0) / n_sm_aic
+            print(f"statsmodels arma_order_select_ic(5, 5, aic): {per_mode['aic']:.2f} "
+                  f"s/mode ({n_sm_aic} modes)", flush=True)
+    return per_mode
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="27,184,500,1500")
+    parser.add_argument("--aic-sizes", default="27,184")
+    parser.add_argument("--frames", type=int, default=10_000)
+    parser.add_argument("--repeats", type=int, default=1)
+    parser.add_argument("--baseline", default=None)
+    parser.add_argument("--sm-modes", type=int, default=3)
+    parser.add_argument("--sm-aic-modes", type=int, default=0)
+    parser.add_argument("--cache", type=Path, default=None)
+    args = parser.parse_args(argv)
+    sizes = [int(s) for s in args.sizes.split(",") if s]
+    aic_sizes = [int(s) for s in args.aic_sizes.split(",") if s]
+    x = _log(max(sizes + aic_sizes), args.frames, args.cache)
+    old = None if args.baseline is None else _load_baseline(args.baseline)
+    make_old = (None if old is None else lambda: old(order=(2, 3)))
+    make_old_aic = (None if old is None else lambda: old(order="aic"))
+    # compile the kernels outside the timings
+    make_predictor("arma").fit(x[:2000, :2])
+    print(f"## ARMA fits, {args.frames} frames, CPU time (process_time), "
+          f"median of {args.repeats}")
+    fixed = _rows(x, sizes, "ARMA(2,3)", lambda: make_predictor("arma"), make_old,
+                  args.repeats)
+    aic = _rows(x, aic_sizes, "arma-aic", lambda: make_predictor("arma-aic"), make_old_aic,
+                args.repeats)
+    sm = _statsmodels(x, args.sm_modes, args.sm_aic_modes)
+    if "arma" in sm:
+        for m, t in fixed.items():
+            print(f"ARMA(2,3) at {m} modes: {sm['arma'] / t:6.0f}x statsmodels per mode")
+    if "aic" in sm:
+        for m, t in aic.items():
+            print(f"arma-aic at {m} modes: {sm['aic'] / t:6.0f}x statsmodels per mode")
+
+
+if __name__ == "__main__":
+    main()
