@@ -60,3 +60,35 @@ def test_summary_of_tiny_values_is_not_zero(exponent):
     c = base - base.mean(axis=0)
     lag1 = np.sum(c[:-1] * c[1:], axis=0) / np.sum(c**2, axis=0)  # the sample ACF at lag 1
     np.testing.assert_allclose(got.lag1, lag1, rtol=1e-9)
+
+
+@pytest.mark.parametrize("argv", [
+    ["modalinfo", "select", "LOG", "--target", "Z2", "--target", "Z3"],
+    ["modalinfo", "info", "LOG", "--rate=2000", "--rate", "1000"],
+    ["closedloop", "config", "--preset", "table1", "--preset", "kaos"],
+    ["paper_figures", "--seed", "1", "--seed=2"],
+])
+def test_an_option_given_twice_with_different_values_is_refused(small_log, capsys, argv):
+    # Before: argparse kept the last value silently (select analysed Z3).
+    from closedloop.cli import main as closedloop_main
+    from paper_figures.__main__ import main as figures_main
+
+    run = {"modalinfo": main, "closedloop": closedloop_main, "paper_figures": figures_main}
+    argv = [str(small_log) if a == "LOG" else a for a in argv]
+    assert _exit_code_of(run[argv[0]], argv[1:]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert "given twice" in err and argv[-1].split("=")[0] in err, err
+
+
+def test_an_option_repeated_with_the_same_value_still_runs(small_log, capsys):
+    assert _exit_code(["info", str(small_log), "--rate=2000", "--rate", "2000",
+                       "--quiet"]) == 0
+    assert "given twice" not in capsys.readouterr().err
+
+
+def _exit_code_of(func, argv):
+    try:
+        return func(argv)
+    except SystemExit as exc:
+        return exc.code
