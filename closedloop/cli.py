@@ -31,8 +31,15 @@ def _config(args):
     from closedloop.config import load_config
 
     if args.config is not None:
+        _check_config_suffix("--config", args.config)
         return load_config(args.config)
     return presets.get(args.preset)
+
+
+def _check_config_suffix(option: str, path) -> None:
+    """Name the option (load_config / save_config would name their `path`)."""
+    if Path(path).suffix.lower() not in (".toml", ".json"):
+        raise CommandError(f"{option} must end in .toml or .json; got {str(path)!r}")
 
 
 def _progress(args) -> bool | None:
@@ -321,6 +328,7 @@ def _cmd_config(args) -> int:
     if args.out is None:
         sys.stdout.write(config_text(config, args.fmt))
         return 0
+    _check_config_suffix("--out", args.out)
     save_config(config, args.out, overwrite=args.overwrite)
     return 0
 
