@@ -326,9 +326,12 @@ def _cmd_config(args) -> int:
               "past half of it (run/compare --memory-limit)")
         return 0
     if args.out is None:
-        sys.stdout.write(config_text(config, args.fmt))
+        sys.stdout.write(config_text(config, args.fmt or "toml"))
         return 0
     _check_config_suffix("--out", args.out)
+    if args.fmt is not None and args.out.suffix.lower() != "." + args.fmt:
+        raise CommandError(f"--fmt {args.fmt} contradicts --out {str(args.out)!r} (the file's "
+                           "format follows its extension); drop --fmt or rename --out")
     save_config(config, args.out, overwrite=args.overwrite)
     return 0
 
@@ -419,7 +422,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     src.add_argument("--preset", default="table1", choices=presets.names())
     src.add_argument("--config", type=Path)
-    p.add_argument("--fmt", choices=("toml", "json"), default="toml")
+    p.add_argument("--fmt", choices=("toml", "json"),
+                   help="format on stdout (default toml); with --out, the extension decides")
     p.add_argument("--out", type=Path, help="write to this file instead of stdout")
     p.add_argument("--overwrite", action="store_true")
     p.add_argument("--estimate", action="store_true",
