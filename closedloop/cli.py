@@ -31,8 +31,15 @@ def _config(args):
     from closedloop.config import load_config
 
     if args.config is not None:
+        _check_config_suffix("--config", args.config)
         return load_config(args.config)
     return presets.get(args.preset)
+
+
+def _check_config_suffix(option: str, path) -> None:
+    """Name the option (load_config / save_config would name their `path`)."""
+    if Path(path).suffix.lower() not in (".toml", ".json"):
+        raise CommandError(f"{option} must end in .toml or .json; got {str(path)!r}")
 
 
 def _progress(args) -> bool | None:
@@ -319,8 +326,12 @@ def _cmd_config(args) -> int:
               "past half of it (run/compare --memory-limit)")
         return 0
     if args.out is None:
-        sys.stdout.write(config_text(config, args.fmt))
+        sys.stdout.write(config_text(config, args.fmt or "toml"))
         return 0
+    _check_config_suffix("--out", args.out)
+    if args.fmt is not None and args.out.suffix.lower() != "." + args.fmt:
+        raise CommandError(f"--fmt {args.fmt} contradicts --out {str(args.out)!r} (the file's "
+                           "format follows its extension); drop --fmt or rename --out")
     save_config(config, args.out, overwrite=args.overwrite)
     return 0
 
@@ -411,7 +422,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     src.add_argument("--preset", default="table1", choices=presets.names())
     src.add_argument("--config", type=Path)
-    p.add_argument("--fmt", choices=("toml", "json"), default="toml")
+    p.add_argument("--fmt", choices=("toml", "json"),
+                   help="format on stdout (default toml); with --out, the extension decides")
     p.add_argument("--out", type=Path, help="write to this file instead of stdout")
     p.add_argument("--overwrite", action="store_true")
     p.add_argument("--estimate", action="store_true",

@@ -11,6 +11,7 @@ floor thin black) with the target crossings marked.
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from modalinfo.cli import CommandError
@@ -63,8 +64,8 @@ def run(args: argparse.Namespace) -> int:
     twice = next((s for k, s in enumerate(seen) if s in seen[:k]), None)
     if twice is not None:
         raise CommandError(f"--orderings lists {':'.join(map(str, twice))} twice")
-    if args.target is not None and args.target < 0:
-        raise CommandError(f"--target must be >= 0; got {args.target}")
+    if args.target is not None and not 0 <= args.target < math.inf:  # also refuses NaN
+        raise CommandError(f"--target must be a finite number >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     refuse_frame_with_drop(args)

@@ -58,6 +58,34 @@ class Parser(argparse.ArgumentParser):
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         raise SystemExit(EXIT_USAGE)
 
+    def parse_known_args(self, args=None, namespace=None):  # noqa: D102
+        self._refuse_conflicting_repeats(sys.argv[1:] if args is None else list(args))
+        return super().parse_known_args(args, namespace)
+
+    def _refuse_conflicting_repeats(self, args: list[str]) -> None:
+        """Refuse a single-value option given twice with different values.
+
+        argparse keeps the last silently, so ``--target Z2 --target Z3`` analysed Z3
+        without a word. The same value twice, flags and append options (``--set``)
+        stay allowed; a subcommand's options are checked by its own parser.
+        """
+        seen: dict[str, tuple[str, str]] = {}
+        for k, token in enumerate(args):
+            if token == "--":
+                break
+            name, eq, value = token.partition("=")
+            action = self._option_string_actions.get(name) if name.startswith("-") else None
+            if type(action) is not argparse._StoreAction or action.nargs is not None:
+                continue
+            if not eq:
+                if k + 1 >= len(args):
+                    continue
+                value = args[k + 1]
+            first = seen.setdefault(action.dest, (name, value))
+            if first[1] != value:
+                self.error(f"argument {name}: given twice ({first[0]} {first[1]} and "
+                           f"{name} {value}); give it once")
+
 
 def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
              words=None) -> int:

@@ -52,8 +52,14 @@ class LogSummary:
     units: str
 
 
+# RMS below which the summary is redone scaled: float64 squares are normal (full
+# precision) only for |x| >= 1.5e-154 (sqrt of 2.2e-308); 1e-144 leaves a 1e10 margin
+# for values below the RMS. No real log comes near it, so real results are unchanged.
+_UNDERFLOW_RMS = 1e-144
+
+
 def _summarize_scaled(arr, cols, chunk_frames, mean, std, rms, lag1) -> None:
-    """Redo the summary of columns whose sums overflowed, on values scaled by 2^-e.
+    """Redo the summary of columns whose sums over- or underflowed, on values scaled by 2^-e.
 
     A power of two scales exactly, and mean, std and RMS scale with it (lag-1 is
     scale-free), so values near the float range get their true statistics. Columns
@@ -133,6 +139,10 @@ def summarize(log, chunk_frames: int = 65536, progress=None, visit=None) -> LogS
     lag1 = np.empty(m)
     lag1_finalize(state, mean, std, rms, lag1)
     overflow = (state[0] > 0) & ~(np.isfinite(rms) & np.isfinite(state[6]))
+    # Squares of |x| below ~1e-154 are subnormal or 0 (a log of 1e-300 had RMS 0):
+    # such columns are redone scaled too (exact, by a power of two).
+    underflow = (state[0] > 0) & (rms < _UNDERFLOW_RMS)
+    overflow |= underflow
     if overflow.any():  # values near the float range: redo those columns scaled
         _summarize_scaled(arr, np.flatnonzero(overflow), chunk_frames, mean, std, rms, lag1)
     return LogSummary(
