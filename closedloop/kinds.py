@@ -99,7 +99,7 @@ class SensorKind:
         The config's ``wfss[j].kind``.
     build : callable ``(geometry, index, dm) -> Sensor``
         The sensor of WFS ``index`` driving mirror ``dm`` (usually the class, a subclass
-        of :class:`closedloop.optics.wfs.WavefrontSensor`).
+        of ``closedloop.optics.wfs.WavefrontSensor``).
     estimate : callable ``(config, j, n_planes, dx) -> SensorCost``
         Its memory and time, from the config alone (``dx``: pupil pixel [m]).
     aot_record : callable ``(model, j, wfs_config, measurements) -> SensorSpec``
@@ -120,7 +120,7 @@ class SensorKind:
         Measurements it gives, for the rule "no more controlled modes than measurements";
         None: it measures the phase itself (no such rule).
     fields : tuple of str
-        Keys of :class:`closedloop.config.WFSConfig` only this kind uses: refused at
+        Keys of ``closedloop.config.WFSConfig`` only this kind uses: refused at
         non-default values by every other kind (the correlating SH's four keys, which
         predate ``options``; a new kind uses ``options``).
     """
@@ -151,7 +151,7 @@ class MirrorKind:
         The config's ``dms[i].kind``.
     build : callable ``(geometry, index) -> DeformableMirror``
         Mirror ``index`` (usually a subclass of
-        :class:`closedloop.optics.dm.DeformableMirror`).
+        ``closedloop.optics.dm.DeformableMirror``).
     estimate : callable ``(config, i, dx) -> MirrorCost``
         Its memory and time, from the config alone.
     aot_description : callable ``(mirror) -> dict``
@@ -163,7 +163,7 @@ class MirrorKind:
         modes than measurements" and the joint MAP reconstructor; None: a zonal mirror
         without a shape matrix (one "mode" per disc pixel; no joint reconstructor).
     fields : tuple of str
-        Keys of :class:`closedloop.config.DMConfig` only this kind uses (see
+        Keys of ``closedloop.config.DMConfig`` only this kind uses (see
         :class:`SensorKind`).
     """
 

@@ -1,10 +1,10 @@
 """Resampling of time series: block bootstrap, automatic block length, shift surrogates.
 
 One home for the resampling that the interval and the significance tests of the
-information package share (:mod:`~modalinfo.information.uncertainty`,
-:mod:`~modalinfo.information.conditional`, :mod:`~modalinfo.information.selection`,
-:mod:`~modalinfo.information.flow`, and the ordering bootstrap of
-:mod:`modalinfo.ordering.orderings`). Telemetry is autocorrelated (AR(1)
+information package share (``modalinfo.information.uncertainty``,
+``modalinfo.information.conditional_uncertainty``, ``modalinfo.information.selection``,
+``modalinfo.information.flow``, and the ordering bootstrap of
+``modalinfo.ordering.orderings``). Telemetry is autocorrelated (AR(1)
 coefficients of 0.9-0.99 per frame), so resampling frames one by one understates
 errors and overstates significance; everything here keeps the time structure.
 
