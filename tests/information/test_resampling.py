@@ -10,6 +10,11 @@ References (outside the code):
 * p-value: ``(1 + #{T_s >= T_0}) / (S + 1)`` by counting (Phipson & Smyth 2010), and
   its law under exchangeability, exactly uniform on ``{1, ..., S + 1} / (S + 1)``
   (tested against that law on iid draws with a chi-square test).
+* Politis-White length: the circular-block optimum of an AR(1) series with unit
+  variance, ``b = (2 G^2 / D)^(1/3) n^(1/3) = (6 phi^2 / (1 - phi^2)^2)^(1/3) n^(1/3)``
+  (Politis & White 2004, with ``G = 2 phi / (1 - phi)^2``, ``D = 4/3 g(0)^2``,
+  ``g(0) = (1 + phi) / (1 - phi)``; the stationary bootstrap's ``D = 2 g(0)^2`` would give
+  0.874 of it).
 * shifts: the documented range and structure (distinct multiples of the spacing in
   ``[b, n - b]``, every pair of {0} U shifts at least b apart on the circle).
 * false-positive rate: on independent AR(1) pairs a valid test at level 0.05 rejects
@@ -29,6 +34,7 @@ from modalinfo.information import (
 from modalinfo.information.resampling import (
     auto_block_length,
     block_bootstrap_indices,
+    politis_white_length,
     resolve_block_length,
     surrogate_pvalue,
     surrogate_shifts,
@@ -39,6 +45,17 @@ def _ar1(phi, n, rng):
     """Stationary AR(1) with unit innovations."""
     start = rng.standard_normal() / np.sqrt(1.0 - phi * phi)
     return lfilter([1.0], [1.0, -phi], rng.standard_normal(n), zi=[phi * start])[0]
+
+
+def test_politis_white_length_is_the_circular_block_optimum_of_ar1():
+    # long series, strong correlation: the lag-window estimate's bias is small (measured
+    # mean ratio 0.972, standard error 0.012 over these 20 series; 0.992 over 40 other
+    # seeds); the stationary bootstrap's constant (ratio 0.874 of that) fails by 9 %
+    phi, n = 0.8, 100_000
+    theory = (6 * phi**2 / (1 - phi**2) ** 2) ** (1 / 3) * n ** (1 / 3)  # 143.6
+    rng = np.random.default_rng(2004)
+    est = [politis_white_length(_ar1(phi, n, rng) * np.sqrt(1 - phi**2)) for _ in range(20)]
+    assert np.mean(est) == pytest.approx(theory, rel=0.06)
 
 
 @pytest.mark.parametrize("circular", [False, True])
