@@ -90,6 +90,23 @@ def test_auto_is_exhaustive_at_the_paper_size():
         np.testing.assert_array_equal(getattr(auto, name), getattr(ex, name), err_msg=name)
 
 
+@pytest.mark.parametrize("n_modes, search", [(64, "exhaustive"), (65, "screened")])
+def test_auto_switches_to_screened_above_64_modes(n_modes, search):
+    # the documented boundary: "auto" is the exhaustive (brute-force) search up to 64
+    # modes, screened above; at this tiny budget the two searches' orders differ
+    # (measured at 64 and 65 modes), so the comparison tells them apart
+    log = _log(n_modes, 300, seed=6)
+    basis = ZernikeBasis(Pupil(32), modes=range(2, n_modes + 2))
+    kw = dict(sample_budget=3000, seed=7, n_resamples=0)
+    auto = order_modes(log, basis, "mi_greedy", **kw)
+    named = order_modes(log, basis, "mi_greedy", search=search, **kw)
+    other = order_modes(log, basis, "mi_greedy",
+                        search="screened" if search == "exhaustive" else "exhaustive", **kw)
+    assert not np.array_equal(named.order, other.order)  # the case tells them apart
+    np.testing.assert_array_equal(auto.order, named.order)
+    np.testing.assert_array_equal(auto.margin, named.margin)
+
+
 def test_unknown_search_names_the_argument():
     with pytest.raises(ValueError, match="search"):
         order_modes(np.ones((20, 2)), np.eye(2), "mi_greedy", search="fast")
