@@ -147,6 +147,14 @@ def test_piston_free_and_tip_tilt_are_the_dms_best_fit(mirror):
         assert np.max(np.abs(surf[2:] @ target)) <= 1e-10 * np.sqrt(np.sum(target ** 2))
 
 
+def test_piston_free_without_tip_tilt_apart(mirror):
+    # every mode is DM-orthogonal to the DM's least-squares piston, so its surface has
+    # zero pupil mean: m^T G G^-1 M^T 1 / n = mean(M m)
+    m2c, _ = dm_kl_modes(mirror, R0, L0, tip_tilt_apart=False)
+    surf = mirror.surface(m2c.T)
+    assert np.max(np.abs(surf.mean(axis=1))) <= 1e-12
+
+
 def test_low_orders_match_the_theoretical_kl():
     pupil = Pupil(64, 4.0)
     f = InfluenceFunctions(pupil, 16)
