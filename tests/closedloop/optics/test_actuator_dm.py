@@ -16,6 +16,8 @@ References (outside the code):
   1 / (2 dx)`` only, so on the loop's grid the law is ``a ((pitch/r0)^(5/3) -
   (dx/r0)^(5/3))`` (the same integral between the two cut-offs);
 - the open-loop variance ``1.0299 (D/r0)^(5/3)`` for the loop's closure;
+- the von Karman tip variance (``zernike_variance(outer_scale=...)``) for the prior at the
+  strongest layer's ``L0``;
 - the config's TOML round trip; the arrays the built mirror holds (``nbytes``) for the
   resource estimate; aotpy reading the AOT export back.
 """
@@ -156,6 +158,21 @@ def test_the_variance_the_modes_leave(geometry, mirrors):
     assert few.n_modes < dm.n_modes
     assert few.residual_variance() - rest == pytest.approx(
         dm.prior_variance()[few.n_modes:].sum(), rel=1e-6)
+
+
+def test_the_prior_takes_the_strongest_layers_outer_scale(table1):
+    # the documented rule: the K-L prior is von Karman at the L0 of the layer with the
+    # largest (D / r0)^(5/3) (table1: the ground layer, D/r0 = 26, against 2 at 10 km);
+    # tip's prior is then the von Karman tip variance at L0 = 8 m over the 4 m disc
+    # (Noll/Wang-Markey integrals, zernike_variance: 0.0764 (D/r0)^(5/3), 17 % of
+    # Kolmogorov's; measured +0.01 %; at the other layer's L0 = 1e4 m it would be 0.403)
+    strongest = int(np.argmax([lay.d_over_r0 for lay in table1.layers]))
+    layers = tuple(dataclasses.replace(lay, outer_scale=8.0 if k == strongest else 1e4)
+                   for k, lay in enumerate(table1.layers))
+    dm = mirror_kind("actuators").build(Geometry(table1.replace(layers=layers)), 0)
+    assert dm.outer_scale == 8.0
+    assert dm.prior_variance()[0] == pytest.approx(
+        zernike_variance([2], outer_scale=8.0, diameter=dm.diameter)[0], rel=0.01)
 
 
 # ---------------------------------------------------------------- the config
