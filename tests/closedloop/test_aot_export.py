@@ -184,6 +184,15 @@ def test_modalinfo_info_identifies_the_dm_modes_as_zernikes(exported, capsys, ui
     assert f"Zernike {modes} (Noll) in our convention, no sign or axis flip" in out
 
 
+def test_the_correctors_name_their_noll_range(cfg, system):
+    # a Zernike DM of n_modes controls Noll Z2 .. Z(n_modes + 1) (piston excluded), the
+    # range modalinfo's identification finds in the exported mode images (test above)
+    geom = geometry_of(system)
+    for i, d in enumerate(cfg.dms):
+        extra = geom["correctors"][f"dm{i}"]["extra"]
+        assert extra["modes"] == f"Z2..Z{d.n_modes + 1} (Noll)"
+
+
 def test_never_overwrites_unasked(run, model, exported):
     before = exported.read_bytes()
     with pytest.raises(FileExistsError, match="overwrite"):
