@@ -67,6 +67,18 @@ def test_screened_mi_curve_within_the_exhaustive_bootstrap_interval(case50):
         np.abs(along - ex.mi[:-1]) / half_width)
 
 
+def test_margins_are_non_negative_where_every_mode_is_scored(case50):
+    # greedy's definition: the mode taken at step s scores at least as high as the one
+    # taken at s + 1 would have there, so margin[s] = mi[s] - (that score) >= 0 wherever
+    # step s scored every remaining mode: every step of the exhaustive search, the last
+    # 16 steps of the screened one (documented; the last margin is NaN: I(ref; ref))
+    _, _, _, ex, sc = case50
+    assert np.all(ex.margin[:-1] >= 0.0)
+    n = sc.order.size
+    tail = sc.margin[n - 16:-1]
+    assert np.all(np.isfinite(tail)) and np.all(tail >= 0.0), tail
+
+
 @pytest.mark.parametrize("search", ["exhaustive", "screened"])
 def test_margin_is_mi_minus_the_mi_with_the_next_mode_swapped_in(search):
     log = _log(12, 500, seed=3)
