@@ -16,6 +16,7 @@ from modalinfo.common.cli import CommandError, check_output
 
 __all__ = [
     "OUTLIER_CHOICES",
+    "RATE_RANGE",
     "WAVELENGTH_RANGE",
     "wavelength_arg",
     "add_hint_arguments",
@@ -64,6 +65,28 @@ class _Renamed(argparse.Action):
 WAVELENGTH_RANGE = (1e-7, 1e-4)
 
 
+#: accepted ``--rate`` [Hz]: 1 mHz (one frame every ~17 minutes, a slow archive of
+#: averaged coefficients) to 1 MHz, beyond the fastest AO wavefront sensors (a few kHz for
+#: high-order sensors, ~10 kHz for tip-tilt sensors); outside it the value is a unit slip
+#: (a period typed as a rate, kHz typed as Hz twice) or a typo such as 1e300
+RATE_RANGE = (1e-3, 1e6)
+
+
+def rate_arg(text: str) -> float:
+    """Parse ``--rate`` (an argparse type): hertz within :data:`RATE_RANGE`."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of hertz; got {text!r}") from None
+    low, high = RATE_RANGE
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(
+            f"must be in hertz within {low:g} - {high:g} (1 mHz - 1 MHz: slower is an "
+            f"archive of averages, faster than any AO wavefront sensor; outside it the value "
+            f"is a unit slip or a typo); got {text}")
+    return value
+
+
 def wavelength_arg(text: str) -> float:
     """Parse ``--wavelength`` (an argparse type): metres within :data:`WAVELENGTH_RANGE`."""
     try:
@@ -107,7 +130,7 @@ def add_hint_arguments(
     group.add_argument("--fmt", choices=("npz", "npy", "csv", "fits", "hdf5", "aot"),
                        help="input format (default: from the content, then the extension)")
     group.add_argument("--loop", metavar="UID", help="control loop of an AOT file (its uid)")
-    group.add_argument("--rate", type=float, metavar="HZ",
+    group.add_argument("--rate", type=rate_arg, metavar="HZ",
                        help="sample rate in Hz; given explicitly it replaces a foreign "
                        "file's timestamps that disagree with it (recorded in the metadata)")
     units = ("rad", "nm", "um", "waves")

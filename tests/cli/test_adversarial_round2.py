@@ -92,3 +92,20 @@ def _exit_code_of(func, argv):
         return func(argv)
     except SystemExit as exc:
         return exc.code
+
+
+@pytest.mark.parametrize("rate", ["1e300", "inf", "nan", "0", "-1000", "1e-4", "2e6"])
+def test_rate_outside_the_physical_range_is_refused_before_work(small_log, rate, capsys):
+    # Reference: the documented range RATE_RANGE, 1 mHz - 1 MHz (modalinfo.cli.shared):
+    # a --rate of 1e300 Hz used to be accepted and printed back as "1e+300 Hz".
+    assert _exit_code(["info", str(small_log), f"--rate={rate}"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--rate" in err and "hertz within 0.001 - 1e+06" in err
+
+
+@pytest.mark.parametrize("rate", ["0.001", "2000", "1e6"])
+def test_rate_inside_the_range_is_accepted(tmp_path, rate, capsys):
+    path = tmp_path / "norate.npy"  # a bare array: no stored rate to contradict
+    np.save(path, np.random.default_rng(1).standard_normal((300, 3)))
+    assert _exit_code(["info", str(path), "--modes", "2-4", f"--rate={rate}"]) == 0
+    assert f"{float(rate):g} Hz" in capsys.readouterr().out
