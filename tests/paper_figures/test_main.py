@@ -60,10 +60,13 @@ def test_user_log_with_the_cli_input_hints(tmp_path, capsys):
 
 def test_user_log_errors_are_one_line(tmp_path, capsys):
     _csv(tmp_path / "short.csv", 300, modes=5)
-    assert main(["--out", str(tmp_path / "a"), "--only", "5", "--log",
-                 str(tmp_path / "short.csv"), "--rate", "-3"]) == 2
+    # a rate outside 1 mHz - 1 MHz is refused by the option's parser (exit 2, one line)
+    with pytest.raises(SystemExit) as exc:
+        main(["--out", str(tmp_path / "a"), "--only", "5", "--log",
+              str(tmp_path / "short.csv"), "--rate", "-3"])
+    assert exc.value.code == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "rate" in err
+    assert err.count("\n") == 1 and "--rate" in err and "hertz" in err
     assert main(["--out", str(tmp_path / "b"), "--only", "5", "--log",
                  str(tmp_path / "short.csv"), "--rate", "1000"]) == 2
     err = capsys.readouterr().err
