@@ -72,34 +72,31 @@ WAVELENGTH_RANGE = (1e-7, 1e-4)
 RATE_RANGE = (1e-3, 1e6)
 
 
-def rate_arg(text: str) -> float:
-    """Parse ``--rate`` (an argparse type): hertz within :data:`RATE_RANGE`."""
+def _in_range(text: str, unit: str, bounds: tuple[float, float], why: str) -> float:
+    """Parse a number of ``unit`` within ``bounds`` (an argparse type's body)."""
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number of hertz; got {text!r}") from None
-    low, high = RATE_RANGE
+        raise argparse.ArgumentTypeError(f"must be a number of {unit}; got {text!r}") from None
+    low, high = bounds
     if not low <= value <= high:
         raise argparse.ArgumentTypeError(
-            f"must be in hertz within {low:g} - {high:g} (1 mHz - 1 MHz: slower is an "
-            f"archive of averages, faster than any AO wavefront sensor; outside it the value "
-            f"is a unit slip or a typo); got {text}")
+            f"must be in {unit} within {low:g} - {high:g} ({why}); got {text}")
     return value
+
+
+def rate_arg(text: str) -> float:
+    """Parse ``--rate`` (an argparse type): hertz within :data:`RATE_RANGE`."""
+    return _in_range(text, "hertz", RATE_RANGE,
+                     "1 mHz - 1 MHz: slower is an archive of averages, faster than any AO "
+                     "wavefront sensor; outside it the value is a unit slip or a typo")
 
 
 def wavelength_arg(text: str) -> float:
     """Parse ``--wavelength`` (an argparse type): metres within :data:`WAVELENGTH_RANGE`."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number of metres; got {text!r}") from None
-    low, high = WAVELENGTH_RANGE
-    if not low <= value <= high:
-        raise argparse.ArgumentTypeError(
-            f"must be in metres within {low:g} - {high:g} (100 nm - 100 um, the near UV to "
-            f"the thermal infrared where AO phase is measured; outside it the value is a "
-            f"unit slip such as nm typed as metres); got {text}")
-    return value
+    return _in_range(text, "metres", WAVELENGTH_RANGE,
+                     "100 nm - 100 um, the near UV to the thermal infrared where AO phase is "
+                     "measured; outside it the value is a unit slip such as nm typed as metres")
 
 
 def add_hint_arguments(
