@@ -96,6 +96,7 @@ science                     630 nm, 3x3 over 10"         the isoplanatic patch o
 from __future__ import annotations
 
 import dataclasses
+import math
 
 from closedloop.config import (
     DMConfig,
@@ -108,7 +109,7 @@ from closedloop.config import (
 )
 
 __all__ = ["get", "names", "table1", "table1_wind", "table1_solar", "mcao3", "kaos",
-           "SOLAR_RTC_DELAY"]
+           "SOLAR_RTC_DELAY", "est_mcao", "est_mcao_solar", "est_mcao_variant", "bufton_wind"]
 
 #: loop delay of ``table1-solar`` [s]: readout plus correlation and reconstruction of a
 #: solar correlating-SH real-time controller (module docstring)
@@ -220,8 +221,129 @@ def kaos() -> SimulationConfig:
     )
 
 
+# ------------------------------------------------------------------ EST MCAO (issue 29)
+#: EST aperture [m]: the 4.2 m primary (EST project; IDOM, "European Solar Telescope",
+#: and Sanquirce et al. 2022, Proc. SPIE 12182, 121821H)
+EST_DIAMETER = 4.2
+#: circular corrected field [arcsec] of EST's MCAO (Quintero Noda, Collados et al., "Overview
+#: of the status of the European Solar Telescope": diffraction limited "over a circular FOV
+#: of 60 arcsec")
+EST_FIELD = 60.0
+#: subapertures across the pupil of the ground (adaptive secondary's) WFS: 9.3 cm, within
+#: the 8-10 cm of solar high-order SHs (GREGOR's 92 mm; issue 29)
+EST_SUBAPERTURES = 45
+#: the altitude WFSs' subaperture pitch as a multiple of the ground's (module docstring)
+EST_ALTITUDE_PITCH = 2.0
+#: ground subapertures of the reduced-resolution runs reported in docs/CLOSEDLOOP.md
+#: ("EST MCAO"): table1's 16 across (26 cm), 64 pupil pixels
+EST_REDUCED_SUBAPERTURES = 16
+#: total r0 at 500 nm [m]: DKIST's published model (A&A 2018, aa33195-18), a moderate
+#: daytime r0 at the Canary Islands sites
+EST_R0 = 0.07
+#: outer scale [m] of every layer (the same DKIST model)
+EST_OUTER_SCALE = 27.0
+#: daytime profile: (altitude [m], share of the turbulence (D/r0)^(5/3)); module docstring
+EST_PROFILE = ((0.0, 0.45), (200.0, 0.10), (1_000.0, 0.15), (2_500.0, 0.12),
+               (5_000.0, 0.08), (9_000.0, 0.05), (14_000.0, 0.05))
+#: wind directions [deg] of the layers (none published: spread over half a turn so that
+#: no field axis is privileged, as table1's orthogonal winds)
+EST_WIND_DIRECTIONS = (0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0)
+#: conjugation heights [m] of EST's five DMs: the adaptive secondary at the ground and
+#: four DMs at the profile's free-atmosphere layers (module docstring)
+EST_DM_ALTITUDES = (0.0, 2_500.0, 5_000.0, 9_000.0, 14_000.0)
+#: controlled K-L modes per valid subaperture of a DM's WFS (0.45 per slope: about the
+#: ~1,500 modes from ~3,000 slopes of issue 29; table1 has 0.58 per subaperture)
+EST_MODES_PER_SUBAPERTURE = 0.9
+#: geometric SH noise [arcsec RMS per axis per subaperture]: kaos's value for a 10 cm
+#: subaperture on granulation (Loefdahl 2010)
+EST_SH_NOISE = 0.01
+
+
+def bufton_wind(altitude: float) -> float:
+    """Bufton (1973) wind profile [m/s] at ``altitude`` [m]: ``5 + 30 exp(-((h - 9.4 km) /
+    4.8 km)^2)`` (the model of Hardy 1998, *Adaptive Optics for Astronomical Telescopes*,
+    Eq. 3.34; a 35 m/s jet stream near 9.4 km)."""
+    return 5.0 + 30.0 * math.exp(-(((altitude - 9_400.0) / 4_800.0) ** 2))
+
+
+def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool = False,
+                     name: str | None = None) -> SimulationConfig:
+    """EST's MCAO at a given resolution: ``est-mcao`` (or ``-solar``) with its counts scaled.
+
+    Parameters
+    ----------
+    ground_subapertures : int
+        Subapertures across the pupil of the ground WFS (the published design: 45). The
+        pupil has 4 pixels per ground subaperture; each altitude WFS has subapertures of
+        :data:`EST_ALTITUDE_PITCH` times the ground pitch across its 60" meta-pupil; each
+        DM has its WFS's ``n_subapertures + 1`` actuators across (Fried geometry) and
+        :data:`EST_MODES_PER_SUBAPERTURE` K-L modes per valid subaperture (``pi/4 n^2``).
+        :data:`EST_REDUCED_SUBAPERTURES` (16) gives the runs of docs/CLOSEDLOOP.md: the
+        same telescope, profile, field, loop and noise, with 2.8x coarser sampling.
+    solar : bool
+        Correlating Shack-Hartmanns and the solar delay (``est-mcao-solar``).
+    name : str, optional
+        The config's name; default ``est-mcao[-solar]``, with ``@<n>`` when
+        ``ground_subapertures`` is not 45.
+
+    Returns
+    -------
+    SimulationConfig
+    """
+    from closedloop.config import wfs_meta_pupil  # noqa: F401 (documents the meta-pupil law)
+
+    n_g = int(ground_subapertures)
+    if isinstance(ground_subapertures, bool) or n_g != ground_subapertures or n_g < 4:
+        raise ValueError(f"`ground_subapertures` must be an int >= 4; got "
+                         f"{ground_subapertures!r}.")
+    if name is None:
+        name = "est-mcao" + ("-solar" if solar else "") + (
+            "" if n_g == EST_SUBAPERTURES else f"@{n_g}")
+    d = EST_DIAMETER
+    total = (d / EST_R0) ** (5 / 3)
+    layers = tuple(
+        LayerConfig(altitude=h, d_over_r0=(f * total) ** 0.6, wind_speed=bufton_wind(h),
+                    wind_direction=w, outer_scale=EST_OUTER_SCALE)
+        for (h, f), w in zip(EST_PROFILE, EST_WIND_DIRECTIONS, strict=True))
+    pitch = d / n_g
+    half_field = math.radians(EST_FIELD / 2 / 3600.0)
+    subaps = [n_g if h == 0 else
+              max(4, round((d + 2 * h * math.tan(half_field)) / (EST_ALTITUDE_PITCH * pitch)))
+              for h in EST_DM_ALTITUDES]
+    modes = [round(EST_MODES_PER_SUBAPERTURE * math.pi / 4 * n * n) for n in subaps]
+    kind, noise = ("correlating", 0.0) if solar else ("shack_hartmann", EST_SH_NOISE)
+    return SimulationConfig(
+        name=name,
+        telescope=TelescopeConfig(diameter=d, obscuration=0.0, zenith_angle=0.0,
+                                  n_pixels=4 * n_g),
+        layers=layers,
+        dms=tuple(DMConfig(altitude=h, n_modes=m, kind="actuators")
+                  for h, m in zip(EST_DM_ALTITUDES, modes, strict=True)),
+        wfss=tuple(WFSConfig(altitude=h, field_of_view=EST_FIELD, n_subapertures=n,
+                             noise=noise, kind=kind, dm=i)
+                   for i, (h, n) in enumerate(zip(EST_DM_ALTITUDES, subaps, strict=True))),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3,
+                        delay=SOLAR_RTC_DELAY if solar else 0.5e-3, gain=0.5),
+        field=FieldConfig(size=EST_FIELD, n_points=7),
+        wavelength=630e-9,
+        r0_wavelength=500e-9,
+        seed=0,
+    )
+
+
+def est_mcao() -> SimulationConfig:
+    """EST's MCAO as published, geometric Shack-Hartmanns (module docstring, "EST")."""
+    return est_mcao_variant()
+
+
+def est_mcao_solar() -> SimulationConfig:
+    """``est-mcao`` sensed on granulation, with the solar delay (module docstring, "EST")."""
+    return est_mcao_variant(solar=True)
+
+
 _PRESETS = {"table1": table1, "table1-wind": table1_wind, "table1-solar": table1_solar,
-            "mcao3": mcao3, "kaos": kaos}
+            "mcao3": mcao3, "kaos": kaos, "est-mcao": est_mcao,
+            "est-mcao-solar": est_mcao_solar}
 
 
 def names() -> list[str]:
