@@ -1,4 +1,4 @@
-"""Named simulation configurations: the paper's Table 1, a larger MCAO case, and KAOS.
+"""Named simulation configurations: the paper's Table 1, larger MCAO cases, KAOS and EST.
 
 ``table1`` is Table 1 of Stangalini et al. (LOST simulations): D = 4 m, zenith, 1 ms
 time step, 1 ms integration, 0.5 ms loop delay, two Kolmogorov layers with D/r0 = 26
@@ -91,6 +91,77 @@ pupil sampling              56 px (1.25 cm, r0 / 5.6)    8 px per subaperture
 science                     630 nm, 3x3 over 10"         the isoplanatic patch of a 3 km layer
                                                          at r0 = 7 cm is a few arcsec
 ==========================  ===========================  ========================================
+
+``est-mcao`` is the European Solar Telescope's multi-conjugate AO as published, where the
+EST papers give a number, and a documented choice where they do not (the Montilla et al.
+EST MCAO papers were not available here: "not found" below means no public figure was
+found in this project's sources). ``est-mcao-solar`` is the same system sensed on
+granulation: every WFS ``kind="correlating"`` (the default photon budget and contrast,
+as ``table1-solar``) and the loop delay :data:`SOLAR_RTC_DELAY` (1 ms: readout 0.5 ms plus
+correlation and reconstruction, the fixed value Figure 7 runs ``table1-solar`` with; its
+latency study moves it with the RTC's speed):
+
+==========================  ===========================  ========================================
+parameter                   value                        why
+==========================  ===========================  ========================================
+aperture                    D = 4.2 m, unobstructed      EST's 4.2 m primary (IDOM; Sanquirce et
+                                                         al. 2022, SPIE 12182); the on-axis
+                                                         Gregorian's obscuration: not found
+corrected field             60" circle; science on 7x7   "diffraction limited over a circular
+                            points over 60" (10" steps)  FOV of 60 arcsec" (EST status paper,
+                                                         Quintero Noda, Collados et al.)
+DMs                         5, of actuators (Gaussian,   "the EST design includes 5 DMs" (EST
+                            coupling 0.35), K-L modes    project, MCAO test-bench news 2021);
+                                                         the adaptive secondary corrects the
+                                                         ground layer (EST status paper)
+DM altitudes                0 (adaptive secondary),      heights not found: DMs at the profile's
+                            2.5, 5, 9, 14 km             free-atmosphere layers ("perfect
+                                                         matching" as table1), the strongest
+                                                         (2.5 km) where La Palma's profile peaks
+ground WFS                  45 x 45 subapertures         9.3 cm: solar high-order SHs use 8-10 cm
+                            (9.3 cm), 60" field          (GREGOR 92 mm; issue 29); layer-oriented
+                                                         MFoV over the corrected field
+                                                         (Ragazzoni et al. 2002; Kellerer 2012)
+altitude WFSs               60" field, subapertures of   not found: the high layers are weaker,
+                            2x the ground pitch (18.7    and EST's MCAO bench has fewer actuators
+                            cm) over their 60" meta-     on its altitude DMs (2 x 468) than on its
+                            pupil: 26/30/37/44 across    pupil DM (820; IAC, SOLARNET 2021)
+actuators                   WFS's subapertures + 1       Fried geometry (``"actuators"`` kind);
+                            across each disc: 1,740 /    a 60" meta-pupil at 14 km is 8.3 m
+                            609 / 801 / 1,200 / 1,665
+                            valid
+controlled modes            0.9 per valid subaperture:   ~1,500 modes from ~3,000 slopes per WFS
+                            1,431 / 478 / 636 / 968 /    (issue 29, the size peers control)
+                            1,368
+pupil sampling              180 px (4 per subaperture)   table1's 4 px per subaperture
+seeing                      r0 = 7 cm at 500 nm (D/r0 =  DKIST's published 4-m model (A&A 2018,
+                            60), L0 = 27 m every layer   aa33195-18), a moderate daytime r0
+daytime profile (share of   0 m 45 %, 200 m 10 %,        Big Bear (Kellerer et al. 2012): 55-65 %
+(D/r0)^(5/3))               1 km 15 %, 2.5 km 12 %,      below 500 m (here 55 %), 30-40 % at
+                            5 km 8 %, 9 km 5 %, 14 km    1-7 km (35 %), ~5 % at the tropopause;
+                            5 %                          La Palma: three layers within 1.5 km
+                                                         (S-DIMM+, Scharmer & van Werkhoven
+                                                         2010), the free-atmosphere peak at
+                                                         2.5 km (Garcia-Lorenzo & Fuensalida
+                                                         2011, Fig. 6), most turbulence near
+                                                         the ground by day (Townson et al. 2015)
+winds                       Bufton's profile at each     Bufton (1973) as Hardy (1998) gives it:
+                            height: 5.7 ... 34.8 m/s     5 + 30 exp(-((h - 9.4 km)/4.8 km)^2);
+                            (9 km); directions 0-180     directions spread (none published)
+                            deg in 30 deg steps
+loop                        1 kHz, 1 ms exposure,        table1's timing (paper's Table 1);
+                            0.5 ms delay, gain 0.5       gain of DKIST's model
+WFS noise (geometric SH)    0.01" per axis per subap     kaos's 10 cm subaperture value
+                                                         (Loefdahl 2010)
+science                     630 nm                       as every preset (DKIST's model)
+==========================  ===========================  ========================================
+
+The full size (five WFSs of 19 field samples, ~4,900 modes from ~10,800 slopes) needs
+~10 GiB at its peak by ``closedloop.resources.estimate``, most of it the WFS operators'
+assembly. :func:`est_mcao_variant` builds the same system at a coarser resolution (its
+``ground_subapertures``; every count follows from it by the rules of the table): the
+runs of docs/CLOSEDLOOP.md ("EST MCAO") use :data:`EST_REDUCED_SUBAPERTURES` = 16
+(``est-mcao@16``: 64 pixels, 26 cm ground subapertures, 181 / 57 / 86 / 119 / 181 modes).
 """
 
 from __future__ import annotations
@@ -237,6 +308,9 @@ EST_ALTITUDE_PITCH = 2.0
 #: ground subapertures of the reduced-resolution runs reported in docs/CLOSEDLOOP.md
 #: ("EST MCAO"): table1's 16 across (26 cm), 64 pupil pixels
 EST_REDUCED_SUBAPERTURES = 16
+#: fewest ground subapertures of :func:`est_mcao_variant`: 4 pixels each, and the pupil
+#: pixel no larger than r0 (the config's rule): ceil(D / r0 / 4)
+EST_MIN_SUBAPERTURES = 15
 #: total r0 at 500 nm [m]: DKIST's published model (A&A 2018, aa33195-18), a moderate
 #: daytime r0 at the Canary Islands sites
 EST_R0 = 0.07
@@ -260,13 +334,16 @@ EST_SH_NOISE = 0.01
 
 
 def bufton_wind(altitude: float) -> float:
-    """Bufton (1973) wind profile [m/s] at ``altitude`` [m]: ``5 + 30 exp(-((h - 9.4 km) /
-    4.8 km)^2)`` (the model of Hardy 1998, *Adaptive Optics for Astronomical Telescopes*,
-    Eq. 3.34; a 35 m/s jet stream near 9.4 km)."""
+    """Bufton (1973)'s wind speed [m/s] at ``altitude`` [m] (a 35 m/s jet near 9.4 km).
+
+    ``5 + 30 exp(-((h - 9.4 km) / 4.8 km)^2)``, the model Hardy (1998, *Adaptive Optics
+    for Astronomical Telescopes*, Ch. 3) gives for AO design.
+    """
     return 5.0 + 30.0 * math.exp(-(((altitude - 9_400.0) / 4_800.0) ** 2))
 
 
 def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool = False,
+                     altitude_pitch: float = EST_ALTITUDE_PITCH,
                      name: str | None = None) -> SimulationConfig:
     """EST's MCAO at a given resolution: ``est-mcao`` (or ``-solar``) with its counts scaled.
 
@@ -282,6 +359,9 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
         same telescope, profile, field, loop and noise, with 2.8x coarser sampling.
     solar : bool
         Correlating Shack-Hartmanns and the solar delay (``est-mcao-solar``).
+    altitude_pitch : float
+        Subaperture pitch of the altitude WFSs in ground pitches (>= 1; the design choice
+        the docs sweep).
     name : str, optional
         The config's name; default ``est-mcao[-solar]``, with ``@<n>`` when
         ``ground_subapertures`` is not 45.
@@ -290,12 +370,16 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
     -------
     SimulationConfig
     """
-    from closedloop.config import wfs_meta_pupil  # noqa: F401 (documents the meta-pupil law)
-
-    n_g = int(ground_subapertures)
-    if isinstance(ground_subapertures, bool) or n_g != ground_subapertures or n_g < 4:
-        raise ValueError(f"`ground_subapertures` must be an int >= 4; got "
-                         f"{ground_subapertures!r}.")
+    n_g = int(ground_subapertures) if isinstance(ground_subapertures, int) else 0
+    if isinstance(ground_subapertures, bool) or not isinstance(ground_subapertures, int) \
+            or n_g < EST_MIN_SUBAPERTURES:
+        raise ValueError(f"`ground_subapertures` must be an int >= {EST_MIN_SUBAPERTURES} (4 "
+                         f"pixels each, and a pixel no larger than r0 = {EST_R0 * 100:g} cm); "
+                         f"got {ground_subapertures!r}.")
+    if not isinstance(altitude_pitch, (int, float)) or isinstance(altitude_pitch, bool) \
+            or not 1.0 <= altitude_pitch <= 4.0:
+        raise ValueError(f"`altitude_pitch` must be a number in [1, 4] (ground pitches); got "
+                         f"{altitude_pitch!r}.")
     if name is None:
         name = "est-mcao" + ("-solar" if solar else "") + (
             "" if n_g == EST_SUBAPERTURES else f"@{n_g}")
@@ -308,7 +392,7 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
     pitch = d / n_g
     half_field = math.radians(EST_FIELD / 2 / 3600.0)
     subaps = [n_g if h == 0 else
-              max(4, round((d + 2 * h * math.tan(half_field)) / (EST_ALTITUDE_PITCH * pitch)))
+              max(4, round((d + 2 * h * math.tan(half_field)) / (altitude_pitch * pitch)))
               for h in EST_DM_ALTITUDES]
     modes = [round(EST_MODES_PER_SUBAPERTURE * math.pi / 4 * n * n) for n in subaps]
     kind, noise = ("correlating", 0.0) if solar else ("shack_hartmann", EST_SH_NOISE)
