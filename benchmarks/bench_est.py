@@ -54,11 +54,16 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--high-share", type=float, default=1.0)
     ap.add_argument("--altitude-pitch", type=float, default=presets.EST_ALTITUDE_PITCH)
+    ap.add_argument("--model-error", type=float, default=None,
+                    help="loop.model_error of the joint MAP reconstructor (default: the preset's)")
     args = ap.parse_args()
     config = presets.est_mcao_variant(args.subapertures, solar=args.solar,
                                       altitude_pitch=args.altitude_pitch)
     if args.high_share != 1.0:
         config = scaled_high_layers(config, args.high_share)
+    if args.model_error is not None:
+        config = config.replace(loop=dataclasses.replace(config.loop,
+                                                         model_error=args.model_error))
     t0 = time.process_time()
     model = LoopModel(config)
     setup = time.process_time() - t0
@@ -75,7 +80,8 @@ def main() -> None:
     axis = int(np.argmin(np.hypot(*b.directions.T)))
     out = {
         "config": config.name, "high_share": args.high_share,
-        "altitude_pitch": args.altitude_pitch, "seed": args.seed,
+        "altitude_pitch": args.altitude_pitch, "model_error": config.loop.model_error,
+        "seed": args.seed,
         "duration_s": args.duration, "load_average": os.getloadavg()[0],
         "setup_cpu_s": setup, "loop_with_budget_cpu_s": with_budget,
         "cpu_s_per_frame": per_frame,
