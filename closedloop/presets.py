@@ -108,7 +108,7 @@ from closedloop.config import (
 )
 
 __all__ = ["get", "names", "table1", "table1_wind", "table1_solar", "mcao3", "kaos",
-           "SOLAR_RTC_DELAY"]
+           "SOLAR_RTC_DELAY", "dkist_scao", "dkist_scao_5cm"]
 
 #: loop delay of ``table1-solar`` [s]: readout plus correlation and reconstruction of a
 #: solar correlating-SH real-time controller (module docstring)
@@ -220,8 +220,103 @@ def kaos() -> SimulationConfig:
     )
 
 
+#: ``dkist-scao``'s published model (A&A 2018, aa33195-18, Table 1): Fried parameter at
+#: 500 nm [m] of the nominal case and of the variant ``dkist-scao-5cm``
+DKIST_R0 = 0.07
+DKIST_R0_BAD = 0.05
+#: its layers: altitudes [m] and fractions of the turbulence (weights of r0^(-5/3))
+DKIST_ALTITUDES = (0.0, 7_852.0, 13_252.0)
+DKIST_WEIGHTS = (0.942, 0.038, 0.02)
+#: DM-space K-L modes controlled by ``dkist-scao`` (of the 1,584 valid actuators of 44 x 44;
+#: docs/CLOSEDLOOP.md, "4-m single conjugate: dkist-scao")
+DKIST_MODES = 1_200
+
+
+def dkist_scao(r0: float = DKIST_R0) -> SimulationConfig:
+    """DKIST's single-conjugate AO as the A&A 2018 model has it (aa33195-18, Table 1).
+
+    Published (aa33195-18, Table 1; ``../shared/reference/solar-mcao-notes.md``):
+
+    ==========================  ===========================  ====================================
+    parameter                   value                        source
+    ==========================  ===========================  ====================================
+    aperture                    D = 4 m, unobstructed        Table 1 (DKIST is off-axis: no
+                                                             central obscuration; Rimmele et al.
+                                                             2020, Sol. Phys. 295, 172)
+    Shack-Hartmann              43 x 43 subapertures         Table 1 (geometric SH: the model's)
+    DM                          44 x 44 actuators            Table 1 (Fried geometry: 43 + 1)
+    exposure, delay             2 ms, 0.5 ms                 Table 1 (500 Hz frames)
+    integrator gain             0.5                          Table 1
+    layers                      0, 7.852, 13.252 km with     Table 1
+                                weights 0.942, 0.038, 0.02
+    wind                        10 m/s (every layer)         Table 1
+    outer scale                 L0 = 27 m                    Table 1
+    r0 (500 nm)                 7 cm (``dkist-scao``),       Table 1 (SR 0.30 and 0.12 at
+                                5 cm (``dkist-scao-5cm``)    630 nm)
+    science wavelength          630 nm                       Table 1
+    ==========================  ===========================  ====================================
+
+    Left open by the paper, chosen here:
+
+    ==========================  ===========================  ====================================
+    parameter                   value                        why
+    ==========================  ===========================  ====================================
+    pupil sampling              172 px (2.33 cm, 4 px per    issue 29's model; r0 / 3 at 7 cm,
+                                subaperture)                 2 px per actuator pitch (the
+                                                             ``"actuators"`` kind's minimum)
+    DM influence                Gaussian, coupling 0.35,     OOPAO's ``mechCoupling`` default (a
+                                valid by illumination 0.05   continuous-facesheet piezo DM);
+                                                             COMPASS/yao ``thresh`` rule
+    controlled modes            1,200 DM-space K-L           >= 1,000 (issue 29); 76 % of the
+                                                             1,584 valid actuators: the rest are
+                                                             the modes a Fried-geometry SH sees
+                                                             worst (waffle-like; OOPAO and
+                                                             COMPASS drop ~20 % likewise)
+    WFS field                   on axis (0")                 the model's geometric SH on a point
+                                                             (single conjugate)
+    WFS noise                   0.01" per axis per subap     a 9.3 cm subaperture on granulation,
+                                                             as ``kaos``'s 10 cm (Loefdahl 2010)
+    wind directions             0, 90, 45 deg                none given; not along one axis
+    science field               on axis                      the published Strehl is on axis
+    ==========================  ===========================  ====================================
+
+    The r0 = 5 cm case is the second preset name ``dkist-scao-5cm`` (``dkist_scao(0.05)``),
+    the same model with every layer's ``D / r0`` scaled to the total ``4 / 0.05``: ask
+    for it by name (``--preset dkist-scao-5cm``) rather than by editing three layers'
+    ``d_over_r0`` in a TOML file (``closedloop config --preset dkist-scao-5cm`` writes it).
+    ``r0`` [m at 500 nm] sets the total; the weights stay the published ones.
+    """
+    total = (4.0 / r0) ** (5 / 3)
+    layers = tuple(
+        LayerConfig(altitude=h, d_over_r0=(f * total) ** 0.6, wind_speed=10.0,
+                    wind_direction=d, outer_scale=27.0)
+        for f, h, d in zip(DKIST_WEIGHTS, DKIST_ALTITUDES, (0.0, 90.0, 45.0), strict=True))
+    name = "dkist-scao" if r0 == DKIST_R0 else f"dkist-scao-{r0 * 100:g}cm"
+    return SimulationConfig(
+        name=name,
+        telescope=TelescopeConfig(diameter=4.0, obscuration=0.0, zenith_angle=0.0,
+                                  n_pixels=172),
+        layers=layers,
+        dms=(DMConfig(altitude=0.0, n_modes=DKIST_MODES, kind="actuators",
+                      options={"n_actuators": 44}),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=43, noise=0.01,
+                        field_samples=1, dm=0),),
+        loop=LoopConfig(time_step=2e-3, integration_time=2e-3, delay=0.5e-3, gain=0.5),
+        field=FieldConfig(size=0.0, n_points=1),
+        wavelength=630e-9,
+        r0_wavelength=500e-9,
+        seed=0,
+    )
+
+
+def dkist_scao_5cm() -> SimulationConfig:
+    """``dkist-scao`` at r0 = 5 cm (500 nm), the published model's bad-seeing case."""
+    return dkist_scao(DKIST_R0_BAD)
+
+
 _PRESETS = {"table1": table1, "table1-wind": table1_wind, "table1-solar": table1_solar,
-            "mcao3": mcao3, "kaos": kaos}
+            "mcao3": mcao3, "kaos": kaos, "dkist-scao": dkist_scao,
+            "dkist-scao-5cm": dkist_scao_5cm}
 
 
 def names() -> list[str]:
