@@ -7,12 +7,13 @@ CPU time of this process (``time.process_time``) of
   - a run of ``--frames`` frames of 2 ms (``simulate(..., model=model)``, no budget, as
     ``python -m closedloop run --preset dkist-scao`` runs it), per frame, after a warm-up
     run of 5 frames (numba compilation excluded);
-  - a cProfile of that run split per part, by the cumulative time of the functions that
-    hold each part: atmosphere (``LoopState.turbulence`` and ``evolve_until``), DM surface
-    (``LoopState.apply``: strokes ``m2c @ c`` and the separable influence product; and
-    the subtraction of the surfaces from the phase, ``LoopState.forward`` less its
-    turbulence), WFS (``LoopModel.measure``), reconstructor (``LoopModel.reconstruct``),
-    science (``ScienceCamera.forward``), control (the integrator), and the rest.
+  - a cProfile of that run (timer: this process's CPU time) split per part, by the
+    cumulative time of the functions that hold each part: atmosphere
+    (``LoopState.turbulence`` and ``evolve_until``), DM surface (``LoopState.apply``:
+    strokes ``m2c @ c`` and the separable influence product; and the subtraction of the
+    surfaces from the phase, ``LoopState.forward`` less its turbulence), WFS
+    (``LoopModel.measure``), reconstructor (``LoopModel.reconstruct``), science
+    (``ScienceCamera.forward``), control (the integrator), and the rest.
 
 BLAS on one thread (``OPENBLAS_NUM_THREADS=1``), as the golden runs.
 
@@ -65,7 +66,7 @@ def main() -> None:
     step = config.loop.time_step
     simulate(config, 5 * step, model=model, progress=False)  # warm-up (numba)
 
-    prof = cProfile.Profile()
+    prof = cProfile.Profile(time.process_time)  # CPU time: the machine is shared
     t0 = time.process_time()
     prof.enable()
     run = simulate(config, args.frames * step, model=model, progress=False)
