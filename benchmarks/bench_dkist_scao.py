@@ -31,8 +31,10 @@ import time
 
 #: part -> (module path suffix, function name) whose cumulative time it is
 PARTS = {
-    "atmosphere": [("closedloop/state.py", "turbulence"), ("closedloop/state.py",
-                                                          "evolve_until")],
+    "atmosphere (per step)": [("closedloop/state.py", "turbulence"),
+                              ("closedloop/state.py", "evolve_until")],
+    "atmosphere (screens, once per run)": [("closedloop/optics/phase_screen.py",
+                                            "fft_phase_screen")],
     "DM surface (apply)": [("closedloop/state.py", "apply")],
     "WFS (measure)": [("closedloop/model.py", "measure")],
     "reconstructor": [("closedloop/model.py", "reconstruct")],
@@ -65,6 +67,9 @@ def main() -> None:
     setup = time.process_time() - t0
     step = config.loop.time_step
     simulate(config, 5 * step, model=model, progress=False)  # warm-up (numba)
+    t0 = time.process_time()
+    simulate(config, args.frames * step, model=model, progress=False)
+    plain = time.process_time() - t0  # the same run without the profiler
 
     prof = cProfile.Profile(time.process_time)  # CPU time: the machine is shared
     t0 = time.process_time()
@@ -84,6 +89,8 @@ def main() -> None:
     print(f"set-up (LoopModel) CPU {setup:.2f} s; modes {model.n_modes}; "
           f"valid actuators {model.dms[0].influence.n_valid}; slopes "
           f"{model.wfss[0].n_measurements}")
+    print(f"run {args.frames} frames without the profiler: CPU {plain:.3f} s, "
+          f"{1e3 * plain / args.frames:.2f} ms per frame ({args.frames / plain:.0f} frames/s)")
     print(f"run {args.frames} frames: CPU {loop:.2f} s, {1e3 * loop / args.frames:.2f} ms "
           f"per frame ({args.frames / loop:.0f} frames/s of CPU; profiled: cProfile adds "
           f"its overhead), SR {run.summary()['strehl_peak_mean']:.3f}")
