@@ -267,17 +267,21 @@ def dkist_scao(r0: float = DKIST_R0) -> SimulationConfig:
     DM influence                Gaussian, coupling 0.35,     OOPAO's ``mechCoupling`` default (a
                                 valid by illumination 0.05   continuous-facesheet piezo DM);
                                                              COMPASS/yao ``thresh`` rule
-    controlled modes            1,200 DM-space K-L           >= 1,000 (issue 29); 76 % of the
-                                                             1,584 valid actuators: the rest are
-                                                             the modes a Fried-geometry SH sees
-                                                             worst (waffle-like; OOPAO and
-                                                             COMPASS drop ~20 % likewise)
+    controlled modes            1,200 DM-space K-L (of the   >= 1,000 (issue 29); measured SR
+                                1,583 of 1,584 valid         0.329 / 0.333 / 0.331 at 1,000 /
+                                actuators)                   1,200 / 1,500 modes: beyond 1,200
+                                                             the high modes' aliasing and
+                                                             temporal error eat the fitting gain
+                                                             (docs/CLOSEDLOOP.md)
     WFS field                   on axis (0")                 the model's geometric SH on a point
                                                              (single conjugate)
     WFS noise                   0.01" per axis per subap     a 9.3 cm subaperture on granulation,
-                                                             as ``kaos``'s 10 cm (Loefdahl 2010)
+                                                             as ``kaos``'s 10 cm (Loefdahl 2010);
+                                                             0.0006 rad^2 at 630 nm, it would
+                                                             take ~0.07" to move the SR by 0.01
     wind directions             0, 90, 45 deg                none given; not along one axis
-    science field               on axis                      the published Strehl is on axis
+    science field               on axis                      one Strehl per r0 is published (the
+                                                             direction of the SCAO guide region)
     ==========================  ===========================  ====================================
 
     The r0 = 5 cm case is the second preset name ``dkist-scao-5cm`` (``dkist_scao(0.05)``),
