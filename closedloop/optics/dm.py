@@ -278,8 +278,8 @@ def check_zernike_subapertures(cfg: SimulationConfig, i: int) -> None:
             f"{across:.4g} for wfss[{j}].n_subapertures = {w.n_subapertures}: the "
             f"Shack-Hartmann's Nyquist limit, less the rim where a Zernike's oscillations "
             f"crowd; beyond it the interaction matrix has a near null space that amplifies "
-            f"aliasing and the loop does not close; {dm.n_modes} modes reach order {order}); "
-            f"got {dm.n_modes!r}.")
+            f"aliasing: 1,000 modes on 43 x 43 subapertures, 28 x the fitting error, did not "
+            f"close; {dm.n_modes} modes reach order {order}); got {dm.n_modes!r}.")
 
 
 def _disc_pixels(config: SimulationConfig, i: int, dx: float) -> float:
