@@ -1,4 +1,4 @@
-"""Named simulation configurations: the paper's Table 1, larger MCAO cases, KAOS and EST.
+"""Named simulation configurations: the paper's Table 1, larger MCAO cases, KAOS, DKIST and EST.
 
 ``table1`` is Table 1 of Stangalini et al. (LOST simulations): D = 4 m, zenith, 1 ms
 time step, 1 ms integration, 0.5 ms loop delay, two Kolmogorov layers with D/r0 = 26
@@ -180,7 +180,8 @@ from closedloop.config import (
 )
 
 __all__ = ["get", "names", "table1", "table1_wind", "table1_solar", "mcao3", "kaos",
-           "SOLAR_RTC_DELAY", "est_mcao", "est_mcao_solar", "est_mcao_variant", "bufton_wind"]
+           "SOLAR_RTC_DELAY", "dkist_scao", "dkist_scao_5cm", "est_mcao", "est_mcao_solar",
+           "est_mcao_variant", "bufton_wind"]
 
 #: loop delay of ``table1-solar`` [s]: readout plus correlation and reconstruction of a
 #: solar correlating-SH real-time controller (module docstring)
@@ -290,6 +291,104 @@ def kaos() -> SimulationConfig:
         r0_wavelength=500e-9,
         seed=0,
     )
+
+
+#: ``dkist-scao``'s published model (A&A 2018, aa33195-18, Table 1): Fried parameter at
+#: 500 nm [m] of the nominal case and of the variant ``dkist-scao-5cm``
+DKIST_R0 = 0.07
+DKIST_R0_BAD = 0.05
+#: its layers: altitudes [m] and fractions of the turbulence (weights of r0^(-5/3))
+DKIST_ALTITUDES = (0.0, 7_852.0, 13_252.0)
+DKIST_WEIGHTS = (0.942, 0.038, 0.02)
+#: DM-space K-L modes controlled by ``dkist-scao`` (of the 1,584 valid actuators of 44 x 44;
+#: docs/CLOSEDLOOP.md, "4-m single conjugate: dkist-scao")
+DKIST_MODES = 1_200
+
+
+def dkist_scao(r0: float = DKIST_R0) -> SimulationConfig:
+    """DKIST's single-conjugate AO as the A&A 2018 model has it (aa33195-18, Table 1).
+
+    Published (aa33195-18, Table 1; ``../shared/reference/solar-mcao-notes.md``):
+
+    ==========================  ===========================  ====================================
+    parameter                   value                        source
+    ==========================  ===========================  ====================================
+    aperture                    D = 4 m, unobstructed        Table 1 (DKIST is off-axis: no
+                                                             central obscuration; Rimmele et al.
+                                                             2020, Sol. Phys. 295, 172)
+    Shack-Hartmann              43 x 43 subapertures         Table 1 (geometric SH: the model's)
+    DM                          44 x 44 actuators            Table 1 (Fried geometry: 43 + 1)
+    exposure, delay             2 ms, 0.5 ms                 Table 1 (500 Hz frames)
+    integrator gain             0.5                          Table 1
+    layers                      0, 7.852, 13.252 km with     Table 1
+                                weights 0.942, 0.038, 0.02
+    wind                        10 m/s (every layer)         Table 1
+    outer scale                 L0 = 27 m                    Table 1
+    r0 (500 nm)                 7 cm (``dkist-scao``),       Table 1 (SR 0.30 and 0.12 at
+                                5 cm (``dkist-scao-5cm``)    630 nm)
+    science wavelength          630 nm                       Table 1
+    ==========================  ===========================  ====================================
+
+    Left open by the paper, chosen here:
+
+    ==========================  ===========================  ====================================
+    parameter                   value                        why
+    ==========================  ===========================  ====================================
+    pupil sampling              172 px (2.33 cm, 4 px per    issue 29's model; r0 / 3 at 7 cm,
+                                subaperture)                 2 px per actuator pitch (the
+                                                             ``"actuators"`` kind's minimum)
+    DM influence                Gaussian, coupling 0.35,     OOPAO's ``mechCoupling`` default (a
+                                valid by illumination 0.05   continuous-facesheet piezo DM);
+                                                             COMPASS/yao ``thresh`` rule
+    controlled modes            1,200 DM-space K-L (of the   >= 1,000 (issue 29); measured SR
+                                1,583 of 1,584 valid         0.329 / 0.333 / 0.331 at 1,000 /
+                                actuators)                   1,200 / 1,500 modes: beyond 1,200
+                                                             the high modes' aliasing and
+                                                             temporal error eat the fitting gain
+                                                             (docs/CLOSEDLOOP.md)
+    WFS field                   on axis (0")                 the model's geometric SH on a point
+                                                             (single conjugate)
+    WFS noise                   0.01" per axis per subap     a 9.3 cm subaperture on granulation,
+                                                             as ``kaos``'s 10 cm (Loefdahl 2010);
+                                                             0.0006 rad^2 at 630 nm, it would
+                                                             take ~0.07" to move the SR by 0.01
+    wind directions             0, 90, 45 deg                none given; not along one axis
+    science field               on axis                      one Strehl per r0 is published (the
+                                                             direction of the SCAO guide region)
+    ==========================  ===========================  ====================================
+
+    The r0 = 5 cm case is the second preset name ``dkist-scao-5cm`` (``dkist_scao(0.05)``),
+    the same model with every layer's ``D / r0`` scaled to the total ``4 / 0.05``: ask
+    for it by name (``--preset dkist-scao-5cm``) rather than by editing three layers'
+    ``d_over_r0`` in a TOML file (``closedloop config --preset dkist-scao-5cm`` writes it).
+    ``r0`` [m at 500 nm] sets the total; the weights stay the published ones.
+    """
+    total = (4.0 / r0) ** (5 / 3)
+    layers = tuple(
+        LayerConfig(altitude=h, d_over_r0=(f * total) ** 0.6, wind_speed=10.0,
+                    wind_direction=d, outer_scale=27.0)
+        for f, h, d in zip(DKIST_WEIGHTS, DKIST_ALTITUDES, (0.0, 90.0, 45.0), strict=True))
+    name = "dkist-scao" if r0 == DKIST_R0 else f"dkist-scao-{r0 * 100:g}cm"
+    return SimulationConfig(
+        name=name,
+        telescope=TelescopeConfig(diameter=4.0, obscuration=0.0, zenith_angle=0.0,
+                                  n_pixels=172),
+        layers=layers,
+        dms=(DMConfig(altitude=0.0, n_modes=DKIST_MODES, kind="actuators",
+                      options={"n_actuators": 44}),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=43, noise=0.01,
+                        field_samples=1, dm=0),),
+        loop=LoopConfig(time_step=2e-3, integration_time=2e-3, delay=0.5e-3, gain=0.5),
+        field=FieldConfig(size=0.0, n_points=1),
+        wavelength=630e-9,
+        r0_wavelength=500e-9,
+        seed=0,
+    )
+
+
+def dkist_scao_5cm() -> SimulationConfig:
+    """``dkist-scao`` at r0 = 5 cm (500 nm), the published model's bad-seeing case."""
+    return dkist_scao(DKIST_R0_BAD)
 
 
 # ------------------------------------------------------------------ EST MCAO (issue 29)
@@ -426,7 +525,8 @@ def est_mcao_solar() -> SimulationConfig:
 
 
 _PRESETS = {"table1": table1, "table1-wind": table1_wind, "table1-solar": table1_solar,
-            "mcao3": mcao3, "kaos": kaos, "est-mcao": est_mcao,
+            "mcao3": mcao3, "kaos": kaos, "dkist-scao": dkist_scao,
+            "dkist-scao-5cm": dkist_scao_5cm, "est-mcao": est_mcao,
             "est-mcao-solar": est_mcao_solar}
 
 

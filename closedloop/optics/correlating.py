@@ -19,7 +19,8 @@ and ``w_d`` smooth weights: a
 product of ``cos^2`` ramps between neighbouring patch centres (a partition of unity, so
 a uniform phase gives the single-patch image).
 
-Detector: the image is scaled to the photon budget (:class:`~closedloop.optics.photon_budget.PhotonBudget`), optional
+Detector: the image is scaled to the photon budget
+(:class:`~closedloop.optics.photon_budget.PhotonBudget`), optional
 fixed per-pixel gain and offset errors (flat-field and bias residuals) are applied, then
 Poisson photon noise and Gaussian read noise are drawn from ``rng`` (above a mean of
 1000 e- per pixel, the usual case, both as one Gaussian of variance ``mean + RON^2``).

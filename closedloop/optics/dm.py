@@ -33,8 +33,14 @@ from typing import ClassVar
 
 import numpy as np
 
-from closedloop.config import SimulationConfig, dm_disc_diameter
-from closedloop.kinds import MirrorCost, MirrorKind, register_mirror_kind
+from closedloop.config import SimulationConfig, dm_disc_diameter, wfs_meta_pupil
+from closedloop.kinds import (
+    MirrorCost,
+    MirrorKind,
+    mirror_kind,
+    register_mirror_kind,
+    sensor_kind,
+)
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
 from modalinfo.bases import (
@@ -45,7 +51,7 @@ from modalinfo.bases import (
 )
 
 __all__ = ["DeformableMirror", "ZernikeMirror", "IdealMirror", "ZERNIKE", "IDEAL",
-           "check_zernike_sampling"]
+           "check_zernike_sampling", "check_zernike_subapertures"]
 
 #: smallest ``B`` (bytes) synthesised from a quadrant: the gain is memory traffic, and a
 #: ``B`` that stays in a core's L2 cache (1 MB here) costs ~0.05 ms as a plain product
@@ -56,6 +62,9 @@ _MIRROR_MIN_BYTES = 1_000_000
 
 #: pupil pixels per cycle of the finest Zernike a modal DM uses (Nyquist)
 PIXELS_PER_CYCLE = 2
+#: highest Zernike radial order a Shack-Hartmann drives, as a fraction of its subapertures
+#: across the disc (:func:`check_zernike_subapertures`; measured, docs/CLOSEDLOOP.md)
+SUBAPERTURE_ORDER_FRACTION = 0.9
 
 
 class DeformableMirror:
@@ -213,6 +222,64 @@ def check_zernike_sampling(cfg: SimulationConfig, i: int) -> None:
             f"the DM's disc / {PIXELS_PER_CYCLE} = {n_max} for {across:.0f} pixels at "
             f"telescope.n_pixels = {cfg.telescope.n_pixels}; {dm.n_modes} modes reach "
             f"order {order}); got {dm.n_modes!r}.")
+    check_zernike_subapertures(cfg, i)
+
+
+def check_zernike_subapertures(cfg: SimulationConfig, i: int) -> None:
+    """Refuse Zernike modes finer than the Shack-Hartmann that drives DM ``i`` resolves.
+
+    ``N`` subapertures across the disc sample each slope at ``N`` points: at most ``N / 2``
+    cycles across it (the SH's Nyquist frequency, ``1 / (2 pitch)``). A Zernike of radial
+    order ``n`` has ``n`` zero crossings, ``n / 2`` cycles, across its disc, and more near
+    the rim, where its oscillations crowd; so the SH's limit is ``n <= N`` at best, and the
+    orders beyond are seen only as aliases of lower ones: their slopes are nearly
+    combinations of other modes' slopes, the interaction matrix gains a near null space,
+    and the least-squares reconstructor amplifies what the modes leave (aliasing) along
+    it. Measured on issue 29's 4-m case (43 x 43 SH on 172 pixels; docs/CLOSEDLOOP.md,
+    "4-m single conjugate: dkist-scao"), aliasing at 630 nm over fitting: 0.43 at order
+    34, 1.6 at 38, 5.7 at 40 (a near null space: condition number 122 against ~50), 25 at
+    43; 1,000 modes (order 44) do not close. On 344 pixels (8 per subaperture) order 44
+    still gives 5.2 (the pupil's sampling multiplies the effect, the SH's near null space
+    makes it). The rule is ``n <= 0.9 N``
+    (:data:`SUBAPERTURE_ORDER_FRACTION`: 38 for N = 43, the last order measured without
+    the null space; ``kaos``'s order 6 at N = 7 passes). Only the geometric Shack-Hartmann
+    (``kind="shack_hartmann"``), the sensor it was measured with, is concerned (the
+    correlating SH's Z-tilts were not measured); ``N`` counts its subapertures across the DM's
+    disc (``n_subapertures`` span the WFS's meta-pupil, the DM's default disc); tip and
+    tilt (order 1) always pass (one subaperture measures them).
+
+    The rule rests on the least-squares reconstructor of one WFS for its DM (one DM, or a
+    zonal DM beside it): a joint MAP reconstructor (several modal DMs,
+    :class:`closedloop.model.LoopModel`) weights every direction by its prior, the small
+    Noll variance of the high orders, and is not covered by this measurement. More modes
+    than slopes are left to the slopes rule (``closedloop.config``), which names them.
+    """
+    dm = cfg.dms[i]
+    j = next((j for j, w in enumerate(cfg.wfss) if w.dm == i), None)
+    if j is None:
+        return
+    if cfg.wfss[j].kind != "shack_hartmann":  # the sensor the rule was measured with
+        return
+    count = sensor_kind(cfg.wfss[j].kind).measurement_count
+    joint = len(cfg.dms) > 1 and all(mirror_kind(d.kind).controlled_modes is not None
+                                     for d in cfg.dms)
+    if joint or dm.n_modes > count(cfg, j):
+        return
+    w = cfg.wfss[j]
+    across = w.n_subapertures * dm_disc_diameter(cfg, i) / wfs_meta_pupil(cfg, j)
+    # tip and tilt (order 1) at least: one subaperture measures them
+    n_max = max(1, int(SUBAPERTURE_ORDER_FRACTION * across + 1e-9))
+    order = noll_to_zernike(dm.n_modes + 1)[0]
+    if order > n_max:
+        limit = (n_max + 1) * (n_max + 2) // 2 - 1
+        raise ValueError(
+            f"`dms[{i}].n_modes` must be <= {limit} (Zernike radial order <= "
+            f"{SUBAPERTURE_ORDER_FRACTION:g} x the subapertures across the DM's disc, "
+            f"{across:.4g} for wfss[{j}].n_subapertures = {w.n_subapertures}: the "
+            f"Shack-Hartmann's Nyquist limit, less the rim where a Zernike's oscillations "
+            f"crowd; beyond it the interaction matrix has a near null space that amplifies "
+            f"aliasing: 1,000 modes on 43 x 43 subapertures, 28 x the fitting error, did not "
+            f"close; {dm.n_modes} modes reach order {order}); got {dm.n_modes!r}.")
 
 
 def _disc_pixels(config: SimulationConfig, i: int, dx: float) -> float:

@@ -52,7 +52,8 @@ class MIMethod:
         parameters are the method's MI options: any other is refused by name.
     entropy : callable or None
         ``entropy(x, **options)``: differential entropy [nats] of a validated,
-        non-constant sample of shape (n,). None: :func:`~modalinfo.information.entropy` refuses the method.
+        non-constant sample of shape (n,). None: :func:`~modalinfo.information.entropy`
+        refuses the method.
     cmi : callable or None
         ``cmi(x, y, z, **options)``: I(X; Y | Z) [nats] of float arrays of shapes
         (n, dx), (n, dy), (n, dz) (C-contiguous, no constant column, dx, dy >= 1,

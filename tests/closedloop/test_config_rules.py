@@ -91,8 +91,10 @@ RULES = [
     ("dms[0].altitude", [0.0], [-1.0], None),
     ("wfss[0].altitude", [0.0, 1e-6], [-1.0, 2e-6], None),  # its DM's altitude, to 1e-6 m
     ("wfss[0].dm", [0], [-1], None),
-    # 8: the 2 x 4 slopes of the 2x2 SH (binds before the pupil sampling's 14)
-    ("dms[0].n_modes", [1, 2, 8], [0, 9], None),
+    # 2: Z2-Z3, radial order 1 <= 0.9 x the 2 subapertures (issue 29's order rule, which
+    # binds before the 2 x 4 slopes of the 2x2 SH and the pupil sampling's 14); 9: beyond
+    # the 8 slopes (the slopes rule)
+    ("dms[0].n_modes", [1, 2], [0, 3, 9], None),
     ("dms[0].diameter", [0.5], [0.0], None),
     ("wfss[0].field_of_view", [0.0], [-1.0], None),
     ("wfss[0].n_subapertures", [2, 4], [1], None),  # 4: 2 pixels each across 8

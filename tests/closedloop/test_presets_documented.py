@@ -36,11 +36,12 @@ def _layers(config):
 
 def test_names_and_unknown_name():
     assert presets.names() == ["table1", "table1-wind", "table1-solar", "mcao3", "kaos",
-                               "est-mcao", "est-mcao-solar"]
+                               "dkist-scao", "dkist-scao-5cm", "est-mcao", "est-mcao-solar"]
     for name in presets.names():
         assert presets.get(name).name == name
     with pytest.raises(ValueError, match="^`name` must be one of table1, table1-wind, "
-                       "table1-solar, mcao3, kaos, est-mcao, est-mcao-solar; got 'table2'"):
+                       "table1-solar, mcao3, kaos, dkist-scao, dkist-scao-5cm, est-mcao, "
+                       "est-mcao-solar; got 'table2'"):
         presets.get("table2")
 
 
