@@ -241,6 +241,14 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     the sum of squares (rounding level) or largest coefficient change below
     ``_XTOL``; also when no damping lowers the sum, or after ``n_iter`` accepted
     steps. ``xc`` is the standardised series, so these tolerances are unit-free.
+
+    The whole iteration runs in one numba call (``_kernels.css_newton``, issue 30): per
+    step the four filters, the Gram matrix, gradient and Hessian terms as BLAS dot
+    products of the lagged series (no design matrix), a pivoted solve of the small
+    damped system and the root enforcement. Its sums are formed in a different order
+    from the former numpy/BLAS products, so fits agree with the former path to rounding
+    (coefficients within ~1e-7 on the shipped and synthetic logs; the stopping rule may
+    take one step more or less), not bit for bit.
     """
     phi = np.array(phi, dtype=float)      # the kernel works in place on copies
     theta = np.array(theta, dtype=float)
