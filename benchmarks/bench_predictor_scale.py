@@ -4,7 +4,8 @@ Run::
 
     nice /work/main/.venv/bin/python benchmarks/bench_predictor_scale.py
         [--sizes 27,184,500,1500] [--aic-sizes 27,184] [--frames 10000]
-        [--baseline OLD_ARMA.py] [--sm-modes 3] [--sm-aic-modes 0] [--cache DIR]
+        [--baseline OLD_ARMA.py] [--baseline-max-aic 184] [--sm-modes 3]
+        [--sm-aic-modes 0] [--cache DIR]
 
 Data: one synthetic closed-loop log of ``max(sizes)`` Kolmogorov-correlated Zernike modes
 (Z2 onwards, :func:`modalinfo.telemetry.synthetic.kaos_like`, seed 0: von Karman
@@ -18,8 +19,12 @@ Timed (median of ``--repeats`` runs, CPU-bound, single-threaded BLAS):
 2. The ``arma-aic`` preset's fit (p, q <= 5 by AIC) at every ``--aic-sizes``.
 3. With ``--baseline FILE`` (an earlier ``modalinfo/forecast/arma.py``, e.g. from
    ``git show REV:modalinfo/forecast/arma.py > /tmp/arma_before.py``), the same fits by
-   that module in the same run: before/after ratio, and whether the fitted parameters
-   (and the AIC table) are bit-identical.
+   that module in the same run: before/after ratio, whether the fitted parameters (and
+   the AIC table) are bit-identical and, if not, the largest differences (coefficients,
+   relative sigma^2 and criterion) and the number of modes whose AIC orders differ
+   (``--baseline-max-aic``: AIC baseline only up to that many modes, it is the slow one;
+   ``--aic-every k``: the AIC rows fit every k-th mode, a sample spread over the whole
+   log, e.g. 300 of 1,500 with k = 5).
 4. statsmodels' ``ARIMA(order=(2, 0, 3)).fit()`` per mode on the first ``--sm-modes``
    modes, and (``--sm-aic-modes``) ``arma_order_select_ic(max_ar=5, max_ma=5,
    ic="aic")`` per mode: our cost per mode against theirs, same run.
@@ -51,6 +56,10 @@ def _log(n_modes: int, n_frames: int, cache: Path | None) -> np.ndarray:
     path = None if cache is None else cache / f"kaos_like_{n_modes}x{n_frames}.npy"
     if path is not None and path.exists():
         return np.load(path)
+    if cache is not None:  # a cached log of more modes holds these as its first columns
+        for other in sorted(cache.glob(f"kaos_like_*x{n_frames}.npy")):
+            if int(other.name.split("_")[2].split("x")[0]) >= n_modes:
+                return np.ascontiguousarray(np.load(other, mmap_mode="r")[:, :n_modes])
     t0 = time.perf_counter()
     x = np.asarray(kaos_like(n_frames=n_frames, modes=list(range(2, 2 + n_modes)),
                              seed=0).coeffs, dtype=float)
@@ -87,17 +96,31 @@ def _identical(a: dict, b: dict) -> bool:
     return True
 
 
-def _rows(x, sizes, label, make, make_old, repeats):
+def _differences(a: dict, b: dict) -> str:
+    """Largest differences between two fits' parameters (when not bit-identical)."""
+    out = []
+    for key in ("phi", "theta"):
+        if a[key].shape == b[key].shape:
+            out.append(f"{key} {np.abs(a[key] - b[key]).max(initial=0.0):.1e}")
+    out.append(f"sigma2 rel {np.abs(a['sigma2'] / b['sigma2'] - 1).max():.1e}")
+    if a["criterion"] is not None:
+        out.append(f"criterion rel {np.nanmax(np.abs(a['criterion'] / b['criterion'] - 1)):.1e}")
+    out.append(f"orders differ on {int((a['orders'] != b['orders']).any(axis=1).sum())} modes")
+    return ", ".join(out)
+
+
+def _rows(x, sizes, label, make, make_old, repeats, baseline_max=None, every=1):
     out = {}
     for m in sizes:
-        data = np.ascontiguousarray(x[:, :m])
+        data = np.ascontiguousarray(x[:, ::every][:, :m])
         t_new, fit_new = _median_time(lambda d=data: make().fit(d), repeats)
         line = f"{label:10s} {m:5d} modes: {t_new:8.2f} s  ({t_new / m * 1e3:7.2f} ms/mode)"
-        if make_old is not None:
+        if make_old is not None and (baseline_max is None or m <= baseline_max):
             t_old, fit_old = _median_time(lambda d=data: make_old().fit(d), repeats)
             same = _identical(fit_new.params_, fit_old.params_)
             line += (f" | baseline {t_old:8.2f} s, ratio {t_old / t_new:5.2f}x, "
-                     f"{'bit-identical' if same else 'PARAMETERS DIFFER'}")
+                     + ("bit-identical" if same
+                        else _differences(fit_new.params_, fit_old.params_)))
         print(line, flush=True)
         out[m] = t_new / m
     return out
@@ -134,24 +157,27 @@ def main(argv=None) -> None:
     parser.add_argument("--frames", type=int, default=10_000)
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--baseline", default=None)
+    parser.add_argument("--baseline-max-aic", type=int, default=None)
+    parser.add_argument("--aic-every", type=int, default=1,
+                        help="AIC rows fit every k-th mode (a sample spread over the log)")
     parser.add_argument("--sm-modes", type=int, default=3)
     parser.add_argument("--sm-aic-modes", type=int, default=0)
     parser.add_argument("--cache", type=Path, default=None)
     args = parser.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",") if s]
     aic_sizes = [int(s) for s in args.aic_sizes.split(",") if s]
-    x = _log(max(sizes + aic_sizes), args.frames, args.cache)
+    x = _log(max(sizes + [m * args.aic_every for m in aic_sizes]), args.frames, args.cache)
     old = None if args.baseline is None else _load_baseline(args.baseline)
     make_old = (None if old is None else lambda: old(order=(2, 3)))
     make_old_aic = (None if old is None else lambda: old(order="aic"))
     # compile the kernels outside the timings
     make_predictor("arma").fit(x[:2000, :2])
     print(f"## ARMA fits, {args.frames} frames, CPU time (process_time), "
-          f"median of {args.repeats}")
+          f"median of {args.repeats}; load average {os.getloadavg()}", flush=True)
     fixed = _rows(x, sizes, "ARMA(2,3)", lambda: make_predictor("arma"), make_old,
                   args.repeats)
     aic = _rows(x, aic_sizes, "arma-aic", lambda: make_predictor("arma-aic"), make_old_aic,
-                args.repeats)
+                args.repeats, args.baseline_max_aic, args.aic_every)
     sm = _statsmodels(x, args.sm_modes, args.sm_aic_modes)
     if "arma" in sm:
         for m, t in fixed.items():

@@ -23,7 +23,7 @@ import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_square_range
 
-__all__ = ["BasisView", "as_basis", "coefficients_in_basis", "is_log"]
+__all__ = ["BasisView", "as_basis", "check_values", "coefficients_in_basis", "is_log"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +52,24 @@ class BasisView:
     def gram(self) -> np.ndarray:
         """``matrix.T @ matrix / n_valid`` (identity for a basis orthonormal on the pupil)."""
         return self.matrix.T @ self.matrix / self.matrix.shape[0]
+
+
+def check_values(coeffs: np.ndarray, name: str) -> None:
+    """Raise the error of a non-finite or overflowing coefficient array (deferred checks).
+
+    Parameters
+    ----------
+    coeffs : numpy.ndarray, shape (T, M)
+    name : str
+        Argument name for the message.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument and, for an overflow, the column and its largest magnitude.
+    """
+    as_float_array(coeffs, name)  # finiteness
+    check_square_range(coeffs, name)
 
 
 def is_log(value: Any) -> bool:
@@ -96,7 +114,7 @@ def _column_index(log_modes: list, wanted: list, what: str) -> np.ndarray:
 
 def coefficients_in_basis(
     log_or_coeffs: Any, basis: BasisView, *, wavelength: float | None = None,
-    name: str = "log_or_coeffs",
+    name: str = "log_or_coeffs", defer_value_checks: bool = False,
 ) -> np.ndarray:
     """Coefficients ``(T, M)`` [rad] of the log (or array) in the basis's modes.
 
@@ -111,6 +129,10 @@ def coefficients_in_basis(
         not carry one.
     name : str
         Argument name for error messages.
+    defer_value_checks : bool
+        For an array input, skip the finiteness and overflow checks of its values (two
+        passes over a large array); the caller then checks that the sums it forms are
+        finite and, if not, calls :func:`check_values` for the message.
 
     Returns
     -------
@@ -143,10 +165,11 @@ def coefficients_in_basis(
             out = coeffs
         out = np.ascontiguousarray(out, dtype=np.float64)
     else:
-        out = as_float_array(log_or_coeffs, name, ndim=(1, 2))
+        out = as_float_array(log_or_coeffs, name, ndim=(1, 2), finite=not defer_value_checks)
         if out.ndim == 1:
             out = out[None, :]
-        check_square_range(out, name)
+        if not defer_value_checks:
+            check_square_range(out, name)
     if out.shape[0] < 1:
         raise ValueError(f"`{name}` must hold at least one frame; got shape {out.shape}.")
     if out.shape[1] != basis.n_modes:

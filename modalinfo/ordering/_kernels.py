@@ -93,3 +93,51 @@ def gather_contributions(coeffs, matrix, frames, pixels, out):
             p = pixels[i]
             for k in range(k0, k1):
                 out[k, i] = coeffs[t, k] * matrix[p, k]
+
+
+@jit
+def parseval_pass(coeffs, keep, out, sums, total, rows, picked):
+    """Parseval fitting error of every frame, in one pass, optionally not kept.
+
+    For each frame ``t`` the tail sums ``r_j = sum_{k > j} a_k^2`` are built from the
+    last mode down (``r_{M-1} = 0``, ``r_{j-1} = r_j + a_j^2``: the sequential order of
+    ``np.cumsum`` over the reversed row, so the same bits). They are written to
+    ``out[t]`` when ``keep``, added to ``sums`` (frame by frame, in frame order: the
+    order of ``out.sum(axis=0)``) and copied to ``picked`` for the frames listed in
+    ``rows``.
+
+    Parameters
+    ----------
+    coeffs : float64 (T, M), C-contiguous
+        Coefficients, columns in the chosen order.  # IN
+    keep : bool
+        Write the per-frame curves to ``out``.
+    out : float64 (T, M) when ``keep`` (any 2-D array otherwise)
+        ``out[t, j]`` = dPhi(j + 1) of frame t.  # OUT
+    sums : float64 (M,)
+        ``sum_t`` dPhi(j + 1) of frame t, zeroed here.  # OUT
+    total : float64 (T,)
+        dPhi(0) per frame.  # OUT
+    rows : int64 (R,), increasing
+        Frames whose curves go to ``picked``.  # IN
+    picked : float64 (R, M)
+        Their curves.  # OUT
+    """
+    n_frames, n_modes = coeffs.shape
+    for j in range(n_modes):
+        sums[j] = 0.0
+    i = 0
+    for t in range(n_frames):
+        take = i < rows.shape[0] and rows[i] == t
+        s = 0.0
+        for j in range(n_modes - 1, -1, -1):
+            if keep:
+                out[t, j] = s
+            if take:
+                picked[i, j] = s
+            sums[j] += s
+            a = coeffs[t, j]
+            s += a * a
+        total[t] = s
+        if take:
+            i += 1

@@ -227,7 +227,7 @@ class Comparison:
         """Plain-text table: dPhi at a few n and modes to reach each target."""
         targets = list(targets or [])
         fractions = list(fractions or [])
-        m = self.entries[0].error.per_frame.shape[1]
+        m = self.entries[0].error.mean.size
         at = tuple(n for n in at if n <= m)
         head = f"{'ordering':<22}" + "".join(f"{'n=' + str(n):>10}" for n in at)
         head += "".join(f"{'<=' + format(t, '.3g'):>10}" for t in targets)
@@ -307,7 +307,9 @@ def compare_orderings(
             frame=None if method in ("pca", "standard") else frame,
             sample_budget=sample_budget, seed=seed, n_resamples=n_resamples,
         )
-        err = fitting_error(log, basis, ordering, units=units)
+        # one frame's comparison reads that frame's curve: keep the per-frame curves
+        err = fitting_error(log, basis, ordering, units=units,
+                            per_frame=True if frame is not None else None)
         entries.append(ComparisonEntry(basis_name, method, ordering, err))
         if progress is not None:
             progress(1)
@@ -376,7 +378,7 @@ def plot_comparison(
     unit = {"waves2": "waves$^2$", "rad2": "rad$^2$"}[comparison.units]
     ax.set_xlabel("number of modes n")
     ax.set_ylabel(f"fitting error $\\Delta\\Phi(n)$ [{unit}]")
-    ax.set_xlim(0, comparison.entries[0].error.per_frame.shape[1])
+    ax.set_xlim(0, comparison.entries[0].error.mean.size)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     if title:

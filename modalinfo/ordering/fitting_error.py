@@ -21,6 +21,16 @@ Three computations give the same numbers:
 
 ``"auto"`` uses Parseval when ``gram()`` equals the identity to 1e-8 and the Gram
 form otherwise.
+
+At scale (issue 30: 3,000 modes x 10^5 frames is 2.4 GB of curves) the ``(T, M)``
+per-frame curves are kept only up to ``2^25`` values (256 MB) unless asked for
+(``per_frame=True``), and without them the percentile bands come from an evenly spaced
+subsample of 20,000 frames (``band_frames``): a band at level ``p`` is then the
+``p``-quantile of those frames, whose rank is off by ``sqrt(p (1 - p) / n)`` (standard
+deviation for independent frames: 0.15 percentile points at 5 % and 95 %, 0.35 at the
+median, for n = 20,000; time-correlated frames count as fewer). The frame-mean curve and
+the totals always use every frame. At the paper's size (7,000 x 27) everything is kept
+and exact, as before.
 """
 
 from __future__ import annotations
@@ -32,7 +42,7 @@ import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.ordering import _kernels as kern
-from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
+from modalinfo.ordering._coefficients import as_basis, check_values, coefficients_in_basis
 from modalinfo.telemetry.units import unit_scale
 
 __all__ = ["FittingErrorResult", "fitting_error", "check_order"]
@@ -41,6 +51,10 @@ _UNITS = ("rad2", "waves2")
 _METHODS = ("auto", "parseval", "gram", "pixels")
 _ORTHO_ATOL = 1e-8
 _PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
+#: ``per_frame=None`` keeps the (T, M) per-frame curves up to this many values (256 MB)
+_KEEP_ELEMENTS = 1 << 25
+#: frames of the percentile bands when the per-frame curves are not kept (module notes)
+_BAND_FRAMES = 20_000
 
 
 def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
@@ -80,8 +94,9 @@ class FittingErrorResult:
 
     Attributes
     ----------
-    per_frame : numpy.ndarray, shape (T, M)
-        ``per_frame[t, n - 1]`` = dPhi(n) of frame t [``units``].
+    per_frame : numpy.ndarray, shape (T, M), or None
+        ``per_frame[t, n - 1]`` = dPhi(n) of frame t [``units``]; None when not kept
+        (see :func:`fitting_error`'s ``per_frame``).
     mean : numpy.ndarray, shape (M,)
         dPhi(n) averaged over frames [``units``].
     total : numpy.ndarray, shape (T,)
@@ -89,7 +104,7 @@ class FittingErrorResult:
     percentiles : tuple of float
         Percentile levels of ``bands`` (per cent).
     bands : numpy.ndarray, shape (len(percentiles), M)
-        Percentiles over frames of dPhi(n).
+        Percentiles over frames of dPhi(n) (over ``band_frames`` evenly spaced frames).
     order : numpy.ndarray, shape (M,)
         Indices into the basis, in the order the modes were added.
     labels : tuple of str
@@ -98,9 +113,11 @@ class FittingErrorResult:
         ``"rad2"`` or ``"waves2"``.
     method : str
         Computation used: ``"parseval"``, ``"gram"`` or ``"pixels"``.
+    band_frames : int or None
+        Number of frames the bands were computed from (None: every frame).
     """
 
-    per_frame: np.ndarray
+    per_frame: np.ndarray | None
     mean: np.ndarray
     total: np.ndarray
     percentiles: tuple[float, ...]
@@ -109,16 +126,17 @@ class FittingErrorResult:
     labels: tuple[str, ...]
     units: str
     method: str
+    band_frames: int | None = None
 
     @property
     def n_frames(self) -> int:
         """Number of frames T."""
-        return self.per_frame.shape[0]
+        return self.total.shape[0]
 
     @property
     def n_modes(self) -> np.ndarray:
         """The numbers of modes ``1..M`` the curve is given at."""
-        return np.arange(1, self.per_frame.shape[1] + 1)
+        return np.arange(1, self.mean.shape[0] + 1)
 
     @property
     def mean_total(self) -> float:
@@ -143,6 +161,11 @@ class FittingErrorResult:
             values, zero = self.mean, self.mean_total
         else:
             t = self._frame(frame)
+            if self.per_frame is None:
+                raise ValueError(
+                    f"`frame`: the per-frame curves of these {self.n_frames} frames were not "
+                    "kept; call fitting_error(..., per_frame=True) to keep them."
+                )
             values, zero = self.per_frame[t], float(self.total[t])
         return np.concatenate([[zero], values]) if include_zero else values.copy()
 
@@ -209,23 +232,21 @@ def _parseval(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return out, rc[:, 0].copy()
 
 
-def _parseval_chunked(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_parseval` by blocks of frames, written straight into the result.
+def _parseval_pass(a: np.ndarray, keep: bool, rows: np.ndarray
+                   ) -> tuple[np.ndarray | None, np.ndarray, np.ndarray, np.ndarray]:
+    """Parseval by the one-pass kernel: (per-frame curves or None, sums, totals, picked rows).
 
-    The same reversed cumulative sum per frame (``np.cumsum`` adds sequentially along a
-    row), so the same bits, with ``O(chunk x M)`` temporaries instead of ``3 (T, M)``.
+    The per-frame curves equal :func:`_parseval`'s bit for bit (the same sequential tail
+    sums) and ``sums`` is ``per_frame.sum(axis=0)`` summed frame by frame; without
+    ``keep`` only ``O(M)`` memory beyond the ``(len(rows), M)`` picked curves is used.
     """
     n_frames, n_modes = a.shape
-    out = np.empty_like(a)
+    out = np.empty_like(a) if keep else np.empty((1, 1))
+    sums = np.empty(n_modes)
     total = np.empty(n_frames)
-    step = max(1, _CHUNK_ELEMENTS // max(n_modes, 1))
-    for t0 in range(0, n_frames, step):
-        block = a[t0:t0 + step]
-        rc = np.cumsum((block * block)[:, ::-1], axis=1)[:, ::-1]  # rc[t, j] = sum_{k >= j}
-        out[t0:t0 + step, :-1] = rc[:, 1:]
-        out[t0:t0 + step, -1] = 0.0
-        total[t0:t0 + step] = rc[:, 0]
-    return out, total
+    picked = np.empty((rows.size, n_modes))
+    kern.parseval_pass(a, keep, out, sums, total, rows, picked)
+    return (out if keep else None), sums, total, picked
 
 
 def _bands(per_frame: np.ndarray, levels: tuple[float, ...]) -> np.ndarray:
@@ -272,6 +293,17 @@ def _pixels(a: np.ndarray, matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return out, total
 
 
+def _band_rows(n_frames: int, band_frames: int | None, keep: bool) -> np.ndarray | None:
+    """Frames of the bands: None for every frame, else ``n`` evenly spaced ones."""
+    if band_frames is None:
+        band_frames = n_frames if keep else _BAND_FRAMES
+    else:
+        band_frames = check_int(band_frames, "band_frames", minimum=1)
+    if band_frames >= n_frames:
+        return None
+    return (np.arange(band_frames, dtype=np.int64) * n_frames) // band_frames
+
+
 def fitting_error(
     coeffs_or_log: Any,
     basis: Any,
@@ -281,6 +313,8 @@ def fitting_error(
     wavelength: float | None = None,
     method: str = "auto",
     percentiles: tuple[float, ...] = _PERCENTILES,
+    per_frame: bool | None = None,
+    band_frames: int | None = None,
 ) -> FittingErrorResult:
     """Fitting error dPhi(n) of a basis truncated to the first n modes of an ordering.
 
@@ -301,6 +335,15 @@ def fitting_error(
         How dPhi is computed (see the module docstring).
     percentiles : tuple of float
         Percentile levels (per cent) of the bands over frames.
+    per_frame : bool, optional
+        Keep the ``(T, M)`` per-frame curves in the result (needed for one frame's
+        curve, ``curve(frame=...)``). Default: kept when ``T x M <= 2^25`` (256 MB).
+        With Parseval, not keeping them also saves their memory while computing.
+    band_frames : int, optional
+        Compute the bands from this many evenly spaced frames (frame ``floor(i T / n)``,
+        i = 0..n-1; all frames when ``n >= T``). Default: every frame when the
+        per-frame curves are kept, 20,000 frames otherwise (the sampling error is in
+        the module notes). The mean curve and the totals always use every frame.
 
     Returns
     -------
@@ -310,16 +353,24 @@ def fitting_error(
     ------
     ValueError
         On a shape mismatch, an order that is not a permutation, unknown units or
-        method, or ``method="parseval"`` on a basis that is not orthonormal.
+        method, ``method="parseval"`` on a basis that is not orthonormal, non-finite
+        coefficients or sums of squares that overflow.
     """
     check_choice(units, "units", _UNITS)
     check_choice(method, "method", _METHODS)
+    if per_frame is not None and not isinstance(per_frame, bool | np.bool_):
+        raise TypeError(f"`per_frame` must be True, False or None; got {per_frame!r}.")
     view = as_basis(basis)
-    a = coefficients_in_basis(coeffs_or_log, view, wavelength=wavelength, name="coeffs_or_log")
+    # an array's finiteness and overflow checks are two passes over it: deferred to the
+    # sums formed below (finite sums <=> finite values without overflow)
+    a = coefficients_in_basis(coeffs_or_log, view, wavelength=wavelength, name="coeffs_or_log",
+                              defer_value_checks=True)
     idx = check_order(order, view.n_modes)
     levels = tuple(float(p) for p in np.atleast_1d(as_float_array(percentiles, "percentiles")))
     if any(p < 0 or p > 100 for p in levels):
         raise ValueError(f"`percentiles` must lie in [0, 100]; got {levels}.")
+    keep = bool(a.size <= _KEEP_ELEMENTS) if per_frame is None else bool(per_frame)
+    rows = _band_rows(a.shape[0], band_frames, keep)
     identity = bool(np.array_equal(idx, np.arange(idx.size)))
     # the standard order needs no (T, M) reordered copy (a is C-contiguous already)
     a = np.ascontiguousarray(a) if identity else np.ascontiguousarray(a[:, idx])
@@ -329,6 +380,8 @@ def fitting_error(
     orthonormal = bool(np.max(np.abs(gram - np.eye(gram.shape[0]))) <= _ORTHO_ATOL)
     if method == "auto":
         method = "parseval" if orthonormal else "gram"
+    scale = unit_scale("rad", "waves") ** 2 if units == "waves2" else None
+    mean = picked = None
     if method == "parseval":
         if not orthonormal:
             dev = float(np.max(np.abs(gram - np.eye(gram.shape[0]))))
@@ -336,19 +389,33 @@ def fitting_error(
                 "`method`='parseval' needs a basis orthonormal on the pupil (max |gram - I| "
                 f"<= {_ORTHO_ATOL:g}); got max |gram - I| = {dev:.3g}. Use 'gram' or 'pixels'."
             )
-        per_frame, total = _parseval_chunked(a)
+        full = keep or rows is None
+        curves, sums, total, picked = _parseval_pass(
+            a, full, np.empty(0, np.int64) if rows is None else rows)
+        if not full:
+            mean = sums / a.shape[0]
+            if scale is not None:
+                mean *= scale
+                picked *= scale
+                total *= scale
     elif method == "gram":
-        per_frame, total = _gram(a, gram)
+        curves, total = _gram(a, gram)
     else:
-        per_frame, total = _pixels(a, view.matrix[:, idx])
-    if units == "waves2":
-        scale = unit_scale("rad", "waves") ** 2
-        per_frame *= scale  # in place: per_frame and total are this call's own arrays
-        total *= scale
-    bands = _bands(per_frame, levels)
+        curves, total = _pixels(a, view.matrix[:, idx])
+    if curves is not None:
+        if scale is not None:
+            curves *= scale  # in place: curves and total are this call's own arrays
+            total *= scale
+        mean = curves.mean(axis=0)
+        picked = curves if rows is None else curves[rows]
+    if not (np.all(np.isfinite(total)) and np.all(np.isfinite(mean))):
+        check_values(a, "coeffs_or_log")  # names a non-finite or too large column
+        raise ValueError("`coeffs_or_log`: the sums of squares overflow float64; rescale the "
+                         "data (e.g. convert it to smaller units) before this analysis.")
+    bands = _bands(picked, levels)
     return FittingErrorResult(
-        per_frame=per_frame,
-        mean=per_frame.mean(axis=0),
+        per_frame=curves if keep else None,
+        mean=mean,
         total=total,
         percentiles=levels,
         bands=np.atleast_2d(bands),
@@ -356,4 +423,5 @@ def fitting_error(
         labels=tuple(view.labels[i] for i in idx),
         units=units,
         method=method,
+        band_frames=None if rows is None else int(rows.size),
     )

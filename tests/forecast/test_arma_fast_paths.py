@@ -1,11 +1,14 @@
-"""The ARMA fit's fast paths give the bits of the code paths they replace.
+"""The ARMA fit's fast paths against the code paths they replace.
 
-References (outside the fast paths): ``numpy.roots`` for the root test that
-``_clearly_inside`` short-cuts, ``numpy.column_stack`` of fancy-indexed lags for
-``_lag_matrix``, ``scipy.signal.lfilter`` for the filters of ``css_filters`` and
-``arma_innovations``; and the
-whole fit re-run with the fast paths swapped for those references (the code before
-issue 30), compared bit for bit. Small sizes: the file runs in a few seconds.
+References (outside the kernels): ``numpy.roots`` / ``numpy.poly`` for the root test
+that ``_kernels.clearly_inside`` short-cuts and for ``enforce_roots``; ``numpy.column_stack``
+of fancy-indexed lags for ``_lag_matrix``; ``scipy.signal.lfilter`` for the filters of
+``css_filters`` and ``arma_innovations`` (bit for bit); the BLAS products of an explicit
+design matrix for ``css_newton_terms`` (within the float error bound of a dot product,
+``n eps sum |x_i y_i|``); and the whole CSS refinement as it was before issue 30's
+fused kernel (lfilter, numpy's solve and roots, written out below), whose fits the
+kernel's must match within the stopping rule's tolerance (the summation order
+differs, so not bit for bit). Small sizes: the file runs in a few seconds.
 """
 
 import numpy as np
@@ -54,14 +57,35 @@ def test_clearly_inside_on_roots_at_the_limit():
         assert A._clearly_inside(c, radius) == expected
 
 
-def test_enforce_fast_path_is_bit_identical(monkeypatch):
+def _numpy_enforce(coeffs, margin):
+    """The root test of ``_enforce`` before issue 30, on numpy's root finder."""
+    if coeffs.size == 0:
+        return coeffs
+    w = np.roots(np.concatenate([[1.0], coeffs]))
+    limit = 1.0 / (1.0 + margin)
+    mod = np.abs(w)
+    if np.all(mod < limit):
+        return coeffs
+    new_mod = np.minimum(np.where(mod >= 1.0, 1.0 / np.maximum(mod, 1e-300), mod), limit)
+    w = np.where(mod > 0, w / np.maximum(mod, 1e-300) * new_mod, w)
+    return np.real(np.poly(w))[1:]
+
+
+def test_enforce_matches_numpy_roots():
     rng = np.random.default_rng(1)
     cases = [_random_coeffs(rng, int(rng.integers(1, 6)), 1.1) for _ in range(500)]
-    fast = [A._enforce(c, 1e-3) for c in cases]
-    monkeypatch.setattr(A, "_clearly_inside", lambda coeffs, radius: False)
-    slow = [A._enforce(c, 1e-3) for c in cases]
-    for c, f, s in zip(cases, fast, slow, strict=True):
-        assert np.array_equal(f, s), c
+    changed = 0
+    for c in cases:
+        got, ref = A._enforce(c, 1e-3), _numpy_enforce(c, 1e-3)
+        # both root finders are backward stable: the rebuilt coefficients agree to a
+        # few hundred eps of their size (a 1e-8 error would be a wrong root)
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-11 * (1 + np.abs(c).sum()))
+        if not np.array_equal(ref, c):
+            changed += 1
+            assert np.abs(np.roots(np.r_[1.0, got])).max() < 1 / 1.001 * (1 + 1e-9)
+        else:
+            assert np.array_equal(got, c)   # kept coefficients are returned unchanged
+    assert 50 < changed < 450          # both paths exercised
 
 
 def test_lag_matrix_equals_column_stack():
@@ -90,39 +114,131 @@ def test_css_filters_equal_lfilter(p, q):
         assert np.array_equal(got, ref)
 
 
-def _scipy_css_filters(e, ar, ma, v, w, u, y, *scratch):
-    """The four lfilter calls that ``css_filters`` replaced."""
-    v[:] = lfilter([1.0], ar, e)
-    w[:] = lfilter([1.0], ma, e)
-    u[:] = lfilter([1.0], ma, v)
-    y[:] = lfilter([1.0], ma, w)
+@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 5), (3, 1)])
+def test_css_newton_terms_equal_the_design_products(p, q):
+    from modalinfo.forecast._kernels import css_newton_terms
+
+    rng = np.random.default_rng(6)
+    n, start = 2000, 50
+    e = rng.standard_normal(n)
+    ar = np.r_[1.0, _random_coeffs(rng, p, 0.8)] if p else np.ones(1)
+    ma = np.r_[1.0, _random_coeffs(rng, q, 0.8)]  # inverse roots below 0.96: stable
+    v, w, u, y = (np.empty(n) for _ in range(4))
+    k = p + q
+    gram, grad = np.empty((k, k)), np.empty(k)
+    cross = np.full((2, max(k, 2 * q) + 1), np.nan)
+    css_newton_terms(e, ar, ma, start, v, w, u, y, np.empty(max(p, 1)),
+                     *np.empty((3, q)), gram, grad, cross)
+    rv, rw = lfilter([1.0], ar, e), lfilter([1.0], ma, e)
+    ru, ry = lfilter([1.0], ma, rv), lfilter([1.0], ma, rw)
+    rows = np.arange(start, n)
+    design = np.column_stack([rv[rows - i] for i in range(1, p + 1)]
+                             + [rw[rows - j] for j in range(1, q + 1)])
+    eps = np.finfo(float).eps
+    # a dot product of n terms is exact to n eps sum |x_i y_i| (Higham 2002, eq. 3.5)
+    ad = np.abs(design)
+    np.testing.assert_array_less(np.abs(gram - design.T @ design), n * eps * (ad.T @ ad) + 1e-300)
+    np.testing.assert_array_less(np.abs(grad - design.T @ e[start:]),
+                                 n * eps * (ad.T @ np.abs(e[start:])) + 1e-300)
+    for row, series, lags in ((0, ru, range(2, k + 1)), (1, ry, range(2, 2 * q + 1))):
+        for lag in lags:
+            ref = e[start:] @ series[start - lag:n - lag]
+            bound = n * eps * (np.abs(e[start:]) @ np.abs(series[start - lag:n - lag]))
+            assert abs(cross[row, lag] - ref) <= bound, (row, lag)
 
 
-def _scipy_innovations(x, phi, theta, e, scratch):
-    """The lfilter call that ``arma_innovations`` replaced."""
-    e[:] = lfilter(np.r_[1.0, -phi], np.r_[1.0, theta], x)
+def _lagged(e, z, start, lag):
+    lo = max(start, lag)
+    return float(e[lo:] @ z[lo - lag:z.size - lag])
+
+
+def _former_css_refine(xc, phi, theta, margin, burn, n_iter):
+    """``arma._css_refine`` as it was before issue 30 (lfilter, BLAS, numpy's solve)."""
+    p, q = phi.size, theta.size
+    enf_ar = lambda c: -_numpy_enforce(-c, margin)  # noqa: E731
+    innov = lambda f, t: lfilter(np.r_[1.0, -f], np.r_[1.0, t], xc)  # noqa: E731
+    phi, theta = enf_ar(phi), _numpy_enforce(theta, margin)
+    e = innov(phi, theta)
+    sse = float(e[burn:] @ e[burn:])
+    start = max(p, q, burn)
+    lam = A._LAMBDA0
+    rows = np.arange(start, xc.size)
+    for _ in range(n_iter):
+        ar, ma = np.r_[1.0, -phi], np.r_[1.0, theta]
+        v, w = lfilter([1.0], ar, e), lfilter([1.0], ma, e)
+        u, y = lfilter([1.0], ma, v), lfilter([1.0], ma, w)
+        design = np.column_stack([v[rows - i] for i in range(1, p + 1)]
+                                 + [w[rows - j] for j in range(1, q + 1)])
+        gram = design.T @ design
+        grad = design.T @ e[start:]
+        hess = gram.copy()
+        for i in range(p):
+            for j in range(q):
+                c = _lagged(e, u, start, i + j + 2)
+                hess[i, p + j] += c
+                hess[p + j, i] += c
+        for j in range(q):
+            for jj in range(j, q):
+                c = 2.0 * _lagged(e, y, start, j + jj + 2)
+                hess[p + j, p + jj] += c
+                if jj != j:
+                    hess[p + jj, p + j] += c
+        damp = np.diag(np.maximum(np.diag(gram), 1e-300))
+        accepted = False
+        while lam <= A._LAMBDA_MAX:
+            try:
+                step = np.linalg.solve(hess + lam * damp, grad)
+            except np.linalg.LinAlgError:
+                lam *= 10.0
+                continue
+            if not step @ grad > 0.0:
+                lam *= 10.0
+                continue
+            phi_new, theta_new = enf_ar(phi + step[:p]), _numpy_enforce(theta + step[p:], margin)
+            e_new = innov(phi_new, theta_new)
+            sse_new = float(e_new[burn:] @ e_new[burn:])
+            if sse_new < sse:
+                accepted = True
+                break
+            lam *= 10.0
+        if not accepted:
+            break
+        moved = max(np.abs(phi_new - phi).max(initial=0.0),
+                    np.abs(theta_new - theta).max(initial=0.0))
+        predicted = float(step @ grad)
+        phi, theta, e, sse = phi_new, theta_new, e_new, sse_new
+        lam = max(lam / 10.0, A._LAMBDA_MIN)
+        if predicted <= A._FTOL * sse or moved <= A._XTOL:
+            break
+    return phi, theta, sse / (xc.size - burn)
+
+
+def _closed_loop_like(n=900, seed=4):
+    rng = np.random.default_rng(seed)
+    e = rng.standard_normal((n, 2))
+    # an AR root near the unit circle partly cancelled by an MA root (closed-loop-like)
+    # and a plain ARMA(2, 3): both identified, so their CSS minima are well defined
+    return np.column_stack([lfilter([1.0, -0.9], [1.0, -0.995], e[:, 0]),
+                            lfilter([1.0, -0.5, 0.2, 0.15], [1.0, -1.3, 0.4], e[:, 1])])
 
 
 @pytest.mark.parametrize("order", [(2, 3), "aic"])
-def test_fit_bit_identical_without_fast_paths(monkeypatch, order):
-    rng = np.random.default_rng(4)
-    e = rng.standard_normal((900, 3))
-    # an AR root near the unit circle partly cancelled by an MA root (closed-loop-like),
-    # a plain ARMA(2, 3) and white noise
-    x = np.column_stack([lfilter([1.0, -0.9], [1.0, -0.995], e[:, 0]),
-                         lfilter([1.0, -0.5, 0.2, 0.15], [1.0, -1.3, 0.4], e[:, 1]),
-                         e[:, 2]])
+def test_fit_matches_the_former_refinement(monkeypatch, order):
+    x = _closed_loop_like()
     make = lambda: ARMAPredictor(order=order, max_order=2)  # noqa: E731
     fast = make().fit(x).params_
-    monkeypatch.setattr(A, "_clearly_inside", lambda coeffs, radius: False)
-    monkeypatch.setattr(A, "css_filters", _scipy_css_filters)
-    monkeypatch.setattr(A, "arma_innovations", _scipy_innovations)
+    monkeypatch.setattr(A, "_css_refine", _former_css_refine)
     slow = make().fit(x).params_
-    for key in ("mu", "phi", "theta", "orders", "sigma2", "criterion"):
-        if slow[key] is None:
-            assert fast[key] is None
-        else:
-            assert np.array_equal(fast[key], slow[key], equal_nan=True), key
+    # the stopping rule (relative decrease 1e-13, step 1e-10) fixes the minimum to
+    # ~sqrt(1e-13) of the coefficients' scale on these well-conditioned fits; sigma^2,
+    # second order in the coefficients there, to ~1e-13 (rounding of the sums aside)
+    assert np.array_equal(fast["orders"], slow["orders"])
+    np.testing.assert_allclose(fast["phi"], slow["phi"], rtol=0, atol=1e-5)
+    np.testing.assert_allclose(fast["theta"], slow["theta"], rtol=0, atol=1e-5)
+    np.testing.assert_allclose(fast["sigma2"], slow["sigma2"], rtol=1e-11)
+    assert np.array_equal(fast["mu"], slow["mu"])
+    if order == "aic":
+        np.testing.assert_allclose(fast["criterion"], slow["criterion"], rtol=1e-11)
 
 
 @pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 2), (1, 5)])
