@@ -359,7 +359,9 @@ class LoopConfig:
     delay : float
         Time from the end of the exposure to the command update [s] (>= 0).
     gain : float
-        Integrator gain (per mode).
+        Integrator gain (per mode), > 0 and below the stability limit of the integrator
+        with this delay and exposure (:func:`modalinfo.servo.max_stable_gain`: 2 for a
+        half-frame delay and full exposure, 1 for one whole frame).
     leak : float
         Integrator leak in [0, 1): ``c[k] = (1 - leak) c[k-1] + gain m[k]``.
     model_error : float
@@ -409,6 +411,16 @@ class LoopConfig:
         if not isinstance(self.closed, bool):
             _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
                   TypeError)
+        # the integrator with this delay and exposure: stable for gain below the root
+        # locus' unit-circle crossing (modalinfo.servo.max_stable_gain; 2 sin(pi / (2 (2n
+        # - 1))) for a command n whole frames late, Madec 1999, ch. 6); refused at load,
+        # as `closedloop run` would refuse it, so `config` never prints a loop that diverges
+        from modalinfo.servo import check_stable
+
+        try:
+            check_stable(self.gain, self.delay_frames, self.integration_frames)
+        except ValueError as exc:
+            raise ValueError(str(exc).replace("`gain`", f"`{p}gain`", 1)) from None
 
     @property
     def delay_frames(self) -> float:

@@ -116,9 +116,9 @@ def _check_memory(config: SimulationConfig, duration: float, budget_every: int |
 
     Uses ``closedloop.resources.check_resources`` when this version of closedloop has
     it (without it, ``simulate``'s own checks make such a run an error row). A run the
-    simulator refuses for other reasons (an unstable gain, a run too short) is not
-    refused here: it is an error row of the sweep, found in well under a second, as a
-    sweep across a stability limit expects.
+    simulator refuses for other reasons (a run too short for its delay) is not refused
+    here: it is an error row of the sweep, found in well under a second. An unstable
+    gain never gets here: the config itself refuses it (``LoopConfig``).
     """
     try:
         from closedloop.resources import check_resources
