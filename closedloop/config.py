@@ -809,6 +809,17 @@ def _gather_options(cls, value: dict) -> tuple[dict, dict | None]:
             {k: v for k, v in value.items() if k in keys})
 
 
+def _unique_keys(pairs: list) -> dict:
+    """Return a JSON object, refusing a repeated key (TOML refuses one; JSON keeps the last)."""
+    out: dict = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"key {key!r} given twice in one JSON object ({out[key]!r} and "
+                             f"{value!r}); give it once")
+        out[key] = value
+    return out
+
+
 def load_config(path: str | Path) -> SimulationConfig:
     """Read a config from a TOML (``.toml``) or JSON (``.json``) file."""
     path = Path(path)
@@ -818,12 +829,16 @@ def load_config(path: str | Path) -> SimulationConfig:
     if not path.is_file():
         raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
     try:
-        text = path.read_text(encoding="utf-8")
-        data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
+        # utf-8-sig: a byte-order mark (Windows editors write one) is not a TOML statement
+        text = path.read_text(encoding="utf-8-sig")
+        data = (tomllib.loads(text) if suffix == ".toml"
+                else json.loads(text, object_pairs_hook=_unique_keys))
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a {suffix[1:].upper()} text file (not UTF-8)") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
+    except ValueError as exc:  # a repeated JSON key
+        raise ValueError(f"{path}: {exc}") from None
     return SimulationConfig.from_dict(data)
 
 

@@ -143,6 +143,9 @@ def sweep_specs(grid: dict) -> list:
     if (not isinstance(seeds, list) or not seeds
             or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds)):
         raise ValueError(f"grid `seeds` must be a non-empty list of ints >= 0; got {seeds!r}")
+    if max(seeds) >= 2**63:  # an OverflowError inside a worker before (as `run --seed`)
+        raise ValueError(f"grid `seeds` must be ints <= 2**63 - 1 (the seed is stored in "
+                         f"the result); got {max(seeds)}")
     if len(set(seeds)) < len(seeds):  # the same run twice would be one row, silently
         twice = next(x for x in seeds if seeds.count(x) > 1)
         raise ValueError(f"grid `seeds` names {twice} twice; give each seed once")

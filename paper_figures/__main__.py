@@ -389,4 +389,9 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        code = main()
+    except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)
+        sys.stderr.write("python -m paper_figures: interrupted\n")
+        code = 130
+    sys.exit(code)

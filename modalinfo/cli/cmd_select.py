@@ -14,6 +14,7 @@ p-value. See :func:`modalinfo.information.select_inputs`.
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from modalinfo.cli import CommandError
@@ -85,6 +86,10 @@ def run(args: argparse.Namespace) -> int:
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")
+        if extra.rate is not None and log.rate is not None and not math.isclose(
+                extra.rate, log.rate, rel_tol=1e-9):  # same length, another clock: lags lie
+            raise CommandError(f"--extra is sampled at {extra.rate:g} Hz, LOG at "
+                               f"{log.rate:g} Hz; the two logs must share the clock")
     target = args.target
     if target.isdigit():
         target = int(target)

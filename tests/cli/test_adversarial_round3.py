@@ -106,3 +106,113 @@ def _ranks(out: str, n: int = 10) -> list[str]:
     rows = [ln.split() for ln in out.splitlines()]
     return [r[1] for r in rows if r and r[0].lstrip("~").isdigit()
             and int(r[0].lstrip("~")) <= n]
+
+
+def test_one_glitched_frame_changes_no_rank_of_reorder_and_is_reported(tmp_path, capsys):
+    """Issue 27, Must show: one frame of 4000 with Z2 at 100 sigma, the DEFAULT policy
+    (warn): the first 10 ranks of ``modalinfo reorder`` are those of the clean log (same
+    seed and budget, so the same samples) and the glitch is named on stderr. Run at the
+    default budget and pupil without the bootstrap (~5 s each); at a quarter of the
+    budget, ranks 6 and 7 (gains 0.039 and 0.040 nats, within the bootstrap interval of
+    each other) can swap on sampling noise alone."""
+    log = load(DATA / "kaos_like_closed_loop.npz")[:4000]
+    y = np.array(log.coeffs)
+    y[2000, 0] += 100 * y[:, 0].std()
+    clean = save(log, tmp_path / "clean.npz")
+    glitch = save(ModalLog(y, rate=log.rate, modes=log.modes, units=log.units,
+                           wavelength=log.wavelength), tmp_path / "glitch.npz")
+    assert _exit_code(["reorder", clean, "--resamples", "0"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    first = _ranks(captured.out)
+    assert _exit_code(["reorder", glitch, "--resamples", "0"]) == 0
+    captured = capsys.readouterr()
+    assert len(first) == 10 and _ranks(captured.out) == first
+    err = captured.err.splitlines()
+    assert len(err) == 1 and "warning: " in err[0], err
+    assert "1 of 4000 frames flagged: 1 outlier value(s) in 1 frame(s) (most: Z2 1)" in err[0]
+
+
+# ------------------------------------------------------------ bad values read from a file
+@pytest.mark.parametrize("key, value, said", [
+    ("rate", -2000.0, "the file's rate must be > 0.0; got -2000.0"),
+    ("rate", float("nan"), "the file's rate must be finite; got nan"),
+    ("wavelength", -5e-7, "the file's wavelength must be > 0.0; got -5e-07"),
+])
+def test_a_bad_value_stored_in_the_file_is_not_blamed_on_an_option(small_log, tmp_path,
+                                                                   capsys, key, value, said):
+    # Before: "'f.npz': --rate must be > 0.0; got -2000.0" to a user who typed no --rate.
+    import json
+
+    with np.load(small_log) as z:
+        header = json.loads(str(z["header"]))
+        coeffs = z["coefficients"]
+    header[key] = value
+    bad = tmp_path / "bad.npz"
+    np.savez(bad, coefficients=coeffs, header=np.array(json.dumps(header)))
+    assert _exit_code(["info", bad]) == 2
+    err = _one_line(capsys)
+    assert said in err and "--" not in err.split("error: ", 1)[1], err
+
+
+# ------------------------------------------------------------ bases that cannot be built
+def test_kl_data_needs_as_many_frames_as_modes(tmp_path, capsys):
+    # Before: a 2-frame log of 5 modes gave 3 arbitrary null-space "K-L modes" with
+    # gains 0.0000 and a finite MI of numerical noise, exit 0.
+    rng = np.random.default_rng(3)
+    two = save(ModalLog(rng.standard_normal((2, 5)), rate=1e3, modes=[2, 3, 4, 5, 6],
+                        units="rad"), tmp_path / "two.npz")
+    assert _exit_code(["reorder", two, "--basis", "kl-data", "--resamples", "0",
+                       "--pupil-pixels", "16", "--budget", "2000", "--quiet"]) == 2
+    assert "needs at least 5 frames for 5 K-L modes; got 2" in _one_line(capsys)
+
+
+def test_kl_from_data_refuses_modes_beyond_the_rank():
+    # the rank of A.T A / T is at most T (T - 1 once centred): linear algebra
+    from modalinfo.bases import KLBasis, Pupil, ZernikeBasis
+
+    zb = ZernikeBasis(Pupil(16), [2, 3, 4, 5])
+    a = np.random.default_rng(0).standard_normal((4, 4))
+    assert KLBasis.from_data(zb, a).n_modes == 4
+    with pytest.raises(ValueError, match=r"needs at least 5 frames for 4 K-L modes; got 4"):
+        KLBasis.from_data(zb, a, center=True)
+    assert KLBasis.from_data(zb, a, center=True, n_modes=3).n_modes == 3
+    with pytest.raises(ValueError, match=r"rank <= 3"):
+        KLBasis.from_data(zb, a[:3])
+
+
+def test_kl_theory_outer_scale_below_the_pupil_is_refused(small_log, capsys):
+    # Before: --outer-scale 1e-3 (1 mm) built a K-L of a pupil far beyond L0, exit 0.
+    assert _exit_code(["reorder", small_log, "--basis", "kl-theory", "--outer-scale", "0.5",
+                       "--resamples", "0", "--pupil-pixels", "16", "--budget", "2000"]) == 2
+    err = _one_line(capsys)
+    assert "--outer-scale must be > the pupil diameter 1 m (assumed" in err, err
+
+
+# ------------------------------------------------------------ estimator options
+def test_ksg_k_at_or_beyond_the_sample_is_refused():
+    # Before: k = 5000 on 2000 samples was clamped to 1999 in silence (MI 5e-7 for 0.35).
+    from modalinfo.information import mutual_information
+
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(200)
+    y = x + rng.standard_normal(200)
+    for k in (200, 5000):
+        with pytest.raises(ValueError, match=rf"`k` must be < the number of samples \(200\); "
+                                             rf"got {k}"):
+            mutual_information(x, y, method="ksg", k=k)
+    assert np.isfinite(mutual_information(x, y, method="ksg", k=199))
+
+
+# ------------------------------------------------------------ Ctrl-C at any moment
+def test_ctrl_c_while_the_parser_is_built_is_one_line_and_130(monkeypatch, capsys):
+    # Before: a KeyboardInterrupt while the subcommands were imported (seconds on a busy
+    # machine) printed Python's traceback.
+    import modalinfo.cli as cli
+
+    def interrupted():
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "build_parser", interrupted)
+    assert cli.main(["info", "x.npz"]) == 130
+    assert capsys.readouterr().err == "modalinfo: interrupted\n"

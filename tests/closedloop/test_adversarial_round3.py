@@ -57,3 +57,48 @@ def test_config_command_refuses_an_unstable_gain_in_one_line(tmp_path, capsys):
     assert err.count("\n") == 1 and "Traceback" not in err, err
     assert "`loop.gain` = 3.0 makes the loop unstable" in err and "gain < 2.0000" in err
     assert not out.exists()
+
+
+def _write(tmp_path, name, data: bytes):
+    path = tmp_path / name
+    path.write_bytes(data)
+    return path
+
+
+def test_a_json_key_given_twice_is_refused(tmp_path):
+    # Before: {"gain": 0.5, "gain": 0.3} loaded with gain 0.3 (JSON keeps the last);
+    # TOML refuses a repeated key, so the two formats now agree.
+    from closedloop.config import load_config
+
+    text = json.dumps(presets.get("table1").to_dict()).replace('"gain": 0.5',
+                                                               '"gain": 0.5, "gain": 0.3')
+    path = _write(tmp_path, "c.json", text.encode())
+    with pytest.raises(ValueError, match=r"c.json: key 'gain' given twice in one JSON "
+                                         r"object \(0.5 and 0.3\)"):
+        load_config(path)
+
+
+def test_a_toml_file_with_a_byte_order_mark_loads(tmp_path):
+    # Before: "not valid TOML: Invalid statement (at line 1, column 1)" for a file saved
+    # by a Windows editor; the same bytes without the mark load.
+    from closedloop.config import config_text, load_config
+
+    text = config_text(presets.get("table1")).encode()
+    plain = load_config(_write(tmp_path, "a.toml", text))
+    assert load_config(_write(tmp_path, "b.toml", b"\xef\xbb\xbf" + text)) == plain
+
+
+def test_an_obscuration_leaving_no_valid_subaperture_is_refused(capsys, tmp_path):
+    # Before: IndexError traceback in the reconstructor (no measurement at all): 8 x 8
+    # subapertures on a 0.95 obscured pupil are each less than half lit.
+    from closedloop.model import LoopModel
+
+    d = presets.get("table1").to_dict()
+    d["telescope"].update(n_pixels=32, obscuration=0.95)
+    for w in d["wfss"]:
+        w.update(n_subapertures=8, field_samples=2)
+    d["dms"][0]["n_modes"], d["dms"][1]["n_modes"] = 35, 20
+    d["field"].update(size=60.0, n_points=3)
+    with pytest.raises(ValueError, match=r"`wfss\[0\].n_subapertures` = 8 leaves no valid "
+                                         r"subaperture .*obscuration = 0.95"):
+        LoopModel(SimulationConfig.from_dict(d))
