@@ -216,3 +216,72 @@ def test_ctrl_c_while_the_parser_is_built_is_one_line_and_130(monkeypatch, capsy
     monkeypatch.setattr(cli, "build_parser", interrupted)
     assert cli.main(["info", "x.npz"]) == 130
     assert capsys.readouterr().err == "modalinfo: interrupted\n"
+
+
+# ------------------------------------------------------------ more entries checked first
+def test_an_output_folder_that_takes_no_file_is_refused_before_work(small_log, capsys):
+    # Before: `--plot /proc/f.png` computed every curve, then failed naming a temporary
+    # file ('/proc/.f.png.xxxx.tmp'); /proc takes no new file, even for root.
+    assert _exit_code(["convert", small_log, "/proc/x.npz", "--quiet"]) == 2
+    assert "OUT '/proc/x.npz': cannot write in '/proc'" in _one_line(capsys)
+
+
+def test_select_extra_on_another_clock_is_refused(small_log, tmp_path, capsys):
+    # Before: the same number of frames at 1000 Hz against LOG's 2000 Hz ran (exit 0).
+    rng = np.random.default_rng(4)
+    extra = save(ModalLog(rng.standard_normal((300, 2)), rate=1000.0, modes=[5, 6],
+                          units="rad"), tmp_path / "extra.npz")
+    assert _exit_code(["select", small_log, "--target", "Z2", "--extra", extra,
+                       "--max-lag", "2", "--surrogates", "19", "--no-intervals"]) == 2
+    assert "--extra is sampled at 1000 Hz, LOG at 2000 Hz" in _one_line(capsys)
+
+
+def test_a_zernike_finer_than_the_pupil_grid_is_refused(tmp_path, capsys):
+    # Before: Z5000 (radial order 99) on a 16-pixel pupil was scored (0.19 nats).
+    rng = np.random.default_rng(5)
+    log = save(ModalLog(rng.standard_normal((200, 3)), rate=1e3, modes=[2, 3, 5000],
+                        units="rad"), tmp_path / "z.npz")
+    assert _exit_code(["reorder", log, "--pupil-pixels", "16", "--resamples", "0",
+                       "--budget", "2000", "--quiet"]) == 2
+    assert "--pupil-pixels must be >= 198 to sample Z5000 (radial order 99" in _one_line(
+        capsys)
+
+
+def test_batch_task_verifies_the_checksum_memory_mapping_skipped(small_log, tmp_path):
+    # Before: a CRC-damaged NPZ (one byte of its data flipped) got an "ok" summary row.
+    from modalinfo.batch.analyses import resolve_params, run_log_task
+    from modalinfo.io.files import LogFormatError
+
+    data = bytearray(small_log.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    bad = tmp_path / "bad.npz"
+    bad.write_bytes(bytes(data))
+    task = {"fmt": None, "hints": {}, "analysis": "summary",
+            "params": resolve_params("summary")}
+    assert run_log_task({**task, "path": str(small_log)})["n_frames"] == 300
+    with pytest.raises(LogFormatError, match="do not match their CRC-32 checksum"):
+        run_log_task({**task, "path": str(bad)})
+
+
+def test_paper_figures_only_naming_a_figure_twice_is_refused(tmp_path, capsys):
+    # Before: `--only 1,1` made Figure 1 once (exit 0): merged without a word.
+    from paper_figures.__main__ import main as figures
+
+    try:
+        code = figures(["--only", "1,1", "--out", str(tmp_path / "f")])
+    except SystemExit as exc:
+        code = exc.code
+    assert code == 2
+    assert "--only names figure 1 twice" in _one_line(capsys)
+    assert not (tmp_path / "f").exists()
+
+
+def test_select_on_values_whose_squares_overflow_is_refused_by_name(tmp_path, capsys):
+    # Before: "zero-size array to reduction operation maximum which has no identity" (a
+    # numpy message from inside the search) for a log of 1e300 values.
+    rng = np.random.default_rng(6)
+    huge = save(ModalLog(rng.standard_normal((300, 3)) * 1e300, rate=1e3, modes=[2, 3, 4],
+                         units="rad"), tmp_path / "huge.npz")
+    assert _exit_code(["select", huge, "--target", "Z2", "--max-lag", "2", "--surrogates",
+                       "19", "--no-intervals"]) == 2
+    assert "where its sums of squares overflow float64" in _one_line(capsys)

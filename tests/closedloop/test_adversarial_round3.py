@@ -102,3 +102,12 @@ def test_an_obscuration_leaving_no_valid_subaperture_is_refused(capsys, tmp_path
     with pytest.raises(ValueError, match=r"`wfss\[0\].n_subapertures` = 8 leaves no valid "
                                          r"subaperture .*obscuration = 0.95"):
         LoopModel(SimulationConfig.from_dict(d))
+
+
+def test_a_sweep_seed_beyond_int64_is_refused_before_any_run(tmp_path):
+    # Before: OverflowError traceback from the cluster's worker (seed 2**63).
+    from closedloop.sweep import sweep_specs
+
+    with pytest.raises(ValueError, match=r"grid `seeds` must be ints <= 2\*\*63 - 1 .*got "
+                                         r"9223372036854775808"):
+        sweep_specs({"preset": "table1", "duration": 0.01, "seeds": [0, 2**63]})
