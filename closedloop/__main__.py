@@ -1,5 +1,10 @@
 import sys
 
-from closedloop.cli import main
+try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no traceback
+    from closedloop.cli import main
 
-sys.exit(main())
+    code = main()
+except KeyboardInterrupt:
+    sys.stderr.write("closedloop: interrupted\n")
+    code = 130
+sys.exit(code)

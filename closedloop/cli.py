@@ -436,7 +436,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    return dispatch(build_parser(), argv, "closedloop")
+    try:
+        parser = build_parser()  # imports every subcommand's module: seconds on a busy machine
+    except KeyboardInterrupt:
+        from modalinfo.common.cli import interrupted
+
+        return interrupted("closedloop")
+    return dispatch(parser, argv, "closedloop")
 
 
 if __name__ == "__main__":  # pragma: no cover

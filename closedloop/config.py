@@ -359,7 +359,9 @@ class LoopConfig:
     delay : float
         Time from the end of the exposure to the command update [s] (>= 0).
     gain : float
-        Integrator gain (per mode).
+        Integrator gain (per mode), > 0 and below the stability limit of the integrator
+        with this delay and exposure (:func:`modalinfo.servo.max_stable_gain`: 2 for a
+        half-frame delay and full exposure, 1 for one whole frame).
     leak : float
         Integrator leak in [0, 1): ``c[k] = (1 - leak) c[k-1] + gain m[k]``.
     model_error : float
@@ -409,6 +411,16 @@ class LoopConfig:
         if not isinstance(self.closed, bool):
             _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
                   TypeError)
+        # the integrator with this delay and exposure: stable for gain below the root
+        # locus' unit-circle crossing (modalinfo.servo.max_stable_gain; 2 sin(pi / (2 (2n
+        # - 1))) for a command n whole frames late, Madec 1999, ch. 6); refused at load,
+        # as `closedloop run` would refuse it, so `config` never prints a loop that diverges
+        from modalinfo.servo import check_stable
+
+        try:
+            check_stable(self.gain, self.delay_frames, self.integration_frames)
+        except ValueError as exc:
+            raise ValueError(str(exc).replace("`gain`", f"`{p}gain`", 1)) from None
 
     @property
     def delay_frames(self) -> float:
@@ -797,6 +809,17 @@ def _gather_options(cls, value: dict) -> tuple[dict, dict | None]:
             {k: v for k, v in value.items() if k in keys})
 
 
+def _unique_keys(pairs: list) -> dict:
+    """Return a JSON object, refusing a repeated key (TOML refuses one; JSON keeps the last)."""
+    out: dict = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"key {key!r} given twice in one JSON object ({out[key]!r} and "
+                             f"{value!r}); give it once")
+        out[key] = value
+    return out
+
+
 def load_config(path: str | Path) -> SimulationConfig:
     """Read a config from a TOML (``.toml``) or JSON (``.json``) file."""
     path = Path(path)
@@ -806,12 +829,16 @@ def load_config(path: str | Path) -> SimulationConfig:
     if not path.is_file():
         raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
     try:
-        text = path.read_text(encoding="utf-8")
-        data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
+        # utf-8-sig: a byte-order mark (Windows editors write one) is not a TOML statement
+        text = path.read_text(encoding="utf-8-sig")
+        data = (tomllib.loads(text) if suffix == ".toml"
+                else json.loads(text, object_pairs_hook=_unique_keys))
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a {suffix[1:].upper()} text file (not UTF-8)") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
+    except ValueError as exc:  # a repeated JSON key
+        raise ValueError(f"{path}: {exc}") from None
     return SimulationConfig.from_dict(data)
 
 

@@ -116,9 +116,9 @@ def _check_memory(config: SimulationConfig, duration: float, budget_every: int |
 
     Uses ``closedloop.resources.check_resources`` when this version of closedloop has
     it (without it, ``simulate``'s own checks make such a run an error row). A run the
-    simulator refuses for other reasons (an unstable gain, a run too short) is not
-    refused here: it is an error row of the sweep, found in well under a second, as a
-    sweep across a stability limit expects.
+    simulator refuses for other reasons (a run too short for its delay) is not refused
+    here: it is an error row of the sweep, found in well under a second. An unstable
+    gain never gets here: the config itself refuses it (``LoopConfig``).
     """
     try:
         from closedloop.resources import check_resources
@@ -143,6 +143,9 @@ def sweep_specs(grid: dict) -> list:
     if (not isinstance(seeds, list) or not seeds
             or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds)):
         raise ValueError(f"grid `seeds` must be a non-empty list of ints >= 0; got {seeds!r}")
+    if max(seeds) >= 2**63:  # an OverflowError inside a worker before (as `run --seed`)
+        raise ValueError(f"grid `seeds` must be ints <= 2**63 - 1 (the seed is stored in "
+                         f"the result); got {max(seeds)}")
     if len(set(seeds)) < len(seeds):  # the same run twice would be one row, silently
         twice = next(x for x in seeds if seeds.count(x) > 1)
         raise ValueError(f"grid `seeds` names {twice} twice; give each seed once")

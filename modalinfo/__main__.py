@@ -1,5 +1,10 @@
 import sys
 
-from modalinfo.cli import main
+try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no traceback
+    from modalinfo.cli import main
 
-sys.exit(main())
+    code = main()
+except KeyboardInterrupt:
+    sys.stderr.write("modalinfo: interrupted\n")
+    code = 130
+sys.exit(code)

@@ -66,13 +66,16 @@ def _parse_only(text: str | None) -> list[int]:
     if text is None:
         return numbers
     try:
-        chosen = sorted({int(t) for t in text.split(",") if t.strip()})
+        given = [int(t) for t in text.split(",") if t.strip()]
     except ValueError:
-        chosen = []
-    if not chosen or any(c not in numbers for c in chosen):
+        given = []
+    if not given or any(c not in numbers for c in given):
         raise ValueError(f"--only must be a comma list of figure numbers "
                          f"{','.join(map(str, numbers))}; got '{text}'")
-    return chosen
+    twice = next((c for c in given if given.count(c) > 1), None)
+    if twice is not None:  # merged silently before (one figure made)
+        raise ValueError(f"--only names figure {twice} twice; give each once")
+    return sorted(given)
 
 
 def _kind(module) -> str:
@@ -389,4 +392,9 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        code = main()
+    except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)
+        sys.stderr.write("python -m paper_figures: interrupted\n")
+        code = 130
+    sys.exit(code)

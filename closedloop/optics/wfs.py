@@ -336,6 +336,13 @@ class ShackHartmann(WavefrontSensor):
             if axis == 0:
                 valid = counts >= 0.5 * full
                 self.valid_subapertures = np.flatnonzero(valid)
+                if not self.valid_subapertures.size:  # nothing measured: no loop
+                    obsc = self._geometry.config.telescope.obscuration
+                    raise ValueError(
+                        f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves no valid "
+                        f"subaperture (half lit or more) on this pupil (telescope."
+                        f"obscuration = {obsc:g}): the sensor would measure nothing; use "
+                        "more subapertures or a smaller obscuration")
                 meas_index = -np.ones(n_sub * n_sub, dtype=np.int64)
                 meas_index[self.valid_subapertures] = np.arange(self.valid_subapertures.size)
             n_valid = self.valid_subapertures.size

@@ -302,7 +302,8 @@ class KLBasis(ModalBasis):
         coeffs : array_like
             ``(T, n_z)`` Zernike coefficients over time [rad or the log's units].
         n_modes : int, optional
-            Number of K-L modes kept (default all ``n_z``).
+            Number of K-L modes kept (default all ``n_z``); at most ``T`` (``T - 1``
+            centred), the rank of the matrix decomposed.
         center : bool
             False (default): eigen-decompose the mean-square matrix ``A.T @ A / T``
             (non-centred). The fitting error of a truncated basis is a mean square over
@@ -328,6 +329,13 @@ class KLBasis(ModalBasis):
             raise TypeError(f"`center` must be a bool; got {center!r}.")
         n_keep = a.shape[1] if n_modes is None else check_int(
             n_modes, "n_modes", minimum=1, maximum=a.shape[1])
+        rank = a.shape[0] - 1 if center else a.shape[0]
+        if n_keep > rank:  # modes past the rank would be arbitrary null-space vectors
+            raise ValueError(
+                f"`coeffs` needs at least {n_keep + int(center)} frames for {n_keep} K-L "
+                f"modes; got {a.shape[0]} (the {'covariance' if center else 'mean-square'} "
+                f"matrix of {a.shape[0]} frames has rank <= {rank}, and the modes beyond it "
+                "are arbitrary)")
         if center:
             a = a - a.mean(axis=0)
             moment = a.T @ a / (a.shape[0] - 1)

@@ -204,9 +204,12 @@ def _parse_analyses(analyses: str | list[str]) -> list[str]:
                                  else analyses) if a.strip()]
     if not names:
         raise ValueError("`analyses` must name at least one analysis")
+    twice = next((n for n in names if names.count(n) > 1), None)
+    if twice is not None:  # merged silently before: one row where two were asked
+        raise ValueError(f"`analyses` names {twice!r} twice; give each analysis once")
     for name in names:
         resolve_params(name)
-    return list(dict.fromkeys(names))
+    return names
 
 
 def analyse_archive(

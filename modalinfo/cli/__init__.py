@@ -102,7 +102,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    return dispatch(build_parser(), argv, "modalinfo", words=cli_words)
+    try:
+        parser = build_parser()  # imports every subcommand's module: seconds on a busy machine
+    except KeyboardInterrupt:
+        from modalinfo.common.cli import interrupted
+
+        return interrupted("modalinfo")
+    return dispatch(parser, argv, "modalinfo", words=cli_words)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -14,7 +14,10 @@ p-value. See :func:`modalinfo.information.select_inputs`.
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
+
+import numpy as np
 
 from modalinfo.cli import CommandError
 from modalinfo.cli._choices import MIMethodChoices
@@ -85,6 +88,10 @@ def run(args: argparse.Namespace) -> int:
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")
+        if extra.rate is not None and log.rate is not None and not math.isclose(
+                extra.rate, log.rate, rel_tol=1e-9):  # same length, another clock: lags lie
+            raise CommandError(f"--extra is sampled at {extra.rate:g} Hz, LOG at "
+                               f"{log.rate:g} Hz; the two logs must share the clock")
     target = args.target
     if target.isdigit():
         target = int(target)
@@ -101,6 +108,11 @@ def run(args: argparse.Namespace) -> int:
         check_memory(_WORKING_COPIES * 8 * log.n_frames * columns,
                      f"--max-lag {args.max_lag} ({columns} candidate columns x "
                      f"{log.n_frames} frames)", "use a smaller --max-lag or fewer frames")
+    from modalinfo.common.validation import check_square_range
+
+    for name, data in (("log", log), ("extra", extra)):  # 1e300 failed inside the search
+        if data is not None:  # with numpy's "zero-size array to reduction operation"
+            check_square_range(np.asarray(data.coeffs), name, data.labels)
     res = select_inputs(log, target, horizon=args.horizon, max_lag=args.max_lag, extra=extra,
                         method=args.method, units=args.units, alpha=args.alpha,
                         n_surrogates=args.surrogates, max_inputs=args.max_inputs,

@@ -259,10 +259,20 @@ LOG_SUFFIXES = {".npz": "npz", ".csv": "csv", ".fits": "fits", ".fit": "fits",
 
 
 def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "OUT") -> str:
-    """Check a log output before any work; return its format (``--to-fmt`` or extension)."""
+    """Check a log output before any work; return its format (``--to-fmt`` or extension).
+
+    A ``--to-fmt`` that contradicts a known extension (``--to-fmt npz out.csv``) is
+    refused; ``aot`` goes with the FITS extensions, and unknown extensions need it.
+    """
     path = Path(path)
+    implied = LOG_SUFFIXES.get(path.suffix.lower())
+    if fmt is not None and implied is not None and implied != fmt.replace("aot", "fits"):
+        # NPZ bytes under a .csv name mislead every other tool (an AOT file is FITS)
+        raise CommandError(
+            f"--to-fmt {fmt} contradicts {flag} '{path}' (its extension "
+            f"'{path.suffix}' means {implied}); drop --to-fmt or rename {flag}")
     if fmt is None:
-        fmt = LOG_SUFFIXES.get(path.suffix.lower())
+        fmt = implied
         if fmt is None:
             raise CommandError(
                 f"{flag} '{path}': cannot tell the log format from the extension "

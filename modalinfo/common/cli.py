@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.common.deps import MissingDependencyError, require_dist
-from modalinfo.common.files import check_not_special
+from modalinfo.common.files import check_not_special, writable_free_bytes
 from modalinfo.common.tasks.cluster import check_memory_limit, check_worker_count
 
 __all__ = [
@@ -37,6 +37,7 @@ __all__ = [
     "check_cluster_args",
     "check_output",
     "dispatch",
+    "interrupted",
 ]
 
 #: Exit statuses of every command.
@@ -111,7 +112,10 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
     int
         The exit status: the subcommand's, or :data:`EXIT_USAGE`, :data:`EXIT_INTERRUPTED`.
     """
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except KeyboardInterrupt:  # Ctrl-C while the parser imports a subcommand's modules
+        return interrupted(prog)
     if getattr(args, "_run", None) is None:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
@@ -147,8 +151,17 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
         sys.stderr.write(f"{prog} {args.command}: error: {exc}\n")
         return EXIT_USAGE
     except KeyboardInterrupt:
-        sys.stderr.write(f"{prog}: interrupted\n")
-        return EXIT_INTERRUPTED
+        return interrupted(prog)
+
+
+def interrupted(prog: str) -> int:
+    """Say ``PROG: interrupted`` on stderr (one line, no traceback); return 130.
+
+    For Ctrl-C at any moment of a command, including while it starts (imports, parser):
+    ``dispatch`` uses it, and so do the ``__main__`` modules around their imports.
+    """
+    sys.stderr.write(f"{prog}: interrupted\n")
+    return EXIT_INTERRUPTED
 
 
 def check_output(
@@ -193,6 +206,11 @@ def check_output(
         raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
     if path.exists() and not overwrite:
         raise CommandError(f"{flag} '{path}' exists; pass --overwrite to replace it")
+    try:  # a real test write: '/proc/x.png' failed only at the end, naming a temporary file
+        writable_free_bytes(path.parent)
+    except OSError as exc:
+        raise CommandError(f"{flag} '{path}': cannot write in '{path.parent}' "
+                           f"({exc.strerror or exc})") from None
 
 
 def check_cluster_args(args: argparse.Namespace) -> None:

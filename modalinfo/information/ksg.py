@@ -114,7 +114,9 @@ class KSGEngine:
 
     def score(self, y: np.ndarray) -> float:
         """KSG-1 estimate in nats (y validated, same length, not constant)."""
-        k = min(self.k, self._n - 1)
+        if self.k >= self._n:  # clamped to n - 1 before: every point a neighbour, MI ~ 0
+            raise ValueError(f"`k` must be < the number of samples ({self._n}); got {self.k}.")
+        k = self.k
         y = _standardised(y, self.seed, 1, self.copula)
         pts = np.column_stack((self._x, y))
         dist, _ = cKDTree(pts).query(pts, k=k + 1, p=np.inf)
@@ -169,7 +171,8 @@ def ksg_cmi(x, y, z, *, k: int = 3, seed: int = 0, copula: bool = True) -> float
     seed = check_int(seed, "seed", minimum=0)
     copula = check_copula(copula)
     n = x.shape[0]
-    k = min(k, n - 1)
+    if k >= n:  # as KSGEngine.score
+        raise ValueError(f"`k` must be < the number of samples ({n}); got {k}.")
     cols = np.concatenate([x, y, z], axis=1)
     u = np.column_stack([_standardised(cols[:, j], seed, j, copula)
                          for j in range(cols.shape[1])])

@@ -14,6 +14,7 @@ import contextlib
 import errno
 import hashlib
 import json
+import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -292,7 +293,13 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     try:
         return ModalLog(coeffs, **kwargs)
     except (ValueError, TypeError) as exc:
-        error = type(exc)(f"'{path}': {exc}")
+        message = str(exc)
+        named = re.match(r"`(\w+)`", message)
+        if named and stored.get(named.group(1)) is not None and named.group(1) not in hints:
+            # a bad value read from the file, not one the caller gave: the command line
+            # said "--rate must be > 0" to a user who had typed no --rate
+            message = f"the file's {named.group(1)}" + message[named.end():]
+        error = type(exc)(f"'{path}': {message}")
         raise _PassthroughError(error) from exc
 
 

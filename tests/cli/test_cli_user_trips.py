@@ -55,15 +55,15 @@ def _never(*args, **kwargs):
      "cannot tell the log format from the extension '.txt'"),
     (["forecast", "{log}", "--out", "{tmp}/r.json"], "modalinfo.io.load", "--out",
      "names a file; --out takes a directory"),
-    (["convert", "{log}", "{tmp}/x.npz", "--overwrite", "--to-fmt", "csv", "--units", "nm"],
+    (["convert", "{log}", "{tmp}/x.dat", "--overwrite", "--to-fmt", "csv", "--units", "nm"],
      None, None, None),
 ])
 def test_outputs_are_checked_before_the_work(kaos, tmp_path, capsys, monkeypatch, argv,
                                              target, flag, message):
     argv = [a.format(log=kaos, tmp=tmp_path) for a in argv]
-    if target is None:  # --to-fmt overrides the extension: a CSV in x.npz, read back
+    if target is None:  # --to-fmt names the format of an unknown extension, read back
         assert main(argv) == 0
-        assert load(tmp_path / "x.npz", fmt="csv").units == "nm"
+        assert load(tmp_path / "x.dat", fmt="csv").units == "nm"
         return
     module, name = target.rsplit(".", 1)
     monkeypatch.setattr(sys.modules[module] if module in sys.modules else

@@ -109,7 +109,8 @@ RULES = [
     # a delay must be whole internal steps (time_step / n, n <= 64) at load: 1e-12 off is
     # 1e-9 frames off at the longest delay, refused
     ("loop.delay", [0.0, MAX_DELAY_FRAMES * 1e-3],
-     [-1e-4, (MAX_DELAY_FRAMES + 1) * 1e-3, MAX_DELAY_FRAMES * 1e-3 * (1 + 1e-12)], None),
+     [-1e-4, (MAX_DELAY_FRAMES + 1) * 1e-3, MAX_DELAY_FRAMES * 1e-3 * (1 + 1e-12)],
+     {"gain": 1e-3}),  # a gain stable at 1000 frames (limit 1.6e-3, see modalinfo.servo)
     ("loop.gain", [1e-3], [0.0], None),
     ("loop.leak", [0.0, 0.999], [-0.01, 0.9991], None),
     ("loop.model_error", [0.0], [-0.1], None),

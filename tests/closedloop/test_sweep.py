@@ -30,8 +30,9 @@ name = "gain 0.3"
 "loop.gain" = 0.3
 
 [[overrides]]
-name = "unstable"
-"loop.gain" = 9.0
+name = "late"
+"loop.delay" = 0.05
+"loop.gain" = 0.02
 """
 
 
@@ -46,8 +47,8 @@ def test_sweep_rows_resume_and_errors(tmp_path, capsys):
     direct = simulate(override(small(), {"loop.gain": 0.3}), 0.05, seed=1, progress=False)
     assert ok[("gain 0.3", 1)]["strehl_peak_mean"] == direct.summary()["strehl_peak_mean"]
     errors = [r for r in rows if r["status"] == "error"]
-    assert {r["override"] for r in errors} == {"unstable"}
-    assert "unstable" in errors[0]["error_message"]
+    assert {r["override"] for r in errors} == {"late"}  # 50 frames: no command arrives
+    assert "must be longer than" in errors[0]["error_message"]
     assert (tmp_path / "out" / "sweep.parquet").is_file()
     # again: nothing to do, no cluster; the 2 error rows make the exit status 1 (what the
     # first run printed, e.g. a worker-wait notice on a loaded machine, is read away first)
@@ -58,6 +59,17 @@ def test_sweep_rows_resume_and_errors(tmp_path, capsys):
     assert "6 already done, 0 ran" in captured.out
     table = tmp_path / "out" / "sweep.csv"
     assert captured.err == f"closedloop sweep: 2 of 6 runs failed; see {table}\n"
+
+
+def test_a_grid_with_an_unstable_override_is_refused_before_any_run(tmp_path, capsys):
+    # loop.gain 9 with table1's half-frame delay: stable only for gain < 2 (servo law)
+    save_config(small(), tmp_path / "small.toml")
+    (tmp_path / "g.toml").write_text(GRID.replace('"loop.delay" = 0.05\n"loop.gain" = 0.02',
+                                                  '"loop.gain" = 9.0'))
+    assert main(["sweep", str(tmp_path / "g.toml"), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "grid override 'late'" in err and "stable for gain < 2.0000" in err, err
+    assert not (tmp_path / "o").exists()
 
 
 def test_bad_grid(tmp_path, capsys):
