@@ -204,6 +204,10 @@ def resolve_block_length(value: Any, *groups: np.ndarray, name: str = "block_len
 
 #: Largest fraction of the rows :func:`matched_window` may discard.
 MAX_DISCARD = 0.2
+#: Largest number of rows it may discard: 20 correlation times of an AR(1) of 0.99 per
+#: frame (the slowest telemetry), enough candidates for a match; it bounds the search
+#: to ~ 2e6 candidate windows per column however long the series.
+MAX_DISCARD_ROWS = 2000
 
 
 def matched_window(*groups: np.ndarray, max_discard: float = MAX_DISCARD
@@ -220,7 +224,8 @@ def matched_window(*groups: np.ndarray, max_discard: float = MAX_DISCARD
     ``s1``, ``s2`` the column's mean squared first and second differences: the jump
     and the change of slope across the join, each in units of its typical value
     between consecutive rows (so a typical step scores 1 + 1 per column). Of the
-    windows that discard at most ``max_discard`` of the rows, the longest whose
+    windows that discard at most ``max_discard`` of the rows (and at most
+    ``MAX_DISCARD_ROWS`` = 2000), the longest whose
     mismatch is at most 2 per column (a join no worse than a typical step) is
     returned (of those, the one of least mismatch), else the window of least mismatch.
 
@@ -239,11 +244,11 @@ def matched_window(*groups: np.ndarray, max_discard: float = MAX_DISCARD
     -------
     (int, int)
         ``start`` and ``stop``: the window ``[start, stop)`` of the rows, at least
-        ``n - floor(max_discard n)`` long; ``(0, n)`` for n < 4.
+        ``n - min(floor(max_discard n), 2000)`` long; ``(0, n)`` for n < 4.
     """
     v = np.column_stack([g.reshape(g.shape[0], -1) for g in groups])
     n = v.shape[0]
-    k = int(max_discard * n)
+    k = min(int(max_discard * n), MAX_DISCARD_ROWS)
     if n < 4 or k == 0:
         return 0, n
     d1 = np.diff(v, axis=0)
