@@ -351,7 +351,10 @@ def mutual_information_permutation_test(
         without ``match_ends`` it rejects 0.048 at 0.05 for phi = 0.9, but 0.076 for
         phi = 0.99, whose correlation time is n / 5 (the rotation joins two nearly
         independent levels, so a rotated series is less persistent than the
-        original); ``match_ends`` (default) restores the level there (table).
+        original); ``match_ends`` (default) restores the level there with 99
+        shifts (table), not with 19 (0.064: far rotations only;
+        :func:`~modalinfo.information.resampling.matched_window`). Series of >= ~20
+        correlation times hold the level either way.
     min_shift : int, "auto" or None
         Spacing b of the circular shifts [samples], in ``[1, n // 2]``; ``None``
         (default): the largest that fits ``n_permutations`` shifts, about
