@@ -73,7 +73,8 @@ window of frames whose end points and end slopes match over all the series
 (``resampling.matched_window``; Theiler et al. 1992, Schreiber & Schmitz 2000; at most
 a fifth of the frames dropped, none where the join already looks like a typical step;
 ``rows`` of the result), which restores the level; with many series the match is a
-compromise over all of them.
+compromise over all of them. Where the surrogates fit in the frames but not in
+the window (a short log), every frame is kept.
 
 Bivariate TE does not separate direct from indirect transfer (a chain j -> m -> i, or a
 common driver of i and j, shows as j -> i); :func:`~modalinfo.information.select_inputs`
@@ -101,7 +102,7 @@ from modalinfo.common.validation import check_choice, check_int, check_real, che
 from modalinfo.information.api import UNITS
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
-from modalinfo.information.resampling import matched_window, surrogate_shifts
+from modalinfo.information.resampling import matched_window_for, surrogate_shifts
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
 from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
@@ -475,10 +476,6 @@ def transfer_entropy_map(
     if not isinstance(match_ends, (bool, np.bool_)):
         raise TypeError(f"`match_ends` must be a bool; got {type(match_ends).__name__}.")
     rng = check_rng(seed)
-    rows = (0, series.shape[0])
-    if n_surrogates and match_ends:
-        rows = matched_window(series)
-        series = np.ascontiguousarray(series[rows[0] : rows[1]])
     closed = get_method(method).gaussian_closed_form  # partial correlations, not est()
     if closed and options.get("copula", False):
         raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
@@ -492,6 +489,16 @@ def transfer_entropy_map(
     if n < 20:
         raise ValueError(f"`data` needs at least {t0 + 20} frames for lags up to "
                          f"{lags.max()} and history={history}; got {T}.")
+    if min_shift is not None:
+        min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
+    rows = (0, T)
+    if n_surrogates and match_ends:  # module notes: end-point matching
+        rows = matched_window_for(n_surrogates, int(lags.max()), min_shift, series, offset=t0)
+        if rows[1] - rows[0] - t0 < 20:
+            rows = (0, T)
+        series = np.ascontiguousarray(series[rows[0] : rows[1]])
+        T = series.shape[0]
+        n = T - t0
 
     # resources, before any work
     cells = S * (S - 1) * L
@@ -524,8 +531,6 @@ def transfer_entropy_map(
                          f"`max_seconds`={max_seconds:g}; use fewer modes, lags or "
                          f"surrogates (or raise `max_seconds`).")
 
-    if min_shift is not None:
-        min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
     shifts, shift0 = surrogate_shifts(n, n_surrogates, int(lags.max()), min_shift, rng)
     factor = UNITS[units]
     if closed:

@@ -54,6 +54,7 @@ __all__ = [
     "auto_block_length",
     "block_bootstrap_indices",
     "matched_window",
+    "matched_window_for",
     "optimal_block_length",
     "politis_white_length",
     "resolve_block_length",
@@ -278,6 +279,42 @@ def matched_window(*groups: np.ndarray, max_discard: float = MAX_DISCARD
         if mis[i] < best:
             best, best_ab = float(mis[i]), (int(a[i]), int(b[i]))
     return best_ab
+
+
+def matched_window_for(n_surrogates: int, max_lag: int, spacing: int | None,
+                       *groups: np.ndarray, offset: int = 0) -> tuple[int, int]:
+    """:func:`matched_window`, or every row where the surrogates would not fit in it.
+
+    Matching must never refuse a test that runs on all the rows: when the
+    :func:`surrogate_shifts` lattice of ``n_surrogates`` shifts (``max_lag``,
+    ``spacing``) fits in the n - ``offset`` rows of the series but not in the window's
+    (a short log, many surrogates), the rows are all kept (the test as without
+    matching).
+
+    Parameters
+    ----------
+    n_surrogates, max_lag : int
+        As :func:`surrogate_shifts`.
+    spacing : int or None
+        As :func:`surrogate_shifts`.
+    *groups : numpy.ndarray, each shape (n,) or (n, d)
+        The series (as :func:`matched_window`).
+    offset : int
+        Rows of a window that the test does not use (the lags' start-up) [samples].
+
+    Returns
+    -------
+    (int, int)
+        ``start`` and ``stop`` of the rows to test.
+    """
+    n = groups[0].shape[0]
+    a, b = matched_window(*groups)
+    if (a, b) != (0, n):
+        try:
+            surrogate_shifts(b - a - offset, n_surrogates, max_lag, spacing, 0)
+        except ValueError:
+            return 0, n
+    return a, b
 
 
 # ------------------------------------------------------------------ bootstrap

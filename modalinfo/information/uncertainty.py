@@ -72,7 +72,7 @@ from modalinfo.information.api import (
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
-    matched_window,
+    matched_window_for,
     resolve_block_length,
     surrogate_pvalue,
     surrogate_shifts,
@@ -389,9 +389,15 @@ def mutual_information_permutation_test(
         raise TypeError(f"`match_ends` must be a bool; got {type(match_ends).__name__}.")
     rng = check_rng(seed)
     start, stop = 0, x.shape[0]
-    if permutation == "circular" and match_ends:
-        start, stop = matched_window(x, y)
-        x, y = x[start:stop], y[start:stop]
+    spacing = None
+    if permutation == "circular":
+        spacing = None if min_shift is None else resolve_block_length(
+            min_shift, x, y, name="min_shift", maximum=x.shape[0] // 2)
+        if match_ends:
+            start, stop = matched_window_for(n_permutations, 0, spacing, x, y)
+            if stop - start < MIN_SAMPLES:
+                start, stop = 0, x.shape[0]
+            x, y = x[start:stop], y[start:stop]
     n = x.shape[0]
     est = MutualInformation(method, units, **options).fit(x)
     stat = est.score(y)
@@ -401,8 +407,6 @@ def mutual_information_permutation_test(
         for i in range(n_permutations):
             null[i] = est.score(y[rng.permutation(n)])
     else:
-        spacing = None if min_shift is None else resolve_block_length(
-            min_shift, x, y, name="min_shift", maximum=n // 2)
         shifts, shift0 = surrogate_shifts(n, n_permutations, 0, spacing, rng,
                                           name="n_permutations")
         for i, s in enumerate(shifts):

@@ -249,6 +249,14 @@ def test_matched_permutation_test_reports_its_rows():
                                                seed=1).rows == (0, 500)  # shuffle: all
     with pytest.raises(TypeError, match=r"`match_ends` must be a bool; got int"):
         mutual_information_permutation_test(x, y, permutation="circular", match_ends=1)
+    # matching never refuses a test that fits in all the rows: 90 shifts fit in 100
+    # rows (98 admissible at spacing 1) but not in a window of at most 91; all kept
+    xs, ys = x[:100], y[:100]
+    a, b = matched_window(xs, ys)
+    assert b - a <= 91
+    short = mutual_information_permutation_test(xs, ys, "gaussian", n_permutations=90,
+                                                permutation="circular", seed=1)
+    assert short.rows == (0, 100) and short.min_shift == 1
 
 
 @pytest.mark.slow
