@@ -337,5 +337,11 @@ def test_map_with_surrogates_is_the_map_of_its_matched_rows():
     np.testing.assert_array_equal(res.pvalue, ref.pvalue)
     # no surrogates, no test: every frame
     assert transfer_entropy_map(x, lags=2, n_surrogates=0).rows == (0, 600)
+    # matching never refuses a map that fits in all the frames: 30 shifts with lags
+    # up to 20 fit in the 130 rows of 150 frames, not in the window's 100 (all kept)
+    a, b = matched_window(x[:150])
+    assert b - a == 120
+    short = transfer_entropy_map(x[:150], lags=[20], n_surrogates=30, seed=4)
+    assert short.rows == (0, 150) and short.n_samples == 130
     with pytest.raises(TypeError, match=r"`match_ends` must be a bool; got str"):
         transfer_entropy_map(x, lags=2, match_ends="yes")
