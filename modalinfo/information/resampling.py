@@ -230,11 +230,12 @@ def matched_window(*groups: np.ndarray, max_discard: float = MAX_DISCARD
     mismatch is at most 2 per column (a join no worse than a typical step) is
     returned (of those, the one of least mismatch), else the window of least mismatch.
 
-    Measured (``benchmarks/bench_surrogate_fpr.py``, RESULTS.md; 3 000 independent
-    AR(1) pairs of coefficient 0.99, n = 500, correlation time ~ n / 5, the rotation
-    test of their correlation): 99 lattice shifts reject 0.053 at 0.05 (0.076
-    without matching); it keeps 89 % of the rows on average there and 98 % at
-    coefficient 0.9. Not a complete cure: with 19 shifts (spacing ~ n / 20: only far
+    Measured (``benchmarks/bench_surrogate_fpr.py``, RESULTS.md; independent AR(1)
+    pairs of coefficient 0.99, n = 500, correlation time ~ n / 5, 99 lattice shifts):
+    the MI permutation test rejects 0.056 at 0.05 (0.076 without matching) and the
+    transfer-entropy map 0.056 (0.069), 1 000 pairs. It keeps 89 % of the rows on
+    average there and 98 % at coefficient 0.9. Not a complete cure (3 000 pairs, the
+    rotation test of the correlation): with 19 shifts (spacing ~ n / 20: only far
     rotations) the matched test still rejects 0.064 at 0.05 (0.054 with the same 19
     shifts drawn from a spacing of 4 rows): the matched window is a loop whose ends
     are pinned to one level, not a circularly stationary series, and the dense
