@@ -194,5 +194,5 @@ def conditional_mutual_information_test(
     return MIPermutationResult(
         statistic=float(stat), pvalue=surrogate_pvalue(stat, null), null_distribution=null,
         n_permutations=n_surrogates, permutation=surrogate, min_shift=int(shift0),
-        method=method, units=units,
+        method=method, units=units, rows=(0, n),
     )

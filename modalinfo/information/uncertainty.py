@@ -72,6 +72,7 @@ from modalinfo.information.api import (
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
+    matched_window_for,
     resolve_block_length,
     surrogate_pvalue,
     surrogate_shifts,
@@ -158,6 +159,10 @@ class MIPermutationResult:
         ``"shuffle"``).
     method, units : str
         Estimator and units.
+    rows : tuple of int
+        ``(start, stop)``: the rows the statistic and the null are computed on; the
+        end-point-matched window of a circular test with ``match_ends`` (at most a
+        fifth shorter than the series), else ``(0, n)``.
     """
 
     statistic: float
@@ -168,6 +173,7 @@ class MIPermutationResult:
     min_shift: int
     method: str
     units: str
+    rows: tuple[int, int]
 
 
 def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -317,6 +323,7 @@ def mutual_information_permutation_test(
     permutation: str = "shuffle",
     min_shift: int | str | None = None,
     seed: Any = None,
+    match_ends: bool = True,
     **options: Any,
 ) -> MIPermutationResult:
     """Permutation test of independence of x and y with an MI statistic.
@@ -341,11 +348,13 @@ def mutual_information_permutation_test(
         series' autocorrelation and breaks only the alignment; use it for time
         series. Measured on 1 000 independent AR(1) pairs, n = 500, 99 shifts
         (``benchmarks/RESULTS.md``, "False-positive rate of the surrogate tests"):
-        rejects 0.048 at 0.05 for phi = 0.9, but 0.076 for phi = 0.99, whose
-        correlation time is n / 5 (a rotated series is less persistent than the
-        original); at n = 2000 (n / 20) 0.058. Use series at least ~20 correlation
-        times long, or test the whitened series. The shifts drawn at random from
-        ``[b, n - b]`` before issue 28 rejected 0.058, 0.114 and 0.083.
+        without ``match_ends`` it rejects 0.048 at 0.05 for phi = 0.9, but 0.076 for
+        phi = 0.99, whose correlation time is n / 5 (the rotation joins two nearly
+        independent levels, so a rotated series is less persistent than the
+        original); ``match_ends`` (default) restores the level there with 99
+        shifts (table), not with 19 (0.064: far rotations only;
+        :func:`~modalinfo.information.resampling.matched_window`). Series of >= ~20
+        correlation times hold the level either way.
     min_shift : int, "auto" or None
         Spacing b of the circular shifts [samples], in ``[1, n // 2]``; ``None``
         (default): the largest that fits ``n_permutations`` shifts, about
@@ -355,6 +364,13 @@ def mutual_information_permutation_test(
         validity.
     seed : None, int or numpy.random.Generator
         Randomness of the permutations.
+    match_ends : bool
+        ``"circular"`` only: test the window of the rows whose end points and end
+        slopes match (:func:`~modalinfo.information.resampling.matched_window`,
+        Theiler et al. 1992, Schreiber & Schmitz 2000; at most a fifth of the rows
+        discarded, none when the join already looks like a typical step), so the
+        rotation joins like values. ``False``: every row (the test before issue 28's
+        last fix; liberal when the correlation time exceeds ~ n / 20).
     **options
         Estimator options.
 
@@ -362,14 +378,26 @@ def mutual_information_permutation_test(
     -------
     MIPermutationResult
         Statistic, p-value ``(1 + #{null >= statistic}) / (1 + n_permutations)`` and
-        the null distribution.
+        the null distribution, all on the rows ``rows``.
     """
     check_choice(method, "method", METHODS)
     check_choice(units, "units", tuple(UNITS))
     x, y = _pair(x, y)
     n_permutations = check_int(n_permutations, "n_permutations", minimum=1)
     check_choice(permutation, "permutation", ("shuffle", "circular"))
+    if not isinstance(match_ends, (bool, np.bool_)):
+        raise TypeError(f"`match_ends` must be a bool; got {type(match_ends).__name__}.")
     rng = check_rng(seed)
+    start, stop = 0, x.shape[0]
+    spacing = None
+    if permutation == "circular":
+        spacing = None if min_shift is None else resolve_block_length(
+            min_shift, x, y, name="min_shift", maximum=x.shape[0] // 2)
+        if match_ends:
+            start, stop = matched_window_for(n_permutations, 0, spacing, x, y)
+            if stop - start < MIN_SAMPLES:
+                start, stop = 0, x.shape[0]
+            x, y = x[start:stop], y[start:stop]
     n = x.shape[0]
     est = MutualInformation(method, units, **options).fit(x)
     stat = est.score(y)
@@ -379,8 +407,6 @@ def mutual_information_permutation_test(
         for i in range(n_permutations):
             null[i] = est.score(y[rng.permutation(n)])
     else:
-        spacing = None if min_shift is None else resolve_block_length(
-            min_shift, x, y, name="min_shift", maximum=n // 2)
         shifts, shift0 = surrogate_shifts(n, n_permutations, 0, spacing, rng,
                                           name="n_permutations")
         for i, s in enumerate(shifts):
@@ -388,5 +414,5 @@ def mutual_information_permutation_test(
     return MIPermutationResult(
         statistic=float(stat), pvalue=surrogate_pvalue(stat, null), null_distribution=null,
         n_permutations=n_permutations, permutation=permutation, min_shift=int(shift0),
-        method=method, units=units,
+        method=method, units=units, rows=(start, stop),
     )

@@ -82,7 +82,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
-from modalinfo.information.resampling import block_bootstrap_indices
+from modalinfo.information.resampling import block_bootstrap_indices, resolve_block_length
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.result import OrderingResult
@@ -327,11 +327,6 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
     return order, mi, first, swapped
 
 
-def _auto_block_length(n_frames: int) -> int:
-    """Default block length T^(1/3) frames (Hall, Horowitz & Jing 1995, for variances)."""
-    return max(1, int(math.ceil(n_frames ** (1.0 / 3.0))))
-
-
 def _bootstrap(
     est: Any,
     a: np.ndarray,
@@ -422,7 +417,8 @@ def _check_common(method, estimator_options, n_resamples, confidence_level, bloc
         confidence_level, "confidence_level", minimum=0.0, maximum=1.0, strict_min=True,
         strict_max=True,
     )
-    if block_length is not None:
+    if block_length is not None and not (isinstance(block_length, str)
+                                         and block_length == "auto"):
         block_length = check_int(block_length, "block_length", minimum=1)
     return options, n_resamples, confidence_level, block_length
 
@@ -479,8 +475,11 @@ def order_modes(
         Bootstrap replicates for the MI and gain bounds (0: none).
     confidence_level : float
         Level of the bounds, in (0, 1).
-    block_length : int, optional
-        Block length [frames] of the pooled bootstrap (default ceil(T^(1/3))).
+    block_length : int, "auto" or None
+        Block length [frames] of the pooled bootstrap, in ``[1, T]``; ``None``/``"auto"``
+        (default): the Politis-White length of the most persistent coefficient
+        (:func:`~modalinfo.information.resampling.resolve_block_length`, the rule of
+        every block bootstrap of the package).
     wavelength : float, optional
         Wavelength [m] to convert a log in nm or um that carries none.
     progress : callable, optional
@@ -571,7 +570,11 @@ def order_modes(
     gain = np.diff(mi, prepend=0.0)
     margin = mi - _swapped_mi(est, contrib, order, known)
     bounds: dict[str, Any] = {}
-    blen = block_length if block_length is not None else _auto_block_length(n_frames)
+    # the one block-length rule of the package (resampling.resolve_block_length:
+    # Politis-White of the most persistent coefficient); the former T^(1/3) frames
+    # ignored the log's correlation time (59 frames at T = 2e5, where a closed-loop
+    # mode of AR(1) 0.99 needs ~1000)
+    blen = resolve_block_length(block_length, a) if frame is None else 1
     if n_resamples > 0:
         boot_mi, boot_gain, boot_margin = _bootstrap(
             est, a, view.matrix, order, frames=frames, pixels=pixels, pooled=frame is None,

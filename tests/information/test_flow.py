@@ -36,6 +36,10 @@ References, all from outside the code under test:
   the count over the map maximum; step-down <= single-step on a map;
 - the lattice of shifts: every pair of {0} and the shifts at least the spacing apart
   on the circle (checked by brute force), none near n / 2;
+- end-point matching: with surrogates the map of a log is the map (``match_ends=False``)
+  of its frames ``rows``, bit for bit, and those are the window of
+  ``resampling.matched_window`` (tested against analytic windows in
+  ``test_resampling.py``);
 - refusals by message (``pytest.raises(match=...)``).
 """
 
@@ -311,3 +315,33 @@ def test_refuses_a_map_larger_than_the_available_memory(monkeypatch):
     monkeypatch.setattr(flow_mod, "free_memory_bytes", lambda: 1000.0)
     with pytest.raises(ValueError, match=r"needs about \d+ MiB .* is available"):
         transfer_entropy_map(_planted_network(300, 4))
+
+
+def test_map_with_surrogates_is_the_map_of_its_matched_rows():
+    # two independent AR(1) series of 0.99 over 600 frames (correlation time ~ n / 6):
+    # the rotations need the matched window; the result names it and is, bit for bit,
+    # the unmatched map of those frames
+    from modalinfo.information.resampling import matched_window
+
+    rng = np.random.default_rng(3)
+    e = rng.standard_normal((600, 2))
+    x = np.zeros_like(e)
+    for t in range(1, 600):
+        x[t] = 0.99 * x[t - 1] + e[t]
+    res = transfer_entropy_map(x, lags=2, n_surrogates=19, seed=4)
+    a, b = res.rows
+    assert (a, b) == matched_window(x) and 480 <= b - a < 600
+    ref = transfer_entropy_map(x[a:b], lags=2, n_surrogates=19, seed=4, match_ends=False)
+    assert ref.rows == (0, b - a) and res.n_samples == ref.n_samples == b - a - 2
+    np.testing.assert_array_equal(res.te, ref.te)
+    np.testing.assert_array_equal(res.pvalue, ref.pvalue)
+    # no surrogates, no test: every frame
+    assert transfer_entropy_map(x, lags=2, n_surrogates=0).rows == (0, 600)
+    # matching never refuses a map that fits in all the frames: 30 shifts with lags
+    # up to 20 fit in the 130 rows of 150 frames, not in the window's 100 (all kept)
+    a, b = matched_window(x[:150])
+    assert b - a == 120
+    short = transfer_entropy_map(x[:150], lags=[20], n_surrogates=30, seed=4)
+    assert short.rows == (0, 150) and short.n_samples == 130
+    with pytest.raises(TypeError, match=r"`match_ends` must be a bool; got str"):
+        transfer_entropy_map(x, lags=2, match_ends="yes")
