@@ -61,6 +61,7 @@ import numpy as np
 from scipy import fft as sfft
 from scipy import linalg, signal, special
 
+from modalinfo.bases import _dm_kl_cache
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.influence import InfluenceFunctions
 from modalinfo.common.validation import as_float_array, check_int, check_real
@@ -270,6 +271,13 @@ def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = n
         Actuator strokes of each mode (unit-RMS surface over the pupil).
     variances : (n_modes,) float64
         Prior variance [rad^2] of each mode's coefficient.
+
+    Notes
+    -----
+    Builds are cached by their inputs (:mod:`modalinfo.bases._dm_kl_cache`): the last
+    few in the process, and on disk in the directory the environment variable
+    ``MODALINFO_DM_KL_CACHE`` names, if set (one checksummed ``.npz`` per build). A cached
+    build returns the same arrays bit for bit (copies).
     """
     if not isinstance(influence, InfluenceFunctions):
         raise TypeError("`influence` must be a modalinfo.bases.InfluenceFunctions; got "
@@ -284,6 +292,15 @@ def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = n
         raise ValueError(f"`influence` must have at least 4 valid actuators; got {n_act}.")
     n_keep = n_act - 1 if n_modes is None else check_int(n_modes, "n_modes", minimum=1,
                                                          maximum=n_act - 1)
+    key = _dm_kl_cache.build_key(influence, r0, outer_scale, n_keep, bool(tip_tilt_apart))
+    return _dm_kl_cache.cached_build(key, lambda: _build(influence, r0, outer_scale, n_keep,
+                                                         bool(tip_tilt_apart)))
+
+
+def _build(influence: InfluenceFunctions, r0: float, outer_scale: float, n_keep: int,
+           tip_tilt_apart: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Build the K-L modes of :func:`dm_kl_modes` (arguments checked there)."""
+    n_act = influence.n_valid
     s_mat = _command_prior(influence, r0, outer_scale)
     gram = influence.gram()
     pupil = influence.pupil
