@@ -17,6 +17,7 @@ from closedloop.config import SimulationConfig
 from closedloop.kinds import mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.optics.geometry import Geometry
+from closedloop.optics.products import DenseProduct
 from closedloop.optics.science import ScienceCamera
 from closedloop.optics.wfs import has_noise
 
@@ -59,6 +60,10 @@ class LoopModel:
         self.n_modes = int(sum(sizes))
         self.prior = None
         self.reconstructor = self._global_reconstructor()
+        # the per-frame products (float32 above a size: closedloop.optics.products)
+        self._products = ([DenseProduct(self.reconstructor)] if self.reconstructor is not None
+                          else [None if w.reconstructor is None
+                                else DenseProduct(w.reconstructor) for w in self.wfss])
 
     def _global_reconstructor(self):
         """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).
@@ -157,11 +162,10 @@ class LoopModel:
     def reconstruct(self, measurements: list[np.ndarray]) -> np.ndarray:
         """Modal residual of every DM (concatenated) from every WFS's measurements."""
         if self.reconstructor is not None:
-            return self.reconstructor @ np.concatenate(measurements)
+            return self._products[0](np.concatenate(measurements))
         out = np.empty(self.n_modes)
-        for wfs, s in zip(self.wfss, measurements, strict=True):
-            out[self.mode_slices[wfs.dm.index]] = (s if wfs.reconstructor is None
-                                                   else wfs.reconstructor @ s)
+        for wfs, product, s in zip(self.wfss, self._products, measurements, strict=True):
+            out[self.mode_slices[wfs.dm.index]] = s if product is None else product(s)
         return out
 
     def sense(self, plane_maps: list[np.ndarray], rng: np.random.Generator | None) -> np.ndarray:

@@ -68,6 +68,13 @@ _KEPT_SHARE = 0.1
 _SECONDS_PER_FRAME = 3.5e-4
 _SECONDS_PER_OP = 2.4e-10
 _MARGIN_PIXELS = 3
+#: CPU seconds per ``rows x cols x min(rows, cols)`` of a reconstructor's SVD (numpy's
+#: gesdd, one BLAS thread): 4.7 s for the 2,900 x 1,583 pseudo-inverse of a DKIST-like
+#: 43 x 43 Shack-Hartmann (benchmarks/RESULTS.md, "4-m loop")
+_SVD_SECONDS = 6.5e-10
+#: a set-up build is counted in ``setup_seconds`` from this CPU time [s] (the small
+#: SVDs of the earlier presets, milliseconds, are not reported)
+_COSTLY_SECONDS = 1.0
 #: most frames a run may count (a float counts whole frames exactly below ~9e15; 1e308 s
 #: overflowed the count)
 MAX_FRAMES = 1e15
@@ -100,8 +107,9 @@ class ResourceEstimate:
     setup_bytes, run_bytes : float
         The two phases whose larger one makes the peak (beyond the baseline).
     setup_seconds : float
-        Estimated CPU time of the set-up's costly builds the kinds report [s]
-        (``MirrorCost.setup_seconds``: an actuator DM's K-L modes; 0 when negligible).
+        Estimated CPU time of the set-up's costly builds [s]: those the kinds report
+        (``MirrorCost.setup_seconds``: an actuator DM's K-L modes) and the
+        reconstructor's SVD from 1 s (0 when negligible).
     """
 
     parts: dict = field(default_factory=dict)
@@ -241,6 +249,30 @@ def _frame_seconds(costs: list[SensorCost]) -> tuple[float, str]:
     return total, key
 
 
+def _svd_seconds(config: SimulationConfig, costs: list[SensorCost]) -> float:
+    """CPU time of the reconstructors' SVDs [s]: the joint MAP one, or one per WFS.
+
+    Several DMs (none zonal): one SVD of all measurements x all modes
+    (``LoopModel``'s joint MAP); one DM: the pseudo-inverse of each WFS's interaction
+    with it. A zonal (``"ideal"``) DM has no SVD. Counted from :data:`_COSTLY_SECONDS`.
+    """
+    if any(d.kind == "ideal" for d in config.dms):
+        return 0.0
+    dx = config.telescope.diameter / config.telescope.n_pixels
+    modes = [mirror_kind(d.kind).estimate(config, i, dx).n_modes
+             for i, d in enumerate(config.dms)]
+
+    def svd(rows: float, cols: float) -> float:
+        return _SVD_SECONDS * rows * cols * min(rows, cols)
+
+    if len(config.dms) > 1:
+        seconds = svd(sum(c.n_measurements for c in costs), sum(modes))
+    else:
+        seconds = sum(svd(c.n_measurements, modes[w.dm])
+                      for w, c in zip(config.wfss, costs, strict=True))
+    return seconds if seconds >= _COSTLY_SECONDS else 0.0
+
+
 def _matrices(n_frames: int, n_dir: int, n_meas_total: float,
               n_modes_total: float) -> tuple[float, float]:
     """Bytes of the dense reconstructor matrices and of the run's logs."""
@@ -331,7 +363,8 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
         parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
         seconds_per_frame=_seconds_per_frame(config, layout, dx, n_meas_total, n_modes_total,
                                              kept_operators, costs),
-        setup_bytes=setup, run_bytes=run, setup_seconds=dm_setup_seconds)
+        setup_bytes=setup, run_bytes=run,
+        setup_seconds=dm_setup_seconds + _svd_seconds(config, costs))
 
 
 def available_memory() -> float:

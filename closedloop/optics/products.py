@@ -1,0 +1,61 @@
+"""The loop's large dense matrix-vector products, in float32 above a size.
+
+Two dense products grow with a 4-m system every frame: the reconstructor (modes x
+measurements, 1,500 x 2,900 for a DKIST-like 43 x 43 Shack-Hartmann) and an actuator
+mirror's modal-to-command matrix ``m2c`` (1,584 x 1,500). Both stream their matrix from
+memory each frame (35 MB and 19 MB in float64, far beyond the caches), so their cost is
+memory traffic: measured 3.0 and 0.92 ms of CPU in float64, 0.95 and 0.42 ms in float32
+(``benchmarks/RESULTS.md``, "4-m loop").
+
+**Float32 changes nothing the loop reports.** A float32 product of an ``n``-term row
+has a relative error of order ``sqrt(n) 2^-24`` (3e-6 at n = 2,900) of ``|A| |x|``; in
+the loop it is an error in the measured modal residual (and in the strokes), which the
+integrator filters like measurement noise. At the 4-m size it moves the residual phase
+variance by less than 1e-5 of itself (the benchmark's same-seed comparison), while the
+WFS noise, aliasing and the frame-to-frame spread of the residual are 1e-2 to 1 of it.
+The matrices of every earlier preset are far below :data:`FLOAT32_MIN_BYTES` (table1's
+joint reconstructor: 1.2 MB), so their products stay float64 and their results bit for
+bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["DenseProduct", "FLOAT32_MIN_BYTES"]
+
+#: float64 size [bytes] from which a product runs in float32 (8 MB: beyond a core's L2
+#: and this machine's share of L3, where the product is bound by memory traffic)
+FLOAT32_MIN_BYTES = 8_000_000
+
+
+class DenseProduct:
+    """``y = A x`` with ``A`` held in float32 when its float64 form is large.
+
+    Parameters
+    ----------
+    matrix : (m, n) array_like
+        ``A`` (kept as given when small, as a float32 copy when its float64 size is at
+        least ``min_bytes``).
+    min_bytes : float or None
+        The size threshold [bytes]; None: :data:`FLOAT32_MIN_BYTES` as it is when the
+        product is made (``inf``: always float64).
+
+    Attributes
+    ----------
+    single : bool
+        Whether the product runs in float32.
+    """
+
+    def __init__(self, matrix, min_bytes: float | None = None):
+        if min_bytes is None:
+            min_bytes = FLOAT32_MIN_BYTES
+        a = np.asarray(matrix, dtype=np.float64)
+        self.single = a.ndim == 2 and 8.0 * a.size >= min_bytes
+        self.matrix = np.ascontiguousarray(a, dtype=np.float32) if self.single else a
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """Return ``A x`` as float64 ``(m,)``."""
+        if self.single:
+            return (self.matrix @ np.asarray(x, dtype=np.float32)).astype(np.float64)
+        return self.matrix @ x
