@@ -19,14 +19,15 @@ For each, in a subprocess per code tree (``--before`` = a checkout before this c
 default /work/main; then this checkout), in the same run:
 
 - set-up: CPU time of ``LoopModel(config)`` and of its parts (K-L build, WFS operators
-  and reconstructor), and a second ``LoopModel`` of the same config in the same process
-  (the in-process K-L cache);
+  and reconstructor; cProfile with the CPU clock), and, at the end, a second
+  ``LoopModel`` of the same config in the same process (the in-process K-L cache);
 - per frame: CPU time of ``simulate`` over ``--frames`` frames (the model reused, after a
   warm-up run; the screens drawn at the start are counted), and the per-part split
   (median over the frames of each part, timed on the same model and state: the
   atmosphere and residual maps per internal step, the exposure sum, the science
   directions, the WFS measurement, the reconstruction, the controller, the DM command);
-- peak RSS of the subprocess (``ru_maxrss``) against ``closedloop.resources.estimate``;
+- peak RSS of the subprocess (``ru_maxrss``, read before the second model is built)
+  against ``closedloop.resources.estimate`` for the run;
 - after only: the float32 products against float64 on the same model and seed (largest
   relative change of the residual variance, per direction, over the run).
 
@@ -132,13 +133,18 @@ def part_split(model, frames: int) -> dict:
         times["atmosphere+maps"].append(t_atm)
         times["exposure sum"].append(t_exp)
         times["science"].append(cpu(model.science.forward)[1])
-        meas, t = cpu(lambda: model.measure(sums, None))
-        times["WFS measure"].append(t)
-        m, t = cpu(lambda: model.reconstruct(meas))
-        times["reconstruct"].append(t)
-        (command, _, _), t = cpu(lambda: ctrl.step(m))
-        times["controller"].append(t)
-        times["DM command"].append(cpu(lambda: state.apply(command))[1])
+        t0 = time.process_time()
+        meas = model.measure(sums, None)
+        t1 = time.process_time()
+        m = model.reconstruct(meas)
+        t2 = time.process_time()
+        command = ctrl.step(m)[0]
+        t3 = time.process_time()
+        state.apply(command)
+        t4 = time.process_time()
+        for key, a, b in (("WFS measure", t0, t1), ("reconstruct", t1, t2),
+                          ("controller", t2, t3), ("DM command", t3, t4)):
+            times[key].append(b - a)
         for a in sums:
             a[:] = 0.0
     return {k: 1e3 * float(np.median(v)) for k, v in times.items()}
@@ -158,6 +164,11 @@ def float64_twin(model) -> None:
             dm._strokes = DenseProduct(dm.m2c, math.inf)
 
 
+def peak_rss() -> float:
+    """Peak resident memory of this process so far [bytes] (``ru_maxrss``)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024.0
+
+
 def child(which: str, n_modes: int, frames: int, compare: bool) -> dict:
     """Measure one configuration in this process (the code tree on ``sys.path``)."""
     import closedloop
@@ -175,10 +186,13 @@ def child(which: str, n_modes: int, frames: int, compare: bool) -> dict:
     import cProfile
     import pstats
 
+    out["peak_rss_imports"] = peak_rss()
+
     prof = cProfile.Profile(time.process_time)
     prof.enable()
     model, out["setup_cpu"] = cpu(lambda: LoopModel(cfg))
     prof.disable()
+    out["peak_rss_setup"] = peak_rss()
     stats = pstats.Stats(prof).stats
     parts = {"dm_kl_modes": 0.0, "pinv/svd": 0.0, "interaction": 0.0, "wfs _build": 0.0,
              "shapes (matrix @ m2c)": 0.0}
@@ -196,25 +210,33 @@ def child(which: str, n_modes: int, frames: int, compare: bool) -> dict:
     out["setup_parts_profiled_s"] = parts
     out["n_modes"] = model.n_modes
     out["n_measurements"] = [w.n_measurements for w in model.wfss]
-    out["n_valid_actuators"] = [getattr(d, "influence").n_valid for d in model.dms]
-    _, out["setup_cpu_second"] = cpu(lambda: LoopModel(cfg))
+    out["n_valid_actuators"] = [d.influence.n_valid for d in model.dms]
     simulate(cfg, 5 * cfg.loop.time_step, model=model)  # warm-up (numba, caches)
-    run, t = cpu(lambda: simulate(cfg, duration, model=model))
-    out["simulate_ms_per_frame"] = 1e3 * t / frames
+    t0 = time.process_time()
+    run = simulate(cfg, duration, model=model)
+    out["simulate_ms_per_frame"] = 1e3 * (time.process_time() - t0) / frames
+    out["peak_rss_run"] = peak_rss()
     out["parts_ms"] = part_split(model, min(frames, 100))
     out["residual_variance"] = run.residual_variance.mean(axis=0).tolist()
     if compare and hasattr(model, "_products"):
         out["single"] = [p.single for p in model._products if p is not None] + [
             d._strokes.single for d in model.dms if hasattr(d, "_strokes")]
         float64_twin(model)
-        twin, t64 = cpu(lambda: simulate(cfg, duration, model=model))
-        out["float64_simulate_ms_per_frame"] = 1e3 * t64 / frames
+        t0 = time.process_time()
+        twin = simulate(cfg, duration, model=model)
+        out["float64_simulate_ms_per_frame"] = 1e3 * (time.process_time() - t0) / frames
         out["float64_parts_ms"] = part_split(model, min(frames, 100))
         a, b = run.residual_variance, twin.residual_variance
         out["float32_max_rel_change_variance"] = float(np.max(np.abs(a - b) / b))
         out["float32_max_rel_change_mean_variance"] = float(
             np.max(np.abs(a.mean(axis=0) - b.mean(axis=0)) / b.mean(axis=0)))
-    out["peak_rss_bytes"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024.0
+    # the peak of one model's set-up and runs (before a second model exists)
+    out["peak_rss_bytes"] = peak_rss()
+    del model
+    import gc
+
+    gc.collect()
+    _, out["setup_cpu_second"] = cpu(lambda: LoopModel(cfg))  # the K-L cache, if any
     return out
 
 
@@ -237,7 +259,8 @@ def main() -> None:
     here = str(Path(__file__).resolve().parents[1])
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     with open("/proc/loadavg") as f:
-        print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {f.read().split()[:3]}")
+        load = f.read().split()[:3]
+    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {load}")
     for which in args.which:
         modes = args.modes if which == "dkist" else args.est_modes
         results = {}
