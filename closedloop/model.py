@@ -15,6 +15,7 @@ import numpy as np
 
 from closedloop.config import SimulationConfig
 from closedloop.kinds import mirror_kind, sensor_kind
+from closedloop.optics import products
 from closedloop.optics.atmosphere import Atmosphere, AtmosphericLayer
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.products import DenseProduct
@@ -117,6 +118,10 @@ class LoopModel:
         # truncated SVD in the noise- and prior-whitened space: R G is then an exact
         # projector, so commands never drift along directions the WFSs barely see
         whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+        if 8.0 * whitened.size >= products.GRAM_MIN_BYTES:  # 4-m sizes: 3x less CPU
+            pinv, self.n_controlled = products.gram_pinv(
+                whitened, lambda s0: max(_SNR_CUT, _RCOND * s0))
+            return np.sqrt(prior)[:, None] * pinv / np.sqrt(noise)[None, :]
         u, sv, vt = np.linalg.svd(whitened, full_matrices=False)
         keep = sv > max(_SNR_CUT, _RCOND * sv[0])
         self.n_controlled = int(keep.sum())

@@ -47,6 +47,7 @@ from closedloop.config import SimulationConfig, dm_disc_diameter
 from closedloop.kinds import SensorCost, mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
+from closedloop.optics.products import GRAM_MIN_BYTES
 from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
@@ -72,6 +73,9 @@ _MARGIN_PIXELS = 3
 #: gesdd, one BLAS thread): 4.7 s for the 2,900 x 1,583 pseudo-inverse of a DKIST-like
 #: 43 x 43 Shack-Hartmann (benchmarks/RESULTS.md, "4-m loop")
 _SVD_SECONDS = 6.5e-10
+#: the same through the Gram matrix (``closedloop.optics.products.gram_pinv``, matrices
+#: from ``GRAM_MIN_BYTES``): 1.1 s at 2,882 x 1,500
+_GRAM_SECONDS = 1.7e-10
 #: a set-up build is counted in ``setup_seconds`` from this CPU time [s] (the small
 #: SVDs of the earlier presets, milliseconds, are not reported)
 _COSTLY_SECONDS = 1.0
@@ -263,7 +267,8 @@ def _svd_seconds(config: SimulationConfig, costs: list[SensorCost]) -> float:
              for i, d in enumerate(config.dms)]
 
     def svd(rows: float, cols: float) -> float:
-        return _SVD_SECONDS * rows * cols * min(rows, cols)
+        per = _GRAM_SECONDS if 8.0 * rows * cols >= GRAM_MIN_BYTES else _SVD_SECONDS
+        return per * rows * cols * min(rows, cols)
 
     if len(config.dms) > 1:
         seconds = svd(sum(c.n_measurements for c in costs), sum(modes))

@@ -59,7 +59,7 @@ from closedloop.config import (
     wfs_meta_pupil,
 )
 from closedloop.kinds import SensorCost, SensorKind, register_sensor_kind
-from closedloop.optics import _kernels
+from closedloop.optics import _kernels, products
 from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
 
@@ -235,8 +235,10 @@ class WavefrontSensor:
     def _least_squares(self, rcond: float) -> np.ndarray | None:
         """Pseudo-inverse of the interaction matrix with its own DM."""
         inter = self.interaction
-        return np.linalg.pinv(inter.toarray() if sparse.issparse(inter) else inter,
-                              rcond=rcond)
+        inter = inter.toarray() if sparse.issparse(inter) else inter
+        if 8.0 * inter.size >= products.GRAM_MIN_BYTES:  # 4-m sizes: 3x less CPU
+            return products.gram_pinv(inter, lambda s0: rcond * s0)[0]
+        return np.linalg.pinv(inter, rcond=rcond)
 
     def reset(self) -> None:
         """Nothing to reset: a sensor's measurement is a fixed linear map (no state)."""

@@ -95,3 +95,22 @@ def test_the_loop_in_float32_moves_the_residual_by_rounding_only(tiny, monkeypat
     # the float64 model is untouched by the switch: its run repeats bit for bit
     again = simulate(tiny, 0.03, model=model64, progress=False)
     assert np.array_equal(run64.logs["dm0.commands"].coeffs, again.logs["dm0.commands"].coeffs)
+
+
+@pytest.mark.parametrize("shape", [(300, 120), (120, 300)])
+def test_the_gram_pseudo_inverse_is_numpys(shape):
+    # singular values from 1 to 1e-5, none within 10 % of the cut (1e-3): kept sets agree;
+    # the Gram squares the kept condition number (<= 1e6): error <= 1e6 eps = 2.2e-10 of
+    # the largest entry, asserted with a margin of 10
+    rng = np.random.default_rng(3)
+    m, n = shape
+    k = min(m, n)
+    u, _ = np.linalg.qr(rng.standard_normal((m, k)))
+    v, _ = np.linalg.qr(rng.standard_normal((n, k)))
+    sv = np.geomspace(1.0, 1e-5, k)
+    sv[np.abs(sv / 1e-3 - 1) < 0.1] *= 2.0
+    a = (u * sv) @ v.T
+    ref = np.linalg.pinv(a, rcond=1e-3)
+    got, kept = products.gram_pinv(a, lambda s0: 1e-3 * s0)
+    assert got.shape == ref.shape and kept == int(np.sum(sv > 1e-3 * sv.max()))
+    assert np.max(np.abs(got - ref)) <= 2.2e-9 * np.max(np.abs(ref))
