@@ -14,6 +14,9 @@ refuse):
 - ``planes``: the plane maps (residual, exposure sums, per-layer buffers);
 - ``dm_shapes``: each DM's shapes (a Zernike DM's ``(n_disc, M)`` mode shapes with their
   mirror tables) and its plane's build grids;
+- ``dm_build`` (only for kinds that report one): the largest mirror's arrays alive only
+  while it is built (an actuator DM's K-L eigen-problem), before the WFSs are built, so
+  the set-up's peak takes the larger of it and ``wfs_build``;
 - ``wfs_build``: the sparse operators of each WFS while they are assembled, the peak of
   the set-up: one entry per pixel pair (Shack-Hartmann), disc pixel (ideal) or pupil
   sample (correlating), per field sample (``1 + 3 r (r - 1)`` for ``r = field_samples``
@@ -201,23 +204,30 @@ def _planes(layout: list, oracle: bool) -> float:
 
 
 def _dms(config: SimulationConfig, layout: list,
-         dx: float) -> tuple[float, str, float, float]:
-    """Bytes of the DMs (shapes, tables, build grids), driver, mode count, set-up seconds."""
+         dx: float) -> tuple[float, str, float, float, float, str]:
+    """Bytes of the DMs, driver, mode count, set-up seconds, largest build transient, its key.
+
+    Bytes: shapes, tables and the planes' build grids; the transient is
+    ``MirrorCost.build_bytes``.
+    """
     sizes = [n for _, n, _, _ in layout]
     dm_bytes, dm_key, dm_worst = 0.0, "dms", -1.0
     n_modes_total = 0
     setup_seconds = 0.0
+    build, build_key = 0.0, "dms"
     for i, dm in enumerate(config.dms):
         p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
         cost = mirror_kind(dm.kind).estimate(config, i, dx)
         n_modes_total += cost.n_modes
         setup_seconds += cost.setup_seconds
+        if cost.build_bytes > build:
+            build, build_key = cost.build_bytes, cost.driver
         size = cost.shape_bytes + 5.0 * 8.0 * sizes[p] ** 2
         dm_bytes += size
         if size > dm_worst:
             dm_worst = size
             dm_key = cost.driver
-    return dm_bytes, dm_key, n_modes_total, setup_seconds
+    return dm_bytes, dm_key, n_modes_total, setup_seconds, build, build_key
 
 
 def _sensor_costs(config: SimulationConfig, n_planes: int, dx: float) -> list[SensorCost]:
@@ -337,7 +347,8 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
     layout = plane_layout(config)
     screens, transient, screen_key = _screens(config, layout, dx, total_time)
-    dm_bytes, dm_key, n_modes_total, dm_setup_seconds = _dms(config, layout, dx)
+    dm_bytes, dm_key, n_modes_total, dm_setup_seconds, dm_build, dm_build_key = _dms(
+        config, layout, dx)
     costs = _sensor_costs(config, len(layout), dx)
     builds, build_key, n_meas_total = _wfs_builds(config, layout, costs)
     # the set-up's peak: one WFS built at a time, the others kept as CSR
@@ -359,9 +370,12 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
                # a log's row holds 3 M modes, the directions and the measurements
                "logs": ("field.n_points" if config.field.n_points ** 2
                         > 3 * n_modes_total + n_meas_total else "duration")}
+    if dm_build > 0:  # a mirror's build transient (K-L arrays), before the WFSs are built
+        parts["dm_build"] = dm_build
+        drivers["dm_build"] = dm_build_key
 
     kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
-    setup = parts["pupil"] + parts["dm_shapes"] + parts["wfs_build"]
+    setup = parts["pupil"] + parts["dm_shapes"] + max(parts["wfs_build"], dm_build)
     run = kept + parts["screens"] + parts["planes"] + parts["logs"]
     peak = BASELINE_BYTES + max(setup, kept + parts["screens"] + transient, run)
     return ResourceEstimate(
