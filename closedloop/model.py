@@ -10,6 +10,7 @@ Words used for a sensor's work, one meaning each: a WFS *measures* (its measurem
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -55,16 +56,20 @@ class LoopModel:
         self.wfss = [sensor_kind(w.kind).build(self.geometry, j, self.dms[w.dm])
                      for j, w in enumerate(config.wfss)]
         self.science = ScienceCamera(self.geometry, self.geometry.directions)
+        self._large = any(dm.large_products for dm in self.dms)
         sizes = [dm.n_modes for dm in self.dms]
         self.mode_slices = [slice(a, a + n) for a, n in
                             zip(np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes, strict=True)]
         self.n_modes = int(sum(sizes))
         self.prior = None
         self.reconstructor = self._global_reconstructor()
-        # the per-frame products (float32 above a size: closedloop.optics.products)
-        self._products = ([DenseProduct(self.reconstructor)] if self.reconstructor is not None
+        # the per-frame products (float32 above a size with a mirror that asks for it:
+        # closedloop.optics.products; the earlier presets' are float64)
+        limit = None if self._large else math.inf
+        self._products = ([DenseProduct(self.reconstructor, limit)]
+                          if self.reconstructor is not None
                           else [None if w.reconstructor is None
-                                else DenseProduct(w.reconstructor) for w in self.wfss])
+                                else DenseProduct(w.reconstructor, limit) for w in self.wfss])
 
     def _global_reconstructor(self):
         """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).
@@ -118,7 +123,7 @@ class LoopModel:
         # truncated SVD in the noise- and prior-whitened space: R G is then an exact
         # projector, so commands never drift along directions the WFSs barely see
         whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
-        if 8.0 * whitened.size >= products.GRAM_MIN_BYTES:  # 4-m sizes: 3x less CPU
+        if self._large and 8.0 * whitened.size >= products.GRAM_MIN_BYTES:  # 3x less CPU
             pinv, self.n_controlled = products.gram_pinv(
                 whitened, lambda s0: max(_SNR_CUT, _RCOND * s0))
             return np.sqrt(prior)[:, None] * pinv / np.sqrt(noise)[None, :]

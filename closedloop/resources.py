@@ -277,7 +277,9 @@ def _svd_seconds(config: SimulationConfig, costs: list[SensorCost]) -> float:
              for i, d in enumerate(config.dms)]
 
     def svd(rows: float, cols: float) -> float:
-        per = _GRAM_SECONDS if 8.0 * rows * cols >= GRAM_MIN_BYTES else _SVD_SECONDS
+        gram = 8.0 * rows * cols >= GRAM_MIN_BYTES and any(
+            getattr(mirror_kind(d.kind).build, "large_products", False) for d in config.dms)
+        per = _GRAM_SECONDS if gram else _SVD_SECONDS
         return per * rows * cols * min(rows, cols)
 
     if len(config.dms) > 1:

@@ -300,6 +300,7 @@ class ActuatorDeformableMirror(DeformableMirror):
     """
 
     kind: ClassVar[str] = "actuators"
+    large_products: ClassVar[bool] = True  # 4-m sizes (closedloop.optics.products)
 
     def __init__(self, geometry: Geometry, index: int):
         self._geometry = geometry

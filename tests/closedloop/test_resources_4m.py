@@ -88,17 +88,19 @@ def test_the_gram_path_gives_the_svd_reconstructor(monkeypatch):
     # of the whitened matrix nearest the cut is 45 % from it, so both keep the same 20 of
     # 29; the Gram's rounding is <= eps kappa^2 <= 2.2e-10 (products.gram_pinv)
     from closedloop.optics import products
+    from closedloop.optics.dm import ZernikeMirror
 
     cfg = _two_dm_tiny()
     svd_model = LoopModel(cfg)
+    svd_wfs = [w.reconstructor for w in svd_model.wfss]  # built now (lazy), by the SVD
     monkeypatch.setattr(products, "GRAM_MIN_BYTES", 0)
+    monkeypatch.setattr(ZernikeMirror, "large_products", True)
     gram_model = LoopModel(cfg)
     assert gram_model.n_controlled == svd_model.n_controlled
     ref = svd_model.reconstructor
     assert np.max(np.abs(gram_model.reconstructor - ref)) <= 1e-8 * np.max(np.abs(ref))
-    for w_svd, w_gram in zip(svd_model.wfss, gram_model.wfss, strict=True):
-        assert np.max(np.abs(w_gram.reconstructor - w_svd.reconstructor)) <= 1e-8 * np.max(
-            np.abs(w_svd.reconstructor))
+    for r_svd, w_gram in zip(svd_wfs, gram_model.wfss, strict=True):
+        assert np.max(np.abs(w_gram.reconstructor - r_svd)) <= 1e-8 * np.max(np.abs(r_svd))
 
 
 @pytest.mark.slow
@@ -129,3 +131,16 @@ def test_the_kl_build_fits_in_its_estimate_at_dkist_size():
         _dm_kl_cache.clear()
     held = est.parts["dm_build"] + 8.0 * n * n + 2 * 8.0 * n * m
     assert peak <= held <= 1.5 * peak
+
+
+def test_earlier_presets_keep_float64_products_and_svds_at_any_size():
+    # the error-budget probe's ideal-sensor model of table1 has an 11.9 MB joint
+    # reconstructor (3,228 + 4,872 pixels x 184 modes), above the 8 MB thresholds: with
+    # Zernike mirrors it stays on the float64 product and the SVD (the golden budgets)
+    from closedloop.budget import _ideal_config
+    from closedloop.optics import products
+
+    model = LoopModel(_ideal_config(presets.get("table1")))
+    assert 8 * model.reconstructor.size >= products.FLOAT32_MIN_BYTES
+    assert not model._products[0].single
+    assert model.reconstructor is model._products[0].matrix
