@@ -13,9 +13,11 @@ the loop it is an error in the measured modal residual (and in the strokes), whi
 integrator filters like measurement noise. At the 4-m size it moves the residual phase
 variance by less than 1e-5 of itself (the benchmark's same-seed comparison), while the
 WFS noise, aliasing and the frame-to-frame spread of the residual are 1e-2 to 1 of it.
-The matrices of every earlier preset are far below :data:`FLOAT32_MIN_BYTES` (table1's
-joint reconstructor: 1.2 MB), so their products stay float64 and their results bit for
-bit.
+Only loops with a mirror whose kind asks for it
+(``DeformableMirror.large_products``: the actuator DM) switch; every other loop keeps
+its float64 products and SVDs whatever their size, so the earlier presets keep their
+bits (the error-budget probe's ideal-sensor model of table1 has an 11.9 MB reconstructor,
+above the threshold: it moved fig7's budget terms by 2e-6 before this rule).
 
 The reconstructors themselves are truncated pseudo-inverses; above :data:`GRAM_MIN_BYTES`
 :func:`gram_pinv` takes them through the eigen-decomposition of the Gram matrix
@@ -37,7 +39,7 @@ __all__ = ["DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "gram_pinv"]
 #: and this machine's share of L3, where the product is bound by memory traffic)
 FLOAT32_MIN_BYTES = 8_000_000
 #: float64 size [bytes] of a matrix from which its truncated pseudo-inverse is taken
-#: through its Gram matrix (every earlier preset's are below: their SVDs, their bits)
+#: through its Gram matrix (in loops with ``large_products`` mirrors only)
 GRAM_MIN_BYTES = 8_000_000
 
 
