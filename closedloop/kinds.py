@@ -80,6 +80,9 @@ class MirrorCost:
     setup_seconds : float
         CPU time to build it beyond its shapes' evaluation [s] (e.g. an eigen-decomposition
         for its modes; 0: negligible).
+    build_bytes : float
+        Bytes alive only while it is built (freed before the loop runs; e.g. the dense
+        arrays of an eigen-decomposition; 0: none worth counting).
     """
 
     n_modes: float
@@ -87,6 +90,7 @@ class MirrorCost:
     ops_per_pixel: float
     driver: str
     setup_seconds: float = 0.0
+    build_bytes: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,9 @@ refuse):
 - ``planes``: the plane maps (residual, exposure sums, per-layer buffers);
 - ``dm_shapes``: each DM's shapes (a Zernike DM's ``(n_disc, M)`` mode shapes with their
   mirror tables) and its plane's build grids;
+- ``dm_build`` (only for kinds that report one): the largest mirror's arrays alive only
+  while it is built (an actuator DM's K-L eigen-problem), before the WFSs are built, so
+  the set-up's peak takes the larger of it and ``wfs_build``;
 - ``wfs_build``: the sparse operators of each WFS while they are assembled, the peak of
   the set-up: one entry per pixel pair (Shack-Hartmann), disc pixel (ideal) or pupil
   sample (correlating), per field sample (``1 + 3 r (r - 1)`` for ``r = field_samples``
@@ -47,6 +50,7 @@ from closedloop.config import SimulationConfig, dm_disc_diameter
 from closedloop.kinds import SensorCost, mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
+from closedloop.optics.products import GRAM_MIN_BYTES
 from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
@@ -68,6 +72,16 @@ _KEPT_SHARE = 0.1
 _SECONDS_PER_FRAME = 3.5e-4
 _SECONDS_PER_OP = 2.4e-10
 _MARGIN_PIXELS = 3
+#: CPU seconds per ``rows x cols x min(rows, cols)`` of a reconstructor's SVD (numpy's
+#: gesdd, one BLAS thread): 4.7 s for the 2,900 x 1,583 pseudo-inverse of a DKIST-like
+#: 43 x 43 Shack-Hartmann (benchmarks/RESULTS.md, "4-m loop")
+_SVD_SECONDS = 6.5e-10
+#: the same through the Gram matrix (``closedloop.optics.products.gram_pinv``, matrices
+#: from ``GRAM_MIN_BYTES``): 1.1 s at 2,882 x 1,500
+_GRAM_SECONDS = 1.7e-10
+#: a set-up build is counted in ``setup_seconds`` from this CPU time [s] (the small
+#: SVDs of the earlier presets, milliseconds, are not reported)
+_COSTLY_SECONDS = 1.0
 #: most frames a run may count (a float counts whole frames exactly below ~9e15; 1e308 s
 #: overflowed the count)
 MAX_FRAMES = 1e15
@@ -100,8 +114,9 @@ class ResourceEstimate:
     setup_bytes, run_bytes : float
         The two phases whose larger one makes the peak (beyond the baseline).
     setup_seconds : float
-        Estimated CPU time of the set-up's costly builds the kinds report [s]
-        (``MirrorCost.setup_seconds``: an actuator DM's K-L modes; 0 when negligible).
+        Estimated CPU time of the set-up's costly builds [s]: those the kinds report
+        (``MirrorCost.setup_seconds``: an actuator DM's K-L modes) and the
+        reconstructor's SVD from 1 s (0 when negligible).
     """
 
     parts: dict = field(default_factory=dict)
@@ -189,23 +204,30 @@ def _planes(layout: list, oracle: bool) -> float:
 
 
 def _dms(config: SimulationConfig, layout: list,
-         dx: float) -> tuple[float, str, float, float]:
-    """Bytes of the DMs (shapes, tables, build grids), driver, mode count, set-up seconds."""
+         dx: float) -> tuple[float, str, float, float, float, str]:
+    """Bytes of the DMs, driver, mode count, set-up seconds, largest build transient, its key.
+
+    Bytes: shapes, tables and the planes' build grids; the transient is
+    ``MirrorCost.build_bytes``.
+    """
     sizes = [n for _, n, _, _ in layout]
     dm_bytes, dm_key, dm_worst = 0.0, "dms", -1.0
     n_modes_total = 0
     setup_seconds = 0.0
+    build, build_key = 0.0, "dms"
     for i, dm in enumerate(config.dms):
         p = next(k for k, (_, _, _, dms) in enumerate(layout) if i in dms)
         cost = mirror_kind(dm.kind).estimate(config, i, dx)
         n_modes_total += cost.n_modes
         setup_seconds += cost.setup_seconds
+        if cost.build_bytes > build:
+            build, build_key = cost.build_bytes, cost.driver
         size = cost.shape_bytes + 5.0 * 8.0 * sizes[p] ** 2
         dm_bytes += size
         if size > dm_worst:
             dm_worst = size
             dm_key = cost.driver
-    return dm_bytes, dm_key, n_modes_total, setup_seconds
+    return dm_bytes, dm_key, n_modes_total, setup_seconds, build, build_key
 
 
 def _sensor_costs(config: SimulationConfig, n_planes: int, dx: float) -> list[SensorCost]:
@@ -239,6 +261,33 @@ def _frame_seconds(costs: list[SensorCost]) -> tuple[float, str]:
         if cost.frame_seconds > worst:
             worst, key = cost.frame_seconds, cost.frame_key
     return total, key
+
+
+def _svd_seconds(config: SimulationConfig, costs: list[SensorCost]) -> float:
+    """CPU time of the reconstructors' SVDs [s]: the joint MAP one, or one per WFS.
+
+    Several DMs (none zonal): one SVD of all measurements x all modes
+    (``LoopModel``'s joint MAP); one DM: the pseudo-inverse of each WFS's interaction
+    with it. A zonal (``"ideal"``) DM has no SVD. Counted from :data:`_COSTLY_SECONDS`.
+    """
+    if any(d.kind == "ideal" for d in config.dms):
+        return 0.0
+    dx = config.telescope.diameter / config.telescope.n_pixels
+    modes = [mirror_kind(d.kind).estimate(config, i, dx).n_modes
+             for i, d in enumerate(config.dms)]
+
+    def svd(rows: float, cols: float) -> float:
+        gram = 8.0 * rows * cols >= GRAM_MIN_BYTES and any(
+            getattr(mirror_kind(d.kind).build, "large_products", False) for d in config.dms)
+        per = _GRAM_SECONDS if gram else _SVD_SECONDS
+        return per * rows * cols * min(rows, cols)
+
+    if len(config.dms) > 1:
+        seconds = svd(sum(c.n_measurements for c in costs), sum(modes))
+    else:
+        seconds = sum(svd(c.n_measurements, modes[w.dm])
+                      for w, c in zip(config.wfss, costs, strict=True))
+    return seconds if seconds >= _COSTLY_SECONDS else 0.0
 
 
 def _matrices(n_frames: int, n_dir: int, n_meas_total: float,
@@ -300,7 +349,8 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
     layout = plane_layout(config)
     screens, transient, screen_key = _screens(config, layout, dx, total_time)
-    dm_bytes, dm_key, n_modes_total, dm_setup_seconds = _dms(config, layout, dx)
+    dm_bytes, dm_key, n_modes_total, dm_setup_seconds, dm_build, dm_build_key = _dms(
+        config, layout, dx)
     costs = _sensor_costs(config, len(layout), dx)
     builds, build_key, n_meas_total = _wfs_builds(config, layout, costs)
     # the set-up's peak: one WFS built at a time, the others kept as CSR
@@ -322,16 +372,20 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
                # a log's row holds 3 M modes, the directions and the measurements
                "logs": ("field.n_points" if config.field.n_points ** 2
                         > 3 * n_modes_total + n_meas_total else "duration")}
+    if dm_build > 0:  # a mirror's build transient (K-L arrays), before the WFSs are built
+        parts["dm_build"] = dm_build
+        drivers["dm_build"] = dm_build_key
 
     kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
-    setup = parts["pupil"] + parts["dm_shapes"] + parts["wfs_build"]
+    setup = parts["pupil"] + parts["dm_shapes"] + max(parts["wfs_build"], dm_build)
     run = kept + parts["screens"] + parts["planes"] + parts["logs"]
     peak = BASELINE_BYTES + max(setup, kept + parts["screens"] + transient, run)
     return ResourceEstimate(
         parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
         seconds_per_frame=_seconds_per_frame(config, layout, dx, n_meas_total, n_modes_total,
                                              kept_operators, costs),
-        setup_bytes=setup, run_bytes=run, setup_seconds=dm_setup_seconds)
+        setup_bytes=setup, run_bytes=run,
+        setup_seconds=dm_setup_seconds + _svd_seconds(config, costs))
 
 
 def available_memory() -> float:

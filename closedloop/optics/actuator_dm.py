@@ -52,6 +52,7 @@ from closedloop.config import SimulationConfig, dm_disc_diameter
 from closedloop.kinds import MirrorCost, MirrorKind, register_mirror_kind
 from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import Geometry
+from closedloop.optics.products import FLOAT32_MIN_BYTES, DenseProduct
 from modalinfo.bases import (
     DMKLBasis,
     InfluenceFunctions,
@@ -73,10 +74,14 @@ PIXELS_PER_PITCH = 2
 #: eigen-decomposition): 3.4 s at 1,584 and 52 s at 4,596 valid actuators on this
 #: machine (docs/CLOSEDLOOP.md, "Actuator DM"); 7e-10 is within a factor 1.6 of both
 _KL_SECONDS_PER_ACTUATOR3 = 7e-10
-#: dense n_valid x n_valid float64 arrays alive at once while the K-L modes are built
-#: (Gram, its Cholesky factor, the structure operator, the prior, its whitened copy and
-#: the eigenvectors)
-_KL_DENSE_ARRAYS = 6
+#: dense n_valid x n_valid float64 arrays alive at once while the K-L modes are built,
+#: beyond the Gram matrix (kept: the influence functions cache it) and ``m2c``: the
+#: structure operator, the prior, the Cholesky factor, the whitened prior and its
+#: symmetrised copies, the eigen-solver's copy and vectors. Measured with tracemalloc at
+#: 1,584 actuators, 1,500 modes: a peak of 9.8 n_valid^2 x 8 bytes, of which the Gram
+#: matrix, ``m2c`` and its cached copy (``modalinfo.bases._dm_kl_cache``) are 2.9; 8
+#: leaves 11 % (tests/closedloop/test_resources_4m.py)
+_KL_BUILD_ARRAYS = 8
 
 
 @dataclass(frozen=True)
@@ -200,7 +205,7 @@ def _check(config: SimulationConfig, i: int) -> None:
 
 
 def _cost(config: SimulationConfig, i: int, dx: float) -> MirrorCost:
-    """Shapes, ``m2c``, the sparse influence matrix and the K-L build; the per-update work."""
+    """Shapes, ``m2c``, influence and Gram matrices; the K-L transient; work per update."""
     opts = config.dms[i].options
     disc = dm_disc_diameter(config, i)
     n_act = actuators_across(config, i)
@@ -211,14 +216,17 @@ def _cost(config: SimulationConfig, i: int, dx: float) -> MirrorCost:
     radius = pitch * math.sqrt(math.log(DEFAULT_TRUNCATION) / math.log(opts.coupling))
     band = 2.0 * radius / pitch + 1.0  # actuators a pixel's 1-D factor reaches
     nnz = n_valid * (2.0 * radius / dx + 1.0) ** 2  # sparse influence matrix (CSR, 12 B)
-    shape_bytes = (8.0 * n_disc * m + 8.0 * n_valid * m + 12.0 * nnz
-                   + _KL_DENSE_ARRAYS * 8.0 * n_valid ** 2)
+    # m2c, its copy in the K-L cache, and its float32 copy from 8 MB (optics.products)
+    strokes = 8.0 * n_valid * m
+    strokes = 2.0 * strokes + (0.5 * strokes if strokes >= FLOAT32_MIN_BYTES else 0.0)
+    shape_bytes = 8.0 * n_disc * m + strokes + 12.0 * nnz + 8.0 * n_valid ** 2
     # per update: strokes m2c @ c, then the separable product (columns, then rows)
     side = disc / dx
     ops = n_valid * m + n_act * side * band + n_disc * band
     return MirrorCost(n_modes=m, shape_bytes=shape_bytes, ops_per_pixel=ops / n_disc,
                       driver=f"dms[{i}].n_actuators",
-                      setup_seconds=_KL_SECONDS_PER_ACTUATOR3 * float(n_valid) ** 3)
+                      setup_seconds=_KL_SECONDS_PER_ACTUATOR3 * float(n_valid) ** 3,
+                      build_bytes=_KL_BUILD_ARRAYS * 8.0 * n_valid ** 2)
 
 
 def _aot(dm: ActuatorDeformableMirror) -> dict:
@@ -292,6 +300,7 @@ class ActuatorDeformableMirror(DeformableMirror):
     """
 
     kind: ClassVar[str] = "actuators"
+    large_products: ClassVar[bool] = True  # 4-m sizes (closedloop.optics.products)
 
     def __init__(self, geometry: Geometry, index: int):
         self._geometry = geometry
@@ -314,6 +323,7 @@ class ActuatorDeformableMirror(DeformableMirror):
                                                      n_modes=cfg.n_modes)
         self.m2c.flags.writeable = False
         self.prior_variances.flags.writeable = False
+        self._strokes = DenseProduct(self.m2c)
         shapes = np.ascontiguousarray(self.influence.matrix @ self.m2c)
         shapes.flags.writeable = False
         return [], shapes
@@ -350,8 +360,12 @@ class ActuatorDeformableMirror(DeformableMirror):
         return self.m2c @ np.asarray(commands, dtype=np.float64)
 
     def forward(self, commands: np.ndarray) -> np.ndarray:
-        """Mirror phase on its disc's pixels [rad], ``(n_disc,)``, for ``commands`` ``(M,)``."""
-        return self.influence.surface(self.strokes(commands))
+        """Mirror phase on its disc's pixels [rad], ``(n_disc,)``, for ``commands`` ``(M,)``.
+
+        The strokes ``m2c @ commands`` in float32 when ``m2c`` is large
+        (:mod:`closedloop.optics.products`: 19 MB at 1,584 x 1,500), then the separable surface.
+        """
+        return self.influence.surface(self._strokes(np.asarray(commands, dtype=np.float64)))
 
 
 #: the mirror of actuators (DM-space K-L commands)

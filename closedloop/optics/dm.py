@@ -97,6 +97,10 @@ class DeformableMirror:
 
     #: the config's ``dms[i].kind`` this class implements (the registry key)
     kind: ClassVar[str] = ""
+    #: a loop with a mirror of this kind takes its large reconstructor products in float32
+    #: and its large pseudo-inverses through the Gram matrix (closedloop.optics.products);
+    #: False keeps the float64 products and SVDs (and the bits) of the earlier presets
+    large_products: ClassVar[bool] = False
 
     def __init__(self, geometry: Geometry, index: int):
         cfg = geometry.config.dms[index]

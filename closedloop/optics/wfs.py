@@ -45,6 +45,7 @@ memory estimate and their AOT records sit beside their classes.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import ClassVar
 
@@ -58,7 +59,7 @@ from closedloop.config import (
     wfs_meta_pupil,
 )
 from closedloop.kinds import SensorCost, SensorKind, register_sensor_kind
-from closedloop.optics import _kernels
+from closedloop.optics import _kernels, products
 from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
 
@@ -215,7 +216,17 @@ class WavefrontSensor:
                       np.ascontiguousarray(op.data, dtype=np.float64))
                      for op in self.operators]
         self.interaction = self.interaction_with(dm)
-        self.reconstructor = self._least_squares(rcond)
+        self._rcond = rcond
+
+    @functools.cached_property
+    def reconstructor(self) -> np.ndarray | None:
+        """Least-squares reconstructor onto its own DM's modes, built on first use.
+
+        ``(M, n_meas)``, or None (a zonal DM's identity). A model with a joint MAP
+        reconstructor (several DMs) never reads it, so its SVD is not paid there (at
+        4-m size the pseudo-inverse of a 2,900 x 1,500 interaction matrix is ~5 s).
+        """
+        return self._least_squares(self._rcond)
 
     def _build(self, cfg) -> None:
         """Set ``operators`` and ``n_measurements`` (and ``noise_rms``) for this kind."""
@@ -224,8 +235,10 @@ class WavefrontSensor:
     def _least_squares(self, rcond: float) -> np.ndarray | None:
         """Pseudo-inverse of the interaction matrix with its own DM."""
         inter = self.interaction
-        return np.linalg.pinv(inter.toarray() if sparse.issparse(inter) else inter,
-                              rcond=rcond)
+        inter = inter.toarray() if sparse.issparse(inter) else inter
+        if self.dm.large_products and 8.0 * inter.size >= products.GRAM_MIN_BYTES:
+            return products.gram_pinv(inter, lambda s0: rcond * s0)[0]
+        return np.linalg.pinv(inter, rcond=rcond)
 
     def reset(self) -> None:
         """Nothing to reset: a sensor's measurement is a fixed linear map (no state)."""
