@@ -297,3 +297,41 @@ def test_subaperture_sampling_message():
     assert str(err.value) == (
         "`wfss[0].n_subapertures` must be <= 8 (at least 2 pixels per subaperture across the "
         "16-pixel meta-pupil at telescope.n_pixels = 16); got 9.")
+
+
+def test_forward_adds_the_draws_scaled_by_noise_rms(sh):
+    # forward's contract: the draws given are standard normal, scaled by noise_rms and
+    # added to the noise-free measurement (a flat residual measures 0)
+    _, model = sh
+    w = model.wfss[0]
+    maps = [np.zeros((p.n, p.n)) for p in model.geometry.planes]
+    draws = np.random.default_rng(4).standard_normal(w.n_measurements)
+    np.testing.assert_array_equal(w.forward(maps, draws), w.noise_rms * draws)
+    np.testing.assert_array_equal(w.forward(maps), np.zeros(w.n_measurements))
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+@pytest.mark.parametrize("n_sub", [7, 8, 14])
+def test_window_weights_partition_each_subaperture_and_each_cell(axis, n_sub):
+    # a pair's dx x dx cell ([x, x + dx] along the axis, [y - dx/2, y + dx/2] across)
+    # tiles the plane with the other pairs' cells: the weights (area inside S / dx^2)
+    # sum to (pitch / dx)^2 over each subaperture S and to 1 over each cell inside the
+    # square; 7 or 14 subapertures over 32 pixels put edges inside pixels (14: a pitch
+    # of 2.3 pixels, near the 2-pixel limit of the config)
+    dx, d_wfs, n = 0.125, 4.0, 40
+    x = (np.arange(n) - (n - 1) / 2.0) * dx + 0.03  # the grid off the square's centre
+    xx, yy = np.meshgrid(x[:-1], x)
+    start = np.column_stack([xx.ravel(), yy.ravel()])
+    if axis == 1:
+        start = start[:, ::-1]
+    pair, sub, weight = wfs_module._window_entries(start, axis, dx, d_wfs, n_sub)
+    assert np.all(weight > 0) and np.all((sub >= 0) & (sub < n_sub ** 2))
+    per_sub = np.bincount(sub, weights=weight, minlength=n_sub ** 2)
+    np.testing.assert_allclose(per_sub, (d_wfs / n_sub / dx) ** 2, rtol=1e-12)
+    per_pair = np.bincount(pair, weights=weight, minlength=start.shape[0])
+    s, y = start[:, axis], start[:, 1 - axis]
+    inside = (s >= -2.0) & (s + dx <= 2.0) & (y - dx / 2 >= -2.0) & (y + dx / 2 <= 2.0)
+    outside = (s >= 2.0) | (s + dx <= -2.0) | (y - dx / 2 >= 2.0) | (y + dx / 2 <= -2.0)
+    assert inside.sum() > 900
+    np.testing.assert_allclose(per_pair[inside], 1.0, rtol=1e-12)
+    assert np.all(per_pair[outside] == 0.0)
