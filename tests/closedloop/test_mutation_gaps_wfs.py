@@ -335,3 +335,24 @@ def test_window_weights_partition_each_subaperture_and_each_cell(axis, n_sub):
     assert inside.sum() > 900
     np.testing.assert_allclose(per_pair[inside], 1.0, rtol=1e-12)
     assert np.all(per_pair[outside] == 0.0)
+
+
+def test_bilinear_matrix_is_scipys_linear_interpolation_up_to_the_last_pixel():
+    # reference: scipy.interpolate.RegularGridInterpolator (linear) on the same grid,
+    # points anywhere in [0, n - 1] including the edges (the last cell's clamp) and
+    # the first cell
+    from scipy.interpolate import RegularGridInterpolator
+
+    n = 6
+    values = np.random.default_rng(1).standard_normal((n, n))  # rows, columns
+    rng = np.random.default_rng(2)
+    cols = np.concatenate([rng.uniform(0, n - 1, 50), [0.0, n - 1.0, n - 1.0, 0.5, 4.7]])
+    rows = np.concatenate([rng.uniform(0, n - 1, 50), [n - 1.0, 0.0, n - 1.0, 0.2, n - 1.0]])
+    m = wfs_module.bilinear_matrix(cols, rows, n)
+    ref = RegularGridInterpolator((np.arange(n), np.arange(n)), values)(
+        np.column_stack([rows, cols]))
+    np.testing.assert_allclose(m @ values.ravel(), ref, rtol=0, atol=1e-13)
+    # a point off the grid on one axis only is refused
+    for c, r in ((-0.5, 2.0), (2.0, -0.5)):
+        with pytest.raises(ValueError):
+            wfs_module.bilinear_matrix(np.array([c]), np.array([r]), n)
