@@ -103,6 +103,8 @@ def test_shack_hartmann_aot_record(sh):
         "subaperture_pitch": pytest.approx(pitch, rel=1e-12), "n_subapertures": 8,
         "order": "d = 0: x slopes, d = 1: y slopes; mask rows are y", "own": 1}
     assert isinstance(spec.extra["field_samples"], int)
+    # without a kind's extra entries: the valid subapertures only
+    assert wfs_module.slopes_aot_record(model, 0, wcfg, layout).n_valid_subapertures == n
 
 
 def test_index_grid_marks_the_listed_cells():
@@ -136,8 +138,13 @@ def test_ideal_sensor_aot_record_is_a_one_value_pyramid_on_the_lit_disc(ideal):
     np.testing.assert_array_equal(mask.ravel()[lit], np.arange(lit.size))
     assert (mask == -1).sum() == n_p * n_p - lit.size
     assert spec.extra["kind"] == "ideal" and spec.extra["drives"] == "dm0"
-    assert spec.extra["note"].startswith("AOT has no ideal (phase) sensor type: written as a "
-                                         "Pyramid record with one value per subaperture")
+    assert spec.extra["note"] == (
+        "AOT has no ideal (phase) sensor type: written as a Pyramid record with one value "
+        "per subaperture; its subapertures are the measured pixels of its DM's disc (mask "
+        "on the DM plane grid), its measurements their field-averaged phase [rad] as the "
+        "simulator's sensor gives them")
+    assert spec.measurements is layout
+    assert spec.field_of_view == 30.0 and spec.altitude == 0.0
     assert spec.extra["noise_arcsec"] == 0.0 and spec.extra["line_of_sight_altitude"] == 0.0
 
 
