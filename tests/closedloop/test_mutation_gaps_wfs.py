@@ -363,3 +363,15 @@ def test_bilinear_matrix_is_scipys_linear_interpolation_up_to_the_last_pixel():
     for c, r in ((-0.5, 2.0), (2.0, -0.5)):
         with pytest.raises(ValueError):
             wfs_module.bilinear_matrix(np.array([c]), np.array([r]), n)
+
+
+def test_a_shack_hartmann_on_a_zonal_mirror_gets_a_pseudo_inverse():
+    # the zonal DM's interaction is sparse; the reconstructor is its Moore-Penrose
+    # pseudo-inverse (R G R = R, R G symmetric), one row per disc pixel
+    cfg = _config().replace(dms=(DMConfig(altitude=0.0, kind="ideal"),))
+    w = LoopModel(cfg).wfss[0]
+    g = w.interaction.toarray()
+    r = w.reconstructor
+    assert r.shape == (w.dm.pixels.size, w.n_measurements)
+    np.testing.assert_allclose(r @ g @ r, r, atol=1e-10 * np.abs(r).max())
+    np.testing.assert_allclose(r @ g, (r @ g).T, atol=1e-10)
