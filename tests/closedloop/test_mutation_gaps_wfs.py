@@ -375,3 +375,20 @@ def test_a_shack_hartmann_on_a_zonal_mirror_gets_a_pseudo_inverse():
     assert r.shape == (w.dm.pixels.size, w.n_measurements)
     np.testing.assert_allclose(r @ g @ r, r, atol=1e-10 * np.abs(r).max())
     np.testing.assert_allclose(r @ g, (r @ g).T, atol=1e-10)
+
+
+def test_an_ideal_sensor_is_noise_free_and_reads_back_its_mirrors_modes():
+    # an ideal sensor at the DM's altitude sees each DM mode's own shape and its
+    # least-squares fit on the DM's modes is that mode (piston removed from both sides)
+    cfg = _config(kind="ideal", altitude=3000.0, field=60.0)
+    model = LoopModel(cfg)
+    w = model.wfss[0]
+    assert w.noise_rms == 0.0
+    g = model.geometry
+    maps = [np.zeros((p.n, p.n)) for p in g.planes]
+    for k in (0, 3, 8):
+        flat = np.zeros(g.planes[w.dm.plane].n ** 2)
+        flat[w.dm.pixels] = w.dm.shapes[:, k]
+        maps[w.dm.plane] = flat.reshape(maps[w.dm.plane].shape)
+        np.testing.assert_allclose(model.sense(maps, np.random.default_rng(0)),
+                                   np.eye(w.dm.n_modes)[k], atol=1e-10)
