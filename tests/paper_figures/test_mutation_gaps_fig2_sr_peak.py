@@ -121,6 +121,9 @@ def drawn(tmp_path_factory):
 
 
 def test_plot_files_read_back(drawn):
+    # every read-back in one test: the module fixture draws once, in the first
+    # test's setup, and mutmut runs a mutant of `plot` only with the tests that called it
+    import matplotlib.colors as mcolors
     import matplotlib.image
 
     out, paths, figures = drawn
@@ -130,12 +133,6 @@ def test_plot_files_read_back(drawn):
     assert paths[1].read_bytes()[:5] == b"%PDF-"
     assert set(figures) == {"fig2_sr_peak.png", "fig2_sr_peak.pdf"}
     assert figures["fig2_sr_peak.png"] is figures["fig2_sr_peak.pdf"]
-
-
-def test_plot_axes_units_and_series(drawn):
-    import matplotlib.colors as mcolors
-
-    _, _, figures = drawn
     fig = figures["fig2_sr_peak.png"]
     assert tuple(fig.get_size_inches()) == (8.0, 4.8)
     (ax,) = fig.axes

@@ -283,6 +283,9 @@ def drawn(tmp_path_factory):
 
 
 def test_plot_files(drawn):
+    # every read-back in one test: the module fixture draws once, in the first
+    # test's setup, and mutmut runs a mutant of `plot` only with the tests that called it
+    import matplotlib.colors as mcolors
     import matplotlib.image
 
     out, f, paths, figures = drawn
@@ -293,12 +296,6 @@ def test_plot_files(drawn):
     assert f.evaluation.calls == [("to_json", out / "fig5_forecast_s.json", True),
                                   ("plot_rmse", False), ("plot_rmse", True)]
     assert tuple(figures["fig5_forecast_s.png"].get_size_inches()) == (16.0, 8.5)
-
-
-def test_plot_panels_read_back(drawn):
-    import matplotlib.colors as mcolors
-
-    _, f, _, figures = drawn
     a, b, c, r, g = figures["fig5_forecast_s.png"].axes
     assert a.get_title() == "(a) linear predictor, Z2"
     assert b.get_title() == "(b) ARMA(2,3) fitted on frames 0-6999"

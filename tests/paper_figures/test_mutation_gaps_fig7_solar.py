@@ -455,6 +455,9 @@ def drawn(tmp_path_factory):
 
 
 def test_plot_writes_png_pdf_and_strict_json(drawn):
+    # every read-back in one test: the module fixture draws once, in the first
+    # test's setup, and mutmut runs a mutant of `plot` only with the tests that called it
+    import matplotlib.colors as mcolors
     import matplotlib.image
 
     out, paths, figures = drawn
@@ -469,19 +472,6 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
     expected["table1"]["budget"] = dict(T1_B, direction=[0.0, 0.0])
     assert data == expected
     assert text == json.dumps(expected, indent=1)
-
-
-def test_json_safe():
-    got = fig7._json_safe({1: (np.float64(NAN), np.int64(3), float("inf")),
-                           "a": [np.float32(0.5), {"b": -math.inf}], "c": "x", "d": None})
-    assert got == {"1": [None, 3, None], "a": [0.5, {"b": None}], "c": "x", "d": None}
-    assert type(got["1"][1]) is int and type(got["a"][0]) is float
-
-
-def test_plot_panels_read_back(drawn):
-    import matplotlib.colors as mcolors
-
-    _, _, figures = drawn
     fig = figures["fig7_solar.png"]
     assert tuple(fig.get_size_inches()) == (13.0, 9.0)
     assert fig._suptitle.get_text() == ("Figure 7 (extension, not in the paper): solar "
@@ -569,6 +559,13 @@ def test_plot_panels_read_back(drawn):
     assert mcolors.to_hex(twin.yaxis.label.get_color()) == mcolors.to_hex("tab:purple")
     assert [t.get_text() for t in twin.get_legend().get_texts()] == [
         "noise term (no prediction)"]
+
+
+def test_json_safe():
+    got = fig7._json_safe({1: (np.float64(NAN), np.int64(3), float("inf")),
+                           "a": [np.float32(0.5), {"b": -math.inf}], "c": "x", "d": None})
+    assert got == {"1": [None, 3, None], "a": [0.5, {"b": None}], "c": "x", "d": None}
+    assert type(got["1"][1]) is int and type(got["a"][0]) is float
 
 
 def test_plot_suptitle_quick(tmp_path, monkeypatch):
