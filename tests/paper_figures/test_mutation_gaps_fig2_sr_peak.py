@@ -325,3 +325,56 @@ def test_make_draws_and_reports(tmp_path):
     assert text == fig2.report(fig2.compute(runs))
     assert (tmp_path / "fig2_sr_peak.png").is_file()
     assert (tmp_path / "fig2_sr_peak.pdf").is_file()
+
+
+# ---------------------------------------------------------------------------------------
+# boundaries found by the mutation run of 2026-11-28 18:37 (docs/MUTATION.md)
+
+def test_equal_to_no_prediction_is_neither_below_nor_a_loss():
+    # linear and the oracle exactly as no prediction (gain 1, difference 0)
+    series = dict(SERIES, linear=(SERIES["none"][0], 2), oracle=(SERIES["none"][0], 2))
+    r = fig2.compute(_runs(("none", "linear", "oracle"), series=series))
+    assert fig2.table_rows(r)[1] == ("SR peak, linear (a=2, b=-1)", "> 0.6", "0.500", ROOM)
+    text = fig2.report(r)
+    assert ("Oracle minus no prediction: +0.0000 on average (frame-to-frame RMS of the "
+            "difference 0.0000).\n") in text
+    assert "Below no prediction" not in text
+
+
+def test_every_predictor_below_is_listed():
+    series = dict(SERIES, **{"arma-aic": ([1.0, 1.0, 0.375, 0.375, 0.375, 0.375], 1)})
+    text = fig2.report(fig2.compute(_runs(("none", "nn-paper", "arma-aic"), series=series)))
+    assert (" Below no prediction: NN (paper, 10 patterns) (0.250), ARMA (AIC order) (0.375): "
+            "a forecast worse than the measurement injects its errors into the commands") in text
+
+
+def test_closure_times_in_ms():
+    # frames ending at 0.25, 0.5, ..., 1.5 s; no prediction closes at 1 s, linear at 1.5 s
+    runs = _runs(("none", "linear"))
+    slow = {n: PredictorRun(**{**r.__dict__, "times": TIMES * 250.0})
+            for n, r in runs.runs.items()}
+    slow["linear"] = PredictorRun(**{**slow["linear"].__dict__, "closure_index": 5})
+    runs = ClosedLoopRuns(**{**runs.__dict__, "runs": slow})
+    text = fig2.report(fig2.compute(runs))
+    assert "loop closure detected at\n750 ms without prediction." in text
+    assert "(each run's own detected closure:\nno prediction 750 ms, linear (a=2, b=-1) 1500 ms)" \
+        in text
+
+
+def test_closure_time_at_one_second():
+    runs = _runs(("none",))
+    r = PredictorRun(**{**runs.runs["none"].__dict__, "times": TIMES * 250.0,
+                        "closure_index": 3})
+    text = fig2.report(fig2.compute(ClosedLoopRuns(**{**runs.__dict__, "runs": {"none": r}})))
+    assert "loop closure detected at\n1000 ms without prediction." in text
+    assert "closure:\nno prediction 1000 ms)" in text
+    # no paper predictor: no gain, so prediction buys "much less" (the default gain 1)
+    assert "\n\nPrediction buys much less here than in the paper. " in text
+
+
+def test_a_gain_equal_to_the_papers_ratio_buys_as_much():
+    # one frame after closure: the means are the values, 0.6 / 0.4 computed as the paper's
+    series = dict(SERIES, none=([0.0] * 5 + [0.4], 5), linear=([0.0] * 5 + [0.6], 5))
+    r = fig2.compute(_runs(("none", "linear"), series=series))
+    assert r.gain["linear"] == 0.6 / 0.4
+    assert "\n\nPrediction buys as much here as in the paper. " in fig2.report(r)
