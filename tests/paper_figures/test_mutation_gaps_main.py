@@ -10,7 +10,8 @@ and 8 on reduced closed-loop settings, Figure 5 on its first 5 modes; ``--durati
 the simulated time of the Figures 2-4 runs in seconds, 0.5 s by default and 0.2 s with
 ``--quick``) and the defaults ``closedloop_runs.DEFAULT_DURATION`` / ``QUICK_DURATION``,
 written out here word for word; ``main``'s docstring for the exit statuses; Python's
-``signal`` contract. ``_run`` is replaced by a stand-in: no figure is made, < 1 s.
+``signal`` contract; a log's rate given by ``--rate`` (the CLI's input hints) seen by the
+figure. ``_run`` or the figure modules are stand-ins: no figure is made, ~1 s.
 """
 
 from __future__ import annotations
@@ -19,6 +20,9 @@ import pytest
 
 from paper_figures import closedloop_runs
 from paper_figures.__main__ import main
+
+# the stand-in figure modules of the report tests (a fixture) and their log writer
+from .test_main_report_text import _save, figs  # noqa: F401
 
 
 def test_help_of_overwrite_quick_and_duration(capsys, monkeypatch):
@@ -111,3 +115,22 @@ def test_failures_while_making_are_one_line_and_exit_1(monkeypatch, capsys, tmp_
     out = tmp_path / "o"
     assert main(["--out", str(out)]) == 1
     assert capsys.readouterr().err == f"paper_figures: error: {what}; '{out}' is as it was\n"
+
+
+def test_the_users_input_hints_reach_the_log(figs, tmp_path):  # noqa: F811
+    # a log that records no rate, read with --rate 500: the figures see 500 Hz (the
+    # shipped logs are read without hints; the user's with them: `_load_logs`)
+    import numpy as np
+
+    fig1 = figs.mods["fig1_fitting_error"]
+    compute, seen = fig1.compute, []
+
+    def recording(log, *, source):
+        seen.append(log)
+        return compute(log, source=source)
+
+    fig1.compute = recording
+    path = _save(tmp_path / "norate.npz", np.random.default_rng(3).normal(size=(300, 6)) * 0.01)
+    assert main(["--only", "1", "--log", str(path), "--rate", "500",
+                 "--out", str(tmp_path / "o")]) == 0
+    assert [log.rate for log in seen] == [500.0]
