@@ -486,3 +486,12 @@ def test_make_and_main(tmp_path, monkeypatch):
                               "description": "Regenerate Figure 1 (fitting error).",
                               "figure_name": "fig1_fitting_error.png", "make": fig1.make,
                               "output_names": fig1.output_names})]
+
+
+def test_table_rows_percentage_of_the_total():
+    # target / total = 0.5: "50.0%" (a factor 1.01 would print 50.5%)
+    f = _figure()
+    half = fig1.Figure1(**{**f.__dict__, "typical": _panel(0.05, 0.025, (0, 0, 0, 0, 0),
+                                                           (20, 14, 6, 12, 5))})
+    assert "calibrated target 0.025 waves^2 (50.0% of the total" in fig1.table_rows(half)[0][3]
+    assert "calibrated target 0.025 waves^2 = 50.0% of it." in fig1.report(half)

@@ -652,3 +652,38 @@ def test_sens_pairs_in_order_base_first():
         ("base", ""), ("signal", "150 e-")]
     assert fig7._sens({"sensitivity": list(STUDY_ROWS)}, "signal", "150 e-", "arma") is \
         STUDY_ROWS[3]
+
+
+# ---------------------------------------------------------------------------------------
+# boundaries found by the mutation run of 2026-11-28 19:00 (docs/MUTATION.md)
+
+def test_report_best_predictor_by_sr_not_by_name():
+    # ARMA best (+0.250); "oracle" would win by name
+    num = _numbers(solar_peak={"none": 0.25, "linear": 0.375, "arma": 0.5, "oracle": 0.3125})
+    text = fig7.report(_fig(num))
+    assert "With solar sensing prediction has room: ARMA(2,3) gains +0.250 in SR peak." in text
+
+
+def test_report_no_prediction_is_never_the_best_predictor():
+    # every predictor below no prediction: the best of them, with its negative gain
+    num = _numbers(solar_peak={"none": 0.5, "linear": 0.25})
+    assert ("Prediction buys little with solar sensing too (best: linear (a=2, b=-1), -0.250 "
+            "in SR peak)") in fig7.report(_fig(num))
+
+
+def test_report_a_gain_of_exactly_005_has_room():
+    # 0.1125 - 0.0625 is 0.05 exactly in binary64: the verdict's bound is "< 0.05 buys
+    # little"
+    assert 0.1125 - 0.0625 == 0.05
+    num = _numbers(solar_peak={"none": 0.0625, "linear": 0.1125})
+    assert ("With solar sensing prediction has room: linear (a=2, b=-1) gains +0.050 in SR "
+            "peak.") in fig7.report(_fig(num))
+
+
+def test_report_needs_both_budgets_for_the_temporal_sentence():
+    num = _numbers()
+    num["table1"]["budget"] = {}
+    text = fig7.report(_fig(num))
+    assert "At the best direction" not in text
+    assert "SR peak gained over no prediction: linear (a=2, b=-1) +0.125 (table1 +0.200), " \
+           "ARMA(2,3) +0.250 (table1 +0.300). With solar sensing" in text
