@@ -479,6 +479,9 @@ def test_make_and_main(tmp_path, monkeypatch):
     assert fig1.make(tmp_path, Path("x.npz"), suffix="_s") == "report FIG _s"
     assert calls == [("load", Path("x.npz")), ("compute", "LOG", "the source"),
                      ("plot", "FIG", tmp_path, "_s")]
+    # the default suffix is none: the shipped names
+    assert fig1.make(tmp_path, None) == "report FIG "
+    assert calls[-1] == ("plot", "FIG", tmp_path, "")
     got = []
     monkeypatch.setattr(fig1, "figure_main", lambda argv, **kw: got.append((argv, kw)) or 3)
     assert fig1.main(["--x"]) == 3
