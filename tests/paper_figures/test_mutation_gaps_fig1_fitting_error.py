@@ -192,6 +192,7 @@ def test_stability_window(stand_ins, rate, window):
     # 1 s of frames, else a quarter of the log; at most half the log, at least one frame
     calls = stand_ins[0]
     r = fig1.compute(_log(rate))
+    assert r.source == "a modal log"  # the documented default
     assert calls["stability"][0][3]["window"] == window
     assert r.stability_window == window
 

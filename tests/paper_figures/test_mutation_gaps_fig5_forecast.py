@@ -12,12 +12,18 @@ the module:
   ARMA(2,3) and 2-3 ms, Stangalini et al. Sect. 4);
 - the figure is read back from the ``Figure`` handed to ``savefig`` (titles, axis labels
   with the log's units and the time unit, the series drawn in ms) and the PNG's size;
-- ``compute``'s refusal of a short log at its documented bound (N_FIT + 2 H_ARMA frames).
+- ``compute``'s refusal of a short log at its documented bound (N_FIT + 2 H_ARMA frames);
+  ``compute`` with every predictor and the evaluation replaced by recorders: the paper's
+  windows (ARMA(2,3) and the linear predictor fitted on frames 0-6999, the NN on patterns
+  ending at frame 6980, the 10-step forecast), the frames drawn, and the paper NN's gain
+  over persistence worked out by hand (a log whose first mode alternates 0, 1, 0, ...:
+  persistence's RMSE is 1, a forecast "truth + e" has RMSE |e|).
 No forecast is fitted: ~2 s.
 """
 
 from __future__ import annotations
 
+import types
 from pathlib import Path
 
 import numpy as np
@@ -380,3 +386,142 @@ def test_make_and_main(tmp_path, monkeypatch):
                               "description": "Regenerate Figure 5 (forecasts).",
                               "figure_name": "fig5_forecast.png", "make": fig5.make,
                               "output_names": fig5.output_names})]
+
+
+# ---------------------------------------------------------------------------------------
+# compute, with every predictor and the evaluation replaced by recorders (no fit runs).
+# The log's first mode alternates 0, 1, 0, ...: persistence's one-step error is +-1, RMSE 1;
+# a paper NN whose forecast is the truth plus e has RMSE |e|, so its gain is 1 / |e|.
+
+class FakePredictor:
+    made: list = []
+
+    def __init__(self, kind, **kw):
+        self.kind, self.kw, self.fitted = kind, kw, None
+        FakePredictor.made.append(self)
+
+    def fit(self, x):
+        self.fitted = np.array(x)
+        return self
+
+    def _forecast_path(self, x, horizon):
+        assert horizon == 1 and x.shape[1:] == (1,)
+        t = np.arange(x.shape[0], dtype=float)
+        if "random_state" in self.kw:  # the paper's NN over seeds: truth + e
+            e = {0: 0.5, 1: 0.25, 2: 2.0, 3: 4.0, 4: 1.0}[self.kw["random_state"]]
+            path = np.append(x[1:, 0], 0.0) + e
+        else:  # panels (a) and (c): frame numbers, so the test sees which frame is drawn
+            path = {"linear": 1000.0, "nn": 2000.0, "nn-paper": 3000.0}[self.kind] + t
+        return path[:, None, None], None
+
+    def predict_interval(self, x):
+        return types.SimpleNamespace(mean=[1.0] * 10, lower=[0.5] * 10, upper=[2.0] * 10)
+
+    @property
+    def orders_(self):
+        return [[len(self.fitted), m] for m in range(self.fitted.shape[1])]
+
+
+class FakeNN:
+    def __new__(cls, **kw):
+        return FakePredictor("nn", **kw)
+
+    @staticmethod
+    def paper(**kw):
+        return FakePredictor("nn-paper", **kw)
+
+
+def _alternating_log(n_modes=6):
+    data = np.zeros((7100, n_modes))
+    data[:, 0] = np.arange(7100) % 2
+    data[:, 1:] = np.random.default_rng(5).standard_normal((7100, n_modes - 1))
+    return ModalLog(data, rate=2000.0, modes=list(range(2, 2 + n_modes)), units="rad")
+
+
+@pytest.fixture
+def forecasters(monkeypatch):
+    import modalinfo.forecast
+
+    FakePredictor.made = []
+    evaluated = []
+
+    def evaluate(predictors, log, *, train, horizons):
+        evaluated.append((predictors, log, train, horizons))
+        return types.SimpleNamespace(labels=list(log.labels))
+
+    monkeypatch.setattr(modalinfo.forecast, "LinearPredictor",
+                        lambda **kw: FakePredictor("linear", **kw))
+    monkeypatch.setattr(modalinfo.forecast, "ARMAPredictor",
+                        lambda **kw: FakePredictor("arma", **kw))
+    monkeypatch.setattr(modalinfo.forecast, "NeuralNetPredictor", FakeNN)
+    monkeypatch.setattr(modalinfo.forecast, "evaluate", evaluate)
+    monkeypatch.setattr(fig5, "_predictors", lambda: "PRESETS")
+    clock = iter([10.0, 13.5])
+    monkeypatch.setattr(fig5, "time", types.SimpleNamespace(perf_counter=lambda: next(clock)))
+    return evaluated
+
+
+def test_compute_fits_the_papers_windows_and_collects_the_numbers(forecasters):
+    log = _alternating_log()
+    data = np.asarray(log.coeffs)
+    f = fig5.compute(log)
+    made = {(p.kind, tuple(sorted(p.kw.items()))): p for p in FakePredictor.made}
+    lin = made[("linear", (("horizon", 1),))]
+    np.testing.assert_array_equal(lin.fitted, data[:7000, 0])
+    arma = made[("arma", (("horizon", 10), ("order", (2, 3))))]
+    np.testing.assert_array_equal(arma.fitted, data[:7000, 0])
+    nn = made[("nn", (("horizon", 1),))]
+    nnp = made[("nn-paper", (("horizon", 1),))]
+    np.testing.assert_array_equal(nn.fitted, data[:6981, 0])   # patterns end at frame 6980
+    np.testing.assert_array_equal(nnp.fitted, data[:6981, 0])
+    for seed in range(5):
+        p = made[("nn-paper", (("horizon", 1), ("random_state", seed)))]
+        np.testing.assert_array_equal(p.fitted, data[:7000, 0])
+    aic = made[("arma", (("order", "aic"),))]
+    np.testing.assert_array_equal(aic.fitted, data[:7000])
+    assert len(FakePredictor.made) == 1 + 1 + 2 + 5 + 1
+    (preds, ev_log, train, horizons), = forecasters
+    assert (preds, ev_log, train, list(horizons)) == ("PRESETS", log, 7000, list(range(1, 11)))
+    # the numbers
+    assert (f.source, f.label, f.n_frames, f.n_modes, f.rate, f.units) == (
+        "a modal log", "Z2", 7100, 6, 2000.0, "rad")
+    assert (f.frame_ms, f.t_unit, f.quick, f.elapsed) == (0.5, "ms", False, 3.5)
+    np.testing.assert_array_equal(f.x, data[:, 0])
+    np.testing.assert_array_equal(f.linear_frames, np.arange(6940, 7020))
+    np.testing.assert_array_equal(f.linear_one_step, 1000.0 + np.arange(6939, 7019))
+    np.testing.assert_array_equal(f.nn_frames, np.arange(6981, 7041))
+    np.testing.assert_array_equal(f.nn_one_step, 2000.0 + np.arange(6980, 7040))
+    np.testing.assert_array_equal(f.nn_paper_one_step, 3000.0 + np.arange(6980, 7040))
+    np.testing.assert_array_equal(f.arma_interval_mean, [1.0] * 10)
+    np.testing.assert_array_equal(f.arma_interval_lower, [0.5] * 10)
+    np.testing.assert_array_equal(f.arma_interval_upper, [2.0] * 10)
+    assert f.paper_nn_gains == (2.0, 4.0, 0.5, 0.25, 1.0)
+    assert f.paper_nn_seeds == (0, 1, 2, 3, 4)
+    assert f.evaluation.labels == ["Z2", "Z3", "Z4", "Z5", "Z6", "Z7"]
+    # the increments' lag-1 correlation on frames 0-6999 only (column 0 alternates: the
+    # increments +1, -1, ... are perfectly anti-correlated, up to their mean 1/6999)
+    assert f.increment_correlation.shape == (6,)
+    assert f.increment_correlation[0] == pytest.approx(-1.0, abs=1e-3)
+    np.testing.assert_array_equal(f.aic_orders, [[7000, m] for m in range(6)])
+
+
+def test_compute_quick_and_without_rate(forecasters):
+    data = np.asarray(_alternating_log(7).coeffs)
+    log = ModalLog(data, modes=list(range(2, 9)), units="rad")
+    f = fig5.compute(log, source="mine", quick=True)
+    (_, ev_log, _, _), = forecasters
+    assert list(ev_log.labels) == ["Z2", "Z3", "Z4", "Z5", "Z6"]  # the first 5 modes
+    aic = [p for p in FakePredictor.made if p.kw == {"order": "aic"}][0]
+    np.testing.assert_array_equal(aic.fitted, data[:7000, :5])
+    assert f.paper_nn_seeds == (0, 1) and f.paper_nn_gains == (2.0, 4.0)
+    assert (f.source, f.quick, f.n_modes, f.rate) == ("mine", True, 7, None)
+    assert (f.frame_ms, f.t_unit) == (1.0, "frames")
+    assert f.aic_orders.shape == (5, 2)
+
+
+def test_predictors_are_the_presets():
+    from modalinfo.forecast.presets import PRESETS
+
+    got = fig5._predictors()
+    assert list(got) == [label for label, _ in PRESETS.values()]
+    assert [type(p) for p in got.values()] == [type(f()) for _, f in PRESETS.values()]
