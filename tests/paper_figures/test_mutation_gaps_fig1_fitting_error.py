@@ -499,3 +499,20 @@ def test_table_rows_percentage_of_the_total():
                                                            (20, 14, 6, 12, 5))})
     assert "calibrated target 0.025 waves^2 (50.0% of the total" in fig1.table_rows(half)[0][3]
     assert "calibrated target 0.025 waves^2 = 50.0% of it." in fig1.report(half)
+
+
+def test_counts_are_ints_and_ten_consecutive_frames(stand_ins, monkeypatch):
+    # a typical frame in the middle (totals 0, 1, ..., 119: the median is frame 60), so
+    # that the 10 consecutive frames of the per-frame stability are all inside the log
+    calls = stand_ins[0]
+    monkeypatch.setattr(modalinfo.ordering, "fitting_error", lambda log, b: types.SimpleNamespace(
+        total=np.arange(N_FRAMES, dtype=float)))
+    log = _log(None)
+    r = fig1.compute(log)
+    assert r.frame == 60
+    (_, _, _, kw), (lg2, _, _, _) = calls["stability"]
+    np.testing.assert_array_equal(lg2.coeffs, np.asarray(log.coeffs)[60:70])
+    # budgets and windows are frame/sample counts: ints, as documented
+    assert type(kw["window"]) is int and type(kw["sample_budget"]) is int
+    assert type(calls["compare"][2][2]["sample_budget"]) is int
+    assert type(calls["compare"][1][2]["sample_budget"]) is int
