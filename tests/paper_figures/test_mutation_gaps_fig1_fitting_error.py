@@ -194,7 +194,7 @@ def test_stability_window(stand_ins, rate, window):
     r = fig1.compute(_log(rate))
     assert r.source == "a modal log"  # the documented default
     assert calls["stability"][0][3]["window"] == window
-    assert r.stability_window == window
+    assert r.stability_window == window and type(r.stability_window) is int
 
 
 def test_no_window_duration_is_zero(stand_ins, monkeypatch):
