@@ -516,3 +516,25 @@ def test_counts_are_ints_and_ten_consecutive_frames(stand_ins, monkeypatch):
     assert type(kw["window"]) is int and type(kw["sample_budget"]) is int
     assert type(calls["compare"][2][2]["sample_budget"]) is int
     assert type(calls["compare"][1][2]["sample_budget"]) is int
+
+
+def test_plot_into_an_existing_folder_one_row_default_names(tmp_path, monkeypatch):
+    # the folder exists already (no error), the default suffix gives the shipped names,
+    # and the three panels sit side by side in one row
+    import matplotlib.pyplot as plt
+
+    saved = []
+    monkeypatch.setattr(fig1, "save_png_pdf", lambda f, out, png, pdf: saved.append(
+        (f, out, png, pdf)) or [out / png, out / pdf])
+    monkeypatch.setattr(modalinfo.ordering.compare, "plot_comparison",
+                        lambda comparison, ax, *, target, title: ax.plot([0, 1], [1, 0],
+                                                                         label="x"))
+    paths = fig1.plot(_figure(), tmp_path)
+    ((f, out, png, pdf),) = saved
+    plt.close(f)
+    assert (out, png, pdf) == (tmp_path, "fig1_fitting_error.png", "fig1_fitting_error.pdf")
+    assert paths == [tmp_path / png, tmp_path / pdf]
+    boxes = [ax.get_position() for ax in f.axes]
+    assert len(boxes) == 3
+    assert boxes[0].y0 == boxes[1].y0 == boxes[2].y0
+    assert boxes[0].x1 < boxes[1].x0 and boxes[1].x1 < boxes[2].x0
