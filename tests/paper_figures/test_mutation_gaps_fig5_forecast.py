@@ -87,7 +87,7 @@ MEAN = X[7000:7010] + np.array([0.0, 0.01, -0.02, 0.0, 0.05, 0.0, 0.0, -0.125, 0
 # inside the closed interval: the ends included (frames 7000 and 7001 sit on a bound)
 LOWER = X[7000:7010] - np.array([0.0, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, -0.1, 0.1])
 UPPER = X[7000:7010] + np.array([0.1, 0.0, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, -0.1])
-AIC = np.array([[2, 3], [2, 3], [1, 1], [3, 3], [2, 3], [1, 1]])
+AIC = np.array([[2, 3], [1, 1], [2, 3], [3, 3], [2, 3], [1, 1]])  # Z2 (2,3), Z3 (1,1)
 
 
 def _figure(evaluation=None, rate=2000.0, quick=False, aic=AIC, seeds=(0, 1, 2, 3, 4)):
@@ -270,7 +270,7 @@ def test_report_other_branches():
 
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
-    out = tmp_path_factory.mktemp("fig5") / "new"
+    out = tmp_path_factory.mktemp("fig5") / "new" / "sub"  # made with its parents
     figures = {}
     savefig = Figure.savefig
 
@@ -355,7 +355,17 @@ def test_plot_time_axis_without_rate(tmp_path, monkeypatch):
     saved = []
     monkeypatch.setattr(fig5, "save_png_pdf", lambda fig, out, png, pdf: saved.append(fig)
                         or [out / png, out / pdf])
-    fig5.plot(_figure(rate=None), tmp_path)
+    paths = fig5.plot(_figure(rate=None), tmp_path)
+    # the default suffix: the shipped names
+    assert [p.name for p in paths] == ["fig5_forecast.png", "fig5_forecast.pdf",
+                                       "fig5_forecast.json"]
+    # panels (a)-(c) side by side on top, the RMSE and gain panels below, halves
+    boxes = [ax.get_position() for ax in saved[0].axes]
+    assert boxes[0].y0 == boxes[1].y0 == boxes[2].y0 > boxes[3].y1
+    assert boxes[3].y0 == boxes[4].y0
+    assert boxes[0].x0 == boxes[3].x0 and boxes[2].x1 == boxes[4].x1
+    assert boxes[0].x1 < boxes[1].x0 < boxes[1].x1 < boxes[2].x0
+    assert boxes[3].x1 < boxes[4].x0 < boxes[1].x1 and boxes[4].x0 > boxes[1].x0
     a = saved[0].axes[0]
     assert a.get_xlabel() == "time [frames]"
     np.testing.assert_array_equal(a.get_lines()[0].get_xdata(), np.arange(6940, 7020))
