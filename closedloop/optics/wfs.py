@@ -484,9 +484,11 @@ def _shack_hartmann_cost(config: SimulationConfig, j: int, n_planes: int,
     samples = n_field_samples(w.field_of_view, w.field_samples)
     across = wfs_meta_pupil(config, j) / dx
     n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
-    # two axes, 8 entries (two bilinear reads) per pixel pair
+    # two axes, 8 entries (two bilinear reads) per pixel pair; assembled one plane at a
+    # time (ShackHartmann._build), so a plane's share is held at once
     entries = 2 * samples * n_planes * (math.pi / 4.0 * across ** 2) * 8
-    return SensorCost(n_measurements=n_meas, build_entries=entries)
+    return SensorCost(n_measurements=n_meas, build_entries=entries,
+                      held_entries=entries / n_planes)
 
 
 def _ideal_cost(config: SimulationConfig, j: int, n_planes: int, dx: float) -> SensorCost:
