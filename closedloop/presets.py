@@ -165,7 +165,8 @@ science                     630 nm                       as every preset (DKIST'
 
 The full size (five WFSs of 19 field samples, ~4,900 modes from ~10,800 slopes) needs
 ~6.5 GiB at its peak by ``closedloop.resources.estimate`` (the mirrors' shapes and the
-dense reconstructor; the WFS operators are assembled one plane at a time).
+dense reconstructor; the WFS operators are assembled one plane at a time); its set-up
+measured 4.9 GiB and 216 s of CPU (``benchmarks/RESULTS.md``).
 :func:`est_mcao_variant` builds the same system at a coarser resolution (its
 ``ground_subapertures``; every count follows from it by the rules of the table): the
 runs of docs/CLOSEDLOOP.md ("EST MCAO") use :data:`EST_REDUCED_SUBAPERTURES` = 16
