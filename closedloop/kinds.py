@@ -49,18 +49,22 @@ class SensorCost:
     n_measurements : float
         Measurements per frame (an estimate: the dense reconstructor's rows and the logs).
     build_entries : float
-        Sparse entries held while its operators are assembled (the set-up's peak; 16
-        bytes each, ``closedloop.resources``).
+        Sparse entries its operators' assembly makes over all planes (16 bytes each,
+        ``closedloop.resources``; the CSR operators it keeps are a share of them).
     frame_seconds : float
         Wall time per frame it adds beyond its sparse products [s] (image formation).
     frame_key : str
         The config key that drives ``frame_seconds`` (named when a run is refused).
+    held_entries : float or None
+        Of ``build_entries``, those held at once (the set-up's peak); None: all of them.
+        A Shack-Hartmann assembles one plane at a time: a plane's share.
     """
 
     n_measurements: float
     build_entries: float
     frame_seconds: float = 0.0
     frame_key: str = ""
+    held_entries: float | None = None
 
 
 @dataclass(frozen=True)

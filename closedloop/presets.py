@@ -151,14 +151,23 @@ winds                       Bufton's profile at each     Bufton (1973) as Hardy 
                             deg in 30 deg steps
 loop                        1 kHz, 1 ms exposure,        table1's timing (paper's Table 1);
                             0.5 ms delay, gain 0.5       gain of DKIST's model
+reconstructor model error   0.03 (table1: 0.3)           measured: the slopes the mirrors'
+                                                         modes leave unexplained are 0.2-1.7 %
+                                                         of the all-layer subaperture tilt
+                                                         variance the setting scales (co-added
+                                                         60"); at 0.3 the joint MAP keeps 97
+                                                         of 624 modes (docs/CLOSEDLOOP.md,
+                                                         "the budget ladder")
 WFS noise (geometric SH)    0.01" per axis per subap     kaos's 10 cm subaperture value
                                                          (Loefdahl 2010)
 science                     630 nm                       as every preset (DKIST's model)
 ==========================  ===========================  ========================================
 
 The full size (five WFSs of 19 field samples, ~4,900 modes from ~10,800 slopes) needs
-~10 GiB at its peak by ``closedloop.resources.estimate``, most of it the WFS operators'
-assembly. :func:`est_mcao_variant` builds the same system at a coarser resolution (its
+~6.5 GiB at its peak by ``closedloop.resources.estimate`` (the mirrors' shapes and the
+dense reconstructor; the WFS operators are assembled one plane at a time); its set-up
+measured 4.9 GiB and 216 s of CPU (``benchmarks/RESULTS.md``).
+:func:`est_mcao_variant` builds the same system at a coarser resolution (its
 ``ground_subapertures``; every count follows from it by the rules of the table): the
 runs of docs/CLOSEDLOOP.md ("EST MCAO") use :data:`EST_REDUCED_SUBAPERTURES` = 16
 (``est-mcao@16``: 64 pixels, 26 cm ground subapertures, 181 / 57 / 86 / 119 / 181 modes).
@@ -430,6 +439,12 @@ EST_MODES_PER_SUBAPERTURE = 0.9
 #: geometric SH noise [arcsec RMS per axis per subaperture]: kaos's value for a 10 cm
 #: subaperture on granulation (Loefdahl 2010)
 EST_SH_NOISE = 0.01
+#: ``loop.model_error`` of the EST presets: the joint MAP reconstructor's model error as a
+#: share of a subaperture's all-layer turbulent tilt variance. Measured on est-mcao@16
+#: (docs/CLOSEDLOOP.md, "the budget ladder"): the slopes the mirrors' modes leave
+#: unexplained are 0.2-1.7 % of it (60" co-adding averages the high layers out); table1's
+#: 0.3 truncates the reconstructor to 97 of 624 modes. 0.03 is above every measured share.
+EST_MODEL_ERROR = 0.03
 
 
 def bufton_wind(altitude: float) -> float:
@@ -506,7 +521,8 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
                              noise=noise, kind=kind, dm=i)
                    for i, (h, n) in enumerate(zip(EST_DM_ALTITUDES, subaps, strict=True))),
         loop=LoopConfig(time_step=1e-3, integration_time=1e-3,
-                        delay=SOLAR_RTC_DELAY if solar else 0.5e-3, gain=0.5),
+                        delay=SOLAR_RTC_DELAY if solar else 0.5e-3, gain=0.5,
+                        model_error=EST_MODEL_ERROR),
         field=FieldConfig(size=EST_FIELD, n_points=7),
         wavelength=630e-9,
         r0_wavelength=500e-9,

@@ -238,12 +238,13 @@ def _sensor_costs(config: SimulationConfig, n_planes: int, dx: float) -> list[Se
 
 def _wfs_builds(config: SimulationConfig, layout: list,
                 costs: list[SensorCost]) -> tuple[list[float], str, float]:
-    """Bytes of each WFS's operator build, the largest's driver, and the measurement count."""
+    """Bytes each WFS's build holds at once, the largest's driver, the measurement count."""
     builds, build_key, n_meas_total = [], "wfss", 0.0
     for j, (w, cost) in enumerate(zip(config.wfss, costs, strict=True)):
         samples = n_field_samples(w.field_of_view, w.field_samples)
         n_meas_total += cost.n_measurements
-        builds.append(_BUILD_BYTES_PER_ENTRY * cost.build_entries)
+        held = cost.build_entries if cost.held_entries is None else cost.held_entries
+        builds.append(_BUILD_BYTES_PER_ENTRY * held)
         if builds[-1] >= max(builds):
             build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
                          f"`telescope.n_pixels" if samples > 1
@@ -353,8 +354,9 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
         config, layout, dx)
     costs = _sensor_costs(config, len(layout), dx)
     builds, build_key, n_meas_total = _wfs_builds(config, layout, costs)
-    # the set-up's peak: one WFS built at a time, the others kept as CSR
-    kept_operators = _KEPT_SHARE * sum(builds)
+    # the set-up's peak: one WFS (one plane of a Shack-Hartmann) built at a time, the
+    # others kept as CSR, a share of everything assembled
+    kept_operators = _KEPT_SHARE * _BUILD_BYTES_PER_ENTRY * sum(c.build_entries for c in costs)
     reconstructor, logs = _matrices(n_frames, config.field.n_points ** 2, n_meas_total,
                                     n_modes_total)
     parts = {"baseline": BASELINE_BYTES,

@@ -329,9 +329,11 @@ class ShackHartmann(WavefrontSensor):
         # pixel pairs: start pixel (i, j) and its +x / +y neighbour
         jj, ii = np.meshgrid(np.arange(plane.n - 1), np.arange(plane.n - 1), indexing="xy")
         start = np.column_stack([coords[jj.ravel()], coords[ii.ravel()]])
-        ops = [[] for _ in g.planes]
-        full = None
         n_samples = len(self.samples)
+        full = None
+        # the (measurement, pair) weights of every (axis, direction), kept (one entry per
+        # lit pair) so that the planes' operators are then assembled one plane at a time
+        weighted = []
         for axis in (0, 1):
             step = np.zeros(2)
             step[axis] = g.dx
@@ -367,23 +369,34 @@ class ShackHartmann(WavefrontSensor):
                 row = meas_index[lit_sub] + axis * n_valid
                 w = sparse.csr_matrix((lit_w / (counts[lit_sub] * g.dx), (row, col)),
                                       shape=(2 * n_valid, used.size))
-                for p in range(len(g.planes)):
-                    a = self._sample_matrix(p, start[used] + step, theta)
-                    b = self._sample_matrix(p, start[used], theta)
-                    term = (w @ (a - b)).tocoo()
-                    ops[p].append((term.row, term.col, term.data))
+                weighted.append((theta, start[used], step, w))
+            del entries
         self.n_valid_subapertures = int(self.valid_subapertures.size)
         self.n_measurements = 2 * self.n_valid_subapertures
-        self.operators = [
-            sparse.csr_matrix(
-                (np.concatenate([e[2] for e in ops[p]]),
-                 (np.concatenate([e[0] for e in ops[p]]), np.concatenate([e[1] for e in ops[p]]))),
-                shape=(self.n_measurements, g.planes[p].n ** 2))
-            for p in range(len(g.planes))
-        ]
-        for op in self.operators:
-            op.sum_duplicates()
-            op.eliminate_zeros()
+        # one plane at a time: the (axis, direction) terms of a plane only are held
+        # before they are summed into its CSR (all planes' terms at once were 7 GiB at
+        # est-mcao's size, closedloop.resources); each plane's entries come in the same
+        # (axis, direction) order as before, so the sums and their bits are unchanged
+        self.operators = [self._plane_operator(p, weighted) for p in range(len(g.planes))]
+
+    def _plane_operator(self, p: int, weighted: list) -> sparse.csr_matrix:
+        """Plane ``p``'s ``(n_measurements, n_p**2)`` operator from the weighted pair terms."""
+        g = self._geometry
+        rows, cols, data = [], [], []
+        for theta, points, step, w in weighted:
+            a = self._sample_matrix(p, points + step, theta)
+            b = self._sample_matrix(p, points, theta)
+            term = (w @ (a - b)).tocoo()
+            rows.append(term.row)
+            cols.append(term.col)
+            data.append(term.data)
+        op = sparse.csr_matrix(
+            (np.concatenate(data), (np.concatenate(rows), np.concatenate(cols))),
+            shape=(self.n_measurements, g.planes[p].n ** 2))
+        del rows, cols, data
+        op.sum_duplicates()
+        op.eliminate_zeros()
+        return op
 
     def model_error_variance(self, r0s: list[float], model_error: float) -> float:
         """``model_error`` times the turbulent slope variance of one subaperture [(rad/m)^2].
@@ -491,9 +504,11 @@ def _shack_hartmann_cost(config: SimulationConfig, j: int, n_planes: int,
     samples = n_field_samples(w.field_of_view, w.field_samples)
     across = wfs_meta_pupil(config, j) / dx
     n_meas = 2.0 * math.pi / 4.0 * w.n_subapertures ** 2
-    # two axes, 8 entries (two bilinear reads) per pixel pair
+    # two axes, 8 entries (two bilinear reads) per pixel pair; assembled one plane at a
+    # time (ShackHartmann._build), so a plane's share is held at once
     entries = 2 * samples * n_planes * (math.pi / 4.0 * across ** 2) * 8
-    return SensorCost(n_measurements=n_meas, build_entries=entries)
+    return SensorCost(n_measurements=n_meas, build_entries=entries,
+                      held_entries=entries / n_planes)
 
 
 def _ideal_cost(config: SimulationConfig, j: int, n_planes: int, dx: float) -> SensorCost:
