@@ -18,10 +18,13 @@ from modalinfo.cli import CommandError
 from modalinfo.cli._choices import MIMethodChoices
 from modalinfo.cli.shared import (
     LOG_COPIES,
+    MAX_FRAMES,
     add_gap_argument,
     add_hint_arguments,
+    add_max_frames_argument,
     apply_outliers,
     check_memory,
+    frame_subsample,
     load_log_with_hints,
     log_bytes,
     split_gaps,
@@ -54,6 +57,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default: from the log's metadata, else infinite)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing outputs")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_max_frames_argument(parser, default=MAX_FRAMES, contiguous=False)
     add_hint_arguments(parser)
 
 
@@ -70,6 +74,23 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
     check_memory(LOG_COPIES * log_bytes(log) + 8 * n * n * (PUPIL_GRIDS + log.n_modes),
                  f"--pupil-pixels {n} ({n} x {n} grid, {log.n_modes} modes)",
                  "use fewer --pupil-pixels (64 resolves Zernikes up to radial order ~20)")
+
+
+def load_analysed_log(args: argparse.Namespace):
+    """Map the log, keep its ``--max-frames`` subsample, refuse it if it cannot fit.
+
+    The file is memory-mapped where its format allows (NPY, NPZ, HDF5), so only the
+    analysed frames are ever read into memory; their LOG_COPIES float64 copies are
+    checked against the memory available before any work, naming ``--max-frames``.
+    A ``--frame K`` is an index of the subsample, which the note on stderr describes.
+    """
+    log = load_log_with_hints(args.log, args, mmap=True)
+    log = frame_subsample(log, args)
+    check_memory(LOG_COPIES * log_bytes(log),
+                 f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
+                 f"{LOG_COPIES} float64 copies)",
+                 "use a smaller --max-frames")
+    return log
 
 
 def check_window_and_frame(args: argparse.Namespace, log) -> None:
@@ -163,7 +184,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError("--outliers drop leaves gaps in the time axis, which the block "
                            "bootstrap of the gains (--resamples) cannot span; use --outliers "
                            "clip, or --resamples 0 with drop")
-    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
+    log = load_analysed_log(args)
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
     # the bootstrap keeps two (replicates x modes) float64 tables (MI and margins)
