@@ -497,6 +497,8 @@ __all__ += ["add_max_frames_argument", "frame_subsample", "MAX_FRAMES"]
 #: analysed frame still gives ~4 samples; 1,500 modes x 50,000 frames is 0.6 GB per
 #: float64 copy (LOG_COPIES of them: 1.8 GB), the issue-30 bound being 4 GB.
 MAX_FRAMES = 50_000
+#: Frames of a log from which the subsample's read shows a progress bar (on a terminal).
+SUBSAMPLE_PROGRESS_FRAMES = 1_000_000
 
 
 def add_max_frames_argument(parser: argparse.ArgumentParser, *, default: int | None,
@@ -538,10 +540,13 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
     rows = max(step, scan_rows(src) // step * step)  # whole strides per block
     out = np.empty(part.coeffs.shape, dtype=src.dtype)
     k = 0
-    for block in row_blocks(src[:stop], rows):
-        kept = block[::step]
-        out[k:k + kept.shape[0]] = kept
-        k += kept.shape[0]
+    with progress(args, stop, unit="frame", desc="read",
+                  min_total=SUBSAMPLE_PROGRESS_FRAMES) as advance:
+        for block in row_blocks(src[:stop], rows):
+            kept = block[::step]
+            out[k:k + kept.shape[0]] = kept
+            k += kept.shape[0]
+            advance(block.shape[0])
     out.flags.writeable = False
     what = (f"frames 0..{limit - 1} of {n}" if contiguous
             else f"every {step}th frame ({part.n_frames} of {n})")
