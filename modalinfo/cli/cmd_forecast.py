@@ -170,18 +170,19 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
     n_train = train if isinstance(train, int) else int(round(train * n_frames))
     n_origins = max(n_frames - h - n_train + 1, 1)
     chunk_part = 4 * 8 * min(chunk_frames(h, n_modes), n_frames) * h * n_modes
+    what = (f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} origins x "
+            f"{n_modes} modes)")
+    fix = "use a smaller --horizon or fewer modes"
     if _mapped(log):  # evaluate reads a mapped log chunk by chunk: only the training
         # frames are held whole, as TRAIN_COPIES float64 copies (the predictors' fits)
-        log_part = TRAIN_COPIES * 8 * min(n_train, n_frames) * n_modes
-        train_text = f"--train {args.train} ({min(n_train, n_frames)} training frames x "
-        train_text += f"{n_modes} modes)"
-        check_memory(log_part + chunk_part, train_text,
-                     "use a smaller --train (a number of frames) or fewer --modes")
+        n_held = min(n_train, n_frames)
+        log_part = TRAIN_COPIES * 8 * n_held * n_modes
+        what = (f"'{args.log.name}' ({n_frames} frames x {n_modes} modes, memory-mapped): "
+                f"{what} with --train {args.train} ({n_held} training frames held whole)")
+        fix = "use a smaller --horizon or --train (a number of frames), or fewer modes"
     else:
         log_part = LOG_COPIES * log_bytes(log)
-    need = log_part + 8 * n_pred * h * n_origins + chunk_part
-    check_memory(need, f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} "
-                 f"origins x {n_modes} modes)", "use a smaller --horizon or fewer modes")
+    check_memory(log_part + 8 * n_pred * h * n_origins + chunk_part, what, fix)
     if args.out is not None:
         from modalinfo.common.files import writable_free_bytes
         from modalinfo.common.sizes import format_size

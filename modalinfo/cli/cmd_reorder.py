@@ -76,20 +76,26 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
                  "use fewer --pupil-pixels (64 resolves Zernikes up to radial order ~20)")
 
 
-def load_analysed_log(args: argparse.Namespace):
+def load_analysed_log(args: argparse.Namespace, mi: bool):
     """Map the log, keep its ``--max-frames`` subsample, refuse it if it cannot fit.
 
     The file is memory-mapped where its format allows (NPY, NPZ, HDF5), so only the
-    analysed frames are ever read into memory; their LOG_COPIES float64 copies are
-    checked against the memory available before any work, naming ``--max-frames``.
-    A ``--frame K`` is an index of the subsample, which the note on stderr describes.
+    analysed frames are ever read into memory; their LOG_COPIES float64 copies (and,
+    for an MI ordering, ``mi=True``, the ``(modes, --budget)`` float64 contributions of
+    every mode at the sampled pixels) are checked against the memory available before
+    any work, naming ``--max-frames`` and ``--budget``. A ``--frame K`` is an index of
+    the subsample, which the note on stderr describes.
     """
     log = load_log_with_hints(args.log, args, mmap=True)
     log = frame_subsample(log, args)
-    check_memory(LOG_COPIES * log_bytes(log),
-                 f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
-                 f"{LOG_COPIES} float64 copies)",
-                 "use a smaller --max-frames")
+    need = LOG_COPIES * log_bytes(log)
+    what = (f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
+            f"{LOG_COPIES} float64 copies)")
+    check_memory(need, what, "use a smaller --max-frames")
+    if mi:
+        check_memory(need + 8 * log.n_modes * args.budget,
+                     f"{what} with --budget {args.budget} MI samples of every mode",
+                     "use a smaller --budget or --max-frames")
     return log
 
 
@@ -184,7 +190,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError("--outliers drop leaves gaps in the time axis, which the block "
                            "bootstrap of the gains (--resamples) cannot span; use --outliers "
                            "clip, or --resamples 0 with drop")
-    log = load_analysed_log(args)
+    log = load_analysed_log(args, mi=args.method.startswith("mi_"))
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
     # the bootstrap keeps two (replicates x modes) float64 tables (MI and margins)

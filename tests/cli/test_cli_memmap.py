@@ -140,23 +140,36 @@ def test_reorder_refusal_fires_at_the_boundary(long_npy, monkeypatch, capsys):
     assert main(argv) == 0
 
 
+def test_reorder_mi_refusal_counts_the_budget(long_npy, monkeypatch, capsys):
+    path, _ = long_npy
+    # the subsample's copies + the (modes x budget) float64 MI contributions
+    need = shared.LOG_COPIES * 300 * N_MODES * 8 + 8 * N_MODES * 2000
+    argv = ["reorder", str(path), "--in-units", "rad", "--max-frames", "300",
+            "--method", "mi_marginal", "--budget", "2000", "--resamples", "0",
+            "--pupil-pixels", "8", "--quiet"]
+    monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
+    assert main(argv) == 2
+    _refusal(capsys, "--budget 2000", "smaller --budget or --max-frames")
+    monkeypatch.setattr(shared, "memory_available", lambda: need + 8 * 64 * 40)
+    assert main(argv) == 0
+
+
 def test_forecast_refusal_names_train_at_the_boundary(long_npy, monkeypatch, capsys):
     from modalinfo.cli import cmd_forecast
 
     path, _ = long_npy
     h, n_train = 2, 500
     chunk = min(cmd_forecast.chunk_frames(h, N_MODES), N_FRAMES)
-    need = (cmd_forecast.TRAIN_COPIES * 8 * n_train * N_MODES
-            + 4 * 8 * chunk * h * N_MODES)
+    n_origins = N_FRAMES - h - n_train + 1
+    need = (cmd_forecast.TRAIN_COPIES * 8 * n_train * N_MODES  # training frames
+            + 8 * 3 * h * n_origins  # per-origin losses of 3 predictors (2 baselines)
+            + 4 * 8 * chunk * h * N_MODES)  # a chunk's forecasts and errors
     argv = ["forecast", str(path), "--in-units", "rad", "--predictors", "linear",
             "--train", str(n_train), "--horizon", str(h), "--quiet"]
-    monkeypatch.setattr(cmd_forecast, "check_memory", shared.check_memory)
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
-    _refusal(capsys, "--train 500", "smaller --train")
-    n_origins = N_FRAMES - h - n_train + 1
-    monkeypatch.setattr(shared, "memory_available",
-                        lambda: need + 8 * 3 * h * n_origins)  # + the per-origin losses
+    _refusal(capsys, "--train 500 (500 training frames", "smaller --horizon or --train")
+    monkeypatch.setattr(shared, "memory_available", lambda: need)
     assert main(argv) == 0
 
 
