@@ -183,3 +183,16 @@ def test_subsample_progress_only_on_a_terminal(long_npy, monkeypatch, capsys, tt
     np.testing.assert_array_equal(part.coeffs, x[::12])
     err = capsys.readouterr().err
     assert ("read" in err and "frame" in err) is tty, err
+
+
+def test_select_max_frames_equals_the_first_frames_file(long_npy, tmp_path, capsys):
+    path, x = long_npy
+    save(ModalLog(x[:600], rate=2000.0, modes=list(range(2, 2 + N_MODES)), units="rad"),
+         tmp_path / "first.npz")
+    common = ["--target", "Z3", "--max-lag", "3", "--surrogates", "19", "--no-intervals"]
+    assert main(["select", str(path), "--rate", "2000", "--in-units", "rad",
+                 "--max-frames", "600", *common]) == 0
+    via_option = capsys.readouterr()
+    assert main(["select", str(tmp_path / "first.npz"), *common]) == 0
+    assert via_option.out == capsys.readouterr().out
+    assert "--max-frames 600: analysed frames 0..599 of 1200" in via_option.err
