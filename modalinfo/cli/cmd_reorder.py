@@ -7,6 +7,14 @@ prints a table (mode, score, MI after each step, gain and its bootstrap bounds);
 and of subsampling seeds.
 ``--out`` writes the ordering as JSON (never over an existing file unless
 ``--overwrite``).
+
+A log longer than ``--max-frames`` (default 50,000) is analysed on every k-th frame,
+k = ceil(frames / N), read block by block from the memory-mapped file (a note says so):
+the MI estimate needs only ``--budget`` (frame, pixel) samples, so memory stays that of
+N frames (1,500 modes x 10^6 frames: 3.4 GiB peak, benchmarks/RESULTS.md). Stated error,
+measured (27 modes x 2e5 AR(1) frames, budget 2e5, 50,000-frame subsample): the MI
+curve within 0.8 of the whole log's 95 % bootstrap half-width at every step (at most
+0.007 nats), the first 8 ranks equal, then an equal-variance pair swapped within noise.
 """
 
 from __future__ import annotations
