@@ -20,14 +20,13 @@ from modalinfo.cli.cmd_reorder import (
     check_pupil_memory,
     check_window_and_frame,
     file_basis,
+    load_analysed_log,
     refuse_frame_with_drop,
 )
 from modalinfo.cli.shared import (
-    LOG_COPIES,
     _Renamed,
     apply_outliers,
     check_figure_output,
-    load_log_with_hints,
 )
 
 NAME = "fitting-error"
@@ -69,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     refuse_frame_with_drop(args)
-    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
+    log = load_analysed_log(args, mi=any(str(m).startswith("mi_") for _, m in specs))
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
     log, _ = apply_outliers(log, args, args.log)

@@ -131,8 +131,29 @@ _PLOT_BYTES = 4 * 120**2 * (8 * 3.5 + 10 * 3.5)
 #: Bytes of JSON and CSV per (predictor, mode or wavefront, horizon): a CSV row of six
 #: fields and three JSON numbers, at most ~25 characters each.
 _TABLE_BYTES = 200
-#: Chunk of forecast origins ``modalinfo.forecast.evaluate`` processes at once.
+#: Chunk of forecast origins ``modalinfo.forecast.evaluate`` processes at once...
 _CHUNK = 8192
+#: ... fewer when a chunk's (origins x horizons x modes) float64 arrays would pass this
+#: many values (128 MB each): the 27-mode logs keep 8192 (and their results), 1,500
+#: modes at H = 10 take 1,118 origins a chunk.
+_CHUNK_VALUES = 1 << 24
+
+
+def chunk_frames(horizon: int, n_modes: int) -> int:
+    """Forecast origins per chunk of ``evaluate`` for this horizon and number of modes."""
+    return min(_CHUNK, max(1, _CHUNK_VALUES // max(1, horizon * n_modes)))
+
+
+#: Float64 copies of the training frames ``evaluate`` and a predictor's fit hold at once
+#: (the training slice, its centred copy and one lagged design block).
+TRAIN_COPIES = 3
+
+
+def _mapped(log) -> bool:
+    """Whether ``log``'s coefficients are memory-mapped (evaluated chunk by chunk)."""
+    import numpy as np
+
+    return isinstance(log.coeffs, np.memmap)
 
 
 def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: int) -> None:
@@ -148,10 +169,20 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
                            f"forecast is scored {h} frames after its origin); got {h}")
     n_train = train if isinstance(train, int) else int(round(train * n_frames))
     n_origins = max(n_frames - h - n_train + 1, 1)
-    need = (LOG_COPIES * log_bytes(log) + 8 * n_pred * h * n_origins
-            + 4 * 8 * min(_CHUNK, n_frames) * h * n_modes)
-    check_memory(need, f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} "
-                 f"origins x {n_modes} modes)", "use a smaller --horizon or fewer modes")
+    chunk_part = 4 * 8 * min(chunk_frames(h, n_modes), n_frames) * h * n_modes
+    what = (f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} origins x "
+            f"{n_modes} modes)")
+    fix = "use a smaller --horizon or fewer modes"
+    if _mapped(log):  # evaluate reads a mapped log chunk by chunk: only the training
+        # frames are held whole, as TRAIN_COPIES float64 copies (the predictors' fits)
+        n_held = min(n_train, n_frames)
+        log_part = TRAIN_COPIES * 8 * n_held * n_modes
+        what = (f"'{args.log.name}' ({n_frames} frames x {n_modes} modes, memory-mapped): "
+                f"{what} with --train {args.train} ({n_held} training frames held whole)")
+        fix = "use a smaller --horizon or --train (a number of frames), or fewer modes"
+    else:
+        log_part = LOG_COPIES * log_bytes(log)
+    check_memory(log_part + 8 * n_pred * h * n_origins + chunk_part, what, fix)
     if args.out is not None:
         from modalinfo.common.files import writable_free_bytes
         from modalinfo.common.sizes import format_size
@@ -239,7 +270,12 @@ def run(args: argparse.Namespace) -> int:
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
                                "replace it")
-    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
+    # mapped where the format allows (NPY, NPZ, HDF5): evaluate reads it chunk by chunk
+    log = load_log_with_hints(args.log, args, mmap=True)
+    if not _mapped(log):  # read whole (CSV, FITS, compressed NPZ): it must fit
+        check_memory(LOG_COPIES * log_bytes(log), f"'{args.log.name}' ({log.n_frames} "
+                     f"frames x {log.n_modes} modes, {LOG_COPIES} float64 copies)",
+                     "analyse fewer frames or modes (e.g. convert a part of the log)")
     log = split_gaps(log, args, args.log, "forecasting")
     if args.modes is not None:
         log = log.select(modes=parse_modes(args.modes, "--modes"))
@@ -263,7 +299,8 @@ def run(args: argparse.Namespace) -> int:
 
     with progress(args, n_pred, unit="predictor", desc="forecast") as advance:
         ev = evaluate(predictors, log, train=train, horizons=range(1, args.horizon + 1),
-                      refit_every=args.refit_every, window=args.window, progress=advance)
+                      refit_every=args.refit_every, window=args.window, progress=advance,
+                      chunk_frames=chunk_frames(args.horizon, log.n_modes))
     if not args.quiet:
         sys.stdout.write(f"{args.log.name}: {log.n_frames} frames x {log.n_modes} modes "
                          f"({', '.join(ev.labels)})\n")

@@ -24,9 +24,12 @@ from modalinfo.cli._choices import MIMethodChoices
 from modalinfo.cli.shared import (
     LOG_COPIES,
     add_hint_arguments,
+    add_max_frames_argument,
     apply_outliers,
     check_memory,
+    frame_subsample,
     load_log_with_hints,
+    log_bytes,
     refuse_outlier_drop,
 )
 
@@ -65,7 +68,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--units", choices=("nats", "bits"), default="nats",
                         help="units of the gains (default: nats)")
     parser.add_argument("--seed", type=int, default=0, help="surrogate seed (default: 0)")
+    add_max_frames_argument(parser, default=None, contiguous=True)
     add_hint_arguments(parser)
+
+
+def _load(args: argparse.Namespace, path: Path):
+    """Map ``path``, keep its first ``--max-frames`` frames, refuse copies that cannot fit."""
+    log = frame_subsample(load_log_with_hints(path, args, mmap=True), args, contiguous=True)
+    check_memory(LOG_COPIES * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
+                 f"{log.n_modes} modes, {LOG_COPIES} float64 copies)",
+                 "use --max-frames N (the first N frames)")
+    return log
 
 
 def run(args: argparse.Namespace) -> int:
@@ -73,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.information.selection import _WORKING_COPIES, select_inputs
 
     refuse_outlier_drop(args, "input selection")
-    log = load_log_with_hints(args.log, args, copies=LOG_COPIES)
+    log = _load(args, args.log)
     log, _ = apply_outliers(log, args, args.log, time_series=True)
     extra = None
     if args.extra is not None:
@@ -83,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
                 args.extra, args.log):
             raise CommandError(f"--extra '{args.extra}' is LOG itself: its modes are "
                                "candidates already")
-        extra = load_log_with_hints(args.extra, args, copies=LOG_COPIES)
+        extra = _load(args, args.extra)
         extra, _ = apply_outliers(extra, args, args.extra, time_series=True)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
@@ -107,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
         columns = (log.n_modes + (extra.n_modes if extra is not None else 0)) * args.max_lag
         check_memory(_WORKING_COPIES * 8 * log.n_frames * columns,
                      f"--max-lag {args.max_lag} ({columns} candidate columns x "
-                     f"{log.n_frames} frames)", "use a smaller --max-lag or fewer frames")
+                     f"{log.n_frames} frames)", "use a smaller --max-lag or --max-frames")
     from modalinfo.common.validation import check_square_range
 
     for name, data in (("log", log), ("extra", extra)):  # 1e300 failed inside the search

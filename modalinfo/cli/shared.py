@@ -498,3 +498,67 @@ def check_memory(need: float, what: str, fix: str) -> None:
     if need > avail:
         raise CommandError(f"{what} needs about {format_size(need)} of memory and "
                            f"{format_size(avail)} is available; {fix}")
+
+
+__all__ += ["add_max_frames_argument", "frame_subsample", "MAX_FRAMES"]
+
+#: Default of ``--max-frames``: frames ``reorder`` and ``fitting-error`` analyse at most.
+#: A quarter of their default ``--budget`` of 200,000 (frame, pixel) samples, so every
+#: analysed frame still gives ~4 samples; 1,500 modes x 50,000 frames is 0.6 GB per
+#: float64 copy (LOG_COPIES of them: 1.8 GB), the issue-30 bound being 4 GB.
+MAX_FRAMES = 50_000
+#: Frames of a log from which the subsample's read shows a progress bar (on a terminal).
+SUBSAMPLE_PROGRESS_FRAMES = 1_000_000
+
+
+def add_max_frames_argument(parser: argparse.ArgumentParser, *, default: int | None,
+                            contiguous: bool) -> None:
+    """Add ``--max-frames N``: the frame subsample of a log too long to analyse whole."""
+    how = ("the first N frames (a contiguous segment: lags stay lags)" if contiguous else
+           "every k-th frame, k = ceil(frames / N), spread over the whole log")
+    shown = "all frames" if default is None else f"{default}"
+    parser.add_argument("--max-frames", dest="max_frames", type=int, default=default,
+                        metavar="N", help=f"analyse at most N frames of a longer log: {how} "
+                        f"(default: {shown}); a note says when it applies")
+
+
+def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
+    """Return ``log`` cut to ``args.max_frames`` frames (``log`` itself when it is shorter).
+
+    ``contiguous=False`` keeps every k-th frame, ``k = ceil(T / N)`` (the rate becomes
+    rate / k); ``contiguous=True`` keeps frames ``0 .. N - 1``. The kept frames are
+    copied into memory block by block, releasing the pages of a memory-mapped log after
+    each block (:func:`modalinfo.telemetry.scan.row_blocks`), so the resident set stays
+    the subsample's size however long the file. A note on stderr names the frames kept.
+    """
+    import numpy as np
+
+    from modalinfo.telemetry.scan import row_blocks, scan_rows
+
+    limit = getattr(args, "max_frames", None)
+    if limit is None:
+        return log
+    if limit < 1:
+        raise CommandError(f"--max-frames must be an int >= 1; got {limit}")
+    n = log.n_frames
+    if n <= limit:
+        return log
+    step = 1 if contiguous else -(-n // limit)
+    part = log[:limit] if contiguous else log[::step]
+    src = log.coeffs
+    stop = (part.n_frames - 1) * step + 1  # rows of the file the subsample spans
+    rows = max(step, scan_rows(src) // step * step)  # whole strides per block
+    out = np.empty(part.coeffs.shape, dtype=src.dtype)
+    k = 0
+    with progress(args, stop, unit="frame", desc="read",
+                  min_total=SUBSAMPLE_PROGRESS_FRAMES) as advance:
+        for block in row_blocks(src[:stop], rows):
+            kept = block[::step]
+            out[k:k + kept.shape[0]] = kept
+            k += kept.shape[0]
+            advance(block.shape[0])
+    out.flags.writeable = False
+    what = (f"frames 0..{limit - 1} of {n}" if contiguous
+            else f"every {step}th frame ({part.n_frames} of {n})")
+    queue_notes(args, [f"--max-frames {limit}: analysed {what}"])
+    return part._derive(_coeffs=out)  # noqa: SLF001 - the same frames, now in memory

@@ -390,12 +390,45 @@ class ForecastEvaluation:
 
 
 # ---------------------------------------------------------------------- helpers
+class _MappedRows:
+    """Float64 rows of a memory-mapped ``(T, M)`` log, read on demand.
+
+    ``evaluate`` reads the log in order, a chunk of origins at a time; indexing this
+    returns a float64 copy of the rows asked for (the values the whole-log float64
+    conversion would give, so results are the same bit for bit) and hands their file
+    pages back to the kernel (:func:`modalinfo.telemetry.scan.release_pages`), so a log
+    far larger than memory is evaluated with a resident set of a few chunks.
+    """
+
+    def __init__(self, mapped: np.ndarray) -> None:
+        self.src = mapped
+        self.shape = mapped.shape
+        self.ndim = 2
+
+    def __getitem__(self, key) -> np.ndarray:
+        from modalinfo.telemetry.scan import release_pages
+
+        out = np.array(self.src[key], dtype=np.float64)
+        if isinstance(key, slice):
+            rows = key
+        else:  # an integer row index array (targets after the origins)
+            idx = np.asarray(key)
+            rows = slice(int(idx.min()), int(idx.max()) + 1) if idx.size else slice(0, 0)
+        release_pages(self.src, self.src[rows])
+        return out
+
+
 def _as_data(log) -> tuple[np.ndarray, tuple[str, ...], float | None, str]:
     if hasattr(log, "coeffs") and hasattr(log, "labels"):
         if hasattr(log, "sampling"):
             from modalinfo.telemetry.sampling import require_contiguous
 
             require_contiguous(log, "forecast evaluation")
+        if isinstance(log.coeffs, np.memmap) and log.coeffs.ndim == 2:
+            # a ModalLog's values are finite (checked at load, in blocks), and float32 or
+            # float64: squares of either cannot overflow the float64 sums
+            return (_MappedRows(log.coeffs), tuple(str(lb) for lb in log.labels), log.rate,
+                    str(log.units))
         data = as_float_array(np.asarray(log.coeffs), "log", ndim=2)
         return data, tuple(str(lb) for lb in log.labels), log.rate, str(log.units)
     data = as_float_array(log, "log", ndim=(1, 2))
@@ -514,7 +547,13 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         See the module notes for the protocol and the metrics.
     """
     data, labels, rate, units = _as_data(log)
-    check_square_range(data, "log", labels)
+    if not isinstance(data, _MappedRows):
+        check_square_range(data, "log", labels)
+    elif data.src.dtype != np.float32:  # float32 squares cannot overflow float64 sums
+        from modalinfo.telemetry.scan import row_blocks, scan_rows
+
+        for block in row_blocks(data.src, scan_rows(data.src)):
+            check_square_range(block, "log", labels, n_terms=data.src.size)
     preds = _as_predictors(predictors)
     hs = np.array(sorted({check_int(h, "horizons", minimum=1) for h in horizons}), dtype=int)
     if hs.size == 0:

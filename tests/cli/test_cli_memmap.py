@@ -1,0 +1,198 @@
+"""Long memory-mapped logs through ``reorder``, ``fitting-error`` and ``forecast``.
+
+References: numpy's own slicing (``coeffs[::k]``, ``coeffs[:n]``) of the array the test
+wrote, for the ``--max-frames`` subsample (bit for bit); the same command on a file
+holding exactly those frames (a round trip through ``modalinfo.io.save``); the
+in-memory evaluation of the same values (``mmap=False``) for the chunked, mapped
+``evaluate`` (bit for bit: the float64 values and the chunks are the same); the
+dispatcher's contract (one line on stderr, exit 2) with ``memory_available`` set to the
+command's estimate and one byte below it (the estimate recomputed here from the
+documented formula: copies x frames x modes x 8 bytes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+import pytest
+
+from modalinfo.cli import main, shared
+from modalinfo.io import load, save
+from modalinfo.telemetry import ModalLog
+
+N_FRAMES, N_MODES = 1200, 6
+
+
+@pytest.fixture(scope="module")
+def long_npy(tmp_path_factory):
+    """A float32 AR(1) log, 1200 frames x 6 Noll modes (2..7), in an NPY file."""
+    rng = np.random.default_rng(3)
+    e = rng.standard_normal((N_FRAMES, N_MODES))
+    x = np.empty_like(e)
+    x[0] = e[0]
+    for t in range(1, N_FRAMES):
+        x[t] = 0.9 * x[t - 1] + e[t]
+    x = (x * 0.3 / np.arange(1, N_MODES + 1)).astype(np.float32)
+    path = tmp_path_factory.mktemp("memmap") / "long.npy"
+    np.save(path, x)
+    return path, x
+
+
+def _args(**kw):
+    ns = argparse.Namespace(command="reorder", quiet=False, **kw)
+    return ns
+
+
+@pytest.mark.parametrize("limit", [1, 299, 300, 401, 1199])
+def test_strided_subsample_is_numpy_slicing(long_npy, limit):
+    path, x = long_npy
+    log = load(path, mmap=True, rate=2000.0)
+    assert isinstance(log.coeffs, np.memmap)
+    part = shared.frame_subsample(log, _args(max_frames=limit))
+    step = -(-N_FRAMES // limit)
+    np.testing.assert_array_equal(part.coeffs, x[::step])
+    assert part.coeffs.dtype == np.float32 and part.n_frames <= limit
+    assert part.rate == 2000.0 / step
+    assert not isinstance(part.coeffs, np.memmap)  # read into memory
+
+
+def test_contiguous_subsample_is_the_first_frames(long_npy):
+    path, x = long_npy
+    log = load(path, mmap=True, rate=2000.0)
+    part = shared.frame_subsample(log, _args(max_frames=500), contiguous=True)
+    np.testing.assert_array_equal(part.coeffs, x[:500])
+    assert part.rate == 2000.0
+
+
+def test_short_log_is_untouched(long_npy):
+    path, _ = long_npy
+    log = load(path, mmap=True, rate=2000.0)
+    assert shared.frame_subsample(log, _args(max_frames=N_FRAMES)) is log
+    assert shared.frame_subsample(log, _args(max_frames=None)) is log
+
+
+def test_reorder_max_frames_equals_the_strided_file(long_npy, tmp_path, capsys):
+    path, x = long_npy
+    step = 4
+    save(ModalLog(x[::step], rate=2000.0 / step, modes=list(range(2, 2 + N_MODES)),
+                  units="rad"), tmp_path / "strided.npz")
+    common = ["--method", "mi_marginal", "--resamples", "0", "--pupil-pixels", "16",
+              "--budget", "3000", "--quiet"]
+    assert main(["reorder", str(path), "--rate", "2000", "--in-units", "rad",
+                 "--max-frames", "300", *common]) == 0
+    via_option = capsys.readouterr()
+    assert main(["reorder", str(tmp_path / "strided.npz"), *common]) == 0
+    via_file = capsys.readouterr()
+    assert via_option.out == via_file.out
+    assert "--max-frames 300: analysed every 4th frame (300 of 1200)" in via_option.err
+
+
+def test_fitting_error_max_frames_equals_the_strided_file(long_npy, tmp_path, capsys):
+    path, x = long_npy
+    save(ModalLog(x[::3], rate=2000.0 / 3, modes=list(range(2, 2 + N_MODES)), units="rad"),
+         tmp_path / "strided.npz")
+    common = ["--orderings", "zernike:standard,zernike:variance", "--pupil-pixels", "16",
+              "--quiet"]
+    assert main(["fitting-error", str(path), "--rate", "2000", "--in-units", "rad",
+                 "--max-frames", "400", *common]) == 0
+    via_option = capsys.readouterr().out
+    assert main(["fitting-error", str(tmp_path / "strided.npz"), *common]) == 0
+    assert via_option == capsys.readouterr().out
+
+
+@pytest.mark.parametrize("chunk", [7, 8192])
+def test_mapped_evaluation_equals_in_memory(long_npy, chunk):
+    from modalinfo.forecast import evaluate
+    from modalinfo.forecast.presets import make_predictor
+
+    path, _ = long_npy
+    mapped = load(path, mmap=True, rate=2000.0)
+    whole = load(path, mmap=False, rate=2000.0)
+    assert isinstance(mapped.coeffs, np.memmap) and not isinstance(whole.coeffs, np.memmap)
+    kw = dict(train=400, horizons=range(1, 4), chunk_frames=chunk)
+    a = evaluate({"linear": make_predictor("linear")}, mapped, **kw)
+    b = evaluate({"linear": make_predictor("linear")}, whole, **kw)
+    for name in ("rmse", "rmse_wavefront", "dm_statistic", "one_step", "truth"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+def _refusal(capsys, *needles):
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    for needle in needles:
+        assert needle in err, err
+
+
+def test_reorder_refusal_fires_at_the_boundary(long_npy, monkeypatch, capsys):
+    path, _ = long_npy
+    # LOG_COPIES float64 copies of the 300-frame subsample (the documented estimate)
+    need = shared.LOG_COPIES * 300 * N_MODES * 8
+    argv = ["reorder", str(path), "--in-units", "rad", "--max-frames", "300",
+            "--method", "standard", "--resamples", "0", "--pupil-pixels", "8", "--quiet"]
+    monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
+    assert main(argv) == 2
+    _refusal(capsys, "--max-frames", "300 frames x 6 modes")
+    # at the estimate itself it runs (the pupil grids of --pupil-pixels 8 add their own
+    # check, so give them room: the refusal above is the subsample's)
+    monkeypatch.setattr(shared, "memory_available", lambda: need + 8 * 64 * 40)
+    assert main(argv) == 0
+
+
+def test_reorder_mi_refusal_counts_the_budget(long_npy, monkeypatch, capsys):
+    path, _ = long_npy
+    # the subsample's copies + the (modes x budget) float64 MI contributions
+    need = shared.LOG_COPIES * 300 * N_MODES * 8 + 8 * N_MODES * 2000
+    argv = ["reorder", str(path), "--in-units", "rad", "--max-frames", "300",
+            "--method", "mi_marginal", "--budget", "2000", "--resamples", "0",
+            "--pupil-pixels", "8", "--quiet"]
+    monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
+    assert main(argv) == 2
+    _refusal(capsys, "--budget 2000", "smaller --budget or --max-frames")
+    monkeypatch.setattr(shared, "memory_available", lambda: need + 8 * 64 * 40)
+    assert main(argv) == 0
+
+
+def test_forecast_refusal_names_train_at_the_boundary(long_npy, monkeypatch, capsys):
+    from modalinfo.cli import cmd_forecast
+
+    path, _ = long_npy
+    h, n_train = 2, 500
+    chunk = min(cmd_forecast.chunk_frames(h, N_MODES), N_FRAMES)
+    n_origins = N_FRAMES - h - n_train + 1
+    need = (cmd_forecast.TRAIN_COPIES * 8 * n_train * N_MODES  # training frames
+            + 8 * 3 * h * n_origins  # per-origin losses of 3 predictors (2 baselines)
+            + 4 * 8 * chunk * h * N_MODES)  # a chunk's forecasts and errors
+    argv = ["forecast", str(path), "--in-units", "rad", "--predictors", "linear",
+            "--train", str(n_train), "--horizon", str(h), "--quiet"]
+    monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
+    assert main(argv) == 2
+    _refusal(capsys, "--train 500 (500 training frames", "smaller --horizon or --train")
+    monkeypatch.setattr(shared, "memory_available", lambda: need)
+    assert main(argv) == 0
+
+
+@pytest.mark.parametrize("tty", [False, True])
+def test_subsample_progress_only_on_a_terminal(long_npy, monkeypatch, capsys, tty):
+    path, x = long_npy
+    monkeypatch.setattr(shared, "SUBSAMPLE_PROGRESS_FRAMES", 1)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: tty, raising=False)
+    log = load(path, mmap=True, rate=2000.0)
+    part = shared.frame_subsample(log, _args(max_frames=100))
+    np.testing.assert_array_equal(part.coeffs, x[::12])
+    err = capsys.readouterr().err
+    assert ("read" in err and "frame" in err) is tty, err
+
+
+def test_select_max_frames_equals_the_first_frames_file(long_npy, tmp_path, capsys):
+    path, x = long_npy
+    save(ModalLog(x[:600], rate=2000.0, modes=list(range(2, 2 + N_MODES)), units="rad"),
+         tmp_path / "first.npz")
+    common = ["--target", "Z3", "--max-lag", "3", "--surrogates", "19", "--no-intervals"]
+    assert main(["select", str(path), "--rate", "2000", "--in-units", "rad",
+                 "--max-frames", "600", *common]) == 0
+    via_option = capsys.readouterr()
+    assert main(["select", str(tmp_path / "first.npz"), *common]) == 0
+    assert via_option.out == capsys.readouterr().out
+    assert "--max-frames 600: analysed frames 0..599 of 1200" in via_option.err
