@@ -207,36 +207,61 @@ class InfoPredictor(Predictor):
                         alpha, n_surr, seed):
         """Fit with each mode's candidates restricted to ``allowed[:, mode]``.
 
-        The operations of the unrestricted fit on the candidate columns of each group of
-        targets that share a candidate set (module notes); the EBIC penalty of the whole
-        family.
+        The targets that share a candidate set form a group, searched on that set's
+        columns in the unrestricted order (lag-major, modes ascending), with the EBIC
+        penalty of the whole family (module notes). The modes that enter the same
+        groups form an *atom* (for ``"radial"``: one radial order); each group's Gram is
+        assembled from atom-by-atom blocks, each computed once and dropped after the
+        last group that needs it (neighbouring radial groups share most of their atoms).
         """
         T, n_modes = Xc.shape
         origins = np.arange(max_lag - 1, T - H)
         n = origins.shape[0]
         # the lag-l block of every mode, as the columns l M + j of lagged_candidates
         blocks = [Xc[max_lag - 1 - lag : T - H - lag] for lag in range(max_lag)]
-        m = sum(int(unit_candidates(b)[1].sum()) for b in blocks)
+        keys, group = np.unique(allowed.T, axis=0, return_inverse=True)
+        group = group.ravel()
+        first = np.array([np.flatnonzero(k)[0] for k in keys])
+        order = np.argsort(first, kind="stable")  # neighbouring groups one after another
+        _, atom_of = np.unique(keys.T, axis=0, return_inverse=True)
+        atom_of = atom_of.ravel()
+        atom_modes = [np.flatnonzero(atom_of == a) for a in range(atom_of.max() + 1)]
+        group_atoms = [np.unique(atom_of[keys[g]]) for g in order]
+        last_use = {}
+        for step, atoms in enumerate(group_atoms):
+            for a in atoms:
+                last_use[int(a)] = step
+        # per atom: raw and unit lagged columns (lag-major over its modes) and alive mask
+        atom_cols: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        m = 0
+        for a, modes in enumerate(atom_modes):
+            Ca = np.ascontiguousarray(np.concatenate([b[:, modes] for b in blocks], axis=1))
+            Cua, alive_a = unit_candidates(Ca)
+            atom_cols[a] = (Ca, Cua, alive_a)
+            m += int(alive_a.sum())
         penalty = math.log(n) + 2.0 * math.log(max(m, 1))
         src = np.zeros((H, n_modes, k_max), dtype=np.int64)
         lag = np.zeros((H, n_modes, k_max), dtype=np.int64)
         coef = np.zeros((H, n_modes, k_max))
         rng = np.random.default_rng(seed)
         est = _estimator("gaussian", "nats", {}) if selection == "surrogate" else None
-        keys, group = np.unique(allowed.T, axis=0, return_inverse=True)
-        for g in range(keys.shape[0]):
-            targets = np.flatnonzero((group.ravel() == g) & ~constant)
-            if targets.size == 0:
-                continue
-            sources = np.flatnonzero(keys[g])
-            C = np.ascontiguousarray(np.concatenate([b[:, sources] for b in blocks], axis=1))
-            cols = np.array([(j, lg) for lg in range(max_lag) for j in sources],
-                            dtype=np.int64)
-            Cu, alive = unit_candidates(C)
-            if selection == "ebic":
-                G = Cu.T @ Cu
-            for h in range(1, H + 1):
-                Y = Xc[origins + h][:, targets]
+        gram_blocks: dict[tuple[int, int], np.ndarray] = {}
+        for step, g in enumerate(order):
+            atoms = [int(a) for a in group_atoms[step]]
+            targets = np.flatnonzero((group == g) & ~constant)
+            if targets.size:
+                # columns in atom order, then the permutation to the unrestricted order
+                cat = np.concatenate([[(j, lg) for lg in range(max_lag)
+                                       for j in atom_modes[a]] for a in atoms])
+                perm = np.lexsort((cat[:, 0], cat[:, 1]))  # lag-major, modes ascending
+                cols = cat[perm].astype(np.int64)
+                C = np.concatenate([atom_cols[a][0] for a in atoms], axis=1)[:, perm]
+                Cu = np.concatenate([atom_cols[a][1] for a in atoms], axis=1)[:, perm]
+                alive = np.concatenate([atom_cols[a][2] for a in atoms])[perm]
+                if selection == "ebic":
+                    G = self._group_gram(atoms, atom_cols, gram_blocks)[np.ix_(perm, perm)]
+            for h in range(1, H + 1) if targets.size else ():
+                Y = np.ascontiguousarray(Xc[max_lag - 1 + h : T - H + h, targets])
                 if selection == "ebic":
                     Yu, _ = _unit_columns(Y)
                     CY = Cu.T @ Yu
@@ -260,8 +285,32 @@ class InfoPredictor(Predictor):
                     src[h - 1, mode, :k] = cols[chosen, 0]
                     lag[h - 1, mode, :k] = cols[chosen, 1]
                     coef[h - 1, mode, :k] = w
+            done = {a for a in atoms if last_use[a] == step}  # no later group needs them
+            for key in [key for key in gram_blocks if done & set(key)]:
+                del gram_blocks[key]
+            for a in done:
+                del atom_cols[a]
         return {"mu": mu, "src": src, "lag": lag, "coef": coef,
                 "max_lag": np.array([max_lag])}
+
+    @staticmethod
+    def _group_gram(atoms, atom_cols, cache) -> np.ndarray:
+        """Gram of the unit columns of ``atoms`` (in atom order) from cached atom blocks."""
+        sizes = [atom_cols[a][1].shape[1] for a in atoms]
+        edges = np.concatenate([[0], np.cumsum(sizes)])
+        G = np.empty((edges[-1], edges[-1]))
+        for p, a in enumerate(atoms):
+            for q in range(p, len(atoms)):
+                b = atoms[q]
+                key = (min(a, b), max(a, b))
+                if key not in cache:
+                    Ua, Ub = atom_cols[key[0]][1], atom_cols[key[1]][1]
+                    cache[key] = Ua.T @ Ua if key[0] == key[1] else Ua.T @ Ub
+                blk = cache[key] if a <= b else cache[key].T
+                G[edges[p]:edges[p + 1], edges[q]:edges[q + 1]] = blk
+                if q != p:
+                    G[edges[q]:edges[q + 1], edges[p]:edges[p + 1]] = blk.T
+        return G
 
     def _init_state(self, params, horizon):
         h_fit = params["coef"].shape[0]
