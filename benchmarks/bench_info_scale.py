@@ -22,6 +22,12 @@ CPU time (``time.process_time``), single-threaded BLAS (set before numpy is impo
    "miller_madow")`` on bin codes with a one-column condition, is timed at the same
    n (median of 7) and multiplied by the evaluations our fit did per mode -- a lower
    bound of what the same search would cost with it.
+4. The map and the search at that size (``--skip-map`` to skip): the Gaussian
+   ``transfer_entropy_map(candidates="radial")`` of all ``--modes`` on the first 2 000
+   frames (lags 1..2, history 1, 49 surrogates, step-down maxT over the restricted
+   family), and ``select_inputs(candidates="radial")`` of Z500 (horizon 2, lags 0..9,
+   199 surrogates, no intervals) on all frames; the unrestricted map's own resource
+   estimate is printed beside (its time estimate, and its null of N x S^2 x L values).
 """
 
 import os
@@ -108,6 +114,36 @@ def _infomeasure_per_eval(n: int) -> float:
     return float(np.median(times))
 
 
+def _map_and_search(x: np.ndarray, width: int) -> None:
+    from modalinfo.information import select_inputs, transfer_entropy_map
+    from modalinfo.telemetry import ModalLog
+
+    M = x.shape[1]
+    log = ModalLog(x[:2000], modes=list(range(2, 2 + M)), rate=2000.0)
+    t0 = time.process_time()
+    res = transfer_entropy_map(log, lags=2, history=1, n_surrogates=49, seed=0,
+                               candidates="radial", radial_width=width, max_seconds=1e5)
+    cpu = time.process_time() - t0
+    cells = int(np.count_nonzero(~np.isnan(res.pvalue)))
+    print(f"map: {M} modes x 2000 frames, lags 1..2, 49 surrogates, radial width {width}: "
+          f"{cells} cells ({cells / (M * (M - 1) * 2):.3f} of the full map's "
+          f"{M * (M - 1) * 2}) in {cpu:.1f} s CPU (estimate checked before work "
+          f"{res.estimated_seconds:.0f} s); {len(res.links())} significant links", flush=True)
+    try:
+        transfer_entropy_map(log, lags=2, history=1, n_surrogates=49, seed=0,
+                             max_seconds=1.0)
+    except ValueError as err:
+        print(f"unrestricted map refused: {err}", flush=True)
+    full_log = ModalLog(x, modes=list(range(2, 2 + M)), rate=2000.0)
+    t0 = time.process_time()
+    sel = select_inputs(full_log, "Z500", horizon=2, max_lag=10, n_surrogates=199,
+                        intervals=False, seed=0, candidates="radial", radial_width=width)
+    cpu = time.process_time() - t0
+    print(f"select_inputs Z500 (radial {width}): {sel.n_candidates} candidates, "
+          f"{len(sel.inputs)} inputs in {cpu:.1f} s CPU: "
+          f"{', '.join(s.label for s in sel.inputs)}", flush=True)
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--modes", type=int, default=1500)
@@ -119,12 +155,15 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-small", action="store_true")
     parser.add_argument("--skip-large", action="store_true")
     parser.add_argument("--skip-infomeasure", action="store_true")
+    parser.add_argument("--skip-map", action="store_true")
     args = parser.parse_args(argv)
     print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M:%S', time.gmtime())}"
           " UTC", flush=True)
     x = _log(args.modes, args.frames, args.cache)
     if not args.skip_small:
         _small(x, (27, 184), args.baseline_root, args.cache)
+    if not args.skip_map:
+        _map_and_search(x, args.width)
     if args.skip_large:
         return
     labels = [f"Z{j}" for j in range(2, 2 + args.modes)]

@@ -64,6 +64,18 @@ Gaussian cell is then a partial correlation of a white residual); with a history
 too short for a target, cells of slowly varying sources have a wider null and
 dominate the maximum -- still valid, but less power for the other cells.
 
+Candidates at thousands of modes (``candidates=``, issue 30). The map is ``S (S - 1)
+L`` cells and its null ``n_surrogates`` times that: 1,500 modes at 2 lags is 4.5e6
+cells. ``candidates="radial"`` keeps, for each target, the sources within
+``radial_width`` radial orders (frozen flow couples modes of similar radial order;
+:mod:`modalinfo.information.candidates` gives the physics and the label rules), or an
+explicit ``(S, S)`` mask (e.g. a DM's neighbours). Only the allowed cells are computed
+(each with the operations of the full map, on its target's allowed columns), the
+others are NaN, and the maxT p-values are those of the restricted family: the
+family-wise error is controlled over the cells the map holds (measured,
+``bench_flow_fwer.py --part restricted``). A link outside the rule is not tested at
+all, so the rule is a prior, to be chosen before looking at the map.
+
 Bivariate TE does not separate direct from indirect transfer (a chain j -> m -> i, or a
 common driver of i and j, shows as j -> i); :func:`~modalinfo.information.select_inputs`
 conditions on the inputs already chosen and is the tool for a predictor's inputs.

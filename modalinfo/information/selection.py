@@ -62,6 +62,11 @@ from 64 surrogates on). The other methods of
 with the estimator and rotate the candidate against (target, selected), on the same
 lattice of shifts; they cost ``m (1 + n_surrogates)`` estimates per step.
 
+Candidates (``candidates=``, issue 30): ``"radial"`` or an explicit mask restricts the
+candidates to the lags of the modes :mod:`modalinfo.information.candidates` allows for
+the target (frozen flow's radial-order neighbours; a DM's neighbours); the
+maximum-statistic test of each step is then over the restricted candidates.
+
 Intervals: moving-block bootstrap of the gain of each chosen input given the inputs
 chosen before it (:func:`~modalinfo.information.conditional_mutual_information_ci`).
 """
