@@ -2,7 +2,8 @@
 
 Run: nice /work/main/.venv/bin/python benchmarks/bench_info_scale.py
      [--modes 1500] [--frames 5000] [--width 2] [--cache DIR] [--baseline-root DIR]
-     [--profile] [--skip-small] [--skip-large] [--skip-infomeasure]
+     [--profile] [--skip-small] [--skip-large] [--skip-infomeasure] [--skip-map]
+     [--small-sizes 27,184]
 
 Data: :func:`modalinfo.telemetry.synthetic.kaos_like` (Z2 onwards, seed 0: von Karman
 turbulence through the KAOS-like integrator loop); a size M takes its first M modes.
@@ -156,12 +157,14 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-large", action="store_true")
     parser.add_argument("--skip-infomeasure", action="store_true")
     parser.add_argument("--skip-map", action="store_true")
+    parser.add_argument("--small-sizes", default="27,184")
     args = parser.parse_args(argv)
     print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M:%S', time.gmtime())}"
           " UTC", flush=True)
     x = _log(args.modes, args.frames, args.cache)
     if not args.skip_small:
-        _small(x, (27, 184), args.baseline_root, args.cache)
+        _small(x, [int(v) for v in args.small_sizes.split(",")], args.baseline_root,
+               args.cache)
     if not args.skip_map:
         _map_and_search(x, args.width)
     if args.skip_large:
