@@ -75,6 +75,17 @@ a fifth of the frames dropped, none where the join already looks like a typical 
 ``rows`` of the result), which restores the level; with many series the match is a
 compromise over all of them. Where the surrogates fit in the frames but not in
 the window (a short log), every frame is kept.
+Candidates at thousands of modes (``candidates=``, issue 30). The map is ``S (S - 1)
+L`` cells and its null ``n_surrogates`` times that: 1,500 modes at 2 lags is 4.5e6
+cells. ``candidates="radial"`` keeps, for each target, the sources within
+``radial_width`` radial orders (frozen flow couples modes of similar radial order;
+:mod:`modalinfo.information.candidates` gives the physics and the label rules), or an
+explicit ``(S, S)`` mask (e.g. a DM's neighbours). Only the allowed cells are computed
+(each with the operations of the full map, on its target's allowed columns), the
+others are NaN, and the maxT p-values are those of the restricted family: the
+family-wise error is controlled over the cells the map holds (measured,
+``bench_flow_fwer.py --part restricted``). A link outside the rule is not tested at
+all, so the rule is a prior, to be chosen before looking at the map.
 
 Bivariate TE does not separate direct from indirect transfer (a chain j -> m -> i, or a
 common driver of i and j, shows as j -> i); :func:`~modalinfo.information.select_inputs`
@@ -100,6 +111,7 @@ import numpy as np
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import UNITS
+from modalinfo.information.candidates import candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import matched_window_for, surrogate_shifts
@@ -132,7 +144,7 @@ class TransferEntropyMap:
         Source lags [samples].
     te : numpy.ndarray, shape (S, S, L)
         ``te[j, i, a]``: TE from source j to target i at lag ``lags[a]``, in ``units``;
-        NaN on the diagonal j = i.
+        NaN on the diagonal j = i and outside the ``candidates`` of the map.
     pvalue : numpy.ndarray, shape (S, S, L)
         Family-wise adjusted (maximum-statistic, ``adjust``) p-value of each cell; NaN
         on the diagonal.
@@ -220,7 +232,7 @@ class TransferEntropyMap:
                 f"{self.lags.min()}..{self.lags.max()}, history {self.history}, n = "
                 f"{self.n_samples}, method {self.method}; family-wise alpha {self.alpha} "
                 f"({self.adjust} max-statistic over "
-                f"{self.te.shape[0] * (self.te.shape[0] - 1) * self.lags.size} cells, "
+                f"{int(np.count_nonzero(~np.isnan(self.pvalue)))} cells, "
                 f"{self.n_surrogates} time-shift surrogates): {len(links)} significant links")
         rows = [head, f"{'source':<14} {'target':<14} {'lag':>4} {'TE':>9} {'p':>7}"]
         for s, t, lag, te, p in links[:max_rows]:
@@ -324,7 +336,63 @@ def _gaussian_map(series, lags, history, t0, shifts):
     return te, null
 
 
-def _estimator_map(series, lags, history, t0, shifts, est):
+def _gaussian_map_restricted(series, lags, history, t0, shifts, family):
+    """Return the TE of the cells of ``family`` (S, S, L) only, and their null.
+
+    ``te`` (S, S, L) is NaN outside ``family``; ``null`` (n_surrogates, K) holds the K
+    cells of ``family`` in its C order.
+
+    Each target's cells are computed with the operations of :func:`_gaussian_map` on the
+    columns of its allowed sources only (the same centred block ``Cc``, norms and
+    history basis), so the restricted map's values are the full map's on those cells;
+    the cost is the allowed cells' instead of ``S^2 L`` (to the last bit: BLAS's
+    matrix-vector kernel may sum a column in an order set by its place in the block).
+    """
+    T, S = series.shape
+    L = lags.size
+    C = _lagged_block(series, lags, t0)
+    _, alive_all = unit_candidates(C)
+    Cc = C - C.mean(axis=0)
+    del C
+    c2 = np.einsum("ij,ij->j", Cc, Cc)
+    te = np.full((S, S, L), np.nan)
+    pos = np.full((S, S, L), -1, dtype=np.int64)
+    pos[family] = np.arange(int(family.sum()))
+    null = np.zeros((shifts.size, int(family.sum())))
+    for i in range(S):
+        if not family[:, i, 0].any():
+            continue
+        # the allowed sources and the target itself (not a cell), so that an all-True
+        # mask runs the very products of the full map
+        use = family[:, i, 0].copy()
+        use[i] = True
+        src = np.flatnonzero(use)
+        idx = (np.arange(L)[:, None] * S + src[None, :]).ravel()  # lag-major, as C
+        Ci = Cc[:, idx]
+        q = _history_basis(_history(series[:, i], history, t0))
+        r = series[t0:, i] - series[t0:, i].mean()
+        r = r - q @ (q.T @ r)
+        R = Ci - q @ (q.T @ Ci)
+        alive = alive_all[idx]
+        alive[np.tile(src == i, L)] = False
+        te[src, i, :] = _gauss_gains(r, R, alive).reshape(L, src.size).T
+        te[i, i, :] = np.nan
+        cn = np.sqrt(np.einsum("ij,ij->j", R, R))
+        ok = alive & (cn > 0)
+        rn = math.sqrt(float(r @ r))
+        if ok.any() and rn > 0 and shifts.size:
+            Cok = Ci[:, ok]
+            rho2 = rotated_rho2(circular_cross(r, Cok, shifts),
+                                [circular_cross(q[:, a], Cok, shifts) for a in range(q.shape[1])],
+                                c2[idx][ok], rn * rn)
+            cells = np.zeros((shifts.size, idx.size))
+            cells[:, ok] = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+            keep = np.tile(src != i, L)
+            null[:, pos[src[src != i], i, :].T.ravel()] = cells[:, keep]
+    return te, null
+
+
+def _estimator_map(series, lags, history, t0, shifts, est, family=None):
     """TE of every cell and of every cell under every surrogate (the source rotated)."""
     T, S = series.shape
     te = np.zeros((S, S, lags.size))
@@ -333,7 +401,7 @@ def _estimator_map(series, lags, history, t0, shifts, est):
         x = series[t0:, i : i + 1]
         z = _history(series[:, i], history, t0)
         for j in range(S):
-            if j == i:
+            if j == i or (family is not None and not family[j, i, 0]):
                 continue
             for a, lag in enumerate(lags):
                 y = np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1])
@@ -384,7 +452,8 @@ def transfer_entropy_map(
     lags: Any = 10, history: int = 1, method: str = "gaussian", units: str = "nats",
     alpha: float = 0.05, n_surrogates: int = 199, min_shift: int | None = None,
     adjust: str = "step-down", max_seconds: float = 600.0, seed: Any = None,
-    match_ends: bool = True, **options: Any,
+    match_ends: bool = True, candidates: Any = "all", radial_width: int = 2,
+    **options: Any,
 ) -> TransferEntropyMap:
     """Transfer entropy between every pair of modes at every lag, with family-wise p-values.
 
@@ -434,6 +503,15 @@ def transfer_entropy_map(
         discarded, none when the join already looks like a typical step), so the
         rotations join like values (module notes). ``False``: every frame (liberal
         when a series' correlation time exceeds ~ n / 20).
+    candidates : {"all", "radial"} or array_like of bool, shape (S, S)
+        Which sources each target's cells hold (:mod:`modalinfo.information.candidates`):
+        every source (default, unchanged), sources within ``radial_width`` radial
+        orders of the target (frozen flow's couplings; Zernike or K-L labels), or an
+        explicit mask ``allowed[j, i]``. Cells outside are NaN (``pvalue`` NaN), and the
+        family-wise error is controlled over the cells inside (the maximum statistic
+        over them). The cells inside equal the unrestricted map's.
+    radial_width : int
+        Largest radial-order difference of ``candidates="radial"``.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 
@@ -484,6 +562,7 @@ def transfer_entropy_map(
     est = _estimator(method, units, options)
     T, S = series.shape
     L = lags.size
+    allowed = candidate_mask(labels, candidates, radial_width)
     t0 = max(int(lags.max()), history)
     n = T - t0
     if n < 20:
@@ -501,8 +580,20 @@ def transfer_entropy_map(
         n = T - t0
 
     # resources, before any work
-    cells = S * (S - 1) * L
-    if closed:
+    if allowed is None:
+        cells = S * (S - 1) * L
+    else:
+        allowed = allowed & ~np.eye(S, dtype=bool)
+        cells = int(allowed.sum()) * L
+        if cells == 0:
+            raise ValueError("`candidates` leaves no (source, target) pair off the diagonal.")
+    if closed and allowed is not None:
+        # the full lagged block, its centred copy, one target's columns and its null
+        width = int(allowed.sum(axis=0).max()) * L
+        need = 8 * (3 * n * S * L + 3 * n * width + n_surrogates * (n + 2 * width)
+                    + (n_surrogates + 2) * cells + 2 * S * S * L)
+        seconds = n * cells * (2 * (history + 1) + n_surrogates * (1 + history)) / _GAUSS_RATE
+    elif closed:
         need = 8 * (3 * n * S * L + n_surrogates * (3 * n + 3 * S * L)
                     + (4 * n_surrogates + 2) * S * S * L)
         # original: residualise and score; null: one cross-correlation of the target's
@@ -533,6 +624,26 @@ def transfer_entropy_map(
 
     shifts, shift0 = surrogate_shifts(n, n_surrogates, int(lags.max()), min_shift, rng)
     factor = UNITS[units]
+    if allowed is not None:
+        family = np.repeat(allowed[:, :, None], L, axis=2)
+        if closed:
+            te, null_cells = _gaussian_map_restricted(series, lags, history, t0, shifts,
+                                                      family)
+            te, null_cells = te * factor, null_cells * factor
+        else:
+            te, null = _estimator_map(series, lags, history, t0, shifts, est, family)
+            null_cells = null[:, family]
+            te[~family] = np.nan
+        pvalue = np.full(te.shape, np.nan)
+        pvalue[family] = maxt_pvalues(te[family], null_cells,
+                                      step_down=adjust == "step-down")
+        null_max = null_cells.max(axis=1) if n_surrogates else np.empty(0)
+        return TransferEntropyMap(
+            labels=tuple(labels), group=np.array(group, dtype=np.int64), lags=lags, te=te,
+            pvalue=pvalue, null_max=null_max, history=history, n_samples=n, method=method,
+            units=units, alpha=alpha, n_surrogates=n_surrogates, min_shift=int(shift0),
+            estimated_seconds=float(seconds), adjust=adjust, rows=(int(rows[0]), int(rows[1])),
+        )
     if closed:
         te, null = _gaussian_map(series, lags, history, t0, shifts)
         te, null = te * factor, null * factor

@@ -62,6 +62,11 @@ from 64 surrogates on). The other methods of
 with the estimator and rotate the candidate against (target, selected), on the same
 lattice of shifts; they cost ``m (1 + n_surrogates)`` estimates per step.
 
+Candidates (``candidates=``, issue 30): ``"radial"`` or an explicit mask restricts the
+candidates to the lags of the modes :mod:`modalinfo.information.candidates` allows for
+the target (frozen flow's radial-order neighbours; a DM's neighbours); the
+maximum-statistic test of each step is then over the restricted candidates.
+
 Intervals: moving-block bootstrap of the gain of each chosen input given the inputs
 chosen before it (:func:`~modalinfo.information.conditional_mutual_information_ci`).
 """
@@ -85,6 +90,7 @@ from modalinfo.common.validation import (
     check_rng,
 )
 from modalinfo.information.api import UNITS
+from modalinfo.information.candidates import candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.conditional_uncertainty import (
     conditional_mutual_information_ci,
@@ -487,7 +493,8 @@ def select_inputs(
     extra: Any = None, method: str = "gaussian", units: str = "nats", alpha: float = 0.05,
     n_surrogates: int = 199, max_inputs: int = 10, intervals: bool = True,
     n_resamples: int = 199, confidence_level: float = 0.95,
-    min_shift: int | None = None, seed: Any = None, **options: Any,
+    min_shift: int | None = None, seed: Any = None, candidates: Any = "all",
+    radial_width: int = 2, **options: Any,
 ) -> InputSelection:
     """Greedy CMI selection of the past values that forecast a mode ``horizon`` ahead.
 
@@ -531,6 +538,15 @@ def select_inputs(
         the rows.
     seed : None, int or numpy.random.Generator
         Randomness of the surrogates and the bootstrap.
+    candidates : {"all", "radial"} or array_like of bool, shape (S, S)
+        Which series' lags are candidates for the target
+        (:mod:`modalinfo.information.candidates`; S counts ``extra``'s modes too): all
+        (default, unchanged), those within ``radial_width`` radial orders of the target
+        (frozen flow; Zernike or K-L labels), or the column ``allowed[:, target]`` of an
+        explicit mask. The maximum-statistic test of each step is then over the
+        restricted candidates (``n_candidates``).
+    radial_width : int
+        Largest radial-order difference of ``candidates="radial"``.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 
@@ -575,7 +591,13 @@ def select_inputs(
     if T - horizon - max_lag + 1 < 20:
         raise ValueError(f"`data` needs at least {horizon + max_lag + 19} frames for "
                          f"horizon={horizon}, max_lag={max_lag}; got {T}.")
-    origins, C, cols = lagged_candidates(series, horizon, max_lag)
+    allowed = candidate_mask(labels, candidates, radial_width)
+    if allowed is None:
+        origins, C, cols = lagged_candidates(series, horizon, max_lag)
+    else:  # the allowed sources' lags only, in the same (lag-major) order
+        src = np.flatnonzero(allowed[:, target_col])
+        origins, C, cols = lagged_candidates(series[:, src], horizon, max_lag)
+        cols[:, 0] = src[cols[:, 0]]
     y = np.ascontiguousarray(series[origins + horizon, target_col])
     n, m_all = C.shape
     if min_shift is not None:
