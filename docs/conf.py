@@ -70,6 +70,8 @@ PUBLIC = [
     ("modalinfo", "modalinfo.information.methods", "The registry of MI methods"),
     ("modalinfo", "modalinfo.information.resampling",
      "Block bootstrap, block length and surrogate shifts"),
+    ("modalinfo", "modalinfo.information.candidates",
+     "Candidate sources of the information-in-time searches (radial order, masks)"),
     ("modalinfo", "modalinfo.ordering", "Orderings of modal bases, fitting error"),
     ("modalinfo", "modalinfo.forecast", "Predictors and their evaluation"),
     ("modalinfo", "modalinfo.batch", "Archives on Dask"),

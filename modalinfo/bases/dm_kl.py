@@ -274,7 +274,7 @@ def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = n
 
     Notes
     -----
-    Builds are cached by their inputs (:mod:`modalinfo.bases._dm_kl_cache`): the last
+    Builds are cached by their inputs (``modalinfo/bases/_dm_kl_cache.py``): the last
     few in the process, and on disk in the directory the environment variable
     ``MODALINFO_DM_KL_CACHE`` names, if set (one checksummed ``.npz`` per build). A cached
     build returns the same arrays bit for bit (copies).

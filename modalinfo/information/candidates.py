@@ -17,7 +17,7 @@ plausible, as a boolean mask ``allowed[j, i]`` (source j may inform target i):
   peaks near ``2 pi f R ~ n + 1``, so the product, and with it the coupling, falls as
   the radial orders n and n' separate; the dominant couplings are those within a
   couple of orders (default width 2). A mode's radial order is read from its label:
-  ``"Z<j>"`` is Noll index j (:func:`modalinfo.bases.indexing.noll_to_zernike`);
+  ``"Z<j>"`` is Noll index j (:func:`modalinfo.bases.noll_to_zernike`);
   ``"KL<k>"`` takes the radial order of Noll index ``k + 1`` (the equivalent radial
   order of the k-th K-L mode: :class:`~modalinfo.bases.KLBasis` is built on Noll
   ``j = 2, 3, ...`` and sorted by variance, which falls with the radial order); a

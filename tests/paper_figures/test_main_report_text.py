@@ -314,14 +314,20 @@ def test_option_refusals_in_one_line(figs, tmp_path, capsys, monkeypatch, argv, 
     assert not (tmp_path / "o").exists()
 
 
-def test_extreme_seed_and_repeated_figures_are_accepted(figs, tmp_path):
-    assert main(["--only", "6,6,", "--seed", str(2**63 - 1), "--out", str(tmp_path / "o")]) == 0
+def test_extreme_seed_is_accepted_and_a_repeated_figure_refused(figs, tmp_path, capsys):
+    assert main(["--only", "6,", "--seed", str(2**63 - 1), "--out", str(tmp_path / "o")]) == 0
+    assert figs.mods["fig6_compression"].calls == [("own", False, 2**63 - 1)]
+    # a figure named twice was merged silently before (adversarial round 3): refused now
+    assert main(["--only", "6,6,", "--out", str(tmp_path / "p")]) == 2
+    assert "--only names figure 6 twice; give each once" in capsys.readouterr().err
     assert figs.mods["fig6_compression"].calls == [("own", False, 2**63 - 1)]
 
 
 def test_only_defaults_to_every_figure():
     assert pf._parse_only(None) == [1, 2, 3, 4, 5, 6, 7, 8]
-    assert pf._parse_only("8, 1,1") == [1, 8]
+    assert pf._parse_only("8, 1") == [1, 8]
+    with pytest.raises(ValueError, match="^--only names figure 1 twice; give each once$"):
+        pf._parse_only("8, 1,1")
 
 
 # ------------------------------------------------------------------ a user's log: notes
