@@ -167,6 +167,7 @@ class InfoPredictor(Predictor):
         src = np.zeros((H, n_modes, k_max), dtype=np.int64)
         lag = np.zeros((H, n_modes, k_max), dtype=np.int64)
         coef = np.zeros((H, n_modes, k_max))
+        G = penalty = est = rng = None
         if selection == "ebic":
             G = Cu.T @ Cu
             penalty = math.log(n) + 2.0 * math.log(max(m, 1))
@@ -182,20 +183,12 @@ class InfoPredictor(Predictor):
                 if constant[mode]:
                     continue
                 y = Y[:, mode]
-                if selection == "ebic":
-                    picked = greedy_gaussian_gram(G, CY[:, mode], alive, n,
-                                                  max_inputs=k_max, penalty=penalty)
-                    chosen = [j for j, _ in picked]
-                else:
-                    shift0 = min(auto_block_length(y), n // 2)
-                    picked3, _, _ = _greedy_search(
-                        y, C, Cu, alive, method="gaussian", est=est, factor=1.0,
-                        alpha=alpha, n_surrogates=n_surr, max_inputs=k_max, shift0=shift0,
-                        rng=rng)
-                    chosen = [j for j, _, _ in picked3]
-                if not chosen:
+                fit = _fit_target(y, CY[:, mode] if selection == "ebic" else None, C, Cu,
+                                  alive, selection, G, penalty, est, alpha, n_surr, k_max,
+                                  rng)
+                if fit is None:
                     continue
-                w = np.linalg.lstsq(C[:, chosen], y, rcond=None)[0]
+                chosen, w = fit
                 k = len(chosen)
                 src[h - 1, mode, :k] = cols[chosen, 0]
                 lag[h - 1, mode, :k] = cols[chosen, 1]
@@ -245,6 +238,7 @@ class InfoPredictor(Predictor):
         coef = np.zeros((H, n_modes, k_max))
         rng = np.random.default_rng(seed)
         est = _estimator("gaussian", "nats", {}) if selection == "surrogate" else None
+        G = None
         gram_blocks: dict[tuple[int, int], np.ndarray] = {}
         for step, g in enumerate(order):
             atoms = [int(a) for a in group_atoms[step]]
@@ -267,20 +261,12 @@ class InfoPredictor(Predictor):
                     CY = Cu.T @ Yu
                 for t, mode in enumerate(targets):
                     y = Y[:, t]
-                    if selection == "ebic":
-                        picked = greedy_gaussian_gram(G, CY[:, t], alive, n,
-                                                      max_inputs=k_max, penalty=penalty)
-                        chosen = [j for j, _ in picked]
-                    else:
-                        shift0 = min(auto_block_length(y), n // 2)
-                        picked3, _, _ = _greedy_search(
-                            y, C, Cu, alive, method="gaussian", est=est, factor=1.0,
-                            alpha=alpha, n_surrogates=n_surr, max_inputs=k_max,
-                            shift0=shift0, rng=rng)
-                        chosen = [j for j, _, _ in picked3]
-                    if not chosen:
+                    fit = _fit_target(y, CY[:, t] if selection == "ebic" else None, C, Cu,
+                                      alive, selection, G, penalty, est, alpha, n_surr,
+                                      k_max, rng)
+                    if fit is None:
                         continue
-                    w = np.linalg.lstsq(C[:, chosen], y, rcond=None)[0]
+                    chosen, w = fit
                     k = len(chosen)
                     src[h - 1, mode, :k] = cols[chosen, 0]
                     lag[h - 1, mode, :k] = cols[chosen, 1]
@@ -358,3 +344,24 @@ class InfoPredictor(Predictor):
         return [(int(p["src"][horizon - 1, mode, k]), int(p["lag"][horizon - 1, mode, k]),
                  float(p["coef"][horizon - 1, mode, k]))
                 for k in range(p["coef"].shape[2]) if p["coef"][horizon - 1, mode, k] != 0.0]
+
+
+def _fit_target(y, cy, C, Cu, alive, selection, G, penalty, est, alpha, n_surr, k_max, rng):
+    """One target's inputs (columns of ``C``) and least-squares weights, or None if none.
+
+    ``selection="ebic"`` searches the unit-column Gram ``G`` with the target's
+    correlations ``cy``; otherwise the surrogate-tested greedy CMI search on ``y``.
+    """
+    n = C.shape[0]
+    if selection == "ebic":
+        chosen = [j for j, _ in greedy_gaussian_gram(G, cy, alive, n, max_inputs=k_max,
+                                                     penalty=penalty)]
+    else:
+        shift0 = min(auto_block_length(y), n // 2)
+        picked, _, _ = _greedy_search(
+            y, C, Cu, alive, method="gaussian", est=est, factor=1.0, alpha=alpha,
+            n_surrogates=n_surr, max_inputs=k_max, shift0=shift0, rng=rng)
+        chosen = [j for j, _, _ in picked]
+    if not chosen:
+        return None
+    return chosen, np.linalg.lstsq(C[:, chosen], y, rcond=None)[0]
