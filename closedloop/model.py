@@ -89,6 +89,16 @@ class LoopModel:
         the mean signal, so the prior still breaks ties. ``None`` (one reconstructor
         per WFS) with a single DM or a zonal ("ideal") DM.
 
+        What is computed is the MAP's whitened form with its shrinkage replaced by a cut:
+        in the space whitened by ``N^-1/2`` and ``C^1/2`` the MAP weighs each singular
+        direction by ``s / (s^2 + 1)``; here directions with ``s`` below 1 (signal below
+        the noise and model error) are dropped and the others inverted, ``1 / s``
+        (truncated SVD), so that ``R G`` is an exact projector. With no direction cut
+        this is weighted least squares and does not depend on the prior; the prior and
+        ``N`` act through which directions are cut (``n_controlled``). A large model
+        error therefore cuts modes (docs/CLOSEDLOOP.md, "EST MCAO": the budget's
+        "aliasing" term then holds the truncation).
+
         ``N`` also holds each sensor's model error (``model_error_variance`` of its kind):
         neither sensor model sees only the DMs' modes (a Shack-Hartmann also measures the
         slopes beyond them, aliasing; an ideal sensor the phase beyond them, generalised
