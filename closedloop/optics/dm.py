@@ -202,6 +202,11 @@ class IdealMirror(DeformableMirror):
         return [], None
 
 
+def _modes_to_order(n_max: int) -> int:
+    """Modes Z2 .. ZJ of radial order <= ``n_max`` (Noll, piston excluded)."""
+    return (n_max + 1) * (n_max + 2) // 2 - 1
+
+
 def check_zernike_sampling(cfg: SimulationConfig, i: int) -> None:
     """Refuse Zernike modes finer than the pupil grid can represent on DM ``i``'s disc.
 
@@ -220,7 +225,7 @@ def check_zernike_sampling(cfg: SimulationConfig, i: int) -> None:
             f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode); got {dm.diameter!r}.")
     order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
     if order > n_max:
-        limit = (n_max + 1) * (n_max + 2) // 2 - 1
+        limit = _modes_to_order(n_max)
         raise ValueError(
             f"`dms[{i}].n_modes` must be <= {limit} (Zernike radial order <= pixels across "
             f"the DM's disc / {PIXELS_PER_CYCLE} = {n_max} for {across:.0f} pixels at "
@@ -275,7 +280,7 @@ def check_zernike_subapertures(cfg: SimulationConfig, i: int) -> None:
     n_max = max(1, int(SUBAPERTURE_ORDER_FRACTION * across + 1e-9))
     order = noll_to_zernike(dm.n_modes + 1)[0]
     if order > n_max:
-        limit = (n_max + 1) * (n_max + 2) // 2 - 1
+        limit = _modes_to_order(n_max)
         raise ValueError(
             f"`dms[{i}].n_modes` must be <= {limit} (Zernike radial order <= "
             f"{SUBAPERTURE_ORDER_FRACTION:g} x the subapertures across the DM's disc, "
