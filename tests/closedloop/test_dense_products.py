@@ -12,23 +12,11 @@ matrices are below the threshold). The Gram pseudo-inverse is checked against
 ``numpy.linalg.pinv``.
 """
 
-import dataclasses
-
 import numpy as np
 import pytest
 
 from closedloop import LoopModel, simulate
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
 from closedloop.optics import products
-from closedloop.optics.actuator_dm import valid_actuators
 from closedloop.optics.products import DenseProduct
 
 U32 = 2.0 ** -24
@@ -65,36 +53,20 @@ def test_the_threshold_is_read_when_the_product_is_made(monkeypatch):
     assert not DenseProduct(a, min_bytes=np.inf).single
 
 
-@pytest.fixture(scope="module")
-def tiny():
-    """A ground loop of 9 x 9 actuators (all K-L modes) and 8 x 8 subapertures."""
-    cfg = SimulationConfig(
-        name="tiny-actuators",
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=16.0, wind_speed=10.0),),
-        dms=(DMConfig(altitude=0.0, n_modes=10, kind="actuators"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=8, noise=0.0, dm=0),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=0.5e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1),
-        wavelength=500e-9, r0_wavelength=500e-9, seed=0)
-    return cfg.replace(dms=(dataclasses.replace(cfg.dms[0],
-                                                n_modes=valid_actuators(cfg, 0) - 1),))
-
-
-def test_the_loop_in_float32_moves_the_residual_by_rounding_only(tiny, monkeypatch):
-    model64 = LoopModel(tiny)
+def test_the_loop_in_float32_moves_the_residual_by_rounding_only(tiny_actuator_loop, monkeypatch):
+    model64 = LoopModel(tiny_actuator_loop)
     assert not model64._products[0].single and not model64.dms[0]._strokes.single
-    run64 = simulate(tiny, 0.03, model=model64, progress=False)
+    run64 = simulate(tiny_actuator_loop, 0.03, model=model64, progress=False)
     monkeypatch.setattr(products, "FLOAT32_MIN_BYTES", 0)  # every product in float32
-    model32 = LoopModel(tiny)
+    model32 = LoopModel(tiny_actuator_loop)
     assert model32._products[0].single and model32.dms[0]._strokes.single
-    run32 = simulate(tiny, 0.03, model=model32, progress=False)
+    run32 = simulate(tiny_actuator_loop, 0.03, model=model32, progress=False)
     v64, v32 = np.asarray(run64.residual_variance), np.asarray(run32.residual_variance)
     assert not np.array_equal(v32, v64)
     # measured largest relative change 2.5e-7 (30 frames)
     assert np.max(np.abs(v32 - v64) / v64) < 1e-3
     # the float64 model is untouched by the switch: its run repeats bit for bit
-    again = simulate(tiny, 0.03, model=model64, progress=False)
+    again = simulate(tiny_actuator_loop, 0.03, model=model64, progress=False)
     assert np.array_equal(run64.logs["dm0.commands"].coeffs, again.logs["dm0.commands"].coeffs)
 
 

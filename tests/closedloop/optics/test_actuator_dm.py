@@ -30,13 +30,7 @@ import pytest
 
 from closedloop import LoopModel, presets, simulate
 from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
     SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
     load_config,
     save_config,
 )
@@ -248,60 +242,45 @@ def test_the_resource_estimate_counts_the_mirror(table1, geometry, mirrors):
 
 
 @pytest.fixture(scope="module")
-def tiny():
-    """table1 scaled down: one ground layer, 8 x 8 subapertures, 9 x 9 actuators, all modes."""
-    cfg = SimulationConfig(
-        name="tiny-actuators",
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=16.0, wind_speed=10.0),),
-        dms=(DMConfig(altitude=0.0, n_modes=10, kind="actuators"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=8, noise=0.0, dm=0),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=0.5e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1),
-        wavelength=500e-9, r0_wavelength=500e-9, seed=0)
-    n_valid = valid_actuators(cfg, 0)
-    return cfg.replace(dms=(dataclasses.replace(cfg.dms[0], n_modes=n_valid - 1),))
+def tiny_model(tiny_actuator_loop):
+    return LoopModel(tiny_actuator_loop)
 
 
 @pytest.fixture(scope="module")
-def tiny_model(tiny):
-    return LoopModel(tiny)
+def tiny_run(tiny_actuator_loop, tiny_model):
+    return simulate(tiny_actuator_loop, 0.03, model=tiny_model, budget_every=1, progress=False)
 
 
-@pytest.fixture(scope="module")
-def tiny_run(tiny, tiny_model):
-    return simulate(tiny, 0.03, model=tiny_model, budget_every=1, progress=False)
-
-
-def test_the_loop_closes_and_fits_as_the_law_says(tiny, tiny_model, tiny_run):
+def test_the_loop_closes_and_fits_as_the_law_says(tiny_actuator_loop, tiny_model, tiny_run):
     model_dm = tiny_model.dms[0]
-    assert model_dm.influence.n_actuators == 9 and model_dm.n_modes == tiny.dms[0].n_modes
-    r0 = tiny.telescope.diameter / tiny.layers[0].d_over_r0
-    open_loop = NOLL_PISTON_REMOVED * tiny.layers[0].d_over_r0 ** (5 / 3)  # 105 rad^2
+    assert model_dm.influence.n_actuators == 9
+    assert model_dm.n_modes == tiny_actuator_loop.dms[0].n_modes
+    r0 = tiny_actuator_loop.telescope.diameter / tiny_actuator_loop.layers[0].d_over_r0
+    open_loop = NOLL_PISTON_REMOVED * tiny_actuator_loop.layers[0].d_over_r0 ** (5 / 3)  # 105 rad^2
     residual = np.asarray(tiny_run.residual_variance)[10:, 0]
     assert residual.max() < 0.03 * open_loop  # measured 1.2-2.1 rad^2 after closure
     # the budget's fitting term against the law on the loop's grid (module docstring):
     # measured -1.8 % (the rim costs -4.6 % at 16 across in test_influence; one screen
     # drifting 0.3 m, ~8 % between seeds 0 and 1), hence 15 %
-    dx = tiny.telescope.diameter / tiny.telescope.n_pixels
+    dx = tiny_actuator_loop.telescope.diameter / tiny_actuator_loop.telescope.n_pixels
     pitch = model_dm.influence.pitch
     law = FITTING_A * ((pitch / r0) ** (5 / 3) - (dx / r0) ** (5 / 3))
     assert tiny_run.budget.fitting[0] == pytest.approx(law, rel=0.15)
     assert tiny_run.logs["dm0.commands"].coeffs.shape == (30, model_dm.n_modes)
 
 
-def test_the_loop_exports_to_aot(tiny, tiny_model, tiny_run, tmp_path):
+def test_the_loop_exports_to_aot(tiny_actuator_loop, tiny_model, tiny_run, tmp_path):
     aotpy = pytest.importorskip("aotpy")
     from closedloop.aot import export_aot
 
     system = aotpy.AOSystem.read_from_file(export_aot(tiny_run, tmp_path / "run.fits"))
     (dm,) = system.wavefront_correctors
-    assert dm.n_valid_actuators == tiny.dms[0].n_modes
+    assert dm.n_valid_actuators == tiny_actuator_loop.dms[0].n_modes
     loop = next(lp for lp in system.loops if lp.uid == "dm0")
     np.testing.assert_array_equal(np.asarray(loop.commands.data),
                                   tiny_run.logs["dm0.commands"].coeffs)
     images = np.asarray(loop.modes.data)
-    assert images.shape[0] == tiny.dms[0].n_modes
+    assert images.shape[0] == tiny_actuator_loop.dms[0].n_modes
     built = tiny_model.dms[0]
     np.testing.assert_array_equal(images.reshape(images.shape[0], -1)[:, built.pixels],
                                   built.shapes.T)
