@@ -315,25 +315,39 @@ def _gaussian_map(series, lags, history, t0, shifts):
     te = np.zeros((S, S, L))
     null = np.zeros((shifts.size, S, S, L))
     for i in range(S):
-        q = _history_basis(_history(series[:, i], history, t0))
-        r = series[t0:, i] - series[t0:, i].mean()
-        r = r - q @ (q.T @ r)
-        R = Cc - q @ (q.T @ Cc)
         alive = alive_all.copy()
         alive[i::S] = False  # the target's own lags are not a transfer
-        te[:, i, :] = _gauss_gains(r, R, alive).reshape(L, S).T
-        cn = np.sqrt(np.einsum("ij,ij->j", R, R))
-        ok = alive & (cn > 0)
-        rn = math.sqrt(float(r @ r))
-        if ok.any() and rn > 0 and shifts.size:
-            Cok = Cc[:, ok]
-            rho2 = rotated_rho2(circular_cross(r, Cok, shifts),
-                                [circular_cross(q[:, a], Cok, shifts) for a in range(q.shape[1])],
-                                c2[ok], rn * rn)
-            cells = np.zeros((shifts.size, S * L))
-            cells[:, ok] = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+        gains, cells = _target_cells(series, i, history, t0, Cc, c2, alive, shifts)
+        te[:, i, :] = gains.reshape(L, S).T
+        if cells is not None:
             null[:, :, i, :] = cells.reshape(shifts.size, L, S).transpose(0, 2, 1)
     return te, null
+
+
+def _target_cells(series, i, history, t0, block, c2, alive, shifts):
+    """Gaussian TE of target ``i`` from each column of ``block``, and under each shift.
+
+    ``block`` (n, K) holds centred lagged sources, ``c2`` (K,) their squared norms and
+    ``alive`` (K,) the columns scored. Returns the gains (K,) and the surrogates' cells
+    (n_surrogates, K), 0 where not scored, or None when no column can be scored.
+    """
+    q = _history_basis(_history(series[:, i], history, t0))
+    r = series[t0:, i] - series[t0:, i].mean()
+    r = r - q @ (q.T @ r)
+    R = block - q @ (q.T @ block)
+    gains = _gauss_gains(r, R, alive)
+    cn = np.sqrt(np.einsum("ij,ij->j", R, R))
+    ok = alive & (cn > 0)
+    rn = math.sqrt(float(r @ r))
+    if not (ok.any() and rn > 0 and shifts.size):
+        return gains, None
+    Cok = block[:, ok]
+    rho2 = rotated_rho2(circular_cross(r, Cok, shifts),
+                        [circular_cross(q[:, a], Cok, shifts) for a in range(q.shape[1])],
+                        c2[ok], rn * rn)
+    cells = np.zeros((shifts.size, block.shape[1]))
+    cells[:, ok] = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+    return gains, cells
 
 
 def _gaussian_map_restricted(series, lags, history, t0, shifts, family):
@@ -368,25 +382,13 @@ def _gaussian_map_restricted(series, lags, history, t0, shifts, family):
         use[i] = True
         src = np.flatnonzero(use)
         idx = (np.arange(L)[:, None] * S + src[None, :]).ravel()  # lag-major, as C
-        Ci = Cc[:, idx]
-        q = _history_basis(_history(series[:, i], history, t0))
-        r = series[t0:, i] - series[t0:, i].mean()
-        r = r - q @ (q.T @ r)
-        R = Ci - q @ (q.T @ Ci)
         alive = alive_all[idx]
         alive[np.tile(src == i, L)] = False
-        te[src, i, :] = _gauss_gains(r, R, alive).reshape(L, src.size).T
+        gains, cells = _target_cells(series, i, history, t0, Cc[:, idx], c2[idx], alive,
+                                     shifts)
+        te[src, i, :] = gains.reshape(L, src.size).T
         te[i, i, :] = np.nan
-        cn = np.sqrt(np.einsum("ij,ij->j", R, R))
-        ok = alive & (cn > 0)
-        rn = math.sqrt(float(r @ r))
-        if ok.any() and rn > 0 and shifts.size:
-            Cok = Ci[:, ok]
-            rho2 = rotated_rho2(circular_cross(r, Cok, shifts),
-                                [circular_cross(q[:, a], Cok, shifts) for a in range(q.shape[1])],
-                                c2[idx][ok], rn * rn)
-            cells = np.zeros((shifts.size, idx.size))
-            cells[:, ok] = -0.5 * np.log(np.maximum(1.0 - rho2, 1e-15))
+        if cells is not None:
             keep = np.tile(src != i, L)
             null[:, pos[src[src != i], i, :].T.ravel()] = cells[:, keep]
     return te, null
