@@ -56,6 +56,8 @@ def main() -> None:
     ap.add_argument("--altitude-pitch", type=float, default=presets.EST_ALTITUDE_PITCH)
     ap.add_argument("--model-error", type=float, default=None,
                     help="loop.model_error of the joint MAP reconstructor (default: the preset's)")
+    ap.add_argument("--reconstructor", choices=("truncated", "map"), default=None,
+                    help="loop.reconstructor, the joint reconstructor (default: the preset's)")
     args = ap.parse_args()
     config = presets.est_mcao_variant(args.subapertures, solar=args.solar,
                                       altitude_pitch=args.altitude_pitch)
@@ -64,6 +66,9 @@ def main() -> None:
     if args.model_error is not None:
         config = config.replace(loop=dataclasses.replace(config.loop,
                                                          model_error=args.model_error))
+    if args.reconstructor is not None:
+        config = config.replace(loop=dataclasses.replace(config.loop,
+                                                         reconstructor=args.reconstructor))
     t0 = time.process_time()
     model = LoopModel(config)
     setup = time.process_time() - t0
@@ -81,7 +86,7 @@ def main() -> None:
     out = {
         "config": config.name, "high_share": args.high_share,
         "altitude_pitch": args.altitude_pitch, "model_error": config.loop.model_error,
-        "seed": args.seed,
+        "reconstructor": config.loop.reconstructor, "seed": args.seed,
         "duration_s": args.duration, "load_average": os.getloadavg()[0],
         "setup_cpu_s": setup, "loop_with_budget_cpu_s": with_budget,
         "cpu_s_per_frame": per_frame,

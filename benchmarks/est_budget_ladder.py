@@ -25,6 +25,7 @@ Usage::
 
     OPENBLAS_NUM_THREADS=1 PYTHONPATH=$PWD python benchmarks/est_budget_ladder.py
     ... --rungs 5dm --model-error 0.03        # the reconstructor's model error changed
+    ... --rungs 5dm --reconstructor truncated # the truncated joint reconstructor
 """
 
 from __future__ import annotations
@@ -75,6 +76,14 @@ def shape_variance(model, cam, turbulence, commands) -> np.ndarray:
     return cam.forward().copy()
 
 
+def reconstructor_times_interaction(model) -> np.ndarray:
+    """``R G`` of the loop's reconstruction (with the MAP not a projector, so not
+    ``controlled_projector``; one mirror: each WFS's least squares, whose ``R G`` it is)."""
+    if model.reconstructor is None:
+        return model.controlled_projector
+    return model.reconstructor @ model.interaction
+
+
 def ladder_rung(config, seed: int, snapshots: int, spacing: float) -> dict:
     t0 = time.process_time()
     model = LoopModel(config)
@@ -83,14 +92,14 @@ def ladder_rung(config, seed: int, snapshots: int, spacing: float) -> dict:
     state = LoopState(model, model.atmosphere(seed, snapshots * spacing + 0.01))
     cam = ScienceCamera(model.geometry, model.science.directions)
     turb = [np.zeros_like(v) for v in cam.plane_views()]
-    proj = model.controlled_projector
+    rg = reconstructor_times_interaction(model)
     rows = {k: [] for k in ("open", "fitting", "sh", "reconstructor", "aliasing_proper")}
     for i in range(snapshots):
         state.evolve_until((i + 1) * spacing)
         state.turbulence(turb)
         c_id = ideal.sense(turb, None)
         c_sh = model.sense(turb, None)
-        c_rg = proj @ c_id
+        c_rg = rg @ c_id
         rows["open"].append(shape_variance(model, cam, turb, 0 * c_id))
         rows["fitting"].append(shape_variance(model, cam, turb, c_id))
         rows["sh"].append(shape_variance(model, cam, turb, c_sh))
@@ -103,7 +112,8 @@ def ladder_rung(config, seed: int, snapshots: int, spacing: float) -> dict:
            "wfs_fields": [w.field_of_view for w in config.wfss],
            "modes": [d.n_modes for d in config.dms],
            "n_controlled": getattr(model, "n_controlled", None),
-           "model_error": config.loop.model_error, "setup_cpu_s": round(setup, 2),
+           "model_error": config.loop.model_error,
+           "loop_reconstructor": config.loop.reconstructor, "setup_cpu_s": round(setup, 2),
            "planes": [p.n for p in model.geometry.planes]}
     mean = {k: np.mean(v, axis=0) * scale for k, v in rows.items()}
     mean["aliasing_term"] = mean["sh"] - mean["fitting"]
@@ -120,12 +130,17 @@ def main() -> None:
     ap.add_argument("--snapshots", type=int, default=8)
     ap.add_argument("--spacing", type=float, default=0.01)
     ap.add_argument("--model-error", type=float, default=None)
+    ap.add_argument("--reconstructor", choices=("truncated", "map"), default=None,
+                    help="loop.reconstructor (default: the preset's)")
     ap.add_argument("--wfs-field", type=float, default=None,
                     help="field [arcsec] of the altitude WFSs (default: the preset's 60)")
     args = ap.parse_args()
     base = presets.est_mcao_variant(args.subapertures)
     if args.model_error is not None:
         base = base.replace(loop=dataclasses.replace(base.loop, model_error=args.model_error))
+    if args.reconstructor is not None:
+        base = base.replace(loop=dataclasses.replace(base.loop,
+                                                     reconstructor=args.reconstructor))
     for rung in args.rungs:
         out = ladder_rung(rung_config(base, rung, args.wfs_field), args.seed,
                           args.snapshots, args.spacing)

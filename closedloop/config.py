@@ -40,6 +40,7 @@ __all__ = [
     "airmass",
     "dm_disc_diameter",
     "wfs_meta_pupil",
+    "RECONSTRUCTORS",
 ]
 
 
@@ -71,6 +72,8 @@ MAX_FINITE_OUTER_SCALE = 1e9
 #: widest science field or WFS field of view [arcsec]: 1 degree (the solar disc is 32';
 #: the geometry's shifts ``h theta`` are small-angle)
 MAX_FIELD_ARCSEC = 3600.0
+#: the joint reconstructors (``LoopConfig.reconstructor``; ``closedloop.model``)
+RECONSTRUCTORS = ("truncated", "map")
 _FIELD_RULE = (f"<= {MAX_FIELD_ARCSEC:g} arcsec (1 degree; the solar disc is 1920\" across "
                "and the simulator's shifts h theta are small-angle)")
 
@@ -376,6 +379,17 @@ class LoopConfig:
         still validated but do not act). Left out of the plain (TOML/JSON) form when
         ``True``, so the files and checksums of closed-loop configs are those written
         before the key existed.
+    reconstructor : {"truncated", "map"}
+        The joint reconstructor of several mirrors (``closedloop.model.LoopModel``), both
+        in the noise- and prior-whitened space of Fusco et al. (2001, JOSA A 18, 2527)
+        where each singular direction has a signal-to-noise ``s``. ``"map"``: their
+        maximum a posteriori ``R = (G^T N^-1 G + C^-1)^-1 G^T N^-1``, every direction kept
+        and weighted ``s / (s^2 + 1)`` (the optimal linear estimator for Gaussian
+        turbulence and noise; the EST presets). ``"truncated"`` (default): the directions
+        with ``s <= 1`` dropped and the others inverted, ``1 / s`` (a truncated
+        pseudo-inverse; table1's and every config written before the key existed, whose
+        results it keeps bit for bit; left out of the plain form at this default). Not
+        used with one mirror or a zonal one (one least-squares reconstructor per WFS).
     """
 
     time_step: float = 1e-3
@@ -385,6 +399,7 @@ class LoopConfig:
     leak: float = 0.0
     model_error: float = 0.3
     closed: bool = field(default=True, metadata={"omit_default": True})
+    reconstructor: str = field(default="truncated", metadata={"omit_default": True})
 
     def _validate(self, p: str) -> None:
         _set(self, "time_step", check_real(self.time_step, p + "time_step", minimum=0,
@@ -408,6 +423,7 @@ class LoopConfig:
             _fail(p + "delay", f"a multiple of time_step / n for some n <= 64, as "
                   f"integration_time must be (delay / time_step = {self.delay_frames:.6g}, "
                   f"integration_time / time_step = {self.integration_frames:.6g})", self.delay)
+        check_choice(self.reconstructor, p + "reconstructor", RECONSTRUCTORS)
         if not isinstance(self.closed, bool):
             _fail(p + "closed", "a bool (true: closed loop, false: open loop)", self.closed,
                   TypeError)

@@ -23,11 +23,66 @@ from closedloop.optics.products import DenseProduct
 from closedloop.optics.science import ScienceCamera
 from closedloop.optics.wfs import has_noise
 
-__all__ = ["LoopModel"]
+__all__ = ["LoopModel", "map_reconstructor"]
 
 _NOISE_FLOOR = 1e-4
+#: whitened signal-to-noise at and below which the truncated reconstructor drops a
+#: direction, and below which ``controlled_projector`` counts it as unseen (the MAP's
+#: weight on it, ``s^2 / (s^2 + 1)`` of the truth, is then under one half)
 _SNR_CUT = 1.0
 _RCOND = 1e-3
+
+
+def _whitened_eigh(interaction: np.ndarray, noise: np.ndarray,
+                   prior: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``W = N^-1/2 G C^1/2`` and the eigen-decomposition of ``W^T W``, descending."""
+    whitened = interaction * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+    lam, v = np.linalg.eigh(whitened.T @ whitened)
+    return whitened, np.clip(lam[::-1], 0.0, None), v[:, ::-1]
+
+
+def map_reconstructor(interaction: np.ndarray, noise: np.ndarray,
+                      prior: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return the MAP reconstructor (Fusco, Conan, Rousset, Mugnier & Michau 2001).
+
+    ``R = (G^T N^-1 G + C^-1)^-1 G^T N^-1`` for measurements ``s = G c + n`` with
+    ``c ~ N(0, C)`` and ``n ~ N(0, N)``, ``C`` and ``N`` diagonal. Computed in the
+    whitened form ``W = N^-1/2 G C^1/2``: ``R = C^1/2 (W^T W + 1)^-1 W^T N^-1/2``, i.e.
+    each singular direction of ``W`` weighted ``s / (s^2 + 1)`` (every direction kept,
+    shrunk by its signal-to-noise; the truncated form keeps ``1 / s`` for ``s > 1``).
+
+    Parameters
+    ----------
+    interaction : (m, n) ndarray
+        ``G``: measurements per unit of each mode.
+    noise : (m,) ndarray
+        Diagonal of ``N`` (> 0), in measurement units squared.
+    prior : (n,) ndarray
+        Diagonal of ``C`` (> 0), in mode units squared.
+
+    Returns
+    -------
+    reconstructor : (n, m) ndarray
+        ``R``.
+    singular_values : (n,) ndarray
+        The singular values ``s`` of ``W``, descending (signal-to-noise of each direction).
+    """
+    g = np.asarray(interaction, dtype=np.float64)
+    if g.ndim != 2:
+        raise ValueError(f"`interaction` must be a 2-D (measurements, modes) array; got "
+                         f"shape {g.shape}.")
+    for name, v, size in (("noise", noise, g.shape[0]), ("prior", prior, g.shape[1])):
+        v = np.asarray(v)
+        if v.shape != (size,) or not np.all(np.isfinite(v)) or not np.all(v > 0):
+            raise ValueError(f"`{name}` must be {size} finite variances > 0 (one per "
+                             f"{'measurement' if name == 'noise' else 'mode'} of "
+                             f"`interaction`, shape {g.shape}); got shape {v.shape}.")
+    noise = np.asarray(noise, dtype=np.float64)
+    prior = np.asarray(prior, dtype=np.float64)
+    whitened, lam, v = _whitened_eigh(g, noise, prior)
+    # (W^T W + 1)^-1 W^T: eigenvalues lam + 1 >= 1, a well-conditioned inverse for any prior
+    r = (v / (lam + 1.0)) @ (v.T @ whitened.T)
+    return np.sqrt(prior)[:, None] * r / np.sqrt(noise)[None, :], np.sqrt(lam)
 
 
 class LoopModel:
@@ -43,6 +98,16 @@ class LoopModel:
         joint MAP reconstructor assumes: each layer's Noll variances over the disc of the
         DM nearest to it; None when there is no joint reconstructor (one DM, or a zonal
         DM).
+    interaction : (n_measurements, n_modes) ndarray
+        ``G`` of the joint reconstructor (every WFS's measurements per unit of every DM's
+        modes; only with a joint reconstructor).
+    noise_variance : (n_measurements,) ndarray
+        Diagonal of ``N`` the joint reconstructor assumes (noise, model error and the
+        noise floor, in measurement units squared; only with a joint reconstructor).
+    n_controlled : int
+        Whitened directions with signal-to-noise above the cut (only with a joint
+        reconstructor): the truncated reconstructor's kept ones, the MAP's weighted by
+        more than one half.
     """
 
     def __init__(self, config: SimulationConfig):
@@ -89,15 +154,18 @@ class LoopModel:
         the mean signal, so the prior still breaks ties. ``None`` (one reconstructor
         per WFS) with a single DM or a zonal ("ideal") DM.
 
-        What is computed is the MAP's whitened form with its shrinkage replaced by a cut:
-        in the space whitened by ``N^-1/2`` and ``C^1/2`` the MAP weighs each singular
-        direction by ``s / (s^2 + 1)``; here directions with ``s`` below 1 (signal below
-        the noise and model error) are dropped and the others inverted, ``1 / s``
-        (truncated SVD), so that ``R G`` is an exact projector. With no direction cut
-        this is weighted least squares and does not depend on the prior; the prior and
-        ``N`` act through which directions are cut (``n_controlled``). A large model
-        error therefore cuts modes (docs/CLOSEDLOOP.md, "EST MCAO": the budget's
-        "aliasing" term then holds the truncation).
+        In the space whitened by ``N^-1/2`` and ``C^1/2`` the MAP weighs each singular
+        direction by ``s / (s^2 + 1)``. ``loop.reconstructor = "map"`` computes exactly
+        that (:func:`map_reconstructor`): every direction kept, shrunk by its
+        signal-to-noise. ``"truncated"`` (the default, table1's) replaces the shrinkage
+        by a cut: directions with ``s`` below 1 (signal below the noise and model error)
+        are dropped and the others inverted, ``1 / s`` (truncated SVD), so that ``R G``
+        is an exact projector. With no direction cut this is weighted least squares and
+        does not depend on the prior; the prior and ``N`` act through which directions
+        are cut. A large model error therefore cuts modes (docs/CLOSEDLOOP.md, "EST
+        MCAO": 97 of EST's 624 kept at 0.3; the budget's "aliasing" term then holds the
+        truncation). ``n_controlled`` counts the directions with ``s`` above the cut in
+        both cases (the MAP's better-than-half-weighted ones).
 
         ``N`` also holds each sensor's model error (``model_error_variance`` of its kind):
         neither sensor model sees only the DMs' modes (a Shack-Hartmann also measures the
@@ -111,7 +179,7 @@ class LoopModel:
         g = self.geometry
         cfg = self.config
         full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
-        self._interaction = full  # G, kept for controlled_projector
+        self.interaction = full  # G, kept for controlled_projector
         prior = np.empty(self.n_modes)
         dm_alts = np.array([dm.altitude for dm in self.dms])
         strength = np.zeros(len(self.dms))
@@ -130,6 +198,11 @@ class LoopModel:
                                 for w in self.wfss])
         signal_level = np.mean(np.sum(full ** 2, axis=0) * prior) / full.shape[0]
         noise = np.maximum(noise, _NOISE_FLOOR * signal_level)
+        self.noise_variance = noise
+        if cfg.loop.reconstructor == "map":
+            r, sv = map_reconstructor(full, noise, prior)
+            self.n_controlled = int(np.sum(sv > max(_SNR_CUT, _RCOND * sv[0])))
+            return r
         # truncated SVD in the noise- and prior-whitened space: R G is then an exact
         # projector, so commands never drift along directions the WFSs barely see
         whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
@@ -145,21 +218,32 @@ class LoopModel:
 
     @functools.cached_property
     def controlled_projector(self) -> np.ndarray | None:
-        """``R G``: the projector onto the modal commands the WFSs can see, ``(M, M)``.
+        """The projector onto the modal commands the WFSs can see, ``(M, M)``.
 
         ``G`` is the interaction matrix of every WFS with every DM (the joint
         reconstructor's) or of each WFS with its own DM (one reconstructor per WFS, a
-        block per DM), ``R`` the reconstructor: ``R G`` is the identity on the modes the
-        reconstructor controls and zero on the combinations it cuts (the truncated SVD's
-        blind directions, e.g. DM-mode combinations that cancel in every WFS direction).
-        The controller keeps a predictor's forecast inside it (``Controller``). None with
-        a zonal DM (its "modes" are thousands of pixels: an ``(M, M)`` matrix would not
-        fit, and an ideal sensor sees every pixel).
+        block per DM), ``R`` the reconstructor. With a truncated or least-squares ``R``
+        this is ``R G``: the identity on the modes the reconstructor controls and zero on
+        the combinations it cuts (the truncated SVD's blind directions, e.g. DM-mode
+        combinations that cancel in every WFS direction). With the MAP
+        (``loop.reconstructor = "map"``) ``R G`` is not idempotent: it is
+        ``C^1/2 V diag(s^2 / (s^2 + 1)) V^T C^-1/2`` in the whitened SVD ``W = U S V^T``,
+        the share of each direction the loop would correct. The projector is then the
+        spectral projector of ``R G`` onto its eigenvalues above one half,
+        ``C^1/2 V_k V_k^T C^-1/2`` over ``s > 1`` (``_SNR_CUT``): the directions measured
+        above the noise, the same subspace the truncated reconstructor keeps (so both
+        options give the controller the same projector, up to rounding). The controller
+        keeps a predictor's forecast inside it (``Controller``): a forecast's change
+        along a direction the loop corrects at less than half its gain would be commanded
+        and barely measured. None with a zonal DM (its "modes" are thousands of pixels:
+        an ``(M, M)`` matrix would not fit, and an ideal sensor sees every pixel).
         """
         if any(dm.shapes is None for dm in self.dms):
             return None
+        if self.reconstructor is not None and self.config.loop.reconstructor == "map":
+            return self._seen_projector()
         if self.reconstructor is not None:
-            return self.reconstructor @ self._interaction
+            return self.reconstructor @ self.interaction
         blocks = [None if w.reconstructor is None else w.reconstructor @ w.interaction
                   for w in self.wfss]
         out = np.eye(self.n_modes)
@@ -168,6 +252,28 @@ class LoopModel:
                 sl = self.mode_slices[w.dm.index]
                 out[sl, sl] = b
         return out
+
+    @functools.cached_property
+    def sensed_commands(self) -> np.ndarray | None:
+        """``R G`` of the MAP joint reconstructor, ``(M, M)``; None for the other forms.
+
+        What the reconstruction makes of a command the mirrors hold: with the MAP it is
+        not the identity, and the controller reconstructs the pseudo-open-loop
+        measurements with it (``Controller(sensed=...)``, pseudo-open-loop control). With
+        a truncated or least-squares reconstructor ``R G`` is the identity on the
+        commands, which lie in its range: None, the classic integrator.
+        """
+        if self.reconstructor is None or self.config.loop.reconstructor != "map":
+            return None
+        return self.reconstructor @ self.interaction
+
+    def _seen_projector(self) -> np.ndarray:
+        """Return the MAP's ``controlled_projector``: ``C^1/2 V_k V_k^T C^-1/2``, s > cut."""
+        _, lam, v = _whitened_eigh(self.interaction, self.noise_variance, self.prior)
+        sv = np.sqrt(lam)
+        vk = v[:, sv > max(_SNR_CUT, _RCOND * sv[0])]
+        root = np.sqrt(self.prior)
+        return (root[:, None] * vk) @ (vk.T / root[None, :])
 
     def measure(self, plane_maps: list[np.ndarray],
                 rng: np.random.Generator | None) -> list[np.ndarray]:

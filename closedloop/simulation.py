@@ -414,6 +414,14 @@ def _projector(model: LoopModel, basis: np.ndarray | None, predictor) -> np.ndar
     return basis.T @ p @ basis
 
 
+def _sensed(model: LoopModel, basis: np.ndarray | None) -> np.ndarray | None:
+    """Return ``R G`` of a MAP reconstructor in the controller's coordinates (else None)."""
+    s = model.sensed_commands
+    if s is None or basis is None:
+        return s
+    return basis.T @ s @ basis
+
+
 class _Control:
     """The controller as the loop uses it: control-basis projection, open loop, fault labels."""
 
@@ -424,7 +432,8 @@ class _Control:
                                      delay_frames=loop.delay_frames,
                                      integration_frames=loop.integration_frames,
                                      predictor=predictor, on_predictor_fault=on_predictor_fault,
-                                     projector=_projector(model, basis, predictor))
+                                     projector=_projector(model, basis, predictor),
+                                     sensed=_sensed(model, basis))
         self.model = model
         self.basis = basis
         self.open_loop = not loop.closed

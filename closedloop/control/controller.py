@@ -20,7 +20,9 @@ where ``p^_k`` is the forecast of the POL over the lead ``L = delay / T + 1/2 +
 integration / (2 T)`` frames (from the middle of the exposure to the middle of the
 application window). Without a predictor ``p^_k = p_k`` and the law is exactly the
 classic integrator ``c_k = (1 - leak) c_{k-1} + g m_k``; the persistence predictor gives
-the same thing, bit for bit. A per-mode predictor's forecast is kept inside the modes
+the same thing, bit for bit. With the MAP reconstructor the POL is reconstructed from the
+pseudo-open-loop measurements (``sensed``: pseudo-open-loop control) and the law is no
+longer the classic integrator. A per-mode predictor's forecast is kept inside the modes
 the reconstructor controls (``projector``: ``p^_k <- p_k + R G (p^_k - p_k)``): directions
 no WFS sees would otherwise be commanded from the predictor's own past commands alone,
 never measured, and drift (on table1-solar the ARMA lost the loop). A predictor is any
@@ -92,16 +94,29 @@ class Controller:
         predictor, the step and the mode (``"raise"``), or keeps the last command for
         that frame and counts it in :attr:`n_faults` (``"hold"``).
     projector : (n_modes, n_modes) ndarray or None
-        The projector ``R G`` onto the commands the WFSs see
+        The projector onto the commands the WFSs see
         (``LoopModel.controlled_projector``). A predictor's forecast is replaced by
         ``p_k + P (p^_k - p_k)``: its change over the POL is kept only where the loop can
         measure it (an external forecast, the oracle's, is sensed and already lies
         there). None: the forecast is used as it is.
+    sensed : (n_modes, n_modes) ndarray or None
+        ``R G``, what the reconstruction makes of a command, when it is not the identity
+        on the commands (the MAP reconstructor, ``LoopModel.sensed_commands``): the POL is
+        then ``p_k = m_k + R G sum_j w_j c_{k-j}``, the reconstruction of the
+        pseudo-open-loop measurements ``s_k + G sum_j w_j c_{k-j}``, and the law above
+        integrates ``p^_k - sum_j w_j c_{k-j}`` (pseudo-open-loop control: Ellerbroek &
+        Vogel 2003, Proc. SPIE 5169, 206; Gilles 2005, Appl. Opt. 44, 993, who shows that
+        a minimum-variance reconstructor cascaded with the plain integrator is unstable
+        in MCAO, and pseudo-open-loop control stable). The commands then follow the MAP
+        estimate of the turbulence, each direction at the gain ``g``. None: ``R G`` is
+        the identity on the commands (a least-squares or truncated reconstructor, whose
+        commands lie where it is) and ``p_k = m_k + sum_j w_j c_{k-j}``, the classic
+        integrator.
     """
 
     def __init__(self, n_modes: int, *, gain: float, leak: float, delay_frames: float,
                  integration_frames: float, predictor=None, on_predictor_fault: str = "raise",
-                 projector: np.ndarray | None = None):
+                 projector: np.ndarray | None = None, sensed: np.ndarray | None = None):
         if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
             raise ValueError(f"`on_predictor_fault` must be one of "
                              f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
@@ -121,6 +136,12 @@ class Controller:
                 raise ValueError(f"`projector` must be a finite ({n_modes}, {n_modes}) "
                                  f"array; got shape {projector.shape}.")
         self.projector = projector
+        if sensed is not None:
+            sensed = np.asarray(sensed, dtype=np.float64)
+            if sensed.shape != (n_modes, n_modes) or not np.isfinite(sensed).all():
+                raise ValueError(f"`sensed` must be a finite ({n_modes}, {n_modes}) "
+                                 f"array; got shape {sensed.shape}.")
+        self.sensed = sensed
         self.on_predictor_fault = on_predictor_fault
         #: frames whose forecast was unusable and whose command was held ("hold")
         self.n_faults = 0
@@ -171,7 +192,7 @@ class Controller:
             The new command ``c_k``, the POL ``p_k`` and the forecast ``p^_k`` used.
         """
         seen = self.seen_commands()
-        pol = measured + seen
+        pol = measured + (seen if self.sensed is None else self.sensed @ seen)
         step = self._step
         self._step += 1
         if forecast_pol is not None:

@@ -25,6 +25,13 @@ from closedloop.optics.science import ScienceCamera
 from closedloop.state import LoopState
 
 
+def reconstructor_times_interaction(model):
+    """``R G`` (one mirror: each WFS's least squares; with the MAP not a projector)."""
+    if model.reconstructor is None:
+        return model.controlled_projector
+    return model.reconstructor @ model.interaction
+
+
 def _shape_variance(model, cam, turbulence, commands):
     views = cam.plane_views()
     for p, v in enumerate(views):
@@ -42,13 +49,14 @@ def _on_axis_terms(config, snapshots: int) -> dict[str, float]:
     state = LoopState(model, model.atmosphere(0, 0.01 * snapshots + 0.01))
     cam = ScienceCamera(model.geometry, np.zeros((1, 2)))
     turb = [np.zeros_like(v) for v in cam.plane_views()]
+    rg = reconstructor_times_interaction(model)
     out = {"fitting": 0.0, "aliasing": 0.0, "reconstructor": 0.0, "proper": 0.0}
     for i in range(snapshots):
         state.evolve_until(0.01 * (i + 1))
         state.turbulence(turb)
         c_id = ideal.sense(turb, None)
         c_sh = model.sense(turb, None)
-        c_rg = model.controlled_projector @ c_id
+        c_rg = rg @ c_id
         fit = _shape_variance(model, cam, turb, c_id)[0]
         out["fitting"] += fit
         out["aliasing"] += _shape_variance(model, cam, turb, c_sh)[0] - fit
