@@ -151,13 +151,18 @@ winds                       Bufton's profile at each     Bufton (1973) as Hardy 
                             deg in 30 deg steps
 loop                        1 kHz, 1 ms exposure,        table1's timing (paper's Table 1);
                             0.5 ms delay, gain 0.5       gain of DKIST's model
-reconstructor model error   0.03 (table1: 0.3)           measured: the slopes the mirrors'
+joint reconstructor         the MAP (``"map"``), with    Fusco et al. (2001)'s minimum-variance
+                            pseudo-open-loop control     estimator; POLC as Ellerbroek & Vogel
+                            (table1: truncated, plain    (2003) and Gilles (2005) run it in
+                            integrator)                  closed loop (docs/CLOSEDLOOP.md, "EST
+                                                         MCAO with the true MAP")
+reconstructor model error   0.01 (table1: 0.3)           measured: the slopes the mirrors'
                                                          modes leave unexplained are 0.2-1.7 %
                                                          of the all-layer subaperture tilt
                                                          variance the setting scales (co-added
-                                                         60"); at 0.3 the joint MAP keeps 97
-                                                         of 624 modes (docs/CLOSEDLOOP.md,
-                                                         "the budget ladder")
+                                                         60"); the MAP's N is their variance,
+                                                         so a value inside that range; the
+                                                         best of 0.003-0.3 in closed loop
 WFS noise (geometric SH)    0.01" per axis per subap     kaos's 10 cm subaperture value
                                                          (Loefdahl 2010)
 science                     630 nm                       as every preset (DKIST's model)
@@ -442,9 +447,18 @@ EST_SH_NOISE = 0.01
 #: ``loop.model_error`` of the EST presets: the joint MAP reconstructor's model error as a
 #: share of a subaperture's all-layer turbulent tilt variance. Measured on est-mcao@16
 #: (docs/CLOSEDLOOP.md, "the budget ladder"): the slopes the mirrors' modes leave
-#: unexplained are 0.2-1.7 % of it (60" co-adding averages the high layers out); table1's
-#: 0.3 truncates the reconstructor to 97 of 624 modes. 0.03 is above every measured share.
-EST_MODEL_ERROR = 0.03
+#: unexplained are 0.2-1.7 % of it (60" co-adding averages the high layers out). With
+#: the true MAP (:data:`EST_RECONSTRUCTOR`) the model error is a noise covariance the
+#: estimator weighs by (Fusco et al. 2001), not a cut: its value is the measured share,
+#: 0.01 inside 0.002-0.017 (the ground WFS, with most of the turbulence, 0.017); in
+#: closed loop the best of 0.003 / 0.01 / 0.03 / 0.1 / 0.3 (docs/CLOSEDLOOP.md, "EST
+#: MCAO with the true MAP"). The truncated form needed 0.03, above every share (at 0.3 it
+#: keeps 97 of 624 modes).
+EST_MODEL_ERROR = 0.01
+#: ``loop.reconstructor`` of the EST presets: the true MAP, run with pseudo-open-loop
+#: control (``closedloop.control.controller``); with five mirrors the truncated form
+#: keeps a third of the modes (230 of 624 at ``model_error`` 0.03)
+EST_RECONSTRUCTOR = "map"
 
 
 def bufton_wind(altitude: float) -> float:
@@ -522,7 +536,7 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
                    for i, (h, n) in enumerate(zip(EST_DM_ALTITUDES, subaps, strict=True))),
         loop=LoopConfig(time_step=1e-3, integration_time=1e-3,
                         delay=SOLAR_RTC_DELAY if solar else 0.5e-3, gain=0.5,
-                        model_error=EST_MODEL_ERROR),
+                        model_error=EST_MODEL_ERROR, reconstructor=EST_RECONSTRUCTOR),
         field=FieldConfig(size=EST_FIELD, n_points=7),
         wavelength=630e-9,
         r0_wavelength=500e-9,

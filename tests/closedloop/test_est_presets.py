@@ -124,8 +124,9 @@ def test_reduced_est_closes(solar):
     assert run.loop_status == "closed"
     open_loop = 1.0299 * (4.2 / 0.07 * (500 / 630) ** 1.2) ** (5 / 3)  # Noll, rad^2 at 630 nm
     # the last 10 frames: the field mean below a tenth of the open-loop residual (measured
-    # 12-13 rad^2 over the field in the 0.1 s runs of the docs at model_error 0.03, 16-18
-    # at 0.3, against 596), the best direction below a twentieth (4-5 rad^2 on axis)
+    # 10.6 rad^2 over the field in the 0.1 s runs of the docs with the MAP at model_error
+    # 0.01, 12-18 with the truncated form, against 596), the best direction below a
+    # twentieth (4-5 rad^2 on axis)
     tail = run.residual_variance[-10:]
     assert np.all(tail.mean(axis=1) < 0.1 * open_loop)
     assert np.all(tail.min(axis=1) < 0.05 * open_loop)
