@@ -18,6 +18,8 @@ References, from outside the code under test:
   turbulence ``phi`` seen through ``R G`` the commands converge to the MAP estimate
   ``R G phi`` of the open-loop measurements (the plain integrator to ``phi`` itself, at
   the gain ``g R G``); the law written out in the test, frame by frame;
+- a persistence forecast changes nothing (its change over the POL is 0, so the projector
+  and the pseudo-open-loop POL leave the loop's bits as without a predictor);
 - the error budget adds up to the measured residual (the terms are estimated
   independently, ``closedloop.budget``) with the MAP as with the truncated form.
 """
@@ -32,7 +34,9 @@ import pytest
 from closedloop import simulate
 from closedloop.config import LoopConfig, config_text
 from closedloop.control.controller import Controller
+from closedloop.control.predictors import training_data
 from closedloop.model import LoopModel, map_reconstructor
+from modalinfo.forecast import PersistencePredictor
 
 from .test_loop import small
 from .test_mutation_gaps_model import _config, _interaction, _noise, _prior
@@ -203,3 +207,13 @@ def test_the_loop_model_gives_the_controller_r_g_only_with_the_map(cut_case):
     assert truncated.sensed_commands is None
     np.testing.assert_allclose(model.sensed_commands,
                                model.reconstructor @ _interaction(model), rtol=1e-12)
+
+
+def test_persistence_keeps_the_map_loops_bits():
+    cfg = small(reconstructor="map")
+    model = LoopModel(cfg)
+    reference = simulate(cfg, 0.08, seed=5, model=model, progress=False)
+    persistence = PersistencePredictor(horizon=3).fit(training_data(reference))
+    run = simulate(cfg, 0.08, seed=5, model=model, predictor=persistence, progress=False)
+    np.testing.assert_array_equal(run.residual_variance, reference.residual_variance)
+    assert run.predictor == "PersistencePredictor"
