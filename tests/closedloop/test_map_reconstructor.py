@@ -19,7 +19,9 @@ References, from outside the code under test:
   ``R G phi`` of the open-loop measurements (the plain integrator to ``phi`` itself, at
   the gain ``g R G``); the law written out in the test, frame by frame;
 - a persistence forecast changes nothing (its change over the POL is 0, so the projector
-  and the pseudo-open-loop POL leave the loop's bits as without a predictor);
+  and the pseudo-open-loop POL leave the loop's bits as without a predictor), and a
+  rotated control basis of every mode is the same loop (an orthogonal change of
+  coordinates);
 - the error budget adds up to the measured residual (the terms are estimated
   independently, ``closedloop.budget``) with the MAP as with the truncated form.
 """
@@ -209,11 +211,26 @@ def test_the_loop_model_gives_the_controller_r_g_only_with_the_map(cut_case):
                                model.reconstructor @ _interaction(model), rtol=1e-12)
 
 
-def test_persistence_keeps_the_map_loops_bits():
+@pytest.fixture(scope="module")
+def map_loop():
     cfg = small(reconstructor="map")
     model = LoopModel(cfg)
-    reference = simulate(cfg, 0.08, seed=5, model=model, progress=False)
+    return cfg, model, simulate(cfg, 0.08, seed=5, model=model, progress=False)
+
+
+def test_persistence_keeps_the_map_loops_bits(map_loop):
+    cfg, model, reference = map_loop
     persistence = PersistencePredictor(horizon=3).fit(training_data(reference))
     run = simulate(cfg, 0.08, seed=5, model=model, predictor=persistence, progress=False)
     np.testing.assert_array_equal(run.residual_variance, reference.residual_variance)
     assert run.predictor == "PersistencePredictor"
+
+
+def test_a_rotated_control_basis_is_the_same_map_loop(map_loop):
+    # every mode controlled in rotated coordinates Q: the controller gets Q^T R G Q, and
+    # the loop is the same up to rounding
+    cfg, model, reference = map_loop
+    q, _ = np.linalg.qr(np.random.default_rng(1).standard_normal((model.n_modes,) * 2))
+    run = simulate(cfg, 0.08, seed=5, model=model, progress=False, control_basis=q)
+    np.testing.assert_allclose(run.residual_variance, reference.residual_variance,
+                               rtol=1e-8)
