@@ -94,7 +94,8 @@ from modalinfo.information import _kernels as kern
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import MIMethod, register_method
 
-__all__ = ["BIN_RULES", "MIN_SAMPLES_PER_CELL", "max_rule_bins", "n_bins_for"]
+__all__ = ["BIN_RULES", "DISCRETE_MIN_PER_CELL", "MIN_SAMPLES_PER_CELL", "discrete_levels",
+           "discrete_mi", "max_rule_bins", "n_bins_for"]
 
 #: Names accepted by ``bins=``; an int or a pair of ints are accepted too.
 BIN_RULES = ("hacine-gharbi", "fd", "scott", "sturges", "sqrt", "auto")
@@ -372,6 +373,33 @@ def mi_from_counts(counts: np.ndarray, bias_correction: str = "miller-madow") ->
         n = float(counts.sum())
         mi -= (out[1] - out[2] - out[3] + 1.0) / (2.0 * n)
     return float(mi)
+
+
+#: Least mean number of samples per cell of the contingency table of two discrete
+#: variables for the discrete plug-in estimate of the kde and ksg engines (kde module
+#: notes, "Discrete data").
+DISCRETE_MIN_PER_CELL = 10
+
+
+def discrete_levels(x: np.ndarray, max_levels: int) -> tuple[np.ndarray, int] | None:
+    """Codes (n,) int64 of the distinct values of x and their number, if <= max_levels.
+
+    None when x has more than ``max_levels`` distinct values (or ``max_levels`` < 2).
+    Any ``max_levels + 1`` samples with that many distinct values prove it, so a
+    continuous sample is rejected after sorting its first ``max_levels + 1`` values.
+    """
+    if max_levels < 2 or np.unique(x[: max_levels + 1]).size > max_levels:
+        return None
+    values, codes = np.unique(x, return_inverse=True)
+    if values.size > max_levels:
+        return None
+    return codes.astype(np.int64, copy=False).ravel(), int(values.size)
+
+
+def discrete_mi(cx: np.ndarray, mx: int, cy: np.ndarray, my: int) -> float:
+    """Plug-in MI (nats) of two coded discrete samples, Miller-Madow corrected."""
+    counts = np.bincount(cx * my + cy, minlength=mx * my).reshape(mx, my)
+    return mi_from_counts(counts, "miller-madow")
 
 
 def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
