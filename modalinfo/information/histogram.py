@@ -441,6 +441,9 @@ _DENSE_MAX_CELLS = 1 << 21
 MIN_COUNT_PER_CELL = 1
 #: Least number of CMI bins per axis (bias rule).
 MIN_BINS = 4
+#: Least number of rule-chosen CMI bins per axis that resolve a strong pair (resolution
+#: rule, :func:`histogram_resolution_rule`).
+MIN_RESOLVING_BINS = 8
 
 
 def _bins_per_axis(bins: Any, n: int, d: int) -> int:
@@ -540,6 +543,30 @@ def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
                 f"below the rule n >= k^d: its bias, ~(cells - 1) "
                 "/ (2 n) per entropy (Miller-Madow / Panzeri-Treves), swamps the estimate")
     return None
+
+
+def histogram_resolution_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
+    """Why the rule-chosen bins of the histogram CMI are too coarse to resolve it, or None.
+
+    The rule (:mod:`modalinfo.information.conditional`, "Resolution rule"): with
+    ``bins="auto"`` (the default), at least :data:`MIN_RESOLVING_BINS` = 8 bins per
+    axis. Equiprobable bins lose a share of a Gaussian pair's MI that depends on k
+    alone: at rho = 0.8 (0.511 nats) 31, 24, 19, 16, 14, 12, 10 % for k = 4 ... 10
+    (at rho = 0.5: 27, 21, 16, 14, 11, 10, 9 %; exact cell probabilities of the
+    bivariate normal, ``scipy.stats.multivariate_normal.cdf``). A bin number the
+    caller chose (an int) is not judged; below :data:`MIN_BINS` the bias rule
+    (:func:`histogram_bias_rule`) applies instead.
+    """
+    bins = options.get("bins", "auto")
+    if not isinstance(bins, str):
+        return None
+    k = _bins_per_axis(bins, n, d)
+    if k >= MIN_RESOLVING_BINS or k < MIN_BINS:
+        return None
+    return (f"histogram CMI with {k} bins per axis over {d} columns (n = {n}) is below the "
+            f"resolution rule of at least {MIN_RESOLVING_BINS} bins per axis: equiprobable "
+            f"bins lose 14 % (8 bins) to 31 % (4 bins) of a rho = 0.8 Gaussian pair's MI, "
+            "a discretisation bias that swamps the estimate")
 
 
 #: The ``"histogram"`` method (:mod:`modalinfo.information.methods`).
