@@ -120,9 +120,8 @@ histogram) and n <= :data:`KSG_SWITCH_MAX_SAMPLES` = 50,000 (the KSG costs
 O(n log n) with a large constant: ~0.25 s per call for 2 x 2 groups at n = 1e4,
 against ~2 ms for the histogram; above the cap the histogram is kept, unjudged).
 ``fallback="raise"`` refuses there and ``"none"`` keeps the histogram with the warning,
-as for the bias rule. Fires for d = 2 below n = 528, d = 3 below 3,956, d = 4 below 29,664,
-d >= 5 up
-to the cap. Measured on the 2 x 2 tasks of benchmarks/bench_mi_accuracy.py at
+as for the bias rule. Fires for d = 2 below n = 528, d = 3 below 3,956, d = 4 below
+29,664, d >= 5 up to the cap. Measured on the 2 x 2 tasks of benchmarks/bench_mi_accuracy.py at
 n = 1e4 (median of 3 seeds), histogram -> switched: two pairs at rho = 0.8 -0.185 ->
 +0.000, Student-t df 1 -0.204 -> -0.018, df 2 -0.101 -> -0.008, dense Gaussian
 -0.027 -> -0.006; CMI given 2 columns -0.035 -> -0.011 (1 seed). Only the point
