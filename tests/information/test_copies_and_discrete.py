@@ -93,3 +93,22 @@ def test_kde_cv_bandwidth_falls_back_to_scott_on_ties():
     got = mutual_information(a, b)
     assert got == mutual_information(a, b, bandwidth="scott")
     assert got == pytest.approx(truth, abs=0.02)
+
+
+def test_ksg_on_a_discrete_continuous_mixture_stays_with_the_tie_noise():
+    # X ~ Bernoulli(1/2), Y = 1.5 X + N(0, 1): I = h(Y) - h(Y | X), h(Y) of the two-normal
+    # mixture by quadrature (scipy.integrate.quad), h(Y | X) = ln(2 pi e) / 2; the
+    # discrete rule does not apply (y is continuous) and the seeded tie noise on x keeps
+    # the estimate right (measured 0.215, 0.205, 0.216 for seeds 0-2 at n = 1e4)
+    from scipy import integrate, stats
+
+    def mixture(v):
+        return 0.5 * stats.norm.pdf(v) + 0.5 * stats.norm.pdf(v - 1.5)
+
+    h_y = integrate.quad(lambda v: -mixture(v) * math.log(mixture(v)), -12, 14, limit=200)[0]
+    truth = h_y - 0.5 * math.log(2 * math.pi * math.e)
+    rng = np.random.default_rng(0)
+    x = rng.integers(0, 2, 10_000).astype(float)
+    y = 1.5 * x + rng.standard_normal(10_000)
+    # sd of one estimate ~0.006 nats (the three seeds above)
+    assert mutual_information(x, y, method="ksg") == pytest.approx(truth, abs=0.025)
