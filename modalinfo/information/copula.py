@@ -27,7 +27,7 @@ import numpy as np
 from scipy.special import ndtri
 from scipy.stats import rankdata
 
-__all__ = ["copula_scores", "check_copula"]
+__all__ = ["copula_scores", "copula_scores_ties", "check_copula"]
 
 
 def copula_scores(x: np.ndarray) -> np.ndarray:
@@ -46,6 +46,19 @@ def copula_scores(x: np.ndarray) -> np.ndarray:
     """
     n = x.shape[0]
     return ndtri(rankdata(x) / (n + 1.0))
+
+
+def copula_scores_ties(x: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Return the normal scores of :func:`copula_scores` and whether x has tied values.
+
+    The tie test is O(n) on the ranks: without ties they are 1 .. n; tied values
+    share their average rank, an integer or a half-integer, so twice the ranks are
+    integers that repeat exactly when values do.
+    """
+    n = x.shape[0]
+    ranks = rankdata(x)
+    ties = bool(np.bincount((2.0 * ranks).astype(np.int64)).max() > 1)
+    return ndtri(ranks / (n + 1.0)), ties
 
 
 def check_copula(copula: object) -> bool:

@@ -94,7 +94,8 @@ from modalinfo.information import _kernels as kern
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import MIMethod, register_method
 
-__all__ = ["BIN_RULES", "MIN_SAMPLES_PER_CELL", "max_rule_bins", "n_bins_for"]
+__all__ = ["BIN_RULES", "DISCRETE_MIN_PER_CELL", "MIN_SAMPLES_PER_CELL", "discrete_levels",
+           "discrete_mi", "max_rule_bins", "n_bins_for"]
 
 #: Names accepted by ``bins=``; an int or a pair of ints are accepted too.
 BIN_RULES = ("hacine-gharbi", "fd", "scott", "sturges", "sqrt", "auto")
@@ -374,6 +375,33 @@ def mi_from_counts(counts: np.ndarray, bias_correction: str = "miller-madow") ->
     return float(mi)
 
 
+#: Least mean number of samples per cell of the contingency table of two discrete
+#: variables for the discrete plug-in estimate of the kde and ksg engines (kde module
+#: notes, "Discrete data").
+DISCRETE_MIN_PER_CELL = 10
+
+
+def discrete_levels(x: np.ndarray, max_levels: int) -> tuple[np.ndarray, int] | None:
+    """Codes (n,) int64 of the distinct values of x and their number, if <= max_levels.
+
+    None when x has more than ``max_levels`` distinct values (or ``max_levels`` < 2).
+    Any ``max_levels + 1`` samples with that many distinct values prove it, so a
+    continuous sample is rejected after sorting its first ``max_levels + 1`` values.
+    """
+    if max_levels < 2 or np.unique(x[: max_levels + 1]).size > max_levels:
+        return None
+    values, codes = np.unique(x, return_inverse=True)
+    if values.size > max_levels:
+        return None
+    return codes.astype(np.int64, copy=False).ravel(), int(values.size)
+
+
+def discrete_mi(cx: np.ndarray, mx: int, cy: np.ndarray, my: int) -> float:
+    """Plug-in MI (nats) of two coded discrete samples, Miller-Madow corrected."""
+    counts = np.bincount(cx * my + cy, minlength=mx * my).reshape(mx, my)
+    return mi_from_counts(counts, "miller-madow")
+
+
 def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
                       bias_correction: str = "miller-madow", binning: str = "uniform") -> float:
     """Differential entropy (nats) from a histogram: plug-in plus the bin-width term.
@@ -413,6 +441,9 @@ _DENSE_MAX_CELLS = 1 << 21
 MIN_COUNT_PER_CELL = 1
 #: Least number of CMI bins per axis (bias rule).
 MIN_BINS = 4
+#: Least number of rule-chosen CMI bins per axis that resolve a strong pair (resolution
+#: rule, :func:`histogram_resolution_rule`).
+MIN_RESOLVING_BINS = 8
 
 
 def _bins_per_axis(bins: Any, n: int, d: int) -> int:
@@ -512,6 +543,30 @@ def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
                 f"below the rule n >= k^d: its bias, ~(cells - 1) "
                 "/ (2 n) per entropy (Miller-Madow / Panzeri-Treves), swamps the estimate")
     return None
+
+
+def histogram_resolution_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
+    """Why the rule-chosen bins of the histogram CMI are too coarse to resolve it, or None.
+
+    The rule (:mod:`modalinfo.information.conditional`, "Resolution rule"): with
+    ``bins="auto"`` (the default), at least :data:`MIN_RESOLVING_BINS` = 8 bins per
+    axis. Equiprobable bins lose a share of a Gaussian pair's MI that depends on k
+    alone: at rho = 0.8 (0.511 nats) 31, 24, 19, 16, 14, 12, 10 % for k = 4 ... 10
+    (at rho = 0.5: 27, 21, 16, 14, 11, 10, 9 %; exact cell probabilities of the
+    bivariate normal, ``scipy.stats.multivariate_normal.cdf``). A bin number the
+    caller chose (an int) is not judged; below :data:`MIN_BINS` the bias rule
+    (:func:`histogram_bias_rule`) applies instead.
+    """
+    bins = options.get("bins", "auto")
+    if not isinstance(bins, str):
+        return None
+    k = _bins_per_axis(bins, n, d)
+    if k >= MIN_RESOLVING_BINS or k < MIN_BINS:
+        return None
+    return (f"histogram CMI with {k} bins per axis over {d} columns (n = {n}) is below the "
+            f"resolution rule of at least {MIN_RESOLVING_BINS} bins per axis: equiprobable "
+            f"bins lose 14 % (8 bins) to 31 % (4 bins) of a rho = 0.8 Gaussian pair's MI, "
+            "a discretisation bias that swamps the estimate")
 
 
 #: The ``"histogram"`` method (:mod:`modalinfo.information.methods`).
