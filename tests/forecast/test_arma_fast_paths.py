@@ -128,7 +128,7 @@ def test_css_newton_terms_equal_the_design_products(p, q):
     gram, grad = np.empty((k, k)), np.empty(k)
     cross = np.full((2, max(k, 2 * q) + 1), np.nan)
     css_newton_terms(e, ar, ma, start, v, w, u, y, np.empty(max(p, 1)),
-                     *np.empty((3, q)), gram, grad, cross)
+                     *np.empty((3, q)), np.empty((4, max(p, q))), gram, grad, cross)
     rv, rw = lfilter([1.0], ar, e), lfilter([1.0], ma, e)
     ru, ry = lfilter([1.0], ma, rv), lfilter([1.0], ma, rw)
     rows = np.arange(start, n)
