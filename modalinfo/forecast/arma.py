@@ -234,11 +234,11 @@ class _SharedRegressions:
 
     def __init__(self, xc: np.ndarray, z_long: np.ndarray, long_order: int, p_max: int,
                  q_max: int):
-        self.long_order, self.p_max = long_order, p_max
-        self.first = long_order + 1                      # the earliest start (max(p, q) = 1)
+        self.p_max = p_max
+        first = long_order + 1                           # the earliest start (max(p, q) = 1)
         self.rows = max(p_max, q_max) - 1                # rows before the latest start
-        self.design = _lag_matrix(self.first, (xc, p_max), (z_long, q_max))
-        self.target = xc[self.first:]
+        self.design = _lag_matrix(first, (xc, p_max), (z_long, q_max))
+        self.target = xc[first:]
         tail = self.design[self.rows:]
         self.gram = tail.T @ tail
         self.rhs = tail.T @ self.target[self.rows:]
