@@ -4,8 +4,8 @@ Run::
 
     nice /work/main/.venv/bin/python benchmarks/bench_predictor_scale.py
         [--sizes 27,184,500,1500] [--aic-sizes 27,184] [--frames 10000]
-        [--baseline OLD_ARMA.py] [--baseline-max-aic 184] [--sm-modes 3]
-        [--sm-aic-modes 0] [--cache DIR]
+        [--baseline OLD_ARMA.py | --baseline-rev REV] [--baseline-max-aic 184]
+        [--sm-modes 3] [--sm-aic-modes 0] [--cache DIR]
 
 Data: one synthetic closed-loop log of ``max(sizes)`` Kolmogorov-correlated Zernike modes
 (Z2 onwards, :func:`modalinfo.telemetry.synthetic.kaos_like`, seed 0: von Karman
@@ -17,11 +17,13 @@ Timed (median of ``--repeats`` runs, CPU-bound, single-threaded BLAS):
 
 1. ``ARMAPredictor(order=(2, 3)).fit`` (the ``arma`` preset) at every ``--sizes``.
 2. The ``arma-aic`` preset's fit (p, q <= 5 by AIC) at every ``--aic-sizes``.
-3. With ``--baseline FILE`` (an earlier ``modalinfo/forecast/arma.py``, e.g. from
-   ``git show REV:modalinfo/forecast/arma.py > /tmp/arma_before.py``), the same fits by
-   that module in the same run: before/after ratio, whether the fitted parameters (and
-   the AIC table) are bit-identical and, if not, the largest differences (coefficients,
-   relative sigma^2 and criterion) and the number of modes whose AIC orders differ
+3. With ``--baseline-rev REV`` (a git revision of this repository: its
+   ``modalinfo/forecast/arma.py`` and ``_kernels.py``, the module importing that
+   revision's kernels) or ``--baseline FILE`` (an earlier ``arma.py`` alone, which then
+   runs on this tree's kernels), the same fits by that module in the same run:
+   before/after ratio, whether the fitted parameters (and the AIC table) are
+   bit-identical and, if not, the largest differences (coefficients, relative sigma^2
+   and criterion) and the number of modes whose AIC orders differ
    (``--baseline-max-aic``: AIC baseline only up to that many modes, it is the slow one;
    ``--aic-every k``: the AIC rows fit every k-th mode, a sample spread over the whole
    log, e.g. 300 of 1,500 with k = 5).
@@ -39,7 +41,9 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import importlib.util  # noqa: E402
+import subprocess  # noqa: E402
 import sys  # noqa: E402
+import tempfile  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -78,6 +82,23 @@ def _load_baseline(path: str):
     return module.ARMAPredictor
 
 
+def _baseline_from_rev(rev: str):
+    """``arma.py`` and its kernels at git revision ``rev``, in a temporary directory."""
+    root = Path(__file__).resolve().parent.parent
+    folder = Path(tempfile.mkdtemp(prefix="arma_baseline_"))
+
+    def show(name: str) -> str:
+        return subprocess.run(["git", "-C", str(root), "show", f"{rev}:{name}"], check=True,
+                              capture_output=True, text=True).stdout
+
+    (folder / "arma_baseline_kernels.py").write_text(show("modalinfo/forecast/_kernels.py"))
+    arma = show("modalinfo/forecast/arma.py").replace(
+        "from modalinfo.forecast._kernels import", "from arma_baseline_kernels import")
+    (folder / "arma_baseline.py").write_text(arma)
+    sys.path.insert(0, str(folder))
+    return _load_baseline(str(folder / "arma_baseline.py"))
+
+
 def _median_time(fn, repeats: int):
     times, out = [], None
     for _ in range(repeats):
@@ -105,6 +126,9 @@ def _differences(a: dict, b: dict) -> str:
     out.append(f"sigma2 rel {np.abs(a['sigma2'] / b['sigma2'] - 1).max():.1e}")
     if a["criterion"] is not None:
         out.append(f"criterion rel {np.nanmax(np.abs(a['criterion'] / b['criterion'] - 1)):.1e}")
+        # how near a flip the baseline's choice was: best-vs-second AIC, closest mode
+        table = np.sort(b["criterion"].reshape(b["criterion"].shape[0], -1), axis=1)
+        out.append(f"closest best-vs-second criterion {np.nanmin(table[:, 1] - table[:, 0]):.3g}")
     out.append(f"orders differ on {int((a['orders'] != b['orders']).any(axis=1).sum())} modes")
     return ", ".join(out)
 
@@ -156,7 +180,10 @@ def main(argv=None) -> None:
     parser.add_argument("--aic-sizes", default="27,184")
     parser.add_argument("--frames", type=int, default=10_000)
     parser.add_argument("--repeats", type=int, default=1)
-    parser.add_argument("--baseline", default=None)
+    parser.add_argument("--baseline", default=None,
+                        help="an earlier arma.py (runs on this tree's kernels)")
+    parser.add_argument("--baseline-rev", default=None,
+                        help="a git revision: its arma.py with its own kernels")
     parser.add_argument("--baseline-max-aic", type=int, default=None)
     parser.add_argument("--aic-every", type=int, default=1,
                         help="AIC rows fit every k-th mode (a sample spread over the log)")
@@ -167,11 +194,14 @@ def main(argv=None) -> None:
     sizes = [int(s) for s in args.sizes.split(",") if s]
     aic_sizes = [int(s) for s in args.aic_sizes.split(",") if s]
     x = _log(max(sizes + [m * args.aic_every for m in aic_sizes]), args.frames, args.cache)
-    old = None if args.baseline is None else _load_baseline(args.baseline)
+    old = (_baseline_from_rev(args.baseline_rev) if args.baseline_rev is not None
+           else None if args.baseline is None else _load_baseline(args.baseline))
     make_old = (None if old is None else lambda: old(order=(2, 3)))
     make_old_aic = (None if old is None else lambda: old(order="aic"))
-    # compile the kernels outside the timings
+    # compile the kernels (this tree's and the baseline's) outside the timings
     make_predictor("arma").fit(x[:2000, :2])
+    if make_old is not None:
+        make_old().fit(x[:2000, :2])
     print(f"## ARMA fits, {args.frames} frames, CPU time (process_time), "
           f"median of {args.repeats}; load average {os.getloadavg()}", flush=True)
     fixed = _rows(x, sizes, "ARMA(2,3)", lambda: make_predictor("arma"), make_old,

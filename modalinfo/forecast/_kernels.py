@@ -408,7 +408,16 @@ def _lagged_sum(x, lag_x, z, lag_z, start):
 
 
 @jit
-def css_newton_terms(e, ar, ma, start, v, w, u, y, zv, zw, zu, zy, gram, grad, cross):
+def _range_sum(x, z, lag, lo, hi):
+    """``sum_{lo <= t < hi} x_t z_{t - lag}``, one term after the other (a few terms)."""
+    s = 0.0
+    for t in range(lo, hi):
+        s += x[t] * z[t - lag]
+    return s
+
+
+@jit
+def css_newton_terms(e, ar, ma, start, v, w, u, y, zv, zw, zu, zy, toep, gram, grad, cross):
     """Run the filters and form the normal-equation terms of one CSS Newton step.
 
     Runs :func:`css_filters` (``v, w, u, y`` from ``e``), then forms the terms that
@@ -417,10 +426,18 @@ def css_newton_terms(e, ar, ma, start, v, w, u, y, zv, zw, zu, zy, gram, grad, c
     start``: ``gram = sum_t d_t d_t^T``, ``grad = sum_t d_t e_t`` and the lagged cross
     products ``cross[0, L] = sum_{t >= max(start, L)} e_t u_{t-L}`` (L = 2..p+q) and
     ``cross[1, L] = sum_{t >= max(start, L)} e_t y_{t-L}`` (L = 2..2q) of the Hessian's
-    residual terms (each distinct lag once). Every entry is one sequential sum over t:
-    a different summation order from the BLAS products it replaces, so equal to
-    rounding (see ``tests/forecast/test_arma_fast_paths.py``), without building the
-    ``(T - start, p + q)`` design matrix.
+    residual terms (each distinct lag once).
+
+    The Gram matrix is Toeplitz but for its ends (issue 30): the entry of lags ``(s, s +
+    d)`` of series ``a, b`` is ``sum_{tau = start - s}^{n - 1 - s} a_tau b_{tau - d}``, so
+    every entry of one lag difference ``d`` shares the range ``tau in [start - 1, n - 1 -
+    max(p, q)]``, summed once by BLAS ``ddot`` (``toep``: ``p`` sums of ``v v``, ``q`` of
+    ``w w``, ``q`` of ``v_tau w_{tau - d}``, ``p - 1`` of ``w_tau v_{tau - d}``), and
+    each entry adds its own ``s - 1`` first and ``max(p, q) - s`` last terms one by one:
+    ``2 (p + q) - 1`` long sums instead of ``(p + q) (p + q + 1) / 2`` (47 instead of 83
+    long sums in all at (5, 5)). Every entry is still the sum of exactly its own
+    products, in another order than the BLAS products of a design matrix, so equal to
+    them within a dot product's rounding bound (``tests/forecast/test_arma_fast_paths.py``).
 
     Parameters
     ----------
@@ -428,9 +445,11 @@ def css_newton_terms(e, ar, ma, start, v, w, u, y, zv, zw, zu, zy, gram, grad, c
         Innovations.
     ar, ma : (p + 1,), (q + 1,) float64 IN
     start : int
-        First time index summed (``>= max(p, q)``).
+        First time index summed (``>= max(p, q)``; ``T >= start + max(p, q)``).
     v, w, u, y : (T,) float64 OUT
     zv, zw, zu, zy : scratch of :func:`css_filters`
+    toep : (4, max(p, q, 1)) float64 scratch
+        The shared long sums of the Gram matrix.
     gram : (p + q, p + q) float64 OUT
     grad : (p + q,) float64 OUT
     cross : (2, max(p + q, 2 q) + 1) float64 OUT
@@ -439,15 +458,38 @@ def css_newton_terms(e, ar, ma, start, v, w, u, y, zv, zw, zu, zy, gram, grad, c
     p = ar.shape[0] - 1
     q = ma.shape[0] - 1
     k = p + q
+    n = e.shape[0]
+    smax = max(p, q)
+    lo = start - 1          # the range every Gram entry covers
+    hi = n - smax
+    for d in range(p):
+        toep[0, d] = np.dot(v[lo:hi], v[lo - d:hi - d])  # BLAS ddot
+    for d in range(q):
+        toep[1, d] = np.dot(w[lo:hi], w[lo - d:hi - d])
+        if p > 0:
+            toep[2, d] = np.dot(v[lo:hi], w[lo - d:hi - d])
+    if q > 0:
+        for d in range(1, p):
+            toep[3, d] = np.dot(w[lo:hi], v[lo - d:hi - d])
+    for a in range(k):
+        for b in range(a, k):
+            if b < p:                   # v lag a + 1 with v lag b + 1
+                s, d, xa, zb, row = a + 1, b - a, v, v, 0
+            elif a >= p:                # w lag a - p + 1 with w lag b - p + 1
+                s, d, xa, zb, row = a - p + 1, b - a, w, w, 1
+            elif b - p >= a:            # v lag i with w lag j >= i
+                s, d, xa, zb, row = a + 1, b - p - a, v, w, 2
+            else:                       # v lag i with w lag j < i
+                s, d, xa, zb, row = b - p + 1, a + p - b, w, v, 3
+            total = toep[row, d]
+            total += _range_sum(xa, zb, d, start - s, lo)
+            total += _range_sum(xa, zb, d, hi, n - s)
+            gram[a, b] = total
+            gram[b, a] = total
     for a in range(k):
         xa = v if a < p else w
         la = a + 1 if a < p else a - p + 1
         grad[a] = _lagged_sum(xa, la, e, 0, start)
-        for b in range(a, k):
-            xb = v if b < p else w
-            lb = b + 1 if b < p else b - p + 1
-            gram[a, b] = _lagged_sum(xa, la, xb, lb, start)
-            gram[b, a] = gram[a, b]
     for r in range(cross.shape[0]):
         for c in range(cross.shape[1]):
             cross[r, c] = 0.0
@@ -618,6 +660,7 @@ def css_newton(xc, phi, theta, margin, safe, burn, n_iter, lambdas, tols):
     hess = np.empty((k, k))
     lhs = np.empty((k, k))
     cross = np.empty((2, max(k, 2 * q) + 1))
+    toep = np.empty((4, max(p, q, 1)))
     step = np.empty(k)
     work = np.empty((k, k + 1))
     ar = np.empty(p + 1)
@@ -632,7 +675,7 @@ def css_newton(xc, phi, theta, margin, safe, burn, n_iter, lambdas, tols):
         for j in range(q):
             ma[j + 1] = theta[j]
         css_newton_terms(e, ar, ma, start, v, w, u, y, z_ar, z_ma[0], z_ma[1], z_ma[2],
-                         gram, grad, cross)
+                         toep, gram, grad, cross)
         for a in range(k):
             for b in range(k):
                 hess[a, b] = gram[a, b]

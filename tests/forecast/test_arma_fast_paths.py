@@ -2,7 +2,8 @@
 
 References (outside the kernels): ``numpy.roots`` / ``numpy.poly`` for the root test
 that ``_kernels.clearly_inside`` short-cuts and for ``enforce_roots``; ``numpy.column_stack``
-of fancy-indexed lags for ``_lag_matrix``; ``scipy.signal.lfilter`` for the filters of
+of fancy-indexed lags for ``_lag_matrix`` and, with ``numpy.linalg.lstsq``, for the
+order search's shared Hannan-Rissanen regressions; ``scipy.signal.lfilter`` for the filters of
 ``css_filters`` and ``arma_innovations`` (bit for bit); the BLAS products of an explicit
 design matrix for ``css_newton_terms`` (within the float error bound of a dot product,
 ``n eps sum |x_i y_i|``); and the whole CSS refinement as it was before issue 30's
@@ -97,6 +98,24 @@ def test_lag_matrix_equals_column_stack():
     assert out.flags.c_contiguous and np.array_equal(out, ref)
 
 
+def test_shared_regressions_equal_each_order_least_squares():
+    rng = np.random.default_rng(7)
+    x = lfilter([1.0, -0.5, 0.2], [1.0, -1.3, 0.4], rng.standard_normal(2000))
+    xc = (x - x.mean()) / x.std()
+    long_order = 30
+    z = lfilter(np.r_[1.0, -A._yule_walker(A.sample_autocovariance(xc, 31), 30)], [1.0], xc)
+    shared = A._SharedRegressions(xc, z, long_order, 4, 5)
+    for p in range(5):
+        for q in range(1, 6):
+            rows = np.arange(long_order + max(p, q), xc.size)   # B&D 5.1.4, step 2
+            design = np.column_stack([xc[rows - i] for i in range(1, p + 1)]
+                                     + [z[rows - j] for j in range(1, q + 1)])
+            ref = np.linalg.lstsq(design, xc[rows], rcond=None)[0]
+            phi, theta = shared.solve(p, q)
+            # normal equations of a design with condition number < 1e3: ~1e-12 apart
+            np.testing.assert_allclose(np.r_[phi, theta], ref, rtol=0, atol=1e-9)
+
+
 @pytest.mark.parametrize("p,q", [(0, 1), (1, 0), (2, 3), (5, 5), (0, 0)])
 def test_css_filters_equal_lfilter(p, q):
     from modalinfo.forecast._kernels import css_filters
@@ -128,7 +147,7 @@ def test_css_newton_terms_equal_the_design_products(p, q):
     gram, grad = np.empty((k, k)), np.empty(k)
     cross = np.full((2, max(k, 2 * q) + 1), np.nan)
     css_newton_terms(e, ar, ma, start, v, w, u, y, np.empty(max(p, 1)),
-                     *np.empty((3, q)), gram, grad, cross)
+                     *np.empty((3, q)), np.empty((4, max(p, q))), gram, grad, cross)
     rv, rw = lfilter([1.0], ar, e), lfilter([1.0], ma, e)
     ru, ry = lfilter([1.0], ma, rv), lfilter([1.0], ma, rw)
     rows = np.arange(start, n)
