@@ -34,12 +34,40 @@ Rooms (see docs/ARCHITECTURE.md):
 - the command line apart: ``cli``, ``sweep`` (grids of runs on ``modalinfo.batch``).
 """
 
-from closedloop import presets
-from closedloop.config import SimulationConfig, load_config, save_config
-from closedloop.control.predictors import ORACLE, LoopPredictor
-from closedloop.result import SimulationResult
-from closedloop.simulation import LoopModel, simulate
-from closedloop.training import run_trained
+import importlib
+
+#: public name -> the module that defines it. Imported on first use (PEP 562), not here:
+#: ``python -m closedloop`` imports this package before its ``__main__`` can install the
+#: Ctrl-C handler, so an eager import of NumPy/SciPy/numba here ran seconds of work
+#: outside any handler (a KeyboardInterrupt traceback, issue 27 round 3, x06).
+_LAZY = {
+    "presets": "closedloop.presets",
+    "simulate": "closedloop.simulation",
+    "LoopModel": "closedloop.simulation",
+    "run_trained": "closedloop.training",
+    "LoopPredictor": "closedloop.control.predictors",
+    "ORACLE": "closedloop.control.predictors",
+    "SimulationConfig": "closedloop.config",
+    "load_config": "closedloop.config",
+    "save_config": "closedloop.config",
+    "SimulationResult": "closedloop.result",
+}
+
+
+def __getattr__(name: str):
+    """Import a public name on first use (PEP 562); a submodule is itself."""
+    try:
+        module = importlib.import_module(_LAZY[name])
+    except KeyError:
+        raise AttributeError(f"module 'closedloop' has no attribute {name!r}") from None
+    value = module if module.__name__ == f"closedloop.{name}" else getattr(module, name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "presets",

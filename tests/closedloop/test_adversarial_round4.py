@@ -1,0 +1,75 @@
+"""Round 4 of issue 27's adversarial inputs (closedloop side): the ones that failed, fixed.
+
+The full list of inputs tried (id | input | expected | observed | verdict | fix) is in
+docs/ADVERSARIAL.md, section "Round 4, issue 27".
+
+References: the command-line contract of the README and ``modalinfo.common.cli``
+(Ctrl-C: one line ``PROG: interrupted`` on stderr and exit 130, the shell's 128 + SIGINT;
+bad input: one line, exit 2, nothing written); a real SIGINT delivered by the kernel
+(``os.kill``) at the moment the command first imports NumPy, the seconds-long part of
+its start-up.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+#: a ``sitecustomize`` (imported by ``site`` before ``-m`` runs anything) that sends the
+#: process a real SIGINT when NumPy is first imported: a Ctrl-C during the start-up
+_TRIP = """\
+import os, signal, sys
+
+class _CtrlCOnNumpy:
+    def find_spec(self, name, path=None, target=None):
+        if name == "numpy":
+            sys.meta_path.remove(self)
+            os.kill(os.getpid(), signal.SIGINT)
+        return None
+
+sys.meta_path.insert(0, _CtrlCOnNumpy())
+"""
+
+
+def ctrl_c_while_importing(tmp_path: Path, argv: list[str]) -> subprocess.CompletedProcess:
+    """Run ``python ARGV`` with a Ctrl-C at its first NumPy import; return the process."""
+    (tmp_path / "sitecustomize.py").write_text(_TRIP)
+    env = dict(os.environ, PYTHONPATH=f"{tmp_path}{os.pathsep}{ROOT}")
+    return subprocess.run([sys.executable, *argv], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.parametrize("argv, line", [
+    (["-m", "closedloop", "config", "--preset", "table1"], "closedloop: interrupted\n"),
+    (["-m", "modalinfo", "info", "nonesuch.npz"], "modalinfo: interrupted\n"),
+    (["-m", "paper_figures", "--only", "1", "--out", "pf"],
+     "python -m paper_figures: interrupted\n"),
+])
+def test_ctrl_c_while_the_package_imports_is_one_line_and_130(tmp_path, argv, line):
+    # x01 (round 3's x06): `closedloop/__init__.py` imported NumPy, SciPy and numba
+    # before `__main__` could catch anything: a KeyboardInterrupt traceback
+    done = ctrl_c_while_importing(tmp_path, argv)
+    assert (done.returncode, done.stderr) == (130, line)
+    assert not (tmp_path / "pf").exists()
+
+
+def test_the_package_is_lazy_and_its_public_names_still_import():
+    done = subprocess.run(
+        [sys.executable, "-c",
+         "import sys, closedloop; heavy = 'numpy' in sys.modules; "
+         "from closedloop import presets, simulate, SimulationConfig, ORACLE; "
+         "print(heavy, presets.__name__, simulate.__module__, closedloop.LoopModel.__name__)"],
+        cwd=ROOT, env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        capture_output=True, text=True, timeout=120)
+    assert done.stdout.split() == ["False", "closedloop.presets", "closedloop.simulation",
+                                   "LoopModel"]
+    with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
+        import closedloop
+
+        closedloop.nonesuch  # noqa: B018
