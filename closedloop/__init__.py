@@ -34,40 +34,36 @@ Rooms (see docs/ARCHITECTURE.md):
 - the command line apart: ``cli``, ``sweep`` (grids of runs on ``modalinfo.batch``).
 """
 
-import importlib
-
-#: public name -> the module that defines it. Imported on first use (PEP 562), not here:
-#: ``python -m closedloop`` imports this package before its ``__main__`` can install the
-#: Ctrl-C handler, so an eager import of NumPy/SciPy/numba here ran seconds of work
-#: outside any handler (a KeyboardInterrupt traceback, issue 27 round 3, x06).
-_LAZY = {
-    "presets": "closedloop.presets",
-    "simulate": "closedloop.simulation",
-    "LoopModel": "closedloop.simulation",
-    "run_trained": "closedloop.training",
-    "LoopPredictor": "closedloop.control.predictors",
-    "ORACLE": "closedloop.control.predictors",
-    "SimulationConfig": "closedloop.config",
-    "load_config": "closedloop.config",
-    "save_config": "closedloop.config",
-    "SimulationResult": "closedloop.result",
-}
+import sys
 
 
-def __getattr__(name: str):
-    """Import a public name on first use (PEP 562); a submodule is itself."""
-    try:
-        module = importlib.import_module(_LAZY[name])
-    except KeyError:
-        raise AttributeError(f"module 'closedloop' has no attribute {name!r}") from None
-    value = module if module.__name__ == f"closedloop.{name}" else getattr(module, name)
-    globals()[name] = value  # later look-ups skip this function
-    return value
+def _run_as_main() -> bool:
+    """Tell whether this process is the command: ``python -m closedloop`` or its script.
+
+    The console script runs as ``python .../bin/closedloop ...``.
+    """
+    argv = [str(a) for a in getattr(sys, "orig_argv", ())]
+    script = len(argv) > 1 and argv[1].replace("\\", "/").rsplit("/", 1)[-1] == "closedloop"
+    return script or "-mclosedloop" in argv or any(
+        a == "-m" and argv[k + 1 : k + 2] == ["closedloop"] for k, a in enumerate(argv))
 
 
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
-
+try:
+    from closedloop import presets
+    from closedloop.config import SimulationConfig, load_config, save_config
+    from closedloop.control.predictors import ORACLE, LoopPredictor
+    from closedloop.result import SimulationResult
+    from closedloop.simulation import LoopModel, simulate
+    from closedloop.training import run_trained
+except KeyboardInterrupt:
+    # `python -m closedloop` imports this package (NumPy, SciPy, numba: seconds) before
+    # its __main__ can catch Ctrl-C: answer as the command does (one line, 130). The
+    # imports stay eager: they register the sensor and mirror kinds (closedloop.optics)
+    # that every config reads. Imported as a library, Ctrl-C is the caller's.
+    if not _run_as_main():
+        raise
+    sys.stderr.write("closedloop: interrupted\n")
+    sys.exit(130)
 
 __all__ = [
     "presets",
