@@ -13,7 +13,11 @@ the samples, and its rule (refuse above an hour) checked on both sides of the li
 from __future__ import annotations
 
 import argparse
+import os
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -99,3 +103,70 @@ def test_ksg_rate_grows_as_log_n_and_is_below_the_measured_times():
     assert ksg(10_000) < 6.4e-6 and ksg(400_000) < 13.7e-6
     assert ksg(400_000) / ksg(10_000) == pytest.approx(np.log(4e5) / np.log(1e4))
 
+
+
+@pytest.mark.parametrize("surrogates, alpha", [(1, 0.05), (19, 1e-300), (18, 0.05)])
+def test_select_refuses_surrogates_that_cannot_reach_alpha(small_log, capsys, surrogates,
+                                                           alpha):
+    # n20, n21: the smallest surrogate p-value is 1 / (N + 1) (0.5 for one surrogate), so
+    # no input could ever pass alpha: the table said "no input" as if none helped
+    code = _exit_code(["select", small_log, "--target", "Z2", "--surrogates", surrogates,
+                       "--alpha", alpha, "--max-lag", 2, "--no-intervals"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert f"--surrogates {surrogates} cannot reach --alpha" in err
+    assert f"1/{surrogates + 1}" in err
+
+
+def test_select_runs_where_the_smallest_p_value_reaches_alpha(small_log, capsys):
+    # 19 surrogates: the smallest p-value is 1/20 = 0.05 = alpha, reachable
+    code = _exit_code(["select", small_log, "--target", "Z2", "--surrogates", 19,
+                       "--max-lag", 2, "--no-intervals"])
+    assert code == 0, capsys.readouterr().err
+
+
+def test_histogram_bins_beyond_the_samples_are_refused_before_the_table():
+    # a17: bins=10**9 on 1000 samples allocated 8 GB and did not return in 10 minutes
+    from modalinfo.information import mutual_information
+
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(1000)
+    start = time.process_time()
+    for bins in (10**9, (10, 1001)):
+        with pytest.raises(ValueError, match=r"`bins` must be at most the number of samples "
+                                             r"\(1000\) per axis"):
+            mutual_information(x, x**2, method="histogram", bins=bins)
+    assert time.process_time() - start < 5
+    # the limit itself is accepted: one bin per sample
+    assert np.isfinite(mutual_information(x, x**2, method="histogram", bins=1000))
+
+
+_WARNING_COMMAND = """\
+import sys, warnings
+from modalinfo.common.cli import Parser, dispatch
+
+def run(args):
+    warnings.warn("the cache could not write 'x'\\n(second line)", RuntimeWarning)
+    return 0
+
+parser = Parser(prog="tool")
+sub = parser.add_subparsers(dest="command", parser_class=Parser)
+sub.add_parser("go").set_defaults(_run=run)
+code = dispatch(parser, ["go"], "tool")
+warnings.warn("after the command", RuntimeWarning)
+sys.exit(code)
+"""
+
+
+def test_a_warning_during_a_command_is_one_line_in_its_voice(tmp_path):
+    # x05, x06, x09: MODALINFO_DM_KL_CACHE unwritable printed Python's two-line warning
+    # (source path of closedloop/optics/actuator_dm.py, then a line of code)
+    root = Path(__file__).resolve().parents[2]
+    done = subprocess.run([sys.executable, "-c", _WARNING_COMMAND], cwd=tmp_path,
+                          env=dict(os.environ, PYTHONPATH=str(root)),
+                          capture_output=True, text=True, timeout=120)
+    lines = done.stderr.splitlines()
+    assert done.returncode == 0
+    assert lines[0] == "tool go: warning: the cache could not write 'x' (second line)"
+    # outside the command, Python's own format is back (path:line: Category: message)
+    assert "RuntimeWarning: after the command" in lines[1]

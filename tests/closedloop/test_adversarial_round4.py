@@ -72,3 +72,12 @@ def test_imported_as_a_library_ctrl_c_stays_the_callers(tmp_path):
     done = ctrl_c_while_importing(tmp_path, ["-c", "import closedloop; print('imported')"])
     assert done.returncode != 0 and "KeyboardInterrupt" in done.stderr
     assert "imported" not in done.stdout
+
+
+@pytest.mark.parametrize("n", [451, 10**6])
+def test_est_variant_beyond_ten_times_the_design_is_refused(n):
+    # a05: est_mcao_variant(10**6) raised numpy's MemoryError (a 116 TiB actuator mask)
+    from closedloop import presets
+
+    with pytest.raises(ValueError, match=r"`ground_subapertures` must be <= 450"):
+        presets.est_mcao_variant(n)
