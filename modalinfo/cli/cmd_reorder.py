@@ -20,7 +20,6 @@ curve within 0.8 of the whole log's 95 % bootstrap half-width at every step (at 
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 from modalinfo.cli import CommandError
@@ -85,45 +84,28 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
                  "use fewer --pupil-pixels (64 resolves Zernikes up to radial order ~20)")
 
 
-#: CPU seconds per sample of one MI estimate on N samples, a little below those measured
-#: (``time.process_time`` of ``MutualInformation.score`` at N = 1e4, 1e5, 4e5 on this
-#: project's 2-core machine, 2026-11-28: ksg 6.4, 10.4, 13.7 us, growing as log2 N
-#: (k-d tree queries); kde 0.19-0.24 us (binned); gaussian 0.13-0.23 us; histogram
-#: 0.03-0.06 us), so the estimate below is a lower bound of the real time.
-MI_SECONDS_PER_SAMPLE = {
-    "ksg": lambda n: 0.4e-6 * math.log2(max(n, 2)),
-    "kde": lambda n: 1.5e-7,
-    "gaussian": lambda n: 1e-7,
-    "histogram": lambda n: 2e-8,
-}
-#: Most CPU time an MI ordering may be estimated to take before it is refused [s]
-MAX_MI_SECONDS = 3600.0
-
-
 def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
     """Refuse, before any work, MI orderings whose least CPU time exceeds an hour.
 
-    One MI estimate costs ``MI_SECONDS_PER_SAMPLE[estimator](n) * n`` on the
-    ``n = min(--budget, frames x pupil pixels)`` samples; a greedy ordering of M modes
-    makes at least ``2 M - 2`` of them (every mode at the first step, one at least at
-    each later step but the last), plus one per bootstrap replicate (``--resamples``).
+    On ``n = min(--budget, frames x pupil pixels)`` samples per estimate
+    (:func:`modalinfo.ordering.cost.least_ordering_seconds`: a lower bound).
     """
     from modalinfo.bases import Pupil
+    from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, least_ordering_seconds
 
-    rate = MI_SECONDS_PER_SAMPLE.get(args.estimator)
-    if rate is None or n_orderings < 1 or args.budget < 10 or args.pupil_pixels < 4:
-        return  # an object estimator, no MI ordering, or an option the library refuses
+    if n_orderings < 1 or args.budget < 10 or args.pupil_pixels < 4:
+        return  # no MI ordering, or an option the library refuses
     frames = 1 if args.frame is not None else log.n_frames
     n = min(args.budget, frames * Pupil(args.pupil_pixels).n_valid)
-    calls = n_orderings * (max(2 * log.n_modes - 2, 1) + getattr(args, "resamples", 0))
-    seconds = calls * n * rate(n)
-    if seconds > MAX_MI_SECONDS:
+    seconds, calls = least_ordering_seconds(args.estimator, n, log.n_modes,
+                                            getattr(args, "resamples", 0), n_orderings)
+    if seconds > MAX_ORDERING_SECONDS:
         raise CommandError(
             f"--estimator {args.estimator} with --budget {args.budget} ({n} samples per MI "
             f"estimate, at least {calls} estimates for {log.n_modes} modes) would take at "
-            f"least {seconds / 3600:.1f} h of CPU, more than the {MAX_MI_SECONDS / 3600:g} h "
-            "this command allows; use a smaller --budget (or --max-frames) or a faster "
-            "--estimator (histogram, kde)")
+            f"least {seconds / 3600:.1f} h of CPU, more than the "
+            f"{MAX_ORDERING_SECONDS / 3600:g} h this command allows; use a smaller --budget "
+            "(or --max-frames) or a faster --estimator (histogram, kde)")
 
 
 def load_analysed_log(args: argparse.Namespace, mi: bool):

@@ -23,8 +23,9 @@ import numpy as np
 import pytest
 
 from modalinfo.cli import CommandError, main
-from modalinfo.cli.cmd_reorder import MAX_MI_SECONDS, MI_SECONDS_PER_SAMPLE, check_mi_time
+from modalinfo.cli.cmd_reorder import check_mi_time
 from modalinfo.io import save
+from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, MI_SECONDS_PER_SAMPLE
 from modalinfo.telemetry import ModalLog
 
 
@@ -60,9 +61,9 @@ def test_ksg_with_a_budget_that_cannot_finish_is_refused_before_work(small_log, 
 def test_fitting_error_counts_its_mi_orderings_only(small_log, capsys, monkeypatch):
     # fitting-error shares the rule; with the limit lowered to a microsecond, its MI
     # orderings are refused before work and a list without one is not
-    from modalinfo.cli import cmd_reorder
+    from modalinfo.ordering import cost
 
-    monkeypatch.setattr(cmd_reorder, "MAX_MI_SECONDS", 1e-6)
+    monkeypatch.setattr(cost, "MAX_ORDERING_SECONDS", 1e-6)
     argv = ["fitting-error", small_log, "--budget", 2000, "--pupil-pixels", 16, "--quiet"]
     assert _exit_code(argv + ["--orderings", "zernike:standard,zernike:mi_greedy"]) == 2
     assert "h of CPU" in capsys.readouterr().err
@@ -84,7 +85,7 @@ def test_the_time_rule_on_both_sides_of_the_limit():
     # 400 frames x 3216 pixels (64-pixel disc) >= 1e6: n = 1e6 samples per estimate
     n, rate = 1_000_000, MI_SECONDS_PER_SAMPLE["ksg"](1_000_000)
     # largest bootstrap that stays under the limit, and one more hour's worth
-    calls_ok = int(MAX_MI_SECONDS / (n * rate))
+    calls_ok = int(MAX_ORDERING_SECONDS / (n * rate))
     resamples_ok = calls_ok - (2 * 3 - 2)
     check_mi_time(_args(resamples=resamples_ok), _Log(400, 3))
     with pytest.raises(CommandError, match="--estimator ksg with --budget 1000000"):
@@ -170,3 +171,29 @@ def test_a_warning_during_a_command_is_one_line_in_its_voice(tmp_path):
     assert lines[0] == "tool go: warning: the cache could not write 'x' (second line)"
     # outside the command, Python's own format is back (path:line: Category: message)
     assert "RuntimeWarning: after the command" in lines[1]
+
+
+@pytest.mark.parametrize("train", ["1", "0.001"])
+def test_forecast_refuses_a_one_frame_training_part(small_log, capsys, train):
+    # n12: `forecast --train 1` trained on one frame, called every mode "constant over
+    # the training frames" and still printed a linear row that grew 7x with the horizon
+    code = _exit_code(["forecast", small_log, "--train", train, "--predictors", "linear",
+                       "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "--train must hold at least 2 frames" in err
+
+
+def test_batch_ordering_refuses_what_cannot_finish_before_the_basis(small_log):
+    # a35: `batch --set ordering.budget=100000000 --set ordering.estimator=ksg` ran for
+    # hours; the task now raises at once (an error row naming the rule, exit 1)
+    from modalinfo.batch.analyses import resolve_params, run_log_task
+
+    params = resolve_params("ordering", {"budget": 1_000_000, "estimator": "ksg",
+                                         "resamples": 2000})
+    start = time.process_time()
+    with pytest.raises(ValueError, match=r"ordering.estimator ksg with ordering.budget "
+                                         r"1000000 .* h of CPU"):
+        run_log_task({"path": str(small_log), "fmt": None, "hints": {},
+                      "analysis": "ordering", "params": params})
+    assert time.process_time() - start < 30
