@@ -81,3 +81,27 @@ def test_est_variant_beyond_ten_times_the_design_is_refused(n):
 
     with pytest.raises(ValueError, match=r"`ground_subapertures` must be <= 450"):
         presets.est_mcao_variant(n)
+
+
+def test_an_unknown_key_of_an_actuator_dm_lists_the_kinds_options_too(tmp_path):
+    # k33: `dms[0].pitch` on dkist-scao listed "altitude, diameter, kind, n_modes" as the
+    # allowed keys, as if n_actuators, coupling and threshold (the preset's own) were not
+    import json
+
+    from closedloop import presets
+    from closedloop.config import load_config, save_config
+
+    path = save_config(presets.get("dkist-scao"), tmp_path / "dk.json") or tmp_path / "dk.json"
+    data = json.loads(path.read_text())
+    data["dms"][0]["pitch"] = 0.1
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=r"unknown key `dms\[0\]\.pitch` in the config; allowed "
+                                         r"keys there: altitude, coupling, diameter, kind, "
+                                         r"n_actuators, n_modes, threshold\."):
+        load_config(path)
+    # a Zernike DM's table has no such options: the list stays its own
+    data["dms"][0] = {"altitude": 0.0, "n_modes": 20, "coupling": 0.3}
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=r"allowed keys there: altitude, diameter, kind, "
+                                         r"n_modes\."):
+        load_config(path)
