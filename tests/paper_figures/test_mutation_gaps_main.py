@@ -44,8 +44,9 @@ def test_help_of_overwrite_quick_and_duration(capsys, monkeypatch):
 # ---------------------------------------------------------------------------------------
 # SIGTERM and the failure messages (survivors of the 2026-11-28 18:28 run). Reference:
 # ``main``'s docstring (exit 130 for Ctrl-C, 143 for SIGTERM, 1 for a failure while
-# computing or writing, one line naming the error) and the signal module's contract (a handler can be
-# set only from the main thread; a caller's handler is restored when ``main`` returns).
+# computing or writing, one line naming the error) and the signal module's contract (a
+# handler can be set only from the main thread; a caller's handler is restored when
+# ``main`` returns).
 
 def test_sigterm_interrupts_like_ctrl_c_and_the_callers_handler_comes_back(
         monkeypatch, capsys, tmp_path):
