@@ -197,3 +197,25 @@ def test_batch_ordering_refuses_what_cannot_finish_before_the_basis(small_log):
         run_log_task({"path": str(small_log), "fmt": None, "hints": {},
                       "analysis": "ordering", "params": params})
     assert time.process_time() - start < 30
+
+
+def test_a_fits_file_with_two_images_says_which_it_read(tmp_path, capsys):
+    # i17: a foreign FITS holding two 2-D images was read from the first without a word
+    # (HDF5 and NPZ refuse the ambiguity); the reader now records the HDU and every
+    # command names it in its notes
+    from astropy.io import fits
+
+    from modalinfo.io import load
+
+    a = np.random.default_rng(1).standard_normal((60, 4))
+    path = tmp_path / "two.fits"
+    fits.HDUList([fits.PrimaryHDU(), fits.ImageHDU(a, name="WFS"),
+                  fits.ImageHDU(a[:, :2] * 10)]).writeto(path)
+    log = load(path, rate=1000.0)
+    assert np.array_equal(log.coeffs, a)  # the first image, as before
+    assert log.metadata["source_hdu"] == "HDU 1 (WFS), the first of 2 2-D images (HDUs 1, 2)"
+    assert _exit_code(["convert", path, tmp_path / "o.npz", "--rate", 1000, "--quiet"]) == 0
+    assert "'two.fits': read HDU 1 (WFS), the first of 2 2-D images" in capsys.readouterr().err
+    # one image: no such note
+    fits.HDUList([fits.PrimaryHDU(a)]).writeto(tmp_path / "one.fits")
+    assert "source_hdu" not in load(tmp_path / "one.fits", rate=1000.0).metadata
