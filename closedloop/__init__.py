@@ -34,12 +34,36 @@ Rooms (see docs/ARCHITECTURE.md):
 - the command line apart: ``cli``, ``sweep`` (grids of runs on ``modalinfo.batch``).
 """
 
-from closedloop import presets
-from closedloop.config import SimulationConfig, load_config, save_config
-from closedloop.control.predictors import ORACLE, LoopPredictor
-from closedloop.result import SimulationResult
-from closedloop.simulation import LoopModel, simulate
-from closedloop.training import run_trained
+import sys
+
+
+def _run_as_main() -> bool:
+    """Tell whether this process is the command: ``python -m closedloop`` or its script.
+
+    The console script runs as ``python .../bin/closedloop ...``.
+    """
+    argv = [str(a) for a in getattr(sys, "orig_argv", ())]
+    script = len(argv) > 1 and argv[1].replace("\\", "/").rsplit("/", 1)[-1] == "closedloop"
+    return script or "-mclosedloop" in argv or any(
+        a == "-m" and argv[k + 1 : k + 2] == ["closedloop"] for k, a in enumerate(argv))
+
+
+try:
+    from closedloop import presets
+    from closedloop.config import SimulationConfig, load_config, save_config
+    from closedloop.control.predictors import ORACLE, LoopPredictor
+    from closedloop.result import SimulationResult
+    from closedloop.simulation import LoopModel, simulate
+    from closedloop.training import run_trained
+except KeyboardInterrupt:
+    # `python -m closedloop` imports this package (NumPy, SciPy, numba: seconds) before
+    # its __main__ can catch Ctrl-C: answer as the command does (one line, 130). The
+    # imports stay eager: they register the sensor and mirror kinds (closedloop.optics)
+    # that every config reads. Imported as a library, Ctrl-C is the caller's.
+    if not _run_as_main():
+        raise
+    sys.stderr.write("closedloop: interrupted\n")
+    sys.exit(130)
 
 __all__ = [
     "presets",

@@ -779,11 +779,12 @@ def _plain(obj) -> dict[str, Any]:
     return out
 
 
-def _check_keys(d: dict, allowed: set[str], prefix: str) -> None:
+def _check_keys(d: dict, allowed: set[str], prefix: str, options: set[str] = frozenset()
+                ) -> None:
     unknown = sorted(set(d) - allowed)
-    if unknown:
+    if unknown:  # the kind's own options (e.g. an actuator DM's) are allowed keys too
         raise ValueError(f"unknown key `{prefix}{unknown[0]}` in the config; allowed keys "
-                         f"there: {', '.join(sorted(allowed))}.")
+                         f"there: {', '.join(sorted(allowed | set(options)))}.")
 
 
 def _build(cls, value, key):
@@ -793,7 +794,7 @@ def _build(cls, value, key):
     allowed = {f.name for f in dataclasses.fields(cls) if f.name not in flat}
     if flat:  # a part with a kind: the kind's options are keys of the same table
         value, options = _gather_options(cls, value)
-        _check_keys(value, allowed, key + ".")
+        _check_keys(value, allowed, key + ".", _option_keys(cls, value))
         if options is not None:
             value = {**value, flat[0]: options}
     else:
@@ -823,6 +824,16 @@ def _gather_options(cls, value: dict) -> tuple[dict, dict | None]:
     keys = {f.name for f in dataclasses.fields(kind.options)}
     return ({k: v for k, v in value.items() if k not in keys},
             {k: v for k, v in value.items() if k in keys})
+
+
+def _option_keys(cls, value: dict) -> set[str]:
+    """Names of the options of the part's kind (none for a kind without options)."""
+    default = next(f.default for f in dataclasses.fields(cls) if f.name == "kind")
+    try:
+        kind = {DMConfig: mirror_kind, WFSConfig: sensor_kind}[cls](value.get("kind", default))
+    except ValueError:
+        return set()
+    return set() if kind.options is None else {f.name for f in dataclasses.fields(kind.options)}
 
 
 def _unique_keys(pairs: list) -> dict:

@@ -424,6 +424,10 @@ EST_REDUCED_SUBAPERTURES = 16
 #: fewest ground subapertures of :func:`est_mcao_variant`: 4 pixels each, and the pupil
 #: pixel no larger than r0 (the config's rule): ceil(D / r0 / 4)
 EST_MIN_SUBAPERTURES = 15
+#: most ground subapertures of :func:`est_mcao_variant`: ten times the published 45 (4.7 mm
+#: subapertures, 1,800 pupil pixels): beyond it the config's own checks (actuator masks on
+#: grids of the DM's size) allocate terabytes instead of answering
+EST_MAX_SUBAPERTURES = 10 * EST_SUBAPERTURES
 #: total r0 at 500 nm [m]: DKIST's published model (A&A 2018, aa33195-18), a moderate
 #: daytime r0 at the Canary Islands sites
 EST_R0 = 0.07
@@ -504,6 +508,11 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
         raise ValueError(f"`ground_subapertures` must be an int >= {EST_MIN_SUBAPERTURES} (4 "
                          f"pixels each, and a pixel no larger than r0 = {EST_R0 * 100:g} cm); "
                          f"got {ground_subapertures!r}.")
+    if n_g > EST_MAX_SUBAPERTURES:
+        raise ValueError(f"`ground_subapertures` must be <= {EST_MAX_SUBAPERTURES} (ten times "
+                         f"the published {EST_SUBAPERTURES}: the pupil grid of 4 pixels per "
+                         "subaperture and the actuator masks the config checks grow as its "
+                         f"square); got {ground_subapertures!r}.")
     if not isinstance(altitude_pitch, (int, float)) or isinstance(altitude_pitch, bool) \
             or not 1.0 <= altitude_pitch <= 4.0:
         raise ValueError(f"`altitude_pitch` must be a number in [1, 4] (ground pitches); got "

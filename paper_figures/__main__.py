@@ -195,9 +195,16 @@ def main(argv: list[str] | None = None) -> int:
     written into a temporary sibling folder that is moved into place only when every
     figure and the report are done: a failed or interrupted run leaves the output
     folder as it was. Exit status: 0 done, 2 refused (one line on stderr), 1 a
-    failure while computing or writing (nothing written), 130 Ctrl-C.
+    failure while computing or writing (nothing written), 130 Ctrl-C, 143 SIGTERM
+    (128 + the signal, as every command).
     """
-    from modalinfo.common.cli import EXIT_FAILURE, EXIT_INTERRUPTED, EXIT_USAGE, Parser
+    from modalinfo.common.cli import (
+        EXIT_FAILURE,
+        EXIT_INTERRUPTED,
+        EXIT_TERMINATED,
+        EXIT_USAGE,
+        Parser,
+    )
 
     parser = Parser(
         prog="python -m paper_figures", description=__doc__.split("\n")[0]
@@ -239,9 +246,10 @@ def main(argv: list[str] | None = None) -> int:
     except _RefusedError as exc:
         sys.stderr.write(f"paper_figures: error: {exc}\n")
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        sys.stderr.write(f"paper_figures: interrupted; '{args.out}' is as it was\n")
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (_terminated): 130 or 143
+        what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
+        sys.stderr.write(f"paper_figures: {what}; '{args.out}' is as it was\n")
+        return EXIT_TERMINATED if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         sys.stderr.write(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
@@ -252,8 +260,12 @@ def main(argv: list[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, previous)
 
 
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, unwound as Ctrl-C is (same clean-up) but reported as 143 (128 + 15)."""
+
+
 def _terminated(signum, frame) -> None:
-    raise KeyboardInterrupt
+    raise _Terminated
 
 
 def _run(args) -> int:

@@ -4,9 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.validation import as_float_array, check_int, check_real
 
 __all__ = ["Pupil"]
+
+#: float64 n x n grids a pupil holds or builds at once (x, y, rho, theta, their meshgrid
+#: and hypot temporaries); the bool mask is smaller
+_GRIDS = 6
 
 
 def _readonly(arr: np.ndarray) -> np.ndarray:
@@ -65,6 +70,11 @@ class Pupil:
         n = check_int(n_pixels, "n_pixels", minimum=8)
         d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
         obs = check_real(obscuration, "obscuration", minimum=0.0, maximum=1.0, strict_max=True)
+        need = _GRIDS * 8.0 * n * n
+        if need > free_memory_bytes():  # refuse before numpy's MemoryError, naming the option
+            raise ValueError(f"`n_pixels` = {n} needs about {need / 2**30:.3g} GiB for its "
+                             f"{_GRIDS} float64 {n} x {n} grids and "
+                             f"{free_memory_bytes() / 2**30:.3g} GiB is free; use fewer pixels.")
         centres = (np.arange(n) + 0.5 - n / 2) * (d / n)
         x, y = np.meshgrid(centres, centres)  # x varies along axis 1, y along axis 0
         rho = np.hypot(x, y) / (d / 2)

@@ -287,6 +287,19 @@ def _ordering(log: Any, p: dict) -> dict:
     from modalinfo.ordering.compare import basis_for_log
 
     log = _select(log, p["modes"])
+    if str(p["method"]).startswith("mi_"):  # refuse what cannot finish, before the work
+        from modalinfo.bases import Pupil
+        from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, least_ordering_seconds
+
+        n = min(int(p["budget"]), log.n_frames * Pupil(int(p["pupil_pixels"])).n_valid)
+        seconds, calls = least_ordering_seconds(p["estimator"], n, log.n_modes,
+                                                int(p["resamples"]))
+        if seconds > MAX_ORDERING_SECONDS:
+            raise ValueError(f"ordering.estimator {p['estimator']} with ordering.budget "
+                             f"{p['budget']} ({n} samples per MI estimate, at least {calls} "
+                             f"estimates) would take at least {seconds / 3600:.1f} h of CPU, "
+                             f"more than {MAX_ORDERING_SECONDS / 3600:g} h; use a smaller "
+                             "ordering.budget or estimator")
     basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
     result = order_modes(log, basis, p["method"], estimator=p["estimator"],
                          sample_budget=int(p["budget"]), seed=int(p["seed"]),

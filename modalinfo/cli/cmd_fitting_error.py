@@ -17,6 +17,7 @@ from pathlib import Path
 from modalinfo.cli import CommandError
 from modalinfo.cli.cmd_reorder import (
     add_common_arguments,
+    check_mi_time,
     check_pupil_memory,
     check_window_and_frame,
     file_basis,
@@ -71,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     log = load_analysed_log(args, mi=any(str(m).startswith("mi_") for _, m in specs))
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
+    check_mi_time(args, log, n_orderings=sum(str(m).startswith("mi_") for _, m in specs))
     log, _ = apply_outliers(log, args, args.log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:

@@ -277,6 +277,11 @@ def run(args: argparse.Namespace) -> int:
                      f"frames x {log.n_modes} modes, {LOG_COPIES} float64 copies)",
                      "analyse fewer frames or modes (e.g. convert a part of the log)")
     log = split_gaps(log, args, args.log, "forecasting")
+    n_train = train if isinstance(train, int) else int(round(train * log.n_frames))
+    if n_train < 2:  # one frame is "constant" in every mode: each forecast as that frame
+        raise CommandError(f"--train must hold at least 2 frames (one frame cannot tell a "
+                           f"varying mode from a constant one); got {args.train} "
+                           f"({n_train} of the {log.n_frames})")
     if args.modes is not None:
         log = log.select(modes=parse_modes(args.modes, "--modes"))
     skipped = _constant_modes(log, train, args.horizon) if args.skip_constant else []

@@ -84,6 +84,30 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
                  "use fewer --pupil-pixels (64 resolves Zernikes up to radial order ~20)")
 
 
+def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
+    """Refuse, before any work, MI orderings whose least CPU time exceeds an hour.
+
+    On ``n = min(--budget, frames x pupil pixels)`` samples per estimate
+    (:func:`modalinfo.ordering.cost.least_ordering_seconds`: a lower bound).
+    """
+    from modalinfo.bases import Pupil
+    from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, least_ordering_seconds
+
+    if n_orderings < 1 or args.budget < 10 or args.pupil_pixels < 4:
+        return  # no MI ordering, or an option the library refuses
+    frames = 1 if args.frame is not None else log.n_frames
+    n = min(args.budget, frames * Pupil(args.pupil_pixels).n_valid)
+    seconds, calls = least_ordering_seconds(args.estimator, n, log.n_modes,
+                                            getattr(args, "resamples", 0), n_orderings)
+    if seconds > MAX_ORDERING_SECONDS:
+        raise CommandError(
+            f"--estimator {args.estimator} with --budget {args.budget} ({n} samples per MI "
+            f"estimate, at least {calls} estimates for {log.n_modes} modes) would take at "
+            f"least {seconds / 3600:.1f} h of CPU, more than the "
+            f"{MAX_ORDERING_SECONDS / 3600:g} h this command allows; use a smaller --budget "
+            "(or --max-frames) or a faster --estimator (histogram, kde)")
+
+
 def load_analysed_log(args: argparse.Namespace, mi: bool):
     """Map the log, keep its ``--max-frames`` subsample, refuse it if it cannot fit.
 
@@ -201,6 +225,7 @@ def run(args: argparse.Namespace) -> int:
     log = load_analysed_log(args, mi=args.method.startswith("mi_"))
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
+    check_mi_time(args, log, n_orderings=int(args.method.startswith("mi_")))
     # the bootstrap keeps two (replicates x modes) float64 tables (MI and margins)
     check_memory(LOG_COPIES * log_bytes(log) + 2 * 8 * args.resamples * log.n_modes,
                  f"--resamples {args.resamples} on {log.n_modes} modes",

@@ -86,6 +86,12 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.information.selection import _WORKING_COPIES, select_inputs
 
     refuse_outlier_drop(args, "input selection")
+    if args.surrogates >= 1 and 0 < args.alpha < 1 and 1 / (args.surrogates + 1) > args.alpha:
+        # the smallest surrogate p-value is 1 / (N + 1): no input could ever be significant
+        raise CommandError(f"--surrogates {args.surrogates} cannot reach --alpha {args.alpha:g}: "
+                           f"the smallest p-value of {args.surrogates} surrogates is "
+                           f"1/{args.surrogates + 1} = {1 / (args.surrogates + 1):.3g}; use "
+                           f"--surrogates >= {math.ceil(1 / args.alpha) - 1}")
     log = _load(args, args.log)
     log, _ = apply_outliers(log, args, args.log, time_series=True)
     extra = None

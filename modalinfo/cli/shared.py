@@ -407,6 +407,8 @@ def input_notes(log, path: Path) -> list[str]:
         flags = ", ".join(_HINT_OF[k] for k in keys)
         notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
                      f"(state them with {flags})")
+    if isinstance(meta.get("source_hdu"), str):  # a foreign FITS with several images
+        notes.append(f"'{path.name}': read {meta['source_hdu']}")
     layout = meta.get("layout")
     if isinstance(layout, dict) and "hint" not in str(layout.get("transposed", "hint")):
         notes.append(f"'{path.name}' is stored modes x frames and was read transposed "

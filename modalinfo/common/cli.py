@@ -119,6 +119,12 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
     if getattr(args, "_run", None) is None:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
+    import warnings
+
+    # a warning that reaches stderr is one line in the command's voice, as its errors
+    # are (Python's default adds the source path and a second line of code)
+    previous_format = warnings.formatwarning
+    warnings.formatwarning = _one_line_warning(f"{prog} {args.command}")
     try:
         code = int(args._run(args) or 0)
         for note in getattr(args, "_notes", None) or ():
@@ -152,6 +158,17 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
         return EXIT_USAGE
     except KeyboardInterrupt:
         return interrupted(prog)
+    finally:
+        warnings.formatwarning = previous_format
+
+
+def _one_line_warning(prefix: str):
+    """Return a ``warnings.formatwarning`` that says ``PREFIX: warning: MESSAGE`` in one line."""
+    def formatwarning(message, category, filename, lineno, line=None) -> str:
+        text = " ".join(str(message).split())
+        return f"{prefix}: warning: {text}\n"
+
+    return formatwarning
 
 
 def interrupted(prog: str) -> int:

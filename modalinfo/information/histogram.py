@@ -207,10 +207,13 @@ def n_bins_for(rule: Any, x: np.ndarray, *, r: float = 0.0, axis: int = 0) -> in
         are capped by :func:`max_rule_bins`.
     """
     n = x.shape[0]
-    if isinstance(rule, tuple):
-        return int(rule[axis])
-    if not isinstance(rule, str):
-        return int(rule)
+    if not isinstance(rule, str):  # an explicit count (or pair): at most one bin per sample
+        k = int(rule[axis]) if isinstance(rule, tuple) else int(rule)
+        if k > n:  # refused before the (k, k) table and k quantile edges are allocated
+            raise ValueError(f"`bins` must be at most the number of samples ({n}) per axis "
+                             f"(more bins than samples leaves every cell with 0 or 1 of them); "
+                             f"got {k}.")
+        return k
     if rule == "hacine-gharbi":
         return _hacine_gharbi_joint(n, r)
     if rule == "auto":

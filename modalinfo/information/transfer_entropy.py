@@ -85,7 +85,11 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     Returns
     -------
     float
-        Transfer entropy in ``units``. For significance and an interval, pass
+        Transfer entropy in ``units``. An exact relation (the source equal to the
+        target at lag 0, or a monotone map of it) has an infinite TE; the estimators
+        then return what :func:`mutual_information` documents for one (the histogram:
+        the entropy of the binned target given its binned past, e.g. 1.40 nats for
+        white noise at lag 0, history 1, 200 samples). For significance and an interval, pass
         :func:`transfer_entropy_variables` to :func:`conditional_mutual_information_test`
         and :func:`conditional_mutual_information_ci`.
     """

@@ -179,9 +179,16 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
             stored["timestamps"] = _native(hdul["TIMES"].data)
         return coeffs, stored, False
     stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "fits"}}
-    for hdu in hdul:
+    images = [k for k, hdu in enumerate(hdul)  # from the headers: no data read
+              if isinstance(hdu, _image_types()) and hdu.header.get("NAXIS") == 2]
+    for index, hdu in enumerate(hdul):
         data = getattr(hdu, "data", None)
         if isinstance(hdu, _image_types()) and data is not None and np.ndim(data) == 2:
+            if len(images) > 1:  # say which one was read (HDF5 and NPZ refuse the choice)
+                stored["metadata"]["source_hdu"] = (
+                    f"HDU {index}" + (f" ({hdu.name})" if hdu.name else "")
+                    + f", the first of {len(images)} 2-D images (HDUs "
+                    + ", ".join(map(str, images)) + ")")
             unit = hdu.header.get("BUNIT")
             if isinstance(unit, str) and unit.strip().lower() in UNITS:
                 stored["units"] = unit.strip().lower()

@@ -180,7 +180,11 @@ def _npz_check(path: Path, log, mmap: bool) -> IntegrityCheck:
             name_len, extra_len = struct.unpack("<HH", local[26:30])
             start = info.header_offset + 30 + name_len + extra_len
             raw.seek(start)
-            shape, fortran, dtype = _npy_header(raw)
+            try:
+                shape, fortran, dtype = _npy_header(raw)
+            except ValueError as exc:  # a member that is not an NPY array: name it
+                raise LogFormatError(f"corrupt NPZ file '{path}': member {info.filename!r} "
+                                     f"is not an NPY array ({exc})") from exc
             offset = raw.tell()
             raw.seek(start)
             head = raw.read(offset - start)

@@ -103,3 +103,14 @@ def test_immutable_and_equality():
 def test_bad_inputs(kwargs, exc, match):
     with pytest.raises(exc, match=match):
         Pupil(**kwargs)
+
+
+def test_a_grid_beyond_the_free_memory_is_refused_before_allocating(monkeypatch):
+    # adversarial round 4, a31: Pupil(10**6) raised numpy's MemoryError (7.3 TiB grid)
+    import modalinfo.bases.pupil as pupil_module
+
+    monkeypatch.setattr(pupil_module, "free_memory_bytes", lambda: 6 * 8 * 64 * 64 - 1.0)
+    with pytest.raises(ValueError, match=r"`n_pixels` = 64 needs about .* GiB"):
+        Pupil(64)
+    monkeypatch.setattr(pupil_module, "free_memory_bytes", lambda: 6 * 8 * 64 * 64 + 1.0)
+    assert Pupil(64).n_pixels == 64

@@ -106,3 +106,15 @@ def test_formats_without_a_pending_check(tmp_path):
     assert check.status == "none" and "no DATASUM" in check.describe()
     path = save(ModalLog(X, rate=1.0), tmp_path / "m.npz")
     assert integrity_check(path, load(path), mmap=False).status == "verified"
+
+
+def test_an_npz_member_that_is_not_npy_is_named(tmp_path):
+    # adversarial round 4, i14: a modalinfo NPZ with an extra non-NPY member made
+    # `info` say only "the magic string is not correct" (no file, no member)
+    path = save(ModalLog(X[:50], rate=1e3, modes=list(range(2, 8))), tmp_path / "a.npz")
+    with zipfile.ZipFile(path, "a") as zf:
+        zf.writestr("evil.npy", b"not an npy array")
+    log = load(path, mmap=True)
+    with pytest.raises(LogFormatError, match=r"corrupt NPZ file .*a\.npz.*member 'evil\.npy' "
+                                             r"is not an NPY array"):
+        integrity_check(path, log, mmap=True)

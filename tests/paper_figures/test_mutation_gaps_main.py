@@ -43,9 +43,10 @@ def test_help_of_overwrite_quick_and_duration(capsys, monkeypatch):
 
 # ---------------------------------------------------------------------------------------
 # SIGTERM and the failure messages (survivors of the 2026-11-28 18:28 run). Reference:
-# ``main``'s docstring (exit 130 for an interrupt, 1 for a failure while computing or
-# writing, one line naming the error) and the signal module's contract (a handler can be
-# set only from the main thread; a caller's handler is restored when ``main`` returns).
+# ``main``'s docstring (exit 130 for Ctrl-C, 143 for SIGTERM, 1 for a failure while
+# computing or writing, one line naming the error) and the signal module's contract (a
+# handler can be set only from the main thread; a caller's handler is restored when
+# ``main`` returns).
 
 def test_sigterm_interrupts_like_ctrl_c_and_the_callers_handler_comes_back(
         monkeypatch, capsys, tmp_path):
@@ -67,9 +68,9 @@ def test_sigterm_interrupts_like_ctrl_c_and_the_callers_handler_comes_back(
     try:
         monkeypatch.setattr(pf, "_run", run)
         out = tmp_path / "o"
-        assert main(["--out", str(out)]) == 130
+        assert main(["--out", str(out)]) == 143  # 128 + SIGTERM (adversarial round 4, x18)
         assert seen == [pf._terminated]
-        assert capsys.readouterr().err == f"paper_figures: interrupted; '{out}' is as it was\n"
+        assert capsys.readouterr().err == f"paper_figures: terminated; '{out}' is as it was\n"
         assert signal.getsignal(signal.SIGTERM) is mine
     finally:
         signal.signal(signal.SIGTERM, previous)
