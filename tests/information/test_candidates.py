@@ -12,7 +12,8 @@ References, all from outside the code under test:
   the restricted map's cells equal the full map's to 1e-12 relative (the same
   operations on a subset of the columns; BLAS's matrix-vector kernel may sum a column
   in an order that depends on its position in the block, so the last bit is not
-  promised -- measured: equal bit for bit with history 2, 7e-17 apart with history 1),
+  promised -- measured: equal bit for bit since each radial group's columns are one
+  contiguous block; 7e-17 apart with history 1 before, when they were gathered per target),
   with the same p-values; an all-True explicit mask gives the same links and p-values
   as ``candidates="all"``, and the search the same inputs;
 - family-wise control over the restricted family against the binomial law of an exact
