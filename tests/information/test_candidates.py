@@ -134,6 +134,21 @@ def test_all_true_mask_is_the_unrestricted_map(coupled_log):
     assert [a[:3] for a in same.links()] == [a[:3] for a in full.links()]
 
 
+def test_irregular_mask_cells_equal_the_full_maps(coupled_log):
+    # a random mask: most targets have their own set of sources (groups of one); the
+    # first three share one (the same column, each other included: one gathered block)
+    rng = np.random.default_rng(9)
+    mask = rng.random((20, 20)) < 0.3
+    mask[:, 1:3] = mask[:, :1]
+    mask[:3, :3] = True
+    kw = dict(lags=2, history=1, n_surrogates=19, seed=4)
+    full = transfer_entropy_map(coupled_log, **kw)
+    part = transfer_entropy_map(coupled_log, candidates=mask, **kw)
+    fam = np.repeat((mask & ~np.eye(20, dtype=bool))[:, :, None], 2, axis=2)
+    np.testing.assert_allclose(part.te[fam], full.te[fam], rtol=1e-12, atol=0)
+    assert np.isnan(part.te[~fam]).all() and np.isfinite(part.pvalue[fam]).all()
+
+
 def test_family_wise_error_over_the_restricted_family():
     rng = np.random.default_rng(100)
     hits = 0
