@@ -440,7 +440,7 @@ def main() -> None:
     if "selection" in args.part:
         part_selection(1000 if args.quick else 16000)
     if "restricted" in args.part:
-        part_restricted(200 if args.quick else 2000)
+        part_restricted(args.maps or (200 if args.quick else 2000))
     print(f"\n<!-- total {time.perf_counter() - t:.0f} s -->")
 
 

@@ -3,7 +3,7 @@
 Run: nice /work/main/.venv/bin/python benchmarks/bench_info_scale.py
      [--modes 1500] [--frames 5000] [--width 2] [--cache DIR] [--baseline-root DIR]
      [--profile] [--skip-small] [--skip-large] [--skip-infomeasure] [--skip-map]
-     [--small-sizes 27,184]
+     [--small-sizes 27,184] [--map-sizes 300,600,1500] [--map-surrogates 49]
 
 Data: :func:`modalinfo.telemetry.synthetic.kaos_like` (Z2 onwards, seed 0: von Karman
 turbulence through the KAOS-like integrator loop); a size M takes its first M modes.
@@ -24,11 +24,13 @@ CPU time (``time.process_time``), single-threaded BLAS (set before numpy is impo
    n (median of 7) and multiplied by the evaluations our fit did per mode -- a lower
    bound of what the same search would cost with it.
 4. The map and the search at that size (``--skip-map`` to skip): the Gaussian
-   ``transfer_entropy_map(candidates="radial")`` of all ``--modes`` on the first 2 000
-   frames (lags 1..2, history 1, 49 surrogates, step-down maxT over the restricted
-   family), and ``select_inputs(candidates="radial")`` of Z500 (horizon 2, lags 0..9,
-   199 surrogates, no intervals) on all frames; the unrestricted map's own resource
-   estimate is printed beside (its time estimate, and its null of N x S^2 x L values).
+   ``transfer_entropy_map(candidates="radial")`` of the first M modes for each M of
+   ``--map-sizes`` (default ``--modes``) on the first 2 000 frames (lags 1..2, history
+   1, ``--map-surrogates`` surrogates, step-down maxT over the restricted family),
+   and ``select_inputs(candidates="radial")`` of Z500 (horizon 2, lags 0..9, 199
+   surrogates, no intervals) on all frames and ``--modes``; the unrestricted map's own
+   resource estimate is printed beside (its time estimate, and its null of N x S^2 x L
+   values).
 """
 
 import os
@@ -115,32 +117,35 @@ def _infomeasure_per_eval(n: int) -> float:
     return float(np.median(times))
 
 
-def _map_and_search(x: np.ndarray, width: int) -> None:
+def _map_and_search(x: np.ndarray, width: int, sizes: list[int], surrogates: int) -> None:
     from modalinfo.information import select_inputs, transfer_entropy_map
     from modalinfo.telemetry import ModalLog
 
-    M = x.shape[1]
-    log = ModalLog(x[:2000], modes=list(range(2, 2 + M)), rate=2000.0)
-    t0 = time.process_time()
-    res = transfer_entropy_map(log, lags=2, history=1, n_surrogates=49, seed=0,
-                               candidates="radial", radial_width=width, max_seconds=1e5)
-    cpu = time.process_time() - t0
-    cells = int(np.count_nonzero(~np.isnan(res.pvalue)))
-    print(f"map: {M} modes x 2000 frames, lags 1..2, 49 surrogates, radial width {width}: "
-          f"{cells} cells ({cells / (M * (M - 1) * 2):.3f} of the full map's "
-          f"{M * (M - 1) * 2}) in {cpu:.1f} s CPU (estimate checked before work "
-          f"{res.estimated_seconds:.0f} s); {len(res.links())} significant links", flush=True)
+    for M in sizes:
+        log = ModalLog(x[:2000, :M], modes=list(range(2, 2 + M)), rate=2000.0)
+        t0 = time.process_time()
+        res = transfer_entropy_map(log, lags=2, history=1, n_surrogates=surrogates, seed=0,
+                                   candidates="radial", radial_width=width, max_seconds=1e5)
+        cpu = time.process_time() - t0
+        cells = int(np.count_nonzero(~np.isnan(res.pvalue)))
+        print(f"map: {M} modes x 2000 frames, lags 1..2, {surrogates} surrogates, radial "
+              f"width {width}: {cells} cells ({cells / (M * (M - 1) * 2):.3f} of the full "
+              f"map's {M * (M - 1) * 2}) in {cpu:.1f} s CPU (estimate checked before work "
+              f"{res.estimated_seconds:.0f} s); {len(res.links())} significant links; load "
+              f"{os.getloadavg()[0]:.1f}", flush=True)
     try:
-        transfer_entropy_map(log, lags=2, history=1, n_surrogates=49, seed=0,
+        transfer_entropy_map(log, lags=2, history=1, n_surrogates=surrogates, seed=0,
                              max_seconds=1.0)
     except ValueError as err:
         print(f"unrestricted map refused: {err}", flush=True)
+    M = x.shape[1]
     full_log = ModalLog(x, modes=list(range(2, 2 + M)), rate=2000.0)
+    target = f"Z{min(500, M + 1)}"
     t0 = time.process_time()
-    sel = select_inputs(full_log, "Z500", horizon=2, max_lag=10, n_surrogates=199,
+    sel = select_inputs(full_log, target, horizon=2, max_lag=10, n_surrogates=199,
                         intervals=False, seed=0, candidates="radial", radial_width=width)
     cpu = time.process_time() - t0
-    print(f"select_inputs Z500 (radial {width}): {sel.n_candidates} candidates, "
+    print(f"select_inputs {target} (radial {width}): {sel.n_candidates} candidates, "
           f"{len(sel.inputs)} inputs in {cpu:.1f} s CPU: "
           f"{', '.join(s.label for s in sel.inputs)}", flush=True)
 
@@ -158,6 +163,9 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-infomeasure", action="store_true")
     parser.add_argument("--skip-map", action="store_true")
     parser.add_argument("--small-sizes", default="27,184")
+    parser.add_argument("--map-sizes", default=None,
+                        help="comma list of mode counts for the map (default: --modes)")
+    parser.add_argument("--map-surrogates", type=int, default=49)
     args = parser.parse_args(argv)
     print(f"load average {os.getloadavg()}, {time.strftime('%Y-%m-%d %H:%M:%S', time.gmtime())}"
           " UTC", flush=True)
@@ -166,7 +174,9 @@ def main(argv=None) -> None:
         _small(x, [int(v) for v in args.small_sizes.split(",")], args.baseline_root,
                args.cache)
     if not args.skip_map:
-        _map_and_search(x, args.width)
+        sizes = ([int(v) for v in args.map_sizes.split(",")] if args.map_sizes
+                 else [args.modes])
+        _map_and_search(x, args.width, sizes, args.map_surrogates)
     if args.skip_large:
         return
     labels = [f"Z{j}" for j in range(2, 2 + args.modes)]

@@ -156,14 +156,19 @@ def _mapped(log) -> bool:
     return isinstance(log.coeffs, np.memmap)
 
 
-def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: int) -> None:
+def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: int,
+                     gather: int | None = None) -> None:
     """Refuse, before the evaluation, a horizon, memory or output the machine cannot take.
 
     Memory: ``evaluate`` holds the per-origin losses, ``(P, H, origins)`` float64, and
     per chunk of origins the forecasts and errors, ~4 arrays of ``(chunk, H, M)``
-    (see its docstring), besides the log's copies.
+    (see its docstring), besides the log's copies. ``gather``: the number of columns
+    ``--modes`` will gather out of the memory-mapped ``log`` into memory (checked before
+    they are read, as the in-memory log they become).
     """
     n_frames, n_modes, h = log.n_frames, log.n_modes, args.horizon
+    if gather is not None:
+        n_modes = gather
     if h >= n_frames:
         raise CommandError(f"--horizon must be below the log's {n_frames} frames (each "
                            f"forecast is scored {h} frames after its origin); got {h}")
@@ -173,7 +178,14 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
     what = (f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} origins x "
             f"{n_modes} modes)")
     fix = "use a smaller --horizon or fewer modes"
-    if _mapped(log):  # evaluate reads a mapped log chunk by chunk: only the training
+    if gather is not None:  # the selected columns will be read into memory, whole
+        log_part = LOG_COPIES * 8 * n_frames * n_modes
+        what = (f"--modes {args.modes} ({n_modes} of the {log.n_modes} columns of the "
+                f"memory-mapped '{args.log.name}', gathered into memory: {n_frames} frames, "
+                f"{LOG_COPIES} float64 copies) and {what}")
+        fix = ("select fewer modes, or a consecutive range of them (kept memory-mapped), "
+               "or use a smaller --horizon")
+    elif _mapped(log):  # evaluate reads a mapped log chunk by chunk: only the training
         # frames are held whole, as TRAIN_COPIES float64 copies (the predictors' fits)
         n_held = min(n_train, n_frames)
         log_part = TRAIN_COPIES * 8 * n_held * n_modes
@@ -200,6 +212,35 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
             raise CommandError(f"--out '{args.out}': the outputs need up to "
                                f"{format_size(size)} and '{folder}' has {format_size(free)} "
                                "free")
+
+
+def _select_modes(args: argparse.Namespace, log, modes: list, train: float | int,
+                  n_pred: int):
+    """``log`` restricted to ``--modes``, refused before any column is read if it cannot fit.
+
+    A consecutive range of columns stays a view (memory-mapped if ``log`` is). Other
+    selections of a memory-mapped log are gathered into memory -- after the memory check
+    of the evaluation on that in-memory log (``_check_resources``), and block by block,
+    releasing each block's file pages (:func:`modalinfo.telemetry.scan.row_blocks`), so
+    the resident set holds the selected columns, not the file.
+    """
+    import numpy as np
+
+    from modalinfo.telemetry.scan import row_blocks, scan_rows
+
+    head = log[:1].select(modes=modes)  # validates the selection; reads one frame
+    cols = [log.labels.index(label) for label in head.labels]
+    if not _mapped(log) or cols == list(range(cols[0], cols[0] + len(cols))):
+        return log.select(modes=modes)
+    _check_resources(args, log, train, n_pred, gather=len(cols))
+    src = log.coeffs
+    out = np.empty((log.n_frames, len(cols)), dtype=src.dtype)
+    k = 0
+    for block in row_blocks(src, scan_rows(src)):
+        out[k:k + block.shape[0]] = block[:, cols]
+        k += block.shape[0]
+    out.flags.writeable = False
+    return log._derive(_coeffs=out, _modes=list(head.modes))  # noqa: SLF001 - same frames
 
 
 def write_outputs(ev, out: Path, overwrite: bool) -> None:
@@ -282,15 +323,15 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--train must hold at least 2 frames (one frame cannot tell a "
                            f"varying mode from a constant one); got {args.train} "
                            f"({n_train} of the {log.n_frames})")
+    n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
     if args.modes is not None:
-        log = log.select(modes=parse_modes(args.modes, "--modes"))
+        log = _select_modes(args, log, parse_modes(args.modes, "--modes"), train, n_pred)
     skipped = _constant_modes(log, train, args.horizon) if args.skip_constant else []
     if skipped:
         if len(skipped) == log.n_modes:
             raise CommandError(f"--skip-constant: every mode is constant over the "
                                f"training frames ({', '.join(skipped)}); nothing to forecast")
         log = log.drop_modes(skipped)
-    n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
     _check_resources(args, log, train, n_pred)
     # on the modes forecast, after the refusals (no work before them); --outliers drop
     # was refused above (lags need every frame)

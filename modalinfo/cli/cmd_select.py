@@ -8,7 +8,13 @@ test over all candidates is significant at ``--alpha`` (family-wise per step), u
 ``--max-inputs``. Prints one row per chosen input: gain, block-bootstrap interval,
 p-value. See :func:`modalinfo.information.select_inputs`.
 
+``--candidates radial`` keeps only the modes within ``--radial-width`` radial orders of
+the target (frozen flow couples modes of similar radial order;
+:mod:`modalinfo.information.candidates`): the search over 1,500 modes then scores a few
+hundred candidate modes instead of all of them.
+
     modalinfo select kaos.npz --target Z5 --horizon 2 --max-lag 10
+    modalinfo select big.npy --target Z500 --candidates radial --radial-width 2
 """
 
 from __future__ import annotations
@@ -34,6 +40,9 @@ from modalinfo.cli.shared import (
 )
 
 NAME = "select"
+#: ``select_inputs``'s default ``radial_width`` (the couplings of frozen flow within a
+#: couple of radial orders: :mod:`modalinfo.information.candidates`).
+DEFAULT_RADIAL_WIDTH = 2
 HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional MI."
 EPILOG = ("columns: input = mode[t-lag] relative to the forecast origin t; gain = "
           "I(target; input | inputs above) in --units; interval = block-bootstrap "
@@ -68,6 +77,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--units", choices=("nats", "bits"), default="nats",
                         help="units of the gains (default: nats)")
     parser.add_argument("--seed", type=int, default=0, help="surrogate seed (default: 0)")
+    parser.add_argument("--candidates", choices=("all", "radial"), default="all",
+                        help="candidate modes: all (default) or radial, those within "
+                        "--radial-width radial orders of the target (Zernike Z<j> or K-L "
+                        "KL<k> labels; the max-statistic test is then over them)")
+    parser.add_argument("--radial-width", dest="radial_width", type=int, default=None,
+                        metavar="K", help="largest radial-order difference of --candidates "
+                        f"radial (default: {DEFAULT_RADIAL_WIDTH})")
     add_max_frames_argument(parser, default=None, contiguous=True)
     add_hint_arguments(parser)
 
@@ -81,6 +97,35 @@ def _load(args: argparse.Namespace, path: Path):
     return log
 
 
+def _radial_width(args: argparse.Namespace) -> int:
+    """``--radial-width`` checked: an int >= 0, and only with ``--candidates radial``."""
+    if args.radial_width is None:
+        return DEFAULT_RADIAL_WIDTH
+    if args.candidates != "radial":
+        raise CommandError(f"--radial-width {args.radial_width} applies to --candidates "
+                           f"radial; got --candidates {args.candidates}")
+    if args.radial_width < 0:
+        raise CommandError(f"--radial-width must be an int >= 0; got {args.radial_width}")
+    return args.radial_width
+
+
+def _radial_sources(log, extra, target: int | str, width: int) -> int:
+    """Candidate modes of ``target`` under ``--candidates radial`` (labels checked)."""
+    from modalinfo.information.candidates import candidate_mask, radial_orders
+
+    labels = list(log.labels)
+    if extra is not None:
+        labels += [f"extra:{s}" for s in extra.labels]
+    for label in labels:  # the library's message offers a mask, which the CLI does not
+        try:
+            radial_orders([label])
+        except ValueError:
+            raise CommandError(f"--candidates radial needs Zernike (Z<j>, Noll) or K-L "
+                               f"(KL<k>) mode labels; got {label!r}") from None
+    col = target if isinstance(target, int) else labels.index(target)
+    return int(candidate_mask(labels, "radial", width)[:, col].sum())
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the selection and print the table."""
     from modalinfo.information.selection import _WORKING_COPIES, select_inputs
@@ -92,6 +137,7 @@ def run(args: argparse.Namespace) -> int:
                            f"the smallest p-value of {args.surrogates} surrogates is "
                            f"1/{args.surrogates + 1} = {1 / (args.surrogates + 1):.3g}; use "
                            f"--surrogates >= {math.ceil(1 / args.alpha) - 1}")
+    width = _radial_width(args)
     log = _load(args, args.log)
     log, _ = apply_outliers(log, args, args.log, time_series=True)
     extra = None
@@ -120,10 +166,13 @@ def run(args: argparse.Namespace) -> int:
     elif target not in log.labels:
         raise CommandError(f"--target {target!r} is not a mode of LOG "
                            f"({', '.join(log.labels[:5])}, ...)")
+    n_sources = log.n_modes + (extra.n_modes if extra is not None else 0)
+    if args.candidates == "radial":
+        n_sources = _radial_sources(log, extra, target, width)
     if args.max_lag is not None and args.max_lag >= 1:
         # the candidate search's working arrays (information.selection's estimate),
         # checked here against the process's address-space limit as well
-        columns = (log.n_modes + (extra.n_modes if extra is not None else 0)) * args.max_lag
+        columns = n_sources * args.max_lag
         check_memory(_WORKING_COPIES * 8 * log.n_frames * columns,
                      f"--max-lag {args.max_lag} ({columns} candidate columns x "
                      f"{log.n_frames} frames)", "use a smaller --max-lag or --max-frames")
@@ -135,6 +184,7 @@ def run(args: argparse.Namespace) -> int:
     res = select_inputs(log, target, horizon=args.horizon, max_lag=args.max_lag, extra=extra,
                         method=args.method, units=args.units, alpha=args.alpha,
                         n_surrogates=args.surrogates, max_inputs=args.max_inputs,
-                        intervals=args.intervals, seed=args.seed)
+                        intervals=args.intervals, seed=args.seed,
+                        candidates=args.candidates, radial_width=width)
     print(res.table())
     return 0

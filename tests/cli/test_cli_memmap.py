@@ -196,3 +196,71 @@ def test_select_max_frames_equals_the_first_frames_file(long_npy, tmp_path, caps
     assert main(["select", str(tmp_path / "first.npz"), *common]) == 0
     assert via_option.out == capsys.readouterr().out
     assert "--max-frames 600: analysed frames 0..599 of 1200" in via_option.err
+
+
+def _forecast_need(n_modes: int, h: int = 2, n_train: int = 500) -> int:
+    """The in-memory forecast estimate: LOG_COPIES float64 copies of the selected
+    columns, the per-origin losses of 3 predictors, a chunk's forecasts and errors."""
+    from modalinfo.cli import cmd_forecast
+
+    chunk = min(cmd_forecast.chunk_frames(h, n_modes), N_FRAMES)
+    return (shared.LOG_COPIES * 8 * N_FRAMES * n_modes + 8 * 3 * h * (N_FRAMES - h - n_train + 1)
+            + 4 * 8 * chunk * h * n_modes)
+
+
+def test_forecast_modes_of_a_mapped_log_equal_the_selected_file(long_npy, tmp_path, capsys,
+                                                                monkeypatch):
+    import modalinfo.telemetry.scan as scan
+
+    path, x = long_npy
+    cols = [0, 2, 5]  # Z2, Z4, Z7: not a consecutive range, so gathered into memory
+    save(ModalLog(x[:, cols], rate=2000.0, modes=[2, 4, 7], units="rad"),
+         tmp_path / "selected.npz")
+    common = ["--predictors", "linear", "--train", "500", "--horizon", "2"]
+    monkeypatch.setattr(scan, "SCAN_ELEMENTS", 7 * N_MODES)  # 7-frame blocks: 172 of them
+    assert main(["forecast", str(path), "--rate", "2000", "--in-units", "rad",
+                 "--modes", "2,4,7", *common]) == 0
+    via_option = capsys.readouterr().out
+    assert main(["forecast", str(tmp_path / "selected.npz"), *common]) == 0
+    via_file = capsys.readouterr().out
+    assert via_option.split("\n", 1)[1] == via_file.split("\n", 1)[1]  # past the file name
+    assert "1200 frames x 3 modes" in via_option
+
+
+def test_forecast_modes_refused_before_the_columns_are_read(long_npy, monkeypatch, capsys):
+    path, _ = long_npy
+    taken: list[int] = []
+    take = ModalLog._take_modes
+
+    def spy(self, columns):
+        taken.append(self.n_frames)
+        return take(self, columns)
+
+    monkeypatch.setattr(ModalLog, "_take_modes", spy)
+    need = _forecast_need(3)
+    argv = ["forecast", str(path), "--rate", "2000", "--in-units", "rad", "--modes", "2,4,7",
+            "--predictors", "linear", "--train", "500", "--horizon", "2", "--quiet"]
+    monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
+    assert main(argv) == 2
+    _refusal(capsys, "--modes 2,4,7 (3 of the 6 columns", "gathered into memory")
+    assert max(taken) == 1  # only the one-frame head was taken: no column was copied
+    monkeypatch.setattr(shared, "memory_available", lambda: need)
+    assert main(argv) == 0
+
+
+def test_forecast_consecutive_modes_stay_mapped(long_npy, monkeypatch, capsys):
+    from modalinfo.cli import cmd_forecast
+
+    path, _ = long_npy
+    seen = []
+    check = cmd_forecast._check_resources
+
+    def spy(args, log, *rest, **kw):
+        seen.append(cmd_forecast._mapped(log))
+        return check(args, log, *rest, **kw)
+
+    monkeypatch.setattr(cmd_forecast, "_check_resources", spy)
+    assert main(["forecast", str(path), "--rate", "2000", "--in-units", "rad", "--modes",
+                 "3-5", "--predictors", "linear", "--train", "500", "--horizon", "2",
+                 "--quiet"]) == 0
+    assert seen == [True]

@@ -63,3 +63,51 @@ def test_select_errors_are_one_line(tmp_path, capsys):
         assert main(["select", str(p1), *argv]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and words in err[0], err
+
+
+def _zernike_log(tmp_path):
+    """15 AR(1) Zernike modes Z2..Z16 (radial orders 1..5); Z5 <- Z3 one frame later."""
+    rng = np.random.default_rng(4)
+    x = lfilter([1.0], [1.0, -0.6], rng.standard_normal((1500, 15)), axis=0)
+    x[1:, 3] += 0.5 * x[:-1, 1]
+    path = tmp_path / "zern.npz"
+    save(ModalLog(x, rate=1000.0, modes=list(range(2, 17))), path)
+    return path
+
+
+def test_select_radial_candidates_print_the_library_table(tmp_path, capsys):
+    path = _zernike_log(tmp_path)
+    argv = ["--target", "Z5", "--max-lag", "3", "--surrogates", "19", "--no-intervals"]
+    assert main(["select", str(path), *argv, "--candidates", "radial",
+                 "--radial-width", "1"]) == 0
+    text = capsys.readouterr().out
+    ref = select_inputs(load(path), "Z5", max_lag=3, n_surrogates=19, intervals=False,
+                        seed=0, candidates="radial", radial_width=1)
+    assert text.strip() == ref.table().strip()
+    # Z5 is radial order 2: orders 1..3 are Z2..Z10 (Noll 1976), 9 modes x 3 lags
+    assert "27 candidates" in text and ref.n_candidates == 27
+    # the default width 2: orders 0..4, Z2..Z15 (Z16 is order 5), 14 modes x 3 lags
+    assert main(["select", str(path), *argv, "--candidates", "radial"]) == 0
+    assert "42 candidates" in capsys.readouterr().out
+
+
+def test_select_candidate_errors_are_one_line(tmp_path, capsys):
+    path = _zernike_log(tmp_path)
+    labelled = tmp_path / "labelled.npz"
+    save(ModalLog(np.random.default_rng(0).standard_normal((300, 2)), rate=1000.0,
+                  modes=["a", "b"], convention="labels"), labelled)
+    for log, argv, words in [
+        (path, ["--candidates", "radial", "--radial-width", "-1"],
+         "--radial-width must be an int >= 0; got -1"),
+        (path, ["--radial-width", "1"], "--radial-width 1 applies to --candidates radial"),
+        (path, ["--candidates", "nearby"], "invalid choice: 'nearby'"),
+        (labelled, ["--candidates", "radial"], "needs Zernike (Z<j>, Noll) or K-L"),
+    ]:
+        target = "a" if log == labelled else "Z5"
+        try:
+            code = main(["select", str(log), "--target", target, *argv])
+        except SystemExit as exc:  # argparse's usage errors (the shared Parser: one line)
+            code = exc.code
+        assert code == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and words in err[0], err

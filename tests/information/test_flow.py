@@ -236,6 +236,19 @@ def test_maxt_pvalues_follow_westfall_young():
     assert (got <= single).all() and got[np.argmax(stat)] == single[np.argmax(stat)]
 
 
+@pytest.mark.parametrize("block", [39, 5 * 39, 1 << 22])
+def test_maxt_pvalues_in_column_blocks(monkeypatch, block):
+    # the comparison in blocks of 1, 5 and all 12 columns: the same brute-force values
+    rng = np.random.default_rng(5)
+    null = rng.gamma(0.5, size=(39, 12))
+    stat = rng.gamma(2.0, size=12)
+    before = null.copy()
+    monkeypatch.setattr(flow_mod, "_COMPARE_VALUES", block)
+    np.testing.assert_array_equal(flow_mod.maxt_pvalues(stat, null),
+                                  _westfall_young_step_down(stat, null))
+    np.testing.assert_array_equal(null, before)  # the caller's null is not modified
+
+
 def test_step_down_map_is_never_less_significant_than_single_step():
     X = _planted_network(600, 5)
     kw = dict(lags=4, n_surrogates=49, seed=1)
