@@ -123,11 +123,14 @@ __all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_e
 #: Family-wise adjustments of :func:`transfer_entropy_map`.
 ADJUSTMENTS = ("step-down", "single-step")
 
-#: Multiply-adds per second assumed for the time estimate of a Gaussian map: the rate
-#: measured on the project's shared 2-core machine at a load average of 13 (9 series,
-#: 10 lags, n = 7990, 99 surrogates: 6.8e8 multiply-adds in 3.6 s); an idle core is
-#: about 5 times faster, so the estimate errs on the long side.
-_GAUSS_RATE = 2e8
+#: Multiply-adds per second assumed for the time estimate of a Gaussian map. The count
+#: below is of the BLAS products' multiply-adds; measured on the project's shared 2-core
+#: machine at a load average of 12-13 (2026-11-28, 2,000-8,000 rows, single-threaded
+#: BLAS), the maps ran at 3.2e9 (300 modes, radial, lags 1..2, 49 surrogates) to 8.7e9
+#: (100 modes, all pairs, lags 1..10, 199 surrogates) multiply-adds per s of CPU. 2e9 keeps
+#: the estimate on the long side by 1.6-4.4x; the former 2e8 (timed on 9 series, where
+#: per-call overheads dominate) refused a 1,500-mode map that runs in ~1 min.
+_GAUSS_RATE = 2e9
 
 
 @dataclass(frozen=True)
