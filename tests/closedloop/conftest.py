@@ -1,9 +1,20 @@
-"""Fixtures shared by the closedloop tests (reference: none; configs only)."""
+"""Configs shared by the closedloop tests (reference: none; configs only).
+
+One copy of each small config that several test files run:
+
+- :func:`small`: a preset's layout (table1 by default) on a 32-pixel pupil, the loop of the
+  MCAO tests (test_loop, test_guards, test_predictor_faults, and the files that run it);
+- :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM.
+
+Test files import the functions (``from .conftest import small``); pytest's importlib mode
+gives them the module pytest loaded, so there is one copy.
+"""
 
 import dataclasses
 
 import pytest
 
+from closedloop import presets
 from closedloop.config import (
     DMConfig,
     FieldConfig,
@@ -30,3 +41,26 @@ def tiny_actuator_loop() -> SimulationConfig:
         wavelength=500e-9, r0_wavelength=500e-9, seed=0)
     return cfg.replace(dms=(dataclasses.replace(cfg.dms[0],
                                                 n_modes=valid_actuators(cfg, 0) - 1),))
+
+
+def small(name: str = "table1", **loop) -> SimulationConfig:
+    """Preset ``name``'s layout made fast: 32 pupil pixels, 8 x 8 SH, 35 + 20 (+ 14) modes.
+
+    The preset's layers, DM altitudes, WFS altitudes, fields of view and noise, and its loop
+    are kept; ``loop`` replaces loop fields (``gain=0.3``, ``delay=0.0``), validated as the
+    config validates them (``loop.gain`` named in the error). Sizes: 32 pixels across 4 m
+    (12.5 cm, under table1's ground r0 of 4 / 26 = 15 cm); 8 subapertures of 4 pixels (the
+    rule asks 2); 35 and 20 Zernikes (radial orders 7 and 5: complete orders, well under
+    the 16 that 32 pixels sample); a 3 x 3 science grid over 60" (table1's is 9 x 9 over
+    120"): off-axis directions, few of them.
+    """
+    c = presets.get(name)
+    modes = (35, 20, 14)[:len(c.dms)]
+    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
+                for d, m in zip(c.dms, modes, strict=True))
+    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
+                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
+    return c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
+                     field=FieldConfig(size=60.0, n_points=3),
+                     loop=LoopConfig(**{**vars(c.loop), **loop}))
+

@@ -57,7 +57,7 @@ from closedloop.optics.wfs import (
 from closedloop.resources import estimate
 from modalinfo.bases import noll_to_zernike, zernike_matrix
 
-from .test_loop import small
+from .conftest import small
 
 # ---------------------------------------------------------------- a new sensor kind
 
