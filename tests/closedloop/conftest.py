@@ -4,6 +4,8 @@ One copy of each small config that several test files run:
 
 - :func:`small`: a preset's layout (table1 by default) on a 32-pixel pupil, the loop of the
   MCAO tests (test_loop, test_guards, test_predictor_faults, and the files that run it);
+- :func:`lag_only`: a loop whose only error is the servo lag (test_laws_budget,
+  test_budget_terms);
 - :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM.
 
 Test files import the functions (``from .conftest import small``); pytest's importlib mode
@@ -64,3 +66,26 @@ def small(name: str = "table1", **loop) -> SimulationConfig:
                      field=FieldConfig(size=60.0, n_points=3),
                      loop=LoopConfig(**{**vars(c.loop), **loop}))
 
+
+def lag_only(*, gain: float = 0.5, delay: float = 1e-3,
+             integration: float = 1e-3) -> SimulationConfig:
+    """A loop whose only error is the servo lag: the budget's temporal term is its residual.
+
+    Ideal sensor (no noise, no aliasing) and zonal "ideal" DM (no fitting error) on one
+    ground layer of D/r0 = 20 (at 500 nm; science at 630 nm) blowing 1.3 pixels a frame,
+    32 pixels across 4 m;
+    ``gain``, ``delay`` [s] and ``integration`` [s] set the servo (1 ms frames). The
+    defaults (gain 0.5, one-frame delay) are the loop of test_budget_terms.
+    """
+    n = 32
+    dx = 4.0 / n
+    return SimulationConfig(
+        name="temporal",
+        telescope=TelescopeConfig(diameter=4.0, n_pixels=n),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=20.0, wind_speed=1.3 * dx / 1e-3),),
+        dms=(DMConfig(altitude=0.0, n_modes=20, kind="ideal"),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
+                        n_subapertures=8, field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=integration, delay=delay,
+                        gain=gain),
+        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)
