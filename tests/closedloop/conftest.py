@@ -2,8 +2,9 @@
 
 One copy of each small config that several test files run:
 
-- :func:`small`: a preset's layout (table1 by default) on a 32-pixel pupil, the loop of the
-  MCAO tests (test_loop, test_guards, test_predictor_faults, and the files that run it);
+- :func:`shrunk`: a preset's layout on a small pupil, few modes and subapertures;
+- :func:`small`: ``shrunk`` table1 (or another preset) at the sizes of the MCAO loop tests
+  (test_loop, test_guards, test_predictor_faults, and the files that run it);
 - :func:`lag_only`: a loop whose only error is the servo lag (test_laws_budget,
   test_budget_terms);
 - :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM.
@@ -45,27 +46,43 @@ def tiny_actuator_loop() -> SimulationConfig:
                                                 n_modes=valid_actuators(cfg, 0) - 1),))
 
 
+def shrunk(config: SimulationConfig, modes: tuple[int, ...], *, n_pixels: int = 32,
+           n_subapertures: int = 8, field_samples: int = 2, noise: float | None = None,
+           kind: str = "shack_hartmann",
+           field: FieldConfig | None = None) -> SimulationConfig:
+    """``config``'s layout on a small pupil: the recipe the MCAO tests shrink presets with.
+
+    Kept: the layers, the loop, the DM altitudes, and per WFS its altitude, field of view,
+    DM and (``noise=None``) noise [arcsec]. Set: a 4 m pupil of ``n_pixels`` pixels, Zernike
+    DMs of ``modes`` modes (one per DM), WFSs of ``kind`` with ``n_subapertures`` across and
+    ``field_samples``, and the science ``field`` (default: a 3 x 3 grid over 60"); every
+    other WFS setting is the default.
+    """
+    field = FieldConfig(size=60.0, n_points=3) if field is None else field
+    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
+                for d, m in zip(config.dms, modes, strict=True))
+    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
+                           n_subapertures=n_subapertures,
+                           noise=w.noise if noise is None else noise, dm=w.dm,
+                           field_samples=field_samples, kind=kind) for w in config.wfss)
+    return config.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=n_pixels), dms=dms,
+                          wfss=wfss, field=field)
+
+
 def small(name: str = "table1", **loop) -> SimulationConfig:
     """Preset ``name``'s layout made fast: 32 pupil pixels, 8 x 8 SH, 35 + 20 (+ 14) modes.
 
-    The preset's layers, DM altitudes, WFS altitudes, fields of view and noise, and its loop
-    are kept; ``loop`` replaces loop fields (``gain=0.3``, ``delay=0.0``), validated as the
-    config validates them (``loop.gain`` named in the error). Sizes: 32 pixels across 4 m
-    (12.5 cm, under table1's ground r0 of 4 / 26 = 15 cm); 8 subapertures of 4 pixels (the
-    rule asks 2); 35 and 20 Zernikes (radial orders 7 and 5: complete orders, well under
-    the 16 that 32 pixels sample); a 3 x 3 science grid over 60" (table1's is 9 x 9 over
-    120"): off-axis directions, few of them.
+    :func:`shrunk` with its defaults, the preset's noise and loop; ``loop`` replaces loop
+    fields (``gain=0.3``, ``delay=0.0``), validated as the config validates them
+    (``loop.gain`` named in the error). Sizes: 32 pixels across 4 m (12.5 cm, under
+    table1's ground r0 of 4 / 26 = 15 cm); 8 subapertures of 4 pixels (the rule asks 2);
+    35 and 20 Zernikes (radial orders 7 and 5: complete orders, well under the 16 that 32
+    pixels sample); a 3 x 3 science grid over 60" (table1's is 9 x 9 over 120"): off-axis
+    directions, few of them.
     """
     c = presets.get(name)
-    modes = (35, 20, 14)[:len(c.dms)]
-    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
-                for d, m in zip(c.dms, modes, strict=True))
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
-                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
-    return c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
-                     field=FieldConfig(size=60.0, n_points=3),
-                     loop=LoopConfig(**{**vars(c.loop), **loop}))
-
+    c = shrunk(c, (35, 20, 14)[:len(c.dms)])
+    return c.replace(loop=LoopConfig(**{**vars(c.loop), **loop}))
 
 def lag_only(*, gain: float = 0.5, delay: float = 1e-3,
              integration: float = 1e-3) -> SimulationConfig:
