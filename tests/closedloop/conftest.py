@@ -84,15 +84,15 @@ def small(name: str = "table1", **loop) -> SimulationConfig:
     c = shrunk(c, (35, 20, 14)[:len(c.dms)])
     return c.replace(loop=LoopConfig(**{**vars(c.loop), **loop}))
 
+
 def lag_only(*, gain: float = 0.5, delay: float = 1e-3,
              integration: float = 1e-3) -> SimulationConfig:
     """A loop whose only error is the servo lag: the budget's temporal term is its residual.
 
     Ideal sensor (no noise, no aliasing) and zonal "ideal" DM (no fitting error) on one
     ground layer of D/r0 = 20 (at 500 nm; science at 630 nm) blowing 1.3 pixels a frame,
-    32 pixels across 4 m;
-    ``gain``, ``delay`` [s] and ``integration`` [s] set the servo (1 ms frames). The
-    defaults (gain 0.5, one-frame delay) are the loop of test_budget_terms.
+    32 pixels across 4 m; ``gain``, ``delay`` [s] and ``integration`` [s] set the servo
+    (1 ms frames). The defaults (gain 0.5, one-frame delay) are test_budget_terms' loop.
     """
     n = 32
     dx = 4.0 / n
