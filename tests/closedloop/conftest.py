@@ -1,9 +1,23 @@
-"""Fixtures shared by the closedloop tests (reference: none; configs only)."""
+"""Configs shared by the closedloop tests (reference: none; configs only).
+
+One copy of each small config that several test files run:
+
+- :func:`shrunk`: a preset's layout on a small pupil, few modes and subapertures;
+- :func:`small`: ``shrunk`` table1 (or another preset) at the sizes of the MCAO loop tests
+  (test_loop, test_guards, test_predictor_faults, and the files that run it);
+- :func:`lag_only`: a loop whose only error is the servo lag (test_laws_budget,
+  test_budget_terms);
+- :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM.
+
+Test files import the functions (``from .conftest import small``); pytest's importlib mode
+gives them the module pytest loaded, so there is one copy.
+"""
 
 import dataclasses
 
 import pytest
 
+from closedloop import presets
 from closedloop.config import (
     DMConfig,
     FieldConfig,
@@ -30,3 +44,65 @@ def tiny_actuator_loop() -> SimulationConfig:
         wavelength=500e-9, r0_wavelength=500e-9, seed=0)
     return cfg.replace(dms=(dataclasses.replace(cfg.dms[0],
                                                 n_modes=valid_actuators(cfg, 0) - 1),))
+
+
+def shrunk(config: SimulationConfig, modes: tuple[int, ...], *, n_pixels: int = 32,
+           n_subapertures: int = 8, field_samples: int = 2, noise: float | None = None,
+           kind: str = "shack_hartmann",
+           field: FieldConfig | None = None) -> SimulationConfig:
+    """``config``'s layout on a small pupil: the recipe the MCAO tests shrink presets with.
+
+    Kept: the layers, the loop, the DM altitudes, and per WFS its altitude, field of view,
+    DM and (``noise=None``) noise [arcsec]. Set: a 4 m pupil of ``n_pixels`` pixels, Zernike
+    DMs of ``modes`` modes (one per DM), WFSs of ``kind`` with ``n_subapertures`` across and
+    ``field_samples``, and the science ``field`` (default: a 3 x 3 grid over 60"); every
+    other WFS setting is the default.
+    """
+    field = FieldConfig(size=60.0, n_points=3) if field is None else field
+    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
+                for d, m in zip(config.dms, modes, strict=True))
+    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
+                           n_subapertures=n_subapertures,
+                           noise=w.noise if noise is None else noise, dm=w.dm,
+                           field_samples=field_samples, kind=kind) for w in config.wfss)
+    return config.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=n_pixels), dms=dms,
+                          wfss=wfss, field=field)
+
+
+def small(name: str = "table1", **loop) -> SimulationConfig:
+    """Preset ``name``'s layout made fast: 32 pupil pixels, 8 x 8 SH, 35 + 20 (+ 14) modes.
+
+    :func:`shrunk` with its defaults, the preset's noise and loop; ``loop`` replaces loop
+    fields (``gain=0.3``, ``delay=0.0``), validated as the config validates them
+    (``loop.gain`` named in the error). Sizes: 32 pixels across 4 m (12.5 cm, under
+    table1's ground r0 of 4 / 26 = 15 cm); 8 subapertures of 4 pixels (the rule asks 2);
+    35 and 20 Zernikes (radial orders 7 and 5: complete orders, well under the 16 that 32
+    pixels sample); a 3 x 3 science grid over 60" (table1's is 9 x 9 over 120"): off-axis
+    directions, few of them.
+    """
+    c = presets.get(name)
+    c = shrunk(c, (35, 20, 14)[:len(c.dms)])
+    return c.replace(loop=LoopConfig(**{**vars(c.loop), **loop}))
+
+
+def lag_only(*, gain: float = 0.5, delay: float = 1e-3,
+             integration: float = 1e-3) -> SimulationConfig:
+    """A loop whose only error is the servo lag: the budget's temporal term is its residual.
+
+    Ideal sensor (no noise, no aliasing) and zonal "ideal" DM (no fitting error) on one
+    ground layer of D/r0 = 20 (at 500 nm; science at 630 nm) blowing 1.3 pixels a frame,
+    32 pixels across 4 m; ``gain``, ``delay`` [s] and ``integration`` [s] set the servo
+    (1 ms frames). The defaults (gain 0.5, one-frame delay) are test_budget_terms' loop.
+    """
+    n = 32
+    dx = 4.0 / n
+    return SimulationConfig(
+        name="temporal",
+        telescope=TelescopeConfig(diameter=4.0, n_pixels=n),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=20.0, wind_speed=1.3 * dx / 1e-3),),
+        dms=(DMConfig(altitude=0.0, n_modes=20, kind="ideal"),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
+                        n_subapertures=8, field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=integration, delay=delay,
+                        gain=gain),
+        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)

@@ -22,6 +22,8 @@ from closedloop import presets
 from closedloop.cli import main
 from closedloop.config import SimulationConfig
 
+from .conftest import small
+
 
 def _loop(gain: float, delay_frames: int) -> dict:
     d = presets.get("table1").to_dict()
@@ -93,12 +95,8 @@ def test_an_obscuration_leaving_no_valid_subaperture_is_refused(capsys, tmp_path
     # subapertures on a 0.95 obscured pupil are each less than half lit.
     from closedloop.model import LoopModel
 
-    d = presets.get("table1").to_dict()
-    d["telescope"].update(n_pixels=32, obscuration=0.95)
-    for w in d["wfss"]:
-        w.update(n_subapertures=8, field_samples=2)
-    d["dms"][0]["n_modes"], d["dms"][1]["n_modes"] = 35, 20
-    d["field"].update(size=60.0, n_points=3)
+    d = small().to_dict()
+    d["telescope"]["obscuration"] = 0.95
     with pytest.raises(ValueError, match=r"`wfss\[0\].n_subapertures` = 8 leaves no valid "
                                          r"subaperture .*obscuration = 0.95"):
         LoopModel(SimulationConfig.from_dict(d))

@@ -28,7 +28,7 @@ from modalinfo.cli import main as modalinfo_main  # noqa: E402
 from modalinfo.io import load  # noqa: E402
 from modalinfo.io.aot_system import config_of, geometry_of  # noqa: E402
 
-from .test_loop import small  # noqa: E402
+from .conftest import small  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -54,30 +54,16 @@ from closedloop.model import LoopModel
 from closedloop.simulation import _Control, simulate
 from modalinfo.forecast import LinearPredictor
 
+from .conftest import lag_only
 from .test_laws_budget import _mcao_noise_config
 
 ARCSEC = math.pi / 648000.0
 N_DRAWS_ZONAL = 512
 
 
-def _lag_only() -> SimulationConfig:
-    # as test_laws_budget._temporal_only at gain 0.5 and a one-frame delay
-    n = 32
-    dx = 4.0 / n
-    return SimulationConfig(
-        name="temporal",
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=n),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=20.0, wind_speed=1.3 * dx / 1e-3),),
-        dms=(DMConfig(altitude=0.0, n_modes=20, kind="ideal"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
-                        n_subapertures=8, field_samples=1),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)
-
-
 @pytest.fixture(scope="module")
 def lag_model():
-    return LoopModel(_lag_only())
+    return LoopModel(lag_only())
 
 
 def test_temporal_term_of_a_forecasting_loop_is_its_residual(lag_model):
@@ -202,7 +188,7 @@ def test_fitting_term_keeps_the_wfs_field_samples():
     # whose ideal WFS averages a 5-km layer over 7 field samples of a 40" field: the
     # fitting term is the real loop's residual only if the budget's ideal sensors keep
     # those samples (the default is 3)
-    cfg = _lag_only()
+    cfg = lag_only()
     cfg = cfg.replace(
         layers=(LayerConfig(altitude=0.0, d_over_r0=6.0, wind_speed=0.0),
                 LayerConfig(altitude=5000.0, d_over_r0=6.0, wind_speed=0.0)),

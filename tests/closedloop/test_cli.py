@@ -11,7 +11,7 @@ from closedloop import SimulationResult, simulate
 from closedloop.cli import main
 from closedloop.config import save_config
 
-from .test_loop import small
+from .conftest import small
 
 
 @pytest.fixture(scope="module")

@@ -18,6 +18,8 @@ from closedloop.config import SimulationConfig, save_config
 from closedloop.resources import estimate
 from modalinfo.common.sizes import format_size
 
+from .conftest import shrunk
+
 
 @pytest.fixture
 def no_simulation(monkeypatch):
@@ -119,16 +121,10 @@ def test_loops_that_cannot_work_are_refused_before_the_setup(tmp_path, capsys, n
 def test_export_names_every_loop_it_wrote(tmp_path, capsys):
     # two DMs with the joint MAP reconstructor: per DM its residual loop, its POL loop
     # and the block of the other WFS (closedloop.aot's layout): 6 loops
-    from closedloop.config import DMConfig, FieldConfig, TelescopeConfig, WFSConfig
+    from closedloop.config import FieldConfig
 
-    c = presets.get("table1")
-    small = c.replace(
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
-        dms=tuple(DMConfig(altitude=d.altitude, n_modes=m)
-                  for d, m in zip(c.dms, (20, 14), strict=True)),
-        wfss=tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
-                             n_subapertures=8, dm=w.dm, field_samples=1) for w in c.wfss),
-        field=FieldConfig(size=30.0, n_points=1))
+    small = shrunk(presets.get("table1"), (20, 14), field_samples=1, noise=0.0,
+                   field=FieldConfig(size=30.0, n_points=1))
     cfg = tmp_path / "c.toml"
     save_config(small, cfg)
     h5 = tmp_path / "r.h5"

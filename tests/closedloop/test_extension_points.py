@@ -57,7 +57,7 @@ from closedloop.optics.wfs import (
 from closedloop.resources import estimate
 from modalinfo.bases import noll_to_zernike, zernike_matrix
 
-from .test_loop import small
+from .conftest import shrunk
 
 # ---------------------------------------------------------------- a new sensor kind
 
@@ -154,10 +154,8 @@ DURATION = 5e-3  # 5 frames of 1 ms
 
 def _reference() -> SimulationConfig:
     """table1 made small (two DMs, joint MAP reconstructor), noise-free Shack-Hartmanns."""
-    c = small()
-    dms = tuple(dataclasses.replace(d, n_modes=m) for d, m in zip(c.dms, (9, 5), strict=True))
-    wfss = tuple(dataclasses.replace(w, noise=0.0, n_subapertures=6) for w in c.wfss)
-    return c.replace(dms=dms, wfss=wfss, field=FieldConfig(size=20.0, n_points=3))
+    return shrunk(presets.get("table1"), (9, 5), n_subapertures=6, noise=0.0,
+                  field=FieldConfig(size=20.0, n_points=3))
 
 
 def _new_kinds(reference: SimulationConfig, gain: float = 1.0,

@@ -19,32 +19,14 @@ import math
 import numpy as np
 import pytest
 
-from closedloop import presets, simulate
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
+from closedloop import simulate
+from closedloop.config import LayerConfig, SimulationConfig
 from closedloop.optics.geometry import ARCSEC
 from closedloop.resources import ResourceError, check_resources, estimate
 from closedloop.result import SimulationResult
 from modalinfo.forecast import PersistencePredictor
 
-
-def small(**loop):
-    """table1's layout on a 32-pixel pupil, 35 + 20 modes, 8 subapertures."""
-    c = presets.get("table1")
-    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
-                for d, m in zip(c.dms, (35, 20), strict=True))
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
-                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
-    d = c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
-                  field=FieldConfig(size=60.0, n_points=3)).to_dict()
-    d["loop"].update(loop)
-    return SimulationConfig.from_dict(d)
+from .conftest import small
 
 
 # ---------------------------------------------------------------- physical sense

@@ -149,7 +149,7 @@ def test_csr_matvec_has_scipys_bits(n_rows):
 def test_wfs_slopes_have_the_sparse_products_bits():
     from closedloop import LoopModel
 
-    from .test_loop import small
+    from .conftest import small
 
     model = LoopModel(small())
     rng = np.random.default_rng(8)

@@ -63,29 +63,16 @@ from closedloop.config import (
 from closedloop.model import LoopModel
 from closedloop.simulation import simulate
 
+from .conftest import lag_only
+
 ARCSEC = math.pi / 648000.0
 N_DRAWS = 4096
-
-
-def _temporal_only(*, gain, delay, integration):
-    n = 32
-    dx = 4.0 / n
-    return SimulationConfig(
-        name="temporal",
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=n),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=20.0, wind_speed=1.3 * dx / 1e-3),),
-        dms=(DMConfig(altitude=0.0, n_modes=20, kind="ideal"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
-                        n_subapertures=8, field_samples=1),),
-        loop=LoopConfig(time_step=1e-3, integration_time=integration, delay=delay,
-                        gain=gain),
-        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)
 
 
 @pytest.mark.parametrize("gain,delay,integration", [
     (1.0, 0.0, 1e-3), (0.5, 0.5e-3, 1e-3), (0.4, 1e-3, 0.5e-3)])
 def test_temporal_term_is_the_residual_of_a_lag_only_loop(gain, delay, integration):
-    cfg = _temporal_only(gain=gain, delay=delay, integration=integration)
+    cfg = lag_only(gain=gain, delay=delay, integration=integration)
     b = simulate(cfg, 0.03, seed=1, progress=False, budget_every=1).budget
     assert b.frames.size >= 10
     for term in (b.fitting, b.aliasing, b.noise):
@@ -95,7 +82,7 @@ def test_temporal_term_is_the_residual_of_a_lag_only_loop(gain, delay, integrati
 
 
 def test_fitting_term_is_the_residual_of_a_fitting_only_loop():
-    cfg = _temporal_only(gain=1.0, delay=0.0, integration=1e-3)
+    cfg = lag_only(gain=1.0, delay=0.0, integration=1e-3)
     dm = dataclasses.replace(cfg.dms[0], kind="zernike")
     layer = dataclasses.replace(cfg.layers[0], wind_speed=0.0, d_over_r0=10.0)
     cfg = cfg.replace(dms=(dm,), layers=(layer,))

@@ -10,24 +10,14 @@ readers on the simulator's logs.
 import numpy as np
 import pytest
 
-from closedloop import LoopModel, SimulationResult, presets, simulate
-from closedloop.config import DMConfig, FieldConfig, LoopConfig, TelescopeConfig, WFSConfig
+from closedloop import LoopModel, SimulationResult, simulate
+from closedloop.config import FieldConfig
 from closedloop.control.controller import Controller
 from closedloop.control.predictors import ORACLE, LoopPredictor, training_data
 from modalinfo.forecast import ARMAPredictor, PersistencePredictor
 from modalinfo.ordering import fitting_error
 
-
-def small(name="table1", **loop):
-    c = presets.get(name)
-    modes = (35, 20, 14)[:len(c.dms)]
-    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
-                for d, m in zip(c.dms, modes, strict=True))
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
-                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
-    return c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
-                     field=FieldConfig(size=60.0, n_points=3),
-                     loop=LoopConfig(**{**vars(c.loop), **loop}))
+from .conftest import small
 
 
 @pytest.fixture(scope="module")

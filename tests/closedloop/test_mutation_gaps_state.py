@@ -16,23 +16,20 @@ import numpy as np
 import pytest
 
 from closedloop import presets
-from closedloop.config import DMConfig, FieldConfig, TelescopeConfig, WFSConfig
+from closedloop.config import FieldConfig
 from closedloop.model import LoopModel
 from closedloop.state import LoopState
+
+from .conftest import shrunk
 
 
 @pytest.fixture(scope="module")
 def model():
     """table1 made small, its high layer removed: the 10-km DM's plane has no turbulence."""
     c = presets.get("table1")
-    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m) for d, m in zip(c.dms, (9, 6),
-                                                                          strict=True))
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=6,
-                           noise=0.0, dm=w.dm, field_samples=2, kind="ideal") for w in c.wfss)
-    layers = (dataclasses.replace(c.layers[0], d_over_r0=10.0),)
-    return LoopModel(c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=24), dms=dms,
-                               wfss=wfss, layers=layers, field=FieldConfig(size=60.0,
-                                                                           n_points=1)))
+    c = c.replace(layers=(dataclasses.replace(c.layers[0], d_over_r0=10.0),))
+    return LoopModel(shrunk(c, (9, 6), n_pixels=24, n_subapertures=6, noise=0.0, kind="ideal",
+                            field=FieldConfig(size=60.0, n_points=1)))
 
 
 def _reference(model, atm, command):

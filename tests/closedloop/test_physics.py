@@ -183,7 +183,7 @@ def _budget_check(cfg, duration, every):
 def test_error_budget_adds_up_small_mcao(tmp_path):
     from closedloop import SimulationResult
 
-    from .test_loop import small
+    from .conftest import small
 
     result = _budget_check(small(), 0.15, 2)
     result.save(tmp_path / "b.h5")

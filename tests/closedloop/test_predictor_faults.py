@@ -8,21 +8,11 @@ the fault's step and mode are those the test's faulty predictor injects.
 import numpy as np
 import pytest
 
-from closedloop import LoopModel, presets, simulate
-from closedloop.config import DMConfig, FieldConfig, TelescopeConfig, WFSConfig
+from closedloop import LoopModel, simulate
 from closedloop.control.controller import Controller, PredictorFault
 from modalinfo.forecast import PersistencePredictor
 
-
-def small():
-    """table1 on a 32-pixel pupil with 35 + 20 modes (a fast loop of the same layout)."""
-    c = presets.get("table1")
-    dms = tuple(DMConfig(altitude=d.altitude, n_modes=m)
-                for d, m in zip(c.dms, (35, 20), strict=True))
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view, n_subapertures=8,
-                           noise=w.noise, dm=w.dm, field_samples=2) for w in c.wfss)
-    return c.replace(telescope=TelescopeConfig(diameter=4.0, n_pixels=32), dms=dms, wfss=wfss,
-                     field=FieldConfig(size=60.0, n_points=3))
+from .conftest import small
 
 
 class Faulty:

@@ -23,6 +23,8 @@ from closedloop.config import (
 )
 from closedloop.resources import ResourceError, check_resources, estimate
 
+from .conftest import shrunk
+
 
 def dkist_like() -> SimulationConfig:
     """The DKIST-like loop of benchmarks/bench_4m_loop.py (44 x 44 actuators, 1,500 modes)."""
@@ -63,13 +65,7 @@ def test_small_presets_report_no_set_up_build():
 
 
 def _two_dm_tiny() -> SimulationConfig:
-    base = presets.get("table1")
-    return base.replace(
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
-        dms=(DMConfig(altitude=0.0, n_modes=20), DMConfig(altitude=10_000.0, n_modes=9)),
-        wfss=tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
-                             n_subapertures=8, noise=w.noise, dm=w.dm) for w in base.wfss),
-        field=FieldConfig(size=60.0, n_points=3))
+    return shrunk(presets.get("table1"), (20, 9), field_samples=3)
 
 
 def test_a_joint_map_model_never_builds_the_per_wfs_reconstructors():

@@ -26,7 +26,7 @@ from closedloop.result import ErrorBudget, UncheckedResultWarning
 from modalinfo.io import LogFormatError, read_hdf5, write_hdf5
 from modalinfo.io.hdf5 import read_log_group, write_log_group
 
-from .test_loop import small
+from .conftest import small
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ from closedloop.cli import main  # noqa: E402
 from closedloop.config import save_config  # noqa: E402
 from closedloop.sweep import load_grid, override, sweep  # noqa: E402
 
-from .test_loop import small  # noqa: E402
+from .conftest import small  # noqa: E402
 
 GRID = """
 config = "small.toml"

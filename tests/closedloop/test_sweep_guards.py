@@ -27,7 +27,7 @@ from closedloop.cli import main  # noqa: E402
 from closedloop.config import save_config  # noqa: E402
 from closedloop.sweep import GRID_HELP, load_grid, sweep_specs  # noqa: E402
 
-from .test_loop import small  # noqa: E402
+from .conftest import small  # noqa: E402
 
 
 def _example() -> str:

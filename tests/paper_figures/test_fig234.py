@@ -7,7 +7,7 @@ each run (``exp(-residual_variance)`` maximised over the field for the SR peak,
 the paper's column is checked against its constants; the oracle bound (a loop told the
 true future POL does not do worse than the same loop without prediction beyond the
 frame-to-frame scatter of their difference).
-Small configuration (``small()`` of tests/closedloop/test_loop.py): 32 px, 3x3 field, 35 + 20
+Small configuration (``small()`` of tests/closedloop/conftest.py): 32 px, 3x3 field, 35 + 20
 modes, 0.2 s (ARMA with AIC orders needs up to 160 training frames after 15 ms).
 """
 
@@ -20,7 +20,7 @@ from scipy import signal
 from paper_figures import closedloop_runs, fig2_sr_peak, fig3_sr_spectrum, fig4_sr_maps
 from paper_figures.__main__ import main
 
-from ..closedloop.test_loop import small  # the small MCAO of the closedloop tests
+from ..closedloop.conftest import small  # the small MCAO of the closedloop tests
 
 NAMES = ("none", "linear", "arma", "oracle", "arma-aic")
 DURATION = 0.2

@@ -307,7 +307,7 @@ def test_aot_export_keeps_slopes_and_tracker(tmp_path):
 
 # ---------------------------------------------------------------------- error budget
 def _solar_small():
-    from ..test_loop import small
+    from ..conftest import small
 
     c = small()
     wfss = tuple(dataclasses.replace(w, kind="correlating", noise=0.0) for w in c.wfss)
