@@ -84,19 +84,31 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
                  "use fewer --pupil-pixels (64 resolves Zernikes up to radial order ~20)")
 
 
+def mi_samples(args: argparse.Namespace, log) -> int:
+    """Return the (frame, pixel) samples of one MI estimate.
+
+    ``min(--budget, frames x pupil pixels)`` (one frame with ``--frame``); ``--budget``
+    itself where ``--pupil-pixels`` is one the library refuses (it says so).
+    """
+    from modalinfo.bases import Pupil
+
+    if args.budget < 10 or args.pupil_pixels < 4:
+        return args.budget
+    frames = 1 if getattr(args, "frame", None) is not None else log.n_frames
+    return min(args.budget, frames * Pupil(args.pupil_pixels).n_valid)
+
+
 def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
     """Refuse, before any work, MI orderings whose least CPU time exceeds an hour.
 
     On ``n = min(--budget, frames x pupil pixels)`` samples per estimate
     (:func:`modalinfo.ordering.cost.least_ordering_seconds`: a lower bound).
     """
-    from modalinfo.bases import Pupil
     from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, least_ordering_seconds
 
     if n_orderings < 1 or args.budget < 10 or args.pupil_pixels < 4:
         return  # no MI ordering, or an option the library refuses
-    frames = 1 if args.frame is not None else log.n_frames
-    n = min(args.budget, frames * Pupil(args.pupil_pixels).n_valid)
+    n = mi_samples(args, log)
     seconds, calls = least_ordering_seconds(args.estimator, n, log.n_modes,
                                             getattr(args, "resamples", 0), n_orderings)
     if seconds > MAX_ORDERING_SECONDS:
@@ -113,8 +125,8 @@ def load_analysed_log(args: argparse.Namespace, mi: bool):
 
     The file is memory-mapped where its format allows (NPY, NPZ, HDF5), so only the
     analysed frames are ever read into memory; their LOG_COPIES float64 copies (and,
-    for an MI ordering, ``mi=True``, the ``(modes, --budget)`` float64 contributions of
-    every mode at the sampled pixels) are checked against the memory available before
+    for an MI ordering, ``mi=True``, the float64 contributions of every mode at the
+    :func:`mi_samples` sampled pixels) are checked against the memory available before
     any work, naming ``--max-frames`` and ``--budget``. A ``--frame K`` is an index of
     the subsample, which the note on stderr describes.
     """
@@ -125,8 +137,9 @@ def load_analysed_log(args: argparse.Namespace, mi: bool):
             f"{LOG_COPIES} float64 copies)")
     check_memory(need, what, "use a smaller --max-frames")
     if mi:
-        check_memory(need + 8 * log.n_modes * args.budget,
-                     f"{what} with --budget {args.budget} MI samples of every mode",
+        n = mi_samples(args, log)
+        check_memory(need + 8 * log.n_modes * n,
+                     f"{what} with {n} MI samples of every mode (--budget {args.budget})",
                      "use a smaller --budget or --max-frames")
     return log
 

@@ -212,3 +212,24 @@ def test_a_fits_file_with_two_images_says_which_it_read(tmp_path, capsys):
     # one image: no such note
     fits.HDUList([fits.PrimaryHDU(a)]).writeto(tmp_path / "one.fits")
     assert "source_hdu" not in load(tmp_path / "one.fits", rate=1000.0).metadata
+
+
+def test_mi_memory_check_counts_the_samples_drawn_not_the_budget(small_log, monkeypatch):
+    # --budget 1e8 on 400 frames x 3216 pupil pixels draws 1,286,400 samples per estimate:
+    # the memory check counts those (3 modes x 8 bytes each), not 1e8 (2.2 GiB)
+    from modalinfo.bases import Pupil
+    from modalinfo.cli import cmd_reorder
+
+    seen = []
+
+    def record(need, what, hint):
+        seen.append(need)
+        if len(seen) == 2:  # the MI check: stop before any work
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(cmd_reorder, "check_memory", record)
+    code = _exit_code(["reorder", small_log, "--budget", 100_000_000, "--quiet"])
+    assert code == 130 and len(seen) == 2
+    samples = 400 * Pupil(64).n_valid
+    assert samples < 100_000_000
+    assert seen[1] - seen[0] == 8 * 3 * samples
