@@ -93,3 +93,18 @@ def test_constant_mode_horizon_limit_and_preset():
     with pytest.raises(ValueError, match="`selection` must be one of"):
         InfoPredictor(selection="aic").fit(X)
     assert isinstance(make_predictor("info"), InfoPredictor)
+
+
+def test_ebic_penalty_is_chen_and_chens_price_per_input():
+    # reference: Chen & Chen (2008), EBIC_1 = -2 ln L + k ln n + 2 ln C(m, k), with the
+    # prior term at its bound 2 k ln m: per input ln n + 2 ln m, typed in from the
+    # formula (n = 1000, m = 50: 6.907755 + 7.824046); the bound holds for every step
+    from math import comb, log
+
+    from modalinfo.forecast.info import ebic_penalty
+
+    assert ebic_penalty(1000, 50) == pytest.approx(14.731801, abs=1e-6)
+    assert ebic_penalty(1000, 0) == pytest.approx(6.907755, abs=1e-6)
+    for k in range(8):
+        step = log(1000) + 2 * (log(comb(50, k + 1)) - log(comb(50, k)))
+        assert ebic_penalty(1000, 50) >= step
