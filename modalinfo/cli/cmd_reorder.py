@@ -40,6 +40,9 @@ from modalinfo.cli.shared import (
 from modalinfo.common.cli import check_output
 
 NAME = "reorder"
+#: Widest pupil whose valid pixels :func:`mi_samples` counts on the mask itself; wider ones
+#: are bounded by the square, and ``check_pupil_memory`` refuses them by name later.
+_MAX_COUNTED_PIXELS = 4096
 #: Most bootstrap replicates ``--resamples`` takes: percentile intervals need ~1000-2000
 #: (Efron & Tibshirani 1993, "An Introduction to the Bootstrap", sec. 19.3); 10x that
 #: changes nothing but the run time, each replicate costing one greedy step.
@@ -95,6 +98,8 @@ def mi_samples(args: argparse.Namespace, log) -> int:
     if args.budget < 10 or args.pupil_pixels < 4:
         return args.budget
     frames = 1 if getattr(args, "frame", None) is not None else log.n_frames
+    if args.pupil_pixels > _MAX_COUNTED_PIXELS:  # the square bounds the disc: no mask built
+        return min(args.budget, frames * args.pupil_pixels ** 2)
     return min(args.budget, frames * Pupil(args.pupil_pixels).n_valid)
 
 
