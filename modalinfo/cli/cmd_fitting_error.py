@@ -69,7 +69,8 @@ def run(args: argparse.Namespace) -> int:
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
     refuse_frame_with_drop(args)
-    log = load_analysed_log(args, mi=any(str(m).startswith("mi_") for _, m in specs))
+    log = load_analysed_log(args, mi=any(str(m).startswith("mi_") for _, m in specs),
+                            zernike=any(b != "file" for b, _ in specs))
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
     check_mi_time(args, log, n_orderings=sum(str(m).startswith("mi_") for _, m in specs))

@@ -125,17 +125,24 @@ def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
             "(or --max-frames) or a faster --estimator (histogram, kde)")
 
 
-def load_analysed_log(args: argparse.Namespace, mi: bool):
+def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False):
     """Map the log, keep its ``--max-frames`` subsample, refuse it if it cannot fit.
 
     The file is memory-mapped where its format allows (NPY, NPZ, HDF5), so only the
     analysed frames are ever read into memory; their LOG_COPIES float64 copies (and,
     for an MI ordering, ``mi=True``, the float64 contributions of every mode at the
     :func:`mi_samples` sampled pixels) are checked against the memory available before
-    any work, naming ``--max-frames`` and ``--budget``. A ``--frame K`` is an index of
-    the subsample, which the note on stderr describes.
+    any work, naming ``--max-frames`` and ``--budget``. With ``zernike=True`` (a basis
+    built on the log's Zernikes will be sampled on the ``--pupil-pixels`` grid) the
+    library's sampling rule is checked on the mode labels first, before any frame is
+    read. A ``--frame K`` is an index of the subsample, which the note on stderr describes.
     """
     log = load_log_with_hints(args.log, args, mmap=True)
+    if zernike and log.convention != "labels":
+        from modalinfo.ordering.compare import check_pupil_sampling
+
+        # the header's labels suffice: refuse now, not after reading the subsample
+        check_pupil_sampling(log.modes, args.pupil_pixels, log.convention)
     log = frame_subsample(log, args)
     need = LOG_COPIES * log_bytes(log)
     what = (f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
@@ -240,7 +247,8 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError("--outliers drop leaves gaps in the time axis, which the block "
                            "bootstrap of the gains (--resamples) cannot span; use --outliers "
                            "clip, or --resamples 0 with drop")
-    log = load_analysed_log(args, mi=args.method.startswith("mi_"))
+    log = load_analysed_log(args, mi=args.method.startswith("mi_"),
+                            zernike=args.basis != "file")
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
     check_mi_time(args, log, n_orderings=int(args.method.startswith("mi_")))

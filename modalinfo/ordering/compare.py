@@ -31,6 +31,7 @@ __all__ = [
     "Comparison",
     "ComparisonEntry",
     "basis_for_log",
+    "check_pupil_sampling",
     "compare_orderings",
     "parse_specs",
     "plot_comparison",
@@ -60,6 +61,40 @@ def _log_geometry(log: Any) -> tuple[float | None, float | None]:
         outer = math.inf
     return (float(diameter) if diameter is not None else None,
             float(outer) if outer is not None else None)
+
+
+def check_pupil_sampling(modes: Any, n_pixels: int, convention: str = "noll") -> None:
+    """Refuse a pupil grid too coarse to sample the highest Zernike of ``modes``.
+
+    The rule of closedloop's DM modes: a Zernike of radial order ``n`` is resolved, not
+    aliased, on ``n_pixels >= 2 n`` pixels across. It needs only the mode labels, so a
+    caller can check it before reading a log's coefficients.
+
+    Parameters
+    ----------
+    modes : sequence of int
+        Zernike indices in ``convention``.
+    n_pixels : int
+        Pupil grid size across [pixels].
+    convention : {"noll", "ansi", "fringe"}
+        Indexing convention of ``modes``.
+
+    Raises
+    ------
+    ValueError
+        If ``n_pixels`` is below 4 or twice the radial order of the highest mode.
+    """
+    from modalinfo.bases import indexing
+
+    n_pixels = check_int(n_pixels, "n_pixels", minimum=4)
+    convention = check_choice(convention, "convention", ("noll", "ansi", "fringe"))
+    n, m = getattr(indexing, f"{convention}_to_zernike")(np.asarray(modes, dtype=np.int64))
+    top = int(np.max(indexing.zernike_to_noll(n, m)))
+    order = int(indexing.noll_to_zernike(top)[0])
+    if order > n_pixels // 2:  # on fewer pixels the mode is aliased, not resolved
+        raise ValueError(
+            f"`n_pixels` must be >= {2 * order} to sample Z{top} (radial order {order} "
+            f"<= pixels across / 2, the rule of closedloop's DM modes); got {n_pixels}.")
 
 
 def basis_for_log(
@@ -122,15 +157,7 @@ def basis_for_log(
         log = log.to_convention("noll")
     modes = [int(m) for m in log.modes]
     if zernike_basis is None:
-        from modalinfo.bases.indexing import noll_to_zernike
-
-        top = max(modes)
-        order = int(noll_to_zernike(top)[0])
-        if order > n_pixels // 2:  # on fewer pixels the mode is aliased, not resolved
-            raise ValueError(
-                f"`n_pixels` must be >= {2 * order} to sample Z{top} (radial order {order} "
-                f"<= pixels across / 2, the rule of closedloop's DM modes); got {n_pixels}.")
-
+        check_pupil_sampling(modes, n_pixels)
         zernike_basis = ZernikeBasis(Pupil(n_pixels, diameter=diameter), modes=modes)
     if kind == "zernike":
         return zernike_basis

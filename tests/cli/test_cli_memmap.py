@@ -264,3 +264,37 @@ def test_forecast_consecutive_modes_stay_mapped(long_npy, monkeypatch, capsys):
                  "3-5", "--predictors", "linear", "--train", "500", "--horizon", "2",
                  "--quiet"]) == 0
     assert seen == [True]
+
+
+@pytest.fixture(scope="module")
+def z1501_npz(tmp_path_factory):
+    """A 400-frame log of Noll modes Z2, Z3 and Z1501 in an NPZ file."""
+    rng = np.random.default_rng(8)
+    path = tmp_path_factory.mktemp("z1501") / "z1501.npz"
+    save(ModalLog(rng.standard_normal((400, 3)), rate=1e3, modes=[2, 3, 1501], units="rad"),
+         path)
+    return path
+
+
+@pytest.mark.parametrize("command", [
+    ["reorder", "--method", "standard", "--resamples", "0"],
+    ["fitting-error", "--orderings", "zernike:standard"],
+])
+def test_pupil_sampling_refused_before_any_frame_is_read(z1501_npz, monkeypatch, capsys,
+                                                         command):
+    # Noll (1976): radial order n holds j in (n (n + 1) / 2, (n + 1)(n + 2) / 2], so
+    # Z1501 (1485 < 1501 <= 1540) is order 54, which needs 2 x 54 = 108 pixels across
+    from modalinfo.cli import cmd_reorder
+
+    def never(*_a, **_k):
+        raise AssertionError("frame_subsample called: the frames were read before the refusal")
+
+    monkeypatch.setattr(cmd_reorder, "frame_subsample", never)
+    monkeypatch.setattr(shared, "frame_subsample", never)
+    argv = [command[0], str(z1501_npz), *command[1:], "--max-frames", "100", "--quiet"]
+    assert main([*argv, "--pupil-pixels", "107"]) == 2
+    _refusal(capsys, "--pupil-pixels must be >= 108 to sample Z1501 (radial order 54")
+    assert main([*argv]) == 2  # the default 64
+    _refusal(capsys, "got 64")
+    with pytest.raises(AssertionError, match="frame_subsample called"):
+        main([*argv, "--pupil-pixels", "108"])  # passes the rule, so reads the frames

@@ -10,6 +10,11 @@ References:
 - scikit-learn's ``mutual_info_score`` (the plug-in MI of the contingency table) plus
   the Miller-Madow term (K_x + K_y - K_xy - 1) / (2 n) (Miller 1955) for the exact
   arithmetic of the discrete rule;
+- the Gaussian estimator's -0.5 ln(1 - r^2) is infinite at |r| = 1 (Cover & Thomas,
+  Example 8.5.1), so a discrete variable and its copy (normal scores affine in each other)
+  is refused; on binary pairs the normal scores are affine in the values, so r is the phi
+  coefficient, scikit-learn's ``matthews_corrcoef``; for y = x + s e, numpy's ``corrcoef``
+  (the law's I = 0.5 ln(1 + 1 / s^2) within sampling error);
 - the exact MI of a rounded normal pair (cell probabilities by quadrature,
   ``benchmarks/bench_mi_accuracy.py``, checked in test_beyond_normal_tasks.py).
 """
@@ -20,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from sklearn.metrics import mutual_info_score
+from sklearn.metrics import matthews_corrcoef, mutual_info_score
 
 from modalinfo.information import METHODS, MutualInformation, mutual_information
 
@@ -61,6 +66,42 @@ def test_discrete_variable_and_its_copy_give_its_entropy(method):
     # plug-in of the table + Miller-Madow with K_x = K_y = K_xy = 4
     assert got == pytest.approx(mutual_info_score(x, x) + 3 / (2 * n), rel=1e-9)
     assert got == pytest.approx(math.log(4.0), abs=2e-3)
+
+
+@pytest.mark.parametrize("copula", [True, False])
+@pytest.mark.parametrize("copy", ["same", "flipped", "affine"])
+def test_gaussian_refuses_a_discrete_variable_and_its_copy(copula, copy):
+    # before: 15-17 nats (1 - r^2 floored), where the other methods give the entropy
+    b = np.random.default_rng(43).integers(0, 2, 2000).astype(float)
+    y = {"same": b, "flipped": 1.0 - b, "affine": 3.0 * b + 2.0}[copy]
+    with pytest.raises(ValueError, match=r"affine function of `x`.*\+-1 .*infinite"):
+        mutual_information(b, y, method="gaussian", copula=copula)
+
+
+@pytest.mark.parametrize("copula", [True, False])
+def test_gaussian_engine_refuses_a_continuous_copy_itself(x, copula):
+    # the engine alone (an ordering's estimator object may bypass the api's copy check)
+    from modalinfo.information.gaussian import GaussianEngine
+
+    with pytest.raises(ValueError, match="affine function of `x`"):
+        GaussianEngine(copula=copula).fit(x).score(3.0 * x + 1.0)
+
+
+def test_gaussian_near_copies_are_still_estimated(x):
+    b = np.random.default_rng(43).integers(0, 2, 2000).astype(float)
+    c = b.copy()
+    c[[7, 8]] = 1.0 - c[[7, 8]]  # two of 2000 flipped: phi ~ 0.998
+    phi = matthews_corrcoef(b, c)
+    assert mutual_information(b, c, method="gaussian") == pytest.approx(
+        -0.5 * math.log(1.0 - phi**2), rel=1e-9)
+    # 1 - r^2 ~ 1e-10, below the 1e-6 where the residual check runs: still a number
+    s = 1e-5
+    y = x + s * np.random.default_rng(44).standard_normal(x.size)
+    r = np.corrcoef(x, y)[0, 1]
+    got = mutual_information(x, y, method="gaussian", copula=False)
+    # numpy's sample r; at 1 - r^2 ~ 1e-10 rounding of r (~n eps) leaves ~1e-3 of 1 - r^2
+    assert got == pytest.approx(-0.5 * math.log(1.0 - r * r), abs=1e-3)
+    assert got == pytest.approx(0.5 * math.log(1.0 + 1.0 / s**2), abs=0.1)  # the law's
 
 
 @pytest.mark.parametrize("q", [0.0, 0.1, 0.3])

@@ -5,7 +5,10 @@ eigenvectors (the theoretical K-L basis) minimise the expected truncation error
 (Karhunen-Loeve / Eckart-Young): the expected curve is computed exactly by feeding the
 rows of sqrt(M) L^T (C = L L^T) as frames, and a seeded open-loop sample is checked
 too; unit conversion (rad = 2 pi OPD / lambda) through ``ModalLog.to_units``; change
-of basis (K-L coefficients from Zernike ones) against ``KLBasis.coefficients_from_zernike``.
+of basis (K-L coefficients from Zernike ones) against ``KLBasis.coefficients_from_zernike``;
+the pupil-sampling rule (``n_pixels >= 2 n``) against the radial order ``n`` of an index
+from the conventions' definitions (Noll 1976: order ``n`` holds ``j`` in
+``(n (n + 1) / 2, (n + 1)(n + 2) / 2]``; ANSI Z80.28: ``[n (n + 1) / 2, (n + 1)(n + 2) / 2)``).
 """
 
 import numpy as np
@@ -138,3 +141,15 @@ def test_parseval_equals_pixels_on_orthonormalised_zernikes():
     np.testing.assert_allclose(fitting_error(a, plain, order).per_frame,
                                fitting_error(a, plain, order, method="pixels").per_frame,
                                rtol=1e-9, atol=1e-12)
+
+
+def test_pupil_sampling_rule_reads_the_labels_in_their_convention():
+    from modalinfo.ordering.compare import check_pupil_sampling
+
+    # label 1485 = 54 x 55 / 2: the last Noll mode of order 53, the first ANSI one of order 54
+    check_pupil_sampling([2, 3, 1485], 106)  # Noll: 2 x 53 pixels suffice
+    with pytest.raises(ValueError, match=r"`n_pixels` must be >= 106 .*radial order 53.* got 105"):
+        check_pupil_sampling([2, 3, 1485], 105)
+    check_pupil_sampling([1, 2, 1485], 108, convention="ansi")
+    with pytest.raises(ValueError, match=r"`n_pixels` must be >= 108 .*radial order 54.* got 106"):
+        check_pupil_sampling([1, 2, 1485], 106, convention="ansi")
