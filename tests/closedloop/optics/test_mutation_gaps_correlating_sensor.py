@@ -28,7 +28,12 @@ References, from outside the module under test:
 - the resource estimate's sampling (``_sampling``: "as CorrelatingShackHartmann sets
   them, without building anything") against the built sensor's pupil samples, image
   formation support, PSF samples and patches, over modes, field samples, pixel scales
-  and a 2-pixel pitch;
+  and a 2-pixel pitch; its counts from their definitions: a disc of ``n`` subapertures
+  across holds ``pi n^2 / 4`` (two slopes each and the tracker's two), 6 entries per
+  pupil sample and plane (2 fit weights, 4 bilinear reads), 4 per sample, plane and
+  sub-direction for the imaging mode (equal to the built imaging operators' stored
+  entries scaled from ``n_valid`` to ``pi n^2 / 4``), and the imaging time
+  ``_SECONDS_PER_IMAGE_OP x images x support^2 x PSF samples`` (its documented model);
 - the project's rule for bad input: the message names the argument, the rule, the value.
 """
 
@@ -224,3 +229,32 @@ def test_estimate_sampling_is_the_built_sensors(changes, pixel_scale):
     got = correlating_sensor._sampling(cfg, 0, model.geometry.dx)
     assert got == (w.n_pupil, im.support, im.psf_pixels * im.psf_subsampling, im.n_patches)
     assert len(im.directions_arcsec) == im.n_patches ** 2
+
+
+@pytest.mark.parametrize("changes", [dict(field_samples=2),
+                                     dict(image_formation=False, n_sub=8, n_pixels=48)])
+def test_estimate_counts_are_their_definitions(changes):
+    cfg = _config(**changes)
+    model = LoopModel(cfg)
+    w, g = model.wfss[0], model.geometry
+    n_planes, f = len(g.planes), w.n_pupil
+    cost = correlating_sensor._cost(cfg, 0, n_planes, g.dx)
+    n = cfg.wfss[0].n_subapertures
+    disc = math.pi / 4.0 * n ** 2
+    assert disc == pytest.approx(w.n_valid_subapertures, rel=0.15)
+    assert cost.n_measurements == pytest.approx(2.0 * disc + 2.0, rel=1e-12)
+    base = n_planes * disc * f * f * 6
+    if not cfg.wfss[0].image_formation:
+        assert cost.build_entries == pytest.approx(base, rel=1e-12)
+        assert cost.frame_seconds == 0.0
+        return
+    stored = sum(op.nnz for op in w._image_ops)
+    assert stored == w.imager.n_patches ** 2 * n_planes * w.n_valid_subapertures * f * f * 4
+    assert cost.build_entries == pytest.approx(base + stored * disc / w.n_valid_subapertures,
+                                               rel=1e-12)
+    im = w.imager
+    images = disc * im.n_patches ** 2
+    assert cost.frame_seconds == pytest.approx(
+        correlating_sensor._SECONDS_PER_IMAGE_OP * images * im.support ** 2
+        * im.psf_pixels * im.psf_subsampling, rel=1e-12)
+    assert cost.frame_key == "wfss[0].image_formation"
