@@ -258,3 +258,30 @@ def test_estimate_counts_are_their_definitions(changes):
         correlating_sensor._SECONDS_PER_IMAGE_OP * images * im.support ** 2
         * im.psf_pixels * im.psf_subsampling, rel=1e-12)
     assert cost.frame_key == "wfss[0].image_formation"
+
+
+@pytest.mark.parametrize("image_formation", [False, True])
+def test_forward_adds_the_draws_scaled_by_the_noise_rms(image_formation, on_axis):
+    # the documented contract: the linear mode adds noise_rms x draws to every
+    # measurement; the imaging mode seeds its images' noise with the draws and adds
+    # noise_rms x draws to the two tracker rows only
+    if image_formation:
+        model, w = on_axis
+    else:
+        model = LoopModel(_config(image_formation=False))
+        w = model.wfss[0]
+    rng = np.random.default_rng(9)
+    maps = [rng.standard_normal((p.n, p.n)) for p in model.geometry.planes]
+    draws = rng.standard_normal(w.n_measurements)
+    n = w.n_valid_subapertures
+    clean = w.forward(maps)
+    noisy = w.forward(maps, draws)
+    assert np.all(w.noise_rms > 0)
+    if not image_formation:
+        np.testing.assert_allclose(noisy, clean + w.noise_rms * draws, rtol=0,
+                                   atol=1e-12 * np.abs(noisy).max())
+        return
+    np.testing.assert_array_equal(noisy[:2 * n], w.image_slopes(maps, draws))
+    assert np.abs(noisy[:2 * n] - clean[:2 * n]).max() > 0
+    np.testing.assert_allclose(noisy[2 * n:], clean[2 * n:] + w.noise_rms[2 * n:] * draws[2 * n:],
+                               rtol=0, atol=1e-12 * np.abs(noisy).max())
