@@ -121,6 +121,9 @@ def test_correctors_describe_their_disc_and_line_of_sight(exported):
         # the plane grid holds the disc: at least its diameter in pixels
         assert extra["plane_pixels"] >= extra["disc_diameter"] / dx
         assert geom[f"dm{i}"]["altitude"] == d.altitude
+        # a binary integer mask: 1 on the disc's pixels, 0 elsewhere
+        assert mask.dtype.kind in "iu" and set(np.unique(mask)) == {0, 1}
+        np.testing.assert_array_equal(np.flatnonzero(mask), model.dms[i].pixels)
 
 
 def test_the_closedloop_card_names_the_run(exported):

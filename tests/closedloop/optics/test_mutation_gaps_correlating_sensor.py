@@ -214,7 +214,7 @@ def test_aot_record_is_a_shack_hartmann_with_the_tracker_last(on_axis):
 
 
 @pytest.mark.parametrize("changes,pixel_scale", [
-    (dict(image_formation=False), 0.5),
+    (dict(image_formation=False, field_samples=3), 0.5),     # linear: one patch
     (dict(field_samples=3), 0.5),                    # 5 x 5 patches
     (dict(field_samples=5), 0.5),                    # 9 capped at 32 px // 4 = 8
     (dict(n_sub=16, image_formation=False), 0.5),    # a 2-pixel pitch
