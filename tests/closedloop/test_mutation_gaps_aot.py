@@ -5,8 +5,9 @@ outside the module under test:
 
 - ``aotpy.AOSystem.read_from_file`` (an independent reader of the FITS file) and
   astropy's header reader;
-- the export's documented layout (``closedloop/aot.py``'s docstring): telescope elevation
-  ``90 - zenith_angle`` and central obstruction ``obscuration x D`` [m]; each corrector's
+- the export's documented layout (``closedloop/aot.py``'s docstring): telescope
+  ``"telescope"``, elevation ``90 - zenith_angle`` and central obstruction ``obscuration
+  x D`` [m] (none without one); each corrector's
   ``MI_GEOM`` extras: the DM's disc ``D + 2 h sec z tan(F / 2)`` [m], its line-of-sight
   altitude ``h sec z``, its plane grid and pixel ``D / n_pixels``; each loop's
   coefficient card ``MI_QUANT`` (``residual``, ``pol``); an open loop's ``closed`` false;
@@ -49,12 +50,13 @@ D, OBSC, ZENITH = 2.0, 0.2, 30.0
 
 
 def _config(*, closed: bool) -> SimulationConfig:
-    # a 2 m obscured telescope at 30 deg from the zenith, a ground and a 4-km DM (so a
-    # disc larger than the pupil and a line of sight longer than the altitude)
+    # a 2 m telescope at 30 deg from the zenith (obscured in the open-loop run, not in the
+    # closed one), a ground and a 4-km DM (so a disc larger than the pupil and a line of
+    # sight longer than the altitude)
     return SimulationConfig(
         name="tiny",
-        telescope=TelescopeConfig(diameter=D, n_pixels=16, obscuration=OBSC,
-                                  zenith_angle=ZENITH),
+        telescope=TelescopeConfig(diameter=D, n_pixels=16,
+                                  obscuration=0.0 if closed else OBSC, zenith_angle=ZENITH),
         layers=(LayerConfig(altitude=0.0, d_over_r0=3.0, wind_speed=5.0),
                 LayerConfig(altitude=4000.0, d_over_r0=2.0, wind_speed=10.0)),
         dms=(DMConfig(altitude=0.0, n_modes=9), DMConfig(altitude=4000.0, n_modes=5)),
@@ -87,8 +89,13 @@ def test_telescope_is_elevated_and_obscured_as_configured(exported):
     cfg, _, _, system = exported
     tel = system.main_telescope
     assert tel.elevation == pytest.approx(90.0 - ZENITH, abs=1e-12)
-    assert tel.obstruction_diameter == pytest.approx(OBSC * D, rel=1e-12)   # [m], not 0.2
+    if cfg.telescope.obscuration:
+        assert tel.obstruction_diameter == pytest.approx(OBSC * D, rel=1e-12)  # [m], not 0.2
+        assert tel.inscribed_diameter is None
+    else:       # no obstruction: none written, and the pupil's inscribed circle is D
+        assert tel.obstruction_diameter is None and tel.inscribed_diameter == D
     assert tel.enclosing_diameter == D
+    assert tel.uid == "telescope"
     assert system.name == "closedloop tiny"
 
 
