@@ -6,8 +6,9 @@ outside the module under test:
 - ``aotpy.AOSystem.read_from_file`` (an independent reader of the FITS file) and
   astropy's header reader;
 - the export's documented layout (``closedloop/aot.py``'s docstring): telescope
-  ``"telescope"``, elevation ``90 - zenith_angle`` and central obstruction ``obscuration
-  x D`` [m] (none without one); each corrector's
+  ``"telescope"``, elevation ``90 - zenith_angle``, central obstruction ``obscuration x
+  D`` [m] (none without one); the source ``"sun"``, natural, ``extended = "sun"`` in
+  its ``MI_GEOM`` entry; each corrector's
   ``MI_GEOM`` extras: the DM's disc ``D + 2 h sec z tan(F / 2)`` [m], its line-of-sight
   altitude ``h sec z``, its plane grid and pixel ``D / n_pixels``; each loop's
   coefficient card ``MI_QUANT`` (``residual``, ``pol``); an open loop's ``closed`` false;
@@ -96,6 +97,11 @@ def test_telescope_is_elevated_and_obscured_as_configured(exported):
         assert tel.obstruction_diameter is None and tel.inscribed_diameter == D
     assert tel.enclosing_diameter == D
     assert tel.uid == "telescope"
+    # the sun: a natural source (AOT has no extended-source type), said so in MI_GEOM
+    (src,) = system.sources
+    assert isinstance(src, aotpy.NaturalGuideStar) and src.uid == "sun"
+    assert geometry_of(system)["sources"]["sun"]["extra"] == {
+        "extended": "sun", "note": "AOT has no extended-source type"}
     assert system.name == "closedloop tiny"
 
 
