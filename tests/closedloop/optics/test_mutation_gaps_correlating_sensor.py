@@ -285,3 +285,18 @@ def test_forward_adds_the_draws_scaled_by_the_noise_rms(image_formation, on_axis
     assert np.abs(noisy[:2 * n] - clean[:2 * n]).max() > 0
     np.testing.assert_allclose(noisy[2 * n:], clean[2 * n:] + w.noise_rms[2 * n:] * draws[2 * n:],
                                rtol=0, atol=1e-12 * np.abs(noisy).max())
+
+
+def test_tracker_sees_the_configured_signal():
+    # "the tracker: its own image ... at the same pixel scale and signal" (module
+    # docstring): its pixels hold the configured signal, and its photon-noise-limited
+    # shift error falls as 1 / sqrt(signal) (Michau et al. 1992): 2x from 1000 to 4000 e-
+    noise = {}
+    for signal in (1000.0, 4000.0):
+        cfg = _config(image_formation=False)
+        cfg = cfg.replace(wfss=(dataclasses.replace(cfg.wfss[0], signal=signal),))
+        w = LoopModel(cfg).wfss[0]
+        assert w.tracker.electrons_per_pixel == pytest.approx(signal, rel=1e-9)
+        assert w.imager.electrons_per_pixel == pytest.approx(signal, rel=1e-9)
+        noise[signal] = w.tracker_noise_pixels
+    np.testing.assert_allclose(noise[1000.0] / noise[4000.0], 2.0, rtol=0.05)
