@@ -1,0 +1,302 @@
+"""closedloop.optics.correlating_sensor: the imaging mode, the AOT record, the estimate.
+
+Gaps found by mutation testing (docs/MUTATION.md, "closedloop/optics/correlating_sensor.py").
+References, from outside the module under test:
+
+- the field geometry: a plane at altitude ``h`` seen from direction ``theta`` by a WFS
+  conjugated to ``h_w`` is sampled at ``x + (h - h_w) theta`` (the layer-oriented
+  footprint); a bilinear interpolation reproduces a linear map exactly, so the imaging
+  mode's phase operators applied to the coordinate map ``X(x, y) = x`` of a plane must
+  give each lit sample's ``x + (h - h_w) theta_x`` (and likewise for y);
+- the phase's units: the planes hold phase in rad at ``r0_wavelength`` and the sensor
+  images at its own band (500 nm), so a phase ``a x^2 + b y^2`` (split over two planes,
+  which add along the line of sight) gives, in the loop's units [rad/m at
+  ``r0_wavelength``], the slopes ``(2 a x_c, 2 b y_c)`` less their mean at the
+  subaperture centres ``x_c`` (a quadratic's Z-tilt over a square is its gradient at the
+  centre), whatever ``r0_wavelength`` (checked at 1 um, where the phase at 500 nm is
+  twice the plane's); within the SDF + 2QI interpolation bias of two images (0.08 px,
+  test_correlating_sensor's bound);
+- the reference subaperture as the module docstring defines it: "the fully lit
+  subaperture nearest the centre", fully lit computed here from the pupil geometry
+  (every sample of every sub-direction's beam at least ``sqrt(2) dx`` inside the
+  pupil's edges);
+- "a run is reproducible from its seed": the same normal draws give the same images'
+  noise, bit for bit, and other draws other noise;
+- the AOT record as ``closedloop/aot.py``'s docstring defines it: a Shack-Hartmann
+  record whose last entry per axis is the correlation tracker (one entry per axis more
+  than the valid subapertures), ``MI_GEOM`` naming the kind, its pixel scale and mode;
+- the resource estimate's sampling (``_sampling``: "as CorrelatingShackHartmann sets
+  them, without building anything") against the built sensor's pupil samples, image
+  formation support, PSF samples and patches, over modes, field samples, pixel scales
+  and a 2-pixel pitch; its counts from their definitions: a disc of ``n`` subapertures
+  across holds ``pi n^2 / 4`` (two slopes each and the tracker's two), 6 entries per
+  pupil sample and plane (2 fit weights, 4 bilinear reads), 4 per sample, plane and
+  sub-direction for the imaging mode (equal to the built imaging operators' stored
+  entries scaled from ``n_valid`` to ``pi n^2 / 4``), and the imaging time
+  ``_SECONDS_PER_IMAGE_OP x images x support^2 x PSF samples`` (its documented model);
+- the project's rule for bad input: the message names the argument, the rule, the value.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from closedloop.config import (
+    ARCSEC,
+    DMConfig,
+    FieldConfig,
+    LayerConfig,
+    LoopConfig,
+    SimulationConfig,
+    TelescopeConfig,
+    WFSConfig,
+)
+from closedloop.kinds import sensor_kind
+from closedloop.model import LoopModel
+from closedloop.optics import correlating_sensor
+
+
+def _config(*, wfs_altitude=0.0, field_samples=1, image_formation=True, r0_wavelength=1e-6,
+            n_pixels=32, obscuration=0.0, n_sub=4, fov=16.0):
+    # two planes (the ground and 3 km: the layers', the DM on the WFS's) so that the
+    # phase is a sum
+    return SimulationConfig(
+        name="test",
+        telescope=TelescopeConfig(diameter=1.0, n_pixels=n_pixels, obscuration=obscuration),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=3.0, wind_speed=0.0),
+                LayerConfig(altitude=3000.0, d_over_r0=3.0, wind_speed=0.0)),
+        dms=(DMConfig(altitude=wfs_altitude, n_modes=20),),
+        wfss=(WFSConfig(altitude=wfs_altitude, field_of_view=fov, kind="correlating",
+                        n_subapertures=n_sub, field_samples=field_samples,
+                        image_formation=image_formation, contrast=0.04),),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
+        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9,
+        r0_wavelength=r0_wavelength)
+
+
+@pytest.fixture(scope="module")
+def on_axis():
+    model = LoopModel(_config())
+    return model, model.wfss[0]
+
+
+def _centres(w, n_sub: int, d_wfs: float) -> np.ndarray:
+    """``(n_valid, 2)`` subaperture centres ``((j + 1/2) d - d_wfs / 2, (i + 1/2) d - ...)``."""
+    d = d_wfs / n_sub
+    sub = w.valid_subapertures
+    return np.column_stack([(sub % n_sub + 0.5) * d - d_wfs / 2.0,
+                            (sub // n_sub + 0.5) * d - d_wfs / 2.0])
+
+
+def test_image_slopes_are_refused_in_the_linear_mode():
+    w = LoopModel(_config(image_formation=False)).wfss[0]
+    maps = [np.zeros((p.n, p.n)) for p in w._geometry.planes]
+    with pytest.raises(ValueError) as exc:
+        w.image_slopes(maps)
+    assert str(exc.value) == ("`wfss[0].image_formation` must be true to form images; "
+                              "got false.")
+
+
+@pytest.mark.parametrize("wfs_altitude", [0.0, 3000.0])
+def test_image_phase_is_each_plane_at_x_plus_h_theta(wfs_altitude):
+    # a wide field (5 x 5 sub-directions of 2.4" across 16") and a WFS on the ground or at
+    # 3 km: every plane is sampled along every sub-direction's line of sight
+    model = LoopModel(_config(wfs_altitude=wfs_altitude, field_samples=3))
+    w = model.wfss[0]
+    g = model.geometry
+    dirs = w.imager.directions_arcsec
+    assert len(dirs) > 1 and np.abs(dirs).max() > 1.0
+    n_valid, f = w.n_valid_subapertures, w.n_pupil
+    d_wfs = 1.0 + 2.0 * wfs_altitude * math.tan(8.0 * ARCSEC)
+    centres = _centres(w, 4, d_wfs)
+    off = ((np.arange(f) + 0.5) / f - 0.5) * d_wfs / 4
+    yy, xx = np.meshgrid(off, off, indexing="ij")
+    x = centres[:, 0, None] + xx.ravel()[None]         # (n_valid, F): rows along y
+    y = centres[:, 1, None] + yy.ravel()[None]
+    lit = w._amplitude.reshape(len(dirs), n_valid, f * f) > 0
+    assert lit.any(axis=(1, 2)).all()
+    for p, plane in enumerate(g.planes):
+        co = g.plane_coords(p)
+        cx, cy = np.meshgrid(co, co, indexing="xy")
+        for coord, axis, xy in ((cx, 0, x), (cy, 1, y)):
+            got = (w._image_ops[p] @ coord.ravel()).reshape(len(dirs), n_valid, f * f)
+            for t, theta in enumerate(dirs):
+                want = xy + (plane.altitude - wfs_altitude) * theta[axis] * ARCSEC
+                np.testing.assert_allclose(got[t][lit[t]], want[lit[t]], rtol=0,
+                                           atol=1e-9, err_msg=f"plane {p}, dir {theta}")
+
+
+def test_imaged_quadratic_phase_gives_its_gradient_in_loop_units(on_axis):
+    model, w = on_axis
+    g = model.geometry
+    n = w.n_valid_subapertures
+    full = np.flatnonzero(w._amplitude.min(axis=(0, 2, 3)) > 0)
+    assert full.size >= 4
+    # a [rad/m^2] on the ground plane, b on the 3-km one (seen on axis: no shift); the
+    # sum is a x^2 + b y^2 along the line of sight: slopes (2 a x_c, 2 b y_c)
+    a, b = 40.0, -30.0
+    maps = []
+    for p, (ca, cb) in enumerate(((a, 0.0), (0.0, b))):
+        co = g.plane_coords(p)
+        cx, cy = np.meshgrid(co, co, indexing="xy")
+        maps.append(ca * cx ** 2 + cb * cy ** 2)
+    centres = _centres(w, 4, 1.0)
+    want = np.concatenate([2 * a * centres[:, 0], 2 * b * centres[:, 1]])
+    for k in range(2):          # less the mean over the valid subapertures, per axis
+        want[k * n:(k + 1) * n] -= want[k * n:(k + 1) * n].mean()
+    to_px = 1.0 / (2.0 * math.pi * w.pixel_scale * ARCSEC / 1e-6)    # rad/m -> pixels
+    got = w.image_slopes(maps)
+    sel = np.concatenate([full, full + n])
+    assert np.abs(want[sel]).max() * to_px > 0.5        # shifts of half a pixel or more
+    err = np.abs(got - want)[sel].max() * to_px
+    assert err < 0.08, err
+
+
+def test_imaging_noise_is_reproducible_from_the_draws(on_axis):
+    model, w = on_axis
+    maps = [np.zeros((p.n, p.n)) for p in model.geometry.planes]
+    draws = np.random.default_rng(5).standard_normal(w.n_measurements)
+    one = w.image_slopes(maps, draws)
+    np.testing.assert_array_equal(w.image_slopes(maps, draws.copy()), one)
+    other = w.image_slopes(maps, np.random.default_rng(6).standard_normal(w.n_measurements))
+    assert np.abs(other - one).max() > 0.1 * w.noise_rms[0]
+
+
+def test_reference_is_the_fully_lit_subaperture_nearest_the_centre():
+    # an obscured pupil (20 %), 8 x 8 on 48 pixels: the subapertures nearest the centre
+    # are vignetted by the obscuration, so the reference lies on the next ring, where
+    # the fully lit one with the smallest |y| is farther out (0.319 m against 0.265 m)
+    n_sub, obsc = 8, 0.2
+    model = LoopModel(_config(n_sub=n_sub, obscuration=obsc, field_samples=2, n_pixels=48))
+    w = model.wfss[0]
+    dx = model.geometry.dx
+    f = w.n_pupil
+    centres = _centres(w, n_sub, 1.0)
+    off = ((np.arange(f) + 0.5) / f - 0.5) / n_sub
+    yy, xx = np.meshgrid(off, off, indexing="ij")
+    edge = math.sqrt(2.0) * dx
+    # a ground WFS: every sub-direction's beam lights the same samples (no footprint shift)
+    r = np.hypot(centres[:, 0, None] + xx.ravel(), centres[:, 1, None] + yy.ravel())
+    full = ((r <= 0.5 - edge) & (r >= obsc * 0.5 + edge)).all(axis=1)
+    dist = np.hypot(centres[:, 0], centres[:, 1])
+    assert full.any() and not full[np.argmin(dist)]      # the nearest is vignetted
+    ref = w.reference_subaperture
+    assert full[ref]
+    # (which of the ring's equidistant subapertures is taken is float rounding's choice)
+    assert dist[ref] == pytest.approx(dist[full].min(), rel=1e-12)
+
+
+def test_aot_record_is_a_shack_hartmann_with_the_tracker_last(on_axis):
+    model, w = on_axis
+    wcfg = model.config.wfss[0]
+    n = w.n_valid_subapertures
+    meas = np.arange(3.0 * w.n_measurements).reshape(3, w.n_measurements)
+    kind = sensor_kind("correlating")
+    layout = kind.aot_layout(w, meas)
+    # (x..., y..., tracker x, tracker y) -> (T, 2, n + 1), the tracker last on each axis
+    assert layout.shape == (3, 2, n + 1)
+    np.testing.assert_array_equal(layout[:, 0, :n], meas[:, :n])
+    np.testing.assert_array_equal(layout[:, 1, :n], meas[:, n:2 * n])
+    np.testing.assert_array_equal(layout[:, :, n], meas[:, 2 * n:])
+    spec = kind.aot_record(model, 0, wcfg, layout)
+    assert spec.kind == "shack-hartmann" and spec.n_valid_subapertures == n + 1
+    assert spec.extra["kind"] == "correlating"
+    assert spec.extra["pixel_scale"] == 0.5 and spec.extra["image_formation"] is True
+    assert spec.extra["note"] == (
+        "correlating SH on granulation: Z-tilts less their mean; the last entry of each "
+        "axis is the correlation tracker's global tilt (no subaperture in the mask)")
+    # the geometric SH's entries are kept beside the kind's own
+    assert spec.extra["n_subapertures"] == 4 and spec.extra["drives"] == "dm0"
+
+
+@pytest.mark.parametrize("changes,pixel_scale", [
+    (dict(image_formation=False, field_samples=3), 0.5),     # linear: one patch
+    (dict(field_samples=3), 0.5),                    # 5 x 5 patches
+    (dict(field_samples=5), 0.5),                    # 9 capped at 32 px // 4 = 8
+    (dict(n_sub=16, image_formation=False), 0.5),    # a 2-pixel pitch
+    (dict(field_samples=2), 0.3),
+])
+def test_estimate_sampling_is_the_built_sensors(changes, pixel_scale):
+    cfg = _config(**changes)
+    cfg = cfg.replace(wfss=(dataclasses.replace(cfg.wfss[0], pixel_scale=pixel_scale),))
+    model = LoopModel(cfg)
+    w = model.wfss[0]
+    im = w.imager
+    got = correlating_sensor._sampling(cfg, 0, model.geometry.dx)
+    assert got == (w.n_pupil, im.support, im.psf_pixels * im.psf_subsampling, im.n_patches)
+    assert len(im.directions_arcsec) == im.n_patches ** 2
+
+
+@pytest.mark.parametrize("changes", [dict(field_samples=2),
+                                     dict(image_formation=False, n_sub=8, n_pixels=48)])
+def test_estimate_counts_are_their_definitions(changes):
+    cfg = _config(**changes)
+    model = LoopModel(cfg)
+    w, g = model.wfss[0], model.geometry
+    n_planes, f = len(g.planes), w.n_pupil
+    cost = correlating_sensor._cost(cfg, 0, n_planes, g.dx)
+    n = cfg.wfss[0].n_subapertures
+    disc = math.pi / 4.0 * n ** 2
+    assert disc == pytest.approx(w.n_valid_subapertures, rel=0.15)
+    assert cost.n_measurements == pytest.approx(2.0 * disc + 2.0, rel=1e-12)
+    base = n_planes * disc * f * f * 6
+    if not cfg.wfss[0].image_formation:
+        assert cost.build_entries == pytest.approx(base, rel=1e-12)
+        assert cost.frame_seconds == 0.0
+        return
+    stored = sum(op.nnz for op in w._image_ops)
+    assert stored == w.imager.n_patches ** 2 * n_planes * w.n_valid_subapertures * f * f * 4
+    assert cost.build_entries == pytest.approx(base + stored * disc / w.n_valid_subapertures,
+                                               rel=1e-12)
+    im = w.imager
+    images = disc * im.n_patches ** 2
+    assert cost.frame_seconds == pytest.approx(
+        correlating_sensor._SECONDS_PER_IMAGE_OP * images * im.support ** 2
+        * im.psf_pixels * im.psf_subsampling, rel=1e-12)
+    assert cost.frame_key == "wfss[0].image_formation"
+
+
+@pytest.mark.parametrize("image_formation", [False, True])
+def test_forward_adds_the_draws_scaled_by_the_noise_rms(image_formation, on_axis):
+    # the documented contract: the linear mode adds noise_rms x draws to every
+    # measurement; the imaging mode seeds its images' noise with the draws and adds
+    # noise_rms x draws to the two tracker rows only
+    if image_formation:
+        model, w = on_axis
+    else:
+        model = LoopModel(_config(image_formation=False))
+        w = model.wfss[0]
+    rng = np.random.default_rng(9)
+    maps = [rng.standard_normal((p.n, p.n)) for p in model.geometry.planes]
+    draws = rng.standard_normal(w.n_measurements)
+    n = w.n_valid_subapertures
+    clean = w.forward(maps)
+    noisy = w.forward(maps, draws)
+    assert np.all(w.noise_rms > 0)
+    if not image_formation:
+        np.testing.assert_allclose(noisy, clean + w.noise_rms * draws, rtol=0,
+                                   atol=1e-12 * np.abs(noisy).max())
+        return
+    np.testing.assert_array_equal(noisy[:2 * n], w.image_slopes(maps, draws))
+    assert np.abs(noisy[:2 * n] - clean[:2 * n]).max() > 0
+    np.testing.assert_allclose(noisy[2 * n:], clean[2 * n:] + w.noise_rms[2 * n:] * draws[2 * n:],
+                               rtol=0, atol=1e-12 * np.abs(noisy).max())
+
+
+def test_tracker_sees_the_configured_signal():
+    # "the tracker: its own image ... at the same pixel scale and signal" (module
+    # docstring): its pixels hold the configured signal, and its photon-noise-limited
+    # shift error falls as 1 / sqrt(signal) (Michau et al. 1992): 2x from 1000 to 4000 e-
+    noise = {}
+    for signal in (1000.0, 4000.0):
+        cfg = _config(image_formation=False)
+        cfg = cfg.replace(wfss=(dataclasses.replace(cfg.wfss[0], signal=signal),))
+        w = LoopModel(cfg).wfss[0]
+        assert w.tracker.electrons_per_pixel == pytest.approx(signal, rel=1e-9)
+        assert w.imager.electrons_per_pixel == pytest.approx(signal, rel=1e-9)
+        noise[signal] = w.tracker_noise_pixels
+    np.testing.assert_allclose(noise[1000.0] / noise[4000.0], 2.0, rtol=0.05)
