@@ -577,7 +577,7 @@ def test_main_help(capsys):
     out = " ".join(capsys.readouterr().out.split())
     assert out.startswith("usage: python -m paper_figures.fig6_compression [-h] "
                           "[--out OUT] [--overwrite] [--quick]")
-    for text in ("Regenerate Figure 6 (compression x prediction).",
+    for text in ("[--quick] Regenerate Figure 6 (compression x prediction). options:",
                  "--out OUT output directory", "--overwrite replace an existing figure",
                  "--quick fewer mode counts"):
         assert text in out

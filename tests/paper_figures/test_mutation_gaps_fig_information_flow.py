@@ -226,6 +226,17 @@ def test_config_quick_samples_the_field_sparsely():
         dataclasses.replace(w, field_samples=0) for w in full.wfss]
 
 
+def test_config_quick_keeps_the_presets_field_size(monkeypatch):
+    # table1-wind's field is FieldConfig's default 120"; a preset with another size keeps it
+    from closedloop.config import FieldConfig
+
+    cfg = presets.get("table1-wind")
+    other = cfg.replace(field=FieldConfig(size=60.0, n_points=cfg.field.n_points))
+    monkeypatch.setattr(presets, "get", lambda name: other if name == "table1-wind" else None)
+    assert fig8._config(True).field.size == 60.0
+    assert fig8._config(False) is other
+
+
 def test_table1_wind_pol_cuts_both_logs_at_the_closure(monkeypatch):
     dm0 = _log(20, 5)
     dm1 = ModalLog(np.asarray(dm0.coeffs) + 100.0, rate=500.0)
@@ -456,19 +467,21 @@ def test_table_rows_word_for_word():
 
 
 def test_cross_sensor_count_counts_both_directions():
-    # extra:Z2 -> Z2 and Z2 -> extra:Z2 both cross; Z2 -> Z3 and extra:Z2 -> extra:Z3 do not
+    # extra:Z2 -> Z2 (upper to ground) and Z2 -> extra:Z3 (ground to upper) cross, Z2 -> Z3
+    # does not: 2 of 3 (a count of the links within one WFS would give 1, a count of
+    # the links into the upper WFS 1)
     te, p = _blank(4, 1, 0.0625)
     labels = ("Z2", "Z3", "extra:Z2", "extra:Z3")
-    for j, i, v in ((2, 0, 0.5), (0, 2, 0.375), (0, 1, 0.25), (2, 3, 0.125)):
+    for j, i, v in ((2, 0, 0.5), (0, 1, 0.25), (0, 3, 0.125)):
         te[j, i, 0], p[j, i, 0] = v, 0.01
     fs = fig8.FlowSet("table1-wind", "d", 100.0, _map(labels, (1,), te, p, [0.1], 9), 1.0)
     (row,) = fig8.table_rows(fig8.FigureFlow((fs,), False, 0.0, 0.0))
-    assert row[2] == ("4 of 12 pairs; strongest extra:Z2 -> Z2 at 10 ms (0.5000 nats); "
+    assert row[2] == ("3 of 12 pairs; strongest extra:Z2 -> Z2 at 10 ms (0.5000 nats); "
                       "2 between the two WFSs")
     # the count is for the table1-wind set only
     fs2 = fig8.FlowSet("other", "d", 100.0, fs.flow, 1.0)
     assert fig8.table_rows(fig8.FigureFlow((fs2,), False, 0.0, 0.0))[0][2] == (
-        "4 of 12 pairs; strongest extra:Z2 -> Z2 at 10 ms (0.5000 nats)")
+        "3 of 12 pairs; strongest extra:Z2 -> Z2 at 10 ms (0.5000 nats)")
 
 
 # ---- make and the command line ---------------------------------------------------------
@@ -529,7 +542,7 @@ def test_main_help(capsys):
     out = " ".join(capsys.readouterr().out.split())
     assert out.startswith("usage: python -m paper_figures.fig_information_flow [-h] "
                           "[--out OUT] [--overwrite] [--quick]")
-    assert "Figure 8: information flow between modes." in out
+    assert "[--quick] Figure 8: information flow between modes. options:" in out
     for text in ("--out OUT output directory", "--overwrite replace an existing figure",
                  "--quick shorter logs and run"):
         assert text in out
