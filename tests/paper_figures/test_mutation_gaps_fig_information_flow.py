@@ -302,12 +302,15 @@ def test_plot_files_and_layout(drawn):
                for r in range(3))
     cbars = fig.axes[6:]
     for r, cb in enumerate(cbars):
-        # a colour bar beside its map: fraction 0.046 of the map's width
+        # a colour bar of the map's image, cut from the map's cell (fraction 0.046 of it),
+        # between the map and the lines panel
+        assert cb._colorbar.mappable is grid[2 * r].images[0]
+        spec = cb.get_subplotspec()
+        assert spec.get_topmost_subplotspec() == grid[2 * r].get_subplotspec(
+        ).get_topmost_subplotspec()
+        assert spec.get_gridspec().get_width_ratios()[-1] == pytest.approx(0.046)
         m = grid[2 * r].get_position()
-        assert cb.get_position().x0 > m.x0
-        assert abs(cb.get_position().y0 - m.y0) < 0.2
-        assert cb.get_position().width < 0.1 * m.width + 1e-9
-        assert cb.get_position().width > 0.02 * m.width
+        assert m.x1 < cb.get_position().x0 < grid[2 * r + 1].get_position().x0
 
     # ---- row 0 (map A, 500 Hz): the map panel
     ax = grid[0]
