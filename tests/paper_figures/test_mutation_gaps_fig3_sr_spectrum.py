@@ -330,7 +330,10 @@ def test_plot_title_without_quick(tmp_path):
         return savefig(self, fname, *args, **kwargs)
 
     runs = _runs()
-    small = ClosedLoopRuns(**{**runs.__dict__, "runs": {"none": runs.runs["none"]}})
+    # a predictor of the user's without a style: matplotlib's defaults
+    mine = PredictorRun(**{**runs.runs["oracle"].__dict__, "name": "my-own"})
+    small = ClosedLoopRuns(**{**runs.__dict__, "runs": {"none": runs.runs["none"],
+                                                        "my-own": mine}})
     mp = pytest.MonkeyPatch()
     mp.setattr(Figure, "savefig", recording)
     try:
@@ -340,3 +343,54 @@ def test_plot_title_without_quick(tmp_path):
     assert paths == [tmp_path / "fig3_sr_spectrum.png", tmp_path / "fig3_sr_spectrum.pdf"]
     (ax,) = figures["fig3_sr_spectrum.png"].axes
     assert ax.get_title() == "Figure 3: SR-peak oscillations after loop closure (Welch)"
+    assert [ln.get_label() for ln in ax.get_lines()[:2]] == ["no prediction", "my-own"]
+
+
+def _with_powers(runs, p50, phigh):
+    # band powers written by hand: 55 / 50 and 11 / 10 are the double nearest 1.1
+    return fig3.Figure3(runs=runs, power_50=p50, power_high=phigh)
+
+
+def test_amplified_is_strictly_above_1_1_in_either_band():
+    runs = _runs()
+    keep = ClosedLoopRuns(**{**runs.__dict__, "runs": {k: runs.runs[k]
+                                                       for k in ("none", "oracle")}})
+    for p50, phigh in (((50.0, 55.0), (10.0, 10.0)), ((50.0, 50.0), (10.0, 11.0))):
+        f = _with_powers(keep, dict(zip(("none", "oracle"), p50, strict=True)),
+                         dict(zip(("none", "oracle"), phigh, strict=True)))
+        assert "Of the 1 runs that keep the loop, 0 raise the power" in fig3.report(f)
+    # amplified at ~50 Hz only (x1.5), then above 70 Hz only
+    for p50, phigh in (((50.0, 75.0), (10.0, 10.0)), ((50.0, 50.0), (10.0, 15.0))):
+        f = _with_powers(keep, dict(zip(("none", "oracle"), p50, strict=True)),
+                         dict(zip(("none", "oracle"), phigh, strict=True)))
+        assert ("Of the 1 runs that keep the loop, 1 raise the power in at least one band by "
+                "more than 10 % (oracle (true future)).") in fig3.report(f)
+
+
+def test_lists_of_several_runs():
+    runs = _runs()
+    lost = runs.runs["nn-paper"]
+    nn = PredictorRun(**{**lost.__dict__, "name": "nn"})
+    both = ClosedLoopRuns(**{**runs.__dict__, "runs": {"none": runs.runs["none"],
+                                                       "linear": runs.runs["linear"],
+                                                       "arma": runs.runs["arma"],
+                                                       "nn-paper": lost, "nn": nn}})
+    names = ("none", "linear", "arma", "nn-paper", "nn")
+    # linear and ARMA as the paper says: reduced / damped at ~50 Hz, reduced above 70 Hz
+    f = _with_powers(both, dict(zip(names, (40.0, 30.0, 10.0, 1.0, 1.0), strict=True)),
+                     dict(zip(names, (40.0, 30.0, 30.0, 1.0, 1.0), strict=True)))
+    text = fig3.report(f)
+    assert ("paper's description: linear (a=2, b=-1), ARMA(2,3). Of the 2 runs that keep "
+            "the loop") in text
+    assert ("an SR near zero): NN (paper, 10 patterns), NN 10-10-1, 2000 patterns. The "
+            "SR-peak") in text
+
+
+def test_spectral_peak_strictly_above_20_hz():
+    runs = _runs()
+    f = np.array([0.0, 10.0, 20.0, 20.75, 30.0])
+    none = PredictorRun(**{**runs.runs["none"].__dict__, "spectrum_freqs": f,
+                           "spectrum_psd": np.array([5.0, 9.0, 8.0, 7.0, 1.0])})
+    text = fig3.report(fig3.compute(ClosedLoopRuns(**{**runs.__dict__,
+                                                      "runs": {"none": none}})))
+    assert "spectrum peaks at 21 Hz." in text
