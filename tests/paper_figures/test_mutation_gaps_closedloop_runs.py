@@ -84,6 +84,7 @@ def test_configs(monkeypatch):
 
 def test_loop_predictor_overrides():
     assert cr._loop_predictor("nn-paper", 7).predictor.max_iter == 7
+    assert cr._loop_predictor("nn", 7.0).predictor.max_iter == 7
     assert type(cr._loop_predictor("nn", 7.0).predictor.max_iter) is int
     assert cr._loop_predictor("nn", None).predictor.max_iter == 100   # the forecaster's own
     assert cr._loop_predictor("arma-aic", 7, 2).predictor.max_order == 2
@@ -323,3 +324,24 @@ Total 43 s.{quick}
 ])
 def test_report_section_word_for_word(quick, notes, text):
     assert cr.report_section(_section_runs(quick, notes), 42.6) == SECTION.format(quick=text)
+
+
+def test_budget_sentence_without_a_budget_or_a_matching_grid():
+    runs = _section_runs(False, {})
+    assert cr.budget_sentence(runs) == ("(no error budget was estimated for this run)", {})
+    # budget directions that are not the science grid's (3 against a 2 x 2 map): the
+    # first direction, not the map's best cell
+    smap = np.array([[0.1, 0.2], [0.4, 0.3]])
+    none = cr.PredictorRun(**{**runs.runs["none"].__dict__, "strehl_map": smap})
+    b = {"directions": np.array([[-5.0, 0.0], [0.0, 0.0], [5.0, 0.0]]),
+         "fitting": np.array([0.25, 0.5, 0.5]), "aliasing": np.array([0.125, 0.5, 0.5]),
+         "temporal": np.array([0.125, 0.5, 0.5]), "noise": np.array([0.0, 0.5, 0.5]),
+         "measured": np.array([0.5, 1.0, 1.0])}
+    other = cr.ClosedLoopRuns(**{**runs.__dict__, "runs": {"none": none}, "budget": b})
+    _, nums = cr.budget_sentence(other)
+    assert nums["direction"] == (-5.0, 0.0) and nums["temporal"] == 0.125
+    # the science grid's 4 directions: the map's best cell (index 2)
+    b4 = {k: np.append(v, v[-1:], axis=0) for k, v in b.items()}
+    b4["temporal"] = np.array([0.125, 0.5, 0.25, 0.5])
+    grid = cr.ClosedLoopRuns(**{**runs.__dict__, "runs": {"none": none}, "budget": b4})
+    assert cr.budget_sentence(grid)[1]["temporal"] == 0.25
