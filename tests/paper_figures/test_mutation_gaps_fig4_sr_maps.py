@@ -187,6 +187,12 @@ def test_report_word_for_word(result):
             "cell, from 0.50' without prediction."),
     (1.0, "Prediction enlarges d by up to +0.50' (linear (a=2, b=-1)), from 0.50' without "
           "prediction."),
+    # 127/256' = 0.496': below one cell (0.5'), if only just
+    (0.5 + 127 / 256, "Prediction moves d by at most +0.50' (linear (a=2, b=-1)), less than "
+                      "a grid cell, from 0.50' without prediction."),
+    # every predictor below no prediction: the best of them, not no prediction itself
+    (0.25, "Prediction moves d by at most -0.25' (linear (a=2, b=-1)), less than a grid "
+           "cell, from 0.50' without prediction."),
 ])
 def test_report_verdict_at_one_cell(d_linear, verdict):
     runs = _runs(("none", "linear"), budget=False, none=_run("none", d=0.5),
