@@ -232,10 +232,14 @@ def drawn(tmp_path_factory):
         paper = out / "paper"
         paper.mkdir()
         paths = fig4.plot(fig4.compute(_runs(("none", "linear", "arma", "nn-paper"))), paper)
+        # no prediction and the oracle alone: the oracle's column makes it 3 columns
+        two = out / "two"
+        two.mkdir()
+        fig4.plot(fig4.compute(_runs(("none", "oracle"))), two)
     finally:
         mp.undo()
-    figures, small = dict(saved[:2]), dict(saved[2:])
-    return out, text, figures, paths, small
+    figures, small = dict(saved[:2]), dict(saved[2:4])
+    return out, text, figures, paths, small, saved[4][1]
 
 
 def _contours(ax):
@@ -247,7 +251,7 @@ def _contours(ax):
 def test_plot_read_back(drawn):
     # one test reads everything back: mutmut runs a plot mutant only with the tests that
     # called plot (the fixture's first user), see docs/MUTATION.md
-    out, text, figures, paths, small = drawn
+    out, text, figures, paths, small, two = drawn
     assert text == fig4.report(fig4.compute(_runs(quick=True)))
     assert paths == [out / "paper" / "fig4_sr_maps.png", out / "paper" / "fig4_sr_maps.pdf"]
     assert (out / "fig4_sr_maps.pdf").read_bytes()[:5] == b"%PDF-"
@@ -320,3 +324,8 @@ def test_plot_read_back(drawn):
     assert [ax.get_title() for ax in fig.axes[:4]] == [
         "no prediction", "linear (a=2, b=-1)", "ARMA(2,3)", "NN (paper, 10 patterns)"]
     assert len(fig.axes) == 5
+    # no prediction and the oracle: 2 x 3, no prediction upper left, the oracle upper right
+    assert tuple(two.get_size_inches()) == pytest.approx((12.6, 7.6))
+    assert [ax.get_title() for ax in two.axes[:6]] == ["no prediction", "", "oracle (true "
+                                                       "future)", "", "", ""]
+    assert [ax.axison for ax in two.axes[:6]] == [True, False, True, False, False, False]
