@@ -198,6 +198,11 @@ def test_table_rows_branches():
                                              if k != "multivariate"})
     (_, row1) = fig6.table_rows(f)
     assert row1[2] == "n = 27 (every ordering, SR peak 0.625)"
+    # the same n for every ordering at different SRs: still "every ordering"
+    for k, o in enumerate(ORDS):
+        flat[(True, o, "arma")] = np.array([0.125, 0.25, 0.375, 0.5 + 0.125 * k])
+    f2 = dataclasses.replace(f, study=dataclasses.replace(f.study, strehl_peak=flat))
+    assert fig6.table_rows(f2)[1][2] == "n = 27 (every ordering, SR peak 1.000)"
     assert row1[3] == "the modelled delay grows with n and moves the optimum"
     # an odd number of mode counts: the middle one
     study = dataclasses.replace(_study(), n_values=np.array([3, 6, 10]),
@@ -371,6 +376,7 @@ def test_compute_contract(monkeypatch, quick):
     assert cfg_b == cfg and duration == 0.6
     assert kw == {"model": model, "seed": 4, "progress": False}
     ((cfg_c, cands), kw), = screen.calls
+    assert cfg_c == cfg
     assert cands == (("linear", "multivariate") if quick else ("linear", "arma", "multivariate"))
     assert kw == {"duration": 0.6, "seed": 4, "model": model, "reference": reference}
     # the best screened predictor: arma (0.75), not the oracle (0.875)
@@ -403,16 +409,26 @@ def test_compute_contract(monkeypatch, quick):
 
 
 def test_compute_var_is_best_once(monkeypatch):
+    # no prediction (0.75) above every predictor is still not "the best predictor"
     monkeypatch.setattr(closedloop, "LoopModel", _Recorder(None))
     monkeypatch.setattr(closedloop, "simulate", _Recorder(None))
-    monkeypatch.setattr(comp, "predictor_screen", _Recorder({"none": 0.5, "linear": 0.5,
-                                                             "multivariate": 0.625}))
-    monkeypatch.setattr(comp, "compression_study", _Recorder(_study()))
+    monkeypatch.setattr(comp, "predictor_screen", _Recorder({"none": 0.75, "linear": 0.5,
+                                                             "multivariate": 0.625,
+                                                             "oracle": 1.0}))
+    study = _Recorder(_study())
+    monkeypatch.setattr(comp, "compression_study", study)
     scaling = _Recorder(lambda n, predictor=None: np.ones(len(n)))
     monkeypatch.setattr(comp, "rtc_scaling", scaling)
     f = fig6.compute(quick=True)
     assert [c[1]["predictor"] for c in scaling.calls] == [None, "multivariate"]
     assert list(f.scaling_time) == ["none", "multivariate"]
+    assert [c[1]["predictor"] for c in study.calls] == ["multivariate"]
+    assert [c[1]["seed"] for c in study.calls] == [0]
+    # the defaults: the full study (all mode counts and the slow RTC), seed 0
+    study.calls.clear()
+    fig6.compute()
+    assert [c[1]["n_values"] for c in study.calls] == [(3, 6, 10, 15, 21, 27), (6, 15, 27)]
+    assert [c[1]["seed"] for c in study.calls] == [0, 0]
 
 
 # ---- plot: read back ---------------------------------------------------------------------
@@ -549,6 +565,8 @@ def test_make_and_main(tmp_path, monkeypatch, capsys, fake_compute):
     assert fig6.make(tmp_path, quick=True, seed=2) == _expected_report(quick=True)
     assert fake_compute.calls == [((), {"quick": True, "seed": 2})]
     assert fig6.plot.calls[0][0][1] == tmp_path
+    drawn_fig = fig6.plot.calls[0][0][0]
+    assert isinstance(drawn_fig, fig6.Figure6) and drawn_fig.quick is True
     fake_compute.calls.clear()
     assert fig6.make(tmp_path) == _expected_report()
     assert fake_compute.calls == [((), {"quick": False, "seed": 0})]
