@@ -142,6 +142,23 @@ def test_crossing_on_power_laws():
     assert falling.extrapolated_crossing("none", 1e-3) == math.inf
 
 
+def test_extrapolation_only_beyond_the_measured_sizes():
+    # not a power law: 27, 54, 216 us at 27, 54, 108 modes (slope 1, then 2); 40 us is
+    # reached within the first segment, at 40 modes (the last two points' law: 46.5)
+    f = _figure()
+    f = dataclasses.replace(f, scaling_time={"none": np.array([27.0, 54.0, 216.0]) * 1e-6})
+    assert f.extrapolated_crossing("none", 40e-6) == pytest.approx(40.0, rel=1e-12)
+
+
+def test_synergy_reads_the_fixed_delay_runs():
+    # the latency-model tables zeroed: the synergy of the fixed-delay runs is unchanged
+    study = _study()
+    peak = {k: (v * 0.0 if k[0] else v) for k, v in study.strehl_peak.items()}
+    f = _figure(study=dataclasses.replace(study, strehl_peak=peak))
+    assert fig6.synergy(f, 6) == fig6.synergy(_figure(), 6)
+    assert fig6.synergy(f, 6)["mi_ordering"] == "kl-mi"
+
+
 def test_latency_binds_only_when_a_delay_differs():
     assert _figure().latency_binds() is False
     bind = {"none": np.full(4, STEP), "arma": np.array([STEP, STEP, STEP, 5.625e-4])}
