@@ -330,6 +330,29 @@ def test_report_crossings_within_the_range():
             "reached at about 50 modes): for DKIST") in text
 
 
+def test_report_half_a_delay_step_between_measured_sizes():
+    # not a power law: the VAR(4) step 20, 100, 600 us at 27, 54, 108 modes; between two
+    # sizes the cost follows the power law through them: n = n0 (t / t0)^(ln 2 / ln(t1/t0))
+    f = _figure()
+    f = dataclasses.replace(f, scaling_time={**f.scaling_time, "multivariate":
+                                             np.array([20.0, 100.0, 600.0]) * 1e-6})
+    half = 27 * (31.25 / 20) ** (math.log(2) / math.log(5))        # 32.7: half a step
+    frame = 54 * (500 / 100) ** (math.log(2) / math.log(6))       # 100.7: one frame
+    assert (f"{half:.0f}", f"{frame:.0f}") == ("33", "101")
+    assert (f"reaches half a delay step at about {half:.0f} modes and a whole 0.5 ms frame "
+            f"at about {frame:.0f} modes") in fig6.report(f)
+
+
+def test_report_tables_are_the_fixed_delay_runs():
+    # the latency-model tables zeroed: the two SR tables of the report are unchanged
+    study = _study()
+    zero = {k: (v * 0.0 if k[0] else v) for k, v in study.strehl_peak.items()}
+    zero_f = {k: (v * 0.0 if k[0] else v) for k, v in study.strehl_field.items()}
+    text = fig6.report(_figure(study=dataclasses.replace(study, strehl_peak=zero,
+                                                         strehl_field=zero_f)))
+    assert _sr_table(0.0, True) in text and _sr_table(0.125, False) in text
+
+
 def test_report_binding_latency_and_slow_rtc():
     bind = {"none": np.full(4, STEP), "arma": np.array([STEP, STEP, 6.25e-4, 7.5e-4])}
     text = fig6.report(_figure(study=_study(delay=bind), slow=_slow()))
