@@ -93,6 +93,26 @@ def test_illumination_and_validity():
     assert np.allclose(g, g.T, atol=0) and np.linalg.eigvalsh(g)[0] > 0
 
 
+def test_illumination_at_a_straight_pupil_edge():
+    # the documented illumination: the share of an actuator's influence volume on the
+    # pupil. Half-plane pupil (x < 0) on 24 pixels, actuators every 3 pixels with one
+    # on the edge (x = 0): mirror symmetry gives that one exactly 1/2, a quarter-plane
+    # pupil 1/4 (separable Gaussian), and two actuators mirrored about the edge
+    # complementary shares summing to 1 (rows whose supports stay on the grid)
+    n = 24
+    yy, xx = np.mgrid[0:n, 0:n]
+    kw = dict(coupling=0.35, threshold=0.01)
+    half = InfluenceFunctions(MaskedPupil(xx < n // 2, diameter=1.0), 5, 3.0 / n, **kw)
+    ill = half.illumination.reshape(5, 5)
+    assert np.array_equal(half.positions[12], [0.0, 0.0])
+    assert ill[2, 2] == pytest.approx(0.5, rel=1e-12)
+    assert ill[1:4, 1] + ill[1:4, 3] == pytest.approx(np.ones(3), rel=1e-12)
+    assert ill[2, 1] > 0.9 and ill[2, 3] < 0.1  # and not both near 1/2
+    quarter = InfluenceFunctions(MaskedPupil((xx < n // 2) & (yy < n // 2), diameter=1.0), 5,
+                                 3.0 / n, **kw)
+    assert quarter.illumination.reshape(5, 5)[2, 2] == pytest.approx(0.25, rel=1e-12)
+
+
 def test_bad_inputs_named():
     p = Pupil(16, 1.0)
     with pytest.raises(ValueError, match="coupling"):

@@ -2,12 +2,16 @@
 
 Reference: the same numbers from :func:`modalinfo.forecast.evaluate` called directly on
 the log loaded with ``modalinfo.io.load`` (JSON output compared value by value), and
-the dispatcher's documented exit status 2 with a one-line error on bad input.
+the dispatcher's documented exit status 2 with a one-line error on bad input. The
+printed table's baselines are recomputed with NumPy from the file (persistence
+``x[t + h] - x[t]`` and the training mean, over the forecast origins written out), and
+each gain is the ratio of printed RMSEs.
 """
 
 import json
 
 import numpy as np
+import pytest
 
 from modalinfo.cli import main
 from modalinfo.forecast import ARMAPredictor, LinearPredictor, evaluate
@@ -65,3 +69,32 @@ def test_forecast_bad_input_exit_2(tmp_path, capsys):
         assert len(err.strip().splitlines()) == 1
     assert main(["forecast", str(tmp_path / "missing.npz")]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_printed_baselines_are_the_errors_of_the_file(tmp_path, capsys):
+    # whole-wavefront RMSE sqrt(mean over origins of sum over modes e^2); origins t = 399
+    # .. 796 (the last training frame to the last with all 3 horizons ahead: 398), the
+    # forecast of x[t + h] being x[t] (persistence) or the mean of the 400 training
+    # frames. The table prints 4 significant digits (<= 3e-4 relative), gains 2 decimals.
+    path = _log(tmp_path)
+    assert main(["forecast", str(path), "--predictors", "linear", "--modes", "2-4",
+                 "--horizon", "3", "--train", "400"]) == 0
+    out = capsys.readouterr().out
+    assert "398 origins after 400 training frames" in out
+    rows = {}
+    for line in out.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells[0] in ("persistence", "mean", "linear"):
+            rows[cells[0]] = [(float(c.split()[0]), float(c.split("(x")[1].rstrip(")")))
+                              for c in cells[1:]]
+    x = load(path).coeffs[:, :3]
+    t = np.arange(399, 797)
+    mean = x[:400].mean(axis=0)
+    for h in (1, 2, 3):
+        persistence = np.sqrt(np.mean(np.sum((x[t + h] - x[t]) ** 2, axis=1)))
+        climatology = np.sqrt(np.mean(np.sum((x[t + h] - mean) ** 2, axis=1)))
+        assert rows["persistence"][h - 1] == pytest.approx((persistence, 1.0), rel=1e-3)
+        assert rows["mean"][h - 1][0] == pytest.approx(climatology, rel=1e-3)
+        for name in ("mean", "linear"):
+            rmse, gain = rows[name][h - 1]
+            assert gain == pytest.approx(rows["persistence"][h - 1][0] / rmse, abs=0.006)

@@ -86,6 +86,29 @@ def test_fitting_error_plot_and_table(log_path, tmp_path, capsys):
     assert "exists; pass --overwrite" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("units, per_rad2", [("rad2", 1.0), ("waves2", 1 / (2 * np.pi) ** 2)])
+def test_fitting_error_prints_the_parseval_curve(log_path, capsys, units, per_rad2):
+    # Parseval for Noll's orthonormal Zernikes in the standard order: dPhi(n) is the sum
+    # over the modes after the first n of the mean square coefficient [rad^2], recomputed
+    # with numpy from the file; 1 wave = 2 pi rad. On a 64-pixel disc the discrete modes
+    # are orthonormal to ~1 %: measured +0.7 % (dPhi(0)) to +1.2 % (n = 5) from the sum;
+    # the table prints 3 significant digits. Hence 3 %, which a 10 % error exceeds.
+    assert main(["fitting-error", str(log_path), "--orderings", "zernike:standard",
+                 "--pupil-pixels", "64", "--error-units", units]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    head = next(line.split() for line in lines if line.startswith("ordering"))
+    row = next(line.split() for line in lines if line.startswith("zernike:standard"))
+    printed = {int(h[2:]): float(v) for h, v in zip(head[1:], row[1:], strict=True)}
+    total = next(line for line in lines if line.startswith("total variance"))
+    printed[0] = float(total.split("=")[1].split()[0])
+    assert total.endswith(units)
+    a = load(log_path).to_units("rad").coeffs
+    tail = np.cumsum(np.mean(a**2, axis=0)[::-1])[::-1]  # tail[n] = sum over k >= n
+    assert set(printed) == {0, 1, 3, 5, 7, 10, 15, 20}
+    for n, value in printed.items():
+        assert value == pytest.approx(tail[n] * per_rad2, rel=0.03), n
+
+
 def test_reorder_stability(log_path, capsys):
     assert main(["reorder", str(log_path), "--method", "variance", "--pupil-pixels", "24",
                  "--stability", "100"]) == 0

@@ -168,6 +168,35 @@ def test_higher_wind_moves_cutoff_up():
     assert 0.7 < pf[at30].mean() / pf[low].mean() < 1.4
 
 
+@pytest.mark.parametrize(("mode", "order"), [(2, 1), (4, 2), (9, 3), (14, 4)])
+def test_model_psd_knee_is_at_the_conan_cutoff(mode, order):
+    # Conan, Rousset & Madec (1995): the knee of radial order n is at f_c = 0.3 (n + 1) v / D
+    # (here 1.5 (n + 1) Hz for v = 10 m/s, D = 2 m), typed in from the paper. 2 % either
+    # side of it, the model is on its low-frequency law (f^-2/3 for n = 1, flat above)
+    # on one side and on f^-17/3 on the other; a knee 10 % off puts one of the two points
+    # on the wrong law (a ratio 0.89 or 1.12 from the one asserted, at rtol 1e-9). The
+    # Welch slope tests above stay 1.5 f_c away from the knee and cannot see this.
+    # The lowest mode of each coupled family alone: the pure shape of its radial order.
+    f_c = 0.3 * (order + 1) * 10.0 / 2.0
+    low_slope = -2.0 / 3.0 if order == 1 else 0.0
+    f = f_c * np.array([0.5, 0.98, 1.02, 2.0])
+    psd = open_loop_psd(f, [mode], diameter=2.0, layers=[Layer(None, 10.0, d_over_r0=3.0)])[:, 0]
+    assert psd[1] / psd[0] == pytest.approx((0.98 / 0.5) ** low_slope, rel=1e-9)
+    assert psd[2] / psd[1] == pytest.approx(0.98 ** -low_slope * 1.02 ** (-17 / 3), rel=1e-9)
+    assert psd[3] / psd[2] == pytest.approx((2.0 / 1.02) ** (-17 / 3), rel=1e-9)
+
+
+def test_model_tilt_psd_saturates_below_v_over_outer_scale():
+    # the module's documented von Karman heuristic: tip/tilt is flat below f_0 = v / L0
+    # (10 m/s / 20 m = 0.5 Hz) and f^-2/3 from f_0 to f_c = 3 Hz
+    f = np.array([0.1, 0.49, 0.51, 1.5])
+    psd = open_loop_psd(f, [2], diameter=2.0, layers=[Layer(None, 10.0, d_over_r0=3.0)],
+                        outer_scale=20.0)[:, 0]
+    assert psd[1] / psd[0] == pytest.approx(1.0, rel=1e-12)
+    assert psd[2] / psd[1] == pytest.approx((0.51 / 0.5) ** (-2 / 3), rel=1e-9)
+    assert psd[3] / psd[2] == pytest.approx((1.5 / 0.51) ** (-2 / 3), rel=1e-9)
+
+
 @pytest.mark.parametrize("outer_scale", [np.inf, 10.0])
 def test_model_psd_integrates_to_the_covariance(outer_scale):
     # The closed-form normalisation of the continuous model against trapezoidal
