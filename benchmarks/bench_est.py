@@ -14,15 +14,22 @@ Usage::
 
     OPENBLAS_NUM_THREADS=1 PYTHONPATH=$PWD python benchmarks/bench_est.py --subapertures 16
     ... --solar --duration 0.1 --high-share 2   # the profile above 5 km doubled
+    ... --subapertures 45 --duration 0.05 --frames 20 --profile 25   # published size
+
+``--profile N`` runs the set-up under cProfile on the CPU clock and prints its N
+largest functions by own time, then by cumulative time, on stderr.
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
 import dataclasses
 import json
 import os
+import pstats
 import resource
+import sys
 import time
 
 import numpy as np
@@ -56,6 +63,10 @@ def main() -> None:
     ap.add_argument("--altitude-pitch", type=float, default=presets.EST_ALTITUDE_PITCH)
     ap.add_argument("--model-error", type=float, default=None,
                     help="loop.model_error of the joint MAP reconstructor (default: the preset's)")
+    ap.add_argument("--memory-limit", type=float, default=None,
+                    help="simulate's memory_limit [GiB] (default: half the available memory)")
+    ap.add_argument("--profile", type=int, default=0,
+                    help="print the set-up's N largest functions (cProfile, CPU clock)")
     args = ap.parse_args()
     config = presets.est_mcao_variant(args.subapertures, solar=args.solar,
                                       altitude_pitch=args.altitude_pitch)
@@ -64,16 +75,30 @@ def main() -> None:
     if args.model_error is not None:
         config = config.replace(loop=dataclasses.replace(config.loop,
                                                          model_error=args.model_error))
+    profiler = cProfile.Profile(time.process_time) if args.profile else None
     t0 = time.process_time()
+    if profiler is not None:
+        profiler.enable()
     model = LoopModel(config)
+    if profiler is not None:
+        profiler.disable()
     setup = time.process_time() - t0
+    if profiler is not None:
+        stats = pstats.Stats(profiler, stream=sys.stderr)
+        stats.sort_stats("tottime").print_stats(args.profile)
+        stats.sort_stats("cumulative").print_stats(args.profile)
+    print(json.dumps({"setup_cpu_s": setup,
+                      "rss_after_setup_gib": resource.getrusage(
+                          resource.RUSAGE_SELF).ru_maxrss / 2**20}), file=sys.stderr,
+          flush=True)
     t0 = time.process_time()
+    limit = None if args.memory_limit is None else args.memory_limit * 2**30
     run = simulate(config, args.duration, seed=args.seed, model=model, progress=False,
-                   budget_every=args.budget_every)
+                   budget_every=args.budget_every, memory_limit=limit)
     with_budget = time.process_time() - t0
     t0 = time.process_time()
     simulate(config, args.frames * config.loop.time_step, seed=args.seed, model=model,
-             progress=False)
+             progress=False, memory_limit=limit)
     per_frame = (time.process_time() - t0) / args.frames
     s = run.summary()
     b = run.budget
