@@ -31,13 +31,9 @@ the largest entry against ``numpy.linalg.pinv`` (``tests/closedloop/test_dense_p
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from scipy import linalg
-from scipy.sparse import linalg as sparse_linalg
 
-__all__ = ["DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "SUBSET_MIN_DIM", "gram_pinv"]
+__all__ = ["DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "gram_pinv"]
 
 #: float64 size [bytes] from which a product runs in float32 (8 MB: beyond a core's L2
 #: and this machine's share of L3, where the product is bound by memory traffic)
@@ -45,12 +41,6 @@ FLOAT32_MIN_BYTES = 8_000_000
 #: float64 size [bytes] of a matrix from which its truncated pseudo-inverse is taken
 #: through its Gram matrix (in loops with ``large_products`` mirrors only)
 GRAM_MIN_BYTES = 8_000_000
-#: columns of a Gram matrix from which :func:`gram_pinv` computes only the eigenpairs above
-#: its cut (MRRR by value) instead of all of them (divide and conquer): above every
-#: single-WFS reconstructor of the presets (at most 1,500 modes, most of them kept,
-#: where MRRR for most pairs costs 2.7x divide and conquer), reached by the joint MAP
-#: of the full-size EST presets (4,881 modes, 754 kept)
-SUBSET_MIN_DIM = 3_000
 
 
 def gram_pinv(a: np.ndarray, cut) -> tuple[np.ndarray, int]:
@@ -61,52 +51,24 @@ def gram_pinv(a: np.ndarray, cut) -> tuple[np.ndarray, int]:
     a : (m, n) ndarray
         The matrix (float64).
     cut : callable
-        ``cut(sv_max) -> threshold``, non-decreasing in ``sv_max``: singular values
-        ``> threshold`` are kept (e.g. ``lambda s0: 1e-3 * s0``, ``numpy.linalg.pinv``'s
-        ``rcond`` rule).
+        ``cut(sv_max) -> threshold``: singular values ``> threshold`` are kept (e.g.
+        ``lambda s0: 1e-3 * s0``, ``numpy.linalg.pinv``'s ``rcond`` rule).
 
     Returns
     -------
     pinv : (n, m) ndarray
         ``V_k S_k^-1 U_k^T`` over the kept singular values.
     n_kept : int
-
-    Notes
-    -----
-    From :data:`SUBSET_MIN_DIM` columns only the eigenpairs above the cut are computed
-    (LAPACK's MRRR, ``dsyevr``, by value): the largest eigenvalue is first bounded from
-    below by a Lanczos estimate (a Ritz value never exceeds it), so the interval asked
-    for, ``(cut(sqrt(estimate))^2, inf)``, holds every kept pair, and the cut is then
-    applied with the exact largest one. The joint MAP of ``est-mcao`` (4,881 modes)
-    keeps 754: the tridiagonal reduction and 754 back-transformed vectors instead of all
-    4,881 (``benchmarks/RESULTS.md``, "klfast"). Smaller matrices keep divide and
-    conquer for every pair (the same bits as before this rule).
     """
     if a.shape[0] < a.shape[1]:  # the smaller Gram matrix: pinv(A) = pinv(A^T)^T
         p, k = gram_pinv(a.T, cut)
         return np.ascontiguousarray(p.T), k
-    gram = a.T @ a
-    if gram.shape[0] >= SUBSET_MIN_DIM:
-        w, v = _eigh_above_cut(gram, cut)
-    else:
-        w, v = np.linalg.eigh(gram)  # ascending
+    w, v = np.linalg.eigh(a.T @ a)  # ascending
     w, v = w[::-1], v[:, ::-1]
     sv = np.sqrt(np.clip(w, 0.0, None))
     keep = sv > cut(sv[0])
     vk = v[:, keep]
     return (vk / w[keep]) @ (vk.T @ a.T), int(keep.sum())
-
-
-def _eigh_above_cut(gram: np.ndarray, cut) -> tuple[np.ndarray, np.ndarray]:
-    """Ascending eigenpairs of ``gram`` whose square roots can pass ``cut`` (see gram_pinv)."""
-    n = gram.shape[0]
-    # deterministic start vector; the Ritz value is a lower bound of the largest eigenvalue
-    top = sparse_linalg.eigsh(gram, k=1, which="LA", v0=np.ones(n), tol=1e-8,
-                              return_eigenvectors=False)[0]
-    low = cut(math.sqrt(max(float(top), 0.0))) ** 2 * (1.0 - 1e-9)
-    if not low > 0.0:  # pragma: no cover - a cut of 0 keeps every pair
-        return np.linalg.eigh(gram)
-    return linalg.eigh(gram, subset_by_value=(low, np.inf), driver="evr")
 
 
 class DenseProduct:
