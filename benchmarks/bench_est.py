@@ -56,7 +56,8 @@ def main() -> None:
     ap.add_argument("--subapertures", type=int, default=presets.EST_REDUCED_SUBAPERTURES)
     ap.add_argument("--solar", action="store_true")
     ap.add_argument("--duration", type=float, default=0.1)
-    ap.add_argument("--budget-every", type=int, default=5)
+    ap.add_argument("--budget-every", type=int, default=5,
+                    help="frames between budget probes (0: no budget)")
     ap.add_argument("--frames", type=int, default=50)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--high-share", type=float, default=1.0)
@@ -94,7 +95,7 @@ def main() -> None:
     t0 = time.process_time()
     limit = None if args.memory_limit is None else args.memory_limit * 2**30
     run = simulate(config, args.duration, seed=args.seed, model=model, progress=False,
-                   budget_every=args.budget_every, memory_limit=limit)
+                   budget_every=args.budget_every or None, memory_limit=limit)
     with_budget = time.process_time() - t0
     t0 = time.process_time()
     simulate(config, args.frames * config.loop.time_step, seed=args.seed, model=model,
@@ -102,7 +103,6 @@ def main() -> None:
     per_frame = (time.process_time() - t0) / args.frames
     s = run.summary()
     b = run.budget
-    axis = int(np.argmin(np.hypot(*b.directions.T)))
     out = {
         "config": config.name, "high_share": args.high_share,
         "altitude_pitch": args.altitude_pitch, "model_error": config.loop.model_error,
@@ -117,9 +117,11 @@ def main() -> None:
         "strehl_peak_mean": s["strehl_peak_mean"], "strehl_field_mean": s["strehl_field_mean"],
         "corrected_fov_diameter_arcsec": 60 * s["corrected_fov_diameter_arcmin"],
         "strehl_map": np.round(run.strehl_map(), 3).tolist(),
-        "budget": {t: {"field_mean": float(np.mean(getattr(b, t))),
-                       "on_axis": float(np.asarray(getattr(b, t))[axis])}
-                   for t in ("fitting", "aliasing", "temporal", "noise", "measured")},
+        "budget": None if b is None else {
+            t: {"field_mean": float(np.mean(getattr(b, t))),
+                "on_axis": float(np.asarray(getattr(b, t))[
+                    int(np.argmin(np.hypot(*b.directions.T)))])}
+            for t in ("fitting", "aliasing", "temporal", "noise", "measured")},
     }
     print(json.dumps(out))
 
