@@ -41,8 +41,9 @@ pair of its masked influence function on its support window (``D`` is Toeplitz o
 pixel grid, so ``D M`` is a convolution with ``D_phi`` on the ``(2N - 1)^2`` lags). The
 complement of piston/tip/tilt is taken with their 1-3 Householder reflectors in the
 whitened space (no ``n x n`` orthogonal matrix). At 4,553 actuators on a 298-pixel
-altitude plane (948 of them cut) the projection takes ~8 s of CPU and the whole build
-~28 s, most of it the eigen-decomposition (``benchmarks/RESULTS.md``, "klfast").
+altitude plane (948 of them cut) the projection takes ~9 s of CPU and the whole build
+~28 s, most of it the eigen-decomposition (``benchmarks/RESULTS.md``, "DM-space K-L
+without FFTs").
 
 Structure function (von Karman; the closed form of the PSD's Hankel transform, e.g.
 Conan 2000, PhD thesis, Universite Paris XI; the tests check it against the integral)::
