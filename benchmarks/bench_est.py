@@ -14,15 +14,22 @@ Usage::
 
     OPENBLAS_NUM_THREADS=1 PYTHONPATH=$PWD python benchmarks/bench_est.py --subapertures 16
     ... --solar --duration 0.1 --high-share 2   # the profile above 5 km doubled
+    ... --subapertures 45 --duration 0.05 --frames 20 --profile 25   # published size
+
+``--profile N`` runs the set-up under cProfile on the CPU clock and prints its N
+largest functions by own time, then by cumulative time, on stderr.
 """
 
 from __future__ import annotations
 
 import argparse
+import cProfile
 import dataclasses
 import json
 import os
+import pstats
 import resource
+import sys
 import time
 
 import numpy as np
@@ -49,15 +56,23 @@ def main() -> None:
     ap.add_argument("--subapertures", type=int, default=presets.EST_REDUCED_SUBAPERTURES)
     ap.add_argument("--solar", action="store_true")
     ap.add_argument("--duration", type=float, default=0.1)
-    ap.add_argument("--budget-every", type=int, default=5)
+    ap.add_argument("--budget-every", type=int, default=5,
+                    help="frames between budget probes (0: no budget)")
     ap.add_argument("--frames", type=int, default=50)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--high-share", type=float, default=1.0)
     ap.add_argument("--altitude-pitch", type=float, default=presets.EST_ALTITUDE_PITCH)
     ap.add_argument("--model-error", type=float, default=None,
                     help="loop.model_error of the joint MAP reconstructor (default: the preset's)")
+<<<<<<< HEAD
     ap.add_argument("--reconstructor", choices=("truncated", "map"), default=None,
                     help="loop.reconstructor, the joint reconstructor (default: the preset's)")
+=======
+    ap.add_argument("--memory-limit", type=float, default=None,
+                    help="simulate's memory_limit [GiB] (default: half the available memory)")
+    ap.add_argument("--profile", type=int, default=0,
+                    help="print the set-up's N largest functions (cProfile, CPU clock)")
+>>>>>>> klfast
     args = ap.parse_args()
     config = presets.est_mcao_variant(args.subapertures, solar=args.solar,
                                       altitude_pitch=args.altitude_pitch)
@@ -66,23 +81,39 @@ def main() -> None:
     if args.model_error is not None:
         config = config.replace(loop=dataclasses.replace(config.loop,
                                                          model_error=args.model_error))
+<<<<<<< HEAD
     if args.reconstructor is not None:
         config = config.replace(loop=dataclasses.replace(config.loop,
                                                          reconstructor=args.reconstructor))
+=======
+    profiler = cProfile.Profile(time.process_time) if args.profile else None
+>>>>>>> klfast
     t0 = time.process_time()
+    if profiler is not None:
+        profiler.enable()
     model = LoopModel(config)
+    if profiler is not None:
+        profiler.disable()
     setup = time.process_time() - t0
+    if profiler is not None:
+        stats = pstats.Stats(profiler, stream=sys.stderr)
+        stats.sort_stats("tottime").print_stats(args.profile)
+        stats.sort_stats("cumulative").print_stats(args.profile)
+    print(json.dumps({"setup_cpu_s": setup,
+                      "rss_after_setup_gib": resource.getrusage(
+                          resource.RUSAGE_SELF).ru_maxrss / 2**20}), file=sys.stderr,
+          flush=True)
     t0 = time.process_time()
+    limit = None if args.memory_limit is None else args.memory_limit * 2**30
     run = simulate(config, args.duration, seed=args.seed, model=model, progress=False,
-                   budget_every=args.budget_every)
+                   budget_every=args.budget_every or None, memory_limit=limit)
     with_budget = time.process_time() - t0
     t0 = time.process_time()
     simulate(config, args.frames * config.loop.time_step, seed=args.seed, model=model,
-             progress=False)
+             progress=False, memory_limit=limit)
     per_frame = (time.process_time() - t0) / args.frames
     s = run.summary()
     b = run.budget
-    axis = int(np.argmin(np.hypot(*b.directions.T)))
     out = {
         "config": config.name, "high_share": args.high_share,
         "altitude_pitch": args.altitude_pitch, "model_error": config.loop.model_error,
@@ -97,9 +128,11 @@ def main() -> None:
         "strehl_peak_mean": s["strehl_peak_mean"], "strehl_field_mean": s["strehl_field_mean"],
         "corrected_fov_diameter_arcsec": 60 * s["corrected_fov_diameter_arcmin"],
         "strehl_map": np.round(run.strehl_map(), 3).tolist(),
-        "budget": {t: {"field_mean": float(np.mean(getattr(b, t))),
-                       "on_axis": float(np.asarray(getattr(b, t))[axis])}
-                   for t in ("fitting", "aliasing", "temporal", "noise", "measured")},
+        "budget": None if b is None else {
+            t: {"field_mean": float(np.mean(getattr(b, t))),
+                "on_axis": float(np.asarray(getattr(b, t))[
+                    int(np.argmin(np.hypot(*b.directions.T)))])}
+            for t in ("fitting", "aliasing", "temporal", "noise", "measured")},
     }
     print(json.dumps(out))
 

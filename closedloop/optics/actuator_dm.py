@@ -72,7 +72,10 @@ __all__ = ["ActuatorDeformableMirror", "ActuatorOptions", "ACTUATORS", "actuator
 PIXELS_PER_PITCH = 2
 #: seconds of CPU per valid actuator cubed to build the K-L modes (Cholesky, whitening,
 #: eigen-decomposition): 3.4 s at 1,584 and 52 s at 4,596 valid actuators on this
-#: machine (docs/CLOSEDLOOP.md, "Actuator DM"); 7e-10 is within a factor 1.6 of both
+#: machine (docs/CLOSEDLOOP.md, "Actuator DM"); 7e-10 is within a factor 1.6 of both.
+#: Since the separable prior projection (benchmarks/RESULTS.md, "DM-space K-L without
+#: FFTs") a 4,553-actuator altitude DM builds in ~28-30 s (estimate 66 s: conservative by
+#: 2.3x at that size; 3.7 s measured at 1,584 against 2.8 s)
 _KL_SECONDS_PER_ACTUATOR3 = 7e-10
 #: dense n_valid x n_valid float64 arrays alive at once while the K-L modes are built,
 #: beyond the Gram matrix (kept: the influence functions cache it) and ``m2c``: the

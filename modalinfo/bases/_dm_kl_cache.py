@@ -39,7 +39,7 @@ CACHE_ENV = "MODALINFO_DM_KL_CACHE"
 #: builds kept in the process (each ~n_valid x n_modes x 8 bytes: 19 MB at 1,584 x 1,500)
 MEMORY_ENTRIES = 4
 #: version of the build's numbers (part of the key)
-VERSION = 2
+VERSION = 3
 
 _memory: OrderedDict[str, tuple[np.ndarray, np.ndarray]] = OrderedDict()
 

@@ -30,15 +30,20 @@ COMPASS (``shesha.ao.basis.compute_KL2V``) build them:
    coma-like modes (turbulence correlates Z2 and Z8): only the block of modes >= 3 is
    diagonal under the prior.
 
-No ``(pixels x pixels)`` matrix is formed: ``D`` is Toeplitz on the pixel grid
-(stationarity), so ``D M`` is, column by column, the convolution of the masked influence
-function with ``D_phi`` sampled on the ``(2N - 1)^2`` lags. Actuators the pupil leaves
-whole are whole-pixel translates of one another within a sub-pixel class: one
-convolution serves a class (with a single class, ``M^T D M`` of its members is read
-from one lag table); each actuator the rim cuts takes one FFT pair on its support
-window. The complement of piston/tip/tilt is taken with their 1-3 Householder
-reflectors in the whitened space (no ``n x n`` orthogonal matrix). At 44 x 44 actuators
-on a 172-pixel pupil the whole build takes ~3 s of CPU (``benchmarks/RESULTS.md``).
+No ``(pixels x pixels)`` matrix is formed. The influence functions are separable,
+``IF_a(x, y) = F[x, ax] F[y, ay]``, and ``D`` depends on the pixel lag only, so between
+two actuators the pupil leaves whole (their support inside the mask)
+``(M^T D M)[a, b] = sum_lx sum_ly c[ax, bx](lx) c[ay, by](ly) D(lx, ly)`` with the 1-D
+correlations ``c[i, j]`` of the factor's columns (``n_across^2`` vectors of ~40 lags):
+~``W`` multiply-adds per pair after a contraction along y per pair of actuator rows, no
+FFT (``_dm_kl_kernels``). Each actuator the rim (or an obscuration) cuts takes one FFT
+pair of its masked influence function on its support window (``D`` is Toeplitz on the
+pixel grid, so ``D M`` is a convolution with ``D_phi`` on the ``(2N - 1)^2`` lags). The
+complement of piston/tip/tilt is taken with their 1-3 Householder reflectors in the
+whitened space (no ``n x n`` orthogonal matrix). At 4,553 actuators on a 298-pixel
+altitude plane (948 of them cut) the projection takes ~9 s of CPU and the whole build
+~28 s, most of it the eigen-decomposition (``benchmarks/RESULTS.md``, "DM-space K-L
+without FFTs").
 
 Structure function (von Karman; the closed form of the PSD's Hankel transform, e.g.
 Conan 2000, PhD thesis, Universite Paris XI; the tests check it against the integral)::
@@ -59,9 +64,9 @@ import math
 
 import numpy as np
 from scipy import fft as sfft
-from scipy import linalg, signal, special
+from scipy import linalg, special
 
-from modalinfo.bases import _dm_kl_cache
+from modalinfo.bases import _dm_kl_cache, _dm_kl_kernels
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.influence import InfluenceFunctions
 from modalinfo.common.validation import as_float_array, check_int, check_real
@@ -112,14 +117,80 @@ def von_karman_structure_function(r, r0: float, outer_scale: float = np.inf) -> 
     return 2.0 * scale * (_VK_B0 - b)
 
 
-def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: float):
+def _whole_actuators(influence: InfluenceFunctions) -> np.ndarray:
+    """Which valid actuators the pupil leaves whole: ``(n_valid,)`` bool.
+
+    An actuator is whole when the rectangle its separable influence function is non-zero
+    on (the factor's support along x times along y, clipped to the grid) lies inside the
+    pupil's mask: its masked influence function is then still the outer product of two
+    columns of the 1-D factor.
+    """
+    mask = np.asarray(influence.pupil.mask)
+    lo, hi = _factor_support(influence.factor)
+    n_across = influence.n_actuators
+    grid = influence.valid_index
+    ay, ax = grid // n_across, grid % n_across
+    # summed-area table: the count of mask pixels in any rectangle in O(1)
+    area = np.zeros((mask.shape[0] + 1, mask.shape[1] + 1), dtype=np.int64)
+    area[1:, 1:] = np.cumsum(np.cumsum(mask, axis=0), axis=1)
+    y0, y1, x0, x1 = lo[ay], hi[ay] + 1, lo[ax], hi[ax] + 1
+    inside = area[y1, x1] - area[y0, x1] - area[y1, x0] + area[y0, x0]
+    return inside == (y1 - y0) * (x1 - x0)
+
+
+def _factor_support(factor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """First and last pixel of each column's non-zero support (``0, 0`` for a zero column)."""
+    nonzero = factor != 0.0
+    any_ = nonzero.any(axis=0)
+    lo = np.where(any_, np.argmax(nonzero, axis=0), 0).astype(np.int64)
+    hi = np.where(any_, factor.shape[0] - 1 - np.argmax(nonzero[::-1], axis=0),
+                  0).astype(np.int64)
+    return lo, hi
+
+
+def _separable_block(influence: InfluenceFunctions, r0: float, outer_scale: float,
+                     members: np.ndarray, g_d: np.ndarray) -> None:
+    """``M^T D M`` of the whole actuators ``members`` written into ``g_d`` (both triangles).
+
+    ``sum_lx sum_ly c_x(lx) c_y(ly) D(lx, ly)`` with the 1-D correlations of the factor's
+    columns (``_dm_kl_kernels``): ~``W`` multiply-adds per pair and ``W (2N + 2W)`` per
+    pair of actuator rows, no FFT.
+    """
+    factor = np.ascontiguousarray(influence.factor)
+    n_pix, n_across = factor.shape
+    lo, hi = _factor_support(factor)
+    width = int(2 * (hi - lo + 1).max() - 1)
+    corr = np.empty((n_across, n_across, width))
+    lag0 = np.empty((n_across, n_across), dtype=np.int64)
+    _dm_kl_kernels.factor_correlations(factor, lo, hi, width, corr, lag0)
+    # D at every pixel lag a pair can read, the zero-padded correlations' lags included
+    centre = n_pix - 1 + width
+    lag = np.arange(-centre, centre + 1) * influence.pixel_scale
+    table = von_karman_structure_function(np.hypot(lag[:, None], lag[None, :]), r0,
+                                          outer_scale)
+    grid = influence.valid_index[members]
+    gy, gx = grid // n_across, grid % n_across
+    order = np.lexsort((gx, gy))  # by grid row, then column
+    group_rows, row_start = np.unique(gy[order], return_index=True)
+    row_start = np.append(row_start, members.size).astype(np.int64)
+    _dm_kl_kernels.separable_projection(
+        corr, lag0, table, centre, np.ascontiguousarray(gx[order]),
+        group_rows.astype(np.int64), row_start, np.ascontiguousarray(members[order]),
+        np.empty(2 * centre + 1), g_d)
+
+
+def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: float,
+                        separable: bool = True):
     """``(G_D, u, v, s)`` for ``M^T D M``, ``M^T 1``, ``M^T D 1 / n``, ``1^T D 1 / n^2``.
 
-    ``D M`` column by column: an actuator whose support lies inside the pupil (its
-    influence function unmasked) is a whole-pixel translate of any other such actuator
-    with the same sub-pixel position, so one convolution per sub-pixel class serves all
-    of them (read at shifted pixels); only the actuators the pupil's edge cuts need one
-    FFT each.
+    ``M^T D M``: between two actuators the pupil leaves whole (their influence functions
+    unmasked, hence separable) from 1-D correlations of the factor
+    (:func:`_separable_block`, no FFT); the column of each actuator the pupil's edge cuts
+    by one FFT pair of its masked influence function with ``D`` on the grid's lags.
+    ``separable=False`` takes the FFT column for every actuator (the reference the
+    tests compare with, and what the build did before the separable path: 45 s of the
+    66 s set-up of a 4,553-actuator altitude DM whose pitch is not a whole number of
+    pixels, ``benchmarks/RESULTS.md``).
     """
     pupil = influence.pupil
     n_side = pupil.n_pixels
@@ -133,74 +204,24 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
     n_act = mat.shape[1]
     g_d = np.empty((n_act, n_act))
 
-    def kernel_fft(size: int, reach: int) -> np.ndarray:
-        lag = np.arange(size)
-        lag = np.where(lag < reach, lag, lag - size).astype(np.float64)  # wrapped lags
-        dist = np.hypot(lag[:, None], lag[None, :]) * dx
-        return sfft.rfft2(von_karman_structure_function(dist, r0, outer_scale))
-
     size = sfft.next_fast_len(2 * n_side - 1, real=True)
-    kernel = kernel_fft(size, n_side)
+    lag = np.arange(size)
+    lag = np.where(lag < n_side, lag, lag - size).astype(np.float64)  # wrapped lags
+    kernel = sfft.rfft2(von_karman_structure_function(
+        np.hypot(lag[:, None], lag[None, :]) * dx, r0, outer_scale))
 
-    def convolve(images: np.ndarray) -> np.ndarray:
-        """``D`` applied to ``(b, N, N)`` images, read at the pupil pixels: ``(n, b)``."""
-        spec = sfft.rfft2(images, s=(size, size), axes=(1, 2))
-        spec *= kernel
-        full = sfft.irfft2(spec, s=(size, size), axes=(1, 2))[:, :n_side, :n_side]
-        return full.reshape(images.shape[0], -1)[:, flat].T
-
-    # sub-pixel class and whole-pixel position of every valid actuator, and which ones
-    # the pupil leaves whole (support inside the mask, not clipped by the grid)
-    act = influence.valid_positions  # (x, y)
-    pos = (act - influence.coords[0]) / dx  # fractional pixel index (column, row)
-    whole = np.floor(pos + 1e-9).astype(np.int64)
-    frac = np.round(pos - whole, 9)
-    reach = int(math.ceil(influence.radius / dx))
-    interior = np.zeros(n_act, dtype=bool)
-    for a in range(n_act):
-        lo, hi = whole[a] - reach, whole[a] + reach + 1
-        if lo.min() >= 0 and hi.max() <= n_side:
-            interior[a] = bool(mask[lo[1]:hi[1], lo[0]:hi[0]].all())
-    classes: dict[tuple[float, float], list[int]] = {}
-    for a in np.flatnonzero(interior):
-        classes.setdefault((frac[a, 0], frac[a, 1]), []).append(int(a))
-    edge = list(np.flatnonzero(~interior))
-    multi = [m for m in classes.values() if len(m) >= 2]
-    edge.extend(a for m in classes.values() if len(m) == 1 for a in m)
-    table = None  # (members, lag table): the interior block of a single class
-    for members in multi:
-        # reference: the first member's image, convolved on a window 3N wide
-        # (pixel q of the window is grid pixel q - N), enough for every member's shift
-        ref = members[0]
-        big = 3 * n_side
-        size_big = sfft.next_fast_len(big + n_side, real=True)
-        image = np.zeros((size_big, size_big))
-        col = csc[:, ref].toarray().ravel()
-        image[rows + n_side, cols + n_side] = col
-        window = sfft.irfft2(sfft.rfft2(image) * kernel_fft(size_big, size_big // 2),
-                             s=(size_big, size_big))
-        members = np.asarray(members)
-        if len(multi) == 1:
-            # G_D[a, b] = sum_t IF_ref(t) (D IF_ref)(t + s_a - s_b): a lag table of the
-            # whole-pixel offset, read for every interior pair; the columns of the cut
-            # actuators (below) give the rest
-            wx, wy = whole[ref]
-            box = image[wy - reach + n_side:wy + reach + 1 + n_side,
-                        wx - reach + n_side:wx + reach + 1 + n_side]
-            lags = signal.correlate(window[:big, :big], box, mode="valid")
-            table = (members, lags, whole[ref] - reach + n_side)
-            continue
-        for start in range(0, members.size, 4 * _BATCH):
-            chunk = members[start:start + 4 * _BATCH]
-            shift = whole[chunk] - whole[ref]  # (b, 2) (column, row)
-            block = window[rows[:, None] - shift[None, :, 1] + n_side,
-                           cols[:, None] - shift[None, :, 0] + n_side]  # (n, b)
-            g_d[:, chunk] = mat.T @ block
-    edge = np.sort(np.asarray(edge, dtype=np.int64))
+    whole_ = _whole_actuators(influence) if separable else np.zeros(n_act, dtype=bool)
+    members = np.flatnonzero(whole_)
+    edge = np.flatnonzero(~whole_)
+    if members.size:
+        _separable_block(influence, r0, outer_scale, members, g_d)
     # each cut actuator's image is non-zero in a (2 reach + 2)^2 window only: its
     # forward transform runs along x on the window's rows and along y with the shift
     # theorem, and the inverse along x only on the N rows read (~1/3 less than two
     # full 2-D transforms)
+    pos = (influence.valid_positions - influence.coords[0]) / dx  # (column, row) pixels
+    whole = np.floor(pos + 1e-9).astype(np.int64)
+    reach = int(math.ceil(influence.radius / dx))
     side = 2 * reach + 2
     pad = side
     ky = np.fft.fftfreq(size)[None, :, None]
@@ -224,16 +245,16 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
         rows_ = sfft.ifft(spec, axis=1, overwrite_x=True)[:, :n_side, :]
         full = sfft.irfft(rows_, n=size, axis=2)[:, :, :n_side]
         g_d[:, chunk] = mat.T @ full.reshape(b, -1)[:, flat].T
-    if table is not None:
-        members, lags, origin = table
-        d = whole[members][:, None, :] - whole[members][None, :, :]  # s_a - s_b
-        g_d[np.ix_(members, members)] = lags[origin[1] + d[..., 1], origin[0] + d[..., 0]]
-        g_d[np.ix_(edge, members)] = g_d[np.ix_(members, edge)].T
     u = np.asarray(mat.sum(axis=0)).ravel()
-    d_w = convolve(mask.astype(np.float64)[None])[:, 0] / n
+    spec = sfft.rfft2(mask.astype(np.float64), s=(size, size)) * kernel
+    d_w = sfft.irfft2(spec, s=(size, size))[:n_side, :n_side].ravel()[flat] / n
     v = mat.T @ d_w
     s = float(d_w.sum() / n)
-    return 0.5 * (g_d + g_d.T), u, v, s
+    if members.size and edge.size:  # the cut columns' whole rows give their transposes
+        g_d[np.ix_(edge, members)] = g_d[np.ix_(members, edge)].T
+    cut = g_d[np.ix_(edge, edge)]
+    g_d[np.ix_(edge, edge)] = 0.5 * (cut + cut.T)
+    return g_d, u, v, s
 
 
 def _command_prior(influence: InfluenceFunctions, r0: float, outer_scale: float) -> np.ndarray:

@@ -3,8 +3,9 @@
 References (outside the code): the von Karman structure function as the Hankel
 integral of its PSD, ``D(r) = 4 pi int_0^inf f W(f) (1 - J0(2 pi f r)) df`` (scipy
 quadrature); the piston-removed pixel covariance formed densely from that structure
-function (``scipy.spatial.distance.cdist``) on a tiny grid, against which the FFT
-projection and the diagonalisation are checked; the DM's own least-squares fits of
+function (``scipy.spatial.distance.cdist``) on a tiny grid, against which the
+projection (its separable and FFT paths, within the worst-case rounding of the dense
+sums) and the diagonalisation are checked; the DM's own least-squares fits of
 ``x`` and ``y`` (tip/tilt apart); the library's theoretical K-L
 (``KLBasis.from_turbulence``: Noll/Wang-Markey covariance integrals) and Noll's tip
 variance (``zernike_variance``) for the low orders the DM represents.
@@ -64,8 +65,8 @@ def test_kolmogorov_limit():
 
 @pytest.fixture(scope="module")
 def mirror():
-    # 9 x 9 actuators on 32 pixels: interior actuators share one sub-pixel class, the
-    # rim's take the per-actuator FFT path
+    # 9 x 9 actuators on 32 pixels: the centre actuator is whole (separable path), the
+    # rest are cut by the rim (one FFT column each)
     return InfluenceFunctions(Pupil(32, 4.0), 9)
 
 
@@ -94,25 +95,49 @@ def test_fft_projection_equals_dense(mirror, dense_prior):
     assert np.max(np.abs(s - dense_prior)) <= 1e-10 * np.max(np.abs(dense_prior))
 
 
-@pytest.mark.parametrize("n_pix, n_act, pitch, classes", [
-    (48, 13, None, 1),  # pitch 4 px: the interior actuators are translates of one
-    (48, 14, 3.5 * 4.0 / 48, 2),  # pitch 3.5 px: several sub-pixel classes
+def _sum_bound(f):
+    """Worst-case relative rounding of the dense reference, per entry.
+
+    Every term of ``M^T D M`` is >= 0 (Gaussian influence, ``D >= 0``), so an entry's
+    rounding is at most ``gamma_k = k eps`` of the entry itself for sums of ``k`` terms:
+    two products over the ``n`` pupil pixels give ``2 n eps``; the separable path sums
+    fewer, shorter terms (``W^2 + W`` per pair, ``W ~ 10-40``).
+    """
+    return 2 * f.pupil.n_valid * np.finfo(float).eps
+
+
+@pytest.mark.parametrize("n_pix, n_act, pitch_px, obscuration", [
+    (48, 13, 4.0, 0.0),  # pitch 4 px: the interior actuators are whole-pixel translates
+    (48, 14, 3.5, 0.0),  # pitch 3.5 px: two sub-pixel classes
+    # the 60" altitude DM's 4.015 px (no two actuators alike), and a central
+    # obscuration that cuts actuators inside the disc too
+    (56, 15, 4.0146, 0.15),
 ])
-def test_translate_path_equals_dense(n_pix, n_act, pitch, classes):
-    f = InfluenceFunctions(Pupil(n_pix, 4.0), n_act, pitch)
-    # the shared-convolution path is taken: at least `classes` classes of >= 2 members
-    pos = (f.valid_positions - f.coords[0]) / f.pixel_scale
-    reach = int(np.ceil(f.radius / f.pixel_scale))
-    whole = np.floor(pos + 1e-9).astype(int)
-    inside = [a for a in range(f.n_valid)
-              if whole[a].min() >= reach and whole[a].max() + reach < n_pix
-              and f.pupil.mask[whole[a, 1] - reach:whole[a, 1] + reach + 1,
-                               whole[a, 0] - reach:whole[a, 0] + reach + 1].all()]
-    _, counts = np.unique(np.round(pos[inside] - whole[inside], 9), axis=0, return_counts=True)
-    assert np.sum(counts >= 2) >= classes
-    g_d = dm_kl_module._structure_operator(f, R0, L0)[0]
+def test_separable_path_equals_dense(n_pix, n_act, pitch_px, obscuration):
+    f = InfluenceFunctions(Pupil(n_pix, 4.0, obscuration), n_act, pitch_px * 4.0 / n_pix)
+    whole = dm_kl_module._whole_actuators(f)
+    # both paths are taken: pairs of whole actuators (separable) and cut columns (FFT)
+    assert 0 < whole.sum() < f.n_valid
     ref = _dense_structure(f)
-    assert np.max(np.abs(g_d - ref)) <= 1e-12 * np.max(np.abs(ref))
+    g_d = dm_kl_module._structure_operator(f, R0, L0)[0]
+    assert np.array_equal(g_d, g_d.T)
+    assert np.all(np.abs(g_d - ref) <= _sum_bound(f) * ref)
+    # the FFT-only path (the reference before the separable one): rounding of the
+    # transforms is relative to the largest entry, not to each entry
+    g_fft = dm_kl_module._structure_operator(f, R0, L0, separable=False)[0]
+    assert np.max(np.abs(g_fft - ref)) <= _sum_bound(f) * np.max(ref)
+
+
+def test_whole_actuators_are_the_unmasked_ones():
+    # the criterion against its definition: an actuator is whole iff its column of the
+    # influence matrix holds its whole separable footprint (its nnz equals the product of
+    # the 1-D factor's non-zeros along x and y)
+    f = InfluenceFunctions(Pupil(40, 4.0, 0.25), 11, 3.7 * 4.0 / 40)
+    whole = dm_kl_module._whole_actuators(f)
+    nnz_1d = np.count_nonzero(f.factor, axis=0)
+    grid = f.valid_index
+    footprint = nnz_1d[grid // f.n_actuators] * nnz_1d[grid % f.n_actuators]
+    assert np.array_equal(whole, np.diff(f.matrix.tocsc().indptr) == footprint)
 
 
 @pytest.mark.parametrize("apart", [True, False])
