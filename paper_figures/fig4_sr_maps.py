@@ -65,7 +65,11 @@ def plot(fig4: Figure4, out_dir: Path) -> list[Path]:
     runs = fig4.runs
     names = [n for n in runs.runs if n in LAYOUT] + [n for n in runs.runs if n not in LAYOUT]
     n_cols = 3 if any(LAYOUT.get(n, (0, 3))[1] >= 2 for n in names) or len(names) > 4 else 2
-    n_rows = max(2, int(np.ceil(len(names) / n_cols)))
+    # the layout's cells are kept for its predictors even when they did not run: the other
+    # runs fill the cells left over, in extra rows if those are too few
+    reserved = {pos for pos in LAYOUT.values() if pos[1] < n_cols}
+    extra = sum(n not in LAYOUT for n in names)
+    n_rows = max(2, int(np.ceil((len(reserved) + extra) / n_cols)))
     fig, axes = plt.subplots(n_rows, n_cols, figsize=(4.2 * n_cols, 3.8 * n_rows),
                              squeeze=False)
     used = set()

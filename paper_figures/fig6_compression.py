@@ -341,8 +341,9 @@ def report(fig6: Figure6) -> str:
         "With the latency model every modelled delay equals the preset's "
         f"{s.latency.readout * 1e3:g} ms: our step costs at most "
         f"{max(v.max() for v in s.compute_time.values()) * 1e6:.1f} us for "
-        f"{s.n_values[-1]} modes, below half the simulator's delay step "
-        f"({s.time_step / s.latency.oversampling * 1e6:.1f} us), so the latency runs are "
+        f"{s.n_values[-1]} modes, below half of the simulator's "
+        f"{s.time_step / s.latency.oversampling * 1e6:.1f} us delay step (the delay is "
+        "rounded to that step), so the latency runs are "
         "the fixed-delay runs and the optimum n is where the SR curves peak."
         if not fig6.latency_binds() else
         "With the latency model the delay grows with n (dotted lines in a and b): "

@@ -144,16 +144,19 @@ def rtc_compute_time(model: LoopModel, basis: np.ndarray, predictor=None, *,
     The step is what the real-time computer does between the WFS readout and the DM
     command for ``n`` controlled modes: the reconstruction of the ``n`` coefficients
     (one dense ``(n, n_measurements)`` matrix-vector product, the projected
-    reconstructor ``B^T R``), the POL and integrator update of :class:`Controller`, and
+    reconstructor ``B^T R``), the POL and integrator update of :class:`Controller` (with a
+    MAP reconstructor's pseudo-open-loop term ``B^T R G B``, as the loop runs it), and
     the predictor's ``update`` (if any; fitted beforehand). Timed over ``repeats`` steps,
     ``batches`` times; the median batch over ``repeats``.
     """
     basis = np.asarray(basis, dtype=np.float64)
     r_n = np.ascontiguousarray(basis.T @ _full_reconstructor(model))
     loop = model.config.loop
+    sensed = model.sensed_commands  # R G of a MAP reconstructor: its POL term is RTC work too
     controller = Controller(basis.shape[1], gain=loop.gain, leak=loop.leak,
                             delay_frames=loop.delay_frames,
-                            integration_frames=loop.integration_frames, predictor=predictor)
+                            integration_frames=loop.integration_frames, predictor=predictor,
+                            sensed=None if sensed is None else basis.T @ sensed @ basis)
     rng = np.random.default_rng(seed)
     slopes = rng.standard_normal((64, r_n.shape[1])) * 1e-7
     return _time_steps(controller, r_n, slopes, repeats, batches)

@@ -234,3 +234,25 @@ def test_a_rotated_control_basis_is_the_same_map_loop(map_loop):
     run = simulate(cfg, 0.08, seed=5, model=model, progress=False, control_basis=q)
     np.testing.assert_allclose(run.residual_variance, reference.residual_variance,
                                rtol=1e-8)
+
+
+def test_rtc_timing_runs_the_map_loops_pseudo_open_loop_term(cut_case, monkeypatch):
+    # reference: the loop's own controller law (POL = m + B^T R G B seen, Ellerbroek &
+    # Vogel 2003): the timed step must do that work with a MAP, and none without it
+    from closedloop.studies import compression
+
+    _, model, truncated = cut_case
+    seen = []
+    real = compression.Controller
+
+    def record(*args, **kwargs):
+        seen.append(kwargs.get("sensed"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(compression, "Controller", record)
+    basis = np.eye(model.n_modes)[:, :5]
+    compression.rtc_compute_time(model, basis, repeats=2, batches=1)
+    compression.rtc_compute_time(truncated, basis, repeats=2, batches=1)
+    expected = basis.T @ model.reconstructor @ _interaction(model) @ basis
+    np.testing.assert_allclose(seen[0], expected, rtol=1e-12, atol=1e-15)
+    assert seen[1] is None
