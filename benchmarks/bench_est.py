@@ -64,15 +64,12 @@ def main() -> None:
     ap.add_argument("--altitude-pitch", type=float, default=presets.EST_ALTITUDE_PITCH)
     ap.add_argument("--model-error", type=float, default=None,
                     help="loop.model_error of the joint MAP reconstructor (default: the preset's)")
-<<<<<<< HEAD
     ap.add_argument("--reconstructor", choices=("truncated", "map"), default=None,
                     help="loop.reconstructor, the joint reconstructor (default: the preset's)")
-=======
     ap.add_argument("--memory-limit", type=float, default=None,
                     help="simulate's memory_limit [GiB] (default: half the available memory)")
     ap.add_argument("--profile", type=int, default=0,
                     help="print the set-up's N largest functions (cProfile, CPU clock)")
->>>>>>> klfast
     args = ap.parse_args()
     config = presets.est_mcao_variant(args.subapertures, solar=args.solar,
                                       altitude_pitch=args.altitude_pitch)
@@ -81,13 +78,10 @@ def main() -> None:
     if args.model_error is not None:
         config = config.replace(loop=dataclasses.replace(config.loop,
                                                          model_error=args.model_error))
-<<<<<<< HEAD
     if args.reconstructor is not None:
         config = config.replace(loop=dataclasses.replace(config.loop,
                                                          reconstructor=args.reconstructor))
-=======
     profiler = cProfile.Profile(time.process_time) if args.profile else None
->>>>>>> klfast
     t0 = time.process_time()
     if profiler is not None:
         profiler.enable()
