@@ -151,7 +151,9 @@ class CorrelatingShackHartmann(ShackHartmann):
     tracker : CorrelatingSubapertures
         The correlation tracker's image formation (whole aperture).
     reference_subaperture : int
-        Index among the valid subapertures of the imaging mode's reference.
+        Index among the valid subapertures of the imaging mode's reference: the one
+        nearest the axis among those lit whole from every direction, or among the
+        best-lit ones where none is.
     """
 
     kind: ClassVar[str] = "correlating"
@@ -369,6 +371,11 @@ class CorrelatingShackHartmann(ShackHartmann):
         ]).reshape(len(dirs), n_valid, f, f)
         full = self._amplitude.min(axis=(0, 2, 3)) > 0
         dist = np.hypot(self._centres[:, 0], self._centres[:, 1])
+        if not full.any():
+            # no subaperture is lit whole from every direction (small or obscured pupils):
+            # the best-lit ones (least light over the directions) are the candidates
+            lit = self._amplitude.mean(axis=(2, 3)).min(axis=0)
+            full = lit >= lit.max()
         self.reference_subaperture = int(np.argmin(np.where(full, dist, np.inf)))
         self._phase_scale = self._geometry.config.r0_wavelength / self.wavelength
 

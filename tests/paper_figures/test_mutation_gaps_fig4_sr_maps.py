@@ -331,14 +331,10 @@ def test_plot_read_back(drawn):
     assert [ax.axison for ax in two.axes[:6]] == [True, False, True, False, False, False]
 
 
-@pytest.mark.xfail(raises=StopIteration, strict=True,
-                   reason="GAP: bug (docs/MUTATION.md, Figure 4): with 6 runs or fewer the "
-                          "2 x 3 grid is all reserved by LAYOUT, so a run outside it "
-                          "(multivariate, nn) finds no free cell (fig4_sr_maps.py:66-78)")
 def test_a_run_outside_the_layout_among_few_runs(tmp_path):
     # the docstring: a third column for the extra runs; closedloop_runs.compute takes any
     # predictor names. No prediction, linear and the VAR(4): 3 columns, the VAR(4) in a
-    # free cell. Today plot raises StopIteration (strict: this test fails once fixed)
+    # free cell (it raised StopIteration: the 2 x 3 grid was all reserved by LAYOUT)
     import matplotlib.pyplot as plt
 
     try:

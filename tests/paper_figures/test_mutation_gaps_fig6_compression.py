@@ -250,8 +250,9 @@ def _sr_table(shift, extra):
 def _expected_report(quick=False, latency=None, scale=None, slow=""):
     latency = latency or (
         "With the latency model every modelled delay equals the preset's 0.5 ms: our step "
-        "costs at most 16.0 us for 27 modes, below half the simulator's delay step (62.5 "
-        "us), so the latency runs are the fixed-delay runs and the optimum n is where the "
+        "costs at most 16.0 us for 27 modes, below half of the simulator's 62.5 us delay "
+        "step (the delay is rounded to that step), so the latency runs are the fixed-delay "
+        "runs and the optimum n is where the "
         "SR curves peak.")
     scale = scale or (
         "At larger sizes (synthetic reconstructor of 2 measurements per mode, the same "

@@ -300,3 +300,20 @@ def test_tracker_sees_the_configured_signal():
         assert w.imager.electrons_per_pixel == pytest.approx(signal, rel=1e-9)
         noise[signal] = w.tracker_noise_pixels
     np.testing.assert_allclose(noise[1000.0] / noise[4000.0], 2.0, rtol=0.05)
+
+
+@pytest.mark.parametrize("n_sub, obsc, share", [(4, 0.2, 0.95), (6, 0.3, 0.99)])
+def test_reference_is_the_best_lit_subaperture_where_none_is_lit_whole(n_sub, obsc, share):
+    # a 1 m pupil on 32 pixels: no subaperture is lit whole (pixel edges) at these
+    # obscurations; the reference was subaperture 0, a corner (67 % lit at 6 x 6). The
+    # reference: each subaperture's lit share of its square, by a 200 x 200 sampling of
+    # the annulus 0.5 obsc <= r <= 0.5 m (geometry, not the sensor's 8-pixel masks, hence
+    # 5 % at 4 x 4, where the pixel masks rank the inner ring 0.874 first; at 6 x 6 the
+    # best are lit whole and subaperture 0 is 0.944: the previous choice fails)
+    w = LoopModel(_config(n_sub=n_sub, obscuration=obsc)).wfss[0]
+    centres = _centres(w, n_sub, 1.0)
+    off = ((np.arange(200) + 0.5) / 200 - 0.5) / n_sub
+    yy, xx = np.meshgrid(off, off, indexing="ij")
+    r = np.hypot(centres[:, 0, None] + xx.ravel(), centres[:, 1, None] + yy.ravel())
+    lit = ((r <= 0.5) & (r >= 0.5 * obsc)).mean(axis=1)
+    assert lit[w.reference_subaperture] >= share * lit.max()
