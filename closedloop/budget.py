@@ -36,11 +36,11 @@ from collections import deque
 
 import numpy as np
 
-from closedloop.config import SimulationConfig, WFSConfig
 from closedloop.control.controller import Controller
 from closedloop.model import LoopModel
 from closedloop.optics import _kernels
 from closedloop.optics.science import ScienceCamera
+from closedloop.resources import ideal_sensor_config as _ideal_config  # counted there too
 from closedloop.result import ErrorBudget  # the budget's numbers live with the run's result
 from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
@@ -48,13 +48,6 @@ from modalinfo.servo import noise_propagation
 __all__ = ["ErrorBudget", "BudgetProbe"]
 
 _N_NOISE_DRAWS = 64
-
-
-def _ideal_config(config: SimulationConfig) -> SimulationConfig:
-    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
-                           n_subapertures=w.n_subapertures, noise=0.0, kind="ideal",
-                           field_samples=w.field_samples, dm=w.dm) for w in config.wfss)
-    return config.replace(wfss=wfss)
 
 
 class BudgetProbe:

@@ -26,7 +26,13 @@ each kind gives its own numbers (``estimate`` of its :mod:`closedloop.kinds` rec
 :class:`~closedloop.kinds.MirrorCost`, :class:`~closedloop.kinds.SensorCost`);
 - ``reconstructor``: interaction matrices, SVD and MAP reconstructor (dense);
 - ``logs``: the run's logs, ``frames x (3 M + directions + measurements)`` float64, and
-  their copies in the result's ModalLogs.
+  their copies in the result's ModalLogs;
+- ``budget`` (only with the error budget, ``budget_every``): the second
+  :class:`~closedloop.model.LoopModel` the budget builds, of ideal sensors
+  (:func:`ideal_sensor_config`), counted by the same rules: its pupil, mirrors, kept
+  operators and dense reconstructor (``6 x 8 B x measurements x modes``; an ideal WFS
+  measures every disc pixel, 272,000 of them on the full-size EST, so this part
+  dominates), built after the run's model and atmosphere.
 
 A sensor may cost time per frame beyond its sparse products (``SensorCost.frame_seconds``:
 a correlating WFS with ``image_formation`` forms and correlates its images every frame):
@@ -34,7 +40,8 @@ that time is added, and :func:`check_resources` refuses a run that would spend m
 :data:`MAX_IMAGING_SECONDS` in it, naming the key (``wfss[j].image_formation``).
 
 The peak is taken as ``baseline + max(set-up, run)`` with set-up the WFS build and the
-screens' transient, run everything that stays. The constants were fitted to the peak
+screens' transient, run everything that stays (with the budget, the budget's model
+is built once the run's model and screens exist, and stays). The constants were fitted to the peak
 resident memory of ``closedloop run`` on every preset (``benchmarks/RESULTS.md``).
 :func:`check_resources` refuses a run whose estimate exceeds a limit (default
 :data:`DEFAULT_SHARE` of the memory the machine has available, from
@@ -46,7 +53,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from closedloop.config import SimulationConfig, dm_disc_diameter
+from closedloop.config import SimulationConfig, WFSConfig, dm_disc_diameter
 from closedloop.kinds import SensorCost, mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
@@ -54,7 +61,8 @@ from closedloop.optics.products import GRAM_MIN_BYTES
 from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
-           "available_memory", "DEFAULT_SHARE", "BASELINE_BYTES", "MAX_IMAGING_SECONDS"]
+           "available_memory", "ideal_sensor_config", "DEFAULT_SHARE", "BASELINE_BYTES",
+           "MAX_IMAGING_SECONDS"]
 
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
@@ -88,6 +96,8 @@ MAX_FRAMES = 1e15
 #: longest run (wall time) of the sensors' per-frame work beyond their sparse products
 #: (a correlating WFS's image formation) that is accepted
 MAX_IMAGING_SECONDS = 3600.0
+#: the parts a run keeps once its model exists (``ResourceEstimate.run_bytes`` adds them up)
+_RUN_PARTS = ("pupil", "dm_shapes", "reconstructor", "screens", "planes", "logs", "budget")
 
 
 class ResourceError(ValueError, MemoryError):
@@ -157,6 +167,19 @@ class ResourceEstimate:
         return "\n".join(lines)
 
 
+
+
+def ideal_sensor_config(config: SimulationConfig) -> SimulationConfig:
+    """``config`` with each WFS replaced by a noise-free ideal one (the error budget's model).
+
+    Same altitude, field, subapertures, field samples and mirror as the real WFS;
+    ``kind="ideal"``, ``noise=0``. :class:`closedloop.budget.BudgetProbe` builds its
+    second :class:`~closedloop.model.LoopModel` from it; :func:`estimate` counts it.
+    """
+    wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
+                           n_subapertures=w.n_subapertures, noise=0.0, kind="ideal",
+                           field_samples=w.field_samples, dm=w.dm) for w in config.wfss)
+    return config.replace(wfss=wfss)
 
 
 def _plane_driver(config: SimulationConfig, layout: list, p: int) -> str:
@@ -250,6 +273,39 @@ def _wfs_builds(config: SimulationConfig, layout: list,
                          f"`telescope.n_pixels" if samples > 1
                          else _plane_driver(config, layout, _biggest_plane(layout)))
     return builds, build_key, n_meas_total
+
+
+@dataclass(frozen=True)
+class _ModelCost:
+    """What one :class:`~closedloop.model.LoopModel` of a config holds [bytes] (internal)."""
+
+    pupil: float
+    dm_bytes: float
+    dm_key: str
+    n_modes: float
+    setup_seconds: float
+    dm_build: float
+    dm_build_key: str
+    costs: list
+    wfs_build: float
+    build_key: str
+    n_meas: float
+    kept_operators: float
+
+
+def _model(config: SimulationConfig, layout: list, dx: float) -> _ModelCost:
+    """Size the parts of a ``LoopModel`` of ``config`` (the run's, or the budget's)."""
+    dm_bytes, dm_key, n_modes, setup_seconds, dm_build, dm_build_key = _dms(config, layout, dx)
+    costs = _sensor_costs(config, len(layout), dx)
+    builds, build_key, n_meas = _wfs_builds(config, layout, costs)
+    # the set-up's peak: one WFS (one plane of a Shack-Hartmann) built at a time, the
+    # others kept as CSR, a share of everything assembled
+    kept_operators = _KEPT_SHARE * _BUILD_BYTES_PER_ENTRY * sum(c.build_entries for c in costs)
+    return _ModelCost(pupil=5.0 * config.telescope.n_pixels ** 2 * 8,  # xx, yy, r, mask, coords
+                      dm_bytes=dm_bytes, dm_key=dm_key, n_modes=n_modes,
+                      setup_seconds=setup_seconds, dm_build=dm_build,
+                      dm_build_key=dm_build_key, costs=costs, wfs_build=max(builds),
+                      build_key=build_key, n_meas=n_meas, kept_operators=kept_operators)
 
 
 def _frame_seconds(costs: list[SensorCost]) -> tuple[float, str]:
@@ -350,44 +406,50 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     total_time = (n_frames + loop.delay_frames + 1) * loop.time_step
     layout = plane_layout(config)
     screens, transient, screen_key = _screens(config, layout, dx, total_time)
-    dm_bytes, dm_key, n_modes_total, dm_setup_seconds, dm_build, dm_build_key = _dms(
-        config, layout, dx)
-    costs = _sensor_costs(config, len(layout), dx)
-    builds, build_key, n_meas_total = _wfs_builds(config, layout, costs)
-    # the set-up's peak: one WFS (one plane of a Shack-Hartmann) built at a time, the
-    # others kept as CSR, a share of everything assembled
-    kept_operators = _KEPT_SHARE * _BUILD_BYTES_PER_ENTRY * sum(c.build_entries for c in costs)
-    reconstructor, logs = _matrices(n_frames, config.field.n_points ** 2, n_meas_total,
-                                    n_modes_total)
+    model = _model(config, layout, dx)
+    reconstructor, logs = _matrices(n_frames, config.field.n_points ** 2, model.n_meas,
+                                    model.n_modes)
     parts = {"baseline": BASELINE_BYTES,
-             "pupil": 5.0 * tel.n_pixels ** 2 * 8,  # xx, yy, r, mask, pupil coordinates
+             "pupil": model.pupil,
              "screens": screens * (2 if oracle else 1),
              "planes": _planes(layout, oracle),
-             "dm_shapes": dm_bytes,
-             "wfs_build": max(builds) * (2.0 if budget else 1.0) + kept_operators,
+             "dm_shapes": model.dm_bytes,
+             "wfs_build": model.wfs_build + model.kept_operators,
              "reconstructor": reconstructor,
              "logs": logs}
     drivers = {"baseline": "-", "pupil": "telescope.n_pixels", "screens": screen_key,
                "planes": _plane_driver(config, layout, _biggest_plane(layout)),
-               "dm_shapes": dm_key, "wfs_build": build_key,
+               "dm_shapes": model.dm_key, "wfs_build": model.build_key,
                "reconstructor": "dms[*].n_modes` x `wfss[*].n_subapertures",
                # a log's row holds 3 M modes, the directions and the measurements
                "logs": ("field.n_points" if config.field.n_points ** 2
-                        > 3 * n_modes_total + n_meas_total else "duration")}
-    if dm_build > 0:  # a mirror's build transient (K-L arrays), before the WFSs are built
-        parts["dm_build"] = dm_build
-        drivers["dm_build"] = dm_build_key
+                        > 3 * model.n_modes + model.n_meas else "duration")}
+    if model.dm_build > 0:  # a mirror's build transient (K-L arrays), before the WFSs
+        parts["dm_build"] = model.dm_build
+        drivers["dm_build"] = model.dm_build_key
 
-    kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + kept_operators
-    setup = parts["pupil"] + parts["dm_shapes"] + max(parts["wfs_build"], dm_build)
+    kept = parts["pupil"] + parts["dm_shapes"] + parts["reconstructor"] + model.kept_operators
+    setup = parts["pupil"] + parts["dm_shapes"] + max(parts["wfs_build"], model.dm_build)
     run = kept + parts["screens"] + parts["planes"] + parts["logs"]
+    if budget:
+        # the budget's model of ideal sensors: built (BudgetProbe) once the run's model
+        # and screens exist, then kept with its reconstructor through the run
+        ideal = _model(ideal_sensor_config(config), layout, dx)
+        ideal_reconstructor, _ = _matrices(n_frames, 0, ideal.n_meas, ideal.n_modes)
+        ideal_kept = (ideal.pupil + ideal.dm_bytes + ideal_reconstructor
+                      + ideal.kept_operators)
+        parts["budget"] = ideal_kept
+        drivers["budget"] = "budget_every"
+        ideal_setup = (ideal.pupil + ideal.dm_bytes
+                       + max(ideal.wfs_build + ideal.kept_operators, ideal.dm_build))
+        run = max(run + ideal_kept, kept + parts["screens"] + ideal_setup)
     peak = BASELINE_BYTES + max(setup, kept + parts["screens"] + transient, run)
     return ResourceEstimate(
         parts=parts, drivers=drivers, peak_bytes=peak, n_frames=n_frames,
-        seconds_per_frame=_seconds_per_frame(config, layout, dx, n_meas_total, n_modes_total,
-                                             kept_operators, costs),
+        seconds_per_frame=_seconds_per_frame(config, layout, dx, model.n_meas, model.n_modes,
+                                             model.kept_operators, model.costs),
         setup_bytes=setup, run_bytes=run,
-        setup_seconds=dm_setup_seconds + _svd_seconds(config, costs))
+        setup_seconds=model.setup_seconds + _svd_seconds(config, model.costs))
 
 
 def available_memory() -> float:
@@ -414,8 +476,9 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
         Largest peak memory allowed [bytes]; None: :data:`DEFAULT_SHARE` of
         :func:`available_memory`.
     setup : bool
-        Count the set-up (False: the model exists already, only the run's own arrays,
-        screens, plane maps and logs, are checked).
+        Count the set-up (False: the model exists already; what the run keeps,
+        ``run_bytes``, is checked: the model's kept arrays, screens, plane maps, logs and,
+        with ``budget``, the budget's model, which is built during the run).
 
     Returns
     -------
@@ -446,11 +509,16 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
             f"driven by `{key}`: set it to false (the linear sensor) or shorten `duration`.")
     need = est.peak_bytes if setup else BASELINE_BYTES + est.run_bytes
     if need > limit:
-        part = est.largest if setup else max(("screens", "planes", "logs"),
-                                             key=est.parts.__getitem__)
+        # the largest of the parts ``need`` adds up (the model's set-up parts included
+        # when it is built; without, what the run keeps: its run_bytes)
+        part = est.largest if setup else max(
+            (k for k in _RUN_PARTS if k in est.parts), key=est.parts.__getitem__)
+        advice = ("run without the error budget (no `budget_every`: its model of ideal "
+                  "sensors measures every pixel of the mirrors' discs)" if part == "budget"
+                  else "reduce it")
         raise ResourceError(
             f"this run needs about {format_size(need)} of memory, more than "
             f"{format_size(limit)} ({source}); the largest part, {part} "
-            f"({format_size(est.parts[part])}), is driven by `{est.drivers[part]}`: reduce "
-            f"it (see `closedloop config --estimate`).")
+            f"({format_size(est.parts[part])}), is driven by `{est.drivers[part]}`: "
+            f"{advice} (see `closedloop config --estimate`).")
     return est
