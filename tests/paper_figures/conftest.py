@@ -11,6 +11,7 @@ with the runs they name; the run itself is unchanged.
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -69,3 +70,23 @@ def quick_run(tmp_path_factory):
     finally:
         mp.undo()
     return run
+
+
+@contextlib.contextmanager
+def saved_figures():
+    """Record every ``Figure.savefig`` inside the block: yields {file name: Figure}.
+
+    The figures are saved as usual; tests read their axes back afterwards.
+    """
+    from matplotlib.figure import Figure
+
+    figures = {}
+    savefig = Figure.savefig
+
+    def recording(self, fname, *args, **kwargs):
+        figures[Path(str(fname)).name] = self
+        return savefig(self, fname, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Figure, "savefig", recording)
+        yield figures

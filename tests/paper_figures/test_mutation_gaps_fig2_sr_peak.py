@@ -16,14 +16,14 @@ No closed loop runs: ~1 s.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
 
 from paper_figures import fig2_sr_peak as fig2
 from paper_figures.closedloop_runs import ClosedLoopRuns, PredictorRun
+
+from .conftest import saved_figures
 
 TIMES = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0]) * 1e-3  # end of each frame [s]
 # SR peak per frame; "none" closes at frame 2, so every mean is over frames 2..5
@@ -104,19 +104,8 @@ def test_best_is_among_the_paper_predictors_only():
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     out = tmp_path_factory.mktemp("fig2")
-    figures = {}
-    savefig = Figure.savefig
-
-    def recording(self, fname, *args, **kwargs):
-        figures[Path(str(fname)).name] = self
-        return savefig(self, fname, *args, **kwargs)
-
-    mp = pytest.MonkeyPatch()
-    mp.setattr(Figure, "savefig", recording)
-    try:
+    with saved_figures() as figures:
         paths = fig2.plot(fig2.compute(_runs(quick=True)), out)
-    finally:
-        mp.undo()
     return out, paths, figures
 
 
@@ -174,15 +163,7 @@ def test_plot_files_read_back(drawn):
 
 
 def test_plot_title_without_quick(tmp_path):
-    figures = {}
-    savefig = Figure.savefig
-
-    def recording(self, fname, *args, **kwargs):
-        figures[Path(str(fname)).name] = self
-        return savefig(self, fname, *args, **kwargs)
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(Figure, "savefig", recording)
+    with saved_figures() as figures:
         fig2.plot(fig2.compute(_runs(("none", "arma"))), tmp_path)
     ax = figures["fig2_sr_peak.png"].axes[0]
     assert ax.get_title() == "Figure 2: SR peak vs time, table1, seed 7"

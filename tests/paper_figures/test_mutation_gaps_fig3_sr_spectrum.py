@@ -34,6 +34,8 @@ from matplotlib.figure import Figure
 from paper_figures import fig3_sr_spectrum as fig3
 from paper_figures.closedloop_runs import ClosedLoopRuns, PredictorRun
 
+from .conftest import saved_figures
+
 FREQS = np.arange(0.0, 101.0, 10.0)      # 0, 10, ..., 100 Hz
 # no prediction: 1 everywhere but 9 at 10 Hz, 8 at 20 Hz (not above 20 Hz) and 4 at 50 Hz
 NONE_PSD = np.array([5.0, 9.0, 8.0, 1.0, 1.0, 4.0, 1.0, 1.0, 1.0, 1.0, 1.0])
@@ -253,19 +255,8 @@ def test_report_peak_above_20_hz_only():
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     out = tmp_path_factory.mktemp("fig3")
-    figures = {}
-    savefig = Figure.savefig
-
-    def recording(self, fname, *args, **kwargs):
-        figures[Path(str(fname)).name] = self
-        return savefig(self, fname, *args, **kwargs)
-
-    mp = pytest.MonkeyPatch()
-    mp.setattr(Figure, "savefig", recording)
-    try:
+    with saved_figures() as figures:
         text = fig3.make(out, _runs(quick=True))
-    finally:
-        mp.undo()
     return out, text, figures
 
 

@@ -28,10 +28,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
 
 from modalinfo.telemetry import ModalLog
 from paper_figures import fig5_forecast as fig5
+
+from .conftest import saved_figures
 
 NAMES = ["persistence", "linear (a=2, b=-1)", "linear (LS a, b)", "ARMA(2,3)", "ARMA (AIC)",
          "NN 10-10-1, 2000 patterns", "NN paper (10 patterns)", "multivariate VAR(4)",
@@ -271,20 +272,9 @@ def test_report_other_branches():
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     out = tmp_path_factory.mktemp("fig5") / "new" / "sub"  # made with its parents
-    figures = {}
-    savefig = Figure.savefig
-
-    def recording(self, fname, *args, **kwargs):
-        figures[Path(str(fname)).name] = self
-        return savefig(self, fname, *args, **kwargs)
-
-    mp = pytest.MonkeyPatch()
-    mp.setattr(Figure, "savefig", recording)
-    try:
+    with saved_figures() as figures:
         f = _figure()
         paths = fig5.plot(f, out, suffix="_s")
-    finally:
-        mp.undo()
     return out, f, paths, figures
 
 

@@ -24,15 +24,15 @@ from __future__ import annotations
 import json
 import math
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
 
 from closedloop.studies.solar import SolarSensitivity
 from paper_figures import fig7_solar as fig7
 from paper_figures.closedloop_runs import ClosedLoopRuns, PredictorRun
+
+from .conftest import saved_figures
 
 TIMES = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0]) * 1e-3
 NAN = float("nan")
@@ -438,19 +438,8 @@ def test_report_quick_little_gain_and_no_budget():
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     out = tmp_path_factory.mktemp("fig7")
-    figures = {}
-    savefig = Figure.savefig
-
-    def recording(self, fname, *args, **kwargs):
-        figures[Path(str(fname)).name] = self
-        return savefig(self, fname, *args, **kwargs)
-
-    mp = pytest.MonkeyPatch()
-    mp.setattr(Figure, "savefig", recording)
-    try:
+    with saved_figures() as figures:
         paths = fig7.plot(_fig(), out)
-    finally:
-        mp.undo()
     return out, paths, figures
 
 

@@ -31,7 +31,6 @@ from pathlib import Path
 import matplotlib.image
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
 
 import closedloop.simulation
 import modalinfo.information
@@ -40,6 +39,8 @@ from closedloop import presets
 from modalinfo.information import TransferEntropyMap
 from modalinfo.telemetry import ModalLog
 from paper_figures import fig_information_flow as fig8
+
+from .conftest import saved_figures
 
 LAGS = (1, 2, 3, 5, 8, 13, 21, 34)
 
@@ -256,19 +257,8 @@ def test_table1_wind_pol_cuts_both_logs_at_the_closure(monkeypatch):
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     out = tmp_path_factory.mktemp("fig8")
-    figures = {}
-    savefig = Figure.savefig
-
-    def recording(self, fname, *args, **kwargs):
-        figures[Path(str(fname)).name] = self
-        return savefig(self, fname, *args, **kwargs)
-
-    mp = pytest.MonkeyPatch()
-    mp.setattr(Figure, "savefig", recording)
-    try:
+    with saved_figures() as figures:
         paths = fig8.plot(_figure(), out)
-    finally:
-        mp.undo()
     return out, paths, figures
 
 
