@@ -95,7 +95,8 @@ from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["BIN_RULES", "DISCRETE_MIN_PER_CELL", "MIN_SAMPLES_PER_CELL", "discrete_levels",
-           "discrete_mi", "max_rule_bins", "n_bins_for"]
+           "discrete_mi", "discrete_pair_mi", "discrete_x_levels", "max_rule_bins",
+           "n_bins_for"]
 
 #: Names accepted by ``bins=``; an int or a pair of ints are accepted too.
 BIN_RULES = ("hacine-gharbi", "fd", "scott", "sturges", "sqrt", "auto")
@@ -403,6 +404,30 @@ def discrete_mi(cx: np.ndarray, mx: int, cy: np.ndarray, my: int) -> float:
     """Plug-in MI (nats) of two coded discrete samples, Miller-Madow corrected."""
     counts = np.bincount(cx * my + cy, minlength=mx * my).reshape(mx, my)
     return mi_from_counts(counts, "miller-madow")
+
+
+def discrete_x_levels(x: np.ndarray) -> tuple[np.ndarray, int] | None:
+    """Return :func:`discrete_levels` of a fixed x that may be one side of a discrete pair.
+
+    y needs >= 2 levels and each cell >= :data:`DISCRETE_MIN_PER_CELL` samples, so x
+    has at most ``n / 20`` of them.
+    """
+    return discrete_levels(x, x.shape[0] // (2 * DISCRETE_MIN_PER_CELL))
+
+
+def discrete_pair_mi(x_levels: tuple[np.ndarray, int] | None, y: np.ndarray) -> float | None:
+    """Return the Miller-Madow plug-in MI (nats) of a discrete pair's table, else None.
+
+    ``x_levels`` from :func:`discrete_x_levels` (None: x is not discrete). The pair is
+    discrete when y too has so few values that the table holds at least
+    :data:`DISCRETE_MIN_PER_CELL` samples per cell (``m_x m_y <= n / 10``): the rule of
+    the kde and ksg engines (kde module notes, "Discrete data").
+    """
+    if x_levels is None:
+        return None
+    cx, mx = x_levels
+    y_levels = discrete_levels(y, y.shape[0] // (DISCRETE_MIN_PER_CELL * mx))
+    return None if y_levels is None else discrete_mi(cx, mx, *y_levels)
 
 
 def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",

@@ -92,8 +92,8 @@ from modalinfo.information.gaussian import (
 )
 from modalinfo.information.histogram import (
     DISCRETE_MIN_PER_CELL,
-    discrete_levels,
-    discrete_mi,
+    discrete_pair_mi,
+    discrete_x_levels,
 )
 from modalinfo.information.methods import MIMethod, register_method
 
@@ -330,8 +330,7 @@ class KDEEngine:
         self._u, self._umin, self._umax, self._x_ties = _standardise(x, self.copula)
         self._n = x.shape[0]
         self._fu: dict[float, np.ndarray] = {}
-        # discrete x (few distinct values): y needs >= 2 levels, so x at most n / 20
-        self._x_levels = discrete_levels(x, self._n // (2 * DISCRETE_MIN_PER_CELL))
+        self._x_levels = discrete_x_levels(x)  # None unless x may be one side of a table
         return self
 
     def _marginal_u(self, h: float, idx: np.ndarray | None = None) -> np.ndarray:
@@ -351,11 +350,9 @@ class KDEEngine:
         Both variables discrete with at least 10 samples per cell of their table: the
         Miller-Madow plug-in MI of the table instead (module notes, "Discrete data").
         """
-        if self._x_levels is not None:
-            cx, mx = self._x_levels
-            y_levels = discrete_levels(y, self._n // (DISCRETE_MIN_PER_CELL * mx))
-            if y_levels is not None:
-                return discrete_mi(cx, mx, *y_levels)
+        table = discrete_pair_mi(self._x_levels, y)  # discrete pair (module notes)
+        if table is not None:
+            return table
         bandwidth = self.bandwidth
         if bandwidth == "cv":
             if not self._x_ties:

@@ -62,7 +62,7 @@ from scipy.special import digamma
 from modalinfo.common.validation import check_int
 from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.gaussian import unit_scaled
-from modalinfo.information.histogram import DISCRETE_MIN_PER_CELL, discrete_levels, discrete_mi
+from modalinfo.information.histogram import discrete_pair_mi, discrete_x_levels
 from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["KSGEngine", "ksg_entropy"]
@@ -126,8 +126,7 @@ class KSGEngine:
         self._x = _standardised(x, self.seed, 0, self.copula)
         self._tree_x = cKDTree(self._x[:, None])
         self._n = x.shape[0]
-        # discrete x (few distinct values): y needs >= 2 levels, so x at most n / 20
-        self._x_levels = discrete_levels(x, self._n // (2 * DISCRETE_MIN_PER_CELL))
+        self._x_levels = discrete_x_levels(x)  # None unless x may be one side of a table
         return self
 
     def score(self, y: np.ndarray) -> float:
@@ -138,11 +137,9 @@ class KSGEngine:
         """
         if self.k >= self._n:  # clamped to n - 1 before: every point a neighbour, MI ~ 0
             raise ValueError(f"`k` must be < the number of samples ({self._n}); got {self.k}.")
-        if self._x_levels is not None:  # discrete pair: the table's MI (module notes)
-            cx, mx = self._x_levels
-            y_levels = discrete_levels(y, self._n // (DISCRETE_MIN_PER_CELL * mx))
-            if y_levels is not None:
-                return discrete_mi(cx, mx, *y_levels)
+        table = discrete_pair_mi(self._x_levels, y)  # discrete pair (module notes)
+        if table is not None:
+            return table
         k = self.k
         y = _standardised(y, self.seed, 1, self.copula)
         pts = np.column_stack((self._x, y))
