@@ -136,6 +136,7 @@ lagged columns: :mod:`modalinfo.information.transfer_entropy`.
 
 from __future__ import annotations
 
+import functools
 import inspect
 import warnings
 from typing import Any
@@ -286,25 +287,21 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         why = (None if record.bias_rule is None else
                record.bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options))
         if why is not None:
-            if fallback == "raise":
-                raise ValueError(f"{why}; use method='gaussian' (Gaussian-copula CMI), "
-                                 "fewer columns or more samples (fallback='raise').")
-            if fallback == "gaussian-copula":
-                warnings.warn(f"{why}; returning the Gaussian-copula CMI instead "
-                              "(method='gaussian'; fallback='none' keeps the biased value).",
-                              BiasRuleWarning, stacklevel=3)
-                return float(gaussian_cmi(x, y, z, copula=True)) * factor
-            warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
-                          stacklevel=3)
+            hint = "use method='gaussian' (Gaussian-copula CMI), fewer columns or more samples"
+            instead = ("the Gaussian-copula CMI instead (method='gaussian'; fallback='none' "
+                       "keeps the biased value)")
+            other = functools.partial(gaussian_cmi, x, y, z, copula=True)
         elif switch and (why := _ksg_switch(record, x.shape[0], options, x, y, z)):
+            hint = "use method='ksg', more samples or an explicit number of bins"
+            instead = ("the KSG CMI instead (method='ksg'; fallback='none' keeps the "
+                       "histogram's value)")
+            other = functools.partial(ksg_cmi, x, y, z)
+        if why is not None:  # one policy for both rules (the fallback option)
             if fallback == "raise":
-                raise ValueError(f"{why}; use method='ksg', more samples or an explicit "
-                                 "number of bins (fallback='raise').")
+                raise ValueError(f"{why}; {hint} (fallback='raise').")
             if fallback == "gaussian-copula":
-                warnings.warn(f"{why}; returning the KSG CMI instead (method='ksg'; "
-                              "fallback='none' keeps the histogram's value).",
-                              BiasRuleWarning, stacklevel=3)
-                return float(ksg_cmi(x, y, z)) * factor
+                warnings.warn(f"{why}; returning {instead}.", BiasRuleWarning, stacklevel=3)
+                return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
         return float(fn(x, y, z, **options)) * factor
