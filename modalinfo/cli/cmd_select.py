@@ -40,9 +40,6 @@ from modalinfo.cli.shared import (
 )
 
 NAME = "select"
-#: ``select_inputs``'s default ``radial_width`` (the couplings of frozen flow within a
-#: couple of radial orders: :mod:`modalinfo.information.candidates`).
-DEFAULT_RADIAL_WIDTH = 2
 HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional MI."
 EPILOG = ("columns: input = mode[t-lag] relative to the forecast origin t; gain = "
           "I(target; input | inputs above) in --units; interval = block-bootstrap "
@@ -83,7 +80,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "KL<k> labels; the max-statistic test is then over them)")
     parser.add_argument("--radial-width", dest="radial_width", type=int, default=None,
                         metavar="K", help="largest radial-order difference of --candidates "
-                        f"radial (default: {DEFAULT_RADIAL_WIDTH})")
+                        "radial (default: the library's, modalinfo.information.candidates."
+                        "RADIAL_WIDTH)")
     add_max_frames_argument(parser, default=None, contiguous=True)
     add_hint_arguments(parser)
 
@@ -100,7 +98,9 @@ def _load(args: argparse.Namespace, path: Path):
 def _radial_width(args: argparse.Namespace) -> int:
     """``--radial-width`` checked: an int >= 0, and only with ``--candidates radial``."""
     if args.radial_width is None:
-        return DEFAULT_RADIAL_WIDTH
+        from modalinfo.information.candidates import RADIAL_WIDTH
+
+        return RADIAL_WIDTH
     if args.candidates != "radial":
         raise CommandError(f"--radial-width {args.radial_width} applies to --candidates "
                            f"radial; got --candidates {args.candidates}")

@@ -50,7 +50,7 @@ import numpy as np
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._info_kernels import sparse_direct_filter
 from modalinfo.forecast.base import Predictor
-from modalinfo.information.candidates import candidate_mask
+from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import _estimator
 from modalinfo.information.resampling import auto_block_length
 from modalinfo.information.selection import (
@@ -127,7 +127,8 @@ class InfoPredictor(Predictor):
     def __init__(self, *, max_lag: int = 10, max_inputs: int = 8, selection: str = "ebic",
                  alpha: float = 0.05, n_surrogates: int = 99, seed: int = 0,
                  horizon: int = 10, refit_every: int | None = None,
-                 window: int | None = None, candidates: Any = "all", radial_width: int = 2,
+                 window: int | None = None, candidates: Any = "all",
+                 radial_width: int = RADIAL_WIDTH,
                  mode_labels: Sequence[str] | None = None):
         super().__init__(horizon=horizon, refit_every=refit_every, window=window)
         self.candidates = candidates

@@ -44,10 +44,14 @@ import numpy as np
 from modalinfo.bases.indexing import noll_to_zernike
 from modalinfo.common.validation import as_float_array, check_int, check_real
 
-__all__ = ["CANDIDATE_RULES", "candidate_mask", "neighbour_mask", "radial_orders"]
+__all__ = ["CANDIDATE_RULES", "RADIAL_WIDTH", "candidate_mask", "neighbour_mask",
+           "radial_orders"]
 
 #: Named candidate rules (an explicit boolean mask is the third form).
 CANDIDATE_RULES = ("all", "radial")
+#: Default ``radial_width`` of the ``"radial"`` rule, for every function that takes it:
+#: frozen flow couples modes within a couple of radial orders (module notes).
+RADIAL_WIDTH = 2
 
 _ZERNIKE = re.compile(r"^Z(\d+)$")
 _KL = re.compile(r"^KL(\d+)$")
@@ -109,8 +113,8 @@ def neighbour_mask(positions: Any, radius: float) -> np.ndarray:
     return d2 <= radius * radius
 
 
-def candidate_mask(labels: Sequence[str], candidates: Any = "all", radial_width: int = 2
-                   ) -> np.ndarray | None:
+def candidate_mask(labels: Sequence[str], candidates: Any = "all",
+                   radial_width: int = RADIAL_WIDTH) -> np.ndarray | None:
     """Return the ``(S, S)`` mask ``allowed[j, i]`` of a candidate rule (None: ``"all"``).
 
     Parameters

@@ -111,7 +111,7 @@ import numpy as np
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import UNITS
-from modalinfo.information.candidates import candidate_mask
+from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import matched_window_for, surrogate_shifts
@@ -483,7 +483,7 @@ def transfer_entropy_map(
     lags: Any = 10, history: int = 1, method: str = "gaussian", units: str = "nats",
     alpha: float = 0.05, n_surrogates: int = 199, min_shift: int | None = None,
     adjust: str = "step-down", max_seconds: float = 600.0, seed: Any = None,
-    match_ends: bool = True, candidates: Any = "all", radial_width: int = 2,
+    match_ends: bool = True, candidates: Any = "all", radial_width: int = RADIAL_WIDTH,
     **options: Any,
 ) -> TransferEntropyMap:
     """Transfer entropy between every pair of modes at every lag, with family-wise p-values.

@@ -90,7 +90,7 @@ from modalinfo.common.validation import (
     check_rng,
 )
 from modalinfo.information.api import UNITS
-from modalinfo.information.candidates import candidate_mask
+from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.conditional_uncertainty import (
     conditional_mutual_information_ci,
@@ -494,7 +494,7 @@ def select_inputs(
     n_surrogates: int = 199, max_inputs: int = 10, intervals: bool = True,
     n_resamples: int = 199, confidence_level: float = 0.95,
     min_shift: int | None = None, seed: Any = None, candidates: Any = "all",
-    radial_width: int = 2, **options: Any,
+    radial_width: int = RADIAL_WIDTH, **options: Any,
 ) -> InputSelection:
     """Greedy CMI selection of the past values that forecast a mode ``horizon`` ahead.
 
