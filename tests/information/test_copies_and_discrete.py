@@ -153,3 +153,24 @@ def test_ksg_on_a_discrete_continuous_mixture_stays_with_the_tie_noise():
     y = 1.5 * x + rng.standard_normal(10_000)
     # sd of one estimate ~0.006 nats (the three seeds above)
     assert mutual_information(x, y, method="ksg") == pytest.approx(truth, abs=0.025)
+
+
+def _miller_madow_table_mi(a, b):
+    """Plug-in MI of the contingency table (scikit-learn) plus the Miller-Madow term."""
+    k_x, k_y = np.unique(a).size, np.unique(b).size
+    k_xy = np.unique(np.column_stack([a, b]), axis=0).shape[0]
+    return mutual_info_score(a, b) + (k_x + k_y - k_xy - 1) / (2 * a.size)
+
+
+@pytest.mark.parametrize("method", ["kde", "ksg"])
+def test_discrete_pair_rule_holds_at_ten_samples_per_cell(method):
+    # the documented rule: the table's MI where m_x m_y <= n / 10, the kernel/neighbour
+    # estimate beyond. n = 1000, x binary: y with 50 levels (100 cells) is a table, with
+    # 51 levels (102 cells) it is not
+    rng = np.random.default_rng(3)
+    a = rng.integers(0, 2, 1000).astype(float)
+    for levels, table in ((50, True), (51, False)):
+        b = (np.arange(1000) % levels + 7 * a.astype(int)) % levels  # every level, tied to a
+        got = mutual_information(a, b.astype(float), method=method)
+        want = _miller_madow_table_mi(a, b)
+        assert (abs(got - want) < 1e-12) == table, (levels, got, want)
