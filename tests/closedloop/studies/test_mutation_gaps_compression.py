@@ -283,9 +283,22 @@ def test_rtc_scaling_fits_the_named_predictor(monkeypatch):
     assert type(pred).__name__ == "LinearPredictor"
     # fitted on an AR(1) series of coefficient 0.95: the LS two-tap predictor
     # x_{k+1} = a x_k + b x_{k-1} has a + b near 0.95 (an AR(1) is its own one-tap model)
+    # (a, b) near (0.95, 0): the one-step AR(1) (200 samples; each weight's standard
+    # error ~0.07 with regressors correlated at 0.95, so 0.35 is 5 of them)
     coef = pred.coef_
     assert coef.shape == (3, 2)
     assert np.all(np.abs(coef.sum(axis=1) - 0.95) < 0.1)
+    assert np.all(np.abs(coef[:, 0] - 0.95) < 0.35) and np.all(np.abs(coef[:, 1]) < 0.35)
+
+
+def test_rtc_scaling_trains_on_enough_samples(monkeypatch):
+    # the VAR's minimum at 10 modes is 404 samples (its _min_samples_rule), more than the
+    # 200-sample floor: the series must follow the predictor's rule (x 1.2) to be fitted
+    calls = _record_steps(monkeypatch)
+    pred = cl_predictors.LoopPredictor.from_name("multivariate").predictor
+    assert pred._min_samples_rule(10)[0] > 240
+    comp.rtc_scaling([10], predictor="multivariate", repeats=2)
+    assert calls[0].controller.predictor is not None
 
 
 # ------------------------------------------------------------------ latency, study views
