@@ -566,3 +566,27 @@ def test_study_refusals(recorder):
             comp.compression_study(cfg, n_values=[2], duration=0.02, model=m)
         assert str(exc.value) == ("the compression study needs a single modal (Zernike) DM; "
                                   f"the config has {k} DMs.")
+
+
+def test_study_default_predictor_one_mode_and_three_shared_orderings(recorder, monkeypatch):
+    cfg = _kaos6()
+    bases = {"zernike": BZ, "pca": BP, "kl": BP[:, ::-1]}
+    monkeypatch.setattr(comp, "control_orderings",
+                        lambda ref, *, orderings, seed: {o: bases[o] for o in orderings})
+    model = recorder.FakeModel(cfg)
+    study = comp.compression_study(cfg, n_values=[4, 1], duration=0.02,
+                                   orderings=("zernike", "pca", "kl"), model=model,
+                                   reference=_Run(0.5, _start()),
+                                   latency=comp.LatencyModel(readout=0.5e-3, rtc_speed=1e6))
+    # the documented default predictor; n = 1 is allowed (n_values lie in 1..n_modes)
+    assert study.predictor == "multivariate"
+    assert [name for name, _, _ in recorder.trained] == ["multivariate"] * 2
+    np.testing.assert_array_equal(study.n_values, [1, 4])
+    # every mode (n = 4): one run per predictor, shared by all three orderings
+    assert [(r["basis"].shape[1], r["name"] if r["name"] == "none" else r["name"].name)
+            for r in recorder.runs] == [(1, "none"), (1, "multivariate"), (1, "none"),
+                                        (1, "multivariate"), (1, "none"), (1, "multivariate"),
+                                        (4, "none"), (4, "multivariate")]
+    for key, peak in study.strehl_peak.items():
+        assert np.all(np.isfinite(peak)), key
+        assert peak[1] == study.strehl_peak[(key[0], "zernike", key[2])][1], key
