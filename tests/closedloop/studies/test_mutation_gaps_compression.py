@@ -108,6 +108,12 @@ def test_orderings_against_their_definitions(reference):
     ko = order_modes(log, kl, "mi_greedy", seed=3, sample_budget=3000, n_resamples=0).order
     np.testing.assert_allclose(out["kl-mi"], np.asarray(kl.zernike_from_kl)[:, ko], atol=1e-12)
     assert list(zo) != list(range(M))  # the MI order is not the Noll order here
+    # each K-L ordering asked alone builds the theoretical K-L it needs
+    for name in ("kl", "kl-mi"):
+        alone = comp.control_orderings(ref, orderings=(name,), seed=3, sample_budget=3000,
+                                       n_pixels=16)
+        assert list(alone) == [name]
+        np.testing.assert_allclose(alone[name], out[name], atol=1e-12)
 
 
 def test_orderings_defaults_and_subset(reference):
@@ -266,6 +272,7 @@ def test_rtc_scaling_sizes_and_controller(monkeypatch):
     calls.clear()
     comp.rtc_scaling([4], seed=1)
     first = calls[0].reconstructor
+    assert first.shape == (4, 8)  # the documented default: 2 measurements per mode
     comp.rtc_scaling([4], seed=1)
     comp.rtc_scaling([4], seed=2)
     np.testing.assert_array_equal(calls[1].reconstructor, first)
