@@ -96,8 +96,10 @@ class PhotonBudget:
         for name in ("throughput", "quantum_efficiency", "fill"):
             if getattr(self, name) > 1.0:
                 raise ValueError(f"`{name}` must be <= 1; got {getattr(self, name)!r}.")
-        if not isinstance(self.read_noise, (int, float)) or not self.read_noise >= 0:
-            raise ValueError(f"`read_noise` must be a number >= 0; got {self.read_noise!r}.")
+        v = self.read_noise
+        if not isinstance(v, (int, float)) or isinstance(v, bool) or not v >= 0 \
+                or not math.isfinite(v):
+            raise ValueError(f"`read_noise` must be a finite number >= 0; got {v!r}.")
 
     def unattenuated_electrons(self, subaperture_area: float, pixel_scale_arcsec: float) -> float:
         """Mean photo-electrons per pixel without attenuation.

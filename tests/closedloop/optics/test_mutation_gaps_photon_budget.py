@@ -129,7 +129,8 @@ def test_other_quantities_may_exceed_one(name):
 def test_read_noise_rule():
     assert PhotonBudget(read_noise=0.0).read_noise == 0.0
     assert PhotonBudget(read_noise=3).read_noise == 3
-    for bad in (-1e-9, float("nan"), "2", None):
+    # a bool is not a noise (True was used as 1 e-), nor is an infinite one
+    for bad in (-1e-9, float("nan"), float("inf"), True, "2", None):
         with pytest.raises(ValueError) as exc:
             PhotonBudget(read_noise=bad)
-        assert str(exc.value) == f"`read_noise` must be a number >= 0; got {bad!r}."
+        assert str(exc.value) == f"`read_noise` must be a finite number >= 0; got {bad!r}."
