@@ -33,14 +33,15 @@ lit pixel of its mirror's disc: ~272,000 measurements on the full-size ``est-mca
 dense interaction matrix with the 4,881 modes is 10.6 GB (the kernel killed that run at
 17.8 GB). Its joint MAP reconstructor needs only ``G^T N^-1 G`` (``M x M``) and, per
 frame, ``G^T N^-1 s``, and an ideal sensor is a sum of pixel samplings, so neither needs
-``G``: the Gram matrix is accumulated over blocks of :data:`GRAM_ROWS` rows of ``G``
-(each formed from the sensor's sparse operator and the mirrors' shapes, then a symmetric
-rank-k update), and ``G^T s`` is ``shapes^T (operator^T s)`` per mirror. The same MAP (or
-truncated) reconstruction, to rounding, as ``LoopModel`` of
-:func:`closedloop.resources.ideal_sensor_config` forms densely; it shares the run's
-mirrors (no second copy of their shapes or K-L build). :func:`ideal_sensing` takes this
-form for a joint reconstructor with a mirror of ``large_products`` (the actuator DM of the
-4-m presets) and the dense ``LoopModel`` otherwise, so the earlier presets keep their bits.
+``G``: the Gram matrix is accumulated over blocks of rows of ``G``
+(:data:`~closedloop.resources.GRAM_ROWS` at a time, each formed from the sensor's sparse
+operator and the mirrors' shapes, then a symmetric rank-k update), and ``G^T s`` is
+``shapes^T (operator^T s)`` per mirror. The same MAP (or truncated) reconstruction, to
+rounding, as the ``LoopModel`` of :func:`closedloop.resources.ideal_sensor_config` forms
+densely; it shares the run's mirrors (no second copy of their shapes or K-L build).
+:func:`ideal_sensing` takes this form for a joint reconstructor with a mirror of
+``large_products`` (the actuator DM of the 4-m presets) and the dense ``LoopModel``
+otherwise, so the earlier presets keep their bits.
 """
 
 from __future__ import annotations
@@ -57,28 +58,25 @@ from closedloop.model import _NOISE_FLOOR, _RCOND, _SNR_CUT, LoopModel
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera
+from closedloop.resources import GRAM_ROWS, budget_streams
 from closedloop.resources import ideal_sensor_config as _ideal_config  # counted there too
 from closedloop.result import ErrorBudget  # the budget's numbers live with the run's result
 from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
 
-__all__ = ["ErrorBudget", "BudgetProbe", "IdealSensing", "ideal_sensing", "streams_ideal",
-           "GRAM_ROWS"]
+__all__ = ["ErrorBudget", "BudgetProbe", "IdealSensing", "ideal_sensing", "streams_ideal"]
 
 _N_NOISE_DRAWS = 64
-#: rows of the ideal sensors' interaction matrix formed at once by :class:`IdealSensing`
-#: (``GRAM_ROWS x M`` float64: 160 MB at the full-size EST's 4,881 modes)
-GRAM_ROWS = 4096
 
 
 def streams_ideal(model: LoopModel) -> bool:
     """Whether the budget of ``model`` takes its ideal sensors in the streamed form.
 
-    True for a joint reconstructor (several modal mirrors) with a mirror of
-    ``large_products`` (the rule :mod:`closedloop.optics.products` switches the 4-m
-    loops' algebra by); the other loops keep the dense ``LoopModel`` and its bits.
+    :func:`closedloop.resources.budget_streams` of its config (which the memory estimate
+    counts by): a joint reconstructor with a mirror of ``large_products``; the other
+    loops keep the dense ``LoopModel`` and its bits.
     """
-    return model.reconstructor is not None and any(dm.large_products for dm in model.dms)
+    return budget_streams(model.config)
 
 
 def ideal_sensing(model: LoopModel):
@@ -108,7 +106,7 @@ class IdealSensing:
     model : LoopModel
         The run's model; it must have a joint reconstructor (``model.prior`` set).
     rows : int
-        Rows of ``G`` formed at once (:data:`GRAM_ROWS`).
+        Rows of ``G`` formed at once (:data:`closedloop.resources.GRAM_ROWS`).
 
     Attributes
     ----------
