@@ -34,7 +34,7 @@ from closedloop.config import DMConfig, FieldConfig
 from closedloop.optics.wfs import IdealSensor
 from closedloop.state import LoopState
 
-from .conftest import shrunk
+from .conftest import shrunk, small
 
 
 def _actuator_mcao(reconstructor: str = "map"):
@@ -107,15 +107,16 @@ def test_a_floored_sensor_is_weighted_by_the_floor(monkeypatch):
     assert np.abs(streamed.sense(maps) - ref).max() <= 1e-9 * np.abs(ref).max()
 
 
-def test_the_earlier_presets_keep_the_dense_ideal_model():
+def test_the_earlier_presets_keep_the_dense_ideal_model(tiny_actuator_loop):
     # Zernike mirrors: the budget's ideal model is the dense LoopModel (the same bits)
-    from .conftest import small
-
     model = LoopModel(small())
     assert not streams_ideal(model)
     assert isinstance(BudgetProbe(model, None, 1).ideal, LoopModel)
+    # one actuator mirror: no joint reconstructor, the dense per-WFS model
+    one = LoopModel(tiny_actuator_loop)
+    assert not streams_ideal(one)
     with pytest.raises(ValueError, match="`model` must have a joint reconstructor"):
-        IdealSensing(LoopModel(presets.get("kaos").replace(name="one-dm")))
+        IdealSensing(one)
 
 
 def test_budget_with_actuator_mirrors_adds_up():
