@@ -15,8 +15,8 @@ References (outside the new code):
   signal in the dense form; the streamed form learns the floor only after its first pass
   and must reach the same estimate;
 - the budget's own claim, that its separately estimated terms add up to the residual
-  the loop measured (within 15 %, the tolerance of the Zernike MCAO tests of
-  ``test_map_reconstructor.py``), on a small MCAO with actuator mirrors.
+  the loop measured (within 10 %, the issue's tolerance; seen 0.967-1.042; the Zernike MCAO tests of
+  ``test_map_reconstructor.py`` allow 15 %), on a small MCAO with actuator mirrors.
 
 A small two-mirror MCAO with actuator mirrors (32 pupil pixels; ~1 s to build).
 """
@@ -124,4 +124,4 @@ def test_budget_with_actuator_mirrors_adds_up():
     b = result.budget
     assert result.closure_index is not None and b.frames.min() >= result.closure_index
     assert np.all(b.fitting > 0) and np.all(b.temporal > 0)
-    np.testing.assert_allclose(b.total, b.measured, rtol=0.15)
+    np.testing.assert_allclose(b.total, b.measured, rtol=0.10)
