@@ -150,11 +150,11 @@ class IdealSensing:
             out[self.model.mode_slices[d]] = dm.shapes.T @ column
         return out / w.n_measurements
 
-    def _accumulate(self, w, scale: float, gram: np.ndarray | None, rows: int) -> np.ndarray:
+    def _accumulate(self, w, scale: float, gram: np.ndarray, rows: int) -> np.ndarray:
         """Add ``scale`` times ``G_w^T G_w`` (``G_w`` centred) to ``gram``'s upper triangle.
 
         Returns the diagonal of ``G_w^T G_w``. ``gram`` is Fortran-ordered (updated in
-        place by BLAS ``dsyrk``); None: the diagonal only.
+        place by BLAS ``dsyrk``); ``scale = 0``: the diagonal only.
         """
         model = self.model
         mean = self._means(w)
@@ -168,7 +168,7 @@ class IdealSensing:
                 block[:, model.mode_slices[d]] = ops[d][start:stop][:, dm.pixels] @ dm.shapes
             block -= mean
             diag += np.einsum("ij,ij->j", block, block)
-            if gram is not None and scale > 0:
+            if scale > 0:
                 # gram += scale * block^T block: block^T is Fortran (M, rows), trans=0
                 linalg.blas.dsyrk(scale, block.T, beta=1.0, c=gram, trans=0, lower=0,
                                   overwrite_c=1)
@@ -178,22 +178,25 @@ class IdealSensing:
         """``G^T N^-1 G`` and ``N`` per sensor, as ``LoopModel._global_reconstructor``.
 
         ``N`` is each sensor's model error, raised to the noise floor (``1e-4`` of the mean
-        signal, known only once every sensor's diagonal is): a sensor first weighted by
-        its model error and then floored is accumulated again with the difference.
+        signal, known only once every sensor's diagonal is). The pass weighs each sensor
+        by its model error; if the floor then raises one, the Gram matrix is accumulated
+        again with the final weights (a second pass, not a correction: a model error far
+        below the floor would leave nothing of the Gram matrix after cancellation).
         """
         model = self.model
-        gram = np.zeros((model.n_modes, model.n_modes), order="F")
-        used = np.where(model_error > 0, 1.0 / np.where(model_error > 0, model_error, 1.0),
-                        0.0)
-        diag = np.zeros(model.n_modes)
-        for w, scale in zip(self.wfss, used, strict=True):
-            diag += self._accumulate(w, scale, gram, rows)
         n_total = sum(w.n_measurements for w in self.wfss)
-        signal_level = np.mean(diag * model.prior) / n_total
-        noise = np.maximum(model_error, _NOISE_FLOOR * signal_level)
-        for w, scale, n in zip(self.wfss, used, noise, strict=True):
-            if 1.0 / n != scale:
-                self._accumulate(w, 1.0 / n - scale, gram, rows)
+        weights = np.where(model_error > 0,
+                           1.0 / np.where(model_error > 0, model_error, 1.0), 0.0)
+        for _ in range(2):
+            gram = np.zeros((model.n_modes, model.n_modes), order="F")
+            diag = np.zeros(model.n_modes)
+            for w, scale in zip(self.wfss, weights, strict=True):
+                diag += self._accumulate(w, scale, gram, rows)
+            noise = np.maximum(model_error, _NOISE_FLOOR * np.mean(diag * model.prior)
+                               / n_total)
+            if np.array_equal(noise, model_error):
+                break
+            weights = 1.0 / noise
         upper = np.triu_indices(model.n_modes, 1)
         gram.T[upper] = gram[upper]  # dsyrk wrote the upper triangle
         return gram, noise
