@@ -27,6 +27,21 @@ noise
     ``noise_propagation(g, delay, exposure) R N R^T`` (:mod:`modalinfo.servo`), seen in
     each direction by a Monte-Carlo average of 64 draws. With a predictor the loop
     filters noise differently; the integrator's factor is used (a stated approximation).
+
+**The ideal sensors at 4-m size** (:class:`IdealSensing`). An ideal sensor measures every
+lit pixel of its mirror's disc: ~272,000 measurements on the full-size ``est-mcao``, whose
+dense interaction matrix with the 4,881 modes is 10.6 GB (the kernel killed that run at
+17.8 GB). Its joint MAP reconstructor needs only ``G^T N^-1 G`` (``M x M``) and, per
+frame, ``G^T N^-1 s``, and an ideal sensor is a sum of pixel samplings, so neither needs
+``G``: the Gram matrix is accumulated over blocks of rows of ``G``
+(:data:`~closedloop.resources.GRAM_ROWS` at a time, each formed from the sensor's sparse
+operator and the mirrors' shapes, then a symmetric rank-k update), and ``G^T s`` is
+``shapes^T (operator^T s)`` per mirror. The same MAP (or truncated) reconstruction, to
+rounding, as the ``LoopModel`` of :func:`closedloop.resources.ideal_sensor_config` forms
+densely; it shares the run's mirrors (no second copy of their shapes or K-L build).
+:func:`ideal_sensing` takes this form for a joint reconstructor with a mirror of
+``large_products`` (the actuator DM of the 4-m presets) and the dense ``LoopModel``
+otherwise, so the earlier presets keep their bits.
 """
 
 from __future__ import annotations
@@ -35,19 +50,203 @@ import copy
 from collections import deque
 
 import numpy as np
+from scipy import linalg
 
 from closedloop.control.controller import Controller
-from closedloop.model import LoopModel
+from closedloop.kinds import sensor_kind
+from closedloop.model import _NOISE_FLOOR, _RCOND, _SNR_CUT, LoopModel
 from closedloop.optics import _kernels
+from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera
+from closedloop.resources import GRAM_ROWS, budget_streams
 from closedloop.resources import ideal_sensor_config as _ideal_config  # counted there too
 from closedloop.result import ErrorBudget  # the budget's numbers live with the run's result
 from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
 
-__all__ = ["ErrorBudget", "BudgetProbe"]
+__all__ = ["ErrorBudget", "BudgetProbe", "IdealSensing", "ideal_sensing", "streams_ideal"]
 
 _N_NOISE_DRAWS = 64
+
+
+def streams_ideal(model: LoopModel) -> bool:
+    """Whether the budget of ``model`` takes its ideal sensors in the streamed form.
+
+    :func:`closedloop.resources.budget_streams` of its config (which the memory estimate
+    counts by): a joint reconstructor with a mirror of ``large_products``; the other
+    loops keep the dense ``LoopModel`` and its bits.
+    """
+    return budget_streams(model.config)
+
+
+def ideal_sensing(model: LoopModel):
+    """Return the budget's noise-free ideal sensors of ``model`` and their reconstruction.
+
+    Returns an :class:`IdealSensing` (:func:`streams_ideal`) or the dense ``LoopModel`` of
+    :func:`closedloop.resources.ideal_sensor_config`; either has ``sense(maps, None)``.
+    """
+    if streams_ideal(model):
+        return IdealSensing(model)
+    return LoopModel(_ideal_config(model.config))
+
+
+class IdealSensing:
+    """Ideal layer-oriented sensors and their joint reconstructor, without the dense ``G``.
+
+    See the module docstring. Builds, on the run's ``model`` (its geometry's planes, its
+    mirrors and its prior ``C``), one ideal sensor per WFS of
+    :func:`~closedloop.resources.ideal_sensor_config` and the ``(M, M)`` matrix ``K`` with
+    ``sense(maps) = K G^T N^-1 s``: ``K = (G^T N^-1 G + C^-1)^-1`` for the MAP
+    (``loop.reconstructor = "map"``), ``C^1/2 V_k L_k^-1 V_k^T C^1/2`` over the whitened
+    directions above the cut for the truncated form (``LoopModel._global_reconstructor``
+    in the form ``R = K G^T N^-1``).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The run's model; it must have a joint reconstructor (``model.prior`` set).
+    rows : int
+        Rows of ``G`` formed at once (:data:`closedloop.resources.GRAM_ROWS`).
+
+    Attributes
+    ----------
+    wfss : list of closedloop.optics.wfs.IdealSensor
+        The ideal sensors (their dense self-interaction is dropped once built).
+    noise_variance : (n_wfs,) ndarray
+        Diagonal of ``N`` per sensor (each sensor's model error, or the noise floor)
+        [rad^2].
+    n_controlled : int or None
+        The truncated form's kept whitened directions (as ``LoopModel``); None for the
+        MAP (not needed by the budget: it would cost an eigen-decomposition).
+    """
+
+    def __init__(self, model: LoopModel, rows: int = GRAM_ROWS):
+        if model.prior is None:
+            raise ValueError("`model` must have a joint reconstructor (several modal mirrors) "
+                             "for the streamed ideal sensors; got one without.")
+        self.model = model
+        cfg = _ideal_config(model.config)
+        geometry = Geometry(cfg)
+        kind = sensor_kind("ideal")
+        self.wfss = []
+        for j, w in enumerate(cfg.wfss):
+            sensor = kind.build(geometry, j, model.dms[w.dm])
+            # its own mirror's dense block (up to 1 GB at full size) is never read here
+            sensor.__dict__.pop("interaction", None)
+            self.wfss.append(sensor)
+        r0s = [geometry.layer_r0(i) for i in range(len(cfg.layers))]
+        model_error = np.array([w.model_error_variance(r0s, cfg.loop.model_error)
+                                for w in self.wfss])
+        gram, self.noise_variance = self._gram(model_error, rows)
+        self._k = self._solve(gram, cfg.loop.reconstructor)
+
+    # ------------------------------------------------------------------ set-up
+    def _means(self, w) -> np.ndarray:
+        """Column means of ``w``'s uncentred interaction with every mode, ``(M,)``."""
+        out = np.empty(self.model.n_modes)
+        ones = np.ones(w.n_measurements)
+        for d, dm in enumerate(self.model.dms):
+            column = np.asarray(w.operators[dm.plane].T @ ones)[dm.pixels]
+            out[self.model.mode_slices[d]] = dm.shapes.T @ column
+        return out / w.n_measurements
+
+    def _accumulate(self, w, scale: float, gram: np.ndarray, rows: int) -> np.ndarray:
+        """Add ``scale`` times ``G_w^T G_w`` (``G_w`` centred) to ``gram``'s upper triangle.
+
+        Returns the diagonal of ``G_w^T G_w``. ``gram`` is Fortran-ordered (updated in
+        place by BLAS ``dsyrk``); ``scale = 0``: the diagonal only.
+        """
+        model = self.model
+        mean = self._means(w)
+        diag = np.zeros(model.n_modes)
+        ops = [w.operators[dm.plane] for dm in model.dms]
+        for start in range(0, w.n_measurements, rows):
+            stop = min(start + rows, w.n_measurements)
+            block = np.empty((stop - start, model.n_modes))
+            for d, dm in enumerate(model.dms):
+                # interaction_with's rows: the operator's disc columns times the shapes
+                block[:, model.mode_slices[d]] = ops[d][start:stop][:, dm.pixels] @ dm.shapes
+            block -= mean
+            diag += np.einsum("ij,ij->j", block, block)
+            if scale > 0:
+                # gram += scale * block^T block: block^T is Fortran (M, rows), trans=0
+                linalg.blas.dsyrk(scale, block.T, beta=1.0, c=gram, trans=0, lower=0,
+                                  overwrite_c=1)
+        return diag
+
+    def _gram(self, model_error: np.ndarray, rows: int) -> tuple[np.ndarray, np.ndarray]:
+        """``G^T N^-1 G`` and ``N`` per sensor, as ``LoopModel._global_reconstructor``.
+
+        ``N`` is each sensor's model error, raised to the noise floor (``1e-4`` of the mean
+        signal, known only once every sensor's diagonal is). The pass weighs each sensor
+        by its model error; if the floor then raises one, the Gram matrix is accumulated
+        again with the final weights (a second pass, not a correction: a model error far
+        below the floor would leave nothing of the Gram matrix after cancellation).
+        """
+        model = self.model
+        n_total = sum(w.n_measurements for w in self.wfss)
+        weights = np.where(model_error > 0,
+                           1.0 / np.where(model_error > 0, model_error, 1.0), 0.0)
+        for _ in range(2):
+            gram = np.zeros((model.n_modes, model.n_modes), order="F")
+            diag = np.zeros(model.n_modes)
+            for w, scale in zip(self.wfss, weights, strict=True):
+                diag += self._accumulate(w, scale, gram, rows)
+            noise = np.maximum(model_error, _NOISE_FLOOR * np.mean(diag * model.prior)
+                               / n_total)
+            if np.array_equal(noise, model_error):
+                break
+            weights = 1.0 / noise
+        upper = np.triu_indices(model.n_modes, 1)
+        gram.T[upper] = gram[upper]  # dsyrk wrote the upper triangle
+        return gram, noise
+
+    def _solve(self, gram: np.ndarray, form: str) -> np.ndarray:
+        """``K`` of the MAP or the truncated form from ``gram`` (overwritten).
+
+        Whitened by the prior, ``W^T W = C^1/2 G^T N^-1 G C^1/2``: the MAP's
+        ``(W^T W + 1)^-1`` (eigenvalues >= 1: a Cholesky inverse, in place), or the
+        truncated form's ``V_k L_k^-1 V_k^T`` over ``sqrt(L) > max(1, 1e-3 sqrt(L_0))``;
+        then ``K = C^1/2 (...) C^1/2``.
+        """
+        root = np.sqrt(self.model.prior)
+        gram *= root[:, None]
+        gram *= root[None, :]
+        if form == "map":
+            self.n_controlled = None
+            gram[np.diag_indices_from(gram)] += 1.0
+            factor, info = linalg.lapack.dpotrf(gram, lower=0, overwrite_a=1)
+            if info == 0:
+                inverse, info = linalg.lapack.dpotri(factor, lower=0, overwrite_c=1)
+            if info != 0:  # pragma: no cover - W^T W + 1 is positive definite
+                raise np.linalg.LinAlgError(f"Cholesky inverse failed (LAPACK info {info})")
+            upper = np.triu_indices(inverse.shape[0], 1)
+            inverse.T[upper] = inverse[upper]
+        else:
+            lam, v = np.linalg.eigh(gram)
+            del gram
+            lam, v = np.clip(lam[::-1], 0.0, None), v[:, ::-1]
+            sv = np.sqrt(lam)
+            keep = sv > max(_SNR_CUT, _RCOND * sv[0])
+            self.n_controlled = int(keep.sum())
+            inverse = (v[:, keep] / lam[keep]) @ v[:, keep].T
+        inverse *= root[:, None]
+        inverse *= root[None, :]
+        return inverse
+
+    # ------------------------------------------------------------------ per frame
+    def sense(self, plane_maps: list[np.ndarray], rng=None) -> np.ndarray:
+        """Modal residual of every DM from the maps, ``K G^T N^-1 s`` (noise-free: no ``rng``)."""
+        model = self.model
+        back = [np.zeros(dm.pixels.size) for dm in model.dms]
+        for w, n in zip(self.wfss, self.noise_variance, strict=True):
+            s = w.forward(plane_maps) / n  # centred: C s = s, so G^T s = A^T s
+            for d, dm in enumerate(model.dms):
+                back[d] += np.asarray(w.operators[dm.plane].T @ s)[dm.pixels]
+        b = np.empty(model.n_modes)
+        for d, dm in enumerate(model.dms):
+            b[model.mode_slices[d]] = dm.shapes.T @ back[d]
+        return self._k @ b
 
 
 class BudgetProbe:
@@ -69,7 +268,7 @@ class BudgetProbe:
 
     def __init__(self, model: LoopModel, predictor, every: int, *, oracle: bool = False):
         self.model = model
-        self.ideal = LoopModel(_ideal_config(model.config))
+        self.ideal = ideal_sensing(model)
         self.every = every
         loop = model.config.loop
         self.oracle = oracle

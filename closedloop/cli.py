@@ -3,6 +3,7 @@
 ::
 
     closedloop run --preset table1 --predictor arma --duration 1.0 --seed 0 --out run.h5
+    closedloop run --preset est-mcao --duration 0.05 --budget-every 5   # + the error budget
     closedloop compare --preset table1 --predictors none,linear,arma,nn-paper,oracle
     closedloop info run.h5
     closedloop export run.h5 run.fits               # the run as an AO Telemetry (AOT) system
@@ -68,8 +69,12 @@ def _check_duration(args) -> None:
         raise CommandError(f"--duration must be > 0 s and finite; got {args.duration:g}")
 
 
-def _check_resources(args, config, *, oracle: bool = False, budget: bool = False):
-    """Refuse a run that cannot work or exceeds the memory limit (before any work)."""
+def _check_resources(args, config, *, oracle: bool = False, budget_every: int | None = None):
+    """Refuse a run that cannot work or exceeds the memory limit (before any work).
+
+    ``budget_every``: the run's ``--budget-every`` (checked against the run's frames, and
+    its error budget's model counted in the memory estimate).
+    """
     from closedloop.config import MAX_SEED
     from closedloop.resources import MAX_FRAMES, check_resources
     from closedloop.simulation import check_run
@@ -85,12 +90,18 @@ def _check_resources(args, config, *, oracle: bool = False, budget: bool = False
         if value is not None and not 0 <= value <= MAX_SEED:
             raise CommandError(f"{flag} must be an int in [0, 2**63 - 1] (it is stored in "
                                f"the result); got {value}")
-    check_run(config, args.duration)
+    try:
+        check_run(config, args.duration, budget_every=budget_every)
+    except ValueError as exc:
+        if "`budget_every`" not in str(exc):
+            raise
+        raise CommandError(str(exc).replace("`budget_every` must be None or",
+                                            "--budget-every must be")) from None
     from closedloop.resources import ResourceError
 
     try:
         return check_resources(config, args.duration, limit=_memory_limit(args),
-                               oracle=oracle, budget=budget)
+                               oracle=oracle, budget=bool(budget_every))
     except ResourceError as exc:
         hint = " (--memory-limit raises the limit)" if "memory" in str(exc) else ""
         raise CommandError(f"{exc}{hint}") from None
@@ -142,6 +153,21 @@ def _summary_line(result) -> str:
             f"{s['closure_time_s'] * 1e3:.0f} ms, {numbers}")
 
 
+def _budget_line(budget, wavelength: float) -> str:
+    """One line: each budget term on axis / over the field, and the measured residual."""
+    import numpy as np
+
+    axis = int(np.argmin(np.hypot(*np.asarray(budget.directions).T)))
+    x, y = budget.directions[axis]
+    terms = [(name, getattr(budget, name)) for name in
+             ("fitting", "aliasing", "temporal", "noise")]
+    terms += [("sum", budget.total), ("measured", budget.measured)]
+    values = ", ".join(f"{name} {v[axis]:.3g} / {np.mean(v):.3g}" for name, v in terms)
+    return (f"error budget [rad^2 at {wavelength * 1e9:.0f} nm], at ({x:g}\", {y:g}\") / "
+            f"mean over {len(budget.directions)} directions, {len(budget.frames)} frames "
+            f"after closure: {values}")
+
+
 # --------------------------------------------------------------------- subcommands
 def _add_common(p: argparse.ArgumentParser) -> None:
     from closedloop import presets
@@ -168,14 +194,17 @@ def _cmd_run(args) -> int:
     check_output(args.out, args.overwrite, suffixes=(".h5", ".hdf5"), flag="--out")
     _check_duration(args)
     config = _config(args)
-    est = _check_resources(args, config, oracle=predictor.oracle)
+    est = _check_resources(args, config, oracle=predictor.oracle,
+                           budget_every=args.budget_every)
     _check_writable(args.out, est.parts["logs"], "--out")
     result = run_trained(config, predictor, args.duration, seed=args.seed,
                          train_seed=args.train_seed, progress=_progress(args),
-                         memory_limit=_memory_limit(args))
+                         memory_limit=_memory_limit(args), budget_every=args.budget_every)
     if args.out is not None:
         result.save(args.out, overwrite=args.overwrite)
     print(_summary_line(result))
+    if result.budget is not None:
+        print(_budget_line(result.budget, config.wavelength))
     return 0
 
 
@@ -384,6 +413,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"one of {', '.join(predictors.NAMES)} (default none)")
     p.add_argument("--out", type=Path, help="write the result (HDF5)")
     p.add_argument("--overwrite", action="store_true", help="replace --out if it exists")
+    p.add_argument("--budget-every", type=int, default=None, metavar="N",
+                   help="estimate the error budget every N frames (closedloop.budget; "
+                        "printed on axis / over the field, and saved with --out)")
     p.set_defaults(_run=_cmd_run)
     p = sub.add_parser("compare", help="several predictors on the same atmosphere, one table")
     _add_common(p)

@@ -27,12 +27,17 @@ each kind gives its own numbers (``estimate`` of its :mod:`closedloop.kinds` rec
 - ``reconstructor``: interaction matrices, SVD and MAP reconstructor (dense);
 - ``logs``: the run's logs, ``frames x (3 M + directions + measurements)`` float64, and
   their copies in the result's ModalLogs;
-- ``budget`` (only with the error budget, ``budget_every``): the second
-  :class:`~closedloop.model.LoopModel` the budget builds, of ideal sensors
-  (:func:`ideal_sensor_config`), counted by the same rules: its pupil, mirrors, kept
-  operators and dense reconstructor (``6 x 8 B x measurements x modes``; an ideal WFS
-  measures every disc pixel, 272,000 of them on the full-size EST, so this part
-  dominates), built after the run's model and atmosphere.
+- ``budget`` (only with the error budget, ``budget_every``): the ideal sensors the budget
+  builds (:func:`ideal_sensor_config`), counted by the same rules, built after the run's
+  model and atmosphere. With a joint reconstructor and a mirror of ``large_products``
+  (:func:`budget_streams`: the 4-m presets) they are streamed
+  (:class:`closedloop.budget.IdealSensing`): their kept operators
+  (:data:`_IDEAL_KEPT_SHARE` of the entries built), the ``M x M`` reconstruction and, while
+  built, the largest sensor's own dense interaction block or the Gram phase
+  (``M x M`` twice and :data:`GRAM_ROWS` rows of ``G``); the run's mirrors are shared.
+  Otherwise they are a second dense ``LoopModel``: its pupil, mirrors, kept operators and
+  dense reconstructor (``6 x 8 B x measurements x modes``; an ideal WFS measures every
+  disc pixel, 272,000 of them on the full-size EST: 62 GiB that way).
 
 A sensor may cost time per frame beyond its sparse products (``SensorCost.frame_seconds``:
 a correlating WFS with ``image_formation`` forms and correlates its images every frame):
@@ -61,8 +66,8 @@ from closedloop.optics.products import GRAM_MIN_BYTES
 from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
-           "available_memory", "ideal_sensor_config", "DEFAULT_SHARE", "BASELINE_BYTES",
-           "MAX_IMAGING_SECONDS"]
+           "available_memory", "ideal_sensor_config", "budget_streams", "DEFAULT_SHARE",
+           "BASELINE_BYTES", "MAX_IMAGING_SECONDS", "GRAM_ROWS"]
 
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
@@ -96,6 +101,15 @@ MAX_FRAMES = 1e15
 #: longest run (wall time) of the sensors' per-frame work beyond their sparse products
 #: (a correlating WFS's image formation) that is accepted
 MAX_IMAGING_SECONDS = 3600.0
+#: rows of the ideal sensors' interaction matrix the streamed budget forms at once
+#: (:class:`closedloop.budget.IdealSensing`; ``GRAM_ROWS x M`` float64, 160 MB at the
+#: full-size EST's 4,881 modes)
+GRAM_ROWS = 4096
+#: share of an ideal sensor's built entries its CSR operators keep, at 16 bytes each (8 B
+#: value, 4 B index, 4 B the matvec kernel's copy): the bilinear reads of the field's
+#: directions overlap only on the sensor's own plane. Measured on est_mcao_variant(16) and
+#: (24): 5.60 M and 12.8 M entries kept of 17.5 M and 39.4 M built (0.32 and 0.33)
+_IDEAL_KEPT_SHARE = 0.35
 #: the parts a run keeps once its model exists (``ResourceEstimate.run_bytes`` adds them up)
 _RUN_PARTS = ("pupil", "dm_shapes", "reconstructor", "screens", "planes", "logs", "budget")
 
@@ -180,6 +194,39 @@ def ideal_sensor_config(config: SimulationConfig) -> SimulationConfig:
                            n_subapertures=w.n_subapertures, noise=0.0, kind="ideal",
                            field_samples=w.field_samples, dm=w.dm) for w in config.wfss)
     return config.replace(wfss=wfss)
+
+
+def budget_streams(config: SimulationConfig) -> bool:
+    """Whether the error budget of ``config`` streams its ideal sensors.
+
+    True with a joint reconstructor (several mirrors, none zonal) and a mirror kind of
+    ``large_products`` (the rule :mod:`closedloop.optics.products` switches the 4-m loops'
+    algebra by): :class:`closedloop.budget.IdealSensing`. The other configs keep the
+    dense ``LoopModel`` of :func:`ideal_sensor_config` (and their bits).
+    """
+    kinds = [mirror_kind(d.kind).build for d in config.dms]
+    return (len(config.dms) > 1 and all(d.kind != "ideal" for d in config.dms)
+            and any(getattr(k, "large_products", False) for k in kinds))
+
+
+def _streamed_budget(config: SimulationConfig, ideal: _ModelCost,
+                     dx: float) -> tuple[float, float]:
+    """Bytes the streamed ideal sensors keep, and those they hold only while built.
+
+    Kept: their operators and the ``M x M`` reconstruction. While built (beyond the
+    kept): the largest sensor's own dense interaction block (``WavefrontSensor`` forms it;
+    :class:`~closedloop.budget.IdealSensing` drops it) with its operators' build, or the
+    Gram phase (the Gram matrix, its triangle's index arrays and :data:`GRAM_ROWS` rows).
+    """
+    m = ideal.n_modes
+    operators = _IDEAL_KEPT_SHARE * _BUILD_BYTES_PER_ENTRY * sum(c.build_entries
+                                                                 for c in ideal.costs)
+    modes = [mirror_kind(d.kind).estimate(config, i, dx).n_modes
+             for i, d in enumerate(config.dms)]
+    own = max(8.0 * c.n_measurements * modes[w.dm]
+              for w, c in zip(config.wfss, ideal.costs, strict=True))
+    transient = max(own + ideal.wfs_build, 8.0 * (2.0 * m * m + GRAM_ROWS * m))
+    return operators + 8.0 * m * m, transient
 
 
 def _plane_driver(config: SimulationConfig, layout: list, p: int) -> str:
@@ -432,16 +479,20 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
     setup = parts["pupil"] + parts["dm_shapes"] + max(parts["wfs_build"], model.dm_build)
     run = kept + parts["screens"] + parts["planes"] + parts["logs"]
     if budget:
-        # the budget's model of ideal sensors: built (BudgetProbe) once the run's model
-        # and screens exist, then kept with its reconstructor through the run
+        # the budget's ideal sensors: built (BudgetProbe) once the run's model and
+        # screens exist, then kept with their reconstruction through the run
         ideal = _model(ideal_sensor_config(config), layout, dx)
-        ideal_reconstructor, _ = _matrices(n_frames, 0, ideal.n_meas, ideal.n_modes)
-        ideal_kept = (ideal.pupil + ideal.dm_bytes + ideal_reconstructor
-                      + ideal.kept_operators)
+        if budget_streams(config):
+            ideal_kept, ideal_build = _streamed_budget(config, ideal, dx)
+            ideal_setup = ideal_kept + ideal_build
+        else:
+            ideal_reconstructor, _ = _matrices(n_frames, 0, ideal.n_meas, ideal.n_modes)
+            ideal_kept = (ideal.pupil + ideal.dm_bytes + ideal_reconstructor
+                          + ideal.kept_operators)
+            ideal_setup = (ideal.pupil + ideal.dm_bytes
+                           + max(ideal.wfs_build + ideal.kept_operators, ideal.dm_build))
         parts["budget"] = ideal_kept
         drivers["budget"] = "budget_every"
-        ideal_setup = (ideal.pupil + ideal.dm_bytes
-                       + max(ideal.wfs_build + ideal.kept_operators, ideal.dm_build))
         run = max(run + ideal_kept, kept + parts["screens"] + ideal_setup)
     peak = BASELINE_BYTES + max(setup, kept + parts["screens"] + transient, run)
     return ResourceEstimate(
