@@ -318,3 +318,83 @@ def csr_matvec(indptr, indices, data, x, out, accumulate):
             out[r] += t
         else:
             out[r] = t
+
+
+#: columns per chunk of :func:`chunked_matvec` (four independent sums per row)
+CHUNK = 4
+
+
+@jit
+def chunk_count(indptr, indices, n_cols):
+    """Chunks per row of a CSR matrix (sorted columns) cut greedily into :data:`CHUNK` columns.
+
+    A chunk starts at a row's first entry not covered by the row's previous chunk and
+    covers ``CHUNK`` consecutive columns from ``min(column, n_cols - CHUNK)``. Returns
+    ``(n_rows + 1,)`` int64 chunk pointers (the ``indptr`` of :func:`chunked_matvec`).
+    """
+    n = indptr.shape[0] - 1
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    last = n_cols - CHUNK
+    for i in range(n):
+        count = 0
+        end = -1
+        for k in range(indptr[i], indptr[i + 1]):
+            c = np.int64(indices[k])
+            if c >= end:
+                count += 1
+                end = min(c, last) + CHUNK
+        ptr[i + 1] = ptr[i] + count
+    return ptr
+
+
+@jit
+def chunk_fill(indptr, indices, values, n_cols, chunk_ptr, starts, data):
+    """Write the chunks :func:`chunk_count` counted: ``starts`` (first column) and ``data``.
+
+    ``data`` (CHUNK * n_chunks,), zeroed by the caller: lane ``c - start`` of a chunk holds
+    the value of column ``c`` (the lanes no entry falls on stay 0).
+    """
+    n = indptr.shape[0] - 1
+    last = n_cols - CHUNK
+    for i in range(n):
+        q = chunk_ptr[i] - 1
+        end = -1
+        for k in range(indptr[i], indptr[i + 1]):
+            c = np.int64(indices[k])
+            if c >= end:
+                q += 1
+                s = min(c, last)
+                starts[q] = s
+                end = s + CHUNK
+            data[CHUNK * q + c - starts[q]] = values[k]
+
+
+@jit
+def chunked_matvec(chunk_ptr, starts, data, x, out, accumulate):
+    """``out = A @ x`` (or ``+=``) for ``A`` stored in chunks of :data:`CHUNK` columns.
+
+    chunk_ptr (n + 1,) int64, starts (n_chunks,) uint32, data (CHUNK * n_chunks,) float32
+    or float64 (:func:`chunk_count`, :func:`chunk_fill`). Each row keeps four sums, one
+    per lane of its chunks (lane ``l`` of every chunk into sum ``l``, chunks in column
+    order), added at the end as ``(s0 + s1) + (s2 + s3)``: four independent chains per
+    row, so the additions are not one serial chain, and a chunk's four ``x`` reads are
+    consecutive (one cache line). A fixed order: the same bits whatever the thread count.
+    """
+    n = out.shape[0]
+    for i in range(n):
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        a3 = 0.0
+        for q in range(chunk_ptr[i], chunk_ptr[i + 1]):
+            xs = x[starts[q]:starts[q] + CHUNK]
+            ds = data[CHUNK * q:CHUNK * q + CHUNK]
+            a0 += np.float64(ds[0]) * xs[0]
+            a1 += np.float64(ds[1]) * xs[1]
+            a2 += np.float64(ds[2]) * xs[2]
+            a3 += np.float64(ds[3]) * xs[3]
+        t = (a0 + a1) + (a2 + a3)
+        if accumulate:
+            out[i] += t
+        else:
+            out[i] = t
