@@ -7,10 +7,10 @@ One model of ``--preset`` (``est-mcao``, ``dkist-scao``, ...) or of
   same order: commands put on the mirrors, atmosphere and residual maps per internal
   step, exposure sum, science directions, WFS measurement, reconstruction, controller
   with the MAP's pseudo-open-loop product) timed part by part with
-  ``time.process_time``, frames alternating between the "before" products (float64 CSR
-  sensor operators, float64 controller products) and the "after" ones (this tree's:
-  float32 chunked operators, float32 controller products from 8 MB), so that the
-  machine's load drifts alike over both; medians over ``--frames`` frames each;
+  ``time.process_time``, frames alternating between the "before" controller (float64
+  ``(M, M)`` products) and the "after" one (float32 from 8 MB, as ``simulate`` builds
+  it for a loop of actuator mirrors), so that the machine's load drifts alike over
+  both; medians over ``--frames`` frames each;
 - **whole frames**: ``simulate`` of ``--frames`` frames with each configuration, CPU
   per frame (the screens drawn at the run's start included);
 - **what float32 moves**: the two runs have the same seed; the largest relative change
@@ -52,23 +52,6 @@ def build(args):
     t = time.process_time()
     model = LoopModel(cfg)
     return cfg, model, time.process_time() - t
-
-
-def set_products(model, after: bool, cache: dict) -> None:
-    """Switch the sensors' operators between float32 chunks (after) and float64 CSR."""
-    for w in model.wfss:
-        key = id(w)
-        if key not in cache:
-            cache[key] = (getattr(w, "_chunked", None), getattr(w, "_csr", None))
-        chunked, csr = cache[key]
-        if after:
-            w._chunked, w._csr = chunked, csr
-        else:
-            w._chunked = None
-            w._csr = [(op.indptr.astype(np.int64), op.indices.astype(np.uint32),
-                       np.ascontiguousarray(op.data, dtype=np.float64))
-                      for op in w.operators] if csr is None else csr
-            cache[key] = (chunked, w._csr)
 
 
 class Frame:
@@ -182,17 +165,14 @@ def main() -> None:
         return
     from closedloop.optics.products import FLOAT32_MIN_BYTES
 
-    cache: dict = {}
     frames = {}
     times = {"before": [], "after": []}
     for name, after in (("before", False), ("after", True)):
-        set_products(model, after, cache)
         frames[name] = Frame(model, FLOAT32_MIN_BYTES if after else math.inf,
                              frames=args.frames + 5)
         frames[name].step()  # numba warm-up
     for _ in range(args.frames):
-        for name, after in (("before", False), ("after", True)):
-            set_products(model, after, cache)
+        for name in ("before", "after"):
             times[name].append(frames[name].step())
     for name in times:
         out[f"parts_ms_{name}"] = {k: 1e3 * float(np.median([t[k] for t in times[name]]))
@@ -203,7 +183,6 @@ def main() -> None:
 
     runs = {}
     for name, after in (("before", False), ("after", True)):
-        set_products(model, after, cache)
         if not after:  # the controller of simulate takes its limit from the model
             import closedloop.simulation as sim
 

@@ -360,24 +360,37 @@ class _Clock:
 
 
 class _Exposure:
-    """Sum of the plane maps over a WFS exposure (in place, no allocation per step)."""
+    """Sum of the plane maps over a WFS exposure (in place, no allocation per step).
+
+    The first step after :meth:`clear` is copied rather than added to zeros: the same
+    numbers (``0 + v = v``; only an exact ``-0.0`` keeps its sign) for one pass over the
+    planes less (the zeroing), ~1 ms a frame on ``est-mcao``'s 60" planes.
+    """
 
     def __init__(self, maps: list[np.ndarray]):
         self.maps = [np.zeros_like(v) for v in maps]
+        self._empty = True
 
     def add(self, maps: list[np.ndarray]) -> None:
+        if self._empty:
+            for a, v in zip(self.maps, maps, strict=True):
+                np.copyto(a, v)
+            self._empty = False
+            return
         for a, v in zip(self.maps, maps, strict=True):
             a += v
 
     def mean(self, n: int) -> list[np.ndarray]:
         """Divide the sums by ``n`` steps (in place) and return them."""
         for a in self.maps:
+            if self._empty:  # nothing added since the last clear: the sums are zero
+                a[:] = 0.0
             a /= n
         return self.maps
 
     def clear(self) -> None:
-        for a in self.maps:
-            a[:] = 0.0
+        """Start a new sum (the next :meth:`add` overwrites the maps)."""
+        self._empty = True
 
 
 class _Oracle:

@@ -32,11 +32,8 @@ the largest entry against ``numpy.linalg.pinv`` (``tests/closedloop/test_dense_p
 from __future__ import annotations
 
 import numpy as np
-from scipy import sparse
 
-from closedloop.optics import _kernels
-
-__all__ = ["ChunkedSparse", "DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "gram_pinv"]
+__all__ = ["DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "gram_pinv"]
 
 #: float64 size [bytes] from which a product runs in float32 (8 MB: beyond a core's L2
 #: and this machine's share of L3, where the product is bound by memory traffic)
@@ -104,66 +101,3 @@ class DenseProduct:
         if self.single:
             return (self.matrix @ np.asarray(x, dtype=np.float32)).astype(np.float64)
         return self.matrix @ x
-
-
-class ChunkedSparse:
-    """``y = A x`` for a sparse ``A`` held as float32 chunks of four consecutive columns.
-
-    The Shack-Hartmann operators of a 4-m MCAO (``est-mcao``: five 60" sensors x seven
-    planes, ~26 M entries) are read once per frame, like the dense products above, and
-    their rows are runs of consecutive columns (a subaperture's footprint on a plane
-    from each field direction: 6.5 columns per run on average at ``est-mcao@24``). Held
-    as CSR (float64 values and 32-bit columns, 12 bytes an entry) they cost 44 ms a frame
-    at the published size (``benchmarks/RESULTS.md``). Here each row is cut into chunks
-    of four columns (zero-padded, ~1.25 lanes per entry), a chunk one 32-bit start and
-    four float32 values: ~6 bytes an entry, and one cache line of ``x`` per chunk
-    (:func:`closedloop.optics._kernels.chunked_matvec`; the sums stay float64).
-
-    **Float32 values change nothing the loop reports**: each entry is rounded by at most
-    ``2^-24`` of itself, an error in a slope of order ``2^-24 sqrt(n) |a| |x|`` over the
-    row's ``n`` entries, far below the sensors' noise and aliasing (measured on the loop's
-    residual variance in ``benchmarks/RESULTS.md``, "Per-frame CPU of the 4-m presets").
-    Used only by sensors of mirrors that ask for large products
-    (``DeformableMirror.large_products``); the other sensors keep their float64 CSR
-    product and its bits.
-
-    Parameters
-    ----------
-    matrix : scipy.sparse matrix, shape (m, n)
-        ``A`` (any sparse format; its entries are summed and sorted by column).
-    dtype : numpy dtype
-        Of the stored values (float32; float64 for a reference).
-    """
-
-    def __init__(self, matrix, dtype=np.float32):
-        a = sparse.csr_matrix(matrix, dtype=np.float64, copy=True)
-        a.sum_duplicates()  # also sorts each row's columns
-        m, n = a.shape
-        if n < _kernels.CHUNK:  # too narrow to chunk: pad the columns (never in a loop)
-            a = sparse.csr_matrix((a.data, a.indices, a.indptr), shape=(m, _kernels.CHUNK))
-        self.shape = (m, n)
-        width = a.shape[1]
-        indptr = a.indptr.astype(np.int64)
-        indices = a.indices.astype(np.int64)
-        self.chunk_ptr = _kernels.chunk_count(indptr, indices, width)
-        n_chunks = int(self.chunk_ptr[-1])
-        self.starts = np.empty(n_chunks, dtype=np.uint32)
-        self.data = np.zeros(_kernels.CHUNK * n_chunks, dtype=dtype)
-        _kernels.chunk_fill(indptr, indices, a.data, width, self.chunk_ptr, self.starts,
-                            self.data)
-        self._narrow = width != n
-
-    @property
-    def nbytes(self) -> int:
-        """Memory held [bytes]."""
-        return self.chunk_ptr.nbytes + self.starts.nbytes + self.data.nbytes
-
-    def __call__(self, x: np.ndarray, out: np.ndarray, accumulate: bool = False) -> np.ndarray:
-        """``out = A x`` (``out += A x`` if ``accumulate``); ``x`` float64 ``(n,)`` contiguous.
-
-        Returns ``out`` (float64 ``(m,)``).
-        """
-        if self._narrow:
-            x = np.concatenate([x, np.zeros(_kernels.CHUNK - x.size)])
-        _kernels.chunked_matvec(self.chunk_ptr, self.starts, self.data, x, out, accumulate)
-        return out

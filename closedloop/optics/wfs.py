@@ -36,9 +36,7 @@ the DM's modes by least squares; no aliasing (up to the projection's own) and no
 
 The whole sensor is a fixed linear map from the plane maps to the slopes, built once as
 scipy sparse matrices (one per plane), so a measurement is a few sparse products (a numba
-kernel, :func:`closedloop.optics._kernels.csr_matvec`, with the same bits as scipy's product;
-the sensor of an actuator mirror reads float32 chunks instead,
-:class:`closedloop.optics.products.ChunkedSparse`).
+kernel, :func:`closedloop.optics._kernels.csr_matvec`, with the same bits as scipy's product).
 
 The two kinds are registered here (:data:`SHACK_HARTMANN`, :data:`IDEAL`,
 :class:`closedloop.kinds.SensorKind` records): their rules against the pupil grid, their
@@ -213,14 +211,10 @@ class WavefrontSensor:
         self._centred = False
         self.noise_rms = 0.0
         self._build(cfg)
-        # the operators as the per-frame kernels take them: float32 chunks for the sensor
-        # of a 4-m mirror (closedloop.optics.products.ChunkedSparse: half the bytes read
-        # per frame), else the CSR arrays with unsigned columns (the same bits as scipy)
-        self._chunked = ([products.ChunkedSparse(op) for op in self.operators]
-                         if dm.large_products else None)
+        # the operators' CSR arrays as the matvec kernel takes them (unsigned columns)
         self._csr = [(op.indptr.astype(np.int64), op.indices.astype(np.uint32),
                       np.ascontiguousarray(op.data, dtype=np.float64))
-                     for op in self.operators] if self._chunked is None else None
+                     for op in self.operators]
         self.interaction = self.interaction_with(dm)
         self._rcond = rcond
 
@@ -289,20 +283,17 @@ class WavefrontSensor:
 
     def _operate(self, plane_maps: list[np.ndarray]) -> np.ndarray:
         """``sum_p operators[p] @ r_p`` by the sparse kernel (``(operators rows,)``)."""
-        if len(plane_maps) != len(self.operators):
-            raise ValueError(f"`plane_maps` must hold {len(self.operators)} maps; "
+        if len(plane_maps) != len(self._csr):
+            raise ValueError(f"`plane_maps` must hold {len(self._csr)} maps; "
                              f"got {len(plane_maps)}.")
         # s = operators[0] @ r_0, then s += operators[p] @ r_p: scipy's arithmetic
         s = np.empty(self.operators[0].shape[0])
-        for p, op in enumerate(self.operators):
+        for p, (indptr, indices, data) in enumerate(self._csr):
             x = np.ascontiguousarray(plane_maps[p], dtype=np.float64).reshape(-1)
-            if x.size != op.shape[1]:
-                raise ValueError(f"`plane_maps[{p}]` must have {op.shape[1]} "
+            if x.size != self.operators[p].shape[1]:
+                raise ValueError(f"`plane_maps[{p}]` must have {self.operators[p].shape[1]} "
                                  f"pixels; got {x.size}.")
-            if self._chunked is not None:
-                self._chunked[p](x, s, p > 0)
-            else:
-                _kernels.csr_matvec(*self._csr[p], x, s, p > 0)
+            _kernels.csr_matvec(indptr, indices, data, x, s, p > 0)
         return s
 
     def interaction_with(self, dm: DeformableMirror):
