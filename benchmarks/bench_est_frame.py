@@ -16,9 +16,14 @@ One model of ``--preset`` (``est-mcao``, ``dkist-scao``, ...) or of
 - **what float32 moves**: the two runs have the same seed; the largest relative change
   of the residual variance over frames and directions, and of the run-mean SR.
 
-Parts of a code tree's own (kernels changed bit for bit: science, atmosphere, exposure)
-are compared by running this script with ``--before-tree`` (a checkout, e.g. /work/main)
-in a subprocess on the same model size: its part medians are printed beside.
+Parts of a code tree's own (kernels changed bit for bit: science, exposure) are compared
+by running this script with ``--before-tree`` (a checkout, e.g. /work/main) in a
+subprocess on the same model size: its part medians are printed beside. ``--kernels``
+times those two in one process on the configuration's geometry only (no model, so the
+published size costs seconds): the science moments with and without the shared row sums
+(``direction_moments_grouped`` against ``direction_moments_serial``, same bits checked),
+and the exposure sum of the planes as before (zero, add every step, divide) and now
+(copy the first step).
 
 Run (BLAS on one thread; the machine is shared: quote the load average)::
 
@@ -141,6 +146,76 @@ def run_whole(cfg, model, frames: int, seed: int = 2):
     return res, time.process_time() - t
 
 
+def _median_ms(func, reps: int) -> float:
+    func()
+    times = []
+    for _ in range(reps):
+        t = time.process_time()
+        func()
+        times.append(time.process_time() - t)
+    return 1e3 * float(np.median(times))
+
+
+def kernels(args) -> dict:
+    """Science and exposure kernels, before and after, in this process (geometry only)."""
+    from closedloop import presets
+    from closedloop.optics import _kernels
+    from closedloop.optics.geometry import Geometry
+    from closedloop.optics.science import ScienceCamera
+    from closedloop.simulation import _Exposure
+
+    cfg = (presets.est_mcao_variant(args.subapertures) if args.subapertures
+           else presets.get(args.preset))
+    geometry = Geometry(cfg)
+    cam = ScienceCamera(geometry, geometry.directions)
+    rng = np.random.default_rng(1)
+    cam._flat[:] = rng.standard_normal(cam._flat.size)
+    base = (cam._flat, cam._offsets, cam._sizes, cam._span_lo, cam._span_hi, cam._shifts,
+            cam._taps, np.ones(len(cam._sizes)), cam._common, cam._base)
+    out = {"config": cfg.name, "directions": len(cam.directions),
+           "planes": [int(n) for n in cam._sizes]}
+    a, b = np.empty((2, len(cam.directions))), np.empty((2, len(cam.directions)))
+    old = lambda: _kernels.direction_moments_serial(*base, a[0], a[1])  # noqa: E731
+    res = {}
+    for _rep in range(3):  # alternate, so that the load drifts alike over both
+        res.setdefault("science_before_ms", []).append(_median_ms(old, args.frames))
+        if cam._groups is not None:
+            new = lambda: _kernels.direction_moments_grouped(  # noqa: E731
+                *base, *cam._groups, b[0], b[1])
+            res.setdefault("science_after_ms", []).append(_median_ms(new, args.frames))
+    if cam._groups is not None:
+        out["science_same_bits"] = bool(np.array_equal(a, b))
+    maps = cam.plane_views()
+    n_int = round(cfg.loop.integration_frames * cfg.loop.oversampling)
+    exp = _Exposure(maps)
+    sums = [np.zeros_like(v) for v in maps]
+
+    def before():
+        for s in sums:
+            s[:] = 0.0
+        for _ in range(n_int):
+            for s, v in zip(sums, maps, strict=True):
+                s += v
+        for s in sums:
+            s /= n_int
+
+    def after():
+        exp.clear()
+        for _ in range(n_int):
+            exp.add(maps)
+        exp.mean(n_int)
+
+    for _rep in range(3):
+        res.setdefault("exposure_before_ms", []).append(_median_ms(before, args.frames))
+        res.setdefault("exposure_after_ms", []).append(_median_ms(after, args.frames))
+    before()
+    after()
+    out["exposure_same_bits"] = all(np.array_equal(s, e) for s, e in zip(sums, exp.maps,
+                                                                         strict=True))
+    out.update({k: float(np.median(v)) for k, v in res.items()})
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--preset", default="est-mcao")
@@ -149,10 +224,17 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=40)
     parser.add_argument("--parts-only", action="store_true",
                         help="the per-part medians of this tree only (for --before-tree)")
+    parser.add_argument("--kernels", action="store_true",
+                        help="science and exposure kernels only, on the geometry")
     parser.add_argument("--before-tree", default="",
                         help="a checkout whose per-part medians are measured in a subprocess")
     args = parser.parse_args()
     out: dict = {"load_start": os.getloadavg()[0]}
+    if args.kernels:
+        out.update(kernels(args))
+        out["load_end"] = os.getloadavg()[0]
+        print(json.dumps(out, indent=1))
+        return
     cfg, model, setup = build(args)
     out["setup_s"] = setup
     out["config"] = cfg.name
