@@ -5,7 +5,9 @@ The residual seen in direction ``theta`` is ``sum_p r_p(x + h_p theta)`` over th
 variance is computed for all directions at once by a numba kernel (the sub-pixel part
 of a plane's shift is shared by the whole pupil because all planes have the pupil's
 pitch, so one set of read weights serves a (direction, plane) pair; a plane whose shift
-is the same in every direction, the ground plane, is read once for all directions). The
+is the same in every direction, the ground plane, is read once for all directions, and
+directions on one row of the field grid share the row sums of each plane they read at
+the same rows: :func:`closedloop.optics._kernels.direction_moments_grouped`). The
 Strehl ratio is the extended Marechal approximation ``exp(-sigma**2)`` at the science
 wavelength (Ross 2009, Appl. Opt. 48, 1812); :func:`fft_strehl` computes the PSF peak by
 FFT to check it.
