@@ -44,6 +44,7 @@ import math
 
 import numpy as np
 
+from closedloop.optics.products import DenseProduct
 from modalinfo.servo import check_loop, check_stable, command_weights
 
 __all__ = ["Controller", "PredictorFault", "lead_frames", "PREDICTOR_FAULT_ACTIONS"]
@@ -112,11 +113,18 @@ class Controller:
         the identity on the commands (a least-squares or truncated reconstructor, whose
         commands lie where it is) and ``p_k = m_k + sum_j w_j c_{k-j}``, the classic
         integrator.
+    float32_from : float
+        Float64 size [bytes] from which the ``projector`` and ``sensed`` products run in
+        float32 (:class:`closedloop.optics.products.DenseProduct`; the loop passes
+        :data:`closedloop.optics.products.FLOAT32_MIN_BYTES` when a mirror asks for large
+        products: ``est-mcao``'s ``R G`` is 4,881 x 4,881, 190 MB in float64 read every
+        frame). Default ``inf``: always float64.
     """
 
     def __init__(self, n_modes: int, *, gain: float, leak: float, delay_frames: float,
                  integration_frames: float, predictor=None, on_predictor_fault: str = "raise",
-                 projector: np.ndarray | None = None, sensed: np.ndarray | None = None):
+                 projector: np.ndarray | None = None, sensed: np.ndarray | None = None,
+                 float32_from: float = math.inf):
         if on_predictor_fault not in PREDICTOR_FAULT_ACTIONS:
             raise ValueError(f"`on_predictor_fault` must be one of "
                              f"{', '.join(map(repr, PREDICTOR_FAULT_ACTIONS))}; got "
@@ -142,6 +150,9 @@ class Controller:
                 raise ValueError(f"`sensed` must be a finite ({n_modes}, {n_modes}) "
                                  f"array; got shape {sensed.shape}.")
         self.sensed = sensed
+        # the products of the step (float32 for large matrices when asked, else float64)
+        self._project = None if projector is None else DenseProduct(projector, float32_from)
+        self._sense = None if sensed is None else DenseProduct(sensed, float32_from)
         self.on_predictor_fault = on_predictor_fault
         #: frames whose forecast was unusable and whose command was held ("hold")
         self.n_faults = 0
@@ -192,7 +203,7 @@ class Controller:
             The new command ``c_k``, the POL ``p_k`` and the forecast ``p^_k`` used.
         """
         seen = self.seen_commands()
-        pol = measured + (seen if self.sensed is None else self.sensed @ seen)
+        pol = measured + (seen if self._sense is None else self._sense(seen))
         step = self._step
         self._step += 1
         if forecast_pol is not None:
@@ -205,7 +216,7 @@ class Controller:
                     # there, they are never measured and drift (table1-solar's ARMA lost
                     # the loop): keep only the forecast's change the loop can observe.
                     # Persistence's change is exactly 0, so its bits stay the integrator's
-                    forecast = pol + self.projector @ (forecast - pol)
+                    forecast = pol + self._project(forecast - pol)
             except PredictorFault:
                 if self.on_predictor_fault == "raise":
                     raise

@@ -318,3 +318,114 @@ def csr_matvec(indptr, indices, data, x, out, accumulate):
             out[r] += t
         else:
             out[r] = t
+
+
+@jit
+def direction_moments_grouped(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights,
+                              common, base, group, group_plane, group_row, group_col,
+                              group_spread, group_taps, comb, out_mean, out_var):
+    """:func:`_direction_moments` (serial) with the rows' combination shared by directions.
+
+    The arguments up to ``base`` and the outputs are those of :func:`_direction_moments`.
+    Directions whose read of a plane has the same whole row ``floor(shift_row)`` and the
+    same row weights (a row of the field grid) differ only in their column: the 4-row
+    weighted sum of :func:`_combine_rows` is then formed once per pupil row over the
+    union of their columns and each direction reads its columns from it. The same
+    operations on the same numbers: the same bits as :func:`_direction_moments`.
+
+    group        (n_dir, P) int64   IN  the group of (direction, plane), -1 for a common
+                                        plane or a whole-pixel shift (read directly)
+    group_plane, group_row, group_col, group_spread (G,) int64 IN the group's plane, whole
+                                        row shift, smallest whole column shift, and largest
+                                        less smallest whole column shift
+    group_taps   (G, 4) float64     IN  the group's row weights
+    comb         (G, W) float64     SCRATCH combined rows, W >= n_cols + 3 + the largest
+                                        column spread of a group
+    """
+    n_dir = shifts.shape[0]
+    n_planes = offsets.shape[0]
+    n_rows = span_lo.shape[0]
+    n_cols = base.shape[1]
+    n_groups = group_plane.shape[0]
+    count = 0
+    for r in range(n_rows):
+        count += span_hi[r] - span_lo[r]
+    tmp0 = np.empty(n_cols + 3)
+    for r in range(n_rows):
+        lo = span_lo[r]
+        m = span_hi[r] - lo
+        if m <= 0:
+            continue
+        row = base[r, lo:lo + m]
+        row[:] = 0.0
+        for p in range(n_planes):
+            if common[p]:
+                _add_read_row(flat, offsets[p], sizes[p], shifts[0, p, 0], shifts[0, p, 1],
+                              taps[0, p], weights[p], r, lo, row, tmp0)
+    first = 0
+    while span_hi[first] <= span_lo[first]:
+        first += 1
+    refs = np.empty(n_dir)
+    v1 = np.empty(1)
+    for d in range(n_dir):
+        lo = span_lo[first]
+        v1[0] = base[first, lo]
+        for p in range(n_planes):
+            if not common[p]:
+                _add_read_row(flat, offsets[p], sizes[p], shifts[d, p, 0], shifts[d, p, 1],
+                              taps[d, p], weights[p], first, lo, v1, tmp0)
+        refs[d] = v1[0]
+    cs = np.zeros((n_dir, n_cols))
+    cs2 = np.zeros((n_dir, n_cols))
+    row = np.empty(n_cols)
+    for r in range(n_rows):
+        lo = span_lo[r]
+        m = span_hi[r] - lo
+        if m <= 0:
+            continue
+        for g in range(n_groups):
+            p = group_plane[g]
+            n = sizes[p]
+            c0 = group_col[g]
+            _combine_rows(flat, offsets[p] + (group_row[g] + r - 1) * n + c0 + lo - 1, n,
+                          group_taps[g], m + group_spread[g], comb[g])
+        for d in range(n_dir):
+            v = row[:m]
+            v[:] = base[r, lo:lo + m]
+            for p in range(n_planes):
+                if common[p]:
+                    continue
+                g = group[d, p]
+                w = weights[p]
+                if g < 0:  # whole-pixel shift: one read per pixel
+                    n = sizes[p]
+                    i0 = (offsets[p] + (int(np.floor(shifts[d, p, 1])) + r) * n
+                          + int(np.floor(shifts[d, p, 0])) + lo)
+                    src = flat[i0:i0 + m]
+                    for k in range(m):
+                        v[k] += w * src[k]
+                    continue
+                off = int(np.floor(shifts[d, p, 0])) - group_col[g]
+                t = comb[g, off:off + m + 3]
+                wx0 = w * taps[d, p, 0, 0]
+                wx1 = w * taps[d, p, 0, 1]
+                wx2 = w * taps[d, p, 0, 2]
+                wx3 = w * taps[d, p, 0, 3]
+                for k in range(m):
+                    v[k] += ((wx0 * t[k] + wx1 * t[k + 1]) + wx2 * t[k + 2]) + wx3 * t[k + 3]
+            ref = refs[d]
+            c1 = cs[d, lo:lo + m]
+            c2 = cs2[d, lo:lo + m]
+            for k in range(m):
+                x = v[k] - ref
+                c1[k] += x
+                c2[k] += x * x
+    for d in range(n_dir):
+        s = 0.0
+        s2 = 0.0
+        for k in range(n_cols):
+            s += cs[d, k]
+            s2 += cs2[d, k]
+        mean = s / count
+        out_mean[d] = refs[d] + mean
+        out_var[d] = max(s2 / count - mean * mean, 0.0)

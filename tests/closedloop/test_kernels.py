@@ -175,3 +175,26 @@ def test_one_direction_every_plane_common():
     mean, var = plain_numpy(cam, np.ones(len(cam._sizes)))
     np.testing.assert_allclose(cam.forward(), var, rtol=1e-12)
     np.testing.assert_allclose(cam.mean, mean, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["mcao3", "est-mcao@16"])
+def test_the_shared_row_sums_give_the_kernels_bits(name):
+    # reference: the kernel without groups (itself checked against plain numpy above);
+    # directions on one row of the field grid share each plane's 4-row sums, the same
+    # operations on the same numbers, so the same bits, with any plane weights
+    cfg = presets.est_mcao_variant(16) if name.startswith("est") else presets.get(name)
+    geometry = Geometry(cfg)
+    cam = ScienceCamera(geometry, geometry.directions)
+    assert cam._groups is not None and not cam._parallel
+    n_dir = len(cam.directions)
+    assert len(cam._groups[1]) < n_dir * int(np.sum(~cam._common))  # reads are shared
+    rng = np.random.default_rng(6)
+    cam._flat[:] = rng.standard_normal(cam._flat.size) + 40.0
+    for w in (np.ones(len(cam._sizes)), rng.uniform(-1.0, 2.0, len(cam._sizes))):
+        args = (cam._flat, cam._offsets, cam._sizes, cam._span_lo, cam._span_hi, cam._shifts,
+                cam._taps, w, cam._common, cam._base)
+        ref = np.empty((2, n_dir))
+        _kernels.direction_moments_serial(*args, ref[0], ref[1])
+        got = cam.forward(w)
+        np.testing.assert_array_equal(got, ref[1])
+        np.testing.assert_array_equal(cam.mean, ref[0])
