@@ -78,7 +78,10 @@ def _map_solution(interaction: np.ndarray, noise: np.ndarray,
                                     f"(LAPACK info={info})")
     inverse = np.tril(inverse) + np.tril(inverse, -1).T
     r = inverse @ whitened.T
-    return np.sqrt(prior)[:, None] * r / np.sqrt(noise)[None, :], inverse
+    del whitened
+    r *= np.sqrt(prior)[:, None]  # in place: (n, m) is the set-up's largest array
+    r /= np.sqrt(noise)[None, :]
+    return r, inverse
 
 
 def map_reconstructor(interaction: np.ndarray, noise: np.ndarray,
@@ -246,7 +249,9 @@ class LoopModel:
             inverse *= -1.0
             inverse[np.diag_indices_from(inverse)] += 1.0
             root = np.sqrt(prior)
-            self._sensed = root[:, None] * inverse / root[None, :]
+            inverse *= root[:, None]
+            inverse /= root[None, :]
+            self._sensed = inverse
             return r
         # truncated SVD in the noise- and prior-whitened space: R G is then an exact
         # projector, so commands never drift along directions the WFSs barely see
