@@ -116,6 +116,16 @@ def test_model_map_is_the_closed_form_with_n_and_c_from_the_config(cut_case):
     assert np.abs(truncated.reconstructor - expected).max() > 1e-2 * np.abs(expected).max()
 
 
+def test_the_map_set_up_leaves_the_spectrum_until_asked(cut_case):
+    # the eigen-decomposition of W^T W serves only n_controlled and the projector (~27 s
+    # at est-mcao's size): a model that is only run, without a predictor, never pays it
+    cfg, _, truncated = cut_case
+    model = LoopModel(_with(cfg, "map"))
+    assert "_spectrum" not in vars(model)
+    assert model.n_controlled == truncated.n_controlled
+    assert "_spectrum" in vars(model)
+
+
 def test_map_projector_is_the_directions_seen_above_the_noise(cut_case):
     cfg, model, truncated = cut_case
     p = model.controlled_projector
