@@ -38,7 +38,9 @@ correlations ``c[i, j]`` of the factor's columns (``n_across^2`` vectors of ~40 
 ~``W`` multiply-adds per pair after a contraction along y per pair of actuator rows, no
 FFT (``_dm_kl_kernels``). Each actuator the rim (or an obscuration) cuts takes one FFT
 pair of its masked influence function on its support window (``D`` is Toeplitz on the
-pixel grid, so ``D M`` is a convolution with ``D_phi`` on the ``(2N - 1)^2`` lags). The
+pixel grid, so ``D M`` is a convolution with ``D_phi`` on the ``(2N - 1)^2`` lags), one
+per orbit of the pupil's symmetries (a centred disc: the flips of ``x`` and ``y`` and
+their exchange, 8 cut actuators per transform; the others copy its column, permuted). The
 complement of piston/tip/tilt is taken with their 1-3 Householder reflectors in the
 whitened space (no ``n x n`` orthogonal matrix). At 4,553 actuators on a 298-pixel
 altitude plane (948 of them cut) the projection takes ~9 s of CPU and the whole build
