@@ -17,7 +17,12 @@ Usage::
     ... --subapertures 45 --duration 0.05 --frames 20 --profile 25   # published size
 
 ``--profile N`` runs the set-up under cProfile on the CPU clock and prints its N
-largest functions by own time, then by cumulative time, on stderr.
+largest functions by own time, then by cumulative time, on stderr. ``--setups K`` builds
+the model K times in the process (the second and later find the DM-space K-L modes in
+the in-process cache) and ``--setup-only`` stops after the set-ups, printing their CPU
+times, the load and the peak RSS::
+
+    ... --subapertures 45 --setup-only --setups 2   # the published size's set-up
 """
 
 from __future__ import annotations
@@ -70,6 +75,10 @@ def main() -> None:
                     help="simulate's memory_limit [GiB] (default: half the available memory)")
     ap.add_argument("--profile", type=int, default=0,
                     help="print the set-up's N largest functions (cProfile, CPU clock)")
+    ap.add_argument("--setups", type=int, default=1,
+                    help="build the model this many times (later ones: K-L cache hits)")
+    ap.add_argument("--setup-only", action="store_true",
+                    help="stop after the set-ups (no loop)")
     args = ap.parse_args()
     config = presets.est_mcao_variant(args.subapertures, solar=args.solar,
                                       altitude_pitch=args.altitude_pitch)
@@ -93,10 +102,22 @@ def main() -> None:
         stats = pstats.Stats(profiler, stream=sys.stderr)
         stats.sort_stats("tottime").print_stats(args.profile)
         stats.sort_stats("cumulative").print_stats(args.profile)
+    setups = [setup]
+    for _ in range(args.setups - 1):
+        del model
+        t0 = time.process_time()
+        model = LoopModel(config)
+        setups.append(time.process_time() - t0)
     print(json.dumps({"setup_cpu_s": setup,
                       "rss_after_setup_gib": resource.getrusage(
                           resource.RUSAGE_SELF).ru_maxrss / 2**20}), file=sys.stderr,
           flush=True)
+    if args.setup_only:
+        print(json.dumps({"config": config.name, "setup_cpu_s": setups,
+                          "load_average": os.getloadavg(),
+                          "peak_rss_gib": resource.getrusage(
+                              resource.RUSAGE_SELF).ru_maxrss / 2**20}))
+        return
     t0 = time.process_time()
     limit = None if args.memory_limit is None else args.memory_limit * 2**30
     run = simulate(config, args.duration, seed=args.seed, model=model, progress=False,

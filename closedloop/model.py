@@ -13,6 +13,7 @@ import functools
 import math
 
 import numpy as np
+from scipy import linalg
 
 from closedloop.config import SimulationConfig
 from closedloop.kinds import mirror_kind, sensor_kind
@@ -33,23 +34,66 @@ _SNR_CUT = 1.0
 _RCOND = 1e-3
 
 
-def _whitened_eigh(interaction: np.ndarray, noise: np.ndarray,
-                   prior: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``W = N^-1/2 G C^1/2`` and the eigen-decomposition of ``W^T W``, descending."""
-    whitened = interaction * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+def _cut(s0: float) -> float:
+    """Whitened singular value at and below which a direction counts as unseen.
+
+    ``max(_SNR_CUT, _RCOND * s0)`` for the largest singular value ``s0``: below the noise,
+    or below ``numpy.linalg.pinv``'s relative rule. The one threshold of the truncated
+    reconstructor, ``n_controlled`` and the MAP's ``controlled_projector``.
+    """
+    return max(_SNR_CUT, _RCOND * s0)
+
+
+def _whitened(interaction: np.ndarray, noise: np.ndarray, prior: np.ndarray) -> np.ndarray:
+    """``W = N^-1/2 G C^1/2`` ``(m, n)``, a new array."""
+    return interaction * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+
+
+def _whitened_spectrum(interaction: np.ndarray, noise: np.ndarray,
+                       prior: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Singular values ``s`` of ``W`` (descending) and the eigenvectors ``V`` of ``W^T W``."""
+    whitened = _whitened(interaction, noise, prior)
     lam, v = np.linalg.eigh(whitened.T @ whitened)
-    return whitened, np.clip(lam[::-1], 0.0, None), v[:, ::-1]
+    return np.sqrt(np.clip(lam[::-1], 0.0, None)), v[:, ::-1]
+
+
+def _map_solution(interaction: np.ndarray, noise: np.ndarray,
+                  prior: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``R`` of :func:`map_reconstructor` and ``(W^T W + 1)^-1`` ``(n, n)`` (checked inputs).
+
+    One Cholesky factorisation of ``A = W^T W + 1`` (eigenvalues ``s^2 + 1 >= 1``:
+    positive definite and well conditioned for any prior), its inverse from the factor
+    (LAPACK ``potri``) and one product ``A^-1 W^T``: ``~2 n^2 m + 4/3 n^3`` flops, all
+    BLAS-3, against the eigen-decomposition's ``~9 n^3`` in part BLAS-2 and two products
+    of ``2 n^2 m`` (benchmarks/RESULTS.md, "The full-size est-mcao set-up under 60 s").
+    """
+    whitened = _whitened(interaction, noise, prior)
+    a = whitened.T @ whitened
+    a[np.diag_indices_from(a)] += 1.0
+    factor, info = linalg.lapack.dpotrf(a, lower=1, overwrite_a=1)
+    if info == 0:
+        inverse, info = linalg.lapack.dpotri(factor, lower=1, overwrite_c=1)
+    if info != 0:  # pragma: no cover - A >= 1 is positive definite in exact arithmetic
+        raise np.linalg.LinAlgError(f"the MAP's W^T W + 1 is not positive definite "
+                                    f"(LAPACK info={info})")
+    inverse = np.tril(inverse) + np.tril(inverse, -1).T
+    r = inverse @ whitened.T
+    del whitened
+    r *= np.sqrt(prior)[:, None]  # in place: (n, m) is the set-up's largest array
+    r /= np.sqrt(noise)[None, :]
+    return r, inverse
 
 
 def map_reconstructor(interaction: np.ndarray, noise: np.ndarray,
-                      prior: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                      prior: np.ndarray) -> np.ndarray:
     """Return the MAP reconstructor (Fusco, Conan, Rousset, Mugnier & Michau 2001).
 
     ``R = (G^T N^-1 G + C^-1)^-1 G^T N^-1`` for measurements ``s = G c + n`` with
     ``c ~ N(0, C)`` and ``n ~ N(0, N)``, ``C`` and ``N`` diagonal. Computed in the
-    whitened form ``W = N^-1/2 G C^1/2``: ``R = C^1/2 (W^T W + 1)^-1 W^T N^-1/2``, i.e.
-    each singular direction of ``W`` weighted ``s / (s^2 + 1)`` (every direction kept,
-    shrunk by its signal-to-noise; the truncated form keeps ``1 / s`` for ``s > 1``).
+    whitened form ``W = N^-1/2 G C^1/2``: ``R = C^1/2 (W^T W + 1)^-1 W^T N^-1/2`` (one
+    Cholesky factorisation), i.e. each singular direction of ``W`` weighted
+    ``s / (s^2 + 1)`` (every direction kept, shrunk by its signal-to-noise; the
+    truncated form keeps ``1 / s`` for ``s > 1``).
 
     Parameters
     ----------
@@ -64,8 +108,6 @@ def map_reconstructor(interaction: np.ndarray, noise: np.ndarray,
     -------
     reconstructor : (n, m) ndarray
         ``R``.
-    singular_values : (n,) ndarray
-        The singular values ``s`` of ``W``, descending (signal-to-noise of each direction).
     """
     g = np.asarray(interaction, dtype=np.float64)
     if g.ndim != 2:
@@ -77,12 +119,8 @@ def map_reconstructor(interaction: np.ndarray, noise: np.ndarray,
             raise ValueError(f"`{name}` must be {size} finite variances > 0 (one per "
                              f"{'measurement' if name == 'noise' else 'mode'} of "
                              f"`interaction`, shape {g.shape}); got shape {v.shape}.")
-    noise = np.asarray(noise, dtype=np.float64)
-    prior = np.asarray(prior, dtype=np.float64)
-    whitened, lam, v = _whitened_eigh(g, noise, prior)
-    # (W^T W + 1)^-1 W^T: eigenvalues lam + 1 >= 1, a well-conditioned inverse for any prior
-    r = (v / (lam + 1.0)) @ (v.T @ whitened.T)
-    return np.sqrt(prior)[:, None] * r / np.sqrt(noise)[None, :], np.sqrt(lam)
+    return _map_solution(g, np.asarray(noise, dtype=np.float64),
+                         np.asarray(prior, dtype=np.float64))[0]
 
 
 class LoopModel:
@@ -127,6 +165,8 @@ class LoopModel:
                             zip(np.concatenate([[0], np.cumsum(sizes)[:-1]]), sizes, strict=True)]
         self.n_modes = int(sum(sizes))
         self.prior = None
+        self._n_controlled = None
+        self._sensed = None
         self.reconstructor = self._global_reconstructor()
         # the per-frame products (float32 above a size with a mirror that asks for it:
         # closedloop.optics.products; the earlier presets' are float64)
@@ -178,7 +218,9 @@ class LoopModel:
             return None
         g = self.geometry
         cfg = self.config
-        full = np.block([[w.interaction_with(dm) for dm in self.dms] for w in self.wfss])
+        # each WFS's block with its own DM is its ``interaction`` (built with the WFS)
+        full = np.block([[w.interaction if dm is w.dm else w.interaction_with(dm)
+                          for dm in self.dms] for w in self.wfss])
         self.interaction = full  # G, kept for controlled_projector
         prior = np.empty(self.n_modes)
         dm_alts = np.array([dm.altitude for dm in self.dms])
@@ -200,21 +242,50 @@ class LoopModel:
         noise = np.maximum(noise, _NOISE_FLOOR * signal_level)
         self.noise_variance = noise
         if cfg.loop.reconstructor == "map":
-            r, sv = map_reconstructor(full, noise, prior)
-            self.n_controlled = int(np.sum(sv > max(_SNR_CUT, _RCOND * sv[0])))
+            # one Cholesky solve; R G = C^1/2 (1 - (W^T W + 1)^-1) C^-1/2 from the same
+            # inverse (n^2, not the 2 n^2 m of the product); n_controlled and the
+            # projector need the spectrum, computed only if asked (_spectrum)
+            r, inverse = _map_solution(full, noise, prior)
+            inverse *= -1.0
+            inverse[np.diag_indices_from(inverse)] += 1.0
+            root = np.sqrt(prior)
+            inverse *= root[:, None]
+            inverse /= root[None, :]
+            self._sensed = inverse
             return r
         # truncated SVD in the noise- and prior-whitened space: R G is then an exact
         # projector, so commands never drift along directions the WFSs barely see
-        whitened = full * np.sqrt(prior)[None, :] / np.sqrt(noise)[:, None]
+        whitened = _whitened(full, noise, prior)
         if self._large and 8.0 * whitened.size >= products.GRAM_MIN_BYTES:  # 3x less CPU
-            pinv, self.n_controlled = products.gram_pinv(
-                whitened, lambda s0: max(_SNR_CUT, _RCOND * s0))
+            pinv, self._n_controlled = products.gram_pinv(whitened, _cut)
             return np.sqrt(prior)[:, None] * pinv / np.sqrt(noise)[None, :]
         u, sv, vt = np.linalg.svd(whitened, full_matrices=False)
-        keep = sv > max(_SNR_CUT, _RCOND * sv[0])
-        self.n_controlled = int(keep.sum())
+        keep = sv > _cut(sv[0])
+        self._n_controlled = int(keep.sum())
         r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
         return r / np.sqrt(noise)[None, :]
+
+    @property
+    def n_controlled(self) -> int:
+        """Whitened directions with signal-to-noise above the cut (a joint reconstructor only).
+
+        The truncated reconstructor's kept ones (counted when it is built); with the MAP,
+        the directions it weighs by more than one half, counted from the whitened
+        spectrum on first use (an eigen-decomposition of ``W^T W``, ~30 s at
+        ``est-mcao``'s 4,881 modes, so the set-up does not pay it).
+        """
+        if self._n_controlled is None:
+            if self.reconstructor is None:
+                raise AttributeError("`n_controlled` exists only with a joint reconstructor "
+                                     "(several DMs, none zonal)")
+            sv = self._spectrum[0]
+            self._n_controlled = int(np.sum(sv > _cut(sv[0])))
+        return self._n_controlled
+
+    @functools.cached_property
+    def _spectrum(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(s, V)`` of the joint reconstructor's whitened ``W`` (the MAP's projector)."""
+        return _whitened_spectrum(self.interaction, self.noise_variance, self.prior)
 
     @functools.cached_property
     def controlled_projector(self) -> np.ndarray | None:
@@ -253,7 +324,7 @@ class LoopModel:
                 out[sl, sl] = b
         return out
 
-    @functools.cached_property
+    @property
     def sensed_commands(self) -> np.ndarray | None:
         """``R G`` of the MAP joint reconstructor, ``(M, M)``; None for the other forms.
 
@@ -261,17 +332,16 @@ class LoopModel:
         not the identity, and the controller reconstructs the pseudo-open-loop
         measurements with it (``Controller(sensed=...)``, pseudo-open-loop control). With
         a truncated or least-squares reconstructor ``R G`` is the identity on the
-        commands, which lie in its range: None, the classic integrator.
+        commands, which lie in its range: None, the classic integrator. Computed with
+        the reconstructor, as ``C^1/2 (1 - (W^T W + 1)^-1) C^-1/2`` (the same matrix:
+        ``R G = C^1/2 (W^T W + 1)^-1 W^T W C^-1/2``).
         """
-        if self.reconstructor is None or self.config.loop.reconstructor != "map":
-            return None
-        return self.reconstructor @ self.interaction
+        return self._sensed
 
     def _seen_projector(self) -> np.ndarray:
         """Return the MAP's ``controlled_projector``: ``C^1/2 V_k V_k^T C^-1/2``, s > cut."""
-        _, lam, v = _whitened_eigh(self.interaction, self.noise_variance, self.prior)
-        sv = np.sqrt(lam)
-        vk = v[:, sv > max(_SNR_CUT, _RCOND * sv[0])]
+        sv, v = self._spectrum
+        vk = v[:, sv > _cut(sv[0])]
         root = np.sqrt(self.prior)
         return (root[:, None] * vk) @ (vk.T / root[None, :])
 

@@ -458,7 +458,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         block = self.operators[dm.plane][:, dm.pixels]
         if dm.shapes is None:
             return sparse.csr_matrix(self._transform @ block.toarray())
-        return self._transform @ np.asarray(block @ dm.shapes)
+        return self._transform @ dm.sensed_by(block)
 
 
 # ---------------------------------------------------------------------- the kind's record

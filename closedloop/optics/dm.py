@@ -139,6 +139,16 @@ class DeformableMirror:
             return None
         return _mirror_tables(self.pixels, self.shapes, n)
 
+    def sensed_by(self, operator) -> np.ndarray:
+        """Return what a linear sensor on the disc measures of each mode: ``operator @ shapes``.
+
+        ``operator``: a sparse ``(rows, n_disc)`` map from the disc's pixel values (order
+        of :attr:`pixels`) to measurements; returns dense ``(rows, M)`` (the interaction
+        matrices, ``closedloop.optics.wfs``). A kind whose shapes factor through a sparse
+        operator (actuators) overrides it with the cheaper product.
+        """
+        return np.asarray(operator @ self.shapes)
+
     def _labels(self) -> list[str]:
         """One label per mode (``Z<j>`` for Noll modes, ``pix<k>`` for a zonal mirror's pixels)."""
         return ([f"Z{j}" for j in self.modes] if self.modes

@@ -308,7 +308,7 @@ class WavefrontSensor:
         block = self.operators[dm.plane][:, dm.pixels]
         if dm.shapes is None:
             return sparse.csr_matrix(block)
-        out = np.asarray(block @ dm.shapes)
+        out = dm.sensed_by(block)
         return out - out.mean(axis=0) if self._centred else out
 
 

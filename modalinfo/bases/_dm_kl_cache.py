@@ -36,10 +36,13 @@ __all__ = ["CACHE_ENV", "MEMORY_ENTRIES", "VERSION", "cached_build", "build_key"
 
 #: environment variable naming the on-disk cache directory (unset: no disk cache)
 CACHE_ENV = "MODALINFO_DM_KL_CACHE"
-#: builds kept in the process (each ~n_valid x n_modes x 8 bytes: 19 MB at 1,584 x 1,500)
-MEMORY_ENTRIES = 4
+#: builds kept in the process (each ~n_valid x n_modes x 8 bytes: 19 MB at 1,584 x 1,500,
+#: 54 MB for est-mcao's five mirrors): more than a model's mirrors, so that a second model
+#: of the same configuration (a second run, the error budget's probe) finds all of them
+#: (with 4, est-mcao's five evicted one another: every build was repeated)
+MEMORY_ENTRIES = 8
 #: version of the build's numbers (part of the key)
-VERSION = 3
+VERSION = 4
 
 _memory: OrderedDict[str, tuple[np.ndarray, np.ndarray]] = OrderedDict()
 

@@ -38,7 +38,9 @@ correlations ``c[i, j]`` of the factor's columns (``n_across^2`` vectors of ~40 
 ~``W`` multiply-adds per pair after a contraction along y per pair of actuator rows, no
 FFT (``_dm_kl_kernels``). Each actuator the rim (or an obscuration) cuts takes one FFT
 pair of its masked influence function on its support window (``D`` is Toeplitz on the
-pixel grid, so ``D M`` is a convolution with ``D_phi`` on the ``(2N - 1)^2`` lags). The
+pixel grid, so ``D M`` is a convolution with ``D_phi`` on the ``(2N - 1)^2`` lags), one
+per orbit of the pupil's symmetries (a centred disc: the flips of ``x`` and ``y`` and
+their exchange, 8 cut actuators per transform; the others copy its column, permuted). The
 complement of piston/tip/tilt is taken with their 1-3 Householder reflectors in the
 whitened space (no ``n x n`` orthogonal matrix). At 4,553 actuators on a 298-pixel
 altitude plane (948 of them cut) the projection takes ~9 s of CPU and the whole build
@@ -117,6 +119,19 @@ def von_karman_structure_function(r, r0: float, outer_scale: float = np.inf) -> 
     return 2.0 * scale * (_VK_B0 - b)
 
 
+def _lag_table(lags: np.ndarray, dx: float, r0: float, outer_scale: float) -> np.ndarray:
+    """``D_phi`` at the pixel lags ``(lags[i], lags[j]) dx``: ``(len(lags), len(lags))``.
+
+    Evaluated on one quadrant of ``|lag|`` and read back for the signs (``D`` depends on
+    ``hypot(|lx| dx, |ly| dx)`` only, the same number as at the signed lags): the Bessel
+    function is taken 4x less often, the same bits as the whole table.
+    """
+    a = np.abs(np.asarray(lags, dtype=np.int64))
+    q = np.arange(a.max() + 1) * dx
+    quadrant = von_karman_structure_function(np.hypot(q[:, None], q[None, :]), r0, outer_scale)
+    return quadrant[np.ix_(a, a)]
+
+
 def _whole_actuators(influence: InfluenceFunctions) -> np.ndarray:
     """Which valid actuators the pupil leaves whole: ``(n_valid,)`` bool.
 
@@ -148,6 +163,49 @@ def _factor_support(factor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+def _symmetries(influence: InfluenceFunctions) -> list[np.ndarray]:
+    """Permutations of the valid actuators under the grid symmetries the problem keeps.
+
+    The pixel grid and the actuator grid are both centred on the axis, so a flip of
+    ``x``, of ``y`` or their exchange maps the pixel grid, the actuator sites and ``D``
+    (a function of ``|lag|``) onto themselves. When it also maps the pupil's mask and the
+    valid actuators onto themselves and the 1-D factor is exactly symmetric
+    (``F[n-1-i, N-1-a] == F[i, a]``, as it is for the centred grids:
+    :class:`~modalinfo.bases.InfluenceFunctions`), actuator ``a``'s masked influence
+    function goes to that of ``perm[a]``, and ``(M^T D M)[perm[b], perm[a]] =
+    (M^T D M)[b, a]``. Returns the ``perm`` of each such symmetry but the identity (up
+    to 7; none for an asymmetric pupil, which then takes every column itself).
+    """
+    mask = np.asarray(influence.pupil.mask)
+    factor = influence.factor
+    if mask.shape[0] != mask.shape[1] or not np.array_equal(factor, factor[::-1, ::-1]):
+        return []
+    n_across = influence.n_actuators
+    valid = influence.valid.reshape(n_across, n_across)
+    index = np.full(n_across * n_across, -1, dtype=np.int64)
+    index[influence.valid_index] = np.arange(influence.n_valid)
+    index = index.reshape(n_across, n_across)
+    perms = []
+    for swap in (False, True):
+        for flip_y in (False, True):
+            for flip_x in (False, True):
+                if not (swap or flip_y or flip_x):
+                    continue
+
+                def move(a, swap=swap, flip_y=flip_y, flip_x=flip_x):
+                    a = a.T if swap else a
+                    a = a[::-1] if flip_y else a
+                    return a[:, ::-1] if flip_x else a
+
+                if not (np.array_equal(move(mask), mask) and np.array_equal(move(valid), valid)):
+                    continue
+                # the site at move's source of (i, j) lands on (i, j)
+                perm = np.empty(influence.n_valid, dtype=np.int64)
+                perm[move(index)[valid]] = index[valid]
+                perms.append(perm)
+    return perms
+
+
 def _separable_block(influence: InfluenceFunctions, r0: float, outer_scale: float,
                      members: np.ndarray, g_d: np.ndarray) -> None:
     """``M^T D M`` of the whole actuators ``members`` written into ``g_d`` (both triangles).
@@ -165,9 +223,7 @@ def _separable_block(influence: InfluenceFunctions, r0: float, outer_scale: floa
     _dm_kl_kernels.factor_correlations(factor, lo, hi, width, corr, lag0)
     # D at every pixel lag a pair can read, the zero-padded correlations' lags included
     centre = n_pix - 1 + width
-    lag = np.arange(-centre, centre + 1) * influence.pixel_scale
-    table = von_karman_structure_function(np.hypot(lag[:, None], lag[None, :]), r0,
-                                          outer_scale)
+    table = _lag_table(np.arange(-centre, centre + 1), influence.pixel_scale, r0, outer_scale)
     grid = influence.valid_index[members]
     gy, gx = grid // n_across, grid % n_across
     order = np.lexsort((gx, gy))  # by grid row, then column
@@ -187,10 +243,14 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
     unmasked, hence separable) from 1-D correlations of the factor
     (:func:`_separable_block`, no FFT); the column of each actuator the pupil's edge cuts
     by one FFT pair of its masked influence function with ``D`` on the grid's lags.
-    ``separable=False`` takes the FFT column for every actuator (the reference the
-    tests compare with, and what the build did before the separable path: 45 s of the
-    66 s set-up of a 4,553-actuator altitude DM whose pitch is not a whole number of
-    pixels, ``benchmarks/RESULTS.md``).
+    A cut actuator that a symmetry of the problem (:func:`_symmetries`: the flips and
+    the exchange of ``x`` and ``y`` of a centred disc) maps onto one already computed
+    takes that column, permuted: one FFT pair per orbit, ~8x fewer on a disc
+    (``benchmarks/RESULTS.md``, "The full-size est-mcao set-up under 60 s").
+    ``separable=False`` takes the FFT column for every actuator, no symmetry (the
+    reference the tests compare with, and what the build did before the separable path:
+    45 s of the 66 s set-up of a 4,553-actuator altitude DM whose pitch is not a whole
+    number of pixels, ``benchmarks/RESULTS.md``).
     """
     pupil = influence.pupil
     n_side = pupil.n_pixels
@@ -206,15 +266,34 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
 
     size = sfft.next_fast_len(2 * n_side - 1, real=True)
     lag = np.arange(size)
-    lag = np.where(lag < n_side, lag, lag - size).astype(np.float64)  # wrapped lags
-    kernel = sfft.rfft2(von_karman_structure_function(
-        np.hypot(lag[:, None], lag[None, :]) * dx, r0, outer_scale))
+    lag = np.where(lag < n_side, lag, lag - size)  # wrapped lags
+    kernel = sfft.rfft2(_lag_table(lag, dx, r0, outer_scale))
 
     whole_ = _whole_actuators(influence) if separable else np.zeros(n_act, dtype=bool)
     members = np.flatnonzero(whole_)
     edge = np.flatnonzero(~whole_)
     if members.size:
         _separable_block(influence, r0, outer_scale, members, g_d)
+    # one cut actuator per orbit of the symmetries takes the transforms; the rest of its
+    # orbit (cut too: the symmetries keep the mask and the supports) copies its column
+    perms = _symmetries(influence) if separable else []
+    images_of = {}
+    if perms:
+        seen = np.zeros(n_act, dtype=bool)
+        computed = []
+        for a in edge:
+            if seen[a]:
+                continue
+            computed.append(a)
+            seen[a] = True
+            for perm in perms:
+                b = int(perm[a])
+                if not seen[b]:
+                    seen[b] = True
+                    images_of.setdefault(int(a), []).append((b, perm))
+        transformed = np.array(computed, dtype=np.int64)
+    else:
+        transformed = edge
     # each cut actuator's image is non-zero in a (2 reach + 2)^2 window only: its
     # forward transform runs along x on the window's rows and along y with the shift
     # theorem, and the inverse along x only on the N rows read (~1/3 less than two
@@ -227,8 +306,8 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
     ky = np.fft.fftfreq(size)[None, :, None]
     kx = np.fft.rfftfreq(size)[None, None, :]
     images = np.zeros((_BATCH, n_side + 2 * pad, n_side + 2 * pad))
-    for start in range(0, edge.size, _BATCH):
-        chunk = edge[start:start + _BATCH]
+    for start in range(0, transformed.size, _BATCH):
+        chunk = transformed[start:start + _BATCH]
         b = chunk.size
         images[:b] = 0.0
         images[np.arange(b)[:, None], rows[None, :] + pad,
@@ -245,6 +324,9 @@ def _structure_operator(influence: InfluenceFunctions, r0: float, outer_scale: f
         rows_ = sfft.ifft(spec, axis=1, overwrite_x=True)[:, :n_side, :]
         full = sfft.irfft(rows_, n=size, axis=2)[:, :, :n_side]
         g_d[:, chunk] = mat.T @ full.reshape(b, -1)[:, flat].T
+    for a, images in images_of.items():
+        for b, perm in images:
+            g_d[perm, b] = g_d[:, a]
     u = np.asarray(mat.sum(axis=0)).ravel()
     spec = sfft.rfft2(mask.astype(np.float64), s=(size, size)) * kernel
     d_w = sfft.irfft2(spec, s=(size, size))[:n_side, :n_side].ravel()[flat] / n

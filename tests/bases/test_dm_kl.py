@@ -5,7 +5,9 @@ integral of its PSD, ``D(r) = 4 pi int_0^inf f W(f) (1 - J0(2 pi f r)) df`` (sci
 quadrature); the piston-removed pixel covariance formed densely from that structure
 function (``scipy.spatial.distance.cdist``) on a tiny grid, against which the
 projection (its separable and FFT paths, within the worst-case rounding of the dense
-sums) and the diagonalisation are checked; the DM's own least-squares fits of
+sums; the columns copied by a symmetry of the pupil, whose premise, the dense matrix's
+invariance under each permutation found, is checked on the dense matrix itself) and the
+diagonalisation are checked; the DM's own least-squares fits of
 ``x`` and ``y`` (tip/tilt apart); the library's theoretical K-L
 (``KLBasis.from_turbulence``: Noll/Wang-Markey covariance integrals) and Noll's tip
 variance (``zernike_variance``) for the low orders the DM represents.
@@ -20,6 +22,7 @@ from modalinfo.bases import (
     DMKLBasis,
     InfluenceFunctions,
     KLBasis,
+    MaskedPupil,
     Pupil,
     dm_kl_modes,
     von_karman_structure_function,
@@ -126,6 +129,35 @@ def test_separable_path_equals_dense(n_pix, n_act, pitch_px, obscuration):
     # transforms is relative to the largest entry, not to each entry
     g_fft = dm_kl_module._structure_operator(f, R0, L0, separable=False)[0]
     assert np.max(np.abs(g_fft - ref)) <= _sum_bound(f) * np.max(ref)
+
+
+def test_the_symmetries_keep_the_dense_projection():
+    # the premise of the copied columns, against the dense reference: each permutation
+    # found maps M^T D M onto itself (entry by entry, within the reference's rounding);
+    # a centred disc keeps all 7 (flips and the exchange of x and y)
+    f = InfluenceFunctions(Pupil(40, 4.0), 11, 3.7 * 4.0 / 40)
+    perms = dm_kl_module._symmetries(f)
+    assert len(perms) == 7
+    ref = _dense_structure(f)
+    for perm in perms:
+        assert not np.array_equal(perm, np.arange(f.n_valid))
+        assert np.all(np.abs(ref[np.ix_(perm, perm)] - ref) <= 2 * _sum_bound(f) * ref)
+
+
+def test_an_asymmetric_pupil_keeps_only_its_symmetries():
+    # a disc with a notch at the top: only the flip of x is left, and the projection (one
+    # FFT column per cut actuator pair {a, flipped a}) is still the dense one
+    mask = np.asarray(Pupil(40, 4.0).mask).copy()
+    mask[:8, 14:26] = False
+    f = InfluenceFunctions(MaskedPupil(mask, 4.0), 11, 3.7 * 4.0 / 40)
+    perms = dm_kl_module._symmetries(f)
+    assert len(perms) == 1
+    grid = f.valid_index
+    ay, ax = grid // 11, grid % 11
+    assert np.array_equal(ay[perms[0]], ay) and np.array_equal(ax[perms[0]], 10 - ax)
+    ref = _dense_structure(f)
+    g_d = dm_kl_module._structure_operator(f, R0, L0)[0]
+    assert np.all(np.abs(g_d - ref) <= _sum_bound(f) * ref)
 
 
 def test_whole_actuators_are_the_unmasked_ones():

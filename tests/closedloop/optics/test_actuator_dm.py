@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy import sparse
 
 from closedloop import LoopModel, presets, simulate
 from closedloop.config import (
@@ -107,6 +108,31 @@ def test_surface_is_the_sum_of_influence_functions(geometry, mirror):
     assert np.max(np.abs(got - expected)) <= 1e-12 * np.max(np.abs(expected))
     assert np.max(np.abs(mirror.shapes @ commands - expected)) <= 1e-12 * np.max(
         np.abs(expected))
+
+
+def _written_out_influence(geometry, mirror):
+    """The Gaussian influence functions at the disc's pixel centres, ``(n_disc, n_valid)``."""
+    n = geometry.planes[mirror.plane].n
+    coords = geometry.plane_coords(mirror.plane)
+    x, y = coords[mirror.pixels % n], coords[mirror.pixels // n]
+    f = mirror.influence
+    out = np.zeros((mirror.pixels.size, f.n_valid))
+    for k, (xa, ya) in enumerate(f.valid_positions):
+        u, v = x - xa, y - ya
+        inside = (np.abs(u) <= f.radius) & (np.abs(v) <= f.radius)
+        out[:, k] = np.where(inside, f.coupling ** ((u * u + v * v) / f.pitch ** 2), 0.0)
+    return out
+
+
+def test_a_sensor_sees_the_modes_through_the_actuators(geometry, mirror):
+    # the interaction matrices' product (operator @ influence matrix, then m2c) against
+    # the dense operator times the mode shapes written out from the influence functions
+    rng = np.random.default_rng(11)
+    op = sparse.random(40, mirror.pixels.size, density=0.05, format="csr", random_state=rng)
+    expected = op.toarray() @ (_written_out_influence(geometry, mirror) @ mirror.m2c)
+    got = mirror.sensed_by(op)
+    assert got.shape == (40, mirror.n_modes)
+    assert np.max(np.abs(got - expected)) <= 1e-12 * np.max(np.abs(expected))
 
 
 def test_modes_and_prior(geometry, mirror):
