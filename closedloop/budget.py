@@ -54,7 +54,7 @@ from scipy import linalg
 
 from closedloop.control.controller import Controller
 from closedloop.kinds import sensor_kind
-from closedloop.model import _NOISE_FLOOR, _RCOND, _SNR_CUT, LoopModel
+from closedloop.model import _NOISE_FLOOR, LoopModel, _cut
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.science import ScienceCamera
@@ -227,7 +227,7 @@ class IdealSensing:
             del gram
             lam, v = np.clip(lam[::-1], 0.0, None), v[:, ::-1]
             sv = np.sqrt(lam)
-            keep = sv > max(_SNR_CUT, _RCOND * sv[0])
+            keep = sv > _cut(sv[0])
             self.n_controlled = int(keep.sum())
             inverse = (v[:, keep] / lam[keep]) @ v[:, keep].T
         inverse *= root[:, None]
