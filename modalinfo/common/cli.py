@@ -76,6 +76,13 @@ class Parser(argparse.ArgumentParser):
                 break
             name, eq, value = token.partition("=")
             action = self._option_string_actions.get(name) if name.startswith("-") else None
+            flag = _flag_value(action, name)
+            if flag is not None:
+                # two flags of one setting (--transpose --no-transpose): the last won
+                first = seen.setdefault(action.dest, (name, flag))
+                if first[1] != flag:
+                    self.error(f"argument {name}: contradicts {first[0]}; give one of them")
+                continue
             if type(action) is not argparse._StoreAction or action.nargs is not None:
                 continue
             if not eq:
@@ -86,6 +93,19 @@ class Parser(argparse.ArgumentParser):
             if first[1] != value:
                 self.error(f"argument {name}: given twice ({first[0]} {first[1]} and "
                            f"{name} {value}); give it once")
+
+
+def _flag_value(action, name: str) -> str | None:
+    """Return the value a flag sets (``--transpose``: True, ``--no-transpose``: False).
+
+    None for an option that takes a value (checked by its own rule) and for a flag
+    that only counts or appends.
+    """
+    if isinstance(action, argparse.BooleanOptionalAction):
+        return repr(not name.startswith("--no-"))
+    if isinstance(action, argparse._StoreConstAction):  # store_true / store_false too
+        return repr(action.const)
+    return None
 
 
 def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
