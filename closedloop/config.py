@@ -56,6 +56,9 @@ def __getattr__(name: str):
 
 #: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
 FULL_WELL = 30_000.0
+#: least ``wfss[j].signal`` [e- per pixel per frame]: below one photo-electron an image
+#: is shot noise, not granulation (solar WFSs run at 10^2 - 10^4 e-; ours 15 000)
+MIN_SIGNAL = 1.0
 #: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
 #: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
 WAVELENGTH_RANGE = (300e-9, 28e-6)
@@ -269,8 +272,8 @@ class WFSConfig:
     pixel_scale : float
         ``"correlating"`` only: detector pixel on the sky [arcsec] (default 0.5).
     signal : float or None
-        ``"correlating"`` only: mean photo-electrons per pixel per frame, in (0, 30000]
-        (the full well); None: the photon budget's default, half of the well
+        ``"correlating"`` only: mean photo-electrons per pixel per frame, in [1, 30000]
+        (one electron to the full well); None: the photon budget's default, half of the well
         (:class:`closedloop.optics.photon_budget.PhotonBudget`).
     contrast : float or None
         ``"correlating"`` only: rms granulation contrast of the scene at full resolution,
@@ -322,8 +325,10 @@ class WFSConfig:
         _set(self, "pixel_scale", check_real(self.pixel_scale, p + "pixel_scale", minimum=0,
                                              strict_min=True))
         if self.signal is not None:
-            _set(self, "signal", check_real(self.signal, p + "signal", minimum=0,
-                                            strict_min=True, maximum=FULL_WELL))
+            # at least one photo-electron per pixel: 1e-300 e- was accepted and the run
+            # failed after its set-up with "SVD did not converge" (noise / signal^2)
+            _set(self, "signal", check_real(self.signal, p + "signal", minimum=MIN_SIGNAL,
+                                            maximum=FULL_WELL))
         if self.contrast is not None:
             _set(self, "contrast", check_real(self.contrast, p + "contrast", minimum=0,
                                               strict_min=True, maximum=0.5))
