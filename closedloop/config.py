@@ -59,6 +59,10 @@ FULL_WELL = 30_000.0
 #: least ``wfss[j].signal`` [e- per pixel per frame]: below one photo-electron an image
 #: is shot noise, not granulation (solar WFSs run at 10^2 - 10^4 e-; ours 15 000)
 MIN_SIGNAL = 1.0
+#: least ``wfss[j].contrast``: granulation is 5-25 % rms (8 % at 1.1 um by the Wien
+#: scaling of :func:`closedloop.optics.granulation.granulation_contrast`); a contrast of
+#: 1e-300 failed the run like a signal of 1e-300, and 0.1 % is 50x below any observed
+MIN_CONTRAST = 1e-3
 #: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
 #: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
 WAVELENGTH_RANGE = (300e-9, 28e-6)
@@ -277,7 +281,7 @@ class WFSConfig:
         (:class:`closedloop.optics.photon_budget.PhotonBudget`).
     contrast : float or None
         ``"correlating"`` only: rms granulation contrast of the scene at full resolution,
-        in (0, 0.5]; None: :func:`closedloop.optics.granulation.granulation_contrast` at
+        in [0.001, 0.5]; None: :func:`closedloop.optics.granulation.granulation_contrast` at
         the WFS wavelength.
     image_formation : bool
         ``"correlating"`` only: False (default), the fast linear sensor; True, images
@@ -330,8 +334,8 @@ class WFSConfig:
             _set(self, "signal", check_real(self.signal, p + "signal", minimum=MIN_SIGNAL,
                                             maximum=FULL_WELL))
         if self.contrast is not None:
-            _set(self, "contrast", check_real(self.contrast, p + "contrast", minimum=0,
-                                              strict_min=True, maximum=0.5))
+            _set(self, "contrast", check_real(self.contrast, p + "contrast",
+                                              minimum=MIN_CONTRAST, maximum=0.5))
         if not isinstance(self.image_formation, bool):
             _fail(p + "image_formation", "a bool (false: linear sensor, true: images formed "
                   "and correlated every frame)", self.image_formation, TypeError)
