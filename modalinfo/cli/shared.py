@@ -358,6 +358,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     if copies and not mmap:
         _check_log_fits(path, options, copies)
     log = load(path, mmap=mmap, **options)
+    _check_rate(log, path)
     if copies:
         check_memory(copies * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
                      f"{log.n_modes} modes, {copies} float64 copies)",
@@ -365,6 +366,24 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     if announce:
         queue_notes(args, input_notes(log, path))
     return log
+
+
+def _check_rate(log, path: Path) -> None:
+    """Refuse a log whose frame rate lies outside :data:`RATE_RANGE`, as ``--rate`` would.
+
+    A ``time`` column of Unix nanoseconds read as seconds gave 2e-6 Hz, analysed
+    without a word while ``--rate 2e-6`` itself is refused.
+    """
+    rate = log.rate
+    if rate is None or RATE_RANGE[0] <= rate <= RATE_RANGE[1]:
+        return
+    source = "timestamps" if log.timestamps is not None else "stored rate"
+    raise CommandError(
+        f"'{path.name}': its {source} give a frame rate of {rate:.3g} Hz, outside "
+        f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): a time column "
+        "in ns or us read as seconds? give the rate with --rate HZ (it replaces the "
+        "timestamps)"
+    )
 
 
 def _check_log_fits(path: Path, options: dict, copies: int) -> None:
