@@ -344,13 +344,18 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     stays the only line on stderr. Errors become one-line messages through the
     dispatcher.
     """
+    from modalinfo.common.files import check_readable
     from modalinfo.io import load
 
     path = Path(path)
     if path.is_dir():
         raise CommandError(f"'{path}' is a directory, not a log file")
-    if not path.is_file():
-        raise CommandError(f"log file '{path}' does not exist")
+    try:  # a FIFO was "does not exist"
+        check_readable(path)
+    except FileNotFoundError:
+        raise CommandError(f"log file '{path}' does not exist") from None
+    except OSError as exc:
+        raise CommandError(str(exc)) from None
     if args is None:
         return load(path)
     options = {"fmt": args.fmt, "dataset": getattr(args, "dataset", None),
