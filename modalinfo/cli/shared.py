@@ -35,6 +35,9 @@ __all__ = [
 class _DeprecatedAlias(argparse.Action):
     """An old spelling of an option with the same meaning: stores, and says so once."""
 
+    #: ``--in-modes 2-28 --modes 3-29`` is one option given twice (common.cli.Parser)
+    stores_value = True
+
     def __init__(self, option_strings, dest, *, new: str, **kwargs) -> None:
         self.new = new
         super().__init__(option_strings, dest, **kwargs)

@@ -68,7 +68,9 @@ class Parser(argparse.ArgumentParser):
 
         argparse keeps the last silently, so ``--target Z2 --target Z3`` analysed Z3
         without a word. The same value twice, flags and append options (``--set``)
-        stay allowed; a subcommand's options are checked by its own parser.
+        stay allowed; a subcommand's options are checked by its own parser. An action
+        class with ``stores_value = True`` (an old spelling storing the same ``dest``,
+        ``--modes`` for ``--in-modes``) counts as the option it stands for.
         """
         seen: dict[str, tuple[str, str]] = {}
         for k, token in enumerate(args):
@@ -83,7 +85,9 @@ class Parser(argparse.ArgumentParser):
                 if first[1] != flag:
                     self.error(f"argument {name}: contradicts {first[0]}; give one of them")
                 continue
-            if type(action) is not argparse._StoreAction or action.nargs is not None:
+            stores = type(action) is argparse._StoreAction or getattr(action, "stores_value",
+                                                                      False)
+            if not stores or action.nargs is not None:
                 continue
             if not eq:
                 if k + 1 >= len(args):

@@ -43,3 +43,21 @@ def test_two_flags_setting_one_value_differently_are_refused(capsys, argv, first
 def test_a_flag_repeated_with_the_same_meaning_still_parses(argv, transpose, closed):
     args = _parser().parse_args(argv)
     assert args.transpose is transpose and args.closed is closed
+
+
+def test_an_old_spelling_and_the_new_one_with_different_values_are_refused(capsys):
+    # round 5, row i46: `--in-modes 2-28 --modes 3-29` analysed Z3..Z29 without a word
+    class Alias(argparse.Action):
+        stores_value = True
+
+        def __call__(self, parser, namespace, values, option_string=None):
+            setattr(namespace, self.dest, values)
+
+    parser = Parser(prog="prog")
+    parser.add_argument("--in-modes", dest="in_modes")
+    parser.add_argument("--modes", dest="in_modes", action=Alias)
+    with pytest.raises(SystemExit):
+        parser.parse_args(["--in-modes", "2-28", "--modes", "3-29"])
+    assert "argument --modes: given twice (--in-modes 2-28 and --modes 3-29)" in (
+        capsys.readouterr().err)
+    assert parser.parse_args(["--in-modes", "2-28", "--modes", "2-28"]).in_modes == "2-28"
