@@ -195,9 +195,9 @@ def _constant_modes(a: np.ndarray, matrix: np.ndarray) -> np.ndarray:
 
     Zero coefficients, or a constant coefficient on a mode flat over the pupil (piston).
     """
-    zero = np.all(a == 0, axis=0)
+    constant = np.ptp(a, axis=0) == 0  # reductions only: no (T, M) temporary
     flat = np.ptp(matrix, axis=0) == 0
-    return zero | (flat & (np.ptp(a, axis=0) == 0))
+    return constant & ((a[0] == 0) | flat)
 
 
 def _with_dead_modes(sub: OrderingResult, live: np.ndarray, dead: np.ndarray,
