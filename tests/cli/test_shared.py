@@ -43,11 +43,12 @@ def test_a_fifo_given_as_the_log_is_named_a_fifo(tmp_path, capsys):
     # round 5, row g04: `paper_figures --log fifo.npz` said "log file ... does not exist"
     import os
 
+    from modalinfo.cli import CommandError
     from modalinfo.cli.shared import load_log_with_hints
 
     fifo = tmp_path / "log.npz"
     os.mkfifo(fifo)
-    with pytest.raises(Exception, match=r"'.*log\.npz' is a FIFO, not a regular file"):
+    with pytest.raises(CommandError, match=r"'.*log\.npz' is a FIFO, not a regular file"):
         load_log_with_hints(fifo)
-    with pytest.raises(Exception, match="does not exist"):
+    with pytest.raises(CommandError, match="does not exist"):
         load_log_with_hints(tmp_path / "missing.npz")
