@@ -862,8 +862,10 @@ def load_config(path: str | Path) -> SimulationConfig:
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):
         raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
-    if not path.is_file():
-        raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
+    if not path.is_file():  # a FIFO "did not exist"
+        raise FileNotFoundError(f"config file {str(path)!r} " + (
+            "is not a regular file (a FIFO or a device)." if path.exists() else
+            "does not exist."))
     try:
         # utf-8-sig: a byte-order mark (Windows editors write one) is not a TOML statement
         text = path.read_text(encoding="utf-8-sig")
