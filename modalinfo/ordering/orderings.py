@@ -193,11 +193,17 @@ def sample_contributions(
 def _constant_modes(a: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     """Return the modes (``(M,)`` bool) whose contribution ``a_k Z_k`` is one constant.
 
-    Zero coefficients, or a constant coefficient on a mode flat over the pupil (piston).
+    Zero coefficients, or a constant coefficient on a mode flat over the pupil (piston),
+    to 1e-12 of the largest coefficient (a data K-L basis of a log with a dead mode has
+    a null mode whose coefficients are rounding, ~1e-17). Reductions only: no (T, M)
+    temporary.
     """
-    constant = np.ptp(a, axis=0) == 0  # reductions only: no (T, M) temporary
-    flat = np.ptp(matrix, axis=0) == 0
-    return constant & ((a[0] == 0) | flat)
+    high, low = a.max(axis=0), a.min(axis=0)
+    tol = 1e-12 * float(max(high.max(), -low.min(), 0.0))
+    constant = high - low <= tol
+    zero = np.maximum(high, -low) <= tol
+    flat = np.ptp(matrix, axis=0) <= 1e-12 * float(np.abs(matrix).max())
+    return zero | (constant & flat)
 
 
 def _with_dead_modes(sub: OrderingResult, live: np.ndarray, dead: np.ndarray,

@@ -220,7 +220,7 @@ def test_bad_inputs():
 
 
 @pytest.mark.parametrize("method", ["mi_greedy", "mi_marginal"])
-@pytest.mark.parametrize("dead", ["zeros", "piston"])
+@pytest.mark.parametrize("dead", ["zeros", "piston", "rounding"])
 def test_a_constant_mode_goes_last_and_the_rest_is_ordered_as_without_it(method, dead):
     # Reference: the same call on the log without that mode (same seed): a constant
     # contribution adds nothing, so the other modes' order and MI must be that one's.
@@ -231,6 +231,8 @@ def test_a_constant_mode_goes_last_and_the_rest_is_ordered_as_without_it(method,
     live = rng.standard_normal((300, 4)) * np.array([1.0, 0.7, 0.5, 0.3])
     if dead == "zeros":
         modes, column, at = [2, 3, 4, 5, 6], np.zeros((300, 1)), 2
+    elif dead == "rounding":  # a data K-L basis's null mode of a log with a dead mode
+        modes, column, at = [2, 3, 4, 5, 6], 1e-17 * rng.standard_normal((300, 1)), 4
     else:
         modes, column, at = [1, 2, 3, 4, 5], np.full((300, 1), 0.3), 0
     coeffs = np.insert(live, at, column[:, 0], axis=1)
