@@ -56,6 +56,13 @@ def __getattr__(name: str):
 
 #: detector full well [e-] that bounds ``wfss[j].signal`` (``PhotonBudget.full_well``)
 FULL_WELL = 30_000.0
+#: least ``wfss[j].signal`` [e- per pixel per frame]: below one photo-electron an image
+#: is shot noise, not granulation (solar WFSs run at 10^2 - 10^4 e-; ours 15 000)
+MIN_SIGNAL = 1.0
+#: least ``wfss[j].contrast``: granulation is 5-25 % rms (8 % at 1.1 um by the Wien
+#: scaling of :func:`closedloop.optics.granulation.granulation_contrast`); a contrast of
+#: 1e-300 failed the run like a signal of 1e-300, and 0.1 % is 50x below any observed
+MIN_CONTRAST = 1e-3
 #: accepted science and r0 wavelengths [m]: ground-based solar observing (the atmosphere's
 #: ozone cut-off near 300 nm; DKIST's 0.38-28 um, Rimmele et al. 2020, Sol. Phys. 295, 172)
 WAVELENGTH_RANGE = (300e-9, 28e-6)
@@ -269,12 +276,12 @@ class WFSConfig:
     pixel_scale : float
         ``"correlating"`` only: detector pixel on the sky [arcsec] (default 0.5).
     signal : float or None
-        ``"correlating"`` only: mean photo-electrons per pixel per frame, in (0, 30000]
-        (the full well); None: the photon budget's default, half of the well
+        ``"correlating"`` only: mean photo-electrons per pixel per frame, in [1, 30000]
+        (one electron to the full well); None: the photon budget's default, half of the well
         (:class:`closedloop.optics.photon_budget.PhotonBudget`).
     contrast : float or None
         ``"correlating"`` only: rms granulation contrast of the scene at full resolution,
-        in (0, 0.5]; None: :func:`closedloop.optics.granulation.granulation_contrast` at
+        in [0.001, 0.5]; None: :func:`closedloop.optics.granulation.granulation_contrast` at
         the WFS wavelength.
     image_formation : bool
         ``"correlating"`` only: False (default), the fast linear sensor; True, images
@@ -322,11 +329,13 @@ class WFSConfig:
         _set(self, "pixel_scale", check_real(self.pixel_scale, p + "pixel_scale", minimum=0,
                                              strict_min=True))
         if self.signal is not None:
-            _set(self, "signal", check_real(self.signal, p + "signal", minimum=0,
-                                            strict_min=True, maximum=FULL_WELL))
+            # at least one photo-electron per pixel: 1e-300 e- was accepted and the run
+            # failed after its set-up with "SVD did not converge" (noise / signal^2)
+            _set(self, "signal", check_real(self.signal, p + "signal", minimum=MIN_SIGNAL,
+                                            maximum=FULL_WELL))
         if self.contrast is not None:
-            _set(self, "contrast", check_real(self.contrast, p + "contrast", minimum=0,
-                                              strict_min=True, maximum=0.5))
+            _set(self, "contrast", check_real(self.contrast, p + "contrast",
+                                              minimum=MIN_CONTRAST, maximum=0.5))
         if not isinstance(self.image_formation, bool):
             _fail(p + "image_formation", "a bool (false: linear sensor, true: images formed "
                   "and correlated every frame)", self.image_formation, TypeError)
@@ -853,8 +862,10 @@ def load_config(path: str | Path) -> SimulationConfig:
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):
         raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
-    if not path.is_file():
-        raise FileNotFoundError(f"config file {str(path)!r} does not exist.")
+    if not path.is_file():  # a FIFO "did not exist"
+        raise FileNotFoundError(f"config file {str(path)!r} " + (
+            "is not a regular file (a FIFO or a device)." if path.exists() else
+            "does not exist."))
     try:
         # utf-8-sig: a byte-order mark (Windows editors write one) is not a TOML statement
         text = path.read_text(encoding="utf-8-sig")

@@ -518,8 +518,10 @@ class SimulationResult:
         if path.is_dir():
             raise IsADirectoryError(f"result file {str(path)!r} is a directory, not a "
                                     "saved run (closedloop run --out RUN.h5 writes one).")
-        if not path.is_file():
-            raise FileNotFoundError(f"result file {str(path)!r} does not exist.")
+        if not path.is_file():  # a FIFO "did not exist"
+            raise FileNotFoundError(f"result file {str(path)!r} " + (
+                "is not a regular file (a FIFO or a device)." if path.exists() else
+                "does not exist."))
         try:
             f = h5py.File(path, "r")
         except OSError as exc:

@@ -86,8 +86,10 @@ def override(config: SimulationConfig, changes: dict[str, Any]) -> SimulationCon
 def load_grid(path: str | Path) -> dict:
     """Read and check a grid file (see the module docstring); return it as a dict."""
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"grid file '{path}' does not exist")
+    if not path.is_file():  # a FIFO "did not exist"
+        raise FileNotFoundError(f"grid file '{path}' " + (
+            "is not a regular file (a FIFO or a device)" if path.exists() else
+            "does not exist"))
     try:
         grid = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:

@@ -135,8 +135,11 @@ def _check_args(args, modules, logs, needs_log) -> None:
         for path, *_ in logs:
             if path.is_dir():
                 raise _RefusedError(f"--log '{path}' is a folder, not a log file")
-            if not path.is_file():
+            if not path.exists():
                 raise _RefusedError(f"log file '{path}' does not exist")
+            if not path.is_file():  # a FIFO or a device: reading it blocks or never ends
+                raise _RefusedError(f"--log '{path}' is not a regular file (a FIFO or a "
+                                    "device); give a log file")
     try:
         check_out_dir(args.out)
     except OutputError as exc:

@@ -218,8 +218,10 @@ def figure_main(
         return fail(f"'{existing[0]}' exists; pass --overwrite")
     if args.log is not None and args.log.is_dir():
         return fail(f"--log '{args.log}' is a folder, not a log file")
-    if args.log is not None and not args.log.is_file():
+    if args.log is not None and not args.log.exists():
         return fail(f"log file '{args.log}' does not exist")
+    if args.log is not None and not args.log.is_file():
+        return fail(f"--log '{args.log}' is not a regular file (a FIFO or a device)")
     try:
         with staged_output(args.out) as stage:
             if output_names is None:

@@ -36,11 +36,25 @@ __all__ = [
 ]
 
 
-def _as_index(value: Any, name: str, minimum: int | None = None) -> tuple[np.ndarray, bool]:
+#: Largest index converted, and largest radial order: the int64 arithmetic of the
+#: conversions (``8 (j - 1) + 1``, ``n (n + 1)``, ``(q + 1)^2``) stays exact below 2^63
+#: (j = 2^62 + 1 gave n = 4.6e18, m = -3.5e18, |m| > n, with a RuntimeWarning). Every
+#: mode of radial order <= 2^29 (half a billion) has an index below 2^59 in all three
+#: conventions, far beyond any sampled basis.
+MAX_INDEX = 2**59
+MAX_ORDER = 2**29
+
+
+def _as_index(value: Any, name: str, minimum: int | None = None,
+              maximum: int | None = None) -> tuple[np.ndarray, bool]:
     """Return ``value`` as an int64 array and whether it was a scalar."""
     if isinstance(value, bool | np.bool_):
         raise TypeError(f"`{name}` must be an int or an integer array; got {value!r}.")
     if isinstance(value, numbers.Integral):
+        if maximum is not None and int(value) > maximum:
+            raise ValueError(f"`{name}` must be <= {maximum}; got {int(value)}.")
+        if not -(2**63) <= int(value) < 2**63:
+            raise ValueError(f"`{name}` must fit in int64; got {int(value)}.")
         arr = np.asarray(int(value), dtype=np.int64)
         scalar = True
     else:
@@ -55,6 +69,8 @@ def _as_index(value: Any, name: str, minimum: int | None = None) -> tuple[np.nda
     if minimum is not None and arr.size and int(arr.min()) < minimum:
         bad = int(arr.min())
         raise ValueError(f"`{name}` must be >= {minimum}; got {bad}.")
+    if maximum is not None and arr.size and int(arr.max()) > maximum:
+        raise ValueError(f"`{name}` must be <= {maximum}; got {int(arr.max())}.")
     return arr, scalar
 
 
@@ -63,7 +79,7 @@ def _out(arr: np.ndarray, scalar: bool):
 
 
 def _check_nm(n: Any, m: Any) -> tuple[np.ndarray, np.ndarray, bool]:
-    n_arr, n_scalar = _as_index(n, "n", minimum=0)
+    n_arr, n_scalar = _as_index(n, "n", minimum=0, maximum=MAX_ORDER)
     m_arr, m_scalar = _as_index(m, "m")
     try:
         n_arr, m_arr = np.broadcast_arrays(n_arr, m_arr)
@@ -110,7 +126,7 @@ def noll_to_zernike(j):
     ValueError
         If ``j < 1``.
     """
-    jj, scalar = _as_index(j, "j", minimum=1)
+    jj, scalar = _as_index(j, "j", minimum=1, maximum=MAX_INDEX)
     n = (_isqrt(8 * (jj - 1) + 1) - 1) // 2
     p = jj - n * (n + 1) // 2
     k = n % 2
@@ -159,7 +175,7 @@ def ansi_to_zernike(j):
     n, m : int or numpy.ndarray
         Radial order and signed azimuthal frequency.
     """
-    jj, scalar = _as_index(j, "j", minimum=0)
+    jj, scalar = _as_index(j, "j", minimum=0, maximum=MAX_INDEX)
     n = (_isqrt(8 * jj + 1) - 1) // 2
     m = 2 * jj - n * (n + 2)
     return _out(n, scalar), _out(m, scalar)
@@ -198,7 +214,7 @@ def fringe_to_zernike(j):
     n, m : int or numpy.ndarray
         Radial order and signed azimuthal frequency.
     """
-    jj, scalar = _as_index(j, "j", minimum=1)
+    jj, scalar = _as_index(j, "j", minimum=1, maximum=MAX_INDEX)
     q = _isqrt(jj - 1)  # q = (n + |m|) / 2
     d = (q + 1) ** 2 - jj  # d = 2 |m| - (m < 0)
     m_abs = (d + 1) // 2

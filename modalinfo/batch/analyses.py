@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
 from collections.abc import Callable
 from datetime import UTC, datetime
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -72,7 +72,10 @@ _EPOCH_MIN = 1e8
 
 
 def sha256_file(path: str) -> str:
-    """SHA-256 of a file's bytes, read in 1 MiB chunks."""
+    """SHA-256 of a file's bytes, read in 1 MiB chunks (a FIFO or device refused first)."""
+    from modalinfo.common.files import check_readable
+
+    check_readable(Path(path))  # `batch fifo.npz` blocked here forever
     digest = hashlib.sha256()
     with open(path, "rb") as fh:
         while block := fh.read(_HASH_CHUNK):
@@ -407,12 +410,12 @@ def run_log_task(payload: dict) -> dict:
     import matplotlib
 
     matplotlib.use("Agg")  # a predictor or analysis may import pyplot on a worker
+    from modalinfo.common.files import check_readable
     from modalinfo.io import load
     from modalinfo.telemetry.quality import apply_outlier_policy
 
     path = payload["path"]
-    if not os.path.isfile(path):
-        raise FileNotFoundError(f"no such file: '{path}'")
+    check_readable(Path(path))  # missing, a folder, a FIFO or a device: named as such
     log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
     _verify_mapped(path, log, payload.get("fmt"))
     if payload.get("window") is not None:

@@ -35,6 +35,9 @@ __all__ = [
 class _DeprecatedAlias(argparse.Action):
     """An old spelling of an option with the same meaning: stores, and says so once."""
 
+    #: ``--in-modes 2-28 --modes 3-29`` is one option given twice (common.cli.Parser)
+    stores_value = True
+
     def __init__(self, option_strings, dest, *, new: str, **kwargs) -> None:
         self.new = new
         super().__init__(option_strings, dest, **kwargs)
@@ -344,13 +347,18 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     stays the only line on stderr. Errors become one-line messages through the
     dispatcher.
     """
+    from modalinfo.common.files import check_readable
     from modalinfo.io import load
 
     path = Path(path)
     if path.is_dir():
         raise CommandError(f"'{path}' is a directory, not a log file")
-    if not path.is_file():
-        raise CommandError(f"log file '{path}' does not exist")
+    try:  # a FIFO was "does not exist"
+        check_readable(path)
+    except FileNotFoundError:
+        raise CommandError(f"log file '{path}' does not exist") from None
+    except OSError as exc:
+        raise CommandError(str(exc)) from None
     if args is None:
         return load(path)
     options = {"fmt": args.fmt, "dataset": getattr(args, "dataset", None),
@@ -358,6 +366,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     if copies and not mmap:
         _check_log_fits(path, options, copies)
     log = load(path, mmap=mmap, **options)
+    _check_rate(log, path)
     if copies:
         check_memory(copies * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
                      f"{log.n_modes} modes, {copies} float64 copies)",
@@ -365,6 +374,24 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     if announce:
         queue_notes(args, input_notes(log, path))
     return log
+
+
+def _check_rate(log, path: Path) -> None:
+    """Refuse a log whose frame rate lies outside :data:`RATE_RANGE`, as ``--rate`` would.
+
+    A ``time`` column of Unix nanoseconds read as seconds gave 2e-6 Hz, analysed
+    without a word while ``--rate 2e-6`` itself is refused.
+    """
+    rate = log.rate
+    if rate is None or RATE_RANGE[0] <= rate <= RATE_RANGE[1]:
+        return
+    source = "timestamps" if log.timestamps is not None else "stored rate"
+    raise CommandError(
+        f"'{path.name}': its {source} give a frame rate of {rate:.3g} Hz, outside "
+        f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): a time column "
+        "in ns or us read as seconds? give the rate with --rate HZ (it replaces the "
+        "timestamps)"
+    )
 
 
 def _check_log_fits(path: Path, options: dict, copies: int) -> None:

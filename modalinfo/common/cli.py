@@ -68,7 +68,9 @@ class Parser(argparse.ArgumentParser):
 
         argparse keeps the last silently, so ``--target Z2 --target Z3`` analysed Z3
         without a word. The same value twice, flags and append options (``--set``)
-        stay allowed; a subcommand's options are checked by its own parser.
+        stay allowed; a subcommand's options are checked by its own parser. An action
+        class with ``stores_value = True`` (an old spelling storing the same ``dest``,
+        ``--modes`` for ``--in-modes``) counts as the option it stands for.
         """
         seen: dict[str, tuple[str, str]] = {}
         for k, token in enumerate(args):
@@ -76,7 +78,16 @@ class Parser(argparse.ArgumentParser):
                 break
             name, eq, value = token.partition("=")
             action = self._option_string_actions.get(name) if name.startswith("-") else None
-            if type(action) is not argparse._StoreAction or action.nargs is not None:
+            flag = _flag_value(action, name)
+            if flag is not None:
+                # two flags of one setting (--transpose --no-transpose): the last won
+                first = seen.setdefault(action.dest, (name, flag))
+                if first[1] != flag:
+                    self.error(f"argument {name}: contradicts {first[0]}; give one of them")
+                continue
+            stores = type(action) is argparse._StoreAction or getattr(action, "stores_value",
+                                                                      False)
+            if not stores or action.nargs is not None:
                 continue
             if not eq:
                 if k + 1 >= len(args):
@@ -86,6 +97,19 @@ class Parser(argparse.ArgumentParser):
             if first[1] != value:
                 self.error(f"argument {name}: given twice ({first[0]} {first[1]} and "
                            f"{name} {value}); give it once")
+
+
+def _flag_value(action, name: str) -> str | None:
+    """Return the value a flag sets (``--transpose``: True, ``--no-transpose``: False).
+
+    None for an option that takes a value (checked by its own rule) and for a flag
+    that only counts or appends.
+    """
+    if isinstance(action, argparse.BooleanOptionalAction):
+        return repr(not name.startswith("--no-"))
+    if isinstance(action, argparse._StoreConstAction):  # store_true / store_false too
+        return repr(action.const)
+    return None
 
 
 def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,

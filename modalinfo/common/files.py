@@ -37,11 +37,35 @@ def as_path(path: Any, name: str = "path") -> Path:
 
 
 def check_readable(path: Path) -> None:
-    """Raise ``FileNotFoundError`` / ``IsADirectoryError`` naming ``path`` if it is no file."""
+    """Raise ``FileNotFoundError`` / ``IsADirectoryError`` / ``OSError`` naming a non-file.
+
+    A FIFO or a device is refused before it is opened (reading could block or never end).
+    """
     if not path.exists():
         raise FileNotFoundError(f"no such file: '{path}'")
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+    kind = _special_kind(path)
+    if kind:
+        # reading a FIFO blocks until a writer comes, /dev/zero never ends (a 17 GB
+        # read before the kernel's OOM killer stopped `modalinfo info /dev/zero`)
+        raise OSError(f"'{path}' is {kind}, not a regular file: a log is read from a "
+                      "file (reading this could block or never end)")
+
+
+def _special_kind(path: Path) -> str:
+    """Return what ``path`` is if it exists and is neither a regular file nor a folder."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return ""
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return ""
+    return ("a character device" if stat.S_ISCHR(mode) else "a block device"
+            if stat.S_ISBLK(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
+            "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
 
 
 def check_not_special(path: Path) -> None:
@@ -50,16 +74,8 @@ def check_not_special(path: Path) -> None:
     The final rename of :func:`atomic_write` would replace it by a regular file, so
     ``--overwrite`` onto ``/dev/null`` would destroy the device node (as root).
     """
-    import stat
-
-    try:
-        mode = os.stat(path).st_mode
-    except OSError:
-        return
-    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
-        kind = ("a character device" if stat.S_ISCHR(mode) else "a block device"
-                if stat.S_ISBLK(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
-                "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+    kind = _special_kind(path)
+    if kind:
         raise OSError(f"'{path}' is {kind}, not a regular file: a log or result is "
                       "written to a file path (it would replace the node)")
 

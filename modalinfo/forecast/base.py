@@ -46,6 +46,26 @@ class NotFittedError(ValueError, AttributeError):
     """Raised when a predictor is used before :meth:`Predictor.fit`."""
 
 
+def _check_forecast_memory(horizon: int, n_modes: int) -> None:
+    """Refuse a horizon whose forecast arrays (two of H x M float64) cannot be held.
+
+    ``horizon=10**30`` reached NumPy as "Maximum allowed dimension exceeded", naming
+    nothing. Below 128 MiB nothing is read (the check costs nothing in a loop).
+    """
+    need = 2.0 * 8.0 * horizon * max(int(n_modes), 1)
+    if need < 2**27:
+        return
+    from modalinfo.common.memory import available_memory_bytes
+
+    available = available_memory_bytes()
+    if need > available:
+        raise ValueError(
+            f"`horizon` = {horizon} needs {need / 2**30:.3g} GiB of forecasts for "
+            f"{n_modes} mode(s), more than the {available / 2**30:.3g} GiB available; "
+            "use a smaller horizon."
+        )
+
+
 class _Run:
     """Running state of one forecast pass (online, or one offline ``predict``).
 
@@ -315,6 +335,7 @@ class Predictor:
     # ------------------------------------------------------------------ running
     def _new_run(self, horizon: int) -> _Run:
         _, refit, _ = self._check_common()
+        _check_forecast_memory(horizon, self.n_modes_)
         window = self.window_ if refit is not None else None
         return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
                     self.n_modes_, window)

@@ -84,7 +84,7 @@ import numpy as np
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.resampling import block_bootstrap_indices, resolve_block_length
 from modalinfo.ordering import _kernels as kern
-from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
+from modalinfo.ordering._coefficients import BasisView, as_basis, coefficients_in_basis
 from modalinfo.ordering.result import OrderingResult
 
 __all__ = ["METHODS", "SEARCHES", "order_modes", "mi_along_order", "sample_contributions"]
@@ -188,6 +188,46 @@ def sample_contributions(
         frame %= a.shape[0]
     frames, pixels = _draw_pairs(a.shape[0], view.matrix.shape[0], budget, check_rng(seed), frame)
     return _contributions(a, view.matrix, frames, pixels)
+
+
+def _constant_modes(a: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """Return the modes (``(M,)`` bool) whose contribution ``a_k Z_k`` is one constant.
+
+    Zero coefficients, or a constant coefficient on a mode flat over the pupil (piston),
+    to 1e-12 of the largest coefficient (a data K-L basis of a log with a dead mode has
+    a null mode whose coefficients are rounding, ~1e-17). Reductions only: no (T, M)
+    temporary.
+    """
+    high, low = a.max(axis=0), a.min(axis=0)
+    tol = 1e-12 * float(max(high.max(), -low.min(), 0.0))
+    constant = high - low <= tol
+    zero = np.maximum(high, -low) <= tol
+    flat = np.ptp(matrix, axis=0) <= 1e-12 * float(np.abs(matrix).max())
+    return zero | (constant & flat)
+
+
+def _with_dead_modes(sub: OrderingResult, live: np.ndarray, dead: np.ndarray,
+                     labels: tuple) -> OrderingResult:
+    """``sub`` (an ordering of the ``live`` modes) with the ``dead`` ones appended.
+
+    A constant mode adds no information: its steps' MI and gains are NaN (the sum is
+    then the whole wavefront up to a constant, whose MI is infinite, as the last step's).
+    """
+    import dataclasses
+
+    def pad(v: np.ndarray | None) -> np.ndarray | None:
+        return None if v is None else np.concatenate([v, np.full(dead.size, np.nan)])
+
+    order = np.concatenate([live[sub.order], dead]).astype(np.int64)
+    scores = None
+    if sub.scores is not None:
+        scores = np.full(live.size + dead.size, np.nan)
+        scores[live] = sub.scores
+    return dataclasses.replace(
+        sub, order=order, labels=tuple(labels[i] for i in order), basis_labels=tuple(labels),
+        scores=scores, **{k: pad(getattr(sub, k)) for k in (
+            "mi", "gain", "margin", "mi_low", "mi_high", "gain_low", "gain_high",
+            "margin_low", "margin_high")})
 
 
 def _cumulative_mi(est: Any, contrib: np.ndarray, order: np.ndarray) -> np.ndarray:
@@ -553,6 +593,20 @@ def order_modes(
         order = _pca_order(a) if method == "pca" else np.argsort(-mean_square, kind="stable")
         return result(order, scores=mean_square)
 
+    dead = _constant_modes(a if frame is None else a[frame:frame + 1], view.matrix)
+    if dead.any() and not dead.all():
+        # a dead mode (all zeros) or a constant piston makes the other modes' sum an
+        # exact copy of the wavefront up to a constant: infinite MI, refused by the
+        # estimators in their own words (`x`, `y`); ordered without them, appended last
+        live, gone = np.flatnonzero(~dead), np.flatnonzero(dead)
+        sub = order_modes(
+            a[:, live], BasisView(matrix=view.matrix[:, live],
+                                  labels=tuple(view.labels[i] for i in live), obj=None),
+            method, estimator=estimator, estimator_options=options, pooled=pooled,
+            frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
+            confidence_level=confidence_level, block_length=block_length, progress=progress,
+            search=search)
+        return _with_dead_modes(sub, live, gone, view.labels)
     est, est_name = _make_estimator(estimator, options)
     frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
     contrib = _contributions(a, view.matrix, frames, pixels)

@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.validation import unmasked
+
 __all__ = [
     "CONVENTIONS",
     "NONFINITE_POLICIES",
@@ -70,6 +72,7 @@ def as_coeffs(coeffs: Any) -> np.ndarray:
     Integers become float64; float32 and float64 are kept (a ``numpy.memmap`` stays
     one); a non-native byte order is converted.
     """
+    coeffs = unmasked(coeffs, "coeffs")
     if isinstance(coeffs, np.ndarray):
         arr = coeffs
     else:

@@ -172,3 +172,36 @@ def test_parse_modes_errors_name_the_argument(text, match):
         parse_modes(text)
     with pytest.raises(ValueError, match=r"^--in-modes"):
         parse_modes(text, "--in-modes")
+
+
+# --- adversarial round 5 (row b29): indices beyond int64's exact arithmetic -------------
+
+
+def _noll_exact(j: int) -> tuple[int, int]:
+    """Noll (1976) by Python's unbounded ints: n from the triangular numbers, m from p."""
+    import math
+
+    n = (math.isqrt(8 * (j - 1) + 1) - 1) // 2
+    p = j - n * (n + 1) // 2
+    m_abs = ((p + n % 2) // 2) * 2 - n % 2
+    return n, m_abs if j % 2 == 0 else -m_abs
+
+
+def test_the_largest_index_converts_exactly_and_one_more_is_refused():
+    from modalinfo.bases.indexing import MAX_INDEX, MAX_ORDER
+
+    for j in (MAX_INDEX, MAX_INDEX - 1):
+        n, m = noll_to_zernike(j)
+        assert (n, m) == _noll_exact(j) and abs(m) <= n
+    for to_j, from_j in ((zernike_to_noll, noll_to_zernike), (zernike_to_ansi, ansi_to_zernike),
+                         (zernike_to_fringe, fringe_to_zernike)):
+        for m in (MAX_ORDER, -MAX_ORDER, 0):
+            assert from_j(to_j(MAX_ORDER, m)) == (MAX_ORDER, m)
+    for bad in (MAX_INDEX + 1, 2**62 + 1, 10**30):  # 2**62 + 1 gave |m| > n before
+        for convert in (noll_to_zernike, ansi_to_zernike, fringe_to_zernike):
+            with pytest.raises(ValueError, match="`j` must be <="):
+                convert(bad)
+    with pytest.raises(ValueError, match="`j` must be <="):
+        noll_to_zernike(np.array([2, MAX_INDEX + 1]))
+    with pytest.raises(ValueError, match="`n` must be <="):
+        zernike_to_noll(3 * 10**9, 3 * 10**9)

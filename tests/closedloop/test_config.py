@@ -92,3 +92,16 @@ def test_unknown_and_missing_keys():
 def test_total_d_over_r0():
     c = presets.get("table1")
     assert c.d_over_r0 == pytest.approx((26 ** (5 / 3) + 2 ** (5 / 3)) ** 0.6)
+
+
+def test_a_fifo_as_config_file_is_named_not_said_missing(tmp_path):
+    # round 5: `closedloop config --config fifo.json` said "does not exist"
+    import os
+
+    from closedloop.config import load_config
+
+    os.mkfifo(tmp_path / "cfg.json")
+    with pytest.raises(FileNotFoundError, match="is not a regular file"):
+        load_config(tmp_path / "cfg.json")
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        load_config(tmp_path / "missing.json")

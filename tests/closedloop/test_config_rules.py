@@ -2,7 +2,9 @@
 
 References (outside the code): the ranges the config's docstrings state for each key
 (``TelescopeConfig`` ... ``SimulationConfig``; ``modalinfo.servo.MAX_DELAY_FRAMES`` for
-the delay, ``FULL_WELL`` for a correlating sensor's signal), written out here as a table:
+the delay, ``FULL_WELL`` and one photo-electron for a correlating sensor's signal, 0.1 % for
+its contrast), written
+out here as a table:
 the boundary value itself is accepted (stored as a plain ``float``/``int`` even when
 given as a numpy scalar, so that the JSON and TOML writers take it), the value just
 outside is refused with a message naming the full key (``layers[0].wind_speed``), the
@@ -100,8 +102,9 @@ RULES = [
     ("wfss[0].n_subapertures", [2, 4], [1], None),  # 4: 2 pixels each across 8
     ("wfss[0].noise", [0.0, 0.01], [-1e-9], None),
     ("wfss[0].field_samples", [1, 2], [0], None),
-    ("wfss[0].signal", [FULL_WELL, 1.0], [0.0, FULL_WELL + 1.0], CORRELATING),
-    ("wfss[0].contrast", [0.5, 0.01], [0.0, 0.501], CORRELATING),
+    # 1e-300 (signal or contrast) was accepted; the run failed: "SVD did not converge" (k31)
+    ("wfss[0].signal", [FULL_WELL, 1.0], [0.0, 0.999, 1e-300, FULL_WELL + 1.0], CORRELATING),
+    ("wfss[0].contrast", [0.5, 0.01, 0.001], [0.0, 0.000999, 1e-300, 0.501], CORRELATING),
     ("wfss[0].pixel_scale", [0.5, 0.25], [0.0], CORRELATING),
     ("wfss[0].field_of_view", [4.0], [3.99], CORRELATING),  # >= 8 pixels of 0.5"
     ("loop.time_step", [1e-3], [0.0], None),

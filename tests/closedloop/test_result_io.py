@@ -213,3 +213,12 @@ def test_format_2_file_loads_unverified_with_a_note(run, copy, capsys, tmp_path)
     again = tmp_path / "again.h5"
     back.save(again)
     SimulationResult.load(again)
+
+
+def test_a_fifo_as_result_file_is_named_not_said_missing(tmp_path):
+    # round 5: `closedloop info fifo.h5` said "does not exist"
+    import os
+
+    os.mkfifo(tmp_path / "run.h5")
+    with pytest.raises(FileNotFoundError, match="is not a regular file"):
+        SimulationResult.load(tmp_path / "run.h5")

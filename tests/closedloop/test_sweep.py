@@ -78,3 +78,12 @@ def test_bad_grid(tmp_path, capsys):
     assert "unknown key `seed`" in capsys.readouterr().err
     with pytest.raises(ValueError, match="unknown key `loop.gian`"):
         override(small(), {"loop.gian": 0.1})
+
+
+def test_a_fifo_as_grid_file_is_named_not_said_missing(tmp_path):
+    import os
+
+    # round 5: `closedloop sweep fifo.toml` said "does not exist"
+    os.mkfifo(tmp_path / "grid.toml")
+    with pytest.raises(FileNotFoundError, match="is not a regular file"):
+        load_grid(tmp_path / "grid.toml")

@@ -185,3 +185,22 @@ def test_evaluate_names_the_overflowing_mode_by_label():
     log = ModalLog(Y, rate=1000.0, modes=[2, 3])
     with pytest.raises(ValueError, match=r"`log`: mode Z2 reaches"):
         evaluate([LinearPredictor()], log)
+
+
+# --- adversarial round 5 (row p24): a horizon no memory holds ---------------------------
+
+
+def test_a_horizon_beyond_memory_is_refused_naming_it():
+    # reference: the forecast arrays are H x M float64 (8 bytes each); 10**15 steps of
+    # one mode are 8 PB, beyond any machine. Before: NumPy's "Maximum allowed dimension
+    # exceeded" (10**30) or a MemoryError, naming nothing.
+    from modalinfo.forecast import PersistencePredictor
+
+    history = np.random.default_rng(0).standard_normal((50, 1))
+    for horizon in (10**15, 10**30):
+        with pytest.raises(ValueError, match=r"`horizon` = .* GiB of forecasts"):
+            PersistencePredictor(horizon=horizon).fit(history)
+    p = PersistencePredictor(horizon=3).fit(history)
+    with pytest.raises(ValueError, match=r"`horizon` = .* GiB of forecasts"):
+        p.predict(history, horizon=10**15)
+    assert p.predict(history, horizon=10**15 // 10**13).shape == (100, 1)  # small: no check

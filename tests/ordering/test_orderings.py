@@ -214,3 +214,34 @@ def test_bad_inputs():
         order_modes(a, z, "mi_greedy", pooled=False)
     with pytest.raises(TypeError, match="`pooled` must be a bool"):
         order_modes(a, z, "mi_greedy", pooled="yes")
+
+
+# --- adversarial round 5 (rows r10, f05): a dead mode or a constant piston ---------------
+
+
+@pytest.mark.parametrize("method", ["mi_greedy", "mi_marginal"])
+@pytest.mark.parametrize("dead", ["zeros", "piston", "rounding"])
+def test_a_constant_mode_goes_last_and_the_rest_is_ordered_as_without_it(method, dead):
+    # Reference: the same call on the log without that mode (same seed): a constant
+    # contribution adds nothing, so the other modes' order and MI must be that one's.
+    # Before: the estimators refused "`y` is a strictly monotone function of `x`".
+    from modalinfo.bases import Pupil, ZernikeBasis
+
+    rng = np.random.default_rng(3)
+    live = rng.standard_normal((300, 4)) * np.array([1.0, 0.7, 0.5, 0.3])
+    if dead == "zeros":
+        modes, column, at = [2, 3, 4, 5, 6], np.zeros((300, 1)), 2
+    elif dead == "rounding":  # a data K-L basis's null mode of a log with a dead mode
+        modes, column, at = [2, 3, 4, 5, 6], 1e-17 * rng.standard_normal((300, 1)), 4
+    else:
+        modes, column, at = [1, 2, 3, 4, 5], np.full((300, 1), 0.3), 0
+    coeffs = np.insert(live, at, column[:, 0], axis=1)
+    pupil = Pupil(16)
+    full = order_modes(coeffs, ZernikeBasis(pupil, modes), method, sample_budget=3000,
+                       seed=1, n_resamples=0)
+    kept = [m for k, m in enumerate(modes) if k != at]
+    ref = order_modes(live, ZernikeBasis(pupil, kept), method, sample_budget=3000, seed=1,
+                      n_resamples=0)
+    assert full.labels[:-1] == ref.labels and full.labels[-1] == f"Z{modes[at]}"
+    np.testing.assert_array_equal(full.mi[:-1], ref.mi)
+    assert np.isnan(full.mi[-1]) and np.isnan(full.gain[-1])

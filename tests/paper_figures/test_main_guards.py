@@ -77,6 +77,11 @@ def test_log_options_that_would_be_ignored_are_refused(tmp_path, capsys):
              "--in-units describes a user's log and needs --log")
     _refused(capsys, ["--only", "5", "--log", str(tmp_path), "--out", str(tmp_path / "o")],
              "is a folder, not a log file")
+    import os
+
+    os.mkfifo(tmp_path / "pipe.npz")  # round 5, g04: was "log file ... does not exist"
+    _refused(capsys, ["--only", "1", "--log", str(tmp_path / "pipe.npz"), "--out",
+                      str(tmp_path / "o")], "is not a regular file (a FIFO or a device)")
     assert not (tmp_path / "o").exists()
 
 

@@ -1,0 +1,63 @@
+"""Tests of modalinfo.common.cli.Parser: contradictory flags of one setting are refused.
+
+Reference: argparse's documented behaviour (the last of two actions on one ``dest``
+wins, silently); the rule here is the one the Parser applies to options given twice
+(adversarial rounds 2 and 5): one line on stderr naming both, exit status 2.
+"""
+
+import argparse
+
+import pytest
+
+from modalinfo.common.cli import EXIT_USAGE, Parser
+
+
+def _parser() -> Parser:
+    parser = Parser(prog="prog")
+    parser.add_argument("--transpose", action=argparse.BooleanOptionalAction, default=None)
+    parser.add_argument("--closed-loop", dest="closed", action="store_true", default=True)
+    parser.add_argument("--open-loop", dest="closed", action="store_false")
+    parser.add_argument("--quiet", action="store_true")
+    return parser
+
+
+@pytest.mark.parametrize("argv, first, second", [
+    (["--transpose", "--no-transpose"], "--transpose", "--no-transpose"),
+    (["--no-transpose", "--transpose"], "--no-transpose", "--transpose"),
+    (["--closed-loop", "--open-loop"], "--closed-loop", "--open-loop"),
+])
+def test_two_flags_setting_one_value_differently_are_refused(capsys, argv, first, second):
+    with pytest.raises(SystemExit) as exc:
+        _parser().parse_args(argv)
+    assert exc.value.code == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert f"argument {second}: contradicts {first}" in err
+
+
+@pytest.mark.parametrize("argv, transpose, closed", [
+    (["--no-transpose", "--no-transpose"], False, True),
+    (["--quiet", "--quiet", "--open-loop", "--open-loop"], None, False),
+    (["--transpose"], True, True),
+])
+def test_a_flag_repeated_with_the_same_meaning_still_parses(argv, transpose, closed):
+    args = _parser().parse_args(argv)
+    assert args.transpose is transpose and args.closed is closed
+
+
+def test_an_old_spelling_and_the_new_one_with_different_values_are_refused(capsys):
+    # round 5, row i46: `--in-modes 2-28 --modes 3-29` analysed Z3..Z29 without a word
+    class Alias(argparse.Action):
+        stores_value = True
+
+        def __call__(self, parser, namespace, values, option_string=None):
+            setattr(namespace, self.dest, values)
+
+    parser = Parser(prog="prog")
+    parser.add_argument("--in-modes", dest="in_modes")
+    parser.add_argument("--modes", dest="in_modes", action=Alias)
+    with pytest.raises(SystemExit):
+        parser.parse_args(["--in-modes", "2-28", "--modes", "3-29"])
+    assert "argument --modes: given twice (--in-modes 2-28 and --modes 3-29)" in (
+        capsys.readouterr().err)
+    assert parser.parse_args(["--in-modes", "2-28", "--modes", "2-28"]).in_modes == "2-28"
