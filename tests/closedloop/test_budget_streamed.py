@@ -127,3 +127,30 @@ def test_budget_with_actuator_mirrors_adds_up():
     assert result.closure_index is not None and b.frames.min() >= result.closure_index
     assert np.all(b.fitting > 0) and np.all(b.temporal > 0)
     np.testing.assert_allclose(b.total, b.measured, rtol=0.10)
+
+
+@pytest.mark.parametrize("sv", [(1e4, 100.0, 7.0, 0.7, 0.01),   # cut 1e-3 x 1e4 = 10
+                                (1e6, 500.0, 40.0, 2.0, 0.1)])   # cut 1e-3 x 1e6 = 1000
+def test_the_truncated_cut_is_on_singular_values_not_eigenvalues(sv):
+    # The snapshots above have no whitened singular value between the cut (on sqrt(L),
+    # the singular values) and the same number taken on L: here values straddle both, so
+    # a cut on the eigenvalues keeps 7.0 (49 > 10), or 500 and 40 (1600 > 1000). (Where
+    # the cut is 1, the two rules agree: sqrt(L) > 1 iff L > 1.)
+    # Reference: numpy.linalg.pinv of the whitened W = U diag(sv) V^T with LoopModel's
+    # documented cut (singular values above 1 and above 1e-3 of the largest), then
+    # K = C^1/2 W^+ W^+^T C^1/2 for G^T N^-1 G = C^-1/2 W^T W C^-1/2.
+    rng = np.random.default_rng(3)
+    m = len(sv)
+    u, _ = np.linalg.qr(rng.standard_normal((8, m)))
+    v, _ = np.linalg.qr(rng.standard_normal((m, m)))
+    w = (u * np.asarray(sv)) @ v.T
+    prior = rng.uniform(0.5, 2.0, m)
+    g = w / np.sqrt(prior)[None, :]  # G N^-1/2 with N = 1
+    obj = IdealSensing.__new__(IdealSensing)
+    obj.model = type("M", (), {"prior": prior})()
+    k = obj._solve(np.asfortranarray(g.T @ g), "truncated")
+    cut = max(1.0, 1e-3 * sv[0])
+    pinv = np.linalg.pinv(w, rcond=cut / sv[0] * (1 + 1e-12))
+    ref = np.sqrt(prior)[:, None] * (pinv @ pinv.T) * np.sqrt(prior)[None, :]
+    assert obj.n_controlled == sum(s > cut for s in sv)
+    np.testing.assert_allclose(k, ref, rtol=0, atol=1e-9 * np.abs(ref).max())

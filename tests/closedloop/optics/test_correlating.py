@@ -195,6 +195,24 @@ def test_detector_noise(exposure):
     assert img.var() == pytest.approx(mean + 25.0, rel=0.03)
 
 
+@pytest.mark.parametrize("exposure", [1e-3, 3e-9])  # 15 000 e- (Gaussian), ~200 e- (Poisson)
+def test_read_noise_dominated_detector_variance(exposure):
+    # test_detector_noise's 5 e- is 0.2 % of the Gaussian branch's variance, below its
+    # tolerance: here the read noise dominates (RON^2 = 2.25 x the mean), so the law
+    # ``mean + RON^2`` (Poisson plus independent Gaussian read noise) pins the read
+    # noise's square (a read noise entered as RON instead of RON^2 halves the variance).
+    flat = np.ones((64, 64))
+    mean = CorrelatingSubapertures(flat, 0.5, D_SUB, 8, 16,
+                                   budget=PhotonBudget(exposure=exposure)).electrons_per_pixel
+    ron = 1.5 * math.sqrt(mean)
+    budget = PhotonBudget(read_noise=ron, exposure=exposure)
+    cs = CorrelatingSubapertures(flat, 0.5, D_SUB, 8, 16, budget=budget)
+    img = cs.images(np.zeros((1, 200, 8, 8)), rng=np.random.default_rng(1))
+    # 51 200 samples: sampling error of the variance 0.6 %; the clip at 0 e- is > 7 sigma
+    # below the mean (sqrt(mean / 3.25) sigma, mean >= 200 e-): no pixel reaches it
+    assert img.var() == pytest.approx(mean + ron ** 2, rel=0.03)
+
+
 def test_detector_gain_and_offset():
     flat = np.ones((64, 64))
     budget = PhotonBudget(read_noise=5.0)
