@@ -30,9 +30,9 @@ __all__ = ["KOLMOGOROV_D_CONSTANT", "structure_function", "shifted_difference_va
 def structure_function(r, r0: float) -> np.ndarray:
     """Kolmogorov phase structure function ``6.8839 (r / r0)**(5/3)`` [rad^2].
 
-    :func:`modalinfo.bases.dm_kl.von_karman_structure_function` at ``L0 = inf`` (``r``
-    [m], any sign; ``r0`` [m], ``> 0``), with its constant
-    :data:`~modalinfo.bases.dm_kl.KOLMOGOROV_D_CONSTANT`.
+    :func:`modalinfo.bases.von_karman_structure_function` at ``L0 = inf`` (``r`` [m],
+    any sign; ``r0`` [m], ``> 0``), with its constant ``KOLMOGOROV_D_CONSTANT`` (of
+    ``modalinfo.bases.dm_kl``, re-exported here).
     """
     return von_karman_structure_function(r, r0)
 
