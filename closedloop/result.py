@@ -29,10 +29,17 @@ Derived views
   window of the closure detection, a closure was
   detected in the first half of the run after the first command reached the mirrors
   (an earlier one means the SR never rose above its open-loop value), and the residual
-  after it is below half the open-loop level. A run that did neither "did not close"
-  (too short, or a loop that never corrects, e.g. a delay as long as the run). The
-  headline numbers of a run that did not close are those of its second half, and the
-  summary says so.
+  after it is below half the open-loop level. A run whose SR peak gives no such closure
+  (no steady band in the first half, or a band so wide that it holds the open-loop SR,
+  as at the SR of a few percent of a 4-m solar MCAO) is *closed, still converging* if
+  its field-mean residual, from a frame of the first half after the first command,
+  stays below half the open-loop level for 5 ms and on average after it, and its SR
+  peak's mean over the second half exceeds its mean from that frame to mid-run: the loop
+  corrects, but a still rising SR has no steady state to average from. A run that did
+  none of these "did not close" (too short, or a loop that never corrects, e.g. a delay
+  as long as the run). The headline numbers of a run that did not close, or is still
+  converging, are those of its second half, and the summary says so (``closed`` is
+  False for both: their numbers are not steady-state ones).
 - :meth:`strehl_map`: time average of the Strehl after closure, on the field grid.
 - :meth:`corrected_fov_diameter`: the area ``A`` where the time-averaged SR exceeds a
   threshold, on the field grid refined 16 times by bilinear interpolation (the grid's
@@ -294,10 +301,43 @@ class SimulationResult:
         return bool(np.all(self.strehl_peak[k:k + window] >= low))
 
     @property
-    def loop_status(self) -> str:
-        """``"closed"``, ``"diverged: <why>"``, ``"did not close: <why>"`` or ``"open loop"``.
+    def _first_command(self) -> int:
+        """First frame that sees a command: frame k does once ``(k + 1) T > T + delay``."""
+        return int(math.floor(self.config.loop.delay_frames)) + 1
 
-        See the module docstring; ``"open loop"`` for a run with ``loop.closed = false``.
+    def _still_converging(self, v: np.ndarray) -> str | None:
+        """Return the status of a loop closed with its SR peak still rising, else None.
+
+        Called when the SR peak gives no closure (no steady band in the first half, or one
+        so wide that it holds the open loop). ``v`` is the field-mean residual per frame
+        [rad^2]. The loop closed if, from a frame ``k`` of the first half that sees a
+        command, the residual stays below half its open-loop level (frame 0) for the 5-ms
+        window and on average after it; it is still converging if the SR peak's mean over
+        the second half exceeds its mean from ``k`` to mid-run.
+        """
+        n, window = v.size, self._window
+        half = 0.5 * float(v[0])
+        below = v < half
+        k = next((k for k in range(self._first_command, n // 2)
+                  if below[k:k + window].all()), None)
+        if k is None or float(v[k:].mean()) >= half:
+            return None
+        peak = self.strehl_peak
+        early, late = float(peak[k:n // 2].mean()), float(peak[n // 2:].mean())
+        if late <= early:
+            return None
+        return (f"closed, still converging: the residual (field mean) stays below half its "
+                f"open-loop level from frame {k} ({self.times[k] * 1e3:.3g} ms), but the SR "
+                f"peak still rises ({early:.3g} from there to mid-run, {late:.3g} in the second "
+                f"half): no steady state to average from, the numbers are the second half's")
+
+    @property
+    def loop_status(self) -> str:
+        """Say whether the loop closed: ``"closed"`` or ``"<verdict>: <why>"``.
+
+        ``"closed"``, ``"closed, still converging: <why>"``, ``"diverged: <why>"``,
+        ``"did not close: <why>"`` or ``"open loop"`` (a run with ``loop.closed = false``).
+        See the module docstring.
         """
         if self.open_loop:
             return "open loop"
@@ -324,15 +364,16 @@ class SimulationResult:
             return (f"did not close: {n} frames are too few to detect the loop closure (it "
                     f"needs {max(4, 2 * window)}: twice the 5-ms window)")
         if not self._closure_found():
-            return "did not close: the SR peak reaches no steady state in the first half of the run"
+            return self._still_converging(v) or (
+                "did not close: the SR peak reaches no steady state in the first half of the run")
         # frame k sees a command once (k + 1) T > T + delay: a "closure" before that is
         # a steady band so wide that it holds the open loop (an SR that never rose)
-        first = int(math.floor(self.config.loop.delay_frames)) + 1
-        if self.closure_index < first:
+        if self.closure_index < self._first_command:
             peak = self.strehl_peak
-            return (f"did not close: the SR peak ({float(peak[n // 2:].mean()):.3g} in the "
-                    f"second half) never rose clearly above its open-loop value "
-                    f"({float(peak[0]):.3g})")
+            return self._still_converging(v) or (
+                f"did not close: the SR peak ({float(peak[n // 2:].mean()):.3g} in the "
+                f"second half) never rose clearly above its open-loop value "
+                f"({float(peak[0]):.3g})")
         steady = float(v[self.closure_index:].mean())
         if steady >= 0.5 * open_loop:
             return (f"did not close: the residual ({steady:.3g} rad^2, field mean) stays above "
@@ -341,7 +382,11 @@ class SimulationResult:
 
     @property
     def closed(self) -> bool:
-        """True if the loop closed (see :attr:`loop_status`)."""
+        """True if the loop closed and reached its steady state (``loop_status == "closed"``).
+
+        False for a loop ``"closed, still converging"``: it closed, but its numbers are
+        not steady-state ones (they are those of the second half of the run).
+        """
         return self.loop_status == "closed"
 
     @property
@@ -421,7 +466,8 @@ class SimulationResult:
         """Headline numbers: SR peak and field mean after closure, FoV diameter, speed.
 
         ``closed`` / ``diverged`` / ``loop_status`` say whether the loop closed; if it did
-        not, ``closure_time_s`` is NaN and the numbers are those of the run's second half.
+        not, or is still converging, ``closure_time_s`` is NaN and the numbers are those of
+        the run's second half.
         In open loop (``open_loop`` True, ``loop_status`` "open loop") no closure is
         claimed: ``closure_time_s`` is NaN and the means are over the whole run.
         """

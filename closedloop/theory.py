@@ -20,17 +20,21 @@ from __future__ import annotations
 
 import numpy as np
 
+# the constant and the law live once, in modalinfo (the DM K-L modes use them too)
+from modalinfo.bases.dm_kl import KOLMOGOROV_D_CONSTANT, von_karman_structure_function
 from modalinfo.bases.turbulence import KOLMOGOROV_PSD_CONSTANT  # noqa: F401  (documentation)
 
 __all__ = ["KOLMOGOROV_D_CONSTANT", "structure_function", "shifted_difference_variance"]
 
-#: 2 [(24/5) Gamma(6/5)]^(5/6)
-KOLMOGOROV_D_CONSTANT = 6.883877182293811
-
 
 def structure_function(r, r0: float) -> np.ndarray:
-    """Kolmogorov phase structure function ``6.8839 (r / r0)**(5/3)`` [rad^2]."""
-    return KOLMOGOROV_D_CONSTANT * (np.abs(np.asarray(r, dtype=np.float64)) / r0) ** (5.0 / 3.0)
+    """Kolmogorov phase structure function ``6.8839 (r / r0)**(5/3)`` [rad^2].
+
+    :func:`modalinfo.bases.von_karman_structure_function` at ``L0 = inf`` (``r`` [m],
+    any sign; ``r0`` [m], ``> 0``), with its constant ``KOLMOGOROV_D_CONSTANT`` (of
+    ``modalinfo.bases.dm_kl``, re-exported here).
+    """
+    return von_karman_structure_function(r, r0)
 
 
 def shifted_difference_variance(mask: np.ndarray, dx: float, shift, r0: float) -> float:

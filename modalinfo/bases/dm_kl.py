@@ -73,10 +73,14 @@ from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.influence import InfluenceFunctions
 from modalinfo.common.validation import as_float_array, check_int, check_real
 
-__all__ = ["DMKLBasis", "dm_kl_modes", "von_karman_structure_function"]
+__all__ = ["DMKLBasis", "KOLMOGOROV_D_CONSTANT", "dm_kl_modes", "von_karman_structure_function"]
 
-#: 2 [(24/5) Gamma(6/5)]^(5/6): Kolmogorov structure-function constant
-_KOLMOGOROV_D = 2.0 * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0)
+#: 2 [(24/5) Gamma(6/5)]^(5/6) = 6.8839 (Fried 1966): the Kolmogorov structure-function
+#: constant, the project's one copy (closedloop.theory imports it). The expression as
+#: evaluated in double precision, 6.88387718229381, one unit in the last place below the
+#: correctly rounded 6.883877182293811 (math.gamma's rounding); kept so, since every DM
+#: K-L basis and the presets' numbers rest on these bits.
+KOLMOGOROV_D_CONSTANT = 2.0 * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0)
 _VK_B = (2.0 ** (-5.0 / 6.0) * math.gamma(11.0 / 6.0) / math.pi ** (8.0 / 3.0)
          * (24.0 / 5.0 * math.gamma(6.0 / 5.0)) ** (5.0 / 6.0))
 _VK_B0 = (math.gamma(11.0 / 6.0) * math.gamma(5.0 / 6.0) / (2.0 * math.pi ** (8.0 / 3.0))
@@ -110,7 +114,7 @@ def von_karman_structure_function(r, r0: float, outer_scale: float = np.inf) -> 
                              allow_inf=True)
     r = np.abs(np.asarray(r, dtype=np.float64))
     if math.isinf(outer_scale):
-        return _KOLMOGOROV_D * (r / r0) ** (5.0 / 3.0)
+        return KOLMOGOROV_D_CONSTANT * (r / r0) ** (5.0 / 3.0)
     u = 2.0 * math.pi * r / outer_scale
     scale = (outer_scale / r0) ** (5.0 / 3.0)
     with np.errstate(invalid="ignore"):

@@ -16,31 +16,20 @@ import numpy as np
 import pytest
 
 from modalinfo.cli import main
-from modalinfo.io import save
-from modalinfo.telemetry import ModalLog
 from modalinfo.telemetry.summary import summarize
+
+from .conftest import exit_code
 
 
 @pytest.fixture
-def small_log(tmp_path):
-    rng = np.random.default_rng(0)
-    coeffs = np.cumsum(rng.standard_normal((300, 3)), axis=0) * 0.01
-    return save(ModalLog(coeffs, rate=2000.0, modes=[2, 3, 4], units="rad"),
-                tmp_path / "log.npz")
-
-
-def _exit_code(argv):
-    """``main``'s status, returned or raised (argparse errors raise SystemExit)."""
-    try:
-        return main(argv)
-    except SystemExit as exc:
-        return exc.code
+def small_log(make_small_log):
+    return make_small_log(300)
 
 
 @pytest.mark.parametrize("value", ["nan", "inf"])
 def test_fitting_error_target_not_finite_is_refused_naming_target(small_log, capsys, value):
     # Before: --target nan ran the work and failed with "`error` must be finite".
-    assert _exit_code(["fitting-error", str(small_log), f"--target={value}", "--quiet"]) == 2
+    assert exit_code(["fitting-error", str(small_log), f"--target={value}", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err, err
     assert "--target" in err and "finite" in err, err
@@ -82,8 +71,8 @@ def test_an_option_given_twice_with_different_values_is_refused(small_log, capsy
 
 
 def test_an_option_repeated_with_the_same_value_still_runs(small_log, capsys):
-    assert _exit_code(["info", str(small_log), "--rate=2000", "--rate", "2000",
-                       "--quiet"]) == 0
+    assert exit_code(["info", str(small_log), "--rate=2000", "--rate", "2000",
+                      "--quiet"]) == 0
     assert "given twice" not in capsys.readouterr().err
 
 
@@ -98,7 +87,7 @@ def _exit_code_of(func, argv):
 def test_rate_outside_the_physical_range_is_refused_before_work(small_log, rate, capsys):
     # Reference: the documented range RATE_RANGE, 1 mHz - 1 MHz (modalinfo.cli.shared):
     # a --rate of 1e300 Hz used to be accepted and printed back as "1e+300 Hz".
-    assert _exit_code(["info", str(small_log), f"--rate={rate}"]) == 2
+    assert exit_code(["info", str(small_log), f"--rate={rate}"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--rate" in err and "hertz within 0.001 - 1e+06" in err
 
@@ -107,5 +96,5 @@ def test_rate_outside_the_physical_range_is_refused_before_work(small_log, rate,
 def test_rate_inside_the_range_is_accepted(tmp_path, rate, capsys):
     path = tmp_path / "norate.npy"  # a bare array: no stored rate to contradict
     np.save(path, np.random.default_rng(1).standard_normal((300, 3)))
-    assert _exit_code(["info", str(path), "--modes", "2-4", f"--rate={rate}"]) == 0
+    assert exit_code(["info", str(path), "--modes", "2-4", f"--rate={rate}"]) == 0
     assert f"{float(rate):g} Hz" in capsys.readouterr().out

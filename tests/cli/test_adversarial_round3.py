@@ -17,27 +17,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from modalinfo.cli import main
 from modalinfo.io import load, save
 from modalinfo.telemetry import ModalLog
+
+from .conftest import exit_code
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 @pytest.fixture
-def small_log(tmp_path):
-    rng = np.random.default_rng(0)
-    coeffs = np.cumsum(rng.standard_normal((300, 3)), axis=0) * 0.01
-    return save(ModalLog(coeffs, rate=2000.0, modes=[2, 3, 4], units="rad"),
-                tmp_path / "log.npz")
-
-
-def _exit_code(argv):
-    """``main``'s status, returned or raised (argparse errors raise SystemExit)."""
-    try:
-        return main([str(a) for a in argv])
-    except SystemExit as exc:
-        return exc.code
+def small_log(make_small_log):
+    return make_small_log(300)
 
 
 def _one_line(capsys) -> str:
@@ -55,7 +45,7 @@ def test_convert_to_fmt_contradicting_the_extension_is_refused(small_log, tmp_pa
                                                                name, fmt):
     # Before: `convert --to-fmt npz out.csv` wrote NPZ bytes under a .csv name, exit 0.
     out = tmp_path / name
-    assert _exit_code(["convert", small_log, out, "--to-fmt", fmt, "--quiet"]) == 2
+    assert exit_code(["convert", small_log, out, "--to-fmt", fmt, "--quiet"]) == 2
     err = _one_line(capsys)
     assert f"--to-fmt {fmt} contradicts OUT" in err, err
     assert not out.exists()
@@ -63,7 +53,7 @@ def test_convert_to_fmt_contradicting_the_extension_is_refused(small_log, tmp_pa
 
 def test_synth_to_fmt_contradicting_the_extension_is_refused(tmp_path, capsys):
     out = tmp_path / "s.csv"
-    assert _exit_code(["synth", out, "--frames", "50", "--to-fmt", "npz", "--quiet"]) == 2
+    assert exit_code(["synth", out, "--frames", "50", "--to-fmt", "npz", "--quiet"]) == 2
     assert "--to-fmt npz contradicts OUT" in _one_line(capsys)
     assert not out.exists()
 
@@ -75,7 +65,7 @@ def test_synth_to_fmt_contradicting_the_extension_is_refused(tmp_path, capsys):
 def test_to_fmt_agreeing_with_or_naming_the_extension_still_writes(small_log, tmp_path,
                                                                    capsys, name, fmt, kind):
     out = tmp_path / name
-    assert _exit_code(["convert", small_log, out, "--to-fmt", fmt, "--quiet"]) == 0
+    assert exit_code(["convert", small_log, out, "--to-fmt", fmt, "--quiet"]) == 0
     back = load(out, fmt=kind)
     np.testing.assert_array_equal(back.coeffs, load(small_log).coeffs)
 
@@ -85,8 +75,8 @@ def test_batch_analyses_named_twice_is_refused_before_any_work(small_log, tmp_pa
     # Before: `--analyses summary,summary` merged the two silently (exit 0, one row).
     pytest.importorskip("distributed")
     out = tmp_path / "out"
-    assert _exit_code(["batch", small_log, "--out", out, "--analyses", "summary,summary",
-                       "--quiet"]) == 2
+    assert exit_code(["batch", small_log, "--out", out, "--analyses", "summary,summary",
+                      "--quiet"]) == 2
     err = _one_line(capsys)
     assert "names 'summary' twice" in err and "analyses" in err, err
     assert not out.exists()
@@ -121,11 +111,11 @@ def test_one_glitched_frame_changes_no_rank_of_reorder_and_is_reported(tmp_path,
     clean = save(log, tmp_path / "clean.npz")
     glitch = save(ModalLog(y, rate=log.rate, modes=log.modes, units=log.units,
                            wavelength=log.wavelength), tmp_path / "glitch.npz")
-    assert _exit_code(["reorder", clean, "--resamples", "0"]) == 0
+    assert exit_code(["reorder", clean, "--resamples", "0"]) == 0
     captured = capsys.readouterr()
     assert captured.err == ""
     first = _ranks(captured.out)
-    assert _exit_code(["reorder", glitch, "--resamples", "0"]) == 0
+    assert exit_code(["reorder", glitch, "--resamples", "0"]) == 0
     captured = capsys.readouterr()
     assert len(first) == 10 and _ranks(captured.out) == first
     err = captured.err.splitlines()
@@ -150,7 +140,7 @@ def test_a_bad_value_stored_in_the_file_is_not_blamed_on_an_option(small_log, tm
     header[key] = value
     bad = tmp_path / "bad.npz"
     np.savez(bad, coefficients=coeffs, header=np.array(json.dumps(header)))
-    assert _exit_code(["info", bad]) == 2
+    assert exit_code(["info", bad]) == 2
     err = _one_line(capsys)
     assert said in err and "--" not in err.split("error: ", 1)[1], err
 
@@ -162,8 +152,8 @@ def test_kl_data_needs_as_many_frames_as_modes(tmp_path, capsys):
     rng = np.random.default_rng(3)
     two = save(ModalLog(rng.standard_normal((2, 5)), rate=1e3, modes=[2, 3, 4, 5, 6],
                         units="rad"), tmp_path / "two.npz")
-    assert _exit_code(["reorder", two, "--basis", "kl-data", "--resamples", "0",
-                       "--pupil-pixels", "16", "--budget", "2000", "--quiet"]) == 2
+    assert exit_code(["reorder", two, "--basis", "kl-data", "--resamples", "0",
+                      "--pupil-pixels", "16", "--budget", "2000", "--quiet"]) == 2
     assert "needs at least 5 frames for 5 K-L modes; got 2" in _one_line(capsys)
 
 
@@ -183,8 +173,8 @@ def test_kl_from_data_refuses_modes_beyond_the_rank():
 
 def test_kl_theory_outer_scale_below_the_pupil_is_refused(small_log, capsys):
     # Before: --outer-scale 1e-3 (1 mm) built a K-L of a pupil far beyond L0, exit 0.
-    assert _exit_code(["reorder", small_log, "--basis", "kl-theory", "--outer-scale", "0.5",
-                       "--resamples", "0", "--pupil-pixels", "16", "--budget", "2000"]) == 2
+    assert exit_code(["reorder", small_log, "--basis", "kl-theory", "--outer-scale", "0.5",
+                      "--resamples", "0", "--pupil-pixels", "16", "--budget", "2000"]) == 2
     err = _one_line(capsys)
     assert "--outer-scale must be > the pupil diameter 1 m (assumed" in err, err
 
@@ -222,7 +212,7 @@ def test_ctrl_c_while_the_parser_is_built_is_one_line_and_130(monkeypatch, capsy
 def test_an_output_folder_that_takes_no_file_is_refused_before_work(small_log, capsys):
     # Before: `--plot /proc/f.png` computed every curve, then failed naming a temporary
     # file ('/proc/.f.png.xxxx.tmp'); /proc takes no new file, even for root.
-    assert _exit_code(["convert", small_log, "/proc/x.npz", "--quiet"]) == 2
+    assert exit_code(["convert", small_log, "/proc/x.npz", "--quiet"]) == 2
     assert "OUT '/proc/x.npz': cannot write in '/proc'" in _one_line(capsys)
 
 
@@ -231,8 +221,8 @@ def test_select_extra_on_another_clock_is_refused(small_log, tmp_path, capsys):
     rng = np.random.default_rng(4)
     extra = save(ModalLog(rng.standard_normal((300, 2)), rate=1000.0, modes=[5, 6],
                           units="rad"), tmp_path / "extra.npz")
-    assert _exit_code(["select", small_log, "--target", "Z2", "--extra", extra,
-                       "--max-lag", "2", "--surrogates", "19", "--no-intervals"]) == 2
+    assert exit_code(["select", small_log, "--target", "Z2", "--extra", extra,
+                      "--max-lag", "2", "--surrogates", "19", "--no-intervals"]) == 2
     assert "--extra is sampled at 1000 Hz, LOG at 2000 Hz" in _one_line(capsys)
 
 
@@ -241,8 +231,8 @@ def test_a_zernike_finer_than_the_pupil_grid_is_refused(tmp_path, capsys):
     rng = np.random.default_rng(5)
     log = save(ModalLog(rng.standard_normal((200, 3)), rate=1e3, modes=[2, 3, 5000],
                         units="rad"), tmp_path / "z.npz")
-    assert _exit_code(["reorder", log, "--pupil-pixels", "16", "--resamples", "0",
-                       "--budget", "2000", "--quiet"]) == 2
+    assert exit_code(["reorder", log, "--pupil-pixels", "16", "--resamples", "0",
+                      "--budget", "2000", "--quiet"]) == 2
     assert "--pupil-pixels must be >= 198 to sample Z5000 (radial order 99" in _one_line(
         capsys)
 
@@ -282,6 +272,6 @@ def test_select_on_values_whose_squares_overflow_is_refused_by_name(tmp_path, ca
     rng = np.random.default_rng(6)
     huge = save(ModalLog(rng.standard_normal((300, 3)) * 1e300, rate=1e3, modes=[2, 3, 4],
                          units="rad"), tmp_path / "huge.npz")
-    assert _exit_code(["select", huge, "--target", "Z2", "--max-lag", "2", "--surrogates",
-                       "19", "--no-intervals"]) == 2
+    assert exit_code(["select", huge, "--target", "Z2", "--max-lag", "2", "--surrogates",
+                      "19", "--no-intervals"]) == 2
     assert "where its sums of squares overflow float64" in _one_line(capsys)

@@ -21,34 +21,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from modalinfo.cli import CommandError, main
+from modalinfo.cli import CommandError
 from modalinfo.cli.cmd_reorder import check_mi_time
-from modalinfo.io import save
 from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, MI_SECONDS_PER_SAMPLE
-from modalinfo.telemetry import ModalLog
+
+from .conftest import exit_code
 
 
 @pytest.fixture
-def small_log(tmp_path):
-    rng = np.random.default_rng(0)
-    coeffs = np.cumsum(rng.standard_normal((400, 3)), axis=0) * 0.01
-    return save(ModalLog(coeffs, rate=2000.0, modes=[2, 3, 4], units="rad"),
-                tmp_path / "log.npz")
-
-
-def _exit_code(argv):
-    """``main``'s status, returned or raised (argparse errors raise SystemExit)."""
-    try:
-        return main([str(a) for a in argv])
-    except SystemExit as exc:
-        return exc.code
+def small_log(make_small_log):
+    return make_small_log(400)
 
 
 def test_ksg_with_a_budget_that_cannot_finish_is_refused_before_work(small_log, capsys):
     # r01: `reorder --estimator ksg --budget 1000000 --resamples 2000` on 400 frames x
     # 3 modes (1.29e6 pixel samples): ~2000 KSG estimates on 1e6 samples, hours, ran
-    code = _exit_code(["reorder", small_log, "--estimator", "ksg", "--budget", 1_000_000,
-                       "--resamples", 2000, "--quiet"])
+    code = exit_code(["reorder", small_log, "--estimator", "ksg", "--budget", 1_000_000,
+                      "--resamples", 2000, "--quiet"])
     err = capsys.readouterr().err
     assert code == 2
     assert err.count("\n") == 1 and "Traceback" not in err
@@ -62,9 +51,9 @@ def test_fitting_error_counts_its_mi_orderings_only(small_log, capsys, monkeypat
 
     monkeypatch.setattr(cost, "MAX_ORDERING_SECONDS", 1e-6)
     argv = ["fitting-error", small_log, "--budget", 2000, "--pupil-pixels", 16, "--quiet"]
-    assert _exit_code(argv + ["--orderings", "zernike:standard,zernike:mi_greedy"]) == 2
+    assert exit_code(argv + ["--orderings", "zernike:standard,zernike:mi_greedy"]) == 2
     assert "h of CPU" in capsys.readouterr().err
-    assert _exit_code(argv + ["--orderings", "zernike:standard,zernike:variance"]) == 0
+    assert exit_code(argv + ["--orderings", "zernike:standard,zernike:variance"]) == 0
 
 
 def _args(**kw):
@@ -108,8 +97,8 @@ def test_select_refuses_surrogates_that_cannot_reach_alpha(small_log, capsys, su
                                                            alpha):
     # n20, n21: the smallest surrogate p-value is 1 / (N + 1) (0.5 for one surrogate), so
     # no input could ever pass alpha: the table said "no input" as if none helped
-    code = _exit_code(["select", small_log, "--target", "Z2", "--surrogates", surrogates,
-                       "--alpha", alpha, "--max-lag", 2, "--no-intervals"])
+    code = exit_code(["select", small_log, "--target", "Z2", "--surrogates", surrogates,
+                      "--alpha", alpha, "--max-lag", 2, "--no-intervals"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1
     assert f"--surrogates {surrogates} cannot reach --alpha" in err
@@ -118,8 +107,8 @@ def test_select_refuses_surrogates_that_cannot_reach_alpha(small_log, capsys, su
 
 def test_select_runs_where_the_smallest_p_value_reaches_alpha(small_log, capsys):
     # 19 surrogates: the smallest p-value is 1/20 = 0.05 = alpha, reachable
-    code = _exit_code(["select", small_log, "--target", "Z2", "--surrogates", 19,
-                       "--max-lag", 2, "--no-intervals"])
+    code = exit_code(["select", small_log, "--target", "Z2", "--surrogates", 19,
+                      "--max-lag", 2, "--no-intervals"])
     assert code == 0, capsys.readouterr().err
 
 
@@ -172,8 +161,8 @@ def test_a_warning_during_a_command_is_one_line_in_its_voice(tmp_path):
 def test_forecast_refuses_a_one_frame_training_part(small_log, capsys, train):
     # n12: `forecast --train 1` trained on one frame, called every mode "constant over
     # the training frames" and still printed a linear row that grew 7x with the horizon
-    code = _exit_code(["forecast", small_log, "--train", train, "--predictors", "linear",
-                       "--quiet"])
+    code = exit_code(["forecast", small_log, "--train", train, "--predictors", "linear",
+                      "--quiet"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1
     assert "--train must hold at least 2 frames" in err
@@ -207,7 +196,7 @@ def test_a_fits_file_with_two_images_says_which_it_read(tmp_path, capsys):
     log = load(path, rate=1000.0)
     assert np.array_equal(log.coeffs, a)  # the first image, as before
     assert log.metadata["source_hdu"] == "HDU 1 (WFS), the first of 2 2-D images (HDUs 1, 2)"
-    assert _exit_code(["convert", path, tmp_path / "o.npz", "--rate", 1000, "--quiet"]) == 0
+    assert exit_code(["convert", path, tmp_path / "o.npz", "--rate", 1000, "--quiet"]) == 0
     assert "'two.fits': read HDU 1 (WFS), the first of 2 2-D images" in capsys.readouterr().err
     # one image: no such note
     fits.HDUList([fits.PrimaryHDU(a)]).writeto(tmp_path / "one.fits")
@@ -228,7 +217,7 @@ def test_mi_memory_check_counts_the_samples_drawn_not_the_budget(small_log, monk
             raise KeyboardInterrupt
 
     monkeypatch.setattr(cmd_reorder, "check_memory", record)
-    code = _exit_code(["reorder", small_log, "--budget", 100_000_000, "--quiet"])
+    code = exit_code(["reorder", small_log, "--budget", 100_000_000, "--quiet"])
     assert code == 130 and len(seen) == 2
     samples = 400 * Pupil(64).n_valid
     assert samples < 100_000_000

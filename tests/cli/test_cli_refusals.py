@@ -21,18 +21,13 @@ import numpy as np
 import pytest
 
 from modalinfo.cli import main
-from modalinfo.io import save
-from modalinfo.telemetry import ModalLog
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture
-def small_log(tmp_path):
-    rng = np.random.default_rng(0)
-    coeffs = np.cumsum(rng.standard_normal((600, 3)), axis=0) * 0.01
-    return save(ModalLog(coeffs, rate=2000.0, modes=[2, 3, 4], units="rad"),
-                tmp_path / "log.npz")
+def small_log(make_small_log):
+    return make_small_log(600)
 
 
 def _one_line(capsys, *needles):

@@ -7,7 +7,10 @@ One copy of each small config that several test files run:
   (test_loop, test_guards, test_predictor_faults, and the files that run it);
 - :func:`lag_only`: a loop whose only error is the servo lag (test_laws_budget,
   test_budget_terms);
-- :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM.
+- :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM;
+- :func:`gap_config`, :func:`gap_sensor`: the small 4-m loops of the mutation-gap tests
+  (test_mutation_gaps_model, test_mutation_gaps_wfs), built from their layers, mirrors
+  and sensors.
 
 Test files import the functions (``from .conftest import small``); pytest's importlib mode
 gives them the module pytest loaded, so there is one copy.
@@ -106,3 +109,40 @@ def lag_only(*, gain: float = 0.5, delay: float = 1e-3,
         loop=LoopConfig(time_step=1e-3, integration_time=integration, delay=delay,
                         gain=gain),
         field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)
+
+
+#: the mutation-gap loops' telescope diameter [m], r0 wavelength and science wavelength [m]
+GAP_DIAMETER = 4.0
+GAP_R0_WAVELENGTH = 500e-9
+GAP_WAVELENGTH = 630e-9
+
+
+def gap_config(name: str, layers, dms, wfss, *, n_points: int = 1,
+               loop: LoopConfig | None = None, n_pixels: int = 32, zenith_angle: float = 0.0,
+               obscuration: float = 0.0) -> SimulationConfig:
+    """A small loop of the mutation-gap tests: a 4-m pupil, science on a 30" field.
+
+    ``layers``: ``(altitude [m], D/r0, wind speed [m/s])`` per layer (other layer fields
+    default); ``dms`` and ``wfss``: the configs as given (see :func:`gap_sensor`);
+    ``n_points`` across the 30" science field; ``loop`` default ``LoopConfig()``; the
+    telescope of ``n_pixels`` across :data:`GAP_DIAMETER`, at ``zenith_angle`` [deg] with
+    ``obscuration``; science at :data:`GAP_WAVELENGTH`, r0 at :data:`GAP_R0_WAVELENGTH`.
+    """
+    return SimulationConfig(
+        name=name,
+        telescope=TelescopeConfig(diameter=GAP_DIAMETER, n_pixels=n_pixels,
+                                  zenith_angle=zenith_angle, obscuration=obscuration),
+        layers=tuple(LayerConfig(altitude=h, d_over_r0=s, wind_speed=v) for h, s, v in layers),
+        dms=tuple(dms), wfss=tuple(wfss), loop=LoopConfig() if loop is None else loop,
+        field=FieldConfig(size=30.0, n_points=n_points), wavelength=GAP_WAVELENGTH,
+        r0_wavelength=GAP_R0_WAVELENGTH)
+
+
+def gap_sensor(altitude: float, field: float, noise: float, dm: int,
+               kind: str = "shack_hartmann") -> WFSConfig:
+    """A mutation-gap sensor: 8 x 8 subapertures, 2 field samples across ``field`` [arcsec].
+
+    ``altitude`` [m], ``noise`` [arcsec], driving DM ``dm``; ``kind`` a sensor kind.
+    """
+    return WFSConfig(altitude=altitude, field_of_view=field, n_subapertures=8, noise=noise,
+                     field_samples=2, dm=dm, kind=kind)

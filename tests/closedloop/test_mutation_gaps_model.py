@@ -34,36 +34,29 @@ import pytest
 
 from closedloop.config import (
     DMConfig,
-    FieldConfig,
     LayerConfig,
     LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
 )
 from closedloop.model import LoopModel
 from closedloop.optics.atmosphere import AtmosphericLayer
 
+from .conftest import GAP_DIAMETER, GAP_R0_WAVELENGTH, gap_config, gap_sensor
+
 ARCSEC = math.pi / 648000.0
-D = 4.0
+D = GAP_DIAMETER
 DM_ALTITUDES = (0.0, 8000.0)
-LAMBDA_R0 = 500e-9
+LAMBDA_R0 = GAP_R0_WAVELENGTH
 
 
 def _config(noises=(0.002, 0.006), fields=(60.0, 20.0), diameters=(None, None),
             layers=((0.0, 8.0), (8000.0, 4.0)), model_error=0.3, n_dms=2):
     dms = tuple(DMConfig(altitude=h, n_modes=m, diameter=d)
                 for h, m, d in zip(DM_ALTITUDES, (9, 5), diameters, strict=True))[:n_dms]
-    wfss = tuple(WFSConfig(altitude=h, field_of_view=f, n_subapertures=8, noise=n,
-                           field_samples=2, dm=i)
+    wfss = tuple(gap_sensor(h, f, n, i)
                  for i, (h, f, n) in enumerate(zip(DM_ALTITUDES, fields, noises,
                                                    strict=True)))[:n_dms]
-    return SimulationConfig(
-        name="gaps", telescope=TelescopeConfig(diameter=D, n_pixels=32),
-        layers=tuple(LayerConfig(altitude=h, d_over_r0=s, wind_speed=5.0) for h, s in layers),
-        dms=dms, wfss=wfss, loop=LoopConfig(model_error=model_error),
-        field=FieldConfig(size=30.0, n_points=3), wavelength=630e-9,
-        r0_wavelength=LAMBDA_R0)
+    return gap_config("gaps", tuple((h, s, 5.0) for h, s in layers), dms, wfss, n_points=3,
+                      loop=LoopConfig(model_error=model_error))
 
 
 def _interaction(model):

@@ -29,35 +29,24 @@ import pytest
 
 from closedloop.config import (
     DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
     WFSConfig,
 )
 from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics import wfs as wfs_module
 
+from .conftest import GAP_DIAMETER, gap_config, gap_sensor
+
 ARCSEC = math.pi / 648000.0
-D = 4.0
+D = GAP_DIAMETER
 
 
 def _config(kind="shack_hartmann", zenith=0.0, noise=0.05, altitude=0.0, field=30.0,
             obscuration=0.0, n_modes=9, n_pixels=32):
-    return SimulationConfig(
-        name="wfs-gaps",
-        telescope=TelescopeConfig(diameter=D, n_pixels=n_pixels, zenith_angle=zenith,
-                                  obscuration=obscuration),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=8.0, wind_speed=5.0),
-                LayerConfig(altitude=5000.0, d_over_r0=4.0, wind_speed=10.0)),
-        dms=(DMConfig(altitude=altitude, n_modes=n_modes),),
-        wfss=(WFSConfig(altitude=altitude, field_of_view=field, n_subapertures=8,
-                        noise=noise if kind == "shack_hartmann" else 0.0, field_samples=2,
-                        dm=0, kind=kind),),
-        loop=LoopConfig(), field=FieldConfig(size=30.0, n_points=1),
-        wavelength=630e-9, r0_wavelength=500e-9)
+    sensor = gap_sensor(altitude, field, noise if kind == "shack_hartmann" else 0.0, 0, kind)
+    return gap_config("wfs-gaps", ((0.0, 8.0, 5.0), (5000.0, 4.0, 10.0)),
+                      (DMConfig(altitude=altitude, n_modes=n_modes),), (sensor,),
+                      n_pixels=n_pixels, zenith_angle=zenith, obscuration=obscuration)
 
 
 @pytest.fixture(scope="module")
