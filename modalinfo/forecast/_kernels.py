@@ -289,6 +289,94 @@ def rls_var_filter(x, mu, coef, gain_inv, forgetting, values, n_seen, zvec, pz, 
         _var_forecast(mu, coef, values, work, out, o)
 
 
+#: the largest AR and MA order of the register kernels (:func:`_css_filters_short`,
+#: :func:`_innovations_short`): the order search's default ``max_order``
+SHORT_ORDER = 5
+
+
+@jit
+def _css_filters_short(e, ar, ma, v, w, u, y):
+    """:func:`css_filters` for ``p, q <= 5``, every filter state a local scalar (issue 30).
+
+    The same recursions with the coefficients zero-padded to order 5: a padded stage
+    adds ``-(x 0)`` (a signed zero) to the next state, which leaves every non-zero value
+    bit for bit as it was (IEEE 754: ``a + (+-0) = a`` for ``a != 0``), so the outputs
+    equal :func:`css_filters`' (and scipy's) but for the sign of an exact zero. Scalars
+    let the compiler keep the 20 states in registers instead of storing and reloading
+    them from the scratch arrays each sample: ~2x faster at (5, 5), 10^4 samples.
+    """
+    c = np.zeros(SHORT_ORDER + 1)
+    d = np.zeros(SHORT_ORDER + 1)
+    for k in range(1, ar.shape[0]):
+        c[k] = ar[k]
+    for k in range(1, ma.shape[0]):
+        d[k] = ma[k]
+    c1, c2, c3, c4, c5 = c[1], c[2], c[3], c[4], c[5]
+    d1, d2, d3, d4, d5 = d[1], d[2], d[3], d[4], d[5]
+    v0 = v1 = v2 = v3 = v4 = 0.0
+    w0 = w1 = w2 = w3 = w4 = 0.0
+    u0 = u1 = u2 = u3 = u4 = 0.0
+    y0 = y1 = y2 = y3 = y4 = 0.0
+    for t in range(e.shape[0]):
+        x = e[t]
+        vn = v0 + x
+        v0 = v1 - vn * c1
+        v1 = v2 - vn * c2
+        v2 = v3 - vn * c3
+        v3 = v4 - vn * c4
+        v4 = -(vn * c5)
+        wn = w0 + x
+        un = u0 + vn
+        yn = y0 + wn
+        w0 = w1 - wn * d1
+        u0 = u1 - un * d1
+        y0 = y1 - yn * d1
+        w1 = w2 - wn * d2
+        u1 = u2 - un * d2
+        y1 = y2 - yn * d2
+        w2 = w3 - wn * d3
+        u2 = u3 - un * d3
+        y2 = y3 - yn * d3
+        w3 = w4 - wn * d4
+        u3 = u4 - un * d4
+        y3 = y4 - yn * d4
+        w4 = -(wn * d5)
+        u4 = -(un * d5)
+        y4 = -(yn * d5)
+        v[t] = vn
+        w[t] = wn
+        u[t] = un
+        y[t] = yn
+
+
+@jit
+def _innovations_short(x, phi, theta, e):
+    """:func:`arma_innovations` for ``p, q <= 5``, the filter state in local scalars.
+
+    The same direct form II transposed loop with numerator and denominator zero-padded
+    to order 5 (issue 30): the padded stages carry signed zeros only, so ``e`` equals
+    :func:`arma_innovations`' (and scipy's) bit for bit but for the sign of an exact
+    zero; ~1.5x faster, the states no longer stored and reloaded every sample.
+    """
+    b = np.zeros(SHORT_ORDER + 1)
+    a = np.zeros(SHORT_ORDER + 1)
+    for k in range(phi.shape[0]):
+        b[k + 1] = -phi[k]
+    for k in range(theta.shape[0]):
+        a[k + 1] = theta[k]
+    b1, b2, b3, b4, b5 = b[1], b[2], b[3], b[4], b[5]
+    a1, a2, a3, a4, a5 = a[1], a[2], a[3], a[4], a[5]
+    z0 = z1 = z2 = z3 = z4 = 0.0
+    for t in range(x.shape[0]):
+        xn = x[t]
+        en = z0 + 1.0 * xn
+        z0 = z1 + xn * b1 - en * a1
+        z1 = z2 + xn * b2 - en * a2
+        z2 = z3 + xn * b3 - en * a3
+        z3 = z4 + xn * b4 - en * a4
+        z4 = xn * b5 - en * a5
+        e[t] = en
+
 
 @jit
 def css_filters(e, ar, ma, v, w, u, y, zv, zw, zu, zy):
@@ -303,8 +391,10 @@ def css_filters(e, ar, ma, v, w, u, y, zv, zw, zu, zy):
     y_t a_{L-1}``, and for ``L = 1`` (scipy's convolution path) ``y = x``. The ``x_t 0``
     products are left out: for finite values adding ``+-0`` leaves every other value's
     bits unchanged (IEEE 754), and they cost a fifth of the loop. Checked against scipy in
-    ``tests/forecast/test_kernels.py``. One pass runs the four independent recursions
-    side by side instead of four scipy calls.
+    ``tests/forecast/test_arma_fast_paths.py``. One pass runs the four independent
+    recursions side by side instead of four scipy calls; orders up to
+    :data:`SHORT_ORDER` run in :func:`_css_filters_short` (states in registers, the same
+    bits).
 
     Parameters
     ----------
@@ -318,6 +408,9 @@ def css_filters(e, ar, ma, v, w, u, y, zv, zw, zu, zy):
     """
     n_ar = ar.shape[0] - 1
     n_ma = ma.shape[0] - 1
+    if n_ar <= SHORT_ORDER and n_ma <= SHORT_ORDER:
+        _css_filters_short(e, ar, ma, v, w, u, y)
+        return
     for k in range(zv.shape[0]):
         zv[k] = 0.0
     for k in range(zw.shape[0]):
@@ -366,7 +459,8 @@ def arma_innovations(x, phi, theta, e, z):
     ``e_t = z_0 + 1 x_t``, ``z_k = z_{k+1} + x_t b_{k+1} - e_t a_{k+1}``, ``z_{L-2} = x_t
     b_{L-1} - e_t a_{L-1}``: the same operations in the same order (checked against
     scipy in ``tests/forecast/test_arma_fast_paths.py``), without lfilter's per-call
-    overhead, for the CSS refinement's many short fits.
+    overhead, for the CSS refinement's many short fits; orders up to
+    :data:`SHORT_ORDER` run in :func:`_innovations_short` (the same bits).
 
     Parameters
     ----------
@@ -380,6 +474,9 @@ def arma_innovations(x, phi, theta, e, z):
         Rows: the padded numerator, the padded denominator, the filter state.
     """
     n = max(phi.shape[0], theta.shape[0])
+    if n <= SHORT_ORDER:
+        _innovations_short(x, phi, theta, e)
+        return
     for k in range(n + 1):
         z[0, k] = 0.0
         z[1, k] = 0.0
