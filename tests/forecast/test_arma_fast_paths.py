@@ -4,7 +4,8 @@ References (outside the kernels): ``numpy.roots`` / ``numpy.poly`` for the root 
 that ``_kernels.clearly_inside`` short-cuts and for ``enforce_roots``; ``numpy.column_stack``
 of fancy-indexed lags for ``_lag_matrix`` and, with ``numpy.linalg.lstsq``, for the
 order search's shared Hannan-Rissanen regressions; ``scipy.signal.lfilter`` for the filters of
-``css_filters`` and ``arma_innovations`` (bit for bit); the BLAS products of an explicit
+``css_filters`` and ``arma_innovations`` (bit for bit, in their register kernels for orders
+up to 5 and their general loops above); the BLAS products of an explicit
 design matrix for ``css_newton_terms`` (within the float error bound of a dot product,
 ``n eps sum |x_i y_i|``); and the whole CSS refinement as it was before issue 30's
 fused kernel (lfilter, numpy's solve and roots, written out below), whose fits the
@@ -116,7 +117,9 @@ def test_shared_regressions_equal_each_order_least_squares():
             np.testing.assert_allclose(np.r_[phi, theta], ref, rtol=0, atol=1e-9)
 
 
-@pytest.mark.parametrize("p,q", [(0, 1), (1, 0), (2, 3), (5, 5), (0, 0)])
+# orders up to 5 run in the register kernel (_css_filters_short, _innovations_short), larger
+# ones in the general loop: both against scipy
+@pytest.mark.parametrize("p,q", [(0, 1), (1, 0), (2, 3), (5, 5), (0, 0), (6, 2), (3, 7)])
 def test_css_filters_equal_lfilter(p, q):
     from modalinfo.forecast._kernels import css_filters
 
@@ -133,7 +136,7 @@ def test_css_filters_equal_lfilter(p, q):
         assert np.array_equal(got, ref)
 
 
-@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 5), (3, 1)])
+@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 5), (3, 1), (6, 2)])
 def test_css_newton_terms_equal_the_design_products(p, q):
     from modalinfo.forecast._kernels import css_newton_terms
 
@@ -260,7 +263,7 @@ def test_fit_matches_the_former_refinement(monkeypatch, order):
         np.testing.assert_allclose(fast["criterion"], slow["criterion"], rtol=1e-11)
 
 
-@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 2), (1, 5)])
+@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 2), (1, 5), (6, 1), (2, 7)])
 def test_arma_innovations_equal_lfilter(p, q):
     from modalinfo.forecast._kernels import arma_innovations
 
