@@ -727,7 +727,10 @@ def css_newton(xc, phi, theta, margin, safe, burn, n_iter, lambdas, tols):
     ``(lambda_0, lambda_min, lambda_max)``, ``tols`` = ``(ftol, xtol)``. The whole
     iteration runs here: per step :func:`css_newton_terms`, the Marquardt-damped
     solve, :func:`enforce_roots` on the candidate and its innovations
-    (:func:`arma_innovations`).
+    (:func:`arma_innovations`). :func:`css_newton_batch` runs the same iteration as a
+    state machine (:func:`_fit_propose`, :func:`_fit_judge`) for the order search; a
+    change here must be made there too (``tests/forecast/test_arma_fast_paths.py``
+    checks the two bit for bit).
     """
     p = phi.shape[0]
     q = theta.shape[0]
