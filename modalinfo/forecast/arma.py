@@ -71,9 +71,11 @@ from scipy.stats import norm
 from modalinfo._stats import sample_autocovariance
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._kernels import (
+    SHORT_ORDER,
     arma_innovations,
     clearly_inside,
     css_newton,
+    css_newton_batch,
     enforce_roots,
 )
 from modalinfo.forecast._univariate import _LinearRecursion
@@ -294,6 +296,33 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     return phi, theta, sse / (xc.size - burn)
 
 
+def _css_refine_all(xc: np.ndarray, starts: dict, margin: float, burn: int, n_iter: int
+                    ) -> dict:
+    """:func:`_css_refine` of every ``(p, q): (phi, theta)`` start (``p, q <= 5``, ``q > 0``).
+
+    The order search's fits of one series in one numba call (``_kernels.css_newton_batch``,
+    issue 30): each fit is :func:`_css_refine`'s, step for step and bit for bit; two run
+    side by side so that their trial innovations, a latency-bound recursion, share one
+    pass over the series.
+    """
+    orders = np.array(list(starts), dtype=np.int64).reshape(-1, 2)
+    width_p = max(1, int(orders[:, 0].max(initial=0)))
+    width_q = max(1, int(orders[:, 1].max(initial=0)))
+    phi0 = np.zeros((orders.shape[0], width_p))
+    theta0 = np.zeros((orders.shape[0], width_q))
+    for i, (phi, theta) in enumerate(starts.values()):
+        phi0[i, :phi.size] = phi
+        theta0[i, :theta.size] = theta
+    phi_out, theta_out = np.zeros_like(phi0), np.zeros_like(theta0)
+    sse = np.empty(orders.shape[0])
+    css_newton_batch(xc, phi0, theta0, orders, float(margin), _SAFE, burn, n_iter,
+                     np.array([_LAMBDA0, _LAMBDA_MIN, _LAMBDA_MAX]), np.array([_FTOL, _XTOL]),
+                     phi_out, theta_out, sse)
+    return {(int(p), int(q)): (phi_out[i, :p].copy(), theta_out[i, :q].copy(),
+                               sse[i] / (xc.size - burn))
+            for i, (p, q) in enumerate(orders)}
+
+
 # damped-Newton constants of _css_refine (unit-free: the series is standardised)
 _LAMBDA0, _LAMBDA_MIN, _LAMBDA_MAX = 1e-3, 1e-12, 1e12
 _FTOL, _XTOL = 1e-13, 1e-10
@@ -421,11 +450,17 @@ class ARMAPredictor(_LinearRecursion):
             if len(orders) > 1:
                 shared = _SharedRegressions(xc, z_long, long_order,
                                             max(p for p, _ in orders), qmax)
+        refined = {}
+        if shared is not None and kmax <= SHORT_ORDER:  # the order search, fits in pairs
+            refined = _css_refine_all(xc, {(p, q): shared.solve(p, q) for p, q in orders
+                                           if q > 0}, margin, burn, n_iter)
         best = None
         crit = np.full((self.max_order + 1,) * 2, np.nan) if len(orders) > 1 else None
         n_eff = n - burn
         for p, q in orders:
-            if q == 0:
+            if (p, q) in refined:
+                phi, theta, sigma2 = refined[p, q]
+            elif q == 0:
                 phi, theta = _enforce_ar(_yule_walker(gamma, p), margin), np.zeros(0)
                 e = _innovations(xc, phi, theta)
                 sigma2 = float(e[burn:] @ e[burn:]) / n_eff

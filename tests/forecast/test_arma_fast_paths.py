@@ -4,12 +4,15 @@ References (outside the kernels): ``numpy.roots`` / ``numpy.poly`` for the root 
 that ``_kernels.clearly_inside`` short-cuts and for ``enforce_roots``; ``numpy.column_stack``
 of fancy-indexed lags for ``_lag_matrix`` and, with ``numpy.linalg.lstsq``, for the
 order search's shared Hannan-Rissanen regressions; ``scipy.signal.lfilter`` for the filters of
-``css_filters`` and ``arma_innovations`` (bit for bit); the BLAS products of an explicit
+``css_filters`` and ``arma_innovations`` (bit for bit, in their register kernels for orders
+up to 5 and their general loops above); the BLAS products of an explicit
 design matrix for ``css_newton_terms`` (within the float error bound of a dot product,
 ``n eps sum |x_i y_i|``); and the whole CSS refinement as it was before issue 30's
 fused kernel (lfilter, numpy's solve and roots, written out below), whose fits the
 kernel's must match within the stopping rule's tolerance (the summation order
-differs, so not bit for bit). Small sizes: the file runs in a few seconds.
+differs, so not bit for bit); the order search's batch driver (two fits side by side)
+against ``css_newton`` one fit at a time, bit for bit. Small sizes: the file runs in a
+few seconds.
 """
 
 import numpy as np
@@ -116,7 +119,9 @@ def test_shared_regressions_equal_each_order_least_squares():
             np.testing.assert_allclose(np.r_[phi, theta], ref, rtol=0, atol=1e-9)
 
 
-@pytest.mark.parametrize("p,q", [(0, 1), (1, 0), (2, 3), (5, 5), (0, 0)])
+# orders up to 5 run in the register kernel (_css_filters_short, _innovations_short), larger
+# ones in the general loop: both against scipy
+@pytest.mark.parametrize("p,q", [(0, 1), (1, 0), (2, 3), (5, 5), (0, 0), (6, 2), (3, 7)])
 def test_css_filters_equal_lfilter(p, q):
     from modalinfo.forecast._kernels import css_filters
 
@@ -133,7 +138,7 @@ def test_css_filters_equal_lfilter(p, q):
         assert np.array_equal(got, ref)
 
 
-@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 5), (3, 1)])
+@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 5), (3, 1), (6, 2)])
 def test_css_newton_terms_equal_the_design_products(p, q):
     from modalinfo.forecast._kernels import css_newton_terms
 
@@ -247,6 +252,11 @@ def test_fit_matches_the_former_refinement(monkeypatch, order):
     make = lambda: ARMAPredictor(order=order, max_order=2)  # noqa: E731
     fast = make().fit(x).params_
     monkeypatch.setattr(A, "_css_refine", _former_css_refine)
+    # the order search refines its candidates in one batch call: route it to the former
+    # refinement too, one start at a time
+    monkeypatch.setattr(A, "_css_refine_all", lambda xc, starts, margin, burn, n_iter: {
+        order: _former_css_refine(xc, phi, theta, margin, burn, n_iter)
+        for order, (phi, theta) in starts.items()})
     slow = make().fit(x).params_
     # the stopping rule (relative decrease 1e-13, step 1e-10) fixes the minimum to
     # ~sqrt(1e-13) of the coefficients' scale on these well-conditioned fits; sigma^2,
@@ -260,7 +270,7 @@ def test_fit_matches_the_former_refinement(monkeypatch, order):
         np.testing.assert_allclose(fast["criterion"], slow["criterion"], rtol=1e-11)
 
 
-@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 2), (1, 5)])
+@pytest.mark.parametrize("p,q", [(0, 1), (2, 3), (5, 2), (1, 5), (6, 1), (2, 7)])
 def test_arma_innovations_equal_lfilter(p, q):
     from modalinfo.forecast._kernels import arma_innovations
 
@@ -271,3 +281,50 @@ def test_arma_innovations_equal_lfilter(p, q):
     e = np.full(x.size, np.nan)
     arma_innovations(x, phi, theta, e, np.empty((3, max(p, q) + 1)))
     assert np.array_equal(e, lfilter(np.r_[1.0, -phi], np.r_[1.0, theta], x))
+
+
+def test_css_newton_batch_is_css_newton_fit_by_fit():
+    """The order search's batch driver runs every fit as ``css_newton`` does, bit for bit.
+
+    Odd and even numbers of fits (a slot left alone, fits ending at different steps),
+    ``n_iter`` 0 (the enforced start), 2 (stopped by the cap) and 50, starts with roots
+    outside the unit circle (enforced first), on a closed-loop-like series.
+    """
+    from modalinfo.forecast._kernels import css_newton, css_newton_batch
+
+    rng = np.random.default_rng(11)
+    xc = _closed_loop_like(n=1200)[:, 0]
+    xc = (xc - xc.mean()) / xc.std()
+    orders = np.array([(p, q) for p in range(6) for q in range(1, 6)], dtype=np.int64)
+    phi0 = rng.uniform(-0.6, 0.6, (orders.shape[0], 5))
+    theta0 = rng.uniform(-0.6, 0.6, (orders.shape[0], 5))
+    phi0[3, :2], theta0[7, :1] = (1.5, -0.2), (-1.4,)   # non-causal / non-invertible starts
+    lambdas, tols = np.array([A._LAMBDA0, A._LAMBDA_MIN, A._LAMBDA_MAX]), np.array(
+        [A._FTOL, A._XTOL])
+    for n_iter, pick in ((50, slice(None)), (50, slice(0, 7)), (2, slice(5, 13)),
+                         (0, slice(0, 1))):
+        sub = orders[pick]
+        phi_out, theta_out = np.full((sub.shape[0], 5), np.nan), np.full((sub.shape[0], 5),
+                                                                         np.nan)
+        sse = np.full(sub.shape[0], np.nan)
+        css_newton_batch(xc, phi0[pick], theta0[pick], sub, 1e-3, A._SAFE, 50, n_iter,
+                         lambdas, tols, phi_out, theta_out, sse)
+        for i, (p, q) in enumerate(sub):
+            phi, theta = phi0[pick][i, :p].copy(), theta0[pick][i, :q].copy()
+            ref = css_newton(xc, phi, theta, 1e-3, A._SAFE, 50, n_iter, lambdas, tols)
+            assert sse[i] == ref, (n_iter, p, q)
+            assert np.array_equal(phi_out[i, :p], phi) and np.array_equal(theta_out[i, :q],
+                                                                          theta)
+
+
+def test_innovations_pair_equal_lfilter():
+    from modalinfo.forecast._kernels import _innovations_pair
+
+    rng = np.random.default_rng(12)
+    x = rng.standard_normal(2000)
+    phi_a, theta_a = -_random_coeffs(rng, 5, 0.95), _random_coeffs(rng, 2, 0.95)
+    phi_b, theta_b = np.zeros(0), _random_coeffs(rng, 5, 0.95)
+    e_a, e_b = np.full(x.size, np.nan), np.full(x.size, np.nan)
+    _innovations_pair(x, phi_a, theta_a, e_a, phi_b, theta_b, e_b)
+    assert np.array_equal(e_a, lfilter(np.r_[1.0, -phi_a], np.r_[1.0, theta_a], x))
+    assert np.array_equal(e_b, lfilter([1.0], np.r_[1.0, theta_b], x))
