@@ -20,6 +20,7 @@ outside the module under test:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -134,6 +135,8 @@ def test_correctors_describe_their_disc_and_line_of_sight(exported):
         # the plane grid holds the disc: at least its diameter in pixels
         assert extra["plane_pixels"] >= extra["disc_diameter"] / dx
         assert geom[f"dm{i}"]["altitude"] == d.altitude
+        # what an "actuator" is (the module docstring: modal, one actuator per mode)
+        assert extra["model"].startswith("modal: each actuator is one mode")
         # a binary integer mask: 1 on the disc's pixels, 0 elsewhere
         assert mask.dtype.kind in "iu" and set(np.unique(mask)) == {0, 1}
         np.testing.assert_array_equal(np.flatnonzero(mask), model.dms[i].pixels)
@@ -193,3 +196,25 @@ def test_an_existing_file_is_refused_before_any_work(exported, tmp_path):
         export_aot(run, path, model=object())      # not a model: no work is done first
     assert str(exc.value) == f"'{path}' exists; pass overwrite=True to replace it"
     assert path.read_bytes() == b"user data"
+
+
+def test_a_result_without_measurements_exports_sensors_without_them(exported, tmp_path):
+    # a result recorded without measurements (``measurements=[]``, as files written
+    # before they were recorded): every sensor is written, with no measurements image
+    cfg, model, run, _ = exported
+    bare = dataclasses.replace(run, measurements=[])
+    system = aotpy.AOSystem.read_from_file(export_aot(bare, tmp_path / "bare.fits",
+                                                      model=model))
+    assert [s.uid for s in system.wavefront_sensors] == ["wfs0", "wfs1"]
+    assert all(s.measurements is None for s in system.wavefront_sensors)
+
+
+def test_measurements_of_the_wrong_shape_are_refused(exported):
+    # the message names the dataset, its shape and the expected (frames, measurements)
+    _, model, run, _ = exported
+    (t, n) = run.measurements[0].shape
+    bad = dataclasses.replace(run, measurements=[m[:, :-1] for m in run.measurements])
+    with pytest.raises(ValueError) as exc:
+        build_aot_system(bad, model)
+    assert str(exc.value) == (f"result.measurements[0] has shape {(t, n - 1)}; expected "
+                              f"{(t, n)}.")
