@@ -218,3 +218,31 @@ def test_measurements_of_the_wrong_shape_are_refused(exported):
         build_aot_system(bad, model)
     assert str(exc.value) == (f"result.measurements[0] has shape {(t, n - 1)}; expected "
                               f"{(t, n)}.")
+
+
+def test_a_zonal_mirror_is_written_without_its_dense_identities(tmp_path):
+    # an ideal sensor driving a zonal ("ideal") DM: its "actuators" are the disc's pixels,
+    # the modes-to-commands and measurements-to-modes maps are identities, which are not
+    # written (the module docstring: a dense pixels x pixels image; the MI_CLOOP card
+    # says the identity is meant); the commands are written, one per disc pixel
+    cfg = SimulationConfig(
+        name="zonal",
+        telescope=TelescopeConfig(diameter=D, n_pixels=8),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=3.0, wind_speed=5.0),),
+        dms=(DMConfig(altitude=0.0, kind="ideal"),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=4.0, kind="ideal", field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.4),
+        field=FieldConfig(size=0.0, n_points=1))
+    model = LoopModel(cfg)
+    run = simulate(cfg, 0.003, seed=3, model=model, progress=False)
+    system = aotpy.AOSystem.read_from_file(export_aot(run, tmp_path / "z.fits", model=model))
+    (lp,) = [lp for lp in system.loops if lp.uid == "dm0"]
+    assert lp.modes_to_commands is None and lp.measurements_to_modes is None
+    assert lp.modes is None
+    n_disc = model.dms[0].pixels.size
+    assert np.asarray(lp.commands.data).shape == (run.times.size, n_disc)
+    (dm,) = system.wavefront_correctors
+    assert dm.n_valid_actuators == n_disc
+    card = json.loads(_card(system, "MI_CLOOP"))
+    assert "the identity, an ideal sensor on a zonal DM" in card["reconstructor"]
+    assert geometry_of(system)["correctors"]["dm0"]["extra"]["modes"] == "pixels"
