@@ -114,6 +114,8 @@ def test_loops_say_open_or_closed_and_what_their_coefficients_are(exported):
         if lp.modal_coefficients is not None:
             (card,) = [m.value for m in lp.modal_coefficients.metadata if m.key == "MI_QUANT"]
             quant[lp.uid] = card
+            # residual and POL alike: modal phase in rad at r0_wavelength (docstring)
+            assert lp.modal_coefficients.unit == "rad", lp.uid
     assert quant == {"dm0": "residual", "dm1": "residual", "dm0.pol": "pol", "dm1.pol": "pol"}
 
 

@@ -339,6 +339,11 @@ def test_lit_samples_are_the_annulus_seen_from_each_direction(wfs_altitude):
     yy, xx = np.meshgrid(off, off, indexing="ij")
     edge = math.sqrt(2.0) * dx
     outer, inner = d / 2.0 - edge, obsc * d / 2.0 + edge
+    # the contrast weights of the field samples: a column per axis, summing to 1
+    # (the class docstring; the operators renormalise them, so only this shows a slip)
+    assert w.direction_weights.shape == (len(w.samples), 2)
+    assert np.all(w.direction_weights > 0)
+    np.testing.assert_allclose(w.direction_weights.sum(axis=0), 1.0, rtol=1e-12)
     dirs = w.imager.directions_arcsec
     assert len(dirs) == 9
     amp = w._amplitude.reshape(len(dirs), w.n_valid_subapertures, f * f)
