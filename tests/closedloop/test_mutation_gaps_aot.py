@@ -104,6 +104,8 @@ def test_telescope_is_elevated_and_obscured_as_configured(exported):
     assert geometry_of(system)["sources"]["sun"]["extra"] == {
         "extended": "sun", "note": "AOT has no extended-source type"}
     assert system.name == "closedloop tiny"
+    (atm,) = system.atmosphere_params          # the module docstring's uid
+    assert atm.uid == "atmosphere"
 
 
 def test_loops_say_open_or_closed_and_what_their_coefficients_are(exported):
@@ -149,6 +151,7 @@ def test_the_closedloop_card_names_the_run(exported):
     card = json.loads(_card(system, "MI_CLOOP"))
     assert card["written_by"] == "closedloop"
     assert card["seed"] == 11
+    assert card["version"] == run.version and run.version      # the writing package's
     assert card["predictor"] == ("oracle" if cfg.loop.closed else "none")
     assert card["r0_wavelength"] == cfg.r0_wavelength
     assert sorted(card["loops"]) == sorted(lp.uid for lp in system.loops)

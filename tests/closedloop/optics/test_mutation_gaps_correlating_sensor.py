@@ -44,6 +44,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy import sparse
 
 from closedloop.config import (
     ARCSEC,
@@ -354,3 +355,22 @@ def test_lit_samples_are_the_annulus_seen_from_each_direction(wfs_altitude):
         clear = (np.abs(r - outer) > 1e-9) & (np.abs(r - inner) > 1e-9)
         assert lit.any() and (~lit).any()
         np.testing.assert_array_equal((amp[t] > 0)[clear], lit[clear], err_msg=str(theta))
+
+
+def test_a_zonal_mirrors_interaction_is_its_poke_matrix():
+    # a zonal ("ideal") DM seen by the linear mode: the interaction is sparse and equals
+    # the measurements of each disc pixel poked alone through ``forward`` (the loop's
+    # measurement path; tests/closedloop/test_zonal_dm.py's reference for the SH)
+    cfg = _config(image_formation=False, n_pixels=16)
+    model = LoopModel(cfg.replace(dms=(DMConfig(altitude=0.0, kind="ideal"),)))
+    w, dm = model.wfss[0], model.dms[0]
+    got = w.interaction_with(dm)
+    assert sparse.issparse(got)
+    cols = []
+    for pix in dm.pixels:
+        maps = [np.zeros((p.n, p.n)) for p in model.geometry.planes]
+        maps[dm.plane].reshape(-1)[pix] = 1.0
+        cols.append(w.forward(maps))
+    want = np.array(cols).T
+    assert want.shape == (w.n_measurements, dm.pixels.size) and np.abs(want).max() > 0
+    np.testing.assert_allclose(got.toarray(), want, rtol=0, atol=1e-12 * np.abs(want).max())
