@@ -160,8 +160,16 @@ def test_the_closedloop_card_names_the_run(exported):
                                ".residual" if "." not in uid else "")
         assert log in text, (uid, text)
     assert "(270 - a) mod 360" in card["wind_direction"]
+    # the conventions the module docstring states: phase in rad at r0_wavelength, slopes
+    # in rad/m, altitudes in m above the telescope, the Strehl ratio over the field after
+    # loop closure
+    assert "rad at r0_wavelength" in card["units"] and "rad/m" in card["units"]
+    assert "m above the telescope" in card["altitudes"]
+    assert "field" in card["strehl_ratio"] and "after loop closure" in card["strehl_ratio"]
     assert card["time_filter"].startswith("integrator c_k = (1 - leak) c_{k-1} + gain m_k")
     assert ("'oracle'" in card["time_filter"]) is cfg.loop.closed
+    # a run without a predictor names none (the docstring: only a predictor is named)
+    assert ("predictor" in card["time_filter"]) is (run.predictor != "none")
     assert card["reconstructor"].startswith("global MAP")
 
 
