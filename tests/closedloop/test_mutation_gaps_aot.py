@@ -170,6 +170,8 @@ def test_the_closedloop_card_names_the_run(exported):
     assert ("'oracle'" in card["time_filter"]) is cfg.loop.closed
     # a run without a predictor names none (the docstring: only a predictor is named)
     assert ("predictor" in card["time_filter"]) is (run.predictor != "none")
+    if run.predictor == "none":     # the docstring's integrator, nothing more
+        assert card["time_filter"] == "integrator c_k = (1 - leak) c_{k-1} + gain m_k"
     assert card["reconstructor"].startswith("global MAP")
 
 
@@ -259,3 +261,11 @@ def test_a_zonal_mirror_is_written_without_its_dense_identities(tmp_path):
     card = json.loads(_card(system, "MI_CLOOP"))
     assert "the identity, an ideal sensor on a zonal DM" in card["reconstructor"]
     assert geometry_of(system)["correctors"]["dm0"]["extra"]["modes"] == "pixels"
+
+
+def test_a_model_of_another_config_is_refused_with_the_whole_message(exported):
+    cfg, _, run, _ = exported
+    other = LoopModel(_config(closed=not cfg.loop.closed))
+    with pytest.raises(ValueError) as exc:
+        build_aot_system(run, other)
+    assert str(exc.value) == "`model` was built for another config than the result's."
