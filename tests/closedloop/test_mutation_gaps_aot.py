@@ -20,6 +20,7 @@ outside the module under test:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -103,6 +104,8 @@ def test_telescope_is_elevated_and_obscured_as_configured(exported):
     assert geometry_of(system)["sources"]["sun"]["extra"] == {
         "extended": "sun", "note": "AOT has no extended-source type"}
     assert system.name == "closedloop tiny"
+    (atm,) = system.atmosphere_params          # the module docstring's uid
+    assert atm.uid == "atmosphere"
 
 
 def test_loops_say_open_or_closed_and_what_their_coefficients_are(exported):
@@ -113,6 +116,8 @@ def test_loops_say_open_or_closed_and_what_their_coefficients_are(exported):
         if lp.modal_coefficients is not None:
             (card,) = [m.value for m in lp.modal_coefficients.metadata if m.key == "MI_QUANT"]
             quant[lp.uid] = card
+            # residual and POL alike: modal phase in rad at r0_wavelength (docstring)
+            assert lp.modal_coefficients.unit == "rad", lp.uid
     assert quant == {"dm0": "residual", "dm1": "residual", "dm0.pol": "pol", "dm1.pol": "pol"}
 
 
@@ -134,6 +139,8 @@ def test_correctors_describe_their_disc_and_line_of_sight(exported):
         # the plane grid holds the disc: at least its diameter in pixels
         assert extra["plane_pixels"] >= extra["disc_diameter"] / dx
         assert geom[f"dm{i}"]["altitude"] == d.altitude
+        # what an "actuator" is (the module docstring: modal, one actuator per mode)
+        assert extra["model"].startswith("modal: each actuator is one mode")
         # a binary integer mask: 1 on the disc's pixels, 0 elsewhere
         assert mask.dtype.kind in "iu" and set(np.unique(mask)) == {0, 1}
         np.testing.assert_array_equal(np.flatnonzero(mask), model.dms[i].pixels)
@@ -144,6 +151,7 @@ def test_the_closedloop_card_names_the_run(exported):
     card = json.loads(_card(system, "MI_CLOOP"))
     assert card["written_by"] == "closedloop"
     assert card["seed"] == 11
+    assert card["version"] == run.version and run.version      # the writing package's
     assert card["predictor"] == ("oracle" if cfg.loop.closed else "none")
     assert card["r0_wavelength"] == cfg.r0_wavelength
     assert sorted(card["loops"]) == sorted(lp.uid for lp in system.loops)
@@ -152,8 +160,18 @@ def test_the_closedloop_card_names_the_run(exported):
                                ".residual" if "." not in uid else "")
         assert log in text, (uid, text)
     assert "(270 - a) mod 360" in card["wind_direction"]
+    # the conventions the module docstring states: phase in rad at r0_wavelength, slopes
+    # in rad/m, altitudes in m above the telescope, the Strehl ratio over the field after
+    # loop closure
+    assert "rad at r0_wavelength" in card["units"] and "rad/m" in card["units"]
+    assert "m above the telescope" in card["altitudes"]
+    assert "field" in card["strehl_ratio"] and "after loop closure" in card["strehl_ratio"]
     assert card["time_filter"].startswith("integrator c_k = (1 - leak) c_{k-1} + gain m_k")
     assert ("'oracle'" in card["time_filter"]) is cfg.loop.closed
+    # a run without a predictor names none (the docstring: only a predictor is named)
+    assert ("predictor" in card["time_filter"]) is (run.predictor != "none")
+    if run.predictor == "none":     # the docstring's integrator, nothing more
+        assert card["time_filter"] == "integrator c_k = (1 - leak) c_{k-1} + gain m_k"
     assert card["reconstructor"].startswith("global MAP")
 
 
@@ -193,3 +211,61 @@ def test_an_existing_file_is_refused_before_any_work(exported, tmp_path):
         export_aot(run, path, model=object())      # not a model: no work is done first
     assert str(exc.value) == f"'{path}' exists; pass overwrite=True to replace it"
     assert path.read_bytes() == b"user data"
+
+
+def test_a_result_without_measurements_exports_sensors_without_them(exported, tmp_path):
+    # a result recorded without measurements (``measurements=[]``, as files written
+    # before they were recorded): every sensor is written, with no measurements image
+    cfg, model, run, _ = exported
+    bare = dataclasses.replace(run, measurements=[])
+    system = aotpy.AOSystem.read_from_file(export_aot(bare, tmp_path / "bare.fits",
+                                                      model=model))
+    assert [s.uid for s in system.wavefront_sensors] == ["wfs0", "wfs1"]
+    assert all(s.measurements is None for s in system.wavefront_sensors)
+
+
+def test_measurements_of_the_wrong_shape_are_refused(exported):
+    # the message names the dataset, its shape and the expected (frames, measurements)
+    _, model, run, _ = exported
+    (t, n) = run.measurements[0].shape
+    bad = dataclasses.replace(run, measurements=[m[:, :-1] for m in run.measurements])
+    with pytest.raises(ValueError) as exc:
+        build_aot_system(bad, model)
+    assert str(exc.value) == (f"result.measurements[0] has shape {(t, n - 1)}; expected "
+                              f"{(t, n)}.")
+
+
+def test_a_zonal_mirror_is_written_without_its_dense_identities(tmp_path):
+    # an ideal sensor driving a zonal ("ideal") DM: its "actuators" are the disc's pixels,
+    # the modes-to-commands and measurements-to-modes maps are identities, which are not
+    # written (the module docstring: a dense pixels x pixels image; the MI_CLOOP card
+    # says the identity is meant); the commands are written, one per disc pixel
+    cfg = SimulationConfig(
+        name="zonal",
+        telescope=TelescopeConfig(diameter=D, n_pixels=8),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=3.0, wind_speed=5.0),),
+        dms=(DMConfig(altitude=0.0, kind="ideal"),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=4.0, kind="ideal", field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.4),
+        field=FieldConfig(size=0.0, n_points=1))
+    model = LoopModel(cfg)
+    run = simulate(cfg, 0.003, seed=3, model=model, progress=False)
+    system = aotpy.AOSystem.read_from_file(export_aot(run, tmp_path / "z.fits", model=model))
+    (lp,) = [lp for lp in system.loops if lp.uid == "dm0"]
+    assert lp.modes_to_commands is None and lp.measurements_to_modes is None
+    assert lp.modes is None
+    n_disc = model.dms[0].pixels.size
+    assert np.asarray(lp.commands.data).shape == (run.times.size, n_disc)
+    (dm,) = system.wavefront_correctors
+    assert dm.n_valid_actuators == n_disc
+    card = json.loads(_card(system, "MI_CLOOP"))
+    assert "the identity, an ideal sensor on a zonal DM" in card["reconstructor"]
+    assert geometry_of(system)["correctors"]["dm0"]["extra"]["modes"] == "pixels"
+
+
+def test_a_model_of_another_config_is_refused_with_the_whole_message(exported):
+    cfg, _, run, _ = exported
+    other = LoopModel(_config(closed=not cfg.loop.closed))
+    with pytest.raises(ValueError) as exc:
+        build_aot_system(run, other)
+    assert str(exc.value) == "`model` was built for another config than the result's."

@@ -44,6 +44,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy import sparse
 
 from closedloop.config import (
     ARCSEC,
@@ -61,12 +62,13 @@ from closedloop.optics import correlating_sensor
 
 
 def _config(*, wfs_altitude=0.0, field_samples=1, image_formation=True, r0_wavelength=1e-6,
-            n_pixels=32, obscuration=0.0, n_sub=4, fov=16.0):
+            n_pixels=32, obscuration=0.0, n_sub=4, fov=16.0, diameter=1.0):
     # two planes (the ground and 3 km: the layers', the DM on the WFS's) so that the
     # phase is a sum
     return SimulationConfig(
         name="test",
-        telescope=TelescopeConfig(diameter=1.0, n_pixels=n_pixels, obscuration=obscuration),
+        telescope=TelescopeConfig(diameter=diameter, n_pixels=n_pixels,
+                                  obscuration=obscuration),
         layers=(LayerConfig(altitude=0.0, d_over_r0=3.0, wind_speed=0.0),
                 LayerConfig(altitude=3000.0, d_over_r0=3.0, wind_speed=0.0)),
         dms=(DMConfig(altitude=wfs_altitude, n_modes=20),),
@@ -317,3 +319,58 @@ def test_reference_is_the_best_lit_subaperture_where_none_is_lit_whole(n_sub, ob
     r = np.hypot(centres[:, 0, None] + xx.ravel(), centres[:, 1, None] + yy.ravel())
     lit = ((r <= 0.5) & (r >= 0.5 * obsc)).mean(axis=1)
     assert lit[w.reference_subaperture] >= share * lit.max()
+
+
+@pytest.mark.parametrize("wfs_altitude", [0.0, 3000.0])
+def test_lit_samples_are_the_annulus_seen_from_each_direction(wfs_altitude):
+    # a 2 m pupil (a slip between obscuration x D / 2 and obscuration / D / 2 shows only
+    # where D != 1), 30 % obscured: a sample u of the WFS's plane is lit from theta when
+    # its beam crosses the pupil at u - h_w theta at least sqrt(2) dx inside both edges
+    # (module docstring); samples within 1e-9 m of an edge are left out (rounding's)
+    d, obsc, n_sub = 2.0, 0.3, 6
+    model = LoopModel(_config(diameter=d, obscuration=obsc, n_sub=n_sub,
+                              wfs_altitude=wfs_altitude, field_samples=2))
+    w = model.wfss[0]
+    dx = model.geometry.dx
+    assert dx == d / 32
+    d_wfs = d + 2.0 * wfs_altitude * math.tan(8.0 * ARCSEC)
+    f = w.n_pupil
+    centres = _centres(w, n_sub, d_wfs)
+    off = ((np.arange(f) + 0.5) / f - 0.5) * (d_wfs / n_sub)
+    yy, xx = np.meshgrid(off, off, indexing="ij")
+    edge = math.sqrt(2.0) * dx
+    outer, inner = d / 2.0 - edge, obsc * d / 2.0 + edge
+    # the contrast weights of the field samples: a column per axis, summing to 1
+    # (the class docstring; the operators renormalise them, so only this shows a slip)
+    assert w.direction_weights.shape == (len(w.samples), 2)
+    assert np.all(w.direction_weights > 0)
+    np.testing.assert_allclose(w.direction_weights.sum(axis=0), 1.0, rtol=1e-12)
+    dirs = w.imager.directions_arcsec
+    assert len(dirs) == 9
+    amp = w._amplitude.reshape(len(dirs), w.n_valid_subapertures, f * f)
+    for t, theta in enumerate(dirs):
+        r = np.hypot(centres[:, 0, None] + xx.ravel() - wfs_altitude * theta[0] * ARCSEC,
+                     centres[:, 1, None] + yy.ravel() - wfs_altitude * theta[1] * ARCSEC)
+        lit = (r <= outer) & (r >= inner)
+        clear = (np.abs(r - outer) > 1e-9) & (np.abs(r - inner) > 1e-9)
+        assert lit.any() and (~lit).any()
+        np.testing.assert_array_equal((amp[t] > 0)[clear], lit[clear], err_msg=str(theta))
+
+
+def test_a_zonal_mirrors_interaction_is_its_poke_matrix():
+    # a zonal ("ideal") DM seen by the linear mode: the interaction is sparse and equals
+    # the measurements of each disc pixel poked alone through ``forward`` (the loop's
+    # measurement path; tests/closedloop/test_zonal_dm.py's reference for the SH)
+    cfg = _config(image_formation=False, n_pixels=16)
+    model = LoopModel(cfg.replace(dms=(DMConfig(altitude=0.0, kind="ideal"),)))
+    w, dm = model.wfss[0], model.dms[0]
+    got = w.interaction_with(dm)
+    assert sparse.issparse(got)
+    cols = []
+    for pix in dm.pixels:
+        maps = [np.zeros((p.n, p.n)) for p in model.geometry.planes]
+        maps[dm.plane].reshape(-1)[pix] = 1.0
+        cols.append(w.forward(maps))
+    want = np.array(cols).T
+    assert want.shape == (w.n_measurements, dm.pixels.size) and np.abs(want).max() > 0
+    np.testing.assert_allclose(got.toarray(), want, rtol=0, atol=1e-12 * np.abs(want).max())
