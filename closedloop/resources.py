@@ -92,6 +92,15 @@ _SVD_SECONDS = 6.5e-10
 #: the same through the Gram matrix (``closedloop.optics.products.gram_pinv``, matrices
 #: from ``GRAM_MIN_BYTES``): 1.1 s at 2,882 x 1,500
 _GRAM_SECONDS = 1.7e-10
+#: CPU seconds per flop of the joint MAP reconstructor (``loop.reconstructor = "map"``,
+#: ``closedloop.model.map_reconstructor``: one Cholesky, ``~2 m n^2 + 4/3 n^3`` flops for
+#: m measurements and n modes, counted with the estimate's m, ~1.9x the valid
+#: subapertures' slopes at the EST presets). Measured (``time.process_time``, one BLAS
+#: thread, load 11-17): 9.5 s at the published ``est-mcao`` (estimate 13.4 s), 1.78 s at
+#: ``est_mcao_variant(32)`` (1.85 s), 0.41 s at 24 (0.31 s, under the 1 s from which it is
+#: counted) (benchmarks/RESULTS.md, "The full-size `est-mcao-solar`"); the Gram-matrix
+#: rate above, which the MAP used before, said 44 s at full size
+_MAP_SECONDS_PER_FLOP = 2e-11
 #: a set-up build is counted in ``setup_seconds`` from this CPU time [s] (the small
 #: SVDs of the earlier presets, milliseconds, are not reported)
 _COSTLY_SECONDS = 1.0
@@ -368,11 +377,12 @@ def _frame_seconds(costs: list[SensorCost]) -> tuple[float, str]:
 
 
 def _svd_seconds(config: SimulationConfig, costs: list[SensorCost]) -> float:
-    """CPU time of the reconstructors' SVDs [s]: the joint MAP one, or one per WFS.
+    """CPU time of the reconstructors' SVDs [s]: the joint one, or one per WFS.
 
-    Several DMs (none zonal): one SVD of all measurements x all modes
-    (``LoopModel``'s joint MAP); one DM: the pseudo-inverse of each WFS's interaction
-    with it. A zonal (``"ideal"``) DM has no SVD. Counted from :data:`_COSTLY_SECONDS`.
+    Several DMs (none zonal): one SVD of all measurements x all modes (``LoopModel``'s
+    joint reconstructor; with ``loop.reconstructor = "map"`` one Cholesky instead); one
+    DM: the pseudo-inverse of each WFS's interaction with it. A zonal (``"ideal"``) DM has
+    no SVD. Counted from :data:`_COSTLY_SECONDS`.
     """
     if any(d.kind == "ideal" for d in config.dms):
         return 0.0
@@ -386,7 +396,10 @@ def _svd_seconds(config: SimulationConfig, costs: list[SensorCost]) -> float:
         per = _GRAM_SECONDS if gram else _SVD_SECONDS
         return per * rows * cols * min(rows, cols)
 
-    if len(config.dms) > 1:
+    if len(config.dms) > 1 and config.loop.reconstructor == "map":
+        m, n = sum(c.n_measurements for c in costs), sum(modes)
+        seconds = _MAP_SECONDS_PER_FLOP * (2.0 * m * n * n + 4.0 / 3.0 * n ** 3)
+    elif len(config.dms) > 1:
         seconds = svd(sum(c.n_measurements for c in costs), sum(modes))
     else:
         seconds = sum(svd(c.n_measurements, modes[w.dm])

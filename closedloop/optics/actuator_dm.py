@@ -70,13 +70,18 @@ __all__ = ["ActuatorDeformableMirror", "ActuatorOptions", "ACTUATORS", "actuator
 #: pitch, and 2 pixels per pitch are the Nyquist sampling of the finest mode the grid
 #: of actuators holds (period 2 pitches; waffle) with a pixel to spare per half period
 PIXELS_PER_PITCH = 2
-#: seconds of CPU per valid actuator cubed to build the K-L modes (Cholesky, whitening,
-#: eigen-decomposition): 3.4 s at 1,584 and 52 s at 4,596 valid actuators on this
-#: machine (docs/CLOSEDLOOP.md, "Actuator DM"); 7e-10 is within a factor 1.6 of both.
-#: Since the separable prior projection (benchmarks/RESULTS.md, "DM-space K-L without
-#: FFTs") a 4,553-actuator altitude DM builds in ~28-30 s (estimate 66 s: conservative by
-#: 2.3x at that size; 3.7 s measured at 1,584 against 2.8 s)
-_KL_SECONDS_PER_ACTUATOR3 = 7e-10
+#: CPU seconds of a K-L build per valid actuator squared and cubed: since the separable
+#: prior projection and its symmetry orbits the build is mostly the projection (~n^2: a
+#: contraction per pair of actuators plus one FFT column per orbit of rim-cut ones), and
+#: the Cholesky / ``eigh`` (n^3) takes the lead only beyond ~5,000 actuators. Measured
+#: (``time.process_time``, one BLAS thread, load 11-17 on 2 shared cores): 2.87 s for the
+#: five mirrors of ``est_mcao_variant(32)`` (913 / 344 / 453 / 609 / 913 valid; estimate
+#: 3.8 s), 1.27 s at 24 (estimate 1.24 s), 10.7 s at the published ``est-mcao`` (1,740 /
+#: 609 / 801 / 1,200 / 1,665; estimate 14.2 s), 3.7 s at DKIST's 1,584 (estimate 4.4 s),
+#: 27.6 s at 4,553 (estimate 45 s) (benchmarks/RESULTS.md, "The full-size
+#: `est-mcao-solar`"). The former ``7e-10 n^3`` said 8.6 s for the 10.7 s at full size.
+_KL_SECONDS_PER_ACTUATOR2 = 1.5e-6
+_KL_SECONDS_PER_ACTUATOR3 = 1.5e-10
 #: dense n_valid x n_valid float64 arrays alive at once while the K-L modes are built,
 #: beyond the Gram matrix (kept: the influence functions cache it) and ``m2c``: the
 #: structure operator, the prior, the Cholesky factor, the whitened prior and its
@@ -228,7 +233,8 @@ def _cost(config: SimulationConfig, i: int, dx: float) -> MirrorCost:
     ops = n_valid * m + n_act * side * band + n_disc * band
     return MirrorCost(n_modes=m, shape_bytes=shape_bytes, ops_per_pixel=ops / n_disc,
                       driver=f"dms[{i}].n_actuators",
-                      setup_seconds=_KL_SECONDS_PER_ACTUATOR3 * float(n_valid) ** 3,
+                      setup_seconds=(_KL_SECONDS_PER_ACTUATOR2 * float(n_valid) ** 2
+                                     + _KL_SECONDS_PER_ACTUATOR3 * float(n_valid) ** 3),
                       build_bytes=_KL_BUILD_ARRAYS * 8.0 * n_valid ** 2)
 
 
