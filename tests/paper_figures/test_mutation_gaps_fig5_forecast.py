@@ -339,6 +339,20 @@ def test_plot_files(drawn):
     assert mcolors.to_hex(nnp.get_color()) == mcolors.to_hex("orange")
     assert [t.get_text() for t in c.get_legend().get_texts()] == [
         "measured", "NN 10-10-1, 2000 patterns", "NN paper (10 patterns)"]
+    # every series at its frames' times (0.5 ms per frame at 2 kHz), the measured ones black
+    np.testing.assert_allclose(lin.get_xdata(), np.arange(6940, 7020) * 0.5)
+    np.testing.assert_array_equal(meas.get_ydata(), X[6981:7041])
+    for ln in (nn, nnp):
+        np.testing.assert_allclose(ln.get_xdata(), np.arange(6981, 7041) * 0.5)
+        assert ln.get_markersize() == 4 and ln.get_linestyle() == "None"
+    assert mcolors.to_hex(nn.get_color()) == mcolors.to_hex("m")
+    for ax in (a, b, c):
+        m = ax.get_lines()[0]
+        assert m.get_label() == "measured" and m.get_linestyle() == "-"
+        assert mcolors.to_hex(m.get_color()) == "#000000" and m.get_linewidth() == 1
+    assert lin.get_linestyle() == "None"
+    assert mcolors.to_hex(fc.get_color()) == mcolors.to_hex("C0") and fc.get_linestyle() == "-"
+    assert mcolors.to_hex(band.get_facecolor()[0]) == mcolors.to_hex("C0")
 
 
 def test_plot_time_axis_without_rate(tmp_path, monkeypatch):
@@ -356,6 +370,10 @@ def test_plot_time_axis_without_rate(tmp_path, monkeypatch):
     assert boxes[0].x0 == boxes[3].x0 and boxes[2].x1 == boxes[4].x1
     assert boxes[0].x1 < boxes[1].x0 < boxes[1].x1 < boxes[2].x0
     assert boxes[3].x1 < boxes[4].x0 < boxes[1].x1 and boxes[4].x0 > boxes[1].x0
+    # thirds on top, halves below: equal widths in each row
+    assert boxes[0].width == pytest.approx(boxes[1].width, rel=1e-9)
+    assert boxes[2].width == pytest.approx(boxes[1].width, rel=1e-9)
+    assert boxes[3].width == pytest.approx(boxes[4].width, rel=1e-9)
     a = saved[0].axes[0]
     assert a.get_xlabel() == "time [frames]"
     np.testing.assert_array_equal(a.get_lines()[0].get_xdata(), np.arange(6940, 7020))

@@ -491,6 +491,8 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
     assert a.get_legend().get_texts()[0].get_fontsize() == 6
     # (b) corrected FoV: table1 left, solar right, the paper's stars
     assert b.get_title() == "(b) corrected field of view"
+    assert b.title.get_fontsize() == 9
+    assert b.get_legend().get_texts()[0].get_fontsize() == 7
     assert b.get_ylabel() == "corrected FoV diameter d (SR > 0.3) [arcmin]"
     assert [t.get_text() for t in b.get_xticklabels()] == [
         "no prediction", "linear (a=2, b=-1)", "ARMA(2,3)", "oracle (true future)"]
