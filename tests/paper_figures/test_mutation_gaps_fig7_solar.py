@@ -558,6 +558,7 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
     (noise,) = twin.get_lines()
     assert list(noise.get_ydata()) == [0.02, 0.5]
     assert noise.get_marker() == "s" and noise.get_markersize() == 4
+    assert mcolors.to_hex(noise.get_color()) == mcolors.to_hex("tab:purple")
     assert twin.get_ylabel() == "on-axis noise term [rad^2]"
     assert mcolors.to_hex(twin.yaxis.label.get_color()) == mcolors.to_hex("tab:purple")
     assert [t.get_text() for t in twin.get_legend().get_texts()] == [
