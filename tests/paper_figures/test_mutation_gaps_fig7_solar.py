@@ -543,6 +543,10 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
         "measured residual", "fitting", "aliasing", "temporal", "noise"]
     # (d) sensitivity: SR peak per knob value (none o, ARMA x shifted by 0.1), noise twin
     assert d.get_title() == "(d) sensitivity, one knob at a time"
+    assert d.title.get_fontsize() == 9
+    # the SR legend upper left, the noise legend upper right (matplotlib's codes 2 and 1)
+    assert (d.get_legend()._loc, twin.get_legend()._loc) == (2, 1)
+    assert {t.get_fontsize() for ax in (d, twin) for t in ax.get_legend().get_texts()} == {7}
     assert d.get_ylabel() == "SR peak after closure"
     assert [t.get_text() for t in d.get_xticklabels()] == ["base", "signal\n150 e-"]
     assert d.get_xticklabels()[0].get_fontsize() == 6
