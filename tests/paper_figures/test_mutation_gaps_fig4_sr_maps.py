@@ -341,3 +341,25 @@ def test_a_run_outside_the_layout_among_few_runs(tmp_path):
         fig4.plot(fig4.compute(_runs(("none", "linear", "multivariate"))), tmp_path)
     finally:
         plt.close("all")
+
+
+def test_a_two_by_two_map_gets_its_contours(tmp_path, monkeypatch):
+    # the docstring's contours every 0.1 and the white SR 0.3 on any map of more than one
+    # point (a 2 x 2 grid is a field of 4 directions, as a 1 x 1 is the axis alone)
+    import matplotlib.colors as mcolors
+    import matplotlib.pyplot as plt
+
+    saved = []
+    monkeypatch.setattr(fig4, "save_png_pdf", lambda f, out, png, pdf: saved.append(f)
+                        or [out / png, out / pdf])
+    smap = [[0.25, 0.5], [0.75, 1.0]]
+    fig4.plot(fig4.compute(_runs(("none", "linear"), none=_run("none", smap))), tmp_path)
+    (f,) = saved
+    ax = f.axes[0]
+    plt.close(f)
+    assert ax.get_title() == "no prediction"
+    sets = _contours(ax)
+    assert len(sets) == 2
+    np.testing.assert_allclose(sets[0].levels, np.arange(0.1, 1.0, 0.1))
+    assert list(sets[1].levels) == [0.3]
+    assert mcolors.to_hex(sets[1].get_edgecolor()[0]) == "#ffffff"

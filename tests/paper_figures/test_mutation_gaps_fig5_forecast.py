@@ -339,6 +339,20 @@ def test_plot_files(drawn):
     assert mcolors.to_hex(nnp.get_color()) == mcolors.to_hex("orange")
     assert [t.get_text() for t in c.get_legend().get_texts()] == [
         "measured", "NN 10-10-1, 2000 patterns", "NN paper (10 patterns)"]
+    # every series at its frames' times (0.5 ms per frame at 2 kHz), the measured ones black
+    np.testing.assert_allclose(lin.get_xdata(), np.arange(6940, 7020) * 0.5)
+    np.testing.assert_array_equal(meas.get_ydata(), X[6981:7041])
+    for ln in (nn, nnp):
+        np.testing.assert_allclose(ln.get_xdata(), np.arange(6981, 7041) * 0.5)
+        assert ln.get_markersize() == 4 and ln.get_linestyle() == "None"
+    assert mcolors.to_hex(nn.get_color()) == mcolors.to_hex("m")
+    for ax in (a, b, c):
+        m = ax.get_lines()[0]
+        assert m.get_label() == "measured" and m.get_linestyle() == "-"
+        assert mcolors.to_hex(m.get_color()) == "#000000" and m.get_linewidth() == 1
+    assert lin.get_linestyle() == "None"
+    assert mcolors.to_hex(fc.get_color()) == mcolors.to_hex("C0") and fc.get_linestyle() == "-"
+    assert mcolors.to_hex(band.get_facecolor()[0]) == mcolors.to_hex("C0")
 
 
 def test_plot_time_axis_without_rate(tmp_path, monkeypatch):
@@ -356,6 +370,10 @@ def test_plot_time_axis_without_rate(tmp_path, monkeypatch):
     assert boxes[0].x0 == boxes[3].x0 and boxes[2].x1 == boxes[4].x1
     assert boxes[0].x1 < boxes[1].x0 < boxes[1].x1 < boxes[2].x0
     assert boxes[3].x1 < boxes[4].x0 < boxes[1].x1 and boxes[4].x0 > boxes[1].x0
+    # thirds on top, halves below: equal widths in each row
+    assert boxes[0].width == pytest.approx(boxes[1].width, rel=1e-9)
+    assert boxes[2].width == pytest.approx(boxes[1].width, rel=1e-9)
+    assert boxes[3].width == pytest.approx(boxes[4].width, rel=1e-9)
     a = saved[0].axes[0]
     assert a.get_xlabel() == "time [frames]"
     np.testing.assert_array_equal(a.get_lines()[0].get_xdata(), np.arange(6940, 7020))
@@ -415,6 +433,7 @@ class FakePredictor:
         return path[:, None, None], None
 
     def predict_interval(self, x):
+        self.interval_from = np.array(x)
         return types.SimpleNamespace(mean=[1.0] * 10, lower=[0.5] * 10, upper=[2.0] * 10)
 
     @property
@@ -470,6 +489,7 @@ def test_compute_fits_the_papers_windows_and_collects_the_numbers(forecasters):
     np.testing.assert_array_equal(lin.fitted, data[:7000, 0])
     arma = made[("arma", (("horizon", 10), ("order", (2, 3))))]
     np.testing.assert_array_equal(arma.fitted, data[:7000, 0])
+    np.testing.assert_array_equal(arma.interval_from, data[:7000, 0])  # from frame 6999 on
     nn = made[("nn", (("horizon", 1),))]
     nnp = made[("nn-paper", (("horizon", 1),))]
     np.testing.assert_array_equal(nn.fitted, data[:6981, 0])   # patterns end at frame 6980
@@ -525,3 +545,33 @@ def test_predictors_are_the_presets():
     got = fig5._predictors()
     assert list(got) == [label for label, _ in PRESETS.values()]
     assert [type(p) for p in got.values()] == [type(f()) for _, f in PRESETS.values()]
+
+
+def test_compute_refuses_one_frame_short(forecasters):
+    # N_FIT + 2 H_ARMA = 7020 frames is the docstring's bound; 7019 are refused
+    data = np.asarray(_alternating_log(2).coeffs)
+    with pytest.raises(ValueError) as err:
+        fig5.compute(ModalLog(data[:7019], rate=2000.0, modes=[2, 3], units="rad"))
+    assert str(err.value) == "`log` must hold at least 7020 frames for Figure 5; got 7019."
+    assert FakePredictor.made == []          # refused before any fit
+
+
+@pytest.mark.xfail(strict=True, raises=IndexError, reason=(
+    "GAP: bug (docs/MUTATION.md, fig5_forecast.py:240 and :258/:293): a log of 7020-7039 "
+    "frames passes the N_FIT + 2 H_ARMA check, but panel (c) reads the one-step path at "
+    "frames up to NN_END + 59 = 7039"))
+def test_compute_at_the_frame_bound(forecasters):
+    # the docstring: "a modal log of at least N_FIT + 2 H_ARMA frames"; the stand-in paths
+    # have one row per frame, as ``_forecast_path`` documents (path (T, H, M))
+    data = np.asarray(_alternating_log(2).coeffs)
+    f = fig5.compute(ModalLog(data[:7020], rate=2000.0, modes=[2, 3], units="rad"))
+    assert f.n_frames == 7020
+
+
+def test_compute_persistence_rmse_of_a_mode_with_a_mean(forecasters):
+    # the first mode alternates 1, 3: persistence errs by +-2 (RMSE 2), the paper NN's
+    # "truth + e" by e, so its gains are 2 / |e| (a sum in place of the difference, 4 / |e|)
+    data = np.array(_alternating_log(2).coeffs)
+    data[:, 0] = 1.0 + 2.0 * data[:, 0]
+    f = fig5.compute(ModalLog(data, rate=2000.0, modes=[2, 3], units="rad"))
+    assert f.paper_nn_gains == (4.0, 8.0, 1.0, 0.5, 2.0)

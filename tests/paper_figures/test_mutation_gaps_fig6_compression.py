@@ -521,6 +521,8 @@ def test_plot_read_back(drawn):
             solid, dashed, dotted = lines[3 * k: 3 * k + 3]
             color = fig6.STYLES[o]["color"]
             np.testing.assert_array_equal(solid.get_xdata(), N)
+            np.testing.assert_array_equal(dashed.get_xdata(), N)
+            np.testing.assert_array_equal(dotted.get_xdata(), N)
             np.testing.assert_array_equal(solid.get_ydata(), tables[(False, o, "none")])
             np.testing.assert_array_equal(dashed.get_ydata(), tables[(False, o, "arma")])
             np.testing.assert_array_equal(dotted.get_ydata(), tables[(True, o, "arma")])

@@ -491,6 +491,8 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
     assert a.get_legend().get_texts()[0].get_fontsize() == 6
     # (b) corrected FoV: table1 left, solar right, the paper's stars
     assert b.get_title() == "(b) corrected field of view"
+    assert b.title.get_fontsize() == 9
+    assert b.get_legend().get_texts()[0].get_fontsize() == 7
     assert b.get_ylabel() == "corrected FoV diameter d (SR > 0.3) [arcmin]"
     assert [t.get_text() for t in b.get_xticklabels()] == [
         "no prediction", "linear (a=2, b=-1)", "ARMA(2,3)", "oracle (true future)"]
@@ -520,15 +522,31 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
     assert [mcolors.to_hex(p.get_facecolor()) for p in c.patches[:4]] == [
         mcolors.to_hex(x) for x in ("tab:blue", "tab:green", "tab:red", "tab:purple")]
     assert c.patches[0].get_width() == 0.5
+    # the legend's entries come from the first set's artists (each term named once)
+    assert [b.get_label() for b in c.containers[:4]] == ["fitting", "aliasing", "temporal",
+                                                         "noise"]
+    assert len(c.containers) == 8
+    assert all(b.get_label().startswith("_") for b in c.containers[4:])
+    assert list(c.get_xticks()) == [0, 1]
+    assert c.title.get_fontsize() == 9
+    assert c.get_legend().get_texts()[0].get_fontsize() == 7
     measured = c.get_lines()
     np.testing.assert_allclose([ln.get_xdata() for ln in measured],
                                [[-0.3, 0.3], [0.7, 1.3]], atol=1e-12)
     assert [list(ln.get_ydata()) for ln in measured] == [[0.3, 0.3], [0.45, 0.45]]
     assert measured[0].get_linewidth() == 2
+    assert [mcolors.to_hex(ln.get_color()) for ln in measured] == ["#000000"] * 2
+    assert [ln.get_linestyle() for ln in measured] == ["-"] * 2
+    assert measured[0].get_label() == "measured residual"
+    assert measured[1].get_label().startswith("_")
     assert [t.get_text() for t in c.get_legend().get_texts()] == [
         "measured residual", "fitting", "aliasing", "temporal", "noise"]
     # (d) sensitivity: SR peak per knob value (none o, ARMA x shifted by 0.1), noise twin
     assert d.get_title() == "(d) sensitivity, one knob at a time"
+    assert d.title.get_fontsize() == 9
+    # the SR legend upper left, the noise legend upper right (matplotlib's codes 2 and 1)
+    assert (d.get_legend()._loc, twin.get_legend()._loc) == (2, 1)
+    assert {t.get_fontsize() for ax in (d, twin) for t in ax.get_legend().get_texts()} == {7}
     assert d.get_ylabel() == "SR peak after closure"
     assert [t.get_text() for t in d.get_xticklabels()] == ["base", "signal\n150 e-"]
     assert d.get_xticklabels()[0].get_fontsize() == 6
@@ -544,6 +562,7 @@ def test_plot_writes_png_pdf_and_strict_json(drawn):
     (noise,) = twin.get_lines()
     assert list(noise.get_ydata()) == [0.02, 0.5]
     assert noise.get_marker() == "s" and noise.get_markersize() == 4
+    assert mcolors.to_hex(noise.get_color()) == mcolors.to_hex("tab:purple")
     assert twin.get_ylabel() == "on-axis noise term [rad^2]"
     assert mcolors.to_hex(twin.yaxis.label.get_color()) == mcolors.to_hex("tab:purple")
     assert [t.get_text() for t in twin.get_legend().get_texts()] == [
@@ -570,6 +589,22 @@ def test_plot_suptitle_quick(tmp_path, monkeypatch):
     assert (out, png, pdf) == (tmp_path, "fig7_solar.png", "fig7_solar.pdf")
     assert paths == [tmp_path / png, tmp_path / pdf, tmp_path / "fig7_solar.json"]
     assert f._suptitle.get_text().endswith(", seed 7, 0.006 s (quick)")
+
+
+def test_plot_without_budgets_draws_no_budget_bars(tmp_path, monkeypatch):
+    # no error budget estimated ({}, as budget_sentence returns): panel (c) is empty
+    import matplotlib.pyplot as plt
+
+    saved = []
+    monkeypatch.setattr(fig7, "save_png_pdf", lambda f, out, png, pdf: saved.append(f)
+                        or [out / png, out / pdf])
+    fig7.plot(_fig(_numbers(budget=False)), tmp_path)
+    (f,) = saved
+    c = f.axes[2]
+    plt.close(f)
+    assert c.get_title().startswith("(c) error budget")
+    assert [p.get_height() for p in c.patches] == [0.0] * 8
+    assert c.get_lines() == []
 
 
 # ---------------------------------------------------------------------------------------
