@@ -96,7 +96,7 @@ def check_log_for(module, log) -> None:
     """Refuse a log a figure module cannot serve, before any work.
 
     Uses the module's ``check_log(log)`` when it has one, and its frame needs
-    (``MIN_FRAMES``, or ``N_FIT + 2 H_ARMA`` for Figure 5's fit and forecast windows);
+    (the module's ``MIN_FRAMES``);
     every figure needs modes that vary (an all-zero or constant column makes its
     statistics 0/0).
 
@@ -110,8 +110,6 @@ def check_log_for(module, log) -> None:
         check(log)
         return
     need = getattr(module, "MIN_FRAMES", None)
-    if need is None and hasattr(module, "N_FIT") and hasattr(module, "H_ARMA"):
-        need = module.N_FIT + 2 * module.H_ARMA
     if need is not None and log.n_frames < need:
         raise ValueError(f"`log` must hold at least {need} frames; got {log.n_frames}.")
     require_varying_modes(log, "the figure's statistics")

@@ -46,6 +46,9 @@ JSON_NAME = "fig5_forecast.json"
 N_FIT = 7000        # the paper's ARMA fit window (frames 0..6999)
 NN_END = 6980       # the paper's NN training ends at this frame
 H_ARMA = 10         # the paper's ARMA forecast: frames 7001-7010
+#: frames a log needs: the ARMA windows (``N_FIT + 2 H_ARMA``) and panel (c)'s 60 frames after
+#: the NN's training, whose last measured frame is ``NN_END + 60`` (7041)
+MIN_FRAMES = max(N_FIT + 2 * H_ARMA, NN_END + 61)
 PAPER_SEEDS = (0, 1, 2, 3, 4)
 #: ``quick``: modes of the evaluation and of the AIC orders (the first ones of the log;
 #: every predictor fits one model per mode, or a model whose size grows with the modes)
@@ -213,7 +216,7 @@ class Figure5:
 
 
 def compute(log, *, source: str = "a modal log", quick: bool = False) -> Figure5:
-    """Figure 5's numbers from a modal log of at least ``N_FIT + 2 H_ARMA`` frames.
+    """Figure 5's numbers from a modal log of at least :data:`MIN_FRAMES` frames.
 
     Parameters
     ----------
@@ -237,8 +240,8 @@ def compute(log, *, source: str = "a modal log", quick: bool = False) -> Figure5
     )
 
     start = time.perf_counter()
-    if log.n_frames < N_FIT + 2 * H_ARMA:
-        raise ValueError(f"`log` must hold at least {N_FIT + 2 * H_ARMA} frames for "
+    if log.n_frames < MIN_FRAMES:
+        raise ValueError(f"`log` must hold at least {MIN_FRAMES} frames for "
                          f"Figure 5; got {log.n_frames}.")
     data = np.asarray(log.coeffs, dtype=float)
     x = np.ascontiguousarray(data[:, 0])

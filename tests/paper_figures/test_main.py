@@ -71,7 +71,7 @@ def test_user_log_errors_are_one_line(tmp_path, capsys):
                  str(tmp_path / "short.csv"), "--rate", "1000"]) == 2
     err = capsys.readouterr().err
     assert err.strip().splitlines()[-1].startswith("paper_figures: error: Figure 5")
-    assert "7020 frames" in err
+    assert "7041 frames" in err
 
 
 def test_user_log_without_a_rate_counts_in_frames(tmp_path):

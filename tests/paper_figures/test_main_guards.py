@@ -7,7 +7,7 @@ listing and file contents before the run, compared byte for byte after a run tha
 fails part-way (a later figure raising ``OSError``, or Ctrl-C); and, for the
 figure-level rules, the data itself (a log of zeros has no varying mode; a 3-mode
 log has fewer than Figure 1's 21 modes; Figure 5's fit and forecast windows need
-``N_FIT + 2 H_ARMA`` frames). The closed-loop figures are replaced by small stand-ins
+``MIN_FRAMES`` frames). The closed-loop figures are replaced by small stand-ins
 in the all-or-nothing tests: what is tested is the orchestration, not the figures.
 """
 
@@ -91,7 +91,7 @@ def test_log_options_that_would_be_ignored_are_refused(tmp_path, capsys):
     (150, 25, 7, "1", "1 mode(s) do not vary, the first Z9"),
     (7100, 2, 0, "5", "Figure 5 on --log: the log must have modes that vary"),
     # Figure 5 comes after Figure 1: its refusal still comes before Figure 1's work
-    (400, 25, None, "1,5", "Figure 5 on --log: the log must hold at least 7020 frames"),
+    (400, 25, None, "1,5", "Figure 5 on --log: the log must hold at least 7041 frames"),
 ])
 def test_a_log_a_figure_cannot_use_is_refused_before_any_work(tmp_path, capsys, frames,
                                                               modes, zero_mode, only,
@@ -122,7 +122,7 @@ def test_gapped_log_points_to_split_gaps_which_is_accepted(tmp_path, capsys):
     # the option the message names exists: the longest segment (150 frames) is then
     # analysed, and here refused by Figure 5's frame rule, not by the parser
     _refused(capsys, ["--only", "5", "--log", str(log), "--split-gaps", "--out",
-                      str(tmp_path / "o")], "at least 7020 frames; got 150")
+                      str(tmp_path / "o")], "at least 7041 frames; got 150")
     assert not (tmp_path / "o").exists()
 
 

@@ -12,7 +12,8 @@ the module:
   ARMA(2,3) and 2-3 ms, Stangalini et al. Sect. 4);
 - the figure is read back from the ``Figure`` handed to ``savefig`` (titles, axis labels
   with the log's units and the time unit, the series drawn in ms) and the PNG's size;
-- ``compute``'s refusal of a short log at its documented bound (N_FIT + 2 H_ARMA frames);
+- ``compute``'s refusal of a short log at its documented bound (``MIN_FRAMES``: the ARMA
+  windows and panel (c)'s 60 frames after the NN's training);
   ``compute`` with every predictor and the evaluation replaced by recorders: the paper's
   windows (ARMA(2,3) and the linear predictor fitted on frames 0-6999, the NN on patterns
   ending at frame 6980, the 10-step forecast), the frames drawn, and the paper NN's gain
@@ -148,11 +149,11 @@ def test_increment_correlation_by_hand():
 
 
 def test_short_log_refused_at_the_bound():
-    log = ModalLog(np.random.default_rng(0).standard_normal((7019, 2)), rate=2000.0,
+    log = ModalLog(np.random.default_rng(0).standard_normal((7040, 2)), rate=2000.0,
                    modes=[2, 3], units="rad")
     with pytest.raises(ValueError) as err:
         fig5.compute(log)
-    assert str(err.value) == "`log` must hold at least 7020 frames for Figure 5; got 7019."
+    assert str(err.value) == "`log` must hold at least 7041 frames for Figure 5; got 7040."
 
 
 H_WHY = ("defined here as the longest horizon up to which the predictor beats persistence "
@@ -548,24 +549,24 @@ def test_predictors_are_the_presets():
 
 
 def test_compute_refuses_one_frame_short(forecasters):
-    # N_FIT + 2 H_ARMA = 7020 frames is the docstring's bound; 7019 are refused
+    # the bound is panel (c)'s last measured frame, NN_END + 60 = 7040 (a frame count of
+    # 7041), beyond the ARMA windows' N_FIT + 2 H_ARMA = 7020; 7040 are refused
     data = np.asarray(_alternating_log(2).coeffs)
     with pytest.raises(ValueError) as err:
-        fig5.compute(ModalLog(data[:7019], rate=2000.0, modes=[2, 3], units="rad"))
-    assert str(err.value) == "`log` must hold at least 7020 frames for Figure 5; got 7019."
+        fig5.compute(ModalLog(data[:7040], rate=2000.0, modes=[2, 3], units="rad"))
+    assert str(err.value) == "`log` must hold at least 7041 frames for Figure 5; got 7040."
     assert FakePredictor.made == []          # refused before any fit
 
 
-@pytest.mark.xfail(strict=True, raises=IndexError, reason=(
-    "GAP: bug (docs/MUTATION.md, fig5_forecast.py:240 and :258/:293): a log of 7020-7039 "
-    "frames passes the N_FIT + 2 H_ARMA check, but panel (c) reads the one-step path at "
-    "frames up to NN_END + 59 = 7039"))
 def test_compute_at_the_frame_bound(forecasters):
-    # the docstring: "a modal log of at least N_FIT + 2 H_ARMA frames"; the stand-in paths
-    # have one row per frame, as ``_forecast_path`` documents (path (T, H, M))
+    # a log of exactly the bound is served: panel (c) measures frames NN_END + 1 ..
+    # NN_END + 60 and reads the one-step path (one row per frame, as ``_forecast_path``
+    # documents: path (T, H, M)) up to row NN_END + 59. A log of 7020-7040 frames passed
+    # the old N_FIT + 2 H_ARMA check and raised IndexError after every fit.
     data = np.asarray(_alternating_log(2).coeffs)
-    f = fig5.compute(ModalLog(data[:7020], rate=2000.0, modes=[2, 3], units="rad"))
-    assert f.n_frames == 7020
+    f = fig5.compute(ModalLog(data[:7041], rate=2000.0, modes=[2, 3], units="rad"))
+    assert f.n_frames == 7041
+    np.testing.assert_array_equal(f.nn_frames, np.arange(6981, 7041))
 
 
 def test_compute_persistence_rmse_of_a_mode_with_a_mean(forecasters):
