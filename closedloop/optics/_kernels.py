@@ -6,6 +6,36 @@ from numba import prange
 from modalinfo.common.jit import jit
 
 
+@jit(inline="always")
+def _common_rows(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights, common, base):
+    """Sum the direction-independent planes into ``base`` (both direction kernels' prologue).
+
+    Returns the pupil's pixel count and its first non-empty row.
+    """
+    n_planes = offsets.shape[0]
+    n_rows = span_lo.shape[0]
+    n_cols = base.shape[1]
+    count = 0
+    for r in range(n_rows):
+        count += span_hi[r] - span_lo[r]
+    tmp0 = np.empty(n_cols + 3)
+    for r in range(n_rows):
+        lo = span_lo[r]
+        m = span_hi[r] - lo
+        if m <= 0:
+            continue
+        row = base[r, lo:lo + m]
+        row[:] = 0.0
+        for p in range(n_planes):
+            if common[p]:
+                _add_read_row(flat, offsets[p], sizes[p], shifts[0, p, 0], shifts[0, p, 1],
+                              taps[0, p], weights[p], r, lo, row, tmp0)
+    first = 0
+    while span_hi[first] <= span_lo[first]:
+        first += 1
+    return count, first
+
+
 def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights,
                        common, base, out_mean, out_var):
     """Mean and variance over the pupil of the summed plane maps, for every direction.
@@ -45,25 +75,9 @@ def _direction_moments(flat, offsets, sizes, span_lo, span_hi, shifts, taps, wei
     n_planes = offsets.shape[0]
     n_rows = span_lo.shape[0]
     n_cols = base.shape[1]
-    count = 0
-    for r in range(n_rows):
-        count += span_hi[r] - span_lo[r]
     # the direction-independent part, once
-    tmp0 = np.empty(n_cols + 3)
-    for r in range(n_rows):
-        lo = span_lo[r]
-        m = span_hi[r] - lo
-        if m <= 0:
-            continue
-        row = base[r, lo:lo + m]
-        row[:] = 0.0
-        for p in range(n_planes):
-            if common[p]:
-                _add_read_row(flat, offsets[p], sizes[p], shifts[0, p, 0], shifts[0, p, 1],
-                              taps[0, p], weights[p], r, lo, row, tmp0)
-    first = 0  # first non-empty pupil row
-    while span_hi[first] <= span_lo[first]:
-        first += 1
+    count, first = _common_rows(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights,
+                                common, base)
     # the one direction-dependent plane, if there is just one (table1): fused loop below
     single = -1
     for p in range(n_planes):
@@ -347,24 +361,10 @@ def direction_moments_grouped(flat, offsets, sizes, span_lo, span_hi, shifts, ta
     n_rows = span_lo.shape[0]
     n_cols = base.shape[1]
     n_groups = group_plane.shape[0]
-    count = 0
-    for r in range(n_rows):
-        count += span_hi[r] - span_lo[r]
+    # the direction-independent part, once
+    count, first = _common_rows(flat, offsets, sizes, span_lo, span_hi, shifts, taps, weights,
+                                common, base)
     tmp0 = np.empty(n_cols + 3)
-    for r in range(n_rows):
-        lo = span_lo[r]
-        m = span_hi[r] - lo
-        if m <= 0:
-            continue
-        row = base[r, lo:lo + m]
-        row[:] = 0.0
-        for p in range(n_planes):
-            if common[p]:
-                _add_read_row(flat, offsets[p], sizes[p], shifts[0, p, 0], shifts[0, p, 1],
-                              taps[0, p], weights[p], r, lo, row, tmp0)
-    first = 0
-    while span_hi[first] <= span_lo[first]:
-        first += 1
     refs = np.empty(n_dir)
     v1 = np.empty(1)
     for d in range(n_dir):

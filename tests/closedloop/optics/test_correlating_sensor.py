@@ -264,7 +264,7 @@ def test_table1_solar_preset():
     ({"kind": "correlating", "noise": 0.0, "signal": 4e4}, ValueError,
      r"`wfss\[0\]\.signal` must be <= 30000"),
     ({"kind": "correlating", "noise": 0.0, "contrast": 0.0}, ValueError,
-     r"`wfss\[0\]\.contrast` must be > 0"),
+     r"`wfss\[0\]\.contrast` must be >= 0\.001"),
     ({"kind": "correlating", "noise": 0.0, "image_formation": 1}, TypeError,
      r"`wfss\[0\]\.image_formation` must be a bool"),
     ({"kind": "correlating", "noise": 0.0, "field_of_view": 3.0}, ValueError,
