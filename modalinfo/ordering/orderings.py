@@ -206,6 +206,31 @@ def _constant_modes(a: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     return zero | (constant & flat)
 
 
+def _numerically_dead(contrib: np.ndarray) -> np.ndarray:
+    """Return the modes (``(M,)`` bool) too small to change the order of Phi_ref's samples.
+
+    Removing such modes (the smallest first) leaves a sum that is a strictly increasing
+    function of Phi_ref on the drawn samples: its MI is infinite, and every estimator
+    refuses it ("`y` is a strictly monotone function of `x`"). A mode of 1e-11 rad beside
+    modes of 0.1 rad is one (above the 1e-12 rule of :func:`_constant_modes`). They are
+    ordered last with NaN MI, as the constant modes. Tied samples (a discrete Phi_ref)
+    flag nothing: the estimators score those themselves. At least one mode stays.
+    """
+    ref = contrib.sum(axis=0)
+    order = np.argsort(ref, kind="stable")
+    rest = ref[order]
+    dead = np.zeros(contrib.shape[0], dtype=bool)
+    if not np.all(np.diff(rest) > 0):
+        return dead
+    rms = np.sqrt(np.mean(contrib * contrib, axis=1))
+    for k in np.argsort(rms, kind="stable")[:-1]:
+        rest = rest - contrib[k][order]
+        if not np.all(np.diff(rest) > 0):
+            break
+        dead[k] = True
+    return dead
+
+
 def _with_dead_modes(sub: OrderingResult, live: np.ndarray, dead: np.ndarray,
                      labels: tuple) -> OrderingResult:
     """``sub`` (an ordering of the ``live`` modes) with the ``dead`` ones appended.
@@ -610,6 +635,17 @@ def order_modes(
     est, est_name = _make_estimator(estimator, options)
     frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
     contrib = _contributions(a, view.matrix, frames, pixels)
+    tiny = _numerically_dead(contrib) if n_modes > 1 else np.zeros(1, dtype=bool)
+    if tiny.any():  # as the dead modes above, on the drawn samples (adversarial round 6)
+        live, gone = np.flatnonzero(~tiny), np.flatnonzero(tiny)
+        sub = order_modes(
+            a[:, live], BasisView(matrix=view.matrix[:, live],
+                                  labels=tuple(view.labels[i] for i in live), obj=None),
+            method, estimator=estimator, estimator_options=options, pooled=pooled,
+            frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
+            confidence_level=confidence_level, block_length=block_length, progress=progress,
+            search=search)
+        return _with_dead_modes(sub, live, gone, view.labels)
     est.fit(contrib.sum(axis=0))
     if method == "mi_greedy":
         order, mi, scores, known = _greedy(est, contrib, progress, search)
