@@ -297,6 +297,8 @@ def _cmd_info(args) -> int:
           f"{len(c.layers)} layers, {len(c.dms)} DMs, D/r0 = {c.d_over_r0:.1f} at "
           f"{c.r0_wavelength * 1e9:.0f} nm")
     print("  " + _summary_line(result))
+    if result.budget is not None:  # saved by run --budget-every: shown as run printed it
+        print("  " + _budget_line(result.budget, c.wavelength))
     for name, log in result.logs.items():
         print(f"  log {name}: {log.n_frames} x {log.n_modes} ({log.labels[0]} .. "
               f"{log.labels[-1]}), {log.units} at {log.wavelength * 1e9:.0f} nm")

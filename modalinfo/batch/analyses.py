@@ -33,7 +33,12 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.common.validation import (
+    check_choice,
+    check_int,
+    check_real,
+    log_rate_problem,
+)
 
 __all__ = ["ANALYSES", "DEFAULTS", "log_columns", "quality_columns", "resolve_params",
            "run_log_task", "sha256_file"]
@@ -422,6 +427,10 @@ def run_log_task(payload: dict) -> dict:
         start, stop = payload["window"]
         log = log[start:stop]  # a view of the mapped file: only the window is read
     analysis, params = payload["analysis"], payload["params"]
+    if analysis != "summary":  # a summary reports the rate; the analyses refuse, as the CLI
+        problem = log_rate_problem(log.rate, log.timestamps is not None, f"'{Path(path).name}'")
+        if problem:
+            raise ValueError(problem)
     row = log_columns(log)
     log, quality = apply_outlier_policy(log, params.get("outliers", "warn"),
                                         time_series=analysis == "forecast")

@@ -89,7 +89,11 @@ def parse_settings(items: list[str]) -> dict:
             value = json.loads(text)
         except ValueError:
             value = text
-        out.setdefault(analysis, {})[param] = value
+        given = out.setdefault(analysis, {})
+        if param in given and given[param] != value:  # the Parser's rule for an option
+            raise CommandError(f"--set {analysis}.{param}: given twice ({given[param]!r} "
+                               f"and {value!r}); give it once")
+        given[param] = value
     return out
 
 

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from modalinfo.bases.indexing import parse_modes
 from modalinfo.common.cli import CommandError, check_output
+from modalinfo.common.validation import RATE_RANGE, log_rate_problem
 
 __all__ = [
     "OUTLIER_CHOICES",
@@ -68,11 +69,6 @@ class _Renamed(argparse.Action):
 WAVELENGTH_RANGE = (1e-7, 1e-4)
 
 
-#: accepted ``--rate`` [Hz]: 1 mHz (one frame every ~17 minutes, a slow archive of
-#: averaged coefficients) to 1 MHz, beyond the fastest AO wavefront sensors (a few kHz for
-#: high-order sensors, ~10 kHz for tip-tilt sensors); outside it the value is a unit slip
-#: (a period typed as a rate, kHz typed as Hz twice) or a typo such as 1e300
-RATE_RANGE = (1e-3, 1e6)
 
 
 def _in_range(text: str, unit: str, bounds: tuple[float, float], why: str) -> float:
@@ -382,16 +378,9 @@ def _check_rate(log, path: Path) -> None:
     A ``time`` column of Unix nanoseconds read as seconds gave 2e-6 Hz, analysed
     without a word while ``--rate 2e-6`` itself is refused.
     """
-    rate = log.rate
-    if rate is None or RATE_RANGE[0] <= rate <= RATE_RANGE[1]:
-        return
-    source = "timestamps" if log.timestamps is not None else "stored rate"
-    raise CommandError(
-        f"'{path.name}': its {source} give a frame rate of {rate:.3g} Hz, outside "
-        f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): a time column "
-        "in ns or us read as seconds? give the rate with --rate HZ (it replaces the "
-        "timestamps)"
-    )
+    problem = log_rate_problem(log.rate, log.timestamps is not None, f"'{path.name}'")
+    if problem:
+        raise CommandError(problem)
 
 
 def _check_log_fits(path: Path, options: dict, copies: int) -> None:

@@ -20,8 +20,33 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_square_range",
+    "log_rate_problem",
+    "RATE_RANGE",
     "unmasked",
 ]
+
+#: a log's frame rate [Hz] that can be analysed (and that ``--rate`` accepts): 1 mHz (one
+#: frame every ~17 minutes, a slow archive of averaged coefficients) to 1 MHz, beyond the
+#: fastest AO wavefront sensors (a few kHz for high-order sensors, ~10 kHz for tip-tilt
+#: sensors); outside it the value is a unit slip (a period typed as a rate, kHz typed as
+#: Hz twice, a time column in ns read as seconds) or a typo such as 1e300
+RATE_RANGE = (1e-3, 1e6)
+
+
+def log_rate_problem(rate: float | None, timestamps: bool, name: str) -> str | None:
+    """Why a log's frame ``rate`` [Hz] cannot be analysed; None inside :data:`RATE_RANGE`.
+
+    An unknown rate (None) is no problem.
+    ``timestamps`` tells whether the rate came from a time column (else the stored rate);
+    ``name`` names the log in the message. One message for every command and ``batch``.
+    """
+    if rate is None or RATE_RANGE[0] <= rate <= RATE_RANGE[1]:
+        return None
+    source = "timestamps give" if timestamps else "stored rate gives"
+    return (f"{name}: its {source} a frame rate of {rate:.3g} Hz, outside "
+            f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): a time "
+            "column in ns or us read as seconds? give the rate with --rate HZ (it replaces "
+            "the timestamps)")
 
 
 def _describe(value: Any) -> str:

@@ -60,6 +60,10 @@ def _strictly_monotone(a: np.ndarray) -> bool:
     return bool(np.all(d > 0) or np.all(d < 0))
 
 
+class InfiniteMIError(ValueError):
+    """A continuous ``y`` that is a strictly monotone function of ``x``: infinite MI."""
+
+
 def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray) -> None:
     """Refuse a continuous y that is a strictly monotone function of a continuous x.
 
@@ -78,7 +82,7 @@ def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray) -> N
         return
     order = np.argsort(x, kind="stable")
     if _strictly_monotone(x[order]) and _strictly_monotone(y[order]):
-        raise ValueError(
+        raise InfiniteMIError(
             "`y` is a strictly monotone function of `x` (an identical or deterministic "
             "copy: y sorted by x is strictly increasing or decreasing) and both are "
             "continuous (no repeated values): their mutual information is infinite, "

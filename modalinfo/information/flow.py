@@ -114,7 +114,11 @@ from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
-from modalinfo.information.resampling import matched_window_for, surrogate_shifts
+from modalinfo.information.resampling import (
+    check_surrogates_reach,
+    matched_window_for,
+    surrogate_shifts,
+)
 from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
 from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
@@ -511,7 +515,8 @@ def transfer_entropy_map(
     alpha : float
         Family-wise level of :attr:`TransferEntropyMap.significant`, in (0, 1).
     n_surrogates : int
-        Time-shift surrogates of the maximum-statistic null (>= 0; 0 gives p = 1); at
+        Time-shift surrogates of the maximum-statistic null (0 gives the TE alone, p = 1;
+        otherwise enough that ``1 / (n_surrogates + 1) <= alpha``); at
         most about ``n / (max lag + correlation time)`` for full power (module notes).
     min_shift : int, optional
         Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
@@ -580,6 +585,8 @@ def transfer_entropy_map(
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
     n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=0)
+    if n_surrogates:  # 0: the TE alone, p = 1 (documented); a few cannot reach alpha
+        check_surrogates_reach(n_surrogates, alpha)
     check_choice(adjust, "adjust", ADJUSTMENTS)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     if not isinstance(match_ends, (bool, np.bool_)):

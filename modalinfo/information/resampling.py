@@ -440,6 +440,25 @@ def surrogate_shifts(n: int, n_surrogates: int, max_lag: int = 0, spacing: int |
     return allowed[pick].astype(np.int64), int(b)
 
 
+def check_surrogates_reach(n_surrogates: int, alpha: float) -> None:
+    """Refuse ``n_surrogates`` whose smallest p-value ``1 / (S + 1)`` exceeds ``alpha``.
+
+    Such a test can never reject (:func:`surrogate_pvalue`): every link or input would
+    be reported "not significant" as if that were a finding.
+
+    Raises
+    ------
+    ValueError
+        ``1 / (n_surrogates + 1) > alpha``, naming both and the least count that reaches.
+    """
+    if 1.0 / (n_surrogates + 1) > alpha:
+        raise ValueError(
+            f"`n_surrogates`={n_surrogates} cannot reach `alpha`={alpha:g}: the smallest "
+            f"p-value of {n_surrogates} surrogates is 1/{n_surrogates + 1} = "
+            f"{1 / (n_surrogates + 1):.3g} (a test that can never reject); use "
+            f"n_surrogates >= {math.ceil(1 / alpha) - 1}.")
+
+
 def surrogate_pvalue(statistic: float, null: np.ndarray) -> float:
     """Exact Monte-Carlo p-value ``(1 + #{null >= statistic}) / (1 + S)``.
 

@@ -100,6 +100,7 @@ from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import (
     auto_block_length,
     block_bootstrap_indices,
+    check_surrogates_reach,
     surrogate_pvalue,
     surrogate_shifts,
 )
@@ -521,8 +522,8 @@ def select_inputs(
     alpha : float
         Family-wise level of each step, in (0, 1).
     n_surrogates : int
-        Circular-shift surrogates per step (>= 1; at least 1 / alpha - 1 for a step to
-        be able to pass).
+        Circular-shift surrogates per step (>= 1 / alpha - 1: fewer could never let a step
+        pass, and are refused).
     max_inputs : int
         Budget of inputs (>= 1).
     intervals : bool
@@ -585,6 +586,7 @@ def select_inputs(
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
     n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    check_surrogates_reach(n_surrogates, alpha)
     max_inputs = check_int(max_inputs, "max_inputs", minimum=1)
     rng = check_rng(seed)
     T = series.shape[0]

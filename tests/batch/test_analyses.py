@@ -3,13 +3,19 @@
 Reference: POSIX file types (``os.mkfifo``); opening a FIFO for reading blocks until a
 writer comes, so ``modalinfo batch fifo.npz`` hung in its hashing step (adversarial
 round 5, row b06), and the analysis step said "no such file" of a file that exists.
+The frame-rate rule: the range ``--rate`` documents, 1 mHz - 1 MHz (adversarial round 6,
+row b01: ``modalinfo reorder`` refused a log whose stored rate is 1e300 Hz, ``batch``
+ordered it without a word); a log written by the test with that rate.
 """
 
 import os
 
+import numpy as np
 import pytest
 
-from modalinfo.batch.analyses import run_log_task, sha256_file
+from modalinfo.batch.analyses import resolve_params, run_log_task, sha256_file
+from modalinfo.io import save
+from modalinfo.telemetry import ModalLog
 
 
 @pytest.fixture
@@ -33,3 +39,22 @@ def test_a_missing_file_is_still_no_such_file(tmp_path):
     with pytest.raises(FileNotFoundError, match="no such file"):
         run_log_task({"path": str(tmp_path / "gone.npz"), "analysis": "summary",
                       "params": {}})
+
+
+@pytest.mark.parametrize("rate, refused", [(1e300, True), (2e9, True), (1e6, False)])
+def test_analyses_refuse_a_rate_outside_the_range_the_summary_reports_it(tmp_path, rate,
+                                                                         refused):
+    coeffs = np.random.default_rng(0).standard_normal((64, 3))
+    path = save(ModalLog(coeffs, rate=rate, modes=[2, 3, 4], units="rad"),
+                tmp_path / "fast.npz")
+    row = run_log_task({"path": str(path), "analysis": "summary",
+                        "params": resolve_params("summary")})
+    assert row["rate"] == rate
+    task = {"path": str(path), "analysis": "forecast",
+            "params": resolve_params("forecast", {"predictors": "linear", "horizon": 1})}
+    if refused:
+        with pytest.raises(ValueError, match=r"'fast\.npz': its stored rate gives a frame "
+                                             r"rate of .* outside 0\.001-1e\+06 Hz"):
+            run_log_task(task)
+    else:
+        assert run_log_task(task)["rate"] == rate

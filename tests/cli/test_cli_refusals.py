@@ -311,3 +311,22 @@ def test_absurd_options_are_one_line_before_work(small_log, tmp_path, capsys, ar
     err = _one_line(capsys, *needles)
     assert len(err) < 400
     assert not (tmp_path / "s.npz").exists()
+
+
+@pytest.mark.parametrize("second, refused", [("summary.chunk_frames=8", True),
+                                             ("summary.chunk_frames=7", False)])
+def test_batch_set_of_one_parameter_twice_is_refused_unless_equal(small_log, tmp_path,
+                                                                 capsys, second, refused):
+    # adversarial round 6 (b06): the later --set won without a word, unlike every option
+    # given twice (the shared Parser's rule); the same value twice stays accepted.
+    from modalinfo.cli.cmd_batch import parse_settings
+
+    items = ["summary.chunk_frames=7", second]
+    if not refused:
+        assert parse_settings(items) == {"summary": {"chunk_frames": 7}}
+        return
+    out = tmp_path / "out"
+    assert main(["batch", str(small_log), "--out", str(out), "--quiet", "--set", items[0],
+                 "--set", second]) == 2
+    _one_line(capsys, "--set summary.chunk_frames: given twice (7 and 8); give it once")
+    assert not out.exists()

@@ -40,6 +40,11 @@ def test_run_with_the_budget_prints_and_saves_the_librarys_budget(config_file, t
                          ("sum", direct.total)):
         assert f"{name} {values[axis]:.3g} / {np.mean(values):.3g}" in lines[1]
     assert f"mean over {len(direct.directions)} directions" in lines[1]
+    # `closedloop info` shows the saved budget as run printed it (adversarial round 6,
+    # k32/k64: the budget was saved and loaded, but info did not show it)
+    assert main(["info", str(out)]) == 0
+    shown = capsys.readouterr().out.splitlines()
+    assert "  " + lines[1] in shown
 
 
 @pytest.mark.parametrize("value, rule", [("0", r"in \[1, 20\]"), ("21", r"got 21"),

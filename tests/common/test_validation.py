@@ -4,13 +4,14 @@ Reference: NumPy's documented behaviour, ``np.asarray(masked)`` returns the data
 the mask dropped; the MI of a pair is computed here on the unmasked samples with the
 same estimator (a round trip), so a mask that reached the estimator would show.
 Adversarial round 5, row a01: ``mutual_information`` of a half-masked array used all
-of it.
+of it. The log-rate rule: the range ``--rate`` documents in the README, 1 mHz - 1 MHz,
+bounds included (adversarial round 6, row b01).
 """
 
 import numpy as np
 import pytest
 
-from modalinfo.common.validation import as_float_array
+from modalinfo.common.validation import as_float_array, log_rate_problem
 from modalinfo.forecast import LinearPredictor
 from modalinfo.information import mutual_information
 from modalinfo.telemetry import ModalLog
@@ -47,3 +48,18 @@ def test_dropping_the_masked_samples_is_the_documented_way(pair):
     x, y = pair
     keep = np.arange(500) >= 3
     assert mutual_information(x[keep], y[keep]) != mutual_information(x, y)
+
+
+@pytest.mark.parametrize("rate", [None, 1e-3, 2000.0, 1e6])
+def test_a_rate_in_one_millihertz_to_one_megahertz_is_no_problem(rate):
+    assert log_rate_problem(rate, False, "'a.npz'") is None
+
+
+@pytest.mark.parametrize("rate, timestamps, source", [
+    (float(np.nextafter(1e-3, 0.0)), True, "timestamps give"),
+    (float(np.nextafter(1e6, np.inf)), False, "stored rate gives"),
+    (2e-6, True, "timestamps give"), (1e300, False, "stored rate gives")])
+def test_a_rate_outside_the_range_is_named_with_its_source(rate, timestamps, source):
+    text = log_rate_problem(rate, timestamps, "'a.npz'")
+    assert text.startswith(f"'a.npz': its {source} a frame rate of {rate:.3g} Hz, outside "
+                           "0.001-1e+06 Hz")

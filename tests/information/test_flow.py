@@ -358,3 +358,18 @@ def test_map_with_surrogates_is_the_map_of_its_matched_rows():
     assert short.rows == (0, 150) and short.n_samples == 130
     with pytest.raises(TypeError, match=r"`match_ends` must be a bool; got str"):
         transfer_entropy_map(x, lags=2, match_ends="yes")
+
+
+def test_too_few_surrogates_to_reach_alpha_are_refused_zero_is_the_te_alone():
+    # adversarial round 6 (a33): 5 surrogates (smallest p-value 1/6) reported a strong
+    # x -> y link among "0 significant links"; now refused. 0 keeps its documented
+    # meaning: the TE alone, every p-value 1.
+    rng = np.random.default_rng(6)
+    x = rng.standard_normal(600)
+    y = np.r_[0.0, 0.7 * x[:-1]] + 0.5 * rng.standard_normal(600)
+    with pytest.raises(ValueError, match=r"`n_surrogates`=5 cannot reach `alpha`=0.05"):
+        transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=5)
+    with pytest.raises(ValueError, match=r"`n_surrogates`=9 cannot reach `alpha`=0.01"):
+        transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=9, alpha=0.01)
+    alone = transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=0)
+    assert np.all(alone.pvalue[~np.isnan(alone.pvalue)] == 1.0)

@@ -39,6 +39,7 @@ from modalinfo.information.resampling import (
     MAX_DISCARD_ROWS,
     auto_block_length,
     block_bootstrap_indices,
+    check_surrogates_reach,
     matched_window,
     politis_white_length,
     resolve_block_length,
@@ -274,3 +275,15 @@ def test_end_point_matching_restores_the_level_at_phi_099():
             x, y, "gaussian", n_permutations=99, permutation="circular", seed=k).pvalue
 
     assert lo <= _rejections(mi, 0.99, 3000, 500, 3) <= hi
+
+
+@pytest.mark.parametrize("alpha, reach", [(0.05, 19), (0.1, 9), (0.01, 99), (0.2, 4)])
+def test_check_surrogates_reach_is_the_smallest_p_value_rule(alpha, reach):
+    # the smallest p-value is 1 / (S + 1) (Phipson & Smyth): S reaches alpha iff
+    # 1 / (S + 1) <= alpha, so S = ceil(1 / alpha) - 1 is the least that can reject
+    check_surrogates_reach(reach, alpha)
+    assert surrogate_pvalue(1.0, np.zeros(reach)) <= alpha
+    with pytest.raises(ValueError, match=rf"`n_surrogates`={reach - 1} cannot reach "
+                                         rf"`alpha`={alpha:g}.*n_surrogates >= {reach}"):
+        check_surrogates_reach(reach - 1, alpha)
+    assert surrogate_pvalue(1.0, np.zeros(reach - 1)) > alpha

@@ -50,13 +50,12 @@ def test_strongest_input_has_the_smallest_p_value_and_alpha_is_inclusive(coupled
     # correctly rounded 0.05, the same double as the literal
     assert at.inputs[0].pvalue == 1.0 / 20.0 == 0.05
     assert at.inputs[0].label == "m1[t]"
-    below = _select(coupled, alpha=float(np.nextafter(0.05, 0.0)), n_surrogates=19)
-    assert below.inputs == ()
-    assert below.last_pvalue == 0.05
-    assert "not significant" in below.stop_reason
-    # N = 18: the smallest possible p-value 1/19 is above 0.05
-    few = _select(coupled, alpha=0.05, n_surrogates=18)
-    assert few.inputs == () and few.last_pvalue == pytest.approx(1.0 / 19.0, rel=1e-15)
+    # just below 1/20, and N = 18 (smallest p-value 1/19 > 0.05): no step could ever
+    # pass, so the search is refused rather than reported as "nothing significant"
+    with pytest.raises(ValueError, match=r"`n_surrogates`=19 cannot reach `alpha`"):
+        _select(coupled, alpha=float(np.nextafter(0.05, 0.0)), n_surrogates=19)
+    with pytest.raises(ValueError, match=r"smallest p-value of 18 surrogates is 1/19"):
+        _select(coupled, alpha=0.05, n_surrogates=18)
 
 
 def test_fixed_sequence_stops_at_the_first_p_value_above_alpha(coupled):
@@ -76,6 +75,10 @@ def test_fixed_sequence_stops_at_the_first_p_value_above_alpha(coupled):
     for alpha in sorted(set(seq.tolist())):
         for a in (alpha, float(np.nextafter(alpha, 0.0))):
             if a >= 1.0:
+                continue
+            if a < 1.0 / 40.0:  # below the smallest p-value: no step could pass, refused
+                with pytest.raises(ValueError, match="cannot reach"):
+                    _select(coupled, alpha=a, n_surrogates=39, max_inputs=8)
                 continue
             expected = int(np.argmax(seq > a)) if np.any(seq > a) else seq.size
             got = _select(coupled, alpha=a, n_surrogates=39, max_inputs=8)

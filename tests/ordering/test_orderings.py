@@ -245,3 +245,33 @@ def test_a_constant_mode_goes_last_and_the_rest_is_ordered_as_without_it(method,
     assert full.labels[:-1] == ref.labels and full.labels[-1] == f"Z{modes[at]}"
     np.testing.assert_array_equal(full.mi[:-1], ref.mi)
     assert np.isnan(full.mi[-1]) and np.isnan(full.gain[-1])
+
+
+# --- adversarial round 6 (rows r07, f06): a mode too small to change Phi_ref's order ----
+
+
+@pytest.mark.parametrize("method", ["mi_greedy", "mi_marginal"])
+@pytest.mark.parametrize("scale", [1e-11, 1e-9])
+def test_a_numerically_dead_mode_goes_last_as_a_constant_one(method, scale):
+    # Reference: the same call on the log without that mode (same seed), as for a
+    # constant mode: 1e-11..1e-9 of the others is above the 1e-12 constant rule, yet the
+    # sum without it orders Phi_ref's 3000 samples exactly (infinite MI). Before: the
+    # estimators refused "`y` is a strictly monotone function of `x`".
+    from modalinfo.bases import Pupil, ZernikeBasis
+    from modalinfo.ordering.orderings import _numerically_dead
+
+    rng = np.random.default_rng(4)
+    live = rng.standard_normal((300, 4)) * np.array([1.0, 0.7, 0.5, 0.3])
+    coeffs = np.insert(live, 2, scale * rng.standard_normal(300), axis=1)
+    modes, pupil = [2, 3, 4, 5, 6], Pupil(16)
+    full = order_modes(coeffs, ZernikeBasis(pupil, modes), method, sample_budget=3000,
+                       seed=1, n_resamples=0)
+    ref = order_modes(live, ZernikeBasis(pupil, [2, 3, 5, 6]), method, sample_budget=3000,
+                      seed=1, n_resamples=0)
+    assert full.labels[:-1] == ref.labels and full.labels[-1] == "Z4"
+    np.testing.assert_array_equal(full.mi[:-1], ref.mi)
+    assert np.isnan(full.mi[-1]) and np.isnan(full.gain[-1])
+    # the rule itself: a live mode of 0.3 is no such mode; ties (a discrete sum) flag none
+    c = rng.standard_normal((3, 500)) * np.array([[1.0], [0.3], [1e-12]])
+    assert _numerically_dead(c).tolist() == [False, False, True]
+    assert not _numerically_dead(np.round(c, 1)).any()
