@@ -34,6 +34,12 @@ References, from outside the module under test:
   sub-direction for the imaging mode (equal to the built imaging operators' stored
   entries scaled from ``n_valid`` to ``pi n^2 / 4``), and the imaging time
   ``_SECONDS_PER_IMAGE_OP x images x support^2 x PSF samples`` (its documented model);
+- the detector's noise law: each pixel's variance is its mean plus the read noise's square
+  (Poisson photon noise plus independent Gaussian read noise, as
+  test_correlating.py::test_read_noise_dominated_detector_variance checks on the images);
+  a shift estimate's variance is the pixel variance over the squared image gradient
+  (Michau et al. 1992), so on one scene scaled to ``m`` e- per pixel it goes as
+  ``(m + RON^2) / m^2`` (``RON`` = :class:`PhotonBudget`'s documented 2 e-);
 - the project's rule for bad input: the message names the argument, the rule, the value.
 """
 
@@ -59,6 +65,7 @@ from closedloop.config import (
 from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics import correlating_sensor
+from closedloop.optics.photon_budget import PhotonBudget
 
 
 def _config(*, wfs_altitude=0.0, field_samples=1, image_formation=True, r0_wavelength=1e-6,
@@ -302,6 +309,26 @@ def test_tracker_sees_the_configured_signal():
         assert w.imager.electrons_per_pixel == pytest.approx(signal, rel=1e-9)
         noise[signal] = w.tracker_noise_pixels
     np.testing.assert_allclose(noise[1000.0] / noise[4000.0], 2.0, rtol=0.05)
+
+
+def test_read_noise_dominated_slope_and_tracker_noise():
+    # at 1000 e- per pixel the read noise's 4 e-^2 is 0.4 % of the photon variance, below
+    # every other test's tolerance; at 2 e- it is twice the photon variance, so the noise
+    # laws of the slopes and of the tracker must grow from 1000 e- to 2 e- by the
+    # detector's (m + RON^2) / m^2 (Poisson plus read noise): 1.5e3 x. RON^3 (8 e-^2)
+    # would make it 2.5e3 x; a subtracted RON^2 a negative pixel variance (refused); a
+    # 10 % wrong RON^2 moves it by 6.7 %. The scene's contrast (4 %) makes the
+    # gradient-weighted mean of the pixels differ from m by < 0.5 %.
+    ron2 = PhotonBudget().read_noise ** 2
+    var = {}
+    for signal in (1000.0, 2.0):
+        cfg = _config(image_formation=False)
+        cfg = cfg.replace(wfss=(dataclasses.replace(cfg.wfss[0], signal=signal),))
+        w = LoopModel(cfg).wfss[0]
+        var[signal] = (w.slope_noise_pixels ** 2, w.tracker_noise_pixels ** 2)
+    law = ((2.0 + ron2) / 2.0 ** 2) / ((1000.0 + ron2) / 1000.0 ** 2)
+    np.testing.assert_allclose(var[2.0][0] / var[1000.0][0], law, rtol=0.02)
+    np.testing.assert_allclose(var[2.0][1] / var[1000.0][1], law, rtol=0.02)
 
 
 @pytest.mark.parametrize("n_sub, obsc, share", [(4, 0.2, 0.95), (6, 0.3, 0.99)])
