@@ -40,6 +40,9 @@ References, from outside the module under test:
   a shift estimate's variance is the pixel variance over the squared image gradient
   (Michau et al. 1992), so on one scene scaled to ``m`` e- per pixel it goes as
   ``(m + RON^2) / m^2`` (``RON`` = :class:`PhotonBudget`'s documented 2 e-);
+- the least-squares plane fit of a linear phase ``a x + b y`` is ``(a, b)`` exactly, on
+  any lit part of a subaperture, so a contrast-weighted mean of the sub-directions' fits
+  (weights renormalised over the directions kept, module docstring) is ``(a, b)`` too;
 - the project's rule for bad input: the message names the argument, the rule, the value.
 """
 
@@ -382,6 +385,30 @@ def test_lit_samples_are_the_annulus_seen_from_each_direction(wfs_altitude):
         clear = (np.abs(r - outer) > 1e-9) & (np.abs(r - inner) > 1e-9)
         assert lit.any() and (~lit).any()
         np.testing.assert_array_equal((amp[t] > 0)[clear], lit[clear], err_msg=str(theta))
+
+
+def test_linear_phase_gives_its_gradient_where_a_direction_is_left_out():
+    # a 3-km WFS over 16" with 2 x 2 field samples and a 30 %-obscured pupil: at the
+    # obscuration's edge some valid subapertures are lit by less than half from one
+    # direction, which is left out of their mean and the others' weights renormalised.
+    # A linear phase's Z-tilt is its gradient from every direction, so every valid
+    # subaperture's raw Z-tilt must be (a, b): without the renormalisation those
+    # subapertures read (a, b) times the kept directions' weight sum (< 1).
+    a, b = 0.7, -0.2
+    model = LoopModel(_config(wfs_altitude=3000.0, field_samples=2, n_sub=6,
+                              obscuration=0.3, image_formation=False))
+    w = model.wfss[0]
+    # the case under test exists (a direction dropped for some subapertures, not all)
+    usable = np.array([w._plane_fit_rows(w._lit(w._points, th))[2] for th in w.samples])
+    assert (usable.any(axis=0) & ~usable.all(axis=0)).sum() >= 1
+    n = w.n_valid_subapertures
+    for p, plane in enumerate(model.geometry.planes):
+        x = (np.arange(plane.n) - (plane.n - 1) / 2.0) * model.geometry.dx
+        xx, yy = np.meshgrid(x, x, indexing="xy")
+        # the linear phase on one plane at a time (the other plane flat)
+        ztilt = w.operators[p] @ (a * xx + b * yy).ravel()
+        np.testing.assert_allclose(ztilt[:n], a, rtol=1e-9, err_msg=f"plane {p}")
+        np.testing.assert_allclose(ztilt[n:], b, rtol=1e-9, err_msg=f"plane {p}")
 
 
 def test_a_zonal_mirrors_interaction_is_its_poke_matrix():
