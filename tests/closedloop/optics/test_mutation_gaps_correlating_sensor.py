@@ -43,6 +43,9 @@ References, from outside the module under test:
 - the least-squares plane fit of a linear phase ``a x + b y`` is ``(a, b)`` exactly, on
   any lit part of a subaperture, so a contrast-weighted mean of the sub-directions' fits
   (weights renormalised over the directions kept, module docstring) is ``(a, b)`` too;
+- a sub-direction lighting less than half of a subaperture is left out of its mean
+  (module docstring): test_correlating_sensor.py's independent lstsq Z-tilts, on a 3-km
+  WFS where four valid subapertures see such a sliver (6-15 % lit) from one direction;
 - the project's rule for bad input: the message names the argument, the rule, the value.
 """
 
@@ -69,6 +72,8 @@ from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics import correlating_sensor
 from closedloop.optics.photon_budget import PhotonBudget
+
+from .test_correlating_sensor import _independent_ztilts
 
 
 def _config(*, wfs_altitude=0.0, field_samples=1, image_formation=True, r0_wavelength=1e-6,
@@ -409,6 +414,23 @@ def test_linear_phase_gives_its_gradient_where_a_direction_is_left_out():
         ztilt = w.operators[p] @ (a * xx + b * yy).ravel()
         np.testing.assert_allclose(ztilt[:n], a, rtol=1e-9, err_msg=f"plane {p}")
         np.testing.assert_allclose(ztilt[n:], b, rtol=1e-9, err_msg=f"plane {p}")
+
+
+def test_a_thin_lit_sliver_is_left_out_of_the_mean():
+    # a 3-km WFS over 16" with 2 x 2 field samples: four valid subapertures are lit by
+    # 6-15 % from one direction (>= 3 samples, a well-posed fit), which the module
+    # docstring leaves out of their mean; the independent lstsq reference drops every
+    # direction lighting less than half of a subaperture
+    model = LoopModel(_config(wfs_altitude=3000.0, field_samples=2, n_sub=6,
+                              image_formation=False))
+    w = model.wfss[0]
+    frac = np.array([w._lit(w._points, th).mean(axis=1) for th in w.samples])
+    assert ((frac > 0.05) & (frac < 0.5)).any(axis=0).sum() >= 1     # the case exists
+    rng = np.random.default_rng(5)
+    maps = [rng.standard_normal((p.n, p.n)) for p in model.geometry.planes]
+    raw = _independent_ztilts(w, maps)
+    np.testing.assert_allclose(w._operate(maps), raw, rtol=1e-9,
+                               atol=1e-10 * np.abs(raw).max())
 
 
 def test_a_zonal_mirrors_interaction_is_its_poke_matrix():
