@@ -46,7 +46,8 @@ References, from outside the module under test:
 - a sub-direction lighting less than half of a subaperture is left out of its mean
   (module docstring): test_correlating_sensor.py's independent lstsq Z-tilts, on a 3-km
   WFS where four valid subapertures see such a sliver (6-15 % lit) from one direction;
-- the project's rule for bad input: the message names the argument, the rule, the value.
+- the project's rule for bad input: the message names the argument, the rule, the value
+  (here also: fewer than 2 valid subapertures, from the annulus's area per subaperture).
 """
 
 from __future__ import annotations
@@ -431,6 +432,23 @@ def test_a_thin_lit_sliver_is_left_out_of_the_mean():
     raw = _independent_ztilts(w, maps)
     np.testing.assert_allclose(w._operate(maps), raw, rtol=1e-9,
                                atol=1e-10 * np.abs(raw).max())
+
+
+def test_too_few_valid_subapertures_are_refused_with_the_whole_message():
+    # "a correlating SH needs at least 2" valid subapertures (the slopes are relative to
+    # their mean): 2 x 2 subapertures of a 60 %-obscured pupil are lit by at most
+    # (pi / 16) (1 - 0.6^2) / (1 / 4) = 50 % each, less the sqrt(2) dx edge margin, so
+    # none is valid (2 modes: the config's own mode count rule lets it through)
+    cfg = _config(image_formation=False)
+    cfg = SimulationConfig(
+        name="test", telescope=TelescopeConfig(diameter=1.0, n_pixels=32, obscuration=0.6),
+        layers=cfg.layers, dms=(DMConfig(altitude=0.0, n_modes=2),),
+        wfss=(dataclasses.replace(cfg.wfss[0], n_subapertures=2),), loop=cfg.loop,
+        field=cfg.field, wavelength=cfg.wavelength, r0_wavelength=cfg.r0_wavelength)
+    with pytest.raises(ValueError) as exc:
+        LoopModel(cfg)
+    assert str(exc.value) == ("`wfss[0].n_subapertures` = 2 leaves 0 valid subaperture(s); "
+                              "a correlating SH needs at least 2.")
 
 
 def test_a_zonal_mirrors_interaction_is_its_poke_matrix():
