@@ -34,7 +34,20 @@ References, from outside the module under test:
   sub-direction for the imaging mode (equal to the built imaging operators' stored
   entries scaled from ``n_valid`` to ``pi n^2 / 4``), and the imaging time
   ``_SECONDS_PER_IMAGE_OP x images x support^2 x PSF samples`` (its documented model);
-- the project's rule for bad input: the message names the argument, the rule, the value.
+- the detector's noise law: each pixel's variance is its mean plus the read noise's square
+  (Poisson photon noise plus independent Gaussian read noise, as
+  test_correlating.py::test_read_noise_dominated_detector_variance checks on the images);
+  a shift estimate's variance is the pixel variance over the squared image gradient
+  (Michau et al. 1992), so on one scene scaled to ``m`` e- per pixel it goes as
+  ``(m + RON^2) / m^2`` (``RON`` = :class:`PhotonBudget`'s documented 2 e-);
+- the least-squares plane fit of a linear phase ``a x + b y`` is ``(a, b)`` exactly, on
+  any lit part of a subaperture, so a contrast-weighted mean of the sub-directions' fits
+  (weights renormalised over the directions kept, module docstring) is ``(a, b)`` too;
+- a sub-direction lighting less than half of a subaperture is left out of its mean
+  (module docstring): test_correlating_sensor.py's independent lstsq Z-tilts, on a 3-km
+  WFS where four valid subapertures see such a sliver (6-15 % lit) from one direction;
+- the project's rule for bad input: the message names the argument, the rule, the value
+  (here also: fewer than 2 valid subapertures, from the annulus's area per subaperture).
 """
 
 from __future__ import annotations
@@ -59,6 +72,9 @@ from closedloop.config import (
 from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics import correlating_sensor
+from closedloop.optics.photon_budget import PhotonBudget
+
+from .test_correlating_sensor import _independent_ztilts
 
 
 def _config(*, wfs_altitude=0.0, field_samples=1, image_formation=True, r0_wavelength=1e-6,
@@ -304,6 +320,26 @@ def test_tracker_sees_the_configured_signal():
     np.testing.assert_allclose(noise[1000.0] / noise[4000.0], 2.0, rtol=0.05)
 
 
+def test_read_noise_dominated_slope_and_tracker_noise():
+    # at 1000 e- per pixel the read noise's 4 e-^2 is 0.4 % of the photon variance, below
+    # every other test's tolerance; at 2 e- it is twice the photon variance, so the noise
+    # laws of the slopes and of the tracker must grow from 1000 e- to 2 e- by the
+    # detector's (m + RON^2) / m^2 (Poisson plus read noise): 1.5e3 x. RON^3 (8 e-^2)
+    # would make it 2.5e3 x; a subtracted RON^2 a negative pixel variance (refused); a
+    # 10 % wrong RON^2 moves it by 6.7 %. The scene's contrast (4 %) makes the
+    # gradient-weighted mean of the pixels differ from m by < 0.5 %.
+    ron2 = PhotonBudget().read_noise ** 2
+    var = {}
+    for signal in (1000.0, 2.0):
+        cfg = _config(image_formation=False)
+        cfg = cfg.replace(wfss=(dataclasses.replace(cfg.wfss[0], signal=signal),))
+        w = LoopModel(cfg).wfss[0]
+        var[signal] = (w.slope_noise_pixels ** 2, w.tracker_noise_pixels ** 2)
+    law = ((2.0 + ron2) / 2.0 ** 2) / ((1000.0 + ron2) / 1000.0 ** 2)
+    np.testing.assert_allclose(var[2.0][0] / var[1000.0][0], law, rtol=0.02)
+    np.testing.assert_allclose(var[2.0][1] / var[1000.0][1], law, rtol=0.02)
+
+
 @pytest.mark.parametrize("n_sub, obsc, share", [(4, 0.2, 0.95), (6, 0.3, 0.99)])
 def test_reference_is_the_best_lit_subaperture_where_none_is_lit_whole(n_sub, obsc, share):
     # a 1 m pupil on 32 pixels: no subaperture is lit whole (pixel edges) at these
@@ -355,6 +391,64 @@ def test_lit_samples_are_the_annulus_seen_from_each_direction(wfs_altitude):
         clear = (np.abs(r - outer) > 1e-9) & (np.abs(r - inner) > 1e-9)
         assert lit.any() and (~lit).any()
         np.testing.assert_array_equal((amp[t] > 0)[clear], lit[clear], err_msg=str(theta))
+
+
+def test_linear_phase_gives_its_gradient_where_a_direction_is_left_out():
+    # a 3-km WFS over 16" with 2 x 2 field samples and a 30 %-obscured pupil: at the
+    # obscuration's edge some valid subapertures are lit by less than half from one
+    # direction, which is left out of their mean and the others' weights renormalised.
+    # A linear phase's Z-tilt is its gradient from every direction, so every valid
+    # subaperture's raw Z-tilt must be (a, b): without the renormalisation those
+    # subapertures read (a, b) times the kept directions' weight sum (< 1).
+    a, b = 0.7, -0.2
+    model = LoopModel(_config(wfs_altitude=3000.0, field_samples=2, n_sub=6,
+                              obscuration=0.3, image_formation=False))
+    w = model.wfss[0]
+    # the case under test exists (a direction dropped for some subapertures, not all)
+    usable = np.array([w._plane_fit_rows(w._lit(w._points, th))[2] for th in w.samples])
+    assert (usable.any(axis=0) & ~usable.all(axis=0)).sum() >= 1
+    n = w.n_valid_subapertures
+    for p, plane in enumerate(model.geometry.planes):
+        x = (np.arange(plane.n) - (plane.n - 1) / 2.0) * model.geometry.dx
+        xx, yy = np.meshgrid(x, x, indexing="xy")
+        # the linear phase on one plane at a time (the other plane flat)
+        ztilt = w.operators[p] @ (a * xx + b * yy).ravel()
+        np.testing.assert_allclose(ztilt[:n], a, rtol=1e-9, err_msg=f"plane {p}")
+        np.testing.assert_allclose(ztilt[n:], b, rtol=1e-9, err_msg=f"plane {p}")
+
+
+def test_a_thin_lit_sliver_is_left_out_of_the_mean():
+    # a 3-km WFS over 16" with 2 x 2 field samples: four valid subapertures are lit by
+    # 6-15 % from one direction (>= 3 samples, a well-posed fit), which the module
+    # docstring leaves out of their mean; the independent lstsq reference drops every
+    # direction lighting less than half of a subaperture
+    model = LoopModel(_config(wfs_altitude=3000.0, field_samples=2, n_sub=6,
+                              image_formation=False))
+    w = model.wfss[0]
+    frac = np.array([w._lit(w._points, th).mean(axis=1) for th in w.samples])
+    assert ((frac > 0.05) & (frac < 0.5)).any(axis=0).sum() >= 1     # the case exists
+    rng = np.random.default_rng(5)
+    maps = [rng.standard_normal((p.n, p.n)) for p in model.geometry.planes]
+    raw = _independent_ztilts(w, maps)
+    np.testing.assert_allclose(w._operate(maps), raw, rtol=1e-9,
+                               atol=1e-10 * np.abs(raw).max())
+
+
+def test_too_few_valid_subapertures_are_refused_with_the_whole_message():
+    # "a correlating SH needs at least 2" valid subapertures (the slopes are relative to
+    # their mean): 2 x 2 subapertures of a 60 %-obscured pupil are lit by at most
+    # (pi / 16) (1 - 0.6^2) / (1 / 4) = 50 % each, less the sqrt(2) dx edge margin, so
+    # none is valid (2 modes: the config's own mode count rule lets it through)
+    cfg = _config(image_formation=False)
+    cfg = SimulationConfig(
+        name="test", telescope=TelescopeConfig(diameter=1.0, n_pixels=32, obscuration=0.6),
+        layers=cfg.layers, dms=(DMConfig(altitude=0.0, n_modes=2),),
+        wfss=(dataclasses.replace(cfg.wfss[0], n_subapertures=2),), loop=cfg.loop,
+        field=cfg.field, wavelength=cfg.wavelength, r0_wavelength=cfg.r0_wavelength)
+    with pytest.raises(ValueError) as exc:
+        LoopModel(cfg)
+    assert str(exc.value) == ("`wfss[0].n_subapertures` = 2 leaves 0 valid subaperture(s); "
+                              "a correlating SH needs at least 2.")
 
 
 def test_a_zonal_mirrors_interaction_is_its_poke_matrix():
