@@ -189,8 +189,8 @@ def test_plot_and_report_take_a_suffix(result, tmp_path):
 
 
 def test_compute_refuses_a_short_log():
-    log = ModalLog(np.zeros((7019, 2)), rate=2000.0, modes=[2, 3], units="rad")
-    with pytest.raises(ValueError, match="at least 7020 frames"):
+    log = ModalLog(np.zeros((7040, 2)), rate=2000.0, modes=[2, 3], units="rad")
+    with pytest.raises(ValueError, match="at least 7041 frames"):
         fig5_forecast.compute(log)
 
 
