@@ -619,20 +619,24 @@ def order_modes(
         order = _pca_order(a) if method == "pca" else np.argsort(-mean_square, kind="stable")
         return result(order, scores=mean_square)
 
+    def without(gone: np.ndarray) -> OrderingResult:
+        # the same ordering of the other modes, the ``gone`` ones (bool (M,)) appended last
+        live = np.flatnonzero(~gone)
+        sub = order_modes(
+            a[:, live], BasisView(matrix=view.matrix[:, live],
+                                  labels=tuple(view.labels[i] for i in live), obj=None),
+        method, estimator=estimator, estimator_options=options, pooled=pooled,
+        frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
+        confidence_level=confidence_level, block_length=block_length, progress=progress,
+        search=search)
+        return _with_dead_modes(sub, live, np.flatnonzero(gone), view.labels)
+
     dead = _constant_modes(a if frame is None else a[frame:frame + 1], view.matrix)
     if dead.any() and not dead.all():
         # a dead mode (all zeros) or a constant piston makes the other modes' sum an
         # exact copy of the wavefront up to a constant: infinite MI, refused by the
         # estimators in their own words (`x`, `y`); ordered without them, appended last
-        live, gone = np.flatnonzero(~dead), np.flatnonzero(dead)
-        sub = order_modes(
-            a[:, live], BasisView(matrix=view.matrix[:, live],
-                                  labels=tuple(view.labels[i] for i in live), obj=None),
-            method, estimator=estimator, estimator_options=options, pooled=pooled,
-            frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
-            confidence_level=confidence_level, block_length=block_length, progress=progress,
-            search=search)
-        return _with_dead_modes(sub, live, gone, view.labels)
+        return without(dead)
     est, est_name = _make_estimator(estimator, options)
     frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
     contrib = _contributions(a, view.matrix, frames, pixels)
@@ -652,15 +656,7 @@ def order_modes(
         tiny = _numerically_dead(contrib)
         if not tiny.any():
             raise
-    live, gone = np.flatnonzero(~tiny), np.flatnonzero(tiny)
-    sub = order_modes(
-        a[:, live], BasisView(matrix=view.matrix[:, live],
-                              labels=tuple(view.labels[i] for i in live), obj=None),
-        method, estimator=estimator, estimator_options=options, pooled=pooled,
-        frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
-        confidence_level=confidence_level, block_length=block_length, progress=progress,
-        search=search)
-    return _with_dead_modes(sub, live, gone, view.labels)
+    return without(tiny)
 
 
 def _scored(est: Any, contrib: np.ndarray, a: np.ndarray, view: Any, method: str,
