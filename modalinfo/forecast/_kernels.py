@@ -776,20 +776,7 @@ def css_newton(xc, phi, theta, margin, safe, burn, n_iter, lambdas, tols):
             ma[j + 1] = theta[j]
         css_newton_terms(e, ar, ma, start, v, w, u, y, z_ar, z_ma[0], z_ma[1], z_ma[2],
                          toep, gram, grad, cross)
-        for a in range(k):
-            for b in range(k):
-                hess[a, b] = gram[a, b]
-        for i in range(p):
-            for j in range(q):
-                c = cross[0, i + j + 2]
-                hess[i, p + j] += c
-                hess[p + j, i] += c
-        for j in range(q):
-            for jj in range(j, q):
-                c = 2.0 * cross[1, j + jj + 2]
-                hess[p + j, p + jj] += c
-                if jj != j:
-                    hess[p + jj, p + j] += c
+        _newton_hessian(gram, cross, p, q, hess)
         accepted = False
         sse_new = sse
         predicted = 0.0
