@@ -16,7 +16,9 @@ fitting (with generalised fitting and anisoplanatism)
     outside the DMs' sensed discs.
 aliasing
     The same projection done by the real Shack-Hartmann sensors (noise-free) minus the
-    ideal one: what the high orders the SH cannot resolve put into the low ones.
+    ideal one: what the high orders the SH cannot resolve put into the low ones. It is
+    a difference of two residual variances, not a variance, and can be negative (see
+    "The sign of the aliasing term" below).
 temporal
     The servo lag: a copy of the controller (same gain, delay, predictor) driven by the
     ideal sensors' exposure-averaged modal turbulence, and the difference between the
@@ -27,6 +29,22 @@ noise
     ``noise_propagation(g, delay, exposure) R N R^T`` (:mod:`modalinfo.servo`), seen in
     each direction by a Monte-Carlo average of 64 draws. With a predictor the loop
     filters noise differently; the integrator's factor is used (a stated approximation).
+
+**The sign of the aliasing term.** In direction ``d``, with ``r = t - A c_id`` the
+fitting residual and ``e = A (c_id - c_sh)`` the difference of the two corrections, the
+aliasing term is ``var_d(e) + 2 cov_d(r, e)``. Where the ideal reconstruction is the
+least-squares fit of the phase seen in ``d`` (one ground mirror under ground
+turbulence) ``r`` is orthogonal to every mirror shape, the cross term vanishes and the
+term is ``var_d(e) >= 0`` (``tests/closedloop/test_budget_sign.py``). In MCAO the ideal
+reconstruction is a compromise over the WFS fields and the cross term is free: where
+the SHs' reconstruction beats the ideal sensors' one, the term is negative. On
+``mcao3`` the ideal sensors' truncated reconstructor keeps 215 whitened directions
+against the SHs' 100; the extra tomographic combinations fit the field-averaged data
+and add variance away from the axis (in the corners of its 120" field the "fitting"
+exceeds the uncorrected turbulence), so the field mean of the aliasing is large and
+negative (docs/CLOSEDLOOP.md, "Negative budget terms"). ``fitting + aliasing``, the SHs'
+noise-free reconstruction residual, is a variance in every direction; read it off axis.
+:func:`sign_note` says so wherever the budget is printed.
 
 **The ideal sensors at 4-m size** (:class:`IdealSensing`). An ideal sensor measures every
 lit pixel of its mirror's disc: ~272,000 measurements on the full-size ``est-mcao``, whose
@@ -64,9 +82,35 @@ from closedloop.result import ErrorBudget  # the budget's numbers live with the 
 from closedloop.state import LoopState
 from modalinfo.servo import noise_propagation
 
-__all__ = ["ErrorBudget", "BudgetProbe", "IdealSensing", "ideal_sensing", "streams_ideal"]
+__all__ = ["ErrorBudget", "BudgetProbe", "IdealSensing", "ideal_sensing", "sign_note",
+           "streams_ideal"]
 
 _N_NOISE_DRAWS = 64
+
+
+def sign_note(budget: ErrorBudget) -> str:
+    """One sentence on the budget's negative terms, or ``""`` if every term is >= 0.
+
+    Only the aliasing term can be negative (module docstring, "The sign of the aliasing
+    term"); the sentence says where, what it means and which sum is a variance, with
+    ``fitting + aliasing`` on axis / over the field [rad^2 at the science wavelength].
+    """
+    parts = []
+    for name in ("fitting", "aliasing", "temporal", "noise"):
+        values = np.asarray(getattr(budget, name), dtype=float)
+        negative = values < 0.0
+        if np.any(negative):
+            parts.append(f"{name} < 0 in {int(negative.sum())} of {values.size} directions "
+                         f"(min {values.min():.3g})")
+    if not parts:
+        return ""
+    axis = int(np.argmin(np.hypot(*np.asarray(budget.directions, dtype=float).T)))
+    sh = np.asarray(budget.fitting, dtype=float) + np.asarray(budget.aliasing, dtype=float)
+    return (f"{'; '.join(parts)}: aliasing is the SH reconstruction's residual less the ideal "
+            f"sensors', negative where the SH's does better (off axis, outside the WFS "
+            f"fields); fitting + aliasing, the SH's noise-free reconstruction residual, is a "
+            f"variance: {sh[axis]:.3g} / {sh.mean():.3g} (docs/CLOSEDLOOP.md, \"Negative "
+            f"budget terms\")")
 
 
 def streams_ideal(model: LoopModel) -> bool:

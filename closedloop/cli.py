@@ -157,15 +157,18 @@ def _budget_line(budget, wavelength: float) -> str:
     """One line: each budget term on axis / over the field, and the measured residual."""
     import numpy as np
 
+    from closedloop.budget import sign_note
+
     axis = int(np.argmin(np.hypot(*np.asarray(budget.directions).T)))
     x, y = budget.directions[axis]
     terms = [(name, getattr(budget, name)) for name in
              ("fitting", "aliasing", "temporal", "noise")]
     terms += [("sum", budget.total), ("measured", budget.measured)]
     values = ", ".join(f"{name} {v[axis]:.3g} / {np.mean(v):.3g}" for name, v in terms)
+    note = sign_note(budget)  # a negative term is explained on the same line (issue 26)
     return (f"error budget [rad^2 at {wavelength * 1e9:.0f} nm], at ({x:g}\", {y:g}\") / "
             f"mean over {len(budget.directions)} directions, {len(budget.frames)} frames "
-            f"after closure: {values}")
+            f"after closure: {values}" + (f"; note: {note}" if note else ""))
 
 
 # --------------------------------------------------------------------- subcommands
