@@ -108,9 +108,9 @@ def sign_note(budget: ErrorBudget) -> str:
     sh = np.asarray(budget.fitting, dtype=float) + np.asarray(budget.aliasing, dtype=float)
     return (f"{'; '.join(parts)}: aliasing is the SH reconstruction's residual less the ideal "
             f"sensors', negative where the SH's does better (in MCAO, mostly off axis and "
-            f"outside the WFS fields); fitting + aliasing, the SH's noise-free reconstruction residual, is a "
-            f"variance: {sh[axis]:.3g} / {sh.mean():.3g} (docs/CLOSEDLOOP.md, \"Negative "
-            f"budget terms\")")
+            f"outside the WFS fields); fitting + aliasing, the SH's noise-free reconstruction "
+            f"residual, is a variance: {sh[axis]:.3g} / {sh.mean():.3g} "
+            f"(docs/CLOSEDLOOP.md, \"Negative budget terms\")")
 
 
 def streams_ideal(model: LoopModel) -> bool:

@@ -27,9 +27,10 @@ References (outside the budget's code):
   that explanation against three references independent of the budget: (1) in a corner
   of the field (85" off axis, outside every WFS field) the ideal correction leaves more
   than the uncorrected turbulence (the open-loop variance in that direction, on average
-  over the screens), so the "fitting" there is not a fitting error; (2) the least-squares best fit of that
-  direction's phase on the mirrors' shapes seen from it (``numpy.linalg.lstsq``) is a
-  lower bound that both reconstructions respect, the Shack-Hartmanns' nearer to it; (3)
+  over the screens), so the "fitting" there is not a fitting error; (2) the
+  least-squares best fit of that direction's phase on the mirrors' shapes seen from it
+  (``numpy.linalg.lstsq``) is a lower bound that both reconstructions respect, the
+  Shack-Hartmanns' nearer to it; (3)
   on axis, where the fields overlap, the aliasing term is >= 0 within its Monte Carlo
   error (mean +- 3 standard errors over the screens), while in the corner it is
   negative by more than 3 standard errors. docs/CLOSEDLOOP.md, "Negative budget terms",
