@@ -227,7 +227,8 @@ def test_mcao3_negative_aliasing_is_the_ideal_reconstruction_adding_variance(mca
 def _budget(aliasing) -> ErrorBudget:
     n = len(aliasing)
     ones = np.ones(n)
-    return ErrorBudget(directions=np.zeros((n, 2)), fitting=4.0 * ones,
+    directions = np.column_stack([10.0 * ((np.arange(n) + 2) % n), np.zeros(n)])
+    return ErrorBudget(directions=directions, fitting=4.0 * ones,
                        aliasing=np.asarray(aliasing, float), temporal=0.1 * ones,
                        noise=0.01 * ones, measured=3.0 * ones, frames=np.arange(2))
 
@@ -239,4 +240,7 @@ def test_the_note_names_a_negative_term_and_says_what_it_means():
     assert "min -3" in note
     # what a user can rely on: fitting + aliasing, the SHs' reconstruction residual
     assert "fitting + aliasing" in note and "docs/CLOSEDLOOP.md" in note
+    # its value on axis (the direction (0, 0) is the second) / over the field, by hand:
+    # 4 - 1 = 3 and (4.5 + 3 + 1) / 3 = 2.83
+    assert "is a variance: 3 / 2.83 " in note
     assert "\n" not in note
