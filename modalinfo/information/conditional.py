@@ -102,8 +102,9 @@ still with the warning):
   and the four entropies stop cancelling. The rule admits d <= 6 at n = 1e4, d <= 4
   at n = 2e3 (2 x 2 groups at n >= 900).
 
-Resolution rule (histogram, the default method; :func:`conditional_mutual_information`
-only). Where the bias rule holds, the rule-chosen bins can still be too coarse:
+Resolution rule (histogram, the default method until 2026-11-29;
+:func:`conditional_mutual_information` only). Where the bias rule holds, the rule-chosen
+bins can still be too coarse:
 equiprobable bins lose a share of the dependence that depends on their number k per
 axis alone, for a Gaussian pair at rho = 0.8 (0.511 nats) 31, 24, 19, 16, 14, 12, 10 %
 at k = 4 ... 10 (exact cell probabilities; 27 ... 9 % at rho = 0.5), and the default
@@ -144,7 +145,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice
-from modalinfo.information.api import MIN_SAMPLES, UNITS
+from modalinfo.information.api import DEFAULT_METHOD, MIN_SAMPLES, UNITS
 from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import (
     MIN_BINS,
@@ -309,8 +310,9 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     return estimate
 
 
-def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str = "histogram",
-                                   units: str = "nats", **options: Any) -> float:
+def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
+                                   method: str = DEFAULT_METHOD, units: str = "nats",
+                                   **options: Any) -> float:
     """Conditional mutual information I(X; Y | Z) of (multivariate) samples.
 
     Parameters
@@ -320,8 +322,10 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str
         Any units (CMI is dimensionless).
     z : array_like, shape (n,) or (n, d), or None
         Conditioning variables; ``None`` gives the MI of the groups x and y.
-    method : {"histogram", "kde", "ksg", "gaussian"} or a registered name with a ``cmi``
-        Estimator (see the module notes; :data:`CMI_METHODS`). Options: ``"histogram"``: ``bins``
+    method : {"ksg", "histogram", "kde", "gaussian"} or a registered name with a ``cmi``
+        Estimator (see the module notes; :data:`CMI_METHODS`). Default ``"ksg"``
+        (``"histogram"`` until 2026-11-29; module notes, "Default"). Options:
+        ``"histogram"``: ``bins``
         ("auto" or an int >= 2 per axis), ``binning`` ("quantile" or "uniform"),
         ``bias_correction`` ("miller-madow" or "none"); ``"kde"``: ``bandwidth``
         ("scott", "silverman" or a float factor), ``copula`` (True); ``"ksg"``: ``k``
