@@ -107,7 +107,10 @@ still with the warning):
   nats, n = 1e4, k = 3; benchmarks/RESULTS.md, "The KSG defaults"): K = 1, 2, 5
   (d = 3, 4, 7: the KSG itself) within 0.035 nats, taking 0.2, 0.4, 2 s; K = 10, 20
   (d = 12, 22: balls 0.51, 0.69) switched to the Gaussian copula, -0.001 and -0.008
-  in ~0.05 s, where the KSG itself (``fallback="none"``) is biased by -0.08 and -0.17.
+  in ~0.05 s, where the KSG itself (``fallback="none"``) gave -0.10 and -0.17 in 13 and
+  55 s (the cost model, fitted at d <= 7, says 4 and 20 s there: the ball rule binds
+  first). Two rho = 0.6 pairs as 2 x 2 groups at n = 1e6 (KSG estimated ~100 s) are
+  switched: 1.4 s, 0.4458 nats (exact 0.4463).
 - ``"kde"``: the leave-one-out entropies have a smoothing bias O(h^2) and a
   variance bias O(1 / (n h^d)) (Hall & Morton, Ann. Inst. Stat. Math. 45, 69, 1993;
   Beirlant et al. 1997, sec. 3), and the mean number of samples under one kernel's
