@@ -114,13 +114,13 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         misses the 2 x 2 Student-t groups by -0.072, the histogram four pairs by up to
         -0.207; benchmarks/RESULTS.md, "The KSG defaults"); Czyz et al. find KSG
         (Kraskov et al. 2004) the strongest classical estimator in low dimension. It
-        costs ~0.06 s per call at n = 1e4 (kde ~0.008 s, histogram ~0.001 s); it is
-        refused above :data:`~modalinfo.information.ksg.KSG_MAX_SAMPLES` samples.
-        The paper's orderings and figures name their estimator (the histogram) and
-        do not use this default.
+        costs ~0.09 s of CPU per call at n = 1e4 (kde ~0.011 s, histogram ~0.001 s),
+        ~1.3 s at 1e5, ~22 s at 1e6, and is refused above
+        :data:`~modalinfo.information.ksg.KSG_MAX_SAMPLES` = 10^6 samples (ksg module
+        notes, "Size rule"). The paper's orderings and figures name their estimator
+        (the histogram) and do not use this default.
         Every estimator's default path is rank-based: MI is unchanged by a monotone map
-        of each variable
-        (Kraskov et al. 2004), so each estimator works on the ranks
+        of each variable (Kraskov et al. 2004), so each estimator works on the ranks
         (normal scores Phi^-1(rank / (n + 1)), :func:`~modalinfo.information.copula_scores`, or
         equiprobable bins) and one glitch or a heavy tail moves the estimate by about
         its share of the sample (one sample at 1e6 in a rho = 0.6 pair of 20,000:
@@ -190,6 +190,8 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         units, ``y = -x``, ``y = exp(x)``) and both are continuous (no repeated
         values): their MI is infinite (the pair has no joint density), which no
         estimator returns (``mutual_information(x, x)`` used to give 19 nats).
+        With ``method="ksg"`` (the default), above 10^6 samples or where its estimated
+        memory exceeds what is available, before any work (ksg module notes).
     TypeError
         If an option is unknown for the method or has the wrong type.
     """

@@ -147,8 +147,8 @@ def conditional_mutual_information_test(
         Default ``"ksg"``, the default of :func:`conditional_mutual_information`
         (``"histogram"`` until 2026-11-29; the histogram's resolution switch does not
         apply here, so its statistic may differ from that point estimate). Cost: one
-        estimate per surrogate, ~0.25 s for 2 x 2 groups at n = 1e4 (199 surrogates:
-        ~50 s of CPU; the histogram, ~2 ms, is the fast choice where only the p-value
+        estimate per surrogate, ~0.28 s for 2 x 2 groups at n = 1e4 (199 surrogates:
+        ~1 min of CPU; the histogram, ~2 ms, is the fast choice where only the p-value
         matters).
     units : {"nats", "bits"}
         Units of the statistic.
