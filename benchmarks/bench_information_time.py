@@ -109,8 +109,9 @@ def bench_cmi(n, repeats, dz=1, ksg=True, im_ksg=True):
     x, y, z = X[:, 0], X[:, 1], X[:, 2:]
     truth = f", true {true_cmi():.4f} nats" if dz == 1 else ""
     print(f"CMI, {2 + dz}-variate normal, z with {dz} column(s), n = {n}{truth}")
-    conditional_mutual_information(x[:1000], y[:1000], z[:1000])  # compile
-    t_ours, w_ours, v_ours = median_time(lambda: conditional_mutual_information(x, y, z), repeats)
+    conditional_mutual_information(x[:1000], y[:1000], z[:1000], method="histogram")  # compile
+    t_ours, w_ours, v_ours = median_time(
+        lambda: conditional_mutual_information(x, y, z, method="histogram"), repeats)
     rows = [("ours histogram (MM, from floats)", t_ours, w_ours, v_ours)]
     try:
         with warnings.catch_warnings():
@@ -179,7 +180,7 @@ def bench_coverage(trials=40, n_resamples=99):
                 k = _bins_per_axis("auto", n, 3)
                 target = float(np.mean([conditional_mutual_information(
                     *transfer_entropy_variables(*var1(2_000_000, a, b, c, 10_000 + s)),
-                    bins=k) for s in range(2)]))
+                    bins=k, method="histogram") for s in range(2)]))
             est, sds, bias, cov, cov_k, cov_bc, cov_basic = [], [], [], 0, 0, 0, 0
             for s in range(trials):
                 x, y, z = transfer_entropy_variables(*var1(n, a, b, c, 500 + s))

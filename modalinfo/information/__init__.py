@@ -4,7 +4,12 @@ Estimators: ``"kde"`` (Gaussian kernel following the data covariance, FFT on a
 grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 2004)
 and ``"gaussian"`` (-0.5 ln(1 - r^2)), each rank-based by default (normal scores or
 equiprobable bins, :func:`copula_scores`), all behind :func:`mutual_information`,
-:func:`entropy` and the reusable :class:`MutualInformation`; bootstrap confidence
+:func:`entropy` and the reusable :class:`MutualInformation`. The default ``method=`` of
+the MI, the conditional MI and their significance tests is ``"ksg"``
+(:data:`~modalinfo.information.api.DEFAULT_METHOD`: the one estimator within 0.05 nats
+or 10 % of the truth on every "Beyond Normal" task of at most 2 x 2 dimensions at
+n = 1e4; benchmarks/RESULTS.md, "The KSG defaults"); the intervals keep
+``"histogram"``; the paper's orderings and figures name theirs. Bootstrap confidence
 intervals and permutation tests for autocorrelated telemetry in
 ``modalinfo.information.uncertainty``. Conditional MI of multivariate samples (same
 four methods) in ``modalinfo.information.conditional``, transfer entropy in

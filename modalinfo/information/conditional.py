@@ -57,6 +57,17 @@ Phi^-1(rank / (n + 1)) (``copula=True``; :mod:`modalinfo.information.copula`), s
 ``"gaussian"`` is the Gaussian-copula CMI of Ince et al. (Hum. Brain Mapp. 38, 1541,
 2017). ``copula=False`` is the former path (standardised values).
 
+Default. ``method="ksg"`` (since 2026-11-29; ``"histogram"`` before): the KSG CMI is
+within max(0.05 nats, 10 %) of the exact value on every 2 x 2 group of the "Beyond
+Normal" tasks (Czyz et al., NeurIPS 2023) at n = 1e4, median of 3 seeds (dense -0.006,
+sparse +0.000, Student-t df 1 -0.018, df 2 -0.008), where the histogram's own bins
+missed by -0.03 to -0.20 (its resolution rule, below, already switched it to the KSG
+there) and the KDE misses Student-t df 1 by -0.072; Czyz et al. find KSG (Kraskov et
+al. 2004) the strongest classical estimator in low dimension. Where its bias or cost
+rule fails (many conditioning columns, minutes per estimate) the policy below switches
+it to the Gaussian-copula CMI with a :class:`BiasRuleWarning`; above 10^6 samples it is
+refused before any work (:mod:`modalinfo.information.ksg`, "Size rule").
+
 Bias rule (:func:`bias_rule`, applied before every estimate). Three estimators have a
 bias that grows with the number of columns d = d_x + d_y + d_z until it swamps the
 answer; where the rule says so, the estimate is switched to the Gaussian-copula CMI
@@ -87,6 +98,19 @@ still with the warning):
   d = 3, 4, 6, 10, 22 gave +0.008, +0.007, -0.016, -0.080, -0.169 nats (ball 0.07 ...
   0.69); on the VAR(1) TE, -5 % to -11 % at balls 0.29-0.38 (d = 6, 8) and -11 % to
   -18 % at 0.44-0.49 (d = 8, 10). The rule admits d <= 8 at n = 1e4, d <= 6 at n = 1e3.
+  Since KSG is the default, the rule also bounds its cost: at most
+  :data:`~modalinfo.information.ksg.KSG_MAX_SECONDS` = 60 s of CPU per estimate, by the
+  model :func:`~modalinfo.information.ksg.ksg_cost` fitted to measured times (2 x 2
+  groups: 0.38 s at n = 1e4, ~8 s at 1e5), which admits 2 x 2 groups up to n ~ 6e5
+  and 8 columns up to ~1.7e5; above it the same policy switches to the Gaussian
+  copula. Measured with the default on x, y given K Gaussian columns (truth 0.247
+  nats, n = 1e4, k = 3; benchmarks/RESULTS.md, "The KSG defaults"): K = 1, 2, 5
+  (d = 3, 4, 7: the KSG itself) within 0.035 nats, taking 0.2, 0.4, 2 s; K = 10, 20
+  (d = 12, 22: balls 0.51, 0.69) switched to the Gaussian copula, -0.001 and -0.008
+  in ~0.05 s, where the KSG itself (``fallback="none"``) gave -0.10 and -0.17 in 13 and
+  55 s (the cost model, fitted at d <= 7, says 4 and 20 s there: the ball rule binds
+  first). Two rho = 0.6 pairs as 2 x 2 groups at n = 1e6 (KSG estimated ~100 s) are
+  switched: 1.4 s, 0.4458 nats (exact 0.4463).
 - ``"kde"``: the leave-one-out entropies have a smoothing bias O(h^2) and a
   variance bias O(1 / (n h^d)) (Hall & Morton, Ann. Inst. Stat. Math. 45, 69, 1993;
   Beirlant et al. 1997, sec. 3), and the mean number of samples under one kernel's
@@ -102,8 +126,9 @@ still with the warning):
   and the four entropies stop cancelling. The rule admits d <= 6 at n = 1e4, d <= 4
   at n = 2e3 (2 x 2 groups at n >= 900).
 
-Resolution rule (histogram, the default method; :func:`conditional_mutual_information`
-only). Where the bias rule holds, the rule-chosen bins can still be too coarse:
+Resolution rule (histogram, the default method until 2026-11-29;
+:func:`conditional_mutual_information` only). Where the bias rule holds, the rule-chosen
+bins can still be too coarse:
 equiprobable bins lose a share of the dependence that depends on their number k per
 axis alone, for a Gaussian pair at rho = 0.8 (0.511 nats) 31, 24, 19, 16, 14, 12, 10 %
 at k = 4 ... 10 (exact cell probabilities; 27 ... 9 % at rho = 0.5), and the default
@@ -144,7 +169,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice
-from modalinfo.information.api import MIN_SAMPLES, UNITS
+from modalinfo.information.api import DEFAULT_METHOD, MIN_SAMPLES, UNITS
 from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import (
     MIN_BINS,
@@ -309,8 +334,9 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     return estimate
 
 
-def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str = "histogram",
-                                   units: str = "nats", **options: Any) -> float:
+def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
+                                   method: str = DEFAULT_METHOD, units: str = "nats",
+                                   **options: Any) -> float:
     """Conditional mutual information I(X; Y | Z) of (multivariate) samples.
 
     Parameters
@@ -320,8 +346,10 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *, method: str
         Any units (CMI is dimensionless).
     z : array_like, shape (n,) or (n, d), or None
         Conditioning variables; ``None`` gives the MI of the groups x and y.
-    method : {"histogram", "kde", "ksg", "gaussian"} or a registered name with a ``cmi``
-        Estimator (see the module notes; :data:`CMI_METHODS`). Options: ``"histogram"``: ``bins``
+    method : {"ksg", "histogram", "kde", "gaussian"} or a registered name with a ``cmi``
+        Estimator (see the module notes; :data:`CMI_METHODS`). Default ``"ksg"``
+        (``"histogram"`` until 2026-11-29; module notes, "Default"). Options:
+        ``"histogram"``: ``bins``
         ("auto" or an int >= 2 per axis), ``binning`` ("quantile" or "uniform"),
         ``bias_correction`` ("miller-madow" or "none"); ``"kde"``: ``bandwidth``
         ("scott", "silverman" or a float factor), ``copula`` (True); ``"ksg"``: ``k``

@@ -49,6 +49,20 @@ at n = 1e4, 3 seeds), so Gao et al.'s mixed estimator is not needed for it.
 The joint k-th neighbour distance and the marginal counts (within
 ``nextafter(eps, 0)``, the same arithmetic as scikit-learn) use
 ``scipy.spatial.cKDTree``, O(n log n); the tree of the fixed x is cached by ``fit``.
+
+Size rule. KSG is the default MI and CMI estimator of the package, and its cost grows
+as n log n with a large constant: measured (``time.process_time``, peak resident
+memory; 2-core machine at load ~3-6, 2026-11-29) for a pair at n = 1e4, 1e5, 1e6:
+0.08, 1.2-1.6, 25 s of CPU and ~200 bytes per sample; 2 x 2 groups at 1e4 and 1e5:
+0.38 and ~6 s (benchmarks/RESULTS.md, "The KSG defaults"). Above
+:data:`KSG_MAX_SAMPLES` = 10^6 samples (a pair at 10^7: ~5 min of CPU and ~2 GB per
+estimate, one estimate per candidate in a search) every KSG estimate is refused
+before any work with a ``ValueError`` naming the rule, its estimated time and memory
+(:func:`ksg_cost`) and the ways out: a faster method (``"histogram"``, ``"kde"``,
+``"gaussian"``) or a subsample, which the caller chooses (a systematic ``x[::m]`` of
+a time series keeps its order; MI is a property of the joint law, which a subsample
+of 10^6 estimates to ~1e-3 nats). It is refused as well where the estimated memory
+exceeds what the machine has available.
 """
 
 from __future__ import annotations
@@ -59,13 +73,14 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import digamma
 
+from modalinfo.common.memory import available_memory_bytes
 from modalinfo.common.validation import check_int
 from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.histogram import discrete_pair_mi, discrete_x_levels
 from modalinfo.information.methods import MIMethod, register_method
 
-__all__ = ["KSGEngine", "ksg_entropy"]
+__all__ = ["KSG_MAX_SAMPLES", "KSGEngine", "check_ksg_size", "ksg_cost", "ksg_entropy"]
 
 
 #: Relative size of the noise that breaks ties (as scikit-learn's ``mutual_info_regression``).
@@ -92,6 +107,54 @@ def _standardised(a: np.ndarray, seed: int, axis: int, copula: bool = False) -> 
         rng = np.random.default_rng((_TIE_SALT, seed, axis))
         u = u + TIE_NOISE * max(1.0, float(np.mean(np.abs(u)))) * rng.standard_normal(u.size)
     return u
+
+
+#: Most samples of one KSG estimate, MI or CMI (module notes, "Size rule").
+KSG_MAX_SAMPLES = 1_000_000
+#: CPU seconds per sample and per log2(n) of a KSG estimate of a pair, and resident
+#: bytes per sample and column (module notes: 25 s at n = 1e6, ~200 bytes per sample).
+_SECONDS_PER_SAMPLE_LOG2 = 1.25e-6
+_BYTES_PER_SAMPLE_COLUMN = 100.0
+#: Estimated memory [bytes] below which the machine's available memory is not read
+#: (every estimate of up to 10^6 samples over 2 columns: ~0.2 GB).
+_MEMORY_CHECKED_ABOVE = 2**28
+
+
+def ksg_cost(n: int, d: int) -> tuple[float, float]:
+    """Estimated (CPU seconds, bytes) of one KSG estimate on n samples over d columns.
+
+    ``1.25e-6 n log2(n) (d / 2)^2`` s and ``100 n d`` bytes, fitted to the times and
+    peak memory of the module notes ("Size rule"; a pair: d = 2; 2 x 2 groups, d = 4:
+    0.31 s estimated against 0.38 s measured at n = 1e4). Good to a factor of ~2:
+    the machine's load moves the times by as much.
+    """
+    seconds = _SECONDS_PER_SAMPLE_LOG2 * n * np.log2(max(n, 2)) * (max(d, 2) / 2.0) ** 2
+    return float(seconds), _BYTES_PER_SAMPLE_COLUMN * n * max(d, 2)
+
+
+def check_ksg_size(n: int, d: int) -> None:
+    """Refuse, before any work, a KSG estimate above the size rule (module notes).
+
+    Raises
+    ------
+    ValueError
+        If ``n > KSG_MAX_SAMPLES`` or the estimated memory exceeds the memory
+        available (:func:`~modalinfo.common.memory.available_memory_bytes`); the
+        message names the rule, n, d, the estimated CPU time and memory and the ways out.
+    """
+    seconds, nbytes = ksg_cost(n, d)
+    if n > KSG_MAX_SAMPLES:
+        rule, m = f"at most {KSG_MAX_SAMPLES:,} samples", -(-n // KSG_MAX_SAMPLES)
+    elif nbytes > _MEMORY_CHECKED_ABOVE and nbytes > (available := available_memory_bytes()):
+        rule = f"memory within the {available / 2**30:.3g} GiB available"
+        m = int(np.ceil(nbytes / available))
+    else:
+        return
+    raise ValueError(
+        f"method='ksg' on n = {n:,} samples over {d} columns would take ~{seconds:.3g} s "
+        f"of CPU and ~{nbytes / 2**30:.2g} GiB per estimate, beyond its size rule "
+        f"({rule}); use method='histogram', 'kde' or 'gaussian', or pass a subsample "
+        f"(x[::m] with m >= {m}).")
 
 
 def _strict_counts(tree: cKDTree, pts: np.ndarray, eps: np.ndarray) -> np.ndarray:
@@ -122,7 +185,11 @@ class KSGEngine:
         self.copula = check_copula(copula)
 
     def fit(self, x: np.ndarray) -> KSGEngine:
-        """Standardise x (tie noise if needed) and build its KD-tree (x validated, 1-D)."""
+        """Standardise x (tie noise if needed) and build its KD-tree (x validated, 1-D).
+
+        Refused above the size rule (:func:`check_ksg_size`) before any work.
+        """
+        check_ksg_size(x.shape[0], 2)
         self._x = _standardised(x, self.seed, 0, self.copula)
         self._tree_x = cKDTree(self._x[:, None])
         self._n = x.shape[0]
@@ -181,6 +248,9 @@ def ksg_entropy(x: np.ndarray, *, k: int = 3) -> float:
 # ----------------------------------------------------------------------------- conditional MI
 #: Largest side (k / n)^(1 / d) of the KSG CMI's neighbour ball on normal scores (bias rule).
 KSG_MAX_BALL = 0.4
+#: Most estimated CPU seconds of one KSG CMI estimate (:func:`ksg_cost`) before the
+#: conditional estimators' policy switches it (conditional module notes, "Bias rule").
+KSG_MAX_SECONDS = 60.0
 
 
 def ksg_cmi(x, y, z, *, k: int = 3, seed: int = 0, copula: bool = True) -> float:
@@ -197,6 +267,7 @@ def ksg_cmi(x, y, z, *, k: int = 3, seed: int = 0, copula: bool = True) -> float
     n = x.shape[0]
     if k >= n:  # as KSGEngine.score
         raise ValueError(f"`k` must be < the number of samples ({n}); got {k}.")
+    check_ksg_size(n, x.shape[1] + y.shape[1] + z.shape[1])
     cols = np.concatenate([x, y, z], axis=1)
     u = np.column_stack([_standardised(cols[:, j], seed, j, copula)
                          for j in range(cols.shape[1])])
@@ -221,7 +292,11 @@ def ksg_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
     """Why the KSG CMI of n samples over d columns is biased beyond use, or None.
 
     The rule (:mod:`modalinfo.information.conditional`, "Bias rule"):
-    ``(k / n)^(1 / d) <= 0.4`` (:data:`KSG_MAX_BALL`), k the option (3 by default).
+    ``(k / n)^(1 / d) <= 0.4`` (:data:`KSG_MAX_BALL`), k the option (3 by default),
+    and, since KSG is the CMI default, its cost: at most :data:`KSG_MAX_SECONDS` = 60 s
+    of CPU estimated by :func:`ksg_cost` (2 x 2 groups up to n ~ 6e5, 8 columns up to
+    n ~ 1.7e5), so that the policy of the conditional estimators switches a call that
+    would take minutes, as it switches one whose bias swamps the estimate.
     """
     k = options.get("k", 3)
     k = min(check_int(k, "k", minimum=1), n - 1)
@@ -230,6 +305,10 @@ def ksg_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
         return (f"KSG CMI over {d} columns with k = {k}, n = {n} has a neighbour ball "
                 f"of side (k / n)^(1/d) = {ball:.3g} on normal scores, above the rule "
                 f"{KSG_MAX_BALL:.3g} (n >= k 2.5^d): its dimension bias swamps the estimate")
+    seconds = ksg_cost(n, d)[0]
+    if seconds > KSG_MAX_SECONDS:
+        return (f"KSG CMI over {d} columns with n = {n} would take ~{seconds:.3g} s of CPU "
+                f"(estimated), above its cost rule of {KSG_MAX_SECONDS:g} s per estimate")
     return None
 
 

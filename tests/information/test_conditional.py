@@ -198,8 +198,8 @@ def test_histogram_equals_an_independent_numpy_reference(n, dx, dz, k):
     ref = numpy_histogram_cmi(x, y.reshape(-1, 1), np.zeros((n, 0)) if z is None else z, k)
     with warnings.catch_warnings():  # the counting is tested, not the bias rule
         warnings.simplefilter("ignore", BiasRuleWarning)
-        got = conditional_mutual_information(x, y, z, bins=k, fallback="none")
-        auto = conditional_mutual_information(x, y, z, fallback="none")
+        got = conditional_mutual_information(x, y, z, bins=k, fallback="none", method="histogram")
+        auto = conditional_mutual_information(x, y, z, fallback="none", method="histogram")
     assert got == pytest.approx(ref, rel=1e-12, abs=1e-14)
     # the default bin rule (module notes): round((6 n)^(1 / (d + 2))), capped at ceil(sqrt n)
     d = dx + 1 + dz
@@ -246,8 +246,9 @@ def test_miller_madow_reduces_the_bias_at_conditional_independence():
         y = z + rng.standard_normal(2000)
         # bins=7: the "auto" number at n = 2000, d = 3, given explicitly (an "auto"
         # grid this coarse switches to the KSG CMI: the resolution rule)
-        plug.append(conditional_mutual_information(x, y, z, bins=7, bias_correction="none"))
-        mm.append(conditional_mutual_information(x, y, z, bins=7))
+        plug.append(conditional_mutual_information(x, y, z, bins=7, bias_correction="none",
+                                                   method="histogram"))
+        mm.append(conditional_mutual_information(x, y, z, bins=7, method="histogram"))
     # plug-in bias ~ (K_xyz - K_xz - K_yz + K_z) / 2n ~ +0.04 nats here; MM removes most
     assert np.mean(plug) > 0.02
     assert abs(np.mean(mm)) < 0.5 * np.mean(plug)
@@ -294,7 +295,7 @@ def binned_estimand(n, seed=10_000):
     bias < 1e-4 and scatter ~2e-4 nats there, far below the intervals' half-widths)."""
     k = min(max(2, round((6.0 * n) ** 0.2)), math.ceil(math.sqrt(n)))  # d = 3 columns
     x, y, z = transfer_entropy_variables(*var1(2_000_000, A, B, C, seed)[:, ::-1].T)
-    return conditional_mutual_information(x, y, z, bins=k)
+    return conditional_mutual_information(x, y, z, bins=k, method="histogram")
 
 
 def histogram_interval_coverage(n, trials, n_resamples, seed0):
@@ -345,14 +346,14 @@ def test_units_bits_and_validation():
     with pytest.raises(TypeError, match="does not accept option"):
         conditional_mutual_information(X[:, 0], X[:, 1], method="gaussian", bins=3)
     with pytest.raises(ValueError, match="`y` must have 500 samples"):
-        conditional_mutual_information(X[:, 0], X[:-1, 1])
+        conditional_mutual_information(X[:, 0], X[:-1, 1], method="histogram")
     with pytest.raises(ValueError, match="`lag` must be an int >= 0"):
         transfer_entropy(X[:, 1], X[:, 0], lag=-1)
     with pytest.raises(ValueError, match="'ksg' cannot be bootstrapped"):
         conditional_mutual_information_ci(X[:, 0], X[:, 1], method="ksg")
     with pytest.raises(ValueError, match="`bins` must be an int >= 2"):
-        conditional_mutual_information(X[:, 0], X[:, 1], bins=1)
-    assert conditional_mutual_information(np.ones(100), X[:100, 1]) == 0.0
+        conditional_mutual_information(X[:, 0], X[:, 1], bins=1, method="histogram")
+    assert conditional_mutual_information(np.ones(100), X[:100, 1], method="histogram") == 0.0
 
 
 @pytest.mark.slow

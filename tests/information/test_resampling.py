@@ -249,7 +249,8 @@ def test_matched_permutation_test_reports_its_rows():
     assert mutual_information_permutation_test(x, y, "gaussian", n_permutations=9,
                                                seed=1).rows == (0, 500)  # shuffle: all
     with pytest.raises(TypeError, match=r"`match_ends` must be a bool; got int"):
-        mutual_information_permutation_test(x, y, permutation="circular", match_ends=1)
+        mutual_information_permutation_test(x, y, permutation="circular", match_ends=1,
+                                            method="histogram")
     # matching never refuses a test that fits in all the rows: 90 shifts fit in 100
     # rows (98 admissible at spacing 1) but not in a window of at most 91; all kept
     xs, ys = x[:100], y[:100]

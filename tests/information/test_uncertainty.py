@@ -75,12 +75,13 @@ def test_permutation_pvalue_definition():
     rng = np.random.default_rng(4)
     x = rng.standard_normal(400)
     y = 0.05 * x + rng.standard_normal(400)
-    res = mutual_information_permutation_test(x, y, n_permutations=49, seed=5)
+    res = mutual_information_permutation_test(x, y, n_permutations=49, seed=5, method="histogram")
     count = np.count_nonzero(res.null_distribution >= res.statistic)
     assert res.pvalue == (1 + count) / 50
     # shifts are multiples of min_shift (issue 28): 18 fit in 400 rows at spacing 20
     strong = mutual_information_permutation_test(x, x + 0.1 * y, n_permutations=9, seed=5,
-                                                 permutation="circular", min_shift=20)
+                                                 permutation="circular", min_shift=20,
+                                                 method="histogram")
     assert strong.pvalue == 1 / 10 and strong.min_shift == 20
     auto = mutual_information_permutation_test(x, y, n_permutations=9, seed=5,
                                                permutation="circular", method="kde",
@@ -89,7 +90,8 @@ def test_permutation_pvalue_definition():
     with pytest.raises(ValueError, match=r"`n_permutations`=49 circular shifts spaced "
                                          r"`min_shift`=20 apart do not fit in 400 rows"):
         mutual_information_permutation_test(x, y, n_permutations=49, seed=5,
-                                            permutation="circular", min_shift=20)
+                                            permutation="circular", min_shift=20,
+                                            method="histogram")
 
 
 def _binomial_bounds(n, p, tail=1e-4):
@@ -105,7 +107,8 @@ def test_permutation_rejection_rate_under_null():
     for seed in range(200):
         rng = np.random.default_rng(10_000 + seed)
         x, y = rng.standard_normal((2, 300))
-        res = mutual_information_permutation_test(x, y, n_permutations=99, seed=seed)
+        res = mutual_information_permutation_test(x, y, n_permutations=99, seed=seed,
+                                                  method="histogram")
         rejections += res.pvalue <= 0.05
     lo, hi = _binomial_bounds(200, 0.05)  # measured 10
     assert lo <= rejections <= hi, (rejections, lo, hi)
@@ -121,7 +124,7 @@ def test_circular_shift_test_holds_level_for_autocorrelated_null():
         x, y = _ar1(0.95, 1000, rng), _ar1(0.95, 1000, rng)
         for perm in counts:
             res = mutual_information_permutation_test(x, y, n_permutations=99, seed=seed,
-                                                      permutation=perm)
+                                                      permutation=perm, method="histogram")
             counts[perm] += res.pvalue <= 0.05
     _, hi = _binomial_bounds(60, 0.05)
     assert counts["shuffle"] > hi, counts  # measured 60 (hi = 11)
