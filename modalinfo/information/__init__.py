@@ -5,15 +5,16 @@ grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 20
 and ``"gaussian"`` (-0.5 ln(1 - r^2)), each rank-based by default (normal scores or
 equiprobable bins, :func:`copula_scores`), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`. The default ``method=`` of
-the MI, the conditional MI and their significance tests is ``"ksg"``
-(:data:`~modalinfo.information.api.DEFAULT_METHOD`: the one estimator within 0.05 nats
+the MI and the conditional MI is ``"ksg"``
+(``api.DEFAULT_METHOD``: the one estimator within 0.05 nats
 or 10 % of the truth on every "Beyond Normal" task of at most 2 x 2 dimensions at
-n = 1e4; benchmarks/RESULTS.md, "The KSG defaults"); the intervals keep
-``"histogram"``; the paper's orderings and figures name theirs. Bootstrap confidence
-intervals and permutation tests for autocorrelated telemetry in
-``modalinfo.information.uncertainty``. Conditional MI of multivariate samples (same
-four methods) in ``modalinfo.information.conditional``, transfer entropy in
-``modalinfo.information.transfer_entropy``, their surrogate tests and block-bootstrap
+n = 1e4; benchmarks/RESULTS.md, "The KSG defaults"); the intervals and the
+significance tests, which run the estimator once per resample, keep ``"histogram"``
+(``api.RESAMPLING_METHOD``); the paper's orderings and
+figures name theirs. Bootstrap confidence intervals and permutation tests for
+autocorrelated telemetry in ``modalinfo.information.uncertainty``. Conditional MI of
+multivariate samples (same four methods) in ``modalinfo.information.conditional``, transfer
+entropy in ``modalinfo.information.transfer_entropy``, their surrogate tests and block-bootstrap
 intervals in ``modalinfo.information.conditional_uncertainty``; greedy selection of a
 forecast's inputs in ``modalinfo.information.selection``; the map of transfer entropy
 between every pair of modes at every lag in ``modalinfo.information.flow``.

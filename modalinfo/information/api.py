@@ -17,8 +17,8 @@ import numpy as np
 from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.methods import METHODS, get_method
 
-__all__ = ["DEFAULT_METHOD", "METHODS", "UNITS", "MutualInformation", "entropy",
-           "mutual_information"]
+__all__ = ["DEFAULT_METHOD", "METHODS", "RESAMPLING_METHOD", "UNITS", "MutualInformation",
+           "entropy", "mutual_information"]
 
 # METHODS: the names accepted by ``method=``, a live view of the registry
 # (modalinfo.information.methods), so a method registered later is accepted too.
@@ -26,12 +26,18 @@ __all__ = ["DEFAULT_METHOD", "METHODS", "UNITS", "MutualInformation", "entropy",
 UNITS = {"nats": 1.0, "bits": 1.0 / math.log(2.0)}
 #: Minimum number of samples of every estimator.
 MIN_SAMPLES = 10
-#: Default ``method=`` of :func:`mutual_information`, :class:`MutualInformation`, the
-#: conditional MI and the significance tests: KSG on normal scores, the one estimator
+#: Default ``method=`` of :func:`mutual_information`, :class:`MutualInformation` and the
+#: conditional MI: KSG on normal scores, the one estimator
 #: within max(0.05 nats, 10 %) of the exact MI on all 23 "Beyond Normal" tasks of at
 #: most 2 x 2 dimensions at n = 1e4 (Czyz et al., NeurIPS 2023, find KSG the strongest
 #: classical estimator in low dimension; benchmarks/RESULTS.md, "The KSG defaults").
 DEFAULT_METHOD = "ksg"
+#: Default ``method=`` of the functions that run the estimator once per resample (the
+#: bootstrap intervals and the permutation / surrogate tests): the histogram, ~70x cheaper
+#: per score than KSG at n = 1e4 (999 KSG permutations: ~1.5 min of CPU, hours at 1e6),
+#: and the null is built with the same estimator, so the test's size does not depend on
+#: its bias; KSG also cannot be bootstrapped (repeated rows).
+RESAMPLING_METHOD = "histogram"
 
 def _check_options(what: str, fn, skip: str, options: dict[str, Any]) -> None:
     """Raise ``TypeError`` naming any option that is not a keyword of ``fn``."""
@@ -107,7 +113,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
     method : {"ksg", "kde", "histogram", "gaussian"} or a registered name
         Estimator (:data:`METHODS`; a method added with
         :func:`~modalinfo.information.register_method` is accepted too). Default
-        ``"ksg"`` (:data:`DEFAULT_METHOD`; ``"kde"`` until 2026-11-29): the only
+        ``"ksg"`` (``DEFAULT_METHOD``; ``"kde"`` until 2026-11-29): the only
         estimator here within max(0.05 nats, 10 %) of the exact MI on every task of at
         most 2 x 2 dimensions of "Beyond Normal" (Czyz et al., NeurIPS 2023) at
         n = 1e4, median of 3 seeds (worst -0.021 nats, uniform noise eps = 0.1; kde
@@ -116,7 +122,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         (Kraskov et al. 2004) the strongest classical estimator in low dimension. It
         costs ~0.09 s of CPU per call at n = 1e4 (kde ~0.011 s, histogram ~0.001 s),
         ~1.3 s at 1e5, ~22 s at 1e6, and is refused above
-        :data:`~modalinfo.information.ksg.KSG_MAX_SAMPLES` = 10^6 samples (ksg module
+        ``ksg.KSG_MAX_SAMPLES`` = 10^6 samples (ksg module
         notes, "Size rule"). The paper's orderings and figures name their estimator
         (the histogram) and do not use this default.
         Every estimator's default path is rank-based: MI is unchanged by a monotone map

@@ -55,7 +55,7 @@ as n log n with a large constant: measured (``time.process_time``, peak resident
 memory; 2-core machine at load ~3-6, 2026-11-29) for a pair at n = 1e4, 1e5, 1e6:
 0.08, 1.2-1.6, 25 s of CPU and ~200 bytes per sample; 2 x 2 groups at 1e4 and 1e5:
 0.38 and ~6 s (benchmarks/RESULTS.md, "The KSG defaults"). Above
-:data:`KSG_MAX_SAMPLES` = 10^6 samples (a pair at 10^7: ~5 min of CPU and ~2 GB per
+``KSG_MAX_SAMPLES`` = 10^6 samples (a pair at 10^7: ~5 min of CPU and ~2 GB per
 estimate, one estimate per candidate in a search) every KSG estimate is refused
 before any work with a ``ValueError`` naming the rule, its estimated time and memory
 (:func:`ksg_cost`) and the ways out: a faster method (``"histogram"``, ``"kde"``,
