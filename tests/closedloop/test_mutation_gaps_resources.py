@@ -336,11 +336,11 @@ def test_the_largest_part_and_its_driver_leave_the_baseline_out():
 def test_describe_writes_the_peak_each_part_largest_first_and_the_time():
     est = res.ResourceEstimate(parts={"baseline": 2e8, "pupil": 3e9, "logs": 5e5},
                              drivers={"baseline": "-", "pupil": "telescope.n_pixels"},
-                             peak_bytes=4e9, n_frames=100, seconds_per_frame=2.5e-3,
+                             peak_bytes=4e9, n_frames=100, seconds_per_frame=9.99e-3,
                              setup_seconds=0.0)
     text = est.describe().split("\n")
     assert text[0] == (f"estimated peak memory {format_size(4e9)} (100 frames, about "
-                       "0.25 s of loop at 2.5 ms/frame)")
+                       "0.999 s of loop at 9.99 ms/frame)")
     assert text[1] == f"  {'pupil':<14}{format_size(3e9):>10}   driven by `telescope.n_pixels`"
     assert text[2] == f"  {'baseline':<14}{format_size(2e8):>10}   driven by -"
     assert text[3] == f"  {'logs':<14}{format_size(5e5):>10}   driven by -"
@@ -348,6 +348,8 @@ def test_describe_writes_the_peak_each_part_largest_first_and_the_time():
     costly = res.ResourceEstimate(parts={"baseline": 1.0}, drivers={}, n_frames=1,
                                 seconds_per_frame=1.0, setup_seconds=12.34)
     assert costly.describe().split("\n")[1] == "  set-up builds about 12.3 s of CPU"
+    brief = res.ResourceEstimate(parts={"baseline": 1.0}, drivers={}, setup_seconds=0.5)
+    assert brief.describe().split("\n")[1] == "  set-up builds about 0.5 s of CPU"
 
 
 # ---------------------------------------------------------------- time
@@ -486,14 +488,25 @@ def test_the_default_limit_is_half_the_available_memory(monkeypatch):
 
 def test_without_the_set_up_the_run_s_kept_parts_are_checked():
     cfg = small()
-    est = res.estimate(cfg, 0.05, budget=True)
+    est = res.estimate(cfg, 0.05, budget=False)
     need = res.BASELINE_BYTES + est.run_bytes
-    assert res.check_resources(cfg, 0.05, budget=True, setup=False, limit=need) == est
+    assert est.peak_bytes > need and est.largest not in res._RUN_PARTS  # the set-up peaks
+    assert res.check_resources(cfg, 0.05, setup=False, limit=need) == est
     part = max((k for k in res._RUN_PARTS if k in est.parts), key=est.parts.__getitem__)
     with pytest.raises(res.ResourceError, match=re.escape(
             f"needs about {format_size(need)} of memory") + ".*" + re.escape(
             f"the largest part, {part} ({format_size(est.parts[part])})")):
-        res.check_resources(cfg, 0.05, budget=True, setup=False, limit=need * 0.99)
+        res.check_resources(cfg, 0.05, setup=False, limit=need * 0.99)
+
+
+def test_the_oracle_s_second_atmosphere_is_counted_in_the_check():
+    cfg = small()
+    plain, oracle = res.estimate(cfg, 0.05), res.estimate(cfg, 0.05, oracle=True)
+    assert oracle.peak_bytes > plain.peak_bytes
+    limit = (plain.peak_bytes + oracle.peak_bytes) / 2
+    assert res.check_resources(cfg, 0.05, limit=limit) == plain
+    with pytest.raises(res.ResourceError, match=re.escape(format_size(oracle.peak_bytes))):
+        res.check_resources(cfg, 0.05, oracle=True, limit=limit)
 
 
 def test_a_budget_too_large_is_refused_with_its_own_advice():
@@ -514,12 +527,24 @@ def test_a_limit_that_is_no_positive_number_is_refused(limit):
         res.check_resources(small(), 0.05, limit=limit)
 
 
+
+def test_a_limit_under_one_byte_is_a_limit():
+    with pytest.raises(res.ResourceError, match=r"^this run needs about .* more than 0 B "):
+        res.check_resources(small(), 0.05, limit=0.5)
+
+
 def test_a_long_run_of_image_formation_is_refused_naming_its_key(monkeypatch):
     cfg = small()
     # a sensor that forms images for 1.5 s a frame: 2400 frames are 1 h (allowed), 2401
     # frames more than 1 h (refused)
     costly = SensorCost(10.0, 10.0, 1.5, "wfss[0].image_formation")
-    monkeypatch.setattr(res, "_sensor_costs", lambda config, n, dx: [costly, costly])
+    pixels = []
+
+    def costs(config, n, dx):
+        pixels.append(dx)
+        return [costly, costly]
+
+    monkeypatch.setattr(res, "_sensor_costs", costs)
     dt = cfg.loop.time_step
     res.check_resources(cfg, 1200 * dt, limit=1e30)
     frames = 1201
@@ -529,6 +554,13 @@ def test_a_long_run_of_image_formation_is_refused_naming_its_key(monkeypatch):
            f"shorten `duration`.")
     with pytest.raises(res.ResourceError, match="^" + re.escape(msg) + "$"):
         res.check_resources(cfg, frames * dt, limit=1e30)
+    # the pupil pixel the sensors are costed at: D / N
+    assert set(pixels) == {cfg.telescope.diameter / cfg.telescope.n_pixels}
+    # 1000 s a frame for 36,000 frames: 10,000 h
+    costly = SensorCost(10.0, 10.0, 500.0, "wfss[0].image_formation")
+    with pytest.raises(res.ResourceError, match=re.escape(
+            "for about 10000.0 h (1e+03 s per frame, 36000 frames)")):
+        res.check_resources(cfg, 36000 * dt, limit=1e30)
 
 
 def test_available_memory_is_the_common_helper_s():
