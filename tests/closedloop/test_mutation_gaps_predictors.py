@@ -199,6 +199,23 @@ def test_trained_with_a_basis_fits_the_projected_pol():
     np.testing.assert_array_equal(projected.predictor.coef_, hand.coef_)
 
 
+def test_trained_leaves_a_forecaster_with_mutable_state_untouched():
+    class Recording:
+        """A forecaster whose fit writes into a list it holds (in place)."""
+
+        def __init__(self):
+            self.seen = []
+
+        def fit(self, data):
+            self.seen.append(data.shape)
+            return self
+
+    spec = LoopPredictor(name="mine", predictor=Recording(), training=REFERENCE_POL)
+    trained = spec.trained(_reference([np.ones((60, 3))]))
+    assert trained.predictor.seen == [(44, 3)]
+    assert spec.predictor.seen == []  # "self is unchanged": a deep copy was fitted
+
+
 def test_nothing_to_train_returns_the_same_spec():
     reference = _reference([np.ones((60, 1))], predictor="arma")  # never read
     assert ORACLE.trained(reference) is ORACLE
