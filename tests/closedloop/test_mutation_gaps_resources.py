@@ -26,8 +26,10 @@ the module's code:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -206,6 +208,11 @@ CASES = {
     "est-mcao@16, budget (streamed)": lambda: (presets.est_mcao_variant(16), 0.01, True, True),
     "est-mcao, budget (streamed)": lambda: (presets.get("est-mcao"), 0.05, False, True),
     "est-mcao-solar": lambda: (presets.get("est-mcao-solar"), 0.02, False, False),
+    # a 20-s run: the wind's travel asks more than the 4096-pixel cap
+    "small table1, capped screens": lambda: (small(), 20.0, False, False),
+    # a layer 1000 km up: its plane (3,318 px) caps its screen at 4 n, above 4096
+    "small table1, a layer at 1000 km": lambda: (
+        _with(small(), "layers", 1, altitude=1e6), 0.01, False, False),
 }
 
 
@@ -446,6 +453,29 @@ def test_the_budget_streams_only_with_a_joint_reconstructor_and_large_products()
     zonal = est.replace(dms=(est.dms[0].__class__(**{**vars(est.dms[0]), "kind": "ideal",
                                                      "options": None}), *est.dms[1:]))
     assert not res.budget_streams(zonal)
+
+
+def test_the_budget_streams_with_two_mirrors_and_one_of_large_products():
+    from closedloop import kinds
+
+    def plain_build(geometry, index):  # a mirror kind's build without `large_products`
+        raise AssertionError("not built by the estimate")
+
+    record = dataclasses.replace(mirror_kind("zernike"), name="probe_plain",
+                                 build=plain_build)
+    kinds.register_mirror_kind(record)
+    try:
+        def cfg(*names):
+            return SimpleNamespace(dms=tuple(SimpleNamespace(kind=k) for k in names))
+
+        assert res.budget_streams(cfg("actuators", "actuators"))
+        assert res.budget_streams(cfg("probe_plain", "actuators"))
+        assert res.budget_streams(cfg("zernike", "actuators", "zernike"))
+        assert not res.budget_streams(cfg("probe_plain", "zernike"))
+        assert not res.budget_streams(cfg("actuators"))
+        assert not res.budget_streams(cfg("actuators", "ideal"))
+    finally:
+        kinds.unregister_mirror_kind("probe_plain")
 
 
 def test_the_ideal_sensor_config_keeps_each_wfs_but_its_kind_and_noise():
