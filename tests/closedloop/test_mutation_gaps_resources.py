@@ -306,6 +306,36 @@ def test_the_wfs_build_is_blamed_on_field_samples_or_on_the_largest_plane():
         f"wfss[{j}].field_samples` (19 directions) x `telescope.n_pixels")
 
 
+def test_the_screen_is_blamed_on_the_duration_exactly_where_the_travel_sets_its_size():
+    # screen_size's law: G = next_fast_len(max(4 n, n + 3 + travel)), travel the wind's
+    # pixels over the run; the wind's travel sets G (the key is `duration`) from
+    # n + 3 + travel > 4 n on. The highest layer blows along x (then along y).
+    cfg = small()
+    top = len(cfg.layers) - 1
+    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+    for direction in (0.0, 90.0):
+        windy = _with(cfg, "layers", top, wind_speed=20.0, wind_direction=direction)
+        layout = plane_layout(windy)
+        p = next(k for k, entry in enumerate(layout) if top in entry[2])
+        n = layout[p][1]
+        assert res._biggest_plane(layout) == p
+        for excess, key in ((0.5, "duration"), (-0.5, f"layers[{top}].altitude")):
+            total = (3 * n - 3 + excess) * dx / 20.0
+            assert res._screens(windy, layout, dx, total)[2] == key, (direction, excess)
+
+
+def test_a_wfs_without_a_field_has_one_direction_whatever_its_rings():
+    cfg = small()
+    d = cfg.to_dict()
+    for w in d["wfss"]:
+        w.update(field_of_view=0.0, field_samples=3)
+    on_axis = SimulationConfig.from_dict(d)
+    assert n_field_samples(0.0, 3) == 1
+    layout = plane_layout(on_axis)
+    assert res.estimate(on_axis, 0.05).drivers["wfs_build"] == res._plane_driver(
+        on_axis, layout, res._biggest_plane(layout))
+
+
 def test_the_plane_driver_is_the_pupil_a_layer_or_a_mirror():
     cfg = small()
     layout = plane_layout(cfg)
