@@ -413,6 +413,26 @@ def test_a_sensor_s_frame_time_is_added_and_the_largest_named():
              SensorCost(1.0, 1.0, 7.0, "")]  # no key: not an imaging sensor
     assert res._frame_seconds(costs) == (3.5, "wfss[2].image_formation")
     assert res._frame_seconds([SensorCost(1.0, 1.0)]) == (0.0, "")
+    # one imaging sensor under a second a frame is still named
+    assert res._frame_seconds([SensorCost(1.0, 1.0, 0.5, "wfss[0].image_formation")]) == (
+        0.5, "wfss[0].image_formation")
+
+
+def test_the_sensors_frame_time_adds_to_the_time_per_frame(monkeypatch):
+    cfg = small()
+    real = res._sensor_costs
+    base = res.estimate(cfg, 0.05).seconds_per_frame
+
+    def imaging(config, n_planes, dx):
+        costs = real(config, n_planes, dx)
+        return [SensorCost(c.n_measurements, c.build_entries, 0.25 * (j + 1),
+                           f"wfss[{j}].image_formation", c.held_entries)
+                for j, c in enumerate(costs)]
+
+    monkeypatch.setattr(res, "_sensor_costs", imaging)
+    added = sum(0.25 * (j + 1) for j in range(len(cfg.wfss)))
+    assert res.estimate(cfg, 0.05).seconds_per_frame == pytest.approx(base + added,
+                                                                      rel=1e-12)
 
 
 def test_the_svd_time_is_its_measurement_and_small_ones_are_not_reported(monkeypatch):
@@ -461,6 +481,16 @@ def test_the_joint_svd_and_map_times_follow_their_flop_counts():
     gram = 8.0 * m * n >= res.GRAM_MIN_BYTES
     per = 1.7e-10 if gram else 6.5e-10
     assert res._svd_seconds(svd, costs) == pytest.approx(per * m * n * min(m, n), rel=1e-9)
+
+
+def test_the_mirrors_build_is_blamed_on_the_largest_build_s_key():
+    config = presets.get("est-mcao")
+    dx = config.telescope.diameter / config.telescope.n_pixels
+    costs = [mirror_kind(d.kind).estimate(config, i, dx) for i, d in enumerate(config.dms)]
+    largest = max(costs, key=lambda c: c.build_bytes)
+    est = res.estimate(config, 0.01)
+    assert est.parts["dm_build"] == largest.build_bytes > 0
+    assert est.drivers["dm_build"] == largest.driver and largest.driver.startswith("dms[")
 
 
 def test_the_set_up_seconds_add_the_mirrors_builds_and_the_reconstructor():
