@@ -493,6 +493,63 @@ def test_the_mirrors_build_is_blamed_on_the_largest_build_s_key():
     assert est.drivers["dm_build"] == largest.driver and largest.driver.startswith("dms[")
 
 
+def test_the_reconstructor_s_time_by_its_form_and_the_mirrors_kinds(monkeypatch):
+    """The docstring's rules on a config stand-in: a plain kind (no `large_products`)."""
+    from closedloop import kinds
+    from closedloop.kinds import MirrorCost
+
+    def plain_build(geometry, index):
+        raise AssertionError("not built")
+
+    def plain_estimate(config, i, dx):
+        return MirrorCost(n_modes=300.0 + 100 * i, shape_bytes=0.0, ops_per_pixel=1.0,
+                          driver=f"dms[{i}].n_modes")
+
+    class LargeBuild:  # a kind whose mirrors take the 4-m loops' algebra
+        large_products = True
+
+    kinds.register_mirror_kind(dataclasses.replace(
+        mirror_kind("zernike"), name="probe_plain", build=plain_build, estimate=plain_estimate))
+    kinds.register_mirror_kind(dataclasses.replace(
+        mirror_kind("zernike"), name="probe_large", build=LargeBuild, estimate=plain_estimate))
+    monkeypatch.setattr(res, "_COSTLY_SECONDS", 0.0)  # every time reported
+    try:
+        def cfg(kinds_, form="truncated"):
+            return SimpleNamespace(
+                dms=tuple(SimpleNamespace(kind=k) for k in kinds_),
+                wfss=tuple(SimpleNamespace(dm=i) for i in range(len(kinds_))),
+                telescope=SimpleNamespace(diameter=4.0, n_pixels=32),
+                loop=SimpleNamespace(reconstructor=form))
+
+        costs = [SensorCost(1000.0, 0.0), SensorCost(800.0, 0.0)]
+        monkeypatch.setattr(res, "GRAM_MIN_BYTES", 8.0)
+        # one mirror: each WFS's pseudo-inverse with it, gesdd's rate without large products
+        one = res._svd_seconds(cfg(["probe_plain"]), costs[:1])
+        assert one == pytest.approx(6.5e-10 * 1000 * 300 * 300, rel=1e-12)
+        # one mirror asks no MAP (a joint reconstructor needs several)
+        assert res._svd_seconds(cfg(["probe_plain"], "map"), costs[:1]) == one
+        # two mirrors: one joint SVD of 1800 x 700, or the MAP's Cholesky
+        joint = res._svd_seconds(cfg(["probe_plain", "probe_plain"]), costs)
+        assert joint == pytest.approx(6.5e-10 * 1800 * 700 * 700, rel=1e-12)
+        m, n = 1800.0, 700.0
+        assert res._svd_seconds(cfg(["probe_plain", "probe_plain"], "map"), costs) == \
+            pytest.approx(2e-11 * (2 * m * n * n + 4 / 3 * n ** 3), rel=1e-12)
+        # a zonal mirror: no SVD at all
+        assert res._svd_seconds(cfg(["probe_plain", "ideal"]), costs) == 0.0
+        # the Gram rate from GRAM_MIN_BYTES on (8 B per entry), with a large-products kind
+        big = cfg(["probe_plain", "probe_large"])
+        entries = 1800.0 * 700.0
+        monkeypatch.setattr(res, "GRAM_MIN_BYTES", 8.0 * entries)
+        assert res._svd_seconds(big, costs) == pytest.approx(1.7e-10 * entries * 700,
+                                                             rel=1e-12)
+        monkeypatch.setattr(res, "GRAM_MIN_BYTES", 8.5 * entries)
+        assert res._svd_seconds(big, costs) == pytest.approx(6.5e-10 * entries * 700,
+                                                             rel=1e-12)
+    finally:
+        kinds.unregister_mirror_kind("probe_plain")
+        kinds.unregister_mirror_kind("probe_large")
+
+
 def test_the_set_up_seconds_add_the_mirrors_builds_and_the_reconstructor():
     config = presets.get("est-mcao")
     dx = config.telescope.diameter / config.telescope.n_pixels
