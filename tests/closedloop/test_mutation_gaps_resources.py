@@ -501,9 +501,9 @@ def test_the_reconstructor_s_time_by_its_form_and_the_mirrors_kinds(monkeypatch)
     def plain_build(geometry, index):
         raise AssertionError("not built")
 
-    def plain_estimate(config, i, dx):
-        return MirrorCost(n_modes=300.0 + 100 * i, shape_bytes=0.0, ops_per_pixel=1.0,
-                          driver=f"dms[{i}].n_modes")
+    def plain_estimate(config, i, dx):  # modes per pupil pixel: 300 (+100) at D / N
+        return MirrorCost(n_modes=(300.0 + 100 * i) * 0.125 / dx, shape_bytes=0.0,
+                          ops_per_pixel=1.0, driver=f"dms[{i}].n_modes")
 
     class LargeBuild:  # a kind whose mirrors take the 4-m loops' algebra
         large_products = True
