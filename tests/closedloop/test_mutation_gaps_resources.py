@@ -231,6 +231,34 @@ def test_every_part_and_phase_is_the_arrays_the_docstring_names(case):
     assert est.seconds == pytest.approx(est.n_frames * est.seconds_per_frame, rel=1e-12)
 
 
+def test_the_screens_cover_the_run_the_delay_and_one_frame():
+    # screen_size's duration: (frames + delay_frames + 1) x time_step (the command's
+    # hold past the last frame). A run length where one frame more or less, or the delay
+    # counted the other way, changes the fastest screen's size (found by search here)
+    cfg = small()
+    loop = cfg.loop
+    assert loop.delay_frames > 0
+    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+    layout = plane_layout(cfg)
+    top = len(cfg.layers) - 1
+    n = next(n for _, n, layers, _ in layout if top in layers)
+    layer = cfg.layers[top]
+    a = math.radians(layer.wind_direction)
+    v = (layer.wind_speed * math.cos(a), layer.wind_speed * math.sin(a))
+
+    def side(extra_frames):
+        return screen_size(n, dx, v, extra_frames * loop.time_step, max(4096, 4 * n))
+
+    frames = next(f for f in range(300, 3000)
+                  if len({side(f + loop.delay_frames + 1), side(f + loop.delay_frames - 1),
+                          side(f - loop.delay_frames + 1)}) == 3)
+    duration = frames * loop.time_step
+    est = res.estimate(cfg, duration)
+    assert est.n_frames == frames
+    assert est.parts["screens"] == pytest.approx(
+        _by_hand(cfg, duration)["parts"]["screens"], rel=1e-12)
+
+
 def test_the_frame_count_rounds_and_counts_at_least_one():
     cfg = small()
     dt = cfg.loop.time_step
