@@ -203,6 +203,11 @@ CASES = {
     "small table1": lambda: (small(), 0.05, False, False),
     "small table1, oracle and budget": lambda: (small(), 0.2, True, True),
     "small mcao3, budget": lambda: (small("mcao3"), 0.013, False, True),
+    # ideal sensors of 91 field samples: their build outweighs the kept budget model
+    "small table1, budget of wide ideal sensors": lambda: (SimulationConfig.from_dict({
+        **small().to_dict(), "wfss": [{**w, "field_samples": 6}
+                                       for w in small().to_dict()["wfss"]]}),
+        0.002, False, True),
     "kaos, oracle": lambda: (presets.get("kaos"), 0.3, True, False),
     "dkist-scao, budget (dense)": lambda: (presets.get("dkist-scao"), 0.05, False, True),
     "est-mcao@16, budget (streamed)": lambda: (presets.est_mcao_variant(16), 0.01, True, True),
@@ -309,6 +314,19 @@ def test_the_drivers_name_the_keys_that_set_each_part():
     # a 31 x 31 field grid: a log row holds more directions (961) than 3 M + measurements
     wide = _with(cfg, "field", None, n_points=31)
     assert res.estimate(wide, 0.05).drivers["logs"] == "field.n_points"
+    # the plane maps' size is the largest plane's: the highest layer's
+    assert est.drivers["planes"] == f"layers[{len(cfg.layers) - 1}].altitude"
+    # the logs' key: the field grid once its directions outnumber the rest of a row
+    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+    rest = 3 * sum(d.n_modes for d in cfg.dms) + sum(
+        sensor_kind(w.kind).estimate(cfg, j, len(plane_layout(cfg)), dx).n_measurements
+        for j, w in enumerate(cfg.wfss))
+    keys = {}
+    for n in range(3, 40, 2):
+        grid = _with(cfg, "field", None, n_points=n)
+        keys[n] = res.estimate(grid, 0.05).drivers["logs"]
+        assert keys[n] == ("field.n_points" if n * n > rest else "duration"), n
+    assert set(keys.values()) == {"field.n_points", "duration"}
 
 
 def test_the_wfs_build_is_blamed_on_field_samples_or_on_the_largest_plane():
