@@ -574,11 +574,13 @@ def test_the_reconstructor_s_time_by_its_form_and_the_mirrors_kinds(monkeypatch)
         assert one == pytest.approx(6.5e-10 * 1000 * 300 * 300, rel=1e-12)
         # one mirror asks no MAP (a joint reconstructor needs several)
         assert res._svd_seconds(cfg(["probe_plain"], "map"), costs[:1]) == one
-        # one mirror seen by two WFSs: one pseudo-inverse per WFS, not a joint one
+        # one mirror seen by two WFSs of fewer measurements than its modes: one
+        # pseudo-inverse per WFS (rows x cols x rows each), not a joint one
         two_wfs = cfg(["probe_plain"])
         two_wfs.wfss = (SimpleNamespace(dm=0), SimpleNamespace(dm=0))
-        assert res._svd_seconds(two_wfs, costs) == pytest.approx(
-            6.5e-10 * 1000 * 300 * 300 + 6.5e-10 * 800 * 300 * 300, rel=1e-12)
+        few = [SensorCost(200.0, 0.0), SensorCost(250.0, 0.0)]
+        assert res._svd_seconds(two_wfs, few) == pytest.approx(
+            6.5e-10 * 200 * 300 * 200 + 6.5e-10 * 250 * 300 * 250, rel=1e-12)
         # reported from _COSTLY_SECONDS on, inclusive (the same product, the same bits)
         monkeypatch.setattr(res, "_COSTLY_SECONDS", 6.5e-10 * 1000.0 * 300.0 * 300.0)
         assert res._svd_seconds(cfg(["probe_plain"]), costs[:1]) == one
