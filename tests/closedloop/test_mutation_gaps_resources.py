@@ -317,16 +317,18 @@ def test_the_drivers_name_the_keys_that_set_each_part():
     # the plane maps' size is the largest plane's: the highest layer's
     assert est.drivers["planes"] == f"layers[{len(cfg.layers) - 1}].altitude"
     # the logs' key: the field grid once its directions outnumber the rest of a row
-    dx = cfg.telescope.diameter / cfg.telescope.n_pixels
-    rest = 3 * sum(d.n_modes for d in cfg.dms) + sum(
-        sensor_kind(w.kind).estimate(cfg, j, len(plane_layout(cfg)), dx).n_measurements
-        for j, w in enumerate(cfg.wfss))
-    keys = {}
-    for n in range(3, 40, 2):
-        grid = _with(cfg, "field", None, n_points=n)
-        keys[n] = res.estimate(grid, 0.05).drivers["logs"]
-        assert keys[n] == ("field.n_points" if n * n > rest else "duration"), n
-    assert set(keys.values()) == {"field.n_points", "duration"}
+    # (28 modes on the ground DM: 19^2 = 361 directions, just above 3 M + 201 = 345)
+    for base in (cfg, _with(cfg, "dms", 0, n_modes=28)):
+        dx = base.telescope.diameter / base.telescope.n_pixels
+        rest = 3 * sum(d.n_modes for d in base.dms) + sum(
+            sensor_kind(w.kind).estimate(base, j, len(plane_layout(base)), dx).n_measurements
+            for j, w in enumerate(base.wfss))
+        keys = {}
+        for n in range(3, 40, 2):
+            grid = _with(base, "field", None, n_points=n)
+            keys[n] = res.estimate(grid, 0.05).drivers["logs"]
+            assert keys[n] == ("field.n_points" if n * n > rest else "duration"), n
+        assert set(keys.values()) == {"field.n_points", "duration"}
 
 
 def test_the_wfs_build_is_blamed_on_field_samples_or_on_the_largest_plane():
