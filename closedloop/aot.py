@@ -309,7 +309,8 @@ def _notes(result, model, described: dict) -> dict:
         "r0_wavelength": cfg.r0_wavelength,
         "altitudes": "m above the telescope (line of sight: times sec(zenith_angle))",
         "wind_direction": WIND_CONVENTION,
-        "strehl_ratio": "Marechal SR averaged over the field grid after loop closure",
+        "strehl_ratio": ("Marechal SR averaged over the field grid after loop closure "
+                         "(over the second half of the run if the loop did not close)"),
         "time_filter": "integrator c_k = (1 - leak) c_{k-1} + gain m_k"
                        + ("" if result.predictor == "none" else
                           f"; the loop ran with predictor {result.predictor!r}, which "
