@@ -55,10 +55,16 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
     ``k`` (no coefficients), so that ``sum_k measurements_to_modes_ik @ s_k`` gives
     the ``dm{i}`` coefficients and the file holds the whole reconstructor.
 
-  Each loop's coefficient image carries the card ``MI_QUANT`` (``residual``, ``pol``
-  or ``contribution``). The time filter is :func:`~modalinfo.io.aot_system.integrator_filter`
-  ``(gain, leak)``: ``c_k = (1 - leak) c_{k-1} + gain m_k`` (with a predictor the
-  controller filters the forecast POL instead; the card ``MI_CLOOP`` names it).
+  Each loop with coefficients carries the card ``MI_QUANT`` on its coefficient image
+  (``residual`` or ``pol``: what the series is); the ``dm{i}.wfs{k}`` loops have no
+  coefficient image, hence no card (the ``MI_CLOOP`` card describes them). A mirror
+  whose modes are not Noll Zernikes (a DM-space K-L ``DMKL1``..., a zonal mirror's
+  ``pix0``...) also carries its mode labels there, the card ``MI_MODES`` (JSON list):
+  AOT has no field for them and its mode images identify only Zernikes
+  (``modalinfo.io.load`` reads the labels back). The time filter is
+  :func:`~modalinfo.io.aot_system.integrator_filter` ``(gain, leak)``:
+  ``c_k = (1 - leak) c_{k-1} + gain m_k`` (with a predictor the controller filters the
+  forecast POL instead; the card ``MI_CLOOP`` names it).
 
 * the configuration as TOML (``aotpy``: ``AOSystem.config``; JSON-quoted because FITS
   cards hold no newlines: :func:`modalinfo.io.aot_system.config_of` unquotes it), the
@@ -129,9 +135,15 @@ def aot_wind_direction(direction) -> np.ndarray:
 
 
 def _degrees(x: np.ndarray) -> np.ndarray:
-    """``x mod 360`` in ``[0, 360)`` (``np.mod`` rounds a tiny negative ``x`` up to 360)."""
-    out = np.mod(x, 360.0)
-    return np.where(out >= 360.0, out - 360.0, out)
+    """``x mod 360`` in ``[0, 360)`` for ``x = 270 - a``, ``a`` any finite float64.
+
+    ``np.mod`` rounds up to 360 only for ``x`` within half an ulp of 360 (2.8e-14) below
+    a multiple of 360; ``270 - a`` is never there: near 270 the subtraction is exact
+    (Sterbenz), so ``x`` is 0 or at least one ulp of ``a`` (5.7e-14) from it, and further
+    out ``x``'s own ulp exceeds that gap (``test_aot_wind.py`` probes the floats next to
+    270 + 360 k).
+    """
+    return np.mod(x, 360.0)
 
 
 def wind_direction_from_aot(aot_direction) -> np.ndarray:
@@ -250,6 +262,9 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
     j = _own_sensor(result.config, i)
     blocks = _blocks(model, i)
     common = dict(sensor=f"wfs{j}", corrector=f"dm{i}", **common)
+    # modes that are not Noll Zernikes: their labels (DMKL1..., pix0...) in MI_MODES,
+    # since the mode images identify only Zernikes (a reader would say mode1...)
+    labels = {} if dm.modes else {"MI_MODES": json.dumps(list(dm.labels), separators=(",", ":"))}
     main = LoopSpec(
         uid=f"dm{i}", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
@@ -258,13 +273,13 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
                                else _as_dsv(model.wfss[j], blocks[j])),
         modes_to_commands=np.eye(dm.n_modes) if dm.shapes is not None else None,
         commands=np.ascontiguousarray(result.logs[f"dm{i}.commands"].coeffs),
-        command_units="rad", coefficient_metadata={"MI_QUANT": "residual"})
+        command_units="rad", coefficient_metadata={"MI_QUANT": "residual", **labels})
     described[f"dm{i}"] = ("modal residual reconstructed from the WFS measurements "
                            f"(log dm{i}.residual); commands = log dm{i}.commands")
     pol = LoopSpec(
         uid=f"dm{i}.pol", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.pol"].coeffs),
-        coefficient_metadata={"MI_QUANT": "pol"})
+        coefficient_metadata={"MI_QUANT": "pol", **labels})
     described[f"dm{i}.pol"] = f"pseudo-open-loop coefficients of dm{i} (log dm{i}.pol)"
     cross = []
     for k, block in enumerate(blocks):
@@ -272,8 +287,7 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
             continue
         cross.append(LoopSpec(
             uid=f"dm{i}.wfs{k}", **{**common, "sensor": f"wfs{k}"},
-            measurements_to_modes=_as_dsv(model.wfss[k], block),
-            coefficient_metadata={"MI_QUANT": "contribution"}))
+            measurements_to_modes=_as_dsv(model.wfss[k], block)))
         described[f"dm{i}.wfs{k}"] = (f"block of the global reconstructor: wfs{k} "
                                       f"measurements to dm{i} modes (no coefficients)")
     return main, pol, cross
@@ -309,7 +323,8 @@ def _notes(result, model, described: dict) -> dict:
         "r0_wavelength": cfg.r0_wavelength,
         "altitudes": "m above the telescope (line of sight: times sec(zenith_angle))",
         "wind_direction": WIND_CONVENTION,
-        "strehl_ratio": "Marechal SR averaged over the field grid after loop closure",
+        "strehl_ratio": ("Marechal SR averaged over the field grid after loop closure "
+                         "(over the second half of the run if the loop did not close)"),
         "time_filter": "integrator c_k = (1 - leak) c_{k-1} + gain m_k"
                        + ("" if result.predictor == "none" else
                           f"; the loop ran with predictor {result.predictor!r}, which "

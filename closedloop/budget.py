@@ -155,7 +155,7 @@ class IdealSensing:
     Attributes
     ----------
     wfss : list of closedloop.optics.wfs.IdealSensor
-        The ideal sensors (their dense self-interaction is dropped once built).
+        The ideal sensors (their dense self-interaction is never built).
     noise_variance : (n_wfs,) ndarray
         Diagonal of ``N`` per sensor (each sensor's model error, or the noise floor)
         [rad^2].
@@ -172,12 +172,9 @@ class IdealSensing:
         cfg = _ideal_config(model.config)
         geometry = Geometry(cfg)
         kind = sensor_kind("ideal")
-        self.wfss = []
-        for j, w in enumerate(cfg.wfss):
-            sensor = kind.build(geometry, j, model.dms[w.dm])
-            # its own mirror's dense block (up to 1 GB at full size) is never read here
-            sensor.__dict__.pop("interaction", None)
-            self.wfss.append(sensor)
+        # each sensor's dense block with its own mirror (WavefrontSensor.interaction, up
+        # to 1 GB at full size) is built on first use: never here
+        self.wfss = [kind.build(geometry, j, model.dms[w.dm]) for j, w in enumerate(cfg.wfss)]
         r0s = [geometry.layer_r0(i) for i in range(len(cfg.layers))]
         model_error = np.array([w.model_error_variance(r0s, cfg.loop.model_error)
                                 for w in self.wfss])

@@ -40,13 +40,22 @@ Derived views
   as long as the run). The headline numbers of a run that did not close, or is still
   converging, are those of its second half, and the summary says so (``closed`` is
   False for both: their numbers are not steady-state ones).
-- :meth:`strehl_map`: time average of the Strehl after closure, on the field grid.
+- The averaging window (:attr:`averaging_start`), one rule for every time average of a
+  run (:meth:`summary`, :meth:`strehl_map`, :meth:`corrected_fov_diameter`,
+  :meth:`strehl_peak_spectrum` and the error budget's frames): from the detected closure
+  if the loop closed; over the second half of the run if it did not, is still
+  converging or diverged (:attr:`closure_index` is then no steady-state start: it can be
+  0 for a loop that never rose); over the whole run in open loop. ``summary()`` says
+  where its means start (``averaged_from_s``).
+- :meth:`strehl_map`: time average of the Strehl over the averaging window, on the field
+  grid.
 - :meth:`corrected_fov_diameter`: the area ``A`` where the time-averaged SR exceeds a
   threshold, on the field grid refined 16 times by bilinear interpolation (the grid's
   own spacing limits the accuracy: one cell is ``size / (n_points - 1)``), as the
   equivalent-circle diameter ``d = 2 sqrt(A / pi)`` in arcmin. (The paper prints
   ``4 sqrt(A) / pi``, which is not the diameter of a circle of area ``A``.)
-- :meth:`strehl_peak_spectrum`: Welch power spectrum of the SR peak after closure.
+- :meth:`strehl_peak_spectrum`: Welch power spectrum of the SR peak over the averaging
+  window.
 """
 
 from __future__ import annotations
@@ -106,7 +115,9 @@ class ErrorBudget:
     measured : (n_dir,) ndarray
         Residual variance the loop left in the same frames.
     frames : (n_b,) ndarray of int
-        Frames averaged (after the loop closure).
+        Frames averaged: the probed frames from the run's
+        :attr:`SimulationResult.averaging_start` on (after the loop closure; the second
+        half of a run that did not close).
     """
 
     directions: np.ndarray
@@ -395,6 +406,23 @@ class SimulationResult:
         return self.loop_status.startswith("diverged")
 
     @property
+    def averaging_start(self) -> int:
+        """First frame of every time average of the run (the one window rule).
+
+        :attr:`closure_index` if the loop closed (``loop_status == "closed"``); 0 in open
+        loop (nothing to wait for: the whole run); otherwise (did not close, closed but
+        still converging, diverged) the second half of the run, frame ``T // 2``: such a
+        run has no steady state to start from, and its :attr:`closure_index` may be 0
+        (an SR that never rose) or the search's fallback. :meth:`summary`,
+        :meth:`strehl_map`, :meth:`corrected_fov_diameter`, :meth:`strehl_peak_spectrum`
+        and the error budget (``simulate(..., budget_every=N)``) all average from here,
+        so one result never reports numbers over two windows.
+        """
+        if self.open_loop:
+            return 0
+        return self.closure_index if self.closed else self.times.size // 2
+
+    @property
     def closure_time(self) -> float:
         """Time of :attr:`closure_index` [s]."""
         return float(self.times[self.closure_index])
@@ -407,7 +435,7 @@ class SimulationResult:
 
     def _start(self, start: int | None) -> int:
         if start is None:
-            return self.closure_index
+            return self.averaging_start
         if isinstance(start, bool) or not isinstance(start, int | np.integer) or not (
                 0 <= start < self.times.size):
             raise ValueError(f"`start` must be a frame index in [0, {self.times.size}); "
@@ -417,8 +445,9 @@ class SimulationResult:
     def strehl_map(self, *, after_closure: bool = True, start: int | None = None) -> np.ndarray:
         """Time-averaged Strehl on the field grid, ``(n_points, n_points)`` (y rows, x columns).
 
-        Averaged from ``start`` (a frame index; default the detected closure, or frame 0
-        with ``after_closure=False``), e.g. a common window for several runs.
+        Averaged from ``start`` (a frame index, e.g. a common window for several runs;
+        default :attr:`averaging_start`: the detected closure, or the second half of a
+        run that did not close; frame 0 with ``after_closure=False``).
         """
         first = self._start(start) if after_closure or start is not None else 0
         return self.strehl[first:].mean(axis=0).reshape(self.field_shape)
@@ -454,7 +483,10 @@ class SimulationResult:
         return 2.0 * np.sqrt(area / np.pi) / 60.0
 
     def strehl_peak_spectrum(self, *, nperseg: int | None = None, start: int | None = None):
-        """Welch PSD of the SR peak from ``start`` (default closure): (freqs [Hz], psd)."""
+        """Welch PSD of the SR peak from ``start``: (freqs [Hz], psd).
+
+        ``start``: a frame index; default :attr:`averaging_start`, as in :meth:`strehl_map`.
+        """
         from scipy import signal
 
         x = self.strehl_peak[self._start(start):]
@@ -470,13 +502,12 @@ class SimulationResult:
         the run's second half.
         In open loop (``open_loop`` True, ``loop_status`` "open loop") no closure is
         claimed: ``closure_time_s`` is NaN and the means are over the whole run.
+        ``averaged_from_s`` is the end of the first frame averaged [s]
+        (:attr:`averaging_start`, the window of every average of the result).
         """
         status = self.loop_status
         closed = status == "closed"
-        if self.open_loop:
-            start = 0
-        else:
-            start = self.closure_index if closed else self.times.size // 2
+        start = self.averaging_start
         return {
             "predictor": self.predictor,
             "seed": self.seed,
@@ -486,6 +517,7 @@ class SimulationResult:
             "diverged": status.startswith("diverged"),
             "loop_status": status,
             "closure_time_s": self.closure_time if closed else float("nan"),
+            "averaged_from_s": float(self.times[start]) if self.times.size else float("nan"),
             "strehl_peak_mean": float(self.strehl_peak[start:].mean()),
             "strehl_field_mean": float(self.strehl[start:].mean()),
             "corrected_fov_diameter_arcmin": self.corrected_fov_diameter(start=start),

@@ -539,7 +539,8 @@ def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, el
         snapshot_directions=snapshots.directions,
     )
     if probe is not None:
-        budget = probe.result(result.residual_variance, result.closure_index, scale_sci, seed)
+        budget = probe.result(result.residual_variance, result.averaging_start, scale_sci,
+                              seed)
         result = dataclasses.replace(result, budget=budget)
     return result
 

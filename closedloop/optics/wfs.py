@@ -185,8 +185,8 @@ class WavefrontSensor:
     reconstructor : (M, n_meas) ndarray
         Measurements to modal residual [rad per measurement unit].
     interaction : (n_meas, M) ndarray or scipy.sparse.csr_matrix
-        Measurements of a unit command of each mode (sparse for a zonal DM, see
-        :meth:`interaction_with`).
+        Measurements of a unit command of each mode of its own DM (sparse for a zonal
+        DM, see :meth:`interaction_with`), built on first use.
     noise_rms : float or (n_meas,) ndarray
         Per-measurement noise [rad / m for a SH; 0 for ideal]; an array when the
         measurements differ in noise (the correlating SH's slopes and tracker).
@@ -215,8 +215,17 @@ class WavefrontSensor:
         self._csr = [(op.indptr.astype(np.int64), op.indices.astype(np.uint32),
                       np.ascontiguousarray(op.data, dtype=np.float64))
                      for op in self.operators]
-        self.interaction = self.interaction_with(dm)
         self._rcond = rcond
+
+    @functools.cached_property
+    def interaction(self):
+        """Interaction with its own DM, :meth:`interaction_with` ``(dm)``, built on first use.
+
+        Read by the reconstructors (:attr:`reconstructor`, ``LoopModel``'s joint one); the
+        budget's streamed ideal sensors never read it, so they never form this dense
+        block (up to ~1 GB at 4-m size).
+        """
+        return self.interaction_with(self.dm)
 
     @functools.cached_property
     def reconstructor(self) -> np.ndarray | None:

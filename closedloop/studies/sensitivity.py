@@ -69,7 +69,9 @@ _WAVELENGTHS = (500e-9, 800e-9)
 
 
 def _row(parameter, value, result, scale=1.0) -> dict:
-    start = result.closure_index
+    # one window for every number of the row: the run's own (SimulationResult's rule),
+    # also for its rescaled wavelengths (the same loop, seen in another band)
+    start = result.averaging_start
     variance = result.residual_variance[start:] * scale
     strehl = np.exp(-variance)
     peak = strehl.max(axis=1)
@@ -79,7 +81,7 @@ def _row(parameter, value, result, scale=1.0) -> dict:
         row["fov_arcmin"] = result.corrected_fov_diameter(0.3)
     else:
         rescaled = dataclasses.replace(result, residual_variance=result.residual_variance * scale)
-        row["fov_arcmin"] = rescaled.corrected_fov_diameter(0.3)
+        row["fov_arcmin"] = rescaled.corrected_fov_diameter(0.3, start=start)
     b = result.budget
     if b is not None:
         k = int(np.argmin(np.hypot(*b.directions.T)))

@@ -16,7 +16,9 @@ reader returns the log of one *control loop*:
 * modes: when the loop has ``modes`` (m images), they are identified as Zernikes of
   our convention (:func:`modalinfo.bases.identify.identify_zernike`); the columns are
   labelled with their Noll indices when every mode is a distinct positive Zernike,
-  else ``"mode1"``... (``convention="labels"``); the identification is in
+  else with the labels of the coefficient image's ``MI_MODES`` card (closedloop's
+  export of a DM-space K-L or zonal mirror: ``DMKL1``...; also for a loop without mode
+  images), else ``"mode1"``... (``convention="labels"``); the identification is in
   ``metadata["modes_identification"]`` and :func:`read_aot_basis` gives the basis;
 * metadata: system, telescope diameter, sensor type and subapertures, corrector,
   delay [frames], time filter, loop state, the file's control loops.
@@ -76,6 +78,9 @@ __all__ = [
 ]
 
 _JSON_KEY = "MI_JSON"
+#: card on a loop's coefficient image: its columns' labels (JSON list), written by
+#: closedloop's export for modes that are not Noll Zernikes (DM-space K-L, zonal)
+_LABELS_KEY = "MI_MODES"
 #: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it). Any other
 #: unit (``rad/s``, ``V``, ``pix``, ``furlong``...) is not a phase or optical-path unit
 #: the analyses can use, so the reader refuses it unless the caller states the units.
@@ -343,6 +348,30 @@ def _describe(system, lp, loops, path: Path) -> dict:
     return meta
 
 
+def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
+    """Return the labels of the coefficient image's ``MI_MODES`` card, or None (no card).
+
+    Refuses (``LogFormatError``) a card that is not a JSON list of ``n_cols`` distinct
+    non-empty strings (``n_cols`` None: the count is not checked).
+    """
+    cards = getattr(lp.modal_coefficients, "metadata", None) or []
+    raw = next((m.value for m in cards if getattr(m, "key", None) == _LABELS_KEY), None)
+    if raw is None:
+        return None
+    try:
+        labels = json.loads(str(raw))
+    except ValueError:
+        labels = None
+    if not (isinstance(labels, list) and all(isinstance(x, str) and x for x in labels)
+            and len(set(labels)) == len(labels)
+            and (n_cols is None or len(labels) == n_cols)):
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} card {_LABELS_KEY} must be a JSON list of "
+            f"{n_cols if n_cols is not None else 'the'} distinct mode labels; got "
+            f"{str(raw)[:60]!r}")
+    return labels
+
+
 def _identify(lp, system, n_cols: int, path: Path):
     """Identification of the loop's modes, or None; checks the mode count."""
     modes = _data(lp.modes)
@@ -476,17 +505,20 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
             stored["rate"] = rate
     if frames:
         meta["frame_numbers"] = [_number(frames[0]), _number(frames[-1])]
-    if ident is None:
+    labels = _card_labels(lp, coeffs.shape[1], path)
+    if ident is None and labels is None:
         meta["modes_note"] = ("the loop has no mode images: the column labels are the default "
                               "(Noll 2..m+1) unless given")
-    else:
+    elif ident is not None and ident.all_zernike and bool(np.all(ident.sign > 0)):
         meta["modes_identification"] = ident.to_dict()
-        if ident.all_zernike and bool(np.all(ident.sign > 0)):
-            stored["modes"] = [int(j) for j in ident.noll]
-            stored["convention"] = "noll"
-        else:
-            stored["modes"] = [f"mode{k + 1}" for k in range(coeffs.shape[1])]
-            stored["convention"] = "labels"
+        stored["modes"] = [int(j) for j in ident.noll]
+        stored["convention"] = "noll"
+    else:
+        if ident is not None:
+            meta["modes_identification"] = ident.to_dict()
+        # the file's own labels (MI_MODES) name modes that are not Zernikes
+        stored["modes"] = labels or [f"mode{k + 1}" for k in range(coeffs.shape[1])]
+        stored["convention"] = "labels"
     stored["_coeffs"] = coeffs
     return stored
 
@@ -508,7 +540,8 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
     basis : ModalBasis
         Columns: the loop's mode images on the pupil (the corrector's or telescope's
         pupil mask when it has the images' shape, else the images' support); labels
-        ``"Z<j>"`` for modes identified as positive Zernikes, else ``"mode<k>"``.
+        ``"Z<j>"`` for modes identified as positive Zernikes, else ``"mode<k>"``; the
+        ``MI_MODES`` card's labels when the modes are not all positive Zernikes.
     identification : ZernikeIdentification
         Which Zernike each mode is (our convention).
 
@@ -536,7 +569,10 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
         labels = [f"Z{int(j)}" if ok and s > 0 else f"mode{k + 1}"
                   for k, (j, ok, s) in enumerate(zip(ident.noll, ident.is_zernike, ident.sign,
                                                      strict=True))]
-        if len(set(labels)) != len(labels):
+        named = _card_labels(lp, n_cols, path) if n_cols is not None else None
+        if named is not None and not (ident.all_zernike and bool(np.all(ident.sign > 0))):
+            labels = named  # the file's own names of modes that are not Zernikes
+        elif len(set(labels)) != len(labels):
             labels = [f"mode{k + 1}" for k in range(len(labels))]
         basis = basis_from_images(modes, mask=_pupil_mask(lp, system, modes), diameter=d,
                                   labels=labels)

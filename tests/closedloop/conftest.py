@@ -10,7 +10,10 @@ One copy of each small config that several test files run:
 - :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM;
 - :func:`gap_config`, :func:`gap_sensor`: the small 4-m loops of the mutation-gap tests
   (test_mutation_gaps_model, test_mutation_gaps_wfs), built from their layers, mirrors
-  and sensors.
+  and sensors;
+- :func:`correlating_config`, :func:`correlating_sensor`: the small frozen-turbulence
+  loops of the correlating-sensor tests (optics/test_correlating_sensor,
+  optics/test_laws_correlating, optics/test_mutation_gaps_correlating_sensor).
 
 Test files import the functions (``from .conftest import small``); pytest's importlib mode
 gives them the module pytest loaded, so there is one copy.
@@ -146,3 +149,40 @@ def gap_sensor(altitude: float, field: float, noise: float, dm: int,
     """
     return WFSConfig(altitude=altitude, field_of_view=field, n_subapertures=8, noise=noise,
                      field_samples=2, dm=dm, kind=kind)
+
+
+def correlating_sensor(altitude: float, field: float, *, n_sub: int = 4,
+                       field_samples: int = 1, dm: int = 0, kind: str = "correlating",
+                       **options) -> WFSConfig:
+    """A correlating-sensor test's WFS: ``n_sub`` x ``n_sub`` subapertures over ``field``.
+
+    ``altitude`` [m], ``field`` [arcsec] sampled by ``field_samples`` across, driving DM
+    ``dm``; ``kind`` (``"shack_hartmann"``: the geometric twin of the same grid);
+    ``options``: other :class:`WFSConfig` fields (``noise``, ``image_formation``,
+    ``signal``, ``contrast``).
+    """
+    return WFSConfig(altitude=altitude, field_of_view=field, kind=kind, n_subapertures=n_sub,
+                     field_samples=field_samples, dm=dm, **options)
+
+
+def correlating_config(name: str, layers, dms, wfss, *, diameter: float = 1.0,
+                       n_pixels: int = 32, obscuration: float = 0.0,
+                       wavelength: float = 630e-9,
+                       r0_wavelength: float = 500e-9) -> SimulationConfig:
+    """A correlating-sensor test's loop: frozen layers, 1-kHz frames, science on axis.
+
+    ``layers``: ``(altitude [m], D/r0)`` per layer, frozen (no wind: a sensor's response
+    to a known phase); ``dms``: ``(altitude [m], n_modes)`` per Zernike DM; ``wfss``: the
+    sensors (:func:`correlating_sensor`); a telescope of ``diameter`` [m] sampled by
+    ``n_pixels``, with ``obscuration``; 1 ms frames, exposure and delay, gain 0.5; science
+    on axis at ``wavelength``, r0 at ``r0_wavelength`` [m].
+    """
+    return SimulationConfig(
+        name=name,
+        telescope=TelescopeConfig(diameter=diameter, n_pixels=n_pixels,
+                                  obscuration=obscuration),
+        layers=tuple(LayerConfig(altitude=h, d_over_r0=s, wind_speed=0.0) for h, s in layers),
+        dms=tuple(DMConfig(altitude=h, n_modes=m) for h, m in dms), wfss=tuple(wfss),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
+        field=FieldConfig(size=0.0, n_points=1), wavelength=wavelength,
+        r0_wavelength=r0_wavelength)

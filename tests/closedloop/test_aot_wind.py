@@ -75,9 +75,21 @@ def test_conversion_matches_the_bearing_of_the_from_vector_and_inverts():
     assert np.all((back >= 0.0) & (back < 360.0))
 
 
-def test_tiny_negative_angles_stay_below_360():
-    assert float(aot_wind_direction(270.0 + 1e-14)) < 360.0
-    assert float(wind_direction_from_aot(270.0 + 1e-14)) < 360.0
+def test_the_floats_next_to_270_stay_below_360():
+    # np.mod(x, 360) rounds up to 360 for x within half an ulp of 360 (2.8e-14) below a
+    # multiple of 360; 270 - a for the float64 a nearest 270 + 360 k is 0 or one ulp of a
+    # away (5.7e-14 and more), never there. (270 + 1e-14 is 270.0 itself in float64.)
+    assert 270.0 + 1e-14 == 270.0
+    for k in (-3, -1, 0, 1, 2, 10):
+        centre = 270.0 + 360.0 * k
+        for a in (np.nextafter(centre, -np.inf), centre, np.nextafter(centre, np.inf)):
+            for convert in (aot_wind_direction, wind_direction_from_aot):
+                assert 0.0 <= float(convert(a)) < 360.0, (convert.__name__, repr(a))
+    # just past 270 (to the South, a hair East of it): from the North, one ulp of 270
+    # short of 360, the float64 below 360, not 360 and not 0
+    up = np.nextafter(270.0, np.inf)
+    assert float(aot_wind_direction(up)) == np.nextafter(360.0, 0.0) == 360.0 - (up - 270.0)
+    assert float(wind_direction_from_aot(up)) == np.nextafter(360.0, 0.0)
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, [0.0, np.nan]])

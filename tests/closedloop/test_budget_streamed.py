@@ -154,3 +154,28 @@ def test_the_truncated_cut_is_on_singular_values_not_eigenvalues(sv):
     ref = np.sqrt(prior)[:, None] * (pinv @ pinv.T) * np.sqrt(prior)[None, :]
     assert obj.n_controlled == sum(s > cut for s in sv)
     np.testing.assert_allclose(k, ref, rtol=0, atol=1e-9 * np.abs(ref).max())
+
+
+def test_the_streamed_sensors_never_form_their_dense_self_interaction(monkeypatch):
+    # WavefrontSensor.interaction is built on first use: IdealSensing reads the operators
+    # only, so no ideal sensor forms the (n_meas x M) block (before, each formed it and
+    # the budget dropped it); once read it is interaction_with's
+    cfg = _actuator_mcao()
+    model = LoopModel(cfg)
+    calls = []
+    original = IdealSensor.interaction_with
+
+    def counted(self, dm):
+        calls.append(self.index)
+        return original(self, dm)
+
+    monkeypatch.setattr(IdealSensor, "interaction_with", counted)
+    streamed = IdealSensing(model)
+    assert calls == []
+    for w in streamed.wfss:
+        assert "interaction" not in vars(w)
+    w = streamed.wfss[0]
+    np.testing.assert_array_equal(w.interaction, w.interaction_with(w.dm))
+    assert "interaction" in vars(w)
+    # the run's own sensors: their reconstructors read it as before
+    assert all("interaction" in vars(w) for w in model.wfss)

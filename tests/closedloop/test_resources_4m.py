@@ -7,19 +7,16 @@ WFS's ``rcond`` for the least-squares reconstructor; a ``LoopModel`` that would 
 built is replaced by one that fails, so "refused before the set-up" is observed.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from closedloop import LoopModel, presets, simulate
 from closedloop import simulation as simulation_module
 from closedloop.config import (
-    DMConfig,
     FieldConfig,
-    LayerConfig,
-    LoopConfig,
     SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
 )
 from closedloop.resources import ResourceError, check_resources, estimate
 
@@ -27,16 +24,19 @@ from .conftest import shrunk
 
 
 def dkist_like() -> SimulationConfig:
-    """The DKIST-like loop of benchmarks/bench_4m_loop.py (44 x 44 actuators, 1,500 modes)."""
-    total = (4.0 / 0.07) ** (5 / 3)
-    layers = tuple(LayerConfig(altitude=h, d_over_r0=(f * total) ** 0.6, wind_speed=10.0,
-                               outer_scale=27.0)
-                   for h, f in zip((0.0, 7852.0, 13252.0), (0.942, 0.038, 0.02), strict=True))
-    return SimulationConfig(
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=172), layers=layers,
-        dms=(DMConfig(altitude=0.0, n_modes=1500, kind="actuators"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, n_subapertures=43, field_samples=1),),
-        loop=LoopConfig(time_step=2e-3, integration_time=2e-3, delay=0.5e-3, gain=0.5),
+    """The ``dkist-scao`` preset at 1,500 K-L modes, the test's variant of bench_4m_loop.py's.
+
+    From the preset: telescope (172 px across 4 m), layers (weights, altitudes, 10 m/s,
+    L0 = 27 m, r0 = 7 cm), the 43 x 43 SH, loop, wavelengths, seed. Changed: 1,500 modes
+    on the kind's default 44 x 44 actuators, winds all along +x, a noise-free SH, a 3 x 3
+    science grid over 10", the default name.
+    """
+    base = presets.dkist_scao()
+    return base.replace(
+        name="custom",
+        layers=tuple(dataclasses.replace(lay, wind_direction=0.0) for lay in base.layers),
+        dms=(dataclasses.replace(base.dms[0], n_modes=1500, options=None),),
+        wfss=(dataclasses.replace(base.wfss[0], noise=0.0),),
         field=FieldConfig(size=10.0, n_points=3))
 
 

@@ -26,13 +26,7 @@ from scipy.interpolate import RegularGridInterpolator
 from closedloop import presets, simulate
 from closedloop.config import (
     ARCSEC,
-    DMConfig,
     FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
     load_config,
     save_config,
 )
@@ -40,19 +34,15 @@ from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics.correlating_sensor import CorrelatingShackHartmann
 
+from ..conftest import correlating_config, correlating_sensor
+
 
 def _config(*, field_samples=1, image_formation=False, layer_altitude=0.0, d_over_r0=4.0,
             signal=None, contrast=None, n_sub=4, fov=10.0):
-    return SimulationConfig(
-        name="test",
-        telescope=TelescopeConfig(diameter=1.0, n_pixels=32),
-        layers=(LayerConfig(altitude=layer_altitude, d_over_r0=d_over_r0, wind_speed=0.0),),
-        dms=(DMConfig(altitude=0.0, n_modes=20),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=fov, kind="correlating",
-                        n_subapertures=n_sub, field_samples=field_samples,
-                        image_formation=image_formation, signal=signal, contrast=contrast),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9, r0_wavelength=500e-9)
+    sensor = correlating_sensor(0.0, fov, n_sub=n_sub, field_samples=field_samples,
+                                image_formation=image_formation, signal=signal,
+                                contrast=contrast)
+    return correlating_config("test", [(layer_altitude, d_over_r0)], [(0.0, 20)], [sensor])
 
 
 def _turbulence(model: LoopModel, seed: int) -> list[np.ndarray]:

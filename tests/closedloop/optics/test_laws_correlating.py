@@ -40,16 +40,9 @@ import math
 import numpy as np
 import pytest
 
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
 from closedloop.model import LoopModel
+
+from ..conftest import correlating_config, correlating_sensor
 
 ARCSEC = math.pi / 648000.0
 #: Danilovic et al. (2008): rms granulation contrast 14.4 % at 630 nm; Wien: 1 / lambda
@@ -60,19 +53,11 @@ NOLL_TILT = 0.449  # Noll (1976): variance of each tilt coefficient / (D/r0)^(5/
 
 def _config(*, wavelength=630e-9, r0_wavelength=500e-9, kind="correlating", n_sub=4):
     noise = 0.0 if kind == "correlating" else 0.005
-    return SimulationConfig(
-        name="laws",
-        telescope=TelescopeConfig(diameter=1.0, n_pixels=32),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=6.0, wind_speed=0.0),
-                LayerConfig(altitude=5000.0, d_over_r0=3.0, wind_speed=0.0)),
-        dms=(DMConfig(altitude=0.0, n_modes=14), DMConfig(altitude=5000.0, n_modes=9)),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=16.0, kind=kind, n_subapertures=n_sub,
-                        field_samples=2, noise=noise, dm=0),
-              WFSConfig(altitude=5000.0, field_of_view=10.0, kind=kind,
-                        n_subapertures=n_sub, field_samples=2, noise=noise, dm=1)),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1), wavelength=wavelength,
-        r0_wavelength=r0_wavelength)
+    sensors = [correlating_sensor(h, fov, n_sub=n_sub, field_samples=2, dm=i, kind=kind,
+                                  noise=noise)
+               for i, (h, fov) in enumerate(((0.0, 16.0), (5000.0, 10.0)))]
+    return correlating_config("laws", [(0.0, 6.0), (5000.0, 3.0)], [(0.0, 14), (5000.0, 9)],
+                              sensors, wavelength=wavelength, r0_wavelength=r0_wavelength)
 
 
 @pytest.fixture(scope="module")

@@ -62,18 +62,16 @@ from scipy import sparse
 from closedloop.config import (
     ARCSEC,
     DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
     SimulationConfig,
     TelescopeConfig,
-    WFSConfig,
 )
 from closedloop.kinds import sensor_kind
 from closedloop.model import LoopModel
 from closedloop.optics import correlating_sensor
 from closedloop.optics.photon_budget import PhotonBudget
 
+from ..conftest import correlating_config
+from ..conftest import correlating_sensor as sensor_config
 from .test_correlating_sensor import _independent_ztilts
 
 
@@ -81,19 +79,11 @@ def _config(*, wfs_altitude=0.0, field_samples=1, image_formation=True, r0_wavel
             n_pixels=32, obscuration=0.0, n_sub=4, fov=16.0, diameter=1.0):
     # two planes (the ground and 3 km: the layers', the DM on the WFS's) so that the
     # phase is a sum
-    return SimulationConfig(
-        name="test",
-        telescope=TelescopeConfig(diameter=diameter, n_pixels=n_pixels,
-                                  obscuration=obscuration),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=3.0, wind_speed=0.0),
-                LayerConfig(altitude=3000.0, d_over_r0=3.0, wind_speed=0.0)),
-        dms=(DMConfig(altitude=wfs_altitude, n_modes=20),),
-        wfss=(WFSConfig(altitude=wfs_altitude, field_of_view=fov, kind="correlating",
-                        n_subapertures=n_sub, field_samples=field_samples,
-                        image_formation=image_formation, contrast=0.04),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1), wavelength=630e-9,
-        r0_wavelength=r0_wavelength)
+    sensor = sensor_config(wfs_altitude, fov, n_sub=n_sub, field_samples=field_samples,
+                           image_formation=image_formation, contrast=0.04)
+    return correlating_config("test", [(0.0, 3.0), (3000.0, 3.0)], [(wfs_altitude, 20)],
+                              [sensor], diameter=diameter, n_pixels=n_pixels,
+                              obscuration=obscuration, r0_wavelength=r0_wavelength)
 
 
 @pytest.fixture(scope="module")
