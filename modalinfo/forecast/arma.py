@@ -281,8 +281,9 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     ``_XTOL``; also when no damping lowers the sum, or after ``n_iter`` accepted
     steps. ``xc`` is the standardised series, so these tolerances are unit-free.
 
-    The whole iteration runs in one numba call (``_kernels.css_newton``, issue 30): per
-    step the four filters, the Gram matrix, gradient and Hessian terms as BLAS dot
+    The whole iteration runs in one numba call (``_kernels.css_newton``, issue 30: the
+    order search's ``css_newton_batch`` with one fit): per step the four filters, the
+    Gram matrix, gradient and Hessian terms as BLAS dot
     products of the lagged series (no design matrix), a pivoted solve of the small
     damped system and the root enforcement. Its sums are formed in a different order
     from the former numpy/BLAS products, so fits agree with the former path to rounding
