@@ -5,7 +5,7 @@ Run::
     nice /work/main/.venv/bin/python benchmarks/bench_predictor_scale.py
         [--sizes 27,184,500,1500] [--aic-sizes 27,184] [--frames 10000]
         [--baseline OLD_ARMA.py | --baseline-rev REV] [--baseline-max-aic 184]
-        [--sm-modes 3] [--sm-aic-modes 0] [--cache DIR]
+        [--sm-modes 3] [--sm-aic-modes 0] [--spread] [--cache DIR]
 
 Data: one synthetic closed-loop log of ``max(sizes)`` Kolmogorov-correlated Zernike modes
 (Z2 onwards, :func:`modalinfo.telemetry.synthetic.kaos_like`, seed 0: von Karman
@@ -27,6 +27,13 @@ Timed (median of ``--repeats`` runs, CPU-bound, single-threaded BLAS):
    (``--baseline-max-aic``: AIC baseline only up to that many modes, it is the slow one;
    ``--aic-every k``: the AIC rows fit every k-th mode, a sample spread over the whole
    log, e.g. 300 of 1,500 with k = 5).
+   ``--spread`` (with a baseline): the baseline also fits the AIC rows' data perturbed by
+   one ulp (``numpy.nextafter`` upwards) and, if it has ``_SharedRegressions``, with every
+   Hannan-Rissanen start scaled by ``1 + 1e-12`` (both untimed); the largest change of
+   any candidate's criterion is the search's own numerical spread, and the order rule of
+   issue 30 (aic3) is printed against it: the selected orders equal on >= 99 % of the modes, every
+   difference's gap in the baseline's own table beside the spread, and the mean signed
+   criterion change (this tree minus the baseline) per candidate order.
 4. statsmodels' ``ARIMA(order=(2, 0, 3)).fit()`` per mode on the first ``--sm-modes``
    modes, and (``--sm-aic-modes``) ``arma_order_select_ic(max_ar=5, max_ma=5,
    ic="aic")`` per mode: our cost per mode against theirs, same run.
@@ -133,7 +140,52 @@ def _differences(a: dict, b: dict) -> str:
     return ", ".join(out)
 
 
-def _rows(x, sizes, label, make, make_old, repeats, baseline_max=None, every=1):
+def _spread(make_old, data: np.ndarray, fitted: dict) -> float:
+    """The baseline's own spread: largest criterion change under 1 ulp of the data or a
+    ``1 + 1e-12`` scaling of every Hannan-Rissanen start (untimed refits)."""
+    crit = fitted["criterion"]
+    bumped = make_old().fit(np.nextafter(data, np.inf)).params_["criterion"]
+    widths = [float(np.nanmax(np.abs(bumped - crit)))]
+    module = sys.modules[type(make_old()).__module__]
+    shared = getattr(module, "_SharedRegressions", None)
+    if shared is not None:
+        solve = shared.solve
+        shared.solve = lambda self, p, q: tuple(c * (1 + 1e-12) for c in solve(self, p, q))
+        try:
+            started = make_old().fit(data).params_["criterion"]
+        finally:
+            shared.solve = solve
+        widths.append(float(np.nanmax(np.abs(started - crit))))
+    print("  spread: 1 ulp of the data " + f"{widths[0]:.3g}" + (
+        f", Hannan-Rissanen starts x (1 + 1e-12) {widths[1]:.3g}" if len(widths) > 1 else ""))
+    return max(widths)
+
+
+def _order_rule(new: dict, old: dict, spread: float) -> str:
+    """The order rule (issue 30, aic3): selections, their gaps and the mean change."""
+    crit_new, crit_old = new["criterion"], old["criterion"]
+    n_modes = crit_old.shape[0]
+    differ = np.flatnonzero((new["orders"] != old["orders"]).any(axis=1))
+    lines = [f"  order rule: spread (largest |change| of a criterion, above) "
+             f"{spread:.3g}; orders equal on {n_modes - differ.size}/{n_modes} modes "
+             f"({100 * (1 - differ.size / n_modes):.1f} %, rule >= 99 %)"]
+    for m in differ:
+        o_new = tuple(int(i) for i in new["orders"][m])
+        o_old = tuple(int(i) for i in old["orders"][m])
+        gap = crit_old[m][o_new] - crit_old[m][o_old]
+        lines.append(f"    mode {m}: {o_old} -> {o_new}, gap in the baseline's table "
+                     f"{gap:.3g} ({'within' if gap <= spread else 'BEYOND'} the spread "
+                     f"{spread:.3g})")
+    mean = np.nanmean(crit_new - crit_old, axis=0)
+    worst = tuple(int(i) for i in np.unravel_index(np.nanargmax(mean), mean.shape))
+    lines.append(f"  mean criterion change per candidate (this tree - baseline): largest "
+                 f"{mean[worst]:.3g} at {worst} ({'within' if mean[worst] <= spread else 'BEYOND'}"
+                 f" the spread)")
+    return "\n".join(lines)
+
+
+def _rows(x, sizes, label, make, make_old, repeats, baseline_max=None, every=1,
+          spread=False):
     out = {}
     for m in sizes:
         data = np.ascontiguousarray(x[:, ::every][:, :m])
@@ -142,9 +194,13 @@ def _rows(x, sizes, label, make, make_old, repeats, baseline_max=None, every=1):
         if make_old is not None and (baseline_max is None or m <= baseline_max):
             t_old, fit_old = _median_time(lambda d=data: make_old().fit(d), repeats)
             same = _identical(fit_new.params_, fit_old.params_)
-            line += (f" | baseline {t_old:8.2f} s, ratio {t_old / t_new:5.2f}x, "
+            line += (f" | baseline {t_old:8.2f} s ({t_old / m * 1e3:7.2f} ms/mode), "
+                     f"ratio {t_old / t_new:5.2f}x, "
                      + ("bit-identical" if same
                         else _differences(fit_new.params_, fit_old.params_)))
+            if spread and fit_old.params_["criterion"] is not None:
+                line += "\n" + _order_rule(fit_new.params_, fit_old.params_,
+                                           _spread(make_old, data, fit_old.params_))
         print(line, flush=True)
         out[m] = t_new / m
     return out
@@ -189,6 +245,8 @@ def main(argv=None) -> None:
                         help="AIC rows fit every k-th mode (a sample spread over the log)")
     parser.add_argument("--sm-modes", type=int, default=3)
     parser.add_argument("--sm-aic-modes", type=int, default=0)
+    parser.add_argument("--spread", action="store_true",
+                        help="the AIC rows' order rule against the baseline's 1-ulp spread")
     parser.add_argument("--cache", type=Path, default=None)
     args = parser.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",") if s]
@@ -200,14 +258,18 @@ def main(argv=None) -> None:
     make_old_aic = (None if old is None else lambda: old(order="aic"))
     # compile the kernels (this tree's and the baseline's) outside the timings
     make_predictor("arma").fit(x[:2000, :2])
+    if aic_sizes:
+        make_predictor("arma-aic").fit(x[:2000, :2])
     if make_old is not None:
         make_old().fit(x[:2000, :2])
+        if aic_sizes:
+            make_old_aic().fit(x[:2000, :2])
     print(f"## ARMA fits, {args.frames} frames, CPU time (process_time), "
           f"median of {args.repeats}; load average {os.getloadavg()}", flush=True)
     fixed = _rows(x, sizes, "ARMA(2,3)", lambda: make_predictor("arma"), make_old,
                   args.repeats)
     aic = _rows(x, aic_sizes, "arma-aic", lambda: make_predictor("arma-aic"), make_old_aic,
-                args.repeats, args.baseline_max_aic, args.aic_every)
+                args.repeats, args.baseline_max_aic, args.aic_every, args.spread)
     sm = _statsmodels(x, args.sm_modes, args.sm_aic_modes)
     if "arma" in sm:
         for m, t in fixed.items():

@@ -719,113 +719,6 @@ def _sum_squares(e, burn):
 
 
 @jit
-def css_newton(xc, phi, theta, margin, safe, burn, n_iter, lambdas, tols):
-    """Damped Newton minimisation of the conditional sum of squares (see ``arma._css_refine``).
-
-    ``phi`` (p,) and ``theta`` (q >= 1,) are the start, overwritten with the result;
-    returns the sum of squares of the innovations after ``burn``. ``lambdas`` =
-    ``(lambda_0, lambda_min, lambda_max)``, ``tols`` = ``(ftol, xtol)``. The whole
-    iteration runs here: per step :func:`css_newton_terms`, the Marquardt-damped
-    solve, :func:`enforce_roots` on the candidate and its innovations
-    (:func:`arma_innovations`). :func:`css_newton_batch` runs the same iteration as a
-    state machine (:func:`_fit_propose`, :func:`_fit_judge`) for the order search; a
-    change here must be made there too (``tests/forecast/test_arma_fast_paths.py``
-    checks the two bit for bit).
-    """
-    p = phi.shape[0]
-    q = theta.shape[0]
-    k = p + q
-    n = xc.shape[0]
-    for i in range(p):
-        phi[i] = -phi[i]
-    enforce_roots(phi, margin, safe, phi)
-    for i in range(p):
-        phi[i] = -phi[i]
-    enforce_roots(theta, margin, safe, theta)
-    zf = np.empty((3, max(p, q) + 1))
-    e = np.empty(n)
-    e_new = np.empty(n)
-    arma_innovations(xc, phi, theta, e, zf)
-    sse = _sum_squares(e, burn)
-    start = max(p, q, burn)
-    lam = lambdas[0]
-    v = np.empty(n)
-    w = np.empty(n)
-    u = np.empty(n)
-    y = np.empty(n)
-    z_ar = np.empty(max(p, 1))
-    z_ma = np.empty((3, q))
-    gram = np.empty((k, k))
-    grad = np.empty(k)
-    hess = np.empty((k, k))
-    lhs = np.empty((k, k))
-    cross = np.empty((2, max(k, 2 * q) + 1))
-    toep = np.empty((4, max(p, q, 1)))
-    step = np.empty(k)
-    work = np.empty((k, k + 1))
-    ar = np.empty(p + 1)
-    ma = np.empty(q + 1)
-    phi_new = np.empty(p)
-    theta_new = np.empty(q)
-    for _ in range(n_iter):
-        ar[0] = 1.0
-        for i in range(p):
-            ar[i + 1] = -phi[i]
-        ma[0] = 1.0
-        for j in range(q):
-            ma[j + 1] = theta[j]
-        css_newton_terms(e, ar, ma, start, v, w, u, y, z_ar, z_ma[0], z_ma[1], z_ma[2],
-                         toep, gram, grad, cross)
-        _newton_hessian(gram, cross, p, q, hess)
-        accepted = False
-        sse_new = sse
-        predicted = 0.0
-        while lam <= lambdas[2]:
-            for a in range(k):
-                for b in range(k):
-                    lhs[a, b] = hess[a, b]
-                lhs[a, a] += lam * max(gram[a, a], 1e-300)
-            if not _solve_small(lhs, grad, step, work):
-                lam *= 10.0
-                continue
-            predicted = 0.0
-            for a in range(k):
-                predicted += step[a] * grad[a]
-            if not predicted > 0.0:  # not a descent direction: damp more
-                lam *= 10.0
-                continue
-            for i in range(p):
-                phi_new[i] = -(phi[i] + step[i])
-            enforce_roots(phi_new, margin, safe, phi_new)
-            for i in range(p):
-                phi_new[i] = -phi_new[i]
-            for j in range(q):
-                theta_new[j] = theta[j] + step[p + j]
-            enforce_roots(theta_new, margin, safe, theta_new)
-            arma_innovations(xc, phi_new, theta_new, e_new, zf)
-            sse_new = _sum_squares(e_new, burn)
-            if sse_new < sse:
-                accepted = True
-                break
-            lam *= 10.0
-        if not accepted:
-            break
-        moved = 0.0
-        for i in range(p):
-            moved = max(moved, abs(phi_new[i] - phi[i]))
-            phi[i] = phi_new[i]
-        for j in range(q):
-            moved = max(moved, abs(theta_new[j] - theta[j]))
-            theta[j] = theta_new[j]
-        e, e_new = e_new, e
-        sse = sse_new
-        lam = max(lam / 10.0, lambdas[1])
-        if predicted <= tols[0] * sse or moved <= tols[1]:
-            break
-    return sse
-
-
-@jit
 def _innovations_pair(x, phi_a, theta_a, e_a, phi_b, theta_b, e_b):
     """:func:`_innovations_short` of two models in one pass over ``x`` (orders <= 5).
 
@@ -873,7 +766,11 @@ _SSE, _LAM, _PRED, _ITER, _TERMS, _CUR = 0, 1, 2, 3, 4, 5
 
 @jit
 def _fit_start(xc, phi0, theta0, margin, safe, burn, lambdas):
-    """Start one CSS fit as :func:`css_newton` does; return its state tuple."""
+    """Start one CSS fit of :func:`css_newton_batch`; return its state tuple.
+
+    The start's AR and MA roots are enforced (:func:`enforce_roots`), then its
+    innovations and their sum of squares after ``burn`` are formed.
+    """
     p = phi0.shape[0]
     q = theta0.shape[0]
     k = p + q
@@ -902,10 +799,15 @@ def _fit_start(xc, phi0, theta0, margin, safe, burn, lambdas):
 
 @jit
 def _fit_propose(st, margin, safe, burn, n_iter, lambdas):
-    """Next trial of a fit (True), or False when :func:`css_newton` would stop here.
+    """Next trial of a fit (True), or False when the fit stops here.
 
-    One pass of :func:`css_newton`'s loop up to its trial innovations: at the start
-    of an iteration the Newton terms, then the damping ladder until a candidate.
+    At the start of an iteration (after an accepted step, or the start) the Newton
+    terms (:func:`css_newton_terms`, :func:`_newton_hessian`), unless ``n_iter`` steps
+    were accepted; then the damping ladder: the Marquardt-damped system ``(H + lambda
+    diag(gram)) step = grad`` solved, lambda x10 while it is singular or the step is
+    not a descent direction, and the candidate made causal and invertible
+    (:func:`enforce_roots`). False when lambda passes ``lambdas[2]`` (no damping
+    lowered the sum of squares).
     """
     (f, phi, theta, phi_new, theta_new, ee, vwuy, z_ar, z_ma, gram, grad, hess, lhs,
      cross, toep, step, work, ar, ma, zf) = st
@@ -960,7 +862,10 @@ def _fit_propose(st, margin, safe, burn, n_iter, lambdas):
 def _fit_judge(st, burn, lambdas, tols):
     """Accept or reject a fit's trial (its innovations in the spare buffer).
 
-    Returns False when the fit has converged (:func:`css_newton`'s stopping rule).
+    A trial that does not lower the sum of squares is rejected (lambda x10); an accepted
+    one becomes the fit (lambda / 10, not below ``lambdas[1]``). Returns False when the
+    fit has converged: predicted decrease at most ``tols[0]`` of the sum of squares or
+    largest coefficient change at most ``tols[1]``.
     """
     f, phi, theta, phi_new, theta_new, ee = st[0], st[1], st[2], st[3], st[4], st[5]
     cur = int(f[_CUR])
@@ -985,7 +890,7 @@ def _fit_judge(st, burn, lambdas, tols):
 
 @jit
 def _newton_hessian(gram, cross, p, q, hess):
-    """``hess``: the Gram matrix plus the residual terms (see :func:`css_newton`)."""
+    """``hess``: the Gram matrix plus the residual terms (see ``arma._css_refine``)."""
     k = p + q
     for a in range(k):
         for b in range(k):
@@ -1032,12 +937,16 @@ def _next_trial(xc, phi0, theta0, orders, nxt, margin, safe, burn, n_iter, lambd
 @jit
 def css_newton_batch(xc, phi0, theta0, orders, margin, safe, burn, n_iter, lambdas, tols,
                      phi_out, theta_out, sse_out):
-    """:func:`css_newton` for several orders on one series, two fits at a time (issue 30).
+    """Damped Newton minimisation of the CSS (``arma._css_refine``) for several orders.
 
-    Every fit runs :func:`css_newton`'s iteration step for step (the same bits for each
-    fit); two fits advance side by side and their trial innovations, the latency-bound
-    part of a step, are computed in one pass (:func:`_innovations_pair`). Orders must be
-    ``p, q <= SHORT_ORDER``, ``q >= 1``.
+    Each fit is a small state machine (:func:`_fit_start`, :func:`_fit_propose`,
+    :func:`_fit_judge`): per step the Newton terms, the damping ladder, the trial's
+    innovations and its acceptance. Two fits advance side by side and their trial
+    innovations, the latency-bound part of a step, are computed in one pass
+    (:func:`_innovations_pair`, issue 30): the same operations as one fit alone
+    (:func:`arma_innovations`), so every fit's bits are those it has alone
+    (:func:`css_newton`). With two or more fits the orders must be ``p, q <=
+    SHORT_ORDER``; ``q >= 1`` always.
 
     Parameters
     ----------
@@ -1046,8 +955,16 @@ def css_newton_batch(xc, phi0, theta0, orders, margin, safe, burn, n_iter, lambd
         Starts, row ``i`` zero-padded beyond ``orders[i]``.
     orders : (K, 2) int64 IN
         ``(p, q)`` of every fit.
-    margin, safe, burn, n_iter, lambdas, tols
-        As :func:`css_newton`.
+    margin, safe : float
+        Root margin (:func:`enforce_roots`) and Schur-Cohn's safety (:func:`clearly_inside`).
+    burn : int
+        Innovations left out of the sum of squares.
+    n_iter : int
+        Most accepted steps per fit.
+    lambdas : (3,) float64
+        ``(lambda_0, lambda_min, lambda_max)`` of the damping.
+    tols : (2,) float64
+        ``(ftol, xtol)`` of the stopping rule (:func:`_fit_judge`).
     phi_out, theta_out : like ``phi0``, ``theta0`` OUT
     sse_out : (K,) float64 OUT
         Each fit's sum of squares after ``burn``.
@@ -1093,3 +1010,34 @@ def css_newton_batch(xc, phi0, theta0, orders, margin, safe, burn, n_iter, lambd
         if pend_b and not _fit_judge(sb, burn, lambdas, tols):
             sb[0][_ITER] = n_iter
             sb[0][_TERMS] = 1.0
+
+
+@jit
+def css_newton(xc, phi, theta, margin, safe, burn, n_iter, lambdas, tols):
+    """One CSS fit (see ``arma._css_refine``): :func:`css_newton_batch` of one order.
+
+    ``phi`` (p,) and ``theta`` (q >= 1,) are the start, overwritten with the result (any
+    orders); returns the sum of squares of the innovations after ``burn``. Arguments as
+    :func:`css_newton_batch`'s.
+    """
+    p = phi.shape[0]
+    q = theta.shape[0]
+    orders = np.empty((1, 2), dtype=np.int64)
+    orders[0, 0] = p
+    orders[0, 1] = q
+    phi0 = np.empty((1, p))
+    theta0 = np.empty((1, q))
+    for i in range(p):
+        phi0[0, i] = phi[i]
+    for j in range(q):
+        theta0[0, j] = theta[j]
+    phi_out = np.empty((1, p))
+    theta_out = np.empty((1, q))
+    sse = np.empty(1)
+    css_newton_batch(xc, phi0, theta0, orders, margin, safe, burn, n_iter, lambdas, tols,
+                     phi_out, theta_out, sse)
+    for i in range(p):
+        phi[i] = phi_out[0, i]
+    for j in range(q):
+        theta[j] = theta_out[0, j]
+    return sse[0]

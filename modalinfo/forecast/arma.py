@@ -53,6 +53,19 @@ Estimation (numpy only; statsmodels is a test-only reference)
   ``n`` the number of innovations after the burn-in (the same for every order), the
   usual Hannan-Rissanen residual-variance approximation to the exact likelihood.
 
+  Numerical spread, and the rule for changing the search (issue 30). The high-order
+  candidates are often flat (unidentified) fits whose end point depends on rounding:
+  today's search on 511 series (the 27 shipped KAOS modes, the first 184 and every 5th
+  of 1,500 ``kaos_like`` modes, 10^4 frames) moves a candidate's criterion by up to
+  0.31 when the data move by one ulp, and by up to 20.7 (one selection of 511
+  flipping, 15.4 apart in the table) when every Hannan-Rissanen start is scaled by
+  ``1 + 1e-12``. A change of the search that alters bits is acceptable only if, on
+  those 511 series, it selects the same (p, q) on >= 99 % of them, every differing
+  selection is within that spread of today's in today's own table, and no candidate
+  order's criterion is worse than today's by more than the spread on average
+  (``benchmarks/bench_predictor_scale.py --spread`` prints the check). Warm starts from
+  the neighbouring orders' fits and looser stopping rules fail it (RESULTS.md, "aic3").
+
 Forecasts: the one-step innovations recursion with the fitted (phi, theta) (state:
 last p centred values and last q innovations), iterated for h > 1; the h-step error
 variance is ``sigma^2 sum_{j<h} psi_j^2`` with the psi-weights of the causal
@@ -281,8 +294,9 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     ``_XTOL``; also when no damping lowers the sum, or after ``n_iter`` accepted
     steps. ``xc`` is the standardised series, so these tolerances are unit-free.
 
-    The whole iteration runs in one numba call (``_kernels.css_newton``, issue 30): per
-    step the four filters, the Gram matrix, gradient and Hessian terms as BLAS dot
+    The whole iteration runs in one numba call (``_kernels.css_newton``, issue 30: the
+    order search's ``css_newton_batch`` with one fit): per step the four filters, the
+    Gram matrix, gradient and Hessian terms as BLAS dot
     products of the lagged series (no design matrix), a pivoted solve of the small
     damped system and the root enforcement. Its sums are formed in a different order
     from the former numpy/BLAS products, so fits agree with the former path to rounding

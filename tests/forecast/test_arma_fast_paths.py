@@ -11,7 +11,8 @@ design matrix for ``css_newton_terms`` (within the float error bound of a dot pr
 fused kernel (lfilter, numpy's solve and roots, written out below), whose fits the
 kernel's must match within the stopping rule's tolerance (the summation order
 differs, so not bit for bit); the order search's batch driver (two fits side by side)
-against ``css_newton`` one fit at a time, bit for bit. Small sizes: the file runs in a
+against ``css_newton`` (the same driver with one fit, its innovations by
+``arma_innovations`` alone) one fit at a time, bit for bit. Small sizes: the file runs in a
 few seconds.
 """
 
@@ -284,7 +285,7 @@ def test_arma_innovations_equal_lfilter(p, q):
 
 
 def test_css_newton_batch_is_css_newton_fit_by_fit():
-    """The order search's batch driver runs every fit as ``css_newton`` does, bit for bit.
+    """Two fits side by side give each fit the bits it has alone (``css_newton``).
 
     Odd and even numbers of fits (a slot left alone, fits ending at different steps),
     ``n_iter`` 0 (the enforced start), 2 (stopped by the cap) and 50, starts with roots
