@@ -15,7 +15,13 @@ import math
 import numpy as np
 import pytest
 
-from modalinfo.information import entropy, mutual_information
+from modalinfo.information import (
+    conditional_mutual_information,
+    entropy,
+    mutual_information,
+    transfer_entropy,
+)
+from modalinfo.information.api import InfiniteMIError
 
 
 @pytest.fixture
@@ -54,3 +60,34 @@ def test_kde_grid_size_at_the_cap_agrees_with_the_default(pair):
     small = mutual_information(*pair, method="kde", bandwidth="scott")
     assert big == pytest.approx(small, abs=1e-3)
     assert big == pytest.approx(exact, abs=0.05)
+
+
+@pytest.mark.parametrize("method", ["histogram", "ksg", "gaussian", "kde"])
+def test_cmi_of_a_copy_is_refused_as_infinite_like_mi(pair, method):
+    # a48, a48b, a48c: cmi(x, x, z) gave 3.34 nats (ksg, histogram) and cmi(x, -x, z)
+    # 16.9 (gaussian), where mutual_information(x, x) is refused: a copy has no joint
+    # density, its (C)MI is infinite (Cover & Thomas 2006, sec. 8.5)
+    x, y = pair
+    z = y[::-1].copy()
+    n = 300 if method == "kde" else x.size  # kde's CMI is exact O(n^2)
+    with pytest.raises(InfiniteMIError, match=r"strictly monotone function"):
+        conditional_mutual_information(x[:n], -x[:n], z[:n], method=method)
+
+
+def test_cmi_of_a_discrete_copy_stays_finite():
+    # a copy with repeated values is a discrete variable: finite (its entropy), as for MI
+    b = np.repeat([0.0, 1.0], 500)
+    z = np.random.default_rng(3).standard_normal(1000)
+    assert conditional_mutual_information(b, b.copy(), z, method="ksg") == pytest.approx(
+        math.log(2), abs=0.05)
+
+
+def test_te_of_a_delayed_copy_is_refused_and_the_reverse_is_near_zero():
+    # a42: te(s, s delayed by one frame) gave 3.54 (ksg) / 1.94 (histogram) nats
+    s = np.random.default_rng(5).standard_normal(3000)
+    delayed = np.r_[0.0, s[:-1]]
+    with pytest.raises(InfiniteMIError, match=r"`target` is a strictly monotone function "
+                                              r"of `source` 1 sample"):
+        transfer_entropy(s, delayed)
+    # the other direction: the target's own past holds everything, TE ~ 0 (sd ~ 0.02)
+    assert abs(transfer_entropy(delayed, s, method="ksg")) < 0.05
