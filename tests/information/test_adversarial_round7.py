@@ -17,8 +17,10 @@ import pytest
 
 from modalinfo.information import (
     conditional_mutual_information,
+    conditional_mutual_information_ci,
     entropy,
     mutual_information,
+    mutual_information_ci,
     transfer_entropy,
 )
 from modalinfo.information.api import InfiniteMIError
@@ -91,3 +93,21 @@ def test_te_of_a_delayed_copy_is_refused_and_the_reverse_is_near_zero():
         transfer_entropy(s, delayed)
     # the other direction: the target's own past holds everything, TE ~ 0 (sd ~ 0.02)
     assert abs(transfer_entropy(delayed, s, method="ksg")) < 0.05
+
+
+@pytest.mark.parametrize("b", [2000, 1999, 1001])
+def test_bootstrap_blocks_longer_than_half_the_series_are_refused(pair, b):
+    # a54, f19, f20: block_length = n (n - 1) gave a 95 % interval 1e-16 (3e-4) wide
+    # around an estimate whose bootstrap sd at b = 3 is 0.015: every circular block of
+    # the whole series is a rotation, holding the same (x, y) pairs
+    with pytest.raises(ValueError, match=r"`block_length` must be at most half the "
+                                         r"series \(1000 of 2000 samples\)"):
+        mutual_information_ci(*pair, n_resamples=20, block_length=b)
+    with pytest.raises(ValueError, match=r"`block_length` must be at most half"):
+        conditional_mutual_information_ci(*pair, None, n_resamples=20, block_length=b)
+
+
+def test_a_block_of_half_the_series_still_spreads(pair):
+    # at b = n / 2 each resample joins two arcs from random starts: a spread remains
+    ci = mutual_information_ci(*pair, n_resamples=30, block_length=1000, seed=0)
+    assert ci.bootstrap_std > 1e-3
