@@ -111,3 +111,11 @@ def test_a_block_of_half_the_series_still_spreads(pair):
     # at b = n / 2 each resample joins two arcs from random starts: a spread remains
     ci = mutual_information_ci(*pair, n_resamples=30, block_length=1000, seed=0)
     assert ci.bootstrap_std > 1e-3
+
+
+def test_scoring_before_fit_is_a_value_error(pair):
+    # a76: a RuntimeError, where every other refusal of the API is a ValueError/TypeError
+    from modalinfo.information import MutualInformation
+
+    with pytest.raises(ValueError, match=r"not fitted: call \.fit\(x\) first"):
+        MutualInformation("ksg").score(pair[1])
