@@ -5,7 +5,9 @@ The full list of inputs tried is in docs/ADVERSARIAL.md, section "Round 7, issue
 References: the API's documented contract (a ValueError/TypeError naming the argument,
 the rule and the value, before any work); for the KDE bandwidth floor, Scott's rule
 n^(-1/(d+4)) (Scott 1992, ch. 6), which reaches 1e-3 only at n = 1e15 samples (d = 1);
-for the Gaussian pair's MI, the closed form -0.5 ln(1 - rho^2).
+the grid cap (4096) from the memory of its joint grid; a continuous copy has infinite
+(C)MI (no joint density, Cover & Thomas 2006, sec. 8.5) and a fair binary copy ln 2; a
+circular block of the whole series is a rotation holding the same (x, y) pairs.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from modalinfo.information import (
     transfer_entropy,
 )
 from modalinfo.information.api import InfiniteMIError
+from modalinfo.information.kde import KDEEngine
 
 
 @pytest.fixture
@@ -54,14 +57,11 @@ def test_kde_grid_size_beyond_memory_is_refused(pair, g):
         mutual_information(*pair, method="kde", grid_size=g)
 
 
-def test_kde_grid_size_at_the_cap_agrees_with_the_default(pair):
-    # 4096 is accepted; on a Gaussian pair both grids give the closed form within the
-    # estimator's error (rho = 0.6: 0.2231 nats; 2000 samples: sd ~ 0.02)
-    exact = -0.5 * math.log(1 - 0.36)
-    big = mutual_information(*pair, method="kde", bandwidth="scott", grid_size=4096)
-    small = mutual_information(*pair, method="kde", bandwidth="scott")
-    assert big == pytest.approx(small, abs=1e-3)
-    assert big == pytest.approx(exact, abs=0.05)
+def test_kde_grid_size_cap_is_4096_exactly():
+    # the boundary of the rule: 4096 accepted (an engine is built), 4097 refused
+    assert KDEEngine(grid_size=4096).grid_size == 4096
+    with pytest.raises(ValueError, match=r"`grid_size` must be an int <= 4096; got 4097"):
+        KDEEngine(grid_size=4097)
 
 
 @pytest.mark.parametrize("method", ["histogram", "ksg", "gaussian", "kde"])
