@@ -139,6 +139,8 @@ def simulate(
                     budget=bool(budget_every), setup=model is None)
     model = _model_for(config, model)
     seed = _check_seed(config.seed if seed is None else seed)
+    if callback is not None and not callable(callback):  # else a TypeError at frame 0
+        raise TypeError(f"`callback` must be callable or None; got {callback!r}.")
     basis = _check_control_basis(control_basis, model.n_modes)
     if basis is not None and budget_every:
         raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "

@@ -19,6 +19,7 @@ from modalinfo.bases.indexing import noll_to_zernike
 from modalinfo.bases.pupil import Pupil
 from modalinfo.bases.turbulence import _angular_keys, _check_modes, _covariance_blocks
 from modalinfo.bases.zernike import ZernikeBasis, _parse_modes
+from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.validation import as_float_array, check_int, check_real
 
 __all__ = ["KLBasis", "default_zernike_modes"]
@@ -155,6 +156,23 @@ def _eig_blocks(blocks: list[tuple[np.ndarray, np.ndarray]], modes: np.ndarray,
     return values[order], out
 
 
+def _check_turbulence_memory(n_z: int, n_modes: int) -> None:
+    """Refuse a theoretical K-L basis whose arrays would not fit in the free memory.
+
+    Estimate [bytes]: the (n_z, n_modes) float64 eigenvectors plus the covariance
+    blocks, one per azimuthal order and parity over the N ~ sqrt(2 n_z) radial orders,
+    about N^3 / 6 entries in all. ``n_modes = 10**6`` (3 x 10^6 Zernikes) ran for
+    minutes before this check; 6000 modes take ~4 s and 0.9 GB.
+    """
+    need = 8.0 * (float(n_z) * n_modes + (2.0 * n_z) ** 1.5 / 6.0)
+    avail = free_memory_bytes()
+    if need > avail:
+        raise ValueError(
+            f"`n_modes`={n_modes} K-L modes of {n_z} Zernikes need about "
+            f"{need / 2**30:.3g} GiB (eigenvectors and covariance blocks) and "
+            f"{avail / 2**30:.3g} GiB is free; use fewer modes or `zernike_modes`.")
+
+
 class KLBasis(ModalBasis):
     """Karhunen-Loeve modes as orthonormal combinations of Zernike modes.
 
@@ -277,6 +295,7 @@ class KLBasis(ModalBasis):
             raise ValueError(
                 f"`n_modes` must be <= the number of Zernike modes ({modes.size}); got {n_modes}."
             )
+        _check_turbulence_memory(modes.size, n_modes)
         # the checks of zernike_covariance (piston refused for Kolmogorov), then only its
         # non-zero blocks: the dense (n_z, n_z) matrix is never formed
         checked = _check_modes(modes, outer_scale)

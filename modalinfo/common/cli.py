@@ -136,6 +136,7 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
     int
         The exit status: the subcommand's, or :data:`EXIT_USAGE`, :data:`EXIT_INTERRUPTED`.
     """
+    _open_closed_streams()
     try:
         args = parser.parse_args(argv)
     except KeyboardInterrupt:  # Ctrl-C while the parser imports a subcommand's modules
@@ -184,6 +185,27 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
         return interrupted(prog)
     finally:
         warnings.formatwarning = previous_format
+
+
+def _open_closed_streams() -> None:
+    """Give a closed stdout or stderr (``cmd >&-``: Python sets it to None) to /dev/null.
+
+    Python's own ``print`` discards what it would write to a closed stream; the commands
+    write with ``sys.stdout.write`` and would stop on ``None.write`` with a traceback.
+    Discarding keeps both in step: the output goes nowhere, as the user asked, and the
+    exit status is the command's.
+    """
+    import os
+
+    for name in ("stdout", "stderr"):
+        if getattr(sys, name) is None:
+            if not _DEVNULL:  # one stream for the process, kept open (never collected)
+                _DEVNULL.append(open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115
+            setattr(sys, name, _DEVNULL[0])
+
+
+#: The /dev/null stream given to closed standard streams (see :func:`_open_closed_streams`).
+_DEVNULL: list = []
 
 
 def _one_line_warning(prefix: str):

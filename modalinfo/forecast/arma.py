@@ -175,6 +175,7 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
     -------
     numpy.ndarray, shape (n,)
     """
+    n = check_int(n, "n", minimum=1)  # psi_0 = 1 always exists (n = 0: IndexError)
     psi = np.zeros(n)
     psi[0] = 1.0
     for j in range(1, n):

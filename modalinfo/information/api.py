@@ -73,6 +73,14 @@ def _strictly_monotone(a: np.ndarray) -> bool:
     return bool(np.all(d > 0) or np.all(d < 0))
 
 
+class NotFittedError(ValueError, RuntimeError):
+    """``MutualInformation.score`` before ``fit``.
+
+    A ValueError as the API's other refusals (and ``modalinfo.forecast.NotFittedError``),
+    a RuntimeError as before round 7.
+    """
+
+
 class InfiniteMIError(ValueError):
     """A continuous ``y`` that is a strictly monotone function of ``x``: infinite MI."""
 
@@ -275,7 +283,7 @@ class MutualInformation:
             MI in ``self.units``; 0.0 if x or y is constant.
         """
         if not hasattr(self, "n_samples_"):
-            raise RuntimeError("This MutualInformation is not fitted: call .fit(x) first.")
+            raise NotFittedError("This MutualInformation is not fitted: call .fit(x) first.")
         y = _as_sample(y, "y")
         if y.shape[0] != self.n_samples_:
             raise ValueError(

@@ -170,6 +170,7 @@ import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.api import DEFAULT_METHOD, MIN_SAMPLES, UNITS
+from modalinfo.information.api import _COPY_SCREEN, MIN_SAMPLES, UNITS, _check_not_a_copy
 from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import (
     MIN_BINS,
@@ -309,6 +310,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         x, y, z = _varying(x), _varying(y), _varying(z)
         if x.shape[1] == 0 or y.shape[1] == 0:
             return 0.0  # a constant carries no information
+        if x.shape[1] == 1 and y.shape[1] == 1:  # a continuous copy: I(x; y | z) is infinite
+            _check_not_a_copy(x[:, 0], y[:, 0], np.argsort(x[:_COPY_SCREEN, 0], kind="stable"))
         why = (None if record.bias_rule is None else
                record.bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options))
         if why is not None:
@@ -377,7 +380,9 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
     ValueError
         If an input is not 1-D/2-D, shorter than 10 samples, not finite, or the lengths
         differ; if ``method``, ``units`` or an option value is invalid; where the bias
-        rule applies and ``fallback="raise"``.
+        rule applies and ``fallback="raise"``; ``InfiniteMIError`` where x and y are
+        single continuous columns and y is a strictly monotone function of x (their CMI
+        is infinite, as their MI: :func:`~modalinfo.information.mutual_information`).
     TypeError
         If an option is unknown for the method or of the wrong type.
 

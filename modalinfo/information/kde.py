@@ -101,6 +101,25 @@ __all__ = ["DISCRETE_MIN_PER_CELL", "KDEEngine", "kde_entropy", "bandwidth_facto
            "copula_scores"]
 
 _BW_RULES = ("scott", "silverman", "cv")
+#: Smallest bandwidth factor h a caller may give: Scott's rule n^(-1/(d+4)) reaches
+#: 1e-3 only at n = 1e15 samples in d = 1 (1e18 in d = 2), so a smaller h fits no
+#: sample that exists; at 1e-300 its square underflowed and the kernel divided by 0.
+MIN_BANDWIDTH = 1e-3
+#: Largest ``grid_size`` of the MI engine: its joint grid holds about grid_size^2 doubles
+#: (134 MB at 4096, about four times that in the FFT's padded arrays), and already at
+#: 1024 points the estimate is within 5e-5 nats of the default 128's (class notes);
+#: 10^5 asked for 74 GiB and stopped with a MemoryError.
+MAX_GRID_SIZE = 4096
+
+
+def _check_bandwidth(value: float) -> float:
+    """Validate a float bandwidth factor h: finite and >= :data:`MIN_BANDWIDTH`."""
+    value = check_real(value, "bandwidth", minimum=0.0, strict_min=True)
+    if value < MIN_BANDWIDTH:
+        raise ValueError(f"`bandwidth` (a factor h of the data's covariance) must be >= "
+                         f"{MIN_BANDWIDTH:g}: Scott's rule n^(-1/(d+4)) reaches that only "
+                         f"at n = 1e15 samples; got {value!r}.")
+    return value
 _TRUNCATE = 5.0
 def bandwidth_factor(rule: str | float, n: int, d: int) -> float:
     """Bandwidth factor h (kernel covariance h^2 S) of a rule for n samples in d dims.
@@ -281,9 +300,9 @@ class KDEEngine:
         bound as the kernel narrows onto them (measured: a rho = 0.75 normal pair
         rounded to 0.2 sd, ~40 levels, n = 1e4: cv 0.589, Scott 0.416, exact 0.41).
         ``"scott"``, ``"silverman"``: the rules for d = 2 (identical: n^(-1/6)); a
-        positive float: h itself. Why cv: on normal scores it lowers the bias and
-        does not widen the spread (measured, 20 seeds, Gaussian pairs rho = 0, 0.3,
-        0.6, 0.9; mean error, sd [nats]; n = 1e4: Scott -0.0031 .. -0.0049,
+        float >= 1e-3 (:data:`MIN_BANDWIDTH`): h itself. Why cv: on normal scores it
+        lowers the bias and does not widen the spread (measured, 20 seeds, Gaussian
+        pairs rho = 0, 0.3, 0.6, 0.9; mean error, sd [nats]; n = 1e4: Scott -0.0031 .. -0.0049,
         sd 0.0009 .. 0.0105, cv -0.0016 .. -0.0034, sd 0.0005 .. 0.0105; n = 1e3:
         Scott -0.0095 .. -0.0128, cv -0.0047 .. -0.0072, sd 0.0028 .. 0.0305 against
         0.0046 .. 0.0313), and it follows a copula that a fixed h smooths away: the
@@ -292,7 +311,7 @@ class KDEEngine:
         -0.080 (benchmarks/RESULTS.md, "MI accuracy", issue 27 round 2), for ~2x the
         CPU time of a score (n = 2e5: 65 ms against 43 ms).
     grid_size : int
-        Grid points along the longer axis of the joint grid (>= 32); the 1-D
+        Grid points along the longer axis of the joint grid (32 to 4096); the 1-D
         marginal grids use 4 x grid_size points. Default 128: with the bandwidth
         compensation for binning the estimate differs from that on a 1024-point grid
         by < 5e-5 nats for n = 1e4 .. 1e6 (Gaussian and non-Gaussian pairs, measured),
@@ -321,8 +340,8 @@ class KDEEngine:
         if isinstance(bandwidth, str):
             self.bandwidth = check_choice(bandwidth, "bandwidth", _BW_RULES)
         else:
-            self.bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
-        self.grid_size = check_int(grid_size, "grid_size", minimum=32)
+            self.bandwidth = _check_bandwidth(bandwidth)
+        self.grid_size = check_int(grid_size, "grid_size", minimum=32, maximum=MAX_GRID_SIZE)
         self.copula = check_copula(copula)
 
     def fit(self, x: np.ndarray) -> KDEEngine:
@@ -439,7 +458,7 @@ def kde_entropy(x: np.ndarray, *, bandwidth: Any = "scott", grid_size: int = 102
     if isinstance(bandwidth, str):
         check_choice(bandwidth, "bandwidth", _BW_RULES)
     else:
-        bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
+        bandwidth = _check_bandwidth(bandwidth)
     grid_size = check_int(grid_size, "grid_size", minimum=32)
     n = x.shape[0]
     sd = float(np.std(x))
@@ -485,7 +504,7 @@ def kde_cmi(x, y, z, *, bandwidth: Any = "scott", copula: bool = True) -> float:
     if isinstance(bandwidth, str):
         check_choice(bandwidth, "bandwidth", ("scott", "silverman"))
     else:
-        check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
+        _check_bandwidth(bandwidth)
     d = x.shape[1] + y.shape[1] + z.shape[1]
     h = bandwidth_factor(bandwidth, n, d)
     u = _standardise_columns(np.concatenate([x, y, z], axis=1), check_copula(copula))

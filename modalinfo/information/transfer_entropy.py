@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_int
-from modalinfo.information.api import MIN_SAMPLES
+from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError
 from modalinfo.information.conditional import _estimator
 
 __all__ = ["transfer_entropy", "transfer_entropy_variables"]
@@ -85,13 +85,26 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     Returns
     -------
     float
-        Transfer entropy in ``units``. An exact relation (the source equal to the
-        target at lag 0, or a monotone map of it) has an infinite TE; the estimators
-        then return what :func:`mutual_information` documents for one (the histogram:
-        the entropy of the binned target given its binned past, e.g. 1.40 nats for
-        white noise at lag 0, history 1, 200 samples). For significance and an interval, pass
+        Transfer entropy in ``units``. For significance and an interval, pass
         :func:`transfer_entropy_variables` to :func:`conditional_mutual_information_test`
         and :func:`conditional_mutual_information_ci`.
+
+    Raises
+    ------
+    ValueError
+        ``InfiniteMIError`` where the target is a strictly monotone function of the
+        source ``lag`` samples earlier (a delayed copy, continuous: no repeated values):
+        the TE is infinite, as :func:`mutual_information` refuses a copy (before round 7
+        the estimators returned an arbitrary finite value: ksg 3.5, histogram 1.9 nats
+        for a one-frame delayed copy of white noise, 3000 samples).
     """
     est = _estimator(method, units, options)
-    return est(*transfer_entropy_variables(source, target, lag=lag, history=history))
+    variables = transfer_entropy_variables(source, target, lag=lag, history=history)
+    try:
+        return est(*variables)
+    except InfiniteMIError as exc:
+        raise InfiniteMIError(
+            f"`target` is a strictly monotone function of `source` {lag} sample(s) earlier "
+            "(a delayed copy; both continuous, no repeated values): the transfer entropy "
+            "is infinite, which no estimator can return. Drop one of the two series."
+        ) from exc

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import unmasked
+from modalinfo.common.validation import check_exact_integers, unmasked
 
 __all__ = [
     "CONVENTIONS",
@@ -94,7 +94,9 @@ def as_coeffs(coeffs: Any) -> np.ndarray:
     if arr.shape[0] == 0 or arr.shape[1] == 0:
         raise ValueError(f"`coeffs` must hold at least one frame and one mode; got {arr.shape}.")
     if kind in "iu" or arr.dtype.itemsize not in (4, 8):
-        arr = arr.astype(np.float64)
+        src, arr = arr, arr.astype(np.float64)
+        if kind in "iu" and src.size:
+            check_exact_integers(src, arr, "coeffs")
     elif not arr.dtype.isnative:
         arr = arr.astype(arr.dtype.newbyteorder("="))
     view = arr.view()
