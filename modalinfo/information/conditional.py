@@ -169,8 +169,13 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice
-from modalinfo.information.api import DEFAULT_METHOD, MIN_SAMPLES, UNITS
-from modalinfo.information.api import _COPY_SCREEN, MIN_SAMPLES, UNITS, _check_not_a_copy
+from modalinfo.information.api import (
+    _COPY_SCREEN,
+    DEFAULT_METHOD,
+    MIN_SAMPLES,
+    UNITS,
+    _check_not_a_copy,
+)
 from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import (
     MIN_BINS,
