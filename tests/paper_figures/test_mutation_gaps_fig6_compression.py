@@ -556,6 +556,15 @@ def test_plot_read_back(drawn):
     assert [t.get_text() for t in a.get_legend().get_texts()] == [
         *NAMES.values(), "dashed: with arma prediction", "x: with prediction, RTC x0.1"]
     assert {t.get_fontsize() for t in a.get_legend().get_texts()} == {7}
+    # the two legend keys look like the lines their words name: "dashed" as the dashed
+    # lines (black, not an ordering's colour), "x" as the slow RTC's crosses
+    dashed, crosses = a.get_lines()[17:]
+    assert (dashed.get_linestyle(), dashed.get_marker(), _rgb(dashed.get_color())) == (
+        "--", "None", (0.0, 0.0, 0.0))
+    assert dashed.get_linewidth() == a.get_lines()[1].get_linewidth()
+    assert (crosses.get_linestyle(), crosses.get_marker(), _rgb(crosses.get_color())) == (
+        ":", "x", (0.0, 0.0, 0.0))
+    assert crosses.get_linewidth() == a.get_lines()[15].get_linewidth()
     assert b.get_legend() is None
     # (c): the measured step in microseconds, log-log, with the frame and half a delay step
     assert (c.get_xscale(), c.get_yscale()) == ("log", "log")
