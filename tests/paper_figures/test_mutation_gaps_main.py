@@ -77,6 +77,20 @@ def test_sigterm_interrupts_like_ctrl_c_and_the_callers_handler_comes_back(
         signal.signal(signal.SIGTERM, previous)
 
 
+def test_ctrl_c_while_making_is_interrupted_and_exit_130(monkeypatch, capsys, tmp_path):
+    # main's docstring: Ctrl-C exits 130, one line saying "interrupted" (SIGTERM, above, is
+    # "terminated" and 143); x_main__mutmut_121, _124, _125 printed another word
+    from paper_figures import __main__ as pf
+
+    def run(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pf, "_run", run)
+    out = tmp_path / "o"
+    assert main(["--out", str(out)]) == 130
+    assert capsys.readouterr().err == f"paper_figures: interrupted; '{out}' is as it was\n"
+
+
 def test_main_from_another_thread_sets_no_handler(monkeypatch, tmp_path):
     import signal
     import threading
