@@ -7,8 +7,8 @@ outside the module:
   the end, staged in a temporary sibling in the nearest existing folder and moved in all
   or nothing; the lock ``<out>/.lock`` names the command; a log too short for a figure's
   frame needs (``MIN_FRAMES``) or with a constant
-  mode is refused naming the rule and the value; ``suffixed("fig1.png", "_x")`` is
-  ``fig1_x.png``;
+  mode is refused naming the rule and the value, a FIFO given as the log is named as
+  one; ``suffixed("fig1.png", "_x")`` is ``fig1_x.png``;
 - the common brief's command-line rules (one line on stderr, exit 2 for a refusal, 1
   for a failure of the work, 130 for Ctrl-C, no file overwritten unasked) and
   :mod:`modalinfo.common.cli`'s exit statuses;
@@ -22,6 +22,7 @@ outside the module:
 from __future__ import annotations
 
 import json
+import os
 import types
 from html.parser import HTMLParser
 from pathlib import Path
@@ -413,6 +414,19 @@ def test_figure_main_refuses_bad_places(tmp_path, capsys):
     missing = tmp_path / "missing.fits"
     assert run(["--out", str(tmp_path / "o"), "--log", str(missing)], maker(calls)) == 2
     assert capsys.readouterr().err == f"fig9: error: log file '{missing}' does not exist\n"
+    assert calls == [] and not (tmp_path / "o").exists()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no named pipes on this system")
+def test_figure_main_names_a_fifo_given_as_the_log(tmp_path, capsys):
+    # a named pipe exists but is not a regular file: one line naming it as such (exit 2),
+    # not "does not exist", and nothing read or written (the FIFO is not opened)
+    calls = []
+    pipe = tmp_path / "pipe.npz"
+    os.mkfifo(pipe)
+    assert run(["--out", str(tmp_path / "o"), "--log", str(pipe)], maker(calls)) == 2
+    assert capsys.readouterr().err == (
+        f"fig9: error: --log '{pipe}' is not a regular file (a FIFO or a device)\n")
     assert calls == [] and not (tmp_path / "o").exists()
 
 

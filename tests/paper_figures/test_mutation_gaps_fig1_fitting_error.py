@@ -17,13 +17,16 @@ the module:
   linear rule, worked out by hand in the comments; the paper's 20 / 15 / 7 modes at
   0.4 waves^2, Stangalini et al. Sect. 2.1);
 - the figure is read back from the ``Figure`` handed to ``savefig`` (panel titles, legend
-  labels) and the PNG's size at 110 dpi.
+  labels) and the PNG's size at 110 dpi;
+- the common brief's one-line rule: ``compute`` on a log of 1e300 (mean squares that
+  overflow) issues no warning, leaving the refusal its one line.
 No MI estimate runs: ~2 s.
 """
 
 from __future__ import annotations
 
 import types
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -538,3 +541,16 @@ def test_plot_into_an_existing_folder_one_row_default_names(tmp_path, monkeypatc
     assert len(boxes) == 3
     assert boxes[0].y0 == boxes[1].y0 == boxes[2].y0
     assert boxes[0].x1 < boxes[1].x0 and boxes[1].x1 < boxes[2].x0
+
+
+def test_compute_on_a_log_of_1e300_warns_nothing(stand_ins):
+    # the mean squares of a log of 1e300 overflow (1e600 > 1.8e308) and their ratio is
+    # inf / inf: numpy's overflow and invalid-value warnings were printed as four lines
+    # before the one-line refusal (compare_orderings refuses such a log; here it is a
+    # recorder). The common brief's rule: a refusal is one line, so compute itself must
+    # not warn
+    log = ModalLog(1e300 * _log().coeffs, rate=40.0, modes=list(range(2, 23)),
+                   units="waves")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig1.compute(log, source="huge")

@@ -489,7 +489,14 @@ def drawn(tmp_path_factory):
     mp = pytest.MonkeyPatch()
     mp.setattr(Figure, "savefig", recording)
     try:
-        paths = fig6.plot(_figure(study=_study(delay=bind), slow=_slow()), out / "a" / "b")
+        # the latency-model runs of no prediction 1/16 lower than the fixed-delay ones, so
+        # that the solid lines (the docstring: "solid without ... prediction (fixed delay)")
+        # tell the two tables apart; no other line of the figure reads them
+        study = _study(delay=bind)
+        for table in (study.strehl_peak, study.strehl_field):
+            for o in ORDS:
+                table[(True, o, "none")] = table[(False, o, "none")] - 0.0625
+        paths = fig6.plot(_figure(study=study, slow=_slow()), out / "a" / "b")
         fig6.plot(_figure(), out)
     finally:
         mp.undo()
@@ -549,6 +556,15 @@ def test_plot_read_back(drawn):
     assert [t.get_text() for t in a.get_legend().get_texts()] == [
         *NAMES.values(), "dashed: with arma prediction", "x: with prediction, RTC x0.1"]
     assert {t.get_fontsize() for t in a.get_legend().get_texts()} == {7}
+    # the two legend keys look like the lines their words name: "dashed" as the dashed
+    # lines (black, not an ordering's colour), "x" as the slow RTC's crosses
+    dashed, crosses = a.get_lines()[17:]
+    assert (dashed.get_linestyle(), dashed.get_marker(), _rgb(dashed.get_color())) == (
+        "--", "None", (0.0, 0.0, 0.0))
+    assert dashed.get_linewidth() == a.get_lines()[1].get_linewidth()
+    assert (crosses.get_linestyle(), crosses.get_marker(), _rgb(crosses.get_color())) == (
+        ":", "x", (0.0, 0.0, 0.0))
+    assert crosses.get_linewidth() == a.get_lines()[15].get_linewidth()
     assert b.get_legend() is None
     # (c): the measured step in microseconds, log-log, with the frame and half a delay step
     assert (c.get_xscale(), c.get_yscale()) == ("log", "log")

@@ -11,7 +11,8 @@ the simulated time of the Figures 2-4 runs in seconds, 0.5 s by default and 0.2 
 ``--quick``) and the defaults ``closedloop_runs.DEFAULT_DURATION`` / ``QUICK_DURATION``,
 written out here word for word; ``main``'s docstring for the exit statuses; Python's
 ``signal`` contract; a log's rate given by ``--rate`` (the CLI's input hints) seen by the
-figure. ``_run`` or the figure modules are stand-ins: no figure is made, ~1 s.
+figure; a folder named as an output refused before any work (``_run_locked``'s docstring).
+``_run`` or the figure modules are stand-ins: no figure is made, ~1 s.
 """
 
 from __future__ import annotations
@@ -76,6 +77,20 @@ def test_sigterm_interrupts_like_ctrl_c_and_the_callers_handler_comes_back(
         signal.signal(signal.SIGTERM, previous)
 
 
+def test_ctrl_c_while_making_is_interrupted_and_exit_130(monkeypatch, capsys, tmp_path):
+    # main's docstring: Ctrl-C exits 130, one line saying "interrupted" (SIGTERM, above, is
+    # "terminated" and 143); x_main__mutmut_121, _124, _125 printed another word
+    from paper_figures import __main__ as pf
+
+    def run(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pf, "_run", run)
+    out = tmp_path / "o"
+    assert main(["--out", str(out)]) == 130
+    assert capsys.readouterr().err == f"paper_figures: interrupted; '{out}' is as it was\n"
+
+
 def test_main_from_another_thread_sets_no_handler(monkeypatch, tmp_path):
     import signal
     import threading
@@ -135,3 +150,22 @@ def test_the_users_input_hints_reach_the_log(figs, tmp_path):  # noqa: F811
     assert main(["--only", "1", "--log", str(path), "--rate", "500",
                  "--out", str(tmp_path / "o")]) == 0
     assert [log.rate for log in seen] == [500.0]
+
+
+@pytest.mark.parametrize("folder", ["report.md", "f3.png"])
+def test_a_folder_named_as_an_output_is_refused_before_any_work(figs, tmp_path, capsys,  # noqa: F811
+                                                                folder):
+    # `_run_locked`'s docstring: refuse the outputs first, then make the figures; a folder
+    # where the run writes a file is refused in one line (exit 2) even with --overwrite,
+    # before the shared runs or any figure are computed, and the folder is left as it was
+    # (x__run_locked__mutmut_16 dropped the check: the stand-ins then computed Figure 3)
+    out = tmp_path / "out"
+    (out / folder).mkdir(parents=True)
+    (out / folder / "draft.txt").write_text("mine")
+    assert main(["--only", "3", "--out", str(out), "--overwrite"]) == 2
+    assert capsys.readouterr().err == (
+        f"paper_figures: error: '{out / folder}' is a folder; the run writes a file of that "
+        "name\n")
+    assert figs.runs == [] and figs.mods["fig3_sr_spectrum"].calls == []
+    assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == [
+        folder, f"{folder}/draft.txt"]

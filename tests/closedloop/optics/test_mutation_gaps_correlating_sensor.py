@@ -330,14 +330,17 @@ def test_read_noise_dominated_slope_and_tracker_noise():
     np.testing.assert_allclose(var[2.0][1] / var[1000.0][1], law, rtol=0.02)
 
 
-@pytest.mark.parametrize("n_sub, obsc, share", [(4, 0.2, 0.95), (6, 0.3, 0.99)])
+@pytest.mark.parametrize("n_sub, obsc, share", [(4, 0.2, 0.95), (4, 0.3, 0.95), (6, 0.3, 0.99)])
 def test_reference_is_the_best_lit_subaperture_where_none_is_lit_whole(n_sub, obsc, share):
     # a 1 m pupil on 32 pixels: no subaperture is lit whole (pixel edges) at these
     # obscurations; the reference was subaperture 0, a corner (67 % lit at 6 x 6). The
     # reference: each subaperture's lit share of its square, by a 200 x 200 sampling of
     # the annulus 0.5 obsc <= r <= 0.5 m (geometry, not the sensor's 8-pixel masks, hence
     # 5 % at 4 x 4, where the pixel masks rank the inner ring 0.874 first; at 6 x 6 the
-    # best are lit whole and subaperture 0 is 0.944: the previous choice fails)
+    # best are lit whole and subaperture 0 is 0.944: the previous choice fails). At 4 x 4
+    # with 30 % no subaperture is lit whole either, and the valid one nearest the centre
+    # is 0.785 of the best: a reference by distance alone, without the lit share, fails
+    # (_build_imaging__mutmut_56, _57)
     w = LoopModel(_config(n_sub=n_sub, obscuration=obsc)).wfss[0]
     centres = _centres(w, n_sub, 1.0)
     off = ((np.arange(200) + 0.5) / 200 - 0.5) / n_sub
