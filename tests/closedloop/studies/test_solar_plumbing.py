@@ -298,7 +298,7 @@ class _Run:
         step = config.loop.time_step
         self.config, self.seed = config, seed
         self.times = np.arange(1, round(duration / step) + 1) * step
-        self.closure_index = 1
+        self.closure_index = self.averaging_start = 1  # closed: averages from the closure
         self.residual_variance = np.array([[9.0, 9.0], [0.1 * k, 0.2 * k], [0.3 * k, 0.1 * k]])
         self.fov = 0.5 * k
         # the direction nearest the axis is the second one (0.1" off axis)
