@@ -3,8 +3,9 @@
 References: POSIX signal semantics and the shell's exit-status convention (128 + the
 signal number: 130 for SIGINT, 143 for SIGTERM); the target's bytes as written by the
 test before the save (the old file must be left bit for bit). Each case runs in a
-subprocess that is signalled while it writes a large file (64 kB blocks, a short sleep
-each, so the signal lands inside the write whatever the machine's speed).
+subprocess that is signalled while it writes a large file: after its first 64 kB block
+the writer marks a file and waits (at most 60 s) for the signal, so the signal lands
+inside the write whatever the machine's speed or load.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 #: The writer: the CLI's `convert` with the NPZ writer slowed down (every 64 kB block
-#: of the real bytes then a pause), so the save takes seconds and a signal lands in it.
+#: of the real bytes then a pause; after the first, a wait for the test's signal).
 SCRIPT = textwrap.dedent("""
     import sys, time
     import numpy as np
@@ -32,12 +33,18 @@ SCRIPT = textwrap.dedent("""
     real = files._renamed
 
     class Slow:
+        ready = False
         def __init__(self, fh):
             self.fh = fh
         def write(self, data):
             view = memoryview(data).cast("B")
             for k in range(0, len(view), 65536):
                 self.fh.write(view[k:k + 65536])
+                if not Slow.ready:  # inside the write: tell the test, wait for its signal
+                    Slow.ready = True
+                    open("ready", "w").close()
+                    for _ in range(6000):  # at most 60 s
+                        time.sleep(0.01)
                 time.sleep(0.005)
             return len(view)
         def __getattr__(self, name):
@@ -70,8 +77,7 @@ def _run_and_signal(tmp_path, signum, overwrite):
     proc = subprocess.Popen(args, env=env, stderr=subprocess.PIPE, cwd=tmp_path)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
-        temps = [p for p in tmp_path.iterdir() if p.name.startswith(".out.npz.")]
-        if temps and temps[0].stat().st_size > 200_000:  # well inside the write
+        if (tmp_path / "ready").exists():  # the writer is inside the write, waiting
             break
         time.sleep(0.01)
     assert proc.poll() is None, "the save ended before the signal"
