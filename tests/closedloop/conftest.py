@@ -186,3 +186,35 @@ def correlating_config(name: str, layers, dms, wfss, *, diameter: float = 1.0,
         loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
         field=FieldConfig(size=0.0, n_points=1), wavelength=wavelength,
         r0_wavelength=r0_wavelength)
+
+
+def turbulence_maps(model, seed: int) -> list:
+    """Turbulence of every plane of ``model`` (its configured layers, one draw per seed)."""
+    import numpy as np
+
+    g = model.geometry
+    atm = model.atmosphere(seed, 0.01)
+    atm.reset()
+    maps = [np.zeros((p.n, p.n)) for p in g.planes]
+    for i, layer in enumerate(atm.layers):
+        maps[g.layer_plane[i]] += layer.phase()
+    return maps
+
+
+def one_frame_budget(probe, maps: list):
+    """The budget ``probe``'s terms for one frame whose turbulence is ``maps``."""
+    import numpy as np
+
+    class _Frozen:
+        """A loop state whose turbulence is ``maps`` (the probe's only call into it)."""
+
+        def turbulence(self, out):
+            for v, m in zip(out, maps, strict=True):
+                v[:] = m
+            return out
+
+    probe.rows = {k: [] for k in probe.rows}
+    probe.step(0, _Frozen(), True)
+    probe.frame_end(0, 1, 1)
+    n_dir = len(probe.cam.directions)
+    return probe.result(np.zeros((1, n_dir)), 0, 1.0, seed=0)

@@ -57,34 +57,7 @@ from closedloop.model import LoopModel
 from closedloop.optics import _kernels
 from closedloop.result import ErrorBudget
 
-
-def _screens(model: LoopModel, seed: int) -> list[np.ndarray]:
-    """Turbulence of every plane (the configured layers, one independent draw per seed)."""
-    g = model.geometry
-    atm = model.atmosphere(seed, 0.01)
-    atm.reset()
-    maps = [np.zeros((p.n, p.n)) for p in g.planes]
-    for i, layer in enumerate(atm.layers):
-        maps[g.layer_plane[i]] += layer.phase()
-    return maps
-
-
-def _terms(probe: BudgetProbe, maps: list[np.ndarray]):
-    """One frame of the probe's terms for the turbulence ``maps`` (phase wavelength)."""
-
-    class _Frozen:
-        """A loop state whose turbulence is ``maps`` (the probe's only call into it)."""
-
-        def turbulence(self, out):
-            for v, m in zip(out, maps, strict=True):
-                v[:] = m
-            return out
-
-    probe.rows = {k: [] for k in probe.rows}
-    probe.step(0, _Frozen(), True)
-    probe.frame_end(0, 1, 1)
-    n_dir = len(probe.cam.directions)
-    return probe.result(np.zeros((1, n_dir)), 0, 1.0, seed=0)
+from .conftest import one_frame_budget, turbulence_maps
 
 
 def _pupil_images(probe: BudgetProbe, k: int, maps=None, commands=None) -> np.ndarray:
@@ -144,8 +117,8 @@ def ground_probe():
 def test_aliasing_is_a_variance_where_the_fit_is_least_squares(ground_probe, seed):
     probe = ground_probe
     model = probe.model
-    maps = _screens(model, seed)
-    budget = _terms(probe, maps)
+    maps = turbulence_maps(model, seed)
+    budget = one_frame_budget(probe, maps)
     sh = model.sense(maps, None)
     for k in range(len(probe.cam.directions)):
         x = _mode_images(probe, k)
@@ -176,8 +149,8 @@ def mcao3_ensemble():
     images = {k: _mode_images(probe, k) for k in (axis, corner)}
     rows = []
     for seed in range(N_SCREENS):
-        maps = _screens(model, seed)
-        b = _terms(probe, maps)
+        maps = turbulence_maps(model, seed)
+        b = one_frame_budget(probe, maps)
         row = {"fitting": b.fitting, "aliasing": b.aliasing}
         for k in (axis, corner):
             phase = _pupil_images(probe, k, maps)

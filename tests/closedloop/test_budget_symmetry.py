@@ -42,6 +42,8 @@ from closedloop.config import (
 )
 from closedloop.simulation import LoopModel
 
+from .conftest import one_frame_budget, turbulence_maps
+
 TERMS = ("fitting", "aliasing", "temporal")
 N_FIELD = 5
 
@@ -71,33 +73,9 @@ def model():
     return LoopModel(_config())
 
 
-def _screens(model: LoopModel, seed: int) -> list[np.ndarray]:
-    """Turbulence of every plane (Kolmogorov screens of the configured layers)."""
-    g = model.geometry
-    atm = model.atmosphere(seed, 0.01)
-    atm.reset()
-    maps = [np.zeros((p.n, p.n)) for p in g.planes]
-    for i, layer in enumerate(atm.layers):
-        maps[g.layer_plane[i]] += layer.phase()
-    return maps
-
-
 def _budget(model: LoopModel, maps: list[np.ndarray]):
     """The budget probe's terms for one frame whose turbulence is ``maps``."""
-    probe = BudgetProbe(model, None, every=1)
-
-    class _Frozen:
-        """A loop state whose turbulence is ``maps`` (the probe's only call into it)."""
-
-        def turbulence(self, out):
-            for v, m in zip(out, maps, strict=True):
-                v[:] = m
-            return out
-
-    probe.step(0, _Frozen(), True)
-    probe.frame_end(0, 1, 1)
-    n_dir = len(model.science.directions)
-    return probe.result(np.zeros((1, n_dir)), 0, 1.0, seed=0)
+    return one_frame_budget(BudgetProbe(model, None, every=1), maps)
 
 
 def _grid(values: np.ndarray) -> np.ndarray:
@@ -107,7 +85,7 @@ def _grid(values: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("axis", ["x", "y"])
 def test_mirrored_turbulence_gives_the_mirrored_budget_map(model, axis):
-    maps = _screens(model, seed=3)
+    maps = turbulence_maps(model, seed=3)
     # x runs along columns (axis 1), y along rows (axis 0), on every plane and in the grid
     flip = (lambda a: a[:, ::-1]) if axis == "x" else (lambda a: a[::-1, :])
     plain = _budget(model, maps)
@@ -140,7 +118,7 @@ def test_half_pixel_offset_window_breaks_the_law(model, monkeypatch):
 
     monkeypatch.setattr(wfs_module, "_window_entries", offset)
     shifted = LoopModel(_config())
-    maps = _screens(shifted, seed=3)
+    maps = turbulence_maps(shifted, seed=3)
     plain = _budget(shifted, maps)
     mirrored = _budget(shifted, [np.ascontiguousarray(m[:, ::-1]) for m in maps])
     a = _grid(plain.aliasing)
