@@ -33,8 +33,9 @@ each kind gives its own numbers (``estimate`` of its :mod:`closedloop.kinds` rec
   (:func:`budget_streams`: the 4-m presets) they are streamed
   (:class:`closedloop.budget.IdealSensing`): their kept operators
   (:data:`_IDEAL_KEPT_SHARE` of the entries built), the ``M x M`` reconstruction and, while
-  built, the largest sensor's own dense interaction block or the Gram phase
-  (``M x M`` twice and :data:`GRAM_ROWS` rows of ``G``); the run's mirrors are shared.
+  built, the largest sensor's operators' build or the Gram phase (``M x M`` twice and
+  :data:`GRAM_ROWS` rows of ``G``); the run's mirrors are shared (no sensor's dense
+  interaction block is formed).
   Otherwise they are a second dense ``LoopModel``: its pupil, mirrors, kept operators and
   dense reconstructor (``6 x 8 B x measurements x modes``; an ideal WFS measures every
   disc pixel, 272,000 of them on the full-size EST: 62 GiB that way).
@@ -218,23 +219,20 @@ def budget_streams(config: SimulationConfig) -> bool:
             and any(getattr(k, "large_products", False) for k in kinds))
 
 
-def _streamed_budget(config: SimulationConfig, ideal: _ModelCost,
-                     dx: float) -> tuple[float, float]:
+def _streamed_budget(ideal: _ModelCost) -> tuple[float, float]:
     """Bytes the streamed ideal sensors keep, and those they hold only while built.
 
     Kept: their operators and the ``M x M`` reconstruction. While built (beyond the
-    kept): the largest sensor's own dense interaction block (``WavefrontSensor`` forms it;
-    :class:`~closedloop.budget.IdealSensing` drops it) with its operators' build, or the
-    Gram phase (the Gram matrix, its triangle's index arrays and :data:`GRAM_ROWS` rows).
+    kept), one phase after the other: the largest sensor's operators' build, then the
+    Gram phase (the Gram matrix, its triangle's index arrays and :data:`GRAM_ROWS` rows of
+    ``G``). :class:`~closedloop.budget.IdealSensing` never forms a sensor's dense
+    interaction with its own mirror (``WavefrontSensor.interaction`` is built on first
+    use, and it never reads it), so that block is not counted.
     """
     m = ideal.n_modes
     operators = _IDEAL_KEPT_SHARE * _BUILD_BYTES_PER_ENTRY * sum(c.build_entries
                                                                  for c in ideal.costs)
-    modes = [mirror_kind(d.kind).estimate(config, i, dx).n_modes
-             for i, d in enumerate(config.dms)]
-    own = max(8.0 * c.n_measurements * modes[w.dm]
-              for w, c in zip(config.wfss, ideal.costs, strict=True))
-    transient = max(own + ideal.wfs_build, 8.0 * (2.0 * m * m + GRAM_ROWS * m))
+    transient = max(ideal.wfs_build, 8.0 * (2.0 * m * m + GRAM_ROWS * m))
     return operators + 8.0 * m * m, transient
 
 
@@ -496,7 +494,7 @@ def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,
         # screens exist, then kept with their reconstruction through the run
         ideal = _model(ideal_sensor_config(config), layout, dx)
         if budget_streams(config):
-            ideal_kept, ideal_build = _streamed_budget(config, ideal, dx)
+            ideal_kept, ideal_build = _streamed_budget(ideal)
             ideal_setup = ideal_kept + ideal_build
         else:
             ideal_reconstructor, _ = _matrices(n_frames, 0, ideal.n_meas, ideal.n_modes)

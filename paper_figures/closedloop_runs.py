@@ -86,15 +86,22 @@ class PredictorRun:
     strehl_peak : (T,) ndarray
         Maximum Strehl over the field per frame.
     closure_index : int
-        First frame of the detected closed-loop steady state.
+        First frame of the detected closed-loop steady state
+        (:attr:`closedloop.SimulationResult.closure_index`; no steady state if the loop
+        did not close: see ``averaging_start``).
     spectrum_freqs, spectrum_psd : ndarray
-        Welch PSD of the SR peak after closure [Hz], [1/Hz].
+        Welch PSD of the SR peak from ``averaging_start`` [Hz], [1/Hz].
     strehl_map : (n, n) ndarray
-        Time-averaged SR after closure on the field grid (y rows, x columns).
+        Time-averaged SR from ``averaging_start`` on the field grid (y rows, x columns).
     fov_diameter : float
         Equivalent diameter of the field with SR > 0.3 [arcmin].
     train_seconds, run_seconds : float
         Wall time of the training and of the loop [s].
+    averaging_start : int or None
+        First frame of the run's averages
+        (:attr:`closedloop.SimulationResult.averaging_start`: the closure if the loop
+        closed, else the second half; the spectrum, the map and ``summary`` use it).
+        None (a run built by hand) reads as ``closure_index``.
     """
 
     name: str
@@ -108,11 +115,30 @@ class PredictorRun:
     fov_diameter: float
     train_seconds: float = 0.0
     run_seconds: float = 0.0
+    averaging_start: int | None = None
 
     @property
     def label(self) -> str:
         """Legend label of the predictor."""
         return LABELS.get(self.name, self.name)
+
+    @property
+    def window_start(self) -> int:
+        """First frame of the run's averages (``averaging_start``; if None, ``closure_index``)."""
+        return self.closure_index if self.averaging_start is None else self.averaging_start
+
+    @property
+    def loop_status(self) -> str:
+        """Say whether the loop closed: ``summary["loop_status"]`` ("closed", "did not ...").
+
+        A summary built by hand without it reads as "closed", as ``averaging_start`` None.
+        """
+        return str(self.summary.get("loop_status", "closed"))
+
+    @property
+    def closed(self) -> bool:
+        """True if the loop closed: ``closure_index`` is then the start of its averages."""
+        return self.loop_status == "closed"
 
     @property
     def peak_mean(self) -> float:
@@ -265,7 +291,8 @@ def summarize(results: dict, *, duration: float, timings: dict | None = None,
             spectrum_freqs=np.asarray(freqs), spectrum_psd=np.asarray(psd),
             strehl_map=r.strehl_map(), fov_diameter=float(r.corrected_fov_diameter(0.3)),
             train_seconds=timings.get(name, (0.0, 0.0))[0],
-            run_seconds=timings.get(name, (0.0, 0.0))[1])
+            run_seconds=timings.get(name, (0.0, 0.0))[1],
+            averaging_start=int(r.averaging_start))
     ref = results["none"]
     b = ref.budget
     budget: dict[str, Any] = {}

@@ -38,9 +38,12 @@ class Figure2:
     """Mean SR peak per predictor over one window, and the series drawn.
 
     ``peak_mean`` averages every run over the same frames, from the no-prediction run's
-    detected closure (``start``) to the end: the SR of one atmosphere varies in time, so
-    windows that differ between runs would bias the comparison. ``own_closure_time``
-    is each run's own detected closure [s] (a predictor may need longer to settle).
+    averaging window (``start``: its detected closure, or its second half if it did not
+    close, :attr:`closedloop.SimulationResult.averaging_start`) to the end: the SR of one
+    atmosphere varies in time, so windows that differ between runs would bias the
+    comparison. ``own_closure_time`` is each run's own detected closure [s] (a predictor
+    may need longer to settle), NaN for a run that did not close (its ``closure_index``
+    is then no closure: 0 for an SR that never rose, or the search's fallback).
     """
 
     runs: ClosedLoopRuns
@@ -58,11 +61,12 @@ class Figure2:
 
 def compute(runs: ClosedLoopRuns) -> Figure2:
     """Figure 2's numbers from the shared runs."""
-    start = runs.runs["none"].closure_index
+    start = runs.runs["none"].window_start
     peak = {name: float(np.mean(r.strehl_peak[start:])) for name, r in runs.runs.items()}
     present = [n for n in PAPER_PREDICTED if n in peak]
     best = max(present, key=lambda n: peak[n]) if present else "none"
-    own = {name: float(r.times[r.closure_index]) for name, r in runs.runs.items()}
+    own = {name: float(r.times[r.closure_index]) if r.closed else float("nan")
+           for name, r in runs.runs.items()}
     return Figure2(runs=runs, peak_mean=peak, best_paper_predictor=best, start=start,
                    own_closure_time=own)
 
@@ -79,9 +83,11 @@ def plot(fig2: Figure2, out_dir: Path) -> list[Path]:
     for name, r in runs.runs.items():
         ax.plot(r.times * 1e3, r.strehl_peak, label=f"{r.label} ({fig2.peak_mean[name]:.3f})",
                 **STYLES.get(name, {}))
-    t_close = runs.runs["none"].times[runs.runs["none"].closure_index] * 1e3
+    none = runs.runs["none"]
+    t_close = none.times[fig2.start] * 1e3
     ax.axvline(t_close, color="0.4", lw=0.8)
-    ax.text(t_close, 0.02, " loop closed\n (no prediction)", fontsize=7, va="bottom",
+    ax.text(t_close, 0.02, " loop closed\n (no prediction)" if none.closed else
+            " second half\n (no prediction\n did not close)", fontsize=7, va="bottom",
             transform=ax.get_xaxis_transform())
     ax.set_xlabel("time [ms]")
     ax.set_ylabel(f"SR peak over the field ({runs.wavelength * 1e9:.0f} nm)")
@@ -160,8 +166,17 @@ def report(fig2: Figure2) -> str:
                    + ", ".join(f"{runs.runs[n].label} ({fig2.peak_mean[n]:.3f})" for n in worse)
                    + ": a forecast worse than the measurement injects its errors into the "
                    "commands (the paper's NN fits 121 weights to 10 patterns per mode).")
-    own_text = ", ".join(f"{runs.runs[n].label} {t * 1e3:.0f} ms"
+    own_text = ", ".join(f"{runs.runs[n].label} {t * 1e3:.0f} ms" if np.isfinite(t) else
+                         f"{runs.runs[n].label} did not close"
                          for n, t in fig2.own_closure_time.items())
+    t_start = none.times[fig2.start] * 1e3
+    if none.closed:
+        window = (f"loop closure detected at\n{t_start:.0f} ms without prediction. Means are "
+                  "over the same\nframes for every run, from that closure to the end")
+    else:
+        window = (f"the loop did not close without\nprediction ({none.loop_status}). Means are "
+                  f"over the same frames for every run, its second half\n(from {t_start:.0f} "
+                  "ms) to the end")
     best_gain = max((g[n] for n in PAPER_PREDICTED if n in g), default=1.0)
     verdict = ("Prediction buys much less here than in the paper."
                if best_gain < PAPER_SR_PREDICTED_MIN / PAPER_SR_NONE else
@@ -171,9 +186,7 @@ def report(fig2: Figure2) -> str:
 ![Figure 2]({FIGURE_NAME})
 
 {runs.config_name}, seed {runs.seed}, {runs.duration:g} s ({none.times.size} frames), SR at
-{runs.wavelength * 1e9:.0f} nm; loop closure detected at
-{none.times[none.closure_index] * 1e3:.0f} ms without prediction. Means are over the same
-frames for every run, from that closure to the end (each run's own detected closure:
+{runs.wavelength * 1e9:.0f} nm; {window} (each run's own detected closure:
 {own_text}).
 
 {markdown_table(table_rows(fig2))}

@@ -7,7 +7,9 @@ only the ARMA and the NN approaches can damp out the SR oscillation power, while
 linear prediction can only reduce the amplitude".
 
 Here: Welch spectra (:meth:`closedloop.SimulationResult.strehl_peak_spectrum`, Hann
-windows of up to 256 frames, after each run's detected closure) of the shared runs
+windows of up to 256 frames, from each run's averaging window: its detected closure, or
+its second half if it did not close, :attr:`closedloop.SimulationResult.averaging_start`;
+the RMS and the error estimate below use the same frames) of the shared runs
 (:mod:`paper_figures.closedloop_runs`), log-log, the paper's two bands shaded, and the
 band powers (the PSD integrated over 40-60 Hz and over 70 Hz to Nyquist) of each
 predictor relative to no prediction. Steps: :func:`compute`, :func:`plot`, :func:`report`.
@@ -109,7 +111,7 @@ DEGRADED = 0.5
 
 def _degraded(fig3: Figure3, name: str) -> bool:
     runs = fig3.runs
-    start = runs.runs["none"].closure_index
+    start = runs.runs["none"].window_start
     ref = np.mean(runs.runs["none"].strehl_peak[start:])
     return bool(np.mean(runs.runs[name].strehl_peak[start:]) < DEGRADED * ref)
 
@@ -119,10 +121,11 @@ def relative_error(fig3: Figure3, low: float, high: float) -> float:
 
     A Welch estimate averages ``n_seg`` Hann segments at 50 % overlap (about
     ``n_seg`` independent ones) in each of the ``n_bins`` bins of the band: relative
-    error about ``1 / sqrt(n_bins * n_seg)``.
+    error about ``1 / sqrt(n_bins * n_seg)``, over the frames its spectrum used (from
+    the run's averaging window, :attr:`PredictorRun.window_start`).
     """
     r = fig3.runs.runs["none"]
-    n = r.times.size - r.closure_index
+    n = r.times.size - r.window_start
     nper = min(n, 256)
     n_seg = 1 + (n - nper) // (nper // 2)
     f = r.spectrum_freqs
@@ -181,10 +184,13 @@ def report(fig3: Figure3) -> str:
 
     runs = fig3.runs
     none = runs.runs["none"]
-    n_after = none.times.size - none.closure_index
+    n_after = none.times.size - none.window_start
     df = float(none.spectrum_freqs[1] - none.spectrum_freqs[0])
-    rms = {n: float(np.std(r.strehl_peak[r.closure_index:])) for n, r in runs.runs.items()}
-    rms_text = ", ".join(f"{runs.runs[n].label} {v:.4f}" for n, v in rms.items())
+    # over the frames of each run's spectrum (its averaging window)
+    rms = {n: float(np.std(r.strehl_peak[r.window_start:])) for n, r in runs.runs.items()}
+    rms_text = ", ".join(f"{runs.runs[n].label} {v:.4f}" + ("" if runs.runs[n].closed else
+                                                          " (did not close: second half)")
+                         for n, v in rms.items())
     matches = [n for n in PAPER_50 if n in runs.runs and not _degraded(fig3, n)
                and _word(fig3.ratio_50[n]) == PAPER_50[n]
                and _word(fig3.ratio_high[n]) == PAPER_HIGH[n]]
@@ -208,8 +214,9 @@ def report(fig3: Figure3) -> str:
 
 ![Figure 3]({FIGURE_NAME})
 
-Welch spectra of the SR peak after the detected closure ({n_after} frames without
-prediction, resolution {df:.1f} Hz); band power = the PSD integrated over
+Welch spectra of the SR peak after the detected closure, or over the second half of a
+run that did not close ({n_after} frames without prediction, resolution {df:.1f} Hz);
+band power = the PSD integrated over
 {BAND_50[0]:g}-{BAND_50[1]:g} Hz ("~50 Hz") and {BAND_HIGH_MIN:g} Hz to Nyquist ("above
 70 Hz"), divided by the no-prediction run's. Words: < 0.5 damped, 0.5-0.9 reduced,
 0.9-1.1 unchanged, > 1.1 amplified.

@@ -43,7 +43,8 @@ __all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "loop_predictor"
 NAMES: tuple[str, ...] = ("none", "persistence", "oracle", *PRESETS)
 
 #: how a predictor is trained: fitted on the POL of the no-prediction run of the same
-#: conditions, after the loop closure and after 15 ms (the paper's way)
+#: conditions, after the loop closure and after 15 ms (the paper's way; see
+#: :func:`training_start` for a run that did not close)
 REFERENCE_POL = "reference-pol"
 
 #: the paper trains after the loop closure, from t > 15 ms
@@ -193,13 +194,36 @@ def loop_predictor(predictor) -> LoopPredictor:
 
 
 def training_start(result: SimulationResult) -> int:
-    """First frame the paper would train on: after the loop closure and after 15 ms."""
-    return max(result.closure_index,
+    """First frame a predictor is trained from: the run's averaging window, after 15 ms.
+
+    The paper trains after the loop closure, from t > 15 ms. The closure is the run's
+    :attr:`~closedloop.SimulationResult.averaging_start` (the one window of every average
+    of a run, docs/CLOSEDLOOP.md): the detected closure if the loop closed; the second
+    half if it did not close or is still converging (its ``closure_index`` is then no
+    closure: 0 for an SR that never rose, which would train on the open-loop start); the
+    whole run in open loop. The POL (commands plus the measured residual) estimates the
+    turbulence whether the loop closed or not, so a stable run that did not close still
+    trains, on its latest frames, those nearest to what the loop settles to.
+
+    Raises
+    ------
+    ValueError
+        If the run diverged: its POL then holds the loop's own growing error (or is not
+        finite), not the turbulence a predictor should learn.
+    """
+    if result.diverged:
+        raise ValueError(f"the reference run {result.loop_status}; a predictor cannot be "
+                         "trained on its POL (fix the loop first: a lower gain, a shorter "
+                         "delay).")
+    return max(int(result.averaging_start),
                int(np.searchsorted(result.times, _PAPER_TRAINING_START, side="right")))
 
 
 def training_data(reference: SimulationResult) -> np.ndarray:
-    """POL coefficients ``(T, M)`` of every DM after the loop closure (and after 15 ms)."""
+    """POL coefficients ``(T, M)`` of every DM from :func:`training_start` on.
+
+    After the loop closure (the second half of a run that did not close) and after 15 ms.
+    """
     if reference.predictor != "none":
         raise ValueError("training needs the no-prediction run; got a run with predictor "
                          f"{reference.predictor!r}.")

@@ -52,10 +52,13 @@ def _dead_pid() -> int:
 @pytest.fixture
 def live_pid():
     """A live process of this host for as long as the test runs."""
-    proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+    # alive until killed (it waits on its stdin), not for a time the test might outlast
+    proc = subprocess.Popen([sys.executable, "-c", "import sys; sys.stdin.read()"],
+                            stdin=subprocess.PIPE)
     yield proc.pid
     proc.kill()
     proc.wait(timeout=60)
+    proc.stdin.close()
 
 
 def _write_lock(folder, pid, host=None):

@@ -3,11 +3,15 @@
 Gaps found by mutation testing (docs/MUTATION.md, "kinds.py, resources.py, predictors.py,
 training.py"). No loop runs: the reference run is a stand-in holding what a
 ``SimulationResult`` gives the training (``predictor``, ``config.dms``, the ``dmK.pol``
-logs' ``coeffs``, ``times``, ``closure_index``), written in the test. References, from
-outside the code:
+logs' ``coeffs``, ``times``, ``averaging_start``, ``diverged``), written in the test;
+for the runs that did not close or diverged, real ``SimulationResult``s built from the
+residual histories of tests/closedloop/test_result_window.py, whose status and window
+are known by construction. References, from outside the code:
 
 - the paper's training window: after the loop closure and from t > 15 ms (module
-  docstring), picked here by hand from times written as decimals;
+  docstring), picked here by hand from times written as decimals; the closure is the
+  run's one averaging window (docs/CLOSEDLOOP.md, "One averaging window per run": the
+  second half ``T // 2`` of a run that did not close), and a diverged run is refused;
 - an analytic law: a series that is an exact AR(2), ``x_k = 1.5 x_{k-1} - 0.7 x_{k-2}``
   (noise-free after its two first values), is fitted by the least-squares linear predictor
   (``linear-ls``) to ``(a, b) = (1.5, -0.7)`` to rounding, and a noisy one within its
@@ -51,14 +55,18 @@ def _ar2(n: int, modes: int, *, noise: float = 0.0, seed: int = 0) -> np.ndarray
 
 
 def _reference(pols, *, closure: int = 0, predictor: str = "none", dt_ms: int = 1):
-    """A no-prediction run's stand-in: POL logs per DM, times ``k dt`` written as decimals."""
+    """A no-prediction run's stand-in: POL logs per DM, times ``k dt`` written as decimals.
+
+    A loop that closed at frame ``closure`` (its averaging window starts there).
+    """
     n = pols[0].shape[0]
     return SimpleNamespace(
         predictor=predictor,
         config=SimpleNamespace(dms=tuple(range(len(pols)))),
         logs={f"dm{i}.pol": SimpleNamespace(coeffs=p) for i, p in enumerate(pols)},
         times=np.array([k * dt_ms / 1000 for k in range(n)]),
-        closure_index=closure)
+        closure_index=closure, averaging_start=closure, diverged=False,
+        loop_status="closed")
 
 
 # ---------------------------------------------------------------- the training window
@@ -74,6 +82,29 @@ def test_training_starts_after_15_ms_and_after_the_closure():
     assert training_start(half) == 31
     assert training_start(_reference([pol], closure=0, dt_ms=2)) == 8
     assert isinstance(training_start(_reference([pol])), int)
+
+
+def test_a_run_that_did_not_close_trains_on_its_second_half():
+    from modalinfo.telemetry import ModalLog
+
+    from .test_result_views import _result
+    from .test_result_window import N, _never_rose
+
+    # an SR peak that never rose: "closure" frame 0 (the open-loop start), window N // 2;
+    # 1-ms frames, so t > 15 ms alone would start at frame 15 (times (k + 1) ms)
+    pol = np.arange(N * 2.0).reshape(N, 2)
+    r = _result(_never_rose(), logs={"dm0.pol": ModalLog(pol, rate=1e3, modes=[2, 3])})
+    assert r.loop_status.startswith("did not close") and r.closure_index == 0
+    assert training_start(r) == N // 2 == 50
+    np.testing.assert_array_equal(training_data(r), pol[50:])
+    # a diverged run (closes at frame 1, then grows to 9 times its lowest level): refused
+    grown = _result(np.concatenate([[2.0], np.full(20, 0.1), np.full(N - 21, 0.9)]))
+    assert grown.diverged and grown.closure_index == 1
+    msg = ("the reference run diverged: the residual grew to 9.0 times its lowest 5-ms mean "
+           "(0.9 against 0.1 rad^2, field mean); a predictor cannot be trained on its POL "
+           "(fix the loop first: a lower gain, a shorter delay).")
+    with pytest.raises(ValueError, match="^" + re.escape(msg) + "$"):
+        training_start(grown)
 
 
 def test_training_data_is_every_dm_s_pol_side_by_side_from_the_start():

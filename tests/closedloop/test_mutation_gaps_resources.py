@@ -68,14 +68,13 @@ def _ideal_cost(config, n_modes, entries=0.0, n_meas=1.0, wfs_build=0.0):
 def test_the_gram_phase_is_the_arrays_ideal_sensing_allocates(m):
     """The planted bug that halved it escaped every test before this one."""
     config = presets.est_mcao_variant(16)
-    dx = config.telescope.diameter / config.telescope.n_pixels
     # IdealSensing._gram holds at once: the Gram matrix, the strict upper triangle's
     # two index arrays, one block of GRAM_ROWS rows of G (all modes)
     gram = np.zeros((m, m), order="F")
     upper = np.triu_indices(m, 1)
     block = np.empty((res.GRAM_ROWS, m))
     held = gram.nbytes + upper[0].nbytes + upper[1].nbytes + block.nbytes
-    kept, transient = res._streamed_budget(config, _ideal_cost(config, m), dx)
+    kept, transient = res._streamed_budget(_ideal_cost(config, m))
     # the estimate rounds the triangle up to M x M (8 M bytes more)
     assert transient == pytest.approx(held, rel=1e-3)
     assert transient >= held
@@ -92,36 +91,42 @@ def test_the_gram_phase_reaches_the_estimate_of_a_streamed_budget(monkeypatch):
     monkeypatch.setattr(res, "GRAM_ROWS", 100 * res.GRAM_ROWS)
     wide = res.estimate(config, 0.01, budget=True)
     assert wide.peak_bytes - base.peak_bytes == pytest.approx(
-        8.0 * 99 * 4096 * m - _own_excess(config), rel=1e-6, abs=1.0)
+        8.0 * 99 * 4096 * m - _build_excess(config), rel=1e-6, abs=1.0)
 
 
-def _own_excess(config) -> float:
-    """Bytes by which the largest ideal sensor's own block exceeded the Gram phase."""
+def _build_excess(config) -> float:
+    """Bytes by which the largest ideal sensor's build exceeded the Gram phase."""
     dx = config.telescope.diameter / config.telescope.n_pixels
     ideal = res._model(res.ideal_sensor_config(config), plane_layout(config), dx)
     m = ideal.n_modes
-    modes = [mirror_kind(d.kind).estimate(config, i, dx).n_modes
-             for i, d in enumerate(config.dms)]
-    own = max(8.0 * c.n_measurements * modes[w.dm]
-              for w, c in zip(config.wfss, ideal.costs, strict=True)) + ideal.wfs_build
-    return max(0.0, own - 8.0 * (2 * m * m + 4096 * m))
+    return max(0.0, ideal.wfs_build - 8.0 * (2 * m * m + 4096 * m))
 
 
-def test_the_largest_own_block_is_held_with_its_build_when_it_exceeds_the_gram_phase():
+@pytest.mark.parametrize("n_meas", [1.0, 1e6])
+def test_no_dense_own_block_only_the_largest_build_or_the_gram_phase(n_meas):
+    # IdealSensing never forms a sensor's dense interaction with its own mirror
+    # (WavefrontSensor.interaction is built on first use; tests/closedloop/
+    # test_budget_streamed.py checks it is never formed): sensors of 1e6 measurements
+    # cost no 1e6 x modes block. While built: the largest sensor's build (wfs_build),
+    # then the Gram phase, the larger of the two
     config = presets.est_mcao_variant(16)
-    dx = config.telescope.diameter / config.telescope.n_pixels
-    modes = [d.n_modes for d in config.dms]
-    # sensors of 1e6 measurements each: WFS j's own dense block is 1e6 x its mirror's
-    # modes float64, held with the sensors' build (wfs_build) while it is built
-    cost = _ideal_cost(config, sum(modes), entries=1e5, n_meas=1e6, wfs_build=3e5)
-    kept, transient = res._streamed_budget(config, cost, dx)
-    largest = max(8.0 * 1e6 * modes[w.dm] for w in config.wfss)
-    assert transient == pytest.approx(largest + 3e5, rel=1e-12)
+    m = sum(d.n_modes for d in config.dms)
+    gram = np.zeros((m, m), order="F")
+    upper = np.triu_indices(m, 1)
+    block = np.empty((res.GRAM_ROWS, m))
+    held = gram.nbytes + upper[0].nbytes + upper[1].nbytes + block.nbytes
+    small_build = _ideal_cost(config, m, entries=1e5, n_meas=n_meas, wfs_build=3e5)
+    kept, transient = res._streamed_budget(small_build)
+    # the Gram phase, whatever the measurement count (a dense own block would be
+    # 8 B x 1e6 x a mirror's modes, 1.6 GB and more)
+    assert transient == pytest.approx(held, rel=1e-3)
+    big_build = _ideal_cost(config, m, entries=1e5, n_meas=n_meas, wfs_build=3e10)
+    assert res._streamed_budget(big_build)[1] == 3e10            # the build, alone
     # kept: the ideal operators at 16 B per kept entry (their share of the built) and
     # the M x M reconstruction
     entries = 1e5 * len(config.wfss)
-    assert kept == pytest.approx(res._IDEAL_KEPT_SHARE * 16.0 * entries
-                                 + 8.0 * sum(modes) ** 2, rel=1e-12)
+    assert kept == pytest.approx(res._IDEAL_KEPT_SHARE * 16.0 * entries + gram.nbytes,
+                                 rel=1e-12)
 
 
 # ---------------------------------------------------------------- every part by hand
@@ -181,13 +186,9 @@ def _by_hand(config: SimulationConfig, duration: float, oracle: bool = False,
         ideal = model(res.ideal_sensor_config(config))
         if res.budget_streams(config):
             m = ideal["modes"]
-            modes = [mirror_kind(d.kind).estimate(config, i, dx).n_modes
-                     for i, d in enumerate(config.dms)]
-            own = max(8.0 * c.n_measurements * modes[w.dm]
-                      for w, c in zip(config.wfss, ideal["sensors"], strict=True))
             ideal_kept = 0.35 * 16.0 * ideal["entries"] + 8.0 * m * m
-            ideal_setup = ideal_kept + max(own + ideal["build"],
-                                           8.0 * (2 * m * m + 4096 * m))
+            # the largest sensor's build, then the Gram phase (no dense own block)
+            ideal_setup = ideal_kept + max(ideal["build"], 8.0 * (2 * m * m + 4096 * m))
         else:
             ideal_kept = (ideal["pupil"] + ideal["dm"] + 48.0 * ideal["meas"] * ideal["modes"]
                           + ideal["ops"])

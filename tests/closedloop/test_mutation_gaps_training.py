@@ -48,7 +48,8 @@ class _Recorder:
             tag=f"run{len(self.runs)}", predictor="none",
             config=SimpleNamespace(dms=(0,)),
             logs={"dm0.pol": SimpleNamespace(coeffs=_ar2_pol())},
-            times=np.array([k / 1000 for k in range(80)]), closure_index=0)
+            times=np.array([k / 1000 for k in range(80)]), closure_index=0,
+            averaging_start=0, diverged=False, loop_status="closed")
 
 
 @pytest.fixture

@@ -98,7 +98,9 @@ def test_a_folder_in_use_is_refused(tmp_path, capsys):
     (tmp_path / "g.toml").write_text('config = "small.toml"\nduration = 0.01\n')
     out = tmp_path / "out"
     out.mkdir()
-    holder = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+    # alive until killed (it waits on its stdin), not for a time the test might outlast
+    holder = subprocess.Popen([sys.executable, "-c", "import sys; sys.stdin.read()"],
+                              stdin=subprocess.PIPE)
     try:
         (out / ".lock").write_text(json.dumps({"pid": holder.pid,
                                                "host": socket.gethostname(),
@@ -107,6 +109,7 @@ def test_a_folder_in_use_is_refused(tmp_path, capsys):
     finally:
         holder.kill()
         holder.wait(timeout=60)
+        holder.stdin.close()
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "is in use by closedloop sweep" in err
     assert f"pid {holder.pid}" in err

@@ -104,6 +104,7 @@ class _Result:
         self.times = [0.001, 0.002, 0.003]
         self.strehl_peak = [0.25, peak, peak]
         self.closure_index = np.int64(1)
+        self.averaging_start = np.int64(2)   # not the closure: a run that did not close
         self.budget = budget
         self.seed = seed
         self.config = types.SimpleNamespace(name="table1", field=types.SimpleNamespace(size=60),
@@ -221,6 +222,8 @@ def test_summarize():
     assert (a.name, a.summary["strehl_peak_mean"], a.closure_index, a.fov_diameter) == (
         "arma", 0.625, 1, 0.875)
     assert type(a.closure_index) is int and type(a.fov_diameter) is float
+    # the one averaging window of the result, kept as an int beside the closure
+    assert a.averaging_start == 2 and type(a.averaging_start) is int and a.window_start == 2
     assert results["arma"].thresholds == [0.3]            # the paper's SR > 0.3
     assert a.times.tolist() == [0.001, 0.002, 0.003] and isinstance(a.times, np.ndarray)
     assert a.strehl_peak.tolist() == [0.25, 0.625, 0.625]

@@ -4,7 +4,8 @@ Written from the survivors of mutation testing (issue 26 item 3, docs/MUTATION.m
 References, all outside the module: the runs are written in this file (``PredictorRun``
 series of dyadic values, so every mean, gain and difference is exact and worked out by
 hand in the comments); the numbers follow the definitions of the module docstring and
-the paper (mean SR peak from the no-prediction run's closure frame to the end, gain =
+the paper (mean SR peak from the no-prediction run's closure frame, or its second half if
+it did not close, to the end, gain =
 mean / no prediction's mean, a predictor "keeps the loop" at >= half of no prediction's
 SR, the paper's constants 0.4 / 0.6 / "ARMA" of Sect. 3.4); the figure is read back from
 the files saved (PNG size at 110 dpi with ``matplotlib.image.imread``, the PDF's magic)
@@ -359,3 +360,48 @@ def test_a_gain_equal_to_the_papers_ratio_buys_as_much():
     r = fig2.compute(_runs(("none", "linear"), series=series))
     assert r.gain["linear"] == 0.6 / 0.4
     assert "\n\nPrediction buys as much here as in the paper. " in fig2.report(r)
+
+
+def _unclosed(run, closure=0):
+    """``run`` that did not close: averages from frame T // 2 = 3 (the second half, as
+    closedloop.SimulationResult.averaging_start), its closure_index no closure."""
+    return PredictorRun(**{**run.__dict__, "closure_index": closure, "averaging_start": 3,
+                           "summary": {**run.summary, "loop_status": "did not close: test"}})
+
+
+def test_runs_that_did_not_close_say_so_and_use_the_second_half(tmp_path):
+    runs = _runs(("none", "linear", "arma"))
+    # the linear run did not close (its closure_index 3 is the search's fallback); no
+    # prediction closed: the common window stays its closure (frame 2)
+    mixed = ClosedLoopRuns(**{**runs.__dict__, "runs": {**runs.runs,
+                                                        "linear": _unclosed(runs.runs["linear"],
+                                                                            3)}})
+    r = fig2.compute(mixed)
+    assert r.start == 2 and r.peak_mean["linear"] == 0.625
+    assert math.isnan(r.own_closure_time["linear"]) and r.own_closure_time["arma"] == TIMES[4]
+    text = fig2.report(r)
+    assert ("(each run's own detected closure:\nno prediction 3 ms, linear (a=2, b=-1) did not "
+            "close, ARMA(2,3) 5 ms)") in text
+    # no prediction did not close (closure_index 0: an SR that never rose): every mean is
+    # over its second half, frames 3..5 (from 4 ms): none (0.5 + 0.625 + 0.5) / 3 = 0.5417,
+    # arma 0.75
+    runs = ClosedLoopRuns(**{**runs.__dict__, "runs": {**runs.runs,
+                                                       "none": _unclosed(runs.runs["none"])}})
+    r = fig2.compute(runs)
+    assert r.start == 3
+    assert r.peak_mean["none"] == pytest.approx(1.625 / 3, rel=1e-15)
+    assert r.peak_mean["arma"] == 0.75 and r.peak_mean["linear"] == pytest.approx(2.0 / 3)
+    assert math.isnan(r.own_closure_time["none"])
+    text = fig2.report(r)
+    assert "loop closure detected" not in text
+    assert ("500 nm; the loop did not close without\nprediction (did not close: test). Means "
+            "are over the same frames for every run, its second half\n(from 4 ms) to the end "
+            "(each run's own detected closure:\nno prediction did not close, linear (a=2, b=-1) "
+            "4 ms, ARMA(2,3) 5 ms).") in text
+    with saved_figures() as figures:
+        fig2.plot(r, tmp_path)
+    ax = figures[fig2.FIGURE_NAME].axes[0]
+    (vline,) = [ln for ln in ax.get_lines() if ln.get_label()[0] == "_"]
+    np.testing.assert_allclose(vline.get_xdata(), [4.0, 4.0], rtol=1e-12)
+    (txt,) = ax.texts
+    assert txt.get_text() == " second half\n (no prediction\n did not close)"

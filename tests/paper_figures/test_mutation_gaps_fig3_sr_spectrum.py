@@ -200,8 +200,9 @@ def test_report_word_for_word(result):
 
 ![Figure 3](fig3_sr_spectrum.png)
 
-Welch spectra of the SR peak after the detected closure (512 frames without
-prediction, resolution 10.0 Hz); band power = the PSD integrated over
+Welch spectra of the SR peak after the detected closure, or over the second half of a
+run that did not close (512 frames without prediction, resolution 10.0 Hz);
+band power = the PSD integrated over
 40-60 Hz ("~50 Hz") and 70 Hz to Nyquist ("above
 70 Hz"), divided by the no-prediction run's. Words: < 0.5 damped, 0.5-0.9 reduced,
 0.9-1.1 unchanged, > 1.1 amplified.
@@ -229,6 +230,46 @@ spectra, only the statements in the table.
 """
     assert fig3.report(result) == expected
     assert f"{nn_rms:.4f}" == "0.3096"
+
+
+def _unclosed(run, series):
+    """``run`` that did not close: closure_index 0 (an SR that never rose), averages from
+    the second half (frame T // 2 = 300, as closedloop.SimulationResult.averaging_start)."""
+    return PredictorRun(**{**run.__dict__, "strehl_peak": series, "closure_index": 0,
+                           "averaging_start": T // 2,
+                           "summary": {**run.summary, "loop_status": "did not close: test"}})
+
+
+def test_a_run_that_did_not_close_is_read_over_its_second_half():
+    runs = _runs()
+    # no prediction: 0.9 up to frame 300, then 0.25, 0.75, ...: over its second half the
+    # RMS is 0.25 and the mean 0.5 (loss below 0.25); from frame 0 they would be 0.2669
+    # and 0.7 (loss below 0.35)
+    none = _unclosed(runs.runs["none"], _two_levels(0.25, 0.75, T // 2, before=0.9))
+    # linear: 0.9 then 0.125, lost over the second half, kept from frame 0 (0.5125);
+    # oracle: 0.2 then 0.3, kept over the second half, lost from frame 0 (0.25)
+    # (linear did not close either: its RMS is over its second half, 0; the oracle closed
+    # at frame 88: its RMS is over 212 frames of 0.2 and 300 of 0.3, 0.1 sqrt(pq))
+    lin = _unclosed(runs.runs["linear"], _two_levels(0.125, 0.125, T // 2, before=0.9))
+    ora = PredictorRun(**{**runs.runs["oracle"].__dict__,
+                          "strehl_peak": _two_levels(0.3, 0.3, T // 2, before=0.2)})
+    r = fig3.compute(ClosedLoopRuns(**{**runs.__dict__,
+                                       "runs": {"none": none, "linear": lin, "oracle": ora}}))
+    assert fig3._degraded(r, "linear") is True
+    assert fig3._degraded(r, "oracle") is False
+    # 300 frames: one 256-frame segment (1 + 44 // 128); from frame 0 (600 frames) 3
+    assert fig3.relative_error(r, 40.0, 60.0) == pytest.approx(1 / math.sqrt(3), rel=1e-12)
+    text = fig3.report(r)
+    ora_rms = 0.1 * math.sqrt(212 * 300) / 512
+    assert f"{ora_rms:.4f}" == "0.0493"
+    assert ("RMS of the SR peak after closure: no prediction 0.2500 (did not close: second "
+            "half), linear (a=2, b=-1) 0.0000 (did not close: second half), oracle (true "
+            f"future) {ora_rms:.4f}.") in text
+    assert "(300 frames without prediction" in text
+    assert "Statistical precision: with 300\nframes" in text
+    # a hand-built run without averaging_start / loop_status reads as closed at its closure
+    assert runs.runs["none"].window_start == CLOSE and runs.runs["none"].closed is True
+    assert none.window_start == T // 2 and none.closed is False
 
 
 def test_report_without_matches_amplification_or_loss():

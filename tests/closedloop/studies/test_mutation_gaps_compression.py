@@ -66,8 +66,14 @@ def reference():
     cfg = _kaos6()
     x = _pol()
     times = np.arange(1, T + 1) * cfg.loop.time_step
+    # a loop that closed at frame 3 (open-loop level 2 rad^2, then 0.3): the training
+    # starts at t > 15 ms, after the closure (a flat 0.3 never rose: it did not close,
+    # and would train on its second half)
+    v = np.full((T, 1), 0.3)
+    v[:3] = 2.0
     ref = SimulationResult(config=cfg, seed=0, predictor="none", times=times,
-                           directions=np.zeros((1, 2)), residual_variance=np.full((T, 1), 0.3))
+                           directions=np.zeros((1, 2)), residual_variance=v)
+    assert ref.loop_status == "closed" and ref.averaging_start == 3
     start = training_start(ref)
     assert 20 < start < T - 60
     # before the training start, the last mode dominates: an ordering built on those
@@ -361,7 +367,8 @@ class _Run:
     def __init__(self, v, start, n_frames=40):
         self.strehl_peak = np.r_[np.full(start, 9.0), np.full(n_frames - start, v)]
         self.strehl = np.column_stack([self.strehl_peak / 2, self.strehl_peak])
-        self.closure_index = 3
+        self.closure_index = self.averaging_start = 3   # a loop that closed at frame 3
+        self.diverged = False
         self.times = np.arange(1, n_frames + 1) * 0.5e-3
         self.v = v
 
