@@ -313,14 +313,20 @@ def _css_refine(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
 
 def _css_refine_all(xc: np.ndarray, starts: dict, margin: float, burn: int, n_iter: int
                     ) -> dict:
-    """:func:`_css_refine` of every ``(p, q): (phi, theta)`` start (``p, q <= 5``, ``q > 0``).
+    """:func:`_css_refine` of every ``(p, q): (phi, theta)`` start (``q > 0``).
 
-    The order search's fits of one series in one numba call (``_kernels.css_newton_batch``,
-    issue 30): each fit is :func:`_css_refine`'s, step for step and bit for bit; two run
-    side by side so that their trial innovations, a latency-bound recursion, share one
-    pass over the series.
+    With every order ``p, q <= 5`` the fits of one call run in one numba call
+    (``_kernels.css_newton_batch``, issue 30): each fit is :func:`_css_refine`'s, step
+    for step and bit for bit; two run side by side so that their trial innovations, a
+    latency-bound recursion, share one pass over the series. Larger orders are fitted
+    one by one by :func:`_css_refine` (the same fits).
     """
+    if not starts:
+        return {}
     orders = np.array(list(starts), dtype=np.int64).reshape(-1, 2)
+    if int(orders.max()) > SHORT_ORDER:
+        return {key: _css_refine(xc, phi, theta, margin, burn, n_iter)
+                for key, (phi, theta) in starts.items()}
     width_p = max(1, int(orders[:, 0].max(initial=0)))
     width_q = max(1, int(orders[:, 1].max(initial=0)))
     phi0 = np.zeros((orders.shape[0], width_p))
@@ -336,6 +342,58 @@ def _css_refine_all(xc: np.ndarray, starts: dict, margin: float, burn: int, n_it
     return {(int(p), int(q)): (phi_out[i, :p].copy(), theta_out[i, :q].copy(),
                                sse[i] / (xc.size - burn))
             for i, (p, q) in enumerate(orders)}
+
+
+def _start_sse(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: float,
+               burn: int) -> float:
+    """Sum of squares after ``burn`` from which the CSS fit of ``(phi, theta)`` starts.
+
+    The roots are enforced first, as ``_kernels.css_newton_batch`` does with a start.
+    """
+    phi = _enforce_ar(phi, margin) if phi.size else phi
+    e = _innovations(xc, phi, _enforce(theta, margin))
+    return float(e[burn:] @ e[burn:])
+
+
+def _warm_search(xc: np.ndarray, shared: _SharedRegressions, ar_fits: dict, orders,
+                 margin: float, burn: int, n_iter: int) -> dict:
+    """CSS fits of every candidate ``(p, q > 0)`` of the order search, warm-started.
+
+    Candidates are fitted by diagonals ``p + q = 1, 2, ...``. Each starts from
+    whichever of its Hannan-Rissanen start (``shared``), the converged ``(p - 1, q)``
+    fit and the converged ``(p, q - 1)`` fit (``q - 1 = 0``: the Yule-Walker AR(p) of
+    ``ar_fits``), the last two padded with a zero coefficient (the same model), has the
+    lowest sum of squares (ties keep the earlier of that list). The CSS fit only accepts
+    steps that lower the sum, so each candidate's CSS is at most that of its
+    Hannan-Rissanen start, and at most that of its neighbours' fits: the search is a
+    path through nested models, as a stepwise search is. The fits of one diagonal do
+    not depend on each other and run in one :func:`_css_refine_all` call.
+
+    Returns ``{(p, q): (phi, theta, sigma2)}`` as :func:`_css_refine_all` does.
+    """
+    diagonals: dict[int, list] = {}
+    for p, q in orders:
+        if q > 0:
+            diagonals.setdefault(p + q, []).append((p, q))
+    fits: dict = {}
+    for total in sorted(diagonals):
+        starts = {}
+        for p, q in diagonals[total]:
+            phi, theta = shared.solve(p, q)
+            best = _start_sse(xc, phi, theta, margin, burn)
+            for pp, qq in ((p - 1, q), (p, q - 1)):
+                prev = (fits.get((pp, qq)) if qq > 0 else
+                        (ar_fits[pp], np.zeros(0)) if pp in ar_fits else None)
+                if prev is None:
+                    continue
+                phi_n, theta_n = np.zeros(p), np.zeros(q)
+                phi_n[:pp], theta_n[:qq] = prev[0], prev[1]
+                sse = _start_sse(xc, phi_n, theta_n, margin, burn)
+                if sse < best:
+                    best, phi, theta = sse, phi_n, theta_n
+            starts[p, q] = (phi, theta)
+        fits.update(_css_refine_all(xc, starts, margin, burn, n_iter))
+    return fits
 
 
 # damped-Newton constants of _css_refine (unit-free: the series is standardised)
@@ -466,9 +524,10 @@ class ARMAPredictor(_LinearRecursion):
                 shared = _SharedRegressions(xc, z_long, long_order,
                                             max(p for p, _ in orders), qmax)
         refined = {}
-        if shared is not None and kmax <= SHORT_ORDER:  # the order search, fits in pairs
-            refined = _css_refine_all(xc, {(p, q): shared.solve(p, q) for p, q in orders
-                                           if q > 0}, margin, burn, n_iter)
+        if shared is not None:  # the order search: warm starts, fits in pairs
+            p_max = max(p for p, _ in orders)
+            ar_fits = {k: _enforce_ar(_yule_walker(gamma, k), margin) for k in range(p_max + 1)}
+            refined = _warm_search(xc, shared, ar_fits, orders, margin, burn, n_iter)
         best = None
         crit = np.full((self.max_order + 1,) * 2, np.nan) if len(orders) > 1 else None
         n_eff = n - burn
