@@ -70,6 +70,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from modalinfo.common.validation import check_int
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
 
@@ -465,6 +466,7 @@ class SimulationResult:
 
         if not 0.0 < threshold < 1.0:
             raise ValueError(f"`threshold` must be in (0, 1); got {threshold!r}.")
+        refine = check_int(refine, "refine", minimum=1)  # 0: an IndexError (round 8, c25)
         smap = self.strehl_map(start=start)
         n = smap.shape[0]
         size = self.config.field.size
@@ -489,6 +491,8 @@ class SimulationResult:
         """
         from scipy import signal
 
+        if nperseg is not None:  # 0 was read as the default 256 (round 8, c26)
+            nperseg = check_int(nperseg, "nperseg", minimum=1)
         x = self.strehl_peak[self._start(start):]
         rate = 1.0 / self.config.loop.time_step
         nper = min(x.size, nperseg or 256)
