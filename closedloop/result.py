@@ -381,11 +381,14 @@ class SimulationResult:
         # frame k sees a command once (k + 1) T > T + delay: a "closure" before that is
         # a steady band so wide that it holds the open loop (an SR that never rose)
         if self.closure_index < self._first_command:
+            # the band is said: an SR peak of 0.18 swinging to 0 read "never rose" alone
+            # (adversarial round 8, row e87)
             peak = self.strehl_peak
             return self._still_converging(v) or (
                 f"did not close: the SR peak ({float(peak[n // 2:].mean()):.3g} in the "
                 f"second half) never rose clearly above its open-loop value "
-                f"({float(peak[0]):.3g})")
+                f"({float(peak[0]):.3g}): the band of its second half (median - 3 robust sd) "
+                f"reaches down to {self._steady_band()[0]:.3g}")
         steady = float(v[self.closure_index:].mean())
         if steady >= 0.5 * open_loop:
             return (f"did not close: the residual ({steady:.3g} rad^2, field mean) stays above "
