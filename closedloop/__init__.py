@@ -64,6 +64,12 @@ except KeyboardInterrupt:
         raise
     sys.stderr.write("closedloop: interrupted\n")
     sys.exit(130)
+except ImportError as _exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0): the
+    # command's one line and 2, as for Ctrl-C above (adversarial round 8, row e105)
+    if not _run_as_main() or "NUMBA_" not in str(_exc):
+        raise
+    sys.stderr.write(f"closedloop: error: {_exc}\n")
+    sys.exit(2)
 
 __all__ = [
     "presets",

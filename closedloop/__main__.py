@@ -7,4 +7,9 @@ try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no tr
 except KeyboardInterrupt:
     sys.stderr.write("closedloop: interrupted\n")
     code = 130
+except ImportError as exc:  # a dependency that refuses its environment (NUMBA_NUM_THREADS=0)
+    if "NUMBA_" not in str(exc):
+        raise
+    sys.stderr.write(f"closedloop: error: {exc}\n")
+    code = 2
 sys.exit(code)

@@ -70,6 +70,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from modalinfo.common.validation import check_int
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
 
@@ -380,11 +381,14 @@ class SimulationResult:
         # frame k sees a command once (k + 1) T > T + delay: a "closure" before that is
         # a steady band so wide that it holds the open loop (an SR that never rose)
         if self.closure_index < self._first_command:
+            # the band is said: an SR peak of 0.18 swinging to 0 read "never rose" alone
+            # (adversarial round 8, row e87)
             peak = self.strehl_peak
             return self._still_converging(v) or (
                 f"did not close: the SR peak ({float(peak[n // 2:].mean()):.3g} in the "
                 f"second half) never rose clearly above its open-loop value "
-                f"({float(peak[0]):.3g})")
+                f"({float(peak[0]):.3g}): the band of its second half (median - 3 robust sd) "
+                f"reaches down to {self._steady_band()[0]:.3g}")
         steady = float(v[self.closure_index:].mean())
         if steady >= 0.5 * open_loop:
             return (f"did not close: the residual ({steady:.3g} rad^2, field mean) stays above "
@@ -465,6 +469,7 @@ class SimulationResult:
 
         if not 0.0 < threshold < 1.0:
             raise ValueError(f"`threshold` must be in (0, 1); got {threshold!r}.")
+        refine = check_int(refine, "refine", minimum=1)  # 0: an IndexError (round 8, c25)
         smap = self.strehl_map(start=start)
         n = smap.shape[0]
         size = self.config.field.size
@@ -489,6 +494,8 @@ class SimulationResult:
         """
         from scipy import signal
 
+        if nperseg is not None:  # 0 was read as the default 256 (round 8, c26)
+            nperseg = check_int(nperseg, "nperseg", minimum=1)
         x = self.strehl_peak[self._start(start):]
         rate = 1.0 / self.config.loop.time_step
         nper = min(x.size, nperseg or 256)

@@ -412,4 +412,9 @@ if __name__ == "__main__":
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)
         sys.stderr.write("python -m paper_figures: interrupted\n")
         code = 130
+    except ImportError as exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0)
+        if "NUMBA_" not in str(exc):
+            raise
+        sys.stderr.write(f"paper_figures: error: {exc}\n")
+        code = 2
     sys.exit(code)

@@ -10,7 +10,13 @@ threads, which the per-thread work arrays of ``information.kde`` allow, run in p
 
 from __future__ import annotations
 
-import numba as nb
+try:
+    import numba as nb
+except ValueError as _exc:  # numba checks its NUMBA_* variables at import time
+    # e.g. NUMBA_NUM_THREADS=0 (adversarial round 8, row e105): an ImportError that the
+    # commands' __main__ report in one line, not numba's traceback
+    raise ImportError(f"numba cannot start: {_exc} (check the NUMBA_* environment "
+                      "variables, e.g. NUMBA_NUM_THREADS must be >= 1)") from None
 
 __all__ = ["jit"]
 

@@ -559,7 +559,11 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
         lp, _ = _pick_loop(system, path, loop)
         modes = _data(lp.modes)
         if modes is None:
-            raise LogFormatError(f"AOT file '{path}': loop {lp.uid!r} has no modes")
+            # its coefficients may have labels (MI_MODES, e.g. DMKL1...): "no modes" read
+            # as a contradiction of `modalinfo info` (adversarial round 8, row e122)
+            raise LogFormatError(
+                f"AOT file '{path}': loop {lp.uid!r} has no mode images (no `modes` "
+                "data), so no modal basis can be read from it")
         n_cols = None
         if _has_coefficients(lp):
             n_cols = _coefficients(lp, path)[0].shape[1]

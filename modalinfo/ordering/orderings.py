@@ -580,6 +580,10 @@ def order_modes(
         method, estimator_options, n_resamples, confidence_level, block_length
     )
     check_choice(search, "search", SEARCHES)
+    # the estimator and its options are checked for every method, also those that do not
+    # use them ("standard", "variance", "pca"): a misspelt name is refused, not ignored
+    # (adversarial round 8, rows b03, b04)
+    _make_estimator(estimator, options)
     if n_resamples > 0 and frame is None and str(method).startswith("mi_") and hasattr(
         log_or_coeffs, "sampling"
     ):

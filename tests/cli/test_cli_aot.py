@@ -93,7 +93,8 @@ def test_other_loop_and_default_labels(naomi_file, capsys):
         (["fitting-error", "{f}", "--loop", "Nope"], "no control loop 'Nope'"),
         (["forecast", "{f}", "--loop", "X"], "no control loop 'X'"),
         (["convert", "{f}", "{out}", "--loop", "X"], "no control loop 'X'"),
-        (["reorder", "{f}", "--loop", "Other", "--basis", "file"], "loop 'Other' has no modes"),
+        (["reorder", "{f}", "--loop", "Other", "--basis", "file"],
+         "loop 'Other' has no mode images"),
     ],
 )
 def test_bad_loop_is_one_line_exit_2(naomi_file, tmp_path, capsys, argv, needle):
