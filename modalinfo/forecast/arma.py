@@ -531,7 +531,7 @@ class ARMAPredictor(_LinearRecursion):
             if len(orders) > 1:
                 shared = _SharedRegressions(xc, z_long, long_order,
                                             max(p for p, _ in orders), qmax)
-        refined = {}
+        refined, ar_fits = {}, {}
         if shared is not None:  # the order search: warm starts, fits in pairs
             p_max = max(p for p, _ in orders)
             ar_fits = {k: _enforce_ar(_yule_walker(gamma, k), margin) for k in range(p_max + 1)}
@@ -542,8 +542,10 @@ class ARMAPredictor(_LinearRecursion):
         for p, q in orders:
             if (p, q) in refined:
                 phi, theta, sigma2 = refined[p, q]
-            elif q == 0:
-                phi, theta = _enforce_ar(_yule_walker(gamma, p), margin), np.zeros(0)
+            elif q == 0:  # the search's warm starts already hold the AR(p) fits
+                if p not in ar_fits:
+                    ar_fits[p] = _enforce_ar(_yule_walker(gamma, p), margin)
+                phi, theta = ar_fits[p], np.zeros(0)
                 e = _innovations(xc, phi, theta)
                 sigma2 = float(e[burn:] @ e[burn:]) / n_eff
             else:

@@ -75,6 +75,16 @@ def shrunk(config: SimulationConfig, modes: tuple[int, ...], *, n_pixels: int = 
                           wfss=wfss, field=field)
 
 
+def with_values(cfg: SimulationConfig, section: str, index, **values) -> SimulationConfig:
+    """``cfg`` with ``values`` set in its ``section`` (its item ``index`` if not None)."""
+    d = cfg.to_dict()
+    if index is None:
+        d[section].update(values)
+    else:
+        d[section][index].update(values)
+    return SimulationConfig.from_dict(d)
+
+
 def small(name: str = "table1", **loop) -> SimulationConfig:
     """Preset ``name``'s layout made fast: 32 pupil pixels, 8 x 8 SH, 35 + 20 (+ 14) modes.
 

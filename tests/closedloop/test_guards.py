@@ -26,43 +26,34 @@ from closedloop.resources import ResourceError, check_resources, estimate
 from closedloop.result import SimulationResult
 from modalinfo.forecast import PersistencePredictor
 
-from .conftest import small
+from .conftest import small, with_values
 
 
 # ---------------------------------------------------------------- physical sense
-def _with(cfg, section, index, **values):
-    d = cfg.to_dict()
-    if index is None:
-        d[section].update(values)
-    else:
-        d[section][index].update(values)
-    return SimulationConfig.from_dict(d)
-
-
 def test_modes_beyond_the_pupil_sampling_are_refused():
     # 16 x 16 subapertures on the upper DM (416 slopes), so that the pupil sampling, not
     # the measurements (test_physics_guards.py), bounds its modes here
-    cfg = _with(small(), "wfss", 1, n_subapertures=16)
+    cfg = with_values(small(), "wfss", 1, n_subapertures=16)
     # upper DM: disc D + 2 h tan(fov / 2) at 32 pixels per 4 m
     fov = cfg.wfss[1].field_of_view
     across = (4.0 + 2 * 10_000 * math.tan(fov / 2 * ARCSEC)) / (4.0 / 32)
     n_max = int(across // 2)
     limit = (n_max + 1) * (n_max + 2) // 2 - 1  # modes Z2 .. up to radial order n_max
-    _with(cfg, "dms", 1, n_modes=limit)  # the largest allowed
+    with_values(cfg, "dms", 1, n_modes=limit)  # the largest allowed
     with pytest.raises(ValueError, match=rf"`dms\[1\].n_modes` must be <= {limit} .* got "
                                          rf"{limit + 1}\."):
-        _with(cfg, "dms", 1, n_modes=limit + 1)
+        with_values(cfg, "dms", 1, n_modes=limit + 1)
     with pytest.raises(ValueError, match=r"`dms\[0\].n_modes` must be <= 152 \(Zernike "
                                          r"radial order .* = 16 for 32 pixels.*got 800"):
-        _with(cfg, "dms", 0, n_modes=800)  # 32 px across the ground DM: orders <= 16
+        with_values(cfg, "dms", 0, n_modes=800)  # 32 px across the ground DM: orders <= 16
 
 
 def test_subapertures_beyond_the_pupil_sampling_are_refused():
     cfg = small()
     with pytest.raises(ValueError, match=r"`wfss\[0\].n_subapertures` must be <= 16 \(at "
                                          r"least 2 pixels per subaperture.* got 17"):
-        _with(cfg, "wfss", 0, n_subapertures=17)
-    _with(cfg, "wfss", 0, n_subapertures=16)
+        with_values(cfg, "wfss", 0, n_subapertures=17)
+    with_values(cfg, "wfss", 0, n_subapertures=16)
 
 
 def test_delay_beyond_the_servo_limit_is_refused_at_load():

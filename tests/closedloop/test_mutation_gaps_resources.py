@@ -42,16 +42,7 @@ from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
 from modalinfo.common.sizes import format_size
 
-from .conftest import small
-
-
-def _with(cfg: SimulationConfig, section: str, index, **values) -> SimulationConfig:
-    d = cfg.to_dict()
-    if index is None:
-        d[section].update(values)
-    else:
-        d[section][index].update(values)
-    return SimulationConfig.from_dict(d)
+from .conftest import small, with_values
 
 
 # ---------------------------------------------------------------- the streamed Gram phase
@@ -218,7 +209,7 @@ CASES = {
     "small table1, capped screens": lambda: (small(), 20.0, False, False),
     # a layer 1000 km up: its plane (3,318 px) caps its screen at 4 n, above 4096
     "small table1, a layer at 1000 km": lambda: (
-        _with(small(), "layers", 1, altitude=1e6), 0.01, False, False),
+        with_values(small(), "layers", 1, altitude=1e6), 0.01, False, False),
 }
 
 
@@ -313,20 +304,20 @@ def test_the_drivers_name_the_keys_that_set_each_part():
     assert est.drivers["dm_shapes"] == costs[int(np.argmax(sizes))].driver
     assert est.parts["dm_shapes"] == pytest.approx(sum(sizes), rel=1e-12)
     # a 31 x 31 field grid: a log row holds more directions (961) than 3 M + measurements
-    wide = _with(cfg, "field", None, n_points=31)
+    wide = with_values(cfg, "field", None, n_points=31)
     assert res.estimate(wide, 0.05).drivers["logs"] == "field.n_points"
     # the plane maps' size is the largest plane's: the highest layer's
     assert est.drivers["planes"] == f"layers[{len(cfg.layers) - 1}].altitude"
     # the logs' key: the field grid once its directions outnumber the rest of a row
     # (28 modes on the ground DM: 19^2 = 361 directions, just above 3 M + 201 = 345)
-    for base in (cfg, _with(cfg, "dms", 0, n_modes=28)):
+    for base in (cfg, with_values(cfg, "dms", 0, n_modes=28)):
         dx = base.telescope.diameter / base.telescope.n_pixels
         rest = 3 * sum(d.n_modes for d in base.dms) + sum(
             sensor_kind(w.kind).estimate(base, j, len(plane_layout(base)), dx).n_measurements
             for j, w in enumerate(base.wfss))
         keys = {}
         for n in range(3, 40, 2):
-            grid = _with(base, "field", None, n_points=n)
+            grid = with_values(base, "field", None, n_points=n)
             keys[n] = res.estimate(grid, 0.05).drivers["logs"]
             assert keys[n] == ("field.n_points" if n * n > rest else "duration"), n
         assert set(keys.values()) == {"field.n_points", "duration"}
@@ -363,7 +354,7 @@ def test_the_screen_is_blamed_on_the_duration_exactly_where_the_travel_sets_its_
     top = len(cfg.layers) - 1
     dx = cfg.telescope.diameter / cfg.telescope.n_pixels
     for direction in (0.0, 90.0):
-        windy = _with(cfg, "layers", top, wind_speed=20.0, wind_direction=direction)
+        windy = with_values(cfg, "layers", top, wind_speed=20.0, wind_direction=direction)
         layout = plane_layout(windy)
         p = next(k for k, entry in enumerate(layout) if top in entry[2])
         n = layout[p][1]
@@ -449,9 +440,9 @@ def test_the_time_per_frame_grows_with_each_part_of_the_frame_work():
     cfg = small()
     base = res.estimate(cfg, 0.05).seconds_per_frame
     # each of these adds work per frame: more science directions, more modes, more pixels
-    for changed in (_with(cfg, "field", None, n_points=9),
-                    _with(cfg, "dms", 0, n_modes=54),
-                    _with(cfg, "telescope", None, n_pixels=40)):
+    for changed in (with_values(cfg, "field", None, n_points=9),
+                    with_values(cfg, "dms", 0, n_modes=54),
+                    with_values(cfg, "telescope", None, n_pixels=40)):
         assert res.estimate(changed, 0.05).seconds_per_frame > base
 
 
@@ -509,7 +500,7 @@ def test_the_svd_time_is_its_measurement_and_small_ones_are_not_reported(monkeyp
     # table1's are milliseconds: 0; a zonal mirror has none
     cfg = small()
     assert res._svd_seconds(cfg, res._sensor_costs(cfg, 3, 0.125)) == 0.0
-    lag = _with(cfg, "dms", 0, kind="ideal")
+    lag = with_values(cfg, "dms", 0, kind="ideal")
     assert res._svd_seconds(lag, res._sensor_costs(lag, 3, 0.125)) == 0.0
 
 
