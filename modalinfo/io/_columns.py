@@ -20,6 +20,13 @@ Time names: ``time``, ``t``, ``time_s``, ``timestamp(s)``, ``times``, ``time[s]`
 milliseconds, ``time_us`` and ``time_ns`` micro- and nanoseconds (converted to
 seconds); ``frame``, ``frames``, ``frame_number``,
 ``frame_index`` are frame numbers, which become times only with a ``rate``.
+
+Unit words (:data:`UNIT_WORDS`): what a foreign file states about the units of its
+coefficients (FITS ``BUNIT`` / ``TUNITn``, an HDF5 ``units`` attribute, an NPZ ``units``
+member, a CSV ``# units:`` comment line or a ``[nm]`` / ``(nm)`` / ``_nm`` suffix on
+every mode column). A known word sets the units (metres are converted to nm); any other
+word is refused unless the caller states the units, never silently replaced by the
+default rad (round 2 of issue 27 found 'furlong' read as rad).
 """
 
 from __future__ import annotations
@@ -28,7 +35,34 @@ import re
 
 import numpy as np
 
-__all__ = ["mode_columns", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS"]
+from modalinfo.common.validation import check_exact_integers
+from modalinfo.io.files import LogFormatError
+
+__all__ = [
+    "mode_columns", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS", "UNIT_WORDS",
+    "unit_text", "column_units", "float_columns",
+]
+
+#: Unit words a file may give its coefficients -> (our unit, factor to it). Any other
+#: word (``rad/s``, ``V``, ``pix``, ``ADU``, ``furlong``...) is not a phase or optical-path
+#: unit the analyses can use: the readers refuse it unless the caller states the units.
+UNIT_WORDS = {
+    **{u: (u, 1.0) for u in ("rad", "nm", "um", "waves")},
+    "radian": ("rad", 1.0), "radians": ("rad", 1.0),
+    "wave": ("waves", 1.0),
+    "nanometer": ("nm", 1.0), "nanometers": ("nm", 1.0), "nanometre": ("nm", 1.0),
+    "nanometres": ("nm", 1.0),
+    "micron": ("um", 1.0), "microns": ("um", 1.0), "\u00b5m": ("um", 1.0),
+    "micrometer": ("um", 1.0), "micrometers": ("um", 1.0), "micrometre": ("um", 1.0),
+    "micrometres": ("um", 1.0),
+    "m": ("nm", 1e9), "meter": ("nm", 1e9), "meters": ("nm", 1e9), "metre": ("nm", 1e9),
+    "metres": ("nm", 1e9),
+}
+
+# a unit suffix on a column name: "Z2 [nm]", "Z2 (nm)", "Z2_nm", "Z2/nm"
+_UNIT_SUFFIX = re.compile(
+    r"(.*?)(?:\s*\[\s*([^\]]+?)\s*\]|\s*\(\s*([^)]+?)\s*\)|[_/]([a-z\u00b5]+))", re.IGNORECASE
+)
 
 #: Seconds per unit of a time column.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "frame": None}
@@ -158,3 +192,67 @@ def mode_arrays(arrays: dict) -> tuple[list[str], list] | None:
     order = np.argsort(modes, kind="stable")
     names = [list(ones)[k] for k in order]
     return names, [ones[n] for n in names]
+
+
+def unit_text(value) -> str | None:
+    """Return the unit a file attribute, header card or member holds, stripped (or None)."""
+    if isinstance(value, np.ndarray):
+        if value.shape != () or value.dtype.kind not in "US":
+            return None
+        value = value[()]
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", "replace")
+    if not isinstance(value, str) or not value.strip():
+        return None
+    return value.strip()
+
+
+def column_units(names: list[str], path) -> tuple[list[str], str | None]:
+    """Split a unit suffix (``[nm]``, ``(nm)``, ``_nm``) off every mode column name.
+
+    Returns ``(names, unit)``: the names without the suffix and the unit word when every
+    column carries the same known one; the names unchanged and None when none carries a
+    known unit word. Columns disagreeing on their units (``Z2 [nm]``, ``Z3 [rad]``) or only
+    some carrying one raise ``ValueError``: one log holds one unit.
+    """
+    stripped, units = [], []
+    for name in names:
+        found = _UNIT_SUFFIX.fullmatch(str(name).strip())
+        word = None
+        if found is not None:
+            word = next(g for g in found.groups()[1:] if g is not None)
+            if word.lower() not in UNIT_WORDS or not found.group(1).strip():
+                word = None
+        stripped.append(found.group(1).strip() if word is not None else str(name).strip())
+        units.append(word)
+    known = {u.lower() for u in units if u is not None}
+    if not known:
+        return list(names), None
+    if len(known) > 1 or None in units:
+        shown = ", ".join(str(n) for n in names[:6]) + (", ..." if len(names) > 6 else "")
+        raise LogFormatError(
+            f"'{path}': the mode columns state different units ({shown}); one log holds "
+            "one unit: convert the columns to one unit first"
+        )
+    return stripped, units[0]
+
+
+def float_columns(columns: list, names: list[str], path) -> np.ndarray:
+    """Stack 1-D numeric columns into a float64 ``(T, M)`` array, refusing lossy integers.
+
+    An integer column beyond 2^53 whose distinct values float64 rounds together is
+    refused with ``LogFormatError`` naming ``path`` (the rule of
+    :func:`modalinfo.common.validation.check_exact_integers`), as ``ModalLog`` refuses
+    such an integer array.
+    """
+    out = []
+    for name, col in zip(names, columns, strict=True):
+        arr = np.asarray(col[()] if hasattr(col, "attrs") else col)
+        as_float = arr.astype(np.float64)
+        if arr.dtype.kind in "iu" and arr.size:
+            try:
+                check_exact_integers(arr, as_float, f"coeffs` column `{name}")
+            except ValueError as exc:
+                raise LogFormatError(f"'{path}': {exc}") from exc
+        out.append(as_float)
+    return np.column_stack(out)

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.io._columns import UNIT_WORDS
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
@@ -242,6 +243,9 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     hints.pop("transpose", None)
     check_has_modes(np.shape(coeffs), path)
     stored.pop("_layout", None)
+    file_unit = stored.pop("_unit", None)
+    if file_unit is not None:
+        coeffs = _file_units(coeffs, file_unit, stored, hints, path)
     frames = stored.pop("_frame_numbers", None)
     convention_assumed = bool(stored.pop("_convention_assumed", False))
     if foreign:
@@ -301,6 +305,34 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             message = f"the file's {named.group(1)}" + message[named.end():]
         error = type(exc)(f"'{path}': {message}")
         raise _PassthroughError(error) from exc
+
+
+def _file_units(coeffs, file_unit: tuple[str, str], stored: dict, hints: dict, path: Path):
+    """Apply the unit a foreign file states (``(word, where)``, :data:`UNIT_WORDS`).
+
+    A known word sets ``stored["units"]`` (metres become nm: the coefficients are
+    scaled, said in metadata); an unknown word is refused unless the caller's ``units``
+    hint states the units (the word is then kept in metadata), like an AOT ``BUNIT``.
+    """
+    word, where = file_unit
+    meta = dict(stored.get("metadata") or {})
+    meta["file_unit"] = f"{word} ({where})"
+    stored["metadata"] = meta
+    known = UNIT_WORDS.get(word.lower())
+    if known is None:
+        if hints.get("units") is None:
+            raise LogFormatError(
+                f"'{path}': its {where} gives the coefficients the unit {word!r}, which is "
+                "not a unit of phase (rad, waves) or optical path (m, nm, um); state the "
+                "units with units= (command line: --in-units) if the file is wrong"
+            )
+        return coeffs
+    stored["units"], scale = known
+    if scale != 1.0:
+        meta["unit_conversion"] = (f"coefficients in {word} in the file, converted to "
+                                   f"{stored['units']}")
+        return np.asarray(coeffs, dtype=np.float64) * scale
+    return coeffs
 
 
 def check_has_modes(shape: tuple, path: Path) -> None:

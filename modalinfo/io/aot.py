@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.io._columns import UNIT_WORDS
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -65,7 +66,6 @@ from modalinfo.io.aot_system import (
 )
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
-from modalinfo.telemetry.units import UNITS
 
 __all__ = [
     "is_aot",
@@ -81,21 +81,10 @@ _JSON_KEY = "MI_JSON"
 #: card on a loop's coefficient image: its columns' labels (JSON list), written by
 #: closedloop's export for modes that are not Noll Zernikes (DM-space K-L, zonal)
 _LABELS_KEY = "MI_MODES"
-#: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it). Any other
-#: unit (``rad/s``, ``V``, ``pix``, ``furlong``...) is not a phase or optical-path unit
-#: the analyses can use, so the reader refuses it unless the caller states the units.
-_UNIT_WORDS = {
-    **{u: (u, 1.0) for u in UNITS},
-    "radian": ("rad", 1.0), "radians": ("rad", 1.0),
-    "wave": ("waves", 1.0),
-    "nanometer": ("nm", 1.0), "nanometers": ("nm", 1.0), "nanometre": ("nm", 1.0),
-    "nanometres": ("nm", 1.0),
-    "micron": ("um", 1.0), "microns": ("um", 1.0), "\u00b5m": ("um", 1.0),
-    "micrometer": ("um", 1.0), "micrometers": ("um", 1.0), "micrometre": ("um", 1.0),
-    "micrometres": ("um", 1.0),
-    "m": ("nm", 1e9), "meter": ("nm", 1e9), "meters": ("nm", 1e9), "metre": ("nm", 1e9),
-    "metres": ("nm", 1e9),
-}
+#: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it): the words
+#: every foreign reader knows (:data:`modalinfo.io._columns.UNIT_WORDS`). Any other unit
+#: (``rad/s``, ``V``, ``pix``, ``furlong``...) is refused unless the caller states the units.
+_UNIT_WORDS = UNIT_WORDS
 _VERSION_KEY = "AOT-VERS"
 _HEADER_BLOCKS = 36  # primary-header blocks scanned for AOT-VERS (100 kB)
 

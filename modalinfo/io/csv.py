@@ -31,13 +31,14 @@ from __future__ import annotations
 
 import csv as _csv
 import io
+import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
-from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
+from modalinfo.io._columns import TIME_UNITS, column_units, mode_columns, time_kind, unit_text
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -111,6 +112,30 @@ def _is_number(token: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+_INTEGER = re.compile(r"\+?\d+")
+_FLOAT = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+(?:\.\d*)?[eE][+-]?\d+)(?:[eE][+-]?\d+)?")
+
+
+def _index_row(first: list[str], second: list[str] | None) -> bool:
+    """Whether an all-numeric first row is a header of mode indices (``2,3,4,...``).
+
+    It is when it has at least two entries, all integer literals counting up by one from
+    0, 1 or 2 (the first index of the ANSI, Noll-with-piston and Noll-after-piston
+    lists), and the next row holds a finite number written with a decimal point or an
+    exponent. Measured coefficients are not exact consecutive integers, so such a row
+    read as data was a silent extra frame (audit 9, f04); rows of integer data (every
+    entry an integer literal) stay data.
+    """
+    if second is None or len(second) != len(first) or len(first) < 2:
+        return False
+    if not all(_INTEGER.fullmatch(tok) for tok in first):
+        return False
+    values = [int(tok) for tok in first]
+    if values[0] not in (0, 1, 2) or values != list(range(values[0], values[0] + len(values))):
+        return False
+    return any(_FLOAT.fullmatch(tok) for tok in second)
 
 
 def _delimiter(line: str) -> str | None:
@@ -229,9 +254,15 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 raise LogFormatError(f"CSV file '{path}' has no data rows")
             delim = _delimiter(body[0])
             first = _split(body[0], delim)
-            if not all(_is_number(tok) for tok in first):
+            if not all(_is_number(tok) for tok in first) or _index_row(
+                first, _split(body[1], delim) if len(body) > 1 else None
+            ):
                 names = first
                 body = body[1:]
+                if all(_is_number(tok) for tok in first):
+                    comments["header_row"] = (
+                        f"first row {', '.join(first[:3])}, ... read as mode indices, not data"
+                    )
                 if not body:
                     raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
         values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2, comments=None)
@@ -273,11 +304,26 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             stored: dict[str, Any] = {}
             coeffs = values
             meta = {**comments, "source_file": path.name, "source_format": "csv"}
+            unit = None
+            for key in ("units", "unit"):
+                if unit_text(comments.get(key)) is not None:
+                    unit = (unit_text(comments[key]), f"comment line '# {key}:'")
+                    break
             if names is not None:
                 coeffs, names = _time_columns(values, names, path, stored, meta)
+                names, suffix = column_units(names, path)
+                if suffix is not None:
+                    if unit is not None and unit[0].lower() != suffix.lower():
+                        raise LogFormatError(
+                            f"CSV file '{path}': its {unit[1]} says {unit[0]!r} but its mode "
+                            f"columns say {suffix!r}; one log holds one unit"
+                        )
+                    unit = (suffix, "mode column names")
                 stored["modes"], stored["convention"], assumed = mode_columns(names)
                 if assumed:
                     stored["_convention_assumed"] = True
             stored["metadata"] = meta
+            if unit is not None:
+                stored["_unit"] = unit
             coeffs = np.ascontiguousarray(coeffs)
     return build_log(coeffs, path, stored, hints, foreign=header is None)

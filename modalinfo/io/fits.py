@@ -33,7 +33,14 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
-from modalinfo.io._columns import TIME_UNITS, mode_columns, time_kind
+from modalinfo.io._columns import (
+    TIME_UNITS,
+    column_units,
+    float_columns,
+    mode_columns,
+    time_kind,
+    unit_text,
+)
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -46,7 +53,6 @@ from modalinfo.io._common import (
 from modalinfo.io._foreign import axis_layout
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
-from modalinfo.telemetry.units import UNITS
 
 __all__ = ["read_fits", "write_fits"]
 
@@ -189,9 +195,9 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
                     f"HDU {index}" + (f" ({hdu.name})" if hdu.name else "")
                     + f", the first of {len(images)} 2-D images (HDUs "
                     + ", ".join(map(str, images)) + ")")
-            unit = hdu.header.get("BUNIT")
-            if isinstance(unit, str) and unit.strip().lower() in UNITS:
-                stored["units"] = unit.strip().lower()
+            unit = unit_text(hdu.header.get("BUNIT"))
+            if unit is not None:  # known words set the units, others are refused
+                stored["_unit"] = (unit, f"keyword BUNIT of HDU {index}")
             # FITS axis 1 runs fastest: numpy's last axis (the columns)
             ctypes = [hdu.header.get("CTYPE2"), hdu.header.get("CTYPE1")]
             layout = axis_layout(
@@ -203,14 +209,16 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
     for hdu in hdul:
         if type(hdu).__name__ == "BinTableHDU" and hdu.data is not None and len(hdu.columns):
             names = list(hdu.columns.names)
-            cols = []
+            tunits = [unit_text(u) for u in hdu.columns.units]
+            raw = []
             for name in names:
                 col = np.asarray(hdu.data[name])
                 if col.ndim != 1 or col.dtype.kind not in "fiu":
                     raise LogFormatError(
                         f"FITS file '{path}': table column {name!r} is not a numeric scalar column"
                     )
-                cols.append(col.astype(np.float64))
+                raw.append(col)
+            cols = list(float_columns(raw, names, path).T)
             kinds = [time_kind(n) for n in names]
             timed = [k for k, kind in enumerate(kinds) if kind is not None]
             if len(timed) > 1:
@@ -230,8 +238,20 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
                         )
                 cols.pop(k)
                 names = names[:k] + names[k + 1 :]
+                tunits.pop(k)
             if not cols:
                 raise LogFormatError(f"FITS file '{path}': table has no modes (no mode column)")
+            names, suffix = column_units(names, path)
+            stated = {u for u in tunits if u is not None}
+            if len(stated) > 1 or (stated and None in tunits):
+                raise LogFormatError(
+                    f"FITS file '{path}': the mode columns' TUNITn keywords disagree "
+                    f"({', '.join(str(u) for u in tunits)}); one log holds one unit"
+                )
+            if stated:
+                stored["_unit"] = (stated.pop(), "TUNITn keywords of its table")
+            elif suffix is not None:
+                stored["_unit"] = (suffix, "mode column names")
             stored["modes"], stored["convention"], assumed = mode_columns(names)
             if assumed:
                 stored["_convention_assumed"] = True

@@ -45,7 +45,13 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
-from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
+from modalinfo.io._columns import (
+    float_columns,
+    mode_arrays,
+    mode_columns,
+    time_arrays,
+    unit_text,
+)
 from modalinfo.io._common import (
     build_log,
     check_stored_coefficients,
@@ -288,7 +294,16 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             if assumed:
                 stored["_convention_assumed"] = True
             time_arrays(dsets, stored, meta)
-            return np.column_stack([np.asarray(c[()], dtype=np.float64) for c in columns]), stored
+            stated = {_stated_unit(c.attrs) for c in columns}
+            if len(stated) > 1:
+                raise LogFormatError(
+                    f"HDF5 file '{path}': the per-mode datasets' units attributes disagree "
+                    f"({', '.join(sorted(str(u) for u in stated))}); one log holds one unit"
+                )
+            unit = stated.pop() or _stated_unit(f.attrs)
+            if unit is not None:
+                stored["_unit"] = (unit, "units attribute")
+            return float_columns(columns, short, path), stored
     if dataset is not None:
         key = dataset.strip("/")
         if key not in dsets:
@@ -333,7 +348,18 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     layout = _annotation(dset)
     if layout is not None:
         stored["_layout"] = layout
+    unit = _stated_unit(dset.attrs) or _stated_unit(f.attrs)
+    if unit is not None:
+        stored["_unit"] = (unit, f"units attribute of {key!r}")
     return coeffs, stored
+
+
+def _stated_unit(attrs) -> str | None:
+    """Return the ``units`` / ``unit`` attribute of a foreign dataset or file (None if absent)."""
+    for name in ("units", "unit", "UNITS", "UNIT", "BUNIT"):
+        if name in attrs:
+            return unit_text(attrs[name])
+    return None
 
 
 def _column_names(dset) -> list[str] | None:

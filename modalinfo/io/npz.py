@@ -28,7 +28,13 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
-from modalinfo.io._columns import mode_arrays, mode_columns, time_arrays
+from modalinfo.io._columns import (
+    float_columns,
+    mode_arrays,
+    mode_columns,
+    time_arrays,
+    unit_text,
+)
 from modalinfo.io._common import (
     build_log,
     check_stored_coefficients,
@@ -250,7 +256,8 @@ def _foreign(
             if assumed:
                 stored["_convention_assumed"] = True
             time_arrays(arrays, stored, meta)
-            return np.column_stack([np.asarray(c, dtype=np.float64) for c in columns]), stored
+            _units_member(arrays, stored)
+            return float_columns(columns, names, path), stored
     if dataset is not None:
         if dataset not in arrays:
             raise _LogFormatError(
@@ -294,7 +301,18 @@ def _foreign(
             if assumed:
                 stored["_convention_assumed"] = True
             break
+    _units_member(arrays, stored)
     return two_d[key], stored
+
+
+def _units_member(arrays: dict[str, np.ndarray], stored: dict) -> None:
+    """Record the units a foreign archive's ``units`` / ``unit`` member (0-d str) states."""
+    for name in ("units", "unit"):
+        if name in arrays:
+            unit = unit_text(arrays[name])
+            if unit is not None:
+                stored["_unit"] = (unit, f"member {name!r}")
+            return
 
 
 @unwrap

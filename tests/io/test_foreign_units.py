@@ -1,0 +1,126 @@
+"""What a foreign file states about its units, its integer columns and its header row.
+
+References: files written directly with NumPy, plain text, astropy and h5py whose unit
+words (FITS ``BUNIT`` / ``TUNITn``, an HDF5 ``units`` attribute, an NPZ ``units``
+member, a CSV ``# units:`` comment or ``[nm]`` column suffix) have a known meaning: the
+log must carry that unit (metres as nm, the values times 10^9 exactly as NumPy
+computes them), a word that is no unit of phase or optical path must be refused
+unless the caller states the units (never silently read as rad), and the values must
+come back as written. Integers beyond 2^53 are checked against Python's exact int
+arithmetic (``float(2**62 + k)`` is the same float for every small k).
+"""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+from astropy.io import fits
+
+from modalinfo.io import LogFormatError, load
+
+rng = np.random.default_rng(9)
+X = rng.standard_normal((30, 3))
+ROWS = "\n".join(",".join(repr(float(v)) for v in row) for row in X) + "\n"
+
+
+def _csv(path, text):
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("header", [
+    "# units: nm\nZ2,Z3,Z4\n",
+    "Z2 [nm],Z3 [nm],Z4 [nm]\n",
+    "Z2 (nm),Z3 (nm),Z4 (nm)\n",
+    "Z2_nm,Z3_nm,Z4_nm\n",
+])
+def test_csv_states_nm(tmp_path, header):
+    log = load(_csv(tmp_path / "a.csv", header + ROWS))
+    assert log.units == "nm" and log.modes == [2, 3, 4] and log.convention == "noll"
+    np.testing.assert_array_equal(log.coeffs, X)
+    assert "units" not in log.metadata.get("assumed", {})
+
+
+def test_csv_unknown_or_mixed_units_refused(tmp_path):
+    with pytest.raises(LogFormatError, match=r"'furlong'.*--in-units"):
+        load(_csv(tmp_path / "f.csv", "# units: furlong\nZ2,Z3,Z4\n" + ROWS))
+    # the caller's statement wins over a word the reader cannot know, which is kept
+    log = load(tmp_path / "f.csv", units="nm")
+    assert log.units == "nm" and "furlong" in log.metadata["file_unit"]
+    with pytest.raises(LogFormatError, match="different units"):
+        load(_csv(tmp_path / "m.csv", "Z2 [nm],Z3 [rad],Z4 [nm]\n" + ROWS))
+    with pytest.raises(LogFormatError, match="one log holds one unit"):
+        load(_csv(tmp_path / "c.csv", "# units: rad\nZ2 [nm],Z3 [nm],Z4 [nm]\n" + ROWS))
+    # a file stating nm contradicted by the caller: refused, as for any stored value
+    with pytest.raises(ValueError, match="contradicts"):
+        load(_csv(tmp_path / "n.csv", "# units: nm\nZ2,Z3,Z4\n" + ROWS), units="rad")
+
+
+def test_fits_bunit_and_tunit(tmp_path):
+    fits.PrimaryHDU(X).writeto(tmp_path / "m.fits")
+    with fits.open(tmp_path / "m.fits", mode="update") as hdul:
+        hdul[0].header["BUNIT"] = "m"
+    log = load(tmp_path / "m.fits")
+    assert log.units == "nm" and "converted to nm" in log.metadata["unit_conversion"]
+    np.testing.assert_array_equal(log.coeffs, X * 1e9)
+    fits.PrimaryHDU(X).writeto(tmp_path / "adu.fits")
+    with fits.open(tmp_path / "adu.fits", mode="update") as hdul:
+        hdul[0].header["BUNIT"] = "ADU"
+    with pytest.raises(LogFormatError, match=r"BUNIT.*'ADU'"):
+        load(tmp_path / "adu.fits")
+    cols = [fits.Column(name=f"Z{j}", format="D", unit="um", array=X[:, k])
+            for k, j in enumerate((2, 3, 4))]
+    fits.BinTableHDU.from_columns(cols).writeto(tmp_path / "t.fits")
+    log = load(tmp_path / "t.fits")
+    assert log.units == "um" and log.modes == [2, 3, 4]
+    np.testing.assert_array_equal(log.coeffs, X)
+    cols[1] = fits.Column(name="Z3", format="D", unit="nm", array=X[:, 1])
+    fits.BinTableHDU.from_columns(cols).writeto(tmp_path / "t2.fits")
+    with pytest.raises(LogFormatError, match="TUNITn keywords disagree"):
+        load(tmp_path / "t2.fits")
+
+
+def test_hdf5_units_attribute_and_npz_member(tmp_path):
+    with h5py.File(tmp_path / "a.h5", "w") as f:
+        f.create_dataset("coeffs", data=X).attrs["units"] = "nm"
+    log = load(tmp_path / "a.h5")
+    assert log.units == "nm"
+    np.testing.assert_array_equal(log.coeffs, X)
+    with h5py.File(tmp_path / "b.h5", "w") as f:
+        f.create_dataset("coeffs", data=X).attrs["units"] = "rad/s"
+    with pytest.raises(LogFormatError, match="'rad/s'"):
+        load(tmp_path / "b.h5")
+    np.savez(tmp_path / "c.npz", coefficients=X, units=np.array("waves"))
+    assert load(tmp_path / "c.npz").units == "waves"
+
+
+@pytest.mark.parametrize("fmt", ["npz", "hdf5", "fits"])
+def test_integer_columns_beyond_2_53_refused(tmp_path, fmt):
+    big = np.int64(2**62) + np.arange(30, dtype=np.int64)
+    path = tmp_path / {"npz": "a.npz", "hdf5": "a.h5", "fits": "a.fits"}[fmt]
+    assert len({float(int(v)) for v in big}) == 1  # float64 cannot tell them apart
+    if fmt == "npz":
+        np.savez(path, z2=big, z3=np.arange(30))
+    elif fmt == "hdf5":
+        with h5py.File(path, "w") as f:
+            f["z2"], f["z3"] = big, np.arange(30)
+    else:
+        fits.BinTableHDU.from_columns([
+            fits.Column(name="Z2", format="K", array=big),
+            fits.Column(name="Z3", format="K", array=np.arange(30)),
+        ]).writeto(path)
+    with pytest.raises(LogFormatError, match=r"2\^53.*30 distinct values become 1"):
+        load(path)
+
+
+def test_csv_header_of_mode_indices(tmp_path):
+    log = load(_csv(tmp_path / "i.csv", "2,3,4\n" + ROWS))
+    assert log.n_frames == 30 and log.modes == [2, 3, 4]
+    np.testing.assert_array_equal(log.coeffs, X)
+    assert "mode indices" in log.metadata["header_row"]
+    # integer data stays data, as does a first row that is no run of indices
+    ints = load(_csv(tmp_path / "n.csv", "2,3,4\n5,6,7\n"))
+    np.testing.assert_array_equal(ints.coeffs, [[2, 3, 4], [5, 6, 7]])
+    other = load(_csv(tmp_path / "o.csv", "2,4,5\n" + ROWS))
+    assert other.n_frames == 31 and list(other.coeffs[0]) == [2.0, 4.0, 5.0]
