@@ -270,3 +270,16 @@ def test_hdf5_checksum_covers_values(tmp_path):
     with pytest.raises(LogFormatError, match=r"coefficients do not match their SHA-256"):
         load(path)
     assert load(path, verify=False).coeffs[5, 1] == 0.0
+
+
+def test_csv_blank_lines_after_the_end_marker_are_no_damage(tmp_path, assert_same_log):
+    # an editor or a transfer appending blank lines leaves every value in place: the log
+    # is identical; a line of data appended after the marker is refused by name
+    log = ModalLog(np.random.default_rng(5).standard_normal((20, 3)), rate=100.0)
+    path = save(log, tmp_path / "a.csv")
+    text = path.read_text()
+    (tmp_path / "blank.csv").write_text(text + "\n  \n\n")
+    assert_same_log(load(tmp_path / "blank.csv"), log)
+    (tmp_path / "more.csv").write_text(text + "1,2,3\n")
+    with pytest.raises(LogFormatError, match=r"more\.csv.*1 line\(s\) after the end marker"):
+        load(tmp_path / "more.csv")
