@@ -120,9 +120,20 @@ def _check_args(args, modules, logs, needs_log) -> None:
 
     if args.duration is not None and not 0 < args.duration < float("inf"):
         raise _RefusedError(f"--duration must be a number of seconds > 0; got {args.duration:g}")
-    if not 0 <= args.seed <= 2**63 - 1:  # closedloop stores the seed as an int64
+    if args.seed is not None and not 0 <= args.seed <= 2**63 - 1:
+        # closedloop stores the seed as an int64
         raise _RefusedError(f"--seed must be an int in [0, 2**63 - 1]; got {args.seed}")
     numbers = ",".join(label.split()[-1] for _, label, _ in modules)
+    kinds = {_kind(module) for module, _, _ in modules}
+    # an option no chosen figure reads was ignored silently (audit 9-files g01)
+    if args.duration is not None and "runs" not in kinds:
+        raise _RefusedError(f"--duration sets the closed-loop runs (Figures 2, 3, 4, 7); "
+                            f"--only {numbers} makes none of them (add one, or drop --duration)")
+    if args.seed is not None and not kinds & {"runs", "own"}:
+        raise _RefusedError(f"--seed sets the simulated figures (2, 3, 4, 6, 7, 8); --only "
+                            f"{numbers} makes none of them (add one, or drop --seed)")
+    if args.seed is None:
+        args.seed = 0
     if args.log is None:
         given = [_flag(d) for d, v in _HINT_DEFAULTS.items() if getattr(args, d, v) != v]
         if given:
@@ -230,7 +241,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--duration", type=float, default=None,
                         help="simulated time of the Figures 2-4 runs [s] (default 0.5, "
                              "quick 0.2)")
-    parser.add_argument("--seed", type=int, default=0,
+    parser.add_argument("--seed", type=int, default=None,
                         help="atmosphere of the closed-loop runs (default 0)")
     from modalinfo.cli.shared import add_gap_argument, add_hint_arguments
 

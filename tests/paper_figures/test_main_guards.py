@@ -85,6 +85,18 @@ def test_log_options_that_would_be_ignored_are_refused(tmp_path, capsys):
     assert not (tmp_path / "o").exists()
 
 
+def test_run_options_no_chosen_figure_reads_are_refused(tmp_path, capsys):
+    # Figures 1 and 5 read a log, not the simulator: --duration and --seed were ignored
+    # silently (audit 9-files g01); Figure 6 is simulated, so --seed reaches it
+    _refused(capsys, ["--only", "1", "--duration", "1e-300", "--out", str(tmp_path / "o")],
+             "--duration sets the closed-loop runs (Figures 2, 3, 4, 7); --only 1 makes none")
+    _refused(capsys, ["--only", "6", "--duration", "0.1", "--out", str(tmp_path / "o")],
+             "--only 6 makes none of them")
+    _refused(capsys, ["--only", "1,5", "--seed", "0", "--out", str(tmp_path / "o")],
+             "--seed sets the simulated figures (2, 3, 4, 6, 7, 8); --only 1,5 makes none")
+    assert not (tmp_path / "o").exists()
+
+
 @pytest.mark.parametrize("frames, modes, zero_mode, only, needle", [
     (150, 3, None, "1", "Figure 1 on --log: the log must hold at least 21 modes"),
     (60, 25, None, "1", "Figure 1 on --log: the log must hold at least 100 frames"),
