@@ -97,6 +97,18 @@ def test_run_options_no_chosen_figure_reads_are_refused(tmp_path, capsys):
     assert not (tmp_path / "o").exists()
 
 
+def test_an_empty_out_name_is_refused_not_read_as_the_current_folder(tmp_path, capsys,
+                                                                     monkeypatch):
+    # `--out "$OUT"` with OUT unset wrote the report into the current folder (audit 9, g06)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exc:
+        main(["--only", "1", "--out", ""])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--out: must name a folder; got an empty name" in err
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("frames, modes, zero_mode, only, needle", [
     (150, 3, None, "1", "Figure 1 on --log: the log must hold at least 21 modes"),
     (60, 25, None, "1", "Figure 1 on --log: the log must hold at least 100 frames"),
