@@ -1,7 +1,8 @@
 """The logs of an archive: from directories, glob patterns and manifest CSV files.
 
-A *manifest* is a CSV file whose header row has a ``path`` column; its other columns
-are per-file input hints for :func:`modalinfo.io.load` (an empty cell gives none):
+A *manifest* is a CSV file (``,``, ``;`` or tab separated, a byte-order mark
+allowed) whose header row has a ``path`` column; its other columns are per-file input
+hints for :func:`modalinfo.io.load` (an empty cell gives none):
 
 =============  =====================================================
 column         meaning
@@ -73,14 +74,28 @@ def _extensions() -> tuple[str, ...]:
     return tuple(EXTENSIONS)
 
 
+#: Delimiters of a manifest, tried in order: spreadsheets in locales with a decimal
+#: comma save CSV with ';', and a tab-separated export is common too.
+_DELIMITERS = (",", ";", "\t")
+
+
+def _header_delimiter(line: str) -> str | None:
+    """Return the delimiter splitting a header ``line`` into cells one of which is path."""
+    for delim in _DELIMITERS:
+        names = [c.strip().lower() for c in next(csv.reader([line], delimiter=delim))]
+        if "path" in names:
+            return delim
+    return None
+
+
 def _is_manifest(path: Path) -> bool:
     if path.suffix.lower() != ".csv" or not path.is_file():
         return False
-    with open(path, encoding="utf-8", errors="replace", newline="") as fh:
+    # utf-8-sig: a spreadsheet's byte-order mark is not part of the first column name
+    with open(path, encoding="utf-8-sig", errors="replace", newline="") as fh:
         for line in fh:
             if line.strip() and not line.lstrip().startswith("#"):
-                names = [c.strip().lower() for c in next(csv.reader([line]))]
-                return "path" in names
+                return _header_delimiter(line) is not None
     return False
 
 
@@ -92,7 +107,7 @@ def _misnamed_manifest(path: Path) -> str | None:
     if path.suffix.lower() != ".csv" or not path.is_file():
         return None
     exts = tuple(e.lower() for e in _extensions())
-    with open(path, encoding="utf-8", errors="replace", newline="") as fh:
+    with open(path, encoding="utf-8-sig", errors="replace", newline="") as fh:
         lines = [line for line in itertools.islice(
             (ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")), 2)]
     for row in csv.reader(lines):
@@ -142,9 +157,10 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
     """
     path = Path(path)
     entries = []
-    with open(path, encoding="utf-8", newline="") as fh:
-        lines = (line for line in fh if line.strip() and not line.lstrip().startswith("#"))
-        reader = csv.DictReader(lines)
+    with open(path, encoding="utf-8-sig", newline="") as fh:
+        lines = [line for line in fh if line.strip() and not line.lstrip().startswith("#")]
+        delim = (_header_delimiter(lines[0]) if lines else None) or ","
+        reader = csv.DictReader(lines, delimiter=delim)
         columns = [c.strip().lower() for c in reader.fieldnames or []]
         unknown = [c for c in columns if c != "path" and c not in _ALIASES]
         if unknown:

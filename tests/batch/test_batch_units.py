@@ -75,6 +75,21 @@ def test_manifest_hints_give_what_load_gives(tmp_path):
                                rtol=1e-12)
 
 
+@pytest.mark.parametrize("text", [
+    "\ufeffpath,rate,in_units\nraw.npy,400,nm\n",  # a spreadsheet's byte-order mark
+    "path;rate;in_units\r\nraw.npy;400;nm\r\n",  # a decimal-comma locale's export
+    "path\trate\tin_units\nraw.npy\t400\tnm\n",
+])
+def test_spreadsheet_manifests_give_the_hand_written_entry(tmp_path, text):
+    # audit 9-files: a BOM was refused as 'no path column'; ';' made the manifest a log
+    np.save(tmp_path / "raw.npy", np.zeros((8, 2)))
+    manifest = tmp_path / "m.csv"
+    manifest.write_bytes(text.encode("utf-8"))
+    expected = [LogEntry(str((tmp_path / "raw.npy").resolve()), None,
+                         {"rate": 400.0, "units": "nm"})]
+    assert collect_logs([manifest]) == expected
+
+
 @pytest.mark.parametrize("text, message", [
     ("path,colour\na.npz,red\n", "unknown column 'colour'"),
     ("path,rate\na.npz,fast\n", "row 2: column 'rate' must be a number"),
