@@ -89,9 +89,28 @@ _PATTERNS = (
 )
 
 
+# any other spelling of a time column with its unit: "t [s]", "Timestamp (ms)",
+# "time_sec", "time/µs" (read as a mode before: audit 9-files f57)
+_TIME_NAME = re.compile(
+    r"(?:time|t|timestamps?|times)\s*(?:\[\s*(\w+)\s*\]|\(\s*(\w+)\s*\)|[_/ ]\s*(\w+))"
+)
+_TIME_UNIT_WORDS = {
+    "s": "s", "sec": "s", "secs": "s", "second": "s", "seconds": "s",
+    "ms": "ms", "msec": "ms", "millisecond": "ms", "milliseconds": "ms",
+    "us": "us", "\u00b5s": "us", "\u03bcs": "us", "usec": "us", "microsecond": "us",
+    "microseconds": "us",
+    "ns": "ns", "nsec": "ns", "nanosecond": "ns", "nanoseconds": "ns",
+}
+
+
 def time_kind(name: str) -> str | None:
     """Return ``"s"``, ``"ms"``, ``"us"`` or ``"frame"`` if ``name`` names a time column."""
     key = str(name).strip().lower()
+    found = _TIME_NAME.fullmatch(key)
+    if found is not None:
+        unit = next(g for g in found.groups() if g is not None)
+        if unit in _TIME_UNIT_WORDS:
+            return _TIME_UNIT_WORDS[unit]
     if key in _SECONDS:
         return "s"
     if key in _MILLI:

@@ -124,3 +124,18 @@ def test_csv_header_of_mode_indices(tmp_path):
     np.testing.assert_array_equal(ints.coeffs, [[2, 3, 4], [5, 6, 7]])
     other = load(_csv(tmp_path / "o.csv", "2,4,5\n" + ROWS))
     assert other.n_frames == 31 and list(other.coeffs[0]) == [2.0, 4.0, 5.0]
+
+
+@pytest.mark.parametrize("name, scale", [
+    ("t [s]", 1.0), ("Timestamp (ms)", 1e-3), ("time_sec", 1.0), ("time/\u00b5s", 1e-6),
+    ("time [us]", 1e-6), ("TIME (ns)", 1e-9),
+])
+def test_csv_time_column_spellings(tmp_path, name, scale):
+    # each was read as a mode before (a 'labels' log whose first "mode" was the clock)
+    t = np.arange(30) * 5.0  # 5 units apart
+    text = f"{name},Z2 [nm],Z3 [nm],Z4 [nm]\n" + "\n".join(
+        ",".join(repr(float(v)) for v in (t[k], *X[k])) for k in range(30)) + "\n"
+    log = load(_csv(tmp_path / "t.csv", text))
+    assert log.modes == [2, 3, 4] and log.units == "nm"
+    np.testing.assert_allclose(log.timestamps, t * scale, rtol=1e-15)
+    np.testing.assert_array_equal(log.coeffs, X)
