@@ -219,6 +219,12 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
                     )
                 raw.append(col)
             cols = list(float_columns(raw, names, path).T)
+            for k, name in enumerate(names):
+                # TNULLn marks an integer column's missing values: NaN here, so the
+                # nonfinite policy applies (read as the number -32768 before, audit 9)
+                null = hdu.columns[name].null
+                if raw[k].dtype.kind in "iu" and isinstance(null, int | np.integer):
+                    cols[k][raw[k] == null] = np.nan
             kinds = [time_kind(n) for n in names]
             timed = [k for k, kind in enumerate(kinds) if kind is not None]
             if len(timed) > 1:

@@ -139,3 +139,17 @@ def test_csv_time_column_spellings(tmp_path, name, scale):
     assert log.modes == [2, 3, 4] and log.units == "nm"
     np.testing.assert_allclose(log.timestamps, t * scale, rtol=1e-15)
     np.testing.assert_array_equal(log.coeffs, X)
+
+
+def test_fits_table_tnull_is_a_missing_value(tmp_path):
+    # the FITS standard (4.0, sect. 7.3.2): TNULLn is the value of an undefined integer
+    # cell; it was read as the number -32768 before
+    z2 = np.array([1, 2, -32768, 4, 5], dtype=np.int16)
+    fits.BinTableHDU.from_columns([
+        fits.Column(name="Z2", format="I", null=-32768, array=z2),
+        fits.Column(name="Z3", format="I", array=np.arange(5, dtype=np.int16)),
+    ]).writeto(tmp_path / "n.fits")
+    with pytest.raises(ValueError, match="must be finite.*frame 2, column 0"):
+        load(tmp_path / "n.fits")
+    log = load(tmp_path / "n.fits", nonfinite="interpolate")
+    np.testing.assert_array_equal(log.coeffs[:, 0], [1, 2, 3, 4, 5])
