@@ -303,7 +303,10 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             unit = stated.pop() or _stated_unit(f.attrs)
             if unit is not None:
                 stored["_unit"] = (unit, "units attribute")
-            return float_columns(columns, short, path), stored
+            stacked = float_columns(columns, short, path)
+            for k, column in enumerate(columns):
+                stacked[:, k] = _missing_as_nan(stacked[:, k], column.attrs)
+            return stacked, stored
     if dataset is not None:
         key = dataset.strip("/")
         if key not in dsets:
@@ -334,7 +337,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "
             f"but the file's {_HEADER!r} dataset is missing"
         )
-    coeffs = _load(dset, path, mmap)
+    coeffs = _missing_as_nan(_load(dset, path, mmap), dset.attrs)
     meta: dict[str, Any] = {"source_file": path.name, "source_format": "hdf5"}
     if dataset is not None or len(two_d) > 1:
         meta["source_dataset"] = key
@@ -352,6 +355,28 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     if unit is not None:
         stored["_unit"] = (unit, f"units attribute of {key!r}")
     return coeffs, stored
+
+
+def _missing_as_nan(values: np.ndarray, attrs) -> np.ndarray:
+    """Return ``values`` with the cells a CF ``_FillValue`` / ``missing_value`` marks as NaN.
+
+    netCDF-4 files are HDF5 files: their missing cells hold the fill value (-9999, say),
+    read as a coefficient before (audit 9-files); NaN lets the nonfinite policy act.
+    """
+    marks = []
+    for name in ("_FillValue", "missing_value"):
+        if name in attrs:
+            value = np.asarray(attrs[name])
+            if value.dtype.kind in "fiu" and value.size:
+                marks += [float(v) for v in value.ravel() if np.isfinite(v)]
+    if not marks:
+        return values
+    missing = np.isin(values, marks)
+    if not missing.any():
+        return values
+    out = np.array(values, dtype=np.float64)  # a copy: a memory map stays untouched
+    out[missing] = np.nan
+    return out
 
 
 def _stated_unit(attrs) -> str | None:

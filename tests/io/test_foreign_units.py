@@ -153,3 +153,22 @@ def test_fits_table_tnull_is_a_missing_value(tmp_path):
         load(tmp_path / "n.fits")
     log = load(tmp_path / "n.fits", nonfinite="interpolate")
     np.testing.assert_array_equal(log.coeffs[:, 0], [1, 2, 3, 4, 5])
+
+
+@pytest.mark.parametrize("per_mode", [False, True])
+def test_hdf5_cf_fill_value_is_a_missing_value(tmp_path, per_mode):
+    # CF conventions (1.11, sect. 2.5.1): cells equal to _FillValue / missing_value are
+    # undefined; netCDF-4 files are HDF5 and were read with -9999 as a coefficient
+    x = X.copy()
+    x[4, 1] = -9999.0
+    with h5py.File(tmp_path / "f.h5", "w") as f:
+        if per_mode:
+            for k in range(3):
+                f[f"z{k + 2}"] = x[:, k]
+            f["z3"].attrs["missing_value"] = -9999.0
+        else:
+            f.create_dataset("coeffs", data=x).attrs["_FillValue"] = -9999.0
+    with pytest.raises(ValueError, match="must be finite.*frame 4, column 1"):
+        load(tmp_path / "f.h5")
+    log = load(tmp_path / "f.h5", nonfinite="drop")
+    np.testing.assert_array_equal(log.coeffs, np.delete(X, 4, axis=0))
