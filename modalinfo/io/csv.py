@@ -272,7 +272,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     )
                 if not body:
                     raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
-        values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2, comments=None)
+        values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2, comments=None,
+                            quotechar='"')  # QUOTE_ALL exports quote numbers too
         if names is not None and len(names) != values.shape[1]:
             raise LogFormatError(
                 f"CSV file '{path}': header row has {len(names)} names but rows have "

@@ -172,3 +172,14 @@ def test_hdf5_cf_fill_value_is_a_missing_value(tmp_path, per_mode):
         load(tmp_path / "f.h5")
     log = load(tmp_path / "f.h5", nonfinite="drop")
     np.testing.assert_array_equal(log.coeffs, np.delete(X, 4, axis=0))
+
+
+def test_csv_quoted_numbers_are_numbers(tmp_path):
+    # RFC 4180 lets any field be quoted (pandas QUOTE_ALL, spreadsheets): refused before
+    text = '"Z2","Z3","Z4"\n' + "\n".join(
+        ",".join(f'"{float(v)!r}"' for v in row) for row in X) + "\n"
+    log = load(_csv(tmp_path / "q.csv", text))
+    assert log.modes == [2, 3, 4]
+    np.testing.assert_array_equal(log.coeffs, X)
+    with pytest.raises(LogFormatError, match="'1,5'"):  # a decimal comma stays refused
+        load(_csv(tmp_path / "c.csv", 'Z2,Z3\n"1,5",2\n'))
