@@ -65,7 +65,8 @@ _UNIT_SUFFIX = re.compile(
 )
 
 #: Seconds per unit of a time column.
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "frame": None}
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0,
+              "frame": None}
 
 _SECONDS = {"time", "t", "time_s", "t_s", "timestamp", "timestamps", "times", "time[s]",
             "time (s)", "time/s", "timestamp_s"}
@@ -100,11 +101,15 @@ _TIME_UNIT_WORDS = {
     "us": "us", "\u00b5s": "us", "\u03bcs": "us", "usec": "us", "microsecond": "us",
     "microseconds": "us",
     "ns": "ns", "nsec": "ns", "nanosecond": "ns", "nanoseconds": "ns",
+    "min": "min", "minute": "min", "minutes": "min", "h": "h", "hour": "h", "hours": "h",
 }
 
 
 def time_kind(name: str) -> str | None:
-    """Return ``"s"``, ``"ms"``, ``"us"`` or ``"frame"`` if ``name`` names a time column."""
+    """Return the time unit of a column ``name`` (a key of TIME_UNITS), else None.
+
+    ``"s"``, ``"ms"``, ``"us"``, ``"ns"``, ``"min"``, ``"h"`` or ``"frame"``.
+    """
     key = str(name).strip().lower()
     found = _TIME_NAME.fullmatch(key)
     if found is not None:

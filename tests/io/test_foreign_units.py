@@ -128,7 +128,7 @@ def test_csv_header_of_mode_indices(tmp_path):
 
 @pytest.mark.parametrize("name, scale", [
     ("t [s]", 1.0), ("Timestamp (ms)", 1e-3), ("time_sec", 1.0), ("time/\u00b5s", 1e-6),
-    ("time [us]", 1e-6), ("TIME (ns)", 1e-9),
+    ("time [us]", 1e-6), ("TIME (ns)", 1e-9), ("time [h]", 3600.0), ("t_min", 60.0),
 ])
 def test_csv_time_column_spellings(tmp_path, name, scale):
     # each was read as a mode before (a 'labels' log whose first "mode" was the clock)
