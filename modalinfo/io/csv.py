@@ -313,9 +313,9 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             coeffs = values
             meta = {**comments, "source_file": path.name, "source_format": "csv"}
             unit = None
-            for key in ("units", "unit"):
-                if unit_text(comments.get(key)) is not None:
-                    unit = (unit_text(comments[key]), f"comment line '# {key}:'")
+            for key, value in comments.items():  # '# units: nm', '# Unit : nm', ...
+                if key.lower() in ("units", "unit") and unit_text(value) is not None:
+                    unit = (unit_text(value), f"comment line '# {key}:'")
                     break
             if names is not None:
                 coeffs, names = _time_columns(values, names, path, stored, meta)

@@ -31,6 +31,7 @@ def _csv(path, text):
 
 @pytest.mark.parametrize("header", [
     "# units: nm\nZ2,Z3,Z4\n",
+    "# Unit : nm\nZ2,Z3,Z4\n",
     "Z2 [nm],Z3 [nm],Z4 [nm]\n",
     "Z2 (nm),Z3 (nm),Z4 (nm)\n",
     "Z2_nm,Z3_nm,Z4_nm\n",
