@@ -254,6 +254,11 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
                     f"FITS file '{path}': the mode columns' TUNITn keywords disagree "
                     f"({', '.join(str(u) for u in tunits)}); one log holds one unit"
                 )
+            if stated and suffix is not None and {u.lower() for u in stated} != {suffix.lower()}:
+                raise LogFormatError(
+                    f"FITS file '{path}': the TUNITn keywords say {stated.pop()!r} but the "
+                    f"column names say {suffix!r}; one log holds one unit"
+                )
             if stated:
                 stored["_unit"] = (stated.pop(), "TUNITn keywords of its table")
             elif suffix is not None:

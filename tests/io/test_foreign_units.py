@@ -80,6 +80,11 @@ def test_fits_bunit_and_tunit(tmp_path):
     fits.BinTableHDU.from_columns(cols).writeto(tmp_path / "t2.fits")
     with pytest.raises(LogFormatError, match="TUNITn keywords disagree"):
         load(tmp_path / "t2.fits")
+    fits.BinTableHDU.from_columns([
+        fits.Column(name=f"Z{j} [nm]", format="D", unit="rad", array=X[:, k])
+        for k, j in enumerate((2, 3, 4))]).writeto(tmp_path / "t3.fits")
+    with pytest.raises(LogFormatError, match="TUNITn keywords say 'rad' but the column names"):
+        load(tmp_path / "t3.fits")
 
 
 def test_hdf5_units_attribute_and_npz_member(tmp_path):
