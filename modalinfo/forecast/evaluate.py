@@ -46,7 +46,7 @@ from scipy.stats import norm
 
 from modalinfo.common.validation import as_float_array, check_int, check_real, check_square_range
 from modalinfo.forecast.arma import ARMAPredictor
-from modalinfo.forecast.base import Predictor
+from modalinfo.forecast.base import Predictor, check_square_floor
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
 
 __all__ = ["evaluate", "ForecastEvaluation"]
@@ -549,11 +549,13 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     data, labels, rate, units = _as_data(log)
     if not isinstance(data, _MappedRows):
         check_square_range(data, "log", labels)
-    elif data.src.dtype != np.float32:  # float32 squares cannot overflow float64 sums
+        check_square_floor(data, "log", labels)
+    elif data.src.dtype != np.float32:  # float32 squares cannot overflow nor underflow
         from modalinfo.telemetry.scan import row_blocks, scan_rows
 
         for block in row_blocks(data.src, scan_rows(data.src)):
             check_square_range(block, "log", labels, n_terms=data.src.size)
+        check_square_floor(data.src, "log", labels)
     preds = _as_predictors(predictors)
     hs = np.array(sorted({check_int(h, "horizons", minimum=1) for h in horizons}), dtype=int)
     if hs.size == 0:

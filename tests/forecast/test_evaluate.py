@@ -155,3 +155,28 @@ def test_chunked_feeding_gives_the_same_numbers():
     np.testing.assert_allclose(a.rmse, b.rmse, rtol=1e-13)
     np.testing.assert_allclose(a.dm_statistic, b.dm_statistic, rtol=1e-10)
     assert b.truth.shape == (50 + 4, 2)
+
+
+def test_a_log_whose_squared_errors_underflow_is_refused_not_scored_zero():
+    # audit 9 (issue 27): at 1e-300 every squared error underflows float64 (its smallest
+    # normal is 2.2e-308, IEEE 754), and evaluate reported RMSE 0 for every predictor.
+    # Reference: the persistence RMSE computed by NumPy, sqrt(mean (x[t+1] - x[t])^2),
+    # scales with the data (a change of units) down to the documented floor.
+    from modalinfo.forecast.base import SQUARE_FLOOR
+
+    x = np.random.default_rng(3).standard_normal((400, 2))
+    x[:, 1] = 0.0                                  # a zeroed mode stays accepted
+    origins = np.arange(199, 399)
+    truth = np.sqrt(np.mean((x[origins + 1, 0] - x[origins, 0]) ** 2))
+    for scale in (1.0, 1e-130):
+        ev = evaluate({"lin": LinearPredictor()}, x * scale, train=200, horizons=[1])
+        assert ev.rmse[ev.index("persistence"), 0, 0] == pytest.approx(truth * scale,
+                                                                      rel=1e-12)
+        assert ev.rmse[ev.index("lin"), 0, 1] == 0.0
+    assert 1e-140 < SQUARE_FLOOR < 1e-137   # sqrt(2.2e-308) / 2.2e-16 = 6.7e-139
+    for scale in (1e-300, 1e-150):
+        with pytest.raises(ValueError, match=r"`log`: mode mode0 varies over only .* "
+                           r"below 6.72e-139, where squared forecast errors underflow"):
+            evaluate({"lin": LinearPredictor()}, x * scale, train=200, horizons=[1])
+        with pytest.raises(ValueError, match=r"`history`: column 0 varies over only"):
+            ARMAPredictor(order=(1, 0)).fit(x * scale)
