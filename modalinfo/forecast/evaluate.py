@@ -23,11 +23,19 @@ Metrics
   forecasts with ``|e| <= z sigma_h``, averaged over modes;
 - skill against the best trivial baseline (the training mean or persistence, the
   better of the two at each horizon): a one-sided Diebold-Mariano test on the
-  difference of the summed squared errors with a Newey-West (Bartlett) long-run
-  variance of lag ``max(h - 1, floor(4 (N / 100)^(2/9)))``. A predictor is said to
-  beat the baselines only if its p-value is below ``0.05 / (number of tests)``
-  (Bonferroni over predictors and horizons), so on white noise the evaluation
-  reports that nothing beats the mean.
+  difference of the summed squared errors. Its long-run variance is the larger of
+  the Newey-West (Bartlett) estimate of lag ``max(h - 1, floor(4 (N / 100)^(2/9)))``
+  (autocorrelation of any origin) and Diebold & Mariano's (1995) rectangular window
+  of lag ``h - 1`` (the MA(h - 1) structure of h-step errors, which the Bartlett
+  weights under-count); the statistic takes the small-sample factor
+  ``sqrt((N + 1 - 2h + h (h - 1) / N) / N)`` and is referred to Student's t with
+  ``N - 1`` degrees of freedom (Harvey, Leybourne & Newbold 1997, Int. J. Forecasting
+  13, 281). Measured on equally good forecasts of white-noise sums (audit 9, 2000
+  draws each), the rejection rate at a nominal 5 % is 5-7 % for N >= 100 at h = 1,
+  5, 10 (8-10 % at N = 20), where the Bartlett-normal test alone gave 8-9 % at
+  N = 2000 and 17-21 % at N = 20. A predictor is said to beat the baselines only if
+  its p-value is below ``0.05 / (number of tests)`` (Bonferroni over predictors and
+  horizons), so on white noise the evaluation reports that nothing beats the mean.
 """
 
 from __future__ import annotations
@@ -43,6 +51,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy.stats import norm
+from scipy.stats import t as student_t
 
 from modalinfo.common.validation import as_float_array, check_int, check_real, check_square_range
 from modalinfo.forecast.arma import ARMAPredictor
@@ -95,10 +104,12 @@ class ForecastEvaluation:
     level : float
         Nominal interval coverage.
     dm_statistic : numpy.ndarray, shape (P, H)
-        Diebold-Mariano statistic against the best trivial baseline (negative: the
-        predictor has the smaller squared error).
+        Diebold-Mariano statistic against the best trivial baseline, with Harvey,
+        Leybourne & Newbold's small-sample factor (negative: the predictor has the
+        smaller squared error; see the module notes).
     p_value : numpy.ndarray, shape (P, H)
-        One-sided p-value of "the predictor beats the best trivial baseline".
+        One-sided p-value of "the predictor beats the best trivial baseline"
+        (Student's t with ``N - 1`` degrees of freedom).
     beats_baseline : numpy.ndarray of bool, shape (P, H)
         ``p_value < alpha / n_tests`` (Bonferroni), False for the baselines.
     baseline : tuple of str
@@ -490,6 +501,35 @@ def _newey_west_var(d: np.ndarray, lag: int) -> float:
     return max(var, 0.0)
 
 
+def _uniform_var(d: np.ndarray, lag: int) -> float:
+    """Long-run variance with the rectangular window of Diebold & Mariano (1995)."""
+    dc = d - d.mean()
+    n = dc.size
+    var = float(dc @ dc) / n
+    for k in range(1, min(lag, n - 1) + 1):
+        var += 2.0 * float(dc[k:] @ dc[:-k]) / n
+    return var
+
+
+def _dm_test(d: np.ndarray, h: int) -> tuple[float, float]:
+    """Diebold-Mariano statistic and one-sided p-value of a loss differential ``d``.
+
+    See the module notes: the larger of the Bartlett and rectangular long-run
+    variances, Harvey, Leybourne & Newbold's factor, Student's t with ``N - 1``
+    degrees of freedom. ``d < 0`` favours the predictor (a small p-value).
+    """
+    n = d.size
+    nw_lag = int(np.floor(4 * (n / 100.0) ** (2.0 / 9.0)))
+    var = max(_newey_west_var(d, max(h - 1, nw_lag)), _uniform_var(d, h - 1))
+    if var <= 0.0:
+        stat = 0.0 if d.mean() == 0.0 else -np.inf * np.sign(-d.mean())
+    else:
+        # HLN (1997) eq. 9: (N + 1 - 2h + h (h - 1) / N) / N = (N - h)(N - h + 1) / N^2
+        hln = math.sqrt(max(n - h, 0) * max(n - h + 1.0, 0.0)) / n
+        stat = d.mean() / math.sqrt(var / n) * hln
+    return float(stat), float(student_t.cdf(stat, max(n - 1, 1)))
+
+
 def _std_path(stds, origins, horizons):
     """(N, H, M) forecast standard deviations in force at each origin.
 
@@ -634,19 +674,11 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     base_idx = np.where(rmse_wf[0] <= rmse_wf[1], 0, 1)
     dm = np.full((P, H), np.nan)
     pval = np.full((P, H), np.nan)
-    nw_lag = int(np.floor(4 * (n_o / 100.0) ** (2.0 / 9.0)))
     for i, name in enumerate(names):
         if name in _BASELINES:
             continue
         for j, h in enumerate(hs):
-            d = loss[i, j] - loss[base_idx[j], j]
-            var = _newey_west_var(d, max(int(h) - 1, nw_lag))
-            if var <= 0.0:
-                stat = 0.0 if d.mean() == 0.0 else -np.inf * np.sign(-d.mean())
-            else:
-                stat = d.mean() / math.sqrt(var / n_o)
-            dm[i, j] = stat
-            pval[i, j] = norm.cdf(stat)
+            dm[i, j], pval[i, j] = _dm_test(loss[i, j] - loss[base_idx[j], j], int(h))
     n_tests = max(1, sum(1 for n in names if n not in _BASELINES) * H)
     beats = np.nan_to_num(pval, nan=1.0) < alpha / n_tests
     return ForecastEvaluation(
