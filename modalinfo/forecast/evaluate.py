@@ -615,6 +615,14 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
 
     all_preds = {"persistence": PersistencePredictor(), "mean": MeanPredictor()}
     for name, p in preds.items():
+        if name in all_preds and type(p) is not type(all_preds[name]):
+            # every gain is a ratio to "persistence" and the skill test compares with
+            # both: another predictor under a baseline's name would silently replace it
+            raise ValueError(
+                f"`predictors[{name!r}]`: {name!r} names the "
+                f"{type(all_preds[name]).__name__} baseline (always evaluated); it must be "
+                f"a {type(all_preds[name]).__name__}, got a {type(p).__name__}: give it "
+                "another name.")
         all_preds[name] = p
     names = tuple(all_preds)
     origins = np.arange(n_train - 1, n_frames - h_max)

@@ -180,3 +180,23 @@ def test_a_log_whose_squared_errors_underflow_is_refused_not_scored_zero():
             evaluate({"lin": LinearPredictor()}, x * scale, train=200, horizons=[1])
         with pytest.raises(ValueError, match=r"`history`: column 0 varies over only"):
             ARMAPredictor(order=(1, 0)).fit(x * scale)
+
+
+def test_a_predictor_under_a_baselines_name_is_refused():
+    # audit 9 (issue 27): {'persistence': LinearPredictor()} replaced the persistence
+    # baseline, so every "gain over persistence" was a gain over the linear predictor
+    # (on a random walk its RMSE 1.32 was reported as persistence's). Reference: the
+    # persistence RMSE of a random walk by NumPy, sqrt(mean (x[t+1] - x[t])^2).
+    from modalinfo.forecast import MeanPredictor, PersistencePredictor
+
+    x = np.cumsum(np.random.default_rng(0).standard_normal((600, 2)), axis=0)
+    with pytest.raises(ValueError, match=r"`predictors\['persistence'\]`: 'persistence' "
+                       r"names the PersistencePredictor baseline .* got a LinearPredictor"):
+        evaluate({"persistence": LinearPredictor()}, x, train=300, horizons=[1])
+    with pytest.raises(ValueError, match=r"must be a MeanPredictor, got a ARMAPredictor"):
+        evaluate({"mean": ARMAPredictor(order=(1, 0))}, x, train=300, horizons=[1])
+    ev = evaluate([PersistencePredictor(), MeanPredictor()], x, train=300, horizons=[1])
+    o = ev.origins
+    assert ev.names == ("persistence", "mean")
+    assert ev.rmse[0, 0] == pytest.approx(np.sqrt(np.mean((x[o + 1] - x[o]) ** 2, axis=0)),
+                                          rel=1e-12)
