@@ -597,11 +597,20 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             check_square_range(block, "log", labels, n_terms=data.src.size)
         check_square_floor(data.src, "log", labels)
     preds = _as_predictors(predictors)
-    hs = np.array(sorted({check_int(h, "horizons", minimum=1) for h in horizons}), dtype=int)
+    n_frames, n_modes = data.shape
+    unique = set()
+    for h in horizons:
+        h = check_int(h, "horizons", minimum=1)
+        if h > n_frames - 2:
+            # refused at the first such horizon: range(1, 10**9) is not listed first
+            raise ValueError(f"`horizons` must be at most {n_frames - 2}: a forecast h "
+                             f"frames ahead needs h + 2 frames (one to train, h + 1 to "
+                             f"test) and the log has {n_frames}; got {h}.")
+        unique.add(h)
+    hs = np.array(sorted(unique), dtype=int)
     if hs.size == 0:
         raise ValueError("`horizons` must hold at least one horizon >= 1; got none.")
     h_max = int(hs.max())
-    n_frames, n_modes = data.shape
     n_train = _n_train(train, n_frames, h_max)
     level = check_real(level, "level", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)

@@ -200,3 +200,18 @@ def test_a_predictor_under_a_baselines_name_is_refused():
     assert ev.names == ("persistence", "mean")
     assert ev.rmse[0, 0] == pytest.approx(np.sqrt(np.mean((x[o + 1] - x[o]) ** 2, axis=0)),
                                           rel=1e-12)
+
+
+def test_a_horizon_beyond_the_log_is_refused_at_once():
+    # audit 9 (issue 27): horizons=range(1, 10**7) on 1000 frames listed ten million
+    # horizons (29 s) before refusing; range(1, 10**9) would need tens of GB. The rule:
+    # a forecast h frames ahead needs h + 2 frames (one to train, h + 1 to test).
+    import time
+
+    x = np.random.default_rng(0).standard_normal((1000, 2))
+    start = time.process_time()
+    with pytest.raises(ValueError, match=r"`horizons` must be at most 998: .* got 999\."):
+        evaluate([LinearPredictor()], x, horizons=range(1, 10**12))
+    assert time.process_time() - start < 5.0
+    ev = evaluate([LinearPredictor()], x, train=1, horizons=[998])
+    assert ev.origins.tolist() == [0, 1]   # the origins with 998 frames ahead
