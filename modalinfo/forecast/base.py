@@ -103,13 +103,13 @@ class NotFittedError(ValueError, AttributeError):
     """Raised when a predictor is used before :meth:`Predictor.fit`."""
 
 
-def _check_forecast_memory(horizon: int, n_modes: int) -> None:
-    """Refuse a horizon whose forecast arrays (two of H x M float64) cannot be held.
+def check_option_memory(name: str, value: int, need: float, what: str) -> None:
+    """Refuse an integer option whose arrays (``need`` bytes) cannot be held.
 
-    ``horizon=10**30`` reached NumPy as "Maximum allowed dimension exceeded", naming
-    nothing. Below 128 MiB nothing is read (the check costs nothing in a loop).
+    ``horizon=10**30`` reached NumPy as "Maximum allowed dimension exceeded" and
+    ``window=10**12`` or ``n_hidden=10**9`` as a ``MemoryError``, naming nothing. Below
+    128 MiB nothing is read (the check costs nothing in a loop).
     """
-    need = 2.0 * 8.0 * horizon * max(int(n_modes), 1)
     if need < 2**27:
         return
     from modalinfo.common.memory import available_memory_bytes
@@ -117,10 +117,15 @@ def _check_forecast_memory(horizon: int, n_modes: int) -> None:
     available = available_memory_bytes()
     if need > available:
         raise ValueError(
-            f"`horizon` = {horizon} needs {need / 2**30:.3g} GiB of forecasts for "
-            f"{n_modes} mode(s), more than the {available / 2**30:.3g} GiB available; "
-            "use a smaller horizon."
+            f"`{name}` = {value} needs {need / 2**30:.3g} GiB of {what}, more than the "
+            f"{available / 2**30:.3g} GiB available; use a smaller {name}."
         )
+
+
+def _check_forecast_memory(horizon: int, n_modes: int) -> None:
+    """Refuse a horizon whose forecast arrays (two of H x M float64) cannot be held."""
+    check_option_memory("horizon", horizon, 2.0 * 8.0 * horizon * max(int(n_modes), 1),
+                        f"forecasts for {n_modes} mode(s)")
 
 
 class _Run:
@@ -395,6 +400,9 @@ class Predictor:
         _, refit, _ = self._check_common()
         _check_forecast_memory(horizon, self.n_modes_)
         window = self.window_ if refit is not None else None
+        if window is not None:  # the ring buffer of the last `window` samples
+            check_option_memory("window", window, 8.0 * window * self.n_modes_,
+                                f"refit ring buffer for {self.n_modes_} mode(s)")
         return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
                     self.n_modes_, window)
 
