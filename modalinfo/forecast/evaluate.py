@@ -521,11 +521,13 @@ def _dm_test(d: np.ndarray, h: int) -> tuple[float, float]:
     n = d.size
     nw_lag = int(np.floor(4 * (n / 100.0) ** (2.0 / 9.0)))
     var = max(_newey_west_var(d, max(h - 1, nw_lag)), _uniform_var(d, h - 1))
-    if var <= 0.0:
-        stat = 0.0 if d.mean() == 0.0 else -np.inf * np.sign(-d.mean())
+    # HLN (1997) eq. 9: (N + 1 - 2h + h (h - 1) / N) / N = (N - h)(N - h + 1) / N^2
+    hln = math.sqrt(max(n - h, 0) * max(n - h + 1.0, 0.0)) / n
+    if d.mean() == 0.0 or hln == 0.0:  # no difference, or too few origins to say
+        stat = 0.0
+    elif var <= 0.0:
+        stat = -np.inf * np.sign(-d.mean())
     else:
-        # HLN (1997) eq. 9: (N + 1 - 2h + h (h - 1) / N) / N = (N - h)(N - h + 1) / N^2
-        hln = math.sqrt(max(n - h, 0) * max(n - h + 1.0, 0.0)) / n
         stat = d.mean() / math.sqrt(var / n) * hln
     return float(stat), float(student_t.cdf(stat, max(n - 1, 1)))
 
