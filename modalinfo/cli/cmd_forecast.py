@@ -71,7 +71,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "or dead mode); by default they are kept and every predictor "
                         "forecasts them as that constant (exact, as persistence)")
     parser.add_argument("--quiet", action="store_true",
-                        help="print nothing on success (and no progress bar)")
+                        help="print nothing on success (and no progress bar); needs --out DIR, "
+                        "where the results go")
     add_hint_arguments(parser)
     add_gap_argument(parser)
 
@@ -333,6 +334,16 @@ def run(args: argparse.Namespace) -> int:
                                f"training frames ({', '.join(skipped)}); nothing to forecast")
         log = log.drop_modes(skipped)
     _check_resources(args, log, train, n_pred)
+    if args.quiet and args.out is None:
+        # after every other refusal (each still names its own rule; evaluate's rule on
+        # the test frames is asked first), before the work: --quiet prints nothing and,
+        # without --out, nothing would be written either
+        from modalinfo.forecast.evaluate import _n_train
+
+        _n_train(train, log.n_frames, args.horizon)
+        raise CommandError("--quiet without --out would print nothing and write nothing "
+                           "(the whole evaluation would be thrown away); give --out DIR "
+                           "or drop --quiet")
     # on the modes forecast, after the refusals (no work before them); --outliers drop
     # was refused above (lags need every frame)
     log, _ = apply_outliers(log, args, args.log, time_series=True)

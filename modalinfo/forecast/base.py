@@ -42,17 +42,74 @@ from modalinfo.common.validation import as_float_array, check_int, check_square_
 __all__ = ["Predictor", "NotFittedError"]
 
 
+#: Smallest range [the data's units] of a varying column that can be forecast and scored:
+#: below ``sqrt(tiny) / eps`` (6.7e-139) a forecast error of one ulp of the range has a
+#: square below the smallest normal float64 (2.2e-308), so squared errors, variances and
+#: least-squares normal equations underflow to subnormals or 0 (an RMSE of 0 on 1e-300
+#: data, a singular fit). IEEE 754 binary64 limits, numpy.finfo(float64).
+SQUARE_FLOOR = float(np.sqrt(np.finfo(np.float64).tiny) / np.finfo(np.float64).eps)
+
+
+def check_square_floor(data, name: str, labels=None) -> None:
+    """Refuse varying columns too small for their squared errors to be represented.
+
+    The counterpart of :func:`modalinfo.common.validation.check_square_range` at the
+    bottom of float64: a column that varies (its range above ``1e-12`` of its largest
+    magnitude, the rule of :meth:`Predictor._constant_columns`) over less than
+    :data:`SQUARE_FLOOR` is refused. Constant columns (a zeroed mode) are accepted.
+
+    Parameters
+    ----------
+    data : numpy.ndarray or row-sliceable, shape (T, M)
+        Finite values (read in blocks of rows, so a memory map stays on disk).
+    name : str
+        Argument name used in the message.
+    labels : sequence of str, optional
+        Column labels used in the message; default ``column k``.
+
+    Raises
+    ------
+    ValueError
+        Naming the column, its range and the floor.
+    """
+    n_rows = data.shape[0]
+    if n_rows == 0:
+        return
+    lo = hi = peak = None
+    for start in range(0, n_rows, 65536):
+        block = np.asarray(data[start : start + 65536], dtype=np.float64)
+        block = block.reshape(block.shape[0], -1)
+        b_lo, b_hi = block.min(axis=0), block.max(axis=0)
+        b_peak = np.abs(block).max(axis=0)
+        lo = b_lo if lo is None else np.minimum(lo, b_lo)
+        hi = b_hi if hi is None else np.maximum(hi, b_hi)
+        peak = b_peak if peak is None else np.maximum(peak, b_peak)
+    with np.errstate(over="ignore", invalid="ignore"):
+        spread = hi - lo
+        bad = np.flatnonzero((spread > 1e-12 * peak) & (spread < SQUARE_FLOOR))
+    if bad.size:
+        k = int(bad[0])
+        column = f"mode {labels[k]}" if labels is not None else f"column {k}"
+        more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+        raise ValueError(
+            f"`{name}`: {column}{more} varies over only {float(spread[k]):.3g}, below "
+            f"{SQUARE_FLOOR:.3g}, where squared forecast errors underflow float64 (RMSEs "
+            "and fits would come out as 0 or singular); rescale the data (e.g. convert it "
+            "to smaller units such as nm) before forecasting."
+        )
+
+
 class NotFittedError(ValueError, AttributeError):
     """Raised when a predictor is used before :meth:`Predictor.fit`."""
 
 
-def _check_forecast_memory(horizon: int, n_modes: int) -> None:
-    """Refuse a horizon whose forecast arrays (two of H x M float64) cannot be held.
+def check_option_memory(name: str, value: int, need: float, what: str) -> None:
+    """Refuse an integer option whose arrays (``need`` bytes) cannot be held.
 
-    ``horizon=10**30`` reached NumPy as "Maximum allowed dimension exceeded", naming
-    nothing. Below 128 MiB nothing is read (the check costs nothing in a loop).
+    ``horizon=10**30`` reached NumPy as "Maximum allowed dimension exceeded" and
+    ``window=10**12`` or ``n_hidden=10**9`` as a ``MemoryError``, naming nothing. Below
+    128 MiB nothing is read (the check costs nothing in a loop).
     """
-    need = 2.0 * 8.0 * horizon * max(int(n_modes), 1)
     if need < 2**27:
         return
     from modalinfo.common.memory import available_memory_bytes
@@ -60,10 +117,15 @@ def _check_forecast_memory(horizon: int, n_modes: int) -> None:
     available = available_memory_bytes()
     if need > available:
         raise ValueError(
-            f"`horizon` = {horizon} needs {need / 2**30:.3g} GiB of forecasts for "
-            f"{n_modes} mode(s), more than the {available / 2**30:.3g} GiB available; "
-            "use a smaller horizon."
+            f"`{name}` = {value} needs {need / 2**30:.3g} GiB of {what}, more than the "
+            f"{available / 2**30:.3g} GiB available; use a smaller {name}."
         )
+
+
+def _check_forecast_memory(horizon: int, n_modes: int) -> None:
+    """Refuse a horizon whose forecast arrays (two of H x M float64) cannot be held."""
+    check_option_memory("horizon", horizon, 2.0 * 8.0 * horizon * max(int(n_modes), 1),
+                        f"forecasts for {n_modes} mode(s)")
 
 
 class _Run:
@@ -301,6 +363,7 @@ class Predictor:
             )
         _, _, window = self._check_common(X.shape[1])
         check_square_range(X, "history")
+        check_square_floor(X, "history")
         self.params_ = self._fit_params(X, None, "history")
         self.n_modes_ = X.shape[1]
         self.n_samples_fit_ = X.shape[0]
@@ -337,6 +400,9 @@ class Predictor:
         _, refit, _ = self._check_common()
         _check_forecast_memory(horizon, self.n_modes_)
         window = self.window_ if refit is not None else None
+        if window is not None:  # the ring buffer of the last `window` samples
+            check_option_memory("window", window, 8.0 * window * self.n_modes_,
+                                f"refit ring buffer for {self.n_modes_} mode(s)")
         return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
                     self.n_modes_, window)
 

@@ -23,11 +23,19 @@ Metrics
   forecasts with ``|e| <= z sigma_h``, averaged over modes;
 - skill against the best trivial baseline (the training mean or persistence, the
   better of the two at each horizon): a one-sided Diebold-Mariano test on the
-  difference of the summed squared errors with a Newey-West (Bartlett) long-run
-  variance of lag ``max(h - 1, floor(4 (N / 100)^(2/9)))``. A predictor is said to
-  beat the baselines only if its p-value is below ``0.05 / (number of tests)``
-  (Bonferroni over predictors and horizons), so on white noise the evaluation
-  reports that nothing beats the mean.
+  difference of the summed squared errors. Its long-run variance is the larger of
+  the Newey-West (Bartlett) estimate of lag ``max(h - 1, floor(4 (N / 100)^(2/9)))``
+  (autocorrelation of any origin) and Diebold & Mariano's (1995) rectangular window
+  of lag ``h - 1`` (the MA(h - 1) structure of h-step errors, which the Bartlett
+  weights under-count); the statistic takes the small-sample factor
+  ``sqrt((N + 1 - 2h + h (h - 1) / N) / N)`` and is referred to Student's t with
+  ``N - 1`` degrees of freedom (Harvey, Leybourne & Newbold 1997, Int. J. Forecasting
+  13, 281). Measured on equally good forecasts of white-noise sums (audit 9, 2000
+  draws each), the rejection rate at a nominal 5 % is 5-7 % for N >= 100 at h = 1,
+  5, 10 (8-10 % at N = 20), where the Bartlett-normal test alone gave 8-9 % at
+  N = 2000 and 17-21 % at N = 20. A predictor is said to beat the baselines only if
+  its p-value is below ``0.05 / (number of tests)`` (Bonferroni over predictors and
+  horizons), so on white noise the evaluation reports that nothing beats the mean.
 """
 
 from __future__ import annotations
@@ -43,10 +51,11 @@ from pathlib import Path
 
 import numpy as np
 from scipy.stats import norm
+from scipy.stats import t as student_t
 
 from modalinfo.common.validation import as_float_array, check_int, check_real, check_square_range
 from modalinfo.forecast.arma import ARMAPredictor
-from modalinfo.forecast.base import Predictor
+from modalinfo.forecast.base import Predictor, check_square_floor
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
 
 __all__ = ["evaluate", "ForecastEvaluation"]
@@ -95,10 +104,12 @@ class ForecastEvaluation:
     level : float
         Nominal interval coverage.
     dm_statistic : numpy.ndarray, shape (P, H)
-        Diebold-Mariano statistic against the best trivial baseline (negative: the
-        predictor has the smaller squared error).
+        Diebold-Mariano statistic against the best trivial baseline, with Harvey,
+        Leybourne & Newbold's small-sample factor (negative: the predictor has the
+        smaller squared error; see the module notes).
     p_value : numpy.ndarray, shape (P, H)
-        One-sided p-value of "the predictor beats the best trivial baseline".
+        One-sided p-value of "the predictor beats the best trivial baseline"
+        (Student's t with ``N - 1`` degrees of freedom).
     beats_baseline : numpy.ndarray of bool, shape (P, H)
         ``p_value < alpha / n_tests`` (Bonferroni), False for the baselines.
     baseline : tuple of str
@@ -490,6 +501,37 @@ def _newey_west_var(d: np.ndarray, lag: int) -> float:
     return max(var, 0.0)
 
 
+def _uniform_var(d: np.ndarray, lag: int) -> float:
+    """Long-run variance with the rectangular window of Diebold & Mariano (1995)."""
+    dc = d - d.mean()
+    n = dc.size
+    var = float(dc @ dc) / n
+    for k in range(1, min(lag, n - 1) + 1):
+        var += 2.0 * float(dc[k:] @ dc[:-k]) / n
+    return var
+
+
+def _dm_test(d: np.ndarray, h: int) -> tuple[float, float]:
+    """Diebold-Mariano statistic and one-sided p-value of a loss differential ``d``.
+
+    See the module notes: the larger of the Bartlett and rectangular long-run
+    variances, Harvey, Leybourne & Newbold's factor, Student's t with ``N - 1``
+    degrees of freedom. ``d < 0`` favours the predictor (a small p-value).
+    """
+    n = d.size
+    nw_lag = int(np.floor(4 * (n / 100.0) ** (2.0 / 9.0)))
+    var = max(_newey_west_var(d, max(h - 1, nw_lag)), _uniform_var(d, h - 1))
+    # HLN (1997) eq. 9: (N + 1 - 2h + h (h - 1) / N) / N = (N - h)(N - h + 1) / N^2
+    hln = math.sqrt(max(n - h, 0) * max(n - h + 1.0, 0.0)) / n
+    if d.mean() == 0.0 or hln == 0.0:  # no difference, or too few origins to say
+        stat = 0.0
+    elif var <= 0.0:
+        stat = -np.inf * np.sign(-d.mean())
+    else:
+        stat = d.mean() / math.sqrt(var / n) * hln
+    return float(stat), float(student_t.cdf(stat, max(n - 1, 1)))
+
+
 def _std_path(stds, origins, horizons):
     """(N, H, M) forecast standard deviations in force at each origin.
 
@@ -549,17 +591,28 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     data, labels, rate, units = _as_data(log)
     if not isinstance(data, _MappedRows):
         check_square_range(data, "log", labels)
-    elif data.src.dtype != np.float32:  # float32 squares cannot overflow float64 sums
+        check_square_floor(data, "log", labels)
+    elif data.src.dtype != np.float32:  # float32 squares cannot overflow nor underflow
         from modalinfo.telemetry.scan import row_blocks, scan_rows
 
         for block in row_blocks(data.src, scan_rows(data.src)):
             check_square_range(block, "log", labels, n_terms=data.src.size)
+        check_square_floor(data.src, "log", labels)
     preds = _as_predictors(predictors)
-    hs = np.array(sorted({check_int(h, "horizons", minimum=1) for h in horizons}), dtype=int)
+    n_frames, n_modes = data.shape
+    unique = set()
+    for h in horizons:
+        h = check_int(h, "horizons", minimum=1)
+        if h > n_frames - 2:
+            # refused at the first such horizon: range(1, 10**9) is not listed first
+            raise ValueError(f"`horizons` must be at most {n_frames - 2}: a forecast h "
+                             f"frames ahead needs h + 2 frames (one to train, h + 1 to "
+                             f"test) and the log has {n_frames}; got {h}.")
+        unique.add(h)
+    hs = np.array(sorted(unique), dtype=int)
     if hs.size == 0:
         raise ValueError("`horizons` must hold at least one horizon >= 1; got none.")
     h_max = int(hs.max())
-    n_frames, n_modes = data.shape
     n_train = _n_train(train, n_frames, h_max)
     level = check_real(level, "level", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
@@ -573,6 +626,14 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
 
     all_preds = {"persistence": PersistencePredictor(), "mean": MeanPredictor()}
     for name, p in preds.items():
+        if name in all_preds and type(p) is not type(all_preds[name]):
+            # every gain is a ratio to "persistence" and the skill test compares with
+            # both: another predictor under a baseline's name would silently replace it
+            raise ValueError(
+                f"`predictors[{name!r}]`: {name!r} names the "
+                f"{type(all_preds[name]).__name__} baseline (always evaluated); it must be "
+                f"a {type(all_preds[name]).__name__}, got a {type(p).__name__}: give it "
+                "another name.")
         all_preds[name] = p
     names = tuple(all_preds)
     origins = np.arange(n_train - 1, n_frames - h_max)
@@ -632,19 +693,11 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     base_idx = np.where(rmse_wf[0] <= rmse_wf[1], 0, 1)
     dm = np.full((P, H), np.nan)
     pval = np.full((P, H), np.nan)
-    nw_lag = int(np.floor(4 * (n_o / 100.0) ** (2.0 / 9.0)))
     for i, name in enumerate(names):
         if name in _BASELINES:
             continue
         for j, h in enumerate(hs):
-            d = loss[i, j] - loss[base_idx[j], j]
-            var = _newey_west_var(d, max(int(h) - 1, nw_lag))
-            if var <= 0.0:
-                stat = 0.0 if d.mean() == 0.0 else -np.inf * np.sign(-d.mean())
-            else:
-                stat = d.mean() / math.sqrt(var / n_o)
-            dm[i, j] = stat
-            pval[i, j] = norm.cdf(stat)
+            dm[i, j], pval[i, j] = _dm_test(loss[i, j] - loss[base_idx[j], j], int(h))
     n_tests = max(1, sum(1 for n in names if n not in _BASELINES) * H)
     beats = np.nan_to_num(pval, nan=1.0) < alpha / n_tests
     return ForecastEvaluation(

@@ -5,8 +5,12 @@ Guyon & Males (2017, "Adaptive prediction for wavefront control", the "empirical
 orthogonal functions" predictor): a vector autoregression of order ``p``,
 ``x_hat[t + 1] = mu + sum_{i=1}^p A_i^T (x[t + 1 - i] - mu)``, whose ``p M x M``
 coefficients solve the Tikhonov-regularised normal equations
-``(Z^T Z + lambda I) B = Z^T Y`` with ``lambda = alpha trace(Z^T Z) / (p M)`` (so
-``alpha`` is scale-free). The recursive form updates ``B`` every step by recursive
+``(Z^T Z + alpha diag(Z^T Z)) B = Z^T Y``: each lagged regressor is penalised in
+proportion to its own sum of squares (ridge regression on standardised regressors,
+Hastie, Tibshirani & Friedman 2009, section 3.4.1), so ``alpha`` is scale-free and the
+forecast of every mode is unchanged when any one mode is expressed in other units (a
+single ``lambda = alpha trace(Z^T Z) / (p M)`` shrank the lags of a mode of small
+variance towards its mean). The recursive form updates ``B`` every step by recursive
 least squares with forgetting factor ``lambda_f`` (memory ``1 / (1 - lambda_f)``
 samples), starting from the batch solution.
 """
@@ -83,8 +87,10 @@ class MultivariatePredictor(Predictor):
         n_modes = X.shape[1]
         # constant modes are left out of the regression: no weight to or from them
         keep = np.tile(~constant, order)
-        lam = alpha * np.trace(G) / max(int(keep.sum()), 1)
-        Greg = G + lam * np.eye(G.shape[0])
+        # each regressor's ridge is alpha times its own sum of squares: the solution is
+        # then equivariant under a change of units of any one mode (a common ridge
+        # lambda I shrinks a mode of small variance to its mean, whatever alpha)
+        Greg = G + alpha * np.diag(np.diag(G))
         B = np.zeros((G.shape[0], n_modes))
         if keep.any():
             B[np.ix_(keep, ~constant)] = np.linalg.solve(

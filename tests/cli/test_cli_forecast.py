@@ -98,3 +98,23 @@ def test_printed_baselines_are_the_errors_of_the_file(tmp_path, capsys):
         for name in ("mean", "linear"):
             rmse, gain = rows[name][h - 1]
             assert gain == pytest.approx(rows["persistence"][h - 1][0] / rmse, abs=0.006)
+
+
+def test_quiet_without_out_is_refused_before_the_work(tmp_path, capsys, monkeypatch):
+    # audit 9 (issue 27): `forecast --quiet` without --out printed nothing and wrote
+    # nothing, exit 0: the whole run was thrown away. It is refused in one line (exit 2)
+    # before any predictor is fitted; with --out the same run succeeds silently.
+    import modalinfo.forecast as forecast
+
+    path = _log(tmp_path)
+    called = []
+    monkeypatch.setattr(forecast, "evaluate", lambda *a, **k: called.append(1))
+    assert main(["forecast", str(path), "--predictors", "linear", "--quiet"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and called == []
+    assert captured.err.count("\n") == 1 and "--quiet without --out" in captured.err
+    monkeypatch.undo()
+    assert main(["forecast", str(path), "--predictors", "linear", "--horizon", "2",
+                 "--quiet", "--out", str(tmp_path / "res")]) == 0
+    assert capsys.readouterr().out == ""
+    assert (tmp_path / "res" / "forecast.json").is_file()

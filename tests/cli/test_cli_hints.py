@@ -30,7 +30,7 @@ def test_reorder_uses_column_hints(foreign_csv, capsys):
 def test_forecast_hint_and_selection_are_distinct(foreign_csv, capsys):
     # --in-modes says what the columns are; --modes selects among them
     assert main(["forecast", str(foreign_csv), "--in-modes", "4-7", "--modes", "5,6",
-                 "--predictors", "linear", "--horizon", "2", "--quiet"]) == 0
+                 "--predictors", "linear", "--horizon", "2"]) == 0
     capsys.readouterr()  # a success may note assumed values on stderr
     assert main(["forecast", str(foreign_csv), "--in-modes", "4-7", "--modes", "2",
                  "--predictors", "linear", "--horizon", "2"]) == 2

@@ -165,7 +165,7 @@ def test_forecast_refusal_names_train_at_the_boundary(long_npy, monkeypatch, cap
             + 8 * 3 * h * n_origins  # per-origin losses of 3 predictors (2 baselines)
             + 4 * 8 * chunk * h * N_MODES)  # a chunk's forecasts and errors
     argv = ["forecast", str(path), "--in-units", "rad", "--predictors", "linear",
-            "--train", str(n_train), "--horizon", str(h), "--quiet"]
+            "--train", str(n_train), "--horizon", str(h)]
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
     _refusal(capsys, "--train 500 (500 training frames", "smaller --horizon or --train")
@@ -239,7 +239,7 @@ def test_forecast_modes_refused_before_the_columns_are_read(long_npy, monkeypatc
     monkeypatch.setattr(ModalLog, "_take_modes", spy)
     need = _forecast_need(3)
     argv = ["forecast", str(path), "--rate", "2000", "--in-units", "rad", "--modes", "2,4,7",
-            "--predictors", "linear", "--train", "500", "--horizon", "2", "--quiet"]
+            "--predictors", "linear", "--train", "500", "--horizon", "2"]
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
     _refusal(capsys, "--modes 2,4,7 (3 of the 6 columns", "gathered into memory")
@@ -261,8 +261,7 @@ def test_forecast_consecutive_modes_stay_mapped(long_npy, monkeypatch, capsys):
 
     monkeypatch.setattr(cmd_forecast, "_check_resources", spy)
     assert main(["forecast", str(path), "--rate", "2000", "--in-units", "rad", "--modes",
-                 "3-5", "--predictors", "linear", "--train", "500", "--horizon", "2",
-                 "--quiet"]) == 0
+                 "3-5", "--predictors", "linear", "--train", "500", "--horizon", "2"]) == 0
     assert seen == [True]
 
 

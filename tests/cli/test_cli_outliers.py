@@ -104,12 +104,12 @@ def test_drop_refused_where_frames_matter(files, capsys, argv, what):
     assert len(err) == 1 and "--outliers drop" in err[0] and what in err[0]
 
 
-def test_forecast_raise_and_clip(files, capsys):
+def test_forecast_raise_and_clip(files, capsys, tmp_path):
     base = ["forecast", files["glitch"], "--predictors", "linear", "--horizon", "1",
             "--modes", "2-3"]
     code, _, err = _run(capsys, base + ["--outliers", "raise"])
     assert code == 2 and len(err) == 1 and "error: --outliers raise" in err[0]
-    code, out, err = _run(capsys, base + ["--outliers", "clip", "--quiet"])
+    code, out, err = _run(capsys, base + ["--outliers", "clip", "--quiet", "--out", tmp_path])
     assert code == 0 and out == ""
     assert len(err) == 1 and "clipped 2 outlier value(s)" in err[0]
 

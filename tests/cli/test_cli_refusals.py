@@ -105,7 +105,7 @@ def test_forecast_horizon_beyond_memory_names_the_estimate(small_log, capsys, mo
     # 3 predictors x 500 horizons x (600 - 500 - 300 + 1 -> 1) origins, and 4 chunk
     # arrays of 600 x 500 x 3 float64 (28.8 MB) + 3 log copies: about 29 MB -> fits
     assert main(["forecast", str(small_log), "--horizon", "250", "--train", "300",
-                 "--predictors", "linear", "--quiet"]) == 0
+                 "--predictors", "linear"]) == 0
     capsys.readouterr()  # the first run's own warnings (a random walk has outliers)
     monkeypatch.setattr(common, "memory_available", lambda: 1e6)
     assert main(["forecast", str(small_log), "--horizon", "250", "--train", "300",

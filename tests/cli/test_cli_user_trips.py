@@ -146,7 +146,9 @@ def test_a_failed_write_names_the_target_not_the_temporary_file(tmp_path):
 
 # ---------------------------------------------------------------- progress bars
 @pytest.mark.parametrize(("argv", "desc"), [
-    (["forecast", "{log}", "--predictors", "linear", "--horizon", "2"], "forecast:"),
+    # forecast --quiet needs --out (without it the run would be thrown away)
+    (["forecast", "{log}", "--predictors", "linear", "--horizon", "2", "--out", "{tmp}/fc",
+      "--overwrite"], "forecast:"),
     (["reorder", "{log}", "--budget", "2000", "--resamples", "2", "--pupil-pixels", "16"],
      "reorder:"),
     (["reorder", "{log}", "--budget", "2000", "--resamples", "0", "--pupil-pixels", "16",
@@ -154,8 +156,8 @@ def test_a_failed_write_names_the_target_not_the_temporary_file(tmp_path):
     (["fitting-error", "{log}", "--orderings", "zernike:standard,zernike:variance",
       "--pupil-pixels", "16"], "fitting-error:"),
 ])
-def test_progress_bar_on_a_terminal_only(kaos, capsys, monkeypatch, argv, desc):
-    argv = [a.format(log=kaos) for a in argv]
+def test_progress_bar_on_a_terminal_only(kaos, capsys, monkeypatch, tmp_path, argv, desc):
+    argv = [a.format(log=kaos, tmp=tmp_path) for a in argv]
     assert main(argv) == 0                               # piped (captured): no bar
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)

@@ -5,7 +5,10 @@ observed frames: the loss differential d_t (summed squared error of the predicto
 minus that of the best trivial baseline) regressed on a constant with
 ``statsmodels`` OLS and ``cov_type="HAC"`` (Newey-West, Bartlett kernel, ``maxlags``
 the documented lag ``max(h - 1, floor(4 (N / 100)^(2/9)))``, no small-sample
-correction): DM = mean(d) / se(mean). The p-value against ``scipy.stats.norm.cdf``.
+correction), or the iid one (the rectangular window of lag h - 1 = 0, Diebold &
+Mariano 1995) where it is larger: DM = mean(d) / se(mean) times Harvey, Leybourne &
+Newbold's (1997) factor sqrt((N + 1 - 2h + h (h - 1) / N) / N); the p-value against
+``scipy.stats.t.cdf`` with N - 1 degrees of freedom.
 """
 
 import numpy as np
@@ -33,10 +36,12 @@ def test_dm_statistic_equals_statsmodels_hac():
     lag = max(0, int(np.floor(4 * (n / 100.0) ** (2.0 / 9.0))))
     fit = sm.OLS(d, np.ones(n)).fit(cov_type="HAC",
                                      cov_kwds={"maxlags": lag, "use_correction": False})
-    dm = fit.params[0] / fit.bse[0]
+    # the rectangular window of lag h - 1 = 0 is the iid variance; the larger is used
+    se = max(fit.bse[0], d.std() / np.sqrt(n))
+    dm = fit.params[0] / se * np.sqrt((n - 1) / n)  # HLN factor at h = 1
     i = ev.index("arma")
     assert ev.dm_statistic[i, 0] == pytest.approx(dm, rel=1e-9)
-    assert ev.p_value[i, 0] == pytest.approx(stats.norm.cdf(dm), rel=1e-9)
-    # the autocorrelation matters here: the iid variance gives another statistic
-    iid = d.mean() / (d.std() / np.sqrt(n))
-    assert abs(iid - dm) > 0.05 * abs(dm)
+    assert ev.p_value[i, 0] == pytest.approx(stats.t.cdf(dm, n - 1), rel=1e-9)
+    # the choice matters here: the Bartlett variance alone gives another statistic
+    bartlett = fit.params[0] / fit.bse[0] * np.sqrt((n - 1) / n)
+    assert abs(bartlett - dm) > 0.05 * abs(dm)

@@ -155,3 +155,63 @@ def test_chunked_feeding_gives_the_same_numbers():
     np.testing.assert_allclose(a.rmse, b.rmse, rtol=1e-13)
     np.testing.assert_allclose(a.dm_statistic, b.dm_statistic, rtol=1e-10)
     assert b.truth.shape == (50 + 4, 2)
+
+
+def test_a_log_whose_squared_errors_underflow_is_refused_not_scored_zero():
+    # audit 9 (issue 27): at 1e-300 every squared error underflows float64 (its smallest
+    # normal is 2.2e-308, IEEE 754), and evaluate reported RMSE 0 for every predictor.
+    # Reference: the persistence RMSE computed by NumPy, sqrt(mean (x[t+1] - x[t])^2),
+    # scales with the data (a change of units) down to the documented floor.
+    from modalinfo.forecast.base import SQUARE_FLOOR
+
+    x = np.random.default_rng(3).standard_normal((400, 2))
+    x[:, 1] = 0.0                                  # a zeroed mode stays accepted
+    origins = np.arange(199, 399)
+    truth = np.sqrt(np.mean((x[origins + 1, 0] - x[origins, 0]) ** 2))
+    for scale in (1.0, 1e-130):
+        ev = evaluate({"lin": LinearPredictor()}, x * scale, train=200, horizons=[1])
+        assert ev.rmse[ev.index("persistence"), 0, 0] == pytest.approx(truth * scale,
+                                                                      rel=1e-12)
+        assert ev.rmse[ev.index("lin"), 0, 1] == 0.0
+    assert 1e-140 < SQUARE_FLOOR < 1e-137   # sqrt(2.2e-308) / 2.2e-16 = 6.7e-139
+    for scale in (1e-300, 1e-150):
+        with pytest.raises(ValueError, match=r"`log`: mode mode0 varies over only .* "
+                           r"below 6.72e-139, where squared forecast errors underflow"):
+            evaluate({"lin": LinearPredictor()}, x * scale, train=200, horizons=[1])
+        with pytest.raises(ValueError, match=r"`history`: column 0 varies over only"):
+            ARMAPredictor(order=(1, 0)).fit(x * scale)
+
+
+def test_a_predictor_under_a_baselines_name_is_refused():
+    # audit 9 (issue 27): {'persistence': LinearPredictor()} replaced the persistence
+    # baseline, so every "gain over persistence" was a gain over the linear predictor
+    # (on a random walk its RMSE 1.32 was reported as persistence's). Reference: the
+    # persistence RMSE of a random walk by NumPy, sqrt(mean (x[t+1] - x[t])^2).
+    from modalinfo.forecast import MeanPredictor, PersistencePredictor
+
+    x = np.cumsum(np.random.default_rng(0).standard_normal((600, 2)), axis=0)
+    with pytest.raises(ValueError, match=r"`predictors\['persistence'\]`: 'persistence' "
+                       r"names the PersistencePredictor baseline .* got a LinearPredictor"):
+        evaluate({"persistence": LinearPredictor()}, x, train=300, horizons=[1])
+    with pytest.raises(ValueError, match=r"must be a MeanPredictor, got a ARMAPredictor"):
+        evaluate({"mean": ARMAPredictor(order=(1, 0))}, x, train=300, horizons=[1])
+    ev = evaluate([PersistencePredictor(), MeanPredictor()], x, train=300, horizons=[1])
+    o = ev.origins
+    assert ev.names == ("persistence", "mean")
+    assert ev.rmse[0, 0] == pytest.approx(np.sqrt(np.mean((x[o + 1] - x[o]) ** 2, axis=0)),
+                                          rel=1e-12)
+
+
+def test_a_horizon_beyond_the_log_is_refused_at_once():
+    # audit 9 (issue 27): horizons=range(1, 10**7) on 1000 frames listed ten million
+    # horizons (29 s) before refusing; range(1, 10**9) would need tens of GB. The rule:
+    # a forecast h frames ahead needs h + 2 frames (one to train, h + 1 to test).
+    import time
+
+    x = np.random.default_rng(0).standard_normal((1000, 2))
+    start = time.process_time()
+    with pytest.raises(ValueError, match=r"`horizons` must be at most 998: .* got 999\."):
+        evaluate([LinearPredictor()], x, horizons=range(1, 10**12))
+    assert time.process_time() - start < 5.0
+    ev = evaluate([LinearPredictor()], x, train=1, horizons=[998])
+    assert ev.origins.tolist() == [0, 1]   # the origins with 998 frames ahead

@@ -1,7 +1,9 @@
 """Multivariate (VAR) predictors against least-squares references.
 
 References: scikit-learn ``Ridge`` (the Tikhonov-regularised least-squares solution
-with the same penalty), ``numpy.linalg.lstsq`` for the unregularised VAR, the exact
+with the same penalty, on unit-norm regressors), the change-of-units law (one mode in
+other units changes only that mode's forecasts, by the same factor),
+``numpy.linalg.lstsq`` for the unregularised VAR, the exact
 equivalence of recursive least squares (forgetting factor 1) with the batch solution
 on all the data seen (Haykin, Adaptive Filter Theory, ch. 10), and a simulated VAR(1)
 with cross-coupling, whose optimal one-step error is the innovation covariance.
@@ -33,10 +35,24 @@ def test_batch_solution_matches_sklearn_ridge():
     pred = MultivariatePredictor(order=2, alpha=0.05).fit(x)
     xc = x - x.mean(axis=0)
     Z = np.hstack([xc[1:-1], xc[:-2]])
-    lam = 0.05 * np.trace(Z.T @ Z) / Z.shape[1]
-    ridge = Ridge(alpha=lam, fit_intercept=False).fit(Z, xc[2:])
-    np.testing.assert_allclose(pred.coef_.reshape(6, 3), ridge.coef_.T, rtol=1e-8,
-                               atol=1e-12)
+    # the penalty alpha diag(Z^T Z) is sklearn's ridge (alpha) on unit-norm regressors
+    scale = np.sqrt(np.sum(Z**2, axis=0))
+    ridge = Ridge(alpha=0.05, fit_intercept=False).fit(Z / scale, xc[2:])
+    np.testing.assert_allclose(pred.coef_.reshape(6, 3), ridge.coef_.T / scale[:, None],
+                               rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.parametrize("cls", [MultivariatePredictor, RLSMultivariatePredictor])
+def test_a_change_of_units_of_one_mode_changes_only_that_mode(cls):
+    # audit 9 (issue 27): a common ridge lambda I shrank the lags of a mode of small
+    # variance to its mean (its RMSE 16 % above the same log in common units when one
+    # mode was x 1e6 and another x 1e-6). The law: expressing mode k in other units
+    # (x s_k) multiplies mode k's forecasts by s_k and leaves every other mode's alone.
+    x, _ = _var1(1500, 5)
+    s = np.array([1e6, 1.0, 1e-6])
+    a = cls(order=2, alpha=1e-3, horizon=3).fit(x[:1000]).predict(x)
+    b = cls(order=2, alpha=1e-3, horizon=3).fit(x[:1000] * s).predict(x * s)
+    np.testing.assert_allclose(b / s, a, rtol=1e-7, atol=1e-9)
 
 
 def test_recovers_var1_and_beats_univariate():
@@ -67,11 +83,10 @@ def test_rls_with_unit_forgetting_equals_batch_on_all_data():
     xc = x[:2500] - mu_fix
     Z = np.hstack([xc[1:-1], xc[:-2]])
     Z0 = np.hstack([(x[:1000] - mu_fix)[1:-1], (x[:1000] - mu_fix)[:-2]])
-    lam = 1e-6 * np.trace(Z0.T @ Z0) / 6
-    # RLS started from the batch fit on x[:1000] (whose Gram includes lam) and then saw
+    # RLS started from the batch fit on x[:1000] (whose Gram includes the ridge) and then saw
     # every regression row of x[:2500], so it solves Gram(all rows) + Gram(first rows)
-    # + lam I: the first 998 rows are counted twice.
-    G = Z.T @ Z + Z0.T @ Z0 + lam * np.eye(6)
+    # + 1e-6 diag(Gram(first rows)): the first 998 rows are counted twice.
+    G = Z.T @ Z + Z0.T @ Z0 + 1e-6 * np.diag(np.diag(Z0.T @ Z0))
     B = np.linalg.solve(G, Z.T @ xc[2:] + Z0.T @ (x[:1000] - mu_fix)[2:])
     np.testing.assert_allclose(rls.adapted_coef_.reshape(6, 3), B, rtol=1e-6, atol=1e-9)
 

@@ -204,3 +204,20 @@ def test_a_horizon_beyond_memory_is_refused_naming_it():
     with pytest.raises(ValueError, match=r"`horizon` = .* GiB of forecasts"):
         p.predict(history, horizon=10**15)
     assert p.predict(history, horizon=10**15 // 10**13).shape == (100, 1)  # small: no check
+
+
+def test_options_whose_arrays_cannot_be_held_are_refused_naming_them():
+    # audit 9 (issue 27): a refit window of 10**12 samples (its ring buffer: 14.6 TiB for
+    # 2 modes) and n_hidden = 10**9 (149 GiB of first-layer weights) reached NumPy's
+    # MemoryError, naming nothing. Reference: the arrays' sizes, 8 bytes per float64,
+    # far beyond any machine's memory.
+    from modalinfo.forecast import NeuralNetPredictor
+
+    X = np.random.default_rng(0).standard_normal((300, 2))
+    with pytest.raises(ValueError, match=r"`window` = 1000000000000 needs 1.49e\+04 GiB "
+                       r"of refit ring buffer for 2 mode\(s\)"):
+        ARMAPredictor(order=(1, 0), refit_every=1, window=10**12).fit(X)
+    with pytest.raises(ValueError, match=r"`window` = 1000000000000 needs"):
+        evaluate([ARMAPredictor(order=(1, 0))], X, refit_every=5, window=10**12)
+    with pytest.raises(ValueError, match=r"`n_hidden` = 1000000000 needs .* GiB of network"):
+        NeuralNetPredictor(n_hidden=10**9, n_patterns=200).fit(X)
