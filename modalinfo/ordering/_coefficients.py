@@ -49,6 +49,18 @@ class BasisView:
         """Number of modes M."""
         return self.matrix.shape[1]
 
+    def standard_order(self) -> np.ndarray:
+        """Return the standard order ``(M,)``: ascending Noll index (Zernike basis), else 0..M-1.
+
+        A Zernike basis built from a log whose columns are not in Noll order (e.g. Z6, Z2,
+        Z11, ...) keeps the file's column order; the standard order is still Z2, Z3, ...
+        (audit 9, centre: the "standard" order of such a log was the file's order).
+        """
+        modes = getattr(self.obj, "modes", None) if self.obj is not None else None
+        if modes is None or len(modes) != self.n_modes:
+            return np.arange(self.n_modes, dtype=np.int64)
+        return np.argsort(np.asarray(modes, dtype=np.int64), kind="stable").astype(np.int64)
+
     def gram(self) -> np.ndarray:
         """``matrix.T @ matrix / n_valid`` (identity for a basis orthonormal on the pupil)."""
         return self.matrix.T @ self.matrix / self.matrix.shape[0]
