@@ -511,7 +511,8 @@ def apply_outlier_policy(
         transfer entropy): ``"drop"`` is refused, since removing frames would make
         lagged pairs straddle the removed frames.
     report : QualityReport, optional
-        A report of this log already computed (not recomputed).
+        A report of this log already computed (not recomputed); one of another shape
+        or labels, or with ``**assess`` options beside it, is refused.
     **assess
         Options of :func:`assess_quality` (``k``, ``alpha``, ``stuck_run``, ...).
 
@@ -541,6 +542,17 @@ def apply_outlier_policy(
                          "frames); use 'clip' (winsorise in place) or 'warn'.")
     if report is None:
         report = assess_quality(log, **assess)
+    elif (report.n_frames, report.n_modes) != (log.n_frames, log.n_modes) or list(
+            report.labels) not in (list(log.labels), [f"col{j}" for j in range(log.n_modes)]
+    ) or assess:
+        # a report of another log (3 modes for a 4-mode log) was applied as it was, and
+        # `k`/`alpha` given beside a report were ignored (audit 9, centre)
+        raise ValueError(
+            "`report` must be the assessment of this log, without assess options beside it; "
+            f"got a report of {report.n_frames} frames x {report.n_modes} modes "
+            f"({', '.join(map(str, report.labels[:3]))}...) for a log of {log.n_frames} x "
+            f"{log.n_modes} ({', '.join(log.labels[:3])}...)"
+            + (f" and options {sorted(assess)}" if assess else "") + ".")
     if policy == "raise" and not report.clean:
         raise ValueError(f"`policy`='raise': {report.describe()}.")
     if report.clean:  # nothing to record: a clean log passes through unchanged

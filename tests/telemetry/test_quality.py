@@ -323,3 +323,21 @@ def test_frame_modes_above_the_number_of_modes_is_refused():
     with pytest.raises(ValueError, match=r"`frame_modes` must be an int <= 5; got 6"):
         assess_quality(x, frame_modes=6)
     assert assess_quality(x, frame_modes=5).glitch_frames.tolist() == [10]
+
+
+def test_a_report_of_another_log_is_refused():
+    # audit 9, centre: the report of a 3-mode log was applied to a 4-mode log (and a
+    # clean log's report left a planted 100-sigma value unclipped); the report of the
+    # log itself clips it to median + k sigma (numpy median and MAD, by hand)
+    x = np.random.default_rng(23).standard_normal((1000, 4))
+    y = x.copy()
+    y[10, 0] = 100.0
+    log = ModalLog(y, rate=100.0, modes=[2, 3, 4, 5])
+    with pytest.raises(ValueError, match=r"`report` must be the assessment of this log"):
+        apply_outlier_policy(log, "clip", report=assess_quality(x[:, :3]))
+    with pytest.raises(ValueError, match=r"and options \['k'\]"):
+        apply_outlier_policy(log, "clip", report=assess_quality(log), k=5.0)
+    out, r = apply_outlier_policy(log, "clip", report=assess_quality(log))
+    med = np.median(y[:, 0])
+    sigma = MAD_TO_SIGMA * np.median(np.abs(y[:, 0] - med))
+    assert out.coeffs[10, 0] == pytest.approx(med + r.k * sigma, rel=1e-12)
