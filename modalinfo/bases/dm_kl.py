@@ -352,6 +352,11 @@ def _command_prior(influence: InfluenceFunctions, r0: float, outer_scale: float)
     return 0.5 * (s_mat + s_mat.T)
 
 
+#: Accepted D / r0 of :func:`dm_kl_modes`: far beyond any telescope (D / r0 of 1e-3 to 1e4)
+#: and within float64 once raised to 5/3 and squared by the eigensolver
+_D_OVER_R0 = (1e-60, 1e60)
+
+
 def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = np.inf, *,
                 n_modes: int | None = None,
                 tip_tilt_apart: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -390,6 +395,15 @@ def dm_kl_modes(influence: InfluenceFunctions, r0: float, outer_scale: float = n
         raise TypeError("`influence` must be a modalinfo.bases.InfluenceFunctions; got "
                         f"{type(influence).__name__}.")
     r0 = check_real(r0, "r0", minimum=0.0, strict_min=True)
+    ratio = influence.pupil.diameter / r0
+    if not _D_OVER_R0[0] <= ratio <= _D_OVER_R0[1]:
+        # the prior scales as (D / r0)^(5/3): beyond these bounds it overflowed (scipy's
+        # "array must not contain infs or NaNs" at r0 = 1e-300) or underflowed to 0, whose
+        # "modes" were arbitrary (r0 = 1e300 m gave variances 0 and no error; audit 9)
+        raise ValueError(
+            f"`r0` must give D / r0 in [{_D_OVER_R0[0]:g}, {_D_OVER_R0[1]:g}] (D = "
+            f"{influence.pupil.diameter:g} m, the pupil's diameter; the prior scales as "
+            f"(D / r0)^(5/3) and overflows or underflows beyond); got r0={r0:g} m.")
     outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                              allow_inf=True)
     if not isinstance(tip_tilt_apart, bool | np.bool_):

@@ -18,7 +18,7 @@ from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import noll_to_zernike
 from modalinfo.bases.pupil import Pupil
 from modalinfo.bases.turbulence import _angular_keys, _check_modes, _covariance_blocks
-from modalinfo.bases.zernike import ZernikeBasis, _parse_modes
+from modalinfo.bases.zernike import ZernikeBasis, _parse_modes, check_zernike_sampling
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.validation import as_float_array, check_int, check_real
 
@@ -173,6 +173,22 @@ def _check_turbulence_memory(n_z: int, n_modes: int) -> None:
             f"{avail / 2**30:.3g} GiB is free; use fewer modes or `zernike_modes`.")
 
 
+def _check_kl_sampling(n_modes: int, pupil: Pupil) -> None:
+    """Refuse more K-L modes than the grid resolves (the Zernike rule, mode k ~ Z(k+1)).
+
+    K-L mode k of Kolmogorov turbulence is dominated by Zernikes of the radial order of
+    Noll k + 1 (the K-L and Zernike variances agree mode for mode, Noll 1976; Wang &
+    Markey 1978), so it is resolved where Z(k+1) is: ``n_pixels >= 2 n``.
+    ``from_turbulence(Pupil(32), 1000)`` built 1000 "modes" on 812 pixels (audit 9).
+    """
+    try:
+        check_zernike_sampling([n_modes + 1], pupil.n_pixels)
+    except ValueError as exc:
+        raise ValueError(
+            f"`n_modes` = {n_modes} K-L modes need a finer pupil grid (K-L mode k is resolved "
+            f"where Zernike k + 1 is): {exc}") from None
+
+
 class KLBasis(ModalBasis):
     """Karhunen-Loeve modes as orthonormal combinations of Zernike modes.
 
@@ -296,6 +312,7 @@ class KLBasis(ModalBasis):
                 f"`n_modes` must be <= the number of Zernike modes ({modes.size}); got {n_modes}."
             )
         _check_turbulence_memory(modes.size, n_modes)
+        _check_kl_sampling(n_modes, pupil)
         # the checks of zernike_covariance (piston refused for Kolmogorov), then only its
         # non-zero blocks: the dense (n_z, n_z) matrix is never formed
         checked = _check_modes(modes, outer_scale)

@@ -19,6 +19,11 @@ def _readonly(arr: np.ndarray) -> np.ndarray:
     return arr
 
 
+#: Accepted pupil diameters [m]: a microscope objective's (~1e-3) to far beyond a 39 m
+#: ELT; within float64 for the pixel area (d / n)^2 at any grid
+_DIAMETER_RANGE = (1e-6, 1e6)
+
+
 class Pupil:
     """A circular or annular pupil sampled on an ``N x N`` pixel grid.
 
@@ -69,6 +74,13 @@ class Pupil:
     def __init__(self, n_pixels: int, diameter: float = 1.0, obscuration: float = 0.0) -> None:
         n = check_int(n_pixels, "n_pixels", minimum=8)
         d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+        if not _DIAMETER_RANGE[0] <= d <= _DIAMETER_RANGE[1]:
+            # diameter 1e300 raised OverflowError (34, 'Numerical result out of range')
+            # from the pixel area (audit 9, centre)
+            raise ValueError(
+                f"`diameter` must be in metres within {_DIAMETER_RANGE[0]:g} - "
+                f"{_DIAMETER_RANGE[1]:g} (a microscope's pupil to far beyond a 39 m ELT); "
+                f"got {d:g}.")
         obs = check_real(obscuration, "obscuration", minimum=0.0, maximum=1.0, strict_max=True)
         need = _GRIDS * 8.0 * n * n
         if need > free_memory_bytes():  # refuse before numpy's MemoryError, naming the option
@@ -80,6 +92,12 @@ class Pupil:
         rho = np.hypot(x, y) / (d / 2)
         theta = np.arctan2(y, x)
         mask = (rho <= 1.0) & (rho >= obs)
+        if not mask.any():
+            # Pupil(8, obscuration=0.99) had 0 valid pixels and gave (0, M) "bases"
+            raise ValueError(
+                f"`obscuration` {obs:g} leaves no pixel of the {n} x {n} grid in the annulus "
+                f"(pixel centres at radius >= {obs:g} and <= 1 of the pupil radius); use a "
+                f"smaller obscuration or more pixels.")
         object.__setattr__(self, "n_pixels", n)
         object.__setattr__(self, "diameter", d)
         object.__setattr__(self, "obscuration", obs)

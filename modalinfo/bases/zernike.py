@@ -19,7 +19,39 @@ from modalinfo.bases.indexing import _as_index, _check_nm, noll_to_zernike
 from modalinfo.bases.pupil import Pupil
 from modalinfo.common.validation import as_float_array
 
-__all__ = ["zernike_radial", "zernike_polynomial", "zernike_matrix", "ZernikeBasis"]
+__all__ = [
+    "zernike_radial", "zernike_polynomial", "zernike_matrix", "ZernikeBasis",
+    "check_zernike_sampling",
+]
+
+
+def check_zernike_sampling(noll_modes, n_pixels: int) -> None:
+    """Refuse Zernike modes a pupil grid of ``n_pixels`` across cannot sample.
+
+    A Zernike of radial order ``n`` has ``n`` zero crossings along a diameter, so it is
+    resolved, not aliased, on ``n_pixels >= 2 n`` pixels across (the Nyquist rule of
+    closedloop's DM modes). On fewer pixels the sampled modes are no longer Zernikes:
+    aliased, nearly dependent (198 modes on 52 pixels have rank 52), and every fitting
+    error or ordering computed with them describes those samples, not the modes.
+
+    Parameters
+    ----------
+    noll_modes : array_like of int
+        Noll indices (``>= 1``).
+    n_pixels : int
+        Pupil grid size across [pixels].
+
+    Raises
+    ------
+    ValueError
+        Naming ``n_pixels``, the highest mode and its radial order.
+    """
+    top = int(np.max(np.asarray(noll_modes, dtype=np.int64)))
+    order = int(noll_to_zernike(top)[0])
+    if order > n_pixels // 2:
+        raise ValueError(
+            f"`n_pixels` must be >= {2 * order} to sample Z{top} (radial order {order} "
+            f"<= pixels across / 2, the rule of closedloop's DM modes); got {n_pixels}.")
 
 
 def zernike_radial(n: int, m: int, rho) -> np.ndarray:
@@ -150,6 +182,7 @@ class ZernikeBasis(ModalBasis):
         if not isinstance(orthonormalize, bool | np.bool_):
             raise TypeError(f"`orthonormalize` must be a bool; got {orthonormalize!r}.")
         j = _parse_modes(modes)
+        check_zernike_sampling(j, pupil.n_pixels)  # audit 9, centre: was only in the CLI
         matrix = zernike_matrix(j, pupil.rho_valid, pupil.theta_valid)
         if orthonormalize:
             matrix = _orthonormalize(matrix)

@@ -86,6 +86,13 @@ def politis_white_length(x: np.ndarray) -> float:
     """
     n = x.shape[0]
     e = x - x.mean()
+    # the length is a ratio of autocovariances, unchanged by the series' scale; beyond
+    # 1e50 (or below 1e-50) g(0)^2 overflows (underflows) float64, which gave NaN (a
+    # traceback) or a "constant" series of length 1: such a series is rescaled first
+    # (audit 9, centre: o-scale1e100); within these bounds nothing is rescaled
+    scale = float(np.max(np.abs(e))) if n else 0.0
+    if scale > 0.0 and not 1e-50 <= scale <= 1e50:
+        e = e / scale
     kn = max(5, int(math.log10(n)))
     m_max = int(math.ceil(math.sqrt(n))) + kn
     m_max = min(m_max, n - 1)

@@ -23,7 +23,10 @@ import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_square_range
 
-__all__ = ["BasisView", "as_basis", "check_values", "coefficients_in_basis", "is_log"]
+__all__ = [
+    "BasisView", "as_basis", "check_represented", "check_values", "coefficients_in_basis",
+    "is_log",
+]
 
 
 @dataclass(frozen=True)
@@ -48,6 +51,18 @@ class BasisView:
     def n_modes(self) -> int:
         """Number of modes M."""
         return self.matrix.shape[1]
+
+    def standard_order(self) -> np.ndarray:
+        """Return the standard order ``(M,)``: ascending Noll index (Zernike basis), else 0..M-1.
+
+        A Zernike basis built from a log whose columns are not in Noll order (e.g. Z6, Z2,
+        Z11, ...) keeps the file's column order; the standard order is still Z2, Z3, ...
+        (audit 9, centre: the "standard" order of such a log was the file's order).
+        """
+        modes = getattr(self.obj, "modes", None) if self.obj is not None else None
+        if modes is None or len(modes) != self.n_modes:
+            return np.arange(self.n_modes, dtype=np.int64)
+        return np.argsort(np.asarray(modes, dtype=np.int64), kind="stable").astype(np.int64)
 
     def gram(self) -> np.ndarray:
         """``matrix.T @ matrix / n_valid`` (identity for a basis orthonormal on the pupil)."""
@@ -178,3 +193,57 @@ def coefficients_in_basis(
             f"got {out.shape[1]}."
         )
     return out
+
+
+def check_represented(log: Any, basis: BasisView, name: str = "coeffs_or_log") -> None:
+    """Refuse a log whose wavefront the basis does not fully represent (fitting error).
+
+    A fitting error dPhi(n) is the variance of the log's wavefront left after n modes; a
+    log column the basis lacks (a Zernike basis without some of the log's modes), or a
+    K-L basis keeping fewer modes than the Zernikes it combines, drops that variance from
+    every dPhi(n), so dPhi(M) = 0 claims a perfect fit (audit 9, centre: a 3-mode basis on
+    a 6-mode log gave dPhi(0) = 22.4 of a total 41.6 rad^2 and dPhi(3) = 0). Columns that
+    are identically zero carry no variance and are ignored.
+
+    Parameters
+    ----------
+    log : ModalLog-like
+        The log (arrays are a basis's own coefficients: nothing to check).
+    basis : BasisView
+    name : str
+        Argument name for the message.
+
+    Raises
+    ------
+    ValueError
+        Naming the modes left out and the remedies.
+    """
+    obj = basis.obj
+    if not is_log(log) or obj is None or getattr(log, "convention", "noll") == "labels":
+        return
+    if hasattr(obj, "zernike_modes") and hasattr(obj, "coefficients_from_zernike"):
+        kept = {int(m) for m in obj.zernike_modes}
+        if obj.n_modes < len(kept):
+            raise ValueError(
+                f"`basis` keeps {obj.n_modes} K-L modes of the {len(kept)} Zernike modes it "
+                f"combines: the log's variance outside them would be missing from every "
+                f"dPhi(n) (dPhi({obj.n_modes}) would claim a perfect fit). Build the K-L basis "
+                f"with all {len(kept)} modes and read dPhi(n) for n <= {obj.n_modes}.")
+    elif hasattr(obj, "modes"):
+        kept = {int(m) for m in obj.modes}
+    else:
+        return
+    if getattr(log, "convention", "noll") != "noll":
+        log = log.to_convention("noll")
+    coeffs = np.asarray(log.coeffs)
+    extra = [i for i, m in enumerate(log.modes) if int(m) not in kept
+             and np.any(coeffs[:, i] != 0)]
+    if extra:
+        labels = [str(log.labels[i]) for i in extra]
+        shown = ", ".join(labels[:5]) + (f" (and {len(labels) - 5} more)" if len(labels) > 5
+                                         else "")
+        raise ValueError(
+            f"`{name}` holds {len(extra)} mode(s) the basis does not represent ({shown}): "
+            f"their variance would be missing from every dPhi(n), and dPhi(M) would claim a "
+            f"perfect fit. Use a basis holding every mode of the log (and read dPhi(n) at "
+            f"the n you want), or select the modes first (log.select(modes=...)).")

@@ -85,16 +85,12 @@ def check_pupil_sampling(modes: Any, n_pixels: int, convention: str = "noll") ->
         If ``n_pixels`` is below 4 or twice the radial order of the highest mode.
     """
     from modalinfo.bases import indexing
+    from modalinfo.bases.zernike import check_zernike_sampling
 
     n_pixels = check_int(n_pixels, "n_pixels", minimum=4)
     convention = check_choice(convention, "convention", ("noll", "ansi", "fringe"))
     n, m = getattr(indexing, f"{convention}_to_zernike")(np.asarray(modes, dtype=np.int64))
-    top = int(np.max(indexing.zernike_to_noll(n, m)))
-    order = int(indexing.noll_to_zernike(top)[0])
-    if order > n_pixels // 2:  # on fewer pixels the mode is aliased, not resolved
-        raise ValueError(
-            f"`n_pixels` must be >= {2 * order} to sample Z{top} (radial order {order} "
-            f"<= pixels across / 2, the rule of closedloop's DM modes); got {n_pixels}.")
+    check_zernike_sampling(indexing.zernike_to_noll(n, m), n_pixels)
 
 
 def basis_for_log(

@@ -42,7 +42,12 @@ import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.ordering import _kernels as kern
-from modalinfo.ordering._coefficients import as_basis, check_values, coefficients_in_basis
+from modalinfo.ordering._coefficients import (
+    as_basis,
+    check_represented,
+    check_values,
+    coefficients_in_basis,
+)
 from modalinfo.telemetry.units import unit_scale
 
 __all__ = ["FittingErrorResult", "fitting_error", "check_order"]
@@ -354,7 +359,9 @@ def fitting_error(
     ValueError
         On a shape mismatch, an order that is not a permutation, unknown units or
         method, ``method="parseval"`` on a basis that is not orthonormal, non-finite
-        coefficients or sums of squares that overflow.
+        coefficients or sums of squares that overflow; or a log with (non-zero) modes
+        the basis does not represent, or a K-L basis keeping fewer modes than the
+        Zernikes it combines (their variance would be missing from every dPhi(n)).
     """
     check_choice(units, "units", _UNITS)
     check_choice(method, "method", _METHODS)
@@ -365,6 +372,7 @@ def fitting_error(
     # sums formed below (finite sums <=> finite values without overflow)
     a = coefficients_in_basis(coeffs_or_log, view, wavelength=wavelength, name="coeffs_or_log",
                               defer_value_checks=True)
+    check_represented(coeffs_or_log, view)
     idx = check_order(order, view.n_modes)
     levels = tuple(float(p) for p in np.atleast_1d(as_float_array(percentiles, "percentiles")))
     if any(p < 0 or p > 100 for p in levels):

@@ -67,10 +67,12 @@ next step's mode instead; when its bootstrap interval reaches 0, ranks s and s +
 are within noise of each other (their order is not determined at this budget).
 Cost: one ``fit`` and M ``score`` calls per replicate.
 
-Baselines: ``"standard"`` (index order), ``"variance"`` (descending mean-square
-coefficient) and ``"pca"`` (the empirical K-L order: descending eigenvalue, defined for
-a basis in which the log's coefficients are uncorrelated, i.e. ``KLBasis.from_data`` of
-the same log; its fitting-error curve is the floor of every other ordering's).
+Baselines: ``"standard"`` (index order; ascending Noll index for a Zernike basis, whatever
+the order of the log's columns), ``"variance"`` (descending mean-square coefficient; ties
+in the standard order) and ``"pca"`` (the empirical K-L order: descending eigenvalue,
+defined for a basis in which the log's coefficients are uncorrelated, i.e.
+``KLBasis.from_data`` of the same log; its fitting-error curve is the floor of every
+other ordering's).
 """
 
 from __future__ import annotations
@@ -611,7 +613,7 @@ def order_modes(
                               **common, **kw)
 
     if method == "standard":
-        return result(np.arange(n_modes))
+        return result(view.standard_order())
     if method in ("variance", "pca"):
         if method == "pca" and frame is not None:
             raise ValueError(
@@ -620,7 +622,10 @@ def order_modes(
             )
         rows = a if frame is None else a[frame:frame + 1]
         mean_square = np.mean(rows * rows, axis=0)
-        order = _pca_order(a) if method == "pca" else np.argsort(-mean_square, kind="stable")
+        # equal mean squares keep the standard (Noll) order, not the file's column order
+        std = view.standard_order()
+        order = _pca_order(a) if method == "pca" else std[
+            np.argsort(-mean_square[std], kind="stable")]
         return result(order, scores=mean_square)
 
     def without(gone: np.ndarray) -> OrderingResult:

@@ -44,6 +44,30 @@ _FIRST_DEFAULT = {"noll": 2, "ansi": 1, "fringe": 2}
 _MIN_INDEX = {"noll": 1, "ansi": 0, "fringe": 1}
 
 
+#: Below this index every mode of every convention has radial order < 2**28, far inside
+#: what ``modalinfo.bases.indexing`` converts exactly; above it the converter checks
+_SURELY_CONVERTIBLE = 2**56
+
+
+def _check_convertible(modes: list[int], convention: str) -> None:
+    """Refuse indices whose radial order exceeds ``indexing.MAX_ORDER`` (no conversion).
+
+    A log labelled Z9223372036854775808 was accepted and failed in every later
+    conversion (audit 9, centre); the rule is the converters' own, applied here.
+    """
+    from modalinfo.bases import indexing  # lazy: modalinfo.bases imports scipy
+
+    big = [j for j in modes if j >= _SURELY_CONVERTIBLE]
+    top = indexing.MAX_ORDER + 1
+    if max(big) <= indexing.MAX_INDEX:  # else beyond int64 or the converters' range
+        n, _ = getattr(indexing, f"{convention}_to_zernike")(np.asarray(big, dtype=np.int64))
+        top = int(np.max(n))
+    if top > indexing.MAX_ORDER:
+        raise ValueError(
+            f"`modes` must be {convention} indices of radial order <= {indexing.MAX_ORDER} "
+            f"(2**29, the range converted exactly); got {max(big)}.")
+
+
 #: Piston, tip and tilt in each Zernike convention.
 PISTON_TIPTILT = {"noll": (1, 2, 3), "ansi": (0, 1, 2), "fringe": (1, 2, 3)}
 
@@ -148,6 +172,8 @@ def check_modes(modes: Any, convention: str, n_modes: int) -> list:
             if j < lo:
                 raise ValueError(f"`modes` must be {convention} indices >= {lo}; got {int(j)}.")
             out.append(int(j))
+        if out and max(out) >= _SURELY_CONVERTIBLE:
+            _check_convertible(out, convention)
     if len(set(out)) != len(out):
         seen, dup = set(), None
         for j in out:

@@ -46,6 +46,9 @@ UNITS = ("rad", "nm", "um", "waves")
 _PHASE = {"rad": 1.0, "waves": 2.0 * math.pi}
 _OPD = {"nm": 1e-9, "um": 1e-6}
 _MAX_WAVELENGTH = 1e-3  # metres; anything larger is surely given in nm or um by mistake
+#: metres: 1 pm, a 1.24 MeV photon, below the hard X-rays (~10-100 pm) of any wavefront
+#: sensing; 1e-30 m converted nm to rad by a factor 6e30 with no word (audit 9, centre)
+_MIN_WAVELENGTH = 1e-12
 
 
 def check_units(units, name: str = "units") -> str:
@@ -56,11 +59,15 @@ def check_units(units, name: str = "units") -> str:
 
 
 def check_wavelength(wavelength, name: str = "wavelength") -> float:
-    """Return ``wavelength`` as a float in metres, in ``(0, 1e-3]``, else raise.
+    """Return ``wavelength`` as a float in metres, in ``[1e-12, 1e-3]``, else raise.
 
     The upper bound catches a wavelength given in nanometres or micrometres.
     """
     lam = check_real(wavelength, name, minimum=0.0, strict_min=True)
+    if lam < _MIN_WAVELENGTH:
+        raise ValueError(
+            f"`{name}` must be in metres, >= {_MIN_WAVELENGTH:g} (1 pm, below any X-ray "
+            f"wavefront); got {lam:g}.")
     if lam > _MAX_WAVELENGTH:
         raise ValueError(
             f"`{name}` must be in metres, <= {_MAX_WAVELENGTH}; got {lam} "
@@ -77,7 +84,7 @@ def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) 
     from_units, to_units : {"rad", "nm", "um", "waves"}
         Source and target units.
     wavelength : float, optional
-        Wavelength in metres, in ``(0, 1e-3]``, at which phase (rad, waves) is
+        Wavelength in metres, in ``[1e-12, 1e-3]``, at which phase (rad, waves) is
         defined; required only when converting between the phase family (rad,
         waves) and OPD (nm, um).
 

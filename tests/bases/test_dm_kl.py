@@ -267,3 +267,19 @@ def test_bad_inputs_named(mirror):
         dm_kl_modes(np.eye(3), R0)
     with pytest.raises(ValueError, match="m2c"):
         DMKLBasis(mirror, np.zeros((3, 2)), np.ones(2))
+
+
+def test_r0_beyond_float_range_is_refused_and_within_it_follows_the_law(mirror):
+    # audit 9, centre: r0 = 1e-300 m raised scipy's "array must not contain infs or NaNs"
+    # and r0 = 1e300 m returned variances 0 (arbitrary modes) without a word. Reference:
+    # the prior scales as (D / r0)^(5/3) (Kolmogorov), the modes do not depend on r0
+    for r0 in (1e-300, 1e300):
+        with pytest.raises(ValueError, match=r"`r0` must give D / r0 in \[1e-60, 1e\+60\]"):
+            dm_kl_modes(mirror, r0, n_modes=6)
+    m_ref, v_ref = dm_kl_modes(mirror, 0.1, n_modes=6)
+    m_far, v_far = dm_kl_modes(mirror, 1e50, n_modes=6)
+    np.testing.assert_allclose(v_far, v_ref * (0.1 / 1e50) ** (5 / 3), rtol=1e-9)
+    # modes 1-2 (and 3-5) are degenerate pairs: compare the spanned subspaces
+    for cols in ([0, 1], [2, 3, 4]):
+        proj = np.linalg.lstsq(m_ref[:, cols], m_far[:, cols], rcond=None)[0]
+        np.testing.assert_allclose(m_ref[:, cols] @ proj, m_far[:, cols], atol=1e-8)

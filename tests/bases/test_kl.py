@@ -224,3 +224,13 @@ def test_bad_inputs(pupil):
         kl.zernike_from_coefficients(np.zeros((2, 3)))
     with pytest.raises(ValueError, match="`zernike_from_kl` must have orthonormal columns"):
         KLBasis(zb, np.ones((6, 2)), [1.0, 1.0])
+
+
+def test_more_kl_modes_than_the_grid_resolves_are_refused():
+    # audit 9, centre: from_turbulence(Pupil(32), 1000) built 1000 "modes" on 812 pixels.
+    # Reference: K-L mode k resolves like Noll Zernike k + 1, whose radial order n must
+    # be <= pixels / 2 (Nyquist); on 32 pixels order 16 closes at Noll 17 * 18 / 2 = 153
+    assert KLBasis.from_turbulence(Pupil(32), 152).n_modes == 152
+    for n_modes in (153, 1000):
+        with pytest.raises(ValueError, match=rf"`n_modes` = {n_modes} K-L modes need a finer"):
+            KLBasis.from_turbulence(Pupil(32), n_modes)

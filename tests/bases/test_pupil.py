@@ -114,3 +114,20 @@ def test_a_grid_beyond_the_free_memory_is_refused_before_allocating(monkeypatch)
         Pupil(64)
     monkeypatch.setattr(pupil_module, "free_memory_bytes", lambda: 6 * 8 * 64 * 64 + 1.0)
     assert Pupil(64).n_pixels == 64
+
+
+def test_an_annulus_without_pixels_and_absurd_diameters_are_refused():
+    # audit 9, centre: Pupil(8, obscuration=0.99) had 0 valid pixels (ZernikeBasis gave a
+    # (0, M) matrix) and diameter=1e300 raised OverflowError. Reference: the pixel-centre
+    # radii (i + 0.5 - N/2) / (N/2) written out by hand: on 8 pixels the centres nearest
+    # the rim are at sqrt(3.5^2 + 1.5^2) / 4 = 0.952 of the radius (8 of them), the next
+    # beyond it, so an obscuration of 0.95 keeps 8 pixels and 0.99 none
+    radii = np.hypot(*np.meshgrid(np.arange(8) - 3.5, np.arange(8) - 3.5)) / 4.0
+    assert Pupil(8, obscuration=0.95).n_valid == int(np.sum((radii >= 0.95) & (radii <= 1)))
+    assert not np.any((radii >= 0.99) & (radii <= 1))
+    with pytest.raises(ValueError, match=r"`obscuration` 0.99 leaves no pixel of the 8 x 8"):
+        Pupil(8, obscuration=0.99)
+    for d in (1e-300, 1e300):
+        with pytest.raises(ValueError, match=r"`diameter` must be in metres within 1e-06 - "
+                                             r"1e\+06"):
+            Pupil(16, diameter=d)

@@ -246,8 +246,22 @@ def test_bad_other_inputs():
     with pytest.raises(TypeError, match="`pupil` must be a modalinfo.bases.Pupil"):
         ZernikeBasis(16)
     with pytest.raises(ValueError, match="`modes` are linearly dependent"):
-        ZernikeBasis(Pupil(8), 60, orthonormalize=True)
+        # 15 modes (radial order 4, resolved on 8 pixels) on the 8 pixels of a 0.9 annulus
+        ZernikeBasis(Pupil(8, obscuration=0.9), 15, orthonormalize=True)
     with pytest.raises(ValueError, match=r"\|m\| <= n with n - \|m\| even; got n=3, m=0"):
         zernike_radial(3, 0, 0.5)
     with pytest.raises(ValueError, match="`rho` must be finite"):
         zernike_radial(2, 0, [0.1, np.nan])
+
+
+def test_modes_beyond_the_grid_resolution_are_refused():
+    # audit 9, centre: ZernikeBasis(Pupil(8), range(2, 200)) built 198 aliased modes of
+    # rank 52; the Nyquist rule (radial order n resolved on >= 2 n pixels across, the CLI's
+    # and closedloop's rule): on 16 pixels the last mode is that of radial order 8, Noll
+    # (n + 1)(n + 2) / 2 = 45 (Noll 1976: radial order n closes at that index)
+    assert ZernikeBasis(Pupil(16), range(2, 46)).n_modes == 44
+    with pytest.raises(ValueError, match=r"`n_pixels` must be >= 18 to sample Z46 \(radial "
+                                         r"order 9"):
+        ZernikeBasis(Pupil(16), range(2, 47))
+    with pytest.raises(ValueError, match=r"`n_pixels` must be >= 38 to sample Z199"):
+        ZernikeBasis(Pupil(8), range(2, 200))

@@ -232,3 +232,29 @@ def test_auto_uses_parseval_only_for_gram_within_1e_8(dev, want):
         naive = np.cumsum((a[:, order] ** 2)[:, ::-1], axis=1)[:, ::-1]
         naive = np.concatenate([naive[:, 1:], np.zeros((30, 1))], axis=1)
         assert np.max(np.abs(naive - ref) / np.maximum(ref, 1e-300)) > 1e-3 * dev
+
+
+def test_a_basis_that_leaves_out_log_modes_is_refused():
+    # audit 9, centre: a 3-mode basis on a 6-mode log gave dPhi(0) = 22.4 of the log's
+    # 41.6 rad^2 and dPhi(3) = 0 (a "perfect fit"); a K-L basis keeping 3 of its 6
+    # dimensions, dPhi(3) = 0 against the truth sum of the 3 smallest eigenvalues.
+    # Reference: Parseval on an orthonormalised basis, dPhi(n) = mean sum_{k>n} a_k^2;
+    # the full basis read at n <= 3 is the answer the refusal points to
+    from modalinfo.bases import KLBasis, Pupil, ZernikeBasis
+    from modalinfo.telemetry import ModalLog
+
+    rng = np.random.default_rng(0)
+    a = rng.standard_normal((300, 6)) @ rng.standard_normal((6, 6))
+    log = ModalLog(a, rate=1e3, modes=list(range(2, 8)))
+    zb6 = ZernikeBasis(Pupil(32), range(2, 8), orthonormalize=True)
+    with pytest.raises(ValueError, match=r"holds 3 mode\(s\) the basis does not represent "
+                                         r"\(Z5, Z6, Z7\)"):
+        fitting_error(log, ZernikeBasis(Pupil(32), range(2, 5), orthonormalize=True))
+    with pytest.raises(ValueError, match=r"keeps 3 K-L modes of the 6 Zernike modes"):
+        fitting_error(log, KLBasis.from_data(zb6, a, n_modes=3))
+    full = fitting_error(log, zb6).curve(include_zero=True)
+    np.testing.assert_allclose(full, [np.mean(np.sum(a[:, n:] ** 2, axis=1))
+                                      for n in range(7)], rtol=1e-12, atol=1e-12)
+    # a column of zeros carries no variance: leaving it out is fine
+    z = ModalLog(np.c_[a, np.zeros(300)], rate=1e3, modes=list(range(2, 9)))
+    np.testing.assert_allclose(fitting_error(z, zb6).curve(include_zero=True), full)

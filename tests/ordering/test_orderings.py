@@ -275,3 +275,24 @@ def test_a_numerically_dead_mode_goes_last_as_a_constant_one(method, scale):
     c = rng.standard_normal((3, 500)) * np.array([[1.0], [0.3], [1e-12]])
     assert _numerically_dead(c).tolist() == [False, False, True]
     assert not _numerically_dead(np.round(c, 1)).any()
+
+
+@pytest.mark.parametrize("method", ["standard", "variance"])
+def test_the_standard_order_is_noll_order_whatever_the_column_order(method):
+    # audit 9, centre: a log stored Z6, Z2, Z11, ... got a "standard" order Z6, Z2, Z11
+    # (the file's), so `fitting-error`'s zernike:standard curve depended on the column
+    # order. Reference: Noll's index order Z2, Z3, ...; for "variance", equal mean squares
+    # (two identical columns) keep that order
+    from modalinfo.bases import Pupil, ZernikeBasis
+    from modalinfo.telemetry import ModalLog
+
+    rng = np.random.default_rng(8)
+    a = rng.standard_normal((200, 5))
+    a[:, 1] = a[:, 0]  # Z3 == Z2: equal mean squares
+    a *= [2.0, 2.0, 1.0, 0.5, 0.25]
+    perm = [3, 1, 4, 0, 2]
+    modes = [2 + p for p in perm]
+    log = ModalLog(a[:, perm], rate=1e3, modes=modes)
+    basis = ZernikeBasis(Pupil(16), modes)
+    r = order_modes(log, basis, method, n_resamples=0)
+    assert list(r.labels) == ["Z2", "Z3", "Z4", "Z5", "Z6"]

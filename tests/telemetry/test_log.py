@@ -452,3 +452,16 @@ def test_huge_finite_values_are_not_mistaken_for_nonfinite():
     big = np.finfo(np.float64).max
     log = ModalLog(np.array([[big, big], [big, -big]]), rate=1.0)  # the sum overflows
     assert log.n_frames == 2 and log.repairs == ()
+
+
+def test_mode_indices_beyond_the_exact_conversions_are_refused():
+    # audit 9, centre: modes=[2**63] was accepted (label Z9223372036854775808) and failed in
+    # every later conversion. Reference: Noll j has radial order n with
+    # n (n + 1) / 2 < j <= (n + 1)(n + 2) / 2, so 2**58 is of order > 2**29 (refused) and
+    # 2**57 of order < 2**29, which round-trips through ANSI exactly
+    for j in (2**58, 2**63):
+        with pytest.raises(ValueError, match=r"`modes` must be noll indices of radial order "
+                                             r"<= 536870912"):
+            ModalLog(np.zeros((3, 1)), rate=1.0, modes=[j])
+    top = ModalLog(np.zeros((3, 2)), rate=1.0, modes=[2, 2**57])
+    assert top.to_convention("ansi").to_convention("noll").modes == [2, 2**57]

@@ -301,3 +301,43 @@ def test_quantised_mode_minimum_run_is_the_documented_law():
     assert q == 0.5
     r = assess_quality(x, alpha=0.01)
     assert r.stuck_runs.tolist() == [math.ceil(1 + math.log(0.01 / 11) / math.log(q))] == [12]
+
+
+def test_a_subsample_too_small_for_a_mad_is_refused():
+    # audit 9, centre: sample_frames=1 gave a MAD of 0, so a 100-sigma glitch at frame 10
+    # was never flagged; the smallest subsample accepted (100 frames, MAD relative error
+    # ~1.17 / sqrt(100) = 12 %, Rousseeuw & Croux 1993) finds it
+    x = np.random.default_rng(21).standard_normal((1000, 5))
+    x[10, 1] = 100.0
+    for bad in (1, 2, 99):
+        with pytest.raises(ValueError, match=r"`sample_frames` must be an int >= 100"):
+            assess_quality(x, sample_frames=bad)
+    assert assess_quality(x, sample_frames=100).outlier_frames.tolist() == [10]
+
+
+def test_frame_modes_above_the_number_of_modes_is_refused():
+    # audit 9, centre: frame_modes=6 on a 5-mode log made "glitched frame" unreachable;
+    # frame 10 out in all 5 modes is glitched at frame_modes = 5 (= M)
+    x = np.random.default_rng(22).standard_normal((500, 5))
+    x[10] += 100.0
+    with pytest.raises(ValueError, match=r"`frame_modes` must be an int <= 5; got 6"):
+        assess_quality(x, frame_modes=6)
+    assert assess_quality(x, frame_modes=5).glitch_frames.tolist() == [10]
+
+
+def test_a_report_of_another_log_is_refused():
+    # audit 9, centre: the report of a 3-mode log was applied to a 4-mode log (and a
+    # clean log's report left a planted 100-sigma value unclipped); the report of the
+    # log itself clips it to median + k sigma (numpy median and MAD, by hand)
+    x = np.random.default_rng(23).standard_normal((1000, 4))
+    y = x.copy()
+    y[10, 0] = 100.0
+    log = ModalLog(y, rate=100.0, modes=[2, 3, 4, 5])
+    with pytest.raises(ValueError, match=r"`report` must be the assessment of this log"):
+        apply_outlier_policy(log, "clip", report=assess_quality(x[:, :3]))
+    with pytest.raises(ValueError, match=r"and options \['k'\]"):
+        apply_outlier_policy(log, "clip", report=assess_quality(log), k=5.0)
+    out, r = apply_outlier_policy(log, "clip", report=assess_quality(log))
+    med = np.median(y[:, 0])
+    sigma = MAD_TO_SIGMA * np.median(np.abs(y[:, 0] - med))
+    assert out.coeffs[10, 0] == pytest.approx(med + r.k * sigma, rel=1e-12)

@@ -120,3 +120,11 @@ def test_peak_conversion_keeps_float32():
     assert rms_from_peak_normalized(x, [2, 4]).dtype == np.float32
     with pytest.raises(ValueError, match=r"`modes` must be a 1-D list of Fringe indices"):
         rms_from_peak_normalized(x, [0, 4])
+
+
+def test_a_wavelength_below_a_picometre_is_refused():
+    # audit 9, centre: 1e-30 m was accepted (500 nm of OPD became 3e25 rad); 1 pm (a
+    # 1.24 MeV photon, hc / E) is accepted, and 500 nm at 1 pm is 2 pi * 5e5 rad
+    with pytest.raises(ValueError, match=r"`wavelength` must be in metres, >= 1e-12 .*got 1e-30"):
+        unit_scale("nm", "rad", 1e-30)
+    assert unit_scale("nm", "rad", 1e-12) * 500.0 == pytest.approx(2 * np.pi * 5e5, rel=1e-14)
