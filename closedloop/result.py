@@ -70,7 +70,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
-from modalinfo.common.validation import check_int
+from modalinfo.common.validation import check_int, check_real
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
 
@@ -139,8 +139,37 @@ class ErrorBudget:
         """``total / measured`` per direction."""
         return self.total / self.measured
 
+    def sign_note(self) -> str:
+        """One sentence on the budget's negative terms, or ``""`` if every term is >= 0.
+
+        Only the aliasing term can be negative (:mod:`closedloop.budget`, "The sign of the
+        aliasing term"); the sentence says where, what it means and which sum is a
+        variance, with ``fitting + aliasing`` on axis / over the field [rad^2 at the
+        science wavelength]. :meth:`table` and ``closedloop run/info`` print it.
+        """
+        parts = []
+        for name in ("fitting", "aliasing", "temporal", "noise"):
+            values = np.asarray(getattr(self, name), dtype=float)
+            negative = values < 0.0
+            if np.any(negative):
+                parts.append(f"{name} < 0 in {int(negative.sum())} of {values.size} "
+                             f"directions (min {values.min():.3g})")
+        if not parts:
+            return ""
+        axis = int(np.argmin(np.hypot(*np.asarray(self.directions, dtype=float).T)))
+        sh = np.asarray(self.fitting, dtype=float) + np.asarray(self.aliasing, dtype=float)
+        return (f"{'; '.join(parts)}: aliasing is the SH reconstruction's residual less the "
+                f"ideal sensors', negative where the SH's does better (in MCAO, mostly off "
+                f"axis and outside the WFS fields); fitting + aliasing, the SH's noise-free "
+                f"reconstruction residual, is a variance: {sh[axis]:.3g} / {sh.mean():.3g} "
+                f"(docs/CLOSEDLOOP.md, \"Negative budget terms\")")
+
     def table(self) -> str:
-        """Return a plain-text table, one row per direction (rad^2; x, y in arcsec)."""
+        """Return a plain-text table, one row per direction (rad^2; x, y in arcsec).
+
+        A budget with a negative term ends with a line ``note: ...`` (:meth:`sign_note`),
+        as ``closedloop run/info`` print it.
+        """
         heads = ("x", "y", "fitting", "aliasing", "temporal", "noise", "sum", "measured",
                  "sum/meas")
         widths = (7, 7, 9, 9, 9, 8, 8, 9, 9)
@@ -149,7 +178,8 @@ class ErrorBudget:
             lines.append(f"{x:7.1f}{y:7.1f}{self.fitting[k]:9.3f}{self.aliasing[k]:9.3f}"
                          f"{self.temporal[k]:9.3f}{self.noise[k]:8.3f}{self.total[k]:8.3f}"
                          f"{self.measured[k]:9.3f}{self.ratio[k]:9.3f}")
-        return "\n".join(lines)
+        note = self.sign_note()  # a negative term is explained where it is printed
+        return "\n".join(lines + ([f"note: {note}"] if note else []))
 
 
 #: the datasets of a result file's ``budget`` group: ErrorBudget's fields
@@ -467,6 +497,7 @@ class SimulationResult:
         """
         from scipy.interpolate import RegularGridInterpolator
 
+        threshold = check_real(threshold, "threshold")  # '0.3': an unnamed TypeError (audit 9)
         if not 0.0 < threshold < 1.0:
             raise ValueError(f"`threshold` must be in (0, 1); got {threshold!r}.")
         refine = check_int(refine, "refine", minimum=1)  # 0: an IndexError (round 8, c25)

@@ -510,3 +510,24 @@ def test_from_run_assembles_the_documented_logs():
                 "source": "closedloop", "dm": i, "dm_altitude_m": 0.0,
                 "dm_diameter_m": dm.diameter, "predictor": "arma", "seed": 11,
                 "config": cfg.to_dict(), "quantity": q}
+
+
+def test_error_budget_table_explains_a_negative_term():
+    # aliasing < 0 in direction 1 of 3 (the axis is direction 0, at (0, 0)); the note
+    # gives fitting + aliasing on axis / over the field, written out here
+    b = ErrorBudget(directions=np.array([[0.0, 0.0], [30.0, 0.0], [0.0, 30.0]]),
+                    fitting=np.array([0.5, 0.8, 0.6]), aliasing=np.array([0.1, -0.3, 0.2]),
+                    temporal=np.array([0.1, 0.1, 0.1]), noise=np.zeros(3),
+                    measured=np.array([0.7, 0.6, 0.9]), frames=np.arange(3))
+    lines = b.table().splitlines()
+    assert len(lines) == 5  # header, three rows, the note
+    assert lines[-1].startswith("note: aliasing < 0 in 1 of 3 directions (min -0.3): ")
+    assert "is a variance: 0.6 / 0.633 " in lines[-1]  # (0.6, 0.5, 0.8): mean 1.9 / 3
+    assert lines[-1] == "note: " + b.sign_note()
+    assert "note" not in _budget().table()  # every term >= 0: no note
+
+
+def test_fov_threshold_of_the_wrong_type_is_named():
+    r = _result(_step(n=40, k0=5), _config())
+    with pytest.raises(TypeError, match=r"`threshold` must be a real number; got '0.3'"):
+        r.corrected_fov_diameter("0.3")
