@@ -74,7 +74,27 @@ from modalinfo.common.validation import check_int, check_real
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
 
-__all__ = ["SimulationResult", "ErrorBudget", "GROWTH_FACTOR", "UncheckedResultWarning"]
+__all__ = ["SimulationResult", "ErrorBudget", "GROWTH_FACTOR", "MARECHAL_MIN_SR",
+           "UncheckedResultWarning", "marechal_note"]
+
+#: below this SR the Marechal ``exp(-sigma^2)`` is no longer the image's Strehl ratio:
+#: tests/closedloop/test_physics.py checks it against the FFT-PSF Strehl within 0.05 only
+#: where SR > 0.3 (sigma^2 < 1.2 rad^2); beyond ~1 rad^2 it underestimates the image's
+#: (docs/CLOSEDLOOP.md; the open loop at D/r0 = 8 gives exp(-33) where the image's
+#: long-exposure Strehl is ~(1 + (D/r0)^(5/3))^(-6/5) = 0.015)
+MARECHAL_MIN_SR = 0.3
+
+
+def marechal_note(strehl: float) -> str:
+    """Return a caveat for an SR (Marechal) below :data:`MARECHAL_MIN_SR`, or ``""``.
+
+    Printed by ``closedloop run/info/compare`` beside the numbers: there ``exp(-sigma^2)``
+    is a measure of the residual, not the Strehl ratio of an image.
+    """
+    if not strehl < MARECHAL_MIN_SR:  # NaN: no number, no caveat
+        return ""
+    return (f"SR = exp(-sigma^2) (Marechal) is below {MARECHAL_MIN_SR:g}, where it is no "
+            "longer the image's Strehl ratio (it underestimates it; docs/CLOSEDLOOP.md)")
 
 #: a residual whose last-quarter mean exceeds this many times its lowest 5-ms mean grew:
 #: the loop diverged (a closed loop's 5-ms means scatter by a factor ~2 at most)
@@ -274,7 +294,12 @@ class SimulationResult:
     # ------------------------------------------------------------------ views
     @property
     def strehl(self) -> np.ndarray:
-        """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``, at each frame's end."""
+        """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``, at each frame's end.
+
+        The image's Strehl ratio only where it exceeds :data:`MARECHAL_MIN_SR` (0.3,
+        ``sigma^2 < 1.2 rad^2``); below, a measure of the residual that underestimates
+        the image's Strehl (:func:`marechal_note`).
+        """
         return np.exp(-self.residual_variance)
 
     @property

@@ -28,7 +28,7 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
-from closedloop.result import ErrorBudget, SimulationResult, UncheckedResultWarning
+from closedloop.result import ErrorBudget, SimulationResult, UncheckedResultWarning, marechal_note
 from modalinfo.telemetry import ModalLog
 
 T = 1e-3  # frame [s]: the 5-ms window of the closure detection is 5 frames
@@ -531,3 +531,17 @@ def test_fov_threshold_of_the_wrong_type_is_named():
     r = _result(_step(n=40, k0=5), _config())
     with pytest.raises(TypeError, match=r"`threshold` must be a real number; got '0.3'"):
         r.corrected_fov_diameter("0.3")
+
+
+def test_marechal_note_below_the_validated_strehl():
+    # test_physics checks exp(-sigma^2) against the FFT-PSF Strehl within 0.05 only where
+    # SR > 0.3 (sigma^2 < 1.2 rad^2): a caveat below, none above, none for a NaN
+    assert marechal_note(math.exp(-1.3)).startswith("SR = exp(-sigma^2) (Marechal) is below 0.3")
+    assert marechal_note(math.exp(-1.1)) == "" and marechal_note(float("nan")) == ""
+    # a run's line carries it: residual 2 rad^2 after closure (SR 0.135)
+    from closedloop.cli import _summary_line
+
+    low = _result(np.r_[np.full(10, 20.0), np.full(30, 2.0)], _config())
+    high = _result(np.r_[np.full(10, 20.0), np.full(30, 0.2)], _config())
+    assert _summary_line(low).endswith("; note: " + marechal_note(math.exp(-2.0)))
+    assert "note" not in _summary_line(high)
