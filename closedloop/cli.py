@@ -382,6 +382,7 @@ def _cmd_config(args) -> int:
 
 
 def _cmd_sweep(args) -> int:
+    from closedloop.result import marechal_note
     from closedloop.sweep import load_grid, sweep
     from modalinfo.common.cli import check_cluster_args
     from modalinfo.common.tasks.watch import NoWorkersError
@@ -408,6 +409,9 @@ def _cmd_sweep(args) -> int:
             print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {_fov_text(fov)}")
         else:
             print(f"{head}{row.get('status')}: {row.get('error_message', '')}")
+    peaks = [r["strehl_peak_mean"] for r in rows if r.get("status") == "ok"]
+    if peaks and marechal_note(min(peaks)):
+        print(f"note: {marechal_note(min(peaks))}")
     failed = sum(r.get("status") != "ok" for r in rows)
     if failed:
         sys.stderr.write(f"closedloop sweep: {failed} of {len(rows)} runs failed; see "
