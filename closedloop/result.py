@@ -156,8 +156,13 @@ class ErrorBudget:
 
     @property
     def ratio(self) -> np.ndarray:
-        """``total / measured`` per direction."""
-        return self.total / self.measured
+        """``total / measured`` per direction (NaN where both are 0: no residual to explain).
+
+        A zero measured residual (no turbulence) is a ratio without a value, not a
+        ``RuntimeWarning`` from NumPy's division (audit 9).
+        """
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return self.total / self.measured
 
     def sign_note(self) -> str:
         """One sentence on the budget's negative terms, or ``""`` if every term is >= 0.

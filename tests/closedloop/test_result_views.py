@@ -545,3 +545,13 @@ def test_marechal_note_below_the_validated_strehl():
     high = _result(np.r_[np.full(10, 20.0), np.full(30, 0.2)], _config())
     assert _summary_line(low).endswith("; note: " + marechal_note(math.exp(-2.0)))
     assert "note" not in _summary_line(high)
+
+
+def test_error_budget_of_no_residual_has_no_ratio():
+    # zero turbulence: every term and the measured residual 0; 0 / 0 has no value (NaN,
+    # shown "nan" in the table), without NumPy's RuntimeWarning (an error in this suite)
+    zero = np.zeros(1)
+    b = ErrorBudget(directions=np.zeros((1, 2)), fitting=zero, aliasing=zero, temporal=zero,
+                    noise=zero, measured=zero, frames=np.arange(3))
+    assert np.isnan(b.ratio).all()
+    assert b.table().splitlines()[1].endswith("nan")
