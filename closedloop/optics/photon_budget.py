@@ -42,7 +42,7 @@ _ARCSEC = math.pi / (180.0 * 3600.0)
 def _check_wavelength(wavelength) -> None:
     """Refuse a wavelength outside the ground-based solar range (config.WAVELENGTH_RANGE).
 
-    500 (nanometres meant, metres read) gave a radiance 1e-37 of the true one, and a
+    500 (nanometres meant, metres read) gave a radiance 2e-35 of the true one, and a
     PhotonBudget of a few electrons, without a word (audit 9).
     """
     low, high = WAVELENGTH_RANGE

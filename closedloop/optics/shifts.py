@@ -249,6 +249,10 @@ def measure_shifts(reference, images, *, method: str = "sdf",
         raise ValueError(f"`window` must be an int in [{low}, {high}] for images of "
                          f"{h}x{w} with `max_shift` = {max_shift} and method {method!r}; "
                          f"got {window!r}.")
+    flat = np.flatnonzero(np.ptp(refs, axis=(1, 2)) == 0)
+    if flat.size:  # a flat surface: its "minimum" was lag (-max_shift, -max_shift) (audit 9)
+        raise ValueError(f"`reference` image {int(flat[0])} is constant: it has no structure "
+                         "to measure a shift against.")
     win = int(window)
     r0 = (h - win) // 2
     c0 = (w - win) // 2

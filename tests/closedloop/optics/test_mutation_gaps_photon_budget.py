@@ -128,7 +128,7 @@ def test_other_quantities_may_exceed_one(name):
 
 @pytest.mark.parametrize("bad", [500, 2.5, 1e-300, 299e-9, 29e-6])
 def test_wavelength_is_metres_in_the_solar_range(bad):
-    # 500 (nm meant) was read as 500 m: a radiance 1e-37 of the true one, no error (audit 9)
+    # 500 (nm meant) was read as 500 m: a radiance 2e-35 of the true one, no error (audit 9)
     assert PhotonBudget(wavelength=300e-9).wavelength == 300e-9
     assert PhotonBudget(wavelength=28e-6).wavelength == 28e-6
     match = r"`wavelength` must be in \[300 nm, 28 um\] \(in metres"

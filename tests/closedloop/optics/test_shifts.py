@@ -302,3 +302,10 @@ def test_cfi_warns_of_its_bias_and_sdf_does_not():
         cfi = measure_shifts(ref, live, method="cfi", window=N_IMG).shifts[0, 0]
     sdf = measure_shifts(ref, live, method="sdf", window=WIN).shifts[0, 0]
     assert abs(sdf - 1.3) < 0.1 and cfi < sdf
+
+
+def test_a_constant_reference_has_no_shift():
+    # a flat difference surface has no minimum: lag (-3, -3) was returned (audit 9)
+    live = _cut(_shifted(_blurred_spectrum(seed=2), 0, 0), np.array([[40, 40]]))
+    with pytest.raises(ValueError, match=r"`reference` image 0 is constant"):
+        measure_shifts(np.ones_like(live), live)
