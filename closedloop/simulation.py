@@ -135,6 +135,8 @@ def simulate(
                                            budget_every, control_basis, snapshot_every)
     snapshot_directions = _check_snapshot_directions(snapshot_directions, snapshot_every,
                                                      config.field)
+    if progress is not None and not isinstance(progress, bool | np.bool_):  # "no" was True
+        raise TypeError(f"`progress` must be None or a bool; got {progress!r}.")
     oracle = loop_pred.oracle
     from closedloop.resources import check_resources
 

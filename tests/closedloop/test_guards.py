@@ -246,3 +246,9 @@ def test_a_snapshot_at_the_field_corner_is_its_direction_residual():
     assert r.snapshots.shape[:2] == (3, 1)
     np.testing.assert_allclose(np.nanvar(r.snapshots[:, 0], axis=(1, 2)),
                                r.residual_variance[:, 8], rtol=1e-10)
+
+
+def test_progress_of_the_wrong_type_is_refused():
+    # "no" is a true string: it drew the bar (audit 9)
+    with pytest.raises(TypeError, match=r"`progress` must be None or a bool; got 'no'"):
+        simulate(small(), 0.003, progress="no")
