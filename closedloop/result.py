@@ -513,6 +513,8 @@ class SimulationResult:
         default :attr:`averaging_start`: the detected closure, or the second half of a
         run that did not close; frame 0 with ``after_closure=False``).
         """
+        if not isinstance(after_closure, bool | np.bool_):  # "no" was read as True
+            raise TypeError(f"`after_closure` must be a bool; got {after_closure!r}.")
         first = self._start(start) if after_closure or start is not None else 0
         return self.strehl[first:].mean(axis=0).reshape(self.field_shape)
 

@@ -531,6 +531,8 @@ def test_fov_threshold_of_the_wrong_type_is_named():
     r = _result(_step(n=40, k0=5), _config())
     with pytest.raises(TypeError, match=r"`threshold` must be a real number; got '0.3'"):
         r.corrected_fov_diameter("0.3")
+    with pytest.raises(TypeError, match=r"`after_closure` must be a bool; got 'no'"):
+        r.strehl_map(after_closure="no")  # a true string: the window after closure was used
 
 
 def test_marechal_note_below_the_validated_strehl():
