@@ -89,28 +89,11 @@ _N_NOISE_DRAWS = 64
 
 
 def sign_note(budget: ErrorBudget) -> str:
-    """One sentence on the budget's negative terms, or ``""`` if every term is >= 0.
+    """One sentence on the budget's negative terms, or ``""`` (:meth:`ErrorBudget.sign_note`).
 
-    Only the aliasing term can be negative (module docstring, "The sign of the aliasing
-    term"); the sentence says where, what it means and which sum is a variance, with
-    ``fitting + aliasing`` on axis / over the field [rad^2 at the science wavelength].
+    See the module docstring, "The sign of the aliasing term".
     """
-    parts = []
-    for name in ("fitting", "aliasing", "temporal", "noise"):
-        values = np.asarray(getattr(budget, name), dtype=float)
-        negative = values < 0.0
-        if np.any(negative):
-            parts.append(f"{name} < 0 in {int(negative.sum())} of {values.size} directions "
-                         f"(min {values.min():.3g})")
-    if not parts:
-        return ""
-    axis = int(np.argmin(np.hypot(*np.asarray(budget.directions, dtype=float).T)))
-    sh = np.asarray(budget.fitting, dtype=float) + np.asarray(budget.aliasing, dtype=float)
-    return (f"{'; '.join(parts)}: aliasing is the SH reconstruction's residual less the ideal "
-            f"sensors', negative where the SH's does better (in MCAO, mostly off axis and "
-            f"outside the WFS fields); fitting + aliasing, the SH's noise-free reconstruction "
-            f"residual, is a variance: {sh[axis]:.3g} / {sh.mean():.3g} "
-            f"(docs/CLOSEDLOOP.md, \"Negative budget terms\")")
+    return budget.sign_note()
 
 
 def streams_ideal(model: LoopModel) -> bool:

@@ -93,6 +93,8 @@ def _check_resources(args, config, *, oracle: bool = False, budget_every: int | 
     try:
         check_run(config, args.duration, budget_every=budget_every)
     except ValueError as exc:
+        if "`duration`" in str(exc):  # the flag, not the library's argument (audit 9)
+            raise CommandError(str(exc).replace("`duration`", "--duration", 1)) from None
         if "`budget_every`" not in str(exc):
             raise
         raise CommandError(str(exc).replace("`budget_every` must be None or",
@@ -137,11 +139,16 @@ def _fov_text(diameter: float, width: int = 0) -> str:
 
 
 def _summary_line(result) -> str:
+    from closedloop.result import marechal_note
+
     s = result.summary()
     fov = s["corrected_fov_diameter_arcmin"]
     numbers = (f"field-mean SR {s['strehl_field_mean']:.3f}, corrected FoV d = "
                + (_fov_text(fov) if math.isnan(fov) else f"{_fov_text(fov)} (SR > 0.3)")
                + f", {s['steps_per_second']:.0f} steps/s")
+    note = marechal_note(s["strehl_peak_mean"])  # an SR of exp(-33) is no image's Strehl
+    if note:
+        numbers += f"; note: {note}"
     if s["open_loop"]:
         return (f"{result.predictor}: SR peak {s['strehl_peak_mean']:.3f} in open loop "
                 f"(no correction), {numbers}")
@@ -213,6 +220,7 @@ def _cmd_run(args) -> int:
 
 def _cmd_compare(args) -> int:
     from closedloop.control.predictors import NAMES, LoopPredictor
+    from closedloop.result import marechal_note
     from closedloop.simulation import LoopModel, simulate
     from closedloop.training import run_trained
 
@@ -261,6 +269,9 @@ def _cmd_compare(args) -> int:
         line = (f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{fov:>16}{closure}"
                 f"{row[5]:>9.0f}")
         print(line if row[6] == "closed" else f"{line}  loop {row[6]}")
+    peaks = [row[1] for row in rows if len(row) > 2]
+    if peaks and marechal_note(min(peaks)):
+        print(f"note: {marechal_note(min(peaks))}")
     if all(len(row) == 2 for row in rows):
         sys.stderr.write(f"closedloop compare: error: none of the {len(rows)} predictors ran "
                          f"(first reason: {rows[0][1]})\n")
@@ -371,6 +382,7 @@ def _cmd_config(args) -> int:
 
 
 def _cmd_sweep(args) -> int:
+    from closedloop.result import marechal_note
     from closedloop.sweep import load_grid, sweep
     from modalinfo.common.cli import check_cluster_args
     from modalinfo.common.tasks.watch import NoWorkersError
@@ -397,6 +409,9 @@ def _cmd_sweep(args) -> int:
             print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {_fov_text(fov)}")
         else:
             print(f"{head}{row.get('status')}: {row.get('error_message', '')}")
+    peaks = [r["strehl_peak_mean"] for r in rows if r.get("status") == "ok"]
+    if peaks and marechal_note(min(peaks)):
+        print(f"note: {marechal_note(min(peaks))}")
     failed = sum(r.get("status") != "ok" for r in rows)
     if failed:
         sys.stderr.write(f"closedloop sweep: {failed} of {len(rows)} runs failed; see "

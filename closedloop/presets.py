@@ -182,6 +182,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 
 from closedloop.config import (
     DMConfig,
@@ -502,9 +503,11 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
     -------
     SimulationConfig
     """
-    n_g = int(ground_subapertures) if isinstance(ground_subapertures, int) else 0
-    if isinstance(ground_subapertures, bool) or not isinstance(ground_subapertures, int) \
-            or n_g < EST_MIN_SUBAPERTURES:
+    # a NumPy integer is an int (np.int64(16) was refused as "must be an int": audit 9)
+    integral = isinstance(ground_subapertures, numbers.Integral) and not isinstance(
+        ground_subapertures, bool)
+    n_g = int(ground_subapertures) if integral else 0
+    if not integral or n_g < EST_MIN_SUBAPERTURES:
         raise ValueError(f"`ground_subapertures` must be an int >= {EST_MIN_SUBAPERTURES} (4 "
                          f"pixels each, and a pixel no larger than r0 = {EST_R0 * 100:g} cm); "
                          f"got {ground_subapertures!r}.")
@@ -513,10 +516,11 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
                          f"the published {EST_SUBAPERTURES}: the pupil grid of 4 pixels per "
                          "subaperture and the actuator masks the config checks grow as its "
                          f"square); got {ground_subapertures!r}.")
-    if not isinstance(altitude_pitch, (int, float)) or isinstance(altitude_pitch, bool) \
+    if not isinstance(altitude_pitch, numbers.Real) or isinstance(altitude_pitch, bool) \
             or not 1.0 <= altitude_pitch <= 4.0:
         raise ValueError(f"`altitude_pitch` must be a number in [1, 4] (ground pitches); got "
                          f"{altitude_pitch!r}.")
+    altitude_pitch = float(altitude_pitch)
     if name is None:
         name = "est-mcao" + ("-solar" if solar else "") + (
             "" if n_g == EST_SUBAPERTURES else f"@{n_g}")

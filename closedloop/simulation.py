@@ -100,7 +100,8 @@ def simulate(
         Every this many frames, store the residual pupil phase of ``snapshot_directions``
         (for FFT-PSF checks); an int in [1, number of frames].
     snapshot_directions : (n, 2) array or None
-        Directions [arcsec] of the snapshots (default: the optical axis).
+        Directions [arcsec] of the snapshots (default: the optical axis), inside the
+        science field (``|x|, |y| <= field.size / 2``); only with ``snapshot_every``.
     callback : callable or None
         Called with the frame index after every frame.
     budget_every : int or None
@@ -132,6 +133,10 @@ def simulate(
     """
     duration, loop_pred = _check_arguments(config, duration, predictor, on_predictor_fault,
                                            budget_every, control_basis, snapshot_every)
+    snapshot_directions = _check_snapshot_directions(snapshot_directions, snapshot_every,
+                                                     config.field)
+    if progress is not None and not isinstance(progress, bool | np.bool_):  # "no" was True
+        raise TypeError(f"`progress` must be None or a bool; got {progress!r}.")
     oracle = loop_pred.oracle
     from closedloop.resources import check_resources
 
@@ -303,6 +308,38 @@ def _check_arguments(config, duration, predictor, on_predictor_fault, budget_eve
                          control_basis)
     check_run(config, duration, budget_every=budget_every, snapshot_every=snapshot_every)
     return duration, loop_pred
+
+
+def _check_snapshot_directions(directions, snapshot_every, field) -> np.ndarray | None:
+    """Validate ``snapshot_directions``: ``(n, 2)`` finite, inside the science field.
+
+    The planes' grids reach the science grid's corners (``plane_layout``), so a direction
+    beyond ``field.size / 2`` on either axis (any but the axis for a one-point field)
+    reads past a plane's edge: an IndexError after the whole run (audit 9). Given without
+    ``snapshot_every`` it would be ignored: refused.
+    """
+    if directions is None:
+        return None
+    if not snapshot_every:
+        raise ValueError("`snapshot_directions` needs `snapshot_every` (an int: how often to "
+                         "store the snapshots); got snapshot_every=None.")
+    try:
+        d = np.asarray(directions, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"`snapshot_directions` must be an (n, 2) array of directions "
+                        f"[arcsec]; got {type(directions).__name__}.") from None
+    if d.ndim != 2 or d.shape[1] != 2 or d.shape[0] < 1:
+        raise ValueError(f"`snapshot_directions` must have shape (n, 2) with n >= 1 "
+                         f"[arcsec]; got shape {d.shape}.")
+    if not np.all(np.isfinite(d)):
+        raise ValueError("`snapshot_directions` must be finite [arcsec].")
+    half = field.size / 2.0 if field.n_points > 1 else 0.0
+    worst = float(np.abs(d).max())
+    if worst > half * (1 + 1e-12):
+        raise ValueError(f"`snapshot_directions` must lie in the science field, |x|, |y| <= "
+                         f"field.size / 2 = {half:g} arcsec (the planes are sized for it; 0 "
+                         f"for a one-point field); got {worst:g}.")
+    return d
 
 
 def _model_for(config: SimulationConfig, model: LoopModel | None) -> LoopModel:

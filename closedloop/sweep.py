@@ -55,14 +55,22 @@ _GRID_KEYS = {"preset", "config", "duration", "seeds", "predictors", "overrides"
               "budget_every"}
 
 
+def _index(part: str) -> int:
+    """Return the list index of a dotted key's part: from 0, as `closedloop config` lists them."""
+    i = int(part)
+    if i < 0:  # Python's "from the end" would change another layer than the key reads
+        raise IndexError(f"index {i} is negative; items count from 0")
+    return i
+
+
 def _apply(d: dict, dotted: str, value: Any) -> None:
     node: Any = d
     parts = dotted.split(".")
     for part in parts[:-1]:
-        node = node[int(part)] if isinstance(node, list) else node[part]
+        node = node[_index(part)] if isinstance(node, list) else node[part]
     last = parts[-1]
     if isinstance(node, list):
-        node[int(last)] = value
+        node[_index(last)] = value
     elif isinstance(node, dict):
         if last not in node:  # a typo would otherwise add a key the config ignores
             raise KeyError(f"{last!r} is not among {', '.join(sorted(node))}")

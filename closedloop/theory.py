@@ -23,6 +23,7 @@ import numpy as np
 # the constant and the law live once, in modalinfo (the DM K-L modes use them too)
 from modalinfo.bases.dm_kl import KOLMOGOROV_D_CONSTANT, von_karman_structure_function
 from modalinfo.bases.turbulence import KOLMOGOROV_PSD_CONSTANT  # noqa: F401  (documentation)
+from modalinfo.common.validation import as_float_array, check_real
 
 __all__ = ["KOLMOGOROV_D_CONSTANT", "structure_function", "shifted_difference_variance"]
 
@@ -43,11 +44,12 @@ def shifted_difference_variance(mask: np.ndarray, dx: float, shift, r0: float) -
     Parameters
     ----------
     mask : (N, N) bool
-        Pupil on a grid of pitch ``dx`` [m] (x along columns, y along rows).
+        Pupil on a grid of pitch ``dx`` [m] (x along columns, y along rows); square, with
+        at least one pixel.
     dx : float
-        Grid pitch [m].
+        Grid pitch [m], ``> 0``.
     shift : (2,) array_like
-        Shift ``(s_x, s_y)`` [m].
+        Shift ``(s_x, s_y)`` [m], finite.
     r0 : float
         Fried parameter [m] (Kolmogorov turbulence, phase at r0's wavelength).
 
@@ -56,7 +58,13 @@ def shifted_difference_variance(mask: np.ndarray, dx: float, shift, r0: float) -
     float
         [rad^2].
     """
-    mask = np.asarray(mask, dtype=np.float64)
+    mask = as_float_array(mask, "mask", ndim=2)
+    if mask.shape[0] != mask.shape[1] or not mask.any():
+        # a wider-than-tall mask wrapped around the 2N padding: a wrong number, no error
+        raise ValueError(f"`mask` must be a square (N, N) pupil with at least one pixel; got "
+                         f"shape {mask.shape} with {int(np.count_nonzero(mask))} pixels.")
+    dx = check_real(dx, "dx", minimum=0.0, strict_min=True)
+    shift = as_float_array(shift, "shift", shape=(2,))
     n = mask.shape[0]
     pad = 2 * n
     f = np.fft.rfft2(mask, s=(pad, pad))

@@ -33,6 +33,7 @@ Fourier shift used by the tests must not meet an edge.
 from __future__ import annotations
 
 import math
+import numbers
 import os
 
 import numpy as np
@@ -74,7 +75,8 @@ def granulation_contrast(wavelength: float) -> float:
     float
         rms contrast (standard deviation over mean intensity), dimensionless.
     """
-    if not isinstance(wavelength, (int, float)) or not 300e-9 <= wavelength <= 1100e-9:
+    if isinstance(wavelength, bool) or not isinstance(wavelength, numbers.Real) \
+            or not 300e-9 <= wavelength <= 1100e-9:  # np.float32 was refused (audit 9)
         raise ValueError(f"`wavelength` must be a number in [300e-9, 1100e-9] m; "
                          f"got {wavelength!r}.")
     return _CONTRAST_630 * 630e-9 / float(wavelength)

@@ -27,7 +27,10 @@ QE, the 30 000 e- well and the 2 e- read noise. The designs and their sources:
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
+
+from closedloop.config import WAVELENGTH_RANGE
 
 __all__ = ["PhotonBudget", "solar_spectral_radiance"]
 
@@ -36,16 +39,34 @@ _C = 2.99792458e8     # speed of light [m/s]
 _K = 1.380649e-23     # Boltzmann [J/K]
 _ARCSEC = math.pi / (180.0 * 3600.0)
 
+def _check_wavelength(wavelength) -> None:
+    """Refuse a wavelength outside the ground-based solar range (config.WAVELENGTH_RANGE).
+
+    500 (nanometres meant, metres read) gave a radiance 2e-35 of the true one, and a
+    PhotonBudget of a few electrons, without a word (audit 9).
+    """
+    low, high = WAVELENGTH_RANGE
+    if isinstance(wavelength, bool) or not isinstance(wavelength, numbers.Real) \
+            or not low <= wavelength <= high:
+        raise ValueError(f"`wavelength` must be in [{low * 1e9:g} nm, {high * 1e6:g} um] "
+                         f"(in metres: the ground-based solar range); got {wavelength!r}.")
+
+
 def solar_spectral_radiance(wavelength: float, brightness_temperature: float = 6300.0) -> float:
     """Return the disc-centre continuum radiance as a blackbody [W m^-2 sr^-1 m^-1].
 
     Parameters
     ----------
     wavelength : float
-        [m].
+        [m], in ``closedloop.config.WAVELENGTH_RANGE`` (300 nm - 28 um).
     brightness_temperature : float
-        [K].
+        [K], > 0.
     """
+    _check_wavelength(wavelength)
+    if isinstance(brightness_temperature, bool) or not isinstance(
+            brightness_temperature, numbers.Real) or not 0 < brightness_temperature < math.inf:
+        raise ValueError(f"`brightness_temperature` must be a finite number of kelvin > 0; "
+                         f"got {brightness_temperature!r}.")
     x = _H * _C / (wavelength * _K * brightness_temperature)
     return 2.0 * _H * _C ** 2 / wavelength ** 5 / math.expm1(x)
 
@@ -93,6 +114,7 @@ class PhotonBudget:
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0 \
                     or not math.isfinite(v):
                 raise ValueError(f"`{name}` must be a finite number > 0; got {v!r}.")
+        _check_wavelength(self.wavelength)
         for name in ("throughput", "quantum_efficiency", "fill"):
             if getattr(self, name) > 1.0:
                 raise ValueError(f"`{name}` must be <= 1; got {getattr(self, name)!r}.")
@@ -111,6 +133,10 @@ class PhotonBudget:
         pixel_scale_arcsec : float
             [arcsec].
         """
+        for name, v in (("subaperture_area", subaperture_area),
+                        ("pixel_scale_arcsec", pixel_scale_arcsec)):
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0 < v < math.inf:
+                raise ValueError(f"`{name}` must be a finite number > 0; got {v!r}.")
         radiance = solar_spectral_radiance(self.wavelength, self.brightness_temperature)
         photon_radiance = radiance * self.wavelength / (_H * _C)  # photons s^-1 m^-2 sr^-1 m^-1
         omega = (pixel_scale_arcsec * _ARCSEC) ** 2

@@ -48,6 +48,7 @@ import numpy as np
 
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
+from modalinfo.common.validation import check_int
 
 __all__ = ["ScienceCamera", "fft_strehl", "marechal_strehl", "read_weights"]
 
@@ -85,8 +86,16 @@ def read_weights(frac, sharpening: float = READ_SHARPENING) -> np.ndarray:
 
 
 def marechal_strehl(variance) -> np.ndarray:
-    """``exp(-variance)`` (variance in rad^2 at the science wavelength)."""
-    return np.exp(-np.asarray(variance, dtype=np.float64))
+    """``exp(-variance)`` (variance in rad^2 at the science wavelength, ``>= 0``).
+
+    The image's Strehl ratio only above ~0.3 (``closedloop.result.MARECHAL_MIN_SR``). A
+    negative variance (an SR above 1) or NaN is refused.
+    """
+    v = np.asarray(variance, dtype=np.float64)
+    if not np.all(v >= 0.0):  # also NaN: exp(+1) = 2.7 was returned as a Strehl ratio
+        raise ValueError(f"`variance` must be >= 0 rad^2 (a variance); got min "
+                         f"{float(np.min(v)) if v.size else v!r}.")
+    return np.exp(-v)
 
 
 def fft_strehl(phase: np.ndarray, mask: np.ndarray, *, padding: int = 4) -> float:
@@ -99,7 +108,7 @@ def fft_strehl(phase: np.ndarray, mask: np.ndarray, *, padding: int = 4) -> floa
     mask : (N, N) bool
         Pupil.
     padding : int
-        Zero padding factor of the FFT (the PSF sampled at lambda / (padding D)).
+        Zero padding factor of the FFT (the PSF sampled at lambda / (padding D)), >= 1.
 
     Returns
     -------
@@ -107,6 +116,17 @@ def fft_strehl(phase: np.ndarray, mask: np.ndarray, *, padding: int = 4) -> floa
         Maximum of the PSF (wherever it is: residual tilt moves it) over the peak of the
         unaberrated PSF, ``(sum P)**2``.
     """
+    padding = check_int(padding, "padding", minimum=1)
+    phase = np.asarray(phase, dtype=np.float64)
+    mask = np.asarray(mask)
+    if phase.ndim != 2 or phase.shape[0] != phase.shape[1] or mask.shape != phase.shape:
+        raise ValueError(f"`phase` and `mask` must be square (N, N) arrays of one shape; got "
+                         f"{phase.shape} and {mask.shape}.")
+    mask = mask.astype(bool)
+    if not mask.any():  # 0 / 0: NaN was returned as a Strehl ratio
+        raise ValueError("`mask` must hold at least one pupil pixel; got none.")
+    if not np.all(np.isfinite(phase[mask])):
+        raise ValueError("`phase` must be finite inside `mask`; it holds NaN or inf there.")
     n = phase.shape[0] * padding
     field = np.zeros((n, n), dtype=np.complex128)
     inside = np.exp(1j * np.where(mask, phase, 0.0))

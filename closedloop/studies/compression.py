@@ -43,6 +43,7 @@ from closedloop.control.controller import Controller
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
 from closedloop.training import run_trained
+from modalinfo.common.validation import check_int, check_real
 
 __all__ = ["ORDERINGS", "control_orderings", "rtc_compute_time", "rtc_scaling", "LatencyModel",
            "CompressionStudy", "compression_study", "predictor_screen"]
@@ -190,10 +191,16 @@ def rtc_scaling(n_values, *, predictor: str | None = None, measurements_per_mode
     (K,) ndarray
         Median step time [s] for each ``n``.
     """
+    sizes = [check_int(n, "n_values[*]", minimum=1) for n in np.atleast_1d(
+        np.asarray(n_values, dtype=object))]  # 2.7 was timed as 2 modes, 0 as a real size
+    if not sizes:
+        raise ValueError("`n_values` must hold at least one number of modes; got none.")
+    repeats = check_int(repeats, "repeats", minimum=1)  # 0: a ZeroDivisionError
+    measurements_per_mode = check_real(measurements_per_mode, "measurements_per_mode",
+                                       minimum=0.0, strict_min=True)
     rng = np.random.default_rng(seed)
     out = []
-    for n in n_values:
-        n = int(n)
+    for n in sizes:
         n_meas = max(1, int(round(measurements_per_mode * n)))
         r = rng.standard_normal((n, n_meas)) / math.sqrt(n_meas)
         pred = None

@@ -105,7 +105,7 @@ def test_config_estimate_prints_the_library_estimate(capsys):
 
 @pytest.mark.parametrize(("loop", "duration", "needle"), [
     ({"delay": 0.35}, "1", "makes the loop unstable"),  # 700 frames of 0.5 ms
-    ({"delay": 0.004, "gain": 0.1}, "0.004", "`duration` must be longer than"),
+    ({"delay": 0.004, "gain": 0.1}, "0.004", "--duration must be longer than"),
 ])
 def test_loops_that_cannot_work_are_refused_before_the_setup(tmp_path, capsys, no_simulation,
                                                              loop, duration, needle):
@@ -146,6 +146,13 @@ def test_durations_that_are_not_finite_seconds_are_refused(capsys, no_simulation
                                                            duration):
     assert main([command, "--preset", "kaos", "--duration", duration, "--quiet"]) == 2
     _one_line(capsys, "--duration must be > 0 s and finite")
+
+
+def test_a_duration_shorter_than_a_frame_names_the_flag(capsys, no_simulation):
+    # kaos' frame is 1 ms: 1e-300 s is no frame (the library's `duration` was named)
+    assert main(["run", "--preset", "kaos", "--duration", "1e-300", "--quiet"]) == 2
+    err = _one_line(capsys, "--duration must be at least one frame", "got 1e-300 s")
+    assert "`duration`" not in err
 
 
 def test_config_estimate_refuses_an_infinite_duration(capsys):

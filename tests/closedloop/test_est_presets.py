@@ -115,6 +115,15 @@ def test_variant_refuses_bad_counts(bad):
         presets.est_mcao_variant(16, altitude_pitch=0.5)
 
 
+def test_variant_takes_numpy_integers_as_ints():
+    # np.int64(16) is an int (numbers.Integral), as a count read from an array is: it was
+    # refused as "must be an int >= 15; got np.int64(16)" before audit 9
+    for n in (np.int64(16), np.int32(16), np.uint8(16)):
+        assert presets.est_mcao_variant(n) == presets.est_mcao_variant(16)
+    assert presets.est_mcao_variant(16, altitude_pitch=np.float32(2.0)) == \
+        presets.est_mcao_variant(16, altitude_pitch=2.0)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("solar", [False, True])
 def test_reduced_est_closes(solar):

@@ -218,3 +218,37 @@ def re_escape(text):
     import re
 
     return re.escape(text)
+
+
+# ---------------------------------------------------------------- snapshot directions
+@pytest.mark.parametrize(("directions", "every", "match"), [
+    # the field is [-30", 30"] per axis (small(): 60" wide); 30.5" read past a plane's
+    # edge: an IndexError after the whole run before audit 9
+    ([[30.5, 0.0]], 2, r"`snapshot_directions` must lie in the science field, \|x\|, \|y\| "
+                       r"<= field.size / 2 = 30 arcsec .*got 30.5"),
+    ([[0.0, -1e5]], 2, r"field.size / 2 = 30 arcsec .*got 100000"),
+    ([[np.nan, 0.0]], 2, r"`snapshot_directions` must be finite"),
+    ([1.0, 2.0, 3.0], 2, r"`snapshot_directions` must have shape \(n, 2\) .*got shape \(3,\)"),
+    # without snapshot_every the directions were ignored without a word
+    ([[0.0, 0.0]], None, r"`snapshot_directions` needs `snapshot_every`"),
+])
+def test_snapshot_directions_outside_the_field_are_refused(directions, every, match):
+    with pytest.raises(ValueError, match=match):
+        simulate(small(), 0.003, progress=False, snapshot_every=every,
+                 snapshot_directions=np.array(directions))
+
+
+def test_a_snapshot_at_the_field_corner_is_its_direction_residual():
+    # the corner (30", 30") is the last direction of the 3 x 3 grid; the snapshot's
+    # plain numpy variance over the pupil is that direction's residual variance
+    r = simulate(small(), 0.003, progress=False, snapshot_every=1,
+                 snapshot_directions=np.array([[30.0, 30.0]]))
+    assert r.snapshots.shape[:2] == (3, 1)
+    np.testing.assert_allclose(np.nanvar(r.snapshots[:, 0], axis=(1, 2)),
+                               r.residual_variance[:, 8], rtol=1e-10)
+
+
+def test_progress_of_the_wrong_type_is_refused():
+    # "no" is a true string: it drew the bar (audit 9)
+    with pytest.raises(TypeError, match=r"`progress` must be None or a bool; got 'no'"):
+        simulate(small(), 0.003, progress="no")

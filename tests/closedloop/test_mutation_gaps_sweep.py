@@ -63,6 +63,9 @@ def test_apply_sets_a_list_item_and_refuses_what_is_not_there():
     ("loop.gain.x", "loop.gain is a value, not a table"),
     ("dms.7.altitude", "list index out of range"),
     ("dms.x.altitude", "invalid literal for int() with base 10: 'x'"),
+    # Python's "from the end": `layers.-1` changed table1's layer 1 (audit 9)
+    ("layers.-1.altitude", "index -1 is negative; items count from 0"),
+    ("layers.-1", "index -1 is negative; items count from 0"),
 ])
 def test_override_names_the_key_and_why(key, why):
     with pytest.raises(ValueError) as exc:

@@ -162,5 +162,11 @@ def test_open_loop_cli_line_and_saved_result(tmp_path, capsys):
                  "--out", str(out), "--quiet"]) == 0
     line = capsys.readouterr().out.strip()
     assert "in open loop (no correction)" in line and "closure" not in line
+    # Noll: 1.03 (D/r0)^(5/3) rad^2 >> 1.2 rad^2, where exp(-sigma^2) is no image's Strehl
+    # (test_physics: within 0.05 of the FFT-PSF Strehl only above SR 0.3): said on the line
+    assert 1.03 * D_OVER_R0 ** (5 / 3) > 1.2
+    assert line.endswith("note: SR = exp(-sigma^2) (Marechal) is below 0.3, where it is no "
+                         "longer the image's Strehl ratio (it underestimates it; "
+                         "docs/CLOSEDLOOP.md)")
     saved = SimulationResult.load(out)
     assert saved.open_loop and saved.config == _config(closed=False, wind=5.0)

@@ -28,7 +28,7 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
-from closedloop.result import ErrorBudget, SimulationResult, UncheckedResultWarning
+from closedloop.result import ErrorBudget, SimulationResult, UncheckedResultWarning, marechal_note
 from modalinfo.telemetry import ModalLog
 
 T = 1e-3  # frame [s]: the 5-ms window of the closure detection is 5 frames
@@ -510,3 +510,50 @@ def test_from_run_assembles_the_documented_logs():
                 "source": "closedloop", "dm": i, "dm_altitude_m": 0.0,
                 "dm_diameter_m": dm.diameter, "predictor": "arma", "seed": 11,
                 "config": cfg.to_dict(), "quantity": q}
+
+
+def test_error_budget_table_explains_a_negative_term():
+    # aliasing < 0 in direction 1 of 3 (the axis is direction 0, at (0, 0)); the note
+    # gives fitting + aliasing on axis / over the field, written out here
+    b = ErrorBudget(directions=np.array([[0.0, 0.0], [30.0, 0.0], [0.0, 30.0]]),
+                    fitting=np.array([0.5, 0.8, 0.6]), aliasing=np.array([0.1, -0.3, 0.2]),
+                    temporal=np.array([0.1, 0.1, 0.1]), noise=np.zeros(3),
+                    measured=np.array([0.7, 0.6, 0.9]), frames=np.arange(3))
+    lines = b.table().splitlines()
+    assert len(lines) == 5  # header, three rows, the note
+    assert lines[-1].startswith("note: aliasing < 0 in 1 of 3 directions (min -0.3): ")
+    assert "is a variance: 0.6 / 0.633 " in lines[-1]  # (0.6, 0.5, 0.8): mean 1.9 / 3
+    assert lines[-1] == "note: " + b.sign_note()
+    assert "note" not in _budget().table()  # every term >= 0: no note
+
+
+def test_fov_threshold_of_the_wrong_type_is_named():
+    r = _result(_step(n=40, k0=5), _config())
+    with pytest.raises(TypeError, match=r"`threshold` must be a real number; got '0.3'"):
+        r.corrected_fov_diameter("0.3")
+    with pytest.raises(TypeError, match=r"`after_closure` must be a bool; got 'no'"):
+        r.strehl_map(after_closure="no")  # a true string: the window after closure was used
+
+
+def test_marechal_note_below_the_validated_strehl():
+    # test_physics checks exp(-sigma^2) against the FFT-PSF Strehl within 0.05 only where
+    # SR > 0.3 (sigma^2 < 1.2 rad^2): a caveat below, none above, none for a NaN
+    assert marechal_note(math.exp(-1.3)).startswith("SR = exp(-sigma^2) (Marechal) is below 0.3")
+    assert marechal_note(math.exp(-1.1)) == "" and marechal_note(float("nan")) == ""
+    # a run's line carries it: residual 2 rad^2 after closure (SR 0.135)
+    from closedloop.cli import _summary_line
+
+    low = _result(np.r_[np.full(10, 20.0), np.full(30, 2.0)], _config())
+    high = _result(np.r_[np.full(10, 20.0), np.full(30, 0.2)], _config())
+    assert _summary_line(low).endswith("; note: " + marechal_note(math.exp(-2.0)))
+    assert "note" not in _summary_line(high)
+
+
+def test_error_budget_of_no_residual_has_no_ratio():
+    # zero turbulence: every term and the measured residual 0; 0 / 0 has no value (NaN,
+    # shown "nan" in the table), without NumPy's RuntimeWarning (an error in this suite)
+    zero = np.zeros(1)
+    b = ErrorBudget(directions=np.zeros((1, 2)), fitting=zero, aliasing=zero, temporal=zero,
+                    noise=zero, measured=zero, frames=np.arange(3))
+    assert np.isnan(b.ratio).all()
+    assert b.table().splitlines()[1].endswith("nan")

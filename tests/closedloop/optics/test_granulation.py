@@ -29,6 +29,10 @@ def test_contrast_law_anchor_and_scaling():
     # Danilovic et al. 2008: 14.4 % at 630 nm; Wien law: proportional to 1/lambda
     assert granulation_contrast(630e-9) == pytest.approx(0.144, rel=1e-12)
     assert granulation_contrast(500e-9) == pytest.approx(0.144 * 630 / 500, rel=1e-12)
+    # a NumPy float is a number (np.float32 was refused: audit 9); a bool is not
+    assert granulation_contrast(np.float32(630e-9)) == pytest.approx(0.144, rel=1e-6)
+    with pytest.raises(ValueError, match=r"`wavelength` must be a number"):
+        granulation_contrast(True)
 
 
 @pytest.mark.parametrize("pixel_scale", [0.5, 0.1])

@@ -106,7 +106,7 @@ def test_positive_finite_rule(name, bad):
     assert str(exc.value) == f"`{name}` must be a finite number > 0; got {bad!r}."
 
 
-@pytest.mark.parametrize("name", POSITIVE)
+@pytest.mark.parametrize("name", [n for n in POSITIVE if n != "wavelength"])
 def test_small_positive_values_and_ints_are_accepted(name):
     assert getattr(PhotonBudget(**{name: 1e-300}), name) == 1e-300
     assert getattr(PhotonBudget(**{name: 1}), name) == 1
@@ -120,10 +120,36 @@ def test_fractions_are_at_most_one(name):
     assert str(exc.value) == f"`{name}` must be <= 1; got 1.0000001."
 
 
-@pytest.mark.parametrize("name", ("wavelength", "bandwidth", "exposure", "full_well",
+@pytest.mark.parametrize("name", ("bandwidth", "exposure", "full_well",
                                   "brightness_temperature"))
 def test_other_quantities_may_exceed_one(name):
     assert getattr(PhotonBudget(**{name: 2.5}), name) == 2.5
+
+
+@pytest.mark.parametrize("bad", [500, 2.5, 1e-300, 299e-9, 29e-6])
+def test_wavelength_is_metres_in_the_solar_range(bad):
+    # 500 (nm meant) was read as 500 m: a radiance 2e-35 of the true one, no error (audit 9)
+    assert PhotonBudget(wavelength=300e-9).wavelength == 300e-9
+    assert PhotonBudget(wavelength=28e-6).wavelength == 28e-6
+    match = r"`wavelength` must be in \[300 nm, 28 um\] \(in metres"
+    with pytest.raises(ValueError, match=match):
+        PhotonBudget(wavelength=bad)
+    with pytest.raises(ValueError, match=match):
+        solar_spectral_radiance(bad)
+
+
+@pytest.mark.parametrize("bad", [0.0, -5800.0, float("inf"), float("nan"), "5800"])
+def test_radiance_needs_a_positive_temperature(bad):
+    # 0 K was a ZeroDivisionError, -5800 K a negative radiance
+    with pytest.raises(ValueError, match=r"`brightness_temperature` must be a finite number"):
+        solar_spectral_radiance(630e-9, bad)
+
+
+@pytest.mark.parametrize(("area", "pixel"), [(-0.01, 0.5), (0.01, 0.0), (float("nan"), 0.5)])
+def test_electrons_need_a_positive_area_and_pixel(area, pixel):
+    # a negative area gave negative electrons
+    with pytest.raises(ValueError, match=r"must be a finite number > 0"):
+        PhotonBudget().unattenuated_electrons(area, pixel)
 
 
 def test_read_noise_rule():

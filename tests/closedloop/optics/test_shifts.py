@@ -33,6 +33,9 @@ from closedloop.optics import _shift_kernels
 from closedloop.optics.granulation import granulation_scene
 from closedloop.optics.shifts import INTERPOLATIONS, METHODS, measure_shifts, sdf_noise_rms
 
+# CFI's bias warning (audit 9) is checked once, in test_cfi_warns_of_its_bias
+pytestmark = pytest.mark.filterwarnings("ignore:method 'cfi' of measure_shifts:UserWarning")
+
 PS = 0.4        # pixel scale [arcsec]
 N_SCENE = 128
 N_IMG, WIN = 24, 16
@@ -285,3 +288,24 @@ def test_sdf_1qi_recovers_known_subpixel_shifts():
         err = r.shifts - np.array([s, 0.37 * s])
         worst = max(worst, float(np.abs(err.mean(axis=0)).max()))
     assert worst < 0.1, worst
+
+
+@pytest.mark.filterwarnings("error")
+def test_cfi_warns_of_its_bias_and_sdf_does_not():
+    # a 1.3-pixel shift (Fourier shift theorem) of blurred granulation: the cyclic
+    # covariance of the non-periodic windows reads it short (Loefdahl 2010: the FFT
+    # covariance without apodisation suffers from its edges); SDF is silent and close
+    spec = _blurred_spectrum(seed=2)
+    offs = np.array([[40, 40]])
+    ref, live = _cut(_shifted(spec, 0, 0), offs), _cut(_shifted(spec, 1.3, 0), offs)
+    with pytest.warns(UserWarning, match=r"method 'cfi' of measure_shifts .* underestimates"):
+        cfi = measure_shifts(ref, live, method="cfi", window=N_IMG).shifts[0, 0]
+    sdf = measure_shifts(ref, live, method="sdf", window=WIN).shifts[0, 0]
+    assert abs(sdf - 1.3) < 0.1 and cfi < sdf
+
+
+def test_a_constant_reference_has_no_shift():
+    # a flat difference surface has no minimum: lag (-3, -3) was returned (audit 9)
+    live = _cut(_shifted(_blurred_spectrum(seed=2), 0, 0), np.array([[40, 40]]))
+    with pytest.raises(ValueError, match=r"`reference` image 0 is constant"):
+        measure_shifts(np.ones_like(live), live)

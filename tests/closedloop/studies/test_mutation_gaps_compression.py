@@ -604,3 +604,19 @@ def test_study_default_predictor_one_mode_and_three_shared_orderings(recorder, m
     for key, peak in study.strehl_peak.items():
         assert np.all(np.isfinite(peak)), key
         assert peak[1] == study.strehl_peak[(key[0], "zernike", key[2])][1], key
+
+
+@pytest.mark.parametrize(("kwargs", "exc", "match"), [
+    # 0 modes was timed as a size, 2.7 as 2, repeats 0 a ZeroDivisionError (audit 9)
+    ({"n_values": [0]}, ValueError, r"`n_values\[\*\]` must be an int >= 1; got 0"),
+    ({"n_values": [2.7]}, TypeError, r"`n_values\[\*\]` must be an int; got 2.7"),
+    ({"n_values": []}, ValueError, r"`n_values` must hold at least one number of modes"),
+    ({"n_values": [4], "repeats": 0}, ValueError, r"`repeats` must be an int >= 1; got 0"),
+    ({"n_values": [4], "measurements_per_mode": -1.0}, ValueError,
+     r"`measurements_per_mode` must be > 0"),
+])
+def test_rtc_scaling_refuses_sizes_that_are_not_counts(monkeypatch, kwargs, exc, match):
+    calls = _record_steps(monkeypatch)
+    with pytest.raises(exc, match=match):
+        comp.rtc_scaling(**kwargs)
+    assert not calls  # refused before any timing
