@@ -236,6 +236,8 @@ def ksg_entropy(x: np.ndarray, *, k: int = 3) -> float:
     """
     k = check_int(k, "k", minimum=1)
     n = x.shape[0]
+    if k >= n:  # no k-th neighbour: the distance is inf (entropy inf)
+        raise ValueError(f"`k` must be < the number of samples ({n}); got {k}.")
     xs = np.sort(x)
     repeats = int(np.count_nonzero(xs[1:] == xs[:-1]))
     if repeats:
