@@ -331,6 +331,7 @@ class HistogramEngine:
                   self.bins if isinstance(self.bins, int) else self._kx_fixed)
             _warn_cells(x.shape[0], self._kx_fixed * ky, 2, f"mutual_information, "
                         f"bins={self.bins!r}")
+            _warn_coarse(x, self._kx_fixed, f"mutual_information, bins={self.bins!r}")
         return self
 
     def _corr(self, y: np.ndarray) -> float:
@@ -456,6 +457,7 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     else:
         k = n_bins_for(bins, x, axis=0)
         _warn_cells(n, k, 1, f"entropy, bins={bins!r}")
+        _warn_coarse(x, k, f"entropy, bins={bins!r}")
     ax = _Axis(x, binning)
     edges = ax.edges(k)
     counts = np.bincount(ax.index(k), minlength=k).astype(float)
@@ -580,6 +582,21 @@ def _warn_cells(n: int, cells: float, d: int, what: str) -> None:
     why = _cells_rule(n, cells, d)
     if why is not None:
         warnings.warn(f"{what} with method='histogram': {why}.", BiasRuleWarning,
+                      stacklevel=5)
+
+
+def _warn_coarse(x: np.ndarray, k: int, what: str) -> None:
+    """Warn where fewer than :data:`MIN_BINS` bins the caller chose merge x's values.
+
+    The bias rule's least bins per axis, applied to an explicit bin number only where
+    it discards information: a variable with at most k distinct values (3 levels in 3
+    bins) is binned exactly. Measured on 2,000 normal samples: ``bins=1`` gives MI 0.0
+    for 0.223 and entropy 1.94 for 1.42, ``bins=2`` entropy 1.89 (audit 9).
+    """
+    if k < MIN_BINS and np.unique(x).size > k:
+        warnings.warn(f"{what} with method='histogram': {k} bin(s) per axis merge the "
+                      f"variable's values, below the rule of at least {MIN_BINS} bins per "
+                      "axis: the discretisation bias swamps the estimate.", BiasRuleWarning,
                       stacklevel=5)
 
 

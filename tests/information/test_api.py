@@ -232,6 +232,7 @@ def gauss_pair():
     ("kde", {"bandwidth": 0.01}),  # n h^2 = 0.2: -2.5 nats
     ("histogram", {"bins": 2000}),  # n bins per axis: 8.1 nats
     ("histogram", {"bins": "sqrt"}),  # 45 x 45 cells for 2000 samples: 0.46 nats
+    ("histogram", {"bins": 1}),  # one bin: 0.0 nats
 ])
 def test_option_values_outside_the_bias_rule_warn(gauss_pair, method, options):
     # audit 9 O-*: each missed the exact 0.223 nats by > 0.2 without a word
@@ -241,9 +242,23 @@ def test_option_values_outside_the_bias_rule_warn(gauss_pair, method, options):
     assert abs(got - exact) > 0.2  # the warning is deserved
 
 
+def test_few_bins_on_as_few_levels_do_not_warn():
+    # 3 levels in 3 bins are binned exactly: the plug-in of the table, no warning
+    rng = np.random.default_rng(96)
+    a = rng.integers(0, 3, 3000).astype(float)
+    b = np.where(rng.random(3000) < 0.8, a, rng.integers(0, 3, 3000)).astype(float)
+    p = np.histogram2d(a, b, bins=3)[0] / a.size
+    pa, pb = p.sum(1), p.sum(0)
+    plug_in = float(np.sum(p[p > 0] * np.log(p[p > 0] / np.outer(pa, pb)[p > 0])))
+    got = mutual_information(a, b, method="histogram", bins=3, bias_correction="none",
+                             binning="uniform")
+    assert got == pytest.approx(plug_in, abs=1e-12)
+
+
 @pytest.mark.parametrize("method, options", [
     ("ksg", {"k": 1999}),  # 2.15 for 1.42
     ("kde", {"bandwidth": 100.0}),  # 5.5 for 1.42: the kernel's entropy
+    ("histogram", {"bins": 2}),  # 1.89 for 1.42: two bins merge 2000 values
 ])
 def test_entropy_option_values_outside_the_bias_rule_warn(normal, method, options):
     with pytest.warns(BiasRuleWarning, match="rule|wider"):
