@@ -336,14 +336,15 @@ class MutualInformation:
 
     def _fit(self, x: np.ndarray) -> MutualInformation:
         """Fit a validated x."""
-        _warn_bias_rule(get_method(self.method), x.shape[0], 2, self.options,
-                        "mutual_information")
         self.n_samples_ = x.shape[0]
         self._x_constant = _is_constant(x)
         if not self._x_constant:
             self._engine.fit(x)
             self._x = x  # for the copy check (a reference, not a copy)
             self._x_head = np.argsort(x[:_COPY_SCREEN], kind="stable")
+        # after the engine's own checks (a refusal comes before a warning)
+        _warn_bias_rule(get_method(self.method), x.shape[0], 2, self.options,
+                        "mutual_information")
         return self
 
     def score(self, y: Any) -> float:

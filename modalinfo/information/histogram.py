@@ -327,8 +327,8 @@ class HistogramEngine:
         self._kx_fixed = None
         if self.bins not in ("hacine-gharbi", "auto"):
             self._kx_fixed = n_bins_for(self.bins, x, axis=0)
-            ky = (self.bins[1] if isinstance(self.bins, tuple) else
-                  self.bins if isinstance(self.bins, int) else self._kx_fixed)
+            ky = (self._kx_fixed if isinstance(self.bins, str)  # y's own rule: about as many
+                  else n_bins_for(self.bins, x, axis=1))  # validated before the warning
             _warn_cells(x.shape[0], self._kx_fixed * ky, 2, f"mutual_information, "
                         f"bins={self.bins!r}")
             _warn_coarse(x, self._kx_fixed, f"mutual_information, bins={self.bins!r}")
