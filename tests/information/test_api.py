@@ -188,6 +188,12 @@ def test_noisy_curves_and_random_pairs_are_estimated_not_refused(normal, method)
     # the curve's MI is finite once noise is added; random pairs have ~2n/3 turning points
     y = normal**2 + 1e-3 * np.random.default_rng(92).standard_normal(normal.size)
     assert math.isfinite(mutual_information(normal, y, method=method))
+    # a strong noisy pair passes the 32-sample screen; its MI 0.5 ln(1 + 1 / s^2)
+    s = 0.01
+    x = np.random.default_rng(97).standard_normal(20_000)
+    y = x + s * np.random.default_rng(98).standard_normal(x.size)
+    assert mutual_information(x, y, method="gaussian") == pytest.approx(
+        0.5 * math.log(1 + 1 / s**2), abs=0.05)
     rng = np.random.default_rng(93)
     for n in (10, 11, 50, 101, 400, 401):
         for _ in range(20):
