@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import inspect
 import math
+import warnings
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_choice
-from modalinfo.information.methods import METHODS, get_method
+from modalinfo.information.methods import METHODS, BiasRuleWarning, get_method
 
 __all__ = ["DEFAULT_METHOD", "METHODS", "RESAMPLING_METHOD", "UNITS", "MutualInformation",
            "entropy", "mutual_information"]
@@ -66,6 +68,22 @@ def _is_constant(a: np.ndarray) -> bool:
 
 #: Samples of the quick screen of :func:`_check_not_a_copy`.
 _COPY_SCREEN = 32
+#: Turning points of y sorted by x (or x sorted by y) among the first 32 samples at or
+#: below which the full check of :func:`_check_not_a_copy` runs: independent samples
+#: have 2 (32 - 2) / 3 = 20 on average, sd ~2.1 (Kendall & Stuart, the turning-point
+#: test), so 4 is ~7 sd below; a curve with at most 5 monotone pieces always passes.
+_SCREEN_TURNS = 4
+#: Most turning points of y sorted by x (or x sorted by y), both continuous, for y to be
+#: read as a deterministic function of x: y = f(x) with m monotone pieces has exactly
+#: m - 1 (x**2, |x|: 1), independent or noisy pairs ~2 n / 3 (turning-point test); at
+#: most 4 and at most 1 % of n (so 0, a strictly monotone copy, below n = 100, where
+#: independent samples have few turning points too). y = x + 1e-5 N(0, 1) at n = 2000
+#: has ~20: a near copy, estimated.
+_MAX_TURNS = 4
+_MAX_TURN_SHARE = 0.01
+#: Least samples per distinct value of a copy with repeated values (a discrete variable
+#: and its copy): the same 10 per cell as the discrete pairs of the KSG engine.
+_MIN_PER_VALUE = 10
 
 
 def _strictly_monotone(a: np.ndarray) -> bool:
@@ -73,6 +91,33 @@ def _strictly_monotone(a: np.ndarray) -> bool:
     return bool(np.all(d > 0) or np.all(d < 0))
 
 
+#: Samples of the second screen of :func:`_check_not_a_copy` (a strong but noisy pair
+#: passes the first: y = x + 0.01 N(0, 1) has ~0 turning points in 32 samples, dozens
+#: in 1024; sorting 1024 values costs ~40 us, the full check ~20 ms at n = 2e5).
+_WIDE_SCREEN = 1024
+
+
+def _maybe_curve(a: np.ndarray, b: np.ndarray, head_order: np.ndarray | None = None) -> bool:
+    """Return whether b sorted by a has at most ``_SCREEN_TURNS`` turning points.
+
+    On the first 32 samples (``head_order``: their argsort by a, if known), then on the
+    first 1024: a curve b = f(a) of at most 5 monotone pieces passes both.
+    """
+    if head_order is None:
+        head_order = np.argsort(a[:_COPY_SCREEN], kind="stable")
+    if _turns(b[head_order]) > _SCREEN_TURNS:
+        return False
+    if a.shape[0] <= _COPY_SCREEN:
+        return True
+    wide = np.argsort(a[:_WIDE_SCREEN], kind="stable")
+    return _turns(b[wide]) <= _SCREEN_TURNS
+
+
+def _turns(a: np.ndarray) -> int:
+    """Return the number of turning points of a sequence (sign changes of its non-zero steps)."""
+    d = np.diff(a)
+    s = np.sign(d[d != 0])
+    return int(np.count_nonzero(s[1:] != s[:-1]))
 class NotFittedError(ValueError, RuntimeError):
     """``MutualInformation.score`` before ``fit``.
 
@@ -82,32 +127,85 @@ class NotFittedError(ValueError, RuntimeError):
 
 
 class InfiniteMIError(ValueError):
-    """A continuous ``y`` that is a strictly monotone function of ``x``: infinite MI."""
+    """Continuous x and y, one a deterministic function of the other: infinite MI."""
 
 
-def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray) -> None:
-    """Refuse a continuous y that is a strictly monotone function of a continuous x.
+def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray | None = None,
+                      names: tuple[str, str] = ("x", "y"),
+                      x_order: Callable[[], np.ndarray] | None = None) -> None:
+    """Refuse a pair whose MI is infinite, or a copy whose MI no sample size here can give.
 
-    Such a pair (``y = x``, ``y = exp(x)``, ``y = -x``) has infinite MI: the joint law
-    sits on a curve and has no density (Cover & Thomas 2006, sec. 8.5), and every
-    estimator returns a large, arbitrary finite number instead (the default kde
-    gave 19 nats for ``mutual_information(x, x)``). "Continuous" is read off the
-    sample: no repeated value in x nor in y, the sample of a continuous law (tied
-    values make a discrete variable, whose MI with its copy is its finite entropy,
-    which the estimators return). The proof is that y, sorted by x, is strictly
-    increasing or decreasing. Screen: the first 32 samples (``head_order`` sorts
-    them by x) must be so; for independent continuous samples that happens with
-    probability 2 / 32!, so the full O(n log n) check runs only on near-copies.
+    - Continuous x and y (no repeated value in either), one a deterministic function
+      of the other (``y = x``, ``y = exp(x)``, ``y = -x``, ``y = x**2``, ``y = |x|``):
+      the joint law sits on a curve and has no density, the MI is infinite (Cover &
+      Thomas 2006, sec. 8.5), and every estimator returns a large, arbitrary finite
+      number instead (the kde gave 19 nats for ``(x, x)``, ksg 5.0 for ``(x, x**2)``,
+      the Gaussian 0.0006). The proof is that y, sorted by x, has at most
+      min(4, n / 100) turning points (one per extra monotone piece; independent or
+      noisy pairs have ~2 n / 3), or x sorted by y. "Continuous" is read off the
+      sample: tied values make a discrete variable.
+    - A copy with repeated values (y a strictly monotone function of x on their
+      distinct values, ties in one exactly where ties in the other) with fewer than
+      ``_MIN_PER_VALUE`` = 10 samples per distinct value: its MI is the entropy of x if
+      x is discrete, infinite if x is continuous with a few repeated samples (rounded
+      values, duplicated rows); the sample cannot tell which, and neither value can be
+      estimated (five ties in 2,000 normal samples, y = x: ksg 6.3, kde 19, histogram
+      3.8 nats).
+
+    Screen (:func:`_maybe_curve`): the first 32, then 1024 samples (``head_order``
+    sorts the 32 by x) must have at most ``_SCREEN_TURNS`` turning points one way or
+    the other; only then the O(n log n) check runs (``x_order()``, if given, returns
+    x's stable argsort, cached by the caller; one argsort of y follows only for a pair
+    not on a curve sorted by x).
     """
-    if not _strictly_monotone(y[head_order]):
+    nx, ny = names
+    if not (_maybe_curve(x, y, head_order) or _maybe_curve(y, x)):
         return
-    order = np.argsort(x, kind="stable")
-    if _strictly_monotone(x[order]) and _strictly_monotone(y[order]):
-        raise InfiniteMIError(
-            "`y` is a strictly monotone function of `x` (an identical or deterministic "
-            "copy: y sorted by x is strictly increasing or decreasing) and both are "
-            "continuous (no repeated values): their mutual information is infinite, "
-            "which no estimator can return. Drop one of the two variables.")
+    n = x.shape[0]
+    order = np.argsort(x, kind="stable") if x_order is None else x_order()
+    xs, ys = x[order], y[order]
+    dx, dy = np.diff(xs), np.diff(ys)
+    x_ties, y_ties = dx == 0, dy == 0
+    if not x_ties.any():  # x continuous: a curve if y is continuous too, else no copy
+        limit = min(_MAX_TURNS, math.floor(_MAX_TURN_SHARE * n))
+        turns = _turns(ys)
+        if turns > limit:
+            oy = np.argsort(y, kind="stable")
+            if np.any(np.diff(y[oy]) == 0):
+                return
+            turns = _turns(x[oy])
+        elif np.any(np.diff(np.sort(y)) == 0):
+            return
+        if turns <= limit:
+            if turns == 0 and _strictly_monotone(ys):
+                what = (f"`{ny}` is a strictly monotone function of `{nx}` (an identical or "
+                        "deterministic copy: y sorted by x is strictly increasing or "
+                        "decreasing)")
+            else:
+                what = (f"`{ny}` and `{nx}` are a deterministic function one of the other "
+                        f"(sorted by one, the other has {turns} turning point(s), at most "
+                        f"{limit} for n = {n} samples; independent or noisy pairs have "
+                        "~2n/3)")
+            raise InfiniteMIError(
+                f"{what} and both are continuous (no repeated values): their mutual "
+                "information is infinite (the pair lies on a curve), which no estimator "
+                "can return. "
+                "Drop one of the two variables.")
+        return
+    if not np.array_equal(x_ties, y_ties):
+        return
+    steps = dy[~y_ties]
+    if not (np.all(steps > 0) or np.all(steps < 0)):
+        return
+    levels = int(np.count_nonzero(~x_ties)) + 1
+    if n < _MIN_PER_VALUE * levels:
+        raise ValueError(
+            f"`{ny}` is a copy of `{nx}` (a strictly monotone function of it) with "
+            f"{levels} distinct values among n = {n} samples, fewer than "
+            f"{_MIN_PER_VALUE} samples per value: their mutual information is the "
+            f"entropy of `{nx}` if it is discrete, infinite if it is continuous with "
+            "repeated samples (rounded values, duplicated rows); neither can be "
+            "estimated from this sample. Drop one of the two variables.")
 
 
 def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str = "nats",
@@ -257,7 +355,10 @@ class MutualInformation:
         MutualInformation
             ``self``.
         """
-        return self._fit(_as_sample(x, "x"))
+        arr = _as_sample(x, "x")
+        # the caches hold x (or views of it): a caller's array changed after fit must
+        # not change the scores (the histogram scored 0.0 against a zeroed x)
+        return self._fit(arr.copy() if np.shares_memory(arr, np.asarray(x)) else arr)
 
     def _fit(self, x: np.ndarray) -> MutualInformation:
         """Fit a validated x."""
@@ -267,6 +368,10 @@ class MutualInformation:
             self._engine.fit(x)
             self._x = x  # for the copy check (a reference, not a copy)
             self._x_head = np.argsort(x[:_COPY_SCREEN], kind="stable")
+            self._x_sorted = None  # x's argsort, made by the copy check's first need
+        # after the engine's own checks (a refusal comes before a warning)
+        _warn_bias_rule(get_method(self.method), x.shape[0], 2, self.options,
+                        "mutual_information")
         return self
 
     def score(self, y: Any) -> float:
@@ -295,8 +400,14 @@ class MutualInformation:
         """Score a validated y of the fitted length."""
         if self._x_constant or _is_constant(y):
             return 0.0
-        _check_not_a_copy(self._x, y, self._x_head)
+        _check_not_a_copy(self._x, y, self._x_head, x_order=self._x_order)
         return float(self._engine.score(y)) * self._factor
+
+    def _x_order(self) -> np.ndarray:
+        """Return the fitted x's stable argsort, made once (the copy check of each score)."""
+        if self._x_sorted is None:
+            self._x_sorted = np.argsort(self._x, kind="stable")
+        return self._x_sorted
 
     def estimate(self, x: Any, y: Any) -> float:
         """Fit x and score y in one call (``self.fit(x).score(y)``).
@@ -351,10 +462,60 @@ def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) ->
         Entropy in ``units``; ``-inf`` for a constant sample (a point mass has no
         finite differential entropy).
     """
-    fn = get_method(method, needs="entropy").entropy
+    record = get_method(method, needs="entropy")
+    fn = record.entropy
     check_choice(units, "units", tuple(UNITS))
     x = _as_sample(x, "x")
     if _is_constant(x):
         return -math.inf
     _check_options(f"entropy method={method!r}", fn, "x", options)
-    return float(fn(x, **options)) * UNITS[units]
+    scaled, shift = _unit_exponent(x)
+    value = (float(fn(scaled, **options)) + shift) * UNITS[units]
+    _warn_bias_rule(record, x.shape[0], 1, options, "entropy")  # options validated by fn
+    return value
+
+
+#: Magnitudes [any unit] outside which :func:`entropy` rescales the sample by a power of
+#: two first: the estimators square values (variances), which overflow above ~1e154 and
+#: underflow below ~1e-154 (1e200 gave inf, 1e-200 "math domain error").
+_SAFE_MAGNITUDE = (1e-100, 1e100)
+
+
+def _unit_exponent(x: np.ndarray) -> tuple[np.ndarray, float]:
+    """Return x / 2^e and e ln 2 for x outside :data:`_SAFE_MAGNITUDE`, else (x, 0.0).
+
+    A differential entropy shifts by ln c when the sample is scaled by c (Cover & Thomas
+    2006, Theorem 8.6.4); 2^-e scales exactly, so x / 2^e holds the same digits.
+    """
+    big = float(np.max(np.abs(x)))
+    spread = float(np.max(x) / 2 - np.min(x) / 2)  # halves: no overflow at +-1.7e308
+    if _SAFE_MAGNITUDE[0] <= spread and big <= _SAFE_MAGNITUDE[1]:
+        return x, 0.0
+    e = math.frexp(spread)[1]
+    return np.ldexp(x, -e), e * math.log(2.0)
+
+
+#: The options that set the resolution of an estimator, which its bias rule judges (the
+#: histogram judges its explicit ``bins`` itself, by the cells rule alone:
+#: :func:`~modalinfo.information.histogram.histogram_entropy`, ``HistogramEngine``).
+_RESOLUTION_OPTIONS = ("k", "bandwidth")
+
+
+def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) -> None:
+    """Warn (:class:`BiasRuleWarning`) where an option the caller chose fails the bias rule.
+
+    The rule is the method's (:func:`~modalinfo.information.bias_rule`, the same numbers
+    as the conditional MI's, for d = 2 columns of an MI, 1 of an entropy): KSG's
+    neighbour ball (k / n)^(1/d) <= 0.4, the KDE's occupancy n h^d >= 30 and factor
+    h <= 1. Only an explicit ``k`` or a float ``bandwidth`` is judged: the defaults'
+    rules are within it. (k = n - 1 gave MI 5e-7 for 0.22; a bandwidth factor of 0.01
+    gave -2.5; audit 9.)
+    """
+    chosen = {key: options[key] for key in _RESOLUTION_OPTIONS if key in options
+              and not isinstance(options[key], str | tuple | list)}
+    if record.bias_rule is None or not chosen:
+        return
+    why = record.bias_rule(n, d, chosen)
+    if why is not None:
+        warnings.warn(f"{what} with method={record.name!r}: {why}.", BiasRuleWarning,
+                      stacklevel=3)

@@ -186,7 +186,7 @@ from modalinfo.information.histogram import (
 )
 from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
 from modalinfo.information.ksg import KSG_MAX_BALL, ksg_bias_rule, ksg_cmi
-from modalinfo.information.methods import CMI_METHODS, get_method
+from modalinfo.information.methods import CMI_METHODS, BiasRuleWarning, get_method
 
 __all__ = [
     "BiasRuleWarning",
@@ -211,10 +211,6 @@ FALLBACKS = ("gaussian-copula", "raise", "none")
 #: Largest sample on which the histogram's resolution rule switches to the KSG CMI
 #: (module notes, "Resolution rule": above it the histogram is kept, unjudged).
 KSG_SWITCH_MAX_SAMPLES = 50_000
-
-
-class BiasRuleWarning(UserWarning):
-    """A CMI estimate was switched (or kept) where the estimator's bias swamps it."""
 
 
 # ----------------------------------------------------------------------------- inputs
@@ -315,8 +311,15 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         x, y, z = _varying(x), _varying(y), _varying(z)
         if x.shape[1] == 0 or y.shape[1] == 0:
             return 0.0  # a constant carries no information
-        if x.shape[1] == 1 and y.shape[1] == 1:  # a continuous copy: I(x; y | z) is infinite
-            _check_not_a_copy(x[:, 0], y[:, 0], np.argsort(x[:_COPY_SCREEN, 0], kind="stable"))
+        # a column of y a deterministic function of a column of x (a continuous copy):
+        # I(x; y | z) >= I(x_i; y_j | z), infinite (api._check_not_a_copy)
+        for i in range(x.shape[1]):
+            xi = np.ascontiguousarray(x[:, i])
+            head = np.argsort(xi[:_COPY_SCREEN], kind="stable")
+            for j in range(y.shape[1]):
+                names = (("x", "y") if x.shape[1] == y.shape[1] == 1
+                         else (f"x[:, {i}]", f"y[:, {j}]"))
+                _check_not_a_copy(xi, np.ascontiguousarray(y[:, j]), head, names)
         why = (None if record.bias_rule is None else
                record.bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options))
         if why is not None:

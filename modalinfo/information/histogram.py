@@ -83,6 +83,7 @@ sample's bin is searched among the edges of its bucket only.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
@@ -92,7 +93,7 @@ from modalinfo.common.validation import check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.gaussian import unit_scaled
-from modalinfo.information.methods import MIMethod, register_method
+from modalinfo.information.methods import BiasRuleWarning, MIMethod, register_method
 
 __all__ = ["BIN_RULES", "DISCRETE_MIN_PER_CELL", "MIN_SAMPLES_PER_CELL", "discrete_levels",
            "discrete_mi", "discrete_pair_mi", "discrete_x_levels", "max_rule_bins",
@@ -326,6 +327,11 @@ class HistogramEngine:
         self._kx_fixed = None
         if self.bins not in ("hacine-gharbi", "auto"):
             self._kx_fixed = n_bins_for(self.bins, x, axis=0)
+            ky = (self._kx_fixed if isinstance(self.bins, str)  # y's own rule: about as many
+                  else n_bins_for(self.bins, x, axis=1))  # validated before the warning
+            _warn_cells(x.shape[0], self._kx_fixed * ky, 2, f"mutual_information, "
+                        f"bins={self.bins!r}")
+            _warn_coarse(x, self._kx_fixed, f"mutual_information, bins={self.bins!r}")
         return self
 
     def _corr(self, y: np.ndarray) -> float:
@@ -450,6 +456,8 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
         k = _hacine_gharbi_marginal(n)
     else:
         k = n_bins_for(bins, x, axis=0)
+        _warn_cells(n, k, 1, f"entropy, bins={bins!r}")
+        _warn_coarse(x, k, f"entropy, bins={bins!r}")
     ax = _Axis(x, binning)
     edges = ax.edges(k)
     counts = np.bincount(ax.index(k), minlength=k).astype(float)
@@ -552,6 +560,46 @@ def histogram_cmi(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
     return float(cmi)
 
 
+def _cells_rule(n: int, cells: float, d: int) -> str | None:
+    """Return why n samples fail n >= cells (:data:`MIN_COUNT_PER_CELL` per cell), or None."""
+    if n >= MIN_COUNT_PER_CELL * cells:
+        return None
+    return (f"histogram over {d} columns with {cells:.3g} joint cells for n = {n} "
+            f"samples, {n / cells:.3g} per cell, below the rule n >= k^d: its bias, "
+            "~(cells - 1) / (2 n) per entropy (Miller-Madow / Panzeri-Treves), swamps the "
+            "estimate")
+
+
+def _warn_cells(n: int, cells: float, d: int, what: str) -> None:
+    """Warn (:class:`BiasRuleWarning`) where bins the caller chose fail :func:`_cells_rule`.
+
+    The MI and entropy judge an explicit bin number (an int, a pair or a width rule
+    such as ``"sqrt"``) by the cells rule of the CMI's bias rule; its coarseness is the
+    caller's choice (as :func:`histogram_resolution_rule`). Measured: ``bins=2000`` on
+    2,000 samples of a rho = 0.6 pair gave 8.1 nats, ``"sqrt"`` (45 x 45 cells) 0.46,
+    for an exact 0.223 (audit 9).
+    """
+    why = _cells_rule(n, cells, d)
+    if why is not None:
+        warnings.warn(f"{what} with method='histogram': {why}.", BiasRuleWarning,
+                      stacklevel=5)
+
+
+def _warn_coarse(x: np.ndarray, k: int, what: str) -> None:
+    """Warn where fewer than :data:`MIN_BINS` bins the caller chose merge x's values.
+
+    The bias rule's least bins per axis, applied to an explicit bin number only where
+    it discards information: a variable with at most k distinct values (3 levels in 3
+    bins) is binned exactly. Measured on 2,000 normal samples: ``bins=1`` gives MI 0.0
+    for 0.223 and entropy 1.94 for 1.42, ``bins=2`` entropy 1.89 (audit 9).
+    """
+    if k < MIN_BINS and np.unique(x).size > k:
+        warnings.warn(f"{what} with method='histogram': {k} bin(s) per axis merge the "
+                      f"variable's values, below the rule of at least {MIN_BINS} bins per "
+                      "axis: the discretisation bias swamps the estimate.", BiasRuleWarning,
+                      stacklevel=5)
+
+
 def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
     """Why the histogram CMI of n samples over d columns is biased beyond use, or None.
 
@@ -565,12 +613,8 @@ def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
         return (f"histogram CMI with {k} bins per axis over {d} columns (n = {n}) "
                 f"is below the rule of at least {MIN_BINS} bins per axis: the "
                 "discretisation bias swamps the estimate")
-    if n < MIN_COUNT_PER_CELL * cells:
-        return (f"histogram CMI over {d} columns with {k} bins per axis has "
-                f"{cells:.3g} joint cells for n = {n} samples, {n / cells:.3g} per cell, "
-                f"below the rule n >= k^d: its bias, ~(cells - 1) "
-                "/ (2 n) per entropy (Miller-Madow / Panzeri-Treves), swamps the estimate")
-    return None
+    why = _cells_rule(n, cells, d)
+    return None if why is None else f"histogram CMI with {k} bins per axis: {why}"
 
 
 def histogram_resolution_rule(n: int, d: int, options: dict[str, Any]) -> str | None:

@@ -522,6 +522,9 @@ def kde_cmi(x, y, z, *, bandwidth: Any = "scott", copula: bool = True) -> float:
 #: Least mean number of samples under one kernel, n h^d, of the KDE CMI (bias rule;
 #: the measurements behind 30 are in the notes of modalinfo.information.conditional).
 KDE_MIN_OCCUPANCY = 30.0
+#: Largest bandwidth factor h of the bias rule: h^2 S wider than S smooths the data away
+#: (an entropy of a normal sample 5.5 nats for 1.42 at h = 100).
+KDE_MAX_FACTOR = 1.0
 
 
 def kde_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
@@ -532,6 +535,10 @@ def kde_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
     else:
         bandwidth = check_real(bandwidth, "bandwidth", minimum=0.0, strict_min=True)
     h = bandwidth_factor(bandwidth, n, d)
+    if h > KDE_MAX_FACTOR:
+        return (f"KDE over {d} columns with bandwidth factor h = {h:.3g} > "
+                f"{KDE_MAX_FACTOR:g}: the kernel is wider than the data's spread (Scott's "
+                "rule is below 1 for n >= 2), so the estimate is the kernel's, not the data's")
     occupancy = n * h**d
     if occupancy >= KDE_MIN_OCCUPANCY:
         return None

@@ -190,6 +190,9 @@ class KSGEngine:
         Refused above the size rule (:func:`check_ksg_size`) before any work.
         """
         check_ksg_size(x.shape[0], 2)
+        if self.k >= x.shape[0]:  # every point a neighbour: MI ~ 0
+            raise ValueError(f"`k` must be < the number of samples ({x.shape[0]}); "
+                             f"got {self.k}.")
         self._x = _standardised(x, self.seed, 0, self.copula)
         self._tree_x = cKDTree(self._x[:, None])
         self._n = x.shape[0]
@@ -236,6 +239,8 @@ def ksg_entropy(x: np.ndarray, *, k: int = 3) -> float:
     """
     k = check_int(k, "k", minimum=1)
     n = x.shape[0]
+    if k >= n:  # no k-th neighbour: the distance is inf (entropy inf)
+        raise ValueError(f"`k` must be < the number of samples ({n}); got {k}.")
     xs = np.sort(x)
     repeats = int(np.count_nonzero(xs[1:] == xs[:-1]))
     if repeats:

@@ -26,6 +26,7 @@ from typing import Any
 from modalinfo.common.validation import check_choice
 
 __all__ = [
+    "BiasRuleWarning",
     "CMI_METHODS",
     "METHODS",
     "MIMethod",
@@ -35,6 +36,14 @@ __all__ = [
     "register_method",
     "unregister_method",
 ]
+
+
+class BiasRuleWarning(UserWarning):
+    """An estimate was switched (or kept) where the estimator's bias swamps it.
+
+    Defined here, the registry's floor, so that the MI, entropy and CMI functions warn
+    with one class (re-exported by :mod:`modalinfo.information.conditional`).
+    """
 
 
 @dataclass(frozen=True)

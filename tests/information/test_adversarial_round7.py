@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from modalinfo.information import (
+    BiasRuleWarning,
     conditional_mutual_information,
     conditional_mutual_information_ci,
     entropy,
@@ -46,8 +47,10 @@ def test_kde_bandwidth_below_any_sample_size_is_refused(pair, h):
 
 
 def test_kde_bandwidth_at_the_floor_still_estimates(pair):
-    # the floor itself is accepted and gives a finite number (a needle-thin kernel)
-    assert math.isfinite(mutual_information(*pair, method="kde", bandwidth=1e-3))
+    # the floor itself is accepted and gives a finite number (a needle-thin kernel),
+    # with the bias rule's warning since audit 9 (n h^2 = 0.002 < 30)
+    with pytest.warns(BiasRuleWarning, match="n h\\^d"):
+        assert math.isfinite(mutual_information(*pair, method="kde", bandwidth=1e-3))
 
 
 @pytest.mark.parametrize("g", [10**5, 10**7])

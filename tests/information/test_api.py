@@ -2,7 +2,12 @@
 
 References: the identity 1 bit = ln 2 nats; MutualInformation.fit(x).score(y) must
 equal the one-shot estimate exactly (same arithmetic); a constant variable carries
-no information (MI = 0); input-validation rules of DESIGN.md.
+no information (MI = 0); input-validation rules of DESIGN.md. Audit 9 (issue 27):
+the scaling law of differential entropy h(cX) = h(X) + ln|c| and the normal law's
+0.5 ln(2 pi e sigma^2) (Cover & Thomas 2006, Theorems 8.6.4, 8.4.1); the infinite MI
+of a continuous pair on a curve (y = f(x): the joint law has no density, sec. 8.5);
+the exact Gaussian MI -0.5 ln(1 - rho^2), which the warned option values miss; the
+plug-in entropy -sum p ln p of a discrete sample's own frequencies (numpy.unique).
 """
 
 import math
@@ -12,12 +17,14 @@ import pytest
 
 from modalinfo.information import (
     METHODS,
+    BiasRuleWarning,
     MutualInformation,
     entropy,
     mutual_information,
     mutual_information_ci,
     mutual_information_permutation_test,
 )
+from modalinfo.information.api import InfiniteMIError
 
 
 @pytest.fixture(scope="module")
@@ -139,3 +146,144 @@ def test_bad_inputs_uncertainty(pair):
                                             method="histogram")
     with pytest.raises(ValueError, match=r"`x` and `y` must have the same length"):
         mutual_information_permutation_test(x, y[:100], method="histogram")
+
+
+# ----------------------------------------------------------------------------- audit 9
+@pytest.fixture(scope="module")
+def normal():
+    return np.random.default_rng(91).standard_normal(2000)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("c", [1e-300, 1e-200, 1e200, 1e300])
+def test_entropy_obeys_the_scaling_law_at_extreme_magnitudes(normal, method, c):
+    # audit 9 E-*: kde and gaussian gave inf at 1e200 and "math domain error" at 1e-200
+    got = entropy(c * normal, method=method)
+    assert got == pytest.approx(entropy(normal, method=method) + math.log(c), abs=1e-6)
+    exact = 0.5 * math.log(2 * math.pi * math.e) + math.log(c)  # the normal law's
+    assert got == pytest.approx(exact, abs=0.1)
+
+
+@pytest.mark.parametrize("method", ["histogram", "gaussian", "kde"])
+def test_entropy_of_values_near_the_largest_float_is_finite(normal, method):
+    # audit 9 N-*-e-1e308: +-1.7e308 tanh(x) gave nan (histogram, gaussian)
+    t = np.tanh(normal)
+    got = entropy(1.7e308 * t, method=method)
+    assert got == pytest.approx(entropy(t, method=method) + math.log(1.7e308), abs=1e-6)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("f", [np.square, np.abs, np.cos, lambda v: np.sin(2.0 * v)])
+def test_continuous_pair_on_a_curve_is_refused_both_ways(normal, method, f):
+    # audit 9 C-*-abs / -sq: ksg 5.0, kde 2.2, histogram 1.45, gaussian 0.0006 nats for
+    # an infinite MI (y = x**2); x is not a function of y, so the check runs both ways
+    with pytest.raises(InfiniteMIError, match="deterministic function.*infinite"):
+        mutual_information(normal, f(normal), method=method)
+    with pytest.raises(InfiniteMIError, match="deterministic function.*infinite"):
+        MutualInformation(method).fit(f(normal)).score(normal)
+
+
+@pytest.mark.parametrize("method", ["histogram", "gaussian"])
+def test_noisy_curves_and_random_pairs_are_estimated_not_refused(normal, method):
+    # the curve's MI is finite once noise is added; random pairs have ~2n/3 turning points
+    y = normal**2 + 1e-3 * np.random.default_rng(92).standard_normal(normal.size)
+    assert math.isfinite(mutual_information(normal, y, method=method))
+    # a strong noisy pair passes the 32-sample screen; its MI 0.5 ln(1 + 1 / s^2)
+    s = 0.01
+    x = np.random.default_rng(97).standard_normal(20_000)
+    y = x + s * np.random.default_rng(98).standard_normal(x.size)
+    assert mutual_information(x, y, method="gaussian") == pytest.approx(
+        0.5 * math.log(1 + 1 / s**2), abs=0.05)
+    rng = np.random.default_rng(93)
+    for n in (10, 11, 50, 101, 400, 401):
+        for _ in range(20):
+            a, b = rng.standard_normal((2, n))
+            assert math.isfinite(mutual_information(a, b, method=method))
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("make", [
+    lambda x: np.r_[x[5] * np.ones(5), x[5:]],  # five ties among 2000 continuous values
+    lambda x: np.r_[x, x[:10]],  # ten duplicated rows
+    lambda x: np.round(x, 2),  # ~500 levels for 2000 samples
+])
+def test_copy_with_fewer_than_ten_samples_per_value_is_refused(normal, method, make):
+    # audit 9 T-*-5ties / dupsamples: ksg 6.3, kde 19, histogram 3.8 nats (the discrete
+    # reading is ln(~2000) = 7.6, the continuous one infinite)
+    x = make(normal)
+    with pytest.raises(ValueError, match="fewer than 10 samples per value"):
+        mutual_information(x, x.copy(), method=method)
+
+
+def test_discrete_copy_with_enough_samples_per_value_gives_its_entropy(normal):
+    x = np.round(normal, 1)  # ~70 levels, ~28 samples each
+    _, counts = np.unique(x, return_counts=True)
+    p = counts / x.size
+    assert mutual_information(x, x.copy(), method="ksg") == pytest.approx(
+        -np.sum(p * np.log(p)), abs=0.05)
+
+
+_RHO = 0.6
+
+
+@pytest.fixture(scope="module")
+def gauss_pair():
+    rng = np.random.default_rng(94)
+    a = rng.standard_normal(2000)
+    return a, _RHO * a + math.sqrt(1 - _RHO**2) * rng.standard_normal(2000)
+
+
+@pytest.mark.parametrize("method, options", [
+    ("ksg", {"k": 1999}),  # k = n - 1: 5e-7 nats
+    ("kde", {"bandwidth": 0.01}),  # n h^2 = 0.2: -2.5 nats
+    ("histogram", {"bins": 2000}),  # n bins per axis: 8.1 nats
+    ("histogram", {"bins": "sqrt"}),  # 45 x 45 cells for 2000 samples: 0.46 nats
+    ("histogram", {"bins": 1}),  # one bin: 0.0 nats
+])
+def test_option_values_outside_the_bias_rule_warn(gauss_pair, method, options):
+    # audit 9 O-*: each missed the exact 0.223 nats by > 0.2 without a word
+    exact = -0.5 * math.log(1 - _RHO**2)
+    with pytest.warns(BiasRuleWarning, match="rule"):
+        got = mutual_information(*gauss_pair, method=method, **options)
+    assert abs(got - exact) > 0.2  # the warning is deserved
+
+
+def test_few_bins_on_as_few_levels_do_not_warn():
+    # 3 levels in 3 bins are binned exactly: the plug-in of the table, no warning
+    rng = np.random.default_rng(96)
+    a = rng.integers(0, 3, 3000).astype(float)
+    b = np.where(rng.random(3000) < 0.8, a, rng.integers(0, 3, 3000)).astype(float)
+    p = np.histogram2d(a, b, bins=3)[0] / a.size
+    pa, pb = p.sum(1), p.sum(0)
+    plug_in = float(np.sum(p[p > 0] * np.log(p[p > 0] / np.outer(pa, pb)[p > 0])))
+    got = mutual_information(a, b, method="histogram", bins=3, bias_correction="none",
+                             binning="uniform")
+    assert got == pytest.approx(plug_in, abs=1e-12)
+
+
+@pytest.mark.parametrize("method, options", [
+    ("ksg", {"k": 1999}),  # 2.15 for 1.42
+    ("kde", {"bandwidth": 100.0}),  # 5.5 for 1.42: the kernel's entropy
+    ("histogram", {"bins": 2}),  # 1.89 for 1.42: two bins merge 2000 values
+])
+def test_entropy_option_values_outside_the_bias_rule_warn(normal, method, options):
+    with pytest.warns(BiasRuleWarning, match="rule|wider"):
+        got = entropy(normal, method=method, **options)
+    assert abs(got - 0.5 * math.log(2 * math.pi * math.e)) > 0.3
+
+
+def test_ksg_entropy_with_k_of_n_samples_is_refused(normal):
+    # audit 9 O-ent-ksg-k-2000: inf (no k-th neighbour)
+    with pytest.raises(ValueError, match="`k` must be < the number of samples"):
+        entropy(normal, method="ksg", k=normal.size)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_fitted_x_changed_by_the_caller_does_not_change_scores(gauss_pair, method):
+    # audit 9 M-histogram-mutate: the histogram scored 0.0 after the caller zeroed x
+    x, y = gauss_pair
+    want = mutual_information(x, y, method=method)
+    mine = x.copy()
+    est = MutualInformation(method).fit(mine)
+    mine[:] = 0.0
+    assert est.score(y) == want
