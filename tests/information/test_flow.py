@@ -373,3 +373,27 @@ def test_too_few_surrogates_to_reach_alpha_are_refused_zero_is_the_te_alone():
         transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=9, alpha=0.01)
     alone = transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=0)
     assert np.all(alone.pvalue[~np.isnan(alone.pvalue)] == 1.0)
+
+
+# ------------------------------------------------------------------ audit 9 (issue 27)
+# Reference: an affine relation has infinite Gaussian CMI (rho = 1 in -0.5 ln(1 - rho^2),
+# Cover & Thomas 2006, Example 8.5.1): the Gaussian map refuses the cell (it showed
+# 16.6-17.1 nats), as transfer_entropy refuses a delayed copy; a discrete (binary)
+# copy's TE is finite (its entropy, ln 2) but its Gaussian one is not: refused too.
+
+
+@pytest.mark.parametrize("kind", ["delayed", "binary", "contemporaneous"])
+def test_gaussian_map_refuses_an_infinite_cell(kind):
+    from modalinfo.information.api import InfiniteMIError
+
+    rng = np.random.default_rng(3)
+    x = rng.standard_normal(1500)
+    if kind == "binary":
+        x = (x > 0).astype(float)
+    lags, cell = ([0], "m[01] at lag 0") if kind == "contemporaneous" else (2, "m0 at lag 1")
+    copy = x.copy() if kind == "contemporaneous" else np.r_[0.0, x[:-1]]
+    with pytest.raises(InfiniteMIError, match=f"the source {cell}"):
+        transfer_entropy_map(np.c_[x, copy], lags=lags, n_surrogates=19)
+    with pytest.raises(InfiniteMIError, match=f"the source {cell}"):  # the restricted map
+        transfer_entropy_map(np.c_[x, copy, rng.standard_normal(1500)], lags=lags,
+                             n_surrogates=19, candidates=~np.eye(3, dtype=bool))
