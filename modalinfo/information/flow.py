@@ -119,7 +119,12 @@ from modalinfo.information.resampling import (
     matched_window_for,
     surrogate_shifts,
 )
-from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
+from modalinfo.information.selection import (
+    _gauss_gains,
+    _safe_scale,
+    _series,
+    unit_candidates,
+)
 from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
 __all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_entropy_map"]
@@ -589,6 +594,7 @@ def transfer_entropy_map(
         raise ValueError("`extra_modes` selects columns of `extra`, which is not given.")
     if len(labels) < 2:
         raise ValueError(f"a transfer map needs at least 2 series; got {len(labels)}.")
+    series = _safe_scale(series)
     lags = _check_lags(lags)
     history = check_int(history, "history", minimum=0)
     check_choice(method, "method", CMI_METHODS)

@@ -244,6 +244,25 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
 _WORKING_COPIES = 7
 
 
+def _safe_scale(series: np.ndarray) -> np.ndarray:
+    """``series`` with its columns beyond 1e100 or below 1e-100 scaled by powers of 2.
+
+    Such a column is scaled to a largest magnitude in [0.5, 1).
+
+    The CMI is unchanged by a column's scale and a power of 2 is exact, while the sums of
+    squares of the closed forms overflow at 1e300 (the map gave NaN) and vanish at
+    1e-300 (the map gave 0, the selection no input: audit 9). Columns in range are left
+    untouched (their results bit for bit as before).
+    """
+    mag = np.abs(series).max(axis=0) if series.size else np.zeros(series.shape[1])
+    bad = (mag > 1e100) | ((mag < 1e-100) & (mag > 0))
+    if not bad.any():
+        return series
+    series = series.copy()
+    series[:, bad] = np.ldexp(series[:, bad], -np.frexp(mag[bad])[1])
+    return series
+
+
 def _check_memory(n_values: int) -> None:
     """Refuse a search whose working arrays would not fit in the available memory."""
     need = _WORKING_COPIES * 8 * n_values
@@ -670,6 +689,7 @@ def select_inputs(
         series = np.concatenate([series, ex], axis=1)
         labels = labels + [f"extra:{s}" for s in ex_labels]
     n_main = len(labels) if extra is None else len(labels) - ex.shape[1]
+    series = _safe_scale(series)
     if isinstance(target, str):
         if target not in labels[:n_main]:
             raise ValueError(f"`target` must be a mode label of `data` "

@@ -105,12 +105,12 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     try:
         return est(*variables)
     except InfiniteMIError as exc:
-        if "affine function of `y` and `z`" in str(exc):
+        if "an affine function of `" in str(exc):
             raise InfiniteMIError(
-                f"`target` is an affine function of `source` {lag} sample(s) earlier and "
-                f"of its own {history} past sample(s), to within rounding (e.g. a linear "
-                "controller's output and its input), and continuous (no repeated values): "
-                "the transfer entropy is infinite, which no estimator can return."
+                f"`target` and `source` {lag} sample(s) earlier are affinely related given "
+                f"the target's own {history} past sample(s), to within rounding (e.g. a "
+                "linear controller's output and its input), and continuous (no repeated "
+                "values): the transfer entropy is infinite, which no estimator can return."
             ) from exc
         raise InfiniteMIError(
             f"`target` is a strictly monotone function of `source` {lag} sample(s) earlier "

@@ -41,7 +41,7 @@ def _integrator(n=2000, noise=0.0, seed=0):
 @pytest.mark.parametrize("method", METHODS)
 def test_te_of_a_linear_controller_is_refused(method):
     s, x = _integrator()
-    with pytest.raises(InfiniteMIError, match="affine function of `source` 1 sample"):
+    with pytest.raises(InfiniteMIError, match=r"1 sample\(s\) earlier are affinely related"):
         transfer_entropy(s, x, method=method)
     assert abs(transfer_entropy(x, s, method=method)) < 0.05  # s is white
 
@@ -73,3 +73,32 @@ def test_gaussian_te_of_a_binary_copy_is_refused_not_17_nats():
     b, _ = _channel()
     with pytest.raises(ValueError, match="partial correlation is \\+-1"):
         transfer_entropy(b, np.r_[0.0, b[:-1]], method="gaussian")
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300])
+def test_affine_rule_and_estimates_are_scale_free(scale):
+    """TE is unchanged by a change of units; the affine screen once overflowed at 1e300
+    (squares of 1e300) and refused a plain coupled pair."""
+    rng = np.random.default_rng(1)
+    x = rng.standard_normal(2000)
+    y = np.r_[0.0, 0.8 * x[:-1]] + 0.6 * rng.standard_normal(2000)
+    for method in METHODS:
+        assert transfer_entropy(x * scale, y * scale, method=method) == pytest.approx(
+            transfer_entropy(x, y, method=method), abs=1e-9)
+    s, xi = _integrator()
+    with pytest.raises(InfiniteMIError):
+        transfer_entropy(s * scale, xi * scale)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_te_to_a_target_that_holds_the_source_is_refused(method):
+    """y = 0.8 x[t-1] + 0.6 n[t]: the 2-column target (y, n) gives x[t-1] exactly, an
+    infinite TE (the Gaussian one came out 3.1 nats); with y alone it is finite,
+    0.5 ln(1 + 0.8^2 / 0.6^2) = 0.511."""
+    rng = np.random.default_rng(1)
+    x, n = rng.standard_normal((2, 2000))
+    y = np.r_[0.0, 0.8 * x[:-1]] + 0.6 * n
+    with pytest.raises(InfiniteMIError):
+        transfer_entropy(x, np.c_[y, n], method=method)
+    assert transfer_entropy(x, y, method=method) == pytest.approx(
+        0.5 * math.log(1 + 0.64 / 0.36), abs=0.07)
