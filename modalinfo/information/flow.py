@@ -115,6 +115,7 @@ from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import (
+    check_resamples,
     check_surrogates_reach,
     matched_window_for,
     surrogate_shifts,
@@ -601,7 +602,7 @@ def transfer_entropy_map(
     check_choice(units, "units", tuple(UNITS))
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
-    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=0)
+    n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=0)
     if n_surrogates:  # 0: the TE alone, p = 1 (documented); a few cannot reach alpha
         check_surrogates_reach(n_surrogates, alpha)
     check_choice(adjust, "adjust", ADJUSTMENTS)

@@ -102,6 +102,7 @@ from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import (
     auto_block_length,
     block_bootstrap_indices,
+    check_resamples,
     check_surrogates_reach,
     surrogate_pvalue,
     surrogate_shifts,
@@ -703,7 +704,9 @@ def select_inputs(
     check_choice(units, "units", tuple(UNITS))
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
-    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=1)
+    if intervals:
+        n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
     check_surrogates_reach(n_surrogates, alpha)
     max_inputs = check_int(max_inputs, "max_inputs", minimum=1)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
