@@ -37,7 +37,7 @@ _WORDS = {
     "history": "the training frames (--train)", "log": "the log", "coeffs": "the data",
     "log_or_coeffs": "the log", "timestamps": "the timestamps", "fmt": "--fmt",
     "max_lag": "--max-lag", "max_inputs": "--max-inputs", "n_surrogates": "--surrogates",
-    "extra": "--extra", "alpha": "--alpha", "data": "the log",
+    "extra": "--extra", "alpha": "--alpha", "data": "the log", "max_seconds": "--max-seconds",
 }
 _REWRITES = (
     (re.compile(r"`history` needs at least (\d+) samples along axis 0 for (\w+)"),

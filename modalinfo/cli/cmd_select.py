@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -44,6 +45,10 @@ HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional 
 EPILOG = ("columns: input = mode[t-lag] relative to the forecast origin t; gain = "
           "I(target; input | inputs above) in --units; interval = block-bootstrap "
           "(normal, 95%); p = max-statistic surrogate p-value of the step")
+
+
+#: Estimated CPU seconds of the first step above which the command says so before work.
+_NOTE_SECONDS = 10.0
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -82,6 +87,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         metavar="K", help="largest radial-order difference of --candidates "
                         "radial (default: the library's, modalinfo.information.candidates."
                         "RADIAL_WIDTH)")
+    parser.add_argument("--max-seconds", dest="max_seconds", type=float, default=None,
+                        metavar="S", help="refuse, before any work, a search whose first "
+                        "step is estimated above S seconds of CPU (default: the library's, "
+                        "modalinfo.information.selection.MAX_SEARCH_SECONDS = 600; only "
+                        "--method ksg, kde and histogram are slow)")
     add_max_frames_argument(parser, default=None, contiguous=True)
     add_hint_arguments(parser)
 
@@ -128,7 +138,12 @@ def _radial_sources(log, extra, target: int | str, width: int) -> int:
 
 def run(args: argparse.Namespace) -> int:
     """Run the selection and print the table."""
-    from modalinfo.information.selection import _WORKING_COPIES, select_inputs
+    from modalinfo.information.selection import (
+        _WORKING_COPIES,
+        MAX_SEARCH_SECONDS,
+        first_step_seconds,
+        select_inputs,
+    )
 
     refuse_outlier_drop(args, "input selection")
     if args.surrogates >= 1 and 0 < args.alpha < 1 and 1 / (args.surrogates + 1) > args.alpha:
@@ -181,10 +196,23 @@ def run(args: argparse.Namespace) -> int:
     for name, data in (("log", log), ("extra", extra)):  # 1e300 failed inside the search
         if data is not None:  # with numpy's "zero-size array to reduction operation"
             check_square_range(np.asarray(data.coeffs), name, data.labels)
+    max_seconds = MAX_SEARCH_SECONDS if args.max_seconds is None else args.max_seconds
+    if args.max_lag >= 1 and args.surrogates >= 0:  # tell the user before the work
+        rows = log.n_frames - args.horizon - args.max_lag + 1
+        seconds = first_step_seconds(args.method, max(rows, 2), n_sources * args.max_lag,
+                                     args.surrogates)
+        if seconds is not None and _NOTE_SECONDS < seconds <= max_seconds:
+            sys.stderr.write(f"modalinfo select: note: --method {args.method} scores "
+                             f"{n_sources * args.max_lag} candidates x {args.surrogates + 1} "
+                             f"(1 + --surrogates) per step: about {seconds:.0f} s of CPU "
+                             "for the first step (estimated), more for each later one; "
+                             "--method gaussian takes well under a second\n")
+            sys.stderr.flush()
     res = select_inputs(log, target, horizon=args.horizon, max_lag=args.max_lag, extra=extra,
                         method=args.method, units=args.units, alpha=args.alpha,
                         n_surrogates=args.surrogates, max_inputs=args.max_inputs,
                         intervals=args.intervals, seed=args.seed,
-                        candidates=args.candidates, radial_width=width)
+                        candidates=args.candidates, radial_width=width,
+                        max_seconds=max_seconds)
     print(res.table())
     return 0

@@ -174,9 +174,10 @@ from modalinfo.information.api import (
     DEFAULT_METHOD,
     MIN_SAMPLES,
     UNITS,
+    InfiniteMIError,
     _check_not_a_copy,
 )
-from modalinfo.information.gaussian import gaussian_cmi
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi
 from modalinfo.information.histogram import (
     MIN_BINS,
     MIN_COUNT_PER_CELL,
@@ -270,6 +271,71 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     return None if rule is None else rule(n, d, options or {})
 
 
+#: Rows of the least-squares screen of :func:`_check_not_affine` (at least 4 per column).
+_AFFINE_SCREEN = 64
+
+
+def _affine_residual(x: np.ndarray, a: np.ndarray) -> float:
+    """``1 - R^2`` of the least-squares fit of the column x on the columns a (and 1)."""
+    # scaled by the largest magnitude first: squares of 1e300 overflow, of 1e-300 vanish
+    xc = x - x.mean()
+    xc = xc / max(float(np.abs(xc).max()), 1e-300)
+    xx = float(xc @ xc)
+    if a.shape[1] == 0 or xx == 0.0:
+        return 1.0
+    ac = a - a.mean(axis=0)
+    ac = ac / np.maximum(np.abs(ac).max(axis=0), 1e-300)
+    ac = ac / np.maximum(np.sqrt(np.einsum("ij,ij->j", ac, ac)), 1e-300)
+    coef = np.linalg.lstsq(ac, xc, rcond=None)[0]
+    e = xc - ac @ coef
+    return float(e @ e) / xx
+
+
+def _check_not_affine(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> None:
+    """Refuse x affine in (y, z) with y mattering, or y affine in (x, z) with x mattering.
+
+    Either one column and continuous (audit 9: the Gaussian TE of x to the 2-column
+    target (y, n), y = 0.8 x[t-1] + 0.6 n, came out 3.1 nats).
+
+    Then x given z is continuous while x given (y, z) is a point: ``I(x; y | z)`` is
+    infinite, and every estimator returns an arbitrary finite number (audit 9: the
+    transfer entropy from a leaky integrator's input to its output, ``x[t] = 0.9 x[t-1]
+    + 0.5 s[t-1]``, came out 0.09-1.2 nats by method). Affine on the values, to within
+    rounding: the least-squares ``1 - R^2`` of x on (y, z) at or below
+    :data:`~modalinfo.information.gaussian.ONE_MINUS_R2_FLOOR` (1e-15), that of x on z
+    alone above it (else x is a function of z and y carries nothing). Continuous: no
+    repeated value in x (a discrete x has a finite CMI, which the estimators return).
+    Screen on the first :data:`_AFFINE_SCREEN` rows (an affine relation of all rows holds
+    on those); the full fit and the ties run only where the screen fits exactly.
+    """
+    for a, b, a_name, b_name in ((x, y, "x", "y"), (y, x, "y", "x")):  # I is symmetric
+        one_minus = _affine_one_minus(a, b, z)
+        if one_minus is not None:
+            raise InfiniteMIError(
+                f"`{a_name}` is an affine function of `{b_name}` and `z` (least-squares "
+                f"1 - R^2 = {one_minus:.3g} <= {ONE_MINUS_R2_FLOOR:g}, rounding) in which "
+                f"`{b_name}` matters, and `{a_name}` is continuous (no repeated values): "
+                "I(x; y | z) is infinite, which no estimator can return (e.g. a linear "
+                "controller's output and its input given its past). Drop one of them or "
+                "the deterministic part.")
+
+
+def _affine_one_minus(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float | None:
+    """``1 - R^2`` of a one-column continuous x on (y, z) if rounding and y matters."""
+    n, k = x.shape[0], y.shape[1] + z.shape[1]
+    head = max(_AFFINE_SCREEN, 4 * (k + 1))
+    if x.shape[1] != 1 or y.shape[1] == 0 or n <= head:
+        return None
+    yz = np.concatenate([y, z], axis=1)
+    if _affine_residual(x[:head, 0], yz[:head]) > ONE_MINUS_R2_FLOOR:
+        return None
+    one_minus = _affine_residual(x[:, 0], yz)
+    if (one_minus > ONE_MINUS_R2_FLOOR or _affine_residual(x[:, 0], z) <= ONE_MINUS_R2_FLOOR
+            or np.unique(x[:, 0]).size < n):
+        return None
+    return one_minus
+
+
 def _continuous(*groups: np.ndarray) -> bool:
     """Return whether no column of the groups has a repeated value."""
     return all(np.unique(g[:, j]).size == g.shape[0] for g in groups for j in range(g.shape[1]))
@@ -320,6 +386,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 names = (("x", "y") if x.shape[1] == y.shape[1] == 1
                          else (f"x[:, {i}]", f"y[:, {j}]"))
                 _check_not_a_copy(xi, np.ascontiguousarray(y[:, j]), head, names)
+        _check_not_affine(x, y, z)
         why = (None if record.bias_rule is None else
                record.bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options))
         if why is not None:

@@ -43,12 +43,13 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import check_choice, check_real, check_rng
 from modalinfo.information.api import RESAMPLING_METHOD
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
+    check_resamples,
     resolve_block_length,
     surrogate_pvalue,
     surrogate_shifts,
@@ -113,7 +114,7 @@ def conditional_mutual_information_ci(
     xa, ya, za = _triple(x, y, z)
     confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
                                   maximum=1.0, strict_min=True, strict_max=True)
-    n_resamples = check_int(n_resamples, "n_resamples", minimum=10)
+    n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
     rng = check_rng(seed)
     n = xa.shape[0]
     b = resolve_block_length(block_length, xa, ya, za)
@@ -182,7 +183,7 @@ def conditional_mutual_information_test(
     """
     est = _estimator(method, units, options)
     xa, ya, za = _triple(x, y, z)
-    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=1)
     check_choice(surrogate, "surrogate", ("circular", "shuffle"))
     rng = check_rng(seed)
     n = xa.shape[0]

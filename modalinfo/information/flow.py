@@ -115,11 +115,17 @@ from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import (
+    check_resamples,
     check_surrogates_reach,
     matched_window_for,
     surrogate_shifts,
 )
-from modalinfo.information.selection import _gauss_gains, _series, unit_candidates
+from modalinfo.information.selection import (
+    _gauss_gains,
+    _safe_scale,
+    _series,
+    unit_candidates,
+)
 from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
 __all__ = ["TransferEntropyMap", "maxt_pvalues", "surrogate_shifts", "transfer_entropy_map"]
@@ -303,7 +309,7 @@ def _history_basis(z: np.ndarray) -> np.ndarray:
     return np.linalg.qr(zc[:, keep])[0] if keep.any() else np.empty((z.shape[0], 0))
 
 
-def _gaussian_map(series, lags, history, t0, shifts):
+def _gaussian_map(series, lags, history, t0, shifts, labels=None):
     """TE (nats) of every cell and of every cell under every surrogate.
 
     Returns ``te`` (S, S, L) and ``null`` (n_surrogates, S, S, L), 0 on the diagonal.
@@ -312,7 +318,8 @@ def _gaussian_map(series, lags, history, t0, shifts):
     original: the numerator ``r . P C_s = r . C_s`` (``r`` is orthogonal to the
     history) is the circular cross-correlation ``r[(t + s) mod n] . C[t]``, and
     ``|P C_s|^2 = |C|^2 - |Q^T C_s|^2`` with Q the history's orthonormal basis, one
-    cross-correlation per history column.
+    cross-correlation per history column. ``labels`` (S,): refuse an infinite cell
+    (``selection._refuse_unit_rho``), naming it.
     """
     T, S = series.shape
     L = lags.size
@@ -325,14 +332,24 @@ def _gaussian_map(series, lags, history, t0, shifts):
     for i in range(S):
         alive = alive_all.copy()
         alive[i::S] = False  # the target's own lags are not a transfer
-        gains, cells = _target_cells(series, i, history, t0, Cc, c2, alive, shifts)
+        gains, cells = _target_cells(series, i, history, t0, Cc, c2, alive, shifts,
+                                     _cell_names(labels, np.arange(S), lags, i))
         te[:, i, :] = gains.reshape(L, S).T
         if cells is not None:
             null[:, :, i, :] = cells.reshape(shifts.size, L, S).transpose(0, 2, 1)
     return te, null
 
 
-def _target_cells(series, i, history, t0, block, c2, alive, shifts):
+def _cell_names(labels, src, lags, i):
+    """``j -> "cell <source> -> <target> at lag <l>"`` of a lag-major block over ``src``."""
+    if labels is None:
+        return None
+    return lambda j: (f"the source {labels[src[j % src.size]]} at lag "
+                      f"{lags[j // src.size]} (cell {labels[src[j % src.size]]} -> "
+                      f"{labels[i]})")
+
+
+def _target_cells(series, i, history, t0, block, c2, alive, shifts, names=None):
     """Gaussian TE of target ``i`` from each column of ``block``, and under each shift.
 
     ``block`` (n, K) holds centred lagged sources, ``c2`` (K,) their squared norms and
@@ -343,7 +360,7 @@ def _target_cells(series, i, history, t0, block, c2, alive, shifts):
     r = series[t0:, i] - series[t0:, i].mean()
     r = r - q @ (q.T @ r)
     R = block - q @ (q.T @ block)
-    gains = _gauss_gains(r, R, alive)
+    gains = _gauss_gains(r, R, alive, names)
     cn = np.sqrt(np.einsum("ij,ij->j", R, R))
     ok = alive & (cn > 0)
     rn = math.sqrt(float(r @ r))
@@ -358,7 +375,7 @@ def _target_cells(series, i, history, t0, block, c2, alive, shifts):
     return gains, cells
 
 
-def _gaussian_map_restricted(series, lags, history, t0, shifts, family):
+def _gaussian_map_restricted(series, lags, history, t0, shifts, family, labels=None):
     """Return the TE of the cells of ``family`` (S, S, L) only, and their null.
 
     ``te`` (S, S, L) is NaN outside ``family``; ``null`` (n_surrogates, K) holds the K
@@ -402,7 +419,7 @@ def _gaussian_map_restricted(series, lags, history, t0, shifts, family):
             alive = alive_all[idx]
             alive[np.tile(src == i, L)] = False
             gains, cells = _target_cells(series, i, history, t0, block, c2[idx], alive,
-                                         shifts)
+                                         shifts, _cell_names(labels, src, lags, i))
             te[src, i, :] = gains.reshape(L, src.size).T
             te[i, i, :] = np.nan
             if cells is not None:
@@ -578,13 +595,14 @@ def transfer_entropy_map(
         raise ValueError("`extra_modes` selects columns of `extra`, which is not given.")
     if len(labels) < 2:
         raise ValueError(f"a transfer map needs at least 2 series; got {len(labels)}.")
+    series = _safe_scale(series)
     lags = _check_lags(lags)
     history = check_int(history, "history", minimum=0)
     check_choice(method, "method", CMI_METHODS)
     check_choice(units, "units", tuple(UNITS))
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
-    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=0)
+    n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=0)
     if n_surrogates:  # 0: the TE alone, p = 1 (documented); a few cannot reach alpha
         check_surrogates_reach(n_surrogates, alpha)
     check_choice(adjust, "adjust", ADJUSTMENTS)
@@ -667,7 +685,7 @@ def transfer_entropy_map(
         family = np.repeat(allowed[:, :, None], L, axis=2)
         if closed:
             te, null_cells = _gaussian_map_restricted(series, lags, history, t0, shifts,
-                                                      family)
+                                                      family, labels)
             te, null_cells = te * factor, null_cells * factor
         else:
             te, null = _estimator_map(series, lags, history, t0, shifts, est, family)
@@ -684,7 +702,7 @@ def transfer_entropy_map(
             estimated_seconds=float(seconds), adjust=adjust, rows=(int(rows[0]), int(rows[1])),
         )
     if closed:
-        te, null = _gaussian_map(series, lags, history, t0, shifts)
+        te, null = _gaussian_map(series, lags, history, t0, shifts, labels)
         te, null = te * factor, null * factor
     else:
         te, null = _estimator_map(series, lags, history, t0, shifts, est)

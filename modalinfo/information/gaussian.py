@@ -163,7 +163,36 @@ def gaussian_cmi(x, y, z, *, copula: bool = True) -> float:
             f"rank <= n - 1 = {n - 1} and its determinants are arbitrary; give fewer "
             f"conditioning columns (`z`) or more samples.")
     u = _standardise_columns(np.concatenate([x, y, z], axis=1), check_copula(copula))
-    return gaussian_cmi_from_covariance((u.T @ u) / u.shape[0], x.shape[1], y.shape[1])
+    value = gaussian_cmi_from_covariance((u.T @ u) / u.shape[0], x.shape[1], y.shape[1])
+    if x.shape[1] == 1 and value > -0.5 * math.log(_RESIDUAL_CHECK_BELOW):
+        _refuse_unit_partial_correlation(u, y.shape[1], copula)
+    return value
+
+
+def _refuse_unit_partial_correlation(u: np.ndarray, dy: int, copula: bool) -> None:
+    """Raise if the partial correlation of ``u[:, 0]`` and the next dy columns is +-1.
+
+    As :meth:`GaussianEngine._refuse_unit_correlation`, for the CMI: ``1 - rho^2`` is the
+    ratio of the least-squares residuals of x on (y, z) and on z alone; at or below
+    :data:`ONE_MINUS_R2_FLOOR` the Gaussian CMI is infinite (audit 9: a binary delayed
+    copy's transfer entropy came out 16.9 nats, where the histogram gives its entropy).
+    """
+    def residual(a: np.ndarray) -> float:
+        if a.shape[1] == 0:
+            return float(u[:, 0] @ u[:, 0])
+        e = u[:, 0] - a @ np.linalg.lstsq(a, u[:, 0], rcond=None)[0]
+        return float(e @ e)
+
+    given_z = residual(u[:, 1 + dy:])
+    one_minus = residual(u[:, 1:]) / given_z if given_z > 0 else 1.0
+    if given_z > ONE_MINUS_R2_FLOOR * u.shape[0] and one_minus <= ONE_MINUS_R2_FLOOR:
+        values = "normal scores (ranks)" if copula else "values"
+        raise ValueError(
+            f"`x` is an affine function of `y` given `z` in their {values}: their partial "
+            f"correlation is +-1 to within rounding (1 - r^2 = {one_minus:.3g} <= "
+            f"{ONE_MINUS_R2_FLOOR:g}), where the Gaussian CMI is infinite, which no "
+            "estimator can return. A discrete variable and its copy have a finite CMI: use "
+            "method='histogram' or 'ksg'; else drop one of the two variables.")
 
 
 def gaussian_cmi_from_covariance(c: np.ndarray, dx: int, dy: int) -> float:

@@ -74,6 +74,7 @@ chosen before it (:func:`~modalinfo.information.conditional_mutual_information_c
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -89,17 +90,19 @@ from modalinfo.common.validation import (
     check_real,
     check_rng,
 )
-from modalinfo.information.api import UNITS
+from modalinfo.information.api import UNITS, InfiniteMIError
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.conditional_uncertainty import (
     conditional_mutual_information_ci,
 )
-from modalinfo.information.gaussian import gaussian_cmi_from_covariance
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi_from_covariance
+from modalinfo.information.ksg import ksg_cmi, ksg_cost
 from modalinfo.information.methods import get_method
 from modalinfo.information.resampling import (
     auto_block_length,
     block_bootstrap_indices,
+    check_resamples,
     check_surrogates_reach,
     surrogate_pvalue,
     surrogate_shifts,
@@ -107,8 +110,10 @@ from modalinfo.information.resampling import (
 from modalinfo.information.surrogates import circular_cross, rotated_rho2
 
 __all__ = [
+    "MAX_SEARCH_SECONDS",
     "InputSelection",
     "SelectedInput",
+    "first_step_seconds",
     "greedy_gaussian_gram",
     "lagged_candidates",
     "select_inputs",
@@ -240,6 +245,25 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
 _WORKING_COPIES = 7
 
 
+def _safe_scale(series: np.ndarray) -> np.ndarray:
+    """``series`` with its columns beyond 1e100 or below 1e-100 scaled by powers of 2.
+
+    Such a column is scaled to a largest magnitude in [0.5, 1).
+
+    The CMI is unchanged by a column's scale and a power of 2 is exact, while the sums of
+    squares of the closed forms overflow at 1e300 (the map gave NaN) and vanish at
+    1e-300 (the map gave 0, the selection no input: audit 9). Columns in range are left
+    untouched (their results bit for bit as before).
+    """
+    mag = np.abs(series).max(axis=0) if series.size else np.zeros(series.shape[1])
+    bad = (mag > 1e100) | ((mag < 1e-100) & (mag > 0))
+    if not bad.any():
+        return series
+    series = series.copy()
+    series[:, bad] = np.ldexp(series[:, bad], -np.frexp(mag[bad])[1])
+    return series
+
+
 def _check_memory(n_values: int) -> None:
     """Refuse a search whose working arrays would not fit in the available memory."""
     need = _WORKING_COPIES * 8 * n_values
@@ -290,14 +314,47 @@ def _unit_columns(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u, norms
 
 
-def _gauss_gains(r: np.ndarray, R: np.ndarray, alive: np.ndarray) -> np.ndarray:
-    """``-0.5 ln(1 - rho^2)`` of the residual target ``r`` with each residual column."""
+def _gauss_gains(r: np.ndarray, R: np.ndarray, alive: np.ndarray,
+                 names: Any = None) -> np.ndarray:
+    """``-0.5 ln(1 - rho^2)`` of the residual target ``r`` with each residual column.
+
+    ``names`` (a callable ``j -> str``, or None): if given, refuse a column whose
+    ``1 - rho^2`` is rounding (:func:`_refuse_unit_rho`); None keeps the floored value
+    (:class:`~modalinfo.forecast.InfoPredictor`: an exact linear predictor is an answer).
+    """
     rn = math.sqrt(float(r @ r))
     cn = np.sqrt(np.einsum("ij,ij->j", R, R))
     ok = alive & (cn > 0) & (rn > 0)
     rho = np.zeros(R.shape[1])
     rho[ok] = (r @ R[:, ok]) / (rn * cn[ok])
-    return -0.5 * np.log(np.maximum(1.0 - rho * rho, 1e-15))
+    if names is not None:
+        _refuse_unit_rho(r / rn if rn > 0 else r, R, cn, rho, ok, names)
+    return -0.5 * np.log(np.maximum(1.0 - rho * rho, ONE_MINUS_R2_FLOOR))
+
+
+def _refuse_unit_rho(ru: np.ndarray, R: np.ndarray, cn: np.ndarray, rho: np.ndarray,
+                     ok: np.ndarray, names: Any) -> None:
+    """Raise ``InfiniteMIError`` if a column's partial correlation with ``ru`` is +-1.
+
+    ``1 - rho^2`` is recomputed as the squared norm of the residual ``ru - rho R_j / |R_j|``
+    (the rule and threshold of the Gaussian MI engine,
+    :data:`~modalinfo.information.gaussian.ONE_MINUS_R2_FLOOR`): at or below it the
+    target is an affine function of the column (given the inputs or history already
+    conditioned on), the Gaussian CMI is infinite, and the floored value -0.5 ln 1e-15 =
+    17.3 nats would pass for a gain (audit 9: a delayed copy gave 17.1 nats in
+    ``select_inputs`` and the transfer map).
+    """
+    for j in np.flatnonzero(ok & (1.0 - rho * rho < 1e-6)):
+        e = ru - rho[j] * (R[:, j] / cn[j])
+        one_minus = float(e @ e)
+        if one_minus <= ONE_MINUS_R2_FLOOR:
+            raise InfiniteMIError(
+                f"the target is an affine function of {names(int(j))} (given what is "
+                f"conditioned on): 1 - rho^2 = {one_minus:.3g} <= {ONE_MINUS_R2_FLOOR:g} "
+                "is rounding, where the Gaussian CMI -0.5 ln(1 - rho^2) is infinite, "
+                "which no estimator can return. Drop the copy (a delayed or scaled copy "
+                "of the target, or a series the target is built from); a discrete copy "
+                "has a finite CMI: use method='histogram'.")
 
 
 def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
@@ -336,6 +393,54 @@ def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
 #: shifts (cost ~ m L log L per step) instead of one matrix product (~ S n m).
 _FFT_MIN_SURROGATES = 64
 
+#: Default of ``max_seconds``: the most CPU seconds the first step of a search may be
+#: estimated to take before it is refused (the transfer map's default, 600 s).
+MAX_SEARCH_SECONDS = 600.0
+
+
+def first_step_seconds(method: str, n: int, n_candidates: int,
+                       n_surrogates: int) -> float | None:
+    """Estimated CPU seconds of a search's first step, from the method's cost model.
+
+    A method without the Gaussian closed form scores every candidate and every
+    surrogate with one CMI estimate per step, ``m (1 + n_surrogates)`` of them over
+    2 columns at the first step (later steps condition on more columns and cost more,
+    so this is a lower bound of the search). ``"ksg"``:
+    :func:`~modalinfo.information.ksg.ksg_cost` per estimate (the rule of the
+    conditional estimators; measured, audit 9: 54 candidates x 200 on 398 rows,
+    27.8 s of CPU for an estimate of 46 s, and 99 s of CPU for a 4-step search of
+    ``modalinfo select --method ksg`` on the same size). None for a method without a
+    cost model (:func:`select_inputs` then times a few estimates).
+    """
+    if get_method(method).gaussian_closed_form:
+        return 0.0
+    if get_method(method).cmi is ksg_cmi:
+        return float(n_candidates * (1 + n_surrogates) * ksg_cost(n, 2)[0])
+    return None
+
+
+def _check_search_seconds(method: str, est, y: np.ndarray, C: np.ndarray,
+                          alive: np.ndarray, n_surrogates: int, max_seconds: float) -> None:
+    """Refuse, before any work, a search whose first step exceeds ``max_seconds``."""
+    n, m = y.shape[0], int(alive.sum())
+    seconds = first_step_seconds(method, n, m, n_surrogates)
+    if seconds is None and m:  # no cost model: time three estimates, as the transfer map
+        j = int(np.flatnonzero(alive)[0])
+        x1, c1, z0 = y[:, None], C[:, j : j + 1], np.empty((n, 0))
+        est(x1, c1, z0)  # the first call may compile the estimator's kernels: not timed
+        start = time.process_time()
+        for s in (1, 2, 3):
+            est(x1, np.roll(c1, s, axis=0), z0)
+        seconds = (time.process_time() - start) / 3 * m * (1 + n_surrogates)
+    if seconds and seconds > max_seconds:
+        raise ValueError(
+            f"method={method!r} would take about {seconds:.0f} s of CPU for the first step "
+            f"of the search alone ({m} candidates x (1 + {n_surrogates} surrogates) CMI "
+            f"estimates on n = {n} rows; each later step costs more), more than "
+            f"`max_seconds`={max_seconds:g}; use method='gaussian' (closed form, well "
+            "under a second), fewer candidates (max_lag, candidates='radial') or "
+            "surrogates, or raise `max_seconds`.")
+
 
 def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centred unit-norm candidate columns and the mask of non-constant ones."""
@@ -343,11 +448,17 @@ def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return Cu, norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
 
 
+def _candidate_label(labels: list[str], cols: np.ndarray, j: int) -> str:
+    """``"<mode>[t-<lag>]"`` (``"<mode>[t]"`` at lag 0) of candidate column j."""
+    src, lag = int(cols[j, 0]), int(cols[j, 1])
+    return f"{labels[src]}[t-{lag}]" if lag else f"{labels[src]}[t]"
+
+
 def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarray, *,
                    method: str, est, factor: float, alpha: float, n_surrogates: int,
                    max_inputs: int, shift0: int | None, rng: np.random.Generator,
                    spectra: tuple[np.ndarray, int] | None = None,
-                   shifts: np.ndarray | None = None,
+                   shifts: np.ndarray | None = None, names: Any = None,
                    ) -> tuple[list[tuple[int, float, float]], str, float]:
     """Run the greedy search; return ``[(column, gain [nats], p-value)], stop, last p``.
 
@@ -359,7 +470,8 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
     with its default spacing, the largest that fits. ``shift0`` is a floor on the
     spacing (e.g. the target's block length, as :class:`~modalinfo.forecast.InfoPredictor`
     passes): the largest spacing meets it whenever it fits, and a search never fails
-    for it (a smaller spacing costs power, not validity).
+    for it (a smaller spacing costs power, not validity). ``names`` (``j -> str``):
+    refuse a Gaussian gain that is infinite (:func:`_refuse_unit_rho`), naming column j.
     """
     n, m_all = C.shape
     alive = alive.copy()
@@ -383,7 +495,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
             break
         Z = C[:, chosen] if chosen else np.empty((n, 0))
         if get_method(method).gaussian_closed_form:
-            gains = _gauss_gains(r, R, alive)
+            gains = _gauss_gains(r, R, alive, names)
             best = int(np.argmax(np.where(alive, gains, -np.inf)))
             # null: every candidate rotated against the target and the chosen inputs,
             # then residualised against the chosen inputs like the original (r is
@@ -495,7 +607,8 @@ def select_inputs(
     n_surrogates: int = 199, max_inputs: int = 10, intervals: bool = True,
     n_resamples: int = 199, confidence_level: float = 0.95,
     min_shift: int | None = None, seed: Any = None, candidates: Any = "all",
-    radial_width: int = RADIAL_WIDTH, **options: Any,
+    radial_width: int = RADIAL_WIDTH, max_seconds: float = MAX_SEARCH_SECONDS,
+    **options: Any,
 ) -> InputSelection:
     """Greedy CMI selection of the past values that forecast a mode ``horizon`` ahead.
 
@@ -548,6 +661,10 @@ def select_inputs(
         restricted candidates (``n_candidates``).
     radial_width : int
         Largest radial-order difference of ``candidates="radial"``.
+    max_seconds : float
+        Most CPU seconds [s] the first step may be estimated to take
+        (:func:`first_step_seconds`; a method without a cost model is timed on three
+        estimates) before the search is refused, before any work.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 
@@ -561,7 +678,8 @@ def select_inputs(
     ValueError
         Invalid arguments; too few frames for ``horizon`` and ``max_lag``; a search
         whose working arrays exceed the available memory; or ``n_surrogates`` shifts
-        that do not fit in the rows at the spacing ``min_shift`` (or at spacing 1).
+        that do not fit in the rows at the spacing ``min_shift`` (or at spacing 1); a
+        first step estimated above ``max_seconds``.
     """
     series, labels = _series(data, "data")
     if extra is not None:
@@ -572,6 +690,7 @@ def select_inputs(
         series = np.concatenate([series, ex], axis=1)
         labels = labels + [f"extra:{s}" for s in ex_labels]
     n_main = len(labels) if extra is None else len(labels) - ex.shape[1]
+    series = _safe_scale(series)
     if isinstance(target, str):
         if target not in labels[:n_main]:
             raise ValueError(f"`target` must be a mode label of `data` "
@@ -585,9 +704,12 @@ def select_inputs(
     check_choice(units, "units", tuple(UNITS))
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
-    n_surrogates = check_int(n_surrogates, "n_surrogates", minimum=1)
+    n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=1)
+    if intervals:
+        n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
     check_surrogates_reach(n_surrogates, alpha)
     max_inputs = check_int(max_inputs, "max_inputs", minimum=1)
+    max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     rng = check_rng(seed)
     T = series.shape[0]
     if T - horizon - max_lag + 1 < 20:
@@ -616,6 +738,8 @@ def select_inputs(
 
     Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())
+    if not closed:
+        _check_search_seconds(method, est, y, C, alive, n_surrogates, max_seconds)
     spectra = None
     if closed and n_surrogates >= _FFT_MIN_SURROGATES:
         L = sfft.next_fast_len(2 * n, real=True)
@@ -623,7 +747,8 @@ def select_inputs(
     picked, stop, last_p = _greedy_search(
         y, C, Cu, alive, method=method, est=est, factor=factor, alpha=alpha,
         n_surrogates=n_surrogates, max_inputs=max_inputs, shift0=shift0, rng=rng,
-        spectra=spectra, shifts=shifts)
+        spectra=spectra, shifts=shifts,
+        names=lambda j: f"candidate {_candidate_label(labels, cols, j)}")
     inputs = []
     for i, (j, gain, p) in enumerate(picked):
         low = high = math.nan
@@ -641,7 +766,7 @@ def select_inputs(
             low, high = ci.low, ci.high
         src, lag = int(cols[j, 0]), int(cols[j, 1])
         inputs.append(SelectedInput(
-            label=f"{labels[src]}[t-{lag}]" if lag else f"{labels[src]}[t]", source=src,
+            label=_candidate_label(labels, cols, j), source=src,
             mode=labels[src], lag=lag, gain=gain * factor, low=low, high=high, pvalue=p))
     return InputSelection(
         target=labels[target_col], horizon=horizon, max_lag=max_lag, inputs=tuple(inputs),

@@ -61,7 +61,6 @@ from scipy import stats
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
-    check_int,
     check_real,
     check_rng,
 )
@@ -75,6 +74,8 @@ from modalinfo.information.api import (
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
+    check_index_memory,
+    check_resamples,
     matched_window_for,
     resolve_block_length,
     surrogate_pvalue,
@@ -260,7 +261,7 @@ def mutual_information_ci(
     x, y = _pair(x, y)
     confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
                                   maximum=1.0, strict_min=True, strict_max=True)
-    n_resamples = check_int(n_resamples, "n_resamples", minimum=10)
+    n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
     check_choice(bootstrap, "bootstrap", ("block", "iid"))
     check_choice(interval, "interval", ("normal", "basic", "percentile", "bca"))
     if interval == "bca" and bootstrap != "iid":
@@ -296,6 +297,7 @@ def mutual_information_ci(
     else:
         if bootstrap == "iid":
             b = 1
+            check_index_memory(n_resamples, n)
             idx = rng.integers(0, n, size=(n_resamples, n))
         else:
             b = resolve_block_length(block_length, x, y)
@@ -393,7 +395,7 @@ def mutual_information_permutation_test(
     check_choice(method, "method", METHODS)
     check_choice(units, "units", tuple(UNITS))
     x, y = _pair(x, y)
-    n_permutations = check_int(n_permutations, "n_permutations", minimum=1)
+    n_permutations = check_resamples(n_permutations, "n_permutations", minimum=1)
     check_choice(permutation, "permutation", ("shuffle", "circular"))
     if not isinstance(match_ends, (bool, np.bool_)):
         raise TypeError(f"`match_ends` must be a bool; got {type(match_ends).__name__}.")

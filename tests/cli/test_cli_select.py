@@ -111,3 +111,29 @@ def test_select_candidate_errors_are_one_line(tmp_path, capsys):
         assert code == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and words in err[0], err
+
+
+def test_select_slow_method_is_told_or_refused_before_work(tmp_path, capsys, monkeypatch):
+    """Audit 9: ``--method ksg`` ran 9.6 min of wall time without a word. Reference: the
+    library's first-step estimate (m (1 + N) KSG CMIs, ``ksg_cost`` each) stated before
+    the search, and a refusal above ``--max-seconds`` (exit 2, one line)."""
+    from modalinfo.information import selection
+
+    p1, _ = _logs(tmp_path)
+    assert main(["select", str(p1), "--target", "Z5", "--method", "ksg", "--no-intervals",
+                 "--max-seconds", "1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "would take about" in err[-1] and "--max-seconds=1" in err[-1]
+    assert main(["select", str(p1), "--target", "Z5", "--max-seconds", "-1"]) == 2
+    assert "--max-seconds must be > 0" in capsys.readouterr().err
+
+    def stop(*args, **kwargs):  # the note must come before the search
+        raise SystemExit(5)
+
+    monkeypatch.setattr(selection, "_greedy_search", stop)
+    try:
+        main(["select", str(p1), "--target", "Z5", "--method", "ksg", "--no-intervals"])
+    except SystemExit as exc:
+        assert exc.code == 5
+    err = capsys.readouterr().err
+    assert "note: --method ksg scores 20 candidates x 200" in err and "s of CPU" in err

@@ -405,3 +405,23 @@ def test_groups_sharing_a_continuous_column_are_refused(method):
         conditional_mutual_information(pair, np.exp(b), c, method=method)
     with pytest.raises(ValueError, match="deterministic function.*infinite"):
         conditional_mutual_information(pair, np.c_[c, a**2], method=method)
+# ------------------------------------------------------------------ audit 9 (issue 27)
+# Reference: x = y1 - 2 y2 + 3 (continuous) is a point given (y1, y2): I(x; y) is infinite
+# (Cover & Thomas 2006, sec. 8.5) and refused by every method; x = 2 z + 1 is a function
+# of z alone, where y carries nothing: not refused, and the estimate is ~0.
+
+
+@pytest.mark.parametrize("method", ["gaussian", "histogram", "kde", "ksg"])
+def test_cmi_refuses_an_affine_function_of_y_and_z(method):
+    from modalinfo.information.api import InfiniteMIError
+
+    rng = np.random.default_rng(7)
+    y = rng.standard_normal((1500, 2))
+    z = rng.standard_normal((1500, 1))
+    with pytest.raises(InfiniteMIError, match="an affine function of `[xy]` and `z`"):
+        conditional_mutual_information(y[:, 0] - 2 * y[:, 1] + 3, y, None, method=method)
+    with pytest.raises(InfiniteMIError, match="an affine function of `[xy]` and `z`"):
+        conditional_mutual_information(y[:, 0] + z[:, 0], y[:, 0], z, method=method)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", BiasRuleWarning)
+        assert abs(conditional_mutual_information(2 * z[:, 0] + 1, y, z, method=method)) < 0.1

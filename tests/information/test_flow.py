@@ -373,3 +373,45 @@ def test_too_few_surrogates_to_reach_alpha_are_refused_zero_is_the_te_alone():
         transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=9, alpha=0.01)
     alone = transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=0)
     assert np.all(alone.pvalue[~np.isnan(alone.pvalue)] == 1.0)
+
+
+# ------------------------------------------------------------------ audit 9 (issue 27)
+# Reference: an affine relation has infinite Gaussian CMI (rho = 1 in -0.5 ln(1 - rho^2),
+# Cover & Thomas 2006, Example 8.5.1): the Gaussian map refuses the cell (it showed
+# 16.6-17.1 nats), as transfer_entropy refuses a delayed copy; a discrete (binary)
+# copy's TE is finite (its entropy, ln 2) but its Gaussian one is not: refused too.
+
+
+@pytest.mark.parametrize("kind", ["delayed", "binary", "contemporaneous"])
+def test_gaussian_map_refuses_an_infinite_cell(kind):
+    from modalinfo.information.api import InfiniteMIError
+
+    rng = np.random.default_rng(3)
+    x = rng.standard_normal(1500)
+    if kind == "binary":
+        x = (x > 0).astype(float)
+    lags, cell = ([0], "m[01] at lag 0") if kind == "contemporaneous" else (2, "m0 at lag 1")
+    copy = x.copy() if kind == "contemporaneous" else np.r_[0.0, x[:-1]]
+    with pytest.raises(InfiniteMIError, match=f"the source {cell}"):
+        transfer_entropy_map(np.c_[x, copy], lags=lags, n_surrogates=19)
+    with pytest.raises(InfiniteMIError, match=f"the source {cell}"):  # the restricted map
+        transfer_entropy_map(np.c_[x, copy, rng.standard_normal(1500)], lags=lags,
+                             n_surrogates=19, candidates=~np.eye(3, dtype=bool))
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300])
+def test_map_and_selection_are_unchanged_by_extreme_units(scale):
+    """TE and the selection's gains are invariant to a column's scale (audit 9: at 1e300
+    the map gave NaN, at 1e-300 the map 0 and the selection no input)."""
+    from modalinfo.information import select_inputs
+
+    rng = np.random.default_rng(2)
+    x = rng.standard_normal(1500)
+    data = np.c_[x, np.r_[0.0, 0.8 * x[:-1]] + 0.6 * rng.standard_normal(1500)]
+    ref = transfer_entropy_map(data, lags=2, n_surrogates=0).te
+    got = transfer_entropy_map(data * [scale, 1.0], lags=2, n_surrogates=0).te
+    np.testing.assert_allclose(got, ref, atol=1e-12)
+    sel = [select_inputs(d, target=1, max_lag=2, n_surrogates=19, intervals=False, seed=0)
+           for d in (data, data * scale)]
+    assert [i.label for i in sel[1].inputs] == [i.label for i in sel[0].inputs] == ["m0[t]"]
+    assert sel[1].inputs[0].gain == pytest.approx(sel[0].inputs[0].gain, abs=1e-12)

@@ -32,6 +32,7 @@ from scipy.signal import lfilter
 
 from modalinfo.information import (
     conditional_mutual_information_test,
+    mutual_information_ci,
     mutual_information_permutation_test,
     optimal_block_length,
 )
@@ -288,3 +289,49 @@ def test_check_surrogates_reach_is_the_smallest_p_value_rule(alpha, reach):
                                          rf"`alpha`={alpha:g}.*n_surrogates >= {reach}"):
         check_surrogates_reach(reach - 1, alpha)
     assert surrogate_pvalue(1.0, np.zeros(reach - 1)) > alpha
+
+
+# ------------------------------------------------------------------ audit 9 (issue 27)
+# Reference: the Monte Carlo standard error sqrt(p (1 - p) / N) of a resampled p-value
+# (Davison & Hinkley 1997, sec. 4.2.5): 0.07 % at p = 0.05 with N = 1e5, so a larger count
+# buys nothing and costs an estimate each (10^9 permutations never ended; 10^9 resamples
+# died in a MemoryError); and the size of an (N, n) int64 index array, 8 N n bytes.
+
+
+def test_resampling_counts_beyond_the_cap_are_refused_before_work():
+    from modalinfo.information import (
+        conditional_mutual_information_ci,
+        select_inputs,
+        transfer_entropy_map,
+    )
+    from modalinfo.information.resampling import MAX_RESAMPLES
+
+    rng = np.random.default_rng(0)
+    x, y = rng.standard_normal((2, 500))
+    calls = [
+        ("n_resamples", lambda v: mutual_information_ci(x, y, n_resamples=v)),
+        ("n_permutations", lambda v: mutual_information_permutation_test(
+            x, y, n_permutations=v)),
+        ("n_resamples", lambda v: conditional_mutual_information_ci(x, y, n_resamples=v)),
+        ("n_surrogates", lambda v: conditional_mutual_information_test(
+            x, y, n_surrogates=v)),
+        ("n_surrogates", lambda v: transfer_entropy_map(np.c_[x, y], n_surrogates=v)),
+        ("n_resamples", lambda v: select_inputs(np.c_[x, y], 1, n_resamples=v)),
+    ]
+    for name, call in calls:
+        with pytest.raises(ValueError, match=f"`{name}` must be at most 100,000"):
+            call(10**9)
+        with pytest.raises(ValueError, match=f"`{name}` must be at most"):
+            call(MAX_RESAMPLES + 1)
+
+
+def test_resample_indices_beyond_the_free_memory_are_refused(monkeypatch):
+    from modalinfo.information import resampling
+
+    monkeypatch.setattr(resampling, "free_memory_bytes", lambda: 3e8)
+    n, count = 5000, 8000  # 8 x 5000 x 8000 bytes = 0.298 GiB > 3e8 bytes = 0.279 GiB
+    with pytest.raises(ValueError, match=r"8,000 resamples of 5,000 rows need 0.298 GiB"):
+        block_bootstrap_indices(n, 10, count, np.random.default_rng(0))
+    with pytest.raises(ValueError, match=r"8,000 resamples of 5,000 rows need 0.298 GiB"):
+        mutual_information_ci(np.arange(n) % 7, np.arange(n) % 5, n_resamples=count,
+                              bootstrap="iid")

@@ -299,3 +299,66 @@ def test_refuses_a_search_larger_than_the_available_memory(monkeypatch):
     with pytest.raises(ValueError,
                        match=r"needs about 1.6 MiB .* and 1.0 MiB is available; use fewer"):
         select_inputs(X, 0, max_lag=10, n_surrogates=19, intervals=False)
+
+
+# ------------------------------------------------------------------ audit 9 (issue 27)
+# References: a deterministic (affine) relation has infinite Gaussian CMI
+# (-0.5 ln(1 - rho^2) with rho = 1; Cover & Thomas 2006, Example 8.5.1), so a copy must
+# be refused, never scored 17 nats; the near copy y = x + s e has the finite Gaussian CMI
+# 0.5 ln(1 + 1 / s^2) (6.91 nats at s = 1e-3), which must still be returned.
+
+
+def _white(n=2000, seed=21):
+    return np.random.default_rng(seed).standard_normal((n, 2))
+
+
+def test_a_delayed_copy_of_the_target_is_refused_not_scored():
+    from modalinfo.information.api import InfiniteMIError
+
+    s = _white()
+    data = np.c_[s[:, 0], np.r_[0.0, 3.0 * s[:-1, 0] + 1.0]]  # m1[t+1] = 3 m0[t] + 1
+    with pytest.raises(InfiniteMIError, match=r"affine function of candidate m0\[t\]"):
+        select_inputs(data, target=1, max_lag=3, n_surrogates=19, intervals=False)
+
+
+def test_an_exact_relation_reached_at_the_second_step_is_refused():
+    from modalinfo.information.api import InfiniteMIError
+
+    s = _white()
+    y = np.r_[0.0, s[:-1, 0] + 0.5 * s[:-1, 1]]  # exact, given both inputs
+    with pytest.raises(InfiniteMIError, match="given what is conditioned on"):
+        select_inputs(np.c_[s, y], target=2, max_lag=1, n_surrogates=19, intervals=False)
+
+
+def test_a_near_copy_keeps_its_finite_gain():
+    s = _white()
+    noise = 1e-3
+    data = np.c_[s[:, 0], np.r_[0.0, s[:-1, 0]] + noise * s[:, 1]]
+    res = select_inputs(data, target=1, max_lag=1, n_surrogates=19, intervals=False)
+    assert res.inputs[0].label == "m0[t]"
+    assert res.inputs[0].gain == pytest.approx(0.5 * np.log(1 + 1 / noise**2), abs=0.1)
+
+
+def test_slow_estimators_are_refused_before_any_work(monkeypatch):
+    """The first step's m (1 + N) estimates (54 x 200 KSG CMIs here, 46 s by ksg_cost,
+    27.8 s measured in audit 9) are refused above max_seconds before the search runs."""
+    from modalinfo.information import selection
+
+    def no_search(*args, **kwargs):
+        raise AssertionError("the search ran")
+
+    monkeypatch.setattr(selection, "_greedy_search", no_search)
+    data = np.random.default_rng(0).standard_normal((400, 18))
+    for method in ("ksg", "kde", "histogram"):
+        with pytest.raises(ValueError, match=rf"method='{method}' would take about .*"
+                                             r"\(54 candidates x \(1 \+ 199 surrogates\)"):
+            select_inputs(data, target=0, max_lag=3, method=method, intervals=False,
+                          max_seconds=1e-6)
+    with pytest.raises(ValueError, match="`max_seconds` must be > 0"):
+        select_inputs(data, target=0, max_lag=3, method="ksg", max_seconds=0)
+
+
+def test_the_closed_form_is_never_refused_for_time():
+    data = np.random.default_rng(0).standard_normal((400, 18))
+    res = select_inputs(data, target=0, max_lag=3, intervals=False, max_seconds=1e-6)
+    assert res.n_candidates == 54
