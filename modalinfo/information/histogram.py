@@ -92,6 +92,14 @@ from scipy.special import ndtri
 from modalinfo.common.validation import check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
+from modalinfo.information.discrete import (  # noqa: F401 (re-exported: former home)
+    DISCRETE_MIN_PER_CELL,
+    discrete_levels,
+    discrete_mi,
+    discrete_pair_mi,
+    discrete_x_levels,
+    mi_from_counts,
+)
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import BiasRuleWarning, MIMethod, register_method
 
@@ -359,81 +367,6 @@ class HistogramEngine:
         else:
             kern.joint_counts_index(ix, ay.index(ky), counts)
         return mi_from_counts(counts, self.bias_correction)
-
-
-def mi_from_counts(counts: np.ndarray, bias_correction: str = "miller-madow") -> float:
-    """MI in nats of a joint count table, plug-in or Miller-Madow corrected.
-
-    Parameters
-    ----------
-    counts : numpy.ndarray, shape (kx, ky), int64
-        Joint histogram.
-    bias_correction : {"miller-madow", "none"}
-        Correction applied to the plug-in value.
-
-    Returns
-    -------
-    float
-        Mutual information [nats].
-    """
-    out = np.empty(4)
-    kern.plugin_mi_from_counts(np.ascontiguousarray(counts, dtype=np.int64), out)
-    mi = out[0]
-    if bias_correction == "miller-madow":
-        n = float(counts.sum())
-        mi -= (out[1] - out[2] - out[3] + 1.0) / (2.0 * n)
-    return float(mi)
-
-
-#: Least mean number of samples per cell of the contingency table of two discrete
-#: variables for the discrete plug-in estimate of the kde and ksg engines (kde module
-#: notes, "Discrete data").
-DISCRETE_MIN_PER_CELL = 10
-
-
-def discrete_levels(x: np.ndarray, max_levels: int) -> tuple[np.ndarray, int] | None:
-    """Codes (n,) int64 of the distinct values of x and their number, if <= max_levels.
-
-    None when x has more than ``max_levels`` distinct values (or ``max_levels`` < 2).
-    Any ``max_levels + 1`` samples with that many distinct values prove it, so a
-    continuous sample is rejected after sorting its first ``max_levels + 1`` values.
-    """
-    if max_levels < 2 or np.unique(x[: max_levels + 1]).size > max_levels:
-        return None
-    values, codes = np.unique(x, return_inverse=True)
-    if values.size > max_levels:
-        return None
-    return codes.astype(np.int64, copy=False).ravel(), int(values.size)
-
-
-def discrete_mi(cx: np.ndarray, mx: int, cy: np.ndarray, my: int) -> float:
-    """Plug-in MI (nats) of two coded discrete samples, Miller-Madow corrected."""
-    counts = np.bincount(cx * my + cy, minlength=mx * my).reshape(mx, my)
-    return mi_from_counts(counts, "miller-madow")
-
-
-def discrete_x_levels(x: np.ndarray) -> tuple[np.ndarray, int] | None:
-    """Return :func:`discrete_levels` of a fixed x that may be one side of a discrete pair.
-
-    y needs >= 2 levels and each cell >= :data:`DISCRETE_MIN_PER_CELL` samples, so x
-    has at most ``n / 20`` of them.
-    """
-    return discrete_levels(x, x.shape[0] // (2 * DISCRETE_MIN_PER_CELL))
-
-
-def discrete_pair_mi(x_levels: tuple[np.ndarray, int] | None, y: np.ndarray) -> float | None:
-    """Return the Miller-Madow plug-in MI (nats) of a discrete pair's table, else None.
-
-    ``x_levels`` from :func:`discrete_x_levels` (None: x is not discrete). The pair is
-    discrete when y too has so few values that the table holds at least
-    :data:`DISCRETE_MIN_PER_CELL` samples per cell (``m_x m_y <= n / 10``): the rule of
-    the kde and ksg engines (kde module notes, "Discrete data").
-    """
-    if x_levels is None:
-        return None
-    cx, mx = x_levels
-    y_levels = discrete_levels(y, y.shape[0] // (DISCRETE_MIN_PER_CELL * mx))
-    return None if y_levels is None else discrete_mi(cx, mx, *y_levels)
 
 
 def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",

@@ -50,14 +50,14 @@ leave-one-out step removes each sample's own contribution *as computed on the gr
 truncated at 5 h; a sample with no other sample within that radius gets the density
 floor of one neighbour at the truncation radius, exp(-12.5) k(0) / (n - 1) per axis.
 
-Discrete data (:func:`~modalinfo.information.histogram.discrete_levels`). When x and
+Discrete data (:func:`~modalinfo.information.discrete.discrete_levels`). When x and
 y both take so few distinct values that their contingency table has at least
 :data:`DISCRETE_MIN_PER_CELL` = 10 samples per cell on average (``m_x m_y <= n / 10``),
 the pair is treated as discrete and the estimate is the plug-in MI of that table with
 the Miller-Madow correction (Miller 1955; Paninski,
 Neural Comput. 15, 1191, 2003: the correction removes the first-order bias while the
 number of cells is small against n), the estimator of
-:func:`modalinfo.information.histogram.mi_from_counts`. Why: tied values share one
+:func:`modalinfo.information.discrete.mi_from_counts`. Why: tied values share one
 normal score (mid-ranks), so a rounded variable is a set of point masses; a kernel
 narrower than their spacing resolves each atom and the smoothed atoms of the whitened
 pair do not cancel between the joint and the marginals (measured: a rho = 0.75 normal
@@ -84,18 +84,17 @@ from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.copula import check_copula, copula_scores, copula_scores_ties
+from modalinfo.information.discrete import (
+    DISCRETE_MIN_PER_CELL,
+    discrete_cmi,
+    discrete_pair_mi,
+    discrete_x_levels,
+)
 from modalinfo.information.gaussian import (
     _EIG_FLOOR,
     ONE_MINUS_R2_FLOOR,
     _standardise_columns,
     unit_scaled,
-)
-from modalinfo.information.histogram import (
-    DISCRETE_MIN_PER_CELL,
-    discrete_levels,
-    discrete_mi,
-    discrete_pair_mi,
-    discrete_x_levels,
 )
 from modalinfo.information.methods import MIMethod, register_method
 
@@ -490,33 +489,6 @@ def _kde_entropy_block(u: np.ndarray, h: float) -> float:
     return -ckern.gaussian_loo_log_density_mean(w, h) + float(np.sum(np.log(np.diag(chol))))
 
 
-def _discrete_cmi(x, y, z) -> float | None:
-    """Miller-Madow plug-in CMI (nats) of all-discrete (x, y, z), else None.
-
-    The rule of the MI engine (module notes, "Discrete data") for the joint table:
-    every column takes so few values that the table of (x, y, z) holds at least
-    :data:`DISCRETE_MIN_PER_CELL` samples per cell on average; the CMI is then
-    ``I(x; (y, z)) - I(x; z)`` of that table. Audit 9: the kernel resolves the atoms of
-    discrete data and gave 0.958 nats for the transfer entropy of a binary channel
-    (exact ln 2 - H(0.1) = 0.368) and 17.6 for a binary delayed copy (exact ln 2).
-    """
-    n = x.shape[0]
-    budget = n // DISCRETE_MIN_PER_CELL
-    codes = []
-    cells = 1
-    for group in (x, y, z):
-        code, m = np.zeros(n, dtype=np.int64), 1
-        for j in range(group.shape[1]):
-            lv = discrete_levels(group[:, j], budget // cells)
-            if lv is None:
-                return None
-            code, m, cells = code * lv[1] + lv[0], m * lv[1], cells * lv[1]
-        codes.append((code, m))
-    (cx, mx), (cy, my), (cz, mz) = codes
-    return discrete_mi(cx, mx, cy * mz + cz, my * mz) - (discrete_mi(cx, mx, cz, mz)
-                                                          if mz > 1 else 0.0)
-
-
 def kde_cmi(x, y, z, *, bandwidth: Any = "scott", copula: bool = True) -> float:
     """Leave-one-out Gaussian-KDE CMI [nats] with kernel ``h^2 S`` and its marginals.
 
@@ -527,7 +499,7 @@ def kde_cmi(x, y, z, *, bandwidth: Any = "scott", copula: bool = True) -> float:
     dimension. x, y, z of shapes (n, dx), (n, dy), (n, dz).
     """
     n = x.shape[0]
-    table = _discrete_cmi(x, y, z)
+    table = discrete_cmi(x, y, z)
     if table is not None:  # every column discrete: the table's CMI (module notes)
         return table
     if n > KDE_MAX_SAMPLES:

@@ -38,7 +38,7 @@ and the counts of eq. 8 see the noise, not the data (Gao, Kannan, Oh & Viswanath
 sec. 2: KSG is inconsistent there). Measured: a boolean variable and its copy
 (exact ln 2 = 0.693) gave 0.703 at n = 1e4, and 0.647 in an earlier version.
 When x and y both have so few distinct values that their contingency table has at
-least :data:`~modalinfo.information.histogram.DISCRETE_MIN_PER_CELL` = 10 samples per
+least :data:`~modalinfo.information.discrete.DISCRETE_MIN_PER_CELL` = 10 samples per
 cell (``m_x m_y <= n / 10``), the estimate is the Miller-Madow plug-in MI of that
 table instead, the rule and estimator of the ``kde`` engine (kde module notes,
 "Discrete data"): the MI of discrete variables is that of their table. A discrete
@@ -76,8 +76,8 @@ from scipy.special import digamma
 from modalinfo.common.memory import available_memory_bytes
 from modalinfo.common.validation import check_int
 from modalinfo.information.copula import check_copula, copula_scores
+from modalinfo.information.discrete import discrete_pair_mi, discrete_x_levels
 from modalinfo.information.gaussian import unit_scaled
-from modalinfo.information.histogram import discrete_pair_mi, discrete_x_levels
 from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = ["KSG_MAX_SAMPLES", "KSGEngine", "check_ksg_size", "ksg_cost", "ksg_entropy"]

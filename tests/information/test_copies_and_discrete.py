@@ -11,10 +11,11 @@ References:
   the Miller-Madow term (K_x + K_y - K_xy - 1) / (2 n) (Miller 1955) for the exact
   arithmetic of the discrete rule;
 - the Gaussian estimator's -0.5 ln(1 - r^2) is infinite at |r| = 1 (Cover & Thomas,
-  Example 8.5.1), so a discrete variable and its copy (normal scores affine in each other)
-  is refused; on binary pairs the normal scores are affine in the values, so r is the phi
-  coefficient, scikit-learn's ``matthews_corrcoef``; for y = x + s e, numpy's ``corrcoef``
-  (the law's I = 0.5 ln(1 + 1 / s^2) within sampling error);
+  Example 8.5.1), so a discrete variable and its copy with too few samples per cell for
+  the table rule (normal scores affine in each other) is refused; with enough, the
+  gaussian method too gives the table's MI (audit 9, t14: a normal model of a binary
+  pair is not its MI); for y = x + s e, numpy's ``corrcoef`` (the law's
+  I = 0.5 ln(1 + 1 / s^2) within sampling error);
 - the exact MI of a rounded normal pair (cell probabilities by quadrature,
   ``benchmarks/bench_mi_accuracy.py``, checked in test_beyond_normal_tasks.py).
 """
@@ -25,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from sklearn.metrics import matthews_corrcoef, mutual_info_score
+from sklearn.metrics import mutual_info_score
 
 from modalinfo.information import METHODS, MutualInformation, mutual_information
 
@@ -57,7 +58,7 @@ def test_near_copies_are_estimated_not_refused(x, method):
     assert mutual_information(x, head, method=method) < 0.1  # nearly independent
 
 
-@pytest.mark.parametrize("method", ["kde", "histogram", "ksg"])
+@pytest.mark.parametrize("method", ["kde", "histogram", "ksg", "gaussian"])
 def test_discrete_variable_and_its_copy_give_its_entropy(method):
     n = 10_000
     x = np.random.default_rng(42).integers(0, 4, n).astype(float)
@@ -70,11 +71,38 @@ def test_discrete_variable_and_its_copy_give_its_entropy(method):
 @pytest.mark.parametrize("copula", [True, False])
 @pytest.mark.parametrize("copy", ["same", "flipped", "affine"])
 def test_gaussian_refuses_a_discrete_variable_and_its_copy(copula, copy):
-    # before: 15-17 nats (1 - r^2 floored), where the other methods give the entropy
-    b = np.random.default_rng(43).integers(0, 2, 2000).astype(float)
+    # before: 15-17 nats (1 - r^2 floored), where the other methods give the entropy.
+    # 60 levels in 2000 samples: 3600 cells, fewer than 10 samples each, so the table
+    # rule does not apply and the normal model's infinite MI is refused
+    b = np.random.default_rng(43).integers(0, 60, 2000).astype(float)
     y = {"same": b, "flipped": 1.0 - b, "affine": 3.0 * b + 2.0}[copy]
     with pytest.raises(ValueError, match=r"affine function of `x`.*\+-1 .*infinite"):
         mutual_information(b, y, method="gaussian", copula=copula)
+
+
+@pytest.mark.parametrize("copula", [True, False])
+@pytest.mark.parametrize("copy", ["same", "flipped", "affine"])
+def test_gaussian_gives_a_binary_copy_its_entropy(copula, copy):
+    # a binary copy has 2 x 2 cells of ~500 samples: the table's MI, H(b) ~ ln 2
+    b = np.random.default_rng(43).integers(0, 2, 2000).astype(float)
+    y = {"same": b, "flipped": 1.0 - b, "affine": 3.0 * b + 2.0}[copy]
+    got = mutual_information(b, y, method="gaussian", copula=copula)
+    assert got == pytest.approx(_miller_madow_table_mi(b, y), rel=1e-9)
+    assert got == pytest.approx(math.log(2.0), abs=2e-3)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_binary_symmetric_channel_is_its_table_for_every_method(method):
+    # audit 9, t14: the gaussian method gave 0.565 (the normal model of phi = 0.8) for an
+    # exact ln 2 - H(0.1) = 0.368; every method now gives the table's Miller-Madow MI
+    n, q = 10_000, 0.1
+    rng = np.random.default_rng(45)
+    x = rng.integers(0, 2, n).astype(float)
+    y = np.abs(x - (rng.random(n) < q))
+    got = mutual_information(x, y, method=method)
+    assert got == pytest.approx(_miller_madow_table_mi(x, y), rel=1e-9)
+    exact = math.log(2.0) + q * math.log(q) + (1 - q) * math.log(1 - q)
+    assert got == pytest.approx(exact, abs=0.015)  # sd ~0.004 nats at n = 1e4
 
 
 @pytest.mark.parametrize("copula", [True, False])
@@ -87,12 +115,12 @@ def test_gaussian_engine_refuses_a_continuous_copy_itself(x, copula):
 
 
 def test_gaussian_near_copies_are_still_estimated(x):
-    b = np.random.default_rng(43).integers(0, 2, 2000).astype(float)
+    b = np.random.default_rng(43).integers(0, 60, 2000).astype(float)
     c = b.copy()
-    c[[7, 8]] = 1.0 - c[[7, 8]]  # two of 2000 flipped: phi ~ 0.998
-    phi = matthews_corrcoef(b, c)
-    assert mutual_information(b, c, method="gaussian") == pytest.approx(
-        -0.5 * math.log(1.0 - phi**2), rel=1e-9)
+    c[[7, 8]] = c[[8, 7]] + 0.5  # two of 2000 moved: r ~ 0.9993, a finite normal MI
+    r = np.corrcoef(b, c)[0, 1]
+    assert mutual_information(b, c, method="gaussian", copula=False) == pytest.approx(
+        -0.5 * math.log(1.0 - r**2), rel=1e-6)
     # 1 - r^2 ~ 1e-10, below the 1e-6 where the residual check runs: still a number
     s = 1e-5
     y = x + s * np.random.default_rng(44).standard_normal(x.size)
