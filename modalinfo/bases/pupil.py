@@ -12,6 +12,9 @@ __all__ = ["Pupil"]
 #: float64 n x n grids a pupil holds or builds at once (x, y, rho, theta, their meshgrid
 #: and hypot temporaries); the bool mask is smaller
 _GRIDS = 6
+#: Largest pupil diameter [m]: 10^4 x the 39 m ELT, so a diameter typed in um or nm
+#: is refused rather than overflowing the pixel area (1e300 gave an OverflowError)
+MAX_DIAMETER = 1e6
 
 
 def _readonly(arr: np.ndarray) -> np.ndarray:
@@ -68,7 +71,8 @@ class Pupil:
 
     def __init__(self, n_pixels: int, diameter: float = 1.0, obscuration: float = 0.0) -> None:
         n = check_int(n_pixels, "n_pixels", minimum=8)
-        d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+        d = check_real(diameter, "diameter", minimum=0.0, strict_min=True,
+                       maximum=MAX_DIAMETER)
         obs = check_real(obscuration, "obscuration", minimum=0.0, maximum=1.0, strict_max=True)
         need = _GRIDS * 8.0 * n * n
         if need > free_memory_bytes():  # refuse before numpy's MemoryError, naming the option

@@ -14,8 +14,10 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "as_bool_mask",
     "as_float_array",
     "check_exact_integers",
+    "check_real_dtype",
     "check_int",
     "check_real",
     "check_choice",
@@ -132,12 +134,7 @@ def as_float_array(
         arr = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
         raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.") from exc
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
-    ):
-        raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.")
-    if np.iscomplexobj(arr):
-        raise TypeError(f"`{name}` must be real; got a complex array.")
+    check_real_dtype(arr, name, value)
     if ndim is not None:
         allowed = (ndim,) if isinstance(ndim, int) else tuple(ndim)
         if arr.ndim not in allowed:
@@ -162,6 +159,45 @@ def as_float_array(
     if np.issubdtype(arr.dtype, np.integer) and arr.size:
         check_exact_integers(arr, out, name)
     return out
+
+
+def check_real_dtype(arr: np.ndarray, name: str, value: Any = None) -> None:
+    """Refuse an array whose dtype is not bool, integer or real floating.
+
+    Object, string, structured, complex and date/time dtypes are refused: NumPy counts
+    ``timedelta64`` as an integer, so durations in ms were read as plain numbers (and
+    ``datetime64`` cast silently by ``np.asarray(..., float)``), units lost.
+    ``value`` (default ``arr``) is described in the message.
+    """
+    if arr.dtype.kind == "c":
+        raise TypeError(f"`{name}` must be real; got a complex array.")
+    if arr.dtype.kind not in "biuf":
+        shown = arr if value is None else value
+        raise TypeError(f"`{name}` must be a numeric array; got {_describe(shown)}.")
+
+
+def as_bool_mask(value: Any, name: str) -> np.ndarray:
+    """Return ``value`` as a bool array: bool, or numbers that are all 0 or 1.
+
+    ``np.asarray(value, dtype=bool)`` calls every nonzero number, string or object
+    True, so a float image (0.5 at an edge), the strings '0'/'1' or a complex array
+    became a pupil mask silently.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: a non-numeric dtype, or a number other than 0 and 1.
+    """
+    arr = np.asarray(unmasked(value, name))
+    if arr.dtype == np.bool_:
+        return arr
+    check_real_dtype(arr, name, value)
+    bad = (arr != 0) & (arr != 1)
+    if np.any(bad):
+        raise ValueError(f"`{name}` must be boolean (or numbers 0 and 1); got "
+                         f"{int(np.count_nonzero(bad))} other value(s), e.g. "
+                         f"{_describe(arr[bad][0])}.")
+    return arr.astype(bool)
 
 
 def check_exact_integers(arr: np.ndarray, out: np.ndarray, name: str) -> None:

@@ -37,7 +37,13 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import as_float_array, check_int, check_square_range
+from modalinfo.common.validation import (
+    as_float_array,
+    check_int,
+    check_real_dtype,
+    check_square_range,
+    unmasked,
+)
 
 __all__ = ["Predictor", "NotFittedError"]
 
@@ -468,7 +474,8 @@ class Predictor:
             x[0, 0] = x_t
             scalar = True
         else:
-            arr = np.asarray(x_t, dtype=np.float64)
+            arr = np.asarray(unmasked(x_t, "x_t"))
+            check_real_dtype(arr, "x_t", x_t)  # complex lost its imaginary part, dates cast
             scalar = arr.ndim == 0
             if scalar:
                 if x.shape[1] != 1:

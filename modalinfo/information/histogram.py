@@ -560,7 +560,7 @@ def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
     (:data:`MIN_BINS`), with k the bins of ``options`` ("auto" by default).
     """
     k = _bins_per_axis(options.get("bins", "auto"), n, d)
-    cells = float(k) ** d
+    cells = float(k) ** d if d * math.log2(k) < 1000 else math.inf  # k^d beyond float64
     if k < MIN_BINS:
         return (f"histogram CMI with {k} bins per axis over {d} columns (n = {n}) "
                 f"is below the rule of at least {MIN_BINS} bins per axis: the "
