@@ -114,3 +114,11 @@ def test_a_grid_beyond_the_free_memory_is_refused_before_allocating(monkeypatch)
         Pupil(64)
     monkeypatch.setattr(pupil_module, "free_memory_bytes", lambda: 6 * 8 * 64 * 64 + 1.0)
     assert Pupil(64).n_pixels == 64
+
+
+def test_diameter_beyond_any_telescope_is_refused():
+    """Audit 9: diameter=1e300 overflowed the pixel area (OverflowError); the bound,
+    10^6 m, is 10^4 x the 39 m ELT (a diameter in um or nm typed as m)."""
+    with pytest.raises(ValueError, match="`diameter` must be <= 1000000.0; got 1e"):
+        Pupil(16, diameter=1e300)
+    assert Pupil(16, diameter=39.0).pixel_area == pytest.approx((39.0 / 16) ** 2)

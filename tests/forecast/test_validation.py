@@ -204,3 +204,21 @@ def test_a_horizon_beyond_memory_is_refused_naming_it():
     with pytest.raises(ValueError, match=r"`horizon` = .* GiB of forecasts"):
         p.predict(history, horizon=10**15)
     assert p.predict(history, horizon=10**15 // 10**13).shape == (100, 1)  # small: no check
+
+
+def test_update_refuses_what_fit_refuses():
+    """Audit 9: ``update`` cast its sample with ``np.asarray(float)``: a complex sample
+    lost its imaginary part (a ComplexWarning only), strings were parsed, a masked
+    value was used and dates became numbers; ``fit`` and ``predict`` refuse them all.
+    Reference: the same sample as a plain float gives the accepted forecast."""
+    history = np.sin(np.arange(40) / 3.0)
+    p = LinearPredictor(horizon=2).fit(history)
+    p.reset()
+    plain = p.update(np.array([0.5]))[0]
+    p.reset()
+    assert p.update([0.5])[0] == plain  # a list of floats is the same sample
+    for bad, kind in ((np.array([0.5 + 1j]), TypeError), (np.array(["0.5"]), TypeError),
+                      (np.ma.masked_array([0.5], mask=[True]), ValueError),
+                      (np.array([5]).astype("timedelta64[ms]"), TypeError)):
+        with pytest.raises(kind, match="`x_t`"):
+            p.update(bad)

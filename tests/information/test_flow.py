@@ -373,3 +373,17 @@ def test_too_few_surrogates_to_reach_alpha_are_refused_zero_is_the_te_alone():
         transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=9, alpha=0.01)
     alone = transfer_entropy_map(np.c_[x, y], lags=2, n_surrogates=0)
     assert np.all(alone.pvalue[~np.isnan(alone.pvalue)] == 1.0)
+
+
+def test_lags_that_are_not_ints_or_lists_are_refused_naming_lags():
+    """Audit 9: lags=2.5 or None raised "'float' object is not iterable"; 2**70 tried to
+    allocate the range 1..2**70 before the frame-count rule (lags + 20 frames) could
+    refuse it."""
+    X = _planted_network(100, 3)
+    for bad in (2.5, None):
+        with pytest.raises(TypeError, match="`lags` must be an int >= 1"):
+            transfer_entropy_map(X, lags=bad)
+    with pytest.raises(ValueError, match="`data` needs at least 520 frames"):
+        transfer_entropy_map(X, lags=500)
+    with pytest.raises(ValueError, match="`lags` must be an int <="):
+        transfer_entropy_map(X, lags=2**70)

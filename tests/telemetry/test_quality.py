@@ -301,3 +301,13 @@ def test_quantised_mode_minimum_run_is_the_documented_law():
     assert q == 0.5
     r = assess_quality(x, alpha=0.01)
     assert r.stuck_runs.tolist() == [math.ceil(1 + math.log(0.01 / 11) / math.log(q))] == [12]
+
+
+def test_alpha_is_checked_when_k_is_given():
+    """Audit 9: with ``k`` given, ``alpha=None`` passed and failed later with a bare
+    TypeError on quantised (tied) data, where alpha sets the stuck-run length."""
+    tied = np.round(np.random.default_rng(0).standard_normal((200, 2)) * 5)
+    with pytest.raises(TypeError, match="`alpha` must be a real number; got None"):
+        assess_quality(tied, k=5.0, alpha=None)
+    with pytest.raises(ValueError, match="`stuck_run` must be an int <="):
+        assess_quality(tied, stuck_run=2**70)
