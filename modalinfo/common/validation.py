@@ -150,8 +150,9 @@ def as_float_array(
     if min_length is not None and (arr.ndim == 0 or arr.shape[0] < min_length):
         got = 0 if arr.ndim == 0 else arr.shape[0]
         raise ValueError(f"`{name}` needs at least {min_length} samples along axis 0; got {got}.")
-    out = np.array(arr, dtype=dtype, order="C", copy=True) if copy else np.ascontiguousarray(
-        arr, dtype=dtype
+    # asarray(order="C"), not ascontiguousarray, which makes a 0-d array (1,)
+    out = np.array(arr, dtype=dtype, order="C", copy=True) if copy else np.asarray(
+        arr, dtype=dtype, order="C"
     )
     if finite and not np.all(np.isfinite(out)):
         bad = int(np.size(out) - np.count_nonzero(np.isfinite(out)))

@@ -224,3 +224,12 @@ def test_bad_inputs(pupil):
         kl.zernike_from_coefficients(np.zeros((2, 3)))
     with pytest.raises(ValueError, match="`zernike_from_kl` must have orthonormal columns"):
         KLBasis(zb, np.ones((6, 2)), [1.0, 1.0])
+
+
+def test_default_zernike_modes_refuses_counts_beyond_any_basis():
+    """Audit 9: n_modes = 2**70 spun 2^35 steps of the radial-order loop (a hang)."""
+    from modalinfo.bases import default_zernike_modes
+
+    assert default_zernike_modes(5)[-1] == 21  # 3 x 5 = 15 <= 20 modes after piston (n <= 5)
+    with pytest.raises(ValueError, match="`n_modes` must be an int <= 1000000"):
+        default_zernike_modes(2**70)
