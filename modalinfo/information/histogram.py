@@ -230,6 +230,8 @@ def _check_bins(bins: Any) -> Any:
     """Validate ``bins``: a rule name, an int >= 1 or a pair of ints >= 1."""
     if isinstance(bins, str):
         return check_choice(bins, "bins", BIN_RULES)
+    if isinstance(bins, np.ndarray) and bins.ndim == 0:  # a 0-d array: its one number
+        bins = bins.item()
     if isinstance(bins, list | tuple | np.ndarray):
         if len(bins) != 2:
             raise ValueError(f"`bins` as a sequence must be a pair (bx, by); got {bins!r}.")
