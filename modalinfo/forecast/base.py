@@ -474,8 +474,11 @@ class Predictor:
             x[0, 0] = x_t
             scalar = True
         else:
-            arr = np.asarray(unmasked(x_t, "x_t"))
-            check_real_dtype(arr, "x_t", x_t)  # complex lost its imaginary part, dates cast
+            if type(x_t) is np.ndarray and x_t.dtype == np.float64:  # the loop's case: as is
+                arr = x_t
+            else:  # complex lost its imaginary part, dates and strings were cast
+                arr = np.asarray(unmasked(x_t, "x_t"))
+                check_real_dtype(arr, "x_t", x_t)
             scalar = arr.ndim == 0
             if scalar:
                 if x.shape[1] != 1:
