@@ -19,6 +19,7 @@ __all__ = [
     "check_exact_integers",
     "check_real_dtype",
     "check_int",
+    "check_memory",
     "check_real",
     "check_choice",
     "check_rng",
@@ -231,6 +232,22 @@ def check_int(
     if maximum is not None and value > maximum:
         raise ValueError(f"`{name}` must be an int <= {maximum}; got {value}.")
     return value
+
+
+def check_memory(need_bytes: float, name: str, value: Any, what: str) -> None:
+    """Refuse a count whose arrays need more than the available memory, naming it.
+
+    A count such as ``n_resamples = 10**12`` is a valid int; without this NumPy raised
+    MemoryError (or, past 2^63 elements, an unnamed ValueError) at the allocation.
+    ``what`` says what the memory holds.
+    """
+    from modalinfo.common.memory import available_memory_bytes
+
+    avail = available_memory_bytes()
+    if need_bytes > avail:
+        raise ValueError(f"`{name}` = {value} needs about {need_bytes / 2**30:.3g} GiB for "
+                         f"{what} and {avail / 2**30:.3g} GiB is available; use a smaller "
+                         f"`{name}`.")
 
 
 def check_real(

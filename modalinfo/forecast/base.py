@@ -40,6 +40,7 @@ import numpy as np
 from modalinfo.common.validation import (
     as_float_array,
     check_int,
+    check_memory,
     check_real_dtype,
     check_square_range,
     unmasked,
@@ -212,6 +213,8 @@ class Predictor:
             self.refit_every, "refit_every", minimum=1)
         window = None if self.window is None else check_int(
             self.window, "window", minimum=self._min_samples(n_modes))
+        if window is not None and refit is not None:  # the refit ring buffer (window, M)
+            check_memory(8.0 * window * n_modes, "window", window, "its refit ring buffer")
         return horizon, refit, window
 
     def _min_samples(self, n_modes: int = 1) -> int:

@@ -222,3 +222,12 @@ def test_update_refuses_what_fit_refuses():
                       (np.array([5]).astype("timedelta64[ms]"), TypeError)):
         with pytest.raises(kind, match="`x_t`"):
             p.update(bad)
+
+
+def test_a_refit_window_beyond_memory_is_refused_naming_it():
+    """Audit 9: window = 2**70 with a refit schedule raised NumPy's unnamed "Maximum
+    allowed dimension exceeded" at the ring buffer (10**12: MemoryError)."""
+    history = np.sin(np.arange(200) / 3.0).reshape(-1, 2)
+    for w in (10**12, 2**70):
+        with pytest.raises(ValueError, match=f"`window` = {w} needs about"):
+            LinearPredictor(horizon=2, window=w, refit_every=10).fit(history)
