@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from modalinfo.common.validation import as_float_array, check_int
+
 __all__ = ["sample_autocovariance"]
 
 
@@ -12,8 +14,8 @@ def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
 
     Parameters
     ----------
-    x : numpy.ndarray, shape (T,)
-        Series (validated by the caller).
+    x : array_like, shape (T,)
+        Finite real series, T >= 1.
     n_lags : int
         Largest lag ``K``.
 
@@ -22,7 +24,15 @@ def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
     numpy.ndarray, shape (K + 1,)
         ``gamma(0..K)`` (Brockwell & Davis eq. 1.4.4; the biased estimator is positive
         semi-definite, which Yule-Walker and the block-length rule rely on).
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``x`` is not a finite real 1-D series with a sample, or ``n_lags`` is not an
+        int >= 0 (a list raised AttributeError, a (T, M) array was read as one series).
     """
+    x = as_float_array(x, "x", ndim=1, min_length=1)
+    n_lags = check_int(n_lags, "n_lags", minimum=0)
     xc = x - x.mean()
     n = xc.size
     # zero-padding to >= 2n makes the circular correlation of the FFT a linear one

@@ -26,7 +26,7 @@ import numpy as np
 from modalinfo.bases.image_basis import crop_images, pupil_from_mask, support_of
 from modalinfo.bases.indexing import noll_to_ansi, noll_to_zernike
 from modalinfo.bases.zernike import zernike_matrix
-from modalinfo.common.validation import check_int, check_real
+from modalinfo.common.validation import as_bool_mask, check_int, check_real
 
 __all__ = ["TRANSFORMS", "ZernikeIdentification", "identify_zernike"]
 
@@ -253,7 +253,7 @@ def identify_zernike(
         max_noll = check_int(max_noll, "max_noll", minimum=1)
     if mask is None:
         mask = support_of(arr)
-    mask = np.asarray(mask, dtype=bool)
+    mask = as_bool_mask(mask, "mask")
     if mask.shape != arr.shape[1:]:
         raise ValueError(f"`mask` must have the images' shape {arr.shape[1:]}; got {mask.shape}.")
     if not mask.any():

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from modalinfo.bases.basis import ModalBasis
-from modalinfo.bases.pupil import Pupil, _readonly
-from modalinfo.common.validation import as_float_array, check_real
+from modalinfo.bases.pupil import MAX_DIAMETER, Pupil, _readonly
+from modalinfo.common.validation import as_bool_mask, as_float_array, check_real
 
 __all__ = ["MaskedPupil", "pupil_from_mask", "support_of", "basis_from_images"]
 
@@ -46,7 +46,8 @@ class MaskedPupil(Pupil):
             raise TypeError(f"`mask` must be boolean; got dtype {m.dtype}.")
         if not m.any():
             raise ValueError("`mask` must hold at least one pupil pixel; got none.")
-        d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+        d = check_real(diameter, "diameter", minimum=0.0, strict_min=True,
+                       maximum=MAX_DIAMETER)
         n = m.shape[0]
         centres = (np.arange(n) + 0.5 - n / 2) * (d / n)
         x, y = np.meshgrid(centres, centres)
@@ -125,8 +126,8 @@ def pupil_from_mask(mask, diameter: float = 1.0) -> Pupil:
     Pupil
         ``Pupil`` or ``MaskedPupil``.
     """
-    square, _ = _square_crop(np.asarray(mask, dtype=bool))
-    d = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+    square, _ = _square_crop(as_bool_mask(mask, "mask"))
+    d = check_real(diameter, "diameter", minimum=0.0, strict_min=True, maximum=MAX_DIAMETER)
     n = square.shape[0]
     if n >= 8:
         disc = Pupil(n, diameter=d)
@@ -167,7 +168,7 @@ def _square_crop(mask: np.ndarray) -> tuple[np.ndarray, tuple[slice, slice, int,
 def crop_images(images, mask) -> np.ndarray:
     """Crop ``(M, h, w)`` images to the square of :func:`pupil_from_mask` (zero padding)."""
     arr = np.asarray(images)
-    square, (src_r, src_c, pr, pc) = _square_crop(np.asarray(mask, dtype=bool))
+    square, (src_r, src_c, pr, pc) = _square_crop(as_bool_mask(mask, "mask"))
     side = square.shape[0]
     out = np.zeros(arr.shape[:-2] + (side, side), dtype=np.float64)
     out[..., pr:pr + src_r.stop - src_r.start, pc:pc + src_c.stop - src_c.start] = arr[

@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.validation import unmasked
+
 __all__ = [
     "noll_to_zernike",
     "zernike_to_noll",
@@ -58,8 +60,8 @@ def _as_index(value: Any, name: str, minimum: int | None = None,
         arr = np.asarray(int(value), dtype=np.int64)
         scalar = True
     else:
-        arr = np.asarray(value)
-        if arr.dtype == object or not np.issubdtype(arr.dtype, np.integer):
+        arr = np.asarray(unmasked(value, name))
+        if arr.dtype.kind not in "iu":  # timedelta64 counts as an integer in NumPy
             raise TypeError(
                 f"`{name}` must be an int or an integer array; got dtype {arr.dtype}"
                 + (f" with value {value!r}." if arr.ndim == 0 else f" and shape {arr.shape}.")

@@ -59,7 +59,7 @@ from scipy import linalg, sparse
 
 from modalinfo.bases import _influence_kernels
 from modalinfo.bases.pupil import Pupil
-from modalinfo.common.validation import as_float_array, check_int, check_real
+from modalinfo.common.validation import as_float_array, check_int, check_memory, check_real
 
 __all__ = ["InfluenceFunctions", "DEFAULT_COUPLING", "DEFAULT_TRUNCATION",
            "DEFAULT_THRESHOLD", "gaussian_factor"]
@@ -163,6 +163,9 @@ class InfluenceFunctions:
         if not isinstance(pupil, Pupil):
             raise TypeError(f"`pupil` must be a modalinfo.bases.Pupil; got {type(pupil).__name__}.")
         self.n_actuators = check_int(n_actuators, "n_actuators", minimum=2)
+        # about five (n_actuators, n_actuators) float64 grids (positions, illumination)
+        check_memory(40.0 * self.n_actuators**2, "n_actuators", self.n_actuators,
+                     "its actuator grids")
         if pitch is None:
             pitch = pupil.diameter / (self.n_actuators - 1)
         self.pitch = check_real(pitch, "pitch", minimum=0.0, strict_min=True)

@@ -25,6 +25,11 @@ from modalinfo.common.validation import as_float_array, check_int, check_real
 __all__ = ["KLBasis", "default_zernike_modes"]
 
 
+#: Largest K-L mode count: 10^6 modes need 3 x 10^6 Zernikes, whose covariance alone
+#: is 72 TB of float64, far beyond any machine (a pupil of 16 pixels holds ~200 modes)
+MAX_KL_MODES = 10**6
+
+
 def default_zernike_modes(n_modes: int) -> np.ndarray:
     """Zernike set used by :meth:`KLBasis.from_turbulence` when none is given.
 
@@ -44,7 +49,8 @@ def default_zernike_modes(n_modes: int) -> np.ndarray:
     numpy.ndarray
         Noll indices ``2..J``.
     """
-    n_modes = check_int(n_modes, "n_modes", minimum=1)
+    # at most MAX_KL_MODES: 2**70 spun in the loop below (2^35 steps) instead of refusing
+    n_modes = check_int(n_modes, "n_modes", minimum=1, maximum=MAX_KL_MODES)
     n = 1
     while (n + 1) * (n + 2) // 2 - 1 < 3 * n_modes:
         n += 1

@@ -12,6 +12,9 @@ __all__ = ["Pupil"]
 #: float64 n x n grids a pupil holds or builds at once (x, y, rho, theta, their meshgrid
 #: and hypot temporaries); the bool mask is smaller
 _GRIDS = 6
+#: Largest pupil diameter [m]: 10^4 x the 39 m ELT, so a diameter typed in um or nm
+#: is refused rather than overflowing the pixel area (1e300 gave an OverflowError)
+MAX_DIAMETER = 1e6
 
 
 def _readonly(arr: np.ndarray) -> np.ndarray:
@@ -21,7 +24,7 @@ def _readonly(arr: np.ndarray) -> np.ndarray:
 
 #: Accepted pupil diameters [m]: a microscope objective's (~1e-3) to far beyond a 39 m
 #: ELT; within float64 for the pixel area (d / n)^2 at any grid
-_DIAMETER_RANGE = (1e-6, 1e6)
+_DIAMETER_RANGE = (1e-6, MAX_DIAMETER)
 
 
 class Pupil:

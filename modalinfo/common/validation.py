@@ -14,9 +14,12 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "as_bool_mask",
     "as_float_array",
     "check_exact_integers",
+    "check_real_dtype",
     "check_int",
+    "check_memory",
     "check_real",
     "check_choice",
     "check_rng",
@@ -132,12 +135,7 @@ def as_float_array(
         arr = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
         raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.") from exc
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
-    ):
-        raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.")
-    if np.iscomplexobj(arr):
-        raise TypeError(f"`{name}` must be real; got a complex array.")
+    check_real_dtype(arr, name, value)
     if ndim is not None:
         allowed = (ndim,) if isinstance(ndim, int) else tuple(ndim)
         if arr.ndim not in allowed:
@@ -153,8 +151,9 @@ def as_float_array(
     if min_length is not None and (arr.ndim == 0 or arr.shape[0] < min_length):
         got = 0 if arr.ndim == 0 else arr.shape[0]
         raise ValueError(f"`{name}` needs at least {min_length} samples along axis 0; got {got}.")
-    out = np.array(arr, dtype=dtype, order="C", copy=True) if copy else np.ascontiguousarray(
-        arr, dtype=dtype
+    # asarray(order="C"), not ascontiguousarray, which makes a 0-d array (1,)
+    out = np.array(arr, dtype=dtype, order="C", copy=True) if copy else np.asarray(
+        arr, dtype=dtype, order="C"
     )
     if finite and not np.all(np.isfinite(out)):
         bad = int(np.size(out) - np.count_nonzero(np.isfinite(out)))
@@ -162,6 +161,45 @@ def as_float_array(
     if np.issubdtype(arr.dtype, np.integer) and arr.size:
         check_exact_integers(arr, out, name)
     return out
+
+
+def check_real_dtype(arr: np.ndarray, name: str, value: Any = None) -> None:
+    """Refuse an array whose dtype is not bool, integer or real floating.
+
+    Object, string, structured, complex and date/time dtypes are refused: NumPy counts
+    ``timedelta64`` as an integer, so durations in ms were read as plain numbers (and
+    ``datetime64`` cast silently by ``np.asarray(..., float)``), units lost.
+    ``value`` (default ``arr``) is described in the message.
+    """
+    if arr.dtype.kind == "c":
+        raise TypeError(f"`{name}` must be real; got a complex array.")
+    if arr.dtype.kind not in "biuf":
+        shown = arr if value is None else value
+        raise TypeError(f"`{name}` must be a numeric array; got {_describe(shown)}.")
+
+
+def as_bool_mask(value: Any, name: str) -> np.ndarray:
+    """Return ``value`` as a bool array: bool, or numbers that are all 0 or 1.
+
+    ``np.asarray(value, dtype=bool)`` calls every nonzero number, string or object
+    True, so a float image (0.5 at an edge), the strings '0'/'1' or a complex array
+    became a pupil mask silently.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: a non-numeric dtype, or a number other than 0 and 1.
+    """
+    arr = np.asarray(unmasked(value, name))
+    if arr.dtype == np.bool_:
+        return arr
+    check_real_dtype(arr, name, value)
+    bad = (arr != 0) & (arr != 1)
+    if np.any(bad):
+        raise ValueError(f"`{name}` must be boolean (or numbers 0 and 1); got "
+                         f"{int(np.count_nonzero(bad))} other value(s), e.g. "
+                         f"{_describe(arr[bad][0])}.")
+    return arr.astype(bool)
 
 
 def check_exact_integers(arr: np.ndarray, out: np.ndarray, name: str) -> None:
@@ -194,6 +232,25 @@ def check_int(
     if maximum is not None and value > maximum:
         raise ValueError(f"`{name}` must be an int <= {maximum}; got {value}.")
     return value
+
+
+def check_memory(need_bytes: float, name: str, value: Any, what: str) -> None:
+    """Refuse a count whose arrays need more than the available memory, naming it.
+
+    A count such as ``n_resamples = 10**12`` is a valid int; without this NumPy raised
+    MemoryError (or, past 2^63 elements, an unnamed ValueError) at the allocation.
+    ``what`` says what the memory holds. Below 128 MiB nothing is read, so the check
+    costs nothing in a loop.
+    """
+    if need_bytes < 2**27:
+        return
+    from modalinfo.common.memory import available_memory_bytes
+
+    avail = available_memory_bytes()
+    if need_bytes > avail:
+        raise ValueError(f"`{name}` = {value} needs about {need_bytes / 2**30:.3g} GiB for "
+                         f"{what} and {avail / 2**30:.3g} GiB is available; use a smaller "
+                         f"`{name}`.")
 
 
 def check_real(

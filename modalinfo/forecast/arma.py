@@ -90,7 +90,7 @@ from scipy.signal import lfilter
 from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
-from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.forecast._kernels import (
     SHORT_ORDER,
     arma_innovations,
@@ -174,8 +174,10 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
 
     Parameters
     ----------
-    phi : numpy.ndarray, shape (p,)
-    theta : numpy.ndarray, shape (q,)
+    phi : array_like, shape (p,)
+        AR coefficients (finite, real; p may be 0).
+    theta : array_like, shape (q,)
+        MA coefficients (finite, real; q may be 0).
     n : int
         Number of weights.
 
@@ -184,6 +186,10 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
     numpy.ndarray, shape (n,)
     """
     n = check_int(n, "n", minimum=1)  # psi_0 = 1 always exists (n = 0: IndexError)
+    # 1-D floats: a list raised AttributeError, and a (q, 1) theta was changed in place
+    # (its rows are views that `s +=` added to)
+    phi = as_float_array(phi, "phi", ndim=1)
+    theta = as_float_array(theta, "theta", ndim=1)
     psi = np.zeros(n)
     psi[0] = 1.0
     for j in range(1, n):

@@ -37,7 +37,14 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import as_float_array, check_int, check_square_range
+from modalinfo.common.validation import (
+    as_float_array,
+    check_int,
+    check_memory,
+    check_real_dtype,
+    check_square_range,
+    unmasked,
+)
 
 __all__ = ["Predictor", "NotFittedError"]
 
@@ -103,29 +110,11 @@ class NotFittedError(ValueError, AttributeError):
     """Raised when a predictor is used before :meth:`Predictor.fit`."""
 
 
-def check_option_memory(name: str, value: int, need: float, what: str) -> None:
-    """Refuse an integer option whose arrays (``need`` bytes) cannot be held.
-
-    ``horizon=10**30`` reached NumPy as "Maximum allowed dimension exceeded" and
-    ``window=10**12`` or ``n_hidden=10**9`` as a ``MemoryError``, naming nothing. Below
-    128 MiB nothing is read (the check costs nothing in a loop).
-    """
-    if need < 2**27:
-        return
-    from modalinfo.common.memory import available_memory_bytes
-
-    available = available_memory_bytes()
-    if need > available:
-        raise ValueError(
-            f"`{name}` = {value} needs {need / 2**30:.3g} GiB of {what}, more than the "
-            f"{available / 2**30:.3g} GiB available; use a smaller {name}."
-        )
-
-
 def _check_forecast_memory(horizon: int, n_modes: int) -> None:
     """Refuse a horizon whose forecast arrays (two of H x M float64) cannot be held."""
-    check_option_memory("horizon", horizon, 2.0 * 8.0 * horizon * max(int(n_modes), 1),
-                        f"forecasts for {n_modes} mode(s)")
+    # horizon=10**30 reached NumPy as "Maximum allowed dimension exceeded" (audit 9)
+    check_memory(2.0 * 8.0 * horizon * max(int(n_modes), 1), "horizon", horizon,
+                 f"the forecasts of {n_modes} mode(s)")
 
 
 class _Run:
@@ -268,6 +257,9 @@ class Predictor:
             self.refit_every, "refit_every", minimum=1)
         window = None if self.window is None else check_int(
             self.window, "window", minimum=self._min_samples(n_modes))
+        if window is not None and refit is not None:  # the refit ring buffer (window, M)
+            check_memory(8.0 * window * n_modes, "window", window,
+                         f"the refit ring buffer of {n_modes} mode(s)")
         return horizon, refit, window
 
     def _min_samples(self, n_modes: int = 1) -> int:
@@ -401,8 +393,8 @@ class Predictor:
         _check_forecast_memory(horizon, self.n_modes_)
         window = self.window_ if refit is not None else None
         if window is not None:  # the ring buffer of the last `window` samples
-            check_option_memory("window", window, 8.0 * window * self.n_modes_,
-                                f"refit ring buffer for {self.n_modes_} mode(s)")
+            check_memory(8.0 * window * self.n_modes_, "window", window,
+                         f"the refit ring buffer of {self.n_modes_} mode(s)")
         return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
                     self.n_modes_, window)
 
@@ -534,7 +526,11 @@ class Predictor:
             x[0, 0] = x_t
             scalar = True
         else:
-            arr = np.asarray(x_t, dtype=np.float64)
+            if type(x_t) is np.ndarray and x_t.dtype == np.float64:  # the loop's case: as is
+                arr = x_t
+            else:  # complex lost its imaginary part, dates and strings were cast
+                arr = np.asarray(unmasked(x_t, "x_t"))
+                check_real_dtype(arr, "x_t", x_t)
             scalar = arr.ndim == 0
             if scalar:
                 if x.shape[1] != 1:

@@ -39,9 +39,9 @@ import warnings
 
 import numpy as np
 
-from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_memory, check_real
 from modalinfo.forecast._kernels import mlp_filter
-from modalinfo.forecast.base import Predictor, check_option_memory
+from modalinfo.forecast.base import Predictor
 
 __all__ = ["NeuralNetPredictor"]
 
@@ -164,9 +164,8 @@ class NeuralNetPredictor(Predictor):
         # their gradients (n_patterns x n_hidden, 3 copies) and its L-BFGS memory (10
         # pairs of weight vectors, 2 more for the gradient): bytes of float64
         n_weights = n_hidden * (k + 2) + 1
-        check_option_memory("n_hidden", n_hidden,
-                            8.0 * (n_modes * n_weights + 3 * n_pat * n_hidden
-                                   + 22 * n_weights), "network weights and activations")
+        check_memory(8.0 * (n_modes * n_weights + 3 * n_pat * n_hidden + 22 * n_weights),
+                     "n_hidden", n_hidden, "the network's weights and activations")
         if self.standardize:
             x_mean = X.mean(axis=0)
             x_scale = X.std(axis=0)

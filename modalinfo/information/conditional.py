@@ -168,7 +168,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import as_float_array, check_choice
+from modalinfo.common.validation import as_float_array, check_choice, check_int
 from modalinfo.information.api import (
     _COPY_SCREEN,
     DEFAULT_METHOD,
@@ -268,6 +268,8 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
         One sentence naming the rule and the numbers, or None if the rule is met.
     """
     rule = get_method(method, needs="cmi").bias_rule
+    n = check_int(n, "n", minimum=1)  # True was 1 sample, 3.5 was compared as is
+    d = check_int(d, "d", minimum=1)
     return None if rule is None else rule(n, d, options or {})
 
 

@@ -43,7 +43,12 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo.common.validation import check_choice, check_real, check_rng
+from modalinfo.common.validation import (
+    check_choice,
+    check_memory,
+    check_real,
+    check_rng,
+)
 from modalinfo.information.api import RESAMPLING_METHOD
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
@@ -117,6 +122,8 @@ def conditional_mutual_information_ci(
     n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
     rng = check_rng(seed)
     n = xa.shape[0]
+    check_memory(8.0 * n_resamples * (n + 1), "n_resamples", n_resamples,
+                 "its resample indices (int64, one per sample and resample)")
     b = resolve_block_length(block_length, xa, ya, za)
     theta = est(xa, ya, za)
     idx = block_bootstrap_indices(n, b, n_resamples, rng)
@@ -184,6 +191,8 @@ def conditional_mutual_information_test(
     est = _estimator(method, units, options)
     xa, ya, za = _triple(x, y, z)
     n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=1)
+    check_memory(16.0 * n_surrogates, "n_surrogates", n_surrogates,
+                 "its null distribution and shifts")
     check_choice(surrogate, "surrogate", ("circular", "shuffle"))
     rng = check_rng(seed)
     n = xa.shape[0]

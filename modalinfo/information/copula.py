@@ -27,6 +27,8 @@ import numpy as np
 from scipy.special import ndtri
 from scipy.stats import rankdata
 
+from modalinfo.common.validation import as_float_array
+
 __all__ = ["copula_scores", "copula_scores_ties", "check_copula"]
 
 
@@ -43,7 +45,14 @@ def copula_scores(x: np.ndarray) -> np.ndarray:
     numpy.ndarray, shape (n,)
         Dimensionless scores in about [-Phi^-1(n / (n + 1)), +Phi^-1(n / (n + 1))];
         tied values share the score of their average rank.
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``x`` is not a finite, real, 1-D array (a 2-D array was ranked flattened
+        against its row count, giving NaN scores; a list raised AttributeError).
     """
+    x = as_float_array(x, "x", ndim=1)
     n = x.shape[0]
     return ndtri(rankdata(x) / (n + 1.0))
 

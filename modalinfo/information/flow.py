@@ -109,7 +109,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.memory import free_memory_bytes
-from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
 from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
@@ -276,11 +276,18 @@ def _pick(series: np.ndarray, labels: list[str], modes: Any, name: str
     return np.ascontiguousarray(series[:, idx]), [labels[i] for i in idx]
 
 
-def _check_lags(lags: Any) -> np.ndarray:
+def _check_lags(lags: Any, n_frames: int) -> np.ndarray:
     if isinstance(lags, int | np.integer):
-        top = check_int(lags, "lags", minimum=1)
-        return np.arange(1, top + 1)
-    arr = np.asarray(list(lags) if not isinstance(lags, np.ndarray) else lags)
+        top = check_int(lags, "lags", minimum=1, maximum=2**62)  # int64
+        # a lag of n_frames or more leaves no pair: the largest alone reaches the frame-count
+        # refusal (2^70 tried to allocate the whole range 1..lags first)
+        return np.arange(1, top + 1) if top < n_frames else np.array([top], dtype=np.int64)
+    try:
+        arr = np.asarray(list(lags) if not isinstance(lags, np.ndarray) else unmasked(
+            lags, "lags"))
+    except TypeError:  # a float, None: not iterable
+        raise TypeError(f"`lags` must be an int >= 1 (lags 1..lags) or a non-empty "
+                        f"sequence of ints >= 0; got {lags!r}.") from None
     if arr.ndim != 1 or arr.size == 0 or arr.dtype.kind not in "iu":
         raise ValueError(f"`lags` must be an int >= 1 (lags 1..lags) or a non-empty "
                          f"sequence of ints >= 0; got {lags!r}.")
@@ -594,9 +601,10 @@ def transfer_entropy_map(
     elif extra_modes is not None:
         raise ValueError("`extra_modes` selects columns of `extra`, which is not given.")
     if len(labels) < 2:
-        raise ValueError(f"a transfer map needs at least 2 series; got {len(labels)}.")
+        raise ValueError(f"`data` (with `extra`) must hold at least 2 series for a transfer "
+                         f"map; got {len(labels)}.")
     series = _safe_scale(series)
-    lags = _check_lags(lags)
+    lags = _check_lags(lags, series.shape[0])
     history = check_int(history, "history", minimum=0)
     check_choice(method, "method", CMI_METHODS)
     check_choice(units, "units", tuple(UNITS))

@@ -239,6 +239,8 @@ def _check_bins(bins: Any) -> Any:
     """Validate ``bins``: a rule name, an int >= 1 or a pair of ints >= 1."""
     if isinstance(bins, str):
         return check_choice(bins, "bins", BIN_RULES)
+    if isinstance(bins, np.ndarray) and bins.ndim == 0:  # a 0-d array: its one number
+        bins = bins.item()
     if isinstance(bins, list | tuple | np.ndarray):
         if len(bins) != 2:
             raise ValueError(f"`bins` as a sequence must be a pair (bx, by); got {bins!r}.")
@@ -541,7 +543,7 @@ def histogram_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
     (:data:`MIN_BINS`), with k the bins of ``options`` ("auto" by default).
     """
     k = _bins_per_axis(options.get("bins", "auto"), n, d)
-    cells = float(k) ** d
+    cells = float(k) ** d if d * math.log2(k) < 1000 else math.inf  # k^d beyond float64
     if k < MIN_BINS:
         return (f"histogram CMI with {k} bins per axis over {d} columns (n = {n}) "
                 f"is below the rule of at least {MIN_BINS} bins per axis: the "

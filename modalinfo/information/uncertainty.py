@@ -61,6 +61,7 @@ from scipy import stats
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
+    check_memory,
     check_real,
     check_rng,
 )
@@ -262,6 +263,8 @@ def mutual_information_ci(
     confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
                                   maximum=1.0, strict_min=True, strict_max=True)
     n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
+    check_memory(8.0 * n_resamples * (x.shape[0] + 1), "n_resamples", n_resamples,
+                 "its resample indices (int64, one per sample and resample)")
     check_choice(bootstrap, "bootstrap", ("block", "iid"))
     check_choice(interval, "interval", ("normal", "basic", "percentile", "bca"))
     if interval == "bca" and bootstrap != "iid":
@@ -396,6 +399,8 @@ def mutual_information_permutation_test(
     check_choice(units, "units", tuple(UNITS))
     x, y = _pair(x, y)
     n_permutations = check_resamples(n_permutations, "n_permutations", minimum=1)
+    check_memory(16.0 * n_permutations, "n_permutations", n_permutations,
+                 "its null distribution and shifts")
     check_choice(permutation, "permutation", ("shuffle", "circular"))
     if not isinstance(match_ends, (bool, np.bool_)):
         raise TypeError(f"`match_ends` must be a bool; got {type(match_ends).__name__}.")

@@ -40,7 +40,13 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
+from modalinfo.common.validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_real,
+    unmasked,
+)
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import (
     as_basis,
@@ -82,8 +88,8 @@ def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
         return np.arange(n_modes, dtype=np.int64)
     if hasattr(order, "order") and not isinstance(order, np.ndarray):  # an OrderingResult
         order = order.order
-    arr = np.asarray(order)
-    if arr.ndim != 1 or not (np.issubdtype(arr.dtype, np.integer) or arr.size == 0):
+    arr = np.asarray(unmasked(order, name))
+    if arr.ndim != 1 or not (arr.dtype.kind in "iu" or arr.size == 0):  # not timedelta64
         raise TypeError(f"`{name}` must be a 1-D sequence of ints; got {arr!r}.")
     if arr.size != n_modes or not np.array_equal(np.sort(arr), np.arange(n_modes)):
         raise ValueError(

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo.common.validation import check_int
+from modalinfo.common.validation import check_int, unmasked
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.orderings import order_modes
 
@@ -37,8 +37,14 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
     (float, float)
         rho and tau, 1 for identical orderings, -1 for reversed ones.
     """
-    a = np.asarray(order_a)
-    b = np.asarray(order_b)
+    from modalinfo.ordering.fitting_error import check_order
+
+    # each a permutation of 0..M-1 by the rule of `order` elsewhere (floats indexed the
+    # ranks with an IndexError, a masked index was used)
+    a = check_order(order_a, np.size(order_a), "order_a")
+    b = np.asarray(unmasked(order_b, "order_b"))
+    if b.dtype.kind not in "iu":
+        raise TypeError(f"`order_b` must be a 1-D sequence of ints; got {b!r}.")
     if a.shape != b.shape or a.ndim != 1 or not np.array_equal(np.sort(a), np.sort(b)):
         raise ValueError(
             f"`order_a` and `order_b` must be permutations of the same modes; got {a.tolist()} "

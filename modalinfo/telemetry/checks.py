@@ -203,31 +203,35 @@ def check_metadata(metadata: Any) -> dict:
     return json.loads(text)
 
 
-def check_timestamps(timestamps: Any, n_frames: int) -> np.ndarray:
-    """Return ``timestamps`` as read-only float64 seconds, finite and strictly increasing."""
+def check_timestamps(timestamps: Any, n_frames: int | None,
+                     name: str = "timestamps") -> np.ndarray:
+    """Return ``timestamps`` as read-only float64 seconds, finite and strictly increasing.
+
+    ``n_frames`` None accepts any length; ``name`` names the argument in messages.
+    """
+    timestamps = unmasked(timestamps, name)
     try:
         t = np.asarray(timestamps)
     except (ValueError, TypeError) as exc:
-        raise TypeError("`timestamps` must be a 1-D numeric array of seconds.") from exc
+        raise TypeError(f"`{name}` must be a 1-D numeric array of seconds.") from exc
     if t.dtype.kind not in "fiu":
-        raise TypeError(f"`timestamps` must be a numeric array of seconds; got dtype {t.dtype}.")
-    if t.ndim != 1 or t.shape[0] != n_frames:
-        raise ValueError(
-            f"`timestamps` must have shape ({n_frames},) to match `coeffs`; got {t.shape}."
-        )
+        raise TypeError(f"`{name}` must be a numeric array of seconds; got dtype {t.dtype}.")
+    if t.ndim != 1 or (n_frames is not None and t.shape[0] != n_frames):
+        want = "1-D" if n_frames is None else f"shape ({n_frames},) to match `coeffs`"
+        raise ValueError(f"`{name}` must have {want}; got shape {t.shape}.")
     t = np.array(t, dtype=np.float64)
     if not np.all(np.isfinite(t)):
         raise ValueError(
-            f"`timestamps` must be finite; got {int(np.sum(~np.isfinite(t)))} non-finite value(s)."
+            f"`{name}` must be finite; got {int(np.sum(~np.isfinite(t)))} non-finite value(s)."
         )
-    if n_frames > 1:
+    if t.shape[0] > 1:
         dt = np.diff(t)
         bad = np.flatnonzero(dt <= 0)
         if bad.size:
             i = int(bad[0])
             rule = "duplicated" if dt[i] == 0 else "decreasing"
             raise ValueError(
-                f"`timestamps` must be strictly increasing; {rule} at index {i + 1} "
+                f"`{name}` must be strictly increasing; {rule} at index {i + 1} "
                 f"({t[i]:.10g} s then {t[i + 1]:.10g} s)."
             )
     t.flags.writeable = False

@@ -380,6 +380,10 @@ def assess_quality(
         arr = as_coeffs(log_or_coeffs)
         labels = [f"col{j}" for j in range(arr.shape[1])]
     n, m = arr.shape
+    # alpha also sets the stuck-run length of quantised modes, so it is checked with k
+    # given too (None failed there with a bare TypeError on tied data)
+    alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
+                       strict_max=True)
     if k is not None:
         k = check_real(k, "k", minimum=0.0, strict_min=True)
         if not math.isfinite(k):
@@ -391,7 +395,7 @@ def assess_quality(
     # more modes than the log holds would make "glitched frame" unreachable (audit 9)
     frame_modes = min(m, 3) if frame_modes is None else check_int(
         frame_modes, "frame_modes", minimum=1, maximum=m)
-    stuck_run = check_int(stuck_run, "stuck_run", minimum=2)
+    stuck_run = check_int(stuck_run, "stuck_run", minimum=2, maximum=2**62)  # int64 runs
     sample_frames = check_int(sample_frames, "sample_frames", minimum=MIN_SAMPLE_FRAMES)
     rows = scan_rows(arr) if chunk_frames is None else check_int(
         chunk_frames, "chunk_frames", minimum=1)

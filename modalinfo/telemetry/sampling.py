@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from modalinfo.common.validation import check_real
+from modalinfo.telemetry.checks import check_timestamps
 
 __all__ = ["Sampling", "sampling_of", "require_contiguous", "GAP_FACTOR"]
 
@@ -116,9 +117,9 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
         The statistics.
     """
     gap_factor = check_real(gap_factor, "gap_factor", minimum=1.0, strict_min=True)
-    t = np.asarray(times, dtype=np.float64)
-    if t.ndim != 1:
-        raise ValueError(f"`times` must be 1-D; got shape {t.shape}.")
+    # the one check of ModalLog's timestamps: strings, dates (ms read as s), complex and
+    # masked arrays were cast silently; unsorted times gave negative rates
+    t = check_timestamps(times, None, "times")
     empty = np.zeros(0, dtype=np.int64)
     if t.size < 2:
         nan = float("nan")

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from modalinfo.common.validation import check_choice, check_real
+from modalinfo.common.validation import check_choice, check_real, check_real_dtype, unmasked
 
 __all__ = [
     "UNITS",
@@ -158,12 +158,31 @@ def zernike_rms_normalization(n, m):
 
 def _fringe_factors(modes) -> np.ndarray:
     from modalinfo.bases import fringe_to_noll, noll_to_zernike
+    from modalinfo.bases.indexing import _as_index
 
-    modes = np.asarray(modes, dtype=np.int64)
-    if modes.ndim != 1 or modes.size == 0 or np.any(modes < 1):
+    # the index rule of the converters: 2.5 was truncated to 2, '4' parsed, 1+1j cast
+    modes, scalar = _as_index(modes, "modes")
+    if scalar or modes.ndim != 1 or modes.size == 0 or np.any(modes < 1):
         raise ValueError(f"`modes` must be a 1-D list of Fringe indices >= 1; got {modes!r}.")
     n, m = noll_to_zernike(fringe_to_noll(modes))
     return np.atleast_1d(zernike_rms_normalization(n, m))
+
+
+def _fringe_coeffs(coeffs, n_modes: int) -> tuple[np.ndarray, type]:
+    """``coeffs`` checked as real (T, M) or (M,) with M = ``n_modes``, and its float dtype.
+
+    A floating input keeps its dtype (float32 stays float32); integers become float64.
+    Complex, object, date and masked arrays are refused (the imaginary part was dropped
+    or an object array returned), as is a last axis other than ``n_modes`` (one mode's
+    (T,) series broadcast as T modes of one frame).
+    """
+    arr = np.asarray(unmasked(coeffs, "coeffs"))
+    check_real_dtype(arr, "coeffs", coeffs)
+    one_mode_series = arr.ndim == 1 and n_modes == 1  # (T,): the same numbers either way
+    if arr.ndim not in (1, 2) or (arr.shape[-1] != n_modes and not one_mode_series):
+        raise ValueError(f"`coeffs` must have shape (T, {n_modes}) or ({n_modes},) for "
+                         f"{n_modes} mode(s); got {arr.shape}.")
+    return arr, (arr.dtype.type if arr.dtype.kind == "f" else np.float64)
 
 
 def rms_from_peak_normalized(coeffs, modes):
@@ -183,8 +202,8 @@ def rms_from_peak_normalized(coeffs, modes):
         ``a_rms = a_peak / N_nm``, same dtype as a floating input.
     """
     factors = _fringe_factors(modes)
-    arr = np.asarray(coeffs)
-    return arr / factors.astype(arr.dtype if arr.dtype.kind == "f" else np.float64)
+    arr, dtype = _fringe_coeffs(coeffs, factors.size)
+    return arr / factors.astype(dtype)
 
 
 def peak_normalized_from_rms(coeffs, modes):
@@ -205,5 +224,5 @@ def peak_normalized_from_rms(coeffs, modes):
         Peak-normalised Fringe coefficients.
     """
     factors = _fringe_factors(modes)
-    arr = np.asarray(coeffs)
-    return arr * factors.astype(arr.dtype if arr.dtype.kind == "f" else np.float64)
+    arr, dtype = _fringe_coeffs(coeffs, factors.size)
+    return arr * factors.astype(dtype)

@@ -283,3 +283,19 @@ def test_r0_beyond_float_range_is_refused_and_within_it_follows_the_law(mirror):
     for cols in ([0, 1], [2, 3, 4]):
         proj = np.linalg.lstsq(m_ref[:, cols], m_far[:, cols], rcond=None)[0]
         np.testing.assert_allclose(m_ref[:, cols] @ proj, m_far[:, cols], atol=1e-8)
+def test_von_karman_tends_to_kolmogorov_as_the_outer_scale_grows():
+    """Audit 9: the closed form B0 - b(u) cancels for u = 2 pi r / L0 -> 0: L0 = 1e10 m
+    gave 2,000 x Kolmogorov's D at r = 1 cm, and L0 = 1e300 an OverflowError. The
+    reference is the limit L0 -> inf, Kolmogorov's 6.8839 (r / r0)^(5/3) (Fried 1966),
+    which von Karman approaches from below, monotonically."""
+    r = np.array([0.01, 0.1, 1.0])
+    kolmogorov = von_karman_structure_function(r, 0.1)
+    previous = np.zeros(3)
+    for outer_scale in (1e2, 1e4, 1e6, 1e8, 1e10, 1e14, 1e100, 1e300):
+        ratio = von_karman_structure_function(r, 0.1, outer_scale) / kolmogorov
+        assert np.all(ratio <= 1.0 + 1e-9) and np.all(ratio >= previous)
+        previous = ratio
+    np.testing.assert_allclose(previous, 1.0, rtol=1e-9)
+    assert von_karman_structure_function(0.5, 0.1, 20.0).shape == ()  # a scalar stays 0-d
+    with pytest.raises(TypeError, match="`r` must be real"):
+        von_karman_structure_function(r + 1j, 0.1, 20.0)

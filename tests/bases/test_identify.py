@@ -151,3 +151,15 @@ def test_bad_input_is_named():
         identify_zernike(np.ones((1, 8, 8)), threshold=0.0)
     with pytest.raises(ValueError, match="`mask` must have the images' shape"):
         basis_from_images(np.ones((1, 8, 8)), mask=np.ones((4, 4), dtype=bool))
+
+
+def test_a_mask_of_zeros_and_ones_is_a_mask_and_nothing_else_is():
+    """Audit 9: ``np.asarray(mask, bool)`` made every nonzero value, string or object
+    True: a float image with 0.5 at the edge or the strings '0' became a full square.
+    Reference: the bool mask of the same pupil."""
+    pupil = Pupil(16)
+    assert np.array_equal(pupil_from_mask(pupil.mask.astype(np.uint8)).mask, pupil.mask)
+    with pytest.raises(ValueError, match="`mask` must be boolean"):
+        pupil_from_mask(np.where(pupil.mask, 1.0, 0.5))
+    with pytest.raises(TypeError, match="`mask` must be a numeric array"):
+        pupil_from_mask(pupil.mask.astype(int).astype(str))

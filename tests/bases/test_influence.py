@@ -169,3 +169,11 @@ def test_fitting_error_against_law_and_hcipy():
     # measured 0.2206 (law -4.6 %) and hcipy 0.2114 (+4.4 %)
     assert a_ours == pytest.approx(a_law, rel=0.10)
     assert a_ours == pytest.approx(a_hcipy, rel=0.10)
+
+
+def test_actuator_counts_beyond_memory_are_refused_naming_them():
+    """Audit 9: n_actuators = 10**6 raised MemoryError (a 10^6 x 10^6 grid, 7 TiB) and
+    2**70 NumPy's unnamed "Maximum allowed size exceeded"."""
+    for n in (10**6, 2**70):
+        with pytest.raises(ValueError, match=f"`n_actuators` = {n} needs about"):
+            InfluenceFunctions(Pupil(16), n)

@@ -234,3 +234,10 @@ def test_more_kl_modes_than_the_grid_resolves_are_refused():
     for n_modes in (153, 1000):
         with pytest.raises(ValueError, match=rf"`n_modes` = {n_modes} K-L modes need a finer"):
             KLBasis.from_turbulence(Pupil(32), n_modes)
+def test_default_zernike_modes_refuses_counts_beyond_any_basis():
+    """Audit 9: n_modes = 2**70 spun 2^35 steps of the radial-order loop (a hang)."""
+    from modalinfo.bases import default_zernike_modes
+
+    assert default_zernike_modes(5)[-1] == 21  # 3 x 5 = 15 <= 20 modes after piston (n <= 5)
+    with pytest.raises(ValueError, match="`n_modes` must be an int <= 1000000"):
+        default_zernike_modes(2**70)

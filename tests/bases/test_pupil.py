@@ -131,3 +131,9 @@ def test_an_annulus_without_pixels_and_absurd_diameters_are_refused():
         with pytest.raises(ValueError, match=r"`diameter` must be in metres within 1e-06 - "
                                              r"1e\+06"):
             Pupil(16, diameter=d)
+def test_diameter_beyond_any_telescope_is_refused():
+    """Audit 9: diameter=1e300 overflowed the pixel area (OverflowError); the bound,
+    10^6 m, is 10^4 x the 39 m ELT (a diameter in um or nm typed as m)."""
+    with pytest.raises(ValueError, match=r"`diameter` must be in metres within .*; got 1e"):
+        Pupil(16, diameter=1e300)
+    assert Pupil(16, diameter=39.0).pixel_area == pytest.approx((39.0 / 16) ** 2)

@@ -63,3 +63,27 @@ def test_a_rate_outside_the_range_is_named_with_its_source(rate, timestamps, sou
     text = log_rate_problem(rate, timestamps, "'a.npz'")
     assert text.startswith(f"'a.npz': its {source} a frame rate of {rate:.3g} Hz, outside "
                            "0.001-1e+06 Hz")
+
+
+# Audit 9 (inputs): NumPy's documented dtype kinds are the reference. timedelta64 is a
+# subtype of np.integer, so durations passed the numeric check and were read as counts
+# of their unit (ms as seconds); a 0/1 mask of floats is a mask, 0.5 or '1' is not.
+@pytest.mark.parametrize("unit", ["timedelta64[ms]", "datetime64[ms]"])
+def test_date_and_time_dtypes_are_refused_naming_the_argument(unit):
+    values = np.arange(10).astype(unit)
+    assert np.issubdtype(values.dtype, np.number) == (unit.startswith("timedelta"))
+    with pytest.raises(TypeError, match="`t` must be a numeric array; got array of shape"):
+        as_float_array(values, "t")
+
+
+def test_a_mask_is_bool_or_zeros_and_ones():
+    from modalinfo.common.validation import as_bool_mask
+
+    mask = np.array([[0, 1], [1, 1]])
+    assert as_bool_mask(mask.astype(np.float32), "mask").tolist() == mask.astype(bool).tolist()
+    with pytest.raises(ValueError, match=r"`mask` must be boolean \(or numbers 0 and 1\); got 1 "):
+        as_bool_mask(np.array([0.0, 0.5, 1.0]), "mask")
+    with pytest.raises(TypeError, match="`mask` must be a numeric array"):
+        as_bool_mask(np.array(["0", "1"]), "mask")
+    with pytest.raises(TypeError, match="`mask` must be real"):
+        as_bool_mask(np.array([1 + 1j, 0]), "mask")

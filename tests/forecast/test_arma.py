@@ -141,3 +141,32 @@ def test_unit_root_series_gives_causal_model():
     assert np.all(np.abs(ar) <= 1 / (1 + 1e-3) + 1e-12)
     assert np.all(np.abs(ma) <= 1 / (1 + 1e-3) + 1e-12)
     assert np.all(np.isfinite(pred.predict(x, horizon=50)))
+
+
+def test_psi_weights_take_lists_and_leave_inputs_unchanged():
+    """Audit 9: lists raised AttributeError, and a (q, 1) theta was modified in place
+    (its rows are views). Reference: statsmodels' arma2ma (lag polynomials with the
+    opposite AR sign)."""
+    phi, theta = [0.5, 0.2], [0.3]
+    want = arma2ma(np.r_[1.0, -np.array(phi)], np.r_[1.0, theta], lags=8)
+    np.testing.assert_allclose(psi_weights(phi, theta, 8), want, rtol=1e-12)
+    column = np.array([[0.3]])
+    with pytest.raises(ValueError, match="`theta` must be 1-D; got 2-D"):
+        psi_weights(np.array(phi), column, 8)
+    assert column[0, 0] == 0.3
+    with pytest.raises(TypeError, match="`phi` must be real"):
+        psi_weights(np.array(phi) + 1j, theta, 8)
+
+
+def test_sample_autocovariance_checks_its_series():
+    """Audit 9: a list raised AttributeError, an empty series OverflowError, and a
+    (T, M) table was read as one series. Reference: statsmodels' acovf (biased, fft)."""
+    x = list(np.random.default_rng(3).standard_normal(64))
+    np.testing.assert_allclose(sample_autocovariance(x, 5), acovf(np.array(x), nlag=5, fft=True),
+                               rtol=1e-10, atol=1e-14)
+    with pytest.raises(ValueError, match="`x` must be 1-D; got 2-D"):
+        sample_autocovariance(np.ones((10, 2)), 3)
+    with pytest.raises(ValueError, match="`x` needs at least 1 samples"):
+        sample_autocovariance(np.zeros(0), 3)
+    with pytest.raises(TypeError, match="`n_lags` must be an int; got 3.5"):
+        sample_autocovariance(x, 3.5)

@@ -198,10 +198,10 @@ def test_a_horizon_beyond_memory_is_refused_naming_it():
 
     history = np.random.default_rng(0).standard_normal((50, 1))
     for horizon in (10**15, 10**30):
-        with pytest.raises(ValueError, match=r"`horizon` = .* GiB of forecasts"):
+        with pytest.raises(ValueError, match=r"`horizon` = .* GiB for the forecasts"):
             PersistencePredictor(horizon=horizon).fit(history)
     p = PersistencePredictor(horizon=3).fit(history)
-    with pytest.raises(ValueError, match=r"`horizon` = .* GiB of forecasts"):
+    with pytest.raises(ValueError, match=r"`horizon` = .* GiB for the forecasts"):
         p.predict(history, horizon=10**15)
     assert p.predict(history, horizon=10**15 // 10**13).shape == (100, 1)  # small: no check
 
@@ -214,10 +214,38 @@ def test_options_whose_arrays_cannot_be_held_are_refused_naming_them():
     from modalinfo.forecast import NeuralNetPredictor
 
     X = np.random.default_rng(0).standard_normal((300, 2))
-    with pytest.raises(ValueError, match=r"`window` = 1000000000000 needs 1.49e\+04 GiB "
-                       r"of refit ring buffer for 2 mode\(s\)"):
+    with pytest.raises(ValueError, match=r"`window` = 1000000000000 needs about 1.49e\+04 GiB "
+                       r"for the refit ring buffer of 2 mode\(s\)"):
         ARMAPredictor(order=(1, 0), refit_every=1, window=10**12).fit(X)
     with pytest.raises(ValueError, match=r"`window` = 1000000000000 needs"):
         evaluate([ARMAPredictor(order=(1, 0))], X, refit_every=5, window=10**12)
-    with pytest.raises(ValueError, match=r"`n_hidden` = 1000000000 needs .* GiB of network"):
+    with pytest.raises(ValueError, match=r"`n_hidden` = 1000000000 needs about .* GiB "
+                                         r"for the network"):
         NeuralNetPredictor(n_hidden=10**9, n_patterns=200).fit(X)
+
+
+def test_update_refuses_what_fit_refuses():
+    """Audit 9: ``update`` cast its sample with ``np.asarray(float)``: a complex sample
+    lost its imaginary part (a ComplexWarning only), strings were parsed, a masked
+    value was used and dates became numbers; ``fit`` and ``predict`` refuse them all.
+    Reference: the same sample as a plain float gives the accepted forecast."""
+    history = np.sin(np.arange(40) / 3.0)
+    p = LinearPredictor(horizon=2).fit(history)
+    p.reset()
+    plain = p.update(np.array([0.5]))[0]
+    p.reset()
+    assert p.update([0.5])[0] == plain  # a list of floats is the same sample
+    for bad, kind in ((np.array([0.5 + 1j]), TypeError), (np.array(["0.5"]), TypeError),
+                      (np.ma.masked_array([0.5], mask=[True]), ValueError),
+                      (np.array([5]).astype("timedelta64[ms]"), TypeError)):
+        with pytest.raises(kind, match="`x_t`"):
+            p.update(bad)
+
+
+def test_a_refit_window_beyond_memory_is_refused_naming_it():
+    """Audit 9: window = 2**70 with a refit schedule raised NumPy's unnamed "Maximum
+    allowed dimension exceeded" at the ring buffer (10**12: MemoryError)."""
+    history = np.sin(np.arange(200) / 3.0).reshape(-1, 2)
+    for w in (10**12, 2**70):
+        with pytest.raises(ValueError, match=f"`window` = {w} needs about"):
+            LinearPredictor(horizon=2, window=w, refit_every=10).fit(history)

@@ -425,3 +425,15 @@ def test_cmi_refuses_an_affine_function_of_y_and_z(method):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", BiasRuleWarning)
         assert abs(conditional_mutual_information(2 * z[:, 0] + 1, y, z, method=method)) < 0.1
+def test_bias_rule_checks_its_counts():
+    """Audit 9: n=True was 1 sample, 3.5 was compared as is, d=2**70 raised
+    OverflowError in k^d. The histogram rule n >= k^d with k >= 4 (module notes) fails
+    for any d past 1,000 columns, so a sentence (not an error) is the answer there."""
+    from modalinfo.information import bias_rule
+
+    with pytest.raises(TypeError, match="`n` must be an int; got True"):
+        bias_rule("histogram", True, 3)
+    with pytest.raises(TypeError, match="`d` must be an int; got 3.5"):
+        bias_rule("histogram", 100, 3.5)
+    assert bias_rule("histogram", 10**6, 2**70) is not None
+    assert bias_rule("histogram", 10**6, 2, {"bins": 8}) is None  # 64 cells, 10^6 samples

@@ -55,3 +55,16 @@ def test_copula_option_must_be_a_bool():
     assert check_copula(np.bool_(True)) is True
     with pytest.raises(TypeError, match=r"`copula` must be a bool; got 1"):
         check_copula(1)
+
+
+def test_copula_scores_take_a_list_and_refuse_a_table():
+    """Audit 9: a list raised AttributeError; a (T, M) table was ranked flattened
+    against its row count (scores of ranks beyond n + 1: NaN). Reference: scipy's
+    normal quantile of rank / (n + 1)."""
+    x = [0.3, -1.2, 5.0, 0.0, 2.2]
+    want = stats.norm.ppf(stats.rankdata(x) / 6.0)
+    np.testing.assert_allclose(copula_scores(x), want, rtol=1e-12)
+    with pytest.raises(ValueError, match="`x` must be 1-D; got 2-D"):
+        copula_scores(np.ones((5, 2)))
+    with pytest.raises(TypeError, match="`x` must be real"):
+        copula_scores(np.array(x) + 1j)

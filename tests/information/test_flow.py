@@ -415,3 +415,15 @@ def test_map_and_selection_are_unchanged_by_extreme_units(scale):
            for d in (data, data * scale)]
     assert [i.label for i in sel[1].inputs] == [i.label for i in sel[0].inputs] == ["m0[t]"]
     assert sel[1].inputs[0].gain == pytest.approx(sel[0].inputs[0].gain, abs=1e-12)
+def test_lags_that_are_not_ints_or_lists_are_refused_naming_lags():
+    """Audit 9: lags=2.5 or None raised "'float' object is not iterable"; 2**70 tried to
+    allocate the range 1..2**70 before the frame-count rule (lags + 20 frames) could
+    refuse it."""
+    X = _planted_network(100, 3)
+    for bad in (2.5, None):
+        with pytest.raises(TypeError, match="`lags` must be an int >= 1"):
+            transfer_entropy_map(X, lags=bad)
+    with pytest.raises(ValueError, match="`data` needs at least 520 frames"):
+        transfer_entropy_map(X, lags=500)
+    with pytest.raises(ValueError, match="`lags` must be an int <="):
+        transfer_entropy_map(X, lags=2**70)

@@ -273,3 +273,15 @@ def test_quantile_index_of_a_fixed_variable_matches_numpy_for_every_bin_number(s
         fresh = _Axis(x, "quantile").index(k)  # the selection path, first k of an axis
         np.testing.assert_array_equal(fresh, np.searchsorted(inner, x, side="right"))
     assert ax._sorted is not None  # the sweep path was used
+
+
+def test_a_0d_array_of_bins_is_its_number():
+    """Audit 9: ``bins=np.array(8)`` raised "len() of unsized object". Reference: the
+    same call with the int 8 (NumPy's 0-d array holds that one number)."""
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(500)
+    y = x + rng.standard_normal(500)
+    assert mutual_information(x, y, method="histogram", bins=np.array(8)) == \
+        mutual_information(x, y, method="histogram", bins=8)
+    with pytest.raises(TypeError, match="`bins` must be an int; got 8.5"):
+        mutual_information(x, y, method="histogram", bins=np.array(8.5))

@@ -173,3 +173,30 @@ def test_bca_falls_back_to_percentile_when_every_replicate_is_above():
     np.testing.assert_allclose([res.low, res.high], want, rtol=1e-12)
     assert res.interval == "percentile"
     assert res.note.startswith("BCa undefined: 0 of 99 bootstrap replicates lie below")
+
+
+def test_resample_counts_beyond_memory_are_refused_naming_them():
+    """Audit 9: n_resamples / n_permutations / n_surrogates = 10**12 raised MemoryError at
+    the allocation (2**70: NumPy's unnamed "Maximum allowed dimension exceeded"). The
+    reference is the arithmetic: 10^12 int64 resample indices per sample, or 10^12
+    float64 null values, exceed any machine's memory."""
+    from modalinfo.information import (
+        conditional_mutual_information_ci,
+        conditional_mutual_information_test,
+        mutual_information_ci,
+        mutual_information_permutation_test,
+    )
+
+    rng = np.random.default_rng(0)
+    x, z = rng.standard_normal(300), rng.standard_normal(300)
+    y = x + rng.standard_normal(300)
+    with pytest.raises(ValueError, match=r"`n_resamples` must be at most 100,000.*got "
+                                         r"1,000,000,000,000"):
+        mutual_information_ci(x, y, n_resamples=10**12)
+    with pytest.raises(ValueError, match=r"`n_permutations` must be at most 100,000"):
+        mutual_information_permutation_test(x, y, n_permutations=2**70)
+    with pytest.raises(ValueError, match=r"`n_surrogates` must be at most 100,000"):
+        conditional_mutual_information_test(x, y, z, n_surrogates=10**12)
+    with pytest.raises(ValueError, match=r"`n_resamples` must be at most 100,000.*got "
+                                         r"1,000,000,000,000"):
+        conditional_mutual_information_ci(x, y, z, n_resamples=10**12)

@@ -71,3 +71,16 @@ def test_bad_inputs():
         ordering_stability(a, z, "variance", seeds=(1,))
     with pytest.raises(ValueError, match="`n_top` must be an int <= 3"):
         ordering_stability(a, z, "variance", n_top=4)
+
+
+def test_rank_agreement_refuses_orders_that_are_not_ints():
+    """Audit 9: float orders indexed the ranks (IndexError), a masked index was used.
+    Reference: identical orderings agree exactly (rho = tau = 1)."""
+    assert rank_agreement(np.array([2, 0, 1], dtype=np.uint8), [2, 0, 1]) == pytest.approx(
+        (1.0, 1.0))
+    with pytest.raises(TypeError, match="`order_a` must be a 1-D sequence of ints"):
+        rank_agreement(np.array([1.0, 0.0, 2.0]), [1, 0, 2])
+    with pytest.raises(TypeError, match="`order_b` must be a 1-D sequence of ints"):
+        rank_agreement([1, 0, 2], np.array([1.0, 0.0, 2.0]))
+    with pytest.raises(ValueError, match="`order_a` is a masked array"):
+        rank_agreement(np.ma.masked_array([1, 0, 2], mask=[0, 1, 0]), [1, 0, 2])

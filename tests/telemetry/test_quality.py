@@ -341,3 +341,11 @@ def test_a_report_of_another_log_is_refused():
     med = np.median(y[:, 0])
     sigma = MAD_TO_SIGMA * np.median(np.abs(y[:, 0] - med))
     assert out.coeffs[10, 0] == pytest.approx(med + r.k * sigma, rel=1e-12)
+def test_alpha_is_checked_when_k_is_given():
+    """Audit 9: with ``k`` given, ``alpha=None`` passed and failed later with a bare
+    TypeError on quantised (tied) data, where alpha sets the stuck-run length."""
+    tied = np.round(np.random.default_rng(0).standard_normal((200, 2)) * 5)
+    with pytest.raises(TypeError, match="`alpha` must be a real number; got None"):
+        assess_quality(tied, k=5.0, alpha=None)
+    with pytest.raises(ValueError, match="`stuck_run` must be an int <="):
+        assess_quality(tied, stuck_run=2**70)

@@ -91,3 +91,20 @@ def test_forecast_and_bootstrap_refuse_gaps():
         order_modes(log, basis, "mi_greedy", sample_budget=2000, n_resamples=5, seed=0)
     res = order_modes(log, basis, "mi_greedy", sample_budget=2000, n_resamples=0, seed=0)
     assert sorted(res.order.tolist()) == [0, 1, 2]  # frame order does not matter here
+
+
+def test_sampling_of_uses_the_timestamp_rule():
+    """Audit 9: ``sampling_of`` cast its input with ``np.asarray(float)``: datetime64 in
+    ms became seconds x 1000, strings were parsed, masked values used, and decreasing
+    times gave a negative rate. It now shares ModalLog's timestamp rule. Reference:
+    1 / interval of an exact 1 ms grid."""
+    t = np.arange(50) * 1e-3
+    assert sampling_of(list(t)).median_rate == pytest.approx(1000.0, rel=1e-12)
+    with pytest.raises(TypeError, match="`times` must be a numeric array of seconds"):
+        sampling_of(np.arange(50).astype("datetime64[ms]"))
+    with pytest.raises(TypeError, match="`times` must be a numeric array of seconds"):
+        sampling_of(t.astype(str))
+    with pytest.raises(ValueError, match="`times` is a masked array with 1 masked"):
+        sampling_of(np.ma.masked_array(t, mask=np.arange(50) == 7))
+    with pytest.raises(ValueError, match="`times` must be strictly increasing; decreasing"):
+        sampling_of(t[::-1])

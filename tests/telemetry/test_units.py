@@ -128,3 +128,22 @@ def test_a_wavelength_below_a_picometre_is_refused():
     with pytest.raises(ValueError, match=r"`wavelength` must be in metres, >= 1e-12 .*got 1e-30"):
         unit_scale("nm", "rad", 1e-30)
     assert unit_scale("nm", "rad", 1e-12) * 500.0 == pytest.approx(2 * np.pi * 5e5, rel=1e-14)
+def test_fringe_conversions_refuse_what_they_cannot_convert():
+    """Audit 9: complex coefficients lost their imaginary part, an object array came
+    back as objects, a Fringe index 4.5 was truncated to 4, a masked value was used.
+    Reference: Noll's N_nm = sqrt(3) of defocus (n = 2, m = 0; Fringe 4)."""
+    from modalinfo.telemetry import peak_normalized_from_rms
+
+    assert rms_from_peak_normalized([math.sqrt(3.0)], [4])[0] == pytest.approx(1.0)
+    series = np.arange(6.0)  # one mode's series (T,): the same numbers either way
+    np.testing.assert_allclose(peak_normalized_from_rms(series, [4]), series * math.sqrt(3))
+    with pytest.raises(TypeError, match="`coeffs` must be real"):
+        rms_from_peak_normalized(np.ones((3, 2)) + 1j, [2, 4])
+    with pytest.raises(TypeError, match="`coeffs` must be a numeric array"):
+        rms_from_peak_normalized(np.ones((3, 2), dtype=object), [2, 4])
+    with pytest.raises(TypeError, match="`modes` must be an int or an integer array"):
+        rms_from_peak_normalized(np.ones((3, 2)), [2, 4.5])
+    with pytest.raises(ValueError, match=r"`coeffs` must have shape \(T, 2\) or \(2,\)"):
+        peak_normalized_from_rms(np.ones(6), [2, 4])
+    with pytest.raises(ValueError, match="`coeffs` is a masked array"):
+        rms_from_peak_normalized(np.ma.masked_array(np.ones(2), mask=[1, 0]), [2, 4])
