@@ -558,8 +558,23 @@ class ModalLog:
         -------
         ModalLog
             Same dtype; ``phase[rad] = 2 pi OPD / lambda``, ``waves = OPD / lambda``.
+
+        Raises
+        ------
+        ValueError
+            If the log's units were assumed (``metadata["assumed"]["units"]``: its file
+            does not record them) and ``units`` differs: the factor would be a guess.
+            ``modalinfo convert`` refuses the same (``--in-units``).
         """
         units = check_units(units)
+        assumed = self._metadata.get("assumed")
+        if isinstance(assumed, dict) and "units" in assumed and units != self._units:
+            # the converted log would read as known units while its scale is a guess
+            # (audit 9, files: it kept metadata 'assumed: rad' beside units nm)
+            raise ValueError(
+                f"`units`: this log's units ({self._units}) were assumed, not recorded by "
+                f"its file, so converting to {units!r} would scale by a guess; state them "
+                "when loading (load(..., units=...), the command line's --in-units).")
         lam = self._wavelength
         if wavelength is not None:
             wavelength = check_wavelength(wavelength)

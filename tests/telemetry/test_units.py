@@ -147,3 +147,22 @@ def test_fringe_conversions_refuse_what_they_cannot_convert():
         peak_normalized_from_rms(np.ones(6), [2, 4])
     with pytest.raises(ValueError, match="`coeffs` is a masked array"):
         rms_from_peak_normalized(np.ma.masked_array(np.ones(2), mask=[1, 0]), [2, 4])
+
+
+def test_a_log_with_assumed_units_is_not_converted(tmp_path):
+    """Audit 9 (files): a foreign file without units loads as rad "(assumed)"; to_units
+    scaled it by a guess and kept ``assumed: rad`` beside units nm. Reference: the CLI's
+    rule (``convert --units`` refuses without ``--in-units``) and the definition
+    OPD[nm] = phase[rad] lambda / (2 pi) once the units are stated."""
+    from modalinfo.io import load
+
+    coeffs = np.random.default_rng(0).standard_normal((50, 3))
+    np.save(tmp_path / "plain.npy", coeffs)
+    log = load(tmp_path / "plain.npy", rate=1000.0)
+    assert log.metadata["assumed"]["units"] == "rad"
+    with pytest.raises(ValueError, match="`units`: this log's units \\(rad\\) were assumed"):
+        log.to_units("nm", wavelength=500e-9)
+    assert log.to_units("rad") is not None  # no conversion: nothing guessed
+    stated = load(tmp_path / "plain.npy", rate=1000.0, units="rad")
+    nm = stated.to_units("nm", wavelength=500e-9)
+    np.testing.assert_allclose(nm.coeffs, coeffs * 500.0 / (2 * math.pi), rtol=1e-15)
