@@ -86,7 +86,7 @@ MARECHAL_MIN_SR = 0.3
 
 
 def marechal_note(strehl: float) -> str:
-    """Return a caveat for an SR (Marechal) below :data:`MARECHAL_MIN_SR`, or ``""``.
+    """Return a caveat for an SR (Marechal) below ``MARECHAL_MIN_SR``, or ``""``.
 
     Printed by ``closedloop run/info/compare`` beside the numbers: there ``exp(-sigma^2)``
     is a measure of the residual, not the Strehl ratio of an image.
@@ -301,9 +301,9 @@ class SimulationResult:
     def strehl(self) -> np.ndarray:
         """Marechal Strehl ratio ``exp(-sigma^2)``, ``(T, n_dir)``, at each frame's end.
 
-        The image's Strehl ratio only where it exceeds :data:`MARECHAL_MIN_SR` (0.3,
+        The image's Strehl ratio only where it exceeds ``MARECHAL_MIN_SR`` (0.3,
         ``sigma^2 < 1.2 rad^2``); below, a measure of the residual that underestimates
-        the image's Strehl (:func:`marechal_note`).
+        the image's Strehl (``closedloop.result.marechal_note``).
         """
         return np.exp(-self.residual_variance)
 

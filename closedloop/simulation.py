@@ -132,11 +132,10 @@ def simulate(
     SimulationResult
     """
     duration, loop_pred = _check_arguments(config, duration, predictor, on_predictor_fault,
-                                           budget_every, control_basis, snapshot_every)
+                                           budget_every, control_basis, snapshot_every,
+                                           progress, callback)
     snapshot_directions = _check_snapshot_directions(snapshot_directions, snapshot_every,
                                                      config.field)
-    if progress is not None and not isinstance(progress, bool | np.bool_):  # "no" was True
-        raise TypeError(f"`progress` must be None or a bool; got {progress!r}.")
     oracle = loop_pred.oracle
     from closedloop.resources import check_resources
 
@@ -144,12 +143,7 @@ def simulate(
                     budget=bool(budget_every), setup=model is None)
     model = _model_for(config, model)
     seed = _check_seed(config.seed if seed is None else seed)
-    if callback is not None and not callable(callback):  # else a TypeError at frame 0
-        raise TypeError(f"`callback` must be callable or None; got {callback!r}.")
-    basis = _check_control_basis(control_basis, model.n_modes)
-    if basis is not None and budget_every:
-        raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
-                         "models a loop that controls every mode).")
+    basis = _check_control_basis(control_basis, model.n_modes, budget_every)
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
@@ -269,10 +263,13 @@ def _check_open_loop(predictor, budget_every, control_basis) -> None:
                              f"command is applied); got {shown}.")
 
 
-def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
+def _check_control_basis(basis, n_modes: int, budget_every=None) -> np.ndarray | None:
     """Validate ``control_basis``: ``(n_modes, n)`` with orthonormal columns."""
     if basis is None:
         return None
+    if budget_every:
+        raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
+                         "models a loop that controls every mode).")
     b = np.asarray(basis, dtype=np.float64)
     if b.ndim != 2 or b.shape[0] != n_modes or not 1 <= b.shape[1] <= n_modes:
         raise ValueError(f"`control_basis` must have shape ({n_modes}, n) with 1 <= n <= "
@@ -287,11 +284,16 @@ def _check_control_basis(basis, n_modes: int) -> np.ndarray | None:
 
 
 def _check_arguments(config, duration, predictor, on_predictor_fault, budget_every,
-                     control_basis, snapshot_every) -> tuple[float, LoopPredictor]:
+                     control_basis, snapshot_every, progress,
+                     callback) -> tuple[float, LoopPredictor]:
     """Refuse what :func:`simulate` refuses before any set-up.
 
     Returns the checked duration and the run's predictor (the one check of ``predictor``).
     """
+    if progress is not None and not isinstance(progress, bool | np.bool_):  # "no" was True
+        raise TypeError(f"`progress` must be None or a bool; got {progress!r}.")
+    if callback is not None and not callable(callback):  # else a TypeError at frame 0
+        raise TypeError(f"`callback` must be callable or None; got {callback!r}.")
     duration = check_real(duration, "duration", minimum=0.0, strict_min=True)
     if not isinstance(config, SimulationConfig):
         raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")

@@ -235,10 +235,12 @@ class CorrelatingSubapertures:
         flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
         # the stored reference is an ideal (flat-fielded, dark-subtracted) image
         self.reference = self._form(self._check_phase(flat))[0]
-        # the measurement's options are checked now, not at the first frame
-        measure_shifts(self.reference, self.reference, method=method,
-                       interpolation=interpolation, max_shift=max_shift, window=window,
-                       normalize=normalize)
+        # the measurement's options are checked now, not at the first frame, on a ramp of
+        # the reference's shape: a flat scene (detector tests) has a constant reference,
+        # which measure_shifts refuses only when asked to measure against it
+        ramp = np.indices(self.reference.shape).sum(axis=0).astype(np.float64)
+        measure_shifts(ramp, ramp, method=method, interpolation=interpolation,
+                       max_shift=max_shift, window=window, normalize=normalize)
 
     def _set_sampling(self, du: float, pupil_oversampling, scene_shape) -> None:
         """Set the PSF's support, the convolution's size and the pupil's oversampling."""

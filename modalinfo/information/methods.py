@@ -42,7 +42,7 @@ class BiasRuleWarning(UserWarning):
     """An estimate was switched (or kept) where the estimator's bias swamps it.
 
     Defined here, the registry's floor, so that the MI, entropy and CMI functions warn
-    with one class (re-exported by :mod:`modalinfo.information.conditional`).
+    with one class (re-exported by ``modalinfo.information.conditional``).
     """
 
 

@@ -663,7 +663,7 @@ def select_inputs(
         Largest radial-order difference of ``candidates="radial"``.
     max_seconds : float
         Most CPU seconds [s] the first step may be estimated to take
-        (:func:`first_step_seconds`; a method without a cost model is timed on three
+        (``first_step_seconds``; a method without a cost model is timed on three
         estimates) before the search is refused, before any work.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
