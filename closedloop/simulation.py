@@ -34,6 +34,7 @@ the same seed and thread count give the same bits.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from collections import deque
@@ -55,7 +56,20 @@ from modalinfo.common.validation import check_real
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
 
+def _one_run_per_model(func):
+    """Run ``func`` (``simulate``) holding its ``model`` (:meth:`LoopModel.running`)."""
+    @functools.wraps(func)
+    def wrapper(config, duration, *args, model=None, **kwargs):
+        if model is None or not isinstance(model, LoopModel):  # a new model, or refused
+            return func(config, duration, *args, model=model, **kwargs)
+        with model.running():
+            return func(config, duration, *args, model=model, **kwargs)
 
+    return wrapper
+
+
+
+@_one_run_per_model
 def simulate(
     config: SimulationConfig,
     duration: float,
