@@ -255,10 +255,20 @@ def rejection_transfer_function(
     -------
     numpy.ndarray of complex
         ``E(f)``, same shape as ``freqs``. ``E(0) = 0``.
+
+    Raises
+    ------
+    ValueError
+        If the loop is unstable (:func:`check_stable`; also for
+        :func:`noise_transfer_function` and :func:`closed_loop_bandwidth`).
     """
     f = as_float_array(freqs, "freqs").reshape(np.shape(freqs))
     rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
+    # an unstable loop has no frequency response (its output grows without bound): the
+    # formula's finite values, and the bandwidths read from them, were silent nonsense
+    # (adversarial round 9, rows sv-rtf-unstable, sv-clbw-unstable)
+    check_stable(gain, delay_frames, integration_frames)
     check_choice(model, "model", _MODELS)
     period = 1.0 / rate
     zinv = np.exp(-2j * np.pi * f * period)
@@ -306,6 +316,7 @@ def noise_transfer_function(
     f = as_float_array(freqs, "freqs").reshape(np.shape(freqs))
     rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
+    check_stable(gain, delay_frames, integration_frames)  # as the rejection (round 9)
     zinv = np.exp(-2j * np.pi * f / rate)
     weights = command_weights(delay_frames, integration_frames)
     wz = np.polyval(weights[::-1], zinv)
