@@ -41,6 +41,10 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
 
     # each a permutation of 0..M-1 by the rule of `order` elsewhere (floats indexed the
     # ranks with an IndexError, a masked index was used)
+    # an OrderingResult gives its order (np.size of the object was 1: "0..0" refusal, round
+    # 9 row fb-stab-rank)
+    order_a, order_b = (getattr(o, "order", o) if not isinstance(o, np.ndarray) else o
+                        for o in (order_a, order_b))
     a = check_order(order_a, np.size(order_a), "order_a")
     b = np.asarray(unmasked(order_b, "order_b"))
     if b.dtype.kind not in "iu":
