@@ -90,6 +90,7 @@ from scipy.signal import lfilter
 from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.forecast._kernels import (
     SHORT_ORDER,
@@ -104,6 +105,7 @@ from modalinfo.forecast._univariate import _LinearRecursion
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class ForecastInterval:
     """Point forecasts with Gaussian prediction intervals.

@@ -109,6 +109,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
 from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
@@ -144,6 +145,7 @@ ADJUSTMENTS = ("step-down", "single-step")
 _GAUSS_RATE = 2e9
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class TransferEntropyMap:
     """Result of :func:`transfer_entropy_map`.

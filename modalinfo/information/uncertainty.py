@@ -58,6 +58,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -91,6 +92,7 @@ __all__ = [
 ]
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class MIConfidenceResult:
     """Bootstrap confidence interval of a mutual-information estimate.
@@ -143,6 +145,7 @@ class MIConfidenceResult:
     note: str = ""
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class MIPermutationResult:
     """Permutation test of independence based on an MI estimate.

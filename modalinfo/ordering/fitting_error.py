@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -130,6 +131,7 @@ def _result_order(result: Any, labels: Any, name: str) -> np.ndarray:
     return np.array([where[s] for s in picked], dtype=np.int64)
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class FittingErrorResult:
     """Fitting error dPhi(n), n = 1..M, of an ordered basis.

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, unmasked
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.orderings import order_modes
@@ -67,6 +68,7 @@ def _top_overlap(a: np.ndarray, b: np.ndarray, n: int) -> float:
     return len(set(a[:n].tolist()) & set(b[:n].tolist())) / n
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class StabilityResult:
     """Agreement of orderings across time windows and subsampling seeds.

@@ -74,6 +74,7 @@ from statistics import NormalDist
 
 import numpy as np
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.telemetry.checks import as_coeffs
 from modalinfo.telemetry.log import ModalLog
@@ -142,6 +143,7 @@ def gaussian_false_alarm(k: float) -> float:
     return math.erfc(float(k) / math.sqrt(2.0))
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class QualityReport:
     """What :func:`assess_quality` found in a log.
