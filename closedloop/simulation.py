@@ -161,6 +161,14 @@ def simulate(
     if callback is not None and not callable(callback):  # else a TypeError at frame 0
         raise TypeError(f"`callback` must be callable or None; got {callback!r}.")
     basis = _check_control_basis(control_basis, model.n_modes)
+    fitted = getattr(loop_pred.predictor, "n_modes_", None)
+    fed = model.n_modes if basis is None else basis.shape[1]
+    if fitted is not None and fitted != fed:  # refused at step 0 naming `x_t` (round 9,
+        # row c-fitted-wrong-modes)
+        where = "control_basis columns" if basis is not None else "every DM's modes"
+        raise ValueError(f"`predictor` was fitted on {fitted} mode(s); this loop feeds it "
+                         f"{fed} ({where}): fit it on the POL of a run of this config "
+                         "(LoopPredictor.trained).")
     if basis is not None and budget_every:
         raise ValueError("`budget_every` cannot be combined with `control_basis` (the budget "
                          "models a loop that controls every mode).")

@@ -187,6 +187,9 @@ def ordering_stability(
     seeds = tuple(check_int(s, "seeds[i]", minimum=0) for s in seeds)
     if len(seeds) == 1:
         raise ValueError(f"`seeds` must hold at least 2 seeds (or none); got {seeds}.")
+    if len(set(seeds)) != len(seeds):  # a repeated seed agrees with itself: rho = 1 claimed
+        raise ValueError(f"`seeds` must be distinct (a repeated seed gives the same subsample "
+                         f"and a perfect agreement); got {seeds}.")
     order_options.setdefault("n_resamples", 0)
     base_seed = order_options.pop("seed", seeds[0] if seeds else 0)
     rate = getattr(log_or_coeffs, "rate", None)
