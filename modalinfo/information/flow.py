@@ -122,6 +122,7 @@ from modalinfo.information.resampling import (
     surrogate_shifts,
 )
 from modalinfo.information.selection import (
+    _check_simultaneous,
     _gauss_gains,
     _safe_scale,
     _series,
@@ -596,6 +597,7 @@ def transfer_entropy_map(
         if ex.shape[0] != series.shape[0]:
             raise ValueError(f"`extra` must have {series.shape[0]} frames as `data`; got "
                              f"{ex.shape[0]}.")
+        _check_simultaneous(data, extra)
         ex, ex_labels = _pick(ex, ex_labels, extra_modes, "extra_modes")
         series = np.ascontiguousarray(np.concatenate([series, ex], axis=1))
         labels = labels + [f"extra:{s}" for s in ex_labels]
