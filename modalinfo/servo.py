@@ -393,7 +393,16 @@ def _first_crossing(func, nyquist: float) -> float:
         return float("nan")
     i = int(idx[0])
     if i == 0:
-        return float(optimize.brentq(func, 1e-9 * nyquist, grid[0], xtol=1e-10))
+        # below the first grid point: bracket down by factors of 1000 (a gain of 1e-9 puts
+        # the crossing under 1e-9 Nyquist, where brentq's "f(a) and f(b) must have
+        # different signs" was the answer: adversarial round 9, row se-servo-tiny-gain)
+        lo, hi = 1e-9 * nyquist, grid[0]
+        while func(lo) >= 0.0:
+            if lo < 1e-290 * nyquist:
+                return 0.0
+            lo, hi = lo * 1e-3, lo
+        xtol = 1e-10 if hi == grid[0] else min(1e-10, 1e-6 * lo)
+        return float(optimize.brentq(func, lo, hi, xtol=xtol))
     return float(optimize.brentq(func, grid[i - 1], grid[i], xtol=1e-10))
 
 

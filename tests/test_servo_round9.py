@@ -27,3 +27,12 @@ def test_unstable_gain_refused_stable_gain_answered(call):
         call(1.01)
     with pytest.raises(ValueError, match="unstable"):
         call(1.5)
+
+
+def test_tiny_gain_bandwidth_follows_the_first_order_law():
+    # row se-servo-tiny-gain: at g = 1e-9 the crossing lies below 1e-9 Nyquist and brentq
+    # answered "f(a) and f(b) must have different signs". For g << 1 the closed loop
+    # g / (1 - z^-1 + g z^-2) is a first-order low-pass of corner g rate / (2 pi).
+    for g in (1e-9, 1e-12):
+        bw = servo.closed_loop_bandwidth(gain=g, **KW)
+        assert bw.closed_loop_3db == pytest.approx(g * KW["rate"] / (2 * np.pi), rel=1e-6)

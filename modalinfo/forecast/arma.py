@@ -194,11 +194,14 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
     theta = as_float_array(theta, "theta", ndim=1)
     psi = np.zeros(n)
     psi[0] = 1.0
-    for j in range(1, n):
-        s = theta[j - 1] if j <= theta.size else 0.0
-        for i in range(1, min(j, phi.size) + 1):
-            s += phi[i - 1] * psi[j - i]
-        psi[j] = s
+    # decaying weights underflow to 0, harmlessly: under np.seterr(all="raise") that was a
+    # FloatingPointError (adversarial round 9, row se-psi-long)
+    with np.errstate(under="ignore"):
+        for j in range(1, n):
+            s = theta[j - 1] if j <= theta.size else 0.0
+            for i in range(1, min(j, phi.size) + 1):
+                s += phi[i - 1] * psi[j - i]
+            psi[j] = s
     return psi
 
 
