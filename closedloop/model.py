@@ -9,8 +9,10 @@ Words used for a sensor's work, one meaning each: a WFS *measures* (its measurem
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
+import threading
 
 import numpy as np
 from scipy import linalg
@@ -152,6 +154,7 @@ class LoopModel:
         if not isinstance(config, SimulationConfig):
             raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
         self.config = config
+        self._run_lock, self._run_owner = threading.Lock(), None
         self.geometry = Geometry(config)
         # each part built by its kind's record (closedloop.kinds)
         self.dms = [mirror_kind(d.kind).build(self.geometry, i)
@@ -175,6 +178,35 @@ class LoopModel:
                           if self.reconstructor is not None
                           else [None if w.reconstructor is None
                                 else DenseProduct(w.reconstructor, limit) for w in self.wfss])
+
+    @contextlib.contextmanager
+    def running(self):
+        """Hold the model for one run (``simulate`` does): runs sharing it wait their turn.
+
+        A run writes the model's work arrays (the science camera's residual planes): two
+        threads running one model at once corrupted each other's Strehl ratios without a
+        word (adversarial round 9, row c-thr-shared-model: up to 0.015 off on a 256-pixel
+        loop). A run started from inside another run of the same model in the same thread
+        (a ``callback``) would deadlock: it is refused.
+        """
+        if self._run_owner == threading.get_ident():
+            raise ValueError("`model` is in use by a run of this thread (a callback starting "
+                             "another run?): build a second LoopModel for it.")
+        with self._run_lock:
+            self._run_owner = threading.get_ident()
+            try:
+                yield self
+            finally:
+                self._run_owner = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()  # a lock does not pickle: a copy gets its own
+        del state["_run_lock"], state["_run_owner"]
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._run_lock, self._run_owner = threading.Lock(), None
 
     def _global_reconstructor(self):
         """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).

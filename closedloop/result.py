@@ -70,6 +70,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, check_real
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.telemetry import ModalLog
@@ -120,6 +121,7 @@ class UncheckedResultWarning(UserWarning):
     """
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class ErrorBudget:
     """Error terms per direction [rad^2 at the science wavelength], averaged over frames.
@@ -220,6 +222,7 @@ def _version() -> str:
         return "unknown"
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class SimulationResult:
     """Outputs of :func:`closedloop.simulate`.

@@ -34,6 +34,7 @@ the same seed and thread count give the same bits.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from collections import deque
@@ -55,7 +56,20 @@ from modalinfo.common.validation import check_real
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
 
+def _one_run_per_model(func):
+    """Run ``func`` (``simulate``) holding its ``model`` (:meth:`LoopModel.running`)."""
+    @functools.wraps(func)
+    def wrapper(config, duration, *args, model=None, **kwargs):
+        if model is None or not isinstance(model, LoopModel):  # a new model, or refused
+            return func(config, duration, *args, model=model, **kwargs)
+        with model.running():
+            return func(config, duration, *args, model=model, **kwargs)
 
+    return wrapper
+
+
+
+@_one_run_per_model
 def simulate(
     config: SimulationConfig,
     duration: float,
@@ -144,6 +158,7 @@ def simulate(
     model = _model_for(config, model)
     seed = _check_seed(config.seed if seed is None else seed)
     basis = _check_control_basis(control_basis, model.n_modes, budget_every)
+    _check_predictor_modes(loop_pred.predictor, model.n_modes, basis)
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
@@ -261,6 +276,21 @@ def _check_open_loop(predictor, budget_every, control_basis) -> None:
             shown = repr(value) if isinstance(value, str | int) else type(value).__name__
             raise ValueError(f"`{name}` must be None in open loop (`loop.closed = false`: no "
                              f"command is applied); got {shown}.")
+
+
+def _check_predictor_modes(predictor, n_modes: int, basis) -> None:
+    """Refuse a fitted predictor whose mode count is not what this loop feeds it.
+
+    Before, the mismatch was refused only at step 0, naming the internal ``x_t`` (round
+    9, row c-fitted-wrong-modes).
+    """
+    fitted = getattr(predictor, "n_modes_", None)
+    fed = n_modes if basis is None else basis.shape[1]
+    if fitted is not None and fitted != fed:
+        where = "control_basis columns" if basis is not None else "every DM's modes"
+        raise ValueError(f"`predictor` was fitted on {fitted} mode(s); this loop feeds it "
+                         f"{fed} ({where}): fit it on the POL of a run of this config "
+                         "(LoopPredictor.trained).")
 
 
 def _check_control_basis(basis, n_modes: int, budget_every=None) -> np.ndarray | None:

@@ -43,6 +43,7 @@ from closedloop.control.controller import Controller
 from closedloop.result import SimulationResult
 from closedloop.simulation import LoopModel, simulate
 from closedloop.training import run_trained
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, check_real
 
 __all__ = ["ORDERINGS", "control_orderings", "rtc_compute_time", "rtc_scaling", "LatencyModel",
@@ -246,6 +247,7 @@ class LatencyModel:
         return round(raw / grid) * grid
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class CompressionStudy:
     """Strehl ratios of the compression x prediction grid (one atmosphere).

@@ -26,6 +26,7 @@ import numpy as np
 from modalinfo.bases.image_basis import crop_images, pupil_from_mask, support_of
 from modalinfo.bases.indexing import noll_to_ansi, noll_to_zernike
 from modalinfo.bases.zernike import zernike_matrix
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_bool_mask, check_int, check_real
 
 __all__ = ["TRANSFORMS", "ZernikeIdentification", "identify_zernike"]
@@ -44,6 +45,7 @@ TRANSFORMS = {
 }
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class ZernikeIdentification:
     """Which Zernike (Noll, our convention) each mode image is.

@@ -90,6 +90,7 @@ from scipy.signal import lfilter
 from scipy.stats import norm
 
 from modalinfo._stats import sample_autocovariance
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.forecast._kernels import (
     SHORT_ORDER,
@@ -104,6 +105,7 @@ from modalinfo.forecast._univariate import _LinearRecursion
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class ForecastInterval:
     """Point forecasts with Gaussian prediction intervals.
@@ -192,11 +194,14 @@ def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
     theta = as_float_array(theta, "theta", ndim=1)
     psi = np.zeros(n)
     psi[0] = 1.0
-    for j in range(1, n):
-        s = theta[j - 1] if j <= theta.size else 0.0
-        for i in range(1, min(j, phi.size) + 1):
-            s += phi[i - 1] * psi[j - i]
-        psi[j] = s
+    # decaying weights underflow to 0, harmlessly: under np.seterr(all="raise") that was a
+    # FloatingPointError (adversarial round 9, row se-psi-long)
+    with np.errstate(under="ignore"):
+        for j in range(1, n):
+            s = theta[j - 1] if j <= theta.size else 0.0
+            for i in range(1, min(j, phi.size) + 1):
+                s += phi[i - 1] * psi[j - i]
+            psi[j] = s
     return psi
 
 

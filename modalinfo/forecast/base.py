@@ -148,6 +148,18 @@ class _Run:
         self.x = np.zeros((1, n_modes))
         self.step = None
 
+    # ``step`` is a closure over this run's arrays: it is not pickled (a local function) and
+    # a deep copy would keep it bound to the original's arrays, so a copied predictor
+    # advanced the original's state (adversarial round 9, rows f-deepcopy, pk-*); the
+    # owner rebinds it (:meth:`Predictor.__setstate__`)
+    def __getstate__(self):
+        return {k: getattr(self, k) for k in self.__slots__ if k != "step"}
+
+    def __setstate__(self, state):
+        for k, v in state.items():
+            setattr(self, k, v)
+        self.step = None
+
 
 class Predictor:
     """Base class of the wavefront forecasters.
@@ -486,6 +498,13 @@ class Predictor:
                 f"`{name}` must have {self.n_modes_} mode(s) as the fitted history; "
                 f"got {n_modes}."
             )
+
+    def __setstate__(self, state: dict) -> None:
+        # a pickled or deep-copied predictor: rebind its run's step to its own arrays
+        self.__dict__.update(state)
+        run = state.get("_run")
+        if run is not None:
+            run.step = self._step_function(run.params, run.state, run.out, run.status)
 
     # ------------------------------------------------------------------ online
     def reset(self) -> None:

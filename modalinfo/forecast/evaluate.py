@@ -53,6 +53,7 @@ import numpy as np
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_float_array, check_int, check_real, check_square_range
 from modalinfo.forecast.arma import ARMAPredictor
 from modalinfo.forecast.base import Predictor, check_square_floor
@@ -70,6 +71,7 @@ def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
 
     return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
+@array_fields_eq
 @dataclass(frozen=True)
 class ForecastEvaluation:
     """Result of :func:`evaluate`.

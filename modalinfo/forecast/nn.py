@@ -39,6 +39,7 @@ import warnings
 
 import numpy as np
 
+from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.validation import check_choice, check_int, check_memory, check_real
 from modalinfo.forecast._kernels import mlp_filter
 from modalinfo.forecast.base import Predictor
@@ -200,7 +201,7 @@ class NeuralNetPredictor(Predictor):
                                      activation=self.activation, solver=self.solver,
                                      alpha=alpha, max_iter=max_iter, random_state=seed,
                                      tol=1e-6)
-            with warnings.catch_warnings(record=True) as caught:
+            with catching_warnings(record=True) as caught:  # one at a time
                 warnings.simplefilter("always", ConvergenceWarning)
                 model.fit(inputs, z[targets])
             converged[m] = not any(issubclass(w.category, ConvergenceWarning)

@@ -401,7 +401,13 @@ class MutualInformation:
         if self._x_constant or _is_constant(y):
             return 0.0
         _check_not_a_copy(self._x, y, self._x_head, x_order=self._x_order)
-        return float(self._engine.score(y)) * self._factor
+        value = self._engine.score(y)
+        try:
+            return float(value) * self._factor
+        except (TypeError, ValueError):  # a registered method's engine: name it (round 9,
+            # row r-custom-str: "could not convert string to float")
+            raise TypeError(f"method={self.method!r}: its engine's score() must return a real "
+                            f"number (nats); got {value!r}.") from None
 
     def _x_order(self) -> np.ndarray:
         """Return the fitted x's stable argsort, made once (the copy check of each score)."""

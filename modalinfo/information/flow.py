@@ -109,6 +109,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
 from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
@@ -121,6 +122,7 @@ from modalinfo.information.resampling import (
     surrogate_shifts,
 )
 from modalinfo.information.selection import (
+    _check_simultaneous,
     _gauss_gains,
     _safe_scale,
     _series,
@@ -144,6 +146,7 @@ ADJUSTMENTS = ("step-down", "single-step")
 _GAUSS_RATE = 2e9
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class TransferEntropyMap:
     """Result of :func:`transfer_entropy_map`.
@@ -594,6 +597,7 @@ def transfer_entropy_map(
         if ex.shape[0] != series.shape[0]:
             raise ValueError(f"`extra` must have {series.shape[0]} frames as `data`; got "
                              f"{ex.shape[0]}.")
+        _check_simultaneous(data, extra)
         ex, ex_labels = _pick(ex, ex_labels, extra_modes, "extra_modes")
         series = np.ascontiguousarray(np.concatenate([series, ex], axis=1))
         labels = labels + [f"extra:{s}" for s in ex_labels]

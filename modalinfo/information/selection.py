@@ -233,11 +233,42 @@ class InputSelection:
 def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
     """``(T, M)`` float array and labels of a ModalLog (``coeffs``/``labels``) or an array."""
     if hasattr(data, "coeffs") and hasattr(data, "labels"):
+        # lags count frames: across a gap in a log's timestamps (dropped frames) they
+        # straddle it, as the forecast evaluation refuses (round 9, rows q-gap-select,
+        # q-gap-temap, q-drop-then-mi: computed without a word)
+        sampling = data.sampling() if callable(getattr(data, "sampling", None)) else None
+        if sampling is not None and not sampling.uniform:
+            a, b = sampling.longest_segment
+            raise ValueError(
+                f"`{name}`: lags assume equally spaced frames but the log's timestamps have "
+                f"{sampling.n_gaps} gap(s), the first of {sampling.describe_gap(0)}; analyse "
+                f"the longest contiguous segment (frames {a}..{b - 1}) with "
+                "log.longest_segment() (command line: --split-gaps)")
         arr = as_float_array(np.asarray(data.coeffs), name, ndim=2)
         return arr, [str(label) for label in data.labels]
     arr = as_float_array(data, name, ndim=(1, 2))
     arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
     return arr, [f"m{j}" for j in range(arr.shape[1])]
+
+
+def _check_simultaneous(data: Any, extra: Any) -> None:
+    """Refuse an ``extra`` log whose frames are not ``data``'s (another rate or start).
+
+    Two logs of the same frame count at 1 kHz and 500 Hz, or starting 5 s apart, were
+    lagged against each other as if simultaneous (adversarial round 9, rows
+    v-extra-other-rate, v-extra-other-start). Arrays carry no time: not checked.
+    """
+    times = [getattr(d, "times", None) for d in (data, extra)]
+    if any(t is None for t in times) or len(times[0]) != len(times[1]):
+        return
+    a, b = (np.asarray(t, dtype=np.float64) for t in times)
+    step = float(np.median(np.diff(a))) if a.size > 1 else 0.0
+    worst = float(np.max(np.abs(a - b)))
+    if worst > 0.5 * step:
+        raise ValueError(
+            f"`extra` must be sampled at the frames of `data`; its times differ by up to "
+            f"{worst:.6g} s (data: {a[0]:.6g} .. {a[-1]:.6g} s, extra: {b[0]:.6g} .. "
+            f"{b[-1]:.6g} s; frame interval {step:.6g} s): resample or align the logs first.")
 
 
 #: Arrays of the candidates' size a search holds at once (the matrix, its unit-norm
@@ -687,6 +718,7 @@ def select_inputs(
         if ex.shape[0] != series.shape[0]:
             raise ValueError(f"`extra` must have {series.shape[0]} frames as `data`; got "
                              f"{ex.shape[0]}.")
+        _check_simultaneous(data, extra)
         series = np.concatenate([series, ex], axis=1)
         labels = labels + [f"extra:{s}" for s in ex_labels]
     n_main = len(labels) if extra is None else len(labels) - ex.shape[1]

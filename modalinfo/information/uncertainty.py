@@ -58,6 +58,8 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -91,6 +93,7 @@ __all__ = [
 ]
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class MIConfidenceResult:
     """Bootstrap confidence interval of a mutual-information estimate.
@@ -143,6 +146,7 @@ class MIConfidenceResult:
     note: str = ""
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class MIPermutationResult:
     """Permutation test of independence based on an MI estimate.
@@ -278,7 +282,7 @@ def mutual_information_ci(
     note = ""
     if interval == "bca":
         b = 1
-        with warnings.catch_warnings(), np.errstate(divide="ignore", invalid="ignore"):
+        with catching_warnings(), np.errstate(divide="ignore", invalid="ignore"):
             # scipy warns, then returns NaN bounds, when z0 is infinite or the jackknife
             # is degenerate (0/0 acceleration): handled below
             warnings.simplefilter("ignore", stats.DegenerateDataWarning)

@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -68,7 +69,8 @@ _KEEP_ELEMENTS = 1 << 25
 _BAND_FRAMES = 20_000
 
 
-def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
+def check_order(order: Any, n_modes: int, name: str = "order",
+                labels: Any = None) -> np.ndarray:
     """Validate a permutation of ``range(n_modes)``; return it as an int array.
 
     Parameters
@@ -79,6 +81,9 @@ def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
         Number of modes M.
     name : str
         Argument name for messages.
+    labels : sequence of str, optional
+        The basis's mode labels: an :class:`OrderingResult` is then matched by label
+        (refused if the basis lacks its modes) instead of by index.
 
     Returns
     -------
@@ -87,7 +92,7 @@ def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
     if order is None:
         return np.arange(n_modes, dtype=np.int64)
     if hasattr(order, "order") and not isinstance(order, np.ndarray):  # an OrderingResult
-        order = order.order
+        order = _result_order(order, labels, name)
     arr = np.asarray(unmasked(order, name))
     if arr.ndim != 1 or not (arr.dtype.kind in "iu" or arr.size == 0):  # not timedelta64
         raise TypeError(f"`{name}` must be a 1-D sequence of ints; got {arr!r}.")
@@ -99,6 +104,34 @@ def check_order(order: Any, n_modes: int, name: str = "order") -> np.ndarray:
     return arr.astype(np.int64)
 
 
+def _result_order(result: Any, labels: Any, name: str) -> np.ndarray:
+    """Return the indices into a basis of labels ``labels`` of an OrderingResult's modes.
+
+    The result's indices point into the basis it was computed on: applied to a basis
+    holding the same modes in another order they named other modes (a curve of the wrong
+    modes without a word: adversarial round 9, row fb-ordres-other-basis). Its modes are
+    found by label; a basis without all of them is refused.
+    """
+    idx = np.asarray(result.order)
+    own = tuple(getattr(result, "basis_labels", ()) or ())
+    if labels is None or not own:
+        return idx
+    labels = tuple(str(s) for s in labels)
+    if own == labels or labels == tuple(f"mode{k + 1}" for k in range(len(labels))):
+        return idx  # the same basis, or a bare matrix (no labels to match): indices
+    where = {s: k for k, s in enumerate(labels)}
+    picked = [own[int(i)] for i in idx] if idx.size and idx.max() < len(own) else []
+    missing = [s for s in picked if s not in where]
+    if missing or len(own) != len(labels) or not picked:
+        raise ValueError(
+            f"`{name}` orders the {len(own)} modes of another basis ({list(own)[:5]}...); "
+            f"this basis has {len(labels)} ({list(labels)[:5]}...)"
+            + (f", without {missing[:3]}" if missing else "")
+            + ": order the modes of this basis.")
+    return np.array([where[s] for s in picked], dtype=np.int64)
+
+
+@array_fields_eq
 @dataclass(frozen=True)
 class FittingErrorResult:
     """Fitting error dPhi(n), n = 1..M, of an ordered basis.
@@ -337,7 +370,10 @@ def fitting_error(
     basis : ModalBasis or array_like, shape (n_valid, M)
         The basis (or its mode matrix on the valid pupil pixels).
     order : array_like of int, OrderingResult or None
-        Permutation of the basis modes (None: standard order).
+        Permutation of the basis modes (None: the basis's column order 0..M-1, e.g.
+        of a basis reordered by :meth:`OrderingResult.apply`; not re-sorted by Noll
+        index: ``order_modes(..., "standard")`` gives that order). An
+        :class:`OrderingResult` is matched to the basis by mode label.
     units : {"rad2", "waves2"}
         Units of the result (waves^2 = rad^2 / (2 pi)^2).
     wavelength : float, optional
@@ -379,7 +415,7 @@ def fitting_error(
     a = coefficients_in_basis(coeffs_or_log, view, wavelength=wavelength, name="coeffs_or_log",
                               defer_value_checks=True)
     check_represented(coeffs_or_log, view)
-    idx = check_order(order, view.n_modes)
+    idx = check_order(order, view.n_modes, labels=view.labels)
     levels = tuple(float(p) for p in np.atleast_1d(as_float_array(percentiles, "percentiles")))
     if any(p < 0 or p > 100 for p in levels):
         raise ValueError(f"`percentiles` must lie in [0, 100]; got {levels}.")

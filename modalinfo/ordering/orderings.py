@@ -731,7 +731,10 @@ def mi_along_order(
     log_or_coeffs, basis, estimator, estimator_options, frame, sample_budget, seed, wavelength
         As in :func:`order_modes`.
     order : array_like of int, OrderingResult or None
-        Permutation of the basis modes (None: standard order).
+        Permutation of the basis modes (None: the basis's column order 0..M-1, e.g.
+        of a basis reordered by :meth:`OrderingResult.apply`; not re-sorted by Noll
+        index: ``order_modes(..., "standard")`` gives that order). An
+        :class:`OrderingResult` is matched to the basis by mode label.
 
     Returns
     -------
@@ -741,7 +744,7 @@ def mi_along_order(
 
     options = _check_estimator_options(estimator_options)
     view = as_basis(basis)
-    idx = check_order(order, view.n_modes)
+    idx = check_order(order, view.n_modes, labels=view.labels)
     contrib = sample_contributions(log_or_coeffs, view, sample_budget=sample_budget,
                                    frame=frame, seed=seed, wavelength=wavelength)
     est, _ = _make_estimator(estimator, options)

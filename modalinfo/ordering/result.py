@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.records import array_fields_eq
+
 __all__ = ["OrderingResult"]
 
 _ARRAY_FIELDS = ("order", "mi", "gain", "mi_low", "mi_high", "gain_low", "gain_high", "scores",
@@ -38,6 +40,7 @@ def _float_array(values: Any) -> np.ndarray | None:
     return np.asarray(out, dtype=float)
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class OrderingResult:
     """An ordering of the modes of a basis, and the numbers it was chosen on.

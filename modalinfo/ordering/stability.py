@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, unmasked
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
 from modalinfo.ordering.orderings import order_modes
@@ -41,6 +42,10 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
 
     # each a permutation of 0..M-1 by the rule of `order` elsewhere (floats indexed the
     # ranks with an IndexError, a masked index was used)
+    # an OrderingResult gives its order (np.size of the object was 1: "0..0" refusal, round
+    # 9 row fb-stab-rank)
+    order_a, order_b = (getattr(o, "order", o) if not isinstance(o, np.ndarray) else o
+                        for o in (order_a, order_b))
     a = check_order(order_a, np.size(order_a), "order_a")
     b = np.asarray(unmasked(order_b, "order_b"))
     if b.dtype.kind not in "iu":
@@ -63,6 +68,7 @@ def _top_overlap(a: np.ndarray, b: np.ndarray, n: int) -> float:
     return len(set(a[:n].tolist()) & set(b[:n].tolist())) / n
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class StabilityResult:
     """Agreement of orderings across time windows and subsampling seeds.
@@ -181,6 +187,9 @@ def ordering_stability(
     seeds = tuple(check_int(s, "seeds[i]", minimum=0) for s in seeds)
     if len(seeds) == 1:
         raise ValueError(f"`seeds` must hold at least 2 seeds (or none); got {seeds}.")
+    if len(set(seeds)) != len(seeds):  # a repeated seed agrees with itself: rho = 1 claimed
+        raise ValueError(f"`seeds` must be distinct (a repeated seed gives the same subsample "
+                         f"and a perfect agreement); got {seeds}.")
     order_options.setdefault("n_resamples", 0)
     base_seed = order_options.pop("seed", seeds[0] if seeds else 0)
     rate = getattr(log_or_coeffs, "rate", None)

@@ -3,7 +3,10 @@
 A log holds coefficients ``(T, M)`` (time is axis 0), its time axis (a sample rate
 or explicit timestamps, in seconds), the mode of every column, the indexing
 convention, the units and free-form metadata. It is immutable in practice: every
-operation returns a new log and the coefficient array is exposed read-only.
+operation returns a new log and the coefficient array is exposed read-only. It is a
+view of the array given, not a copy (a log of a memory-mapped file stays one): writing that
+array afterwards changes the log, so give a copy of a buffer you will reuse (adversarial
+round 9, row l-input-mutated-after).
 
 Decisions documented here (see also ``docs/ARCHITECTURE.md``):
 
@@ -58,6 +61,9 @@ from modalinfo.telemetry.units import check_units, check_wavelength, unit_scale
 __all__ = ["ModalLog"]
 
 _RATE_RTOL = 1e-3
+#: largest float64 spacing of the times ``start_time + k / rate`` allowed, as a fraction
+#: of the frame interval (a Unix-epoch start, spacing 2.4e-7 s, holds up to 200 kHz)
+_TIME_RESOLUTION = 0.05
 
 
 class ModalLog:
@@ -154,6 +160,18 @@ class ModalLog:
             wavelength = check_wavelength(wavelength)
         start_time = check_real(start_time, "start_time")
         t = None if timestamps is None else check_timestamps(timestamps, n_frames)
+        if t is None and rate is not None and n_frames > 1:
+            # float64 must tell the frames apart: a start in ns since 1970 (1.7e18) or
+            # 1e17 s gave every frame the same time (adversarial round 9, row l-start-huge)
+            ulp = float(np.spacing(abs(start_time) + n_frames / rate))
+            if ulp > _TIME_RESOLUTION / rate:
+                raise ValueError(
+                    f"`start_time` ({start_time} s) is too large for the frame interval "
+                    f"(1 / rate = {1.0 / rate:.3g} s): float64 times near it are {ulp:.3g} s "
+                    f"apart, more than {_TIME_RESOLUTION:.0%} of an interval; give the start "
+                    "in seconds relative to a nearer origin (and keep the origin in "
+                    "metadata)."
+                )
         if t is not None and rate is not None and n_frames > 1:
             median_dt = float(np.median(np.diff(t)))
             if abs(median_dt * rate - 1.0) > _RATE_RTOL:

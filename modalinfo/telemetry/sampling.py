@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import check_timestamps
 
@@ -34,6 +35,7 @@ GAP_FACTOR = 1.5
 _MAD_TO_SIGMA = 1.482602218505602  # 1 / Phi^-1(3/4): normal-consistent MAD
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class Sampling:
     """Sampling statistics of a time axis (see the module docstring).

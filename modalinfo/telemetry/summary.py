@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int
 from modalinfo.telemetry.checks import as_coeffs
 from modalinfo.telemetry.log import ModalLog
@@ -14,6 +15,7 @@ from modalinfo.telemetry.scan import row_blocks
 __all__ = ["LogSummary", "summarize"]
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class LogSummary:
     """Per-mode one-pass statistics of a log (see :func:`summarize`).
