@@ -1,9 +1,9 @@
 """numba kernels of the simulator's hot loop (no validation, no random numbers)."""
 
 import numpy as np
-from numba import prange
 
-from modalinfo.common.jit import jit
+from modalinfo.common.jit import jit  # first: it imports numba and checks NUMBA_* variables
+from numba import prange  # noqa: I001 - after jit (see above)
 
 
 @jit(inline="always")
