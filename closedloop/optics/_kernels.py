@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from modalinfo.common.jit import jit  # first: it imports numba and checks NUMBA_* variables
-from numba import prange  # noqa: I001 - after jit (see above)
+# numba through jit.py, which checks the NUMBA_* variables (adversarial round 9 PART b, E15)
+from modalinfo.common.jit import jit, prange
 
 
 @jit(inline="always")

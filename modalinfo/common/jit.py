@@ -32,7 +32,10 @@ for _w in _caught:
                           "int >= 1)")
     warnings.warn_explicit(_w.message, _w.category, _w.filename, _w.lineno)
 
-__all__ = ["jit"]
+__all__ = ["jit", "prange"]
+
+#: numba's parallel range, for kernels compiled with ``@jit(parallel=True)``
+prange = nb.prange
 
 
 def jit(*args, **kwargs):
