@@ -27,6 +27,7 @@ __all__ = [
     "add_gap_argument",
     "hints_from_args",
     "load_log_with_hints",
+    "check_log_rate",
     "input_notes",
     "queue_notes",
     "split_gaps",
@@ -362,7 +363,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     if copies and not mmap:
         _check_log_fits(path, options, copies)
     log = load(path, mmap=mmap, **options)
-    _check_rate(log, path)
+    check_log_rate(log, path)
     if copies:
         check_memory(copies * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
                      f"{log.n_modes} modes, {copies} float64 copies)",
@@ -372,13 +373,13 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     return log
 
 
-def _check_rate(log, path: Path) -> None:
+def check_log_rate(log, path: Path) -> None:
     """Refuse a log whose frame rate lies outside :data:`RATE_RANGE`, as ``--rate`` would.
 
     A ``time`` column of Unix nanoseconds read as seconds gave 2e-6 Hz, analysed
     without a word while ``--rate 2e-6`` itself is refused.
     """
-    problem = log_rate_problem(log.rate, log.timestamps is not None, f"'{path.name}'")
+    problem = log_rate_problem(log.rate, log.timestamps is not None, f"'{Path(path).name}'")
     if problem:
         raise CommandError(problem)
 
@@ -440,7 +441,7 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
     a, b = s.longest_segment
     if not getattr(args, "split_gaps", False):
         raise CommandError(
-            f"'{path}' has {s.n_gaps} timestamp gap(s), the first of {s.describe_gap(0)}; "
+            f"'{path}' has {s.describe_irregular()} in its timestamps; "
             f"{purpose} needs equally spaced frames: pass --split-gaps to analyse the "
             f"longest contiguous segment (frames {a}..{b - 1})"
         )
