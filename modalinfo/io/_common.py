@@ -358,6 +358,28 @@ def _short(value: Any, most: int = 12) -> str:
     return repr(value)
 
 
+def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
+    """Refuse frame numbers that are not consecutive when no rate turns them into times.
+
+    Unused, they were dropped and the log called uniform: a CSV missing frames 100-109
+    was forecast across the hole (adversarial round 9 PART b, rows K06, K07), while
+    with ``--rate`` the same file is refused for its gap.
+    """
+    numbers = np.asarray(frames, dtype=np.float64)
+    if timestamps_given or numbers.ndim != 1 or numbers.size < 2:
+        return
+    step = np.diff(numbers)
+    bad = np.flatnonzero(step != 1)
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"'{path}': the file's frame numbers are not consecutive ({numbers[i]:g} then "
+            f"{numbers[i + 1]:g} at row {i + 1}; {bad.size} break(s)); pass rate= (command "
+            "line: --rate) to turn them into timestamps, so that the missing frames show as "
+            "gaps"
+        )
+
+
 def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:
     """Frame numbers need a rate; an explicit rate wins over disagreeing timestamps."""
     rate = hints.get("rate")
@@ -375,6 +397,7 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
             )
     if frames is not None:
         if rate is None or "timestamps" in hints:
+            _refuse_skipped_frames(frames, path, "timestamps" in hints)
             records["time_axis"] = (
                 "the file's frame numbers were not used (give a rate to turn them into times)"
             )
