@@ -84,7 +84,11 @@ def run(args: argparse.Namespace) -> int:
         )
     targets = [args.target] if args.target is not None else []
     fractions = [args.fraction] if args.fraction is not None else []
-    print(comp.table(targets=targets, fractions=fractions))
+    table = comp.table(targets=targets, fractions=fractions)
+    if comp.frame is not None and getattr(args, "file_frame", None) is not None:
+        # the file's frame number, not its index in the --max-frames subsample
+        table = table.replace(f"frame {comp.frame}", f"frame {args.file_frame}", 1)
+    print(table)
     first = comp.entries[0]
     total = float(comp.curve(first)[0])
     print(f"total variance dPhi(0) = {total:.4g} {args.error_units}")
@@ -100,7 +104,8 @@ def run(args: argparse.Namespace) -> int:
         from modalinfo.ordering.compare import save_figure
 
         fig, ax = plt.subplots(figsize=(7, 4.5))
-        where = "frame average" if comp.frame is None else f"frame {comp.frame}"
+        where = ("frame average" if comp.frame is None
+                 else f"frame {getattr(args, 'file_frame', comp.frame)}")
         plot_comparison(comp, ax, target=args.target, title=f"{args.log.name}: {where}")
         save_figure(fig, args.plot, overwrite=args.overwrite)
         plt.close(fig)
