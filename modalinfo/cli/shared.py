@@ -441,7 +441,10 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
     a, b = s.longest_segment
     if not getattr(args, "split_gaps", False):
         raise CommandError(
-            f"'{path}' has {s.describe_irregular()} in its timestamps; "
+            f"'{path}' has "
+            + (f"{s.n_gaps} timestamp gap(s), the first of {s.describe_gap(0)}"
+               if s.n_short == 0 else f"in its timestamps {s.describe_irregular()}")
+            + "; "
             f"{purpose} needs equally spaced frames: pass --split-gaps to analyse the "
             f"longest contiguous segment (frames {a}..{b - 1})"
         )
