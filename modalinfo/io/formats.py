@@ -81,4 +81,12 @@ def detect_format(path) -> str:
             raise LogFormatError(
                 f"'{path}' is neither text (CSV) nor NPZ/NPY/FITS/HDF5 (starts {head[:8]!r})"
             ) from None
+    text = head.lstrip(b"\xef\xbb\xbf \t\r\n")  # after a BOM and blank space
+    if text[:1] in (b"{", b"[") and by_ext is None:
+        # a JSON document (forecast.json, reorder --out, a config) was called "a corrupt
+        # CSV file" (adversarial round 9 PART b, row F07)
+        raise LogFormatError(
+            f"'{path}' holds JSON (a result or config file?), not a log: a log is an NPZ, "
+            "NPY, CSV, FITS or HDF5 file of coefficients"
+        )
     return "csv"
