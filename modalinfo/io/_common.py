@@ -248,6 +248,12 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         coeffs = _file_units(coeffs, file_unit, stored, hints, path)
     frames = stored.pop("_frame_numbers", None)
     convention_assumed = bool(stored.pop("_convention_assumed", False))
+    bad_modes = stored.pop("_bad_modes", None)
+    if bad_modes is not None and "modes" not in hints:
+        # a mode list of the wrong length was ignored and Z2.. assumed (adversarial
+        # round 9 PART b, rows N14, N16)
+        raise ValueError(f"'{path}': {bad_modes}; the file's labels do not fit its data: "
+                         "give modes= (command line: --in-modes) to label the columns")
     if foreign:
         _foreign_time_axis(stored, hints, frames, records, path)
         _foreign_relabel(stored, hints, records, describe_modes)

@@ -180,3 +180,20 @@ def test_a_json_result_fed_back_as_a_log_is_named_json(tmp_path, capsys):
     assert exit_code(["info", tmp_path / "forecast.json"]) == 2
     err = capsys.readouterr().err
     assert "holds JSON" in err and "CSV" not in err.split("not a log")[0]
+
+
+# ------------------------------------------ N14, N16: a mode list that does not fit
+def test_a_foreign_mode_list_of_the_wrong_length_is_refused(tmp_path, capsys):
+    import h5py
+
+    coeffs = np.random.default_rng(4).standard_normal((300, 3))
+    np.savez(tmp_path / "m.npz", coefficients=coeffs, modes=np.array([2, 3]))
+    with h5py.File(tmp_path / "m.h5", "w") as f:
+        f.create_dataset("coeffs", data=coeffs).attrs["modes"] = np.array([2, 3])
+    for name in ("m.npz", "m.h5"):  # were read as "Z2, Z3, Z4 (assumed)"
+        assert exit_code(["info", tmp_path / name, "--rate", "1000", "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert "lists 2 mode(s) for data of shape (300, 3)" in err and "--in-modes" in err
+        assert exit_code(["info", tmp_path / name, "--rate", "1000", "--in-modes", "5-7",
+                          "--quiet"]) == 0
+        assert "Z5, Z6, Z7" in capsys.readouterr().out
