@@ -312,6 +312,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
               f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
               "the last step completes Phi_ref and is not estimated")
+        reach = (result.n_resamples - 1) / (result.n_resamples + 1)
+        if reach < 0.9:
+            # the range of R replicates covers a new draw with probability (R - 1) / (R + 1):
+            # with 2 the '~' marks missed 6 of 25 ties (adversarial round 9 PART b, N24)
+            print(f"caution: {result.n_resamples} replicates are too few for "
+                  f"{100 * result.confidence_level:.0f}% bounds (their whole range covers "
+                  f"{100 * reach:.0f}% at most): the bounds, the '~' marks and the steps above "
+                  "understate the noise; use --resamples 20 or more")
     if args.stability is not None:
         from modalinfo.ordering import ordering_stability
 

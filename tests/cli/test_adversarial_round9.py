@@ -197,3 +197,15 @@ def test_a_foreign_mode_list_of_the_wrong_length_is_refused(tmp_path, capsys):
         assert exit_code(["info", tmp_path / name, "--rate", "1000", "--in-modes", "5-7",
                           "--quiet"]) == 0
         assert "Z5, Z6, Z7" in capsys.readouterr().out
+
+
+# ------------------------------------------------ N24: too few bootstrap replicates
+def test_reorder_cautions_that_two_replicates_understate_the_noise(tmp_path, capsys):
+    # the range of R replicates covers a new draw with probability (R - 1) / (R + 1)
+    # (order statistics): 1/3 at R = 2, below any "95 %" bound
+    log = write_small_log(tmp_path / "log.npz", 400)
+    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500", "--quiet"]
+    assert exit_code([*base, "--resamples", "2"]) == 0
+    assert "caution: 2 replicates are too few for 95% bounds" in capsys.readouterr().out
+    assert exit_code([*base, "--resamples", "20"]) == 0
+    assert "caution" not in capsys.readouterr().out
