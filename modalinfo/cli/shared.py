@@ -408,7 +408,10 @@ def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
     if queued is None:
         queued = []
         args._notes = queued
-    queued.extend(f"modalinfo {args.command}: note: {line}" for line in lines)
+    for line in lines:  # once: select's LOG and --extra gave the same --max-frames note
+        text = f"modalinfo {args.command}: note: {line}"  # twice (round 9 PART b, N32)
+        if text not in queued:
+            queued.append(text)
 
 
 def input_notes(log, path: Path) -> list[str]:

@@ -209,3 +209,16 @@ def test_reorder_cautions_that_two_replicates_understate_the_noise(tmp_path, cap
     assert "caution: 2 replicates are too few for 95% bounds" in capsys.readouterr().out
     assert exit_code([*base, "--resamples", "20"]) == 0
     assert "caution" not in capsys.readouterr().out
+
+
+# ------------------------------------------------------- N32: one note, said once
+def test_select_with_extra_and_max_frames_notes_the_subsample_once(tmp_path, capsys):
+    log = write_small_log(tmp_path / "log.npz", 400)
+    rng = np.random.default_rng(6)
+    extra = save(ModalLog(rng.standard_normal((400, 1)), rate=2000.0, modes=[40],
+                          units="rad"), tmp_path / "extra.npz")
+    assert exit_code(["select", log, "--target", "Z2", "--extra", extra, "--max-frames", "200",
+                      "--max-lag", "2", "--surrogates", "19", "--no-intervals",
+                      "--max-inputs", "1", "--method", "gaussian"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("--max-frames 200: analysed frames 0..199 of 400") == 1  # was twice
