@@ -438,6 +438,16 @@ def input_notes(log, path: Path) -> list[str]:
 
 def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
     """Refuse a log whose timestamps have gaps, or keep its longest segment (``--split-gaps``)."""
+    dropped = [r for r in getattr(log, "repairs", ()) if "nonfinite='drop'" in str(r)]
+    if dropped and log.timestamps is None:
+        # without a rate the dropped frames leave no gap to see: their neighbours were
+        # analysed as consecutive (adversarial round 9 PART b, row N40)
+        raise CommandError(
+            f"'{path}': --nonfinite drop removed frames ({dropped[0].split(': ', 1)[-1]}) "
+            f"from a log without a time axis; {purpose} would take the frames around them "
+            "as consecutive: give --rate (the removed frames then show as gaps) or use "
+            "--nonfinite interpolate"
+        )
     s = log.sampling()
     if s is None or s.uniform:
         return log

@@ -222,3 +222,29 @@ def test_select_with_extra_and_max_frames_notes_the_subsample_once(tmp_path, cap
                       "--max-inputs", "1", "--method", "gaussian"]) == 0
     err = capsys.readouterr().err
     assert err.count("--max-frames 200: analysed frames 0..199 of 400") == 1  # was twice
+
+
+# ---------------------------------- N40, N42, N43: lags across removed or missing frames
+def _nan_csv(path: Path) -> Path:
+    data = np.random.default_rng(7).standard_normal((300, 2))
+    data[100:102, 0] = np.nan  # two frames removed by --nonfinite drop
+    lines = ["Z2,Z3"] + [f"{a!r},{b!r}" for a, b in data.tolist()]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_frames_dropped_without_a_rate_are_not_bridged(tmp_path, capsys):
+    path = _nan_csv(tmp_path / "nan.csv")
+    common = ["--nonfinite", "drop", "--out", tmp_path / "fc", "--predictors", "linear",
+              "--horizon", "1"]
+    assert exit_code(["forecast", path, *common]) == 2  # was forecast across frames 100-101
+    assert "without a time axis" in capsys.readouterr().err
+    select = ["select", path, "--nonfinite", "drop", "--target", "Z2", "--max-lag", "2",
+              "--surrogates", "19", "--no-intervals", "--max-inputs", "1", "--method",
+              "gaussian"]
+    assert exit_code(select) == 2
+    assert "without a time axis" in capsys.readouterr().err
+    assert exit_code([*select, "--rate", "1000"]) == 2  # now a gap of 3 intervals
+    assert "1 gap(s)" in capsys.readouterr().err
+    assert exit_code(["fitting-error", path, "--nonfinite", "drop", "--orderings",
+                      "zernike:standard", "--pupil-pixels", "64", "--quiet"]) == 0  # per frame
