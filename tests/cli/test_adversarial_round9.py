@@ -248,3 +248,13 @@ def test_frames_dropped_without_a_rate_are_not_bridged(tmp_path, capsys):
     assert "1 gap(s)" in capsys.readouterr().err
     assert exit_code(["fitting-error", path, "--nonfinite", "drop", "--orderings",
                       "zernike:standard", "--pupil-pixels", "64", "--quiet"]) == 0  # per frame
+
+
+# --------------------------------------------- N44, N46: text in another encoding
+@pytest.mark.parametrize(("encoding", "extra"), [("cp1252", ""), ("utf-16", "UTF-16 text")])
+def test_a_csv_in_another_encoding_is_named_as_such(tmp_path, capsys, encoding, extra):
+    text = "Z2 [\xb5m],Z3 [\xb5m]\n" + "0.1,0.2\n" * 20
+    (tmp_path / "w.csv").write_bytes(text.encode(encoding))
+    assert exit_code(["info", tmp_path / "w.csv", "--rate", "1000"]) == 2
+    err = capsys.readouterr().err
+    assert "a CSV must be UTF-8" in err and extra in err  # was "neither text (CSV)"
