@@ -283,7 +283,8 @@ def run(args: argparse.Namespace) -> int:
                  f"--resamples {args.resamples} on {log.n_modes} modes",
                  "use fewer --resamples")
     if blocks or args.stability is not None or args.split_gaps:
-        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
+        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows",
+                         lags=False)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
     # frames only shorten it (the block bootstrap's blocks may span a removed frame)
     log, _ = apply_outliers(log, args, args.log)

@@ -436,10 +436,15 @@ def input_notes(log, path: Path) -> list[str]:
     return notes
 
 
-def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str):
-    """Refuse a log whose timestamps have gaps, or keep its longest segment (``--split-gaps``)."""
+def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, *,
+               lags: bool = True):
+    """Refuse a log whose timestamps have gaps, or keep its longest segment (``--split-gaps``).
+
+    With ``lags`` (forecasting) frames that ``--nonfinite drop`` removed from a log
+    without a time axis are refused too (their neighbours would be taken as consecutive).
+    """
     dropped = [r for r in getattr(log, "repairs", ()) if "nonfinite='drop'" in str(r)]
-    if dropped and log.timestamps is None:
+    if lags and dropped and log.timestamps is None:
         # without a rate the dropped frames leave no gap to see: their neighbours were
         # analysed as consecutive (adversarial round 9 PART b, row N40)
         raise CommandError(

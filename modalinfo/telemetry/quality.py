@@ -227,9 +227,11 @@ def _effective_frames(sample: np.ndarray) -> int:
         return n_sample
     x = np.asarray(sample, dtype=np.float64)
     x = x[:, np.isfinite(x).all(axis=0)]  # modes with a non-finite value are left out
+    scale = np.abs(x).max(axis=0) if x.size else np.zeros(0)
+    x = x[:, scale > 0] / scale[scale > 0]  # constant modes left out; no overflow near 1e308
     x = x - x.mean(axis=0)
     power = (x * x).sum(axis=0)
-    keep = power > 0  # constant modes have no autocorrelation
+    keep = power > 0
     rho = (x[1:, keep] * x[:-1, keep]).sum(axis=0) / power[keep]
     if rho.size == 0:
         return n_sample
