@@ -1,9 +1,9 @@
 """numba kernels of the simulator's hot loop (no validation, no random numbers)."""
 
 import numpy as np
-from numba import prange
 
-from modalinfo.common.jit import jit
+# numba through jit.py, which checks the NUMBA_* variables (adversarial round 9 PART b, E15)
+from modalinfo.common.jit import jit, prange
 
 
 @jit(inline="always")

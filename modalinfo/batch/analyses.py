@@ -253,6 +253,12 @@ def log_columns(log: Any) -> dict:
         "duration": None if log.duration is None else float(log.duration),
         "units": str(log.units), "start_time": float(log.start_time),
     }
+    s = log.sampling()
+    if s is not None and s.n_frames > 1:  # timestamps: the median rate and what breaks it
+        row["median_rate"] = float(s.median_rate)  # the mean rate is biased by gaps
+        # a rate change or gaps (adversarial round 9 PART b, row B01: a log of two
+        # rates had one ok row saying 1333 Hz)
+        row["sampling"] = "uniform" if s.uniform else s.describe_irregular()
     meta = log.metadata or {}
     for key, column in _META_COLUMNS.items():
         if key in meta and column not in row:

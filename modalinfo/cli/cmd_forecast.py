@@ -244,6 +244,21 @@ def _select_modes(args: argparse.Namespace, log, modes: list, train: float | int
     return log._derive(_coeffs=out, _modes=list(head.modes))  # noqa: SLF001 - same frames
 
 
+def _refuse_non_files(out: Path) -> None:
+    """Refuse an output name taken by a folder or a special file (never replaced).
+
+    ``--overwrite`` replaces files; a folder of that name (with the user's files in it)
+    was moved into the staging folder and deleted with it (adversarial round 9 PART b,
+    row M05).
+    """
+    for name in OUTPUTS:
+        path = out / name
+        if (path.exists() or path.is_symlink()) and not path.is_file():
+            kind = "a folder" if path.is_dir() else "not a regular file"
+            raise CommandError(f"--out '{out}': '{path}' is {kind}; the command writes a "
+                               "file of that name (move it away)")
+
+
 def write_outputs(ev, out: Path, overwrite: bool) -> None:
     """Write the four outputs into ``out`` all together or not at all.
 
@@ -270,6 +285,7 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
             ev.to_json(staging / OUTPUTS[0])
             ev.to_csv(staging / OUTPUTS[1])
             ev.save_plots(staging)
+            _refuse_non_files(out)
             clash = [n for n in OUTPUTS if (out / n).exists()]
             if clash and not overwrite:
                 raise CommandError(f"'{out / clash[0]}' exists; pass --overwrite to replace it")
@@ -308,6 +324,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.out.exists() and args.out.suffix.lower() in (".json", ".csv", ".png"):
             raise CommandError(f"--out '{args.out}' names a file; --out takes a directory "
                                f"(it receives {', '.join(OUTPUTS)})")
+        _refuse_non_files(args.out)
         clash = [n for n in OUTPUTS if (args.out / n).exists()]
         if clash and not args.overwrite:
             raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "

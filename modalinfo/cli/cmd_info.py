@@ -71,17 +71,23 @@ def _sampling_text(s) -> str:
         text = f"jitter {100 * s.jitter:.3g}% of the median interval; "
     if s.uniform:
         return text + f"no gaps (interval > {s.gap_factor:g} x median)"
-    k = int(s.gap_duration.argmax())
     a, b = s.longest_segment
+    if s.n_gaps == 0:  # only short intervals: the rate changed (round 9 PART b, row A01)
+        return text + (f"{s.describe_irregular()}; longest equally spaced segment "
+                       f"frames {a}..{b - 1}")
+    k = int(s.gap_duration.argmax())
+    short = "" if s.n_short == 0 else (f"; {s.n_short} interval(s) shorter than "
+                                       f"1/{s.gap_factor:g} of the median (rate changes)")
     return text + (
         f"{s.n_gaps} gap(s) (interval > {s.gap_factor:g} x median), first {s.describe_gap(0)}"
         + ("" if k == 0 else f", largest {s.describe_gap(k)}")
-        + f"; longest contiguous segment frames {a}..{b - 1}"
+        + short + f"; longest contiguous segment frames {a}..{b - 1}"
     )
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the description and the per-mode summary of the log."""
+    from modalinfo.cli.shared import check_log_rate
     from modalinfo.io import integrity_check, load
     from modalinfo.telemetry import summarize
 
@@ -89,6 +95,9 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--chunk-frames must be >= 1; got {args.chunk_frames}")
     loaded = load(args.log, fmt=args.fmt, mmap=not args.no_mmap, dataset=args.dataset,
                   **hints_from_args(args))
+    # a rate outside 1 mHz - 1 MHz (Unix ns read as seconds: 2e-6 Hz) refused as by every
+    # other command (adversarial round 9 PART b, row A14)
+    check_log_rate(loaded, args.log)
     log, quality = apply_outliers(loaded, args, args.log)  # refused here, before any output
     repaired = log.coeffs is not loaded.coeffs  # clip / drop changed the data
     out = sys.stdout

@@ -135,7 +135,8 @@ def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False)
     any work, naming ``--max-frames`` and ``--budget``. With ``zernike=True`` (a basis
     built on the log's Zernikes will be sampled on the ``--pupil-pixels`` grid) the
     library's sampling rule is checked on the mode labels first, before any frame is
-    read. A ``--frame K`` is an index of the subsample, which the note on stderr describes.
+    read. A ``--frame K`` is frame K of the file: with a subsample it must be one of the
+    kept frames and is translated to its index there (``args.file_frame`` keeps K).
     """
     log = load_log_with_hints(args.log, args, mmap=True)
     if zernike and log.convention != "labels":
@@ -143,7 +144,9 @@ def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False)
 
         # the header's labels suffice: refuse now, not after reading the subsample
         check_pupil_sampling(log.modes, args.pupil_pixels, log.convention)
+    n_file = log.n_frames
     log = frame_subsample(log, args)
+    _frame_of_subsample(args, n_file, log.n_frames)
     need = LOG_COPIES * log_bytes(log)
     what = (f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
             f"{LOG_COPIES} float64 copies)")
@@ -154,6 +157,29 @@ def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False)
                      f"{what} with {n} MI samples of every mode (--budget {args.budget})",
                      "use a smaller --budget or --max-frames")
     return log
+
+
+def _frame_of_subsample(args: argparse.Namespace, n_file: int, n_kept: int) -> None:
+    """Translate ``--frame K`` (a frame of the file) to its index in the ``--max-frames`` subsample.
+
+    It was taken as an index of the subsample: ``--frame 5 --max-frames 10`` on 4000
+    frames ordered frame 2000 and printed "frame 5" (adversarial round 9 PART b, F11).
+    """
+    args.file_frame = getattr(args, "frame", None)
+    if args.file_frame is None or n_kept == n_file:
+        return
+    step = -(-n_file // args.max_frames)  # frame_subsample's stride
+    k = args.file_frame
+    if not 0 <= k < n_file:
+        raise CommandError(f"--frame must be an int in 0..{n_file - 1} (a frame index); "
+                           f"got {k}")
+    if k % step:
+        raise CommandError(
+            f"--frame {k} is not among the frames --max-frames {args.max_frames} analyses "
+            f"(every {step}th of {n_file}: 0, {step}, {2 * step}, ...); give one of them or "
+            f"--max-frames {n_file}"
+        )
+    args.frame = k // step
 
 
 def check_window_and_frame(args: argparse.Namespace, log) -> None:
@@ -257,7 +283,8 @@ def run(args: argparse.Namespace) -> int:
                  f"--resamples {args.resamples} on {log.n_modes} modes",
                  "use fewer --resamples")
     if blocks or args.stability is not None or args.split_gaps:
-        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows")
+        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows",
+                         lags=False)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
     # frames only shorten it (the block bootstrap's blocks may span a removed frame)
     log, _ = apply_outliers(log, args, args.log)
@@ -273,7 +300,8 @@ def run(args: argparse.Namespace) -> int:
             sample_budget=args.budget, seed=args.seed, n_resamples=args.resamples,
             progress=advance,
         )
-    where = "pooled over all frames" if result.pooled else f"frame {result.frame}"
+    where = ("pooled over all frames" if result.pooled
+             else f"frame {getattr(args, 'file_frame', result.frame)}")
     print(f"{args.basis} basis, {args.method} order ({where}"
           + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
              if result.mi is not None else "") + ")")
@@ -285,6 +313,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
               f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
               "the last step completes Phi_ref and is not estimated")
+        reach = (result.n_resamples - 1) / (result.n_resamples + 1)
+        if reach < 0.9:
+            # the range of R replicates covers a new draw with probability (R - 1) / (R + 1):
+            # with 2 the '~' marks missed 6 of 25 ties (adversarial round 9 PART b, N24)
+            print(f"caution: {result.n_resamples} replicates are too few for "
+                  f"{100 * result.confidence_level:.0f}% bounds (their whole range covers "
+                  f"{100 * reach:.0f}% at most): the bounds, the '~' marks and the steps above "
+                  "understate the noise; use --resamples 20 or more")
     if args.stability is not None:
         from modalinfo.ordering import ordering_stability
 

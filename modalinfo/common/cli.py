@@ -169,6 +169,15 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
             message = words(message)
         sys.stderr.write(f"{prog} {args.command}: error: {message}\n")
         return EXIT_USAGE
+    except Warning as exc:
+        # a warning turned into an error (PYTHONWARNINGS=error, python -W error): one line,
+        # not a 58-line traceback (adversarial round 9 PART b, row N49)
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        if words is not None:
+            message = words(message)
+        sys.stderr.write(f"{prog} {args.command}: error: {type(exc).__name__} raised as an "
+                         f"error (PYTHONWARNINGS / -W error): {message}\n")
+        return EXIT_USAGE
     except MemoryError as exc:
         # the estimates before the work should have refused this: still one line, no
         # traceback (numpy's message names the array that did not fit)

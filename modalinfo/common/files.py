@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import stat
 import tempfile
 import threading
 from collections.abc import Callable
@@ -120,7 +121,7 @@ def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
 
 
 class _Signalled(BaseException):
-    """SIGINT/SIGTERM received during :func:`atomic_write` (turned into an exit below)."""
+    """SIGINT/SIGTERM/SIGHUP received during :func:`atomic_write` (turned into an exit below)."""
 
     def __init__(self, signum: int) -> None:
         super().__init__(signum)
@@ -129,7 +130,7 @@ class _Signalled(BaseException):
 
 @contextlib.contextmanager
 def signals_end_the_save():
-    """Make SIGINT and SIGTERM during a save remove its temporary file, then end the process.
+    """Make SIGINT, SIGTERM and SIGHUP during a save remove its temporary file, then exit.
 
     Without this, SIGTERM's default action kills the process at once and leaves the
     hidden temporary file behind, and a library that defers SIGINT while it writes
@@ -137,7 +138,9 @@ def signals_end_the_save():
     a signal raises inside the save, the ``finally`` of :func:`atomic_write` removes the
     temporary (the target keeps its old content or stays absent), and the process then
     ends as the signal asks: ``KeyboardInterrupt`` for SIGINT (the command line exits
-    130) and ``SystemExit(143)`` for SIGTERM (128 + 15, the shell's convention). Only
+    130), ``SystemExit(143)`` for SIGTERM (128 + 15, the shell's convention) and
+    ``SystemExit(129)`` for SIGHUP (a closed terminal; adversarial round 9 PART b, row X01:
+    its default action left a 91 MB hidden temporary file). Only
     signals still at their default action are handled, and only in the main thread
     (where Python runs signal handlers): an ignored SIGINT (``nohup``, background
     jobs) stays ignored and a caller's own handler stays in charge.
@@ -148,6 +151,8 @@ def signals_end_the_save():
     armed = [True]
     received: list[int] = []
     defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+    if hasattr(signal, "SIGHUP"):  # not on Windows
+        defaults[signal.SIGHUP] = signal.SIG_DFL
     previous: dict = {}
     if threading.current_thread() is threading.main_thread():
         for signum, default in defaults.items():
@@ -173,9 +178,36 @@ def signals_end_the_save():
         for signum, old in previous.items():
             signal.signal(signum, old)
     if received:
-        if received[0] == signal.SIGTERM:
-            raise SystemExit(128 + signal.SIGTERM)
+        if received[0] != signal.SIGINT:
+            raise SystemExit(128 + received[0])
         raise KeyboardInterrupt
+
+
+def _new_file_mode(path: Path) -> int:
+    """Permissions of the saved file: a replaced file's own, else ``0o666`` less the umask.
+
+    ``mkstemp`` creates ``0o600``; a plain ``open`` would give ``0o666 & ~umask``. A user
+    with umask 077 gets private files, and a file chmod'ed 600 stays so when replaced
+    (adversarial round 9 PART b, rows E06, E08: both became 0644).
+    """
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        return 0o666 & ~_umask()
+
+
+def _umask() -> int:
+    """Return the process umask, read without changing it where Linux shows it."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)  # elsewhere: set and restore at once
+    os.umask(mask)
+    return mask
 
 
 def atomic_write(
@@ -215,7 +247,7 @@ def atomic_write(
                     _renamed(write, fh, tmp, path)
                     fh.flush()
                     os.fsync(fh.fileno())
-            os.chmod(tmp, 0o644)
+            os.chmod(tmp, _new_file_mode(path))
             if overwrite:
                 os.replace(tmp, path)
             else:

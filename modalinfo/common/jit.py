@@ -10,15 +10,32 @@ threads, which the per-thread work arrays of ``information.kde`` allow, run in p
 
 from __future__ import annotations
 
-try:
-    import numba as nb
-except ValueError as _exc:  # numba checks its NUMBA_* variables at import time
-    # e.g. NUMBA_NUM_THREADS=0 (adversarial round 8, row e105): an ImportError that the
-    # commands' __main__ report in one line, not numba's traceback
-    raise ImportError(f"numba cannot start: {_exc} (check the NUMBA_* environment "
-                      "variables, e.g. NUMBA_NUM_THREADS must be >= 1)") from None
+import warnings
 
-__all__ = ["jit"]
+with warnings.catch_warnings(record=True) as _caught:
+    # numba warns (a RuntimeWarning holding a whole traceback, an exception under
+    # PYTHONWARNINGS=error) when a NUMBA_* variable does not parse, e.g.
+    # NUMBA_NUM_THREADS=abc (adversarial round 9 PART b, rows E15, E17): recorded here
+    warnings.simplefilter("always")
+    try:
+        import numba as nb
+    except ValueError as _exc:  # numba checks its NUMBA_* variables at import time
+        # e.g. NUMBA_NUM_THREADS=0 (adversarial round 8, row e105): an ImportError that the
+        # commands' __main__ report in one line, not numba's traceback
+        raise ImportError(f"numba cannot start: {_exc} (check the NUMBA_* environment "
+                          "variables, e.g. NUMBA_NUM_THREADS must be >= 1)") from None
+for _w in _caught:
+    _text = str(_w.message)
+    if "could not be parsed" in _text:
+        raise ImportError(f"numba cannot start: {_text.splitlines()[0]} (check the NUMBA_* "
+                          "environment variables, e.g. NUMBA_NUM_THREADS must be an "
+                          "int >= 1)")
+    warnings.warn_explicit(_w.message, _w.category, _w.filename, _w.lineno)
+
+__all__ = ["jit", "prange"]
+
+#: numba's parallel range, for kernels compiled with ``@jit(parallel=True)``
+prange = nb.prange
 
 
 def jit(*args, **kwargs):

@@ -248,6 +248,12 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         coeffs = _file_units(coeffs, file_unit, stored, hints, path)
     frames = stored.pop("_frame_numbers", None)
     convention_assumed = bool(stored.pop("_convention_assumed", False))
+    bad_modes = stored.pop("_bad_modes", None)
+    if bad_modes is not None and "modes" not in hints:
+        # a mode list of the wrong length was ignored and Z2.. assumed (adversarial
+        # round 9 PART b, rows N14, N16)
+        raise ValueError(f"'{path}': {bad_modes}; the file's labels do not fit its data: "
+                         "give modes= (command line: --in-modes) to label the columns")
     if foreign:
         _foreign_time_axis(stored, hints, frames, records, path)
         _foreign_relabel(stored, hints, records, describe_modes)
@@ -358,6 +364,28 @@ def _short(value: Any, most: int = 12) -> str:
     return repr(value)
 
 
+def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
+    """Refuse frame numbers that are not consecutive when no rate turns them into times.
+
+    Unused, they were dropped and the log called uniform: a CSV missing frames 100-109
+    was forecast across the hole (adversarial round 9 PART b, rows K06, K07), while
+    with ``--rate`` the same file is refused for its gap.
+    """
+    numbers = np.asarray(frames, dtype=np.float64)
+    if timestamps_given or numbers.ndim != 1 or numbers.size < 2:
+        return
+    step = np.diff(numbers)
+    bad = np.flatnonzero(step != 1)
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"'{path}': the file's frame numbers are not consecutive ({numbers[i]:g} then "
+            f"{numbers[i + 1]:g} at row {i + 1}; {bad.size} break(s)); pass rate= (command "
+            "line: --rate) to turn them into timestamps, so that the missing frames show as "
+            "gaps"
+        )
+
+
 def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:
     """Frame numbers need a rate; an explicit rate wins over disagreeing timestamps."""
     rate = hints.get("rate")
@@ -375,6 +403,7 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
             )
     if frames is not None:
         if rate is None or "timestamps" in hints:
+            _refuse_skipped_frames(frames, path, "timestamps" in hints)
             records["time_axis"] = (
                 "the file's frame numbers were not used (give a rate to turn them into times)"
             )

@@ -344,6 +344,9 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     stored: dict[str, Any] = {"metadata": meta}
     time_arrays(dsets, stored, meta)
     names = _column_names(dset)
+    if names is not None and len(names) not in dset.shape:
+        stored["_bad_modes"] = (f"the column-name attribute of {key!r} lists {len(names)} "
+                                f"mode(s) for data of shape {dset.shape}")
     if names is not None and len(names) == dset.shape[1]:
         stored["modes"], stored["convention"], assumed = mode_columns(names)
         if assumed:

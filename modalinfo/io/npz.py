@@ -289,6 +289,11 @@ def _foreign(
     time_arrays(arrays, stored, meta)
     for name in ("modes", "labels", "columns", "mode_names"):
         names = arrays.get(name)
+        if (names is not None and names.ndim == 1 and names.dtype.kind in "USiu"
+                and names.shape[0] not in two_d[key].shape):
+            stored["_bad_modes"] = (f"its member {name!r} lists {names.shape[0]} mode(s) for "
+                                    f"data of shape {two_d[key].shape}")
+            break
         if (
             names is not None
             and names.ndim == 1

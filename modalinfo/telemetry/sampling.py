@@ -10,7 +10,12 @@ and gives the nominal rate. Definitions:
   MAD(dt) / median_interval`` (the normal-consistent MAD; 0 for a uniform clock);
 * a **gap** is an interval longer than ``gap_factor`` (default 1.5) times the
   median: at least one frame is missing there;
-* **segments** are the maximal runs of frames without a gap, ``[start, stop)``.
+* a **short** interval is shorter than the median divided by ``gap_factor``: the frame
+  rate changed there (two nights at different rates concatenated; adversarial round 9
+  PART b, row A01: 2000 frames at 2 kHz then 2000 at 1 kHz showed "jitter none, no
+  gaps" and were forecast as equally spaced), or a clock stuttered;
+* **segments** are the maximal runs of frames without a gap or a short interval,
+  ``[start, stop)``.
 
 Analyses that treat frames as equally spaced (forecasting, block bootstraps,
 sliding windows) refuse a log with gaps (:func:`require_contiguous`) and name the
@@ -20,7 +25,7 @@ contiguous part.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -60,6 +65,8 @@ class Sampling:
         Time of frame ``i`` [s].
     gap_duration : numpy.ndarray, shape (G,)
         Interval ``t[i + 1] - t[i]`` [s].
+    short_after : numpy.ndarray of int, shape (S,)
+        Frame index ``i`` of each interval shorter than ``median / gap_factor``.
     """
 
     n_frames: int
@@ -71,6 +78,7 @@ class Sampling:
     gap_after: np.ndarray
     gap_start: np.ndarray
     gap_duration: np.ndarray
+    short_after: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @property
     def n_gaps(self) -> int:
@@ -78,14 +86,20 @@ class Sampling:
         return int(self.gap_after.size)
 
     @property
+    def n_short(self) -> int:
+        """Number of intervals shorter than ``median / gap_factor`` (rate changes)."""
+        return int(self.short_after.size)
+
+    @property
     def uniform(self) -> bool:
-        """True when the time axis has no gap."""
-        return self.n_gaps == 0
+        """True when the time axis has no gap and no short interval."""
+        return self.n_gaps == 0 and self.n_short == 0
 
     @property
     def segments(self) -> list[tuple[int, int]]:
         """Contiguous frame ranges ``[(start, stop), ...]`` between the gaps."""
-        edges = [0, *(int(i) + 1 for i in self.gap_after), self.n_frames]
+        breaks = np.union1d(self.gap_after, self.short_after)
+        edges = [0, *(int(i) + 1 for i in breaks), self.n_frames]
         return [(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True) if b > a]
 
     @property
@@ -101,6 +115,20 @@ class Sampling:
             f"{dur:.6g} s ({dur / self.median_interval:.3g} sample intervals) after frame {i} "
             f"(t = {float(self.gap_start[k]):.6g} s)"
         )
+
+
+    def describe_irregular(self) -> str:
+        """Describe what breaks the equal spacing: gaps, then short intervals (one line)."""
+        parts = []
+        if self.n_gaps:
+            parts.append(f"{self.n_gaps} gap(s), the first of {self.describe_gap(0)}")
+        if self.n_short:
+            i = int(self.short_after[0])
+            parts.append(
+                f"{self.n_short} interval(s) shorter than 1/{self.gap_factor:g} of the median "
+                f"(the frame rate changes), the first after frame {i}"
+            )
+        return " and ".join(parts)
 
 
 def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
@@ -130,8 +158,9 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
     dt = np.diff(t)
     median = float(np.median(dt))
     is_gap = dt > gap_factor * median
+    is_short = dt < median / gap_factor
     gaps = np.flatnonzero(is_gap)
-    regular = dt[~is_gap]
+    regular = dt[~is_gap & ~is_short]
     jitter = float(_MAD_TO_SIGMA * np.median(np.abs(regular - np.median(regular))) / median)
     return Sampling(
         n_frames=int(t.size),
@@ -143,6 +172,7 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
         gap_after=gaps.astype(np.int64),
         gap_start=t[gaps],
         gap_duration=dt[gaps],
+        short_after=np.flatnonzero(is_short).astype(np.int64),
     )
 
 
@@ -164,7 +194,7 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
     a, b = s.longest_segment
     raise ValueError(
         f"{purpose} assumes equally spaced frames but the log's timestamps have "
-        f"{s.n_gaps} gap(s), the first of {s.describe_gap(0)}; analyse the longest "
+        f"{s.describe_irregular()}; analyse the longest "
         f"contiguous segment (frames {a}..{b - 1}) with log.longest_segment() "
         "(command line: --split-gaps)"
     )

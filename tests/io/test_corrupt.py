@@ -128,7 +128,7 @@ def test_empty_and_garbage_files(tmp_path):
     with pytest.raises(LogFormatError, match=r"empty"):
         load(tmp_path / "empty.npz")
     (tmp_path / "garbage.bin").write_bytes(bytes(range(256)) * 4)
-    with pytest.raises(LogFormatError, match=r"neither text \(CSV\) nor"):
+    with pytest.raises(LogFormatError, match=r"neither UTF-8 text \(CSV\) nor"):
         load(tmp_path / "garbage.bin")
     (tmp_path / "garbage.fits").write_bytes(b"\x00\x01" * 1000)
     with pytest.raises(LogFormatError, match=r"corrupt FITS file"):

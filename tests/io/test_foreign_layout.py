@@ -195,7 +195,12 @@ def test_csv_frame_column_needs_a_rate(tmp_path):
     lines = ["Z2,frame,Z3"] + [f"{float(X[k, 0])!r},{f},{float(X[k, 1])!r}"
                                for k, f in enumerate(frames)]
     (tmp_path / "f.csv").write_text("\n".join(lines) + "\n")
-    log = load(tmp_path / "f.csv")
+    # without a rate the missing frame 13 cannot show as a gap: refused (round 9 PART b,
+    # K06; it was dropped and the log called uniform); consecutive numbers are unused
+    with pytest.raises(ValueError, match=r"frame numbers are not consecutive \(12 then 14"):
+        load(tmp_path / "f.csv")
+    (tmp_path / "c.csv").write_text("\n".join(lines[:4]) + "\n")  # frames 10, 11, 12
+    log = load(tmp_path / "c.csv")
     assert log.times is None and "frame numbers were not used" in log.metadata["time_axis"]
     log = load(tmp_path / "f.csv", rate=100.0)
     np.testing.assert_allclose(log.timestamps, (frames - 10) / 100.0)
