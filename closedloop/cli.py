@@ -23,6 +23,7 @@ import sys
 from pathlib import Path
 
 from modalinfo.common.cli import CommandError, Parser, check_output, dispatch
+from modalinfo.common.quiet import catching_warnings
 
 __all__ = ["main"]
 
@@ -287,7 +288,7 @@ def _load_result(args):
 
     from closedloop.result import SimulationResult, UncheckedResultWarning
 
-    with warnings.catch_warnings(record=True) as caught:
+    with catching_warnings(record=True) as caught:
         warnings.simplefilter("always", UncheckedResultWarning)
         result = SimulationResult.load(args.result)
     unchecked = [w for w in caught if issubclass(w.category, UncheckedResultWarning)]

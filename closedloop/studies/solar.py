@@ -65,6 +65,7 @@ from closedloop.config import SimulationConfig
 from closedloop.optics.correlating_sensor import MAX_SHIFT as CORRELATING_MAX_SHIFT
 from closedloop.studies.compression import LatencyModel
 from modalinfo.common.cli import Parser
+from modalinfo.common.quiet import catching_warnings
 
 __all__ = ["SolarRTC", "RTC_PRESETS", "correlation_compute_time", "correlating_wfs_sizes",
            "correlating_compute_time",
@@ -199,7 +200,7 @@ def correlation_compute_time(n_subapertures: int, image_pixels: int, *, method: 
     images += rng.standard_normal(images.shape) * math.sqrt(15_000.0)
     reference = images[0]
     times = []
-    with warnings.catch_warnings():  # the cfi bias warning: only its time is read here
+    with catching_warnings():  # the cfi bias warning: only its time is read here
         warnings.simplefilter("ignore", UserWarning)
         measure_shifts(reference, images, method=method, max_shift=max_shift)  # warm-up
         for _ in range(repeats):

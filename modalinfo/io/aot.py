@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.quiet import catching_warnings
 from modalinfo.io._columns import UNIT_WORDS
 from modalinfo.io._common import (
     build_log,
@@ -116,7 +117,7 @@ def is_aot(path) -> bool:
 @contextlib.contextmanager
 def _aot_reading(path: Path) -> Iterator[list]:
     """Read inside: aotpy failures -> ``LogFormatError``; its warnings are collected."""
-    with reading("AOT", path), warnings.catch_warnings(record=True) as caught:
+    with reading("AOT", path), catching_warnings(record=True) as caught:
         warnings.simplefilter("always")
         notes: list = []
         yield notes
@@ -592,7 +593,7 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
     path = as_path(path)
 
     def write(name: Path) -> None:
-        with warnings.catch_warnings():
+        with catching_warnings():
             # aotpy notes empty optional tables as warnings; the file is valid AOT
             warnings.filterwarnings("ignore", message=r".*contains no data.*")
             system.write_to_file(os.fspath(name), file_type="fits", checksum=True,

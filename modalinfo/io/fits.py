@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.quiet import catching_warnings
 from modalinfo.io._columns import (
     TIME_UNITS,
     column_units,
@@ -143,7 +144,7 @@ def read_fits(path, **hints) -> ModalLog:
     path = as_path(path)
     check_readable(path)
     with reading("FITS", path):
-        with warnings.catch_warnings(record=True) as caught:
+        with catching_warnings(record=True) as caught:
             warnings.simplefilter("always")
             # open the file ourselves so it is closed even when astropy fails half-way
             with (
