@@ -76,7 +76,7 @@ from scipy.special import digamma
 from modalinfo.common.memory import available_memory_bytes
 from modalinfo.common.validation import check_int
 from modalinfo.information.copula import check_copula, copula_scores
-from modalinfo.information.discrete import discrete_pair_mi, discrete_x_levels
+from modalinfo.information.discrete import discrete_cmi, discrete_pair_mi, discrete_x_levels
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import MIMethod, register_method
 
@@ -278,7 +278,10 @@ def ksg_cmi(x, y, z, *, k: int = 3, seed: int = 0, copula: bool = True) -> float
     ``psi(k) - < psi(n_xz + 1) + psi(n_yz + 1) - psi(n_z + 1) >`` (Phys. Rev. Lett. 99,
     204101, eq. 3) with the max-norm k-th neighbour distance in the joint space and the
     strict counts and tie noise of this module; with no z it is KSG estimator 1.
-    x, y, z of shapes (n, dx), (n, dy), (n, dz).
+    x, y, z of shapes (n, dx), (n, dy), (n, dz). Every column discrete with at least 10
+    samples per cell of their joint table: the table's Miller-Madow CMI instead, the
+    rule of the MI engine and of the other methods' CMI (:mod:`modalinfo.information.discrete`;
+    the binary channel's TE was 0.3727 for the table's 0.3677 at n = 2e4).
     """
     k = check_int(k, "k", minimum=1)
     seed = check_int(seed, "seed", minimum=0)
@@ -287,6 +290,9 @@ def ksg_cmi(x, y, z, *, k: int = 3, seed: int = 0, copula: bool = True) -> float
     if k >= n:  # as KSGEngine.score
         raise ValueError(f"`k` must be < the number of samples ({n}); got {k}.")
     check_ksg_size(n, x.shape[1] + y.shape[1] + z.shape[1])
+    table = discrete_cmi(x, y, z)
+    if table is not None:  # every column discrete: the table's CMI (docstring)
+        return table
     cols = np.concatenate([x, y, z], axis=1)
     u = np.column_stack([_standardised(cols[:, j], seed, j, copula)
                          for j in range(cols.shape[1])])
