@@ -427,13 +427,23 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
     if median > 0 and abs(median * float(rate) - 1.0) <= 1e-3 and np.all(dt > 0):
         return  # they agree: keep both (gaps stay visible)
     stored["timestamps"] = None
-    stored.setdefault("start_time", float(t[0]))
+    start = float(t[0])
+    # a first timestamp float64 cannot step by the frame interval from (ns since 1970
+    # read as s: 1.7e18) would be refused as a start time (ModalLog): the replaced axis
+    # starts at 0 and the file's first timestamp is kept in the metadata
+    far = float(np.spacing(abs(start) + t.size / float(rate))) > 0.05 / float(rate)
+    if far and "start_time" not in stored:
+        records["file_start_time"] = start
+        start = 0.0
+    stored.setdefault("start_time", start)
     file_rate = f"{1.0 / median:.6g} Hz" if median > 0 else "not increasing"
     if np.any(dt <= 0):
         file_rate += ", not strictly increasing"
     records["time_axis"] = (
         f"rate {float(rate):g} Hz given by the caller replaces the file's timestamps "
-        f"(median rate {file_rate})"
+        f"(median rate {file_rate})" + (
+            "; the time axis starts at 0 and the file's first timestamp is kept as "
+            "metadata 'file_start_time'" if far else "")
     )
 
 

@@ -224,3 +224,22 @@ def test_edited_csv_needs_verify_false(tmp_path):
     np.testing.assert_array_equal(edited.coeffs[0], [0.5, 0.25])
     np.testing.assert_array_equal(edited.coeffs[1:], X[1:5, :2])
     assert edited.metadata == {"loop": "open"}
+
+
+def test_a_rate_replacing_nanosecond_timestamps_starts_at_zero(tmp_path):
+    """Unix nanoseconds read as seconds (1.76e18) cannot be a start time at 2 kHz: float64
+    near them steps by 256 s (IEEE spacing, numpy.spacing). With rate= replacing them the
+    axis starts at 0 and the first timestamp is kept, exact, in the metadata (stop 37: the
+    round-9 start-time rule had made `--rate` refuse these files)."""
+    from modalinfo.io import load
+
+    ns = [1_764_380_000_000_000_000 + k * 500_000 for k in range(50)]
+    d = np.random.default_rng(1).standard_normal((50, 2))
+    path = tmp_path / "ns.csv"
+    rows = (f"{t},{float(a)!r},{float(b)!r}\n" for t, (a, b) in zip(ns, d, strict=True))
+    path.write_text("time,Z2,Z3\n" + "".join(rows))
+    log = load(path, rate=2000.0)
+    assert log.start_time == 0.0
+    assert log.metadata["file_start_time"] == float(ns[0])
+    assert np.spacing(float(ns[0])) == 256.0
+    np.testing.assert_array_equal(log.coeffs, d)
