@@ -49,6 +49,8 @@ from modalinfo.bases import (
     zernike_covariance,
     zernike_matrix,
 )
+from modalinfo.bases.zernike import PIXELS_PER_CYCLE, max_zernike_order
+from modalinfo.bases.zernike import check_zernike_sampling as _check_sampling
 
 __all__ = ["DeformableMirror", "ZernikeMirror", "IdealMirror", "ZERNIKE", "IDEAL",
            "check_zernike_sampling", "check_zernike_subapertures"]
@@ -60,8 +62,6 @@ __all__ = ["DeformableMirror", "ZernikeMirror", "IdealMirror", "ZERNIKE", "IDEAL
 _MIRROR_MIN_BYTES = 1_000_000
 
 
-#: pupil pixels per cycle of the finest Zernike a modal DM uses (Nyquist)
-PIXELS_PER_CYCLE = 2
 #: highest Zernike radial order a Shack-Hartmann drives, as a fraction of its subapertures
 #: across the disc (:func:`check_zernike_subapertures`; measured, docs/CLOSEDLOOP.md)
 SUBAPERTURE_ORDER_FRACTION = 0.9
@@ -223,24 +223,31 @@ def check_zernike_sampling(cfg: SimulationConfig, i: int) -> None:
     A Zernike of radial order ``n`` has ``n`` zero crossings across its disc: with fewer
     than :data:`PIXELS_PER_CYCLE` pixels per cycle (``n > pixels across / 2``) its
     sampled shape aliases onto lower modes and the DM's modes stop being independent.
+    The rule is modalinfo's (:func:`modalinfo.bases.zernike.check_zernike_sampling`, one
+    copy), applied to the whole pixels across the disc (``floor(across / 2) =
+    floor(floor(across) / 2)``, so the edge is the same); this wrapper only names the
+    config's fields in the refusal.
     """
     dm = cfg.dms[i]
     dx = cfg.telescope.diameter / cfg.telescope.n_pixels
     across = dm_disc_diameter(cfg, i) / dx
-    n_max = int(across // PIXELS_PER_CYCLE)
-    if n_max < 1:  # only a configured diameter can be this small (the meta-pupil >= D)
+    pixels = int(across)
+    try:
+        _check_sampling([dm.n_modes + 1], pixels)  # modes Z2 .. Z(n_modes + 1)
+    except ValueError as err:
+        n_max = max_zernike_order(pixels)
+        if n_max < 1:  # only a configured diameter can be this small (the meta-pupil >= D)
+            raise ValueError(
+                f"`dms[{i}].diameter` must be >= {PIXELS_PER_CYCLE} pupil pixels "
+                f"({PIXELS_PER_CYCLE * dx:g} m at telescope.n_pixels = "
+                f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode); got "
+                f"{dm.diameter!r}.") from err
+        order = noll_to_zernike(dm.n_modes + 1)[0]
         raise ValueError(
-            f"`dms[{i}].diameter` must be >= {PIXELS_PER_CYCLE} pupil pixels "
-            f"({PIXELS_PER_CYCLE * dx:g} m at telescope.n_pixels = "
-            f"{cfg.telescope.n_pixels}: a mirror narrower holds no mode); got {dm.diameter!r}.")
-    order = noll_to_zernike(dm.n_modes + 1)[0]  # modes Z2 .. Z(n_modes + 1)
-    if order > n_max:
-        limit = _modes_to_order(n_max)
-        raise ValueError(
-            f"`dms[{i}].n_modes` must be <= {limit} (Zernike radial order <= pixels across "
-            f"the DM's disc / {PIXELS_PER_CYCLE} = {n_max} for {across:.0f} pixels at "
-            f"telescope.n_pixels = {cfg.telescope.n_pixels}; {dm.n_modes} modes reach "
-            f"order {order}); got {dm.n_modes!r}.")
+            f"`dms[{i}].n_modes` must be <= {_modes_to_order(n_max)} (Zernike radial order "
+            f"<= pixels across the DM's disc / {PIXELS_PER_CYCLE} = {n_max} for "
+            f"{across:.0f} pixels at telescope.n_pixels = {cfg.telescope.n_pixels}; "
+            f"{dm.n_modes} modes reach order {order}); got {dm.n_modes!r}.") from err
     check_zernike_subapertures(cfg, i)
 
 

@@ -21,16 +21,41 @@ from modalinfo.common.validation import as_float_array
 
 __all__ = [
     "zernike_radial", "zernike_polynomial", "zernike_matrix", "ZernikeBasis",
-    "check_zernike_sampling",
+    "check_zernike_sampling", "max_zernike_order", "PIXELS_PER_CYCLE",
 ]
+
+
+#: pupil pixels per cycle of the finest Zernike a sampled grid represents (Nyquist)
+PIXELS_PER_CYCLE = 2
+
+
+def max_zernike_order(n_pixels: int) -> int:
+    """Highest Zernike radial order a grid of ``n_pixels`` across samples without aliasing.
+
+    A Zernike of radial order ``n`` has ``n`` zero crossings along a diameter, ``n / 2``
+    cycles; Nyquist asks :data:`PIXELS_PER_CYCLE` pixels per cycle, so ``n <= n_pixels /
+    2``. The one copy of the rule: :func:`check_zernike_sampling` and closedloop's modal
+    mirrors (``closedloop.optics.dm.check_zernike_sampling``) both use it.
+
+    Parameters
+    ----------
+    n_pixels : int
+        Pupil grid size across [pixels] (whole pixels).
+
+    Returns
+    -------
+    int
+        The highest radial order resolved (0 below 2 pixels).
+    """
+    return int(n_pixels) // PIXELS_PER_CYCLE
 
 
 def check_zernike_sampling(noll_modes, n_pixels: int) -> None:
     """Refuse Zernike modes a pupil grid of ``n_pixels`` across cannot sample.
 
     A Zernike of radial order ``n`` has ``n`` zero crossings along a diameter, so it is
-    resolved, not aliased, on ``n_pixels >= 2 n`` pixels across (the Nyquist rule of
-    closedloop's DM modes). On fewer pixels the sampled modes are no longer Zernikes:
+    resolved, not aliased, on ``n_pixels >= 2 n`` pixels across (:func:`max_zernike_order`).
+    On fewer pixels the sampled modes are no longer Zernikes:
     aliased, nearly dependent (198 modes on 52 pixels have rank 52), and every fitting
     error or ordering computed with them describes those samples, not the modes.
 
@@ -48,10 +73,10 @@ def check_zernike_sampling(noll_modes, n_pixels: int) -> None:
     """
     top = int(np.max(np.asarray(noll_modes, dtype=np.int64)))
     order = int(noll_to_zernike(top)[0])
-    if order > n_pixels // 2:
+    if order > max_zernike_order(n_pixels):
         raise ValueError(
-            f"`n_pixels` must be >= {2 * order} to sample Z{top} (radial order {order} "
-            f"<= pixels across / 2, the rule of closedloop's DM modes); got {n_pixels}.")
+            f"`n_pixels` must be >= {PIXELS_PER_CYCLE * order} to sample Z{top} (radial "
+            f"order {order} <= pixels across / {PIXELS_PER_CYCLE}); got {n_pixels}.")
 
 
 def zernike_radial(n: int, m: int, rho) -> np.ndarray:

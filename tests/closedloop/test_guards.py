@@ -48,6 +48,29 @@ def test_modes_beyond_the_pupil_sampling_are_refused():
         with_values(cfg, "dms", 0, n_modes=800)  # 32 px across the ground DM: orders <= 16
 
 
+@pytest.mark.parametrize("n_pixels", [32, 33])
+def test_the_dm_sampling_rule_is_the_bases_rule_at_the_same_edge(n_pixels):
+    # one copy of the rule (modalinfo.bases.zernike.check_zernike_sampling): on odd and even
+    # grids, with the upper DM's disc a non-integer number of pixels across, the largest
+    # mode count passes both and one more is refused by both; the edge is Noll's count of
+    # modes up to radial order floor(across / 2), written out here
+    from modalinfo.bases.zernike import check_zernike_sampling
+
+    cfg = with_values(small(), "wfss", 1, n_subapertures=16)
+    cfg = with_values(cfg, "telescope", None, n_pixels=n_pixels)
+    fov = cfg.wfss[1].field_of_view
+    across = (4.0 + 2 * 10_000 * math.tan(fov / 2 * ARCSEC)) / (4.0 / n_pixels)
+    assert across != int(across)
+    n_max = int(across // 2)
+    limit = (n_max + 1) * (n_max + 2) // 2 - 1
+    check_zernike_sampling([limit + 1], int(across))  # Z2 .. Z(limit + 1): accepted
+    with_values(cfg, "dms", 1, n_modes=limit)
+    with pytest.raises(ValueError, match=rf"`n_pixels` must be >= {2 * (n_max + 1)} "):
+        check_zernike_sampling([limit + 2], int(across))
+    with pytest.raises(ValueError, match=rf"`dms\[1\].n_modes` must be <= {limit} "):
+        with_values(cfg, "dms", 1, n_modes=limit + 1)
+
+
 def test_subapertures_beyond_the_pupil_sampling_are_refused():
     cfg = small()
     with pytest.raises(ValueError, match=r"`wfss\[0\].n_subapertures` must be <= 16 \(at "
