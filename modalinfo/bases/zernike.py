@@ -126,7 +126,12 @@ def zernike_polynomial(j: int, rho, theta) -> np.ndarray:
     n, m = noll_to_zernike(j)
     if not isinstance(j, numbers.Integral):
         raise TypeError(f"`j` must be an int; got {j!r}.")
-    r, t = np.broadcast_arrays(as_float_array(rho, "rho"), as_float_array(theta, "theta"))
+    r, t = as_float_array(rho, "rho"), as_float_array(theta, "theta")
+    try:
+        r, t = np.broadcast_arrays(r, t)
+    except ValueError as exc:  # NumPy's message names its "arg 0" and "arg 1", not ours
+        raise ValueError(f"`rho` and `theta` must broadcast together; got shapes {r.shape} "
+                         f"and {t.shape}.") from exc
     return zernike_matrix([j], r.ravel(), t.ravel())[:, 0].reshape(r.shape)
 
 
@@ -147,7 +152,10 @@ def zernike_matrix(modes, rho, theta) -> np.ndarray:
     """
     j, _ = _as_index(np.atleast_1d(modes), "modes", minimum=1)
     r = as_float_array(rho, "rho", ndim=1)
-    t = as_float_array(theta, "theta", shape=(r.shape[0],))
+    t = as_float_array(theta, "theta", ndim=1)
+    if t.shape != r.shape:  # either may be the one at fault: name both
+        raise ValueError(f"`rho` and `theta` must have the same length (P,); got shapes "
+                         f"{r.shape} and {t.shape}.")
     n, m = noll_to_zernike(j.ravel())
     out = np.empty((r.shape[0], j.size))
     _kernels.zernike_matrix(r, t, np.ascontiguousarray(n), np.ascontiguousarray(m), out)

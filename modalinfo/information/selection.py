@@ -729,6 +729,13 @@ def select_inputs(
                              f"({', '.join(labels[:min(n_main, 6)])}...); got {target!r}.")
         target_col = labels.index(target)
     else:
+        if n_main == 1 and np.ndim(getattr(data, "coeffs", data)) == 1:
+            # a 1-D series is one mode: a target past it is `data`'s shape at fault
+            # (audit 9-inputs r01: the refusal named `target` only)
+            if check_int(target, "target", minimum=0) != 0:
+                raise ValueError(f"`data` of shape {series.shape[:1]} is one mode (column 0, "
+                                 f"label 'm0'), so `target` must be 0; got {target!r}. Pass "
+                                 "a (T, M) array for M modes.")
         target_col = check_int(target, "target", minimum=0, maximum=n_main - 1)
     horizon = check_int(horizon, "horizon", minimum=1)
     max_lag = check_int(max_lag, "max_lag", minimum=1)

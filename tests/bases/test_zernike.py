@@ -265,3 +265,21 @@ def test_modes_beyond_the_grid_resolution_are_refused():
         ZernikeBasis(Pupil(16), range(2, 47))
     with pytest.raises(ValueError, match=r"`n_pixels` must be >= 38 to sample Z199"):
         ZernikeBasis(Pupil(8), range(2, 200))
+
+
+def test_points_of_different_lengths_name_rho_and_theta():
+    # audit 9-inputs r01: NumPy's broadcast message ("arg 0", "arg 1") and a refusal of
+    # `theta` when `rho` was the empty one; now both names and both shapes
+    with pytest.raises(ValueError, match=r"^`rho` and `theta` must broadcast together; got "
+                                         r"shapes \(3,\) and \(4,\)\.$"):
+        zernike_polynomial(4, np.full(3, 0.5), np.zeros(4))
+    with pytest.raises(ValueError, match=r"^`rho` and `theta` must broadcast together; got "
+                                         r"shapes \(4,\) and \(3,\)\.$"):
+        zernike_polynomial(4, np.full(4, 0.5), np.zeros(3))
+    with pytest.raises(ValueError, match=r"^`rho` and `theta` must have the same length "
+                                         r"\(P,\); got shapes \(0,\) and \(3,\)\.$"):
+        zernike_matrix([2, 3], [], np.zeros(3))
+    # what broadcasts still does (documented): Z4 = sqrt(3) (2 rho^2 - 1), Noll 1976
+    rho, theta = np.array([[0.2], [0.7]]), np.zeros(3)
+    expected = np.sqrt(3) * (2 * rho**2 - 1) * np.ones(3)
+    np.testing.assert_allclose(zernike_polynomial(4, rho, theta), expected, rtol=1e-14)

@@ -362,3 +362,18 @@ def test_the_closed_form_is_never_refused_for_time():
     data = np.random.default_rng(0).standard_normal((400, 18))
     res = select_inputs(data, target=0, max_lag=3, intervals=False, max_seconds=1e-6)
     assert res.n_candidates == 54
+
+
+def test_a_one_dimensional_series_is_one_mode_and_a_target_past_it_names_data():
+    # audit 9-inputs r01: the refusal named `target` only; a (T,) series is the (T, 1)
+    # table (same selection, bit for bit), and a target past its one column is `data`'s
+    # shape at fault
+    x = lfilter([1.0], [1.0, -0.8], np.random.default_rng(3).standard_normal(400))
+    kw = {"max_lag": 3, "n_surrogates": 19, "intervals": False, "seed": 0}
+    one = select_inputs(x, 0, **kw)
+    table = select_inputs(x.reshape(-1, 1), 0, **kw)
+    assert one.inputs == table.inputs and one.information == table.information
+    assert len(one.inputs) >= 1  # the AR(1) lag 0 is found (rho 0.8: I = 0.51 nats)
+    with pytest.raises(ValueError, match=r"^`data` of shape \(400,\) is one mode .* `target` "
+                                         r"must be 0; got 1\."):
+        select_inputs(x, 1, **kw)
