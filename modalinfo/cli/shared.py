@@ -14,6 +14,7 @@ from pathlib import Path
 from modalinfo.bases.indexing import parse_modes
 from modalinfo.common.cli import CommandError, check_output
 from modalinfo.common.validation import RATE_RANGE, log_rate_problem
+from modalinfo.telemetry.units import WAVELENGTH_RANGE, WAVELENGTH_RULE, check_wavelength
 
 __all__ = [
     "OUTLIER_CHOICES",
@@ -63,11 +64,6 @@ class _Renamed(argparse.Action):
         parser.error(f"{option_string}: {self.message}")
 
 
-#: Wavelengths [m] a command accepts: AO phase is sensed and corrected from the near UV
-#: (solar AO at 0.39 um, e.g. the Ca II K line) to the thermal infrared (10-20 um, e.g. the
-#: ELT's METIS, N and Q bands); outside 100 nm - 100 um a value is a unit slip (nm or um
-#: typed as metres) or a typo, and every phase <-> OPD conversion with it would be wrong.
-WAVELENGTH_RANGE = (1e-7, 1e-4)
 
 
 
@@ -93,10 +89,21 @@ def rate_arg(text: str) -> float:
 
 
 def wavelength_arg(text: str) -> float:
-    """Parse ``--wavelength`` (an argparse type): metres within :data:`WAVELENGTH_RANGE`."""
-    return _in_range(text, "metres", WAVELENGTH_RANGE,
-                     "100 nm - 100 um, the near UV to the thermal infrared where AO phase is "
-                     "measured; outside it the value is a unit slip such as nm typed as metres")
+    """Parse ``--wavelength`` (an argparse type): metres, by the API's one rule.
+
+    :func:`modalinfo.telemetry.units.check_wavelength` (:data:`WAVELENGTH_RANGE`).
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of metres; got {text!r}") from None
+    try:
+        return check_wavelength(value, "--wavelength")
+    except ValueError:  # NaN, <= 0 and out of range: one sentence, the range and why
+        low, high = WAVELENGTH_RANGE
+        raise argparse.ArgumentTypeError(
+            f"must be in metres within {low:g} - {high:g} ({WAVELENGTH_RULE}); "
+            f"got {text}") from None
 
 
 def add_hint_arguments(

@@ -90,7 +90,7 @@ class ModalLog:
         Units of ``coeffs`` (phase in rad or waves, or OPD in nm or um).
     wavelength : float, optional
         Wavelength in metres at which phase is defined (needed to convert between
-        phase and OPD units). Must be in ``[1e-12, 1e-3]`` m.
+        phase and OPD units). Must be in ``[1e-7, 1e-4]`` m (100 nm - 100 um).
     metadata : dict, optional
         Free-form JSON-serialisable information (e.g. ``telescope``, ``date``,
         ``loop`` = ``"open"``/``"closed"``, ``source``). Stored as a copy.

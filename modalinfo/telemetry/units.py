@@ -33,6 +33,7 @@ __all__ = [
     "UNITS",
     "check_units",
     "check_wavelength",
+    "WAVELENGTH_RANGE",
     "unit_scale",
     "zernike_rms_normalization",
     "rms_from_peak_normalized",
@@ -45,10 +46,21 @@ UNITS = ("rad", "nm", "um", "waves")
 # Each unit expressed in its family's base: phase family base is rad, OPD base is metres.
 _PHASE = {"rad": 1.0, "waves": 2.0 * math.pi}
 _OPD = {"nm": 1e-9, "um": 1e-6}
-_MAX_WAVELENGTH = 1e-3  # metres; anything larger is surely given in nm or um by mistake
-#: metres: 1 pm, a 1.24 MeV photon, below the hard X-rays (~10-100 pm) of any wavefront
-#: sensing; 1e-30 m converted nm to rad by a factor 6e30 with no word (audit 9, centre)
-_MIN_WAVELENGTH = 1e-12
+#: Wavelengths [m] at which a phase (rad, waves) can be defined: the one rule of the API
+#: (:func:`check_wavelength`) and of every command's ``--wavelength``. A wavefront sensor
+#: or science camera works between the vacuum-UV edge and the far infrared: below about
+#: 105 nm (the LiF cut-off) no lens, window or normal-incidence mirror coating of a
+#: telescope transmits or reflects, so nothing shorter is sensed or corrected by a
+#: deformable mirror (ground-based AO starts at ~300 nm, the ozone cut-off; solar AO at
+#: 0.39 um, Ca II K); above the thermal infrared where AO ends (N and Q bands to ~25 um,
+#: ELT METIS) the atmosphere is opaque to ~300 um and space telescopes there are
+#: diffraction-limited without wavefront control. 100 nm - 100 um keeps a factor 3-4 of
+#: margin at both ends; outside it a value is a unit slip (500 for 500 nm, 1.6 for 1.6 um,
+#: 1e-30), and every phase <-> OPD conversion with it would be wrong by that factor.
+WAVELENGTH_RANGE = (1e-7, 1e-4)
+#: the range in words, for the refusals of the API and the command line
+WAVELENGTH_RULE = ("100 nm - 100 um, the vacuum UV to the far infrared where a wavefront is "
+                   "sensed; outside it the value is a unit slip such as nm typed as metres")
 
 
 def check_units(units, name: str = "units") -> str:
@@ -59,20 +71,28 @@ def check_units(units, name: str = "units") -> str:
 
 
 def check_wavelength(wavelength, name: str = "wavelength") -> float:
-    """Return ``wavelength`` as a float in metres, in ``[1e-12, 1e-3]``, else raise.
+    """Return ``wavelength`` as a float in metres within :data:`WAVELENGTH_RANGE`, else raise.
 
-    The upper bound catches a wavelength given in nanometres or micrometres.
+    Parameters
+    ----------
+    wavelength : float
+        Wavelength [m], in ``[1e-7, 1e-4]`` (100 nm - 100 um: why, at
+        :data:`WAVELENGTH_RANGE`).
+    name : str
+        The argument's name in the refusal.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: not a real number, not finite, not > 0, or outside the range
+        (the bounds catch a wavelength given in nanometres or micrometres).
     """
     lam = check_real(wavelength, name, minimum=0.0, strict_min=True)
-    if lam < _MIN_WAVELENGTH:
-        raise ValueError(
-            f"`{name}` must be in metres, >= {_MIN_WAVELENGTH:g} (1 pm, below any X-ray "
-            f"wavefront); got {lam:g}.")
-    if lam > _MAX_WAVELENGTH:
-        raise ValueError(
-            f"`{name}` must be in metres, <= {_MAX_WAVELENGTH}; got {lam} "
-            f"(did you mean {lam:g}e-9 m?)."
-        )
+    low, high = WAVELENGTH_RANGE
+    if not low <= lam <= high:
+        slip = f" (did you mean {lam:g}e-9 m?)" if lam > high else ""
+        raise ValueError(f"`{name}` must be in metres within {low:g} - {high:g} "
+                         f"({WAVELENGTH_RULE}); got {lam:g}{slip}.")
     return lam
 
 
@@ -84,7 +104,7 @@ def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) 
     from_units, to_units : {"rad", "nm", "um", "waves"}
         Source and target units.
     wavelength : float, optional
-        Wavelength in metres, in ``[1e-12, 1e-3]``, at which phase (rad, waves) is
+        Wavelength in metres, in ``[1e-7, 1e-4]``, at which phase (rad, waves) is
         defined; required only when converting between the phase family (rad,
         waves) and OPD (nm, um).
 
@@ -96,8 +116,8 @@ def unit_scale(from_units: str, to_units: str, wavelength: float | None = None) 
     Raises
     ------
     ValueError
-        Unknown units, or a missing, non-positive or larger than 1 mm wavelength
-        where one is needed.
+        Unknown units, or a missing wavelength, or one outside 100 nm - 100 um, where
+        one is needed.
 
     Examples
     --------

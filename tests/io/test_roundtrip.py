@@ -77,7 +77,7 @@ def logs(draw):
         assume(np.all(np.diff(t) > 0))
         kwargs["timestamps"] = t
     units = draw(st.sampled_from(["rad", "nm", "um", "waves"]))
-    wavelength = draw(st.none() | st.floats(min_value=1e-8, max_value=1e-4))
+    wavelength = draw(st.none() | st.floats(min_value=1e-7, max_value=1e-4))
     return ModalLog(
         coeffs,
         modes=modes,

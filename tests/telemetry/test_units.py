@@ -67,9 +67,10 @@ def test_errors():
         unit_scale("rad", "nm")
     with pytest.raises(ValueError, match=r"`wavelength` must be > 0.0"):
         unit_scale("rad", "nm", -1e-6)
-    with pytest.raises(ValueError, match=r"`wavelength` must be in metres, <= 0.001; got 500.0"):
+    with pytest.raises(ValueError, match=r"`wavelength` must be in metres within 1e-07 - "
+                                         r"0.0001 .*got 500 \(did you mean 500e-9 m\?\)"):
         unit_scale("rad", "nm", 500.0)
-    assert check_wavelength(1e-3) == 1e-3
+    assert check_wavelength(1e-4) == 1e-4
     with pytest.raises(ValueError, match=r"`lam` must be > 0.0; got 0.0"):
         check_wavelength(0.0, "lam")
 
@@ -122,12 +123,37 @@ def test_peak_conversion_keeps_float32():
         rms_from_peak_normalized(x, [0, 4])
 
 
-def test_a_wavelength_below_a_picometre_is_refused():
-    # audit 9, centre: 1e-30 m was accepted (500 nm of OPD became 3e25 rad); 1 pm (a
-    # 1.24 MeV photon, hc / E) is accepted, and 500 nm at 1 pm is 2 pi * 5e5 rad
-    with pytest.raises(ValueError, match=r"`wavelength` must be in metres, >= 1e-12 .*got 1e-30"):
+def test_a_wavelength_below_the_vacuum_uv_is_refused():
+    # audit 9, centre: 1e-30 m was accepted (500 nm of OPD became 3e25 rad); the range is
+    # now the command line's (100 nm - 100 um, one rule); 500 nm of OPD at 100 nm is
+    # 5 waves, 10 pi rad (the definition of the units)
+    with pytest.raises(ValueError, match=r"`wavelength` must be in metres within 1e-07 .*"
+                                         r"got 1e-30\.$"):
         unit_scale("nm", "rad", 1e-30)
-    assert unit_scale("nm", "rad", 1e-12) * 500.0 == pytest.approx(2 * np.pi * 5e5, rel=1e-14)
+    with pytest.raises(ValueError, match=r"within 1e-07 - 0.0001"):
+        check_wavelength(1e-12)  # 1 pm, accepted before
+    assert unit_scale("nm", "rad", 1e-7) * 500.0 == pytest.approx(10 * np.pi, rel=1e-14)
+
+
+@pytest.mark.parametrize("value, ok", [
+    (1e-7, True), (0.999e-7, False), (3.934e-7, True),  # the edge; Ca II K (solar AO)
+    (2.0e-5, True), (1e-4, True), (1.001e-4, False),     # METIS Q band; the edge
+    (1e-3, False), (500.0, False), (1.6, False)])        # 1 mm; nm and um typed as m
+def test_the_api_and_the_command_line_share_one_wavelength_range(value, ok):
+    import argparse
+
+    from modalinfo.cli.shared import wavelength_arg
+
+    text = repr(value)
+    if ok:
+        assert check_wavelength(value) == value == wavelength_arg(text)
+        return
+    with pytest.raises(ValueError, match="100 nm - 100 um"):
+        check_wavelength(value)
+    with pytest.raises(argparse.ArgumentTypeError, match="100 nm - 100 um"):
+        wavelength_arg(text)
+
+
 def test_fringe_conversions_refuse_what_they_cannot_convert():
     """Audit 9: complex coefficients lost their imaginary part, an object array came
     back as objects, a Fringe index 4.5 was truncated to 4, a masked value was used.
