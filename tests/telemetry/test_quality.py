@@ -349,3 +349,33 @@ def test_alpha_is_checked_when_k_is_given():
         assess_quality(tied, k=5.0, alpha=None)
     with pytest.raises(ValueError, match="`stuck_run` must be an int <="):
         assess_quality(tied, stuck_run=2**70)
+
+
+def test_a_report_of_another_log_of_the_same_shape_is_refused(tmp_path):
+    # issue 27 leftovers: a clean log's report of the same shape and labels was applied to
+    # a log with a planted 100-sigma value (left unclipped). The fingerprint is a BLAKE2b
+    # digest (hashlib, by hand here) of the data bytes; a save/load round trip keeps it
+    import hashlib
+
+    from modalinfo.telemetry.quality import data_fingerprint
+
+    x = np.random.default_rng(23).standard_normal((1000, 4))
+    y = x.copy()
+    y[10, 0] = 100.0
+    h = hashlib.blake2b(f"{x.shape}|{x.dtype.str}|".encode(), digest_size=16)
+    h.update(x.tobytes())
+    assert assess_quality(x, chunk_frames=7).fingerprint == "array:" + h.hexdigest()
+    log = ModalLog(y, rate=100.0, modes=[2, 3, 4, 5])
+    clean = ModalLog(x, rate=100.0, modes=[2, 3, 4, 5])
+    for other in (clean, x, ModalLog(y, rate=50.0, modes=[2, 3, 4, 5])):  # data; time axis
+        with pytest.raises(ValueError, match=r"^`report` must be the assessment of this log; "
+                                             r"got a report of another log of the same shape"):
+            apply_outlier_policy(log, "clip", report=assess_quality(other))
+    save(log, tmp_path / "y.npz")
+    again = load(tmp_path / "y.npz")
+    report = assess_quality(again, chunk_frames=3)
+    assert report.fingerprint == data_fingerprint(log) == assess_quality(log).fingerprint
+    out, _ = apply_outlier_policy(log, "clip", report=report)
+    assert out.coeffs[10, 0] < 10.0  # clipped to median + k sigma (k < 10 here)
+    # an array's report still applies to the log holding those values
+    apply_outlier_policy(log, "clip", report=assess_quality(y))
