@@ -88,6 +88,7 @@ from modalinfo.telemetry.scan import row_blocks, scan_rows
 
 __all__ = [
     "MAD_TO_SIGMA",
+    "MIN_EFFECTIVE_FRAMES",
     "OUTLIER_POLICIES",
     "QualityReport",
     "apply_outlier_policy",
@@ -214,19 +215,33 @@ def small_sample_threshold(n_sample: int, n_frames: int, n_modes: int,
     return hi
 
 
-def _effective_frames(sample: np.ndarray) -> int:
+#: Fewest effective frames (:func:`_effective_frames`) on which outliers are assessed with
+#: the default threshold. The rule needs the MAD scale of ``N`` independent values; the
+#: chance that it comes out ``e`` times sigma or less falls only as ``e^p``, ``p`` about the
+#: number of deviations below the MAD (``~N / 2``), so the union bound over ``T M`` values
+#: asks ``k ~ z (M / alpha)^(1 / p)``: a power of ``1 / alpha`` that explodes as ``N`` falls.
+#: Measured (:func:`small_sample_threshold`, 50 x 27 values, alpha 1 %): k = 4e4 at N = 3,
+#: 149 at 5, 44 at 8, 75 at 10, then 15 at 12, 10.5 at 20, 6.0 at 50 (Bonferroni 4.5).
+#: Below 12 the threshold is finite only on paper (a 50-frame AR(1) log of rho 0.99, N about
+#: 3, got k = 149 from a floor of 5 frames): such a log is reported too short to assess,
+#: never clean.
+MIN_EFFECTIVE_FRAMES = 12
+
+
+def _effective_frames(sample: np.ndarray) -> float:
     """Frames of the MAD sample, less when they are autocorrelated (below 2000 only).
 
     ``N (1 - rho) / (1 + rho)`` with ``rho`` the median lag-1 autocorrelation of the
-    modes (the effective sample size of an AR(1) mean; Bartlett 1946), at least 5: a
-    short window of a slowly drifting mode holds few independent values and its MAD
-    underestimates sigma (AR(1) logs with rho = 0.95 of 200 frames had a false flag in
-    8 %, rho = 0.99 of 100 in 16 %; a 50-frame open-loop ``synth`` log had 12 flagged
-    frames: adversarial round 9 PART b, row P02). From 2000 frames on ``N`` itself.
+    modes (the effective sample size of an AR(1) mean; Bartlett 1946): a short window
+    of a slowly drifting mode holds few independent values and its MAD underestimates
+    sigma (AR(1) logs with rho = 0.95 of 200 frames had a false flag in 8 %, rho = 0.99
+    of 100 in 16 %; a 50-frame open-loop ``synth`` log had 12 flagged frames:
+    adversarial round 9 PART b, row P02). From 2000 frames on ``N`` itself. Not
+    rounded nor floored: below :data:`MIN_EFFECTIVE_FRAMES` the log is too short to assess.
     """
     n_sample = int(sample.shape[0])
     if n_sample >= SMALL_SAMPLE_FRAMES or n_sample < 3:
-        return n_sample
+        return float(n_sample)
     x = np.asarray(sample, dtype=np.float64)
     x = x[:, np.isfinite(x).all(axis=0)]  # modes with a non-finite value are left out
     scale = np.abs(x).max(axis=0) if x.size else np.zeros(0)
@@ -236,9 +251,9 @@ def _effective_frames(sample: np.ndarray) -> int:
     keep = power > 0
     rho = (x[1:, keep] * x[:-1, keep]).sum(axis=0) / power[keep]
     if rho.size == 0:
-        return n_sample
+        return float(n_sample)
     r = float(np.clip(np.median(rho), 0.0, 0.999))
-    return max(5, min(n_sample, int(n_sample * (1.0 - r) / (1.0 + r))))
+    return min(float(n_sample), n_sample * (1.0 - r) / (1.0 + r))
 
 
 def gaussian_false_alarm(k: float) -> float:
@@ -289,6 +304,14 @@ class QualityReport:
         array's data bytes only (:func:`data_fingerprint`); computed once, in the first
         pass. :func:`apply_outlier_policy` refuses a report whose fingerprint is not the
         log's (another log of the same shape was accepted: issue 27, leftovers).
+    effective_frames : float
+        Effective independent frames of the median/MAD sample (``N (1 - rho) / (1 + rho)``
+        below 2000 frames, else ``sample_frames``).
+    assessed : bool
+        False when the log is too short to assess outliers and glitches with the default
+        threshold (``effective_frames < MIN_EFFECTIVE_FRAMES``): ``k`` is then ``inf``,
+        nothing is flagged as an outlier, :attr:`note` says why and the report is not
+        :attr:`clean`. Stuck and non-finite values are assessed whatever the length.
     """
 
     n_frames: int
@@ -313,6 +336,8 @@ class QualityReport:
     nonfinite_frames: np.ndarray
     flagged_frames: np.ndarray = field(repr=False)
     fingerprint: str = field(default="", repr=False)
+    effective_frames: float = math.nan
+    assessed: bool = True
 
     @property
     def approximate(self) -> bool:
@@ -326,8 +351,18 @@ class QualityReport:
 
     @property
     def clean(self) -> bool:
-        """True when nothing was flagged."""
-        return self.n_flagged == 0
+        """True when nothing was flagged and the log was long enough to assess."""
+        return self.n_flagged == 0 and self.assessed
+
+    @property
+    def note(self) -> str:
+        """Why outliers were not assessed ("" when they were)."""
+        if self.assessed:
+            return ""
+        return (f"too short to assess outliers and glitches: {self.effective_frames:.2g} "
+                f"effective frame(s) of {self.sample_frames} (lag-1 autocorrelation "
+                f"counted), below the {MIN_EFFECTIVE_FRAMES} on which a finite threshold "
+                f"holds P(any false flag) <= {self.alpha:g}; pass k to test anyway")
 
     @property
     def expected_false_alarms(self) -> float:
@@ -337,6 +372,8 @@ class QualityReport:
     @property
     def rule(self) -> str:
         """The outlier rule in words, with its Gaussian false-alarm probability."""
+        if not self.assessed:
+            return "|x - median| > k x 1.4826 MAD (not applied: too short to assess)"
         how = f"{self.false_alarm:.2g} per Gaussian value" if self.alpha is None else (
             f"P(any false flag) <= {self.alpha:g} on a Gaussian log")
         return f"|x - median| > {self.k:.3g} x 1.4826 MAD ({how})"
@@ -347,9 +384,18 @@ class QualityReport:
         return [(self.labels[j], int(self.outliers[j])) for j in order if self.outliers[j] > 0]
 
     def describe(self) -> str:
-        """One line: what was flagged and by which rule."""
+        """One line: what was flagged and by which rule (or why it was not assessed)."""
         if self.clean:
             return f"0 of {self.n_frames} frames flagged by {self.rule}"
+        if not self.assessed:
+            flagged = (f"; {self.n_flagged} of {self.n_frames} frames flagged: "
+                       if self.n_flagged else "")
+            rest = []
+            if self.stuck.sum():
+                rest.append(f"{int(self.stuck.sum())} stuck value(s)")
+            if self.nonfinite.sum():
+                rest.append(f"{int(self.nonfinite.sum())} non-finite value(s)")
+            return self.note + (flagged + ", ".join(rest) if self.n_flagged else "")
         parts = []
         n_out = int(self.outliers.sum())
         if n_out:
@@ -375,9 +421,10 @@ class QualityReport:
 
     def to_dict(self) -> dict:
         """JSON-able summary (counts and the rule; no per-frame indices)."""
+        extra = {} if self.assessed else {"assessed": False, "note": self.note}
         return {
             "rule": "|x - median| > k * 1.4826 MAD",
-            "k": float(self.k),
+            "k": float(self.k) if self.assessed else None,
             "alpha": self.alpha,
             "false_alarm_per_value": float(self.false_alarm),
             "sample_frames": int(self.sample_frames),
@@ -387,6 +434,7 @@ class QualityReport:
             "stuck_values": int(self.stuck.sum()),
             "nonfinite_values": int(self.nonfinite.sum()),
             "worst_modes": {label: c for label, c in self.worst()},
+            **extra,
         }
 
 
@@ -572,12 +620,18 @@ def assess_quality(
     sample, lo, hi, _, repeats = _sample_and_range(arr, rows, step, hasher)
     fingerprint = (_log_digest(hasher, log_or_coeffs) if isinstance(log_or_coeffs, ModalLog)
                    else "array:" + hasher.hexdigest())
+    n_eff = _effective_frames(sample)
+    assessed = True
     if k is None:
-        k = small_sample_threshold(_effective_frames(sample), n, m, alpha)
+        if n_eff < MIN_EFFECTIVE_FRAMES:  # no honest finite k: too short to assess
+            assessed, k = False, math.inf
+        else:
+            k = small_sample_threshold(int(n_eff), n, m, alpha)
     constant = lo == hi  # every finite value equal (no finite value: lo > hi)
     med, sigma = _robust_scale(sample, constant)
-    tested = np.isfinite(sigma) & (sigma > 0)
-    thr = np.where(tested, k * np.where(tested, sigma, 0.0), np.inf)
+    tested = np.isfinite(sigma) & (sigma > 0) & assessed
+    thr = np.where(tested, k * np.where(tested, sigma, 0.0), np.inf) if assessed else \
+        np.full(m, np.inf)
     centre = np.where(np.isfinite(med), med, 0.0)
     runs = _stuck_runs(repeats, n, m, stuck_run, alpha)
     runs[constant | (lo > hi)] = 0
@@ -621,6 +675,7 @@ def assess_quality(
         glitch_frames=glitch_frames,
         outlier_frames=outlier_frames, stuck_frames=stuck_frames, nonfinite_frames=bad_frames,
         flagged_frames=flagged.astype(np.int64), fingerprint=fingerprint,
+        effective_frames=float(n_eff), assessed=assessed,
     )
 
 
@@ -739,13 +794,15 @@ def apply_outlier_policy(
                 f"of the same shape ({report.n_frames} x {report.n_modes}: its fingerprint "
                 f"{report.fingerprint or 'none'} is not this log's {mine}, which covers the "
                 "data, the time axis and the labels).")
-    if policy == "raise" and not report.clean:
+    if policy == "raise" and not report.clean:  # incl. too short to assess: not vouched for
         raise ValueError(f"`policy`='raise': {report.describe()}.")
     if report.clean:  # nothing to record: a clean log passes through unchanged
         return log, report
     record = {"policy": policy, **report.to_dict()}
     out = log
-    if policy == "warn":
+    if not report.assessed and report.n_flagged == 0:  # nothing to act on, and said so
+        record["action"] = "too short to assess; data used as is"
+    elif policy == "warn":
         record["action"] = "warned; data used as is"
     elif policy == "clip":
         n_out = int(report.outliers.sum())
