@@ -283,10 +283,12 @@ def run(args: argparse.Namespace) -> int:
                  f"--resamples {args.resamples} on {log.n_modes} modes",
                  "use fewer --resamples")
     if blocks or args.stability is not None or args.split_gaps:
+        # lags=blocks: frames --nonfinite drop removed from a log without a time axis are
+        # refused for the bootstrap, whose blocks would join frames that were not adjacent
         log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows",
-                         lags=False)
+                         lags=blocks)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
-    # frames only shorten it (the block bootstrap's blocks may span a removed frame)
+    # frames only shorten it
     log, _ = apply_outliers(log, args, args.log)
     if args.basis == "file":
         basis = file_basis(args, log)

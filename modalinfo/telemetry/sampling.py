@@ -33,7 +33,8 @@ from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import check_timestamps
 
-__all__ = ["Sampling", "sampling_of", "require_contiguous", "GAP_FACTOR"]
+__all__ = ["Sampling", "sampling_of", "require_contiguous", "removed_frames_unseen",
+           "GAP_FACTOR"]
 
 #: An interval longer than this many median intervals is a gap.
 GAP_FACTOR = 1.5
@@ -176,8 +177,35 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
     )
 
 
+def removed_frames_unseen(log) -> str | None:
+    """Say how frames were removed from ``log`` if its time axis cannot show it, else None.
+
+    ``nonfinite='drop'`` and the outlier policy ``'drop'`` remove frames; with a rate or
+    timestamps the removal shows as gaps, but a log with neither has no record of where
+    they were, so its neighbours look consecutive (a block bootstrap joined frames that
+    were not adjacent: issue 27, leftovers). Both removals are recorded in the log's
+    metadata (``"repairs"``, ``"outliers"``), which survives derived logs and files.
+    """
+    if getattr(log, "timestamps", None) is not None:
+        return None
+    meta = getattr(log, "metadata", None) or {}
+
+    def records(key: str) -> list:
+        value = meta.get(key, [])
+        return list(value) if isinstance(value, list) else [value]
+
+    for record in records("repairs"):
+        if "nonfinite='drop'" in str(record):
+            return str(record).split(": ", 1)[-1] + " (nonfinite='drop')"
+    for record in records("outliers"):
+        action = str(record.get("action", "")) if isinstance(record, dict) else ""
+        if action.startswith("dropped"):
+            return action + " (outlier policy 'drop')"
+    return None
+
+
 def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> None:
-    """Raise ``ValueError`` if ``log``'s timestamps have a gap.
+    """Raise ``ValueError`` if ``log``'s timestamps have a gap, or frames were removed unseen.
 
     Parameters
     ----------
@@ -188,6 +216,12 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
     gap_factor : float
         Gap threshold in median intervals.
     """
+    removed = removed_frames_unseen(log)
+    if removed is not None:
+        raise ValueError(
+            f"{purpose} assumes consecutive frames but frames were removed from this log, "
+            f"which has no time axis to show where: {removed}; give it a rate (the removed "
+            "frames then show as gaps) or repair by interpolation")
     s = log.sampling(gap_factor)
     if s is None or s.uniform:
         return
