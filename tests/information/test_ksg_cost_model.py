@@ -16,8 +16,8 @@ import math
 import numpy as np
 import pytest
 
-from modalinfo.cli.cmd_reorder import check_mi_time
 from modalinfo.cli import CommandError
+from modalinfo.cli.cmd_reorder import check_mi_time
 from modalinfo.information.ksg import ksg_cost, ksg_seconds_per_sample
 from modalinfo.information.selection import first_step_seconds, select_inputs
 from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, MI_SECONDS_PER_SAMPLE
@@ -61,11 +61,11 @@ def test_reorder_refuses_at_the_same_hour():
 def test_select_refuses_at_the_same_estimate(monkeypatch):
     from modalinfo.information import selection
 
-    class Ran(Exception):
+    class RanError(Exception):
         pass
 
     def no_search(*args, **kwargs):
-        raise Ran
+        raise RanError
 
     monkeypatch.setattr(selection, "_greedy_search", no_search)
     data = np.random.default_rng(0).standard_normal((400, 18))
@@ -74,6 +74,6 @@ def test_select_refuses_at_the_same_estimate(monkeypatch):
     with pytest.raises(ValueError, match="method='ksg' would take about"):
         select_inputs(data, target=0, max_lag=3, method="ksg", intervals=False,
                       max_seconds=estimate * 0.99)
-    with pytest.raises(Ran):
+    with pytest.raises(RanError):
         select_inputs(data, target=0, max_lag=3, method="ksg", intervals=False,
                       max_seconds=estimate * 1.01)
