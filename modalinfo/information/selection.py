@@ -264,7 +264,12 @@ def _check_simultaneous(data: Any, extra: Any) -> None:
         return
     a, b = (np.asarray(t, dtype=np.float64) for t in times)
     step = float(np.median(np.diff(a))) if a.size > 1 else 0.0
-    worst = float(np.max(np.abs(a - b)))
+    # a reader that took a file's integer times relative to their first (ns since 1970)
+    # keeps that first time as metadata 'file_start_time' [s]: logs of one clock that
+    # start apart must still differ here
+    first = [float((getattr(d, "metadata", None) or {}).get("file_start_time", 0.0))
+             for d in (data, extra)]
+    worst = float(np.max(np.abs(a - b + (first[0] - first[1]))))
     if worst > 0.5 * step:
         raise ValueError(
             f"`extra` must be sampled at the frames of `data`; its times differ by up to "
