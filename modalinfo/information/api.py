@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_choice
 from modalinfo.information.methods import METHODS, BiasRuleWarning, get_method
 
@@ -481,24 +482,16 @@ def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) ->
     return value
 
 
-#: Magnitudes [any unit] outside which :func:`entropy` rescales the sample by a power of
-#: two first: the estimators square values (variances), which overflow above ~1e154 and
-#: underflow below ~1e-154 (1e200 gave inf, 1e-200 "math domain error").
-_SAFE_MAGNITUDE = (1e-100, 1e100)
-
-
 def _unit_exponent(x: np.ndarray) -> tuple[np.ndarray, float]:
-    """Return x / 2^e and e ln 2 for x outside :data:`_SAFE_MAGNITUDE`, else (x, 0.0).
+    """Return x / 2^e and e ln 2 for a spread outside the safe bounds, else (x, 0.0).
 
     A differential entropy shifts by ln c when the sample is scaled by c (Cover & Thomas
-    2006, Theorem 8.6.4); 2^-e scales exactly, so x / 2^e holds the same digits.
+    2006, Theorem 8.6.4); 2^-e scales exactly (:func:`rescale_power_of_two`).
     """
     big = float(np.max(np.abs(x)))
     spread = float(np.max(x) / 2 - np.min(x) / 2)  # halves: no overflow at +-1.7e308
-    if _SAFE_MAGNITUDE[0] <= spread and big <= _SAFE_MAGNITUDE[1]:
-        return x, 0.0
-    e = math.frexp(spread)[1]
-    return np.ldexp(x, -e), e * math.log(2.0)
+    scaled, e = rescale_power_of_two(x, spread, peak=big)
+    return scaled, (e * math.log(2.0) if e else 0.0)
 
 
 #: The options that set the resolution of an estimator, which its bias rule judges (the

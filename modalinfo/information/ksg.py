@@ -80,7 +80,8 @@ from modalinfo.information.discrete import discrete_cmi, discrete_pair_mi, discr
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.methods import MIMethod, register_method
 
-__all__ = ["KSG_MAX_SAMPLES", "KSGEngine", "check_ksg_size", "ksg_cost", "ksg_entropy"]
+__all__ = ["KSG_MAX_SAMPLES", "KSGEngine", "check_ksg_size", "ksg_cost", "ksg_entropy",
+           "ksg_seconds_per_sample"]
 
 
 #: Relative size of the noise that breaks ties (as scikit-learn's ``mutual_info_regression``).
@@ -115,20 +116,51 @@ KSG_MAX_SAMPLES = 1_000_000
 #: bytes per sample and column (module notes: 25 s at n = 1e6, ~200 bytes per sample).
 _SECONDS_PER_SAMPLE_LOG2 = 1.25e-6
 _BYTES_PER_SAMPLE_COLUMN = 100.0
+#: Ratio of the least time of a pair's estimate to :func:`ksg_cost`'s estimate (the
+#: bound callers that refuse only what cannot finish use, e.g. the greedy orderings):
+#: 1.25e-6 / 3.125 = 0.4e-6 s per sample and log2(n), below every pair measured (module
+#: notes: 8 us per sample at n = 1e4, 25 us at 1e6; the orderings' MI 6.4, 10.4,
+#: 13.7 us at n = 1e4, 1e5, 4e5, :mod:`modalinfo.ordering.cost`).
+_LEAST_OVER_ESTIMATE = 1.0 / 3.125
 #: Estimated memory [bytes] below which the machine's available memory is not read
 #: (every estimate of up to 10^6 samples over 2 columns: ~0.2 GB).
 _MEMORY_CHECKED_ABOVE = 2**28
 
 
+def ksg_seconds_per_sample(n: int, d: int = 2, *, least: bool = False) -> float:
+    """CPU seconds per sample of one KSG estimate on n samples over d columns.
+
+    The package's one KSG cost model: ``1.25e-6 log2(n) (d / 2)^2`` s, fitted to the
+    times of the module notes ("Size rule"; a pair: d = 2; 2 x 2 groups, d = 4: 0.31 s
+    estimated against 0.38 s measured at n = 1e4), good to a factor of ~2 (the machine's
+    load moves the times by as much). With ``least=True``, a lower bound: the same law
+    times 0.32 (0.4e-6 s per log2(n) for a pair), below every time measured.
+
+    Parameters
+    ----------
+    n : int
+        Samples of the estimate.
+    d : int
+        Columns (2 for a pair; fewer count as 2).
+    least : bool
+        Return the lower bound rather than the estimate.
+
+    Returns
+    -------
+    float
+        CPU seconds per sample [s].
+    """
+    coef = _SECONDS_PER_SAMPLE_LOG2 * (_LEAST_OVER_ESTIMATE if least else 1.0)
+    return float(coef * np.log2(max(n, 2)) * (max(d, 2) / 2.0) ** 2)
+
+
 def ksg_cost(n: int, d: int) -> tuple[float, float]:
     """Estimated (CPU seconds, bytes) of one KSG estimate on n samples over d columns.
 
-    ``1.25e-6 n log2(n) (d / 2)^2`` s and ``100 n d`` bytes, fitted to the times and
-    peak memory of the module notes ("Size rule"; a pair: d = 2; 2 x 2 groups, d = 4:
-    0.31 s estimated against 0.38 s measured at n = 1e4). Good to a factor of ~2:
-    the machine's load moves the times by as much.
+    ``n`` times :func:`ksg_seconds_per_sample` s and ``100 n d`` bytes (the peak memory
+    of the module notes, "Size rule").
     """
-    seconds = _SECONDS_PER_SAMPLE_LOG2 * n * np.log2(max(n, 2)) * (max(d, 2) / 2.0) ** 2
+    seconds = n * ksg_seconds_per_sample(n, d)
     return float(seconds), _BYTES_PER_SAMPLE_COLUMN * n * max(d, 2)
 
 

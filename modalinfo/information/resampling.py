@@ -48,6 +48,7 @@ import numpy as np
 
 from modalinfo._stats import sample_autocovariance
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_int, check_rng
 from modalinfo.information.api import MIN_SAMPLES
 
@@ -67,6 +68,12 @@ __all__ = [
 ]
 
 # ----------------------------------------------------------------- block length
+#: Magnitudes [any unit] outside which :func:`politis_white_length` rescales the centred
+#: series: ``D`` squares an autocovariance, a fourth power of the values, so the bounds
+#: are the square roots of :data:`~modalinfo.common.scaling.SAFE_MAGNITUDE`'s.
+_BLOCK_SCALE_BOUNDS = (1e-50, 1e50)
+
+
 def politis_white_length(x: np.ndarray) -> float:
     """Politis-White automatic block length of one series (moving-block bootstrap).
 
@@ -91,12 +98,11 @@ def politis_white_length(x: np.ndarray) -> float:
     n = x.shape[0]
     e = x - x.mean()
     # the length is a ratio of autocovariances, unchanged by the series' scale; beyond
-    # 1e50 (or below 1e-50) g(0)^2 overflows (underflows) float64, which gave NaN (a
-    # traceback) or a "constant" series of length 1: such a series is rescaled first
-    # (audit 9, centre: o-scale1e100); within these bounds nothing is rescaled
+    # 1e50 (or below 1e-50) g(0)^2 (a fourth power) overflows (underflows) float64, which
+    # gave NaN (a traceback) or a "constant" series of length 1: such a series is
+    # rescaled exactly by a power of 2 first (audit 9, centre: o-scale1e100)
     scale = float(np.max(np.abs(e))) if n else 0.0
-    if scale > 0.0 and not 1e-50 <= scale <= 1e50:
-        e = e / scale
+    e = rescale_power_of_two(e, scale, bounds=_BLOCK_SCALE_BOUNDS)[0]
     kn = max(5, int(math.log10(n)))
     m_max = int(math.ceil(math.sqrt(n))) + kn
     m_max = min(m_max, n - 1)

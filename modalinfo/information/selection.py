@@ -83,6 +83,7 @@ from scipy import fft as sfft
 from scipy import stats
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -263,7 +264,12 @@ def _check_simultaneous(data: Any, extra: Any) -> None:
         return
     a, b = (np.asarray(t, dtype=np.float64) for t in times)
     step = float(np.median(np.diff(a))) if a.size > 1 else 0.0
-    worst = float(np.max(np.abs(a - b)))
+    # a reader that took a file's integer times relative to their first (ns since 1970)
+    # keeps that first time as metadata 'file_start_time' [s]: logs of one clock that
+    # start apart must still differ here
+    first = [float((getattr(d, "metadata", None) or {}).get("file_start_time", 0.0))
+             for d in (data, extra)]
+    worst = float(np.max(np.abs(a - b + (first[0] - first[1]))))
     if worst > 0.5 * step:
         raise ValueError(
             f"`extra` must be sampled at the frames of `data`; its times differ by up to "
@@ -279,20 +285,13 @@ _WORKING_COPIES = 7
 def _safe_scale(series: np.ndarray) -> np.ndarray:
     """``series`` with its columns beyond 1e100 or below 1e-100 scaled by powers of 2.
 
-    Such a column is scaled to a largest magnitude in [0.5, 1).
-
-    The CMI is unchanged by a column's scale and a power of 2 is exact, while the sums of
-    squares of the closed forms overflow at 1e300 (the map gave NaN) and vanish at
-    1e-300 (the map gave 0, the selection no input: audit 9). Columns in range are left
-    untouched (their results bit for bit as before).
+    The CMI is unchanged by a column's scale, while the sums of squares of the closed
+    forms overflow at 1e300 (the map gave NaN) and vanish at 1e-300 (the map gave 0, the
+    selection no input: audit 9); :func:`rescale_power_of_two` scales such a column
+    exactly and leaves the others untouched (bit for bit).
     """
     mag = np.abs(series).max(axis=0) if series.size else np.zeros(series.shape[1])
-    bad = (mag > 1e100) | ((mag < 1e-100) & (mag > 0))
-    if not bad.any():
-        return series
-    series = series.copy()
-    series[:, bad] = np.ldexp(series[:, bad], -np.frexp(mag[bad])[1])
-    return series
+    return rescale_power_of_two(series, mag)[0]
 
 
 def _check_memory(n_values: int) -> None:

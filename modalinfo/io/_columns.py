@@ -39,8 +39,8 @@ from modalinfo.common.validation import check_exact_integers
 from modalinfo.io.files import LogFormatError
 
 __all__ = [
-    "mode_columns", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS", "UNIT_WORDS",
-    "unit_text", "column_units", "float_columns",
+    "mode_columns", "set_timestamps", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS",
+    "UNIT_WORDS", "unit_text", "column_units", "float_columns",
 ]
 
 #: Unit words a file may give its coefficients -> (our unit, factor to it). Any other
@@ -145,6 +145,55 @@ def mode_columns(names: list[str]) -> tuple[list, str, bool]:
     return names, "labels", False
 
 
+#: Units per second of the sub-second time units: integer times are divided by these
+#: exactly rounded (``500_000 / 10**9`` is the double nearest 5e-4; ``* 1e-9`` is not
+#: always).
+_PER_SECOND = {"ms": 10**3, "us": 10**6, "ns": 10**9}
+#: Float64 spacing of the absolute times, as a fraction of the shortest frame interval,
+#: above which integer times are taken relative to their first: a tenth of the jitter
+#: ``modalinfo info`` calls none (1e-6 of the median interval), so rounding cannot show
+#: as jitter (int64 ns since 1970, ~1.76e18, are 1.76e9 s where float64 steps by 238 ns:
+#: a 500 us interval read 499.76 or 500.00 us, a median rate of 2000.14 Hz).
+_TIME_RESOLUTION = 1e-7
+
+
+def set_timestamps(values: np.ndarray, kind: str, stored: dict, meta: dict) -> None:
+    """Store a time column of unit ``kind`` as ``stored["timestamps"]`` [s].
+
+    Integer times whose absolute values float64 seconds cannot resolve to
+    :data:`_TIME_RESOLUTION` of the shortest interval (ns or us since 1970) are taken
+    relative to the first frame in integer arithmetic, so every interval is exact to
+    float64 rounding; the first time is kept in ``meta`` as ``file_start_time`` (s, as
+    for a rate that replaces far timestamps) and exactly as ``file_start_time_exact``
+    (the integer and its unit). Other columns are converted as before (``values * s``).
+    """
+    scale = TIME_UNITS[kind]
+    v = np.asarray(values)
+    if v.dtype.kind == "u" and v.size and int(v.max()) <= np.iinfo(np.int64).max:
+        v = v.astype(np.int64)
+    if v.dtype.kind == "i" and v.ndim == 1 and v.size > 1:
+        v = v.astype(np.int64, copy=False)
+        steps = np.diff(v)  # exact (int64), while the span stays below 9.2e18
+        shortest = float(steps[steps > 0].min()) * scale if np.any(steps > 0) else 0.0
+        big = float(np.max(np.abs(v.astype(np.float64)))) * scale
+        exact = kind not in _PER_SECOND and big / scale <= 2.0**53  # integers x 1, 60, 3600
+        if (not exact and shortest > 0
+                and float(np.spacing(big)) > _TIME_RESOLUTION * shortest):
+            first = int(v[0])
+            rel = (v - v[0]).astype(np.float64)  # exact below 2^53 units of the column
+            per = _PER_SECOND.get(kind)
+            stored["timestamps"] = rel / per if per else rel * scale
+            meta["file_start_time"] = first / per if per else first * scale
+            meta["file_start_time_exact"] = f"{first} {kind}"
+            meta["time_axis"] = (
+                f"integer times ({kind}) taken relative to the first, {first} {kind}, in "
+                f"exact arithmetic (float64 seconds near {big:.3g} s step by "
+                f"{float(np.spacing(big)):.3g} s); the time axis starts at 0 and the first "
+                "time is kept as metadata 'file_start_time'")
+            return
+    stored["timestamps"] = values.astype(np.float64) * scale
+
+
 def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
     """Find the 1-D time array among ``arrays`` (NPZ members, HDF5 datasets).
 
@@ -169,7 +218,7 @@ def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
     if kind == "frame":
         stored["_frame_numbers"] = values
         return
-    stored["timestamps"] = values.astype(np.float64) * TIME_UNITS[kind]
+    set_timestamps(values, kind, stored, meta)
     if kind != "s":
         meta["time_column"] = f"{name} ({kind}, converted to s)"
 

@@ -38,7 +38,13 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
-from modalinfo.io._columns import TIME_UNITS, column_units, mode_columns, time_kind, unit_text
+from modalinfo.io._columns import (
+    column_units,
+    mode_columns,
+    set_timestamps,
+    time_kind,
+    unit_text,
+)
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -151,8 +157,23 @@ def _split(line: str, delim: str | None) -> list[str]:
     return [tok.strip() for tok in next(_csv.reader([line], delimiter=delim))]
 
 
+def _integer_column(body: list[str], delim: str | None, k: int, column: np.ndarray):
+    """Column ``k`` of ``body`` as int64 where every value is an integer, else ``column``.
+
+    int64 ns since 1970 lose digits in float64 (:func:`set_timestamps`).
+    """
+    if not np.all(np.floor(column) == column):
+        return column
+    try:
+        return np.loadtxt(body, delimiter=delim, dtype=np.int64, ndmin=1, comments=None,
+                          quotechar='"', usecols=k)
+    except (ValueError, OverflowError):  # "1.5e3", or beyond int64: the floats as read
+        return column
+
+
 def _time_columns(
-    values: np.ndarray, names: list[str], path: Path, stored: dict, meta: dict
+    values: np.ndarray, names: list[str], path: Path, stored: dict, meta: dict,
+    body: list[str] | None = None, delim: str | None = None,
 ) -> tuple[np.ndarray, list[str]]:
     """Take the time column (any position) out of ``values``; return the mode columns.
 
@@ -172,8 +193,10 @@ def _time_columns(
     drop = timed + framed
     if timed:
         k = timed[0]
-        scale = TIME_UNITS[kinds[k]]
-        stored["timestamps"] = np.ascontiguousarray(values[:, k]) * scale
+        column = np.ascontiguousarray(values[:, k])
+        if body is not None:
+            column = _integer_column(body, delim, k, column)
+        set_timestamps(column, kinds[k], stored, meta)
         if kinds[k] != "s":
             meta["time_column"] = f"{names[k]} ({kinds[k]}, converted to s)"
         if framed:
@@ -318,7 +341,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     unit = (unit_text(value), f"comment line '# {key}:'")
                     break
             if names is not None:
-                coeffs, names = _time_columns(values, names, path, stored, meta)
+                coeffs, names = _time_columns(values, names, path, stored, meta, body,
+                                              delim)
                 names, suffix = column_units(names, path)
                 if suffix is not None:
                     if unit is not None and unit[0].lower() != suffix.lower():

@@ -35,10 +35,10 @@ import numpy as np
 from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.io._columns import (
-    TIME_UNITS,
     column_units,
     float_columns,
     mode_columns,
+    set_timestamps,
     time_kind,
     unit_text,
 )
@@ -238,7 +238,9 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
                 if kinds[k] == "frame":
                     stored["_frame_numbers"] = cols[k]
                 else:
-                    stored["timestamps"] = cols[k] * TIME_UNITS[kinds[k]]
+                    exact = raw[k].dtype.kind in "iu" and np.all(np.isfinite(cols[k]))
+                    set_timestamps(raw[k] if exact else cols[k], kinds[k], stored,
+                                   stored["metadata"])  # ints kept for exact intervals
                     if kinds[k] != "s":
                         stored["metadata"]["time_column"] = (
                             f"{names[k]} ({kinds[k]}, converted to s)"

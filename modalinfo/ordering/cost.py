@@ -4,22 +4,24 @@ One MI estimate on ``n`` samples costs ``MI_SECONDS_PER_SAMPLE[estimator](n) * n
 seconds, a little below the times measured (``time.process_time`` of
 ``MutualInformation.score`` at n = 1e4, 1e5, 4e5 on this project's 2-core machine,
 2026-11-28: ksg 6.4, 10.4, 13.7 us per sample, growing as log2 n for its k-d tree
-queries; kde 0.19-0.24 us (binned); gaussian 0.13-0.23 us; histogram 0.03-0.06 us). A
-greedy ordering of M modes makes at least ``2 M - 2`` estimates (every mode at the first
-step, at least one at each later step but the last, which completes the wavefront), and
-one more per bootstrap replicate, so :func:`least_ordering_seconds` is a lower bound of
+queries: the lower bound of the package's one KSG cost model,
+:func:`~modalinfo.information.ksg.ksg_seconds_per_sample`; kde 0.19-0.24 us
+(binned); gaussian 0.13-0.23 us; histogram 0.03-0.06 us). A greedy ordering of M
+modes makes at least ``2 M - 2`` estimates (every mode at the first step, at least one
+at each later step but the last, which completes the wavefront), and one more per
+bootstrap replicate, so :func:`least_ordering_seconds` is a lower bound of
 the real time: what it refuses cannot finish sooner.
 """
 
 from __future__ import annotations
 
-import math
+from modalinfo.information.ksg import ksg_seconds_per_sample
 
 __all__ = ["MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE", "least_ordering_seconds"]
 
 #: CPU seconds per sample of one MI estimate on n samples (module notes)
 MI_SECONDS_PER_SAMPLE = {
-    "ksg": lambda n: 0.4e-6 * math.log2(max(n, 2)),
+    "ksg": lambda n: ksg_seconds_per_sample(n, 2, least=True),
     "kde": lambda n: 1.5e-7,
     "gaussian": lambda n: 1e-7,
     "histogram": lambda n: 2e-8,

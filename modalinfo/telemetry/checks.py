@@ -219,6 +219,14 @@ def check_timestamps(timestamps: Any, n_frames: int | None,
     if t.ndim != 1 or (n_frames is not None and t.shape[0] != n_frames):
         want = "1-D" if n_frames is None else f"shape ({n_frames},) to match `coeffs`"
         raise ValueError(f"`{name}` must have {want}; got shape {t.shape}.")
+    if t.dtype.kind in "iu" and t.size and max(abs(int(t.min())), int(t.max())) > 2**53:
+        # float64 steps by 256 at 1.8e18: int64 ns since 1970 read as s lost their
+        # intervals (a 500 us step became 0.0005 of a rate of 2e-6 Hz); the readers
+        # take such integer columns relative to their first time (io/_columns.py)
+        raise ValueError(
+            f"`{name}` must be seconds exactly held by float64; got integers up to "
+            f"{max(abs(int(t.min())), int(t.max()))} (> 2^53; ns since 1970?): pass "
+            f"seconds relative to the first frame, e.g. (t - t[0]) / 1e9 for ns.")
     t = np.array(t, dtype=np.float64)
     if not np.all(np.isfinite(t)):
         raise ValueError(

@@ -56,7 +56,12 @@ def test_one_sample_at_1e6_moves_no_default_estimate(glitched_pair, method):
 def test_former_value_paths_are_kept_and_are_what_the_glitch_broke(glitched_pair, method,
                                                                    former):
     x, y = glitched_pair
-    assert abs(mutual_information(x, y, method=method, **former) - MI_RHO) > 0.1
+    if method == "kde":  # the kernel follows the glitch's sd: said (oversmoothing rule)
+        with pytest.warns(BiasRuleWarning, match="the kernel oversmooths x"):
+            value = mutual_information(x, y, method=method, **former)
+    else:
+        value = mutual_information(x, y, method=method, **former)
+    assert abs(value - MI_RHO) > 0.1
 
 
 def _cauchy_entropy_by_quadrature(gamma):
