@@ -125,6 +125,16 @@ def map_reconstructor(interaction: np.ndarray, noise: np.ndarray,
                          np.asarray(prior, dtype=np.float64))[0]
 
 
+class _Turn:
+    """The lock of the runs of a model's work arrays and the thread holding it."""
+
+    __slots__ = ("lock", "owner")
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.owner: int | None = None
+
+
 class LoopModel:
     """The static parts of a configuration: geometry, DMs, WFSs, science camera.
 
@@ -154,7 +164,7 @@ class LoopModel:
         if not isinstance(config, SimulationConfig):
             raise TypeError(f"`config` must be a SimulationConfig; got {type(config).__name__}.")
         self.config = config
-        self._run_lock, self._run_owner = threading.Lock(), None
+        self._turn = _Turn()
         self.geometry = Geometry(config)
         # each part built by its kind's record (closedloop.kinds)
         self.dms = [mirror_kind(d.kind).build(self.geometry, i)
@@ -189,24 +199,34 @@ class LoopModel:
         loop). A run started from inside another run of the same model in the same thread
         (a ``callback``) would deadlock: it is refused.
         """
-        if self._run_owner == threading.get_ident():
+        turn = self._turn
+        if turn.owner == threading.get_ident():
             raise ValueError("`model` is in use by a run of this thread (a callback starting "
                              "another run?): build a second LoopModel for it.")
-        with self._run_lock:
-            self._run_owner = threading.get_ident()
+        with turn.lock:
+            turn.owner = threading.get_ident()
             try:
                 yield self
             finally:
-                self._run_owner = None
+                turn.owner = None
 
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()  # a lock does not pickle: a copy gets its own
-        del state["_run_lock"], state["_run_owner"]
+        del state["_turn"]
         return state
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
-        self._run_lock, self._run_owner = threading.Lock(), None
+        self._turn = _Turn()
+
+    def __copy__(self) -> LoopModel:
+        # a shallow copy shares the work arrays, so it shares the turn too: with its own
+        # lock (the pickle protocol's default) a run of the copy and one of the original
+        # in two threads corrupted each other's Strehl ratios (audit 10-state, row
+        # copy-loopmodel-threads); copy.deepcopy gives an independent model
+        new = type(self).__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        return new
 
     def _global_reconstructor(self):
         """Reconstructor of all DMs' modes from all WFSs' measurements (MAP, Fusco et al. 2001).

@@ -33,9 +33,11 @@ the same seed and thread count give the same bits.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import functools
 import math
+import pickle
 import time
 from collections import deque
 from collections.abc import Callable
@@ -163,7 +165,7 @@ def simulate(
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
     state.reset()
-    forecaster = loop_pred.predictor  # None for the oracle and without prediction
+    forecaster = _run_copy(loop_pred.predictor)  # None for the oracle and without prediction
     control = _Control(model, config.loop, forecaster, basis, on_predictor_fault)
     future = _Oracle(model, seed, clock) if oracle else None
     probe = (BudgetProbe(model, forecaster, int(budget_every), oracle=oracle)
@@ -265,6 +267,24 @@ def _labelled(exc: PredictorFault, model: LoopModel, basis) -> PredictorFault:
                                     f"for mode {exc.mode} (dm{d} {label}) ", 1)
             return PredictorFault(text, step=exc.step, mode=exc.mode)
     return exc
+
+
+def _run_copy(predictor):
+    """Return the run's own copy of the caller's predictor (None stays None).
+
+    A run resets and updates its forecaster at every frame: runs in several threads
+    sharing one fitted predictor interleaved their updates (Strehl ratios off the serial
+    runs', audit 10-state, row thr-sim-shared-pred), and a run left the caller's own
+    online stream advanced. A deep copy of a fitted predictor forecasts the same bits
+    (tests/forecast/test_copy_round9.py); an object that cannot be deep-copied is used
+    as given.
+    """
+    if predictor is None:
+        return None
+    try:
+        return copy.deepcopy(predictor)
+    except (TypeError, AttributeError, copy.Error, pickle.PicklingError):
+        return predictor
 
 
 def _check_open_loop(predictor, budget_every, control_basis) -> None:

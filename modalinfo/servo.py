@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_float_array, check_choice, check_real
 
 __all__ = [
@@ -363,6 +364,7 @@ def noise_propagation(*, gain: float, delay_frames: float,
         n *= 2
 
 
+@array_fields_eq  # NaN fields equal after a round trip (audit 10-state)
 @dataclass(frozen=True)
 class LoopBandwidth:
     """Bandwidths of a modal integrator loop.

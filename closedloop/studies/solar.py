@@ -66,6 +66,7 @@ from closedloop.optics.correlating_sensor import MAX_SHIFT as CORRELATING_MAX_SH
 from closedloop.studies.compression import LatencyModel
 from modalinfo.common.cli import Parser
 from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.records import array_fields_eq
 
 __all__ = ["SolarRTC", "RTC_PRESETS", "correlation_compute_time", "correlating_wfs_sizes",
            "correlating_compute_time",
@@ -394,6 +395,7 @@ def solar_variations(base: SimulationConfig, values: dict | None = None, *, mode
     return out, latency
 
 
+@array_fields_eq  # NaN fields equal after a round trip (audit 10-state)
 @dataclass(frozen=True)
 class SolarSensitivity:
     """How SR, corrected FoV and the error budget move with the solar knobs.

@@ -25,6 +25,7 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+import threading
 import warnings
 from collections import OrderedDict
 from collections.abc import Callable
@@ -45,6 +46,8 @@ MEMORY_ENTRIES = 8
 VERSION = 4
 
 _memory: OrderedDict[str, tuple[np.ndarray, np.ndarray]] = OrderedDict()
+#: guards _memory: a hit's move_to_end after another thread evicted the key raised KeyError
+_LOCK = threading.Lock()
 
 
 def build_key(influence, r0: float, outer_scale: float, n_keep: int,
@@ -118,7 +121,10 @@ def cached_build(key: str, build: Callable[[], tuple[np.ndarray, np.ndarray]]
 
     Copies are returned (never the cached arrays themselves).
     """
-    hit = _memory.get(key)
+    with _LOCK:
+        hit = _memory.get(key)
+        if hit is not None:
+            _memory.move_to_end(key)
     if hit is None:
         path = _disk_path(key)
         hit = None if path is None else _read(path, key)
@@ -128,11 +134,10 @@ def cached_build(key: str, build: Callable[[], tuple[np.ndarray, np.ndarray]]
                 _write(path, key, hit[0], hit[1])
         for a in hit:
             a.flags.writeable = False
-        _memory[key] = hit
-        while len(_memory) > MEMORY_ENTRIES:
-            _memory.popitem(last=False)
-    else:
-        _memory.move_to_end(key)
+        with _LOCK:
+            _memory[key] = hit
+            while len(_memory) > MEMORY_ENTRIES:
+                _memory.popitem(last=False)
     return hit[0].copy(), hit[1].copy()
 
 

@@ -210,8 +210,13 @@ class InfluenceFunctions:
         self._rows = (flat // n).astype(np.int64)
         self._cols = (flat % n).astype(np.int64)
         self._first, self._values = _band(self.factor)
-        self._work = np.empty((n, self.n_actuators))
-        self._grid = np.zeros((self.n_actuators, self.n_actuators))
+        # read-only: surface(), fit() and the DM-space K-L modes read these arrays at every
+        # call, so a caller writing into ``valid_index`` or ``factor`` silently changed
+        # every later surface (audit 10-state, row ret-influence)
+        for arr in (self.coords, self.centres, self.positions, self.factor,
+                    self.illumination, self.valid, self.valid_index, self.valid_positions,
+                    self._rows, self._cols, self._first, self._values):
+            arr.flags.writeable = False
         self._matrix = None
         self._gram = None
         self._gram_factor = None
@@ -258,11 +263,16 @@ class InfluenceFunctions:
 
     def _surface(self, c: np.ndarray) -> np.ndarray:
         """Separable banded product for one validated command vector."""
-        grid = self._grid
+        # scratch arrays of this call: the kernel releases the GIL, and grids shared by
+        # the object made threads calling surface() on one mirror mix each other's
+        # commands (audit 10-state, row thr-influence-surface); the allocation is small
+        # beside the product
+        grid = np.zeros((self.n_actuators, self.n_actuators))
         grid.ravel()[self.valid_index] = c
+        work = np.empty((self._first.shape[0], self.n_actuators))
         out = np.empty(self._rows.size)
         _influence_kernels.separable_surface(grid, self._first, self._values, self._rows,
-                                             self._cols, self._work, out)
+                                             self._cols, work, out)
         return out
 
     def gram(self) -> np.ndarray:

@@ -69,10 +69,10 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
     list of pathlib.Path
         Files written (none when no x or y quantity is present in two rows or more).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own (no pyplot): matplotlib.use("Agg") switched the caller's backend,
+    # e.g. a notebook's, for good at every analyse_archive (audit 10-state, row
+    # glob-plot_archive); Figure.savefig draws with the Agg canvas all the same
+    from matplotlib.figure import Figure
 
     from modalinfo.common.files import atomic_write
 
@@ -90,8 +90,8 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
             continue
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        fig, axes = plt.subplots(len(panels), 1, figsize=(7, 2.4 * len(panels) + 0.6),
-                                 sharex=True, squeeze=False)
+        fig = Figure(figsize=(7, 2.4 * len(panels) + 0.6))
+        axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)
         for ax, (label, pts) in zip(axes[:, 0], panels, strict=True):
             ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", ms=4)
             ax.set_ylabel(label, fontsize=8)
@@ -104,6 +104,5 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
         path = out / f"archive_vs_{x_name}.png"
         atomic_write(path, lambda fh, f=fig: f.savefig(fh, format="png", dpi=120),
                      overwrite=True)
-        plt.close(fig)
         written.append(path)
     return written

@@ -41,10 +41,25 @@ def same_value(a: Any, b: Any) -> bool:
     return bool(result) if not isinstance(result, np.ndarray) else bool(np.all(result))
 
 
+def _hash_key(value: Any) -> Any:
+    """``value`` with every float NaN replaced by one token, for :func:`array_fields_eq`.
+
+    ``hash(float("nan"))`` follows the object's identity (Python >= 3.10), so two records
+    equal by :func:`same_value` (NaN equal to NaN), e.g. a record and its pickle, hashed
+    differently.
+    """
+    if isinstance(value, float) and math.isnan(value):
+        return ("<nan>",)
+    if isinstance(value, tuple):
+        return tuple(_hash_key(v) for v in value)
+    return value
+
+
 def array_fields_eq(cls: type) -> type:
     """Class decorator (above ``@dataclass``): ``==`` compares fields by :func:`same_value`.
 
-    Hashing is left as the dataclass made it (records holding arrays are unhashable).
+    A hashable record (frozen, no array or list field) hashes its fields with every NaN
+    as one value, consistent with ``==``; records holding arrays stay unhashable.
     """
     names = tuple(f.name for f in dataclasses.fields(cls))
 
@@ -54,4 +69,9 @@ def array_fields_eq(cls: type) -> type:
         return all(same_value(getattr(self, n), getattr(other, n)) for n in names)
 
     cls.__eq__ = equal
+    if cls.__hash__ is not None:
+        def hashing(self) -> int:
+            return hash(tuple(_hash_key(getattr(self, n)) for n in names))
+
+        cls.__hash__ = hashing
     return cls

@@ -499,6 +499,17 @@ class Predictor:
                 f"got {n_modes}."
             )
 
+    def __copy__(self) -> Predictor:
+        # copy.copy shared the running state: the copy's update() advanced the original's
+        # forecasts (audit 10-state, rows copy-shallow-*); a copy owns its pass (the fitted
+        # parameters are replaced, never written in place, at refits)
+        new = type(self).__new__(type(self))
+        state = dict(self.__dict__)
+        if state.get("_run") is not None:
+            state["_run"] = copy.deepcopy(state["_run"])
+        new.__setstate__(state)
+        return new
+
     def __setstate__(self, state: dict) -> None:
         # a pickled or deep-copied predictor: rebind its run's step to its own arrays
         self.__dict__.update(state)

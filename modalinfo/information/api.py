@@ -8,6 +8,7 @@ modes). Each engine's module cites its estimator.
 
 from __future__ import annotations
 
+import copy
 import inspect
 import math
 import warnings
@@ -342,6 +343,14 @@ class MutualInformation:
         self.options = dict(options)
         self._engine = _make_engine(self.method, self.options)
         self._factor = UNITS[self.units]
+
+    def __copy__(self) -> MutualInformation:
+        # the copy gets an engine of its own: a shared one was refitted in place by the
+        # copy's fit(), so the original's scores changed (audit 10-state, rows copy-mi-*)
+        new = type(self).__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new._engine = copy.deepcopy(self._engine)
+        return new
 
     def fit(self, x: Any) -> MutualInformation:
         """Fix x and cache everything that depends only on it.

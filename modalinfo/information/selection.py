@@ -83,6 +83,7 @@ from scipy import fft as sfft
 from scipy import stats
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.records import array_fields_eq
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import (
     as_float_array,
@@ -122,6 +123,7 @@ __all__ = [
 ]
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class SelectedInput:
     """One input chosen by :func:`select_inputs`.
@@ -157,6 +159,7 @@ class SelectedInput:
     pvalue: float
 
 
+@array_fields_eq
 @dataclass(frozen=True)
 class InputSelection:
     """Result of :func:`select_inputs`.

@@ -44,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.records import same_value
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.telemetry.checks import (
     CONVENTIONS,
@@ -273,6 +274,21 @@ class ModalLog:
 
     def __getstate__(self) -> dict:
         return {name: getattr(self, name) for name in self.__slots__}
+
+    def __eq__(self, other: object) -> bool:
+        # by value (coefficients with their dtype, time axis, modes, units, metadata):
+        # identity made a log unequal to its own pickle or copy, and every result holding
+        # logs (SimulationResult.logs) unequal to its round trip (audit 10-state, rows
+        # SimulationResult-eq-*). NaN equals NaN: a stored gap is the same data.
+        if other is self:
+            return True
+        if not isinstance(other, ModalLog):
+            return NotImplemented
+        return all(same_value(getattr(self, name), getattr(other, name))
+                   for name in self.__slots__)
+
+    # unhashable: equal by value, and the data may be a view the caller can still write
+    __hash__ = None  # type: ignore[assignment]
 
     def __setstate__(self, state: dict) -> None:
         for name, value in state.items():

@@ -1,0 +1,31 @@
+"""The archive plots leave the caller's matplotlib backend (audit 10-state, row glob-plot_archive).
+
+Reference: matplotlib's own state before the call (``matplotlib.get_backend()`` and
+``rcParams``) and PNG signatures of the files written. ``plot_archive`` (run by
+``analyse_archive`` in the caller's process) called ``matplotlib.use("Agg")``, which
+switched a notebook's or a GUI's backend for the rest of the session.
+"""
+
+import matplotlib
+import pytest
+
+from modalinfo.batch.report import plot_archive
+
+
+@pytest.fixture
+def pdf_backend():
+    before = matplotlib.get_backend()
+    matplotlib.use("pdf")
+    yield
+    matplotlib.use(before)
+
+
+def test_backend_and_rcparams_unchanged(pdf_backend, tmp_path):
+    rows = [dict(analysis="summary", status="ok", rms_total=1.0 + i, rate=1000.0 * (i + 1),
+                 path=f"p{i}") for i in range(3)]
+    rc = dict(matplotlib.rcParams)
+    written = plot_archive(rows, tmp_path)
+    assert [p.name for p in written] == ["archive_vs_rate.png"]
+    assert written[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert matplotlib.get_backend() == "pdf"
+    assert dict(matplotlib.rcParams) == rc
