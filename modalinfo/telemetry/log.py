@@ -49,6 +49,7 @@ from modalinfo.telemetry.checks import (
     CONVENTIONS,
     NONFINITE_POLICIES,
     PISTON_TIPTILT,
+    TIME_RESOLUTION,
     as_coeffs,
     check_metadata,
     check_modes,
@@ -62,8 +63,8 @@ __all__ = ["ModalLog"]
 
 _RATE_RTOL = 1e-3
 #: largest float64 spacing of the times ``start_time + k / rate`` allowed, as a fraction
-#: of the frame interval (a Unix-epoch start, spacing 2.4e-7 s, holds up to 200 kHz)
-_TIME_RESOLUTION = 0.05
+#: of the frame interval: the rule of explicit timestamps (checks.TIME_RESOLUTION)
+_TIME_RESOLUTION = TIME_RESOLUTION
 
 
 class ModalLog:
@@ -173,7 +174,9 @@ class ModalLog:
                     "metadata)."
                 )
         if t is not None and rate is not None and n_frames > 1:
-            median_dt = float(np.median(np.diff(t)))
+            from modalinfo.telemetry.sampling import sampling_of
+
+            median_dt = sampling_of(t).median_interval  # robust to rounded times
             if abs(median_dt * rate - 1.0) > _RATE_RTOL:
                 raise ValueError(
                     f"`rate` ({rate} Hz) disagrees with `timestamps` (median interval "

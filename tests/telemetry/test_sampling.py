@@ -108,3 +108,41 @@ def test_sampling_of_uses_the_timestamp_rule():
         sampling_of(np.ma.masked_array(t, mask=np.arange(50) == 7))
     with pytest.raises(ValueError, match="`times` must be strictly increasing; decreasing"):
         sampling_of(t[::-1])
+
+
+# ---- times rounded to a sizeable part of an interval (audit 10-time) --------------------
+# Reference: IEEE 754 spacing (numpy.spacing) and the times by construction: float32
+# times from 1000 s at 2 kHz are 6.1e-5 s apart (12 % of the 5e-4 s interval), and the
+# median of intervals of 8 or 9 spacings was 8 x 6.1e-5 s = 2048 Hz with "jitter none".
+
+def test_float32_times_too_coarse_refused():
+    t = (1000.0 + np.arange(3000) / 2000.0).astype(np.float32)
+    assert np.spacing(np.float32(1001.5)) > 0.05 / 2000.0  # the premise
+    with pytest.raises(ValueError, match=r"`timestamps` are too coarse.*float32.*--rate"):
+        ModalLog(np.zeros((3000, 2)), timestamps=t)
+
+
+def test_float64_unix_ms_read_as_seconds_too_coarse_refused():
+    t = 1.7e12 + np.arange(3000) / 2000.0  # float64 spacing 2.4e-4 s: half an interval
+    with pytest.raises(ValueError, match=r"too coarse.*float64"):
+        ModalLog(np.zeros((3000, 2)), timestamps=t)
+
+
+@pytest.mark.parametrize("start", [50.0, 200.0])
+def test_rounded_float32_times_give_the_true_rate(start):
+    # float32 spacing at 200 s is 1.5e-5 s (3 % of an interval): accepted, and the rate
+    # must be 2000 Hz to within 2 spacings over the span, not the median's 1 spacing
+    t = (start + np.arange(3000) / 2000.0).astype(np.float32)
+    spacing = float(np.spacing(np.float32(t[-1])))
+    s = sampling_of(t.astype(np.float64))  # widened by a reader, as the NPZ one does
+    assert abs(s.median_interval - 1 / 2000.0) <= 2 * spacing / 2999
+    assert s.uniform
+    med = float(np.median(np.diff(t.astype(np.float64))))
+    assert abs(med - 1 / 2000.0) > 10 * abs(s.median_interval - 1 / 2000.0)  # median biased
+    log = ModalLog(np.zeros((3000, 1)), timestamps=t, rate=2000.0)  # agrees with the rate
+    assert log.rate == 2000.0
+
+
+def test_unix_epoch_times_at_10khz_give_the_true_rate():
+    t = 1.7e9 + np.arange(5000) / 1e4  # float64 spacing 2.4e-7 s: 0.24 % of an interval
+    assert abs(sampling_of(t).median_rate - 1e4) < 1e4 * 1e-4
