@@ -70,7 +70,8 @@ def _sampling_text(s) -> str:
     else:
         text = f"jitter {100 * s.jitter:.3g}% of the median interval; "
     if s.uniform:
-        return text + f"no gaps (interval > {s.gap_factor:g} x median)"
+        change = "" if not s.rate_change else f"; {s.describe_rate_change()}"
+        return text + f"no gaps (interval > {s.gap_factor:g} x median)" + change
     a, b = s.longest_segment
     if s.n_gaps == 0:  # only short intervals: the rate changed (round 9 PART b, row A01)
         return text + (f"{s.describe_irregular()}; longest equally spaced segment "
@@ -82,6 +83,7 @@ def _sampling_text(s) -> str:
         f"{s.n_gaps} gap(s) (interval > {s.gap_factor:g} x median), first {s.describe_gap(0)}"
         + ("" if k == 0 else f", largest {s.describe_gap(k)}")
         + short + f"; longest contiguous segment frames {a}..{b - 1}"
+        + ("" if not s.rate_change else f"; {s.describe_rate_change()}")
     )
 
 

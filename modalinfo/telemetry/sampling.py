@@ -18,7 +18,12 @@ and gives the nominal rate. Definitions:
   PART b, row A01: 2000 frames at 2 kHz then 2000 at 1 kHz showed "jitter none, no
   gaps" and were forecast as equally spaced), or a clock stuttered;
 * **segments** are the maximal runs of frames without a gap or a short interval,
-  ``[start, stop)``.
+  ``[start, stop)``;
+* a **rate change** below the gap threshold (2 kHz then 1980 Hz) is found by cutting
+  the regular intervals into blocks (:func:`_rate_change`): ``rate_change`` is the
+  relative spread of the blocks' rates when it exceeds 1e-3 plus what the rounding
+  and the jitter explain. It is reported (``info``, ``batch``, a note or warning
+  where frames are taken as equally spaced), not refused: lags stay one frame apart.
 
 Analyses that treat frames as equally spaced (forecasting, block bootstraps,
 sliding windows) refuse a log with gaps (:func:`require_contiguous`) and name the
@@ -36,13 +41,19 @@ from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import check_timestamps
 
-__all__ = ["Sampling", "sampling_of", "require_contiguous", "GAP_FACTOR"]
+__all__ = ["Sampling", "sampling_of", "require_contiguous", "warn_rate_change",
+           "GAP_FACTOR"]
 
 #: An interval longer than this many median intervals is a gap.
 GAP_FACTOR = 1.5
 #: Rounding of the times (a fraction of the median interval) above which the interval is
 #: the mean of the regular intervals, not their median (the rate tolerance of ModalLog).
 _QUANTISED = 1e-3
+#: The rate-change test (:func:`_rate_change`): blocks of at least _BLOCK regular
+#: intervals, at most _MAX_BLOCKS, and the relative change of rate always tolerated.
+_BLOCK = 50
+_MAX_BLOCKS = 16
+_RATE_STEP = 1e-3
 _MAD_TO_SIGMA = 1.482602218505602  # 1 / Phi^-1(3/4): normal-consistent MAD
 
 
@@ -73,6 +84,12 @@ class Sampling:
         Interval ``t[i + 1] - t[i]`` [s].
     short_after : numpy.ndarray of int, shape (S,)
         Frame index ``i`` of each interval shorter than ``median / gap_factor``.
+    rate_change : float
+        ``(rate_high - rate_low) / median_rate`` when the rate changes along the log by
+        more than the rounding and jitter explain (module docstring), else 0.
+    rate_low, rate_high : float
+        Lowest and highest rate of the blocks of regular intervals [Hz] (NaN when
+        not tested: fewer than 100 regular intervals).
     """
 
     n_frames: int
@@ -85,6 +102,9 @@ class Sampling:
     gap_start: np.ndarray
     gap_duration: np.ndarray
     short_after: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    rate_change: float = 0.0
+    rate_low: float = float("nan")
+    rate_high: float = float("nan")
 
     @property
     def n_gaps(self) -> int:
@@ -123,8 +143,15 @@ class Sampling:
         )
 
 
+    def describe_rate_change(self) -> str:
+        """One line on a rate change below the gap threshold ('' when none)."""
+        if not self.rate_change:
+            return ""
+        return (f"the frame rate changes by {100 * self.rate_change:.2g}% along the log "
+                f"({self.rate_low:.6g} to {self.rate_high:.6g} Hz in blocks of frames)")
+
     def describe_irregular(self) -> str:
-        """Describe what breaks the equal spacing: gaps, then short intervals (one line)."""
+        """Describe what breaks the equal spacing: gaps, short intervals, a rate change."""
         parts = []
         if self.n_gaps:
             parts.append(f"{self.n_gaps} gap(s), the first of {self.describe_gap(0)}")
@@ -134,6 +161,8 @@ class Sampling:
                 f"{self.n_short} interval(s) shorter than 1/{self.gap_factor:g} of the median "
                 f"(the frame rate changes), the first after frame {i}"
             )
+        if self.rate_change:
+            parts.append(self.describe_rate_change())
         return " and ".join(parts)
 
 
@@ -187,6 +216,7 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
         # telescopes, so their mean is the interval to within 2 spacings / run length.
         median = float(np.mean(regular))
     jitter = float(_MAD_TO_SIGMA * np.median(np.abs(regular - np.median(regular))) / median)
+    change, low, high = _rate_change(regular, median, jitter, _quantum(t) / median)
     return Sampling(
         n_frames=int(t.size),
         median_interval=median,
@@ -198,7 +228,55 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
         gap_start=t[gaps],
         gap_duration=dt[gaps],
         short_after=np.flatnonzero(is_short).astype(np.int64),
+        rate_change=change,
+        rate_low=low,
+        rate_high=high,
     )
+
+
+def _rate_change(regular: np.ndarray, interval: float, jitter: float, quantum: float
+                 ) -> tuple[float, float, float]:
+    """``(change, low, high)``: a change of rate below the gap threshold, by blocks.
+
+    The regular intervals, in time order, are cut into at most 16 blocks of at least 50;
+    each block's interval is its median (its mean for rounded times, where the median
+    is biased). A spread of the blocks' rates beyond 1e-3 (ModalLog's rate tolerance)
+    plus the rounding plus six standard errors of a block median under the jitter
+    (1.2533 sigma / sqrt(n)) is a rate change (2 kHz then 1980 Hz showed "jitter none;
+    no gaps": audit 10-time); ``change`` is then (high - low) / median rate, else 0.
+    """
+    nan = float("nan")
+    n_blocks = min(_MAX_BLOCKS, regular.size // _BLOCK)
+    if n_blocks < 2:
+        return 0.0, nan, nan
+    blocks = np.array_split(regular, n_blocks)
+    size = min(b.size for b in blocks)
+    if quantum > _QUANTISED:
+        steps = np.array([b.mean() for b in blocks])
+        rounding = 2.0 * quantum / size
+    else:
+        steps = np.array([np.median(b) for b in blocks])
+        rounding = quantum
+    low, high = 1.0 / float(steps.max()), 1.0 / float(steps.min())
+    change = (high - low) * interval
+    tolerance = _RATE_STEP + rounding + 6.0 * 1.2533 * jitter / np.sqrt(size)
+    return (float(change), low, high) if change > tolerance else (0.0, low, high)
+
+
+def warn_rate_change(s: Sampling, purpose: str) -> None:
+    """Warn (``UserWarning``) that ``purpose`` takes frames of a changing rate as equal.
+
+    A rate change below the gap threshold is not refused (lags stay one frame apart and
+    a 1 % change moves an AR(1) lag-1 correlation by 1 % of its log), but horizons and
+    lags in seconds are then only right to that fraction, which nothing said (audit
+    10-time: 2 kHz then 1980 Hz was forecast at "1 frame = 0.503 ms" without a word).
+    """
+    if s.rate_change and s.uniform:
+        import warnings
+
+        warnings.warn(f"{purpose} takes the frames as equally spaced, but "
+                      f"{s.describe_rate_change()}; times in seconds are right only to "
+                      "that fraction", UserWarning, stacklevel=3)
 
 
 def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> None:
@@ -214,6 +292,8 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
         Gap threshold in median intervals.
     """
     s = log.sampling(gap_factor)
+    if s is not None:
+        warn_rate_change(s, purpose)
     if s is None or s.uniform:
         return
     a, b = s.longest_segment

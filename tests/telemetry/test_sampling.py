@@ -146,3 +146,40 @@ def test_rounded_float32_times_give_the_true_rate(start):
 def test_unix_epoch_times_at_10khz_give_the_true_rate():
     t = 1.7e9 + np.arange(5000) / 1e4  # float64 spacing 2.4e-7 s: 0.24 % of an interval
     assert abs(sampling_of(t).median_rate - 1e4) < 1e4 * 1e-4
+
+
+# ---- a rate change below the gap threshold (audit 10-time) ------------------------------
+# Reference: the time axis by construction (1500 frames at 2 kHz, then 1500 at 1980 Hz:
+# no interval is a gap or short, and "jitter none; no gaps" was all info said).
+
+def _two_clocks(r2=1980.0):
+    t = np.arange(1500) / 2000.0
+    return np.r_[t, t[-1] + np.arange(1, 1501) / r2]
+
+
+def test_rate_change_of_one_percent_found():
+    s = sampling_of(_two_clocks())
+    assert s.uniform  # not a gap: not refused
+    assert s.rate_low == pytest.approx(1980.0, rel=1e-9)
+    assert s.rate_high == pytest.approx(2000.0, rel=1e-9)
+    assert s.rate_change == pytest.approx(20.0 / 1980.0, rel=1e-9)
+    assert "changes by 1%" in s.describe_irregular()
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_no_rate_change_in_jitter_or_rounding(seed):
+    rng = np.random.default_rng(seed)
+    t = np.arange(3000) / 2000.0
+    for times in (t + rng.normal(0, 0.05 / 2000, t.size),  # 5 % timestamp noise
+                  1.7e9 + t + rng.normal(0, 1e-6 / 2000, t.size),  # Unix epoch
+                  1.7e9 + np.arange(3000) / (4000.0 + 500 * seed)):  # rounding 1e-3
+        assert sampling_of(np.sort(times)).rate_change == 0.0
+
+
+def test_rate_change_warned_where_frames_are_taken_as_equal():
+    from modalinfo.forecast import PersistencePredictor, evaluate
+
+    log = ModalLog(np.random.default_rng(0).standard_normal((3000, 1)),
+                   timestamps=_two_clocks())
+    with pytest.warns(UserWarning, match=r"changes by 1% along the log \(1980 to 2000 Hz"):
+        evaluate({"p": PersistencePredictor()}, log, horizons=[1])
