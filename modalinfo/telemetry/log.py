@@ -341,7 +341,18 @@ class ModalLog:
 
     @property
     def duration(self) -> float | None:
-        """Time span covered, ``n_frames / rate`` in seconds (None without a time axis)."""
+        """Time span covered in seconds (None without a time axis).
+
+        ``n_frames / rate``; for timestamps with gaps or short intervals, the span
+        ``t[-1] - t[0]`` plus one median interval (``n_frames`` over the mean rate
+        stretched the span by ``n / (n - 1)``: two nights 8 h apart in 3000 frames
+        showed 28810.4 s for 28800.75 s, audit 10-time).
+        """
+        t = self._timestamps
+        if t is not None and t.shape[0] > 1:
+            s = self.sampling()
+            if not s.uniform:
+                return float(t[-1] - t[0]) + s.median_interval
         rate = self.rate
         if rate is None:
             return 0.0 if self._timestamps is not None else None

@@ -183,3 +183,14 @@ def test_rate_change_warned_where_frames_are_taken_as_equal():
                    timestamps=_two_clocks())
     with pytest.warns(UserWarning, match=r"changes by 1% along the log \(1980 to 2000 Hz"):
         evaluate({"p": PersistencePredictor()}, log, horizons=[1])
+
+
+def test_duration_of_a_gapped_log_is_its_span():
+    # Reference: the time axis by construction: two runs of 1500 frames at 2 kHz, 8 h
+    # apart, span t[-1] - t[0] = 28800.7495 s, plus one frame interval (0.5 ms)
+    t = np.r_[np.arange(1500), np.arange(1500)] / 2000.0
+    t[1500:] += 8 * 3600.0
+    log = ModalLog(np.zeros((3000, 1)), timestamps=t)
+    assert log.duration == pytest.approx(28800.75, abs=1e-6)
+    clean = ModalLog(np.zeros((3000, 1)), timestamps=np.arange(3000) / 2000.0)
+    assert clean.duration == pytest.approx(1.5, abs=1e-12)
