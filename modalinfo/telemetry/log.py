@@ -174,10 +174,12 @@ class ModalLog:
                     "metadata)."
                 )
         if t is not None and rate is not None and n_frames > 1:
-            from modalinfo.telemetry.sampling import sampling_of
+            from modalinfo.telemetry.sampling import rate_agrees
 
-            median_dt = sampling_of(t).median_interval  # robust to rounded times
-            if abs(median_dt * rate - 1.0) > _RATE_RTOL:
+            # the median or the mean regular interval: the median alone was 0.2 % off
+            # under 5 % timing noise and 2.4 % off for float32 times (audit 10-time)
+            if not rate_agrees(t, rate, _RATE_RTOL):
+                median_dt = float(np.median(np.diff(t)))
                 raise ValueError(
                     f"`rate` ({rate} Hz) disagrees with `timestamps` (median interval "
                     f"{median_dt:.6g} s, i.e. {1.0 / median_dt:.6g} Hz); give one or make them "

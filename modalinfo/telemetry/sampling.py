@@ -42,7 +42,7 @@ from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import check_timestamps
 
 __all__ = ["Sampling", "sampling_of", "require_contiguous", "warn_rate_change",
-           "GAP_FACTOR"]
+           "clock_interval", "rate_agrees", "GAP_FACTOR"]
 
 #: An interval longer than this many median intervals is a gap.
 GAP_FACTOR = 1.5
@@ -261,6 +261,36 @@ def _rate_change(regular: np.ndarray, interval: float, jitter: float, quantum: f
     change = (high - low) * interval
     tolerance = _RATE_STEP + rounding + 6.0 * 1.2533 * jitter / np.sqrt(size)
     return (float(change), low, high) if change > tolerance else (0.0, low, high)
+
+
+def clock_interval(times, gap_factor: float = GAP_FACTOR) -> float:
+    """Return the frame interval [s] of ``times``, to compare with a stated rate.
+
+    The mean of the regular intervals (neither gaps nor short, as in
+    :func:`sampling_of`): within a run the timing noise telescopes, so its error is
+    about sigma sqrt(2) / n, where the median's is 1.25 sigma / sqrt(n). ModalLog
+    refused the true rate of 3000 frames with 5 % timing noise in 6 of 20 seeds, the
+    median being 0.2 % off (audit 10-time).
+    """
+    t = check_timestamps(times, None, "times")
+    dt = np.diff(t)
+    median = float(np.median(dt))
+    regular = dt[(dt <= gap_factor * median) & (dt >= median / gap_factor)]
+    return float(regular.mean())
+
+
+def rate_agrees(times, rate: float, rtol: float = 1e-3) -> bool:
+    """Whether ``rate`` [Hz] is the rate of ``times`` to within ``rtol``.
+
+    True when the median interval or the mean regular interval
+    (:func:`clock_interval`) agrees: the median alone refused true rates under timing
+    noise, the mean alone a short log with one long (not gap) interval.
+    """
+    t = check_timestamps(times, None, "times")
+    if t.size < 2:
+        return True
+    median = float(np.median(np.diff(t)))
+    return any(abs(dt * rate - 1.0) <= rtol for dt in (median, clock_interval(t)))
 
 
 def warn_rate_change(s: Sampling, purpose: str) -> None:
