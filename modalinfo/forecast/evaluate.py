@@ -434,8 +434,9 @@ class _MappedRows:
 def _as_data(log) -> tuple[np.ndarray, tuple[str, ...], float | None, str]:
     if hasattr(log, "coeffs") and hasattr(log, "labels"):
         if hasattr(log, "sampling"):
-            from modalinfo.telemetry.sampling import require_contiguous
+            from modalinfo.telemetry.sampling import require_contiguous, require_frames_kept
 
+            require_frames_kept(log, "forecast evaluation")
             require_contiguous(log, "forecast evaluation")
         if isinstance(log.coeffs, np.memmap) and log.coeffs.ndim == 2:
             # a ModalLog's values are finite (checked at load, in blocks), and float32 or

@@ -238,9 +238,10 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
         # q-gap-temap, q-drop-then-mi: computed without a word); a rate change alone
         # (short intervals, no gap) raised IndexError naming no gap (audit 10-time)
         sampling = data.sampling() if callable(getattr(data, "sampling", None)) else None
-        if sampling is not None:
-            from modalinfo.telemetry.sampling import warn_rate_change
+        from modalinfo.telemetry.sampling import require_frames_kept, warn_rate_change
 
+        require_frames_kept(data, f"`{name}`: the lagged analysis")
+        if sampling is not None:
             warn_rate_change(sampling, f"lagged analysis of `{name}`")
         if sampling is not None and not sampling.uniform:
             a, b = sampling.longest_segment

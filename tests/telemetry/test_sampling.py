@@ -208,3 +208,33 @@ def test_true_rate_accepted_with_jittered_timestamps():
         assert ModalLog(np.zeros((3000, 1)), timestamps=noisy, rate=2000.0).rate == 2000.0
     with pytest.raises(ValueError, match="disagrees"):  # 0.2 % off stays refused
         ModalLog(np.zeros((3000, 1)), timestamps=t, rate=1996.0)
+
+
+# ---- frames removed from a log without a time axis (audit 10-time) ----------------------
+# Reference: the frames removed by construction (10 NaN frames; one 1e6 glitch frame):
+# without a rate nothing marks the hole, and select_inputs, transfer_entropy_map and
+# evaluate paired the frames around it as consecutive without a word.
+
+def _removed_logs():
+    from modalinfo.telemetry import apply_outlier_policy
+
+    x = np.random.default_rng(0).standard_normal((3000, 2))
+    nan = x.copy()
+    nan[1000:1010] = np.nan
+    glitch = x.copy()
+    glitch[500] = 1e6
+    return [ModalLog(nan, nonfinite="drop"), apply_outlier_policy(ModalLog(glitch), "drop")[0]]
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_lagged_analyses_refuse_frames_removed_without_time_axis(which):
+    from modalinfo.forecast import PersistencePredictor, evaluate
+    from modalinfo.information import select_inputs, transfer_entropy_map
+
+    log = _removed_logs()[which]
+    with pytest.raises(ValueError, match="frames were removed from a log without a time"):
+        select_inputs(log, 0, max_lag=2, n_surrogates=19)
+    with pytest.raises(ValueError, match="bridge"):
+        transfer_entropy_map(log, lags=2, n_surrogates=19)
+    with pytest.raises(ValueError, match="forecast evaluation takes the frames"):
+        evaluate({"p": PersistencePredictor()}, log, horizons=[1])
