@@ -174,4 +174,29 @@ def run(args: argparse.Namespace) -> int:
             f"{label:<{width}}  {summary.mean[k]:>12.5g}  {summary.rms[k]:>12.5g}  "
             f"{summary.std[k]:>12.5g}  {_fmt(summary.lag1[k]):>8}\n"
         )
+    lag1_note = _lag1_note(log, sampling)
+    if lag1_note:
+        out.write(f"note        {lag1_note}\n")
     return 0
+
+
+def _lag1_note(log, sampling) -> str:
+    """Say when lag1 paired frames that are not one interval apart (audit 10-time).
+
+    lag1 pairs successive rows: across a gap, a rate change or frames removed from a
+    log without a time axis, a pair is not one frame interval apart, and nothing said
+    so beside the column.
+    """
+    if sampling is not None and sampling.n_frames > 1 and not sampling.uniform:
+        k = sampling.n_gaps + sampling.n_short
+        return (f"lag1 pairs successive frames: {k} of the {sampling.n_frames - 1} pairs "
+                f"({100 * k / (sampling.n_frames - 1):.2g}%) lie across gaps or rate "
+                "changes")
+    from modalinfo.telemetry.sampling import require_frames_kept
+
+    try:
+        require_frames_kept(log, "lag1")
+    except ValueError:
+        return ("lag1 pairs successive frames, also the frames around those removed from "
+                "this log without a time axis (give --rate to see them as gaps)")
+    return ""
