@@ -138,6 +138,14 @@ def run(args: argparse.Namespace) -> int:
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
     out.write(f"quality     {quality.describe()}\n")
+    from modalinfo.telemetry.sampling import repeated_blocks
+
+    repeats = repeated_blocks(log.coeffs)
+    if repeats:  # a block exported twice (audit 10-time: nothing was said)
+        a, n, e = repeats[0]
+        more = "" if len(repeats) == 1 else f" ({len(repeats)} such blocks)"
+        out.write(f"repeats     frames {a}..{a + n - 1} repeat frames {e}..{e + n - 1} "
+                  f"exactly{more}: a block written twice? lags see a jump back in time\n")
     earlier = loaded.metadata.get("outliers")
     for record in earlier if isinstance(earlier, list) else []:  # e.g. a clipped file
         if isinstance(record, dict):

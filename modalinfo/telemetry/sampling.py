@@ -42,7 +42,8 @@ from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import check_timestamps
 
 __all__ = ["Sampling", "sampling_of", "require_contiguous", "warn_rate_change",
-           "clock_interval", "rate_agrees", "require_frames_kept", "GAP_FACTOR"]
+           "clock_interval", "rate_agrees", "require_frames_kept", "repeated_blocks",
+           "GAP_FACTOR", "REPEAT_RUN"]
 
 #: An interval longer than this many median intervals is a gap.
 GAP_FACTOR = 1.5
@@ -357,3 +358,54 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
         f"contiguous segment (frames {a}..{b - 1}) with log.longest_segment() "
         "(command line: --split-gaps)"
     )
+
+
+#: Frames in a row that repeat earlier frames exactly, at one offset, to count as a
+#: repeated block (the quality pass's default stuck run).
+REPEAT_RUN = 8
+
+
+def repeated_blocks(coeffs, min_run: int = REPEAT_RUN) -> list[tuple[int, int, int]]:
+    """Find runs of frames that repeat earlier frames exactly: a block exported twice.
+
+    Continuous telemetry never repeats a whole frame bit for bit; a block of frames
+    equal to an earlier block (same order, one offset) is a writer or transfer that
+    sent it twice. With timestamps the repeat is refused (not increasing); without,
+    the frames were analysed as a time series with a jump back in time (audit 10-time:
+    100 frames written twice showed nothing in ``info``). A frozen frame (one row held)
+    is not a block here (the quality pass reports it as stuck).
+
+    Parameters
+    ----------
+    coeffs : array_like, shape (T, M)
+        Frames in time order (scanned in row blocks; memory 16 bytes per frame).
+    min_run : int
+        Shortest run of frames reported.
+
+    Returns
+    -------
+    list of (start, length, earlier)
+        Frames ``start .. start + length - 1`` equal frames ``earlier ..``.
+    """
+    from modalinfo.telemetry.scan import row_blocks, scan_rows
+
+    arr = coeffs
+    n = int(arr.shape[0])
+    if n < 2 * min_run:
+        return []
+    # one key per frame: a dot product with fixed weights (equal rows, equal keys);
+    # candidate runs are then compared exactly, so a collision cannot be reported
+    weights = np.random.default_rng(20261129).uniform(1.0, 2.0, arr.shape[1])
+    keys = np.concatenate([np.asarray(b, dtype=np.float64) @ weights
+                           for b in row_blocks(arr, scan_rows(arr))])
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    offset = np.arange(n) - first[inverse.reshape(-1)]
+    marked = np.where(offset > 0, offset, -1)
+    edges = np.r_[0, np.flatnonzero(np.diff(marked) != 0) + 1, n]
+    found = []
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        if marked[a] > 0 and b - a >= min_run:
+            earlier = int(a - offset[a])
+            if np.array_equal(np.asarray(arr[a:b]), np.asarray(arr[earlier:earlier + b - a])):
+                found.append((int(a), int(b - a), earlier))
+    return found

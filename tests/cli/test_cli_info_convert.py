@@ -230,3 +230,11 @@ def test_info_says_when_lag1_pairs_frames_across_gaps(tmp_path, capsys):
         capsys.readouterr().out)
     assert main(["info", str(tmp_path / "one.npz")]) == 0
     assert "lag1 pairs" not in capsys.readouterr().out
+
+
+def test_info_names_a_block_written_twice(tmp_path, capsys):
+    # Reference: frames 1000..1099 written twice by construction, no timestamps
+    x = np.random.default_rng(0).standard_normal((3000, 2))[np.r_[0:1100, 1000:3000]]
+    save(ModalLog(x, rate=2000.0), tmp_path / "twice.npz")
+    assert main(["info", str(tmp_path / "twice.npz")]) == 0
+    assert "frames 1100..1199 repeat frames 1000..1099 exactly" in capsys.readouterr().out

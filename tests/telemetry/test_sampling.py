@@ -238,3 +238,21 @@ def test_lagged_analyses_refuse_frames_removed_without_time_axis(which):
         transfer_entropy_map(log, lags=2, n_surrogates=19)
     with pytest.raises(ValueError, match="forecast evaluation takes the frames"):
         evaluate({"p": PersistencePredictor()}, log, horizons=[1])
+
+
+# ---- a block of frames exported twice (audit 10-time) -----------------------------------
+# Reference: the repeat by construction (frames 1000..1099 written again after 1099);
+# a frozen frame, a constant log and independent Gaussian frames repeat no block.
+
+def test_repeated_block_found_and_nothing_else():
+    from modalinfo.telemetry.sampling import repeated_blocks
+
+    x = np.random.default_rng(0).standard_normal((3000, 3))
+    assert repeated_blocks(x[np.r_[0:1100, 1000:3000]]) == [(1100, 100, 1000)]
+    assert repeated_blocks(x) == []
+    frozen = x.copy()
+    frozen[200:230] = frozen[200]
+    assert repeated_blocks(frozen) == []
+    assert repeated_blocks(np.zeros((100, 3))) == []
+    rounded = np.round(np.random.default_rng(1).standard_normal((20000, 2)), 1)
+    assert repeated_blocks(rounded) == []  # chance equal rows, no equal run of 8
