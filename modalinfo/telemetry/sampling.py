@@ -43,7 +43,7 @@ from modalinfo.telemetry.checks import check_timestamps
 
 __all__ = ["Sampling", "sampling_of", "require_contiguous", "warn_rate_change",
            "clock_interval", "rate_agrees", "require_frames_kept", "repeated_blocks",
-           "GAP_FACTOR", "REPEAT_RUN"]
+           "GAP_FACTOR", "REPEAT_RUN", "REPEAT_SCAN_FRAMES"]
 
 #: An interval longer than this many median intervals is a gap.
 GAP_FACTOR = 1.5
@@ -363,6 +363,8 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
 #: Frames in a row that repeat earlier frames exactly, at one offset, to count as a
 #: repeated block (the quality pass's default stuck run).
 REPEAT_RUN = 8
+#: Frames searched for repeated blocks (the first ones), bounding the memory of the sort.
+REPEAT_SCAN_FRAMES = 1 << 22
 
 
 def repeated_blocks(coeffs, min_run: int = REPEAT_RUN) -> list[tuple[int, int, int]]:
@@ -378,7 +380,8 @@ def repeated_blocks(coeffs, min_run: int = REPEAT_RUN) -> list[tuple[int, int, i
     Parameters
     ----------
     coeffs : array_like, shape (T, M)
-        Frames in time order (scanned in row blocks; memory 16 bytes per frame).
+        Frames in time order, scanned in row blocks; the first
+        :data:`REPEAT_SCAN_FRAMES` are searched (about 60 bytes per frame: 250 MB).
     min_run : int
         Shortest run of frames reported.
 
@@ -389,7 +392,7 @@ def repeated_blocks(coeffs, min_run: int = REPEAT_RUN) -> list[tuple[int, int, i
     """
     from modalinfo.telemetry.scan import row_blocks, scan_rows
 
-    arr = coeffs
+    arr = coeffs[:REPEAT_SCAN_FRAMES]  # bounded memory on a memory-mapped 1e8-frame log
     n = int(arr.shape[0])
     if n < 2 * min_run:
         return []
