@@ -258,7 +258,8 @@ def log_columns(log: Any) -> dict:
         row["median_rate"] = float(s.median_rate)  # the mean rate is biased by gaps
         # a rate change or gaps (adversarial round 9 PART b, row B01: a log of two
         # rates had one ok row saying 1333 Hz)
-        row["sampling"] = "uniform" if s.uniform else s.describe_irregular()
+        row["sampling"] = ("uniform" if s.uniform and not s.rate_change
+                           else s.describe_irregular())
     meta = log.metadata or {}
     for key, column in _META_COLUMNS.items():
         if key in meta and column not in row:

@@ -70,7 +70,8 @@ def _sampling_text(s) -> str:
     else:
         text = f"jitter {100 * s.jitter:.3g}% of the median interval; "
     if s.uniform:
-        return text + f"no gaps (interval > {s.gap_factor:g} x median)"
+        change = "" if not s.rate_change else f"; {s.describe_rate_change()}"
+        return text + f"no gaps (interval > {s.gap_factor:g} x median)" + change
     a, b = s.longest_segment
     if s.n_gaps == 0:  # only short intervals: the rate changed (round 9 PART b, row A01)
         return text + (f"{s.describe_irregular()}; longest equally spaced segment "
@@ -82,6 +83,7 @@ def _sampling_text(s) -> str:
         f"{s.n_gaps} gap(s) (interval > {s.gap_factor:g} x median), first {s.describe_gap(0)}"
         + ("" if k == 0 else f", largest {s.describe_gap(k)}")
         + short + f"; longest contiguous segment frames {a}..{b - 1}"
+        + ("" if not s.rate_change else f"; {s.describe_rate_change()}")
     )
 
 
@@ -136,6 +138,14 @@ def run(args: argparse.Namespace) -> int:
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
         out.write(f"repair      {repair}\n")
     out.write(f"quality     {quality.describe()}\n")
+    from modalinfo.telemetry.sampling import repeated_blocks
+
+    repeats = repeated_blocks(log.coeffs)
+    if repeats:  # a block exported twice (audit 10-time: nothing was said)
+        a, n, e = repeats[0]
+        more = "" if len(repeats) == 1 else f" ({len(repeats)} such blocks)"
+        out.write(f"repeats     frames {a}..{a + n - 1} repeat frames {e}..{e + n - 1} "
+                  f"exactly{more}: a block written twice? lags see a jump back in time\n")
     earlier = loaded.metadata.get("outliers")
     for record in earlier if isinstance(earlier, list) else []:  # e.g. a clipped file
         if isinstance(record, dict):
@@ -172,4 +182,29 @@ def run(args: argparse.Namespace) -> int:
             f"{label:<{width}}  {summary.mean[k]:>12.5g}  {summary.rms[k]:>12.5g}  "
             f"{summary.std[k]:>12.5g}  {_fmt(summary.lag1[k]):>8}\n"
         )
+    lag1_note = _lag1_note(log, sampling)
+    if lag1_note:
+        out.write(f"note        {lag1_note}\n")
     return 0
+
+
+def _lag1_note(log, sampling) -> str:
+    """Say when lag1 paired frames that are not one interval apart (audit 10-time).
+
+    lag1 pairs successive rows: across a gap, a rate change or frames removed from a
+    log without a time axis, a pair is not one frame interval apart, and nothing said
+    so beside the column.
+    """
+    if sampling is not None and sampling.n_frames > 1 and not sampling.uniform:
+        k = sampling.n_gaps + sampling.n_short
+        return (f"lag1 pairs successive frames: {k} of the {sampling.n_frames - 1} pairs "
+                f"({100 * k / (sampling.n_frames - 1):.2g}%) lie across gaps or rate "
+                "changes")
+    from modalinfo.telemetry.sampling import require_frames_kept
+
+    try:
+        require_frames_kept(log, "lag1")
+    except ValueError:
+        return ("lag1 pairs successive frames, also the frames around those removed from "
+                "this log without a time axis (give --rate to see them as gaps)")
+    return ""

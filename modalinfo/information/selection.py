@@ -239,13 +239,19 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
     if hasattr(data, "coeffs") and hasattr(data, "labels"):
         # lags count frames: across a gap in a log's timestamps (dropped frames) they
         # straddle it, as the forecast evaluation refuses (round 9, rows q-gap-select,
-        # q-gap-temap, q-drop-then-mi: computed without a word)
+        # q-gap-temap, q-drop-then-mi: computed without a word); a rate change alone
+        # (short intervals, no gap) raised IndexError naming no gap (audit 10-time)
         sampling = data.sampling() if callable(getattr(data, "sampling", None)) else None
+        from modalinfo.telemetry.sampling import require_frames_kept, warn_rate_change
+
+        require_frames_kept(data, f"`{name}`: the lagged analysis")
+        if sampling is not None:
+            warn_rate_change(sampling, f"lagged analysis of `{name}`")
         if sampling is not None and not sampling.uniform:
             a, b = sampling.longest_segment
             raise ValueError(
                 f"`{name}`: lags assume equally spaced frames but the log's timestamps have "
-                f"{sampling.n_gaps} gap(s), the first of {sampling.describe_gap(0)}; analyse "
+                f"{sampling.describe_irregular()}; analyse "
                 f"the longest contiguous segment (frames {a}..{b - 1}) with "
                 "log.longest_segment() (command line: --split-gaps)")
         arr = as_float_array(np.asarray(data.coeffs), name, ndim=2)

@@ -176,6 +176,13 @@ def ordering_stability(
     StabilityResult
     """
     view = as_basis(basis)
+    if callable(getattr(log_or_coeffs, "sampling", None)):
+        from modalinfo.telemetry.sampling import require_contiguous
+
+        # windows are frame counts: across a gap one window held two nights and its
+        # duration was window / mean rate (3000 frames, 8 h apart: 5762 s for 0.3 s;
+        # audit 10-time), as the command line's --stability refuses
+        require_contiguous(log_or_coeffs, "ordering_stability's time windows")
     a = coefficients_in_basis(log_or_coeffs, view, wavelength=wavelength)
     n_frames, n_modes = a.shape
     if window is None:

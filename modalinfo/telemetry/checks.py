@@ -24,6 +24,8 @@ __all__ = [
     "check_modes",
     "check_timestamps",
     "default_modes",
+    "TIME_RESOLUTION",
+    "timestamp_resolution",
     "mode_labels",
 ]
 
@@ -227,6 +229,7 @@ def check_timestamps(timestamps: Any, n_frames: int | None,
             f"`{name}` must be seconds exactly held by float64; got integers up to "
             f"{max(abs(int(t.min())), int(t.max()))} (> 2^53; ns since 1970?): pass "
             f"seconds relative to the first frame, e.g. (t - t[0]) / 1e9 for ns.")
+    dtype = t.dtype
     t = np.array(t, dtype=np.float64)
     if not np.all(np.isfinite(t)):
         raise ValueError(
@@ -242,5 +245,44 @@ def check_timestamps(timestamps: Any, n_frames: int | None,
                 f"`{name}` must be strictly increasing; {rule} at index {i + 1} "
                 f"({t[i]:.10g} s then {t[i + 1]:.10g} s)."
             )
+    if t.shape[0] > 2:
+        _check_resolution(t, dtype, name)
     t.flags.writeable = False
     return t
+
+
+#: Largest spacing of the time values near the largest time, as a fraction of the frame
+#: interval: beyond it intervals of k and k + 1 spacings pass for jitter, a rate change
+#: or a gap (float32 times from 1000 s at 2 kHz, spacing 6.1e-5 s, gave a median rate of
+#: 2048 Hz; audit 10-time). A Unix-epoch time in float64 (spacing 2.4e-7 s) holds rates up
+#: to 200 kHz. ``ModalLog``'s start-time rule uses the same fraction.
+TIME_RESOLUTION = 0.05
+
+
+def timestamp_resolution(t: np.ndarray, dtype: Any = np.float64) -> float:
+    """Spacing [s] between the representable time values near ``max(|t|)``.
+
+    ``t`` holds the times as float64; ``dtype`` is the dtype they were given in
+    (float32 keeps 24 bits, float16 11); integers are cast to float64.
+    """
+    big = float(np.max(np.abs(t))) if t.size else 0.0
+    res = float(np.spacing(np.float64(big)))
+    dtype = np.dtype(dtype)
+    if dtype.kind == "f" and dtype.itemsize < 8:
+        res = max(res, float(np.spacing(dtype.type(big))))
+    return res
+
+
+def _check_resolution(t: np.ndarray, dtype: np.dtype, name: str) -> None:
+    """Refuse times whose spacing near the end exceeds TIME_RESOLUTION of an interval."""
+    median = float(np.median(np.diff(t)))
+    res = timestamp_resolution(t, dtype)
+    if res > TIME_RESOLUTION * median:
+        raise ValueError(
+            f"`{name}` are too coarse for their frame interval: {dtype} times near "
+            f"{float(np.max(np.abs(t))):.6g} s are {res:.3g} s apart, "
+            f"{res / median:.0%} of the median interval {median:.3g} s (more than "
+            f"{TIME_RESOLUTION:.0%}), so the rate, gaps and jitter cannot be told; store "
+            "them in float64 relative to a nearer origin, or replace them by a rate "
+            "(command line: --rate)."
+        )

@@ -58,3 +58,17 @@ def test_analyses_refuse_a_rate_outside_the_range_the_summary_reports_it(tmp_pat
             run_log_task(task)
     else:
         assert run_log_task(task)["rate"] == rate
+
+
+def test_log_columns_state_a_rate_change_and_the_span():
+    # Reference: the time axis by construction: 1500 frames at 2 kHz then 1500 at
+    # 1980 Hz (no gap: the row said 'uniform'); two nights 8 h apart span 28800.75 s
+    from modalinfo.batch.analyses import log_columns
+
+    t = np.r_[np.arange(1500) / 2000.0, 0.7495 + np.arange(1, 1501) / 1980.0]
+    row = log_columns(ModalLog(np.zeros((3000, 1)), timestamps=t))
+    assert "changes by 1% along the log (1980 to 2000 Hz" in row["sampling"]
+    nights = np.r_[np.arange(1500), np.arange(1500)] / 2000.0
+    nights[1500:] += 8 * 3600.0
+    row = log_columns(ModalLog(np.zeros((3000, 1)), timestamps=nights))
+    assert row["duration"] == pytest.approx(28800.75, abs=1e-6)

@@ -215,3 +215,26 @@ def test_option_choices_match_the_library():
     assert set(choices("reorder", "--basis")) == set(BASES)
     assert set(choices("reorder", "--method")) == set(METHODS)
     assert set(choices("fitting-error", "--estimator")) == set(ESTIMATORS)
+
+
+def test_info_says_when_lag1_pairs_frames_across_gaps(tmp_path, capsys):
+    # Reference: the time axis by construction: 1500 frames at 2 kHz, then 1500 at
+    # 1 kHz: 1499 of the 2999 successive pairs are not one (median) interval apart,
+    # which the lag1 column did not say (audit 10-time). A uniform log gets no note.
+    x = np.random.default_rng(0).standard_normal((3000, 2))
+    t = np.r_[np.arange(1500) / 2000.0, 0.7495 + np.arange(1, 1501) / 1000.0]
+    save(ModalLog(x, timestamps=t), tmp_path / "two.npz")
+    save(ModalLog(x, rate=2000.0), tmp_path / "one.npz")
+    assert main(["info", str(tmp_path / "two.npz")]) == 0
+    assert "1499 of the 2999 pairs (50%) lie across gaps or rate changes" in (
+        capsys.readouterr().out)
+    assert main(["info", str(tmp_path / "one.npz")]) == 0
+    assert "lag1 pairs" not in capsys.readouterr().out
+
+
+def test_info_names_a_block_written_twice(tmp_path, capsys):
+    # Reference: frames 1000..1099 written twice by construction, no timestamps
+    x = np.random.default_rng(0).standard_normal((3000, 2))[np.r_[0:1100, 1000:3000]]
+    save(ModalLog(x, rate=2000.0), tmp_path / "twice.npz")
+    assert main(["info", str(tmp_path / "twice.npz")]) == 0
+    assert "frames 1100..1199 repeat frames 1000..1099 exactly" in capsys.readouterr().out

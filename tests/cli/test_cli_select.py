@@ -137,3 +137,20 @@ def test_select_slow_method_is_told_or_refused_before_work(tmp_path, capsys, mon
         assert exc.code == 5
     err = capsys.readouterr().err
     assert "note: --method ksg scores 20 candidates x 200" in err and "s of CPU" in err
+
+
+def test_extra_of_the_same_clock_with_timing_noise_accepted(tmp_path, capsys):
+    # Reference: both logs time the same 2 kHz frames, each with 2 % timing noise (their
+    # mean rates differ by ~1e-5, which was refused as "2000.02 Hz, LOG at 2000.02 Hz";
+    # audit 10-time); an extra log 2 s later is still refused, frame by frame.
+    rng = np.random.default_rng(7)
+    t = np.arange(3000) / 2000.0
+    for name in ("a", "b", "late"):
+        times = np.sort(t + rng.normal(0, 0.02 / 2000, t.size)) + (2.0 if name == "late" else 0)
+        save(ModalLog(rng.standard_normal((3000, 2)), timestamps=times,
+                      modes=[2, 3] if name == "a" else [5, 6]), tmp_path / f"{name}.npz")
+    args = ["select", str(tmp_path / "a.npz"), "--target", "Z2", "--max-lag", "2"]
+    assert main([*args, "--extra", str(tmp_path / "b.npz")]) == 0
+    capsys.readouterr()
+    assert main([*args, "--extra", str(tmp_path / "late.npz")]) == 2
+    assert "must be sampled at the frames" in capsys.readouterr().err

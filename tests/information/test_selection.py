@@ -377,3 +377,17 @@ def test_a_one_dimensional_series_is_one_mode_and_a_target_past_it_names_data():
     with pytest.raises(ValueError, match=r"^`data` of shape \(400,\) is one mode .* `target` "
                                          r"must be 0; got 1\."):
         select_inputs(x, 1, **kw)
+
+
+def test_rate_change_without_gap_refused_naming_it():
+    # 1500 frames at 2 kHz then 1500 at 1 kHz (audit 10-time): no interval is a gap
+    # (the median is 1 ms), 1499 are short; select_inputs and the map raised IndexError.
+    # Reference: the time axis by construction; the 1 kHz half is the longest segment.
+    from modalinfo.information import transfer_entropy_map
+
+    t = np.r_[np.arange(1500) / 2000.0, 0.7495 + np.arange(1, 1501) / 1000.0]
+    log = ModalLog(np.random.default_rng(0).standard_normal((3000, 2)), timestamps=t)
+    with pytest.raises(ValueError, match=r"1499 interval\(s\) shorter.*frames 1499..2999"):
+        select_inputs(log, 0, max_lag=2, n_surrogates=19)
+    with pytest.raises(ValueError, match=r"shorter.*the frame rate changes"):
+        transfer_entropy_map(log, lags=2, n_surrogates=19)

@@ -243,3 +243,20 @@ def test_a_rate_replacing_nanosecond_timestamps_starts_at_zero(tmp_path):
     assert log.metadata["file_start_time"] == float(ns[0])
     assert np.spacing(float(ns[0])) == 256.0
     np.testing.assert_array_equal(log.coeffs, d)
+
+
+def test_rate_hint_keeps_jittered_timestamps_and_their_gap(tmp_path):
+    # Reference: the time axis by construction: 2 kHz with 5 % timing noise and 100
+    # frames missing after frame 1499. The caller's true rate agrees with the
+    # timestamps, so they (and the gap) are kept; the median interval was 0.2 % off on
+    # this seed and the timestamps, gap included, were replaced by a uniform axis.
+    rng = np.random.default_rng(4)
+    t = np.sort(np.arange(3100) / 2000.0 + rng.normal(0, 0.05 / 2000, 3100))
+    keep = np.r_[0:1500, 1600:3100]
+    path = tmp_path / "jitter_gap.csv"
+    np.savetxt(path, np.c_[t[keep], rng.standard_normal((3000, 2))], delimiter=",",
+               header="time,Z2,Z3", comments="", fmt="%.17g")
+    assert abs(np.median(np.diff(t[keep])) * 2000 - 1) > 1e-3  # the premise
+    log = load(path, rate=2000.0, units="rad")
+    np.testing.assert_array_equal(log.timestamps, t[keep])
+    assert log.sampling().n_gaps == 1

@@ -36,8 +36,8 @@ def test_frames_dropped_as_nonfinite_without_a_rate_are_refused(data, basis):
     x[100:102, 0] = np.nan
     log = ModalLog(x, modes=range(2, 7), nonfinite="drop")  # no rate: 298 frames, no trace
     assert log.n_frames == 298 and log.timestamps is None
-    with pytest.raises(ValueError, match=r"^the block bootstrap of the MI gains .* assumes "
-                                         r"consecutive frames but frames were removed .*"
+    with pytest.raises(ValueError, match=r"^the block bootstrap of the MI gains .* takes the "
+                                         r"frames as consecutive, but frames were removed .*"
                                          r"dropped 2 frame\(s\)"):
         order_modes(log, basis, "mi_greedy", n_resamples=5, **KW)
     # no blocks, no refusal: the pooled MI treats the frames as one sample

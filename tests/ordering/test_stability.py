@@ -84,3 +84,20 @@ def test_rank_agreement_refuses_orders_that_are_not_ints():
         rank_agreement([1, 0, 2], np.array([1.0, 0.0, 2.0]))
     with pytest.raises(ValueError, match="`order_a` is a masked array"):
         rank_agreement(np.ma.masked_array([1, 0, 2], mask=[0, 1, 0]), [1, 0, 2])
+
+
+def test_windows_of_a_log_with_a_gap_refused():
+    # Reference: the time axis by construction (two nights of 1000 frames at 2 kHz, 8 h
+    # apart): a 400-frame window lasts 0.2 s, while window / mean rate gave 2880 s
+    from modalinfo.telemetry import ModalLog
+
+    rng = np.random.default_rng(0)
+    a = rng.standard_normal((2000, 4)) * np.array([3.0, 2.0, 1.0, 0.5])
+    t = np.r_[np.arange(1000), np.arange(1000)] / 2000.0
+    t[1000:] += 8 * 3600.0
+    z = orthonormal_modes(64, 4)
+    log = ModalLog(a, timestamps=t)
+    with pytest.raises(ValueError, match=r"time windows assumes equally spaced.*gap"):
+        ordering_stability(log, z, "variance", window=400, seeds=())
+    res = ordering_stability(log.longest_segment(), z, "variance", window=400, seeds=())
+    assert res.window_duration == pytest.approx(0.2)
