@@ -172,7 +172,9 @@ def test_subprocess_exit_code_and_stderr(tmp_path):
 
 
 def test_subprocess_success(tmp_path):
-    save(ModalLog(np.ones((5, 2)), rate=2.0), tmp_path / "a.npz")
+    # 200 white frames: long enough for the quality pass, which notes shorter logs
+    x = np.random.default_rng(0).standard_normal((200, 2))
+    save(ModalLog(x, rate=2.0), tmp_path / "a.npz")
     result = subprocess.run(
         [sys.executable, "-m", "modalinfo", "info", str(tmp_path / "a.npz")],
         capture_output=True,
@@ -180,7 +182,7 @@ def test_subprocess_success(tmp_path):
         timeout=120,
     )
     assert result.returncode == 0, result.stderr
-    assert "5 frames x 2 modes" in result.stdout
+    assert "200 frames x 2 modes" in result.stdout
     assert result.stderr == ""  # not a tty: no progress bar
 
 

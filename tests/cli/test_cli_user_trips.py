@@ -110,7 +110,7 @@ def test_messages_speak_cli(tmp_path, capsys):
         (["forecast", "{tmp}/nan.npy"], "use --nonfinite drop"),
         (["info", "{tmp}/one.npy"], "needs shape (T, 1)"),
         (["info", "{tmp}/dup.csv"], "repeated at frame 10: 0.0045 then 0.0045 s); pass --rate"),
-        (["reorder", "{tmp}/nan.npy", "--nonfinite", "drop", "--budget", "3"],
+        (["reorder", "{tmp}/nan.npy", "--nonfinite", "drop", "--resamples", "0", "--budget", "3"],
          "--budget must be an int >= 10; got 3"),
         (["forecast", "{tmp}/nan.npy", "--nonfinite", "drop", "--train", "2.5"],
          "--train must be a fraction in (0, 1) or a whole number of frames; got 2.5"),
