@@ -40,6 +40,40 @@ def _float_array(values: Any) -> np.ndarray | None:
     return np.asarray(out, dtype=float)
 
 
+def _int_order(values: Any) -> np.ndarray:
+    """``order`` read back: ints only (2.5 was truncated to 2 by the int64 cast)."""
+    if not isinstance(values, list) or not all(
+            isinstance(v, int) and not isinstance(v, bool) for v in values):
+        raise ValueError(f"`data['order']` must be a list of ints; got {values!r:.200}.")
+    return np.asarray(values, dtype=np.int64)
+
+
+def _check_consistent(kwargs: dict) -> None:
+    """Refuse a serialised ordering whose fields contradict each other.
+
+    An edited or damaged file was rebuilt as given: labels that are not the basis's
+    labels in ``order`` (the curves follow ``order``, the tables showed ``labels``), a
+    mode ranked twice, arrays of another length (audit 10, feedback, rows js-*).
+    """
+    order = kwargs.get("order")
+    own = kwargs.get("basis_labels")
+    if order is None or own is None:
+        return  # the constructor names the missing field
+    m = len(own)
+    if order.shape != (m,) or not np.array_equal(np.sort(order), np.arange(m)):
+        raise ValueError(f"`data['order']` must be a permutation of 0..{m - 1} (one index per "
+                         f"mode of `basis_labels`); got {order.tolist()!r:.200}.")
+    labels = kwargs.get("labels")
+    if labels is not None and tuple(labels) != tuple(own[i] for i in order):
+        raise ValueError(f"`data['labels']` must be `basis_labels` in `order` "
+                         f"({[own[i] for i in order[:5]]}...); got {list(labels)[:5]}...")
+    for name in _ARRAY_FIELDS[1:]:
+        value = kwargs.get(name)
+        if value is not None and value.shape != (m,):
+            raise ValueError(f"`data[{name!r}]` must hold {m} values (one per mode); got "
+                             f"{value.size}.")
+
+
 @array_fields_eq
 @dataclass(frozen=True)
 class OrderingResult:
@@ -246,12 +280,13 @@ class OrderingResult:
                 continue
             value = data[f.name]
             if f.name == "order":
-                value = np.asarray(value, dtype=np.int64)
+                value = _int_order(value)
             elif f.name in _ARRAY_FIELDS:
                 value = _float_array(value)
             elif f.name in ("labels", "basis_labels"):
                 value = tuple(value)
             kwargs[f.name] = value
+        _check_consistent(kwargs)
         return cls(**kwargs)
 
     @classmethod
