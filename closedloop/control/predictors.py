@@ -24,7 +24,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -35,8 +35,8 @@ from modalinfo.forecast.presets import PRESETS
 if TYPE_CHECKING:
     from closedloop.result import SimulationResult
 
-__all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "loop_predictor",
-           "training_data", "training_start"]
+__all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "check_trained_for",
+           "loop_predictor", "training_conditions", "training_data", "training_start"]
 
 #: every name ``closedloop run --predictor`` accepts (the forecast presets' list, plus
 #: the three that are not forecast presets)
@@ -72,12 +72,17 @@ class LoopPredictor:
         (:meth:`trained`); None: ready to run.
     oracle : bool
         The true future instead of a forecast (only ``ORACLE``).
+    trained_on : dict or None
+        :func:`training_conditions` of the reference run it was fitted on (set by
+        :meth:`trained`; ``simulate`` refuses a config with other conditions); None for a
+        forecaster fitted elsewhere (:meth:`from_fitted`).
     """
 
     name: str
     predictor: Any = None
     training: str | None = None
     oracle: bool = False
+    trained_on: dict | None = field(default=None, compare=False)
 
     @classmethod
     def from_name(cls, name: str) -> LoopPredictor:
@@ -148,11 +153,53 @@ class LoopPredictor:
             data = data @ basis
         forecaster = copy.deepcopy(self.predictor)
         forecaster.fit(data)
-        return dataclasses.replace(self, predictor=forecaster, training=None)
+        config = getattr(reference, "config", None)
+        known = all(hasattr(config, k) for k in ("telescope", "layers", "dms", "wfss", "loop",
+                                                   "r0_wavelength"))
+        return dataclasses.replace(self, predictor=forecaster, training=None,
+                                   trained_on=training_conditions(config) if known else None)
 
     def __repr__(self) -> str:
         state = ", untrained" if self.needs_training else ""
         return f"LoopPredictor({self.name!r}{state})"
+
+
+def training_conditions(config) -> dict:
+    """Return what shapes the POL a predictor learns: the parts a reference run must share.
+
+    The turbulence (telescope, layers, ``r0_wavelength``), what is measured and corrected
+    (sensors, mirrors and their modes) and the frame clock (``loop.time_step``,
+    ``loop.integration_time``): a forecaster's lags count frames. The controller
+    (gain, leak, delay, reconstructor), the seed, the science wavelength and the field
+    may differ: the POL estimates the turbulence whatever the loop does (the
+    compression study trains once for every delay).
+    """
+    return {"telescope": config.telescope, "layers": config.layers, "dms": config.dms,
+            "wfss": config.wfss, "loop.time_step": config.loop.time_step,
+            "loop.integration_time": config.loop.integration_time,
+            "r0_wavelength": config.r0_wavelength}
+
+
+def check_trained_for(predictor: LoopPredictor, config) -> None:
+    """Refuse a predictor trained on a reference run of other :func:`training_conditions`.
+
+    A forecaster trained on a run at half the frame rate or four times the wind was run
+    in this loop without a word (audit 10, feedback, rows rt-ref-other-rate,
+    rt-ref-other-wind, sim-trained-other-rate): its weights model another series.
+    """
+    own = predictor.trained_on
+    if own is None:
+        return
+    here = training_conditions(config)
+    for key, value in here.items():
+        if own.get(key) != value:
+            shown = (f"{own.get(key)!r} vs {value!r}" if isinstance(value, float)
+                     else "they differ")
+            raise ValueError(
+                f"`predictor` {predictor.name!r} was trained on a reference run whose "
+                f"`{key}` is not this config's ({shown}): train it on a run of this config "
+                "(a reference may differ only in the controller: gain, leak, delay, "
+                "reconstructor; and in seed, science wavelength and field).")
 
 
 #: no prediction: the loop's integrator alone
