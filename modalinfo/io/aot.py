@@ -82,6 +82,8 @@ _JSON_KEY = "MI_JSON"
 #: card on a loop's coefficient image: its columns' labels (JSON list), written by
 #: closedloop's export for modes that are not Noll Zernikes (DM-space K-L, zonal)
 _LABELS_KEY = "MI_MODES"
+#: closedloop's export: the wavelength [m] of the coefficients' phase (rad)
+_WAVELENGTH_KEY = "MI_WAVEL"
 #: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it): the words
 #: every foreign reader knows (:data:`modalinfo.io._columns.UNIT_WORDS`). Any other unit
 #: (``rad/s``, ``V``, ``pix``, ``furlong``...) is refused unless the caller states the units.
@@ -338,6 +340,17 @@ def _describe(system, lp, loops, path: Path) -> dict:
     return meta
 
 
+def _card_wavelength(lp) -> float | None:
+    """Return the coefficient image's ``MI_WAVEL`` card [m] (closedloop's export), or None.
+
+    A value outside the log's wavelength range is ignored (not a wavelength in metres).
+    """
+    cards = getattr(lp.modal_coefficients, "metadata", None) or []
+    raw = next((m.value for m in cards if getattr(m, "key", None) == _WAVELENGTH_KEY), None)
+    value = _number(raw)
+    return value if value is not None and 1e-12 <= value <= 1e-3 else None
+
+
 def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
     """Return the labels of the coefficient image's ``MI_MODES`` card, or None (no card).
 
@@ -483,6 +496,10 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
         # the file does not say: rad is the default, and it is an assumption (README
         # "Foreign logs"), so `info` marks it and `convert --units` refuses to convert
         meta["assumed"] = {"units": "rad"}
+    wavelength = _card_wavelength(lp)
+    if wavelength is not None and stored.get("units", "rad") in ("rad", "waves"):
+        # closedloop's export: the phase's wavelength (card MI_WAVEL) kept on the round trip
+        stored["wavelength"] = wavelength
     rate = _number(lp.framerate)
     if rate is not None and rate > 0:
         if stamps is not None and stamps.size > 1:
