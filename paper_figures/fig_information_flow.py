@@ -253,7 +253,7 @@ def plot(fig8: FigureFlow, out_dir: Path) -> list[Path]:
     paths = save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
     payload = {fs.key: {"labels": list(fs.flow.labels), "lags": fs.flow.lags.tolist(),
                         "rate": fs.rate, "n_samples": fs.flow.n_samples,
-                        # undefined cells (a mode to itself) as null: -1 read back as a
+                        # undefined cells (a mode to itself...) as null: -1 read back as a
                         # TE of -1 nats and a p-value of -1 (audit 10, feedback, row
                         # pf-fig8-json-sentinel)
                         "te": _nulls(fs.flow.te), "pvalue": _nulls(fs.flow.pvalue),
@@ -313,8 +313,7 @@ def report(fig8: FigureFlow) -> str:
         f"at {ALPHA:g} (measured within the Monte-Carlo error on maps of 2 to 100 cells: "
         "`modalinfo.information.flow`). Bivariate TE does not "
         "separate direct from indirect transfer (a common driver shows as a link). Numbers "
-        f"in `{JSON_NAME}` (`te[j][i][l]`, `pvalue` likewise; null where undefined: a mode "
-        "to itself).\n",
+        f"in `{JSON_NAME}` (null where undefined).\n",
     ]
     for fs in fig8.sets:
         f = fs.flow
