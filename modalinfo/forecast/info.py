@@ -311,6 +311,9 @@ class InfoPredictor(Predictor):
                     G[edges[q]:edges[q + 1], edges[p]:edges[p + 1]] = blk.T
         return G
 
+    def _memory(self, params):
+        return int(params["max_lag"][0])
+
     def _init_state(self, params, horizon):
         h_fit = params["coef"].shape[0]
         if horizon > h_fit:
