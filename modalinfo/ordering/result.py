@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from dataclasses import dataclass, field, fields
@@ -38,6 +39,30 @@ def _float_array(values: Any) -> np.ndarray | None:
         return None
     out = [np.nan if v is None else float(v) for v in values]
     return np.asarray(out, dtype=float)
+
+
+def basis_key(basis: Any) -> str | None:
+    """Digest of a K-L basis's variances (None for a basis without ``variances``)."""
+    variances = getattr(basis, "variances", None)
+    if variances is None:
+        return None
+    text = ",".join(f"{v:.6e}" for v in np.asarray(variances, dtype=np.float64).ravel())
+    return hashlib.sha256(text.encode("ascii")).hexdigest()[:16]
+
+
+def check_basis_key(result: Any, basis: Any, name: str) -> None:
+    """Refuse an ordering of one K-L basis applied to another with the same labels.
+
+    A data K-L of log A and of log B are both ``KL1``...: an order of A's modes was
+    applied to B's (audit 10, feedback, row kl-other-log).
+    """
+    own = getattr(result, "basis_key", None)
+    other = basis_key(basis)
+    if own is not None and other is not None and own != other:
+        raise ValueError(
+            f"`{name}` is another K-L basis than the one this ordering was computed on "
+            "(same labels KL1..., other variances: the K-L of another log, outer scale or "
+            "pupil): order the modes of this basis.")
 
 
 def _int_order(values: Any) -> np.ndarray:
@@ -129,6 +154,11 @@ class OrderingResult:
         last step).
     margin_low, margin_high : numpy.ndarray, shape (M,) or None
         Bootstrap percentile bounds of ``margin`` (order fixed), as for ``gain``.
+    basis_key : str or None
+        For a K-L basis, a digest of its variances (``KLBasis.variances``, 7 digits):
+        K-L bases of two logs, or of two outer scales, share the labels ``KL1``... but
+        not their modes, and an ordering of one is refused on the other. None for other
+        bases (their labels name their modes).
     """
 
     order: np.ndarray
@@ -156,6 +186,7 @@ class OrderingResult:
     margin: np.ndarray | None = None
     margin_low: np.ndarray | None = None
     margin_high: np.ndarray | None = None
+    basis_key: str | None = None
 
     @property
     def tied_with_previous(self) -> np.ndarray | None:
@@ -235,6 +266,7 @@ class OrderingResult:
                 f"got {n}."
             )
         labels = tuple(getattr(basis, "labels", ()))
+        check_basis_key(self, basis, "basis")
         if labels and tuple(labels) != self.basis_labels:
             raise ValueError(
                 f"`basis` labels must match the ordering's basis {list(self.basis_labels)[:5]}...; "

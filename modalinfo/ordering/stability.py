@@ -79,6 +79,11 @@ def _same_basis_order(order_a: Any, order_b: Any) -> Any:
     """
     own_a = tuple(getattr(order_a, "basis_labels", ()) or ())
     own_b = tuple(getattr(order_b, "basis_labels", ()) or ())
+    key_a, key_b = (getattr(o, "basis_key", None) for o in (order_a, order_b))
+    if key_a is not None and key_b is not None and key_a != key_b:
+        raise ValueError("`order_a` and `order_b` order two different K-L bases (same labels "
+                         "KL1..., other variances): rank agreement compares orders of the "
+                         "same modes.")
     if isinstance(order_a, np.ndarray) or isinstance(order_b, np.ndarray) or not (
             own_a and own_b) or own_a == own_b:
         return order_b
