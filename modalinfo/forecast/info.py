@@ -164,6 +164,10 @@ class InfoPredictor(Predictor):
         if len(labels) != n_modes:
             raise ValueError(f"`mode_labels` must name the {n_modes} fitted columns; got "
                              f"{len(labels)} labels.")
+        twice = sorted({s for s in labels if labels.count(s) > 1})
+        if twice:  # two columns of one mode: the radial mask was built for other columns
+            raise ValueError(f"`mode_labels` must name each column once; {twice} appear "
+                             "more than once.")
         allowed = candidate_mask(labels, self.candidates, self.radial_width)
         constant, value = self._constant_columns(X)
         mu = np.where(constant, value, X.mean(axis=0))
