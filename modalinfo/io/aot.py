@@ -37,6 +37,7 @@ import contextlib
 import json
 import math
 import os
+import re
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -516,7 +517,8 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
     if ident is None and labels is None:
         meta["modes_note"] = ("the loop has no mode images: the column labels are the default "
                               "(Noll 2..m+1) unless given")
-    elif ident is not None and ident.all_zernike and bool(np.all(ident.sign > 0)):
+    elif (ident is not None and ident.all_zernike and bool(np.all(ident.sign > 0))
+          and labels is None):  # the file's own names win (read_aot_basis's rule)
         meta["modes_identification"] = ident.to_dict()
         stored["modes"] = [int(j) for j in ident.noll]
         stored["convention"] = "noll"
@@ -581,8 +583,11 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
                   for k, (j, ok, s) in enumerate(zip(ident.noll, ident.is_zernike, ident.sign,
                                                      strict=True))]
         named = _card_labels(lp, n_cols, path) if n_cols is not None else None
-        if named is not None and not (ident.all_zernike and bool(np.all(ident.sign > 0))):
-            labels = named  # the file's own names of modes that are not Zernikes
+        if named is not None:
+            # the file's own names of modes that are not Zernikes, also where images pass
+            # the 0.95 correlation rule: K-L modes KL1..KL10 of Z2..Z11 were read back as
+            # Z2, Z3, Z4 (KL3 = 0.984 Z4 - 0.178 Z11; audit 10, feedback, row aotb-kl)
+            labels = named
         elif len(set(labels)) != len(labels):
             labels = [f"mode{k + 1}" for k in range(len(labels))]
         basis = basis_from_images(modes, mask=_pupil_mask(lp, system, modes), diameter=d,
@@ -658,6 +663,7 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
     cor_meta = meta.get("corrector") if isinstance(meta.get("corrector"), dict) else {}
     modes = pupil_mask = None
     diameter = _number(meta.get("diameter"))
+    extra_cards: dict = {}
     if basis is not None:
         if not hasattr(basis, "matrix") or not hasattr(basis, "pupil"):
             raise TypeError(f"`basis` must be a ModalBasis; got {type(basis).__name__}.")
@@ -665,6 +671,10 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
             raise ValueError(f"`basis` has {basis.n_modes} modes but the log has {log.n_modes} "
                              "columns; they must match.")
         modes = np.nan_to_num(basis.pupil.to_image(np.asarray(basis.matrix).T), nan=0.0)
+        names = [str(s) for s in basis.labels]
+        if not all(re.fullmatch(r"Z[1-9][0-9]*", s) for s in names):
+            # modes that are not Noll Zernikes (K-L...): their names, as closedloop's export
+            extra_cards[_LABELS_KEY] = json.dumps(names, separators=(",", ":"))
         pupil_mask = basis.pupil.mask
         diameter = diameter if diameter is not None else float(basis.pupil.diameter)
     units = log.units
@@ -677,7 +687,7 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
         framerate=log._rate,  # noqa: SLF001 - the nominal rate as given (None if none)
         delay=_number(meta.get("delay_frames")),
         modes=modes, closed=meta.get("loop") != "open",
-        coefficient_metadata={_JSON_KEY: header},
+        coefficient_metadata={_JSON_KEY: header, **extra_cards},
     )
     system = build_system(
         [spec],
