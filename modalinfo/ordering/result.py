@@ -46,7 +46,9 @@ def basis_key(basis: Any) -> str | None:
     variances = getattr(basis, "variances", None)
     if variances is None:
         return None
-    text = ",".join(f"{v:.6e}" for v in np.asarray(variances, dtype=np.float64).ravel())
+    # sorted: the same basis with its columns permuted (``reorder``) is the same modes,
+    # matched by label afterwards
+    text = ",".join(f"{v:.6e}" for v in np.sort(np.asarray(variances, dtype=np.float64).ravel()))
     return hashlib.sha256(text.encode("ascii")).hexdigest()[:16]
 
 
@@ -155,7 +157,7 @@ class OrderingResult:
     margin_low, margin_high : numpy.ndarray, shape (M,) or None
         Bootstrap percentile bounds of ``margin`` (order fixed), as for ``gain``.
     basis_key : str or None
-        For a K-L basis, a digest of its variances (``KLBasis.variances``, 7 digits):
+        For a K-L basis, a digest of its sorted variances (``KLBasis.variances``, 7 digits):
         K-L bases of two logs, or of two outer scales, share the labels ``KL1``... but
         not their modes, and an ordering of one is refused on the other. None for other
         bases (their labels name their modes).

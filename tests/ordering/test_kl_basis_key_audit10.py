@@ -56,6 +56,9 @@ def test_order_of_one_refused_on_the_other(setup, tmp_path):
             rank_agreement(r, order_modes(b, kb, "variance"))
     np.testing.assert_array_equal(fitting_error(a, ka, ra).mean,
                                   fitting_error(a, ka, ra.order).mean)
+    # the same basis with its columns permuted: the same modes, matched by label
+    np.testing.assert_allclose(fitting_error(a, ka.reorder(np.arange(6)[::-1]), ra).mean,
+                               fitting_error(a, ka, ra).mean, rtol=1e-12)
 
 
 def test_theoretical_kl_on_another_pupil_accepted_other_outer_scale_refused(setup):
