@@ -340,7 +340,7 @@ def _check_arguments(config, duration, predictor, on_predictor_fault, budget_eve
     if loop_pred.needs_training:
         raise ValueError(f"`predictor` {loop_pred.name!r} is not trained: use "
                          "closedloop.run_trained, or LoopPredictor.trained(reference).")
-    check_trained_for(loop_pred, config)
+    check_trained_for(loop_pred, config, control_basis)
     if not config.loop.closed:
         _check_open_loop(None if loop_pred.is_none else loop_pred.name, budget_every,
                          control_basis)

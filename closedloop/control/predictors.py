@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import hashlib
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -156,8 +157,11 @@ class LoopPredictor:
         config = getattr(reference, "config", None)
         known = all(hasattr(config, k) for k in ("telescope", "layers", "dms", "wfss", "loop",
                                                    "r0_wavelength"))
+        trained_on = None
+        if known:
+            trained_on = {**training_conditions(config), "control_basis": _digest(basis)}
         return dataclasses.replace(self, predictor=forecaster, training=None,
-                                   trained_on=training_conditions(config) if known else None)
+                                   trained_on=trained_on)
 
     def __repr__(self) -> str:
         state = ", untrained" if self.needs_training else ""
@@ -180,7 +184,15 @@ def training_conditions(config) -> dict:
             "r0_wavelength": config.r0_wavelength}
 
 
-def check_trained_for(predictor: LoopPredictor, config) -> None:
+def _digest(basis) -> str | None:
+    """SHA-256 of a control basis's float64 values and shape (None: every mode)."""
+    if basis is None:
+        return None
+    b = np.ascontiguousarray(np.asarray(basis, dtype=np.float64))
+    return hashlib.sha256(repr(b.shape).encode() + b.tobytes()).hexdigest()
+
+
+def check_trained_for(predictor: LoopPredictor, config, control_basis=None) -> None:
     """Refuse a predictor trained on a reference run of other :func:`training_conditions`.
 
     A forecaster trained on a run at half the frame rate or four times the wind was run
@@ -191,6 +203,12 @@ def check_trained_for(predictor: LoopPredictor, config) -> None:
     if own is None:
         return
     here = training_conditions(config)
+    if "control_basis" in own and own["control_basis"] != _digest(control_basis):
+        # fitted on POL @ B1 and fed POL @ B2 of the same width: another series
+        raise ValueError(
+            f"`predictor` {predictor.name!r} was trained on the POL projected on another "
+            "control basis than `control_basis` (or on every mode): train it with this "
+            "basis (LoopPredictor.trained(reference, basis=control_basis)).")
     for key, value in here.items():
         if own.get(key) != value:
             shown = (f"{own.get(key)!r} vs {value!r}" if isinstance(value, float)

@@ -57,3 +57,18 @@ def test_controller_and_seed_may_differ(runs):
     other = cfg.replace(loop=dataclasses.replace(cfg.loop, gain=0.3, delay=2e-3))
     r = run_trained(other, "linear-ls", 0.01, seed=1, reference=ref)
     assert r.strehl.shape[0] == 10 and np.all(np.isfinite(r.strehl))
+
+
+def test_control_basis_other_than_trained_on_refused(runs):
+    # a predictor fitted on POL @ B1 was run on POL @ B2 of the same width without a word
+    cfg, ref, _, _ = runs
+    n = ref.logs["dm0.pol"].n_modes
+    q, _ = np.linalg.qr(np.random.default_rng(0).standard_normal((n, n)))
+    b1, b2 = np.eye(n)[:, :5], q[:, :5]
+    spec = LoopPredictor.from_name("linear-ls").trained(ref, basis=b1)
+    assert simulate(cfg, 0.005, predictor=spec, seed=0, control_basis=b1).strehl.shape[0] == 5
+    with pytest.raises(ValueError, match="another control basis"):
+        simulate(cfg, 0.005, predictor=spec, seed=0, control_basis=b2)
+    with pytest.raises(ValueError, match="another control basis"):
+        simulate(cfg, 0.005, predictor=LoopPredictor.from_name("linear-ls").trained(ref),
+                 seed=0, control_basis=b1)
