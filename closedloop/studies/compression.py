@@ -337,6 +337,14 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
         model = LoopModel(config)
     if reference is None:
         reference = simulate(config, duration, model=model, seed=seed, progress=False)
+    else:
+        # its mean is the "none" row: a run of another gain, seed or predictor was shown
+        # as this loop's (audit 10, feedback, row screen-reference-other)
+        own = {"config": config, "seed": seed, "predictor": "none"}
+        for key, value in own.items():
+            if hasattr(reference, key) and getattr(reference, key) != value:
+                raise ValueError(f"`reference` must be the no-prediction run of `config` with "
+                                 f"seed {seed}; its `{key}` differs.")
     start = cl_predictors.training_start(reference)
     out = {"none": float(np.mean(reference.strehl_peak[start:]))}
     for name in ("oracle", *candidates):
