@@ -63,8 +63,8 @@ def check_basis_key(result: Any, basis: Any, name: str) -> None:
     if own is not None and other is not None and own != other:
         raise ValueError(
             f"`{name}` is another K-L basis than the one this ordering was computed on "
-            "(same labels KL1..., other variances: the K-L of another log, outer scale or "
-            "pupil): order the modes of this basis.")
+            "(same labels KL1..., other variances: the K-L of another log or outer scale): "
+            "order the modes of this basis.")
 
 
 def _int_order(values: Any) -> np.ndarray:
