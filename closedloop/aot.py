@@ -56,10 +56,12 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
     the ``dm{i}`` coefficients and the file holds the whole reconstructor.
 
   Each loop with coefficients carries the card ``MI_QUANT`` on its coefficient image
-  (``residual`` or ``pol``: what the series is); the ``dm{i}.wfs{k}`` loops have no
-  coefficient image, hence no card (the ``MI_CLOOP`` card describes them). A mirror
-  whose modes are not Noll Zernikes (a DM-space K-L ``DMKL1``..., a zonal mirror's
-  ``pix0``...) also carries its mode labels there, the card ``MI_MODES`` (JSON list):
+  (``residual`` or ``pol``: what the series is) and ``MI_WAVEL`` (the wavelength [m] of
+  its phase in rad: ``r0_wavelength``, read back as the log's ``wavelength``); the
+  ``dm{i}.wfs{k}`` loops have no coefficient image, hence no card (the ``MI_CLOOP``
+  card describes them). A mirror whose modes are not Noll Zernikes (a DM-space K-L
+  ``DMKL1``..., a zonal mirror's ``pix0``...) also carries its mode labels there, the
+  card ``MI_MODES`` (JSON list):
   AOT has no field for them and its mode images identify only Zernikes
   (``modalinfo.io.load`` reads the labels back). The time filter is
   :func:`~modalinfo.io.aot_system.integrator_filter` ``(gain, leak)``:
@@ -265,6 +267,10 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
     # modes that are not Noll Zernikes: their labels (DMKL1..., pix0...) in MI_MODES,
     # since the mode images identify only Zernikes (a reader would say mode1...)
     labels = {} if dm.modes else {"MI_MODES": json.dumps(list(dm.labels), separators=(",", ":"))}
+    # the wavelength of the phase (rad at r0_wavelength): AOT's "rad" does not say it, and
+    # a log read back had none (audit 10, feedback, rows cl-aot-*: `convert --units nm`
+    # then needed a --wavelength the user had to guess)
+    labels["MI_WAVEL"] = float(result.config.r0_wavelength)
     main = LoopSpec(
         uid=f"dm{i}", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),

@@ -47,7 +47,12 @@ import numpy as np
 from closedloop.budget import BudgetProbe
 from closedloop.config import LoopConfig, SimulationConfig
 from closedloop.control.controller import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
-from closedloop.control.predictors import ORACLE, LoopPredictor, loop_predictor
+from closedloop.control.predictors import (
+    ORACLE,
+    LoopPredictor,
+    check_trained_for,
+    loop_predictor,
+)
 from closedloop.model import LoopModel
 from closedloop.optics.products import FLOAT32_MIN_BYTES
 from closedloop.optics.science import ScienceCamera
@@ -355,6 +360,7 @@ def _check_arguments(config, duration, predictor, on_predictor_fault, budget_eve
     if loop_pred.needs_training:
         raise ValueError(f"`predictor` {loop_pred.name!r} is not trained: use "
                          "closedloop.run_trained, or LoopPredictor.trained(reference).")
+    check_trained_for(loop_pred, config, control_basis)
     if not config.loop.closed:
         _check_open_loop(None if loop_pred.is_none else loop_pred.name, budget_every,
                          control_basis)

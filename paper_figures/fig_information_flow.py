@@ -253,13 +253,21 @@ def plot(fig8: FigureFlow, out_dir: Path) -> list[Path]:
     paths = save_png_pdf(fig, out_dir, FIGURE_NAME, PDF_NAME)
     payload = {fs.key: {"labels": list(fs.flow.labels), "lags": fs.flow.lags.tolist(),
                         "rate": fs.rate, "n_samples": fs.flow.n_samples,
-                        "te": np.nan_to_num(fs.flow.te, nan=-1.0).tolist(),
-                        "pvalue": np.nan_to_num(fs.flow.pvalue, nan=-1.0).tolist(),
+                        # undefined cells (a mode to itself...) as null: -1 read back as a
+                        # TE of -1 nats and a p-value of -1 (audit 10, feedback, row
+                        # pf-fig8-json-sentinel)
+                        "te": _nulls(fs.flow.te), "pvalue": _nulls(fs.flow.pvalue),
                         "alpha": fs.flow.alpha, "n_surrogates": fs.flow.n_surrogates}
                for fs in fig8.sets}
     json_path = Path(out_dir) / JSON_NAME
     json_path.write_text(json.dumps(payload), encoding="utf-8")
     return [*paths, json_path]
+
+
+def _nulls(arr) -> list:
+    """``arr.tolist()`` with NaN as None (JSON null: the value is undefined)."""
+    a = np.asarray(arr, dtype=np.float64)
+    return np.where(np.isnan(a), None, a).tolist()
 
 
 def _n_pairs(f) -> int:
@@ -305,7 +313,7 @@ def report(fig8: FigureFlow) -> str:
         f"at {ALPHA:g} (measured within the Monte-Carlo error on maps of 2 to 100 cells: "
         "`modalinfo.information.flow`). Bivariate TE does not "
         "separate direct from indirect transfer (a common driver shows as a link). Numbers "
-        f"in `{JSON_NAME}`.\n",
+        f"in `{JSON_NAME}` (null where undefined).\n",
     ]
     for fs in fig8.sets:
         f = fs.flow

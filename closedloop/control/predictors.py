@@ -23,8 +23,9 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import hashlib
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -35,8 +36,8 @@ from modalinfo.forecast.presets import PRESETS
 if TYPE_CHECKING:
     from closedloop.result import SimulationResult
 
-__all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "loop_predictor",
-           "training_data", "training_start"]
+__all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "check_trained_for",
+           "loop_predictor", "training_conditions", "training_data", "training_start"]
 
 #: every name ``closedloop run --predictor`` accepts (the forecast presets' list, plus
 #: the three that are not forecast presets)
@@ -72,12 +73,17 @@ class LoopPredictor:
         (:meth:`trained`); None: ready to run.
     oracle : bool
         The true future instead of a forecast (only ``ORACLE``).
+    trained_on : dict or None
+        :func:`training_conditions` of the reference run it was fitted on (set by
+        :meth:`trained`; ``simulate`` refuses a config with other conditions); None for a
+        forecaster fitted elsewhere (:meth:`from_fitted`).
     """
 
     name: str
     predictor: Any = None
     training: str | None = None
     oracle: bool = False
+    trained_on: dict | None = field(default=None, compare=False)
 
     @classmethod
     def from_name(cls, name: str) -> LoopPredictor:
@@ -148,11 +154,70 @@ class LoopPredictor:
             data = data @ basis
         forecaster = copy.deepcopy(self.predictor)
         forecaster.fit(data)
-        return dataclasses.replace(self, predictor=forecaster, training=None)
+        config = getattr(reference, "config", None)
+        known = all(hasattr(config, k) for k in ("telescope", "layers", "dms", "wfss", "loop",
+                                                   "r0_wavelength"))
+        trained_on = None
+        if known:
+            trained_on = {**training_conditions(config), "control_basis": _digest(basis)}
+        return dataclasses.replace(self, predictor=forecaster, training=None,
+                                   trained_on=trained_on)
 
     def __repr__(self) -> str:
         state = ", untrained" if self.needs_training else ""
         return f"LoopPredictor({self.name!r}{state})"
+
+
+def training_conditions(config) -> dict:
+    """Return what shapes the POL a predictor learns: the parts a reference run must share.
+
+    The turbulence (telescope, layers, ``r0_wavelength``), what is measured and corrected
+    (sensors, mirrors and their modes) and the frame clock (``loop.time_step``,
+    ``loop.integration_time``): a forecaster's lags count frames. The controller
+    (gain, leak, delay, reconstructor), the seed, the science wavelength and the field
+    may differ: the POL estimates the turbulence whatever the loop does (the
+    compression study trains once for every delay).
+    """
+    return {"telescope": config.telescope, "layers": config.layers, "dms": config.dms,
+            "wfss": config.wfss, "loop.time_step": config.loop.time_step,
+            "loop.integration_time": config.loop.integration_time,
+            "r0_wavelength": config.r0_wavelength}
+
+
+def _digest(basis) -> str | None:
+    """SHA-256 of a control basis's float64 values and shape (None: every mode)."""
+    if basis is None:
+        return None
+    b = np.ascontiguousarray(np.asarray(basis, dtype=np.float64))
+    return hashlib.sha256(repr(b.shape).encode() + b.tobytes()).hexdigest()
+
+
+def check_trained_for(predictor: LoopPredictor, config, control_basis=None) -> None:
+    """Refuse a predictor trained on a reference run of other :func:`training_conditions`.
+
+    A forecaster trained on a run at half the frame rate or four times the wind was run
+    in this loop without a word (audit 10, feedback, rows rt-ref-other-rate,
+    rt-ref-other-wind, sim-trained-other-rate): its weights model another series.
+    """
+    own = predictor.trained_on
+    if own is None:
+        return
+    here = training_conditions(config)
+    if "control_basis" in own and own["control_basis"] != _digest(control_basis):
+        # fitted on POL @ B1 and fed POL @ B2 of the same width: another series
+        raise ValueError(
+            f"`predictor` {predictor.name!r} was trained on the POL projected on another "
+            "control basis than `control_basis` (or on every mode): train it with this "
+            "basis (LoopPredictor.trained(reference, basis=control_basis)).")
+    for key, value in here.items():
+        if own.get(key) != value:
+            shown = (f"{own.get(key)!r} vs {value!r}" if isinstance(value, float)
+                     else "they differ")
+            raise ValueError(
+                f"`predictor` {predictor.name!r} was trained on a reference run whose "
+                f"`{key}` is not this config's ({shown}): train it on a run of this config "
+                "(a reference may differ only in the controller: gain, leak, delay, "
+                "reconstructor; and in seed, science wavelength and field).")
 
 
 #: no prediction: the loop's integrator alone

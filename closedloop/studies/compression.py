@@ -318,6 +318,20 @@ class CompressionStudy:
         return int(self.n_values[ok[0]]) if ok.size else None
 
 
+def _check_reference(reference, config, seed: int) -> None:
+    """Refuse a given reference that is not the no-prediction run of ``config``, ``seed``.
+
+    Its mean is the screen's "none" row and its POL the orderings' and training data: a
+    run of another gain, seed or predictor was used as this loop's (audit 10, feedback,
+    row screen-reference-other).
+    """
+    own = {"config": config, "seed": seed, "predictor": "none"}
+    for key, value in own.items():
+        if hasattr(reference, key) and getattr(reference, key) != value:
+            raise ValueError(f"`reference` must be the no-prediction run of `config` with "
+                             f"seed {seed}; its `{key}` differs.")
+
+
 def predictor_screen(config: SimulationConfig, candidates, *, duration: float, seed: int = 0,
                      model: LoopModel | None = None,
                      reference: SimulationResult | None = None) -> dict[str, float]:
@@ -337,6 +351,8 @@ def predictor_screen(config: SimulationConfig, candidates, *, duration: float, s
         model = LoopModel(config)
     if reference is None:
         reference = simulate(config, duration, model=model, seed=seed, progress=False)
+    else:
+        _check_reference(reference, config, seed)
     start = cl_predictors.training_start(reference)
     out = {"none": float(np.mean(reference.strehl_peak[start:]))}
     for name in ("oracle", *candidates):
@@ -410,6 +426,8 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
     if reference is None:
         say("reference run (every mode, no prediction)")
         reference = simulate(config, duration, model=model, seed=seed, progress=False)
+    else:
+        _check_reference(reference, config, seed)
     start = cl_predictors.training_start(reference)
     bases = control_orderings(reference, orderings=orderings, seed=seed)
     timings["orderings"] = time.perf_counter() - t0

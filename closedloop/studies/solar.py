@@ -500,6 +500,9 @@ def solar_sensitivity(base: SimulationConfig | None = None, *, values: dict | No
                 0.5 * base.loop.time_step:
             raise ValueError(f"`base_results[{name!r}]` is not a run of the base config with "
                              f"seed {seed} and duration {duration:g} s.")
+        if getattr(res, "predictor", name) != name:  # its row: another predictor's numbers
+            raise ValueError(f"`base_results[{name!r}]` is a run of predictor "
+                             f"{res.predictor!r}, not {name!r}.")
     model = LoopModel(base) if model is None else model
     variations, lat = solar_variations(base, values, model=model, latency=latency)
     rows = []

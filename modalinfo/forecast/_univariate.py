@@ -24,6 +24,9 @@ class _LinearRecursion(Predictor):
     ``_fit_params`` must return ``mu (M,)``, ``phi (M, P)`` and ``theta (M, Q)``.
     """
 
+    def _memory(self, params: dict) -> int:
+        return int(params["phi"].shape[1])  # the AR lags (MA innovations start at 0)
+
     def _init_state(self, params: dict, horizon: int) -> dict:
         n_modes, n_ar = params["phi"].shape
         n_ma = params["theta"].shape[1]

@@ -377,6 +377,10 @@ class Predictor:
         return self
 
     # subclass hooks -------------------------------------------------------------
+    def _memory(self, params: dict) -> int:
+        """Past samples the recursion forecasts from (its lags); 0: none."""
+        return 0
+
     def _fit_params(self, X: np.ndarray, previous: dict | None, name: str) -> dict:
         raise NotImplementedError
 
@@ -487,6 +491,15 @@ class Predictor:
                                                                        minimum=1)
         X, scalar = self._check_history(history, "history", 1)
         self._check_n_modes(X.shape[1], "history")
+        memory = self._memory(self.params_)
+        if X.shape[0] < memory:
+            # the recursion starts from zeros (the online warm-up): the lags missing from
+            # a short history were taken as 0, a forecast of another series without a word
+            # (audit 10, feedback, rows pr-predict-short, pr-predict-1, mv-predict-1)
+            raise ValueError(
+                f"`history` must hold at least {memory} samples along axis 0: "
+                f"{type(self).__name__} forecasts from its last {memory} (its lags); got "
+                f"{X.shape[0]}.")
         run = self._new_run(H)
         out = np.zeros((1, H, X.shape[1]))
         self._feed(run, X, out, "history")

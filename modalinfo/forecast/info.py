@@ -164,6 +164,10 @@ class InfoPredictor(Predictor):
         if len(labels) != n_modes:
             raise ValueError(f"`mode_labels` must name the {n_modes} fitted columns; got "
                              f"{len(labels)} labels.")
+        twice = sorted({s for s in labels if labels.count(s) > 1})
+        if twice:  # two columns of one mode: the radial mask was built for other columns
+            raise ValueError(f"`mode_labels` must name each column once; {twice} appear "
+                             "more than once.")
         allowed = candidate_mask(labels, self.candidates, self.radial_width)
         constant, value = self._constant_columns(X)
         mu = np.where(constant, value, X.mean(axis=0))
@@ -310,6 +314,9 @@ class InfoPredictor(Predictor):
                 if q != p:
                     G[edges[q]:edges[q + 1], edges[p]:edges[p + 1]] = blk.T
         return G
+
+    def _memory(self, params):
+        return int(params["max_lag"][0])
 
     def _init_state(self, params, horizon):
         h_fit = params["coef"].shape[0]

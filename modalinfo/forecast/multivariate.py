@@ -109,6 +109,9 @@ class MultivariatePredictor(Predictor):
         mu, coef, _, _ = self._solve(X, name)
         return {"mu": mu, "coef": coef}
 
+    def _memory(self, params):
+        return int(params["coef"].shape[0])
+
     def _init_state(self, params, horizon):
         order, n_modes, _ = params["coef"].shape
         return {"values": np.zeros((order, n_modes)), "work": np.zeros((horizon, n_modes))}

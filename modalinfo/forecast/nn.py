@@ -218,6 +218,9 @@ class NeuralNetPredictor(Predictor):
                 "b2": b2, "activation": _ACTIVATIONS[self.activation], "models": models,
                 "converged": converged}
 
+    def _memory(self, params):
+        return int(params["w1"].shape[1])
+
     def _init_state(self, params, horizon):
         n_modes, k, _ = params["w1"].shape
         return {"values": np.zeros((n_modes, k)), "work": np.zeros(horizon + k)}

@@ -37,6 +37,7 @@ import contextlib
 import json
 import math
 import os
+import re
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -82,6 +83,8 @@ _JSON_KEY = "MI_JSON"
 #: card on a loop's coefficient image: its columns' labels (JSON list), written by
 #: closedloop's export for modes that are not Noll Zernikes (DM-space K-L, zonal)
 _LABELS_KEY = "MI_MODES"
+#: closedloop's export: the wavelength [m] of the coefficients' phase (rad)
+_WAVELENGTH_KEY = "MI_WAVEL"
 #: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it): the words
 #: every foreign reader knows (:data:`modalinfo.io._columns.UNIT_WORDS`). Any other unit
 #: (``rad/s``, ``V``, ``pix``, ``furlong``...) is refused unless the caller states the units.
@@ -338,6 +341,17 @@ def _describe(system, lp, loops, path: Path) -> dict:
     return meta
 
 
+def _card_wavelength(lp) -> float | None:
+    """Return the coefficient image's ``MI_WAVEL`` card [m] (closedloop's export), or None.
+
+    A value outside the log's wavelength range is ignored (not a wavelength in metres).
+    """
+    cards = getattr(lp.modal_coefficients, "metadata", None) or []
+    raw = next((m.value for m in cards if getattr(m, "key", None) == _WAVELENGTH_KEY), None)
+    value = _number(raw)
+    return value if value is not None and 1e-12 <= value <= 1e-3 else None
+
+
 def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
     """Return the labels of the coefficient image's ``MI_MODES`` card, or None (no card).
 
@@ -483,6 +497,10 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
         # the file does not say: rad is the default, and it is an assumption (README
         # "Foreign logs"), so `info` marks it and `convert --units` refuses to convert
         meta["assumed"] = {"units": "rad"}
+    wavelength = _card_wavelength(lp)
+    if wavelength is not None and stored.get("units", "rad") in ("rad", "waves"):
+        # closedloop's export: the phase's wavelength (card MI_WAVEL) kept on the round trip
+        stored["wavelength"] = wavelength
     rate = _number(lp.framerate)
     if rate is not None and rate > 0:
         if stamps is not None and stamps.size > 1:
@@ -499,7 +517,8 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
     if ident is None and labels is None:
         meta["modes_note"] = ("the loop has no mode images: the column labels are the default "
                               "(Noll 2..m+1) unless given")
-    elif ident is not None and ident.all_zernike and bool(np.all(ident.sign > 0)):
+    elif (ident is not None and ident.all_zernike and bool(np.all(ident.sign > 0))
+          and labels is None):  # the file's own names win (read_aot_basis's rule)
         meta["modes_identification"] = ident.to_dict()
         stored["modes"] = [int(j) for j in ident.noll]
         stored["convention"] = "noll"
@@ -564,8 +583,11 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
                   for k, (j, ok, s) in enumerate(zip(ident.noll, ident.is_zernike, ident.sign,
                                                      strict=True))]
         named = _card_labels(lp, n_cols, path) if n_cols is not None else None
-        if named is not None and not (ident.all_zernike and bool(np.all(ident.sign > 0))):
-            labels = named  # the file's own names of modes that are not Zernikes
+        if named is not None:
+            # the file's own names of modes that are not Zernikes, also where images pass
+            # the 0.95 correlation rule: K-L modes KL1..KL10 of Z2..Z11 were read back as
+            # Z2, Z3, Z4 (KL3 = 0.984 Z4 - 0.178 Z11; audit 10, feedback, row aotb-kl)
+            labels = named
         elif len(set(labels)) != len(labels):
             labels = [f"mode{k + 1}" for k in range(len(labels))]
         basis = basis_from_images(modes, mask=_pupil_mask(lp, system, modes), diameter=d,
@@ -641,6 +663,7 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
     cor_meta = meta.get("corrector") if isinstance(meta.get("corrector"), dict) else {}
     modes = pupil_mask = None
     diameter = _number(meta.get("diameter"))
+    extra_cards: dict = {}
     if basis is not None:
         if not hasattr(basis, "matrix") or not hasattr(basis, "pupil"):
             raise TypeError(f"`basis` must be a ModalBasis; got {type(basis).__name__}.")
@@ -648,6 +671,10 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
             raise ValueError(f"`basis` has {basis.n_modes} modes but the log has {log.n_modes} "
                              "columns; they must match.")
         modes = np.nan_to_num(basis.pupil.to_image(np.asarray(basis.matrix).T), nan=0.0)
+        names = [str(s) for s in basis.labels]
+        if not all(re.fullmatch(r"Z[1-9][0-9]*", s) for s in names):
+            # modes that are not Noll Zernikes (K-L...): their names, as closedloop's export
+            extra_cards[_LABELS_KEY] = json.dumps(names, separators=(",", ":"))
         pupil_mask = basis.pupil.mask
         diameter = diameter if diameter is not None else float(basis.pupil.diameter)
     units = log.units
@@ -660,7 +687,7 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
         framerate=log._rate,  # noqa: SLF001 - the nominal rate as given (None if none)
         delay=_number(meta.get("delay_frames")),
         modes=modes, closed=meta.get("loop") != "open",
-        coefficient_metadata={_JSON_KEY: header},
+        coefficient_metadata={_JSON_KEY: header, **extra_cards},
     )
     system = build_system(
         [spec],

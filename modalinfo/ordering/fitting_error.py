@@ -70,7 +70,7 @@ _BAND_FRAMES = 20_000
 
 
 def check_order(order: Any, n_modes: int, name: str = "order",
-                labels: Any = None) -> np.ndarray:
+                labels: Any = None, basis: Any = None) -> np.ndarray:
     """Validate a permutation of ``range(n_modes)``; return it as an int array.
 
     Parameters
@@ -84,6 +84,9 @@ def check_order(order: Any, n_modes: int, name: str = "order",
     labels : sequence of str, optional
         The basis's mode labels: an :class:`OrderingResult` is then matched by label
         (refused if the basis lacks its modes) instead of by index.
+    basis : object, optional
+        The basis itself: an :class:`OrderingResult` of another K-L basis (same labels,
+        other variances) is refused.
 
     Returns
     -------
@@ -92,6 +95,10 @@ def check_order(order: Any, n_modes: int, name: str = "order",
     if order is None:
         return np.arange(n_modes, dtype=np.int64)
     if hasattr(order, "order") and not isinstance(order, np.ndarray):  # an OrderingResult
+        if basis is not None:
+            from modalinfo.ordering.result import check_basis_key
+
+            check_basis_key(order, basis, "basis")
         order = _result_order(order, labels, name)
     arr = np.asarray(unmasked(order, name))
     if arr.ndim != 1 or not (arr.dtype.kind in "iu" or arr.size == 0):  # not timedelta64
@@ -415,7 +422,7 @@ def fitting_error(
     a = coefficients_in_basis(coeffs_or_log, view, wavelength=wavelength, name="coeffs_or_log",
                               defer_value_checks=True)
     check_represented(coeffs_or_log, view)
-    idx = check_order(order, view.n_modes, labels=view.labels)
+    idx = check_order(order, view.n_modes, labels=view.labels, basis=view.obj)
     levels = tuple(float(p) for p in np.atleast_1d(as_float_array(percentiles, "percentiles")))
     if any(p < 0 or p > 100 for p in levels):
         raise ValueError(f"`percentiles` must lie in [0, 100]; got {levels}.")

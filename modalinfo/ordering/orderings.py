@@ -77,6 +77,7 @@ other ordering's).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from typing import Any
@@ -88,7 +89,7 @@ from modalinfo.information.api import InfiniteMIError
 from modalinfo.information.resampling import block_bootstrap_indices, resolve_block_length
 from modalinfo.ordering import _kernels as kern
 from modalinfo.ordering._coefficients import BasisView, as_basis, coefficients_in_basis
-from modalinfo.ordering.result import OrderingResult
+from modalinfo.ordering.result import OrderingResult, basis_key
 
 __all__ = ["METHODS", "SEARCHES", "order_modes", "mi_along_order", "sample_contributions"]
 
@@ -605,7 +606,8 @@ def order_modes(
     seed_value = int(seed) if isinstance(seed, numbers.Integral) and not isinstance(
         seed, bool) else None
     rng = check_rng(seed)
-    common = dict(basis_labels=view.labels, method=method, pooled=frame is None, frame=frame)
+    common = dict(basis_labels=view.labels, method=method, pooled=frame is None, frame=frame,
+                  basis_key=basis_key(view.obj))
 
     def result(order: np.ndarray, **kw: Any) -> OrderingResult:
         order = np.asarray(order, dtype=np.int64)
@@ -638,7 +640,8 @@ def order_modes(
         frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
         confidence_level=confidence_level, block_length=block_length, progress=progress,
         search=search)
-        return _with_dead_modes(sub, live, np.flatnonzero(gone), view.labels)
+        return dataclasses.replace(_with_dead_modes(sub, live, np.flatnonzero(gone),
+                                                    view.labels), basis_key=basis_key(view.obj))
 
     dead = _constant_modes(a if frame is None else a[frame:frame + 1], view.matrix)
     if dead.any() and not dead.all():
@@ -744,7 +747,7 @@ def mi_along_order(
 
     options = _check_estimator_options(estimator_options)
     view = as_basis(basis)
-    idx = check_order(order, view.n_modes, labels=view.labels)
+    idx = check_order(order, view.n_modes, labels=view.labels, basis=view.obj)
     contrib = sample_contributions(log_or_coeffs, view, sample_budget=sample_budget,
                                    frame=frame, seed=seed, wavelength=wavelength)
     est, _ = _make_estimator(estimator, options)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from dataclasses import dataclass, field, fields
@@ -38,6 +39,66 @@ def _float_array(values: Any) -> np.ndarray | None:
         return None
     out = [np.nan if v is None else float(v) for v in values]
     return np.asarray(out, dtype=float)
+
+
+def basis_key(basis: Any) -> str | None:
+    """Digest of a K-L basis's variances (None for a basis without ``variances``)."""
+    variances = getattr(basis, "variances", None)
+    if variances is None:
+        return None
+    # sorted: the same basis with its columns permuted (``reorder``) is the same modes,
+    # matched by label afterwards
+    text = ",".join(f"{v:.6e}" for v in np.sort(np.asarray(variances, dtype=np.float64).ravel()))
+    return hashlib.sha256(text.encode("ascii")).hexdigest()[:16]
+
+
+def check_basis_key(result: Any, basis: Any, name: str) -> None:
+    """Refuse an ordering of one K-L basis applied to another with the same labels.
+
+    A data K-L of log A and of log B are both ``KL1``...: an order of A's modes was
+    applied to B's (audit 10, feedback, row kl-other-log).
+    """
+    own = getattr(result, "basis_key", None)
+    other = basis_key(basis)
+    if own is not None and other is not None and own != other:
+        raise ValueError(
+            f"`{name}` is another K-L basis than the one this ordering was computed on "
+            "(same labels KL1..., other variances: the K-L of another log or outer scale): "
+            "order the modes of this basis.")
+
+
+def _int_order(values: Any) -> np.ndarray:
+    """``order`` read back: ints only (2.5 was truncated to 2 by the int64 cast)."""
+    if not isinstance(values, list) or not all(
+            isinstance(v, int) and not isinstance(v, bool) for v in values):
+        raise ValueError(f"`data['order']` must be a list of ints; got {values!r:.200}.")
+    return np.asarray(values, dtype=np.int64)
+
+
+def _check_consistent(kwargs: dict) -> None:
+    """Refuse a serialised ordering whose fields contradict each other.
+
+    An edited or damaged file was rebuilt as given: labels that are not the basis's
+    labels in ``order`` (the curves follow ``order``, the tables showed ``labels``), a
+    mode ranked twice, arrays of another length (audit 10, feedback, rows js-*).
+    """
+    order = kwargs.get("order")
+    own = kwargs.get("basis_labels")
+    if order is None or own is None:
+        return  # the constructor names the missing field
+    m = len(own)
+    if order.shape != (m,) or not np.array_equal(np.sort(order), np.arange(m)):
+        raise ValueError(f"`data['order']` must be a permutation of 0..{m - 1} (one index per "
+                         f"mode of `basis_labels`); got {order.tolist()!r:.200}.")
+    labels = kwargs.get("labels")
+    if labels is not None and tuple(labels) != tuple(own[i] for i in order):
+        raise ValueError(f"`data['labels']` must be `basis_labels` in `order` "
+                         f"({[own[i] for i in order[:5]]}...); got {list(labels)[:5]}...")
+    for name in _ARRAY_FIELDS[1:]:
+        value = kwargs.get(name)
+        if value is not None and value.shape != (m,):
+            raise ValueError(f"`data[{name!r}]` must hold {m} values (one per mode); got "
+                             f"{value.size}.")
 
 
 @array_fields_eq
@@ -95,6 +156,11 @@ class OrderingResult:
         last step).
     margin_low, margin_high : numpy.ndarray, shape (M,) or None
         Bootstrap percentile bounds of ``margin`` (order fixed), as for ``gain``.
+    basis_key : str or None
+        For a K-L basis, a digest of its sorted variances (``KLBasis.variances``, 7 digits):
+        K-L bases of two logs, or of two outer scales, share the labels ``KL1``... but
+        not their modes, and an ordering of one is refused on the other. None for other
+        bases (their labels name their modes).
     """
 
     order: np.ndarray
@@ -122,6 +188,7 @@ class OrderingResult:
     margin: np.ndarray | None = None
     margin_low: np.ndarray | None = None
     margin_high: np.ndarray | None = None
+    basis_key: str | None = None
 
     @property
     def tied_with_previous(self) -> np.ndarray | None:
@@ -201,6 +268,7 @@ class OrderingResult:
                 f"got {n}."
             )
         labels = tuple(getattr(basis, "labels", ()))
+        check_basis_key(self, basis, "basis")
         if labels and tuple(labels) != self.basis_labels:
             raise ValueError(
                 f"`basis` labels must match the ordering's basis {list(self.basis_labels)[:5]}...; "
@@ -246,12 +314,13 @@ class OrderingResult:
                 continue
             value = data[f.name]
             if f.name == "order":
-                value = np.asarray(value, dtype=np.int64)
+                value = _int_order(value)
             elif f.name in _ARRAY_FIELDS:
                 value = _float_array(value)
             elif f.name in ("labels", "basis_labels"):
                 value = tuple(value)
             kwargs[f.name] = value
+        _check_consistent(kwargs)
         return cls(**kwargs)
 
     @classmethod

@@ -30,8 +30,11 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
 
     Parameters
     ----------
-    order_a, order_b : array_like of int, shape (M,)
-        Permutations of ``0..M-1`` (indices into the same basis).
+    order_a, order_b : array_like of int, shape (M,), or OrderingResult
+        Permutations of ``0..M-1`` (indices into the same basis). Two
+        :class:`OrderingResult` are matched by mode label (their bases may hold the same
+        modes in different column orders); results of bases with other modes raise
+        ``ValueError``.
 
     Returns
     -------
@@ -44,6 +47,7 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
     # ranks with an IndexError, a masked index was used)
     # an OrderingResult gives its order (np.size of the object was 1: "0..0" refusal, round
     # 9 row fb-stab-rank)
+    order_b = _same_basis_order(order_a, order_b)
     order_a, order_b = (getattr(o, "order", o) if not isinstance(o, np.ndarray) else o
                         for o in (order_a, order_b))
     a = check_order(order_a, np.size(order_a), "order_a")
@@ -62,6 +66,34 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
     rho = float(stats.spearmanr(ra, rb).statistic)
     tau = float(stats.kendalltau(ra, rb).statistic)
     return rho, tau
+
+
+def _same_basis_order(order_a: Any, order_b: Any) -> Any:
+    """``order_b`` as indices into ``order_a``'s basis when both are OrderingResults.
+
+    Two results' indices point into the bases they were computed on: the same modes in
+    another column order, or the modes of another basis (K-L against Zernikes), were
+    compared by position, e.g. rho = -0.83 for two identical orders on a basis and on its
+    reversed copy (audit 10, feedback, rows ra-*). Matched by label, as ``fitting_error``
+    matches a result (round 9, fb-ordres-other-basis); other modes are refused.
+    """
+    own_a = tuple(getattr(order_a, "basis_labels", ()) or ())
+    own_b = tuple(getattr(order_b, "basis_labels", ()) or ())
+    key_a, key_b = (getattr(o, "basis_key", None) for o in (order_a, order_b))
+    if key_a is not None and key_b is not None and key_a != key_b:
+        raise ValueError("`order_a` and `order_b` order two different K-L bases (same labels "
+                         "KL1..., other variances): rank agreement compares orders of the "
+                         "same modes.")
+    if isinstance(order_a, np.ndarray) or isinstance(order_b, np.ndarray) or not (
+            own_a and own_b) or own_a == own_b:
+        return order_b
+    if sorted(own_a) != sorted(own_b) or len(set(own_a)) != len(own_a):
+        raise ValueError(
+            f"`order_a` and `order_b` order the modes of different bases ({list(own_a)[:5]}"
+            f"... and {list(own_b)[:5]}...): rank agreement compares orders of the same "
+            "modes.")
+    where = {s: k for k, s in enumerate(own_a)}
+    return np.array([where[own_b[int(i)]] for i in np.asarray(order_b.order)], dtype=np.int64)
 
 
 def _top_overlap(a: np.ndarray, b: np.ndarray, n: int) -> float:

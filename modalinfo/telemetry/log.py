@@ -280,27 +280,43 @@ class ModalLog:
     def __getstate__(self) -> dict:
         return {name: getattr(self, name) for name in self.__slots__}
 
-    def __eq__(self, other: object) -> bool:
-        # by value (coefficients with their dtype, time axis, modes, units, metadata):
-        # identity made a log unequal to its own pickle or copy, and every result holding
-        # logs (SimulationResult.logs) unequal to its round trip (audit 10-state, rows
-        # SimulationResult-eq-*). NaN equals NaN: a stored gap is the same data.
-        if other is self:
-            return True
-        if not isinstance(other, ModalLog):
-            return NotImplemented
-        return all(same_value(getattr(self, name), getattr(other, name))
-                   for name in self.__slots__)
-
-    # unhashable: equal by value, and the data may be a view the caller can still write
-    __hash__ = None  # type: ignore[assignment]
-
     def __setstate__(self, state: dict) -> None:
         for name, value in state.items():
             object.__setattr__(self, name, value)
         for arr in (self._coeffs, self._timestamps):
             if isinstance(arr, np.ndarray) and arr.flags.writeable:
                 arr.flags.writeable = False  # unpickled copies stay read-only
+
+    def __eq__(self, other: object) -> bool:
+        """Tell whether two logs hold the same log: values and everything that describes them.
+
+        Coefficients bit for bit (same dtype and shape), the time axis as stored (rate,
+        timestamps, start time), modes, convention, units, wavelength and metadata. Before,
+        ``==`` was identity: a log read back exactly (``io.load(io.save(log))``), its pickle
+        or copy, and a ``SimulationResult`` saved and loaded all compared unequal to the
+        original (audit 10, feedback, row cl-save-load-eq). ``repairs`` (what building
+        this object did) is not compared: the metadata keeps it. Logs are unhashable.
+        """
+        if not isinstance(other, ModalLog):
+            return NotImplemented
+        if self is other:
+            return True
+        a, b = self._coeffs, other._coeffs
+        if a.dtype != b.dtype or a.shape != b.shape:
+            return False
+        ta, tb = self._timestamps, other._timestamps
+        if (ta is None) != (tb is None) or (ta is not None and not np.array_equal(ta, tb)):
+            return False
+        return (self._rate == other._rate and self._start_time == other._start_time
+                and list(self._modes) == list(other._modes)
+                and self._convention == other._convention and self._units == other._units
+                and self._wavelength == other._wavelength
+                and same_value(self._metadata, other._metadata)
+                and all(np.array_equal(x, y, equal_nan=True)
+                        for x, y in zip(self.iter_chunks(65536), other.iter_chunks(65536),
+                                        strict=True)))
+
+    __hash__ = None  # type: ignore[assignment]  # equal by value, so not hashable
 
     # ------------------------------------------------------------------ properties
     @property

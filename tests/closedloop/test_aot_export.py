@@ -175,6 +175,19 @@ def test_modalinfo_load_gives_the_logs_bit_for_bit(run, cfg, model, exported):
         assert meta["wfs"]["field_of_view"] == cfg.wfss[i].field_of_view
 
 
+def test_modalinfo_load_keeps_the_phase_wavelength(run, cfg, model, exported, tmp_path):
+    # audit 10, feedback, rows cl-aot-*: the logs are rad at r0_wavelength; read back they
+    # had no wavelength, so `convert --units nm` needed one the user had to guess
+    for i in range(len(model.dms)):
+        for uid, name in ((f"dm{i}", "residual"), (f"dm{i}.pol", "pol")):
+            log = load(exported, loop=uid)
+            assert log.wavelength == run.logs[f"dm{i}.{name}"].wavelength == cfg.r0_wavelength
+    nm = load(exported, loop="dm0").to_units("nm")
+    np.testing.assert_allclose(  # OPD = phase x lambda / (2 pi), at 500 nm
+        nm.coeffs, run.logs["dm0.residual"].coeffs * cfg.r0_wavelength * 1e9 / (2 * np.pi),
+        rtol=1e-15)
+
+
 @pytest.mark.parametrize("uid,modes", [("dm0", "Z2-Z36"), ("dm1", "Z2-Z21")])
 def test_modalinfo_info_identifies_the_dm_modes_as_zernikes(exported, capsys, uid, modes):
     # dm1 (10 km) has a 4.97 m disc (39.8 px) on a 72 px plane grid: identification crops

@@ -87,3 +87,8 @@ def test_refusals_name_the_argument(var_log):
                       mode_labels=[f"a{i}" for i in range(20)]).fit(var_log)
     with pytest.raises(ValueError, match="`candidates` must be one of"):
         InfoPredictor(candidates="near").fit(var_log)
+    # audit 10, feedback: a label given twice names two columns one mode (the mask was
+    # built for other columns)
+    with pytest.raises(ValueError, match="name each column once; \\['Z2'\\]"):
+        InfoPredictor(candidates="radial",
+                      mode_labels=["Z2", "Z2"] + [f"Z{j}" for j in range(4, 22)]).fit(var_log)

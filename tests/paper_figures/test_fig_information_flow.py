@@ -77,6 +77,20 @@ def test_report_and_row_come_from_the_written_numbers(result, tmp_path):
                       f"{lag * 1e3 / data['rate']:g} ms ({v:.4f} nats)")
 
 
+def test_json_undefined_cells_are_null(result, tmp_path):
+    # audit 10, feedback, row pf-fig8-json-sentinel: a mode to itself was written as TE -1
+    # nats and p-value -1, numbers a reader takes for values
+    fig8.plot(result, tmp_path)
+    data = json.loads((tmp_path / fig8.JSON_NAME).read_text())["planted"]
+    (fs,) = result.sets
+    for key, values in (("te", fs.flow.te), ("pvalue", fs.flow.pvalue)):
+        written = data[key]
+        for j, i, lag in np.ndindex(values.shape):
+            v = written[j][i][lag]
+            assert (v is None) if np.isnan(values[j, i, lag]) else v == values[j, i, lag]
+        assert all(written[k][k][0] is None for k in range(len(written)))
+
+
 def test_stand_alone_command_refuses_to_replace(tmp_path, capsys):
     (tmp_path / fig8.FIGURE_NAME).write_bytes(b"x")
     assert fig8.main(["--out", str(tmp_path)]) == 2

@@ -368,7 +368,7 @@ def test_plot_files_and_layout(drawn):
     np.testing.assert_array_equal(np.asarray(grid[4].images[0].get_array()),
                                   [[0.0, 0.0625], [0.0625, 0.0]])
 
-    # ---- the JSON: strict (NaN written as -1), every set's numbers
+    # ---- the JSON: strict (NaN written as null: audit 10), every set's numbers
     data = json.loads(paths[2].read_text(encoding="utf-8"),
                       parse_constant=lambda c: pytest.fail(f"non-strict JSON {c}"))
     assert list(data) == ["table1-wind", "spectral", "simulated"]
@@ -378,9 +378,9 @@ def test_plot_files_and_layout(drawn):
                                                                           39)
     te, p = np.array(d["te"]), np.array(d["pvalue"])
     assert te.shape == p.shape == (3, 3, 8)
-    np.testing.assert_array_equal(te[1, 2], [-1.0] * 8)
-    np.testing.assert_array_equal(te[0, 0], [-1.0] * 8)
-    np.testing.assert_array_equal(p[1, 2], [-1.0] * 8)
+    np.testing.assert_array_equal(te[1, 2], [None] * 8)
+    np.testing.assert_array_equal(te[0, 0], [None] * 8)
+    np.testing.assert_array_equal(p[1, 2], [None] * 8)
     np.testing.assert_array_equal(te[0, 2], a.te[0, 2])
     np.testing.assert_array_equal(p[1, 0], a.pvalue[1, 0])
     assert data["spectral"]["lags"] == [1, 2] and data["spectral"]["rate"] == 250.0
@@ -400,7 +400,8 @@ INTRO = (
     "{n} circular time shifts of the sources, which holds the chance of any spurious link "
     "in a map at 0.05 (measured within the Monte-Carlo error on maps of 2 to 100 cells: "
     "`modalinfo.information.flow`). Bivariate TE does not separate direct from indirect "
-    "transfer (a common driver shows as a link). Numbers in `fig8_information_flow.json`.\n")
+    "transfer (a common driver shows as a link). Numbers in `fig8_information_flow.json` "
+    "(null where undefined).\n")
 READING = (
     "Reading: a TE that peaks at one lag is transport (a layer carrying a pattern "
     "from one mode, or one WFS, to another); a TE flat over the lags is a slowly "

@@ -446,6 +446,13 @@ def test_predictor_screen(recorder):
     assert recorder.runs[-1]["model"] is model and recorder.runs[-1]["reference"] is ref
     assert recorder.runs[-1]["seed"] == 0
     assert out == pytest.approx({"none": 0.25, "oracle": 0.04}, rel=1e-12)
+    # audit 10, feedback: a reference of another seed, config or predictor is refused
+    other_cfg = cfg.replace(loop=dataclasses.replace(cfg.loop, gain=0.2))
+    for key, value in (("seed", 1), ("predictor", "arma"), ("config", other_cfg)):
+        other = _Run(0.25, _start())
+        setattr(other, key, value)
+        with pytest.raises(ValueError, match=f"its `{key}` differs"):
+            comp.predictor_screen(cfg, (), duration=0.02, model=model, reference=other)
 
 
 def test_study_grid_by_hand(recorder, monkeypatch):

@@ -647,3 +647,15 @@ def test_study_defaults_and_its_own_base(recorder, monkeypatch):
     with pytest.raises(ValueError) as exc:
         solar.solar_sensitivity(base, max_runs=0)
     assert str(exc.value) == "`max_runs` must be an int >= 1; got 0."
+
+
+def test_given_run_of_another_predictor_refused(recorder):
+    # audit 10, feedback: the no-prediction run given as the 'arma' row was shown as arma's
+    base = _solar()
+    other = _Run(base, 3, 0.004, 7)
+    other.predictor = "none"
+    with pytest.raises(ValueError, match=r"`base_results\['arma'\]` is a run of predictor "
+                                         r"'none', not 'arma'"):
+        solar.solar_sensitivity(base, values={"signal": (150.0,)}, predictors=("none", "arma"),
+                                duration=0.004, seed=3, model=object(),
+                                base_results={"arma": other})

@@ -1,0 +1,49 @@
+"""A closedloop result given as a log is refused in one line, naming the way to its logs
+(audit 10, feedback, row cli-h5-result-dataset).
+
+Reference: the command-line contract (exit 2, one line on stderr) and the file's own
+``format`` attribute, ``closedloop-result``, that ``SimulationResult.save`` writes. Before,
+``modalinfo info r.h5 --dataset logs/dm0.pol/coefficients`` called the file "corrupt"
+(its log datasets carry modalinfo's attributes but the file has no log header).
+"""
+
+import pytest
+
+from closedloop import simulate
+from closedloop.config import (
+    DMConfig,
+    FieldConfig,
+    LayerConfig,
+    LoopConfig,
+    SimulationConfig,
+    TelescopeConfig,
+    WFSConfig,
+)
+from modalinfo.cli import main
+from modalinfo.io import LogFormatError, load
+
+
+@pytest.fixture(scope="module")
+def result_file(tmp_path_factory):
+    cfg = SimulationConfig(
+        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
+        layers=(LayerConfig(altitude=0.0, d_over_r0=10.0, wind_speed=10.0),),
+        dms=(DMConfig(altitude=0.0, n_modes=10, kind="ideal"),),
+        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
+                        n_subapertures=8, field_samples=1),),
+        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
+        field=FieldConfig(size=0.0, n_points=1))
+    return simulate(cfg, 0.005, seed=0).save(tmp_path_factory.mktemp("r") / "r.h5")
+
+
+@pytest.mark.parametrize("extra", [[], ["--dataset", "logs/dm0.pol/coefficients"]])
+def test_command_refuses_in_one_line(result_file, capsys, extra):
+    assert main(["info", str(result_file), *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "is a closedloop result, not a log" in err
+    assert "closedloop export" in err
+
+
+def test_api_refuses(result_file):
+    with pytest.raises(LogFormatError, match="closedloop result"):
+        load(result_file, dataset="logs/dm0.residual/coefficients")
