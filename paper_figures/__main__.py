@@ -222,6 +222,7 @@ def main(argv: list[str] | None = None) -> int:
         EXIT_INTERRUPTED,
         EXIT_USAGE,
         Parser,
+        say,
     )
 
     parser = Parser(
@@ -267,16 +268,16 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return _run(args)
     except _RefusedError as exc:
-        sys.stderr.write(f"paper_figures: error: {exc}\n")
+        say(f"paper_figures: error: {exc}\n")
         return EXIT_USAGE
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM etc. (_terminated): 130 or 128 + n
         what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
-        sys.stderr.write(f"paper_figures: {what}; '{args.out}' is as it was\n")
+        say(f"paper_figures: {what}; '{args.out}' is as it was\n")
         return exc.code if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        sys.stderr.write(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
-                         f"; '{args.out}' is as it was\n")
+        say(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
+            f"; '{args.out}' is as it was\n")
         return EXIT_FAILURE
     finally:
         for signum, handler in previous.items():

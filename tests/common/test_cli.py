@@ -61,3 +61,42 @@ def test_an_old_spelling_and_the_new_one_with_different_values_are_refused(capsy
     assert "argument --modes: given twice (--in-modes 2-28 and --modes 3-29)" in (
         capsys.readouterr().err)
     assert parser.parse_args(["--in-modes", "2-28", "--modes", "2-28"]).in_modes == "2-28"
+
+
+# ---------------------------------------------------------------------------------------
+# Audit 10-env: streams that refuse the output. Reference: /dev/full's contract (every
+# write fails with ENOSPC) and POSIX's exit-status rule (an output not written is a
+# failure, never 0; a refusal stays 2 even when its one line cannot be written).
+class _Full:
+    """A stream like /dev/full."""
+
+    def write(self, text):
+        raise OSError(28, "No space left on device")
+
+    def flush(self):
+        raise OSError(28, "No space left on device")
+
+
+def test_help_to_a_full_disk_is_a_failure_not_exit_0(monkeypatch):
+    monkeypatch.setattr("sys.stdout", _Full())
+    with pytest.raises(SystemExit) as info:
+        _parser().parse_args(["--help"])  # argparse itself swallows the OSError: exit 0
+    assert info.value.code == 1
+
+
+def test_a_refusal_whose_line_cannot_be_written_still_exits_2(monkeypatch):
+    from modalinfo.common.cli import CommandError, dispatch
+
+    parser = Parser(prog="prog")
+    sub = parser.add_subparsers(dest="command")
+    cmd = sub.add_parser("do")
+
+    def run(args):
+        raise CommandError("bad input")
+
+    cmd.set_defaults(_run=run)
+    monkeypatch.setattr("sys.stderr", _Full())
+    assert dispatch(parser, ["do"], "prog") == EXIT_USAGE
+    with pytest.raises(SystemExit) as info:
+        parser.parse_args(["do", "--bogus"])
+    assert info.value.code == EXIT_USAGE
