@@ -100,3 +100,23 @@ def test_a_refusal_whose_line_cannot_be_written_still_exits_2(monkeypatch):
     with pytest.raises(SystemExit) as info:
         parser.parse_args(["do", "--bogus"])
     assert info.value.code == EXIT_USAGE
+
+
+def test_a_low_open_file_limit_is_refused_before_a_local_cluster(monkeypatch):
+    # audit 10-env: `ulimit -n 30; modalinfo batch ...` printed Dask's and psutil's
+    # "Too many open files" tracebacks; 64 ran clean. Reference: getrlimit(2)'s soft
+    # limit, the one the kernel enforces on open(2).
+    import resource
+
+    from modalinfo.common.cli import CommandError, check_cluster_args
+
+    args = argparse.Namespace(command="batch", workers=1, threads_per_worker=None,
+                              worker_wait=None, memory_limit=None, scheduler=None)
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (30, 4096))
+    with pytest.raises(CommandError, match=r"ulimit -n\) is 30; .* at least 64"):
+        check_cluster_args(args)
+    args.scheduler = "tcp://elsewhere:8786"  # a remote cluster's limits are its own
+    check_cluster_args(args)
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (64, 4096))
+    args.scheduler = None
+    check_cluster_args(args)
