@@ -44,6 +44,9 @@ def check_readable(path: Path) -> None:
     A FIFO or a device is refused before it is opened (reading could block or never end).
     """
     if not path.exists():
+        if path.is_symlink():  # a loop or a missing target: "no such file" hid the link
+            raise FileNotFoundError(f"'{path}' is a symbolic link to nothing (a loop or a "
+                                    "missing target)")
         raise FileNotFoundError(f"no such file: '{path}'")
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory, not a log file")
