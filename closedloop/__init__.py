@@ -48,6 +48,17 @@ def _run_as_main() -> bool:
         a == "-m" and argv[k + 1 : k + 2] == ["closedloop"] for k, a in enumerate(argv))
 
 
+if _run_as_main():  # `python -m closedloop` in a deleted folder: numba's import of
+    # coverage calls os.getcwd() (audit 10-env: a traceback, exit 1); one line and 2
+    import os
+
+    try:
+        os.getcwd()
+    except FileNotFoundError:
+        sys.stderr.write("closedloop: error: the current folder no longer exists (deleted); "
+                         "cd to an existing folder\n")
+        sys.exit(2)
+
 try:
     from closedloop import presets
     from closedloop.config import SimulationConfig, load_config, save_config

@@ -865,7 +865,8 @@ def load_config(path: str | Path) -> SimulationConfig:
     if not path.is_file():  # a FIFO "did not exist"
         raise FileNotFoundError(f"config file {str(path)!r} " + (
             "is not a regular file (a FIFO or a device)." if path.exists() else
-            "does not exist."))
+            "is a symbolic link to nothing (a loop or a missing target)." if path.is_symlink()
+            else "does not exist."))
     try:
         # utf-8-sig: a byte-order mark (Windows editors write one) is not a TOML statement
         text = path.read_text(encoding="utf-8-sig")

@@ -672,7 +672,8 @@ class SimulationResult:
         if not path.is_file():  # a FIFO "did not exist"
             raise FileNotFoundError(f"result file {str(path)!r} " + (
                 "is not a regular file (a FIFO or a device)." if path.exists() else
-                "does not exist."))
+                "is a symbolic link to nothing (a loop or a missing target)."
+                if path.is_symlink() else "does not exist."))
         try:
             f = h5py.File(path, "r")
         except OSError as exc:

@@ -41,6 +41,7 @@ from __future__ import annotations
 import contextlib
 import importlib
 import inspect
+import os
 import platform
 import re
 import signal
@@ -214,15 +215,15 @@ def main(argv: list[str] | None = None) -> int:
     written into a temporary sibling folder that is moved into place only when every
     figure and the report are done: a failed or interrupted run leaves the output
     folder as it was. Exit status: 0 done, 2 refused (one line on stderr), 1 a
-    failure while computing or writing (nothing written), 130 Ctrl-C, 143 SIGTERM
-    (128 + the signal, as every command).
+    failure while computing or writing (nothing written), 130 Ctrl-C, 143 SIGTERM,
+    129 SIGHUP, 138 SIGUSR1 (128 + the signal, as every command).
     """
     from modalinfo.common.cli import (
         EXIT_FAILURE,
         EXIT_INTERRUPTED,
-        EXIT_TERMINATED,
         EXIT_USAGE,
         Parser,
+        say,
     )
 
     parser = Parser(
@@ -255,28 +256,33 @@ def main(argv: list[str] | None = None) -> int:
     add_gap_argument(parser)
     parser.set_defaults(command="paper_figures")
     args = parser.parse_args(argv)
-    previous = None
+    previous: dict = {}
     if threading.current_thread() is threading.main_thread():
-        # `kill` / a batch system's time limit: clean up as for Ctrl-C (the temporary
-        # folder is removed, the output folder stays as it was)
-        previous = signal.signal(signal.SIGTERM, _terminated)
+        # `kill` / a batch system's time limit / a closed terminal / SIGUSR1: clean up as
+        # for Ctrl-C (the temporary folder is removed, the output folder stays as it was);
+        # a signal the caller ignores or handles stays so (SIGTERM excepted, as before)
+        from modalinfo.common.files import terminating_signals
+
+        for signum in terminating_signals():
+            if signum == signal.SIGTERM or signal.getsignal(signum) is signal.SIG_DFL:
+                previous[signum] = signal.signal(signum, _terminated)
     try:
         return _run(args)
     except _RefusedError as exc:
-        sys.stderr.write(f"paper_figures: error: {exc}\n")
+        say(f"paper_figures: error: {exc}\n")
         return EXIT_USAGE
-    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (_terminated): 130 or 143
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM etc. (_terminated): 130 or 128 + n
         what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
-        sys.stderr.write(f"paper_figures: {what}; '{args.out}' is as it was\n")
-        return EXIT_TERMINATED if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
+        say(f"paper_figures: {what}; '{args.out}' is as it was\n")
+        return exc.code if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        sys.stderr.write(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
-                         f"; '{args.out}' is as it was\n")
+        say(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
+            f"; '{args.out}' is as it was\n")
         return EXIT_FAILURE
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 def _out_folder(text: str) -> Path:
@@ -291,11 +297,15 @@ def _out_folder(text: str) -> Path:
 
 
 class _Terminated(KeyboardInterrupt):
-    """SIGTERM, unwound as Ctrl-C is (same clean-up) but reported as 143 (128 + 15)."""
+    """SIGTERM (or SIGHUP, SIGUSR1 ...), unwound as Ctrl-C is but reported as 128 + n."""
+
+    def __init__(self, signum: int = signal.SIGTERM) -> None:
+        super().__init__(signum)
+        self.code = 128 + int(signum)  # the shell's convention: 143 for SIGTERM
 
 
 def _terminated(signum, frame) -> None:
-    raise _Terminated
+    raise _Terminated(signum)
 
 
 def _run(args) -> int:
@@ -434,6 +444,12 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
+    try:  # a deleted current folder: numba's import of coverage calls os.getcwd()
+        os.getcwd()
+    except FileNotFoundError:
+        sys.stderr.write("paper_figures: error: the current folder no longer exists "
+                         "(deleted); cd to an existing folder\n")
+        sys.exit(2)
     try:
         code = main()
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)

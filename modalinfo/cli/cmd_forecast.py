@@ -319,6 +319,9 @@ def run(args: argparse.Namespace) -> int:
     predictors = _parse_predictors(args.predictors)
     train = _parse_train(args.train)
     if args.out is not None:
+        if args.out.is_symlink() and not args.out.exists():  # dangling or a loop
+            raise CommandError(f"--out '{args.out}' is a symbolic link to nothing (a loop or "
+                               "a missing target); give a folder")
         if args.out.exists() and not args.out.is_dir():
             raise CommandError(f"--out '{args.out}' exists and is not a directory")
         if not args.out.exists() and args.out.suffix.lower() in (".json", ".csv", ".png"):

@@ -109,6 +109,14 @@ def check_out_dir(out_dir: Path, flag: str = "output directory", *,
         written in, or has less than :data:`MIN_FREE_BYTES` free.
     """
     out_dir = Path(out_dir)
+    try:
+        out_dir.stat()
+    except (FileNotFoundError, NotADirectoryError):
+        pass  # a new folder, or a file on the way: the checks below say which
+    except OSError as exc:
+        # a name too long, a symlink loop: no folder can be made there (audit 10-env:
+        # paper_figures reported ENAMETOOLONG as a failure, exit 1, not a refusal)
+        raise OutputError(f"{flag} '{out_dir}': {exc.strerror or exc}") from None
     if out_dir.exists() and not out_dir.is_dir():
         raise OutputError(f"{flag} '{out_dir}' exists and is not a directory")
     if out_dir.is_dir():

@@ -118,3 +118,25 @@ def test_quiet_without_out_is_refused_before_the_work(tmp_path, capsys, monkeypa
                  "--quiet", "--out", str(tmp_path / "res")]) == 0
     assert capsys.readouterr().out == ""
     assert (tmp_path / "res" / "forecast.json").is_file()
+
+
+@pytest.mark.parametrize("kind", ["loop", "dangling"])
+def test_out_a_symlink_to_nothing_is_refused_before_the_work(tmp_path, capsys, monkeypatch,
+                                                            kind):
+    # audit 10-env: `--out` a symlink loop (or a dangling link) passed every check
+    # (Path.exists is False for both), the whole evaluation ran, then mkdir failed:
+    # "[Errno 17] File exists". Reference: POSIX symlink(7), stat(2) ELOOP / ENOENT.
+    import modalinfo.forecast as forecast
+
+    path = _log(tmp_path)
+    out = tmp_path / "res"
+    if kind == "loop":
+        (tmp_path / "other").symlink_to(out)
+        out.symlink_to(tmp_path / "other")
+    else:
+        out.symlink_to(tmp_path / "missing")
+    called = []
+    monkeypatch.setattr(forecast, "evaluate", lambda *a, **k: called.append(1))
+    assert main(["forecast", str(path), "--predictors", "linear", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert called == [] and err.count("\n") == 1 and "symbolic link" in err

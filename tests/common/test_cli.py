@@ -61,3 +61,62 @@ def test_an_old_spelling_and_the_new_one_with_different_values_are_refused(capsy
     assert "argument --modes: given twice (--in-modes 2-28 and --modes 3-29)" in (
         capsys.readouterr().err)
     assert parser.parse_args(["--in-modes", "2-28", "--modes", "2-28"]).in_modes == "2-28"
+
+
+# ---------------------------------------------------------------------------------------
+# Audit 10-env: streams that refuse the output. Reference: /dev/full's contract (every
+# write fails with ENOSPC) and POSIX's exit-status rule (an output not written is a
+# failure, never 0; a refusal stays 2 even when its one line cannot be written).
+class _Full:
+    """A stream like /dev/full."""
+
+    def write(self, text):
+        raise OSError(28, "No space left on device")
+
+    def flush(self):
+        raise OSError(28, "No space left on device")
+
+
+def test_help_to_a_full_disk_is_a_failure_not_exit_0(monkeypatch):
+    monkeypatch.setattr("sys.stdout", _Full())
+    with pytest.raises(SystemExit) as info:
+        _parser().parse_args(["--help"])  # argparse itself swallows the OSError: exit 0
+    assert info.value.code == 1
+
+
+def test_a_refusal_whose_line_cannot_be_written_still_exits_2(monkeypatch):
+    from modalinfo.common.cli import CommandError, dispatch
+
+    parser = Parser(prog="prog")
+    sub = parser.add_subparsers(dest="command")
+    cmd = sub.add_parser("do")
+
+    def run(args):
+        raise CommandError("bad input")
+
+    cmd.set_defaults(_run=run)
+    monkeypatch.setattr("sys.stderr", _Full())
+    assert dispatch(parser, ["do"], "prog") == EXIT_USAGE
+    with pytest.raises(SystemExit) as info:
+        parser.parse_args(["do", "--bogus"])
+    assert info.value.code == EXIT_USAGE
+
+
+def test_a_low_open_file_limit_is_refused_before_a_local_cluster(monkeypatch):
+    # audit 10-env: `ulimit -n 30; modalinfo batch ...` printed Dask's and psutil's
+    # "Too many open files" tracebacks; 64 ran clean. Reference: getrlimit(2)'s soft
+    # limit, the one the kernel enforces on open(2).
+    import resource
+
+    from modalinfo.common.cli import CommandError, check_cluster_args
+
+    args = argparse.Namespace(command="batch", workers=1, threads_per_worker=None,
+                              worker_wait=None, memory_limit=None, scheduler=None)
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (30, 4096))
+    with pytest.raises(CommandError, match=r"ulimit -n\) is 30; .* at least 64"):
+        check_cluster_args(args)
+    args.scheduler = "tcp://elsewhere:8786"  # a remote cluster's limits are its own
+    check_cluster_args(args)
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (64, 4096))
+    args.scheduler = None
+    check_cluster_args(args)

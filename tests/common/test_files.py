@@ -34,3 +34,24 @@ def test_a_regular_file_passes(tmp_path):
     check_readable(path)  # no exception
     with pytest.raises(FileNotFoundError, match="no such file"):
         check_readable(tmp_path / "missing.csv")
+
+
+def test_a_symlink_to_nothing_is_named_as_such(tmp_path):
+    # audit 10-env: a symlink loop given as a log, config or result was "no such file" /
+    # "does not exist" although `ls` shows it. Reference: POSIX symlink(7), stat(2)
+    # ELOOP / ENOENT on a link whose target cannot be reached.
+    from closedloop.config import load_config
+    from closedloop.result import SimulationResult
+    from modalinfo.common.files import check_readable
+
+    for name in ("a.npz", "c.toml", "r.h5"):
+        (tmp_path / ("x" + name)).symlink_to(tmp_path / name)
+        (tmp_path / name).symlink_to(tmp_path / ("x" + name))
+    with pytest.raises(FileNotFoundError, match="symbolic link to nothing"):
+        check_readable(tmp_path / "a.npz")
+    with pytest.raises(FileNotFoundError, match="symbolic link to nothing"):
+        load_config(tmp_path / "c.toml")
+    with pytest.raises(FileNotFoundError, match="symbolic link to nothing"):
+        SimulationResult.load(tmp_path / "r.h5")
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        check_readable(tmp_path / "missing.npz")  # a plain missing file keeps its words

@@ -80,3 +80,17 @@ def test_locked_out_dir_refuses_a_foreign_folder(tmp_path):
     (tmp_path / "rows").mkdir()  # an earlier run's marker: accepted
     with locked_out_dir(tmp_path, "modalinfo batch") as held:
         assert held == tmp_path
+
+
+# Audit 10-env: a name longer than NAME_MAX and a symlink loop reached paper_figures as
+# OSError (exit 1, "failure while computing"); no folder can be made there, so it is a
+# refusal before any work. Reference: POSIX errno ENAMETOOLONG / ELOOP from stat(2).
+def test_out_dir_too_long_or_looping_is_refused(tmp_path):
+    from modalinfo.common.folders import OutputError, check_out_dir
+
+    with pytest.raises(OutputError, match="--out .*(too long|symbolic links)"):
+        check_out_dir(tmp_path / ("x" * 300), "--out")
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    with pytest.raises(OutputError, match="--out .*symbolic links"):
+        check_out_dir(tmp_path / "a", "--out", parents=True)

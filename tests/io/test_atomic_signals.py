@@ -1,7 +1,8 @@
 """A signal during a save leaves the old file or none, no temporary, and a non-zero exit.
 
 References: POSIX signal semantics and the shell's exit-status convention (128 + the
-signal number: 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP); the target's bytes as
+signal number: 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP, 138 for SIGUSR1); the
+target's bytes as
 written by the test before the save (the old file must be left bit for bit). Each case runs in a
 subprocess that is signalled while it writes a large file: after its first 64 kB block
 the writer marks a file and waits for the signal (600-s hang guard), and the test sends
@@ -91,8 +92,9 @@ def _run_and_signal(tmp_path, signum, overwrite):
 
 
 # SIGHUP (a closed terminal) left its temporary file: adversarial round 9 PART b, row X01
+# SIGUSR1 (default action: terminate) left it too: audit 10-env, row S-usr1-save
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143),
-                                          (signal.SIGHUP, 129)])
+                                          (signal.SIGHUP, 129), (signal.SIGUSR1, 138)])
 @pytest.mark.parametrize("overwrite", [False, True])
 def test_signal_during_a_save_keeps_the_old_file_or_none(tmp_path, signum, code, overwrite):
     rc, err, target = _run_and_signal(tmp_path, signum, overwrite)

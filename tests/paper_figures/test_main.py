@@ -82,3 +82,27 @@ def test_user_log_without_a_rate_counts_in_frames(tmp_path):
     assert "at an unknown rate" in report
     row = [line for line in report.splitlines() if "forecast horizon" in line][0]
     assert " frames" in row and " ms (" not in row.split("|")[4]
+
+
+# ---------------------------------------------------------------------------------------
+# Audit 10-env: SIGHUP (a closed terminal) and SIGUSR1 killed a run by their default
+# action, leaving '<out>/.lock' and the half-made '.<out>.partial-*' folder. Reference:
+# POSIX (both end the process by default) and the shell's convention, exit 128 + n
+# (129, 138); the caller's handler is back after `main`.
+@pytest.mark.parametrize("signame, code", [("SIGHUP", 129), ("SIGUSR1", 138)])
+def test_hangup_and_usr1_clean_up_as_sigterm(monkeypatch, capsys, tmp_path, signame, code):
+    import signal
+
+    from paper_figures import __main__ as pf
+
+    signum = getattr(signal, signame)
+
+    def run(args):
+        signal.getsignal(signum)(signum, None)  # what the signal does while figures are made
+
+    monkeypatch.setattr(pf, "_run", run)
+    before = signal.getsignal(signum)
+    out = tmp_path / "o"
+    assert pf.main(["--out", str(out)]) == code
+    assert capsys.readouterr().err == f"paper_figures: terminated; '{out}' is as it was\n"
+    assert signal.getsignal(signum) is before
