@@ -48,16 +48,10 @@ def _run_as_main() -> bool:
         a == "-m" and argv[k + 1 : k + 2] == ["closedloop"] for k, a in enumerate(argv))
 
 
-if _run_as_main():  # `python -m closedloop` in a deleted folder: numba's import of
-    # coverage calls os.getcwd() (audit 10-env: a traceback, exit 1); one line and 2
-    import os
+if _run_as_main():  # `python -m closedloop` imports this package first
+    from modalinfo.common.startup import require_current_folder
 
-    try:
-        os.getcwd()
-    except FileNotFoundError:
-        sys.stderr.write("closedloop: error: the current folder no longer exists (deleted); "
-                         "cd to an existing folder\n")
-        sys.exit(2)
+    require_current_folder("closedloop")
 
 try:
     from closedloop import presets

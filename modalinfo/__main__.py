@@ -1,12 +1,8 @@
-import os
 import sys
 
-try:  # a deleted current folder: numba's import of coverage calls os.getcwd()
-    os.getcwd()
-except FileNotFoundError:
-    sys.stderr.write("modalinfo: error: the current folder no longer exists (deleted); "
-                     "cd to an existing folder\n")
-    sys.exit(2)
+from modalinfo.common.startup import require_current_folder
+
+require_current_folder("modalinfo")  # before the heavy imports (numba calls getcwd)
 
 try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no traceback
     from modalinfo.cli import main

@@ -41,7 +41,6 @@ from __future__ import annotations
 import contextlib
 import importlib
 import inspect
-import os
 import platform
 import re
 import signal
@@ -444,12 +443,9 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
-    try:  # a deleted current folder: numba's import of coverage calls os.getcwd()
-        os.getcwd()
-    except FileNotFoundError:
-        sys.stderr.write("paper_figures: error: the current folder no longer exists "
-                         "(deleted); cd to an existing folder\n")
-        sys.exit(2)
+    from modalinfo.common.startup import require_current_folder
+
+    require_current_folder("paper_figures")  # before the heavy imports
     try:
         code = main()
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)

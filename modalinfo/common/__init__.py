@@ -24,4 +24,6 @@ cli
     The command-line base: parser, one-line errors, exit codes, output and cluster checks.
 tasks
     The resumable Dask task runner (keys, rows, threads, cluster, watch, runner).
+startup
+    Checks a command makes before its heavy imports (the current folder exists).
 """
