@@ -11,7 +11,12 @@ construction, and the rules as documented (``modalinfo/telemetry/sampling.py``; 
   1 % change, so a tolerance of 1e-2 went unseen (planted bug T2 escaped);
 * a repeated block is "runs of >= 8 frames equal to earlier frames at one offset"
   (``REPEAT_RUN``): 8 frames written twice are found, 7 are not. The existing test wrote
-  100 frames twice, so ``> 8`` went unseen (planted bug T5 escaped).
+  100 frames twice, so ``> 8`` went unseen (planted bug T5 escaped);
+* ``clock_interval`` is "the mean of the regular intervals (neither gaps nor short, as
+  in sampling_of)": an exact 2 kHz clock with one extra frame mid-interval (two 0.25 ms
+  intervals, short) has a clock interval of exactly 0.5 ms; with the short intervals in
+  the mean it is 0.4995 ms, 1e-3 off, the whole rate tolerance (planted bug P3 escaped:
+  the existing tests had jitter or gaps, no short interval).
 """
 
 from __future__ import annotations
@@ -20,7 +25,7 @@ import numpy as np
 import pytest
 
 from modalinfo.telemetry import sampling_of
-from modalinfo.telemetry.sampling import REPEAT_RUN, repeated_blocks
+from modalinfo.telemetry.sampling import REPEAT_RUN, clock_interval, repeated_blocks
 
 
 def _two_clocks(r1: float, r2: float, n: int = 1500) -> np.ndarray:
@@ -49,3 +54,12 @@ def test_a_block_of_exactly_the_rule_written_twice_is_found():
     assert repeated_blocks(twice) == [(308, 8, 300)]
     once_less = x[np.r_[0:307, 300:600]]  # 7 frames again: below the rule
     assert repeated_blocks(once_less) == []
+
+
+def test_clock_interval_leaves_short_intervals_out():
+    t = np.arange(1000) / 2000.0
+    t = np.sort(np.r_[t, t[500] + 0.25e-3])  # one extra frame: two short intervals
+    dt = np.diff(t)
+    assert np.sum(dt < 0.5e-3 / 1.5) == 2
+    assert clock_interval(t) == pytest.approx(0.5e-3, rel=1e-12)
+    assert np.mean(dt) == pytest.approx(0.4995e-3, rel=1e-12)  # what a plain mean gives
