@@ -74,7 +74,7 @@ class LoopPredictor:
     oracle : bool
         The true future instead of a forecast (only ``ORACLE``).
     trained_on : dict or None
-        :func:`training_conditions` of the reference run it was fitted on (set by
+        ``training_conditions`` of the reference run it was fitted on (set by
         :meth:`trained`; ``simulate`` refuses a config with other conditions); None for a
         forecaster fitted elsewhere (:meth:`from_fitted`).
     """
@@ -193,7 +193,7 @@ def _digest(basis) -> str | None:
 
 
 def check_trained_for(predictor: LoopPredictor, config, control_basis=None) -> None:
-    """Refuse a predictor trained on a reference run of other :func:`training_conditions`.
+    """Refuse a predictor trained on a reference run of other ``training_conditions``.
 
     A forecaster trained on a run at half the frame rate or four times the wind was run
     in this loop without a word (audit 10, feedback, rows rt-ref-other-rate,

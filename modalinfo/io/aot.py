@@ -68,6 +68,8 @@ from modalinfo.io.aot_system import (
 )
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.sampling import rate_agrees
+from modalinfo.telemetry.units import WAVELENGTH_RANGE
 
 __all__ = [
     "is_aot",
@@ -349,7 +351,8 @@ def _card_wavelength(lp) -> float | None:
     cards = getattr(lp.modal_coefficients, "metadata", None) or []
     raw = next((m.value for m in cards if getattr(m, "key", None) == _WAVELENGTH_KEY), None)
     value = _number(raw)
-    return value if value is not None and 1e-12 <= value <= 1e-3 else None
+    low, high = WAVELENGTH_RANGE
+    return value if value is not None and low <= value <= high else None
 
 
 def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
@@ -504,8 +507,13 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
     rate = _number(lp.framerate)
     if rate is not None and rate > 0:
         if stamps is not None and stamps.size > 1:
-            dt = float(np.median(np.diff(stamps)))
-            if dt > 0 and abs(dt * rate - 1.0) <= 1e-3:
+            # the one agreement rule (median or mean regular interval: audit 10-time);
+            # timestamps that are not increasing are refused by the log, naming the file
+            try:
+                agrees = rate_agrees(stamps, rate)
+            except ValueError:
+                agrees = False
+            if agrees:
                 stored["rate"] = rate
             else:
                 meta["framerate"] = rate  # disagrees with the timestamps: kept apart

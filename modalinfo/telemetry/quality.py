@@ -301,7 +301,7 @@ class QualityReport:
     fingerprint : str
         What was assessed: ``"log:<hex>"``, a BLAKE2b digest of a ``ModalLog``'s data
         bytes (with shape and dtype), time axis and labels, or ``"array:<hex>"``, of an
-        array's data bytes only (:func:`data_fingerprint`); computed once, in the first
+        array's data bytes only (``data_fingerprint``); computed once, in the first
         pass. :func:`apply_outlier_policy` refuses a report whose fingerprint is not the
         log's (another log of the same shape was accepted: issue 27, leftovers).
     effective_frames : float
