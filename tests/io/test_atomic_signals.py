@@ -27,7 +27,11 @@ ROOT = Path(__file__).resolve().parents[2]
 #: The writer: the CLI's `convert` with the NPZ writer slowed down (every 64 kB block
 #: of the real bytes then a pause; after the first, a wait for the test's signal).
 SCRIPT = textwrap.dedent("""
-    import sys, time
+    import signal, sys, time
+    # an interactive user's Ctrl-C: a shell's background job (nohup, CI) starts with
+    # SIGINT ignored, which the package keeps ignored, and the SIGINT case then waited
+    # for its 600-s guard (review9)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     import numpy as np
     import modalinfo.common.files as files
     from modalinfo.cli import main
