@@ -7,7 +7,7 @@ Reference: the 37-term Fringe Zernike table that Zemax exports (e.g. Opt. Expres
 """
 
 import numpy as np
-from numpy.polynomial import polynomial as P
+from numpy.polynomial import polynomial
 
 from modalinfo.bases import fringe_to_noll, fringe_to_zernike, noll_to_fringe, zernike_radial
 from modalinfo.bases.indexing import zernike_to_fringe
@@ -23,7 +23,7 @@ def test_fringe_37_is_the_published_polynomial():
     rho = np.linspace(0.0, 1.0, 11)
     coeffs = np.zeros(13)
     coeffs[::2] = Z37_EVEN_COEFFS
-    np.testing.assert_allclose(zernike_radial(n, m, rho), P.polyval(rho, coeffs),
+    np.testing.assert_allclose(zernike_radial(n, m, rho), polynomial.polyval(rho, coeffs),
                                atol=1e-9)
     assert zernike_to_fringe(12, 0) == 37
 
@@ -35,7 +35,7 @@ def test_peak_to_rms_factor_of_term_37():
 def test_conversion_stays_a_bijection():
     j = np.arange(1, 2001)
     n, m = fringe_to_zernike(j)
-    assert len(set(zip(n.tolist(), m.tolist()))) == j.size
+    assert len(set(zip(n.tolist(), m.tolist(), strict=True))) == j.size
     np.testing.assert_array_equal(zernike_to_fringe(n, m), j)
     np.testing.assert_array_equal(noll_to_fringe(fringe_to_noll(j)), j)
     assert fringe_to_zernike(49) == (6, 6)
