@@ -152,7 +152,11 @@ n = 1e4 (median of 3 seeds), histogram -> switched: two pairs at rho = 0.8 -0.18
 -0.027 -> -0.006; CMI given 2 columns -0.035 -> -0.011 (1 seed). Only the point
 estimate of :func:`conditional_mutual_information` switches: the transfer entropy, the
 intervals and tests (whose resamples repeat rows, which the KSG cannot take) and the
-selection keep one estimator throughout.
+selection keep one estimator throughout. The same switch applies where the conditioning
+columns' bins lose more than 10 % of the CMI in a Gaussian model
+(:func:`~modalinfo.information.histogram.histogram_conditioning_rule`: a persistent
+target given its own past, whose histogram TE was 33-63 % low at a = 0.95-0.99, round
+10); the transfer entropy keeps the histogram there and warns.
 
 Significance and intervals for autocorrelated series:
 :mod:`modalinfo.information.conditional_uncertainty`; transfer entropy as a CMI of
@@ -183,6 +187,7 @@ from modalinfo.information.histogram import (
     MIN_COUNT_PER_CELL,
     MIN_RESOLVING_BINS,
     histogram_cmi,
+    histogram_conditioning_rule,
     histogram_resolution_rule,
 )
 from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
@@ -348,20 +353,26 @@ def _ksg_switch(record, n: int, options: dict[str, Any], x, y, z) -> str | None:
     if record.cmi is not histogram_cmi or n > KSG_SWITCH_MAX_SAMPLES:
         return None
     d = x.shape[1] + y.shape[1] + z.shape[1]
-    why = histogram_resolution_rule(n, d, options)
-    if why is None or ksg_bias_rule(n, d, {}) is not None or not _continuous(x, y, z):
+    if ksg_bias_rule(n, d, {}) is not None or not _continuous(x, y, z):
         return None
-    return why
+    # the pair's bins first, then what the conditioning columns' bins lose (round 10)
+    return histogram_resolution_rule(n, d, options) or histogram_conditioning_rule(
+        x, y, z, options)
 
 
-def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = False):
+def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = False,
+               judge: bool = False):
     """Validate ``method``, ``units`` and option names; return ``f(x, y, z) -> value``.
 
     The option ``fallback`` (one of :data:`FALLBACKS`) is taken out here: it says what
     :func:`bias_rule` does where it applies. ``switch``: apply the histogram's
     resolution rule too (module notes; only the point estimate of
     :func:`conditional_mutual_information` does: resamples repeat rows, which the KSG
-    estimate cannot take, and loops of estimates keep one estimator).
+    estimate cannot take, and loops of estimates keep one estimator). ``judge`` (without
+    ``switch``): a point estimate that keeps its estimator (the transfer entropy) warns
+    where the histogram's conditioning rule fails
+    (:func:`~modalinfo.information.histogram.histogram_conditioning_rule`), or refuses
+    with ``fallback="raise"``.
     """
     record = get_method(method, needs="cmi")
     check_choice(units, "units", tuple(UNITS))
@@ -401,6 +412,14 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             instead = ("the KSG CMI instead (method='ksg'; fallback='none' keeps the "
                        "histogram's value)")
             other = functools.partial(ksg_cmi, x, y, z)
+        elif judge and record.cmi is histogram_cmi and (
+                why := histogram_conditioning_rule(x, y, z, options)):
+            if fallback == "raise":
+                raise ValueError(f"{why}; use method='ksg' or method='gaussian' "
+                                 "(fallback='raise').")
+            warnings.warn(f"{why}; returned anyway (use method='ksg' or method='gaussian')",
+                          BiasRuleWarning, stacklevel=3)
+            why = None
         if why is not None:  # one policy for both rules (the fallback option)
             if fallback == "raise":
                 raise ValueError(f"{why}; {hint} (fallback='raise').")
