@@ -9,7 +9,11 @@ azimuthal frequency ``m`` with ``|m| <= n`` and ``n - |m|`` even. ``m > 0`` mean
   ``j = 2, 3`` tip/tilt (x, y), ``j = 4`` defocus.
 - ANSI/OSA (ISO 24157), ``j >= 0``: ``j = (n (n + 2) + m) / 2``.
 - Fringe (University of Arizona / Code V), ``j >= 1``:
-  ``j = (1 + (n + |m|) / 2)**2 - 2 |m| + (1 if m < 0 else 0)``.
+  ``j = (1 + (n + |m|) / 2)**2 - 2 |m| + (1 if m < 0 else 0)``, except that the 37th
+  term is the 12th-order spherical aberration ``(12, 0)``, as in the 37-term Fringe set
+  that Zemax and Code V export (``924 rho^12 - ...``), and ``(6, 6)``, which the group
+  formula puts at 37, takes that formula's place of ``(12, 0)``, 49 (no standard goes
+  beyond 37 terms; round 10 PART a: a 37-term export's last column read as a hexafoil).
 
 All functions accept Python ints or integer arrays and return the same kind.
 """
@@ -209,7 +213,7 @@ def fringe_to_zernike(j):
     ----------
     j : int or array_like of int
         Fringe (University of Arizona) index, ``j >= 1`` (``1`` is piston, ``9`` the
-        primary spherical aberration).
+        primary spherical aberration, ``37`` the 12th-order one: module notes).
 
     Returns
     -------
@@ -217,6 +221,7 @@ def fringe_to_zernike(j):
         Radial order and signed azimuthal frequency.
     """
     jj, scalar = _as_index(j, "j", minimum=1, maximum=MAX_INDEX)
+    jj = _fringe_swap(jj)  # 37 is (12, 0) in the 37-term set (module notes)
     q = _isqrt(jj - 1)  # q = (n + |m|) / 2
     d = (q + 1) ** 2 - jj  # d = 2 |m| - (m < 0)
     m_abs = (d + 1) // 2
@@ -243,7 +248,17 @@ def zernike_to_fringe(n, m):
     n_arr, m_arr, scalar = _check_nm(n, m)
     m_abs = np.abs(m_arr)
     j = (1 + (n_arr + m_abs) // 2) ** 2 - 2 * m_abs + (m_arr < 0)
-    return _out(j.astype(np.int64), scalar)
+    return _out(_fringe_swap(j.astype(np.int64)), scalar)
+
+
+#: The 37-term Fringe set's last term, (12, 0), and the place the group formula gives it.
+_FRINGE_37, _FRINGE_GROUP_12_0 = 37, 49
+
+
+def _fringe_swap(j: np.ndarray) -> np.ndarray:
+    """Exchange the indices 37 and 49 (an involution: the same map both ways)."""
+    return np.where(j == _FRINGE_37, _FRINGE_GROUP_12_0,
+                    np.where(j == _FRINGE_GROUP_12_0, _FRINGE_37, j))
 
 
 def noll_to_ansi(j):

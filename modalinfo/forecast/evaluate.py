@@ -485,7 +485,11 @@ def _n_train(train, n_frames: int, h_max: int) -> int:
         frac = check_real(train, "train", minimum=0.0, maximum=1.0, strict_min=True,
                           strict_max=True)
         n = int(round(frac * n_frames))
-    if n < 1 or n > n_frames - h_max - 1:
+    if n < 1:  # the rule broken is the training set's, not the test frames' (round 10)
+        raise ValueError(
+            f"`train` must give at least 1 training frame; got {train!r} ({n} of the "
+            f"{n_frames} frames).")
+    if n > n_frames - h_max - 1:
         raise ValueError(
             f"`train` must leave at least max(horizons) + 1 = {h_max + 1} test frames of "
             f"the {n_frames}; got {train!r} ({n} training frames)."

@@ -510,11 +510,17 @@ def check_surrogates_reach(n_surrogates: int, alpha: float) -> None:
         ``1 / (n_surrogates + 1) > alpha``, naming both and the least count that reaches.
     """
     if 1.0 / (n_surrogates + 1) > alpha:
+        least = max(1, math.ceil(1 / alpha) - 1)
+        while 1.0 / (least + 1) > alpha:  # 1 / alpha rounded down (alpha one ulp below 1/20)
+            least += 1
+        p_min = 1 / (n_surrogates + 1)
+        # enough digits that the two numbers differ when they print (round 10 PART a)
+        digits = next(d for d in (3, 6, 9, 12, 17) if f"{p_min:.{d}g}" != f"{alpha:.{d}g}")
         raise ValueError(
-            f"`n_surrogates`={n_surrogates} cannot reach `alpha`={alpha:g}: the smallest "
-            f"p-value of {n_surrogates} surrogates is 1/{n_surrogates + 1} = "
-            f"{1 / (n_surrogates + 1):.3g} (a test that can never reject); use "
-            f"n_surrogates >= {math.ceil(1 / alpha) - 1}.")
+            f"`n_surrogates`={n_surrogates} cannot reach `alpha`={alpha:.{digits}g}: the "
+            f"smallest p-value of {n_surrogates} surrogates is 1/{n_surrogates + 1} = "
+            f"{p_min:.{digits}g} (a test that can never reject); use "
+            f"n_surrogates >= {least}.")
 
 
 def surrogate_pvalue(statistic: float, null: np.ndarray) -> float:

@@ -100,7 +100,7 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
         an affine function of the lagged source and its own history (a leaky integrator's
         output and input: 0.09-1.2 nats by method before audit 9).
     """
-    est = _estimator(method, units, options)
+    est = _estimator(method, units, options, judge=True)  # histogram: conditioning rule
     variables = transfer_entropy_variables(source, target, lag=lag, history=history)
     try:
         return est(*variables)

@@ -90,9 +90,12 @@ def check_wavelength(wavelength, name: str = "wavelength") -> float:
     lam = check_real(wavelength, name, minimum=0.0, strict_min=True)
     low, high = WAVELENGTH_RANGE
     if not low <= lam <= high:
-        slip = f" (did you mean {lam:g}e-9 m?)" if lam > high else ""
+        # a value just past a bound prints as the bound with 6 digits: give all of them;
+        # the nm hint only for values a nanometre reading makes a wavelength (round 10 a)
+        shown = f"{lam:g}" if not 0.999 * low <= lam <= 1.001 * high else repr(lam)
+        slip = f" (did you mean {lam:g}e-9 m?)" if low <= lam * 1e-9 <= high else ""
         raise ValueError(f"`{name}` must be in metres within {low:g} - {high:g} "
-                         f"({WAVELENGTH_RULE}); got {lam:g}{slip}.")
+                         f"({WAVELENGTH_RULE}); got {shown}{slip}.")
     return lam
 
 
