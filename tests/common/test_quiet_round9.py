@@ -22,7 +22,7 @@ from modalinfo.information import mutual_information_ci
 def _bca(seed: int):
     rng = np.random.default_rng(seed)
     x, y = rng.multivariate_normal([0, 0], [[1, 0.6], [0.6, 1]], 300).T
-    return mutual_information_ci(x, y, interval="bca", bootstrap="iid", n_resamples=20,
+    return mutual_information_ci(x, y, interval="bca", bootstrap="iid", n_resamples=40,
                                  seed=seed)
 
 
