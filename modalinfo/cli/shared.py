@@ -434,6 +434,8 @@ def input_notes(log, path: Path) -> list[str]:
         flags = ", ".join(_HINT_OF[k] for k in keys)
         notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
                      f"(state them with {flags})")
+    if isinstance(meta.get("framerate_note"), str) and log.timestamps is not None:
+        notes.append(f"'{path.name}': {meta['framerate_note']}")  # an AOT file's own clash
     if isinstance(meta.get("source_hdu"), str):  # a foreign FITS with several images
         notes.append(f"'{path.name}': read {meta['source_hdu']}")
     layout = meta.get("layout")

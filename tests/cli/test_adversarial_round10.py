@@ -13,7 +13,9 @@ docs/ADVERSARIAL.md "Round 10 PART b". Each test fails on the code before its fi
 from __future__ import annotations
 
 import argparse
+import warnings
 
+import numpy as np
 import pytest
 
 from modalinfo.cli.cmd_reorder import check_mi_time
@@ -66,3 +68,50 @@ def test_a_budget_below_the_histogram_bias_rule_is_refused(tmp_path, capsys):
     assert len(err.strip().splitlines()) == 1
     assert exit_code(["reorder", log, "--budget", 2000, "--resamples", 0, "--quiet",
                       "--pupil-pixels", 16]) == 0
+
+
+# ------------------------------------------- A01, A02, A04: foreign AOT files from aotpy
+def _aot_file(path, *, timestamps: bool, framerate):
+    aotpy = pytest.importorskip("aotpy")
+    coeffs = np.random.default_rng(0).standard_normal((400, 4))
+    tel = aotpy.MainTelescope("tel", enclosing_diameter=0.7)
+    src = aotpy.NaturalGuideStar("ngs")
+    wfs = aotpy.ShackHartmann("wfs", source=src, n_valid_subapertures=30)
+    dm = aotpy.DeformableMirror("dm", telescope=tel, n_valid_actuators=10)
+    time = aotpy.Time("t", timestamps=list(np.arange(400) / 2000.0)) if timestamps else None
+    loop = aotpy.ControlLoop("loop1", commanded_corrector=dm, input_sensor=wfs, time=time,
+                             framerate=framerate,
+                             modal_coefficients=aotpy.Image("coeffs", coeffs))
+    system = aotpy.AOSystem(ao_mode="SCAO", main_telescope=tel, sources=[src],
+                            wavefront_sensors=[wfs], wavefront_correctors=[dm], loops=[loop])
+    with warnings.catch_warnings():  # aotpy notes the optional tables left empty
+        warnings.simplefilter("ignore")
+        system.write_to_file(str(path), overwrite=True)
+    return path
+
+
+def test_an_aot_loop_without_mode_images_has_its_modes_marked_assumed(tmp_path, capsys):
+    # the file records no modes (no mode images, no labels): Z2.. is an assumption,
+    # which `info` marks and the other commands note, as for the units
+    path = _aot_file(tmp_path / "min.fits", timestamps=False, framerate=2000.0)
+    assert exit_code(["info", path]) == 0
+    out = capsys.readouterr().out
+    modes_line = next(line for line in out.splitlines() if line.startswith("modes"))
+    assert "(assumed)" in modes_line
+    assert exit_code(["forecast", path, "--predictors", "linear", "--modes", "2",
+                      "--horizon", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "modes Z2..Z5 (noll)" in err and "--in-modes" in err
+    # stated modes are not assumed
+    assert exit_code(["info", path, "--in-modes", "5-8"]) == 0
+    out = capsys.readouterr().out
+    assert "assumed" not in next(ln for ln in out.splitlines() if ln.startswith("modes"))
+
+
+def test_an_aot_framerate_card_contradicting_its_timestamps_is_said(tmp_path, capsys):
+    # timestamps at 2 kHz, FRAMERATE card 1000 Hz: the timestamps are used, and said
+    path = _aot_file(tmp_path / "clash.fits", timestamps=True, framerate=1000.0)
+    assert exit_code(["forecast", path, "--predictors", "linear", "--modes", "2",
+                      "--horizon", "1", "--in-modes", "2-5", "--in-units", "rad"]) == 0
+    err = capsys.readouterr().err
+    assert "FRAMERATE card (1000 Hz)" in err and "(2000 Hz median)" in err
