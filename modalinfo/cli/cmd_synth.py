@@ -70,7 +70,8 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.telemetry.synthetic import kaos_like
 
     out = Path(args.out)
-    fmt = check_log_output(out, args.overwrite, args.to_fmt)  # before the generator runs
+    fmt = check_log_output(out, args.overwrite, args.to_fmt,  # before the generator runs
+                           formats=("npz", "csv", "fits", "hdf5"))
     check_memory(SYNTH_COPIES * 8 * _MODES * args.frames,
                  f"--frames {args.frames} ({_MODES} modes)", "use fewer --frames")
     # two stages (generate, write): a bar for logs that take seconds (FFT-based, ~1 s per

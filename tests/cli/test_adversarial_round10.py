@@ -20,6 +20,8 @@ import pytest
 
 from modalinfo.cli.cmd_reorder import check_mi_time
 from modalinfo.common.cli import CommandError
+from modalinfo.io import save
+from modalinfo.telemetry import ModalLog
 
 from .conftest import exit_code, write_small_log
 
@@ -115,3 +117,67 @@ def test_an_aot_framerate_card_contradicting_its_timestamps_is_said(tmp_path, ca
                       "--horizon", "1", "--in-modes", "2-5", "--in-units", "rad"]) == 0
     err = capsys.readouterr().err
     assert "FRAMERATE card (1000 Hz)" in err and "(2000 Hz median)" in err
+
+
+# ------------------------------------------------- SX3: two rates that print the same
+def test_select_extra_rate_refusal_shows_the_digits_that_differ(tmp_path, capsys):
+    coeffs = np.random.default_rng(1).standard_normal((400, 3))
+    base = save(ModalLog(coeffs, rate=2000.0, units="rad"), tmp_path / "base.npz")
+    other = 2000.0 * (1 + 1.1e-9)  # outside the 1e-9 rule, equal to 6 digits
+    extra = save(ModalLog(coeffs[:, :2], rate=other, units="rad", modes=[30, 31]),
+                 tmp_path / "extra.npz")
+    code = exit_code(["select", base, "--extra", extra, "--target", "Z2", "--max-lag", 2,
+                      "--no-intervals", "--max-inputs", 1, "--surrogates", 19])
+    err = capsys.readouterr().err
+    assert code == 2 and "2000.0000022 Hz, LOG at 2000 Hz" in err
+
+
+# ----------------------------------------------- S13: --no-intervals prints no NaN column
+def test_select_without_intervals_prints_no_nan_bounds(tmp_path, capsys):
+    log = write_small_log(tmp_path / "log.npz", 400)
+    assert exit_code(["select", log, "--target", "Z2", "--max-lag", 2, "--no-intervals",
+                      "--max-inputs", 1, "--surrogates", 19]) == 0
+    out = capsys.readouterr().out
+    assert "nan" not in out and "interval" not in out.splitlines()[1]
+
+
+# --------------------------------------------------- E04: a slow run's speed is not 0
+def test_a_speed_below_one_step_per_second_is_not_printed_as_zero():
+    from closedloop.cli import _rate_text
+
+    assert _rate_text(10 / 25.0) == "0.4"  # 10 frames in 25 s
+    assert _rate_text(1442.3) == "1442"
+
+
+# ------------------------------------------ SY10: synth offers only what it can write
+def test_synth_unknown_extension_offers_only_its_formats(tmp_path, capsys):
+    assert exit_code(["synth", tmp_path / "s.txt", "--frames", 100]) == 2
+    err = capsys.readouterr().err
+    assert "--to-fmt (npz, csv, fits, hdf5)" in err and "aot" not in err
+
+
+# -------------------------------------- CL6: a memory limit below the interpreter's own
+def test_a_memory_limit_below_the_baseline_says_no_run_fits(capsys):
+    from closedloop.cli import main as closedloop_main
+    from closedloop.resources import BASELINE_BYTES
+
+    limit = BASELINE_BYTES // 2
+    code = closedloop_main(["run", "--preset", "kaos", "--duration", "0.05",
+                            "--memory-limit", str(limit), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and "no run fits under this limit" in err and "reduce it" not in err
+
+
+# ------------------------------------------- B04: the command lines have no `k` option
+def test_the_too_short_quality_note_names_a_call_not_a_missing_option(tmp_path, capsys):
+    # 20 frames of an AR(1) of rho 0.95: ~0.5 effective frames, too few to assess
+    rng = np.random.default_rng(0)
+    x = np.zeros((20, 2))
+    for t in range(1, 20):
+        x[t] = 0.95 * x[t - 1] + rng.standard_normal(2)
+    log = save(ModalLog(x, rate=100.0, units="rad"), tmp_path / "short.npz")
+    assert exit_code(["info", log]) == 0
+    captured = capsys.readouterr()
+    text = captured.out + captured.err
+    assert "too short to assess" in text and "pass k to test" not in text
+    assert "assess_quality(log, k=...)" in text
