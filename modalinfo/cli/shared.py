@@ -164,7 +164,8 @@ def add_hint_arguments(
                        help="the file stores modes x frames: read it transposed "
                        "(--no-transpose: keep a wide array as frames x modes)")
     group.add_argument("--dataset", metavar="PATH",
-                       help="HDF5 dataset path or NPZ array name of the coefficients")
+                       help="HDF5 dataset path, NPZ array name or FITS HDU (index or "
+                       "EXTNAME) of the coefficients")
     add_outlier_argument(parser)
 
 

@@ -181,3 +181,23 @@ def test_the_too_short_quality_note_names_a_call_not_a_missing_option(tmp_path, 
     text = captured.out + captured.err
     assert "too short to assess" in text and "pass k to test" not in text
     assert "assess_quality(log, k=...)" in text
+
+
+# ------------------------------------- F03, F04: the HDU of a FITS file that holds the log
+def test_dataset_picks_the_fits_hdu_holding_the_log(tmp_path, capsys):
+    from astropy.io import fits
+
+    coeffs = np.random.default_rng(2).standard_normal((400, 3))
+    path = tmp_path / "thumb.fits"
+    fits.HDUList([fits.PrimaryHDU(np.ones((2, 2))),
+                  fits.ImageHDU(coeffs, name="COEFFS")]).writeto(path)
+    from modalinfo.io import load
+
+    for key in ("1", "coeffs"):
+        log = load(path, dataset=key, rate=2000.0)
+        np.testing.assert_array_equal(log.coeffs, coeffs)  # the bytes written
+    assert exit_code(["info", path, "--dataset", "COEFFS", "--rate", 2000]) == 0
+    assert "400 frames x 3 modes" in capsys.readouterr().out
+    assert exit_code(["info", path, "--dataset", "7"]) == 2
+    err = capsys.readouterr().err
+    assert "--dataset" in err and "0 (PRIMARY), 1 (COEFFS)" in err and "corrupt" not in err
