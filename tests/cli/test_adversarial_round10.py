@@ -73,7 +73,7 @@ def test_a_budget_below_the_histogram_bias_rule_is_refused(tmp_path, capsys):
 
 
 # ------------------------------------------- A01, A02, A04: foreign AOT files from aotpy
-def _aot_file(path, *, timestamps: bool, framerate):
+def _aot_file(path, *, timestamps: bool, framerate, loops: int = 1):
     aotpy = pytest.importorskip("aotpy")
     coeffs = np.random.default_rng(0).standard_normal((400, 4))
     tel = aotpy.MainTelescope("tel", enclosing_diameter=0.7)
@@ -81,11 +81,12 @@ def _aot_file(path, *, timestamps: bool, framerate):
     wfs = aotpy.ShackHartmann("wfs", source=src, n_valid_subapertures=30)
     dm = aotpy.DeformableMirror("dm", telescope=tel, n_valid_actuators=10)
     time = aotpy.Time("t", timestamps=list(np.arange(400) / 2000.0)) if timestamps else None
-    loop = aotpy.ControlLoop("loop1", commanded_corrector=dm, input_sensor=wfs, time=time,
-                             framerate=framerate,
-                             modal_coefficients=aotpy.Image("coeffs", coeffs))
+    made = [aotpy.ControlLoop(f"loop{i + 1}", commanded_corrector=dm, input_sensor=wfs,
+                              time=time, framerate=framerate,
+                              modal_coefficients=aotpy.Image(f"coeffs{i}", coeffs))
+            for i in range(loops)]
     system = aotpy.AOSystem(ao_mode="SCAO", main_telescope=tel, sources=[src],
-                            wavefront_sensors=[wfs], wavefront_correctors=[dm], loops=[loop])
+                            wavefront_sensors=[wfs], wavefront_correctors=[dm], loops=made)
     with warnings.catch_warnings():  # aotpy notes the optional tables left empty
         warnings.simplefilter("ignore")
         system.write_to_file(str(path), overwrite=True)
@@ -201,3 +202,14 @@ def test_dataset_picks_the_fits_hdu_holding_the_log(tmp_path, capsys):
     assert exit_code(["info", path, "--dataset", "7"]) == 2
     err = capsys.readouterr().err
     assert "--dataset" in err and "0 (PRIMARY), 1 (COEFFS)" in err and "corrupt" not in err
+
+
+# ---------------------------- Z26: paper_figures says a library refusal in CLI words
+def test_paper_figures_log_refusal_names_the_flag_not_the_argument(tmp_path, capsys):
+    from paper_figures.__main__ import main as figures_main
+
+    path = _aot_file(tmp_path / "two.fits", timestamps=False, framerate=2000.0, loops=2)
+    code = figures_main(["--only", "1", "--quick", "--log", str(path),
+                         "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and "choose one with --loop UID" in err and "command line:" not in err
