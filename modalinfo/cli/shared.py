@@ -449,6 +449,12 @@ def input_notes(log, path: Path) -> list[str]:
     return notes
 
 
+def _ordinal(k: int) -> str:
+    """``2nd``, ``3rd``, ``11th``, ``4000th`` ("every 2th frame": round 10 PART b, Z34)."""
+    tail = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"{k}{tail}"
+
+
 def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, *,
                lags: bool = True):
     """Refuse a log whose timestamps have gaps, or keep its longest segment (``--split-gaps``).
@@ -612,6 +618,6 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
             advance(block.shape[0])
     out.flags.writeable = False
     what = (f"frames 0..{limit - 1} of {n}" if contiguous
-            else f"every {step}th frame ({part.n_frames} of {n})")
+            else f"every {_ordinal(step)} frame ({part.n_frames} of {n})")
     queue_notes(args, [f"--max-frames {limit}: analysed {what}"])
     return part._derive(_coeffs=out)  # noqa: SLF001 - the same frames, now in memory

@@ -213,3 +213,21 @@ def test_paper_figures_log_refusal_names_the_flag_not_the_argument(tmp_path, cap
                          "--out", str(tmp_path / "out")])
     err = capsys.readouterr().err
     assert code == 2 and "choose one with --loop UID" in err and "command line:" not in err
+
+
+# ------------------------------- Z30, Z34: advice that can help; ordinals that read right
+def test_select_at_the_frame_minimum_advises_more_frames_only(tmp_path, capsys):
+    # 30 frames, horizon 1, lags 0..9: 20 rows, and no circular shift of 20 rows clears
+    # lags up to 10 at both ends, so fewer surrogates cannot help
+    log = write_small_log(tmp_path / "log.npz", 30)
+    code = exit_code(["select", log, "--target", "Z2", "--no-intervals", "--surrogates", 19,
+                      "--max-inputs", 1])
+    err = capsys.readouterr().err
+    assert code == 2 and "use more frames" in err and "fewer surrogates" not in err
+
+
+def test_max_frames_note_says_every_2nd_frame(tmp_path, capsys):
+    log = write_small_log(tmp_path / "log.npz", 400)
+    assert exit_code(["reorder", log, "--max-frames", 399, "--method", "variance",
+                      "--quiet"]) == 0
+    assert "analysed every 2nd frame (200 of 400)" in capsys.readouterr().err
