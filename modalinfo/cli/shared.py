@@ -266,14 +266,11 @@ LOG_SUFFIXES = {".npz": "npz", ".csv": "csv", ".fits": "fits", ".fit": "fits",
                 ".fts": "fits", ".h5": "hdf5", ".hdf5": "hdf5"}
 
 
-def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "OUT",
-                     formats: tuple[str, ...] = ("npz", "csv", "fits", "hdf5", "aot")) -> str:
+def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "OUT") -> str:
     """Check a log output before any work; return its format (``--to-fmt`` or extension).
 
     A ``--to-fmt`` that contradicts a known extension (``--to-fmt npz out.csv``) is
     refused; ``aot`` goes with the FITS extensions, and unknown extensions need it.
-    ``formats`` are the command's ``--to-fmt`` choices, which the refusal offers (synth
-    offered ``aot``, which it does not write: round 10 PART b, row SY10).
     """
     path = Path(path)
     implied = LOG_SUFFIXES.get(path.suffix.lower())
@@ -288,7 +285,7 @@ def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "
             raise CommandError(
                 f"{flag} '{path}': cannot tell the log format from the extension "
                 f"'{path.suffix or '(none)'}'; use {', '.join(LOG_SUFFIXES)} or pass "
-                f"--to-fmt ({', '.join(formats)})")
+                "--to-fmt (npz, csv, fits, hdf5, aot)")
     check_output(path, overwrite, flag=flag)
     return fmt
 

@@ -150,11 +150,16 @@ def test_a_speed_below_one_step_per_second_is_not_printed_as_zero():
     assert _rate_text(1442.3) == "1442"
 
 
-# ------------------------------------------ SY10: synth offers only what it can write
-def test_synth_unknown_extension_offers_only_its_formats(tmp_path, capsys):
+# ------------------------------------------ SY10: synth writes what its refusal offers
+def test_synth_writes_the_aot_format_its_refusal_offers(tmp_path, capsys):
     assert exit_code(["synth", tmp_path / "s.txt", "--frames", 100]) == 2
-    err = capsys.readouterr().err
-    assert "--to-fmt (npz, csv, fits, hdf5)" in err and "aot" not in err
+    assert "--to-fmt (npz, csv, fits, hdf5, aot)" in capsys.readouterr().err
+    out = tmp_path / "s.aot"
+    assert exit_code(["synth", out, "--frames", 100, "--to-fmt", "aot", "--quiet"]) == 0
+    from modalinfo.io import load
+
+    log = load(out, fmt="aot")
+    assert log.n_frames == 100 and log.n_modes == 27 and log.rate == 2000.0
 
 
 # -------------------------------------- CL6: a memory limit below the interpreter's own
