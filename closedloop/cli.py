@@ -139,6 +139,17 @@ def _fov_text(diameter: float, width: int = 0) -> str:
     return f"{text:>{width}}"
 
 
+def _rate_text(steps_per_second: float) -> str:
+    """Return steps per second with two significant digits below 10 (0.4, not 0).
+
+    A 10-frame est-mcao run (first-step compilation included) printed "0 steps/s"
+    (adversarial round 10 PART b, row E04).
+    """
+    if not math.isfinite(steps_per_second) or steps_per_second >= 10:
+        return f"{steps_per_second:.0f}"
+    return f"{steps_per_second:.2g}"
+
+
 def _summary_line(result) -> str:
     from closedloop.result import marechal_note
 
@@ -146,7 +157,7 @@ def _summary_line(result) -> str:
     fov = s["corrected_fov_diameter_arcmin"]
     numbers = (f"field-mean SR {s['strehl_field_mean']:.3f}, corrected FoV d = "
                + (_fov_text(fov) if math.isnan(fov) else f"{_fov_text(fov)} (SR > 0.3)")
-               + f", {s['steps_per_second']:.0f} steps/s")
+               + f", {_rate_text(s['steps_per_second'])} steps/s")
     note = marechal_note(s["strehl_peak_mean"])  # an SR of exp(-33) is no image's Strehl
     if note:
         numbers += f"; note: {note}"
@@ -268,7 +279,7 @@ def _cmd_compare(args) -> int:
         closure = f"{row[4]:>14.0f}" if row[6] == "closed" else f"{'-':>14}"
         fov = "n/a" if math.isnan(row[3]) else f"{row[3]:.2f}"
         line = (f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{fov:>16}{closure}"
-                f"{row[5]:>9.0f}")
+                f"{_rate_text(row[5]):>9}")
         print(line if row[6] == "closed" else f"{line}  loop {row[6]}")
     peaks = [row[1] for row in rows if len(row) > 2]
     if peaks and marechal_note(min(peaks)):

@@ -570,6 +570,14 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
             f"{est.n_frames} frames), more than {MAX_IMAGING_SECONDS / 3600.0:g} h; it is "
             f"driven by `{key}`: set it to false (the linear sensor) or shorten `duration`.")
     need = est.peak_bytes if setup else BASELINE_BYTES + est.run_bytes
+    if need > limit and BASELINE_BYTES >= limit:
+        # no config change can help: the advice to reduce a 14 MiB part under a 95 MiB
+        # limit misled (adversarial round 10 PART b, row CL6)
+        raise ResourceError(
+            f"this run needs about {format_size(need)} of memory, more than "
+            f"{format_size(limit)} ({source}); the interpreter with its libraries alone "
+            f"takes about {format_size(BASELINE_BYTES)} (the baseline), so no run fits "
+            "under this limit: raise it.")
     if need > limit:
         # the largest of the parts ``need`` adds up (the model's set-up parts included
         # when it is built; without, what the run keeps: its run_bytes)

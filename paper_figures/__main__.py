@@ -188,8 +188,12 @@ def _load_logs(args, logs, modules) -> dict:
                 notes += input_notes(log, path) + [
                     re.split(r": (?:note|warning): ", n, maxsplit=1)[-1] for n in args._notes]
         except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
+            from modalinfo.cli import cli_words
+
+            # in command-line words, as modalinfo's commands say it ("loop=UID (command
+            # line: --loop UID)" was printed as is: round 10 PART b, row Z26)
             message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
-            raise _RefusedError(f"--log: {message}") from None
+            raise _RefusedError(f"--log: {cli_words(message)}") from None
         for module, label, _ in modules:
             if _kind(module) != "log":
                 continue

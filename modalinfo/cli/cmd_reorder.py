@@ -87,17 +87,19 @@ def check_pupil_memory(args: argparse.Namespace, log) -> None:
                  "use fewer --pupil-pixels (64 resolves Zernikes up to radial order ~20)")
 
 
-def mi_samples(args: argparse.Namespace, log) -> int:
+def mi_samples(args: argparse.Namespace, log, frames: int | None = None) -> int:
     """Return the (frame, pixel) samples of one MI estimate.
 
-    ``min(--budget, frames x pupil pixels)`` (one frame with ``--frame``); ``--budget``
-    itself where ``--pupil-pixels`` is one the library refuses (it says so).
+    ``min(--budget, frames x pupil pixels)`` (one frame with ``--frame``, ``frames`` when
+    given: a ``--stability`` window); ``--budget`` itself where ``--pupil-pixels`` is one
+    the library refuses (it says so).
     """
     from modalinfo.bases import Pupil
 
     if args.budget < 10 or args.pupil_pixels < 4:
         return args.budget
-    frames = 1 if getattr(args, "frame", None) is not None else log.n_frames
+    if frames is None:
+        frames = 1 if getattr(args, "frame", None) is not None else log.n_frames
     if args.pupil_pixels > _MAX_COUNTED_PIXELS:  # the square bounds the disc: no mask built
         return min(args.budget, frames * args.pupil_pixels ** 2)
     return min(args.budget, frames * Pupil(args.pupil_pixels).n_valid)
@@ -114,15 +116,37 @@ def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
     if n_orderings < 1 or args.budget < 10 or args.pupil_pixels < 4:
         return  # no MI ordering, or an option the library refuses
     n = mi_samples(args, log)
+    if isinstance(args.estimator, str) and n >= 1:
+        from modalinfo.information.conditional import bias_rule
+
+        # every MI estimate pairs Phi_ref with one partial sum: 2 columns. --budget 10
+        # gave a cumulative MI falling 1.28 -> 1.09 nats and scores of -0.19 nats, with no
+        # word (adversarial round 10 PART b, row R08)
+        why = bias_rule(args.estimator, n, 2)
+        if why is not None:
+            raise CommandError(f"--budget {args.budget} gives {n} samples per MI estimate, "
+                               f"too few to order modes: {why}; raise --budget")
     seconds, calls = least_ordering_seconds(args.estimator, n, log.n_modes,
                                             getattr(args, "resamples", 0), n_orderings)
+    window = getattr(args, "stability", None)
+    if window and n_orderings and 1 <= window <= log.n_frames:
+        # --stability orders every window and the whole log for 3 seeds: 4000 one-frame
+        # windows ran past 300 s while one ordering was counted (round 10 PART b, R04)
+        n_w = mi_samples(args, log, frames=window)
+        more = (least_ordering_seconds(args.estimator, n_w, log.n_modes, 0,
+                                       log.n_frames // window),
+                least_ordering_seconds(args.estimator, n, log.n_modes, 0, 3))
+        seconds += sum(s for s, _ in more)
+        calls += sum(c for _, c in more)
     if seconds > MAX_ORDERING_SECONDS:
+        stab = f" and --stability {window}" if window else ""
         raise CommandError(
-            f"--estimator {args.estimator} with --budget {args.budget} ({n} samples per MI "
-            f"estimate, at least {calls} estimates for {log.n_modes} modes) would take at "
-            f"least {seconds / 3600:.1f} h of CPU, more than the "
+            f"--estimator {args.estimator} with --budget {args.budget}{stab} ({n} samples "
+            f"per MI estimate, at least {calls} estimates for {log.n_modes} modes) would "
+            f"take at least {seconds / 3600:.1f} h of CPU, more than the "
             f"{MAX_ORDERING_SECONDS / 3600:g} h this command allows; use a smaller --budget "
-            "(or --max-frames) or a faster --estimator (histogram, kde)")
+            "(or --max-frames), fewer --resamples, a longer --stability window or a faster "
+            "--estimator (histogram, kde)")
 
 
 def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False):

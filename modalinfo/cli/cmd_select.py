@@ -197,8 +197,11 @@ def run(args: argparse.Namespace) -> int:
         stated = extra.timestamps is None and log.timestamps is None
         if stated and extra.rate is not None and log.rate is not None and not math.isclose(
                 extra.rate, log.rate, rel_tol=1e-9):  # same length, another clock: lags lie
-            raise CommandError(f"--extra is sampled at {extra.rate:g} Hz, LOG at "
-                               f"{log.rate:g} Hz; the two logs must share the clock")
+            # 15 digits: rates 1.1e-9 apart printed as "2000 Hz, LOG at 2000 Hz" (round 10 B, SX3)
+            raise CommandError(f"--extra is sampled at {extra.rate:.15g} Hz, LOG at "
+                               f"{log.rate:.15g} Hz (relative difference "
+                               f"{abs(extra.rate / log.rate - 1):.2g}, above 1e-9); the two "
+                               "logs must share the clock")
     target = args.target
     if target.isdigit():
         target = int(target)

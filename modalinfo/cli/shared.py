@@ -164,7 +164,8 @@ def add_hint_arguments(
                        help="the file stores modes x frames: read it transposed "
                        "(--no-transpose: keep a wide array as frames x modes)")
     group.add_argument("--dataset", metavar="PATH",
-                       help="HDF5 dataset path or NPZ array name of the coefficients")
+                       help="HDF5 dataset path, NPZ array name or FITS HDU (index or "
+                       "EXTNAME) of the coefficients")
     add_outlier_argument(parser)
 
 
@@ -434,6 +435,8 @@ def input_notes(log, path: Path) -> list[str]:
         flags = ", ".join(_HINT_OF[k] for k in keys)
         notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
                      f"(state them with {flags})")
+    if isinstance(meta.get("framerate_note"), str) and log.timestamps is not None:
+        notes.append(f"'{path.name}': {meta['framerate_note']}")  # an AOT file's own clash
     if isinstance(meta.get("source_hdu"), str):  # a foreign FITS with several images
         notes.append(f"'{path.name}': read {meta['source_hdu']}")
     layout = meta.get("layout")
@@ -441,6 +444,12 @@ def input_notes(log, path: Path) -> list[str]:
         notes.append(f"'{path.name}' is stored modes x frames and was read transposed "
                      f"({layout['transposed']})")
     return notes
+
+
+def _ordinal(k: int) -> str:
+    """``2nd``, ``3rd``, ``11th``, ``4000th`` ("every 2th frame": round 10 PART b, Z34)."""
+    tail = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"{k}{tail}"
 
 
 def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, *,
@@ -606,6 +615,6 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
             advance(block.shape[0])
     out.flags.writeable = False
     what = (f"frames 0..{limit - 1} of {n}" if contiguous
-            else f"every {step}th frame ({part.n_frames} of {n})")
+            else f"every {_ordinal(step)} frame ({part.n_frames} of {n})")
     queue_notes(args, [f"--max-frames {limit}: analysed {what}"])
     return part._derive(_coeffs=out)  # noqa: SLF001 - the same frames, now in memory

@@ -488,6 +488,12 @@ def surrogate_shifts(n: int, n_surrogates: int, max_lag: int = 0, spacing: int |
     else:
         b = spacing
     allowed = _lattice(n, b, max_lag)
+    if allowed.size == 0 and spacing is None:
+        # no shift fits at all: "use fewer surrogates" could not help (a 30-frame log at
+        # max_lag 10: adversarial round 10 PART b, row Z30)
+        raise ValueError(
+            f"`{name}`={n_surrogates}: no circular shift of {n} rows clears lags up to "
+            f"{max_lag} (a shift must exceed them at both ends); use more frames.")
     if allowed.size < n_surrogates:
         raise ValueError(
             f"`{name}`={n_surrogates} circular shifts spaced "

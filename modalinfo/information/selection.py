@@ -225,10 +225,14 @@ class InputSelection:
                 f"{self.n_candidates} candidates, n = {self.n_samples}, method "
                 f"{self.method}, alpha {self.alpha} (max-statistic over candidates, "
                 f"{self.n_surrogates} time-shift surrogates)")
-        rows = [head, f"{'#':>2}  {'input':<18} {'gain':>9} {'interval':>21} {'p':>7}"]
+        # no interval computed (intervals=False, `select --no-intervals`): no column of
+        # "[nan, nan]" (adversarial round 10 PART b, row S13)
+        shown = any(np.isfinite(s.low) or np.isfinite(s.high) for s in self.inputs)
+        interval = f" {'interval':>21}" if shown else ""
+        rows = [head, f"{'#':>2}  {'input':<18} {'gain':>9}{interval} {'p':>7}"]
         for i, s in enumerate(self.inputs, 1):
-            rows.append(f"{i:>2}  {s.label:<18} {s.gain:9.4f} [{s.low:9.4f}, {s.high:9.4f}] "
-                        f"{s.pvalue:7.4f}")
+            bounds = f" [{s.low:9.4f}, {s.high:9.4f}]" if shown else ""
+            rows.append(f"{i:>2}  {s.label:<18} {s.gain:9.4f}{bounds} {s.pvalue:7.4f}")
         rows.append(f"total I(target; inputs) = {self.information:.4f} {self.units}; "
                     f"stopped: {self.stop_reason}")
         return "\n".join(rows)

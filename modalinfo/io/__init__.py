@@ -151,10 +151,12 @@ def load(
     if fmt != "aot" and hints.pop("loop", None) is not None:
         raise ValueError(f"`loop` selects a control loop of an AOT file; '{path}' is {fmt}.")
     if dataset is not None:
-        if fmt not in ("npz", "hdf5"):
+        # FITS too: its HDU, by index or EXTNAME (a thumbnail in the primary HDU hid the
+        # log in HDU 1 from every command: adversarial round 10 PART b, rows F03, F04)
+        if fmt not in ("npz", "hdf5", "fits"):
             raise ValueError(
-                f"dataset={dataset!r} (command line: --dataset) applies only to HDF5 and NPZ "
-                f"files; '{path}' is {fmt.upper()}"
+                f"dataset={dataset!r} (command line: --dataset) applies only to HDF5, NPZ "
+                f"and FITS files; '{path}' is {fmt.upper()}"
             )
         if not isinstance(dataset, str) or not dataset.strip("/"):
             raise TypeError(f"`dataset` must be a non-empty str; got {dataset!r}.")

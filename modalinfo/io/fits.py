@@ -117,13 +117,16 @@ def _native(arr: np.ndarray) -> np.ndarray:
 
 
 @unwrap
-def read_fits(path, **hints) -> ModalLog:
+def read_fits(path, dataset: str | None = None, **hints) -> ModalLog:
     """Read a log from a FITS file written by :func:`write_fits` or by other software.
 
     Parameters
     ----------
     path : str or os.PathLike
         The file.
+    dataset : str, optional
+        The HDU of a foreign file that holds the log: its index (``"1"``) or EXTNAME
+        (case-insensitive); default: the first 2-D image, else the first binary table.
     **hints
         ``rate``, ``timestamps``, ``modes``, ``convention``, ``units``, ``wavelength``,
         ``metadata``, ``nonfinite``, ``start_time``: fill what the file lacks; a hint
@@ -153,7 +156,7 @@ def read_fits(path, **hints) -> ModalLog:
             ):
                 hdul.verify("silentfix")
                 _check_warnings(caught, path)
-                coeffs, stored, foreign = _parse(hdul, path)
+                coeffs, stored, foreign = _parse(hdul, path, _chosen_hdu(hdul, dataset, path))
             _check_warnings(caught, path)
     return build_log(coeffs, path, stored, hints, foreign=foreign)
 
@@ -166,7 +169,25 @@ def _check_warnings(caught: list, path: Path) -> None:
             raise LogFormatError(f"corrupt FITS file '{path}': {text.splitlines()[0]}")
 
 
-def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
+def _chosen_hdu(hdul, dataset: str | None, path: Path) -> int | None:
+    """Index of the HDU ``dataset`` names (index or EXTNAME), None without one."""
+    if dataset is None:
+        return None
+    if _JSON_KEY in hdul[0].header:
+        raise LogFormatError(f"dataset={dataset!r} (command line: --dataset) picks an HDU of a "
+                             f"foreign FITS file; '{path}' was written by modalinfo (one log)")
+    names = [f"{k} ({hdu.name})" if hdu.name else str(k) for k, hdu in enumerate(hdul)]
+    key = str(dataset).strip()
+    if key.isdigit() and int(key) < len(hdul):
+        return int(key)
+    matches = [k for k, hdu in enumerate(hdul) if hdu.name and hdu.name.upper() == key.upper()]
+    if len(matches) != 1:
+        raise LogFormatError(f"dataset={dataset!r} (command line: --dataset) names no single HDU "
+                             f"of FITS file '{path}'; its HDUs are {', '.join(names)}")
+    return matches[0]
+
+
+def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dict, bool]:
     primary = hdul[0]
     if _JSON_KEY in primary.header:
         header = parse_header(str(primary.header[_JSON_KEY]), "FITS", path)
@@ -188,10 +209,15 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
     stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "fits"}}
     images = [k for k, hdu in enumerate(hdul)  # from the headers: no data read
               if isinstance(hdu, _image_types()) and hdu.header.get("NAXIS") == 2]
+    if chosen is not None:
+        stored["metadata"]["source_dataset"] = (
+            f"HDU {chosen}" + (f" ({hdul[chosen].name})" if hdul[chosen].name else ""))
     for index, hdu in enumerate(hdul):
+        if chosen is not None and index != chosen:
+            continue
         data = getattr(hdu, "data", None)
         if isinstance(hdu, _image_types()) and data is not None and np.ndim(data) == 2:
-            if len(images) > 1:  # say which one was read (HDF5 and NPZ refuse the choice)
+            if chosen is None and len(images) > 1:  # say which one was read
                 stored["metadata"]["source_hdu"] = (
                     f"HDU {index}" + (f" ({hdu.name})" if hdu.name else "")
                     + f", the first of {len(images)} 2-D images (HDUs "
@@ -207,7 +233,9 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
             if layout is not None:
                 stored["_layout"] = layout
             return _native(data), stored, True
-    for hdu in hdul:
+    for index, hdu in enumerate(hdul):
+        if chosen is not None and index != chosen:
+            continue
         if type(hdu).__name__ == "BinTableHDU" and hdu.data is not None and len(hdu.columns):
             names = list(hdu.columns.names)
             tunits = [unit_text(u) for u in hdu.columns.units]
@@ -270,6 +298,9 @@ def _parse(hdul, path: Path) -> tuple[np.ndarray, dict, bool]:
             if assumed:
                 stored["_convention_assumed"] = True
             return np.ascontiguousarray(np.column_stack(cols)), stored, True
+    if chosen is not None:
+        raise LogFormatError(f"FITS file '{path}': HDU {chosen} (--dataset) holds no 2-D "
+                             "image nor binary table")
     raise LogFormatError(f"FITS file '{path}' holds no 2-D image nor binary table")
 
 

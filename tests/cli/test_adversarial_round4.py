@@ -72,10 +72,12 @@ def test_the_time_rule_on_both_sides_of_the_limit():
     n, rate = 1_000_000, MI_SECONDS_PER_SAMPLE["ksg"](1_000_000)
     # largest bootstrap that stays under the limit, and one more hour's worth
     calls_ok = int(MAX_ORDERING_SECONDS / (n * rate))
-    resamples_ok = calls_ok - (2 * 3 - 2)
+    # a replicate re-estimates every step and its swapped rival: 2 M - 3 = 3 estimates
+    # for M = 3 (round 10 PART b, row B13; one per replicate before)
+    resamples_ok = (calls_ok - (2 * 3 - 2)) // 3
     check_mi_time(_args(resamples=resamples_ok), _Log(400, 3))
     with pytest.raises(CommandError, match="--estimator ksg with --budget 1000000"):
-        check_mi_time(_args(resamples=resamples_ok + calls_ok), _Log(400, 3))
+        check_mi_time(_args(resamples=resamples_ok + calls_ok // 3), _Log(400, 3))
     # the same work with the histogram estimator (~100 x cheaper per sample), one frame
     # (3216 samples) or a small budget: accepted
     check_mi_time(_args(estimator="histogram", resamples=resamples_ok), _Log(400, 3))

@@ -74,9 +74,11 @@ def test_zero_modes_is_one_refusal_naming_the_file_in_every_format(tmp_path):
 def test_aot_without_a_unit_is_rad_assumed_and_says_so(tmp_path):
     coeffs = np.arange(12.0).reshape(4, 3)
     log = load(_aot_file(tmp_path / "none.fits", coeffs, None))
-    assert log.units == "rad" and log.metadata["assumed"] == {"units": "rad"}
+    # no mode images either: the Noll labels are assumed too (round 10 PART b, A01)
+    assert log.units == "rad" and log.metadata["assumed"] == {"units": "rad",
+                                                               "modes": "Z2..Z4 (noll)"}
     stated = load(tmp_path / "none.fits", units="nm")
-    assert stated.units == "nm" and "assumed" not in stated.metadata
+    assert stated.units == "nm" and "units" not in stated.metadata["assumed"]
     assert np.array_equal(stated.coeffs, coeffs)
 
 
@@ -99,7 +101,7 @@ def test_aot_with_a_unit_that_is_not_phase_is_refused_unless_stated(tmp_path, un
 def test_aot_phase_and_length_units_are_read(tmp_path, unit, ours, factor):
     coeffs = np.arange(1.0, 13.0).reshape(4, 3) * 1e-7
     log = load(_aot_file(tmp_path / "u.fits", coeffs, unit))
-    assert log.units == ours and "assumed" not in log.metadata
+    assert log.units == ours and log.metadata["assumed"] == {"modes": "Z2..Z4 (noll)"}
     np.testing.assert_allclose(log.coeffs, coeffs * factor, rtol=1e-15)
 
 

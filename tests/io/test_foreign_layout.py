@@ -271,7 +271,7 @@ def test_dataset_picks_among_several(tmp_path):
     np.testing.assert_array_equal(load(tmp_path / "b.npz", dataset="b").coeffs, X * 2)
     np.save(tmp_path / "c.npy", X)
     with pytest.raises(ValueError, match=r"dataset='x' \(command line: --dataset\) applies "
-                       r"only to HDF5 and NPZ files; '.*c\.npy' is NPY"):
+                       r"only to HDF5, NPZ and FITS files; '.*c\.npy' is NPY"):
         load(tmp_path / "c.npy", dataset="x")
     mine = save(ModalLog(X, rate=1.0), tmp_path / "m.h5")
     with pytest.raises(LogFormatError, match="its coefficients are 'coefficients'"):
