@@ -80,8 +80,15 @@ def test_memory_limit_refuses_in_one_line_naming_the_key(tmp_path, capsys, no_si
     code = main(["run", "--preset", "table1", "--duration", "0.5", "--memory-limit", "50MB",
                  "--quiet"])
     assert code == 2
-    # 50 MB = 5e7 bytes, said in binary units as dask.utils.format_bytes says it
-    _one_line(capsys, "more than 47.68 MiB (the limit given)", "driven by", "--memory-limit")
+    # 50 MB = 5e7 bytes, said in binary units as dask.utils.format_bytes says it; below
+    # the interpreter's own baseline no run fits (round 10 PART b, CL6)
+    _one_line(capsys, "more than 47.68 MiB (the limit given)", "no run fits",
+              "--memory-limit")
+    # above the baseline (190.73 MiB) and below the run's 249 MiB: the part that drives it
+    code = main(["run", "--preset", "table1", "--duration", "0.5", "--memory-limit", "230MB",
+                 "--quiet"])
+    assert code == 2
+    _one_line(capsys, "more than 219.35 MiB (the limit given)", "driven by", "--memory-limit")
     d = presets.get("kaos").to_dict()
     d["telescope"]["n_pixels"] = 2400
     path = tmp_path / "big.toml"

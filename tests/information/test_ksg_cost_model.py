@@ -50,12 +50,14 @@ def _args(resamples):
 
 
 def test_reorder_refuses_at_the_same_hour():
-    # 400 frames x 3216 pixels >= 1e6: n = 1e6 per estimate; calls = 2 M - 2 + resamples
+    # 400 frames x 3216 pixels >= 1e6: n = 1e6 per estimate; calls = 2 M - 2 plus
+    # 2 M - 3 per bootstrap replicate (round 10 PART b, B13): 4 + 3 r for M = 3
     per_call = 0.4e-6 * math.log2(1e6) * 1e6
     calls_ok = int(MAX_ORDERING_SECONDS / per_call)
-    check_mi_time(_args(calls_ok - 4), _Log())
+    resamples_ok = (calls_ok - 4) // 3
+    check_mi_time(_args(resamples_ok), _Log())
     with pytest.raises(CommandError, match="would take at least"):
-        check_mi_time(_args(calls_ok - 4 + 2), _Log())
+        check_mi_time(_args(resamples_ok + 1), _Log())
 
 
 def test_select_refuses_at_the_same_estimate(monkeypatch):
