@@ -25,7 +25,7 @@ from modalinfo.io._columns import UNIT_WORDS
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
-from modalinfo.telemetry.checks import default_modes
+from modalinfo.telemetry.checks import coarse_start_spacing, default_modes
 from modalinfo.telemetry.log import ModalLog
 
 FORMAT_VERSION = 1
@@ -436,7 +436,7 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
     # a first timestamp float64 cannot step by the frame interval from (ns since 1970
     # read as s: 1.7e18) would be refused as a start time (ModalLog): the replaced axis
     # starts at 0 and the file's first timestamp is kept in the metadata
-    far = float(np.spacing(abs(start) + t.size / float(rate))) > 0.05 / float(rate)
+    far = coarse_start_spacing(start, t.size, float(rate)) is not None
     if far and "start_time" not in stored:
         records["file_start_time"] = start
         start = 0.0

@@ -25,6 +25,7 @@ __all__ = [
     "check_timestamps",
     "default_modes",
     "TIME_RESOLUTION",
+    "coarse_start_spacing",
     "timestamp_resolution",
     "mode_labels",
 ]
@@ -271,6 +272,17 @@ def timestamp_resolution(t: np.ndarray, dtype: Any = np.float64) -> float:
     if dtype.kind == "f" and dtype.itemsize < 8:
         res = max(res, float(np.spacing(dtype.type(big))))
     return res
+
+
+def coarse_start_spacing(start_time: float, n_frames: int, rate: float) -> float | None:
+    """Return the float64 spacing [s] of ``start_time + k / rate`` if it is too coarse, else None.
+
+    Too coarse: more than :data:`TIME_RESOLUTION` of the frame interval ``1 / rate``
+    (a start in ns since 1970 read as seconds, 1.7e18, gave every frame the same time).
+    The one rule of ``ModalLog``'s ``start_time`` and of the readers' replaced time axes.
+    """
+    ulp = float(np.spacing(abs(start_time) + n_frames / rate))
+    return ulp if ulp > TIME_RESOLUTION / rate else None
 
 
 def _check_resolution(t: np.ndarray, dtype: np.dtype, name: str) -> None:

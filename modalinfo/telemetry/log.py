@@ -55,6 +55,7 @@ from modalinfo.telemetry.checks import (
     check_metadata,
     check_modes,
     check_timestamps,
+    coarse_start_spacing,
     mode_labels,
 )
 from modalinfo.telemetry.scan import count_nonfinite, row_blocks
@@ -165,8 +166,8 @@ class ModalLog:
         if t is None and rate is not None and n_frames > 1:
             # float64 must tell the frames apart: a start in ns since 1970 (1.7e18) or
             # 1e17 s gave every frame the same time (adversarial round 9, row l-start-huge)
-            ulp = float(np.spacing(abs(start_time) + n_frames / rate))
-            if ulp > _TIME_RESOLUTION / rate:
+            ulp = coarse_start_spacing(start_time, n_frames, rate)
+            if ulp is not None:
                 raise ValueError(
                     f"`start_time` ({start_time} s) is too large for the frame interval "
                     f"(1 / rate = {1.0 / rate:.3g} s): float64 times near it are {ulp:.3g} s "

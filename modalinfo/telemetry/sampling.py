@@ -39,7 +39,7 @@ import numpy as np
 
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
-from modalinfo.telemetry.checks import check_timestamps
+from modalinfo.telemetry.checks import check_timestamps, timestamp_resolution
 
 __all__ = ["Sampling", "sampling_of", "require_contiguous", "warn_rate_change",
            "clock_interval", "rate_agrees", "require_frames_kept", "removed_frames_unseen",
@@ -169,16 +169,18 @@ class Sampling:
 
 
 def _quantum(t: np.ndarray) -> float:
-    """Spacing [s] of the time values near the largest one.
+    """Spacing [s] of the time values near the largest one (:func:`timestamp_resolution`).
 
     Float64's, or float32's for times that are all float32 numbers (stored in float32
     and widened by a reader): exact float64 times lose nothing by taking the mean.
     """
-    big = np.float64(np.max(np.abs(t)))
-    res = float(np.spacing(big))
-    if np.array_equal(t.astype(np.float32), t):
-        res = max(res, float(np.spacing(np.float32(big))))
-    return res
+    float32 = np.array_equal(t.astype(np.float32), t)
+    return timestamp_resolution(t, np.float32 if float32 else np.float64)
+
+
+def _regular(dt: np.ndarray, median: float, gap_factor: float) -> np.ndarray:
+    """Return the intervals that are neither gaps nor short (module docstring)."""
+    return dt[(dt <= gap_factor * median) & (dt >= median / gap_factor)]
 
 
 def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
@@ -210,15 +212,16 @@ def sampling_of(times, gap_factor: float = GAP_FACTOR) -> Sampling:
     is_gap = dt > gap_factor * median
     is_short = dt < median / gap_factor
     gaps = np.flatnonzero(is_gap)
-    regular = dt[~is_gap & ~is_short]
-    if _quantum(t) > _QUANTISED * median and regular.size:
+    regular = _regular(dt, median, gap_factor)
+    quantum = _quantum(t)
+    if quantum > _QUANTISED * median and regular.size:
         # times rounded to a spacing that is a sizeable part of an interval take k or
         # k + 1 spacings, and the median picks one: float32 times from 1000 s at 2 kHz
         # gave 2048 Hz (audit 10-time). Within a run of regular intervals the rounding
         # telescopes, so their mean is the interval to within 2 spacings / run length.
         median = float(np.mean(regular))
     jitter = float(_MAD_TO_SIGMA * np.median(np.abs(regular - np.median(regular))) / median)
-    change, low, high = _rate_change(regular, median, jitter, _quantum(t) / median)
+    change, low, high = _rate_change(regular, median, jitter, quantum / median)
     return Sampling(
         n_frames=int(t.size),
         median_interval=median,
@@ -303,9 +306,7 @@ def clock_interval(times, gap_factor: float = GAP_FACTOR) -> float:
     """
     t = check_timestamps(times, None, "times")
     dt = np.diff(t)
-    median = float(np.median(dt))
-    regular = dt[(dt <= gap_factor * median) & (dt >= median / gap_factor)]
-    return float(regular.mean())
+    return float(_regular(dt, float(np.median(dt)), gap_factor).mean())
 
 
 def rate_agrees(times, rate: float, rtol: float = 1e-3) -> bool:
@@ -318,8 +319,10 @@ def rate_agrees(times, rate: float, rtol: float = 1e-3) -> bool:
     t = check_timestamps(times, None, "times")
     if t.size < 2:
         return True
-    median = float(np.median(np.diff(t)))
-    return any(abs(dt * rate - 1.0) <= rtol for dt in (median, clock_interval(t)))
+    dt = np.diff(t)
+    median = float(np.median(dt))
+    mean = float(_regular(dt, median, GAP_FACTOR).mean())  # clock_interval, checked once
+    return any(abs(step * rate - 1.0) <= rtol for step in (median, mean))
 
 
 def warn_rate_change(s: Sampling, purpose: str) -> None:
