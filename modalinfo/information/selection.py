@@ -245,19 +245,13 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
         # straddle it, as the forecast evaluation refuses (round 9, rows q-gap-select,
         # q-gap-temap, q-drop-then-mi: computed without a word); a rate change alone
         # (short intervals, no gap) raised IndexError naming no gap (audit 10-time)
-        sampling = data.sampling() if callable(getattr(data, "sampling", None)) else None
-        from modalinfo.telemetry.sampling import require_frames_kept, warn_rate_change
+        from modalinfo.telemetry.sampling import require_contiguous, require_frames_kept
 
-        require_frames_kept(data, f"`{name}`: the lagged analysis")
-        if sampling is not None:
-            warn_rate_change(sampling, f"lagged analysis of `{name}`")
-        if sampling is not None and not sampling.uniform:
-            a, b = sampling.longest_segment
-            raise ValueError(
-                f"`{name}`: lags assume equally spaced frames but the log's timestamps have "
-                f"{sampling.describe_irregular()}; analyse "
-                f"the longest contiguous segment (frames {a}..{b - 1}) with "
-                "log.longest_segment() (command line: --split-gaps)")
+        purpose = f"`{name}`: the lagged analysis"
+        if callable(getattr(data, "sampling", None)):
+            require_contiguous(data, purpose)  # frames kept, rate change warned, no gap
+        else:
+            require_frames_kept(data, purpose)
         arr = as_float_array(np.asarray(data.coeffs), name, ndim=2)
         return arr, [str(label) for label in data.labels]
     arr = as_float_array(data, name, ndim=(1, 2))
