@@ -760,12 +760,11 @@ def _check_physics(cfg: SimulationConfig) -> None:
               f"grid cannot hold the phase above its Nyquist frequency, 0.275 (dx/r0)^(5/3)"
               f" = {0.275 * (dx / r0) ** (5 / 3):.3g} rad^2; raise telescope.n_pixels",
               float(f"{cfg.d_over_r0:.6g}"))
+    from modalinfo.bases.turbulence import check_outer_scale
+
     for i, layer in enumerate(cfg.layers):
-        if layer.outer_scale <= tel.diameter:
-            _fail(f"layers[{i}].outer_scale", f"> telescope.diameter = {tel.diameter:g} m (the "
-                  f"pupil must lie in the turbulence's inertial range below L0, where "
-                  f"d_over_r0 describes it; measured L0 are 10-100 m, Ziad et al. 2004)",
-                  layer.outer_scale)
+        check_outer_scale(layer.outer_scale, tel.diameter, f"layers[{i}].outer_scale",
+                          "telescope.diameter")
         if layer.wind_speed * cfg.loop.time_step > tel.diameter:
             _fail(f"layers[{i}].wind_speed", f"<= telescope.diameter / loop.time_step = "
                   f"{tel.diameter / cfg.loop.time_step:g} m/s (the layer would move more than "

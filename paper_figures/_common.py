@@ -54,7 +54,39 @@ def locked_output(out: Path, flag: str = "--out") -> Iterator[Path]:
     """
     with folders.locked_out_dir(out, "paper_figures", marker=None, parents=True,
                                 flag=flag) as held:
+        _remove_dead_partials(Path(held))
         yield held
+
+
+def _partial_prefix(out: Path) -> str:
+    """Name start of the staging folders of runs into ``out``: ``.<name>.partial-``."""
+    return f".{Path(out).name or 'out'}.partial-"
+
+
+def _remove_dead_partials(out: Path) -> None:
+    """Remove staging folders in ``out`` left by runs killed outright (SIGKILL, power loss).
+
+    Called holding ``out``'s lock, so no other run is writing there. A staging folder is
+    ``.<name>.partial-<pid>-<random>`` (:func:`staged_output`); it is removed only when
+    that pid is not a live process (:func:`modalinfo.common.folders.pid_alive`: alive when
+    unsure) and not this one. Anything else, a staging folder without a pid (written
+    before pids were recorded) included, is left alone. One line says what was removed.
+    """
+    prefix = _partial_prefix(out)
+    removed = []
+    for path in sorted(out.iterdir()):
+        rest = path.name[len(prefix):] if path.name.startswith(prefix) else ""
+        pid = rest.split("-", 1)[0]
+        if not pid.isdigit() or not path.is_dir() or path.is_symlink():
+            continue
+        if int(pid) == os.getpid() or folders.pid_alive(int(pid)):
+            continue
+        shutil.rmtree(path, ignore_errors=True)
+        if not path.exists():
+            removed.append(path.name)
+    if removed:
+        print(f"[paper_figures] removed {len(removed)} partial folder(s) of killed runs "
+              f"(process gone) in '{out}': {', '.join(removed)}", flush=True)
 
 
 @contextlib.contextmanager
@@ -69,7 +101,9 @@ def staged_output(out: Path) -> Iterator[Path]:
     out = Path(out)
     base = check_out_dir(out)
     # in the nearest existing ancestor: the same file system as `out`, so moves are renames
-    stage = Path(tempfile.mkdtemp(prefix=f".{out.name or 'out'}.partial-", dir=base))
+    # the pid in the name lets the next run holding the lock remove it if this process
+    # is killed outright (SIGKILL leaves it: no finally runs)
+    stage = Path(tempfile.mkdtemp(prefix=f"{_partial_prefix(out)}{os.getpid()}-", dir=base))
     try:
         yield stage
         if not out.exists():

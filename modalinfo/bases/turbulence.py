@@ -41,6 +41,7 @@ from modalinfo.bases.indexing import _as_index, noll_to_zernike
 from modalinfo.common.validation import check_real
 
 __all__ = [
+    "check_outer_scale",
     "zernike_covariance",
     "zernike_variance",
     "noll_residual_variance",
@@ -86,6 +87,27 @@ def _check_modes(modes: Any, outer_scale: float) -> np.ndarray:
             "(outer_scale=inf): its variance is infinite; drop j=1 or give a finite outer_scale."
         )
     return j
+
+
+def check_outer_scale(outer_scale: float, diameter: float, name: str = "outer_scale",
+                      diameter_name: str = "diameter") -> None:
+    """Refuse a von Karman outer scale ``L0 <= D`` [m] for turbulence described by r0.
+
+    ``r0`` (and ``D/r0``) describe the phase through Kolmogorov's inertial range, which
+    must contain the pupil: with ``L0 <= D`` the structure function saturates inside the
+    pupil (von Karman's ``D(r)`` at ``r = L0`` is 2.5 % of Kolmogorov's
+    ``6.88 (r/r0)**(5/3)``, 17 % at ``L0 / 4``), so ``r0`` no longer sets the phase
+    across it. Measured L0 are
+    10-100 m (Ziad et al. 2004, Appl. Opt. 43, 2316). The one rule of closedloop's
+    configs, :func:`modalinfo.telemetry.synthetic.open_loop_log` and the theoretical
+    K-L of :mod:`modalinfo.ordering.compare`; ``name`` and ``diameter_name`` name the
+    arguments in the message (ValueError).
+    """
+    if outer_scale <= diameter:
+        raise ValueError(
+            f"`{name}` must be > {diameter_name} = {diameter:g} m (the pupil must lie in "
+            "the turbulence's inertial range below L0, where r0 describes it; measured L0 "
+            f"are 10-100 m, Ziad et al. 2004); got {outer_scale!r}.")
 
 
 def _check_scales(outer_scale: Any, diameter: Any) -> tuple[float, float]:

@@ -419,9 +419,9 @@ def run_log_task(payload: dict) -> dict:
     dict
         The log's columns (:func:`log_columns`) and the analysis's scalars.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")  # a predictor or analysis may import pyplot on a worker
+    # no matplotlib.use("Agg") here: on a thread-based client the worker is the user's
+    # own process, and it switched a notebook's backend for the session; nothing a task
+    # runs draws (plot_archive draws on a Figure of its own, batch/report.py)
     from modalinfo.common.files import check_readable
     from modalinfo.io import load
     from modalinfo.telemetry.quality import apply_outlier_policy

@@ -32,6 +32,7 @@ __all__ = [
     "OutputLock",
     "check_out_dir",
     "check_room",
+    "pid_alive",
     "locked_out_dir",
 ]
 
@@ -175,7 +176,7 @@ class OutputLock:
         pid = holder.get("pid")
         if holder.get("host") != socket.gethostname() or not isinstance(pid, int):
             return False
-        return pid != os.getpid() and not _pid_alive(pid)
+        return pid != os.getpid() and not pid_alive(pid)
 
     def acquire(self) -> OutputLock:
         """Take the lock (taking over a stale one); raise OutputInUseError if held."""
@@ -228,7 +229,7 @@ class OutputLock:
         self.release()
 
 
-def _pid_alive(pid: int) -> bool:
+def pid_alive(pid: int) -> bool:
     """Tell whether process ``pid`` exists on this host (True when unsure: no permission)."""
     if pid <= 0:
         return False

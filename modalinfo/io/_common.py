@@ -364,6 +364,33 @@ def _short(value: Any, most: int = 12) -> str:
     return repr(value)
 
 
+def unwrap_counter(frames) -> tuple[np.ndarray, str | None]:
+    """Unwrap a frame counter held in a fixed-width integer column; return it and a note.
+
+    A counter of ``w`` bits (the column's dtype: ``uint8``/``int8`` to ``uint32``/
+    ``int32``) runs ``... 2**w - 1, 0, 1 ...``: a step down by more than half the period
+    ``2**w`` is a wrap, and ``2**w`` is added from there on (``numpy.unwrap``'s rule
+    with ``period=2**w``, in integers), so a step of ``+3 mod 2**w`` across a wrap is
+    2 missing frames, as anywhere else. A smaller step down (a counter restarting at 0
+    after 999 frames) is not a wrap and is left for the time-axis rules to refuse.
+    Float columns (CSV text) have no width and are returned as float64 unchanged.
+    The note (None without a wrap) says how many wraps were undone at which width.
+    """
+    arr = np.asarray(frames)
+    if arr.ndim != 1 or arr.dtype.kind not in "iu" or arr.dtype.itemsize > 4 or arr.size < 2:
+        return np.asarray(frames, dtype=np.float64), None
+    period = 1 << (8 * arr.dtype.itemsize)
+    numbers = arr.astype(np.int64)
+    wraps = np.diff(numbers) < -(period // 2)
+    n_wraps = int(np.count_nonzero(wraps))
+    if not n_wraps:
+        return numbers.astype(np.float64), None
+    numbers[1:] += period * np.cumsum(wraps)
+    note = (f"the file's {arr.dtype} frame counter wrapped {n_wraps} time(s) at 2^"
+            f"{8 * arr.dtype.itemsize}: unwrapped")
+    return numbers.astype(np.float64), note
+
+
 def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
     """Refuse frame numbers that are not consecutive when no rate turns them into times.
 
@@ -402,6 +429,10 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
                 "--rate) to replace them with a uniform time axis"
             )
     if frames is not None:
+        # a uint16 (or 8-, 32-bit) counter wrapping is one continuous log (issue 27)
+        frames, wrapped = unwrap_counter(frames)
+        if wrapped:
+            records["frame_counter"] = wrapped
         if rate is None or "timestamps" in hints:
             _refuse_skipped_frames(frames, path, "timestamps" in hints)
             records["time_axis"] = (
@@ -411,7 +442,7 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
         from modalinfo.common.validation import check_real
 
         rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
-        numbers = np.asarray(frames, dtype=np.float64)
+        numbers = frames
         stored["timestamps"] = (numbers - numbers[0]) / rate + float(hints.get("start_time", 0.0))
         hints.pop("start_time", None)
         records["time_axis"] = f"frame numbers of the file at rate {rate:g} Hz (given)"

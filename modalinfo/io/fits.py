@@ -264,7 +264,9 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
             if timed:
                 k = timed[0]
                 if kinds[k] == "frame":
-                    stored["_frame_numbers"] = cols[k]
+                    # the integer column itself: its width tells a wrapping counter
+                    whole = raw[k].dtype.kind in "iu" and np.all(np.isfinite(cols[k]))
+                    stored["_frame_numbers"] = raw[k] if whole else cols[k]
                 else:
                     exact = raw[k].dtype.kind in "iu" and np.all(np.isfinite(cols[k]))
                     set_timestamps(raw[k] if exact else cols[k], kinds[k], stored,

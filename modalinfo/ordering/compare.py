@@ -142,13 +142,12 @@ def basis_for_log(
         outer_scale = meta_l0 if meta_l0 is not None else math.inf
     outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                              allow_inf=True)
-    if kind == "kl-theory" and outer_scale <= diameter:
-        # the rule of closedloop's configs: the pupil must lie in the inertial range below
-        # L0 for a von Karman K-L to describe it (measured L0: 10-100 m, Ziad et al. 2004)
-        raise ValueError(
-            f"`outer_scale` must be > the pupil diameter {diameter:g} m ("
-            f"{'from the log' if meta_d is not None else 'assumed: the log records none'}; "
-            f"measured outer scales are 10-100 m, Ziad et al. 2004); got {outer_scale:g}.")
+    if kind == "kl-theory":
+        from modalinfo.bases.turbulence import check_outer_scale
+
+        # closedloop's rule: the pupil must lie in the inertial range below L0
+        source = "from the log" if meta_d is not None else "assumed: the log records none"
+        check_outer_scale(outer_scale, diameter, diameter_name=f"the pupil diameter ({source})")
     if getattr(log, "convention", "noll") != "noll":
         log = log.to_convention("noll")
     modes = [int(m) for m in log.modes]

@@ -132,6 +132,9 @@ class ModalLog:
         "_wavelength",
         "_metadata",
         "_repairs",
+        # data_fingerprint of a log whose bytes nobody can write (a read-only memory map),
+        # so that apply_outlier_policy does not read the file again (issue 27)
+        "_fingerprint",
     )
 
     def __init__(
@@ -260,6 +263,7 @@ class ModalLog:
         self._wavelength = wavelength
         self._metadata = meta
         self._repairs = tuple(repairs)
+        self._fingerprint = None
 
     # ------------------------------------------------------------------ construction
     def _derive(self, **changes: Any) -> ModalLog:
@@ -276,6 +280,7 @@ class ModalLog:
         new._modes = list(new._modes)
         new._metadata = copy.deepcopy(new._metadata)
         new._repairs = ()
+        new._fingerprint = None  # other data, times or labels
         return new
 
     def __getstate__(self) -> dict:
@@ -284,6 +289,7 @@ class ModalLog:
     def __setstate__(self, state: dict) -> None:
         for name, value in state.items():
             object.__setattr__(self, name, value)
+        self._fingerprint = None  # a copy in memory, no longer the read-only map it was
         for arr in (self._coeffs, self._timestamps):
             if isinstance(arr, np.ndarray) and arr.flags.writeable:
                 arr.flags.writeable = False  # unpickled copies stay read-only

@@ -468,16 +468,49 @@ def data_fingerprint(log_or_coeffs) -> str:
     A BLAKE2b digest (128 bits) of the data bytes, shape and dtype, and for a
     ``ModalLog`` of its time axis and labels too (``"log:<hex>"``; an array gives
     ``"array:<hex>"``). Exact: any changed value, frame time or label changes it.
-    Scanned in row blocks (a memory-mapped log is read once, block by block).
+    Scanned in row blocks (a memory-mapped log is read once, block by block). A log
+    whose bytes nobody can write (:func:`_read_only`: a read-only memory map) keeps its
+    fingerprint, so a second call reads nothing.
     """
+    if isinstance(log_or_coeffs, ModalLog):
+        cached = getattr(log_or_coeffs, "_fingerprint", None)
+        if cached is not None:
+            return cached
     arr = log_or_coeffs.coeffs if isinstance(log_or_coeffs, ModalLog) else as_coeffs(
         log_or_coeffs)
     h = _data_hasher(arr)
     for block in row_blocks(arr, scan_rows(arr)):
         _hash_block(h, block)
     if isinstance(log_or_coeffs, ModalLog):
-        return _log_digest(h, log_or_coeffs)
+        return _keep_fingerprint(log_or_coeffs, _log_digest(h, log_or_coeffs))
     return "array:" + h.hexdigest()
+
+
+def _read_only(arr: np.ndarray) -> bool:
+    """Whether nobody can change the bytes of ``arr``.
+
+    True when every array on its ``base`` chain is read-only and the chain ends in a
+    read-only buffer (a memory map opened ``"r"``, ``bytes``). A log is a view of the
+    array it was given (the caller may still write that array), and an array owning
+    its data may be made writeable again: both are False, and their fingerprint is
+    recomputed each time.
+    """
+    a = arr
+    while isinstance(a, np.ndarray):
+        if a.flags.writeable or a.base is None:
+            return False
+        a = a.base
+    try:
+        return memoryview(a).readonly
+    except TypeError:
+        return False
+
+
+def _keep_fingerprint(log: ModalLog, fingerprint: str) -> str:
+    """Cache ``fingerprint`` on ``log`` when its data cannot change; return it."""
+    if _read_only(log.coeffs):
+        object.__setattr__(log, "_fingerprint", fingerprint)
+    return fingerprint
 
 
 def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
@@ -675,8 +708,8 @@ def assess_quality(
     step = max(1, -(-n // sample_frames))
     hasher = _data_hasher(arr)
     sample, lo, hi, _, repeats = _sample_and_range(arr, rows, step, hasher)
-    fingerprint = (_log_digest(hasher, log_or_coeffs) if isinstance(log_or_coeffs, ModalLog)
-                   else "array:" + hasher.hexdigest())
+    fingerprint = (_keep_fingerprint(log_or_coeffs, _log_digest(hasher, log_or_coeffs))
+                   if isinstance(log_or_coeffs, ModalLog) else "array:" + hasher.hexdigest())
     n_eff = _effective_frames(sample)
     assessed = True
     if k is None:

@@ -21,17 +21,7 @@ from scipy import integrate, special
 from closedloop.optics.phase_screen import fft_phase_screen
 from modalinfo.bases import InfluenceFunctions, MaskedPupil, Pupil
 
-
-def _dense_reference(f: InfluenceFunctions) -> np.ndarray:
-    """The influence functions written out pixel by pixel: ``(n_pupil, n_valid)``."""
-    mask = f.pupil.mask
-    x, y = f.pupil.x[mask], f.pupil.y[mask]
-    out = np.zeros((x.size, f.n_valid))
-    for k, (xa, ya) in enumerate(f.valid_positions):
-        u, v = x - xa, y - ya
-        value = f.coupling ** ((u ** 2 + v ** 2) / f.pitch ** 2)
-        out[:, k] = np.where((np.abs(u) <= f.radius) & (np.abs(v) <= f.radius), value, 0.0)
-    return out
+from .conftest import dense_influence
 
 
 @pytest.fixture(scope="module")
@@ -39,8 +29,8 @@ def small():
     return InfluenceFunctions(Pupil(24, 1.0), 7)
 
 
-def test_sparse_equals_dense_reference(small):
-    ref = _dense_reference(small)
+def test_sparse_equalsdense_influence(small):
+    ref = dense_influence(small)
     mat = small.matrix.toarray()
     assert np.max(np.abs(mat - ref)) <= 1e-12
     # sparse: only the support is stored (nothing outside |dx|, |dy| <= R)
@@ -49,7 +39,7 @@ def test_sparse_equals_dense_reference(small):
 
 
 def test_separable_surface_equals_sum_of_influence_functions(small):
-    ref = _dense_reference(small)
+    ref = dense_influence(small)
     rng = np.random.default_rng(3)
     c = rng.standard_normal(small.n_valid)
     assert np.max(np.abs(small.surface(c) - ref @ c)) <= 1e-12

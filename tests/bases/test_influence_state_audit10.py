@@ -12,23 +12,14 @@ import pytest
 
 from modalinfo.bases import InfluenceFunctions, Pupil
 
-
-def _dense_reference(f: InfluenceFunctions) -> np.ndarray:
-    mask = f.pupil.mask
-    x, y = f.pupil.x[mask], f.pupil.y[mask]
-    out = np.zeros((x.size, f.n_valid))
-    for k, (xa, ya) in enumerate(f.valid_positions):
-        u, v = x - xa, y - ya
-        value = f.coupling ** ((u ** 2 + v ** 2) / f.pitch ** 2)
-        out[:, k] = np.where((np.abs(u) <= f.radius) & (np.abs(v) <= f.radius), value, 0.0)
-    return out
+from .conftest import dense_influence
 
 
 def test_threads_sharing_one_mirror_get_their_own_surfaces():
     # the kernel releases the GIL: scratch grids held by the object mixed the commands of
     # concurrent calls (row thr-influence-surface)
     f = InfluenceFunctions(Pupil(32), 9)
-    dense = _dense_reference(f)
+    dense = dense_influence(f)
     commands = [np.random.default_rng(s).standard_normal(f.n_valid) for s in range(32)]
     with ThreadPoolExecutor(4) as pool:
         for _ in range(5):
@@ -45,4 +36,4 @@ def test_public_arrays_are_read_only(name):
     with pytest.raises(ValueError, match="read-only"):
         getattr(f, name)[...] = 0
     c = np.random.default_rng(0).standard_normal(f.n_valid)
-    np.testing.assert_allclose(f.surface(c), _dense_reference(f) @ c, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(f.surface(c), dense_influence(f) @ c, rtol=1e-12, atol=1e-12)

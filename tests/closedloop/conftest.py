@@ -7,7 +7,8 @@ One copy of each small config that several test files run:
   (test_loop, test_guards, test_predictor_faults, and the files that run it);
 - :func:`lag_only`: a loop whose only error is the servo lag (test_laws_budget,
   test_budget_terms);
-- :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM;
+- :func:`tiny_actuator_loop`: table1 scaled down to one ground layer and a 9 x 9 actuator DM
+  (:func:`tiny_actuator_config` for the test files of other folders);
 - :func:`gap_config`, :func:`gap_sensor`: the small 4-m loops of the mutation-gap tests
   (test_mutation_gaps_model, test_mutation_gaps_wfs), built from their layers, mirrors
   and sensors;
@@ -39,6 +40,12 @@ from closedloop.optics.actuator_dm import valid_actuators
 @pytest.fixture(scope="module")
 def tiny_actuator_loop() -> SimulationConfig:
     """table1 scaled down: one ground layer, 8 x 8 subapertures, 9 x 9 actuators, all modes."""
+    return tiny_actuator_config()
+
+
+def tiny_actuator_config() -> SimulationConfig:
+    """The config of :func:`tiny_actuator_loop`, for files outside this folder
+    (``from ..closedloop.conftest import tiny_actuator_config``)."""
     cfg = SimulationConfig(
         name="tiny-actuators",
         telescope=TelescopeConfig(diameter=4.0, n_pixels=32),

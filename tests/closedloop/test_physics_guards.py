@@ -217,3 +217,42 @@ def test_shack_hartmann_noise_bound_is_10_arcsec():
     assert _with("kaos", wfss__0__noise=10.0).wfss[0].noise == 10.0
     with pytest.raises(ValueError, match=r"`wfss\[0\].noise` must be <= 10 arcsec RMS"):
         _with("kaos", wfss__0__noise=10.5)
+
+
+def _von_karman_over_kolmogorov(r_over_l0: float) -> float:
+    """Phase structure function of von Karman over Kolmogorov's at ``r`` (same r0).
+
+    von Karman: ``0.17253 (L0/r0)**(5/3) [1 - 1.00563 x**(5/6) K_{5/6}(x)]``,
+    ``x = 2 pi r / L0`` (Conan 2000, JOSA A 17, 1807 eq. 2); Kolmogorov
+    ``6.88 (r/r0)**(5/3)``.
+    """
+    from scipy import special
+
+    x = 2 * np.pi * r_over_l0
+    vk = 0.17253 * (1 - 1.00563 * x ** (5 / 6) * special.kv(5 / 6, x))
+    return vk / (6.88 * r_over_l0 ** (5 / 3))
+
+
+@pytest.mark.parametrize("outer_scale", [0.01, 2.0, 4.0])
+def test_synthetic_open_loop_refuses_the_outer_scales_the_config_refuses(outer_scale):
+    """``synthetic.open_loop_log`` took L0 < D, which the config refuses (issue 27).
+
+    The law: with L0 <= D the structure function across the pupil is a fraction of
+    Kolmogorov's (2.5 % at r = L0), so r0 no longer describes the phase there.
+    """
+    from modalinfo.telemetry.synthetic import Layer, open_loop_log, open_loop_psd
+
+    assert _von_karman_over_kolmogorov(1.0) < 0.05
+    kw = dict(modes=[2, 3], rate=500.0, diameter=4.0, layers=Layer(0.1, 10.0))
+    rule = r" = 4 m \(the pupil must lie in the turbulence's inertial range below L0"
+    with pytest.raises(ValueError, match=r"^`outer_scale` must be > diameter" + rule) as lib:
+        open_loop_log(n_frames=64, outer_scale=outer_scale, **kw)
+    with pytest.raises(ValueError, match=r"`outer_scale` must be > diameter" + rule):
+        open_loop_psd([1.0], outer_scale=outer_scale, **kw)
+    with pytest.raises(ValueError, match=r"`layers\[0\].outer_scale` must be > "
+                                         r"telescope.diameter" + rule) as sim:
+        _with("table1", layers__0__outer_scale=outer_scale)
+    # the same rule and value after the argument's name
+    assert str(lib.value).split(" = 4 m ")[1] == str(sim.value).split(" = 4 m ")[1]
+    log = open_loop_log(n_frames=64, outer_scale=4.01, seed=1, **kw)
+    assert log.coeffs.shape == (64, 2)

@@ -12,14 +12,7 @@ import pytest
 
 from modalinfo.forecast import ARMAPredictor, make_predictor
 
-
-def _ar1(n: int = 600) -> np.ndarray:
-    rng = np.random.default_rng(5)
-    e = rng.standard_normal((n, 2))
-    a = np.zeros((n, 2))
-    for t in range(1, n):
-        a[t] = 0.9 * a[t - 1] + e[t]
-    return a
+from .conftest import ar1
 
 
 def _started(make, a):
@@ -36,7 +29,7 @@ def _started(make, a):
     lambda: ARMAPredictor(order=(2, 1), horizon=2, refit_every=20, window=100),
 ])
 def test_a_shallow_copy_does_not_advance_the_original(make):
-    a = _ar1()
+    a = ar1(5)
     p, untouched = _started(make, a), _started(make, a)
     q = copy.copy(p)
     for frame in a[410:415]:  # the copy runs ahead on other samples

@@ -13,20 +13,13 @@ import pytest
 
 from modalinfo.forecast import make_predictor
 
-
-def _ar1(n: int = 600) -> np.ndarray:
-    rng = np.random.default_rng(3)
-    e = rng.standard_normal((n, 2))
-    a = np.zeros((n, 2))
-    for t in range(1, n):
-        a[t] = 0.9 * a[t - 1] + e[t]
-    return a
+from .conftest import ar1
 
 
 @pytest.mark.parametrize("name", ["linear", "arma", "multivariate", "rls"])
 @pytest.mark.parametrize("how", ["pickle", "deepcopy"])
 def test_a_copy_mid_stream_runs_as_the_original(name, how):
-    a = _ar1()
+    a = ar1(3)
     p = make_predictor(name).fit(a[:400])
     p.reset()
     for frame in a[400:410]:

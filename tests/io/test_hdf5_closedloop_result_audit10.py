@@ -10,30 +10,16 @@ Reference: the command-line contract (exit 2, one line on stderr) and the file's
 import pytest
 
 from closedloop import simulate
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
 from modalinfo.cli import main
 from modalinfo.io import LogFormatError, load
+
+from ..closedloop.conftest import tiny_actuator_config  # the closedloop tests' small loop
 
 
 @pytest.fixture(scope="module")
 def result_file(tmp_path_factory):
-    cfg = SimulationConfig(
-        telescope=TelescopeConfig(diameter=4.0, n_pixels=32),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=10.0, wind_speed=10.0),),
-        dms=(DMConfig(altitude=0.0, n_modes=10, kind="ideal"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, kind="ideal", noise=0.0,
-                        n_subapertures=8, field_samples=1),),
-        loop=LoopConfig(time_step=1e-3, integration_time=1e-3, delay=1e-3, gain=0.5),
-        field=FieldConfig(size=0.0, n_points=1))
-    return simulate(cfg, 0.005, seed=0).save(tmp_path_factory.mktemp("r") / "r.h5")
+    return simulate(tiny_actuator_config(), 0.005, seed=0).save(
+        tmp_path_factory.mktemp("r") / "r.h5")
 
 
 @pytest.mark.parametrize("extra", [[], ["--dataset", "logs/dm0.pol/coefficients"]])

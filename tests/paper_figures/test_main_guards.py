@@ -323,3 +323,43 @@ def test_seeds_and_durations_the_runs_cannot_hold_are_refused(tmp_path, capsys, 
     out = tmp_path / "out"
     err = _refused(capsys, argv + ["--out", str(out)], needle)
     assert "Traceback" not in err and not out.exists() and _leftovers(tmp_path) == []
+
+
+def test_the_partial_folder_of_a_killed_run_is_removed_by_the_next(tmp_path, capsys,
+                                                                   stand_ins):
+    # issue 27 leftovers: a run killed by SIGKILL (no handler runs) left its staging
+    # folder '<out>/.out.partial-*' for good. Reference: POSIX (SIGKILL cannot be caught)
+    # and the process table (os.kill(pid, 0)); the next run holding the lock removes the
+    # folder of the dead pid only, and leaves a live process's and unnamed ones alone
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    code = ("import sys; from pathlib import Path; "
+            "from paper_figures._common import locked_output, staged_output\n"
+            f"with locked_output(Path({str(out)!r})), staged_output(Path({str(out)!r})) as s:\n"
+            "    (s / 'fig2_sr_peak.png').write_bytes(b'half')\n"
+            "    print(s.name, flush=True); sys.stdin.read()\n")
+    with subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.PIPE,
+                          stdout=subprocess.PIPE, text=True) as run:
+        try:
+            stage = run.stdout.readline().strip()
+        finally:
+            run.send_signal(signal.SIGKILL)
+        run.wait()
+    assert run.returncode == -signal.SIGKILL
+    assert stage.startswith(f".out.partial-{run.pid}-") and (out / stage).is_dir()
+    live = out / f".out.partial-{os.getppid()}-x"  # a live process (pytest's parent)
+    unnamed = out / ".out.partial-abc123"  # no pid recorded: not ours to judge
+    for keep in (live, unnamed):
+        keep.mkdir()
+    (out / "notes.txt").write_text("mine")
+    assert main(["--only", "2", "--out", str(out)]) == 0
+    said = [line for line in capsys.readouterr().out.splitlines() if "removed" in line]
+    assert said == [f"[paper_figures] removed 1 partial folder(s) of killed runs (process "
+                    f"gone) in '{out}': {stage}"]
+    assert not (out / stage).exists() and live.is_dir() and unnamed.is_dir()
+    assert (out / "notes.txt").read_text() == "mine"
+    assert (out / "fig2_sr_peak.png").read_bytes() == b"new fig2"

@@ -379,3 +379,50 @@ def test_a_report_of_another_log_of_the_same_shape_is_refused(tmp_path):
     assert out.coeffs[10, 0] < 10.0  # clipped to median + k sigma (k < 10 here)
     # an array's report still applies to the log holding those values
     apply_outlier_policy(log, "clip", report=assess_quality(y))
+
+
+def test_a_report_of_a_memory_mapped_log_is_checked_without_reading_it_again(
+        tmp_path, monkeypatch):
+    # issue 27 leftovers: apply_outlier_policy(report=...) re-read a memory-mapped log to
+    # fingerprint it (a second full pass over the file). Rows read are counted through a
+    # wrapper of the block iterator every pass uses; a read-only map keeps its fingerprint,
+    # a log of a caller's writable array is hashed again (its data may have changed)
+    import modalinfo.telemetry.quality as quality
+
+    read = []
+    blocks = quality.row_blocks
+
+    def counting(arr, rows):
+        for block in blocks(arr, rows):
+            read.append(block.shape[0])
+            yield block
+
+    monkeypatch.setattr(quality, "row_blocks", counting)
+    x = np.random.default_rng(27).standard_normal((3000, 4))
+    x[10, 0] = 100.0
+    np.save(tmp_path / "x.npy", x)
+    log = load(tmp_path / "x.npy", mmap=True)
+    assert isinstance(log.coeffs, np.memmap)
+    report = assess_quality(log)
+    read.clear()
+    apply_outlier_policy(log, "warn", report=report)
+    assert sum(read) == 0  # before: 3000 (one more pass over the file)
+    out, _ = apply_outlier_policy(log, "clip", report=report)
+    assert sum(read) == 3000  # the clipping's own pass only
+    assert out.coeffs[10, 0] < 10.0 and out.coeffs[11, 0] == x[11, 0]
+    # another map of the same shape: refused, having been read once
+    y = x.copy()
+    y[10, 0] = 0.0
+    np.save(tmp_path / "y.npy", y)
+    with pytest.raises(ValueError, match="got a report of another log of the same shape"):
+        apply_outlier_policy(load(tmp_path / "y.npy", mmap=True), "clip", report=report)
+    # a log viewing a caller's array: hashed again, and refused once the array changed
+    z = x.copy()
+    mine = ModalLog(z)
+    report = assess_quality(mine)
+    read.clear()
+    apply_outlier_policy(mine, "warn", report=report)
+    assert sum(read) == 3000
+    z[10, 0] = 0.0
+    with pytest.raises(ValueError, match="got a report of another log of the same shape"):
+        apply_outlier_policy(mine, "clip", report=report)

@@ -69,6 +69,7 @@ import numpy as np
 from scipy import fft as sfft
 
 from modalinfo.bases import noll_to_zernike, zernike_covariance
+from modalinfo.bases.turbulence import check_outer_scale
 from modalinfo.common.validation import (
     check_int,
     check_real,
@@ -361,6 +362,7 @@ def _check_geometry(diameter, outer_scale, wavelength):
     outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                              allow_inf=True)
     wavelength = check_wavelength(wavelength)
+    check_outer_scale(outer_scale, diameter)  # closedloop's rule: L0 beyond the pupil
     return diameter, outer_scale, wavelength
 
 
