@@ -249,8 +249,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--method", default="mi_greedy",
                         choices=("mi_greedy", "mi_marginal", "variance", "pca", "standard"),
                         help="ordering rule (default: mi_greedy)")
-    parser.add_argument("--resamples", type=int, default=20, metavar="R",
-                        help="bootstrap replicates for the gain bounds (default: 20; 0: none)")
+    parser.add_argument("--resamples", type=int, default=None, metavar="R",
+                        help="bootstrap replicates for the gain bounds (default: 40, the "
+                             "fewest whose 95%% percentile bounds have a replicate beyond "
+                             "each: 2 / (1 - 0.95); 0: none)")
     parser.add_argument("--out", type=Path, default=None, help="write the ordering as JSON")
     parser.add_argument("--stability", type=int, default=None, metavar="FRAMES",
                         help="also order consecutive windows of FRAMES frames and seeds 0-2, "
@@ -276,8 +278,14 @@ columns of the table:
 def run(args: argparse.Namespace) -> int:
     """Order the basis, print the table, write the JSON."""
     from modalinfo.cli.shared import progress
+    from modalinfo.information.resampling import least_tail_replicates
     from modalinfo.ordering import order_modes
     from modalinfo.ordering.compare import basis_for_log
+    from modalinfo.ordering.orderings import CONFIDENCE_LEVEL
+
+    least = least_tail_replicates(CONFIDENCE_LEVEL)
+    if args.resamples is None:
+        args.resamples = least  # order_modes' own default, the one rule (issue 27)
 
     check_output(args.out, args.overwrite, suffixes=(".json",), flag="--out")
     if args.frame is not None and args.method == "pca":
@@ -340,13 +348,15 @@ def run(args: argparse.Namespace) -> int:
               f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
               "the last step completes Phi_ref and is not estimated")
         reach = (result.n_resamples - 1) / (result.n_resamples + 1)
-        if reach < 0.9:
-            # the range of R replicates covers a new draw with probability (R - 1) / (R + 1):
-            # with 2 the '~' marks missed 6 of 25 ties (adversarial round 9 PART b, N24)
+        if result.n_resamples < least_tail_replicates(result.confidence_level):
+            # the rule of every bootstrap bound (mutual_information_ci refuses below it):
+            # fewer than 2 / (1 - L) leave no replicate beyond the bounds, whose range
+            # covers a new draw with probability (R - 1) / (R + 1) at most; with 2 the '~'
+            # marks missed 6 of 25 ties (adversarial round 9 PART b, N24); issue 27
             print(f"caution: {result.n_resamples} replicates are too few for "
                   f"{100 * result.confidence_level:.0f}% bounds (their whole range covers "
                   f"{100 * reach:.0f}% at most): the bounds, the '~' marks and the steps above "
-                  "understate the noise; use --resamples 20 or more")
+                  f"understate the noise; use --resamples {least} or more")
     if args.stability is not None:
         from modalinfo.ordering import ordering_stability
 

@@ -79,6 +79,7 @@ from modalinfo.information.resampling import (
     block_bootstrap_indices,
     check_index_memory,
     check_resamples,
+    check_tail_replicates,
     matched_window_for,
     resolve_block_length,
     surrogate_pvalue,
@@ -195,32 +196,6 @@ def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
     return x, y
 
 
-def _check_tail_replicates(interval: str, n_resamples: int, confidence_level: float) -> None:
-    """Refuse a quantile interval whose tails ``(1 - level) / 2`` hold no replicate.
-
-    The ``"basic"``, ``"percentile"`` and ``"bca"`` bounds are quantiles of the
-    replicates at ``(1 - level) / 2`` and its mirror; with fewer than ``2 / (1 - level)``
-    replicates no replicate lies beyond them, the bounds are the extreme replicates and
-    cover at most ``(B - 1) / (B + 1)`` whatever the level asked (round 10 PART a: a
-    "99.9 %" percentile interval from 50 replicates). The ``"normal"`` interval takes only
-    the replicates' spread and has no such limit.
-    """
-    if interval == "normal":
-        return
-    tail = (1.0 - confidence_level) / 2.0
-    if n_resamples * tail < 1.0:
-        least = math.ceil(1.0 / tail)
-        while least * tail < 1.0:  # 1 / tail rounded down
-            least += 1
-        raise ValueError(
-            f"`n_resamples`={n_resamples} is too few for a {interval!r} interval at "
-            f"`confidence_level`={confidence_level:g}: its bounds are the replicates' "
-            f"{tail:.3g} and {1 - tail:.3g} quantiles, and fewer than 1 / {tail:.3g} = "
-            f"{least} replicates leave none beyond them (the bounds would be the extreme "
-            f"replicates, covering at most (B - 1) / (B + 1)); use n_resamples >= {least} "
-            "or interval='normal'.")
-
-
 def mutual_information_ci(
     x: Any,
     y: Any,
@@ -301,7 +276,7 @@ def mutual_information_ci(
     check_choice(interval, "interval", ("normal", "basic", "percentile", "bca"))
     if interval == "bca" and bootstrap != "iid":
         raise ValueError("`interval`='bca' needs bootstrap='iid'; got bootstrap='block'.")
-    _check_tail_replicates(interval, n_resamples, confidence_level)
+    check_tail_replicates(interval, n_resamples, confidence_level)
     rng = check_rng(seed)
     est = MutualInformation(method, units, **options)
     theta = est.estimate(x, y)

@@ -207,8 +207,12 @@ def test_reorder_cautions_that_two_replicates_understate_the_noise(tmp_path, cap
     base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500", "--quiet"]
     assert exit_code([*base, "--resamples", "2"]) == 0
     assert "caution: 2 replicates are too few for 95% bounds" in capsys.readouterr().out
-    assert exit_code([*base, "--resamples", "20"]) == 0
-    assert "caution" not in capsys.readouterr().out
+    # the one rule of every bootstrap bound (issue 27): 2 / (1 - 0.95) = 40 replicates
+    assert exit_code([*base, "--resamples", "39"]) == 0
+    assert "caution: 39 replicates are too few for 95% bounds" in capsys.readouterr().out
+    assert exit_code([*base]) == 0  # the default, 40
+    out = capsys.readouterr().out
+    assert "caution" not in out and "40 replicates" in out
 
 
 # ------------------------------------------------------- N32: one note, said once
