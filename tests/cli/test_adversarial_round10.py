@@ -51,10 +51,12 @@ def test_a_bootstrap_that_cannot_finish_in_an_hour_is_refused():
 def test_stability_windows_are_counted_in_the_time_rule(monkeypatch):
     from modalinfo.ordering import cost
 
-    # one ordering of 27 modes on 200,000 samples makes >= 52 estimates; --stability
-    # 2000 on 4000 frames adds 2 window orderings and 3 seeds' whole-log orderings: a
-    # limit of 1.5 orderings' time passes the first and refuses the second
-    one = 52 * 200_000 * cost.MI_SECONDS_PER_SAMPLE["histogram"](200_000)
+    # one greedy ordering of 27 modes (the command's default, every mode scored at every
+    # step: 27 + 26 + ... + 2 = 377 estimates) on 200,000 samples; --stability 2000 on
+    # 4000 frames adds 2 window orderings and 3 seeds' whole-log orderings: a limit of
+    # 1.5 orderings' time passes the first and refuses the second
+    one = 377 * (cost.MI_SECONDS_PER_CALL["histogram"]
+                 + 200_000 * cost.MI_SECONDS_PER_SAMPLE["histogram"](200_000))
     monkeypatch.setattr(cost, "MAX_ORDERING_SECONDS", 1.5 * one)
     check_mi_time(_args(), _Log(4000, 27))
     with pytest.raises(CommandError, match="--stability 2000"):
