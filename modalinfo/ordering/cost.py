@@ -23,9 +23,12 @@ the KDE's grid, the copula's set-up), which dominates small samples: ``reorder
 414 s. Measured (``time.process_time`` of ``MutualInformation.score`` after ``fit``,
 median of 3 batches, one BLAS thread, load 3-4, benchmarks/bench_cost_models.py): at
 n = 30 histogram 73 us, kde 4.2 ms (3.6 ms at n = 1000), gaussian 154 us, ksg 359 us;
-the constants are ~0.7-0.8 of these, so the bound stays below every time measured. The
-histogram's per-sample rate is 1e-8 s (was 2e-8, above its 1.38 ms measured at
-n = 1e5 once the call term is added). Rule: least seconds of one estimate =
+the constants are 0.55-0.85 of these, so the bound stays below every time measured.
+The histogram's time grows as ~sqrt(n) from 30 to 1e5 samples (73, 121, 153, 297, 378,
+502, 1378 us at n = 30, 100, 300, 1e3, 3,228, 1e4, 1e5): its per-sample rate is the
+lower envelope ``max(1e-8, 3.3e-6 / sqrt(n))`` s (0.6-0.8 of each row beyond the call
+term; the flat 2e-8 before was 5x low at 3,228 samples and, with the call term, above
+the 1.38 ms measured at 1e5). Rule: least seconds of one estimate =
 ``MI_SECONDS_PER_CALL + n x MI_SECONDS_PER_SAMPLE(n)``.
 
 **The greedy's calls** (``method="mi_greedy"``, the command line's default):
@@ -41,6 +44,8 @@ swapped rivals.
 
 from __future__ import annotations
 
+import math
+
 from modalinfo.information.ksg import ksg_seconds_per_sample
 from modalinfo.ordering.orderings import _EXHAUSTIVE_MAX_MODES, _EXHAUSTIVE_TAIL
 
@@ -52,10 +57,10 @@ MI_SECONDS_PER_SAMPLE = {
     "ksg": lambda n: ksg_seconds_per_sample(n, 2, least=True),
     "kde": lambda n: 1.5e-7,
     "gaussian": lambda n: 1e-7,
-    "histogram": lambda n: 1e-8,
+    "histogram": lambda n: max(1e-8, 3.3e-6 / math.sqrt(max(n, 1))),
 }
 #: CPU seconds of one MI estimate whatever its size, a lower bound (module notes)
-MI_SECONDS_PER_CALL = {"ksg": 2.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogram": 5e-5}
+MI_SECONDS_PER_CALL = {"ksg": 2.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogram": 4e-5}
 #: Most CPU time a run of MI orderings may be estimated to take before it is refused [s]
 MAX_ORDERING_SECONDS = 3600.0
 
