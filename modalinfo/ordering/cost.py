@@ -65,18 +65,20 @@ MI_SECONDS_PER_CALL = {"ksg": 2.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogra
 MAX_ORDERING_SECONDS = 3600.0
 
 
-def least_ordering_calls(n_modes: int, method: str = "mi_marginal") -> int:
+def least_ordering_calls(n_modes: int, method: str = "mi_marginal",
+                         search: str = "auto") -> int:
     """Least number of MI estimates of one ordering of ``n_modes`` modes (no bootstrap).
 
     ``"mi_greedy"``: every mode at every step up to ``_EXHAUSTIVE_MAX_MODES`` modes
     (``M (M + 1) / 2 - 1``); above, every mode at the first step and at each step with
     ``_EXHAUSTIVE_TAIL`` or fewer left, at least one at the steps between. Otherwise
-    (``"mi_marginal"``): ``2 M - 2`` (module notes).
+    (``"mi_marginal"``): ``2 M - 2`` (module notes). ``search`` is ``order_modes``'
+    (``"exhaustive"`` or ``"screened"`` whatever the count of modes).
     """
     m = max(int(n_modes), 1)
     if method != "mi_greedy" or m < 2:
         return max(2 * m - 2, 1)
-    if m <= _EXHAUSTIVE_MAX_MODES:
+    if search == "exhaustive" or (search == "auto" and m <= _EXHAUSTIVE_MAX_MODES):
         return m * (m + 1) // 2 - 1
     tail = min(_EXHAUSTIVE_TAIL, m - 1)  # steps with 2..tail modes left score them all
     return m + tail * (tail + 1) // 2 - 1 + (m - 1 - tail)
