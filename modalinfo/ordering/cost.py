@@ -22,8 +22,9 @@ the KDE's grid, the copula's set-up), which dominates small samples: ``reorder
 --stability 1`` (4000 one-frame windows of 3,228 samples) was counted 14 s and took
 414 s. Measured (``time.process_time`` of ``MutualInformation.score`` after ``fit``,
 median of 3 batches, one BLAS thread, load 3-4, benchmarks/bench_cost_models.py): at
-n = 30 histogram 73 us, kde 4.2 ms (3.6 ms at n = 1000), gaussian 154 us, ksg 359 us;
-the constants are 0.55-0.85 of these, so the bound stays below every time measured.
+n = 30 histogram 73 us, kde 4.2 ms (3.6 ms at n = 1000), gaussian 154 us, ksg 359 us (275 us
+in a second run); the constants are 0.55-0.7 of these, so the bound stays below every
+time measured.
 The histogram's time grows as ~sqrt(n) from 30 to 1e5 samples (73, 121, 153, 297, 378,
 502, 1378 us at n = 30, 100, 300, 1e3, 3,228, 1e4, 1e5): its per-sample rate is the
 lower envelope ``max(1e-8, 3.3e-6 / sqrt(n))`` s (0.6-0.8 of each row beyond the call
@@ -60,7 +61,7 @@ MI_SECONDS_PER_SAMPLE = {
     "histogram": lambda n: max(1e-8, 3.3e-6 / math.sqrt(max(n, 1))),
 }
 #: CPU seconds of one MI estimate whatever its size, a lower bound (module notes)
-MI_SECONDS_PER_CALL = {"ksg": 2.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogram": 4e-5}
+MI_SECONDS_PER_CALL = {"ksg": 1.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogram": 4e-5}
 #: Most CPU time a run of MI orderings may be estimated to take before it is refused [s]
 MAX_ORDERING_SECONDS = 3600.0
 
