@@ -68,7 +68,8 @@ from modalinfo.common.sizes import format_size
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
            "available_memory", "ideal_sensor_config", "budget_streams", "DEFAULT_SHARE",
-           "BASELINE_BYTES", "MAX_IMAGING_SECONDS", "GRAM_ROWS"]
+           "BASELINE_BYTES", "MAX_IMAGING_SECONDS", "GRAM_ROWS", "SECONDS_PER_FRAME",
+           "FRAME_RATES"]
 
 #: share of the available memory a run may use by default
 DEFAULT_SHARE = 0.5
@@ -81,10 +82,24 @@ _BUILD_BYTES_PER_ENTRY = 16.0
 _SCREEN_TRANSIENT = 40.0
 #: share of its build a WFS operator keeps once in CSR form (duplicates summed)
 _KEPT_SHARE = 0.1
-#: time per frame = _SECONDS_PER_FRAME + _SECONDS_PER_OP x work (see :func:`estimate`),
-#: fitted on table1 (1200 steps/s) and kaos (2500 steps/s) on an idle machine
-_SECONDS_PER_FRAME = 3.5e-4
-_SECONDS_PER_OP = 2.4e-10
+#: CPU time per frame [s] = SECONDS_PER_FRAME + sum over the terms of :func:`_frame_work`
+#: of FRAME_RATES[term] x the term's work (one BLAS and numba thread). Fitted (non-negative
+#: least squares on relative errors) to the median CPU per frame of ``simulate`` on twelve
+#: configs spanning the presets that run at small size: table1, table1-wind,
+#: table1-solar, mcao3, kaos, ``dkist-scao`` at 12, 20 and 32 subapertures and
+#: ``est_mcao_variant`` (15, 16, 20, 24), measured 0.34-23 ms, every one within 1.5x
+#: of the fit; the full-size ``est-mcao``, not fitted, is 96 ms for 79-94 ms measured
+#: (benchmarks/RESULTS.md, "Cost models against measured, round 11",
+#: benchmarks/bench_cost_models.py). The mirrors' rate (their pixel work grows as the
+#: planes', so the fit cannot separate it: it gave 0) is kept at the earlier model's
+#: 6e-11 s; the controller's (the MAP's ``M x M`` pseudo-open-loop product, float32 on
+#: the 4-m presets) is its measured 8.8 ms at 4,881 modes (RESULTS.md, "The per-frame
+#: time model ... est-mcao"). The model before (one rate 2.4e-10 s per op, fitted on
+#: table1 and kaos alone) was 3.5-4.5x low on the EST presets (adversarial round 10
+#: PART a, ``est16-time``).
+SECONDS_PER_FRAME = 1.7e-4
+FRAME_RATES = {"planes": 1.5e-9, "science": 9.9e-10, "mirrors": 6e-11,
+               "sensors": 6e-10, "reconstructor": 6.1e-10, "controller": 3.7e-10}
 _MARGIN_PIXELS = 3
 #: CPU seconds per ``rows x cols x min(rows, cols)`` of a reconstructor's SVD (numpy's
 #: gesdd, one BLAS thread): 4.7 s for the 2,900 x 1,583 pseudo-inverse of a DKIST-like
@@ -143,8 +158,9 @@ class ResourceEstimate:
     n_frames : int
         Frames the run has.
     seconds_per_frame : float
-        Estimated wall time per frame [s] on one idle core of the reference machine
-        (rough: within a factor ~2; a loaded machine is slower).
+        Estimated CPU time per frame [s] on one core of the reference machine
+        (:data:`FRAME_RATES`: within 1.5x of every preset measured; a loaded machine's
+        wall time is longer).
     setup_bytes, run_bytes : float
         The two phases whose larger one makes the peak (beyond the baseline).
     setup_seconds : float
@@ -415,23 +431,42 @@ def _matrices(n_frames: int, n_dir: int, n_meas_total: float,
     return reconstructor, logs
 
 
-def _seconds_per_frame(config: SimulationConfig, layout: list, dx: float, n_meas_total: float,
-                       n_modes_total: float, kept_operators: float,
-                       costs: list[SensorCost]) -> float:
-    """Wall time per frame [s]: a fixed cost plus the frame's work, fitted on table1 and kaos."""
-    # plane fills (per internal step and layer), science moments, DM surfaces, WFS
-    # products, reconstructor
+def _frame_work(config: SimulationConfig, layout: list, dx: float, n_meas_total: float,
+                n_modes_total: float, kept_operators: float) -> dict[str, float]:
+    """Return a frame's work in each operation's natural size (:data:`FRAME_RATES`' terms).
+
+    ``planes``: plane pixels filled per internal step, once per plane and once per layer
+    on it, plus the exposure sum (``oversampling x sum N_p^2 (1 + layers_p)``);
+    ``science``: pupil pixels read on every plane for every field direction
+    (``directions x pi N^2 / 4 x planes``); ``mirrors``: mirror disc pixels times the
+    kind's ops per pixel, per internal step (``MirrorCost.ops_per_pixel``);
+    ``sensors``: the WFS operators' kept entries (``kept_operators / 16 B``), read once a
+    frame; ``reconstructor``: ``measurements x modes``; ``controller``: ``modes^2`` of the
+    MAP's pseudo-open-loop product (``loop.reconstructor = "map"``, several mirrors),
+    else 0.
+    """
     n_os = config.loop.oversampling
     n_dir = config.field.n_points ** 2
     n_pupil = math.pi / 4.0 * config.telescope.n_pixels ** 2
-    ops = (n_os * sum(n * n * (1 + len(layers)) for _, n, layers, _ in layout)
-           + n_dir * n_pupil * len(layout) * 2
-           + n_os * sum(math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
-                        * mirror_kind(d.kind).estimate(config, i, dx).ops_per_pixel
-                        for i, d in enumerate(config.dms)) / 4
-           + n_meas_total * n_modes_total
-           + kept_operators / _BUILD_BYTES_PER_ENTRY / 2)
-    return _SECONDS_PER_FRAME + _SECONDS_PER_OP * ops + _frame_seconds(costs)[0]
+    mirrors = sum(math.pi / 4.0 * (dm_disc_diameter(config, i) / dx) ** 2
+                  * mirror_kind(d.kind).estimate(config, i, dx).ops_per_pixel
+                  for i, d in enumerate(config.dms))
+    joint_map = len(config.dms) > 1 and config.loop.reconstructor == "map"
+    return {"planes": n_os * sum(n * n * (1 + len(layers)) for _, n, layers, _ in layout),
+            "science": n_dir * n_pupil * len(layout),
+            "mirrors": n_os * mirrors,
+            "sensors": kept_operators / _BUILD_BYTES_PER_ENTRY,
+            "reconstructor": n_meas_total * n_modes_total,
+            "controller": n_modes_total ** 2 if joint_map else 0.0}
+
+
+def _seconds_per_frame(config: SimulationConfig, layout: list, dx: float, n_meas_total: float,
+                       n_modes_total: float, kept_operators: float,
+                       costs: list[SensorCost]) -> float:
+    """CPU time per frame [s]: :data:`SECONDS_PER_FRAME` plus each term of the work's rate."""
+    work = _frame_work(config, layout, dx, n_meas_total, n_modes_total, kept_operators)
+    return (SECONDS_PER_FRAME + sum(FRAME_RATES[k] * v for k, v in work.items())
+            + _frame_seconds(costs)[0])
 
 
 def estimate(config: SimulationConfig, duration: float, *, oracle: bool = False,

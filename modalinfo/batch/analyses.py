@@ -308,7 +308,7 @@ def _ordering(log: Any, p: dict) -> dict:
 
         n = min(int(p["budget"]), log.n_frames * Pupil(int(p["pupil_pixels"])).n_valid)
         seconds, calls = least_ordering_seconds(p["estimator"], n, log.n_modes,
-                                                int(p["resamples"]))
+                                                int(p["resamples"]), 1, str(p["method"]))
         if seconds > MAX_ORDERING_SECONDS:
             raise ValueError(f"ordering.estimator {p['estimator']} with ordering.budget "
                              f"{p['budget']} ({n} samples per MI estimate, at least {calls} "

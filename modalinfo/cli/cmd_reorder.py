@@ -126,16 +126,18 @@ def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
         if why is not None:
             raise CommandError(f"--budget {args.budget} gives {n} samples per MI estimate, "
                                f"too few to order modes: {why}; raise --budget")
+    method = getattr(args, "method", "mi_greedy")
     seconds, calls = least_ordering_seconds(args.estimator, n, log.n_modes,
-                                            getattr(args, "resamples", 0), n_orderings)
+                                            getattr(args, "resamples", 0), n_orderings,
+                                            method)
     window = getattr(args, "stability", None)
     if window and n_orderings and 1 <= window <= log.n_frames:
         # --stability orders every window and the whole log for 3 seeds: 4000 one-frame
         # windows ran past 300 s while one ordering was counted (round 10 PART b, R04)
         n_w = mi_samples(args, log, frames=window)
         more = (least_ordering_seconds(args.estimator, n_w, log.n_modes, 0,
-                                       log.n_frames // window),
-                least_ordering_seconds(args.estimator, n, log.n_modes, 0, 3))
+                                       log.n_frames // window, method),
+                least_ordering_seconds(args.estimator, n, log.n_modes, 0, 3, method))
         seconds += sum(s for s, _ in more)
         calls += sum(c for _, c in more)
     if seconds > MAX_ORDERING_SECONDS:

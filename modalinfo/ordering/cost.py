@@ -15,28 +15,80 @@ the MI of every step along the order and of its swapped rival (``_cumulative_mi`
 ``_swapped_mi`` of :mod:`modalinfo.ordering.orderings`): at least ``2 M - 3`` estimates
 each. Counting one per replicate let ``reorder --budget 600000 --resamples 1000`` on 300
 modes (about 6 h) through as 19 s (adversarial round 10 PART b, row B13).
+
+**The per-call term** (audit 11-cost, issue 27). Each estimate also costs a fixed
+``MI_SECONDS_PER_CALL[estimator]`` whatever its size (Python dispatch, the bins' edges or
+the KDE's grid, the copula's set-up), which dominates small samples: ``reorder
+--stability 1`` (4000 one-frame windows of 3,228 samples) was counted 14 s and took
+414 s. Measured (``time.process_time`` of ``MutualInformation.score`` after ``fit``,
+median of 3 batches, one BLAS thread, load 3-4, benchmarks/bench_cost_models.py): at
+n = 30 histogram 73 us, kde 4.2 ms (3.6 ms at n = 1000), gaussian 154 us, ksg 359 us (275 us
+in a second run); the constants are 0.55-0.7 of these, so the bound stays below every
+time measured.
+The histogram's time grows as ~sqrt(n) from 30 to 1e5 samples (73, 121, 153, 297, 378,
+502, 1378 us at n = 30, 100, 300, 1e3, 3,228, 1e4, 1e5): its per-sample rate is the
+lower envelope ``max(1e-8, 3.3e-6 / sqrt(n))`` s (0.6-0.8 of each row beyond the call
+term; the flat 2e-8 before was 5x low at 3,228 samples and, with the call term, above
+the 1.38 ms measured at 1e5). Rule: least seconds of one estimate =
+``MI_SECONDS_PER_CALL + n x MI_SECONDS_PER_SAMPLE(n)``.
+
+**The greedy's calls** (``method="mi_greedy"``, the command line's default):
+``order_modes``' search ``"auto"`` scores every remaining mode at every step up to
+``_EXHAUSTIVE_MAX_MODES`` modes (``M (M + 1) / 2 - 1`` estimates: every mode at each
+step with at least 2 left); above it, the screened search scores every mode at the
+first step and every one left once ``_EXHAUSTIVE_TAIL`` or fewer remain, at least one
+at each step between. For 27 modes that is 377 estimates an ordering (measured 387 with
+the swapped rivals), where ``2 M - 2`` = 52 were counted. Not counted (so the bound
+stays a bound): the fit of ``Phi_ref``, the gathering of the contributions, the
+swapped rivals.
 """
 
 from __future__ import annotations
 
-from modalinfo.information.ksg import ksg_seconds_per_sample
+import math
 
-__all__ = ["MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE", "least_ordering_seconds"]
+from modalinfo.information.ksg import ksg_seconds_per_sample
+from modalinfo.ordering.orderings import _EXHAUSTIVE_MAX_MODES, _EXHAUSTIVE_TAIL
+
+__all__ = ["MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE", "MI_SECONDS_PER_CALL",
+           "least_ordering_seconds", "least_ordering_calls"]
 
 #: CPU seconds per sample of one MI estimate on n samples (module notes)
 MI_SECONDS_PER_SAMPLE = {
     "ksg": lambda n: ksg_seconds_per_sample(n, 2, least=True),
     "kde": lambda n: 1.5e-7,
     "gaussian": lambda n: 1e-7,
-    "histogram": lambda n: 2e-8,
+    "histogram": lambda n: max(1e-8, 3.3e-6 / math.sqrt(max(n, 1))),
 }
+#: CPU seconds of one MI estimate whatever its size, a lower bound (module notes)
+MI_SECONDS_PER_CALL = {"ksg": 1.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogram": 4e-5}
 #: Most CPU time a run of MI orderings may be estimated to take before it is refused [s]
 MAX_ORDERING_SECONDS = 3600.0
 
 
+def least_ordering_calls(n_modes: int, method: str = "mi_marginal",
+                         search: str = "auto") -> int:
+    """Least number of MI estimates of one ordering of ``n_modes`` modes (no bootstrap).
+
+    ``"mi_greedy"``: every mode at every step up to ``_EXHAUSTIVE_MAX_MODES`` modes
+    (``M (M + 1) / 2 - 1``); above, every mode at the first step and at each step with
+    ``_EXHAUSTIVE_TAIL`` or fewer left, at least one at the steps between. Otherwise
+    (``"mi_marginal"``): ``2 M - 2`` (module notes). ``search`` is ``order_modes``'
+    (``"exhaustive"`` or ``"screened"`` whatever the count of modes).
+    """
+    m = max(int(n_modes), 1)
+    if method != "mi_greedy" or m < 2:
+        return max(2 * m - 2, 1)
+    if search == "exhaustive" or (search == "auto" and m <= _EXHAUSTIVE_MAX_MODES):
+        return m * (m + 1) // 2 - 1
+    tail = min(_EXHAUSTIVE_TAIL, m - 1)  # steps with 2..tail modes left score them all
+    return m + tail * (tail + 1) // 2 - 1 + (m - 1 - tail)
+
+
 def least_ordering_seconds(estimator: str, n_samples: int, n_modes: int,
-                           n_resamples: int = 0, n_orderings: int = 1) -> tuple[float, int]:
-    """Return (least CPU seconds, least number of MI estimates) of greedy MI orderings.
+                           n_resamples: int = 0, n_orderings: int = 1,
+                           method: str = "mi_marginal") -> tuple[float, int]:
+    """Return (least CPU seconds, least number of MI estimates) of MI orderings.
 
     Parameters
     ----------
@@ -50,10 +102,20 @@ def least_ordering_seconds(estimator: str, n_samples: int, n_modes: int,
         Bootstrap replicates of each ordering (``2 M - 3`` estimates each, at least).
     n_orderings : int
         MI orderings run.
+    method : str
+        Ordering method (:func:`least_ordering_calls`): ``"mi_greedy"`` counts its
+        search's estimates, any other ``2 M - 2``.
+
+    Returns
+    -------
+    seconds : float
+        ``calls x (MI_SECONDS_PER_CALL + n x MI_SECONDS_PER_SAMPLE(n))`` [s].
+    calls : int
+        Least number of MI estimates.
     """
     rate = MI_SECONDS_PER_SAMPLE.get(estimator) if isinstance(estimator, str) else None
-    calls = n_orderings * (max(2 * n_modes - 2, 1)
+    calls = n_orderings * (least_ordering_calls(n_modes, method)
                            + max(n_resamples, 0) * max(2 * n_modes - 3, 1))
     if rate is None or n_orderings < 1:
         return 0.0, calls
-    return calls * n_samples * rate(n_samples), calls
+    return calls * (MI_SECONDS_PER_CALL[estimator] + n_samples * rate(n_samples)), calls

@@ -40,8 +40,9 @@ class _Log:
 # ------------------------------------------------------ B13: bootstrap replicates counted
 def test_a_bootstrap_that_cannot_finish_in_an_hour_is_refused():
     # 300 modes, 600,000 samples, 1000 replicates: each replicate makes >= 2 M - 3 = 597
-    # histogram estimates at >= 2e-8 s per sample (the module's floor), >= 2 h in all;
-    # one estimate per replicate was counted before (19 s: accepted)
+    # histogram estimates of >= 40 us + 1e-8 s per sample (the module's floor), and the
+    # greedy's 718: >= 3,650 s in all (measured: about 6 h); one estimate per replicate
+    # was counted before (19 s: accepted)
     with pytest.raises(CommandError, match="h of CPU"):
         check_mi_time(_args(budget=600_000, resamples=1000), _Log(200, 300))
     check_mi_time(_args(budget=600_000, resamples=0), _Log(200, 300))
@@ -51,10 +52,12 @@ def test_a_bootstrap_that_cannot_finish_in_an_hour_is_refused():
 def test_stability_windows_are_counted_in_the_time_rule(monkeypatch):
     from modalinfo.ordering import cost
 
-    # one ordering of 27 modes on 200,000 samples makes >= 52 estimates; --stability
-    # 2000 on 4000 frames adds 2 window orderings and 3 seeds' whole-log orderings: a
-    # limit of 1.5 orderings' time passes the first and refuses the second
-    one = 52 * 200_000 * cost.MI_SECONDS_PER_SAMPLE["histogram"](200_000)
+    # one greedy ordering of 27 modes (the command's default, every mode scored at every
+    # step: 27 + 26 + ... + 2 = 377 estimates) on 200,000 samples; --stability 2000 on
+    # 4000 frames adds 2 window orderings and 3 seeds' whole-log orderings: a limit of
+    # 1.5 orderings' time passes the first and refuses the second
+    one = 377 * (cost.MI_SECONDS_PER_CALL["histogram"]
+                 + 200_000 * cost.MI_SECONDS_PER_SAMPLE["histogram"](200_000))
     monkeypatch.setattr(cost, "MAX_ORDERING_SECONDS", 1.5 * one)
     check_mi_time(_args(), _Log(4000, 27))
     with pytest.raises(CommandError, match="--stability 2000"):

@@ -18,8 +18,9 @@ the module's code:
   kind's :class:`~closedloop.kinds.SensorCost`; the peak ``baseline + max(set-up,
   run)`` with the phases of the docstring. The kinds' costs (``closedloop.kinds``
   records, defined in the optics modules) are the inputs;
-- the time per frame against the two loop rates it was fitted to (module constants'
-  comment: table1 1200 steps/s, kaos 2500 steps/s, idle machine); the SVD's time against
+- the time per frame against the CPU per frame measured on the presets it was fitted to
+  (benchmarks/RESULTS.md, "Cost models against measured, round 11": table1 1.22 ms,
+  kaos 0.34 ms, ``est_mcao_variant(16)`` 7.8 ms; within 1.5x); the SVD's time against
   the measurement its constant quotes (4.7 s for a 2,900 x 1,583 pseudo-inverse);
 - the project's rule for refusals: one line naming the key, the estimate and the limit.
 """
@@ -430,10 +431,12 @@ def test_describe_writes_the_peak_each_part_largest_first_and_the_time():
 
 
 # ---------------------------------------------------------------- time
-@pytest.mark.parametrize(("name", "steps_per_second"), [("table1", 1200.0), ("kaos", 2500.0)])
-def test_the_time_per_frame_is_the_rate_it_was_fitted_to(name, steps_per_second):
-    est = res.estimate(presets.get(name), 0.1)
-    assert 1.0 / est.seconds_per_frame == pytest.approx(steps_per_second, rel=0.02)
+@pytest.mark.parametrize(("name", "measured"), [("table1", 1.22e-3), ("kaos", 0.34e-3),
+                                              ("est16", 7.8e-3)])
+def test_the_time_per_frame_is_within_1_5x_of_the_cpu_measured(name, measured):
+    config = presets.est_mcao_variant(16) if name == "est16" else presets.get(name)
+    est = res.estimate(config, 0.1)
+    assert 1 / 1.5 < est.seconds_per_frame / measured < 1.5
 
 
 def test_the_time_per_frame_grows_with_each_part_of_the_frame_work():

@@ -20,7 +20,11 @@ from modalinfo.cli import CommandError
 from modalinfo.cli.cmd_reorder import check_mi_time
 from modalinfo.information.ksg import ksg_cost, ksg_seconds_per_sample
 from modalinfo.information.selection import first_step_seconds, select_inputs
-from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, MI_SECONDS_PER_SAMPLE
+from modalinfo.ordering.cost import (
+    MAX_ORDERING_SECONDS,
+    MI_SECONDS_PER_CALL,
+    MI_SECONDS_PER_SAMPLE,
+)
 
 
 @pytest.mark.parametrize("n", [10, 10_000, 400_000, 1_000_000])
@@ -50,11 +54,12 @@ def _args(resamples):
 
 
 def test_reorder_refuses_at_the_same_hour():
-    # 400 frames x 3216 pixels >= 1e6: n = 1e6 per estimate; calls = 2 M - 2 plus
-    # 2 M - 3 per bootstrap replicate (round 10 PART b, B13): 4 + 3 r for M = 3
-    per_call = 0.4e-6 * math.log2(1e6) * 1e6
+    # 400 frames x 3216 pixels >= 1e6: n = 1e6 per estimate; calls = the greedy's
+    # 3 + 2 (every mode left at each step) plus 2 M - 3 per bootstrap replicate (round
+    # 10 PART b, B13): 5 + 3 r for M = 3; each estimate also costs the per-call term
+    per_call = MI_SECONDS_PER_CALL["ksg"] + 0.4e-6 * math.log2(1e6) * 1e6
     calls_ok = int(MAX_ORDERING_SECONDS / per_call)
-    resamples_ok = (calls_ok - 4) // 3
+    resamples_ok = (calls_ok - 5) // 3
     check_mi_time(_args(resamples_ok), _Log())
     with pytest.raises(CommandError, match="would take at least"):
         check_mi_time(_args(resamples_ok + 1), _Log())
