@@ -371,6 +371,29 @@ class HistogramEngine:
         return mi_from_counts(counts, self.bias_correction)
 
 
+#: Largest distance of a gap between distinct values from a whole number of lattice
+#: steps, in steps, for :func:`_lattice_step` (rounding of values like 0.1 j: ~1e-15).
+_LATTICE_TOLERANCE = 1e-6
+
+
+def _lattice_step(x: np.ndarray) -> float | None:
+    """Return the step q of a lattice holding every value of x (with repeats), or None.
+
+    q is the least gap between distinct values; x is on the lattice where every gap is a
+    whole number of steps (to :data:`_LATTICE_TOLERANCE`). Samples without a repeated
+    value are not judged (continuous data).
+    """
+    v = np.unique(x)
+    if v.size == x.shape[0] or v.size < 2:
+        return None
+    gaps = np.diff(v)
+    q = float(gaps.min())
+    steps = gaps / q
+    if float(np.max(np.abs(steps - np.round(steps)))) > _LATTICE_TOLERANCE:
+        return None
+    return q
+
+
 def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
                       bias_correction: str = "miller-madow", binning: str = "uniform") -> float:
     """Differential entropy (nats) from a histogram: plug-in plus the bin-width term.
@@ -381,6 +404,15 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     number for a 1-D entropy (about 1.44 n^(1/3) bins); ``"auto"`` is that rule here
     too (its joint-table part does not apply to one variable).
 
+    Lattice data (audit 11). Where every value of x lies on a lattice of step q (rounded
+    or integer data, with repeated values) and the rule's bins would be narrower than q,
+    the bins are the lattice cells, of width q centred on the values: the entropy of the
+    dequantised density (uniform within each cell), ``H(p) + ln q``. Rule bins narrower
+    than q hold spikes separated by empty bins, which is the entropy of nothing in
+    particular: a normal sample rounded to 0.5 and 1 sd gave 0.91 and 0.32 nats for
+    1.43 and 1.46 (numerical integration of the dequantised density; 1.42 unrounded).
+    An explicit bin number is kept as given.
+
     Preconditions: ``x`` validated, 1-D, not constant.
     """
     bins = _check_bins(bins)
@@ -389,6 +421,13 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     n = x.shape[0]
     if bins in ("hacine-gharbi", "auto"):
         k = _hacine_gharbi_marginal(n)
+        q = _lattice_step(x)
+        if q is not None and float(x.max() - x.min()) < q * k:  # rule bins below the step
+            counts = np.unique(x, return_counts=True)[1].astype(float)
+            p = counts / n
+            h = float(-np.sum(p * np.log(p / q)))
+            return h + ((counts.size - 1.0) / (2.0 * n) if bias_correction == "miller-madow"
+                        else 0.0)
     else:
         k = n_bins_for(bins, x, axis=0)
         _warn_cells(n, k, 1, f"entropy, bins={bins!r}")
