@@ -413,6 +413,11 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     1.43 and 1.46 (numerical integration of the dequantised density; 1.42 unrounded).
     An explicit bin number is kept as given.
 
+    Wide bins (audit 11). With rule-chosen equal-width bins (the default), a
+    :class:`BiasRuleWarning` where they give more than :data:`WIDE_BINS_NATS` above the
+    same number of equiprobable bins: a heavy tail or far-apart modes (notes of
+    :data:`WIDE_BINS_NATS`).
+
     Preconditions: ``x`` validated, 1-D, not constant.
     """
     bins = _check_bins(bins)
@@ -432,6 +437,34 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
         k = n_bins_for(bins, x, axis=0)
         _warn_cells(n, k, 1, f"entropy, bins={bins!r}")
         _warn_coarse(x, k, f"entropy, bins={bins!r}")
+    h = _binned_entropy(x, k, binning, bias_correction)
+    if bins in ("hacine-gharbi", "auto") and binning == "uniform":
+        excess = h - _binned_entropy(x, k, "quantile", bias_correction)
+        if excess > WIDE_BINS_NATS:
+            warnings.warn(
+                f"entropy with method='histogram': {k} equal-width bins over the range of x "
+                f"give {excess:.3g} nats more than {k} equiprobable bins, above the rule "
+                f"{WIDE_BINS_NATS:g}: a heavy tail or far-apart modes make the bins wider "
+                "than the bulk of the sample, and the estimate is biased high; use "
+                "binning='quantile' or method='ksg'", BiasRuleWarning, stacklevel=3)
+    return h
+
+
+#: Wide-bins rule of :func:`histogram_entropy` (audit 11): the rule-chosen equal-width
+#: bins span the whole range, so a heavy tail or far-apart modes leave the bulk of the
+#: sample in a few bins and the entropy is biased high (Student t1, n = 1e4: 5.73 nats
+#: for 2.53; t2: 2.64 for 1.96; a log-normal of sigma 2: 4.20 for 2.11; two unit normals
+#: 100 apart: 2.60 for 2.11). The check: the entropy with equal-width bins minus that
+#: with the same number of equiprobable bins (which follow the sample). Measured (median
+#: of 3 seeds, n = 1e2 ... 1e5): normal, t5, t3, log-normal (sigma 1), exponential,
+#: uniform, two normals 10 apart <= +0.04 nats; the biased cases above +0.22 (t2 at
+#: n >= 1e3, t1, log-normal sigma 2, normals 100 apart at n <= 1e4).
+WIDE_BINS_NATS = 0.2
+
+
+def _binned_entropy(x: np.ndarray, k: int, binning: str, bias_correction: str) -> float:
+    """Histogram entropy (nats) of x with k bins of the given binning."""
+    n = x.shape[0]
     ax = _Axis(x, binning)
     edges = ax.edges(k)
     counts = np.bincount(ax.index(k), minlength=k).astype(float)

@@ -79,7 +79,8 @@ median of 3 seeds) was 0.090, 0.054, 0.019 at a = 0.99, 0.999, 1 (a random walk)
 conditioning columns and non-linear z-dependence (x = 2 sin 3z + e) moved by at most
 0.02 nats towards the truth or not at all (audit 11, docs/ADVERSARIAL.md). A column
 that z explains to within :data:`PARTIAL_OUT_FLOOR` (1 - R^2) is kept as it is (its
-residual is rounding).
+residual is rounding), and so is a discrete column (repeated values: its residual would
+break its levels apart).
 """
 
 from __future__ import annotations
@@ -327,12 +328,16 @@ KSG_MAX_SECONDS = 60.0
 PARTIAL_OUT_FLOOR = 1e-10
 
 
-def _partial_out(u: np.ndarray, n_xy: int, seed: int, copula: bool) -> np.ndarray:
+def _partial_out(u: np.ndarray, n_xy: int, seed: int, copula: bool,
+                 continuous: np.ndarray) -> np.ndarray:
     """Columns ``:n_xy`` of ``u`` replaced by their residuals on the others, rescaled.
 
     Least squares on the remaining columns (the conditioning set) and a constant; each
     residual goes through :func:`_standardised` again (normal scores or unit variance),
-    an invertible map of it, so the CMI is unchanged (module notes).
+    an invertible map of it, so the CMI is unchanged (module notes). Only the columns
+    flagged ``continuous`` (no repeated value) change: a discrete column's residual
+    would turn its levels into distinct values, and a discrete x and its copy y into a
+    continuous copy (0.84 nats for a binary copy's ln 2 given a noise column).
     """
     z = u[:, n_xy:]
     a = np.column_stack([np.ones(u.shape[0]), z])
@@ -341,7 +346,8 @@ def _partial_out(u: np.ndarray, n_xy: int, seed: int, copula: bool) -> np.ndarra
     out = u.copy()
     for j in range(n_xy):
         centred = u[:, j] - u[:, j].mean()
-        if float(resid[:, j] @ resid[:, j]) > PARTIAL_OUT_FLOOR * float(centred @ centred):
+        if continuous[j] and (float(resid[:, j] @ resid[:, j])
+                              > PARTIAL_OUT_FLOOR * float(centred @ centred)):
             out[:, j] = _standardised(resid[:, j], seed, j, copula)
     return out
 
@@ -374,7 +380,8 @@ def ksg_cmi(x, y, z, *, k: int = 3, seed: int = 0, copula: bool = True) -> float
                          for j in range(cols.shape[1])])
     dx, dy = x.shape[1], y.shape[1]
     if z.shape[1]:  # what z explains of x and y out first (module notes)
-        u = _partial_out(u, dx + dy, seed, copula)
+        distinct = [np.unique(cols[:, j]).size == n for j in range(dx + dy)]
+        u = _partial_out(u, dx + dy, seed, copula, np.array(distinct))
     dist, _ = cKDTree(u).query(u, k=k + 1, p=np.inf)
     eps = dist[:, -1]
 
