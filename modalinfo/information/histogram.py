@@ -371,6 +371,29 @@ class HistogramEngine:
         return mi_from_counts(counts, self.bias_correction)
 
 
+#: Largest distance of a gap between distinct values from a whole number of lattice
+#: steps, in steps, for :func:`_lattice_step` (rounding of values like 0.1 j: ~1e-15).
+_LATTICE_TOLERANCE = 1e-6
+
+
+def _lattice_step(x: np.ndarray) -> float | None:
+    """Return the step q of a lattice holding every value of x (with repeats), or None.
+
+    q is the least gap between distinct values; x is on the lattice where every gap is a
+    whole number of steps (to :data:`_LATTICE_TOLERANCE`). Samples without a repeated
+    value are not judged (continuous data).
+    """
+    v = np.unique(x)
+    if v.size == x.shape[0] or v.size < 2:
+        return None
+    gaps = np.diff(v)
+    q = float(gaps.min())
+    steps = gaps / q
+    if float(np.max(np.abs(steps - np.round(steps)))) > _LATTICE_TOLERANCE:
+        return None
+    return q
+
+
 def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
                       bias_correction: str = "miller-madow", binning: str = "uniform") -> float:
     """Differential entropy (nats) from a histogram: plug-in plus the bin-width term.
@@ -381,6 +404,20 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     number for a 1-D entropy (about 1.44 n^(1/3) bins); ``"auto"`` is that rule here
     too (its joint-table part does not apply to one variable).
 
+    Lattice data (audit 11). Where every value of x lies on a lattice of step q (rounded
+    or integer data, with repeated values) and the rule's bins would be narrower than q,
+    the bins are the lattice cells, of width q centred on the values: the entropy of the
+    dequantised density (uniform within each cell), ``H(p) + ln q``. Rule bins narrower
+    than q hold spikes separated by empty bins, which is the entropy of nothing in
+    particular: a normal sample rounded to 0.5 and 1 sd gave 0.91 and 0.32 nats for
+    1.43 and 1.46 (numerical integration of the dequantised density; 1.42 unrounded).
+    An explicit bin number is kept as given.
+
+    Wide bins (audit 11). With rule-chosen equal-width bins (the default), a
+    :class:`BiasRuleWarning` where they give more than :data:`WIDE_BINS_NATS` above the
+    same number of equiprobable bins: a heavy tail or far-apart modes (notes of
+    :data:`WIDE_BINS_NATS`).
+
     Preconditions: ``x`` validated, 1-D, not constant.
     """
     bins = _check_bins(bins)
@@ -389,10 +426,45 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
     n = x.shape[0]
     if bins in ("hacine-gharbi", "auto"):
         k = _hacine_gharbi_marginal(n)
+        q = _lattice_step(x)
+        if q is not None and float(x.max() - x.min()) < q * k:  # rule bins below the step
+            counts = np.unique(x, return_counts=True)[1].astype(float)
+            p = counts / n
+            h = float(-np.sum(p * np.log(p / q)))
+            return h + ((counts.size - 1.0) / (2.0 * n) if bias_correction == "miller-madow"
+                        else 0.0)
     else:
         k = n_bins_for(bins, x, axis=0)
         _warn_cells(n, k, 1, f"entropy, bins={bins!r}")
         _warn_coarse(x, k, f"entropy, bins={bins!r}")
+    h = _binned_entropy(x, k, binning, bias_correction)
+    if bins in ("hacine-gharbi", "auto") and binning == "uniform":
+        excess = h - _binned_entropy(x, k, "quantile", bias_correction)
+        if excess > WIDE_BINS_NATS:
+            warnings.warn(
+                f"entropy with method='histogram': {k} equal-width bins over the range of x "
+                f"give {excess:.3g} nats more than {k} equiprobable bins, above the rule "
+                f"{WIDE_BINS_NATS:g}: a heavy tail or far-apart modes make the bins wider "
+                "than the bulk of the sample, and the estimate is biased high; use "
+                "binning='quantile' or method='ksg'", BiasRuleWarning, stacklevel=3)
+    return h
+
+
+#: Wide-bins rule of :func:`histogram_entropy` (audit 11): the rule-chosen equal-width
+#: bins span the whole range, so a heavy tail or far-apart modes leave the bulk of the
+#: sample in a few bins and the entropy is biased high (Student t1, n = 1e4: 5.73 nats
+#: for 2.53; t2: 2.64 for 1.96; a log-normal of sigma 2: 4.20 for 2.11; two unit normals
+#: 100 apart: 2.60 for 2.11). The check: the entropy with equal-width bins minus that
+#: with the same number of equiprobable bins (which follow the sample). Measured (median
+#: of 3 seeds, n = 1e2 ... 1e5): normal, t5, t3, log-normal (sigma 1), exponential,
+#: uniform, two normals 10 apart <= +0.04 nats; the biased cases above +0.22 (t2 at
+#: n >= 1e3, t1, log-normal sigma 2, normals 100 apart at n <= 1e4).
+WIDE_BINS_NATS = 0.2
+
+
+def _binned_entropy(x: np.ndarray, k: int, binning: str, bias_correction: str) -> float:
+    """Histogram entropy (nats) of x with k bins of the given binning."""
+    n = x.shape[0]
     ax = _Axis(x, binning)
     edges = ax.edges(k)
     counts = np.bincount(ax.index(k), minlength=k).astype(float)

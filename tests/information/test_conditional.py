@@ -220,10 +220,14 @@ def test_ksg_agrees_with_infomeasure_ksg_within_its_scatter():
         x, y, z = transfer_entropy_variables(*var1(2000, A, B, C, s)[:, ::-1].T)
         vals_ours.append(conditional_mutual_information(x, y, z, method="ksg"))
         vals_im.append(im.cmi(x[:, 0], y[:, 0], cond=z[:, 0], approach="ksg", k=3))
-    # same estimator (Frenzel-Pompe, k = 3); differences come from tie noise and the
-    # strictness of the neighbour counts: measured |diff| < 0.003, while the scatter of
-    # either over seeds at n = 2000 is ~0.015 nats
-    assert np.max(np.abs(np.subtract(vals_ours, vals_im))) < 0.01
+    # the same estimator (Frenzel-Pompe, k = 3) but for ours taking out first what z
+    # explains of x and y (ksg module notes, "Conditioning on a strong predictor"; the
+    # CMI is unchanged, the neighbour balls are not): measured mean difference -0.007
+    # (|diff| < 0.003 before audit 11), while the scatter of either over seeds at
+    # n = 2000 is ~0.015 nats; the mean of ours is also nearer the exact 0.1854
+    diff = np.subtract(vals_ours, vals_im)
+    assert abs(np.mean(diff)) < 0.015
+    assert abs(np.mean(vals_ours) - TE_TRUE) < abs(np.mean(vals_im) - TE_TRUE) + 0.005
 
 
 def test_empty_conditioning_is_the_package_mi():
