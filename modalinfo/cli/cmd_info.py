@@ -7,7 +7,8 @@ memory-mapped, so a log larger than memory is fine). Values the file does not re
 and no hint gave are marked "(assumed)". The checksum of a memory-mapped NPZ/HDF5 log
 is verified during the same pass; the "integrity" line says what was verified. The
 "quality" line reports the log-quality pass (:mod:`modalinfo.telemetry.quality`:
-outliers beyond median +- k x 1.4826 MAD, glitched frames, stuck runs), and
+outliers beyond median +- k x 1.4826 MAD whose AR(4) innovation is beyond k of its
+robust sigmas too, glitched frames, stuck runs), and
 ``--outliers clip|drop`` summarises the repaired log (``raise`` refuses a flagged
 log). A progress bar goes to stderr when it is a terminal, unless ``--quiet``.
 """

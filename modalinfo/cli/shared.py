@@ -184,11 +184,12 @@ def add_outlier_argument(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("log quality")
     group.add_argument(
         "--outliers", choices=OUTLIER_CHOICES, default="warn",
-        help="values beyond median +- k x 1.4826 MAD of their mode (k for a 1%% chance of "
-        "any false flag on a Gaussian log), stuck runs and glitched frames: warn (default: "
-        "one line on stderr, data used as is), clip (winsorise outliers to the threshold), "
-        "drop (remove flagged frames; refused by forecast and select, which need every "
-        "frame) or raise (refuse the log, exit 2)")
+        help="values beyond median +- k x 1.4826 MAD of their mode and unpredictable from "
+        "the frames before (AR(4) innovation beyond k of its robust sigmas; k for a 1%% "
+        "chance of any false flag on a Gaussian log), stuck runs and glitched frames: warn "
+        "(default: one line on stderr, data used as is), clip (winsorise outliers to the "
+        "threshold), drop (remove flagged frames; refused by forecast and select, which need "
+        "every frame) or raise (refuse the log, exit 2)")
 
 
 def refuse_outlier_drop(args: argparse.Namespace, purpose: str) -> None:

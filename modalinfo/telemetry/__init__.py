@@ -1,6 +1,7 @@
 """Telemetry logs of modal coefficients: ``ModalLog``, units, one-pass summaries and quality.
 
-:func:`assess_quality` finds outliers (median +- k x 1.4826 MAD), glitched frames, stuck
+:func:`assess_quality` finds outliers (median +- k x 1.4826 MAD, and unpredictable: the
+AR(4) innovation beyond k of its robust sigmas), glitched frames, stuck
 runs and non-finite values; :func:`apply_outlier_policy` is the ``--outliers`` policy
 every command shares (``modalinfo.telemetry.quality``).
 

@@ -179,10 +179,11 @@ def test_a_memory_limit_below_the_baseline_says_no_run_fits(capsys):
 
 # ------------------------------------------- B04: the command lines have no `k` option
 def test_the_too_short_quality_note_names_a_call_not_a_missing_option(tmp_path, capsys):
-    # 20 frames of an AR(1) of rho 0.95: ~0.5 effective frames, too few to assess
+    # 14 frames: at most 14 - 4 = 10 effective innovations of the AR(4) predictor
+    # (leftovers 11; 20 frames of rho 0.95 were too short when the levels were counted)
     rng = np.random.default_rng(0)
-    x = np.zeros((20, 2))
-    for t in range(1, 20):
+    x = np.zeros((14, 2))
+    for t in range(1, 14):
         x[t] = 0.95 * x[t - 1] + rng.standard_normal(2)
     log = save(ModalLog(x, rate=100.0, units="rad"), tmp_path / "short.npz")
     assert exit_code(["info", log]) == 0

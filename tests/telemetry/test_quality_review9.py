@@ -2,12 +2,12 @@
 
 Round 9 of planted bugs (review9). References from outside the code:
 
-* Bartlett's (1946) effective sample size of an AR(1) mean, ``N (1 - rho) / (1 + rho)``,
-  is ``N`` for white noise (rho = 0; the sample lag-1 autocorrelation of white noise is
-  biased negative, -1/N, and the rule clips it at 0), so a white log of N frames has N
-  effective frames; the documented edge is 12 (``MIN_EFFECTIVE_FRAMES``, issue 27
-  leftovers: the union-bound threshold k is 75 at 10 frames, 15 at 12). A rule moved to
-  5 assessed 8 - 11 frames without a word (planted bug C2 escaped).
+* Bartlett's (1946) effective sample size, ``(N - p) (1 - r) / (1 + r)`` for the
+  innovations of an AR(p) fit (p = 4 coefficients fitted: at most ``N - 4``; issue 27
+  leftovers 11), so a white log of N frames has at most N - 4 effective frames and is
+  too short below 16 frames; the documented edge is 12 (``MIN_EFFECTIVE_FRAMES``, issue
+  27 leftovers: the union-bound threshold k is 75 at 10 frames, 15 at 12). A rule moved
+  to 5 assessed 8 - 11 frames without a word (planted bug C2 escaped).
 * The fingerprint's contract (``data_fingerprint`` docstring: "any changed value, frame
   time or label changes it"): the same numbers under other mode labels give another
   fingerprint, and a report of them is refused. Planted bug C3 (labels left out of the
@@ -27,19 +27,19 @@ from modalinfo.telemetry.quality import data_fingerprint
 M = 27
 
 
-@pytest.mark.parametrize("n", [8, 10, 11])
-def test_white_logs_under_12_frames_are_too_short_to_assess(n):
+@pytest.mark.parametrize("n", [8, 12, 15])
+def test_white_logs_under_12_effective_frames_are_too_short_to_assess(n):
     x = np.random.default_rng(n).standard_normal((n, M))
     r = assess_quality(x)
-    assert r.effective_frames == n  # Bartlett: rho = 0, every frame counts
+    assert r.effective_frames <= n - 4 < 12  # at most one per frame, less 4 coefficients
     assert not r.assessed and not r.clean and r.k == np.inf
 
 
-@pytest.mark.parametrize("n", [12, 16])
-def test_white_logs_from_12_frames_are_assessed(n):
+@pytest.mark.parametrize("n", [20, 30])
+def test_white_logs_from_12_effective_frames_are_assessed(n):
     x = np.random.default_rng(n).standard_normal((n, M))
     r = assess_quality(x)
-    assert r.effective_frames == n
+    assert 12 <= r.effective_frames <= n - 4
     assert r.assessed and np.isfinite(r.k)
 
 
