@@ -171,6 +171,14 @@ class InfiniteMIError(ValueError):
     """Continuous x and y, one a deterministic function of the other: infinite MI."""
 
 
+class _UnionOfCurvesError(InfiniteMIError):
+    """Continuous x and y on a union of curves (:func:`_check_not_on_curves`).
+
+    Its own class so that the conditional MI and the transfer entropy can word it for
+    their arguments (a sign given in z, a lagged source).
+    """
+
+
 def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray | None = None,
                       names: tuple[str, str] = ("x", "y"),
                       x_order: Callable[[], np.ndarray] | None = None) -> None:
@@ -299,7 +307,7 @@ def _check_not_on_curves(x: np.ndarray, y: np.ndarray, names: tuple[str, str]) -
         if dim is None:
             return
     nx, ny = names
-    raise InfiniteMIError(
+    raise _UnionOfCurvesError(
         f"`{nx}` and `{ny}` lie on a union of curves (e.g. y = s x with a random sign s, "
         f"parallel lines, a circle): the pair's TWO-NN local dimension is {dim:.2f}, below "
         f"{_CURVE_DIM} (a curve has 1, a joint density 2), more than "
@@ -493,6 +501,10 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         units, ``y = -x``, ``y = exp(x)``) and both are continuous (no repeated
         values): their MI is infinite (the pair has no joint density), which no
         estimator returns (``mutual_information(x, x)`` used to give 19 nats).
+        ``InfiniteMIError`` too where x and y lie on a union of curves (``y = s x``
+        with a random sign s, parallel lines, a circle; n >= 200): their local
+        dimension is 1 where a density has 2 (:func:`_check_not_on_curves`; ksg gave
+        5.66 nats for ``(x, s x)``).
         With ``method="ksg"`` (the default), above 10^6 samples or where its estimated
         memory exceeds what is available, before any work (ksg module notes).
     TypeError

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_int
-from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError
+from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError, _UnionOfCurvesError
 from modalinfo.information.conditional import _estimator
 
 __all__ = ["transfer_entropy", "transfer_entropy_variables"]
@@ -114,7 +114,7 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
                 "linear controller's output and its input), and continuous (no repeated "
                 "values): the transfer entropy is infinite, which no estimator can return."
             ) from exc
-        if "union of curves" in str(exc):  # api._check_not_on_curves (issue 27)
+        if isinstance(exc, _UnionOfCurvesError):  # api._check_not_on_curves (issue 27)
             raise InfiniteMIError(
                 f"`target` and `source` {lag} sample(s) earlier lie on a union of curves "
                 "(e.g. the target is +-source with a random sign) and are continuous (no "
