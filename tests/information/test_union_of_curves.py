@@ -250,3 +250,15 @@ def test_rate_table():
             assert not any(r and "union of curves" in r for r in refusals), (name, n)
         for name in NEW:
             assert all(_refused(SINGULAR[name], n, s) for s in range(50)), (name, n)
+
+
+def test_an_unbalanced_second_branch_reaches_the_full_check():
+    # y = x + b, P(b = 1) = 0.2: the 128-sample screen reads 10-30 % jumps, so its share
+    # (0.1) is below the full check's (0.2); measured 50/50 refused at n = 1000 and 10^4
+    def sample(rng, n):
+        x = rng.standard_normal(n)
+        return x, x + (rng.random(n) < 0.2)
+    for n in (1000, 10_000):
+        for seed in range(5):
+            message = _refused(sample, n, seed)
+            assert message is not None and "union of curves" in message, (n, seed)
