@@ -16,6 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_choice
@@ -170,10 +171,163 @@ class InfiniteMIError(ValueError):
     """Continuous x and y, one a deterministic function of the other: infinite MI."""
 
 
+class _UnionOfCurvesError(InfiniteMIError):
+    """Continuous x and y on a union of curves (:func:`_check_not_on_curves`).
+
+    Its own class so that the conditional MI and the transfer entropy can word it for
+    their arguments (a sign given in z, a lagged source).
+    """
+
+
 def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray | None = None,
                       names: tuple[str, str] = ("x", "y"),
                       x_order: Callable[[], np.ndarray] | None = None) -> None:
     """Refuse a pair whose MI is infinite, or a copy whose MI no sample size here can give.
+
+    Two rules, in this order: one curve or a copy (:func:`_check_one_curve`, sorts),
+    then a union of curves (:func:`_check_not_on_curves`, the pair's local dimension).
+    Every MI, CMI (per column pair and per stratum) and transfer-entropy entry point
+    passes through here.
+    """
+    _check_one_curve(x, y, head_order, names, x_order)
+    _check_not_on_curves(x, y, names)
+
+
+#: Least samples for the union-of-curves rule (:func:`_check_not_on_curves`): at
+#: n = 200 the TWO-NN dimension of a density has sd ~0.14 (2 / sqrt(n)), that of a
+#: curve ~0.07, ~4 sd either side of :data:`_CURVE_DIM`; below, the two overlap.
+_CURVE_MIN_SAMPLES = 200
+#: Samples (evenly strided over the record) of the screen, and most samples of the
+#: full check, of :func:`_check_not_on_curves` (a k-d tree of 128 points: ~0.1 ms).
+_CURVE_SCREEN = 128
+_CURVE_MAX_SAMPLES = 16384
+#: TWO-NN dimension below which the pair lies on curves at the sample's resolution: a
+#: density in the plane has 2, a curve 1; the midpoint on a log scale, sqrt(2) ~ 1.41,
+#: rounded down.
+_CURVE_DIM = 1.4
+#: A step between neighbours in x order (or y order) is a jump between branches where
+#: it is longer than ``_JUMP`` times the point's nearest-neighbour distance; the pair is
+#: one (noisy) curve where at most ``_ONE_CURVE_SHARE`` of the steps jump, one way or the
+#: other. Measured (10 seeds, n = 200 - 16384): one curve plus noise below the spacing
+#: (y = x + 1e-3 N or 1e-5 N, x**2 + 1e-3 N, sin(3 x) + 1e-3 N, Gaussian rho 0.999999)
+#: 0.03-0.13; two equal branches (y = s x, a circle, y = x + b) 0.37-0.53, three lines
+#: 0.39-0.60, and a second branch of 10 % of the samples (y = x + b, P(b = 1) = 0.1)
+#: 0.16-0.26.
+_JUMP = 10.0
+_ONE_CURVE_SHARE = 0.2
+#: The screen's share, below which a pair is one curve without the full check: lower,
+#: as 128 samples read a second branch of 20 % of them as 0.1-0.3 (y = x + b,
+#: P(b = 1) = 0.2: 43, 43, 37 of 50 draws refused at n = 200, 1000, 10^4 with 0.2
+#: here; 49, 50, 50 with 0.1).
+_SCREEN_SHARE = 0.1
+
+
+def _two_nn(x: np.ndarray, y: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+    """Return the TWO-NN dimension of the points (x, y), each divided by its IQR.
+
+    Facco, d'Errico, Rodriguez & Laio (Sci. Rep. 7, 12140, 2017): the ratio mu = r2 / r1
+    of each point's second to first neighbour distance follows P(mu > t) = t^-d for a
+    locally uniform law of dimension d, so d = n / sum ln mu (the maximum-likelihood
+    form, Levina & Bickel 2004 with k = 2). Values, not ranks: normal scores turn the two
+    branches of y = s x into a staircase that is 2-D at the sample spacing (d ~2.1).
+    Also returns the scaled points, shape (n, 2), and r1, shape (n,). The dimension is
+    0.0 where a point repeats (r1 = 0: ties, left to the caller).
+    """
+    cols = []
+    m = x.shape[0]
+    for a in (x, y):
+        s = np.sort(a)  # quartiles by index: np.percentile costs ~70 us on 128 values
+        iqr = s[(3 * m) // 4] - s[m // 4]
+        cols.append(a / (iqr if iqr > 0 else s[-1] - s[0]))
+    pts = np.column_stack(cols)
+    dist = cKDTree(pts).query(pts, k=3)[0]
+    r1 = dist[:, 1]
+    if np.any(r1 == 0):
+        return 0.0, pts, r1
+    return float(pts.shape[0] / np.sum(np.log(dist[:, 2] / r1))), pts, r1
+
+
+def _jump_share(pts: np.ndarray, r1: np.ndarray) -> float:
+    """Return the least share of jumps (:data:`_JUMP`) between neighbours in x or y order."""
+    shares = []
+    for col in (0, 1):
+        order = np.argsort(pts[:, col], kind="stable")
+        step = np.hypot(*np.diff(pts[order], axis=0).T)
+        shares.append(float(np.mean(step > _JUMP * r1[order[:-1]])))
+    return min(shares)
+
+
+def _curve_sample(x: np.ndarray, y: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """Return at most m samples of the pair evenly strided over the record."""
+    step = max(1, x.shape[0] // m)
+    return x[::step][:m], y[::step][:m]
+
+
+def _on_curves(x: np.ndarray, y: np.ndarray, share: float) -> float | None:
+    """Return the TWO-NN dimension if the pair lies on curves that jump more than ``share``."""
+    dim, pts, r1 = _two_nn(x, y)
+    if dim >= _CURVE_DIM or _jump_share(pts, r1) <= share:
+        return None
+    return dim
+
+
+def _check_not_on_curves(x: np.ndarray, y: np.ndarray, names: tuple[str, str]) -> None:
+    """Refuse continuous x and y whose joint law lies on a union of curves (infinite MI).
+
+    ``y = s x`` with a random sign s (two crossing lines), parallel lines ``y = x + b``
+    (b in {0, 1}), a circle ``(cos t, sin t)``, three lines through 0: no joint density,
+    the MI is infinite (Cover & Thomas 2006, sec. 8.5), yet neither is a function of the
+    other, which :func:`_check_one_curve` needs (ksg gave 5.66 nats for ``(x, s x)``,
+    round 10 row mi-x-xs; issue 27). The rule, on :data:`_CURVE_SCREEN` = 128 samples
+    strided over the record, then on at most :data:`_CURVE_MAX_SAMPLES` = 16384:
+
+    - the TWO-NN dimension of the pair (:func:`_two_nn`) is below :data:`_CURVE_DIM` =
+      1.4 (a curve has 1, a density in the plane 2);
+    - it is not one noisy curve: more than :data:`_ONE_CURVE_SHARE` = 20 % of the steps
+      between neighbours in x order jump to another branch (:func:`_jump_share`), and in
+      y order too. One curve plus noise finer than the sample spacing (y = x + 1e-3 N,
+      x**2 + 1e-3 N, a Gaussian of rho 0.999999 at n = 200) has a finite MI beyond what
+      the sample resolves; it is left to the estimators (a lower bound), as
+      :func:`_check_one_curve` leaves its noisy curves;
+    - both are continuous (no repeated value: ties make a discrete variable, whose pairs
+      lie on lines with a finite MI). n < :data:`_CURVE_MIN_SAMPLES` = 200 is not judged.
+
+    Measured (tests/information/test_union_of_curves.py, 50 seeds at n = 200, 1000,
+    10^4): no refusal on the 1 x 1 Beyond-Normal tasks, Gaussians of rho up to
+    0.999999, y = x + 1e-3 N, nor on independent AR(1) series (phi up to 0.9999: a
+    Brownian path is 2-D); every draw of the singular laws refused. Limits: a branch
+    holding under ~10 % of the samples may pass as noise; the resolution is the spacing
+    of 16384 samples, so branches of bands thinner than that (y = s x + 1e-6 N) are read
+    as curves, their MI (~ln of the spread over the width) beyond what the estimators
+    resolve at any n allowed here. Cost: ~0.1 ms per score (a k-d tree of 128 points),
+    2-25 ms more where the screen fires (n = 1e3 - 2e5).
+    """
+    n = x.shape[0]
+    if n < _CURVE_MIN_SAMPLES:
+        return
+    xs, ys = _curve_sample(x, y, _CURVE_SCREEN)
+    dim = _on_curves(xs, ys, _SCREEN_SHARE if n > _CURVE_SCREEN else _ONE_CURVE_SHARE)
+    if dim is None or np.unique(x).size < n or np.unique(y).size < n:
+        return
+    if n > _CURVE_SCREEN:
+        dim = _on_curves(*_curve_sample(x, y, _CURVE_MAX_SAMPLES), _ONE_CURVE_SHARE)
+        if dim is None:
+            return
+    nx, ny = names
+    raise _UnionOfCurvesError(
+        f"`{nx}` and `{ny}` lie on a union of curves (e.g. y = s x with a random sign s, "
+        f"parallel lines, a circle): the pair's TWO-NN local dimension is {dim:.2f}, below "
+        f"{_CURVE_DIM} (a curve has 1, a joint density 2), more than "
+        f"{_ONE_CURVE_SHARE:.0%} of the steps between neighbours jump between branches, "
+        "and both are continuous (no repeated values): their mutual information is "
+        "infinite, which no estimator can return. Give the missing variable (e.g. the "
+        "sign) or drop one of the two.")
+
+
+def _check_one_curve(x: np.ndarray, y: np.ndarray, head_order: np.ndarray | None = None,
+                     names: tuple[str, str] = ("x", "y"),
+                     x_order: Callable[[], np.ndarray] | None = None) -> None:
+    """Refuse a pair on one curve, or a copy whose MI no sample size here can give.
 
     - Continuous x and y (no repeated value in either), one a deterministic function
       of the other (``y = x``, ``y = exp(x)``, ``y = -x``, ``y = x**2``, ``y = |x|``):
@@ -354,6 +508,10 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         units, ``y = -x``, ``y = exp(x)``) and both are continuous (no repeated
         values): their MI is infinite (the pair has no joint density), which no
         estimator returns (``mutual_information(x, x)`` used to give 19 nats).
+        ``InfiniteMIError`` too where x and y lie on a union of curves (``y = s x``
+        with a random sign s, parallel lines, a circle; n >= 200): their local
+        dimension is 1 where a density has 2 (:func:`_check_not_on_curves`; ksg gave
+        5.66 nats for ``(x, s x)``).
         With ``method="ksg"`` (the default), above 10^6 samples or where its estimated
         memory exceeds what is available, before any work (ksg module notes).
     TypeError

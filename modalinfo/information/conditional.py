@@ -180,6 +180,7 @@ from modalinfo.information.api import (
     UNITS,
     InfiniteMIError,
     _check_not_a_copy,
+    _UnionOfCurvesError,
 )
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi
 from modalinfo.information.histogram import (
@@ -443,7 +444,12 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             for j in range(y.shape[1]):
                 names = (("x", "y") if x.shape[1] == y.shape[1] == 1
                          else (f"x[:, {i}]", f"y[:, {j}]"))
-                _check_not_a_copy(xi, np.ascontiguousarray(y[:, j]), head, names)
+                try:
+                    _check_not_a_copy(xi, np.ascontiguousarray(y[:, j]), head, names)
+                except _UnionOfCurvesError:
+                    # y = s x given z = s: the strata's reading names z (round 10)
+                    _check_not_a_copy_per_stratum(x, y, z)
+                    raise
         _check_not_affine(x, y, z)
         _check_not_a_copy_per_stratum(x, y, z)
         why = (None if record.bias_rule is None else
@@ -524,7 +530,9 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
         differ; if ``method``, ``units`` or an option value is invalid; where the bias
         rule applies and ``fallback="raise"``; ``InfiniteMIError`` where x and y are
         single continuous columns and y is a strictly monotone function of x (their CMI
-        is infinite, as their MI: :func:`~modalinfo.information.mutual_information`).
+        is infinite, as their MI: :func:`~modalinfo.information.mutual_information`),
+        or where a column of x and a column of y lie on a union of curves (y = s x with
+        a random sign: ``api._check_not_on_curves``, issue 27).
     TypeError
         If an option is unknown for the method or of the wrong type.
 

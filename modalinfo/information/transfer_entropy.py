@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_int
-from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError
+from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError, _UnionOfCurvesError
 from modalinfo.information.conditional import _estimator
 
 __all__ = ["transfer_entropy", "transfer_entropy_variables"]
@@ -98,7 +98,9 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
         the estimators returned an arbitrary finite value: ksg 3.5, histogram 1.9 nats
         for a one-frame delayed copy of white noise, 3000 samples); or where the target is
         an affine function of the lagged source and its own history (a leaky integrator's
-        output and input: 0.09-1.2 nats by method before audit 9).
+        output and input: 0.09-1.2 nats by method before audit 9); or where the target
+        and the lagged source lie on a union of curves (target = +-source with a random
+        sign: ``api._check_not_on_curves``, issue 27).
     """
     est = _estimator(method, units, options, judge=True)  # histogram: conditioning rule
     variables = transfer_entropy_variables(source, target, lag=lag, history=history)
@@ -111,6 +113,13 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
                 f"the target's own {history} past sample(s), to within rounding (e.g. a "
                 "linear controller's output and its input), and continuous (no repeated "
                 "values): the transfer entropy is infinite, which no estimator can return."
+            ) from exc
+        if isinstance(exc, _UnionOfCurvesError):  # api._check_not_on_curves (issue 27)
+            raise InfiniteMIError(
+                f"`target` and `source` {lag} sample(s) earlier lie on a union of curves "
+                "(e.g. the target is +-source with a random sign) and are continuous (no "
+                "repeated values): the transfer entropy is infinite, which no estimator "
+                "can return. Give the missing variable or drop one of the two series."
             ) from exc
         raise InfiniteMIError(
             f"`target` is a strictly monotone function of `source` {lag} sample(s) earlier "
