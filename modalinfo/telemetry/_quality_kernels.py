@@ -21,7 +21,8 @@ def flag_block(block, i0, med, thr, coef, cen_e, thr_e, head, hist, stuck_run, l
         (... and its innovation is one too, ``|(x - med) - sum_i coef[i] (x_{t-1-i} - med)
         - cen_e| > thr_e``; with a non-finite value among the p previous, levels only)
     head : (p, M) bool, the innovation test of the log's first p frames (backward)     # IN
-    hist : (p, M) float64, the p values before the block's first row, latest first   # IN/OUT
+    hist : (p, M) float64, the p values before the block's first row, latest first, an
+        outlier replaced by its prediction (the median in the first p frames)        # IN/OUT
     stuck_run : (M,) int64, minimum run of equal values that is stuck (0: not tested)  # IN
     last : (M,) float64, last value of the previous block (NaN if none)               # IN/OUT
     run_len, run_start : (M,) int64, current run of equal values (length, first frame) # IN/OUT
@@ -42,7 +43,9 @@ def flag_block(block, i0, med, thr, coef, cen_e, thr_e, head, hist, stuck_run, l
                 last[j] = math.nan  # NaN never equals: a run ends here
                 run_len[j] = 0
                 continue
+            kept = x
             if abs(x - med[j]) > thr[j]:
+                e = math.nan
                 if i0 + t < p:
                     innov = head[i0 + t, j]
                 else:
@@ -54,7 +57,11 @@ def flag_block(block, i0, med, thr, coef, cen_e, thr_e, head, hist, stuck_run, l
                 if innov:
                     n_out[j] += 1
                     c_out += 1
-            _push(hist, j, x)
+                    # the next frames are predicted from the prediction, not from the
+                    # outlier: from the outlier itself a burst of glitches flagged only its
+                    # first frame (Chen & Liu 1993 replace an outlier by its fit likewise)
+                    kept = x - e if math.isfinite(e) else med[j]
+            _push(hist, j, kept)
             r = stuck_run[j]
             if r > 0:
                 if x == last[j]:

@@ -54,11 +54,14 @@ reported (:attr:`QualityReport.false_alarm`).
 What is findable: a glitch beyond ``k`` sigmas of the median and ``k`` innovation sigmas
 of its prediction. On AR(1) logs of 4000 frames (rho 0 to 0.999) glitches of 6, 10, 20
 and 100 marginal sigmas in one frame were found in 10 of 10 logs each; 100 sigmas on
-every length and rho of the grid above. A **level shift** flags its first frame (the
-only one both out of range and unpredictable) and, on a persistent mode, frames after
-it where ``(1 - sum c) x step`` exceeds a few innovation sigmas; on white data every
-shifted frame beyond ``k`` sigmas is flagged. A run of equal glitches flags its first
-frame (the next are predicted from it). A **random walk** (unit root) is assessed on
+every length and rho of the grid above. A flagged value is replaced by its prediction
+in the past of the frames after it (Chen & Liu 1993), so a **burst** of glitched frames
+is flagged whole: predicted from the glitch itself, a burst of 10 frames at 8-20 sigmas
+on a rho 0.99 / 0.999 mode flagged only its first frame. A **level shift** beyond ``k``
+sigmas of the median is flagged from its first frame on while the shifted frames stay
+beyond them; on a persistent mode the first shifted frame back within ``k`` sigmas
+becomes the past of the next ones, which are then predictable and not flagged (on white
+data every shifted frame beyond ``k`` sigmas is). A **random walk** (unit root) is assessed on
 its white increments: no false flag in the tests, its glitches found.
 
 * A **glitched frame** holds outliers in at least ``frame_modes`` modes (default

@@ -151,17 +151,45 @@ def test_a_random_walk_is_assessed_without_false_flag_and_its_glitch_found():
         assert assess_quality(x).glitch_frames.tolist() == [1234]
 
 
-def test_a_level_shift_flags_where_it_is_unpredictable():
-    # a 10-sigma step in one mode of a persistent log: its first frame is the only value
-    # both out of the mode's range and unpredictable from the frames before it
-    x = _ar1(np.random.default_rng(3), 4000, 0.99)
-    x[3000:, 0] += 10.0
+def test_a_level_shift_flags_its_frames_until_one_is_in_range():
+    # a 10-sigma step in one mode of a persistent log: flagged values are replaced by
+    # their prediction, so the shifted frames are flagged from the step on while they are
+    # beyond k sigmas of the median; the first shifted frame back within range becomes
+    # the past the next ones are predicted from (on a persistent mode they are then
+    # predictable). On white data every shifted frame beyond k sigmas is flagged.
+    # Truth: the levels rule with numpy's median and 1.4826 MAD.
+    for x, shift, white in ((_ar1(np.random.default_rng(3), 4000, 0.99), 10.0, False),
+                            (np.random.default_rng(4).standard_normal((4000, 10)), 50.0,
+                             True)):
+        x[3000:, 0] += shift
+        r = assess_quality(x)
+        col = x[:, 0]
+        med = np.median(col)
+        sig = MAD_TO_SIGMA * np.median(np.abs(col - med))
+        beyond = np.abs(col - med) > r.k * sig
+        assert not beyond[:3000].any()
+        if white:
+            expected = np.flatnonzero(beyond).tolist()
+        else:
+            first_in = 3000 + int(np.argmin(beyond[3000:]))
+            assert first_in > 3010  # the step is flagged over a run, not one frame
+            expected = list(range(3000, first_in))
+        assert r.outlier_frames.tolist() == expected
+        assert r.glitch_frames.size == 0
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.99, 0.999])
+@pytest.mark.parametrize("amp", [8.0, 20.0, 100.0])
+def test_a_burst_of_glitched_frames_is_flagged_whole(rho, amp):
+    # 10 consecutive frames of every mode at amp marginal sigmas: every one is a glitched
+    # frame, and no frame after the burst is. Predicted from the glitches themselves (as
+    # before this rule's outlier replacement) a burst at 8-20 sigmas on a rho 0.99 / 0.999
+    # log flagged its first frame only.
+    x = _ar1(np.random.default_rng(11), 4000, rho)
+    x[1000:1010] = amp
     r = assess_quality(x)
-    assert r.outlier_frames.tolist() == [3000] and r.glitch_frames.size == 0
-    # on white data the shifted quarter is out of the mode's distribution: every frame
-    w = np.random.default_rng(4).standard_normal((4000, 10))
-    w[3000:, 0] += 50.0
-    assert assess_quality(w).outlier_frames.tolist() == list(range(3000, 4000))
+    assert r.glitch_frames.tolist() == list(range(1000, 1010))
+    assert r.flagged_frames.tolist() == list(range(1000, 1010))
 
 
 def test_long_strided_log_uses_consecutive_windows():
