@@ -172,7 +172,7 @@ class InfiniteMIError(ValueError):
 
 
 class _UnionOfCurvesError(InfiniteMIError):
-    """Continuous x and y on a union of curves (:func:`_check_not_on_curves`).
+    """Continuous x and y on a union of curves (``_check_not_on_curves``).
 
     Its own class so that the conditional MI and the transfer entropy can word it for
     their arguments (a sign given in z, a lagged source).
@@ -185,7 +185,7 @@ def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray | Non
     """Refuse a pair whose MI is infinite, or a copy whose MI no sample size here can give.
 
     Two rules, in this order: one curve or a copy (:func:`_check_one_curve`, sorts),
-    then a union of curves (:func:`_check_not_on_curves`, the pair's local dimension).
+    then a union of curves (``_check_not_on_curves``, the pair's local dimension).
     Every MI, CMI (per column pair and per stratum) and transfer-entropy entry point
     passes through here.
     """
@@ -193,12 +193,12 @@ def _check_not_a_copy(x: np.ndarray, y: np.ndarray, head_order: np.ndarray | Non
     _check_not_on_curves(x, y, names)
 
 
-#: Least samples for the union-of-curves rule (:func:`_check_not_on_curves`): at
+#: Least samples for the union-of-curves rule (``_check_not_on_curves``): at
 #: n = 200 the TWO-NN dimension of a density has sd ~0.14 (2 / sqrt(n)), that of a
 #: curve ~0.07, ~4 sd either side of :data:`_CURVE_DIM`; below, the two overlap.
 _CURVE_MIN_SAMPLES = 200
 #: Samples (evenly strided over the record) of the screen, and most samples of the
-#: full check, of :func:`_check_not_on_curves` (a k-d tree of 128 points: ~0.1 ms).
+#: full check, of ``_check_not_on_curves`` (a k-d tree of 128 points: ~0.1 ms).
 _CURVE_SCREEN = 128
 _CURVE_MAX_SAMPLES = 16384
 #: TWO-NN dimension below which the pair lies on curves at the sample's resolution: a
@@ -510,7 +510,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         estimator returns (``mutual_information(x, x)`` used to give 19 nats).
         ``InfiniteMIError`` too where x and y lie on a union of curves (``y = s x``
         with a random sign s, parallel lines, a circle; n >= 200): their local
-        dimension is 1 where a density has 2 (:func:`_check_not_on_curves`; ksg gave
+        dimension is 1 where a density has 2 (``_check_not_on_curves``; ksg gave
         5.66 nats for ``(x, s x)``).
         With ``method="ksg"`` (the default), above 10^6 samples or where its estimated
         memory exceeds what is available, before any work (ksg module notes).

@@ -121,6 +121,7 @@ from statistics import NormalDist
 import numpy as np
 
 from modalinfo.common.records import array_fields_eq
+from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.telemetry.checks import as_coeffs
 from modalinfo.telemetry.log import ModalLog
@@ -350,8 +351,14 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     centre = np.where(np.isfinite(med), med, 0.0)
     y = y - centre
     x = x - centre[None, :]
+    # the fit squares the values: a mode beyond ~1e154 is divided by a power of 2 first
+    # (exact; coefficients are scale-free), its innovations' centre and scale multiplied back
+    size = np.where(np.isfinite(sigma), sigma, 0.0)
+    peak = np.nanmax(np.where(np.isfinite(y), np.abs(y), np.nan), axis=0, initial=0.0)
+    y, ex = rescale_power_of_two(y, size, peak=peak)
+    x = np.ldexp(x, -ex[None, None, :]) if ex.any() else x
     for j in np.flatnonzero(~constant):
-        lim = _REFIT_CUT * sigma[j] if sigma[j] > 0 else np.inf
+        lim = _REFIT_CUT * np.ldexp(sigma[j], -int(ex[j])) if sigma[j] > 0 else np.inf
         coef[:, j] = _ar_fit(y[:, j], x[:, :, j], lim)
     e = y - np.einsum("tim,im->tm", x, coef)
     none = np.all(np.isnan(e), axis=0)
@@ -359,6 +366,7 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     if (~none).any():
         e_const[~none] = np.nanmax(e[:, ~none], axis=0) == np.nanmin(e[:, ~none], axis=0)
     cen_e, sig_e = _robust_scale(e, e_const | constant)
+    cen_e, sig_e = np.ldexp(cen_e, ex), np.ldexp(sig_e, ex)
     t = _windows(np.arange(g.size), g, p)[0]  # sample positions of the residuals
     adj = np.flatnonzero(np.diff(g[t]) == 1)  # consecutive residual pairs
     tested = ~(constant | none | e_const)

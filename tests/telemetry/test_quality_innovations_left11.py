@@ -201,3 +201,18 @@ def test_long_strided_log_uses_consecutive_windows():
     assert r.approximate and r.assessed
     assert r.glitch_frames.tolist() == [20_000]
     assert assess_quality(x[:20_000], sample_frames=3000).clean
+
+
+@pytest.mark.parametrize("exponent", [600, -600])
+def test_the_innovation_rule_is_unchanged_by_an_exact_power_of_two(exponent):
+    # the AR fit squares values: a log scaled by 2^600 (~1e180, squares overflow) or
+    # 2^-600 flags the same frames as the log itself, with the same k (scaling by a power
+    # of two is exact, and the rule is scale-free); under warnings-as-errors the fit
+    # raised "overflow encountered in square" in every command's quality pass
+    x = _ar1(np.random.default_rng(12), 3000, 0.99)
+    x[[700, 701, 2000]] += 40.0
+    ref = assess_quality(x)
+    with np.errstate(all="raise"):
+        r = assess_quality(np.ldexp(x, exponent))
+    assert r.k == ref.k and r.assessed == ref.assessed
+    assert r.flagged_frames.tolist() == ref.flagged_frames.tolist() == [700, 701, 2000]
