@@ -19,6 +19,7 @@ import numpy as np
 
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_choice
+from modalinfo.information.convergence import judge_pair_estimate
 from modalinfo.information.methods import METHODS, BiasRuleWarning, get_method
 
 __all__ = ["DEFAULT_METHOD", "METHODS", "RESAMPLING_METHOD", "UNITS", "MutualInformation",
@@ -359,7 +360,19 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
     TypeError
         If an option is unknown for the method or has the wrong type.
     """
-    return MutualInformation(method, units, **options).estimate(x, y)
+    est = MutualInformation(method, units, **options)
+    x, y = _as_sample(x, "x"), _as_sample(y, "y")  # as estimate() does, for the rules
+    value = est.estimate(x, y)
+    if not (_is_constant(x) or _is_constant(y)):
+        # the regime rules (convergence module): a warning at most, the value is unchanged
+        def again(xq: np.ndarray, yq: np.ndarray) -> float:
+            return MutualInformation(method, "nats", **options).estimate(xq, yq)
+
+        judge_pair_estimate(x, y, value / est._factor, again,
+                            f"mutual_information with method={est.method!r}",
+                            resolution=not (get_method(est.method).gaussian_closed_form
+                                            or _RESOLUTION_CHOSEN & set(options)))
+    return value
 
 
 class MutualInformation:
@@ -557,6 +570,9 @@ def _unit_exponent(x: np.ndarray) -> tuple[np.ndarray, float]:
 #: histogram judges its explicit ``bins`` itself, by the cells rule alone:
 #: :func:`~modalinfo.information.histogram.histogram_entropy`, ``HistogramEngine``).
 _RESOLUTION_OPTIONS = ("k", "bandwidth")
+#: Options with which the caller chooses an estimator's resolution: the convergence
+#: rules of :func:`mutual_information` then judge persistence only (convergence module).
+_RESOLUTION_CHOSEN = frozenset({"k", "bandwidth", "bins"})
 
 
 def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) -> None:

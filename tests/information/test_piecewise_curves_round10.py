@@ -9,7 +9,7 @@ same curves with additive noise have a finite MI and must still be estimated.
 import numpy as np
 import pytest
 
-from modalinfo.information import mutual_information
+from modalinfo.information import BiasRuleWarning, mutual_information
 from modalinfo.information.api import InfiniteMIError
 
 X = np.random.default_rng(4).standard_normal(5000)
@@ -26,8 +26,12 @@ def test_curves_are_refused(f, method):
 
 @pytest.mark.parametrize("noise", [1e-2, 1e-3])
 def test_noisy_curves_are_estimated(noise):
+    # estimated, and said to be still converging (Leftovers 11-resolve, convergence rule):
+    # the exact MI h(Y) - h(noise) by quadrature is 3.75 / 5.98 nats, the KSG at n = 5000
+    # 3.65 / 4.71, having risen by 0.51 / 1.27 nats from its quarters
     y = np.sin(3 * X) + noise * np.random.default_rng(1).standard_normal(X.size)
-    assert np.isfinite(mutual_information(X, y))
+    with pytest.warns(BiasRuleWarning, match="not resolved at this n"):
+        assert np.isfinite(mutual_information(X, y))
 
 
 def test_strongly_correlated_gaussian_pair_is_estimated():
