@@ -181,7 +181,7 @@ from modalinfo.information.api import (
     InfiniteMIError,
     _check_not_a_copy,
 )
-from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi, gaussian_scores_rule
 from modalinfo.information.histogram import (
     MIN_BINS,
     MIN_COUNT_PER_CELL,
@@ -474,7 +474,11 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
-        return float(fn(x, y, z, **options)) * factor
+        value = float(fn(x, y, z, **options))
+        if (switch or judge) and fn is gaussian_cmi and options.get("copula", True) and (
+                lost := gaussian_scores_rule(x, y, z, value)):
+            warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)  # a point estimate
+        return value * factor
 
     return estimate
 
