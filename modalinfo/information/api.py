@@ -359,6 +359,18 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         memory exceeds what is available, before any work (ksg module notes).
     TypeError
         If an option is unknown for the method or has the wrong type.
+
+    Warns
+    -----
+    BiasRuleWarning
+        Where the sample does not resolve the estimate (the value is kept, one warning
+        at most; :mod:`modalinfo.information.convergence`): fewer than 20 effective
+        pairs of a persistent or non-stationary series (Bartlett's n (1 - rx ry) /
+        (1 + rx ry)); an estimate that still rises from a quarter of the sample to all
+        of it by more than max(0.05 nats, 5 %); an estimate below the Gaussian MI of its
+        Chatterjee xi by more than max(0.05, 10 %) (a curve or clusters finer than the
+        bins, kernel or neighbours). Also where an explicit ``k`` or ``bandwidth``
+        fails the method's bias rule.
     """
     est = MutualInformation(method, units, **options)
     x, y = _as_sample(x, "x"), _as_sample(y, "y")  # as estimate() does, for the rules
