@@ -475,9 +475,9 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
         value = float(fn(x, y, z, **options))
-        if (switch or judge) and fn is gaussian_cmi and options.get("copula", True) and (
-                lost := gaussian_scores_rule(x, y, z, value)):
-            warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)  # a point estimate
+        if judge and fn is gaussian_cmi and options.get("copula", True) and (
+                lost := gaussian_scores_rule(x, y, z, value)):  # the transfer entropy
+            warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)
         return value * factor
 
     return estimate
@@ -536,11 +536,7 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
     -----
     BiasRuleWarning
         Where the bias rule or the histogram's resolution rule applies (unless
-        ``fallback="raise"``), naming the rule; with ``method="gaussian"`` (normal
-        scores), where the values' Gaussian CMI exceeds the scores' by more than
-        max(0.05 nats, 10 %), which no Gaussian copula gives (the ranks of persistent
-        series: :func:`~modalinfo.information.gaussian.gaussian_scores_rule`; the
-        value is kept). ``transfer_entropy`` judges the same rule.
+        ``fallback="raise"``), naming the rule.
     """
     est = _estimator(method, units, options, switch=True)
     return est(*_triple(x, y, z))
