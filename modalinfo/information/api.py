@@ -1,9 +1,11 @@
 """One entry point for every MI and entropy estimator, and reusable estimator objects.
 
-``mutual_information(x, y, method=...)`` is ``MutualInformation(...).estimate(x, y)``:
-the estimator object holds one variable fixed and caches everything that depends only
-on it, for searches that score many y against the same x (the greedy MI ordering of
-modes). Each engine's module cites its estimator.
+``mutual_information(x, y, method=...)`` is ``MutualInformation(...).estimate(x, y)``
+judged by the regime rules of :mod:`modalinfo.information.convergence` (a warning at
+most, the same value): the estimator object holds one variable fixed and caches
+everything that depends only on it, for searches that score many y against the same x
+(the greedy MI ordering of modes), and runs no such rule. Each engine's module cites its
+estimator.
 """
 
 from __future__ import annotations
