@@ -196,8 +196,9 @@ def convergence_rule(estimate: Callable[[np.ndarray, np.ndarray], float], x: np.
     """Why the estimate still grows with the sample (not resolved), or None.
 
     Rule 2 of the module notes: ``value`` (nats, on the whole sample) against the mean of
-    ``estimate`` on four disjoint random quarters of (x, y). ``estimate(xq, yq)`` returns
-    nats; a quarter it refuses (``ValueError``) leaves the rule silent.
+    ``estimate`` on :data:`QUARTERS` disjoint random quarters of (x, y).
+    ``estimate(xq, yq)`` returns nats; a quarter it refuses (``ValueError``) leaves the
+    rule silent.
     """
     n = x.shape[0]
     if not CONVERGENCE_MIN_SAMPLES <= n <= CONVERGENCE_MAX_SAMPLES:
@@ -218,7 +219,7 @@ def convergence_rule(estimate: Callable[[np.ndarray, np.ndarray], float], x: np.
     if not rise > allowed:
         return None
     return (f"the estimate rose by {rise:.3f} nats from n/4 = {n // 4} samples (mean of "
-            f"four disjoint quarters, {sub:.3f}) to n = {n} ({value:.3f}), more than the "
+            f"{QUARTERS} disjoint quarters, {sub:.3f}) to n = {n} ({value:.3f}), more than the "
             f"{allowed:.3f} nats (max({RISE_NATS:g}, {RISE_SHARE:.0%} of the estimate)) a "
             "resolved law's bias changes by: the dependence is not resolved at this n (a "
             "curve or clusters narrower than the estimator's bins, kernel or neighbours, "
