@@ -1,9 +1,11 @@
 """One entry point for every MI and entropy estimator, and reusable estimator objects.
 
-``mutual_information(x, y, method=...)`` is ``MutualInformation(...).estimate(x, y)``:
-the estimator object holds one variable fixed and caches everything that depends only
-on it, for searches that score many y against the same x (the greedy MI ordering of
-modes). Each engine's module cites its estimator.
+``mutual_information(x, y, method=...)`` is ``MutualInformation(...).estimate(x, y)``
+judged by the regime rules of :mod:`modalinfo.information.convergence` (a warning at
+most, the same value): the estimator object holds one variable fixed and caches
+everything that depends only on it, for searches that score many y against the same x
+(the greedy MI ordering of modes), and runs no such rule. Each engine's module cites its
+estimator.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from scipy.spatial import cKDTree
 
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_choice
+from modalinfo.information.convergence import judge_pair_estimate
 from modalinfo.information.methods import METHODS, BiasRuleWarning, get_method
 
 __all__ = ["DEFAULT_METHOD", "METHODS", "RESAMPLING_METHOD", "UNITS", "MutualInformation",
@@ -516,8 +519,32 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         memory exceeds what is available, before any work (ksg module notes).
     TypeError
         If an option is unknown for the method or has the wrong type.
+
+    Warns
+    -----
+    BiasRuleWarning
+        Where the sample does not resolve the estimate (the value is kept, one warning
+        at most; :mod:`modalinfo.information.convergence`): fewer than 20 effective
+        pairs of a persistent or non-stationary series (Bartlett's n (1 - rx ry) /
+        (1 + rx ry)); an estimate that still rises from a quarter of the sample to all
+        of it by more than max(0.05 nats, 5 %); an estimate below the Gaussian MI of its
+        Chatterjee xi by more than max(0.05, 10 %) (a curve or clusters finer than the
+        bins, kernel or neighbours). Also where an explicit ``k`` or ``bandwidth``
+        fails the method's bias rule.
     """
-    return MutualInformation(method, units, **options).estimate(x, y)
+    est = MutualInformation(method, units, **options)
+    x, y = _as_sample(x, "x"), _as_sample(y, "y")  # as estimate() does, for the rules
+    value = est.estimate(x, y)
+    if not (_is_constant(x) or _is_constant(y)):
+        # the regime rules (convergence module): a warning at most, the value is unchanged
+        def again(xq: np.ndarray, yq: np.ndarray) -> float:
+            return MutualInformation(method, "nats", **options).estimate(xq, yq)
+
+        judge_pair_estimate(x, y, value / est._factor, again,
+                            f"mutual_information with method={est.method!r}",
+                            resolution=not (get_method(est.method).gaussian_closed_form
+                                            or _RESOLUTION_CHOSEN & set(options)))
+    return value
 
 
 class MutualInformation:
@@ -715,6 +742,9 @@ def _unit_exponent(x: np.ndarray) -> tuple[np.ndarray, float]:
 #: histogram judges its explicit ``bins`` itself, by the cells rule alone:
 #: :func:`~modalinfo.information.histogram.histogram_entropy`, ``HistogramEngine``).
 _RESOLUTION_OPTIONS = ("k", "bandwidth")
+#: Options with which the caller chooses an estimator's resolution: the convergence
+#: rules of :func:`mutual_information` then judge persistence only (convergence module).
+_RESOLUTION_CHOSEN = frozenset({"k", "bandwidth", "bins"})
 
 
 def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) -> None:

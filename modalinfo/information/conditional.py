@@ -182,7 +182,7 @@ from modalinfo.information.api import (
     _check_not_a_copy,
     _UnionOfCurvesError,
 )
-from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi, gaussian_scores_rule
 from modalinfo.information.histogram import (
     MIN_BINS,
     MIN_COUNT_PER_CELL,
@@ -480,7 +480,11 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
-        return float(fn(x, y, z, **options)) * factor
+        value = float(fn(x, y, z, **options))
+        if judge and fn is gaussian_cmi and options.get("copula", True) and (
+                lost := gaussian_scores_rule(x, y, z, value)):  # the transfer entropy
+            warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)
+        return value * factor
 
     return estimate
 

@@ -10,7 +10,12 @@ multiples of the estimates' standard errors (computed, or measured and stated).
 import numpy as np
 import pytest
 
-from modalinfo.information import MutualInformation, entropy, mutual_information
+from modalinfo.information import (
+    BiasRuleWarning,
+    MutualInformation,
+    entropy,
+    mutual_information,
+)
 
 RHOS = (0.0, 0.3, 0.6, 0.9)
 
@@ -99,8 +104,13 @@ def test_nonlinear_dependence_seen_by_nonparametric_estimators():
     # the MI is > 1 nat (KSG gives ~2.0, KDE ~1.0); the default histogram (16 bins,
     # chosen from r ~ 0) resolves the thin parabola coarsely and gives ~0.9.
     # "Clearly positive" = above 0.5, 100 times the Gaussian estimate bound.
-    for method in ("histogram", "kde", "ksg"):
+    for method in ("kde", "ksg"):
         assert mutual_information(x, y, method=method) > 0.5, method
+    # the histogram's 1.35 misses part of the dependence and is said to (Leftovers
+    # 11-resolve, neighbour rule): the MI is at least h(chi2_1) - h(noise) = 1.667 nats
+    # (noise added to x^2 cannot lower its entropy; scipy's chi2(1).entropy() = 0.784)
+    with pytest.warns(BiasRuleWarning, match="the value is a lower bound"):
+        assert 0.5 < mutual_information(x, y, method="histogram") < 1.667
 
 
 @pytest.mark.parametrize("method", ["kde", "histogram", "ksg", "gaussian"])

@@ -187,7 +187,13 @@ def test_continuous_pair_on_a_curve_is_refused_both_ways(normal, method, f):
 def test_noisy_curves_and_random_pairs_are_estimated_not_refused(normal, method):
     # the curve's MI is finite once noise is added; random pairs have ~2n/3 turning points
     y = normal**2 + 1e-3 * np.random.default_rng(92).standard_normal(normal.size)
-    assert math.isfinite(mutual_information(normal, y, method=method))
+    if method == "histogram":  # 1.45 nats, below the MI's floor h(chi2_1) - h(noise) =
+        # 6.27 (scipy's chi2(1).entropy()), and said to be (Leftovers 11-resolve,
+        # neighbour rule); the Gaussian method's estimand is its linear part, not judged
+        with pytest.warns(BiasRuleWarning, match="the sample shows a dependence"):
+            assert 0 <= mutual_information(normal, y, method=method) < 6.27
+    else:
+        assert math.isfinite(mutual_information(normal, y, method=method))
     # a strong noisy pair passes the 32-sample screen; its MI 0.5 ln(1 + 1 / s^2)
     s = 0.01
     x = np.random.default_rng(97).standard_normal(20_000)
