@@ -1,7 +1,7 @@
 """One entry point for every MI and entropy estimator, and reusable estimator objects.
 
 ``mutual_information(x, y, method=...)`` is ``MutualInformation(...).estimate(x, y)``
-judged by the regime rules of :mod:`modalinfo.information.convergence` (a warning at
+judged by the regime rules of ``modalinfo.information.convergence`` (a warning at
 most, the same value): the estimator object holds one variable fixed and caches
 everything that depends only on it, for searches that score many y against the same x
 (the greedy MI ordering of modes), and runs no such rule. Each engine's module cites its
@@ -524,7 +524,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
     -----
     BiasRuleWarning
         Where the sample does not resolve the estimate (the value is kept, one warning
-        at most; :mod:`modalinfo.information.convergence`): fewer than 20 effective
+        at most; ``modalinfo.information.convergence``): fewer than 20 effective
         pairs of a persistent or non-stationary series (Bartlett's n (1 - rx ry) /
         (1 + rx ry)); an estimate that still rises from a quarter of the sample to all
         of it by more than max(0.05 nats, 5 %); an estimate below the Gaussian MI of its
