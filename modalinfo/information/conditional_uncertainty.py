@@ -51,11 +51,12 @@ from modalinfo.common.validation import (
 )
 from modalinfo.information.api import RESAMPLING_METHOD
 from modalinfo.information.conditional import _estimator, _triple
-from modalinfo.information.copula import copula_scores, copula_scores_ties
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
     check_resamples,
+    rank_based_options,
+    residual_split,
     resolve_block_length,
     surrogate_pvalue,
     surrogate_shifts,
@@ -140,30 +141,6 @@ def conditional_mutual_information_ci(
     )
 
 
-def _split_on_z(ya: np.ndarray, za: np.ndarray,
-                rank_based: bool) -> tuple[np.ndarray, np.ndarray] | None:
-    """(fit, residual) of y's least-squares regression on z and a constant, or None.
-
-    On normal scores (of y's columns and z's) for a rank-based estimator, whose
-    statistic sees only ranks, on the values otherwise. None where there is no z or a
-    column of y has tied values (a discrete y: a residual would break its levels apart);
-    y itself is then rotated.
-    """
-    if za.shape[1] == 0:
-        return None
-    ys = []
-    for j in range(ya.shape[1]):
-        scores, ties = copula_scores_ties(ya[:, j])
-        if ties:
-            return None
-        ys.append(scores if rank_based else ya[:, j])
-    y_fit = np.column_stack(ys)
-    a = np.column_stack([np.ones(za.shape[0])] + [
-        copula_scores(za[:, j]) if rank_based else za[:, j] for j in range(za.shape[1])])
-    fit = a @ np.linalg.lstsq(a, y_fit, rcond=None)[0]
-    return fit, y_fit - fit
-
-
 def conditional_mutual_information_test(
     x: Any, y: Any, z: Any = None, *, method: str = RESAMPLING_METHOD, units: str = "nats",
     n_surrogates: int = 199, surrogate: str = "circular", min_shift: int | str | None = None,
@@ -233,10 +210,7 @@ def conditional_mutual_information_test(
     stat = est(xa, ya, za)
     # the surrogates rotate y's residual on z and keep its fit on z, so that they hold
     # what z explains of y and the estimator's conditioning bias with it (round 11)
-    rank_based = (options.get("copula", True) is not False
-                  and options.get("binning", "quantile") != "uniform")
-    split = _split_on_z(ya, za, rank_based)
-    fit, resid = (np.zeros_like(ya), ya) if split is None else split
+    fit, resid = residual_split(ya, za, rank_based_options(options))
     null = np.empty(n_surrogates)
     shift0 = 0
     if surrogate == "shuffle":
