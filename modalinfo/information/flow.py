@@ -121,6 +121,8 @@ from modalinfo.information.resampling import (
     check_resamples,
     check_surrogates_reach,
     matched_window_for,
+    rank_based_options,
+    residual_split,
     surrogate_shifts,
 )
 from modalinfo.information.selection import (
@@ -440,8 +442,16 @@ def _gaussian_map_restricted(series, lags, history, t0, shifts, family, labels=N
     return te, null
 
 
-def _estimator_map(series, lags, history, t0, shifts, est, family=None):
-    """TE of every cell and of every cell under every surrogate (the source rotated)."""
+def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_based=True):
+    """TE of every cell and of every cell under every surrogate (the source rotated).
+
+    The source's residual on the target's history is rotated and its fit kept
+    (:func:`~modalinfo.information.resampling.residual_split`, round 11): a source that
+    the target drives (y -> x only, no x -> y) made the histogram map report x -> y in
+    23 % of 120 maps at alpha 0.05, the bins of the target's history leaving part of
+    what the source's past shares with it; rotating the whole source put none of that
+    in the null.
+    """
     T, S = series.shape
     te = np.zeros((S, S, lags.size))
     null = np.zeros((shifts.size, S, S, lags.size))
@@ -454,8 +464,9 @@ def _estimator_map(series, lags, history, t0, shifts, est, family=None):
             for a, lag in enumerate(lags):
                 y = np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1])
                 te[j, i, a] = est(x, y, z)
+                fit, resid = residual_split(y, z, rank_based) if shifts.size else (y, y)
                 for s_i, s in enumerate(shifts):
-                    null[s_i, j, i, a] = est(x, np.roll(y, int(s), axis=0), z)
+                    null[s_i, j, i, a] = est(x, fit + np.roll(resid, int(s), axis=0), z)
     return te, null
 
 
@@ -735,7 +746,8 @@ def transfer_entropy_map(
                                                       family, labels)
             te, null_cells = te * factor, null_cells * factor
         else:
-            te, null = _estimator_map(series, lags, history, t0, shifts, est, family)
+            te, null = _estimator_map(series, lags, history, t0, shifts, est, family,
+                                       rank_based_options(options))
             if get_method(method).cmi is histogram_cmi:
                 _judge_histogram_map(series, lags, history, t0, te, options)
             null_cells = null[:, family]
@@ -754,7 +766,8 @@ def transfer_entropy_map(
         te, null = _gaussian_map(series, lags, history, t0, shifts, labels)
         te, null = te * factor, null * factor
     else:
-        te, null = _estimator_map(series, lags, history, t0, shifts, est)
+        te, null = _estimator_map(series, lags, history, t0, shifts, est,
+                                  rank_based=rank_based_options(options))
         if get_method(method).cmi is histogram_cmi:
             _judge_histogram_map(series, lags, history, t0, te, options)
     diag = np.eye(S, dtype=bool)

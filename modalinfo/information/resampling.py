@@ -64,6 +64,8 @@ __all__ = [
     "matched_window_for",
     "optimal_block_length",
     "politis_white_length",
+    "rank_based_options",
+    "residual_split",
     "resolve_block_length",
     "surrogate_pvalue",
     "surrogate_shifts",
@@ -239,6 +241,50 @@ def optimal_block_length(x: Any, y: Any | None = None) -> int:
             f"`x` and `y` must have the same length; got {x.shape[0]} and {y.shape[0]}."
         )
     return auto_block_length(x, y)
+
+
+def rank_based_options(options: dict[str, Any]) -> bool:
+    """Whether an estimator with these options sees only ranks (the defaults do)."""
+    return (options.get("copula", True) is not False
+            and options.get("binning", "quantile") != "uniform")
+
+
+def residual_split(y: np.ndarray, z: np.ndarray,
+                   rank_based: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(fit, residual) of the columns of y regressed on z and a constant (least squares).
+
+    The parts of a conditional test's surrogate: ``fit + moved residual`` keeps what z
+    explains of y (linearly) and breaks only the rest, so the estimator's conditioning
+    bias (a histogram's bins of z leave part of z's effect on x and y) is in the null as
+    in the statistic (adversarial round 11). On normal scores (of y's columns and z's)
+    for a rank-based estimator, which sees only ranks; on the values otherwise. With no
+    z, or a column of y with tied values (a discrete y: a residual would break its levels
+    apart), the fit is 0 and the residual y itself (the former surrogates).
+
+    Parameters
+    ----------
+    y : numpy.ndarray, shape (n, d_y)
+        The series whose surrogates are made.
+    z : numpy.ndarray, shape (n, d_z)
+        The conditioning columns (d_z may be 0).
+    rank_based : bool
+        See :func:`rank_based_options`.
+    """
+    from modalinfo.information.copula import copula_scores, copula_scores_ties
+
+    if z.shape[1] == 0:
+        return np.zeros_like(y), y
+    cols = []
+    for j in range(y.shape[1]):
+        scores, ties = copula_scores_ties(y[:, j])
+        if ties:
+            return np.zeros_like(y), y
+        cols.append(scores if rank_based else y[:, j])
+    y_fit = np.column_stack(cols)
+    a = np.column_stack([np.ones(z.shape[0])] + [
+        copula_scores(z[:, j]) if rank_based else z[:, j] for j in range(z.shape[1])])
+    fit = a @ np.linalg.lstsq(a, y_fit, rcond=None)[0]
+    return fit, y_fit - fit
 
 
 def resolve_block_length(value: Any, *groups: np.ndarray, name: str = "block_length",

@@ -108,6 +108,8 @@ from modalinfo.information.resampling import (
     block_bootstrap_indices,
     check_resamples,
     check_surrogates_reach,
+    rank_based_options,
+    residual_split,
     surrogate_pvalue,
     surrogate_shifts,
 )
@@ -498,6 +500,7 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
                    max_inputs: int, shift0: int | None, rng: np.random.Generator,
                    spectra: tuple[np.ndarray, int] | None = None,
                    shifts: np.ndarray | None = None, names: Any = None,
+                   rank_based: bool = True,
                    ) -> tuple[list[tuple[int, float, float]], str, float]:
     """Run the greedy search; return ``[(column, gain [nats], p-value)], stop, last p``.
 
@@ -511,6 +514,11 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
     passes): the largest spacing meets it whenever it fits, and a search never fails
     for it (a smaller spacing costs power, not validity). ``names`` (``j -> str``):
     refuse a Gaussian gain that is infinite (:func:`_refuse_unit_rho`), naming column j.
+    The estimator's null (``method`` not "gaussian") rotates each candidate's residual
+    on the chosen inputs and keeps its fit
+    (:func:`~modalinfo.information.resampling.residual_split`, ``rank_based`` as there;
+    round 11): rotating the whole candidate let the histogram add a second input where
+    none informs (a target that drives the candidate: 22 % of 40 searches at alpha 0.05).
     """
     n, m_all = C.shape
     alive = alive.copy()
@@ -552,8 +560,9 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
                 gains[j] = est(y[:, None], C[:, j : j + 1], Z) / factor
             best = int(np.argmax(gains))
             gain = float(gains[best])
-            null = np.array([max(est(y[:, None], np.roll(C[:, j : j + 1], int(s), axis=0), Z)
-                                 for j in idx) for s in shifts]) / factor
+            parts = [residual_split(C[:, j : j + 1], Z, rank_based) for j in idx]
+            null = np.array([max(est(y[:, None], fit + np.roll(resid, int(s), axis=0), Z)
+                                 for fit, resid in parts) for s in shifts]) / factor
         pvalue = surrogate_pvalue(gain, null)
         if pvalue > alpha:
             stop, last_p = f"next gain not significant (p = {pvalue:.3g} > {alpha})", pvalue
@@ -819,7 +828,8 @@ def select_inputs(
         y, C, Cu, alive, method=method, est=est, factor=factor, alpha=alpha,
         n_surrogates=n_surrogates, max_inputs=max_inputs, shift0=shift0, rng=rng,
         spectra=spectra, shifts=shifts,
-        names=lambda j: f"candidate {_candidate_label(labels, cols, j)}")
+        names=lambda j: f"candidate {_candidate_label(labels, cols, j)}",
+        rank_based=rank_based_options(options))
     if get_method(method).cmi is histogram_cmi:
         _judge_histogram_gains(y, C, [j for j, _, _ in picked], options)
     inputs = []
