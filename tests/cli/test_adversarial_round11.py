@@ -125,3 +125,16 @@ def test_a_parquet_table_fed_as_a_log_is_named(tmp_path, capsys):
     assert exit_code(["info", path]) == 2
     err = capsys.readouterr().err
     assert "Apache Parquet" in err and "UTF-8" not in err
+
+
+# ---------------------------------------- R39: one AOT file, two loops, in a manifest
+def test_a_manifest_naming_one_file_for_two_loops_keeps_both(tmp_path):
+    from modalinfo.batch.manifest import collect_logs
+
+    log = write_small_log(tmp_path / "a.npz", 100)
+    manifest = tmp_path / "m.csv"
+    manifest.write_text(f"path,loop\n{log},dm0\n{log},dm0.pol\n{log},dm0\n")
+    entries = collect_logs(manifest)
+    # the dm0.pol row vanished before (keyed by path alone); the repeated dm0 row is one
+    assert [e.hints for e in entries] == [{"loop": "dm0"}, {"loop": "dm0.pol"}]
+    assert {e.path for e in entries} == {str(log.resolve())}
