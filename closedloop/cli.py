@@ -22,7 +22,7 @@ import math
 import sys
 from pathlib import Path
 
-from modalinfo.common.cli import CommandError, Parser, check_output, dispatch
+from modalinfo.common.cli import CommandError, Parser, check_output, dispatch, folder_arg
 from modalinfo.common.quiet import catching_warnings
 
 __all__ = ["main"]
@@ -461,7 +461,8 @@ def build_parser() -> argparse.ArgumentParser:
                        "task on Dask; resumable; exit 1 when some run failed.",
                        epilog=GRID_HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("grid", type=Path, help="grid TOML (format below)")
-    p.add_argument("--out", type=Path, required=True, help="output directory (resumable)")
+    p.add_argument("--out", type=folder_arg, required=True,
+                   help="output directory (resumable)")
     p.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler "
                    "(tcp://host:8786); default: a LocalCluster")
     p.add_argument("--workers", type=int, default=None, help="local worker processes")

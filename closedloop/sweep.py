@@ -190,6 +190,7 @@ def sweep_specs(grid: dict) -> list:
         raise ValueError(f"grid `overrides`: the name {twice[0]!r} is used twice; rows "
                          "are told apart by name")
     specs = []
+    named: dict[str, str] = {}  # config key -> the override that gave it
     for ov in overrides:
         changes = {k: v for k, v in ov.items() if k != "name"}
         name = str(ov.get("name", ", ".join(f"{k}={v}" for k, v in changes.items()) or "base"))
@@ -199,6 +200,12 @@ def sweep_specs(grid: dict) -> list:
                 _check_memory(config, duration, budget_every, predictor.oracle)
         except (ValueError, TypeError) as exc:
             raise ValueError(f"grid override {name!r}: {exc}") from None
+        # two names for one config are one run and one row: the second name vanished from
+        # the table without a word (round 11 PART b, R36), as a seed given twice would
+        same = named.setdefault(task_key("closedloop-config", config.to_dict()), name)
+        if same != name:
+            raise ValueError(f"grid `overrides` {same!r} and {name!r} give the same config "
+                             "(one run, one row); give each config once")
         for seed in seeds:
             for predictor in predictors:
                 payload = {"config": config.to_dict(), "seed": seed, "predictor": predictor,

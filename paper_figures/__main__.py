@@ -226,6 +226,7 @@ def main(argv: list[str] | None = None) -> int:
         EXIT_INTERRUPTED,
         EXIT_USAGE,
         Parser,
+        folder_arg,
         say,
     )
 
@@ -237,7 +238,7 @@ def main(argv: list[str] | None = None) -> int:
         help="modal log for Figures 1 and 5 (default: both shipped KAOS-like logs)",
     )
     parser.add_argument(
-        "--out", type=_out_folder, default=Path("out"), help="output directory (default: out)"
+        "--out", type=folder_arg, default=Path("out"), help="output directory (default: out)"
     )
     parser.add_argument("--overwrite", action="store_true",
                         help="replace figures and report already in the output directory")
@@ -286,17 +287,6 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
-
-
-def _out_folder(text: str) -> Path:
-    """``--out``: a folder name; an empty one (an unset ``$OUT``) is refused, not '.'."""
-    import argparse
-
-    if not text.strip():
-        raise argparse.ArgumentTypeError(
-            "must name a folder; got an empty name (give --out . for the current folder)"
-        )
-    return Path(text)
 
 
 class _Terminated(KeyboardInterrupt):

@@ -31,6 +31,7 @@ from __future__ import annotations
 import csv
 import glob
 import itertools
+import json
 import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -234,7 +235,9 @@ def collect_logs(
     Returns
     -------
     list of LogEntry
-        In input order, each file once (first occurrence wins).
+        In input order, each file once per way of reading it (format and hints; the
+        first occurrence wins): a manifest naming one AOT file for two ``loop`` values
+        gives both.
 
     Raises
     ------
@@ -245,11 +248,14 @@ def collect_logs(
         inputs = [inputs]
     skip = [Path(x).resolve() for x in exclude]
     base_hints = dict(hints or {})
-    found: dict[str, LogEntry] = {}
+    found: dict[tuple[str, str | None, str], LogEntry] = {}
 
     def add(entry: LogEntry) -> None:
         if not any(Path(entry.path).is_relative_to(x) for x in skip):
-            found.setdefault(entry.path, entry)
+            # keyed by how the file is read too: a manifest's second row for the same AOT
+            # file with another loop vanished, exit 0 (round 11 PART b, R39)
+            how = json.dumps(entry.hints, sort_keys=True, default=str)
+            found.setdefault((entry.path, entry.fmt, how), entry)
 
     def plain(file: Path) -> LogEntry:
         return LogEntry(str(file.resolve()), fmt, dict(base_hints))

@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import (
@@ -33,7 +32,7 @@ from modalinfo.cli.shared import (
     hints_from_args,
     refuse_outlier_drop,
 )
-from modalinfo.common.cli import check_cluster_args
+from modalinfo.common.cli import check_cluster_args, folder_arg
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -48,7 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--analyses", default="summary", metavar="LIST",
                         help=f"comma-separated, from {', '.join(ANALYSES)} "
                         "(default: %(default)s)")
-    parser.add_argument("--out", type=Path, required=True, metavar="DIR",
+    parser.add_argument("--out", type=folder_arg, required=True, metavar="DIR",
                         help="output directory (new, empty, or an earlier batch's to resume)")
     parser.add_argument("--set", dest="settings", action="append", default=[],
                         metavar="ANALYSIS.NAME=VALUE", help="change an analysis parameter")

@@ -31,6 +31,7 @@ from modalinfo.cli.shared import (
     refuse_outlier_drop,
     split_gaps,
 )
+from modalinfo.common.cli import folder_arg
 
 NAME = "forecast"
 HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
@@ -62,7 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="re-estimate every R frames on a sliding window")
     parser.add_argument("--window", type=int, default=None, metavar="W",
                         help="sliding-window length for refits (default: training length)")
-    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+    parser.add_argument("--out", type=folder_arg, default=None, metavar="DIR",
                         help="write JSON, CSV and plots into DIR (created if missing)")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace existing output files")

@@ -211,6 +211,14 @@ def run(args: argparse.Namespace) -> int:
     elif target not in log.labels:
         raise CommandError(f"--target {target!r} is not a mode of LOG "
                            f"({', '.join(log.labels[:5])}, ...)")
+    col = target if isinstance(target, int) else log.labels.index(target)
+    y = np.asarray(log.coeffs[:, col])
+    if y.size and np.ptp(y) <= 1e-12 * np.max(np.abs(y)):
+        # a zeroed or stuck target: "stopped: no candidate left" with every candidate
+        # left, or an "affine function of a candidate" refusal (round 11 PART b, V08)
+        raise CommandError(f"--target {log.labels[col]} is constant over the analysed "
+                           f"frames (value {y[0]:.6g}): nothing to forecast, no input to "
+                           "select")
     n_sources = log.n_modes + (extra.n_modes if extra is not None else 0)
     if args.candidates == "radial":
         n_sources = _radial_sources(log, extra, target, width)

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import os
 import sys
 from pathlib import Path
 
@@ -38,6 +39,7 @@ __all__ = [
     "check_cluster_args",
     "check_output",
     "dispatch",
+    "folder_arg",
     "interrupted",
     "say",
 ]
@@ -268,6 +270,19 @@ def interrupted(prog: str) -> int:
     """
     say(f"{prog}: interrupted\n")
     return EXIT_INTERRUPTED
+
+
+def folder_arg(text: str | os.PathLike) -> Path:
+    """``--out DIR`` of a command that writes a folder: an empty name is refused.
+
+    ``Path("")`` is ``Path(".")``: an unset ``$OUT`` in ``--out "$OUT"`` wrote into the
+    current folder (round 11 PART b, E09 and R38); the current folder is ``--out .``.
+    """
+    if not os.fspath(text).strip():  # main([..., Path]) from Python passes a path
+        raise argparse.ArgumentTypeError(
+            "must name a folder; got an empty name (give --out . for the current folder)"
+        )
+    return Path(text)
 
 
 def check_output(

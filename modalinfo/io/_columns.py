@@ -105,6 +105,19 @@ _TIME_UNIT_WORDS = {
 }
 
 
+def time_unit_word(unit) -> str | None:
+    """Return the time unit (a key of TIME_UNITS) a unit string states, else None.
+
+    ``"ms"``, ``"msec"``, ``"milliseconds"``, ``"s"``, ... as :func:`time_kind` reads
+    them in a column name: a FITS time column's ``TUNITn`` (audit 11-b F04: a ``TIME``
+    column with ``TUNIT = 'ms'`` was read in seconds, 2 Hz for a 2 kHz log).
+    """
+    if unit is None:
+        return None
+    key = str(unit).strip().lower()
+    return _TIME_UNIT_WORDS.get(key) or ("frame" if key in _FRAMES else None)
+
+
 def time_kind(name: str) -> str | None:
     """Return the time unit of a column ``name`` (a key of TIME_UNITS), else None.
 

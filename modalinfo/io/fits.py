@@ -40,6 +40,7 @@ from modalinfo.io._columns import (
     mode_columns,
     set_timestamps,
     time_kind,
+    time_unit_word,
     unit_text,
 )
 from modalinfo.io._common import (
@@ -255,6 +256,10 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                 if raw[k].dtype.kind in "iu" and isinstance(null, int | np.integer):
                     cols[k][raw[k] == null] = np.nan
             kinds = [time_kind(n) for n in names]
+            for k, kind in enumerate(kinds):
+                stated = time_unit_word(hdu.columns[names[k]].unit)
+                if kind is not None and stated is not None:
+                    kinds[k] = stated  # TUNITn states the unit; the name only implies it
             timed = [k for k, kind in enumerate(kinds) if kind is not None]
             if len(timed) > 1:
                 raise LogFormatError(

@@ -39,6 +39,14 @@ _MAGIC = (
 )
 
 
+#: (magic bytes, what the file is) of outputs users feed back as logs
+_NOT_LOGS = (
+    (b"PAR1", "an Apache Parquet table (a `batch` or `sweep` result?)"),
+    (b"\x89PNG", "a PNG image"),
+    (b"%PDF", "a PDF document"),
+)
+
+
 def format_from_extension(path: Path) -> str | None:
     """Return the format a file name's extension means (:data:`EXTENSIONS`), or None."""
     return EXTENSIONS.get(path.suffix.lower())
@@ -74,6 +82,12 @@ def detect_format(path) -> str:
     by_ext = format_from_extension(path)
     if by_ext is not None and by_ext != "csv":
         return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
+    for magic, what in _NOT_LOGS:
+        if head.startswith(magic):
+            # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11
+            # PART b, R12)
+            raise LogFormatError(f"'{path}' is {what}, not a log: a log is an NPZ, NPY, "
+                                 "CSV, FITS or HDF5 file of coefficients")
     try:
         head.decode("utf-8")
     except UnicodeDecodeError as exc:

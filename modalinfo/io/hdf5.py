@@ -177,6 +177,26 @@ def _datasets(f) -> dict[str, Any]:
     return found
 
 
+def _link_note(f, key: str) -> str:
+    """Say what ``key`` is when it is a link: links are not followed to a dataset.
+
+    A soft link or an external link named with ``--dataset`` was reported as "no
+    dataset" with no word of the link (round 11 PART b, H05 and H06).
+    """
+    import h5py
+
+    try:
+        link = f.get(key, getlink=True)
+    except (KeyError, ValueError, OSError):
+        return ""
+    if isinstance(link, h5py.SoftLink):
+        return f" (it is a link to {link.path!r}: name that path)"
+    if isinstance(link, h5py.ExternalLink):
+        return (f" (it is a link to {link.path!r} in another file, {link.filename!r}, "
+                "not followed: read that file)")
+    return ""
+
+
 def _load(dset, path: Path, mmap: bool) -> np.ndarray:
     if dset.dtype.kind not in "fiu":
         raise LogFormatError(
@@ -319,8 +339,8 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
         key = dataset.strip("/")
         if key not in dsets:
             raise LogFormatError(
-                f"HDF5 file '{path}' has no dataset {dataset!r}; its 2-D numeric datasets: "
-                f"{', '.join(sorted(two_d)) or 'none'}"
+                f"HDF5 file '{path}' has no dataset {dataset!r}{_link_note(f, key)}; its 2-D "
+                f"numeric datasets: {', '.join(sorted(two_d)) or 'none'}"
             )
         if key not in two_d:
             raise LogFormatError(

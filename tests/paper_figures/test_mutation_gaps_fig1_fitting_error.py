@@ -294,7 +294,9 @@ def test_quartiles_and_below():
     assert f.typical.target_fraction == 0.0025 / 0.0523
 
 
-WHY = ("our closed-loop residual on the typical frame totals 0.052 waves^2, so 0.4 waves^2 "
+# a user's log (`my.npz`) is "the log", not "our closed-loop residual" (round 11 PART b,
+# R28: a pseudo-open-loop --log was called so)
+WHY = ("the log `my.npz` on the typical frame totals 0.052 waves^2, so 0.4 waves^2 "
        "is reached with 0 modes; at the calibrated target 0.0025 waves^2 (4.8% of the "
        "total, where the standard order needs 20) it needs {} (median {} over 15 frames)")
 
