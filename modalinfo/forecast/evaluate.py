@@ -570,8 +570,8 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         ``ValueError`` naming the first gap; evaluate ``log.longest_segment()``.
     train : float or int
         Training frames: a fraction of ``T`` in (0, 1) or a number of frames.
-    horizons : iterable of int
-        Forecast horizons in frames (>= 1).
+    horizons : int or iterable of int
+        Forecast horizons in frames (>= 1); one integer is one horizon.
     refit_every, window : int or None
         Refit policy applied to every predictor (overrides theirs when given).
     level : float
@@ -607,6 +607,11 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     preds = _as_predictors(predictors)
     n_frames, n_modes = data.shape
     unique = set()
+    if isinstance(horizons, int | np.integer) and not isinstance(horizons, bool | np.bool_):
+        horizons = (horizons,)  # one horizon given as a number (a bare TypeError before)
+    elif not np.iterable(horizons) or isinstance(horizons, str | bytes):
+        raise TypeError(f"`horizons` must be an integer or a sequence of integers >= 1 "
+                        f"[frames]; got {type(horizons).__name__} {horizons!r}.")
     for h in horizons:
         h = check_int(h, "horizons", minimum=1)
         if h > n_frames - 2:

@@ -215,3 +215,19 @@ def test_a_horizon_beyond_the_log_is_refused_at_once():
     assert time.process_time() - start < 5.0
     ev = evaluate([LinearPredictor()], x, train=1, horizons=[998])
     assert ev.origins.tolist() == [0, 1]   # the origins with 998 frames ahead
+
+
+def test_one_horizon_as_a_number_equals_the_one_element_list():
+    # round 11: horizons=2 raised a bare "'int' object is not iterable"; one integer is one
+    # horizon, the same evaluation as [2] (reference: the list form); a non-iterable other
+    # than an integer is refused naming the argument
+    from modalinfo.forecast import LinearPredictor, evaluate
+
+    x = np.random.default_rng(5).standard_normal((400, 2)).cumsum(axis=0) * 0.1
+    a = evaluate([LinearPredictor()], x, horizons=2)
+    b = evaluate([LinearPredictor()], x, horizons=[2])
+    assert a.horizons.tolist() == [2] and np.array_equal(a.rmse, b.rmse)
+    with pytest.raises(TypeError, match="`horizons`"):
+        evaluate([LinearPredictor()], x, horizons=2.5)
+    with pytest.raises(TypeError, match="`horizons`"):
+        evaluate([LinearPredictor()], x, horizons="12")
