@@ -8,7 +8,8 @@ and no hint gave are marked "(assumed)". The checksum of a memory-mapped NPZ/HDF
 is verified during the same pass; the "integrity" line says what was verified. The
 "quality" line reports the log-quality pass (:mod:`modalinfo.telemetry.quality`:
 outliers beyond median +- k x 1.4826 MAD whose AR(4) innovation is beyond k of its
-robust sigmas too, glitched frames, stuck runs), and
+robust sigmas too, glitched frames, stuck runs; it adds a caveat where the innovations'
+scale changes across the log, i.e. the seeing was not steady), and
 ``--outliers clip|drop`` summarises the repaired log (``raise`` refuses a flagged
 log). A progress bar goes to stderr when it is a terminal, unless ``--quiet``.
 """
