@@ -542,10 +542,10 @@ class QualityReport:
         :attr:`clean`. Stuck and non-finite values are assessed whatever the length.
     scale_ratio : float
         Median over modes of the largest over the smallest 1.4826 MAD of the AR(4)
-        innovations in :data:`STATIONARITY_BLOCKS` contiguous blocks of the log (1 for
+        innovations in ``STATIONARITY_BLOCKS`` contiguous blocks of the log (1 for
         steady seeing; NaN when it cannot be formed).
     stationary : bool or None
-        False when ``scale_ratio`` exceeds :func:`stationarity_threshold` (the seeing
+        False when ``scale_ratio`` exceeds ``stationarity_threshold`` (the seeing
         changed within the log, so the stated false-alarm rate does not hold: :attr:`note`
         says so; which values are flagged does not change); None when there are too few
         effective frames per block to judge.
