@@ -13,26 +13,11 @@ modes: at 64 the rule counted the screened search's 246 estimates for ~2080 made
 from __future__ import annotations
 
 from modalinfo.bases import Pupil, ZernikeBasis
-from modalinfo.information import MutualInformation
 from modalinfo.ordering import order_modes
 from modalinfo.ordering.cost import least_ordering_calls
 from modalinfo.telemetry.synthetic.spectra import Layer, open_loop_log
 
-
-class _Counting:
-    """A histogram MutualInformation that counts its score calls."""
-
-    def __init__(self):
-        self.inner = MutualInformation(method="histogram", units="nats")
-        self.calls = 0
-
-    def fit(self, x):
-        self.inner.fit(x)
-        return self
-
-    def score(self, y):
-        self.calls += 1
-        return self.inner.score(y)
+from .conftest import CountingMI
 
 
 def test_sixty_four_modes_are_searched_exhaustively_and_counted_so():
@@ -40,7 +25,7 @@ def test_sixty_four_modes_are_searched_exhaustively_and_counted_so():
     modes = range(2, m + 2)
     log = open_loop_log(modes, n_frames=30, rate=1000.0, diameter=4.0,
                         layers=[Layer(r0=0.1, wind_speed=10.0)], seed=10)
-    est = _Counting()
+    est = CountingMI()
     order_modes(log, ZernikeBasis(Pupil(20), modes=modes), "mi_greedy", estimator=est,
                 sample_budget=300, seed=0, n_resamples=0, search="auto")
     least = least_ordering_calls(m, "mi_greedy", "auto")

@@ -20,7 +20,6 @@ from __future__ import annotations
 import pytest
 
 from modalinfo.bases import Pupil, ZernikeBasis
-from modalinfo.information import MutualInformation
 from modalinfo.ordering import order_modes
 from modalinfo.ordering.cost import (
     MI_SECONDS_PER_CALL,
@@ -29,6 +28,8 @@ from modalinfo.ordering.cost import (
     least_ordering_seconds,
 )
 from modalinfo.telemetry.synthetic.spectra import Layer, open_loop_log
+
+from .conftest import CountingMI
 
 #: measured CPU seconds of one score (estimator, n): values of the module docstring
 MEASURED = {("histogram", 30): 73e-6, ("histogram", 3228): 378e-6,
@@ -39,28 +40,12 @@ MEASURED = {("histogram", 30): 73e-6, ("histogram", 3228): 378e-6,
             ("ksg", 30): 359e-6, ("ksg", 3228): 16.7e-3, ("ksg", 100_000): 0.858}
 
 
-class _Counting:
-    """A histogram MutualInformation that counts its score calls."""
-
-    def __init__(self):
-        self.inner = MutualInformation(method="histogram", units="nats")
-        self.calls = 0
-
-    def fit(self, x):
-        self.inner.fit(x)
-        return self
-
-    def score(self, y):
-        self.calls += 1
-        return self.inner.score(y)
-
-
 @pytest.mark.parametrize(("n_modes", "search"), [(6, "auto"), (20, "screened")])
 def test_the_greedy_count_is_a_bound_of_the_calls_made(n_modes, search):
     log = open_loop_log(range(2, n_modes + 2), n_frames=200, rate=1000.0, diameter=4.0,
                         layers=[Layer(r0=0.1, wind_speed=10.0)], seed=4)
     basis = ZernikeBasis(Pupil(16), modes=range(2, n_modes + 2))
-    est = _Counting()
+    est = CountingMI()
     order_modes(log, basis, "mi_greedy", estimator=est, sample_budget=2000, seed=0,
                 n_resamples=0, search=search)
     least = least_ordering_calls(n_modes, "mi_greedy", search)
