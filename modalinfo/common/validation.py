@@ -163,6 +163,40 @@ def as_float_array(
     return out
 
 
+def check_aligned(values: dict[str, Any]) -> None:
+    """Refuse pandas Series / DataFrames paired by position whose indexes differ.
+
+    The estimators pair samples by position. Two Series indexed by different times (a
+    5 ms offset, one reversed) were paired row by row without a word, where pandas
+    itself would align them by label (round 12 PART a, rows pd-*-shifted-index,
+    c-series-misaligned-index). Values without an index (arrays, lists) are not checked.
+    """
+    indexed = [(name, v.index) for name, v in values.items()
+               if v is not None and hasattr(v, "index") and hasattr(v, "iloc")]
+    for name, index in indexed[1:]:
+        first, first_index = indexed[0]
+        if not first_index.equals(index):
+            raise ValueError(
+                f"`{first}` and `{name}` are pandas objects with different indexes, and "
+                f"samples are paired by position, not by label: align them first (e.g. "
+                f"{first}, {name} = {first}.align({name}, join='inner')) or pass arrays.")
+
+
+def column_labels(value: Any, n_columns: int, default: list[str]) -> list[str]:
+    """Labels of a table's columns: a pandas DataFrame's column names, else ``default``.
+
+    A DataFrame of named modes (``Z2``, ``Z3``...) passed where an array is expected was
+    labelled ``m0, m1...`` / ``mode0...``, dropping the names a scientist gave (round 12
+    PART a, rows df-temap, df-select, df-forecast). Only a 2-D table with one name per
+    column is read (a DataFrame's ``columns``); anything else keeps ``default``.
+    """
+    columns = getattr(value, "columns", None)
+    if columns is None or getattr(value, "ndim", None) != 2:
+        return default
+    names = [str(c) for c in columns]
+    return names if len(names) == n_columns else default
+
+
 def check_real_dtype(arr: np.ndarray, name: str, value: Any = None) -> None:
     """Refuse an array whose dtype is not bool, integer or real floating.
 

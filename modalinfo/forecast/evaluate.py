@@ -54,7 +54,13 @@ from scipy.stats import norm
 from scipy.stats import t as student_t
 
 from modalinfo.common.records import array_fields_eq
-from modalinfo.common.validation import as_float_array, check_int, check_real, check_square_range
+from modalinfo.common.validation import (
+    as_float_array,
+    check_int,
+    check_real,
+    check_square_range,
+    column_labels,
+)
 from modalinfo.forecast.arma import ARMAPredictor
 from modalinfo.forecast.base import Predictor, check_square_floor
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
@@ -447,7 +453,8 @@ def _as_data(log) -> tuple[np.ndarray, tuple[str, ...], float | None, str]:
     data = as_float_array(log, "log", ndim=(1, 2))
     if data.ndim == 1:
         data = data[:, None]
-    return data, tuple(f"mode{k}" for k in range(data.shape[1])), None, "a.u."
+    labels = column_labels(log, data.shape[1], [f"mode{k}" for k in range(data.shape[1])])
+    return data, tuple(labels), None, "a.u."
 
 
 def _as_predictors(predictors) -> dict[str, Predictor]:

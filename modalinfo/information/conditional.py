@@ -172,7 +172,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import as_float_array, check_choice, check_int
+from modalinfo.common.validation import as_float_array, check_aligned, check_choice, check_int
 from modalinfo.information.api import (
     _COPY_SCREEN,
     DEFAULT_METHOD,
@@ -239,6 +239,7 @@ def _varying(arr: np.ndarray) -> np.ndarray:
 
 
 def _triple(x: Any, y: Any, z: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    check_aligned({"x": x, "y": y, "z": z})
     xa = _as_group(x, "x", None)
     n = xa.shape[0]
     ya = _as_group(y, "y", n)

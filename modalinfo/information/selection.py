@@ -92,6 +92,7 @@ from modalinfo.common.validation import (
     check_int,
     check_real,
     check_rng,
+    column_labels,
 )
 from modalinfo.information.api import UNITS, InfiniteMIError
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
@@ -260,7 +261,7 @@ def _series(data: Any, name: str) -> tuple[np.ndarray, list[str]]:
         return arr, [str(label) for label in data.labels]
     arr = as_float_array(data, name, ndim=(1, 2))
     arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
-    return arr, [f"m{j}" for j in range(arr.shape[1])]
+    return arr, column_labels(data, arr.shape[1], [f"m{j}" for j in range(arr.shape[1])])
 
 
 def _check_simultaneous(data: Any, extra: Any) -> None:

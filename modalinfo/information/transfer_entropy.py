@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import as_float_array, check_int
+from modalinfo.common.validation import as_float_array, check_aligned, check_int
 from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError, _UnionOfCurvesError
 from modalinfo.information.conditional import _estimator
 
@@ -44,6 +44,7 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
     """
     lag = check_int(lag, "lag", minimum=0)
     history = check_int(history, "history", minimum=0)
+    check_aligned({"source": source, "target": target})
     tgt = as_float_array(target, "target", ndim=(1, 2))
     src = as_float_array(source, "source", ndim=(1, 2))
     tgt = tgt.reshape(-1, 1) if tgt.ndim == 1 else tgt

@@ -62,6 +62,7 @@ from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
     as_float_array,
+    check_aligned,
     check_choice,
     check_memory,
     check_real,
@@ -187,6 +188,7 @@ class MIPermutationResult:
 
 
 def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
+    check_aligned({"x": x, "y": y})
     x = as_float_array(x, "x", ndim=1, min_length=MIN_SAMPLES)
     y = as_float_array(y, "y", ndim=1, min_length=MIN_SAMPLES)
     if x.shape[0] != y.shape[0]:

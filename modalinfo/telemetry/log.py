@@ -69,6 +69,28 @@ _RATE_RTOL = 1e-3
 _TIME_RESOLUTION = TIME_RESOLUTION
 
 
+def _check_frame_columns(coeffs, labels: list[str]) -> None:
+    """Refuse a DataFrame whose column names are not the labels the log would give.
+
+    ``ModalLog(df)`` with columns ``Z5, Z6, Z7`` and no ``modes`` was labelled Z2, Z3,
+    Z4 (the default Noll modes) without a word, the names the scientist gave dropped
+    (round 12 PART a, row log-from-df-named). A DataFrame with default integer column
+    names (0, 1, ...) or with exactly the default labels is accepted.
+    """
+    columns = getattr(coeffs, "columns", None)
+    if columns is None or getattr(coeffs, "ndim", None) != 2:
+        return
+    names = [str(c) for c in columns]
+    if names in ([str(k) for k in range(len(names))], labels):
+        return
+    shown = ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
+    raise ValueError(
+        f"`coeffs` is a DataFrame with named columns ({shown}) but no `modes` was given: "
+        f"they would be labelled {', '.join(labels[:4])}{', ...' if len(labels) > 4 else ''}"
+        " by default; give the modes (e.g. modes=[5, 6, 7] for Z5, Z6, Z7, or "
+        "modes=list(df.columns), convention='labels').")
+
+
 class ModalLog:
     """A telemetry log of modal coefficients ``(T, M)`` with time axis, modes and units.
 
@@ -191,6 +213,8 @@ class ModalLog:
                     "agree."
                 )
         mode_list = check_modes(modes, convention, n_modes)
+        if modes is None:
+            _check_frame_columns(coeffs, mode_labels(mode_list, convention))
         meta = check_metadata(metadata)
 
         repairs: list[str] = []
