@@ -153,10 +153,12 @@ _CACHE_SAMPLES = 2e6
 _BYTES_PER_SAMPLE_COLUMN = 100.0
 #: CPU seconds per sample and log2(n) of the least time of a pair's estimate, times
 #: (d / 2)^2 (the bound callers that refuse only what cannot finish use, e.g. the
-#: greedy orderings, :mod:`modalinfo.ordering.cost`): 0.4e-6, below the orderings' MI
-#: measured (6.4, 10.4, 13.7 us per sample at n = 1e4, 1e5, 4e5: 0.48-0.74 us per
-#: log2(n)); unchanged by round 12.
-_LEAST_SECONDS_PER_SAMPLE_LOG2 = 0.4e-6
+#: greedy orderings, :mod:`modalinfo.ordering.cost`): 0.2e-6, below the orderings' MI
+#: measured (``MutualInformation("ksg").fit(x).score(y)``: 6.4, 10.4, 13.7 us per sample
+#: at n = 1e4, 1e5, 4e5 on 2026-11-28, 0.48-0.74 us per log2(n); round 12, load 8.5:
+#: 3.4 ms, 39 ms, 0.55 s at n = 1e3, 1e4, 1e5, 0.30-0.33 us per log2(n), 0.74-0.83 of
+#: the bound of 0.4e-6 before: ``reorder`` could refuse an ordering that fitted).
+_LEAST_SECONDS_PER_SAMPLE_LOG2 = 0.2e-6
 #: Estimated memory [bytes] below which the machine's available memory is not read
 #: (every estimate of up to 10^6 samples over 2 columns: ~0.2 GB).
 _MEMORY_CHECKED_ABOVE = 2**28
@@ -170,8 +172,8 @@ def ksg_seconds_per_sample(n: int, d: int = 2, *, least: bool = False) -> float:
     ``ksg_cmi`` calls (a pair at n = 1e3 - 1e5: measured / modelled 0.7-1.0 on an
     idle machine, up to
     ~1.5 at load 8; over 3, 4 and 8 columns at n = 1e4: 0.6-1.0). With ``least=True``,
-    a lower bound: ``0.4e-6 log2(n) (d / 2)^2`` s, below every time the orderings
-    measured.
+    a lower bound: ``0.2e-6 log2(n) (d / 2)^2`` s, below every time the orderings
+    measured (0.4e-6 before round 12, above the scores measured then).
 
     Parameters
     ----------

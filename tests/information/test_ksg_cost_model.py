@@ -4,7 +4,7 @@ References: the measured CPU times of the module notes of modalinfo.information.
 modalinfo.ordering.cost (a pair at n = 1e4: 0.045-0.08 s; the orderings' MI 6.4 us per
 sample at 1e4, 13.7 us at 4e5), and the law they were fitted to, written out here:
 0.6 ms + 0.5e-6 n log2(n) (1 + n / 2e6) s per pair estimate (round 12; 1.25e-6 n log2(n) before), a
-lower bound of 0.4e-6 n log2(n). Both entry
+lower bound of 0.2e-6 n log2(n) (0.4e-6 before round 12). Both entry
 points (``select_inputs``'s ``max_seconds`` and ``modalinfo reorder``'s hour) are
 checked on both sides of their limits.
 """
@@ -33,7 +33,7 @@ def test_one_law_two_bounds(n):
     law = 0.5e-6 * math.log2(n) * (1 + n / 2e6)
     assert ksg_seconds_per_sample(n, 2) == pytest.approx(law, rel=1e-12)
     assert ksg_cost(n, 2)[0] == pytest.approx(6e-4 + n * law, rel=1e-12)
-    assert MI_SECONDS_PER_SAMPLE["ksg"](n) == pytest.approx(0.4e-6 * math.log2(n), rel=1e-12)
+    assert MI_SECONDS_PER_SAMPLE["ksg"](n) == pytest.approx(0.2e-6 * math.log2(n), rel=1e-12)
     assert first_step_seconds("ksg", n, 3, 19) == pytest.approx(3 * 20 * (6e-4 + n * law),
                                                                 rel=1e-12)
 
@@ -58,7 +58,7 @@ def test_reorder_refuses_at_the_same_hour():
     # 400 frames x 3216 pixels >= 1e6: n = 1e6 per estimate; calls = the greedy's
     # 3 + 2 (every mode left at each step) plus 2 M - 3 per bootstrap replicate (round
     # 10 PART b, B13): 5 + 3 r for M = 3; each estimate also costs the per-call term
-    per_call = MI_SECONDS_PER_CALL["ksg"] + 0.4e-6 * math.log2(1e6) * 1e6
+    per_call = MI_SECONDS_PER_CALL["ksg"] + 0.2e-6 * math.log2(1e6) * 1e6
     calls_ok = int(MAX_ORDERING_SECONDS / per_call)
     resamples_ok = (calls_ok - 5) // 3
     check_mi_time(_args(resamples_ok), _Log())
