@@ -544,7 +544,14 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
     if not (_is_constant(x) or _is_constant(y)):
         # the regime rules (convergence module): a warning at most, the value is unchanged
         def again(xq: np.ndarray, yq: np.ndarray) -> float:
-            return MutualInformation(method, "nats", **options).estimate(xq, yq)
+            # a quarter of the validated pair, which passed the copy and curve checks
+            # as a whole: the engine alone (est's, refitted: est is not returned),
+            # without a new object, the validation and the checks (round 12: they
+            # were half of the histogram's rule 2)
+            if _is_constant(xq) or _is_constant(yq):
+                return 0.0
+            est._engine.fit(xq)
+            return float(est._engine.score(yq))
 
         judge_pair_estimate(x, y, value / est._factor, again,
                             f"mutual_information with method={est.method!r}",

@@ -101,9 +101,10 @@ still with the warning):
   Since KSG is the default, the rule also bounds its cost: at most
   :data:`~modalinfo.information.ksg.KSG_MAX_SECONDS` = 60 s of CPU per estimate, by the
   model :func:`~modalinfo.information.ksg.ksg_cost` fitted to measured times (2 x 2
-  groups: 0.38 s at n = 1e4, ~8 s at 1e5), which admits 2 x 2 groups up to n ~ 6e5
-  and 8 columns up to ~1.7e5; above it the same policy switches to the Gaussian
-  copula. Measured with the default on x, y given K Gaussian columns (truth 0.247
+  groups: 0.38 s at n = 1e4, ~8 s at 1e5; refitted in round 12, 0.16-0.25 s at 1e4),
+  which admits 2 x 2 groups up to n ~ 7.7e5 and 8 columns up to ~2e5; above it the
+  same policy switches to the Gaussian copula. Measured with the default on x, y
+  given K Gaussian columns (truth 0.247
   nats, n = 1e4, k = 3; benchmarks/RESULTS.md, "The KSG defaults"): K = 1, 2, 5
   (d = 3, 4, 7: the KSG itself) within 0.035 nats, taking 0.2, 0.4, 2 s; K = 10, 20
   (d = 12, 22: balls 0.51, 0.69) switched to the Gaussian copula, -0.001 and -0.008

@@ -54,7 +54,9 @@ Size rule. KSG is the default MI and CMI estimator of the package, and its cost 
 as n log n with a large constant: measured (``time.process_time``, peak resident
 memory; 2-core machine at load ~3-6, 2026-11-29) for a pair at n = 1e4, 1e5, 1e6:
 0.08, 1.2-1.6, 25 s of CPU and ~200 bytes per sample; 2 x 2 groups at 1e4 and 1e5:
-0.38 and ~6 s (benchmarks/RESULTS.md, "The KSG defaults"). Above
+0.38 and ~6 s (benchmarks/RESULTS.md, "The KSG defaults"). Measured again in round 12
+(load 0.7-8, :func:`ksg_cost`'s fit): a pair at 1e3, 1e4, 1e5: 4.2 ms, 45 ms, 0.64 s;
+2 x 2 groups at 1e4: 0.16 s. Above
 ``KSG_MAX_SAMPLES`` = 10^6 samples (a pair at 10^7: ~5 min of CPU and ~2 GB per
 estimate, one estimate per candidate in a search) every KSG estimate is refused
 before any work with a ``ValueError`` naming the rule, its estimated time and memory
@@ -130,16 +132,33 @@ def _standardised(a: np.ndarray, seed: int, axis: int, copula: bool = False) -> 
 
 #: Most samples of one KSG estimate, MI or CMI (module notes, "Size rule").
 KSG_MAX_SAMPLES = 1_000_000
-#: CPU seconds per sample and per log2(n) of a KSG estimate of a pair, and resident
-#: bytes per sample and column (module notes: 25 s at n = 1e6, ~200 bytes per sample).
-_SECONDS_PER_SAMPLE_LOG2 = 1.25e-6
+#: The KSG cost law (:func:`ksg_cost`): CPU seconds per call, and per sample and
+#: log2(n) of a pair (the k-d trees' n log n), times ``(d / 2)^_COLUMN_EXPONENT`` over d
+#: columns. Refitted in round 12 (Leftovers 12-cost) to the CPU of ``ksg_cmi`` calls
+#: as ``select_inputs`` makes them (``time.process_time``, one BLAS thread, medians of
+#: 3, load 0.7-8): a pair 1.7, 4.2, 12, 45, 155, 635 ms at n = 300, 1e3, 3e3, 1e4, 3e4,
+#: 1e5 (0.34-0.42 us per sample and log2(n) beyond ~0.8 ms per call); 1 x 1 given 1, 2
+#: x 2, 1 x 1 given 2 and 1 x 1 given 6 columns at n = 1e4: 2.8, 3.8, 5.8 and 41 times
+#: the pair (4, 5.7, 32 by the law). The law before, 1.25e-6 log2(n) (d / 2)^2 without a
+#: per-call term, was 2.7-3.7x above every pair measured (audit 11-cost: 1.6-2.7x under
+#: load), so ``select_inputs(max_seconds=...)`` refused searches that fit.
+#: Beyond ~1e5 samples the trees outgrow the caches: the rate per sample and log2(n)
+#: grows by ``1 + n / _CACHE_SAMPLES`` (a pair at 1e6: 19.6 s measured at load 8, 0.98
+#: us per log2(n), for 0.38 at 1e5; the module notes' 25 s).
+_SECONDS_PER_CALL = 6e-4
+_SECONDS_PER_SAMPLE_LOG2 = 0.5e-6
+_COLUMN_EXPONENT = 2.5
+_CACHE_SAMPLES = 2e6
+#: Resident bytes per sample and column (module notes: ~200 bytes per sample of a pair).
 _BYTES_PER_SAMPLE_COLUMN = 100.0
-#: Ratio of the least time of a pair's estimate to :func:`ksg_cost`'s estimate (the
-#: bound callers that refuse only what cannot finish use, e.g. the greedy orderings):
-#: 1.25e-6 / 3.125 = 0.4e-6 s per sample and log2(n), below every pair measured (module
-#: notes: 8 us per sample at n = 1e4, 25 us at 1e6; the orderings' MI 6.4, 10.4,
-#: 13.7 us at n = 1e4, 1e5, 4e5, :mod:`modalinfo.ordering.cost`).
-_LEAST_OVER_ESTIMATE = 1.0 / 3.125
+#: CPU seconds per sample and log2(n) of the least time of a pair's estimate, times
+#: (d / 2)^2 (the bound callers that refuse only what cannot finish use, e.g. the
+#: greedy orderings, :mod:`modalinfo.ordering.cost`): 0.2e-6, below the orderings' MI
+#: measured (``MutualInformation("ksg").fit(x).score(y)``: 6.4, 10.4, 13.7 us per sample
+#: at n = 1e4, 1e5, 4e5 on 2026-11-28, 0.48-0.74 us per log2(n); round 12, load 8.5:
+#: 3.4 ms, 39 ms, 0.55 s at n = 1e3, 1e4, 1e5, 0.30-0.33 us per log2(n), 0.74-0.83 of
+#: the bound of 0.4e-6 before: ``reorder`` could refuse an ordering that fitted).
+_LEAST_SECONDS_PER_SAMPLE_LOG2 = 0.2e-6
 #: Estimated memory [bytes] below which the machine's available memory is not read
 #: (every estimate of up to 10^6 samples over 2 columns: ~0.2 GB).
 _MEMORY_CHECKED_ABOVE = 2**28
@@ -148,11 +167,13 @@ _MEMORY_CHECKED_ABOVE = 2**28
 def ksg_seconds_per_sample(n: int, d: int = 2, *, least: bool = False) -> float:
     """CPU seconds per sample of one KSG estimate on n samples over d columns.
 
-    The package's one KSG cost model: ``1.25e-6 log2(n) (d / 2)^2`` s, fitted to the
-    times of the module notes ("Size rule"; a pair: d = 2; 2 x 2 groups, d = 4: 0.31 s
-    estimated against 0.38 s measured at n = 1e4), good to a factor of ~2 (the machine's
-    load moves the times by as much). With ``least=True``, a lower bound: the same law
-    times 0.32 (0.4e-6 s per log2(n) for a pair), below every time measured.
+    The package's one KSG cost model, per sample: ``0.5e-6 log2(n) (1 + n / 2e6)
+    (d / 2)^2.5`` s (:func:`ksg_cost` adds 0.6 ms per call), refitted in round 12 to
+    ``ksg_cmi`` calls (a pair at n = 1e3 - 1e5: measured / modelled 0.7-1.0 on an
+    idle machine, up to
+    ~1.5 at load 8; over 3, 4 and 8 columns at n = 1e4: 0.6-1.0). With ``least=True``,
+    a lower bound: ``0.2e-6 log2(n) (d / 2)^2`` s, below every time the orderings
+    measured (0.4e-6 before round 12, above the scores measured then).
 
     Parameters
     ----------
@@ -168,17 +189,21 @@ def ksg_seconds_per_sample(n: int, d: int = 2, *, least: bool = False) -> float:
     float
         CPU seconds per sample [s].
     """
-    coef = _SECONDS_PER_SAMPLE_LOG2 * (_LEAST_OVER_ESTIMATE if least else 1.0)
-    return float(coef * np.log2(max(n, 2)) * (max(d, 2) / 2.0) ** 2)
+    cols = max(d, 2) / 2.0
+    if least:
+        return float(_LEAST_SECONDS_PER_SAMPLE_LOG2 * np.log2(max(n, 2)) * cols**2)
+    return float(_SECONDS_PER_SAMPLE_LOG2 * np.log2(max(n, 2)) * (1.0 + n / _CACHE_SAMPLES)
+                 * cols**_COLUMN_EXPONENT)
 
 
 def ksg_cost(n: int, d: int) -> tuple[float, float]:
     """Estimated (CPU seconds, bytes) of one KSG estimate on n samples over d columns.
 
-    ``n`` times :func:`ksg_seconds_per_sample` s and ``100 n d`` bytes (the peak memory
-    of the module notes, "Size rule").
+    ``0.6 ms + n`` times :func:`ksg_seconds_per_sample` s (the per-call term: the
+    checks, the normal scores and the trees' set-up, ~0.8 ms measured at n = 300 - 1e3)
+    and ``100 n d`` bytes (the peak memory of the module notes, "Size rule").
     """
-    seconds = n * ksg_seconds_per_sample(n, d)
+    seconds = _SECONDS_PER_CALL + n * ksg_seconds_per_sample(n, d)
     return float(seconds), _BYTES_PER_SAMPLE_COLUMN * n * max(d, 2)
 
 
@@ -404,8 +429,8 @@ def ksg_bias_rule(n: int, d: int, options: dict[str, Any]) -> str | None:
     The rule (:mod:`modalinfo.information.conditional`, "Bias rule"):
     ``(k / n)^(1 / d) <= 0.4`` (:data:`KSG_MAX_BALL`), k the option (3 by default),
     and, since KSG is the CMI default, its cost: at most :data:`KSG_MAX_SECONDS` = 60 s
-    of CPU estimated by :func:`ksg_cost` (2 x 2 groups up to n ~ 6e5, 8 columns up to
-    n ~ 1.7e5), so that the policy of the conditional estimators switches a call that
+    of CPU estimated by :func:`ksg_cost` (2 x 2 groups up to n ~ 7.7e5, 8 columns
+    up to ~2e5), so that the policy of the conditional estimators switches a call that
     would take minutes, as it switches one whose bias swamps the estimate.
     """
     k = options.get("k", 3)

@@ -4,7 +4,8 @@ One MI estimate on ``n`` samples costs ``MI_SECONDS_PER_SAMPLE[estimator](n) * n
 seconds, a little below the times measured (``time.process_time`` of
 ``MutualInformation.score`` at n = 1e4, 1e5, 4e5 on this project's 2-core machine,
 2026-11-28: ksg 6.4, 10.4, 13.7 us per sample, growing as log2 n for its k-d tree
-queries: the lower bound of the package's one KSG cost model,
+queries, and 3.4, 3.9, 5.5 us at n = 1e3, 1e4, 1e5 in round 12: the lower bound of
+the package's one KSG cost model,
 :func:`~modalinfo.information.ksg.ksg_seconds_per_sample`; kde 0.19-0.24 us
 (binned); gaussian 0.13-0.23 us; histogram 0.03-0.06 us). A greedy ordering of M
 modes makes at least ``2 M - 2`` estimates (every mode at the first step, at least one

@@ -84,11 +84,12 @@ def test_memory_limit_refuses_in_one_line_naming_the_key(tmp_path, capsys, no_si
     # the interpreter's own baseline no run fits (round 10 PART b, CL6)
     _one_line(capsys, "more than 47.68 MiB (the limit given)", "no run fits",
               "--memory-limit")
-    # above the baseline (190.73 MiB) and below the run's 249 MiB: the part that drives it
-    code = main(["run", "--preset", "table1", "--duration", "0.5", "--memory-limit", "230MB",
+    # above the baseline (333.79 MiB since Leftovers 12-cost) and below the run's 392 MiB:
+    # the part that drives it
+    code = main(["run", "--preset", "table1", "--duration", "0.5", "--memory-limit", "380MB",
                  "--quiet"])
     assert code == 2
-    _one_line(capsys, "more than 219.35 MiB (the limit given)", "driven by", "--memory-limit")
+    _one_line(capsys, "more than 362.40 MiB (the limit given)", "driven by", "--memory-limit")
     d = presets.get("kaos").to_dict()
     d["telescope"]["n_pixels"] = 2400
     path = tmp_path / "big.toml"
