@@ -129,9 +129,9 @@ The policy
 :func:`apply_outlier_policy` acts on a ``ModalLog``: ``"warn"`` keeps the data (the
 caller states the report), ``"clip"`` replaces each outlier by its AR(4) prediction from
 the frames before it (the value the flagging pass keeps in its history, Chen & Liu 1993;
-the median in the first 4 frames; stuck and non-finite values are left as they are and
-stated; before leftovers 12-est it winsorised to ``m_j +- k sigma_j``, which on a
-persistent mode left a jump to that bound), ``"drop"`` removes every
+in the first 4 frames, backwards from the frames after it; stuck and non-finite values
+are left as they are and stated; before leftovers 12-est it winsorised to ``m_j +- k
+sigma_j``, which on a persistent mode left a jump to that bound), ``"drop"`` removes every
 flagged frame (outlier, stuck or non-finite; the time axis becomes timestamps, so
 the removal shows as gaps) and is refused for time-series analyses, whose lags need
 every frame (use ``"clip"``), ``"raise"`` refuses a log with any flagged value. What
@@ -1097,8 +1097,9 @@ def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
     The flagging pass of :func:`assess_quality` again (the same kernel and inputs, so
     the same values are flagged), writing the value its history keeps: an outlier's
     prediction from the (cleaned) frames before it, ``m + cen_e + sum_i c_i (x_{t-i} -
-    m)`` (Chen & Liu 1993), the median in the first ``AR_ORDER`` frames; every other
-    value (stuck and non-finite ones too) unchanged. Why not winsorise to ``m +- k
+    m)`` (Chen & Liu 1993); in the first ``AR_ORDER`` frames, its prediction backwards
+    from the cleaned frames after it (as it was tested); every other value (stuck and
+    non-finite ones too) unchanged. Why not winsorise to ``m +- k
     sigma`` (the former ``clip``, leftovers 12-est): on a persistent mode the level
     bound is far from the neighbours, so a glitch became a jump of its own (an AR(1)
     log of rho 0.999 with a 100-sigma glitch: clipped to 62-179 innovation sigmas from
@@ -1125,6 +1126,17 @@ def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
                    ints[1], ints[2], ints[3], ints[4], counts, counts.copy(), stuck_mask,
                    out[i0:i0 + b.shape[0]])
         i0 += b.shape[0]
+    # the first AR_ORDER frames have no past: an outlier there is predicted backwards from
+    # the (cleaned) frames after it, as its test was (_head_innovations), not left at the
+    # median the pass's history keeps, which on a persistent mode is a jump of its own
+    p = coef.shape[0]
+    for t in range(min(p, arr.shape[0] - p) - 1, -1, -1):
+        row = np.asarray(arr[t], dtype=np.float64)
+        done = np.isfinite(row) & (out[t] != arr[t])
+        if done.any():
+            after = np.asarray(out[t + 1:t + p + 1], dtype=np.float64) - centre
+            pred = centre + cen_e + np.einsum("im,im->m", after, coef)
+            out[t, done] = pred[done]
     out.flags.writeable = False
     return log._derive(_coeffs=out)  # noqa: SLF001 - same time axis, modes and units
 
@@ -1164,7 +1176,7 @@ def apply_outlier_policy(
     policy : {"warn", "clip", "drop", "raise"}
         ``"warn"``: keep the data (the caller states ``report.describe()``);
         ``"clip"``: replace each outlier by its AR(4) prediction from the frames before
-        it (the median in the first 4 frames);
+        it (in the first 4 frames, from the frames after it);
         ``"drop"``: remove every flagged frame; ``"raise"``: refuse a log with any
         flagged value. See the module docstring.
     time_series : bool

@@ -48,6 +48,19 @@ def test_the_glitch_is_replaced_near_its_neighbours(seed):
     assert "replaced by its AR(4) prediction" in out.metadata["outliers"][-1]["action"]
 
 
+@pytest.mark.parametrize("frame", [0, 1, 3])
+def test_a_glitch_in_the_first_frames_is_predicted_backwards(frame):
+    # no past there: predicted from the frames after it, as the pass tests it (before
+    # this: the median, ~1 marginal sigma = 22 innovation sigmas from the neighbours)
+    clean, x = _log(8)
+    x[GLITCH, 0] = clean[GLITCH, 0]
+    x[frame, 1] += 100.0
+    out, report = apply_outlier_policy(ModalLog(x, rate=1000.0), "clip")
+    assert report.outlier_frames.tolist() == [frame]
+    assert abs(out.coeffs[frame, 1] - clean[frame, 1]) < 4 * SIGMA_E
+    assert (out.coeffs != x).sum() == 1
+
+
 def test_float32_log_keeps_its_dtype():
     clean, x = _log(7)
     out, _ = apply_outlier_policy(ModalLog(x.astype(np.float32), rate=1000.0), "clip")
