@@ -56,6 +56,7 @@ from modalinfo.information import (  # noqa: E402
     transfer_entropy_variables,
 )
 from modalinfo.information.histogram import _bins_per_axis, _group_codes  # noqa: E402
+from modalinfo.information.resampling import percentile_bounds  # noqa: E402
 from modalinfo.io import load  # noqa: E402
 
 DATA = Path(__file__).resolve().parent.parent / "data" / "kaos_like_closed_loop.npz"
@@ -194,7 +195,7 @@ def bench_coverage(trials=40, n_resamples=99):
                 cov_k += ci.low <= target <= ci.high
                 centre = 2.0 * th - ci.bootstrap_mean
                 cov_bc += abs(centre - te) <= 1.959964 * sd
-                q_lo, q_hi = np.quantile(ci.bootstrap_distribution, [0.025, 0.975])
+                q_lo, q_hi = percentile_bounds(ci.bootstrap_distribution, 0.95)
                 cov_basic += 2.0 * th - q_hi <= target <= 2.0 * th - q_lo
             est = np.asarray(est)
             print(f"  {method:<9} n = {n:>6}: mean {est.mean():.4f} (sd {est.std(ddof=1):.4f}),"

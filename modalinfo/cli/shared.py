@@ -187,16 +187,16 @@ def add_outlier_argument(parser: argparse.ArgumentParser) -> None:
         help="values beyond median +- k x 1.4826 MAD of their mode and unpredictable from "
         "the frames before (AR(4) innovation beyond k of its robust sigmas; k for a 1%% "
         "chance of any false flag on a Gaussian log), stuck runs and glitched frames: warn "
-        "(default: one line on stderr, data used as is), clip (winsorise outliers to the "
-        "threshold), drop (remove flagged frames; refused by forecast and select, which need "
-        "every frame) or raise (refuse the log, exit 2)")
+        "(default: one line on stderr, data used as is), clip (replace each outlier by its "
+        "AR(4) prediction from the frames before), drop (remove flagged frames; refused by "
+        "forecast and select, which need every frame) or raise (refuse the log, exit 2)")
 
 
 def refuse_outlier_drop(args: argparse.Namespace, purpose: str) -> None:
     """Refuse ``--outliers drop`` before any work where the analysis needs every frame."""
     if getattr(args, "outliers", "warn") == "drop":
         raise CommandError(f"--outliers drop removes frames, which breaks the time axis "
-                           f"{purpose} needs; use --outliers clip (winsorise in place) or warn")
+                           f"{purpose} needs; use --outliers clip (replace in place) or warn")
 
 
 def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False):
@@ -220,7 +220,7 @@ def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bo
     if not report.clean:
         action = new.metadata["outliers"][-1]["action"]
         if policy == "warn":
-            action = ("used as is (--outliers clip winsorises the outliers, drop removes the "
+            action = ("used as is (--outliers clip replaces the outliers, drop removes the "
                       "frames, raise refuses the log)")
         queued = getattr(args, "_notes", None)
         if queued is None:

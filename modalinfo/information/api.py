@@ -534,7 +534,10 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         (1 + rx ry)); an estimate that still rises from a quarter of the sample to all
         of it by more than max(0.05 nats, 5 %); an estimate below the Gaussian MI of its
         Chatterjee xi by more than max(0.05, 10 %) (a curve or clusters finer than the
-        bins, kernel or neighbours). Also where an explicit ``k`` or ``bandwidth``
+        bins, kernel or neighbours); an estimate below the MI of the 2 x 2 table of x and
+        y split at their widest gaps (a lower bound: clusters far apart moving x and y
+        together, which kde and histogram smooth together) by more than max(0.05, 10 %).
+        Also where an explicit ``k`` or ``bandwidth``
         fails the method's bias rule.
     """
     est = MutualInformation(method, units, **options)

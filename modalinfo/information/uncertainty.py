@@ -82,6 +82,7 @@ from modalinfo.information.resampling import (
     check_resamples,
     check_tail_replicates,
     matched_window_for,
+    percentile_bounds,
     resolve_block_length,
     surrogate_pvalue,
     surrogate_shifts,
@@ -306,7 +307,7 @@ def mutual_information_ci(
                 f"the estimate (infinite bias correction); percentile interval given"
             )
             interval = "percentile"
-            low, high = np.quantile(dist, [alpha / 2.0, 1.0 - alpha / 2.0])
+            low, high = percentile_bounds(dist, confidence_level)
     else:
         if bootstrap == "iid":
             b = 1
@@ -316,7 +317,7 @@ def mutual_information_ci(
             b = resolve_block_length(block_length, x, y)
             idx = block_bootstrap_indices(n, b, n_resamples, rng)
         dist = np.array([est.estimate(x[i], y[i]) for i in idx])
-        q_lo, q_hi = np.quantile(dist, [alpha / 2.0, 1.0 - alpha / 2.0])
+        q_lo, q_hi = percentile_bounds(dist, confidence_level)
         if interval == "normal":
             half = stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1)
             low, high = theta - half, theta + half

@@ -106,6 +106,7 @@ from modalinfo.information.api import InfiniteMIError
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
     least_tail_replicates,
+    percentile_bounds,
     resolve_block_length,
 )
 from modalinfo.ordering import _kernels as kern
@@ -736,15 +737,9 @@ def _scored(est: Any, contrib: np.ndarray, a: np.ndarray, view: Any, method: str
             est, a, view.matrix, order, frames=frames, pixels=pixels, pooled=frame is None,
             n_resamples=n_resamples, block_length=blen, rng=rng, progress=progress,
         )
-        tail = 50.0 * (1.0 - confidence_level)
-        bounds = dict(
-            mi_low=np.percentile(boot_mi, tail, axis=0),
-            mi_high=np.percentile(boot_mi, 100.0 - tail, axis=0),
-            gain_low=np.percentile(boot_gain, tail, axis=0),
-            gain_high=np.percentile(boot_gain, 100.0 - tail, axis=0),
-            margin_low=np.percentile(boot_margin, tail, axis=0),
-            margin_high=np.percentile(boot_margin, 100.0 - tail, axis=0),
-        )
+        for name, boot in (("mi", boot_mi), ("gain", boot_gain), ("margin", boot_margin)):
+            bounds[f"{name}_low"], bounds[f"{name}_high"] = percentile_bounds(
+                boot, confidence_level)
     return result(
         order, mi=mi, gain=gain, margin=margin, scores=scores, **info,
         block_length=blen if frame is None else None, **bounds,

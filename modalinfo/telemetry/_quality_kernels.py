@@ -9,7 +9,7 @@ from modalinfo.common.jit import jit
 
 @jit
 def flag_block(block, i0, med, thr, coef, cen_e, thr_e, head, hist, stuck_run, last, run_len,
-               run_start, n_out, n_stuck, frame_out, frame_bad, stuck_mask):
+               run_start, n_out, n_stuck, frame_out, frame_bad, stuck_mask, repl):
     """Flag outliers, non-finite values and stuck runs in the rows ``i0 .. i0 + n`` of a log.
 
     block : (n, M) float32/float64                                  # IN
@@ -29,14 +29,19 @@ def flag_block(block, i0, med, thr, coef, cen_e, thr_e, head, hist, stuck_run, l
     n_out, n_stuck : (M,) int64, outlier and stuck value counts                       # IN/OUT
     frame_out, frame_bad : (n,) int32, outliers and non-finite values of each frame   # OUT
     stuck_mask : (T,) bool, frames holding a stuck value (set back to a run's start)  # IN/OUT
+    repl : (n, M) of block's dtype, or (0, M): each value with every outlier replaced by
+        its prediction, the value the history keeps (``"clip"``); (0, M) writes nothing # OUT
     """
     n, m = block.shape
     p = coef.shape[0]
+    write = repl.shape[0] > 0
     for t in range(n):
         c_out = 0
         c_bad = 0
         for j in range(m):
             x = float(block[t, j])
+            if write:
+                repl[t, j] = block[t, j]
             if not math.isfinite(x):
                 c_bad += 1
                 _push(hist, j, math.nan)
@@ -61,6 +66,8 @@ def flag_block(block, i0, med, thr, coef, cen_e, thr_e, head, hist, stuck_run, l
                     # outlier: from the outlier itself a burst of glitches flagged only its
                     # first frame (Chen & Liu 1993 replace an outlier by its fit likewise)
                     kept = x - e if math.isfinite(e) else med[j]
+                    if write:
+                        repl[t, j] = kept
             _push(hist, j, kept)
             r = stuck_run[j]
             if r > 0:

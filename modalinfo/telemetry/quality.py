@@ -18,7 +18,7 @@ additive outlier, which stands out in the innovations far more than in the level
 (Tsay 1988, J. Forecasting 7, 1; Chen & Liu 1993, JASA 88, 284): on a persistent mode
 the innovation sigma is ``sqrt(1 - rho^2)`` of the marginal one (0.045 at rho 0.999).
 The levels condition keeps the report's meaning (an outlier is ``k`` of its mode's
-sigmas from its median; ``clip`` winsorises to ``m_j +- k sigma_j``) and picks the
+sigmas from its median; ``clip`` replaces it by its AR prediction) and picks the
 glitched frame itself: the frames after it have large innovations (a glitch makes
 ``p + 1`` of them) but ordinary levels. The first ``p`` frames are predicted backwards
 from the ``p`` after them (a stationary Gaussian process is time-reversible); after a
@@ -127,8 +127,11 @@ coefficients per mode on the subsample).
 The policy
 ----------
 :func:`apply_outlier_policy` acts on a ``ModalLog``: ``"warn"`` keeps the data (the
-caller states the report), ``"clip"`` winsorises each outlier to ``m_j +- k sigma_j``
-(stuck and non-finite values are left as they are and stated), ``"drop"`` removes every
+caller states the report), ``"clip"`` replaces each outlier by its AR(4) prediction from
+the frames before it (the value the flagging pass keeps in its history, Chen & Liu 1993;
+in the first 4 frames, backwards from the frames after it; stuck and non-finite values
+are left as they are and stated; before leftovers 12-est it winsorised to ``m_j +- k
+sigma_j``, which on a persistent mode left a jump to that bound), ``"drop"`` removes every
 flagged frame (outlier, stuck or non-finite; the time axis becomes timestamps, so
 the removal shows as gaps) and is refused for time-series analyses, whose lags need
 every frame (use ``"clip"``), ``"raise"`` refuses a log with any flagged value. What
@@ -549,6 +552,11 @@ class QualityReport:
         changed within the log, so the stated false-alarm rate does not hold: :attr:`note`
         says so; which values are flagged does not change); None when there are too few
         effective frames per block to judge.
+    predictor : tuple of numpy.ndarray or None
+        What the flagging pass used, for ``"clip"`` to replace the same values by the
+        same predictions: the centre (M,), levels threshold (M,), AR coefficients
+        (AR_ORDER, M), innovation centre and threshold (M,) and the head test
+        (AR_ORDER, M). None on a report not made by :func:`assess_quality`.
     """
 
     n_frames: int
@@ -577,6 +585,7 @@ class QualityReport:
     assessed: bool = True
     scale_ratio: float = math.nan
     stationary: bool | None = None
+    predictor: tuple | None = field(default=None, repr=False)
 
     @property
     def approximate(self) -> bool:
@@ -1037,6 +1046,7 @@ def assess_quality(
 
     from modalinfo.telemetry._quality_kernels import flag_block
 
+    no_repl = np.empty((0, m), dtype=arr.dtype)
     last = np.full(m, np.nan)
     run_len = np.zeros(m, dtype=np.int64)
     run_start = np.zeros(m, dtype=np.int64)
@@ -1052,7 +1062,7 @@ def assess_quality(
         frame_bad = np.zeros(b.shape[0], dtype=np.int32)
         flag_block(b, i0, centre, thr, coef, cen_e, thr_e, head, hist, runs, last, run_len,
                    run_start, n_out, n_stuck,
-                   frame_out, frame_bad, stuck_mask)
+                   frame_out, frame_bad, stuck_mask, no_repl)
         if frame_bad.any():
             bad_idx.append(i0 + np.flatnonzero(frame_bad))
             n_bad += (~np.isfinite(b)).sum(axis=0)
@@ -1077,26 +1087,56 @@ def assess_quality(
         flagged_frames=flagged.astype(np.int64), fingerprint=fingerprint,
         effective_frames=float(n_eff), assessed=assessed,
         scale_ratio=float(ratio), stationary=stationary,
+        predictor=(centre, thr, coef, cen_e, thr_e, head),
     )
 
 
 def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
-    """Winsorise every outlier of ``log`` to ``median +- k sigma`` (a new in-memory array)."""
+    """Replace every outlier of ``log`` by its AR prediction (a new in-memory array).
+
+    The flagging pass of :func:`assess_quality` again (the same kernel and inputs, so
+    the same values are flagged), writing the value its history keeps: an outlier's
+    prediction from the (cleaned) frames before it, ``m + cen_e + sum_i c_i (x_{t-i} -
+    m)`` (Chen & Liu 1993); in the first ``AR_ORDER`` frames, its prediction backwards
+    from the cleaned frames after it (as it was tested); every other value (stuck and
+    non-finite ones too) unchanged. Why not winsorise to ``m +- k
+    sigma`` (the former ``clip``, leftovers 12-est): on a persistent mode the level
+    bound is far from the neighbours, so a glitch became a jump of its own (an AR(1)
+    log of rho 0.999 with a 100-sigma glitch: clipped to 62-179 innovation sigmas from
+    the value it replaced; its prediction lands within a few).
+    """
+    if report.predictor is None:
+        raise ValueError("`report` must come from assess_quality (it holds no predictor "
+                         "for policy 'clip').")
+    from modalinfo.telemetry._quality_kernels import flag_block
+
+    centre, thr, coef, cen_e, thr_e, head = report.predictor
     arr = log.coeffs
-    tested = np.isfinite(report.sigma) & (report.sigma > 0)
-    half = np.where(tested, report.k * np.where(tested, report.sigma, 0.0), np.inf)
-    centre = np.where(np.isfinite(report.median), report.median, 0.0)
-    lo, hi = centre - half, centre + half
-    if arr.dtype != np.float64:  # bounds rounded inwards, so no clipped value is > k sigma
-        lo_d, hi_d = lo.astype(arr.dtype), hi.astype(arr.dtype)
-        lo_d = np.where(lo_d < lo, np.nextafter(lo_d, arr.dtype.type(np.inf)), lo_d)
-        hi_d = np.where(hi_d > hi, np.nextafter(hi_d, arr.dtype.type(-np.inf)), hi_d)
-        lo, hi = lo_d, hi_d
+    m = arr.shape[1]
     out = np.empty(arr.shape, dtype=arr.dtype)
+    hist = np.full((AR_ORDER, m), np.nan)
+    last = np.full(m, np.nan)
+    ints = [np.zeros(m, dtype=np.int64) for _ in range(5)]  # runs 0: no stuck test
+    stuck_mask = np.zeros(arr.shape[0], dtype=np.bool_)
     i0 = 0
     for block in row_blocks(arr, scan_rows(arr)):
-        out[i0:i0 + block.shape[0]] = np.clip(block, lo, hi)  # NaN stays NaN
-        i0 += block.shape[0]
+        b = np.ascontiguousarray(block)
+        counts = np.zeros(b.shape[0], dtype=np.int32)
+        flag_block(b, i0, centre, thr, coef, cen_e, thr_e, head, hist, ints[0], last,
+                   ints[1], ints[2], ints[3], ints[4], counts, counts.copy(), stuck_mask,
+                   out[i0:i0 + b.shape[0]])
+        i0 += b.shape[0]
+    # the first AR_ORDER frames have no past: an outlier there is predicted backwards from
+    # the (cleaned) frames after it, as its test was (_head_innovations), not left at the
+    # median the pass's history keeps, which on a persistent mode is a jump of its own
+    p = coef.shape[0]
+    for t in range(min(p, arr.shape[0] - p) - 1, -1, -1):
+        row = np.asarray(arr[t], dtype=np.float64)
+        done = np.isfinite(row) & (out[t] != arr[t])
+        if done.any():
+            after = np.asarray(out[t + 1:t + p + 1], dtype=np.float64) - centre
+            pred = centre + cen_e + np.einsum("im,im->m", after, coef)
+            out[t, done] = pred[done]
     out.flags.writeable = False
     return log._derive(_coeffs=out)  # noqa: SLF001 - same time axis, modes and units
 
@@ -1135,7 +1175,8 @@ def apply_outlier_policy(
         The log.
     policy : {"warn", "clip", "drop", "raise"}
         ``"warn"``: keep the data (the caller states ``report.describe()``);
-        ``"clip"``: winsorise each outlier to ``median +- k sigma`` of its mode;
+        ``"clip"``: replace each outlier by its AR(4) prediction from the frames before
+        it (in the first 4 frames, from the frames after it);
         ``"drop"``: remove every flagged frame; ``"raise"``: refuse a log with any
         flagged value. See the module docstring.
     time_series : bool
@@ -1171,7 +1212,7 @@ def apply_outlier_policy(
     if policy == "drop" and time_series:
         raise ValueError("`policy`='drop' removes frames, which breaks the time axis a "
                          "time-series analysis needs (lags would straddle the removed "
-                         "frames); use 'clip' (winsorise in place) or 'warn'.")
+                         "frames); use 'clip' (replace in place) or 'warn'.")
     if report is None:
         report = assess_quality(log, **assess)
     elif (report.n_frames, report.n_modes) != (log.n_frames, log.n_modes) or list(
@@ -1208,8 +1249,9 @@ def apply_outlier_policy(
     elif policy == "clip":
         n_out = int(report.outliers.sum())
         left = int(report.stuck.sum() + report.nonfinite.sum())
-        record["action"] = (f"clipped {n_out} outlier value(s) to median +- {report.k:.3g} "
-                            "sigma_MAD" + (f"; {left} stuck or non-finite value(s) left as "
+        record["action"] = (f"clipped {n_out} outlier value(s): each replaced by its "
+                            f"AR({AR_ORDER}) prediction from the frames before it"
+                            + (f"; {left} stuck or non-finite value(s) left as "
                                            "they are" if left else ""))
         if n_out:
             out = _clip(log, report)

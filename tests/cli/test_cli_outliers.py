@@ -4,7 +4,8 @@ quality line, and of the batch analyses applying it.
 References: a Gaussian log with a planted glitched frame (every mode + 100 sigma) and a
 planted stuck run at known frames; the dispatcher contract (one line on stderr, exit 2
 for a refusal, no traceback); clipped values checked against NumPy / SciPy's median and
-normal-scaled MAD; dropped frames against the planted indices.
+normal-scaled MAD (a white mode's prediction from its past is its mean); dropped frames
+against the planted indices.
 """
 
 from __future__ import annotations
@@ -124,8 +125,12 @@ def test_convert_clip_writes_clipped_log_with_record(files, capsys):
     back = load(dst)
     k = back.metadata["outliers"][-1]["k"]
     assert k == pytest.approx(stats.norm.isf(0.005 / x.size), rel=1e-9)
-    np.testing.assert_allclose(back.coeffs, np.clip(x, med - k * sig, med + k * sig),
-                               rtol=0, atol=1e-12)
+    # the glitched frame's values replaced by their prediction from the white past, about
+    # the median (AR(4) coefficients O(1 / sqrt(T)): within ~0.03 sigma; 0.2 allowed);
+    # every other value kept
+    changed = back.coeffs != x
+    assert changed[GLITCH].all() and changed.sum() == x.shape[1]
+    np.testing.assert_array_less(np.abs(back.coeffs[GLITCH] - med), 0.2 * sig)
     assert back.metadata["outliers"][-1]["policy"] == "clip"
     # the clipped file says so in info; its remaining stuck run is still reported
     code, out, _ = _run(capsys, ["info", dst])
@@ -143,9 +148,12 @@ def test_batch_task_rows_carry_quality(files):
                                                                  {"outliers": "clip"})})
     x = files["x"]
     med = np.median(x, axis=0)
-    half = row["quality_k"] * stats.median_abs_deviation(x, axis=0, scale="normal")
-    rms = np.sqrt(np.mean(np.clip(x, med - half, med + half) ** 2, axis=0))
-    assert clipped["largest_rms"] == pytest.approx(rms.max(), rel=1e-9)
+    # the glitched frame replaced by about its median (within 0.2 sigma: see above) moves
+    # the rms of 4000 frames by < 1e-5 of it
+    y = x.copy()
+    y[GLITCH] = med
+    rms = np.sqrt(np.mean(y**2, axis=0))
+    assert clipped["largest_rms"] == pytest.approx(rms.max(), rel=1e-5)
     assert clipped["quality_action"].startswith("clipped 6 outlier value(s)")
     with pytest.raises(ValueError, match="'raise'"):
         run_log_task({**payload, "params": resolve_params("summary", {"outliers": "raise"})})

@@ -345,14 +345,14 @@ def test_a_flagged_user_log_gets_one_note_without_the_cli_prefix(figs, tmp_path,
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert err.startswith("paper_figures: note: 'out.npz': 1 of 300 frames flagged: ")
-    assert err.endswith("; used as is (--outliers clip winsorises the outliers, drop removes "
+    assert err.endswith("; used as is (--outliers clip replaces the outliers, drop removes "
                         "the frames, raise refuses the log)\n")
     # Figure 5 forecasts: dropping frames would break the time axis, so drop is refused
     assert main(["--only", "1", "--log", str(log), "--outliers", "drop",
                  "--out", str(tmp_path / "p")]) == 2
     assert capsys.readouterr().err == (
         "paper_figures: error: --log: --outliers drop removes frames, which breaks the time "
-        "axis paper_figures needs; use --outliers clip (winsorise in place) or warn\n")
+        "axis paper_figures needs; use --outliers clip (replace in place) or warn\n")
 
 
 def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_path, capsys):

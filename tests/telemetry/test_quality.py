@@ -6,7 +6,8 @@ the Bonferroni threshold, and ``scipy.stats.median_abs_deviation(scale="normal")
 ``numpy.median`` for the robust centre and scale; the Gaussian tail probability with a
 binomial tolerance (plus the MAD's known sampling error, Rousseeuw & Croux 1993) for the
 false-alarm count of a clean Gaussian log; the definition of each policy applied by hand
-with NumPy; and a save/load round trip for the recorded metadata.
+with NumPy (``clip``: a white mode's prediction from its past is its mean); and a
+save/load round trip for the recorded metadata.
 """
 
 from __future__ import annotations
@@ -163,12 +164,15 @@ def test_policy_warn_keeps_data(planted):
     assert log.metadata["site"] == "test"
 
 
-def test_policy_clip_winsorises_outliers_only(planted):
+def test_policy_clip_replaces_outliers_only(planted):
+    # white modes: the best prediction of a value from its past is the mode's mean, so
+    # each outlier is replaced by about its median (AR(4) coefficients of white noise
+    # are O(1 / sqrt(T)) = 0.016: a prediction within ~0.03 sigma of it; 0.2 allowed)
     log, r = apply_outlier_policy(_policy_log(planted), "clip")
     med = np.median(planted, axis=0)
-    half = r.k * stats.median_abs_deviation(planted, axis=0, scale="normal")
-    expected = np.clip(planted, med - half, med + half)
-    np.testing.assert_allclose(log.coeffs, expected, rtol=0, atol=1e-12)
+    sig = stats.median_abs_deviation(planted, axis=0, scale="normal")
+    np.testing.assert_array_less(np.abs(log.coeffs[GLITCH_FRAME] - med), 0.2 * sig)
+    assert abs(log.coeffs[SPIKE] - med[SPIKE[1]]) < 0.2 * sig[SPIKE[1]]
     untouched = np.ones(planted.shape, dtype=bool)
     untouched[GLITCH_FRAME] = False
     untouched[SPIKE] = False
@@ -328,7 +332,8 @@ def test_frame_modes_above_the_number_of_modes_is_refused():
 def test_a_report_of_another_log_is_refused():
     # audit 9, centre: the report of a 3-mode log was applied to a 4-mode log (and a
     # clean log's report left a planted 100-sigma value unclipped); the report of the
-    # log itself clips it to median + k sigma (numpy median and MAD, by hand)
+    # log itself replaces it by its prediction: about the median of the white mode
+    # (within 0.2 sigma, numpy median and MAD by hand; before leftovers 12-est: med + k sigma)
     x = np.random.default_rng(23).standard_normal((1000, 4))
     y = x.copy()
     y[10, 0] = 100.0
@@ -340,7 +345,7 @@ def test_a_report_of_another_log_is_refused():
     out, r = apply_outlier_policy(log, "clip", report=assess_quality(log))
     med = np.median(y[:, 0])
     sigma = MAD_TO_SIGMA * np.median(np.abs(y[:, 0] - med))
-    assert out.coeffs[10, 0] == pytest.approx(med + r.k * sigma, rel=1e-12)
+    assert abs(out.coeffs[10, 0] - med) < 0.2 * sigma and r.outliers.sum() == 1
 def test_alpha_is_checked_when_k_is_given():
     """Audit 9: with ``k`` given, ``alpha=None`` passed and failed later with a bare
     TypeError on quantised (tied) data, where alpha sets the stuck-run length."""
