@@ -87,14 +87,15 @@ ksg 5) and 0 of 645 on Gaussian pairs rho = 0-0.99 (kde, histogram, gaussian; n 
 
 Cost (median CPU, one call): rule 1 O(n); rule 3 one (unstable) sort of each variable
 (~0.5 ms at n = 1e4); rule 4 O(n) on those sorts; rule 2, where it runs, three quarter
-estimates by the estimator's engine alone (the quarters are parts of a pair that passed the copy and curve checks
-and the validation: round 12 runs those once; the quarters' indices are made once per
-n). Measured against a direct ``MutualInformation(method).estimate`` at n = 1e4 where
-rule 2 runs (``benchmarks/bench_convergence_cost.py``): histogram 2.9x (5.7x before
-round 12), kde 3.0x (3.4x: its quarters' bandwidth search on a grid that costs the same
-at any n), KSG 1.7x; where rule 2 does not run, 1.0-1.4x. The searches that hold x
-fixed (``MutualInformation.fit`` / ``score``), the intervals and the permutation tests
-do not run the rules: they score thousands of resamples.
+estimates by the estimator's engine alone (the quarters are parts of a pair that passed
+the copy and curve checks and the validation: round 12 runs those once; the quarters'
+indices are made once per n). Measured against a direct
+``MutualInformation(method).estimate`` at n = 1e4 where rule 2 runs
+(``benchmarks/bench_convergence_cost.py``): histogram 2.9x (5.7x before round 12), kde
+3.0x (3.4x: its quarters' bandwidth search on a grid that costs the same at any n), KSG
+1.7x; where rule 2 does not run, 1.0-1.4x. The searches that hold x fixed
+(``MutualInformation.fit`` / ``score``), the intervals and the permutation tests do not
+run the rules: they score thousands of resamples.
 """
 
 from __future__ import annotations
