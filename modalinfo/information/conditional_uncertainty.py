@@ -38,6 +38,7 @@ use "gaussian", "kde" or "ksg" for values of the CMI itself.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import numpy as np
@@ -53,11 +54,13 @@ from modalinfo.information.api import RESAMPLING_METHOD
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
+    ShuffleNullWarning,
     block_bootstrap_indices,
     check_resamples,
     rank_based_options,
     residual_split,
     resolve_block_length,
+    shuffle_null_rule,
     surrogate_pvalue,
     surrogate_shifts,
 )
@@ -170,7 +173,8 @@ def conditional_mutual_information_test(
         with the original at 0 (:func:`~modalinfo.information.resampling.surrogate_shifts`;
         formerly random shifts in [min_shift, n - min_shift], liberal: issue 28);
         each series keeps its autocorrelation. ``"shuffle"``: random permutations of
-        the residual's rows, exact only for iid samples. The residual is that of the
+        the residual's rows, exact only for iid samples. It warns (``ShuffleNullWarning``)
+        when the lag-1 autocorrelations of (x, z) and the residual say so. The residual is that of the
         least-squares regression of y on z and a constant (on normal scores for the
         rank-based estimators, the default; on the values with ``copula=False`` or
         ``binning="uniform"``), and each surrogate is the fit plus the moved residual:
@@ -214,6 +218,12 @@ def conditional_mutual_information_test(
     null = np.empty(n_surrogates)
     shift0 = 0
     if surrogate == "shuffle":
+        # the rows of (x, z) stay in place and y's residual is permuted against them
+        xz = xa.reshape(n, -1) if za.size == 0 else np.column_stack(
+            [xa.reshape(n, -1), za.reshape(n, -1)])
+        why = shuffle_null_rule(xz, resid, "conditional_mutual_information_test")
+        if why is not None:
+            warnings.warn(why, ShuffleNullWarning, stacklevel=2)
         for i in range(n_surrogates):
             null[i] = est(xa, fit + resid[rng.permutation(n)], za)
     else:
