@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo._stats import sample_autocovariance
+from modalinfo._stats import lag1_autocorrelation, sample_autocovariance
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_int, check_rng
@@ -667,15 +667,6 @@ class ShuffleNullWarning(UserWarning):
 SHUFFLE_MAX_LAG1_PRODUCT = 0.05
 
 
-def _lag1_columns(a: np.ndarray) -> np.ndarray:
-    """Lag-1 sample autocorrelation of each column of a (n, k) array (0 if constant)."""
-    d = a - a.mean(axis=0)
-    power = np.einsum("ij,ij->j", d, d)
-    lag = np.einsum("ij,ij->j", d[1:], d[:-1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(power > 0.0, lag / np.where(power > 0.0, power, 1.0), 0.0)
-
-
 def shuffle_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     """Why a shuffle null of the pair (a, b) is liberal, or None when it holds.
 
@@ -704,7 +695,8 @@ def shuffle_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     n = a.shape[0]
     if n < 3:
         return None
-    ra, rb = _lag1_columns(a), _lag1_columns(b)
+    ra = np.array([lag1_autocorrelation(c) for c in a.T])
+    rb = np.array([lag1_autocorrelation(c) for c in b.T])
     p = float(np.max(np.multiply.outer(ra, rb)))
     if p <= max(SHUFFLE_MAX_LAG1_PRODUCT, 5.0 / n):
         return None
