@@ -173,8 +173,9 @@ def conditional_mutual_information_test(
         with the original at 0 (:func:`~modalinfo.information.resampling.surrogate_shifts`;
         formerly random shifts in [min_shift, n - min_shift], liberal: issue 28);
         each series keeps its autocorrelation. ``"shuffle"``: random permutations of
-        the residual's rows, exact only for iid samples. It warns (``ShuffleNullWarning``)
-        when the lag-1 autocorrelations of (x, z) and the residual say so. The residual is that of the
+        the residual's rows, exact only for iid samples (it warns,
+        ``ShuffleNullWarning``, when the lag-1 autocorrelations of (x, z) and the
+        residual say they are not). The residual is that of the
         least-squares regression of y on z and a constant (on normal scores for the
         rank-based estimators, the default; on the values with ``copula=False`` or
         ``binning="uniform"``), and each surrogate is the fit plus the moved residual:
