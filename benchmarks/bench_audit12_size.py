@@ -14,7 +14,7 @@ Diebold-Mariano test of ``modalinfo.forecast.evaluate`` on the loss differential
 e1^2 - e2^2 of two equally good forecasts, h = 1).
 
 KINDS (comma-separated; every series of one draw independent and of one kind): ``iid``
-Gaussian; ``ar1_R`` stationary AR(1) of coefficient R (0.9, 0.99, 0.999); ``ar2_50Hz``
+Gaussian; ``ar1_R`` stationary AR(1) of coefficient R (0.9, 0.95, 0.99, 0.999); ``ar2_50Hz``
 AR(2) with a 50 Hz resonance at 2 kHz (pole radius 0.99); ``t3`` AR(1) 0.9 with Student
 t3 innovations; ``varstep`` AR(1) 0.9 whose innovations' variance steps x4 halfway;
 ``trend`` AR(1) 0.9 plus a linear trend of 3 innovation sd; ``int16`` AR(1) 0.9 x 3
@@ -39,7 +39,7 @@ import numpy as np  # noqa: E402
 from scipy.signal import lfilter  # noqa: E402
 
 KINDS = ["iid", "ar1_0.9", "ar1_0.99", "ar1_0.999", "ar2_50Hz", "t3", "varstep", "trend",
-         "int16"]
+         "int16", "ar1_0.95"]
 
 
 def ar1(phi: float, n: int, rng: np.random.Generator, innov=None) -> np.ndarray:
