@@ -6,7 +6,7 @@ import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_int
 
-__all__ = ["sample_autocovariance"]
+__all__ = ["lag1_autocorrelation", "sample_autocovariance"]
 
 
 def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
@@ -39,3 +39,29 @@ def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
     nfft = 1 << int(np.ceil(np.log2(2 * n)))
     f = np.fft.rfft(xc, nfft)
     return np.fft.irfft(f * np.conj(f), nfft)[: n_lags + 1] / n
+
+
+def lag1_autocorrelation(a: np.ndarray) -> float:
+    """Lag-1 sample autocorrelation of a 1-D series (mean removed); 0 for a constant.
+
+    ``sum (a_t - m)(a_(t+1) - m) / sum (a_t - m)^2`` (the biased estimator of
+    Brockwell & Davis eq. 1.4.4, in [-1, 1]), computed on ``a / max |a|`` so that
+    values near 1e300 do not overflow (the ratio is scale invariant).
+
+    Parameters
+    ----------
+    a : numpy.ndarray, shape (n,)
+        Finite real series in time order.
+
+    Returns
+    -------
+    float
+        The lag-1 autocorrelation.
+    """
+    scale = float(np.max(np.abs(a))) if a.size else 0.0
+    if scale == 0.0:
+        return 0.0
+    d = a / scale
+    d = d - d.mean()
+    power = float(d @ d)
+    return 0.0 if power <= 0.0 else float(d[1:] @ d[:-1]) / power

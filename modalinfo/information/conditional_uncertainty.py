@@ -38,6 +38,7 @@ use "gaussian", "kde" or "ksg" for values of the CMI itself.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import numpy as np
@@ -53,11 +54,15 @@ from modalinfo.information.api import RESAMPLING_METHOD
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
+    RotationNullWarning,
+    ShuffleNullWarning,
     block_bootstrap_indices,
     check_resamples,
     rank_based_options,
     residual_split,
     resolve_block_length,
+    rotation_null_rule,
+    shuffle_null_rule,
     surrogate_pvalue,
     surrogate_shifts,
 )
@@ -170,7 +175,10 @@ def conditional_mutual_information_test(
         with the original at 0 (:func:`~modalinfo.information.resampling.surrogate_shifts`;
         formerly random shifts in [min_shift, n - min_shift], liberal: issue 28);
         each series keeps its autocorrelation. ``"shuffle"``: random permutations of
-        the residual's rows, exact only for iid samples. The residual is that of the
+        the residual's rows, exact only for iid samples (it warns,
+        ``ShuffleNullWarning``, when x's and y's residuals on z are both
+        autocorrelated; the circular surrogates warn, ``RotationNullWarning``, when
+        they span fewer than 50 effective pairs). The residual is that of the
         least-squares regression of y on z and a constant (on normal scores for the
         rank-based estimators, the default; on the values with ``copula=False`` or
         ``binning="uniform"``), and each surrogate is the fit plus the moved residual:
@@ -211,14 +219,25 @@ def conditional_mutual_information_test(
     # the surrogates rotate y's residual on z and keep its fit on z, so that they hold
     # what z explains of y and the estimator's conditioning bias with it (round 11)
     fit, resid = residual_split(ya, za, rank_based_options(options))
+    x_resid = residual_split(xa, za, rank_based_options(options))[1]
     null = np.empty(n_surrogates)
     shift0 = 0
     if surrogate == "shuffle":
+        # y's residual is permuted against x's residual on z: the pair of residuals
+        # must be exchangeable (white) for the permutations to be a null
+        why = shuffle_null_rule(x_resid, resid, "conditional_mutual_information_test")
+        if why is not None:
+            warnings.warn(why, ShuffleNullWarning, stacklevel=2)
         for i in range(n_surrogates):
             null[i] = est(xa, fit + resid[rng.permutation(n)], za)
     else:
         spacing = None if min_shift is None else resolve_block_length(
             min_shift, xa, ya, za, name="min_shift", maximum=n // 2)
+        # y's residual turns against x's residual on z (what the statistic measures):
+        # two persistent residuals over few correlation times make the null liberal
+        why = rotation_null_rule(x_resid, resid, "conditional_mutual_information_test")
+        if why is not None:
+            warnings.warn(why, RotationNullWarning, stacklevel=2)
         shifts, shift0 = surrogate_shifts(n, n_surrogates, 0, spacing, rng)
         for i, s in enumerate(shifts):
             null[i] = est(xa, fit + np.roll(resid, int(s), axis=0), za)

@@ -107,6 +107,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from modalinfo._stats import lag1_autocorrelation as _lag1
 from modalinfo.information.discrete import mi_from_counts
 from modalinfo.information.methods import BiasRuleWarning
 
@@ -159,17 +160,6 @@ _CHI2_1_999 = 10.828
 _QUARTER_SEED = 20261129
 #: Tolerance of rule 3 (the issue's): max(0.05 nats, 10 %).
 _TOL_NATS, _TOL_SHARE = 0.05, 0.10
-
-
-def _lag1(a: np.ndarray) -> float:
-    """Lag-1 sample autocorrelation of a (mean removed); 0 for a constant."""
-    scale = float(np.max(np.abs(a)))
-    if scale == 0.0:
-        return 0.0
-    d = a / scale  # no overflow of the products at 1e300 (scale invariant)
-    d = d - d.mean()
-    power = float(d @ d)
-    return 0.0 if power <= 0.0 else float(d[1:] @ d[:-1]) / power
 
 
 def _monotone(a: np.ndarray) -> bool:

@@ -1,0 +1,136 @@
+"""Size and coverage of the package's statistical claims on AO-like nulls (audit 12-tests).
+
+Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_audit12_size.py CLAIM DRAWS N [KINDS]
+
+CLAIM is one of ``mi_shuffle`` (:func:`modalinfo.information.mutual_information_permutation_test`,
+default ``permutation="shuffle"``, Gaussian estimator, 99 permutations), ``mi_circular``
+(the same, ``permutation="circular"``), ``mi_default_hist`` (the default histogram
+estimator, shuffle), ``cmi_zK`` (:func:`modalinfo.information.conditional_mutual_information_test`
+of x = e1 + s, y = e2 + s given Z (K columns, s = sum(Z) / sqrt(K)): x and y independent
+given Z; Gaussian estimator, 99 circular surrogates), ``mi_ci`` (coverage of the 95 %
+:func:`modalinfo.information.mutual_information_ci`, Gaussian, 199 block-bootstrap
+resamples, of the exact -0.5 ln(1 - 0.36) for rho = 0.6) and ``dm`` (the one-sided
+Diebold-Mariano test of ``modalinfo.forecast.evaluate`` on the loss differential
+e1^2 - e2^2 of two equally good forecasts, h = 1).
+
+KINDS (comma-separated; every series of one draw independent and of one kind): ``iid``
+Gaussian; ``ar1_R`` stationary AR(1) of coefficient R (0.9, 0.95, 0.99, 0.999); ``ar2_50Hz``
+AR(2) with a 50 Hz resonance at 2 kHz (pole radius 0.99); ``t3`` AR(1) 0.9 with Student
+t3 innovations; ``varstep`` AR(1) 0.9 whose innovations' variance steps x4 halfway;
+``trend`` AR(1) 0.9 plus a linear trend of 3 innovation sd; ``int16`` AR(1) 0.9 x 3
+rounded to integers (ADU-like). Draw k of kind i uses ``default_rng([i, k])``.
+
+A rate is the share of draws with p <= alpha (size, under a true null) or whose interval
+holds the exact value (coverage); its binomial standard error is sqrt(a (1 - a) / DRAWS)
+(1.5 % at a = 0.05 and 200 draws). Table: docs/ADVERSARIAL.md, "Audit 12-tests".
+"""
+
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import math  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import warnings  # noqa: E402
+
+import numpy as np  # noqa: E402
+from scipy.signal import lfilter  # noqa: E402
+
+KINDS = ["iid", "ar1_0.9", "ar1_0.99", "ar1_0.999", "ar2_50Hz", "t3", "varstep", "trend",
+         "int16", "ar1_0.95"]
+
+
+def ar1(phi: float, n: int, rng: np.random.Generator, innov=None) -> np.ndarray:
+    """Stationary AR(1): x_t = phi x_(t-1) + e_t (unit Gaussian e unless given)."""
+    e = rng.standard_normal(n) if innov is None else innov
+    x0 = rng.standard_normal() / math.sqrt(1 - phi * phi)
+    return lfilter([1.0], [1.0, -phi], e, zi=[phi * x0])[0]
+
+
+def ar2(n: int, rng: np.random.Generator) -> np.ndarray:
+    """AR(2) with a 50 Hz resonance at 2 kHz (pole radius 0.99), 2000 frames burnt in."""
+    r, f = 0.99, 50 / 2000
+    a1, a2 = 2 * r * math.cos(2 * math.pi * f), -r * r
+    return lfilter([1.0], [1.0, -a1, -a2], rng.standard_normal(n + 2000))[2000:]
+
+
+def gen(kind: str, n: int, rng: np.random.Generator) -> np.ndarray:
+    """One series of the kind (see the module notes)."""
+    if kind == "iid":
+        return rng.standard_normal(n)
+    if kind.startswith("ar1_"):
+        return ar1(float(kind[4:]), n, rng)
+    if kind == "ar2_50Hz":
+        return ar2(n, rng)
+    if kind == "t3":
+        return ar1(0.9, n, rng, rng.standard_t(3, n))
+    if kind == "varstep":
+        e = rng.standard_normal(n)
+        e[n // 2:] *= 2.0
+        return ar1(0.9, n, rng, e)
+    if kind == "trend":
+        return ar1(0.9, n, rng) + np.linspace(0, 3, n)
+    if kind == "int16":
+        return np.round(ar1(0.9, n, rng) * 3.0)
+    raise ValueError(kind)
+
+
+def one(claim: str, kind: str, k: int, n: int) -> float | bool:
+    """p-value (tests) or coverage (intervals) of draw k."""
+    from modalinfo.forecast.evaluate import _dm_test
+    from modalinfo.information import (
+        conditional_mutual_information_test,
+        mutual_information_ci,
+        mutual_information_permutation_test,
+    )
+    rng = np.random.default_rng([KINDS.index(kind), k])
+    x, y = gen(kind, n, rng), gen(kind, n, rng)
+    if claim == "mi_shuffle":
+        return mutual_information_permutation_test(x, y, "gaussian", n_permutations=99,
+                                                   seed=k).pvalue
+    if claim == "mi_circular":
+        return mutual_information_permutation_test(x, y, "gaussian", n_permutations=99,
+                                                   permutation="circular", seed=k).pvalue
+    if claim == "mi_default_hist":
+        return mutual_information_permutation_test(x, y, n_permutations=99, seed=k).pvalue
+    if claim.startswith("cmi_z"):
+        dz = int(claim[5:])
+        z = np.column_stack([gen(kind, n, rng) for _ in range(dz)])
+        s = z.sum(1) / math.sqrt(dz)
+        return conditional_mutual_information_test(x + s, y + s, z, method="gaussian",
+                                                   n_surrogates=99, seed=k).pvalue
+    if claim == "mi_ci":
+        rho = 0.6
+        r = mutual_information_ci(x, rho * x + math.sqrt(1 - rho**2) * y, "gaussian",
+                                  n_resamples=199, seed=k)
+        return bool(r.low <= -0.5 * math.log(1 - rho**2) <= r.high)
+    if claim == "dm":
+        return _dm_test(x**2 - y**2, 1)[1]
+    raise ValueError(claim)
+
+
+def main(argv: list[str]) -> None:
+    claim, draws, n = argv[0], int(argv[1]), int(argv[2])
+    for kind in (argv[3].split(",") if len(argv) > 3 else KINDS):
+        t0 = time.process_time()
+        values, warned = [], 0
+        for k in range(draws):
+            with warnings.catch_warnings(record=True) as w:
+                warnings.simplefilter("always")
+                values.append(one(claim, kind, k, n))
+            warned += bool(w)
+        v = np.array(values, dtype=float)
+        cpu = time.process_time() - t0
+        if claim == "mi_ci":
+            print(f"{claim} {kind} n={n} coverage95={v.mean():.3f} "
+                  f"warned={warned}/{draws} cpu={cpu:.0f}s", flush=True)
+        else:
+            print(f"{claim} {kind} n={n} size5={np.mean(v <= 0.05):.3f} "
+                  f"size10={np.mean(v <= 0.10):.3f} warned={warned}/{draws} cpu={cpu:.0f}s",
+                  flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
