@@ -16,7 +16,7 @@ from modalinfo.common.folders import OutputError
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
-           "save_png_pdf", "staged_output", "suffixed"]
+           "save_png_pdf", "shipped_log", "staged_output", "suffixed"]
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
@@ -168,12 +168,43 @@ def require_varying_modes(log, statistics: str) -> None:
                          "are 0/0 otherwise.")
 
 
+#: the description :func:`log_or_kaos_like` gives the synthetic log (no ``--log``)
+SYNTHETIC_SOURCE = "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
+
+#: the logs shipped in ``data/`` that the figures run on without ``--log``: file name ->
+#: what the log is (``data/README.md``)
+SHIPPED_LOGS = {
+    "kaos_like_closed_loop.npz": "spectral",
+    "kaos_closedloop.npz": "simulated",
+}
+_DATA = Path(__file__).resolve().parent.parent / "data"
+
+
+def shipped_log(source: str) -> str | None:
+    """Tell which shipped log a report's ``source`` is: ``"spectral"``, ``"simulated"`` or None.
+
+    ``source`` is the description :func:`log_or_kaos_like` returns (```path``` of a file,
+    or :data:`SYNTHETIC_SOURCE`, a spectral log). Only the files in ``data/`` (resolved,
+    so a relative path or a link to them counts) are shipped: any other file is the
+    user's log, which the report may not describe as ours (round 11 R28, issue 27).
+    """
+    if source == SYNTHETIC_SOURCE:
+        return "spectral"
+    path = Path(source.strip("`"))
+    with contextlib.suppress(OSError, RuntimeError):
+        resolved = path.resolve()
+        for name, kind in SHIPPED_LOGS.items():
+            if resolved == _DATA / name:
+                return kind
+    return None
+
+
 def log_or_kaos_like(log_path: Path | None):
     """Return ``(log, description)``: the file's log, or the synthetic KAOS-like one."""
     if log_path is None:
         from modalinfo.telemetry.synthetic import kaos_like
 
-        return kaos_like(seed=0), "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
+        return kaos_like(seed=0), SYNTHETIC_SOURCE
     from modalinfo.io import load
 
     return load(log_path), f"`{log_path}`"
