@@ -64,29 +64,20 @@ def _partial_prefix(out: Path) -> str:
 
 
 def _remove_dead_partials(out: Path) -> None:
-    """Remove staging folders in ``out`` left by runs killed outright (SIGKILL, power loss).
+    """Remove staging folders of runs into ``out`` killed outright (SIGKILL, power loss).
 
-    Called holding ``out``'s lock, so no other run is writing there. A staging folder is
-    ``.<name>.partial-<pid>-<random>`` (:func:`staged_output`); it is removed only when
-    that pid is not a live process (:func:`modalinfo.common.folders.pid_alive`: alive when
-    unsure) and not this one. Anything else, a staging folder without a pid (written
-    before pids were recorded) included, is left alone. One line says what was removed.
+    Called holding ``out``'s lock. A staging folder is ``.<name>.partial-<pid>-<random>``
+    (:func:`staged_output`), in ``out`` or, for a stand-alone figure script run into a
+    new folder, in the folder above it; it is removed when that pid is no live process
+    and not this one (:func:`modalinfo.common.folders.clean_staging`). A staging folder
+    without a pid (``.<name>.partial-<random>``, written before pids were recorded) is
+    not removed even under the lock: those versions, and the stand-alone figure scripts
+    of any version, staged without taking it, so nothing proves their run is over; one
+    line names it and the command that removes it.
     """
     prefix = _partial_prefix(out)
-    removed = []
-    for path in sorted(out.iterdir()):
-        rest = path.name[len(prefix):] if path.name.startswith(prefix) else ""
-        pid = rest.split("-", 1)[0]
-        if not pid.isdigit() or not path.is_dir() or path.is_symlink():
-            continue
-        if int(pid) == os.getpid() or folders.pid_alive(int(pid)):
-            continue
-        shutil.rmtree(path, ignore_errors=True)
-        if not path.exists():
-            removed.append(path.name)
-    if removed:
-        print(f"[paper_figures] removed {len(removed)} partial folder(s) of killed runs "
-              f"(process gone) in '{out}': {', '.join(removed)}", flush=True)
+    for folder in (out, Path(os.path.abspath(out)).parent):
+        folders.clean_staging(folder, prefix, command="paper_figures")
 
 
 @contextlib.contextmanager
@@ -103,7 +94,8 @@ def staged_output(out: Path) -> Iterator[Path]:
     # in the nearest existing ancestor: the same file system as `out`, so moves are renames
     # the pid in the name lets the next run holding the lock remove it if this process
     # is killed outright (SIGKILL leaves it: no finally runs)
-    stage = Path(tempfile.mkdtemp(prefix=f"{_partial_prefix(out)}{os.getpid()}-", dir=base))
+    stage = Path(tempfile.mkdtemp(prefix=folders.staging_prefix(_partial_prefix(out)),
+                                  dir=base))
     try:
         yield stage
         if not out.exists():
