@@ -271,10 +271,13 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
     # a log read back had none (audit 10, feedback, rows cl-aot-*: `convert --units nm`
     # then needed a --wavelength the user had to guess)
     labels["MI_WAVEL"] = float(result.config.r0_wavelength)
+    # the residual and the POL are coefficients of the same modes: both loops carry the
+    # one image (written once), so neither reads back "(assumed)" (issue 27, left12-cli)
+    images = _mode_images(dm, model.geometry.planes[dm.plane].n)
     main = LoopSpec(
         uid=f"dm{i}", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
-        modes=_mode_images(dm, model.geometry.planes[dm.plane].n),
+        modes=images,
         measurements_to_modes=(None if blocks[j] is None
                                else _as_dsv(model.wfss[j], blocks[j])),
         modes_to_commands=np.eye(dm.n_modes) if dm.shapes is not None else None,
@@ -285,7 +288,7 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
     pol = LoopSpec(
         uid=f"dm{i}.pol", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.pol"].coeffs),
-        coefficient_metadata={"MI_QUANT": "pol", **labels})
+        modes=images, coefficient_metadata={"MI_QUANT": "pol", **labels})
     described[f"dm{i}.pol"] = f"pseudo-open-loop coefficients of dm{i} (log dm{i}.pol)"
     cross = []
     for k, block in enumerate(blocks):

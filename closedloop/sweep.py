@@ -269,7 +269,7 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
     """
     from modalinfo.common.folders import check_out_dir, locked_out_dir
     from modalinfo.common.tasks.cluster import check_memory_limit, open_client
-    from modalinfo.common.tasks.rows import RowStore, write_table
+    from modalinfo.common.tasks.rows import RowStore, clean_run_staging, write_table
     from modalinfo.common.tasks.runner import run_tasks
     from modalinfo.common.tasks.watch import WORKER_WAIT
 
@@ -282,6 +282,7 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
         spec.payload["key"] = spec.key
     with contextlib.ExitStack() as stack:
         stack.enter_context(locked_out_dir(out_dir, "closedloop sweep"))
+        clean_run_staging(out_dir, "sweep", "closedloop sweep", worker_folders=("runs",))
         store = RowStore(out_dir)
         started: list = [None]
 

@@ -16,7 +16,7 @@ from modalinfo.common.folders import OutputError
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
-           "save_png_pdf", "staged_output", "suffixed"]
+           "save_png_pdf", "shipped_log", "staged_output", "suffixed"]
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
@@ -64,29 +64,20 @@ def _partial_prefix(out: Path) -> str:
 
 
 def _remove_dead_partials(out: Path) -> None:
-    """Remove staging folders in ``out`` left by runs killed outright (SIGKILL, power loss).
+    """Remove staging folders of runs into ``out`` killed outright (SIGKILL, power loss).
 
-    Called holding ``out``'s lock, so no other run is writing there. A staging folder is
-    ``.<name>.partial-<pid>-<random>`` (:func:`staged_output`); it is removed only when
-    that pid is not a live process (:func:`modalinfo.common.folders.pid_alive`: alive when
-    unsure) and not this one. Anything else, a staging folder without a pid (written
-    before pids were recorded) included, is left alone. One line says what was removed.
+    Called holding ``out``'s lock. A staging folder is ``.<name>.partial-<pid>-<random>``
+    (:func:`staged_output`), in ``out`` or, for a stand-alone figure script run into a
+    new folder, in the folder above it; it is removed when that pid is no live process
+    and not this one (:func:`modalinfo.common.folders.clean_staging`). A staging folder
+    without a pid (``.<name>.partial-<random>``, written before pids were recorded) is
+    not removed even under the lock: those versions, and the stand-alone figure scripts
+    of any version, staged without taking it, so nothing proves their run is over; one
+    line names it and the command that removes it.
     """
     prefix = _partial_prefix(out)
-    removed = []
-    for path in sorted(out.iterdir()):
-        rest = path.name[len(prefix):] if path.name.startswith(prefix) else ""
-        pid = rest.split("-", 1)[0]
-        if not pid.isdigit() or not path.is_dir() or path.is_symlink():
-            continue
-        if int(pid) == os.getpid() or folders.pid_alive(int(pid)):
-            continue
-        shutil.rmtree(path, ignore_errors=True)
-        if not path.exists():
-            removed.append(path.name)
-    if removed:
-        print(f"[paper_figures] removed {len(removed)} partial folder(s) of killed runs "
-              f"(process gone) in '{out}': {', '.join(removed)}", flush=True)
+    for folder in (out, Path(os.path.abspath(out)).parent):
+        folders.clean_staging(folder, prefix, command="paper_figures")
 
 
 @contextlib.contextmanager
@@ -103,7 +94,8 @@ def staged_output(out: Path) -> Iterator[Path]:
     # in the nearest existing ancestor: the same file system as `out`, so moves are renames
     # the pid in the name lets the next run holding the lock remove it if this process
     # is killed outright (SIGKILL leaves it: no finally runs)
-    stage = Path(tempfile.mkdtemp(prefix=f"{_partial_prefix(out)}{os.getpid()}-", dir=base))
+    stage = Path(tempfile.mkdtemp(prefix=folders.staging_prefix(_partial_prefix(out)),
+                                  dir=base))
     try:
         yield stage
         if not out.exists():
@@ -168,12 +160,43 @@ def require_varying_modes(log, statistics: str) -> None:
                          "are 0/0 otherwise.")
 
 
+#: the description :func:`log_or_kaos_like` gives the synthetic log (no ``--log``)
+SYNTHETIC_SOURCE = "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
+
+#: the logs shipped in ``data/`` that the figures run on without ``--log``: file name ->
+#: what the log is (``data/README.md``)
+SHIPPED_LOGS = {
+    "kaos_like_closed_loop.npz": "spectral",
+    "kaos_closedloop.npz": "simulated",
+}
+_DATA = Path(__file__).resolve().parent.parent / "data"
+
+
+def shipped_log(source: str) -> str | None:
+    """Tell which shipped log a report's ``source`` is: ``"spectral"``, ``"simulated"`` or None.
+
+    ``source`` is the description :func:`log_or_kaos_like` returns (```path``` of a file,
+    or :data:`SYNTHETIC_SOURCE`, a spectral log). Only the files in ``data/`` (resolved,
+    so a relative path or a link to them counts) are shipped: any other file is the
+    user's log, which the report may not describe as ours (round 11 R28, issue 27).
+    """
+    if source == SYNTHETIC_SOURCE:
+        return "spectral"
+    path = Path(source.strip("`"))
+    with contextlib.suppress(OSError, RuntimeError):
+        resolved = path.resolve()
+        for name, kind in SHIPPED_LOGS.items():
+            if resolved == _DATA / name:
+                return kind
+    return None
+
+
 def log_or_kaos_like(log_path: Path | None):
     """Return ``(log, description)``: the file's log, or the synthetic KAOS-like one."""
     if log_path is None:
         from modalinfo.telemetry.synthetic import kaos_like
 
-        return kaos_like(seed=0), "synthetic `kaos_like(seed=0)` (closed loop, not real data)"
+        return kaos_like(seed=0), SYNTHETIC_SOURCE
     from modalinfo.io import load
 
     return load(log_path), f"`{log_path}`"

@@ -25,7 +25,6 @@ Usage::
 
 from __future__ import annotations
 
-import contextlib
 import sys
 import time
 from dataclasses import dataclass
@@ -39,6 +38,7 @@ from paper_figures._common import (
     log_or_kaos_like,
     require_varying_modes,
     save_png_pdf,
+    shipped_log,
     suffixed,
 )
 
@@ -345,21 +345,14 @@ def plot(fig1: Figure1, out_dir: Path, *, suffix: str = "") -> list[Path]:
     return save_png_pdf(fig, out_dir, png, pdf)
 
 
-#: the shipped closed-loop residual logs (``python -m paper_figures`` without ``--log``)
-_SHIPPED = tuple(Path(__file__).resolve().parent.parent / "data" / name
-                 for name in ("kaos_like_closed_loop.npz", "kaos_closedloop.npz"))
-
-
 def _described(source: str) -> str:
     """Return what the table calls the log: a ``--log`` is not "our closed-loop residual".
 
     A pseudo-open-loop log given with ``--log`` was called "our closed-loop residual"
-    (round 11 PART b, R28); ``source`` is the report's ```path```.
+    (round 11 PART b, R28); ``source`` is the report's ```path``` (``shipped_log`` tells).
     """
-    path = Path(source.strip("`"))
-    with contextlib.suppress(OSError):
-        if path.resolve() in _SHIPPED:
-            return "our closed-loop residual"
+    if shipped_log(source) is not None:
+        return "our closed-loop residual"
     return f"the log {source}"
 
 

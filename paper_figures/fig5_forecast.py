@@ -38,7 +38,13 @@ from typing import Any
 
 import numpy as np
 
-from paper_figures._common import figure_main, log_or_kaos_like, save_png_pdf, suffixed
+from paper_figures._common import (
+    figure_main,
+    log_or_kaos_like,
+    save_png_pdf,
+    shipped_log,
+    suffixed,
+)
 
 FIGURE_NAME = "fig5_forecast.png"
 PDF_NAME = "fig5_forecast.pdf"
@@ -413,8 +419,37 @@ def table_rows(fig5: Figure5) -> list[tuple[str, str, str, str]]:
     ]
 
 
+#: what the report says of a shipped log (``shipped_log``): whose increments, and what it is
+_LOG_WORDS = {
+    "spectral": {
+        "increments": "the closed-loop residual plus WFS noise",
+        "origin": "This is a synthetic KAOS-like log (an integrator loop with a one-frame "
+                  "delay and WFS\n  noise), not the paper's VTT data",
+    },
+    "simulated": {
+        "increments": "the closed-loop residual plus WFS noise",
+        "origin": "This is a log simulated by `closedloop` (its `kaos` preset: frozen-flow "
+                  "layers,\n  a Shack-Hartmann with noise, an integrator), not the paper's "
+                  "VTT data",
+    },
+}
+
+
+def _log_words(source: str) -> dict[str, str]:
+    """Return what the report says the log is: a shipped log's words, or "your log `name`".
+
+    Any ``--log`` was called "the closed-loop residual plus WFS noise" and "a synthetic
+    KAOS-like log" (issue 27, leftovers 12-cli): a user's log is named, not described.
+    """
+    kind = shipped_log(source)
+    if kind is not None:
+        return _LOG_WORDS[kind]
+    return {"increments": f"your log {source}", "origin": f"This is your log {source}"}
+
+
 def report(fig5: Figure5, *, suffix: str = "") -> str:
     """Figure 5's section of the report (Markdown); the image is the ``suffix`` one."""
+    what = _log_words(fig5.source)
     ev, label, units = fig5.evaluation, fig5.label, fig5.units
     ms, t_unit = fig5.frame_ms, fig5.t_unit
     rate_text = f"{fig5.rate:g} Hz" if fig5.rate else "an unknown rate (no --rate)"
@@ -450,7 +485,7 @@ def report(fig5: Figure5, *, suffix: str = "") -> str:
         "  Delta x[n+1] - Delta x[n], of variance 2 (1 - rho) Var(Delta x)); here the\n"
         f"  lag-1 correlation of the increments is {np.mean(rho):.2f} on average over the "
         f"modes ({rho.min():.2f} to {rho.max():.2f}):\n"
-        "  the closed-loop residual plus WFS noise has rough, anti-correlated increments.\n"
+        f"  {what['increments']} has rough, anti-correlated increments.\n"
         f"  With least-squares weights the same two-tap predictor gains x{g_lin_ls:.2f}."
         if g_lin < 1 else
         f"The paper's linear extrapolation gains x{g_lin:.2f} over persistence at h = 1 "
@@ -504,8 +539,7 @@ What this shows, honestly:
 - Beyond the paper, the multivariate predictors that use the history of all modes gain
   x{g_var:.2f} (batch VAR(4), Tikhonov-regularised) and x{g_rls:.2f} (RLS, forgetting
   0.999). Best at h = 1: **{fig5.best_one_step}**.
-- This is a synthetic KAOS-like log (an integrator loop with a one-frame delay and WFS
-  noise), not the paper's VTT data; the paper shows the forecasts qualitatively and gives
+- {what['origin']}; the paper shows the forecasts qualitatively and gives
   no RMSE, so there is no number to compare with.
 
 _(computed in {fig5.elapsed:.1f} s)_

@@ -462,18 +462,13 @@ def _verify_mapped(path: str, log: Any, fmt: str | None) -> None:
 
 
 def quality_columns(report: Any, log: Any, policy: str) -> dict:
-    """Row columns of the log-quality pass and of what the outlier ``policy`` did to ``log``."""
+    """Row columns of the log-quality pass and of what the outlier ``policy`` did to ``log``.
+
+    ``outliers`` (the policy), every field of the report ``modalinfo info`` prints
+    (:meth:`modalinfo.telemetry.quality.QualityReport.columns`: ``quality_rule``,
+    ``quality_k``, ``quality_flagged_frames``, ..., ``quality_scale_ratio``,
+    ``quality_stationary``, ``quality_note``) and ``quality_action``.
+    """
     action = ("none (nothing flagged)" if report.clean
               else log.metadata["outliers"][-1]["action"])
-    worst = report.worst(1)
-    return {
-        "outliers": policy,
-        "quality_flagged_frames": report.n_flagged,
-        "quality_glitched_frames": int(report.glitch_frames.size),
-        "quality_outlier_values": int(report.outliers.sum()),
-        "quality_stuck_values": int(report.stuck.sum()),
-        "quality_nonfinite_values": int(report.nonfinite.sum()),
-        "quality_worst_mode": worst[0][0] if worst else "",
-        "quality_k": float(report.k),
-        "quality_action": action,
-    }
+    return {"outliers": policy, **report.columns(), "quality_action": action}

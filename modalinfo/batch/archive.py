@@ -33,7 +33,7 @@ from modalinfo.batch.manifest import LogEntry, collect_logs
 from modalinfo.common.folders import check_out_dir, locked_out_dir
 from modalinfo.common.tasks.cluster import check_memory_limit, open_client
 from modalinfo.common.tasks.keys import TaskSpec, canonical_json, package_version, task_key
-from modalinfo.common.tasks.rows import RowStore, write_table
+from modalinfo.common.tasks.rows import RowStore, clean_run_staging, write_table
 from modalinfo.common.tasks.runner import EngineReport, run_tasks
 from modalinfo.common.tasks.watch import WORKER_WAIT, gather_watched
 
@@ -315,6 +315,7 @@ def analyse_archive(
     check_memory_limit(memory_limit, threads_per_worker or 1)
     with contextlib.ExitStack() as stack:
         stack.enter_context(locked_out_dir(out_dir, "modalinfo batch"))
+        clean_run_staging(out_dir, "batch", "modalinfo batch")
         store = RowStore(out_dir)
         started: list = [client]
 

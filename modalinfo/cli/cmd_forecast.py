@@ -274,11 +274,16 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
     import tempfile
 
     from modalinfo.common.files import signals_end_the_save
+    from modalinfo.common.folders import clean_staging, staging_prefix
 
     created = not out.exists()
+    # a run killed outright (SIGKILL) left its staging folder: removed once its process
+    # is gone; one without a pid (an earlier version's) is named, not judged
+    clean_staging(out, ".forecast.", ".tmp", command="modalinfo forecast")
     with signals_end_the_save() as armed:
         out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".forecast.", suffix=".tmp", dir=out))
+        staging = Path(tempfile.mkdtemp(prefix=staging_prefix(".forecast."), suffix=".tmp",
+                                        dir=out))
         moved: list[str] = []
         kept: dict[str, Path] = {}
         done = False

@@ -253,7 +253,9 @@ def atomic_write(
     if not directory.is_dir():
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
     with signals_end_the_save() as armed:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
+        # the pid in the name lets a later run tell a killed writer's file (folders.clean_staging)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}-", suffix=".tmp",
+                                   dir=directory)
         try:
             if by_name:
                 os.close(fd)

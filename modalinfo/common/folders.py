@@ -8,7 +8,10 @@ same way, with the same words:
   given number of bytes free;
 - :func:`check_out_dir`: an output *folder* (new or existing) before any work, with
   :data:`MIN_FREE_BYTES` free;
-- :class:`OutputLock` and :func:`locked_out_dir`: one run per output folder.
+- :class:`OutputLock` and :func:`locked_out_dir`: one run per output folder;
+- :func:`staging_prefix` and :func:`clean_staging`: the staging folders and temporary
+  files a run killed outright (SIGKILL, power loss) leaves, removed by a later run once
+  they provably belong to no live run, or named with the command that removes them.
 """
 
 from __future__ import annotations
@@ -16,7 +19,10 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
+import shutil
 import socket
+import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -32,8 +38,10 @@ __all__ = [
     "OutputLock",
     "check_out_dir",
     "check_room",
+    "clean_staging",
     "pid_alive",
     "locked_out_dir",
+    "staging_prefix",
 ]
 
 #: Free space an output folder must have before a batch, a sweep or the paper's figures
@@ -298,3 +306,92 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
         for folder in ([out_dir / marker] if created and marker else []) + created:
             with contextlib.suppress(OSError):
                 folder.rmdir()  # innermost first; only if empty
+
+
+#: the end of a staging name (before its suffix) that records its creator:
+#: ``<pid>-<random>`` (``random`` is tempfile's: letters, digits, ``_``)
+_PID_NAMED = re.compile(r"(\d+)-[a-z0-9_]+$")
+
+
+def staging_prefix(prefix: str) -> str:
+    """Return the name start of a new staging folder or file: ``<prefix><pid>-``.
+
+    Given to ``tempfile.mkdtemp`` / ``mkstemp`` (which add a random part), it records
+    the creating process, so :func:`clean_staging` can tell when it is left by a run
+    that is over.
+    """
+    return f"{prefix}{os.getpid()}-"
+
+
+def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
+                  local: bool = True) -> list[str]:
+    """Remove staging left in ``folder`` by runs that are provably over; name the others.
+
+    An entry (folder or file, not a symbolic link) named ``<prefix><rest><suffix>``:
+
+    - ``rest`` = ``<pid>-<random>`` (:func:`staging_prefix`) or ``<name>.<pid>-<random>``
+      (an atomic write's temporary file): removed when ``local`` and no live process on
+      this host has that pid (:func:`pid_alive`: alive when unsure) and it is not this
+      one: its creator is gone;
+    - any other ``rest`` (staging of earlier versions, which recorded no pid): named,
+      never removed. An output folder's lock does not prove such a run over: the
+      versions that wrote these names include some that took no lock
+      (``python -m paper_figures`` before its lock, every stand-alone figure script,
+      ``modalinfo batch`` before its lock, ``modalinfo forecast``), so a live one may
+      still write there. One line on stderr names the entries and the command that
+      removes them once no such run is going.
+
+    One line on stderr says what was removed. Returns the names removed.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The folder the run stages in (absent: nothing to do).
+    prefix, suffix : str
+        What staging names start and end with (``".out.partial-"``, ``""``).
+    command : str
+        Starts the lines (``"paper_figures"``).
+    local : bool
+        Whether only processes of this host write there. False (a sweep's ``runs/``,
+        written by Dask workers that may run elsewhere and outlive a killed client):
+        a pid proves nothing, every entry is named and none removed.
+    """
+    folder = Path(folder)
+    removed, unknown = [], []
+    try:
+        entries = sorted(folder.iterdir())
+    except OSError:  # absent or unreadable: no staging to clean
+        return removed
+    for path in entries:
+        name = path.name
+        if (len(name) <= len(prefix) + len(suffix) or not name.startswith(prefix)
+                or not name.endswith(suffix) or path.is_symlink()):
+            continue
+        rest = name[len(prefix):len(name) - len(suffix)]
+        pid_named = _PID_NAMED.search(rest) if local else None
+        if pid_named and pid_named.end() == len(rest) and (
+                pid_named.start() == 0 or rest[pid_named.start() - 1] == "."):
+            pid = int(pid_named.group(1))
+            if pid == os.getpid() or pid_alive(pid):
+                continue
+        else:
+            unknown.append(path)
+            continue
+        if path.is_dir():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            with contextlib.suppress(OSError):
+                path.unlink()
+        if not path.exists():
+            removed.append(name)
+    if removed:
+        print(f"{command}: removed {len(removed)} staging item(s) of runs that ended "
+              f"without cleaning up (killed) in '{folder}': {', '.join(removed)}",
+              file=sys.stderr, flush=True)
+    if unknown:
+        quoted = " ".join(f"'{p}'" for p in unknown)
+        print(f"{command}: note: {len(unknown)} staging item(s) in '{folder}' were left by "
+              f"a run that recorded no process id (an earlier version, or a worker "
+              f"elsewhere), so whether it is over cannot be told; once no such run is "
+              f"going, remove them: rm -r {quoted}", file=sys.stderr, flush=True)
+    return removed

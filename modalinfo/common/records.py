@@ -5,17 +5,40 @@ of ``array == array``: ``result == result`` raised numpy's "truth value of an ar
 ambiguous" for every result record holding an array (adversarial round 9, rows a-eq-*,
 eq-*). The records below compare arrays by value (NaN equal to NaN: a stored "undefined"
 is the same answer), containers item by item, and anything else with ``==``.
+
+A record field that was renamed keeps its old name as a property that calls
+``warn_deprecated_alias`` (a ``DeprecationWarning``, once per process and name).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from typing import Any
 
 import numpy as np
 
-__all__ = ["array_fields_eq", "same_value"]
+__all__ = ["array_fields_eq", "same_value", "warn_deprecated_alias"]
+
+#: the deprecated names already warned about in this process
+_WARNED: set[str] = set()
+
+
+def warn_deprecated_alias(old: str, new: str) -> None:
+    """Warn, once per process, that ``old`` is a deprecated alias of ``new``.
+
+    Parameters
+    ----------
+    old, new : str
+        The deprecated and the current name (``"ForecastEvaluation.p_value"``).
+    """
+    if old in _WARNED:
+        return
+    _WARNED.add(old)
+    warnings.warn(f"{old} is deprecated: use {new} (one spelling of the p-value across "
+                  "the package, scipy.stats'); the alias will be removed",
+                  DeprecationWarning, stacklevel=3)
 
 
 def same_value(a: Any, b: Any) -> bool:

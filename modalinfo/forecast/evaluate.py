@@ -53,7 +53,7 @@ import numpy as np
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
-from modalinfo.common.records import array_fields_eq
+from modalinfo.common.records import array_fields_eq, warn_deprecated_alias
 from modalinfo.common.validation import (
     as_float_array,
     check_int,
@@ -115,11 +115,14 @@ class ForecastEvaluation:
         Diebold-Mariano statistic against the best trivial baseline, with Harvey,
         Leybourne & Newbold's small-sample factor (negative: the predictor has the
         smaller squared error; see the module notes).
-    p_value : numpy.ndarray, shape (P, H)
+    pvalue : numpy.ndarray, shape (P, H)
         One-sided p-value of "the predictor beats the best trivial baseline"
-        (Student's t with ``N - 1`` degrees of freedom).
+        (Student's t with ``N - 1`` degrees of freedom). Spelled as scipy.stats and the
+        other results of this package spell it; ``p_value`` is a deprecated alias (a
+        ``DeprecationWarning``, once). The JSON key and CSV column stay ``p_value``
+        (the file format :meth:`to_json` and :meth:`to_csv` have always written).
     beats_baseline : numpy.ndarray of bool, shape (P, H)
-        ``p_value < alpha / n_tests`` (Bonferroni), False for the baselines.
+        ``pvalue < alpha / n_tests`` (Bonferroni), False for the baselines.
     baseline : tuple of str
         Name of the best trivial baseline at each horizon.
     truth : numpy.ndarray, shape (K + max(h), M)
@@ -148,13 +151,19 @@ class ForecastEvaluation:
     coverage: np.ndarray
     level: float
     dm_statistic: np.ndarray
-    p_value: np.ndarray
+    pvalue: np.ndarray
     beats_baseline: np.ndarray
     baseline: tuple[str, ...]
     truth: np.ndarray = field(repr=False)
     one_step: np.ndarray = field(repr=False)
     settings: dict = field(default_factory=dict, repr=False)
     constant_modes: tuple[str, ...] = ()
+
+    @property
+    def p_value(self) -> np.ndarray:
+        """Deprecated alias of :attr:`pvalue` (warns ``DeprecationWarning`` once)."""
+        warn_deprecated_alias("ForecastEvaluation.p_value", "ForecastEvaluation.pvalue")
+        return self.pvalue
 
     # ------------------------------------------------------------------ access
     def index(self, name: str) -> int:
@@ -197,7 +206,7 @@ class ForecastEvaluation:
             "coverage": clean(self.coverage),
             "level": self.level,
             "dm_statistic": clean(self.dm_statistic),
-            "p_value": clean(self.p_value),
+            "p_value": clean(self.pvalue),  # the file format's key (see pvalue)
             "beats_baseline": self.beats_baseline.tolist(),
             "baseline": list(self.baseline),
             "settings": self.settings,
@@ -246,7 +255,7 @@ class ForecastEvaluation:
         for i, name in enumerate(self.names):
             for j, h in enumerate(self.horizons):
                 cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
-                         self.coverage[i, j], self.dm_statistic[i, j], self.p_value[i, j]]
+                         self.coverage[i, j], self.dm_statistic[i, j], self.pvalue[i, j]]
                 writer.writerow([name, "wavefront", int(h)]
                                 + [repr(float(c)) for c in cells]
                                 + [bool(self.beats_baseline[i, j])])
@@ -721,7 +730,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     return ForecastEvaluation(
         names=names, horizons=hs, labels=labels, rate=rate, units=units, n_train=n_train,
         origins=origins, rmse=rmse, rmse_wavefront=rmse_wf, gain=gain, gain_wavefront=gain_wf,
-        coverage=coverage, level=level, dm_statistic=dm, p_value=pval, beats_baseline=beats,
+        coverage=coverage, level=level, dm_statistic=dm, pvalue=pval, beats_baseline=beats,
         baseline=tuple(names[b] for b in base_idx),
         truth=np.array(data[origins[0] : origins[0] + n_keep + h_max]), one_step=one_step,
         settings=settings,

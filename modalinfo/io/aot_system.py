@@ -244,7 +244,8 @@ class LoopSpec:
     delay : float or None
         Loop delay [frames], integration mid-point to command mid-point.
     modes : numpy.ndarray or None
-        ``(m, h, w)`` mode images (0 outside the pupil).
+        ``(m, h, w)`` mode images (0 outside the pupil). The same array object given to
+        several loops is written once, as one image they all reference.
     measurements_to_modes : numpy.ndarray or None
         ``(m, d, s_v)`` reconstructor.
     modes_to_commands : numpy.ndarray or None
@@ -505,6 +506,17 @@ def build_system(
                              f"got {c.kind!r}.")
         remember("correctors", c.uid, {"altitude": c.altitude, "extra": c.extra})
     aot_loops = []
+    written_modes: dict[int, tuple] = {}
+
+    def shared_modes(lp):
+        # one array given to several loops (a DM's residual and its POL) is one image,
+        # written once and referenced by each (aotpy writes the same Image object once)
+        if lp.modes is None:
+            return None
+        if id(lp.modes) not in written_modes:
+            written_modes[id(lp.modes)] = (lp.modes, _image(aotpy, f"{lp.uid} MODES", lp.modes))
+        return written_modes[id(lp.modes)][1]
+
     for lp in loops:
         if lp.sensor not in wfss:
             raise ValueError(f"loop {lp.uid!r} names sensor {lp.sensor!r}, which is not among "
@@ -524,7 +536,7 @@ def build_system(
             modal_coefficients=_image(aotpy, f"{lp.uid} MODAL_COEFFICIENTS",
                                       lp.modal_coefficients, unit=lp.units, time=time,
                                       metadata=lp.coefficient_metadata),
-            modes=_image(aotpy, f"{lp.uid} MODES", lp.modes),
+            modes=shared_modes(lp),
             measurements_to_modes=_image(aotpy, f"{lp.uid} MEASUREMENTS_TO_MODES",
                                          lp.measurements_to_modes),
             modes_to_commands=_image(aotpy, f"{lp.uid} MODES_TO_COMMANDS", lp.modes_to_commands),

@@ -707,6 +707,33 @@ class QualityReport:
             **extra,
         }
 
+    def columns(self, prefix: str = "quality_") -> dict:
+        """Return :meth:`to_dict` as flat scalar table columns, the same names in every row.
+
+        ``modalinfo batch`` builds its row from these (one copy of the fields ``info``
+        reports): each key of :meth:`to_dict` becomes ``<prefix><key>``; ``assessed``
+        (True or False) and ``note`` (``""`` when none) are always present, so rows of
+        short and long logs share their columns; ``worst_modes`` becomes text, as
+        :meth:`describe` writes it (``"Z2 3, Z5 1"``, ``""`` when none). Values are str,
+        int, float, bool or None (null in Parquet, empty in CSV): ``k`` is None when not
+        assessed, ``alpha`` when a fixed ``k`` was given, ``scale_ratio`` and
+        ``stationary`` when stationarity was not judged.
+
+        Parameters
+        ----------
+        prefix : str
+            Put before every key.
+
+        Returns
+        -------
+        dict
+            Column name -> scalar value.
+        """
+        fields = {"assessed": True, "note": "", **self.to_dict()}
+        fields["worst_modes"] = ", ".join(f"{label} {count}"
+                                          for label, count in fields["worst_modes"].items())
+        return {prefix + key: value for key, value in fields.items()}
+
 
 def _data_hasher(arr: np.ndarray):
     """Start a BLAKE2b hasher with ``arr``'s shape and dtype (its bytes come next)."""

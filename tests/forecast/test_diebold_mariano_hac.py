@@ -41,7 +41,7 @@ def test_dm_statistic_equals_statsmodels_hac():
     dm = fit.params[0] / se * np.sqrt((n - 1) / n)  # HLN factor at h = 1
     i = ev.index("arma")
     assert ev.dm_statistic[i, 0] == pytest.approx(dm, rel=1e-9)
-    assert ev.p_value[i, 0] == pytest.approx(stats.t.cdf(dm, n - 1), rel=1e-9)
+    assert ev.pvalue[i, 0] == pytest.approx(stats.t.cdf(dm, n - 1), rel=1e-9)
     # the choice matters here: the Bartlett variance alone gives another statistic
     bartlett = fit.params[0] / fit.bse[0] * np.sqrt((n - 1) / n)
     assert abs(bartlett - dm) > 0.05 * abs(dm)

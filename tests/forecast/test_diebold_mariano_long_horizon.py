@@ -49,7 +49,7 @@ def test_dm_statistic_at_a_long_horizon_uses_lag_h_minus_1():
         return d.mean() / max(se(lag, "bartlett"), se(lag, "uniform")) * hln
 
     assert ev.dm_statistic[i, 0] == pytest.approx(dm(H - 1), rel=1e-9)
-    assert ev.p_value[i, 0] == pytest.approx(stats.t.cdf(dm(H - 1), n - 1), rel=1e-9)
+    assert ev.pvalue[i, 0] == pytest.approx(stats.t.cdf(dm(H - 1), n - 1), rel=1e-9)
     # one lag more is another statistic on this series, beyond the tolerance above
     assert abs(dm(H) - dm(H - 1)) > 1e-6 * abs(dm(H - 1))
 

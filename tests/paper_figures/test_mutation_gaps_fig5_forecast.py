@@ -228,7 +228,7 @@ log (wavefront gain x0.75 at h = 1 and worse at longer horizons):
   are positively correlated with coefficient > 0.5 (its one-step error is
   Delta x[n+1] - Delta x[n], of variance 2 (1 - rho) Var(Delta x)); here the
   lag-1 correlation of the increments is -0.25 on average over the modes (-0.50 to 0.00):
-  the closed-loop residual plus WFS noise has rough, anti-correlated increments.
+  your log `my.npz` has rough, anti-correlated increments.
   With least-squares weights the same two-tap predictor gains x1.10.
 - ARMA(2,3), as in the paper, gains x1.50 at h = 1; letting AIC choose the order per
   mode gives x1.75 (the paper found (2,3) best on its closed-loop data;
@@ -243,8 +243,7 @@ log (wavefront gain x0.75 at h = 1 and worse at longer horizons):
 - Beyond the paper, the multivariate predictors that use the history of all modes gain
   x2.50 (batch VAR(4), Tikhonov-regularised) and x2.25 (RLS, forgetting
   0.999). Best at h = 1: **multivariate VAR(4)**.
-- This is a synthetic KAOS-like log (an integrator loop with a one-frame delay and WFS
-  noise), not the paper's VTT data; the paper shows the forecasts qualitatively and gives
+- This is your log `my.npz`; the paper shows the forecasts qualitatively and gives
   no RMSE, so there is no number to compare with.
 
 _(computed in 7.3 s)_

@@ -9,9 +9,30 @@ from pathlib import Path
 
 from modalinfo.common.deps import require
 from modalinfo.common.files import atomic_write
+from modalinfo.common.folders import clean_staging
 from modalinfo.common.tasks.keys import canonical_json
 
-__all__ = ["RowStore", "write_table"]
+__all__ = ["RowStore", "clean_run_staging", "write_table"]
+
+
+def clean_run_staging(out_dir: Path, stem: str, command: str,
+                      worker_folders: Sequence[str] = ()) -> None:
+    """Remove the temporary files a killed batch or sweep left in ``out_dir``; name the rest.
+
+    Called holding ``out_dir``'s lock, before any work. The client writes ``rows/``,
+    ``plots/`` and the tables ``<stem>.csv`` / ``<stem>.parquet`` by atomic writes whose
+    temporary files (``.<name>.<pid>-<random>.tmp``) a SIGKILL leaves: those of a gone
+    pid are removed (``modalinfo.common.folders.clean_staging``). ``worker_folders``
+    (a sweep's ``runs/``) are written by Dask workers that may run on other hosts and
+    outlive a killed client: their temporary files are named, not removed.
+    """
+    out_dir = Path(out_dir)
+    for folder in ("rows", "plots"):
+        clean_staging(out_dir / folder, ".", ".tmp", command=command)
+    for name in (f"{stem}.csv", f"{stem}.parquet"):
+        clean_staging(out_dir, f".{name}.", ".tmp", command=command)
+    for folder in worker_folders:
+        clean_staging(out_dir / folder, ".", ".tmp", command=command, local=False)
 
 
 class RowStore:
