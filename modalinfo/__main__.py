@@ -1,6 +1,6 @@
 import sys
 
-from modalinfo.common.startup import require_current_folder
+from modalinfo.common.startup import memory_refusal, require_current_folder
 
 require_current_folder("modalinfo")  # before the heavy imports (numba calls getcwd)
 
@@ -11,6 +11,8 @@ try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no tr
 except KeyboardInterrupt:
     sys.stderr.write("modalinfo: interrupted\n")
     code = 130
+except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading numba
+    code = memory_refusal("modalinfo", exc)
 except ImportError as exc:  # a dependency that refuses its environment (NUMBA_NUM_THREADS=0)
     if "NUMBA_" not in str(exc):
         raise

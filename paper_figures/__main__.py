@@ -437,7 +437,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
-    from modalinfo.common.startup import require_current_folder
+    from modalinfo.common.startup import memory_refusal, require_current_folder
 
     require_current_folder("paper_figures")  # before the heavy imports
     try:
@@ -445,6 +445,8 @@ if __name__ == "__main__":
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)
         sys.stderr.write("python -m paper_figures: interrupted\n")
         code = 130
+    except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading numba
+        code = memory_refusal("paper_figures", exc)
     except ImportError as exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0)
         if "NUMBA_" not in str(exc):
             raise

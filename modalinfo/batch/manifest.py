@@ -257,6 +257,15 @@ def collect_logs(
             how = json.dumps(entry.hints, sort_keys=True, default=str)
             found.setdefault((entry.path, entry.fmt, how), entry)
 
+    def explicit(entry: LogEntry, item: str) -> None:
+        # a log named explicitly inside the output directory vanished from the table,
+        # exit 0 (or "no log files found in x.npz") (round 12 PART b, B06 / B11)
+        if any(Path(entry.path).is_relative_to(x) for x in skip):
+            raise ValueError(
+                f"input {item!r} lies inside the output directory, which batch never reads "
+                "logs from; move the log out of it or choose another --out")
+        add(entry)
+
     def plain(file: Path) -> LogEntry:
         return LogEntry(str(file.resolve()), fmt, dict(base_hints))
 
@@ -268,13 +277,14 @@ def collect_logs(
                 add(plain(file))
         elif _is_manifest(path):
             for entry in read_manifest(path):
-                add(LogEntry(entry.path, entry.fmt or fmt, {**base_hints, **entry.hints}))
+                explicit(LogEntry(entry.path, entry.fmt or fmt, {**base_hints, **entry.hints}),
+                      entry.path)
         elif (named := _misnamed_manifest(path)) is not None:
             raise ValueError(
                 f"input '{path}' names files ({named!r}) like a manifest but its header has "
                 "no 'path' column; name the file column 'path' (a CSV log holds numbers)")
         elif path.exists():
-            add(plain(path))
+            explicit(plain(path), text)
         elif glob.has_magic(text):
             matches = sorted(glob.glob(text, recursive=True))
             files = [Path(m) for m in matches if Path(m).is_file()]

@@ -214,10 +214,12 @@ def check_window_and_frame(args: argparse.Namespace, log) -> None:
         raise CommandError(f"--frame must be an int in 0..{log.n_frames - 1} (a frame index); "
                            f"got {args.frame}")
     stability = getattr(args, "stability", None)
-    if stability is not None and not 1 <= stability <= max(1, log.n_frames // 2):
-        raise CommandError(f"--stability must be a window of 1..{max(1, log.n_frames // 2)} "
-                           f"frames (at least two windows of the {log.n_frames}); "
-                           f"got {stability}")
+    # a one-frame window's pooled phase is an exact function of its coefficients (infinite
+    # MI): the whole ordering ran, then a multi-line estimator error (round 12 PART b, H22)
+    if stability is not None and not 2 <= stability <= max(2, log.n_frames // 2):
+        raise CommandError(f"--stability must be a window of 2..{max(2, log.n_frames // 2)} "
+                           f"frames (at least two windows of the {log.n_frames}, each of at "
+                           f"least 2 frames); got {stability}")
 
 
 def file_basis(args: argparse.Namespace, log):

@@ -9,10 +9,11 @@ the standard library, so the check costs nothing and comes first.
 
 from __future__ import annotations
 
+import errno
 import os
 import sys
 
-__all__ = ["require_current_folder"]
+__all__ = ["memory_refusal", "require_current_folder"]
 
 
 def require_current_folder(prog: str) -> None:
@@ -29,3 +30,47 @@ def require_current_folder(prog: str) -> None:
         sys.stderr.write(f"{prog}: error: the current folder no longer exists (deleted); "
                          "cd to an existing folder\n")
         sys.exit(2)
+
+
+def _out_of_memory(exc: BaseException) -> bool:
+    """Tell whether an exception (or one it was raised while handling) means memory ran out."""
+    seen = 0
+    while exc is not None and seen < 8:
+        if isinstance(exc, MemoryError):
+            return True
+        if isinstance(exc, OSError) and (
+            exc.errno == errno.ENOMEM or "failed to map segment" in str(exc)
+            or "cannot allocate memory" in str(exc).lower()
+        ):
+            return True
+        exc = exc.__cause__ or exc.__context__
+        seen += 1
+    return False
+
+
+def memory_refusal(prog: str, exc: BaseException) -> int:
+    """Say in one line that the process ran out of memory; return 2, or re-raise.
+
+    Under ``ulimit -v`` below what NumPy, SciPy and numba's LLVM need to load, the
+    import failed with a two-part traceback from llvmlite ("failed to map segment from
+    shared object": round 12 PART b, E07). Anything that is not a lack of memory is
+    re-raised unchanged.
+
+    Parameters
+    ----------
+    prog : str
+        The command's name, for the message.
+    exc : BaseException
+        The exception caught around the command.
+
+    Returns
+    -------
+    int
+        The exit status, 2.
+    """
+    if not _out_of_memory(exc):
+        raise exc
+    sys.stderr.write(f"{prog}: error: out of memory while loading the program or its data "
+                     "(a memory limit such as `ulimit -v` too low?); raise the limit or "
+                     "use a smaller log or smaller options\n")
+    return 2

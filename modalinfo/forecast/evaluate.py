@@ -77,6 +77,17 @@ def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
 
     return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
+
+def _csv_number(value: float) -> str:
+    """Return a CSV cell: the float's shortest round-trip repr, or empty for NaN.
+
+    One spelling of "missing" per file: the wavefront rows wrote ``nan`` where the mode
+    rows left the same columns empty (round 12 PART b, O02).
+    """
+    value = float(value)
+    return "" if np.isnan(value) else repr(value)
+
+
 @array_fields_eq
 @dataclass(frozen=True)
 class ForecastEvaluation:
@@ -257,11 +268,11 @@ class ForecastEvaluation:
                 cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
                          self.coverage[i, j], self.dm_statistic[i, j], self.pvalue[i, j]]
                 writer.writerow([name, "wavefront", int(h)]
-                                + [repr(float(c)) for c in cells]
+                                + [_csv_number(c) for c in cells]
                                 + [bool(self.beats_baseline[i, j])])
                 for k, label in enumerate(self.labels):
-                    writer.writerow([name, label, int(h), repr(float(self.rmse[i, j, k])),
-                                     repr(float(self.gain[i, j, k])), "", "", "", ""])
+                    writer.writerow([name, label, int(h), _csv_number(self.rmse[i, j, k]),
+                                     _csv_number(self.gain[i, j, k]), "", "", "", ""])
         return _write_bytes(path, buffer.getvalue().encode("utf-8"), overwrite)
 
     # ------------------------------------------------------------------ text

@@ -66,6 +66,12 @@ _END = "# end of modalinfo log"
 _ROWS_PER_WRITE = 4096
 
 
+
+def _cell(text: str) -> float:
+    """Return one CSV cell as a float; an empty (or blank) cell is a missing value, NaN."""
+    text = text.strip()
+    return float(text) if text else float("nan")
+
 def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     """Write ``log`` to a CSV file (exact decimal values), atomically.
 
@@ -295,8 +301,16 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     )
                 if not body:
                     raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
-        values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2, comments=None,
-                            quotechar='"')  # QUOTE_ALL exports quote numbers too
+        try:
+            values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2,
+                                comments=None, quotechar='"')  # QUOTE_ALL quotes numbers too
+        except ValueError as exc:
+            if "string ''" not in str(exc):
+                raise
+            # an empty cell is how pandas / spreadsheets write a missing value: it is a
+            # NaN for --nonfinite to handle, not a "corrupt CSV file" (round 12 PART b, A07)
+            values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2,
+                                comments=None, quotechar='"', converters=_cell)
         if names is not None and len(names) != values.shape[1]:
             raise LogFormatError(
                 f"CSV file '{path}': header row has {len(names)} names but rows have "

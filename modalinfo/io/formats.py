@@ -82,6 +82,12 @@ def detect_format(path) -> str:
     by_ext = format_from_extension(path)
     if by_ext is not None and by_ext != "csv":
         return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
+    if head.startswith(b"\x1f\x8b"):
+        # 'night.fits.gz' / 'log.csv.gz' were told "a CSV must be UTF-8: re-save it as
+        # UTF-8" (round 12 PART b, A11-A13)
+        raise LogFormatError(
+            f"'{path}' is gzip-compressed; decompress it first (gunzip -k '{path}') and "
+            "pass the decompressed file")
     for magic, what in _NOT_LOGS:
         if head.startswith(magic):
             # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11
