@@ -69,6 +69,14 @@ except KeyboardInterrupt:
         raise
     sys.stderr.write("closedloop: interrupted\n")
     sys.exit(130)
+except (MemoryError, OSError) as _exc:  # out of memory (ulimit -v) while numba's LLVM
+    # loads: the command's one line and 2, as modalinfo and paper_figures answer (round 12
+    # PART b, E07b); imported as a library, or any other OSError, it is the caller's
+    if not _run_as_main():
+        raise
+    from modalinfo.common.startup import memory_refusal
+
+    sys.exit(memory_refusal("closedloop", _exc))
 except ImportError as _exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0): the
     # command's one line and 2, as for Ctrl-C above (adversarial round 8, row e105)
     if not _run_as_main() or "NUMBA_" not in str(_exc):

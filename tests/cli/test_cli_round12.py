@@ -139,14 +139,15 @@ def test_memory_refusal_reads_the_chain(capsys):
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS semantics")
-@pytest.mark.parametrize("module", ["modalinfo", "paper_figures"])
+@pytest.mark.parametrize("module", ["modalinfo", "paper_figures", "closedloop"])
 def test_address_space_limit_is_one_line(tmp_path, module):
     import resource
 
     def limit():  # below what numba's LLVM needs to map; NumPy itself loads
         resource.setrlimit(resource.RLIMIT_AS, (300 * 2**20, 300 * 2**20))
 
-    argv = ["info", "x.npz"] if module == "modalinfo" else ["--only", "1", "--out", "o"]
+    argv = {"modalinfo": ["info", "x.npz"], "paper_figures": ["--only", "1", "--out", "o"],
+            "closedloop": ["run", "--preset", "table1"]}[module]
     env = {**os.environ, "PYTHONPATH": str(ROOT), "OPENBLAS_NUM_THREADS": "1"}
     done = subprocess.run([sys.executable, "-m", module, *argv], cwd=tmp_path, env=env,
                           preexec_fn=limit, capture_output=True, text=True, timeout=120)
