@@ -60,7 +60,7 @@ stretches of steady seeing (``log.select(time=...)``).
 
 The report **says** when the seeing changed (issue 27, leftovers 11-seeing; which values
 are flagged does not change): the AR(4) innovations, close to white where the levels
-of a persistent mode are not, are split into :data:`STATIONARITY_BLOCKS` = 8 contiguous
+of a persistent mode are not, are split into ``STATIONARITY_BLOCKS`` = 8 contiguous
 blocks; per block and mode their 1.4826 MAD, whose log has a sampling standard
 deviation of about ``1.17 / sqrt(n)`` for ``n`` independent values (Rousseeuw & Croux
 1993). The log is called non-stationary (:attr:`QualityReport.stationary` False, a line
@@ -148,6 +148,13 @@ from statistics import NormalDist
 
 import numpy as np
 
+from modalinfo._stats import (
+    MIN_SCALE_RATIO,  # noqa: F401 (documented here since round 11)
+    MIN_STATIONARITY_FRAMES,  # noqa: F401
+    STATIONARITY_BLOCKS,
+)
+from modalinfo._stats import block_scale_ratio as _scale_ratio
+from modalinfo._stats import stationarity_threshold as _stationarity_threshold
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import check_choice, check_int, check_real
@@ -371,7 +378,7 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     fitted coefficient, as for a regression's residuals), ``N = n_sample``, ``r`` the
     median over modes of the robust lag-1 autocorrelation (:func:`_robust_lag1`) of the
     consecutive innovations, clipped to ``[0, 0.999]``. ``with_ratio``: the innovations'
-    block-scale ratio (:func:`_scale_ratio`) is returned fifth.
+    block-scale ratio (``_scale_ratio``) is returned fifth.
     """
     m = rows.shape[1]
     p = AR_ORDER
@@ -411,53 +418,10 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     return (*out, _scale_ratio(e, tested)) if with_ratio else out
 
 
-#: Contiguous blocks of the innovations whose robust scales are compared
-#: (:func:`_scale_ratio`).
-STATIONARITY_BLOCKS = 8
-
-#: Fewest effective innovations per block on which the stationarity check judges: the
-#: 1.4826 MAD of 100 values has a relative standard error of 1.17 / 10 = 12 %, and the
-#: threshold (:func:`stationarity_threshold`) is then x1.81 in scale (x3.3 in variance).
-#: Simulated, one mode's ratio of 8 such MADs exceeds it in 0.84 % of draws (1.04 % at
-#: 64 values, where the asymptotic law starts to undershoot).
-MIN_STATIONARITY_FRAMES = 100
-
-#: Smallest scale ratio called non-stationary, whatever the length: a variance step of
-#: x2 and x3.2 (scale x1.4, x1.8) within a log flagged no clean value, x7.4 (x2.7) did
-#: (adversarial round 11 PART a, rows q-seeing-*), so a smaller change is not worth a note
-#: on a long log where the sampling law alone would call x1.1 significant.
-MIN_SCALE_RATIO = 1.5
-
-#: 99th percentile of the range (max - min) of 8 independent standard Gaussian values
-#: (studentized range with infinite degrees of freedom, q(0.99; 8, inf) = 5.09: Harter
-#: 1960, Ann. Math. Statist. 31, 1122; Pearson & Hartley, Biometrika Tables, table 29).
-_RANGE_99_OF_8 = 5.09
-
-#: Relative standard error of the 1.4826 MAD of n Gaussian values times sqrt(n)
-#: (asymptotic efficiency 36.8 %: Rousseeuw & Croux 1993, JASA 88, 1273).
-_MAD_REL_SD = 1.17
-
-
-def _scale_ratio(e: np.ndarray, tested: np.ndarray) -> float:
-    """Median over modes of (largest / smallest) 1.4826 MAD of the innovations per block.
-
-    ``e`` (rows in time order) is split into :data:`STATIONARITY_BLOCKS` contiguous
-    blocks of equal counts; per block and mode the scale is the 1.4826 MAD about the
-    block's median. NaN when no mode is tested or a block has a zero scale.
-    """
-    if not tested.any() or e.shape[0] < STATIONARITY_BLOCKS * 2:
-        return math.nan
-    sub = e[:, tested]
-    scales = []
-    for part in np.array_split(sub, STATIONARITY_BLOCKS, axis=0):
-        with np.errstate(invalid="ignore"):
-            dev = np.abs(part - np.nanmedian(part, axis=0))
-            scales.append(np.nanmedian(dev, axis=0))
-    scales = np.array(scales)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = scales.max(axis=0) / scales.min(axis=0)
-    ratio = ratio[np.isfinite(ratio)]
-    return float(np.median(ratio)) if ratio.size else math.nan
+# the block-scale rule lives at the lowest layer (modalinfo._stats), shared with the
+# stationarity rule of the circular-shift tests and the block bootstrap (issue 27,
+# leftovers 12-ci): STATIONARITY_BLOCKS, MIN_STATIONARITY_FRAMES, MIN_SCALE_RATIO and
+# block_scale_ratio (imported as _scale_ratio) are defined there.
 
 
 def stationarity_threshold(block_frames: float) -> float:
@@ -478,12 +442,9 @@ def stationarity_threshold(block_frames: float) -> float:
     Returns
     -------
     float
-        The threshold (> 1); ``inf`` below :data:`MIN_STATIONARITY_FRAMES`.
+        The threshold (> 1); ``inf`` below ``MIN_STATIONARITY_FRAMES`` (100).
     """
-    if not block_frames >= MIN_STATIONARITY_FRAMES:
-        return math.inf
-    return max(MIN_SCALE_RATIO,
-               math.exp(_RANGE_99_OF_8 * _MAD_REL_SD / math.sqrt(block_frames)))
+    return _stationarity_threshold(block_frames)
 
 
 def gaussian_false_alarm(k: float) -> float:
