@@ -581,7 +581,8 @@ def check_export(result, path, *, model=None, mode_images: bool = True,
         The target file (its folder's free space is checked).
     memory : float, optional
         Memory the export may use [bytes]; default the machine's available memory
-        (:func:`modalinfo.common.memory.available_memory_bytes`).
+        (:func:`modalinfo.common.memory.available_memory_bytes`), capped by the address
+        space an ``ulimit -v`` leaves.
 
     Returns
     -------
@@ -605,7 +606,10 @@ def check_export(result, path, *, model=None, mode_images: bool = True,
     images = size.parts["mode_images"]
     fix = (f"; the mirrors' mode images are {format_size(images)} of it: pass "
            "mode_images=False to leave them out" if images > 0 else "")
-    limit = _memory.available_memory_bytes() if memory is None else float(memory)
+    # an address-space cap (ulimit -v) counts too: the file is then mapped whole to
+    # describe its loops, and every array allocated counts against it
+    limit = (min(_memory.available_memory_bytes(), _memory.address_space_left_bytes())
+             if memory is None else float(memory))
     if size.memory_bytes > limit:
         raise ResourceError(
             f"exporting this result as AOT needs about {format_size(size.memory_bytes)} of "

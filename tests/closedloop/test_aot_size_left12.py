@@ -5,7 +5,8 @@ n_p)`` float64 over each mirror's whole plane (8.9 GB of it, computed from the c
 References, outside the estimate: the written file's size on disk (``os.path.getsize``),
 and the mode images' bytes computed by hand from the built ``LoopModel`` (modes x plane
 side squared x 8 B) and listed by astropy (the ``MODES`` extensions' header sizes).
-The refusals are checked with the memory and disk readings replaced (not the machine's).
+The refusals are checked with the memory (available memory, address space left under a
+``ulimit -v``) and disk readings replaced, not the machine's.
 """
 
 from __future__ import annotations
@@ -69,11 +70,12 @@ def test_estimate_matches_the_file_on_disk(run, images):
     assert listed == by_hand
 
 
-def test_refused_under_a_small_memory_reading(run, monkeypatch):
+@pytest.mark.parametrize("reading", ["available_memory_bytes", "address_space_left_bytes"])
+def test_refused_under_a_small_memory_reading(run, monkeypatch, reading):
     result, model, folder = run
     size = estimate_aot(result)  # the model rebuilt: counted
     assert size.memory_bytes > estimate_aot(result, model=model).memory_bytes
-    monkeypatch.setattr(memory, "available_memory_bytes", lambda: size.memory_bytes - 1)
+    monkeypatch.setattr(memory, reading, lambda: size.memory_bytes - 1)
     target = folder / "refused.fits"
     with pytest.raises(ResourceError, match=r"needs about .* of memory") as info:
         export_aot(result, target)
