@@ -712,17 +712,26 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
     system = read_aot_system(path, verify=verify)
     with reading("AOT", path):
         lp, _ = _pick_loop(system, path, loop)
-        modes = _data(lp.modes)
-        if modes is None:
+        raw = _raw(lp.modes)
+        if raw is None:
             # its coefficients may have labels (MI_MODES, e.g. DMKL1...): "no modes" read
             # as a contradiction of `modalinfo info` (adversarial round 8, row e122)
             raise LogFormatError(
                 f"AOT file '{path}': loop {lp.uid!r} has no mode images (no `modes` "
                 "data), so no modal basis can be read from it")
+        _check_reading(system, lp, path)
         n_cols = None
         if _has_coefficients(lp):
             n_cols = _coefficients(lp, path)[0].shape[1]
-        ident = _identify(lp, system, modes.shape[0] if n_cols is None else n_cols, path)
+        ident = _identify(lp, system, raw.shape[0] if n_cols is None else n_cols, path)
+        # only the mask's bounding box is copied out of the mapped file (the basis reads
+        # no pixel outside the mask; issue 27, left12-export)
+        mask = _pupil_mask(lp, system, raw)
+        if mask is None:
+            modes = _data_of(raw)
+        else:
+            rows, cols = _box(mask)
+            modes, mask = _data_of(raw[:, rows, cols]), mask[rows, cols]
         tel = system.main_telescope
         d = (_number(tel.enclosing_diameter) if tel is not None else None) or 1.0
         labels = [f"Z{int(j)}" if ok and s > 0 else f"mode{k + 1}"
@@ -736,8 +745,7 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
             labels = named
         elif len(set(labels)) != len(labels):
             labels = [f"mode{k + 1}" for k in range(len(labels))]
-        basis = basis_from_images(modes, mask=_pupil_mask(lp, system, modes), diameter=d,
-                                  labels=labels)
+        basis = basis_from_images(modes, mask=mask, diameter=d, labels=labels)
     return basis, ident
 
 

@@ -6,7 +6,8 @@ in the memory") and, without a cap, copied the loop's full-plane mode images (3.
 the ground mirror) before identifying them. References, outside the reader: the file's
 arrays read with astropy and identified by
 :func:`modalinfo.bases.identify.identify_zernike` on the corrector's mask (what the reader
-must reproduce), the file's size on disk (``os.path.getsize``), and the mirror's plane
+must reproduce; :func:`modalinfo.bases.image_basis.basis_from_images` on them for
+``read_aot_basis``), the file's size on disk (``os.path.getsize``), and the mirror's plane
 and disc sizes of the built ``LoopModel``. The memory readings are replaced, not the
 machine's.
 """
@@ -98,3 +99,32 @@ def test_file_larger_than_the_address_space_left_is_refused_by_name(exported, mo
     _one_line(capsys, "ulimit -v", "--no-mode-images")
     monkeypatch.setattr(memory, "address_space_left_bytes", lambda: float(size))
     assert load(path, loop="dm0").n_modes == 35
+
+
+def test_basis_reads_only_the_discs_box(exported, monkeypatch):
+    from modalinfo.bases import image_basis
+    from modalinfo.io.aot import read_aot_basis
+
+    path, model = exported
+    dm = model.dms[2]
+    with fits.open(path) as hdus:
+        images = np.asarray(hdus["DM2 MODES"].data, dtype=np.float64)
+        mask = np.asarray(hdus["DM2 PUPIL"].data) != 0
+        diameter = None
+    seen = []
+    real = image_basis.basis_from_images
+
+    def spy(arr, **kw):
+        seen.append(np.shape(arr))
+        nonlocal diameter
+        diameter = kw["diameter"]
+        return real(arr, **kw)
+
+    monkeypatch.setattr(image_basis, "basis_from_images", spy)
+    basis, _ = read_aot_basis(path, loop="dm2")
+    n_p = model.geometry.planes[dm.plane].n
+    assert len(seen) == 1 and seen[0][0] == dm.n_modes and seen[0][1] * seen[0][2] < n_p ** 2
+    # the same basis as from the whole plane (its diameter aside: the file's telescope's)
+    expected = real(images, mask=mask, diameter=diameter)
+    np.testing.assert_array_equal(basis.matrix, expected.matrix)
+    np.testing.assert_array_equal(basis.pupil.mask, expected.pupil.mask)
