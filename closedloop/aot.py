@@ -84,13 +84,15 @@ measurements, commands: AOT images keep their float64 dtype).
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from closedloop.kinds import mirror_kind, sensor_kind
 
-__all__ = ["aot_wind_direction", "build_aot_system", "export_aot", "wind_direction_from_aot"]
+__all__ = ["AotSize", "aot_wind_direction", "build_aot_system", "check_export", "estimate_aot",
+           "export_aot", "wind_direction_from_aot"]
 
 #: system card describing what the closedloop export holds (JSON)
 CLOSEDLOOP_KEY = "MI_CLOOP"
@@ -160,6 +162,128 @@ def wind_direction_from_aot(aot_direction) -> np.ndarray:
     if not np.all(np.isfinite(b)):
         raise ValueError(f"`aot_direction` must be finite [deg]; got {aot_direction!r}.")
     return _degrees(270.0 - b)
+
+
+#: bytes a FITS image extension adds to its data: a header of aotpy's cards (one or two
+#: 2880-byte blocks) and the data's padding to a whole block (half a block on average)
+_HDU_OVERHEAD = 2.5 * 2880
+#: the binary tables, primary header and small images (time filters, masks of a few
+#: pixels) of an export, beyond the arrays :func:`estimate_aot` counts [bytes]
+_TABLE_BYTES = 60 * 2880
+
+
+@dataclass(frozen=True)
+class AotSize:
+    """What :func:`export_aot` writes and holds, estimated from the result before any work.
+
+    Attributes
+    ----------
+    file_bytes : float
+        Size of the FITS file [bytes].
+    memory_bytes : float
+        Peak memory of the export [bytes]: the interpreter, the ``LoopModel`` rebuilt when
+        none is given (its set-up, :func:`closedloop.resources.estimate`), and every array
+        of the system held at once while aotpy writes it.
+    parts : dict of str to float
+        File bytes per part: ``mode_images`` (``(M, n_p, n_p)`` float64 per mirror with a
+        shape matrix: every pixel of its plane), ``reconstructor``
+        (``measurements_to_modes`` blocks and ``modes_to_commands``), ``logs``
+        (residual, POL, commands: ``(T, M)`` each), ``measurements`` (``(T, n_meas)``
+        per sensor) and ``other`` (masks, tables, headers).
+    """
+
+    file_bytes: float
+    memory_bytes: float
+    parts: dict = field(default_factory=dict)
+
+    @property
+    def largest(self) -> str:
+        """The part of the file that weighs most."""
+        return max(self.parts, key=self.parts.__getitem__)
+
+
+def _plane_sides(config) -> list[int]:
+    """Side [pixels] of the plane of each DM of ``config`` (no grid built)."""
+    from closedloop.optics.geometry import plane_layout
+
+    layout = plane_layout(config)
+    return [next(n for _, n, _, dms in layout if i in dms) for i in range(len(config.dms))]
+
+
+def estimate_aot(result, *, model=None, mode_images: bool = True) -> AotSize:
+    """Estimate the file and the memory of ``export_aot(result, ...)`` from sizes alone.
+
+    Nothing is built: the mirrors' mode counts are the result's logs' columns, the
+    sensors' measurement counts their logged measurements' (else the config's
+    estimate), the planes' sides :func:`closedloop.optics.geometry.plane_layout`'s.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The run to export.
+    model : LoopModel, optional
+        Given: the export does not rebuild it (its memory is not counted).
+    mode_images : bool
+        Count the mirrors' mode images (``export_aot(..., mode_images=False)`` leaves
+        them out).
+
+    Returns
+    -------
+    AotSize
+    """
+    from closedloop.resources import BASELINE_BYTES, estimate
+
+    cfg = result.config
+    n_frames = int(np.asarray(result.times).size)
+    n_dm = len(cfg.dms)
+    modes = [int(np.shape(result.logs[f"dm{i}.residual"].coeffs)[1]) for i in range(n_dm)]
+    zonal = [mirror_kind(d.kind).controlled_modes is None for d in cfg.dms]
+    if len(result.measurements) == len(cfg.wfss):
+        n_meas = [int(np.shape(m)[1]) for m in result.measurements]
+        measured = True
+    else:
+        from closedloop.resources import _sensor_costs
+
+        dx = cfg.telescope.diameter / cfg.telescope.n_pixels
+        from closedloop.optics.geometry import plane_layout
+
+        costs = _sensor_costs(cfg, len(plane_layout(cfg)), dx)
+        n_meas = [int(c.n_measurements) for c in costs]
+        measured = False
+    sides = _plane_sides(cfg)
+    joint = n_dm > 1 and not any(zonal)
+    own = {w.dm: j for j, w in enumerate(cfg.wfss)}
+    hdus = 1 + len(cfg.wfss) * (2 if measured else 1) + n_dm * 6
+    images = recon = logs = 0.0
+    for i in range(n_dm):
+        m, n = modes[i], sides[i]
+        logs += 3 * 8.0 * n_frames * m
+        if not zonal[i]:
+            recon += 8.0 * m * m  # modes_to_commands (identity: commands are modes)
+            if mode_images:
+                images += 8.0 * m * n * n
+                hdus += 1
+        for k in range(len(cfg.wfss)):
+            if (k == own.get(i) or joint) and not (zonal[i] and cfg.wfss[k].kind == "ideal"):
+                recon += 8.0 * m * n_meas[k]
+                hdus += 1
+    meas = 8.0 * n_frames * sum(n_meas) if measured else 0.0
+    masks = 2.0 * (cfg.telescope.n_pixels ** 2 + sum(n * n for n in sides))
+    other = masks + _TABLE_BYTES + _HDU_OVERHEAD * hdus
+    parts = {"mode_images": images, "reconstructor": recon, "logs": logs,
+             "measurements": meas, "other": other}
+    file_bytes = float(sum(parts.values()))
+    # held at once: the system's arrays (the file less its headers and padding) and the
+    # result's own logs and measurements, loaded before the export
+    held = file_bytes - _HDU_OVERHEAD * hdus + logs / 3.0 * 4.0 + meas
+    build = 0.0
+    if model is None:
+        est = estimate(cfg, max(n_frames, 1) * cfg.loop.time_step)
+        kept = est.parts["pupil"] + est.parts["dm_shapes"] + est.parts["reconstructor"]
+        build = max(est.setup_bytes - kept, 0.0)
+        held += kept
+    return AotSize(file_bytes=file_bytes, memory_bytes=BASELINE_BYTES + held + build,
+                   parts=parts)
 
 
 def _own_sensor(config, i: int) -> int:
@@ -252,7 +376,8 @@ def _corrector(cfg, model, i: int):
                "plane_pixels": n_p, "pixel_scale": g.dx})
 
 
-def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
+def _dm_loops(result, model, i: int, common: dict, described: dict,
+              mode_images: bool = True) -> tuple:
     """DM ``i``'s loops: residual, POL and the global reconstructor's other-sensor blocks.
 
     ``common`` holds the fields every loop shares (timestamps, time filter, ...) but the
@@ -273,7 +398,7 @@ def _dm_loops(result, model, i: int, common: dict, described: dict) -> tuple:
     labels["MI_WAVEL"] = float(result.config.r0_wavelength)
     # the residual and the POL are coefficients of the same modes: both loops carry the
     # one image (written once), so neither reads back "(assumed)" (issue 27, left12-cli)
-    images = _mode_images(dm, model.geometry.planes[dm.plane].n)
+    images = _mode_images(dm, model.geometry.planes[dm.plane].n) if mode_images else None
     main = LoopSpec(
         uid=f"dm{i}", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.residual"].coeffs),
@@ -341,7 +466,7 @@ def _notes(result, model, described: dict) -> dict:
     }
 
 
-def build_aot_system(result, model=None):
+def build_aot_system(result, model=None, *, mode_images: bool = True):
     """Build the ``aotpy.AOSystem`` of a simulation (see the module docstring).
 
     Parameters
@@ -351,6 +476,10 @@ def build_aot_system(result, model=None):
     model : LoopModel, optional
         The run's static parts (rebuilt from ``result.config`` if not given; it is
         deterministic).
+    mode_images : bool
+        Write each mirror's mode images (False: the loops carry no ``modes``; a mirror
+        of Noll Zernikes then reads back with its labels assumed, the others with their
+        ``MI_MODES`` labels). They are most of the file: :func:`estimate_aot`.
 
     Returns
     -------
@@ -377,7 +506,7 @@ def build_aot_system(result, model=None):
                   closed=not result.open_loop)
     for i in range(len(model.dms)):
         correctors.append(_corrector(cfg, model, i))
-        main, pol, cross = _dm_loops(result, model, i, common, described)
+        main, pol, cross = _dm_loops(result, model, i, common, described, mode_images)
         loops_main.append(main)
         loops_pol.append(pol)
         loops_cross.extend(cross)
@@ -396,7 +525,8 @@ def build_aot_system(result, model=None):
     return system
 
 
-def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
+def export_aot(result, path, *, overwrite: bool = False, model=None,
+               mode_images: bool = True) -> Path:
     """Write a simulation as a complete AOT system (FITS), atomically.
 
     Parameters
@@ -409,11 +539,23 @@ def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
         Replace an existing file; otherwise ``FileExistsError`` (checked before any work).
     model : LoopModel, optional
         The run's static parts (rebuilt from the config when not given).
+    mode_images : bool
+        Write the mirrors' mode images ``(M, n_p, n_p)`` float64, every pixel of each
+        mirror's plane: most of the file (8.9 of 9.1 GB for ``est-mcao-solar``).
+        False leaves them out (see :func:`build_aot_system`).
 
     Returns
     -------
     pathlib.Path
         The written path.
+
+    Raises
+    ------
+    closedloop.resources.ResourceError
+        The export would hold more than the memory available (:func:`estimate_aot`,
+        checked before any work), naming the size and ``mode_images=False``.
+    modalinfo.common.folders.OutputError
+        The target's folder has less free space than the file needs.
     """
     from modalinfo.common.files import as_path
     from modalinfo.io.aot import write_system
@@ -421,9 +563,63 @@ def export_aot(result, path, *, overwrite: bool = False, model=None) -> Path:
     path = as_path(path)
     if path.exists() and not overwrite and not path.is_dir():
         raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
-    system = build_aot_system(result, model)
+    check_export(result, path, model=model, mode_images=mode_images)
+    system = build_aot_system(result, model, mode_images=mode_images)
     _strehl_wavelength_as_card(system)
     return write_system(system, path, overwrite=overwrite)
+
+
+def check_export(result, path, *, model=None, mode_images: bool = True,
+                 memory: float | None = None) -> AotSize:
+    """Refuse an export that cannot fit in memory or on disk, before any work.
+
+    Parameters
+    ----------
+    result, model, mode_images
+        As in :func:`export_aot`.
+    path : str or os.PathLike
+        The target file (its folder's free space is checked).
+    memory : float, optional
+        Memory the export may use [bytes]; default the machine's available memory
+        (:func:`modalinfo.common.memory.available_memory_bytes`), capped by the address
+        space an ``ulimit -v`` leaves.
+
+    Returns
+    -------
+    AotSize
+        The estimate.
+
+    Raises
+    ------
+    closedloop.resources.ResourceError
+        One line: the memory needed, the limit, the file's size and the mode images'
+        share, and ``mode_images=False`` when they are written.
+    modalinfo.common.folders.OutputError
+        The folder lacks the file's size.
+    """
+    from closedloop.resources import ResourceError
+    from modalinfo.common import memory as _memory
+    from modalinfo.common.folders import OutputError, check_room
+    from modalinfo.common.sizes import format_size
+
+    size = estimate_aot(result, model=model, mode_images=mode_images)
+    images = size.parts["mode_images"]
+    fix = (f"; the mirrors' mode images are {format_size(images)} of it: pass "
+           "mode_images=False to leave them out" if images > 0 else "")
+    # an address-space cap (ulimit -v) counts too: the file is then mapped whole to
+    # describe its loops, and every array allocated counts against it
+    limit = (min(_memory.available_memory_bytes(), _memory.address_space_left_bytes())
+             if memory is None else float(memory))
+    if size.memory_bytes > limit:
+        raise ResourceError(
+            f"exporting this result as AOT needs about {format_size(size.memory_bytes)} of "
+            f"memory, more than the {format_size(limit)} available (the file is about "
+            f"{format_size(size.file_bytes)}{fix}).")
+    try:
+        check_room(Path(path).absolute().parent, size.file_bytes, f"AOT file '{path}'")
+    except OutputError as exc:
+        raise OutputError(f"{exc}{fix}") from None
+    return size
 
 
 def _strehl_wavelength_as_card(system) -> None:

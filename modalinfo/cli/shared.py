@@ -510,26 +510,9 @@ def memory_available() -> float:
     counted as the limit minus the process's current size (``VmSize``), since
     memory-mapped logs count against it too.
     """
-    from modalinfo.common.memory import available_memory_bytes
+    from modalinfo.common.memory import address_space_left_bytes, available_memory_bytes
 
-    avail = available_memory_bytes()
-    try:
-        import resource
-
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    except (ImportError, OSError, ValueError):  # not on this platform
-        return avail
-    if soft == resource.RLIM_INFINITY or soft <= 0:
-        return avail
-    size = 0.0
-    try:
-        with open("/proc/self/status", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("VmSize:"):
-                    size = float(line.split()[1]) * 1024.0
-    except OSError:
-        pass
-    return max(0.0, min(avail, float(soft) - size))
+    return min(available_memory_bytes(), address_space_left_bytes())
 
 
 def log_bytes(log) -> int:

@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 import os
 
-__all__ = ["available_memory_bytes", "free_memory_bytes", "machine_memory_bytes"]
+__all__ = ["address_space_left_bytes", "available_memory_bytes", "free_memory_bytes",
+           "machine_memory_bytes"]
 
 
 def available_memory_bytes() -> float:
@@ -52,3 +53,28 @@ def machine_memory_bytes() -> float:
         return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):  # pragma: no cover - exotic platforms
         return float("inf")
+
+
+def address_space_left_bytes() -> float:
+    """Address space this process may still map [bytes]: ``RLIMIT_AS`` less ``VmSize``.
+
+    ``inf`` without a limit (or where unknown). A memory-mapped file counts here whole
+    (``ulimit -v``, a batch system's cap), though its pages are not memory use.
+    """
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, OSError, ValueError):  # not on this platform
+        return math.inf
+    if soft == resource.RLIM_INFINITY or soft <= 0:
+        return math.inf
+    size = 0.0
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("VmSize:"):
+                    size = float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return max(0.0, float(soft) - size)

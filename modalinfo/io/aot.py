@@ -47,6 +47,7 @@ import numpy as np
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.sizes import format_size
 from modalinfo.io._columns import UNIT_WORDS
 from modalinfo.io._common import (
     build_log,
@@ -162,9 +163,98 @@ def _read_system(path: Path, verify: bool):
     """Return the system and aotpy's verification notes (its warnings, first lines)."""
     aotpy = import_aotpy()
     check_readable(path)
+    _check_mapping(path)
     with _aot_reading(path) as notes:
         system = aotpy.AOSystem.read_from_file(path, file_type="fits", checksum=bool(verify))
     return system, notes
+
+
+def _check_mapping(path: Path) -> None:
+    """Refuse a file larger than the address space left, before astropy maps it whole.
+
+    astropy memory-maps the whole file (every loop's images, 9.1 GB for a full-size
+    ``est-mcao-solar`` export) though only the loop read is copied into memory; under
+    an address-space limit (``ulimit -v``) the mapping failed with ``ENOMEM``, said as
+    "does not fit in the memory" (issue 27, left12-export).
+    """
+    from modalinfo.common import memory
+
+    size = path.stat().st_size
+    left = memory.address_space_left_bytes()
+    if size > left:
+        raise LogFormatError(
+            f"AOT file '{path}' ({format_size(size)}) is memory-mapped whole to be read "
+            f"and this process's address-space limit (ulimit -v) leaves "
+            f"{format_size(left)}: raise the limit (mapped pages are read on demand, not "
+            "held), or write the file without mode images (closedloop export "
+            "--no-mode-images)")
+
+
+#: peak bytes of :func:`modalinfo.bases.identify.identify_zernike` per byte of its
+#: arrays: the cropped images 3 times (native copy, square crop, finite copy), the
+#: ``(pixels, M)`` matrix and the ``(pixels, K)`` Zernike matrix twice each (fitted to
+#: tracemalloc's 45.5 MB peak on est-mcao@16's ground mirror: 181 modes, 3,228 pixels,
+#: 378 Zernikes; 46.7 MB by this rule)
+_IMAGE_COPIES, _MATRIX_COPIES = 3.0, 2.0
+
+
+def _reading_bytes(system, lp) -> tuple[float, str]:
+    """Estimate the memory :func:`read_aot` holds for loop ``lp``, and what drives it.
+
+    Nothing is read: the shapes come from the file's headers (memory-mapped arrays).
+
+    Returns
+    -------
+    bytes : float
+        Peak bytes: the coefficients (two float64 copies), or the measurements and
+        reconstructor they are recomputed from, and the identification of the loop's
+        mode images inside the mask's bounding box.
+    what : str
+        The arrays behind it, for a message.
+    """
+    from modalinfo.bases.identify import _candidates
+
+    coeffs = _raw(lp.modal_coefficients)
+    if coeffs is not None and coeffs.ndim == 2:
+        n_frames, n_modes = coeffs.shape
+        need = 2.0 * 8.0 * coeffs.size
+        what = [f"coefficients {n_frames} x {n_modes}"]
+    else:
+        meas = _raw(getattr(lp.input_sensor, "measurements", None))
+        rec = _raw(lp.measurements_to_modes)
+        if meas is None or rec is None or meas.ndim < 1 or rec.ndim < 1:
+            return 0.0, "nothing"
+        n_frames, n_modes = meas.shape[0], rec.shape[0]
+        need = 8.0 * (meas.size + rec.size + 2 * n_frames * n_modes)
+        what = [f"measurements {meas.shape} and reconstructor {rec.shape}"]
+    modes = _raw(lp.modes)
+    if modes is not None and modes.ndim == 3 and modes.shape[0] == n_modes:
+        mask = _pupil_mask(lp, system, modes)
+        if mask is not None:
+            rows, cols = _box(mask)
+            box = (rows.stop - rows.start) * (cols.stop - cols.start)
+            pixels = int(mask.sum())
+        else:
+            box = pixels = modes.shape[1] * modes.shape[2]
+        n_cands = _candidates(n_modes, None).size
+        need += 8.0 * (_IMAGE_COPIES * n_modes * box
+                       + _MATRIX_COPIES * pixels * (n_modes + n_cands))
+        what.append(f"the identification of {n_modes} mode images on {pixels} pupil pixels "
+                    f"against {n_cands} Zernikes")
+    return need, " and ".join(what)
+
+
+def _check_reading(system, lp, path: Path) -> None:
+    """Refuse loop ``lp`` if ``_reading_bytes`` exceeds the memory available."""
+    from modalinfo.common import memory
+
+    need, what = _reading_bytes(system, lp)
+    avail = min(memory.available_memory_bytes(), memory.address_space_left_bytes())
+    if need > avail:
+        raise LogFormatError(
+            f"reading loop {lp.uid!r} of AOT file '{path}' needs about {format_size(need)} "
+            f"of memory ({what}), more than the {format_size(avail)} available; free "
+            "memory or read a loop with fewer modes")
 
 
 def _control_loops(system, path: Path) -> list:
@@ -205,10 +295,28 @@ def _pick_loop(system, path: Path, loop: str | None):
     raise LogFormatError(f"AOT file '{path}' has no control loop {loop!r}; its loops: {uids}")
 
 
-def _data(image) -> np.ndarray | None:
+def _raw(image) -> np.ndarray | None:
+    """Return the image's array as the file holds it (memory-mapped, big-endian: nothing read)."""
     if image is None or getattr(image, "data", None) is None:
         return None
-    arr = np.asarray(image.data)
+    return image.data if isinstance(image.data, np.ndarray) else np.asarray(image.data)
+
+
+def _box(mask: np.ndarray) -> tuple[slice, slice]:
+    """Rows and columns of ``mask``'s bounding box (``mask`` has a True pixel)."""
+    rows = np.flatnonzero(mask.any(axis=1))
+    cols = np.flatnonzero(mask.any(axis=0))
+    return slice(int(rows[0]), int(rows[-1]) + 1), slice(int(cols[0]), int(cols[-1]) + 1)
+
+
+def _data(image) -> np.ndarray | None:
+    raw = _raw(image)
+    return None if raw is None else _data_of(raw)
+
+
+def _data_of(raw: np.ndarray) -> np.ndarray:
+    """Return a native-byte-order contiguous copy (or view) of a file's array, values kept."""
+    arr = np.asarray(raw)
     if not arr.dtype.isnative:
         arr = arr.astype(arr.dtype.newbyteorder("="))  # FITS is big-endian; values kept
     return np.ascontiguousarray(arr)
@@ -380,27 +488,40 @@ def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
 
 
 def _identify(lp, system, n_cols: int, path: Path):
-    """Identification of the loop's modes, or None; checks the mode count."""
-    modes = _data(lp.modes)
-    if modes is None:
+    """Identification of the loop's modes, or None; checks the mode count.
+
+    Only the pixels inside the mask's bounding box are read into memory: the file's
+    images span the mirror's whole plane (8.7x the disc's box on est-mcao-solar's
+    ground mirror, 3.3 GB of mapped images), and the identification reads no pixel
+    outside the mask (issue 27, left12-export).
+    """
+    raw = _raw(lp.modes)
+    if raw is None:
         return None
-    if modes.ndim != 3:
+    if raw.ndim != 3:
         raise LogFormatError(
             f"AOT file '{path}': loop {lp.uid!r} modes must be (m, h, w) images; got shape "
-            f"{modes.shape}"
+            f"{raw.shape}"
         )
-    if modes.shape[0] != n_cols:
+    if raw.shape[0] != n_cols:
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} has {modes.shape[0]} modes but its "
+            f"AOT file '{path}': loop {lp.uid!r} has {raw.shape[0]} modes but its "
             f"coefficients have {n_cols} columns"
         )
     from modalinfo.bases.identify import identify_zernike
 
-    return identify_zernike(modes, mask=_pupil_mask(lp, system, modes))
+    mask = _pupil_mask(lp, system, raw)
+    if mask is None:  # the images' own support: every pixel is read
+        return identify_zernike(_data_of(raw))
+    rows, cols = _box(mask)
+    return identify_zernike(_data_of(raw[:, rows, cols]), mask=mask[rows, cols])
 
 
 def _pupil_mask(lp, system, modes: np.ndarray) -> np.ndarray | None:
-    """Return the corrector's or telescope's pupil mask if it has the modes' shape, else None."""
+    """Return the corrector's or telescope's pupil mask if it has the modes' shape, else None.
+
+    ``modes`` may be the file's mapped array: only its shape is read.
+    """
     for owner in (lp.commanded_corrector, system.main_telescope):
         mask = _data(getattr(owner, "pupil_mask", None))
         if mask is not None and mask.shape == modes.shape[1:] and mask.any():
@@ -443,6 +564,7 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
     system, notes = _read_system(path, verify)
     with reading("AOT", path):
         lp, loops = _pick_loop(system, path, loop)
+        _check_reading(system, lp, path)
         coeffs, origin = _coefficients(lp, path)
         stamps, frames = _times(lp, coeffs.shape[0], path)
         ident = _identify(lp, system, coeffs.shape[1], path)
@@ -590,17 +712,26 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
     system = read_aot_system(path, verify=verify)
     with reading("AOT", path):
         lp, _ = _pick_loop(system, path, loop)
-        modes = _data(lp.modes)
-        if modes is None:
+        raw = _raw(lp.modes)
+        if raw is None:
             # its coefficients may have labels (MI_MODES, e.g. DMKL1...): "no modes" read
             # as a contradiction of `modalinfo info` (adversarial round 8, row e122)
             raise LogFormatError(
                 f"AOT file '{path}': loop {lp.uid!r} has no mode images (no `modes` "
                 "data), so no modal basis can be read from it")
+        _check_reading(system, lp, path)
         n_cols = None
         if _has_coefficients(lp):
             n_cols = _coefficients(lp, path)[0].shape[1]
-        ident = _identify(lp, system, modes.shape[0] if n_cols is None else n_cols, path)
+        ident = _identify(lp, system, raw.shape[0] if n_cols is None else n_cols, path)
+        # only the mask's bounding box is copied out of the mapped file (the basis reads
+        # no pixel outside the mask; issue 27, left12-export)
+        mask = _pupil_mask(lp, system, raw)
+        if mask is None:
+            modes = _data_of(raw)
+        else:
+            rows, cols = _box(mask)
+            modes, mask = _data_of(raw[:, rows, cols]), mask[rows, cols]
         tel = system.main_telescope
         d = (_number(tel.enclosing_diameter) if tel is not None else None) or 1.0
         labels = [f"Z{int(j)}" if ok and s > 0 else f"mode{k + 1}"
@@ -614,8 +745,7 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
             labels = named
         elif len(set(labels)) != len(labels):
             labels = [f"mode{k + 1}" for k in range(len(labels))]
-        basis = basis_from_images(modes, mask=_pupil_mask(lp, system, modes), diameter=d,
-                                  labels=labels)
+        basis = basis_from_images(modes, mask=mask, diameter=d, labels=labels)
     return basis, ident
 
 
