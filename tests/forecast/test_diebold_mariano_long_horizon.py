@@ -1,57 +1,65 @@
-"""Diebold-Mariano statistic at a horizon whose h - 1 exceeds the Newey-West rule's lag.
+"""Diebold-Mariano test at a long horizon, whose h-step losses are MA(h - 1) correlated.
 
-Reference: ``statsmodels`` OLS on a constant with ``cov_type="HAC"`` (Newey-West,
-Bartlett kernel, no small-sample correction) and ``maxlags = h - 1``, the lag an
-h-step forecast error's MA(h - 1) structure needs (Diebold & Mariano 1995, J. Bus.
-Econ. Stat. 13, 253, Sect. 1.1), and with ``kernel="uniform"`` (their rectangular
-window, the larger of the two is used), times Harvey, Leybourne & Newbold's (1997)
-factor, against Student's t with N - 1 degrees of freedom; the lag is the one the rule
-``max(h - 1, floor(4 (N / 100)^(2/9)))`` picks when h - 1 is the larger. The loss
-differential is recomputed from the stored h-step forecasts (``one_step`` holds the
-first horizon's forecasts, here the only one) and the observed frames. The companion
-test at h = 1 (``test_diebold_mariano_hac.py``) has the rule's ``floor`` term larger
-than h - 1, so it cannot tell h - 1 from h.
+Reference: the EWC statistic of Lazarus, Lewis, Stock & Watson (2018, J. Bus. Econ.
+Stat. 36, 541, eq. 4) written out with an explicit cosine matrix, with the number of
+terms B of the documented rule (LLSW's ``floor(0.4 N^(2/3))``, lowered until the
+spectrum of an AR(p) fit of the differential, coefficients from ``statsmodels``' Burg
+estimator and p <= min(20, N / 10) by AIC on its residual variance, averages >= 95 % of
+its zero-frequency value over ``pi j / N``, j = 1..B), against ``scipy.stats.t`` with B
+degrees of freedom; the loss differential is recomputed from the stored h-step
+forecasts (``one_step`` holds the first horizon's forecasts, here the only one) and the
+observed frames. And the nominal level itself on equally good h-step forecasts (audit 9).
 """
 
 import numpy as np
 import pytest
-import statsmodels.api as sm
 from scipy import stats
 from scipy.signal import lfilter
+from statsmodels.regression.linear_model import burg
 
 from modalinfo.forecast import LinearPredictor, evaluate
 
 H = 12
 
 
-def test_dm_statistic_at_a_long_horizon_uses_lag_h_minus_1():
+def test_dm_statistic_at_a_long_horizon_follows_the_ewc_rule():
     rng = np.random.default_rng(5)
     x = lfilter([1.0, 0.6], [1.0, -0.9], rng.standard_normal((900, 2)), axis=0)
     ev = evaluate({"linear": LinearPredictor(a=1.5, b=-0.5, horizon=H)}, x, train=500,
                   horizons=[H],
                   keep_series=5000)
     n = ev.origins.size
-    rule = int(np.floor(4 * (n / 100.0) ** (2.0 / 9.0)))
-    assert H - 1 > rule  # the case this test is for: the horizon sets the lag
     assert ev.one_step.shape[1] == n
     target = ev.truth[H : n + H]
     loss = {name: np.sum((target - ev.one_step[ev.index(name)]) ** 2, axis=1)
             for name in ev.names}
     d = loss["linear"] - loss[ev.baseline[0]]
+    p_max = min(20, n // 10)
+    aic = [n * np.log(np.mean((d - d.mean()) ** 2))]
+    fits = [np.zeros(0)]
+    for p in range(1, p_max + 1):
+        phi, sigma2 = burg(d, p)
+        fits.append(phi)
+        aic.append(n * np.log(sigma2) + 2 * p)
+    phi = fits[int(np.argmin(aic))]
+    b_llsw = int(np.floor(0.4 * n ** (2.0 / 3.0)))
+    j = np.arange(1, b_llsw + 1)
+
+    def spectrum(w):
+        return 1 / np.abs(1 - np.exp(-1j * np.outer(w, np.arange(1, phi.size + 1))) @ phi) ** 2
+
+    share = np.cumsum(spectrum(np.pi * j / n)) / j / spectrum(np.zeros(1))
+    b = int(j[share >= 0.95].max())
+    assert 1 <= b <= b_llsw
+    t = np.arange(1, n + 1)
+    lam = np.sqrt(2.0 / n) * np.cos(np.pi * j[:, None] * (t - 0.5) / n) @ d
+    dm = np.sqrt(n) * d.mean() / np.sqrt(np.mean(lam[:b] ** 2))
+    # one term fewer is another statistic on this series, beyond the tolerance below
+    other = np.sqrt(n) * d.mean() / np.sqrt(np.mean(lam[: b - 1] ** 2))
+    assert abs(other - dm) > 1e-6 * abs(dm)
     i = ev.index("linear")
-
-    def se(lag, kernel):
-        return sm.OLS(d, np.ones(n)).fit(cov_type="HAC", cov_kwds={
-            "maxlags": lag, "kernel": kernel, "use_correction": False}).bse[0]
-
-    def dm(lag):  # the larger of the Bartlett and rectangular variances, HLN's factor
-        hln = np.sqrt((n + 1 - 2 * H + H * (H - 1) / n) / n)
-        return d.mean() / max(se(lag, "bartlett"), se(lag, "uniform")) * hln
-
-    assert ev.dm_statistic[i, 0] == pytest.approx(dm(H - 1), rel=1e-9)
-    assert ev.pvalue[i, 0] == pytest.approx(stats.t.cdf(dm(H - 1), n - 1), rel=1e-9)
-    # one lag more is another statistic on this series, beyond the tolerance above
-    assert abs(dm(H) - dm(H - 1)) > 1e-6 * abs(dm(H - 1))
+    assert ev.dm_statistic[i, 0] == pytest.approx(dm, rel=1e-9)
+    assert ev.pvalue[i, 0] == pytest.approx(stats.t.cdf(dm, b), rel=1e-9)
 
 
 def test_the_test_keeps_its_size_on_equally_good_h_step_forecasts():

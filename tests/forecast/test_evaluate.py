@@ -213,7 +213,9 @@ def test_a_horizon_beyond_the_log_is_refused_at_once():
     with pytest.raises(ValueError, match=r"`horizons` must be at most 998: .* got 999\."):
         evaluate([LinearPredictor()], x, horizons=range(1, 10**12))
     assert time.process_time() - start < 5.0
-    ev = evaluate([LinearPredictor()], x, train=1, horizons=[998])
+    # 2 origins are too few for a skill test: p-value NaN, said once (left12-dm)
+    with pytest.warns(UserWarning, match="no honest Diebold-Mariano test"):
+        ev = evaluate([LinearPredictor()], x, train=1, horizons=[998])
     assert ev.origins.tolist() == [0, 1]   # the origins with 998 frames ahead
 
 
