@@ -83,6 +83,8 @@ def short_repr(value: Any) -> str:
     if isinstance(value, np.ndarray):
         with np.printoptions(threshold=REPR_MAX_ITEMS, edgeitems=REPR_EDGE_ITEMS):
             return repr(value)
+    if type(value) not in (tuple, list, dict):  # a named tuple keeps its own repr
+        return repr(value)
     if isinstance(value, tuple | list) and len(value) > REPR_MAX_ITEMS:
         k = REPR_EDGE_ITEMS
         ends = [short_repr(v) for v in value[:k]] + ["..."] + [short_repr(v) for v in value[-k:]]
