@@ -24,7 +24,16 @@ from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice
 from modalinfo.information.convergence import judge_pair_estimate
 from modalinfo.information.discrete import DISCRETE_MIN_PER_CELL, discrete_levels
-from modalinfo.information.methods import METHODS, BiasRuleWarning, get_method
+from modalinfo.information.methods import (
+    METHODS,
+    BiasRuleWarning,
+    call_bias_rule,
+    check_deterministic,
+    check_plugin_value,
+    get_method,
+    is_plugin,
+    read_only,
+)
 
 __all__ = ["DEFAULT_METHOD", "METHODS", "RESAMPLING_METHOD", "UNITS", "MutualInformation",
            "entropy", "mutual_information"]
@@ -594,6 +603,8 @@ class MutualInformation:
         self.options = dict(options)
         self._engine = _make_engine(self.method, self.options)
         self._factor = UNITS[self.units]
+        # a plug-in's engine gets read-only views, and its scores are checked (round 13)
+        self._plugin = is_plugin(self.method)
 
     def __copy__(self) -> MutualInformation:
         # the copy gets an engine of its own: a shared one was refitted in place by the
@@ -626,7 +637,8 @@ class MutualInformation:
         self.n_samples_ = x.shape[0]
         self._x_constant = _is_constant(x)
         if not self._x_constant:
-            self._engine.fit(x)
+            self._engine.fit(read_only(x) if self._plugin else x)
+            self._probe = self._plugin  # the first score after a fit is scored twice
             self._x = x  # for the copy check (a reference, not a copy)
             self._x_head = np.argsort(x[:_COPY_SCREEN], kind="stable")
             self._x_sorted = None  # x's argsort, made by the copy check's first need
@@ -662,6 +674,8 @@ class MutualInformation:
         if self._x_constant or _is_constant(y):
             return 0.0
         _check_not_a_copy(self._x, y, self._x_head, x_order=self._x_order)
+        if self._plugin:
+            return self._plugin_score(y) * self._factor
         value = self._engine.score(y)
         try:
             return float(value) * self._factor
@@ -669,6 +683,20 @@ class MutualInformation:
             # row r-custom-str: "could not convert string to float")
             raise TypeError(f"method={self.method!r}: its engine's score() must return a real "
                             f"number (nats); got {value!r}.") from None
+
+    def _plugin_score(self, y: np.ndarray) -> float:
+        """Score y with a plug-in's engine, checking what it returns (round 13).
+
+        A real, finite, non-negative number of nats, the same twice for the first y after
+        a fit (an unseeded estimator changes every ordering and interval made of it).
+        """
+        who = f"method={self.method!r}: its engine's score()"
+        value = check_plugin_value(self._engine.score(read_only(y)), who)
+        if getattr(self, "_probe", False):
+            self._probe = False
+            check_deterministic(value, check_plugin_value(
+                self._engine.score(read_only(y)), who), who)
+        return value
 
     def _x_order(self) -> np.ndarray:
         """Return the fitted x's stable argsort, made once (the copy check of each score)."""
@@ -747,7 +775,12 @@ def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) ->
     _check_discrete_entropy(x, method)
     _check_options(f"entropy method={method!r}", fn, "x", options)
     scaled, shift = _unit_exponent(x)
-    value = (float(fn(scaled, **options)) + shift) * UNITS[units]
+    if is_plugin(method):  # read-only data, a checked answer (round 13)
+        raw = check_plugin_value(fn(read_only(scaled), **options),
+                                 f"method={method!r}: its entropy()", signed=True)
+    else:
+        raw = float(fn(scaled, **options))
+    value = (raw + shift) * UNITS[units]
     _warn_bias_rule(record, x.shape[0], 1, options, "entropy")  # options validated by fn
     return value
 
@@ -814,7 +847,7 @@ def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) 
               and not isinstance(options[key], str | tuple | list)}
     if record.bias_rule is None or not chosen:
         return
-    why = record.bias_rule(n, d, chosen)
+    why = call_bias_rule(record, n, d, chosen)
     if why is not None:
         warnings.warn(f"{what} with method={record.name!r}: {why}.", BiasRuleWarning,
                       stacklevel=3)

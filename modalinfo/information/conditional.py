@@ -194,7 +194,15 @@ from modalinfo.information.histogram import (
 )
 from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
 from modalinfo.information.ksg import KSG_MAX_BALL, ksg_bias_rule, ksg_cmi
-from modalinfo.information.methods import CMI_METHODS, BiasRuleWarning, get_method
+from modalinfo.information.methods import (
+    CMI_METHODS,
+    BiasRuleWarning,
+    call_bias_rule,
+    check_plugin_value,
+    get_method,
+    is_plugin,
+    read_only,
+)
 
 __all__ = [
     "BiasRuleWarning",
@@ -275,10 +283,10 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     str or None
         One sentence naming the rule and the numbers, or None if the rule is met.
     """
-    rule = get_method(method, needs="cmi").bias_rule
+    record = get_method(method, needs="cmi")
     n = check_int(n, "n", minimum=1)  # True was 1 sample, 3.5 was compared as is
     d = check_int(d, "d", minimum=1)
-    return None if rule is None else rule(n, d, options or {})
+    return call_bias_rule(record, n, d, options or {})
 
 
 #: Rows of the least-squares screen of :func:`_check_not_affine` (at least 4 per column).
@@ -427,6 +435,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     options = dict(options)
     fallback = check_choice(options.pop("fallback", "gaussian-copula"), "fallback", FALLBACKS)
     fn = record.cmi
+    plugin = is_plugin(record.name)
     allowed = set(list(inspect.signature(fn).parameters)[3:])
     unknown = sorted(set(options) - allowed)
     if unknown:
@@ -454,8 +463,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                     raise
         _check_not_affine(x, y, z)
         _check_not_a_copy_per_stratum(x, y, z)
-        why = (None if record.bias_rule is None else
-               record.bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options))
+        why = call_bias_rule(record, x.shape[0], x.shape[1] + y.shape[1] + z.shape[1],
+                             options)
         if why is not None:
             hint = "use method='gaussian' (Gaussian-copula CMI), fewer columns or more samples"
             instead = ("the Gaussian-copula CMI instead (method='gaussian'; fallback='none' "
@@ -482,7 +491,11 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
-        value = float(fn(x, y, z, **options))
+        if plugin:  # read-only data, a checked answer (round 13, row cmi-reg-nan)
+            value = check_plugin_value(fn(read_only(x), read_only(y), read_only(z), **options),
+                                       f"method={method!r}: its cmi()")
+        else:
+            value = float(fn(x, y, z, **options))
         if judge and fn is gaussian_cmi and options.get("copula", True) and (
                 lost := gaussian_scores_rule(x, y, z, value)):  # the transfer entropy
             warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)

@@ -19,9 +19,13 @@ the command line offers it (docs/ARCHITECTURE.md, "To add an MI method").
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 from modalinfo.common.validation import check_choice
 
@@ -31,8 +35,13 @@ __all__ = [
     "METHODS",
     "MIMethod",
     "MethodNames",
+    "call_bias_rule",
     "check_bootstrappable",
+    "check_deterministic",
+    "check_plugin_value",
     "get_method",
+    "is_plugin",
+    "read_only",
     "register_method",
     "unregister_method",
 ]
@@ -188,6 +197,13 @@ def get_method(name: Any, argument: str = "method", needs: str | None = None) ->
         If ``name`` is not a registered method with that capability (the message
         names the argument and lists the methods that qualify).
     """
+    if (needs is not None and isinstance(name, str) and name in _REGISTRY
+            and getattr(_REGISTRY[name], needs) is None):
+        # a registered method without the capability: say so, not "must be one of" the
+        # others as if the name were unknown (round 13, rows te-reg-*)
+        able = ", ".join(repr(n) for n in MethodNames(needs))
+        raise ValueError(f"`{argument}`={name!r} is registered with no `{needs}` "
+                         f"function (MIMethod({needs}=...)); methods with one: {able}.")
     check_choice(name, argument, MethodNames(needs))
     return _REGISTRY[name]
 
@@ -258,3 +274,99 @@ def check_bootstrappable(name: Any, needs: str | None = None) -> MIMethod:
         raise ValueError(f"`method`={name!r} cannot be bootstrapped: {record.bootstrap}; "
                          f"use {alt}.")
     return record
+
+
+#: a plug-in's MI or CMI below 0 by more than this [nats] is refused: neither is ever
+#: negative, and a bias correction's undershoot stays within it at the sample sizes the
+#: package accepts (the 0.05 nats of the convergence rules, ``convergence._TOL_NATS``)
+NEGATIVE_TOLERANCE = 0.05
+
+
+def is_plugin(name: Any) -> bool:
+    """Tell whether ``name`` is a method registered from outside the package (a plug-in)."""
+    return name not in _BUILTIN_ORDER
+
+
+def read_only(a: np.ndarray) -> np.ndarray:
+    """Return a read-only view of ``a``, what a plug-in gets: it cannot change the caller's data.
+
+    A plug-in engine that wrote into its argument (``x *= 2``) changed the caller's
+    array (adversarial round 13, row mi-reg-mutm); through this view numpy refuses the
+    write with "assignment destination is read-only".
+    """
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
+def check_plugin_value(value: Any, who: str, *, allow_nan: bool = False,
+                       signed: bool = False) -> float:
+    """Return a plug-in's estimate as a float, or raise naming ``who`` and what was wrong.
+
+    Parameters
+    ----------
+    value : object
+        What the plug-in returned (an MI, a CMI or an entropy, in nats).
+    who : str
+        The plug-in and the call, for the message (``"method='mine': its engine's score()"``).
+    allow_nan : bool
+        Let NaN through (the orderings read NaN as "this candidate cannot be scored").
+    signed : bool
+        The quantity may be negative (a differential entropy); else a value below
+        ``-NEGATIVE_TOLERANCE`` nats is refused.
+
+    Raises
+    ------
+    TypeError
+        Not a real number: a string, a bool, a complex, a list or an array of size > 1
+        (round 13, rows ord-est-str, ord-est-bool, ord-est-list, mi-reg-strm).
+    ValueError
+        Infinite, NaN (unless ``allow_nan``) or negative beyond the tolerance.
+    """
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{who} must return a real number (nats); got {value!r}.")
+    v = float(value)
+    if math.isnan(v):
+        if allow_nan:
+            return v
+        raise ValueError(f"{who} returned NaN: an estimate must be a finite number of nats.")
+    if math.isinf(v):
+        raise ValueError(f"{who} returned {v}: an estimate must be a finite number of nats.")
+    if not signed and v < -NEGATIVE_TOLERANCE:
+        raise ValueError(f"{who} returned {v:.4g} nats: a mutual information is never "
+                         f"negative (more than {NEGATIVE_TOLERANCE} nats below 0 is not a "
+                         "bias correction's undershoot).")
+    return v
+
+
+def check_deterministic(first: float, again: float, who: str) -> None:
+    """Refuse a plug-in whose two scores of the same data differ (round 13, ord-est-random).
+
+    The orderings compare candidates' scores and the intervals resample them: an
+    estimator that draws unseeded noise changes the answer at every call.
+    """
+    if first != again and not (math.isnan(first) and math.isnan(again)):
+        raise ValueError(f"{who} is not deterministic: the same data scored {first:.6g} and "
+                         f"{again:.6g} nats; seed its randomness (the package's resampling "
+                         "compares scores).")
+
+
+def call_bias_rule(record: MIMethod, n: int, d: int, options: dict) -> str | None:
+    """Call the record's ``bias_rule(n, d, options)``: None, or the sentence it returned.
+
+    Raises
+    ------
+    TypeError
+        The rule returned something else than None or a non-empty string (a plug-in's
+        rule returning 5 was printed as the warning "5; returning the Gaussian-copula
+        CMI instead", round 13, row cmi-reg-biasrule-int).
+    """
+    if record.bias_rule is None:
+        return None
+    why = record.bias_rule(n, d, options)
+    if why is not None and not (isinstance(why, str) and why.strip()):
+        raise TypeError(f"the bias_rule of MI method {record.name!r} must return None or a "
+                        f"sentence (str) saying why the estimate is biased; got {why!r}.")
+    return why

@@ -103,6 +103,7 @@ import numpy as np
 
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import InfiniteMIError
+from modalinfo.information.methods import check_deterministic, check_plugin_value, read_only
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
     least_tail_replicates,
@@ -134,6 +135,35 @@ _SCREEN_TOLERANCE = 0.05
 _DECORRELATED_ATOL = 1e-6
 
 
+class _CheckedEstimator:
+    """A user's fit/score object, given read-only data and its scores checked (round 13).
+
+    Its score must be a real number of nats, finite or NaN (a candidate it cannot score),
+    not negative beyond ``NEGATIVE_TOLERANCE``, and the same twice for the first
+    candidate after each fit: a string "0.3", True, inf, -0.5 and an unseeded estimator
+    ordered the modes silently (rows ord-est-str, -bool, -inf, -neg, -random).
+    """
+
+    def __init__(self, estimator: Any):
+        self._est = estimator
+        self._who = f"`estimator` {type(estimator).__name__}'s score()"
+        self._probe = False
+
+    def fit(self, x: np.ndarray) -> _CheckedEstimator:
+        self._est.fit(read_only(x))
+        self._probe = True
+        return self
+
+    def score(self, y: np.ndarray) -> float:
+        value = check_plugin_value(self._est.score(read_only(y)), self._who, allow_nan=True)
+        if self._probe:
+            self._probe = False
+            again = check_plugin_value(self._est.score(read_only(y)), self._who,
+                                       allow_nan=True)
+            check_deterministic(value, again, self._who)
+        return value
+
+
 def _make_estimator(estimator: Any, options: dict) -> tuple[Any, str]:
     """Return a fit/score MI estimator from a method name or a ready object."""
     if isinstance(estimator, str):
@@ -146,7 +176,7 @@ def _make_estimator(estimator: Any, options: dict) -> tuple[Any, str]:
                 "`estimator_options` must be empty when `estimator` is an object; "
                 f"got {options!r}."
             )
-        return estimator, type(estimator).__name__
+        return _CheckedEstimator(estimator), type(estimator).__name__
     raise TypeError(
         "`estimator` must be a method name (e.g. 'histogram', 'kde') or an object with "
         f"fit(x) and score(y); got {type(estimator).__name__}."

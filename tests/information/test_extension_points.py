@@ -234,9 +234,9 @@ def test_capabilities_are_read_from_the_record(pair):
         assert mutual_information(x, y, method="pearson-mi") == \
             mutual_information(x, y, method="pearson")
         assert "pearson-mi" in METHODS and "pearson-mi" not in CMI_METHODS
-        with pytest.raises(ValueError, match=r"`method` must be one of .*got 'pearson-mi'"):
+        with pytest.raises(ValueError, match=r"'pearson-mi' is registered with no `cmi`"):
             conditional_mutual_information(x, y, method="pearson-mi")
-        with pytest.raises(ValueError, match=r"`method` must be one of .*got 'pearson-mi'"):
+        with pytest.raises(ValueError, match=r"'pearson-mi' is registered with no `entropy`"):
             entropy(x, method="pearson-mi")
         with pytest.raises(ValueError, match="`method`='pearson-noboot' cannot be bootstrapped: "
                            "this test's record says so; use 'kde', 'histogram', "):
