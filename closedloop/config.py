@@ -877,6 +877,9 @@ def load_config(path: str | Path) -> SimulationConfig:
         raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
     except ValueError as exc:  # a repeated JSON key
         raise ValueError(f"{path}: {exc}") from None
+    if not data:  # an empty file (or a writer that failed after opening it): say so
+        raise ValueError(f"{path}: the config file is empty; write one with "
+                         "`closedloop config --out FILE` and edit it")
     return SimulationConfig.from_dict(data)
 
 

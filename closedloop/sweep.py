@@ -106,6 +106,10 @@ def load_grid(path: str | Path) -> dict:
     if unknown:
         allowed = ", ".join(sorted(_GRID_KEYS))
         raise ValueError(f"{path}: unknown key `{unknown[0]}`; allowed: {allowed}")
+    if "config" in grid and "preset" in grid:  # one would be ignored (round 13 PART b)
+        raise ValueError(f"{path}: give `preset` or `config`, not both (the base of every "
+                         f"run is one of them); got preset {grid['preset']!r} and config "
+                         f"{grid['config']!r}")
     if "config" in grid:
         grid["config"] = str((path.parent / grid["config"]).resolve())
     return grid

@@ -163,6 +163,10 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
         delim = (_header_delimiter(lines[0]) if lines else None) or ","
         reader = csv.DictReader(lines, delimiter=delim)
         columns = [c.strip().lower() for c in reader.fieldnames or []]
+        twice = sorted({c for c in columns if columns.count(c) > 1})
+        if twice:  # DictReader would keep the last value silently (round 13 PART b)
+            raise ValueError(f"manifest '{path}': column {twice[0]!r} appears twice in the "
+                             "header; give it once")
         unknown = [c for c in columns if c != "path" and c not in _ALIASES]
         if unknown:
             raise ValueError(

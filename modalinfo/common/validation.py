@@ -47,10 +47,12 @@ def log_rate_problem(rate: float | None, timestamps: bool, name: str) -> str | N
     if rate is None or RATE_RANGE[0] <= rate <= RATE_RANGE[1]:
         return None
     source = "timestamps give" if timestamps else "stored rate gives"
+    # too fast: a coarser unit read as seconds (MJD / JD days, hours); too slow: a finer one
+    slip = ("a time column in days (MJD, JD) or hours read as seconds?" if rate > RATE_RANGE[1]
+            else "a time column in ns or us read as seconds?")
     return (f"{name}: its {source} a frame rate of {rate:.3g} Hz, outside "
-            f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): a time "
-            "column in ns or us read as seconds? give the rate with --rate HZ (it replaces "
-            "the timestamps)")
+            f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): {slip} "
+            "give the rate with --rate HZ (it replaces the timestamps)")
 
 
 def _describe(value: Any) -> str:
