@@ -32,7 +32,7 @@ __all__ = ["GRID_HELP", "load_grid", "sweep_specs", "run_one", "sweep"]
 #: The grid file's format, as printed by ``closedloop sweep --help`` (and in the README).
 GRID_HELP = """grid file (TOML); every key is optional:
 
-    preset = "table1"          # or: config = "my.toml" (relative to the grid file)
+    preset = "table1"          # or (not both): config = "my.toml" (relative to the grid file)
     duration = 0.3             # s of simulated time per run (default 0.3)
     seeds = [0, 1]             # atmospheres (default: the base config's seed)
     predictors = ["none", "arma"]   # closedloop predictors (default ["none"])

@@ -292,7 +292,8 @@ def run(args: argparse.Namespace) -> int:
         # variance / pca / standard use no estimator and have no gains to bootstrap: the
         # option would be ignored and the user believe it applied (round 13 PART b)
         given = [flag for flag, value in (("--estimator", args.estimator),
-                                          ("--resamples", args.resamples)) if value is not None]
+                                          ("--resamples", args.resamples or None))
+                 if value is not None]  # --resamples 0 asks for none: what they do
         if given:
             raise CommandError(f"{given[0]} applies to the MI methods (mi_greedy, "
                                f"mi_marginal); --method {args.method} uses none: drop it")
