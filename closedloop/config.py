@@ -791,7 +791,10 @@ def _check_keys(d: dict, allowed: set[str], prefix: str, options: set[str] = fro
                 ) -> None:
     unknown = sorted(set(d) - allowed)
     if unknown:  # the kind's own options (e.g. an actuator DM's) are allowed keys too
-        raise ValueError(f"unknown key `{prefix}{unknown[0]}` in the config; allowed keys "
+        from modalinfo.common.validation import did_you_mean
+
+        hint = did_you_mean(unknown[0], allowed | set(options))
+        raise ValueError(f"unknown key `{prefix}{unknown[0]}` in the config{hint}; allowed keys "
                          f"there: {', '.join(sorted(allowed | set(options)))}.")
 
 

@@ -38,6 +38,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from modalinfo.common.validation import did_you_mean
+
 __all__ = ["LogEntry", "collect_logs", "read_manifest"]
 
 _ALIASES = {
@@ -169,8 +171,9 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
                              "header; give it once")
         unknown = [c for c in columns if c != "path" and c not in _ALIASES]
         if unknown:
+            hint = did_you_mean(unknown[0], ["path", *_ALIASES], quote="'")
             raise ValueError(
-                f"manifest '{path}': unknown column {unknown[0]!r}; columns are path, "
+                f"manifest '{path}': unknown column {unknown[0]!r}{hint}; columns are path, "
                 f"{', '.join(sorted(_ALIASES))}"
             )
         for n, raw in enumerate(reader, start=2):

@@ -8,6 +8,7 @@ user can fix the call without reading the source.
 
 from __future__ import annotations
 
+import difflib
 import numbers
 from typing import Any
 
@@ -24,6 +25,7 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_square_range",
+    "did_you_mean",
     "log_rate_problem",
     "RATE_RANGE",
     "unmasked",
@@ -35,6 +37,17 @@ __all__ = [
 #: sensors); outside it the value is a unit slip (a period typed as a rate, kHz typed as
 #: Hz twice, a time column in ns read as seconds) or a typo such as 1e300
 RATE_RANGE = (1e-3, 1e6)
+
+
+def did_you_mean(word: str, choices, quote: str = "`") -> str:
+    """`` (did you mean `x`?)`` for the closest of ``choices`` to a misspelt ``word``, else ''.
+
+    A one-letter slip in a hand-edited file (``gian``, ``feild``, ``ratee``) is answered
+    with the key meant; the closeness is ``difflib.get_close_matches``' ratio >= 0.7
+    (``gian`` / ``gain``: 0.75; unrelated words stay below). ``quote`` surrounds the key.
+    """
+    close = difflib.get_close_matches(str(word), [str(c) for c in choices], n=1, cutoff=0.7)
+    return f" (did you mean {quote}{close[0]}{quote}?)" if close else ""
 
 
 def log_rate_problem(rate: float | None, timestamps: bool, name: str) -> str | None:

@@ -112,3 +112,11 @@ def test_reorder_baseline_without_those_options_still_runs(tmp_path, capsys):
     out = capsys.readouterr().out
     # the variance order is the order of the mean squares (numpy)
     assert "Z2" in out and "Z4" in out
+
+
+def test_misspelt_manifest_column_names_the_column_meant(tmp_path):
+    write_small_log(tmp_path / "a.npz", 100)
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("path,ratee\na.npz,1000\n")
+    with pytest.raises(ValueError, match=r"unknown column 'ratee' \(did you mean 'rate'\?\)"):
+        collect_logs([manifest])

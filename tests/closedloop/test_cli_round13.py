@@ -51,3 +51,35 @@ def test_config_refuses_options_its_action_ignores(capsys, argv, needle):
 def test_config_estimate_duration_still_works(capsys):
     assert _status(["config", "--estimate", "--duration", "0.5"]) == 0
     assert ", 0.5 s: " in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("sed = 0\n", "(did you mean `seed`?)"),  # a letter left out
+    ("[loop]\ngian = 0.3\n", "(did you mean `gain`?)"),  # two letters swapped
+    ("[feild]\nsize = 1.0\n", "(did you mean `field`?)"),
+])
+def test_misspelt_config_key_names_the_key_meant(tmp_path, text, needle):
+    from closedloop.config import load_config
+
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    with pytest.raises(ValueError) as info:
+        load_config(path)
+    assert needle in str(info.value)
+
+
+def test_unrelated_key_gets_no_guess(tmp_path):
+    from closedloop.config import load_config
+
+    path = tmp_path / "c.toml"
+    path.write_text("bogus = 1\n")
+    with pytest.raises(ValueError, match="unknown key `bogus`") as info:
+        load_config(path)
+    assert "did you mean" not in str(info.value)
+
+
+def test_misspelt_grid_key_names_the_key_meant(tmp_path):
+    grid = tmp_path / "g.toml"
+    grid.write_text("seed = [0, 1]\n")
+    with pytest.raises(ValueError, match=r"\(did you mean `seeds`\?\)"):
+        load_grid(grid)
