@@ -381,10 +381,19 @@ def _cmd_config(args) -> int:
     from closedloop.config import config_text, save_config
 
     config = _config(args)
+    # an option the chosen action does not use is refused, not ignored (round 13 PART b)
+    if args.estimate and (args.fmt is not None or args.out is not None):
+        raise CommandError("--estimate prints the memory and time of a run as text; --fmt "
+                           "and --out apply to printing the config: give one or the other")
+    if not args.estimate and args.duration is not None:
+        raise CommandError("--duration applies to --estimate only (a config has no "
+                           "duration); add --estimate or drop --duration")
     if args.estimate:
         from closedloop.resources import available_memory, estimate
         from modalinfo.common.sizes import format_size
 
+        if args.duration is None:
+            args.duration = 1.0
         _check_duration(args)
         print(f"{config.name}, {args.duration:g} s: "
               + estimate(config, args.duration).describe())
@@ -505,7 +514,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true")
     p.add_argument("--estimate", action="store_true",
                    help="print the memory and time a run of --duration would need")
-    p.add_argument("--duration", type=float, default=1.0,
+    p.add_argument("--duration", type=float, default=None,
                    help="simulated time [s] for --estimate (default 1)")
     p.set_defaults(_run=_cmd_config)
     return parser

@@ -791,7 +791,10 @@ def _check_keys(d: dict, allowed: set[str], prefix: str, options: set[str] = fro
                 ) -> None:
     unknown = sorted(set(d) - allowed)
     if unknown:  # the kind's own options (e.g. an actuator DM's) are allowed keys too
-        raise ValueError(f"unknown key `{prefix}{unknown[0]}` in the config; allowed keys "
+        from modalinfo.common.validation import did_you_mean
+
+        hint = did_you_mean(unknown[0], allowed | set(options))
+        raise ValueError(f"unknown key `{prefix}{unknown[0]}` in the config{hint}; allowed keys "
                          f"there: {', '.join(sorted(allowed | set(options)))}.")
 
 
@@ -877,6 +880,9 @@ def load_config(path: str | Path) -> SimulationConfig:
         raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
     except ValueError as exc:  # a repeated JSON key
         raise ValueError(f"{path}: {exc}") from None
+    if not data:  # an empty file (or a writer that failed after opening it): say so
+        raise ValueError(f"{path}: the config file is empty; write one with "
+                         "`closedloop config --out FILE` and edit it")
     return SimulationConfig.from_dict(data)
 
 

@@ -32,7 +32,7 @@ __all__ = ["GRID_HELP", "load_grid", "sweep_specs", "run_one", "sweep"]
 #: The grid file's format, as printed by ``closedloop sweep --help`` (and in the README).
 GRID_HELP = """grid file (TOML); every key is optional:
 
-    preset = "table1"          # or: config = "my.toml" (relative to the grid file)
+    preset = "table1"          # or (not both): config = "my.toml" (relative to the grid file)
     duration = 0.3             # s of simulated time per run (default 0.3)
     seeds = [0, 1]             # atmospheres (default: the base config's seed)
     predictors = ["none", "arma"]   # closedloop predictors (default ["none"])
@@ -73,7 +73,10 @@ def _apply(d: dict, dotted: str, value: Any) -> None:
         node[_index(last)] = value
     elif isinstance(node, dict):
         if last not in node:  # a typo would otherwise add a key the config ignores
-            raise KeyError(f"{last!r} is not among {', '.join(sorted(node))}")
+            from modalinfo.common.validation import did_you_mean
+
+            raise KeyError(f"{last!r} is not among {', '.join(sorted(node))}"
+                           + did_you_mean(last, node))
         node[last] = value
     else:
         raise KeyError(f"{'.'.join(parts[:-1])} is a value, not a table")
@@ -105,7 +108,14 @@ def load_grid(path: str | Path) -> dict:
     unknown = sorted(set(grid) - _GRID_KEYS)
     if unknown:
         allowed = ", ".join(sorted(_GRID_KEYS))
-        raise ValueError(f"{path}: unknown key `{unknown[0]}`; allowed: {allowed}")
+        from modalinfo.common.validation import did_you_mean
+
+        hint = did_you_mean(unknown[0], _GRID_KEYS)
+        raise ValueError(f"{path}: unknown key `{unknown[0]}`{hint}; allowed: {allowed}")
+    if "config" in grid and "preset" in grid:  # one would be ignored (round 13 PART b)
+        raise ValueError(f"{path}: give `preset` or `config`, not both (the base of every "
+                         f"run is one of them); got preset {grid['preset']!r} and config "
+                         f"{grid['config']!r}")
     if "config" in grid:
         grid["config"] = str((path.parent / grid["config"]).resolve())
     return grid

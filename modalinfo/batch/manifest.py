@@ -38,6 +38,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from modalinfo.common.validation import did_you_mean
+
 __all__ = ["LogEntry", "collect_logs", "read_manifest"]
 
 _ALIASES = {
@@ -163,10 +165,15 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
         delim = (_header_delimiter(lines[0]) if lines else None) or ","
         reader = csv.DictReader(lines, delimiter=delim)
         columns = [c.strip().lower() for c in reader.fieldnames or []]
+        twice = sorted({c for c in columns if columns.count(c) > 1})
+        if twice:  # DictReader would keep the last value silently (round 13 PART b)
+            raise ValueError(f"manifest '{path}': column {twice[0]!r} appears twice in the "
+                             "header; give it once")
         unknown = [c for c in columns if c != "path" and c not in _ALIASES]
         if unknown:
+            hint = did_you_mean(unknown[0], ["path", *_ALIASES], quote="'")
             raise ValueError(
-                f"manifest '{path}': unknown column {unknown[0]!r}; columns are path, "
+                f"manifest '{path}': unknown column {unknown[0]!r}{hint}; columns are path, "
                 f"{', '.join(sorted(_ALIASES))}"
             )
         for n, raw in enumerate(reader, start=2):

@@ -91,6 +91,8 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.cli.shared import progress
     from modalinfo.ordering.compare import compare_orderings, parse_specs, plot_comparison
 
+    if args.estimator is None:  # the shared option's default (None lets reorder tell it was given)
+        args.estimator = "histogram"
     check_figure_output(args.plot, args.overwrite)
     specs = parse_specs(args.orderings)
     seen = [tuple(s) for s in specs]

@@ -54,7 +54,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
     """Options shared by ``reorder`` and ``fitting-error``."""
     parser.add_argument("log", type=Path, help="telemetry log (npz, csv, fits, hdf5, npy)")
     parser.add_argument("--estimator", choices=MIMethodChoices(), metavar="NAME",
-                        default="histogram",
+                        default=None,
                         help="MI estimator: %(choices)s (default: histogram)")
     parser.add_argument("--budget", type=int, default=200_000, metavar="N",
                         help="(frame, pixel) samples for the MI (default: 200000)")
@@ -288,6 +288,17 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.ordering.orderings import CONFIDENCE_LEVEL
 
     least = least_tail_replicates(CONFIDENCE_LEVEL)
+    if not args.method.startswith("mi_"):
+        # variance / pca / standard use no estimator and have no gains to bootstrap: the
+        # option would be ignored and the user believe it applied (round 13 PART b)
+        given = [flag for flag, value in (("--estimator", args.estimator),
+                                          ("--resamples", args.resamples or None))
+                 if value is not None]  # --resamples 0 asks for none: what they do
+        if given:
+            raise CommandError(f"{given[0]} applies to the MI methods (mi_greedy, "
+                               f"mi_marginal); --method {args.method} uses none: drop it")
+    if args.estimator is None:
+        args.estimator = "histogram"
     if args.resamples is None:
         args.resamples = least  # order_modes' own default, the one rule (issue 27)
 
@@ -297,6 +308,11 @@ def run(args: argparse.Namespace) -> int:
     if args.stability is not None and (args.method == "pca" or args.frame is not None):
         raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
     refuse_frame_with_drop(args)
+    if args.method == "pca" and args.basis in ("zernike", "kl-theory"):
+        # the library's refusal names its Python remedy; this is the command line's, before work
+        raise CommandError(f"--method pca orders an empirical K-L basis of the same log; "
+                           f"--basis {args.basis} is not one: use --basis kl-data, or "
+                           "--method variance")
     if args.resamples < 0:
         raise CommandError(f"--resamples must be >= 0; got {args.resamples}")
     if args.resamples > MAX_RESAMPLES:

@@ -11,6 +11,7 @@ Output *folders* (free space, locks) are :mod:`modalinfo.common.folders`.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import signal
 import stat
@@ -101,6 +102,12 @@ def writable_free_bytes(folder: Path) -> int:
 
 def _exists_message(path: Path) -> str:
     return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
+
+
+def _disk_full(exc: OSError) -> bool:
+    """Whether ``exc`` says the disk or quota is full (astropy says so without an errno)."""
+    return (exc.errno in (errno.ENOSPC, errno.EDQUOT)
+            or "Not enough space on disk" in str(exc))
 
 
 def _renamed(write: Callable[[Any], None], target: Any, tmp: str, path: Path) -> None:
@@ -280,6 +287,14 @@ def atomic_write(
                     if path.exists():
                         raise FileExistsError(_exists_message(path)) from None
                     os.replace(tmp, path)
+        except OSError as exc:
+            if not _disk_full(exc):
+                raise
+            kept = "the old file is unchanged" if path.exists() else "nothing was written"
+            full = OSError(f"No space left on device writing '{path}' ({kept}); free "
+                           "space or write elsewhere")
+            full.errno = errno.ENOSPC  # one line for the user, the errno for callers
+            raise full from None
         finally:
             armed[0] = False  # a signal from here on is only recorded: the cleanup runs
             if os.path.exists(tmp):

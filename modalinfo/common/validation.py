@@ -8,6 +8,7 @@ user can fix the call without reading the source.
 
 from __future__ import annotations
 
+import difflib
 import numbers
 from typing import Any
 
@@ -24,6 +25,7 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_square_range",
+    "did_you_mean",
     "log_rate_problem",
     "RATE_RANGE",
     "unmasked",
@@ -37,6 +39,17 @@ __all__ = [
 RATE_RANGE = (1e-3, 1e6)
 
 
+def did_you_mean(word: str, choices, quote: str = "`") -> str:
+    """`` (did you mean `x`?)`` for the closest of ``choices`` to a misspelt ``word``, else ''.
+
+    A one-letter slip in a hand-edited file (``gian``, ``feild``, ``ratee``) is answered
+    with the key meant; the closeness is ``difflib.get_close_matches``' ratio >= 0.7
+    (``gian`` / ``gain``: 0.75; unrelated words stay below). ``quote`` surrounds the key.
+    """
+    close = difflib.get_close_matches(str(word), [str(c) for c in choices], n=1, cutoff=0.7)
+    return f" (did you mean {quote}{close[0]}{quote}?)" if close else ""
+
+
 def log_rate_problem(rate: float | None, timestamps: bool, name: str) -> str | None:
     """Why a log's frame ``rate`` [Hz] cannot be analysed; None inside :data:`RATE_RANGE`.
 
@@ -47,10 +60,12 @@ def log_rate_problem(rate: float | None, timestamps: bool, name: str) -> str | N
     if rate is None or RATE_RANGE[0] <= rate <= RATE_RANGE[1]:
         return None
     source = "timestamps give" if timestamps else "stored rate gives"
+    # too fast: a coarser unit read as seconds (MJD / JD days, hours); too slow: a finer one
+    slip = ("a time column in days (MJD, JD) or hours read as seconds?" if rate > RATE_RANGE[1]
+            else "a time column in ns or us read as seconds?")
     return (f"{name}: its {source} a frame rate of {rate:.3g} Hz, outside "
-            f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): a time "
-            "column in ns or us read as seconds? give the rate with --rate HZ (it replaces "
-            "the timestamps)")
+            f"{RATE_RANGE[0]:g}-{RATE_RANGE[1]:g} Hz (1 mHz - 1 MHz, as --rate): {slip} "
+            "give the rate with --rate HZ (it replaces the timestamps)")
 
 
 def _describe(value: Any) -> str:

@@ -126,6 +126,8 @@ def _is_number(token: str) -> bool:
     return True
 
 
+#: a date and time written as text (ISO 8601 and its spreadsheet variants)
+_DATETIME_TEXT = re.compile(r"\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}")
 _INTEGER = re.compile(r"\+?\d+")
 _FLOAT = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+(?:\.\d*)?[eE][+-]?\d+)(?:[eE][+-]?\d+)?")
 
@@ -305,6 +307,13 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2,
                                 comments=None, quotechar='"')  # QUOTE_ALL quotes numbers too
         except ValueError as exc:
+            when = _DATETIME_TEXT.search(str(exc))
+            if when:  # ISO dates are not a damaged file (round 13 PART b, T03 / T08)
+                raise LogFormatError(
+                    f"CSV file '{path}': a column holds dates and times as text "
+                    f"({when.group(0)!r}...); times are read as numbers of seconds: "
+                    "convert that column to seconds (pandas: (t - t[0]).dt.total_seconds()) "
+                    "or delete it and give --rate HZ") from None
             if "string ''" not in str(exc):
                 raise
             # an empty cell is how pandas / spreadsheets write a missing value: it is a

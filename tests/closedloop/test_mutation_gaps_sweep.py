@@ -79,7 +79,8 @@ def test_override_lists_the_table_keys_sorted():
     with pytest.raises(ValueError) as exc:
         override(presets.get("table1"), {"loop.gian": 1.0})
     keys = sorted(presets.get("table1").to_dict()["loop"])
-    assert str(exc.value) == f"unknown key `loop.gian` ('gian' is not among {', '.join(keys)})."
+    assert str(exc.value) == (f"unknown key `loop.gian` ('gian' is not among {', '.join(keys)}"
+                              " (did you mean `gain`?)).")  # the hint: round 13 PART b
 
 
 # ------------------------------------------------------------------ load_grid and base

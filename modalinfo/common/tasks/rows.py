@@ -81,12 +81,28 @@ def _column_order(rows: list[dict], first: Sequence[str]) -> list[str]:
     return list(seen)
 
 
+def _utf8_text(value: object) -> object:
+    r"""``value`` with any undecodable file-name byte shown as ``\xNN`` (a str stays a str).
+
+    A file name that is not UTF-8 reaches Python as a str holding lone surrogates
+    (PEP 383), which pyarrow's UTF-8 columns cannot hold: the whole table failed after
+    every task had run (round 13 PART b). The byte is written as ``ls -b`` shows it.
+    """
+    if isinstance(value, str):
+        try:
+            value.encode("utf-8")
+        except UnicodeEncodeError:
+            return os.fsencode(value).decode("utf-8", "backslashreplace")
+    return value
+
+
 def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str] = (),
                 overwrite: bool = True) -> tuple[Path, Path]:
-    """Write the rows as ``<stem>.csv`` and ``<stem>.parquet`` (pyarrow), atomically.
+    r"""Write the rows as ``<stem>.csv`` and ``<stem>.parquet`` (pyarrow), atomically.
 
     Columns are the union of the rows' keys (``first`` leading); a row lacking a
-    column has a null there. Returns the two paths.
+    column has a null there. A text value holding a file name's undecodable bytes
+    (lone surrogates) is written with those bytes as ``\xNN``. Returns the two paths.
     """
     pa = require("pyarrow")
     pacsv = require("pyarrow.csv")
@@ -95,7 +111,7 @@ def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str]
     columns = _column_order(rows, first)
     data = {}
     for name in columns:
-        values = [r.get(name) for r in rows]
+        values = [_utf8_text(r.get(name)) for r in rows]
         kinds = {type(v) for v in values if v is not None}
         if kinds <= {int, float} and float in kinds:
             values = [None if v is None else float(v) for v in values]
