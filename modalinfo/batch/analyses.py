@@ -10,7 +10,9 @@ Every analysis calls the library exactly as the matching command does:
   ``modes_to_reach`` (``modalinfo fitting-error``);
 - ``forecast``: :func:`modalinfo.forecast.evaluate` with the presets of
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
-  in chunks, so memory does not grow with the log.
+  in chunks, so memory does not grow with the log. ``pvalue_h1.<name>`` is the
+  one-step Diebold-Mariano p-value, NaN where the loss differential is too persistent
+  for an honest test (``beats_baseline_h1.<name>`` is then False).
 
 Before any analysis the log goes through the log-quality pass and the outlier
 policy of every command (:func:`modalinfo.telemetry.quality.apply_outlier_policy`,
@@ -26,6 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import warnings
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
@@ -381,8 +384,12 @@ def _forecast(log: Any, p: dict) -> dict:
                          f"got {horizon}")
     # no forecast series are kept (the batch plots none): memory is the chunk buffers,
     # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
-    ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
-                  keep_series=1, chunk_frames=2048)
+    with warnings.catch_warnings():
+        # a pair too persistent for an honest Diebold-Mariano test is in the row (its
+        # ``pvalue_h1`` NaN, ``beats_baseline_h1`` False); a worker's warning reaches no one
+        warnings.filterwarnings("ignore", message="evaluate: no honest Diebold-Mariano test")
+        ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
+                      keep_series=1, chunk_frames=2048)
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "n_train": int(ev.n_train),
                            "n_origins": int(ev.origins.size)}
     for name in names:
@@ -390,6 +397,7 @@ def _forecast(log: Any, p: dict) -> dict:
         row[f"gain_h1.{name}"] = float(ev.gain_wavefront[i, 0])
         row[f"gain_h{horizon}.{name}"] = float(ev.gain_wavefront[i, -1])
         row[f"beats_baseline_h1.{name}"] = bool(ev.beats_baseline[i, 0])
+        row[f"pvalue_h1.{name}"] = float(ev.pvalue[i, 0])  # NaN: no honest test
     best = max(names, key=lambda n: ev.gain_wavefront[ev.index(n), 0])
     row["best_h1"] = best
     return row
