@@ -184,8 +184,16 @@ def effective_pairs(x: np.ndarray, y: np.ndarray) -> float:
     float
         The effective number of pairs, between ~0 and n.
     """
-    n = x.shape[0]
-    p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
+    return bartlett_pairs(x.shape[0], _lag1(x) * _lag1(y))
+
+
+def bartlett_pairs(n: int, product: float) -> float:
+    """``n (1 - p) / (1 + p)``, p the product of two lag-1 autocorrelations clipped to [0, 1).
+
+    The one formula behind ``effective_pairs`` and the rotation null's rule over many
+    columns (``resampling.rotation_null_rule``, which passes the largest product).
+    """
+    p = min(max(float(product), 0.0), 1.0 - 1e-12)
     return n * (1.0 - p) / (1.0 + p)
 
 

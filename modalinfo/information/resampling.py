@@ -56,7 +56,7 @@ from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_int, check_rng
 from modalinfo.information.api import MIN_SAMPLES
-from modalinfo.information.convergence import effective_pairs
+from modalinfo.information.convergence import bartlett_pairs, effective_pairs
 
 __all__ = [
     "MAX_RESAMPLES",
@@ -795,8 +795,8 @@ def rotation_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
         The message naming the failed assumption and the cure, or None.
     """
     n = a.shape[0]
-    p = min(max(_largest_lag1_product(a, b), 0.0), 1.0 - 1e-12)
-    n_eff = n * (1.0 - p) / (1.0 + p)
+    p = min(max(_largest_lag1_product(a, b), 0.0), 1.0 - 1e-12)  # for the message
+    n_eff = bartlett_pairs(n, p)
     if n_eff >= ROTATION_MIN_EFFECTIVE_PAIRS:
         return None
     return (f"{name}: the series hold {n_eff:.1f} effective pairs of their n = {n} "
