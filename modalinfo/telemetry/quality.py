@@ -152,9 +152,9 @@ from modalinfo._stats import (
     MIN_SCALE_RATIO,  # noqa: F401 (documented here since round 11)
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     STATIONARITY_BLOCKS,
+    stationarity_threshold,
 )
 from modalinfo._stats import block_scale_ratio as _scale_ratio
-from modalinfo._stats import stationarity_threshold as _stationarity_threshold
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import check_choice, check_int, check_real
@@ -420,31 +420,9 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
 
 # the block-scale rule lives at the lowest layer (modalinfo._stats), shared with the
 # stationarity rule of the circular-shift tests and the block bootstrap (issue 27,
-# leftovers 12-ci): STATIONARITY_BLOCKS, MIN_STATIONARITY_FRAMES, MIN_SCALE_RATIO and
-# block_scale_ratio (imported as _scale_ratio) are defined there.
-
-
-def stationarity_threshold(block_frames: float) -> float:
-    """Scale ratio above which a log's innovations are called non-stationary.
-
-    The log of a 1.4826 MAD of ``n`` Gaussian values has a standard deviation of
-    about ``1.17 / sqrt(n)`` (Rousseeuw & Croux 1993); the range of 8 such independent
-    log-scales exceeds ``5.09`` of them with probability 1 % (studentized range,
-    Harter 1960). Taken for one mode (the median over modes is tighter still, so the
-    false-note rate on a stationary Gaussian log is below 1 %):
-    ``max(MIN_SCALE_RATIO, exp(5.09 x 1.17 / sqrt(n)))``.
-
-    Parameters
-    ----------
-    block_frames : float
-        Effective innovations per block (``effective_frames / STATIONARITY_BLOCKS``).
-
-    Returns
-    -------
-    float
-        The threshold (> 1); ``inf`` below ``MIN_STATIONARITY_FRAMES`` (100).
-    """
-    return _stationarity_threshold(block_frames)
+# leftovers 12-ci): STATIONARITY_BLOCKS, MIN_STATIONARITY_FRAMES, MIN_SCALE_RATIO,
+# block_scale_ratio (imported as _scale_ratio) and stationarity_threshold (re-exported here,
+# part of this module's API since leftovers 11-seeing) are defined there.
 
 
 def gaussian_false_alarm(k: float) -> float:
