@@ -608,8 +608,7 @@ def check_export(result, path, *, model=None, mode_images: bool = True,
            "mode_images=False to leave them out" if images > 0 else "")
     # an address-space cap (ulimit -v) counts too: the file is then mapped whole to
     # describe its loops, and every array allocated counts against it
-    limit = (min(_memory.available_memory_bytes(), _memory.address_space_left_bytes())
-             if memory is None else float(memory))
+    limit = _memory.usable_memory_bytes() if memory is None else float(memory)
     if size.memory_bytes > limit:
         raise ResourceError(
             f"exporting this result as AOT needs about {format_size(size.memory_bytes)} of "

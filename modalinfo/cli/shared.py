@@ -510,9 +510,9 @@ def memory_available() -> float:
     counted as the limit minus the process's current size (``VmSize``), since
     memory-mapped logs count against it too.
     """
-    from modalinfo.common.memory import address_space_left_bytes, available_memory_bytes
+    from modalinfo.common.memory import usable_memory_bytes
 
-    return min(available_memory_bytes(), address_space_left_bytes())
+    return usable_memory_bytes()
 
 
 def log_bytes(log) -> int:

@@ -11,7 +11,7 @@ import math
 import os
 
 __all__ = ["address_space_left_bytes", "available_memory_bytes", "free_memory_bytes",
-           "machine_memory_bytes"]
+           "machine_memory_bytes", "usable_memory_bytes"]
 
 
 def available_memory_bytes() -> float:
@@ -78,3 +78,15 @@ def address_space_left_bytes() -> float:
     except (OSError, ValueError, IndexError):
         pass
     return max(0.0, float(soft) - size)
+
+
+def usable_memory_bytes() -> float:
+    """Bytes this process may still allocate [bytes], the smaller of two sides.
+
+    The machine's (:func:`available_memory_bytes`) and the address-space limit's
+    (:func:`address_space_left_bytes`, memory-mapped files included).
+
+    What a refusal before work compares its estimate with (the command lines' memory
+    checks, the AOT reader and ``closedloop``'s AOT export).
+    """
+    return min(available_memory_bytes(), address_space_left_bytes())

@@ -249,7 +249,7 @@ def _check_reading(system, lp, path: Path) -> None:
     from modalinfo.common import memory
 
     need, what = _reading_bytes(system, lp)
-    avail = min(memory.available_memory_bytes(), memory.address_space_left_bytes())
+    avail = memory.usable_memory_bytes()
     if need > avail:
         raise LogFormatError(
             f"reading loop {lp.uid!r} of AOT file '{path}' needs about {format_size(need)} "
