@@ -91,6 +91,10 @@ import numpy as np
 
 from closedloop.kinds import mirror_kind, sensor_kind
 
+# FITS overheads [bytes]: one copy, beside the modalinfo writer (left13-cli)
+from modalinfo.io.aot import HDU_OVERHEAD as _HDU_OVERHEAD
+from modalinfo.io.aot import TABLE_BYTES as _TABLE_BYTES
+
 __all__ = ["AotSize", "aot_wind_direction", "build_aot_system", "check_export", "estimate_aot",
            "export_aot", "wind_direction_from_aot"]
 
@@ -162,14 +166,6 @@ def wind_direction_from_aot(aot_direction) -> np.ndarray:
     if not np.all(np.isfinite(b)):
         raise ValueError(f"`aot_direction` must be finite [deg]; got {aot_direction!r}.")
     return _degrees(270.0 - b)
-
-
-#: bytes a FITS image extension adds to its data: a header of aotpy's cards (one or two
-#: 2880-byte blocks) and the data's padding to a whole block (half a block on average)
-_HDU_OVERHEAD = 2.5 * 2880
-#: the binary tables, primary header and small images (time filters, masks of a few
-#: pixels) of an export, beyond the arrays :func:`estimate_aot` counts [bytes]
-_TABLE_BYTES = 60 * 2880
 
 
 @dataclass(frozen=True)
@@ -598,9 +594,8 @@ def check_export(result, path, *, model=None, mode_images: bool = True,
         The folder lacks the file's size.
     """
     from closedloop.resources import ResourceError
-    from modalinfo.common import memory as _memory
-    from modalinfo.common.folders import OutputError, check_room
     from modalinfo.common.sizes import format_size
+    from modalinfo.io.aot import check_aot_size
 
     size = estimate_aot(result, model=model, mode_images=mode_images)
     images = size.parts["mode_images"]
@@ -608,16 +603,9 @@ def check_export(result, path, *, model=None, mode_images: bool = True,
            "mode_images=False to leave them out" if images > 0 else "")
     # an address-space cap (ulimit -v) counts too: the file is then mapped whole to
     # describe its loops, and every array allocated counts against it
-    limit = _memory.usable_memory_bytes() if memory is None else float(memory)
-    if size.memory_bytes > limit:
-        raise ResourceError(
-            f"exporting this result as AOT needs about {format_size(size.memory_bytes)} of "
-            f"memory, more than the {format_size(limit)} available (the file is about "
-            f"{format_size(size.file_bytes)}{fix}).")
-    try:
-        check_room(Path(path).absolute().parent, size.file_bytes, f"AOT file '{path}'")
-    except OutputError as exc:
-        raise OutputError(f"{exc}{fix}") from None
+    check_aot_size(path, size.file_bytes, size.memory_bytes,
+                   what="exporting this result as AOT", fix=fix, memory=memory,
+                   error=ResourceError)
     return size
 
 

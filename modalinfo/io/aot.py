@@ -75,6 +75,8 @@ from modalinfo.telemetry.units import WAVELENGTH_RANGE
 __all__ = [
     "is_aot",
     "aot_loops",
+    "check_aot_size",
+    "estimate_write_aot",
     "read_aot",
     "read_aot_basis",
     "read_aot_system",
@@ -94,6 +96,17 @@ _WAVELENGTH_KEY = "MI_WAVEL"
 _UNIT_WORDS = UNIT_WORDS
 _VERSION_KEY = "AOT-VERS"
 _HEADER_BLOCKS = 36  # primary-header blocks scanned for AOT-VERS (100 kB)
+#: bytes a FITS image extension adds to its data: a header of aotpy's cards (one or two
+#: 2880-byte blocks) and the data's padding to a whole block (half a block on average)
+HDU_OVERHEAD = 2.5 * 2880
+#: the binary tables, primary header and small images of a file written through aotpy,
+#: beyond the arrays an estimate counts [bytes] (closedloop's export: 60 blocks)
+TABLE_BYTES = 60 * 2880
+#: copies of the file's arrays :func:`write_aot` holds at once (the caller's, the image
+#: handed to aotpy, astropy's big-endian copies while it writes and checksums): an upper
+#: bound on tracemalloc's peaks, 3.87 copies for 20,000 x 50 float64 coefficients, 1.16
+#: for float32 and 2.3 with 36 mode images of 128 x 128 pixels (left13-cli)
+_WRITE_COPIES = 4.5
 
 
 def is_aot(path) -> bool:
@@ -778,6 +791,83 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
     return atomic_write(path, write, overwrite=overwrite, by_name=True)
 
 
+def check_aot_size(path, file_bytes: float, memory_bytes: float, *, what: str,
+                   fix: str = "", memory: float | None = None,
+                   error: type[Exception] = MemoryError) -> None:
+    """Refuse an AOT file that cannot fit in memory or on disk, before any byte is written.
+
+    The one check behind :func:`write_aot` and closedloop's AOT export.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The target file (its folder's free space is checked).
+    file_bytes, memory_bytes : float
+        Estimated size of the file and peak memory of writing it [bytes].
+    what : str
+        The work, starting the memory message (``"writing this log as AOT"``).
+    fix : str
+        Appended to either message (``"; ... pass mode_images=False ..."``).
+    memory : float, optional
+        Memory the writer may use [bytes]; default
+        :func:`modalinfo.common.memory.usable_memory_bytes` (available memory, capped by
+        the address space an ``ulimit -v`` leaves).
+    error : type
+        Exception raised for memory (a ``MemoryError`` by default; closedloop passes its
+        ``ResourceError``).
+
+    Raises
+    ------
+    error
+        One line: the memory needed, the limit and the file's size.
+    modalinfo.common.folders.OutputError
+        The folder lacks the file's size.
+    """
+    from modalinfo.common import memory as _memory
+    from modalinfo.common.folders import OutputError, check_room
+
+    path = as_path(path)
+    limit = _memory.usable_memory_bytes() if memory is None else float(memory)
+    if memory_bytes > limit:
+        raise error(f"{what} needs about {format_size(memory_bytes)} of memory, more than "
+                    f"the {format_size(limit)} available (the file is about "
+                    f"{format_size(file_bytes)}{fix}).")
+    try:
+        check_room(Path(os.path.abspath(path)).parent, file_bytes, f"AOT file '{path}'")
+    except OutputError as exc:
+        raise OutputError(f"{exc}{fix}") from None
+
+
+def estimate_write_aot(log: ModalLog, basis=None) -> tuple[float, float]:
+    """Estimate the file and the peak memory of ``write_aot(log, ..., basis=basis)``.
+
+    Parameters
+    ----------
+    log : ModalLog
+        The log (its shape and dtype; nothing is copied).
+    basis : ModalBasis, optional
+        Its mode images ``(M, n, n)`` float64 and pupil mask ``(n, n)`` int16 are counted.
+
+    Returns
+    -------
+    file_bytes, memory_bytes : float
+        [bytes]: the arrays, one header and padding per image and aotpy's tables; the
+        memory is ``_WRITE_COPIES`` copies of the arrays (the interpreter not counted).
+    """
+    coeffs = np.asarray(log.coeffs)
+    arrays = float(coeffs.nbytes)
+    hdus = 1
+    if log.timestamps is not None:
+        arrays += 8.0 * np.shape(log.timestamps)[0]
+        hdus += 1
+    if basis is not None:
+        n_rows, n_cols = np.shape(basis.pupil.mask)
+        arrays += 8.0 * basis.n_modes * n_rows * n_cols + 2.0 * n_rows * n_cols
+        hdus += 2
+    file_bytes = arrays + TABLE_BYTES + HDU_OVERHEAD * hdus
+    return file_bytes, _WRITE_COPIES * arrays
+
+
 def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
               loop: str = "loop") -> Path:
     """Write ``log`` as a minimal valid AOT system (one control loop), atomically.
@@ -808,6 +898,14 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
     -------
     pathlib.Path
         The written path.
+
+    Raises
+    ------
+    MemoryError
+        Writing would need more memory than available (:func:`estimate_write_aot`,
+        :func:`check_aot_size`), checked before any byte is written.
+    modalinfo.common.folders.OutputError
+        The target's folder has less free space than the file needs.
     """
     if not isinstance(log, ModalLog):
         raise TypeError(f"`log` must be a ModalLog; got {type(log).__name__}.")
@@ -824,6 +922,10 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
         if basis.n_modes != log.n_modes:
             raise ValueError(f"`basis` has {basis.n_modes} modes but the log has {log.n_modes} "
                              "columns; they must match.")
+    # before the mode images are made and any byte is written (left13-cli)
+    file_bytes, memory_bytes = estimate_write_aot(log, basis)
+    check_aot_size(path, file_bytes, memory_bytes, what="writing this log as AOT")
+    if basis is not None:
         modes = np.nan_to_num(basis.pupil.to_image(np.asarray(basis.matrix).T), nan=0.0)
         names = [str(s) for s in basis.labels]
         if not all(re.fullmatch(r"Z[1-9][0-9]*", s) for s in names):
