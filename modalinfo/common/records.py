@@ -7,19 +7,22 @@ eq-*). The records below compare arrays by value (NaN equal to NaN: a stored "un
 is the same answer), containers item by item, and anything else with ``==``.
 
 A record field that was renamed keeps its old name as a property that calls
-``warn_deprecated_alias`` (a ``DeprecationWarning``, once per process and name).
+``warn_deprecated_alias`` (a ``DeprecationWarning``, once per process and name), and as a
+constructor keyword (:func:`renamed_keyword`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
 from typing import Any
 
 import numpy as np
 
-__all__ = ["array_fields_eq", "same_value", "short_repr", "warn_deprecated_alias"]
+__all__ = ["array_fields_eq", "renamed_keyword", "same_value", "short_repr",
+           "warn_deprecated_alias"]
 
 #: the deprecated names already warned about in this process
 _WARNED: set[str] = set()
@@ -39,6 +42,44 @@ def warn_deprecated_alias(old: str, new: str) -> None:
     warnings.warn(f"{old} is deprecated: use {new} (one spelling of the p-value across "
                   "the package, scipy.stats'); the alias will be removed",
                   DeprecationWarning, stacklevel=3)
+
+
+def renamed_keyword(old: str, new: str):
+    """Class decorator: a dataclass accepts ``old=`` as a deprecated keyword of field ``new``.
+
+    The attribute keeps its alias as a property calling :func:`warn_deprecated_alias`;
+    this gives the constructor the same alias (issue 27, left13-cli: ``p_value=`` was a
+    ``TypeError`` while ``.p_value`` was accepted). ``old=`` alone warns once
+    (``DeprecationWarning``) and sets ``new``; both together are refused, naming ``new``
+    (``dataclasses.replace(r, old=...)`` passes every field, ``new`` too: refused, as the
+    message says). Pickle does not call the constructor and is unaffected.
+
+    Parameters
+    ----------
+    old, new : str
+        The deprecated keyword and the field it stands for.
+    """
+    def decorate(cls):
+        position = [f.name for f in dataclasses.fields(cls) if f.init].index(new)
+        init = cls.__init__
+        name = cls.__name__
+
+        @functools.wraps(init)
+        def __init__(self, *args, **kwargs):  # noqa: N807 - the class's constructor
+            if old in kwargs:
+                if new in kwargs or len(args) > position:
+                    raise TypeError(
+                        f"{name}() got `{new}` and its deprecated alias `{old}`; give `{new}` "
+                        f"only (dataclasses.replace passes every field: replace(..., "
+                        f"{new}=...))")
+                warn_deprecated_alias(f"{name}({old}=...)", f"{name}({new}=...)")
+                kwargs[new] = kwargs.pop(old)
+            init(self, *args, **kwargs)
+
+        cls.__init__ = __init__
+        return cls
+
+    return decorate
 
 
 def same_value(a: Any, b: Any) -> bool:

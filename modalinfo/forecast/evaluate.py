@@ -64,7 +64,7 @@ from scipy.fft import dct
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
-from modalinfo.common.records import array_fields_eq, warn_deprecated_alias
+from modalinfo.common.records import array_fields_eq, renamed_keyword, warn_deprecated_alias
 from modalinfo.common.validation import (
     as_float_array,
     check_int,
@@ -99,6 +99,7 @@ def _csv_number(value: float) -> str:
     return "" if np.isnan(value) else repr(value)
 
 
+@renamed_keyword("p_value", "pvalue")
 @array_fields_eq
 @dataclass(frozen=True)
 class ForecastEvaluation:
@@ -142,8 +143,9 @@ class ForecastEvaluation:
         (Student's t with ``B`` degrees of freedom, the number of cosine terms; NaN
         when no test is honest, with a warning). Spelled as scipy.stats and the
         other results of this package spell it; ``p_value`` is a deprecated alias (a
-        ``DeprecationWarning``, once). The JSON key and CSV column stay ``p_value``
-        (the file format :meth:`to_json` and :meth:`to_csv` have always written).
+        ``DeprecationWarning``, once), as an attribute and as a constructor keyword.
+        The JSON key and CSV column stay ``p_value`` (the file format :meth:`to_json`
+        and :meth:`to_csv` have always written).
     beats_baseline : numpy.ndarray of bool, shape (P, H)
         ``pvalue < alpha / n_tests`` (Bonferroni), False for the baselines.
     baseline : tuple of str
