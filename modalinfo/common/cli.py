@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import io
 import os
 import sys
 from pathlib import Path
 
 from modalinfo.common.deps import MissingDependencyError, require_dist
-from modalinfo.common.files import check_not_special, writable_free_bytes
+from modalinfo.common.files import SHOWN_ERRORS, check_not_special, writable_free_bytes
 from modalinfo.common.tasks.cluster import check_memory_limit, check_worker_count
 
 __all__ = [
@@ -161,6 +162,35 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
         The exit status: the subcommand's, or :data:`EXIT_USAGE`, :data:`EXIT_INTERRUPTED`.
     """
     _open_closed_streams()
+    # a file name with bytes that are not UTF-8 is printed as the batch table writes it
+    # (\xff), whichever line prints it: the streams' own handlers wrote \udcff on
+    # stderr and the raw byte on stdout (left13-cli)
+    previous = _show_bad_bytes()
+    try:
+        return _dispatch(parser, argv, prog, words)
+    finally:
+        for stream, errors in previous:
+            with contextlib.suppress(Exception):
+                stream.reconfigure(errors=errors)
+
+
+def _show_bad_bytes() -> list:
+    """Give stdout and stderr the ``shown_name`` error handler; return what to restore."""
+    previous = []
+    for stream in (sys.stdout, sys.stderr):
+        errors = getattr(stream, "errors", None)
+        if errors is None or errors == SHOWN_ERRORS or not hasattr(stream, "reconfigure"):
+            continue
+        try:
+            stream.reconfigure(errors=SHOWN_ERRORS)
+        except (ValueError, OSError, io.UnsupportedOperation):  # a stream that cannot
+            continue
+        previous.append((stream, errors))
+    return previous
+
+
+def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
+              words) -> int:
     try:
         args = parser.parse_args(argv)
     except KeyboardInterrupt:  # Ctrl-C while the parser imports a subcommand's modules

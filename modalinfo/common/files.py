@@ -4,12 +4,14 @@ Part of the ground floor (:mod:`modalinfo.common`): :func:`atomic_write` (a cras
 leaves the old file or none, never half a file; no overwrite unless asked; SIGINT and
 SIGTERM during a save remove the temporary file), :func:`as_path` and
 :func:`check_readable` (argument checks naming the path), :func:`check_not_special`
-(no rename onto a device node) and :func:`writable_free_bytes` (a real test write).
+(no rename onto a device node), :func:`writable_free_bytes` (a real test write) and
+:func:`shown_name` (how a file name is shown to the user).
 Output *folders* (free space, locks) are :mod:`modalinfo.common.folders`.
 """
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import errno
 import os
@@ -26,6 +28,7 @@ __all__ = [
     "atomic_write",
     "check_not_special",
     "check_readable",
+    "shown_name",
     "signals_end_the_save",
     "terminating_signals",
     "writable_free_bytes",
@@ -37,6 +40,52 @@ def as_path(path: Any, name: str = "path") -> Path:
     if not isinstance(path, str | os.PathLike):
         raise TypeError(f"`{name}` must be a str or os.PathLike; got {type(path).__name__}.")
     return Path(path)
+
+
+def shown_name(text: str | os.PathLike) -> str:
+    r"""Return a file name (or a message holding one) as shown to the user: bad bytes as ``\xNN``.
+
+    A file name that is not UTF-8 reaches Python as a str holding lone surrogates (PEP
+    383). Written as they are, a terminal showed ``\udcff`` (stderr's
+    ``backslashreplace``), the raw byte (stdout) or nothing (pyarrow refused the table);
+    here every undecodable byte reads as ``ls -b``'s ``\xff``, in the batch table, its
+    notes and report lines, and every command's error and warning lines (left13-cli).
+
+    Parameters
+    ----------
+    text : str or os.PathLike
+        A path or a text that may contain one.
+
+    Returns
+    -------
+    str
+        ``text`` unchanged when it is valid UTF-8.
+    """
+    text = os.fspath(text)
+    if isinstance(text, bytes):
+        text = os.fsdecode(text)
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        try:
+            raw = text.encode("utf-8", "surrogateescape")
+        except UnicodeEncodeError:  # a surrogate no byte gave: shown as its code point
+            return text.encode("utf-8", "backslashreplace").decode("utf-8")
+        return raw.decode("utf-8", "backslashreplace")
+    return text
+
+
+def _shown_bytes(exc: UnicodeError) -> tuple[str, int]:
+    """Codec error handler ``"modalinfo.shown"``: write bad bytes as :func:`shown_name` does."""
+    if isinstance(exc, UnicodeEncodeError):
+        return shown_name(exc.object[exc.start:exc.end]), exc.end
+    raise exc
+
+
+#: the error handler the command lines give stdout and stderr: every file name printed
+#: (notes, errors, warnings, reports) reads as :func:`shown_name` writes it
+SHOWN_ERRORS = "modalinfo.shown"
+codecs.register_error(SHOWN_ERRORS, _shown_bytes)
 
 
 def check_readable(path: Path) -> None:

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from modalinfo.common.deps import require
-from modalinfo.common.files import atomic_write
+from modalinfo.common.files import atomic_write, shown_name
 from modalinfo.common.folders import clean_staging
 from modalinfo.common.tasks.keys import canonical_json
 
@@ -86,14 +86,10 @@ def _utf8_text(value: object) -> object:
 
     A file name that is not UTF-8 reaches Python as a str holding lone surrogates
     (PEP 383), which pyarrow's UTF-8 columns cannot hold: the whole table failed after
-    every task had run (round 13 PART b). The byte is written as ``ls -b`` shows it.
+    every task had run (round 13 PART b). The byte is written as ``ls -b`` shows it,
+    by the one rule every message follows (``shown_name``).
     """
-    if isinstance(value, str):
-        try:
-            value.encode("utf-8")
-        except UnicodeEncodeError:
-            return os.fsencode(value).decode("utf-8", "backslashreplace")
-    return value
+    return shown_name(value) if isinstance(value, str) else value
 
 
 def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str] = (),
