@@ -16,7 +16,7 @@ from modalinfo.common.folders import OutputError
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
-           "save_png_pdf", "shipped_log", "staged_output", "suffixed"]
+           "save_png_pdf", "shipped_log", "staged_output", "suffixed", "write_figure"]
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
@@ -264,26 +264,63 @@ def figure_main(
     names = [figure_name] if output_names is None else output_names(args.suffix)
     if output_names is not None and any(c in args.suffix for c in "/\\\0"):
         return fail(f"--suffix must not contain a path separator; got {args.suffix!r}")
-    try:
-        check_out_dir(args.out)
-    except OutputError as exc:
-        return fail(str(exc))
-    existing = [args.out / name for name in names if (args.out / name).exists()]
-    if existing and not args.overwrite:
-        return fail(f"'{existing[0]}' exists; pass --overwrite")
     if args.log is not None and args.log.is_dir():
         return fail(f"--log '{args.log}' is a folder, not a log file")
     if args.log is not None and not args.log.exists():
         return fail(f"log file '{args.log}' does not exist")
     if args.log is not None and not args.log.is_file():
         return fail(f"--log '{args.log}' is not a regular file (a FIFO or a device)")
+    if output_names is None:
+        return write_figure(args.out, names, args.overwrite, lambda stage: make(stage, args.log),
+                            short)
+    return write_figure(args.out, names, args.overwrite,
+                        lambda stage: make(stage, args.log, suffix=args.suffix), short)
+
+
+def write_figure(out: Path, names: list[str], overwrite: bool,
+                 draw: Callable[[Path], str], short: str) -> int:
+    """Draw one stand-alone figure into ``out`` under its lock; print its report section.
+
+    The stand-alone scripts (``python -m paper_figures.figN_...``) take the lock
+    ``python -m paper_figures`` and ``modalinfo batch`` take (:func:`locked_output`):
+    two runs into one folder do not replace each other's files (left13-cli: they took
+    none). Under the lock, any of ``names`` already in ``out`` is refused unless
+    ``overwrite``; ``draw(stage)`` writes into a staging folder moved into ``out`` at the
+    end (:func:`staged_output`: all or nothing).
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The output folder (``--out``).
+    names : list of str
+        The files the figure writes.
+    overwrite : bool
+        Replace them (``--overwrite``).
+    draw : callable
+        ``draw(folder) -> report text``.
+    short : str
+        The script's short name, starting its error lines (``"fig6"``).
+
+    Returns
+    -------
+    int
+        0, or the exit status of the one-line error on stderr (2 for an input or a
+        held folder, 1 for a failed write, 130 for Ctrl-C).
+    """
+    def fail(message: str, code: int = EXIT_USAGE) -> int:
+        sys.stderr.write(f"{short}: error: {message}\n")
+        return code
+
     try:
-        with staged_output(args.out) as stage:
-            if output_names is None:
-                text = make(stage, args.log)
-            else:
-                text = make(stage, args.log, suffix=args.suffix)
-    except (ValueError, TypeError) as exc:
+        check_out_dir(out)
+        with locked_output(out):
+            # checked under the lock: a run that finished since cannot be replaced unasked
+            existing = [out / name for name in names if (out / name).exists()]
+            if existing and not overwrite:
+                return fail(f"'{existing[0]}' exists; pass --overwrite")
+            with staged_output(out) as stage:
+                text = draw(stage)
+    except (ValueError, TypeError) as exc:  # OutputError (a held folder) included
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
         return fail(message)
     except (OSError, MemoryError) as exc:

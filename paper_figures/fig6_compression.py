@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from modalinfo.common.cli import Parser
-from paper_figures._common import save_png_pdf
+from paper_figures._common import save_png_pdf, write_figure
 
 FIGURE_NAME = "fig6_compression.png"
 PDF_NAME = "fig6_compression.pdf"
@@ -459,12 +459,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
     parser.add_argument("--quick", action="store_true", help="fewer mode counts")
     args = parser.parse_args(argv)
-    for name in (FIGURE_NAME, PDF_NAME):
-        if (args.out / name).exists() and not args.overwrite:
-            sys.stderr.write(f"fig6: error: '{args.out / name}' exists; pass --overwrite\n")
-            return 2
-    print(make(args.out, quick=args.quick))
-    return 0
+    # under the lock python -m paper_figures takes; staged, all or nothing (left13-cli)
+    return write_figure(args.out, [FIGURE_NAME, PDF_NAME], args.overwrite,
+                        lambda stage: make(stage, quick=args.quick), "fig6")
 
 
 if __name__ == "__main__":

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.cli import Parser
-from paper_figures._common import markdown_table, save_png_pdf
+from paper_figures._common import markdown_table, save_png_pdf, write_figure
 from paper_figures.closedloop_runs import LABELS, STYLES, ClosedLoopRuns
 
 FIGURE_NAME = "fig7_solar.png"
@@ -476,9 +476,9 @@ def main(argv: list[str] | None = None) -> int:
 
     runs = closedloop_runs.compute(quick=args.quick, seed=args.seed,
                                    names=PREDICTORS)
-    args.out.mkdir(parents=True, exist_ok=True)
-    print(make(args.out, runs))
-    return 0
+    # under the lock python -m paper_figures takes; staged, all or nothing (left13-cli)
+    return write_figure(args.out, [FIGURE_NAME, PDF_NAME, JSON_NAME], args.overwrite,
+                        lambda stage: make(stage, runs), "fig7")
 
 
 if __name__ == "__main__":

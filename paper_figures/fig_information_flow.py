@@ -361,13 +361,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
     parser.add_argument("--quick", action="store_true", help="shorter logs and run")
     args = parser.parse_args(argv)
-    for name in (FIGURE_NAME, PDF_NAME, JSON_NAME):
-        if (args.out / name).exists() and not args.overwrite:
-            sys.stderr.write(f"fig8: error: '{args.out / name}' exists; pass --overwrite\n")
-            return 2
-    args.out.mkdir(parents=True, exist_ok=True)
-    print(make(args.out, quick=args.quick))
-    return 0
+    from paper_figures._common import write_figure
+
+    # under the lock python -m paper_figures takes; staged, all or nothing (left13-cli)
+    return write_figure(args.out, [FIGURE_NAME, PDF_NAME, JSON_NAME], args.overwrite,
+                        lambda stage: make(stage, quick=args.quick), "fig8")
 
 
 if __name__ == "__main__":
