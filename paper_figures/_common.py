@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import shutil
 import sys
@@ -10,7 +11,7 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from modalinfo.common import folders
+from modalinfo.common import files, folders
 from modalinfo.common.cli import EXIT_INTERRUPTED, EXIT_USAGE, Parser
 from modalinfo.common.folders import OutputError
 
@@ -97,7 +98,8 @@ def staged_output(out: Path) -> Iterator[Path]:
     stage = Path(tempfile.mkdtemp(prefix=folders.staging_prefix(_partial_prefix(out)),
                                   dir=base))
     try:
-        yield stage
+        with files.naming_target(stage, out):  # the user's --out, not the staging folder
+            yield stage
         if not out.exists():
             out.parent.mkdir(parents=True, exist_ok=True)
             os.replace(stage, out)
@@ -324,6 +326,8 @@ def write_figure(out: Path, names: list[str], overwrite: bool,
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
         return fail(message)
     except (OSError, MemoryError) as exc:
+        if isinstance(exc, OSError) and exc.errno == errno.ENOSPC:
+            return fail(str(exc), 1)  # files.naming_target's line: the folder, what is kept
         return fail(f"{type(exc).__name__}: {exc}; nothing was written", 1)
     except KeyboardInterrupt:
         return fail("interrupted; nothing was written", EXIT_INTERRUPTED)

@@ -273,7 +273,7 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
     import shutil
     import tempfile
 
-    from modalinfo.common.files import signals_end_the_save
+    from modalinfo.common.files import naming_target, signals_end_the_save
     from modalinfo.common.folders import clean_staging, staging_prefix
 
     created = not out.exists()
@@ -288,9 +288,10 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
         kept: dict[str, Path] = {}
         done = False
         try:
-            ev.to_json(staging / OUTPUTS[0])
-            ev.to_csv(staging / OUTPUTS[1])
-            ev.save_plots(staging)
+            with naming_target(staging, out):  # the user's --out, not the staging folder
+                ev.to_json(staging / OUTPUTS[0])
+                ev.to_csv(staging / OUTPUTS[1])
+                ev.save_plots(staging)
             _refuse_non_files(out)
             clash = [n for n in OUTPUTS if (out / n).exists()]
             if clash and not overwrite:

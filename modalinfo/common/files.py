@@ -4,8 +4,9 @@ Part of the ground floor (:mod:`modalinfo.common`): :func:`atomic_write` (a cras
 leaves the old file or none, never half a file; no overwrite unless asked; SIGINT and
 SIGTERM during a save remove the temporary file), :func:`as_path` and
 :func:`check_readable` (argument checks naming the path), :func:`check_not_special`
-(no rename onto a device node), :func:`writable_free_bytes` (a real test write) and
-:func:`shown_name` (how a file name is shown to the user).
+(no rename onto a device node), :func:`writable_free_bytes` (a real test write),
+:func:`shown_name` (how a file name is shown to the user) and :func:`naming_target` (an
+error names the user's target, never a staging file).
 Output *folders* (free space, locks) are :mod:`modalinfo.common.folders`.
 """
 
@@ -15,11 +16,12 @@ import codecs
 import contextlib
 import errno
 import os
+import re
 import signal
 import stat
 import tempfile
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +30,7 @@ __all__ = [
     "atomic_write",
     "check_not_special",
     "check_readable",
+    "naming_target",
     "shown_name",
     "signals_end_the_save",
     "terminating_signals",
@@ -153,30 +156,79 @@ def _exists_message(path: Path) -> str:
     return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
 
 
+#: numpy's short write (``ndarray.tofile``, under astropy's FITS writer), with no errno:
+#: the disk filled between astropy's free-space check and the write (left13-cli)
+_SHORT_WRITE = re.compile(r"\b[0-9]+ requested and [0-9]+ written\b")
+
+
 def _disk_full(exc: OSError) -> bool:
-    """Whether ``exc`` says the disk or quota is full (astropy says so without an errno)."""
+    """Whether ``exc`` says the disk or quota is full (astropy and numpy say so without errno)."""
     return (exc.errno in (errno.ENOSPC, errno.EDQUOT)
-            or "Not enough space on disk" in str(exc))
+            or "Not enough space on disk" in str(exc)
+            or _SHORT_WRITE.search(str(exc)) is not None)
+
+
+@contextlib.contextmanager
+def naming_target(staging: str | os.PathLike, target: str | os.PathLike) -> Iterator[None]:
+    """Re-raise an error of the block naming ``target`` where it named ``staging``.
+
+    The one rule of every writer that stages (a temporary file, a staging folder): the
+    user asked for ``target`` and never heard of ``.forecast.<pid>-<random>.tmp``; a full
+    disk mid-write said ``No space left on device writing
+    'out/.forecast.2861-h7_ovg1_.tmp/forecast_series.png'`` (left13-cli). ``OSError``,
+    ``ValueError`` and ``TypeError`` are re-raised as the same type with the staging
+    path (and its bare name) replaced; any other error, or one that does not name the
+    staging path, passes unchanged.
+
+    Parameters
+    ----------
+    staging : str or os.PathLike
+        The temporary file or folder written first.
+    target : str or os.PathLike
+        What the user asked for: the file, or the folder the staged files move into.
+    """
+    try:
+        yield
+    except OSError as exc:
+        if _disk_full(exc) and not _names(exc, os.fspath(staging)):
+            # matplotlib names no file, numpy gives no errno: the staged files are
+            # removed by the writer, the target not yet touched
+            raise _no_space(Path(target), "nothing was written") from None
+        _rename_in_message(exc, os.fspath(staging), Path(target))
+    except (ValueError, TypeError) as exc:
+        _rename_in_message(exc, os.fspath(staging), Path(target))
+
+
+def _no_space(path: Path, kept: str) -> OSError:
+    """Return the one line of a full disk: the user's target and what is left of it."""
+    full = OSError(f"No space left on device writing '{path}' ({kept}); free space or write "
+                   "elsewhere")
+    full.errno = errno.ENOSPC  # one line for the user, the errno for callers
+    return full
+
+
+def _names(exc: BaseException, tmp: str) -> bool:
+    return tmp in str(exc) or Path(tmp).name in str(exc)
 
 
 def _renamed(write: Callable[[Any], None], target: Any, tmp: str, path: Path) -> None:
     """Call ``write(target)``; an error naming the temporary file names ``path`` instead."""
-    try:
+    with naming_target(tmp, path):
         write(target)
-    except (OSError, ValueError, TypeError) as exc:  # the user knows the target, not the temp
-        _rename_in_message(exc, tmp, path)
 
 
 def _rename_in_message(exc: BaseException, tmp: str, path: Path) -> None:
     """Re-raise ``exc`` with the temporary file's name replaced by the target's."""
     text = str(exc)
-    if tmp not in text and Path(tmp).name not in text:
+    if not _names(exc, tmp):
         raise exc
     text = text.replace(tmp, str(path)).replace(Path(tmp).name, path.name)
     try:
         new = type(exc)(text)
     except Exception:  # noqa: BLE001 - an exception type with another signature
         raise exc from None
+    if isinstance(exc, OSError) and exc.errno is not None:
+        new.errno = exc.errno  # callers test the errno (a full disk)
     raise new from exc
 
 
@@ -340,10 +392,7 @@ def atomic_write(
             if not _disk_full(exc):
                 raise
             kept = "the old file is unchanged" if path.exists() else "nothing was written"
-            full = OSError(f"No space left on device writing '{path}' ({kept}); free "
-                           "space or write elsewhere")
-            full.errno = errno.ENOSPC  # one line for the user, the errno for callers
-            raise full from None
+            raise _no_space(path, kept) from None
         finally:
             armed[0] = False  # a signal from here on is only recorded: the cleanup runs
             if os.path.exists(tmp):

@@ -435,15 +435,17 @@ def test_figure_main_names_a_fifo_given_as_the_log(tmp_path, capsys):
     (TypeError("  typed  \n"), 2, "typed"),
     (ValueError(""), 2, "ValueError('')"),
     (ValueError("  "), 2, "ValueError('  ')"),
+    # a full disk names the --out folder (left13-cli: files.naming_target)
     (OSError(28, "No space left on device"), 1,
-     "OSError: [Errno 28] No space left on device; nothing was written"),
+     "No space left on device writing '{out}' (nothing was written); free space or write "
+     "elsewhere"),
     (MemoryError("big"), 1, "MemoryError: big; nothing was written"),
     (KeyboardInterrupt(), 130, "interrupted; nothing was written"),
 ])
 def test_figure_main_failures_in_one_line(tmp_path, capsys, error, code, message):
     out = tmp_path / "o"
     assert run(["--out", str(out)], maker([], error=error)) == code
-    assert capsys.readouterr() == ("", f"fig9: error: {message}\n")
+    assert capsys.readouterr() == ("", f"fig9: error: {message.format(out=out)}\n")
     assert not out.exists()                     # nothing was written
     assert sorted(p.name for p in tmp_path.iterdir()) == []
 
