@@ -148,7 +148,9 @@ def as_float_array(
     value = unmasked(value, name)
     try:
         arr = np.asarray(value)
-    except Exception as exc:  # ragged lists and the like
+    except MemoryError:  # a value too big for memory is not a wrong type (left13-cli)
+        raise
+    except Exception as exc:  # noqa: BLE001 - ragged lists and the like
         raise TypeError(f"`{name}` must be a numeric array; got {_describe(value)}.") from exc
     check_real_dtype(arr, name, value)
     if ndim is not None:
