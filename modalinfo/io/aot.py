@@ -902,8 +902,8 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
     Raises
     ------
     MemoryError
-        Writing would need more memory than available (:func:`estimate_write_aot`,
-        :func:`check_aot_size`), checked before any byte is written.
+        Writing would need more memory than available (``estimate_write_aot``,
+        ``check_aot_size``), checked before any byte is written.
     modalinfo.common.folders.OutputError
         The target's folder has less free space than the file needs.
     """
