@@ -435,7 +435,7 @@ class ARMAPredictor(_LinearRecursion):
 
     The model is stationary about one mean: a step in level within the training
     series (two nights concatenated, an offset changed) is fitted as persistence
-    (round 14 PART a: AR(1) with phi = 0.9 and a step of 6.5 standard deviations half
+    (round 14 PART a: AR(1) with phi = 0.9 and a step of 8.7 standard deviations half
     way gave phi = 0.994), and nothing here detects it (nor does
     :func:`modalinfo.telemetry.assess_quality`'s stationarity, which judges the
     innovations' scale): fit each stretch of steady conditions on its own.
