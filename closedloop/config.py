@@ -220,6 +220,12 @@ class DMConfig:
         (TOML/JSON) form its fields are keys of the ``dms[i]`` table itself.
 
     ``kind`` is any registered mirror kind (:func:`closedloop.kinds.mirror_kinds`).
+
+    Stroke: no mirror kind limits its stroke (no saturation is modelled): the commands
+    follow the turbulence whatever its amplitude (round 14 PART a: at ``d_over_r0`` = 20
+    on 4 m the modal commands reach several rad, a real DM's few-micron stroke, tens of
+    rad at 500 nm, is not checked). Compare ``result.logs`` commands with the stroke of
+    the mirror meant before trusting a run at strong turbulence.
     """
 
     altitude: float

@@ -98,7 +98,9 @@ def von_karman_structure_function(r, r0: float, outer_scale: float = np.inf) -> 
     Parameters
     ----------
     r : array_like
-        Separations [m], ``>= 0``.
+        Separations [m], any sign: ``D_phi`` is even, so ``r`` and ``-r`` (a shift
+        component along either direction, as ``closedloop.theory.structure_function``
+        passes) give ``D_phi(|r|)``.
     r0 : float
         Fried parameter [m] at the phase's wavelength, ``> 0``.
     outer_scale : float

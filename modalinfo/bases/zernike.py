@@ -113,7 +113,9 @@ def zernike_polynomial(j: int, rho, theta) -> np.ndarray:
     j : int
         Noll index, ``j >= 1``.
     rho : array_like
-        Normalised radius.
+        Normalised radius, the unit disc ``0 <= rho <= 1``. Beyond it the polynomial is
+        evaluated as it stands (``Z_4(1.5) = sqrt(3) (2 rho^2 - 1) = 6.06``, no
+        refusal): the unit-RMS normalisation holds over the disc only.
     theta : array_like
         Azimuth [rad], ``atan2(y, x)``; broadcast with ``rho``.
 

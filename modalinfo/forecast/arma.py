@@ -433,6 +433,13 @@ class ARMAPredictor(_LinearRecursion):
     magnitude: a zeroed or dead mode) is not modelled: its forecast is the constant
     (order (0, 0) about it, ``sigma2_`` its mean square deviation, 0 if exact).
 
+    The model is stationary about one mean: a step in level within the training
+    series (two nights concatenated, an offset changed) is fitted as persistence
+    (round 14 PART a: AR(1) with phi = 0.9 and a step of 8.7 standard deviations half
+    way gave phi = 0.994), and nothing here detects it (nor does
+    :func:`modalinfo.telemetry.assess_quality`'s stationarity, which judges the
+    innovations' scale): fit each stretch of steady conditions on its own.
+
     Parameters
     ----------
     order : tuple of int or {"aic", "bic"}

@@ -413,7 +413,7 @@ def neighbour_rule(x: np.ndarray, y: np.ndarray, value: float) -> str | None:
 
 def judge_pair_estimate(x: np.ndarray, y: np.ndarray, value: float,
                         estimate: Callable[[np.ndarray, np.ndarray], float],
-                        what: str, resolution: bool = True) -> None:
+                        what: str, resolution: bool = True) -> bool:
     """Warn (:class:`BiasRuleWarning`) where a pair estimate fails a rule of this module.
 
     Rule 1 first (a persistent pair makes the other two meaningless), then 3 (one sort
@@ -437,6 +437,11 @@ def judge_pair_estimate(x: np.ndarray, y: np.ndarray, value: float,
         whose documented estimand is below the MI of a curve by design, and where the
         caller chose the resolution (``bins``, ``k``, ``bandwidth``: judged by the
         method's bias rule alone). Rule 1 judges every estimate.
+
+    Returns
+    -------
+    bool
+        Whether it warned (a caller's own rule then stays silent: one warning at most).
     """
     why = effective_sample_rule(x, y)
     if why is None and resolution:
@@ -452,3 +457,4 @@ def judge_pair_estimate(x: np.ndarray, y: np.ndarray, value: float,
             why = convergence_rule(estimate, x, y, value)
     if why is not None:
         warnings.warn(f"{what}: {why}.", BiasRuleWarning, stacklevel=3)
+    return why is not None

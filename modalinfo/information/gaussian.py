@@ -63,7 +63,10 @@ class GaussianEngine:
     copula : bool
         Default True: the correlation of the normal scores Phi^-1(rank / (n + 1)) of
         each variable (Gaussian-copula MI, Ince et al., Hum. Brain Mapp. 38, 1541,
-        2017): exact for any pair whose copula is Gaussian, whatever the marginals,
+        2017): exact for any pair whose copula is Gaussian, whatever the marginals, up
+        to the resolution of n normal scores (round 14 PART a: 5.93 nats at n = 2000 for
+        a Gaussian pair with rho = 0.999999, exact 6.56, where ``copula=False`` gave
+        6.54: the scores of nearby ranks cannot show a correlation that close to 1),
         a lower bound of the MI otherwise, and moved by one glitch by about its share
         of the sample. ``False``: the Pearson correlation of the values (the former
         behaviour), which one sample at 1e6 drives to 0.

@@ -55,8 +55,11 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
     t0 = max(lag, history)
     T = tgt.shape[0]
     if T - t0 < MIN_SAMPLES:
+        # a (1, n) row (np.matrix, a transposed column) is one sample of n columns: say so
+        row = (f" (a row of shape {tgt.shape}: rows are samples; pass a 1-D series or "
+               "shape (n, 1))" if T == 1 and tgt.shape[1] >= MIN_SAMPLES else "")
         raise ValueError(f"`target` needs at least {t0 + MIN_SAMPLES} samples for lag={lag}, "
-                         f"history={history}; got {T}.")
+                         f"history={history}; got {T}{row}.")
     x = tgt[t0:]
     y = src[t0 - lag : T - lag]
     z = (np.concatenate([tgt[t0 - i : T - i] for i in range(1, history + 1)], axis=1)

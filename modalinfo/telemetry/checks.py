@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import check_exact_integers, unmasked
+from modalinfo.common.validation import RATE_RANGE, check_exact_integers, unmasked
 
 __all__ = [
     "CONVENTIONS",
@@ -212,8 +212,19 @@ def check_timestamps(timestamps: Any, n_frames: int | None,
     """Return ``timestamps`` as read-only float64 seconds, finite and strictly increasing.
 
     ``n_frames`` None accepts any length; ``name`` names the argument in messages.
+    Integer times whose median step is a frame rate below ``RATE_RANGE``'s 1 mHz are
+    refused: counts of ns or us read as seconds (round 14 PART a: int64 ns from 0 at
+    1 kHz became a 1e-6 Hz log; the file readers convert such columns by their unit
+    and the command lines refuse the rate, but the constructor took them).
     """
-    return checked_intervals(timestamps, n_frames, name)[0]
+    t, _, median = checked_intervals(timestamps, n_frames, name)
+    kind = getattr(timestamps, "dtype", np.asarray(timestamps).dtype).kind
+    if kind in "iu" and median > 1.0 / RATE_RANGE[0]:
+        raise ValueError(
+            f"`{name}` are integers with a median step of {median:.0f} (a frame rate of "
+            f"{1.0 / median:.3g} Hz in seconds, below {RATE_RANGE[0]:g} Hz): counts of ns "
+            f"or us? pass seconds, e.g. t / 1e9 for ns.")
+    return t
 
 
 def checked_intervals(timestamps: Any, n_frames: int | None,
