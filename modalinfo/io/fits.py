@@ -132,8 +132,9 @@ def write_hdulist(hdul, name) -> None:
     from astropy.io import fits
 
     hdul.writeto(name, checksum=False, output_verify="exception")
-    # the sums of the HDUs as written (a table's are known only once it is serialised)
-    with fits.open(name, mode="update", memmap=False) as written:
+    # the sums of the HDUs as written (a table's are known only once it is serialised);
+    # memory-mapped, so the data are not held in memory a second time
+    with fits.open(name, mode="update", memmap=True) as written:
         for hdu in written:
             hdu.add_checksum(when=CHECKSUM_COMMENT)
 
