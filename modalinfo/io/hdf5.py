@@ -216,15 +216,21 @@ def _check_virtual_sources(dset, path: Path) -> None:
 
     libhdf5 reads the missing part as the fill value without a word: a log of zeros
     (or NaN) where the data were (round 14 PART b, H04). A source named ``.`` is the
-    file itself; others are looked up as libhdf5 does, beside the file, then from the
-    working folder.
+    file itself; others are looked up where libhdf5 looks (``HDF5_VDS_PREFIX``, beside
+    the file, the working folder).
     """
     if not getattr(dset, "is_virtual", False):
         return
+    import os
+
+    # where libhdf5 looks: HDF5_VDS_PREFIX (${ORIGIN}: the file's folder), the file's
+    # folder, the working folder
+    folders = [Path(p.replace("${ORIGIN}", str(path.parent)))
+               for p in os.environ.get("HDF5_VDS_PREFIX", "").split(os.pathsep) if p]
+    folders += [path.parent, Path.cwd()]
     missing = sorted({
         vs.file_name for vs in dset.virtual_sources()
-        if vs.file_name != "." and not (path.parent / vs.file_name).exists()
-        and not Path(vs.file_name).exists()
+        if vs.file_name != "." and not any((f / vs.file_name).exists() for f in folders)
     })
     if missing:
         raise LogFormatError(
