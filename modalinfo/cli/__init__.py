@@ -46,7 +46,8 @@ _REWRITES = (
     (re.compile(r"pass nonfinite='(\w+)' or '(\w+)'"), r"use --nonfinite \1 or --nonfinite \2"),
     (re.compile(r"pass overwrite=True(?: \(command line: --overwrite\))?"), "pass --overwrite"),
     # "pass transpose=True (command line: --transpose)" -> "pass --transpose"
-    (re.compile(r"\w+=\S* \(command line: (--[\w-]+(?: [A-Z]+)?)\)"), r"\1"),
+    # "method='gaussian' (command line: --method gaussian)" -> "--method gaussian"
+    (re.compile(r"\w+=\S* \(command line: (--[\w-]+(?: [\w-]+)?)\)"), r"\1"),
     (re.compile(r"pass fmt="), "pass --to-fmt"),
     (re.compile(r"max\(horizons\) \+ 1"), "--horizon + 1"),
     # hint `rate`=2000.0 -> --rate 2000

@@ -337,6 +337,24 @@ def _umask() -> int:
     return mask
 
 
+def _temp_prefix(path: Path) -> str:
+    """Return the start of an atomic write's temporary name: ``.<name>.<pid>-``.
+
+    The name part is shortened so that the whole temporary name (with tempfile's
+    8 random characters and ``.tmp``) fits the folder's name limit: a legal 255-byte
+    name was refused with "File name too long" naming the temporary file (round 14
+    PART b, S01).
+    """
+    try:
+        limit = int(os.pathconf(path.parent, "PC_NAME_MAX"))
+    except (OSError, ValueError, AttributeError):
+        limit = 255
+    tail = f".{os.getpid()}-"
+    room = max(limit - 1 - len(tail) - 8 - len(".tmp"), 1)
+    name = os.fsencode(path.name)[:room]
+    return f".{os.fsdecode(name)}{tail}"
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -362,8 +380,7 @@ def atomic_write(
         raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
     with signals_end_the_save() as armed:
         # the pid in the name lets a later run tell a killed writer's file (folders.clean_staging)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}-", suffix=".tmp",
-                                   dir=directory)
+        fd, tmp = tempfile.mkstemp(prefix=_temp_prefix(path), suffix=".tmp", dir=directory)
         try:
             if by_name:
                 os.close(fd)

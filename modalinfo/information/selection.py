@@ -479,9 +479,10 @@ def _check_search_seconds(method: str, est, y: np.ndarray, C: np.ndarray,
             f"method={method!r} would take about {seconds:.0f} s of CPU for the first step "
             f"of the search alone ({m} candidates x (1 + {n_surrogates} surrogates) CMI "
             f"estimates on n = {n} rows; each later step costs more), more than "
-            f"`max_seconds`={max_seconds:g}; use method='gaussian' (closed form, well "
-            "under a second), fewer candidates (max_lag, candidates='radial') or "
-            "surrogates, or raise `max_seconds`.")
+            f"`max_seconds`={max_seconds:g}; use method='gaussian' (command line: --method "
+            "gaussian) (closed form, well under a second), fewer candidates (`max_lag`, "
+            "candidates='radial' (command line: --candidates radial)) or surrogates "
+            "(`n_surrogates`), or raise `max_seconds`.")
 
 
 def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

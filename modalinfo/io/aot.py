@@ -785,8 +785,12 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
         with catching_warnings():
             # aotpy notes empty optional tables as warnings; the file is valid AOT
             warnings.filterwarnings("ignore", message=r".*contains no data.*")
-            system.write_to_file(os.fspath(name), file_type="fits", checksum=True,
-                                 output_verify="exception")
+            from aotpy.io.fits.writer import AOTFITSWriter
+
+            from modalinfo.io.fits import write_hdulist
+
+            # aotpy's writer's HDUs, written with checksums that hold no clock time
+            write_hdulist(AOTFITSWriter(system).get_hdulist(), os.fspath(name))
 
     return atomic_write(path, write, overwrite=overwrite, by_name=True)
 

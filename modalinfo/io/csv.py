@@ -132,6 +132,37 @@ _INTEGER = re.compile(r"\+?\d+")
 _FLOAT = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+|\d+(?:\.\d*)?[eE][+-]?\d+)(?:[eE][+-]?\d+)?")
 
 
+#: a number written with a decimal comma ('0,25', '-1,5E-03') or thousands separators
+_DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+(?:[eE][+-]?\d+)?")
+_THOUSANDS = re.compile(r"[+-]?\d{1,3}(?:[,.\u00a0' ]\d{3})+(?:[.,]\d*)?")
+
+
+def _number_format(message: str, path) -> None:
+    """Refuse numbers in a spreadsheet's locale format, which numpy called "corrupt".
+
+    A German / French spreadsheet's CSV ('0,25' with ';' between values) and numbers
+    with thousands separators ('1,000.5') were "corrupt CSV file ... could not convert
+    string" (round 14 PART b, F18, F27, F30).
+    """
+    found = re.search(r"could not convert string '([^']*)'", message)
+    if not found:
+        return
+    token = found.group(1).strip().strip('"')
+    if _THOUSANDS.fullmatch(token) and not _DECIMAL_COMMA.fullmatch(token):
+        what = "thousands separators"
+        sep = re.search(r"\d([^\d])\d{3}", token).group(1)
+        read = f"thousands={sep!r}" + (", decimal=','" if sep == "." else "")
+    elif _DECIMAL_COMMA.fullmatch(token):
+        what = "a decimal comma (a spreadsheet in a German / French locale)"
+        read = "sep=';', decimal=','"
+    else:
+        return
+    raise LogFormatError(
+        f"CSV file '{path}': numbers such as {token!r} are written with {what}; modalinfo "
+        "reads numbers with a decimal point and no separators: re-save the file so (pandas: "
+        f"pd.read_csv(path, {read}).to_csv(new, index=False))")
+
+
 def _index_row(first: list[str], second: list[str] | None) -> bool:
     """Whether an all-numeric first row is a header of mode indices (``2,3,4,...``).
 
@@ -314,12 +345,19 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     f"({when.group(0)!r}...); times are read as numbers of seconds: "
                     "convert that column to seconds (pandas: (t - t[0]).dt.total_seconds()) "
                     "or delete it and give --rate HZ") from None
+            _number_format(str(exc), path)
             if "string ''" not in str(exc):
                 raise
             # an empty cell is how pandas / spreadsheets write a missing value: it is a
             # NaN for --nonfinite to handle, not a "corrupt CSV file" (round 12 PART b, A07)
             values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2,
                                 comments=None, quotechar='"', converters=_cell)
+        if header is None and names is not None:
+            # a spreadsheet's trailing empty columns (no name, no value: 'Z6,,' rows)
+            # were "modes must be non-empty str labels; got ''" (round 14 PART b, F19, F20)
+            while (len(names) > 1 and not names[-1] and len(names) == values.shape[1]
+                   and np.isnan(values[:, -1]).all()):
+                names, values = names[:-1], values[:, :-1]
         if names is not None and len(names) != values.shape[1]:
             raise LogFormatError(
                 f"CSV file '{path}': header row has {len(names)} names but rows have "

@@ -104,10 +104,39 @@ def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     hdul = fits.HDUList(hdus)
     return atomic_write(
         path,
-        lambda name: hdul.writeto(name, checksum=True, output_verify="exception"),
+        lambda name: write_hdulist(hdul, name),
         overwrite=overwrite,
         by_name=True,
     )
+
+
+#: the comment of the CHECKSUM and DATASUM cards modalinfo writes: astropy's default
+#: ("HDU checksum updated <local clock time>") made two writes of one log differ in
+#: bytes, by a time in the writer's time zone without its name (round 14 PART b, R03)
+CHECKSUM_COMMENT = "FITS checksum convention"
+
+
+def write_hdulist(hdul, name) -> None:
+    """Write ``hdul`` to ``name`` with CHECKSUM / DATASUM cards that hold no clock time.
+
+    The same HDUs give the same bytes at any time and in any time zone; the cards are
+    the FITS checksum convention's (verified by ``fits.open(..., checksum=True)``).
+
+    Parameters
+    ----------
+    hdul : astropy.io.fits.HDUList
+        The HDUs (their headers gain the two cards).
+    name : str or os.PathLike
+        The file to write (a new one: see ``atomic_write``).
+    """
+    from astropy.io import fits
+
+    hdul.writeto(name, checksum=False, output_verify="exception")
+    # the sums of the HDUs as written (a table's are known only once it is serialised);
+    # memory-mapped, so the data are not held in memory a second time
+    with fits.open(name, mode="update", memmap=True) as written:
+        for hdu in written:
+            hdu.add_checksum(when=CHECKSUM_COMMENT)
 
 
 def _native(arr: np.ndarray) -> np.ndarray:

@@ -40,6 +40,14 @@ _MAGIC = (
 
 
 #: (magic bytes, what the file is) of outputs users feed back as logs
+#: compressed files: magic bytes -> (the compressor, the command that keeps the original)
+_COMPRESSED = {
+    b"\x1f\x8b": ("gzip", "gunzip -k"),
+    b"BZh": ("bzip2", "bunzip2 -k"),
+    b"\xfd7zXZ\x00": ("xz", "unxz -k"),
+    b"\x28\xb5\x2f\xfd": ("zstd", "unzstd"),
+}
+
 _NOT_LOGS = (
     (b"PAR1", "an Apache Parquet table (a `batch` or `sweep` result?)"),
     (b"\x89PNG", "a PNG image"),
@@ -82,12 +90,14 @@ def detect_format(path) -> str:
     by_ext = format_from_extension(path)
     if by_ext is not None and by_ext != "csv":
         return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
-    if head.startswith(b"\x1f\x8b"):
-        # 'night.fits.gz' / 'log.csv.gz' were told "a CSV must be UTF-8: re-save it as
-        # UTF-8" (round 12 PART b, A11-A13)
-        raise LogFormatError(
-            f"'{path}' is gzip-compressed; decompress it first (gunzip -k '{path}') and "
-            "pass the decompressed file")
+    for magic, (what, tool) in _COMPRESSED.items():
+        if head.startswith(magic):
+            # 'night.fits.gz' / 'log.csv.gz' were told "a CSV must be UTF-8: re-save it as
+            # UTF-8" (round 12 PART b, A11-A13); bzip2 / xz / zstd the same (round 14
+            # PART b, F28, F29)
+            raise LogFormatError(
+                f"'{path}' is {what}-compressed; decompress it first ({tool} '{path}') "
+                "and pass the decompressed file")
     for magic, what in _NOT_LOGS:
         if head.startswith(magic):
             # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11

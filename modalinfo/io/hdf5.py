@@ -197,6 +197,48 @@ def _link_note(f, key: str) -> str:
     return ""
 
 
+def _links(f) -> list[str]:
+    """Paths of the soft and external links in ``f`` (a dangling one included)."""
+    import h5py
+
+    found: list[str] = []
+
+    def visit(name, link):
+        if isinstance(link, h5py.SoftLink | h5py.ExternalLink):
+            found.append(name)
+
+    f.visititems_links(visit)
+    return found
+
+
+def _check_virtual_sources(dset, path: Path) -> None:
+    """Refuse a virtual dataset whose source files are missing.
+
+    libhdf5 reads the missing part as the fill value without a word: a log of zeros
+    (or NaN) where the data were (round 14 PART b, H04). A source named ``.`` is the
+    file itself; others are looked up where libhdf5 looks (``HDF5_VDS_PREFIX``, beside
+    the file, the working folder).
+    """
+    if not getattr(dset, "is_virtual", False):
+        return
+    import os
+
+    # where libhdf5 looks: HDF5_VDS_PREFIX (${ORIGIN}: the file's folder), the file's
+    # folder, the working folder
+    folders = [Path(p.replace("${ORIGIN}", str(path.parent)))
+               for p in os.environ.get("HDF5_VDS_PREFIX", "").split(os.pathsep) if p]
+    folders += [path.parent, Path.cwd()]
+    missing = sorted({
+        vs.file_name for vs in dset.virtual_sources()
+        if vs.file_name != "." and not any((f / vs.file_name).exists() for f in folders)
+    })
+    if missing:
+        raise LogFormatError(
+            f"HDF5 file '{path}': dataset {dset.name!r} is virtual and its source file(s) "
+            f"{', '.join(repr(m) for m in missing)} are missing (libhdf5 would read that "
+            "part as the fill value); put them beside the file")
+
+
 def _load(dset, path: Path, mmap: bool) -> np.ndarray:
     if dset.dtype.kind not in "fiu":
         raise LogFormatError(
@@ -353,13 +395,22 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             key = named[0]
         elif len(two_d) == 1:
             key = next(iter(two_d))
+        elif not two_d:
+            # "pick one with --dataset" among none, when the data sit behind a link that
+            # is not followed (round 14 PART b, H01-H03): name the links instead
+            notes = [f"{name!r}{_link_note(f, name)}" for name in _links(f)]
+            raise LogFormatError(
+                f"HDF5 file '{path}' has no modalinfo header and no 2-D numeric dataset"
+                + (f"; it holds links: {', '.join(notes)}" if notes else "")
+            )
         else:
             raise LogFormatError(
                 f"HDF5 file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
-                f"datasets ({', '.join(sorted(two_d)) or 'none'}); pick one with dataset= "
+                f"datasets ({', '.join(sorted(two_d))}); pick one with dataset= "
                 "(command line: --dataset PATH)"
             )
     dset = two_d[key]
+    _check_virtual_sources(dset, path)
     if "convention" in dset.attrs and "labels" in dset.attrs:
         raise LogFormatError(
             f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "

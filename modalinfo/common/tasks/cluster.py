@@ -21,6 +21,9 @@ __all__ = ["MIN_MEMORY_LIMIT", "WORKER_BASELINE", "check_memory_limit", "check_w
 #: of its limit, so a smaller limit leaves workers paused for ever.
 MIN_MEMORY_LIMIT = 256 * 2**20
 
+#: the preload that makes each local worker process leave Ctrl-C to the command
+_WORKER_SIGNALS = "modalinfo.common.tasks.worker_signals"
+
 
 #: Memory of one idle worker process (interpreter, numpy, numba, distributed) [bytes].
 WORKER_BASELINE = 150 * 2**20
@@ -165,6 +168,8 @@ def open_client(
             dashboard_address=":0" if dashboard_address is None else dashboard_address,
             scheduler_kwargs={"dashboard": dashboard_address is not None},
             silence_logs=logging.ERROR,
+            # a Ctrl-C is the command's to handle: no traceback from each worker process
+            preload=[*(dask.config.get("distributed.worker.preload") or []), _WORKER_SIGNALS],
         )
     try:
         with distributed.Client(cluster) as client:
