@@ -56,7 +56,7 @@ from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_int, check_rng
 from modalinfo.information.api import MIN_SAMPLES
-from modalinfo.information.convergence import bartlett_pairs, effective_pairs
+from modalinfo.information.convergence import bartlett_pairs
 
 __all__ = [
     "MAX_RESAMPLES",
@@ -900,8 +900,9 @@ def block_bootstrap_rule(x: np.ndarray, y: np.ndarray, name: str) -> str | None:
 
     Parameters
     ----------
-    x, y : numpy.ndarray, shape (n,)
-        The validated pair in time order.
+    x, y : numpy.ndarray, shape (n,) or (n, k)
+        The validated pair in time order (a conditional interval: x's and y's
+        residuals on z, the parts whose dependence it measures).
     name : str
         The function's name for the message.
 
@@ -911,10 +912,13 @@ def block_bootstrap_rule(x: np.ndarray, y: np.ndarray, name: str) -> str | None:
         The message naming the failed assumption, or None.
     """
     n = x.shape[0]
-    n_eff = effective_pairs(x, y)
+    # one column each: effective_pairs(x, y); several: the most persistent pair of
+    # columns, as the rotation rule counts them
+    n_eff = bartlett_pairs(n, _largest_lag1_product(x, y))
     if n_eff < BOOTSTRAP_MIN_EFFECTIVE_PAIRS:
         return (f"{name}: the pair holds {n_eff:.1f} effective pairs of its n = {n} "
                 "(n (1 - rx ry) / (1 + rx ry), rx and ry the lag-1 autocorrelations, "
+                "the largest product over the columns, "
                 f"Bartlett 1935), fewer than {BOOTSTRAP_MIN_EFFECTIVE_PAIRS:g}: the block "
                 "bootstrap needs blocks much longer than the correlation time and many of "
                 "them in the record, so its spread understates the estimate's and the "
