@@ -96,6 +96,14 @@ def conditional_mutual_information_ci(
     is 2-7 times too large, so a bias-corrected centre is worse (0.20, 0.00, 0.00).
     Use the histogram interval for the binned CMI, the others for the CMI itself.
 
+    Warns (``BlockBootstrapWarning``, once per call) on the rules of
+    :func:`~modalinfo.information.mutual_information_ci`, judged on x's and y's
+    residuals on z (the parts whose dependence the CMI measures): fewer than 50
+    effective pairs, both changing scale, or heavy tails. Measured (Gaussian CMI of
+    partial correlation 0.6, n = 500, 200 draws, 199 resamples): coverage 0.90 (iid,
+    not warned), 0.82 (AR(1) 0.95, warned in 175), 0.685 (0.99, 197), 0.825 (x4
+    variance step, 115); leftovers 13-stats.
+
     Parameters
     ----------
     x, y, z : array_like
