@@ -9,7 +9,9 @@ estimator, shuffle), ``cmi_zK`` (:func:`modalinfo.information.conditional_mutual
 of x = e1 + s, y = e2 + s given Z (K columns, s = sum(Z) / sqrt(K)): x and y independent
 given Z; Gaussian estimator, 99 circular surrogates), ``mi_ci`` (coverage of the 95 %
 :func:`modalinfo.information.mutual_information_ci`, Gaussian, 199 block-bootstrap
-resamples, of the exact -0.5 ln(1 - 0.36) for rho = 0.6) and ``dm`` (the one-sided
+resamples, of the exact -0.5 ln(1 - 0.36) for rho = 0.6), ``cmi_ci`` (the same of
+:func:`modalinfo.information.conditional_mutual_information_ci` of x = e1 + z,
+y = 0.6 e1 + 0.8 e2 + z given z, partial correlation 0.6; left13-stats) and ``dm`` (the one-sided
 Diebold-Mariano test of ``modalinfo.forecast.evaluate`` on the loss differential
 e1^2 - e2^2 of two equally good forecasts, h = 1); ``dm_before`` the same with the test
 before left12-dm (``dm_before`` below), ``dm_power`` / ``dm_power_before`` their rejection
@@ -103,6 +105,7 @@ def one(claim: str, kind: str, k: int, n: int) -> float | bool:
     """p-value (tests) or coverage (intervals) of draw k."""
     from modalinfo.forecast.evaluate import _dm_test
     from modalinfo.information import (
+        conditional_mutual_information_ci,
         conditional_mutual_information_test,
         mutual_information_ci,
         mutual_information_permutation_test,
@@ -128,6 +131,13 @@ def one(claim: str, kind: str, k: int, n: int) -> float | bool:
         r = mutual_information_ci(x, rho * x + math.sqrt(1 - rho**2) * y, "gaussian",
                                   n_resamples=199, seed=k)
         return bool(r.low <= -0.5 * math.log(1 - rho**2) <= r.high)
+    if claim == "cmi_ci":  # left13-stats: x = e1 + z, y = rho e1 + sqrt(1 - rho^2) e2 + z
+        rho = 0.6
+        z = gen(kind, n, rng)
+        r = conditional_mutual_information_ci(
+            x + z, rho * x + math.sqrt(1 - rho**2) * y + z, z, method="gaussian",
+            n_resamples=199, seed=k)
+        return bool(r.low <= -0.5 * math.log(1 - rho**2) <= r.high)
     if claim == "dm":
         return _dm_test(x**2 - y**2, 1)[1]
     if claim == "dm_before":
@@ -151,7 +161,7 @@ def main(argv: list[str]) -> None:
             warned += bool(w)
         v = np.array(values, dtype=float)
         cpu = time.process_time() - t0
-        if claim == "mi_ci":
+        if claim in ("mi_ci", "cmi_ci"):
             print(f"{claim} {kind} n={n} coverage95={v.mean():.3f} "
                   f"warned={warned}/{draws} cpu={cpu:.0f}s", flush=True)
         else:

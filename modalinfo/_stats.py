@@ -9,6 +9,7 @@ import numpy as np
 from modalinfo.common.validation import as_float_array, check_int
 
 __all__ = [
+    "ar_innovations",
     "block_scale_ratio",
     "lag1_autocorrelation",
     "sample_autocovariance",
@@ -198,11 +199,33 @@ def scale_stationarity(x: np.ndarray,
     scale = float(np.max(np.abs(x - x.mean())))
     if scale == 0.0:
         return math.nan, math.inf
-    d = (x - x.mean()) / scale
-    lags = np.column_stack([d[p - i:n - i] for i in range(1, p + 1)] + [np.ones(n - p)])
-    coef = np.linalg.lstsq(lags, d[p:], rcond=None)[0]
-    e = d[p:] - lags @ coef
+    e = ar_innovations((x - x.mean()) / scale, p)
     r = min(max(lag1_autocorrelation(e), 0.0), 0.999)
     ratio = block_scale_ratio(e[:, None], np.array([True]))
     block = (n - p) * (1.0 - r) / (1.0 + r) / STATIONARITY_BLOCKS
     return ratio, stationarity_threshold(block, min_frames)
+
+
+def ar_innovations(x: np.ndarray, p: int = INNOVATION_ORDER) -> np.ndarray:
+    """Least-squares AR(p) innovations (with a constant) of one series.
+
+    Close to white where the levels of a persistent series are not: the scale rule
+    (:func:`scale_stationarity`) and the heavy-tail rule of the block bootstrap
+    (``modalinfo.information.resampling.block_bootstrap_rule``) judge these.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n,)
+        Finite real series in time order, ``n > 2 p``.
+    p : int
+        AR order.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n - p,)
+        The residuals ``x_t - (c + sum_i a_i x_(t-i))``, in x's units.
+    """
+    n = x.shape[0]
+    lags = np.column_stack([x[p - i:n - i] for i in range(1, p + 1)] + [np.ones(n - p)])
+    coef = np.linalg.lstsq(lags, x[p:], rcond=None)[0]
+    return x[p:] - lags @ coef

@@ -54,9 +54,11 @@ from modalinfo.information.api import RESAMPLING_METHOD
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.methods import check_bootstrappable
 from modalinfo.information.resampling import (
+    BlockBootstrapWarning,
     RotationNullWarning,
     ShuffleNullWarning,
     block_bootstrap_indices,
+    block_bootstrap_rule,
     check_resamples,
     rank_based_options,
     residual_split,
@@ -94,6 +96,14 @@ def conditional_mutual_information_ci(
     is 2-7 times too large, so a bias-corrected centre is worse (0.20, 0.00, 0.00).
     Use the histogram interval for the binned CMI, the others for the CMI itself.
 
+    Warns (``BlockBootstrapWarning``, once per call) on the rules of
+    :func:`~modalinfo.information.mutual_information_ci`, judged on x's and y's
+    residuals on z (the parts whose dependence the CMI measures): fewer than 50
+    effective pairs, both changing scale, or heavy tails. Measured (Gaussian CMI of
+    partial correlation 0.6, n = 500, 200 draws, 199 resamples): coverage 0.90 (iid,
+    not warned), 0.82 (AR(1) 0.95, warned in 175), 0.685 (0.99, 197), 0.825 (x4
+    variance step, 115); leftovers 13-stats.
+
     Parameters
     ----------
     x, y, z : array_like
@@ -122,6 +132,23 @@ def conditional_mutual_information_ci(
         Estimate, interval (``interval="normal"``, ``bootstrap="block"``) and the
         bootstrap distribution.
     """
+    return _cmi_block_ci(x, y, z, method=method, units=units,
+                         confidence_level=confidence_level, n_resamples=n_resamples,
+                         block_length=block_length, seed=seed, check_assumptions=True,
+                         **options)
+
+
+def _cmi_block_ci(
+    x: Any, y: Any, z: Any, *, method: str, units: str, confidence_level: float,
+    n_resamples: int, block_length: int | str | None, seed: Any,
+    check_assumptions: bool, **options: Any,
+) -> MIConfidenceResult:
+    """Body of ``conditional_mutual_information_ci``.
+
+    ``check_assumptions=False`` leaves out its ``BlockBootstrapWarning``: for callers
+    that draw many intervals of one record (the input selection), one per call of theirs
+    at most, not one per interval.
+    """
     check_bootstrappable(method, needs="cmi")  # ksg: resamples repeat rows
     est = _estimator(method, units, options)
     xa, ya, za = _triple(x, y, z)
@@ -133,6 +160,16 @@ def conditional_mutual_information_ci(
     check_memory(8.0 * n_resamples * (n + 1), "n_resamples", n_resamples,
                  "its resample indices (int64, one per sample and resample)")
     b = resolve_block_length(block_length, xa, ya, za)
+    if check_assumptions:
+        # the interval measures the dependence of x's and y's parts that z does not
+        # explain: their persistence (or both changing scale) is what the blocks must
+        # hold, as for mutual_information_ci's pair
+        opts = rank_based_options(options)
+        why = block_bootstrap_rule(residual_split(xa, za, opts)[1],
+                                   residual_split(ya, za, opts)[1],
+                                   "conditional_mutual_information_ci")
+        if why is not None:
+            warnings.warn(why, BlockBootstrapWarning, stacklevel=3)
     theta = est(xa, ya, za)
     idx = block_bootstrap_indices(n, b, n_resamples, rng)
     dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])

@@ -97,9 +97,7 @@ from modalinfo.common.validation import (
 from modalinfo.information.api import UNITS, InfiniteMIError
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
-from modalinfo.information.conditional_uncertainty import (
-    conditional_mutual_information_ci,
-)
+from modalinfo.information.conditional_uncertainty import _cmi_block_ci
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi_from_covariance
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
 from modalinfo.information.ksg import ksg_cmi, ksg_cost
@@ -845,9 +843,12 @@ def select_inputs(
             low, high = low * factor, high * factor
         elif intervals and get_method(method).bootstrap is None:  # ksg: resamples break k-NN
             prev = C[:, prev_cols] if i else None
-            ci = conditional_mutual_information_ci(
+            # the public interval's BlockBootstrapWarning is left out: one per picked
+            # input of one record would repeat itself
+            ci = _cmi_block_ci(
                 y, C[:, j], prev, method=method, units=units, n_resamples=n_resamples,
-                confidence_level=confidence_level, seed=rng, **options)
+                confidence_level=confidence_level, block_length=None, seed=rng,
+                check_assumptions=False, **options)
             low, high = ci.low, ci.high
         src, lag = int(cols[j, 0]), int(cols[j, 1])
         inputs.append(SelectedInput(
