@@ -40,8 +40,8 @@ step with at least 2 left); above it, the screened search scores every mode at t
 first step and every one left once ``_EXHAUSTIVE_TAIL`` or fewer remain, at least one
 at each step between. For 27 modes that is 377 estimates an ordering (measured 387 with
 the swapped rivals), where ``2 M - 2`` = 52 were counted. Not counted (so the bound
-stays a bound): the fit of ``Phi_ref``, the gathering of the contributions, the
-swapped rivals.
+stays a bound): the fit of ``Phi_ref`` and the swapped rivals the screened search did
+not score (the gathering of the contributions is counted since leftovers 13, below).
 
 **The screens and the replicates' samples** (leftovers 13-cost, issue 27). Every
 ``MutualInformation.score`` also validates its ``y`` and runs the copy and
@@ -59,9 +59,11 @@ scores every mode, then the cumulative MI and the swapped rival of every step bu
 last (``3 M - 2``); a replicate ``2 M - 2`` (the cumulative MI and the swapped rival of
 each step but the last; ``2 M - 3`` was counted). Round 13's ``mi_marginal`` ordering of
 150 modes x 20 frames (25,280 samples, 40 replicates) made 12,368 estimates and took
-21 s of CPU where the bound said 6.9 s (adversarial round 13); measured / modelled
-before and after: benchmarks/RESULTS.md, "Orderings' cost, leftovers 13"
-(``benchmarks/bench_ordering_cost.py``).
+21 s of CPU where the bound said 6.9 s (adversarial round 13). Measured / modelled at
+50, 150, 500 modes (25,824 samples, ``benchmarks/bench_ordering_cost.py``): 2.03,
+2.04, 2.14 before, 1.29, 1.30, 1.37 after (benchmarks/RESULTS.md, "Orderings' cost and
+the kde rule's quarters, leftovers 13"). Not modelled: the gathering once its array
+passes ~1 GB (1000 modes x 2e5 samples, 1.6 GB: 68 ns per entry, page faults).
 
 **Before the work.** :func:`~modalinfo.ordering.order_modes` checks
 :func:`least_ordering_seconds` before any estimate, as ``reorder`` and ``batch`` do: it

@@ -639,7 +639,7 @@ def order_modes(
     max_seconds : float or None
         Most CPU seconds an MI ordering may be estimated to take (default 3600, the
         hour ``reorder`` and ``batch`` allow); ``None``: no limit. The estimate is
-        :func:`~modalinfo.ordering.cost.least_ordering_seconds` of the estimator,
+        ``modalinfo.ordering.cost.least_ordering_seconds`` of the estimator,
         samples, modes and replicates (the command line's), made before any work;
         above 60 s a ``UserWarning`` names it and how to shorten it.
 
@@ -760,7 +760,7 @@ def _check_time(estimator: Any, n: int, n_modes: int, n_resamples: int, method: 
     """Refuse above ``max_seconds``, or warn above a minute, the estimated CPU of the work.
 
     One estimate for the library and the command line
-    (:func:`~modalinfo.ordering.cost.least_ordering_seconds`, leftovers 13-cost: a
+    (``modalinfo.ordering.cost.least_ordering_seconds``, leftovers 13-cost: a
     1000-mode ordering ran for minutes with no word before).
     """
     from modalinfo.ordering.cost import NOTE_ORDERING_SECONDS, least_ordering_seconds
