@@ -77,12 +77,18 @@ from __future__ import annotations
 import math
 
 from modalinfo.information.ksg import ksg_seconds_per_sample
-from modalinfo.ordering.orderings import _EXHAUSTIVE_MAX_MODES, _EXHAUSTIVE_TAIL, _MAX_SECONDS
 
 __all__ = ["GATHER_SECONDS_PER_ENTRY", "MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE",
            "MI_SECONDS_PER_CALL", "NOTE_ORDERING_SECONDS", "SCREEN_SECONDS_PER_CALL",
            "SCREEN_SECONDS_PER_SAMPLE", "least_ordering_seconds", "least_ordering_calls"]
 
+#: ``order_modes(search="auto")`` scores every candidate at every step up to this many
+#: modes (here, not in :mod:`modalinfo.ordering.orderings`, which imports this module).
+_EXHAUSTIVE_MAX_MODES = 64
+#: The screened search scores every remaining mode once this few are left (<= 136
+#: scores): near Phi_ref the histogram MI saturates (bins capped at sqrt(n)) and its
+#: gains, 0.1-0.3 nats per step there, depart most from the Gaussian key.
+_EXHAUSTIVE_TAIL = 16
 #: CPU seconds per sample of one MI estimate on n samples (module notes)
 MI_SECONDS_PER_SAMPLE = {
     "ksg": lambda n: ksg_seconds_per_sample(n, 2, least=True),
@@ -100,7 +106,8 @@ SCREEN_SECONDS_PER_SAMPLE = 1.5e-9
 #: the ordering and once per bootstrap replicate (module notes)
 GATHER_SECONDS_PER_ENTRY = 1.5e-9
 #: Most CPU time a run of MI orderings may be estimated to take before it is refused [s]
-MAX_ORDERING_SECONDS = _MAX_SECONDS  # order_modes' default max_seconds
+#: (``reorder``, ``batch``, and ``order_modes``' default ``max_seconds``)
+MAX_ORDERING_SECONDS = 3600.0
 #: Estimated CPU time above which ``order_modes`` warns before the work [s]
 NOTE_ORDERING_SECONDS = 60.0
 

@@ -112,7 +112,14 @@ from modalinfo.information.resampling import (
     resolve_block_length,
 )
 from modalinfo.ordering import _kernels as kern
+from modalinfo.ordering import cost as _cost  # one estimate, looked up at call time
 from modalinfo.ordering._coefficients import BasisView, as_basis, coefficients_in_basis
+from modalinfo.ordering.cost import (  # the search's sizes live with the cost model
+    _EXHAUSTIVE_MAX_MODES,
+    _EXHAUSTIVE_TAIL,
+    MAX_ORDERING_SECONDS,
+    NOTE_ORDERING_SECONDS,
+)
 from modalinfo.ordering.result import OrderingResult, basis_key
 
 __all__ = ["CONFIDENCE_LEVEL", "METHODS", "SEARCHES", "order_modes", "mi_along_order",
@@ -125,18 +132,9 @@ METHODS = ("standard", "variance", "pca", "mi_marginal", "mi_greedy")
 CONFIDENCE_LEVEL = 0.95
 #: Searches of the greedy MI ordering accepted by :func:`order_modes`.
 SEARCHES = ("auto", "screened", "exhaustive")
-#: ``search="auto"`` scores every candidate at every step up to this many modes.
-_EXHAUSTIVE_MAX_MODES = 64
-#: The screened search scores every remaining mode once this few are left (<= 136
-#: scores): near Phi_ref the histogram MI saturates (bins capped at sqrt(n)) and its
-#: gains, 0.1-0.3 nats per step there, depart most from the Gaussian key.
-_EXHAUSTIVE_TAIL = 16
 #: Relative margin on the screening key (module notes: measured misses against cost).
 _SCREEN_TOLERANCE = 0.05
 _DECORRELATED_ATOL = 1e-6
-#: Default ``max_seconds`` of :func:`order_modes`: ``ordering.cost.MAX_ORDERING_SECONDS``
-#: (the command line's hour; that module imports this one)
-_MAX_SECONDS = 3600.0
 
 
 class _CheckedEstimator:
@@ -573,7 +571,7 @@ def order_modes(
     wavelength: float | None = None,
     progress: Any = None,
     search: str = "auto",
-    max_seconds: float | None = _MAX_SECONDS,
+    max_seconds: float | None = MAX_ORDERING_SECONDS,
 ) -> OrderingResult:
     """Order the modes of a basis for a log.
 
@@ -763,9 +761,7 @@ def _check_time(estimator: Any, n: int, n_modes: int, n_resamples: int, method: 
     (``modalinfo.ordering.cost.least_ordering_seconds``, leftovers 13-cost: a
     1000-mode ordering ran for minutes with no word before).
     """
-    from modalinfo.ordering.cost import NOTE_ORDERING_SECONDS, least_ordering_seconds
-
-    seconds, calls = least_ordering_seconds(estimator, n, n_modes, n_resamples, 1, method,
+    seconds, calls = _cost.least_ordering_seconds(estimator, n, n_modes, n_resamples, 1, method,
                                             search)
     if seconds <= NOTE_ORDERING_SECONDS and (max_seconds is None or seconds <= max_seconds):
         return
