@@ -40,8 +40,36 @@ step with at least 2 left); above it, the screened search scores every mode at t
 first step and every one left once ``_EXHAUSTIVE_TAIL`` or fewer remain, at least one
 at each step between. For 27 modes that is 377 estimates an ordering (measured 387 with
 the swapped rivals), where ``2 M - 2`` = 52 were counted. Not counted (so the bound
-stays a bound): the fit of ``Phi_ref``, the gathering of the contributions, the
-swapped rivals.
+stays a bound): the fit of ``Phi_ref`` and the swapped rivals the screened search did
+not score (the gathering of the contributions is counted since leftovers 13, below).
+
+**The screens and the replicates' samples** (leftovers 13-cost, issue 27). Every
+``MutualInformation.score`` also validates its ``y`` and runs the copy and
+union-of-curves screens of :mod:`modalinfo.information.api` (sorts of the first 32 and
+1024 samples, a TWO-NN dimension on 128 points) whatever the estimator: measured
+0.30-0.34 ms per score at n = 1e3 - 25,280, 0.45-0.49 ms at 1e5, 0.65-0.69 ms at 2e5
+(random pairs, load 4), so ``SCREEN_SECONDS_PER_CALL + n SCREEN_SECONDS_PER_SAMPLE`` =
+0.25 ms + 1.5 ns n is added to each estimate: half of the histogram's time at 25,280
+samples. Each bootstrap replicate (and the ordering itself) gathers the M x n
+contributions of its samples and sums them for Phi_ref: 1.9-7 ns per mode and sample
+(25,280 samples x 50 modes 1.9 ns, x 500 modes 5.4 ns; 2e5 x 500 7.0 ns),
+``GATHER_SECONDS_PER_ENTRY`` = 1.5 ns. And the count is that of the calls made (counted
+on ``MutualInformation.score``, tests/information/test_cost_left13.py): ``"mi_marginal"``
+scores every mode, then the cumulative MI and the swapped rival of every step but the
+last (``3 M - 2``); a replicate ``2 M - 2`` (the cumulative MI and the swapped rival of
+each step but the last; ``2 M - 3`` was counted). Round 13's ``mi_marginal`` ordering of
+150 modes x 20 frames (25,280 samples, 40 replicates) made 12,368 estimates and took
+21 s of CPU where the bound said 6.9 s (adversarial round 13). Measured / modelled at
+50, 150, 500 modes (25,824 samples, ``benchmarks/bench_ordering_cost.py``): 2.03,
+2.04, 2.14 before, 1.29, 1.30, 1.37 after (benchmarks/RESULTS.md, "Orderings' cost and
+the kde rule's quarters, leftovers 13"). Not modelled: the gathering once its array
+passes ~1 GB (1000 modes x 2e5 samples, 1.6 GB: 68 ns per entry, page faults).
+
+**Before the work.** :func:`~modalinfo.ordering.order_modes` checks
+:func:`least_ordering_seconds` before any estimate, as ``reorder`` and ``batch`` do: it
+refuses above its ``max_seconds`` (default :data:`MAX_ORDERING_SECONDS`, the command
+line's hour) and warns, naming the estimate and how to shorten it, above
+:data:`NOTE_ORDERING_SECONDS`.
 """
 
 from __future__ import annotations
@@ -49,11 +77,18 @@ from __future__ import annotations
 import math
 
 from modalinfo.information.ksg import ksg_seconds_per_sample
-from modalinfo.ordering.orderings import _EXHAUSTIVE_MAX_MODES, _EXHAUSTIVE_TAIL
 
-__all__ = ["MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE", "MI_SECONDS_PER_CALL",
-           "least_ordering_seconds", "least_ordering_calls"]
+__all__ = ["GATHER_SECONDS_PER_ENTRY", "MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE",
+           "MI_SECONDS_PER_CALL", "NOTE_ORDERING_SECONDS", "SCREEN_SECONDS_PER_CALL",
+           "SCREEN_SECONDS_PER_SAMPLE", "least_ordering_seconds", "least_ordering_calls"]
 
+#: ``order_modes(search="auto")`` scores every candidate at every step up to this many
+#: modes (here, not in :mod:`modalinfo.ordering.orderings`, which imports this module).
+_EXHAUSTIVE_MAX_MODES = 64
+#: The screened search scores every remaining mode once this few are left (<= 136
+#: scores): near Phi_ref the histogram MI saturates (bins capped at sqrt(n)) and its
+#: gains, 0.1-0.3 nats per step there, depart most from the Gaussian key.
+_EXHAUSTIVE_TAIL = 16
 #: CPU seconds per sample of one MI estimate on n samples (module notes)
 MI_SECONDS_PER_SAMPLE = {
     "ksg": lambda n: ksg_seconds_per_sample(n, 2, least=True),
@@ -63,8 +98,18 @@ MI_SECONDS_PER_SAMPLE = {
 }
 #: CPU seconds of one MI estimate whatever its size, a lower bound (module notes)
 MI_SECONDS_PER_CALL = {"ksg": 1.5e-4, "kde": 2.5e-3, "gaussian": 1e-4, "histogram": 4e-5}
+#: CPU seconds of the checks of each ``MutualInformation.score`` (validation, copy and
+#: curve screens), per call and per sample, a lower envelope (module notes)
+SCREEN_SECONDS_PER_CALL = 2.5e-4
+SCREEN_SECONDS_PER_SAMPLE = 1.5e-9
+#: CPU seconds per mode and sample of gathering (and summing) the contributions, once for
+#: the ordering and once per bootstrap replicate (module notes)
+GATHER_SECONDS_PER_ENTRY = 1.5e-9
 #: Most CPU time a run of MI orderings may be estimated to take before it is refused [s]
+#: (``reorder``, ``batch``, and ``order_modes``' default ``max_seconds``)
 MAX_ORDERING_SECONDS = 3600.0
+#: Estimated CPU time above which ``order_modes`` warns before the work [s]
+NOTE_ORDERING_SECONDS = 60.0
 
 
 def least_ordering_calls(n_modes: int, method: str = "mi_marginal",
@@ -73,13 +118,16 @@ def least_ordering_calls(n_modes: int, method: str = "mi_marginal",
 
     ``"mi_greedy"``: every mode at every step up to ``_EXHAUSTIVE_MAX_MODES`` modes
     (``M (M + 1) / 2 - 1``); above, every mode at the first step and at each step with
-    ``_EXHAUSTIVE_TAIL`` or fewer left, at least one at the steps between. Otherwise
-    (``"mi_marginal"``): ``2 M - 2`` (module notes). ``search`` is ``order_modes``'
+    ``_EXHAUSTIVE_TAIL`` or fewer left, at least one at the steps between (the swapped
+    rivals the search did not score are not counted). Otherwise (``"mi_marginal"``):
+    ``3 M - 2``, the calls it makes (module notes). One mode: 0. ``search`` is ``order_modes``'
     (``"exhaustive"`` or ``"screened"`` whatever the count of modes).
     """
     m = max(int(n_modes), 1)
-    if method != "mi_greedy" or m < 2:
-        return max(2 * m - 2, 1)
+    if m < 2:
+        return 0  # one mode is Phi_ref itself: nothing is estimated
+    if method != "mi_greedy":
+        return 3 * m - 2  # every score, the cumulative MI and the swapped rivals
     if search == "exhaustive" or (search == "auto" and m <= _EXHAUSTIVE_MAX_MODES):
         return m * (m + 1) // 2 - 1
     tail = min(_EXHAUSTIVE_TAIL, m - 1)  # steps with 2..tail modes left score them all
@@ -88,7 +136,8 @@ def least_ordering_calls(n_modes: int, method: str = "mi_marginal",
 
 def least_ordering_seconds(estimator: str, n_samples: int, n_modes: int,
                            n_resamples: int = 0, n_orderings: int = 1,
-                           method: str = "mi_marginal") -> tuple[float, int]:
+                           method: str = "mi_marginal", search: str = "auto"
+                           ) -> tuple[float, int]:
     """Return (least CPU seconds, least number of MI estimates) of MI orderings.
 
     Parameters
@@ -100,23 +149,32 @@ def least_ordering_seconds(estimator: str, n_samples: int, n_modes: int,
     n_modes : int
         Modes ordered, M.
     n_resamples : int
-        Bootstrap replicates of each ordering (``2 M - 3`` estimates each, at least).
+        Bootstrap replicates of each ordering (``2 M - 2`` estimates each).
     n_orderings : int
         MI orderings run.
     method : str
         Ordering method (:func:`least_ordering_calls`): ``"mi_greedy"`` counts its
-        search's estimates, any other ``2 M - 2``.
+        search's estimates, any other ``3 M - 2``.
+    search : str
+        ``order_modes``' ``search`` (:func:`least_ordering_calls`).
 
     Returns
     -------
     seconds : float
-        ``calls x (MI_SECONDS_PER_CALL + n x MI_SECONDS_PER_SAMPLE(n))`` [s].
+        ``calls x (MI_SECONDS_PER_CALL + SCREEN_SECONDS_PER_CALL + n x
+        (MI_SECONDS_PER_SAMPLE(n) + SCREEN_SECONDS_PER_SAMPLE)) + n_orderings x (1 +
+        n_resamples) x M x n x GATHER_SECONDS_PER_ENTRY`` [s] (module notes).
     calls : int
         Least number of MI estimates.
     """
     rate = MI_SECONDS_PER_SAMPLE.get(estimator) if isinstance(estimator, str) else None
-    calls = n_orderings * (least_ordering_calls(n_modes, method)
-                           + max(n_resamples, 0) * max(2 * n_modes - 3, 1))
+    replicates = max(n_resamples, 0)
+    calls = n_orderings * (least_ordering_calls(n_modes, method, search)
+                           + replicates * max(2 * n_modes - 2, 0))
     if rate is None or n_orderings < 1:
         return 0.0, calls
-    return calls * (MI_SECONDS_PER_CALL[estimator] + n_samples * rate(n_samples)), calls
+    n = n_samples
+    per_call = (MI_SECONDS_PER_CALL[estimator] + SCREEN_SECONDS_PER_CALL
+                + n * (rate(n) + SCREEN_SECONDS_PER_SAMPLE))
+    gathers = n_orderings * (1 + replicates) * n_modes * n * GATHER_SECONDS_PER_ENTRY
+    return calls * per_call + gathers, calls

@@ -97,6 +97,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from typing import Any
 
 import numpy as np
@@ -111,7 +112,14 @@ from modalinfo.information.resampling import (
     resolve_block_length,
 )
 from modalinfo.ordering import _kernels as kern
+from modalinfo.ordering import cost as _cost  # one estimate, looked up at call time
 from modalinfo.ordering._coefficients import BasisView, as_basis, coefficients_in_basis
+from modalinfo.ordering.cost import (  # the search's sizes live with the cost model
+    _EXHAUSTIVE_MAX_MODES,
+    _EXHAUSTIVE_TAIL,
+    MAX_ORDERING_SECONDS,
+    NOTE_ORDERING_SECONDS,
+)
 from modalinfo.ordering.result import OrderingResult, basis_key
 
 __all__ = ["CONFIDENCE_LEVEL", "METHODS", "SEARCHES", "order_modes", "mi_along_order",
@@ -124,12 +132,6 @@ METHODS = ("standard", "variance", "pca", "mi_marginal", "mi_greedy")
 CONFIDENCE_LEVEL = 0.95
 #: Searches of the greedy MI ordering accepted by :func:`order_modes`.
 SEARCHES = ("auto", "screened", "exhaustive")
-#: ``search="auto"`` scores every candidate at every step up to this many modes.
-_EXHAUSTIVE_MAX_MODES = 64
-#: The screened search scores every remaining mode once this few are left (<= 136
-#: scores): near Phi_ref the histogram MI saturates (bins capped at sqrt(n)) and its
-#: gains, 0.1-0.3 nats per step there, depart most from the Gaussian key.
-_EXHAUSTIVE_TAIL = 16
 #: Relative margin on the screening key (module notes: measured misses against cost).
 _SCREEN_TOLERANCE = 0.05
 _DECORRELATED_ATOL = 1e-6
@@ -569,6 +571,7 @@ def order_modes(
     wavelength: float | None = None,
     progress: Any = None,
     search: str = "auto",
+    max_seconds: float | None = MAX_ORDERING_SECONDS,
 ) -> OrderingResult:
     """Order the modes of a basis for a log.
 
@@ -631,6 +634,12 @@ def order_modes(
         guaranteed to give the exhaustive order where modes are tied within the
         estimator's noise (module notes). ``"auto"`` is exhaustive up to 64 modes,
         screened above. Ignored by the other methods.
+    max_seconds : float or None
+        Most CPU seconds an MI ordering may be estimated to take (default 3600, the
+        hour ``reorder`` and ``batch`` allow); ``None``: no limit. The estimate is
+        ``modalinfo.ordering.cost.least_ordering_seconds`` of the estimator,
+        samples, modes and replicates (the command line's), made before any work;
+        above 60 s a ``UserWarning`` names it and how to shorten it.
 
     Returns
     -------
@@ -641,8 +650,9 @@ def order_modes(
     Raises
     ------
     ValueError
-        On an unknown method, mismatched shapes, a bad frame index, or ``"pca"`` on a
-        basis in which the coefficients are correlated.
+        On an unknown method, mismatched shapes, a bad frame index, ``"pca"`` on a
+        basis in which the coefficients are correlated, or an MI ordering estimated
+        above ``max_seconds``, before any work.
     TypeError
         On arguments of the wrong type.
     """
@@ -650,6 +660,8 @@ def order_modes(
         method, estimator_options, n_resamples, confidence_level, block_length
     )
     check_choice(search, "search", SEARCHES)
+    if max_seconds is not None:
+        max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     # the estimator and its options are checked for every method, also those that do not
     # use them ("standard", "variance", "pca"): a misspelt name is refused, not ignored
     # (adversarial round 8, rows b03, b04)
@@ -706,7 +718,7 @@ def order_modes(
         method, estimator=estimator, estimator_options=options, pooled=pooled,
         frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
         confidence_level=confidence_level, block_length=block_length, progress=progress,
-        search=search)
+        search=search, max_seconds=max_seconds)
         return dataclasses.replace(_with_dead_modes(sub, live, np.flatnonzero(gone),
                                                     view.labels), basis_key=basis_key(view.obj))
 
@@ -716,6 +728,9 @@ def order_modes(
         # exact copy of the wavefront up to a constant: infinite MI, refused by the
         # estimators in their own words (`x`, `y`); ordered without them, appended last
         return without(dead)
+    n_pairs = view.matrix.shape[0] * (n_frames if frame is None else 1)
+    _check_time(estimator, min(budget, n_pairs), n_modes, n_resamples, method, search,
+                max_seconds)
     est, est_name = _make_estimator(estimator, options)
     frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
     contrib = _contributions(a, view.matrix, frames, pixels)
@@ -736,6 +751,29 @@ def order_modes(
         if not tiny.any():
             raise
     return without(tiny)
+
+
+def _check_time(estimator: Any, n: int, n_modes: int, n_resamples: int, method: str,
+                search: str, max_seconds: float | None) -> None:
+    """Refuse above ``max_seconds``, or warn above a minute, the estimated CPU of the work.
+
+    One estimate for the library and the command line
+    (``modalinfo.ordering.cost.least_ordering_seconds``, leftovers 13-cost: a
+    1000-mode ordering ran for minutes with no word before).
+    """
+    seconds, calls = _cost.least_ordering_seconds(estimator, n, n_modes, n_resamples, 1, method,
+                                            search)
+    if seconds <= NOTE_ORDERING_SECONDS and (max_seconds is None or seconds <= max_seconds):
+        return
+    what = (f"order_modes({method!r}, estimator={estimator!r}) of {n_modes} modes on {n} "
+            f"samples per estimate with {n_resamples} bootstrap replicates (at least "
+            f"{calls} MI estimates) is estimated at {seconds:.0f} s of CPU")
+    how = ("use fewer modes, a smaller `sample_budget`, fewer `n_resamples` (0: no bounds) "
+           "or a faster `estimator` ('histogram', 'gaussian')")
+    if max_seconds is not None and seconds > max_seconds:
+        raise ValueError(f"{what}, more than `max_seconds`={max_seconds:g}; {how}, or raise "
+                         "`max_seconds` (None: no limit).")
+    warnings.warn(f"{what}; {how}.", UserWarning, stacklevel=3)
 
 
 def _scored(est: Any, contrib: np.ndarray, a: np.ndarray, view: Any, method: str,

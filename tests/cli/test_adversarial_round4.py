@@ -73,16 +73,30 @@ class _Log:
 
 def test_the_time_rule_on_both_sides_of_the_limit():
     # 400 frames x 3216 pixels (64-pixel disc) >= 1e6: n = 1e6 samples per estimate
+    from modalinfo.ordering.cost import (
+        GATHER_SECONDS_PER_ENTRY,
+        SCREEN_SECONDS_PER_CALL,
+        SCREEN_SECONDS_PER_SAMPLE,
+    )
+
     n, rate = 1_000_000, MI_SECONDS_PER_SAMPLE["ksg"](1_000_000)
-    # largest bootstrap that stays under the limit, and one more hour's worth
-    calls_ok = int(MAX_ORDERING_SECONDS / (MI_SECONDS_PER_CALL["ksg"] + n * rate))
-    # a replicate re-estimates every step and its swapped rival: 2 M - 3 = 3 estimates
-    # for M = 3 (round 10 PART b, row B13; one per replicate before); the greedy
-    # ordering itself scores 3 + 2 = 5 (every mode left at each step)
-    resamples_ok = (calls_ok - 5) // 3
+    # largest bootstrap that stays under the limit, and one more hour's worth; each
+    # estimate also runs the score's screens, and the ordering and each replicate
+    # gather the 3 modes' contributions at the n samples (leftovers 13-cost)
+    per_call = (MI_SECONDS_PER_CALL["ksg"] + SCREEN_SECONDS_PER_CALL
+                + n * (rate + SCREEN_SECONDS_PER_SAMPLE))
+    gather = 3 * n * GATHER_SECONDS_PER_ENTRY
+    # a replicate re-estimates every step but the last and its swapped rival: 2 M - 2 =
+    # 4 estimates for M = 3 (round 10 PART b, row B13; one per replicate before; 2 M - 3
+    # until leftovers 13-cost); the greedy ordering itself scores 3 + 2 = 5 (every mode
+    # left at each step)
+    replicate = 4 * per_call + gather
+    resamples_ok = int((MAX_ORDERING_SECONDS - 5 * per_call - gather) // replicate)
     check_mi_time(_args(resamples=resamples_ok), _Log(400, 3))
     with pytest.raises(CommandError, match="--estimator ksg with --budget 1000000"):
-        check_mi_time(_args(resamples=resamples_ok + calls_ok // 3), _Log(400, 3))
+        check_mi_time(_args(resamples=resamples_ok + 1), _Log(400, 3))
+    with pytest.raises(CommandError, match="--estimator ksg with --budget 1000000"):
+        check_mi_time(_args(resamples=resamples_ok + int(3600 / replicate)), _Log(400, 3))
     # the same work with the histogram estimator (~100 x cheaper per sample), one frame
     # (3216 samples) or a small budget: accepted
     check_mi_time(_args(estimator="histogram", resamples=resamples_ok), _Log(400, 3))

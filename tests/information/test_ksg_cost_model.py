@@ -56,11 +56,14 @@ def _args(resamples):
 
 def test_reorder_refuses_at_the_same_hour():
     # 400 frames x 3216 pixels >= 1e6: n = 1e6 per estimate; calls = the greedy's
-    # 3 + 2 (every mode left at each step) plus 2 M - 3 per bootstrap replicate (round
-    # 10 PART b, B13): 5 + 3 r for M = 3; each estimate also costs the per-call term
-    per_call = MI_SECONDS_PER_CALL["ksg"] + 0.2e-6 * math.log2(1e6) * 1e6
-    calls_ok = int(MAX_ORDERING_SECONDS / per_call)
-    resamples_ok = (calls_ok - 5) // 3
+    # 3 + 2 (every mode left at each step) plus 2 M - 2 per bootstrap replicate (round
+    # 10 PART b, B13; 2 M - 3 until leftovers 13-cost): 5 + 4 r for M = 3; each estimate
+    # also costs the per-call term and the score's screens (0.25 ms + 1.5 ns n), and the
+    # ordering and each replicate gather the 3 modes at the samples (1.5 ns each)
+    per_call = MI_SECONDS_PER_CALL["ksg"] + 0.2e-6 * math.log2(1e6) * 1e6 + 2.5e-4 + 1.5e-3
+    gather = 3 * 1e6 * 1.5e-9
+    resamples_ok = int((MAX_ORDERING_SECONDS - 5 * per_call - gather) // (4 * per_call
+                                                                           + gather))
     check_mi_time(_args(resamples_ok), _Log())
     with pytest.raises(CommandError, match="would take at least"):
         check_mi_time(_args(resamples_ok + 1), _Log())
