@@ -13,7 +13,7 @@ more than ``WIDE_BINS_NATS`` (0.2) + 1.96 se, se the estimate's standard error: 
 warning says the bias exceeds 0.2 nats at 95 % (one-sided 97.5 %), silence that it is
 below 0.2 + 3.92 se. Before the fix the allowance was 0.2 + 1 / sqrt(n), narrower than
 the estimate's spread on heavy tails at n <= 1e3 (sd 0.10-0.19 nats at n = 100-300):
-draws biased by less than 0.2 nats warned (11 of 69 in the cases of the first test).
+draws biased by less than 0.2 nats warned (11 of 70 in the cases of the false-warning test).
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ def test_density_free_variance_matches_the_uniform_spread():
 def test_draws_within_the_rule_are_rarely_warned():
     # Heavy tails at small n, 50 seeds each: draws biased by <= 0.2 nats (scipy's exact
     # entropy) may warn with probability <= 2.5 % each; bound: binomial 99.9 % quantile.
-    # Before the fix, 11 of the 69 such draws warned (t2: 3, log-normal 1.25: 4, 1.5: 4).
+    # Before the fix, 11 of the 70 such draws warned (t2: 3, log-normal 1.25: 4, 1.5: 4).
     low, warned = 0, []
     for law, n in ((stats.t(2), 100), (stats.lognorm(1.25), 300), (stats.lognorm(1.5), 300)):
         exact = law.entropy()
