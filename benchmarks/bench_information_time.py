@@ -168,7 +168,7 @@ def var1_te(a, b, c):
     return 0.5 * math.log(1.0 + c * c * (syy - sxy * sxy / sxx))
 
 
-def bench_coverage(trials=40, n_resamples=99):
+def bench_coverage(trials=40, n_resamples=99, only=None):
     a, b, c = 0.6, 0.8, 0.5
     te = var1_te(a, b, c)
     print(f"coverage of nominal 95% block-bootstrap intervals, VAR(1) TE = {te:.4f} nats, "
@@ -176,6 +176,8 @@ def bench_coverage(trials=40, n_resamples=99):
     for method, sizes in (("gaussian", (1_000, 10_000, 100_000)),
                           ("histogram", (1_000, 10_000, 100_000)), ("kde", (1_000,))):
         for n in sizes:
+            if only and f"{method}:{n}" not in only:
+                continue
             target = te
             if method == "histogram":  # the binned estimand at the default bins for n
                 k = _bins_per_axis("auto", n, 3)
@@ -183,6 +185,7 @@ def bench_coverage(trials=40, n_resamples=99):
                     *transfer_entropy_variables(*var1(2_000_000, a, b, c, 10_000 + s)),
                     bins=k, method="histogram") for s in range(2)]))
             est, sds, bias, cov, cov_k, cov_bc, cov_basic = [], [], [], 0, 0, 0, 0
+            t0 = time.perf_counter()
             for s in range(trials):
                 x, y, z = transfer_entropy_variables(*var1(n, a, b, c, 500 + s))
                 ci = conditional_mutual_information_ci(x, y, z, method=method,
@@ -197,12 +200,17 @@ def bench_coverage(trials=40, n_resamples=99):
                 cov_bc += abs(centre - te) <= 1.959964 * sd
                 q_lo, q_hi = percentile_bounds(ci.bootstrap_distribution, 0.95)
                 cov_basic += 2.0 * th - q_hi <= target <= 2.0 * th - q_lo
+                if (s + 1) % 50 == 0 and s + 1 < trials:  # partial counts of long cells
+                    print(f"    {method} n = {n}: {s + 1} trials, coverage: TE {cov}, "
+                          f"estimand {cov_k}, BC centre {cov_bc}, basic {cov_basic}",
+                          flush=True)
             est = np.asarray(est)
             print(f"  {method:<9} n = {n:>6}: mean {est.mean():.4f} (sd {est.std(ddof=1):.4f}),"
                   f" estimand {target:.4f}, boot sd {np.mean(sds):.4f}, boot bias "
-                  f"{np.mean(bias):+.4f}; coverage: TE {cov / trials:.2f}, estimand "
-                  f"{cov_k / trials:.2f}, BC centre (TE) {cov_bc / trials:.2f}, basic "
-                  f"(estimand) {cov_basic / trials:.2f}", flush=True)
+                  f"{np.mean(bias):+.4f}; coverage: TE {cov / trials:.3f}, estimand "
+                  f"{cov_k / trials:.3f}, BC centre (TE) {cov_bc / trials:.3f}, basic "
+                  f"(estimand) {cov_basic / trials:.3f}; {time.perf_counter() - t0:.0f} s",
+                  flush=True)
 
 
 def bench_selection(quick):
@@ -231,9 +239,15 @@ def main():
     parser.add_argument("--quick", action="store_true", help="n <= 1e4, fewer runs")
     parser.add_argument("--cmi-only", action="store_true", help="skip the selection timings")
     parser.add_argument("--coverage", action="store_true", help="interval coverage study only")
+    parser.add_argument("--trials", type=int, default=40,
+                        help="independent series per cell of --coverage (default 40)")
+    parser.add_argument("--cells", default="",
+                        help="comma-separated method:n cells of --coverage (default: all), "
+                             "e.g. histogram:1000,kde:1000")
     args = parser.parse_args()
     if args.coverage:
-        bench_coverage()
+        bench_coverage(trials=args.trials,
+                       only={c.strip() for c in args.cells.split(",") if c.strip()})
         return
     n = 10_000 if args.quick else 100_000
     bench_cmi(1_000, 9)

@@ -95,6 +95,9 @@ def conditional_mutual_information_ci(
     the interval, and no resampling sees it; the block bootstrap's own bias estimate
     is 2-7 times too large, so a bias-corrected centre is worse (0.20, 0.00, 0.00).
     Use the histogram interval for the binned CMI, the others for the CMI itself.
+    Re-measured over 200 trials (leftovers 13-est, benchmarks/RESULTS.md): ``"gaussian"``
+    0.93, 0.93 at 1e3, 1e4; ``"kde"`` 0.94 at 1e3; ``"histogram"`` 0.86, 0.835, 0.915
+    of the binned CMI (its finite-sample bias, 1.5, 1.0, 0.7 sd).
 
     Warns (``BlockBootstrapWarning``, once per call) on the rules of
     :func:`~modalinfo.information.mutual_information_ci`, judged on x's and y's

@@ -334,6 +334,20 @@ def ksg_entropy(x: np.ndarray, *, k: int = 3) -> float:
             "Kozachenko-Leonenko entropy (method='ksg') needs distinct values, a tie being "
             "a neighbour at distance 0 (ln 0); use method='histogram' or 'kde' (the "
             "entropy of a binned or smoothed density).")
+    return float(digamma(n) - digamma(k) + np.mean(_kl_log_distances(xs, k)))
+
+
+def _kl_log_distances(xs: np.ndarray, k: int) -> np.ndarray:
+    """``ln(2 rho_i)`` (n,), rho_i the distance of sample i to its k-th neighbour.
+
+    ``ksg_entropy`` is ``psi(n) - psi(k)`` plus their mean.
+
+    ``xs`` sorted, distinct values, ``k < n``. Their sample variance estimates
+    ``Var(ln f(X)) + psi'(k)`` (the k-th neighbour distance times n f is Gamma(k)
+    distributed), the ingredient of the estimate's standard error (histogram wide-bins
+    rule, ``_wide_bins_reference``).
+    """
+    n = xs.shape[0]
     # k-th neighbour distance in 1-D: among the k left and k right candidates.
     idx = np.arange(n)
     cand = np.full((n, 2 * k), np.inf)
@@ -346,7 +360,7 @@ def ksg_entropy(x: np.ndarray, *, k: int = 3) -> float:
         cand[ok, k + j - 1] = xs[hi[ok]] - xs[idx[ok]]
     rho = np.partition(cand, k - 1, axis=1)[:, k - 1]
     rho = np.maximum(rho, np.finfo(float).tiny)
-    return float(digamma(n) - digamma(k) + np.mean(np.log(2.0 * rho)))
+    return np.log(2.0 * rho)
 
 
 # ----------------------------------------------------------------------------- conditional MI
