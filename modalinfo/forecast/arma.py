@@ -437,9 +437,12 @@ class ARMAPredictor(_LinearRecursion):
     The model is stationary about one mean: a step in level within the training
     series (two nights concatenated, an offset changed) is fitted as persistence
     (round 14 PART a: AR(1) with phi = 0.9 and a step of 8.7 standard deviations half
-    way gave phi = 0.994), and nothing here detects it (nor does
-    :func:`modalinfo.telemetry.assess_quality`'s stationarity, which judges the
-    innovations' scale): fit each stretch of steady conditions on its own.
+    way gave phi = 0.994). ``fit`` warns (``LevelStepWarning``, once per call, not at
+    the refits) where a mode's mean steps or drifts in the history by the level rule
+    ``modalinfo._stats.level_stationarity`` (1 % family-wise over the modes; it cannot
+    judge a record of few correlation times, e.g. AR(1) 0.99 over < ~2000-5000 samples,
+    where a step and persistence look alike): fit each stretch of steady conditions on
+    its own.
 
     Parameters
     ----------

@@ -493,8 +493,8 @@ class QualityReport:
         False when ``scale_ratio`` exceeds ``stationarity_threshold`` (the seeing
         changed within the log, so the stated false-alarm rate does not hold: :attr:`note`
         says so; which values are flagged does not change); None when there are too few
-        effective frames per block to judge. It judges the innovations' **scale** only:
-        a step in **level** (two nights concatenated, an offset changed mid-log) keeps
+        effective frames per block to judge. The scale rule judges the innovations'
+        **scale** only: a step in **level** (two nights concatenated, an offset changed mid-log) keeps
         the scale and is not seen (round 14 PART a: a step of 6.5 standard deviations
         of an AR(1) log, rho = 0.9, gave ``stationary=True`` and a clean report, and
         ``summarize`` a lag-1 autocorrelation of 0.99 for 0.9); split such a log at the
