@@ -494,8 +494,8 @@ class QualityReport:
         changed within the log, so the stated false-alarm rate does not hold: :attr:`note`
         says so; which values are flagged does not change); None when there are too few
         effective frames per block to judge. The scale rule judges the innovations'
-        **scale** only: a step in **level** (two nights concatenated, an offset changed mid-log) keeps
-        the scale and is not seen (round 14 PART a: a step of 6.5 standard deviations
+        **scale** only: a step in **level** (two nights concatenated, an offset changed
+        mid-log) keeps the scale and is not seen by it (round 14 PART a: a step of 6.5 sd
         of an AR(1) log, rho = 0.9, gave ``stationary=True`` and a clean report, and
         ``summarize`` a lag-1 autocorrelation of 0.99 for 0.9); split such a log at the
         step (``log.select``) before assessing it. Since issue 27 (left14-level) such a
