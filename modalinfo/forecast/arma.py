@@ -82,6 +82,7 @@ representation (B&D 5.3), giving Gaussian prediction intervals.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -89,7 +90,7 @@ from scipy.linalg import solve_toeplitz
 from scipy.signal import lfilter
 from scipy.stats import norm
 
-from modalinfo._stats import sample_autocovariance
+from modalinfo._stats import LevelStepWarning, level_steps, sample_autocovariance
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.forecast._kernels import (
@@ -436,9 +437,12 @@ class ARMAPredictor(_LinearRecursion):
     The model is stationary about one mean: a step in level within the training
     series (two nights concatenated, an offset changed) is fitted as persistence
     (round 14 PART a: AR(1) with phi = 0.9 and a step of 8.7 standard deviations half
-    way gave phi = 0.994), and nothing here detects it (nor does
-    :func:`modalinfo.telemetry.assess_quality`'s stationarity, which judges the
-    innovations' scale): fit each stretch of steady conditions on its own.
+    way gave phi = 0.994). ``fit`` warns (``LevelStepWarning``, once per call, not at
+    the refits) where a mode's mean steps or drifts in the history by the level rule
+    ``modalinfo._stats.level_stationarity`` (1 % family-wise over the modes; it cannot
+    judge a record of few correlation times, e.g. AR(1) 0.99 over < ~2000-5000 samples,
+    where a step and persistence look alike): fit each stretch of steady conditions on
+    its own.
 
     Parameters
     ----------
@@ -590,6 +594,8 @@ class ARMAPredictor(_LinearRecursion):
         n_iter = check_int(self.n_iter, "n_iter", minimum=0)
         fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter)
                 for m in range(X.shape[1])]
+        if previous is None:  # fit, not the refits of update / predict: once per call
+            self._warn_level_steps(X, fits)
         n_modes = X.shape[1]
         P = max(f[1] for f in fits)
         Q = max(f[2] for f in fits)
@@ -606,6 +612,28 @@ class ARMAPredictor(_LinearRecursion):
             "sigma2": np.array([f[5] for f in fits]),
             "criterion": None if fits[0][6] is None else np.stack([f[6] for f in fits]),
         }
+
+    def _warn_level_steps(self, X: np.ndarray, fits: list) -> None:
+        """Warn (``LevelStepWarning``) where a mode's mean steps or drifts in the history.
+
+        The model is stationary about one mean, so a step is fitted as persistence
+        (round 14 PART a, d02: phi 0.994 for 0.9); ``modalinfo._stats.level_steps``
+        judges each non-constant mode (1 % family-wise).
+        """
+        flagged, _ = level_steps(X, skip=self._constant_columns(X)[0])
+        if not flagged:
+            return
+        shown = "; ".join(
+            f"mode {j}: sample {t.frame}, shift {t.shift:+.3g}, p = {t.p_value:.2g}, "
+            f"fitted AR sum {float(np.sum(fits[j][3])):.3f}" for j, t in flagged[:3])
+        more = f" and {len(flagged) - 3} more" if len(flagged) > 3 else ""
+        warnings.warn(
+            f"ARMAPredictor.fit: the mean of {len(flagged)} mode(s) steps or drifts in the "
+            f"training series ({shown}{more}; largest CUSUM excursion, EWC F test of the "
+            "first cosine term, 1 % family-wise): the model is stationary about one mean, "
+            "so the fitted persistence may be the level step rather than the dynamics; "
+            "fit each stretch of steady conditions on its own.",
+            LevelStepWarning, stacklevel=4)
 
     # ------------------------------------------------------------------ attributes
     @property

@@ -60,6 +60,7 @@ from modalinfo.information.resampling import (
     block_bootstrap_indices,
     block_bootstrap_rule,
     check_resamples,
+    level_null_rule,
     rank_based_options,
     residual_split,
     resolve_block_length,
@@ -276,7 +277,8 @@ def conditional_mutual_information_test(
         # two persistent residuals over few correlation times make the null liberal
         why = (rotation_null_rule(x_resid, resid, "conditional_mutual_information_test")
                or stationarity_null_rule(x_resid, resid,
-                                         "conditional_mutual_information_test"))
+                                         "conditional_mutual_information_test")
+               or level_null_rule(x_resid, resid, "conditional_mutual_information_test"))
         if why is not None:
             warnings.warn(why, RotationNullWarning, stacklevel=2)
         shifts, shift0 = surrogate_shifts(n, n_surrogates, 0, spacing, rng)

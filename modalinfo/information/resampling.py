@@ -48,9 +48,11 @@ import numpy as np
 
 from modalinfo._stats import (
     INNOVATION_ORDER,
+    LEVEL_ALPHA,
     PAIR_MIN_STATIONARITY_FRAMES,
     ar_innovations,
     lag1_autocorrelation,
+    level_steps,
     sample_autocovariance,
     scale_stationarity,
 )
@@ -765,13 +767,18 @@ class RotationNullWarning(UserWarning):
     """A circular-shift null was drawn for series of too few correlation times."""
 
 
+#: Fewest effective pairs at which the (unconditional) MI rotation null is not said to
+#: be liberal (``rotation_null_rule(..., minimum=MI_ROTATION_MIN_EFFECTIVE_PAIRS)``).
+MI_ROTATION_MIN_EFFECTIVE_PAIRS = 8.0
+
 #: Fewest effective pairs ``n (1 - p) / (1 + p)`` (Bartlett 1935) at which a conditional
 #: rotation null is not said to be liberal: measured (audit 12-tests, 100 draws each, n =
 #: 500) 6 % at 5 % with ~65 (AR(1) 0.9), 11 % with ~40 (0.95), 14 % with ~23 (0.99).
 ROTATION_MIN_EFFECTIVE_PAIRS = 50.0
 
 
-def rotation_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
+def rotation_null_rule(a: np.ndarray, b: np.ndarray, name: str,
+                       minimum: float = ROTATION_MIN_EFFECTIVE_PAIRS) -> str | None:
     """Why a circular-shift null of (a, b) is only approximate, or None.
 
     The rotations are exchangeable with the original only for circularly stationary
@@ -799,11 +806,11 @@ def rotation_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     n = a.shape[0]
     p = min(max(_largest_lag1_product(a, b), 0.0), 1.0 - 1e-12)  # for the message
     n_eff = bartlett_pairs(n, p)
-    if n_eff >= ROTATION_MIN_EFFECTIVE_PAIRS:
+    if n_eff >= minimum:
         return None
     return (f"{name}: the series hold {n_eff:.1f} effective pairs of their n = {n} "
             f"(largest product of lag-1 autocorrelations {p:.4f}; n (1 - p) / (1 + p), "
-            f"Bartlett 1935), fewer than {ROTATION_MIN_EFFECTIVE_PAIRS:g}: the circular "
+            f"Bartlett 1935), fewer than {minimum:g}: the circular "
             "surrogates assume many correlation times per record and the p-value is "
             "liberal here (measured 11-14 % rejections at a nominal 5 % with 23-40 "
             "effective pairs); use a longer record or difference the series.")
@@ -871,6 +878,54 @@ def stationarity_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | Non
             "(measured 9.5-13 % rejections at a nominal 5 % on a x4 variance step); test "
             "stretches of steady scale separately, or divide each series by its running "
             "scale first.")
+
+
+#: Per-series family-wise level at which :func:`level_null_rule` calls a series' mean
+#: non-stationary (``modalinfo._stats.LEVEL_ALPHA``); the rule needs both series of the
+#: pair, so two independent stationary series are both called so in about 0.01^2 = 1e-4
+#: of pairs (5 % per series, 0.25 % of pairs, warned one of the 400 AR(1) 0.9 null pairs
+#: of ``tests/information/test_resampling.py``).
+LEVEL_PAIR_ALPHA = LEVEL_ALPHA
+
+
+def level_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
+    """Why a circular-shift null of (a, b) fails for means that step or drift, or None.
+
+    Two series sharing a trend or a step co-vary when aligned, and the rotations break
+    that alignment: the null is too narrow (AR(1) 0.9 pairs sharing a ramp of 3
+    innovation sd, n = 500: 7.3 % / 15.0 % rejections of the MI test at 5 % / 10 %;
+    leftovers 13-stats). Rule: a column of ``a`` and one of ``b`` both have a mean that
+    steps or drifts (``modalinfo._stats.level_steps``, EWC F test of the first cosine
+    term against the long-run variance, at :data:`LEVEL_PAIR_ALPHA` per series). Where
+    the series span too few correlation times the rule does not judge: a step cannot
+    be told from persistence there (the effective-pairs rule speaks instead).
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray, shape (n,) or (n, k)
+        The series the statistic pairs, in time order (columns are variables).
+    name : str
+        The test's name for the message.
+
+    Returns
+    -------
+    str or None
+        The message naming the failed assumption and the cure, or None.
+    """
+    flagged_a, _ = level_steps(a, LEVEL_PAIR_ALPHA)
+    if not flagged_a:
+        return None
+    flagged_b, _ = level_steps(b, LEVEL_PAIR_ALPHA)
+    if not flagged_b:
+        return None
+    ta = min((t for _, t in flagged_a), key=lambda t: t.p_value)
+    tb = min((t for _, t in flagged_b), key=lambda t: t.p_value)
+    return (f"{name}: the circular surrogates assume series stationary in level, but the "
+            f"means of both step or drift within the record (largest CUSUM excursions at "
+            f"samples {ta.frame} and {tb.frame}, EWC F test p = {ta.p_value:.2g} and "
+            f"{tb.p_value:.2g}), so the aligned pair shares the change the rotations break "
+            "and the p-value is liberal (measured 7.3 % at a nominal 5 % on a shared ramp); "
+            "remove the common trend or step (or test the stretches separately) first.")
 
 
 class BlockBootstrapWarning(UserWarning):

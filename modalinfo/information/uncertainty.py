@@ -81,6 +81,7 @@ from modalinfo.information.api import (
 )
 from modalinfo.information.methods import BiasRuleWarning, check_bootstrappable
 from modalinfo.information.resampling import (
+    MI_ROTATION_MIN_EFFECTIVE_PAIRS,
     BlockBootstrapWarning,
     RotationNullWarning,
     ShuffleNullWarning,
@@ -89,9 +90,11 @@ from modalinfo.information.resampling import (
     check_index_memory,
     check_resamples,
     check_tail_replicates,
+    level_null_rule,
     matched_window_for,
     percentile_bounds,
     resolve_block_length,
+    rotation_null_rule,
     shuffle_null_rule,
     stationarity_null_rule,
     surrogate_pvalue,
@@ -471,7 +474,10 @@ def mutual_information_permutation_test(
             null[i] = est.score(y[rng.permutation(n)])
     else:
         # a scale that changes in both series at once narrows the rotations' null
-        why = stationarity_null_rule(x, y, "mutual_information_permutation_test")
+        name = "mutual_information_permutation_test"
+        why = (rotation_null_rule(x, y, name, MI_ROTATION_MIN_EFFECTIVE_PAIRS)
+               or stationarity_null_rule(x, y, name)
+               or level_null_rule(x, y, name))
         if why is not None:
             warnings.warn(why, RotationNullWarning, stacklevel=2)
         shifts, shift0 = surrogate_shifts(n, n_permutations, 0, spacing, rng,

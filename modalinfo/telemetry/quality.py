@@ -149,9 +149,11 @@ from statistics import NormalDist
 import numpy as np
 
 from modalinfo._stats import (
+    LEVEL_ALPHA,
     MIN_SCALE_RATIO,  # noqa: F401 (documented here since round 11)
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     STATIONARITY_BLOCKS,
+    level_steps,
     stationarity_threshold,
 )
 from modalinfo._stats import block_scale_ratio as _scale_ratio
@@ -189,6 +191,7 @@ OUTLIER_POLICIES = ("warn", "clip", "drop", "raise")
 
 #: Default family-wise false-alarm probability of the threshold on a Gaussian log.
 DEFAULT_ALPHA = 0.01
+
 
 #: Default minimum run of equal consecutive values counted as stuck.
 DEFAULT_STUCK_RUN = 8
@@ -490,12 +493,26 @@ class QualityReport:
         False when ``scale_ratio`` exceeds ``stationarity_threshold`` (the seeing
         changed within the log, so the stated false-alarm rate does not hold: :attr:`note`
         says so; which values are flagged does not change); None when there are too few
-        effective frames per block to judge. It judges the innovations' **scale** only:
-        a step in **level** (two nights concatenated, an offset changed mid-log) keeps
-        the scale and is not seen (round 14 PART a: a step of 6.5 standard deviations
+        effective frames per block to judge. The scale rule judges the innovations'
+        **scale** only: a step in **level** (two nights concatenated, an offset changed
+        mid-log) keeps the scale and is not seen by it (round 14 PART a: a step of 6.5 sd
         of an AR(1) log, rho = 0.9, gave ``stationary=True`` and a clean report, and
         ``summarize`` a lag-1 autocorrelation of 0.99 for 0.9); split such a log at the
-        step (``log.select``) before assessing it.
+        step (``log.select``) before assessing it. Since issue 27 (left14-level) such a
+        step or a drift of the mean is reported too (:attr:`level_steps`), and makes
+        ``stationary`` False.
+    level_steps : tuple of (str, int, float, float)
+        Modes whose mean steps or drifts within the log: ``(label, frame, shift,
+        p_value)``, ``frame`` the first frame after the largest CUSUM excursion (to
+        the ``sample`` stride: the rule reads means of ``ceil(T / sample_frames)``
+        frames), ``shift`` the mean after it minus the mean before (log units),
+        ``p_value`` that of ``modalinfo._stats.level_stationarity`` (EWC F test of the
+        first cosine term against the long-run variance); flagged at a family-wise
+        ``LEVEL_ALPHA`` = 1 % (Bonferroni over the judged modes).
+    level_judged : int
+        Modes the level rule judged: a mode whose record spans too few correlation
+        times (AR(1) 0.99 below ~2000-5000 frames) cannot have a step told from
+        persistence and is not judged (:attr:`note` says so when none is).
     predictor : tuple of numpy.ndarray or None
         What the flagging pass used, for ``"clip"`` to replace the same values by the
         same predictions: the centre (M,), levels threshold (M,), AR coefficients
@@ -530,6 +547,8 @@ class QualityReport:
     scale_ratio: float = math.nan
     stationary: bool | None = None
     predictor: tuple | None = field(default=None, repr=False)
+    level_steps: tuple = ()
+    level_judged: int = 0
 
     @property
     def approximate(self) -> bool:
@@ -553,9 +572,22 @@ class QualityReport:
             return ""
         rate = (f"the {100 * self.alpha:g} % false-flag rate" if self.alpha is not None
                 else f"the false-flag rate of {self.false_alarm:.2g} per value")
-        return (f"the innovations' scale changes x{self.scale_ratio:.2g} across the log "
-                f"(seeing not steady?): {rate} assumes a stationary log; assess stretches "
-                "of steady seeing")
+        parts = []
+        if self.level_steps:
+            shown = ", ".join(f"{label} at frame {frame} ({shift:+.3g})"
+                              for label, frame, shift, _ in self.level_steps[:5])
+            more = ", ..." if len(self.level_steps) > 5 else ""
+            parts.append(f"the mean steps or drifts in {len(self.level_steps)} mode(s) "
+                         f"({shown}{more}; two nights joined, an offset changed?)")
+        if not self.level_steps or (math.isfinite(self.scale_ratio) and self.scale_ratio
+                                    > stationarity_threshold(self.effective_frames
+                                                             / STATIONARITY_BLOCKS)):
+            parts.append(f"the innovations' scale changes x{self.scale_ratio:.2g} across "
+                         "the log (seeing not steady?)")
+        if not parts:
+            return ""
+        return (" and ".join(parts) + f": {rate} assumes a stationary log; assess "
+                "stretches of steady conditions (split at the step)")
 
     @property
     def note(self) -> str:
@@ -648,6 +680,9 @@ class QualityReport:
             "scale_ratio": (float(self.scale_ratio) if math.isfinite(self.scale_ratio)
                             else None),
             "stationary": self.stationary,
+            "level_steps": ", ".join(f"{label} {frame}"
+                                     for label, frame, _, _ in self.level_steps),
+            "level_judged": int(self.level_judged),
             **extra,
         }
 
@@ -769,10 +804,14 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
     prev = None
     picked = []
     after, gidx = [], []
+    n_bins = -(-arr.shape[0] // step)
+    bin_sum = np.zeros((n_bins, m))
+    bin_count = np.zeros((n_bins, m))
     i0 = 0
     for block in row_blocks(arr, rows):
         if h is not None:
             _hash_block(h, block)
+        _add_bins(block, i0, step, bin_sum, bin_count)
         repeats += np.count_nonzero(block[1:] == block[:-1], axis=0)
         if prev is not None:
             repeats += block[0] == prev
@@ -794,10 +833,51 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
             hi = np.maximum(hi, np.where(fin, block, -np.inf).max(axis=0))
         i0 += block.shape[0]
     sample = np.concatenate(picked, axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        means = bin_sum / bin_count  # NaN where a bin holds no finite value
     if step == 1:
-        return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats
+        return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
     return (sample, np.concatenate(after, axis=0), np.concatenate(gidx), lo, hi, bad,
-            repeats)
+            repeats, means)
+
+
+def _add_bins(block: np.ndarray, i0: int, step: int, bin_sum: np.ndarray,
+              bin_count: np.ndarray) -> None:
+    """Add a block's finite values and counts to bins of ``step`` consecutive frames.
+
+    The level rule reads the means of these bins: a boxcar mean keeps the low
+    frequencies a level step lives in, where the strided sample would alias a
+    resonance onto them.
+    """
+    fin = np.isfinite(block)
+    vals = np.where(fin, block, 0.0).astype(np.float64, copy=False)
+    ids = (i0 + np.arange(block.shape[0])) // step
+    starts = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]])
+    bin_sum[ids[starts]] += np.add.reduceat(vals, starts, axis=0)
+    bin_count[ids[starts]] += np.add.reduceat(fin, starts, axis=0, dtype=np.float64)
+
+
+def _level_steps(means: np.ndarray, step: int, n: int, labels: list,
+                 constant: np.ndarray) -> tuple[tuple, int]:
+    """Modes whose mean steps or drifts (``QualityReport.level_steps``), and how many judged.
+
+    ``means`` (shape (ceil(T / step), M)): bin means of ``step`` frames, NaN where a bin
+    held no finite value (interpolated). Family-wise ``LEVEL_ALPHA`` by Bonferroni.
+    """
+    means = means.copy()
+    skip = np.asarray(constant, dtype=bool).copy()
+    for j in range(means.shape[1]):
+        ok = np.isfinite(means[:, j])
+        if ok.sum() < 2:
+            skip[j] = True
+            means[:, j] = 0.0
+        elif not ok.all():
+            idx = np.arange(means.shape[0])
+            means[:, j] = np.interp(idx, idx[ok], means[ok, j])
+    flagged, judged = level_steps(means, LEVEL_ALPHA, skip)
+    steps = tuple((labels[j], int(min(t.frame * step, n - 1)), float(t.shift),
+                   float(t.p_value)) for j, t in flagged)
+    return steps, judged
 
 
 def _stuck_runs(repeats: np.ndarray, n: int, m: int, stuck_run: int,
@@ -981,7 +1061,8 @@ def assess_quality(
 
     step = max(1, -(-n // sample_frames))
     hasher = _data_hasher(arr)
-    sample, windows, gidx, lo, hi, _, repeats = _sample_and_range(arr, rows, step, hasher)
+    sample, windows, gidx, lo, hi, _, repeats, means = _sample_and_range(arr, rows, step,
+                                                                         hasher)
     fingerprint = (_keep_fingerprint(log_or_coeffs, _log_digest(hasher, log_or_coeffs))
                    if isinstance(log_or_coeffs, ModalLog) else "array:" + hasher.hexdigest())
     constant = lo == hi  # every finite value equal (no finite value: lo > hi)
@@ -993,6 +1074,10 @@ def assess_quality(
     limit = stationarity_threshold(n_eff / STATIONARITY_BLOCKS)
     stationary = None if not (math.isfinite(limit) and math.isfinite(ratio)) else bool(
         ratio <= limit)
+    # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
+    found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
+    if found_steps:
+        stationary = False
     assessed = True
     if k is None:
         if n_eff < MIN_EFFECTIVE_FRAMES:  # no honest finite k: too short to assess
@@ -1059,6 +1144,7 @@ def assess_quality(
         effective_frames=float(n_eff), assessed=assessed,
         scale_ratio=float(ratio), stationary=stationary,
         predictor=(centre, thr, coef, cen_e, thr_e, head),
+        level_steps=found_steps, level_judged=level_judged,
     )
 
 
