@@ -39,7 +39,9 @@ labels) is followed: a modes x frames dataset is read transposed and
 
 from __future__ import annotations
 
+import errno
 import io
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -130,8 +132,9 @@ def write_hdf5_file(path, fill: Callable[[Any], None], *, overwrite: bool = Fals
 
     A file whose datasets need more than the memory this process may still allocate
     (``IMAGE_COPIES`` times ``nbytes``, against
-    ``modalinfo.common.memory.usable_memory_bytes``) is written by HDF5 on disk, as
-    before: there only the callers' free-space check before the work guards a full disk.
+    ``modalinfo.common.memory.usable_memory_bytes``) is written by h5py on disk, through
+    a file object whose first failed write stops the work and whose later writes (those
+    of HDF5's close) are dropped: the same one error, the staging file removed.
 
     Parameters
     ----------
@@ -155,12 +158,8 @@ def write_hdf5_file(path, fill: Callable[[Any], None], *, overwrite: bool = Fals
 
     path = as_path(path)
     if IMAGE_COPIES * float(nbytes) > usable_memory_bytes():
-
-        def write_on_disk(name: Path) -> None:
-            with h5py.File(name, "w") as f:
-                fill(f)
-
-        return atomic_write(path, write_on_disk, overwrite=overwrite, by_name=True)
+        return atomic_write(path, lambda name: _write_on_disk(name, fill),
+                            overwrite=overwrite, by_name=True)
 
     def write(fh) -> None:
         image = io.BytesIO()
@@ -169,6 +168,94 @@ def write_hdf5_file(path, fill: Callable[[Any], None], *, overwrite: bool = Fals
         fh.write(image.getbuffer())  # no copy of the image
 
     return atomic_write(path, write, overwrite=overwrite)
+
+
+class _GuardedFile(io.RawIOBase):
+    """The staging file as h5py writes it on disk: a failed write never fails HDF5's close.
+
+    While the file is filled, the first failed write raises (the fill stops there) and is
+    kept; from then on, and while the file closes, writes are dropped: h5py's close then
+    succeeds instead of failing in a deallocation and crashing (left14-h5). The kept
+    error is raised once h5py let go of the file; the file is garbage then, removed by
+    ``atomic_write``.
+    """
+
+    def __init__(self, fh) -> None:
+        super().__init__()
+        self.fh = fh
+        self.error: OSError | None = None
+        self.closing = False
+
+    def readable(self) -> bool:
+        return True
+
+    def writable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def readinto(self, buffer) -> int:
+        return self.fh.readinto(buffer)
+
+    def seek(self, offset: int, whence: int = 0) -> int:
+        return self.fh.seek(offset, whence)
+
+    def tell(self) -> int:
+        return self.fh.tell()
+
+    def truncate(self, size: int | None = None) -> int:
+        if self.error is not None:
+            return self.tell() if size is None else size
+        try:
+            return self.fh.truncate(size)
+        except OSError as exc:
+            return self._failed(exc, 0 if size is None else size)
+
+    def write(self, data) -> int:
+        view = memoryview(data).cast("B")
+        if self.error is not None:
+            return len(view)  # dropped: the file is discarded
+        done = 0
+        try:
+            while done < len(view):  # a raw write may write less (a disk filling up)
+                n = self.fh.write(view[done:])
+                if not n:
+                    raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+                done += n
+        except OSError as exc:
+            return self._failed(exc, len(view))
+        return done
+
+    def _failed(self, exc: OSError, size: int) -> int:
+        self.error = exc
+        if self.closing:
+            return size
+        raise exc
+
+
+def _write_on_disk(name: Path, fill: Callable[[Any], None]) -> None:
+    """Let h5py write the file ``name`` through ``_GuardedFile`` (unbuffered)."""
+    import h5py
+
+    with open(name, "w+b", buffering=0) as fh:
+        guarded = _GuardedFile(fh)
+        try:
+            f = h5py.File(guarded, "w")
+        except (OSError, RuntimeError):  # h5py's words for our failed write: ours instead
+            if guarded.error is not None:
+                raise guarded.error from None
+            raise
+        try:
+            fill(f)
+        except (OSError, RuntimeError):  # as above
+            if guarded.error is None:
+                raise
+        finally:
+            guarded.closing = True
+            f.close()
+    if guarded.error is not None:
+        raise guarded.error
 
 
 def write_log_group(group, log: ModalLog) -> None:

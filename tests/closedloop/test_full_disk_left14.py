@@ -11,7 +11,9 @@ Reference, outside the code: the kernel. ``RLIMIT_FSIZE`` (``ulimit -f``) makes 
 write past the limit fail (``EFBIG``; Python ignores ``SIGXFSZ``) exactly where a full
 disk fails one, in a child process (a segmentation fault must not end the test run),
 at every limit in the file's last 4 kB (HDF5's metadata written as it closes: the
-fault) and at a few earlier ones. After each failure: an ``OSError`` of one line naming
+fault) and at a few earlier ones, on both paths: the file built in memory, and written
+by h5py on disk (as for a file that does not fit in memory, ``IMAGE_COPIES`` set to
+infinity). After each failure: an ``OSError`` of one line naming
 no staging file, the replaced file's SHA-256 unchanged (``hashlib``), no ``.tmp`` left
 (the folder's listing). Without a limit the bytes round-trip (``h5py`` reads back what
 was saved, the simulated arrays bit for bit).
@@ -38,6 +40,9 @@ import hashlib, os, resource, sys
 from closedloop.result import SimulationResult
 
 source, target = sys.argv[1], sys.argv[2]
+if sys.argv[3] == "disk":  # as if the image did not fit in memory: h5py writes on disk
+    import modalinfo.io.hdf5
+    modalinfo.io.hdf5.IMAGE_COPIES = float("inf")
 old = hashlib.sha256(open(target, "rb").read()).hexdigest()
 result = SimulationResult.load(source)
 size = os.path.getsize(source)
@@ -80,7 +85,8 @@ def test_saved_bytes_round_trip(run, tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["run.h5"]
 
 
-def test_file_size_limit_mid_write_is_one_error(run, tmp_path):
+@pytest.mark.parametrize("where", ["memory", "disk"])
+def test_file_size_limit_mid_write_is_one_error(where, run, tmp_path):
     source = run.save(tmp_path / "source.h5")
     folder = tmp_path / "out"
     folder.mkdir()
@@ -88,7 +94,7 @@ def test_file_size_limit_mid_write_is_one_error(run, tmp_path):
     target.write_bytes(b"the old file")  # replaced only by a whole new one
     old = hashlib.sha256(target.read_bytes()).hexdigest()
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
-    child = subprocess.run([sys.executable, "-c", _CHILD, str(source), str(target)],
+    child = subprocess.run([sys.executable, "-c", _CHILD, str(source), str(target), where],
                            capture_output=True, text=True, env=env, timeout=120)
     assert child.returncode == 0, (child.returncode, child.stdout, child.stderr[-2000:])
     assert child.stdout.strip().endswith("limits refused")

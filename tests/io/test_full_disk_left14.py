@@ -5,16 +5,18 @@ hdf5``) let HDF5 write the staging file itself; a write failing as HDF5 closed t
 (its metadata, in the file's last kilobytes) made h5py's close fail and the interpreter
 die of a segmentation fault, the staging file left behind (as ``closedloop run --out``,
 left13-cli). The file is now built in memory and its bytes written through
-``atomic_write``; a file whose datasets would not fit in memory is still written by HDF5
-on disk.
+``atomic_write``; a file whose datasets would not fit in memory is written by h5py on
+disk through a file object that drops the writes of HDF5's close after a failed write.
 
 Reference, outside the code: the kernel. ``RLIMIT_FSIZE`` (``ulimit -f``) makes every
 write past the limit fail (``EFBIG``; Python ignores ``SIGXFSZ``), in a child process
 (a segmentation fault must not end the test run), at every limit in the file's last
-4 kB and a few earlier ones; after each: one ``OSError`` line naming no staging file,
-the replaced file's SHA-256 unchanged (``hashlib``), no ``.tmp`` left (the folder's
-listing); the command line exits 2 with one stderr line. Without a limit the bytes
-round-trip: ``h5py`` reads back the coefficients bit for bit, on both paths.
+4 kB and a few earlier ones, on both paths (in memory; on disk, as for a file that
+does not fit in memory, ``IMAGE_COPIES`` set to infinity); after each: one ``OSError``
+line naming no staging file, the replaced file's SHA-256 unchanged (``hashlib``), no
+``.tmp`` left (the folder's listing); the command line exits 2 with one stderr line.
+Without a limit the bytes round-trip: ``h5py`` reads back the coefficients bit for bit,
+on both paths.
 """
 
 from __future__ import annotations
@@ -27,9 +29,9 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+import pytest
 
-from modalinfo.common import memory
-from modalinfo.io import read_hdf5, write_hdf5
+from modalinfo.io import hdf5, read_hdf5, write_hdf5
 from modalinfo.telemetry.log import ModalLog
 
 _CHILD = """
@@ -41,6 +43,9 @@ from modalinfo.io import write_hdf5
 from modalinfo.telemetry.log import ModalLog
 
 source, target = sys.argv[1], sys.argv[2]
+if sys.argv[3] == "disk":  # as if the image did not fit in memory: h5py writes on disk
+    import modalinfo.io.hdf5
+    modalinfo.io.hdf5.IMAGE_COPIES = float("inf")
 coeffs = np.random.default_rng(4).standard_normal((3000, 7))
 log = ModalLog(coeffs, rate=500.0, units="rad", timestamps=np.arange(3000) / 500.0)
 old = hashlib.sha256(open(target, "rb").read()).hexdigest()
@@ -92,7 +97,7 @@ def test_written_bytes_round_trip(tmp_path, monkeypatch):
     log = _log()
     for name in ("memory.h5", "disk.h5"):
         if name == "disk.h5":  # no memory for the image: HDF5 writes on disk, as before
-            monkeypatch.setattr(memory, "usable_memory_bytes", lambda: 0.0)
+            monkeypatch.setattr(hdf5, "IMAGE_COPIES", float("inf"))
         path = write_hdf5(log, tmp_path / name)
         with h5py.File(path, "r") as f:
             assert f["coefficients"][()].tobytes() == log.coeffs.tobytes()
@@ -101,7 +106,8 @@ def test_written_bytes_round_trip(tmp_path, monkeypatch):
     assert sorted(os.listdir(tmp_path)) == ["disk.h5", "memory.h5"]
 
 
-def test_file_size_limit_mid_write_is_one_error(tmp_path):
+@pytest.mark.parametrize("where", ["memory", "disk"])
+def test_file_size_limit_mid_write_is_one_error(where, tmp_path):
     source = write_hdf5(_log(), tmp_path / "source.h5")
     folder = tmp_path / "out"
     folder.mkdir()
@@ -109,7 +115,7 @@ def test_file_size_limit_mid_write_is_one_error(tmp_path):
     target.write_bytes(b"the old file")  # replaced only by a whole new one
     old = hashlib.sha256(target.read_bytes()).hexdigest()
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
-    child = subprocess.run([sys.executable, "-c", _CHILD, str(source), str(target)],
+    child = subprocess.run([sys.executable, "-c", _CHILD, str(source), str(target), where],
                            capture_output=True, text=True, env=env, timeout=120)
     assert child.returncode == 0, (child.returncode, child.stdout, child.stderr[-2000:])
     assert child.stdout.strip().endswith("limits refused")
