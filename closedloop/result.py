@@ -598,46 +598,53 @@ class SimulationResult:
         }
 
     # ------------------------------------------------------------------ I/O
+    def _nbytes(self) -> int:
+        """Bytes of the arrays ``save`` writes (the file's size, less HDF5's overhead)."""
+        arrays = [self.times, self.directions, self.residual_variance, self.snapshots,
+                  self.snapshot_directions, *self.measurements]
+        if self.budget is not None:
+            arrays += [getattr(self.budget, name) for name in _BUDGET_FIELDS]
+        arrays += [a for log in self.logs.values() for a in (log.coeffs, log.timestamps)]
+        return sum(np.asarray(a).nbytes for a in arrays if a is not None)
+
     def save(self, path: str | Path, *, overwrite: bool = False) -> Path:
         """Write the result to HDF5 (atomic; refuses to replace a file unless ``overwrite``)."""
-        import h5py
-
-        from modalinfo.common.files import atomic_write
-        from modalinfo.io.hdf5 import write_log_group
+        from modalinfo.io.hdf5 import write_hdf5_file, write_log_group
 
         path = Path(path)
 
-        def write(tmp: Path) -> None:
-            with h5py.File(tmp, "w") as f:
-                f.attrs["format"] = _FORMAT
-                f.attrs["format_version"] = _FORMAT_VERSION
-                f.attrs["version"] = self.version
-                f.attrs["seed"] = self.seed
-                f.attrs["predictor"] = self.predictor
-                f.attrs["elapsed"] = self.elapsed
-                f.attrs["config"] = json.dumps(self.config.to_dict())
-                f["times"] = self.times
-                f["directions"] = self.directions
-                f["residual_variance"] = self.residual_variance
-                if self.snapshots is not None:
-                    f["snapshots"] = self.snapshots
-                    f["snapshot_directions"] = self.snapshot_directions
-                if self.budget is not None:
-                    b = f.create_group("budget")
-                    for name in _BUDGET_FIELDS:
-                        b[name] = getattr(self.budget, name)
-                m = f.create_group("measurements")
-                for j, arr in enumerate(self.measurements):
-                    m[f"wfs{j}"] = arr
-                g = f.create_group("logs")
-                for name, log in self.logs.items():
-                    write_log_group(g.create_group(name), log)
-                # the digests of what the file holds, read back: load recomputes the same
-                sums = {"attributes": _attributes_digest(f), "datasets": _dataset_digests(f)}
-                # fixed-length bytes, as modalinfo.io.hdf5 stores text (no heap reference)
-                f.attrs["sha256"] = np.bytes_(dumps(sums).encode("ascii"))
+        def write(f) -> None:
+            f.attrs["format"] = _FORMAT
+            f.attrs["format_version"] = _FORMAT_VERSION
+            f.attrs["version"] = self.version
+            f.attrs["seed"] = self.seed
+            f.attrs["predictor"] = self.predictor
+            f.attrs["elapsed"] = self.elapsed
+            f.attrs["config"] = json.dumps(self.config.to_dict())
+            f["times"] = self.times
+            f["directions"] = self.directions
+            f["residual_variance"] = self.residual_variance
+            if self.snapshots is not None:
+                f["snapshots"] = self.snapshots
+                f["snapshot_directions"] = self.snapshot_directions
+            if self.budget is not None:
+                b = f.create_group("budget")
+                for name in _BUDGET_FIELDS:
+                    b[name] = getattr(self.budget, name)
+            m = f.create_group("measurements")
+            for j, arr in enumerate(self.measurements):
+                m[f"wfs{j}"] = arr
+            g = f.create_group("logs")
+            for name, log in self.logs.items():
+                write_log_group(g.create_group(name), log)
+            # the digests of what the file holds, read back: load recomputes the same
+            sums = {"attributes": _attributes_digest(f), "datasets": _dataset_digests(f)}
+            # fixed-length bytes, as modalinfo.io.hdf5 stores text (no heap reference)
+            f.attrs["sha256"] = np.bytes_(dumps(sums).encode("ascii"))
 
-        return atomic_write(path, write, overwrite=overwrite, by_name=True)
+        # built in memory, then written by atomic_write: a full disk is one error, never
+        # h5py's failed close and a segmentation fault (left14-h5)
+        return write_hdf5_file(path, write, overwrite=overwrite, nbytes=self._nbytes())
 
     @classmethod
     def load(cls, path: str | Path) -> SimulationResult:
