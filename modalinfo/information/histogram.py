@@ -660,7 +660,7 @@ def histogram_copula_rule(value: float, x: np.ndarray, y: np.ndarray) -> str | N
             "(a k x k table holds ln k nats at most), so the value is a lower bound")
 
 
-#: Most bins per axis for which :meth:`HistogramEngine.grid_loss` is computed (0.1 s
+#: Most bins per axis for which ``HistogramEngine.grid_loss`` is computed (0.1 s
 #: at 300 x 300; beyond, the rule's k is large only for |r| near 1, where
 #: :func:`histogram_copula_rule` speaks).
 GRID_LOSS_MAX_BINS = 300
