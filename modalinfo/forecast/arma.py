@@ -102,6 +102,7 @@ from modalinfo.forecast._kernels import (
     enforce_roots,
 )
 from modalinfo.forecast._univariate import _LinearRecursion
+from modalinfo.forecast.base import check_horizon
 
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
 
@@ -697,8 +698,7 @@ class ARMAPredictor(_LinearRecursion):
             For h = 1..H, with the fitted parameters (data units).
         """
         self._check_fitted()
-        H = self._check_common()[0] if horizon is None else check_int(horizon, "horizon",
-                                                                       minimum=1)
+        H = self._check_common()[0] if horizon is None else check_horizon(horizon)
         return self._std_from_params(self.params_, H)
 
     def predict_interval(self, history, horizon: int | None = None,
@@ -721,8 +721,7 @@ class ARMAPredictor(_LinearRecursion):
             when a refit policy is set).
         """
         self._check_fitted()
-        H = self._check_common()[0] if horizon is None else check_int(horizon, "horizon",
-                                                                       minimum=1)
+        H = self._check_common()[0] if horizon is None else check_horizon(horizon)
         level = check_real(self.level if level is None else level, "level", minimum=0.0,
                            maximum=1.0, strict_min=True, strict_max=True)
         X, scalar = self._check_history(history, "history", 1)

@@ -313,10 +313,23 @@ class ForecastEvaluation:
                        f"every predictor: {', '.join(self.constant_modes)}.")
         skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
         n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
-        if not skilled:
+        # a pair whose loss differential is too persistent has no test (pvalue NaN):
+        # "no predictor beats" would then read as "no skill" where nothing was tested
+        # (round 15 PART a, f08: ARMA on a pure sinusoid, 1650x better than
+        # persistence, was summarised as beating nothing)
+        n_untested = sum(int(np.isnan(self.pvalue[i]).sum())
+                         for i, n in enumerate(self.names) if n not in _BASELINES)
+        if not skilled and n_tests and n_untested == n_tests:
+            out.append("Not tested against the best trivial baseline: no Diebold-Mariano "
+                       f"test was possible for any of the {n_tests} predictor-horizon "
+                       "pairs (below); judge skill from the RMSE table.")
+        elif not skilled:
+            untested = (f"; {n_untested} more could not be tested (below)"
+                        if n_untested else "")
             out.append("No predictor beats the best trivial baseline (training mean or "
                        "persistence) by more than sampling noise (one-sided "
-                       f"Diebold-Mariano, 5% Bonferroni-corrected over {n_tests} tests).")
+                       f"Diebold-Mariano, 5% Bonferroni-corrected over {n_tests} tests"
+                       f"{untested}).")
         for name in skilled:
             i = self.index(name)
             hs = [int(h) for h, b in zip(self.horizons, self.beats_baseline[i], strict=True)

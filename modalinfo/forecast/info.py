@@ -49,7 +49,7 @@ import numpy as np
 
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.forecast._info_kernels import sparse_direct_filter
-from modalinfo.forecast.base import Predictor
+from modalinfo.forecast.base import Predictor, check_horizon
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import _estimator
 from modalinfo.information.resampling import auto_block_length
@@ -144,7 +144,7 @@ class InfoPredictor(Predictor):
     def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
         max_lag = check_int(self.max_lag, "max_lag", minimum=1)
         k = check_int(self.max_inputs, "max_inputs", minimum=1)
-        h = check_int(self.horizon, "horizon", minimum=1)
+        h = check_horizon(self.horizon)
         return (max_lag + h + 10 * k + 10,
                 f"max_lag {max_lag} + horizon {h} + 10 regression rows per weight x "
                 f"{k} inputs + 10")
@@ -152,7 +152,7 @@ class InfoPredictor(Predictor):
     def _fit_params(self, X, previous, name):
         max_lag = check_int(self.max_lag, "max_lag", minimum=1)
         k_max = check_int(self.max_inputs, "max_inputs", minimum=1)
-        H = check_int(self.horizon, "horizon", minimum=1)
+        H = check_horizon(self.horizon)
         selection = check_choice(self.selection, "selection", ("ebic", "surrogate"))
         alpha = check_real(self.alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                            strict_max=True)

@@ -87,7 +87,7 @@ import warnings
 from typing import Any
 
 import numpy as np
-from scipy.special import digamma, ndtri, polygamma
+from scipy.special import digamma, ndtr, ndtri, polygamma
 
 from modalinfo.common.validation import check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
@@ -371,6 +371,20 @@ class HistogramEngine:
         else:
             kern.joint_counts_index(ix, ay.index(ky), counts)
         return mi_from_counts(counts, self.bias_correction)
+
+    def grid_loss(self, x: np.ndarray, y: np.ndarray) -> tuple[float, int, float] | None:
+        """``(loss, k, r)`` of :func:`histogram_grid_loss` for this fit, or None.
+
+        Only for rule-chosen quantile bins (the default): a bin number or equal-width
+        bins the caller chose are theirs, as elsewhere.
+        """
+        if self.binning != "quantile" or self.bins not in ("hacine-gharbi", "auto"):
+            return None
+        k = n_bins_for(self.bins, y, r=self._corr(y))
+        if k > GRID_LOSS_MAX_BINS:
+            return None
+        loss, r = histogram_grid_loss(x, y, k)
+        return loss, k, r
 
     def ceiling_why(self, value: float, x: np.ndarray, y: np.ndarray) -> str | None:
         """Why the score ``value`` (nats) of (x, y) loses MI its bins cannot hold, or None.
@@ -690,6 +704,49 @@ def histogram_copula_rule(value: float, x: np.ndarray, y: np.ndarray) -> str | N
             f"of the pair (normal scores' correlation {r:.6g}), a lower bound of its MI, by "
             f"more than {tol:.3f} nats: the equiprobable bins cannot hold the dependence "
             "(a k x k table holds ln k nats at most), so the value is a lower bound")
+
+
+#: Most bins per axis for which ``HistogramEngine.grid_loss`` is computed (0.1 s
+#: at 300 x 300; beyond, the rule's k is large only for |r| near 1, where
+#: :func:`histogram_copula_rule` speaks).
+GRID_LOSS_MAX_BINS = 300
+
+
+def gaussian_grid_mi(r: float, k: int, *, nodes: int = 16) -> float:
+    """MI (nats) of a Gaussian pair of correlation ``r`` read on a k x k equiprobable grid.
+
+    ``sum p_ij ln(k^2 p_ij)`` with ``p_ij`` the probability of cell (i, j) of the
+    quantile bins of both margins (edges ``Phi^-1(i / k)``), computed by Gauss-Legendre
+    quadrature (``nodes`` per x bin) in the uniform variable ``u = Phi(x)``:
+    ``p_ij = int_{i/k}^{(i+1)/k} [Phi((b_{j+1} - r x(u)) / s) - Phi((b_j - r x(u)) / s)] du``
+    with ``s = sqrt(1 - r^2)``. ``-0.5 ln(1 - r^2)`` minus this is what the grid loses
+    (data processing inequality: never negative). ``|r| < 1``, ``k >= 1``.
+    """
+    s = math.sqrt(max(1.0 - r * r, 1e-300))
+    t, w = np.polynomial.legendre.leggauss(nodes)
+    u = (np.arange(k)[:, None] + 0.5 * (t[None, :] + 1.0)) / k  # (k, nodes)
+    x = ndtri(u)
+    edges = np.concatenate(([-np.inf], ndtri(np.arange(1, k) / k), [np.inf]))
+    cdf = ndtr((edges[None, None, :] - r * x[:, :, None]) / s)  # (k, nodes, k + 1)
+    cells = np.diff(cdf, axis=2)  # (k, nodes, k)
+    p = np.einsum("n,inj->ij", 0.5 * w / k, cells)
+    p = p[p > 0]
+    return float(np.sum(p * np.log(k * k * p)))
+
+
+def histogram_grid_loss(x: np.ndarray, y: np.ndarray, k: int) -> tuple[float, float]:
+    """MI (nats) a k x k equiprobable grid loses on a pair with (x, y)'s Gaussian copula.
+
+    Returns ``(loss, r)``: r the correlation of the normal scores, ``loss =
+    -0.5 ln(1 - r^2) - gaussian_grid_mi(r, k)``. The histogram estimate targets the MI
+    of the binned pair, below the MI by this much where the copula is Gaussian (round
+    15 PART a: 0.0114 and 0.0075 nats low at rho = 0.6, n = 5000 and 20000, against
+    bootstrap spreads of 0.0075 and 0.0040).
+    """
+    r = float(np.corrcoef(copula_scores(x), copula_scores(y))[0, 1])
+    r = max(min(r, 1.0 - 1e-12), -1.0 + 1e-12)
+    g = -0.5 * math.log(1.0 - r * r)
+    return max(g - gaussian_grid_mi(r, k), 0.0), r
 
 
 def _cells_rule(n: int, cells: float, d: int) -> str | None:

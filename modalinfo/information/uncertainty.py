@@ -43,7 +43,11 @@ corrected) estimate. ``"basic"`` (reverse percentile, [2 I - q_hi, 2 I - q_lo],
 Davison & Hinkley 1997, ch. 5) and ``"percentile"`` are available, and for the
 iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. The remaining undercoverage
 comes from the estimator's own bias at small effective n, which no interval can
-see; use longer logs or check with :func:`mutual_information_permutation_test`.
+see; use longer logs or check with :func:`mutual_information_permutation_test`. One
+part of the histogram's bias is known: its k x k grid's loss, which shrinks more slowly
+than the bootstrap spread (iid Gaussian pairs, rho = 0.6: 0.0114 and 0.0075 nats low
+at n = 5000 and 20000, spreads 0.0075 and 0.0040, coverage 0.76 and 0.55); the upper
+bound is raised by it (``interval`` below; round 15 PART a).
 
 Default estimator of the intervals: ``"histogram"`` (not the ``"ksg"`` of the point
 estimate and the permutation test, which resamples cannot take; fast, and unaffected
@@ -79,6 +83,7 @@ from modalinfo.information.api import (
     MutualInformation,
     ceiling_problem,
 )
+from modalinfo.information.convergence import effective_sample_rule
 from modalinfo.information.methods import BiasRuleWarning, check_bootstrappable
 from modalinfo.information.resampling import (
     MI_ROTATION_MIN_EFFECTIVE_PAIRS,
@@ -212,6 +217,39 @@ def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
     return x, y
 
 
+def _grid_loss_bound(est: MutualInformation, x: np.ndarray, y: np.ndarray, low: float,
+                     high: float) -> tuple[float, float, str]:
+    """Raise the upper bound by what the histogram's grid loses, where it matters.
+
+    The histogram estimate (and every bootstrap replicate) is the MI of the binned pair,
+    below the MI by the grid's loss; a bootstrap interval takes only the spread, so it
+    missed the MI of iid Gaussian pairs increasingly with n (round 15 PART a, rho =
+    0.6, 95 % intervals: coverage 0.76 at n = 5000, 0.55 at 20000; the loss shrinks
+    more slowly than the spread). The loss on a Gaussian copula of the pair's
+    normal-score correlation (``histogram.histogram_grid_loss``; the Gaussian-copula
+    MI is a lower bound of any continuous pair's MI) is added to ``high`` where it
+    exceeds a quarter of the half-width, and ``note`` says so. Not for a persistent
+    pair or one with repeated values (the generic rules and ``ceiling_problem`` judge
+    those), nor for bins the caller chose.
+    """
+    grid = getattr(est._engine, "grid_loss", None)
+    if grid is None or not (math.isfinite(low) and math.isfinite(high)):
+        return low, high, ""
+    if any(np.unique(a).size < a.size for a in (x, y)) or effective_sample_rule(x, y):
+        return low, high, ""
+    got = grid(x, y)
+    if got is None:
+        return low, high, ""
+    loss, k, r = got
+    raise_by = loss * est._factor
+    if raise_by <= 0.25 * 0.5 * (high - low):
+        return low, high, ""
+    note = (f"upper bound raised by {raise_by:.4g} {est.units}: the {k} x {k} equiprobable "
+            f"bins lose that much MI on a Gaussian copula of the pair's normal-score "
+            f"correlation {r:.4g}, and the bootstrap sees only the binned MI")
+    return low, high + raise_by, note
+
+
 def mutual_information_ci(
     x: Any,
     y: Any,
@@ -277,7 +315,14 @@ def mutual_information_ci(
         when every replicate lies on one side of the estimate (infinite bias
         correction; common for MI, whose resamples are biased upward): the percentile
         interval of the same replicates is returned, with ``interval="percentile"``
-        and the reason in ``note``.
+        and the reason in ``note``. The histogram (rule-chosen equiprobable bins) reads
+        the MI of the binned pair, below the MI by what the grid loses, which the
+        bootstrap cannot see: except for ``"bca"``, ``high`` is raised by that loss on
+        a Gaussian copula of the pair (``histogram.histogram_grid_loss``) where it
+        exceeds a quarter of the half-width, and ``note`` says so (round 15 PART a:
+        iid Gaussian pairs, rho = 0.6, coverage of 95 % intervals 0.76 at n = 5000 and
+        0.55 at 20000 before, 1.0 and 1.0 after, 60 seeds each: conservative, the
+        loss exceeds the Miller-Madow estimate's bias by ~0.002 nats).
     seed : None, int or numpy.random.Generator
         Randomness of the resampling.
     **options
@@ -354,6 +399,8 @@ def mutual_information_ci(
             low, high = 2.0 * theta - q_hi, 2.0 * theta - q_lo
         else:
             low, high = q_lo, q_hi
+    if not note and interval != "bca":  # "bca": scipy's interval as scipy gives it
+        low, high, note = _grid_loss_bound(est, x, y, low, high)
     return MIConfidenceResult(
         estimate=float(theta), low=float(low), high=float(high),
         confidence_level=confidence_level, block_length=int(b), n_resamples=n_resamples,

@@ -39,7 +39,7 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
     Returns
     -------
     (float, float)
-        rho and tau, 1 for identical orderings, -1 for reversed ones.
+        rho and tau, 1 for identical orderings (so for one mode), -1 for reversed ones.
     """
     from modalinfo.ordering.fitting_error import check_order
 
@@ -50,6 +50,11 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
     order_b = _same_basis_order(order_a, order_b)
     order_a, order_b = (getattr(o, "order", o) if not isinstance(o, np.ndarray) else o
                         for o in (order_a, order_b))
+    if np.size(order_a) == 0 or np.size(order_b) == 0:
+        # an empty list is float64 to NumPy: it was refused as "must be a 1-D sequence
+        # of ints" (round 15 PART a, o10)
+        raise ValueError("`order_a` and `order_b` must each order at least one mode; got "
+                         f"{np.size(order_a)} and {np.size(order_b)} indices.")
     a = check_order(order_a, np.size(order_a), "order_a")
     b = np.asarray(unmasked(order_b, "order_b"))
     if b.dtype.kind not in "iu":
@@ -59,6 +64,11 @@ def rank_agreement(order_a: Any, order_b: Any) -> tuple[float, float]:
             f"`order_a` and `order_b` must be permutations of the same modes; got {a.tolist()} "
             f"and {b.tolist()}."
         )
+    if a.size == 1:
+        # one mode: the two orderings are the same, agreement 1 as documented; scipy's
+        # rank correlations of one point are NaN with scipy's own warning (round 15
+        # PART a, o07)
+        return 1.0, 1.0
     ra = np.empty(a.size)
     rb = np.empty(b.size)
     ra[a] = np.arange(a.size)
