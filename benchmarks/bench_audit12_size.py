@@ -22,7 +22,9 @@ Gaussian; ``ar1_R`` stationary AR(1) of coefficient R (0.9, 0.95, 0.99, 0.999); 
 AR(2) with a 50 Hz resonance at 2 kHz (pole radius 0.99); ``t3`` AR(1) 0.9 with Student
 t3 innovations; ``varstep`` AR(1) 0.9 whose innovations' variance steps x4 halfway;
 ``trend`` AR(1) 0.9 plus a linear trend of 3 innovation sd; ``int16`` AR(1) 0.9 x 3
-rounded to integers (ADU-like). Draw k of kind i uses ``default_rng([i, k])``.
+rounded to integers (ADU-like); ``smooth`` white noise through a Gaussian of sd 10 frames
+(lag-1 autocorrelation ~0.999, correlation time ~20 frames; left14-dm). Draw k of kind i
+uses ``default_rng([i, k])``.
 
 A rate is the share of draws with p <= alpha (size, under a true null) or whose interval
 holds the exact value (coverage); its binomial standard error is sqrt(a (1 - a) / DRAWS)
@@ -40,10 +42,11 @@ import time  # noqa: E402
 import warnings  # noqa: E402
 
 import numpy as np  # noqa: E402
+from scipy.ndimage import gaussian_filter1d  # noqa: E402
 from scipy.signal import lfilter  # noqa: E402
 
 KINDS = ["iid", "ar1_0.9", "ar1_0.99", "ar1_0.999", "ar2_50Hz", "t3", "varstep", "trend",
-         "int16", "ar1_0.95"]
+         "int16", "ar1_0.95", "smooth"]
 
 
 def ar1(phi: float, n: int, rng: np.random.Generator, innov=None) -> np.ndarray:
@@ -78,6 +81,8 @@ def gen(kind: str, n: int, rng: np.random.Generator) -> np.ndarray:
         return ar1(0.9, n, rng) + np.linspace(0, 3, n)
     if kind == "int16":
         return np.round(ar1(0.9, n, rng) * 3.0)
+    if kind == "smooth":  # left14-dm: tests/forecast/test_dm_size_left12.py's smooth noise
+        return gaussian_filter1d(rng.standard_normal(n + 200), 10.0)[100:-100]
     raise ValueError(kind)
 
 

@@ -12,6 +12,16 @@ rectangular long-run variance, t with N - 1 dof) rejected 13 % (phi = 0.9) and 3
 For phi = 0.999 at N = 1000 the differential (AR(1) coefficient 0.998) has
 ``N (1 - 0.998) / (1 + 0.998) ~ 1`` effective sample: ``evaluate`` must say so
 (warning, NaN p-value) rather than print one.
+
+left14-dm: the number of cosine terms B is read with a margin for the AR plug-in's own
+error. Reference for the structural test: the *analytic* spectrum of the differential,
+``gamma_d(k) = 4 gamma_x(k)^2`` for independent Gaussian x, y (Isserlis), with the
+closed-form autocovariance of an AR(1) and of an AR(2) with complex roots
+``r exp(+-i theta)`` (Box, Jenkins & Reinsel, eq. 3.2.36): ``gamma(k) ~ r^k (cos k theta
++ (1 - r^2) / (1 + r^2) cot(theta) sin k theta)``; a B whose true mean spectrum ratio
+over ``pi j / N``, j <= B, is below 0.95 inflates the statistic by more than
+``1 / sqrt(0.95)``. The rule before left14-dm chose such a B in 53-76 % of draws of
+these nulls (benchmarks/RESULTS.md, "left14-dm"); the bound below is 0.05 + 3 binomial sd.
 """
 
 import math
@@ -23,7 +33,7 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.signal import lfilter
 
 from modalinfo.forecast import LinearPredictor, evaluate
-from modalinfo.forecast.evaluate import _dm_test
+from modalinfo.forecast.evaluate import _dm_terms, _dm_test
 
 
 def ar1(phi: float, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -65,9 +75,11 @@ def smooth(n: int, rng: np.random.Generator) -> np.ndarray:
 
 def test_smooth_differential_is_tested_and_keeps_its_size():
     # lag-1 autocorrelation ~0.999 but a correlation time of ~20 frames (AO telemetry
-    # sampled at kHz): an AR(1) reading of the lag-1 value would call it untestable
+    # sampled at kHz): an AR(1) reading of the lag-1 value would call it untestable (it
+    # declined most draws); the AR(p) plug-in's margin (left14-dm) declines a few draws
+    # whose single term failed the 98 % point estimate (1 of these 400), never most
     rate, untested = rejections(smooth, 1000, 400, seed=21)
-    assert untested == 0
+    assert untested <= 0.02 * 400
     assert rate <= bound(400)
 
 
@@ -102,12 +114,11 @@ def test_evaluate_warns_and_claims_no_skill_on_a_near_unit_root_log():
 @pytest.mark.parametrize("n", [1000, 5000])
 @pytest.mark.parametrize("kind,limit", [
     ("iid", None), ("ar1_0.9", None), ("ar1_0.99", None), ("ar1_0.999", None),
-    # the AR(p) plug-in under-reads the resonance's low-frequency persistence: measured
-    # 7.5 % / 6.8 % at N = 1000 / 5000 (before: 30 %); 0.10 is its bound
-    ("resonance", 0.10),
-    # an AR(20) fit only approximates the Gaussian spectrum's flat top: measured 7.4 % at
-    # N = 1000 (2000 draws), <= 6.5 % at 5000; 0.10 is its bound
-    ("smooth", 0.10)])
+    # the AR(p) plug-in without a margin (left12-dm) read the resonance's and the
+    # Gaussian spectrum's low-frequency curvature as flatter than it is: 7.5 % / 6.8 %
+    # (resonance, N = 1000 / 5000) and 7.4 % (smooth, N = 1000); left14-dm's margin
+    # brings them under the binomial bound (benchmarks/RESULTS.md, "left14-dm")
+    ("resonance", None), ("smooth", None)])
 def test_size_on_the_audit_nulls(kind, limit, n):
     draws = 2000  # bound 0.065
     if kind == "iid":
@@ -122,3 +133,53 @@ def test_size_on_the_audit_nulls(kind, limit, n):
             return ar1(phi, m, rng)
     rate, _ = rejections(gen, n, draws, seed=n + len(kind))
     assert rate <= (limit or bound(draws))
+
+
+def analytic_mean_ratio(gamma_x: np.ndarray, n: int, b_max: int) -> np.ndarray:
+    """True mean ratio f_d(pi j / N) / f_d(0) over j = 1..B, B = 1..b_max (see above)."""
+    gamma_d = 4.0 * gamma_x**2
+    k = np.arange(1, gamma_x.size)
+    j = np.arange(0, b_max + 1)
+    f = gamma_d[0] + 2.0 * np.cos(np.outer(np.pi * j / n, k)) @ gamma_d[1:]
+    return np.cumsum(f[1:] / f[0]) / j[1:]
+
+
+@pytest.mark.parametrize("kind,n", [("resonance", 5000), ("ar1_0.9", 1000)])
+def test_terms_keep_the_analytic_spectrum_flat(kind, n):
+    # left14-dm: the B of each draw against the true spectrum; before the margin 61 %
+    # (resonance, N = 5000; the 5 % rule's honest B is 12, the plug-in read a median 14)
+    # and 60 % (AR(1) 0.9, N = 1000) of the draws took a B beyond 5 % shortfall;
+    # measured after: 0.3 % / 2.3 % (300 draws). 100 draws: bound 0.115
+    k = np.arange(20000)
+    if kind == "resonance":
+        r, theta = 0.99, 2 * math.pi * 50 / 2000
+        gamma_x = r**k * (np.cos(k * theta)
+                          + (1 - r * r) / (1 + r * r) / math.tan(theta) * np.sin(k * theta))
+        gen = resonance
+    else:
+        gamma_x = 0.9**k
+
+        def gen(m, rng):
+            return ar1(0.9, m, rng)
+    b_llsw = int(np.floor(0.4 * n ** (2.0 / 3.0)))
+    ratio = analytic_mean_ratio(gamma_x, n, b_llsw)
+    rng = np.random.default_rng(14 + n)
+    draws, short = 100, 0
+    for _ in range(draws):
+        x, y = gen(n, rng), gen(n, rng)
+        b = _dm_terms(x**2 - y**2)[0]
+        short += b > 0 and ratio[b - 1] < 0.95
+    assert short / draws <= bound(draws)
+
+
+def test_resonance_null_keeps_the_nominal_size():
+    # left14-dm: the audit's 50 Hz resonance cell (benchmarks/bench_audit12_size.py,
+    # kind ar2_50Hz: draw k seeded [4, k]), N = 1000, 2000 draws; bound 0.05 + 2 sd =
+    # 0.060. Measured before the margin 7.1 %, after 5.15 %; a quarter of the draws are
+    # declined (the honest B at 5 % shortfall is 1: ~10 effective origins)
+    draws, rejected = 2000, 0
+    for k in range(draws):
+        rng = np.random.default_rng([4, k])
+        x, y = resonance(1000, rng), resonance(1000, rng)
+        rejected += _dm_test(x**2 - y**2, 1)[1] <= 0.05
+    assert rejected / draws <= 0.05 + 2 * math.sqrt(0.05 * 0.95 / draws)
