@@ -62,8 +62,10 @@ each step but the last; ``2 M - 3`` was counted). Round 13's ``mi_marginal`` ord
 21 s of CPU where the bound said 6.9 s (adversarial round 13). Measured / modelled at
 50, 150, 500 modes (25,824 samples, ``benchmarks/bench_ordering_cost.py``): 2.03,
 2.04, 2.14 before, 1.29, 1.30, 1.37 after (benchmarks/RESULTS.md, "Orderings' cost and
-the kde rule's quarters, leftovers 13"). Not modelled: the gathering once its array
-passes ~1 GB (1000 modes x 2e5 samples, 1.6 GB: 68 ns per entry, page faults).
+the kde rule's quarters, leftovers 13"). The gathering's CPU per entry at 2e5 samples,
+re-measured at load 15 (leftovers 14-misc): 6-11 ns at 0.22 GiB, 12-17 at 0.75, 17-20
+at 1.49 GiB, no step above 1 GB (the 68 ns once seen at 1.6 GB was not reproduced); the
+constant stays a lower envelope.
 
 **Before the work.** :func:`~modalinfo.ordering.order_modes` checks
 :func:`least_ordering_seconds` before any estimate, as ``reorder`` and ``batch`` do: it
