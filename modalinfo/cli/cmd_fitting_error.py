@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import warnings
 from pathlib import Path
 
 from modalinfo.cli import CommandError
@@ -90,6 +91,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute the curves, print the table, draw the plot."""
     from modalinfo.cli.shared import progress
     from modalinfo.ordering.compare import compare_orderings, parse_specs, plot_comparison
+    from modalinfo.ordering.cost import OrderingCostWarning
 
     if args.estimator is None:  # the shared option's default (None lets reorder tell it was given)
         args.estimator = "histogram"
@@ -113,7 +115,10 @@ def run(args: argparse.Namespace) -> int:
     check_mi_time(args, log, n_orderings=sum(str(m).startswith("mi_") for _, m in specs))
     log, _ = apply_outliers(log, args, args.log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
-    with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance:
+    with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance, \
+            warnings.catch_warnings():
+        # check_mi_time said the estimate in flags: the library's words are not repeated
+        warnings.simplefilter("ignore", OrderingCostWarning)
         comp = compare_orderings(
             log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
             sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,

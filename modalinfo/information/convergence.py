@@ -165,6 +165,47 @@ _QUARTER_SEED = 20261129
 _TOL_NATS, _TOL_SHARE = 0.05, 0.10
 
 
+#: Contiguous pieces of :func:`piece_bias` (leftovers 14-misc)
+BIAS_PIECES = 4
+
+
+def piece_bias(estimate: Callable[[int, int], float], n: int, whole: float,
+               pieces: int = BIAS_PIECES) -> float:
+    """First-order finite-sample bias of an estimate, from contiguous pieces of its sample.
+
+    An estimator whose bias is ``c / n`` (the plug-in entropies and MIs, Miller 1955;
+    what Miller-Madow leaves with few samples per cell, Paninski 2003, or with
+    autocorrelated samples) has bias ``p c / n`` on each of ``p`` contiguous pieces, so
+    ``(mean of the pieces' estimates - whole) / (p - 1)`` estimates ``c / n``
+    (Quenouille's bias reduction, on sub-samples as in Strong et al., Phys. Rev. Lett.
+    80, 197, 1998). Contiguous, not random, pieces: they keep the series' persistence,
+    which is part of ``c``. The mean of the pieces cancels the sampling noise to first
+    order (``convergence_rule``'s argument); the higher orders make it an over-estimate
+    at small n (histogram CMI of the VAR(1) TE, n = 1e3, 6 bins: +0.035 nats for a bias
+    of +0.024).
+
+    Parameters
+    ----------
+    estimate : callable
+        ``estimate(start, stop)``: the same estimator (same options, same bins) on rows
+        ``start:stop``.
+    n : int
+        Samples of the whole.
+    whole : float
+        The estimate on the whole sample.
+    pieces : int
+        Number of contiguous pieces (>= 2).
+
+    Returns
+    -------
+    float
+        The estimated bias of ``whole`` [its units].
+    """
+    edges = np.linspace(0, n, pieces + 1).astype(np.int64)
+    parts = [estimate(int(edges[i]), int(edges[i + 1])) for i in range(pieces)]
+    return (float(np.mean(parts)) - float(whole)) / (pieces - 1)
+
+
 def _monotone(a: np.ndarray) -> bool:
     d = np.diff(a)
     return bool(np.all(d >= 0) or np.all(d <= 0))

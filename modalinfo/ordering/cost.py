@@ -62,25 +62,42 @@ each step but the last; ``2 M - 3`` was counted). Round 13's ``mi_marginal`` ord
 21 s of CPU where the bound said 6.9 s (adversarial round 13). Measured / modelled at
 50, 150, 500 modes (25,824 samples, ``benchmarks/bench_ordering_cost.py``): 2.03,
 2.04, 2.14 before, 1.29, 1.30, 1.37 after (benchmarks/RESULTS.md, "Orderings' cost and
-the kde rule's quarters, leftovers 13"). Not modelled: the gathering once its array
-passes ~1 GB (1000 modes x 2e5 samples, 1.6 GB: 68 ns per entry, page faults).
+the kde rule's quarters, leftovers 13"). The gathering's CPU per entry at 2e5 samples,
+re-measured at load 15 (leftovers 14-misc): 6-11 ns at 0.22 GiB, 12-17 at 0.75, 17-20
+at 1.49 GiB, no step above 1 GB (the 68 ns once seen at 1.6 GB was not reproduced); the
+constant stays a lower envelope.
 
 **Before the work.** :func:`~modalinfo.ordering.order_modes` checks
 :func:`least_ordering_seconds` before any estimate, as ``reorder`` and ``batch`` do: it
 refuses above its ``max_seconds`` (default :data:`MAX_ORDERING_SECONDS`, the command
-line's hour) and warns, naming the estimate and how to shorten it, above
-:data:`NOTE_ORDERING_SECONDS`.
+line's hour) and warns (:class:`OrderingCostWarning`), naming the estimate and how to
+shorten it, above :data:`NOTE_ORDERING_SECONDS`;
+:func:`~modalinfo.ordering.ordering_stability` applies the same rule to the sum of its
+orderings (leftovers 14-misc). The command line says its own note, in its flags, and
+silences the library's.
+
+**Memory** (leftovers 14-misc, issue 27). An MI ordering holds the float64
+contributions of every mode at every sample (``M x n``), and its bootstrap gathers a
+replicate's while the ordering's and the previous replicate's are still held:
+:func:`ordering_memory_bytes`, ``8 M n`` bytes without replicates, ``3 x 8 M n`` with.
+``order_modes`` refuses, before any work, an ordering whose arrays exceed
+:func:`~modalinfo.common.memory.usable_memory_bytes`; ``reorder`` checks the same
+estimate with the log's copies (1000 modes x 2e5 samples: 1.6 GB, 4.8 GB with
+replicates).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 
 from modalinfo.information.ksg import ksg_seconds_per_sample
 
-__all__ = ["GATHER_SECONDS_PER_ENTRY", "MAX_ORDERING_SECONDS", "MI_SECONDS_PER_SAMPLE",
-           "MI_SECONDS_PER_CALL", "NOTE_ORDERING_SECONDS", "SCREEN_SECONDS_PER_CALL",
-           "SCREEN_SECONDS_PER_SAMPLE", "least_ordering_seconds", "least_ordering_calls"]
+__all__ = ["CONTRIBUTION_BYTES", "GATHER_SECONDS_PER_ENTRY", "MAX_ORDERING_SECONDS",
+           "MI_SECONDS_PER_SAMPLE", "MI_SECONDS_PER_CALL", "NOTE_ORDERING_SECONDS",
+           "OrderingCostWarning", "SCREEN_SECONDS_PER_CALL", "SCREEN_SECONDS_PER_SAMPLE",
+           "check_ordering_seconds", "least_ordering_seconds", "least_ordering_calls",
+           "ordering_memory_bytes"]
 
 #: ``order_modes(search="auto")`` scores every candidate at every step up to this many
 #: modes (here, not in :mod:`modalinfo.ordering.orderings`, which imports this module).
@@ -110,6 +127,38 @@ GATHER_SECONDS_PER_ENTRY = 1.5e-9
 MAX_ORDERING_SECONDS = 3600.0
 #: Estimated CPU time above which ``order_modes`` warns before the work [s]
 NOTE_ORDERING_SECONDS = 60.0
+#: Bytes of one contribution (float64), per mode and sample
+CONTRIBUTION_BYTES = 8
+
+
+class OrderingCostWarning(UserWarning):
+    """An MI ordering (or a run of them) is estimated above :data:`NOTE_ORDERING_SECONDS`.
+
+    Its own class so that a caller that has told the user in its own words (the command
+    line, in its flags) can silence it without silencing other warnings.
+    """
+
+
+def ordering_memory_bytes(n_modes: int, n_samples: int, n_resamples: int = 0) -> float:
+    """Peak bytes of an MI ordering's contribution arrays (module notes).
+
+    Parameters
+    ----------
+    n_modes : int
+        Modes ordered, M.
+    n_samples : int
+        Samples per MI estimate, n.
+    n_resamples : int
+        Bootstrap replicates; with any, a replicate's M x n array is gathered while the
+        ordering's and the previous replicate's are held (3 copies).
+
+    Returns
+    -------
+    float
+        ``CONTRIBUTION_BYTES x copies x M x n`` [bytes].
+    """
+    copies = 3 if n_resamples > 0 else 1
+    return float(CONTRIBUTION_BYTES * copies * max(int(n_modes), 0) * max(int(n_samples), 0))
 
 
 def least_ordering_calls(n_modes: int, method: str = "mi_marginal",
@@ -178,3 +227,35 @@ def least_ordering_seconds(estimator: str, n_samples: int, n_modes: int,
                 + n * (rate(n) + SCREEN_SECONDS_PER_SAMPLE))
     gathers = n_orderings * (1 + replicates) * n_modes * n * GATHER_SECONDS_PER_ENTRY
     return calls * per_call + gathers, calls
+
+
+def check_ordering_seconds(seconds: float, what: str, how: str, max_seconds: float | None,
+                           stacklevel: int = 2) -> None:
+    """Refuse above ``max_seconds``, or warn above :data:`NOTE_ORDERING_SECONDS`, an estimate.
+
+    The one rule of ``order_modes`` and ``ordering_stability`` (module notes).
+
+    Parameters
+    ----------
+    seconds : float
+        Estimated CPU seconds (:func:`least_ordering_seconds`).
+    what : str
+        What is estimated, ending "is estimated at N s of CPU".
+    how : str
+        How to shorten it, in the caller's argument names.
+    max_seconds : float or None
+        Most seconds allowed; None: no limit.
+    stacklevel : int
+        ``warnings.warn``'s, counted from the caller of this function.
+
+    Raises
+    ------
+    ValueError
+        Above ``max_seconds``.
+    """
+    if seconds <= NOTE_ORDERING_SECONDS and (max_seconds is None or seconds <= max_seconds):
+        return
+    if max_seconds is not None and seconds > max_seconds:
+        raise ValueError(f"{what}, more than `max_seconds`={max_seconds:g}; {how}, or raise "
+                         "`max_seconds` (None: no limit).")
+    warnings.warn(f"{what}; {how}.", OrderingCostWarning, stacklevel=stacklevel + 1)

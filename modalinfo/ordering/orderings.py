@@ -97,7 +97,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
-import warnings
 from typing import Any
 
 import numpy as np
@@ -118,13 +117,15 @@ from modalinfo.ordering.cost import (  # the search's sizes live with the cost m
     _EXHAUSTIVE_MAX_MODES,
     _EXHAUSTIVE_TAIL,
     MAX_ORDERING_SECONDS,
-    NOTE_ORDERING_SECONDS,
 )
 from modalinfo.ordering.result import OrderingResult, basis_key
 
 __all__ = ["CONFIDENCE_LEVEL", "METHODS", "SEARCHES", "order_modes", "mi_along_order",
            "sample_contributions"]
 
+#: How to shorten an MI ordering, in the library's argument names (``_check_time``)
+ORDERING_HOW = ("use fewer modes, a smaller `sample_budget`, fewer `n_resamples` (0: no "
+                "bounds) or a faster `estimator` ('histogram', 'gaussian')")
 #: Ordering methods accepted by :func:`order_modes`.
 METHODS = ("standard", "variance", "pca", "mi_marginal", "mi_greedy")
 #: Default level of :func:`order_modes`' bootstrap bounds; its default replicates are
@@ -639,7 +640,8 @@ def order_modes(
         hour ``reorder`` and ``batch`` allow); ``None``: no limit. The estimate is
         ``modalinfo.ordering.cost.least_ordering_seconds`` of the estimator,
         samples, modes and replicates (the command line's), made before any work;
-        above 60 s a ``UserWarning`` names it and how to shorten it.
+        above 60 s an ``OrderingCostWarning`` (a ``UserWarning``) names it and how to
+        shorten it.
 
     Returns
     -------
@@ -651,8 +653,10 @@ def order_modes(
     ------
     ValueError
         On an unknown method, mismatched shapes, a bad frame index, ``"pca"`` on a
-        basis in which the coefficients are correlated, or an MI ordering estimated
-        above ``max_seconds``, before any work.
+        basis in which the coefficients are correlated, an MI ordering estimated
+        above ``max_seconds``, or one whose float64 contributions (M x n, three copies
+        with replicates: ``modalinfo.ordering.cost.ordering_memory_bytes``) exceed the
+        usable memory, before any work.
     TypeError
         On arguments of the wrong type.
     """
@@ -729,6 +733,8 @@ def order_modes(
         # estimators in their own words (`x`, `y`); ordered without them, appended last
         return without(dead)
     n_pairs = view.matrix.shape[0] * (n_frames if frame is None else 1)
+    # memory first: what cannot be held is refused without a time warning before it
+    _check_contribution_memory(min(budget, n_pairs), n_modes, n_resamples)
     _check_time(estimator, min(budget, n_pairs), n_modes, n_resamples, method, search,
                 max_seconds)
     est, est_name = _make_estimator(estimator, options)
@@ -759,21 +765,37 @@ def _check_time(estimator: Any, n: int, n_modes: int, n_resamples: int, method: 
 
     One estimate for the library and the command line
     (``modalinfo.ordering.cost.least_ordering_seconds``, leftovers 13-cost: a
-    1000-mode ordering ran for minutes with no word before).
+    1000-mode ordering ran for minutes with no word before), one rule
+    (``cost.check_ordering_seconds``, shared with ``ordering_stability``).
     """
     seconds, calls = _cost.least_ordering_seconds(estimator, n, n_modes, n_resamples, 1, method,
                                             search)
-    if seconds <= NOTE_ORDERING_SECONDS and (max_seconds is None or seconds <= max_seconds):
-        return
     what = (f"order_modes({method!r}, estimator={estimator!r}) of {n_modes} modes on {n} "
             f"samples per estimate with {n_resamples} bootstrap replicates (at least "
             f"{calls} MI estimates) is estimated at {seconds:.0f} s of CPU")
-    how = ("use fewer modes, a smaller `sample_budget`, fewer `n_resamples` (0: no bounds) "
-           "or a faster `estimator` ('histogram', 'gaussian')")
-    if max_seconds is not None and seconds > max_seconds:
-        raise ValueError(f"{what}, more than `max_seconds`={max_seconds:g}; {how}, or raise "
-                         "`max_seconds` (None: no limit).")
-    warnings.warn(f"{what}; {how}.", UserWarning, stacklevel=3)
+    _cost.check_ordering_seconds(seconds, what, ORDERING_HOW, max_seconds, stacklevel=3)
+
+
+def _check_contribution_memory(n: int, n_modes: int, n_resamples: int) -> None:
+    """Refuse, before they are gathered, contributions that cannot fit in memory.
+
+    ``cost.ordering_memory_bytes`` (the command line's estimate, one copy) against
+    ``modalinfo.common.memory.usable_memory_bytes`` (leftovers 14-misc: 1000 modes x
+    2e5 samples make 1.6 GB, gathered with no check in the library).
+    """
+    need = _cost.ordering_memory_bytes(n_modes, n, n_resamples)
+    if need < 2**27:  # below 128 MiB nothing is read, as check_memory
+        return
+    from modalinfo.common import memory
+
+    usable = memory.usable_memory_bytes()
+    if need > usable:
+        copies = "3 copies: the ordering's and two replicates'" if n_resamples > 0 else "1 copy"
+        raise ValueError(
+            f"an MI ordering of {n_modes} modes on {n} samples per estimate needs about "
+            f"{need / 2**30:.3g} GiB for its float64 contributions ({copies}) and "
+            f"{usable / 2**30:.3g} GiB is usable; use a smaller `sample_budget` or fewer "
+            "modes" + (", or `n_resamples`=0" if n_resamples > 0 else "") + ".")
 
 
 def _scored(est: Any, contrib: np.ndarray, a: np.ndarray, view: Any, method: str,

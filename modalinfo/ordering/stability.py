@@ -10,6 +10,7 @@ real changes of the turbulence.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
@@ -18,9 +19,11 @@ import numpy as np
 from scipy import stats
 
 from modalinfo.common.records import array_fields_eq
-from modalinfo.common.validation import check_int, unmasked
+from modalinfo.common.validation import check_int, check_real, unmasked
+from modalinfo.ordering import cost as _cost
 from modalinfo.ordering._coefficients import as_basis, coefficients_in_basis
-from modalinfo.ordering.orderings import order_modes
+from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, OrderingCostWarning
+from modalinfo.ordering.orderings import ORDERING_HOW, order_modes
 
 __all__ = ["StabilityResult", "ordering_stability", "rank_agreement"]
 
@@ -188,6 +191,7 @@ def ordering_stability(
     seeds: Any = (0, 1, 2),
     n_top: int | None = None,
     wavelength: float | None = None,
+    max_seconds: float | None = MAX_ORDERING_SECONDS,
     **order_options: Any,
 ) -> StabilityResult:
     """Rank correlation of orderings of consecutive windows and of different seeds.
@@ -209,6 +213,13 @@ def ordering_stability(
         Leading modes compared by the overlap fraction (default min(5, M)).
     wavelength : float, optional
         Wavelength [m] to convert a log in nm or um that carries none.
+    max_seconds : float or None
+        Most CPU seconds all the orderings together may be estimated to take (default
+        3600, ``order_modes``' own); ``None``: no limit. The estimate, made before any
+        work, is ``modalinfo.ordering.cost.least_ordering_seconds`` of one window's
+        ordering times the windows plus that of the whole log's times the seeds; above
+        60 s an ``OrderingCostWarning`` names it (once: the orderings themselves do not
+        warn) - the rule of ``order_modes``.
     **order_options
         Passed to :func:`~modalinfo.ordering.order_modes` (``estimator``,
         ``sample_budget``...); ``n_resamples`` defaults to 0 here.
@@ -216,6 +227,11 @@ def ordering_stability(
     Returns
     -------
     StabilityResult
+
+    Raises
+    ------
+    ValueError
+        On bad arguments, or MI orderings estimated above ``max_seconds`` in all.
     """
     view = as_basis(basis)
     if callable(getattr(log_or_coeffs, "sampling", None)):
@@ -244,18 +260,20 @@ def ordering_stability(
     rate = getattr(log_or_coeffs, "rate", None)
 
     starts = np.arange(0, n_frames - window + 1, window)
-    window_orders = np.array([
-        order_modes(a[s:s + window], view, method, seed=base_seed, **order_options).order
-        for s in starts
-    ])
+    if max_seconds is not None:
+        max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
+    _check_stability_time(method, view.matrix.shape[0], n_frames, n_modes, window,
+                          len(starts), len(seeds), order_options, max_seconds)
+    # the whole run was judged above: each ordering neither refuses nor warns on its own
+    order_options["max_seconds"] = None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", OrderingCostWarning)
+        window_orders, seed_orders = _orders(a, view, method, starts, window, base_seed,
+                                             seeds, order_options)
     pairs_w = [rank_agreement(window_orders[i], window_orders[i + 1])
                for i in range(len(starts) - 1)]
     over_w = [_top_overlap(window_orders[i], window_orders[i + 1], n_top)
               for i in range(len(starts) - 1)]
-
-    seed_orders = np.array([
-        order_modes(a, view, method, seed=s, **order_options).order for s in seeds
-    ]).reshape(len(seeds), n_modes)
     combos = list(combinations(range(len(seeds)), 2))
     pairs_s = [rank_agreement(seed_orders[i], seed_orders[j]) for i, j in combos]
     over_s = [_top_overlap(seed_orders[i], seed_orders[j], n_top) for i, j in combos]
@@ -280,3 +298,49 @@ def ordering_stability(
         seed_top_overlap=np.array(over_s, dtype=float),
         n_top=n_top,
     )
+
+
+def _orders(a: np.ndarray, view: Any, method: str, starts: np.ndarray, window: int,
+            base_seed: int, seeds: tuple, order_options: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Orderings of each window (seed ``base_seed``) and of the whole log for each seed."""
+    window_orders = np.array([
+        order_modes(a[s:s + window], view, method, seed=base_seed, **order_options).order
+        for s in starts
+    ])
+    seed_orders = np.array([
+        order_modes(a, view, method, seed=s, **order_options).order for s in seeds
+    ]).reshape(len(seeds), a.shape[1])
+    return window_orders, seed_orders
+
+
+def _check_stability_time(method: str, n_valid: int, n_frames: int, n_modes: int,
+                          window: int, n_windows: int, n_seeds: int, order_options: dict,
+                          max_seconds: float | None) -> None:
+    """Refuse above ``max_seconds``, or warn above a minute, the orderings' estimate in all.
+
+    One window's ordering (``min(sample_budget, window x pixels)`` samples) times the
+    windows, plus the whole log's times the seeds, each by
+    ``cost.least_ordering_seconds`` (the estimate ``order_modes`` checks), judged by
+    ``cost.check_ordering_seconds`` (its rule). Leftovers 14-misc: each ordering was
+    checked alone, so 400 windows of 20 s each ran 2 h with no word.
+    """
+    if not str(method).startswith("mi_"):
+        return  # no MI estimate
+    estimator = order_options.get("estimator", "histogram")
+    budget = check_int(order_options.get("sample_budget", 200_000), "sample_budget",
+                       minimum=10)
+    replicates = order_options.get("n_resamples", 0)
+    replicates = check_int(0 if replicates is None else replicates, "n_resamples", minimum=0)
+    search = order_options.get("search", "auto")
+    n_w = min(budget, window * n_valid)
+    n_all = min(budget, n_frames * n_valid)
+    s_w, c_w = _cost.least_ordering_seconds(estimator, n_w, n_modes, replicates, n_windows,
+                                            method, search)
+    s_s, c_s = _cost.least_ordering_seconds(estimator, n_all, n_modes, replicates, n_seeds,
+                                            method, search)
+    what = (f"ordering_stability({method!r}, estimator={estimator!r}) of {n_modes} modes: "
+            f"{n_windows} windows of {window} frames ({n_w} samples per estimate) and "
+            f"{n_seeds} seeds on the whole log ({n_all} samples), at least {c_w + c_s} MI "
+            f"estimates, is estimated at {s_w + s_s:.0f} s of CPU")
+    how = ORDERING_HOW + ", a longer `window` or fewer `seeds`"
+    _cost.check_ordering_seconds(s_w + s_s, what, how, max_seconds, stacklevel=3)

@@ -248,4 +248,6 @@ def test_mi_memory_check_counts_the_samples_drawn_not_the_budget(small_log, monk
     assert code == 130 and len(seen) == 2
     samples = 400 * Pupil(64).n_valid
     assert samples < 100_000_000
-    assert seen[1] - seen[0] == 8 * 3 * samples
+    # the ordering's contributions and, with the default 40 replicates, two replicates'
+    # held with them while the next is gathered: 3 copies (leftovers 14-misc)
+    assert seen[1] - seen[0] == 3 * 8 * 3 * samples
