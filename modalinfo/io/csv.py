@@ -137,24 +137,28 @@ _DECIMAL_COMMA = re.compile(r"[+-]?\d+,\d+(?:[eE][+-]?\d+)?")
 _THOUSANDS = re.compile(r"[+-]?\d{1,3}(?:[,.\u00a0' ]\d{3})+(?:[.,]\d*)?")
 
 
-def _number_format(message: str, path) -> None:
+def _number_format(message: str, path, delim: str | None = ",") -> None:
     """Refuse numbers in a spreadsheet's locale format, which numpy called "corrupt".
 
     A German / French spreadsheet's CSV ('0,25' with ';' between values) and numbers
     with thousands separators ('1,000.5') were "corrupt CSV file ... could not convert
-    string" (round 14 PART b, F18, F27, F30).
+    string" (round 14 PART b, F18, F27, F30). The advice names the file's own
+    delimiter ``delim``: pandas' default ',' read a ';' file as one column, and ';' a
+    ',' file (review13).
     """
     found = re.search(r"could not convert string '([^']*)'", message)
     if not found:
         return
     token = found.group(1).strip().strip('"')
+    given = r"r'\s+'" if delim is None else repr(delim)  # pandas' sep for this file
     if _THOUSANDS.fullmatch(token) and not _DECIMAL_COMMA.fullmatch(token):
         what = "thousands separators"
         sep = re.search(r"\d([^\d])\d{3}", token).group(1)
-        read = f"thousands={sep!r}" + (", decimal=','" if sep == "." else "")
+        read = (f"sep={given}, " if delim != "," else "") + f"thousands={sep!r}" + (
+            ", decimal=','" if sep == "." else "")
     elif _DECIMAL_COMMA.fullmatch(token):
         what = "a decimal comma (a spreadsheet in a German / French locale)"
-        read = "sep=';', decimal=','"
+        read = f"sep={given}, decimal=','"
     else:
         return
     raise LogFormatError(
@@ -345,7 +349,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     f"({when.group(0)!r}...); times are read as numbers of seconds: "
                     "convert that column to seconds (pandas: (t - t[0]).dt.total_seconds()) "
                     "or delete it and give --rate HZ") from None
-            _number_format(str(exc), path)
+            _number_format(str(exc), path, delim)
             if "string ''" not in str(exc):
                 raise
             # an empty cell is how pandas / spreadsheets write a missing value: it is a
