@@ -154,7 +154,7 @@ def _stream_link(path: Path) -> bool:
     """Whether ``path`` is, or links through, a file descriptor's entry (``/dev/stdout``).
 
     With stdout sent to a file, ``/dev/stdout`` -> ``/proc/self/fd/1`` resolves to that
-    regular file, so it passed :func:`_special_kind`; the save's rename then replaced
+    regular file, so it passed ``_special_kind``; the save's rename then replaced
     the link itself (as root: the system's ``/dev/stdout``) and the shell's file got no
     data, exit 0 (adversarial round 15 PART b, S12).
     """

@@ -20,7 +20,7 @@ def canonical_json(value: Any) -> str:
 def package_version() -> str:
     """Version of the installed code: ``modalinfo.__version__`` and its source fingerprint.
 
-    ``"<__version__>+src.<12 hex digits>"``: the digits are :func:`source_fingerprint`,
+    ``"<__version__>+src.<12 hex digits>"``: the digits are ``source_fingerprint()``,
     which changes with any change of the code of ``modalinfo`` or ``closedloop``. The
     version number alone stayed "0.1.0" over hundreds of commits, so a batch or sweep
     folder written by an older checkout was resumed by a newer one with the old rows
