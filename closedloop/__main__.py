@@ -1,6 +1,6 @@
 import sys
 
-from modalinfo.common.startup import memory_refusal, require_current_folder
+from modalinfo.common.startup import exit_quietly, memory_refusal, require_current_folder
 
 require_current_folder("closedloop")  # before the heavy imports (numba calls getcwd)
 
@@ -18,4 +18,4 @@ except ImportError as exc:  # a dependency that refuses its environment (NUMBA_N
         raise
     sys.stderr.write(f"closedloop: error: {exc}\n")
     code = 2
-sys.exit(code)
+exit_quietly(code)

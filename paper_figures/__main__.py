@@ -437,7 +437,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
-    from modalinfo.common.startup import memory_refusal, require_current_folder
+    from modalinfo.common.startup import exit_quietly, memory_refusal, require_current_folder
 
     require_current_folder("paper_figures")  # before the heavy imports
     try:
@@ -452,4 +452,4 @@ if __name__ == "__main__":
             raise
         sys.stderr.write(f"paper_figures: error: {exc}\n")
         code = 2
-    sys.exit(code)
+    exit_quietly(code)

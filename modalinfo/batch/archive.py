@@ -5,8 +5,8 @@ window) with ``window_frames`` -- keyed by the SHA-256 of the log's bytes, the
 analysis, its parameters, the input hints, the window and the package version
 (:func:`modalinfo.common.tasks.keys.task_key`). The SHA-256 of each log (and its frame
 count when windows are asked for) is itself computed by a task on the workers and
-cached in ``<out>/hashes.json`` by (path, size, mtime, format, hints), so a re-run
-neither re-reads nor re-analyses anything it has done.
+cached in ``<out>/hashes.json`` by (path, size, mtime, inode, ctime, format, hints), so a
+re-run neither re-reads nor re-analyses anything it has done.
 
 Output directory layout::
 
@@ -105,19 +105,28 @@ def _probe(path: str, fmt: str | None, hints: dict, frames: bool) -> list:
 
 
 def _stat(path: str) -> list | None:
+    """Return what tells a file's bytes unchanged: size, mtime, inode and ctime.
+
+    Size and mtime alone were fooled by a log replaced with another of the same size
+    whose mtime was set back (``cp`` then ``touch -r``, ``rsync -t``): the cached
+    SHA-256 of the old bytes was reused and the old rows with it, "1 already done"
+    (adversarial round 15 PART b, F13). The inode and ctime change with any
+    replacement or write and cannot be set back by the user.
+    """
     try:
         st = os.stat(path)
     except OSError:
         return None
-    return [st.st_size, st.st_mtime_ns]
+    return [st.st_size, st.st_mtime_ns, st.st_ino, st.st_ctime_ns]
 
 
 def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any],
             frames: bool, worker_wait: float) -> tuple[dict, int]:
     """SHA-256 (and frame count if ``frames``) of every entry, computed on the workers.
 
-    Cached in ``hashes.json`` by path, size, modification time, format and hints;
-    ``get_client()`` is called only when some file is missing from the cache. Returns
+    Cached in ``hashes.json`` by path, size, modification time, inode, ctime, format
+    and hints; ``get_client()`` is called only when some file is missing from the
+    cache. Returns
     ``({path: [sha256 or None, n_frames]}, files probed)`` (``n_frames``: None when
     not asked for, -1 for a file that does not load).
     """
@@ -136,9 +145,10 @@ def _probes(entries: list[LogEntry], out_dir: Path, get_client: Callable[[], Any
         hit = cache.get(name)
         if stat is None:
             result[e.path] = [None, None]
-        elif (isinstance(hit, list) and hit[:2] == stat
-              and (not frames or hit[3] is not None or hit[2] is None)):
-            result[e.path] = hit[2:4]
+        elif (isinstance(hit, list) and len(hit) == len(stat) + 2
+              and hit[:len(stat)] == stat
+              and (not frames or hit[-1] is not None or hit[-2] is None)):
+            result[e.path] = hit[-2:]
         else:
             todo.append((e, name, stat))
     if todo:

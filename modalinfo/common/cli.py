@@ -85,7 +85,12 @@ class Parser(argparse.ArgumentParser):
             raise SystemExit(EXIT_FAILURE) from None
 
     def parse_known_args(self, args=None, namespace=None):  # noqa: D102
-        self._refuse_conflicting_repeats(sys.argv[1:] if args is None else list(args))
+        args = sys.argv[1:] if args is None else list(args)
+        if args[-1:] == ["--"] and args.count("--") == 1:
+            # POSIX: '--' ends the options, and nothing may follow it; argparse refused
+            # a trailing one as "unrecognized arguments: --" (round 15 PART b, S02)
+            args = args[:-1]
+        self._refuse_conflicting_repeats(args)
         return super().parse_known_args(args, namespace)
 
     def _refuse_conflicting_repeats(self, args: list[str]) -> None:
@@ -382,6 +387,27 @@ def _check_open_file_limit() -> None:
                            f"needs at least {MIN_OPEN_FILES} (raise it, e.g. ulimit -n 1024)")
 
 
+def _check_shared_memory() -> None:
+    """Refuse before a local cluster starts when its processes cannot share semaphores.
+
+    A local Dask cluster's nanny and worker processes need POSIX semaphores
+    (``multiprocessing``'s locks, in ``/dev/shm`` on Linux); with ``/dev/shm`` missing,
+    read-only or full, ``batch`` and ``sweep`` printed two Dask tracebacks ending in
+    "RuntimeError: Nanny failed to start." and exit 1 (adversarial round 15 PART b,
+    R12). The test is the real thing: one lock of the ``spawn`` context Dask uses.
+    """
+    import multiprocessing
+
+    try:
+        multiprocessing.get_context("spawn").Lock()
+    except (OSError, ImportError) as exc:
+        why = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+        raise CommandError(f"a local Dask cluster needs POSIX shared memory for its worker "
+                           f"processes' locks (/dev/shm on Linux), and it is not usable "
+                           f"here ({why}); mount a writable /dev/shm or give --scheduler "
+                           "ADDR of a running cluster") from None
+
+
 def check_cluster_args(args: argparse.Namespace) -> None:
     """Refuse bad cluster options of ``batch`` and ``closedloop sweep`` before any work.
 
@@ -401,6 +427,7 @@ def check_cluster_args(args: argparse.Namespace) -> None:
                            f"{args.worker_wait:g}")
     if args.scheduler is None:
         _check_open_file_limit()
+        _check_shared_memory()
     try:
         check_memory_limit(args.memory_limit, args.threads_per_worker or 1)
         if args.workers is not None and args.scheduler is None:

@@ -132,10 +132,44 @@ def check_not_special(path: Path) -> None:
     The final rename of :func:`atomic_write` would replace it by a regular file, so
     ``--overwrite`` onto ``/dev/null`` would destroy the device node (as root).
     """
+    if str(path) == "-":  # a file named '-' was written where stdout was meant (round 15, S04)
+        raise OSError("'-' is not standard output here: a log or result is written to a "
+                      "file path; give a file name")
+    if _stream_link(path):
+        raise OSError(f"'{path}' is a link to an open stream (a /proc/*/fd or /dev/fd "
+                      "entry), not a file path: the save would replace the link, not write "
+                      "to the stream; give a file name")
     kind = _special_kind(path)
     if kind:
         raise OSError(f"'{path}' is {kind}, not a regular file: a log or result is "
                       "written to a file path (it would replace the node)")
+
+
+#: A file descriptor's entry: /proc/self/fd/1, /proc/123/fd/4, /dev/fd/1, /dev/stdout...
+_STREAM_PATH = re.compile(r"^/(?:proc/(?:self|thread-self|[0-9]+)/fd/|dev/fd/"
+                          r"|dev/std(?:in|out|err)$)")
+
+
+def _stream_link(path: Path) -> bool:
+    """Whether ``path`` is, or links through, a file descriptor's entry (``/dev/stdout``).
+
+    With stdout sent to a file, ``/dev/stdout`` -> ``/proc/self/fd/1`` resolves to that
+    regular file, so it passed ``_special_kind``; the save's rename then replaced
+    the link itself (as root: the system's ``/dev/stdout``) and the shell's file got no
+    data, exit 0 (adversarial round 15 PART b, S12).
+    """
+    current = os.path.abspath(path)
+    for _ in range(40):  # the kernel's own bound on a chain of links
+        if _STREAM_PATH.match(current):
+            return True
+        if not os.path.islink(current):
+            return False
+        try:
+            target = os.readlink(current)
+        except OSError:
+            return False
+        current = os.path.normpath(os.path.join(os.path.dirname(current), target))
+    return False
 
 
 def writable_free_bytes(folder: Path) -> int:
@@ -355,6 +389,32 @@ def _temp_prefix(path: Path) -> str:
     return f".{os.fsdecode(name)}{tail}"
 
 
+def _replace(tmp: str, path: Path) -> None:
+    """``os.replace(tmp, path)``; a refusal names ``path`` and why, not the temporary file.
+
+    In a sticky folder (``/tmp``, a shared group folder) another user's file cannot be
+    replaced, even with ``--overwrite``: the refusal came after the work as "[Errno 1]
+    Operation not permitted: '.<name>.<pid>-xxxxxxxx.tmp' -> '<name>'" (adversarial
+    round 15 PART b, F03).
+    """
+    try:
+        os.replace(tmp, path)
+    except PermissionError as exc:
+        why = exc.strerror or str(exc)
+        try:
+            sticky = bool(os.stat(path.parent).st_mode & stat.S_ISVTX)
+            owner = os.stat(path).st_uid
+        except OSError:
+            sticky, owner = False, os.geteuid()
+        if sticky and owner != os.geteuid():
+            why += (f": '{path.parent}' is a sticky folder and '{path.name}' belongs to "
+                    f"another user (uid {owner}), who alone can replace it")
+        refused = PermissionError(f"cannot replace '{path}' ({why}); it is unchanged; "
+                                  "write to another name")
+        refused.errno = exc.errno  # one message line (no "[Errno 1]"), the errno kept
+        raise refused from None
+
+
 def atomic_write(
     path: Path, write: Callable[[Any], None], *, overwrite: bool, by_name: bool = False
 ) -> Path:
@@ -395,7 +455,7 @@ def atomic_write(
                     os.fsync(fh.fileno())
             os.chmod(tmp, _new_file_mode(path))
             if overwrite:
-                os.replace(tmp, path)
+                _replace(tmp, path)
             else:
                 try:
                     os.link(tmp, path)

@@ -112,10 +112,8 @@ def test_missing_inputs_raise(tmp_path):
 
 
 def test_task_key_is_sha256_of_canonical_json():
-    import modalinfo
-
     key = engine.task_key("abc", "summary", {"b": 1, "a": [1.5, None]})
-    text = '["' + modalinfo.__version__ + '","abc","summary",{"a":[1.5,null],"b":1}]'
+    text = '["' + engine.package_version() + '","abc","summary",{"a":[1.5,null],"b":1}]'
     assert key == hashlib.sha256(text.encode()).hexdigest()
     assert engine.task_key("abc", "summary", {"a": [1.5, None], "b": 1}) == key
     assert engine.task_key("abc", "summary", {"a": [1.5, None], "b": 2}) != key
