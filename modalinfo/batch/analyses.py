@@ -371,6 +371,7 @@ def _fitting_error(log: Any, p: dict) -> dict:
 
 
 def _forecast(log: Any, p: dict) -> dict:
+    from modalinfo._stats import LevelStepWarning
     from modalinfo.forecast import evaluate
     from modalinfo.forecast.presets import make_predictor
 
@@ -388,6 +389,9 @@ def _forecast(log: Any, p: dict) -> dict:
         # a pair too persistent for an honest Diebold-Mariano test is in the row (its
         # ``pvalue_h1`` NaN, ``beats_baseline_h1`` False); a worker's warning reaches no one
         warnings.filterwarnings("ignore", message="evaluate: no honest Diebold-Mariano test")
+        # a level step in the training series is in the row too (the quality pass's
+        # ``quality_level_steps`` and ``quality_stationary`` columns)
+        warnings.filterwarnings("ignore", category=LevelStepWarning)
         ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
                       keep_series=1, chunk_frames=2048)
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "n_train": int(ev.n_train),

@@ -22,6 +22,7 @@ import os
 import socket
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -64,7 +65,9 @@ def live_pid():
 def _write_lock(folder, pid, host=None):
     folder.mkdir(exist_ok=True)
     (folder / OutputLock.NAME).write_text(json.dumps(
-        {"pid": pid, "host": host or socket.gethostname(), "started": 0.0,
+        # written now, after ``pid`` started (a lock older than its holder's process
+        # names a reused pid and is stale: round 15 PART b, F10)
+        {"pid": pid, "host": host or socket.gethostname(), "started": time.time(),
          "command": "modalinfo batch"}))
 
 
