@@ -25,7 +25,9 @@ data) put many points at zero distance, where the counts of eq. 8 are meaningles
 without care the estimate is large and negative (-0.34 nats for a rho = 0.6 pair
 rounded to 0.1, whose MI is 0.22; -4.7 nats for integers). As scikit-learn does
 (``mutual_info_regression``), a variable with repeated values gets a tiny noise
-after standardisation, ``1e-10 max(1, mean |x|) N(0, 1)`` (Kraskov et al. 2004,
+after standardisation, ``1e-10 max(1, mean |x|) N(0, 1)`` (unlike scikit-learn, the
+standardised ``x`` is centred first, so a DC offset does not scale the noise up to
+the data's own spread; Kraskov et al. 2004,
 sec. II.C, recommend such noise), drawn from a generator seeded by ``seed`` so
 that the estimate is reproducible. The estimate is then that of the discrete pair
 (for a discretised normal pair, the MI of the discrete joint pmf). Variables without
@@ -125,14 +127,18 @@ _TIE_SALT = 0x4B5347
 
 
 def _standardised(a: np.ndarray, seed: int, axis: int, copula: bool = False) -> np.ndarray:
-    """Return ``a / std(a)`` (or its normal scores if ``copula``) plus tie noise.
+    """Return ``(a - mean a) / std(a)`` (or its normal scores if ``copula``) plus tie noise.
 
     The seeded noise ``1e-10 max(1, mean |u|) N(0, 1)`` is added only if ``u`` has ties.
+    ``u`` is centred first: a DC offset (a log at 1e12 +- 1) would otherwise set the
+    noise's scale (1e-10 x 1e12 = 100 standard deviations) and drown the data; the KSG
+    distances do not see a common shift.
     """
     if copula:
         u = copula_scores(a)
     else:
         u = unit_scaled(a)  # first to [-1, 1]: the variance neither underflows nor overflows
+        u = u - np.mean(u)
         u = u / np.std(u)
     if np.unique(u).size < u.size:
         rng = np.random.default_rng((_TIE_SALT, seed, axis))
