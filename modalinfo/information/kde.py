@@ -256,8 +256,13 @@ def oversmoothing(u: np.ndarray, h: float, grid_size: int = 1024) -> float:
             - _entropy_1d(u, h / OVERSMOOTH_DIVISOR, grid_size))
 
 
-def _warn_oversmoothed(what: str, columns: dict[str, np.ndarray], h: float) -> None:
-    """Warn (BiasRuleWarning) if the kernel of bandwidth h oversmooths any column."""
+def _warn_oversmoothed(what: str, columns: dict[str, np.ndarray], h: float,
+                       again: str = "") -> bool:
+    """Warn (BiasRuleWarning) if the kernel of bandwidth h oversmooths any column.
+
+    ``again``: a clause appended to the message (what will not be warned again).
+    Returns whether it warned.
+    """
     for name, u in columns.items():
         drop = oversmoothing(u, h)
         if drop > OVERSMOOTH_NATS:
@@ -268,9 +273,11 @@ def _warn_oversmoothed(what: str, columns: dict[str, np.ndarray], h: float) -> N
                 "or heavy-tailed law, which a bandwidth following the overall spread "
                 "smooths away), so the estimate is biased (an entropy upwards); use "
                 "method='ksg'"
-                + (" or copula=True" if what != "entropy with method='kde'" else ""),
+                + (" or copula=True" if what != "entropy with method='kde'" else "")
+                + again,
                 BiasRuleWarning, stacklevel=4)
-            return
+            return True
+    return False
 
 
 def _smooth_2d(grid: np.ndarray, ker: np.ndarray) -> np.ndarray:
@@ -395,6 +402,9 @@ class KDEEngine:
         self._n = x.shape[0]
         self._fu: dict[float, np.ndarray] = {}
         self._x_levels = discrete_x_levels(x)  # None unless x may be one side of a table
+        # one oversmoothing warning per fitted x: an ordering scores one fitted engine
+        # against every mode and printed the same warning 6 times (round 16 PART a)
+        self._oversmooth_warned = False
         return self
 
     def _marginal_u(self, h: float, idx: np.ndarray | None = None) -> np.ndarray:
@@ -493,8 +503,12 @@ class KDEEngine:
 
     def _check_smoothing(self, v: np.ndarray, h: float) -> None:
         """Warn where the kernel oversmooths x or y (:data:`OVERSMOOTH_NATS` rule)."""
-        _warn_oversmoothed("mutual information with method='kde', copula=False",
-                           {"x": self._u, "y": v}, h)
+        if getattr(self, "_oversmooth_warned", False):
+            return
+        self._oversmooth_warned = _warn_oversmoothed(
+            "mutual information with method='kde', copula=False", {"x": self._u, "y": v}, h,
+            again=" (this estimator, fitted to this x, does not repeat the warning for "
+                  "the other y it scores)")
 
     def _score_cv(self, v: np.ndarray, vmin: float, vmax: float) -> float:
         """Score with the bandwidth chosen by leave-one-out likelihood of the joint.
