@@ -6,9 +6,10 @@ coefficient of the record on its lag, a constant and a step dummy at the first f
 after the largest CUSUM excursion (``numpy.linalg.lstsq``), as the documented rule of
 ``modalinfo._stats.level_stationarity`` states (left14-level): B is the largest count of
 terms ``j = 2..B + 1`` whose spectrum stays at least 90 % of ``f(pi / n)`` (so the first
-frequency k falling below gives B = k - 2), capped at 40, and a record with fewer than
-6 terms is not judged. The records are seeded AR(1) draws whose ratio at the crossing
-is > 2e-3 away from 0.9 on both sides (checked). And ``ar_cosine_transfer`` against
+frequency k falling below gives B = k - 2), capped at 40 and at (n - 1) // 2, and a
+record with fewer than 6 terms or 64 frames is not judged. The records are seeded AR(1)
+draws whose ratio at the crossing is > 2e-3 away from 0.9 on both sides (checked). And
+``ar_cosine_transfer`` against
 ``scipy.signal.freqz`` (``A(exp(-i w))`` is the denominator of ``1 / A``).
 """
 
@@ -80,3 +81,14 @@ def test_cosine_transfer_is_scipys_frequency_response():
                                rtol=1e-12)
     white, _ = ar_cosine_transfer(np.zeros(0), n, j)
     np.testing.assert_array_equal(white, np.ones(j.size))
+
+
+def test_the_fewest_frames_judged_is_64():
+    # documented: the rule judges from 64 frames (MIN_LEVEL_FRAMES); at 64 a flat
+    # spectrum's terms are capped by the record, (64 - 1) // 2 = 31 (fewer than 40)
+    x = np.random.default_rng(1).standard_normal(64)
+    assert _first_below(_ratio(x), 0.9) is None
+    t = level_stationarity(x, p=1)
+    assert t.judged and t.terms == 31
+    short = level_stationarity(x[:63], p=1)
+    assert not short.judged and short.terms == 0 and short.frame == 0
