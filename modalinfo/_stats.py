@@ -14,6 +14,7 @@ from modalinfo.common.validation import as_float_array, check_int
 __all__ = [
     "LevelStepWarning",
     "LevelTest",
+    "ar_cosine_transfer",
     "ar_innovations",
     "block_scale_ratio",
     "lag1_autocorrelation",
@@ -238,6 +239,38 @@ def ar_innovations(x: np.ndarray, p: int = INNOVATION_ORDER) -> np.ndarray:
     return x[p:] - lags @ coef
 
 
+def ar_cosine_transfer(a: np.ndarray, n: int,
+                       j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """AR polynomial ``A(z) = 1 + sum_k a_k z^-k`` at the cosine frequencies ``pi j / n``.
+
+    The AR(p) spectrum of a record of ``n`` frames at the DCT-II / EWC frequencies
+    ``pi j / n`` is ``f(pi j / n) = sigma^2 / (2 pi |A(exp(-i pi j / n))|^2)``. One copy
+    for the two rules that read it: the Diebold-Mariano test's number of cosine terms
+    (``modalinfo.forecast.evaluate._dm_terms``) and :func:`level_stationarity`.
+
+    Parameters
+    ----------
+    a : numpy.ndarray, shape (p,)
+        Coefficients of ``A`` (``x_t + sum_k a_k x_(t-k) = e_t``: the negated
+        regression coefficients); ``p = 0`` gives ``A = 1``.
+    n : int
+        Record length (frames) setting the frequency grid.
+    j : numpy.ndarray of int, shape (m,)
+        Frequency indices.
+
+    Returns
+    -------
+    transfer : numpy.ndarray of complex, shape (m,)
+        ``A(exp(-i pi j / n))``.
+    phase : numpy.ndarray of complex, shape (m, p)
+        ``exp(-i pi j k / n)``, ``k = 1..p`` (the derivative of ``transfer`` in ``a``).
+    """
+    a = np.asarray(a, dtype=float)
+    lags = np.arange(1, a.size + 1)
+    phase = np.exp(-1j * np.pi * np.outer(j, lags) / n)
+    return 1.0 + phase @ a, phase
+
+
 # ------------------------------------------------------------- stationarity of level
 #: Relative flatness of the fitted AR spectrum over the cosine terms
 #: :func:`level_stationarity` pools: every term's ``f(pi j / n)`` is at least this share of
@@ -336,8 +369,7 @@ def level_stationarity(x: np.ndarray, p: int = INNOVATION_ORDER) -> LevelTest:
     lags = np.column_stack([xc[p - i:n - i] for i in range(1, p + 1)]
                            + [np.ones(n - p), (t >= frame).astype(float)])
     coef = np.linalg.lstsq(lags, xc[p:], rcond=None)[0][:p]
-    lam = np.pi * np.arange(1, LEVEL_MAX_TERMS + 2) / n
-    transfer = 1.0 - np.exp(-1j * np.outer(lam, np.arange(1, p + 1))) @ coef
+    transfer, _ = ar_cosine_transfer(-coef, n, np.arange(1, LEVEL_MAX_TERMS + 2))
     with np.errstate(divide="ignore"):
         f = 1.0 / np.abs(transfer) ** 2
     flat = f / f[0] >= LEVEL_FLATNESS

@@ -66,6 +66,7 @@ from scipy.fft import dct
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
+from modalinfo._stats import ar_cosine_transfer
 from modalinfo.common.records import array_fields_eq, renamed_keyword, warn_deprecated_alias
 from modalinfo.common.validation import (
     as_float_array,
@@ -624,8 +625,7 @@ def _dm_terms(d: np.ndarray) -> tuple[int, float]:
     gamma0 = float(x @ x) / n
     j = np.arange(0, b_max + 1)
     lags = np.arange(1, coef.size + 1)
-    phase = np.exp(-1j * np.pi * np.outer(j, lags) / n)      # (B + 1, p)
-    transfer = 1.0 + phase @ coef
+    transfer, phase = ar_cosine_transfer(coef, n, j)         # (B + 1,), (B + 1, p)
     power = np.abs(transfer) ** 2                    # 1 / spectrum, up to the constant
     n_eff = n * gamma0 * power[0] / max(innov, 1e-300)
     if power[0] <= 1e-12:                            # a unit root: no finite f(0)
