@@ -899,7 +899,10 @@ def level_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     steps or drifts (``modalinfo._stats.level_steps``, EWC F test of the first cosine
     term against the long-run variance, at :data:`LEVEL_PAIR_ALPHA` per series). Where
     the series span too few correlation times the rule does not judge: a step cannot
-    be told from persistence there (the effective-pairs rule speaks instead).
+    be told from persistence there (the effective-pairs rule speaks instead). Not
+    caught: that ramp of 1.3 marginal sd at n = 500 is below the rule's power (warned
+    in 6 of 600 draws, leftovers 14-level), so the MI test there rejects 7.3 % at 5 %
+    (binomial bound of 600 draws 6.8 %) without a word (leftovers 15-stats, item 4).
 
     Parameters
     ----------
@@ -1058,7 +1061,8 @@ def interval_bias_rule(bias: float, sd: float, units: str, name: str,
 #: Gaussian pairs (400 draws), and loops of intervals over many records (coverage
 #: studies) warned at least once; 1e-4 still flags every t3 pair at n = 500. Until
 #: leftovers 15-stats it was a per-series Bonferroni level that treated the MAD as exact:
-#: measured per pair 3-4 times the stated rate at n = 500 (``heavy_tail_threshold``).
+#: measured per pair 4.8-4.9 times the stated rate at n = 500, 2.4-3 at 2000-1e4
+#: (``heavy_tail_threshold``).
 HEAVY_TAIL_ALPHA = 1e-4
 
 #: Relative standard deviation of the normal-consistent MAD of ``N`` Gaussian values is
@@ -1081,7 +1085,7 @@ def heavy_tail_threshold(n_values: int, n_series: int = 2,
     (80-node Gauss-Hermite), and the sum over the ``n_series`` series set to ``alpha``
     by bisection. The Bonferroni ``k`` that treats ``s`` as 1 (the rule before leftovers
     15-stats) leaves out the MAD's spread, which a threshold of ~5 sigmas amplifies
-    (``exp(k^2 delta)`` for a relative error ``delta``): measured 3-4x the stated rate at
+    (``exp(k^2 delta)`` for a relative error ``delta``): measured 4.8x the stated rate at
     ``T = 496``, within the binomial range at every ``T`` after (benchmarks/RESULTS.md,
     "left15-stats").
 
