@@ -70,11 +70,13 @@ def _check_duration(args) -> None:
         raise CommandError(f"--duration must be > 0 s and finite; got {args.duration:g}")
 
 
-def _check_resources(args, config, *, oracle: bool = False, budget_every: int | None = None):
+def _check_resources(args, config, *, oracle: bool = False, budget_every: int | None = None,
+                     save: bool = False):
     """Refuse a run that cannot work or exceeds the memory limit (before any work).
 
     ``budget_every``: the run's ``--budget-every`` (checked against the run's frames, and
-    its error budget's model counted in the memory estimate).
+    its error budget's model counted in the memory estimate). ``save``: the result is
+    saved (``--out``), its HDF5 file built in memory counted.
     """
     from closedloop.config import MAX_SEED
     from closedloop.resources import MAX_FRAMES, check_resources
@@ -104,7 +106,7 @@ def _check_resources(args, config, *, oracle: bool = False, budget_every: int | 
 
     try:
         return check_resources(config, args.duration, limit=_memory_limit(args),
-                               oracle=oracle, budget=bool(budget_every))
+                               oracle=oracle, budget=bool(budget_every), save=save)
     except ResourceError as exc:
         hint = " (--memory-limit raises the limit)" if "memory" in str(exc) else ""
         raise CommandError(f"{exc}{hint}") from None
@@ -217,7 +219,7 @@ def _cmd_run(args) -> int:
     _check_duration(args)
     config = _config(args)
     est = _check_resources(args, config, oracle=predictor.oracle,
-                           budget_every=args.budget_every)
+                           budget_every=args.budget_every, save=args.out is not None)
     _check_writable(args.out, est.parts["logs"], "--out")
     result = run_trained(config, predictor, args.duration, seed=args.seed,
                          train_seed=args.train_seed, progress=_progress(args),
@@ -397,6 +399,10 @@ def _cmd_config(args) -> int:
         _check_duration(args)
         print(f"{config.name}, {args.duration:g} s: "
               + estimate(config, args.duration).describe())
+        saved = estimate(config, args.duration, save=True)
+        print(f"  saved (run --out): a {format_size(saved.file_bytes)} HDF5 file built in "
+              f"memory adds {format_size(saved.parts['hdf5_image'])}; peak "
+              f"{format_size(saved.peak_bytes)}")
         print(f"  machine: {format_size(available_memory())} available; runs are refused "
               "past half of it (run/compare --memory-limit)")
         return 0

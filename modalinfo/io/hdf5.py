@@ -117,6 +117,17 @@ def write_hdf5(log: ModalLog, path, *, overwrite: bool = False) -> Path:
 IMAGE_COPIES = 2.0
 
 
+def image_bytes(nbytes: float) -> float:
+    """Memory ``write_hdf5_file`` adds while it builds a file in memory [bytes].
+
+    ``IMAGE_COPIES`` times the datasets' bytes ``nbytes``; the one rule both the writer
+    (which builds on disk when this exceeds the memory it may still allocate) and the
+    estimates of a run that saves its result (``closedloop.resources.estimate(...,
+    save=True)``) use.
+    """
+    return IMAGE_COPIES * float(nbytes)
+
+
 def write_hdf5_file(path, fill: Callable[[Any], None], *, overwrite: bool = False,
                     nbytes: float = 0.0) -> Path:
     """Write the HDF5 file that ``fill`` builds, atomically; a full disk is one error.
@@ -131,7 +142,7 @@ def write_hdf5_file(path, fill: Callable[[Any], None], *, overwrite: bool = Fals
     (nothing was written)`` (or "the old file is unchanged"), errno ``ENOSPC``.
 
     A file whose datasets need more than the memory this process may still allocate
-    (``IMAGE_COPIES`` times ``nbytes``, against
+    (``image_bytes(nbytes)``, ``IMAGE_COPIES`` times ``nbytes``, against
     ``modalinfo.common.memory.usable_memory_bytes``) is written by h5py on disk, through
     a file object whose first failed write stops the work and whose later writes (those
     of HDF5's close) are dropped: the same one error, the staging file removed.
@@ -157,7 +168,7 @@ def write_hdf5_file(path, fill: Callable[[Any], None], *, overwrite: bool = Fals
     from modalinfo.common.memory import usable_memory_bytes
 
     path = as_path(path)
-    if IMAGE_COPIES * float(nbytes) > usable_memory_bytes():
+    if image_bytes(nbytes) > usable_memory_bytes():
         return atomic_write(path, lambda name: _write_on_disk(name, fill),
                             overwrite=overwrite, by_name=True)
 
