@@ -230,9 +230,11 @@ def main(argv: list[str] | None = None) -> int:
         say,
     )
 
-    parser = Parser(
-        prog="python -m paper_figures", description=(__doc__ or _DESCRIPTION).split("\n")[0]
-    )
+    # the console script `paper-figures` is named as typed, not `python -m paper_figures`
+    # (round 16 PART b, I24: its usage and errors named the other spelling)
+    prog = ("paper-figures" if Path(sys.argv[0] or "").name == "paper-figures"
+            else "python -m paper_figures")
+    parser = Parser(prog=prog, description=(__doc__ or _DESCRIPTION).split("\n")[0])
     parser.add_argument(
         "--log", type=Path, default=None,
         help="modal log for Figures 1 and 5 (default: both shipped KAOS-like logs)",
