@@ -29,6 +29,7 @@ from modalinfo.information.methods import (
     BiasRuleWarning,
     call_bias_rule,
     check_deterministic,
+    check_option_values,
     check_plugin_value,
     get_method,
     is_plugin,
@@ -807,10 +808,12 @@ def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) ->
     fn = record.entropy
     check_choice(units, "units", tuple(UNITS))
     x = _as_sample(x, "x")
+    _check_options(f"entropy method={method!r}", fn, "x", options)
     if _is_constant(x):
+        if not is_plugin(method):  # round 17: k=0 gave -inf unchecked
+            check_option_values(fn, x.shape[0], [()], options)
         return -math.inf
     _check_discrete_entropy(x, method)
-    _check_options(f"entropy method={method!r}", fn, "x", options)
     scaled, shift = _unit_exponent(x)
     if is_plugin(method):  # read-only data, a checked answer (round 13)
         raw = check_plugin_value(fn(read_only(scaled), **options),
