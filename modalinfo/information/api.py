@@ -552,7 +552,10 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         where no other rule spoke, where the estimate is below the pair's Gaussian-copula MI
         (a lower bound of the MI) beyond its noise: the bins cannot hold the dependence
         (3.71 nats for 6.56 at rho = 0.999999, n = 2000;
-        ``histogram.histogram_copula_rule``).
+        ``histogram.histogram_copula_rule``); and where the ``"auto"`` floor's finer
+        bins hold more than max(0.05, 10 %) more than the Hacine-Gharbi rule's (a ring
+        or curve hides the dependence from the rank correlation the rule reads: 0.94
+        nats for 1.158 on a noisy circle, round 17).
     """
     est = MutualInformation(method, units, **options)
     check_aligned({"x": x, "y": y})
