@@ -200,6 +200,7 @@ from modalinfo.information.methods import (
     CMI_METHODS,
     BiasRuleWarning,
     call_bias_rule,
+    check_option_values,
     check_plugin_value,
     get_method,
     is_plugin,
@@ -452,11 +453,17 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         raise TypeError(f"method={method!r} does not accept option(s) {', '.join(unknown)}; "
                         f"allowed: {', '.join(sorted(allowed | {'fallback'}))}.")
     factor = UNITS[units]
+    probed = [plugin]  # a plug-in checks its own options
 
     def estimate(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
+        n, dz = x.shape[0], z.shape[1]
         x, y, z = _varying(x), _varying(y), _varying(z)
         if x.shape[1] == 0 or y.shape[1] == 0:
+            if not probed[0]:  # round 17: k=0 or bins=0 returned 0.0 here unchecked
+                check_option_values(fn, n, (1, 1, dz), options)
+                probed[0] = True
             return 0.0  # a constant carries no information
+        probed[0] = True  # the estimator below checks the options on the data
         # a column of y a deterministic function of a column of x (a continuous copy):
         # I(x; y | z) >= I(x_i; y_j | z), infinite (api._check_not_a_copy)
         for i in range(x.shape[1]):

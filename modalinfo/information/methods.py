@@ -287,6 +287,33 @@ def is_plugin(name: Any) -> bool:
     return name not in _BUILTIN_ORDER
 
 
+def check_option_values(fn: Callable[..., Any], n: int, shapes: Sequence[Any],
+                        options: dict[str, Any]) -> None:
+    """Check a built-in estimator's option values where its answer needs no estimate.
+
+    The built-in estimators check their options' values (``k >= 1``, ``bins >= 1``, a
+    positive ``bandwidth``) where they meet the data, so a shortcut that answers without
+    them (0.0 for a constant x or y, ``-inf`` for the entropy of a constant) accepted
+    ``k=0`` (round 17). This runs ``fn`` once on a fixed standard-normal probe of the
+    caller's sample size, whose result is discarded; an invalid value raises the
+    estimator's own ``ValueError`` / ``TypeError`` naming the option.
+
+    Parameters
+    ----------
+    fn : callable
+        The estimator, ``fn(*arrays, **options)``.
+    n : int
+        Number of samples of the caller's data (some options are checked against it).
+    shapes : sequence of int or tuple
+        Column counts of the probe arrays, ``(n, c)`` each; ``()`` for a 1-D ``(n,)``.
+    options : dict
+        The options to check.
+    """
+    rng = np.random.default_rng(0)
+    fn(*(rng.standard_normal((n,) + ((c,) if isinstance(c, int) else tuple(c)))
+         for c in shapes), **options)
+
+
 def read_only(a: np.ndarray) -> np.ndarray:
     """Return a read-only view of ``a``, what a plug-in gets: it cannot change the caller's data.
 

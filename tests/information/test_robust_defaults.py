@@ -107,7 +107,11 @@ def test_cauchy_pair_at_n_20000(cauchy_pair, method, tol):
     # scale and the rule's ~22 bins per axis cannot resolve at this n (100 quantile bins
     # give 0.68, but overestimate Gaussian pairs). The bounds are the measured errors
     # plus ~3 sampling sd, so a regression to the former paths fails them.
-    got = mutual_information(*cauchy_pair, method=method)
+    if method == "histogram":  # round 17: its rule's 22 bins lose 0.08 nats that 50 hold
+        with pytest.warns(BiasRuleWarning, match="bins='auto'"):
+            got = mutual_information(*cauchy_pair, method=method)
+    else:
+        got = mutual_information(*cauchy_pair, method=method)
     assert got == pytest.approx(math.log(2.0), abs=tol)
 
 
