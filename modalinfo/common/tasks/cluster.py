@@ -61,6 +61,40 @@ def _sigint_held() -> Iterator[list[bool]]:
             signal.signal(signal.SIGINT, previous)
 
 
+def _lack_of_memory(exc: BaseException) -> str | None:
+    """Name the lack of memory behind a failed cluster start-up, or return None.
+
+    Under an address-space limit (``ulimit -v 1 GB``) the nanny's thread could not
+    start (``RuntimeError: can't start new thread``: each thread maps its stack) and
+    ``LocalCluster`` raised "Nanny failed to start" with three tracebacks (Leftovers
+    16-dask, L4b).
+    """
+    seen = 0
+    while exc is not None and seen < 20:
+        if isinstance(exc, MemoryError) or (isinstance(exc, RuntimeError)
+                                            and "can't start new thread" in str(exc)):
+            return str(exc).strip() or type(exc).__name__
+        exc = exc.__cause__ or exc.__context__
+        seen += 1
+    return None
+
+
+def _memory_failure_record(record: logging.LogRecord) -> bool:
+    """Keep a log record unless it is a traceback of a lack of memory (said in one line)."""
+    return not (record.exc_info and record.exc_info[1] is not None
+                and _lack_of_memory(record.exc_info[1]) is not None)
+
+
+@contextlib.contextmanager
+def _without(logger: logging.Logger, keep: Any) -> Iterator[None]:
+    """Filter ``logger``'s records with ``keep`` inside the block."""
+    logger.addFilter(keep)
+    try:
+        yield
+    finally:
+        logger.removeFilter(keep)
+
+
 #: Memory of one idle worker process (interpreter, numpy, numba, distributed) [bytes].
 WORKER_BASELINE = 150 * 2**20
 
@@ -194,8 +228,10 @@ def open_client(
         failures = {"distributed.scheduler.allowed-failures": retries}
     import dask
 
+    nanny_log = logging.getLogger("distributed.nanny")
     # the config is read once, by the scheduler created here
-    with dask.config.set(failures), _sigint_held() as interrupted:
+    with dask.config.set(failures), _sigint_held() as interrupted, \
+            _without(nanny_log, _memory_failure_record):
         try:
             cluster = distributed.LocalCluster(
                 n_workers=n_workers,
@@ -210,9 +246,13 @@ def open_client(
                 preload=[*(dask.config.get("distributed.worker.preload") or []),
                          _WORKER_SIGNALS],
             )
-        except Exception:
+        except Exception as exc:
             if interrupted:  # a worker's start-up failed after the Ctrl-C: that is the cause
                 raise KeyboardInterrupt from None
+            lack = _lack_of_memory(exc)
+            if lack is not None:  # under `ulimit -v`: "Nanny failed to start", 3 tracebacks
+                raise MemoryError(f"the local Dask cluster could not start its workers "
+                                  f"({lack})") from None
             raise
     try:
         if interrupted:
