@@ -44,6 +44,9 @@ def _sigint_held() -> Iterator[list[bool]]:
     have started (seconds), never lost.
     """
     came: list[bool] = []
+    if not hasattr(signal, "pthread_sigmask"):  # not POSIX (Windows): no masks to inherit
+        yield came
+        return
     previous = None
     if threading.current_thread() is threading.main_thread():
         previous = signal.getsignal(signal.SIGINT)
