@@ -246,7 +246,9 @@ def run_one(payload: dict) -> dict:
     out_dir = payload.get("out_dir")
     if out_dir:
         path = Path(out_dir) / "runs" / f"{payload['key']}.h5"
-        path.parent.mkdir(parents=True, exist_ok=True)
+        # never `parents=True`: a worker outliving its interrupted client must not
+        # recreate a sweep folder removed meanwhile (Leftovers 16-dask, sweep #11)
+        path.parent.mkdir(exist_ok=True)
         result.save(path, overwrite=True)  # same key, same run: replacing never loses data
         row["result_file"] = str(path)
     return row
@@ -291,7 +293,7 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
         spec.payload["out_dir"] = str(out_dir.resolve())
         spec.payload["key"] = spec.key
     with contextlib.ExitStack() as stack:
-        stack.enter_context(locked_out_dir(out_dir, "closedloop sweep"))
+        stack.enter_context(locked_out_dir(out_dir, "closedloop sweep", also=("runs",)))
         clean_run_staging(out_dir, "sweep", "closedloop sweep", worker_folders=("runs",))
         store = RowStore(out_dir)
         started: list = [None]

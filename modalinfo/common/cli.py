@@ -194,6 +194,31 @@ def _show_bad_bytes() -> list:
     return previous
 
 
+def _memory_advice(args: argparse.Namespace) -> str:
+    """Say what may help after a ``MemoryError``: the address-space limit, the workers.
+
+    Under ``ulimit -v`` the limit binds the command and each worker of the local Dask
+    cluster it starts (``batch``, ``sweep``: the options ``--workers`` and
+    ``--threads-per-worker``); "use a smaller log" alone named neither (Leftovers
+    16-dask, limit L4).
+    """
+    import math
+
+    from modalinfo.common.memory import address_space_limit_bytes
+    from modalinfo.common.sizes import format_size
+
+    local_workers = hasattr(args, "workers") and getattr(args, "scheduler", None) is None
+    limit = address_space_limit_bytes()
+    helps = ["a smaller log or smaller options"]
+    if local_workers:
+        helps.insert(0, "fewer local workers or threads (--workers 1 --threads-per-worker 1)")
+    if not math.isfinite(limit):
+        return "use " + " or ".join(helps)
+    whom = "this process and each local Dask worker" if local_workers else "this process"
+    return (f"the address-space limit (ulimit -v, RLIMIT_AS) is {format_size(limit)} for "
+            f"{whom}: raise it, or use " + " or ".join(helps))
+
+
 def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
               words) -> int:
     try:
@@ -241,8 +266,8 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
         # the estimates before the work should have refused this: still one line, no
         # traceback (numpy's message names the array that did not fit)
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else "MemoryError"
-        say(f"{prog} {args.command}: error: out of memory: {detail}; use a "
-                         "smaller log or smaller options\n")
+        say(f"{prog} {args.command}: error: out of memory: {detail}; "
+            f"{_memory_advice(args)}\n")
         return EXIT_USAGE
     except ImportError as exc:
         if not isinstance(exc, MissingDependencyError):

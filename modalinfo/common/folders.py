@@ -24,7 +24,7 @@ import shutil
 import socket
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -281,10 +281,10 @@ def pid_alive(pid: int) -> bool:
     return True
 
 
-def _check_foreign(out_dir: Path, marker: str) -> None:
-    """Refuse a non-empty directory that holds no earlier run (no ``marker``)."""
+def _check_foreign(out_dir: Path, marker: str, also: Sequence[str] = ()) -> None:
+    """Refuse a non-empty directory that holds no earlier run (no ``marker``, no ``also``)."""
     others = [p for p in out_dir.iterdir() if not p.name.startswith(OutputLock.NAME)]
-    if others and not (out_dir / marker).is_dir():
+    if others and not any((out_dir / m).is_dir() for m in (marker, *also)):
         raise OutputError(f"output directory '{out_dir}' is not empty and holds no "
                           f"earlier batch or sweep (no {marker}/); choose a new or empty "
                           "directory")
@@ -292,7 +292,8 @@ def _check_foreign(out_dir: Path, marker: str) -> None:
 
 @contextlib.contextmanager
 def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
-                   parents: bool = False, flag: str | None = None) -> Iterator[Path]:
+                   also: Sequence[str] = (), parents: bool = False,
+                   flag: str | None = None) -> Iterator[Path]:
     """Create ``out_dir`` if needed, take its :class:`OutputLock`; yield ``out_dir``.
 
     Parameters
@@ -304,6 +305,12 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
     marker : str or None
         A subfolder an earlier run of the same kind leaves (``"rows"``): a non-empty
         folder without it is refused as someone else's. None: no such check.
+    also : sequence of str
+        Other subfolders that only a run of the same kind writes (a sweep's ``runs/``):
+        a folder holding one of them is not refused either. A sweep interrupted before
+        its first row leaves ``runs/`` alone (its empty ``rows/`` removed on leaving, a
+        worker still saving a run), and the next sweep must resume there (Leftovers
+        16-dask, sweep #11).
     parents : bool
         Create missing parents too (else the parent must exist).
     flag : str, optional
@@ -329,12 +336,13 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
             raise OutputInUseError(f"{flag} {exc}") from None
         try:
             if marker is not None:
-                _check_foreign(out_dir, marker)
+                _check_foreign(out_dir, marker, also)
             yield out_dir
         finally:
             lock.release()
     finally:
-        for folder in ([out_dir / marker] if created and marker else []) + created:
+        for folder in ([out_dir / m for m in (marker, *also)] if created and marker
+                       else []) + created:
             with contextlib.suppress(OSError):
                 folder.rmdir()  # innermost first; only if empty
 

@@ -55,11 +55,11 @@ def machine_memory_bytes() -> float:
         return float("inf")
 
 
-def address_space_left_bytes() -> float:
-    """Address space this process may still map [bytes]: ``RLIMIT_AS`` less ``VmSize``.
+def address_space_limit_bytes() -> float:
+    """Return the address-space limit of this process [bytes]: ``RLIMIT_AS``'s soft value.
 
-    ``inf`` without a limit (or where unknown). A memory-mapped file counts here whole
-    (``ulimit -v``, a batch system's cap), though its pages are not memory use.
+    ``inf`` without a limit (or where unknown). Set by ``ulimit -v`` or a batch system,
+    inherited by the processes it starts (a local Dask cluster's workers).
     """
     try:
         import resource
@@ -68,6 +68,18 @@ def address_space_left_bytes() -> float:
     except (ImportError, OSError, ValueError):  # not on this platform
         return math.inf
     if soft == resource.RLIM_INFINITY or soft <= 0:
+        return math.inf
+    return float(soft)
+
+
+def address_space_left_bytes() -> float:
+    """Address space this process may still map [bytes]: ``RLIMIT_AS`` less ``VmSize``.
+
+    ``inf`` without a limit (or where unknown). A memory-mapped file counts here whole
+    (``ulimit -v``, a batch system's cap), though its pages are not memory use.
+    """
+    soft = address_space_limit_bytes()
+    if not math.isfinite(soft):
         return math.inf
     size = 0.0
     try:

@@ -187,7 +187,7 @@ def test_threads_per_task_are_limited(client):
 
     expected = str(task_threads(2, 1))
     envs = client.run(lambda: {k: os.environ.get(k) for k in (
-        "NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")})
+        "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")})
     assert all(v == expected for env in envs.values() for v in env.values())
 
     def probe(_payload):

@@ -49,6 +49,6 @@ Guarantees
   use; a lock left by a dead process on this host is taken over.
 - **Threads**: a task runs with ``threads`` BLAS/OpenMP threads (``threadpoolctl``) and
   numba threads, so workers x threads-per-worker x task threads stays within the
-  machine; a local cluster also passes the limits to its workers as environment
+  machine; a local cluster also passes the BLAS/OpenMP limits to its workers as environment
   variables (see :func:`thread_env`).
 """

@@ -5,6 +5,8 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import signal
+import threading
 from collections.abc import Iterator
 from typing import Any
 
@@ -23,6 +25,77 @@ MIN_MEMORY_LIMIT = 256 * 2**20
 
 #: the preload that makes each local worker process leave Ctrl-C to the command
 _WORKER_SIGNALS = "modalinfo.common.tasks.worker_signals"
+
+
+@contextlib.contextmanager
+def _sigint_held() -> Iterator[list[bool]]:
+    """Hold a Ctrl-C while a local cluster starts; yield a list that gets True if one came.
+
+    A SIGINT to the terminal's process group while ``LocalCluster`` spawned its workers
+    killed the worker in its interpreter start-up ("Fatal Python error:
+    init_import_site") and left a half-started cluster whose ``atexit`` close asserted
+    (``AssertionError: Status.init``): two tracebacks after "interrupted" (Leftovers
+    16-dask). Here SIGINT is blocked in this thread, so in the cluster's loop thread
+    created meanwhile and in the worker processes it spawns (a signal mask survives
+    ``fork`` and ``exec``; each worker's preload then ignores SIGINT, which discards it);
+    the command's own Ctrl-C is recorded by a handler (in the main thread) or left
+    pending by the mask and collected here at the end. The caller then stops the whole
+    cluster and re-raises ``KeyboardInterrupt``: the Ctrl-C is acted on once the workers
+    have started (seconds), never lost.
+    """
+    came: list[bool] = []
+    if not hasattr(signal, "pthread_sigmask"):  # not POSIX (Windows): no masks to inherit
+        yield came
+        return
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.getsignal(signal.SIGINT)
+        if callable(previous):  # an ignored or default SIGINT stays as it is
+            signal.signal(signal.SIGINT, lambda *_: came.append(True))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield came
+    finally:
+        if signal.SIGINT in signal.sigpending() and signal.SIGINT not in mask:
+            signal.sigwait({signal.SIGINT})  # pending for this thread or the process: take it
+            came.append(True)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        if callable(previous):
+            signal.signal(signal.SIGINT, previous)
+
+
+def _lack_of_memory(exc: BaseException) -> str | None:
+    """Name the lack of memory behind a failed cluster start-up, or return None.
+
+    Under an address-space limit (``ulimit -v 1 GB``) the nanny's thread could not
+    start (``RuntimeError: can't start new thread``: each thread maps its stack) and
+    ``LocalCluster`` raised "Nanny failed to start" with three tracebacks (Leftovers
+    16-dask, L4b).
+    """
+    seen = 0
+    while exc is not None and seen < 20:
+        if isinstance(exc, MemoryError) or (isinstance(exc, RuntimeError)
+                                            and "can't start new thread" in str(exc)):
+            return str(exc).strip() or type(exc).__name__
+        exc = exc.__cause__ or exc.__context__
+        seen += 1
+    return None
+
+
+def _memory_failure_record(record: logging.LogRecord) -> bool:
+    """Keep a log record unless it is a traceback of a lack of memory (said in one line)."""
+    return not (record.exc_info and record.exc_info[1] is not None
+                and _lack_of_memory(record.exc_info[1]) is not None)
+
+
+@contextlib.contextmanager
+def _without(logger: logging.Logger, keep: Any) -> Iterator[None]:
+    """Filter ``logger``'s records with ``keep`` inside the block."""
+    logger.addFilter(keep)
+    try:
+        yield
+    finally:
+        logger.removeFilter(keep)
 
 
 #: Memory of one idle worker process (interpreter, numpy, numba, distributed) [bytes].
@@ -158,20 +231,35 @@ def open_client(
         failures = {"distributed.scheduler.allowed-failures": retries}
     import dask
 
-    with dask.config.set(failures):  # read once, by the scheduler created here
-        cluster = distributed.LocalCluster(
-            n_workers=n_workers,
-            threads_per_worker=threads_per_worker,
-            memory_limit="auto" if memory_limit is None else memory_limit,
-            processes=True,
-            env=thread_env(threads),
-            dashboard_address=":0" if dashboard_address is None else dashboard_address,
-            scheduler_kwargs={"dashboard": dashboard_address is not None},
-            silence_logs=logging.ERROR,
-            # a Ctrl-C is the command's to handle: no traceback from each worker process
-            preload=[*(dask.config.get("distributed.worker.preload") or []), _WORKER_SIGNALS],
-        )
+    nanny_log = logging.getLogger("distributed.nanny")
+    # the config is read once, by the scheduler created here
+    with dask.config.set(failures), _sigint_held() as interrupted, \
+            _without(nanny_log, _memory_failure_record):
+        try:
+            cluster = distributed.LocalCluster(
+                n_workers=n_workers,
+                threads_per_worker=threads_per_worker,
+                memory_limit="auto" if memory_limit is None else memory_limit,
+                processes=True,
+                env=thread_env(threads),
+                dashboard_address=":0" if dashboard_address is None else dashboard_address,
+                scheduler_kwargs={"dashboard": dashboard_address is not None},
+                silence_logs=logging.ERROR,
+                # a Ctrl-C is the command's to handle: no traceback from each worker
+                preload=[*(dask.config.get("distributed.worker.preload") or []),
+                         _WORKER_SIGNALS],
+            )
+        except Exception as exc:
+            if interrupted:  # a worker's start-up failed after the Ctrl-C: that is the cause
+                raise KeyboardInterrupt from None
+            lack = _lack_of_memory(exc)
+            if lack is not None:  # under `ulimit -v`: "Nanny failed to start", 3 tracebacks
+                raise MemoryError(f"the local Dask cluster could not start its workers "
+                                  f"({lack})") from None
+            raise
     try:
+        if interrupted:
+            raise KeyboardInterrupt  # now that the cluster is whole, stopped below
         with distributed.Client(cluster) as client:
             client.modalinfo_task_threads = threads
             yield client

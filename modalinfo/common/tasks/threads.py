@@ -11,10 +11,18 @@ __all__ = ["task_threads", "thread_env"]
 
 
 def thread_env(threads: int) -> dict[str, str]:
-    """Environment variables limiting numba, OpenMP and BLAS threads of a worker."""
+    """Environment variables limiting OpenMP and BLAS threads of a worker.
+
+    Not ``NUMBA_NUM_THREADS``: the nanny applies this environment inside the spawned
+    worker, which may already have imported numba and launched its pool (a cached
+    parallel kernel run while ``__main__`` is re-imported, or a notebook's imports);
+    numba then refuses any later compilation ("Cannot set NUMBA_NUM_THREADS to a
+    different value once the threads have been launched", Leftovers 16-dask, T11).
+    Each task limits numba with ``numba.set_num_threads`` instead (``_limited_call``).
+    """
     value = str(int(threads))
     return {name: value for name in (
-        "NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+        "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
     )}
 
 
