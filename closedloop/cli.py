@@ -22,7 +22,14 @@ import math
 import sys
 from pathlib import Path
 
-from modalinfo.common.cli import CommandError, Parser, check_output, dispatch, folder_arg
+from modalinfo.common.cli import (
+    CommandError,
+    Parser,
+    add_version_argument,
+    check_output,
+    dispatch,
+    folder_arg,
+)
 from modalinfo.common.quiet import catching_warnings
 
 __all__ = ["main"]
@@ -135,6 +142,18 @@ def _loop_predictor(name: str, flag: str):
         raise CommandError(f"{flag} {str(exc).removeprefix('`predictor` ').rstrip('.')}") from None
 
 
+def _refuse_unused_train_seed(args, specs) -> None:
+    """Refuse ``--train-seed`` when no predictor is trained (round 17 PART b, E09, C06).
+
+    It names the atmosphere a predictor is fitted on; ``none`` and ``oracle`` fit
+    nothing, so the value was used by nothing without a word.
+    """
+    if args.train_seed is not None and not any(p.training is not None for p in specs):
+        names = ", ".join(p.name for p in specs)
+        raise CommandError(f"--train-seed {args.train_seed} names the atmosphere a predictor "
+                           f"is trained on, and no predictor given is trained ({names}): drop it")
+
+
 def _fov_text(diameter: float, width: int = 0) -> str:
     """Format a corrected-FoV diameter [arcmin]; NaN (one field point) is "n/a"."""
     text = "n/a (one field point)" if math.isnan(diameter) else f"{diameter:.2f}'"
@@ -215,11 +234,17 @@ def _cmd_run(args) -> int:
     from closedloop.training import run_trained
 
     predictor = _loop_predictor(args.predictor, "--predictor")
+    if args.overwrite and args.out is None:
+        # nothing to replace: the user may believe a result file is being written
+        # (round 17 PART b, E10)
+        raise CommandError("--overwrite replaces the --out file; no --out was given "
+                           "(the result would be printed, not saved): give --out FILE.h5")
     check_output(args.out, args.overwrite, suffixes=(".h5", ".hdf5"), flag="--out")
     _check_duration(args)
     config = _config(args)
     est = _check_resources(args, config, oracle=predictor.oracle,
                            budget_every=args.budget_every, save=args.out is not None)
+    _refuse_unused_train_seed(args, [predictor])  # after the seeds' range check
     _check_writable(args.out, est.parts["logs"], "--out")
     result = run_trained(config, predictor, args.duration, seed=args.seed,
                          train_seed=args.train_seed, progress=_progress(args),
@@ -252,6 +277,7 @@ def _cmd_compare(args) -> int:
     _check_duration(args)
     config = _config(args)
     _check_resources(args, config, oracle=any(p.oracle for p in specs))
+    _refuse_unused_train_seed(args, specs)  # after the seeds' range check
     limit = _memory_limit(args)
     seed = config.seed if args.seed is None else args.seed
     model = LoopModel(config)
@@ -387,6 +413,10 @@ def _cmd_config(args) -> int:
     if args.estimate and (args.fmt is not None or args.out is not None):
         raise CommandError("--estimate prints the memory and time of a run as text; --fmt "
                            "and --out apply to printing the config: give one or the other")
+    if args.overwrite and args.out is None:
+        # stdout is never replaced: the flag was ignored (round 17 PART b, C03)
+        raise CommandError("--overwrite replaces the --out file; without --out the config "
+                           "is printed: give --out FILE or drop --overwrite")
     if not args.estimate and args.duration is not None:
         raise CommandError("--duration applies to --estimate only (a config has no "
                            "duration); add --estimate or drop --duration")
@@ -462,6 +492,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser = Parser(prog="closedloop", description="Layer-oriented MCAO simulator of a "
                      "4 m solar telescope (the paper's LOST simulations).")
+    add_version_argument(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     p = sub.add_parser("run", help="run one simulation")
     _add_common(p)

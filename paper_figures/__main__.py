@@ -226,6 +226,7 @@ def main(argv: list[str] | None = None) -> int:
         EXIT_INTERRUPTED,
         EXIT_USAGE,
         Parser,
+        add_version_argument,
         folder_arg,
         say,
     )
@@ -235,6 +236,7 @@ def main(argv: list[str] | None = None) -> int:
     prog = ("paper-figures" if Path(sys.argv[0] or "").name == "paper-figures"
             else "python -m paper_figures")
     parser = Parser(prog=prog, description=(__doc__ or _DESCRIPTION).split("\n")[0])
+    add_version_argument(parser)
     parser.add_argument(
         "--log", type=Path, default=None,
         help="modal log for Figures 1 and 5 (default: both shipped KAOS-like logs)",

@@ -19,7 +19,7 @@ import pkgutil
 import re
 import sys
 
-from modalinfo.common.cli import CommandError, Parser, dispatch
+from modalinfo.common.cli import CommandError, Parser, add_version_argument, dispatch
 
 # CommandError and dispatch are the ground floor's (modalinfo.common.cli), named here too
 # because code calling the command line in Python has imported them from here
@@ -88,6 +88,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="modalinfo",
         description="Mutual-information analysis and forecasting of wavefront modal logs.",
     )
+    add_version_argument(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for module in _commands():
         epilog = getattr(module, "EPILOG", None)  # e.g. the columns of a printed table

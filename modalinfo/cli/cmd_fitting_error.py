@@ -24,6 +24,7 @@ from modalinfo.cli.cmd_reorder import (
     file_basis,
     load_analysed_log,
     refuse_frame_with_drop,
+    resolve_mi_defaults,
 )
 from modalinfo.cli.shared import (
     _Renamed,
@@ -95,6 +96,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.estimator is None:  # the shared option's default (None lets reorder tell it was given)
         args.estimator = "histogram"
+    resolve_mi_defaults(args)
     check_figure_output(args.plot, args.overwrite)
     specs = parse_specs(args.orderings)
     seen = [tuple(s) for s in specs]

@@ -323,6 +323,12 @@ def run(args: argparse.Namespace) -> int:
     if args.horizon < 1:
         raise CommandError(f"--horizon must be an int >= 1; got {args.horizon}")
     refuse_outlier_drop(args, "forecasting")
+    if args.window is not None and args.refit_every is None:
+        # the window is the sliding training window of the refits: without them it was
+        # recorded in the JSON and used by nothing (round 17 PART b, A22)
+        raise CommandError(f"--window {args.window} sets the sliding window of the refits; "
+                           "it needs --refit-every R (without it the predictors are fitted "
+                           "once, on the --train frames)")
     predictors = _parse_predictors(args.predictors)
     train = _parse_train(args.train)
     if args.out is not None:

@@ -52,19 +52,35 @@ MAX_RESAMPLES = 20_000
 HELP = "Order the modes of a Zernike or K-L basis by mutual information (or a baseline)."
 
 
+#: Defaults of the MI options ``reorder`` and ``fitting-error`` share (argparse's are
+#: None, so that ``reorder`` can tell a value given to a method that uses none).
+MI_DEFAULTS = {"budget": 200_000, "seed": 0, "pupil_pixels": 64}
+
+
+def resolve_mi_defaults(args: argparse.Namespace) -> None:
+    """Set ``--budget``, ``--seed`` and ``--pupil-pixels`` not given to their defaults."""
+    for name, value in MI_DEFAULTS.items():
+        if getattr(args, name, None) is None:
+            setattr(args, name, value)
+
+
 def add_common_arguments(parser: argparse.ArgumentParser) -> None:
     """Options shared by ``reorder`` and ``fitting-error``."""
     parser.add_argument("log", type=Path, help="telemetry log (npz, csv, fits, hdf5, npy)")
     parser.add_argument("--estimator", choices=MIMethodChoices(), metavar="NAME",
                         default=None,
                         help="MI estimator: %(choices)s (default: histogram)")
-    parser.add_argument("--budget", type=int, default=200_000, metavar="N",
-                        help="(frame, pixel) samples for the MI (default: 200000)")
-    parser.add_argument("--seed", type=int, default=0, help="subsampling seed (default: 0)")
+    # None (given or not?) lets reorder refuse them with a method that uses no MI;
+    # resolve_mi_defaults sets the documented values
+    parser.add_argument("--budget", type=int, default=None, metavar="N",
+                        help="(frame, pixel) samples for the MI "
+                             f"(default: {MI_DEFAULTS['budget']})")
+    parser.add_argument("--seed", type=int, default=None,
+                        help=f"subsampling seed (default: {MI_DEFAULTS['seed']})")
     parser.add_argument("--frame", type=int, default=None, metavar="K",
                         help="per-frame ordering on frame K (default: pool every frame)")
-    parser.add_argument("--pupil-pixels", type=int, default=64, metavar="N",
-                        help="pupil grid across, pixels (default: 64)")
+    parser.add_argument("--pupil-pixels", type=int, default=None, metavar="N",
+                        help=f"pupil grid across, pixels (default: {MI_DEFAULTS['pupil_pixels']})")
     parser.add_argument("--outer-scale", type=float, default=None, metavar="M",
                         help="outer scale of the theoretical K-L in metres "
                              "(default: from the log's metadata, else infinite)")
@@ -325,18 +341,26 @@ def run(args: argparse.Namespace) -> int:
     if not args.method.startswith("mi_"):
         # variance / pca / standard use no estimator and have no gains to bootstrap: the
         # option would be ignored and the user believe it applied (round 13 PART b)
+        # --budget and --seed size and draw the MI's samples: moot too (round 17 PART b)
         given = [flag for flag, value in (("--estimator", args.estimator),
-                                          ("--resamples", args.resamples or None))
+                                          ("--resamples", args.resamples or None),
+                                          ("--budget", args.budget), ("--seed", args.seed))
                  if value is not None]  # --resamples 0 asks for none: what they do
         if given:
             raise CommandError(f"{given[0]} applies to the MI methods (mi_greedy, "
                                f"mi_marginal); --method {args.method} uses none: drop it")
+    resolve_mi_defaults(args)
     if args.estimator is None:
         args.estimator = "histogram"
     if args.resamples is None:
         args.resamples = least  # order_modes' own default, the one rule (issue 27)
 
     check_output(args.out, args.overwrite, suffixes=(".json",), flag="--out")
+    if args.outer_scale is not None and args.basis != "kl-theory":
+        # only the theoretical K-L is built from a turbulence model: on another basis the
+        # value was used by nothing and the user believed it applied (round 17 PART b)
+        raise CommandError(f"--outer-scale applies to --basis kl-theory (the K-L of a von "
+                           f"Karman model); --basis {args.basis} uses none: drop it")
     if args.frame is not None and args.method == "pca":
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
     if args.stability is not None and (args.method == "pca" or args.frame is not None):

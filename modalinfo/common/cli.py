@@ -37,6 +37,7 @@ __all__ = [
     "EXIT_USAGE",
     "CommandError",
     "Parser",
+    "add_version_argument",
     "check_cluster_args",
     "check_output",
     "dispatch",
@@ -127,6 +128,31 @@ class Parser(argparse.ArgumentParser):
             if first[1] != value:
                 self.error(f"argument {name}: given twice ({first[0]} {first[1]} and "
                            f"{name} {value}); give it once")
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: the build's version on stdout, exit 0 (computed only when asked)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="print the version of the installed code and exit"):  # noqa: A002
+        super().__init__(option_strings=option_strings, dest=dest, default=default,
+                         nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):  # noqa: D102
+        from modalinfo.common.tasks.keys import package_version
+
+        parser._print_message(f"{parser.prog} {package_version()}\n", sys.stdout)
+        parser.exit()
+
+
+def add_version_argument(parser: argparse.ArgumentParser) -> None:
+    """Give a top-level parser ``--version`` (stdout, exit 0).
+
+    The version is ``modalinfo.common.tasks.keys.package_version()``, the one batch
+    and sweep rows record, so a user can match a folder to the code that wrote it.
+    Without it ``modalinfo --version`` was a usage error, exit 2 (round 17 PART b, V01).
+    """
+    parser.add_argument("--version", action=_VersionAction)
 
 
 def _flag_value(action, name: str) -> str | None:

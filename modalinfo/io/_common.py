@@ -66,6 +66,13 @@ def reading(fmt: str, path: Path) -> Iterator[None]:
     ):
         raise
     except (MemoryError, OSError) as exc:
+        if isinstance(exc, OSError) and exc.errno in (errno.EAGAIN, errno.EWOULDBLOCK):
+            # HDF5's file lock: another process has the file open for writing; the file
+            # is not damaged, it is busy (round 17 PART b, L05: "corrupt HDF5 file")
+            raise LogFormatError(
+                f"{fmt} file '{path}' is locked by another process that has it open for "
+                "writing; read it when the writer has closed it (or read a copy)"
+            ) from exc
         if isinstance(exc, OSError) and exc.errno != errno.ENOMEM:
             detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
             raise LogFormatError(

@@ -691,7 +691,13 @@ class ModalLog:
         else:
             data = np.multiply(self._coeffs, self._coeffs.dtype.type(factor))
             data.flags.writeable = False
-        return self._derive(_coeffs=data, _units=units, _wavelength=lam)
+        new = self._derive(_coeffs=data, _units=units, _wavelength=lam)
+        if units != self._units and "units_note" in new._metadata:
+            # a free-text note on the old units ("coefficients in rad of phase ...") would
+            # contradict the new ones: ``convert --units waves`` kept it (round 17 PART b)
+            new._metadata["units_note"] = (f"converted from {self._units} to {units}; "
+                                           f"before: {new._metadata['units_note']}")
+        return new
 
     def to_convention(self, convention: str) -> ModalLog:
         """Return the log with modes re-indexed in another Zernike convention.
