@@ -7,8 +7,10 @@ switch of ``small_sample_threshold`` to that Bonferroni value from 2000 sample f
 (100); the documented stuck run (8 equal consecutive values); the documented stride
 ``ceil(n / 65536)`` of the median/MAD subsample; the documented effective frames
 ``(N - p) (1 - r) / (1 + r)`` of a white log (p = 4, r clipped at 0: ``N - 4``) against
-the documented 12. A constant x 0.9 or x 1.1 (or off by one) flips one decision
-(docs/MUTATION.md, "Left 16").
+the documented 12; the grouped-data median of Kendall & Stuart (vol. 1, sec. 2.13),
+``v - h/2 + h (1/2 - F(<v)) / F(=v)``, written out for a column whose MAD value v is
+shared by 3 deviations (interpolated) or 2 (the plain 1.4826 MAD). A constant x 0.9 or
+x 1.1 (or off by one) flips one decision (docs/MUTATION.md, "Left 16").
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import pytest
 from scipy import stats
 
 from modalinfo.telemetry.quality import (
+    MAD_TO_SIGMA,
     assess_quality,
     gaussian_threshold,
     small_sample_threshold,
@@ -63,3 +66,22 @@ def test_twelve_effective_frames_are_assessed(n, assessed):
     report = assess_quality(x)
     assert report.effective_frames == n - 4
     assert report.assessed == assessed
+
+
+@pytest.mark.parametrize("ties", [3, 2])
+def test_three_deviations_equal_to_the_mad_mark_a_quantised_column(ties):
+    # 101 values: the median 0, then +-magnitudes (alternating signs): 49 below v = 1,
+    # v shared by `ties` of them, the rest above; the MAD (the 51st deviation) is v
+    rng = np.random.default_rng(4)
+    v = 1.0
+    below = np.sort(rng.uniform(0.1, 0.9, 49))
+    above = np.sort(rng.uniform(1.1, 3.0, 48))
+    mags = np.concatenate([below, [v, v, v if ties == 3 else v + 0.01], above])
+    x = np.concatenate([[0.0], np.where(np.arange(100) % 2 == 0, 1.0, -1.0) * mags])
+    x = x[np.random.default_rng(9).permutation(x.size)]
+    n, h = x.size, min(v - below.max(), above.min() - v)
+    grouped = v - h / 2.0 + h * (0.5 - 50 / n) / (3 / n)  # 50 deviations below v
+    expected = grouped if ties == 3 else v
+    assert grouped < 0.97 * v  # the two readings differ by > 3 %
+    sigma = assess_quality(x[:, None]).sigma[0]
+    assert sigma == pytest.approx(MAD_TO_SIGMA * expected, rel=1e-12)
