@@ -318,7 +318,9 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
 
     On leaving, the lock is released and the folders created here are removed again
     if the run left them empty (with ``marker``: holding no row), so a run that failed
-    at its start leaves nothing behind.
+    at its start leaves nothing behind; a folder holding anything else keeps its
+    ``marker`` (a batch interrupted before its first row leaves ``hashes.json``), so
+    the next run resumes there.
     """
     out_dir = Path(out_dir)
     created = []
@@ -341,8 +343,14 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
         finally:
             lock.release()
     finally:
-        for folder in ([out_dir / m for m in (marker, *also)] if created and marker
-                       else []) + created:
+        ours = [out_dir / m for m in (marker, *also)] if created and marker else []
+        try:  # anything else left (a batch's hashes.json): the marker stays with it,
+            # or the folder is refused as foreign by the next run (Leftovers 17-sigint)
+            left = [p for p in out_dir.iterdir() if not p.name.startswith(OutputLock.NAME)
+                    and (p not in ours or any(p.iterdir()))]
+        except OSError:
+            left = []
+        for folder in ([] if left else ours) + created:
             with contextlib.suppress(OSError):
                 folder.rmdir()  # innermost first; only if empty
 

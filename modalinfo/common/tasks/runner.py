@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from modalinfo.common.deps import require
-from modalinfo.common.tasks.cluster import dashboard_link
+from modalinfo.common.tasks.cluster import dashboard_link, raise_if_interrupted
 from modalinfo.common.tasks.keys import TaskSpec
 from modalinfo.common.tasks.rows import RowStore
 from modalinfo.common.tasks.threads import _limited_call
@@ -150,6 +150,7 @@ def run_tasks(
         try:
             pending = distributed.as_completed(submit(first))
             while not pending.is_empty():
+                raise_if_interrupted(client)  # a Ctrl-C recorded by open_client's handler
                 ready = pending.next_batch(block=False)
                 if not ready:
                     beat.idle(counts)
