@@ -68,7 +68,23 @@ def log_rate_problem(rate: float | None, timestamps: bool, name: str) -> str | N
             "give the rate with --rate HZ (it replaces the timestamps)")
 
 
+def _quantity_unit(value: Any) -> str | None:
+    """Return the unit of an astropy ``Quantity`` (duck-typed), else None.
+
+    A Quantity is an ndarray subclass, so ``np.asarray`` strips its unit silently: a
+    log in um read as nm, timestamps in ms read as seconds (adversarial round 18).
+    """
+    if isinstance(value, np.ndarray) and hasattr(value, "unit") and hasattr(value, "to_value"):
+        return str(value.unit) or "dimensionless"
+    return None
+
+
 def _describe(value: Any) -> str:
+    unit = _quantity_unit(value)
+    if unit is not None:
+        shown = f"{value.value.item()!r}" if value.ndim == 0 else f"shape {value.shape}"
+        return (f"an astropy Quantity ({shown} in {unit}); pass a plain number in the "
+                "documented unit, e.g. value.to_value(<unit>)")
     if isinstance(value, np.ndarray):
         return f"array of shape {value.shape} and dtype {value.dtype}"
     if isinstance(value, np.generic):
@@ -81,22 +97,36 @@ def unmasked(value: Any, name: str) -> Any:
     """Return the data of a masked array with nothing masked; refuse one with a mask.
 
     NumPy's ``asarray`` drops a mask silently, so masked samples were analysed as
-    data (``mutual_information`` of a half-masked array used all of it). Other
-    values pass unchanged.
+    data (``mutual_information`` of a half-masked array used all of it). It drops an
+    astropy ``Quantity``'s unit just as silently (a log in um read as nm, timestamps
+    in ms read as seconds), so a Quantity with a unit is refused too; a dimensionless
+    one becomes its plain values. Other values pass unchanged.
 
     Raises
     ------
     ValueError
         Naming ``name`` and the count of masked values.
+    TypeError
+        Naming ``name`` and the unit of a Quantity with one.
     """
+    unit = _quantity_unit(value)
+    if unit is not None:
+        if unit == "dimensionless":
+            return value.to_value("")
+        raise TypeError(
+            f"`{name}` is an astropy Quantity in {unit}, and its unit would be dropped "
+            f"silently; pass plain numbers in the unit `{name}` is documented in (e.g. "
+            f"{name}.to_value('s') where seconds are documented)."
+        )
     if not isinstance(value, np.ma.MaskedArray):
         return value
     masked = int(np.count_nonzero(np.ma.getmaskarray(value)))
     if masked:
         raise ValueError(
             f"`{name}` is a masked array with {masked} masked value(s), which would be "
-            "analysed as data; drop those samples (from every argument) or fill them "
-            "(e.g. .filled(np.nan) with a non-finite policy) first."
+            "analysed as data; drop those samples from every argument first (e.g. keep = "
+            "~x.mask; x, y = x.data[keep], y[keep]), or fill them with .filled(np.nan) "
+            "where the function takes a non-finite policy (ModalLog's `nonfinite`)."
         )
     return np.ma.getdata(value)
 

@@ -94,6 +94,15 @@ def mode_labels(modes: list, convention: str) -> list[str]:
     return [f"{prefix}{j}" for j in modes]
 
 
+def _numeric_extension_columns(table: Any) -> bool:
+    """Whether ``table`` is a pandas DataFrame whose every column is of a numeric dtype."""
+    dtypes = getattr(table, "dtypes", None)
+    if dtypes is None or not hasattr(table, "to_numpy") or not hasattr(dtypes, "__iter__"):
+        return False
+    kinds = [getattr(dt, "kind", "O") for dt in dtypes]
+    return bool(kinds) and all(k in "fiu" for k in kinds)
+
+
 def as_coeffs(coeffs: Any) -> np.ndarray:
     """Return ``coeffs`` as a read-only 2-D float32/float64 view, or raise naming it.
 
@@ -110,6 +119,12 @@ def as_coeffs(coeffs: Any) -> np.ndarray:
             raise TypeError(
                 f"`coeffs` must be a numeric array (T, M); got {type(coeffs).__name__}."
             ) from exc
+        if arr.dtype == object and _numeric_extension_columns(coeffs):
+            # a DataFrame of pandas' nullable Float64 / Int64 or Arrow floats: NumPy makes
+            # an object array of it (refused as "dtype object", adversarial round 18 q70)
+            # while mutual_information read the same Series; pd.NA becomes NaN, so the
+            # `nonfinite` policy decides
+            arr = coeffs.to_numpy(dtype=np.float64, na_value=np.nan)
     kind = arr.dtype.kind
     if kind not in "fiu":
         what = "complex" if kind == "c" else str(arr.dtype)

@@ -257,6 +257,7 @@ class ModalLog:
                 else:
                     x = np.arange(n_frames, dtype=np.float64)
                 out = np.array(arr, copy=True, order="C")
+                n_held = 0
                 for j in np.flatnonzero(~finite.all(axis=0)):
                     good = finite[:, j]
                     if not good.any():
@@ -264,12 +265,19 @@ class ModalLog:
                             f"`coeffs` column {j} (mode {mode_list[j]!r}) has no finite value; "
                             "nonfinite='interpolate' cannot fill it."
                         )
+                    kept = np.flatnonzero(good)
+                    n_held += int(kept[0]) + (n_frames - 1 - int(kept[-1]))
                     out[~good, j] = np.interp(x[~good], x[good], out[good, j])
                 out.flags.writeable = False
                 arr = out
+                # values before a column's first or after its last finite value are not
+                # interpolated but held constant: a mode missing for a whole night was
+                # filled with one number and reported as interpolated (round 18, l10)
+                held = (f", {n_held} of them held constant beyond a column's first or last "
+                        "finite value (extrapolated, not interpolated)") if n_held else ""
                 repairs.append(
                     f"nonfinite='interpolate': filled {n_bad} non-finite value(s) in "
-                    f"{bad_rows.size} frame(s) by linear interpolation in time"
+                    f"{bad_rows.size} frame(s) by linear interpolation in time{held}"
                 )
         if repairs:
             previous = meta.get("repairs", [])

@@ -7,10 +7,16 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import check_int, check_real, check_rng
+from modalinfo.common.validation import check_int, check_memory, check_real, check_rng
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.synthetic.closed_loop import closed_loop_simulation
-from modalinfo.telemetry.synthetic.spectra import _check_layers, _layers_metadata, open_loop_log
+from modalinfo.telemetry.synthetic.spectra import (
+    FFT_BYTES_PER_SAMPLE,
+    _check_layers,
+    _check_modes,
+    _layers_metadata,
+    open_loop_log,
+)
 
 __all__ = ["KAOS_LIKE_DEFAULTS", "kaos_like"]
 
@@ -88,6 +94,11 @@ def kaos_like(
     layers = _check_layers(p["layers"])
     rng = check_rng(seed)
     total = n_frames + discard
+    # refused here so that the message names the caller's n_frames, not the oversampled
+    # count passed to open_loop_log (adversarial round 18, q63)
+    check_memory(FFT_BYTES_PER_SAMPLE * total * oversampling * len(_check_modes(p["modes"])),
+                 "n_frames",
+                 n_frames, "the oversampled open-loop series and their spectra")
     open_fine = open_loop_log(
         p["modes"], n_frames=total * oversampling, rate=rate * oversampling,
         diameter=p["diameter"], layers=layers, outer_scale=p["outer_scale"],

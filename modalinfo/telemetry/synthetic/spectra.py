@@ -72,11 +72,16 @@ from modalinfo.bases import noll_to_zernike, zernike_covariance
 from modalinfo.bases.turbulence import check_outer_scale
 from modalinfo.common.validation import (
     check_int,
+    check_memory,
     check_real,
     check_rng,
 )
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import check_wavelength
+
+#: Bytes held per sample and mode while the open-loop series are synthesised (white
+#: noise, its half spectrum and the filtered series on the 2T FFT grid, float64)
+FFT_BYTES_PER_SAMPLE = 64
 
 __all__ = ["Layer", "open_loop_log", "open_loop_psd"]
 
@@ -429,6 +434,10 @@ def open_loop_log(
     rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
     diameter, outer_scale, wavelength = _check_geometry(diameter, outer_scale, wavelength)
     layer_tuple = _check_layers(layers)
+    # white noise, its spectrum and the filtered series, ~ 2 T x M floats each; without
+    # this n_frames = 2**70 raised OverflowError in numpy (adversarial round 18, q63)
+    check_memory(FFT_BYTES_PER_SAMPLE * n_frames * len(mode_list), "n_frames", n_frames,
+                 "the open-loop series and their spectra")
     generator_seed = seed if isinstance(seed, numbers.Integral) else None
     rng = check_rng(seed)
     coeffs = _open_loop_array(mode_list, n_frames, rate, diameter, layer_tuple, outer_scale,
