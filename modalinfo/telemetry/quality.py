@@ -500,7 +500,12 @@ class QualityReport:
         ``summarize`` a lag-1 autocorrelation of 0.99 for 0.9); split such a log at the
         step (``log.select``) before assessing it. Since issue 27 (left14-level) such a
         step or a drift of the mean is reported too (:attr:`level_steps`), and makes
-        ``stationary`` False.
+        ``stationary`` False. Neither rule sees a change of the columns' **identity**
+        (two nights with the modes in another order concatenated): when the modes'
+        innovations are alike (noise-dominated) the scale keeps, and the level of
+        zero-mean modes too (round 18 PART a, l11: a KAOS-like log whose columns were
+        reversed half-way, per-column standard deviations 0.37x to 2.7x, gave
+        ``stationary=True``); check the mode order from the archive's records.
     level_steps : tuple of (str, int, float, float)
         Modes whose mean steps or drifts within the log: ``(label, frame, shift,
         p_value)``, ``frame`` the first frame after the largest CUSUM excursion (to
