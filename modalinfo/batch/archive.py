@@ -63,6 +63,9 @@ class BatchResult:
     identical : tuple of tuple of str
         Groups of byte-identical input paths: each was analysed once, and each path
         has its own rows.
+    skipped : tuple of str
+        Files of the input directories left out because their extension is not a
+        log's (``modalinfo.io.formats.EXTENSIONS``); hidden files are not listed.
     """
 
     rows: list
@@ -72,6 +75,7 @@ class BatchResult:
     report: EngineReport
     n_hashed: int
     identical: tuple = ()
+    skipped: tuple = ()
 
     @property
     def n_ok(self) -> int:
@@ -318,7 +322,8 @@ def analyse_archive(
     resolved = {n: resolve_params(n, params.get(n)) for n in names}
     out_dir = Path(out_dir)
     check_out_dir(out_dir)
-    entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints)
+    skipped: list[str] = []
+    entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints, skipped=skipped)
     if client is not None and any(v is not None for v in (
             scheduler, n_workers, threads_per_worker, memory_limit, retries)):
         raise ValueError("give either `client` or a scheduler / cluster shape, not both")
@@ -358,7 +363,7 @@ def analyse_archive(
             drawn = tuple(plot_archive(rows, out_dir / "plots"))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
-                       identical=identical_inputs(entries, probes))
+                       identical=identical_inputs(entries, probes), skipped=tuple(skipped))
 
 
 def identical_inputs(entries: list[LogEntry], probes: dict) -> tuple[tuple[str, ...], ...]:

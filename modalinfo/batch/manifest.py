@@ -208,7 +208,8 @@ def _is_batch_output(folder: Path) -> bool:
     return (folder / "rows").is_dir() and (folder / "hashes.json").is_file()
 
 
-def _walk(directory: Path, exclude: Sequence[Path]) -> Iterable[Path]:
+def _walk(directory: Path, exclude: Sequence[Path],
+          skipped: list[str] | None = None) -> Iterable[Path]:
     exts = {e.lower() for e in _extensions()}
     for root, dirs, files in os.walk(directory):
         here = Path(root)
@@ -216,8 +217,14 @@ def _walk(directory: Path, exclude: Sequence[Path]) -> Iterable[Path]:
                          and not any((here / d).resolve() == x for x in exclude)
                          and not _is_batch_output(here / d))
         for name in sorted(files):
-            if not name.startswith(".") and Path(name).suffix.lower() in exts:
+            if name.startswith("."):
+                continue
+            if Path(name).suffix.lower() in exts:
                 yield here / name
+            elif skipped is not None:
+                # an AOT file named .aot or a log.csv.gz left out with no word: the table
+                # silently lacked a readable log (round 18 PART b, M01 / M03)
+                skipped.append(str(here / name))
 
 
 def collect_logs(
@@ -226,6 +233,7 @@ def collect_logs(
     exclude: Sequence[str | os.PathLike] = (),
     fmt: str | None = None,
     hints: dict | None = None,
+    skipped: list[str] | None = None,
 ) -> list[LogEntry]:
     """List the logs named by directories, glob patterns, manifests and files.
 
@@ -238,6 +246,9 @@ def collect_logs(
         Directories never searched (the batch's own output directory).
     fmt, hints : optional
         Defaults for every log; a manifest's columns take precedence.
+    skipped : list of str, optional
+        If given, the paths of the files a directory search left out for their
+        extension (not a log's) are appended to it (hidden files are not).
 
     Returns
     -------
@@ -280,7 +291,7 @@ def collect_logs(
         text = os.fspath(item)
         path = Path(text)
         if path.is_dir():
-            for file in _walk(path, skip):
+            for file in _walk(path, skip, skipped):
                 add(plain(file))
         elif _is_manifest(path):
             for entry in read_manifest(path):
