@@ -227,6 +227,22 @@ def _walk(directory: Path, exclude: Sequence[Path],
                 skipped.append(str(here / name))
 
 
+def _literal_folder_hint(pattern: str) -> str:
+    """Return a hint when a pattern's folder part holds glob characters literally, else ''.
+
+    ``'night [1]/*.npz'`` reads ``[1]`` as a class and matches nothing in the folder
+    named ``night [1]`` (round 18 PART b, M10).
+    """
+    parent, name = os.path.split(pattern)
+    if not parent or not glob.has_magic(parent):
+        return ""
+    escaped = os.path.join(glob.escape(parent), name)
+    if not any(Path(m).is_file() for m in glob.glob(escaped, recursive=True)):
+        return ""
+    return (f"; its folder part {parent!r} holds [ ] * or ? read as a pattern: to mean "
+            f"them literally write {escaped!r}")
+
+
 def collect_logs(
     inputs: str | os.PathLike | Sequence[str | os.PathLike],
     *,
@@ -307,7 +323,8 @@ def collect_logs(
             matches = sorted(glob.glob(text, recursive=True))
             files = [Path(m) for m in matches if Path(m).is_file()]
             if not files:
-                raise ValueError(f"input pattern {text!r} matches no file")
+                raise ValueError(f"input pattern {text!r} matches no file"
+                                 f"{_literal_folder_hint(text)}")
             for file in files:
                 add(plain(file))
         else:
