@@ -353,7 +353,7 @@ def analyse_archive(
         stored = {r["key"]: r for r in store.rows() if r["key"] in wanted}
         # byte-identical logs share a task key (analysed once), yet every input path
         # gets its own row, labelled with its own path: nothing is merged silently
-        rows = [{**stored[s.key], **s.labels} for s in specs if s.key in stored]
+        rows = [_labelled(stored[s.key], s.labels) for s in specs if s.key in stored]
         rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
         csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
         drawn: tuple = ()
@@ -364,6 +364,19 @@ def analyse_archive(
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
                        identical=identical_inputs(entries, probes), skipped=tuple(skipped))
+
+
+def _labelled(row: dict, labels: dict) -> dict:
+    """Return a stored ``row`` under a task's ``labels``, its error naming the labelled path.
+
+    A byte-identical copy shares the row of the file analysed first: its error message
+    named that other file ("'zero.csv' is empty" on zero.h5's row; round 18 PART b, M04).
+    """
+    out = {**row, **labels}
+    msg, first, own = row.get("error_message"), row.get("path"), labels.get("path")
+    if isinstance(msg, str) and first and own and first != own:
+        out["error_message"] = msg.replace(first, own)
+    return out
 
 
 def identical_inputs(entries: list[LogEntry], probes: dict) -> tuple[tuple[str, ...], ...]:
