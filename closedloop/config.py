@@ -83,6 +83,15 @@ MAX_FIELD_ARCSEC = 3600.0
 RECONSTRUCTORS = ("truncated", "map")
 _FIELD_RULE = (f"<= {MAX_FIELD_ARCSEC:g} arcsec (1 degree; the solar disc is 1920\" across "
                "and the simulator's shifts h theta are small-angle)")
+#: narrowest non-zero science field or WFS field of view [arcsec]: 0.01" is lambda / D of a
+#: 10 m telescope at 500 nm, so a narrower field is the axis in all but name; a smaller
+#: positive value is a unit slip: 120" typed in radians is 5.8e-4 (round 18 PART b)
+MIN_FIELD_ARCSEC = 0.01
+_NARROW_RULE = (f"0 (the axis only) or >= {MIN_FIELD_ARCSEC:g} arcsec (in arcsec, not radians: "
+                "120\" is 5.8e-4 rad)")
+#: largest telescope diameter [m]: the largest telescope built or planned is 39 m (ELT);
+#: a larger value is a unit slip, such as millimetres typed as metres (round 18 PART b)
+MAX_DIAMETER = 100.0
 
 
 def _fail(key: str, rule: str, value: Any, exc=ValueError):
@@ -144,6 +153,9 @@ class TelescopeConfig:
     def _validate(self, p: str) -> None:
         _set(self, "diameter", check_real(self.diameter, p + "diameter", minimum=0,
                                           strict_min=True))
+        if self.diameter > MAX_DIAMETER:
+            _fail(p + "diameter", f"<= {MAX_DIAMETER:g} m (in metres; the largest telescope, "
+                  "the ELT, is 39 m)", self.diameter)
         _set(self, "obscuration", check_real(self.obscuration, p + "obscuration", minimum=0,
                                         maximum=0.95))
         _set(self, "zenith_angle", check_real(self.zenith_angle, p + "zenith_angle", minimum=0,
@@ -322,6 +334,8 @@ class WFSConfig:
         _set(self, "field_of_view", check_real(self.field_of_view, p + "field_of_view", minimum=0))
         if self.field_of_view > MAX_FIELD_ARCSEC:
             _fail(p + "field_of_view", _FIELD_RULE, self.field_of_view)
+        if 0.0 < self.field_of_view < MIN_FIELD_ARCSEC:
+            _fail(p + "field_of_view", _NARROW_RULE, self.field_of_view)
         _set(self, "n_subapertures", check_int(self.n_subapertures, p + "n_subapertures",
                                                minimum=2))
         _set(self, "noise", check_real(self.noise, p + "noise", minimum=0))
@@ -496,6 +510,8 @@ class FieldConfig:
         _set(self, "size", check_real(self.size, p + "size", minimum=0))
         if self.size > MAX_FIELD_ARCSEC:
             _fail(p + "size", _FIELD_RULE, self.size)
+        if 0.0 < self.size < MIN_FIELD_ARCSEC:
+            _fail(p + "size", _NARROW_RULE, self.size)
         _set(self, "n_points", check_int(self.n_points, p + "n_points", minimum=1))
         if self.n_points % 2 == 0:
             _fail(p + "n_points", "odd (the optical axis is on the grid)", self.n_points)

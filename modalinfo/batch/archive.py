@@ -63,6 +63,9 @@ class BatchResult:
     identical : tuple of tuple of str
         Groups of byte-identical input paths: each was analysed once, and each path
         has its own rows.
+    skipped : tuple of str
+        Files of the input directories left out because their extension is not a
+        log's (``modalinfo.io.formats.EXTENSIONS``); hidden files are not listed.
     """
 
     rows: list
@@ -72,6 +75,7 @@ class BatchResult:
     report: EngineReport
     n_hashed: int
     identical: tuple = ()
+    skipped: tuple = ()
 
     @property
     def n_ok(self) -> int:
@@ -318,7 +322,8 @@ def analyse_archive(
     resolved = {n: resolve_params(n, params.get(n)) for n in names}
     out_dir = Path(out_dir)
     check_out_dir(out_dir)
-    entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints)
+    skipped: list[str] = []
+    entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints, skipped=skipped)
     if client is not None and any(v is not None for v in (
             scheduler, n_workers, threads_per_worker, memory_limit, retries)):
         raise ValueError("give either `client` or a scheduler / cluster shape, not both")
@@ -348,7 +353,7 @@ def analyse_archive(
         stored = {r["key"]: r for r in store.rows() if r["key"] in wanted}
         # byte-identical logs share a task key (analysed once), yet every input path
         # gets its own row, labelled with its own path: nothing is merged silently
-        rows = [{**stored[s.key], **s.labels} for s in specs if s.key in stored]
+        rows = [_labelled(stored[s.key], s.labels) for s in specs if s.key in stored]
         rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
         csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
         drawn: tuple = ()
@@ -358,7 +363,20 @@ def analyse_archive(
             drawn = tuple(plot_archive(rows, out_dir / "plots"))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
-                       identical=identical_inputs(entries, probes))
+                       identical=identical_inputs(entries, probes), skipped=tuple(skipped))
+
+
+def _labelled(row: dict, labels: dict) -> dict:
+    """Return a stored ``row`` under a task's ``labels``, its error naming the labelled path.
+
+    A byte-identical copy shares the row of the file analysed first: its error message
+    named that other file ("'zero.csv' is empty" on zero.h5's row; round 18 PART b, M04).
+    """
+    out = {**row, **labels}
+    msg, first, own = row.get("error_message"), row.get("path"), labels.get("path")
+    if isinstance(msg, str) and first and own and first != own:
+        out["error_message"] = msg.replace(first, own)
+    return out
 
 
 def identical_inputs(entries: list[LogEntry], probes: dict) -> tuple[tuple[str, ...], ...]:

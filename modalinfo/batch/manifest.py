@@ -208,7 +208,8 @@ def _is_batch_output(folder: Path) -> bool:
     return (folder / "rows").is_dir() and (folder / "hashes.json").is_file()
 
 
-def _walk(directory: Path, exclude: Sequence[Path]) -> Iterable[Path]:
+def _walk(directory: Path, exclude: Sequence[Path],
+          skipped: list[str] | None = None) -> Iterable[Path]:
     exts = {e.lower() for e in _extensions()}
     for root, dirs, files in os.walk(directory):
         here = Path(root)
@@ -216,8 +217,30 @@ def _walk(directory: Path, exclude: Sequence[Path]) -> Iterable[Path]:
                          and not any((here / d).resolve() == x for x in exclude)
                          and not _is_batch_output(here / d))
         for name in sorted(files):
-            if not name.startswith(".") and Path(name).suffix.lower() in exts:
+            if name.startswith("."):
+                continue
+            if Path(name).suffix.lower() in exts:
                 yield here / name
+            elif skipped is not None:
+                # an AOT file named .aot or a log.csv.gz left out with no word: the table
+                # silently lacked a readable log (round 18 PART b, M01 / M03)
+                skipped.append(str(here / name))
+
+
+def _literal_folder_hint(pattern: str) -> str:
+    """Return a hint when a pattern's folder part holds glob characters literally, else ''.
+
+    ``'night [1]/*.npz'`` reads ``[1]`` as a class and matches nothing in the folder
+    named ``night [1]`` (round 18 PART b, M10).
+    """
+    parent, name = os.path.split(pattern)
+    if not parent or not glob.has_magic(parent):
+        return ""
+    escaped = os.path.join(glob.escape(parent), name)
+    if not any(Path(m).is_file() for m in glob.glob(escaped, recursive=True)):
+        return ""
+    return (f"; its folder part {parent!r} holds [ ] * or ? read as a pattern: to mean "
+            f"them literally write {escaped!r}")
 
 
 def collect_logs(
@@ -226,6 +249,7 @@ def collect_logs(
     exclude: Sequence[str | os.PathLike] = (),
     fmt: str | None = None,
     hints: dict | None = None,
+    skipped: list[str] | None = None,
 ) -> list[LogEntry]:
     """List the logs named by directories, glob patterns, manifests and files.
 
@@ -238,6 +262,9 @@ def collect_logs(
         Directories never searched (the batch's own output directory).
     fmt, hints : optional
         Defaults for every log; a manifest's columns take precedence.
+    skipped : list of str, optional
+        If given, the paths of the files a directory search left out for their
+        extension (not a log's) are appended to it (hidden files are not).
 
     Returns
     -------
@@ -280,7 +307,7 @@ def collect_logs(
         text = os.fspath(item)
         path = Path(text)
         if path.is_dir():
-            for file in _walk(path, skip):
+            for file in _walk(path, skip, skipped):
                 add(plain(file))
         elif _is_manifest(path):
             for entry in read_manifest(path):
@@ -296,7 +323,8 @@ def collect_logs(
             matches = sorted(glob.glob(text, recursive=True))
             files = [Path(m) for m in matches if Path(m).is_file()]
             if not files:
-                raise ValueError(f"input pattern {text!r} matches no file")
+                raise ValueError(f"input pattern {text!r} matches no file"
+                                 f"{_literal_folder_hint(text)}")
             for file in files:
                 add(plain(file))
         else:

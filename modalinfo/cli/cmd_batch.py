@@ -136,6 +136,14 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"modalinfo batch: note: {len(group)} inputs are byte-identical "
                          f"(same SHA-256), analysed once, one row each: "
                          f"{', '.join(group)}\n")
+    if result.skipped:  # a warning: even with --quiet
+        from modalinfo.io.formats import EXTENSIONS
+
+        shown = ", ".join(result.skipped[:5]) + (", ..." if len(result.skipped) > 5 else "")
+        sys.stderr.write(f"modalinfo batch: note: {len(result.skipped)} file(s) of the input "
+                         f"folders skipped, their extension is not a log's "
+                         f"({' '.join(EXTENSIONS)}): {shown}; name them in a manifest "
+                         f"with an 'fmt' column to analyse them\n")
     if not args.quiet:
         rep = result.report
         out = sys.stdout

@@ -282,6 +282,12 @@ def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "
             f"'{path.suffix}' means {implied}); drop --to-fmt or rename {flag}")
     if fmt is None:
         fmt = implied
+        if fmt is None and path.suffix.lower() == ".npy":
+            # "cannot tell the format" of a known, read-only one misled (round 18 PART b D29)
+            raise CommandError(
+                f"{flag} '{path}': NPY is read-only here (it holds the array but not the "
+                "rate, modes, units and metadata of a log); write .npz, NumPy's archive, "
+                "instead")
         if fmt is None:
             raise CommandError(
                 f"{flag} '{path}': cannot tell the log format from the extension "
