@@ -18,6 +18,7 @@ __all__ = [
     "ar_innovations",
     "block_scale_ratio",
     "lag1_autocorrelation",
+    "mad_union_threshold",
     "level_stationarity",
     "level_steps",
     "sample_autocovariance",
@@ -415,3 +416,56 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
             judged.append((j, test))
     cut = alpha / max(len(judged), 1)
     return [(j, t) for j, t in judged if t.p_value < cut], len(judged)
+
+
+def mad_union_threshold(ratios: np.ndarray, weights: np.ndarray | None, n_values: int,
+                        n_series: int, n_sample: int, alpha: float, lo: float,
+                        hi: float) -> float:
+    """Threshold ``k`` (robust sigmas) whose averaged union bound over the series is ``alpha``.
+
+    One copy of the rule both outlier thresholds that count the MAD's own spread use
+    (``telemetry.quality.small_sample_threshold``, ``information.resampling.
+    heavy_tail_threshold``): given the ratio ``s`` of the MAD scale to sigma, the union
+    bound over a series' ``T`` values is ``min(1, T erfc(k s / (c sqrt 2)))`` with
+    ``c = sqrt(1 + pi / (2 N))`` (a value's spread about the median of ``N`` values);
+    it is averaged over the law of ``s`` (``ratios`` with ``weights``, or their plain
+    mean), summed over the series and set to ``alpha`` by bisection from the bracket
+    ``[lo, hi]`` (``hi`` doubled, up to 1e6, until the rate is below ``alpha``).
+
+    Parameters
+    ----------
+    ratios : numpy.ndarray, shape (m,)
+        Draws or quadrature nodes of ``s``.
+    weights : numpy.ndarray, shape (m,), or None
+        Their weights (summing to 1), or None for equal weights.
+    n_values : int
+        Values tested per series (``T``).
+    n_series : int
+        Series tested.
+    n_sample : int
+        Values the median and MAD come from (``N``).
+    alpha : float
+        False-alarm probability over the series.
+    lo, hi : float
+        Starting bracket of the bisection.
+
+    Returns
+    -------
+    float
+        The threshold.
+    """
+    from scipy.special import erfc
+
+    spread = math.sqrt(1.0 + math.pi / (2.0 * n_sample))
+
+    def rate(k: float) -> float:
+        tails = np.minimum(1.0, n_values * erfc(k * ratios / (spread * math.sqrt(2.0))))
+        mean = tails.mean() if weights is None else weights @ tails
+        return n_series * float(mean)
+
+    while rate(hi) > alpha and hi < 1e6:
+        lo, hi = hi, 2.0 * hi
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if rate(mid) > alpha else (lo, mid)
+    return hi

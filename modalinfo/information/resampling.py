@@ -54,6 +54,7 @@ from modalinfo._stats import (
     ar_innovations,
     lag1_autocorrelation,
     level_steps,
+    mad_union_threshold,
     sample_autocovariance,
     scale_stationarity,
 )
@@ -1103,27 +1104,14 @@ def heavy_tail_threshold(n_values: int, n_series: int = 2,
     float
         The threshold in robust sigmas.
     """
-    from scipy.special import erfc
-
     t = float(n_values)
     nodes, weights = np.polynomial.hermite_e.hermegauss(80)
     weights = weights / weights.sum()
     s = 1.0 + (MAD_RELATIVE_SD / math.sqrt(t)) * nodes
     keep = s > 0.0
     s, weights = s[keep], weights[keep] / weights[keep].sum()
-    spread = math.sqrt(1.0 + math.pi / (2.0 * t))
-
-    def rate(k: float) -> float:
-        tails = erfc(k * s / (spread * math.sqrt(2.0)))  # 2 Q(k s / c)
-        return n_series * float(weights @ np.minimum(1.0, t * tails))
-
-    lo, hi = 1.0, 2.0 * float(stats.norm.isf(alpha / (2.0 * n_series * t)))
-    while rate(hi) > alpha:
-        lo, hi = hi, 2.0 * hi
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if rate(mid) > alpha else (lo, mid)
-    return hi
+    return mad_union_threshold(s, weights, n_values, n_series, n_values, alpha, 1.0,
+                               2.0 * float(stats.norm.isf(alpha / (2.0 * n_series * t))))
 
 
 def _heavy_tail_rule(x: np.ndarray, y: np.ndarray, name: str) -> str | None:

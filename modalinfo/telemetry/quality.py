@@ -154,6 +154,7 @@ from modalinfo._stats import (
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     STATIONARITY_BLOCKS,
     level_steps,
+    mad_union_threshold,
     stationarity_threshold,
 )
 from modalinfo._stats import block_scale_ratio as _scale_ratio
@@ -279,22 +280,8 @@ def small_sample_threshold(n_sample: int, n_frames: int, n_modes: int,
     base = gaussian_threshold(n_frames * n_modes, alpha)
     if n_sample >= SMALL_SAMPLE_FRAMES:
         return base
-    from scipy.special import erfc
-
-    ratios = _mad_ratios(int(n_sample))
-    spread = math.sqrt(1.0 + math.pi / (2.0 * n_sample))
-
-    def rate(k: float) -> float:
-        tails = erfc(k * ratios / (spread * math.sqrt(2.0)))  # 2 Q(k s / c)
-        return n_modes * float(np.minimum(1.0, n_frames * tails).mean())
-
-    lo, hi = base, 2.0 * base
-    while rate(hi) > alpha and hi < 1e6:
-        lo, hi = hi, 2.0 * hi
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if rate(mid) > alpha else (lo, mid)
-    return hi
+    return mad_union_threshold(_mad_ratios(int(n_sample)), None, n_frames, n_modes,
+                               n_sample, alpha, base, 2.0 * base)
 
 
 #: Fewest effective frames (:func:`_innovations`) on which outliers are assessed with
