@@ -5,7 +5,9 @@ largest ``|e - median(e)| / (1.4826 MAD(e))`` of the AR(4) innovations ``e`` of 
 series passes a threshold ``k(n)``. This script computes that statistic for many seeded
 Gaussian series at once (the AR(4) least squares with a constant through batched normal
 equations, the same residuals as ``modalinfo._stats.ar_innovations``), and reports, for
-the threshold the rule used before and the one it uses now, the share of series and of
+the threshold the rule used before left15 ("before"), the left15 one (the spread of a
+value outside its sample, "left15") and the one it uses now (inside, left18: "after"),
+the share of series and of
 pairs (two independent series) above it, with the exact binomial (Clopper-Pearson) 95 %
 range. One column per series, so a pair's rate is ``1 - (1 - p)^2`` for independent
 series and at most ``2 p`` (union bound) for dependent ones.
@@ -56,6 +58,17 @@ def clopper(k: int, m: int) -> tuple[float, float]:
     return float(lo), float(hi)
 
 
+def left15_threshold(t: int, n_series: int = 2, alpha: float = 1e-4) -> float:
+    """The left15 threshold: the spread of a value *outside* its sample (left18 fixed it)."""
+    from modalinfo._stats import MAD_RELATIVE_SD, mad_union_threshold
+    nodes, weights = np.polynomial.hermite_e.hermegauss(80)
+    s = 1.0 + (MAD_RELATIVE_SD / np.sqrt(t)) * nodes
+    keep = s > 0.0
+    w = weights[keep] / weights[keep].sum()
+    return mad_union_threshold(s[keep], w, t, n_series, t, alpha, 1.0, 20.0,
+                               in_sample=False)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--series", type=int, default=200_000)
@@ -67,6 +80,7 @@ def main() -> None:
     for n in args.n:
         old = gaussian_threshold(n - INNOVATION_ORDER, 1e-4)
         new = heavy_tail_threshold(n - INNOVATION_ORDER)
+        left15 = left15_threshold(n - INNOVATION_ORDER)
         for phi in args.phi:
             rng = np.random.default_rng([args.seed, n, int(phi * 1000)])
             chunk = max(1, min(args.series, 4_000_000 // n))
@@ -79,7 +93,7 @@ def main() -> None:
                 done += m
             z = np.concatenate(zs)
             pairs = z[: z.size // 2 * 2].reshape(-1, 2).max(axis=1)
-            for label, k in (("before", old), ("after", new)):
+            for label, k in (("before", old), ("left15", left15), ("after", new)):
                 hit = int((pairs > k).sum())
                 lo, hi = clopper(hit, pairs.size)
                 print(f"n={n:6d} phi={phi:4.2f} {label:6s} k={k:.3f}: series "

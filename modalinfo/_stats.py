@@ -14,6 +14,7 @@ from modalinfo.common.validation import as_float_array, check_int
 __all__ = [
     "LevelStepWarning",
     "LevelTest",
+    "MAD_RELATIVE_SD",
     "ar_cosine_transfer",
     "ar_innovations",
     "block_scale_ratio",
@@ -111,6 +112,14 @@ RANGE_99_OF_8 = 5.09
 #: Relative standard error of the 1.4826 MAD of n Gaussian values times sqrt(n)
 #: (asymptotic efficiency 36.8 %: Rousseeuw & Croux 1993, JASA 88, 1273).
 MAD_REL_SD = 1.17
+
+#: Relative standard deviation of the normal-consistent MAD of ``N`` Gaussian values is
+#: about ``MAD_RELATIVE_SD / sqrt(N)``: the asymptotic variance of the sample median of
+#: ``|Z|`` is ``1 / (4 N g(q)^2)`` with ``q = Phi^-1(3/4)`` and ``g(q) = 2 phi(q)`` the
+#: density of ``|Z|`` there, so the relative sd is ``1 / (4 q phi(q) sqrt(N))``: 1.1662
+#: (``MAD_REL_SD`` rounds it to 1.17).
+MAD_RELATIVE_SD = float(1.0 / (4.0 * _scipy_stats.norm.ppf(0.75)
+                               * _scipy_stats.norm.pdf(_scipy_stats.norm.ppf(0.75))))
 
 #: AR order of the innovations the one-series rule (:func:`scale_stationarity`) compares:
 #: that of the telemetry quality pass (``modalinfo.telemetry.quality.AR_ORDER``), which
@@ -420,17 +429,32 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
 
 def mad_union_threshold(ratios: np.ndarray, weights: np.ndarray | None, n_values: int,
                         n_series: int, n_sample: int, alpha: float, lo: float,
-                        hi: float) -> float:
+                        hi: float, *, in_sample: bool) -> float:
     """Threshold ``k`` (robust sigmas) whose averaged union bound over the series is ``alpha``.
 
     One copy of the rule both outlier thresholds that count the MAD's own spread use
     (``telemetry.quality.small_sample_threshold``, ``information.resampling.
     heavy_tail_threshold``): given the ratio ``s`` of the MAD scale to sigma, the union
-    bound over a series' ``T`` values is ``min(1, T erfc(k s / (c sqrt 2)))`` with
-    ``c = sqrt(1 + pi / (2 N))`` (a value's spread about the median of ``N`` values);
-    it is averaged over the law of ``s`` (``ratios`` with ``weights``, or their plain
-    mean), summed over the series and set to ``alpha`` by bisection from the bracket
-    ``[lo, hi]`` (``hi`` doubled, up to 1e6, until the rate is below ``alpha``).
+    bound over a series' ``T`` values is ``min(1, T erfc(z / sqrt 2))``; it is averaged
+    over the law of ``s`` (``ratios`` with ``weights``, or their plain mean), summed over
+    the series and set to ``alpha`` by bisection from the bracket ``[lo, hi]`` (``hi``
+    doubled, up to 1e6, until the rate is below ``alpha``).
+
+    A value *outside* the sample of ``N`` values the median and MAD come from is
+    independent of them: ``z = k s / c``, ``c = sqrt(1 + pi / (2 N))`` (its spread about
+    the sample median, whose variance is ``pi / (2 N)``). A value *inside* the sample
+    (``in_sample``) pulls both towards itself. By Bahadur's representation of a sample
+    quantile (Bahadur 1966, Ann. Math. Statist. 37, 577), a value beyond the median
+    moves the median of ``N`` values by ``1 / (2 N f(0)) = sqrt(pi / 2) / N`` and, being
+    beyond the MAD too, moves the MAD by ``1 / (2 N g(q))`` (``g(q) = 2 phi(q)`` the
+    density of ``|Z|`` at ``q = Phi^-1(3/4)``), a relative ``MAD_RELATIVE_SD / N``; so
+    ``z = (k s (1 + MAD_RELATIVE_SD / N) + sqrt(pi / 2) / N) / c``, ``s`` the MAD of the
+    other values. (Its variance, ``var(e_t - median) = 1 + (pi / 2 - 2) / N`` from
+    ``cov(e_t, median) = 1 / N``, is not what sets a 4-6 sigma tail: the tail value
+    moves the median and MAD by the fixed shifts above, not in proportion to itself.)
+    Simulated per-value tails (``tests/common/test_mad_union_left18.py``): the
+    conditional shifts match within 3 % at ``N`` = 30-496, the variance term
+    over-reads by 4-20 %, the out-of-sample ``c`` by 8-51 %.
 
     Parameters
     ----------
@@ -448,6 +472,8 @@ def mad_union_threshold(ratios: np.ndarray, weights: np.ndarray | None, n_values
         False-alarm probability over the series.
     lo, hi : float
         Starting bracket of the bisection.
+    in_sample : bool
+        Whether the tested values are among the ``N`` the median and MAD come from.
 
     Returns
     -------
@@ -457,9 +483,13 @@ def mad_union_threshold(ratios: np.ndarray, weights: np.ndarray | None, n_values
     from scipy.special import erfc
 
     spread = math.sqrt(1.0 + math.pi / (2.0 * n_sample))
+    # in the sample: the tested value's own pull on the MAD (scale) and median (offset)
+    scale = 1.0 + MAD_RELATIVE_SD / n_sample if in_sample else 1.0
+    offset = math.sqrt(math.pi / 2.0) / n_sample if in_sample else 0.0
 
     def rate(k: float) -> float:
-        tails = np.minimum(1.0, n_values * erfc(k * ratios / (spread * math.sqrt(2.0))))
+        tails = np.minimum(1.0, n_values * erfc((k * scale * ratios + offset)
+                                            / (spread * math.sqrt(2.0))))
         mean = tails.mean() if weights is None else weights @ tails
         return n_series * float(mean)
 

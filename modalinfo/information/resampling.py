@@ -50,6 +50,7 @@ from scipy import stats
 from modalinfo._stats import (
     INNOVATION_ORDER,
     LEVEL_ALPHA,
+    MAD_RELATIVE_SD,
     PAIR_MIN_STATIONARITY_FRAMES,
     ar_innovations,
     lag1_autocorrelation,
@@ -1066,12 +1067,8 @@ def interval_bias_rule(bias: float, sd: float, units: str, name: str,
 #: (``heavy_tail_threshold``).
 HEAVY_TAIL_ALPHA = 1e-4
 
-#: Relative standard deviation of the normal-consistent MAD of ``N`` Gaussian values is
-#: about ``MAD_RELATIVE_SD / sqrt(N)``: the asymptotic variance of the sample median of
-#: ``|Z|`` is ``1 / (4 N g(q)^2)`` with ``q = Phi^-1(3/4)`` and ``g(q) = 2 phi(q)`` the
-#: density of ``|Z|`` there, so the relative sd is ``1 / (4 q phi(q) sqrt(N))``: 1.1662
-#: (``telemetry.quality.small_sample_threshold`` quotes 1.17).
-MAD_RELATIVE_SD = float(1.0 / (4.0 * stats.norm.ppf(0.75) * stats.norm.pdf(stats.norm.ppf(0.75))))
+# MAD_RELATIVE_SD (1.1662, the relative sd of the normal-consistent MAD of N Gaussian
+# values times sqrt(N)) moved to modalinfo._stats, where the union bound uses it too.
 
 
 def heavy_tail_threshold(n_values: int, n_series: int = 2,
@@ -1080,8 +1077,12 @@ def heavy_tail_threshold(n_values: int, n_series: int = 2,
 
     The rule's statistic on one series of ``T`` Gaussian innovations is ``max_t |e_t -
     median| / s_MAD``. Given the ratio ``s`` of the MAD scale to sigma, the union bound
-    over the ``T`` values is ``min(1, T erfc(k s / (c sqrt 2)))`` (``c = sqrt(1 + pi /
-    (2 T))``, a value's spread about the sample median); ``s`` is averaged over its
+    over the ``T`` values is ``min(1, T erfc(z / sqrt 2))``, ``z`` for a value inside the
+    sample its median and MAD come from (``modalinfo._stats.mad_union_threshold`` with
+    ``in_sample=True``: its own pull on both; until leftovers 18-stats the spread
+    ``c = sqrt(1 + pi / (2 T))`` of a value outside it: ``k`` 5.554, 5.635, 5.861
+    for 5.538, 5.631, 5.860 now at ``T`` = 496, 1996, 9996, a rate ~9 %, 2 % and 0.5 %
+    below ``alpha``); ``s`` is averaged over its
     asymptotic normal law, mean 1 and relative sd ``MAD_RELATIVE_SD`` ``/ sqrt(T)``
     (80-node Gauss-Hermite), and the sum over the ``n_series`` series set to ``alpha``
     by bisection. The Bonferroni ``k`` that treats ``s`` as 1 (the rule before leftovers
@@ -1111,7 +1112,8 @@ def heavy_tail_threshold(n_values: int, n_series: int = 2,
     keep = s > 0.0
     s, weights = s[keep], weights[keep] / weights[keep].sum()
     return mad_union_threshold(s, weights, n_values, n_series, n_values, alpha, 1.0,
-                               2.0 * float(stats.norm.isf(alpha / (2.0 * n_series * t))))
+                               2.0 * float(stats.norm.isf(alpha / (2.0 * n_series * t))),
+                               in_sample=True)
 
 
 def _heavy_tail_rule(x: np.ndarray, y: np.ndarray, name: str) -> str | None:

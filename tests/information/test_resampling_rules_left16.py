@@ -114,10 +114,17 @@ def test_interval_bias_rule_edge_is_where_coverage_leaves_the_200_trial_range():
 
 
 def union_bound_threshold(t: int, n_series: int, alpha: float) -> float:
-    """k with n_series E_s[min(1, T erfc(k s / (c sqrt 2)))] = alpha, s ~ N(1, (v/sqrt T)^2)."""
+    """k with n_series E_s[min(1, T erfc(z / sqrt 2))] = alpha, s ~ N(1, (v/sqrt T)^2).
+
+    ``z = (k s (1 + v0 / T) + sqrt(pi / 2) / T) / c``: a tested value inside its sample
+    pulls the MAD by a relative ``v0 / T`` and the median by ``sqrt(pi / 2) / T``
+    (Bahadur's representation, leftovers 18-stats; ``z = k s / c`` before).
+    """
     q = stats.norm.ppf(0.75)
-    v = 1.0 / (4.0 * q * stats.norm.pdf(q)) / math.sqrt(t)
+    v0 = 1.0 / (4.0 * q * stats.norm.pdf(q))
+    v = v0 / math.sqrt(t)
     c = math.sqrt(1.0 + math.pi / (2.0 * t))
+    scale, offset = 1.0 + v0 / t, math.sqrt(math.pi / 2.0) / t
 
     def density(s: float) -> float:
         return math.exp(-0.5 * ((s - 1.0) / v) ** 2) / (v * math.sqrt(2.0 * math.pi))
@@ -126,7 +133,8 @@ def union_bound_threshold(t: int, n_series: int, alpha: float) -> float:
 
     def rate(k: float) -> float:
         def f(s: float) -> float:
-            return density(s) * min(1.0, t * math.erfc(k * s / (c * math.sqrt(2.0))))
+            z = (k * scale * s + offset) / c
+            return density(s) * min(1.0, t * math.erfc(z / math.sqrt(2.0)))
         val = integrate.quad(f, 0.0, 1.0 + 12 * v, points=[1.0], limit=200)[0]
         return n_series * val / mass
 
