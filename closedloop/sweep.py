@@ -297,10 +297,13 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
         clean_run_staging(out_dir, "sweep", "closedloop sweep", worker_folders=("runs",))
         store = RowStore(out_dir)
         started: list = [None]
+        # closed before the table is written, so a Ctrl-C ends the write at once (the
+        # client's handler only records it; see modalinfo.batch.archive)
+        client_life = stack.enter_context(contextlib.ExitStack())
 
         def get_client():  # a cluster is started only when some run is left to do
             if started[0] is None:
-                started[0] = stack.enter_context(open_client(
+                started[0] = client_life.enter_context(open_client(
                     scheduler, n_workers=n_workers, threads_per_worker=threads_per_worker,
                     memory_limit=memory_limit))
             return started[0]
@@ -308,6 +311,7 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
         report = run_tasks(specs, run_one, store, get_client, progress=progress,
                            worker_wait=WORKER_WAIT if worker_wait is None else worker_wait,
                            name="closedloop sweep")
+        client_life.close()  # the cluster stops; a Ctrl-C recorded meanwhile is raised
         keys = {s.key for s in specs}
         rows = [r for r in store.rows() if r.get("key") in keys]
         write_table(rows, out_dir, "sweep", first=("override", "seed", "predictor", "status"))

@@ -333,10 +333,15 @@ def analyse_archive(
         clean_run_staging(out_dir, "batch", "modalinfo batch")
         store = RowStore(out_dir)
         started: list = [client]
+        # the client's life, closed before the table and plots are written: its Ctrl-C
+        # handler only records the signal (raised at the runner's polls), so a Ctrl-C
+        # during the writes was acted on when they ended; closed, a Ctrl-C ends a write
+        # at once (atomic_write removes its temporary file: the old file or none)
+        client_life = stack.enter_context(contextlib.ExitStack())
 
         def get_client() -> Any:  # a cluster is started only when there is work
             if started[0] is None:
-                started[0] = stack.enter_context(open_client(
+                started[0] = client_life.enter_context(open_client(
                     scheduler, n_workers=n_workers, threads_per_worker=threads_per_worker,
                     memory_limit=memory_limit, retries=retries))
             return started[0]
@@ -348,6 +353,7 @@ def analyse_archive(
         report = run_tasks(specs, run_log_task, store, get_client, progress=progress,
                            retry_errors=retry_errors, worker_wait=wait,
                            name="modalinfo batch")
+        client_life.close()  # the cluster stops; a Ctrl-C recorded meanwhile is raised
         wanted = {s.key for s in specs}
         order = {n: i for i, n in enumerate(names)}
         stored = {r["key"]: r for r in store.rows() if r["key"] in wanted}

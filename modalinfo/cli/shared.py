@@ -360,7 +360,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     dispatcher.
     """
     from modalinfo.common.files import check_readable
-    from modalinfo.io import load
+    from modalinfo.io import load, mapping_pays
 
     path = Path(path)
     if path.is_dir():
@@ -375,6 +375,8 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
         return load(path)
     options = {"fmt": args.fmt, "dataset": getattr(args, "dataset", None),
                **hints_from_args(args)}
+    # a small log is read, not mapped: a mapped file truncated meanwhile is a SIGBUS
+    mmap = mmap and mapping_pays(path)
     if copies and not mmap:
         _check_log_fits(path, options, copies)
     log = load(path, mmap=mmap, **options)
@@ -402,15 +404,17 @@ def check_log_rate(log, path: Path) -> None:
 def _check_log_fits(path: Path, options: dict, copies: int) -> None:
     """Refuse a log too large for ``copies`` float64 copies before reading it.
 
-    Formats that can be memory-mapped (NPY, NPZ, HDF5) are opened mapped, which reads
-    only their headers; other formats are checked once read.
+    Formats that can be memory-mapped (NPY, NPZ, HDF5) are opened mapped when larger
+    than ``modalinfo.io.MAP_ABOVE`` (which reads only their headers) and read when
+    smaller; other formats are checked once read.
     """
-    from modalinfo.io import detect_format, load
+    from modalinfo.io import detect_format, load, mapping_pays
 
     fmt = options.get("fmt") or detect_format(path)
     if fmt not in ("npy", "npz", "hdf5"):
         return
-    probe = load(path, mmap=True, verify=False, **options)
+    # a small log is read, not mapped (a mapped file truncated meanwhile is a SIGBUS)
+    probe = load(path, mmap=mapping_pays(path), verify=False, **options)
     check_memory(copies * log_bytes(probe), f"'{path.name}' ({probe.n_frames} frames x "
                  f"{probe.n_modes} modes, {copies} float64 copies)",
                  "analyse fewer frames or modes (e.g. convert a part of the log)")

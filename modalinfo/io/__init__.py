@@ -25,6 +25,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.memory import usable_memory_bytes
 from modalinfo.io._common import HINTS
 from modalinfo.io.aot import read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
@@ -38,6 +39,7 @@ from modalinfo.telemetry.log import ModalLog
 
 __all__ = [
     "FORMATS",
+    "MAP_ABOVE",
     "HINTS",
     "IntegrityCheck",
     "LogFormatError",
@@ -45,6 +47,7 @@ __all__ = [
     "integrity_check",
     "detect_format",
     "load",
+    "mapping_pays",
     "save",
     "read_npz",
     "write_npz",
@@ -77,6 +80,41 @@ def _check_fmt(fmt, allowed) -> str:
     if not isinstance(fmt, str) or fmt.lower() not in allowed:
         raise ValueError(f"`fmt` must be one of {', '.join(allowed)}; got {fmt!r}.")
     return fmt.lower()
+
+
+#: Largest log file the command lines read rather than memory-map [bytes] (also at most
+#: 1/8 of the usable memory, see :func:`mapping_pays`). A mapped file truncated by
+#: another process while a command reads it kills the command with SIGBUS, which Python
+#: cannot catch (adversarial round 17 PART b, L07); a file read into memory is refused
+#: as truncated instead. Up to 100 MB a plain read measured no cost in ``info`` beyond
+#: the run-to-run noise (+0.1-0.3 s to read, and the log's size in memory); at 256 MB it
+#: cost ~1.2 s more to read (Leftovers 18-sigint; benchmarks/RESULTS.md).
+MAP_ABOVE = 128 * 2**20
+
+
+def mapping_pays(path) -> bool:
+    """Tell whether the command lines should memory-map this log rather than read it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A log file (NPY, NPZ and HDF5 can be mapped; the answer is only about size).
+
+    Returns
+    -------
+    bool
+        True when the file is larger than ``min(MAP_ABOVE, usable memory / 8)``
+        [bytes] (``modalinfo.common.memory.usable_memory_bytes``: the available memory
+        or what an address-space limit leaves), i.e. when reading it whole would weigh
+        on the memory; a smaller log is read (a truncation while it is read is then a
+        refusal, not a SIGBUS: see :data:`MAP_ABOVE`). False for a path that cannot
+        be read (the reader then says why).
+    """
+    try:
+        size = as_path(path).stat().st_size
+    except OSError:  # missing or unreadable: the reader says so in its own words
+        return False
+    return size > min(MAP_ABOVE, usable_memory_bytes() / 8)
 
 
 def load(

@@ -371,7 +371,14 @@ def read_npy(path, *, mmap: bool = False, **hints) -> ModalLog:
                     order="F" if fortran else "C",
                 )
             else:
-                coeffs = np.fromfile(fh, dtype=dtype, count=int(np.prod(shape, dtype=np.int64)))
+                count = int(np.prod(shape, dtype=np.int64))
+                coeffs = np.fromfile(fh, dtype=dtype, count=count)
+                if coeffs.size != count:  # shortened by another process since the check
+                    raise ValueError(
+                        f"header declares {need} data bytes for shape {shape} {dtype} but "
+                        f"only {coeffs.size * dtype.itemsize} could be read (truncated "
+                        "while it was read; another process may still be writing it)"
+                    )
                 coeffs = coeffs.reshape(shape, order="F" if fortran else "C")
     stored = {"metadata": {"source_file": path.name, "source_format": "npy"}}
     return build_log(coeffs, path, stored, hints, foreign=True)

@@ -25,6 +25,15 @@ from modalinfo.telemetry import ModalLog
 N_FRAMES, N_MODES = 1200, 6
 
 
+@pytest.fixture(autouse=True)
+def _commands_map_every_log(monkeypatch):
+    """The commands read a log below ``modalinfo.io.MAP_ABOVE`` whole (Leftovers 18):
+    these tests are about the mapped path, so every log is mapped here."""
+    import modalinfo.io
+
+    monkeypatch.setattr(modalinfo.io, "MAP_ABOVE", 0)
+
+
 @pytest.fixture(scope="module")
 def long_npy(tmp_path_factory):
     """A float32 AR(1) log, 1200 frames x 6 Noll modes (2..7), in an NPY file."""

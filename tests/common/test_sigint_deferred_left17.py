@@ -15,7 +15,7 @@ from types import SimpleNamespace
 import pytest
 
 from modalinfo.common.folders import locked_out_dir
-from modalinfo.common.tasks.cluster import _sigint_deferred, raise_if_interrupted
+from modalinfo.common.tasks.interrupts import raise_if_interrupted, sigint_deferred
 
 posix = pytest.mark.skipif(not hasattr(signal, "raise_signal") or os.name != "posix",
                            reason="POSIX signals")
@@ -24,7 +24,7 @@ posix = pytest.mark.skipif(not hasattr(signal, "raise_signal") or os.name != "po
 @posix
 def test_a_sigint_is_recorded_then_raised_at_the_poll_and_the_handler_restored():
     before = signal.getsignal(signal.SIGINT)
-    with pytest.raises(KeyboardInterrupt), _sigint_deferred() as event:
+    with pytest.raises(KeyboardInterrupt), sigint_deferred() as event:
         signal.raise_signal(signal.SIGINT)  # the handler ran: recorded, not raised
         assert event.is_set()
         with pytest.raises(KeyboardInterrupt):
@@ -35,10 +35,10 @@ def test_a_sigint_is_recorded_then_raised_at_the_poll_and_the_handler_restored()
 
 @posix
 def test_no_sigint_no_raise_and_another_error_stands():
-    with _sigint_deferred() as event:
+    with sigint_deferred() as event:
         raise_if_interrupted(SimpleNamespace(modalinfo_interrupt=event))
         raise_if_interrupted(object())  # not a client of open_client: never raises
-    with pytest.raises(ValueError, match="kept"), _sigint_deferred():
+    with pytest.raises(ValueError, match="kept"), sigint_deferred():
         signal.raise_signal(signal.SIGINT)
         raise ValueError("kept")
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
@@ -48,7 +48,7 @@ def test_no_sigint_no_raise_and_another_error_stands():
 def test_an_ignored_sigint_stays_ignored():
     before = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
-        with _sigint_deferred() as event:
+        with sigint_deferred() as event:
             assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
         assert not event.is_set()
     finally:

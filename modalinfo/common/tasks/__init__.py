@@ -14,6 +14,9 @@ rows
     The row store (one JSON file per key) and the final tables (CSV and Parquet).
 threads
     Thread budgets: workers x threads per worker x task threads within the machine.
+interrupts
+    Ctrl-C while a client starts (held) and lives (recorded, raised at the runner's
+    next poll: ``raise_if_interrupted``).
 cluster
     Opening a client (a ``LocalCluster`` or a scheduler address) and the checks of
     its worker count and memory limit before any cluster starts.

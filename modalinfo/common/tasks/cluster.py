@@ -5,14 +5,13 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
-import signal
-import threading
 from collections.abc import Iterator
 from typing import Any
 
 from modalinfo.common.deps import require
 from modalinfo.common.memory import machine_memory_bytes
 from modalinfo.common.sizes import format_size, parse_size
+from modalinfo.common.tasks.interrupts import raise_if_interrupted, sigint_deferred, sigint_held
 from modalinfo.common.tasks.threads import task_threads, thread_env
 
 __all__ = ["MIN_MEMORY_LIMIT", "WORKER_BASELINE", "check_memory_limit", "check_worker_count",
@@ -25,98 +24,6 @@ MIN_MEMORY_LIMIT = 256 * 2**20
 
 #: the preload that makes each local worker process leave Ctrl-C to the command
 _WORKER_SIGNALS = "modalinfo.common.tasks.worker_signals"
-
-
-@contextlib.contextmanager
-def _sigint_held() -> Iterator[list[bool]]:
-    """Hold a Ctrl-C while a local cluster starts; yield a list that gets True if one came.
-
-    A SIGINT to the terminal's process group while ``LocalCluster`` spawned its workers
-    killed the worker in its interpreter start-up ("Fatal Python error:
-    init_import_site") and left a half-started cluster whose ``atexit`` close asserted
-    (``AssertionError: Status.init``): two tracebacks after "interrupted" (Leftovers
-    16-dask). Here SIGINT is blocked in this thread, so in the cluster's loop thread
-    created meanwhile and in the worker processes it spawns (a signal mask survives
-    ``fork`` and ``exec``; each worker's preload then ignores SIGINT, which discards it);
-    the command's own Ctrl-C is recorded by a handler (in the main thread) or left
-    pending by the mask and collected here at the end. The caller then stops the whole
-    cluster and re-raises ``KeyboardInterrupt``: the Ctrl-C is acted on once the workers
-    have started (seconds), never lost.
-    """
-    came: list[bool] = []
-    if not hasattr(signal, "pthread_sigmask"):  # not POSIX (Windows): no masks to inherit
-        yield came
-        return
-    previous = None
-    if threading.current_thread() is threading.main_thread():
-        previous = signal.getsignal(signal.SIGINT)
-        if callable(previous):  # an ignored or default SIGINT stays as it is
-            signal.signal(signal.SIGINT, lambda *_: came.append(True))
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield came
-    finally:
-        if signal.SIGINT in signal.sigpending() and signal.SIGINT not in mask:
-            signal.sigwait({signal.SIGINT})  # pending for this thread or the process: take it
-            came.append(True)
-        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
-        if callable(previous):
-            signal.signal(signal.SIGINT, previous)
-
-
-@contextlib.contextmanager
-def _sigint_deferred() -> Iterator[threading.Event]:
-    """Record a Ctrl-C while the client lives; yield the event it sets.
-
-    Python raises ``KeyboardInterrupt`` wherever the main thread happens to be when
-    its SIGINT handler runs: inside a ``gc`` callback (distributed registers one) or a
-    finalizer it is printed as "Exception ignored in ..." and dropped, and the batch
-    ran on to exit 0 (Leftovers 16-dask, G1). Here the handler only sets the event;
-    the runner's poll loops (``run_tasks``, ``gather_watched``, which wake at least
-    every 0.25 s) raise ``KeyboardInterrupt`` when it is set, and so does the end of
-    this block when no other exception is on its way (a Ctrl-C after the last poll).
-    Main thread only (``signal.signal`` works nowhere else) and only over Python's
-    default handler: an ignored SIGINT (``nohup``) or a caller's own handler stays.
-    The previous handler is restored on leaving.
-    """
-    event = threading.Event()
-    previous = None
-    if threading.current_thread() is threading.main_thread():
-        previous = signal.getsignal(signal.SIGINT)
-        if previous is signal.default_int_handler:
-            signal.signal(signal.SIGINT, lambda *_: event.set())
-        else:
-            previous = None
-    failed = True
-    try:
-        yield event
-        failed = False
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGINT, previous)
-        if event.is_set() and not failed:  # came after the last poll: honoured here
-            raise KeyboardInterrupt
-
-
-def raise_if_interrupted(client: Any) -> None:
-    """Raise ``KeyboardInterrupt`` if a Ctrl-C was recorded while ``client`` lives.
-
-    See ``_sigint_deferred``: the poll loops call this instead of letting the signal
-    handler raise wherever the interpreter is.
-
-    Parameters
-    ----------
-    client : distributed.Client
-        A client from :func:`open_client` (any other object: never raises).
-
-    Raises
-    ------
-    KeyboardInterrupt
-        A SIGINT came since the client was opened.
-    """
-    event = getattr(client, "modalinfo_interrupt", None)
-    if event is not None and event.is_set():
-        raise KeyboardInterrupt
 
 
 def _lack_of_memory(exc: BaseException) -> str | None:
@@ -263,7 +170,7 @@ def open_client(
                 f"`{clash[0]}` applies to the local cluster only; the cluster at "
                 f"{scheduler!r} sets its own workers"
             )
-        with _sigint_deferred() as event, distributed.Client(scheduler) as client:
+        with sigint_deferred() as event, distributed.Client(scheduler) as client:
             client.modalinfo_task_threads = None
             client.modalinfo_interrupt = event
             yield client
@@ -289,7 +196,7 @@ def open_client(
 
     nanny_log = logging.getLogger("distributed.nanny")
     # the config is read once, by the scheduler created here
-    with dask.config.set(failures), _sigint_held() as interrupted, \
+    with dask.config.set(failures), sigint_held() as interrupted, \
             _without(nanny_log, _memory_failure_record):
         try:
             cluster = distributed.LocalCluster(
@@ -316,7 +223,7 @@ def open_client(
     try:
         if interrupted:
             raise KeyboardInterrupt  # now that the cluster is whole, stopped below
-        with _sigint_deferred() as event, distributed.Client(cluster) as client:
+        with sigint_deferred() as event, distributed.Client(cluster) as client:
             client.modalinfo_task_threads = threads
             client.modalinfo_interrupt = event
             yield client

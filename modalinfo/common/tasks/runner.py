@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from modalinfo.common.deps import require
-from modalinfo.common.tasks.cluster import dashboard_link, raise_if_interrupted
+from modalinfo.common.tasks.cluster import dashboard_link
+from modalinfo.common.tasks.interrupts import raise_if_interrupted
 from modalinfo.common.tasks.keys import TaskSpec
 from modalinfo.common.tasks.rows import RowStore
 from modalinfo.common.tasks.threads import _limited_call

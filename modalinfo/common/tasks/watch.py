@@ -111,7 +111,7 @@ def gather_watched(client: Any, futures: list, *, worker_wait: float = WORKER_WA
                       worker_wait=worker_wait, progress_every=float("inf"))
     counts = {"ok": 0, "error": 0, "lost": 0}
     pending = list(futures)
-    from modalinfo.common.tasks.cluster import raise_if_interrupted
+    from modalinfo.common.tasks.interrupts import raise_if_interrupted
 
     while pending:
         raise_if_interrupted(client)  # a Ctrl-C recorded by open_client's handler

@@ -41,6 +41,6 @@ def dask_setup(worker: Any) -> None:
     quiet_heartbeat_logs()
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-        # spawned with SIGINT blocked (``cluster._sigint_held``): ignored now, so a
+        # spawned with SIGINT blocked (``interrupts.sigint_held``): ignored now, so a
         # Ctrl-C held meanwhile is discarded, and the mask is the usual one again
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
