@@ -269,21 +269,30 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
     staging folder, restores replaced files and removes a folder this call created:
     a full disk leaves the old outputs or none, never some of the new ones.
     """
+    import contextlib
     import os
     import shutil
     import tempfile
 
     from modalinfo.common.files import naming_target, signals_end_the_save
-    from modalinfo.common.folders import clean_staging, staging_prefix
+    from modalinfo.common.folders import clean_staging, make_out_dir, staging_prefix
 
     created = not out.exists()
     # a run killed outright (SIGKILL) left its staging folder: removed once its process
     # is gone; one without a pid (an earlier version's) is named, not judged
     clean_staging(out, ".forecast.", ".tmp", command="modalinfo forecast")
     with signals_end_the_save() as armed:
-        out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=staging_prefix(".forecast."), suffix=".tmp",
-                                        dir=out))
+        # a folder the umask leaves unwritable is refused naming the umask, and removed
+        # (round 18 PART b, H14: a bare Errno 13 on the staging name, the folder left)
+        new = make_out_dir(out, "--out")
+        try:
+            staging = Path(tempfile.mkdtemp(prefix=staging_prefix(".forecast."),
+                                            suffix=".tmp", dir=out))
+        except BaseException:
+            for folder in new:
+                with contextlib.suppress(OSError):
+                    folder.rmdir()
+            raise
         moved: list[str] = []
         kept: dict[str, Path] = {}
         done = False
