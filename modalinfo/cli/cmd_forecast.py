@@ -260,7 +260,7 @@ def _refuse_non_files(out: Path) -> None:
                                "file of that name (move it away)")
 
 
-def write_outputs(ev, out: Path, overwrite: bool) -> None:
+def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None) -> None:
     """Write the four outputs into ``out`` all together or not at all.
 
     Every file is first written into a hidden staging folder inside ``out``; only when
@@ -298,7 +298,7 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
         done = False
         try:
             with naming_target(staging, out):  # the user's --out, not the staging folder
-                ev.to_json(staging / OUTPUTS[0])
+                ev.to_json(staging / OUTPUTS[0], provenance=provenance)
                 ev.to_csv(staging / OUTPUTS[1])
                 ev.save_plots(staging)
             _refuse_non_files(out)
@@ -408,7 +408,9 @@ def run(args: argparse.Namespace) -> int:
                              f"{', '.join(skipped)}\n")
         sys.stdout.write(ev.summary() + "\n")
     if args.out is not None:
-        write_outputs(ev, args.out, args.overwrite)
+        from modalinfo.cli.shared import command_provenance
+
+        write_outputs(ev, args.out, args.overwrite, command_provenance(args, args.log))
         if not args.quiet:
             sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
     return 0
