@@ -198,6 +198,9 @@ def make_out_dir(out_dir: Path, flag: str = "--out", *, parents: bool = True) ->
         if isinstance(exc, PermissionError) and made:
             mask = _umask()
             shown = out_dir if made[-1] == created[0] else made[-1]  # as the user typed it
+            with contextlib.suppress(ValueError):  # a parent of --out: relative, if inside
+                relative = os.path.relpath(shown)
+                shown = shown if relative.startswith("..") else relative
             raise OutputError(
                 f"{flag}: cannot write into '{shown}' it just created: the umask "
                 f"{mask:03o} leaves it mode {0o777 & ~mask:03o}, no permission for its "
