@@ -27,7 +27,6 @@ it in one process gives the same row, bit for bit.
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import math
 import warnings
 from collections.abc import Callable, Iterator
@@ -37,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.provenance import sha256_file  # one copy, re-exported here
 from modalinfo.common.validation import (
     check_choice,
     check_int,
@@ -67,8 +67,6 @@ DEFAULTS: dict[str, dict[str, Any]] = {
 }
 
 #: Frames per chunk of the SHA-256 of a file [bytes].
-_HASH_CHUNK = 1 << 20
-
 #: Metadata keys copied into every row when a log carries them (row column: key).
 _META_COLUMNS = {
     "r0_m": "r0_m", "r0": "r0_m", "seeing": "seeing_arcsec", "seeing_arcsec": "seeing_arcsec",
@@ -78,18 +76,6 @@ _META_COLUMNS = {
 
 #: ``start_time`` above this many seconds is read as a Unix time (after 1973).
 _EPOCH_MIN = 1e8
-
-
-def sha256_file(path: str) -> str:
-    """SHA-256 of a file's bytes, read in 1 MiB chunks (a FIFO or device refused first)."""
-    from modalinfo.common.files import check_readable
-
-    check_readable(Path(path))  # `batch fifo.npz` blocked here forever
-    digest = hashlib.sha256()
-    with open(path, "rb") as fh:
-        while block := fh.read(_HASH_CHUNK):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def _modes_value(value: Any, name: str) -> None:

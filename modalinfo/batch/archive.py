@@ -66,6 +66,9 @@ class BatchResult:
     skipped : tuple of str
         Files of the input directories left out because their extension is not a
         log's (``modalinfo.io.formats.EXTENSIONS``); hidden files are not listed.
+    unreadable : tuple of str
+        Subfolders of the input directories this process may not list, left out (the
+        rest is analysed).
     """
 
     rows: list
@@ -76,6 +79,7 @@ class BatchResult:
     n_hashed: int
     identical: tuple = ()
     skipped: tuple = ()
+    unreadable: tuple = ()
 
     @property
     def n_ok(self) -> int:
@@ -323,7 +327,9 @@ def analyse_archive(
     out_dir = Path(out_dir)
     check_out_dir(out_dir)
     skipped: list[str] = []
-    entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints, skipped=skipped)
+    unreadable: list[str] = []
+    entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints, skipped=skipped,
+                           unreadable=unreadable)
     if client is not None and any(v is not None for v in (
             scheduler, n_workers, threads_per_worker, memory_limit, retries)):
         raise ValueError("give either `client` or a scheduler / cluster shape, not both")
@@ -369,7 +375,8 @@ def analyse_archive(
             drawn = tuple(plot_archive(rows, out_dir / "plots"))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
-                       identical=identical_inputs(entries, probes), skipped=tuple(skipped))
+                       identical=identical_inputs(entries, probes), skipped=tuple(skipped),
+                       unreadable=tuple(unreadable))
 
 
 def _labelled(row: dict, labels: dict) -> dict:

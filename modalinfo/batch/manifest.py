@@ -205,13 +205,32 @@ def _is_batch_output(folder: Path) -> bool:
 
     Its ``batch.csv`` table is not a log: read as one it would only give an error row.
     """
-    return (folder / "rows").is_dir() and (folder / "hashes.json").is_file()
+    try:
+        return (folder / "rows").is_dir() and (folder / "hashes.json").is_file()
+    except PermissionError:  # an unreadable folder: os.walk names it (round 18 b, U06)
+        return False
 
 
-def _walk(directory: Path, exclude: Sequence[Path],
-          skipped: list[str] | None = None) -> Iterable[Path]:
+def _walk(directory: Path, exclude: Sequence[Path], skipped: list[str] | None = None,
+          unreadable: list[str] | None = None) -> Iterable[Path]:
     exts = {e.lower() for e in _extensions()}
-    for root, dirs, files in os.walk(directory):
+
+    def refused(exc: OSError) -> None:
+        # a subfolder this process may not list was refused with a bare "[Errno 13]
+        # Permission denied" naming it (round 18 PART b, U06), and without the check
+        # above os.walk would drop it without a word: it is named instead, so the rest
+        # of the archive is analysed and nothing is left out silently
+        where = exc.filename if exc.filename is not None else directory
+        if Path(where) == Path(directory):
+            raise ValueError(f"input folder '{directory}' cannot be read "
+                             f"({exc.strerror or exc}); give read and search permission "
+                             f"(chmod u+rx) or run as its owner") from None
+        if unreadable is None:
+            raise ValueError(f"input folder '{directory}' holds '{where}', which cannot be "
+                             f"read ({exc.strerror or exc})") from None
+        unreadable.append(str(where))
+
+    for root, dirs, files in os.walk(directory, onerror=refused):
         here = Path(root)
         dirs[:] = sorted(d for d in dirs if not d.startswith(".")
                          and not any((here / d).resolve() == x for x in exclude)
@@ -250,6 +269,7 @@ def collect_logs(
     fmt: str | None = None,
     hints: dict | None = None,
     skipped: list[str] | None = None,
+    unreadable: list[str] | None = None,
 ) -> list[LogEntry]:
     """List the logs named by directories, glob patterns, manifests and files.
 
@@ -265,6 +285,11 @@ def collect_logs(
     skipped : list of str, optional
         If given, the paths of the files a directory search left out for their
         extension (not a log's) are appended to it (hidden files are not).
+    unreadable : list of str, optional
+        If given, the subfolders of an input directory this process may not list are
+        appended to it and the search goes on; otherwise such a subfolder raises
+        ``ValueError`` naming it. An input directory that cannot be read is refused
+        either way.
 
     Returns
     -------
@@ -307,7 +332,7 @@ def collect_logs(
         text = os.fspath(item)
         path = Path(text)
         if path.is_dir():
-            for file in _walk(path, skip, skipped):
+            for file in _walk(path, skip, skipped, unreadable):
                 add(plain(file))
         elif _is_manifest(path):
             for entry in read_manifest(path):

@@ -144,6 +144,13 @@ def run(args: argparse.Namespace) -> int:
                          f"folders skipped, their extension is not a log's "
                          f"({' '.join(EXTENSIONS)}): {shown}; name them in a manifest "
                          f"with an 'fmt' column to analyse them\n")
+    if result.unreadable:  # a warning: even with --quiet (round 18 PART b, U06)
+        shown = ", ".join(result.unreadable[:5]) + (", ..." if len(result.unreadable) > 5
+                                                    else "")
+        sys.stderr.write(f"modalinfo batch: note: {len(result.unreadable)} subfolder(s) of "
+                         f"the input folders cannot be read (permission denied) and were "
+                         f"skipped: {shown}; give read and search permission (chmod u+rx) "
+                         f"or run as their owner to analyse them\n")
     if not args.quiet:
         rep = result.report
         out = sys.stdout

@@ -24,6 +24,7 @@ from modalinfo.cli.shared import (
     add_hint_arguments,
     apply_outliers,
     check_log_output,
+    command_provenance,
     hints_from_args,
     input_notes,
     progress,
@@ -101,6 +102,11 @@ def run(args: argparse.Namespace) -> int:
         if args.convention is not None:
             log = log.to_convention(args.convention)
         advance(1)
+        # what made the file: metadata["provenance"], one record per conversion, the
+        # newest last, each naming its source by SHA-256 (round 18 PART b, P06)
+        steps = log.metadata.get("provenance")
+        steps = list(steps) if isinstance(steps, list) else [] if steps is None else [steps]
+        log = log.with_metadata(provenance=[*steps, command_provenance(args, source)])
         path = save(log, args.output, fmt=fmt, overwrite=args.overwrite)
         advance(1)
     if not args.quiet:

@@ -260,7 +260,7 @@ def _refuse_non_files(out: Path) -> None:
                                "file of that name (move it away)")
 
 
-def write_outputs(ev, out: Path, overwrite: bool) -> None:
+def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None) -> None:
     """Write the four outputs into ``out`` all together or not at all.
 
     Every file is first written into a hidden staging folder inside ``out``; only when
@@ -269,27 +269,36 @@ def write_outputs(ev, out: Path, overwrite: bool) -> None:
     staging folder, restores replaced files and removes a folder this call created:
     a full disk leaves the old outputs or none, never some of the new ones.
     """
+    import contextlib
     import os
     import shutil
     import tempfile
 
     from modalinfo.common.files import naming_target, signals_end_the_save
-    from modalinfo.common.folders import clean_staging, staging_prefix
+    from modalinfo.common.folders import clean_staging, make_out_dir, staging_prefix
 
     created = not out.exists()
     # a run killed outright (SIGKILL) left its staging folder: removed once its process
     # is gone; one without a pid (an earlier version's) is named, not judged
     clean_staging(out, ".forecast.", ".tmp", command="modalinfo forecast")
     with signals_end_the_save() as armed:
-        out.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=staging_prefix(".forecast."), suffix=".tmp",
-                                        dir=out))
+        # a folder the umask leaves unwritable is refused naming the umask, and removed
+        # (round 18 PART b, H14: a bare Errno 13 on the staging name, the folder left)
+        new = make_out_dir(out, "--out")
+        try:
+            staging = Path(tempfile.mkdtemp(prefix=staging_prefix(".forecast."),
+                                            suffix=".tmp", dir=out))
+        except BaseException:
+            for folder in new:
+                with contextlib.suppress(OSError):
+                    folder.rmdir()
+            raise
         moved: list[str] = []
         kept: dict[str, Path] = {}
         done = False
         try:
             with naming_target(staging, out):  # the user's --out, not the staging folder
-                ev.to_json(staging / OUTPUTS[0])
+                ev.to_json(staging / OUTPUTS[0], provenance=provenance)
                 ev.to_csv(staging / OUTPUTS[1])
                 ev.save_plots(staging)
             _refuse_non_files(out)
@@ -399,7 +408,9 @@ def run(args: argparse.Namespace) -> int:
                              f"{', '.join(skipped)}\n")
         sys.stdout.write(ev.summary() + "\n")
     if args.out is not None:
-        write_outputs(ev, args.out, args.overwrite)
+        from modalinfo.cli.shared import command_provenance
+
+        write_outputs(ev, args.out, args.overwrite, command_provenance(args, args.log))
         if not args.quiet:
             sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
     return 0

@@ -449,6 +449,9 @@ def run(args: argparse.Namespace) -> int:
                                       sample_budget=args.budget, progress=advance)
         print(stab.summary())
     if args.out is not None:
-        result.to_json(args.out, overwrite=args.overwrite)
+        from modalinfo.cli.shared import command_provenance
+
+        result.to_json(args.out, overwrite=args.overwrite,
+                       provenance=command_provenance(args, args.log, args.seed))
         print(f"ordering written to {args.out}")
     return 0

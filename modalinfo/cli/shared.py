@@ -421,6 +421,18 @@ def _check_log_fits(path: Path, options: dict, copies: int) -> None:
     del probe
 
 
+def command_provenance(args: argparse.Namespace, source: Path | None,
+                       seed: int | None = None) -> dict:
+    """Return the provenance record of a command's output (round 18 PART b, P01-P06).
+
+    The command line as typed (recorded by the dispatcher), the package version and
+    the SHA-256 and size of ``source``: ``modalinfo.common.provenance.provenance``.
+    """
+    from modalinfo.common.provenance import provenance
+
+    return provenance(getattr(args, "_argv", None), source=source, seed=seed)
+
+
 def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
     """Queue one-line notes for stderr, printed by the dispatcher after success."""
     queued = getattr(args, "_notes", None)

@@ -254,6 +254,8 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
     if getattr(args, "_run", None) is None:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
+    # the command line as typed, for the provenance record of the outputs
+    args._argv = [prog, *(sys.argv[1:] if argv is None else [str(a) for a in argv])]
     import warnings
 
     # a warning that reaches stderr is one line in the command's voice, as its errors

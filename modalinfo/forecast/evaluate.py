@@ -241,7 +241,8 @@ class ForecastEvaluation:
             "constant_modes": list(self.constant_modes),
         }
 
-    def to_json(self, path: str | Path, *, overwrite: bool = False) -> Path:
+    def to_json(self, path: str | Path, *, overwrite: bool = False,
+                provenance: dict | None = None) -> Path:
         """Write :meth:`to_dict` as JSON (NaN as null), atomically.
 
         Parameters
@@ -250,13 +251,20 @@ class ForecastEvaluation:
             Output file.
         overwrite : bool
             Replace an existing file; otherwise ``FileExistsError``.
+        provenance : dict, optional
+            Written under the key ``"provenance"`` (``modalinfo forecast --out`` gives
+            the package version, command line and input SHA-256:
+            ``modalinfo.common.provenance.provenance``).
 
         Returns
         -------
         pathlib.Path
             The path written.
         """
-        text = json.dumps(self.to_dict(), indent=1).encode("utf-8")
+        data = self.to_dict()
+        if provenance is not None:
+            data["provenance"] = provenance
+        text = json.dumps(data, indent=1).encode("utf-8")
         return _write_bytes(path, text, overwrite)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:

@@ -31,7 +31,7 @@ from modalinfo.io.aot import read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
 from modalinfo.io.files import LogFormatError
 from modalinfo.io.fits import read_fits, write_fits
-from modalinfo.io.formats import FORMATS, detect_format, format_from_extension
+from modalinfo.io.formats import FORMATS, detect_format, format_from_extension, format_hint
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
 from modalinfo.io.integrity import IntegrityCheck, integrity_check
 from modalinfo.io.npz import read_npy, read_npz, write_npz
@@ -203,7 +203,15 @@ def load(
         options["mmap"] = True
     if fmt in ("csv", "hdf5", "aot"):
         options["verify"] = bool(verify)
-    return _READERS[fmt](path, **options, **hints)
+    try:
+        return _READERS[fmt](path, **options, **hints)
+    except LogFormatError as exc:
+        # the one place a reader is chosen: name what the content looks like when the
+        # reader the name or ``fmt`` picked refuses it (round 18 PART b, row M02)
+        hint = format_hint(path, fmt)
+        if not hint:
+            raise
+        raise LogFormatError(f"{exc}; {hint}") from exc
 
 
 def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -> Path:

@@ -8,7 +8,8 @@ from modalinfo.common.files import as_path, check_readable
 from modalinfo.io.aot import is_aot
 from modalinfo.io.files import LogFormatError
 
-__all__ = ["EXTENSIONS", "FORMATS", "detect_format", "format_from_extension"]
+__all__ = ["EXTENSIONS", "FORMATS", "detect_format", "format_from_extension", "format_hint",
+           "sniff_format"]
 
 #: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
 FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
@@ -55,6 +56,89 @@ _NOT_LOGS = (
 )
 
 
+def _looks_like_csv(head: bytes) -> bool:
+    """Tell whether leading bytes look like delimited text lines (a CSV).
+
+    Lines are required: a damaged FITS header is ASCII too, but in 80-character cards
+    with no line breaks, and it must not be called a CSV.
+    """
+    text = head.lstrip(b"\xef\xbb\xbf")
+    if b"\x00" in text:
+        return False
+    if b"\n" not in text and not text.startswith(b"#") and (
+            b"," not in text or text[8:10] == b"= "):
+        return False  # no line in sight (a modalinfo CSV's '#' header line can be long)
+    try:
+        decoded = text.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(text) - 4:  # more than a multi-byte char cut at the end
+            return False
+        decoded = text[:exc.start].decode("utf-8")
+    first = decoded.lstrip().split("\n", 1)[0]
+    return first.startswith("#") or (not first.startswith(("{", "["))
+                                     and any(c in first for c in ",;\t "))
+
+
+def sniff_format(path, head: bytes | None = None) -> str | None:
+    """Return the format a file's content shows, whatever its name says, or None.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (read only if ``head`` is not given).
+    head : bytes, optional
+        Its first bytes (512 are enough).
+
+    Returns
+    -------
+    str or None
+        ``"npz"``, ``"npy"``, ``"fits"``, ``"aot"`` or ``"hdf5"`` from the magic bytes,
+        ``"csv"`` for UTF-8 lines of delimited text, None when the content tells nothing
+        (empty, damaged or unknown).
+    """
+    path = as_path(path)
+    if head is None:
+        try:
+            with open(path, "rb") as fh:
+                head = fh.read(512)
+        except OSError:
+            return None
+    for magic, fmt in _MAGIC:
+        if head.startswith(magic):
+            return "aot" if fmt == "fits" and is_aot(path) else fmt
+    return "csv" if _looks_like_csv(head) else None
+
+
+#: The name each format has in a message
+_NAMES = {"npz": "an NPZ", "npy": "an NPY", "csv": "a CSV", "fits": "a FITS", "hdf5": "an HDF5",
+          "aot": "an AOT"}
+
+
+def format_hint(path, fmt: str) -> str:
+    """Return a hint when a file's content is another format than ``fmt``, else ``""``.
+
+    A CSV named ``.fits`` was reported as "corrupt FITS file ... No SIMPLE card" with no
+    word that it is a CSV (adversarial round 18 PART b, row M02); so is any file read as a
+    format its content is not (``--fmt`` forced, or an extension that lies about text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file a reader of ``fmt`` refused.
+    fmt : str
+        The format it was read as (one of :data:`FORMATS`).
+
+    Returns
+    -------
+    str
+        ``"it looks like a CSV file: try --fmt csv (Python: fmt='csv')"`` or ``""``.
+    """
+    seen = sniff_format(path)
+    if seen is None or seen == fmt or {seen, fmt} == {"fits", "aot"}:
+        return ""  # an AOT file is a FITS file: the FITS reader's own error is the right one
+    return f"it looks like {_NAMES[seen]} file: try --fmt {seen} (Python: fmt='{seen}')"
+
+
 def format_from_extension(path: Path) -> str | None:
     """Return the format a file name's extension means (:data:`EXTENSIONS`), or None."""
     return EXTENSIONS.get(path.suffix.lower())
@@ -84,9 +168,9 @@ def detect_format(path) -> str:
         head = fh.read(512)
     if not head:
         raise LogFormatError(f"'{path}' is empty")
-    for magic, fmt in _MAGIC:
-        if head.startswith(magic):
-            return "aot" if fmt == "fits" and is_aot(path) else fmt
+    seen = sniff_format(path, head)
+    if seen is not None and seen != "csv":
+        return seen
     by_ext = format_from_extension(path)
     if by_ext is not None and by_ext != "csv":
         return by_ext  # e.g. a damaged binary file: its reader reports what is wrong

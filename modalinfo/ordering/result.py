@@ -283,7 +283,8 @@ class OrderingResult:
             out[f.name] = _to_jsonable(getattr(self, f.name))
         return out
 
-    def to_json(self, path: str | Path, overwrite: bool = False) -> Path:
+    def to_json(self, path: str | Path, overwrite: bool = False,
+                provenance: dict | None = None) -> Path:
         """Write the ordering to a JSON file.
 
         Parameters
@@ -292,6 +293,10 @@ class OrderingResult:
             Output file.
         overwrite : bool
             Replace an existing file (otherwise ``FileExistsError``).
+        provenance : dict, optional
+            Written under the key ``"provenance"`` (``modalinfo reorder --out`` gives the
+            package version, command line, input SHA-256 and seed); :meth:`from_json`
+            ignores it, and reads files without it.
 
         Returns
         -------
@@ -300,7 +305,10 @@ class OrderingResult:
         """
         from modalinfo.common.files import atomic_write
 
-        data = (json.dumps(self.to_dict(), indent=1) + "\n").encode("utf-8")
+        record = self.to_dict()
+        if provenance is not None:
+            record["provenance"] = provenance
+        data = (json.dumps(record, indent=1) + "\n").encode("utf-8")
         return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 
     @classmethod
