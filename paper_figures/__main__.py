@@ -344,7 +344,21 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     if existing and not args.overwrite:
         raise _RefusedError(f"'{existing[0]}' exists; pass --overwrite to replace it")
     loaded = _load_logs(args, logs, modules) if needs_log else {}
-    with staged_output(args.out) as stage:
+    import warnings
+
+    import matplotlib
+
+    from modalinfo.common.cli import say
+    from modalinfo.common.plotting import rc_overrides
+
+    # the user's matplotlibrc, less what cannot draw here (usetex without LaTeX, a
+    # missing font: round 19 PART b), said in one line each as every other warning
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        overrides = rc_overrides()
+    for warning in caught:
+        say(f"paper_figures: warning: {warning.message}\n")
+    with staged_output(args.out) as stage, matplotlib.rc_context(overrides):
         _make(args, modules, loaded, logs, needs_log, stage)
     print(f"[paper_figures] report written to {report_path} and {html_path}")
     return 0

@@ -75,34 +75,36 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
     from matplotlib.figure import Figure
 
     from modalinfo.common.files import atomic_write
+    from modalinfo.common.plotting import drawable_rc
 
-    ys = _series(rows)
-    written = []
-    for x_name, x_label in _X:
-        panels = []
-        for analysis, column, label in ys:
-            pts = [(_x_value(r, x_name), _number(r.get(column))) for r in rows
-                   if r.get("analysis") == analysis and r.get("status") == "ok"]
-            pts = [(x, y) for x, y in pts if x is not None and y is not None]
-            if len(pts) >= 2:
-                panels.append((label, sorted(pts)))
-        if not panels:
-            continue
-        out = Path(out_dir)
-        out.mkdir(parents=True, exist_ok=True)
-        fig = Figure(figsize=(7, 2.4 * len(panels) + 0.6))
-        axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)
-        for ax, (label, pts) in zip(axes[:, 0], panels, strict=True):
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", ms=4)
-            ax.set_ylabel(label, fontsize=8)
-            ax.grid(alpha=0.3)
-        axes[-1, 0].set_xlabel(x_label)
-        if x_name == "date":
-            fig.autofmt_xdate()
-        fig.suptitle(f"archive of {len({r.get('path') for r in rows})} logs against {x_label}")
-        fig.tight_layout()
-        path = out / f"archive_vs_{x_name}.png"
-        atomic_write(path, lambda fh, f=fig: f.savefig(fh, format="png", dpi=120),
-                     overwrite=True)
-        written.append(path)
+    with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
+        ys = _series(rows)
+        written = []
+        for x_name, x_label in _X:
+            panels = []
+            for analysis, column, label in ys:
+                pts = [(_x_value(r, x_name), _number(r.get(column))) for r in rows
+                       if r.get("analysis") == analysis and r.get("status") == "ok"]
+                pts = [(x, y) for x, y in pts if x is not None and y is not None]
+                if len(pts) >= 2:
+                    panels.append((label, sorted(pts)))
+            if not panels:
+                continue
+            out = Path(out_dir)
+            out.mkdir(parents=True, exist_ok=True)
+            fig = Figure(figsize=(7, 2.4 * len(panels) + 0.6))
+            axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)
+            for ax, (label, pts) in zip(axes[:, 0], panels, strict=True):
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", ms=4)
+                ax.set_ylabel(label, fontsize=8)
+                ax.grid(alpha=0.3)
+            axes[-1, 0].set_xlabel(x_label)
+            if x_name == "date":
+                fig.autofmt_xdate()
+            fig.suptitle(f"archive of {len({r.get('path') for r in rows})} logs against {x_label}")
+            fig.tight_layout()
+            path = out / f"archive_vs_{x_name}.png"
+            atomic_write(path, lambda fh, f=fig: f.savefig(fh, format="png", dpi=120),
+                         overwrite=True)
+            written.append(path)
     return written

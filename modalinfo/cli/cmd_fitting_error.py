@@ -145,13 +145,17 @@ def run(args: argparse.Namespace) -> int:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
+        from modalinfo.common.plotting import drawable_rc
         from modalinfo.ordering.compare import save_figure
 
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        where = ("frame average" if comp.frame is None
-                 else f"frame {getattr(args, 'file_frame', comp.frame)}")
-        plot_comparison(comp, ax, target=args.target, title=f"{args.log.name}: {where}")
-        save_figure(fig, args.plot, overwrite=args.overwrite)
-        plt.close(fig)
+        with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
+            fig, ax = plt.subplots(figsize=(7, 4.5))
+            where = ("frame average" if comp.frame is None
+                     else f"frame {getattr(args, 'file_frame', comp.frame)}")
+            plot_comparison(comp, ax, target=args.target, title=f"{args.log.name}: {where}")
+            try:
+                save_figure(fig, args.plot, overwrite=args.overwrite)
+            finally:
+                plt.close(fig)
         print(f"figure written to {args.plot}")
     return 0

@@ -22,6 +22,7 @@ import argparse
 import contextlib
 import io
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -62,8 +63,27 @@ class Parser(argparse.ArgumentParser):
     """argparse that reports usage errors in one line (argparse prints usage first)."""
 
     def error(self, message: str):  # noqa: D102
-        say(f"{self.prog}: error: {message}\n")
+        say(f"{self.prog}: error: {message}{self._dash_value_hint(message)}\n")
         raise SystemExit(EXIT_USAGE)
+
+    def _dash_value_hint(self, message: str) -> str:
+        """Explain argparse's "expected one argument" when the value was there.
+
+        ``--memory-limit -0GB`` (or ``--target -Z2``) reads the value as an option, so
+        argparse said "expected one argument" of an option given one (round 19 PART b,
+        N29). Name the value and the ``--option=value`` spelling that passes it.
+        """
+        found = re.match(r"argument (\S+?)(?:/\S+)?: expected one argument$", message)
+        argv = getattr(self, "_argv", [])
+        if not found:
+            return ""
+        for k, token in enumerate(argv[:-1]):
+            value = argv[k + 1]
+            if (token == found.group(1) and value.startswith("-")
+                    and value.partition("=")[0] not in self._option_string_actions):
+                return (f" (its value {value!r} starts with '-' and was read as an option: "
+                        f"write {token}={value})")
+        return ""
 
     def _print_message(self, message, file=None):
         """Write help or usage; a stream that refuses it is an error, not a silent exit 0.
@@ -91,6 +111,7 @@ class Parser(argparse.ArgumentParser):
             # POSIX: '--' ends the options, and nothing may follow it; argparse refused
             # a trailing one as "unrecognized arguments: --" (round 15 PART b, S02)
             args = args[:-1]
+        self._argv = args
         self._refuse_conflicting_repeats(args)
         return super().parse_known_args(args, namespace)
 

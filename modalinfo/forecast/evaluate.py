@@ -449,6 +449,7 @@ class ForecastEvaluation:
         import matplotlib.pyplot as plt
 
         from modalinfo.common.files import atomic_write
+        from modalinfo.common.plotting import drawable_rc
 
         out_dir = Path(out_dir)
         paths = [out_dir / "forecast_series.png", out_dir / "forecast_rmse.png"]
@@ -456,19 +457,21 @@ class ForecastEvaluation:
             for path in paths:
                 if path.exists():
                     raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
-        fig_series, ax = plt.subplots(figsize=(8, 3.5))
-        self.plot_series(mode, ax=ax)
-        fig_rmse, axes = plt.subplots(1, 2, figsize=(10, 3.5))
-        self.plot_rmse(ax=axes[0])
-        self.plot_rmse(ax=axes[1], gain=True)
-        try:
-            for fig, path in zip((fig_series, fig_rmse), paths, strict=True):
-                fig.tight_layout()
-                atomic_write(path, lambda tmp, fig=fig: fig.savefig(tmp, dpi=120, format="png"),
-                             overwrite=overwrite, by_name=True)
-        finally:
-            plt.close(fig_series)
-            plt.close(fig_rmse)
+        with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
+            fig_series, ax = plt.subplots(figsize=(8, 3.5))
+            fig_rmse, axes = plt.subplots(1, 2, figsize=(10, 3.5))
+            try:
+                self.plot_series(mode, ax=ax)
+                self.plot_rmse(ax=axes[0])
+                self.plot_rmse(ax=axes[1], gain=True)
+                for fig, path in zip((fig_series, fig_rmse), paths, strict=True):
+                    fig.tight_layout()
+                    atomic_write(path,
+                                 lambda tmp, fig=fig: fig.savefig(tmp, dpi=120, format="png"),
+                                 overwrite=overwrite, by_name=True)
+            finally:
+                plt.close(fig_series)
+                plt.close(fig_rmse)
         return paths
 
 

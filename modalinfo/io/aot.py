@@ -790,7 +790,17 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
             from modalinfo.io.fits import write_hdulist
 
             # aotpy's writer's HDUs, written with checksums that hold no clock time
-            write_hdulist(AOTFITSWriter(system).get_hdulist(), os.fspath(name))
+            try:
+                write_hdulist(AOTFITSWriter(system).get_hdulist(), os.fspath(name))
+            except UnicodeEncodeError as exc:
+                # FITS tables hold ASCII text: a telescope named 'Téide' failed as "'ascii'
+                # codec can't encode character" naming neither the text nor the way out
+                # (round 19 PART b, C2)
+                text = str(exc.object) if isinstance(exc.object, str) else repr(exc.object)
+                raise ValueError(
+                    f"an AOT file's text is ASCII (FITS tables); {text!r}, a name or "
+                    "metadata value of the log, is not: rename it, or write npz / hdf5 / "
+                    "csv, which keep it") from None
 
     return atomic_write(path, write, overwrite=overwrite, by_name=True)
 

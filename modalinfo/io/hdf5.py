@@ -485,6 +485,7 @@ def _read_own(f, path: Path, mmap: bool, verify: bool,
         raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
     coeffs = _load(f["coefficients"], path, mmap)
     check_stored_coefficients(coeffs, header, "HDF5", path)
+    _check_own_attributes(f["coefficients"], header, path)
     stored = stored_from_header(header)
     if header["has_timestamps"]:
         if "timestamps" not in f:
@@ -505,6 +506,41 @@ def _read_own(f, path: Path, mmap: bool, verify: bool,
             f"'coefficients', not {dataset!r}"
         )
     return coeffs, stored
+
+
+def _check_own_attributes(dset, header: dict, path: Path) -> None:
+    """Refuse a log whose ``units`` / ``convention`` / ``labels`` attributes contradict its header.
+
+    :func:`write_log_group` writes them for other tools (HDFView, h5py) from the header;
+    the header's checksum does not cover them, so an edit in another tool (``units``
+    set to 'nm' on a log in rad, relabelled modes) was read as the header said without
+    a word (round 19 PART b, B13-B14).
+    """
+    from modalinfo.telemetry.checks import mode_labels
+
+    def text(value) -> str:
+        return value.decode("utf-8", "replace") if isinstance(value, bytes) else str(value)
+
+    attrs = dset.attrs
+    for key in ("units", "convention"):
+        if key in attrs and key in header and text(attrs[key]) != str(header[key]):
+            raise LogFormatError(
+                f"corrupt HDF5 file '{path}': attribute {key}={text(attrs[key])!r} of "
+                f"'coefficients' contradicts the header's {header[key]!r} (edited after "
+                "modalinfo wrote it?): set the attribute back to the header's value, or "
+                "rewrite the log with the right one")
+    if "labels" in attrs and "modes" in header and "convention" in header:
+        try:
+            stored = [text(v) for v in np.asarray(attrs["labels"]).ravel()]
+            expected = mode_labels(header["modes"], header["convention"])
+        except (TypeError, ValueError):
+            return
+        if stored != list(expected):
+            raise LogFormatError(
+                f"corrupt HDF5 file '{path}': attribute labels of 'coefficients' "
+                f"({', '.join(stored[:3])}{', ...' if len(stored) > 3 else ''}) contradict "
+                f"the header's modes ({', '.join(expected[:3])}"
+                f"{', ...' if len(expected) > 3 else ''}) (edited after modalinfo wrote it?)")
 
 
 def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray, dict]:
