@@ -76,6 +76,19 @@ logs (ratio 1.10-1.11): none; a x7.4 step (ratio 2.9-3.0) and the 1 -> 3 ramp (2
 are noted in every log, as are steps of x2 and x3.2 (which flag nothing: the note is
 a caveat on the promise, not a finding of outliers).
 
+The report also says when a mode's **spread** changed while its innovations did not
+(issue 27, left18-quality): two nights whose modes were reordered, concatenated, keep
+noise-dominated innovations and zero means, so neither rule above sees them (round 18
+PART a, l11). Per mode, the absolute deviations from the median of the strided sample
+(every frame up to ``sample_frames``) go to the level rule
+(``modalinfo._stats.variance_steps``: EWC F test of their first cosine term, F(1, B)
+law), union over the modes judged by Bonferroni at ``VARIANCE_ALPHA`` = 0.25 %, a
+quarter of the 1 % stated because that law is liberal in its far tail there; modes
+whose mean steps are reported as such and not again, modes with fewer than 100
+effective absolute deviations are not judged. A hit makes :attr:`QualityReport.stationary`
+False and is named in the note (:attr:`QualityReport.variance_steps`). Measured false
+alarms and power: benchmarks/RESULTS.md, "left18-quality".
+
 What is findable: a glitch beyond ``k`` sigmas of the median and ``k`` innovation sigmas
 of its prediction. On AR(1) logs of 4000 frames (rho 0 to 0.999) glitches of 6, 10, 20
 and 100 marginal sigmas in one frame were found in 10 of 10 logs each; 100 sigmas on
@@ -153,9 +166,11 @@ from modalinfo._stats import (
     MIN_SCALE_RATIO,  # noqa: F401 (documented here since round 11)
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     STATIONARITY_BLOCKS,
+    VARIANCE_ALPHA,
     level_steps,
     mad_union_threshold,
     stationarity_threshold,
+    variance_steps,
 )
 from modalinfo._stats import block_scale_ratio as _scale_ratio
 from modalinfo.common.records import array_fields_eq
@@ -500,7 +515,11 @@ class QualityReport:
         innovations are alike (noise-dominated) the scale keeps, and the level of
         zero-mean modes too (round 18 PART a, l11: a KAOS-like log whose columns were
         reversed half-way, per-column standard deviations 0.37x to 2.7x, gave
-        ``stationary=True``); check the mode order from the archive's records.
+        ``stationary=True``). Since issue 27 (left18-quality) a step or drift of a
+        mode's **spread** is reported too (:attr:`variance_steps`) and makes
+        ``stationary`` False: l11 is flagged (8 of its 27 modes). A swap of modes
+        whose spreads are alike stays unseen; check the mode order from the archive's
+        records.
     level_steps : tuple of (str, int, float, float)
         Modes whose mean steps or drifts within the log: ``(label, frame, shift,
         p_value)``, ``frame`` the first frame after the largest CUSUM excursion (to
@@ -513,6 +532,20 @@ class QualityReport:
         Modes the level rule judged: a mode whose record spans too few correlation
         times (AR(1) 0.99 below ~2000-5000 frames) cannot have a step told from
         persistence and is not judged (:attr:`note` says so when none is).
+    variance_steps : tuple of (str, int, float, float)
+        Modes whose spread steps or drifts within the log (and whose mean does not:
+        those are in :attr:`level_steps`): ``(label, frame, ratio, p_value)``,
+        ``frame`` the first frame after the largest CUSUM excursion of the absolute
+        deviations from the median (to the ``sample`` stride), ``ratio`` their mean
+        after it over their mean before it (the ratio of standard deviations for a
+        Gaussian mode), ``p_value`` the level rule's (EWC F test) on the absolute
+        deviations of the strided sample (``modalinfo._stats.variance_steps``);
+        flagged by Bonferroni over the judged modes at ``VARIANCE_ALPHA`` = 0.25 %, for
+        a stated family-wise rate of 1 % (measured: benchmarks/RESULTS.md,
+        left18-quality).
+    variance_judged : int
+        Modes the spread rule judged (those with at least
+        ``MIN_VARIANCE_EFFECTIVE`` = 100 effective absolute deviations).
     predictor : tuple of numpy.ndarray or None
         What the flagging pass used, for ``"clip"`` to replace the same values by the
         same predictions: the centre (M,), levels threshold (M,), AR coefficients
@@ -549,6 +582,8 @@ class QualityReport:
     predictor: tuple | None = field(default=None, repr=False)
     level_steps: tuple = ()
     level_judged: int = 0
+    variance_steps: tuple = ()
+    variance_judged: int = 0
 
     @property
     def approximate(self) -> bool:
@@ -579,9 +614,16 @@ class QualityReport:
             more = ", ..." if len(self.level_steps) > 5 else ""
             parts.append(f"the mean steps or drifts in {len(self.level_steps)} mode(s) "
                          f"({shown}{more}; two nights joined, an offset changed?)")
-        if not self.level_steps or (math.isfinite(self.scale_ratio) and self.scale_ratio
-                                    > stationarity_threshold(self.effective_frames
-                                                             / STATIONARITY_BLOCKS)):
+        if self.variance_steps:
+            shown = ", ".join(f"{label} at frame {frame} (x{ratio:.2g})"
+                              for label, frame, ratio, _ in self.variance_steps[:5])
+            more = ", ..." if len(self.variance_steps) > 5 else ""
+            parts.append(f"the spread steps or drifts in {len(self.variance_steps)} "
+                         f"mode(s) ({shown}{more}; modes reordered between two nights "
+                         "joined?)")
+        if not (self.level_steps or self.variance_steps) or (
+                math.isfinite(self.scale_ratio) and self.scale_ratio
+                > stationarity_threshold(self.effective_frames / STATIONARITY_BLOCKS)):
             parts.append(f"the innovations' scale changes x{self.scale_ratio:.2g} across "
                          "the log (seeing not steady?)")
         if not parts:
@@ -683,6 +725,9 @@ class QualityReport:
             "level_steps": ", ".join(f"{label} {frame}"
                                      for label, frame, _, _ in self.level_steps),
             "level_judged": int(self.level_judged),
+            "variance_steps": ", ".join(f"{label} {frame}"
+                                        for label, frame, _, _ in self.variance_steps),
+            "variance_judged": int(self.variance_judged),
             **extra,
         }
 
@@ -864,19 +909,46 @@ def _level_steps(means: np.ndarray, step: int, n: int, labels: list,
     ``means`` (shape (ceil(T / step), M)): bin means of ``step`` frames, NaN where a bin
     held no finite value (interpolated). Family-wise ``LEVEL_ALPHA`` by Bonferroni.
     """
-    means = means.copy()
-    skip = np.asarray(constant, dtype=bool).copy()
-    for j in range(means.shape[1]):
-        ok = np.isfinite(means[:, j])
-        if ok.sum() < 2:
-            skip[j] = True
-            means[:, j] = 0.0
-        elif not ok.all():
-            idx = np.arange(means.shape[0])
-            means[:, j] = np.interp(idx, idx[ok], means[ok, j])
+    means, skip = _fill_gaps(means, constant)
     flagged, judged = level_steps(means, LEVEL_ALPHA, skip)
     steps = tuple((labels[j], int(min(t.frame * step, n - 1)), float(t.shift),
                    float(t.p_value)) for j, t in flagged)
+    return steps, judged
+
+
+def _fill_gaps(rows: np.ndarray, constant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Columns with non-finite rows linearly interpolated, and the columns to skip.
+
+    Skipped: ``constant`` columns and those with fewer than 2 finite rows (set to 0).
+    """
+    rows = rows.copy()
+    skip = np.asarray(constant, dtype=bool).copy()
+    for j in range(rows.shape[1]):
+        ok = np.isfinite(rows[:, j])
+        if ok.sum() < 2:
+            skip[j] = True
+            rows[:, j] = 0.0
+        elif not ok.all():
+            idx = np.arange(rows.shape[0])
+            rows[:, j] = np.interp(idx, idx[ok], rows[ok, j])
+    return rows, skip
+
+
+def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
+                    labels: list, skip: np.ndarray) -> tuple[tuple, int]:
+    """Modes whose spread steps or drifts (``QualityReport.variance_steps``), and how many judged.
+
+    ``sample`` (shape (ceil(T / step), M)): every ``step``-th frame; its absolute
+    deviations from ``centre`` (the modes' medians) go to
+    ``modalinfo._stats.variance_steps`` at ``VARIANCE_ALPHA``; modes in
+    ``skip`` (constant, or whose mean steps: reported as such) are not judged.
+    """
+    with np.errstate(invalid="ignore"):
+        dev = np.abs(sample - centre)
+    dev, none = _fill_gaps(dev, skip)
+    flagged, judged = variance_steps(dev, VARIANCE_ALPHA, none, deviations=True)
+    steps = tuple((labels[v.column], int(min(v.frame * step, n - 1)), float(v.ratio),
+                   float(v.p_value)) for v in flagged)
     return steps, judged
 
 
@@ -1076,7 +1148,13 @@ def assess_quality(
         ratio <= limit)
     # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
     found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
-    if found_steps:
+    # a change of a mode's spread that keeps its innovations (modes reordered between two
+    # nights joined, round 18 PART a, l11) is seen in its absolute deviations
+    stepped = {label for label, _, _, _ in found_steps}
+    varied, variance_judged = _variance_steps(
+        sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
+        constant | np.array([label in stepped for label in labels], dtype=bool))
+    if found_steps or varied:
         stationary = False
     assessed = True
     if k is None:
@@ -1146,6 +1224,7 @@ def assess_quality(
         scale_ratio=float(ratio), stationary=stationary,
         predictor=(centre, thr, coef, cen_e, thr_e, head),
         level_steps=found_steps, level_judged=level_judged,
+        variance_steps=varied, variance_judged=variance_judged,
     )
 
 

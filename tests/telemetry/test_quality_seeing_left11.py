@@ -115,9 +115,12 @@ def test_too_few_frames_per_block_gives_no_judgement():
     x = rng.standard_normal((300, 5))
     x[150:] *= 3.0
     report = assess_quality(x)
-    assert report.stationary is None
+    # the scale rule does not judge 300 frames (threshold inf); since left18-quality the
+    # spread rule (absolute deviations) finds this x3 step, and stationary is False by it
+    assert stationarity_threshold(report.effective_frames / 8) == math.inf
     assert "seeing" not in report.describe()
-    assert report.to_dict()["stationary"] is None
+    assert [s[0] for s in report.variance_steps] == [f"col{j}" for j in range(5)]
+    assert report.stationary is False and report.to_dict()["stationary"] is False
 
 
 def test_info_prints_the_caveat(tmp_path, capsys):
