@@ -63,7 +63,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from closedloop.config import SimulationConfig, WFSConfig, dm_disc_diameter
+from closedloop.config import SimulationConfig, WFSConfig, dm_disc_diameter, wfs_meta_pupil
 from closedloop.kinds import SensorCost, mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
@@ -353,9 +353,18 @@ def _wfs_builds(config: SimulationConfig, layout: list,
         held = cost.build_entries if cost.held_entries is None else cost.held_entries
         builds.append(_BUILD_BYTES_PER_ENTRY * held)
         if builds[-1] >= max(builds):
-            build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
-                         f"`telescope.n_pixels" if samples > 1
-                         else _plane_driver(config, layout, _biggest_plane(layout)))
+            # the build grows as samples x (meta-pupil / D)**2: name the larger factor (a
+            # WFS conjugated at 1000 km was blamed on its 19 directions, round 19 PART a g17)
+            widening = (wfs_meta_pupil(config, j) / config.telescope.diameter) ** 2
+            if samples > 1 and widening > samples:
+                build_key = (f"wfss[{j}].altitude` ({w.altitude:g} m: a meta-pupil "
+                             f"{wfs_meta_pupil(config, j):.3g} m across) x "
+                             f"`wfss[{j}].field_samples")
+            elif samples > 1:
+                build_key = (f"wfss[{j}].field_samples` ({samples} directions) x "
+                             f"`telescope.n_pixels")
+            else:
+                build_key = _plane_driver(config, layout, _biggest_plane(layout))
     return builds, build_key, n_meas_total
 
 

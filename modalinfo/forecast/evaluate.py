@@ -134,7 +134,9 @@ class ForecastEvaluation:
     gain_wavefront : numpy.ndarray, shape (P, H)
         ``rmse_wavefront[persistence] / rmse_wavefront``.
     coverage : numpy.ndarray, shape (P, H)
-        Interval coverage at ``level`` (NaN for predictors without intervals).
+        Interval coverage at ``level`` (NaN for predictors without intervals). The
+        intervals are plug-in ones (``ForecastInterval``, Notes): a few tenths of a
+        point below ``level`` is their parameter-estimation shortfall, not a model fault.
     level : float
         Nominal interval coverage.
     dm_statistic : numpy.ndarray, shape (P, H)

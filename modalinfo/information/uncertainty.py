@@ -43,7 +43,13 @@ corrected) estimate. ``"basic"`` (reverse percentile, [2 I - q_hi, 2 I - q_lo],
 Davison & Hinkley 1997, ch. 5) and ``"percentile"`` are available, and for the
 iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. The remaining undercoverage
 comes from the estimator's own bias at small effective n, which no interval can
-see; use longer logs or check with :func:`mutual_information_permutation_test`. One
+see; use longer logs or check with :func:`mutual_information_permutation_test`. Not
+all of it: Gaussian-method MI of iid Gaussian pairs (rho = 0.6, n = 500, default block
+bootstrap, 199 resamples) covered 0.925 over 800 seeds (standard error 0.009) at a
+nominal 0.95, with a bias of 0.0001 nats: the bootstrap spread, 0.0265 nats on average,
+is 5 % below the estimates' 0.0278 (the interval with that mean spread covered 0.936),
+and it varies from log to log (round 19 PART a). Read a 95 % interval as about 92 %
+there. One
 part of the histogram's bias is known: its k x k grid's loss, which shrinks more slowly
 than the bootstrap spread (iid Gaussian pairs, rho = 0.6: 0.0114 and 0.0075 nats low
 at n = 5000 and 20000, spreads 0.0075 and 0.0040, coverage 0.76 and 0.55); the upper

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import RATE_RANGE, check_exact_integers, unmasked
+from modalinfo.common.validation import RATE_RANGE, as_ndarray, check_exact_integers, unmasked
 
 __all__ = [
     "CONVENTIONS",
@@ -113,12 +113,7 @@ def as_coeffs(coeffs: Any) -> np.ndarray:
     if isinstance(coeffs, np.ndarray):
         arr = coeffs
     else:
-        try:
-            arr = np.asarray(coeffs)
-        except (ValueError, TypeError) as exc:
-            raise TypeError(
-                f"`coeffs` must be a numeric array (T, M); got {type(coeffs).__name__}."
-            ) from exc
+        arr = as_ndarray(coeffs, "coeffs", "a numeric array (T, M)")
         if arr.dtype == object and _numeric_extension_columns(coeffs):
             # a DataFrame of pandas' nullable Float64 / Int64 or Arrow floats: NumPy makes
             # an object array of it (refused as "dtype object", adversarial round 18 q70)
@@ -251,10 +246,7 @@ def checked_intervals(timestamps: Any, n_frames: int | None,
     computation for both (a full sort of the intervals of a 10^7-frame log).
     """
     timestamps = unmasked(timestamps, name)
-    try:
-        t = np.asarray(timestamps)
-    except (ValueError, TypeError) as exc:
-        raise TypeError(f"`{name}` must be a 1-D numeric array of seconds.") from exc
+    t = as_ndarray(timestamps, name, "a 1-D numeric array of seconds")
     if t.dtype.kind not in "fiu":
         raise TypeError(f"`{name}` must be a numeric array of seconds; got dtype {t.dtype}.")
     if t.ndim != 1 or (n_frames is not None and t.shape[0] != n_frames):
