@@ -392,8 +392,8 @@ class LoopConfig:
         Time from the end of the exposure to the command update [s] (>= 0).
     gain : float
         Integrator gain (per mode), > 0 and below the stability limit of the integrator
-        with this delay and exposure (:func:`modalinfo.servo.max_stable_gain`: 2 for a
-        half-frame delay and full exposure, 1 for one whole frame).
+        with this delay, exposure and leak (:func:`modalinfo.servo.max_stable_gain`: 2
+        for a half-frame delay and full exposure, 1 for one whole frame, with no leak).
     leak : float
         Integrator leak in [0, 1): ``c[k] = (1 - leak) c[k-1] + gain m[k]``.
     model_error : float
@@ -463,9 +463,12 @@ class LoopConfig:
         from modalinfo.servo import check_stable
 
         try:
-            check_stable(self.gain, self.delay_frames, self.integration_frames)
+            # with the leak: it moves the limit (2 - leak with no delay; round 20 c01-c04)
+            check_stable(self.gain, self.delay_frames, self.integration_frames,
+                         leak=self.leak)
         except ValueError as exc:
-            raise ValueError(str(exc).replace("`gain`", f"`{p}gain`", 1)) from None
+            raise ValueError(str(exc).replace("`gain`", f"`{p}gain`", 1)
+                             .replace("leak=", f"{p}leak=", 1)) from None
 
     @property
     def delay_frames(self) -> float:

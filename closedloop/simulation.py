@@ -229,9 +229,10 @@ def check_run(config: SimulationConfig, duration: float, *, budget_every: int | 
 
     loop = config.loop
     try:  # before any set-up: an unstable gain costs nothing
-        check_stable(loop.gain, loop.delay_frames, loop.integration_frames)
+        check_stable(loop.gain, loop.delay_frames, loop.integration_frames, leak=loop.leak)
     except ValueError as exc:
-        raise ValueError(str(exc).replace("`gain`", "`loop.gain`", 1)) from None
+        raise ValueError(str(exc).replace("`gain`", "`loop.gain`", 1)
+                         .replace("leak=", "loop.leak=", 1)) from None
     from closedloop.resources import MAX_FRAMES
 
     if not duration / loop.time_step < MAX_FRAMES:  # 1e308 s: round() of inf overflowed

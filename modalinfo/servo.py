@@ -104,17 +104,22 @@ def command_weights(delay_frames: float, integration_frames: float) -> np.ndarra
     return w[: last + 1]
 
 
-def loop_denominator(gain: float, weights: np.ndarray) -> np.ndarray:
-    """Coefficients ``a`` of ``1 - z**-1 + g W(z)`` in powers of ``z**-1``."""
+def loop_denominator(gain: float, weights: np.ndarray, leak: float = 0.0) -> np.ndarray:
+    """Coefficients ``a`` of ``1 - (1 - leak) z**-1 + g W(z)`` in powers of ``z**-1``.
+
+    ``leak`` is the integrator's leak, ``c[k] = (1 - leak) c[k-1] + g m[k]`` (0: the
+    pure integrator).
+    """
     a = gain * np.concatenate([weights, np.zeros(max(0, 2 - weights.size))])
     a[0] += 1.0
-    a[1] -= 1.0
+    a[1] -= 1.0 - leak
     return a
 
 
-def _pole_radius(gain: float, delay_frames: float, integration_frames: float) -> float | None:
+def _pole_radius(gain: float, delay_frames: float, integration_frames: float,
+                 leak: float = 0.0) -> float | None:
     """Largest closed-loop pole modulus; None when the polynomial is too long for roots."""
-    a = loop_denominator(gain, command_weights(delay_frames, integration_frames))
+    a = loop_denominator(gain, command_weights(delay_frames, integration_frames), leak)
     a = np.trim_zeros(a, "b")
     if a.size < 2:
         return 0.0
@@ -123,12 +128,13 @@ def _pole_radius(gain: float, delay_frames: float, integration_frames: float) ->
     return float(np.max(np.abs(np.roots(a))))
 
 
-def _crossing_gain(weights: np.ndarray) -> float:
-    """Smallest gain > 0 that puts a pole of ``1 - z**-1 + g W(z)`` on the unit circle.
+def _crossing_gain(weights: np.ndarray, leak: float = 0.0) -> float:
+    """Smallest gain > 0 that puts a pole of ``1 - r z**-1 + g W(z)`` on the unit circle.
 
-    A pole sits at ``z = exp(i w)`` for the gain ``G(w) = -(1 - exp(-i w)) / W(exp(i w))``
-    when ``G(w)`` is real and positive; for small gains every pole is inside (the
-    integrator's at ``1 - g``, the others at 0), so the smallest such ``G`` is the
+    ``r = 1 - leak``. A pole sits at ``z = exp(i w)`` for the gain
+    ``G(w) = -(1 - r exp(-i w)) / W(exp(i w))`` when ``G(w)`` is real and positive; for
+    small gains every pole is inside (the integrator's at ``r - g``, the others at 0),
+    so the smallest such ``G`` is the
     stability limit (the gain margin of the Nyquist criterion). ``Im G`` changes sign
     at most once per ``pi / len(W)`` in ``w``, so a grid 16 times finer than that
     brackets every crossing; each is refined by Brent's method. ``W`` has at most three
@@ -141,17 +147,17 @@ def _crossing_gain(weights: np.ndarray) -> float:
         w = np.asarray(w, dtype=np.float64)
         wz = np.exp(-1j * np.multiply.outer(w, taps)) @ tw
         with np.errstate(divide="ignore", invalid="ignore"):
-            return -(1.0 - np.exp(-1j * w)) / wz
+            return -(1.0 - (1.0 - leak) * np.exp(-1j * w)) / wz
 
     n = max(4096, 16 * weights.size)
     grid = np.linspace(0.0, np.pi, n + 1)[1:-1]  # w = pi apart, below
     with np.errstate(over="ignore"):
         values = g_of(grid)
     candidates = []
-    # w = pi: G = -2 / W(-1) is real (real coefficients); none if W(-1) = 0
+    # w = pi: G = -(2 - leak) / W(-1) is real (real coefficients); none if W(-1) = 0
     w_pi = float(np.sum(tw * (-1.0) ** taps))
     if w_pi < -1e-12:
-        candidates.append(-2.0 / w_pi)
+        candidates.append(-(2.0 - leak) / w_pi)
     im = values.imag
     hits = np.abs(im) <= 1e-12 * np.abs(values)  # a crossing on a grid point
     candidates.extend(values.real[hits & (values.real > 0.0)].tolist())
@@ -172,7 +178,8 @@ def _crossing_gain(weights: np.ndarray) -> float:
     return min(candidates)
 
 
-def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0) -> float:
+def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0, *,
+                    leak: float = 0.0) -> float:
     """Largest integrator gain for which the sampled loop is stable.
 
     Parameters
@@ -182,23 +189,39 @@ def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0) 
         at most :data:`MAX_DELAY_FRAMES`.
     integration_frames : float
         WFS integration time [frames], in (0, 1].
+    leak : float
+        Integrator leak in [0, 1), ``c[k] = (1 - leak) c[k-1] + g m[k]``. The leak
+        moves the limit either way: 2 - leak with no delay and a whole-frame exposure,
+        unchanged at one frame of delay, higher for longer delays
+        (0.618 -> 0.781 at two frames and leak 0.5; adversarial round 20 c01-c04).
 
     Returns
     -------
     float
         Gain at which a closed-loop pole reaches the unit circle (relative accuracy
-        ~1e-12): the smallest positive real value of ``-(1 - z**-1) / W(z)`` on the unit
-        circle. Cost linear in the delay (no polynomial roots).
+        ~1e-12): the smallest positive real value of ``-(1 - (1 - leak) z**-1) / W(z)``
+        on the unit circle. Cost linear in the delay (no polynomial roots).
     """
     _, delay_frames, integration_frames = check_loop(1.0, delay_frames, integration_frames)
-    return _crossing_gain(command_weights(delay_frames, integration_frames))
+    leak = _check_leak(leak)
+    return _crossing_gain(command_weights(delay_frames, integration_frames), leak)
 
 
-def check_stable(gain: float, delay_frames: float, integration_frames: float) -> None:
-    """Raise ``ValueError`` (with the stability limit) if the sampled loop is unstable."""
+def _check_leak(leak: float) -> float:
+    """Return ``leak`` as a float in [0, 1), or raise ``ValueError`` naming it."""
+    return check_real(leak, "leak", minimum=0.0, maximum=1.0, strict_max=True)
+
+
+def check_stable(gain: float, delay_frames: float, integration_frames: float, *,
+                 leak: float = 0.0) -> None:
+    """Raise ``ValueError`` (with the stability limit) if the sampled loop is unstable.
+
+    ``leak`` is the integrator's leak (:func:`max_stable_gain`).
+    """
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
-    radius = _pole_radius(gain, delay_frames, integration_frames)
-    limit = max_stable_gain(delay_frames, integration_frames)
+    leak = _check_leak(leak)
+    radius = _pole_radius(gain, delay_frames, integration_frames, leak)
+    limit = max_stable_gain(delay_frames, integration_frames, leak=leak)
     # the gain margin decides (relative accuracy ~1e-12): a pole-modulus test alone called
     # a tiny gain unstable, since the integrator's pole 1 - g is within rounding of 1 for
     # g ~ 1e-12, and then printed "stable for gain < limit" with gain far below the limit
@@ -208,7 +231,8 @@ def check_stable(gain: float, delay_frames: float, integration_frames: float) ->
                 else f" (largest closed-loop pole modulus {radius:.4f} >= 1)")
         raise ValueError(
             f"`gain` = {gain} makes the loop unstable{pole} for delay_frames="
-            f"{delay_frames}, integration_frames={integration_frames}; the loop is stable "
+            f"{delay_frames}, integration_frames={integration_frames}"
+            f"{f', leak={leak:g}' if leak else ''}; the loop is stable "
             f"for gain < {limit:.4f}."
         )
 

@@ -131,7 +131,7 @@ class Controller:
                              f"{on_predictor_fault!r}.")
         gain, delay_frames, integration_frames = check_loop(gain, delay_frames,
                                                             integration_frames)
-        check_stable(gain, delay_frames, integration_frames)
+        check_stable(gain, delay_frames, integration_frames, leak=leak)
         self.gain = gain
         self.leak = leak
         self.weights = command_weights(delay_frames, integration_frames)
