@@ -103,17 +103,17 @@ def _numeric_extension_columns(table: Any) -> bool:
     return bool(kinds) and all(k in "fiu" for k in kinds)
 
 
-def as_coeffs(coeffs: Any) -> np.ndarray:
+def as_coeffs(coeffs: Any, name: str = "coeffs") -> np.ndarray:
     """Return ``coeffs`` as a read-only 2-D float32/float64 view, or raise naming it.
 
     Integers become float64; float32 and float64 are kept (a ``numpy.memmap`` stays
-    one); a non-native byte order is converted.
+    one); a non-native byte order is converted. ``name`` is the argument named in errors.
     """
-    coeffs = unmasked(coeffs, "coeffs")
+    coeffs = unmasked(coeffs, name)
     if isinstance(coeffs, np.ndarray):
         arr = coeffs
     else:
-        arr = as_ndarray(coeffs, "coeffs", "a numeric array (T, M)")
+        arr = as_ndarray(coeffs, name, "a numeric array (T, M)")
         if arr.dtype == object and _numeric_extension_columns(coeffs):
             # a DataFrame of pandas' nullable Float64 / Int64 or Arrow floats: NumPy makes
             # an object array of it (refused as "dtype object", adversarial round 18 q70)
@@ -121,20 +121,25 @@ def as_coeffs(coeffs: Any) -> np.ndarray:
             # `nonfinite` policy decides
             arr = coeffs.to_numpy(dtype=np.float64, na_value=np.nan)
     kind = arr.dtype.kind
+    if kind == "O" and arr.ndim == 0:
+        # one object that is no array (a QualityReport, a result): "got dtype object"
+        # did not say what was passed (adversarial round 20, r19)
+        raise TypeError(f"`{name}` must be a numeric array (T, M); got "
+                        f"{type(coeffs).__name__}.")
     if kind not in "fiu":
         what = "complex" if kind == "c" else str(arr.dtype)
-        raise TypeError(f"`coeffs` must be a real numeric array (T, M); got dtype {what}.")
+        raise TypeError(f"`{name}` must be a real numeric array (T, M); got dtype {what}.")
     if arr.ndim != 2:
         raise ValueError(
-            f"`coeffs` must be 2-D (T frames, M modes); got {arr.ndim}-D with shape {arr.shape}"
+            f"`{name}` must be 2-D (T frames, M modes); got {arr.ndim}-D with shape {arr.shape}"
             " (a single mode's series needs shape (T, 1): one column)."
         )
     if arr.shape[0] == 0 or arr.shape[1] == 0:
-        raise ValueError(f"`coeffs` must hold at least one frame and one mode; got {arr.shape}.")
+        raise ValueError(f"`{name}` must hold at least one frame and one mode; got {arr.shape}.")
     if kind in "iu" or arr.dtype.itemsize not in (4, 8):
         src, arr = arr, arr.astype(np.float64)
         if kind in "iu" and src.size:
-            check_exact_integers(src, arr, "coeffs")
+            check_exact_integers(src, arr, name)
     elif not arr.dtype.isnative:
         arr = arr.astype(arr.dtype.newbyteorder("="))
     view = arr.view()

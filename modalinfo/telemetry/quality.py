@@ -1108,7 +1108,7 @@ def assess_quality(
     if isinstance(log_or_coeffs, ModalLog):
         arr, labels = log_or_coeffs.coeffs, log_or_coeffs.labels
     else:
-        arr = as_coeffs(log_or_coeffs)
+        arr = as_coeffs(log_or_coeffs, "log_or_coeffs")
         labels = [f"col{j}" for j in range(arr.shape[1])]
     n, m = arr.shape
     # alpha also sets the stuck-run length of quantised modes, so it is checked with k

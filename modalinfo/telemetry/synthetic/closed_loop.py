@@ -32,6 +32,7 @@ model is the one the simulated logs obey.
 
 from __future__ import annotations
 
+import math
 import numbers
 from dataclasses import dataclass
 
@@ -86,6 +87,11 @@ def _as_steps(value: float, oversampling: int, name: str) -> int:
             f"oversampling={oversampling}."
         )
     return int(rounded)
+
+
+def _finite_or_none(value: float) -> float | None:
+    """``value``, or None where it is NaN or infinite (metadata must be JSON)."""
+    return float(value) if math.isfinite(value) else None
 
 
 def closed_loop_simulation(
@@ -149,9 +155,12 @@ def closed_loop_simulation(
         "oversampling": oversampling,
         "frame_rate_hz": frame_rate,
         "seed": seed if isinstance(seed, numbers.Integral) else None,
-        "bandwidth_rejection_0db_hz": bandwidth.rejection_0db,
-        "bandwidth_closed_loop_3db_hz": bandwidth.closed_loop_3db,
-        "max_rejection_amplification": bandwidth.max_amplification,
+        # NaN (no crossing below Nyquist, e.g. |1 - E| never under -3 dB at gain 1.5 with
+        # no delay) is null in the JSON-safe metadata: it refused a stable loop before
+        # (adversarial round 20, s3_1.500_0)
+        "bandwidth_rejection_0db_hz": _finite_or_none(bandwidth.rejection_0db),
+        "bandwidth_closed_loop_3db_hz": _finite_or_none(bandwidth.closed_loop_3db),
+        "max_rejection_amplification": _finite_or_none(bandwidth.max_amplification),
     }
     base = dict(log.metadata)
     common = dict(rate=frame_rate, modes=list(log.modes), convention=log.convention,
