@@ -863,6 +863,9 @@ def mi_along_order(
     Returns
     -------
     numpy.ndarray, shape (M,)
+        I(Phi_ref; Phi_n) [nats] for n = 1..M. The last entry is NaN: Phi_M is Phi_ref
+        itself, whose MI with itself is infinite for a continuous variable (not
+        estimated, as in :func:`order_modes`); so are the steps of constant modes.
     """
     from modalinfo.ordering.fitting_error import check_order
 
