@@ -305,7 +305,8 @@ def solar_latency(config: SimulationConfig, *, rtc: str | SolarRTC = "workstatio
     loop = config.loop
     oversampling = max(8, loop.oversampling)
     delay = r.latency_model(oversampling).delay(compute, loop.time_step)
-    limit = max_stable_gain(delay / loop.time_step, loop.integration_frames)
+    limit = max_stable_gain(delay / loop.time_step, loop.integration_frames,
+                            leak=loop.leak)
     if loop.gain >= limit:
         raise ValueError(
             f"`rtc` {r.name!r} (readout {r.readout * 1e3:g} ms, rtc_speed {r.rtc_speed:g}) "
