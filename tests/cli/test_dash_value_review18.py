@@ -1,4 +1,4 @@
-"""Planted-bug review 18 (issue 27): no '-value' hint when the next token is an option spelled ``--opt=value``.
+"""Planted-bug review 18 (issue 27): no hint before an option spelled ``--opt=value``.
 
 Round 19 PART b (N29) explains argparse's "expected one argument" when the value was
 there but starts with '-'. A following token ``--rate=5`` is not such a value: it is the
