@@ -77,8 +77,10 @@ def rate_field(fields, where: str) -> tuple[float, str] | None:
         if key not in RATE_FIELD_NAMES:
             continue
         try:
-            value = np.asarray(fields[name][()] if hasattr(fields[name], "shape")
-                               else fields[name])
+            item = fields[name]
+            if getattr(item, "size", 1) != 1:  # a per-frame array is no rate field
+                continue
+            value = np.asarray(item[()] if hasattr(item, "shape") else item)
         except (TypeError, ValueError, OSError, KeyError):
             continue
         if value.dtype.kind not in "fiu" or value.size != 1:
