@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import add_hint_arguments, apply_outliers, hints_from_args
@@ -120,6 +121,11 @@ def run(args: argparse.Namespace) -> int:
     duration = "unknown" if log.duration is None else f"{log.duration:.6g} s"
     axis = "timestamps" if log.timestamps is not None else "uniform"
     out.write(f"rate        {rate}, duration {duration} ({axis})\n")
+    # a foreign rate field the timestamps overruled, said in full once (Leftovers 19-misc)
+    field_note = meta.get("rate_field") if (
+        log.timestamps is not None and meta.get("source_file") == Path(args.log).name) else None
+    if isinstance(field_note, str):
+        out.write(f"rate note   {field_note}\n")
     if sampling is not None and sampling.n_frames > 1:
         out.write(f"sampling    {_sampling_text(sampling)}\n")
     shown = ", ".join(labels) if len(labels) <= 8 else f"{labels[0]} .. {labels[-1]}"
@@ -135,6 +141,8 @@ def run(args: argparse.Namespace) -> int:
     for key in sorted(meta):
         if key in ("loop", "repairs", "assumed", "modes_identification",
                    "coefficient_quantity", "outliers"):
+            continue
+        if key == "rate_field" and isinstance(field_note, str):
             continue
         value = meta[key]
         text = "; ".join(f"{k} {v}" for k, v in value.items()) if isinstance(

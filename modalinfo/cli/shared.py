@@ -460,6 +460,9 @@ def input_notes(log, path: Path) -> list[str]:
                      f"(state them with {flags})")
     if isinstance(meta.get("framerate_note"), str) and log.timestamps is not None:
         notes.append(f"'{path.name}': {meta['framerate_note']}")  # an AOT file's own clash
+    if (isinstance(meta.get("rate_field"), str) and log.timestamps is not None
+            and meta.get("source_file") == path.name):  # the file read, not a copy of it
+        notes.append(f"'{path.name}': {meta['rate_field']}")
     if isinstance(meta.get("source_hdu"), str):  # a foreign FITS with several images
         notes.append(f"'{path.name}': read {meta['source_hdu']}")
     layout = meta.get("layout")

@@ -47,10 +47,46 @@ prange = nb.prange
 def jit(*args, **kwargs):
     """Compile with ``numba.njit(cache=True, error_model="numpy", nogil=True)``.
 
-    Used bare (``@jit``) or with extra numba options (``@jit(parallel=True)``).
+    Used bare (``@jit``) or with extra numba options (``@jit(parallel=True)``). The cache
+    is a best effort: where numba finds no writable folder for it (a source folder and a
+    user cache folder it cannot write, e.g. a fresh checkout under umask 777) the kernel
+    is compiled without a cache, with one warning per process; the compiled code is the
+    same, only each process compiles it again.
     """
     options = {"cache": True, "error_model": "numpy", "nogil": True}
     if len(args) == 1 and callable(args[0]) and not kwargs:
-        return nb.njit(**options)(args[0])
+        return _njit(args[0], (), options)
     options.update(kwargs)
-    return nb.njit(*args, **options)
+    if args and callable(args[0]):
+        return _njit(args[0], args[1:], options)
+    return lambda func: _njit(func, args, options)
+
+
+#: Whether the no-cache warning was given in this process (it is given once).
+_NO_CACHE_WARNED = False
+
+
+def _njit(func, args: tuple, options: dict):
+    """``numba.njit(*args, **options)(func)``, compiled without a cache if none can be found."""
+    try:
+        return nb.njit(*args, **options)(func)
+    except RuntimeError as exc:
+        # numba's FunctionCache raises this at decoration when none of its locators (the
+        # source's __pycache__, NUMBA_CACHE_DIR, the user cache folder) can be written
+        # (Leftovers 18-forms: a fresh checkout under umask 777 makes them mode 000)
+        if not options.get("cache") or "no locator available" not in str(exc):
+            raise
+    _warn_no_cache(func)
+    return nb.njit(*args, **{**options, "cache": False})(func)
+
+
+def _warn_no_cache(func) -> None:
+    global _NO_CACHE_WARNED
+    if _NO_CACHE_WARNED:
+        return
+    _NO_CACHE_WARNED = True
+    where = getattr(getattr(func, "__code__", None), "co_filename", "?")
+    warnings.warn(f"numba finds no writable folder to cache its compiled kernels (beside "
+                  f"{where!r} or in the user cache; a umask of 777?): they are compiled "
+                  "again in every run; set NUMBA_CACHE_DIR to a writable folder (or the "
+                  "umask to 022) to keep them", RuntimeWarning, stacklevel=4)

@@ -261,9 +261,12 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         # round 9 PART b, rows N14, N16)
         raise ValueError(f"'{path}': {bad_modes}; the file's labels do not fit its data: "
                          "give modes= (command line: --in-modes) to label the columns")
+    rate_field = stored.pop("_rate_field", None)
     if foreign:
         _foreign_time_axis(stored, hints, frames, records, path)
         _foreign_relabel(stored, hints, records, describe_modes)
+        if rate_field is not None and hints.get("rate") is None:
+            _rate_field_note(rate_field, stored.get("timestamps"), records)
     kwargs = {k: v for k, v in stored.items() if v is not None}
     for key, value in hints.items():
         if key == "metadata":
@@ -488,6 +491,38 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
             "; the time axis starts at 0 and the file's first timestamp is kept as "
             "metadata 'file_start_time'" if far else "")
     )
+
+
+def _rate_field_note(field: tuple[float, str], times, records: dict) -> None:
+    """Say when a foreign rate field, never read, disagrees with the timestamps used.
+
+    They disagree when neither the median nor the mean regular interval
+    (``telemetry.sampling.rate_agrees``) is within the timestamps' own jitter (the
+    intervals' relative robust sd, ``1.4826 MAD / median``; at least 1e-3) of the
+    field's period.
+    """
+    if times is None:
+        return
+    t = np.asarray(times, dtype=np.float64)
+    if t.ndim != 1 or t.size < 2:
+        return
+    from modalinfo.telemetry.sampling import rate_agrees
+
+    dt = np.diff(t)
+    median = float(np.median(dt))
+    if not median > 0:
+        return
+    jitter = 1.4826 * float(np.median(np.abs(dt - median))) / median
+    rate, where = field
+    try:
+        if rate_agrees(t, rate, max(1e-3, jitter)):
+            return
+    except ValueError:  # intervals the log itself refuses, naming the file
+        return
+    records["rate_field"] = (
+        f"the file's rate field ({where}) says {rate:.6g} Hz, its timestamps "
+        f"{1.0 / median:.6g} Hz (median interval): the timestamps are used; pass rate= "
+        "(command line: --rate) to choose")
 
 
 def _foreign_relabel(stored: dict, hints: dict, records: dict, describe) -> None:

@@ -23,6 +23,11 @@ guess silently nor refuse what the caller states. The rules, applied by
 * **Time axis.** An explicit ``rate=`` wins over foreign timestamps that disagree
   with it (recorded in ``metadata["time_axis"]``); frame-number columns become
   times ``frame / rate`` only with a rate.
+* **A rate field beside timestamps.** A foreign rate (an NPZ member, an HDF5 dataset or
+  attribute, a FITS keyword named as in :data:`RATE_FIELD_NAMES`) is never read: the
+  timestamps set the time axis. Where it disagrees with them by more than their own
+  jitter, ``metadata["rate_field"]`` says so, and the command lines print it once
+  (Leftovers 19-misc; round 19 PART b, B10, B12, B17).
 * **Assumed values.** Every value neither read from the file nor given by the
   caller (units ``rad``, convention ``noll``, the default modes) is listed in
   ``metadata["assumed"]``.
@@ -38,7 +43,8 @@ import numpy as np
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import mode_labels
 
-__all__ = ["MAX_MODES", "COLUMN_RATIO", "MIN_SUSPECT_COLUMNS", "orient", "axis_layout"]
+__all__ = ["MAX_MODES", "COLUMN_RATIO", "MIN_SUSPECT_COLUMNS", "RATE_FIELD_NAMES", "orient",
+           "axis_layout", "rate_field"]
 
 #: More modes than any wavefront sensor measures: such a width means frames.
 MAX_MODES = 5000
@@ -51,6 +57,38 @@ _TIME_WORDS = {"time", "times", "t", "frame", "frames", "sample", "samples", "ep
                "timestamp", "timestamps", "iteration", "iterations", "step", "steps"}
 _MODE_WORDS = {"mode", "modes", "zernike", "zernikes", "coefficient", "coefficients",
                "coeff", "coeffs", "noll", "kl", "actuator", "actuators", "index"}
+
+
+#: Names of a foreign file's rate field [Hz] (case, ``-`` and ``_`` ignored; FITS
+#: keywords have at most 8 characters: ``FRAMERAT``, ``SAMPRATE``).
+RATE_FIELD_NAMES = frozenset({"rate", "framerate", "framerat", "samplerate", "samprate",
+                              "samplingrate", "looprate"})
+
+
+def rate_field(fields, where: str) -> tuple[float, str] | None:
+    """Return ``(rate, description)`` of the first rate field among ``fields``, else None.
+
+    ``fields`` maps names to values (NPZ members, HDF5 datasets or attributes, a FITS
+    header); a field counts when its name is in :data:`RATE_FIELD_NAMES` and it holds
+    one finite positive number. ``where`` names the kind of field (``"member"``).
+    """
+    for name in list(fields.keys()):
+        key = str(name).rsplit("/", 1)[-1].strip().lower().replace("-", "").replace("_", "")
+        if key not in RATE_FIELD_NAMES:
+            continue
+        try:
+            item = fields[name]
+            if getattr(item, "size", 1) != 1:  # a per-frame array is no rate field
+                continue
+            value = np.asarray(item[()] if hasattr(item, "shape") else item)
+        except (TypeError, ValueError, OSError, KeyError):
+            continue
+        if value.dtype.kind not in "fiu" or value.size != 1:
+            continue
+        rate = float(value.reshape(()))
+        if np.isfinite(rate) and rate > 0:
+            return rate, f"{where} {str(name)!r}"
+    return None
 
 
 def _word(text: Any) -> str | None:

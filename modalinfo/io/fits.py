@@ -52,7 +52,7 @@ from modalinfo.io._common import (
     stored_from_header,
     unwrap,
 )
-from modalinfo.io._foreign import axis_layout
+from modalinfo.io._foreign import axis_layout, rate_field
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
 
@@ -333,6 +333,11 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
             stored["modes"], stored["convention"], assumed = mode_columns(names)
             if assumed:
                 stored["_convention_assumed"] = True
+            # a RATE keyword is never read (the note of build_log when it disagrees)
+            field = (rate_field(hdu.header, f"keyword of HDU {index}")
+                     or rate_field(hdul[0].header, "keyword of HDU 0"))
+            if field is not None:
+                stored["_rate_field"] = field
             return np.ascontiguousarray(np.column_stack(cols)), stored, True
     if chosen is not None:
         raise LogFormatError(f"FITS file '{path}': HDU {chosen} (--dataset) holds no 2-D "

@@ -67,7 +67,7 @@ from modalinfo.io._common import (
     unwrap,
     verify_checksum,
 )
-from modalinfo.io._foreign import axis_layout
+from modalinfo.io._foreign import axis_layout, rate_field
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.scan import scan_rows
@@ -574,6 +574,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             unit = stated.pop() or _stated_unit(f.attrs)
             if unit is not None:
                 stored["_unit"] = (unit, "units attribute")
+            _rate_fields(stored, (dsets, "dataset"), (f.attrs, "file attribute"))
             stacked = float_columns(columns, short, path)
             for k, column in enumerate(columns):
                 stacked[:, k] = _missing_as_nan(stacked[:, k], column.attrs)
@@ -637,7 +638,18 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     unit = _stated_unit(dset.attrs) or _stated_unit(f.attrs)
     if unit is not None:
         stored["_unit"] = (unit, f"units attribute of {key!r}")
+    _rate_fields(stored, (dsets, "dataset"), (dset.attrs, f"attribute of {key!r},"),
+                 (f.attrs, "file attribute"))
     return coeffs, stored
+
+
+def _rate_fields(stored: dict, *places) -> None:
+    """Keep the first rate field of ``places`` (never read: the note of ``build_log``)."""
+    for fields, where in places:
+        field = rate_field(fields, where)
+        if field is not None:
+            stored["_rate_field"] = field
+            return
 
 
 def _missing_as_nan(values: np.ndarray, attrs) -> np.ndarray:

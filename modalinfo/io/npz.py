@@ -45,6 +45,7 @@ from modalinfo.io._common import (
     stored_from_header,
     unwrap,
 )
+from modalinfo.io._foreign import rate_field
 from modalinfo.io.files import LogFormatError as _LogFormatError
 from modalinfo.telemetry.log import ModalLog
 
@@ -257,6 +258,7 @@ def _foreign(
                 stored["_convention_assumed"] = True
             time_arrays(arrays, stored, meta)
             _units_member(arrays, stored)
+            _rate_member(arrays, stored)
             return float_columns(columns, names, path), stored
     if dataset is not None:
         if dataset not in arrays:
@@ -307,7 +309,15 @@ def _foreign(
                 stored["_convention_assumed"] = True
             break
     _units_member(arrays, stored)
+    _rate_member(arrays, stored)
     return two_d[key], stored
+
+
+def _rate_member(arrays: dict[str, np.ndarray], stored: dict) -> None:
+    """Keep a foreign archive's rate member (never read: the note of ``build_log``)."""
+    field = rate_field(arrays, "member")
+    if field is not None:
+        stored["_rate_field"] = field
 
 
 def _units_member(arrays: dict[str, np.ndarray], stored: dict) -> None:

@@ -250,16 +250,53 @@ def gaussian_threshold(n_values: int, alpha: float = DEFAULT_ALPHA) -> float:
 #: is within 0.5 % of the corrected one (5.341 against 5.368 at 4000 x 27).
 SMALL_SAMPLE_FRAMES = 2000
 
-#: Simulated MADs per sample size in :func:`small_sample_threshold` (seeded: same bits).
+#: Simulated MADs per sample size in :func:`small_sample_threshold` from 136 frames on
+#: (seeded: same bits); fewer frames get more (``_mad_draws``).
 _MAD_DRAWS = 2000
+
+#: Most simulated MADs per sample size (at 12-21 frames), and the law's nodes: the
+#: lowest ``_MAD_NODES`` ratios are kept one by one (they set the tail), the others are
+#: averaged in ``_MAD_NODES`` groups of equal count, so the bisection costs the same at
+#: every ``N``.
+_MAD_DRAWS_MAX = 500_000
+_MAD_NODES = 4096
+
+#: Seed of the simulated MADs.
+_MAD_SEED = 20261129
+
+
+def _mad_draws(n_sample: int) -> int:
+    """Return the simulated MADs for ``N`` frames: ``4e4 (50 / N)^3`` in ``[2000, 5e5]``.
+
+    The Monte Carlo sd of ``k`` (27 modes, ``T = N``, 20 seeds) with 2000 draws is
+    20 % at ``N`` = 12, 7.7 % at 20, 1.7 % at 50, 0.4 % at 200 and 0.1 % at 1000, and
+    falls about as ``1 / sqrt(draws)``; this count keeps it below 1 % at every ``N``
+    (docs/ADVERSARIAL.md, "Leftovers 19-misc").
+    """
+    return int(min(_MAD_DRAWS_MAX, max(_MAD_DRAWS, round(4e4 * (50.0 / n_sample) ** 3))))
 
 
 @functools.lru_cache(maxsize=64)
-def _mad_ratios(n_sample: int) -> np.ndarray:
-    """``1.4826 MAD / sigma`` of ``_MAD_DRAWS`` Gaussian samples of ``n_sample`` values."""
-    g = np.random.default_rng(20261129).standard_normal((_MAD_DRAWS, n_sample))
-    g -= np.median(g, axis=1, keepdims=True)
-    return MAD_TO_SIGMA * np.median(np.abs(g), axis=1)
+def _mad_law(n_sample: int, seed: int = _MAD_SEED) -> tuple[np.ndarray, np.ndarray | None]:
+    """Nodes and weights (or None: equal) of ``1.4826 MAD / sigma`` for ``n_sample`` values."""
+    draws = _mad_draws(n_sample)
+    rng = np.random.default_rng(seed)
+    chunk = max(1, 2_000_000 // n_sample)  # about 16 MB of draws at a time
+    parts = []
+    for start in range(0, draws, chunk):
+        g = rng.standard_normal((min(chunk, draws - start), n_sample))
+        g -= np.median(g, axis=1, keepdims=True)
+        parts.append(MAD_TO_SIGMA * np.median(np.abs(g), axis=1))
+    ratios = np.concatenate(parts)
+    if draws <= 2 * _MAD_NODES:
+        return ratios, None
+    ratios.sort()
+    low, rest = ratios[:_MAD_NODES], ratios[_MAD_NODES:]
+    groups = np.array_split(rest, _MAD_NODES)
+    nodes = np.concatenate([low, [grp.mean() for grp in groups]])
+    weights = np.concatenate([np.full(_MAD_NODES, 1.0 / draws),
+                              [grp.size / draws for grp in groups]])
+    return nodes, weights
 
 
 def small_sample_threshold(n_sample: int, n_frames: int, n_modes: int,
@@ -274,7 +311,8 @@ def small_sample_threshold(n_sample: int, n_frames: int, n_modes: int,
     scale to sigma, the union bound over its ``T`` values is ``min(1, 2 T Q(k s / c))``
     (``Q`` the Gaussian tail, ``c = sqrt(1 + pi / (2 N))`` the spread of a value about
     the sample median, whose variance is ``pi / (2 N)``: Kenney & Keeping); averaged
-    over ``s`` (``_MAD_DRAWS`` seeded simulated MADs of ``N`` values) and summed over
+    over ``s`` (seeded simulated MADs of ``N`` values, from 5e5 at ``N`` <= 21 to 2000
+    from 136 on: a Monte Carlo sd of ``k`` below 1 %) and summed over
     the ``M`` modes it is set to ``alpha`` by bisection. ``in_sample``: the tested
     values are among the ``N`` (a log sampled whole, stride 1), and each pulls the median
     and MAD towards itself by ``sqrt(pi / 2) / N`` and a relative ``1.166 / N`` (Bahadur's
@@ -303,8 +341,9 @@ def small_sample_threshold(n_sample: int, n_frames: int, n_modes: int,
     base = gaussian_threshold(n_frames * n_modes, alpha)
     if n_sample >= SMALL_SAMPLE_FRAMES:
         return base
-    return mad_union_threshold(_mad_ratios(int(n_sample)), None, n_frames, n_modes,
-                               n_sample, alpha, base, 2.0 * base, in_sample=bool(in_sample))
+    nodes, weights = _mad_law(int(n_sample))
+    return mad_union_threshold(nodes, weights, n_frames, n_modes, n_sample, alpha, base,
+                               2.0 * base, in_sample=bool(in_sample))
 
 
 #: Fewest effective frames (:func:`_innovations`) on which outliers are assessed with
