@@ -41,6 +41,7 @@ import glob
 import itertools
 import json
 import os
+import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -237,7 +238,10 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
         try:
             check_hint_values(hints)
         except (TypeError, ValueError) as exc:
-            raise ValueError(f"{where}: {exc}") from None
+            # "column 'rate'", not the API's "`rate`", which the command line shows as
+            # its option "--rate" (the user typed no option)
+            text = re.sub(r"`(\w+)`", r"column '\1'", str(exc), count=1)
+            raise ValueError(f"{where}: {text}") from None
         if isinstance(hints.get("modes", [0])[0], str) and "convention" not in hints:
             hints["convention"] = "labels"
         entries.append(LogEntry(str(file.resolve()), fmt, hints))

@@ -59,13 +59,13 @@ def test_cells_beyond_the_header_are_refused_naming_the_row(tmp_path):
 
 
 @pytest.mark.parametrize(("column", "value", "rule"), [
-    ("rate", "-5", r"`rate` must be > 0"),
-    ("rate", "nan", r"`rate` must be finite"),
-    ("rate", "inf", r"`rate` must be finite"),
-    ("wavelength", "0", r"`wavelength` must be > 0"),
-    ("units", "furlong", r"`units` must be one of"),
-    ("convention", "zzz", r"`convention` must be one of"),
-    ("nonfinite", "zzz", r"`nonfinite` must be one of"),
+    ("rate", "-5", r"column 'rate' must be > 0"),
+    ("rate", "nan", r"column 'rate' must be finite"),
+    ("rate", "inf", r"column 'rate' must be finite"),
+    ("wavelength", "0", r"column 'wavelength' must be > 0"),
+    ("units", "furlong", r"column 'units' must be one of"),
+    ("convention", "zzz", r"column 'convention' must be one of"),
+    ("nonfinite", "zzz", r"column 'nonfinite' must be one of"),
     ("fmt", "xls", r"column 'fmt' must be one of"),
 ])
 def test_impossible_hints_are_refused_before_work_naming_the_row(tmp_path, column, value, rule):
