@@ -254,6 +254,19 @@ def run_one(payload: dict) -> dict:
     return row
 
 
+def _here(row: dict, out_dir: Path) -> dict:
+    """Return ``row`` with its ``result_file`` in ``out_dir``'s ``runs/`` (where it lies now).
+
+    A row keeps the absolute path its worker saved to: after the folder was moved,
+    renamed or copied and resumed, the table pointed at the old place (a file gone, or
+    the original's file for a copy) without a word (adversarial round 20 PART b, S03 /
+    S04). The run file is named by the row's key, so its place follows the folder.
+    """
+    if not row.get("result_file"):
+        return row
+    return {**row, "result_file": str(out_dir.resolve() / "runs" / Path(row["result_file"]).name)}
+
+
 def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
           n_workers: int | None = None, threads_per_worker: int | None = None,
           memory_limit: str | None = None, progress: bool = True,
@@ -313,6 +326,6 @@ def sweep(grid: dict, out_dir: str | Path, *, scheduler: str | None = None,
                            name="closedloop sweep")
         client_life.close()  # the cluster stops; a Ctrl-C recorded meanwhile is raised
         keys = {s.key for s in specs}
-        rows = [r for r in store.rows() if r.get("key") in keys]
+        rows = [_here(r, out_dir) for r in store.rows() if r.get("key") in keys]
         write_table(rows, out_dir, "sweep", first=("override", "seed", "predictor", "status"))
     return rows, report

@@ -220,6 +220,33 @@ def _same(a: Any, b: Any) -> bool:
     return a == b
 
 
+def check_hint_values(hints: dict) -> None:
+    """Refuse a hint whose value no log may hold, naming the hint.
+
+    Checked before the hint is compared with what the file stores: a manifest's
+    ``rate`` of -5, ``nan`` or ``inf``, a ``wavelength`` of 0 or ``units`` 'furlong'
+    were reported as contradicting the file's 2000 Hz / 5e-07 m / 'rad', which sent the
+    user to the file rather than the typo (adversarial round 20 PART b, B15-B19). The
+    rules are ``ModalLog``'s own (one copy: its validators).
+    """
+    from modalinfo.common.validation import check_choice, check_real
+    from modalinfo.telemetry.checks import CONVENTIONS, NONFINITE_POLICIES
+    from modalinfo.telemetry.units import check_units, check_wavelength
+
+    if hints.get("rate") is not None:
+        check_real(hints["rate"], "rate", minimum=0.0, strict_min=True)
+    if hints.get("wavelength") is not None:
+        check_wavelength(hints["wavelength"])
+    if hints.get("start_time") is not None:
+        check_real(hints["start_time"], "start_time")
+    if hints.get("units") is not None:
+        check_units(hints["units"])
+    if isinstance(hints.get("convention"), str):
+        check_choice(hints["convention"].lower(), "convention", CONVENTIONS)
+    if hints.get("nonfinite") is not None:
+        check_choice(hints["nonfinite"], "nonfinite", NONFINITE_POLICIES)
+
+
 def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = False) -> ModalLog:
     """Build a ``ModalLog`` from what the file ``stored`` plus the caller's ``hints``.
 
@@ -236,6 +263,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         if key not in HINTS:
             raise TypeError(f"unknown hint `{key}`; hints are {', '.join(HINTS)}.")
     hints = {k: v for k, v in hints.items() if v is not None}
+    check_hint_values(hints)
     stored = dict(stored)
     records: dict[str, Any] = {}
     if foreign:

@@ -219,6 +219,16 @@ def open_client(
             if lack is not None:  # under `ulimit -v`: "Nanny failed to start", 3 tracebacks
                 raise MemoryError(f"the local Dask cluster could not start its workers "
                                   f"({lack})") from None
+            if isinstance(exc, KeyError) and "Invalid time unit" in str(exc.args[0]):
+                # a distributed.yaml (or DASK_* variable) timeout "abc": the bare quoted
+                # "Invalid time unit: abc. Valid units are: s, ms, ... (54 names)" said
+                # nothing of where (adversarial round 20 PART b, D01)
+                raise ValueError(
+                    f"the local Dask cluster could not start: a time in the Dask "
+                    f"configuration does not parse ({str(exc.args[0]).split('. Valid')[0]}); "
+                    f"check the YAML files of {_dask_config_places()} and the DASK_* "
+                    "environment variables (e.g. distributed.comm.timeouts.connect: 30s)"
+                ) from None
             raise
     try:
         if interrupted:
@@ -229,6 +239,13 @@ def open_client(
             yield client
     finally:
         cluster.close()
+
+
+def _dask_config_places() -> str:
+    """Name the folders Dask reads its YAML configuration from (``dask.config.paths``)."""
+    import dask
+
+    return ", ".join(f"'{p}'" for p in dask.config.paths)
 
 
 def dashboard_link(client: Any) -> str | None:
