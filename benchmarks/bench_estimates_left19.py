@@ -132,9 +132,9 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--work", type=Path, required=True, help="scratch folder (created)")
     p.add_argument("--only", default="synth,select,forecast,reorder,closedloop")
-    p.add_argument("--frames", default="200,1000,4000,16000,64000,128000,256000,512000",
+    p.add_argument("--frames", default="200,1000,4000,16000,64000",
                    help="log sizes of synth and select")
-    p.add_argument("--forecast-frames", default="500,1000,2000,4000,8000,16000")
+    p.add_argument("--forecast-frames", default="3000,8000,16000,24000")
     p.add_argument("--reorder-frames", default="300,600,1200")
     p.add_argument("--closedloop", default="kaos:0.02,kaos:0.1,table1:0.05",
                    help="PRESET:DURATION pairs")
