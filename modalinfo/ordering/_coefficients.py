@@ -7,6 +7,11 @@ three agree on what "the coefficients of the log in this basis" means:
   convention), its columns matched to the basis's Zernike modes by Noll index; for a
   K-L basis the Zernike coefficients are changed to K-L coefficients with the basis's
   ``coefficients_from_zernike``;
+- a log with ``convention="labels"`` (non-Zernike columns such as ``"KL3"``) holds
+  coefficients of the basis's own modes, matched to the basis's labels by name (before
+  round 21 its columns were taken in order whatever their labels: a log labelled KL3,
+  KL1, KL2 was read as KL1, KL2, KL3 and its orderings named the wrong modes); a
+  label the basis lacks is refused. A bare mode matrix has no labels: columns in order;
 - an array ``(T, M)`` or ``(M,)`` is taken as coefficients of the basis's own modes,
   in radians.
 
@@ -127,6 +132,22 @@ def _column_index(log_modes: list, wanted: list, what: str) -> np.ndarray:
     return np.array([pos[m] for m in wanted], dtype=np.intp)
 
 
+def _label_index(log_labels: list, basis_labels: tuple, name: str) -> np.ndarray:
+    """Columns of a labelled log holding the basis's modes, in the basis's order."""
+    pos = {str(m): i for i, m in enumerate(log_labels)}
+    missing = [m for m in basis_labels if m not in pos]
+    if missing:
+        shown = ", ".join(missing[:5]) + (f" (and {len(missing) - 5} more)"
+                                          if len(missing) > 5 else "")
+        raise ValueError(
+            f"`{name}` has columns labelled {[str(m) for m in log_labels][:8]}"
+            f"{'...' if len(log_labels) > 8 else ''} (convention 'labels'), matched to the "
+            f"basis's modes by label, and lacks {shown}. Give the log the basis's labels "
+            f"(ModalLog(..., modes=basis.labels, convention='labels')) or the basis the "
+            f"log's; an array (log.coeffs) is taken column by column in the basis's order.")
+    return np.array([pos[m] for m in basis_labels], dtype=np.intp)
+
+
 def coefficients_in_basis(
     log_or_coeffs: Any, basis: BasisView, *, wavelength: float | None = None,
     name: str = "log_or_coeffs", defer_value_checks: bool = False,
@@ -164,7 +185,10 @@ def coefficients_in_basis(
         coeffs = as_float_array(np.asarray(log.coeffs), f"{name}.coeffs", ndim=2)
         check_square_range(coeffs, name, getattr(log, "labels", None))
         log_modes = list(log.modes) if getattr(log, "modes", None) is not None else None
-        if obj is not None and hasattr(obj, "zernike_modes") and hasattr(
+        if obj is not None and getattr(log, "convention", "noll") == "labels":
+            # the basis's own coefficients, named: matched by label, never by position
+            out = coeffs[:, _label_index(list(log.labels), basis.labels, name)]
+        elif obj is not None and hasattr(obj, "zernike_modes") and hasattr(
             obj, "coefficients_from_zernike"
         ):
             zmodes = [int(m) for m in obj.zernike_modes]
@@ -219,7 +243,14 @@ def check_represented(log: Any, basis: BasisView, name: str = "coeffs_or_log") -
         Naming the modes left out and the remedies.
     """
     obj = basis.obj
-    if not is_log(log) or obj is None or getattr(log, "convention", "noll") == "labels":
+    if not is_log(log) or obj is None:
+        return
+    if getattr(log, "convention", "noll") == "labels":
+        kept_labels = set(basis.labels)
+        coeffs = np.asarray(log.coeffs)
+        extra = [i for i, m in enumerate(log.labels) if str(m) not in kept_labels
+                 and np.any(coeffs[:, i] != 0)]
+        _refuse_extra(log, extra, name)
         return
     if hasattr(obj, "zernike_modes") and hasattr(obj, "coefficients_from_zernike"):
         kept = {int(m) for m in obj.zernike_modes}
@@ -238,6 +269,11 @@ def check_represented(log: Any, basis: BasisView, name: str = "coeffs_or_log") -
     coeffs = np.asarray(log.coeffs)
     extra = [i for i, m in enumerate(log.modes) if int(m) not in kept
              and np.any(coeffs[:, i] != 0)]
+    _refuse_extra(log, extra, name)
+
+
+def _refuse_extra(log: Any, extra: list, name: str) -> None:
+    """Refuse the log columns ``extra`` (indices) that the basis does not represent."""
     if extra:
         labels = [str(log.labels[i]) for i in extra]
         shown = ", ".join(labels[:5]) + (f" (and {len(labels) - 5} more)" if len(labels) > 5

@@ -373,7 +373,9 @@ def fitting_error(
     ----------
     coeffs_or_log : ModalLog or array_like, shape (T, M) or (M,)
         A log (converted to radians; matched to the basis by Noll index; changed to
-        K-L coefficients for a K-L basis) or coefficients of the basis's modes [rad].
+        K-L coefficients for a K-L basis; a ``convention="labels"`` log matched to
+        the basis's labels by name, a label the basis lacks refused) or coefficients
+        of the basis's modes [rad].
     basis : ModalBasis or array_like, shape (n_valid, M)
         The basis (or its mode matrix on the valid pupil pixels).
     order : array_like of int, OrderingResult or None

@@ -580,8 +580,10 @@ def order_modes(
     ----------
     log_or_coeffs : ModalLog or array_like, shape (T, M)
         A log (converted to radians; matched to the basis by Noll index; changed to
-        K-L coefficients with the basis's change-of-basis matrix for a K-L basis) or
-        coefficients of the basis's own modes [rad]. The pooled MI bootstrap
+        K-L coefficients with the basis's change-of-basis matrix for a K-L basis; a
+        log with ``convention="labels"`` holds the basis's own coefficients, matched to
+        the basis's labels by name, a missing label refused) or coefficients of the
+        basis's own modes [rad], in the basis's column order. The pooled MI bootstrap
         (``n_resamples > 0``) resamples blocks of consecutive frames, so a log whose
         timestamps have gaps raises ``ValueError`` (use ``log.longest_segment()``).
     basis : ModalBasis or array_like, shape (n_valid, M)

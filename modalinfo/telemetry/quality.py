@@ -115,6 +115,12 @@ its white increments: no false flag in the tests, its glitches found.
   in the log would have probability <= ``alpha``), so quantisation alone is not
   flagged. A mode that is constant over the whole log (a zeroed or dead mode) is
   reported as constant, not as stuck.
+* A **repeated frame** equals the frame before it in every mode that varies (at least
+  two): a frame written twice, or a frozen frame (round 21 PART a, g23: one frame
+  exported twice was flagged by nothing, below every mode's stuck run). It is flagged
+  when chance cannot explain it: with ``q_j`` each varying mode's share of equal
+  consecutive pairs, ``(T - 1) prod_j q_j <= alpha`` (independent repeats; a log
+  quantised so coarsely that whole frames repeat by chance is not judged).
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -145,7 +151,7 @@ the frames before it (the value the flagging pass keeps in its history, Chen & L
 in the first 4 frames, backwards from the frames after it; stuck and non-finite values
 are left as they are and stated; before leftovers 12-est it winsorised to ``m_j +- k
 sigma_j``, which on a persistent mode left a jump to that bound), ``"drop"`` removes every
-flagged frame (outlier, stuck or non-finite; the time axis becomes timestamps, so
+flagged frame (outlier, stuck, repeated or non-finite; the time axis becomes timestamps, so
 the removal shows as gaps) and is refused for time-series analyses, whose lags need
 every frame (use ``"clip"``), ``"raise"`` refuses a log with any flagged value. What
 was done is appended to ``metadata["outliers"]`` of the returned log.
@@ -518,7 +524,8 @@ class QualityReport:
         Sorted frame indices: glitched frames (outliers in >= ``frame_modes`` modes),
         frames with any outlier, with any stuck value, with any non-finite value.
     flagged_frames : numpy.ndarray of int
-        The union of the three last sets: the frames ``"drop"`` removes.
+        The union of those three sets and ``repeated_frames``: the frames ``"drop"``
+        removes.
     fingerprint : str
         What was assessed: ``"log:<hex>"``, a BLAKE2b digest of a ``ModalLog``'s data
         bytes (with shape and dtype), time axis and labels, or ``"array:<hex>"``, of an
@@ -590,6 +597,9 @@ class QualityReport:
         same predictions: the centre (M,), levels threshold (M,), AR coefficients
         (AR_ORDER, M), innovation centre and threshold (M,) and the head test
         (AR_ORDER, M). None on a report not made by :func:`assess_quality`.
+    repeated_frames : numpy.ndarray of int
+        Sorted indices of frames equal to the frame before in every varying mode (see
+        the module docstring's rule); empty where none or where chance explains them.
     """
 
     n_frames: int
@@ -623,6 +633,7 @@ class QualityReport:
     level_judged: int = 0
     variance_steps: tuple = ()
     variance_judged: int = 0
+    repeated_frames: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def approximate(self) -> bool:
@@ -737,6 +748,11 @@ class QualityReport:
         n_bad = int(self.nonfinite.sum())
         if n_bad:
             parts.append(f"{n_bad} non-finite value(s)")
+        if self.repeated_frames.size:
+            shown = ", ".join(str(int(i)) for i in self.repeated_frames[:5])
+            more = ", ..." if self.repeated_frames.size > 5 else ""
+            parts.append(f"{self.repeated_frames.size} repeated frame(s) equal to the frame "
+                         f"before in every mode ({shown}{more})")
         return (f"{self.n_flagged} of {self.n_frames} frames flagged: " + "; ".join(parts)
                 + f"; rule {self.rule}" + caveat)
 
@@ -745,6 +761,8 @@ class QualityReport:
         extra = {"assessed": False} if not self.assessed else {}
         if self.note:  # too short to assess, or the seeing changed
             extra["note"] = self.note
+        if self.repeated_frames.size:  # the key only when found: clean logs' JSON unchanged
+            extra["repeated_frames"] = int(self.repeated_frames.size)
         return {
             "rule": f"|x - median| > k * 1.4826 MAD and |AR({AR_ORDER}) innovation| > k * its "
                     "1.4826 MAD",
@@ -1229,9 +1247,21 @@ def assess_quality(
     n_bad = np.zeros(m, dtype=np.int64)
     stuck_mask = np.zeros(n, dtype=np.bool_)
     out_idx, glitch_idx, bad_idx = [], [], []
+    live = ~(constant | (lo > hi))
+    share = repeats[live] / max(1, n - 1)
+    # a whole frame repeated: flagged where independent repeats cannot explain it
+    find_repeats = int(live.sum()) >= 2 and (n - 1) * float(np.prod(share)) <= alpha
+    rep_idx: list = []
+    prev_row = None
     i0 = 0
     for block in row_blocks(arr, rows):
         b = np.ascontiguousarray(block)
+        if find_repeats:
+            bl = b[:, live]
+            rep_idx.append(i0 + 1 + np.flatnonzero(np.all(bl[1:] == bl[:-1], axis=1)))
+            if prev_row is not None and np.array_equal(bl[0], prev_row):
+                rep_idx.append(np.array([i0]))
+            prev_row = bl[-1].copy()
         frame_out = np.zeros(b.shape[0], dtype=np.int32)
         frame_bad = np.zeros(b.shape[0], dtype=np.int32)
         flag_block(b, i0, centre, thr, coef, cen_e, thr_e, head, hist, runs, last, run_len,
@@ -1250,7 +1280,9 @@ def assess_quality(
 
     outlier_frames, glitch_frames, bad_frames = cat(out_idx), cat(glitch_idx), cat(bad_idx)
     stuck_frames = np.flatnonzero(stuck_mask).astype(np.int64)
-    flagged = np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames)
+    repeated_frames = np.unique(cat(rep_idx))
+    flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
+                         repeated_frames)
     return QualityReport(
         n_frames=int(n), n_modes=int(m), labels=list(labels), k=float(k), alpha=used_alpha,
         false_alarm=gaussian_false_alarm(k), median=med, sigma=sigma, constant=constant,
@@ -1264,6 +1296,7 @@ def assess_quality(
         predictor=(centre, thr, coef, cen_e, thr_e, head),
         level_steps=found_steps, level_judged=level_judged,
         variance_steps=varied, variance_judged=variance_judged,
+        repeated_frames=repeated_frames.astype(np.int64),
     )
 
 
