@@ -817,9 +817,9 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
 
 def _non_ascii_text(obj, where: str = "system", seen: set | None = None,
                     depth: int = 0) -> tuple[str, str] | None:
-    """Return ``(field path, text)`` of the first non-ASCII or unprintable str in an AOT object."""
+    """Return ``(field path, text)`` of the first non-ASCII str in an AOT object, or None."""
     if isinstance(obj, str):
-        return None if obj.isascii() and (obj.isprintable() or not obj) else (where, obj)
+        return None if obj.isascii() else (where, obj)
     if depth > 8 or obj is None or isinstance(obj, (int, float, bytes, np.ndarray, np.generic)):
         return None
     seen = set() if seen is None else seen
