@@ -908,6 +908,13 @@ def load_config(path: str | Path) -> SimulationConfig:
     if not data:  # an empty file (or a writer that failed after opening it): say so
         raise ValueError(f"{path}: the config file is empty; write one with "
                          "`closedloop config --out FILE` and edit it")
+    from modalinfo.io.formats import describe_json
+
+    kind = describe_json(data)
+    if kind is not None and not kind.startswith("a closedloop config"):
+        # reorder's JSON was "unknown key `basis_key` in the config" (round 21 PART b, a32)
+        raise ValueError(f"{path} is {kind}, not a closedloop config; write one with "
+                         "`closedloop config --out FILE`")
     return SimulationConfig.from_dict(data)
 
 

@@ -39,6 +39,7 @@ from modalinfo.cli.shared import (
     log_bytes,
     refuse_outlier_drop,
 )
+from modalinfo.telemetry.checks import find_label
 
 NAME = "select"
 HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional MI."
@@ -208,10 +209,10 @@ def run(args: argparse.Namespace) -> int:
         if target >= log.n_modes:
             raise CommandError(f"--target column {target} is out of range: LOG has "
                                f"{log.n_modes} modes (0..{log.n_modes - 1})")
-    elif target not in log.labels:
+    elif find_label(log.labels, target) is None:  # by NFC: round 21 PART b, u10
         raise CommandError(f"--target {target!r} is not a mode of LOG "
                            f"({', '.join(log.labels[:5])}, ...)")
-    col = target if isinstance(target, int) else log.labels.index(target)
+    col = target if isinstance(target, int) else find_label(log.labels, target)
     y = np.asarray(log.coeffs[:, col])
     if y.size and np.ptp(y) <= 1e-12 * np.max(np.abs(y)):
         # a zeroed or stuck target: "stopped: no candidate left" with every candidate

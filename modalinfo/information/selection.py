@@ -113,6 +113,7 @@ from modalinfo.information.resampling import (
     surrogate_shifts,
 )
 from modalinfo.information.surrogates import circular_cross, rotated_rho2
+from modalinfo.telemetry.checks import find_label
 
 __all__ = [
     "MAX_SEARCH_SECONDS",
@@ -765,10 +766,10 @@ def select_inputs(
     n_main = len(labels) if extra is None else len(labels) - ex.shape[1]
     series = _safe_scale(series)
     if isinstance(target, str):
-        if target not in labels[:n_main]:
+        target_col = find_label(labels[:n_main], target)  # by NFC: round 21 PART b, u10
+        if target_col is None:
             raise ValueError(f"`target` must be a mode label of `data` "
                              f"({', '.join(labels[:min(n_main, 6)])}...); got {target!r}.")
-        target_col = labels.index(target)
     else:
         if n_main == 1 and np.ndim(getattr(data, "coeffs", data)) == 1:
             # a 1-D series is one mode: a target past it is `data`'s shape at fault

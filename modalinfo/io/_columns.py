@@ -32,6 +32,7 @@ default rad (round 2 of issue 27 found 'furlong' read as rad).
 from __future__ import annotations
 
 import re
+import unicodedata
 
 import numpy as np
 
@@ -40,7 +41,7 @@ from modalinfo.io.files import LogFormatError
 
 __all__ = [
     "mode_columns", "set_timestamps", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS",
-    "UNIT_WORDS", "unit_text", "column_units", "float_columns",
+    "UNIT_WORDS", "unit_word", "unit_text", "column_units", "float_columns",
 ]
 
 #: Unit words a file may give its coefficients -> (our unit, factor to it). Any other
@@ -53,6 +54,7 @@ UNIT_WORDS = {
     "nanometer": ("nm", 1.0), "nanometers": ("nm", 1.0), "nanometre": ("nm", 1.0),
     "nanometres": ("nm", 1.0),
     "micron": ("um", 1.0), "microns": ("um", 1.0), "\u00b5m": ("um", 1.0),
+    "\u03bcm": ("um", 1.0),  # Greek mu: NFKC's form of the micro sign
     "micrometer": ("um", 1.0), "micrometers": ("um", 1.0), "micrometre": ("um", 1.0),
     "micrometres": ("um", 1.0),
     "m": ("nm", 1e9), "meter": ("nm", 1e9), "meters": ("nm", 1e9), "metre": ("nm", 1e9),
@@ -61,7 +63,8 @@ UNIT_WORDS = {
 
 # a unit suffix on a column name: "Z2 [nm]", "Z2 (nm)", "Z2_nm", "Z2/nm"
 _UNIT_SUFFIX = re.compile(
-    r"(.*?)(?:\s*\[\s*([^\]]+?)\s*\]|\s*\(\s*([^)]+?)\s*\)|[_/]([a-z\u00b5]+))", re.IGNORECASE
+    r"(.*?)(?:\s*\[\s*([^\]]+?)\s*\]|\s*\(\s*([^)]+?)\s*\)|[_/]([a-z\u00b5\u03bc]+))",
+    re.IGNORECASE
 )
 
 #: Seconds per unit of a time column.
@@ -103,6 +106,17 @@ _TIME_UNIT_WORDS = {
     "ns": "ns", "nsec": "ns", "nanosecond": "ns", "nanoseconds": "ns",
     "min": "min", "minute": "min", "minutes": "min", "h": "h", "hour": "h", "hours": "h",
 }
+
+
+def unit_word(word: str) -> tuple[str, float] | None:
+    """Return ``(our unit, factor)`` for a unit word a file states, else None.
+
+    Compared after Unicode NFKC normalisation and case folding: ``"\u00b5m"`` (micro
+    sign), ``"\u03bcm"`` (Greek mu, what many writers store) and full-width letters
+    name one unit (round 21 PART b: a CSV header ``Z2 [\u03bcm]`` was read as rad,
+    assumed, and an HDF5 ``units`` attribute ``\u03bcm`` refused as "not a unit").
+    """
+    return UNIT_WORDS.get(unicodedata.normalize("NFKC", str(word)).strip().lower())
 
 
 def time_unit_word(unit) -> str | None:
@@ -307,11 +321,11 @@ def column_units(names: list[str], path) -> tuple[list[str], str | None]:
         word = None
         if found is not None:
             word = next(g for g in found.groups()[1:] if g is not None)
-            if word.lower() not in UNIT_WORDS or not found.group(1).strip():
+            if unit_word(word) is None or not found.group(1).strip():
                 word = None
         stripped.append(found.group(1).strip() if word is not None else str(name).strip())
         units.append(word)
-    known = {u.lower() for u in units if u is not None}
+    known = {unit_word(u) for u in units if u is not None}
     if not known:
         return list(names), None
     if len(known) > 1 or None in units:

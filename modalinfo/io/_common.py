@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.io._columns import UNIT_WORDS
+from modalinfo.io._columns import unit_word
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
@@ -362,7 +362,7 @@ def _file_units(coeffs, file_unit: tuple[str, str], stored: dict, hints: dict, p
     meta = dict(stored.get("metadata") or {})
     meta["file_unit"] = f"{word} ({where})"
     stored["metadata"] = meta
-    known = UNIT_WORDS.get(word.lower())
+    known = unit_word(word)
     if known is None:
         if hints.get("units") is None:
             raise LogFormatError(

@@ -48,7 +48,7 @@ import numpy as np
 from modalinfo.common.files import as_path, atomic_write, check_readable
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.sizes import format_size
-from modalinfo.io._columns import UNIT_WORDS
+from modalinfo.io._columns import UNIT_WORDS, unit_word
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -619,7 +619,7 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
     unit = getattr(lp.modal_coefficients, "unit", None)
     if isinstance(unit, str) and unit.strip():
         meta["aot_unit"] = unit.strip()
-        known = _UNIT_WORDS.get(unit.strip().lower())
+        known = unit_word(unit)
         if known is None and units_hint is None:
             raise LogFormatError(
                 f"AOT file '{path}': loop {lp.uid!r} coefficient unit {unit.strip()!r} is not "
@@ -780,6 +780,16 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
         The written path.
     """
     path = as_path(path)
+    found = _non_ascii_text(system)
+    if found is not None:
+        # a config named 'KAOS – Télescope' failed in astropy ("FITS header values must
+        # contain standard printable ASCII characters") naming no field (round 21 PART b,
+        # c23); a log's telescope metadata was named by its value only (u04)
+        where, text = found
+        raise ValueError(
+            f"an AOT file's text is ASCII (FITS tables and headers); {where} = {text!r} is "
+            "not: rename it (a log's metadata / labels, a closedloop config's name), or "
+            "write npz / hdf5 / csv, which keep it")
 
     def write(name: Path) -> None:
         with catching_warnings():
@@ -803,6 +813,32 @@ def write_system(system, path, *, overwrite: bool = False) -> Path:
                     "csv, which keep it") from None
 
     return atomic_write(path, write, overwrite=overwrite, by_name=True)
+
+
+def _non_ascii_text(obj, where: str = "system", seen: set | None = None,
+                    depth: int = 0) -> tuple[str, str] | None:
+    """Return ``(field path, text)`` of the first non-ASCII str in an AOT object, or None."""
+    if isinstance(obj, str):
+        return None if obj.isascii() else (where, obj)
+    if depth > 8 or obj is None or isinstance(obj, (int, float, bytes, np.ndarray, np.generic)):
+        return None
+    seen = set() if seen is None else seen
+    if id(obj) in seen:
+        return None
+    seen.add(id(obj))
+    if isinstance(obj, dict):
+        items = ((f"{where}[{k!r}]", v) for k, v in obj.items())
+    elif isinstance(obj, (list, tuple)):
+        items = ((f"{where}[{k}]", v) for k, v in enumerate(obj))
+    elif hasattr(obj, "__dict__"):
+        items = ((f"{where}.{k}", v) for k, v in vars(obj).items() if not k.startswith("_"))
+    else:
+        return None
+    for name, value in items:
+        found = _non_ascii_text(value, name, seen, depth + 1)
+        if found is not None:
+            return found
+    return None
 
 
 def check_aot_size(path, file_bytes: float, memory_bytes: float, *, what: str,

@@ -8,8 +8,8 @@ from modalinfo.common.files import as_path, check_readable
 from modalinfo.io.aot import is_aot
 from modalinfo.io.files import LogFormatError
 
-__all__ = ["EXTENSIONS", "FORMATS", "detect_format", "format_from_extension", "format_hint",
-           "sniff_format"]
+__all__ = ["EXTENSIONS", "FORMATS", "describe_json", "detect_format", "format_from_extension",
+           "format_hint", "sniff_format"]
 
 #: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
 FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
@@ -204,9 +204,64 @@ def detect_format(path) -> str:
     text = head.lstrip(b"\xef\xbb\xbf \t\r\n")  # after a BOM and blank space
     if text[:1] in (b"{", b"[") and by_ext is None:
         # a JSON document (forecast.json, reorder --out, a config) was called "a corrupt
-        # CSV file" (adversarial round 9 PART b, row F07)
+        # CSV file" (adversarial round 9 PART b, row F07); which one it is was a guess,
+        # "(a result or config file?)" (round 21 PART b, a02-a08)
+        kind = _json_kind(path)
         raise LogFormatError(
-            f"'{path}' holds JSON (a result or config file?), not a log: a log is an NPZ, "
-            "NPY, CSV, FITS or HDF5 file of coefficients"
+            (f"'{path}' is {kind}" if kind else
+             f"'{path}' holds JSON (a result or config file?)")
+            + ", not a log: a log is an NPZ, NPY, CSV, FITS or HDF5 file of coefficients"
         )
+    first = text.split(b"\n", 1)[0].replace(b'"', b"").strip()
+    for columns, what in _RESULT_TABLES:
+        if first.startswith(columns):
+            # forecast.csv was "corrupt CSV file ... could not convert string
+            # 'persistence' to float64" (round 21 PART b, a07, a09)
+            raise LogFormatError(f"'{path}' is {what}, not a log: a log is an NPZ, NPY, "
+                                 "CSV, FITS or HDF5 file of coefficients")
     return "csv"
+
+
+#: (first columns of the header, what the table is) of CSV results users feed back as logs
+_RESULT_TABLES = (
+    (b"predictor,mode,horizon,", "forecast.csv, the table of `modalinfo forecast --out`"),
+    (b"path,analysis,status,", "batch.csv, the result table of `modalinfo batch`"),
+)
+
+
+def describe_json(data) -> str | None:
+    """Return which modalinfo / closedloop output a parsed JSON document is (None: unknown).
+
+    Used to name a result fed back as a log or as a closedloop config (round 21 PART b).
+    """
+    if not isinstance(data, dict):
+        return None
+    kind = data.get("format")
+    if isinstance(kind, str) and kind:
+        return f"a {kind} file" + (", the ordering of `modalinfo reorder --out`"
+                                   if kind.startswith("modalinfo.OrderingResult") else "")
+    keys = set(data)
+    if {"names", "horizons", "rmse"} <= keys:
+        return "forecast.json, the result of `modalinfo forecast --out`"
+    if {"analysis", "key", "status"} <= keys:
+        return "a result row of `modalinfo batch` (from its rows/ folder)"
+    if {"layers", "telescope"} & keys and not keys - {
+            "name", "seed", "wavelength", "r0_wavelength", "dms", "telescope", "loop",
+            "field", "layers", "wfss"}:
+        return "a closedloop config, from `closedloop config`"
+    if keys and all(isinstance(k, str) and "\n" in k for k in keys):
+        return "hashes.json, the file hashes of a `modalinfo batch` folder"
+    return None
+
+
+def _json_kind(path) -> str | None:
+    """Return what a JSON file is, for a refusal (None when unknown)."""
+    import json
+
+    try:
+        if Path(path).stat().st_size > 64 * 2**20:  # a huge document: do not parse it
+            return None
+        data = json.loads(Path(path).read_text(encoding="utf-8-sig"))
+    except (OSError, ValueError):
+        return None
+    return describe_json(data)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import numbers
+import unicodedata
 from typing import Any
 
 import numpy as np
@@ -201,7 +202,37 @@ def check_modes(modes: Any, convention: str, n_modes: int) -> list:
                 break
             seen.add(j)
         raise ValueError(f"`modes` must be unique; {dup!r} appears more than once.")
+    if convention == "labels":
+        # 'mode_\u00e9' and 'mode_e\u0301' print alike: two such columns were kept as two
+        # modes no reader could tell apart (round 21 PART b, u12)
+        keys = [label_key(label) for label in out]
+        if len(set(keys)) != len(keys):
+            twin = next(k for k in keys if keys.count(k) > 1)
+            spelt = [label for label in out if label_key(label) == twin]
+            raise ValueError(
+                f"`modes` must be unique; {spelt[0]!r} and {spelt[1]!r} are one label in two "
+                "Unicode spellings (composed and decomposed characters, NFC / NFD)")
     return out
+
+
+def label_key(label) -> object:
+    """Return the key by which a mode label is compared: its Unicode NFC form.
+
+    A label typed on a command line (composed ``\u00e9``) and one written by another tool
+    (``e`` + combining accent) look the same and name one mode (round 21 PART b, u10).
+    """
+    return unicodedata.normalize("NFC", label) if isinstance(label, str) else label
+
+
+def find_label(labels, item: str) -> int | None:
+    """Return the index of ``item`` among ``labels`` compared by ``label_key``, or None."""
+    if item in labels:
+        return list(labels).index(item)
+    key = label_key(item)
+    for k, label in enumerate(labels):
+        if label_key(label) == key:
+            return k
+    return None
 
 
 def check_metadata(metadata: Any) -> dict:

@@ -56,6 +56,7 @@ from modalinfo.telemetry.checks import (
     check_modes,
     check_timestamps,
     coarse_start_spacing,
+    find_label,
     mode_labels,
 )
 from modalinfo.telemetry.scan import count_nonfinite, row_blocks
@@ -542,8 +543,9 @@ class ModalLog:
                     out.append(self._modes.index(key))
                     continue
             elif isinstance(item, str):
-                if item in labels:
-                    out.append(labels.index(item))
+                found = find_label(labels, item)  # by NFC: round 21 PART b, u11
+                if found is not None:
+                    out.append(found)
                     continue
             else:
                 raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
