@@ -83,6 +83,46 @@ __all__ = ["evaluate", "ForecastEvaluation"]
 
 _BASELINES = ("persistence", "mean")
 
+#: ``(chunk, H, M)`` float64 arrays ``evaluate`` holds at once per chunk of origins: the
+#: predictor's forecasts, those at the scored horizons, the targets and the errors (then
+#: their squares). Measured with tracemalloc (left19-est): 3.99 such arrays per chunk
+#: frame for the linear, VAR and NN predictors (chunks of 2,000 and 4,000 frames).
+CHUNK_ARRAYS = 4
+#: More such arrays for a predictor with prediction intervals (ARMA): the standard
+#: deviations in force, ``|err|`` and ``z std`` for the coverage, and their boolean
+#: comparison (1/8 of an array): 7.125 in all at once, 7.1 measured with tracemalloc
+#: (left19-est); counted as 4 more (8) so NumPy's small buffers fit too.
+INTERVAL_CHUNK_ARRAYS = 4
+
+
+def chunk_bytes(chunk: int, horizon: int, n_modes: int, intervals: bool) -> int:
+    """Bytes ``evaluate`` holds for one chunk of forecast origins.
+
+    Parameters
+    ----------
+    chunk : int
+        Origins per chunk (``chunk_frames``, at most the log's frames).
+    horizon : int
+        Largest horizon ``H`` [frames] (the forecasts are made at every horizon up to it).
+    n_modes : int
+        Modes ``M`` forecast.
+    intervals : bool
+        Whether a predictor with prediction intervals (``ARMAPredictor``) is
+        evaluated: its coverage holds ``INTERVAL_CHUNK_ARRAYS`` more arrays.
+
+    Returns
+    -------
+    int
+        ``(CHUNK_ARRAYS [+ INTERVAL_CHUNK_ARRAYS]) x 8 x chunk x H x M`` [bytes].
+    """
+    arrays = CHUNK_ARRAYS + (INTERVAL_CHUNK_ARRAYS if intervals else 0)
+    return arrays * 8 * chunk * horizon * n_modes
+
+
+def has_intervals(predictor) -> bool:
+    """Whether ``evaluate`` scores the prediction intervals of ``predictor`` (ARMA)."""
+    return isinstance(predictor, ARMAPredictor)
+
 
 
 def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
@@ -826,7 +866,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         pred = proto.clone(horizon=h_max, **overrides)
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
-        has_interval[i] = isinstance(pred, ARMAPredictor)
+        has_interval[i] = has_intervals(pred)
         run = pred._new_run(h_max)
         if has_interval[i]:  # interval widths of the parameters in force, each computed once
             stds = [(-1, pred._std_from_params(pred.params_, h_max))]
