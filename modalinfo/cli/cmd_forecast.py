@@ -179,7 +179,8 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
     n_origins = max(n_frames - h - n_train + 1, 1)
     from modalinfo.forecast.evaluate import chunk_bytes
 
-    chunk_part = chunk_bytes(min(chunk_frames(h, n_modes), n_frames), h, n_modes, intervals)
+    chunk_part = chunk_bytes(min(chunk_frames(h, n_modes), n_frames), n_origins, h, n_modes,
+                             intervals)
     what = (f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} origins x "
             f"{n_modes} modes)")
     fix = "use a smaller --horizon or fewer modes"

@@ -95,13 +95,18 @@ CHUNK_ARRAYS = 4
 INTERVAL_CHUNK_ARRAYS = 4
 
 
-def chunk_bytes(chunk: int, horizon: int, n_modes: int, intervals: bool) -> int:
+def chunk_bytes(chunk: int, n_origins: int, horizon: int, n_modes: int,
+                intervals: bool) -> int:
     """Bytes ``evaluate`` holds for one chunk of forecast origins.
 
     Parameters
     ----------
     chunk : int
-        Origins per chunk (``chunk_frames``, at most the log's frames).
+        Frames per chunk (``chunk_frames``, at most the log's frames): the forecasts
+        are made after every frame of a chunk.
+    n_origins : int
+        Forecast origins (frames after the training ones): only these are scored, so
+        the other arrays hold at most this many rows.
     horizon : int
         Largest horizon ``H`` [frames] (the forecasts are made at every horizon up to it).
     n_modes : int
@@ -113,10 +118,11 @@ def chunk_bytes(chunk: int, horizon: int, n_modes: int, intervals: bool) -> int:
     Returns
     -------
     int
-        ``(CHUNK_ARRAYS [+ INTERVAL_CHUNK_ARRAYS]) x 8 x chunk x H x M`` [bytes].
+        ``8 H M (chunk + (arrays - 1) min(chunk, n_origins))`` [bytes], ``arrays``
+        being ``CHUNK_ARRAYS`` (``+ INTERVAL_CHUNK_ARRAYS``).
     """
     arrays = CHUNK_ARRAYS + (INTERVAL_CHUNK_ARRAYS if intervals else 0)
-    return arrays * 8 * chunk * horizon * n_modes
+    return 8 * horizon * n_modes * (chunk + (arrays - 1) * min(chunk, n_origins))
 
 
 def has_intervals(predictor) -> bool:

@@ -2,8 +2,9 @@
 
 Reference: :mod:`tracemalloc`'s peak of the ``evaluate`` call the command line makes
 (outside the estimate's own arithmetic), against the ``need`` the command passes to
-``check_memory`` before that call. Small sizes: the chunk of forecast origins is shrunk
-(``_CHUNK``) so whole chunks of origins are scored, as in a long log. Before left19-est
+``check_memory`` before that call. Small sizes: the chunk of frames is shrunk
+(``_CHUNK``) so whole chunks of origins are scored, as in a long log (two sizes), or
+left larger than the log (one chunk, half of it forecast origins). Before left19-est
 the estimate counted 4 ``(chunk, H, M)`` arrays per chunk while an ARMA predictor's
 interval coverage holds about 7 (benchmarks/RESULTS.md, left19-ci: 0.68 x the measured
 growth at 24,000 frames). tracemalloc counts every NumPy buffer and is deterministic for
@@ -30,7 +31,7 @@ def _log(path, n_frames, n_modes):
     save(ModalLog(x, rate=1000.0, modes=list(range(2, 2 + n_modes)), units="rad"), path)
 
 
-@pytest.mark.parametrize(("n_frames", "chunk"), [(6000, 1500), (10000, 2500)])
+@pytest.mark.parametrize(("n_frames", "chunk"), [(6000, 1500), (10000, 2500), (4000, 8192)])
 def test_estimate_covers_evaluate_peak_with_arma(tmp_path, monkeypatch, n_frames, chunk):
     n_modes, horizon = 8, 10
     path = tmp_path / "log.npz"
