@@ -9,6 +9,10 @@ the estimate counted 4 ``(chunk, H, M)`` arrays per chunk while an ARMA predicto
 interval coverage holds about 7 (benchmarks/RESULTS.md, left19-ci: 0.68 x the measured
 growth at 24,000 frames). tracemalloc counts every NumPy buffer and is deterministic for
 a seeded log, so the bounds are not statistical.
+
+The fits are counted too (each predictor's ``fit_bytes``): the info predictor's CMI
+selection holds ~41 float64 copies of the training frames, which the mapped log's 3
+training copies did not cover (last test).
 """
 
 import tracemalloc
@@ -64,3 +68,30 @@ def test_estimate_covers_evaluate_peak_with_arma(tmp_path, monkeypatch, n_frames
     estimate = max(need)
     assert estimate >= peak[0], (estimate, peak[0])
     assert estimate < 4 * peak[0], (estimate, peak[0])
+
+
+def test_estimate_covers_the_info_fit_on_a_mapped_log(tmp_path, monkeypatch):
+    import modalinfo.io
+
+    monkeypatch.setattr(modalinfo.io, "MAP_ABOVE", 0)  # mapped: 3 training copies counted
+    rng = np.random.default_rng(2)
+    path = tmp_path / "log.npy"
+    np.save(path, rng.standard_normal((6000, 4)))
+    real = forecast.evaluate
+    real({"info": forecast.InfoPredictor()}, rng.standard_normal((600, 2)), horizons=1)
+    need, peak = [], []
+
+    def measured(*args, **kwargs):
+        tracemalloc.start()
+        try:
+            return real(*args, **kwargs)
+        finally:
+            peak.append(tracemalloc.get_traced_memory()[1])
+            tracemalloc.stop()
+
+    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: need.append(n))
+    monkeypatch.setattr(forecast, "evaluate", measured)
+    assert main(["forecast", str(path), "--rate", "1000", "--in-units", "rad",
+                 "--predictors", "info", "--horizon", "1"]) == 0
+    assert len(peak) == 1
+    assert peak[0] <= max(need) < 4 * peak[0], (max(need), peak[0])
