@@ -159,12 +159,16 @@ def _mapped(log) -> bool:
 
 
 def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: int,
-                     gather: int | None = None) -> None:
+                     gather: int | None = None, intervals: bool = True,
+                     predictors: dict | None = None) -> None:
     """Refuse, before the evaluation, a horizon, memory or output the machine cannot take.
 
     Memory: ``evaluate`` holds the per-origin losses, ``(P, H, origins)`` float64, and
-    per chunk of origins the forecasts and errors, ~4 arrays of ``(chunk, H, M)``
-    (see its docstring), besides the log's copies. ``gather``: the number of columns
+    per chunk of origins the forecasts and errors, 4 arrays of ``(chunk, H, M)``, 7
+    when ``intervals`` (an ARMA predictor's coverage; ``chunk_bytes`` of
+    :mod:`modalinfo.forecast.evaluate`), besides the log's copies; or, when larger,
+    the largest fit of ``predictors`` on the training frames (``fit_bytes``, held
+    before the chunks). ``gather``: the number of columns
     ``--modes`` will gather out of the memory-mapped ``log`` into memory (checked before
     they are read, as the in-memory log they become).
     """
@@ -176,7 +180,10 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
                            f"forecast is scored {h} frames after its origin); got {h}")
     n_train = train if isinstance(train, int) else int(round(train * n_frames))
     n_origins = max(n_frames - h - n_train + 1, 1)
-    chunk_part = 4 * 8 * min(chunk_frames(h, n_modes), n_frames) * h * n_modes
+    from modalinfo.forecast.evaluate import chunk_bytes
+
+    chunk_part = chunk_bytes(min(chunk_frames(h, n_modes), n_frames), n_origins, h, n_modes,
+                             intervals)
     what = (f"--horizon {h} ({n_pred} predictors x {h} horizons x {n_origins} origins x "
             f"{n_modes} modes)")
     fix = "use a smaller --horizon or fewer modes"
@@ -196,7 +203,10 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
         fix = "use a smaller --horizon or --train (a number of frames), or fewer modes"
     else:
         log_part = LOG_COPIES * log_bytes(log)
-    check_memory(log_part + 8 * n_pred * h * n_origins + chunk_part, what, fix)
+    fit_part = max((p.fit_bytes(min(n_train, n_frames), n_modes)
+                    for p in (predictors or {}).values()), default=0)
+    check_memory(log_part + 8 * n_pred * h * n_origins + max(chunk_part, fit_part), what,
+                 fix)
     if args.out is not None:
         from modalinfo.common.files import writable_free_bytes
         from modalinfo.common.sizes import format_size
@@ -217,7 +227,7 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
 
 
 def _select_modes(args: argparse.Namespace, log, modes: list, train: float | int,
-                  n_pred: int):
+                  n_pred: int, intervals: bool = True, predictors: dict | None = None):
     """``log`` restricted to ``--modes``, refused before any column is read if it cannot fit.
 
     A consecutive range of columns stays a view (memory-mapped if ``log`` is). Other
@@ -234,7 +244,8 @@ def _select_modes(args: argparse.Namespace, log, modes: list, train: float | int
     cols = [log.labels.index(label) for label in head.labels]
     if not _mapped(log) or cols == list(range(cols[0], cols[0] + len(cols))):
         return log.select(modes=modes)
-    _check_resources(args, log, train, n_pred, gather=len(cols))
+    _check_resources(args, log, train, n_pred, gather=len(cols), intervals=intervals,
+                     predictors=predictors)
     src = log.coeffs
     out = np.empty((log.n_frames, len(cols)), dtype=src.dtype)
     k = 0
@@ -366,16 +377,20 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--train must hold at least 2 frames (one frame cannot tell a "
                            f"varying mode from a constant one); got {args.train} "
                            f"({n_train} of the {log.n_frames})")
+    from modalinfo.forecast.evaluate import has_intervals
+
+    intervals = any(has_intervals(p) for p in predictors.values())
     n_pred = len(predictors) + sum(1 for b in ("persistence", "mean") if b not in predictors)
     if args.modes is not None:
-        log = _select_modes(args, log, parse_modes(args.modes, "--modes"), train, n_pred)
+        log = _select_modes(args, log, parse_modes(args.modes, "--modes"), train, n_pred,
+                            intervals, predictors)
     skipped = _constant_modes(log, train, args.horizon) if args.skip_constant else []
     if skipped:
         if len(skipped) == log.n_modes:
             raise CommandError(f"--skip-constant: every mode is constant over the "
                                f"training frames ({', '.join(skipped)}); nothing to forecast")
         log = log.drop_modes(skipped)
-    _check_resources(args, log, train, n_pred)
+    _check_resources(args, log, train, n_pred, intervals=intervals, predictors=predictors)
     if args.quiet and args.out is None:
         # after every other refusal (each still names its own rule; evaluate's rule on
         # the test frames is asked first), before the work: --quiet prints nothing and,

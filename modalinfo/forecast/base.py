@@ -389,6 +389,26 @@ class Predictor:
         self.reset()
         return self
 
+    def fit_bytes(self, n_samples: int, n_modes: int) -> int:
+        """Upper estimate of the memory ``fit`` allocates at its peak [bytes].
+
+        Besides the history itself. The base counts 2 float64 copies of the history:
+        tracemalloc's peak of the fits of the linear, ARMA and neural-net predictors
+        is 1.0-1.1 copies at 1,500-8,000 samples of 10-27 modes (left19-est);
+        predictors with a larger design override it.
+
+        Parameters
+        ----------
+        n_samples, n_modes : int
+            Shape ``(T, M)`` of the history the fit will see.
+
+        Returns
+        -------
+        int
+            Bytes.
+        """
+        return 2 * 8 * n_samples * n_modes
+
     # subclass hooks -------------------------------------------------------------
     def _memory(self, params: dict) -> int:
         """Past samples the recursion forecasts from (its lags); 0: none."""

@@ -83,6 +83,52 @@ __all__ = ["evaluate", "ForecastEvaluation"]
 
 _BASELINES = ("persistence", "mean")
 
+#: ``(chunk, H, M)`` float64 arrays ``evaluate`` holds at once per chunk of origins: the
+#: predictor's forecasts, those at the scored horizons, the targets and the errors (then
+#: their squares). Measured with tracemalloc (left19-est): 3.99 such arrays per chunk
+#: frame for the linear, VAR and NN predictors (chunks of 2,000 and 4,000 frames).
+CHUNK_ARRAYS = 4
+#: More such arrays for a predictor with prediction intervals (ARMA): the standard
+#: deviations in force, ``|err|`` and ``z std`` for the coverage, and their boolean
+#: comparison (1/8 of an array): 7.125 in all at once, 7.1 measured with tracemalloc
+#: (left19-est); counted as 4 more (8) so NumPy's small buffers fit too.
+INTERVAL_CHUNK_ARRAYS = 4
+
+
+def chunk_bytes(chunk: int, n_origins: int, horizon: int, n_modes: int,
+                intervals: bool) -> int:
+    """Bytes ``evaluate`` holds for one chunk of forecast origins.
+
+    Parameters
+    ----------
+    chunk : int
+        Frames per chunk (``chunk_frames``, at most the log's frames): the forecasts
+        are made after every frame of a chunk.
+    n_origins : int
+        Forecast origins (frames after the training ones): only these are scored, so
+        the other arrays hold at most this many rows.
+    horizon : int
+        Largest horizon ``H`` [frames] (the forecasts are made at every horizon up to it).
+    n_modes : int
+        Modes ``M`` forecast.
+    intervals : bool
+        Whether a predictor with prediction intervals (``ARMAPredictor``) is
+        evaluated: its coverage holds ``INTERVAL_CHUNK_ARRAYS`` more arrays.
+
+    Returns
+    -------
+    int
+        ``8 H M (chunk + (arrays - 1) min(chunk, n_origins))`` [bytes], ``arrays``
+        being ``CHUNK_ARRAYS`` (``+ INTERVAL_CHUNK_ARRAYS``).
+    """
+    arrays = CHUNK_ARRAYS + (INTERVAL_CHUNK_ARRAYS if intervals else 0)
+    return 8 * horizon * n_modes * (chunk + (arrays - 1) * min(chunk, n_origins))
+
+
+def has_intervals(predictor) -> bool:
+    """Whether ``evaluate`` scores the prediction intervals of ``predictor`` (ARMA)."""
+    return isinstance(predictor, ARMAPredictor)
+
 
 
 def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
@@ -826,7 +872,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         pred = proto.clone(horizon=h_max, **overrides)
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
-        has_interval[i] = isinstance(pred, ARMAPredictor)
+        has_interval[i] = has_intervals(pred)
         run = pred._new_run(h_max)
         if has_interval[i]:  # interval widths of the parameters in force, each computed once
             stds = [(-1, pred._std_from_params(pred.params_, h_max))]

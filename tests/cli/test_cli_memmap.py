@@ -172,7 +172,9 @@ def test_forecast_refusal_names_train_at_the_boundary(long_npy, monkeypatch, cap
     n_origins = N_FRAMES - h - n_train + 1
     need = (cmd_forecast.TRAIN_COPIES * 8 * n_train * N_MODES  # training frames
             + 8 * 3 * h * n_origins  # per-origin losses of 3 predictors (2 baselines)
-            + 4 * 8 * chunk * h * N_MODES)  # a chunk's forecasts and errors
+            # a chunk's forecasts (every frame) and 3 arrays over its origins: scored
+            # forecasts, targets, errors (left19-est)
+            + 8 * h * N_MODES * (chunk + 3 * min(chunk, n_origins)))
     argv = ["forecast", str(path), "--in-units", "rad", "--predictors", "linear",
             "--train", str(n_train), "--horizon", str(h)]
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
@@ -209,12 +211,14 @@ def test_select_max_frames_equals_the_first_frames_file(long_npy, tmp_path, caps
 
 def _forecast_need(n_modes: int, h: int = 2, n_train: int = 500) -> int:
     """The in-memory forecast estimate: LOG_COPIES float64 copies of the selected
-    columns, the per-origin losses of 3 predictors, a chunk's forecasts and errors."""
+    columns, the per-origin losses of 3 predictors, a chunk's forecasts (every frame)
+    and its origins' scored forecasts, targets and errors."""
     from modalinfo.cli import cmd_forecast
 
     chunk = min(cmd_forecast.chunk_frames(h, n_modes), N_FRAMES)
-    return (shared.LOG_COPIES * 8 * N_FRAMES * n_modes + 8 * 3 * h * (N_FRAMES - h - n_train + 1)
-            + 4 * 8 * chunk * h * n_modes)
+    n_origins = N_FRAMES - h - n_train + 1
+    return (shared.LOG_COPIES * 8 * N_FRAMES * n_modes + 8 * 3 * h * n_origins
+            + 8 * h * n_modes * (chunk + 3 * min(chunk, n_origins)))
 
 
 def test_forecast_modes_of_a_mapped_log_equal_the_selected_file(long_npy, tmp_path, capsys,
