@@ -157,6 +157,14 @@ def _hash_key(value: Any) -> Any:
     return value
 
 
+def _unhashable(value: Any) -> bool:
+    try:
+        hash(_hash_key(value))
+    except TypeError:
+        return True
+    return False
+
+
 def array_fields_eq(cls: type) -> type:
     """Class decorator (above ``@dataclass``): ``==`` compares fields by :func:`same_value`.
 
@@ -181,7 +189,14 @@ def array_fields_eq(cls: type) -> type:
         cls.__repr__ = bounded
     if cls.__hash__ is not None:
         def hashing(self) -> int:
-            return hash(tuple(_hash_key(getattr(self, n)) for n in names))
+            key = tuple(_hash_key(getattr(self, n)) for n in names)
+            try:
+                return hash(key)
+            except TypeError:  # round 22: the message named numpy.ndarray, not the record
+                held = next(n for n in names if _unhashable(getattr(self, n)))
+                raise TypeError(f"unhashable type: {type(self).__qualname__!r} (its field "
+                                f"{held!r} holds a {type(getattr(self, held)).__name__}; "
+                                f"compare results with ==)") from None
 
         cls.__hash__ = hashing
     return cls

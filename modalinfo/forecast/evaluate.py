@@ -189,6 +189,23 @@ class ForecastEvaluation:
     settings: dict = field(default_factory=dict, repr=False)
     constant_modes: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        # round 22: dataclasses.replace(result, names=("a",)) was accepted and the
+        # summary then paired rows with the wrong predictors; refuse inconsistent shapes
+        P, H, M = len(self.names), len(np.atleast_1d(self.horizons)), len(self.labels)
+        shapes = {"rmse": (P, H, M), "gain": (P, H, M), "rmse_wavefront": (P, H),
+                  "gain_wavefront": (P, H), "coverage": (P, H), "dm_statistic": (P, H),
+                  "pvalue": (P, H), "beats_baseline": (P, H)}
+        for name, want in shapes.items():
+            got = np.shape(getattr(self, name))
+            if got != want:
+                raise ValueError(
+                    f"ForecastEvaluation: `{name}` has shape {got}, but {P} names, {H} "
+                    f"horizons and {M} labels need {want}.")
+        if len(self.baseline) != H:
+            raise ValueError(f"ForecastEvaluation: `baseline` has {len(self.baseline)} "
+                             f"entries for {H} horizons.")
+
     @property
     def p_value(self) -> np.ndarray:
         """Deprecated alias of :attr:`pvalue` (warns ``DeprecationWarning`` once)."""
@@ -322,8 +339,17 @@ class ForecastEvaluation:
                f"{h_unit}; {self.origins.size} origins after {self.n_train} training "
                "frames.", self.table(), ""]
         if self.constant_modes:
-            out.append(f"Constant over the training frames, forecast as that constant by "
-                       f"every predictor: {', '.join(self.constant_modes)}.")
+            # round 22: "forecast as that constant by every predictor" was false for
+            # persistence and the fixed-weight linear extrapolation, which follow the data
+            out.append(f"Constant over the training frames: {', '.join(self.constant_modes)} "
+                       "(predictors that fit parameters forecast the training constant; "
+                       "persistence and fixed-weight extrapolations follow the data).")
+            cols = [self.labels.index(lb) for lb in self.constant_modes if lb in self.labels]
+            moved = [self.labels[j] for j in cols
+                     if self.truth.size and np.ptp(self.truth[:, j]) > 0]
+            if moved:
+                out.append(f"Not constant after training: {', '.join(moved)} (the training "
+                           "constant the fitted predictors use there is stale).")
         skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
         n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
         # a pair whose loss differential is too persistent has no test (pvalue NaN):
