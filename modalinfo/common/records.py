@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import numbers
 import warnings
 from typing import Any
 
@@ -155,6 +156,35 @@ def _hash_key(value: Any) -> Any:
     if isinstance(value, tuple):
         return tuple(_hash_key(v) for v in value)
     return value
+
+
+def check_record_fields(record: Any, shapes: dict[str, tuple[int, ...]] | None = None,
+                        reals: tuple[str, ...] = ()) -> None:
+    """Refuse a result record whose fields disagree (``__post_init__`` of results).
+
+    ``dataclasses.replace(result, ...)`` runs ``__post_init__``: a field of the wrong
+    shape or a non-number where a number belongs is refused here, naming the record and
+    the field, instead of being printed or plotted against the wrong rows (round 22).
+
+    Parameters
+    ----------
+    record : dataclass instance
+        The record being built.
+    shapes : dict of str to tuple of int, optional
+        Field name -> the shape it must have (``numpy.shape``).
+    reals : tuple of str
+        Fields that must be real numbers (NaN allowed, bool refused).
+    """
+    kind = type(record).__qualname__
+    for name, want in (shapes or {}).items():
+        got = np.shape(getattr(record, name))
+        if got != tuple(want):
+            raise ValueError(f"{kind}: `{name}` has shape {got}; the other fields need "
+                             f"{tuple(want)}.")
+    for name in reals:
+        value = getattr(record, name)
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise ValueError(f"{kind}: `{name}` must be a real number; got {value!r}.")
 
 
 def _unhashable(value: Any) -> bool:

@@ -67,7 +67,12 @@ from scipy.stats import norm
 from scipy.stats import t as student_t
 
 from modalinfo._stats import ar_cosine_transfer
-from modalinfo.common.records import array_fields_eq, renamed_keyword, warn_deprecated_alias
+from modalinfo.common.records import (
+    array_fields_eq,
+    check_record_fields,
+    renamed_keyword,
+    warn_deprecated_alias,
+)
 from modalinfo.common.validation import (
     as_float_array,
     check_int,
@@ -193,18 +198,10 @@ class ForecastEvaluation:
         # round 22: dataclasses.replace(result, names=("a",)) was accepted and the
         # summary then paired rows with the wrong predictors; refuse inconsistent shapes
         P, H, M = len(self.names), len(np.atleast_1d(self.horizons)), len(self.labels)
-        shapes = {"rmse": (P, H, M), "gain": (P, H, M), "rmse_wavefront": (P, H),
-                  "gain_wavefront": (P, H), "coverage": (P, H), "dm_statistic": (P, H),
-                  "pvalue": (P, H), "beats_baseline": (P, H)}
-        for name, want in shapes.items():
-            got = np.shape(getattr(self, name))
-            if got != want:
-                raise ValueError(
-                    f"ForecastEvaluation: `{name}` has shape {got}, but {P} names, {H} "
-                    f"horizons and {M} labels need {want}.")
-        if len(self.baseline) != H:
-            raise ValueError(f"ForecastEvaluation: `baseline` has {len(self.baseline)} "
-                             f"entries for {H} horizons.")
+        check_record_fields(self, {
+            "rmse": (P, H, M), "gain": (P, H, M), "rmse_wavefront": (P, H),
+            "gain_wavefront": (P, H), "coverage": (P, H), "dm_statistic": (P, H),
+            "pvalue": (P, H), "beats_baseline": (P, H), "baseline": (H,)})
 
     @property
     def p_value(self) -> np.ndarray:

@@ -37,7 +37,8 @@ def test_replace_with_inconsistent_fields_is_refused():
     x = np.random.default_rng(1).standard_normal((300, 2)).cumsum(axis=0)
     res = evaluate({"lin": LinearPredictor()}, x, train=150, horizons=[1, 2])
     assert dataclasses.replace(res) == res
-    with pytest.raises(ValueError, match=r"`rmse` has shape \(3, 2, 2\), but 1 names"):
+    with pytest.raises(ValueError,
+                       match=r"`rmse` has shape \(3, 2, 2\); the other fields need \(1, 2, 2\)"):
         dataclasses.replace(res, names=("a",))
     with pytest.raises(ValueError, match=r"`rmse` has shape \(1, 1, 1\)"):
         dataclasses.replace(res, rmse=np.zeros((1, 1, 1)))
