@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import numbers
 import warnings
 from typing import Any
 
@@ -157,6 +158,43 @@ def _hash_key(value: Any) -> Any:
     return value
 
 
+def check_record_fields(record: Any, shapes: dict[str, tuple[int, ...]] | None = None,
+                        reals: tuple[str, ...] = ()) -> None:
+    """Refuse a result record whose fields disagree (``__post_init__`` of results).
+
+    ``dataclasses.replace(result, ...)`` runs ``__post_init__``: a field of the wrong
+    shape or a non-number where a number belongs is refused here, naming the record and
+    the field, instead of being printed or plotted against the wrong rows (round 22).
+
+    Parameters
+    ----------
+    record : dataclass instance
+        The record being built.
+    shapes : dict of str to tuple of int, optional
+        Field name -> the shape it must have (``numpy.shape``).
+    reals : tuple of str
+        Fields that must be real numbers (NaN allowed, bool refused).
+    """
+    kind = type(record).__qualname__
+    for name, want in (shapes or {}).items():
+        got = np.shape(getattr(record, name))
+        if got != tuple(want):
+            raise ValueError(f"{kind}: `{name}` has shape {got}; the other fields need "
+                             f"{tuple(want)}.")
+    for name in reals:
+        value = getattr(record, name)
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise ValueError(f"{kind}: `{name}` must be a real number; got {value!r}.")
+
+
+def _unhashable(value: Any) -> bool:
+    try:
+        hash(_hash_key(value))
+    except TypeError:
+        return True
+    return False
+
+
 def array_fields_eq(cls: type) -> type:
     """Class decorator (above ``@dataclass``): ``==`` compares fields by :func:`same_value`.
 
@@ -181,7 +219,14 @@ def array_fields_eq(cls: type) -> type:
         cls.__repr__ = bounded
     if cls.__hash__ is not None:
         def hashing(self) -> int:
-            return hash(tuple(_hash_key(getattr(self, n)) for n in names))
+            key = tuple(_hash_key(getattr(self, n)) for n in names)
+            try:
+                return hash(key)
+            except TypeError:  # round 22: the message named numpy.ndarray, not the record
+                held = next(n for n in names if _unhashable(getattr(self, n)))
+                raise TypeError(f"unhashable type: {type(self).__qualname__!r} (its field "
+                                f"{held!r} holds a {type(getattr(self, held)).__name__}; "
+                                f"compare results with ==)") from None
 
         cls.__hash__ = hashing
     return cls

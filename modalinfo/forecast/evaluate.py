@@ -67,7 +67,12 @@ from scipy.stats import norm
 from scipy.stats import t as student_t
 
 from modalinfo._stats import ar_cosine_transfer
-from modalinfo.common.records import array_fields_eq, renamed_keyword, warn_deprecated_alias
+from modalinfo.common.records import (
+    array_fields_eq,
+    check_record_fields,
+    renamed_keyword,
+    warn_deprecated_alias,
+)
 from modalinfo.common.validation import (
     as_float_array,
     check_int,
@@ -235,6 +240,15 @@ class ForecastEvaluation:
     settings: dict = field(default_factory=dict, repr=False)
     constant_modes: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        # round 22: dataclasses.replace(result, names=("a",)) was accepted and the
+        # summary then paired rows with the wrong predictors; refuse inconsistent shapes
+        P, H, M = len(self.names), len(np.atleast_1d(self.horizons)), len(self.labels)
+        check_record_fields(self, {
+            "rmse": (P, H, M), "gain": (P, H, M), "rmse_wavefront": (P, H),
+            "gain_wavefront": (P, H), "coverage": (P, H), "dm_statistic": (P, H),
+            "pvalue": (P, H), "beats_baseline": (P, H), "baseline": (H,)})
+
     @property
     def p_value(self) -> np.ndarray:
         """Deprecated alias of :attr:`pvalue` (warns ``DeprecationWarning`` once)."""
@@ -368,8 +382,17 @@ class ForecastEvaluation:
                f"{h_unit}; {self.origins.size} origins after {self.n_train} training "
                "frames.", self.table(), ""]
         if self.constant_modes:
-            out.append(f"Constant over the training frames, forecast as that constant by "
-                       f"every predictor: {', '.join(self.constant_modes)}.")
+            # round 22: "forecast as that constant by every predictor" was false for
+            # persistence and the fixed-weight linear extrapolation, which follow the data
+            out.append(f"Constant over the training frames: {', '.join(self.constant_modes)} "
+                       "(predictors that fit parameters forecast the training constant; "
+                       "persistence and fixed-weight extrapolations follow the data).")
+            cols = [self.labels.index(lb) for lb in self.constant_modes if lb in self.labels]
+            moved = [self.labels[j] for j in cols
+                     if self.truth.size and np.ptp(self.truth[:, j]) > 0]
+            if moved:
+                out.append(f"Not constant after training: {', '.join(moved)} (the training "
+                           "constant the fitted predictors use there is stale).")
         skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
         n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
         # a pair whose loss differential is too persistent has no test (pvalue NaN):

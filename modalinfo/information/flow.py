@@ -110,7 +110,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.memory import free_memory_bytes
-from modalinfo.common.records import array_fields_eq
+from modalinfo.common.records import array_fields_eq, check_record_fields
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
 from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
@@ -208,6 +208,10 @@ class TransferEntropyMap:
     estimated_seconds: float
     adjust: str = "step-down"
     rows: tuple[int, int] = (0, 0)
+
+    def __post_init__(self) -> None:
+        S, L = len(self.labels), len(np.atleast_1d(self.lags))
+        check_record_fields(self, {"group": (S,), "te": (S, S, L), "pvalue": (S, S, L)})
 
     @property
     def significant(self) -> np.ndarray:

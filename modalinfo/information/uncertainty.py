@@ -72,7 +72,7 @@ import numpy as np
 from scipy import stats
 
 from modalinfo.common.quiet import catching_warnings
-from modalinfo.common.records import array_fields_eq
+from modalinfo.common.records import array_fields_eq, check_record_fields
 from modalinfo.common.validation import (
     as_float_array,
     check_aligned,
@@ -172,6 +172,10 @@ class MIConfidenceResult:
     units: str
     note: str = ""
 
+    def __post_init__(self) -> None:
+        check_record_fields(self, reals=("estimate", "low", "high",
+                                         "bootstrap_std", "bootstrap_mean"))
+
 
 @array_fields_eq
 @dataclass(frozen=True)
@@ -210,6 +214,9 @@ class MIPermutationResult:
     method: str
     units: str
     rows: tuple[int, int]
+
+    def __post_init__(self) -> None:
+        check_record_fields(self, reals=("statistic", "pvalue"))
 
 
 def _pair(x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -225,7 +225,8 @@ def test_constant_mode_is_kept_and_forecast_exactly(dead, tmp_path, capsys):
     assert main(["forecast", str(path), "--predictors", "linear-ls,arma,multivariate",
                  "--horizon", "3", "--out", str(out)]) == 0
     printed = capsys.readouterr().out
-    assert "forecast as that constant by every predictor: Z4." in printed
+    assert "Constant over the training frames: Z4 (predictors that fit" in printed
+    assert "Not constant after training" not in printed
     res = json.loads((out / "forecast.json").read_text())
     k = res["labels"].index("Z4")
     for i, name in enumerate(res["names"]):
