@@ -83,6 +83,20 @@ def _parse_only(text: str | None) -> list[int]:
     return sorted(given)
 
 
+def _not_made(modules) -> str:
+    """Return the report's sentence naming the figures a partial run (``--only``) did not make.
+
+    A report after ``--only 1`` held Figure 1's section alone and did not say that
+    Figures 2-8 were not made (round 22 PART b, g15).
+    """
+    made = {label for _, label, _ in modules}
+    missing = [label for _, label, _ in FIGURES if label not in made]
+    if not missing:
+        return ""
+    return (f" A partial run (`--only`): made {', '.join(sorted(made))}; not made here: "
+            f"{', '.join(missing)}.")
+
+
 def _kind(module) -> str:
     if getattr(module, "NEEDS_RUNS", False):
         return "runs"
@@ -439,6 +453,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
         f"Python {platform.python_version()}, {platform.machine()}; made in {total:.0f} s"
         + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
            if args.quick else "") + "."
+        + _not_made(modules)
         + (" Input logs of Figures 1 and 5: "
            + ", ".join(f"`{p}` ({d})" for p, _, _, d in logs) + "." if needs_log else "")
         + "\n",

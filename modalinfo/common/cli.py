@@ -59,6 +59,44 @@ class CommandError(Exception):
     """An input error a subcommand reports as one line and exit status 2."""
 
 
+_URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]+:(//|/)|^file:", re.ASCII)
+#: arguments read as strings that name a file or a folder (others are typed ``Path``)
+_PATH_DESTS = frozenset({"log", "input", "output", "out", "inputs", "extra"})
+_WINDOWS = re.compile(r"^([A-Za-z]:[\\/]|\\\\)", re.ASCII)
+
+
+def path_problem(text: str) -> str | None:
+    """Why ``text`` cannot be a local path on this system, or None if it can be one.
+
+    Parameters
+    ----------
+    text : str
+        A path as the user typed it.
+
+    Returns
+    -------
+    str or None
+        The reason (an empty path, a URL, a Windows drive or UNC path, a name longer than
+        the file system allows), to follow the quoted path in a one-line message.
+    """
+    if text == "":
+        return "is an empty path; give a file or folder name"
+    if _URL.match(text):
+        return "is a URL; only local paths are read or written (download the file first)"
+    if _WINDOWS.match(text):
+        return ("is a Windows path; on this system write it with '/' from a mounted "
+                "folder (e.g. /mnt/c/...)")
+    try:
+        limit = os.pathconf(".", "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):
+        limit = 255
+    for part in text.split("/"):
+        size = len(os.fsencode(part))
+        if size > limit:
+            return f"has a name of {size} bytes; the file system allows {limit}"
+    return None
+
+
 class Parser(argparse.ArgumentParser):
     """argparse that reports usage errors in one line (argparse prints usage first)."""
 
@@ -104,6 +142,22 @@ class Parser(argparse.ArgumentParser):
             with contextlib.suppress(OSError):
                 sys.stderr.write(f"{self.prog}: error: could not write the output: {exc}\n")
             raise SystemExit(EXIT_FAILURE) from None
+
+    def _get_value(self, action, arg_string):
+        r"""Refuse a path no local file can have, naming the argument (round 22 PART b).
+
+        A URL (``s3://b/a.npz``) was reported as "no such file: 's3:/b/a.npz'" (its '//'
+        folded by ``Path``), a Windows path for an output (``C:\out\b.npz``) was
+        written as one odd file in the current folder, an empty path read the current
+        folder, and a name over the file system's limit was a bare "[Errno 36]".
+        """
+        folder = getattr(action.type, "__name__", "") == "folder_arg"
+        if (action.type is Path or folder or (action.type is None and action.dest in _PATH_DESTS)) \
+                and not (folder and arg_string == ""):  # folder_arg words the empty name
+            problem = path_problem(arg_string)
+            if problem:
+                raise argparse.ArgumentError(action, f"'{arg_string}' {problem}")
+        return super()._get_value(action, arg_string)
 
     def parse_known_args(self, args=None, namespace=None):  # noqa: D102
         args = sys.argv[1:] if args is None else list(args)

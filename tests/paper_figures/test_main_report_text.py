@@ -141,10 +141,15 @@ def _table(rows):
                                                   for f, q, o in rows])
 
 
-def _head(seconds, quick, logs, rows):
+def _head(seconds, quick, logs, rows, made=range(1, 9)):
+    # a partial run names what it made and what it did not (round 22 PART b, g15)
+    partial = ("" if set(made) == set(range(1, 9)) else
+               " A partial run (`--only`): made "
+               + ", ".join(f"Figure {k}" for k in sorted(made)) + "; not made here: "
+               + ", ".join(f"Figure {k}" for k in range(1, 9) if k not in made) + ".")
     line = (f"Python {platform.python_version()}, {platform.machine()}; made in {seconds} s"
             + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
-               if quick else "") + "."
+               if quick else "") + "." + partial
             + (" Input logs of Figures 1 and 5: " + ", ".join(logs) + "." if logs else ""))
     return "\n".join([
         "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
@@ -189,7 +194,7 @@ def test_report_of_log_runs_and_own_figures_written_by_hand(figs, tmp_path, caps
         "## Figure 6: about r6.1\n\nbody r6.1\n\n_(Figure 6 made in 10.0 s.)_\n",
         "## logs compared\n"]
     expected = "\n".join([_head(66, True, [f"{spectral} ({d1})", f"{simulated} ({d2})"],
-                                rows), *sections])
+                                rows, made=(1, 2, 5, 6)), *sections])
     assert (out / "report.md").read_text(encoding="utf-8") == expected
     assert (out / "report.html").is_file()
     # the logs compared: the two shipped logs, and Figures 1 and 5's results of each
@@ -232,7 +237,7 @@ def test_runs_are_computed_once_and_without_quick(figs, tmp_path, capsys):
             ("Figure 8", "q8", "ours r8.1")]
     text = (out / "report.md").read_text(encoding="utf-8")
     # 0 -> 45 on the clock; no --quick notice and no input logs in the heading
-    assert text.startswith(_head(45, False, [], rows) + "\n## runs RUNS in 2.0 s\n")
+    assert text.startswith(_head(45, False, [], rows, made=(2, 3, 8)) + "\n## runs RUNS in 2.0 s\n")
     assert "closed-loop runs for Figures 2-4 ..." in capsys.readouterr().out
 
 
@@ -251,7 +256,7 @@ def test_a_user_log_is_one_section_without_a_log_name(figs, tmp_path):
     assert figs.mods["fig1_fitting_error"].calls == [("check", 300), ("log", f"`{log}`")]
     text = (out / "report.md").read_text(encoding="utf-8")
     expected = "\n".join([_head(6, False, [f"`{log}` (user log)"],
-                                [("Figure 1", "q1", "ours r1.2")]),
+                                [("Figure 1", "q1", "ours r1.2")], made=(1,)),
                           "## Figure 1: about r1.2\n\nbody r1.2\n\n_(Figure 1 made in 2.0 s.)_\n"])
     assert text == expected
     assert figs.cmp == []
