@@ -806,7 +806,8 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     level : float
         Nominal coverage of the ARMA prediction intervals.
     alpha : float
-        Family-wise level of the skill test (Bonferroni over predictors x horizons).
+        Family-wise level of the skill test (Bonferroni over predictors x horizons), in
+        ``(0, 0.5)``.
     keep_series : int
         Forecasts at the first horizon are kept (for plots) for the first this many
         origins only.
@@ -858,6 +859,9 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
                        strict_max=True)
     alpha = check_real(alpha, "alpha", minimum=0.0, maximum=1.0, strict_min=True,
                        strict_max=True)
+    if alpha >= 0.5:  # level=0.05, alpha=0.95 ran and called every predictor skilful
+        raise ValueError(f"`alpha` is the family-wise error rate of the skill test and must "
+                         f"be < 0.5; got {alpha} (with `level` = {level}: swapped?).")
     overrides = {}
     if refit_every is not None:
         overrides["refit_every"] = check_int(refit_every, "refit_every", minimum=1)

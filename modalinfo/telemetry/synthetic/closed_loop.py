@@ -154,7 +154,7 @@ def closed_loop_simulation(
         "noise_rms_rad": noise_rms,
         "oversampling": oversampling,
         "frame_rate_hz": frame_rate,
-        "seed": seed if isinstance(seed, numbers.Integral) else None,
+        "seed": int(seed) if isinstance(seed, numbers.Integral) else None,
         # NaN (no crossing below Nyquist, e.g. |1 - E| never under -3 dB at gain 1.5 with
         # no delay) is null in the JSON-safe metadata: it refused a stable loop before
         # (adversarial round 20, s3_1.500_0)

@@ -122,7 +122,7 @@ def kaos_like(
         "loop": "closed" if closed_loop else "open",
         "quantity": ("WFS-measured closed-loop residual (with noise)" if closed_loop
                      else "WFS-measured open-loop turbulence (box-averaged, no noise)"),
-        "seed": seed if isinstance(seed, numbers.Integral) else None,
+        "seed": int(seed) if isinstance(seed, numbers.Integral) else None,
         "n_frames": n_frames,
         "generator": params,
         **{k: v for k, v in _layers_metadata(layers, float(p["diameter"]),

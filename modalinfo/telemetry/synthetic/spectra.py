@@ -438,7 +438,7 @@ def open_loop_log(
     # this n_frames = 2**70 raised OverflowError in numpy (adversarial round 18, q63)
     check_memory(FFT_BYTES_PER_SAMPLE * n_frames * len(mode_list), "n_frames", n_frames,
                  "the open-loop series and their spectra")
-    generator_seed = seed if isinstance(seed, numbers.Integral) else None
+    generator_seed = int(seed) if isinstance(seed, numbers.Integral) else None  # np.int64: JSON
     rng = check_rng(seed)
     coeffs = _open_loop_array(mode_list, n_frames, rate, diameter, layer_tuple, outer_scale,
                               wavelength, rng)
