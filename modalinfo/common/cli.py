@@ -81,6 +81,11 @@ def path_problem(text: str) -> str | None:
     """
     if text == "":
         return "is an empty path; give a file or folder name"
+    if text == "-":
+        # the Unix "standard input / output" name: it was read as a missing file, and
+        # forecast --out - made a folder named '-' (round 23 PART b, o08 / o29)
+        return ("means standard input / output, which is not supported; give a file or "
+                "folder name (./- for a file named '-')")
     if _URL.match(text):
         return "is a URL; only local paths are read or written (download the file first)"
     if _WINDOWS.match(text):
@@ -169,6 +174,23 @@ class Parser(argparse.ArgumentParser):
         self._refuse_conflicting_repeats(args)
         return super().parse_known_args(args, namespace)
 
+    def _full_option_name(self, name: str) -> str:
+        """Return the option a unique abbreviation stands for (``--hor``: ``--horizon``).
+
+        argparse accepts unique prefixes (allow_abbrev), so ``--hor 1 --hor 2`` or
+        ``--horizon 1 --hor 2`` was one option given twice that the repeat check, which
+        looked names up exactly, let through: the last value won without a word
+        (round 23 PART b, o27 / o38 / o39 / o44). An unknown or ambiguous prefix is
+        returned as typed (argparse words its own error).
+        """
+        if not name.startswith("--") or name in self._option_string_actions \
+                or not self.allow_abbrev:
+            return name
+        matches = [s for s in self._option_string_actions if s.startswith(name)]
+        if len({id(self._option_string_actions[s]) for s in matches}) == 1:
+            return matches[0]
+        return name
+
     def _refuse_conflicting_repeats(self, args: list[str]) -> None:
         """Refuse a single-value option given twice with different values.
 
@@ -183,6 +205,7 @@ class Parser(argparse.ArgumentParser):
             if token == "--":
                 break
             name, eq, value = token.partition("=")
+            name = self._full_option_name(name)
             action = self._option_string_actions.get(name) if name.startswith("-") else None
             flag = _flag_value(action, name)
             if flag is not None:

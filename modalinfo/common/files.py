@@ -21,6 +21,7 @@ import signal
 import stat
 import tempfile
 import threading
+import warnings
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -36,6 +37,38 @@ __all__ = [
     "terminating_signals",
     "writable_free_bytes",
 ]
+
+
+#: First characters with which a spreadsheet takes a cell for a formula (OWASP "CSV
+#: injection"): ``=1+1`` shows as 2, ``@cmd`` may run. No CSV spelling keeps both the
+#: spreadsheet's and pandas' reading of such a cell, so it is written as is and said.
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def warn_spreadsheet_formulas(texts: Any, what: str) -> None:
+    """Warn once if text cells about to be written to a CSV read otherwise in a spreadsheet.
+
+    Parameters
+    ----------
+    texts : iterable of str
+        The text cells (mode labels, predictor names) of the CSV.
+    what : str
+        The file's role in the message (e.g. ``"forecast.csv"``).
+
+    Notes
+    -----
+    A label ``=1+1`` was written as is and a spreadsheet showed 2 with nothing said
+    (round 23 PART b, c01 / c02 / c05); a label ``007`` showed as 7 (c03). pandas and
+    the ``csv`` module read both back.
+    """
+    bad = [t for t in texts if isinstance(t, str) and (
+        t[:1] in _FORMULA_START
+        or (t.isdigit() and ((len(t) > 1 and t[0] == "0") or len(t) > 15)))]
+    if bad:
+        warnings.warn(f"{what}: {len(bad)} text cell(s) a spreadsheet would not show as "
+                      f"written (first {bad[0]!r}): a formula start (= + - @), or digits "
+                      "with a leading zero or over 15 of them; pandas and the csv module "
+                      "read them back as written", UserWarning, stacklevel=3)
 
 
 def as_path(path: Any, name: str = "path") -> Path:

@@ -67,6 +67,7 @@ from scipy.stats import norm
 from scipy.stats import t as student_t
 
 from modalinfo._stats import ar_cosine_transfer
+from modalinfo.common.files import warn_spreadsheet_formulas
 from modalinfo.common.records import (
     array_fields_eq,
     check_record_fields,
@@ -346,6 +347,7 @@ class ForecastEvaluation:
         pathlib.Path
             The path written.
         """
+        warn_spreadsheet_formulas([*self.names, *self.labels], "forecast CSV")
         buffer = io.StringIO(newline="")
         writer = csv.writer(buffer)
         writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",

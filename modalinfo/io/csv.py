@@ -37,7 +37,12 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.files import (
+    as_path,
+    atomic_write,
+    check_readable,
+    warn_spreadsheet_formulas,
+)
 from modalinfo.io._columns import (
     column_units,
     mode_columns,
@@ -94,6 +99,7 @@ def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     path = as_path(path)
     header = log_header(log, checksum=True)
     times = log.timestamps
+    warn_spreadsheet_formulas(log.labels, f"CSV {path.name}")
 
     def write(fh):
         text = io.TextIOWrapper(fh, encoding="utf-8", newline="\n")

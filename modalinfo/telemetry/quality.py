@@ -396,7 +396,9 @@ _REFIT_CUT = 5.0
 def _windows(rows: np.ndarray, g: np.ndarray, p: int):
     """Rows with their ``p`` predecessors: ``(y, X)``, ``X[:, i]`` the frame ``i + 1`` back."""
     ok = np.ones(max(0, g.size - p), dtype=bool)
-    for i in range(1, p + 1):
+    # fewer than p + 1 rows: no window; the slice g[p - i:g.size - i] would wrap
+    # around (g[0:-1] for i = p) - a 3-frame log was a numpy broadcast error (round 23 b, x01)
+    for i in range(1, p + 1) if ok.size else ():
         ok &= g[p - i:g.size - i] == g[p:] - i
     q = np.flatnonzero(ok) + p
     return rows[q], np.stack([rows[q - i] for i in range(1, p + 1)], axis=1)
