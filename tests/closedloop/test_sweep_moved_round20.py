@@ -35,7 +35,7 @@ def _files(folder: Path) -> list[Path]:
         return [Path(r["result_file"]) for r in csv.DictReader(fh)]
 
 
-def test_result_files_follow_a_moved_and_a_copied_sweep_folder(tmp_path):
+def test_result_files_follow_a_moved_and_a_copied_sweep_folder(tmp_path, monkeypatch):
     save_config(small(), tmp_path / "small.toml")
     (tmp_path / "grid.toml").write_text(GRID)
     grid = load_grid(tmp_path / "grid.toml")
@@ -53,3 +53,11 @@ def test_result_files_follow_a_moved_and_a_copied_sweep_folder(tmp_path):
     shutil.copytree(moved, copy)
     sweep(grid, copy, progress=False)
     assert all(f.is_file() and f.parent == copy.resolve() / "runs" for f in _files(copy))
+    # resumed through a relative --out (review19, planted bug SW1): the table still
+    # names absolute files, found from any working directory
+    monkeypatch.chdir(tmp_path)
+    rows, _ = sweep(grid, Path("copy"), progress=False)
+    monkeypatch.chdir(moved)
+    for files in ([Path(r["result_file"]) for r in rows], _files(copy)):
+        assert files and all(f.is_absolute() and f.is_file()
+                             and f.parent == copy.resolve() / "runs" for f in files)
