@@ -1,8 +1,15 @@
 import sys
 
-from modalinfo.common.startup import exit_quietly, memory_refusal, require_current_folder
+from modalinfo.common.startup import (
+    exit_quietly,
+    memory_refusal,
+    one_line_warnings,
+    require_current_folder,
+    warning_refusal,
+)
 
 require_current_folder("closedloop")  # before the heavy imports (numba calls getcwd)
+one_line_warnings("closedloop")  # a warning while the package loads: one line
 
 try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no traceback
     from closedloop.cli import main
@@ -13,6 +20,8 @@ except KeyboardInterrupt:
     code = 130
 except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading numba
     code = memory_refusal("closedloop", exc)
+except Warning as exc:  # raised as an error (-W error) while the package loads
+    code = warning_refusal("closedloop", exc)
 except ImportError as exc:  # a dependency that refuses its environment (NUMBA_NUM_THREADS=0)
     if "NUMBA_" not in str(exc):
         raise

@@ -31,6 +31,7 @@ from modalinfo.common.cli import (
     folder_arg,
 )
 from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.text import pad
 
 __all__ = ["main"]
 
@@ -302,11 +303,11 @@ def _cmd_compare(args) -> int:
           f"{'closure [ms]':>14}{'steps/s':>9}")
     for row in rows:
         if len(row) == 2:
-            print(f"{row[0]:<14}not run: {row[1]}")
+            print(f"{pad(row[0], 14)}not run: {row[1]}")
             continue
         closure = f"{row[4]:>14.0f}" if row[6] == "closed" else f"{'-':>14}"
         fov = "n/a" if math.isnan(row[3]) else f"{row[3]:.2f}"
-        line = (f"{row[0]:<14}{row[1]:>9.3f}{row[2]:>10.3f}{fov:>16}{closure}"
+        line = (f"{pad(row[0], 14)}{row[1]:>9.3f}{row[2]:>10.3f}{fov:>16}{closure}"
                 f"{_rate_text(row[5]):>9}")
         print(line if row[6] == "closed" else f"{line}  loop {row[6]}")
     peaks = [row[1] for row in rows if len(row) > 2]
@@ -469,7 +470,8 @@ def _cmd_sweep(args) -> int:
     print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
           f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
     for row in sorted(rows, key=lambda r: (str(r["override"]), r["seed"], r["predictor"])):
-        head = f"  {row['override']:<20} seed {row['seed']:<4} {row['predictor']:<12} "
+        head = (f"  {pad(str(row['override']), 20)} seed {row['seed']:<4} "
+                f"{pad(str(row['predictor']), 12)} ")
         if row.get("status") == "ok":
             fov = row["corrected_fov_diameter_arcmin"]
             print(f"{head}SR peak {row['strehl_peak_mean']:.3f}  FoV {_fov_text(fov)}")

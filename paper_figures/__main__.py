@@ -470,9 +470,16 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
 
 
 if __name__ == "__main__":
-    from modalinfo.common.startup import exit_quietly, memory_refusal, require_current_folder
+    from modalinfo.common.startup import (
+        exit_quietly,
+        memory_refusal,
+        one_line_warnings,
+        require_current_folder,
+        warning_refusal,
+    )
 
     require_current_folder("paper_figures")  # before the heavy imports
+    one_line_warnings("paper_figures")  # a warning while the package loads: one line
     try:
         code = main()
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)
@@ -480,6 +487,8 @@ if __name__ == "__main__":
         code = 130
     except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading numba
         code = memory_refusal("paper_figures", exc)
+    except Warning as exc:  # raised as an error (-W error) while the package loads
+        code = warning_refusal("paper_figures", exc)
     except ImportError as exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0)
         if "NUMBA_" not in str(exc):
             raise

@@ -164,7 +164,7 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
     """Refuse, before the evaluation, a horizon, memory or output the machine cannot take.
 
     Memory: ``evaluate`` holds the per-origin losses, ``(P, H, origins)`` float64, and
-    per chunk of origins the forecasts and errors, 4 arrays of ``(chunk, H, M)``, 7
+    per chunk of origins the forecasts and errors, 4 arrays of ``(chunk, H, M)``, 5
     when ``intervals`` (an ARMA predictor's coverage; ``chunk_bytes`` of
     :mod:`modalinfo.forecast.evaluate`), besides the log's copies; or, when larger,
     the largest fit of ``predictors`` on the training frames (``fit_bytes``, held

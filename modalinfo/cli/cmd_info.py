@@ -23,6 +23,7 @@ from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import add_hint_arguments, apply_outliers, hints_from_args
+from modalinfo.common.text import display_width, pad
 
 NAME = "info"
 HELP = "Describe a telemetry log: shape, rate, modes, units and per-mode RMS / lag-1 ACF."
@@ -186,13 +187,13 @@ def run(args: argparse.Namespace) -> int:
     check.finish()  # a checksum skipped by memory mapping is verified in the same pass
     out.write(f"integrity   {check.describe()}\n")
     unit = log.units
-    width = max(6, *(len(label) for label in labels))
+    width = max(6, *(display_width(label) for label in labels))
     out.write(
-        f"\n{'mode':<{width}}  {'mean':>12}  {'rms':>12}  {'std':>12}  {'lag1':>8}   [{unit}]\n"
+        f"\n{pad('mode', width)}  {'mean':>12}  {'rms':>12}  {'std':>12}  {'lag1':>8}   [{unit}]\n"
     )
     for k, label in enumerate(labels):
         out.write(
-            f"{label:<{width}}  {summary.mean[k]:>12.5g}  {summary.rms[k]:>12.5g}  "
+            f"{pad(label, width)}  {summary.mean[k]:>12.5g}  {summary.rms[k]:>12.5g}  "
             f"{summary.std[k]:>12.5g}  {_fmt(summary.lag1[k]):>8}\n"
         )
     lag1_note = _lag1_note(log, sampling)

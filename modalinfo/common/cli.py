@@ -28,6 +28,7 @@ from pathlib import Path
 
 from modalinfo.common.deps import MissingDependencyError, require_dist
 from modalinfo.common.files import SHOWN_ERRORS, check_not_special, writable_free_bytes
+from modalinfo.common.startup import one_line_format
 from modalinfo.common.tasks.cluster import check_memory_limit, check_worker_count
 
 __all__ = [
@@ -359,7 +360,7 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
     # a warning that reaches stderr is one line in the command's voice, as its errors
     # are (Python's default adds the source path and a second line of code)
     previous_format = warnings.formatwarning
-    warnings.formatwarning = _one_line_warning(f"{prog} {args.command}")
+    warnings.formatwarning = one_line_format(f"{prog} {args.command}")
     try:
         code = int(args._run(args) or 0)
         for note in getattr(args, "_notes", None) or ():
@@ -437,15 +438,6 @@ def _open_closed_streams() -> None:
 
 #: The /dev/null stream given to closed standard streams (see :func:`_open_closed_streams`).
 _DEVNULL: list = []
-
-
-def _one_line_warning(prefix: str):
-    """Return a ``warnings.formatwarning`` that says ``PREFIX: warning: MESSAGE`` in one line."""
-    def formatwarning(message, category, filename, lineno, line=None) -> str:
-        text = " ".join(str(message).split())
-        return f"{prefix}: warning: {text}\n"
-
-    return formatwarning
 
 
 def interrupted(prog: str) -> int:

@@ -10,6 +10,7 @@ threads, which the per-thread work arrays of ``information.kde`` allow, run in p
 
 from __future__ import annotations
 
+import sys
 import warnings
 
 with warnings.catch_warnings(record=True) as _caught:
@@ -86,7 +87,39 @@ def _warn_no_cache(func) -> None:
         return
     _NO_CACHE_WARNED = True
     where = getattr(getattr(func, "__code__", None), "co_filename", "?")
-    warnings.warn(f"numba finds no writable folder to cache its compiled kernels (beside "
-                  f"{where!r} or in the user cache; a umask of 777?): they are compiled "
-                  "again in every run; set NUMBA_CACHE_DIR to a writable folder (or the "
-                  "umask to 022) to keep them", RuntimeWarning, stacklevel=4)
+    message = RuntimeWarning(
+        f"numba finds no writable folder to cache its compiled kernels (beside {where!r} "
+        "or in the user cache; a umask of 777?): they are compiled again in every run; set "
+        "NUMBA_CACHE_DIR to a writable folder (or the umask to 022) to keep them")
+    frame = _caller_outside_packages()
+    if frame is None:  # no caller outside the packages (not expected): the decorator's line
+        warnings.warn(message, stacklevel=4)
+        return
+    # shown at the caller's line (``import modalinfo.forecast`` in a script, or a user's own
+    # ``@jit`` kernel), not at an ``@jit`` line inside the package (Leftovers 23-misc)
+    registry = frame.f_globals.setdefault("__warningregistry__", {})
+    warnings.warn_explicit(message, RuntimeWarning, frame.f_code.co_filename,
+                           frame.f_lineno, module=frame.f_globals.get("__name__"),
+                           registry=registry)  # no module_globals: `python -c` has no source
+
+
+#: the project's packages: a warning about their import is shown at their caller's line
+_PACKAGES = frozenset({"modalinfo", "closedloop", "paper_figures"})
+
+
+def _caller_outside_packages():
+    """Return the innermost frame outside the project's packages and importlib.
+
+    The frames of an import (``importlib._bootstrap``, which the warnings module also
+    skips) and of modules of ``modalinfo``, ``closedloop`` and ``paper_figures``
+    (``__name__`` ``modalinfo.*``, ...) are passed; ``None`` if none is left.
+    """
+    frame = sys._getframe(1)
+    while frame is not None:
+        filename = frame.f_code.co_filename
+        package = str(frame.f_globals.get("__name__", "")).split(".")[0]
+        internal = "importlib" in filename and "_bootstrap" in filename
+        if not internal and package not in _PACKAGES:
+            return frame
+        frame = frame.f_back
+    return None

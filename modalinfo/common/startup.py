@@ -13,7 +13,8 @@ import errno
 import os
 import sys
 
-__all__ = ["exit_quietly", "memory_refusal", "require_current_folder"]
+__all__ = ["exit_quietly", "memory_refusal", "one_line_format", "one_line_warnings",
+           "require_current_folder", "warning_refusal"]
 
 
 def require_current_folder(prog: str) -> None:
@@ -30,6 +31,66 @@ def require_current_folder(prog: str) -> None:
         sys.stderr.write(f"{prog}: error: the current folder no longer exists (deleted); "
                          "cd to an existing folder\n")
         sys.exit(2)
+
+
+def one_line_format(prefix: str):
+    """Return a ``warnings.formatwarning`` that says ``PREFIX: warning: MESSAGE`` in one line.
+
+    Python's default form adds the source path and line number, and a second line with
+    the line of code, which means nothing to a user of a command.
+
+    Parameters
+    ----------
+    prefix : str
+        What the line starts with (``"modalinfo"``, ``"modalinfo info"``).
+    """
+    def formatwarning(message, category, filename, lineno, line=None) -> str:
+        text = " ".join(str(message).split())
+        return f"{prefix}: warning: {text}\n"
+
+    return formatwarning
+
+
+def one_line_warnings(prog: str) -> None:
+    """Show every warning from here on as one line ``PROG: warning: MESSAGE``.
+
+    For the commands' ``__main__`` before their heavy imports: a warning given while
+    the package loads (numba's cache folder not writable: ``modalinfo.common.jit``)
+    came in Python's two-line form with an ``@jit`` line of the package's source
+    (Leftovers 23-misc); ``dispatch`` names the subcommand while one runs.
+
+    Parameters
+    ----------
+    prog : str
+        The command's name (e.g. ``"modalinfo"``).
+    """
+    import warnings
+
+    warnings.formatwarning = one_line_format(prog)
+
+
+def warning_refusal(prog: str, exc: Warning) -> int:
+    """Say in one line that a warning was raised as an error; return 2.
+
+    Under ``PYTHONWARNINGS=error`` (or ``python -W error``) a warning given while the
+    package loads, before the subcommand's own handler, ended in a traceback.
+
+    Parameters
+    ----------
+    prog : str
+        The command's name, for the message.
+    exc : Warning
+        The warning raised.
+
+    Returns
+    -------
+    int
+        The exit status, 2.
+    """
+    message = " ".join(str(exc).split()) or type(exc).__name__
+    sys.stderr.write(f"{prog}: error: {type(exc).__name__} raised as an error "
+                     f"(PYTHONWARNINGS / -W error): {message}\n")
+    return 2
 
 
 def _out_of_memory(exc: BaseException) -> bool:

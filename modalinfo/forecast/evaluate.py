@@ -90,15 +90,20 @@ __all__ = ["evaluate", "ForecastEvaluation"]
 _BASELINES = ("persistence", "mean")
 
 #: ``(chunk, H, M)`` float64 arrays ``evaluate`` holds at once per chunk of origins: the
-#: predictor's forecasts, those at the scored horizons, the targets and the errors (then
-#: their squares). Measured with tracemalloc (left19-est): 3.99 such arrays per chunk
-#: frame for the linear, VAR and NN predictors (chunks of 2,000 and 4,000 frames).
+#: predictor's forecasts at every horizon and those at the scored horizons (then the
+#: former are dropped), the targets and the errors, then their squares; the chunk's
+#: arrays are dropped before the next chunk's are made. Measured with tracemalloc
+#: (Leftovers 23-misc, 24,000 x 8 frames, H = 10, chunks of 1,000-6,000 frames): 3.15
+#: such arrays per chunk frame for the linear predictor and 3.16 for ARMA; 6.03 and 7.15
+#: the same way before, when a chunk's arrays lived on while the next chunk's were made.
 CHUNK_ARRAYS = 4
-#: More such arrays for a predictor with prediction intervals (ARMA): the standard
-#: deviations in force, ``|err|`` and ``z std`` for the coverage, and their boolean
-#: comparison (1/8 of an array): 7.125 in all at once, 7.1 measured with tracemalloc
-#: (left19-est); counted as 4 more (8) so NumPy's small buffers fit too.
-INTERVAL_CHUNK_ARRAYS = 4
+#: More such arrays for a predictor with prediction intervals (ARMA): its coverage is
+#: counted in place (``|err|`` overwrites the errors, each run of origins under one set
+#: of parameters is compared with their ``(H, M)`` widths by broadcasting), so only the
+#: boolean comparison (1/8 of an array) is added: counted as one, so NumPy's small
+#: buffers fit too. Before Leftovers 23-misc the widths and ``z std`` were ``(chunk, H,
+#: M)`` arrays and ``|err|`` a new one (4 counted, 7.1 in all measured).
+INTERVAL_CHUNK_ARRAYS = 1
 
 
 def chunk_bytes(chunk: int, n_origins: int, horizon: int, n_modes: int,
@@ -769,17 +774,25 @@ def _dm_test(d: np.ndarray, h: int) -> tuple[float, float, int, float]:
     return float(stat), float(student_t.cdf(stat, b)), b, n_eff
 
 
-def _std_path(stds, origins, horizons):
-    """(N, H, M) forecast standard deviations in force at each origin.
+def _count_covered(abs_err: np.ndarray, origins: np.ndarray, stds: list, horizons,
+                   z: float) -> np.ndarray:
+    """``(H,)`` counts of ``|err| <= z std`` over the origins and modes of one chunk.
 
-    ``stds`` lists ``(sample, std (max(horizons), M))`` in time order: the fitted
-    parameters' first (sample -1), then one per refit, applying to origins after
-    ``sample``.
+    ``abs_err`` is ``(N, H, M)`` at ``origins`` ``(N,)`` (increasing); ``stds`` lists
+    ``(sample, std (max(horizons), M))`` in time order (the fitted parameters' first,
+    sample -1, then one per refit), each applying to the origins after its ``sample``.
+    Each run of origins under one set of parameters is compared with that set's
+    ``(H, M)`` widths by broadcasting: no ``(N, H, M)`` array of widths is made
+    (Leftovers 23-misc; the comparisons, and so the counts, are the same).
     """
-    std = np.empty((origins.size,) + stds[0][1].shape)
-    for sample, s in stds:
-        std[origins > sample] = s
-    return std[:, horizons - 1]
+    samples = np.array([sample for sample, _ in stds])
+    which = np.searchsorted(samples, origins, side="left") - 1  # last sample < origin
+    cuts = np.flatnonzero(np.diff(which)) + 1
+    counts = np.zeros(np.size(horizons), dtype=np.int64)
+    for lo, hi in zip(np.r_[0, cuts], np.r_[cuts, origins.size], strict=True):
+        width = z * stds[which[lo]][1][horizons - 1]             # (H, M)
+        counts += np.count_nonzero(abs_err[lo:hi] <= width, axis=(0, 2))
+    return counts
 
 
 # ---------------------------------------------------------------------- main
@@ -917,7 +930,10 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
                 continue
             idx = np.arange(first, end)                   # origins in this chunk
             k = idx - int(origins[0])
-            fc = out[idx - begin][:, hs - 1]              # (n, H, M)
+            fc = out[(idx - begin)[:, None], hs - 1]      # (n, H, M), one copy
+            # the chunk's forecasts at every horizon are not needed from here on; this
+            # chunk's arrays are dropped before the next chunk's are made (below)
+            del out
             err = data[idx[:, None] + hs[None, :]] - fc   # targets after the origin
             err2 = err**2
             sse[i] += err2.sum(axis=0)
@@ -925,8 +941,11 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             keep = k < n_keep
             one_step[i, k[keep]] = fc[keep, 0]
             if has_interval[i]:
-                std = _std_path(stds, idx, hs)
-                covered[i] += np.sum(np.abs(err) <= z * std, axis=(0, 2))
+                # counted in place: |err| overwrites err (its last use) and each run of
+                # origins is compared with its parameters' widths (Leftovers 23-misc)
+                covered[i] += _count_covered(np.abs(err, out=err), idx, stds, hs, z)
+                stds = stds[-1:]  # the later origins use it or a later refit's widths
+            del fc, err, err2
         if progress is not None:
             progress(1)
     rmse = np.sqrt(sse / n_o)                             # (P, H, M)

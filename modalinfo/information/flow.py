@@ -111,6 +111,7 @@ import numpy as np
 
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.records import array_fields_eq, check_record_fields
+from modalinfo.common.text import pad
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
 from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
@@ -261,7 +262,7 @@ class TransferEntropyMap:
                 f"{self.n_surrogates} time-shift surrogates): {len(links)} significant links")
         rows = [head, f"{'source':<14} {'target':<14} {'lag':>4} {'TE':>9} {'p':>7}"]
         for s, t, lag, te, p in links[:max_rows]:
-            rows.append(f"{s:<14} {t:<14} {lag:>4} {te:9.4f} {p:7.4f}")
+            rows.append(f"{pad(s, 14)} {pad(t, 14)} {lag:>4} {te:9.4f} {p:7.4f}")
         return "\n".join(rows)
 
 

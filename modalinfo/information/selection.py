@@ -86,6 +86,7 @@ from scipy import stats
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.scaling import rescale_power_of_two
+from modalinfo.common.text import pad
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -236,7 +237,7 @@ class InputSelection:
         rows = [head, f"{'#':>2}  {'input':<18} {'gain':>9}{interval} {'p':>7}"]
         for i, s in enumerate(self.inputs, 1):
             bounds = f" [{s.low:9.4f}, {s.high:9.4f}]" if shown else ""
-            rows.append(f"{i:>2}  {s.label:<18} {s.gain:9.4f}{bounds} {s.pvalue:7.4f}")
+            rows.append(f"{i:>2}  {pad(s.label, 18)} {s.gain:9.4f}{bounds} {s.pvalue:7.4f}")
         rows.append(f"total I(target; inputs) = {self.information:.4f} {self.units}; "
                     f"stopped: {self.stop_reason}")
         return "\n".join(rows)

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.text import pad
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.ordering.fitting_error import FittingErrorResult, fitting_error
 from modalinfo.ordering.orderings import METHODS, order_modes
@@ -275,7 +276,7 @@ class Comparison:
                  + "; last columns: modes to reach each target", head]
         for e in self.entries:
             c = self.curve(e)
-            row = f"{e.name:<22}" + "".join(f"{c[n]:>10.3g}" for n in at)
+            row = pad(e.name, 22) + "".join(f"{c[n]:>10.3g}" for n in at)
             row += "".join(f"{e.error.modes_to_reach(t, self.frame):>10d}" for t in targets)
             row += "".join(f"{e.error.modes_to_reach_fraction(f, self.frame):>10d}"
                            for f in fractions)

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.records import array_fields_eq
+from modalinfo.common.text import pad
 
 __all__ = ["OrderingResult"]
 
@@ -397,7 +398,7 @@ class OrderingResult:
         lines = [head]
         for s, k in enumerate(self.order):
             mark = "~" if tied is not None and tied[s] else " "
-            row = f"{mark}{s + 1:>4}  {self.labels[s]:<8}"
+            row = f"{mark}{s + 1:>4}  {pad(self.labels[s], 8)}"
             if self.scores is not None:
                 row += f"  {self.scores[k]:>10.4g}"
             if has_mi:
