@@ -23,7 +23,10 @@ Derived views
 - Whether the loop closed (:attr:`closed`, :attr:`diverged`, :attr:`loop_status`):
   the loop *diverged* if the residual is not finite, ends (mean of the last quarter of
   the run, field mean) above 3 times the open-loop level (frame 0, before any command
-  reached the mirrors), or, having once fallen below half that level, grows to more
+  reached the mirrors) while its commands act (their RMS over the last quarter at least
+  a tenth of the pseudo-open loop's: a loop whose commands stay below it, gain 1e-6,
+  leaves the turbulence itself, which wanders away from its frame-0 level, and *did not
+  close*), or, having once fallen below half that level, grows to more
   than :data:`GROWTH_FACTOR` times its lowest 5-ms mean;
   it *closed* if it did not diverge, the run has at least 4 frames and twice the 5-ms
   window of the closure detection, a closure was
@@ -102,6 +105,9 @@ def marechal_note(strehl: float) -> str:
 GROWTH_FACTOR = 4.0
 #: a residual ending above this many times the open-loop level diverged
 _ABOVE_OPEN_LOOP = 3.0
+#: ...unless the commands' RMS is below this share of the POL's: a loop that does not act
+#: (gain 1e-6) leaves the turbulence itself, which wanders away from its frame-0 level
+_IDLE_COMMAND_SHARE = 0.1
 
 _FORMAT = "closedloop-result"
 #: 3: every dataset and the attributes checksummed (attribute ``sha256``); 2: each log a
@@ -348,6 +354,24 @@ class SimulationResult:
                 return k
         return n // 2
 
+    def _command_share(self, start: int) -> float | None:
+        """RMS of every DM's commands over that of their POL from frame ``start`` on.
+
+        Both logs are the DMs' mode coefficients, so their ratio has no units. None
+        without the logs (a result built by hand) or with a zero POL.
+        """
+        commands = pol = 0.0
+        for name, log in self.logs.items():
+            if name.endswith(".commands") or name.endswith(".pol"):
+                power = float(np.sum(np.square(np.asarray(log.coeffs[start:], dtype=float))))
+                if name.endswith(".commands"):
+                    commands += power
+                else:
+                    pol += power
+        if not (pol > 0.0 and np.isfinite(commands)):
+            return None
+        return math.sqrt(commands / pol)
+
     @property
     def _window(self) -> int:
         """Frames in 5 ms (at least 3): how long the closure must hold."""
@@ -429,6 +453,15 @@ class SimulationResult:
         # an uncorrected loop wanders around the open-loop level (frame 0, one sample):
         # only well above it is a loop that amplifies
         if n > 1 and tail > _ABOVE_OPEN_LOOP * open_loop:
+            share = self._command_share(n - max(1, n // 4))
+            if share is not None and share < _IDLE_COMMAND_SHARE:
+                # commands a few % of the turbulence amplify nothing: the residual is the
+                # turbulence, wandering away from its frame-0 level (gain 1e-6 read
+                # "diverged"; adversarial round 24 PART a, K05)
+                return (f"did not close: the commands stay at {share:.2g} of the "
+                        f"pseudo-open-loop turbulence (RMS over the last quarter), so the "
+                        f"residual is the turbulence itself ({tail:.3g} rad^2 at the end, "
+                        f"field mean; {open_loop:.3g} at frame 0)")
             return (f"diverged: the residual at the end ({tail:.3g} rad^2, field mean) is "
                     f"{tail / open_loop:.1f} times the open-loop level ({open_loop:.3g} rad^2)")
         if lowest < 0.5 * open_loop and tail > GROWTH_FACTOR * lowest:

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.forecast import PersistencePredictor
 from modalinfo.forecast.presets import PRESETS
 
@@ -249,7 +250,7 @@ def loop_predictor(predictor) -> LoopPredictor:
     if isinstance(predictor, str):
         if predictor == "oracle":
             warnings.warn("simulate(predictor='oracle') is deprecated; pass closedloop.ORACLE.",
-                          DeprecationWarning, stacklevel=3)
+                          DeprecationWarning, stacklevel=caller_stacklevel())
             return ORACLE
         raise ValueError(f"`predictor` must be a LoopPredictor, a fitted Predictor or None; "
                          f"got the name {predictor!r} (a name is trained first: "

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice
 from modalinfo.information.convergence import effective_sample_rule, judge_pair_estimate
@@ -893,4 +894,4 @@ def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) 
     why = call_bias_rule(record, n, d, chosen)
     if why is not None:
         warnings.warn(f"{what} with method={record.name!r}: {why}.", BiasRuleWarning,
-                      stacklevel=3)
+                      stacklevel=caller_stacklevel())

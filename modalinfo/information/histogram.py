@@ -89,6 +89,7 @@ from typing import Any
 import numpy as np
 from scipy.special import digamma, ndtr, ndtri, polygamma
 
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.common.validation import check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
@@ -806,7 +807,7 @@ def _warn_cells(n: int, cells: float, d: int, what: str) -> None:
     why = _cells_rule(n, cells, d)
     if why is not None:
         warnings.warn(f"{what} with method='histogram': {why}.", BiasRuleWarning,
-                      stacklevel=5)
+                      stacklevel=caller_stacklevel())
 
 
 def _warn_coarse(x: np.ndarray, k: int, what: str) -> None:
@@ -821,7 +822,7 @@ def _warn_coarse(x: np.ndarray, k: int, what: str) -> None:
         warnings.warn(f"{what} with method='histogram': {k} bin(s) per axis merge the "
                       f"variable's values, below the rule of at least {MIN_BINS} bins per "
                       "axis: the discretisation bias swamps the estimate.", BiasRuleWarning,
-                      stacklevel=5)
+                      stacklevel=caller_stacklevel())
 
 
 #: Largest share of a CMI that the equiprobable bins of the conditioning columns may lose

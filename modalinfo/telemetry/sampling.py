@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import checked_intervals, timestamp_resolution
@@ -333,7 +334,7 @@ def warn_rate_change(s: Sampling, purpose: str) -> None:
 
         warnings.warn(f"{purpose} takes the frames as equally spaced, but "
                       f"{s.describe_rate_change()}; times in seconds are right only to "
-                      "that fraction", UserWarning, stacklevel=3)
+                      "that fraction", UserWarning, stacklevel=caller_stacklevel())
 
 
 def require_frames_kept(log, purpose: str) -> None:
