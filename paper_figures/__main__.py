@@ -165,6 +165,13 @@ def _check_args(args, modules, logs, needs_log) -> None:
         for path, *_ in logs:
             if path.is_dir():
                 raise _RefusedError(f"--log '{path}' is a folder, not a log file")
+            if not path.exists() and args.log is None:
+                # an installed wheel carries the code, not data/ (adversarial round 24
+                # PART b): say so rather than name a path inside site-packages
+                raise _RefusedError(
+                    f"the shipped log data/{path.name} is not here ({path.parent}): "
+                    "data/ is not installed with the package; run from a clone of the "
+                    "repository (pip install -e .) or give your own log with --log FILE")
             if not path.exists():
                 raise _RefusedError(f"log file '{path}' does not exist")
             if not path.is_file():  # a FIFO or a device: reading it blocks or never ends
