@@ -22,3 +22,19 @@ def test_missing_shipped_data_is_named_with_the_way_out(tmp_path, monkeypatch, c
     assert len(err.strip().splitlines()) == 1
     assert "not installed with the package" in err and "--log" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_figure_8_without_shipped_data_is_refused_before_work(tmp_path, monkeypatch, capsys):
+    """Figure 8 reads the shipped logs whatever --log says: before, exit 1 after start-up
+    with "FileNotFoundError: no such file: '.../site-packages/data/...'"."""
+    import paper_figures.fig_information_flow as fig8
+
+    gone = tmp_path / "site-packages" / "data"
+    monkeypatch.setattr(fig8, "SHIPPED", tuple(
+        (key, gone / path.name, *rest) for key, path, *rest in fig8.SHIPPED))
+    code = pf_main.main(["--only", "8", "--quick", "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1
+    assert "not installed with the package" in err and "--only" in err
+    assert not (tmp_path / "out").exists()
