@@ -133,6 +133,17 @@ def _flag(dest: str) -> str:
     return "--" + dest.replace("_", "-")
 
 
+def _no_shipped_data(path: Path, alternative: str) -> str:
+    """Refuse a shipped log that is not there, naming why and the way out.
+
+    An installed wheel carries the code, not data/ (adversarial round 24 PART b): no path
+    inside site-packages is named as if the user had given it.
+    """
+    return (f"the shipped log data/{path.name} is not here ({path.parent}): data/ is not "
+            f"installed with the package; run from a clone of the repository "
+            f"(pip install -e .) {alternative}")
+
+
 def _check_args(args, modules, logs, needs_log) -> None:
     """Every refusal that needs no computation: options, log files, output folder."""
     from paper_figures._common import OutputError, check_out_dir
@@ -165,11 +176,19 @@ def _check_args(args, modules, logs, needs_log) -> None:
         for path, *_ in logs:
             if path.is_dir():
                 raise _RefusedError(f"--log '{path}' is a folder, not a log file")
+            if not path.exists() and args.log is None:
+                raise _RefusedError(_no_shipped_data(path, "or give your own log with "
+                                                           "--log FILE"))
             if not path.exists():
                 raise _RefusedError(f"log file '{path}' does not exist")
             if not path.is_file():  # a FIFO or a device: reading it blocks or never ends
                 raise _RefusedError(f"--log '{path}' is not a regular file (a FIFO or a "
                                     "device); give a log file")
+    for module, label, _ in modules:  # Figure 8 reads the shipped logs whatever --log says
+        for _, path, *_ in getattr(module, "SHIPPED", ()):
+            if not path.exists():
+                raise _RefusedError(_no_shipped_data(path, f"or drop {label.split()[-1]} "
+                                                           "from --only"))
     try:
         check_out_dir(args.out)
     except OutputError as exc:

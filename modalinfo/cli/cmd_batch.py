@@ -13,7 +13,7 @@ analysis runs on a Dask ``LocalCluster`` (``--workers``, ``--threads-per-worker`
 that cannot be read becomes an error row. Running the same command again resumes:
 finished rows are skipped. Exit status 1 when some row failed (the count on stderr),
 or when no worker ran a task for ``--worker-wait`` seconds; 2 for an input error,
-found before any work (a ``--set`` value, ``--memory-limit`` below 256 MiB, an
+found before any work (a ``--set`` value, ``--memory-limit`` below 384 MiB, an
 output directory in use by another batch: ``DIR/.lock``). When stderr is not a
 terminal, a progress line every few seconds replaces the bar.
 ``--set analysis.name=value`` changes a parameter (value read as JSON when it parses,

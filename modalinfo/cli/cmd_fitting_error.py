@@ -22,6 +22,7 @@ from modalinfo.cli.cmd_reorder import (
     check_pupil_memory,
     check_window_and_frame,
     file_basis,
+    kl_geometry_note,
     load_analysed_log,
     refuse_frame_with_drop,
     resolve_mi_defaults,
@@ -126,6 +127,8 @@ def run(args: argparse.Namespace) -> int:
             sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
             outer_scale=args.outer_scale, bases=bases, progress=advance,
         )
+    if any(b == "kl-theory" for b, _ in specs):  # after the refusals (one line each)
+        kl_geometry_note(args, log)
     targets = [args.target] if args.target is not None else []
     fractions = [args.fraction] if args.fraction is not None else []
     table = comp.table(targets=targets, fractions=fractions)

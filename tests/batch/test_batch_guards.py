@@ -108,8 +108,8 @@ def test_every_analysis_checks_its_values(analysis, params, message):
 
 
 @pytest.mark.parametrize("limit, message", [
-    ("10MB", "at least 256.00 MiB"),
-    ("200 MiB", "at least 256.00 MiB"),
+    ("10MB", "at least 384.00 MiB"),
+    ("200 MiB", "at least 384.00 MiB"),
     ("-2GB", "must be a size such as"),
     ("plenty", "must be a size such as"),
 ])
@@ -139,7 +139,7 @@ def test_memory_limit_one_is_the_whole_machine_as_in_dask(limit):
     from modalinfo.batch.engine import MIN_MEMORY_LIMIT
 
     resolved = parse_memory_limit(limit, 1, logger=logging.getLogger(__name__))
-    assert resolved >= MIN_MEMORY_LIMIT  # this machine has more than 256 MiB
+    assert resolved >= MIN_MEMORY_LIMIT  # this machine has more than 384 MiB
     check_memory_limit(limit)
 
 

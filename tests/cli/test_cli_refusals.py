@@ -210,7 +210,7 @@ def test_memory_limit_is_parsed_without_dask(monkeypatch):
         _memory_limit(argparse.Namespace(memory_limit="2 furlongs"))
     for limit in (None, "auto", 0, "0", "1GB", "512 MiB", 0.5, 2**30):
         check_memory_limit(limit)
-    for limit, message in (("10MB", "at least 256.00 MiB"), ("-2GB", "must be a size"),
+    for limit, message in (("10MB", "at least 384.00 MiB"), ("-2GB", "must be a size"),
                            ("plenty", "must be a size"), (-0.5, "must be a size"),
                            (True, "must be a size")):
         with pytest.raises(ValueError, match=message):

@@ -80,7 +80,7 @@ def test_bad_grids_are_refused_before_any_run(tmp_path, capsys, grid, needle):
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["--memory-limit", "64MB"], "--memory-limit must be at least 256.00 MiB"),
+    (["--memory-limit", "64MB"], "--memory-limit must be at least 384.00 MiB"),
     (["--workers", "0"], "--workers must be >= 1"),
     (["--worker-wait", "0"], "--worker-wait must be a number of seconds > 0"),
 ])

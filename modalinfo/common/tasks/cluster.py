@@ -18,9 +18,12 @@ __all__ = ["MIN_MEMORY_LIMIT", "WORKER_BASELINE", "check_memory_limit", "check_w
            "dashboard_link", "open_client", "raise_if_interrupted"]
 
 #: Smallest per-worker memory limit of a local cluster [bytes]: a worker process with
-#: numpy, numba and the library imported holds ~150 MB, and Dask pauses a worker at 80 %
-#: of its limit, so a smaller limit leaves workers paused for ever.
-MIN_MEMORY_LIMIT = 256 * 2**20
+#: numpy, numba and the library imported holds ~150 MB, and running the smallest task
+#: (``summary`` of a 3000 x 27 log) it peaks between 243 and 285 MiB: at 256 and 257 MiB
+#: Dask killed 4 workers in turn (its terminate threshold is 95 % of the limit) and the
+#: row was lost; at 300 MiB it ran (adversarial round 24 PART b). Dask pauses a worker at
+#: 80 % of its limit, so the floor keeps that pause above the peak: 0.8 x 384 = 307 MiB.
+MIN_MEMORY_LIMIT = 384 * 2**20
 
 #: the preload that makes each local worker process leave Ctrl-C to the command
 _WORKER_SIGNALS = "modalinfo.common.tasks.worker_signals"
@@ -118,8 +121,8 @@ def check_memory_limit(memory_limit: str | float | None, threads_per_worker: int
         raise ValueError(rule) from None
     if value is not None and value < MIN_MEMORY_LIMIT:
         raise ValueError(f"`memory_limit` must be at least {format_size(MIN_MEMORY_LIMIT)} "
-                         f"per worker (a worker process alone holds ~150 MB and Dask pauses "
-                         f"it at 80 % of its limit); got {memory_limit!r} = "
+                         f"per worker (a worker process running a task peaks near 285 MiB and "
+                         f"Dask pauses it at 80 % of its limit); got {memory_limit!r} = "
                          f"{format_size(value)}")
 
 
