@@ -25,7 +25,7 @@ from modalinfo.io._columns import unit_word
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
-from modalinfo.telemetry.checks import coarse_start_spacing, default_modes
+from modalinfo.telemetry.checks import coarse_start_spacing, default_modes, transposed_shape
 from modalinfo.telemetry.log import ModalLog
 
 FORMAT_VERSION = 1
@@ -332,6 +332,10 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             modes = default_modes(conv, int(np.shape(coeffs)[1]))
             if modes is not None:
                 assumed["modes"] = describe_modes(modes, conv)
+                if transposed_shape(*np.shape(coeffs)) is not None:
+                    # orient() let this shape through (a hint or the file vouched for
+                    # it): name the columns, which confirms the layout to ModalLog
+                    kwargs["modes"] = modes
         if assumed:
             records["assumed"] = assumed
     if records:
