@@ -236,3 +236,16 @@ def test_largest_diameter_kept():
     log = _no_warning(open_loop_log, [2, 3], n_frames=64, rate=1000.0, diameter=100.0,
                       layers=Layer(r0=0.1, wind_speed=10.0), seed=0)
     assert log.metadata["diameter_m"] == 100.0
+
+
+def test_a_file_keeps_its_stored_rate_without_a_warning_on_every_read(tmp_path):
+    """An archive of one frame a minute, written once with its warning, reads silently."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        log = ModalLog(_x((400, 3)), rate=1 / 60)
+    for ext in ("npz", "h5"):
+        path = tmp_path / f"archive.{ext}"
+        from modalinfo.io import save
+
+        save(log, path)
+        assert _no_warning(load, path).rate == pytest.approx(1 / 60, rel=1e-15)
