@@ -72,7 +72,7 @@ MAX_WIND_SPEED = 100.0
 
 
 def _caller_stacklevel() -> int:
-    """``stacklevel`` for ``warnings.warn`` that names the first frame outside the packages.
+    """``stacklevel`` for the caller's ``warnings.warn``: the first frame outside the packages.
 
     A plausibility warning raised by ``ModalLog`` is met through ``open_loop_log``,
     a reader or a command: it points at the user's line whatever the depth.
@@ -94,7 +94,7 @@ def _caller_stacklevel() -> int:
 def _plausibility_warning(message: str) -> None:
     import warnings
 
-    warnings.warn(message, UserWarning, stacklevel=_caller_stacklevel() + 1)
+    warnings.warn(message, UserWarning, stacklevel=_caller_stacklevel())
 
 
 def check_rate(rate: Any, name: str = "rate", *, warn: bool = True) -> float:

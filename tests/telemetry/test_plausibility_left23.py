@@ -249,3 +249,12 @@ def test_a_file_keeps_its_stored_rate_without_a_warning_on_every_read(tmp_path):
 
         save(log, path)
         assert _no_warning(load, path).rate == pytest.approx(1 / 60, rel=1e-15)
+
+
+def test_warnings_point_at_the_callers_line():
+    """Python's convention: a warning names the line of the user's call, however deep."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        open_loop_log(n_frames=64, rate=0.001, diameter=4.0,
+                      layers=Layer(r0=15, wind_speed=10.0), seed=0)
+    assert [w.filename for w in caught] == [__file__, __file__]
