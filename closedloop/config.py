@@ -24,7 +24,13 @@ from pathlib import Path
 from typing import Any
 
 from closedloop.kinds import mirror_kind, mirror_kinds, sensor_kind, sensor_kinds
-from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.common.validation import (
+    MAX_TELESCOPE_DIAMETER,
+    check_choice,
+    check_int,
+    check_real,
+    check_telescope_diameter,
+)
 
 __all__ = [
     "TelescopeConfig",
@@ -90,8 +96,9 @@ MIN_FIELD_ARCSEC = 0.01
 _NARROW_RULE = (f"0 (the axis only) or >= {MIN_FIELD_ARCSEC:g} arcsec (in arcsec, not radians: "
                 "120\" is 5.8e-4 rad)")
 #: largest telescope diameter [m]: the largest telescope built or planned is 39 m (ELT);
-#: a larger value is a unit slip, such as millimetres typed as metres (round 18 PART b)
-MAX_DIAMETER = 100.0
+#: a larger value is a unit slip, such as millimetres typed as metres (round 18 PART b).
+#: The one rule of modalinfo's ``check_telescope_diameter`` (``open_loop_log`` too)
+MAX_DIAMETER = MAX_TELESCOPE_DIAMETER
 
 
 def _fail(key: str, rule: str, value: Any, exc=ValueError):
@@ -151,11 +158,7 @@ class TelescopeConfig:
     n_pixels: int = 64
 
     def _validate(self, p: str) -> None:
-        _set(self, "diameter", check_real(self.diameter, p + "diameter", minimum=0,
-                                          strict_min=True))
-        if self.diameter > MAX_DIAMETER:
-            _fail(p + "diameter", f"<= {MAX_DIAMETER:g} m (in metres; the largest telescope, "
-                  "the ELT, is 39 m)", self.diameter)
+        _set(self, "diameter", check_telescope_diameter(self.diameter, p + "diameter"))
         _set(self, "obscuration", check_real(self.obscuration, p + "obscuration", minimum=0,
                                         maximum=0.95))
         _set(self, "zenith_angle", check_real(self.zenith_angle, p + "zenith_angle", minimum=0,

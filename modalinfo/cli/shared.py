@@ -13,7 +13,7 @@ from pathlib import Path
 
 from modalinfo.bases.indexing import parse_modes
 from modalinfo.common.cli import CommandError, check_output
-from modalinfo.common.validation import RATE_RANGE, log_rate_problem
+from modalinfo.common.validation import RATE_RANGE, RATE_RULE, log_rate_problem
 from modalinfo.telemetry.units import WAVELENGTH_RANGE, WAVELENGTH_RULE, check_wavelength
 
 __all__ = [
@@ -82,10 +82,13 @@ def _in_range(text: str, unit: str, bounds: tuple[float, float], why: str) -> fl
 
 
 def rate_arg(text: str) -> float:
-    """Parse ``--rate`` (an argparse type): hertz within :data:`RATE_RANGE`."""
-    return _in_range(text, "hertz", RATE_RANGE,
-                     "1 mHz - 1 MHz: slower is an archive of averages, faster than any AO "
-                     "wavefront sensor; outside it the value is a unit slip or a typo")
+    """Parse ``--rate`` (an argparse type): hertz within :data:`RATE_RANGE`.
+
+    The rule of the API's :func:`modalinfo.common.validation.check_rate`, in its words;
+    a rate inside it but outside the wavefront sensors' 1 Hz - 100 kHz is warned when
+    the log is built (one line).
+    """
+    return _in_range(text, "hertz", RATE_RANGE, RATE_RULE)
 
 
 def wavelength_arg(text: str) -> float:

@@ -29,6 +29,15 @@ __all__ = [
     "did_you_mean",
     "log_rate_problem",
     "RATE_RANGE",
+    "RATE_RULE",
+    "WFS_RATE_RANGE",
+    "check_rate",
+    "MAX_TELESCOPE_DIAMETER",
+    "check_telescope_diameter",
+    "R0_RANGE",
+    "check_r0",
+    "MAX_WIND_SPEED",
+    "check_wind_speed",
     "unmasked",
 ]
 
@@ -38,6 +47,160 @@ __all__ = [
 #: sensors); outside it the value is a unit slip (a period typed as a rate, kHz typed as
 #: Hz twice, a time column in ns read as seconds) or a typo such as 1e300
 RATE_RANGE = (1e-3, 1e6)
+#: the rule of :data:`RATE_RANGE` in words, for the refusals of the API and of ``--rate``
+RATE_RULE = ("1 mHz - 1 MHz: slower is an archive of averages, faster than any AO "
+             "wavefront sensor; outside it the value is a unit slip or a typo")
+#: frame rates [Hz] of wavefront sensors: 1 Hz (a slow guider or a seeing monitor's
+#: Zernike output) to 100 kHz (10x the fastest tip-tilt sensors, ~10 kHz; high-order
+#: WFSs run at 0.2-4 kHz). A log's rate inside :data:`RATE_RANGE` but outside this one is
+#: an archive of averaged coefficients, or a period in seconds typed as a rate
+#: (``rate=0.001`` for 1 kHz; adversarial round 23 PART a, m3, m8, m39): warned, not
+#: refused, since such archives are analysed too
+WFS_RATE_RANGE = (1.0, 1e5)
+#: largest telescope diameter [m]: the largest telescope built or planned is 39 m (ELT);
+#: a larger value is a unit slip, such as centimetres or millimetres typed as metres
+#: (round 18 PART b; round 23 PART a, m13)
+MAX_TELESCOPE_DIAMETER = 100.0
+#: Fried parameters [m] at 500 nm of real seeing: site surveys give 2-20 cm (0.3 m on an
+#: exceptional night; daytime solar r0 5-15 cm), so 1 mm (seeing of 100") to 1 m keeps a
+#: factor 3-20 of margin; a larger value is usually centimetres typed as metres
+#: (``r0=15``; round 23 PART a, m10, m12)
+R0_RANGE = (1e-3, 1.0)
+#: fastest wind [m/s] of a turbulent layer: jet-stream cores blow at 30-70 m/s and
+#: rarely reach 100 m/s; beyond, the value is a unit slip (km/h or mph typed as m/s)
+MAX_WIND_SPEED = 100.0
+
+
+def _caller_stacklevel() -> int:
+    """``stacklevel`` for the caller's ``warnings.warn``: the first frame outside the packages.
+
+    A plausibility warning raised by ``ModalLog`` is met through ``open_loop_log``,
+    a reader or a command: it points at the user's line whatever the depth.
+    """
+    import sys
+
+    roots = ("modalinfo", "closedloop", "paper_figures")
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None:
+        module = frame.f_globals.get("__name__", "")
+        if module.split(".")[0] not in roots:
+            return level
+        frame = frame.f_back
+        level += 1
+    return level
+
+
+def _plausibility_warning(message: str) -> None:
+    import warnings
+
+    warnings.warn(message, UserWarning, stacklevel=_caller_stacklevel())
+
+
+def check_rate(rate: Any, name: str = "rate", *, warn: bool = True) -> float:
+    """Return a frame ``rate`` [Hz] as a float after its two range rules.
+
+    Outside :data:`RATE_RANGE` (1 mHz - 1 MHz, the rule of every command's ``--rate``)
+    the value is refused. Inside it but outside :data:`WFS_RATE_RANGE` (1 Hz - 100 kHz,
+    the frame rates of wavefront sensors) a ``UserWarning`` says that a period in
+    seconds may have been typed as a rate (``rate=0.001`` for 1 kHz): an archive of
+    averaged coefficients (one frame a minute, ``rate=1/60``) is analysed as given.
+    ``warn=False`` leaves the warning to a later check (a generator whose ``ModalLog``
+    warns), so that it is given once.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: not a real number, not finite, not > 0, or outside
+        :data:`RATE_RANGE`.
+    """
+    rate = check_real(rate, name, minimum=0.0, strict_min=True)
+    low, high = RATE_RANGE
+    if not low <= rate <= high:
+        slip = f" (a period of {rate:g} s is rate={1.0 / rate:g})" if rate < low else ""
+        raise ValueError(f"`{name}` must be in hertz within {low:g} - {high:g} ({RATE_RULE}); "
+                         f"got {rate!r}{slip}.")
+    wfs_low, wfs_high = WFS_RATE_RANGE
+    if not warn:
+        return rate
+    if rate < wfs_low:
+        _plausibility_warning(
+            f"`{name}` = {rate:g} Hz is below {wfs_low:g} Hz, slower than any wavefront "
+            f"sensor: if {rate:g} is the frame period in seconds, the rate is "
+            f"{name}={1.0 / rate:g}; an archive of averaged coefficients is analysed as "
+            "given (filter this UserWarning to silence it).")
+    elif rate > wfs_high:
+        _plausibility_warning(
+            f"`{name}` = {rate:g} Hz is above {wfs_high:g} Hz, 10x the fastest wavefront "
+            f"sensors (tip-tilt, ~10 kHz): kHz typed as Hz? The log is analysed as given "
+            "(filter this UserWarning to silence it).")
+    return rate
+
+
+def check_telescope_diameter(diameter: Any, name: str = "diameter") -> float:
+    """Return a telescope ``diameter`` [m] in ``(0, MAX_TELESCOPE_DIAMETER]``, else raise.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: not a real number, not finite, not > 0, or above
+        :data:`MAX_TELESCOPE_DIAMETER` (100 m: the largest telescope, the ELT, is 39 m;
+        a larger value is centimetres or millimetres typed as metres).
+    """
+    d = check_real(diameter, name, minimum=0.0, strict_min=True)
+    if d > MAX_TELESCOPE_DIAMETER:
+        raise ValueError(f"`{name}` must be <= {MAX_TELESCOPE_DIAMETER:g} m (in metres; the "
+                         f"largest telescope, the ELT, is 39 m); got {d!r} ({d:g} cm is "
+                         f"{d / 100:g} m, {d:g} mm is {d / 1000:g} m).")
+    return d
+
+
+def check_r0(r0: Any, name: str = "r0", wavelength: float = 500e-9) -> float:
+    """Return a Fried parameter ``r0`` [m] quoted at ``wavelength`` [m] after its range rules.
+
+    ``r0`` scaled to 500 nm (as ``lambda**(6/5)``) below :data:`R0_RANGE`'s 1 mm is
+    refused: no site has seeing worse than 100", and a layer's own r0 is never smaller
+    than the total. Above its 1 m a ``UserWarning`` says centimetres may have been typed
+    as metres (``r0=15``): a weak layer of a many-layer profile can have such an r0 (it
+    carries ``(r0_total / r0)**(5/3)`` of the turbulence), so it is not refused.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: not a real number, not finite, not > 0, or below 1 mm at 500 nm.
+    """
+    r0 = check_real(r0, name, minimum=0.0, strict_min=True)
+    at_500 = r0 * (500e-9 / wavelength) ** 1.2
+    low, high = R0_RANGE
+    where = "" if wavelength == 500e-9 else f" ({at_500:.3g} m at 500 nm)"
+    if at_500 < low:
+        raise ValueError(f"`{name}` must be >= {low:g} m at 500 nm (in metres; site surveys "
+                         f"give 2-20 cm, and 1 mm is seeing of 100\"); got {r0!r}{where}.")
+    if at_500 > high:
+        _plausibility_warning(
+            f"`{name}` = {r0:g} m{where} is beyond {high:g} m at 500 nm, more than any site's "
+            "Fried parameter (2-20 cm typical, 0.3 m on an exceptional night): centimetres "
+            f"typed as metres (r0={r0 / 100:g})? Kept as given: a weak layer of a "
+            "many-layer profile may have it (filter this UserWarning to silence it).")
+    return r0
+
+
+def check_wind_speed(speed: Any, name: str = "wind_speed") -> float:
+    """Return a layer's wind ``speed`` [m/s] in ``(0, MAX_WIND_SPEED]``, else raise.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming ``name``: not a real number, not finite, not > 0, or above
+        :data:`MAX_WIND_SPEED` (100 m/s: jet-stream cores blow at 30-70 m/s; a faster
+        value is km/h or mph typed as m/s).
+    """
+    v = check_real(speed, name, minimum=0.0, strict_min=True)
+    if v > MAX_WIND_SPEED:
+        raise ValueError(f"`{name}` must be <= {MAX_WIND_SPEED:g} m/s (in m/s; jet-stream "
+                         f"cores blow at 30-70 m/s, rarely 100); got {v!r} (in km/h that is "
+                         f"{v / 3.6:.3g} m/s).")
+    return v
 
 
 def did_you_mean(word: str, choices, quote: str = "`") -> str:

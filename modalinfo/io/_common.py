@@ -25,7 +25,7 @@ from modalinfo.io._columns import unit_word
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
-from modalinfo.telemetry.checks import coarse_start_spacing, default_modes
+from modalinfo.telemetry.checks import coarse_start_spacing, default_modes, transposed_shape
 from modalinfo.telemetry.log import ModalLog
 
 FORMAT_VERSION = 1
@@ -332,6 +332,10 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             modes = default_modes(conv, int(np.shape(coeffs)[1]))
             if modes is not None:
                 assumed["modes"] = describe_modes(modes, conv)
+                if transposed_shape(*np.shape(coeffs)) is not None:
+                    # orient() let this shape through (a hint or the file vouched for
+                    # it): name the columns, which confirms the layout to ModalLog
+                    kwargs["modes"] = modes
         if assumed:
             records["assumed"] = assumed
     if records:
@@ -339,6 +343,15 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         meta.update(records)
         kwargs["metadata"] = meta
     try:
+        rate = kwargs.get("rate") if stored.get("rate") is not None else None
+        if _unusual_stored_rate(rate) and "timestamps" not in kwargs:
+            # a rate the file stores was checked when it was written: one outside the
+            # wavefront sensors' 1 Hz - 100 kHz is read as stored, not warned on every read,
+            # and one outside RATE_RANGE is reported (info, batch's summary row) and refused
+            # by the analyses in the commands' words (log_rate_problem), as before the API
+            # checked rates (Leftovers 23-plaus)
+            kwargs.pop("rate")
+            return ModalLog(coeffs, **kwargs)._derive(_rate=float(rate))
         return ModalLog(coeffs, **kwargs)
     except (ValueError, TypeError) as exc:
         message = str(exc)
@@ -349,6 +362,24 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             message = f"the file's {named.group(1)}" + message[named.end():]
         error = type(exc)(f"'{path}': {message}")
         raise _PassthroughError(error) from exc
+
+
+def _unusual_stored_rate(rate) -> bool:
+    """Whether a file's stored ``rate`` is a finite positive number outside ``WFS_RATE_RANGE``.
+
+    Anything else (a usual rate, or one that is no rate: NaN, <= 0, a string) takes
+    ``ModalLog``'s own rule and its message ("the file's rate ...").
+    """
+    from modalinfo.common.validation import WFS_RATE_RANGE
+
+    if rate is None or isinstance(rate, bool | str | bytes) or np.ndim(rate) != 0:
+        return False
+    try:
+        value = float(rate)
+    except (TypeError, ValueError):
+        return False
+    return bool(np.isfinite(value) and value > 0
+                and not WFS_RATE_RANGE[0] <= value <= WFS_RATE_RANGE[1])
 
 
 def _file_units(coeffs, file_unit: tuple[str, str], stored: dict, hints: dict, path: Path):

@@ -41,17 +41,16 @@ from typing import Any
 import numpy as np
 
 from modalinfo.io.files import LogFormatError
-from modalinfo.telemetry.checks import mode_labels
+from modalinfo.telemetry.checks import (
+    COLUMN_RATIO,
+    MAX_MODES,
+    MIN_SUSPECT_COLUMNS,
+    mode_labels,
+    transposed_shape,
+)
 
 __all__ = ["MAX_MODES", "COLUMN_RATIO", "MIN_SUSPECT_COLUMNS", "RATE_FIELD_NAMES", "orient",
            "axis_layout", "rate_field"]
-
-#: More modes than any wavefront sensor measures: such a width means frames.
-MAX_MODES = 5000
-#: Columns at least this many times the rows look like a transposed log ...
-COLUMN_RATIO = 4
-#: ... when there are more than this many columns.
-MIN_SUSPECT_COLUMNS = 64
 
 _TIME_WORDS = {"time", "times", "t", "frame", "frames", "sample", "samples", "epoch",
                "timestamp", "timestamps", "iteration", "iterations", "step", "steps"}
@@ -143,13 +142,7 @@ def _evidence(shape: tuple[int, int], stored: dict, hints: dict) -> str | None:
             return None
         if len(times) == n_cols:
             return f"its time axis has {n_cols} entries, one per column"
-    if n_cols <= n_rows:
-        return None
-    if n_cols > MAX_MODES:
-        return f"{n_cols} columns would be more modes than any wavefront sensor measures"
-    if n_cols > MIN_SUSPECT_COLUMNS and n_cols >= COLUMN_RATIO * n_rows:
-        return f"{n_cols} columns (modes) for only {n_rows} rows (frames)"
-    return None
+    return transposed_shape(n_rows, n_cols)  # the shape rule ModalLog applies too
 
 
 def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | None]:

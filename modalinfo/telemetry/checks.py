@@ -30,7 +30,37 @@ __all__ = [
     "coarse_start_spacing",
     "timestamp_resolution",
     "mode_labels",
+    "MAX_MODES",
+    "COLUMN_RATIO",
+    "MIN_SUSPECT_COLUMNS",
+    "transposed_shape",
 ]
+
+#: More modes than any wavefront sensor measures: such a width means frames.
+MAX_MODES = 5000
+#: Columns at least this many times the rows look like a transposed log ...
+COLUMN_RATIO = 4
+#: ... when there are more than this many columns.
+MIN_SUSPECT_COLUMNS = 64
+
+
+def transposed_shape(n_rows: int, n_cols: int) -> str | None:
+    """Why a ``(rows, cols)`` array looks like a log stored modes x frames; None if not.
+
+    The one shape rule of ``ModalLog`` and of the file readers
+    (``modalinfo.io._foreign``): more columns than rows and either more than
+    :data:`MAX_MODES` columns, or at least :data:`COLUMN_RATIO` times as many columns
+    as rows and more than :data:`MIN_SUSPECT_COLUMNS`. A short log of a 4-m telescope's
+    1,000-2,000 modes has that shape too: naming its columns (``modes``) or giving one
+    time per row (``timestamps``) confirms it.
+    """
+    if n_cols <= n_rows:
+        return None
+    if n_cols > MAX_MODES:
+        return f"{n_cols} columns would be more modes than any wavefront sensor measures"
+    if n_cols > MIN_SUSPECT_COLUMNS and n_cols >= COLUMN_RATIO * n_rows:
+        return f"{n_cols} columns (modes) for only {n_rows} rows (frames)"
+    return None
 
 #: Mode-indexing conventions a log can carry.
 CONVENTIONS = ("noll", "ansi", "fringe", "labels")

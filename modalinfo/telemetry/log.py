@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.records import same_value
-from modalinfo.common.validation import check_choice, check_int, check_real
+from modalinfo.common.validation import check_choice, check_int, check_rate, check_real
 from modalinfo.telemetry.checks import (
     CONVENTIONS,
     NONFINITE_POLICIES,
@@ -58,6 +58,7 @@ from modalinfo.telemetry.checks import (
     coarse_start_spacing,
     find_label,
     mode_labels,
+    transposed_shape,
 )
 from modalinfo.telemetry.scan import count_nonfinite, row_blocks
 from modalinfo.telemetry.units import check_units, check_wavelength, unit_scale
@@ -92,6 +93,48 @@ def _check_frame_columns(coeffs, labels: list[str]) -> None:
         "modes=list(df.columns), convention='labels').")
 
 
+def _count(value) -> int | None:
+    """``len(value)`` of a sequence or 1-D array, else None (refused later, by its rule)."""
+    if value is None or isinstance(value, str | bytes):
+        return None
+    try:
+        return len(value) if np.ndim(value) == 1 else None
+    except Exception:  # noqa: BLE001 - a closed h5py dataset raises RuntimeError: its
+        return None  # own check names the argument (as_ndarray, round 19)
+
+
+def _check_layout(coeffs, shape: tuple[int, int], modes, timestamps) -> None:
+    """Refuse ``coeffs`` that look stored modes x frames, by the file readers' rule.
+
+    ``ModalLog(x)`` of a (50 modes, 400 frames) array was read as 50 frames of 400
+    modes without a word, where the readers refuse the same shape (round 23 PART a,
+    m1). The evidence is the readers' (:func:`modalinfo.telemetry.checks.transposed_shape`,
+    ``modes`` or ``timestamps`` with one entry per row); what confirms the layout is
+    theirs too: ``modes`` with one entry per column, ``timestamps`` with one per row, or
+    a DataFrame's column names. So a short log of thousands of named modes is accepted.
+    """
+    n_rows, n_cols = shape
+    fix = (f"logs are (T frames, M modes): pass coeffs.T to read {n_cols} frames of "
+           f"{n_rows} modes")
+    n_modes, n_times = _count(modes), _count(timestamps)
+    if n_rows != n_cols and (n_modes == n_rows or n_times == n_cols):
+        which = (f"`modes` names {n_rows} modes, one per row" if n_modes == n_rows else
+                 f"`timestamps` has {n_cols} times, one per column")
+        raise ValueError(f"`coeffs` of shape {shape} looks transposed (modes x frames): "
+                         f"{which}; {fix}.")
+    if modes is not None or timestamps is not None:
+        return
+    columns = getattr(coeffs, "columns", None)
+    if columns is not None and [str(c) for c in columns] != [str(k) for k in range(n_cols)]:
+        return  # named columns (checked against the labels by _check_frame_columns)
+    why = transposed_shape(n_rows, n_cols)
+    if why is not None:
+        raise ValueError(
+            f"`coeffs` of shape {shape} looks transposed (modes x frames): {why}; {fix}, "
+            f"or confirm {n_rows} frames of {n_cols} modes by naming the columns (modes=, "
+            "one per column) or timing the rows (timestamps=, one per row).")
+
+
 class ModalLog:
     """A telemetry log of modal coefficients ``(T, M)`` with time axis, modes and units.
 
@@ -99,10 +142,19 @@ class ModalLog:
     ----------
     coeffs : array_like, shape (T, M)
         Coefficients, time along axis 0. float32 and float64 are kept as given (not
-        copied; a ``numpy.memmap`` stays memory-mapped); integers become float64.
+        copied; a ``numpy.memmap`` stays memory-mapped); integers become float64. An
+        array that looks stored modes x frames is refused as the file readers refuse
+        it: more than 5000 columns and more columns than rows, or more than 64 columns
+        and at least 4 times as many as rows, with neither ``modes`` nor
+        ``timestamps`` (nor a DataFrame's column names) to confirm the layout; so are
+        ``modes`` with one entry per row and ``timestamps`` with one per column.
     rate : float, optional
-        Sample rate in Hz. Frames are at ``start_time + arange(T) / rate`` seconds
-        unless ``timestamps`` are given.
+        Sample rate in Hz, within 1 mHz - 1 MHz (the rule of the command lines'
+        ``--rate``). Frames are at ``start_time + arange(T) / rate`` seconds unless
+        ``timestamps`` are given. A rate below 1 Hz or above 100 kHz (no wavefront
+        sensor runs there) is kept with a ``UserWarning``: ``rate=0.001`` is usually
+        the period of a 1 kHz loop (an archive of averaged coefficients is the
+        exception the warning allows).
     timestamps : array_like, shape (T,), optional
         Frame times in seconds, strictly increasing. If ``rate`` is also given, the
         median interval must equal ``1 / rate`` to a relative ``1e-3``.
@@ -139,9 +191,15 @@ class ModalLog:
         Non-numeric or complex ``coeffs``, non-int modes for a Zernike convention,
         non-dict or non-JSON ``metadata``.
     ValueError
-        Wrong dimensions, empty log, unknown units or convention, ``modes`` not
-        matching the columns, non-monotonic timestamps, ``rate`` disagreeing with
-        ``timestamps``, or non-finite values with ``nonfinite="raise"``.
+        Wrong dimensions, a layout that looks transposed, empty log, unknown units or
+        convention, ``modes`` not matching the columns, non-monotonic timestamps,
+        ``rate`` outside 1 mHz - 1 MHz or disagreeing with ``timestamps``, or non-finite
+        values with ``nonfinite="raise"``.
+
+    Warns
+    -----
+    UserWarning
+        ``rate`` below 1 Hz or above 100 kHz (see ``rate``).
     """
 
     __slots__ = (
@@ -184,10 +242,11 @@ class ModalLog:
         units = check_units(units)
         check_choice(nonfinite, "nonfinite", NONFINITE_POLICIES)
         if rate is not None:
-            rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
+            rate = check_rate(rate)
         if wavelength is not None:
             wavelength = check_wavelength(wavelength)
         start_time = check_real(start_time, "start_time")
+        _check_layout(coeffs, arr.shape, modes, timestamps)
         t = None if timestamps is None else check_timestamps(timestamps, n_frames)
         if t is None and rate is not None and n_frames > 1:
             # float64 must tell the frames apart: a start in ns since 1970 (1.7e18) or

@@ -92,6 +92,9 @@ def test_rate_outside_the_physical_range_is_refused_before_work(small_log, rate,
     assert err.count("\n") == 1 and "--rate" in err and "hertz within 0.001 - 1e+06" in err
 
 
+# 0.001 and 1e6 lie outside the wavefront sensors' 1 Hz - 100 kHz: accepted with a
+# one-line UserWarning (Leftovers 23-plaus), which the suite would make an error
+@pytest.mark.filterwarnings("ignore:`rate` = .* Hz is (below|above):UserWarning")
 @pytest.mark.parametrize("rate", ["0.001", "2000", "1e6"])
 def test_rate_inside_the_range_is_accepted(tmp_path, rate, capsys):
     path = tmp_path / "norate.npy"  # a bare array: no stored rate to contradict

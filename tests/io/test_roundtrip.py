@@ -89,6 +89,10 @@ def logs(draw):
     )
 
 
+# rates span the whole accepted range (1 mHz - 1 MHz) on purpose: outside the wavefront
+# sensors' 1 Hz - 100 kHz a log is built, written and read with a UserWarning (Leftovers
+# 23-plaus), which is not what this round trip tests
+@pytest.mark.filterwarnings("ignore:`rate` = .* Hz is (below|above):UserWarning")
 @settings(
     max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )

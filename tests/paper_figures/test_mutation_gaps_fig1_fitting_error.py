@@ -191,6 +191,9 @@ def test_compute_plumbing_and_numbers(stand_ins):
     assert r.elapsed == 2.5
 
 
+# 0.4 Hz on purpose (the at-least-one-frame branch): below the wavefront sensors' 1 Hz the
+# log is built with a UserWarning (Leftovers 23-plaus), which the suite would make an error
+@pytest.mark.filterwarnings("ignore:`rate` = .* Hz is below:UserWarning")
 @pytest.mark.parametrize("rate, window", [(None, 30), (1000.0, 60), (0.4, 1), (39.6, 40)])
 def test_stability_window(stand_ins, rate, window):
     # 1 s of frames, else a quarter of the log; at most half the log, at least one frame

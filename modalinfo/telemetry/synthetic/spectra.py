@@ -73,8 +73,12 @@ from modalinfo.bases.turbulence import check_outer_scale
 from modalinfo.common.validation import (
     check_int,
     check_memory,
+    check_r0,
+    check_rate,
     check_real,
     check_rng,
+    check_telescope_diameter,
+    check_wind_speed,
 )
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import check_wavelength
@@ -105,9 +109,14 @@ class Layer:
     ----------
     r0 : float or None
         Fried parameter of this layer alone [m] at ``r0_wavelength``. Several layers
-        combine as ``r0**(-5/3) = sum_l r0_l**(-5/3)``.
+        combine as ``r0**(-5/3) = sum_l r0_l**(-5/3)``. Scaled to 500 nm it must be
+        >= 1 mm (seeing of 100"); above 1 m (more than any site: 2-20 cm typical,
+        0.3 m exceptional) a ``UserWarning`` asks whether centimetres were typed as
+        metres, since a weak layer of a many-layer profile may have such an r0.
     wind_speed : float
-        Wind speed [m/s], > 0. Sets the temporal cutoffs ``0.3 (n + 1) v / D``.
+        Wind speed [m/s], in (0, 100]: jet-stream cores blow at 30-70 m/s, rarely 100;
+        a faster value is km/h or mph typed as m/s. Sets the temporal cutoffs
+        ``0.3 (n + 1) v / D``.
     d_over_r0 : float or None
         ``D / r0`` of this layer at ``r0_wavelength`` (instead of ``r0``).
     r0_wavelength : float
@@ -125,23 +134,20 @@ class Layer:
                 "Layer needs exactly one of `r0` (m) and `d_over_r0`; got "
                 f"r0={self.r0!r}, d_over_r0={self.d_over_r0!r}."
             )
-        if self.r0 is not None:
-            object.__setattr__(self, "r0", check_real(self.r0, "r0", minimum=0.0, strict_min=True))
+        object.__setattr__(
+            self,
+            "r0_wavelength",
+            check_wavelength(self.r0_wavelength, "r0_wavelength"),
+        )
+        if self.r0 is not None:  # r0 scaled to 500 nm within 1 mm - 1 m (beyond: warned)
+            object.__setattr__(self, "r0", check_r0(self.r0, "r0", self.r0_wavelength))
         else:
             object.__setattr__(
                 self,
                 "d_over_r0",
                 check_real(self.d_over_r0, "d_over_r0", minimum=0.0, strict_min=True),
             )
-        object.__setattr__(
-            self, "wind_speed", check_real(self.wind_speed, "wind_speed", minimum=0.0,
-                                           strict_min=True)
-        )
-        object.__setattr__(
-            self,
-            "r0_wavelength",
-            check_wavelength(self.r0_wavelength, "r0_wavelength"),
-        )
+        object.__setattr__(self, "wind_speed", check_wind_speed(self.wind_speed))
 
     def d_over_r0_at(self, diameter: float, wavelength: float) -> float:
         """Return ``D / r0`` of this layer at ``wavelength`` [m] for a ``diameter`` [m] pupil."""
@@ -334,7 +340,7 @@ def open_loop_psd(
         raise ValueError("`n_frames` and `rate` must be given together (or neither).")
     if n_frames is not None:
         n_frames = check_int(n_frames, "n_frames", minimum=2)
-        rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
+        rate = check_rate(rate)
     order, n_radial, chol = _mode_model(mode_list, outer_scale, diameter)
     weights2 = chol**2
     if n_frames is not None:
@@ -363,7 +369,7 @@ def open_loop_psd(
 
 
 def _check_geometry(diameter, outer_scale, wavelength):
-    diameter = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+    diameter = check_telescope_diameter(diameter)  # <= 100 m: m13, diameter=800 (cm)
     outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                              allow_inf=True)
     wavelength = check_wavelength(wavelength)
@@ -406,9 +412,11 @@ def open_loop_log(
     n_frames : int
         Number of samples T (>= 2).
     rate : float
-        Sample rate [Hz].
+        Sample rate [Hz], within 1 mHz - 1 MHz; below 1 Hz or above 100 kHz (no
+        wavefront sensor) the log's ``UserWarning`` (see ``ModalLog``).
     diameter : float
-        Pupil diameter D [m].
+        Pupil diameter D [m], in (0, 100] (the ELT is 39 m; a larger value is
+        centimetres typed as metres).
     layers : Layer or sequence of Layer
         Turbulent layers, each with its own ``r0`` and wind speed.
     outer_scale : float
@@ -431,7 +439,7 @@ def open_loop_log(
     """
     mode_list = _check_modes(modes)
     n_frames = check_int(n_frames, "n_frames", minimum=2)
-    rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
+    rate = check_rate(rate, warn=False)  # refused here; warned once, by the ModalLog
     diameter, outer_scale, wavelength = _check_geometry(diameter, outer_scale, wavelength)
     layer_tuple = _check_layers(layers)
     # white noise, its spectrum and the filtered series, ~ 2 T x M floats each; without
