@@ -18,7 +18,6 @@ attributed to ``__main__``, is seen at all) whatever the route of the call.
 from __future__ import annotations
 
 import contextlib
-import os
 import sys
 import threading
 import warnings
@@ -27,11 +26,8 @@ from collections.abc import Iterator
 __all__ = ["caller_stacklevel", "catching_warnings"]
 
 _LOCK = threading.RLock()
-#: the folders of the packages whose frames a warning skips: modalinfo's, closedloop's
-#: and paper_figures' (siblings in one source tree or one site-packages)
-_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-_PACKAGES = tuple(os.path.join(_ROOT, name) + os.sep
-                  for name in ("modalinfo", "closedloop", "paper_figures"))
+#: the packages whose frames a warning skips
+_PACKAGES = frozenset(("modalinfo", "closedloop", "paper_figures"))
 
 
 def caller_stacklevel() -> int:
@@ -46,7 +42,9 @@ def caller_stacklevel() -> int:
     """
     frame = sys._getframe(1)  # the function that warns: stacklevel 1
     level = 1
-    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGES):
+    # by module name, not file name: a dataclass's generated ``__init__`` (``ModalLog``'s
+    # checks) runs from the file '<string>' but in the package's globals
+    while frame is not None and frame.f_globals.get("__name__", "").partition(".")[0] in _PACKAGES:
         frame = frame.f_back
         level += 1
     return level

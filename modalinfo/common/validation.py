@@ -71,30 +71,16 @@ R0_RANGE = (1e-3, 1.0)
 MAX_WIND_SPEED = 100.0
 
 
-def _caller_stacklevel() -> int:
-    """``stacklevel`` for the caller's ``warnings.warn``: the first frame outside the packages.
-
-    A plausibility warning raised by ``ModalLog`` is met through ``open_loop_log``,
-    a reader or a command: it points at the user's line whatever the depth.
-    """
-    import sys
-
-    roots = ("modalinfo", "closedloop", "paper_figures")
-    frame = sys._getframe(1)
-    level = 1
-    while frame is not None:
-        module = frame.f_globals.get("__name__", "")
-        if module.split(".")[0] not in roots:
-            return level
-        frame = frame.f_back
-        level += 1
-    return level
-
-
 def _plausibility_warning(message: str) -> None:
+    """Warn at the user's line, whatever the depth.
+
+    ``ModalLog`` is met through ``open_loop_log``, a reader or a command.
+    """
     import warnings
 
-    warnings.warn(message, UserWarning, stacklevel=_caller_stacklevel())
+    from modalinfo.common.quiet import caller_stacklevel
+
+    warnings.warn(message, UserWarning, stacklevel=caller_stacklevel())
 
 
 def check_rate(rate: Any, name: str = "rate", *, warn: bool = True) -> float:
