@@ -31,7 +31,9 @@ Derived views
   it *closed* if it did not diverge, the run has at least 4 frames and twice the 5-ms
   window of the closure detection, a closure was
   detected in the first half of the run after the first command reached the mirrors
-  (an earlier one means the SR never rose above its open-loop value), and the residual
+  (an earlier one means the band of the second half holds the open-loop SR: an SR
+  that never rose, or one that rose but swings too widely to tell a closure; the
+  status says which, with the band), and the residual
   after it is below half the open-loop level. A run whose SR peak gives no such closure
   (no steady band in the first half, or a band so wide that it holds the open-loop SR,
   as at the SR of a few percent of a 4-m solar MCAO) is *closed, still converging* if
@@ -430,6 +432,41 @@ class SimulationResult:
                 f"peak still rises ({early:.3g} from there to mid-run, {late:.3g} in the second "
                 f"half): no steady state to average from, the numbers are the second half's")
 
+    def _band_holds_open_loop(self) -> str:
+        """Say why a run whose SR band holds its open-loop value did not close.
+
+        The band of the second half (median - 3 robust sd) reaching down to the open-loop
+        SR (frame 0) is a "closure" before the first command: either the SR peak never
+        rose, or it rose but swings too widely for the band to tell a closure. A frame's
+        SR peak *rose clearly* when its residual is below half the open-loop one (the
+        module's "half the open-loop level": ``SR > SR_0 ** 0.5``); the SR *rose* when
+        the median of the second half did. The band is said either way: an SR peak of 0.18
+        swinging to 0 read "never rose" alone (adversarial round 8, row e87), and one
+        that went from 1e-15 to a median of 0.21 read "never rose" (round 24 PART a, K21,
+        K22).
+        """
+        peak = self.strehl_peak
+        n = peak.size
+        tail = peak[n // 2:]
+        open_sr = float(peak[0])
+        rise = math.sqrt(open_sr)  # residual at half the open-loop one
+        band = (f"the band of its second half (median - 3 robust sd) reaches down to "
+                f"{self._steady_band()[0]:.3g}")
+        median, mean = float(np.median(tail)), float(tail.mean())
+        if median > rise:
+            return (f"did not close: the SR peak rose from its open-loop value ({open_sr:.3g}) "
+                    f"to a median of {median:.3g} over the second half (mean {mean:.3g}), but "
+                    f"swings too widely to tell a closure: {band}, holding the open-loop start")
+        after = peak[self._first_command:]
+        risen = int(np.count_nonzero(after > rise))
+        if risen:
+            return (f"did not close: the SR peak ({mean:.3g} in the second half, median "
+                    f"{median:.3g}) rose clearly above its open-loop value ({open_sr:.3g}) on "
+                    f"only {risen} of the {after.size} frames after the first command: "
+                    f"{band}")
+        return (f"did not close: the SR peak ({mean:.3g} in the second half) never rose "
+                f"clearly above its open-loop value ({open_sr:.3g}): {band}")
+
     @property
     def loop_status(self) -> str:
         """Say whether the loop closed: ``"closed"`` or ``"<verdict>: <why>"``.
@@ -475,16 +512,10 @@ class SimulationResult:
             return self._still_converging(v) or (
                 "did not close: the SR peak reaches no steady state in the first half of the run")
         # frame k sees a command once (k + 1) T > T + delay: a "closure" before that is
-        # a steady band so wide that it holds the open loop (an SR that never rose)
+        # a steady band so wide that it holds the open loop (an SR that never rose, or
+        # one that rose and swings)
         if self.closure_index < self._first_command:
-            # the band is said: an SR peak of 0.18 swinging to 0 read "never rose" alone
-            # (adversarial round 8, row e87)
-            peak = self.strehl_peak
-            return self._still_converging(v) or (
-                f"did not close: the SR peak ({float(peak[n // 2:].mean()):.3g} in the "
-                f"second half) never rose clearly above its open-loop value "
-                f"({float(peak[0]):.3g}): the band of its second half (median - 3 robust sd) "
-                f"reaches down to {self._steady_band()[0]:.3g}")
+            return self._still_converging(v) or self._band_holds_open_loop()
         steady = float(v[self.closure_index:].mean())
         if steady >= 0.5 * open_loop:
             return (f"did not close: the residual ({steady:.3g} rad^2, field mean) stays above "

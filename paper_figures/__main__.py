@@ -195,6 +195,24 @@ def _check_args(args, modules, logs, needs_log) -> None:
         raise _RefusedError(str(exc)) from None
 
 
+def _kl_notes(log, path, modules) -> list[str]:
+    """Say what the theoretical K-L of a chosen figure assumes that ``--log`` omits.
+
+    Figure 1 orders ``kl-theory`` (its ``SPECS``) with the log's outer scale, else an
+    infinite one: said as ``modalinfo fitting-error`` says it, in the words of
+    ``modalinfo.ordering.compare.kl_geometry_assumption`` (left24-status; adversarial
+    round 24 PART b, F31-F35).
+    """
+    from modalinfo.ordering.compare import kl_geometry_assumption
+
+    labels = [label for module, label, _ in modules if _kind(module) == "log"
+              and any(basis == "kl-theory" for basis, _ in getattr(module, "SPECS", ()))]
+    what = kl_geometry_assumption(log) if labels else None
+    if what is None:
+        return []
+    return [f"'{Path(path).name}' records {what}: {', '.join(labels)}"]
+
+
 def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
     from modalinfo.cli.shared import (
@@ -220,6 +238,7 @@ def _load_logs(args, logs, modules) -> dict:
                 # what was assumed, cut or flagged, as the CLI says it
                 notes += input_notes(log, path) + [
                     re.split(r": (?:note|warning): ", n, maxsplit=1)[-1] for n in args._notes]
+                notes += _kl_notes(log, path, modules)
         except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
             from modalinfo.cli import cli_words
 

@@ -7,7 +7,9 @@ Every analysis calls the library exactly as the matching command does:
 - ``ordering``: :func:`modalinfo.ordering.order_modes` and
   :func:`modalinfo.ordering.ordering_stability` (``modalinfo reorder --stability``);
 - ``fitting_error``: :func:`modalinfo.ordering.compare.compare_orderings` and
-  ``modes_to_reach`` (``modalinfo fitting-error``);
+  ``modes_to_reach`` (``modalinfo fitting-error``); with a ``kl-theory`` basis (here or
+  in ``ordering``) on a log that records no outer scale, column ``kl_assumed`` says
+  what the theoretical K-L assumed (the words ``reorder`` prints as a note);
 - ``forecast``: :func:`modalinfo.forecast.evaluate` with the presets of
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
   in chunks, so memory does not grow with the log. ``pvalue_h1.<name>`` is the
@@ -302,6 +304,20 @@ def _no_cost_note() -> Iterator[None]:
         yield
 
 
+def _kl_assumed(log: Any, theory: bool) -> dict:
+    """Column ``kl_assumed``: what a theoretical K-L assumes that the log does not record.
+
+    ``modalinfo reorder`` / ``fitting-error`` say it on stderr; a worker's words reach
+    no one, so the row carries them and ``modalinfo batch`` says them once (adversarial
+    round 24 PART b, F31-F35; left24-status). Empty without a ``kl-theory`` basis or
+    when the log records its outer scale (and, for a finite one, its diameter).
+    """
+    from modalinfo.ordering.compare import kl_geometry_assumption
+
+    what = kl_geometry_assumption(log) if theory else None
+    return {"kl_assumed": what} if what else {}
+
+
 def _ordering(log: Any, p: dict) -> dict:
     from modalinfo.ordering import order_modes, ordering_stability
     from modalinfo.ordering.compare import basis_for_log
@@ -321,12 +337,13 @@ def _ordering(log: Any, p: dict) -> dict:
                              f"more than {MAX_ORDERING_SECONDS / 3600:g} h; use a smaller "
                              "ordering.budget or estimator")
     basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
+    assumed = _kl_assumed(log, p["basis"] == "kl-theory")
     with _no_cost_note():
         result = order_modes(log, basis, p["method"], estimator=p["estimator"],
                              sample_budget=int(p["budget"]), seed=int(p["seed"]),
                              n_resamples=int(p["resamples"]))
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "order": " ".join(result.labels),
-                           "first_mode": result.labels[0]}
+                           "first_mode": result.labels[0], **assumed}
     if result.mi is not None:
         finite = np.asarray(result.mi, dtype=float)
         finite = finite[np.isfinite(finite)]
@@ -361,12 +378,14 @@ def _fitting_error(log: Any, p: dict) -> dict:
     from modalinfo.ordering.compare import compare_orderings, parse_specs
 
     log = _select(log, p["modes"])
+    specs = parse_specs(p["orderings"])
+    assumed = _kl_assumed(log, any(basis == "kl-theory" for basis, _ in specs))
     with _no_cost_note():
-        comp = compare_orderings(log, parse_specs(p["orderings"]), units=p["units"],
+        comp = compare_orderings(log, specs, units=p["units"],
                                  estimator=p["estimator"], sample_budget=int(p["budget"]),
                                  seed=int(p["seed"]), n_pixels=int(p["pupil_pixels"]))
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes),
-                           "total_variance": float(comp.curve(comp.entries[0])[0])}
+                           "total_variance": float(comp.curve(comp.entries[0])[0]), **assumed}
     for e in comp.entries:
         if p["target"] is not None:
             row[f"modes_to_target.{e.name}"] = e.error.modes_to_reach(float(p["target"]))

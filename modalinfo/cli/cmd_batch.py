@@ -96,6 +96,26 @@ def parse_settings(items: list[str]) -> dict:
     return out
 
 
+def kl_assumption_note(rows: list[dict]) -> None:
+    """Say once on stderr what the theoretical K-L of the rows assumed (column ``kl_assumed``).
+
+    One line per assumption (``modalinfo.ordering.compare.kl_geometry_assumption``'s
+    words, as ``reorder`` and ``fitting-error`` print them), with the number of logs and
+    the first five (adversarial round 24 PART b, F31-F35: batch assumed it silently).
+    """
+    paths: dict[str, list[str]] = {}
+    for row in rows:
+        what = row.get("kl_assumed")
+        if row.get("status") == "ok" and isinstance(what, str) and what:
+            group = paths.setdefault(what, [])
+            if str(row["path"]) not in group:
+                group.append(str(row["path"]))
+    for what, group in paths.items():
+        shown = ", ".join(group[:5]) + (", ..." if len(group) > 5 else "")
+        sys.stderr.write(f"modalinfo batch: note: {len(group)} log(s) record {what}; "
+                         f"column kl_assumed: {shown}\n")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
@@ -151,6 +171,7 @@ def run(args: argparse.Namespace) -> int:
                          f"the input folders cannot be read (permission denied) and were "
                          f"skipped: {shown}; give read and search permission (chmod u+rx) "
                          f"or run as their owner to analyse them\n")
+    kl_assumption_note(result.rows)  # a warning: even with --quiet
     if not args.quiet:
         rep = result.report
         out = sys.stdout

@@ -142,20 +142,16 @@ def kl_geometry_note(args: argparse.Namespace, log) -> None:
     Its outer scale (and, for a finite one, the pupil diameter) come from ``--outer-scale``
     or the log's metadata, else infinite (and 1 m): the same coefficients saved by hand
     gave another K-L, and fitting errors 10 % apart at 20 modes, with no word
-    (adversarial round 24 PART b).
+    (adversarial round 24 PART b). The words are
+    ``modalinfo.ordering.compare.kl_geometry_assumption``'s (batch and paper_figures
+    say the same).
     """
-    from modalinfo.ordering.compare import _log_geometry
+    from modalinfo.ordering.compare import kl_geometry_assumption
 
-    diameter, outer = _log_geometry(log)
-    command = getattr(args, "command", "reorder")
-    if args.outer_scale is None and outer is None:
-        what = ("no outer scale: the theoretical K-L assumes Kolmogorov turbulence "
-                "(infinite outer scale; --outer-scale M gives a von Karman one)")
-    elif diameter is None and (args.outer_scale or outer) not in (None, float("inf")):
-        what = ("no pupil diameter: the von Karman K-L assumes D = 1 m (the outer scale "
-                "counts relative to it)")
-    else:
+    what = kl_geometry_assumption(log, args.outer_scale, option="--outer-scale M")
+    if what is None:
         return
+    command = getattr(args, "command", "reorder")
     sys.stderr.write(f"modalinfo {command}: note: '{args.log}' records {what}\n")
     sys.stderr.flush()
 

@@ -205,7 +205,8 @@ class ForecastEvaluation:
         (Student's t with ``B`` degrees of freedom, the number of cosine terms; NaN
         when no test is honest, with a warning). Spelled as scipy.stats and the
         other results of this package spell it; ``p_value`` is a deprecated alias (a
-        ``DeprecationWarning``, once), as an attribute and as a constructor keyword.
+        ``DeprecationWarning`` at the caller's line, which Python's default filter shows
+        once per line), as an attribute and as a constructor keyword.
         The JSON key and CSV column stay ``p_value`` (the file format :meth:`to_json`
         and :meth:`to_csv` have always written).
     beats_baseline : numpy.ndarray of bool, shape (P, H)
@@ -257,7 +258,7 @@ class ForecastEvaluation:
 
     @property
     def p_value(self) -> np.ndarray:
-        """Deprecated alias of :attr:`pvalue` (warns ``DeprecationWarning`` once)."""
+        """Deprecated alias of :attr:`pvalue` (a ``DeprecationWarning`` at the caller's line)."""
         warn_deprecated_alias("ForecastEvaluation.p_value", "ForecastEvaluation.pvalue")
         return self.pvalue
 
