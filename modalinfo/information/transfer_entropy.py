@@ -41,6 +41,9 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
         ``source[t - l]``.
     z : numpy.ndarray, shape (n, k d_target)
         ``target[t - 1], ..., target[t - k]`` side by side.
+
+    The three are new C-contiguous arrays: writing them leaves ``source`` and
+    ``target`` as they were.
     """
     lag = check_int(lag, "lag", minimum=0)
     history = check_int(history, "history", minimum=0)
@@ -64,7 +67,9 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
     y = src[t0 - lag : T - lag]
     z = (np.concatenate([tgt[t0 - i : T - i] for i in range(1, history + 1)], axis=1)
          if history else np.empty((T - t0, 0)))
-    return np.ascontiguousarray(x), np.ascontiguousarray(y), np.ascontiguousarray(z)
+    # copies: slices of a float64 input were views, so editing the returned x or y
+    # (standardising in place) edited the caller's series (adversarial round 25, A7)
+    return x.copy(), y.copy(), z.copy()
 
 
 def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1,
