@@ -85,7 +85,16 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     history : int
         Target history k >= 0 [samples] (k = 0: the lagged MI).
     method : {"histogram", "kde", "ksg", "gaussian"}
-        Estimator (see :func:`conditional_mutual_information`).
+        Estimator (see :func:`conditional_mutual_information`). The default
+        ``"histogram"`` reads low by a fraction that grows with the TE and the history
+        (its bins blur the dependence): against the Granger value ``0.5 ln(var
+        restricted / var full)`` of a Gaussian VAR (Barnett, Barrett & Seth 2009, PRL 103,
+        238701; statsmodels OLS residuals), mean of 3 seeds, -10 % at TE 0.13-0.28 nats
+        with history 1, but -13 % / -18 % at TE 0.48 / 0.83 (n = 1e4, history 1), -20 %
+        / -28 % there with history 2, and -41 % at TE 0.83, history 2, n = 1e3, without
+        a warning (adversarial round 25). ``"ksg"`` was within 3 % of the same values
+        from TE 0.13 up (``"gaussian"`` is exact for Gaussian data); prefer either for a
+        value, the histogram for a fast screen.
     units : {"nats", "bits"}
         Units of the result.
     **options
