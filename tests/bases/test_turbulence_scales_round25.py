@@ -11,7 +11,13 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
-from modalinfo.bases import noll_residual_variance, zernike_covariance, zernike_variance
+from modalinfo.bases import (
+    KLBasis,
+    Pupil,
+    noll_residual_variance,
+    zernike_covariance,
+    zernike_variance,
+)
 
 
 @pytest.mark.parametrize("call", [
@@ -52,3 +58,17 @@ def test_plausible_scales_unchanged():
     assert noll_residual_variance(10, outer_scale=1e300, diameter=1.0) == pytest.approx(
         noll_residual_variance(10), rel=1e-6)
     assert np.isfinite(noll_residual_variance(10, outer_scale=4.0, diameter=39.0))
+
+
+def test_theoretical_kl_applies_the_same_rule():
+    # KLBasis.from_turbulence built its covariance blocks without zernike_covariance's
+    # checks: L0 = 1e-300 gave five zero variances and a RuntimeWarning
+    with pytest.raises(ValueError, match="`outer_scale` must be >= diameter / 10"):
+        KLBasis.from_turbulence(Pupil(16, diameter=1.0), 5, outer_scale=1e-300)
+    # the accepted edge: an eigen-decomposition keeps the trace, so all 20 K-L variances
+    # sum to the 20 Zernike variances
+    kl = KLBasis.from_turbulence(Pupil(64, diameter=1.0), 20, outer_scale=0.1,
+                                 zernike_modes=range(2, 22))
+    assert np.all(kl.variances > 0)
+    assert kl.variances.sum() == pytest.approx(
+        zernike_variance(range(2, 22), outer_scale=0.1, diameter=1.0).sum(), rel=1e-10)
