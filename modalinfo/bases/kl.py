@@ -17,10 +17,15 @@ from modalinfo.bases import _kernels
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import noll_to_zernike
 from modalinfo.bases.pupil import Pupil
-from modalinfo.bases.turbulence import _angular_keys, _check_modes, _covariance_blocks
+from modalinfo.bases.turbulence import (
+    _angular_keys,
+    _check_modes,
+    _check_scales,
+    _covariance_blocks,
+)
 from modalinfo.bases.zernike import ZernikeBasis, _parse_modes, check_zernike_sampling
 from modalinfo.common.memory import free_memory_bytes
-from modalinfo.common.validation import as_float_array, check_int, check_real
+from modalinfo.common.validation import as_float_array, check_int
 
 __all__ = ["KLBasis", "default_zernike_modes"]
 
@@ -288,7 +293,8 @@ class KLBasis(ModalBasis):
         n_modes : int
             Number of K-L modes ``M`` kept, ``1 <= M <= n_z``.
         outer_scale : float
-            Von Karman outer scale ``L0`` [m]; ``inf`` for Kolmogorov.
+            Von Karman outer scale ``L0`` [m], at least ``pupil.diameter / 10`` (the
+            rule of :func:`~modalinfo.bases.zernike_covariance`); ``inf`` for Kolmogorov.
         zernike_modes : iterable of int or int, optional
             Noll indices of the Zernikes combined (piston only with finite ``L0``); an
             int ``J`` means ``2..J`` (piston excluded, unlike ``ZernikeBasis``); default
@@ -304,8 +310,9 @@ class KLBasis(ModalBasis):
         if not isinstance(pupil, Pupil):
             raise TypeError(f"`pupil` must be a modalinfo.bases.Pupil; got {type(pupil).__name__}.")
         n_modes = check_int(n_modes, "n_modes", minimum=1)
-        outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
-                                 allow_inf=True)
+        # zernike_covariance's scale rule: L0 = 1e-300 gave a basis of zero variances
+        # and a RuntimeWarning (adversarial round 25, KL1)
+        outer_scale, _ = _check_scales(outer_scale, pupil.diameter)
         if zernike_modes is None:
             modes = default_zernike_modes(n_modes)
         elif isinstance(zernike_modes, numbers.Integral) and not isinstance(zernike_modes, bool):

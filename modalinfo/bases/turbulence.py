@@ -38,6 +38,7 @@ import numpy as np
 from scipy import special
 
 from modalinfo.bases.indexing import _as_index, noll_to_zernike
+from modalinfo.bases.pupil import _DIAMETER_RANGE
 from modalinfo.common.validation import check_real
 
 __all__ = [
@@ -110,10 +111,36 @@ def check_outer_scale(outer_scale: float, diameter: float, name: str = "outer_sc
             f"are 10-100 m, Ziad et al. 2004); got {outer_scale!r}.")
 
 
+#: Largest ``D / L0`` of the Zernike statistics, beyond any telescope's (measured L0 are
+#: 10-100 m, D <= 39 m). The finite-L0 quadrature matches scipy's ``quad`` of the same
+#: integral to 4e-5 (tip) at D / L0 = 10, but only 1e-3 at 30 and 6e-3 at 100; and
+#: ``x0 = pi D / L0`` of 1e300 overflowed the piston integral (adversarial round 25, S1)
+MAX_DIAMETER_OVER_OUTER_SCALE = 10.0
+
+
 def _check_scales(outer_scale: Any, diameter: Any) -> tuple[float, float]:
+    """Return ``(L0, D)`` [m] checked: D in the pupil's range, ``D / L0 <= 10``.
+
+    A diameter outside :class:`~modalinfo.bases.Pupil`'s 1e-6 - 1e6 m (2**70 m gave
+    1e-34 without a word) and an outer scale below ``D / 10`` (1e-300 m gave an
+    ``OverflowError`` in ``noll_residual_variance`` and all-zero covariances; the
+    quadrature's accuracy is measured up to ``MAX_DIAMETER_OVER_OUTER_SCALE``) are
+    refused, naming the argument (adversarial round 25, S1-S8).
+    """
     outer_scale = check_real(outer_scale, "outer_scale", minimum=0.0, strict_min=True,
                              allow_inf=True)
     diameter = check_real(diameter, "diameter", minimum=0.0, strict_min=True)
+    low, high = _DIAMETER_RANGE
+    if not low <= diameter <= high:
+        raise ValueError(
+            f"`diameter` must be in metres within {low:g} - {high:g} (a microscope's "
+            f"pupil to far beyond a 39 m ELT, as Pupil's); got {diameter:g}.")
+    if diameter / outer_scale > MAX_DIAMETER_OVER_OUTER_SCALE:
+        raise ValueError(
+            f"`outer_scale` must be >= diameter / {MAX_DIAMETER_OVER_OUTER_SCALE:g} = "
+            f"{diameter / MAX_DIAMETER_OVER_OUTER_SCALE:g} m (measured L0 are 10-100 m, "
+            f"Ziad et al. 2004; the quadrature's accuracy is measured up to D / L0 = "
+            f"{MAX_DIAMETER_OVER_OUTER_SCALE:g}); got {outer_scale:g}.")
     return outer_scale, diameter
 
 
@@ -276,8 +303,9 @@ def zernike_covariance(modes, *, outer_scale: float = np.inf, diameter: float = 
     Raises
     ------
     ValueError
-        If an index is ``< 1``, piston is asked for with ``outer_scale = inf``, or a
-        scale is not positive.
+        If an index is ``< 1``, piston is asked for with ``outer_scale = inf``, a
+        scale is not positive, ``diameter`` is outside 1e-6 - 1e6 m, or
+        ``diameter / outer_scale > 10`` (``MAX_DIAMETER_OVER_OUTER_SCALE``).
 
     Notes
     -----

@@ -41,6 +41,9 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
         ``source[t - l]``.
     z : numpy.ndarray, shape (n, k d_target)
         ``target[t - 1], ..., target[t - k]`` side by side.
+
+    The three are new C-contiguous arrays: writing them leaves ``source`` and
+    ``target`` as they were.
     """
     lag = check_int(lag, "lag", minimum=0)
     history = check_int(history, "history", minimum=0)
@@ -64,7 +67,9 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
     y = src[t0 - lag : T - lag]
     z = (np.concatenate([tgt[t0 - i : T - i] for i in range(1, history + 1)], axis=1)
          if history else np.empty((T - t0, 0)))
-    return np.ascontiguousarray(x), np.ascontiguousarray(y), np.ascontiguousarray(z)
+    # copies: slices of a float64 input were views, so editing the returned x or y
+    # (standardising in place) edited the caller's series (adversarial round 25, A7)
+    return x.copy(), y.copy(), z.copy()
 
 
 def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1,
@@ -80,7 +85,16 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     history : int
         Target history k >= 0 [samples] (k = 0: the lagged MI).
     method : {"histogram", "kde", "ksg", "gaussian"}
-        Estimator (see :func:`conditional_mutual_information`).
+        Estimator (see :func:`conditional_mutual_information`). The default
+        ``"histogram"`` reads low by a fraction that grows with the TE and the history
+        (its bins blur the dependence): against the Granger value ``0.5 ln(var
+        restricted / var full)`` of a Gaussian VAR (Barnett, Barrett & Seth 2009, PRL 103,
+        238701; statsmodels OLS residuals), mean of 3 seeds, -10 % at TE 0.13-0.28 nats
+        with history 1, but -13 % / -18 % at TE 0.48 / 0.83 (n = 1e4, history 1), -20 %
+        / -28 % there with history 2, and -41 % at TE 0.83, history 2, n = 1e3, without
+        a warning (adversarial round 25). ``"ksg"`` was within 3 % of the same values
+        from TE 0.13 up (``"gaussian"`` is exact for Gaussian data); prefer either for a
+        value, the histogram for a fast screen.
     units : {"nats", "bits"}
         Units of the result.
     **options
