@@ -1,0 +1,64 @@
+"""Adversarial round 25 PART b: structural corners of HDF5 containers.
+
+Reference: the arrays and attributes written with h5py itself (round trips: the log
+read back equals the ``ModalLog`` that ``write_log_group`` wrote, bit for bit, with its
+rate and units; the coefficients equal the numpy array h5py stored; the unit is the
+``units`` attribute h5py stored on the nesting group).
+"""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+
+from modalinfo import io
+from modalinfo.io.files import LogFormatError
+from modalinfo.io.hdf5 import write_log_group
+from modalinfo.telemetry import ModalLog
+
+
+def _log(seed: int = 0) -> ModalLog:
+    rng = np.random.default_rng(seed)
+    return ModalLog(rng.standard_normal((200, 6)), rate=1000.0, units="rad",
+                    wavelength=5e-7)
+
+
+def test_a_log_in_a_group_is_read_not_called_corrupt(tmp_path):
+    """H12-H14: one ``write_log_group`` log nested in /run1 reads back bit-equal."""
+    log = _log()
+    path = tmp_path / "one.h5"
+    with h5py.File(path, "w") as f:
+        write_log_group(f.create_group("run1"), log)
+    for dataset in (None, "run1", "run1/coefficients"):
+        back = io.load(path, dataset=dataset)
+        assert np.array_equal(back.coeffs, log.coeffs)
+        assert (back.rate, back.units, back.wavelength) == (1000.0, "rad", 5e-7)
+
+
+def test_several_log_groups_are_named_and_chosen_with_dataset(tmp_path):
+    """H13-H15: two logs: refused naming both groups; ``dataset=`` picks either."""
+    logs = [_log(0), _log(1)]
+    path = tmp_path / "two.h5"
+    with h5py.File(path, "w") as f:
+        for k, log in enumerate(logs):
+            write_log_group(f.create_group(f"run{k + 1}"), log)
+    with pytest.raises(LogFormatError, match=r"2 modalinfo logs, in groups run1, run2"):
+        io.load(path)
+    assert np.array_equal(io.load(path, dataset="run2").coeffs, logs[1].coeffs)
+    assert np.array_equal(io.load(path, dataset="/run1/coefficients").coeffs,
+                          logs[0].coeffs)
+
+
+def test_units_on_the_nesting_group_are_read(tmp_path):
+    """H01: ``units="nm"`` on the group of /run/wfs/coeffs only: the log is in nm."""
+    data = np.random.default_rng(2).standard_normal((300, 5))
+    path = tmp_path / "nested.h5"
+    with h5py.File(path, "w") as f:
+        f.create_group("run/wfs").create_dataset("coeffs", data=data)
+        f["run/wfs"].attrs["units"] = "nm"
+        f.attrs["units"] = "um"  # the innermost group wins over the file's
+    back = io.load(path)
+    assert back.units == "nm"
+    assert np.array_equal(back.coeffs, data)
+    assert "units" not in back.metadata.get("assumed", {})
