@@ -1,6 +1,6 @@
 """Adversarial round 25 PART b: structural corners of HDF5 containers.
 
-Reference: the arrays and attributes written with h5py itself (round trips: the log
+Reference: the arrays and attributes written with h5py and astropy themselves (round trips: the log
 read back equals the ``ModalLog`` that ``write_log_group`` wrote, bit for bit, with its
 rate and units; the coefficients equal the numpy array h5py stored; the unit is the
 ``units`` attribute h5py stored on the nesting group).
@@ -62,3 +62,16 @@ def test_units_on_the_nesting_group_are_read(tmp_path):
     assert back.units == "nm"
     assert np.array_equal(back.coeffs, data)
     assert "units" not in back.metadata.get("assumed", {})
+
+
+def test_an_image_read_before_a_table_says_so(tmp_path):
+    """F05: image HDU 1 and table HDU 2 (astropy): the image is read and that is said."""
+    fits = pytest.importorskip("astropy.io.fits")
+    data = np.random.default_rng(3).standard_normal((100, 4))
+    cols = [fits.Column(name=f"Z{j + 2}", format="D", array=data[:, j]) for j in range(4)]
+    path = tmp_path / "image_and_table.fits"
+    fits.HDUList([fits.PrimaryHDU(), fits.ImageHDU(data, name="COEFFS"),
+                  fits.BinTableHDU.from_columns(cols, name="MODES")]).writeto(path)
+    back = io.load(path, units="rad", modes=[2, 3, 4, 5])
+    assert np.array_equal(back.coeffs, data)
+    assert "not the table HDU(s) 2" in back.metadata["source_hdu"]
