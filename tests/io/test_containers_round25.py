@@ -75,3 +75,24 @@ def test_an_image_read_before_a_table_says_so(tmp_path):
     back = io.load(path, units="rad", modes=[2, 3, 4, 5])
     assert np.array_equal(back.coeffs, data)
     assert "not the table HDU(s) 2" in back.metadata["source_hdu"]
+
+
+def test_a_modalinfo_header_without_its_coefficients_is_refused(tmp_path):
+    """N10: the ``coefficients`` member renamed (numpy ``savez``): refused, not foreign."""
+    log = _log()
+    own = tmp_path / "own.npz"
+    io.save(log, own)
+    members = dict(np.load(own))
+    members["coeffs"] = members.pop("coefficients")
+    renamed = tmp_path / "renamed.npz"
+    np.savez(renamed, **members)
+    with pytest.raises(LogFormatError, match=r"modalinfo header but no 'coefficients'"):
+        io.load(renamed)
+    # named explicitly: read as a foreign array, the values numpy stored
+    assert np.array_equal(io.load(renamed, dataset="coeffs", units="rad", modes=list(
+        range(2, 8))).coeffs, log.coeffs)
+    # another tool's 'header' member is no modalinfo header: read as before
+    other = tmp_path / "other.npz"
+    np.savez(other, header=np.array("camera v2"), data=log.coeffs)
+    assert np.array_equal(io.load(other, units="rad", modes=list(range(2, 8))).coeffs,
+                          log.coeffs)
