@@ -96,3 +96,20 @@ def test_a_modalinfo_header_without_its_coefficients_is_refused(tmp_path):
     np.savez(other, header=np.array("camera v2"), data=log.coeffs)
     assert np.array_equal(io.load(other, units="rad", modes=list(range(2, 8))).coeffs,
                           log.coeffs)
+
+
+def test_a_log_in_a_group_has_its_checksum_verified(tmp_path):
+    """H12 through ``info``: its SHA-256 is checked, a changed value refused."""
+    from modalinfo.io.integrity import integrity_check
+
+    log = _log()
+    path = tmp_path / "one.h5"
+    with h5py.File(path, "w") as f:
+        write_log_group(f.create_group("run1"), log)
+    for mmap in (False, True):
+        check = integrity_check(path, io.load(path, mmap=mmap), mmap=mmap)
+        assert check.status == "verified"
+    with h5py.File(path, "a") as f:
+        f["run1/coefficients"][5, 3] += 1e-9
+    with pytest.raises(LogFormatError, match="SHA-256"):
+        integrity_check(path, io.load(path, verify=False), mmap=True)
