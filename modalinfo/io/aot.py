@@ -578,6 +578,7 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
     with reading("AOT", path):
         lp, loops = _pick_loop(system, path, loop)
         _check_reading(system, lp, path)
+        _refuse_block(system, lp, path)
         coeffs, origin = _coefficients(lp, path)
         stamps, frames = _times(lp, coeffs.shape[0], path)
         ident = _identify(lp, system, coeffs.shape[1], path)
@@ -599,6 +600,32 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
             if notes:  # aotpy's verification remarks on a foreign file, kept, not hidden
                 stored["metadata"]["aot_warnings"] = list(dict.fromkeys(notes))[:10]
     return build_log(coeffs, path, stored, hints)
+
+
+def _refuse_block(system, lp, path: Path) -> None:
+    """Refuse a loop that closedloop's ``MI_CLOOP`` card calls a block, no coefficients.
+
+    ``closedloop export`` writes each block of a global reconstructor (``dm0.wfs1``:
+    one sensor's share of a mirror's modes) as a loop without coefficients; read
+    through ``measurements_to_modes @ measurements`` it was presented as a log of
+    ``dm0`` (adversarial round 25 PART b, A4, A6). The loops with coefficients are named.
+    """
+    if lp.modal_coefficients is not None:
+        return
+    card = next((m.value for m in getattr(system, "metadata", None) or []
+                 if getattr(m, "key", None) == "MI_CLOOP"), None)
+    try:
+        described = json.loads(card)["loops"]
+        said = described[lp.uid]
+    except (TypeError, ValueError, KeyError):
+        return
+    if isinstance(said, str) and "no coefficients" in said:
+        logs = [uid for uid, text in described.items()
+                if not (isinstance(text, str) and "no coefficients" in text)]
+        raise LogFormatError(
+            f"AOT file '{path}': loop {lp.uid!r} holds no coefficients (the file's MI_CLOOP "
+            f"card: {said!r}); its logs are the loops {', '.join(map(repr, logs))}: pick "
+            "one with loop= (command line: --loop UID)")
 
 
 def _own_header(lp, path: Path) -> dict | None:

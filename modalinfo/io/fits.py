@@ -247,11 +247,18 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
             continue
         data = getattr(hdu, "data", None)
         if isinstance(hdu, _image_types()) and data is not None and np.ndim(data) == 2:
-            if chosen is None and len(images) > 1:  # say which one was read
+            # a table beside the image was passed over without a word (round 25
+            # PART b, F05): both are candidates, so say which one was read
+            tables = [k for k, h in enumerate(hdul) if type(h).__name__ == "BinTableHDU"
+                      and h.header.get("TFIELDS")]
+            if chosen is None and len(images) + len(tables) > 1:  # say which one was read
                 stored["metadata"]["source_hdu"] = (
                     f"HDU {index}" + (f" ({hdu.name})" if hdu.name else "")
-                    + f", the first of {len(images)} 2-D images (HDUs "
-                    + ", ".join(map(str, images)) + ")")
+                    + (f", the first of {len(images)} 2-D images (HDUs "
+                       + ", ".join(map(str, images)) + ")" if len(images) > 1
+                       else ", the 2-D image")
+                    + (f", not the table HDU(s) {', '.join(map(str, tables))} (pick one "
+                       "with dataset=, command line: --dataset)" if tables else ""))
             unit = unit_text(hdu.header.get("BUNIT"))
             if unit is not None:  # known words set the units, others are refused
                 stored["_unit"] = (unit, f"keyword BUNIT of HDU {index}")

@@ -224,6 +224,24 @@ def _hdf5_check(path: Path, log, mmap: bool, verify: bool) -> IntegrityCheck:
 
     with h5py.File(path, "r") as f:
         if _HEADER not in f:
+            groups: list[str] = []
+            f.visititems(lambda name, obj: groups.append(name) if isinstance(
+                obj, h5py.Group) and _HEADER in obj else None)
+            if groups and not verify:
+                return IntegrityCheck(path, "none", "checksum skipped (verify=False)")
+            for name in groups:  # a log of hdf5._log_group: the group holding these values
+                dset = f[name].get("coefficients")
+                if not isinstance(dset, h5py.Dataset) or dset.shape != log.shape:
+                    continue
+                header = parse_header(f[name][_HEADER][()].tobytes().decode("ascii"),
+                                      "HDF5", path)
+                expected = (header.get("sha256") or {}).get("coefficients")
+                if expected is not None and np.array_equal(dset[()], log.coeffs):
+                    if sha256_of(dset) != expected:
+                        raise LogFormatError(f"corrupt HDF5 file '{path}': coefficients of "
+                                             f"group {name!r} do not match their SHA-256")
+                    return IntegrityCheck(path, "verified", "SHA-256 of the HDF5 "
+                                          "coefficients (a log in a group)")
             return IntegrityCheck(path, "none", "an HDF5 file not written by modalinfo has "
                                   "no checksum")
         if not verify:

@@ -93,6 +93,10 @@ def logs(draw):
 # sensors' 1 Hz - 100 kHz a log is built, written and read with a UserWarning (Leftovers
 # 23-plaus), which is not what this round trip tests
 @pytest.mark.filterwarnings("ignore:`rate` = .* Hz is (below|above):UserWarning")
+# a drawn label or metadata text such as '00' or '=x' is written to CSV with the documented
+# spreadsheet warning (read back as written, which is what this test checks); hypothesis
+# drew label '00' in adversarial round 25 PART b and the test failed on the warning
+@pytest.mark.filterwarnings("ignore:CSV .*text cell.* a spreadsheet would not show:UserWarning")
 @settings(
     max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
