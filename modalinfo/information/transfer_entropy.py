@@ -108,7 +108,7 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
         0.188 / 0.184); above 10^6
         samples the KSG is refused, and where its bias or cost rule fails (long
         histories) the estimate switches to the Gaussian copula with a
-        ``BiasRuleWarning`` (:mod:`modalinfo.information.conditional`, "Bias rule").
+        ``BiasRuleWarning`` (``modalinfo.information.conditional``, "Bias rule").
     units : {"nats", "bits"}
         Units of the result.
     **options
@@ -140,7 +140,7 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
         With any method, where its bias or cost rule fails (the ``"ksg"`` default, at
         n = 1e4: more than 8 columns, history > 6 for 1-D series; the estimate switches to
         the Gaussian-copula CMI, module notes of
-        :mod:`modalinfo.information.conditional`); with ``method="histogram"``, where
+        ``modalinfo.information.conditional``); with ``method="histogram"``, where
         its conditioning rule fails (round 10); with
         ``method="gaussian"`` (normal scores), where the values' Gaussian CMI exceeds
         the scores' by more than max(0.05 nats, 10 %), which no Gaussian copula gives:
