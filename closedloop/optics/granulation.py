@@ -40,6 +40,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.validation import as_scalar
 
 __all__ = ["granulation_contrast", "granulation_scene", "load_scene", "GRANULE_SCALE_ARCSEC"]
 
@@ -75,6 +76,7 @@ def granulation_contrast(wavelength: float) -> float:
     float
         rms contrast (standard deviation over mean intensity), dimensionless.
     """
+    wavelength = as_scalar(wavelength)  # a 0-d array is its number (left25-api)
     if isinstance(wavelength, bool) or not isinstance(wavelength, numbers.Real) \
             or not 300e-9 <= wavelength <= 1100e-9:  # np.float32 was refused (audit 9)
         raise ValueError(f"`wavelength` must be a number in [300e-9, 1100e-9] m; "

@@ -31,6 +31,7 @@ import numbers
 from dataclasses import dataclass
 
 from closedloop.config import WAVELENGTH_RANGE
+from modalinfo.common.validation import as_scalar
 
 __all__ = ["PhotonBudget", "solar_spectral_radiance"]
 
@@ -62,6 +63,8 @@ def solar_spectral_radiance(wavelength: float, brightness_temperature: float = 6
     brightness_temperature : float
         [K], > 0.
     """
+    # a 0-d array is its number (validation.as_scalar; left25-api)
+    wavelength, brightness_temperature = as_scalar(wavelength), as_scalar(brightness_temperature)
     _check_wavelength(wavelength)
     if isinstance(brightness_temperature, bool) or not isinstance(
             brightness_temperature, numbers.Real) or not 0 < brightness_temperature < math.inf:
@@ -133,6 +136,8 @@ class PhotonBudget:
         pixel_scale_arcsec : float
             [arcsec].
         """
+        subaperture_area, pixel_scale_arcsec = as_scalar(subaperture_area), as_scalar(
+            pixel_scale_arcsec)  # a 0-d array is its number (left25-api)
         for name, v in (("subaperture_area", subaperture_area),
                         ("pixel_scale_arcsec", pixel_scale_arcsec)):
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0 < v < math.inf:

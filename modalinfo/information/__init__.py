@@ -5,7 +5,7 @@ grid), ``"histogram"`` (plug-in with Miller-Madow), ``"ksg"`` (Kraskov et al. 20
 and ``"gaussian"`` (-0.5 ln(1 - r^2)), each rank-based by default (normal scores or
 equiprobable bins, :func:`copula_scores`), all behind :func:`mutual_information`,
 :func:`entropy` and the reusable :class:`MutualInformation`. The default ``method=`` of
-the MI and the conditional MI is ``"ksg"``
+the MI, the conditional MI and the transfer entropy is ``"ksg"``
 (``api.DEFAULT_METHOD``: the one estimator within 0.05 nats
 or 10 % of the truth on every "Beyond Normal" task of at most 2 x 2 dimensions at
 n = 1e4; benchmarks/RESULTS.md, "The KSG defaults"); the intervals and the

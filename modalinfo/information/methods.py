@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import check_choice
+from modalinfo.common.validation import as_scalar, check_choice
 
 __all__ = [
     "BiasRuleWarning",
@@ -350,8 +350,7 @@ def check_plugin_value(value: Any, who: str, *, allow_nan: bool = False,
     ValueError
         Infinite, NaN (unless ``allow_nan``) or negative beyond the tolerance.
     """
-    if isinstance(value, np.ndarray) and value.ndim == 0:
-        value = value[()]
+    value = as_scalar(value)
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
         raise TypeError(f"{who} must return a real number (nats); got {value!r}.")
     v = float(value)

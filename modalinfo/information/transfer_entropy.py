@@ -14,7 +14,12 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.validation import as_float_array, check_aligned, check_int
-from modalinfo.information.api import MIN_SAMPLES, InfiniteMIError, _UnionOfCurvesError
+from modalinfo.information.api import (
+    DEFAULT_METHOD,
+    MIN_SAMPLES,
+    InfiniteMIError,
+    _UnionOfCurvesError,
+)
 from modalinfo.information.conditional import _estimator
 
 __all__ = ["transfer_entropy", "transfer_entropy_variables"]
@@ -73,7 +78,8 @@ def transfer_entropy_variables(source: Any, target: Any, *, lag: int = 1,
 
 
 def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1,
-                     method: str = "histogram", units: str = "nats", **options: Any) -> float:
+                     method: str = DEFAULT_METHOD, units: str = "nats",
+                     **options: Any) -> float:
     """Transfer entropy from ``source`` to ``target``: I(X_t; Y_{t-l} | X_{t-1..t-k}).
 
     Parameters
@@ -84,17 +90,25 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
         Source lag l >= 0 [samples].
     history : int
         Target history k >= 0 [samples] (k = 0: the lagged MI).
-    method : {"histogram", "kde", "ksg", "gaussian"}
-        Estimator (see :func:`conditional_mutual_information`). The default
-        ``"histogram"`` reads low by a fraction that grows with the TE and the history
-        (its bins blur the dependence): against the Granger value ``0.5 ln(var
-        restricted / var full)`` of a Gaussian VAR (Barnett, Barrett & Seth 2009, PRL 103,
-        238701; statsmodels OLS residuals), mean of 3 seeds, -10 % at TE 0.13-0.28 nats
-        with history 1, but -13 % / -18 % at TE 0.48 / 0.83 (n = 1e4, history 1), -20 %
-        / -28 % there with history 2, and -41 % at TE 0.83, history 2, n = 1e3, without
-        a warning (adversarial round 25). ``"ksg"`` was within 3 % of the same values
-        from TE 0.13 up (``"gaussian"`` is exact for Gaussian data); prefer either for a
-        value, the histogram for a fast screen.
+    method : {"ksg", "histogram", "kde", "gaussian"} or a registered name with a ``cmi``
+        Estimator (see :func:`conditional_mutual_information`). Default ``"ksg"``, the
+        default of the MI and the conditional MI (``api.DEFAULT_METHOD``; ``"histogram"``
+        until left25-api, issue 27). Against the Granger value ``0.5 ln(var restricted /
+        var full)`` of a Gaussian VAR (Barnett, Barrett & Seth 2009, PRL 103, 238701;
+        statsmodels OLS residuals) the KSG was within 3 % from TE 0.13 nats up, histories
+        1 and 2 (sd 2.6 % per estimate at TE 0.38, n = 4000). The histogram reads low by
+        a fraction that grows with the TE and the history (its bins blur the
+        dependence), without a warning: mean of 3 seeds, -10 % at TE 0.13-0.28 nats with
+        history 1, -13 % / -18 % at 0.48 / 0.83 (n = 1e4), -20 % / -28 % there with
+        history 2, -41 % at 0.83, history 2, n = 1e3 (adversarial round 25); it is for a
+        fast screen, ``"gaussian"`` (exact for Gaussian data) for a fast value. Cost,
+        CPU of one estimate (VAR(1), TE 0.185 nats): KSG 0.13 s / 0.28 s at n = 1e4 with
+        history 1 / 2, 2.1 s / 4.8 s at 1e5, 19-43x the histogram's 0.007-0.11 s (which
+        read 0.164 / 0.154 there, KSG 0.178 / 0.173; at 1e5 0.173 / 0.166 against KSG
+        0.188 / 0.184); above 10^6
+        samples the KSG is refused, and where its bias or cost rule fails (long
+        histories) the estimate switches to the Gaussian copula with a
+        ``BiasRuleWarning`` (``modalinfo.information.conditional``, "Bias rule").
     units : {"nats", "bits"}
         Units of the result.
     **options
@@ -123,7 +137,11 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     Warns
     -----
     BiasRuleWarning
-        With ``method="histogram"``, where its conditioning rule fails (round 10); with
+        With any method, where its bias or cost rule fails (the ``"ksg"`` default, at
+        n = 1e4: more than 8 columns, history > 6 for 1-D series; the estimate switches to
+        the Gaussian-copula CMI, module notes of
+        ``modalinfo.information.conditional``); with ``method="histogram"``, where
+        its conditioning rule fails (round 10); with
         ``method="gaussian"`` (normal scores), where the values' Gaussian CMI exceeds
         the scores' by more than max(0.05 nats, 10 %), which no Gaussian copula gives:
         the ranks of persistent series distort the dependence (a VAR(1) pair with
