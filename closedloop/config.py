@@ -28,6 +28,7 @@ from modalinfo.common.validation import (
     MAX_TELESCOPE_DIAMETER,
     check_choice,
     check_int,
+    check_r0,
     check_real,
     check_telescope_diameter,
 )
@@ -800,6 +801,13 @@ def _check_physics(cfg: SimulationConfig) -> None:
               f"grid cannot hold the phase above its Nyquist frequency, 0.275 (dx/r0)^(5/3)"
               f" = {0.275 * (dx / r0) ** (5 / 3):.3g} rad^2; raise telescope.n_pixels",
               float(f"{cfg.d_over_r0:.6g}"))
+    # the profile's total r0 (zenith, at r0_wavelength) under modalinfo's one r0 rule:
+    # warned above 1 m at 500 nm (cm typed as m), refused below 1 mm (met here only on a
+    # grid of sub-mm pixels: the rule above refuses first). Per layer the rule would warn
+    # on table1 itself, whose weak 10-km layer has r0 = 2 m.
+    check_r0(tel.diameter / cfg.d_over_r0,
+             "total r0 (telescope.diameter / the layers' total d_over_r0)",
+             wavelength=cfg.r0_wavelength)
     from modalinfo.bases.turbulence import check_outer_scale
 
     for i, layer in enumerate(cfg.layers):

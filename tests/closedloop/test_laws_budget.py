@@ -65,6 +65,10 @@ from closedloop.simulation import simulate
 
 from .conftest import lag_only
 
+# negligible turbulence on purpose (D/r0 = 1e-6, a total r0 of 4000 km): the loop sees
+# its noise only
+pytestmark = pytest.mark.filterwarnings("ignore:`total r0 .* is beyond 1 m at 500 nm:UserWarning")
+
 ARCSEC = math.pi / 648000.0
 N_DRAWS = 4096
 

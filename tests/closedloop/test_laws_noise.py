@@ -33,6 +33,10 @@ from closedloop.config import (
 )
 from closedloop.simulation import LoopModel, simulate
 
+# negligible turbulence on purpose (D/r0 = 1e-6, a total r0 of 4000 km): the loop sees
+# its noise only
+pytestmark = pytest.mark.filterwarnings("ignore:`total r0 .* is beyond 1 m at 500 nm:UserWarning")
+
 ARCSEC = math.pi / 648000.0
 
 

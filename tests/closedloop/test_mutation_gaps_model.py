@@ -131,6 +131,8 @@ def test_a_noise_free_sensor_gets_the_floor_of_the_mean_signal():
                                rtol=1e-7, atol=1e-9 * np.abs(model.reconstructor).max())
 
 
+# weak layers on purpose (s_0 < 1: a total r0 of 7.5 m, warned as implausible)
+@pytest.mark.filterwarnings("ignore:`total r0 .* is beyond 1 m at 500 nm:UserWarning")
 def test_a_dm_without_layers_gets_the_prior_floor():
     # every layer nearest the ground DM, weak (s_0 < 1, so the floor is 1e-6 s_0, not
     # 1e-6): the 8-km DM's prior is 1e-6 of the ground DM's strength

@@ -122,6 +122,9 @@ def test_anisoplanatism_of_one_high_layer():
         assert value == pytest.approx(expected_diag, rel=0.15)
 
 
+# negligible turbulence on purpose (D/r0 = 1e-6, a total r0 of 4000 km): the loop sees
+# its noise only
+@pytest.mark.filterwarnings("ignore:`total r0 .* is beyond 1 m at 500 nm:UserWarning")
 def test_noise_propagation_through_the_loop():
     # negligible turbulence, a noisy SH: each mode's command variance is the reconstructed
     # noise variance times the servo model's propagation factor. 800 frames x 19 modes:
