@@ -193,6 +193,7 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
+from modalinfo.common.validation import as_scalar
 
 __all__ = ["get", "names", "table1", "table1_wind", "table1_solar", "mcao3", "kaos",
            "SOLAR_RTC_DELAY", "dkist_scao", "dkist_scao_5cm", "est_mcao", "est_mcao_solar",
@@ -503,7 +504,10 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
     -------
     SimulationConfig
     """
-    # a NumPy integer is an int (np.int64(16) was refused as "must be an int": audit 9)
+    # a NumPy integer is an int (np.int64(16) was refused as "must be an int": audit 9),
+    # and so is a 0-d array (validation.as_scalar, as check_int)
+    ground_subapertures, altitude_pitch = as_scalar(ground_subapertures), as_scalar(
+        altitude_pitch)
     integral = isinstance(ground_subapertures, numbers.Integral) and not isinstance(
         ground_subapertures, bool)
     n_g = int(ground_subapertures) if integral else 0

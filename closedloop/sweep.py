@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import numbers
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -26,6 +27,7 @@ import numpy as np
 
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config
+from modalinfo.common.validation import as_scalar
 
 __all__ = ["GRID_HELP", "load_grid", "sweep_specs", "run_one", "sweep"]
 
@@ -154,8 +156,8 @@ def sweep_specs(grid: dict) -> list:
     from modalinfo.common.tasks.keys import TaskSpec, task_key
 
     base = _base(grid)
-    duration = grid.get("duration", 0.3)
-    if isinstance(duration, bool) or not isinstance(duration, int | float) or not (
+    duration = as_scalar(grid.get("duration", 0.3))  # a 0-d array is its number
+    if isinstance(duration, bool) or not isinstance(duration, numbers.Real) or not (
             0 < duration < float("inf")):
         raise ValueError(f"grid `duration` must be a number of seconds > 0; got {duration!r}")
     duration = float(duration)

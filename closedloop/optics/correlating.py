@@ -41,6 +41,7 @@ pupil oversampling and the convolution support are :mod:`closedloop.optics.image
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,6 +53,7 @@ from closedloop.optics.image_sampling import (
 )
 from closedloop.optics.photon_budget import PhotonBudget
 from closedloop.optics.shifts import measure_shifts
+from modalinfo.common.validation import as_scalar
 
 __all__ = ["CorrelatingMeasurement", "CorrelatingSubapertures"]
 
@@ -120,7 +122,7 @@ def _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, f
         raise ValueError(f"`scene` must be a finite 2-D array; got shape {scene.shape}.")
     for name, v in (("pixel_scale_arcsec", pixel_scale_arcsec),
                     ("subaperture_diameter", subaperture_diameter)):
-        if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0:
+        if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v > 0:
             raise ValueError(f"`{name}` must be a number > 0; got {v!r}.")
     for name, v, low in (("n_pupil", n_pupil, 2), ("field_pixels", field_pixels, 8),
                          ("n_patches", n_patches, 1)):
@@ -134,7 +136,7 @@ def _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, f
                          f"(a patch needs a few pixels); got {n_patches}.")
     for name, v in (("blur_fwhm_arcsec", blur_fwhm_arcsec), ("gain_rms", gain_rms),
                     ("offset_rms", offset_rms)):
-        if not isinstance(v, (int, float)) or isinstance(v, bool) or not v >= 0:
+        if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v >= 0:
             raise ValueError(f"`{name}` must be a number >= 0; got {v!r}.")
     return scene
 
@@ -204,6 +206,11 @@ class CorrelatingSubapertures:
                  interpolation: str = "2d-quadratic", max_shift: int = 3,
                  window: int | None = None, pupil_oversampling: int | None = None,
                  normalize: bool = False):
+        # a 0-d array (or a NumPy scalar) is its number, as in validation.check_real
+        (pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches, max_shift,
+         blur_fwhm_arcsec, gain_rms, offset_rms) = map(as_scalar, (
+             pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches,
+             max_shift, blur_fwhm_arcsec, gain_rms, offset_rms))
         scene = _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil,
                                  field_pixels, n_patches, max_shift, blur_fwhm_arcsec, gain_rms,
                                  offset_rms)
@@ -216,7 +223,7 @@ class CorrelatingSubapertures:
         self.n_patches = int(n_patches)
         self.method = method
         self.interpolation = interpolation
-        self.max_shift = max_shift
+        self.max_shift = int(max_shift)
         self.window = window
         self.normalize = normalize
         du = subaperture_diameter / n_pupil

@@ -113,18 +113,21 @@ class PhotonBudget:
     def __post_init__(self):
         for name in ("wavelength", "bandwidth", "exposure", "throughput",
                      "quantum_efficiency", "full_well", "fill", "brightness_temperature"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not v > 0 \
+            v = as_scalar(getattr(self, name))  # a 0-d array is its number
+            if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v > 0 \
                     or not math.isfinite(v):
                 raise ValueError(f"`{name}` must be a finite number > 0; got {v!r}.")
+            # Python floats in the frozen fields: records and metadata hold plain numbers
+            object.__setattr__(self, name, float(v))
         _check_wavelength(self.wavelength)
         for name in ("throughput", "quantum_efficiency", "fill"):
             if getattr(self, name) > 1.0:
                 raise ValueError(f"`{name}` must be <= 1; got {getattr(self, name)!r}.")
-        v = self.read_noise
-        if not isinstance(v, (int, float)) or isinstance(v, bool) or not v >= 0 \
+        v = as_scalar(self.read_noise)
+        if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v >= 0 \
                 or not math.isfinite(v):
             raise ValueError(f"`read_noise` must be a finite number >= 0; got {v!r}.")
+        object.__setattr__(self, "read_noise", float(v))
 
     def unattenuated_electrons(self, subaperture_area: float, pixel_scale_arcsec: float) -> float:
         """Mean photo-electrons per pixel without attenuation.

@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 import sys
 import time
 import warnings
@@ -67,6 +68,7 @@ from closedloop.studies.compression import LatencyModel
 from modalinfo.common.cli import Parser
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.records import array_fields_eq
+from modalinfo.common.validation import as_scalar
 
 __all__ = ["SolarRTC", "RTC_PRESETS", "correlation_compute_time", "correlating_wfs_sizes",
            "correlating_compute_time",
@@ -104,12 +106,13 @@ class SolarRTC:
 
     def __post_init__(self):
         for attr in ("readout", "rtc_speed"):
-            v = getattr(self, attr)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
+            v = as_scalar(getattr(self, attr))  # a 0-d array is its number
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) \
                     or v < 0 or (attr == "rtc_speed" and v == 0):
                 rule = "> 0" if attr == "rtc_speed" else ">= 0"
                 raise ValueError(f"`{attr}` of SolarRTC must be a finite number {rule}; "
                                  f"got {v!r}.")
+            object.__setattr__(self, attr, float(v))  # frozen: plain floats in records
 
     def latency_model(self, oversampling: int = 8) -> LatencyModel:
         """Figure 6's :class:`LatencyModel` with this RTC's readout and speed."""
@@ -297,7 +300,8 @@ def solar_latency(config: SimulationConfig, *, rtc: str | SolarRTC = "workstatio
         compute = correlating_compute_time(config, model, repeats=repeats, seed=seed,
                                            timer=timer)
     else:
-        if isinstance(compute_time, bool) or not isinstance(compute_time, (int, float)) \
+        compute_time = as_scalar(compute_time)  # a 0-d array is its number
+        if isinstance(compute_time, bool) or not isinstance(compute_time, numbers.Real) \
                 or not math.isfinite(compute_time) or compute_time < 0:
             raise ValueError(f"`compute_time` must be a finite number of seconds >= 0; got "
                              f"{compute_time!r}.")

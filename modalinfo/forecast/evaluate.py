@@ -76,6 +76,7 @@ from modalinfo.common.records import (
 )
 from modalinfo.common.validation import (
     as_float_array,
+    as_scalar,
     check_int,
     check_real,
     check_square_range,
@@ -629,6 +630,7 @@ def _as_predictors(predictors) -> dict[str, Predictor]:
 
 
 def _n_train(train, n_frames: int, h_max: int) -> int:
+    train = as_scalar(train)  # a 0-d array is its number, as in check_int / check_real
     if isinstance(train, bool) or not isinstance(train, numbers.Real):
         raise TypeError(f"`train` must be a fraction in (0, 1) or a number of frames; got "
                         f"{train!r}.")
