@@ -431,7 +431,8 @@ def fitting_error(
     ValueError
         On a shape mismatch, an order that is not a permutation, unknown units or
         method, ``method="parseval"`` on a basis that is not orthonormal, non-finite
-        coefficients or sums of squares that overflow; or a log with (non-zero) modes
+        coefficients or sums of squares that overflow, coefficients (not all zero) so
+        small that every square underflows; or a log with (non-zero) modes
         the basis does not represent, or a K-L basis keeping fewer modes than the
         Zernikes it combines (their variance would be missing from every dPhi(n)).
     """
