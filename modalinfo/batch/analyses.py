@@ -273,6 +273,22 @@ def _select(log: Any, modes: Any) -> Any:
     return log.select(modes=list(modes))
 
 
+def _root_sum_square(values: np.ndarray) -> float:
+    """``sqrt(nansum(values**2))`` without overflow or underflow of the squares.
+
+    Scaled by the largest magnitude first: a log in units where the RMS is 1e300 (or
+    1e-300) has a finite, non-zero total; squaring first gave inf (or 0) before round 26
+    PART b.
+    """
+    finite = np.abs(values[~np.isnan(values)])
+    if finite.size == 0:
+        return 0.0
+    peak = float(finite.max())
+    if peak == 0.0 or not math.isfinite(peak):
+        return peak
+    return peak * float(np.sqrt(np.sum((finite / peak) ** 2)))
+
+
 def _summary(log: Any, p: dict) -> dict:
     from modalinfo.telemetry import summarize
 
@@ -280,8 +296,8 @@ def _summary(log: Any, p: dict) -> dict:
     top = int(np.nanargmax(s.rms)) if np.isfinite(s.rms).any() else 0
     return {
         "n_nonfinite": int(s.n_nonfinite.sum()),
-        "rms_total": float(np.sqrt(np.nansum(s.rms * s.rms))),
-        "std_total": float(np.sqrt(np.nansum(s.std * s.std))),
+        "rms_total": _root_sum_square(np.asarray(s.rms, dtype=float)),
+        "std_total": _root_sum_square(np.asarray(s.std, dtype=float)),
         "lag1_median": float(np.nanmedian(s.lag1)) if np.isfinite(s.lag1).any() else math.nan,
         "lag1_min": float(np.nanmin(s.lag1)) if np.isfinite(s.lag1).any() else math.nan,
         "largest_mode": str(s.labels[top]),

@@ -27,6 +27,7 @@ __all__ = [
     "check_choice",
     "check_rng",
     "check_square_range",
+    "SQUARE_FLOOR",
     "did_you_mean",
     "log_rate_problem",
     "RATE_RANGE",
@@ -583,6 +584,12 @@ def check_rng(seed: Any, name: str = "seed") -> np.random.Generator:
     if isinstance(seed, numbers.Integral) and seed < 0:
         raise ValueError(f"`{name}` must be a non-negative int; got {seed}.")
     return np.random.default_rng(seed)
+
+
+#: Smallest magnitude [the data's units] whose squared one-ulp differences are normal
+#: float64 numbers: ``sqrt(tiny) / eps`` (6.7e-139). Below it squares, variances and
+#: fitting errors underflow to subnormals or 0. IEEE 754 binary64, numpy.finfo(float64).
+SQUARE_FLOOR = float(np.sqrt(np.finfo(np.float64).tiny) / np.finfo(np.float64).eps)
 
 
 def check_square_range(

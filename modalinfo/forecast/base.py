@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.validation import SQUARE_FLOOR as _SQUARE_FLOOR
 from modalinfo.common.validation import (
     as_float_array,
     check_int,
@@ -54,7 +55,7 @@ __all__ = ["Predictor", "NotFittedError"]
 #: square below the smallest normal float64 (2.2e-308), so squared errors, variances and
 #: least-squares normal equations underflow to subnormals or 0 (an RMSE of 0 on 1e-300
 #: data, a singular fit). IEEE 754 binary64 limits, numpy.finfo(float64).
-SQUARE_FLOOR = float(np.sqrt(np.finfo(np.float64).tiny) / np.finfo(np.float64).eps)
+SQUARE_FLOOR = _SQUARE_FLOOR  # defined in common.validation (fitting_error uses it too)
 
 
 def check_square_floor(data, name: str, labels=None) -> None:

@@ -42,6 +42,7 @@ import numpy as np
 
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
+    SQUARE_FLOOR,
     as_float_array,
     check_choice,
     check_int,
@@ -355,6 +356,26 @@ def _band_rows(n_frames: int, band_frames: int | None, keep: bool) -> np.ndarray
     return (np.arange(band_frames, dtype=np.int64) * n_frames) // band_frames
 
 
+def _check_square_floor(a: np.ndarray, total: np.ndarray) -> None:
+    """Refuse coefficients so small that every square underflows (dPhi would read 0).
+
+    Only looked at when the total is tiny (one extra pass over ``a`` on such logs only):
+    coefficients all below ``SQUARE_FLOOR`` in magnitude, not all zero, are refused. A
+    zeroed log (all 0) keeps its exact fitting error of 0. Before round 26 PART b a log
+    at 1e-300 rad printed "total variance dPhi(0) = 0 waves2" and a table of zeros.
+    """
+    if a.size == 0 or float(np.max(total)) >= SQUARE_FLOOR**2:
+        return
+    peak = float(np.max(np.abs(a)))
+    if 0.0 < peak < SQUARE_FLOOR:
+        raise ValueError(
+            f"`coeffs_or_log`: its largest coefficient is {peak:.3g} rad, below "
+            f"{SQUARE_FLOOR:.3g}, where the squares behind the fitting error underflow "
+            "float64 (it would come out as 0); rescale the data (multiply it by a "
+            "large factor) before this analysis."
+        )
+
+
 def fitting_error(
     coeffs_or_log: Any,
     basis: Any,
@@ -410,7 +431,8 @@ def fitting_error(
     ValueError
         On a shape mismatch, an order that is not a permutation, unknown units or
         method, ``method="parseval"`` on a basis that is not orthonormal, non-finite
-        coefficients or sums of squares that overflow; or a log with (non-zero) modes
+        coefficients or sums of squares that overflow, coefficients (not all zero) so
+        small that every square underflows; or a log with (non-zero) modes
         the basis does not represent, or a K-L basis keeping fewer modes than the
         Zernikes it combines (their variance would be missing from every dPhi(n)).
     """
@@ -471,6 +493,7 @@ def fitting_error(
         check_values(a, "coeffs_or_log")  # names a non-finite or too large column
         raise ValueError("`coeffs_or_log`: the sums of squares overflow float64; rescale the "
                          "data (e.g. convert it to smaller units) before this analysis.")
+    _check_square_floor(a, total)
     bands = _bands(picked, levels)
     return FittingErrorResult(
         per_frame=curves if keep else None,
