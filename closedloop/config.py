@@ -805,9 +805,15 @@ def _check_physics(cfg: SimulationConfig) -> None:
     # warned above 1 m at 500 nm (cm typed as m), refused below 1 mm (met here only on a
     # grid of sub-mm pixels: the rule above refuses first). Per layer the rule would warn
     # on table1 itself, whose weak 10-km layer has r0 = 2 m.
+    # r0 is derived here: a diameter raised with d_over_r0 kept (table1 at 39 m) is the
+    # likely cause, not centimetres typed as metres
     check_r0(tel.diameter / cfg.d_over_r0,
              "total r0 (telescope.diameter / the layers' total d_over_r0)",
-             wavelength=cfg.r0_wavelength)
+             wavelength=cfg.r0_wavelength,
+             likely=(f"the turbulence is set as D / r0, so r0 grows with telescope.diameter "
+                     f"({tel.diameter:g} m) at the layers' total d_over_r0 "
+                     f"({cfg.d_over_r0:g}); raise d_over_r0 in proportion to keep the "
+                     f"seeing. Kept as given"))
     from modalinfo.bases.turbulence import check_outer_scale
 
     for i, layer in enumerate(cfg.layers):

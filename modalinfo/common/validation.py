@@ -143,7 +143,8 @@ def check_telescope_diameter(diameter: Any, name: str = "diameter") -> float:
     return d
 
 
-def check_r0(r0: Any, name: str = "r0", wavelength: float = 500e-9) -> float:
+def check_r0(r0: Any, name: str = "r0", wavelength: float = 500e-9, *,
+             likely: str | None = None) -> float:
     """Return a Fried parameter ``r0`` [m] quoted at ``wavelength`` [m] after its range rules.
 
     ``r0`` scaled to 500 nm (as ``lambda**(6/5)``) below :data:`R0_RANGE`'s 1 mm is
@@ -151,6 +152,8 @@ def check_r0(r0: Any, name: str = "r0", wavelength: float = 500e-9) -> float:
     than the total. Above its 1 m a ``UserWarning`` says centimetres may have been typed
     as metres (``r0=15``): a weak layer of a many-layer profile can have such an r0 (it
     carries ``(r0_total / r0)**(5/3)`` of the turbulence), so it is not refused.
+    ``likely`` replaces the warning's guess at the cause where ``r0`` is derived, not typed
+    (a config's ``telescope.diameter / d_over_r0``).
 
     Raises
     ------
@@ -167,9 +170,10 @@ def check_r0(r0: Any, name: str = "r0", wavelength: float = 500e-9) -> float:
     if at_500 > high:
         _plausibility_warning(
             f"`{name}` = {r0:g} m{where} is beyond {high:g} m at 500 nm, more than any site's "
-            "Fried parameter (2-20 cm typical, 0.3 m on an exceptional night): centimetres "
-            f"typed as metres (r0={r0 / 100:g})? Kept as given: a weak layer of a "
-            "many-layer profile may have it (filter this UserWarning to silence it).")
+            "Fried parameter (2-20 cm typical, 0.3 m on an exceptional night): "
+            + (likely or f"centimetres typed as metres (r0={r0 / 100:g})? Kept as given: a "
+               "weak layer of a many-layer profile may have it")
+            + " (filter this UserWarning to silence it).")
     return r0
 
 
