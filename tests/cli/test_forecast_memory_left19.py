@@ -35,25 +35,10 @@ def _log(path, n_frames, n_modes):
     save(ModalLog(x, rate=1000.0, modes=list(range(2, 2 + n_modes)), units="rad"), path)
 
 
-@pytest.mark.parametrize(("n_frames", "chunk"), [(6000, 1500), (10000, 2500), (4000, 8192)])
-def test_estimate_covers_evaluate_peak_with_arma(tmp_path, monkeypatch, n_frames, chunk):
-    n_modes, horizon = 8, 10
-    path = tmp_path / "log.npz"
-    _log(path, n_frames, n_modes)
+def _measured_evaluate(monkeypatch) -> tuple[list[float], list[int]]:
+    """Record ``check_memory``'s ``need`` and tracemalloc's peak of the ``evaluate`` call."""
     real = forecast.evaluate
-    # numba compilation and scipy's first calls are allocated once per process: not the
-    # run's growth, so they are made before the measurement - by the same command on a
-    # small log (review19: an ARMA(2, 3) evaluate alone left kernels of the command's
-    # predictors to compile inside the measured call; with a cold numba cache the peak
-    # was 13.0 MB against the 9.8 MB estimate at 6,000 frames)
-    _log(tmp_path / "warm.npz", 1000, n_modes)
-    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: None)
-    assert main(["forecast", str(tmp_path / "warm.npz"), "--predictors", "linear,arma",
-                 "--horizon", str(horizon), "--train", "0.5"]) == 0
     need, peak = [], []
-
-    def check(n, what, fix):
-        need.append(float(n))
 
     def measured(*args, **kwargs):
         tracemalloc.start()
@@ -63,9 +48,27 @@ def test_estimate_covers_evaluate_peak_with_arma(tmp_path, monkeypatch, n_frames
             peak.append(tracemalloc.get_traced_memory()[1])
             tracemalloc.stop()
 
-    monkeypatch.setattr(cmd_forecast, "check_memory", check)
-    monkeypatch.setattr(cmd_forecast, "_CHUNK", chunk)
+    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: need.append(float(n)))
     monkeypatch.setattr(forecast, "evaluate", measured)
+    return need, peak
+
+
+@pytest.mark.parametrize(("n_frames", "chunk"), [(6000, 1500), (10000, 2500), (4000, 8192)])
+def test_estimate_covers_evaluate_peak_with_arma(tmp_path, monkeypatch, n_frames, chunk):
+    n_modes, horizon = 8, 10
+    path = tmp_path / "log.npz"
+    _log(path, n_frames, n_modes)
+    # numba compilation and scipy's first calls are allocated once per process: not the
+    # run's growth, so they are made before the measurement - by the same command on a
+    # small log (review19: an ARMA(2, 3) evaluate alone left kernels of the command's
+    # predictors to compile inside the measured call; with a cold numba cache the peak
+    # was 13.0 MB against the 9.8 MB estimate at 6,000 frames)
+    _log(tmp_path / "warm.npz", 1000, n_modes)
+    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: None)
+    assert main(["forecast", str(tmp_path / "warm.npz"), "--predictors", "linear,arma",
+                 "--horizon", str(horizon), "--train", "0.5"]) == 0
+    need, peak = _measured_evaluate(monkeypatch)
+    monkeypatch.setattr(cmd_forecast, "_CHUNK", chunk)
     code = main(["forecast", str(path), "--predictors", "linear,arma", "--horizon",
                  str(horizon), "--train", "0.5"])
     assert code == 0
@@ -82,20 +85,9 @@ def test_estimate_covers_the_info_fit_on_a_mapped_log(tmp_path, monkeypatch):
     rng = np.random.default_rng(2)
     path = tmp_path / "log.npy"
     np.save(path, rng.standard_normal((6000, 4)))
-    real = forecast.evaluate
-    real({"info": forecast.InfoPredictor()}, rng.standard_normal((600, 2)), horizons=1)
-    need, peak = [], []
-
-    def measured(*args, **kwargs):
-        tracemalloc.start()
-        try:
-            return real(*args, **kwargs)
-        finally:
-            peak.append(tracemalloc.get_traced_memory()[1])
-            tracemalloc.stop()
-
-    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: need.append(n))
-    monkeypatch.setattr(forecast, "evaluate", measured)
+    forecast.evaluate({"info": forecast.InfoPredictor()}, rng.standard_normal((600, 2)),
+                      horizons=1)  # warm-up, outside the measurement
+    need, peak = _measured_evaluate(monkeypatch)
     assert main(["forecast", str(path), "--rate", "1000", "--in-units", "rad",
                  "--predictors", "info", "--horizon", "1"]) == 0
     assert len(peak) == 1
