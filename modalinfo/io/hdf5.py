@@ -483,9 +483,11 @@ def _log_group(f, path: Path, dataset: str | None):
     called "corrupt" (its ``modalinfo_header`` sits beside its coefficients, not at the
     root), even when ``--dataset run1/coefficients`` named it as the refusal advised
     (adversarial round 25 PART b, H12-H15). One such group and no other 2-D numeric
-    dataset: that group; ``dataset`` naming a group or its ``coefficients``: that
-    group; several groups and no ``dataset``: refused, naming them. A closedloop
-    result keeps its own refusal (``_foreign``).
+    dataset named as coefficients (``_COEFF_NAMES``, the names ``_foreign`` picks by;
+    review20: a second dataset of any name made the file "corrupt"): that group; one
+    group and such a dataset: refused, naming both; ``dataset`` naming a group or its
+    ``coefficients``: that group; several groups and no ``dataset``: refused, naming
+    them. A closedloop result keeps its own refusal (``_foreign``).
     """
     import h5py
 
@@ -501,10 +503,18 @@ def _log_group(f, path: Path, dataset: str | None):
         key = key[: -len("/coefficients")] if key.endswith("/coefficients") else key
         return f[key] if key in groups else None
     inside = tuple(g + "/" for g in groups)
+    # other 2-D datasets named as coefficients compete with the group, as in ``_foreign``;
+    # any other one (a reconstructor, an image) does not: the file was called "corrupt"
     others = [k for k, d in _datasets(f).items()
-              if d.ndim == 2 and d.dtype.kind in "fiu" and not k.startswith(inside)]
+              if d.ndim == 2 and d.dtype.kind in "fiu" and not k.startswith(inside)
+              and k.rsplit("/", 1)[-1].lower() in _COEFF_NAMES]
     if len(groups) == 1 and not others:
         return f[groups[0]]
+    if len(groups) == 1:
+        raise LogFormatError(
+            f"HDF5 file '{path}' holds a modalinfo log in group {groups[0]} and other "
+            f"coefficients ({', '.join(sorted(others))}); pick one with dataset= (command "
+            f"line: --dataset {groups[0]})")
     if len(groups) > 1:
         raise LogFormatError(
             f"HDF5 file '{path}' holds {len(groups)} modalinfo logs, in groups "
