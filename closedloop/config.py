@@ -31,6 +31,7 @@ from modalinfo.common.validation import (
     check_r0,
     check_real,
     check_telescope_diameter,
+    check_wind_speed,
 )
 
 __all__ = [
@@ -197,6 +198,9 @@ class LayerConfig:
         _set(self, "d_over_r0", check_real(self.d_over_r0, p + "d_over_r0", minimum=0,
                                       strict_min=True))
         _set(self, "wind_speed", check_real(self.wind_speed, p + "wind_speed", minimum=0))
+        if self.wind_speed:  # 0 is a static layer; any other speed under modalinfo's one
+            # wind rule (<= 100 m/s: jet-stream cores 30-70 m/s; km/h typed as m/s beyond)
+            check_wind_speed(self.wind_speed, p + "wind_speed")
         _set(self, "wind_direction", check_real(self.wind_direction, p + "wind_direction",
                                                 minimum=-360.0, maximum=360.0))
         _set(self, "outer_scale", check_real(self.outer_scale, p + "outer_scale", minimum=0,

@@ -182,7 +182,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 
 from closedloop.config import (
     DMConfig,
@@ -193,7 +192,7 @@ from closedloop.config import (
     TelescopeConfig,
     WFSConfig,
 )
-from modalinfo.common.validation import as_scalar
+from modalinfo.common.validation import check_int, check_real
 
 __all__ = ["get", "names", "table1", "table1_wind", "table1_solar", "mcao3", "kaos",
            "SOLAR_RTC_DELAY", "dkist_scao", "dkist_scao_5cm", "est_mcao", "est_mcao_solar",
@@ -504,14 +503,10 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
     -------
     SimulationConfig
     """
-    # a NumPy integer is an int (np.int64(16) was refused as "must be an int": audit 9),
-    # and so is a 0-d array (validation.as_scalar, as check_int)
-    ground_subapertures, altitude_pitch = as_scalar(ground_subapertures), as_scalar(
-        altitude_pitch)
-    integral = isinstance(ground_subapertures, numbers.Integral) and not isinstance(
-        ground_subapertures, bool)
-    n_g = int(ground_subapertures) if integral else 0
-    if not integral or n_g < EST_MIN_SUBAPERTURES:
+    # validation.check_int / check_real (the one copy): a NumPy integer or a 0-d array is
+    # its number (np.int64(16) was refused as "must be an int": audit 9); bool, str refused
+    n_g = check_int(ground_subapertures, "ground_subapertures")
+    if n_g < EST_MIN_SUBAPERTURES:
         raise ValueError(f"`ground_subapertures` must be an int >= {EST_MIN_SUBAPERTURES} (4 "
                          f"pixels each, and a pixel no larger than r0 = {EST_R0 * 100:g} cm); "
                          f"got {ground_subapertures!r}.")
@@ -520,11 +515,10 @@ def est_mcao_variant(ground_subapertures: int = EST_SUBAPERTURES, *, solar: bool
                          f"the published {EST_SUBAPERTURES}: the pupil grid of 4 pixels per "
                          "subaperture and the actuator masks the config checks grow as its "
                          f"square); got {ground_subapertures!r}.")
-    if not isinstance(altitude_pitch, numbers.Real) or isinstance(altitude_pitch, bool) \
-            or not 1.0 <= altitude_pitch <= 4.0:
+    altitude_pitch = check_real(altitude_pitch, "altitude_pitch")
+    if not 1.0 <= altitude_pitch <= 4.0:
         raise ValueError(f"`altitude_pitch` must be a number in [1, 4] (ground pitches); got "
                          f"{altitude_pitch!r}.")
-    altitude_pitch = float(altitude_pitch)
     if name is None:
         name = "est-mcao" + ("-solar" if solar else "") + (
             "" if n_g == EST_SUBAPERTURES else f"@{n_g}")

@@ -69,6 +69,7 @@ from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
 from closedloop.optics.products import GRAM_MIN_BYTES
 from modalinfo.common.sizes import format_size
+from modalinfo.common.validation import check_real
 
 __all__ = ["ResourceEstimate", "ResourceError", "estimate", "check_resources",
            "available_memory", "ideal_sensor_config", "budget_streams", "DEFAULT_SHARE",
@@ -643,8 +644,10 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
         limit = DEFAULT_SHARE * available_memory()
         source = f"{DEFAULT_SHARE:.0%} of the {format_size(available_memory())} available"
     else:
-        if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:
-            raise ValueError(f"`memory_limit` must be a number of bytes > 0; got {limit!r}.")
+        # validation.check_real (the one copy): a 0-d array or NumPy number is its value,
+        # bool refused; inf stays accepted (no limit), as before
+        limit = check_real(limit, "memory_limit", minimum=0.0, strict_min=True,
+                           allow_inf=True)
         source = "the limit given"
     est = estimate(config, duration, oracle=oracle, budget=budget, save=save)
     tel = config.telescope

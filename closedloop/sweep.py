@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import contextlib
 import copy
-import numbers
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -27,7 +26,7 @@ import numpy as np
 
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config
-from modalinfo.common.validation import as_scalar
+from modalinfo.common.validation import check_real
 
 __all__ = ["GRID_HELP", "load_grid", "sweep_specs", "run_one", "sweep"]
 
@@ -156,11 +155,11 @@ def sweep_specs(grid: dict) -> list:
     from modalinfo.common.tasks.keys import TaskSpec, task_key
 
     base = _base(grid)
-    duration = as_scalar(grid.get("duration", 0.3))  # a 0-d array is its number
-    if isinstance(duration, bool) or not isinstance(duration, numbers.Real) or not (
-            0 < duration < float("inf")):
-        raise ValueError(f"grid `duration` must be a number of seconds > 0; got {duration!r}")
-    duration = float(duration)
+    try:  # validation.check_real (the one copy), its message said of the grid's key
+        duration = check_real(grid.get("duration", 0.3), "duration", minimum=0.0,
+                              strict_min=True)
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"grid {exc}") from None
     seeds = grid.get("seeds", [base.seed])
     if (not isinstance(seeds, list) or not seeds
             or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in seeds)):

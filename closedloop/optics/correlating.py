@@ -41,7 +41,6 @@ pupil oversampling and the convolution support are :mod:`closedloop.optics.image
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -53,7 +52,7 @@ from closedloop.optics.image_sampling import (
 )
 from closedloop.optics.photon_budget import PhotonBudget
 from closedloop.optics.shifts import measure_shifts
-from modalinfo.common.validation import as_scalar
+from modalinfo.common.validation import check_int, check_real
 
 __all__ = ["CorrelatingMeasurement", "CorrelatingSubapertures"]
 
@@ -115,30 +114,34 @@ def _linear_upsampling(p: int, q: int) -> np.ndarray:
 
 
 def _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels,
-                     n_patches, max_shift, blur_fwhm_arcsec, gain_rms, offset_rms) -> np.ndarray:
-    """Refuse what :class:`CorrelatingSubapertures` cannot image; return the scene as float64."""
+                     n_patches, max_shift, blur_fwhm_arcsec, gain_rms, offset_rms) -> tuple:
+    """Refuse what :class:`CorrelatingSubapertures` cannot image.
+
+    Return the scene as float64 and the nine numbers as Python floats and ints, in order.
+    """
     scene = np.asarray(scene, dtype=np.float64)
     if scene.ndim != 2 or not np.all(np.isfinite(scene)):
         raise ValueError(f"`scene` must be a finite 2-D array; got shape {scene.shape}.")
-    for name, v in (("pixel_scale_arcsec", pixel_scale_arcsec),
-                    ("subaperture_diameter", subaperture_diameter)):
-        if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v > 0:
-            raise ValueError(f"`{name}` must be a number > 0; got {v!r}.")
-    for name, v, low in (("n_pupil", n_pupil, 2), ("field_pixels", field_pixels, 8),
-                         ("n_patches", n_patches, 1)):
-        if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < low:
-            raise ValueError(f"`{name}` must be an int >= {low}; got {v!r}.")
-    if isinstance(max_shift, bool) or not isinstance(max_shift, (int, np.integer)) \
-            or max_shift < 1:
-        raise ValueError(f"`max_shift` must be an int >= 1; got {max_shift!r}.")
+    # validation.check_real / check_int (the one copy): a 0-d array or NumPy scalar is its
+    # number; bool, complex, str refused (TypeError); nan, inf and out-of-range values
+    # refused (ValueError), each naming the argument
+    pixel_scale_arcsec, subaperture_diameter = (
+        check_real(v, name, minimum=0.0, strict_min=True)
+        for name, v in (("pixel_scale_arcsec", pixel_scale_arcsec),
+                        ("subaperture_diameter", subaperture_diameter)))
+    n_pupil, field_pixels, n_patches, max_shift = (
+        check_int(v, name, minimum=low)
+        for name, v, low in (("n_pupil", n_pupil, 2), ("field_pixels", field_pixels, 8),
+                             ("n_patches", n_patches, 1), ("max_shift", max_shift, 1)))
     if n_patches > field_pixels // 4:
         raise ValueError(f"`n_patches` must be <= field_pixels // 4 = {field_pixels // 4} "
                          f"(a patch needs a few pixels); got {n_patches}.")
-    for name, v in (("blur_fwhm_arcsec", blur_fwhm_arcsec), ("gain_rms", gain_rms),
-                    ("offset_rms", offset_rms)):
-        if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v >= 0:
-            raise ValueError(f"`{name}` must be a number >= 0; got {v!r}.")
-    return scene
+    blur_fwhm_arcsec, gain_rms, offset_rms = (
+        check_real(v, name, minimum=0.0)
+        for name, v in (("blur_fwhm_arcsec", blur_fwhm_arcsec), ("gain_rms", gain_rms),
+                        ("offset_rms", offset_rms)))
+    return (scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches,
+            max_shift, blur_fwhm_arcsec, gain_rms, offset_rms)
 
 
 class CorrelatingSubapertures:
@@ -206,14 +209,11 @@ class CorrelatingSubapertures:
                  interpolation: str = "2d-quadratic", max_shift: int = 3,
                  window: int | None = None, pupil_oversampling: int | None = None,
                  normalize: bool = False):
-        # a 0-d array (or a NumPy scalar) is its number, as in validation.check_real
-        (pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches, max_shift,
-         blur_fwhm_arcsec, gain_rms, offset_rms) = map(as_scalar, (
-             pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches,
-             max_shift, blur_fwhm_arcsec, gain_rms, offset_rms))
-        scene = _check_arguments(scene, pixel_scale_arcsec, subaperture_diameter, n_pupil,
-                                 field_pixels, n_patches, max_shift, blur_fwhm_arcsec, gain_rms,
-                                 offset_rms)
+        # checked and converted by validation.check_real / check_int: Python floats and ints
+        (scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches,
+         max_shift, blur_fwhm_arcsec, gain_rms, offset_rms) = _check_arguments(
+            scene, pixel_scale_arcsec, subaperture_diameter, n_pupil, field_pixels, n_patches,
+            max_shift, blur_fwhm_arcsec, gain_rms, offset_rms)
         self.budget = PhotonBudget() if budget is None else budget
         self.wavelength = self.budget.wavelength
         self.pixel_scale_arcsec = float(pixel_scale_arcsec)

@@ -27,11 +27,10 @@ QE, the 30 000 e- well and the 2 e- read noise. The designs and their sources:
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 
 from closedloop.config import WAVELENGTH_RANGE
-from modalinfo.common.validation import as_scalar
+from modalinfo.common.validation import check_real
 
 __all__ = ["PhotonBudget", "solar_spectral_radiance"]
 
@@ -40,17 +39,18 @@ _C = 2.99792458e8     # speed of light [m/s]
 _K = 1.380649e-23     # Boltzmann [J/K]
 _ARCSEC = math.pi / (180.0 * 3600.0)
 
-def _check_wavelength(wavelength) -> None:
+def _check_wavelength(wavelength) -> float:
     """Refuse a wavelength outside the ground-based solar range (config.WAVELENGTH_RANGE).
 
     500 (nanometres meant, metres read) gave a radiance 2e-35 of the true one, and a
     PhotonBudget of a few electrons, without a word (audit 9).
     """
     low, high = WAVELENGTH_RANGE
-    if isinstance(wavelength, bool) or not isinstance(wavelength, numbers.Real) \
-            or not low <= wavelength <= high:
+    wavelength = check_real(wavelength, "wavelength")  # type and finiteness: the one copy
+    if not low <= wavelength <= high:
         raise ValueError(f"`wavelength` must be in [{low * 1e9:g} nm, {high * 1e6:g} um] "
                          f"(in metres: the ground-based solar range); got {wavelength!r}.")
+    return wavelength
 
 
 def solar_spectral_radiance(wavelength: float, brightness_temperature: float = 6300.0) -> float:
@@ -63,13 +63,10 @@ def solar_spectral_radiance(wavelength: float, brightness_temperature: float = 6
     brightness_temperature : float
         [K], > 0.
     """
-    # a 0-d array is its number (validation.as_scalar; left25-api)
-    wavelength, brightness_temperature = as_scalar(wavelength), as_scalar(brightness_temperature)
-    _check_wavelength(wavelength)
-    if isinstance(brightness_temperature, bool) or not isinstance(
-            brightness_temperature, numbers.Real) or not 0 < brightness_temperature < math.inf:
-        raise ValueError(f"`brightness_temperature` must be a finite number of kelvin > 0; "
-                         f"got {brightness_temperature!r}.")
+    # validation.check_real: a 0-d array is its number; bool, complex, inf, nan refused
+    wavelength = _check_wavelength(wavelength)
+    brightness_temperature = check_real(brightness_temperature, "brightness_temperature",
+                                        minimum=0.0, strict_min=True)
     x = _H * _C / (wavelength * _K * brightness_temperature)
     return 2.0 * _H * _C ** 2 / wavelength ** 5 / math.expm1(x)
 
@@ -111,23 +108,19 @@ class PhotonBudget:
     brightness_temperature: float = 6300.0
 
     def __post_init__(self):
+        # validation.check_real (the one copy): a 0-d array or NumPy scalar is its number,
+        # bool / complex / str refused (TypeError), nan / inf and <= 0 refused (ValueError);
+        # it returns Python floats, kept in the frozen fields (records, JSON compare them)
         for name in ("wavelength", "bandwidth", "exposure", "throughput",
                      "quantum_efficiency", "full_well", "fill", "brightness_temperature"):
-            v = as_scalar(getattr(self, name))  # a 0-d array is its number
-            if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v > 0 \
-                    or not math.isfinite(v):
-                raise ValueError(f"`{name}` must be a finite number > 0; got {v!r}.")
-            # Python floats in the frozen fields: records and metadata hold plain numbers
-            object.__setattr__(self, name, float(v))
+            object.__setattr__(self, name, check_real(getattr(self, name), name,
+                                                      minimum=0.0, strict_min=True))
         _check_wavelength(self.wavelength)
         for name in ("throughput", "quantum_efficiency", "fill"):
             if getattr(self, name) > 1.0:
                 raise ValueError(f"`{name}` must be <= 1; got {getattr(self, name)!r}.")
-        v = as_scalar(self.read_noise)
-        if not isinstance(v, numbers.Real) or isinstance(v, bool) or not v >= 0 \
-                or not math.isfinite(v):
-            raise ValueError(f"`read_noise` must be a finite number >= 0; got {v!r}.")
-        object.__setattr__(self, "read_noise", float(v))
+        object.__setattr__(self, "read_noise",
+                           check_real(self.read_noise, "read_noise", minimum=0.0))
 
     def unattenuated_electrons(self, subaperture_area: float, pixel_scale_arcsec: float) -> float:
         """Mean photo-electrons per pixel without attenuation.
@@ -139,12 +132,10 @@ class PhotonBudget:
         pixel_scale_arcsec : float
             [arcsec].
         """
-        subaperture_area, pixel_scale_arcsec = as_scalar(subaperture_area), as_scalar(
-            pixel_scale_arcsec)  # a 0-d array is its number (left25-api)
-        for name, v in (("subaperture_area", subaperture_area),
-                        ("pixel_scale_arcsec", pixel_scale_arcsec)):
-            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0 < v < math.inf:
-                raise ValueError(f"`{name}` must be a finite number > 0; got {v!r}.")
+        subaperture_area = check_real(subaperture_area, "subaperture_area", minimum=0.0,
+                                      strict_min=True)
+        pixel_scale_arcsec = check_real(pixel_scale_arcsec, "pixel_scale_arcsec", minimum=0.0,
+                                        strict_min=True)
         radiance = solar_spectral_radiance(self.wavelength, self.brightness_temperature)
         photon_radiance = radiance * self.wavelength / (_H * _C)  # photons s^-1 m^-2 sr^-1 m^-1
         omega = (pixel_scale_arcsec * _ARCSEC) ** 2

@@ -53,7 +53,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 import sys
 import time
 import warnings
@@ -68,7 +67,7 @@ from closedloop.studies.compression import LatencyModel
 from modalinfo.common.cli import Parser
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.records import array_fields_eq
-from modalinfo.common.validation import as_scalar
+from modalinfo.common.validation import check_real
 
 __all__ = ["SolarRTC", "RTC_PRESETS", "correlation_compute_time", "correlating_wfs_sizes",
            "correlating_compute_time",
@@ -105,14 +104,12 @@ class SolarRTC:
     source: str = ""
 
     def __post_init__(self):
+        # validation.check_real (the one copy): a 0-d array or NumPy scalar is its number,
+        # bool / complex / str refused; its Python float is kept (frozen: records, JSON)
         for attr in ("readout", "rtc_speed"):
-            v = as_scalar(getattr(self, attr))  # a 0-d array is its number
-            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) \
-                    or v < 0 or (attr == "rtc_speed" and v == 0):
-                rule = "> 0" if attr == "rtc_speed" else ">= 0"
-                raise ValueError(f"`{attr}` of SolarRTC must be a finite number {rule}; "
-                                 f"got {v!r}.")
-            object.__setattr__(self, attr, float(v))  # frozen: plain floats in records
+            object.__setattr__(self, attr, check_real(
+                getattr(self, attr), f"SolarRTC.{attr}", minimum=0.0,
+                strict_min=attr == "rtc_speed"))
 
     def latency_model(self, oversampling: int = 8) -> LatencyModel:
         """Figure 6's :class:`LatencyModel` with this RTC's readout and speed."""
@@ -300,12 +297,7 @@ def solar_latency(config: SimulationConfig, *, rtc: str | SolarRTC = "workstatio
         compute = correlating_compute_time(config, model, repeats=repeats, seed=seed,
                                            timer=timer)
     else:
-        compute_time = as_scalar(compute_time)  # a 0-d array is its number
-        if isinstance(compute_time, bool) or not isinstance(compute_time, numbers.Real) \
-                or not math.isfinite(compute_time) or compute_time < 0:
-            raise ValueError(f"`compute_time` must be a finite number of seconds >= 0; got "
-                             f"{compute_time!r}.")
-        compute = float(compute_time)
+        compute = check_real(compute_time, "compute_time", minimum=0.0)  # [s]
     loop = config.loop
     oversampling = max(8, loop.oversampling)
     delay = r.latency_model(oversampling).delay(compute, loop.time_step)

@@ -233,7 +233,7 @@ def test_runs_past_the_limit_are_refused_naming_the_key(change, key):
 def test_long_duration_is_refused_by_its_logs():
     with pytest.raises(ResourceError, match=r"largest part, logs .* driven by `duration`"):
         check_resources(small(), 1e6, limit=4e9)
-    with pytest.raises(ValueError, match=r"`memory_limit` must be a number of bytes > 0"):
+    with pytest.raises(ValueError, match=r"`memory_limit` must be > 0.0; got -1.0"):
         check_resources(small(), 0.1, limit=-1)
 
 

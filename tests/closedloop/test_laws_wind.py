@@ -27,7 +27,7 @@ from closedloop.simulation import simulate
 
 N_PIXELS = 48
 DX = 4.0 / N_PIXELS
-T = 1e-3
+T = 5e-3  # 200 Hz: 3 pixels a frame at 50 m/s (left26-twins: winds <= 100 m/s)
 
 
 def _config(speed, direction, altitude, field=None):

@@ -721,11 +721,28 @@ def test_a_budget_too_large_is_refused_with_its_own_advice():
         res.check_resources(config, 0.05, budget=True, limit=est.peak_bytes / 2)
 
 
-@pytest.mark.parametrize("limit", [0, -1.0, True, "1e9", None.__class__])
-def test_a_limit_that_is_no_positive_number_is_refused(limit):
-    msg = f"`memory_limit` must be a number of bytes > 0; got {limit!r}."
-    with pytest.raises(ValueError, match="^" + re.escape(msg) + "$"):
+@pytest.mark.parametrize(("limit", "kind", "msg"), [
+    # validation.check_real's words and types (left26-twins)
+    (0, ValueError, "`memory_limit` must be > 0.0; got 0.0."),
+    (-1.0, ValueError, "`memory_limit` must be > 0.0; got -1.0."),
+    (float("nan"), ValueError, "`memory_limit` must be finite; got nan."),
+    (True, TypeError, "`memory_limit` must be a real number; got True."),
+    (np.array(True), TypeError, "`memory_limit` must be a real number; got True."),
+    ("1e9", TypeError, "`memory_limit` must be a real number; got '1e9'."),
+    (None.__class__, TypeError, "`memory_limit` must be a real number; got <class 'NoneType'>."),
+])
+def test_a_limit_that_is_no_positive_number_is_refused(limit, kind, msg):
+    with pytest.raises(kind, match="^" + re.escape(msg) + "$"):
         res.check_resources(small(), 0.05, limit=limit)
+
+
+@pytest.mark.parametrize("wrap", [np.array, np.int64, np.float32])
+def test_a_limit_as_a_numpy_number_is_its_value(wrap):
+    # a 0-d array or NumPy number is its value (left26-twins): refused before as
+    # "must be a number of bytes"; 1 byte is a limit every run exceeds, 1e15 none does
+    with pytest.raises(res.ResourceError, match=r"more than 1 B "):
+        res.check_resources(small(), 0.05, limit=wrap(1))
+    assert res.check_resources(small(), 0.05, limit=wrap(10**15)).peak_bytes > 0
 
 
 

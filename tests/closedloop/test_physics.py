@@ -38,6 +38,9 @@ from modalinfo.bases import noll_residual_variance
 from modalinfo.servo import noise_propagation
 
 KOLMOGOROV = 6.8839
+#: a frame [s] of 1/128 s (exact in binary) for the frozen-flow tests: whole pixels a
+#: frame at winds under modalinfo's 100 m/s rule (left26-twins; 1 ms needed 125-500 m/s)
+SLOW_FRAME = 1.0 / 128
 
 
 def _single(*, n_pixels=32, d_over_r0=10.0, wind=0.0, altitude=0.0, dm_kind="zernike",
@@ -80,7 +83,9 @@ def test_pure_delay_error_is_the_structure_function():
     # exactly one frame earlier, so the residual is phi(x) - phi(x - v T): v T = 2 px.
     n = 64
     dx = 4.0 / n
-    time_step = 1e-3
+    # 1/128 s frames (exact in binary): 2 px a frame is 16 m/s, under the 100 m/s wind
+    # rule (left26-twins); the loop is the same in pixels and frames as at 1 ms
+    time_step = SLOW_FRAME
     wind = 2 * dx / time_step
     cfg = _single(n_pixels=n, d_over_r0=20.0, wind=wind, dm_kind="ideal", gain=1.0,
                   time_step=time_step, integration=time_step / 2, delay=0.0)
@@ -91,8 +96,8 @@ def test_pure_delay_error_is_the_structure_function():
     # the small-shift law without the piston: the piston over the pupil takes ~30 % here
     assert expected / (KOLMOGOROV * (wind * time_step / r0) ** (5 / 3)) == pytest.approx(
         0.7, abs=0.1)
-    values = [simulate(cfg, 0.02, seed=s, model=model, progress=False).residual_variance[5:, 0]
-              for s in range(4)]
+    values = [simulate(cfg, 20 * time_step, seed=s, model=model,
+                       progress=False).residual_variance[5:, 0] for s in range(4)]
     # many independent increments over the pupil and 15 frames x 4 screens: s.e. < 2 %
     assert np.mean(values) == pytest.approx(expected, rel=0.15)
 
@@ -217,11 +222,14 @@ def test_delay_and_anisoplanatism_scalings():
     for px in (1, 2, 4, 8):
         # one internal step per frame (exposure = frame, no delay): the screen moves a
         # whole number of pixels per step, so no interpolation smooths it
-        cfg = _single(n_pixels=n, d_over_r0=20.0, wind=px * dx / 1e-3, dm_kind="ideal",
-                      time_step=1e-3, integration=1e-3, delay=0.0)
+        # (1/128 s frames: 8 px a frame is 64 m/s, under the 100 m/s wind rule)
+        cfg = _single(n_pixels=n, d_over_r0=20.0, wind=px * dx / SLOW_FRAME,
+                      dm_kind="ideal", time_step=SLOW_FRAME, integration=SLOW_FRAME,
+                      delay=0.0)
         model = LoopModel(cfg)
         measured_delay.append(np.mean([
-            simulate(cfg, 0.02, seed=s, model=model, progress=False).residual_variance[5:, 0]
+            simulate(cfg, 20 * SLOW_FRAME, seed=s, model=model,
+                     progress=False).residual_variance[5:, 0]
             for s in range(3)]))
         h = 5000.0
         theta = px * dx / h / ARCSEC

@@ -149,10 +149,14 @@ def test_wind_direction_beyond_a_turn_is_refused():
 
 
 def test_wind_beyond_the_pupil_per_frame_is_refused():
+    # the per-frame bound binds below the 100 m/s wind rule (left26-twins): a 62.5 ms
+    # frame on the 4-m pupil, 4 / 0.0625 = 64 m/s exactly (binary fractions)
+    slow = dict(loop__time_step=0.0625, loop__integration_time=0.0625, loop__delay=0.03125,
+                layers__1__wind_speed=10.0)
     with pytest.raises(ValueError, match=r"`layers\[0\].wind_speed` must be <= "
-                                         r"telescope.diameter / loop.time_step = 4000 m/s"):
-        _with("table1", layers__0__wind_speed=1e6)
-    _with("table1", layers__0__wind_speed=4000.0)  # 4 m per 1 ms frame: the bound
+                                         r"telescope.diameter / loop.time_step = 64 m/s"):
+        _with("table1", layers__0__wind_speed=64.5, **slow)
+    _with("table1", layers__0__wind_speed=64.0, **slow)  # 4 m per 62.5 ms frame: the bound
 
 
 @pytest.mark.parametrize("key", ["wavelength", "r0_wavelength"])
@@ -204,12 +208,16 @@ def test_every_preset_still_validates():
 
 
 def test_wind_moving_more_than_the_pupil_in_one_frame_is_refused():
-    # frozen flow: v T <= D; kaos has D = 0.7 m and T = 0.5 ms, so v <= 1400 m/s (here)
-    bound = 0.7 / 0.5e-3
-    assert _with("kaos", layers__0__wind_speed=0.99 * bound).layers[0].wind_speed < bound
+    # frozen flow: v T <= D; kaos has D = 0.7 m, here with a 10 ms frame (its own 0.5 ms
+    # gives 1400 m/s, beyond the 100 m/s wind rule that now refuses first: left26-twins),
+    # so v <= 70 m/s
+    slow = dict(loop__time_step=0.01, loop__integration_time=0.01, loop__delay=0.01)
+    bound = 0.7 / 0.01
+    assert _with("kaos", layers__0__wind_speed=0.99 * bound, **slow).layers[0].wind_speed \
+        < bound
     with pytest.raises(ValueError, match=r"`layers\[0\].wind_speed` must be <= "
-                                         r"telescope.diameter / loop.time_step = 1400 m/s"):
-        _with("kaos", layers__0__wind_speed=1.01 * bound)
+                                         r"telescope.diameter / loop.time_step = 70 m/s"):
+        _with("kaos", layers__0__wind_speed=1.01 * bound, **slow)
 
 
 def test_shack_hartmann_noise_bound_is_10_arcsec():
