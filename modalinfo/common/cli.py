@@ -28,7 +28,7 @@ from pathlib import Path
 
 from modalinfo.common.deps import MissingDependencyError, require_dist
 from modalinfo.common.files import SHOWN_ERRORS, check_not_special, writable_free_bytes
-from modalinfo.common.startup import one_line_format
+from modalinfo.common.startup import command_line_text, one_line_format
 from modalinfo.common.tasks.cluster import check_memory_limit, check_worker_count
 
 __all__ = [
@@ -383,7 +383,7 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
     except Warning as exc:
         # a warning turned into an error (PYTHONWARNINGS=error, python -W error): one line,
         # not a 58-line traceback (adversarial round 9 PART b, row N49)
-        message = " ".join(str(exc).split()) or type(exc).__name__
+        message = command_line_text(exc) or type(exc).__name__
         if words is not None:
             message = words(message)
         say(f"{prog} {args.command}: error: {type(exc).__name__} raised as an "

@@ -13,8 +13,8 @@ import errno
 import os
 import sys
 
-__all__ = ["exit_quietly", "memory_refusal", "one_line_format", "one_line_warnings",
-           "require_current_folder", "warning_refusal"]
+__all__ = ["command_line_text", "exit_quietly", "memory_refusal", "one_line_format",
+           "one_line_warnings", "require_current_folder", "warning_refusal"]
 
 
 def require_current_folder(prog: str) -> None:
@@ -33,6 +33,23 @@ def require_current_folder(prog: str) -> None:
         sys.exit(2)
 
 
+def command_line_text(message) -> str:
+    """Return a warning's text for a command line, in one line.
+
+    A warning that carries a ``cli_text`` attribute (the package's plausibility
+    warnings, ``modalinfo.common.validation``) has advice for a command's user (the
+    option or the file to check) in place of the Python caller's "filter this
+    UserWarning", which a command's user cannot do (Leftovers 26-rate).
+
+    Parameters
+    ----------
+    message : Warning or str
+        The warning (or its text).
+    """
+    text = getattr(message, "cli_text", None)
+    return " ".join(str(message if text is None else text).split())
+
+
 def one_line_format(prefix: str):
     """Return a ``warnings.formatwarning`` that says ``PREFIX: warning: MESSAGE`` in one line.
 
@@ -45,8 +62,7 @@ def one_line_format(prefix: str):
         What the line starts with (``"modalinfo"``, ``"modalinfo info"``).
     """
     def formatwarning(message, category, filename, lineno, line=None) -> str:
-        text = " ".join(str(message).split())
-        return f"{prefix}: warning: {text}\n"
+        return f"{prefix}: warning: {command_line_text(message)}\n"
 
     return formatwarning
 
@@ -87,7 +103,7 @@ def warning_refusal(prog: str, exc: Warning) -> int:
     int
         The exit status, 2.
     """
-    message = " ".join(str(exc).split()) or type(exc).__name__
+    message = command_line_text(exc) or type(exc).__name__
     sys.stderr.write(f"{prog}: error: {type(exc).__name__} raised as an error "
                      f"(PYTHONWARNINGS / -W error): {message}\n")
     return 2

@@ -34,6 +34,11 @@ __all__ = [
     "RATE_RULE",
     "WFS_RATE_RANGE",
     "check_rate",
+    "warn_unusual_rate",
+    "PYTHON_ADVICE",
+    "CLI_RATE_ADVICE",
+    "CLI_TIMES_ADVICE",
+    "CLI_R0_ADVICE",
     "MAX_TELESCOPE_DIAMETER",
     "check_telescope_diameter",
     "R0_RANGE",
@@ -73,16 +78,33 @@ R0_RANGE = (1e-3, 1.0)
 MAX_WIND_SPEED = 100.0
 
 
-def _plausibility_warning(message: str) -> None:
-    """Warn at the user's line, whatever the depth.
+#: the advice a plausibility warning ends with for a Python caller, who can filter it
+PYTHON_ADVICE = "filter this UserWarning to silence it"
+#: the advice a typed rate's warning ends with on a command line, where no Python filter
+#: can be set: the option to check
+CLI_RATE_ADVICE = "check that --rate is in hertz"
+#: the advice on a command line where the rate comes from a file's frame times
+CLI_TIMES_ADVICE = ("check the unit of the file's time column, or give the rate with "
+                    "--rate HZ, which replaces the timestamps")
+#: the advice an r0 warning ends with on a command line (closedloop's TOML configs)
+CLI_R0_ADVICE = "check r0, telescope.diameter and d_over_r0 in the config"
 
-    ``ModalLog`` is met through ``open_loop_log``, a reader or a command.
+
+def _plausibility_warning(body: str, cli_advice: str) -> None:
+    """Warn at the user's line, whatever the depth, with the advice for its audience.
+
+    ``ModalLog`` is met through ``open_loop_log``, a reader or a command. The message
+    ends with :data:`PYTHON_ADVICE`; the warning's ``cli_text`` attribute ends with
+    ``cli_advice`` instead, which the command lines print
+    (``modalinfo.common.startup.one_line_format``).
     """
     import warnings
 
     from modalinfo.common.quiet import caller_stacklevel
 
-    warnings.warn(message, UserWarning, stacklevel=caller_stacklevel())
+    warning = UserWarning(f"{body} ({PYTHON_ADVICE}).")
+    warning.cli_text = f"{body} ({cli_advice})."  # type: ignore[attr-defined]
+    warnings.warn(warning, stacklevel=caller_stacklevel())
 
 
 def check_rate(rate: Any, name: str = "rate", *, warn: bool = True) -> float:
@@ -108,21 +130,44 @@ def check_rate(rate: Any, name: str = "rate", *, warn: bool = True) -> float:
         slip = f" (a period of {rate:g} s is rate={1.0 / rate:g})" if rate < low else ""
         raise ValueError(f"`{name}` must be in hertz within {low:g} - {high:g} ({RATE_RULE}); "
                          f"got {rate!r}{slip}.")
+    if warn:
+        warn_unusual_rate(rate, name)
+    return rate
+
+
+def warn_unusual_rate(rate: float, name: str = "rate", *,
+                      interval: float | None = None) -> None:
+    """Warn on a frame ``rate`` [Hz] outside :data:`WFS_RATE_RANGE`, the rule of :func:`check_rate`.
+
+    The one copy of that warning. ``interval`` [s] says that ``rate`` is ``1 / interval``,
+    the median interval of the frame times a caller or a foreign file gave (``name`` is
+    then ``"timestamps"``): the warning then guesses a clock in another unit read as
+    seconds (ms for a slow rate; minutes or hours for a fast one) instead of a period
+    typed as a rate (adversarial round 25 P13 / P15 / P16).
+    """
     wfs_low, wfs_high = WFS_RATE_RANGE
-    if not warn:
-        return rate
+    if wfs_low <= rate <= wfs_high:
+        return
+    advice = CLI_RATE_ADVICE if interval is None else CLI_TIMES_ADVICE
+    if interval is None:
+        what = f"`{name}` = {rate:g} Hz is"
+        slow = (f"if {rate:g} is the frame period in seconds, the rate is "
+                f"{name}={1.0 / rate:g}; an")
+        fast = "kHz typed as Hz? The"
+    else:
+        what = (f"`{name}` give a frame rate of {rate:.3g} Hz (median interval "
+                f"{interval:g} s),")
+        slow = (f"a clock in ms read as seconds ({name} / 1000 is {1000 * rate:.3g} Hz)? "
+                "An")
+        fast = "a clock in minutes or hours read as seconds? The"
     if rate < wfs_low:
         _plausibility_warning(
-            f"`{name}` = {rate:g} Hz is below {wfs_low:g} Hz, slower than any wavefront "
-            f"sensor: if {rate:g} is the frame period in seconds, the rate is "
-            f"{name}={1.0 / rate:g}; an archive of averaged coefficients is analysed as "
-            "given (filter this UserWarning to silence it).")
-    elif rate > wfs_high:
+            f"{what} below {wfs_low:g} Hz, slower than any wavefront sensor: {slow} archive "
+            "of averaged coefficients is analysed as given", advice)
+    else:
         _plausibility_warning(
-            f"`{name}` = {rate:g} Hz is above {wfs_high:g} Hz, 10x the fastest wavefront "
-            f"sensors (tip-tilt, ~10 kHz): kHz typed as Hz? The log is analysed as given "
-            "(filter this UserWarning to silence it).")
-    return rate
+            f"{what} above {wfs_high:g} Hz, 10x the fastest wavefront sensors (tip-tilt, "
+            f"~10 kHz): {fast} log is analysed as given", advice)
 
 
 def check_telescope_diameter(diameter: Any, name: str = "diameter") -> float:
@@ -172,8 +217,7 @@ def check_r0(r0: Any, name: str = "r0", wavelength: float = 500e-9, *,
             f"`{name}` = {r0:g} m{where} is beyond {high:g} m at 500 nm, more than any site's "
             "Fried parameter (2-20 cm typical, 0.3 m on an exceptional night): "
             + (likely or f"centimetres typed as metres (r0={r0 / 100:g})? Kept as given: a "
-               "weak layer of a many-layer profile may have it")
-            + " (filter this UserWarning to silence it).")
+               "weak layer of a many-layer profile may have it"), CLI_R0_ADVICE)
     return r0
 
 

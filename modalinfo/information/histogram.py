@@ -90,7 +90,7 @@ import numpy as np
 from scipy.special import digamma, ndtr, ndtri, polygamma
 
 from modalinfo.common.quiet import caller_stacklevel
-from modalinfo.common.validation import check_choice, check_int
+from modalinfo.common.validation import as_scalar, check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
 from modalinfo.information.copula import copula_scores
@@ -239,10 +239,16 @@ def n_bins_for(rule: Any, x: np.ndarray, *, r: float = 0.0, axis: int = 0) -> in
 
 
 def _check_bins(bins: Any) -> Any:
-    """Validate ``bins``: a rule name, an int >= 1 or a pair of ints >= 1."""
-    if isinstance(bins, str):
-        return check_choice(bins, "bins", BIN_RULES)
-    if isinstance(bins, np.ndarray) and bins.ndim == 0:  # a 0-d array: its one number
+    """Validate ``bins``: a rule name, an int >= 1 or a pair of ints >= 1.
+
+    A 0-d array is its one value (``validation.as_scalar``), a rule name included:
+    ``np.array("auto")`` was refused as "must be an int" while ``"auto"`` was accepted
+    (Leftovers 26-rate).
+    """
+    bins = as_scalar(bins)
+    if isinstance(bins, str):  # np.str_ too: returned as a plain str
+        return check_choice(str(bins), "bins", BIN_RULES)
+    if isinstance(bins, np.ndarray) and bins.ndim == 0:  # a masked or Quantity 0-d array
         bins = bins.item()
     if isinstance(bins, list | tuple | np.ndarray):
         if len(bins) != 2:

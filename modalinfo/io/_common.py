@@ -26,7 +26,7 @@ from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import coarse_start_spacing, default_modes, transposed_shape
-from modalinfo.telemetry.log import ModalLog
+from modalinfo.telemetry.log import ModalLog, stored_times
 
 FORMAT_VERSION = 1
 HEADER_KEY = "modalinfo"
@@ -247,7 +247,8 @@ def check_hint_values(hints: dict) -> None:
         check_choice(hints["nonfinite"], "nonfinite", NONFINITE_POLICIES)
 
 
-def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = False) -> ModalLog:
+def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = False,
+              own_times: bool | None = None) -> ModalLog:
     """Build a ``ModalLog`` from what the file ``stored`` plus the caller's ``hints``.
 
     A hint fills what the file lacks (``None`` in ``stored``); a hint that contradicts
@@ -258,7 +259,12 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     file's timestamps, and every assumed value listed in ``metadata["assumed"]``.
     Private ``stored`` entries: ``_layout`` (axis annotation), ``_frame_numbers``
     (a frame-number column), ``_convention_assumed`` (convention guessed from names).
+    ``own_times`` (default: not ``foreign``) tells that the file's timestamps are
+    modalinfo's, read as stored without the warning on the rate they imply (an AOT
+    file is read by the own-file rules, but only one with modalinfo's header wrote them).
     """
+    if own_times is None:
+        own_times = not foreign
     for key in hints:
         if key not in HINTS:
             raise TypeError(f"unknown hint `{key}`; hints are {', '.join(HINTS)}.")
@@ -352,6 +358,11 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             # checked rates (Leftovers 23-plaus)
             kwargs.pop("rate")
             return ModalLog(coeffs, **kwargs)._derive(_rate=float(rate))
+        if own_times and stored.get("timestamps") is not None and "timestamps" not in hints:
+            # frame times modalinfo wrote were checked then: read as stored, as a stored
+            # rate is; a foreign file's or the caller's are warned on (Leftovers 26-rate)
+            with stored_times():
+                return ModalLog(coeffs, **kwargs)
         return ModalLog(coeffs, **kwargs)
     except (ValueError, TypeError) as exc:
         message = str(exc)

@@ -599,7 +599,8 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
             coeffs = stored.pop("_coeffs")
             if notes:  # aotpy's verification remarks on a foreign file, kept, not hidden
                 stored["metadata"]["aot_warnings"] = list(dict.fromkeys(notes))[:10]
-    return build_log(coeffs, path, stored, hints)
+    # an AOT file another program wrote supplies its own frame times (Leftovers 26-rate)
+    return build_log(coeffs, path, stored, hints, own_times=own is not None)
 
 
 def _refuse_block(system, lp, path: Path) -> None:

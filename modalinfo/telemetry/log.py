@@ -36,6 +36,8 @@ Decisions documented here (see also ``docs/ARCHITECTURE.md``):
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import copy
 import math
 import numbers
@@ -45,7 +47,14 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.records import same_value
-from modalinfo.common.validation import check_choice, check_int, check_rate, check_real
+from modalinfo.common.validation import (
+    RATE_RANGE,
+    check_choice,
+    check_int,
+    check_rate,
+    check_real,
+    warn_unusual_rate,
+)
 from modalinfo.telemetry.checks import (
     CONVENTIONS,
     NONFINITE_POLICIES,
@@ -66,6 +75,43 @@ from modalinfo.telemetry.units import check_units, check_wavelength, unit_scale
 __all__ = ["ModalLog"]
 
 _RATE_RTOL = 1e-3
+#: True while ``modalinfo.io`` reads a file modalinfo wrote (``stored_times``)
+_STORED_TIMES: contextvars.ContextVar[bool] = contextvars.ContextVar("_STORED_TIMES",
+                                                                     default=False)
+
+
+@contextlib.contextmanager
+def stored_times() -> Iterator[None]:
+    """Build logs without the warning on the rate their timestamps imply.
+
+    For the readers of modalinfo's own files: their frame times were checked when the
+    log was written, and are read as stored (as a stored rate is: Leftovers 23-plaus,
+    26-rate), not warned on every read. A context variable, so other threads still warn.
+    """
+    token = _STORED_TIMES.set(True)
+    try:
+        yield
+    finally:
+        _STORED_TIMES.reset(token)
+
+
+def _warn_timestamps_rate(t: np.ndarray) -> None:
+    """Warn, as ``rate=`` is warned, on the rate of frame times ``t`` [s] by their median.
+
+    Adversarial round 25 P13 / P15 / P16: times 1000 s apart (a clock in ms read as
+    seconds) gave a 0.001 Hz log silently where ``rate=0.001`` warned. The median
+    interval, not the mean: a gapped night at 1 kHz has a mean rate below 1 Hz. No
+    warning where the log's (mean) rate is outside ``RATE_RANGE``: the analyses and
+    the commands refuse that log (``validation.log_rate_problem``), and the refusal
+    alone is said.
+    """
+    if t.shape[0] < 2 or _STORED_TIMES.get():
+        return
+    mean_rate = (t.shape[0] - 1) / float(t[-1] - t[0])
+    if not RATE_RANGE[0] <= mean_rate <= RATE_RANGE[1]:
+        return
+    interval = float(np.median(np.diff(t)))
+    warn_unusual_rate(1.0 / interval, "timestamps", interval=interval)
 #: largest float64 spacing of the times ``start_time + k / rate`` allowed, as a fraction
 #: of the frame interval: the rule of explicit timestamps (checks.TIME_RESOLUTION)
 _TIME_RESOLUTION = TIME_RESOLUTION
@@ -356,6 +402,9 @@ class ModalLog:
         self._metadata = meta
         self._repairs = tuple(repairs)
         self._fingerprint = None
+        if t is not None and rate is None:
+            # last, after every refusal of this constructor: a refused log is not warned
+            _warn_timestamps_rate(t)
 
     # ------------------------------------------------------------------ construction
     def _derive(self, **changes: Any) -> ModalLog:
