@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import sys
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -248,8 +249,9 @@ def compute(log, *, source: str = "a modal log") -> Figure1:
     ValueError
         A log :func:`check_log` refuses (too short, too few modes, a constant mode).
     """
+    from modalinfo.common.quiet import catching_warnings
     from modalinfo.ordering import ordering_stability
-    from modalinfo.ordering.compare import basis_for_log, compare_orderings
+    from modalinfo.ordering.compare import KLGeometryWarning, basis_for_log, compare_orderings
     from modalinfo.telemetry.synthetic import kaos_like
 
     check_log(log)
@@ -263,20 +265,25 @@ def compute(log, *, source: str = "a modal log") -> Figure1:
         mean_square = np.mean(np.asarray(log.coeffs, dtype=float) ** 2, axis=0)
         spread = float(mean_square.max() / mean_square.min())
     frame = _typical_frame(log, bases["zernike"])
-    per_frame = compare_orderings(log, SPECS, frame=frame, units="waves2", seed=0, bases=bases)
-    pooled = compare_orderings(log, SPECS, units="waves2", seed=0,
-                               sample_budget=POOLED_BUDGET, bases=bases)
-    open_log = kaos_like(n_frames=OPEN_LOOP_FRAMES, closed_loop=False, seed=0)
-    open_comp = compare_orderings(open_log, SPECS, units="waves2", seed=0,
-                                  sample_budget=POOLED_BUDGET // 2)
+    with catching_warnings():
+        # what a log without an outer scale makes the K-L assume is said in the notes
+        # (paper_figures.__main__._kl_notes, kl_geometry_assumption's words), not once
+        # per comparison (the first builds the basis, the others reuse it)
+        warnings.simplefilter("ignore", KLGeometryWarning)
+        per_frame = compare_orderings(log, SPECS, frame=frame, units="waves2", seed=0, bases=bases)
+        pooled = compare_orderings(log, SPECS, units="waves2", seed=0,
+                                   sample_budget=POOLED_BUDGET, bases=bases)
+        open_log = kaos_like(n_frames=OPEN_LOOP_FRAMES, closed_loop=False, seed=0)
+        open_comp = compare_orderings(open_log, SPECS, units="waves2", seed=0,
+                                      sample_budget=POOLED_BUDGET // 2)
 
-    # many frames: is the typical frame typical?
-    sample_frames = np.linspace(0, log.n_frames - 1, N_FRAMES).astype(int)
-    counts: dict = {name: [] for name in LABELS}
-    for f in sample_frames:
-        comp = compare_orderings(log, SPECS, frame=int(f), units="waves2", seed=0, bases=bases)
-        for name, n in _panel(comp).modes_at_target.items():
-            counts[name].append(n)
+        # many frames: is the typical frame typical?
+        sample_frames = np.linspace(0, log.n_frames - 1, N_FRAMES).astype(int)
+        counts: dict = {name: [] for name in LABELS}
+        for f in sample_frames:
+            comp = compare_orderings(log, SPECS, frame=int(f), units="waves2", seed=0, bases=bases)
+            for name, n in _panel(comp).modes_at_target.items():
+                counts[name].append(n)
 
     # stability: pooled orderings of 1 s windows and seeds; per-frame orderings of
     # consecutive frames (is a per-frame ordering usable from one frame to the next?)

@@ -307,16 +307,19 @@ def _summary(log: Any, p: dict) -> dict:
 
 @contextlib.contextmanager
 def _no_cost_note() -> Iterator[None]:
-    """Silence the library's note on a long ordering inside a batch task.
+    """Silence the library's notes on a long ordering and an assumed K-L in a batch task.
 
     ``OrderingCostWarning`` names the library's arguments (``sample_budget``, ...),
     not the batch settings (``ordering.budget``), and a worker's warning reaches no
     one; the batch refuses a plan past its hour before any work (``_ordering``).
+    ``KLGeometryWarning``: the row's ``kl_assumed`` column says it (``_kl_assumed``).
     """
+    from modalinfo.ordering.compare import KLGeometryWarning
     from modalinfo.ordering.cost import OrderingCostWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", OrderingCostWarning)
+        warnings.simplefilter("ignore", KLGeometryWarning)
         yield
 
 
@@ -352,7 +355,8 @@ def _ordering(log: Any, p: dict) -> dict:
                              f"estimates) would take at least {seconds / 3600:.1f} h of CPU, "
                              f"more than {MAX_ORDERING_SECONDS / 3600:g} h; use a smaller "
                              "ordering.budget or estimator")
-    basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
+    with _no_cost_note():
+        basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
     assumed = _kl_assumed(log, p["basis"] == "kl-theory")
     with _no_cost_note():
         result = order_modes(log, basis, p["method"], estimator=p["estimator"],

@@ -92,7 +92,12 @@ def _sampling_note(args: argparse.Namespace, log) -> None:
 def run(args: argparse.Namespace) -> int:
     """Compute the curves, print the table, draw the plot."""
     from modalinfo.cli.shared import progress
-    from modalinfo.ordering.compare import compare_orderings, parse_specs, plot_comparison
+    from modalinfo.ordering.compare import (
+        KLGeometryWarning,
+        compare_orderings,
+        parse_specs,
+        plot_comparison,
+    )
     from modalinfo.ordering.cost import OrderingCostWarning
 
     if args.estimator is None:  # the shared option's default (None lets reorder tell it was given)
@@ -122,6 +127,8 @@ def run(args: argparse.Namespace) -> int:
             warnings.catch_warnings():
         # check_mi_time said the estimate in flags: the library's words are not repeated
         warnings.simplefilter("ignore", OrderingCostWarning)
+        # kl_geometry_note says it in the command's words (--outer-scale M)
+        warnings.simplefilter("ignore", KLGeometryWarning)
         comp = compare_orderings(
             log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
             sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,

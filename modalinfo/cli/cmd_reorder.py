@@ -360,7 +360,7 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.cli.shared import progress
     from modalinfo.information.resampling import least_tail_replicates
     from modalinfo.ordering import order_modes
-    from modalinfo.ordering.compare import basis_for_log
+    from modalinfo.ordering.compare import KLGeometryWarning, basis_for_log
     from modalinfo.ordering.cost import OrderingCostWarning
     from modalinfo.ordering.orderings import CONFIDENCE_LEVEL
 
@@ -430,8 +430,11 @@ def run(args: argparse.Namespace) -> int:
     if args.basis == "file":
         basis = file_basis(args, log)
     else:
-        basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
-                              outer_scale=args.outer_scale)
+        with warnings.catch_warnings():
+            # kl_geometry_note says it in the command's words (--outer-scale M)
+            warnings.simplefilter("ignore", KLGeometryWarning)
+            basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
+                                  outer_scale=args.outer_scale)
     steps = basis.n_modes - 1 + args.resamples if args.method.startswith("mi_") else 0
     with progress(args, steps, desc="reorder") as advance, warnings.catch_warnings():
         # check_mi_time said the estimate in flags: the library's words are not repeated

@@ -477,7 +477,15 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
           cannot resolve the correlation (as for ``"gaussian"`` and ``"ksg"``) and the
           kernel correction is noisy: at n = 2000, rho = 0.9999 (exact 4.26 nats)
           4.15-4.17, at rho = 0.999999 (exact 6.56) 6.24-7.02, 3 seeds, either side of
-          the truth (round 26); ``copula=False`` gave 6.55-6.58 there.
+          the truth (round 26); ``copula=False`` gave 6.55-6.58 there. Where the
+          estimate comes within 2 nats of ln n, the most the ranks of n samples
+          resolve, a ``BiasRuleWarning`` says so and names ``copula=False``
+          (``KDEEngine.ceiling_why``). Measured share of Gaussian pairs it fires on
+          (100 seeds at rho = 0.9, 0.99, 0.999, 0.9999; 20 above): n = 500: 0, 0, 0,
+          4 %, rho = 0.99999: 100 %; n = 2000: 0, 0, 0, 0, 0.99999: 0, 0.999999:
+          100 % (estimates 5.93-7.09, exact 6.56); n = 1e4: 0 up to rho = 0.999999,
+          rho = 1 - 1e-8: 100 % (8.20-9.07, exact 8.86). Never on the shipped logs'
+          1,053 mode pairs (largest MI 0.60 nats, rule 6.99 at n = 8000).
         - ``"histogram"``: plug-in estimate on equiprobable (quantile, the default) or
           equal-width bins with the Miller-Madow correction. Options ``bins``
           ("auto", "hacine-gharbi", "fd", "scott", "sturges", "sqrt", an int, or a pair
