@@ -116,7 +116,9 @@ def _check_resources(args, config, *, oracle: bool = False, budget_every: int | 
         return check_resources(config, args.duration, limit=_memory_limit(args),
                                oracle=oracle, budget=bool(budget_every), save=save)
     except ResourceError as exc:
-        hint = " (--memory-limit raises the limit)" if "memory" in str(exc) else ""
+        # --memory-limit cannot lift `ulimit -v` (RLIMIT_AS): no such hint after that refusal
+        settable = "memory" in str(exc) and "RLIMIT_AS" not in str(exc)
+        hint = " (--memory-limit raises the limit)" if settable else ""
         raise CommandError(f"{exc}{hint}") from None
 
 

@@ -660,6 +660,19 @@ def check_resources(config: SimulationConfig, duration: float, *, limit: float |
             f"{est.n_frames} frames), more than {MAX_IMAGING_SECONDS / 3600.0:g} h; it is "
             f"driven by `{key}`: set it to false (the linear sensor) or shorten `duration`.")
     need = est.peak_bytes if setup else BASELINE_BYTES + est.run_bytes
+    from modalinfo.common.memory import address_space_limit_bytes
+
+    cap = address_space_limit_bytes()
+    if need > cap:
+        # the resident peak cannot exceed the address space: under `ulimit -v` below the
+        # estimate, the set-up ran for minutes before numpy's MemoryError (adversarial
+        # round 27 PART b, row L14); refused here, before any work
+        raise ResourceError(
+            f"this run needs about {format_size(need)} of memory, more than the "
+            f"address-space limit (ulimit -v, RLIMIT_AS) of {format_size(cap)}; the largest "
+            f"part, {est.largest} ({format_size(est.parts[est.largest])}), is driven by "
+            f"`{est.drivers[est.largest]}`: raise the limit or reduce it (see `closedloop "
+            "config --estimate`).")
     if need > limit and BASELINE_BYTES >= limit:
         # no config change can help: the advice to reduce a 14 MiB part under a 95 MiB
         # limit misled (adversarial round 10 PART b, row CL6)

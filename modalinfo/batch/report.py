@@ -10,6 +10,7 @@ predictor, consecutive-window Spearman correlation of the MI ordering, total RMS
 
 from __future__ import annotations
 
+import itertools
 import math
 from datetime import datetime
 from pathlib import Path
@@ -49,8 +50,45 @@ def _series(rows: list[dict]) -> list[tuple[str, str, str]]:
     if any(r.get("analysis") == "ordering" and "window_spearman" in r for r in rows):
         out.append(("ordering", "window_spearman", "MI order stability (Spearman)"))
     if any(r.get("analysis") == "summary" and r.get("status") == "ok" for r in rows):
-        out.append(("summary", "rms_total", "total RMS [log units]"))
+        out.append(("summary", "rms_total", "total RMS"))
     return out
+
+
+def _rms_group(row: dict) -> str:
+    """Legend of a summary row's total RMS: its units and mode count (``"nm, 20 modes"``)."""
+    units = row.get("units") if isinstance(row.get("units"), str) else "units unknown"
+    n_modes = _number(row.get("n_modes"))
+    return units if n_modes is None else f"{units}, {int(n_modes)} modes"
+
+
+def _panels(rows: list[dict], x_name: str) -> list[tuple[str, dict[str, list]]]:
+    """Return the panels of one figure: (y label, {series legend: sorted (x, y) points}).
+
+    The total RMS of logs in other units (nm, rad, waves) or over other modes is not
+    one quantity: one series per (units, mode count), the label saying they are not
+    comparable; one series alone is labelled with its units. Before, one series of
+    "total RMS [log units]" put the same log in nm, rad and waves at three heights
+    (adversarial round 27 PART b, N08).
+    """
+    panels = []
+    for analysis, column, label in _series(rows):
+        series: dict[str, list] = {}
+        for r in rows:
+            if r.get("analysis") != analysis or r.get("status") != "ok":
+                continue
+            x, y = _x_value(r, x_name), _number(r.get(column))
+            if x is None or y is None:
+                continue
+            series.setdefault(_rms_group(r) if column == "rms_total" else "", []).append((x, y))
+        if sum(len(v) for v in series.values()) < 2:
+            continue
+        if column == "rms_total":
+            if len(series) == 1:
+                label = f"total RMS [{next(iter(series))}]"
+            else:
+                label = "total RMS [each log's units]: series not comparable"
+        panels.append((label, {k: sorted(v) for k, v in series.items()}))
+    return panels
 
 
 def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
@@ -78,24 +116,21 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
     from modalinfo.common.plotting import drawable_rc
 
     with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
-        ys = _series(rows)
         written = []
         for x_name, x_label in _X:
-            panels = []
-            for analysis, column, label in ys:
-                pts = [(_x_value(r, x_name), _number(r.get(column))) for r in rows
-                       if r.get("analysis") == analysis and r.get("status") == "ok"]
-                pts = [(x, y) for x, y in pts if x is not None and y is not None]
-                if len(pts) >= 2:
-                    panels.append((label, sorted(pts)))
+            panels = _panels(rows, x_name)
             if not panels:
                 continue
             out = Path(out_dir)
             out.mkdir(parents=True, exist_ok=True)
             fig = Figure(figsize=(7, 2.4 * len(panels) + 0.6))
             axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)
-            for ax, (label, pts) in zip(axes[:, 0], panels, strict=True):
-                ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", ms=4)
+            for ax, (label, series) in zip(axes[:, 0], panels, strict=True):
+                for (legend, pts), marker in zip(series.items(), itertools.cycle("osD^v<>px*")):
+                    ax.plot([p[0] for p in pts], [p[1] for p in pts], marker, ms=4,
+                            label=legend or None)
+                if len(series) > 1:
+                    ax.legend(fontsize=7)
                 ax.set_ylabel(label, fontsize=8)
                 ax.grid(alpha=0.3)
             axes[-1, 0].set_xlabel(x_label)

@@ -24,6 +24,7 @@ from pathlib import Path
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import add_hint_arguments, apply_outliers, hints_from_args
 from modalinfo.common.text import display_width, pad
+from modalinfo.telemetry.checks import mode_span
 
 NAME = "info"
 HELP = "Describe a telemetry log: shape, rate, modes, units and per-mode RMS / lag-1 ACF."
@@ -129,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
         out.write(f"rate note   {field_note}\n")
     if sampling is not None and sampling.n_frames > 1:
         out.write(f"sampling    {_sampling_text(sampling)}\n")
-    shown = ", ".join(labels) if len(labels) <= 8 else f"{labels[0]} .. {labels[-1]}"
+    shown = ", ".join(labels) if len(labels) <= 8 else mode_span(log.modes, log.convention)
     if "modes" in assumed:  # the default modes: their convention is assumed with them
         out.write(f"modes       {shown} ({log.convention}) (assumed)\n")
     else:

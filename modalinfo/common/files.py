@@ -15,6 +15,7 @@ from __future__ import annotations
 import codecs
 import contextlib
 import errno
+import math
 import os
 import re
 import signal
@@ -266,10 +267,43 @@ def naming_target(staging: str | os.PathLike, target: str | os.PathLike) -> Iter
         _rename_in_message(exc, os.fspath(staging), Path(target))
 
 
+def file_size_limit_bytes() -> float:
+    """Return the largest file this process may write [bytes]: ``RLIMIT_FSIZE``'s soft value.
+
+    ``inf`` without a limit (or where unknown). Set by ``ulimit -f``; a write past it
+    fails with ``EFBIG`` ("File too large"), or, through astropy and numpy, with the
+    words of a full disk (adversarial round 27 PART b, rows L01-L08).
+    """
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
+    except (ImportError, OSError, ValueError, AttributeError):  # not on this platform
+        return math.inf
+    if soft == resource.RLIM_INFINITY or soft < 0:
+        return math.inf
+    return float(soft)
+
+
+def file_size_limit_text() -> str:
+    """Return ``"the file-size limit (ulimit -f, RLIMIT_FSIZE) is 100 KiB"``, or "" without one."""
+    limit = file_size_limit_bytes()
+    if not math.isfinite(limit):
+        return ""
+    from modalinfo.common.sizes import format_size
+
+    return f"the file-size limit (ulimit -f, RLIMIT_FSIZE) is {format_size(limit)}"
+
+
 def _no_space(path: Path, kept: str) -> OSError:
     """Return the one line of a full disk: the user's target and what is left of it."""
-    full = OSError(f"No space left on device writing '{path}' ({kept}); free space or write "
-                   "elsewhere")
+    limit = file_size_limit_text()
+    if limit:  # the disk may have room: the limit, not the disk, may have stopped the write
+        full = OSError(f"No space left on device, or {limit}, writing '{path}' ({kept}); "
+                       "free space, raise the limit or write elsewhere")
+    else:
+        full = OSError(f"No space left on device writing '{path}' ({kept}); free space or "
+                       "write elsewhere")
     full.errno = errno.ENOSPC  # one line for the user, the errno for callers
     return full
 

@@ -507,7 +507,8 @@ class ForecastEvaluation:
         return ax
 
     def save_plots(
-        self, out_dir: str | Path, *, mode: int | str = 0, overwrite: bool = False
+        self, out_dir: str | Path, *, mode: int | str = 0, overwrite: bool = False,
+        provenance: dict | None = None,
     ) -> list[Path]:
         """Write ``forecast_series.png`` and ``forecast_rmse.png``, atomically.
 
@@ -520,12 +521,19 @@ class ForecastEvaluation:
         overwrite : bool
             Replace existing files; otherwise ``FileExistsError`` before anything is
             written.
+        provenance : dict, optional
+            What made the figures (``modalinfo forecast`` passes the record of its
+            forecast.json): written as JSON in each PNG's ``Description`` text chunk, so
+            a figure separated from its folder still names its code, command and input
+            (adversarial round 27 PART b, P09).
 
         Returns
         -------
         list of pathlib.Path
             The two files written.
         """
+        import json
+
         import matplotlib.pyplot as plt
 
         from modalinfo.common.files import atomic_write
@@ -537,6 +545,8 @@ class ForecastEvaluation:
             for path in paths:
                 if path.exists():
                     raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+        meta = None if provenance is None else {
+            "Description": json.dumps(provenance, sort_keys=True, separators=(",", ":"))}
         with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
             fig_series, ax = plt.subplots(figsize=(8, 3.5))
             fig_rmse, axes = plt.subplots(1, 2, figsize=(10, 3.5))
@@ -547,7 +557,8 @@ class ForecastEvaluation:
                 for fig, path in zip((fig_series, fig_rmse), paths, strict=True):
                     fig.tight_layout()
                     atomic_write(path,
-                                 lambda tmp, fig=fig: fig.savefig(tmp, dpi=120, format="png"),
+                                 lambda tmp, fig=fig: fig.savefig(tmp, dpi=120, format="png",
+                                                                  metadata=meta),
                                  overwrite=overwrite, by_name=True)
             finally:
                 plt.close(fig_series)

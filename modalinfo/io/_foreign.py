@@ -45,7 +45,7 @@ from modalinfo.telemetry.checks import (
     COLUMN_RATIO,
     MAX_MODES,
     MIN_SUSPECT_COLUMNS,
-    mode_labels,
+    mode_span,
     transposed_shape,
 )
 
@@ -188,6 +188,4 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
 
 def describe_modes(modes: list, convention: str) -> str:
     """``"Z2..Z28 (noll)"``-style text for metadata records."""
-    labels = mode_labels(list(modes), convention)
-    shown = labels[0] if len(labels) == 1 else f"{labels[0]}..{labels[-1]}"
-    return f"{shown} ({convention})"
+    return f"{mode_span(list(modes), convention, sep='..')} ({convention})"

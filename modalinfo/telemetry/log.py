@@ -67,6 +67,7 @@ from modalinfo.telemetry.checks import (
     coarse_start_spacing,
     find_label,
     mode_labels,
+    mode_span,
     transposed_shape,
 )
 from modalinfo.telemetry.scan import count_nonfinite, row_blocks
@@ -670,7 +671,7 @@ class ModalLog:
                 raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
             raise ValueError(
                 f"`{name}` entry {item!r} is not a mode of this log; its modes are "
-                f"{labels[0]}..{labels[-1]} ({self._convention})."
+                f"{mode_span(self._modes, self._convention, sep='..')} ({self._convention})."
             )
         return out
 
