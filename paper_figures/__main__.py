@@ -486,14 +486,22 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
         sections.append(logs_compared.report(cmp, per_log.get("Figure 1"),
                                              per_log.get("Figure 5")))
     total = time.perf_counter() - total_start
+    from modalinfo.common.provenance import sha256_file
+    from modalinfo.common.tasks.keys import package_version
+
+    # what made the numbers: the code's version (with its source fingerprint) and the
+    # input logs' SHA-256 (adversarial round 27 PART b, P19; left27-geometry), on the
+    # line the golden numbers skip (it names the machine)
     head = [
         "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
-        f"Python {platform.python_version()}, {platform.machine()}; made in {total:.0f} s"
+        f"Python {platform.python_version()}, {platform.machine()}; modalinfo "
+        f"{package_version()}; made in {total:.0f} s"
         + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
            if args.quick else "") + "."
         + _not_made(modules)
         + (" Input logs of Figures 1 and 5: "
-           + ", ".join(f"`{p}` ({d})" for p, _, _, d in logs) + "." if needs_log else "")
+           + ", ".join(f"`{p}` ({d}; SHA-256 {sha256_file(p)})" for p, _, _, d in logs)
+           + "." if needs_log else "")
         + "\n",
         "## The paper's numbers beside ours\n",
         "Every number in the *ours* column is computed by this run (the paper's column "

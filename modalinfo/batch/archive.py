@@ -249,6 +249,7 @@ def analyse_archive(
     progress: bool = True,
     plots: bool = True,
     worker_wait: float | None = None,
+    provenance: dict | None = None,
 ) -> BatchResult:
     """Run per-log analyses over an archive on Dask; resumable, errors become rows.
 
@@ -295,6 +296,12 @@ def analyse_archive(
         Seconds to wait while no worker is running before giving up
         (``NoWorkersError``; default
         ``modalinfo.common.tasks.watch.WORKER_WAIT``).
+    provenance : dict, optional
+        The record of the run (``modalinfo batch`` passes its command's,
+        ``modalinfo.common.provenance.provenance``; default: that of a Python call,
+        the version and no command). The plots carry it with the SHA-256 of the table
+        they draw (``table_sha256``, of ``batch.csv``) in their PNG metadata
+        (``Description``; adversarial round 27 PART b, P20).
 
     Returns
     -------
@@ -371,8 +378,12 @@ def analyse_archive(
         drawn: tuple = ()
         if plots:
             from modalinfo.batch.report import plot_archive
+            from modalinfo.common.provenance import provenance as run_record
+            from modalinfo.common.provenance import sha256_file
 
-            drawn = tuple(plot_archive(rows, out_dir / "plots"))
+            record = dict(provenance if provenance is not None else run_record(None))
+            record["table_sha256"] = sha256_file(csv_path)
+            drawn = tuple(plot_archive(rows, out_dir / "plots", provenance=record))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
                        identical=identical_inputs(entries, probes), skipped=tuple(skipped),

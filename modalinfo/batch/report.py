@@ -91,7 +91,8 @@ def _panels(rows: list[dict], x_name: str) -> list[tuple[str, dict[str, list]]]:
     return panels
 
 
-def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
+def plot_archive(rows: list[dict], out_dir: str | Path, *,
+                 provenance: dict | None = None) -> list[Path]:
     """Draw the summary plots of a batch table into ``out_dir`` (created if missing).
 
     Parameters
@@ -101,6 +102,10 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
     out_dir : path
         Directory of the PNG files (replaced on each run: they are derived from the
         rows).
+    provenance : dict, optional
+        What made the plots (``analyse_archive`` passes the batch's record: version,
+        command, the table's SHA-256), written as JSON in each PNG's ``Description``
+        text chunk (``modalinfo.common.provenance.png_metadata``).
 
     Returns
     -------
@@ -114,7 +119,9 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
 
     from modalinfo.common.files import atomic_write
     from modalinfo.common.plotting import drawable_rc
+    from modalinfo.common.provenance import png_metadata
 
+    meta = png_metadata(provenance)
     with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
         written = []
         for x_name, x_label in _X:
@@ -139,7 +146,8 @@ def plot_archive(rows: list[dict], out_dir: str | Path) -> list[Path]:
             fig.suptitle(f"archive of {len({r.get('path') for r in rows})} logs against {x_label}")
             fig.tight_layout()
             path = out / f"archive_vs_{x_name}.png"
-            atomic_write(path, lambda fh, f=fig: f.savefig(fh, format="png", dpi=120),
+            atomic_write(path, lambda fh, f=fig: f.savefig(fh, format="png", dpi=120,
+                                                          metadata=meta),
                          overwrite=True)
             written.append(path)
     return written

@@ -29,6 +29,7 @@ import sys
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import (
     add_hint_arguments,
+    command_provenance,
     hints_from_args,
     refuse_outlier_drop,
 )
@@ -146,6 +147,7 @@ def run(args: argparse.Namespace) -> int:
             window_frames=args.window_frames, retries=args.retries,
             retry_errors=args.retry_errors, progress=not args.quiet,
             plots=not args.no_plots, worker_wait=args.worker_wait,
+            provenance=command_provenance(args, None),
         )
     except ImportError as exc:
         raise CommandError(str(exc)) from None

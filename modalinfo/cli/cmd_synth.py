@@ -68,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
 
     from pathlib import Path
 
+    from modalinfo.common.provenance import provenance
     from modalinfo.io import save
     from modalinfo.telemetry.synthetic import kaos_like
 
@@ -80,6 +81,11 @@ def run(args: argparse.Namespace) -> int:
     stages = 2 if args.frames >= _PROGRESS_MIN_FRAMES else 0
     with progress(args, stages, unit="stage", desc="synth") as advance:
         log = kaos_like(n_frames=args.frames, closed_loop=args.closed_loop, seed=args.seed)
+        # what made the file: the code's version (with its source fingerprint) and the
+        # seed, in convert's form (metadata["provenance"], a list convert extends); the
+        # command line is left out (null) so the same synth into two file names stays
+        # byte-identical (rounds 14 / 18; round 27 PART b, P15)
+        log = log.with_metadata(provenance=[provenance(None, seed=args.seed)])
         advance(1)
         written = save(log, out, fmt=fmt, overwrite=args.overwrite)
         advance(1)

@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["file_fingerprint", "provenance", "sha256_file"]
+__all__ = ["file_fingerprint", "png_metadata", "provenance", "sha256_file"]
 
 _HASH_CHUNK = 1 << 20
 
@@ -95,3 +95,28 @@ def provenance(argv: Sequence[str] | None, *, source: str | os.PathLike | None =
         "input": None if source is None else file_fingerprint(source),
         "seed": None if seed is None else int(seed),
     }
+
+
+def png_metadata(record: dict[str, Any] | None) -> dict[str, str] | None:
+    """Return matplotlib's PNG ``metadata=`` carrying ``record`` (None: no metadata).
+
+    The record goes as compact JSON with sorted keys in the PNG's ``Description`` text
+    chunk, so a figure separated from its folder still names the code, command and
+    input that made it (adversarial round 27 PART b, P09: forecast's PNGs; P20:
+    batch's archive plots). Readers: ``PIL.Image.open(path).text["Description"]``.
+
+    Parameters
+    ----------
+    record : dict or None
+        A JSON-ready record, e.g. :func:`provenance`'s.
+
+    Returns
+    -------
+    dict or None
+        ``{"Description": <json>}`` for ``Figure.savefig(..., metadata=...)``.
+    """
+    import json
+
+    if record is None:
+        return None
+    return {"Description": json.dumps(record, sort_keys=True, separators=(",", ":"))}

@@ -532,12 +532,11 @@ class ForecastEvaluation:
         list of pathlib.Path
             The two files written.
         """
-        import json
-
         import matplotlib.pyplot as plt
 
         from modalinfo.common.files import atomic_write
         from modalinfo.common.plotting import drawable_rc
+        from modalinfo.common.provenance import png_metadata
 
         out_dir = Path(out_dir)
         paths = [out_dir / "forecast_series.png", out_dir / "forecast_rmse.png"]
@@ -545,8 +544,7 @@ class ForecastEvaluation:
             for path in paths:
                 if path.exists():
                     raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
-        meta = None if provenance is None else {
-            "Description": json.dumps(provenance, sort_keys=True, separators=(",", ":"))}
+        meta = png_metadata(provenance)
         with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
             fig_series, ax = plt.subplots(figsize=(8, 3.5))
             fig_rmse, axes = plt.subplots(1, 2, figsize=(10, 3.5))

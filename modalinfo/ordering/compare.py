@@ -64,17 +64,65 @@ class KLGeometryWarning(UserWarning):
 
 
 def _log_geometry(log: Any) -> tuple[float | None, float | None]:
-    """Diameter [m] and outer scale [m] recorded in a log's metadata, if any."""
+    """Diameter [m] and outer scale [m] recorded in a log's metadata, if any.
+
+    Read from the metadata's ``diameter`` / ``outer_scale``, else its ``generator``'s
+    (``modalinfo synth``, ``kaos_like``), else the simulator's record (a closedloop log:
+    ``dm_diameter_m``, the pupil the DM's modes live on, else
+    ``config["telescope"]["diameter"]``; the outer scale of ``config["layers"]``, see
+    ``_config_outer_scale``). Before left27-geometry the simulator's record was not read,
+    so Figure 1's K-L on ``data/kaos_closedloop.npz`` assumed Kolmogorov on a 1 m pupil
+    for a 20 m outer scale on a 0.7 m one.
+    """
     meta = getattr(log, "metadata", None) or {}
     gen = meta.get("generator", {}) if isinstance(meta.get("generator"), dict) else {}
+    config = meta.get("config") if isinstance(meta.get("config"), dict) else {}
+    telescope = config.get("telescope") if isinstance(config.get("telescope"), dict) else {}
     diameter = meta.get("diameter", gen.get("diameter"))
+    if diameter is None:
+        diameter = meta.get("dm_diameter_m")
+    if diameter is None:
+        diameter = telescope.get("diameter")
     outer = meta.get("outer_scale", gen.get("outer_scale", "absent"))
     if outer == "absent":
-        outer = None
+        outer = _config_outer_scale(config)[0]
     elif outer is None:  # recorded as infinite
         outer = math.inf
     return (float(diameter) if diameter is not None else None,
             float(outer) if outer is not None else None)
+
+
+def _config_outer_scale(config: Any) -> tuple[float | None, str | None]:
+    """Outer scale [m] of a closedloop config's layers, and a note when they differ.
+
+    closedloop's config leaves a Kolmogorov layer's ``outer_scale`` out (JSON has no
+    infinity), so an absent key is an infinite outer scale, not an unknown one. Layers
+    sharing one outer scale give it. Layers with different ones have no single von
+    Karman covariance (their sum is not one), so the theoretical K-L takes the mean of
+    their outer scales weighted by each layer's phase variance, ``(D / r0)^(5/3)`` (an
+    infinite one makes it infinite), and the note says so. ``(None, None)`` when the
+    config records no layers.
+    """
+    layers = config.get("layers") if isinstance(config, dict) else None
+    if not isinstance(layers, list) or not layers or not all(isinstance(x, dict)
+                                                              for x in layers):
+        return None, None
+    scales = [math.inf if x.get("outer_scale") is None else float(x["outer_scale"])
+              for x in layers]
+    if len(set(scales)) == 1:
+        return scales[0], None
+    try:
+        weights = [float(x["d_over_r0"]) ** (5 / 3) for x in layers]
+    except (KeyError, TypeError, ValueError):
+        return None, None
+    if any(math.isinf(s) and w > 0 for s, w in zip(scales, weights, strict=True)):
+        mean = math.inf
+    else:
+        mean = sum(s * w for s, w in zip(scales, weights, strict=True)) / sum(weights)
+    listed = ", ".join(f"{s:g}" for s in scales)
+    return mean, (f"layers of different outer scales ({listed} m): the theoretical K-L "
+                  f"uses their mean weighted by each layer's (D/r0)^(5/3), {mean:.4g} m "
+                  "(no one von Karman covariance describes their sum)")
 
 
 def kl_geometry_assumption(log: Any, outer_scale: float | None = None, *,
@@ -106,10 +154,18 @@ def kl_geometry_assumption(log: Any, outer_scale: float | None = None, *,
     -------
     str or None
         ``"no outer scale: the theoretical K-L assumes Kolmogorov turbulence (...)"``,
-        ``"no pupil diameter: the von Karman K-L assumes D = 1 m (...)"``, or None when
-        the log records what is used.
+        ``"no pupil diameter: the von Karman K-L assumes D = 1 m (...)"``, ``"layers of
+        different outer scales (...)"`` (a closedloop log whose layers differ: the
+        variance-weighted mean is used), or None when the log records what is used
+        (its metadata, its generator's, or a closedloop log's ``config``).
     """
     outer = _log_geometry(log)[1]
+    meta = getattr(log, "metadata", None) or {}
+    layered = (outer_scale is None and "outer_scale" not in meta
+               and not (isinstance(meta.get("generator"), dict)
+                        and "outer_scale" in meta["generator"]))
+    if layered and (note := _config_outer_scale(meta.get("config"))[1]) is not None:
+        return note + (f"; {option} sets one" if option else "")
     if outer_scale is None and outer is None:
         how = f"; {option} gives a von Karman one" if option else ""
         return ("no outer scale: the theoretical K-L assumes Kolmogorov turbulence "

@@ -6,6 +6,7 @@ The ``--log`` tests check the input hints against the generator's own log
 (``modalinfo.telemetry.synthetic.kaos_like``) written to CSV in nm.
 """
 
+import hashlib
 import re
 
 import numpy as np
@@ -54,7 +55,9 @@ def test_user_log_with_the_cli_input_hints(tmp_path, capsys):
         "paper_figures: note: 'mine.csv' records no outer scale: the theoretical K-L assumes "
         "Kolmogorov turbulence (infinite outer scale): Figure 1\n")
     report = (tmp_path / "o" / "report.md").read_text()
-    assert "mine.csv" in report and "(user log)" in report
+    # named with its SHA-256 (left27-geometry; reference: hashlib of the file's bytes)
+    sha = hashlib.sha256((tmp_path / "mine.csv").read_bytes()).hexdigest()
+    assert "mine.csv" in report and f"(user log; SHA-256 {sha})" in report
     # the hints were applied: the log read back in waves is the generator's
     waves = np.asarray(log.to_units("waves").coeffs)
     total = float(np.median(np.sum(waves ** 2, axis=1)))

@@ -5,17 +5,20 @@ figure module is replaced by a stand-in whose sections and table rows are set he
 the clock by one that advances 1, 2, 3, ... s per reading, so the whole ``report.md`` is
 known in advance. Reference: the report contract (``paper_figures/__init__.py`` and
 ``__main__.py``'s docstrings) written out by hand: a heading, a line naming the Python,
-the machine, the time and (``--quick``) the smoke-run notice and the input logs; the
+the machine, the package version (``modalinfo.__version__`` and its source fingerprint),
+the time and (``--quick``) the smoke-run notice and the input logs; the
 comparison table of every figure's rows tagged with its figure (and log); then one
 section per figure, each closed by its time, with the shared closed-loop runs' section
 before the first figure that draws them and the logs' comparison last. The options a
 figure receives (``quick``, ``seed``, ``duration``) are the command line's. The shipped
-logs are read for real.
+logs are read for real; the input logs' SHA-256 is ``hashlib``'s of their bytes.
 """
 
 from __future__ import annotations
 
+import hashlib
 import platform
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -141,13 +144,27 @@ def _table(rows):
                                                   for f, q, o in rows])
 
 
+def _version() -> str:
+    # the version number and 12 hex digits of the source fingerprint (package_version's
+    # documented form), read from the installed package
+    import modalinfo
+    from modalinfo.common.tasks.keys import source_fingerprint
+
+    return f"{modalinfo.__version__}+src.{source_fingerprint()[:12]}"
+
+
+def _sha(path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
 def _head(seconds, quick, logs, rows, made=range(1, 9)):
     # a partial run names what it made and what it did not (round 22 PART b, g15)
     partial = ("" if set(made) == set(range(1, 9)) else
                " A partial run (`--only`): made "
                + ", ".join(f"Figure {k}" for k in sorted(made)) + "; not made here: "
                + ", ".join(f"Figure {k}" for k in range(1, 9) if k not in made) + ".")
-    line = (f"Python {platform.python_version()}, {platform.machine()}; made in {seconds} s"
+    line = (f"Python {platform.python_version()}, {platform.machine()}; modalinfo "
+            f"{_version()}; made in {seconds} s"
             + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
                if quick else "") + "." + partial
             + (" Input logs of Figures 1 and 5: " + ", ".join(logs) + "." if logs else ""))
@@ -193,10 +210,12 @@ def test_report_of_log_runs_and_own_figures_written_by_hand(figs, tmp_path, caps
         "\n\n_(Figure 5 made in 8.0 s.)_\n",
         "## Figure 6: about r6.1\n\nbody r6.1\n\n_(Figure 6 made in 10.0 s.)_\n",
         "## logs compared\n"]
-    expected = "\n".join([_head(66, True, [f"{spectral} ({d1})", f"{simulated} ({d2})"],
+    expected = "\n".join([_head(66, True, [f"{spectral} ({d1}; SHA-256 {_sha(DEFAULT_LOG)})",
+                                             f"{simulated} ({d2}; SHA-256 {_sha(SIMULATED_LOG)})"],
                                 rows, made=(1, 2, 5, 6)), *sections])
     assert (out / "report.md").read_text(encoding="utf-8") == expected
-    assert (out / "report.html").is_file()
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert _version() in html and _sha(SIMULATED_LOG) in html and _sha(DEFAULT_LOG) in html
     # the logs compared: the two shipped logs, and Figures 1 and 5's results of each
     assert figs.cmp[1] == ("CMP", {"spectral": "r1.3", "simulated": "r1.4"},
                            {"spectral": "r5.3", "simulated": "r5.4"})
@@ -255,7 +274,7 @@ def test_a_user_log_is_one_section_without_a_log_name(figs, tmp_path):
     assert main(["--only", "1", "--log", str(log), "--out", str(out)]) == 0
     assert figs.mods["fig1_fitting_error"].calls == [("check", 300), ("log", f"`{log}`")]
     text = (out / "report.md").read_text(encoding="utf-8")
-    expected = "\n".join([_head(6, False, [f"`{log}` (user log)"],
+    expected = "\n".join([_head(6, False, [f"`{log}` (user log; SHA-256 {_sha(log)})"],
                                 [("Figure 1", "q1", "ours r1.2")], made=(1,)),
                           "## Figure 1: about r1.2\n\nbody r1.2\n\n_(Figure 1 made in 2.0 s.)_\n"])
     assert text == expected
