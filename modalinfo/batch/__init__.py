@@ -33,3 +33,9 @@ def __getattr__(name: str) -> Any:
 
         return getattr(archive, name)
     raise AttributeError(f"module 'modalinfo.batch' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    # the lazily imported names too, so dir() and tab completion show the whole public
+    # API (adversarial round 28 PART a: dir(modalinfo.batch) lacked BatchResult and analyse_archive)
+    return sorted(set(globals()) | set(__all__))

@@ -34,6 +34,7 @@ from modalinfo.information.methods import (
     check_plugin_value,
     get_method,
     is_plugin,
+    option_alias_hint,
     read_only,
 )
 
@@ -67,6 +68,7 @@ def _check_options(what: str, fn, skip: str, options: dict[str, Any]) -> None:
         raise TypeError(
             f"{what} does not accept option(s) {', '.join(unknown)}; "
             f"allowed: {', '.join(allowed) if allowed else 'none'}."
+            f"{option_alias_hint(unknown)}"
         )
 
 

@@ -210,6 +210,7 @@ from modalinfo.information.methods import (
     check_plugin_value,
     get_method,
     is_plugin,
+    option_alias_hint,
     read_only,
 )
 
@@ -495,7 +496,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     unknown = sorted(set(options) - allowed)
     if unknown:
         raise TypeError(f"method={method!r} does not accept option(s) {', '.join(unknown)}; "
-                        f"allowed: {', '.join(sorted(allowed | {'fallback'}))}.")
+                        f"allowed: {', '.join(sorted(allowed | {'fallback'}))}."
+                        f"{option_alias_hint(unknown)}")
     factor = UNITS[units]
     probed = [plugin]  # a plug-in checks its own options
 

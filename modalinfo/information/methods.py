@@ -41,6 +41,7 @@ __all__ = [
     "check_plugin_value",
     "get_method",
     "is_plugin",
+    "option_alias_hint",
     "read_only",
     "register_method",
     "unregister_method",
@@ -280,6 +281,48 @@ def check_bootstrappable(name: Any, needs: str | None = None) -> MIMethod:
 #: negative, and a bias correction's undershoot stays within it at the sample sizes the
 #: package accepts (the 0.05 nats of the convergence rules, ``convergence._TOL_NATS``)
 NEGATIVE_TOLERANCE = 0.05
+
+
+#: Keywords that reach an estimator's options (``**options``) but name a parameter of
+#: the calling function under the name another function of the package gives the same
+#: concept (adversarial round 28 PART a: ``level=`` on ``mutual_information_ci`` was
+#: refused as "method='histogram' does not accept option(s) level", which reads as a
+#: fault of the estimator). :func:`option_alias_hint` names the parameter meant.
+OPTION_ALIASES = {
+    "level": "the confidence level of the interval functions is `confidence_level`",
+    "confidence": "the confidence level of the interval functions is `confidence_level`",
+    "n_permutations": "the number of null draws is `n_surrogates` in the conditional "
+                      "tests, select_inputs and transfer_entropy_map (`n_permutations` "
+                      "in mutual_information_permutation_test)",
+    "n_surrogates": "the number of null draws is `n_permutations` in "
+                    "mutual_information_permutation_test (`n_surrogates` in the "
+                    "conditional tests, select_inputs and transfer_entropy_map)",
+    "n_bootstrap": "the number of bootstrap resamples is `n_resamples`",
+    "rng": "a random generator or seed is passed as `seed`",
+    "random_state": "a random generator or seed is passed as `seed`",
+    "lags": "transfer_entropy takes one lag as `lag` (transfer_entropy_map takes `lags`)",
+    "lag": "transfer_entropy_map takes its lags as `lags` (transfer_entropy takes `lag`)",
+}
+
+
+def option_alias_hint(unknown: Sequence[str]) -> str:
+    """Sentence naming the parameter meant by unknown options that are known aliases.
+
+    Parameters
+    ----------
+    unknown : sequence of str
+        Options an estimator refused.
+
+    Returns
+    -------
+    str
+        ``""`` when none is in ``OPTION_ALIASES``, else ``" (`level` is not an
+        estimator option: the confidence level ... is `confidence_level`)"``, to append
+        to the one-line refusal.
+    """
+    said = [f"`{name}` is not an estimator option: {OPTION_ALIASES[name]}"
+            for name in unknown if name in OPTION_ALIASES]
+    return f" ({'; '.join(said)})" if said else ""
 
 
 def is_plugin(name: Any) -> bool:
