@@ -4,7 +4,10 @@ References (outside the code): numpy's own unit conversion of datetime64 / timed
 (``np.timedelta64(500, "us")`` is 500,000 ns, so a 2 kHz log has intervals of exactly
 5e-4 s and a rate of 2000 Hz); the float64 spacing of day numbers (``np.spacing(61009.0)``
 is 7.3e-12 d = 0.63 us, ``np.spacing(2461009.5)`` 4.7e-10 d = 40 us), which cannot carry
-a 0.5 ms frame clock, so a time column in days must be refused, not read as a mode.
+a 0.5 ms frame clock, so a time column in days must be refused, not read as a mode; the
+FITS standard's TUNITn keyword (a stated unit not read must not be taken as seconds); the
+HDF5 format's recorded end of file (a file cut short after reading cannot be reopened for
+its checksum: the error must name the file).
 """
 
 import numpy as np
@@ -82,3 +85,18 @@ def test_fits_time_column_with_a_unit_not_read_is_refused(tmp_path):
     fits.HDUList([fits.PrimaryHDU(), fits.BinTableHDU.from_columns(cols)]).writeto(path)
     with pytest.raises(LogFormatError, match="TUNIT 'yr'"):
         load(path)
+
+
+def test_hdf5_truncated_after_reading_names_the_file(tmp_path):
+    # Reference: the HDF5 format records the file's end (stored_eof); a file cut short
+    # after it was read cannot be opened for its checksum: one error naming the file
+    from modalinfo.io import integrity_check, save
+    from modalinfo.telemetry.log import ModalLog
+
+    path = tmp_path / "cut.h5"
+    save(ModalLog(_coeffs(), rate=FS, modes=[2, 3, 4]), path)
+    log = load(path)
+    with open(path, "r+b") as fh:
+        fh.truncate(path.stat().st_size // 2)
+    with pytest.raises(LogFormatError, match="cut.h5"):
+        integrity_check(path, log)
