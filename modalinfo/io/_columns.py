@@ -280,7 +280,8 @@ def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
         unit = _unit_attribute(arr)
         if unit is not None:
             kind = unit
-        found.append((0 if kind != "frame" else 1, name, kind, arr))
+        # seconds-like first, then frame numbers; days (refused) only when alone
+        found.append(({"frame": 1, "d": 2}.get(kind, 0), name, kind, arr))
     if not found:
         return
     found.sort(key=lambda item: item[0])

@@ -100,3 +100,22 @@ def test_hdf5_truncated_after_reading_names_the_file(tmp_path):
         fh.truncate(path.stat().st_size // 2)
     with pytest.raises(LogFormatError, match="cut.h5"):
         integrity_check(path, log)
+
+
+@pytest.mark.parametrize("suffix", [".npz", ".h5"])
+def test_day_array_beside_seconds_is_not_the_time_axis(tmp_path, suffix):
+    # guard of the day refusal: a file carrying both `time` (s) and `mjd` reads `time`
+    import h5py
+
+    path = tmp_path / f"both{suffix}"
+    times = np.arange(N) / FS
+    arrays = {"coefficients": _coeffs(), "time": times, "mjd": 61009.25 + times / 86400.0}
+    if suffix == ".npz":
+        np.savez(path, **arrays)
+    else:
+        with h5py.File(path, "w") as f:
+            for key, value in arrays.items():
+                f[key] = value
+    log = load(path)
+    np.testing.assert_allclose(np.diff(log.timestamps), 1.0 / FS, rtol=1e-9)
+    assert log.n_modes == 3
