@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import os
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -118,7 +119,9 @@ def load_grid(path: str | Path) -> dict:
                          f"run is one of them); got preset {grid['preset']!r} and config "
                          f"{grid['config']!r}")
     if "config" in grid:
-        grid["config"] = str((path.parent / grid["config"]).resolve())
+        # absolute, but links kept: resolve() turned a config link to a device into its
+        # target, refused as "`path` must end in .toml" (round 28 PART b)
+        grid["config"] = os.path.abspath(path.parent / grid["config"])
     return grid
 
 

@@ -69,7 +69,7 @@ _UNIT_SUFFIX = re.compile(
 
 #: Seconds per unit of a time column.
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0,
-              "frame": None}
+              "d": 86400.0, "frame": None}
 
 _SECONDS = {"time", "t", "time_s", "t_s", "timestamp", "timestamps", "times", "time[s]",
             "time (s)", "time/s", "timestamp_s"}
@@ -77,6 +77,11 @@ _MILLI = {"time_ms", "t_ms", "time[ms]", "time (ms)", "time/ms", "timestamp_ms"}
 _MICRO = {"time_us", "t_us", "time[us]", "time (us)", "timestamp_us"}
 _NANO = {"time_ns", "t_ns", "time[ns]", "time (ns)", "timestamp_ns"}
 _FRAMES = {"frame", "frames", "frame_number", "frame_index", "frame_no", "framenumber"}
+# times in days (Modified / Julian Dates): float64 days near 6e4 (MJD) or 2.5e6 (JD)
+# step by 7e-12 / 5e-10 d (0.6 / 40 us), so they cannot carry a WFS frame clock; they
+# are refused by set_timestamps (round 28 PART b: an "mjd" or "time [d]" column was read
+# as a wavefront mode, rms 61009 rad)
+_DAYS = {"mjd", "jd", "mjd_obs", "jd_obs", "mjd-obs", "date_mjd", "date_jd", "bjd", "hjd"}
 
 # (regex, convention, convention assumed?) tried in order; the first that names every
 # column wins. Case-sensitive patterns first (modalinfo's own A<j>/F<j> labels).
@@ -105,6 +110,7 @@ _TIME_UNIT_WORDS = {
     "microseconds": "us",
     "ns": "ns", "nsec": "ns", "nanosecond": "ns", "nanoseconds": "ns",
     "min": "min", "minute": "min", "minutes": "min", "h": "h", "hour": "h", "hours": "h",
+    "d": "d", "day": "d", "days": "d",
 }
 
 
@@ -153,6 +159,8 @@ def time_kind(name: str) -> str | None:
         return "ns"
     if key in _FRAMES:
         return "frame"
+    if key in _DAYS:
+        return "d"
     return None
 
 
@@ -194,8 +202,26 @@ def set_timestamps(values: np.ndarray, kind: str, stored: dict, meta: dict) -> N
     for a rate that replaces far timestamps) and exactly as ``file_start_time_exact``
     (the integer and its unit). Other columns are converted as before (``values * s``).
     """
-    scale = TIME_UNITS[kind]
     v = np.asarray(values)
+    if v.dtype.kind in "mM":
+        # numpy datetime64 / timedelta64 state their unit: read exactly as integer ns
+        # relative to the first (round 28 PART b: timedelta64[us] was read as seconds,
+        # 0.002 Hz for a 2 kHz log; datetime64[ns] refused as "ns read as seconds?")
+        if v.ndim != 1 or v.size == 0 or np.isnat(v).any():
+            raise LogFormatError(
+                "the time column holds numpy dates or durations with missing values "
+                "(NaT) or no values; give the rate with --rate HZ instead")
+        v = (v - v[0]).astype("timedelta64[ns]").astype(np.int64)
+        kind = "ns"
+        if values.dtype.kind == "M":
+            meta["file_start_date"] = str(np.asarray(values)[0])
+    if kind == "d":
+        raise LogFormatError(
+            "the time column is in days (MJD / JD): float64 days cannot resolve a "
+            "wavefront sensor's frame interval (near MJD 6e4 they step by 0.6 us, near "
+            "JD 2.5e6 by 40 us); convert it to seconds from the start ((mjd - mjd[0]) "
+            "* 86400) or delete it and give the rate with --rate HZ")
+    scale = TIME_UNITS[kind]
     if v.dtype.kind == "u" and v.size and int(v.max()) <= np.iinfo(np.int64).max:
         v = v.astype(np.int64)
     if v.dtype.kind == "i" and v.ndim == 1 and v.size > 1:
@@ -218,7 +244,25 @@ def set_timestamps(values: np.ndarray, kind: str, stored: dict, meta: dict) -> N
                 f"{float(np.spacing(big)):.3g} s); the time axis starts at 0 and the first "
                 "time is kept as metadata 'file_start_time'")
             return
-    stored["timestamps"] = values.astype(np.float64) * scale
+    times = v.astype(np.float64) * scale
+    stored["timestamps"] = times
+    if v.dtype.kind == "f" and times.ndim == 1 and times.size > 1:
+        # float seconds since an epoch (GPS, Unix: 1.4e9 s step by 2.4e-7 s) quantise
+        # every interval: 0.5 ms read 499.96 or 500.20 us, "2000.14 Hz median, jitter
+        # none" (round 28 PART b); the information is not in the file, so say so
+        steps = np.diff(times)
+        steps = steps[np.isfinite(steps) & (steps > 0)]
+        finite = times[np.isfinite(times)]
+        if steps.size and finite.size:
+            big = float(np.max(np.abs(finite)))
+            ulp = float(np.spacing(big))
+            median = float(np.median(steps))
+            if ulp > _TIME_RESOLUTION * median:
+                meta["time_axis"] = (
+                    f"intervals quantised by {ulp:.3g} s ({ulp / median:.2g} of the "
+                    f"median; float64 times near {big:.3g} s): the median rate and the "
+                    "jitter include it, the mean rate (span / frames) does not; store "
+                    "times from the start, or as integers, to keep them exact")
 
 
 def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
@@ -236,7 +280,8 @@ def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
         unit = _unit_attribute(arr)
         if unit is not None:
             kind = unit
-        found.append((0 if kind != "frame" else 1, name, kind, arr))
+        # seconds-like first, then frame numbers; days (refused) only when alone
+        found.append(({"frame": 1, "d": 2}.get(kind, 0), name, kind, arr))
     if not found:
         return
     found.sort(key=lambda item: item[0])

@@ -293,9 +293,16 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                     cols[k][raw[k] == null] = np.nan
             kinds = [time_kind(n) for n in names]
             for k, kind in enumerate(kinds):
-                stated = time_unit_word(hdu.columns[names[k]].unit)
+                unit = hdu.columns[names[k]].unit
+                stated = time_unit_word(unit)
                 if kind is not None and stated is not None:
                     kinds[k] = stated  # TUNITn states the unit; the name only implies it
+                elif kind is not None and unit is not None and str(unit).strip():
+                    # a stated unit we cannot read was ignored: 'yr' read as s (round 28 b)
+                    raise LogFormatError(
+                        f"FITS file '{path}': time column {names[k]!r} has TUNIT "
+                        f"{str(unit).strip()!r}, not a time unit modalinfo reads (s, ms, "
+                        "us, ns, min, h); convert it to seconds or give --rate HZ")
             timed = [k for k, kind in enumerate(kinds) if kind is not None]
             if len(timed) > 1:
                 raise LogFormatError(

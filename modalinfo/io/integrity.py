@@ -216,13 +216,32 @@ def _member_reader(zip_path, member: str, path: Path):
     return verify
 
 
+def _open_h5(path: Path):
+    """Open ``path`` again for its checksum, naming it if it changed since it was read.
+
+    h5py's own error ("Unable to synchronously open file (truncated file: ...)") named no
+    file, after ``info`` had printed half its report (round 28 PART b: an HDF5 log
+    truncated while read).
+    """
+    import h5py
+
+    try:
+        return h5py.File(path, "r")
+    except FileNotFoundError:
+        raise
+    except OSError as exc:
+        raise LogFormatError(
+            f"corrupt HDF5 file '{path}': it cannot be opened again to verify its checksum "
+            f"(truncated or replaced while read?): {exc}") from None
+
+
 def _hdf5_check(path: Path, log, mmap: bool, verify: bool) -> IntegrityCheck:
     import h5py
 
     from modalinfo.io._common import parse_header
     from modalinfo.io.hdf5 import _HEADER
 
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         if _HEADER not in f:
             groups: list[str] = []
             f.visititems(lambda name, obj: groups.append(name) if isinstance(
@@ -260,7 +279,7 @@ def _hdf5_check(path: Path, log, mmap: bool, verify: bool) -> IntegrityCheck:
         shape, dtype = dset.shape, dset.dtype
 
     def from_file() -> None:
-        with h5py.File(path, "r") as f:
+        with _open_h5(path) as f:
             if sha256_of(f["coefficients"]) != expected:
                 raise LogFormatError(
                     f"corrupt HDF5 file '{path}': coefficients do not match their SHA-256 "
