@@ -750,15 +750,38 @@ def order_modes(
                             sample_budget=budget, n_samples=int(frames.size),
                             seed=seed_value, n_resamples=n_resamples,
                             confidence_level=confidence_level))
-    except InfiniteMIError:
+    except InfiniteMIError as exc:
         # a sum the search scored orders Phi_ref's samples exactly: the modes it lacks are
         # too small to matter (1e-11 rad beside 0.1 rad, above the 1e-12 constant rule);
         # ordered last as the dead modes above (adversarial round 6, rows r07, f06). Only
         # here, so that an ordering that never scores such a sum is unchanged.
         tiny = _numerically_dead(contrib)
         if not tiny.any():
-            raise
+            if str(exc).startswith("order_modes:"):  # a mode's, already named
+                raise
+            raise _named(exc, "a partial sum of the modes' contributions (a_k Z_k)") from exc
     return without(tiny)
+
+
+def _named(exc: InfiniteMIError, what: str) -> InfiniteMIError:
+    """Return the estimator's refusal of a pair in order_modes' terms (same class).
+
+    The estimators name their arguments `x` and `y`, which a caller of order_modes never
+    passed (round 27 PART a, s-order): `x` is the total wavefront Phi_ref on the
+    samples, `y` a mode's contribution or a partial sum.
+    """
+    text = str(exc).replace("`x`", "the total wavefront (Phi_ref)").replace("`y`", what)
+    return type(exc)(f"order_modes: {text}")
+
+
+def _marginal_score(est: Any, contrib: np.ndarray, k: int, labels: tuple) -> float:
+    """I(Phi_ref; a_k Z_k) of mode k (est fitted to Phi_ref); a refusal names the mode."""
+    try:
+        return float(est.score(contrib[k]))
+    except InfiniteMIError as exc:
+        named = _named(exc, f"the contribution of {labels[k]} (a_k Z_k)")
+        raise type(named)(f"{named} To order the other modes, give a basis without "
+                          f"{labels[k]}.") from exc
 
 
 def _check_time(estimator: Any, n: int, n_modes: int, n_resamples: int, method: str,
@@ -809,8 +832,8 @@ def _scored(est: Any, contrib: np.ndarray, a: np.ndarray, view: Any, method: str
     if method == "mi_greedy":
         order, mi, scores, known = _greedy(est, contrib, progress, search)
     else:
-        scores = np.array([float(est.score(contrib[k])) if n_modes > 1 else np.nan
-                           for k in range(n_modes)])
+        scores = np.array([_marginal_score(est, contrib, k, view.labels) if n_modes > 1
+                           else np.nan for k in range(n_modes)])
         order = np.argsort(-scores, kind="stable")
         mi = _cumulative_mi(est, contrib, order)
         known = None

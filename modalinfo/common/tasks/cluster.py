@@ -11,6 +11,7 @@ from typing import Any
 from modalinfo.common.deps import require
 from modalinfo.common.memory import machine_memory_bytes
 from modalinfo.common.sizes import format_size, parse_size
+from modalinfo.common.startup import worker_warning_env
 from modalinfo.common.tasks.interrupts import raise_if_interrupted, sigint_deferred, sigint_held
 from modalinfo.common.tasks.threads import task_threads, thread_env
 
@@ -207,7 +208,8 @@ def open_client(
                 threads_per_worker=threads_per_worker,
                 memory_limit="auto" if memory_limit is None else memory_limit,
                 processes=True,
-                env=thread_env(threads),
+                # the command's one-line warnings in its workers (Leftovers 27-scale)
+                env={**thread_env(threads), **worker_warning_env()},
                 dashboard_address=":0" if dashboard_address is None else dashboard_address,
                 scheduler_kwargs={"dashboard": dashboard_address is not None},
                 silence_logs=logging.ERROR,

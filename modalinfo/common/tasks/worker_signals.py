@@ -12,6 +12,10 @@ communicate with scheduler during heartbeat" (``distributed.worker`` at ERROR), 
 worker starved of CPU logs when the scheduler has closed under it at the end of a
 finished batch (round 16 PART b, B06: after ``batch`` of 100 logs, exit 0). A worker
 that really loses its scheduler is seen by the command (no worker running; retries).
+
+And it gives the worker the command's one-line warning form (``modalinfo batch:
+warning: ...``) where the command set one (Leftovers 27-scale): the cluster passes the
+prefix in its workers' environment (``modalinfo.common.startup.worker_warning_env``).
 """
 
 from __future__ import annotations
@@ -37,7 +41,14 @@ def quiet_heartbeat_logs() -> None:
 
 
 def dask_setup(worker: Any) -> None:
-    """Ignore SIGINT in this worker process (Dask calls this when the worker starts)."""
+    """Ignore SIGINT in this worker process (Dask calls this when the worker starts).
+
+    Also shows warnings in the one-line form of the command that started the cluster
+    (``modalinfo.common.startup.apply_worker_warning_format``; Leftovers 27-scale).
+    """
+    from modalinfo.common.startup import apply_worker_warning_format
+
+    apply_worker_warning_format()
     quiet_heartbeat_logs()
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
