@@ -561,11 +561,12 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         y split at their widest gaps (a lower bound: clusters far apart moving x and y
         together, which kde and histogram smooth together) by more than max(0.05, 10 %).
         With ``method`` "kde", "histogram" or "gaussian", first and alone, where x or y
-        is piled: one value inside its range holds more than 0.5 % of an otherwise
-        continuous sample (dropouts written as 0.0), or its minimum and maximum hold
-        more than 10 % together (a clip, saturation or full well). Exact MI of Gaussian
-        pairs with such piles: 1 % of shared dropouts, -0.066 nats for 0.198; a 15 %
-        full well at rho = 0.9, kde +0.080 for 0.770; ksg within 0.05 everywhere
+        is piled beside continuous values: one value inside its range holds more than
+        3 % of the samples, its minimum and maximum more than 10 % together (a clip,
+        saturation or full well), or x and y hold more than 0.5 % of the samples at one
+        value each together (dropouts written as 0.0 in both). Exact MI of Gaussian pairs
+        with such piles: 1 % of shared dropouts, -0.066 nats for 0.198; a 15 % full
+        well at rho = 0.9, kde +0.080 for 0.770; ksg within 0.05 everywhere
         (``modalinfo.information.discrete`` notes, "Piles", issue 27). Rounded and
         integer data are not piles.
         Also where an explicit ``k`` or ``bandwidth``

@@ -108,7 +108,7 @@ def test_ksg_within_tolerance_of_exact(kind, share, rho):
                                               ("dropout", 0.2, 0.5)])
 def test_blind_methods_warn_where_they_miss(method, kind, share, rho):
     x, y, truth = piled(kind, rho, share, 4000, 27)
-    with pytest.warns(BiasRuleWarning, match=r"`x` holds .*method='ksg'") as rec:
+    with pytest.warns(BiasRuleWarning, match=r"`x` (and `y` )?holds? .*method='ksg'") as rec:
         value = mutual_information(x, y, method=method)
     assert len(rec) == 1
     # the warning is there for the misses: at least one blind method misses each kind
@@ -120,7 +120,8 @@ def test_small_piles_and_rounded_data_do_not_warn():
     x, y, _ = piled("clip", 0.9, 0.05, 4000, 3)  # 5 % at the ends: within tolerance
     xd, yd, _ = piled("dropout", 0.5, 0.002, 4000, 3)  # 0.2 % dropouts
     xr, yr = pair(0.75, 4000, 4)
-    cases = [(x, y), (xd, yd), (np.round(xr, 1), np.round(yr, 1)),  # rounded to 0.1 sigma
+    x1 = np.where(np.random.default_rng(5).random(4000) < 0.01, 0.0, xr)  # 1 %, x alone
+    cases = [(x, y), (xd, yd), (x1, yr), (np.round(xr, 1), np.round(yr, 1)),  # 0.1 sigma
              (np.round(4 * xr), np.round(4 * yr)),  # integer codes
              (np.round(xr, 2), yr)]
     for method in ("kde", "histogram", "gaussian"):
@@ -128,6 +129,17 @@ def test_small_piles_and_rounded_data_do_not_warn():
             with warnings.catch_warnings():
                 warnings.simplefilter("error")
                 mutual_information(a, b, method=method)
+
+
+def test_shared_dropouts_warn_above_half_a_percent():
+    # 2 % of frames dropped in both (exact 0.239 at rho 0.5): kde -0.10 before, silent
+    x, y, truth = piled("dropout", 0.5, 0.02, 4000, 6)
+    with pytest.warns(BiasRuleWarning, match=r"`x` and `y` hold 2\.\d% .* at one value each"):
+        value = mutual_information(x, y, method="kde")
+    assert abs(value - truth) > tol(truth)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert abs(mutual_information(x, y) - truth) <= tol(truth)  # ksg
 
 
 def test_pile_of_names_value_share_and_place():
@@ -161,3 +173,39 @@ def test_ci_cmi_and_te_warn_once_on_a_pile():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         conditional_mutual_information(x, y, z)  # ksg: silent
+
+
+def test_ordering_warns_once_per_call_on_dropped_frames():
+    # 10 % of the frames written as all-zero coefficients (dropouts): the wavefront and
+    # every mode's contribution share the pile at 0.0 (the shared-dropout case above)
+    from modalinfo.bases import Pupil, ZernikeBasis
+    from modalinfo.ordering import order_modes
+
+    basis = ZernikeBasis(Pupil(24), modes=range(2, 8))
+    rng = np.random.default_rng(11)
+    coeffs = rng.standard_normal((400, 6)) * np.linspace(1.0, 0.3, 6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        order_modes(coeffs, basis, "mi_marginal", seed=0, sample_budget=20_000)
+    coeffs[rng.random(400) < 0.1] = 0.0
+    with pytest.warns(BiasRuleWarning, match=r"order_modes with estimator='histogram' "
+                      r"\(and 5 other mode\(s\)\): .* hold") as rec:
+        order_modes(coeffs, basis, "mi_marginal", seed=0, sample_budget=20_000)
+    assert sum("hold" in str(w.message) for w in rec) == 1
+
+
+def test_select_inputs_warns_once_per_call_on_dropped_frames():
+    from modalinfo.information import select_inputs
+
+    rng = np.random.default_rng(12)
+    e = rng.standard_normal((600, 3))
+    data = np.empty_like(e)
+    data[0] = e[0]
+    for t in range(1, 600):  # a VAR(1): each series driven by its past and the first's
+        data[t] = 0.6 * data[t - 1] + 0.3 * data[t - 1, 0] + e[t]
+    data[rng.random(600) < 0.05] = 0.0  # dropped frames written as zeros
+    with pytest.warns(BiasRuleWarning, match=r"select_inputs with method='histogram': .*hold"
+                      ) as rec:
+        select_inputs(data, 1, max_lag=2, method="histogram", n_surrogates=19,
+                      intervals=False, seed=0)
+    assert sum("hold" in str(w.message) for w in rec) == 1
