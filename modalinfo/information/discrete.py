@@ -278,7 +278,7 @@ def pile_why(columns: dict[str, np.ndarray], method: str) -> str | None:
                     "its range beside continuous values (dropouts written as a value?; "
                     f"more than {PILE_INTERIOR_SHARE:.1%}): {tail}")
         if edge > PILE_EDGE_SHARE * n:
-            return (f"`{name}` holds {edge / n:.1%} of its samples at its minimum and "
+            return (f"`{name}` holds {edge / n:.1%} of its samples at its minimum or "
                     f"maximum (the larger pile at {end:.6g}) beside continuous values "
                     f"(clipped or saturated?; more than {PILE_EDGE_SHARE:.1%}): {tail}")
         if top > PILE_SHARED_SHARE * n:
