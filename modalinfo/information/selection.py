@@ -492,20 +492,18 @@ def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return Cu, norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
 
 
-def _warn_piles(series: np.ndarray, labels: list[str], target_col: int, method: str) -> None:
+def _warn_piles(series: np.ndarray, labels: list[str], method: str) -> None:
     """Warn once (``BiasRuleWarning``) where a series is piled (issue 27).
 
-    The rule of :func:`~modalinfo.information.mutual_information` (discrete module
-    notes, "Piles") on the target and each source series, pair by pair, naming the
-    first; not for the Gaussian closed form, whose estimand is the linear
+    The single-variable rules of :func:`~modalinfo.information.mutual_information`
+    (discrete module notes, "Piles": one value inside the range above 3 %, the ends
+    above 10 %) on each series alone, naming the first: the candidates are lagged, so
+    an atom two series share at one time (a frame of zeros) is not shared by a target
+    and its candidates. Not for the Gaussian closed form, whose estimand is the linear
     predictability of the values.
     """
-    target = series[:, target_col]
     for j in range(series.shape[1]):
-        columns = {labels[target_col]: target}
-        if j != target_col:
-            columns[labels[j]] = series[:, j]
-        why = pile_why(columns, method)
+        why = pile_why({labels[j]: series[:, j]}, method)
         if why is not None:
             warnings.warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
                           stacklevel=3)
@@ -839,7 +837,7 @@ def select_inputs(
     est = _estimator(method, units, options)
     factor = UNITS[units]
     if not closed:  # once per call, not once per candidate (issue 27)
-        _warn_piles(series, labels, target_col, method)
+        _warn_piles(series, labels, method)
 
     Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())
