@@ -636,7 +636,10 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
     -----
     BiasRuleWarning
         Where the bias rule or the histogram's resolution rule applies (unless
-        ``fallback="raise"``), naming the rule.
+        ``fallback="raise"``), naming the rule. With ``method`` "kde", "histogram" or
+        "gaussian", where a column of x, y or z is piled on one value beside
+        continuous values (the rule of :func:`mutual_information`, issue 27; the value
+        is kept, ``fallback="raise"`` refuses).
     """
     est = _estimator(method, units, options, switch=True)
     return est(*_triple(x, y, z))
