@@ -24,7 +24,7 @@ from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice
 from modalinfo.information.convergence import effective_sample_rule, judge_pair_estimate
-from modalinfo.information.discrete import DISCRETE_MIN_PER_CELL, discrete_levels
+from modalinfo.information.discrete import DISCRETE_MIN_PER_CELL, discrete_levels, pile_why
 from modalinfo.information.methods import (
     METHODS,
     BiasRuleWarning,
@@ -590,6 +590,15 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         bins, kernel or neighbours); an estimate below the MI of the 2 x 2 table of x and
         y split at their widest gaps (a lower bound: clusters far apart moving x and y
         together, which kde and histogram smooth together) by more than max(0.05, 10 %).
+        With ``method`` "kde", "histogram" or "gaussian", first and alone, where x or y
+        is piled beside continuous values: one value inside its range holds more than
+        3 % of the samples, its minimum and maximum more than 10 % together (a clip,
+        saturation or full well), or x and y hold more than 0.5 % of the samples at one
+        value each together (dropouts written as 0.0 in both). Exact MI of Gaussian pairs
+        with such piles: 1 % of shared dropouts, -0.066 nats for 0.198; a 15 % full
+        well at rho = 0.9, kde +0.080 for 0.770; ksg within 0.05 everywhere
+        (``modalinfo.information.discrete`` notes, "Piles", issue 27). Rounded and
+        integer data are not piles.
         Also where an explicit ``k`` or ``bandwidth``
         fails the method's bias rule. With ``method="histogram"`` and rule-chosen bins,
         where no other rule spoke, where the estimate is below the pair's Gaussian-copula MI
@@ -605,6 +614,10 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
     x, y = _as_sample(x, "x"), _as_sample(y, "y")  # as estimate() does, for the rules
     value = est.estimate(x, y)
     if not (_is_constant(x) or _is_constant(y)):
+        pile = pile_why({"x": x, "y": y}, est.method)
+        if pile is not None:  # issue 27: the other rules judge a continuum; one warning
+            warnings.warn(f"mutual_information: {pile}.", BiasRuleWarning, stacklevel=2)
+            return value
         # the regime rules (convergence module): a warning at most, the value is unchanged
         sub = getattr(est._engine, "subsample_engine", None)
         # kde: the quarters at the whole sample's cross-validated bandwidth scaled by

@@ -190,7 +190,7 @@ from modalinfo.information.api import (
     _check_not_a_copy,
     _UnionOfCurvesError,
 )
-from modalinfo.information.discrete import discrete_x_levels
+from modalinfo.information.discrete import discrete_x_levels, pile_why
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi, gaussian_scores_rule
 from modalinfo.information.histogram import (
     MIN_BINS,
@@ -472,6 +472,15 @@ def _ksg_switch(record, n: int, options: dict[str, Any], x, y, z) -> str | None:
         x, y, z, options)
 
 
+def _columns(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> dict[str, np.ndarray]:
+    """Return the columns of (x, y, z) by the names a message gives them (``x``, ``z[:, 1]``)."""
+    out = {}
+    for name, group in (("x", x), ("y", y), ("z", z)):
+        for j in range(group.shape[1]):
+            out[name if group.shape[1] == 1 else f"{name}[:, {j}]"] = group[:, j]
+    return out
+
+
 def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = False,
                judge: bool = False):
     """Validate ``method``, ``units`` and option names; return ``f(x, y, z) -> value``.
@@ -555,6 +564,12 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
+        if (switch or judge) and (pile := pile_why(_columns(x, y, z), record.name)):
+            # a point estimate of a piled variable by the method itself (issue 27): said once,
+            # the value kept (a switch to ksg or the Gaussian copula returned above)
+            if fallback == "raise":
+                raise ValueError(f"{pile} (fallback='raise').")
+            warnings.warn(f"{pile}.", BiasRuleWarning, stacklevel=3)
         if plugin:  # read-only data, a checked answer (round 13, row cmi-reg-nan)
             value = check_plugin_value(fn(read_only(x), read_only(y), read_only(z), **options),
                                        f"method={method!r}: its cmi()")
@@ -623,7 +638,10 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
     -----
     BiasRuleWarning
         Where the bias rule or the histogram's resolution rule applies (unless
-        ``fallback="raise"``), naming the rule.
+        ``fallback="raise"``), naming the rule. With ``method`` "kde", "histogram" or
+        "gaussian", where a column of x, y or z is piled on one value beside
+        continuous values (the rule of :func:`mutual_information`, issue 27; the value
+        is kept, ``fallback="raise"`` refuses).
     """
     est = _estimator(method, units, options, switch=True)
     return est(*_triple(x, y, z))

@@ -99,6 +99,7 @@ from modalinfo.information.api import UNITS, InfiniteMIError
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.conditional_uncertainty import _cmi_block_ci
+from modalinfo.information.discrete import pile_why
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi_from_covariance
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
 from modalinfo.information.ksg import ksg_cmi, ksg_cost
@@ -491,6 +492,24 @@ def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return Cu, norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
 
 
+def _warn_piles(series: np.ndarray, labels: list[str], method: str) -> None:
+    """Warn once (``BiasRuleWarning``) where a series is piled (issue 27).
+
+    The single-variable rules of :func:`~modalinfo.information.mutual_information`
+    (discrete module notes, "Piles": one value inside the range above 3 %, the ends
+    above 10 %) on each series alone, naming the first: the candidates are lagged, so
+    an atom two series share at one time (a frame of zeros) is not shared by a target
+    and its candidates. Not for the Gaussian closed form, whose estimand is the linear
+    predictability of the values.
+    """
+    for j in range(series.shape[1]):
+        why = pile_why({labels[j]: series[:, j]}, method)
+        if why is not None:
+            warnings.warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
+                          stacklevel=3)
+            return
+
+
 def _candidate_label(labels: list[str], cols: np.ndarray, j: int) -> str:
     """``"<mode>[t-<lag>]"`` (``"<mode>[t]"`` at lag 0) of candidate column j."""
     src, lag = int(cols[j, 0]), int(cols[j, 1])
@@ -817,6 +836,8 @@ def select_inputs(
                          "method='histogram' or 'ksg' for rank-based scores.")
     est = _estimator(method, units, options)
     factor = UNITS[units]
+    if not closed:  # once per call, not once per candidate (issue 27)
+        _warn_piles(series, labels, method)
 
     Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())

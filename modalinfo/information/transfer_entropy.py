@@ -137,7 +137,10 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     Warns
     -----
     BiasRuleWarning
-        With any method, where its bias or cost rule fails (the ``"ksg"`` default, at
+        With ``method`` "kde", "histogram" or "gaussian", where the source or the
+        target is piled on one value beside continuous values (the rule of
+        :func:`~modalinfo.information.mutual_information`, issue 27; the value is
+        kept). With any method, where its bias or cost rule fails (the ``"ksg"`` default, at
         n = 1e4: more than 8 columns, history > 6 for 1-D series; the estimate switches to
         the Gaussian-copula CMI, module notes of
         ``modalinfo.information.conditional``); with ``method="histogram"``, where

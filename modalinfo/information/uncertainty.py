@@ -87,9 +87,11 @@ from modalinfo.information.api import (
     RESAMPLING_METHOD,
     UNITS,
     MutualInformation,
+    _is_constant,
     ceiling_problem,
 )
 from modalinfo.information.convergence import effective_sample_rule
+from modalinfo.information.discrete import pile_why
 from modalinfo.information.methods import BiasRuleWarning, check_bootstrappable
 from modalinfo.information.resampling import (
     MI_ROTATION_MIN_EFFECTIVE_PAIRS,
@@ -367,7 +369,8 @@ def mutual_information_ci(
 
     # a capped estimate: the interval takes only the bootstrap's spread, so it excludes
     # the MI by far (round 14 PART a: [3.69, 3.77] nats for 6.56); said in the note too
-    note = ceiling_problem(est, theta, x, y) or ""
+    note = (pile_why({"x": x, "y": y}, est.method) if not (_is_constant(x) or _is_constant(y))
+            else None) or ceiling_problem(est, theta, x, y) or ""
     if note:
         warnings.warn(f"mutual_information_ci with method={est.method!r}: {note}.",
                       BiasRuleWarning, stacklevel=2)

@@ -97,13 +97,21 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from typing import Any
 
 import numpy as np
 
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
 from modalinfo.information.api import InfiniteMIError
-from modalinfo.information.methods import check_deterministic, check_plugin_value, read_only
+from modalinfo.information.discrete import PILE_BLIND_METHODS, pile_why
+from modalinfo.information.methods import (
+    BiasRuleWarning,
+    check_deterministic,
+    check_plugin_value,
+    read_only,
+)
 from modalinfo.information.resampling import (
     block_bootstrap_indices,
     least_tail_replicates,
@@ -184,6 +192,38 @@ def _make_estimator(estimator: Any, options: dict) -> tuple[Any, str]:
         "`estimator` must be a method name (e.g. 'histogram', 'kde') or an object with "
         f"fit(x) and score(y); got {type(estimator).__name__}."
     )
+
+
+#: Samples the pile rule reads per mode in an ordering (a share of 0.5 % is ~100 of them).
+_PILE_SAMPLES = 20_000
+
+
+def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str) -> None:
+    """Warn once (``BiasRuleWarning``) where the wavefront or a mode's contribution is piled.
+
+    The single-variable rules of :func:`~modalinfo.information.mutual_information`
+    (discrete module notes, "Piles", issue 27: one value inside the range above 3 %,
+    the ends above 10 %) on the wavefront and on each mode's contribution alone, on an
+    evenly spaced ``_PILE_SAMPLES`` of the samples; once per call (not once per pair),
+    naming the first and the number of others. Not the shared-atom rule (0.5 %): a
+    frame of zeros (a loop started from rest, a dropped frame) is an atom the wavefront
+    shares with every mode, whose score it shifts alike (the batch tests' AR(1) logs
+    start at 0: 0.8 % of a half-log window); its order was not measured against an
+    exact one (left, docs/ADVERSARIAL.md "Leftovers 27-piles").
+    """
+    step = max(1, contrib.shape[1] // _PILE_SAMPLES)
+    part = contrib[:, ::step]
+    columns = {"the wavefront": part.sum(axis=0)}
+    columns.update((f"mode {labels[i]}", row) for i, row in enumerate(part))
+    first, count = None, 0
+    for name, column in columns.items():
+        why = pile_why({name: column}, estimator)
+        if why is not None:
+            first, count = first or why, count + 1
+    if first is not None:
+        more = f" (and {count - 1} other variable(s))" if count > 1 else ""
+        warnings.warn(f"order_modes with estimator={estimator!r}{more}: {first}.",
+                      BiasRuleWarning, stacklevel=caller_stacklevel())
 
 
 def _draw_pairs(
@@ -743,6 +783,8 @@ def order_modes(
     frames, pixels = _draw_pairs(n_frames, view.matrix.shape[0], budget, rng, frame)
     contrib = _contributions(a, view.matrix, frames, pixels)
     est.fit(contrib.sum(axis=0))
+    if est_name in PILE_BLIND_METHODS:
+        _warn_piles(contrib, view.labels, est_name)
     try:
         return _scored(est, contrib, a, view, method, frame, progress, search, block_length,
                        n_resamples, confidence_level, rng, frames, pixels, result,
