@@ -878,19 +878,20 @@ def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         return ratio, np.full(n_modes, np.nan), np.zeros(n_modes, dtype=bool)
     s2 = np.zeros(n_modes)
     s4 = np.zeros(n_modes)
-    for begin in range(n_train, n_frames, chunk):
+    sd = np.sqrt(ms_train[ok])          # the innovations in units of the training scale:
+    for begin in range(n_train, n_frames, chunk):  # their 4th powers cannot overflow
         end = min(begin + chunk, n_frames)
         rows = np.asarray(data[begin - p:end])[:, ok]    # the p frames before, then the chunk
         pred = np.broadcast_to(coef[p, ok], (end - begin, int(ok.sum()))).copy()
         for i in range(1, p + 1):
             pred += coef[i - 1, ok] * rows[p - i:p - i + end - begin]
-        e2 = (rows[p:] - pred) ** 2
-        s2[ok] += e2.sum(axis=0)
-        s4[ok] += (e2**2).sum(axis=0)
+        z2 = ((rows[p:] - pred) / sd) ** 2
+        s2[ok] += z2.sum(axis=0)
+        s4[ok] += (z2**2).sum(axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ms_test = s2 / n_test
+        ms_test = s2 / n_test                            # test / training mean square
         m4_test = (s4 / n_test) / ms_test**2
-        ratio[ok] = ms_test[ok] / (1.0 + (p + 1) / n_rows) / ms_train[ok]
+        ratio[ok] = ms_test[ok] / (1.0 + (p + 1) / n_rows)
     kurt = np.where(ok, (n_rows * m4_train + n_test * np.nan_to_num(m4_test, nan=3.0))
                     / (n_rows + n_test), 3.0)
     pvalue, shifted = variance_ratio_shift(

@@ -124,3 +124,17 @@ def test_batch_row_carries_it():
                                                          "horizon": 2}))
     assert row["shifted_modes"] == "Z2,Z3"
     assert row["scale_shift_max"] > 2.0 ** 0.5          # rms ratio; AR(1) law x2.5
+
+
+@pytest.mark.parametrize("scale", [1e-100, 1e150])
+def test_scale_free(scale):
+    # the ratio is scale-free: the same log at 1e-100 / 1e150 (squares representable; fourth
+    # powers of the raw innovations would not be) gives the same ratios, no warning but
+    # the shift's own
+    log = _loop_opens()
+    with pytest.warns(UserWarning, match="differ in scale") as rec:
+        ev = evaluate({}, log * scale, train=0.5, horizons=1)
+    assert len(rec) == 1
+    with pytest.warns(UserWarning, match="differ in scale"):
+        ref = evaluate({}, log, train=0.5, horizons=1)
+    np.testing.assert_allclose(ev.scale_shift, ref.scale_shift, rtol=1e-9)
