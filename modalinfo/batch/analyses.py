@@ -14,7 +14,10 @@ Every analysis calls the library exactly as the matching command does:
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
   in chunks, so memory does not grow with the log. ``pvalue_h1.<name>`` is the
   one-step Diebold-Mariano p-value, NaN where the loss differential is too persistent
-  for an honest test (``beats_baseline_h1.<name>`` is then False).
+  for an honest test (``beats_baseline_h1.<name>`` is then False). ``shifted_modes``
+  names the modes whose test frames differ in scale from the training frames
+  (``ForecastEvaluation.shifted_modes``; empty: none) and ``scale_shift_max`` is the
+  rms ratio of the mode farthest from 1 (NaN: no mode judged).
 
 Before any analysis the log goes through the log-quality pass and the outlier
 policy of every command (:func:`modalinfo.telemetry.quality.apply_outlier_policy`,
@@ -437,6 +440,9 @@ def _forecast(log: Any, p: dict) -> dict:
         # a level step in the training series is in the row too (the quality pass's
         # ``quality_level_steps`` and ``quality_stationary`` columns)
         warnings.filterwarnings("ignore", category=LevelStepWarning)
+        # test frames unlike the training ones are in the row (``shifted_modes``,
+        # ``scale_shift_max``)
+        warnings.filterwarnings("ignore", message="evaluate: the test frames differ in scale")
         ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
                       keep_series=1, chunk_frames=2048)
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "n_train": int(ev.n_train),
@@ -447,6 +453,13 @@ def _forecast(log: Any, p: dict) -> dict:
         row[f"gain_h{horizon}.{name}"] = float(ev.gain_wavefront[i, -1])
         row[f"beats_baseline_h1.{name}"] = bool(ev.beats_baseline[i, 0])
         row[f"pvalue_h1.{name}"] = float(ev.pvalue[i, 0])  # NaN: no honest test
+    # train-vs-test scale (Leftovers 28-shift): the modes named, and the rms ratio (test /
+    # training, frozen-model innovations) of the mode farthest from 1 (NaN: none judged)
+    row["shifted_modes"] = ",".join(ev.shifted_modes)
+    shift = np.sqrt(np.asarray(ev.scale_shift, dtype=float))
+    judged = shift[np.isfinite(shift)]
+    row["scale_shift_max"] = (float(judged[np.argmax(np.abs(np.log(judged)))])
+                              if judged.size else math.nan)
     best = max(names, key=lambda n: ev.gain_wavefront[ev.index(n), 0])
     row["best_h1"] = best
     return row

@@ -66,7 +66,7 @@ from scipy.fft import dct
 from scipy.stats import norm
 from scipy.stats import t as student_t
 
-from modalinfo._stats import ar_cosine_transfer
+from modalinfo._stats import SHIFT_ALPHA, SHIFT_MIN_RATIO, ar_cosine_transfer
 from modalinfo.common.files import warn_spreadsheet_formulas
 from modalinfo.common.records import (
     array_fields_eq,
@@ -224,6 +224,21 @@ class ForecastEvaluation:
         Modes constant over the training frames (a zeroed or dead mode): every
         predictor forecasts them as that constant (their per-mode gain is NaN when
         the constant holds, 0 / 0).
+    scale_shift : numpy.ndarray, shape (M,), or None
+        Per mode, the ratio of the test frames' to the training frames' mean square
+        innovation of an AR(4) model fitted on the training frames (out-of-sample
+        excess ``1 + 5 / (n_train - 4)`` divided out): 1 when the test frames are
+        like the training ones; NaN where not judged (a constant or round-off
+        predictable mode, fewer than 200 innovations in a segment, fewer
+        than 10 effective training values ``n (1 - r) / (1 + r)``, r the lag-1
+        autocorrelation: a very persistent mode on a short log). The JSON key
+        ``scale_shift`` holds its square root (a ratio of rms).
+    shifted_modes : tuple of str
+        Modes whose ratio is significant under the F law (two-sided, Box-Andersen
+        kurtosis correction, 1 % family-wise by Bonferroni over the judged modes) and
+        at least ``1.44`` (or at most ``1 / 1.44``: an rms change of x1.2): their
+        scores describe frames unlike the training ones and the intervals do not
+        hold there; ``evaluate`` warns once.
     """
 
     names: tuple[str, ...]
@@ -247,6 +262,8 @@ class ForecastEvaluation:
     one_step: np.ndarray = field(repr=False)
     settings: dict = field(default_factory=dict, repr=False)
     constant_modes: tuple[str, ...] = ()
+    scale_shift: np.ndarray | None = field(default=None, repr=False)
+    shifted_modes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         # round 22: dataclasses.replace(result, names=("a",)) was accepted and the
@@ -256,6 +273,8 @@ class ForecastEvaluation:
             "rmse": (P, H, M), "gain": (P, H, M), "rmse_wavefront": (P, H),
             "gain_wavefront": (P, H), "coverage": (P, H), "dm_statistic": (P, H),
             "pvalue": (P, H), "beats_baseline": (P, H), "baseline": (H,)})
+        if self.scale_shift is not None:
+            check_record_fields(self, {"scale_shift": (M,)})
 
     @property
     def p_value(self) -> np.ndarray:
@@ -309,6 +328,9 @@ class ForecastEvaluation:
             "baseline": list(self.baseline),
             "settings": self.settings,
             "constant_modes": list(self.constant_modes),
+            "scale_shift": (None if self.scale_shift is None
+                            else clean(np.sqrt(np.asarray(self.scale_shift, dtype=float)))),
+            "shifted_modes": list(self.shifted_modes),
         }
 
     def to_json(self, path: str | Path, *, overwrite: bool = False,
@@ -402,6 +424,13 @@ class ForecastEvaluation:
             if moved:
                 out.append(f"Not constant after training: {', '.join(moved)} (the training "
                            "constant the fitted predictors use there is stale).")
+        if self.shifted_modes and self.scale_shift is not None:
+            shown = _shifted_list(self.labels, np.asarray(self.scale_shift),
+                                  np.isin(self.labels, self.shifted_modes))
+            out.append(f"Train/test scale shift: {shown} (rms of the innovations of a "
+                       "model fitted on the training frames, test / training): intervals "
+                       "calibrated on the training frames do not hold on the test frames; "
+                       "split the log at the change or retrain.")
         skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
         n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
         # a pair whose loss differential is too persistent has no test (pvalue NaN):
@@ -786,6 +815,109 @@ def _dm_test(d: np.ndarray, h: int) -> tuple[float, float, int, float]:
     return float(stat), float(student_t.cdf(stat, b)), b, n_eff
 
 
+def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per mode: test / training mean square of the training-fitted AR innovations.
+
+    Each mode gets a least-squares AR(``INNOVATION_ORDER``) fit with a constant on the
+    training frames; its in-sample residual variance (``RSS / (n - 2p - 1)``) is the
+    denominator. The same coefficients applied to every test frame (its own past
+    frames as regressors) give out-of-sample innovations, whose mean square, divided by
+    ``1 + (p + 1) / (n - p)`` (the expected excess of an out-of-sample least-squares
+    error with ``p + 1`` estimated coefficients), is the numerator. A frozen model's
+    innovations are what its intervals assume: a scale change, or dynamics the fit
+    did not see (a loop that opens), raises them. Read in chunks of ``chunk`` frames
+    (a memory-mapped log stays out of memory). Modes constant over the training
+    frames, spanning fewer than ``MIN_SHIFT_EFFECTIVE`` effective values there (the
+    fit's own error would exceed the F law), or predictable to round-off (innovations at most
+    ``modalinfo.telemetry.quality.ROUNDOFF_INNOVATIONS`` of the values' scale) are not
+    judged (NaN). Returns ``(ratio, pvalue, shifted)``, each ``(M,)``
+    (``modalinfo._stats.variance_ratio_shift``).
+    """
+    from modalinfo._stats import (
+        INNOVATION_ORDER,
+        MIN_SHIFT_EFFECTIVE,
+        MIN_SHIFT_INNOVATIONS,
+        lag1_autocorrelation,
+        variance_ratio_shift,
+    )
+    from modalinfo.telemetry.quality import ROUNDOFF_INNOVATIONS
+
+    p = INNOVATION_ORDER
+    n_frames, n_modes = data.shape
+    ratio = np.full(n_modes, np.nan)
+    n_rows = n_train - p
+    n_test = n_frames - n_train
+    if n_rows - p - 1 < MIN_SHIFT_INNOVATIONS or n_test < MIN_SHIFT_INNOVATIONS:
+        return ratio, np.full(n_modes, np.nan), np.zeros(n_modes, dtype=bool)
+    coef = np.zeros((p + 1, n_modes))                  # a_1..a_p, constant
+    ms_train = np.full(n_modes, np.nan)
+    m4_train = np.full(n_modes, np.nan)
+    for m in range(n_modes):
+        x = train[:, m]
+        spread = float(np.std(x))
+        if not spread > 0.0:
+            continue
+        r = min(max(lag1_autocorrelation(x), 0.0), 0.999)
+        if n_rows * (1.0 - r) / (1.0 + r) < MIN_SHIFT_EFFECTIVE:
+            continue                                    # too few correlation times
+        x = x / spread                                  # scale-free (huge or tiny values)
+        lags = np.column_stack([x[p - i:n_train - i] for i in range(1, p + 1)]
+                               + [np.ones(n_rows)])
+        c = np.linalg.lstsq(lags, x[p:], rcond=None)[0]
+        e = x[p:] - lags @ c
+        rss = float(e @ e)
+        if not math.sqrt(rss / n_rows) > ROUNDOFF_INNOVATIONS:
+            continue                                    # a noise-free line: round-off
+        coef[:, m] = c
+        coef[p, m] *= spread                            # the constant in the log's units
+        ms_train[m] = rss / (n_rows - p - 1) * spread**2
+        m4_train[m] = float(np.mean(e**4)) / (rss / n_rows) ** 2
+    ok = np.isfinite(ms_train)
+    if not ok.any():
+        return ratio, np.full(n_modes, np.nan), np.zeros(n_modes, dtype=bool)
+    s2 = np.zeros(n_modes)
+    s4 = np.zeros(n_modes)
+    sd = np.sqrt(ms_train[ok])          # the innovations in units of the training scale:
+    for begin in range(n_train, n_frames, chunk):  # their 4th powers cannot overflow
+        end = min(begin + chunk, n_frames)
+        rows = np.asarray(data[begin - p:end])[:, ok]    # the p frames before, then the chunk
+        pred = np.broadcast_to(coef[p, ok], (end - begin, int(ok.sum()))).copy()
+        for i in range(1, p + 1):
+            pred += coef[i - 1, ok] * rows[p - i:p - i + end - begin]
+        z2 = ((rows[p:] - pred) / sd) ** 2
+        s2[ok] += z2.sum(axis=0)
+        s4[ok] += (z2**2).sum(axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ms_test = s2 / n_test                            # test / training mean square
+        m4_test = (s4 / n_test) / ms_test**2
+        ratio[ok] = ms_test[ok] / (1.0 + (p + 1) / n_rows)
+    kurt = np.where(ok, (n_rows * m4_train + n_test * np.nan_to_num(m4_test, nan=3.0))
+                    / (n_rows + n_test), 3.0)
+    pvalue, shifted = variance_ratio_shift(
+        ratio, np.full(n_modes, float(n_test)), np.full(n_modes, float(n_rows - p - 1)),
+        kurt, alpha=alpha)
+    return ratio, pvalue, shifted
+
+
+def _shifted_list(labels, ratio: np.ndarray, shifted: np.ndarray) -> str:
+    """``"Z2 x2.01, Z3 x2.9"``: the shifted modes with their rms ratio (test / training)."""
+    items = [f"{lb} x{math.sqrt(r):.3g}" for lb, r, s in zip(labels, ratio, shifted,
+                                                               strict=True) if s]
+    return ", ".join(items[:6]) + (f", ... ({len(items)} modes)" if len(items) > 6 else "")
+
+
+def _shift_text(labels, ratio: np.ndarray, shifted: np.ndarray) -> str:
+    """One sentence naming the modes whose test frames differ in scale from training."""
+    shown = _shifted_list(labels, ratio, shifted)
+    return ("the test frames differ in scale from the training frames: the innovations "
+            f"of a model fitted on the training frames change in rms by {shown} (F test, "
+            f"{SHIFT_ALPHA:.0%} family-wise over the modes, x{math.sqrt(SHIFT_MIN_RATIO):.2g}"
+            " or more); the scores describe frames unlike those the predictors were "
+            "trained on, and intervals calibrated on the training frames do not hold "
+            "there: split the log at the change or retrain on frames like the test ones.")
+
+
 def _count_covered(abs_err: np.ndarray, origins: np.ndarray, stds: list, horizons,
                    z: float) -> np.ndarray:
     """``(H,)`` counts of ``|err| <= z std`` over the origins and modes of one chunk.
@@ -991,6 +1123,14 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             stacklevel=2)
     n_tests = max(1, sum(1 for n in names if n not in _BASELINES) * H)
     beats = np.nan_to_num(pval, nan=1.0) < alpha / n_tests
+    # round 28 PART b, N07: a log whose loop opens after the training frames was scored
+    # at 10x their rms and its 95 % intervals covered 0.55-0.16, with no word of it
+    shift_ratio, _, shifted = _scale_shift(data, np.asarray(train_data), n_train, chunk,
+                                           SHIFT_ALPHA)
+    shifted_modes = tuple(lb for lb, s in zip(labels, shifted, strict=True) if s)
+    if shifted_modes:
+        warnings.warn(f"evaluate: {_shift_text(labels, shift_ratio, shifted)}",
+                      UserWarning, stacklevel=2)
     return ForecastEvaluation(
         names=names, horizons=hs, labels=labels, rate=rate, units=units, n_train=n_train,
         origins=origins, rmse=rmse, rmse_wavefront=rmse_wf, gain=gain, gain_wavefront=gain_wf,
@@ -999,4 +1139,5 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         truth=np.array(data[origins[0] : origins[0] + n_keep + h_max]), one_step=one_step,
         settings=settings,
         constant_modes=tuple(lb for lb, c in zip(labels, constant, strict=True) if c),
+        scale_shift=shift_ratio, shifted_modes=shifted_modes,
     )

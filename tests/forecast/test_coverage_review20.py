@@ -14,6 +14,7 @@ References, outside the code:
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from modalinfo.forecast import ARMAPredictor, evaluate
 from modalinfo.forecast.evaluate import _count_covered
@@ -33,6 +34,8 @@ def test_a_refit_at_an_origin_applies_from_the_next_origin():
     assert np.array_equal(_count_covered(abs_err, origins, stds, hs, 1.0), want)
 
 
+# the noise doubles in the test frames by construction: evaluate says so (Leftovers 28-shift)
+@pytest.mark.filterwarnings("ignore:evaluate. the test frames differ in scale")
 def test_coverage_does_not_depend_on_the_chunking_with_refits():
     rng = np.random.default_rng(4)
     e = rng.standard_normal((700, 2))
