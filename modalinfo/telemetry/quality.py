@@ -173,8 +173,11 @@ from modalinfo._stats import (
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     STATIONARITY_BLOCKS,
     VARIANCE_ALPHA,
+    column_median,
+    column_nanmedian,
     level_steps,
     mad_union_threshold,
+    stacked_lstsq,
     stationarity_threshold,
     variance_steps,
 )
@@ -376,8 +379,8 @@ def _robust_lag1(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     0 for a column whose sums and differences both have a zero MAD or a non-finite value.
     """
     with np.errstate(invalid="ignore", divide="ignore"):
-        plus = np.median(np.abs((u + v) - np.median(u + v, axis=0)), axis=0) ** 2
-        minus = np.median(np.abs((u - v) - np.median(u - v, axis=0)), axis=0) ** 2
+        plus = column_median(np.abs((u + v) - column_median(u + v))) ** 2
+        minus = column_median(np.abs((u - v) - column_median(u - v))) ** 2
         r = (plus - minus) / (plus + minus)
     return np.where(np.isfinite(r), r, 0.0)
 
@@ -403,37 +406,63 @@ _REFIT_CUT = 5.0
 ROUNDOFF_INNOVATIONS = 1e-11
 
 
-def _windows(rows: np.ndarray, g: np.ndarray, p: int):
-    """Rows with their ``p`` predecessors: ``(y, X)``, ``X[:, i]`` the frame ``i + 1`` back."""
+def _window_rows(g: np.ndarray, p: int) -> np.ndarray:
+    """Positions in ``g`` of the rows whose ``p`` predecessors are sampled too."""
     ok = np.ones(max(0, g.size - p), dtype=bool)
     # fewer than p + 1 rows: no window; the slice g[p - i:g.size - i] would wrap
     # around (g[0:-1] for i = p) - a 3-frame log was a numpy broadcast error (round 23 b, x01)
     for i in range(1, p + 1) if ok.size else ():
         ok &= g[p - i:g.size - i] == g[p:] - i
-    q = np.flatnonzero(ok) + p
-    return rows[q], np.stack([rows[q - i] for i in range(1, p + 1)], axis=1)
+    return np.flatnonzero(ok) + p
 
 
 def _ar_fit(y: np.ndarray, x: np.ndarray, lim: float) -> np.ndarray:
-    """Least-squares AR coefficients of one mode without gross values.
+    """Least-squares AR coefficients of one mode without gross values (:func:`_ar_fits`)."""
+    return _ar_fits(y[:, None], x[None], np.array([lim]))[0]
 
-    Rows whose predictors hold a value beyond ``lim`` of the median (a levels outlier:
-    selecting on the predictors does not bias least squares) are left out, then rows
-    with a residual beyond :data:`_REFIT_CUT` robust sigmas, and the fit is repeated.
+
+def _ar_fits(y: np.ndarray, x: np.ndarray, lim: np.ndarray) -> np.ndarray:
+    """Least-squares AR coefficients of a stack of modes without gross values.
+
+    ``y`` shape (R, K): each mode's rows; ``x`` shape (K, R, p): their predictors;
+    ``lim`` shape (K,). Per mode, rows whose predictors hold a value beyond ``lim`` of
+    the median (a levels outlier: selecting on the predictors does not bias least
+    squares) are left out, then rows with a residual beyond :data:`_REFIT_CUT` robust
+    sigmas (median and 1.4826 MAD over the rows kept), and the fit is repeated (twice
+    at most, stopping where nothing more would be left out). Every mode at once: the
+    fits are one ``modalinfo._stats.stacked_lstsq`` on the rows zeroed where left out
+    (the per-mode ``lstsq`` calls took 6 s of 32 at 10^4 x 2000, left28-quality).
+    Returns shape (K, p); zeros for a mode with at most ``2 p`` rows kept.
     """
-    keep = np.isfinite(y) & np.isfinite(x).all(axis=1) & (np.abs(x) <= lim).all(axis=1)
-    y, x = y[keep], x[keep]
-    if y.size <= 2 * x.shape[1]:
-        return np.zeros(x.shape[1])
-    c = np.linalg.lstsq(x, y, rcond=None)[0]
+    k, _, p = x.shape
+    keep = (np.isfinite(y) & np.isfinite(x).all(axis=2).T
+            & (np.abs(x) <= lim[:, None, None]).all(axis=2).T)
+    fit = keep.sum(axis=0) > 2 * p
+    coef = np.zeros((k, p))
+    if not fit.any():
+        return coef
+    yk = np.where(keep, y, 0.0)
+    xk = np.where(keep.T[:, :, None], x, 0.0)
+    coef[fit] = stacked_lstsq(xk[fit], np.ascontiguousarray(yk[:, fit].T))
+    active = fit.copy()
     for _ in range(2):  # reweighted: rows a glitch enters (p + 1 of them) left out
-        e = y - x @ c
-        s = MAD_TO_SIGMA * np.median(np.abs(e - np.median(e)))
-        good = np.abs(e - np.median(e)) <= _REFIT_CUT * s
-        if s == 0 or good.sum() <= 2 * x.shape[1] or good.all():
+        if not active.any():
             break
-        c = np.linalg.lstsq(x[good], y[good], rcond=None)[0]
-    return c
+        cols = np.flatnonzero(active)
+        e = yk[:, cols] - np.einsum("krp,kp->rk", xk[cols], coef[cols])
+        kc = keep[:, cols]
+        dev = np.abs(e - column_median(e, kc))
+        s = MAD_TO_SIGMA * column_median(dev, kc)
+        good = (dev <= _REFIT_CUT * s) & kc
+        n_good = good.sum(axis=0)
+        go = ~((s == 0) | (n_good <= 2 * p) | (n_good == kc.sum(axis=0)))
+        active[cols[~go]] = False
+        cols, good = cols[go], good[:, go]
+        if not cols.size:
+            break
+        coef[cols] = stacked_lstsq(np.where(good.T[:, :, None], xk[cols], 0.0),
+                                   np.ascontiguousarray(np.where(good, yk[:, cols], 0.0).T))
+    return coef
 
 
 def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.ndarray,
@@ -453,31 +482,40 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     m = rows.shape[1]
     p = AR_ORDER
     coef = np.zeros((p, m))
-    y, x = _windows(rows, g, p)
-    if y.shape[0] < 3:
+    q = _window_rows(g, p)  # sample positions of the residuals
+    if q.size < 3:
         out = coef, np.zeros(m), np.full(m, np.nan), float(n_sample)
         return (*out, math.nan) if with_ratio else out
     centre = np.where(np.isfinite(med), med, 0.0)
-    y = y - centre
-    x = x - centre[None, :]
+    y = rows[q] - centre
     # the fit squares the values: a mode beyond ~1e154 is divided by a power of 2 first
     # (exact; coefficients are scale-free), its innovations' centre and scale multiplied back
     size = np.where(np.isfinite(sigma), sigma, 0.0)
     peak = np.nanmax(np.where(np.isfinite(y), np.abs(y), np.nan), axis=0, initial=0.0)
     y, ex = rescale_power_of_two(y, size, peak=peak)
-    x = np.ldexp(x, -ex[None, None, :]) if ex.any() else x
-    for j in np.flatnonzero(~constant):
-        lim = _REFIT_CUT * np.ldexp(sigma[j], -int(ex[j])) if sigma[j] > 0 else np.inf
-        coef[:, j] = _ar_fit(y[:, j], x[:, :, j], lim)
-    e = y - np.einsum("tim,im->tm", x, coef)
+    lim = np.where(sigma > 0, _REFIT_CUT * np.ldexp(np.where(sigma > 0, sigma, 0.0), -ex),
+                   np.inf)
+    e = np.empty_like(y)
+    # the (R, p, M) lag stack of a 10^4 x 2000 log is 640 MB: built a slice of modes at a
+    # time (issue 27, left28-quality: 2.39 GB peak RSS for 160 MB of data)
+    per = max(1, 2_000_000 // max(1, q.size * p))
+    for s0 in range(0, m, per):
+        cols = np.arange(s0, min(m, s0 + per))
+        x = np.stack([rows[q - i, s0:s0 + cols.size] for i in range(1, p + 1)],
+                     axis=0) - centre[cols]
+        x = np.ldexp(x, -ex[cols]) if ex[cols].any() else x
+        x = x.transpose(2, 1, 0)  # (modes, rows, lags)
+        fit = np.flatnonzero(~constant[cols])
+        if fit.size:
+            coef[:, cols[fit]] = _ar_fits(y[:, cols[fit]], x[fit], lim[cols[fit]]).T
+        e[:, cols] = y[:, cols] - np.einsum("krp,pk->rk", x, coef[:, cols])
     none = np.all(np.isnan(e), axis=0)
     e_const = np.zeros(m, dtype=bool)
     if (~none).any():
         e_const[~none] = np.nanmax(e[:, ~none], axis=0) == np.nanmin(e[:, ~none], axis=0)
     cen_e, sig_e = _robust_scale(e, e_const | constant)
     cen_e, sig_e = np.ldexp(cen_e, ex), np.ldexp(sig_e, ex)
-    t = _windows(np.arange(g.size), g, p)[0]  # sample positions of the residuals
-    adj = np.flatnonzero(np.diff(g[t]) == 1)  # consecutive residual pairs
+    adj = np.flatnonzero(np.diff(g[q]) == 1)  # consecutive residual pairs
     tested = ~(constant | none | e_const)
     with np.errstate(invalid="ignore"):
         scaled = tested & ~(sig_e <= ROUNDOFF_INNOVATIONS * sigma)
@@ -1115,9 +1153,9 @@ def _robust_scale(sample: np.ndarray, constant: np.ndarray):
     if some.any():
         part = sample[:, some] if not some.all() else sample
         with np.errstate(invalid="ignore"):
-            med[some] = np.nanmedian(part, axis=0)
+            med[some] = column_nanmedian(part)
             dev = np.abs(part - med[some])
-            mad = np.nanmedian(dev, axis=0)
+            mad = column_nanmedian(dev)
             _interpolate_grouped_mad(dev, mad)
             sigma[some] = MAD_TO_SIGMA * mad
             zero = (sigma[some] == 0) & ~constant[some]
