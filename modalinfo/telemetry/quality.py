@@ -218,6 +218,21 @@ OUTLIER_POLICIES = ("warn", "clip", "drop", "raise")
 DEFAULT_ALPHA = 0.01
 
 
+#: Stages :func:`assess_quality` reports to its ``progress`` callable.
+QUALITY_STAGES = 5
+
+#: Peak memory of :func:`assess_quality` per float64 value of its sample (``min(T,
+#: sample_frames) x M``), in units of the value's 8 bytes: measured 9.2 and 10.1 (1408 MiB
+#: at 10^4 x 2000, 155 MiB at 10^4 x 200, tracemalloc; issue 27, left28-quality).
+QUALITY_MEMORY_FACTOR = 10
+
+
+def quality_memory(n_frames: int, n_modes: int,
+                   sample_frames: int = 65536) -> int:
+    """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log (see the factor)."""
+    return int(QUALITY_MEMORY_FACTOR * 8 * min(n_frames, sample_frames) * n_modes)
+
+
 #: Default minimum run of equal consecutive values counted as stuck.
 DEFAULT_STUCK_RUN = 8
 
@@ -1196,6 +1211,7 @@ def assess_quality(
     stuck_run: int = DEFAULT_STUCK_RUN,
     sample_frames: int = DEFAULT_SAMPLE_FRAMES,
     chunk_frames: int | None = None,
+    progress=None,
 ) -> QualityReport:
     """Find outliers, glitched frames, stuck runs and non-finite values in a log.
 
@@ -1218,6 +1234,11 @@ def assess_quality(
         ``>= MIN_SAMPLE_FRAMES`` (100; every frame of a shorter log).
     chunk_frames : int, optional
         Frames per block of the passes (default: blocks of 4 Mi values).
+    progress : callable, optional
+        Called as ``progress(1)`` after each of the ``QUALITY_STAGES`` = 5 stages (the
+        first pass, the AR fits, the level rule, the spread rule, the flagging pass),
+        e.g. ``tqdm.update`` (``modalinfo info`` shows a bar on a terminal for a large
+        log).
 
     Returns
     -------
@@ -1252,8 +1273,10 @@ def assess_quality(
 
     step = max(1, -(-n // sample_frames))
     hasher = _data_hasher(arr)
+    advance = progress if progress is not None else (lambda n=1: None)
     sample, windows, gidx, lo, hi, _, repeats, means = _sample_and_range(arr, rows, step,
                                                                          hasher)
+    advance(1)
     fingerprint = (_keep_fingerprint(log_or_coeffs, _log_digest(hasher, log_or_coeffs))
                    if isinstance(log_or_coeffs, ModalLog) else "array:" + hasher.hexdigest())
     constant = lo == hi  # every finite value equal (no finite value: lo > hi)
@@ -1266,13 +1289,16 @@ def assess_quality(
     stationary = None if not (math.isfinite(limit) and math.isfinite(ratio)) else bool(
         ratio <= limit)
     # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
+    advance(1)
     found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
+    advance(1)
     # a change of a mode's spread that keeps its innovations (modes reordered between two
     # nights joined, round 18 PART a, l11) is seen in its absolute deviations
     stepped = {label for label, _, _, _ in found_steps}
     varied, variance_judged = _variance_steps(
         sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
         constant | np.array([label in stepped for label in labels], dtype=bool))
+    advance(1)
     if found_steps or varied:
         stationary = False
     assessed = True
@@ -1341,6 +1367,7 @@ def assess_quality(
         return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
 
     outlier_frames, glitch_frames, bad_frames = cat(out_idx), cat(glitch_idx), cat(bad_idx)
+    advance(1)
     stuck_frames = np.flatnonzero(stuck_mask).astype(np.int64)
     repeated_frames = np.unique(cat(rep_idx))
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
