@@ -983,14 +983,17 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
     prev = None
     picked = []
     after, gidx = [], []
-    n_bins = -(-arr.shape[0] // step)
+    n_bins = -(-arr.shape[0] // step) if step > 1 else 0
+    # at stride 1 a bin is one frame: its mean is the sample's value (no two T x M arrays
+    # of sums and counts; left28-quality)
     bin_sum = np.zeros((n_bins, m))
     bin_count = np.zeros((n_bins, m))
     i0 = 0
     for block in row_blocks(arr, rows):
         if h is not None:
             _hash_block(h, block)
-        _add_bins(block, i0, step, bin_sum, bin_count)
+        if step > 1:
+            _add_bins(block, i0, step, bin_sum, bin_count)
         repeats += np.count_nonzero(block[1:] == block[:-1], axis=0)
         if prev is not None:
             repeats += block[0] == prev
@@ -1012,10 +1015,11 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
             hi = np.maximum(hi, np.where(fin, block, -np.inf).max(axis=0))
         i0 += block.shape[0]
     sample = np.concatenate(picked, axis=0)
+    if step == 1:
+        means = np.where(np.isfinite(sample), sample, np.nan)
+        return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
     with np.errstate(invalid="ignore", divide="ignore"):
         means = bin_sum / bin_count  # NaN where a bin holds no finite value
-    if step == 1:
-        return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
     return (sample, np.concatenate(after, axis=0), np.concatenate(gidx), lo, hi, bad,
             repeats, means)
 
