@@ -202,6 +202,22 @@ def refuse_outlier_drop(args: argparse.Namespace, purpose: str) -> None:
                            f"{purpose} needs; use --outliers clip (replace in place) or warn")
 
 
+#: Values (frames x modes) from which the quality pass shows a progress bar on a terminal:
+#: 10^4 x 2000 took 23 s (median of 3, load 5 on 2 cores; 10^4 x 200: 1.8 s), so from
+#: about 10 s (issue 27, left28-quality: round 27 PART b, S01, showed nothing for 97 s).
+QUALITY_PROGRESS_VALUES = 8_000_000
+
+
+def _quality_progress(args: argparse.Namespace, log):
+    """Return a bar over the quality pass's stages (a large log, a terminal) naming its memory."""
+    from modalinfo.telemetry.quality import QUALITY_STAGES, quality_memory
+
+    big = log.n_frames * log.n_modes >= QUALITY_PROGRESS_VALUES
+    need = quality_memory(log.n_frames, log.n_modes)
+    desc = "quality pass" + (f" (about {need / 2**30:.1f} GiB)" if need > 2**30 else "")
+    return progress(args, QUALITY_STAGES if big else 0, unit="stage", desc=desc)
+
+
 def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False):
     """Apply ``--outliers`` to ``log``; queue one stderr line when something was flagged.
 
@@ -216,7 +232,9 @@ def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bo
     if time_series:
         refuse_outlier_drop(args, f"{args.command}")
     try:
-        new, report = apply_outlier_policy(log, policy, time_series=time_series)
+        with _quality_progress(args, log) as advance:
+            new, report = apply_outlier_policy(log, policy, time_series=time_series,
+                                               progress=advance)
     except ValueError as exc:
         text = str(exc).replace("`policy`='raise': ", "").rstrip(".")
         raise CommandError(f"--outliers {policy}: '{Path(path).name}': {text}") from None

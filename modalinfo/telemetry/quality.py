@@ -173,8 +173,11 @@ from modalinfo._stats import (
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     STATIONARITY_BLOCKS,
     VARIANCE_ALPHA,
+    column_median,
+    column_nanmedian,
     level_steps,
     mad_union_threshold,
+    stacked_lstsq,
     stationarity_threshold,
     variance_steps,
 )
@@ -213,6 +216,21 @@ OUTLIER_POLICIES = ("warn", "clip", "drop", "raise")
 
 #: Default family-wise false-alarm probability of the threshold on a Gaussian log.
 DEFAULT_ALPHA = 0.01
+
+
+#: Stages :func:`assess_quality` reports to its ``progress`` callable.
+QUALITY_STAGES = 5
+
+#: Peak memory of :func:`assess_quality` per float64 value of its sample (``min(T,
+#: sample_frames) x M``), in units of the value's 8 bytes: measured 9.2 and 10.1 (1408 MiB
+#: at 10^4 x 2000, 155 MiB at 10^4 x 200, tracemalloc; issue 27, left28-quality).
+QUALITY_MEMORY_FACTOR = 10
+
+
+def quality_memory(n_frames: int, n_modes: int,
+                   sample_frames: int = 65536) -> int:
+    """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log (see the factor)."""
+    return int(QUALITY_MEMORY_FACTOR * 8 * min(n_frames, sample_frames) * n_modes)
 
 
 #: Default minimum run of equal consecutive values counted as stuck.
@@ -376,8 +394,8 @@ def _robust_lag1(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     0 for a column whose sums and differences both have a zero MAD or a non-finite value.
     """
     with np.errstate(invalid="ignore", divide="ignore"):
-        plus = np.median(np.abs((u + v) - np.median(u + v, axis=0)), axis=0) ** 2
-        minus = np.median(np.abs((u - v) - np.median(u - v, axis=0)), axis=0) ** 2
+        plus = column_median(np.abs((u + v) - column_median(u + v))) ** 2
+        minus = column_median(np.abs((u - v) - column_median(u - v))) ** 2
         r = (plus - minus) / (plus + minus)
     return np.where(np.isfinite(r), r, 0.0)
 
@@ -403,37 +421,63 @@ _REFIT_CUT = 5.0
 ROUNDOFF_INNOVATIONS = 1e-11
 
 
-def _windows(rows: np.ndarray, g: np.ndarray, p: int):
-    """Rows with their ``p`` predecessors: ``(y, X)``, ``X[:, i]`` the frame ``i + 1`` back."""
+def _window_rows(g: np.ndarray, p: int) -> np.ndarray:
+    """Positions in ``g`` of the rows whose ``p`` predecessors are sampled too."""
     ok = np.ones(max(0, g.size - p), dtype=bool)
     # fewer than p + 1 rows: no window; the slice g[p - i:g.size - i] would wrap
     # around (g[0:-1] for i = p) - a 3-frame log was a numpy broadcast error (round 23 b, x01)
     for i in range(1, p + 1) if ok.size else ():
         ok &= g[p - i:g.size - i] == g[p:] - i
-    q = np.flatnonzero(ok) + p
-    return rows[q], np.stack([rows[q - i] for i in range(1, p + 1)], axis=1)
+    return np.flatnonzero(ok) + p
 
 
 def _ar_fit(y: np.ndarray, x: np.ndarray, lim: float) -> np.ndarray:
-    """Least-squares AR coefficients of one mode without gross values.
+    """Least-squares AR coefficients of one mode without gross values (:func:`_ar_fits`)."""
+    return _ar_fits(y[:, None], x[None], np.array([lim]))[0]
 
-    Rows whose predictors hold a value beyond ``lim`` of the median (a levels outlier:
-    selecting on the predictors does not bias least squares) are left out, then rows
-    with a residual beyond :data:`_REFIT_CUT` robust sigmas, and the fit is repeated.
+
+def _ar_fits(y: np.ndarray, x: np.ndarray, lim: np.ndarray) -> np.ndarray:
+    """Least-squares AR coefficients of a stack of modes without gross values.
+
+    ``y`` shape (R, K): each mode's rows; ``x`` shape (K, R, p): their predictors;
+    ``lim`` shape (K,). Per mode, rows whose predictors hold a value beyond ``lim`` of
+    the median (a levels outlier: selecting on the predictors does not bias least
+    squares) are left out, then rows with a residual beyond :data:`_REFIT_CUT` robust
+    sigmas (median and 1.4826 MAD over the rows kept), and the fit is repeated (twice
+    at most, stopping where nothing more would be left out). Every mode at once: the
+    fits are one ``modalinfo._stats.stacked_lstsq`` on the rows zeroed where left out
+    (the per-mode ``lstsq`` calls took 6 s of 32 at 10^4 x 2000, left28-quality).
+    Returns shape (K, p); zeros for a mode with at most ``2 p`` rows kept.
     """
-    keep = np.isfinite(y) & np.isfinite(x).all(axis=1) & (np.abs(x) <= lim).all(axis=1)
-    y, x = y[keep], x[keep]
-    if y.size <= 2 * x.shape[1]:
-        return np.zeros(x.shape[1])
-    c = np.linalg.lstsq(x, y, rcond=None)[0]
+    k, _, p = x.shape
+    keep = (np.isfinite(y) & np.isfinite(x).all(axis=2).T
+            & (np.abs(x) <= lim[:, None, None]).all(axis=2).T)
+    fit = keep.sum(axis=0) > 2 * p
+    coef = np.zeros((k, p))
+    if not fit.any():
+        return coef
+    yk = np.where(keep, y, 0.0)
+    xk = np.where(keep.T[:, :, None], x, 0.0)
+    coef[fit] = stacked_lstsq(xk[fit], np.ascontiguousarray(yk[:, fit].T))
+    active = fit.copy()
     for _ in range(2):  # reweighted: rows a glitch enters (p + 1 of them) left out
-        e = y - x @ c
-        s = MAD_TO_SIGMA * np.median(np.abs(e - np.median(e)))
-        good = np.abs(e - np.median(e)) <= _REFIT_CUT * s
-        if s == 0 or good.sum() <= 2 * x.shape[1] or good.all():
+        if not active.any():
             break
-        c = np.linalg.lstsq(x[good], y[good], rcond=None)[0]
-    return c
+        cols = np.flatnonzero(active)
+        e = yk[:, cols] - np.einsum("krp,kp->rk", xk[cols], coef[cols])
+        kc = keep[:, cols]
+        dev = np.abs(e - column_median(e, kc))
+        s = MAD_TO_SIGMA * column_median(dev, kc)
+        good = (dev <= _REFIT_CUT * s) & kc
+        n_good = good.sum(axis=0)
+        go = ~((s == 0) | (n_good <= 2 * p) | (n_good == kc.sum(axis=0)))
+        active[cols[~go]] = False
+        cols, good = cols[go], good[:, go]
+        if not cols.size:
+            break
+        coef[cols] = stacked_lstsq(np.where(good.T[:, :, None], xk[cols], 0.0),
+                                   np.ascontiguousarray(np.where(good, yk[:, cols], 0.0).T))
+    return coef
 
 
 def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.ndarray,
@@ -453,31 +497,40 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     m = rows.shape[1]
     p = AR_ORDER
     coef = np.zeros((p, m))
-    y, x = _windows(rows, g, p)
-    if y.shape[0] < 3:
+    q = _window_rows(g, p)  # sample positions of the residuals
+    if q.size < 3:
         out = coef, np.zeros(m), np.full(m, np.nan), float(n_sample)
         return (*out, math.nan) if with_ratio else out
     centre = np.where(np.isfinite(med), med, 0.0)
-    y = y - centre
-    x = x - centre[None, :]
+    y = rows[q] - centre
     # the fit squares the values: a mode beyond ~1e154 is divided by a power of 2 first
     # (exact; coefficients are scale-free), its innovations' centre and scale multiplied back
     size = np.where(np.isfinite(sigma), sigma, 0.0)
     peak = np.nanmax(np.where(np.isfinite(y), np.abs(y), np.nan), axis=0, initial=0.0)
     y, ex = rescale_power_of_two(y, size, peak=peak)
-    x = np.ldexp(x, -ex[None, None, :]) if ex.any() else x
-    for j in np.flatnonzero(~constant):
-        lim = _REFIT_CUT * np.ldexp(sigma[j], -int(ex[j])) if sigma[j] > 0 else np.inf
-        coef[:, j] = _ar_fit(y[:, j], x[:, :, j], lim)
-    e = y - np.einsum("tim,im->tm", x, coef)
+    lim = np.where(sigma > 0, _REFIT_CUT * np.ldexp(np.where(sigma > 0, sigma, 0.0), -ex),
+                   np.inf)
+    e = np.empty_like(y)
+    # the (R, p, M) lag stack of a 10^4 x 2000 log is 640 MB: built a slice of modes at a
+    # time (issue 27, left28-quality: 2.39 GB peak RSS for 160 MB of data)
+    per = max(1, 2_000_000 // max(1, q.size * p))
+    for s0 in range(0, m, per):
+        cols = np.arange(s0, min(m, s0 + per))
+        x = np.stack([rows[q - i, s0:s0 + cols.size] for i in range(1, p + 1)],
+                     axis=0) - centre[cols]
+        x = np.ldexp(x, -ex[cols]) if ex[cols].any() else x
+        x = x.transpose(2, 1, 0)  # (modes, rows, lags)
+        fit = np.flatnonzero(~constant[cols])
+        if fit.size:
+            coef[:, cols[fit]] = _ar_fits(y[:, cols[fit]], x[fit], lim[cols[fit]]).T
+        e[:, cols] = y[:, cols] - np.einsum("krp,pk->rk", x, coef[:, cols])
     none = np.all(np.isnan(e), axis=0)
     e_const = np.zeros(m, dtype=bool)
     if (~none).any():
         e_const[~none] = np.nanmax(e[:, ~none], axis=0) == np.nanmin(e[:, ~none], axis=0)
     cen_e, sig_e = _robust_scale(e, e_const | constant)
     cen_e, sig_e = np.ldexp(cen_e, ex), np.ldexp(sig_e, ex)
-    t = _windows(np.arange(g.size), g, p)[0]  # sample positions of the residuals
-    adj = np.flatnonzero(np.diff(g[t]) == 1)  # consecutive residual pairs
+    adj = np.flatnonzero(np.diff(g[q]) == 1)  # consecutive residual pairs
     tested = ~(constant | none | e_const)
     with np.errstate(invalid="ignore"):
         scaled = tested & ~(sig_e <= ROUNDOFF_INNOVATIONS * sigma)
@@ -930,14 +983,17 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
     prev = None
     picked = []
     after, gidx = [], []
-    n_bins = -(-arr.shape[0] // step)
+    n_bins = -(-arr.shape[0] // step) if step > 1 else 0
+    # at stride 1 a bin is one frame: its mean is the sample's value (no two T x M arrays
+    # of sums and counts; left28-quality)
     bin_sum = np.zeros((n_bins, m))
     bin_count = np.zeros((n_bins, m))
     i0 = 0
     for block in row_blocks(arr, rows):
         if h is not None:
             _hash_block(h, block)
-        _add_bins(block, i0, step, bin_sum, bin_count)
+        if step > 1:
+            _add_bins(block, i0, step, bin_sum, bin_count)
         repeats += np.count_nonzero(block[1:] == block[:-1], axis=0)
         if prev is not None:
             repeats += block[0] == prev
@@ -959,10 +1015,11 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
             hi = np.maximum(hi, np.where(fin, block, -np.inf).max(axis=0))
         i0 += block.shape[0]
     sample = np.concatenate(picked, axis=0)
+    if step == 1:
+        means = np.where(np.isfinite(sample), sample, np.nan)
+        return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
     with np.errstate(invalid="ignore", divide="ignore"):
         means = bin_sum / bin_count  # NaN where a bin holds no finite value
-    if step == 1:
-        return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
     return (sample, np.concatenate(after, axis=0), np.concatenate(gidx), lo, hi, bad,
             repeats, means)
 
@@ -1115,9 +1172,9 @@ def _robust_scale(sample: np.ndarray, constant: np.ndarray):
     if some.any():
         part = sample[:, some] if not some.all() else sample
         with np.errstate(invalid="ignore"):
-            med[some] = np.nanmedian(part, axis=0)
+            med[some] = column_nanmedian(part)
             dev = np.abs(part - med[some])
-            mad = np.nanmedian(dev, axis=0)
+            mad = column_nanmedian(dev)
             _interpolate_grouped_mad(dev, mad)
             sigma[some] = MAD_TO_SIGMA * mad
             zero = (sigma[some] == 0) & ~constant[some]
@@ -1158,6 +1215,7 @@ def assess_quality(
     stuck_run: int = DEFAULT_STUCK_RUN,
     sample_frames: int = DEFAULT_SAMPLE_FRAMES,
     chunk_frames: int | None = None,
+    progress=None,
 ) -> QualityReport:
     """Find outliers, glitched frames, stuck runs and non-finite values in a log.
 
@@ -1180,6 +1238,11 @@ def assess_quality(
         ``>= MIN_SAMPLE_FRAMES`` (100; every frame of a shorter log).
     chunk_frames : int, optional
         Frames per block of the passes (default: blocks of 4 Mi values).
+    progress : callable, optional
+        Called as ``progress(1)`` after each of the ``QUALITY_STAGES`` = 5 stages (the
+        first pass, the AR fits, the level rule, the spread rule, the flagging pass),
+        e.g. ``tqdm.update`` (``modalinfo info`` shows a bar on a terminal for a large
+        log).
 
     Returns
     -------
@@ -1214,8 +1277,10 @@ def assess_quality(
 
     step = max(1, -(-n // sample_frames))
     hasher = _data_hasher(arr)
+    advance = progress if progress is not None else (lambda n=1: None)
     sample, windows, gidx, lo, hi, _, repeats, means = _sample_and_range(arr, rows, step,
                                                                          hasher)
+    advance(1)
     fingerprint = (_keep_fingerprint(log_or_coeffs, _log_digest(hasher, log_or_coeffs))
                    if isinstance(log_or_coeffs, ModalLog) else "array:" + hasher.hexdigest())
     constant = lo == hi  # every finite value equal (no finite value: lo > hi)
@@ -1228,13 +1293,16 @@ def assess_quality(
     stationary = None if not (math.isfinite(limit) and math.isfinite(ratio)) else bool(
         ratio <= limit)
     # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
+    advance(1)
     found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
+    advance(1)
     # a change of a mode's spread that keeps its innovations (modes reordered between two
     # nights joined, round 18 PART a, l11) is seen in its absolute deviations
     stepped = {label for label, _, _, _ in found_steps}
     varied, variance_judged = _variance_steps(
         sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
         constant | np.array([label in stepped for label in labels], dtype=bool))
+    advance(1)
     if found_steps or varied:
         stationary = False
     assessed = True
@@ -1303,6 +1371,7 @@ def assess_quality(
         return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
 
     outlier_frames, glitch_frames, bad_frames = cat(out_idx), cat(glitch_idx), cat(bad_idx)
+    advance(1)
     stuck_frames = np.flatnonzero(stuck_mask).astype(np.int64)
     repeated_frames = np.unique(cat(rep_idx))
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
