@@ -217,9 +217,10 @@ MIN_STATIONARITY_FRAMES = 100
 MIN_SCALE_RATIO = 1.5
 
 #: 99th percentile of the range (max - min) of 8 independent standard Gaussian values
-#: (studentized range with infinite degrees of freedom, q(0.99; 8, inf) = 5.09: Harter
-#: 1960, Ann. Math. Statist. 31, 1122; Pearson & Hartley, Biometrika Tables, table 29).
-RANGE_99_OF_8 = 5.09
+#: (studentized range with infinite degrees of freedom, q(0.99; 8, inf) = 4.99: Harter
+#: 1960, Ann. Math. Statist. 31, 1122; scipy.stats.studentized_range gives 4.987). It
+#: read 5.09 until stop 45, the tables' value for 9 values (q(0.99; 9, inf) = 5.08).
+RANGE_99_OF_8 = 4.99
 
 #: Relative standard error of the 1.4826 MAD of n Gaussian values times sqrt(n)
 #: (asymptotic efficiency 36.8 %: Rousseeuw & Croux 1993, JASA 88, 1273).
@@ -270,8 +271,8 @@ def stationarity_threshold(block_frames: float,
 
     The log of a 1.4826 MAD of ``n`` Gaussian values has a standard deviation of about
     ``1.17 / sqrt(n)`` (Rousseeuw & Croux 1993); the range of 8 such independent
-    log-scales exceeds ``5.09`` of them with probability 1 % (studentized range, Harter
-    1960): ``max(MIN_SCALE_RATIO, exp(5.09 x 1.17 / sqrt(n)))``.
+    log-scales exceeds ``4.99`` of them with probability 1 % (studentized range, Harter
+    1960): ``max(MIN_SCALE_RATIO, exp(4.99 x 1.17 / sqrt(n)))``.
 
     Parameters
     ----------

@@ -138,3 +138,13 @@ def test_info_prints_the_caveat(tmp_path, capsys):
     assert len(quality) == 1 and "seeing not steady?" in quality[0]
     assert main(["info", str(steady), "--quiet"]) == 0
     assert "seeing" not in capsys.readouterr().out
+
+
+def test_range_constant_is_the_studentized_range_of_8():
+    # Stop 45: the constant read 5.09 (the tables' q(0.99; 9, inf)); scipy's studentized
+    # range with infinite degrees of freedom is the range of 8 standard Gaussians
+    from scipy.stats import studentized_range
+
+    from modalinfo._stats import RANGE_99_OF_8
+
+    assert RANGE_99_OF_8 == pytest.approx(studentized_range.ppf(0.99, 8, np.inf), abs=0.005)
