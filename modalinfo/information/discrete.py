@@ -234,16 +234,22 @@ def pile_of(a: np.ndarray) -> tuple[float, float, str] | None:
     pile and for a discrete or rounded sample: fewer than half of the samples outside
     the atoms (or fewer than 5 % of all) take a value of their own.
     """
+    return _judge(a)[1]
+
+
+def _judge(a: np.ndarray) -> tuple[tuple[float, int, float, int] | None,
+                                   tuple[float, float, str] | None]:
+    """``(_atoms(a), pile_of(a))``: the one copy of the single-variable pile rule."""
     atoms = _atoms(a)
     if atoms is None:
-        return None
+        return None, None
     inner, top, end, edge = atoms
     n = np.asarray(a).size
     if top > PILE_INTERIOR_SHARE * n:
-        return inner, top / n, "inside"
+        return atoms, (inner, top / n, "inside")
     if edge > PILE_EDGE_SHARE * n:
-        return end, edge / n, "ends"
-    return None
+        return atoms, (end, edge / n, "ends")
+    return atoms, None
 
 
 def pile_why(columns: dict[str, np.ndarray], method: str) -> str | None:
@@ -268,20 +274,20 @@ def pile_why(columns: dict[str, np.ndarray], method: str) -> str | None:
             "max(0.05 nats, 10 %) (discrete module notes, \"Piles\"); use method='ksg'")
     inner = {}
     for name, a in columns.items():
-        atoms = _atoms(a)
+        atoms, pile = _judge(a)
         if atoms is None:
             continue
-        n = a.shape[0]
-        value, top, end, edge = atoms
-        if top > PILE_INTERIOR_SHARE * n:
-            return (f"`{name}` holds {top / n:.1%} of its samples at {value:.6g}, inside "
-                    "its range beside continuous values (dropouts written as a value?; "
-                    f"more than {PILE_INTERIOR_SHARE:.1%}): {tail}")
-        if edge > PILE_EDGE_SHARE * n:
-            return (f"`{name}` holds {edge / n:.1%} of its samples at its minimum or "
-                    f"maximum (the larger pile at {end:.6g}) beside continuous values "
+        if pile is not None:
+            value, share, where = pile
+            if where == "inside":
+                return (f"`{name}` holds {share:.1%} of its samples at {value:.6g}, inside "
+                        "its range beside continuous values (dropouts written as a value?; "
+                        f"more than {PILE_INTERIOR_SHARE:.1%}): {tail}")
+            return (f"`{name}` holds {share:.1%} of its samples at its minimum or "
+                    f"maximum (the larger pile at {value:.6g}) beside continuous values "
                     f"(clipped or saturated?; more than {PILE_EDGE_SHARE:.1%}): {tail}")
-        if top > PILE_SHARED_SHARE * n:
+        value, top = atoms[0], atoms[1]
+        if top > PILE_SHARED_SHARE * a.shape[0]:
             inner[name] = a == value
     names = list(inner)
     for i, first in enumerate(names):
