@@ -105,9 +105,11 @@ from closedloop.optics.image_sampling import (
 from closedloop.optics.photon_budget import PhotonBudget
 from closedloop.optics.shifts import measure_shifts, sdf_noise_rms
 from closedloop.optics.wfs import (
+    EDGE_MARGIN_PIXELS,
     ShackHartmann,
     bilinear_matrix,
     check_subaperture_sampling,
+    pupil_lit,
     slope_count,
     slopes_aot_record,
 )
@@ -245,15 +247,8 @@ class CorrelatingShackHartmann(ShackHartmann):
         turns that step into a spurious tilt (the upper WFS then "sees" the ground DM's
         tilt in its relative slopes).
         """
-        g = self._geometry
-        x = u - self.altitude * theta * ARCSEC
-        r = np.hypot(x[..., 0], x[..., 1])
-        edge = math.sqrt(2.0) * g.dx
-        lit = r <= g.diameter / 2.0 - edge
-        obscuration = g.config.telescope.obscuration
-        if obscuration > 0:
-            lit &= r >= obscuration * g.diameter / 2.0 + edge
-        return lit
+        return pupil_lit(self._geometry, u - self.altitude * theta * ARCSEC,
+                         EDGE_MARGIN_PIXELS * self._geometry.dx)
 
     def _contrast_weights(self, ref: np.ndarray) -> np.ndarray:
         """``(n_samples, 2)`` contrast weights of the field samples (module docstring)."""

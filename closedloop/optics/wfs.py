@@ -23,13 +23,17 @@ its ``dx x dx`` cell that lies in the subaperture (:func:`_window_entries`; a pa
 straddling an edge counts in both neighbours by its share, so the window is centred on
 the subaperture; until issue 17 such pairs all went to the right-hand one, a window
 offset by half a pixel, with 1.3-1.5 times the single-conjugate aliasing), over every
-illuminated (pair, direction). Subapertures with less than half of the weight of a
-fully illuminated one are not used. Each slope gets white Gaussian noise
-(``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``). A
-least-squares modal reconstructor (SVD pseudo-inverse of the interaction matrix of the
-WFS's own DM, modes with singular values below 1e-3 of the largest dropped) gives the
-modal residual. Aliasing (high orders leaking into the measured low orders) and noise
-propagation come out of this model; nothing is added by hand.
+illuminated (pair, direction). A subaperture is used when some direction lights at
+least half of the weight of a fully illuminated one (:func:`field_rule`: the whole
+meta-pupil of a sensor at altitude; until issue 27 half lit on average over the field,
+which dropped the meta-pupil's outer ring). Each slope gets white Gaussian noise
+(``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``, divided by
+the square root of the subaperture's field share: fewer photons where fewer directions
+light it). A least-squares modal reconstructor (SVD pseudo-inverse of the interaction
+matrix of the WFS's own DM, weighted by the field shares, modes with singular values
+below 1e-3 of the largest dropped) gives the modal residual. Aliasing (high orders
+leaking into the measured low orders) and noise propagation come out of this model;
+nothing is added by hand.
 
 Ideal (``kind="ideal"``): the field-averaged residual on the DM's disc is projected on
 the DM's modes by least squares; no aliasing (up to the projection's own) and no noise.
@@ -64,7 +68,7 @@ from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
 
 __all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SHACK_HARTMANN", "IDEAL",
-           "bilinear_matrix", "has_noise", "check_subaperture_sampling",
+           "bilinear_matrix", "field_rule", "pupil_lit", "has_noise", "check_subaperture_sampling",
            "slope_count", "slopes_aot_record", "slopes_aot_layout", "index_grid"]
 
 #: pupil pixels per Shack-Hartmann subaperture (a gradient needs two)
@@ -79,6 +83,83 @@ def has_noise(noise_rms) -> bool:
     if isinstance(noise_rms, float):
         return noise_rms > 0.0
     return bool(np.any(np.asarray(noise_rms) > 0.0))
+
+
+#: margin inside the pupil's edge, in pupil pixels, of the samples a sensor conjugated off
+#: the pupil uses (:func:`pupil_lit`): a bilinear sample reaches one pixel either way
+EDGE_MARGIN_PIXELS = math.sqrt(2.0)
+
+
+def pupil_lit(geometry: Geometry, x: np.ndarray, margin: float = 0.0) -> np.ndarray:
+    """Return which pupil-plane points ``x`` [m] ``(..., 2)`` the beam lights, ``margin`` inside.
+
+    Inside the telescope pupil (and outside its central obscuration) by ``margin`` [m].
+    A sensor conjugated to altitude reads the ground plane between its pixels (bilinear):
+    a sample within ``sqrt(2) dx`` of the pupil's edge mixes the ground DM's edge pixels
+    with the zeros beyond its disc, a step the turbulence does not have, and a slope turns
+    it into a spurious gradient (the upper WFS "sees" the ground DM's edge). The
+    correlating SH has kept the margin since issue 20; the geometric SH at altitude since
+    issue 27 (:func:`field_rule`: the meta-pupil's ring, lit by few directions, is made of
+    such edges). ``margin = 0`` is the plain pupil (a pupil-conjugated sensor reads the
+    ground plane at its pixels).
+    """
+    r = np.hypot(x[..., 0], x[..., 1])
+    obscuration = geometry.config.telescope.obscuration
+    if margin == 0.0:
+        r = r / (geometry.diameter / 2.0)
+        return (r <= 1.0) & (r >= obscuration)
+    lit = r <= geometry.diameter / 2.0 - margin
+    if obscuration > 0:
+        lit &= r >= obscuration * geometry.diameter / 2.0 + margin
+    return lit
+
+
+def field_rule(total: np.ndarray, best: np.ndarray, n_directions: int,
+               full: float) -> tuple[np.ndarray, np.ndarray]:
+    """Return the valid subapertures of a layer-oriented sensor and their field shares.
+
+    A sensor conjugated to altitude ``h`` and co-adding a field sees a meta-pupil of
+    diameter ``D + 2 h tan(field / 2)``; a subaperture of its outer ring is lit by some
+    directions only. It is kept when *some* direction lights at least half of it
+    (``best >= 0.5 full``), the single-conjugate half-lit rule applied direction by
+    direction: the layer-oriented MCAO sensors' whole meta-pupil (Ragazzoni, Farinato &
+    Marchetti 2000, Proc. SPIE 4007, 1076; MAD's layer-oriented WFS, Marchetti et al.
+    2003), over which the DM's modes are defined. Averaged over the directions instead
+    (the rule until issue 27), the ring was dropped and the modes extrapolated there
+    (docs/CLOSEDLOOP.md, "Layer-oriented valid subapertures").
+
+    Its field share, ``total / (n_directions * best)``, is the part of the field's light
+    it collects relative to a subaperture every direction lights as well as its best
+    one: 1 on a ground-conjugated sensor (every direction lights the same pupil), 1/n for
+    one lit by one direction of ``n``. A co-added slope's photon noise variance and the
+    variance of what it sees beyond the DMs' modes (averaged over fewer directions) both
+    scale as ``1 / share``; the reconstructors weigh each measurement by its share
+    (inverse variance, Wallner 1983; Ellerbroek 2002).
+
+    Parameters
+    ----------
+    total : (n_sub,) ndarray
+        Lit weight of each subaperture summed over the directions.
+    best : (n_sub,) ndarray
+        Its largest lit weight from one direction.
+    n_directions : int
+        Directions co-added.
+    full : float
+        Lit weight of a fully lit subaperture from one direction.
+
+    Returns
+    -------
+    valid : (n_valid,) ndarray of int
+        Indices of the valid subapertures.
+    share : (n_valid,) ndarray
+        Their field share, in ``(0, 1]``.
+    """
+    valid = np.flatnonzero(best >= 0.5 * full)
+    share = total[valid] / (n_directions * best[valid])
+    # every direction lighting it alike (a ground-conjugated sensor): exactly 1, not the
+    # rounding of a sum of n equal terms over n times one of them
+    share[share > 1.0 - 1e-9] = 1.0
+    return valid, share
 
 
 def bilinear_matrix(cols: np.ndarray, rows: np.ndarray, n: int) -> sparse.csr_matrix:
@@ -189,12 +270,18 @@ class WavefrontSensor:
         DM, see :meth:`interaction_with`), built on first use.
     noise_rms : float or (n_meas,) ndarray
         Per-measurement noise [rad / m for a SH; 0 for ideal]; an array when the
-        measurements differ in noise (the correlating SH's slopes and tracker).
+        measurements differ in noise (the correlating SH's slopes and tracker, a
+        layer-oriented SH's meta-pupil ring).
+    field_share : (n_meas,) ndarray or None
+        Each measurement's share of the field's light (``field_rule``; a SH's only):
+        1 where every direction lights its subaperture as well as its best one.
     n_valid_subapertures : int
     """
 
     #: the config's ``wfss[j].kind`` this class implements (the registry key)
     kind: ClassVar[str] = ""
+    #: margin inside the pupil's edge of the lit samples [m] (:func:`pupil_lit`)
+    _edge_margin: float = 0.0
 
     def __init__(self, geometry: Geometry, index: int, dm: DeformableMirror, *,
                  rcond: float = 1e-3):
@@ -210,6 +297,7 @@ class WavefrontSensor:
         self._geometry = geometry
         self._centred = False
         self.noise_rms = 0.0
+        self.field_share = None
         self._build(cfg)
         # the operators' CSR arrays as the matvec kernel takes them (unsigned columns)
         self._csr = [(op.indptr.astype(np.int64), op.indices.astype(np.uint32),
@@ -241,13 +329,27 @@ class WavefrontSensor:
         """Set ``operators`` and ``n_measurements`` (and ``noise_rms``) for this kind."""
         raise NotImplementedError(f"{type(self).__name__} must implement _build")
 
+    @property
+    def _weighted(self) -> bool:
+        """Whether the measurements differ in field share (``field_rule``): weigh them."""
+        return self.field_share is not None and bool(np.min(self.field_share) < 1.0)
+
     def _least_squares(self, rcond: float) -> np.ndarray | None:
-        """Pseudo-inverse of the interaction matrix with its own DM."""
+        """Pseudo-inverse of the interaction matrix with its own DM.
+
+        Weighted by each measurement's field share (inverse variance, ``field_rule``)
+        when they differ: ``(S^1/2 G)^+ S^1/2``.
+        """
         inter = self.interaction
         inter = inter.toarray() if sparse.issparse(inter) else inter
+        root = np.sqrt(self.field_share)[:, None] if self._weighted else None
+        if root is not None:
+            inter = root * inter
         if self.dm.large_products and 8.0 * inter.size >= products.GRAM_MIN_BYTES:
-            return products.gram_pinv(inter, lambda s0: rcond * s0)[0]
-        return np.linalg.pinv(inter, rcond=rcond)
+            r = products.gram_pinv(inter, lambda s0: rcond * s0)[0]
+        else:
+            r = np.linalg.pinv(inter, rcond=rcond)
+        return r if root is None else r * root.T
 
     def reset(self) -> None:
         """Nothing to reset: a sensor's measurement is a fixed linear map (no state)."""
@@ -262,11 +364,11 @@ class WavefrontSensor:
         raise NotImplementedError(f"{type(self).__name__} must implement model_error_variance")
 
     # ------------------------------------------------------------------ building
-    def _illuminated(self, u: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        g = self._geometry
-        x = u - self.altitude * theta * ARCSEC
-        r = np.hypot(x[..., 0], x[..., 1]) / (g.diameter / 2.0)
-        return (r <= 1.0) & (r >= g.config.telescope.obscuration)
+    def _illuminated(self, u: np.ndarray, theta: np.ndarray,
+                     margin: float | None = None) -> np.ndarray:
+        """Which points ``u`` [m] are lit from ``theta`` [arcsec] (``margin``: the sensor's)."""
+        return pupil_lit(self._geometry, u - self.altitude * theta * ARCSEC,
+                         self._edge_margin if margin is None else margin)
 
     def _sample_matrix(self, p: int, points: np.ndarray, theta: np.ndarray):
         """Bilinear operator on plane ``p`` for points ``u`` (m) seen from ``theta`` (arcsec)."""
@@ -329,6 +431,8 @@ class ShackHartmann(WavefrontSensor):
     def _build(self, cfg) -> None:
         self.noise_rms = 2.0 * math.pi * cfg.noise * ARCSEC / self._geometry.config.r0_wavelength
         g = self._geometry
+        if self.altitude != 0.0:  # reads the ground plane between its pixels (pupil_lit)
+            self._edge_margin = EDGE_MARGIN_PIXELS * g.dx
         d_wfs = g.diameter + 2.0 * self.altitude * math.tan(cfg.field_of_view / 2.0 * ARCSEC)
         n_sub = cfg.n_subapertures
         pitch = d_wfs / n_sub
@@ -349,17 +453,27 @@ class ShackHartmann(WavefrontSensor):
             pair, sub, weight = _window_entries(start, axis, g.dx, d_wfs, n_sub)
             if full is None:
                 full = np.bincount(sub, weights=weight, minlength=n_sub * n_sub).max()
-                full *= n_samples
+            # counts: weight of the pairs used (inside the margin); light, best: of the
+            # pairs the beam lights (the plain pupil), for the valid set and the shares
             counts = np.zeros(n_sub * n_sub)
+            light = np.zeros(n_sub * n_sub) if self._edge_margin else counts
+            best = np.zeros(n_sub * n_sub)
             entries = []
             for theta in self.samples:
                 lit = (self._illuminated(start, theta)
                        & self._illuminated(start + step, theta))[pair]
                 entries.append((theta, pair[lit], sub[lit], weight[lit]))
-                counts += np.bincount(sub[lit], weights=weight[lit], minlength=n_sub * n_sub)
+                one = np.bincount(sub[lit], weights=weight[lit], minlength=n_sub * n_sub)
+                counts += one
+                if self._edge_margin:
+                    lit = (self._illuminated(start, theta, 0.0)
+                           & self._illuminated(start + step, theta, 0.0))[pair]
+                    one = np.bincount(sub[lit], weights=weight[lit], minlength=n_sub * n_sub)
+                    light += one
+                np.maximum(best, one, out=best)
             if axis == 0:
-                valid = counts >= 0.5 * full
-                self.valid_subapertures = np.flatnonzero(valid)
+                self.valid_subapertures, share = field_rule(light, best, n_samples, full)
+                self.field_share = np.concatenate([share, share])
                 if not self.valid_subapertures.size:  # nothing measured: no loop
                     obsc = self._geometry.config.telescope.obscuration
                     raise ValueError(
@@ -382,6 +496,8 @@ class ShackHartmann(WavefrontSensor):
             del entries
         self.n_valid_subapertures = int(self.valid_subapertures.size)
         self.n_measurements = 2 * self.n_valid_subapertures
+        if self._weighted:  # fewer photons where fewer directions light it (field_rule)
+            self.noise_rms = self.noise_rms / np.sqrt(self.field_share)
         # one plane at a time: the (axis, direction) terms of a plane only are held
         # before they are summed into its CSR (all planes' terms at once were 7 GiB at
         # est-mcao's size, closedloop.resources); each plane's entries come in the same
@@ -415,7 +531,9 @@ class ShackHartmann(WavefrontSensor):
         """
         d = self.pitch
         total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
-        return model_error * 16.0 * 0.449 * total / d ** 2
+        base = model_error * 16.0 * 0.449 * total / d ** 2
+        # averaged over fewer directions where fewer light it: 1 / share (field_rule)
+        return base / self.field_share if self._weighted else base
 
 
 class IdealSensor(WavefrontSensor):

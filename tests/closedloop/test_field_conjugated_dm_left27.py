@@ -18,24 +18,24 @@ References (outside the code under test):
   of its area or more receives a usable signal; the sensor must use it.
 
 The ideal sensor (``kind="ideal"``, the field-averaged phase on the DM's disc) obeys the
-law today (SR 0.72-0.74 over a 12" field). The Shack-Hartmann does not: its valid
-subapertures are those lit over half of their area *averaged over the field's
-directions*, which at 10 km keeps only the central 4 m of the 4.97 m metapupil (120 of
-the 200 subapertures that some direction half-lights), so its 65 modes are fitted on
-82 % of their disc's radius and extrapolated to the rest: SR 0.67 on axis and < 0.01 at
-8.5". The fix (valid where some direction half-lights the subaperture) moves the golden
-numbers of table1, table1-wind, mcao3 and est-mcao (table1's field-mean SR 0.180 ->
-0.009: with two layers the edge subapertures see the other layer unblurred and need
-their own weight in the MAP), so it is left to the simulator's owners; the two
-Shack-Hartmann tests are strict xfails until then (an XPASS fails, and says the marker
-must go). Both pass with the fix.
+law (SR 0.72-0.74 over a 12" field). The Shack-Hartmann did not until issue 27's
+left28-field: its valid subapertures were those lit over half of their area *averaged
+over the field's directions*, which at 10 km kept only the central 4 m of the 4.97 m
+metapupil (120 of the 200 subapertures that some direction half-lights), so its 65 modes
+were fitted on 82 % of their disc's radius and extrapolated to the rest: SR 0.68 on axis
+and 0 at the 6" corners. It now uses every subaperture some direction half-lights
+(``closedloop.optics.wfs.field_rule``), weighted by its share of the field's light, and
+reads the ground plane ``sqrt(2)`` pixels inside the pupil's edge
+(``closedloop.optics.wfs.pupil_lit``): both tests below failed before (they were strict
+xfails) and pass. The field test runs at 64 pupil pixels: at 32 (2.5 pixels per
+subaperture) the edge margin takes 0.57 of a subaperture off the metapupil's ring and
+the 8.5" corners read 0.85-0.90 of the best (docs/ADVERSARIAL.md, "Leftovers 28-field").
 """
 
 import dataclasses as dc
 import math
 
 import numpy as np
-import pytest
 
 from closedloop import presets, simulate
 from closedloop.config import FieldConfig, LayerConfig
@@ -45,13 +45,6 @@ from closedloop.optics.wfs import ShackHartmann
 
 ARCSEC = math.pi / 648000.0
 H = 10_000.0
-
-SH_PENDING = pytest.mark.xfail(
-    strict=True,
-    reason="issue 27: the Shack-Hartmann keeps only subapertures half lit on average over "
-           "its field; the fix moves published golden numbers (docs/ADVERSARIAL.md, "
-           "'Leftovers 27-field')")
-
 
 def _config(kind: str, n_pixels: int, field_size: float = 12.0, n_points: int = 3):
     """One layer and one 65-mode DM at 10 km, table1's 10-km WFS (of ``kind``)."""
@@ -93,7 +86,6 @@ def _best_lit_fraction(cfg, n_sub: int, fine: int = 24) -> np.ndarray:
     return best
 
 
-@SH_PENDING
 def test_shack_hartmann_uses_every_subaperture_some_direction_half_lights():
     """The SH's valid set against the metapupil geometry (a 0.4-0.6 band left undecided).
 
@@ -115,14 +107,14 @@ def test_shack_hartmann_uses_every_subaperture_some_direction_half_lights():
         f"used ({used.sum()} used of {(best >= 0.5).sum()} half lit by some direction)")
 
 
-def _field_strehl(kind: str) -> np.ndarray:
-    run = simulate(_config(kind, 32), 0.1, seed=0, progress=False)
+def _field_strehl(kind: str, n_pixels: int = 32) -> np.ndarray:
+    run = simulate(_config(kind, n_pixels), 0.1, seed=0, progress=False)
     return np.asarray(run.strehl_map())
 
 
 #: the law's uniformity: every direction of the 12" field (corners at 8.5") within 10 %
-#: of the best; the ideal sensor's spread is 2-3 % (0.72-0.74 at 0.3 s), the pending
-#: Shack-Hartmann's 0.67 -> < 0.01
+#: of the best; the ideal sensor's spread is 2-3 % (0.72-0.74 at 0.3 s), the
+#: Shack-Hartmann's before issue 27's fix 0.68 -> 0 (at 64 pixels; after it 0.73-0.77)
 UNIFORM = 0.9
 
 
@@ -132,8 +124,7 @@ def test_ideal_sensor_corrects_the_conjugated_layer_uniformly():
     assert sr.min() >= UNIFORM * sr.max(), f"field not uniform: {np.round(sr, 3)}"
 
 
-@SH_PENDING
 def test_shack_hartmann_corrects_the_conjugated_layer_uniformly():
-    sr = _field_strehl("shack_hartmann")
+    sr = _field_strehl("shack_hartmann", n_pixels=64)
     assert sr.max() > 0.5, f"the loop did not correct the layer: {np.round(sr, 3)}"
     assert sr.min() >= UNIFORM * sr.max(), f"field not uniform: {np.round(sr, 3)}"
