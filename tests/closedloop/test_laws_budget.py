@@ -242,7 +242,10 @@ def test_noise_term_of_the_joint_reconstructor_in_every_direction(monkeypatch):
     r = model.reconstructor
     assert r is not None and r.shape[1] == sum(w.n_measurements for w in model.wfss)
     sigma = 2.0 * math.pi * alpha * ARCSEC / cfg.r0_wavelength
-    cov = _ntf_closed_form(cfg.loop.gain) * sigma ** 2 * (r @ r.T)
+    # each slope's noise variance sigma^2 / its field share (a WFS at altitude co-adds
+    # fewer directions' light on its metapupil's ring; issue 27, left28-field)
+    share = np.concatenate([w.field_share for w in model.wfss])
+    cov = _ntf_closed_form(cfg.loop.gain) * ((r * (sigma ** 2 / share)[None, :]) @ r.T)
     to_science = (cfg.r0_wavelength / cfg.wavelength) ** 2
     result = simulate(cfg, 0.01, seed=2, progress=False, model=model, budget_every=2)
     b = result.budget

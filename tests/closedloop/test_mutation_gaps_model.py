@@ -88,7 +88,10 @@ def _noise(cfg, model, g, prior):
         d = _meta_pupil(w.altitude, w.field_of_view) / w.n_subapertures
         error = cfg.loop.model_error * 16.0 * 0.449 * sum((d / r0) ** (5.0 / 3.0)
                                                           for r0 in r0s) / d ** 2
-        out.append(np.full(model.wfss[j].n_measurements, slope ** 2 + error))
+        # a layer-oriented WFS weighs each measurement by its share of the field's light:
+        # photon noise and unmodelled signal both as 1 / share (issue 27, left28-field)
+        share = model.wfss[j].field_share
+        out.append(np.full(model.wfss[j].n_measurements, slope ** 2 + error) / share)
     noise = np.concatenate(out)
     signal = np.mean(np.sum(g ** 2, axis=0) * prior) / g.shape[0]
     return np.maximum(noise, 1e-4 * signal)
@@ -148,9 +151,10 @@ def test_a_dm_without_layers_gets_the_prior_floor():
 
 def test_the_cut_is_snr_one_or_1e_3_of_the_largest_whichever_is_higher():
     # both DMs 6 m across, both fields 20": the DMs' modes nearly degenerate; WFS 0 at the
-    # noise floor (s_0 > 1000), WFS 1 noisy (0.0013"): some whitened singular values sit
-    # between 1 and 1e-3 s_0, and the documented cut drops them
-    cfg = _config(noises=(0.0, 0.0013), fields=(20.0, 20.0), diameters=(6.0, 6.0),
+    # noise floor (s_0 > 1000), WFS 1 noisy (0.005"; 0.0013" before its ring was weighted
+    # by field share, issue 27): some whitened singular values sit between 1 and 1e-3 s_0,
+    # and the documented cut drops them
+    cfg = _config(noises=(0.0, 0.005), fields=(20.0, 20.0), diameters=(6.0, 6.0),
                   model_error=0.0)
     model = LoopModel(cfg)
     g = _interaction(model)

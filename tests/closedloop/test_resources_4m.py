@@ -73,9 +73,12 @@ def test_a_joint_map_model_never_builds_the_per_wfs_reconstructors():
     assert model.reconstructor is not None
     simulate(model.config, 0.005, model=model, progress=False)
     assert all("reconstructor" not in vars(w) for w in model.wfss)
-    # asked for, it is the pseudo-inverse of the WFS's interaction with its own DM
+    # asked for, it is the pseudo-inverse of the WFS's interaction with its own DM,
+    # weighted by the measurements' field shares (1 on the ground WFS; issue 27)
     for w in model.wfss:
-        assert np.array_equal(w.reconstructor, np.linalg.pinv(w.interaction, rcond=1e-3))
+        root = np.sqrt(w.field_share)[:, None]
+        expected = np.linalg.pinv(root * w.interaction, rcond=1e-3) * root.T
+        assert np.array_equal(w.reconstructor, expected)
 
 
 def test_the_gram_path_gives_the_svd_reconstructor(monkeypatch):

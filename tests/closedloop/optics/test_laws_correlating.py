@@ -182,7 +182,13 @@ def test_same_meta_pupil_and_valid_set_as_the_geometric_sh(model, geometric):
             w.field_of_view / 2 * ARCSEC)
         assert c.pitch == pytest.approx(d_wfs / w.n_subapertures, rel=1e-12)
         assert s.pitch == pytest.approx(d_wfs / w.n_subapertures, rel=1e-12)
-        np.testing.assert_array_equal(c.valid_subapertures, s.valid_subapertures)
+        if w.altitude == 0.0:
+            np.testing.assert_array_equal(c.valid_subapertures, s.valid_subapertures)
+        else:
+            # at altitude the geometric SH uses every subaperture some direction half-lights
+            # (issue 27, left28-field); the correlating SH keeps the field-averaged rule
+            # (docs/ADVERSARIAL.md, "Leftovers 28-field"): a subset of it
+            assert np.all(np.isin(c.valid_subapertures, s.valid_subapertures))
         # exact lit area (a fine grid), averaged over the field samples
         n_sub = w.n_subapertures
         pitch = d_wfs / n_sub
