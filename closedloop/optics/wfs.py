@@ -26,7 +26,9 @@ offset by half a pixel, with 1.3-1.5 times the single-conjugate aliasing), over 
 illuminated (pair, direction). A subaperture is used when some direction lights at
 least half of the weight of a fully illuminated one (:func:`field_rule`: the whole
 meta-pupil of a sensor at altitude; until issue 27 half lit on average over the field,
-which dropped the meta-pupil's outer ring). Each slope gets white Gaussian noise
+which dropped the meta-pupil's outer ring); a sensor conjugated off the pupil uses only
+the pairs ``sqrt(2)`` pixels inside the pupil's edge (:func:`pupil_lit`), the valid set
+and the shares coming from the beam's true light. Each slope gets white Gaussian noise
 (``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``, divided by
 the square root of the subaperture's field share: fewer photons where fewer directions
 light it). A least-squares modal reconstructor (SVD pseudo-inverse of the interaction
@@ -126,7 +128,7 @@ def field_rule(total: np.ndarray, best: np.ndarray, n_directions: int,
     Marchetti 2000, Proc. SPIE 4007, 1076; MAD's layer-oriented WFS, Marchetti et al.
     2003), over which the DM's modes are defined. Averaged over the directions instead
     (the rule until issue 27), the ring was dropped and the modes extrapolated there
-    (docs/CLOSEDLOOP.md, "Layer-oriented valid subapertures").
+    (docs/CLOSEDLOOP.md, "A DM conjugated to a high layer").
 
     Its field share, ``total / (n_directions * best)``, is the part of the field's light
     it collects relative to a subaperture every direction lights as well as its best
