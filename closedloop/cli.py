@@ -253,6 +253,11 @@ def _cmd_run(args) -> int:
                          train_seed=args.train_seed, progress=_progress(args),
                          memory_limit=_memory_limit(args), budget_every=args.budget_every)
     if args.out is not None:
+        if result.provenance is not None:  # the command line as typed, beside the code's
+            import dataclasses
+
+            record = {**result.provenance, "command": getattr(args, "_argv", None)}
+            result = dataclasses.replace(result, provenance=record)
         result.save(args.out, overwrite=args.overwrite)
     print(_summary_line(result))
     if result.budget is not None:

@@ -75,6 +75,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from modalinfo.common.provenance import run_record
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, check_real
 from modalinfo.io.checksums import dumps, sha256_of
@@ -256,6 +257,11 @@ class SimulationResult:
         Wall time of the loop [s] (set-up excluded).
     version : str
         Package version that produced the result.
+    provenance : dict or None
+        What made it (``modalinfo.common.provenance.run_record``): the version number,
+        the Git commit of the code (None outside a checkout), the SHA-256 of the
+        config's canonical JSON and the seed; ``closedloop run`` adds the command line
+        (``"command"``). None for a file written before results recorded it.
     snapshots : (n_snap, n_sd, N, N) ndarray or None
         Residual pupil phase [rad at the science wavelength] in ``snapshot_directions``.
     snapshot_directions : (n_sd, 2) ndarray or None
@@ -279,6 +285,7 @@ class SimulationResult:
     snapshot_directions: np.ndarray | None = None
     measurements: list = field(default_factory=list)
     budget: Any = None
+    provenance: dict | None = None
 
     # ------------------------------------------------------------------ building
     @classmethod
@@ -305,7 +312,8 @@ class SimulationResult:
         return cls(config=config, seed=seed, predictor=predictor_name, times=times,
                    directions=np.array(model.geometry.directions), residual_variance=variance,
                    logs=logs, elapsed=elapsed, version=_version(), snapshots=snapshots,
-                   snapshot_directions=snapshot_directions, measurements=list(measurements))
+                   snapshot_directions=snapshot_directions, measurements=list(measurements),
+                   provenance=run_record(config.to_dict(), seed))
 
     # ------------------------------------------------------------------ views
     @property
@@ -685,6 +693,8 @@ class SimulationResult:
             f.attrs["predictor"] = self.predictor
             f.attrs["elapsed"] = self.elapsed
             f.attrs["config"] = json.dumps(self.config.to_dict())
+            if self.provenance is not None:
+                f.attrs["provenance"] = dumps(self.provenance)
             f["times"] = self.times
             f["directions"] = self.directions
             f["residual_variance"] = self.residual_variance
@@ -703,6 +713,8 @@ class SimulationResult:
                 write_log_group(g.create_group(name), log)
             # the digests of what the file holds, read back: load recomputes the same
             sums = {"attributes": _attributes_digest(f), "datasets": _dataset_digests(f)}
+            if "provenance" in f.attrs:  # its own digest: files without one still verify
+                sums["provenance"] = _provenance_digest(f)
             # fixed-length bytes, as modalinfo.io.hdf5 stores text (no heap reference)
             f.attrs["sha256"] = np.bytes_(dumps(sums).encode("ascii"))
 
@@ -784,7 +796,9 @@ class SimulationResult:
                        residual_variance=f["residual_variance"][()], logs=logs,
                        elapsed=float(f.attrs["elapsed"]), version=str(f.attrs["version"]),
                        snapshots=snaps, snapshot_directions=snap_dirs,
-                       measurements=measurements, budget=budget)
+                       measurements=measurements, budget=budget,
+                       provenance=(json.loads(f.attrs["provenance"])
+                                   if "provenance" in f.attrs else None))
 
 
 def _legacy_log(d) -> ModalLog:
@@ -812,6 +826,18 @@ def _attributes_digest(f) -> str:
             value = repr(value)  # not what save writes (e.g. bytes): never matches it
         values[name] = value
     return hashlib.sha256(dumps(values).encode("ascii")).hexdigest()
+
+
+def _provenance_digest(f) -> str | None:
+    """SHA-256 of the file's ``provenance`` attribute (JSON text); None if it has none."""
+    import hashlib
+
+    value = f.attrs.get("provenance")
+    if value is None:
+        return None
+    if not isinstance(value, str):
+        value = repr(value)  # not what save writes: never matches it
+    return hashlib.sha256(value.encode("utf-8")).hexdigest()
 
 
 def _dataset_digests(f) -> dict[str, dict]:
@@ -854,6 +880,10 @@ def _verify(f, path: Path) -> None:
     if _attributes_digest(f) != attributes:
         raise LogFormatError(f"{head}: the attributes ({', '.join(_ATTRIBUTES[2:])}) do not "
                              "match their SHA-256 checksum")
+    if "provenance" in sums and _provenance_digest(f) != sums["provenance"]:
+        raise LogFormatError(f"{head}: the attribute 'provenance' "
+                             + ("is missing" if "provenance" not in f.attrs
+                                else "does not match its SHA-256 checksum"))
     found = _dataset_digests(f)
     missing = sorted(set(recorded) - set(found))
     added = sorted(set(found) - set(recorded))

@@ -19,6 +19,7 @@ __all__ = [
     "ar_cosine_transfer",
     "ar_innovations",
     "block_scale_ratio",
+    "block_scale_ratios",
     "column_median",
     "column_nanmedian",
     "lag1_autocorrelation",
@@ -248,10 +249,25 @@ def block_scale_ratio(e: np.ndarray, tested: np.ndarray) -> float:
     contiguous blocks of equal counts; per block and column the scale is the 1.4826 MAD
     about the block's median (the factor cancels in the ratio). NaN when no column is
     ``tested`` (bool, shape (m,)), the blocks hold fewer than 2 rows or a block has a
-    zero scale.
+    zero scale. The median of :func:`block_scale_ratios`' finite values: a caller
+    holding ``e`` a slice of columns at a time gathers those and takes their median.
+    """
+    ratio = block_scale_ratios(e, tested)
+    ratio = ratio[np.isfinite(ratio)]
+    return float(np.median(ratio)) if ratio.size else math.nan
+
+
+def block_scale_ratios(e: np.ndarray, tested: np.ndarray) -> np.ndarray:
+    """Per ``tested`` column, (largest / smallest) block scale (:func:`block_scale_ratio`).
+
+    Each column's ratio depends on that column alone, so slices of columns give the
+    same values as the whole (the quality pass computes its innovations a slice of
+    modes at a time, issue 27 left28-prov). Columns in
+    ``tested`` order; non-finite where a block's scale is zero or NaN; empty when no
+    column is tested or the blocks hold fewer than 2 rows.
     """
     if not tested.any() or e.shape[0] < STATIONARITY_BLOCKS * 2:
-        return math.nan
+        return np.zeros(0)
     sub = e[:, tested]
     scales = []
     for part in np.array_split(sub, STATIONARITY_BLOCKS, axis=0):
@@ -260,9 +276,7 @@ def block_scale_ratio(e: np.ndarray, tested: np.ndarray) -> float:
             scales.append(column_nanmedian(dev))
     scales = np.array(scales)
     with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = scales.max(axis=0) / scales.min(axis=0)
-    ratio = ratio[np.isfinite(ratio)]
-    return float(np.median(ratio)) if ratio.size else math.nan
+        return scales.max(axis=0) / scales.min(axis=0)
 
 
 def stationarity_threshold(block_frames: float,
@@ -637,7 +651,12 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
     x = np.asarray(x, dtype=float).reshape(np.shape(x)[0], -1)
     cols = np.arange(x.shape[1]) if skip is None else np.flatnonzero(~np.asarray(skip,
                                                                                  dtype=bool))
-    tests = _level_tests(x[:, cols]) if cols.size else []
+    # each column's test is its own: a slice of columns at a time (about
+    # _STACK_VALUES values each), not the ~6 T x k temporaries of the whole at once
+    # (10^4 x 2000: 0.9 GiB; issue 27, left28-prov); the Bonferroni cut is over them all
+    per = max(1, _STACK_VALUES // max(1, x.shape[0]))
+    tests = [t for s0 in range(0, cols.size, per)
+             for t in _level_tests(x[:, cols[s0:s0 + per]])]
     judged = [(int(j), test) for j, test in zip(cols, tests, strict=True) if test.judged]
     cut = alpha / max(len(judged), 1)
     return [(j, t) for j, t in judged if t.p_value < cut], len(judged)

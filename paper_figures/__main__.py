@@ -316,6 +316,8 @@ def main(argv: list[str] | None = None) -> int:
     add_gap_argument(parser)
     parser.set_defaults(command="paper_figures")
     args = parser.parse_args(argv)
+    # the command line as typed, for the record every figure carries
+    args._argv = [prog, *(sys.argv[1:] if argv is None else [str(a) for a in argv])]
     previous: dict = {}
     if threading.current_thread() is threading.main_thread():
         # `kill` / a batch system's time limit / a closed terminal / SIGUSR1: clean up as
@@ -410,14 +412,26 @@ def _run_locked(args, modules, logs, needs_log) -> int:
         overrides = rc_overrides()
     for warning in caught:
         say(f"paper_figures: warning: {warning.message}\n")
-    with staged_output(args.out) as stage, matplotlib.rc_context(overrides):
-        _make(args, modules, loaded, logs, needs_log, stage)
+    from modalinfo.common.provenance import provenance
+    from paper_figures._common import figure_record
+
+    # what made the figures (version with its source fingerprint, command, seed, the
+    # input logs' SHA-256), in each PNG / PDF and on report.md's first line
+    record = provenance(getattr(args, "_argv", None), seed=args.seed,
+                        inputs=[p for p, _, _, _ in logs] if needs_log else None)
+    with (staged_output(args.out) as stage, matplotlib.rc_context(overrides),
+          figure_record(record)):
+        _make(args, modules, loaded, logs, needs_log, stage, record)
     print(f"[paper_figures] report written to {report_path} and {html_path}")
     return 0
 
 
-def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
-    """Compute and draw every chosen figure into ``stage``, then the two reports."""
+def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> None:
+    """Compute and draw every chosen figure into ``stage``, then the two reports.
+
+    ``record`` is the run's provenance (``modalinfo.common.provenance.provenance``,
+    with ``inputs`` the logs' fingerprints in the order of ``logs``).
+    """
     sections: list[str] = []
     rows: list[tuple[str, tuple]] = []
     per_log: dict[str, dict] = {}
@@ -486,21 +500,19 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
         sections.append(logs_compared.report(cmp, per_log.get("Figure 1"),
                                              per_log.get("Figure 5")))
     total = time.perf_counter() - total_start
-    from modalinfo.common.provenance import sha256_file
-    from modalinfo.common.tasks.keys import package_version
-
     # what made the numbers: the code's version (with its source fingerprint) and the
     # input logs' SHA-256 (adversarial round 27 PART b, P19; left27-geometry), on the
     # line the golden numbers skip (it names the machine)
     head = [
         "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
         f"Python {platform.python_version()}, {platform.machine()}; modalinfo "
-        f"{package_version()}; made in {total:.0f} s"
+        f"{record['modalinfo']}; made in {total:.0f} s"
         + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
            if args.quick else "") + "."
         + _not_made(modules)
         + (" Input logs of Figures 1 and 5: "
-           + ", ".join(f"`{p}` ({d}; SHA-256 {sha256_file(p)})" for p, _, _, d in logs)
+           + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']})"
+                       for (p, _, _, d), made in zip(logs, record["inputs"], strict=True))
            + "." if needs_log else "")
         + "\n",
         "## The paper's numbers beside ours\n",

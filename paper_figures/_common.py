@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import errno
 import os
 import shutil
@@ -15,7 +16,7 @@ from modalinfo.common import files, folders
 from modalinfo.common.cli import EXIT_INTERRUPTED, EXIT_USAGE, Parser
 from modalinfo.common.folders import OutputError
 
-__all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main",
+__all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main", "figure_record",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
            "save_png_pdf", "shipped_log", "staged_output", "suffixed", "write_figure"]
 
@@ -221,14 +222,50 @@ def suffixed(name: str, suffix: str) -> str:
     return f"{stem}{suffix}{dot}{ext}"
 
 
+#: the record the figures being drawn carry (:func:`figure_record`); None: none
+_RECORD: contextvars.ContextVar[dict | None] = contextvars.ContextVar(
+    "paper_figures_record", default=None)
+
+
+@contextlib.contextmanager
+def figure_record(record: dict | None) -> Iterator[None]:
+    """Within the block, every figure :func:`save_png_pdf` writes carries ``record``.
+
+    Set by ``python -m paper_figures`` and the stand-alone scripts around their
+    drawing, so each figure's ``plot`` needs no ``metadata=`` of its own (adversarial
+    round 27 PART b, left27-geometry's Left: the PNG / PDF named neither the code nor
+    the inputs that made them).
+
+    Parameters
+    ----------
+    record : dict or None
+        A JSON-ready record (``modalinfo.common.provenance.provenance``'s).
+    """
+    token = _RECORD.set(record)
+    try:
+        yield
+    finally:
+        _RECORD.reset(token)
+
+
 def save_png_pdf(fig, out_dir: Path, png_name: str, pdf_name: str) -> list[Path]:
-    """Save ``fig`` as PNG (110 dpi) and PDF in ``out_dir``, close it; return the paths."""
+    """Save ``fig`` as PNG (110 dpi) and PDF in ``out_dir``, close it; return the paths.
+
+    The record set by :func:`figure_record` goes into the PNG's ``Description`` text
+    chunk and the PDF's ``Subject`` (``modalinfo.common.provenance.png_metadata`` /
+    ``pdf_metadata``), the figure's file name into the PDF's ``Title``. The PDF has no
+    ``CreationDate`` (matplotlib writes the time of day otherwise): the same figure
+    of the same code and inputs is the same bytes, in both formats.
+    """
     import matplotlib.pyplot as plt
+
+    from modalinfo.common.provenance import pdf_metadata, png_metadata
 
     out_dir = Path(out_dir)
     paths = [out_dir / png_name, out_dir / pdf_name]
-    fig.savefig(paths[0], dpi=110)
-    fig.savefig(paths[1])
+    record = _RECORD.get()
+    fig.savefig(paths[0], dpi=110, metadata=png_metadata(record))
+    fig.savefig(paths[1], metadata=pdf_metadata(record, title=Path(pdf_name).stem))
     plt.close(fig)
     return paths
 
@@ -272,11 +309,16 @@ def figure_main(
         return fail(f"log file '{args.log}' does not exist")
     if args.log is not None and not args.log.is_file():
         return fail(f"--log '{args.log}' is not a regular file (a FIFO or a device)")
-    if output_names is None:
-        return write_figure(args.out, names, args.overwrite, lambda stage: make(stage, args.log),
-                            short)
-    return write_figure(args.out, names, args.overwrite,
-                        lambda stage: make(stage, args.log, suffix=args.suffix), short)
+    from modalinfo.common.provenance import provenance
+
+    given = sys.argv[1:] if argv is None else [str(a) for a in argv]
+    record = provenance([prog, *given], source=args.log)
+    with figure_record(record):
+        if output_names is None:
+            return write_figure(args.out, names, args.overwrite,
+                                lambda stage: make(stage, args.log), short)
+        return write_figure(args.out, names, args.overwrite,
+                            lambda stage: make(stage, args.log, suffix=args.suffix), short)
 
 
 def write_figure(out: Path, names: list[str], overwrite: bool,

@@ -310,7 +310,7 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
         try:
             with naming_target(staging, out):  # the user's --out, not the staging folder
                 ev.to_json(staging / OUTPUTS[0], provenance=provenance)
-                ev.to_csv(staging / OUTPUTS[1])
+                ev.to_csv(staging / OUTPUTS[1], provenance=provenance)
                 ev.save_plots(staging, provenance=provenance)
             _refuse_non_files(out)
             clash = [n for n in OUTPUTS if (out / n).exists()]

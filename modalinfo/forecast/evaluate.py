@@ -359,7 +359,8 @@ class ForecastEvaluation:
         text = json.dumps(data, indent=1).encode("utf-8")
         return _write_bytes(path, text, overwrite)
 
-    def to_csv(self, path: str | Path, *, overwrite: bool = False) -> Path:
+    def to_csv(self, path: str | Path, *, overwrite: bool = False,
+               provenance: dict | None = None) -> Path:
         """Write a long table ``predictor, mode, horizon, rmse, gain, coverage``, atomically.
 
         The whole wavefront is the mode ``"wavefront"``.
@@ -370,27 +371,45 @@ class ForecastEvaluation:
             Output file.
         overwrite : bool
             Replace an existing file; otherwise ``FileExistsError``.
+        provenance : dict, optional
+            What made the table (``modalinfo.common.provenance.provenance``'s record):
+            three columns after the nine of the table, the same on every row,
+            ``modalinfo`` (the version), ``input_sha256`` (the input log's SHA-256) and
+            ``command`` (the command line, shell-quoted). Columns rather than a comment
+            line above the header: ``csv.DictReader``, ``pandas.read_csv`` without
+            ``comment=`` and a spreadsheet read the table as before, and a table
+            separated from forecast.json still names what made it (adversarial round
+            27 PART b, P08).
 
         Returns
         -------
         pathlib.Path
             The path written.
         """
+        import shlex
+
         warn_spreadsheet_formulas([*self.names, *self.labels], "forecast CSV")
+        made: list[str] = []
+        if provenance is not None:
+            source = provenance.get("input") or {}
+            command = provenance.get("command")
+            made = [str(provenance.get("modalinfo") or ""), str(source.get("sha256") or ""),
+                    shlex.join(command) if command else ""]
         buffer = io.StringIO(newline="")
         writer = csv.writer(buffer)
         writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",
-                         "dm_statistic", "p_value", "beats_baseline"])
+                         "dm_statistic", "p_value", "beats_baseline"]
+                        + (["modalinfo", "input_sha256", "command"] if made else []))
         for i, name in enumerate(self.names):
             for j, h in enumerate(self.horizons):
                 cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
                          self.coverage[i, j], self.dm_statistic[i, j], self.pvalue[i, j]]
                 writer.writerow([name, "wavefront", int(h)]
                                 + [_csv_number(c) for c in cells]
-                                + [bool(self.beats_baseline[i, j])])
+                                + [bool(self.beats_baseline[i, j])] + made)
                 for k, label in enumerate(self.labels):
                     writer.writerow([name, label, int(h), _csv_number(self.rmse[i, j, k]),
-                                     _csv_number(self.gain[i, j, k]), "", "", "", ""])
+                                     _csv_number(self.gain[i, j, k]), "", "", "", ""] + made)
         return _write_bytes(path, buffer.getvalue().encode("utf-8"), overwrite)
 
     # ------------------------------------------------------------------ text

@@ -181,7 +181,7 @@ from modalinfo._stats import (
     stationarity_threshold,
     variance_steps,
 )
-from modalinfo._stats import block_scale_ratio as _scale_ratio
+from modalinfo._stats import block_scale_ratios as _scale_ratios
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import check_choice, check_int, check_real
@@ -222,15 +222,37 @@ DEFAULT_ALPHA = 0.01
 QUALITY_STAGES = 5
 
 #: Peak memory of :func:`assess_quality` per float64 value of its sample (``min(T,
-#: sample_frames) x M``), in units of the value's 8 bytes: measured 9.2 and 10.1 (1408 MiB
-#: at 10^4 x 2000, 155 MiB at 10^4 x 200, tracemalloc; issue 27, left28-quality).
-QUALITY_MEMORY_FACTOR = 10
+#: sample_frames) x M``), in units of the value's 8 bytes, above
+#: ``QUALITY_MEMORY_FIXED``: every frame sampled (stride 1), the sample and the
+#: spread rule's deviations stay whole, the rest goes a slice of modes at a time
+#: (tracemalloc: 367 MiB at 10^4 x 2000, 104 MiB at 10^4 x 200 and 1000 x 2000; 1408,
+#: 155 and 154 MiB before the slices; issue 27, left28-prov).
+QUALITY_MEMORY_FACTOR = 3
+
+#: As ``QUALITY_MEMORY_FACTOR`` for a log longer than the sample (strided): the
+#: windows of the AR fits and the level rule's bin means are two more arrays of the
+#: sample's size, the blocks of the first pass more temporaries (426 MiB at 10^5 x 200,
+#: 250 MiB at 2 x 10^5 x 100; 611 and 306 MiB before).
+QUALITY_MEMORY_STRIDED_FACTOR = 5
+
+#: Bytes of :func:`assess_quality` whatever the log's size: the slices' temporaries
+#: (about ``_SLICE_VALUES`` values, a few times over) and the simulated law of the MAD
+#: (drawn 2e6 values at a time, cached per sample size).
+QUALITY_MEMORY_FIXED = 96 * 2**20
 
 
 def quality_memory(n_frames: int, n_modes: int,
                    sample_frames: int = 65536) -> int:
-    """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log (see the factor)."""
-    return int(QUALITY_MEMORY_FACTOR * 8 * min(n_frames, sample_frames) * n_modes)
+    """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log (see the factors).
+
+    ``QUALITY_MEMORY_FIXED`` plus ``QUALITY_MEMORY_FACTOR`` (every frame sampled) or
+    ``QUALITY_MEMORY_STRIDED_FACTOR`` (``T > sample_frames``) times 8 bytes per sampled
+    value; 1.4-1.5 x the measured peaks of five logs of benchmarks/RESULTS.md
+    ("left28-prov"), 7 x that of a 300 x 50 log (the fixed part).
+    """
+    factor = QUALITY_MEMORY_STRIDED_FACTOR if n_frames > sample_frames else \
+        QUALITY_MEMORY_FACTOR
+    return int(QUALITY_MEMORY_FIXED + factor * 8 * min(n_frames, sample_frames) * n_modes)
 
 
 #: Default minimum run of equal consecutive values counted as stuck.
@@ -421,6 +443,12 @@ _REFIT_CUT = 5.0
 ROUNDOFF_INNOVATIONS = 1e-11
 
 
+#: Values per slice of modes of the per-mode passes (``_innovations``, ``_robust_scale``):
+#: their temporaries (lag stacks, a sort's copy, the deviations) are a few times a slice,
+#: not the sample (issue 27, left28-quality / left28-prov).
+_SLICE_VALUES = 2_000_000
+
+
 def _window_rows(g: np.ndarray, p: int) -> np.ndarray:
     """Positions in ``g`` of the rows whose ``p`` predecessors are sampled too."""
     ok = np.ones(max(0, g.size - p), dtype=bool)
@@ -492,7 +520,8 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     fitted coefficient, as for a regression's residuals), ``N = n_sample``, ``r`` the
     median over modes of the robust lag-1 autocorrelation (:func:`_robust_lag1`) of the
     consecutive innovations, clipped to ``[0, 0.999]``. ``with_ratio``: the innovations'
-    block-scale ratio (``_scale_ratio``) is returned fifth.
+    block-scale ratio (``modalinfo._stats.block_scale_ratio``, the median of the
+    per-mode ``block_scale_ratios`` gathered over the slices) is returned fifth.
     """
     m = rows.shape[1]
     p = AR_ORDER
@@ -502,52 +531,70 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
         out = coef, np.zeros(m), np.full(m, np.nan), float(n_sample)
         return (*out, math.nan) if with_ratio else out
     centre = np.where(np.isfinite(med), med, 0.0)
-    y = rows[q] - centre
-    # the fit squares the values: a mode beyond ~1e154 is divided by a power of 2 first
-    # (exact; coefficients are scale-free), its innovations' centre and scale multiplied back
     size = np.where(np.isfinite(sigma), sigma, 0.0)
-    peak = np.nanmax(np.where(np.isfinite(y), np.abs(y), np.nan), axis=0, initial=0.0)
-    y, ex = rescale_power_of_two(y, size, peak=peak)
-    lim = np.where(sigma > 0, _REFIT_CUT * np.ldexp(np.where(sigma > 0, sigma, 0.0), -ex),
-                   np.inf)
-    e = np.empty_like(y)
-    # the (R, p, M) lag stack of a 10^4 x 2000 log is 640 MB: built a slice of modes at a
-    # time (issue 27, left28-quality: 2.39 GB peak RSS for 160 MB of data)
-    per = max(1, 2_000_000 // max(1, q.size * p))
+    cen_e, sig_e = np.full(m, np.nan), np.full(m, np.nan)
+    tested = np.zeros(m, dtype=bool)
+    adj = np.flatnonzero(np.diff(g[q]) == 1)  # consecutive residual pairs
+    rhos, ratios = [], []
+    # every step below is per mode, so it runs a slice of modes at a time: the (R, p, M)
+    # lag stack of a 10^4 x 2000 log is 640 MB (left28-quality), and the T x M residuals,
+    # their deviations and the sorts' copies were ~7 more copies of the sample at once
+    # (left28-prov); the answers are the same bits (the medians over modes are taken of
+    # the gathered per-mode values)
+    per = max(1, _SLICE_VALUES // max(1, q.size * p))
     for s0 in range(0, m, per):
         cols = np.arange(s0, min(m, s0 + per))
+        y = rows[q, s0:s0 + cols.size] - centre[cols]
+        # the fit squares the values: a mode beyond ~1e154 is divided by a power of 2
+        # first (exact; coefficients are scale-free), its innovations' centre and scale
+        # multiplied back
+        peak = np.nanmax(np.where(np.isfinite(y), np.abs(y), np.nan), axis=0, initial=0.0)
+        y, ex = rescale_power_of_two(y, size[cols], peak=peak)
+        lim = np.where(sigma[cols] > 0,
+                       _REFIT_CUT * np.ldexp(np.where(sigma[cols] > 0, sigma[cols], 0.0), -ex),
+                       np.inf)
         x = np.stack([rows[q - i, s0:s0 + cols.size] for i in range(1, p + 1)],
                      axis=0) - centre[cols]
-        x = np.ldexp(x, -ex[cols]) if ex[cols].any() else x
+        x = np.ldexp(x, -ex) if ex.any() else x
         x = x.transpose(2, 1, 0)  # (modes, rows, lags)
         fit = np.flatnonzero(~constant[cols])
         if fit.size:
-            coef[:, cols[fit]] = _ar_fits(y[:, cols[fit]], x[fit], lim[cols[fit]]).T
-        e[:, cols] = y[:, cols] - np.einsum("krp,pk->rk", x, coef[:, cols])
-    none = np.all(np.isnan(e), axis=0)
-    e_const = np.zeros(m, dtype=bool)
-    if (~none).any():
-        e_const[~none] = np.nanmax(e[:, ~none], axis=0) == np.nanmin(e[:, ~none], axis=0)
-    cen_e, sig_e = _robust_scale(e, e_const | constant)
-    cen_e, sig_e = np.ldexp(cen_e, ex), np.ldexp(sig_e, ex)
-    adj = np.flatnonzero(np.diff(g[q]) == 1)  # consecutive residual pairs
-    tested = ~(constant | none | e_const)
-    with np.errstate(invalid="ignore"):
-        scaled = tested & ~(sig_e <= ROUNDOFF_INNOVATIONS * sigma)
+            coef[:, cols[fit]] = _ar_fits(y[:, fit], x[fit], lim[fit]).T
+        e = y - np.einsum("krp,pk->rk", x, coef[:, cols])
+        del x, y
+        none = np.all(np.isnan(e), axis=0)
+        e_const = np.zeros(cols.size, dtype=bool)
+        if (~none).any():
+            e_const[~none] = np.nanmax(e[:, ~none], axis=0) == np.nanmin(e[:, ~none], axis=0)
+        cen, sig = _robust_scale(e, e_const | constant[cols])
+        cen_e[cols], sig_e[cols] = np.ldexp(cen, ex), np.ldexp(sig, ex)
+        here = ~(constant[cols] | none | e_const)
+        tested[cols] = here
+        if adj.size >= 3 and here.any():
+            rhos.append(_robust_lag1(e[adj][:, here], e[adj + 1][:, here]))
+        if with_ratio:
+            with np.errstate(invalid="ignore"):
+                scaled = here & ~(sig_e[cols] <= ROUNDOFF_INNOVATIONS * sigma[cols])
+            ratios.append(_scale_ratios(e, scaled))
+    ratio = math.nan
+    if with_ratio:
+        gathered = np.concatenate(ratios) if ratios else np.zeros(0)
+        gathered = gathered[np.isfinite(gathered)]
+        ratio = float(np.median(gathered)) if gathered.size else math.nan
     if adj.size < 3 or not tested.any():
         out = coef, cen_e, sig_e, max(0.0, float(n_sample - p))
-        return (*out, _scale_ratio(e, scaled)) if with_ratio else out
-    rho = _robust_lag1(e[adj][:, tested], e[adj + 1][:, tested])
-    r = float(np.clip(np.median(rho), 0.0, 0.999))
+        return (*out, ratio) if with_ratio else out
+    r = float(np.clip(np.median(np.concatenate(rhos)), 0.0, 0.999))
     out = coef, cen_e, sig_e, max(0.0, n_sample - p) * (1.0 - r) / (1.0 + r)
-    return (*out, _scale_ratio(e, scaled)) if with_ratio else out
+    return (*out, ratio) if with_ratio else out
 
 
 # the block-scale rule lives at the lowest layer (modalinfo._stats), shared with the
 # stationarity rule of the circular-shift tests and the block bootstrap (issue 27,
 # leftovers 12-ci): STATIONARITY_BLOCKS, MIN_STATIONARITY_FRAMES, MIN_SCALE_RATIO,
-# block_scale_ratio (imported as _scale_ratio) and stationarity_threshold (re-exported here,
-# part of this module's API since leftovers 11-seeing) are defined there.
+# block_scale_ratio (its per-column block_scale_ratios imported as _scale_ratios) and
+# stationarity_threshold (re-exported here, part of this module's API since leftovers
+# 11-seeing) are defined there.
 
 
 def gaussian_false_alarm(k: float) -> float:
@@ -981,8 +1028,15 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
     bad = np.zeros(m, dtype=np.int64)
     repeats = np.zeros(m, dtype=np.int64)  # equal consecutive pairs (NaN never equal)
     prev = None
-    picked = []
-    after, gidx = [], []
+    # the sample and the windows are filled in place (a list of blocks and their
+    # concatenation held two copies at once; left28-prov)
+    total = arr.shape[0]
+    sample = np.empty((-(-total // step), m))
+    period = step * (AR_ORDER + 1)
+    n_after = (total // period) * (AR_ORDER + 1) + min(total % period, AR_ORDER + 1)
+    after = np.empty((n_after, m)) if step > 1 else None
+    gidx = []
+    at_sample = at_after = 0
     n_bins = -(-arr.shape[0] // step) if step > 1 else 0
     # at stride 1 a bin is one frame: its mean is the sample's value (no two T x M arrays
     # of sums and counts; left28-quality)
@@ -999,11 +1053,15 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
             repeats += block[0] == prev
         prev = np.array(block[-1])
         first = (-i0) % step  # rows with global index divisible by step
-        picked.append(np.array(block[first::step], dtype=np.float64))
+        chosen = block[first::step]
+        sample[at_sample:at_sample + chosen.shape[0]] = chosen
+        at_sample += chosen.shape[0]
         if step > 1:  # runs of AR_ORDER + 1 consecutive frames for the predictor
             g = i0 + np.arange(block.shape[0])
-            sel = g % (step * (AR_ORDER + 1)) <= AR_ORDER
-            after.append(np.array(block[sel], dtype=np.float64))
+            sel = g % period <= AR_ORDER
+            chosen = block[sel]
+            after[at_after:at_after + chosen.shape[0]] = chosen
+            at_after += chosen.shape[0]
             gidx.append(g[sel])
         fin = np.isfinite(block)
         if fin.all():
@@ -1014,14 +1072,15 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
             lo = np.minimum(lo, np.where(fin, block, np.inf).min(axis=0))
             hi = np.maximum(hi, np.where(fin, block, -np.inf).max(axis=0))
         i0 += block.shape[0]
-    sample = np.concatenate(picked, axis=0)
     if step == 1:
-        means = np.where(np.isfinite(sample), sample, np.nan)
+        # +-inf read as a gap; with every value finite the sample itself (no copy)
+        means = np.where(np.isfinite(sample), sample, np.nan) if bad.any() else sample
         return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
     with np.errstate(invalid="ignore", divide="ignore"):
-        means = bin_sum / bin_count  # NaN where a bin holds no finite value
-    return (sample, np.concatenate(after, axis=0), np.concatenate(gidx), lo, hi, bad,
-            repeats, means)
+        # NaN where a bin holds no finite value; in place of the sums (one copy fewer)
+        means = np.divide(bin_sum, bin_count, out=bin_sum)
+    del bin_count
+    return (sample, after, np.concatenate(gidx), lo, hi, bad, repeats, means)
 
 
 def _add_bins(block: np.ndarray, i0: int, step: int, bin_sum: np.ndarray,
@@ -1058,15 +1117,21 @@ def _fill_gaps(rows: np.ndarray, constant: np.ndarray) -> tuple[np.ndarray, np.n
     """Columns with non-finite rows linearly interpolated, and the columns to skip.
 
     Skipped: ``constant`` columns and those with fewer than 2 finite rows (set to 0).
+    ``rows`` is not modified: a copy is made if a column must change, none otherwise
+    (a T x M copy of a log with no gap; left28-prov).
     """
-    rows = rows.copy()
+    source = rows
     skip = np.asarray(constant, dtype=bool).copy()
     for j in range(rows.shape[1]):
         ok = np.isfinite(rows[:, j])
+        if ok.all() and ok.size >= 2:  # nothing to change
+            continue
+        if rows is source:
+            rows = source.copy()
         if ok.sum() < 2:
             skip[j] = True
             rows[:, j] = 0.0
-        elif not ok.all():
+        else:
             idx = np.arange(rows.shape[0])
             rows[:, j] = np.interp(idx, idx[ok], rows[ok, j])
     return rows, skip
@@ -1082,7 +1147,8 @@ def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
     ``skip`` (constant, or whose mean steps: reported as such) are not judged.
     """
     with np.errstate(invalid="ignore"):
-        dev = np.abs(sample - centre)
+        dev = sample - centre
+        np.abs(dev, out=dev)  # one T x M array, not two (left28-prov)
     dev, none = _fill_gaps(dev, skip)
     flagged, judged = variance_steps(dev, VARIANCE_ALPHA, none, deviations=True)
     steps = tuple((labels[v.column], int(min(v.frame * step, n - 1)), float(v.ratio),
@@ -1159,7 +1225,25 @@ def _interpolate_grouped_mad(dev: np.ndarray, mad: np.ndarray) -> None:
 
 
 def _robust_scale(sample: np.ndarray, constant: np.ndarray):
-    """Median and sigma (1.4826 MAD, or the mean-deviation fallback) of each column."""
+    """Median and sigma (1.4826 MAD, or the mean-deviation fallback) of each column.
+
+    Each column's answer is its own: computed a slice of about ``_SLICE_VALUES``
+    values at a time (the whole 10^4 x 2000 sample at once took ~3 more copies of it
+    in sorts and deviations; issue 27, left28-prov).
+    """
+    m = sample.shape[1]
+    per = max(1, _SLICE_VALUES // max(1, sample.shape[0]))
+    if m <= per:
+        return _robust_scale_slice(sample, constant)
+    med, sigma = np.empty(m), np.empty(m)
+    for s0 in range(0, m, per):
+        med[s0:s0 + per], sigma[s0:s0 + per] = _robust_scale_slice(
+            sample[:, s0:s0 + per], constant[s0:s0 + per])
+    return med, sigma
+
+
+def _robust_scale_slice(sample: np.ndarray, constant: np.ndarray):
+    """``_robust_scale`` of every column of ``sample`` at once."""
     # all-NaN columns get NaN (handled by the caller) without numpy's "All-NaN slice"
     # RuntimeWarning, which is not silenced with warnings.catch_warnings(): that swaps the
     # process's warning filters, so a thread running this lost other threads' warnings
