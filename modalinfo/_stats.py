@@ -241,16 +241,18 @@ def stacked_ar_fits(x: np.ndarray, p: int, *, step: np.ndarray | None = None,
     per = max(1, _STACK_VALUES // max(1, (n - p) * width))  # the designs, a slice at a time
     for s0 in range(0, k, per):
         sub = np.ascontiguousarray(x[:, s0:s0 + per].T)
-        design = np.empty((sub.shape[0], n - p, width))
+        # regressor-major (k, width, n - p): each regressor a contiguous copy (the
+        # (k, n - p, width) layout wrote every value with a stride, 6x slower)
+        design = np.empty((sub.shape[0], width, n - p))
         for i in range(1, p + 1):
-            design[:, :, i - 1] = sub[:, p - i:n - i]
-        design[:, :, p] = 1.0
+            design[:, i - 1] = sub[:, p - i:n - i]
+        design[:, p] = 1.0
         if step is not None:
-            design[:, :, p + 1] = t[None, :] >= step[s0:s0 + per, None]
-        c = stacked_lstsq(design, sub[:, p:])
+            design[:, p + 1] = t[None, :] >= step[s0:s0 + per, None]
+        c = stacked_lstsq(design.transpose(0, 2, 1), sub[:, p:])
         coef[s0:s0 + per] = c
         if e is not None:
-            e[:, s0:s0 + per] = (sub[:, p:] - np.einsum("knw,kw->kn", design, c)).T
+            e[:, s0:s0 + per] = (sub[:, p:] - (c[:, None, :] @ design)[:, 0]).T
     return coef, e
 
 
