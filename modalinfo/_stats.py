@@ -27,6 +27,7 @@ __all__ = [
     "level_stationarity",
     "level_steps",
     "sample_autocovariance",
+    "stacked_ar_fits",
     "stacked_lstsq",
     "scale_stationarity",
     "stationarity_threshold",
@@ -199,6 +200,63 @@ def stacked_lstsq(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         out[s:s + per] = c[..., 0]
     return out
 
+def stacked_ar_fits(x: np.ndarray, p: int, *, step: np.ndarray | None = None,
+                    residuals: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
+    """Least-squares AR(p) fits with a constant of every column of ``x`` at once.
+
+    Column ``j`` is regressed on its ``p`` previous values and a constant (and, with
+    ``step``, a unit step from frame ``step[j]`` on): the design of row ``t`` (``p <= t
+    < n``) is ``[x_(t-1), ..., x_(t-p), 1(, t >= step[j])]``. The designs are built a
+    slice of columns at a time (about :data:`_STACK_VALUES` values each) and solved by
+    :func:`stacked_lstsq`, so the coefficients agree with one ``numpy.linalg.lstsq``
+    per column to within about 1e-11 relative. The one copy of this design for the
+    innovations of one series (:func:`ar_innovations`), the level rule's fits with a
+    step (``_level_tests``) and the forecasts' train / test scale shift
+    (``modalinfo.forecast.evaluate``; issue 27, left28-misc: 2,000 ``lstsq`` calls
+    replaced).
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n, k)
+        Finite real series in time order, one per column, ``n - p >= p + 1`` (``+ 2``
+        with ``step``).
+    p : int
+        AR order.
+    step : numpy.ndarray of int, shape (k,), optional
+        First frame of each column's step regressor.
+    residuals : bool
+        Also return the residuals.
+
+    Returns
+    -------
+    coef : numpy.ndarray, shape (k, p + 1) or (k, p + 2) with ``step``
+        ``a_1 .. a_p``, the constant (in x's units), then the step.
+    e : numpy.ndarray, shape (n - p, k), or None
+        The residuals ``x_t - design_t coef`` (with ``residuals``), in x's units.
+    """
+    n, k = x.shape
+    width = p + 1 + (step is not None)
+    coef = np.empty((k, width))
+    e = np.empty((n - p, k)) if residuals else None
+    t = np.arange(p, n)
+    per = max(1, _STACK_VALUES // max(1, (n - p) * width))  # the designs, a slice at a time
+    for s0 in range(0, k, per):
+        sub = np.ascontiguousarray(x[:, s0:s0 + per].T)
+        # regressor-major (k, width, n - p): each regressor a contiguous copy (the
+        # (k, n - p, width) layout wrote every value with a stride, 6x slower)
+        design = np.empty((sub.shape[0], width, n - p))
+        for i in range(1, p + 1):
+            design[:, i - 1] = sub[:, p - i:n - i]
+        design[:, p] = 1.0
+        if step is not None:
+            design[:, p + 1] = t[None, :] >= step[s0:s0 + per, None]
+        c = stacked_lstsq(design.transpose(0, 2, 1), sub[:, p:])
+        coef[s0:s0 + per] = c
+        if e is not None:
+            e[:, s0:s0 + per] = (sub[:, p:] - (c[:, None, :] @ design)[:, 0]).T
+    return coef, e
+
+
 # ------------------------------------------------------------- stationarity of scale
 #: Contiguous blocks of innovations whose robust scales are compared
 #: (:func:`block_scale_ratio`).
@@ -370,10 +428,7 @@ def ar_innovations(x: np.ndarray, p: int = INNOVATION_ORDER) -> np.ndarray:
     numpy.ndarray, shape (n - p,)
         The residuals ``x_t - (c + sum_i a_i x_(t-i))``, in x's units.
     """
-    n = x.shape[0]
-    lags = np.column_stack([x[p - i:n - i] for i in range(1, p + 1)] + [np.ones(n - p)])
-    coef = np.linalg.lstsq(lags, x[p:], rcond=None)[0]
-    return x[p:] - lags @ coef
+    return stacked_ar_fits(np.asarray(x, dtype=float)[:, None], p, residuals=True)[1][:, 0]
 
 
 # ------------------------------------------------- train-vs-test scale (forecasts)
@@ -588,17 +643,7 @@ def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER) -> list[LevelTest]:
     xc = (x[:, live] - mu[live]) / scale[live]
     frames = np.argmax(np.abs(np.cumsum(xc, axis=0)[:-1]), axis=0) + 1
     shifts = [float(x[f:, j].mean() - x[:f, j].mean()) for f, j in zip(frames, live, strict=True)]
-    t = np.arange(p, n)
-    coef = np.empty((live.size, p))
-    per = max(1, _STACK_VALUES // ((n - p) * (p + 2)))  # the designs, a slice at a time
-    for s0 in range(0, live.size, per):
-        sub = np.ascontiguousarray(xc[:, s0:s0 + per].T)
-        design = np.empty((sub.shape[0], n - p, p + 2))
-        for i in range(1, p + 1):
-            design[:, :, i - 1] = sub[:, p - i:n - i]
-        design[:, :, p] = 1.0
-        design[:, :, p + 1] = t[None, :] >= frames[s0:s0 + per, None]
-        coef[s0:s0 + per] = stacked_lstsq(design, sub[:, p:])[:, :p]
+    coef = stacked_ar_fits(xc, p, step=frames)[0][:, :p]
     phase = ar_cosine_transfer(np.zeros(p), n, np.arange(1, LEVEL_MAX_TERMS + 2))[1]
     transfer = 1.0 - phase @ coef.T  # A(z) of the negated coefficients, per column
     with np.errstate(divide="ignore"):

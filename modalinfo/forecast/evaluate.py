@@ -834,6 +834,11 @@ def _dm_test(d: np.ndarray, h: int) -> tuple[float, float, int, float]:
     return float(stat), float(student_t.cdf(stat, b)), b, n_eff
 
 
+#: Values of the training frames ``_scale_shift`` reads and fits at once (a block of
+#: modes; 8 MB of float64, about 6 times that with its copies, residuals and designs).
+_SHIFT_BLOCK_VALUES = 1_000_000
+
+
 def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per mode: test / training mean square of the training-fitted AR innovations.
@@ -857,7 +862,7 @@ def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         INNOVATION_ORDER,
         MIN_SHIFT_EFFECTIVE,
         MIN_SHIFT_INNOVATIONS,
-        lag1_autocorrelation,
+        stacked_ar_fits,
         variance_ratio_shift,
     )
     from modalinfo.telemetry.quality import ROUNDOFF_INNOVATIONS
@@ -872,26 +877,34 @@ def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
     coef = np.zeros((p + 1, n_modes))                  # a_1..a_p, constant
     ms_train = np.full(n_modes, np.nan)
     m4_train = np.full(n_modes, np.nan)
-    for m in range(n_modes):
-        x = train[:, m]
-        spread = float(np.std(x))
-        if not spread > 0.0:
+    # a block of modes at a time (a memory-mapped log stays out of memory), each block's
+    # AR fits one stacked solve (a per-mode lstsq loop before, issue 27, left28-misc)
+    per = max(1, _SHIFT_BLOCK_VALUES // n_train)
+    for s0 in range(0, n_modes, per):
+        tt = np.array(train[:n_train, s0:s0 + per].T, dtype=float)  # (modes, frames)
+        spread = np.std(tt, axis=1)
+        top = np.max(np.abs(tt), axis=1)
+        d = tt / np.where(top > 0.0, top, 1.0)[:, None]  # lag1_autocorrelation of each mode
+        d -= d.mean(axis=1, keepdims=True)
+        power = np.einsum("mn,mn->m", d, d)
+        lag = np.einsum("mn,mn->m", d[:, 1:], d[:, :-1])
+        r = np.clip(lag / np.where(power > 0.0, power, 1.0), 0.0, 0.999)
+        # constant modes and those of too few correlation times are not fitted
+        fit = np.flatnonzero((spread > 0.0)
+                             & (n_rows * (1.0 - r) / (1.0 + r) >= MIN_SHIFT_EFFECTIVE))
+        if not fit.size:
             continue
-        r = min(max(lag1_autocorrelation(x), 0.0), 0.999)
-        if n_rows * (1.0 - r) / (1.0 + r) < MIN_SHIFT_EFFECTIVE:
-            continue                                    # too few correlation times
-        x = x / spread                                  # scale-free (huge or tiny values)
-        lags = np.column_stack([x[p - i:n_train - i] for i in range(1, p + 1)]
-                               + [np.ones(n_rows)])
-        c = np.linalg.lstsq(lags, x[p:], rcond=None)[0]
-        e = x[p:] - lags @ c
-        rss = float(e @ e)
-        if not math.sqrt(rss / n_rows) > ROUNDOFF_INNOVATIONS:
-            continue                                    # a noise-free line: round-off
-        coef[:, m] = c
-        coef[p, m] *= spread                            # the constant in the log's units
-        ms_train[m] = rss / (n_rows - p - 1) * spread**2
-        m4_train[m] = float(np.mean(e**4)) / (rss / n_rows) ** 2
+        x = (tt[fit] / spread[fit, None]).T              # scale-free (huge or tiny values)
+        c, e = stacked_ar_fits(x, p, residuals=True)
+        rss = np.einsum("nk,nk->k", e, e)
+        m4 = np.mean(e**4, axis=0)
+        good = np.sqrt(rss / n_rows) > ROUNDOFF_INNOVATIONS  # else a noise-free line
+        cols = s0 + fit[good]
+        sp = spread[fit[good]]
+        coef[:, cols] = c[good].T
+        coef[p, cols] *= sp                              # the constant in the log's units
+        ms_train[cols] = rss[good] / (n_rows - p - 1) * sp**2
+        m4_train[cols] = m4[good] / (rss[good] / n_rows) ** 2
     ok = np.isfinite(ms_train)
     if not ok.any():
         return ratio, np.full(n_modes, np.nan), np.zeros(n_modes, dtype=bool)

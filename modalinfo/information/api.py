@@ -515,7 +515,13 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
           4 %, rho = 0.99999: 100 %; n = 2000: 0, 0, 0, 0, 0.99999: 0, 0.999999:
           100 % (estimates 5.93-7.09, exact 6.56); n = 1e4: 0 up to rho = 0.999999,
           rho = 1 - 1e-8: 100 % (8.20-9.07, exact 8.86). Never on the shipped logs'
-          1,053 mode pairs (largest MI 0.60 nats, rule 6.99 at n = 8000).
+          1,053 mode pairs (largest MI 0.60 nats, rule 6.99 at n = 8000). Tied values
+          share one rank: a variable with d distinct values, d at least half of n (a
+          rounded continuum), moves the line to ln d - 2 (x rounded to 1e-3 at n =
+          2000, about 1530 distinct, rho = 0.999999: 6.09-6.26 for the rounded pair's
+          exact 6.54, warned; silent before); with fewer, the levels bind rather than
+          the ranks and the rule is silent. Never at rho <= 0.999 for n = 500 .. 1e4,
+          rounded to 1e-4 .. 0.1 or not (5 seeds each; issue 27, left28-misc).
         - ``"histogram"``: plug-in estimate on equiprobable (quantile, the default) or
           equal-width bins with the Miller-Madow correction. Options ``bins``
           ("auto", "hacine-gharbi", "fd", "scott", "sturges", "sqrt", an int, or a pair
@@ -654,12 +660,16 @@ def ceiling_problem(est: MutualInformation, value: float, x: np.ndarray,
     ``modalinfo.information.histogram.histogram_copula_rule``) on the value in nats;
     None for an engine without one, for a persistent pair (the effective-sample rule
     speaks first) and for a pair with a repeated value: the table of a discrete
-    variable is its law, whose MI the bins hold exactly.
+    variable is its law, whose MI the bins hold exactly. An engine whose
+    ``ceiling_with_ties`` is true (the kde's rank rule, which counts the distinct
+    values itself) is asked for such a pair too.
     """
     why = getattr(est._engine, "ceiling_why", None)
     if why is None or _is_constant(x) or _is_constant(y):
         return None
-    if any(np.unique(a).size < a.size for a in (x, y)) or effective_sample_rule(x, y):
+    tied = (not getattr(est._engine, "ceiling_with_ties", False)
+            and any(np.unique(a).size < a.size for a in (x, y)))
+    if tied or effective_sample_rule(x, y):
         return None
     return why(value / est._factor, x, y)
 

@@ -564,7 +564,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
-        if (switch or judge) and (pile := pile_why(_columns(x, y, z), record.name)):
+        if (switch or judge) and (pile := pile_why(cols := _columns(x, y, z), record.name,
+                                                   tuple(k for k in cols if k[0] == "z"))):
             # a point estimate of a piled variable by the method itself (issue 27): said once,
             # the value kept (a switch to ksg or the Gaussian copula returned above)
             if fallback == "raise":

@@ -19,7 +19,8 @@ from modalinfo.information import _kernels as kern
 
 __all__ = ["DISCRETE_MIN_PER_CELL", "PILE_BLIND_METHODS", "PILE_EDGE_SHARE", "PILE_INTERIOR_SHARE",
            "PILE_MIN_COUNT", "PILE_SHARED_SHARE", "discrete_cmi", "discrete_levels", "discrete_mi",
-           "discrete_pair_mi", "discrete_x_levels", "mi_from_counts", "pile_of", "pile_why"]
+           "discrete_pair_mi", "discrete_x_levels", "mi_from_counts", "pile_of", "pile_why",
+           "shared_pile_value"]
 
 
 def mi_from_counts(counts: np.ndarray, bias_correction: str = "miller-madow") -> float:
@@ -178,6 +179,32 @@ def discrete_cmi(x, y, z) -> float | None:
 # :data:`PILE_INTERIOR_SHARE`, :data:`PILE_EDGE_SHARE`. Rounded and integer data (many
 # repeated values, no continuum beside them) are not piles: round 27 found them within
 # 10 % of the exact MI for every estimator.
+#
+# Below n = 2000 (left28-misc; the worst of kde / histogram / gaussian, 4 seeds x 3
+# methods per cell, "beyond" = outside max(0.05 nats, 10 %) of the exact MI):
+#   - no pile, rho 0.9: already 1-3 of 12 beyond at n = 300 / 500 / 1000 (the
+#     histogram's bias, -0.10 to -0.125); rho 0.5: 0 of 12. The lines cannot separate
+#     finer than that.
+#   - shared dropouts, rho 0.5 (none: 0 of 12): 0.5 % gives 4 / 7 / 2 of 12 beyond at
+#     n = 300 / 500 / 1000 (-0.084 / -0.065 / -0.052), 1 % 5 / 10 / 7, 2 % 11-12 of 12.
+#     :data:`PILE_MIN_COUNT` (5 samples) lifts the shared line to 5 / n there (1.7 % at
+#     300, 1 % at 500, just above 0.5 % at 1000), so 2-4 shared samples at n <= 500
+#     are silent while they already cost 0.06-0.10 nats (left: a lower count for a
+#     shared atom would also count the coincident zeros of logs started at rest).
+#   - one atom inside x (rho 0.9, none: 1-3 of 12): 1-3 %: 1-5 of 12, 5 %: 2-5, 10 %:
+#     2-7 (named from 3 %); rho 0.5: at most 1 of 12. The interior line is where the
+#     errors start to exceed the sampling error, as at n = 2000.
+#   - clip at both ends (rho 0.9, total 5-20 %): 0-3 of 12 beyond at every share, the
+#     same as without a pile (the histogram's bias); rho 0.5: 0 of 12. The ends line
+#     (10 %) names piles that cost nothing beyond the sampling error at these n.
+#   - conditional MI (x, y, z Gaussian, partial correlation 0.8, exact (1 - p) I or
+#     H(p) + (1 - p) I): one atom in x, 1-3 %: as without a pile (1-3 of 12), 5 %: 3-6
+#     of 12 (named). An atom x and y share, z not: 0.5 % 2-3 of 9 beyond, 1 % 3-4, 2 %
+#     8-9 (n = 1000 / 4000), the MI's shared line. An atom all three hold at once is
+#     conditioned away (z reveals it: exact (1 - p) I): 0 of 36 beyond at 1-2 %, so
+#     :func:`pile_why` does not count it (``given``). The transfer entropy (a CMI of
+#     lagged columns) shares a frame's atom only across a run of such frames: not
+#     measured apart.
 
 #: Largest share of the samples two variables may hold together at one value each
 #: (dropouts written as 0.0 in both at once) before the kde, histogram and gaussian
@@ -252,7 +279,22 @@ def _judge(a: np.ndarray) -> tuple[tuple[float, int, float, int] | None,
     return atoms, None
 
 
-def pile_why(columns: dict[str, np.ndarray], method: str) -> str | None:
+def shared_pile_value(a: np.ndarray) -> float | None:
+    """Return the value a continuous sample holds often enough to share a pile, or None.
+
+    The most frequent value strictly inside the range of a sample with a continuum
+    (:func:`pile_of`'s conditions), where it holds more than :data:`PILE_SHARED_SHARE`
+    of the samples: only then can :func:`pile_why`'s shared-atom rule fire on a pair
+    that includes ``a`` (a caller with many pairs checks it once per variable).
+    """
+    atoms = _atoms(a)
+    if atoms is None or not atoms[1] > PILE_SHARED_SHARE * np.asarray(a).size:
+        return None
+    return atoms[0]
+
+
+def pile_why(columns: dict[str, np.ndarray], method: str,
+             given: tuple[str, ...] = ()) -> str | None:
     """Why ``method``'s estimate on these columns is meaningless by the pile rule, or None.
 
     Parameters
@@ -261,6 +303,14 @@ def pile_why(columns: dict[str, np.ndarray], method: str) -> str | None:
         The variables by the names the caller gave them (``"x"``, ``"y"``, ``"z[:, 1]"``).
     method : str
         The estimator's name; only :data:`PILE_BLIND_METHODS` are judged.
+    given : tuple of str
+        The names of the conditioning columns of a conditional MI. The samples at which
+        every column, these included, holds its pile (dropouts written as 0.0 in x, y
+        and z at once) are not counted as a shared pile: the conditioning reveals the
+        atom, whose entropy cancels from ``I(x; y | z)`` (exact ``(1 - p) I``), and the
+        estimates stayed within the project's tolerance there (left28-misc: kde,
+        histogram, gaussian, partial correlation 0.8, n = 1000 / 4000, 1-2 %: 0 of 36
+        beyond, as without a pile; x and y alone sharing it: 24 of 36 beyond).
 
     Returns
     -------
@@ -290,9 +340,13 @@ def pile_why(columns: dict[str, np.ndarray], method: str) -> str | None:
         if top > PILE_SHARED_SHARE * a.shape[0]:
             inner[name] = a == value
     names = list(inner)
+    common = None  # an atom every column holds at once, conditioning columns included
+    if given and len(inner) == len(columns):
+        common = np.logical_and.reduce([inner[k] for k in names])
     for i, first in enumerate(names):
         for second in names[i + 1:]:
-            shared = np.count_nonzero(inner[first] & inner[second])
+            both = inner[first] & inner[second]
+            shared = np.count_nonzero(both if common is None else both & ~common)
             n = inner[first].size
             if shared > PILE_SHARED_SHARE * n:
                 return (f"`{first}` and `{second}` hold {shared / n:.1%} of their samples "

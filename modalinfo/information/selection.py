@@ -99,7 +99,7 @@ from modalinfo.information.api import UNITS, InfiniteMIError
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
 from modalinfo.information.conditional import CMI_METHODS, _estimator
 from modalinfo.information.conditional_uncertainty import _cmi_block_ci
-from modalinfo.information.discrete import pile_why
+from modalinfo.information.discrete import pile_why, shared_pile_value
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi_from_covariance
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
 from modalinfo.information.ksg import ksg_cmi, ksg_cost
@@ -492,18 +492,31 @@ def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return Cu, norms > 1e-12 * np.maximum(np.abs(C).max(axis=0), 1e-300)
 
 
-def _warn_piles(series: np.ndarray, labels: list[str], method: str) -> None:
-    """Warn once (``BiasRuleWarning``) where a series is piled (issue 27).
+def _warn_piles(series: np.ndarray, labels: list[str], method: str, y: np.ndarray,
+                C: np.ndarray, cols: np.ndarray, target: str) -> None:
+    """Warn once (``BiasRuleWarning``) where a series is piled or shares a pile (issue 27).
 
-    The single-variable rules of :func:`~modalinfo.information.mutual_information`
-    (discrete module notes, "Piles": one value inside the range above 3 %, the ends
-    above 10 %) on each series alone, naming the first: the candidates are lagged, so
-    an atom two series share at one time (a frame of zeros) is not shared by a target
-    and its candidates. Not for the Gaussian closed form, whose estimand is the linear
+    The rules of :func:`~modalinfo.information.mutual_information` (discrete module
+    notes, "Piles"): one value inside a series' range above 3 %, its ends above 10 %
+    (each series alone), and one value each that the target ``y`` (``series[t + h]``)
+    and a candidate (``series[t - l]``) hold together above 0.5 % (the pair scored):
+    a run of frames written as 0.0 (a pause of the telemetry, dropped frames) longer
+    than ``h + l`` puts the same zeros in both (left28-misc; before, only each series
+    alone was judged, as if lagged candidates never shared a frame's atom). Naming the
+    first. Not for the Gaussian closed form, whose estimand is the linear
     predictability of the values.
     """
     for j in range(series.shape[1]):
         why = pile_why({labels[j]: series[:, j]}, method)
+        if why is not None:
+            warnings.warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
+                          stacklevel=3)
+            return
+    if shared_pile_value(y) is None:
+        return  # the target holds no value often enough to share a pile
+    name = f"target {target}[t+h]"
+    for j in range(C.shape[1]):
+        why = pile_why({name: y, _candidate_label(labels, cols, j): C[:, j]}, method)
         if why is not None:
             warnings.warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
                           stacklevel=3)
@@ -837,7 +850,7 @@ def select_inputs(
     est = _estimator(method, units, options)
     factor = UNITS[units]
     if not closed:  # once per call, not once per candidate (issue 27)
-        _warn_piles(series, labels, method)
+        _warn_piles(series, labels, method, y, C, cols, labels[target_col])
 
     Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())

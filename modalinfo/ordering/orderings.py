@@ -207,9 +207,15 @@ def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str) -> None:
     evenly spaced ``_PILE_SAMPLES`` of the samples; once per call (not once per pair),
     naming the first and the number of others. Not the shared-atom rule (0.5 %): a
     frame of zeros (a loop started from rest, a dropped frame) is an atom the wavefront
-    shares with every mode, whose score it shifts alike (the batch tests' AR(1) logs
-    start at 0: 0.8 % of a half-log window); its order was not measured against an
-    exact one (left, docs/ADVERSARIAL.md "Leftovers 27-piles").
+    shares with every mode, whose exact MI it raises alike (``H(p) + (1 - p) I``, the
+    same order) and whose estimates it lowers alike. Measured (left28-misc: 8
+    independent Gaussian modes, variances 1 .. 0.21, against their wavefront; 4 seeds;
+    pairs of modes ordered against the exact order): kde and gaussian invert as many
+    pairs with a shared atom of 0.5-10 % as with none (n = 2000: 0-3; n = 1e4: 0-1;
+    the modes' errors differ by 0.02-0.04 nats at every share, while each error grows
+    to -0.3), the histogram as many up to 5 %, and 4-14 at 10 %, where the wavefront's
+    own pile (above 3 %) is already named. The MI values, not the order, carry the
+    atom's loss: read them with ``method='ksg'`` there.
     """
     step = max(1, contrib.shape[1] // _PILE_SAMPLES)
     part = contrib[:, ::step]
