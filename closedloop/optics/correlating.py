@@ -75,12 +75,17 @@ class CorrelatingMeasurement:
         Wavefront gradients ``(x, y)`` [rad/m] of the phase at the WFS wavelength.
     at_edge : (n_sub,) ndarray of bool
         Shift at the edge of the search range (unreliable).
+    mismatch : (n_sub,) ndarray of float
+        Smallest over median of each difference surface (``ShiftResult.mismatch``): near
+        0 for a true match, near 1 when no lag matches (a dark image, a shift well
+        beyond ``max_shift`` read as a look-alike inside it).
     """
 
     images: np.ndarray
     shifts: np.ndarray
     slopes: np.ndarray
     at_edge: np.ndarray
+    mismatch: np.ndarray | None = None
 
 
 def _cos2_weights(n: int, n_patches: int) -> np.ndarray:
@@ -502,4 +507,4 @@ class CorrelatingSubapertures:
                              normalize=self.normalize)
         slopes = 2.0 * math.pi * res.shifts * self.pixel_scale_arcsec * _ARCSEC / self.wavelength
         return CorrelatingMeasurement(images=imgs, shifts=res.shifts, slopes=slopes,
-                                      at_edge=res.at_edge)
+                                      at_edge=res.at_edge, mismatch=res.mismatch)
