@@ -77,7 +77,7 @@ class CorrelatingMeasurement:
         Shift at the edge of the search range (unreliable).
     mismatch : (n_sub,) ndarray of float
         Smallest over median of each difference surface (``ShiftResult.mismatch``): near
-        0 for a true match, near 1 when no lag matches (a dark image, a shift well
+        0 for a true match, near 1 when no lag matches (a noisy dark frame, a shift well
         beyond ``max_shift`` read as a look-alike inside it).
     """
 

@@ -72,8 +72,9 @@ class ShiftResult:
     mismatch : (n_images,) ndarray of float
         How poorly the best lag matches: the smallest value of the difference surface
         over the searched lags divided by its median over them (``sdf`` and ``adf2``;
-        NaN for ``cfi``). Near 0 for a true match, near 1 when no lag matches: a dark or
-        constant live image (exactly 1), an inverted one, or a shift well beyond
+        NaN for ``cfi``). Near 0 for a true match, near 1 when no lag matches: a dark
+        frame with read noise, an inverted image, a strong aberration (3 rad of defocus
+        over the subaperture: 0.64), or a shift well beyond
         ``max_shift``, whose minimum falls on a look-alike of the scene inside the range
         with ``at_edge`` False (granulation repeats every ~1.3", a few pixels). Measured
         on granulation (pixels 0.2-0.5", windows 24-48 pixels, 100 e- per pixel to
@@ -265,6 +266,10 @@ def measure_shifts(reference, images, *, method: str = "sdf",
     if flat.size:  # a flat surface: its "minimum" was lag (-max_shift, -max_shift) (audit 9)
         raise ValueError(f"`reference` image {int(flat[0])} is constant: it has no structure "
                          "to measure a shift against.")
+    flat = np.flatnonzero(np.ptp(imgs, axis=(1, 2)) == 0)
+    if flat.size:  # a dark or saturated frame: every lag matched equally badly (round 29)
+        raise ValueError(f"`images` image {int(flat[0])} is constant (a dark or saturated "
+                         "frame): it has no structure to measure a shift from.")
     win = int(window)
     r0 = (h - win) // 2
     c0 = (w - win) // 2
@@ -298,7 +303,7 @@ def measure_shifts(reference, images, *, method: str = "sdf",
         mismatch = np.full(n, np.nan)
     else:
         # a shift beyond the range lands on a look-alike inside it with at_edge False, and
-        # a dark or inverted image still has a minimum: say how good the best lag is
+        # a noisy dark or an inverted image still has a minimum: say how good it is
         # (adversarial round 29, rows sh-beyond, sh-dark, sh-neg)
         searched = surf[:, 1:-1, 1:-1].reshape(n, -1)
         median = np.median(searched, axis=1)

@@ -12,10 +12,11 @@ References (outside the code):
   has a relative standard error ``sqrt(2 / 299)`` = 8.2 %, so a measured / predicted
   ratio of 1.6 or more is > 7 standard errors from 1.
 
-Before the fix (adversarial round 29, rows sh-beyond-*, sh-dark, sh-neg), a shift of 6,
-(12, 12) or 5.2 pixels with ``max_shift`` = 3 was read as 0.8, (1.5, 1.5) or 0.0 pixels
-with ``at_edge`` False, and a dark or inverted live image as a shift of ~3 pixels, and
-nothing in the result said that no lag matched.
+Before the fix (adversarial round 29, rows sh-beyond-*, cs-tilt6, sh-dark, sh-neg), a
+shift of 6, (12, 12) or 5.2 pixels with ``max_shift`` = 3 was read as 0.8, (1.5, 1.5) or
+0.0 pixels with ``at_edge`` False, a dark (all-zero) or inverted live image as a shift of
+~3 pixels, and nothing in the result said that no lag matched; a constant live image is
+now refused like a constant reference.
 """
 from __future__ import annotations
 
@@ -54,12 +55,38 @@ def test_a_shift_beyond_the_range_is_said_to_match_poorly(method):
     assert np.all(res.mismatch[3:] > 0.55), res.mismatch
 
 
-def test_a_dark_or_inverted_image_is_said_not_to_match():
+def test_a_noisy_dark_or_inverted_image_is_said_not_to_match():
     ref = _crop(SCENE)
-    live = np.stack([np.zeros_like(ref), -_crop(_shifted(1.2, 0.3)), _crop(_shifted(1.2, 0.3))])
+    dark = 3.0 * np.random.default_rng(0).standard_normal(ref.shape)   # read noise only
+    live = np.stack([dark, -_crop(_shifted(1.2, 0.3)), _crop(_shifted(1.2, 0.3))])
     res = measure_shifts(ref, live, max_shift=3)
     assert res.mismatch[0] > 0.9 and res.mismatch[1] > 0.9, res.mismatch
     assert res.mismatch[2] < 0.1, res.mismatch
+
+
+@pytest.mark.parametrize("level", [0.0, 1e4])
+def test_a_constant_live_image_is_refused_naming_it(level):
+    # no structure: the same sum r(x - d)**2 at every lag; it read as a ~3 pixel shift
+    ref = _crop(SCENE)
+    live = np.stack([_crop(_shifted(1.0, 0.0)), np.full_like(ref, level)])
+    with pytest.raises(ValueError, match=r"`images` image 1 is constant"):
+        measure_shifts(ref, live, max_shift=3)
+
+
+def test_the_correlating_sensor_passes_the_mismatch_on():
+    # a tilt of 6 pixels with max_shift 3 through image formation: the slope read is
+    # wrong (-0.26 of the true one before) and at_edge False; the mismatch says it
+    from closedloop.optics.correlating import CorrelatingSubapertures
+
+    ps, d, p = 0.4, 0.1, 8
+    cs = CorrelatingSubapertures(granulation_scene(128, ps, seed=1), ps, d, p, 24, max_shift=3)
+    x = (np.arange(p) + 0.5) / p * d - d / 2
+    xx = np.meshgrid(x, x, indexing="xy")[0]
+    per_pixel = 2 * np.pi * ps * np.pi / 180 / 3600 / cs.wavelength   # rad/m per pixel
+    phase = np.stack([per_pixel * 1.0 * xx, per_pixel * 6.0 * xx])[None]
+    m = cs.measure(phase)
+    assert abs(m.slopes[0, 0] / per_pixel - 1.0) < 0.05
+    assert m.mismatch[0] < 0.3 and m.mismatch[1] > 0.55, m.mismatch
 
 
 def test_cfi_has_no_mismatch_number():
