@@ -334,7 +334,9 @@ def sdf_noise_rms(reference, noise_variance, *, max_shift: int = 3,
     (0, 0), 1.2x along x at (0.2, 0), 1.5-2.2x at (0.4, 0.2) and (1.4, -0.3) pixels,
     and 70-110x at (0.5, 0.5), where the noise flips the integer lag between the two
     nearest and each side's interpolation bias (~0.03 pixel) differs. Averaged over the
-    sub-pixel shifts a closed loop leaves, the law is a lower bound.
+    sub-pixel shifts a closed loop leaves, the law is a lower bound: over Gaussian
+    shifts of rms 0.05 / 0.1 / 0.2 / 0.3 / 0.5 pixel the variance is 1.03-1.04x /
+    1.04-1.08x / 1.2-1.3x / 1.5x / 1.6-1.7x the law (30 shifts x 100 draws each).
 
     Parameters
     ----------
