@@ -47,12 +47,12 @@ sparse products as the geometric SH, so as fast):
 - **Noise at sub-pixel shifts.** That law is the measurement's at a whole-pixel shift;
   at a sub-pixel one the 2QI vertex is more sensitive to the noise (Loefdahl 2010,
   Sect. 5: the error grows with the fractional shift). Every frame each slope's noise is
-  scaled by the square root of :attr:`CorrelatingShackHartmann.noise_factor` at the
+  scaled by the square root of ``CorrelatingShackHartmann.noise_factor`` at the
   fractional part of that slope's current noise-free shift [pixels] (the relative slope:
   the shift against a same-frame reference near the mean; the tracker's against its
   stored reference): the variance of SDF + 2QI over the variance at ``(0, 0)``, built
   once from the reference image displaced by the shift theorem
-  (:meth:`CorrelatingSubapertures.displaced_references`) and
+  (``CorrelatingSubapertures.displaced_references``) and
   :func:`closedloop.optics.shifts.sdf_noise_at_shifts` on an 8 x 8 grid of cell
   centres, interpolated bilinearly and periodically (1.0 at 1/16 px, ~1.3 at 3/16,
   ~2 at 5/16, 4-7 at 7/16 pixel for table1-solar's 0.5" pixels; the measurement within
