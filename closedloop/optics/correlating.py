@@ -75,12 +75,17 @@ class CorrelatingMeasurement:
         Wavefront gradients ``(x, y)`` [rad/m] of the phase at the WFS wavelength.
     at_edge : (n_sub,) ndarray of bool
         Shift at the edge of the search range (unreliable).
+    mismatch : (n_sub,) ndarray of float
+        Smallest over median of each difference surface (``ShiftResult.mismatch``): near
+        0 for a true match, near 1 when no lag matches (a noisy dark frame, a shift well
+        beyond ``max_shift`` read as a look-alike inside it).
     """
 
     images: np.ndarray
     shifts: np.ndarray
     slopes: np.ndarray
     at_edge: np.ndarray
+    mismatch: np.ndarray | None = None
 
 
 def _cos2_weights(n: int, n_patches: int) -> np.ndarray:
@@ -427,6 +432,30 @@ class CorrelatingSubapertures:
             self._maps[n_sub] = (gain, offset)
         return self._maps[n_sub]
 
+    def displaced_references(self, shifts) -> np.ndarray:
+        """Noise-free images ``(n, N, N)`` [e-] of a flat wavefront displaced by ``shifts``.
+
+        ``shifts`` ``(n, 2)`` [detector pixels, ``(x, y)``]: the flat wavefront's OTF times
+        the shift theorem's ramp ``exp(-2 i pi (kx sx + ky sy))``, i.e. the image of a
+        Z-tilt of that many pixels without forming its PSF (used to tabulate the shift
+        noise over sub-pixel shifts). ``shifts`` (0, 0) gives :attr:`reference`.
+        """
+        sh = np.atleast_2d(np.asarray(shifts, dtype=np.float64))
+        if sh.ndim != 2 or sh.shape[1] != 2 or not np.all(np.isfinite(sh)) \
+                or np.abs(sh).max(initial=0.0) > self.max_shift:
+            raise ValueError(f"`shifts` must be finite (n, 2) pixels within +-{self.max_shift}"
+                             f"; got shape {sh.shape}.")
+        m, n, g = self.support, self.field_pixels, self.margin
+        flat = np.zeros((self.n_patches ** 2, 1, self.n_pupil, self.n_pupil))
+        otf = self._dft_y @ self.psfs(flat) @ self._dft_x.T           # (n_dir, 1, m, m//2+1)
+        ky = np.fft.fftfreq(m)[None, :, None]
+        kx = np.fft.rfftfreq(m)[None, None, :]
+        ramp = np.exp(-2j * math.pi * (kx * sh[:, 0, None, None] + ky * sh[:, 1, None, None]))
+        conv = np.fft.irfft2(otf * ramp[None] * self._patch_ft, s=(m, m))[..., g:g + n, g:g + n]
+        img = np.einsum("dyx,dsyx->syx", self.weights, conv)
+        img *= self.electrons_per_pixel
+        return img
+
     def _form(self, phase: np.ndarray, amplitude: np.ndarray | None = None) -> np.ndarray:
         """Noise-free, error-free images [e-] of checked phases ``(n_dir, n_sub, p, p)``."""
         m, n, g = self.support, self.field_pixels, self.margin
@@ -502,4 +531,4 @@ class CorrelatingSubapertures:
                              normalize=self.normalize)
         slopes = 2.0 * math.pi * res.shifts * self.pixel_scale_arcsec * _ARCSEC / self.wavelength
         return CorrelatingMeasurement(images=imgs, shifts=res.shifts, slopes=slopes,
-                                      at_edge=res.at_edge)
+                                      at_edge=res.at_edge, mismatch=res.mismatch)

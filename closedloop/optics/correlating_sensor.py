@@ -44,6 +44,24 @@ sparse products as the geometric SH, so as fast):
   the noisy reference's noise energy, which varies with the lag, adds more (2-10x at a
   predicted 0.07 px, 400 e- and 8 % contrast). The hand-set ``noise`` of the geometric
   SH is refused for this kind (the config says so).
+- **Noise at sub-pixel shifts.** That law is the measurement's at a whole-pixel shift;
+  at a sub-pixel one the 2QI vertex is more sensitive to the noise (Loefdahl 2010,
+  Sect. 5: the error grows with the fractional shift). Every frame each slope's noise is
+  scaled by the square root of ``CorrelatingShackHartmann.noise_factor`` at the
+  fractional part of that slope's current noise-free shift [pixels] (the relative slope:
+  the shift against a same-frame reference near the mean; the tracker's against its
+  stored reference): the variance of SDF + 2QI over the variance at ``(0, 0)``, built
+  once from the reference image displaced by the shift theorem
+  (``CorrelatingSubapertures.displaced_references``) and
+  :func:`closedloop.optics.shifts.sdf_noise_at_shifts` on an 8 x 8 grid of cell
+  centres, interpolated bilinearly and periodically (1.0 at 1/16 px, ~1.3 at 3/16,
+  ~2 at 5/16, 4-7 at 7/16 pixel for table1-solar's 0.5" pixels; the measurement within
+  5 % on average, test_shift_noise_left29). Not modelled: the interpolation's bias
+  (a deterministic ~0.03 px error of the fractional shift, no noise) and the lag flip
+  within a few noise rms of half a pixel, where the noise picks either integer lag and
+  the estimate jumps by the difference of the two sides' biases; the grid's cell
+  centres stay 1/16 px away from it. The MAP reconstructor's weights and the error
+  budget's noise term keep ``noise_rms`` (the whole-pixel law): a lower bound.
 - **Reference and tracker.** Solar WFSs correlate every subaperture against the image
   of one subaperture of the same frame (the scene evolves in seconds and moves with the
   image motion, so a stored reference goes stale; Rimmele & Marino 2011, Living Rev.
@@ -86,6 +104,7 @@ wavelength, 500 nm); the photon budget is
 
 from __future__ import annotations
 
+import hashlib
 import math
 from typing import ClassVar
 
@@ -103,7 +122,7 @@ from closedloop.optics.image_sampling import (
     pupil_oversampling_needed,
 )
 from closedloop.optics.photon_budget import PhotonBudget
-from closedloop.optics.shifts import measure_shifts, sdf_noise_rms
+from closedloop.optics.shifts import measure_shifts, sdf_noise_at_shifts, sdf_noise_rms
 from closedloop.optics.wfs import (
     EDGE_MARGIN_PIXELS,
     ShackHartmann,
@@ -128,6 +147,13 @@ _MIN_LIT = 0.5
 #: formation: 28.6 ms per image at support 135, 65 PSF samples (table1-solar's 60" field),
 #: measured under load (it over-predicts the 20" field's 2.6 ms by 1.6x: a guard)
 _SECONDS_PER_IMAGE_OP = 2.4e-8
+#: fractional shifts tabulated per axis for the linear mode's shift-dependent noise: the
+#: cell centres ``(i + 1/2) / 8 - 1/2`` pixels, interpolated periodically (never at half a
+#: pixel itself: module docstring; docs/CLOSEDLOOP.md, "Correlating SH noise")
+NOISE_TABLE_STEPS = 8
+#: Gaussian difference surfaces per tabulated shift (variance standard error 2.2 %, the
+#: same draws at every shift, so the ratios to (0, 0) carry much less)
+NOISE_TABLE_DRAWS = 4000
 #: keys of ``WFSConfig`` only this kind uses
 KEYS = ("pixel_scale", "signal", "contrast", "image_formation")
 
@@ -156,6 +182,12 @@ class CorrelatingShackHartmann(ShackHartmann):
         Index among the valid subapertures of the imaging mode's reference: the one
         nearest the axis among those lit whole from every direction, or among the
         best-lit ones where none is.
+    noise_factor, tracker_noise_factor : (NOISE_TABLE_STEPS, NOISE_TABLE_STEPS, 2) ndarray
+        Linear mode: the shift variance ``(x, y)`` at the fractional shift ``(fx, fy)`` =
+        ``((ix, iy) + 1/2) / NOISE_TABLE_STEPS - 1/2`` pixels, row ``iy``, column ``ix``, over
+        the variance at ``(0, 0)`` (:func:`closedloop.optics.shifts.sdf_noise_at_shifts`
+        on the displaced reference images); ``forward`` scales each slope's noise by its
+        square root at the slope's current fractional shift. None in the imaging mode.
     """
 
     kind: ClassVar[str] = "correlating"
@@ -205,6 +237,10 @@ class CorrelatingShackHartmann(ShackHartmann):
         self.tracker_noise_pixels = sdf_noise_rms(tref, np.clip(tref, 0.0, None) + ron2,
                                                   max_shift=MAX_SHIFT)
         self.direction_weights = self._contrast_weights(ref)
+        self.noise_factor = self.tracker_noise_factor = None
+        if not self.image_formation:
+            self.noise_factor = _noise_table(self.imager, ron2)
+            self.tracker_noise_factor = _noise_table(self.tracker, ron2)
         f = self.n_pupil
         off = ((np.arange(f) + 0.5) / f - 0.5) * pitch
         yy, xx = np.meshgrid(off, off, indexing="ij")
@@ -417,7 +453,15 @@ class CorrelatingShackHartmann(ShackHartmann):
                 s[2 * n:] += self.noise_rms[2 * n:] * noise[2 * n:]
             return s
         if noise is not None:
-            s += self.noise_rms * noise
+            # the shift noise at each slope's current sub-pixel shift (module docstring);
+            # the relative slopes are the shifts against a reference near their mean
+            n = self.n_valid_subapertures
+            pix = s / self._to_slope
+            gain = np.empty_like(s)
+            gain[:2 * n] = _noise_gain(self.noise_factor, pix[:n], pix[n:2 * n]).T.ravel()
+            gain[2 * n:] = _noise_gain(self.tracker_noise_factor, pix[2 * n:2 * n + 1],
+                                       pix[2 * n + 1:]).ravel()
+            s += self.noise_rms * gain * noise
         return s
 
     def image_slopes(self, plane_maps: list[np.ndarray],
@@ -454,6 +498,48 @@ class CorrelatingShackHartmann(ShackHartmann):
         if dm.shapes is None:
             return sparse.csr_matrix(self._transform @ block.toarray())
         return self._transform @ dm.sensed_by(block)
+
+
+#: noise tables by (reference image, read noise): the WFSs of an MCAO share their trackers'
+#: (and often their subapertures') images, and each table costs ~1 s
+_NOISE_TABLES: dict = {}
+
+
+def _noise_table(imager: CorrelatingSubapertures, ron2: float) -> np.ndarray:
+    """Shift variance over fractional shifts / at (0, 0): ``(steps, steps, 2)`` (class doc)."""
+    key = (hashlib.sha1(imager.reference.tobytes()).hexdigest(), imager.reference.shape,
+           float(ron2))
+    if key not in _NOISE_TABLES:
+        if len(_NOISE_TABLES) >= 64:
+            _NOISE_TABLES.clear()
+        _NOISE_TABLES[key] = _compute_noise_table(imager, ron2)
+    return _NOISE_TABLES[key].copy()
+
+
+def _compute_noise_table(imager: CorrelatingSubapertures, ron2: float) -> np.ndarray:
+    steps = NOISE_TABLE_STEPS
+    f = (np.arange(steps) + 0.5) / steps - 0.5
+    fy, fx = np.meshgrid(f, f, indexing="ij")
+    shifts = np.column_stack([fx.ravel(), fy.ravel()])
+    live = imager.displaced_references(np.vstack([[0.0, 0.0], shifts]))
+    rms = sdf_noise_at_shifts(imager.reference, live, np.clip(live, 0.0, None) + ron2,
+                              max_shift=MAX_SHIFT, draws=NOISE_TABLE_DRAWS)
+    return ((rms[1:] / rms[0]) ** 2).reshape(steps, steps, 2)
+
+
+def _noise_gain(table: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    """Return the rms factor ``(n, 2)`` at shifts ``px``, ``py`` [pixels] (periodic, bilinear)."""
+    steps = table.shape[0]
+    out = []
+    for p in (px, py):
+        u = (p - np.round(p) + 0.5) * steps - 0.5
+        i0 = np.floor(u)
+        out.append((i0.astype(np.int64) % steps, u - i0))
+    (ix, tx), (iy, ty) = out
+    jx, jy = (ix + 1) % steps, (iy + 1) % steps
+    v = ((1 - ty) * (1 - tx))[:, None] * table[iy, ix] + ((1 - ty) * tx)[:, None] * table[iy, jx] \
+        + (ty * (1 - tx))[:, None] * table[jy, ix] + (ty * tx)[:, None] * table[jy, jx]
+    return np.sqrt(v)
 
 
 # ---------------------------------------------------------------------- the kind's record

@@ -271,8 +271,10 @@ def test_estimate_counts_are_their_definitions(changes):
 @pytest.mark.parametrize("image_formation", [False, True])
 def test_forward_adds_the_draws_scaled_by_the_noise_rms(image_formation, on_axis):
     # the documented contract: the linear mode adds noise_rms x draws to every
-    # measurement; the imaging mode seeds its images' noise with the draws and adds
-    # noise_rms x draws to the two tracker rows only
+    # measurement at a whole-pixel shift (zero maps), scaled at a sub-pixel shift by the
+    # measured excess (>= ~1; left29-sdf: test_shift_noise_left29 checks it against the
+    # measurement), linear in the draws; the imaging mode seeds its images' noise with
+    # the draws and adds noise_rms x draws to the two tracker rows only
     if image_formation:
         model, w = on_axis
     else:
@@ -286,8 +288,12 @@ def test_forward_adds_the_draws_scaled_by_the_noise_rms(image_formation, on_axis
     noisy = w.forward(maps, draws)
     assert np.all(w.noise_rms > 0)
     if not image_formation:
-        np.testing.assert_allclose(noisy, clean + w.noise_rms * draws, rtol=0,
-                                   atol=1e-12 * np.abs(noisy).max())
+        zero = [np.zeros_like(m) for m in maps]
+        np.testing.assert_allclose(w.forward(zero, draws), w.noise_rms * draws, rtol=0.05)
+        np.testing.assert_allclose(w.forward(maps, 2.0 * draws) - clean, 2.0 * (noisy - clean),
+                                   rtol=1e-9)
+        gain = (noisy - clean) / (w.noise_rms * draws)
+        assert gain.min() > 0.95 and gain.max() < 4.0, gain
         return
     np.testing.assert_array_equal(noisy[:2 * n], w.image_slopes(maps, draws))
     assert np.abs(noisy[:2 * n] - clean[:2 * n]).max() > 0
