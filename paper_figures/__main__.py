@@ -396,6 +396,12 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     if existing and not args.overwrite:
         raise _RefusedError(f"'{existing[0]}' exists; pass --overwrite to replace it")
     loaded = _load_logs(args, logs, modules) if needs_log else {}
+    from paper_figures._common import shipped_edit_note
+
+    for path, _, _, _ in logs if needs_log else ():
+        note = shipped_edit_note(path)
+        if note:  # said before the work as well as in the report's head
+            print(f"paper_figures: warning: '{path}': {note}", file=sys.stderr, flush=True)
     import warnings
 
     import matplotlib
@@ -488,6 +494,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
     total = time.perf_counter() - total_start
     from modalinfo.common.provenance import sha256_file
     from modalinfo.common.tasks.keys import package_version
+    from paper_figures._common import shipped_edit_note
 
     # what made the numbers: the code's version (with its source fingerprint) and the
     # input logs' SHA-256 (adversarial round 27 PART b, P19; left27-geometry), on the
@@ -500,7 +507,9 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path) -> None:
            if args.quick else "") + "."
         + _not_made(modules)
         + (" Input logs of Figures 1 and 5: "
-           + ", ".join(f"`{p}` ({d}; SHA-256 {sha256_file(p)})" for p, _, _, d in logs)
+           + ", ".join(f"`{p}` ({d}; SHA-256 {sha256_file(p)}"
+                       + (f"; {note}" if (note := shipped_edit_note(p)) else "") + ")"
+                       for p, _, _, d in logs)
            + "." if needs_log else "")
         + "\n",
         "## The paper's numbers beside ours\n",
