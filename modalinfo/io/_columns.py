@@ -186,9 +186,10 @@ def mode_columns(names: list[str], path=None) -> tuple[list, str, bool]:
             if assumed:  # bare numbers and "mode_k" name no convention: no majority
                 continue
             odd = [n for n in names if not pattern.fullmatch(n)]
-            if odd and 2 * len(odd) < len(names):
-                shown = ", ".join(repr(n) if n else "'' (unnamed: a saved index?)"
-                                  for n in odd)
+            # an unnamed column (a saved index, spreadsheet padding) keeps its own
+            # refusal, "non-empty str labels" (round 14)
+            if odd and all(odd) and 2 * len(odd) < len(names):
+                shown = ", ".join(map(repr, odd))
                 raise LogFormatError(
                     f"'{path}': column(s) {shown} are not modes "
                     f"beside {len(names) - len(odd)} {convention} mode columns: a key of "
