@@ -398,6 +398,12 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     if existing and not args.overwrite:
         raise _RefusedError(f"'{existing[0]}' exists; pass --overwrite to replace it")
     loaded = _load_logs(args, logs, modules) if needs_log else {}
+    from paper_figures._common import shipped_edit_note
+
+    for path, _, _, _ in logs if needs_log else ():
+        note = shipped_edit_note(path)
+        if note:  # said before the work as well as in the report's head
+            print(f"paper_figures: warning: '{path}': {note}", file=sys.stderr, flush=True)
     import warnings
 
     import matplotlib
@@ -500,6 +506,8 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         sections.append(logs_compared.report(cmp, per_log.get("Figure 1"),
                                              per_log.get("Figure 5")))
     total = time.perf_counter() - total_start
+    from paper_figures._common import shipped_edit_note
+
     # what made the numbers: the code's version (with its source fingerprint) and the
     # input logs' SHA-256 (adversarial round 27 PART b, P19; left27-geometry), on the
     # line the golden numbers skip (it names the machine)
@@ -511,7 +519,8 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
            if args.quick else "") + "."
         + _not_made(modules)
         + (" Input logs of Figures 1 and 5: "
-           + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']})"
+           + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']}"
+                       + (f"; {note}" if (note := shipped_edit_note(p, made['sha256'])) else "") + ")"
                        for (p, _, _, d), made in zip(logs, record["inputs"], strict=True))
            + "." if needs_log else "")
         + "\n",

@@ -173,6 +173,45 @@ SHIPPED_LOGS = {
     "kaos_closedloop.npz": "simulated",
 }
 _DATA = Path(__file__).resolve().parent.parent / "data"
+#: SHA-256 of the shipped logs as committed (``sha256sum data/*.npz``). A file of
+#: ``data/`` that differs was edited or regenerated since: the report then says so
+#: instead of describing it as the shipped log (adversarial round 29 PART b, P09, P10:
+#: a copy scaled by 2 was reported as "spectral KAOS-like log" with no word).
+SHIPPED_SHA256 = {
+    "kaos_like_closed_loop.npz": "3d12001416133574a5ff125609f7b3aab90acb2b0a82fb8face5d2368dae7b8f",
+    "kaos_like_open_loop.npz": "faf90f25f00d011802c4cbb2d174989a9af10af59234d33ad2f86c738e8a380f",
+    "kaos_closedloop.npz": "08459ae80bc1dcc6fc3a88b720f66841aadccaf2626880a2f0412a2f085d7d4a",
+}
+
+
+def shipped_edit_note(path, digest: str | None = None) -> str:
+    """Return ``""`` for a shipped log as committed, else a note that it was edited.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A log file; only a file of ``data/`` named in ``SHIPPED_SHA256`` is checked.
+    digest : str, optional
+        Its SHA-256 when already computed.
+
+    Returns
+    -------
+    str
+        ``""``, or ``"EDITED: not the shipped file (its SHA-256 is ...)"``.
+    """
+    with contextlib.suppress(OSError, RuntimeError):
+        resolved = Path(path).resolve()
+        expected = SHIPPED_SHA256.get(resolved.name)
+        if expected is None or resolved.parent != _DATA:
+            return ""
+        if digest is None:
+            from modalinfo.common.provenance import sha256_file
+
+            digest = sha256_file(resolved)
+        if digest != expected:
+            return (f"EDITED: not the shipped file (its SHA-256 is {expected}), so "
+                    "these numbers are not the shipped log's")
+    return ""
 
 
 def shipped_log(source: str) -> str | None:

@@ -164,11 +164,15 @@ def time_kind(name: str) -> str | None:
     return None
 
 
-def mode_columns(names: list[str]) -> tuple[list, str, bool]:
+def mode_columns(names: list[str], path=None) -> tuple[list, str, bool]:
     """Return ``(modes, convention, convention_assumed)`` for the column ``names``.
 
     Names matching none of the patterns (all columns must match the same one) are
-    kept as labels (``convention="labels"``, not assumed).
+    kept as labels (``convention="labels"``, not assumed). With ``path`` (a file's
+    column names), a minority of names that are not modes beside named Zernike
+    columns (``Z2 .. Z11`` and ``wfs``) is refused with ``LogFormatError``: a key
+    column (which WFS, loop or night a row belongs to) was read as a mode and the
+    instruments' rows as one series (adversarial round 29 PART b, M23).
     """
     names = [str(n).strip() for n in names]
     for pattern, convention, assumed in _PATTERNS:
@@ -177,6 +181,20 @@ def mode_columns(names: list[str]) -> tuple[list, str, bool]:
             modes = [int(f.group(1)) for f in found]
             if len(set(modes)) == len(modes):
                 return modes, convention, assumed
+    if path is not None:
+        for pattern, convention, assumed in _PATTERNS:
+            if assumed:  # bare numbers and "mode_k" name no convention: no majority
+                continue
+            odd = [n for n in names if not pattern.fullmatch(n)]
+            # an unnamed column (a saved index, spreadsheet padding) keeps its own
+            # refusal, "non-empty str labels" (round 14)
+            if odd and all(odd) and 2 * len(odd) < len(names):
+                shown = ", ".join(map(repr, odd))
+                raise LogFormatError(
+                    f"'{path}': column(s) {shown} are not modes "
+                    f"beside {len(names) - len(odd)} {convention} mode columns: a key of "
+                    "several instruments, loops or nights (their rows interleaved), or a "
+                    "flag? Keep one instrument's rows and drop the column(s)")
     return names, "labels", False
 
 

@@ -422,7 +422,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                             f"columns say {suffix!r}; one log holds one unit"
                         )
                     unit = (suffix, "mode column names")
-                stored["modes"], stored["convention"], assumed = mode_columns(names)
+                stored["modes"], stored["convention"], assumed = mode_columns(names, path)
                 if assumed:
                     stored["_convention_assumed"] = True
             stored["metadata"] = meta

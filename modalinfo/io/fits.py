@@ -274,6 +274,16 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
         if chosen is not None and index != chosen:
             continue
         if type(hdu).__name__ == "BinTableHDU" and hdu.data is not None and len(hdu.columns):
+            tables = [k for k, h in enumerate(hdul) if type(h).__name__ == "BinTableHDU"
+                      and h.header.get("TFIELDS")]
+            if chosen is None and len(tables) > 1:
+                # two instruments' tables (WFS1, WFS2): the first was read without a
+                # word, as images are not (adversarial round 29 PART b, M33)
+                stored["metadata"]["source_hdu"] = (
+                    f"HDU {index}" + (f" ({hdu.name})" if hdu.name else "")
+                    + f", the first of {len(tables)} tables (HDUs "
+                    + ", ".join(map(str, tables)) + "; pick one with dataset=, command "
+                    "line: --dataset)")
             names = list(hdu.columns.names)
             tunits = [unit_text(u) for u in hdu.columns.units]
             raw = []
@@ -344,7 +354,7 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                 stored["_unit"] = (stated.pop(), "TUNITn keywords of its table")
             elif suffix is not None:
                 stored["_unit"] = (suffix, "mode column names")
-            stored["modes"], stored["convention"], assumed = mode_columns(names)
+            stored["modes"], stored["convention"], assumed = mode_columns(names, path)
             if assumed:
                 stored["_convention_assumed"] = True
             # a RATE keyword is never read (the note of build_log when it disagrees)

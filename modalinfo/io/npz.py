@@ -298,6 +298,15 @@ def _foreign(
         key = dataset
     else:
         named = [k for k in _COEFF_NAMES if k in two_d]
+        if len(named) > 1:
+            # 'coeffs' beside 'coefficients' (two instruments' logs, or a raw and a
+            # cleaned copy): the first name of the list was read without a word
+            # (adversarial round 29 PART b, M13), as HDF5 refuses the same choice
+            raise _LogFormatError(
+                f"NPZ file '{path}' has no modalinfo header and {len(named)} arrays named "
+                f"as coefficients ({', '.join(sorted(named))}); pick one with dataset= "
+                "(command line: --dataset NAME)"
+            )
         if named:
             key = named[0]
         elif len(two_d) == 1:
@@ -309,7 +318,7 @@ def _foreign(
                 "(command line: --dataset NAME)"
             )
     meta: dict[str, Any] = {"source_file": path.name, "source_format": "npz"}
-    if dataset is not None:
+    if dataset is not None or len(two_d) > 1:  # which of several arrays was read
         meta["source_dataset"] = key
     stored: dict[str, Any] = {"metadata": meta}
     time_arrays(arrays, stored, meta)

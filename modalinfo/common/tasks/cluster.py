@@ -48,6 +48,17 @@ def _lack_of_memory(exc: BaseException) -> str | None:
     return None
 
 
+def _worker_start_failure(exc: BaseException) -> str | None:
+    """Return the nanny's "failed to start" message behind ``exc``, or None."""
+    seen = 0
+    while exc is not None and seen < 20:
+        if isinstance(exc, RuntimeError) and "failed to start" in str(exc):
+            return str(exc).strip().rstrip(".")
+        exc = exc.__cause__ or exc.__context__
+        seen += 1
+    return None
+
+
 def _memory_failure_record(record: logging.LogRecord) -> bool:
     """Keep a log record unless it is a traceback of a lack of memory (said in one line)."""
     return not (record.exc_info and record.exc_info[1] is not None
@@ -234,6 +245,16 @@ def open_client(
                     f"check the YAML files of {_dask_config_places()} and the DASK_* "
                     "environment variables (e.g. distributed.comm.timeouts.connect: 30s)"
                 ) from None
+            dead = _worker_start_failure(exc)
+            if dead is not None:
+                # a worker process killed or ended during start-up (SIGKILL, the OOM
+                # killer): "Nanny failed to start" and 71 lines of traceback, exit 1
+                # (adversarial round 29 PART b, L01); an OSError is the command's one line
+                raise ChildProcessError(
+                    f"the local Dask cluster could not start its workers ({dead}: a "
+                    "worker process ended during start-up, e.g. killed); run the command "
+                    "again (a batch or sweep resumes), with fewer --workers if memory is "
+                    "short") from None
             raise
     try:
         if interrupted:
