@@ -184,6 +184,34 @@ def _as_stack(name: str, a) -> np.ndarray:
     return np.ascontiguousarray(arr, dtype=np.float64)
 
 
+def _search_window(h: int, w: int, max_shift, window, method: str = "sdf"):
+    """Return ``(lag, window)`` of the difference surface for ``h x w`` images.
+
+    One copy of the rule for the measurement and both noise laws: the window must leave
+    room for every lag of ``max_shift + 1`` on both sides (``'cfi'``: the lags are taken
+    inside the window instead).
+    """
+    lag = int(max_shift) + 1
+    side = min(h, w)
+    if method == "cfi":
+        low, high = 2 * lag + 1, side
+    else:
+        low, high = 3, side - 2 * lag
+    if high < low:
+        # no window fits: name the search range, not a window the user never gave
+        raise ValueError(f"`max_shift` = {max_shift} is too large for images of {h}x{w} "
+                         f"with method {method!r}: it must be <= "
+                         f"{(side - 3) // 2 if method == 'cfi' else (side - 5) // 2}.")
+    if window is None:
+        window = high
+    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) \
+            or not low <= window <= high:
+        raise ValueError(f"`window` must be an int in [{low}, {high}] for images of "
+                         f"{h}x{w} with `max_shift` = {max_shift} and method {method!r}; "
+                         f"got {window!r}.")
+    return lag, int(window)
+
+
 def measure_shifts(reference, images, *, method: str = "sdf",
                    interpolation: str = "2d-quadratic", max_shift: int = 3,
                    window: int | None = None, normalize: bool = False) -> ShiftResult:
@@ -245,24 +273,7 @@ def measure_shifts(reference, images, *, method: str = "sdf",
         refs = refs / refs.mean(axis=(1, 2), keepdims=True)
         imgs = imgs / imgs.mean(axis=(1, 2), keepdims=True)
     h, w = imgs.shape[1:]
-    lag = int(max_shift) + 1
-    side = min(h, w)
-    if method == "cfi":
-        low, high = 2 * lag + 1, side
-    else:
-        low, high = 3, side - 2 * lag
-    if high < low:
-        # no window fits: name the search range, not a window the user never gave
-        raise ValueError(f"`max_shift` = {max_shift} is too large for images of {h}x{w} "
-                         f"with method {method!r}: it must be <= "
-                         f"{(side - 3) // 2 if method == 'cfi' else (side - 5) // 2}.")
-    if window is None:
-        window = high
-    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) \
-            or not low <= window <= high:
-        raise ValueError(f"`window` must be an int in [{low}, {high}] for images of "
-                         f"{h}x{w} with `max_shift` = {max_shift} and method {method!r}; "
-                         f"got {window!r}.")
+    lag, window = _search_window(h, w, max_shift, window, method)
     flat = np.flatnonzero(np.ptp(refs, axis=(1, 2)) == 0)
     if flat.size:  # a flat surface: its "minimum" was lag (-max_shift, -max_shift) (audit 9)
         raise ValueError(f"`reference` image {int(flat[0])} is constant: it has no structure "
@@ -366,15 +377,7 @@ def sdf_noise_rms(reference, noise_variance, *, max_shift: int = 3,
     if not np.all(np.isfinite(var)) or var.min() < 0:
         raise ValueError("`noise_variance` must be finite and >= 0.")
     h, w = ref.shape
-    lag = int(max_shift) + 1
-    side = min(h, w)
-    if side - 2 * lag < 3:
-        raise ValueError(f"`max_shift` = {max_shift} is too large for images of {h}x{w}: "
-                         f"it must be <= {(side - 5) // 2}.")
-    if window is None:
-        window = side - 2 * lag
-    if not 3 <= window <= side - 2 * lag:
-        raise ValueError(f"`window` must be an int in [3, {side - 2 * lag}]; got {window!r}.")
+    lag, window = _search_window(h, w, max_shift, window)
     r0, c0 = (h - window) // 2, (w - window) // 2
     out = np.empty(2)
     for axis in (0, 1):  # 0: x (columns), 1: y (rows)
@@ -442,17 +445,10 @@ def sdf_noise_at_shifts(reference, live, noise_variance, *, max_shift: int = 3,
     if isinstance(draws, bool) or not isinstance(draws, (int, np.integer)) or draws < 2:
         raise ValueError(f"`draws` must be an int >= 2; got {draws!r}.")
     h, w = ref.shape[1:]
-    lag = int(max_shift) + 1
-    side = min(h, w)
     if isinstance(max_shift, bool) or not isinstance(max_shift, (int, np.integer)) \
-            or max_shift < 1 or side - 2 * lag < 3:
-        raise ValueError(f"`max_shift` must be an int in [1, {(side - 5) // 2}] for images "
-                         f"of {h}x{w}; got {max_shift!r}.")
-    if window is None:
-        window = side - 2 * lag
-    if not 3 <= window <= side - 2 * lag:
-        raise ValueError(f"`window` must be an int in [3, {side - 2 * lag}]; got {window!r}.")
-    win = int(window)
+            or max_shift < 1:
+        raise ValueError(f"`max_shift` must be an int >= 1; got {max_shift!r}.")
+    lag, win = _search_window(h, w, max_shift, window)
     r0, c0 = (h - win) // 2, (w - win) // 2
     surf = _surfaces_difference(ref, imgs, r0, c0, win, lag, True)
     n = imgs.shape[0]
