@@ -520,7 +520,8 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         + _not_made(modules)
         + (" Input logs of Figures 1 and 5: "
            + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']}"
-                       + (f"; {note}" if (note := shipped_edit_note(p, made['sha256'])) else "") + ")"
+                       + (f"; {note}" if (note := shipped_edit_note(p, made["sha256"]))
+                          else "") + ")"
                        for (p, _, _, d), made in zip(logs, record["inputs"], strict=True))
            + "." if needs_log else "")
         + "\n",

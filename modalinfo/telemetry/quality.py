@@ -171,12 +171,16 @@ from modalinfo._stats import (
     LEVEL_ALPHA,
     MIN_SCALE_RATIO,  # noqa: F401 (documented here since round 11)
     MIN_STATIONARITY_FRAMES,  # noqa: F401
+    SCALE_CHANGE_ALPHA,
     STATIONARITY_BLOCKS,
     VARIANCE_ALPHA,
+    block_scale_table,
     column_median,
     column_nanmedian,
+    judge_scale_changes,
     level_steps,
     mad_union_threshold,
+    spread_at_split,
     stacked_lstsq,
     stationarity_threshold,
     variance_steps,
@@ -521,7 +525,10 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     median over modes of the robust lag-1 autocorrelation (:func:`_robust_lag1`) of the
     consecutive innovations, clipped to ``[0, 0.999]``. ``with_ratio``: the innovations'
     block-scale ratio (``modalinfo._stats.block_scale_ratio``, the median of the
-    per-mode ``block_scale_ratios`` gathered over the slices) is returned fifth.
+    per-mode ``block_scale_ratios`` gathered over the slices) is returned fifth, and
+    sixth the per-mode scale changes (``modalinfo._stats.scale_changes`` at
+    ``SCALE_CHANGE_ALPHA``) as ``([(mode, first frame, last frame + 1, ratio, p_value),
+    ...], judged)``, the frames those of the block farthest from the median block scale.
     """
     m = rows.shape[1]
     p = AR_ORDER
@@ -529,13 +536,13 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
     q = _window_rows(g, p)  # sample positions of the residuals
     if q.size < 3:
         out = coef, np.zeros(m), np.full(m, np.nan), float(n_sample)
-        return (*out, math.nan) if with_ratio else out
+        return (*out, math.nan, ([], 0)) if with_ratio else out
     centre = np.where(np.isfinite(med), med, 0.0)
     size = np.where(np.isfinite(sigma), sigma, 0.0)
     cen_e, sig_e = np.full(m, np.nan), np.full(m, np.nan)
     tested = np.zeros(m, dtype=bool)
     adj = np.flatnonzero(np.diff(g[q]) == 1)  # consecutive residual pairs
-    rhos, ratios = [], []
+    rhos, ratios, tables, judged_cols = [], [], [], []
     # every step below is per mode, so it runs a slice of modes at a time: the (R, p, M)
     # lag stack of a 10^4 x 2000 log is 640 MB (left28-quality), and the T x M residuals,
     # their deviations and the sorts' copies were ~7 more copies of the sample at once
@@ -576,6 +583,17 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
             with np.errstate(invalid="ignore"):
                 scaled = here & ~(sig_e[cols] <= ROUNDOFF_INNOVATIONS * sigma[cols])
             ratios.append(_scale_ratios(e, scaled))
+            # a mode written on a lattice as coarse as its innovations (0.5 sigma steps
+            # of an AR(1) 0.95 mode, innovations 0.31) has block scales that jump between
+            # the lattice's combs: the Gaussian sampling law does not hold there (x2.8 on
+            # a stationary quantised log of tests/telemetry/test_quality.py), so such
+            # modes are not judged by the per-mode rule
+            with np.errstate(invalid="ignore"):
+                fine = scaled & (_lattice_gaps(rows[:, s0:s0 + cols.size])
+                                 <= LATTICE_SCALE_SHARE * sig_e[cols])
+            if fine.any():
+                judged_cols.append(cols[fine])
+                tables.append(block_scale_table(e[:, fine]))
     ratio = math.nan
     if with_ratio:
         gathered = np.concatenate(ratios) if ratios else np.zeros(0)
@@ -583,10 +601,48 @@ def _innovations(rows: np.ndarray, g: np.ndarray, med: np.ndarray, sigma: np.nda
         ratio = float(np.median(gathered)) if gathered.size else math.nan
     if adj.size < 3 or not tested.any():
         out = coef, cen_e, sig_e, max(0.0, float(n_sample - p))
-        return (*out, ratio) if with_ratio else out
+        return (*out, ratio, ([], 0)) if with_ratio else out
     r = float(np.clip(np.median(np.concatenate(rhos)), 0.0, 0.999))
     out = coef, cen_e, sig_e, max(0.0, n_sample - p) * (1.0 - r) / (1.0 + r)
-    return (*out, ratio) if with_ratio else out
+    if not with_ratio:
+        return out
+    table = {b: np.concatenate([t[b] for t in tables], axis=1) for b in tables[0]} \
+        if tables else {}
+    cols = np.concatenate(judged_cols) if judged_cols else np.zeros(0, dtype=int)
+    return (*out, ratio, _scale_changes(table, cols, q.size, out[3], g[q]))
+
+
+#: Largest lattice step of a mode's values, as a share of its innovations' scale, at
+#: which the per-mode scale rule (``modalinfo._stats.scale_changes``) judges it.
+LATTICE_SCALE_SHARE = 0.1
+
+
+def _lattice_gaps(rows: np.ndarray) -> np.ndarray:
+    """Smallest gap between distinct finite values of each column (inf when none).
+
+    One sort of the stack (non-finite values sort last and give no gap).
+    """
+    with np.errstate(invalid="ignore"):
+        d = np.diff(np.sort(rows, axis=0), axis=0)
+        return np.where(np.isfinite(d) & (d > 0), d, np.inf).min(axis=0, initial=np.inf)
+
+
+def _scale_changes(table: dict, cols: np.ndarray, n: int, n_eff: float,
+                   frames: np.ndarray):
+    """Per-mode innovation scale changes (``_innovations``), blocks mapped to frames.
+
+    ``table``: block scales of the judged modes ``cols`` (``block_scale_table``) over
+    ``n`` innovations at global frames ``frames``. Each flagged mode's block is given by
+    its first frame and one past its last (blocks of ``numpy.array_split``).
+    """
+    found, judged = judge_scale_changes(table, cols, n, n_eff, SCALE_CHANGE_ALPHA)
+    out = []
+    for j, b, ratio, block, pv in found:
+        sizes = np.full(b, n // b) + (np.arange(b) < n % b)
+        start = int(sizes[:block].sum())
+        stop = start + int(sizes[block])
+        out.append((j, int(frames[start]), int(frames[stop - 1]) + 1, ratio, pv))
+    return out, judged
 
 
 # the block-scale rule lives at the lowest layer (modalinfo._stats), shared with the
@@ -682,14 +738,40 @@ class QualityReport:
         mode's **spread** is reported too (:attr:`variance_steps`) and makes
         ``stationary`` False: l11 is flagged (8 of its 27 modes). A swap of modes
         whose spreads are alike stays unseen; check the mode order from the archive's
-        records. Also unseen (round 28 PART a, measured on AR(1) 0.95 logs of 6 modes x
-        20,000 frames): a change confined to about 5 % of the log (seeing x2.5 over the
-        first or last 1,000 frames or a mid-log episode: ``stationary=True``, 27-34 of
-        its values flagged as outliers instead; from 10 % at an end it is called
-        non-stationary), and a change of the temporal structure of a minority of the
-        modes at equal spread (a wind-direction change: Z2 and Z3 exchanging AR(1)
-        0.99 / 0.9 spectra, innovations x3.1, while ``scale_ratio``, a median over the
-        modes, stays 1.09).
+        records. Round 28 PART a's short seeing episodes (x2.5 over 5 % of an AR(1) 0.95
+        log of 6 x 20,000 frames, at its start, middle or end) and its wind-direction
+        change on 2 of 6 modes (Z2 / Z3 exchanging AR(1) 0.99 / 0.9 spectra, innovations
+        x3.1, ``scale_ratio`` 1.09) are seen since issue 27 (left28-nonstat) by the
+        per-mode rule (:attr:`scale_steps`). Its limits: blocks need 100 effective
+        innovations, so an episode shorter than about 1/16 of the log is not resolved
+        below ~3,200 effective frames (1/8 below 1,600; 5 % of 2,000 frames is 100
+        frames: unseen), nor is a change under x1.5 in the innovations' scale
+        (``MIN_SCALE_RATIO``); a mode written on a lattice coarser than a tenth of its
+        innovations' scale is not judged per mode; and a change of the spread that
+        keeps the innovations (the loop opening's rms x10 at equal innovations, phi 0.9
+        -> 0.999) is left to the spread rule (:attr:`variance_steps`), which on modes
+        too persistent for its effective-value floor names it only at the frame of a
+        level step the level rule found.
+    scale_steps : tuple of (str, int, int, float, float)
+        Modes whose innovations' scale changes, judged one by one (issue 27,
+        left28-nonstat): ``(label, start, stop, ratio, p_value)``. Per mode the AR(4)
+        innovations are split into 8, 16 and 32 contiguous blocks (those sizes with at
+        least 100 effective innovations per block); the range of the log block scales
+        (mean absolute deviations about each block's median, those beyond 5 robust
+        sigmas of the mode left out), in units of their sampling sd
+        ``sqrt(pi / 2 - 1) / sqrt(n)``, follows the range of 8, 16 or 32 Gaussians
+        (``modalinfo._stats.range_sf``); a mode is
+        flagged when its smallest p value is below ``SCALE_CHANGE_ALPHA`` = 0.1 %
+        divided by the judged (size, mode) pairs (Bonferroni) and its ratio (largest
+        over smallest block scale) exceeds 1.5. ``start`` / ``stop`` bound the block
+        farthest from the median block scale. It makes ``stationary`` False. It sees
+        what the median over modes hides: a wind-direction change on 2 of 6 modes
+        (round 28 PART a, N09: ratios 3.1 and 3.2) and a seeing change over 5 % of a
+        long log (N04, N13, N14: x2.5 over 1,000 of 20,000 frames). Measured false
+        alarms: docs/ADVERSARIAL.md, "Leftovers 28-nonstat".
+    scale_judged : int
+        (block size, mode) pairs the per-mode scale rule judged (0: too few effective
+        innovations for blocks of 1/8 of the log).
     level_steps : tuple of (str, int, float, float)
         Modes whose mean steps or drifts within the log: ``(label, frame, shift,
         p_value)``, ``frame`` the first frame after the largest CUSUM excursion (to
@@ -712,7 +794,15 @@ class QualityReport:
         deviations of the strided sample (``modalinfo._stats.variance_steps``);
         flagged by Bonferroni over the judged modes at ``VARIANCE_ALPHA`` = 0.25 %, for
         a stated family-wise rate of 1 % (measured: benchmarks/RESULTS.md,
-        left18-quality).
+        left18-quality). Since issue 27 (left28-nonstat) also, where the level rule
+        found a step, the modes whose robust spread differs on the two sides of the
+        strongest step (``modalinfo._stats.spread_at_split``: each side's 1.4826 MAD
+        about its own median, its effective values from its own lag-1
+        autocorrelation, F law, Bonferroni at ``VARIANCE_ALPHA``, ratio beyond 1.5;
+        ``frame`` the step's, ``ratio`` the MAD after over before): a loop opened
+        mid-log (round 28 PART b, N01: rms x10, phi 0.9 -> 0.999) is named in every
+        mode, where before only its mean steps were. A mean offset alone names none
+        (0 of 771 logs with a level step found, docs/ADVERSARIAL.md).
     variance_judged : int
         Modes the spread rule judged (those with at least
         ``MIN_VARIANCE_EFFECTIVE`` = 100 effective absolute deviations).
@@ -753,6 +843,8 @@ class QualityReport:
     scale_ratio: float = math.nan
     stationary: bool | None = None
     predictor: tuple | None = field(default=None, repr=False)
+    scale_steps: tuple = ()
+    scale_judged: int = 0
     level_steps: tuple = ()
     level_judged: int = 0
     variance_steps: tuple = ()
@@ -794,12 +886,19 @@ class QualityReport:
             more = ", ..." if len(self.variance_steps) > 5 else ""
             parts.append(f"the spread steps or drifts in {len(self.variance_steps)} "
                          f"mode(s) ({shown}{more}; modes reordered between two nights "
-                         "joined?)")
-        if not (self.level_steps or self.variance_steps) or (
-                math.isfinite(self.scale_ratio) and self.scale_ratio
-                > stationarity_threshold(self.effective_frames / STATIONARITY_BLOCKS)):
+                         "joined, or the loop opened?)")
+        median = math.isfinite(self.scale_ratio) and self.scale_ratio > \
+            stationarity_threshold(self.effective_frames / STATIONARITY_BLOCKS)
+        if median or not (self.level_steps or self.variance_steps or self.scale_steps):
             parts.append(f"the innovations' scale changes x{self.scale_ratio:.2g} across "
                          "the log (seeing not steady?)")
+        elif self.scale_steps:
+            shown = ", ".join(f"{label} x{ratio:.2g} in frames {start}-{stop}"
+                              for label, start, stop, ratio, _ in self.scale_steps[:5])
+            more = ", ..." if len(self.scale_steps) > 5 else ""
+            parts.append(f"the innovations' scale changes in {len(self.scale_steps)} "
+                         f"mode(s) ({shown}{more}; a short seeing episode, or the wind "
+                         "changed the modes' temporal spectra?)")
         if not parts:
             return ""
         return (" and ".join(parts) + f": {rate} assumes a stationary log; assess "
@@ -903,6 +1002,9 @@ class QualityReport:
             "scale_ratio": (float(self.scale_ratio) if math.isfinite(self.scale_ratio)
                             else None),
             "stationary": self.stationary,
+            "scale_steps": ", ".join(f"{label} {start}-{stop}"
+                                     for label, start, stop, _, _ in self.scale_steps),
+            "scale_judged": int(self.scale_judged),
             "level_steps": ", ".join(f"{label} {frame}"
                                      for label, frame, _, _ in self.level_steps),
             "level_judged": int(self.level_judged),
@@ -1371,11 +1473,17 @@ def assess_quality(
     med, sigma = _robust_scale(sample, constant)
     n_windows = sample.shape[0] if step == 1 else int(np.count_nonzero(
         gidx % (step * (AR_ORDER + 1)) == AR_ORDER))
-    coef, cen_e, sig_e, n_eff, ratio = _innovations(windows, gidx, med, sigma, constant,
-                                                   n_windows, with_ratio=True)
+    coef, cen_e, sig_e, n_eff, ratio, (changed, scale_judged) = _innovations(
+        windows, gidx, med, sigma, constant, n_windows, with_ratio=True)
     limit = stationarity_threshold(n_eff / STATIONARITY_BLOCKS)
     stationary = None if not (math.isfinite(limit) and math.isfinite(ratio)) else bool(
         ratio <= limit)
+    # one mode alone (a wind-direction change) or a 32nd of the log (a short seeing
+    # episode): judged per mode at three block sizes (issue 27, left28-nonstat)
+    scale_found = tuple((labels[j], start, min(stop, n), r_, pv)
+                        for j, start, stop, r_, pv in changed)
+    if scale_found:
+        stationary = False
     # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
     advance(1)
     found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
@@ -1386,6 +1494,17 @@ def assess_quality(
     varied, variance_judged = _variance_steps(
         sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
         constant | np.array([label in stepped for label in labels], dtype=bool))
+    if found_steps:
+        # a loop opened mid-log (round 28 PART b, N01): the spread rule left the stepped
+        # modes to the level rule and could not judge the persistent ones; each side of
+        # the strongest level step judged on its own names the spread step too
+        frame0 = min(found_steps, key=lambda t: t[3])[1]
+        named = {label for label, _, _, _ in varied}
+        extra, _ = spread_at_split(
+            _fill_gaps(sample, constant)[0], int(round(frame0 / step)), VARIANCE_ALPHA,
+            constant | np.array([label in named for label in labels], dtype=bool))
+        varied = varied + tuple((labels[v.column], int(min(v.frame * step, n - 1)),
+                                 float(v.ratio), float(v.p_value)) for v in extra)
     advance(1)
     if found_steps or varied:
         stationary = False
@@ -1471,6 +1590,7 @@ def assess_quality(
         effective_frames=float(n_eff), assessed=assessed,
         scale_ratio=float(ratio), stationary=stationary,
         predictor=(centre, thr, coef, cen_e, thr_e, head),
+        scale_steps=scale_found, scale_judged=int(scale_judged),
         level_steps=found_steps, level_judged=level_judged,
         variance_steps=varied, variance_judged=variance_judged,
         repeated_frames=repeated_frames.astype(np.int64),
