@@ -443,6 +443,9 @@ def _notes(result, model, described: dict) -> dict:
     cfg = result.config
     return {
         "written_by": "closedloop", "version": result.version, "seed": int(result.seed),
+        # the result's record (commit, config hash, command; None for results saved
+        # before it existed): the export dropped it (adversarial round 30 PART b, C05)
+        "provenance": getattr(result, "provenance", None),
         "predictor": result.predictor, "loops": described,
         "reconstructor": ("global MAP: dm{i} modes = sum over sensors k of the blocks in "
                           "loops dm{i} (own sensor) and dm{i}.wfs{k}"

@@ -529,6 +529,32 @@ def judge_scale_changes(table: dict, cols: np.ndarray, n_rows: int, effective: f
     return found, judged
 
 
+def block_run(logs: np.ndarray, far: int) -> tuple[int, int]:
+    """Return ``(first, last)``: the contiguous blocks around ``far`` on its side.
+
+    ``logs``: one column's log block scales in time order; the side is that of the
+    midpoint of their largest and smallest. For an episode the run is its blocks; for
+    a step it is the half the far block lies in, where the far block alone (any block
+    of either half: they are equally far from the median) named frames 2504-5004 for a
+    change at frame 10,000 (adversarial round 30 PART b, Q03). Blocks of zero scale
+    (``-inf``) end the run.
+    """
+    logs = np.asarray(logs, dtype=float)
+    finite = logs[np.isfinite(logs)]
+    if not finite.size or not np.isfinite(logs[far]):
+        return far, far
+    mid = 0.5 * (finite.max() + finite.min())
+    high = logs[far] > mid
+    same = np.isfinite(logs) & ((logs > mid) == high)
+    first = far
+    while first > 0 and same[first - 1]:
+        first -= 1
+    last = far
+    while last + 1 < logs.size and same[last + 1]:
+        last += 1
+    return first, last
+
+
 def stationarity_threshold(block_frames: float,
                            min_frames: float = MIN_STATIONARITY_FRAMES) -> float:
     """Block-scale ratio above which innovations are called non-stationary.

@@ -184,6 +184,17 @@ SHIPPED_SHA256 = {
 }
 
 
+def _data_dir() -> Path:
+    """Return ``data/`` with every link resolved, as the paths compared with it are.
+
+    ``_DATA`` resolves the package's folder only: a ``data/`` that is itself a link (the
+    logs kept on another disk) never equalled a resolved log path, so an edited shipped
+    log went without its EDITED note and Figure 1 / 5 called the shipped logs "the log
+    `...`" (adversarial round 30 PART b, D01, D02).
+    """
+    return _DATA.resolve()
+
+
 def shipped_edit_note(path, digest: str | None = None) -> str:
     """Return ``""`` for a shipped log as committed, else a note that it was edited.
 
@@ -202,7 +213,7 @@ def shipped_edit_note(path, digest: str | None = None) -> str:
     with contextlib.suppress(OSError, RuntimeError):
         resolved = Path(path).resolve()
         expected = SHIPPED_SHA256.get(resolved.name)
-        if expected is None or resolved.parent != _DATA:
+        if expected is None or resolved.parent != _data_dir():
             return ""
         if digest is None:
             from modalinfo.common.provenance import sha256_file
@@ -228,7 +239,7 @@ def shipped_log(source: str) -> str | None:
     with contextlib.suppress(OSError, RuntimeError):
         resolved = path.resolve()
         for name, kind in SHIPPED_LOGS.items():
-            if resolved == _DATA / name:
+            if resolved == _data_dir() / name:
                 return kind
     return None
 

@@ -173,6 +173,22 @@ def _number_format(message: str, path, delim: str | None = ",") -> None:
         f"pd.read_csv(path, {read}).to_csv(new, index=False))")
 
 
+def _text_key(message: str, names: list[str], path) -> None:
+    """Refuse a text key column (``night``: '2024-01-01') beside named mode columns.
+
+    numpy's message named the cell, not the cause ("corrupt CSV file ...: could not
+    convert string '2024-01-01' to float64 at row 0, column 1"), while the same key
+    written as numbers gets the key-column refusal of ``mode_columns`` with its
+    advice (adversarial round 30 PART b, K04). A time column keeps its own messages.
+    """
+    found = re.search(r"could not convert string '([^']+)'.* column (\d+)", message)
+    if not found:
+        return
+    k = int(found.group(2)) - 1  # numpy counts columns from 1
+    if 0 <= k < len(names) and time_kind(names[k]) is None:
+        mode_columns([n for n in names if time_kind(n) is None], path)
+
+
 def _index_row(first: list[str], second: list[str] | None) -> bool:
     """Whether an all-numeric first row is a header of mode indices (``2,3,4,...``).
 
@@ -356,6 +372,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     "convert that column to seconds (pandas: (t - t[0]).dt.total_seconds()) "
                     "or delete it and give --rate HZ") from None
             _number_format(str(exc), path, delim)
+            if names is not None:
+                _text_key(str(exc), names, path)
             if "string ''" not in str(exc):
                 raise
             # an empty cell is how pandas / spreadsheets write a missing value: it is a
