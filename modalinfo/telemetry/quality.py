@@ -759,7 +759,9 @@ class QualityReport:
         least 100 effective innovations per block); the range of the log block scales
         (mean absolute deviations about each block's median, those beyond 5 robust
         sigmas of the mode left out), in units of their sampling sd
-        ``sqrt(pi / 2 - 1) / sqrt(n)``, follows the range of 8, 16 or 32 Gaussians
+        ``sqrt(pi / 2 - 1) / sqrt(n)`` (for innovations with heavier tails, their own
+        relative sd of the deviations where it is larger: ``1`` for Laplace ones; issue
+        27, round 30), follows the range of 8, 16 or 32 Gaussians
         (``modalinfo._stats.range_sf``); a mode is
         flagged when its smallest p value is below ``SCALE_CHANGE_ALPHA`` = 0.1 %
         divided by the judged (size, mode) pairs (Bonferroni) and its ratio (largest
