@@ -82,7 +82,7 @@ noise-dominated innovations and zero means, so neither rule above sees them (rou
 PART a, l11). Per mode, the absolute deviations from the median of the strided sample
 (every frame up to ``sample_frames``) go to the level rule
 (``modalinfo._stats.variance_steps``: EWC F test of their first cosine term, F(1, B)
-law), union over the modes judged by Bonferroni at ``VARIANCE_ALPHA`` = 0.25 %, a
+law), union over the modes tested by Bonferroni at ``VARIANCE_ALPHA`` = 0.25 %, a
 quarter of the 1 % stated because that law is liberal in its far tail there; modes
 whose mean steps are reported as such and not again, modes with fewer than 100
 effective absolute deviations are not judged. A hit makes :attr:`QualityReport.stationary`
@@ -797,7 +797,9 @@ class QualityReport:
         frames), ``shift`` the mean after it minus the mean before (log units),
         ``p_value`` that of ``modalinfo._stats.level_stationarity`` (EWC F test of the
         first cosine term against the long-run variance); flagged at a family-wise
-        ``LEVEL_ALPHA`` = 1 % (Bonferroni over the judged modes).
+        ``LEVEL_ALPHA`` = 1 % (Bonferroni over the modes tested, judged or not: over
+        the judged ones alone, AR(1) 0.995 logs of 10 x 8,000 frames, about 1.3 modes
+        judged, read 5 of 200 stationary logs stepped; issue 27, left29-falarm).
     level_judged : int
         Modes the level rule judged: a mode whose record spans too few correlation
         times (AR(1) 0.99 below ~2000-5000 frames) cannot have a step told from
@@ -810,7 +812,7 @@ class QualityReport:
         after it over their mean before it (the ratio of standard deviations for a
         Gaussian mode), ``p_value`` the level rule's (EWC F test) on the absolute
         deviations of the strided sample (``modalinfo._stats.variance_steps``);
-        flagged by Bonferroni over the judged modes at ``VARIANCE_ALPHA`` = 0.25 %, for
+        flagged by Bonferroni over the modes tested at ``VARIANCE_ALPHA`` = 0.25 %, for
         a stated family-wise rate of 1 % (measured: benchmarks/RESULTS.md,
         left18-quality). Since issue 27 (left28-nonstat) also, where the level rule
         found a step, the modes whose robust spread differs on the two sides of the
