@@ -460,7 +460,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         """Least-squares weights: each measurement's variance over a fully lit slope's.
 
         A relative slope's noise variance is ``sigma^2 (1 / s_i + 1 / s_ref)``
-        (:func:`_relative_rms_factor`); the tracker keeps weight 1.
+        (``_relative_rms_factor``); the tracker keeps weight 1.
         """
         n = self.n_valid_subapertures
         w = np.ones(self.n_measurements)
