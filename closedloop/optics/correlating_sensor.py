@@ -11,7 +11,7 @@ them, and lit where the beam passed through the telescope pupil at least ``sqrt(
 inside its edge (so that no sample interpolates a pixel outside the DMs' discs, whose
 surfaces stop at their edge pixels: without the margin the fit below turns that step
 into a spurious tilt). A subaperture is valid when some direction lights half of its
-samples or more (:func:`closedloop.optics.wfs.field_rule`, the geometric SH's rule on
+samples or more (``closedloop.optics.wfs.field_rule``, the geometric SH's rule on
 the light its plane fits use: the whole meta-pupil of a layer-oriented sensor at
 altitude; until issue 27 half lit *averaged over the field's directions*, which dropped
 the meta-pupil's ring). Its **field share** per axis is the contrast-weighted light of
