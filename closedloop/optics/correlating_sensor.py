@@ -10,8 +10,12 @@ not alias), bilinear from every plane along each direction as the geometric SH s
 them, and lit where the beam passed through the telescope pupil at least ``sqrt(2) dx``
 inside its edge (so that no sample interpolates a pixel outside the DMs' discs, whose
 surfaces stop at their edge pixels: without the margin the fit below turns that step
-into a spurious tilt). A subaperture is valid when half of its samples are lit,
-averaged over the field's directions.
+into a spurious tilt). A subaperture is valid when some direction lights half of its
+samples or more (``closedloop.optics.wfs.field_rule``, the geometric SH's rule on
+the light its plane fits use: the whole meta-pupil of a layer-oriented sensor at
+altitude; until issue 27 half lit *averaged over the field's directions*, which dropped
+the meta-pupil's ring). Its **field share** per axis is the contrast-weighted light of
+the directions it uses over its best one's (below), 1 on a ground-conjugated sensor.
 
 Linear mode (``image_formation=False``, the default; built once, measured by the same
 sparse products as the geometric SH, so as fast):
@@ -43,7 +47,13 @@ sparse products as the geometric SH, so as fast):
   one: it holds while the predicted rms is below ~0.03 px; at lower signal x contrast^2
   the noisy reference's noise energy, which varies with the lag, adds more (2-10x at a
   predicted 0.07 px, 400 e- and 8 % contrast). The hand-set ``noise`` of the geometric
-  SH is refused for this kind (the config says so).
+  SH is refused for this kind (the config says so). A subaperture lit by fewer
+  directions collects the share ``s`` of the contrast information, so one image's shift
+  variance is ``sigma_1^2 / s``; a relative slope is the difference against the
+  reference subaperture (the best lit, ``s_ref``), independent noises, so its variance
+  is the sum ``sigma_1^2 (1 / s + 1 / s_ref)`` (``2 sigma_1^2`` where both are fully
+  lit, the ``sqrt(2)`` above): ``noise_rms`` carries it, and a single DM's least squares
+  weighs each slope by its inverse (Wallner 1983; Ellerbroek 2002).
 - **Noise at sub-pixel shifts.** That law is the measurement's at a whole-pixel shift;
   at a sub-pixel one the 2QI vertex is more sensitive to the noise (Loefdahl 2010,
   Sect. 5: the error grows with the fractional shift). Every frame each slope's noise is
@@ -77,7 +87,9 @@ sparse products as the geometric SH, so as fast):
   the mean's removal is taken as independent (its correlation ``-sigma^2 / n_valid``
   is neglected), so ``noise_rms`` is ``(sigma_x,) * n + (sigma_y,) * n + (sigma_tx,
   sigma_ty)`` and the joint MAP reconstructor weights slopes and tracker by their own
-  variances (and the tracker's model error by ``1 / n_valid`` of a slope's:
+  variances (and the model error: a slope's over its field share, the unmodelled signal
+  averaged over fewer directions, and the tracker's the mean of the slopes' over
+  ``n_valid``, the variance of a mean of ``n_valid`` independent terms:
   :meth:`CorrelatingShackHartmann.model_error_variance`).
 
 Imaging mode (``image_formation=True``): every frame, the phases of the sub-directions
@@ -128,6 +140,7 @@ from closedloop.optics.wfs import (
     ShackHartmann,
     bilinear_matrix,
     check_subaperture_sampling,
+    field_rule,
     pupil_lit,
     slope_count,
     slopes_aot_record,
@@ -170,6 +183,9 @@ class CorrelatingShackHartmann(ShackHartmann):
         Subaperture indices ``row * n_sub + column``.
     noise_rms : (2 n_valid + 2,) ndarray
         Per measurement [rad/m at ``r0_wavelength``]: x slopes, y slopes, tracker x, y.
+    field_share : (2 n_valid + 2,) ndarray
+        Each slope's contrast-weighted field share (module docstring), then 1, 1 for the
+        tracker.
     slope_noise_pixels, tracker_noise_pixels : (2,) ndarray
         Predicted rms shift error ``(x, y)`` of a subaperture and of the tracker [pixels].
     direction_weights : (n_samples, 2) ndarray
@@ -248,11 +264,21 @@ class CorrelatingShackHartmann(ShackHartmann):
         jj, ii = np.meshgrid(np.arange(n_sub), np.arange(n_sub), indexing="xy")
         centres = np.column_stack([(jj.ravel() + 0.5) * pitch - d_wfs / 2.0,
                                    (ii.ravel() + 0.5) * pitch - d_wfs / 2.0])
-        # valid: at least half of the samples lit, averaged over the field's directions
+        # valid: some direction's plane fit is usable (it lights half of the samples or
+        # more), the geometric SH's field rule on the light the fit uses; shares weighted
+        # by the directions' contrast (the linearised SDF's information, module docstring)
         all_pts = centres[:, None, :] + self._offsets[None, :, :]
-        lit_frac = np.mean([self._lit(all_pts, th).mean(axis=1) for th in self.samples],
-                           axis=0)
-        self.valid_subapertures = np.flatnonzero(lit_frac >= 0.5)
+        light = np.array([self._lit(all_pts, th).mean(axis=1) for th in self.samples])
+        light[light < _MIN_LIT] = 0.0
+        best = light.max(axis=0)
+        n_dir = len(self.samples)
+        shares = []
+        for a in range(2):
+            # n x the contrast-weighted mean light: field_rule's share total / (n best)
+            # is then the contrast-weighted share (the plain one for equal weights)
+            total = n_dir * (self.direction_weights[:, a] @ light)
+            self.valid_subapertures, share = field_rule(total, best, n_dir, 1.0)
+            shares.append(share)
         n_valid = self.valid_subapertures.size
         if n_valid < 2:
             raise ValueError(f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves {n_valid} "
@@ -265,10 +291,10 @@ class CorrelatingShackHartmann(ShackHartmann):
         self._transform = self._relative_transform(n_valid)
         # noise per measurement [rad/m at r0_wavelength]
         to_slope = 2.0 * math.pi * self.pixel_scale * ARCSEC / conf.r0_wavelength
+        self.field_share = np.concatenate(shares + [np.ones(2)])
         self.noise_rms = np.concatenate([
-            np.full(n_valid, self.slope_noise_pixels[0] * to_slope),
-            np.full(n_valid, self.slope_noise_pixels[1] * to_slope),
-            self.tracker_noise_pixels * to_slope])
+            self.slope_noise_pixels[a] * to_slope * _relative_rms_factor(shares[a])
+            for a in range(2)] + [self.tracker_noise_pixels * to_slope])
         self._to_slope = to_slope
         if self.image_formation:
             self._build_imaging()
@@ -411,18 +437,37 @@ class CorrelatingShackHartmann(ShackHartmann):
         self._phase_scale = self._geometry.config.r0_wavelength / self.wavelength
 
     def model_error_variance(self, r0s: list[float], model_error: float) -> np.ndarray:
-        """Per measurement: the SH's term for each slope, ``1 / n_valid`` of it for the tracker.
+        """Per measurement: the SH's term over each slope's field share; the tracker's mean.
 
         The slopes less their mean carry a subaperture's unmodelled slope variance (as the
-        geometric SH's, :meth:`ShackHartmann.model_error_variance`); the tracker measures
-        the mean of ``n_valid`` Z-tilts, whose unmodelled (small-scale, nearly
-        independent between subapertures) part averages down by ``n_valid``. Counted as
-        a slope's, the two tracker rows weigh like one subaperture and the prior shrinks
-        the global tip-tilt.
+        geometric SH's, :meth:`ShackHartmann.model_error_variance`, over the field share:
+        averaged over fewer directions; the reference's own is common to every slope and
+        drops out of the slopes less their mean); the tracker measures the mean of
+        ``n_valid`` Z-tilts, whose unmodelled (small-scale, nearly independent between
+        subapertures) parts average down: the mean of their variances over ``n_valid``.
+        Counted as a slope's, the two tracker rows weigh like one subaperture and the
+        prior shrinks the global tip-tilt.
         """
-        per_slope = super().model_error_variance(r0s, model_error)
         n = self.n_valid_subapertures
-        return np.concatenate([np.full(2 * n, per_slope), np.full(2, per_slope / n)])
+        d = self.pitch
+        base = model_error * 16.0 * 0.449 * sum((d / r0) ** (5.0 / 3.0) for r0 in r0s) / d ** 2
+        # a slope averaged over fewer directions: 1 / share (``field_rule``); the tracker's
+        # mean of n independent ones: base * mean(1 / share) / n per axis
+        inv = 1.0 / self.field_share[:2 * n]
+        return np.concatenate([base * inv, base * np.array([inv[:n].mean(), inv[n:].mean()]) / n])
+
+    def _inverse_variance_weights(self) -> np.ndarray:
+        """Least-squares weights: each measurement's variance over a fully lit slope's.
+
+        A relative slope's noise variance is ``sigma^2 (1 / s_i + 1 / s_ref)``
+        (``_relative_rms_factor``); the tracker keeps weight 1.
+        """
+        n = self.n_valid_subapertures
+        w = np.ones(self.n_measurements)
+        for a in range(2):
+            s = self.field_share[a * n:(a + 1) * n]
+            w[a * n:(a + 1) * n] = 1.0 / _relative_rms_factor(s) ** 2
+        return w
 
     # ------------------------------------------------------------------ measuring
     def relative(self, raw: np.ndarray) -> np.ndarray:
@@ -498,6 +543,20 @@ class CorrelatingShackHartmann(ShackHartmann):
         if dm.shapes is None:
             return sparse.csr_matrix(self._transform @ block.toarray())
         return self._transform @ dm.sensed_by(block)
+
+
+def _relative_rms_factor(share: np.ndarray) -> np.ndarray:
+    """Rms of relative slopes over a fully lit one's, from their field shares ``(n,)``.
+
+    A relative slope is the shift of subaperture ``i`` against the reference subaperture
+    (the best lit, share ``s_ref = max(share)``); their noises are independent, so its
+    variance is the sum ``sigma_1^2 (1 / s_i + 1 / s_ref)``, ``sigma_1^2`` a fully lit
+    single image's, whose shift variance grows as ``1 / s`` with the contrast-weighted
+    light (the linearised SDF, Michau et al. 1992). ``slope_noise_pixels`` holds
+    ``sqrt(2) sigma_1`` (both images fully lit): the factor is
+    ``sqrt((1 / s_i + 1 / s_ref) / 2)``, 1 where every share is 1.
+    """
+    return np.sqrt((1.0 / share + 1.0 / share.max()) / 2.0)
 
 
 #: noise tables by (reference image, read noise): the WFSs of an MCAO share their trackers'

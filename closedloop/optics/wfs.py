@@ -336,6 +336,10 @@ class WavefrontSensor:
         """Whether the measurements differ in field share (``field_rule``): weigh them."""
         return self.field_share is not None and bool(np.min(self.field_share) < 1.0)
 
+    def _inverse_variance_weights(self) -> np.ndarray:
+        """Each measurement's inverse variance relative to a fully lit one: its field share."""
+        return self.field_share
+
     def _least_squares(self, rcond: float) -> np.ndarray | None:
         """Pseudo-inverse of the interaction matrix with its own DM.
 
@@ -344,7 +348,7 @@ class WavefrontSensor:
         """
         inter = self.interaction
         inter = inter.toarray() if sparse.issparse(inter) else inter
-        root = np.sqrt(self.field_share)[:, None] if self._weighted else None
+        root = np.sqrt(self._inverse_variance_weights())[:, None] if self._weighted else None
         if root is not None:
             inter = root * inter
         if self.dm.large_products and 8.0 * inter.size >= products.GRAM_MIN_BYTES:
@@ -580,6 +584,10 @@ class IdealSensor(WavefrontSensor):
             self.operators.append(op)
         self.n_measurements = int(rows.size)
         self.n_valid_subapertures = 0
+
+    def _inverse_variance_weights(self) -> np.ndarray:
+        """Each measurement's inverse variance relative to a fully lit one: its field share."""
+        return self.field_share
 
     def _least_squares(self, rcond: float) -> np.ndarray | None:
         """None on a zonal DM (the identity: the measurement is the disc's phase)."""

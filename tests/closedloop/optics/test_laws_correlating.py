@@ -108,8 +108,12 @@ def test_noise_in_loop_units_scales_as_one_over_r0_wavelength(model):
         # 2 pi s pixel_scale / r0_wavelength
         n = a.n_valid_subapertures
         to_slope = 2.0 * math.pi * a.pixel_scale * ARCSEC / 500e-9
-        np.testing.assert_allclose(a.noise_rms[:n], a.slope_noise_pixels[0] * to_slope,
-                                   rtol=1e-12)
+        # a relative slope against the best-lit subaperture: variance sigma_1^2 (1 / s +
+        # 1 / s_ref), 2 sigma_1^2 fully lit (field shares s: issue 27,
+        # test_correlating_field_rule_left29)
+        s = a.field_share[:n]
+        np.testing.assert_allclose(a.noise_rms[:n], a.slope_noise_pixels[0] * to_slope
+                                   * np.sqrt((1.0 / s + 1.0 / s.max()) / 2.0), rtol=1e-12)
         np.testing.assert_allclose(a.noise_rms[2 * n:], a.tracker_noise_pixels * to_slope,
                                    rtol=1e-12)
 
@@ -133,9 +137,12 @@ def test_tracker_model_error_averages_down_over_the_subapertures(n_sub):
         v = _slope_model_error(cfg, j, 0.3)
         got = np.asarray(w.model_error_variance(r0s, 0.3))
         assert got.shape == (2 * n + 2,)
-        np.testing.assert_allclose(got[:2 * n], v, rtol=1e-12)
-        # the mean of n independent terms: 1 / n of one term's variance
-        np.testing.assert_allclose(got[2 * n:], v / n, rtol=1e-12)
+        # a slope averaged over fewer directions: 1 / its field share (issue 27)
+        share = w.field_share[:2 * n]
+        np.testing.assert_allclose(got[:2 * n], v / share, rtol=1e-12)
+        # the mean of n independent terms: the mean of their variances over n
+        np.testing.assert_allclose(got[2 * n:], [np.mean(v / share[:n]) / n,
+                                                 np.mean(v / share[n:]) / n], rtol=1e-12)
 
 
 def _map_reconstructor(G, prior, noise):
@@ -158,7 +165,8 @@ def test_joint_reconstructor_weights_the_tracker_by_its_averaged_variance(model)
         n = w.n_valid_subapertures
         v = _slope_model_error(cfg, j, me)
         base = w.noise_rms ** 2
-        per_sub.append(base + np.concatenate([np.full(2 * n, v), np.full(2, v / n)]))
+        vs = v / w.field_share[:2 * n]           # 1 / field share (issue 27)
+        per_sub.append(base + np.concatenate([vs, [vs[:n].mean() / n, vs[n:].mean() / n]]))
         as_one.append(base + v)
     expected = _map_reconstructor(G, model.prior, np.concatenate(per_sub))
     wrong = _map_reconstructor(G, model.prior, np.concatenate(as_one))
@@ -185,9 +193,9 @@ def test_same_meta_pupil_and_valid_set_as_the_geometric_sh(model, geometric):
         if w.altitude == 0.0:
             np.testing.assert_array_equal(c.valid_subapertures, s.valid_subapertures)
         else:
-            # at altitude the geometric SH uses every subaperture some direction half-lights
-            # (issue 27, left28-field); the correlating SH keeps the field-averaged rule
-            # (docs/ADVERSARIAL.md, "Leftovers 28-field"): a subset of it
+            # at altitude both use what some direction half-lights (issue 27): the
+            # geometric SH on the beam's light, the correlating SH on the light its plane
+            # fits use (``sqrt(2) dx`` inside the pupil's edge): a subset of it
             assert np.all(np.isin(c.valid_subapertures, s.valid_subapertures))
         # exact lit area (a fine grid), averaged over the field samples
         n_sub = w.n_subapertures
