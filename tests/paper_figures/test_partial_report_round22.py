@@ -8,6 +8,7 @@ from __future__ import annotations
 import types
 from argparse import Namespace
 
+from modalinfo.common.provenance import provenance
 from paper_figures import FIGURES
 from paper_figures.__main__ import _make
 
@@ -22,7 +23,7 @@ def test_report_after_one_figure_names_the_rest(tmp_path):
     )
     name, label, title = FIGURES[-1]
     _make(Namespace(quick=True, seed=0, duration=None), [(fake, label, title)], {}, [],
-          False, tmp_path)
+          False, tmp_path, provenance(None, seed=0))
     head = (tmp_path / "report.md").read_text(encoding="utf-8").split("\n## ")[0]
     others = [lab for _, lab, _ in FIGURES if lab != label]
     assert len(others) == 7
