@@ -439,8 +439,8 @@ class HistogramEngine:
         kern.joint_counts_index(self._ax.index(k_floor), _Axis(y, "quantile").index(k_floor),
                                 counts)
         finer = mi_from_counts(counts, self.bias_correction)
-        tol = max(0.05, 0.1 * finer)
-        if not finer > value + tol:
+        tol = _margin_below(value, finer)
+        if tol is None:
             return None
         return (f"the estimate {value:.3f} nats on the rule's {k} x {k} bins is below "
                 f"{finer:.3f} nats on {k_floor} x {k_floor} (bins='auto') by more than "
@@ -721,6 +721,16 @@ def histogram_cmi(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
     return float(cmi)
 
 
+def _margin_below(value: float, reference: float) -> float | None:
+    """Return the tolerance ``max(0.05 nats, 10 %)`` if ``value`` is below ``reference`` by more.
+
+    One copy of the rule both bin-rule warnings use to call an estimate biased low against
+    a finer or tail-resolving grid; ``None`` when the estimate is within it.
+    """
+    tol = max(0.05, 0.1 * reference)
+    return tol if reference > value + tol else None
+
+
 def normal_score_grid_mi(x: np.ndarray, y: np.ndarray, k: int) -> float:
     """Miller-Madow MI (nats) of (x, y) on k x k bins of equal width in normal scores.
 
@@ -767,8 +777,8 @@ def histogram_tail_rule(value: float, x: np.ndarray, y: np.ndarray) -> str | Non
         return None
     k = int(math.floor(math.sqrt(n / MIN_SAMPLES_PER_CELL)))
     tails = normal_score_grid_mi(x, y, k)
-    tol = max(0.05, 0.1 * tails)
-    if not tails > value + tol:
+    tol = _margin_below(value, tails)
+    if tol is None:
         return None
     return (f"the estimate {value:.3f} nats on equiprobable bins is below {tails:.3f} "
             f"nats on {k} x {k} bins of equal width in normal scores, which resolve the "
