@@ -862,6 +862,7 @@ def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         INNOVATION_ORDER,
         MIN_SHIFT_EFFECTIVE,
         MIN_SHIFT_INNOVATIONS,
+        lag1_autocorrelations,
         stacked_ar_fits,
         variance_ratio_shift,
     )
@@ -883,12 +884,7 @@ def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
     for s0 in range(0, n_modes, per):
         tt = np.array(train[:n_train, s0:s0 + per].T, dtype=float)  # (modes, frames)
         spread = np.std(tt, axis=1)
-        top = np.max(np.abs(tt), axis=1)
-        d = tt / np.where(top > 0.0, top, 1.0)[:, None]  # lag1_autocorrelation of each mode
-        d -= d.mean(axis=1, keepdims=True)
-        power = np.einsum("mn,mn->m", d, d)
-        lag = np.einsum("mn,mn->m", d[:, 1:], d[:, :-1])
-        r = np.clip(lag / np.where(power > 0.0, power, 1.0), 0.0, 0.999)
+        r = np.clip(lag1_autocorrelations(tt.T), 0.0, 0.999)
         # constant modes and those of too few correlation times are not fitted
         fit = np.flatnonzero((spread > 0.0)
                              & (n_rows * (1.0 - r) / (1.0 + r) >= MIN_SHIFT_EFFECTIVE))

@@ -53,7 +53,7 @@ from modalinfo._stats import (
     MAD_RELATIVE_SD,
     PAIR_MIN_STATIONARITY_FRAMES,
     ar_innovations,
-    lag1_autocorrelation,
+    lag1_autocorrelations,
     level_steps,
     mad_union_threshold,
     sample_autocovariance,
@@ -724,8 +724,7 @@ def _largest_lag1_product(a: np.ndarray, b: np.ndarray) -> float:
     """Largest product of a column's and b column's lag-1 autocorrelations."""
     a = np.asarray(a, dtype=float).reshape(a.shape[0], -1)
     b = np.asarray(b, dtype=float).reshape(b.shape[0], -1)
-    ra = np.array([lag1_autocorrelation(c) for c in a.T])
-    rb = np.array([lag1_autocorrelation(c) for c in b.T])
+    ra, rb = lag1_autocorrelations(a), lag1_autocorrelations(b)
     return float(np.max(np.multiply.outer(ra, rb))) if ra.size and rb.size else 0.0
 
 
