@@ -8,10 +8,10 @@ References (outside the code under test):
 - the metapupil's geometry, computed here on a fine grid of each subaperture: the
   fraction of it that the telescope pupil, shrunk by the sensor's documented edge margin
   ``sqrt(2) dx`` and shifted by ``h theta`` for each direction ``theta`` of the WFS's
-  hexagonal field (written here), lights. A layer-oriented sensor uses a subaperture
-  some direction half-lights (Ragazzoni, Farinato & Marchetti 2000), as the geometric
-  SH does since left28-field; before this branch the correlating SH kept only those half
-  lit on average over the field and dropped the metapupil's ring;
+  hexagonal field (written in tests/closedloop/_geometry.py), lights. A layer-oriented
+  sensor uses a subaperture some direction half-lights (Ragazzoni, Farinato & Marchetti
+  2000), as the geometric SH does since left28-field; before this branch the correlating
+  SH kept only those half lit on average over the field and dropped the metapupil's ring;
 - a subaperture's field share, computed here from that geometry: the light of the
   directions it uses (those lighting half of it or more), weighted by each direction's
   contrast weight (the linearised SDF's information per direction, an input of the
@@ -43,7 +43,8 @@ from closedloop.optics.correlating_sensor import CorrelatingShackHartmann
 from closedloop.optics.dm import ZernikeMirror
 from closedloop.optics.geometry import Geometry
 
-ARCSEC = math.pi / 648000.0
+from ._geometry import ARCSEC, lit_fractions
+
 H = 10_000.0
 
 
@@ -65,33 +66,12 @@ def _sensor():
     return cfg, g, CorrelatingShackHartmann(g, 0, ZernikeMirror(g, 0))
 
 
-def _hexagonal_directions(field: float, rings: int) -> np.ndarray:
-    out = []
-    for q in range(1 - rings, rings):
-        for r in range(1 - rings, rings):
-            if abs(q + r) < rings:
-                out.append((q + 0.5 * r, r * math.sqrt(3.0) / 2.0))
-    return np.array(out) * (field / 2.0) / (rings - 1)
-
-
 def _lit_fractions(cfg, dx: float, fine: int = 20):
     """``(directions (n, 2) [arcsec], lit (n, n_sub^2))``: margined pupil, fine grid."""
     w = cfg.wfss[0]
     d = cfg.telescope.diameter
-    n_sub = w.n_subapertures
-    d_wfs = d + 2.0 * H * math.tan(w.field_of_view / 2.0 * ARCSEC)
-    pitch = d_wfs / n_sub
-    off = ((np.arange(fine) + 0.5) / fine - 0.5) * pitch
-    oy, ox = np.meshgrid(off, off, indexing="ij")
-    centres = (np.arange(n_sub) + 0.5) * pitch - d_wfs / 2.0
-    cy, cx = np.meshgrid(centres, centres, indexing="ij")
-    px = cx.ravel()[:, None] + ox.ravel()[None, :]
-    py = cy.ravel()[:, None] + oy.ravel()[None, :]
-    radius = d / 2.0 - math.sqrt(2.0) * dx
-    dirs = _hexagonal_directions(w.field_of_view, w.field_samples)
-    lit = np.array([(np.hypot(px - H * tx * ARCSEC, py - H * ty * ARCSEC) <= radius).mean(axis=1)
-                    for tx, ty in dirs])
-    return dirs, lit
+    return lit_fractions(d, H, w.field_of_view, w.field_samples, w.n_subapertures,
+                         d / 2.0 - math.sqrt(2.0) * dx, fine)
 
 
 def test_correlating_sh_uses_every_subaperture_some_direction_half_lights():

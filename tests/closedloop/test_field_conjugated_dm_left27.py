@@ -13,9 +13,9 @@ References (outside the code under test):
 - the geometry of the metapupil, computed here: the fraction of each subaperture's
   square that the telescope pupil, shifted by ``h theta_s`` for each direction
   ``theta_s`` of the WFS's hexagonal field (a second implementation of
-  ``closedloop.optics.geometry.field_samples``, written here), lights. A layer-oriented
-  WFS co-adds its field's light, so a subaperture that some direction lights over half
-  of its area or more receives a usable signal; the sensor must use it.
+  ``closedloop.optics.geometry.field_samples``, written in tests/closedloop/_geometry.py),
+  lights. A layer-oriented WFS co-adds its field's light, so a subaperture that some
+  direction lights over half of its area or more receives a usable signal; the sensor must use it.
 
 The ideal sensor (``kind="ideal"``, the field-averaged phase on the DM's disc) obeys the
 law (SR 0.72-0.74 over a 12" field). The Shack-Hartmann did not until issue 27's
@@ -33,7 +33,6 @@ the 8.5" corners read 0.85-0.90 of the best (docs/ADVERSARIAL.md, "Leftovers 28-
 """
 
 import dataclasses as dc
-import math
 
 import numpy as np
 
@@ -43,7 +42,8 @@ from closedloop.optics.dm import ZernikeMirror
 from closedloop.optics.geometry import Geometry
 from closedloop.optics.wfs import ShackHartmann
 
-ARCSEC = math.pi / 648000.0
+from ._geometry import lit_fractions
+
 H = 10_000.0
 
 def _config(kind: str, n_pixels: int, field_size: float = 12.0, n_points: int = 3):
@@ -57,33 +57,12 @@ def _config(kind: str, n_pixels: int, field_size: float = 12.0, n_points: int = 
                       field=FieldConfig(size=field_size, n_points=n_points))
 
 
-def _hexagonal_directions(field: float, rings: int) -> np.ndarray:
-    """The hexagonal field set, written here: axial (q, r) with |q|, |r|, |q + r| < rings."""
-    out = []
-    for q in range(1 - rings, rings):
-        for r in range(1 - rings, rings):
-            if abs(q + r) < rings:
-                out.append((q + 0.5 * r, r * math.sqrt(3.0) / 2.0))
-    return np.array(out) * (field / 2.0) / (rings - 1)
-
-
 def _best_lit_fraction(cfg, n_sub: int, fine: int = 24) -> np.ndarray:
     """Largest fraction, over the WFS's directions, of each subaperture lit through the pupil."""
     w = cfg.wfss[0]
     d = cfg.telescope.diameter
-    d_wfs = d + 2.0 * H * math.tan(w.field_of_view / 2.0 * ARCSEC)
-    pitch = d_wfs / n_sub
-    off = ((np.arange(fine) + 0.5) / fine - 0.5) * pitch
-    oy, ox = np.meshgrid(off, off, indexing="ij")
-    centres = (np.arange(n_sub) + 0.5) * pitch - d_wfs / 2.0
-    cy, cx = np.meshgrid(centres, centres, indexing="ij")  # row = y, column = x
-    px = cx.ravel()[:, None] + ox.ravel()[None, :]
-    py = cy.ravel()[:, None] + oy.ravel()[None, :]
-    best = np.zeros(n_sub * n_sub)
-    for tx, ty in _hexagonal_directions(w.field_of_view, w.field_samples):
-        lit = np.hypot(px - H * tx * ARCSEC, py - H * ty * ARCSEC) <= d / 2.0
-        best = np.maximum(best, lit.mean(axis=1))
-    return best
+    _, lit = lit_fractions(d, H, w.field_of_view, w.field_samples, n_sub, d / 2.0, fine)
+    return lit.max(axis=0)
 
 
 def test_shack_hartmann_uses_every_subaperture_some_direction_half_lights():
