@@ -22,6 +22,8 @@ import pytest
 
 from modalinfo.cli import main
 
+from .._limits import capped_child
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -114,11 +116,8 @@ def test_forecast_horizon_beyond_memory_names_the_estimate(small_log, capsys, mo
 
 
 def test_memory_available_counts_the_address_space_limit():
-    code = ("import resource; from modalinfo.cli.shared import memory_available;"
-            "size = [float(l.split()[1]) * 1024 for l in open('/proc/self/status')"
-            " if l.startswith('VmSize:')][0];"
-            "resource.setrlimit(resource.RLIMIT_AS, (int(size + 300e6), resource.RLIM_INFINITY));"
-            "a = memory_available(); print(a)")
+    code = capped_child(setup="from modalinfo.cli.shared import memory_available",
+                        headroom=300e6, body="print(memory_available())")
     if not Path("/proc/self/status").exists():
         pytest.skip("needs /proc")
     out = subprocess.run([sys.executable, "-c", code], env=dict(os.environ,
@@ -139,14 +138,13 @@ def test_large_mapped_log_under_an_address_space_cap_is_refused(tmp_path):
     data[:] = 1.0
     data.flush()
     del data
-    code = ("import resource, sys; from modalinfo.cli import main;"
-            # what the commands import, loaded before the cap: the cap is on the data
-            "import modalinfo.io, modalinfo.forecast, modalinfo.ordering.compare;"
-            "import modalinfo.information.selection, matplotlib.pyplot;"
-            "size = [float(l.split()[1]) * 1024 for l in open('/proc/self/status')"
-            " if l.startswith('VmSize:')][0];"
-            "resource.setrlimit(resource.RLIMIT_AS, (int(size + 150e6), resource.RLIM_INFINITY));"
-            "sys.exit(main(sys.argv[1:]))")
+    # what the commands import, loaded before the cap: the cap is on the data
+    code = capped_child(setup="""
+        import sys
+        from modalinfo.cli import main
+        import modalinfo.io, modalinfo.forecast, modalinfo.ordering.compare
+        import modalinfo.information.selection, matplotlib.pyplot
+    """, headroom=150e6, body="sys.exit(main(sys.argv[1:]))")
     # one command (each subprocess imports the stack: ~6 s); all of them share
     # load_log_with_hints(copies=LOG_COPIES), checked in-process just below
     for command in (["forecast"],):

@@ -9,24 +9,15 @@ the two reads).
 
 import subprocess
 import sys
-import textwrap
 
 import pytest
 
+from .._limits import capped_child
+
 resource = pytest.importorskip("resource")
 
-CHILD = textwrap.dedent("""
-    import resource
-    from modalinfo.common.memory import free_memory_bytes
-    size = 0
-    with open("/proc/self/status") as fh:
-        for line in fh:
-            if line.startswith("VmSize:"):
-                size = int(line.split()[1]) * 1024
-    resource.setrlimit(resource.RLIMIT_AS,
-                       (size + 2**30, resource.getrlimit(resource.RLIMIT_AS)[1]))
-    print(free_memory_bytes())
-""")
+CHILD = capped_child(setup="from modalinfo.common.memory import free_memory_bytes",
+                     headroom=2**30, body="print(free_memory_bytes())")
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc/self/status")

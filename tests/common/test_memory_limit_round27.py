@@ -13,23 +13,18 @@ allocation.
 
 import subprocess
 import sys
-import textwrap
 
 import pytest
 
+from .._limits import capped_child
+
 resource = pytest.importorskip("resource")
 
-CHILD = textwrap.dedent("""
-    import resource, sys
+CHILD = capped_child(setup="""
+    import sys
     from modalinfo.bases import KLBasis, Pupil
     from modalinfo.information.resampling import check_index_memory
-    size = 0
-    with open("/proc/self/status") as fh:
-        for line in fh:
-            if line.startswith("VmSize:"):
-                size = int(line.split()[1]) * 1024
-    cap = size + 2**30
-    resource.setrlimit(resource.RLIMIT_AS, (cap, resource.getrlimit(resource.RLIMIT_AS)[1]))
+""", headroom=2**30, body="""
     case = sys.argv[1]
     try:
         if case == "pupil":
