@@ -31,23 +31,12 @@ import math
 import time
 
 import numpy as np
+from _common import cpu_median
 
 from modalinfo.bases import InfluenceFunctions, MaskedPupil, Pupil, dm_kl_modes
 from modalinfo.bases.dm_kl import _command_prior
 
 ARCSEC = math.pi / 180 / 3600
-
-
-def median_time(func, repeats: int) -> float:
-    """Median CPU time of this process per call [s] (the machine is shared: wall time
-    under load measures the neighbours)."""
-    func()  # warm-up
-    times = []
-    for _ in range(repeats):
-        t0 = time.process_time()
-        func()
-        times.append(time.process_time() - t0)
-    return float(np.median(times))
 
 
 def surface_rows(label: str, pupil, n_act: int, pitch: float, repeats: int) -> list:
@@ -56,8 +45,8 @@ def surface_rows(label: str, pupil, n_act: int, pitch: float, repeats: int) -> l
     f = InfluenceFunctions(pupil, n_act, pitch)
     c = np.random.default_rng(0).standard_normal(f.n_valid)
     mat = f.matrix
-    sep = median_time(lambda: f.surface(c), repeats)
-    csr = median_time(lambda: mat @ c, repeats)
+    sep = cpu_median(lambda: f.surface(c), repeats)
+    csr = cpu_median(lambda: mat @ c, repeats)
     grid = hcipy.make_uniform_grid([pupil.n_pixels, pupil.n_pixels],
                                    [pupil.diameter, pupil.diameter])
     ifs = hcipy.make_gaussian_influence_functions(grid, n_act, pitch, crosstalk=f.coupling)
@@ -71,7 +60,7 @@ def surface_rows(label: str, pupil, n_act: int, pitch: float, repeats: int) -> l
         dm.actuators = acts[calls[0] % 2]
         return dm.surface
 
-    hc = median_time(hcipy_surface, repeats)
+    hc = cpu_median(hcipy_surface, repeats)
     what = (f"{label}: {pupil.n_valid} px, {f.n_valid} valid of {n_act}x{n_act}, "
             f"{mat.nnz} non-zeros")
     return [(what, "modalinfo surface (separable)", sep, 1.0),
@@ -118,8 +107,8 @@ def main() -> None:
         m2c, var = dm_kl_modes(f, 0.07, 27.0)
         build = time.process_time() - t0
         k = np.random.default_rng(1).standard_normal(m2c.shape[1])
-        fwd = median_time(lambda: f.surface(m2c @ k), args.repeats)
-        strokes = median_time(lambda: m2c @ k, args.repeats)
+        fwd = cpu_median(lambda: f.surface(m2c @ k), args.repeats)
+        strokes = cpu_median(lambda: m2c @ k, args.repeats)
         rows.append((f"loop forward, {m2c.shape[1]} K-L modes", "m2c @ k then surface", fwd,
                      1.0))
         rows.append(("", "of which m2c @ k (dense)", strokes, strokes / fwd))

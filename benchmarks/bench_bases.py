@@ -15,22 +15,11 @@ Run: /work/venv/bin/python benchmarks/bench_bases.py [--repeats 5]
 import argparse
 import contextlib
 import io
-import time
 import warnings
 
-import numpy as np
+from _common import median_time
 
 from modalinfo.bases import KLBasis, Pupil, ZernikeBasis
-
-
-def median_time(func, repeats):
-    func()  # warm-up
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def main():

@@ -21,20 +21,10 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import time
 import warnings
 
 import numpy as np
-
-
-def _cpu(fn, repeats: int) -> float:
-    fn()  # first call not timed (imports, caches)
-    spent = []
-    for _ in range(repeats):
-        start = time.process_time()
-        fn()
-        spent.append(time.process_time() - start)
-    return float(np.median(spent))
+from _common import cpu_median
 
 
 def _cases(n: int) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -73,12 +63,12 @@ def main() -> None:
     for method in args.methods:
         ran = []
         for name, (x, y) in _cases(args.n).items():
-            direct = _cpu(lambda m=method, a=x, b=y: MutualInformation(m).estimate(a, b),
-                          args.repeats)
+            direct = cpu_median(lambda m=method, a=x, b=y: MutualInformation(m).estimate(a, b),
+                                args.repeats)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                full = _cpu(lambda m=method, a=x, b=y: mutual_information(a, b, method=m),
-                            args.repeats)
+                full = cpu_median(lambda m=method, a=x, b=y: mutual_information(a, b, method=m),
+                                  args.repeats)
             value = MutualInformation(method).estimate(x, y)
             xi, ties = _neighbours(x, y)
             # rule 2 runs where rule 1 and rule 3 are silent and (ties or value < bound)

@@ -43,6 +43,7 @@ import time
 from collections import deque
 
 import numpy as np
+from _common import cpu_median
 
 PARTS = ("apply", "atmosphere", "subtract", "exposure", "science", "measure", "reconstruct",
          "control")
@@ -146,15 +147,6 @@ def run_whole(cfg, model, frames: int, seed: int = 2):
     return res, time.process_time() - t
 
 
-def _median_ms(func, reps: int) -> float:
-    func()
-    times = []
-    for _ in range(reps):
-        t = time.process_time()
-        func()
-        times.append(time.process_time() - t)
-    return 1e3 * float(np.median(times))
-
 
 def kernels(args) -> dict:
     """Science and exposure kernels, before and after, in this process (geometry only)."""
@@ -178,11 +170,11 @@ def kernels(args) -> dict:
     old = lambda: _kernels.direction_moments_serial(*base, a[0], a[1])  # noqa: E731
     res = {}
     for _rep in range(3):  # alternate, so that the load drifts alike over both
-        res.setdefault("science_before_ms", []).append(_median_ms(old, args.frames))
+        res.setdefault("science_before_ms", []).append(1e3 * cpu_median(old, args.frames))
         if cam._groups is not None:
             new = lambda: _kernels.direction_moments_grouped(  # noqa: E731
                 *base, *cam._groups, b[0], b[1])
-            res.setdefault("science_after_ms", []).append(_median_ms(new, args.frames))
+            res.setdefault("science_after_ms", []).append(1e3 * cpu_median(new, args.frames))
     if cam._groups is not None:
         out["science_same_bits"] = bool(np.array_equal(a, b))
     maps = cam.plane_views()
@@ -206,8 +198,8 @@ def kernels(args) -> dict:
         exp.mean(n_int)
 
     for _rep in range(3):
-        res.setdefault("exposure_before_ms", []).append(_median_ms(before, args.frames))
-        res.setdefault("exposure_after_ms", []).append(_median_ms(after, args.frames))
+        res.setdefault("exposure_before_ms", []).append(1e3 * cpu_median(before, args.frames))
+        res.setdefault("exposure_after_ms", []).append(1e3 * cpu_median(after, args.frames))
     before()
     after()
     out["exposure_same_bits"] = all(np.array_equal(s, e) for s, e in zip(sums, exp.maps,

@@ -18,17 +18,9 @@ import statistics
 import time
 import tracemalloc
 
-import numpy as np
+from _common import ar1_log
 
 from modalinfo.telemetry import assess_quality
-
-
-def _log(frames: int, modes: int) -> np.ndarray:
-    rng = np.random.default_rng(27)
-    x = rng.standard_normal((frames, modes))
-    for t in range(1, frames):
-        x[t] += 0.9 * x[t - 1]
-    return x
 
 
 def main() -> None:
@@ -37,9 +29,9 @@ def main() -> None:
     parser.add_argument("--modes", type=int, nargs="+", default=[200, 2000])
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
-    assess_quality(_log(500, 3))  # compile the numba kernel outside the timings
+    assess_quality(ar1_log(500, 3, 27))  # compile the numba kernel outside the timings
     for m in args.modes:
-        x = _log(args.frames, m)
+        x = ar1_log(args.frames, m, 27)
         walls = []
         for _ in range(args.repeats):
             t0 = time.perf_counter()

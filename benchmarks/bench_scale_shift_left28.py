@@ -28,21 +28,14 @@ import time
 import tracemalloc
 
 import numpy as np
-
-
-def _log(frames: int, modes: int) -> np.ndarray:
-    rng = np.random.default_rng(28)
-    x = rng.standard_normal((frames, modes))
-    for t in range(1, frames):
-        x[t] += 0.9 * x[t - 1]
-    return x
+from _common import ar1_log
 
 
 def measure(frames: int, modes: int, repeats: int) -> dict:
     """Median wall time [s], tracemalloc peak [MiB] and the ratios of ``_scale_shift``."""
     from modalinfo.forecast.evaluate import _scale_shift
 
-    x = _log(frames, modes)
+    x = ar1_log(frames, modes, 28)
     n_train = frames // 2
     walls, cpus = [], []
     for _ in range(repeats):

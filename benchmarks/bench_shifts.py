@@ -34,9 +34,9 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
 
 import numpy as np
+from _common import cpu_median
 
 from closedloop import presets
 from closedloop.kinds import mirror_kind
@@ -66,16 +66,6 @@ ACC_SUBAPERTURE = 0.10   # m
 ACC_WAVELENGTH = 500e-9  # m
 ACC_SCENE = 256          # pixels, periodic
 ACC_MAX_SHIFT = 3
-
-
-def cpu_median(fn, repeats):
-    fn()  # warm-up (JIT, caches)
-    times = []
-    for _ in range(repeats):
-        t0 = time.process_time()
-        fn()
-        times.append(time.process_time() - t0)
-    return float(np.median(times))
 
 
 def time_correlation(ref, imgs, max_shift, repeats):

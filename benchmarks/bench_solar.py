@@ -15,12 +15,12 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import statistics
 import time
 
 import numpy as np
+from _common import int_options
 
 from closedloop import LoopModel, presets, simulate
 from closedloop.state import LoopState
@@ -71,11 +71,7 @@ def imaging_seconds(repeats: int) -> tuple[float, list[int]]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--frames", type=int, default=200)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--imaging-repeats", type=int, default=3)
-    args = parser.parse_args()
+    args = int_options(__doc__, frames=200, repeats=5, imaging_repeats=3).parse_args()
     rates = loop_rates(args.frames, args.repeats)
     med = {k: statistics.median(v) for k, v in rates.items()}
     for name, v in rates.items():

@@ -39,12 +39,12 @@ import os
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import argparse  # noqa: E402
 import math  # noqa: E402
 import time  # noqa: E402
 from concurrent.futures import ProcessPoolExecutor  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _common import int_options  # noqa: E402
 from scipy.signal import lfilter  # noqa: E402
 
 from modalinfo.information import (  # noqa: E402
@@ -103,11 +103,7 @@ def one_trial(args: tuple) -> dict[str, float]:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=1000)
-    ap.add_argument("--n", type=int, default=500)
-    ap.add_argument("--surrogates", type=int, default=99)
-    ap.add_argument("--jobs", type=int, default=1)
+    ap = int_options(__doc__, trials=1000, n=500, surrogates=99, jobs=1)
     ap.add_argument("--tests", nargs="+", default=list(TESTS), choices=TESTS)
     ap.add_argument("--phis", nargs="+", type=float, default=list(PHIS), choices=PHIS)
     a = ap.parse_args()

@@ -20,18 +20,9 @@ import time
 import warnings
 
 import numpy as np
+from _common import median_time
 
 from modalinfo.telemetry.synthetic import KAOS_LIKE_DEFAULTS, Layer, kaos_like, open_loop_log
-
-
-def median_time(func, repeats):
-    func()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
 
 
 def hcipy_route(n_frames, rate=2000.0):
