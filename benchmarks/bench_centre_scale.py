@@ -28,43 +28,24 @@ Run: PYTHONPATH=. python benchmarks/bench_centre_scale.py [--frames 100000] [--r
 """
 
 import argparse
+import functools
 import importlib.util
 import os
 import sys
-import time
 
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import numpy as np  # noqa: E402
+from _common import timed  # noqa: E402
 
 from modalinfo.bases import KLBasis, Pupil  # noqa: E402
 from modalinfo.bases import turbulence as tb  # noqa: E402
 from modalinfo.bases.kl import _eig_blocks, _eig_by_symmetry, _fix_signs, default_zernike_modes  # noqa: E402
 from modalinfo.ordering import fitting_error  # noqa: E402
 
-
-def median_time(func, repeats, warm=True):
-    if warm:
-        func()
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = func()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), out
-
-
-def cpu_time(func, repeats, warm=True):
-    """Median CPU time (``time.process_time``) of ``func()`` and its last result."""
-    if warm:
-        func()
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.process_time()
-        out = func()
-        times.append(time.process_time() - t0)
-    return float(np.median(times)), out
+median_time = timed  # wall time
+cpu_time = functools.partial(timed, cpu=True)
 
 
 def load_module(path, name):

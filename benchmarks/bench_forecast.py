@@ -19,10 +19,12 @@ Timings are medians over repeats; the machine is shared, so ratios are what matt
 from __future__ import annotations
 
 import argparse
+import functools
 import time
 import warnings
 
 import numpy as np
+from _common import timed
 from scipy.signal import lfilter
 
 from modalinfo.forecast import ARMAPredictor, LinearPredictor
@@ -37,14 +39,7 @@ def _series(n, seed=0, m=1):
     return np.ascontiguousarray(lfilter(np.r_[1.0, THETA], np.r_[1.0, -PHI], e, axis=0)[1000:])
 
 
-def _median_time(fn, repeats):
-    times = []
-    out = None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), out
+_median_time = functools.partial(timed, warm=False)  # wall time, every call timed
 
 
 def bench_fit_and_forecast(repeats_ours, repeats_sm):

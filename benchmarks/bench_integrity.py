@@ -20,24 +20,17 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import statistics
+import functools
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
+from _common import timed
 
 from modalinfo.io import integrity_check, load, save
 from modalinfo.telemetry import ModalLog, summarize
 
-
-def _median_time(func, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+_median_time = functools.partial(timed, warm=False)  # wall time, every call timed
 
 
 def main() -> None:
@@ -67,9 +60,9 @@ def main() -> None:
                 summarize(load(path))
 
             peer()  # warm the page cache and numba
-            t_peer = _median_time(peer, args.repeats)
-            t_ours = _median_time(ours, args.repeats)
-            t_read = _median_time(read, args.repeats)
+            t_peer = _median_time(peer, args.repeats)[0]
+            t_ours = _median_time(ours, args.repeats)[0]
+            t_read = _median_time(read, args.repeats)[0]
             print(f"{ext}: {args.frames} x {args.modes} float64 ({size:.0f} MB): "
                   f"ours {t_ours:.3f} s, peer (no checksum) {t_peer:.3f} s, "
                   f"ratio {t_ours / t_peer:.2f}; full read + verify {t_read:.3f} s")

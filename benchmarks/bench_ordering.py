@@ -19,9 +19,10 @@ samples, histogram estimator with its default options. Timed, medians after a wa
 """
 
 import argparse
-import time
+import functools
 
 import numpy as np
+from _common import timed
 from sklearn.feature_selection import mutual_info_regression
 
 from modalinfo.bases import KLBasis, Pupil, ZernikeBasis, zernike_covariance
@@ -29,14 +30,7 @@ from modalinfo.information import mutual_information
 from modalinfo.ordering import fitting_error, order_modes, sample_contributions
 from modalinfo.telemetry.synthetic import kaos_like
 
-
-def median_time(fn, repeats):
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), out
+median_time = functools.partial(timed, warm=False)  # wall time, every call timed
 
 
 def naive_greedy(contrib, score_fn):

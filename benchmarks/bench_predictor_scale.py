@@ -47,6 +47,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
+import functools  # noqa: E402
 import importlib.util  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
@@ -56,6 +57,7 @@ import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _common import timed  # noqa: E402
 
 from modalinfo.forecast.presets import make_predictor  # noqa: E402
 from modalinfo.telemetry.synthetic import kaos_like  # noqa: E402
@@ -106,13 +108,7 @@ def _baseline_from_rev(rev: str):
     return _load_baseline(str(folder / "arma_baseline.py"))
 
 
-def _median_time(fn, repeats: int):
-    times, out = [], None
-    for _ in range(repeats):
-        t0 = time.process_time()
-        out = fn()
-        times.append(time.process_time() - t0)
-    return float(np.median(times)), out
+_median_time = functools.partial(timed, cpu=True, warm=False)  # every call timed
 
 
 def _identical(a: dict, b: dict) -> bool:
