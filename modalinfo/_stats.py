@@ -104,16 +104,21 @@ def lag1_autocorrelations(x: np.ndarray) -> np.ndarray:
 
     Parameters
     ----------
-    x : numpy.ndarray, shape (T,) or (T, k)
+    x : array_like, shape (T,) or (T, k)
         Real series in time order (columns are series); a column holding NaN gets NaN.
 
     Returns
     -------
     numpy.ndarray, shape (k,)
         The lag-1 autocorrelation of each column (0 for a constant column or T < 2).
+
+    Raises
+    ------
+    TypeError, ValueError
+        If ``x`` is not real (complex, strings), masked, or not 1-D or 2-D.
     """
-    x = np.asarray(x, dtype=float)
-    x = x.reshape(x.shape[0], math.prod(x.shape[1:]))
+    x = as_float_array(x, "x", ndim=(1, 2), finite=False)
+    x = x if x.ndim == 2 else x[:, None]
     n, k = x.shape
     out = np.zeros(k)
     per = max(1, _STACK_VALUES // max(1, n))

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalinfo.forecast import sample_autocovariance
+from modalinfo.forecast import lag1_autocorrelations
 from paper_figures._common import markdown_table, save_png_pdf
 from paper_figures.closedloop_runs import STYLES, ClosedLoopRuns, budget_sentence
 
@@ -117,8 +117,7 @@ def _ranking_scatter(fig2: Figure2, kept: dict[str, float]) -> str:
     n = d.size
     if n < 3:
         return f"; {n} frames cannot tell the ranking from the run's scatter"
-    acov = sample_autocovariance(d, 1)
-    r = min(max(float(acov[1] / acov[0]), 0.0), 1.0 - 1e-12) if acov[0] > 0 else 0.0
+    r = min(max(float(lag1_autocorrelations(d)[0]), 0.0), 1.0 - 1e-12)
     n_eff = n * (1.0 - r) / (1.0 + r)
     two_se = 2.0 * float(np.std(d, ddof=1)) / np.sqrt(n_eff)
     width = kept[hi] - kept[lo]

@@ -84,9 +84,9 @@ def _predictors():
 
 
 def _increment_correlation(x: np.ndarray) -> np.ndarray:
-    d = np.diff(x, axis=0)
-    d = d - d.mean(axis=0)
-    return np.sum(d[1:] * d[:-1], axis=0) / np.sum(d * d, axis=0)
+    from modalinfo.forecast import lag1_autocorrelations
+
+    return lag1_autocorrelations(np.diff(x, axis=0))
 
 
 @dataclass(frozen=True)

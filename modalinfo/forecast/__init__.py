@@ -15,6 +15,7 @@ Example
 >>> print(result.summary())                                        # doctest: +SKIP
 """
 
+from modalinfo._stats import lag1_autocorrelations
 from modalinfo.forecast.arma import (
     ARMAPredictor,
     ForecastInterval,
@@ -46,6 +47,7 @@ __all__ = [
     "ForecastInterval",
     "psi_weights",
     "sample_autocovariance",
+    "lag1_autocorrelations",
     "evaluate",
     "ForecastEvaluation",
     "PRESETS",

@@ -1,8 +1,9 @@
-"""One column-wise lag-1 autocorrelation (``modalinfo._stats.lag1_autocorrelations``).
+"""One column-wise lag-1 autocorrelation (``modalinfo.forecast.lag1_autocorrelations``).
 
-Issue 27, left30-twins: the estimator was written four times (a per-column Python loop
-in the spread rules and the shuffle rule, inline in the evaluation's scale shift); now
-one vectorised function serves them all.
+Issue 27, left30-twins: the estimator was written six times (a per-column Python loop
+in the spread rules and the shuffle rule, inline in the evaluation's scale shift and in
+Figures 2 and 5); now one vectorised function (``modalinfo._stats``, public in
+``modalinfo.forecast``) serves them all.
 
 References (outside the code): statsmodels' ``acf(x, nlags=1, adjusted=False)`` (the
 biased estimator of Brockwell & Davis eq. 1.4.4) column by column; the exact value
@@ -66,3 +67,16 @@ def test_one_series_is_the_one_column_case():
         assert lag1_autocorrelation(x[:, j]) == pytest.approx(_reference(_ar1()[:, [j]])[0],
                                                               rel=1e-12, abs=1e-14)
     assert lag1_autocorrelation(np.array([])) == 0.0
+
+
+def test_public_name_refuses_what_is_not_a_real_table():
+    """``modalinfo.forecast.lag1_autocorrelations`` (the figures' route) names ``x``."""
+    from modalinfo.forecast import lag1_autocorrelations as public
+
+    assert public is lag1_autocorrelations
+    np.testing.assert_allclose(public([1.0, -1.0, 1.0]), [-2.0 / 3.0], rtol=1e-15)
+    for bad, kind in [(np.ones((2, 2, 2)), ValueError), ([1j, 2.0], TypeError),
+                      (["a", "b"], TypeError), (3.0, ValueError),
+                      (np.ma.masked_array([1.0, 2.0, 3.0], mask=[0, 1, 0]), ValueError)]:
+        with pytest.raises(kind, match="`x`"):
+            public(bad)
