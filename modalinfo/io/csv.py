@@ -173,6 +173,30 @@ def _number_format(message: str, path, delim: str | None = ",") -> None:
         f"pd.read_csv(path, {read}).to_csv(new, index=False))")
 
 
+def _prose_lines(body: list[str], delim: str | None, path) -> None:
+    """Refuse lines of text above the numbers (a header block not marked with ``#``).
+
+    A file opening with 'KAOS telemetry dump' / 'rate: 1000 Hz' / 'units: nm' above
+    its numbers was "corrupt CSV file ...: could not convert string 'rate:' to float64
+    at row 0, column 1" (round 31 PART b, a30): row 0 was the file's second line and no
+    word said how to mark such lines. Raised when the first data row is text and a
+    later one of the first 50 is all numbers.
+    """
+    lead = 0
+    for line in body[:50]:
+        if all(_is_number(tok) for tok in _split(line, delim)):
+            break
+        lead += 1
+    else:
+        return
+    if lead == 0:
+        return
+    raise LogFormatError(
+        f"CSV file '{path}': its first {lead + 1} lines are text above the numbers "
+        f"(such as {body[0].strip()[:40]!r}); start each such line with '#' (comment lines "
+        "are skipped, '# units: nm' is read) and keep at most one row of column names")
+
+
 def _text_key(message: str, names: list[str], path) -> None:
     """Refuse a text key column (``night``: '2024-01-01') beside named mode columns.
 
@@ -373,6 +397,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     "or delete it and give --rate HZ") from None
             _number_format(str(exc), path, delim)
             if names is not None:
+                _prose_lines(body, delim, path)
                 _text_key(str(exc), names, path)
             if "string ''" not in str(exc):
                 raise
