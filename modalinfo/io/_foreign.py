@@ -10,7 +10,8 @@ guess silently nor refuse what the caller states. The rules, applied by
   round it is: the hint ``transpose=True`` (read the array transposed) or
   ``transpose=False`` (as stored), or an axis annotation in the file (FITS
   ``CTYPE1``/``CTYPE2``, an HDF5 dataset attribute ``axes``/``dims``/
-  ``dimension_labels`` or dimension-scale labels). It looks transposed when it has
+  ``dimension_labels``, dimension labels, or the names of the dimension scales attached
+  to its axes as netCDF-4 writes them). It looks transposed when it has
   more columns than rows and either more than :data:`MAX_MODES` columns or at least
   :data:`COLUMN_RATIO` times as many columns as rows (and more than
   :data:`MIN_SUSPECT_COLUMNS`), or when a ``modes`` hint or the file's time axis has
