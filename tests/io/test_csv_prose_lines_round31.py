@@ -44,3 +44,13 @@ def test_a_word_deep_in_the_numbers_still_names_the_cell(tmp_path):
     with pytest.raises(ValueError) as err:
         load(tmp_path / "cell.txt", rate=1000.0)
     assert "'bad'" in str(err.value) and "lines are text" not in str(err.value)
+
+
+def test_a_bad_cell_in_the_first_frame_is_not_called_prose(tmp_path):
+    x = np.random.default_rng(2).normal(size=(100, 3)).astype(object)
+    x[0, 1] = "N/A"
+    (tmp_path / "na.csv").write_text(
+        "Z2,Z3,Z4\n" + "".join(",".join(map(str, r)) + "\n" for r in x))
+    with pytest.raises(ValueError) as err:
+        load(tmp_path / "na.csv", rate=1000.0)
+    assert "'N/A'" in str(err.value) and "lines are text" not in str(err.value)
