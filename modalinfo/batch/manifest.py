@@ -429,6 +429,12 @@ def collect_logs(
         text = os.fspath(item)
         path = Path(text)
         if path.is_dir():
+            if any(path.resolve().is_relative_to(x) for x in skip):
+                # `batch sd --out sd` said "no log files found in sd" of a folder of logs
+                # (round 31 PART b, d15)
+                raise ValueError(
+                    f"input folder {text!r} is the output directory or lies inside it, and "
+                    "batch never reads logs from its output directory; choose another --out")
             for file in _walk(path, skip, skipped, unreadable):
                 add(plain(file))
         elif _is_manifest(path):

@@ -284,6 +284,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     hints.pop("transpose", None)
     check_has_modes(np.shape(coeffs), path)
     stored.pop("_layout", None)
+    stored.pop("_column_major", None)
     file_unit = stored.pop("_unit", None)
     if file_unit is not None:
         coeffs = _file_units(coeffs, file_unit, stored, hints, path)

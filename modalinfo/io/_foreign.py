@@ -10,12 +10,15 @@ guess silently nor refuse what the caller states. The rules, applied by
   round it is: the hint ``transpose=True`` (read the array transposed) or
   ``transpose=False`` (as stored), or an axis annotation in the file (FITS
   ``CTYPE1``/``CTYPE2``, an HDF5 dataset attribute ``axes``/``dims``/
-  ``dimension_labels`` or dimension-scale labels). It looks transposed when it has
+  ``dimension_labels``, dimension labels, or the names of the dimension scales attached
+  to its axes as netCDF-4 writes them). It looks transposed when it has
   more columns than rows and either more than :data:`MAX_MODES` columns or at least
   :data:`COLUMN_RATIO` times as many columns as rows (and more than
   :data:`MIN_SUSPECT_COLUMNS`), or when a ``modes`` hint or the file's time axis has
-  one entry per *row*. Column names (a CSV header row, table columns) or a ``modes``
-  hint with one entry per column confirm the stored layout. A transposition is
+  one entry per *row*, or when the writer stores arrays column-major (a MATLAB v7.3
+  variable: ``stored["_column_major"]``, whatever its shape). Column names (a CSV
+  header row, table columns) or a ``modes`` hint with one entry per column confirm the
+  stored layout. A transposition is
   recorded in ``metadata["layout"]``.
 * **Relabelling.** Modes and convention read from foreign column names may be
   replaced by ``modes=`` / ``convention=`` hints (recorded in
@@ -175,6 +178,8 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
     if transpose is False:
         return coeffs, None
     why = _evidence(coeffs.shape, stored, hints)
+    if why is None and stored.get("_column_major"):
+        why = stored["_column_major"]  # the writer's order, not the shape, is in doubt
     if why is not None:
         n_rows, n_cols = coeffs.shape
         raise LogFormatError(

@@ -173,6 +173,30 @@ def _number_format(message: str, path, delim: str | None = ",") -> None:
         f"pd.read_csv(path, {read}).to_csv(new, index=False))")
 
 
+def _prose_lines(body: list[str], delim: str | None, path) -> None:
+    """Refuse lines of text above the numbers (a header block not marked with ``#``).
+
+    A file opening with 'KAOS telemetry dump' / 'rate: 1000 Hz' / 'units: nm' above
+    its numbers was "corrupt CSV file ...: could not convert string 'rate:' to float64
+    at row 0, column 1" (round 31 PART b, a30): row 0 was the file's second line and no
+    word said how to mark such lines. Raised when the rows before the first row of
+    numbers (among the first 50) are text: no number in them, or not as many fields.
+    """
+    rows = [_split(line, delim) for line in body[:50]]
+    # the first row of numbers (an empty cell is a missing value, not text)
+    lead = next((k for k, row in enumerate(rows)
+                 if all(_is_number(tok) for tok in row if tok.strip())), 0)
+    if lead == 0:
+        return
+    width = len(rows[lead])
+    if any(len(row) == width and any(_is_number(tok) for tok in row) for row in rows[:lead]):
+        return  # a frame with a bad cell ('N/A'), not a line of text: numpy names the cell
+    raise LogFormatError(
+        f"CSV file '{path}': its first {lead + 1} lines are text above the numbers "
+        f"(such as {body[0].strip()[:40]!r}); start each such line with '#' (comment lines "
+        "are skipped, '# units: nm' is read) and keep at most one row of column names")
+
+
 def _text_key(message: str, names: list[str], path) -> None:
     """Refuse a text key column (``night``: '2024-01-01') beside named mode columns.
 
@@ -375,6 +399,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             if names is not None:
                 _text_key(str(exc), names, path)
             if "string ''" not in str(exc):
+                if names is not None:
+                    _prose_lines(body, delim, path)
                 raise
             # an empty cell is how pandas / spreadsheets write a missing value: it is a
             # NaN for --nonfinite to handle, not a "corrupt CSV file" (round 12 PART b, A07)

@@ -50,10 +50,21 @@ _COMPRESSED = {
 }
 
 _NOT_LOGS = (
-    (b"PAR1", "an Apache Parquet table (a `batch` or `sweep` result?)"),
-    (b"\x89PNG", "a PNG image"),
-    (b"%PDF", "a PDF document"),
+    (b"PAR1", "an Apache Parquet table (a `batch` or `sweep` result?)", ""),
+    (b"\x89PNG", "a PNG image", ""),
+    (b"%PDF", "a PDF document", ""),
+    # a Feather (Arrow IPC) table and a MATLAB v5 MAT-file were told "a CSV must be UTF-8:
+    # re-save it as UTF-8" (round 31 PART b, a01-a03, a11, a37)
+    (b"ARROW1", "an Apache Arrow (Feather) table",
+     "convert it in Python with `pandas.read_feather(PATH).to_csv('log.csv', index=False)`"),
+    (b"MATLAB 5.0 MAT-file", "a MATLAB v5 MAT-file",
+     "convert it in Python with `numpy.save('log.npy', scipy.io.loadmat(PATH)['VARIABLE'])` "
+     "(the MATLAB rows stay the frames), or save it in MATLAB with -v7.3 (an HDF5 file)"),
 )
+
+#: The text header of a MATLAB v7.3 MAT-file: an HDF5 file behind a 512-byte user block
+#: (read as "a corrupt CSV file", round 31 PART b, a04)
+_MAT73 = b"MATLAB 7.3 MAT-file"
 
 
 def _looks_like_csv(head: bytes) -> bool:
@@ -92,7 +103,8 @@ def sniff_format(path, head: bytes | None = None) -> str | None:
     Returns
     -------
     str or None
-        ``"npz"``, ``"npy"``, ``"fits"``, ``"aot"`` or ``"hdf5"`` from the magic bytes,
+        ``"npz"``, ``"npy"``, ``"fits"``, ``"aot"`` or ``"hdf5"`` from the magic bytes
+        (``"hdf5"`` also for a MATLAB v7.3 MAT-file: HDF5 behind a user block),
         ``"csv"`` for UTF-8 lines of delimited text, None when the content tells nothing
         (empty, damaged or unknown).
     """
@@ -106,6 +118,8 @@ def sniff_format(path, head: bytes | None = None) -> str | None:
     for magic, fmt in _MAGIC:
         if head.startswith(magic):
             return "aot" if fmt == "fits" and is_aot(path) else fmt
+    if head.startswith(_MAT73):
+        return "hdf5"
     return "csv" if _looks_like_csv(head) else None
 
 
@@ -182,15 +196,22 @@ def detect_format(path) -> str:
             raise LogFormatError(
                 f"'{path}' is {what}-compressed; decompress it first ({tool} '{path}') "
                 "and pass the decompressed file")
-    for magic, what in _NOT_LOGS:
+    for magic, what, advice in _NOT_LOGS:
         if head.startswith(magic):
             # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11
             # PART b, R12)
             raise LogFormatError(f"'{path}' is {what}, not a log: a log is an NPZ, NPY, "
-                                 "CSV, FITS or HDF5 file of coefficients")
+                                 "CSV, FITS or HDF5 file of coefficients"
+                                 + (f"; {advice}" if advice else ""))
     try:
         head.decode("utf-8")
     except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 4 and path.suffix.lower() == ".mat":
+            # a MATLAB v4 MAT-file has no text header (round 31 PART b, a03); a text
+            # .mat (`save -ascii`) stays a CSV
+            raise LogFormatError(
+                f"'{path}' is named like a MATLAB MAT-file but is neither v7.3 (HDF5) nor "
+                f"v5 nor text; {_NOT_LOGS[-1][2]}") from None
         if exc.start < len(head) - 4:  # not just a multi-byte char cut at the end
             # a CSV saved as UTF-16 or Windows-1252 ('Z2 [\xb5m]') was called "neither
             # text" (adversarial round 9 PART b, rows N44, N46)

@@ -685,6 +685,13 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     layout = _annotation(dset)
     if layout is not None:
         stored["_layout"] = layout
+    elif "MATLAB_class" in dset.attrs:
+        # MATLAB (v7.3 MAT-file) stores arrays column-major: a T x M matrix arrives as
+        # (M, T); a 300 x 200 one was read as 200 frames of 300 modes without a word
+        # (round 31 PART b, a23, a42)
+        stored["_column_major"] = (
+            f"dataset {key!r} is a MATLAB variable (attribute MATLAB_class), stored "
+            "column-major: a MATLAB T x M matrix arrives as M x T")
     unit, where = _stated_unit(dset.attrs), key
     if unit is None:
         unit, where = _nesting_unit(dset, key)
@@ -775,7 +782,7 @@ def _text_list(value) -> list | None:
 
 
 def _annotation(dset) -> tuple[str, str] | None:
-    """Axis layout a foreign dataset declares: attributes or dimension-scale labels."""
+    """Axis layout a foreign dataset declares: attributes, dimension labels or scales."""
     for key in ("axes", "dims", "dimensions", "axis_names", "dimension_labels", "layout"):
         if key in dset.attrs:
             value = dset.attrs[key]
@@ -800,4 +807,13 @@ def _annotation(dset) -> tuple[str, str] | None:
         return None
     if len(labels) == 2 and all(labels):
         return axis_layout(labels, f"dimension labels {labels}")
+    # netCDF-4 names its dimensions by the attached dimension-scale datasets, not by
+    # labels: a (mode, time) variable was "looks transposed" (round 31 PART b, a27)
+    try:
+        scales = [dim[0].name.rsplit("/", 1)[-1] if len(dim) == 1 else None
+                  for dim in dset.dims]
+    except (AttributeError, TypeError, ValueError, RuntimeError, KeyError, OSError):
+        return None
+    if len(scales) == 2 and all(scales):
+        return axis_layout(scales, f"dimension scales {scales}")
     return None
