@@ -77,7 +77,7 @@ sparse products as the geometric SH, so as fast):
   the estimate jumps by the difference of the two sides' biases; the grid's cell
   centres stay 1/16 px away from it. The error budget's noise term scales
   ``noise_rms ** 2`` by the mean factor ``forward`` applied over the budget's frames
-  (``noise_factor_sum``: 1.06-1.5 on table1-solar's closed loop, ~2.4 in open loop). The
+  (``noise_factor_sum``: 1.06-1.5 on table1-solar's closed loop, 1.9-2.3 open). The
   reconstructors, built once before the loop runs, keep ``noise_rms`` (the whole-pixel
   law): the minimum-variance static estimator's noise covariance is the expectation over
   the loop's stationary shifts (Wallner 1983; Ellerbroek 2002), unknown until the loop
