@@ -280,24 +280,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         jj, ii = np.meshgrid(np.arange(n_sub), np.arange(n_sub), indexing="xy")
         centres = np.column_stack([(jj.ravel() + 0.5) * pitch - d_wfs / 2.0,
                                    (ii.ravel() + 0.5) * pitch - d_wfs / 2.0])
-        # valid: some direction's plane fit is usable (it lights half of the samples or
-        # more), the geometric SH's field rule on the light the fit uses; shares weighted
-        # by the directions' contrast (the linearised SDF's information, module docstring)
-        all_pts = centres[:, None, :] + self._offsets[None, :, :]
-        # on the beam's light (the plain pupil), as the geometric SH: the margin is the
-        # bilinear reads' (``_lit``), not the optics' (a subaperture the beam half-lights
-        # forms an image); the fits below use the margined samples of those directions
-        light = np.array([self._lit(all_pts, th, 0.0).mean(axis=1) for th in self.samples])
-        light[light < _MIN_LIT] = 0.0
-        best = light.max(axis=0)
-        n_dir = len(self.samples)
-        shares = []
-        for a in range(2):
-            # n x the contrast-weighted mean light: field_rule's share total / (n best)
-            # is then the contrast-weighted share (the plain one for equal weights)
-            total = n_dir * (self.direction_weights[:, a] @ light)
-            self.valid_subapertures, share = field_rule(total, best, n_dir, 1.0)
-            shares.append(share)
+        shares = self._valid_and_shares(centres[:, None, :] + self._offsets[None, :, :])
         n_valid = self.valid_subapertures.size
         if n_valid < 2:
             raise ValueError(f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves {n_valid} "
@@ -319,6 +302,29 @@ class CorrelatingShackHartmann(ShackHartmann):
         self.noise_factor_frames = 0
         if self.image_formation:
             self._build_imaging()
+
+    def _valid_and_shares(self, all_pts: np.ndarray) -> list[np.ndarray]:
+        """Set ``valid_subapertures``; return the ``(n_valid,)`` field shares per axis.
+
+        ``all_pts``: every subaperture's pupil samples ``(n_sub^2, F, 2)`` [m]. Valid: some
+        direction's beam lights half of the samples or more (the geometric SH's field rule
+        on the beam's light, the plain pupil: the margin is the bilinear reads'
+        (``_lit``), not the optics', and a subaperture the beam half-lights forms an
+        image; the fits use the margined samples of those directions). Shares weighted
+        by the directions' contrast (the linearised SDF's information, module docstring).
+        """
+        light = np.array([self._lit(all_pts, th, 0.0).mean(axis=1) for th in self.samples])
+        light[light < _MIN_LIT] = 0.0
+        best = light.max(axis=0)
+        n_dir = len(self.samples)
+        shares = []
+        for a in range(2):
+            # n x the contrast-weighted mean light: field_rule's share total / (n best)
+            # is then the contrast-weighted share (the plain one for equal weights)
+            total = n_dir * (self.direction_weights[:, a] @ light)
+            self.valid_subapertures, share = field_rule(total, best, n_dir, 1.0)
+            shares.append(share)
+        return shares
 
     def _lit(self, u: np.ndarray, theta: np.ndarray,
              margin: float | None = None) -> np.ndarray:
