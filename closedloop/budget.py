@@ -29,6 +29,10 @@ noise
     ``noise_propagation(g, delay, exposure) R N R^T`` (:mod:`modalinfo.servo`), seen in
     each direction by a Monte-Carlo average of 64 draws. With a predictor the loop
     filters noise differently; the integrator's factor is used (a stated approximation).
+    ``N`` is each sensor's ``noise_rms ** 2``, times, for a correlating SH in its linear
+    mode, the mean variance factor its ``forward`` applied at the sub-pixel shifts the
+    loop left over the budget's frames (``CorrelatingShackHartmann.noise_factor_sum``;
+    issue 27, left30-solar).
 
 **The sign of the aliasing term.** In direction ``d``, with ``r = t - A c_id`` the
 fitting residual and ``e = A (c_id - c_sh)`` the difference of the two corrections, the
@@ -307,6 +311,8 @@ class BudgetProbe:
         self.pending: deque = deque()
         self.applied = np.zeros(model.n_modes)
         self.rows: dict[str, list] = {"frame": [], "fitting": [], "sh": [], "temporal": []}
+        # the correlating SHs' applied noise factors (cumulative) at each probed frame
+        self.noise_factors: list[list] = []
 
     # ------------------------------------------------------------------ loop hooks
     def step(self, s: int, state: LoopState, in_exposure: bool) -> None:
@@ -329,6 +335,7 @@ class BudgetProbe:
             fit = self.ideal.sense(self.turb, None)
             sh = self.model.sense(self.turb, None)
             self.rows["frame"].append(k)
+            self.noise_factors.append([_applied_factors(w) for w in self.model.wfss])
             self.rows["fitting"].append(self._variance(self.turb, fit))
             self.rows["sh"].append(self._variance(self.turb, sh))
             self.rows["temporal"].append(self._variance(None, fit - self.applied))
@@ -359,11 +366,12 @@ class BudgetProbe:
         return self.cam.forward().copy()
 
     # ------------------------------------------------------------------ result
-    def _noise_variance(self, seed: int) -> np.ndarray:
+    def _noise_variance(self, seed: int, first: int = 0) -> np.ndarray:
         model = self.model
         loop = model.config.loop
         noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2)
-                                for w in model.wfss])
+                                * self._noise_factor(j, first)
+                                for j, w in enumerate(model.wfss)])
         if not np.any(noise > 0):
             return np.zeros(len(self.cam.directions))
         if model.reconstructor is not None:
@@ -386,6 +394,23 @@ class BudgetProbe:
             out += self._variance(None, c)
         return out / _N_NOISE_DRAWS
 
+    def _noise_factor(self, j: int, first: int) -> np.ndarray | float:
+        """WFS ``j``'s mean applied noise variance factor from probed frame ``first`` on.
+
+        A correlating SH's noise depends on each slope's sub-pixel shift (its
+        ``noise_factor``): the factor it applied, averaged over the frames after the
+        ``first`` probed one to the last (all its frames when ``first`` is the last); 1
+        for every other sensor.
+        """
+        if not self.noise_factors or self.noise_factors[-1][j] is None:
+            return 1.0
+        end, n_end = self.noise_factors[-1][j]
+        start, n_start = self.noise_factors[first][j] if first < len(self.noise_factors) - 1 \
+            else (0.0, 0)
+        if n_end - n_start <= 0:
+            return 1.0
+        return (end - start) / (n_end - n_start)
+
     def result(self, measured: np.ndarray, start: int, scale: float, seed: int) -> ErrorBudget:
         """Return the budget over the probed frames from ``start`` on (``scale``: to science)."""
         frames = np.array(self.rows["frame"], dtype=np.int64)
@@ -395,9 +420,17 @@ class BudgetProbe:
         fit = np.array(self.rows["fitting"])[keep].mean(axis=0)
         sh = np.array(self.rows["sh"])[keep].mean(axis=0)
         temporal = np.array(self.rows["temporal"])[keep].mean(axis=0)
-        noise = self._noise_variance(seed)
+        noise = self._noise_variance(seed, int(np.flatnonzero(keep)[0]))
         return ErrorBudget(directions=np.array(self.cam.directions), fitting=fit * scale,
                            aliasing=(sh - fit) * scale, temporal=temporal * scale,
                            noise=noise * scale,
                            measured=measured[frames[keep]].mean(axis=0),
                            frames=frames[keep])
+
+
+def _applied_factors(w) -> tuple[np.ndarray, int] | None:
+    """Return a correlating SH's cumulative applied noise factors and frames (else None)."""
+    total = getattr(w, "noise_factor_sum", None)
+    if total is None or getattr(w, "noise_factor", None) is None:
+        return None
+    return total.copy(), int(w.noise_factor_frames)

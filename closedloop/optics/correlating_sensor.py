@@ -10,12 +10,16 @@ not alias), bilinear from every plane along each direction as the geometric SH s
 them, and lit where the beam passed through the telescope pupil at least ``sqrt(2) dx``
 inside its edge (so that no sample interpolates a pixel outside the DMs' discs, whose
 surfaces stop at their edge pixels: without the margin the fit below turns that step
-into a spurious tilt). A subaperture is valid when some direction lights half of its
-samples or more (``closedloop.optics.wfs.field_rule``, the geometric SH's rule on
-the light its plane fits use: the whole meta-pupil of a layer-oriented sensor at
-altitude; until issue 27 half lit *averaged over the field's directions*, which dropped
-the meta-pupil's ring). Its **field share** per axis is the contrast-weighted light of
-the directions it uses over its best one's (below), 1 on a ground-conjugated sensor.
+into a spurious tilt). A subaperture is valid when the beam (the plain pupil, no
+margin) of some direction lights half of its samples or more
+(``closedloop.optics.wfs.field_rule``, the geometric SH's rule on the geometric SH's
+light: the whole meta-pupil of a layer-oriented sensor at altitude; until issue 27 half
+lit *averaged over the field's directions*, which dropped the meta-pupil's ring, then,
+until left30-solar, half lit on the margined samples, which dropped ~20 of its 200 at
+table1-solar's 10 km: the margin is a property of the bilinear reads, not of the optics,
+and a subaperture the beam half-lights forms an image). Its **field share** per axis is
+the contrast-weighted light of the directions it uses over its best one's (below), 1 on
+a ground-conjugated sensor.
 
 Linear mode (``image_formation=False``, the default; built once, measured by the same
 sparse products as the geometric SH, so as fast):
@@ -31,9 +35,10 @@ sparse products as the geometric SH, so as fast):
   per axis. Linearising the square-difference function gives exactly these weights for
   a partition of the field (``CorrelatingSubapertures.direction_weights`` is the same
   law for its smooth patches; last session's tests check it against image formation).
-  A direction that lights less than half of a subaperture is left out of that
+  A direction whose beam lights less than half of a subaperture is left out of that
   subaperture's mean and the others' weights renormalised (the Z-tilt of a thin lit
-  sliver is an extrapolation).
+  sliver is an extrapolation); a direction used is fitted on its margined samples (at
+  least 3, a well-posed plane).
 - **Noise.** White Gaussian noise per slope with ``sqrt(2)`` times the rms that
   :func:`closedloop.optics.shifts.sdf_noise_rms` predicts for the noise-free reference
   image at the photon budget (signal ``S`` e- per pixel, scaled by the scene, plus read
@@ -70,8 +75,14 @@ sparse products as the geometric SH, so as fast):
   (a deterministic ~0.03 px error of the fractional shift, no noise) and the lag flip
   within a few noise rms of half a pixel, where the noise picks either integer lag and
   the estimate jumps by the difference of the two sides' biases; the grid's cell
-  centres stay 1/16 px away from it. The MAP reconstructor's weights and the error
-  budget's noise term keep ``noise_rms`` (the whole-pixel law): a lower bound.
+  centres stay 1/16 px away from it. The error budget's noise term scales
+  ``noise_rms ** 2`` by the mean factor ``forward`` applied over the budget's frames
+  (``noise_factor_sum``: 1.06-1.5 on table1-solar's closed loop, 1.9-2.3 open). The
+  reconstructors, built once before the loop runs, keep ``noise_rms`` (the whole-pixel
+  law): the minimum-variance static estimator's noise covariance is the expectation over
+  the loop's stationary shifts (Wallner 1983; Ellerbroek 2002), unknown until the loop
+  has closed, and a factor common to a sensor's slopes leaves its relative weights
+  unchanged (docs/CLOSEDLOOP.md, "Correlating SH noise weights and ring subapertures").
 - **Reference and tracker.** Solar WFSs correlate every subaperture against the image
   of one subaperture of the same frame (the scene evolves in seconds and moves with the
   image motion, so a stored reference goes stale; Rimmele & Marino 2011, Living Rev.
@@ -204,6 +215,11 @@ class CorrelatingShackHartmann(ShackHartmann):
         the variance at ``(0, 0)`` (:func:`closedloop.optics.shifts.sdf_noise_at_shifts`
         on the displaced reference images); ``forward`` scales each slope's noise by its
         square root at the slope's current fractional shift. None in the imaging mode.
+    noise_factor_sum : (2 n_valid + 2,) ndarray
+        Linear mode: the variance factor (``noise_factor`` at each measurement's shift)
+        ``forward`` applied, summed over its noisy calls since the sensor was built;
+        ``noise_factor_frames`` counts them. The error budget's noise term takes their
+        mean over its frames (the variance the sensor had at the shifts the loop left).
     """
 
     kind: ClassVar[str] = "correlating"
@@ -264,21 +280,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         jj, ii = np.meshgrid(np.arange(n_sub), np.arange(n_sub), indexing="xy")
         centres = np.column_stack([(jj.ravel() + 0.5) * pitch - d_wfs / 2.0,
                                    (ii.ravel() + 0.5) * pitch - d_wfs / 2.0])
-        # valid: some direction's plane fit is usable (it lights half of the samples or
-        # more), the geometric SH's field rule on the light the fit uses; shares weighted
-        # by the directions' contrast (the linearised SDF's information, module docstring)
-        all_pts = centres[:, None, :] + self._offsets[None, :, :]
-        light = np.array([self._lit(all_pts, th).mean(axis=1) for th in self.samples])
-        light[light < _MIN_LIT] = 0.0
-        best = light.max(axis=0)
-        n_dir = len(self.samples)
-        shares = []
-        for a in range(2):
-            # n x the contrast-weighted mean light: field_rule's share total / (n best)
-            # is then the contrast-weighted share (the plain one for equal weights)
-            total = n_dir * (self.direction_weights[:, a] @ light)
-            self.valid_subapertures, share = field_rule(total, best, n_dir, 1.0)
-            shares.append(share)
+        shares = self._valid_and_shares(centres[:, None, :] + self._offsets[None, :, :])
         n_valid = self.valid_subapertures.size
         if n_valid < 2:
             raise ValueError(f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves {n_valid} "
@@ -296,11 +298,39 @@ class CorrelatingShackHartmann(ShackHartmann):
             self.slope_noise_pixels[a] * to_slope * _relative_rms_factor(shares[a])
             for a in range(2)] + [self.tracker_noise_pixels * to_slope])
         self._to_slope = to_slope
+        self.noise_factor_sum = np.zeros(self.n_measurements)
+        self.noise_factor_frames = 0
         if self.image_formation:
             self._build_imaging()
 
-    def _lit(self, u: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    def _valid_and_shares(self, all_pts: np.ndarray) -> list[np.ndarray]:
+        """Set ``valid_subapertures``; return the ``(n_valid,)`` field shares per axis.
+
+        ``all_pts``: every subaperture's pupil samples ``(n_sub^2, F, 2)`` [m]. Valid: some
+        direction's beam lights half of the samples or more (the geometric SH's field rule
+        on the beam's light, the plain pupil: the margin is the bilinear reads'
+        (``_lit``), not the optics', and a subaperture the beam half-lights forms an
+        image; the fits use the margined samples of those directions). Shares weighted
+        by the directions' contrast (the linearised SDF's information, module docstring).
+        """
+        light = np.array([self._lit(all_pts, th, 0.0).mean(axis=1) for th in self.samples])
+        light[light < _MIN_LIT] = 0.0
+        best = light.max(axis=0)
+        n_dir = len(self.samples)
+        shares = []
+        for a in range(2):
+            # n x the contrast-weighted mean light: field_rule's share total / (n best)
+            # is then the contrast-weighted share (the plain one for equal weights)
+            total = n_dir * (self.direction_weights[:, a] @ light)
+            self.valid_subapertures, share = field_rule(total, best, n_dir, 1.0)
+            shares.append(share)
+        return shares
+
+    def _lit(self, u: np.ndarray, theta: np.ndarray,
+             margin: float | None = None) -> np.ndarray:
         """Return which samples ``u`` [m] are lit from ``theta`` [arcsec], ``sqrt(2) dx`` inside.
+
+        ``margin`` [m]: instead of ``sqrt(2) dx`` (0: the beam's light, the plain pupil).
 
         The margin keeps every pixel a sample interpolates (bilinearly) inside the beam and
         so inside the DMs' discs, whose surfaces end at their edge pixels: without it a
@@ -310,7 +340,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         tilt in its relative slopes).
         """
         return pupil_lit(self._geometry, u - self.altitude * theta * ARCSEC,
-                         EDGE_MARGIN_PIXELS * self._geometry.dx)
+                         EDGE_MARGIN_PIXELS * self._geometry.dx if margin is None else margin)
 
     def _contrast_weights(self, ref: np.ndarray) -> np.ndarray:
         """``(n_samples, 2)`` contrast weights of the field samples (module docstring)."""
@@ -331,9 +361,11 @@ class CorrelatingShackHartmann(ShackHartmann):
                              np.bincount(cell, weights=(dy ** 2).ravel(), minlength=k)])
         return c / c.sum(axis=0, keepdims=True)
 
-    def _plane_fit_rows(self, lit: np.ndarray):
+    def _plane_fit_rows(self, lit: np.ndarray, beam: np.ndarray):
         """Z-tilt weights on the pupil samples for lit masks ``(n_valid, F)``.
 
+        ``lit``: the margined samples the fit uses; ``beam``: the beam's light (plain
+        pupil), which must cover half of the subaperture for the direction to be used.
         Returns ``(wx, wy, usable)``: ``(n_valid, F)`` weights (0 where unlit) of the x
         and y plane-fit slopes [1/m], and which subapertures have a well-posed fit.
         """
@@ -349,7 +381,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         syy = (yc * yc).sum(axis=1)
         sxy = (xc * yc).sum(axis=1)
         det = sxx * syy - sxy ** 2
-        usable = (cnt >= max(3.0, _MIN_LIT * lit.shape[1])) \
+        usable = (cnt >= 3.0) & (beam.sum(axis=1) >= _MIN_LIT * lit.shape[1]) \
             & (det > 1e-9 * np.maximum(sxx * syy, 1e-300))
         inv = np.where(usable, 1.0 / np.where(usable, det, 1.0), 0.0)
         wx_f = (syy[:, None] * xc - sxy[:, None] * yc) * inv[:, None]
@@ -376,7 +408,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         total = np.zeros((n_valid, 2))
         for t, theta in enumerate(self.samples):
             lit = self._lit(self._points, theta)
-            wx, wy, usable = self._plane_fit_rows(lit)
+            wx, wy, usable = self._plane_fit_rows(lit, self._lit(self._points, theta, 0.0))
             fits.append((lit, wx, wy, usable))
             total += usable[:, None] * self.direction_weights[t][None, :]
         ops = [None] * len(g.planes)
@@ -507,6 +539,9 @@ class CorrelatingShackHartmann(ShackHartmann):
             gain[2 * n:] = _noise_gain(self.tracker_noise_factor, pix[2 * n:2 * n + 1],
                                        pix[2 * n + 1:]).ravel()
             s += self.noise_rms * gain * noise
+            # what the loop's shifts made of the noise, for the error budget's noise term
+            self.noise_factor_sum += gain * gain
+            self.noise_factor_frames += 1
         return s
 
     def image_slopes(self, plane_maps: list[np.ndarray],

@@ -5,13 +5,14 @@ Issue 27 (docs/CLOSEDLOOP.md, "A DM conjugated to a high layer"; docs/ADVERSARIA
 subapertures over its 4.97-m metapupil, a 20" field of 19 directions, 64 pupil pixels).
 References (outside the code under test):
 
-- the metapupil's geometry, computed here on a fine grid of each subaperture: the
-  fraction of it that the telescope pupil, shrunk by the sensor's documented edge margin
-  ``sqrt(2) dx`` and shifted by ``h theta`` for each direction ``theta`` of the WFS's
-  hexagonal field (written in tests/closedloop/_geometry.py), lights. A layer-oriented
-  sensor uses a subaperture some direction half-lights (Ragazzoni, Farinato & Marchetti
-  2000), as the geometric SH does since left28-field; before this branch the correlating
-  SH kept only those half lit on average over the field and dropped the metapupil's ring;
+- the metapupil's geometry, computed here on a fine grid of each subaperture: the fraction
+  of it that the telescope pupil, shifted by ``h theta`` for each direction ``theta`` of the
+  WFS's hexagonal field (written in tests/closedloop/_geometry.py), lights (the beam's
+  light: since left30-solar the sensor's ``sqrt(2) dx`` edge margin applies to its fits'
+  samples only, not to which subapertures and directions it uses). A layer-oriented sensor
+  uses a subaperture some direction half-lights (Ragazzoni, Farinato & Marchetti 2000), as
+  the geometric SH does since left28-field; before left29-corr the correlating SH kept only
+  those half lit on average over the field and dropped the metapupil's ring;
 - a subaperture's field share, computed here from that geometry: the light of the
   directions it uses (those lighting half of it or more), weighted by each direction's
   contrast weight (the linearised SDF's information per direction, an input of the
@@ -67,18 +68,21 @@ def _sensor():
 
 
 def _lit_fractions(cfg, dx: float, fine: int = 20):
-    """``(directions (n, 2) [arcsec], lit (n, n_sub^2))``: margined pupil, fine grid."""
+    """``(directions (n, 2) [arcsec], lit (n, n_sub^2))``: the beam's light, fine grid."""
     w = cfg.wfss[0]
     d = cfg.telescope.diameter
+    # the beam's light (dx: the margin the fits use, not the rule)
     return lit_fractions(d, H, w.field_of_view, w.field_samples, w.n_subapertures,
-                         d / 2.0 - math.sqrt(2.0) * dx, fine)
+                         d / 2.0, fine)
 
 
 def test_correlating_sh_uses_every_subaperture_some_direction_half_lights():
     """Valid set against the metapupil geometry (a 0.4-0.6 band left undecided).
 
     The sensor samples each subaperture on 5 x 5 points, the test on 20 x 20: a share
-    differs by about a row of samples, < 0.1. Before: 120 used (the field-averaged rule).
+    differs by about a row of samples, < 0.1. Before: 120 used (the field-averaged rule),
+    then 180 (the rule on the margined light, left29-corr); now the 200 the beam
+    half-lights (left30-solar).
     """
     cfg, g, wfs = _sensor()
     _, lit = _lit_fractions(cfg, g.dx)
@@ -163,11 +167,10 @@ def test_correlating_sh_corrects_the_conjugated_layer_over_the_field():
     """The law: corrected over the whole 12" field, not on axis only.
 
     Before: 0 everywhere but on axis (0.38-0.66 there; 0.3 s, seeds 0-3). After:
-    worst over best 0.74-0.96 (0.3 s, seeds 0-3; the ideal sensor's 0.96-0.98): the
-    sensor keeps the ring subapertures its plane fits can use (half lit ``sqrt(2) dx``
-    inside the pupil's edge), 180 of the 200 the beam half-lights, so the 8.5" corners
-    lose part of their footprint's measurement (docs/ADVERSARIAL.md, "Leftovers
-    29-corr"). The bound 0.7 sits below that spread and far above 0.
+    worst over best 0.74-0.96 with 180 of the 200 subapertures the beam half-lights
+    (left29-corr), 0.95-0.98 with all 200 (left30-solar; the ideal sensor's 0.96-0.98;
+    tests/closedloop/test_correlating_ring_left30.py bounds it). The bound 0.7 sits far
+    above 0.
     """
     run = simulate(_config(), 0.1, seed=0, progress=False)
     sr = np.asarray(run.strehl_map())

@@ -404,7 +404,8 @@ def test_linear_phase_gives_its_gradient_where_a_direction_is_left_out():
                               obscuration=0.3, image_formation=False))
     w = model.wfss[0]
     # the case under test exists (a direction dropped for some subapertures, not all)
-    usable = np.array([w._plane_fit_rows(w._lit(w._points, th))[2] for th in w.samples])
+    usable = np.array([w._plane_fit_rows(w._lit(w._points, th), w._lit(w._points, th, 0.0))[2]
+                       for th in w.samples])
     assert (usable.any(axis=0) & ~usable.all(axis=0)).sum() >= 1
     n = w.n_valid_subapertures
     for p, plane in enumerate(model.geometry.planes):
@@ -435,12 +436,13 @@ def test_a_thin_lit_sliver_is_left_out_of_the_mean():
 
 def test_too_few_valid_subapertures_are_refused_with_the_whole_message():
     # "a correlating SH needs at least 2" valid subapertures (the slopes are relative to
-    # their mean): 2 x 2 subapertures of a 60 %-obscured pupil are lit by at most
-    # (pi / 16) (1 - 0.6^2) / (1 / 4) = 50 % each, less the sqrt(2) dx edge margin, so
-    # none is valid (2 modes: the config's own mode count rule lets it through)
+    # their mean): 2 x 2 subapertures of a 65 %-obscured pupil are lit by the beam by
+    # (pi / 16) (1 - 0.65^2) / (1 / 4) = 45 % each, so none is valid (2 modes: the
+    # config's own mode count rule lets it through). At 60 % (50 % lit) the rule on the
+    # margined samples refused them until left30-solar; the beam's light keeps them
     cfg = _config(image_formation=False)
     cfg = SimulationConfig(
-        name="test", telescope=TelescopeConfig(diameter=1.0, n_pixels=32, obscuration=0.6),
+        name="test", telescope=TelescopeConfig(diameter=1.0, n_pixels=32, obscuration=0.65),
         layers=cfg.layers, dms=(DMConfig(altitude=0.0, n_modes=2),),
         wfss=(dataclasses.replace(cfg.wfss[0], n_subapertures=2),), loop=cfg.loop,
         field=cfg.field, wavelength=cfg.wavelength, r0_wavelength=cfg.r0_wavelength)
