@@ -373,9 +373,11 @@ class ForecastEvaluation:
             Replace an existing file; otherwise ``FileExistsError``.
         provenance : dict, optional
             What made the table (``modalinfo.common.provenance.provenance``'s record):
-            three columns after the nine of the table, the same on every row,
-            ``modalinfo`` (the version), ``input_sha256`` (the input log's SHA-256) and
-            ``command`` (the command line, shell-quoted). Columns rather than a comment
+            five columns after the nine of the table, the same on every row,
+            ``modalinfo`` (the version), ``input_sha256`` (the input log's SHA-256),
+            ``command`` (the command line, shell-quoted), ``git`` (the commit,
+            ``"<sha>-dirty"`` if the source was edited; empty outside a checkout) and
+            ``source_sha256`` (the source files' SHA-256). Columns rather than a comment
             line above the header: ``csv.DictReader``, ``pandas.read_csv`` without
             ``comment=`` and a spreadsheet read the table as before, and a table
             separated from forecast.json still names what made it (adversarial round
@@ -394,12 +396,14 @@ class ForecastEvaluation:
             source = provenance.get("input") or {}
             command = provenance.get("command")
             made = [str(provenance.get("modalinfo") or ""), str(source.get("sha256") or ""),
-                    shlex.join(command) if command else ""]
+                    shlex.join(command) if command else "",
+                    str(provenance.get("git") or ""), str(provenance.get("source_sha256") or "")]
         buffer = io.StringIO(newline="")
         writer = csv.writer(buffer)
         writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",
                          "dm_statistic", "p_value", "beats_baseline"]
-                        + (["modalinfo", "input_sha256", "command"] if made else []))
+                        + (["modalinfo", "input_sha256", "command", "git", "source_sha256"]
+                           if made else []))
         for i, name in enumerate(self.names):
             for j, h in enumerate(self.horizons):
                 cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],

@@ -139,9 +139,10 @@ log is shorter; otherwise an approximation whose relative standard error,
 ``1.25 / sqrt(65536) = 0.5 %`` for the median in units of sigma and ``0.46 %`` for the
 MAD, is negligible beside ``k``) and, for the AR(4) predictor, runs of 5 consecutive
 frames every ``5 step`` frames (the subsample itself when every frame is taken); pass 2
-flags every value with a numba kernel. Memory is one block, the two subsamples and one
-byte per frame; time is linear in ``T M`` (plus three least-squares fits of 4
-coefficients per mode on the subsample).
+flags every value with a numba kernel and, on a log longer than the sample, sums the
+level rule's bin means (by then the AR windows are freed). Memory is one block, two
+arrays of the subsample's size at once and one byte per frame; time is linear in
+``T M`` (plus three least-squares fits of 4 coefficients per mode on the subsample).
 
 The policy
 ----------
@@ -234,11 +235,13 @@ QUALITY_STAGES = 5
 #: 155 and 154 MiB before the slices; issue 27, left28-prov).
 QUALITY_MEMORY_FACTOR = 3
 
-#: As ``QUALITY_MEMORY_FACTOR`` for a log longer than the sample (strided): the
-#: windows of the AR fits and the level rule's bin means are two more arrays of the
-#: sample's size, the blocks of the first pass more temporaries (426 MiB at 10^5 x 200,
-#: 250 MiB at 2 x 10^5 x 100; 611 and 306 MiB before).
-QUALITY_MEMORY_STRIDED_FACTOR = 5
+#: As ``QUALITY_MEMORY_FACTOR`` for a log longer than the sample (strided): the AR
+#: fits' windows (freed before the flagging pass) and the level rule's bin sums
+#: (summed in the flagging pass) are each the sample's size, never held together, so
+#: two copies at once as at stride 1 (tracemalloc: 241 MiB at 2 x 10^5 x 200, 140 MiB
+#: at 10^6 x 50; 402 and 175 MiB when the first pass held the sample, the windows, the
+#: bin sums and their counts, factor 5; issue 27, left30-prov).
+QUALITY_MEMORY_STRIDED_FACTOR = 3
 
 #: Bytes of :func:`assess_quality` whatever the log's size: the slices' temporaries
 #: (about ``_SLICE_VALUES`` values, a few times over) and the simulated law of the MAD
@@ -253,7 +256,7 @@ def quality_memory(n_frames: int, n_modes: int,
     ``QUALITY_MEMORY_FIXED`` plus ``QUALITY_MEMORY_FACTOR`` (every frame sampled) or
     ``QUALITY_MEMORY_STRIDED_FACTOR`` (``T > sample_frames``) times 8 bytes per sampled
     value; 1.4-1.5 x the measured peaks of five logs of benchmarks/RESULTS.md
-    ("left28-prov"), 7 x that of a 300 x 50 log (the fixed part).
+    ("left28-prov", "left30-prov"), 7 x that of a 300 x 50 log (the fixed part).
     """
     factor = QUALITY_MEMORY_STRIDED_FACTOR if n_frames > sample_frames else \
         QUALITY_MEMORY_FACTOR
@@ -1166,17 +1169,10 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
     after = np.empty((n_after, m)) if step > 1 else None
     gidx = []
     at_sample = at_after = 0
-    n_bins = -(-arr.shape[0] // step) if step > 1 else 0
-    # at stride 1 a bin is one frame: its mean is the sample's value (no two T x M arrays
-    # of sums and counts; left28-quality)
-    bin_sum = np.zeros((n_bins, m))
-    bin_count = np.zeros((n_bins, m))
     i0 = 0
     for block in row_blocks(arr, rows):
         if h is not None:
             _hash_block(h, block)
-        if step > 1:
-            _add_bins(block, i0, step, bin_sum, bin_count)
         repeats += np.count_nonzero(block[1:] == block[:-1], axis=0)
         if prev is not None:
             repeats += block[0] == prev
@@ -1205,27 +1201,54 @@ def _sample_and_range(arr: np.ndarray, rows: int, step: int, h=None):
         # +-inf read as a gap; with every value finite the sample itself (no copy)
         means = np.where(np.isfinite(sample), sample, np.nan) if bad.any() else sample
         return sample, sample, np.arange(sample.shape[0]), lo, hi, bad, repeats, means
-    with np.errstate(invalid="ignore", divide="ignore"):
-        # NaN where a bin holds no finite value; in place of the sums (one copy fewer)
-        means = np.divide(bin_sum, bin_count, out=bin_sum)
-    del bin_count
-    return (sample, after, np.concatenate(gidx), lo, hi, bad, repeats, means)
+    # strided: the level rule's bin means are summed in the flagging pass
+    # (:class:`_BinMeans`), when the windows are gone (issue 27, left30-prov)
+    return (sample, after, np.concatenate(gidx), lo, hi, bad, repeats, None)
 
 
-def _add_bins(block: np.ndarray, i0: int, step: int, bin_sum: np.ndarray,
-              bin_count: np.ndarray) -> None:
-    """Add a block's finite values and counts to bins of ``step`` consecutive frames.
+class _BinMeans:
+    """Means of bins of ``step`` consecutive frames of a log, its blocks added in order.
 
     The level rule reads the means of these bins: a boxcar mean keeps the low
     frequencies a level step lives in, where the strided sample would alias a
-    resonance onto them.
+    resonance onto them. One ``(ceil(T / step), M)`` float64 array of sums, divided in
+    place; the finite values' count of a bin is its frame count less its non-finite
+    values, counted in a second array only once a block holds one (a float64 array of
+    counts beside the sums was one more copy of the sample; issue 27, left30-prov).
+    Accumulated in the flagging pass: the first pass holds the sample and the AR
+    windows, so the sums there made three copies of the sample at once.
     """
-    fin = np.isfinite(block)
-    vals = np.where(fin, block, 0.0).astype(np.float64, copy=False)
-    ids = (i0 + np.arange(block.shape[0])) // step
-    starts = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]])
-    bin_sum[ids[starts]] += np.add.reduceat(vals, starts, axis=0)
-    bin_count[ids[starts]] += np.add.reduceat(fin, starts, axis=0, dtype=np.float64)
+
+    def __init__(self, n: int, m: int, step: int) -> None:
+        self.n, self.step = n, step
+        self.sums = np.zeros((-(-n // step), m))
+        self.missing: np.ndarray | None = None
+
+    def add(self, block: np.ndarray, i0: int) -> None:
+        """Add ``block`` (rows ``i0 ..``) to the sums (and non-finite counts)."""
+        fin = np.isfinite(block)
+        whole = bool(fin.all())
+        vals = block if whole else np.where(fin, block, 0.0)
+        vals = vals.astype(np.float64, copy=False)
+        ids = (i0 + np.arange(block.shape[0])) // self.step
+        starts = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]])
+        self.sums[ids[starts]] += np.add.reduceat(vals, starts, axis=0)
+        if not whole:
+            if self.missing is None:
+                self.missing = np.zeros(self.sums.shape, dtype=np.int64)
+            self.missing[ids[starts]] += np.add.reduceat(~fin, starts, axis=0,
+                                                         dtype=np.int64)
+
+    def means(self) -> np.ndarray:
+        """Return the bin means, NaN where a bin has no finite value (over the sums)."""
+        frames = np.full(self.sums.shape[0], float(self.step))
+        frames[-1] = self.n - self.step * (self.sums.shape[0] - 1)  # a short last bin
+        with np.errstate(invalid="ignore", divide="ignore"):
+            if self.missing is None:
+                return np.divide(self.sums, frames[:, None], out=self.sums)
+            count = frames[:, None] - self.missing
+            self.missing = None
+            return np.divide(self.sums, count, out=self.sums)
 
 
 def _level_steps(means: np.ndarray, step: int, n: int, labels: list,
@@ -1453,7 +1476,7 @@ def assess_quality(
         Frames per block of the passes (default: blocks of 4 Mi values).
     progress : callable, optional
         Called as ``progress(1)`` after each of the ``QUALITY_STAGES`` = 5 stages (the
-        first pass, the AR fits, the level rule, the spread rule, the flagging pass),
+        first pass, the AR fits, the flagging pass, the level rule, the spread rule),
         e.g. ``tqdm.update`` (``modalinfo info`` shows a bar on a terminal for a large
         log).
 
@@ -1502,6 +1525,7 @@ def assess_quality(
         gidx % (step * (AR_ORDER + 1)) == AR_ORDER))
     coef, cen_e, sig_e, n_eff, ratio, (changed, scale_judged) = _innovations(
         windows, gidx, med, sigma, constant, n_windows, with_ratio=True)
+    del windows, gidx  # the AR windows: a copy of the sample's size (strided)
     limit = stationarity_threshold(n_eff / STATIONARITY_BLOCKS)
     stationary = None if not (math.isfinite(limit) and math.isfinite(ratio)) else bool(
         ratio <= limit)
@@ -1511,30 +1535,7 @@ def assess_quality(
                         for j, start, stop, r_, pv in changed)
     if scale_found:
         stationary = False
-    # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
     advance(1)
-    found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
-    advance(1)
-    # a change of a mode's spread that keeps its innovations (modes reordered between two
-    # nights joined, round 18 PART a, l11) is seen in its absolute deviations
-    stepped = {label for label, _, _, _ in found_steps}
-    varied, variance_judged = _variance_steps(
-        sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
-        constant | np.array([label in stepped for label in labels], dtype=bool))
-    if found_steps:
-        # a loop opened mid-log (round 28 PART b, N01): the spread rule left the stepped
-        # modes to the level rule and could not judge the persistent ones; each side of
-        # the strongest level step judged on its own names the spread step too
-        frame0 = min(found_steps, key=lambda t: t[3])[1]
-        named = {label for label, _, _, _ in varied}
-        extra, _ = spread_at_split(
-            _fill_gaps(sample, constant)[0], int(round(frame0 / step)), VARIANCE_ALPHA,
-            constant | np.array([label in named for label in labels], dtype=bool))
-        varied = varied + tuple((labels[v.column], int(min(v.frame * step, n - 1)),
-                                 float(v.ratio), float(v.p_value)) for v in extra)
-    advance(1)
-    if found_steps or varied:
-        stationary = False
     assessed = True
     if k is None:
         if n_eff < MIN_EFFECTIVE_FRAMES:  # no honest finite k: too short to assess
@@ -1575,9 +1576,14 @@ def assess_quality(
     find_repeats = int(live.sum()) >= 2 and (n - 1) * float(np.prod(share)) <= alpha
     rep_idx: list = []
     prev_row = None
+    # strided: the level rule's bin means, summed here rather than in the first pass,
+    # where the AR windows are held too (issue 27, left30-prov)
+    bins = _BinMeans(n, m, step) if step > 1 else None
     i0 = 0
     for block in row_blocks(arr, rows):
         b = np.ascontiguousarray(block)
+        if bins is not None:
+            bins.add(b, i0)
         if find_repeats:
             bl = b[:, live]
             rep_idx.append(i0 + 1 + np.flatnonzero(np.all(bl[1:] == bl[:-1], axis=1)))
@@ -1601,7 +1607,36 @@ def assess_quality(
         return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
 
     outlier_frames, glitch_frames, bad_frames = cat(out_idx), cat(glitch_idx), cat(bad_idx)
+    # the last block's copies (``b[:, live]`` is one) not held through the rules below
+    block = b = bl = frame_out = frame_bad = None  # noqa: F841
     advance(1)
+    # a step or drift of the mean keeps the innovations' scale (round 14 PART a, d04)
+    if bins is not None:
+        means = bins.means()
+        del bins
+    found_steps, level_judged = _level_steps(means, step, n, list(labels), constant)
+    del means
+    advance(1)
+    # a change of a mode's spread that keeps its innovations (modes reordered between two
+    # nights joined, round 18 PART a, l11) is seen in its absolute deviations
+    stepped = {label for label, _, _, _ in found_steps}
+    varied, variance_judged = _variance_steps(
+        sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
+        constant | np.array([label in stepped for label in labels], dtype=bool))
+    if found_steps:
+        # a loop opened mid-log (round 28 PART b, N01): the spread rule left the stepped
+        # modes to the level rule and could not judge the persistent ones; each side of
+        # the strongest level step judged on its own names the spread step too
+        frame0 = min(found_steps, key=lambda t: t[3])[1]
+        named = {label for label, _, _, _ in varied}
+        extra, _ = spread_at_split(
+            _fill_gaps(sample, constant)[0], int(round(frame0 / step)), VARIANCE_ALPHA,
+            constant | np.array([label in named for label in labels], dtype=bool))
+        varied = varied + tuple((labels[v.column], int(min(v.frame * step, n - 1)),
+                                 float(v.ratio), float(v.p_value)) for v in extra)
+    advance(1)
+    if found_steps or varied:
+        stationary = False
     stuck_frames = np.flatnonzero(stuck_mask).astype(np.int64)
     repeated_frames = np.unique(cat(rep_idx))
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),

@@ -86,6 +86,10 @@ def test_forecast_csv_carries_the_record_and_reads_as_before(make_small_log, tmp
     # the same record as forecast.json beside it
     record = json.loads((out / "forecast.json").read_text())["provenance"]
     assert rows[0]["modalinfo"] == record["modalinfo"]
+    # left30-prov: the commit (marked -dirty if edited) and the source's SHA-256 too
+    assert rows[0]["git"] == (record["git"] or "")
+    assert rows[0]["source_sha256"] == record["source_sha256"]
+    assert re.fullmatch(r"[0-9a-f]{64}", rows[0]["source_sha256"])
     assert table["horizon"].dtype.kind == "i" and table["rmse"].notna().all()
 
 
@@ -106,9 +110,10 @@ def test_forecast_csv_without_a_record_keeps_its_nine_columns(tmp_path):
     assert plain[0].split(",") == ["predictor", "mode", "horizon", "rmse", "gain",
                                    "coverage", "dm_statistic", "p_value", "beats_baseline"]
     assert len(plain) == len(made)
-    for a, b in zip(plain, made, strict=True):  # the same cells, three more at the end
+    for a, b in zip(plain, made, strict=True):  # the same cells, five more at the end
         assert b.startswith(a + ",")
-    assert made[1].endswith(",v,ab,modalinfo 'x y'")
+    # a record without git / source_sha256 (left30-prov's columns): empty cells
+    assert made[1].endswith(",v,ab,modalinfo 'x y',,")
 
 
 # ------------------------------------------------------------------ paper_figures

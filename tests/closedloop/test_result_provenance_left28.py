@@ -58,7 +58,11 @@ def test_run_out_records_version_commit_config_hash_seed_and_command(saved, caps
     if shutil.which("git") and (top / ".git").exists():
         head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=top, capture_output=True,
                               text=True, check=True).stdout.strip()
-        assert record["git"] == head
+        edited = subprocess.run(  # left30-prov: edits not committed are marked "-dirty"
+            ["git", "status", "--porcelain", "--untracked-files=no", "--", "modalinfo",
+             "closedloop", "paper_figures"], cwd=top, capture_output=True, text=True,
+            check=True).stdout.strip()
+        assert record["git"] == head + ("-dirty" if edited else "")
     assert SimulationResult.load(out).provenance == record
 
 
