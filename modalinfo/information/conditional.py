@@ -148,8 +148,9 @@ bins: two pairs at rho = 0.8 -0.185, -0.144, -0.088, +0.041 nats; at independenc
 the estimate switches to the KSG CMI (k = 3, normal scores) with a
 :class:`BiasRuleWarning`, if the KSG's own rule holds, no column is discrete (at most
 n / 20 distinct values, the rule of the kde and ksg engines: discrete columns keep the
-histogram, with a warning where a column of x or y is continuous (round 31); a continuous column with a few repeated values is switched, the KSG breaking
-its ties with seeded noise) and n <= :data:`KSG_SWITCH_MAX_SAMPLES` = 50,000 (the KSG costs
+histogram, with a warning where a column of x or y is continuous (round 31); a
+continuous column with a few repeated values is switched, the KSG breaking its ties
+with seeded noise) and n <= :data:`KSG_SWITCH_MAX_SAMPLES` = 50,000 (the KSG costs
 O(n log n) with a large constant: ~0.25 s per call for 2 x 2 groups at n = 1e4,
 against ~2 ms for the histogram; above the cap the histogram is kept, unjudged).
 ``fallback="raise"`` refuses there and ``"none"`` keeps the histogram with the warning,
