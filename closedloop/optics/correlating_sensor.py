@@ -152,6 +152,7 @@ from closedloop.optics.wfs import (
     bilinear_matrix,
     check_subaperture_sampling,
     field_rule,
+    metapupil_note,
     pupil_lit,
     slope_count,
     slopes_aot_record,
@@ -283,8 +284,11 @@ class CorrelatingShackHartmann(ShackHartmann):
         shares = self._valid_and_shares(centres[:, None, :] + self._offsets[None, :, :])
         n_valid = self.valid_subapertures.size
         if n_valid < 2:
+            field = metapupil_note(d_wfs, g.diameter, self.altitude, cfg.field_of_view, pitch)
             raise ValueError(f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves {n_valid} "
-                             "valid subaperture(s); a correlating SH needs at least 2.")
+                             f"valid subaperture(s){field}; a correlating SH needs at least 2"
+                             + ("; use more subapertures, a smaller field or a lower altitude."
+                                if field else "."))
         self.n_valid_subapertures = int(n_valid)
         self._centres = centres[self.valid_subapertures]
         self._points = self._centres[:, None, :] + self._offsets[None]      # (n_valid, F, 2)

@@ -70,7 +70,8 @@ from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
 
 __all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SHACK_HARTMANN", "IDEAL",
-           "bilinear_matrix", "field_rule", "pupil_lit", "has_noise", "check_subaperture_sampling",
+           "bilinear_matrix", "field_rule", "metapupil_note", "pupil_lit", "has_noise",
+           "check_subaperture_sampling",
            "slope_count", "slopes_aot_record", "slopes_aot_layout", "index_grid"]
 
 #: pupil pixels per Shack-Hartmann subaperture (a gradient needs two)
@@ -114,6 +115,21 @@ def pupil_lit(geometry: Geometry, x: np.ndarray, margin: float = 0.0) -> np.ndar
     if obscuration > 0:
         lit &= r >= obscuration * geometry.diameter / 2.0 + margin
     return lit
+
+
+def metapupil_note(d_wfs: float, diameter: float, altitude: float, field_of_view: float,
+                   pitch: float) -> str:
+    """Return the meta-pupil's part of a "no valid subaperture" refusal, or ``""``.
+
+    Round 31: a field too wide for its sensor's altitude (600" at 20 km: a 62-m meta-pupil
+    cut into 8 subapertures of 7.8 m for a 4-m pupil) was refused with the obscuration's
+    reading only. ``""`` where the meta-pupil is the pupil (``d_wfs <= diameter`` [m]).
+    """
+    if d_wfs <= diameter:
+        return ""
+    return (f", over a meta-pupil of {d_wfs:.4g} m = D + 2 h tan(field / 2) (altitude = "
+            f"{altitude:g} m, field_of_view = {field_of_view:g} arcsec): a pitch of "
+            f"{pitch:.4g} m for a pupil of D = {diameter:g} m")
 
 
 def field_rule(total: np.ndarray, best: np.ndarray, n_directions: int,
@@ -482,11 +498,15 @@ class ShackHartmann(WavefrontSensor):
                 self.field_share = np.concatenate([share, share])
                 if not self.valid_subapertures.size:  # nothing measured: no loop
                     obsc = self._geometry.config.telescope.obscuration
+                    field = metapupil_note(d_wfs, g.diameter, self.altitude,
+                                           cfg.field_of_view, pitch)
                     raise ValueError(
                         f"`wfss[{self.index}].n_subapertures` = {n_sub} leaves no valid "
                         f"subaperture (half lit or more) on this pupil (telescope."
-                        f"obscuration = {obsc:g}): the sensor would measure nothing; use "
-                        "more subapertures or a smaller obscuration")
+                        f"obscuration = {obsc:g}{field}): the sensor would measure nothing; "
+                        "use more subapertures" + (", a smaller obscuration" if obsc > 0
+                                                   else "")
+                        + (", a smaller field or a lower altitude" if field else ""))
                 meas_index = -np.ones(n_sub * n_sub, dtype=np.int64)
                 meas_index[self.valid_subapertures] = np.arange(self.valid_subapertures.size)
             n_valid = self.valid_subapertures.size

@@ -16,6 +16,7 @@ from modalinfo.information._kernels import (
     edge_buckets,
     quantile_edges_scratch,
     selection_buckets,
+    split_tied_edges,
 )
 
 
@@ -36,6 +37,7 @@ def _column_bins(col, pos, edges, start, slot, j, inner, lo_inv, bases):
         hi = max(hi, v)
     quantile_edges_scratch(col, lo, hi, pos, edges, start, slot)
     inner[j, :] = edges[1:k]
+    split_tied_edges(inner[j])  # a pile keeps its own bin (_kernels.split_tied_edges)
     base, inv, nb = edge_buckets(inner[j], lo, hi)
     bases[j, :] = base
     lo_inv[j, 0] = lo

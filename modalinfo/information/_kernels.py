@@ -352,6 +352,28 @@ def bin_of(v, inner, lo, inv, nb, base):
 
 
 @jit
+def split_tied_edges(inner):
+    """Move the last edge of each run of equal inner quantile edges just above the run's value.
+
+    A value holding at least a bin's share of the sample (a pile: a flag's common level,
+    a clipped or zero-filled mode) makes several order-statistic edges equal. With
+    ``searchsorted(inner, v, "right")`` the pile then shared one bin with every value up
+    to the next distinct edge: a binary flag set in 2 % of the frames fell in the bin of
+    its 0's whenever all inner edges were 0, and the histogram MI of a flag moving a mode
+    by 3 sd read 0.000 nats for the exact 0.065 (adversarial round 31 PART a). The edge
+    ``nextafter(v, +inf)`` keeps the pile in its own bin and separates it from the values
+    above; edges that are not tied are unchanged (continuous data bin as before), and a
+    discrete sample whose levels were already apart is only relabelled (the same table).
+
+    inner : (k - 1,) float64 INOUT, ascending.
+    """
+    m = inner.shape[0]
+    for e in range(1, m):
+        if inner[e] == inner[e - 1] and (e == m - 1 or inner[e + 1] != inner[e]):
+            inner[e] = np.nextafter(inner[e], np.inf)
+
+
+@jit
 def sorted_edges_bin_index(x, lo, hi, inner, idx):
     """Bin index of each sample against sorted inner edges: ``searchsorted(inner, x, "right")``.
 
@@ -380,20 +402,18 @@ def presorted_quantile_index(xs, order, pos, idx):
     """
     n = xs.shape[0]
     m = pos.shape[0]
-    j = 1  # next inner edge (edges 1 .. m - 2 are inner)
-    count = 0
-    edge = 0.0
-    if j < m - 1:
+    inner = np.empty(max(m - 2, 0))
+    for j in range(1, m - 1):
         r0 = int(pos[j])
-        edge = _interp_sorted(xs[r0], xs[min(r0 + 1, n - 1)], pos[j], r0, n)
+        inner[j - 1] = _interp_sorted(xs[r0], xs[min(r0 + 1, n - 1)], pos[j], r0, n)
+    split_tied_edges(inner)  # a pile keeps its own bin, as in sorted_edges_bin_index's callers
+    j = 0  # next inner edge
+    count = 0
     for p in range(n):
         v = xs[p]
-        while j < m - 1 and v >= edge:
+        while j < m - 2 and v >= inner[j]:
             count += 1
             j += 1
-            if j < m - 1:
-                r0 = int(pos[j])
-                edge = _interp_sorted(xs[r0], xs[min(r0 + 1, n - 1)], pos[j], r0, n)
         idx[order[p]] = count
 
 

@@ -267,8 +267,11 @@ class _Axis:
     scores needed a new k for x).
     """
 
-    def __init__(self, x: np.ndarray, binning: str):
+    def __init__(self, x: np.ndarray, binning: str, split_piles: bool = True):
         self.x = x
+        # a pile of one value (>= a bin's share) keeps its own bin (_kernels.split_tied_edges);
+        # the entropy's bin widths are the unsplit edges', so it keeps the plain bins
+        self.split_piles = split_piles
         self.n = x.shape[0]
         self.lo = float(x.min())
         self.hi = float(x.max())
@@ -294,7 +297,8 @@ class _Axis:
             if self.binning == "uniform":
                 inv = k / (self.hi - self.lo) if self.hi > self.lo else 0.0
                 kern.uniform_bin_index(self.x, self.lo, inv, self.edges(k), idx)
-            elif self._idx or self._sorted is not None:  # a second k: sort once
+            elif self.split_piles and (self._idx or self._sorted is not None):
+                # a second k: sort once (the sweep splits piles as the branch below)
                 if self._sorted is None:
                     order = np.argsort(self.x, kind="stable")
                     self._sorted = (np.ascontiguousarray(self.x[order]), order)
@@ -303,6 +307,8 @@ class _Axis:
                                               idx)
             else:
                 inner = np.ascontiguousarray(self.edges(k)[1:-1])
+                if self.split_piles:
+                    kern.split_tied_edges(inner)  # a pile keeps its own bin
                 kern.sorted_edges_bin_index(self.x, self.lo, self.hi, inner, idx)
             if len(self._idx) >= 16:  # keep the cache small; rules use few distinct k
                 self._idx.pop(next(iter(self._idx)))
@@ -619,7 +625,7 @@ WIDE_BINS_NATS = 0.2
 def _binned_entropy(x: np.ndarray, k: int, binning: str, bias_correction: str) -> float:
     """Histogram entropy (nats) of x with k bins of the given binning."""
     n = x.shape[0]
-    ax = _Axis(x, binning)
+    ax = _Axis(x, binning, split_piles=False)
     edges = ax.edges(k)
     counts = np.bincount(ax.index(k), minlength=k).astype(float)
     widths = np.diff(edges)
