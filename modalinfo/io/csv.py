@@ -180,7 +180,10 @@ def _prose_lines(body: list[str], delim: str | None, path) -> None:
     its numbers was "corrupt CSV file ...: could not convert string 'rate:' to float64
     at row 0, column 1" (round 31 PART b, a30): row 0 was the file's second line and no
     word said how to mark such lines. Raised when the rows before the first row of
-    numbers (among the first 50) are text: no number in them, or not as many fields.
+    numbers (among the first 50) are text: fewer numbers than half of their cells, or
+    not as many fields (a frame with a bad cell or two keeps numpy's message naming it;
+    until review23 one number made a frame, so 'rate: 1000 Hz' above a 3-column log was
+    "corrupt" again).
     """
     rows = [_split(line, delim) for line in body[:50]]
     # the first row of numbers (an empty cell is a missing value, not text)
@@ -189,7 +192,9 @@ def _prose_lines(body: list[str], delim: str | None, path) -> None:
     if lead == 0:
         return
     width = len(rows[lead])
-    if any(len(row) == width and any(_is_number(tok) for tok in row) for row in rows[:lead]):
+    if any(len(row) == width
+           and 2 * sum(_is_number(tok) or not tok.strip() for tok in row) >= width
+           for row in rows[:lead]):
         return  # a frame with a bad cell ('N/A'), not a line of text: numpy names the cell
     raise LogFormatError(
         f"CSV file '{path}': its first {lead + 1} lines are text above the numbers "
