@@ -10,6 +10,9 @@ Every analysis calls the library exactly as the matching command does:
   ``modes_to_reach`` (``modalinfo fitting-error``); with a ``kl-theory`` basis (here or
   in ``ordering``) on a log that records no outer scale, column ``kl_assumed`` says
   what the theoretical K-L assumed (the words ``reorder`` prints as a note);
+- every row: column ``layout_doubt`` where the log was read as stored though its
+  content says modes x frames (``modalinfo.telemetry.checks.layout_doubt``; the
+  ``LayoutWarning`` the reader gives, once per log);
 - ``forecast``: :func:`modalinfo.forecast.evaluate` with the presets of
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
   in chunks, so memory does not grow with the log. ``pvalue_h1.<name>`` is the
@@ -259,6 +262,10 @@ def log_columns(log: Any) -> dict:
     for key, column in _META_COLUMNS.items():
         if key in meta and column not in row:
             row[column] = _scalar(meta[key])
+    layout = meta.get("layout")
+    if isinstance(layout, dict) and isinstance(layout.get("doubt"), str):
+        # a layout read as stored whose content says modes x frames (left31-orient)
+        row["layout_doubt"] = layout["doubt"]
     if "date" not in row and log.start_time >= _EPOCH_MIN:
         row["date"] = datetime.fromtimestamp(log.start_time, UTC).isoformat()
     return row
