@@ -144,3 +144,23 @@ def test_idl_fits_a25_end_to_end_through_info(tmp_path, capsys):
     assert "shape       300 frames x 200 modes" in capsys.readouterr().out
     assert main(["info", "--quiet", str(path), "--no-transpose"]) == 0
     assert "shape       200 frames x 300 modes" in capsys.readouterr().out
+
+
+def test_batch_rows_carry_the_doubt_and_batch_says_it_once(tmp_path, capsys):
+    # each task reads the log (one per analysis): the warning was printed once per task
+    from modalinfo.batch.analyses import resolve_params, run_log_task
+    from modalinfo.cli.cmd_batch import layout_doubt_note
+
+    x = _ar1(300, np.full(200, 0.99), seed=11)
+    np.save(tmp_path / "mt.npy", x.T)
+    np.save(tmp_path / "tm.npy", x)
+    rows = [run_log_task({"path": str(tmp_path / name), "fmt": None, "hints": {},
+                          "analysis": "summary", "params": resolve_params("summary")})
+            for name in ("mt.npy", "tm.npy", "mt.npy")]  # no warning: errors here
+    assert "modes x frames" in rows[0]["layout_doubt"] and "layout_doubt" not in rows[1]
+    for row, name in zip(rows, ("mt.npy", "tm.npy", "mt.npy"), strict=True):
+        row.update(status="ok", path=str(tmp_path / name))  # what the engine adds
+    layout_doubt_note(rows)
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "1 log(s)" in err and "mt.npy" in err, err
+    assert "--transpose" in err and "tm.npy" not in err
