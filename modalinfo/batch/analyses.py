@@ -10,6 +10,10 @@ Every analysis calls the library exactly as the matching command does:
   ``modes_to_reach`` (``modalinfo fitting-error``); with a ``kl-theory`` basis (here or
   in ``ordering``) on a log that records no outer scale, column ``kl_assumed`` says
   what the theoretical K-L assumed (the words ``reorder`` prints as a note);
+- every row: column ``layout_doubt`` where the log was read as stored though its
+  content says modes x frames (``modalinfo.telemetry.checks.layout_doubt``; the
+  reader's ``LayoutWarning`` is left to this column, and ``modalinfo batch`` says it in
+  one line for all logs);
 - ``forecast``: :func:`modalinfo.forecast.evaluate` with the presets of
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
   in chunks, so memory does not grow with the log. ``pvalue_h1.<name>`` is the
@@ -259,6 +263,10 @@ def log_columns(log: Any) -> dict:
     for key, column in _META_COLUMNS.items():
         if key in meta and column not in row:
             row[column] = _scalar(meta[key])
+    layout = meta.get("layout")
+    if isinstance(layout, dict) and isinstance(layout.get("doubt"), str):
+        # a layout read as stored whose content says modes x frames (left31-orient)
+        row["layout_doubt"] = layout["doubt"]
     if "date" not in row and log.start_time >= _EPOCH_MIN:
         row["date"] = datetime.fromtimestamp(log.start_time, UTC).isoformat()
     return row
@@ -493,12 +501,15 @@ def run_log_task(payload: dict) -> dict:
     # own process, and it switched a notebook's backend for the session; nothing a task
     # runs draws (plot_archive draws on a Figure of its own, batch/report.py)
     from modalinfo.common.files import check_readable
-    from modalinfo.io import load
+    from modalinfo.common.quiet import catching_warnings
+    from modalinfo.io import LayoutWarning, load
     from modalinfo.telemetry.quality import apply_outlier_policy
 
     path = payload["path"]
     check_readable(Path(path))  # missing, a folder, a FIFO or a device: named as such
-    log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
+    with catching_warnings():  # the row's layout_doubt column says it, batch once per log
+        warnings.simplefilter("ignore", LayoutWarning)
+        log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
     _verify_mapped(path, log, payload.get("fmt"))
     if payload.get("window") is not None:
         start, stop = payload["window"]

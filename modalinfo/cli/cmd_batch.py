@@ -117,6 +117,27 @@ def kl_assumption_note(rows: list[dict]) -> None:
                          f"column kl_assumed: {shown}\n")
 
 
+def layout_doubt_note(rows: list[dict]) -> None:
+    """Say once on stderr which logs look stored modes x frames (column ``layout_doubt``).
+
+    Each task reads its log and the reader's ``LayoutWarning`` reached stderr once per
+    analysis (left31-orient): one line for the batch instead, naming the first five logs.
+    """
+    paths: list[str] = []
+    for row in rows:
+        doubt = row.get("layout_doubt")
+        if row.get("status") == "ok" and isinstance(doubt, str) and doubt:
+            if str(row["path"]) not in paths:
+                paths.append(str(row["path"]))
+    if paths:
+        shown = ", ".join(paths[:5]) + (", ..." if len(paths) > 5 else "")
+        sys.stderr.write(f"modalinfo batch: warning: {len(paths)} log(s) were read frames x "
+                         "modes but their content says modes x frames (lag-1 "
+                         "autocorrelation larger from column to column than from row to "
+                         f"row; column layout_doubt): {shown}; pass --transpose to read "
+                         "them the other way round, or --no-transpose to keep the layout\n")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
@@ -174,6 +195,7 @@ def run(args: argparse.Namespace) -> int:
                          f"skipped: {shown}; give read and search permission (chmod u+rx) "
                          f"or run as their owner to analyse them\n")
     kl_assumption_note(result.rows)  # a warning: even with --quiet
+    layout_doubt_note(result.rows)
     if not args.quiet:
         rep = result.report
         out = sys.stdout

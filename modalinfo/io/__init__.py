@@ -18,6 +18,11 @@ Errors: ``FileNotFoundError`` / ``IsADirectoryError`` / ``FileExistsError``
 (``OSError``) for paths; :class:`LogFormatError` (a ``ValueError``) naming the file
 for truncated, corrupted or unusable content; ``ValueError`` / ``TypeError`` for
 bad hints or invalid log content (e.g. NaN with ``nonfinite="raise"``).
+
+Warnings: ``LayoutWarning`` (a ``UserWarning``) where a foreign array was read frames x
+modes because nothing said otherwise but its content says modes x frames
+(``modalinfo.telemetry.checks.layout_doubt``); ``transpose=True`` reads it the other way
+round, ``transpose=False`` keeps the layout without the warning.
 """
 
 from __future__ import annotations
@@ -35,6 +40,7 @@ from modalinfo.io.formats import FORMATS, detect_format, format_from_extension, 
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
 from modalinfo.io.integrity import IntegrityCheck, integrity_check
 from modalinfo.io.npz import read_npy, read_npz, write_npz
+from modalinfo.telemetry.checks import LayoutWarning
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = [
@@ -42,6 +48,7 @@ __all__ = [
     "MAP_ABOVE",
     "HINTS",
     "IntegrityCheck",
+    "LayoutWarning",
     "LogFormatError",
     "atomic_write",
     "integrity_check",

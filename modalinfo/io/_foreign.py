@@ -19,7 +19,13 @@ guess silently nor refuse what the caller states. The rules, applied by
   variable: ``stored["_column_major"]``, whatever its shape). Column names (a CSV
   header row, table columns) or a ``modes`` hint with one entry per column confirm the
   stored layout. A transposition is
-  recorded in ``metadata["layout"]``.
+  recorded in ``metadata["layout"]``. Where nothing but the shape speaks for the stored
+  layout (no annotation, hint, column names or time axis) and the shape fits either way
+  round (read transposed, it would not look transposed either), the content is asked
+  (``modalinfo.telemetry.checks.layout_doubt``: lag-1 autocorrelation along each axis):
+  an array whose columns decorrelate slower from column to column than from row to row
+  is read as stored with a ``LayoutWarning`` naming ``--transpose``, and
+  ``metadata["layout"]["doubt"]`` says so (issue 27, left31-orient).
 * **Relabelling.** Modes and convention read from foreign column names may be
   replaced by ``modes=`` / ``convention=`` hints (recorded in
   ``metadata["relabelled"]``) instead of being refused as a contradiction.
@@ -38,16 +44,20 @@ guess silently nor refuse what the caller states. The rules, applied by
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import (
     COLUMN_RATIO,
     MAX_MODES,
     MIN_SUSPECT_COLUMNS,
+    LayoutWarning,
+    layout_doubt,
     mode_span,
     transposed_shape,
 )
@@ -122,8 +132,16 @@ def axis_layout(names: list, source: str) -> tuple[str, str] | None:
     return None
 
 
+#: What :func:`_evidence` returns when nothing but the shape speaks for the layout.
+_GUESSED = ""
+
+
 def _evidence(shape: tuple[int, int], stored: dict, hints: dict) -> str | None:
-    """Why a foreign ``(rows, cols)`` array looks transposed (None: it does not)."""
+    """Why a foreign ``(rows, cols)`` array looks transposed (None: it does not).
+
+    ``_GUESSED`` (an empty string) when neither the file nor the caller confirms the
+    stored layout and the shape does not speak against it: the layout is a guess.
+    """
     n_rows, n_cols = shape
     modes = hints.get("modes")
     if modes is not None and not isinstance(modes, str | bytes):
@@ -145,7 +163,8 @@ def _evidence(shape: tuple[int, int], stored: dict, hints: dict) -> str | None:
             return None
         if len(times) == n_cols:
             return f"its time axis has {n_cols} entries, one per column"
-    return transposed_shape(n_rows, n_cols)  # the shape rule ModalLog applies too
+    # the shape rule ModalLog applies too
+    return transposed_shape(n_rows, n_cols) or _GUESSED
 
 
 def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | None]:
@@ -178,8 +197,14 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
     if transpose is False:
         return coeffs, None
     why = _evidence(coeffs.shape, stored, hints)
-    if why is None and stored.get("_column_major"):
+    if not why and stored.get("_column_major"):
         why = stored["_column_major"]  # the writer's order, not the shape, is in doubt
+    if why == _GUESSED:
+        # nothing vouches for the layout and the shape fits either way round: the content
+        # may tell (left31-orient); a lopsided array (400,000 x 27) is not read at all
+        if transposed_shape(*reversed(np.shape(coeffs))) is None:
+            return coeffs, _content_doubt(coeffs, path)
+        return coeffs, None
     if why is not None:
         n_rows, n_cols = coeffs.shape
         raise LogFormatError(
@@ -189,6 +214,30 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
             f"keep {n_rows} frames of {n_cols} modes"
         )
     return coeffs, None
+
+
+def _content_doubt(coeffs, path: Path) -> dict | None:
+    """Warn (``LayoutWarning``) where a guessed layout's content says modes x frames.
+
+    ``modalinfo.telemetry.checks.layout_doubt`` is the rule; the returned record (None:
+    no doubt) goes to ``metadata["layout"]``, so a ``batch`` row names it too.
+    """
+    found = layout_doubt(coeffs)
+    if found is None:
+        return None
+    m0, m1, threshold = found
+    n_rows, n_cols = np.shape(coeffs)
+    text = (f"'{Path(path).name}' was read as {n_rows} frames x {n_cols} modes (no axis "
+            "names; either way round fits its shape), but its content says modes x frames: "
+            f"lag-1 autocorrelation {m1:.2f} from column to column, {m0:.2f} from row to "
+            "row (a log's modes persist in time, not across mode numbers; IDL, MATLAB and "
+            "Fortran put the frames on the first FITS / array axis); pass transpose=True "
+            f"(--transpose) to read {n_cols} frames of {n_rows} modes, or transpose=False "
+            "(--no-transpose) to keep this layout")
+    warnings.warn(text, LayoutWarning, stacklevel=caller_stacklevel())
+    return {"stored": "frames x modes (guessed)",
+            "doubt": f"looks modes x frames: lag-1 {m1:.2f} from column to column, "
+                     f"{m0:.2f} from row to row"}
 
 
 def describe_modes(modes: list, convention: str) -> str:
