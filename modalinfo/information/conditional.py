@@ -296,6 +296,27 @@ def _known_given(arr: np.ndarray, z: np.ndarray) -> np.ndarray:
     return arr if keep.all() else np.ascontiguousarray(arr[:, keep])
 
 
+def _determined_within(arr: np.ndarray) -> np.ndarray:
+    """Drop the columns of a group that are a monotone function of another of its columns.
+
+    The chain rule inside a group: I(x1, f(x1); y | z) = I(x1; y | z) for any function f,
+    so a duplicated, rescaled or monotonically transformed column adds nothing; the
+    estimators would hold a singular pair instead (round 32: the KDE read I(u; (y, y))
+    0.286 nats for the exact 0.347 at n = 2,000, mean of 3 seeds, with no warning, and
+    (y, 2 y + 1) and (y, exp y) the same). Of a pair of copies the first is dropped, the
+    second kept; the screen on the first rows is as in :func:`_known_given`.
+    """
+    d = arr.shape[1]
+    if d < 2:
+        return arr
+    head = min(arr.shape[0], 64)
+    keep = np.ones(d, dtype=bool)
+    for i in range(d):
+        keep[i] = not any(keep[j] and j != i and _monotone_of(arr[:head, i], arr[:head, j])
+                          and _monotone_of(arr[:, i], arr[:, j]) for j in range(d))
+    return arr if keep.all() else np.ascontiguousarray(arr[:, keep])
+
+
 def _triple(x: Any, y: Any, z: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     check_aligned({"x": x, "y": y, "z": z})
     xa = _as_group(x, "x", None)
@@ -532,6 +553,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     def estimate(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
         n, dz = x.shape[0], z.shape[1]
         x, y, z = _varying(x), _varying(y), _varying(z)
+        x, y, z = _determined_within(x), _determined_within(y), _determined_within(z)
         x, y = _known_given(x, z), _known_given(y, z)
         if x.shape[1] == 0 or y.shape[1] == 0:
             if not probed[0]:  # round 17: k=0 or bins=0 returned 0.0 here unchecked
