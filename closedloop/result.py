@@ -601,6 +601,11 @@ class SimulationResult:
         by bilinear interpolation. A region that reaches the grid's edge is clipped by
         it: the diameter is then a lower bound. ``start``: as in :meth:`strehl_map`.
         NaN for a one-point field (``field.n_points == 1``): one direction has no area.
+        Corrected means above the threshold: a field exactly at it has area 0. The field
+        grid bounds the accuracy, whatever ``refine``: a corrected region only a few grid
+        steps across is under-read by the bilinear surface (round 32, an SR paraboloid
+        reaching 0.3 at 2 grid steps from the centre: -4 % at 9 x 9 points, -1 % at
+        17 x 17, -0.3 % at 33 x 33; a Gaussian fall-off of the same size: -0.1 % at 9 x 9).
         """
         from scipy.interpolate import RegularGridInterpolator
 

@@ -49,6 +49,13 @@ gaussian +0.001 (0.012) at n = 1e3, -0.001 (0.004) at 1e4; ksg -0.005 (0.021),
 default bins: more bins lower it but raise the bias at zero coupling, +0.009 nats at
 12 bins, n = 1e4); kde -0.020 (0.015) at 1e3.
 
+Sharp-edged dependence (round 32). Where y's sign is the XOR of the signs of x1 and
+x2 (y = sign(x1 x2) |e|, exact I(y; (x1, x2)) = I(y; x1 | x2) = ln 2 = 0.693 nats, a
+density cut in half along three planes), every estimator here reads low and none warns:
+KSG 0.54-0.57 at n = 2,000 and 0.60-0.64 at 10^4 (3 seeds), KDE 0.36 / 0.42 (its
+kernel smooths across the cuts), the Gaussian-copula 0.000 (blind to it, as documented).
+A group-wise synergy read by these estimators is a lower bound.
+
 Rank-based defaults. CMI, like MI, is unchanged by a monotone map of each column
 (each is an invertible map of its group), so every estimator's default path is
 rank-based: the histogram's quantile bins depend on the ranks only, and ``"kde"``,
@@ -309,11 +316,20 @@ def _determined_within(arr: np.ndarray) -> np.ndarray:
     d = arr.shape[1]
     if d < 2:
         return arr
-    head = min(arr.shape[0], 64)
+    head = arr[:64]
+    screen = np.zeros((d, d), dtype=bool)  # [i, j]: column i monotone in j on the head
+    for j in range(d):  # one sort per column, every other column tested at once
+        order = np.argsort(head[:, j], kind="stable")
+        db, da = np.diff(head[order, j]), np.diff(head[order], axis=0)
+        tied = db == 0
+        function = ~np.any(da[tied] != 0, axis=0)
+        rest = da[~tied]
+        screen[:, j] = function & (np.all(rest >= 0, axis=0) | np.all(rest <= 0, axis=0))
+    np.fill_diagonal(screen, False)
     keep = np.ones(d, dtype=bool)
-    for i in range(d):
-        keep[i] = not any(keep[j] and j != i and _monotone_of(arr[:head, i], arr[:head, j])
-                          and _monotone_of(arr[:, i], arr[:, j]) for j in range(d))
+    for i in np.flatnonzero(screen.any(axis=1)):  # the full test only where the head agrees
+        keep[i] = not any(keep[j] and screen[i, j] and _monotone_of(arr[:, i], arr[:, j])
+                          for j in range(d))
     return arr if keep.all() else np.ascontiguousarray(arr[:, keep])
 
 
