@@ -105,7 +105,8 @@ def lag1_autocorrelations(x: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     x : array_like, shape (T,) or (T, k)
-        Real series in time order (columns are series); a column holding NaN gets NaN.
+        Real series in time order (columns are series); a column holding NaN or an
+        infinite value gets NaN.
 
     Returns
     -------
@@ -127,7 +128,9 @@ def lag1_autocorrelations(x: np.ndarray) -> np.ndarray:
     for c0 in range(0, k, per):
         block = x[:, c0:c0 + per]
         scale = np.max(np.abs(block), axis=0)
-        d = block / np.where(scale > 0.0, scale, 1.0)
+        # a column holding inf has no autocorrelation: NaN, as for NaN, without numpy's
+        # "invalid value encountered" warning of inf / inf (round 32)
+        d = block / np.where(np.isinf(scale), np.nan, np.where(scale > 0.0, scale, 1.0))
         d -= d.mean(axis=0)
         power = np.einsum("tk,tk->k", d, d)
         lag = np.einsum("tk,tk->k", d[1:], d[:-1])

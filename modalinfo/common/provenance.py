@@ -136,14 +136,31 @@ def git_revision(start: str | os.PathLike | None = None) -> str | None:
 
 def _code_root(start: str | os.PathLike | None) -> Path:
     """Return the folder holding the packages: ``start``, or the one this code came from."""
-    return Path(start) if start is not None else Path(__file__).resolve().parents[2]
+    if start is None:
+        return Path(__file__).resolve().parents[2]
+    if isinstance(start, bool) or not isinstance(start, str | os.PathLike):
+        raise TypeError(f"`start` must be a folder path (str or os.PathLike); got "
+                        f"{type(start).__name__} {start!r}.")
+    return Path(start)
 
 
-def _source_sha256(root: Path) -> str:
+def _source_files(root: Path) -> list[str]:
+    return sorted(p.relative_to(root).as_posix()
+                  for name in PACKAGES if (root / name).is_dir()
+                  for p in (root / name).rglob("*.py") if p.is_file())
+
+
+def _source_sha256(root: Path) -> str | None:
+    """Return the listing's SHA-256, or None where no source file is readable there.
+
+    A zipapp (the packages inside a .zip) or a sourceless install (.pyc only) has no
+    ``*.py`` file on disk: the SHA-256 of an empty listing, ``e3b0c442...``, named no
+    code and was recorded alike for any two of them (round 32).
+    """
+    files = _source_files(root)
+    if not files:
+        return None
     digest = hashlib.sha256()
-    files = sorted(p.relative_to(root).as_posix()
-                   for name in PACKAGES if (root / name).is_dir()
-                   for p in (root / name).rglob("*.py") if p.is_file())
     for rel in files:  # the lines ``sha256sum`` prints: "<hex>  <path>\n"
         line = f"{hashlib.sha256((root / rel).read_bytes()).hexdigest()}  {rel}\n"
         digest.update(line.encode("utf-8"))
@@ -193,8 +210,24 @@ def source_sha256(start: str | os.PathLike | None = None) -> str:
     -------
     str
         64 hex digits.
+
+    Raises
+    ------
+    TypeError
+        If ``start`` is not a path.
+    ValueError
+        If there is no ``*.py`` file of the packages under the folder (``start`` not a
+        checkout or site-packages, a zipapp, a sourceless install): an empty listing's
+        SHA-256 would name no code (round 32). :func:`code_record` records None there.
     """
-    return _source_sha256(_code_root(start))
+    root = _code_root(start)
+    sha = _source_sha256(root)
+    if sha is None:
+        where = "`start`" if start is not None else "the folder this code was imported from"
+        raise ValueError(f"{where} = {str(root)!r} holds no *.py file of the packages "
+                         f"{', '.join(PACKAGES)} (not a checkout or site-packages folder; a "
+                         "zipapp or a sourceless install has no source to fingerprint).")
+    return sha
 
 
 def git_describe(start: str | os.PathLike | None = None) -> str | None:
@@ -222,7 +255,7 @@ def git_describe(start: str | os.PathLike | None = None) -> str | None:
 
 
 @functools.lru_cache(maxsize=8)
-def _code_record(root: Path) -> tuple[str | None, str]:
+def _code_record(root: Path) -> tuple[str | None, str | None]:
     return _git_describe(root), _source_sha256(root)
 
 
@@ -244,9 +277,19 @@ def code_record(start: str | os.PathLike | None = None) -> dict[str, str | None]
     Returns
     -------
     dict
-        ``{"git": str or None, "source_sha256": str}``.
+        ``{"git": str or None, "source_sha256": str or None}``; ``source_sha256`` is None
+        where the code has no ``*.py`` file on disk (a zipapp, a sourceless install), not
+        the SHA-256 of an empty listing.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`source_sha256`, for a ``start`` given that is not a path or holds no
+        source of the packages.
     """
     git, sha = _code_record(_code_root(start).resolve())
+    if sha is None and start is not None:
+        source_sha256(start)  # a folder named by the caller must hold the packages: raises
     return {"git": git, "source_sha256": sha}
 
 
@@ -273,7 +316,8 @@ def run_record(config: Any, seed: int | None) -> dict[str, Any]:
     -------
     dict
         ``{"modalinfo": version number, "git": commit (``"<sha>-dirty"`` if the source
-        was edited) or None, "source_sha256": hex, "config_sha256": hex, "seed": int or
+        was edited) or None, "source_sha256": hex (None without source files on disk),
+        "config_sha256": hex, "seed": int or
         None}``, JSON-ready, with no time of day.
     """
     import modalinfo
@@ -309,7 +353,7 @@ def provenance(argv: Sequence[str] | None, *, source: str | os.PathLike | None =
     Returns
     -------
     dict
-        ``{"modalinfo": version, "git": commit or None, "source_sha256": hex,
+        ``{"modalinfo": version, "git": commit or None, "source_sha256": hex or None,
         "command": [...] or None, "input": {"sha256", "bytes"} or None, "seed": int or
         None}`` (and ``"inputs"``); ``version`` is
         ``modalinfo.common.tasks.keys.package_version()`` (the version number and the

@@ -49,6 +49,13 @@ gaussian +0.001 (0.012) at n = 1e3, -0.001 (0.004) at 1e4; ksg -0.005 (0.021),
 default bins: more bins lower it but raise the bias at zero coupling, +0.009 nats at
 12 bins, n = 1e4); kde -0.020 (0.015) at 1e3.
 
+Sharp-edged dependence (round 32). Where y's sign is the XOR of the signs of x1 and
+x2 (y = sign(x1 x2) |e|, exact I(y; (x1, x2)) = I(y; x1 | x2) = ln 2 = 0.693 nats, a
+density cut in half along three planes), every estimator here reads low and none warns:
+KSG 0.54-0.57 at n = 2,000 and 0.60-0.64 at 10^4 (3 seeds), KDE 0.36 / 0.42 (its
+kernel smooths across the cuts), the Gaussian-copula 0.000 (blind to it, as documented).
+A group-wise synergy read by these estimators is a lower bound.
+
 Rank-based defaults. CMI, like MI, is unchanged by a monotone map of each column
 (each is an invertible map of its group), so every estimator's default path is
 rank-based: the histogram's quantile bins depend on the ranks only, and ``"kde"``,
@@ -296,6 +303,36 @@ def _known_given(arr: np.ndarray, z: np.ndarray) -> np.ndarray:
     return arr if keep.all() else np.ascontiguousarray(arr[:, keep])
 
 
+def _determined_within(arr: np.ndarray) -> np.ndarray:
+    """Drop the columns of a group that are a monotone function of another of its columns.
+
+    The chain rule inside a group: I(x1, f(x1); y | z) = I(x1; y | z) for any function f,
+    so a duplicated, rescaled or monotonically transformed column adds nothing; the
+    estimators would hold a singular pair instead (round 32: the KDE read I(u; (y, y))
+    0.286 nats for the exact 0.347 at n = 2,000, mean of 3 seeds, with no warning, and
+    (y, 2 y + 1) and (y, exp y) the same). Of a pair of copies the first is dropped, the
+    second kept; the screen on the first rows is as in :func:`_known_given`.
+    """
+    d = arr.shape[1]
+    if d < 2:
+        return arr
+    head = arr[:64]
+    screen = np.zeros((d, d), dtype=bool)  # [i, j]: column i monotone in j on the head
+    for j in range(d):  # one sort per column, every other column tested at once
+        order = np.argsort(head[:, j], kind="stable")
+        db, da = np.diff(head[order, j]), np.diff(head[order], axis=0)
+        tied = db == 0
+        function = ~np.any(da[tied] != 0, axis=0)
+        rest = da[~tied]
+        screen[:, j] = function & (np.all(rest >= 0, axis=0) | np.all(rest <= 0, axis=0))
+    np.fill_diagonal(screen, False)
+    keep = np.ones(d, dtype=bool)
+    for i in np.flatnonzero(screen.any(axis=1)):  # the full test only where the head agrees
+        keep[i] = not any(keep[j] and screen[i, j] and _monotone_of(arr[:, i], arr[:, j])
+                          for j in range(d))
+    return arr if keep.all() else np.ascontiguousarray(arr[:, keep])
+
+
 def _triple(x: Any, y: Any, z: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     check_aligned({"x": x, "y": y, "z": z})
     xa = _as_group(x, "x", None)
@@ -532,6 +569,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     def estimate(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
         n, dz = x.shape[0], z.shape[1]
         x, y, z = _varying(x), _varying(y), _varying(z)
+        x, y, z = _determined_within(x), _determined_within(y), _determined_within(z)
         x, y = _known_given(x, z), _known_given(y, z)
         if x.shape[1] == 0 or y.shape[1] == 0:
             if not probed[0]:  # round 17: k=0 or bins=0 returned 0.0 here unchecked
