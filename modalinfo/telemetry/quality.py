@@ -267,10 +267,11 @@ def quality_memory(n_frames: int, n_modes: int,
     SCAN_ELEMENTS) + 2 T``, ``S = min(T, sample_frames) x M x 8`` the sample's bytes
     (see the factors):
     the one function the commands' pre-work estimates add (``modalinfo.cli.shared.
-    quality_need``). 1.1-2 x the ``tracemalloc`` peaks of 23 logs of 20 - 10^6 frames
+    quality_need``). 1.2-2.8 x the ``tracemalloc`` peaks of 23 logs of 20 - 10^6 frames
     x 5 - 2000 modes, contiguous, memory-mapped and strided (benchmarks/RESULTS.md,
-    "left31-estimate"); independent of the memory layout (a mapped log's pages are the
-    page cache's, not the process's allocations).
+    "left31-estimate"; the high ratios on logs of a few MiB, the 12 MiB fixed part);
+    independent of the memory layout (a mapped log's pages are the page cache's, not
+    the process's allocations).
     """
     from modalinfo.telemetry.scan import SCAN_ELEMENTS
 
