@@ -12,8 +12,11 @@ command computes once, is cleared before each run). Each command on 8 seeded AR(
 log shapes (NPY files, read whole: small files are not memory-mapped): estimate >=
 peak, and <= 3 x the peak (small logs under tight limits still run). ``batch``: the
 per-log check before the pass against ``run_log_task``'s peak (summary analysis). Each
-estimate was below its peak before this change (1 - 3 % of it for the commands whose
-estimate counted only the log's copies; none at all for ``info`` and ``batch``).
+estimate was below its peak before this change (0.3-42 MiB for peaks of 9-74 MiB for
+the commands whose estimate counted only their own arrays; none at all for ``info`` and
+``batch``). And a pass that cannot fit (memory available between the old checks and
+the pass's estimate) is refused in one line, exit 2, naming the pass (before: run, or
+for ``select`` refused for its own candidates).
 """
 
 from __future__ import annotations
@@ -128,3 +131,17 @@ class _Shape:
 
     def __init__(self, frames: int, modes: int) -> None:
         self.n_frames, self.n_modes = frames, modes
+
+
+@pytest.mark.parametrize("command", ["info", "reorder", "forecast", "select"])
+def test_a_pass_that_cannot_fit_is_refused_in_one_line(tmp_path, monkeypatch, capsys,
+                                                       command):
+    # 2000 x 20: 0.3 MB of log, its 3 copies 1 MB, forecast's evaluation 2.6 MB (the old
+    # checks pass under 4 MB), the quality pass ~20 MiB (measured 7.5 MiB, above)
+    _write(tmp_path / "l.npy", 2000, 20)
+    monkeypatch.setattr(shared, "memory_available", lambda: 4e6)
+    assert main(_argv(command, tmp_path / "l.npy", tmp_path / "o")) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert "log-quality pass" in err and "needs about" in err, err
+    assert not (tmp_path / "o").exists()  # forecast wrote nothing
