@@ -520,11 +520,34 @@ def run_log_task(payload: dict) -> dict:
         if problem:
             raise ValueError(problem)
     row = log_columns(log)
+    _check_quality_memory(path, log, params.get("outliers", "warn"))
     log, quality = apply_outlier_policy(log, params.get("outliers", "warn"),
                                         time_series=analysis == "forecast")
     row.update(quality_columns(quality, log, params.get("outliers", "warn")))
     row.update(ANALYSES[analysis](log, params))
     return row
+
+
+def _check_quality_memory(path: str, log: Any, policy: str) -> None:
+    """Refuse (an error row) a log whose quality pass cannot fit, before the pass.
+
+    The pass's estimate of every command (``modalinfo.cli.shared.quality_need``:
+    ``quality_memory``, a clipped copy, the log's own bytes when it is in memory)
+    against the memory this worker may still allocate (issue 27, left31-estimate).
+    """
+    from argparse import Namespace
+
+    from modalinfo.cli.shared import in_memory_bytes, quality_need
+    from modalinfo.common.memory import usable_memory_bytes
+    from modalinfo.common.sizes import format_size
+
+    need = quality_need(log, Namespace(outliers=policy), in_memory_bytes(log))
+    avail = usable_memory_bytes()
+    if need > avail:
+        raise MemoryError(f"'{Path(path).name}' ({log.n_frames} frames x {log.n_modes} "
+                          f"modes): the log-quality pass (outliers {policy}) needs about "
+                          f"{format_size(need)} of memory and {format_size(avail)} is "
+                          "available; analyse fewer frames (window) or modes")
 
 
 def _verify_mapped(path: str, log: Any, fmt: str | None) -> None:

@@ -188,7 +188,11 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"--extra '{args.extra}' is LOG itself: its modes are "
                                "candidates already")
         extra = _load(args, args.extra)
-        extra, _ = apply_outliers(extra, args, args.extra, time_series=True)
+        # LOG (analysed) stays in memory while --extra's pass runs
+        from modalinfo.cli.shared import in_memory_bytes
+
+        extra, _ = apply_outliers(extra, args, args.extra, time_series=True,
+                                  resident=in_memory_bytes(log) + in_memory_bytes(extra))
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")

@@ -218,19 +218,23 @@ def _quality_progress(args: argparse.Namespace, log):
     return progress(args, QUALITY_STAGES if big else 0, unit="stage", desc=desc)
 
 
-def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False):
+def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False,
+                   resident: float | None = None):
     """Apply ``--outliers`` to ``log``; queue one stderr line when something was flagged.
 
     Returns the log the command analyses (clipped or with frames dropped, its
     ``metadata["outliers"]`` recording what was done) and the
     :class:`~modalinfo.telemetry.quality.QualityReport`. ``raise`` (or ``drop`` with
-    ``time_series``) becomes a one-line error, exit status 2.
+    ``time_series``) becomes a one-line error, exit status 2, and so does a pass that
+    cannot fit in the memory available (``check_quality_memory``, before the pass;
+    ``resident``: the bytes the command holds meanwhile, default ``log``'s in memory).
     """
     from modalinfo.telemetry.quality import apply_outlier_policy
 
     policy = getattr(args, "outliers", "warn")
     if time_series:
         refuse_outlier_drop(args, f"{args.command}")
+    check_quality_memory(args, log, path, resident)
     try:
         with _quality_progress(args, log) as advance:
             new, report = apply_outlier_policy(log, policy, time_series=time_series,
@@ -584,6 +588,51 @@ def check_memory(need: float, what: str, fix: str) -> None:
     if need > avail:
         raise CommandError(f"{what} needs about {format_size(need)} of memory and "
                            f"{format_size(avail)} is available; {fix}")
+
+
+__all__ += ["quality_need", "check_quality_memory"]
+
+
+def quality_need(log, args: argparse.Namespace | None = None, resident: float = 0.0) -> float:
+    """Bytes held while ``apply_outliers`` runs on ``log``: the pass, a clip, what else lives.
+
+    ``quality_memory`` (the quality pass's own estimate, beside it in
+    :mod:`modalinfo.telemetry.quality`), plus one float64 copy of ``log`` when
+    ``--outliers clip`` writes the repaired log, plus ``resident``: the bytes the
+    command holds during the pass (the log's own coefficients when they are in memory,
+    another log read before it). The pass's arrays are freed when it returns, before the
+    command's own work: a command's estimate is the max of this and its own (issue 27,
+    left31-estimate).
+    """
+    from modalinfo.telemetry.quality import quality_memory
+
+    clip = log_bytes(log) if getattr(args, "outliers", "warn") == "clip" else 0
+    return float(resident) + quality_memory(log.n_frames, log.n_modes) + clip
+
+
+def in_memory_bytes(log) -> int:
+    """Bytes of ``log``'s coefficients held by the process (0 when memory-mapped)."""
+    import numpy as np
+
+    base = log.coeffs
+    while isinstance(base, np.ndarray) and not isinstance(base, np.memmap) and \
+            isinstance(base.base, np.ndarray):
+        base = base.base
+    return 0 if isinstance(base, np.memmap) else int(log.coeffs.nbytes)
+
+
+def check_quality_memory(args: argparse.Namespace, log, path: Path,
+                         resident: float | None = None) -> None:
+    """Refuse, before the quality pass, a log whose pass cannot fit (:func:`quality_need`).
+
+    ``resident`` defaults to ``log``'s own in-memory bytes (0 for a memory-mapped log).
+    """
+    held = in_memory_bytes(log) if resident is None else resident
+    check_memory(quality_need(log, args, held),
+                 f"'{Path(path).name}' ({log.n_frames} frames x {log.n_modes} modes): the "
+                 f"log-quality pass (--outliers {getattr(args, 'outliers', 'warn')})",
+                 "analyse fewer frames or modes (e.g. --max-frames, or convert a part of "
+                 "the log)")
 
 
 __all__ += ["add_max_frames_argument", "frame_subsample", "MAX_FRAMES"]

@@ -227,40 +227,62 @@ DEFAULT_ALPHA = 0.01
 #: Stages :func:`assess_quality` reports to its ``progress`` callable.
 QUALITY_STAGES = 5
 
-#: Peak memory of :func:`assess_quality` per float64 value of its sample (``min(T,
-#: sample_frames) x M``), in units of the value's 8 bytes, above
-#: ``QUALITY_MEMORY_FIXED``: every frame sampled (stride 1), the sample and the
-#: spread rule's deviations stay whole, the rest goes a slice of modes at a time
-#: (tracemalloc: 367 MiB at 10^4 x 2000, 104 MiB at 10^4 x 200 and 1000 x 2000; 1408,
-#: 155 and 154 MiB before the slices; issue 27, left28-prov).
-QUALITY_MEMORY_FACTOR = 3
+#: Peak memory of :func:`assess_quality` per byte of its float64 sample (``S = min(T,
+#: sample_frames) x M x 8``): the sample and the spread rule's deviations (stride 1), or
+#: the sample and the AR windows / the level rule's bin sums (strided), two at once
+#: (left28-prov, left30-prov). Fitted 1.92 on the logs of benchmarks/RESULTS.md
+#: "left31-estimate" (issue 27).
+QUALITY_MEMORY_FACTOR = 2
 
-#: As ``QUALITY_MEMORY_FACTOR`` for a log longer than the sample (strided): the AR
-#: fits' windows (freed before the flagging pass) and the level rule's bin sums
-#: (summed in the flagging pass) are each the sample's size, never held together, so
-#: two copies at once as at stride 1 (tracemalloc: 241 MiB at 2 x 10^5 x 200, 140 MiB
-#: at 10^6 x 50; 402 and 175 MiB when the first pass held the sample, the windows, the
-#: bin sums and their counts, factor 5; issue 27, left30-prov).
-QUALITY_MEMORY_STRIDED_FACTOR = 3
+#: As ``QUALITY_MEMORY_FACTOR`` for a log longer than the sample (kept for the names of
+#: earlier rounds: the same two copies).
+QUALITY_MEMORY_STRIDED_FACTOR = 2
 
-#: Bytes of :func:`assess_quality` whatever the log's size: the slices' temporaries
-#: (about ``_SLICE_VALUES`` values, a few times over) and the simulated law of the MAD
-#: (drawn 2e6 values at a time, cached per sample size).
-QUALITY_MEMORY_FIXED = 96 * 2**20
+#: Peak bytes per byte of one slice of the AR fits' lag stacks (``min(AR_ORDER x S, 8
+#: _SLICE_VALUES)``): the per-mode steps' temporaries (the stacks, their masked copies,
+#: residuals, deviations, the sorts' copies), a slice of modes at a time. Fitted 4.9-5.8
+#: (1000 x 2000 and 10^4 x 200: 104 MiB for a 15 MiB sample; 2 x 10^4 x 20: 71 MiB for
+#: 3 MiB; left31-estimate).
+QUALITY_MEMORY_SLICE_FACTOR = 5
+
+#: Peak bytes per byte of one row block the passes read (``min(T M, SCAN_ELEMENTS) x 8``:
+#: a memory-mapped block's copy, the flagging kernel's per-block arrays), and per frame
+#: (the per-frame flags): 50 MiB at 10^6 x 5 for a 2.5 MiB sample and 32 MiB blocks.
+QUALITY_MEMORY_BLOCK_FACTOR = 1.5
+QUALITY_MEMORY_FRAME_BYTES = 2
+
+#: Bytes of :func:`assess_quality` whatever the log's size: the simulated law of the
+#: MAD (paid once per effective sample size and process, which the data set: up to
+#: 5e5 simulated ratios, their sort and groups, and ``_MAD_CHUNK_VALUES`` draws at a
+#: time, ~10 MiB at 20 x 5) and the report's small arrays (96 MiB before
+#: left31-estimate, 7 x the peak of a 300 x 50 log).
+QUALITY_MEMORY_FIXED = 8 * 2**20 + 3 * 8 * 250_000  # 250_000: _MAD_CHUNK_VALUES
 
 
 def quality_memory(n_frames: int, n_modes: int,
                    sample_frames: int = 65536) -> int:
-    """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log (see the factors).
+    """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log [bytes].
 
-    ``QUALITY_MEMORY_FIXED`` plus ``QUALITY_MEMORY_FACTOR`` (every frame sampled) or
-    ``QUALITY_MEMORY_STRIDED_FACTOR`` (``T > sample_frames``) times 8 bytes per sampled
-    value; 1.4-1.5 x the measured peaks of five logs of benchmarks/RESULTS.md
-    ("left28-prov", "left30-prov"), 7 x that of a 300 x 50 log (the fixed part).
+    ``QUALITY_MEMORY_FIXED + 2 S + 5 min(4 S, 8 _SLICE_VALUES) + 1.5 x 8 min(T M,
+    SCAN_ELEMENTS) + 2 T``, ``S = min(T, sample_frames) x M x 8`` the sample's bytes
+    (see the factors):
+    the one function the commands' pre-work estimates add (``modalinfo.cli.shared.
+    quality_need``). 1.2-2.8 x the ``tracemalloc`` peaks of 23 logs of 20 - 10^6 frames
+    x 5 - 2000 modes, contiguous, memory-mapped and strided (benchmarks/RESULTS.md,
+    "left31-estimate"; the high ratios on logs of a few MiB, the 12 MiB fixed part);
+    independent of the memory layout (a mapped log's pages are the page cache's, not
+    the process's allocations).
     """
+    from modalinfo.telemetry.scan import SCAN_ELEMENTS
+
+    n_frames, n_modes = max(int(n_frames), 0), max(int(n_modes), 0)
+    sample = 8 * min(n_frames, sample_frames) * n_modes
     factor = QUALITY_MEMORY_STRIDED_FACTOR if n_frames > sample_frames else \
         QUALITY_MEMORY_FACTOR
-    return int(QUALITY_MEMORY_FIXED + factor * 8 * min(n_frames, sample_frames) * n_modes)
+    return int(QUALITY_MEMORY_FIXED + factor * sample
+               + QUALITY_MEMORY_SLICE_FACTOR * min(AR_ORDER * sample, 8 * _SLICE_VALUES)
+               + QUALITY_MEMORY_BLOCK_FACTOR * 8 * min(n_frames * n_modes, SCAN_ELEMENTS)
+               + QUALITY_MEMORY_FRAME_BYTES * n_frames)
 
 
 #: Default minimum run of equal consecutive values counted as stuck.
@@ -318,6 +340,10 @@ _MAD_NODES = 4096
 #: Seed of the simulated MADs.
 _MAD_SEED = 20261129
 
+#: Simulated Gaussian values drawn at once for the MAD's law (8 bytes each; with the
+#: medians' and absolute deviations' copies ~3 x that at the peak).
+_MAD_CHUNK_VALUES = 250_000
+
 
 def _mad_draws(n_sample: int) -> int:
     """Return the simulated MADs for ``N`` frames: ``4e4 (50 / N)^3`` in ``[2000, 5e5]``.
@@ -335,7 +361,10 @@ def _mad_law(n_sample: int, seed: int = _MAD_SEED) -> tuple[np.ndarray, np.ndarr
     """Nodes and weights (or None: equal) of ``1.4826 MAD / sigma`` for ``n_sample`` values."""
     draws = _mad_draws(n_sample)
     rng = np.random.default_rng(seed)
-    chunk = max(1, 2_000_000 // n_sample)  # about 16 MB of draws at a time
+    # about 2 MB of draws at a time: the same stream of draws in any chunking (numpy's
+    # Generator fills row by row), so the same bits as the 16 MB chunks before, which with
+    # the medians' copies made ~40 MiB of a command's peak (issue 27, left31-estimate)
+    chunk = max(1, _MAD_CHUNK_VALUES // n_sample)
     parts = []
     for start in range(0, draws, chunk):
         g = rng.standard_normal((min(chunk, draws - start), n_sample))

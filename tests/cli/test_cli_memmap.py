@@ -134,6 +134,14 @@ def _refusal(capsys, *needles):
         assert needle in err, err
 
 
+def _quality(frames: int, modes: int, resident: int = 0) -> int:
+    """The log-quality pass's estimate (left31-estimate): it runs after the checks above,
+    with ``resident`` bytes of the log in memory, and is checked on its own (the max)."""
+    from modalinfo.telemetry.quality import quality_memory
+
+    return quality_memory(frames, modes) + resident
+
+
 def test_reorder_refusal_fires_at_the_boundary(long_npy, monkeypatch, capsys):
     path, _ = long_npy
     # LOG_COPIES float64 copies of the 300-frame subsample (the documented estimate)
@@ -145,7 +153,8 @@ def test_reorder_refusal_fires_at_the_boundary(long_npy, monkeypatch, capsys):
     _refusal(capsys, "--max-frames", "300 frames x 6 modes")
     # at the estimate itself it runs (the pupil grids of --pupil-pixels 8 add their own
     # check, so give them room: the refusal above is the subsample's)
-    monkeypatch.setattr(shared, "memory_available", lambda: need + 8 * 64 * 40)
+    monkeypatch.setattr(shared, "memory_available",
+                        lambda: max(need + 8 * 64 * 40, _quality(300, N_MODES, 300 * N_MODES * 8)))
     assert main(argv) == 0
 
 
@@ -159,7 +168,8 @@ def test_reorder_mi_refusal_counts_the_budget(long_npy, monkeypatch, capsys):
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
     _refusal(capsys, "--budget 2000", "smaller --budget or --max-frames")
-    monkeypatch.setattr(shared, "memory_available", lambda: need + 8 * 64 * 40)
+    monkeypatch.setattr(shared, "memory_available",
+                        lambda: max(need + 8 * 64 * 40, _quality(300, N_MODES, 300 * N_MODES * 8)))
     assert main(argv) == 0
 
 
@@ -180,7 +190,8 @@ def test_forecast_refusal_names_train_at_the_boundary(long_npy, monkeypatch, cap
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
     _refusal(capsys, "--train 500 (500 training frames", "smaller --horizon or --train")
-    monkeypatch.setattr(shared, "memory_available", lambda: need)
+    monkeypatch.setattr(shared, "memory_available",
+                        lambda: max(need, _quality(N_FRAMES, N_MODES)))  # mapped: 0 resident
     assert main(argv) == 0
 
 
@@ -257,7 +268,8 @@ def test_forecast_modes_refused_before_the_columns_are_read(long_npy, monkeypatc
     assert main(argv) == 2
     _refusal(capsys, "--modes 2,4,7 (3 of the 6 columns", "gathered into memory")
     assert max(taken) == 1  # only the one-frame head was taken: no column was copied
-    monkeypatch.setattr(shared, "memory_available", lambda: need)
+    monkeypatch.setattr(shared, "memory_available",
+                        lambda: max(need, _quality(N_FRAMES, 3, N_FRAMES * 3 * 8)))
     assert main(argv) == 0
 
 
