@@ -181,11 +181,18 @@ def _prose_lines(body: list[str], delim: str | None, path) -> None:
     at row 0, column 1" (round 31 PART b, a30): row 0 was the file's second line and no
     word said how to mark such lines. Raised when the rows before the first row of
     numbers (among the first 50) are text: no number in them, or not as many fields.
+    ``delim`` was guessed from the first line, which is prose here: 'KAOS telemetry
+    dump' has no comma above comma-separated numbers, so the numbers are also split by
+    the delimiter of the last line looked at (round 32 PART b, b22).
     """
-    rows = [_split(line, delim) for line in body[:50]]
-    # the first row of numbers (an empty cell is a missing value, not text)
-    lead = next((k for k, row in enumerate(rows)
-                 if all(_is_number(tok) for tok in row if tok.strip())), 0)
+    lead = 0
+    for sep in dict.fromkeys((delim, _delimiter(body[min(len(body), 50) - 1]))):
+        rows = [_split(line, sep) for line in body[:50]]
+        # the first row of numbers (an empty cell is a missing value, not text)
+        lead = next((k for k, row in enumerate(rows)
+                     if all(_is_number(tok) for tok in row if tok.strip())), 0)
+        if lead:
+            break
     if lead == 0:
         return
     width = len(rows[lead])

@@ -1,0 +1,39 @@
+"""Round 32 PART b (issue 27): prose above comma-separated numbers is named too.
+
+docs/ADVERSARIAL.md, "Round 32 PART b, issue 27", b22: a .csv opening with
+'Telemetry exported 2026-11-30' / 'Operator: X' above ``numpy.savetxt(...,
+delimiter=',')`` rows was "corrupt CSV file ...: could not convert string 'Operator:'
+to float64 at row 0, column 1": the delimiter was guessed from the first line (prose,
+no comma), so round 31's refusal of text lines did not see the numbers.
+
+Reference: the numbers are written by ``numpy.savetxt``; the refusal's advice, followed
+literally (each text line starting with '#'), gives the array back exactly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from modalinfo.io import load
+from modalinfo.io.files import LogFormatError
+
+PROSE = ["Telemetry exported 2026-11-30", "Operator: X"]
+
+
+@pytest.mark.parametrize(("sep", "name"), [(",", "prose.csv"), (" ", "prose.txt")])
+def test_prose_without_the_numbers_delimiter_is_named(tmp_path, sep, name):
+    x = np.random.default_rng(32).normal(size=(300, 5))
+    np.savetxt(tmp_path / "numbers", x, fmt="%.17g", delimiter=sep)
+    numbers = (tmp_path / "numbers").read_text()
+    # a comma in the prose above blank-separated numbers: the other way round
+    prose = PROSE if sep == "," else ["KAOS dump, night 3", "Operator: X"]
+    (tmp_path / name).write_text("\n".join(prose) + "\n" + numbers)
+    with pytest.raises(LogFormatError) as err:
+        load(tmp_path / name, rate=1000.0)
+    text = str(err.value)
+    assert "corrupt" not in text and "first 2 lines are text" in text and "'#'" in text
+    (tmp_path / ("fixed" + name[-4:])).write_text(
+        "".join(f"# {ln}\n" for ln in prose) + numbers)
+    log = load(tmp_path / ("fixed" + name[-4:]), rate=1000.0)
+    np.testing.assert_array_equal(log.coeffs, x)
