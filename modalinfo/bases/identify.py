@@ -147,6 +147,41 @@ class ZernikeIdentification:
         lines.append(self.summary())
         return "\n".join(lines)
 
+    def take(self, columns) -> ZernikeIdentification:
+        """Return the identification of some modes in a new order (a column selection).
+
+        A log whose columns were selected or reordered (``ModalLog.select``,
+        ``to_convention``) kept its file's identification in the file's column order:
+        after ``convert --convention ansi`` the table said column 1 was Z2 while it held
+        Z3 (adversarial round 32 PART b, b12). ``transform`` / ``order`` are kept when the
+        modes in the new order are still a positive increasing sequence under
+        ``transform``, else set to None.
+
+        Parameters
+        ----------
+        columns : sequence of int
+            Indices of the modes kept, in their new order.
+
+        Returns
+        -------
+        ZernikeIdentification
+        """
+        cols = np.asarray(columns, dtype=np.int64).reshape(-1)
+        if cols.size and (cols.min() < 0 or cols.max() >= self.n_modes):
+            raise ValueError(f"`columns` must be indices in [0, {self.n_modes}); got {columns!r}.")
+        after = transform = order = None
+        if self.noll_after_transform is not None:
+            after = self.noll_after_transform[cols]
+            order = _ordered(after) if cols.size else self.order
+            transform = self.transform if order is not None else None
+            after = after if order is not None else None
+        return ZernikeIdentification(
+            noll=self.noll[cols], correlation=self.correlation[cols], sign=self.sign[cols],
+            second=self.second[cols], is_zernike=self.is_zernike[cols],
+            threshold=self.threshold, transform=transform, order=order,
+            noll_after_transform=after, n_pixels=self.n_pixels,
+        )
+
     @classmethod
     def from_dict(cls, data: dict) -> ZernikeIdentification:
         """Rebuild an identification from :meth:`to_dict` (e.g. a log's metadata)."""

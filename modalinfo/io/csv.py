@@ -173,23 +173,44 @@ def _number_format(message: str, path, delim: str | None = ",") -> None:
         f"pd.read_csv(path, {read}).to_csv(new, index=False))")
 
 
-def _prose_lines(body: list[str], delim: str | None, path) -> None:
+def _prose_lines(body: list[str], delim: str | None, path, first: str | None = None) -> None:
     """Refuse lines of text above the numbers (a header block not marked with ``#``).
 
     A file opening with 'KAOS telemetry dump' / 'rate: 1000 Hz' / 'units: nm' above
     its numbers was "corrupt CSV file ...: could not convert string 'rate:' to float64
     at row 0, column 1" (round 31 PART b, a30): row 0 was the file's second line and no
     word said how to mark such lines. Raised when the rows before the first row of
+<<<<<<< HEAD
     numbers (among the first 50) are text: fewer numbers than half of their cells, or
     not as many fields (a frame with a bad cell or two keeps numpy's message naming it;
     until review23 one number made a frame, so 'rate: 1000 Hz' above a 3-column log was
     "corrupt" again).
+=======
+    numbers (among the first 50) are text: no number in them, or not as many fields.
+    ``delim`` was guessed from the first line, which is prose here: 'KAOS telemetry
+    dump' has no comma above comma-separated numbers, so the numbers are also split by
+    the delimiter of the last line looked at (round 32 PART b, b22). ``first`` is the
+    line read as the column names: one such line without the numbers' delimiter above
+    them (a title, b58) is named too.
+>>>>>>> adversary32-b
     """
-    rows = [_split(line, delim) for line in body[:50]]
-    # the first row of numbers (an empty cell is a missing value, not text)
-    lead = next((k for k, row in enumerate(rows)
-                 if all(_is_number(tok) for tok in row if tok.strip())), 0)
+    lead = 0
+    last = _delimiter(body[min(len(body), 50) - 1])
+    for sep in dict.fromkeys((delim, last)):
+        rows = [_split(line, sep) for line in body[:50]]
+        # the first row of numbers (an empty cell is a missing value, not text)
+        lead = next((k for k, row in enumerate(rows)
+                     if all(_is_number(tok) for tok in row if tok.strip())), 0)
+        if lead:
+            break
     if lead == 0:
+        if (first is not None and last != delim and len(rows[0]) > 1
+                and len(_split(first, last)) == 1 and all(_is_number(t) for t in rows[0])):
+            raise LogFormatError(
+                f"CSV file '{path}': its first line {first.strip()[:40]!r} is text above "
+                f"numbers separated by {'blanks' if last is None else repr(last)}; start "
+                "it with '#' (comment lines are skipped) or, if it names the columns, "
+                "separate the names as the numbers are")
         return
     width = len(rows[lead])
     if any(len(row) == width
@@ -352,6 +373,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                     comments[key.strip()] = value.strip()
             k += 1
         names = None
+        first_line: str | None = None
         if header is not None:  # modalinfo layout: header row, then exactly T data rows
             if k >= len(lines):
                 raise LogFormatError(f"corrupt CSV file '{path}': header row missing")
@@ -377,7 +399,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             if not body:
                 raise LogFormatError(f"CSV file '{path}' has no data rows")
             delim = _delimiter(body[0])
-            first = _split(body[0], delim)
+            first_line = body[0]
+            first = _split(first_line, delim)
             if not all(_is_number(tok) for tok in first) or _index_row(
                 first, _split(body[1], delim) if len(body) > 1 else None
             ):
@@ -405,7 +428,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 _text_key(str(exc), names, path)
             if "string ''" not in str(exc):
                 if names is not None:
-                    _prose_lines(body, delim, path)
+                    _prose_lines(body, delim, path, first_line)
                 raise
             # an empty cell is how pandas / spreadsheets write a missing value: it is a
             # NaN for --nonfinite to handle, not a "corrupt CSV file" (round 12 PART b, A07)

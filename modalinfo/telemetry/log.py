@@ -687,7 +687,32 @@ class ModalLog:
         else:
             data = np.ascontiguousarray(self._coeffs[:, cols])
             data.flags.writeable = False
-        return self._derive(_coeffs=data, _modes=[self._modes[c] for c in columns])
+        return self._with_columns_of(self._derive(
+            _coeffs=data, _modes=[self._modes[c] for c in columns]), columns)
+
+    def _with_columns_of(self, new: ModalLog, columns) -> ModalLog:
+        """Return ``new`` (columns ``columns`` of this log) with its per-column metadata.
+
+        ``metadata["modes_identification"]`` (which Zernike each of a file's mode images
+        is, per column) followed the file's columns through a selection or a convention
+        change: `info` then named the wrong Zernike per column (adversarial round 32
+        PART b, b12). An identification of another width is dropped, not guessed.
+        """
+        ident = new._metadata.get("modes_identification")
+        if not isinstance(ident, dict):
+            return new
+        from modalinfo.bases.identify import ZernikeIdentification
+
+        meta = dict(new._metadata)
+        try:
+            whole = ZernikeIdentification.from_dict(ident)
+            if whole.n_modes != self.n_modes:
+                raise ValueError("another width")
+            meta["modes_identification"] = whole.take(list(columns)).to_dict()
+        except ValueError:
+            del meta["modes_identification"]
+        new._metadata = meta
+        return new
 
     def select(self, modes=None, time=None) -> ModalLog:
         """Return the log restricted to some modes and/or a time window.
@@ -869,9 +894,9 @@ class ModalLog:
         order = np.argsort(new, kind="stable")
         data = np.ascontiguousarray(self._coeffs[:, order])
         data.flags.writeable = False
-        return self._derive(
+        return self._with_columns_of(self._derive(
             _coeffs=data, _modes=[int(new[k]) for k in order], _convention=convention
-        )
+        ), [int(k) for k in order])
 
     def with_metadata(self, **items: Any) -> ModalLog:
         """Return a copy whose metadata is updated with ``items``.
