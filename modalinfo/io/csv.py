@@ -180,19 +180,14 @@ def _prose_lines(body: list[str], delim: str | None, path, first: str | None = N
     its numbers was "corrupt CSV file ...: could not convert string 'rate:' to float64
     at row 0, column 1" (round 31 PART b, a30): row 0 was the file's second line and no
     word said how to mark such lines. Raised when the rows before the first row of
-<<<<<<< HEAD
     numbers (among the first 50) are text: fewer numbers than half of their cells, or
     not as many fields (a frame with a bad cell or two keeps numpy's message naming it;
     until review23 one number made a frame, so 'rate: 1000 Hz' above a 3-column log was
-    "corrupt" again).
-=======
-    numbers (among the first 50) are text: no number in them, or not as many fields.
-    ``delim`` was guessed from the first line, which is prose here: 'KAOS telemetry
-    dump' has no comma above comma-separated numbers, so the numbers are also split by
-    the delimiter of the last line looked at (round 32 PART b, b22). ``first`` is the
-    line read as the column names: one such line without the numbers' delimiter above
-    them (a title, b58) is named too.
->>>>>>> adversary32-b
+    "corrupt" again). ``delim`` was guessed from the first line, which is prose here:
+    'KAOS telemetry dump' has no comma above comma-separated numbers, so the numbers are
+    also split by the delimiter of the last line looked at (round 32 PART b, b22).
+    ``first`` is the line read as the column names: one such line without the numbers'
+    delimiter above them (a title, b58) is named too.
     """
     lead = 0
     last = _delimiter(body[min(len(body), 50) - 1])
