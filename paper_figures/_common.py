@@ -180,7 +180,7 @@ _DATA = Path(__file__).resolve().parent.parent / "data"
 SHIPPED_SHA256 = {
     "kaos_like_closed_loop.npz": "3d12001416133574a5ff125609f7b3aab90acb2b0a82fb8face5d2368dae7b8f",
     "kaos_like_open_loop.npz": "faf90f25f00d011802c4cbb2d174989a9af10af59234d33ad2f86c738e8a380f",
-    "kaos_closedloop.npz": "08459ae80bc1dcc6fc3a88b720f66841aadccaf2626880a2f0412a2f085d7d4a",
+    "kaos_closedloop.npz": "141dfac43ddfe942dfdc83186233b109eec3bf58b8f5cb1d6346826451da4e38",
 }
 
 

@@ -17,9 +17,10 @@ light: the whole meta-pupil of a layer-oriented sensor at altitude; until issue 
 lit *averaged over the field's directions*, which dropped the meta-pupil's ring, then,
 until left30-solar, half lit on the margined samples, which dropped ~20 of its 200 at
 table1-solar's 10 km: the margin is a property of the bilinear reads, not of the optics,
-and a subaperture the beam half-lights forms an image). Its **field share** per axis is
-the contrast-weighted light of the directions it uses over its best one's (below), 1 on
-a ground-conjugated sensor.
+and a subaperture the beam half-lights forms an image). Its **light share** per axis is
+the contrast-weighted mean, over the directions it uses, of the lit part of its area
+(below): 1 inside the pupil, about 1/2 on a half-lit edge subaperture (until left31-edge
+it was over its best direction's light, so 1 on a ground-conjugated sensor's edge).
 
 Linear mode (``image_formation=False``, the default; built once, measured by the same
 sparse products as the geometric SH, so as fast):
@@ -53,10 +54,13 @@ sparse products as the geometric SH, so as fast):
   the noisy reference's noise energy, which varies with the lag, adds more (2-10x at a
   predicted 0.07 px, 400 e- and 8 % contrast). The hand-set ``noise`` of the geometric
   SH is refused for this kind (the config says so). A subaperture lit by fewer
-  directions collects the share ``s`` of the contrast information, so one image's shift
-  variance is ``sigma_1^2 / s``; a relative slope is the difference against the
+  directions or over less of its area collects the share ``s`` of the light and of the
+  contrast information on the same pixels, so one image's shift variance is
+  ``sigma_1^2 v(s)``, ``v = (1 - r) / s + r / s^2`` with ``r`` the read noise's part of
+  the fully lit variance (``closedloop.optics.wfs.lit_noise_variance``; ``r`` ~ 3e-4
+  on granulation at half the full well); a relative slope is the difference against the
   reference subaperture (the best lit, ``s_ref``), independent noises, so its variance
-  is the sum ``sigma_1^2 (1 / s + 1 / s_ref)`` (``2 sigma_1^2`` where both are fully
+  is the sum ``sigma_1^2 (v(s) + v(s_ref))`` (``2 sigma_1^2`` where both are fully
   lit, the ``sqrt(2)`` above): ``noise_rms`` carries it, and a single DM's least squares
   weighs each slope by its inverse (Wallner 1983; Ellerbroek 2002).
 - **Noise at sub-pixel shifts.** That law is the measurement's at a whole-pixel shift;
@@ -152,6 +156,7 @@ from closedloop.optics.wfs import (
     bilinear_matrix,
     check_subaperture_sampling,
     field_rule,
+    lit_noise_variance,
     metapupil_note,
     pupil_lit,
     slope_count,
@@ -196,8 +201,11 @@ class CorrelatingShackHartmann(ShackHartmann):
     noise_rms : (2 n_valid + 2,) ndarray
         Per measurement [rad/m at ``r0_wavelength``]: x slopes, y slopes, tracker x, y.
     field_share : (2 n_valid + 2,) ndarray
-        Each slope's contrast-weighted field share (module docstring), then 1, 1 for the
+        Each slope's contrast-weighted light share (module docstring), then 1, 1 for the
         tracker.
+    read_fraction : float
+        The read noise's part of a fully lit image's per-pixel variance (its mean over
+        the reference image), for ``closedloop.optics.wfs.lit_noise_variance``.
     slope_noise_pixels, tracker_noise_pixels : (2,) ndarray
         Predicted rms shift error ``(x, y)`` of a subaperture and of the tracker [pixels].
     direction_weights : (n_samples, 2) ndarray
@@ -298,8 +306,12 @@ class CorrelatingShackHartmann(ShackHartmann):
         # noise per measurement [rad/m at r0_wavelength]
         to_slope = 2.0 * math.pi * self.pixel_scale * ARCSEC / conf.r0_wavelength
         self.field_share = np.concatenate(shares + [np.ones(2)])
+        # the read noise's part of a fully lit image's per-pixel variance (its mean over
+        # the reference image): a partly lit image keeps its pixels (lit_noise_variance)
+        self.read_fraction = ron2 / (float(np.clip(ref, 0.0, None).mean()) + ron2)
         self.noise_rms = np.concatenate([
-            self.slope_noise_pixels[a] * to_slope * _relative_rms_factor(shares[a])
+            self.slope_noise_pixels[a] * to_slope
+            * _relative_rms_factor(shares[a], self.read_fraction)
             for a in range(2)] + [self.tracker_noise_pixels * to_slope])
         self._to_slope = to_slope
         self.noise_factor_sum = np.zeros(self.n_measurements)
@@ -487,7 +499,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         n = self.n_valid_subapertures
         d = self.pitch
         base = model_error * 16.0 * 0.449 * sum((d / r0) ** (5.0 / 3.0) for r0 in r0s) / d ** 2
-        # a slope averaged over fewer directions: 1 / share (``field_rule``); the tracker's
+        # a slope averaged over less area and fewer directions: 1 / share; the tracker's
         # mean of n independent ones: base * mean(1 / share) / n per axis
         inv = 1.0 / self.field_share[:2 * n]
         return np.concatenate([base * inv, base * np.array([inv[:n].mean(), inv[n:].mean()]) / n])
@@ -502,7 +514,7 @@ class CorrelatingShackHartmann(ShackHartmann):
         w = np.ones(self.n_measurements)
         for a in range(2):
             s = self.field_share[a * n:(a + 1) * n]
-            w[a * n:(a + 1) * n] = 1.0 / _relative_rms_factor(s) ** 2
+            w[a * n:(a + 1) * n] = 1.0 / _relative_rms_factor(s, self.read_fraction) ** 2
         return w
 
     # ------------------------------------------------------------------ measuring
@@ -584,18 +596,21 @@ class CorrelatingShackHartmann(ShackHartmann):
         return self._transform @ dm.sensed_by(block)
 
 
-def _relative_rms_factor(share: np.ndarray) -> np.ndarray:
-    """Rms of relative slopes over a fully lit one's, from their field shares ``(n,)``.
+def _relative_rms_factor(share: np.ndarray, read_fraction: float = 0.0) -> np.ndarray:
+    """Rms of relative slopes over a fully lit one's, from their light shares ``(n,)``.
 
     A relative slope is the shift of subaperture ``i`` against the reference subaperture
     (the best lit, share ``s_ref = max(share)``); their noises are independent, so its
-    variance is the sum ``sigma_1^2 (1 / s_i + 1 / s_ref)``, ``sigma_1^2`` a fully lit
-    single image's, whose shift variance grows as ``1 / s`` with the contrast-weighted
-    light (the linearised SDF, Michau et al. 1992). ``slope_noise_pixels`` holds
-    ``sqrt(2) sigma_1`` (both images fully lit): the factor is
-    ``sqrt((1 / s_i + 1 / s_ref) / 2)``, 1 where every share is 1.
+    variance is the sum ``sigma_1^2 (v(s_i) + v(s_ref))``, ``sigma_1^2`` a fully lit
+    single image's and ``v`` its growth with the contrast-weighted light collected
+    (``closedloop.optics.wfs.lit_noise_variance``: ``1 / s`` photon-limited, the
+    linearised SDF, Michau et al. 1992; ``1 / s**2`` read-noise limited, the fraction
+    ``read_fraction`` of the variance). ``slope_noise_pixels`` holds ``sqrt(2) sigma_1``
+    (both images fully lit): the factor is ``sqrt((v(s_i) + v(s_ref)) / 2)``, 1 where
+    every share is 1.
     """
-    return np.sqrt((1.0 / share + 1.0 / share.max()) / 2.0)
+    v = lit_noise_variance(share, read_fraction)
+    return np.sqrt((v + v[np.argmax(share)]) / 2.0)
 
 
 #: noise tables by (reference image, read noise): the WFSs of an MCAO share their trackers'

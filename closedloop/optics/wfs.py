@@ -30,9 +30,10 @@ which dropped the meta-pupil's outer ring); a sensor conjugated off the pupil us
 the pairs ``sqrt(2)`` pixels inside the pupil's edge (:func:`pupil_lit`), the valid set
 and the shares coming from the beam's true light. Each slope gets white Gaussian noise
 (``noise`` arcsec RMS, converted to a phase gradient ``2 pi alpha / lambda``, divided by
-the square root of the subaperture's field share: fewer photons where fewer directions
-light it). A least-squares modal reconstructor (SVD pseudo-inverse of the interaction
-matrix of the WFS's own DM, weighted by the field shares, modes with singular values
+the square root of the subaperture's light share: fewer photons where fewer directions
+light it or they light less of it, :func:`lit_noise_variance`). A least-squares modal
+reconstructor (SVD pseudo-inverse of the interaction matrix of the WFS's own DM,
+weighted by the inverse noise variances, modes with singular values
 below 1e-3 of the largest dropped) gives the modal residual. Aliasing (high orders
 leaking into the measured low orders) and noise propagation come out of this model;
 nothing is added by hand.
@@ -70,9 +71,9 @@ from closedloop.optics.dm import DeformableMirror
 from closedloop.optics.geometry import ARCSEC, Geometry, n_field_samples
 
 __all__ = ["WavefrontSensor", "ShackHartmann", "IdealSensor", "SHACK_HARTMANN", "IDEAL",
-           "bilinear_matrix", "field_rule", "metapupil_note", "pupil_lit", "has_noise",
-           "check_subaperture_sampling",
-           "slope_count", "slopes_aot_record", "slopes_aot_layout", "index_grid"]
+           "bilinear_matrix", "field_rule", "lit_noise_variance", "metapupil_note", "pupil_lit",
+           "has_noise", "check_subaperture_sampling", "slope_count", "slopes_aot_record",
+           "slopes_aot_layout", "index_grid"]
 
 #: pupil pixels per Shack-Hartmann subaperture (a gradient needs two)
 PIXELS_PER_SUBAPERTURE = 2
@@ -134,7 +135,7 @@ def metapupil_note(d_wfs: float, diameter: float, altitude: float, field_of_view
 
 def field_rule(total: np.ndarray, best: np.ndarray, n_directions: int,
                full: float) -> tuple[np.ndarray, np.ndarray]:
-    """Return the valid subapertures of a layer-oriented sensor and their field shares.
+    """Return the valid subapertures of a layer-oriented sensor and their light shares.
 
     A sensor conjugated to altitude ``h`` and co-adding a field sees a meta-pupil of
     diameter ``D + 2 h tan(field / 2)``; a subaperture of its outer ring is lit by some
@@ -146,13 +147,19 @@ def field_rule(total: np.ndarray, best: np.ndarray, n_directions: int,
     (the rule until issue 27), the ring was dropped and the modes extrapolated there
     (docs/CLOSEDLOOP.md, "A DM conjugated to a high layer").
 
-    Its field share, ``total / (n_directions * best)``, is the part of the field's light
-    it collects relative to a subaperture every direction lights as well as its best
-    one: 1 on a ground-conjugated sensor (every direction lights the same pupil), 1/n for
-    one lit by one direction of ``n``. A co-added slope's photon noise variance and the
-    variance of what it sees beyond the DMs' modes (averaged over fewer directions) both
-    scale as ``1 / share``; the reconstructors weigh each measurement by its share
-    (inverse variance, Wallner 1983; Ellerbroek 2002).
+    Its light share, ``total / (n_directions * full)``, is the light it collects over
+    that of a subaperture every direction lights whole: the part of the field's
+    directions that light it times the lit part of its area (a subaperture lit over a
+    fraction ``f`` of its area collects ``f`` of the photons: Rousset 1999; Hardy 1998,
+    ch. 5). 1 inside the pupil, about 1/2 on a half-lit edge subaperture of a
+    ground-conjugated sensor, 1/n times its lit fraction for one lit by one direction of
+    ``n``. Until left31-edge it was ``total / (n_directions * best)``, the directions'
+    part only: a half-lit pupil-edge subaperture counted as a fully lit one. A slope's
+    photon-noise variance grows as ``1 / share`` (read noise over the same pixels as
+    ``1 / share**2``: :func:`lit_noise_variance`), and so does the variance of what it
+    sees beyond the DMs' modes (the small-scale signal averaged over less area and fewer
+    directions); the reconstructors weigh each measurement by its inverse variance
+    (Wallner 1983; Ellerbroek 2002).
 
     Parameters
     ----------
@@ -170,14 +177,40 @@ def field_rule(total: np.ndarray, best: np.ndarray, n_directions: int,
     valid : (n_valid,) ndarray of int
         Indices of the valid subapertures.
     share : (n_valid,) ndarray
-        Their field share, in ``(0, 1]``.
+        Their light share, in ``(0, 1]``.
     """
     valid = np.flatnonzero(best >= 0.5 * full)
-    share = total[valid] / (n_directions * best[valid])
-    # every direction lighting it alike (a ground-conjugated sensor): exactly 1, not the
-    # rounding of a sum of n equal terms over n times one of them
+    share = total[valid] / (n_directions * full)
+    # lit whole by every direction: exactly 1, not the rounding of a sum of n equal terms
+    # over n times one of them
     share[share > 1.0 - 1e-9] = 1.0
     return valid, share
+
+
+def lit_noise_variance(share: np.ndarray, read_fraction: float = 0.0) -> np.ndarray:
+    """Slope-noise variance of a subaperture collecting ``share`` of a fully lit one's light.
+
+    Relative to the fully lit subaperture's. A centroid's (or correlation shift's) noise
+    variance is ``(S + R) / S**2`` up to the image's shape, with ``S`` the signal and
+    ``R`` the read-noise variance of its pixels (Rousset 1999; Hardy 1998, ch. 5):
+    collecting ``s S`` on the same pixels it is ``(s S + R) / (s S)**2``, so the ratio is
+    ``(1 - r) / s + r / s**2`` with ``r = R / (S + R)`` the read noise's part of the fully
+    lit variance: ``1 / s`` photon-noise limited, ``1 / s**2`` read-noise limited.
+
+    Parameters
+    ----------
+    share : (n,) ndarray
+        Light share (:func:`field_rule`), in ``(0, 1]``.
+    read_fraction : float
+        ``r``, in ``[0, 1]``: 0 for the geometric SH's ``noise`` (taken photon-limited).
+
+    Returns
+    -------
+    (n,) ndarray
+        Variance over the fully lit subaperture's (1 where ``share`` is 1).
+    """
+    share = np.asarray(share, dtype=float)
+    return (1.0 - read_fraction) / share + read_fraction / share ** 2
 
 
 def bilinear_matrix(cols: np.ndarray, rows: np.ndarray, n: int) -> sparse.csr_matrix:
@@ -291,8 +324,9 @@ class WavefrontSensor:
         measurements differ in noise (the correlating SH's slopes and tracker, a
         layer-oriented SH's meta-pupil ring).
     field_share : (n_meas,) ndarray or None
-        Each measurement's share of the field's light (``field_rule``; a SH's only):
-        1 where every direction lights its subaperture as well as its best one.
+        Each measurement's light share (``field_rule``; a SH's only): the light its
+        subaperture collects over a fully lit one's, 1 where every direction lights all
+        of it.
     n_valid_subapertures : int
     """
 
@@ -349,18 +383,18 @@ class WavefrontSensor:
 
     @property
     def _weighted(self) -> bool:
-        """Whether the measurements differ in field share (``field_rule``): weigh them."""
+        """Whether the measurements differ in light share (``field_rule``): weigh them."""
         return self.field_share is not None and bool(np.min(self.field_share) < 1.0)
 
     def _inverse_variance_weights(self) -> np.ndarray:
-        """Each measurement's inverse variance relative to a fully lit one: its field share."""
-        return self.field_share
+        """Each measurement's inverse variance relative to a fully lit one (its light share)."""
+        return 1.0 / lit_noise_variance(self.field_share)
 
     def _least_squares(self, rcond: float) -> np.ndarray | None:
         """Pseudo-inverse of the interaction matrix with its own DM.
 
-        Weighted by each measurement's field share (inverse variance, ``field_rule``)
-        when they differ: ``(S^1/2 G)^+ S^1/2``.
+        Weighted by each measurement's inverse noise variance (its light share,
+        ``field_rule``) when they differ: ``(S^1/2 G)^+ S^1/2``.
         """
         inter = self.interaction
         inter = inter.toarray() if sparse.issparse(inter) else inter
@@ -522,8 +556,8 @@ class ShackHartmann(WavefrontSensor):
             del entries
         self.n_valid_subapertures = int(self.valid_subapertures.size)
         self.n_measurements = 2 * self.n_valid_subapertures
-        if self._weighted:  # fewer photons where fewer directions light it (field_rule)
-            self.noise_rms = self.noise_rms / np.sqrt(self.field_share)
+        if self._weighted:  # fewer photons where less of it is lit (field_rule)
+            self.noise_rms = self.noise_rms * np.sqrt(lit_noise_variance(self.field_share))
         # one plane at a time: the (axis, direction) terms of a plane only are held
         # before they are summed into its CSR (all planes' terms at once were 7 GiB at
         # est-mcao's size, closedloop.resources); each plane's entries come in the same
@@ -558,7 +592,7 @@ class ShackHartmann(WavefrontSensor):
         d = self.pitch
         total = sum((d / r0) ** (5.0 / 3.0) for r0 in r0s)
         base = model_error * 16.0 * 0.449 * total / d ** 2
-        # averaged over fewer directions where fewer light it: 1 / share (field_rule)
+        # averaged over less area and fewer directions where less is lit: 1 / share
         return base / self.field_share if self._weighted else base
 
 

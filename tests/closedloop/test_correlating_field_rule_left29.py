@@ -16,11 +16,14 @@ References (outside the code under test):
 - a subaperture's field share, computed here from that geometry: the light of the
   directions it uses (those lighting half of it or more), weighted by each direction's
   contrast weight (the linearised SDF's information per direction, an input of the
-  sensor tested in test_correlating_sensor), over its best direction's;
+  sensor tested in test_correlating_sensor), over a fully lit subaperture's (the light it
+  collects; until left31-edge over its best direction's);
 - the variance of a difference of two independent errors is the sum of their variances:
   a relative slope (subaperture ``i`` against the best-lit reference subaperture) has
-  variance ``sigma_1^2 (1 / s_i + 1 / s_ref)``, ``sigma_1^2 / s`` the shift variance of
-  one image collecting the share ``s`` of the information; and the variance of a mean of
+  variance ``sigma_1^2 (v(s_i) + v(s_ref))``, ``sigma_1^2 v(s)`` the shift variance of
+  one image collecting the share ``s`` of the light on the same pixels, ``v(s) = (1 - r)
+  / s + r / s^2`` with ``r`` the read noise's part of the variance (photon and read
+  noise); and the variance of a mean of
   ``n`` independent terms is the mean of their variances over ``n`` (the tracker);
 - the inverse-variance (Gauss-Markov) estimate, computed here with numpy's lstsq on the
   whitened system;
@@ -104,10 +107,9 @@ def test_field_shares_are_the_contrast_weighted_light_of_the_directions_used():
     assert np.allclose(wfs.samples[match], dirs, atol=1e-9)
     c = wfs.direction_weights[match]                      # (n, 2)
     used = np.where(lit >= 0.5, lit, 0.0)[:, wfs.valid_subapertures]
-    best = used.max(axis=0)
     n = wfs.n_valid_subapertures
     for a in range(2):
-        expected = (c[:, a] @ used) / best
+        expected = c[:, a] @ used                         # over a fully lit one's
         share = wfs.field_share[a * n:(a + 1) * n]
         clear = np.all((np.abs(lit[:, wfs.valid_subapertures] - 0.5) > 0.1)
                        | (lit[:, wfs.valid_subapertures] == 0.0), axis=0)
@@ -127,7 +129,13 @@ def test_relative_slope_noise_is_the_sum_of_both_images_variances():
         # sigma_1: one fully lit image; slope_noise_pixels: two of them (sqrt(2) sigma_1)
         sigma1 = wfs.slope_noise_pixels[a] / math.sqrt(2.0) * to_slope
         var = np.asarray(wfs.noise_rms[a * n:(a + 1) * n]) ** 2
-        np.testing.assert_allclose(var, sigma1 ** 2 * (1.0 / s + 1.0 / s.max()), rtol=1e-12)
+        # one image's variance at the light share s on the same pixels: (S s + R) / (S s)^2
+        # over (S + R) / S^2 (photon and read noise, left31-edge), S the reference image's
+        # mean signal
+        ron2 = wfs.imager.budget.read_noise ** 2
+        r = ron2 / (np.clip(wfs.imager.reference, 0.0, None).mean() + ron2)
+        v = (1.0 - r) / s + r / s ** 2
+        np.testing.assert_allclose(var, sigma1 ** 2 * (v + v[np.argmax(s)]), rtol=1e-12)
     np.testing.assert_allclose(wfs.noise_rms[2 * n:], wfs.tracker_noise_pixels * to_slope,
                                rtol=1e-12)
 

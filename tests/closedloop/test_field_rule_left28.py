@@ -5,8 +5,9 @@ Issue 27 (docs/CLOSEDLOOP.md, "A DM conjugated to a high layer"; docs/ADVERSARIA
 
 - the valid-subaperture rule of layer-oriented sensing written out on a toy table of lit
   weights: a subaperture is used when some direction lights half of it (the whole
-  meta-pupil of Ragazzoni, Farinato & Marchetti 2000), its field share the light it
-  collects over ``n`` directions relative to ``n`` times its best one;
+  meta-pupil of Ragazzoni, Farinato & Marchetti 2000), its light share the light it
+  collects over ``n`` directions relative to ``n`` times a fully lit one's (left31-edge;
+  relative to its best direction's before);
 - the inverse-variance law (Gauss-Markov; Wallner 1983, Ellerbroek 2002 for AO): two
   measurements ``m_i`` of one quantity with variances ``sigma^2 / s_i`` are best combined
   as ``sum s_i m_i / sum s_i``, with variance ``sigma^2 / sum s_i``, computed here by hand;
@@ -23,6 +24,7 @@ import functools
 import math
 
 import numpy as np
+import pytest
 
 from closedloop import presets
 from closedloop.optics.dm import ZernikeMirror
@@ -39,15 +41,19 @@ def test_field_rule_keeps_what_some_direction_half_lights():
                     [4.0, 0.0, 0.0, 1.2, 0.8]])
     valid, share = field_rule(lit.sum(axis=0), lit.max(axis=0), 2, full)
     # 0: both full; 1: one full (half the field's light); 2: 40 % from one only;
-    # 3: 30 % from both (the old field-averaged rule also dropped it); 4: 60 % and 20 %
+    # 3: 30 % from both (the old field-averaged rule also dropped it); 4: 60 % and 20 %,
+    # the light of 0.4 of a fully lit one (left31-edge; over its best direction's, 2/3,
+    # before)
     assert valid.tolist() == [0, 1, 4]
-    np.testing.assert_allclose(share, [1.0, 0.5, (2.4 + 0.8) / (2 * 2.4)], rtol=1e-15)
+    np.testing.assert_allclose(share, [1.0, 0.5, (2.4 + 0.8) / (2 * 4.0)], rtol=1e-15)
 
 
-def test_a_ground_sensor_has_share_exactly_one():
+def test_a_ground_sensor_has_share_exactly_one_where_fully_lit():
     one = np.array([3.0, 0.1 + 0.2, 2.0])      # 0.1 + 0.2: a sum that is not exact
     valid, share = field_rule(sum([one] * 7), one, 7, 3.0)
-    assert valid.tolist() == [0, 2] and np.all(share == 1.0)
+    # the fully lit one exactly 1; the 2/3-lit one its lit area (left31-edge; 1 before)
+    assert valid.tolist() == [0, 2] and share[0] == 1.0
+    assert share[1] == pytest.approx(2.0 / 3.0, rel=1e-15)
 
 
 class _Mirror:
@@ -113,9 +119,14 @@ def test_noise_grows_as_the_inverse_share_of_the_field():
     np.testing.assert_allclose(me * share, me[share == 1.0][0], rtol=1e-12)
 
 
-def test_a_ground_sensor_is_unweighted():
+def test_a_ground_sensor_keeps_the_configured_noise_where_fully_lit():
+    # its pupil-edge subapertures collect less light (test_lit_share_left31); the others
+    # keep the configured noise to the bit
     cfg = presets.get("table1")
     g = Geometry(cfg)
     wfs = ShackHartmann(g, 0, ZernikeMirror(g, 0))
     assert cfg.wfss[0].altitude == 0.0
-    assert isinstance(wfs.noise_rms, float) and np.all(wfs.field_share == 1.0)
+    sigma = 2.0 * math.pi * cfg.wfss[0].noise * ARCSEC / cfg.r0_wavelength
+    full = wfs.field_share == 1.0
+    assert 0 < (~full).sum() < full.sum()
+    assert np.all(np.asarray(wfs.noise_rms)[full] == sigma)

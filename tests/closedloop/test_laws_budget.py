@@ -178,7 +178,12 @@ def test_noise_term_is_the_propagated_configured_noise(monkeypatch, alpha, gain,
         ntf = _ntf_closed_form(gain)
     else:
         ntf = _ntf_half_frame(gain)
-    cov = ntf * sigma ** 2 * (r @ r.T)
+    # each slope's variance sigma^2 / its light share: the pupil-edge subapertures'
+    # noise follows their lit area (left31-edge, test_lit_share_left31 checks the law)
+    var = sigma ** 2 / model.wfss[0].field_share
+    np.testing.assert_allclose(np.asarray(model.wfss[0].noise_rms) ** 2
+                               * np.ones_like(var), var, rtol=1e-12)
+    cov = ntf * ((r * var[None, :]) @ r.T)
     gc = _pupil_gram(model) @ cov
     to_science = (cfg.r0_wavelength / cfg.wavelength) ** 2
     expected = float(np.trace(gc)) * to_science

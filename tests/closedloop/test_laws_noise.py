@@ -76,7 +76,13 @@ def test_slope_noise_is_the_configured_angle_as_a_phase_gradient(alpha, waveleng
     zero = [np.zeros((p.n, p.n)) for p in g.planes]
     rng = model.noise_rng(7)
     draws = np.array([model.measure(zero, rng)[0] for _ in range(500)])
-    # 500 x n_meas (~100) Gaussian draws: the RMS has a relative s.e. of ~0.3 %
+    # the configured angle is a fully lit subaperture's; a pupil-edge one collects less
+    # light and is noisier (test_lit_share_left31): the fully lit slopes only
+    full = np.asarray(wfs.field_share) == 1.0
+    assert full.sum() >= 0.6 * full.size                 # 32 of 52 on 8 x 8
+    n_sub = int(full[:n_sub].sum())
+    draws = draws[:, full]
+    # 500 x 64 Gaussian draws: the RMS has a relative s.e. of ~0.4 %
     rel_se = 1.0 / math.sqrt(2.0 * draws.size)
     assert np.sqrt(np.mean(draws ** 2)) == pytest.approx(expected, rel=5 * rel_se)
     # each axis alike, no bias

@@ -151,10 +151,11 @@ def test_a_dm_without_layers_gets_the_prior_floor():
 
 def test_the_cut_is_snr_one_or_1e_3_of_the_largest_whichever_is_higher():
     # both DMs 6 m across, both fields 20": the DMs' modes nearly degenerate; WFS 0 at the
-    # noise floor (s_0 > 1000), WFS 1 noisy (0.005"; 0.0013" before its ring was weighted
-    # by field share, issue 27): some whitened singular values sit between 1 and 1e-3 s_0,
-    # and the documented cut drops them
-    cfg = _config(noises=(0.0, 0.005), fields=(20.0, 20.0), diameters=(6.0, 6.0),
+    # noise floor (s_0 > 1000), WFS 1 noisy (0.004"; 0.0013" before its ring was weighted
+    # by field share, issue 27; 0.005" before the share counted the lit area, left31-edge:
+    # 0.003-0.0045" hold the setup): some whitened singular values sit between 1 and
+    # 1e-3 s_0, and the documented cut drops them
+    cfg = _config(noises=(0.0, 0.004), fields=(20.0, 20.0), diameters=(6.0, 6.0),
                   model_error=0.0)
     model = LoopModel(cfg)
     g = _interaction(model)

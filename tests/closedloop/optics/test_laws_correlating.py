@@ -108,12 +108,14 @@ def test_noise_in_loop_units_scales_as_one_over_r0_wavelength(model):
         # 2 pi s pixel_scale / r0_wavelength
         n = a.n_valid_subapertures
         to_slope = 2.0 * math.pi * a.pixel_scale * ARCSEC / 500e-9
-        # a relative slope against the best-lit subaperture: variance sigma_1^2 (1 / s +
-        # 1 / s_ref), 2 sigma_1^2 fully lit (field shares s: issue 27,
-        # test_correlating_field_rule_left29)
+        # a relative slope against the best-lit subaperture: variance sigma_1^2 (v(s) +
+        # v(s_ref)), 2 sigma_1^2 fully lit, v = (1 - r) / s + r / s^2 (light shares s:
+        # issue 27, left31-edge; test_correlating_field_rule_left29)
         s = a.field_share[:n]
+        r = a.read_fraction
+        v = (1.0 - r) / s + r / s ** 2
         np.testing.assert_allclose(a.noise_rms[:n], a.slope_noise_pixels[0] * to_slope
-                                   * np.sqrt((1.0 / s + 1.0 / s.max()) / 2.0), rtol=1e-12)
+                                   * np.sqrt((v + v[np.argmax(s)]) / 2.0), rtol=1e-12)
         np.testing.assert_allclose(a.noise_rms[2 * n:], a.tracker_noise_pixels * to_slope,
                                    rtol=1e-12)
 
