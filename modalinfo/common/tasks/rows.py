@@ -11,6 +11,7 @@ from pathlib import Path
 from modalinfo.common.deps import require
 from modalinfo.common.files import atomic_write, shown_name
 from modalinfo.common.folders import clean_staging
+from modalinfo.common.memory import address_space_limit_bytes
 
 __all__ = ["RowStore", "clean_run_staging", "write_table"]
 
@@ -137,10 +138,27 @@ def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str]
     Columns are the union of the rows' keys (``first`` leading); a row lacking a
     column has a null there. A text value holding a file name's undecodable bytes
     (lone surrogates) is written with those bytes as ``\xNN``. Returns the two paths.
+
+    Under ``ulimit -v`` pyarrow's default allocator (jemalloc / mimalloc reserve large
+    address ranges) crashed a batch with SIGSEGV inside ``pyarrow.parquet.write_table``
+    after every row had run (round 32 PART b, b56; a rerun recovered every row): under a
+    finite address-space limit the system allocator is used for the table, pyarrow's
+    previous default restored after. The Parquet file is written before the CSV, so an
+    interrupted write leaves no new CSV beside an old table (Leftovers 18-sigint).
     """
     pa = require("pyarrow")
     pacsv = require("pyarrow.csv")
     pq = require("pyarrow.parquet")
+    previous = pa.default_memory_pool()
+    if math.isfinite(address_space_limit_bytes()):
+        pa.set_memory_pool(pa.system_memory_pool())
+    try:
+        return _write_table(pa, pacsv, pq, rows, out_dir, stem, first, overwrite)
+    finally:
+        pa.set_memory_pool(previous)
+
+
+def _write_table(pa, pacsv, pq, rows, out_dir, stem, first, overwrite) -> tuple[Path, Path]:
 
     columns = _column_order(rows, first)
     data = {}
