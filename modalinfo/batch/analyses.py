@@ -531,17 +531,15 @@ def run_log_task(payload: dict) -> dict:
 def _check_quality_memory(path: str, log: Any, policy: str) -> None:
     """Refuse (an error row) a log whose quality pass cannot fit, before the pass.
 
-    The pass's estimate of every command (``modalinfo.cli.shared.quality_need``:
+    The pass's estimate of every command (``quality_pass_need``:
     ``quality_memory``, a clipped copy, the log's own bytes when it is in memory)
     against the memory this worker may still allocate (issue 27, left31-estimate).
     """
-    from argparse import Namespace
-
-    from modalinfo.cli.shared import in_memory_bytes, quality_need
     from modalinfo.common.memory import usable_memory_bytes
     from modalinfo.common.sizes import format_size
+    from modalinfo.telemetry.quality import in_memory_bytes, quality_pass_need
 
-    need = quality_need(log, Namespace(outliers=policy), in_memory_bytes(log))
+    need = quality_pass_need(log, policy, in_memory_bytes(log))
     avail = usable_memory_bytes()
     if need > avail:
         raise MemoryError(f"'{Path(path).name}' ({log.n_frames} frames x {log.n_modes} "

@@ -189,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
                                "candidates already")
         extra = _load(args, args.extra)
         # LOG (analysed) stays in memory while --extra's pass runs
-        from modalinfo.cli.shared import in_memory_bytes
+        from modalinfo.telemetry.quality import in_memory_bytes
 
         extra, _ = apply_outliers(extra, args, args.extra, time_series=True,
                                   resident=in_memory_bytes(log) + in_memory_bytes(extra))

@@ -594,31 +594,14 @@ __all__ += ["quality_need", "check_quality_memory"]
 
 
 def quality_need(log, args: argparse.Namespace | None = None, resident: float = 0.0) -> float:
-    """Bytes held while ``apply_outliers`` runs on ``log``: the pass, a clip, what else lives.
+    """Bytes held while ``apply_outliers`` runs on ``log`` under ``args.outliers``.
 
-    ``quality_memory`` (the quality pass's own estimate, beside it in
-    :mod:`modalinfo.telemetry.quality`), plus one float64 copy of ``log`` when
-    ``--outliers clip`` writes the repaired log, plus ``resident``: the bytes the
-    command holds during the pass (the log's own coefficients when they are in memory,
-    another log read before it). The pass's arrays are freed when it returns, before the
-    command's own work: a command's estimate is the max of this and its own (issue 27,
-    left31-estimate).
+    ``modalinfo.telemetry.quality.quality_pass_need`` with the command's policy
+    (``warn`` when ``args`` has none).
     """
-    from modalinfo.telemetry.quality import quality_memory
+    from modalinfo.telemetry.quality import quality_pass_need
 
-    clip = log_bytes(log) if getattr(args, "outliers", "warn") == "clip" else 0
-    return float(resident) + quality_memory(log.n_frames, log.n_modes) + clip
-
-
-def in_memory_bytes(log) -> int:
-    """Bytes of ``log``'s coefficients held by the process (0 when memory-mapped)."""
-    import numpy as np
-
-    base = log.coeffs
-    while isinstance(base, np.ndarray) and not isinstance(base, np.memmap) and \
-            isinstance(base.base, np.ndarray):
-        base = base.base
-    return 0 if isinstance(base, np.memmap) else int(log.coeffs.nbytes)
+    return quality_pass_need(log, getattr(args, "outliers", "warn"), resident)
 
 
 def check_quality_memory(args: argparse.Namespace, log, path: Path,
@@ -627,6 +610,8 @@ def check_quality_memory(args: argparse.Namespace, log, path: Path,
 
     ``resident`` defaults to ``log``'s own in-memory bytes (0 for a memory-mapped log).
     """
+    from modalinfo.telemetry.quality import in_memory_bytes
+
     held = in_memory_bytes(log) if resident is None else resident
     check_memory(quality_need(log, args, held),
                  f"'{Path(path).name}' ({log.n_frames} frames x {log.n_modes} modes): the "

@@ -297,6 +297,29 @@ DEFAULT_SAMPLE_FRAMES = 65536
 MIN_SAMPLE_FRAMES = 100
 
 
+def in_memory_bytes(log) -> int:
+    """Bytes of ``log``'s coefficients held by the process (0 when memory-mapped)."""
+    base = log.coeffs
+    while isinstance(base, np.ndarray) and not isinstance(base, np.memmap) and \
+            isinstance(base.base, np.ndarray):
+        base = base.base
+    return 0 if isinstance(base, np.memmap) else int(log.coeffs.nbytes)
+
+
+def quality_pass_need(log, policy: str = "warn", resident: float = 0.0) -> float:
+    """Bytes held while the quality pass and its outlier ``policy`` run on ``log`` [bytes].
+
+    :func:`quality_memory`, plus one float64 copy of ``log`` when ``policy`` is
+    ``clip`` (the repaired log), plus ``resident``: the bytes the caller holds during
+    the pass (the log's own coefficients when they are in memory, another log read
+    before it). The pass's arrays are freed when it returns, before a command's own
+    work: a command's estimate is the max of this and its own (issue 27,
+    left31-estimate). Every command line and ``batch`` read this one rule.
+    """
+    clip = int(log.n_frames) * int(log.n_modes) * 8 if policy == "clip" else 0
+    return float(resident) + quality_memory(log.n_frames, log.n_modes) + clip
+
+
 def gaussian_threshold(n_values: int, alpha: float = DEFAULT_ALPHA) -> float:
     """Return ``k`` such that P(any of ``n_values`` Gaussian values has ``|z| > k``) <= alpha.
 
