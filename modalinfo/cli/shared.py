@@ -13,6 +13,7 @@ from pathlib import Path
 
 from modalinfo.bases.indexing import parse_modes
 from modalinfo.common.cli import CommandError, check_output
+from modalinfo.common.sizes import log_bytes
 from modalinfo.common.validation import RATE_RANGE, RATE_RULE, log_rate_problem
 from modalinfo.telemetry.units import WAVELENGTH_RANGE, WAVELENGTH_RULE, check_wavelength
 
@@ -563,11 +564,6 @@ def memory_available() -> float:
     from modalinfo.common.memory import usable_memory_bytes
 
     return usable_memory_bytes()
-
-
-def log_bytes(log) -> int:
-    """Bytes of one float64 copy of ``log``'s coefficients (frames x modes x 8)."""
-    return int(log.n_frames) * int(log.n_modes) * 8
 
 
 def check_memory(need: float, what: str, fix: str) -> None:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["format_size", "parse_size"]
+__all__ = ["format_size", "log_bytes", "parse_size"]
 
 #: Size suffixes (lower case) -> bytes: SI (kB = 1000 B) and binary (KiB = 1024 B), with
 #: or without the ``B``, as ``dask.utils.parse_bytes`` reads them, so a ``--memory-limit``
@@ -69,3 +69,8 @@ def format_size(n: float) -> str:
         if n >= 0.9 * 1024**k:
             return f"{n / 1024**k:.2f} {prefix}B"
     return f"{int(n)} B"
+
+
+def log_bytes(log) -> int:
+    """Bytes of one float64 copy of ``log``'s coefficients (frames x modes x 8)."""
+    return int(log.n_frames) * int(log.n_modes) * 8

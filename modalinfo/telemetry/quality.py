@@ -316,7 +316,9 @@ def quality_pass_need(log, policy: str = "warn", resident: float = 0.0) -> float
     work: a command's estimate is the max of this and its own (issue 27,
     left31-estimate). Every command line and ``batch`` read this one rule.
     """
-    clip = int(log.n_frames) * int(log.n_modes) * 8 if policy == "clip" else 0
+    from modalinfo.common.sizes import log_bytes
+
+    clip = log_bytes(log) if policy == "clip" else 0
     return float(resident) + quality_memory(log.n_frames, log.n_modes) + clip
 
 
