@@ -1804,8 +1804,7 @@ def _clip_summary(arr, out: np.ndarray, report: QualityReport
     return left, head, run
 
 
-def _clip_action(n_out: int, left: int, head: int, run: tuple | None,
-                 report: QualityReport) -> str:
+def _clip_action(n_out: int, left: int, head: int, run: tuple | None) -> str:
     """Write the ``action`` of ``"clip"``: what was replaced, by what, what was left."""
     text = (f"clipped {n_out} outlier value(s): each replaced by its AR({AR_ORDER}) "
             "prediction from the frames before it")
@@ -1940,7 +1939,7 @@ def apply_outlier_policy(
             # and 480 stuck values, all replaced, and "480 ... left as they are")
             left_stuck, head, run = _clip_summary(log.coeffs, out.coeffs, report)
             left = left_stuck + int(report.nonfinite.sum())
-        record["action"] = _clip_action(n_out, left, head, run, report)
+        record["action"] = _clip_action(n_out, left, head, run)
     else:  # drop
         record["action"] = f"dropped {report.n_flagged} of {report.n_frames} frames"
         out = _drop(log, report)
