@@ -209,6 +209,7 @@ __all__ = [
     "data_fingerprint",
     "gaussian_false_alarm",
     "gaussian_threshold",
+    "policy_record",
     "small_sample_threshold",
     "stationarity_threshold",
 ]
@@ -1763,6 +1764,32 @@ def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
             out[t, done] = pred[done]
     out.flags.writeable = False
     return log._derive(_coeffs=out)  # noqa: SLF001 - same time axis, modes and units
+
+
+def policy_record(report: QualityReport, log: ModalLog, policy: str) -> dict:
+    """Return what the outlier policy did: the record an output file stores.
+
+    Parameters
+    ----------
+    report : QualityReport
+        The assessment :func:`apply_outlier_policy` returned.
+    log : ModalLog
+        The log it returned (the one analysed).
+    policy : str
+        The policy it applied.
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``policy``, every key of :meth:`QualityReport.to_dict` and
+        ``action`` (what was done, with its counts). For a flagged log it is the record
+        :func:`apply_outlier_policy` appended to ``metadata["outliers"]`` (the one
+        ``modalinfo convert`` writes in a header and batch rows' ``quality_action``
+        shows); for a clean log ``action`` is ``"none (nothing flagged)"``.
+    """
+    if report.clean:
+        return {"policy": policy, **report.to_dict(), "action": "none (nothing flagged)"}
+    return dict(log.metadata["outliers"][-1])
 
 
 def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
