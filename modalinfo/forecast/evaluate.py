@@ -350,7 +350,7 @@ class ForecastEvaluation:
         quality : dict, optional
             Written under the key ``"quality"``: what the outlier policy did to the log
             (``modalinfo forecast --out`` gives
-            :func:`modalinfo.telemetry.quality.policy_record`: the policy, the counts
+            ``modalinfo.telemetry.quality.policy_record``: the policy, the counts
             and the ``action``).
 
         Returns

@@ -301,7 +301,7 @@ class OrderingResult:
         quality : dict, optional
             Written under the key ``"quality"``: what the outlier policy did to the log
             (``modalinfo reorder --out`` gives
-            :func:`modalinfo.telemetry.quality.policy_record`); :meth:`from_json`
+            ``modalinfo.telemetry.quality.policy_record``); :meth:`from_json`
             ignores it.
 
         Returns
