@@ -571,6 +571,7 @@ def quality_columns(report: Any, log: Any, policy: str) -> dict:
     ``quality_k``, ``quality_flagged_frames``, ..., ``quality_scale_ratio``,
     ``quality_stationary``, ``quality_note``) and ``quality_action``.
     """
-    action = ("none (nothing flagged)" if report.clean
-              else log.metadata["outliers"][-1]["action"])
+    from modalinfo.telemetry.quality import policy_record
+
+    action = policy_record(report, log, policy)["action"]
     return {"outliers": policy, **report.columns(), "quality_action": action}

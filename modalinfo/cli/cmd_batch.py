@@ -138,6 +138,25 @@ def layout_doubt_note(rows: list[dict]) -> None:
                          "them the other way round, or --no-transpose to keep the layout\n")
 
 
+def _policies_applied(rows: list[dict]) -> str:
+    """Name the outlier policy each analysis applied to its flagged logs, from the rows.
+
+    From the rows' ``outliers`` column, not from ``--outliers``: ``--set
+    summary.outliers=drop`` was reported as "--outliers warn applied" while the rows
+    said drop (round 33 PART b, B37 / B38). The hint that clip, drop or raise act on the
+    flagged values goes with warn only.
+    """
+    logs: dict[tuple[str, str], set] = {}
+    for row in rows:
+        key = (str(row.get("analysis")), str(row.get("outliers") or "warn"))
+        logs.setdefault(key, set()).add(row.get("path"))
+    parts = [f"{analysis}: {policy} on {len(paths)} log(s)"
+             for (analysis, policy), paths in sorted(logs.items())]
+    hint = (" (--outliers clip, drop or raise, or --set ANALYSIS.outliers=..., act on "
+            "them)" if any(policy == "warn" for _, policy in logs) else "")
+    return "outlier policy applied: " + ", ".join(parts) + hint
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the batch and print what was done; 1 when some row failed (count on stderr)."""
     from modalinfo.batch import analyse_archive
@@ -217,9 +236,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(
             f"modalinfo batch: warning: {logs} log(s) have frames flagged by the quality "
             f"pass (outliers, glitched frames or stuck values; columns quality_* of "
-            f"{result.csv_path}); --outliers {args.outliers} applied"
-            + (" (clip, drop or raise act on them)" if args.outliers == "warn" else "")
-            + "\n")
+            f"{result.csv_path}); {_policies_applied(flagged)}\n")
     if result.n_error:
         lost = sum(r.get("status") == "lost" for r in result.rows)
         sys.stderr.write(

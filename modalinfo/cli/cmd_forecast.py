@@ -271,7 +271,8 @@ def _refuse_non_files(out: Path) -> None:
                                "file of that name (move it away)")
 
 
-def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None) -> None:
+def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None,
+                  quality: dict | None = None) -> None:
     """Write the four outputs into ``out`` all together or not at all.
 
     Every file is first written into a hidden staging folder inside ``out``; only when
@@ -309,8 +310,8 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
         done = False
         try:
             with naming_target(staging, out):  # the user's --out, not the staging folder
-                ev.to_json(staging / OUTPUTS[0], provenance=provenance)
-                ev.to_csv(staging / OUTPUTS[1], provenance=provenance)
+                ev.to_json(staging / OUTPUTS[0], provenance=provenance, quality=quality)
+                ev.to_csv(staging / OUTPUTS[1], provenance=provenance, quality=quality)
                 ev.save_plots(staging, provenance=provenance)
             _refuse_non_files(out)
             clash = [n for n in OUTPUTS if (out / n).exists()]
@@ -403,7 +404,10 @@ def run(args: argparse.Namespace) -> int:
                            "or drop --quiet")
     # on the modes forecast, after the refusals (no work before them); --outliers drop
     # was refused above (lags need every frame)
-    log, _ = apply_outliers(log, args, args.log, time_series=True)
+    from modalinfo.telemetry.quality import policy_record
+
+    log, report = apply_outliers(log, args, args.log, time_series=True)
+    quality = policy_record(report, log, args.outliers)  # stored in forecast.json / .csv
 
     import matplotlib
 
@@ -425,7 +429,8 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         from modalinfo.cli.shared import command_provenance
 
-        write_outputs(ev, args.out, args.overwrite, command_provenance(args, args.log))
+        write_outputs(ev, args.out, args.overwrite, command_provenance(args, args.log),
+                      quality=quality)
         if not args.quiet:
             sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
     return 0

@@ -426,7 +426,10 @@ def run(args: argparse.Namespace) -> int:
                          lags=blocks)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
     # frames only shorten it
-    log, _ = apply_outliers(log, args, args.log)
+    from modalinfo.telemetry.quality import policy_record
+
+    log, report = apply_outliers(log, args, args.log)
+    quality = policy_record(report, log, args.outliers)  # stored in --out's JSON
     if args.basis == "file":
         basis = file_basis(args, log)
     else:
@@ -484,6 +487,7 @@ def run(args: argparse.Namespace) -> int:
         from modalinfo.cli.shared import command_provenance
 
         result.to_json(args.out, overwrite=args.overwrite,
-                       provenance=command_provenance(args, args.log, args.seed))
+                       provenance=command_provenance(args, args.log, args.seed),
+                       quality=quality)
         print(f"ordering written to {args.out}")
     return 0

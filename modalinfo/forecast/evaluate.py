@@ -334,7 +334,7 @@ class ForecastEvaluation:
         }
 
     def to_json(self, path: str | Path, *, overwrite: bool = False,
-                provenance: dict | None = None) -> Path:
+                provenance: dict | None = None, quality: dict | None = None) -> Path:
         """Write :meth:`to_dict` as JSON (NaN as null), atomically.
 
         Parameters
@@ -347,6 +347,11 @@ class ForecastEvaluation:
             Written under the key ``"provenance"`` (``modalinfo forecast --out`` gives
             the package version, command line and input SHA-256:
             ``modalinfo.common.provenance.provenance``).
+        quality : dict, optional
+            Written under the key ``"quality"``: what the outlier policy did to the log
+            (``modalinfo forecast --out`` gives
+            ``modalinfo.telemetry.quality.policy_record``: the policy, the counts
+            and the ``action``).
 
         Returns
         -------
@@ -356,11 +361,13 @@ class ForecastEvaluation:
         data = self.to_dict()
         if provenance is not None:
             data["provenance"] = provenance
+        if quality is not None:
+            data["quality"] = quality
         text = json.dumps(data, indent=1).encode("utf-8")
         return _write_bytes(path, text, overwrite)
 
     def to_csv(self, path: str | Path, *, overwrite: bool = False,
-               provenance: dict | None = None) -> Path:
+               provenance: dict | None = None, quality: dict | None = None) -> Path:
         """Write a long table ``predictor, mode, horizon, rmse, gain, coverage``, atomically.
 
         The whole wavefront is the mode ``"wavefront"``.
@@ -382,6 +389,10 @@ class ForecastEvaluation:
             ``comment=`` and a spreadsheet read the table as before, and a table
             separated from forecast.json still names what made it (adversarial round
             27 PART b, P08).
+        quality : dict, optional
+            What the outlier policy did (as for :meth:`to_json`): its ``action`` in a
+            last column ``quality_action``, the same on every row (after the
+            provenance columns, so the columns before it read as before).
 
         Returns
         -------
@@ -403,7 +414,10 @@ class ForecastEvaluation:
         writer.writerow(["predictor", "mode", "horizon", "rmse", "gain", "coverage",
                          "dm_statistic", "p_value", "beats_baseline"]
                         + (["modalinfo", "input_sha256", "command", "git", "source_sha256"]
-                           if made else []))
+                           if made else [])
+                        + (["quality_action"] if quality is not None else []))
+        if quality is not None:
+            made = [*made, str(quality.get("action", ""))]
         for i, name in enumerate(self.names):
             for j, h in enumerate(self.horizons):
                 cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],

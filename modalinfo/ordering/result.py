@@ -285,7 +285,7 @@ class OrderingResult:
         return out
 
     def to_json(self, path: str | Path, overwrite: bool = False,
-                provenance: dict | None = None) -> Path:
+                provenance: dict | None = None, quality: dict | None = None) -> Path:
         """Write the ordering to a JSON file.
 
         Parameters
@@ -298,6 +298,11 @@ class OrderingResult:
             Written under the key ``"provenance"`` (``modalinfo reorder --out`` gives the
             package version, command line, input SHA-256 and seed); :meth:`from_json`
             ignores it, and reads files without it.
+        quality : dict, optional
+            Written under the key ``"quality"``: what the outlier policy did to the log
+            (``modalinfo reorder --out`` gives
+            ``modalinfo.telemetry.quality.policy_record``); :meth:`from_json`
+            ignores it.
 
         Returns
         -------
@@ -309,6 +314,8 @@ class OrderingResult:
         record = self.to_dict()
         if provenance is not None:
             record["provenance"] = provenance
+        if quality is not None:
+            record["quality"] = quality
         data = (json.dumps(record, indent=1) + "\n").encode("utf-8")
         return atomic_write(Path(path), lambda fh: fh.write(data), overwrite=overwrite)
 

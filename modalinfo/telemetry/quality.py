@@ -149,8 +149,10 @@ The policy
 :func:`apply_outlier_policy` acts on a ``ModalLog``: ``"warn"`` keeps the data (the
 caller states the report), ``"clip"`` replaces each outlier by its AR(4) prediction from
 the frames before it (the value the flagging pass keeps in its history, Chen & Liu 1993;
-in the first 4 frames, backwards from the frames after it; stuck and non-finite values
-are left as they are and stated; before leftovers 12-est it winsorised to ``m_j +- k
+in the first 4 frames, backwards from the frames after it; a run of consecutive
+outliers becomes the AR forecast decaying towards the median, a made-up smooth stretch
+the action names; stuck and non-finite values that are not outliers are left as they
+are and counted; before leftovers 12-est it winsorised to ``m_j +- k
 sigma_j``, which on a persistent mode left a jump to that bound), ``"drop"`` removes every
 flagged frame (outlier, stuck, repeated or non-finite; the time axis becomes timestamps, so
 the removal shows as gaps) and is refused for time-series analyses, whose lags need
@@ -207,6 +209,7 @@ __all__ = [
     "data_fingerprint",
     "gaussian_false_alarm",
     "gaussian_threshold",
+    "policy_record",
     "small_sample_threshold",
     "stationarity_threshold",
 ]
@@ -1763,6 +1766,89 @@ def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
     return log._derive(_coeffs=out)  # noqa: SLF001 - same time axis, modes and units
 
 
+def policy_record(report: QualityReport, log: ModalLog, policy: str) -> dict:
+    """Return what the outlier policy did: the record an output file stores.
+
+    Parameters
+    ----------
+    report : QualityReport
+        The assessment :func:`apply_outlier_policy` returned.
+    log : ModalLog
+        The log it returned (the one analysed).
+    policy : str
+        The policy it applied.
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``policy``, every key of :meth:`QualityReport.to_dict` and
+        ``action`` (what was done, with its counts). For a flagged log it is the record
+        :func:`apply_outlier_policy` appended to ``metadata["outliers"]`` (the one
+        ``modalinfo convert`` writes in a header and batch rows' ``quality_action``
+        shows); for a clean log ``action`` is ``"none (nothing flagged)"``.
+    """
+    if report.clean:
+        return {"policy": policy, **report.to_dict(), "action": "none (nothing flagged)"}
+    return dict(log.metadata["outliers"][-1])
+
+
+def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return the starts and ends (exclusive) of the runs of True in a 1-D ``mask``."""
+    d = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    return np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+
+
+def _clip_summary(arr, out: np.ndarray, report: QualityReport
+                  ) -> tuple[int, int, tuple | None]:
+    """Count what ``"clip"`` did beyond the outliers, from the data before and after.
+
+    Returns the stuck values left unchanged (those of a run of at least the mode's
+    ``stuck_runs`` equal raw values that were not also replaced as outliers), the values
+    replaced in the first ``AR_ORDER`` frames (backcast from the frames after them) and
+    the longest run of consecutive replaced values of one mode, ``(length, label, first,
+    last)`` (None without a replaced value): there the AR forecast decays towards the
+    mode's median, a made-up smooth stretch.
+    """
+    left = 0
+    head = 0
+    run = None
+    for j in range(arr.shape[1]):
+        x = np.asarray(arr[:, j])
+        changed = np.isfinite(x) & (np.asarray(out[:, j]) != x)
+        r = int(report.stuck_runs[j])
+        if r > 0 and report.stuck[j] > 0:
+            # runs of equal raw values, as the flagging kernel counts them (NaN breaks one)
+            starts = np.flatnonzero(np.concatenate(([True], x[1:] != x[:-1])))
+            lengths = np.diff(np.concatenate((starts, [x.size])))
+            stuck = np.repeat(lengths >= r, lengths)
+            left += int((stuck & ~changed).sum())
+        head += int(changed[:AR_ORDER].sum())
+        a, b = _runs(changed)
+        if a.size:
+            k = int(np.argmax(b - a))
+            if run is None or b[k] - a[k] > run[0]:
+                run = (int(b[k] - a[k]), str(report.labels[j]), int(a[k]), int(b[k] - 1))
+    return left, head, run
+
+
+def _clip_action(n_out: int, left: int, head: int, run: tuple | None) -> str:
+    """Write the ``action`` of ``"clip"``: what was replaced, by what, what was left."""
+    text = (f"clipped {n_out} outlier value(s): each replaced by its AR({AR_ORDER}) "
+            "prediction from the frames before it")
+    if head:
+        text += (f" ({head} in the first {AR_ORDER} frames, which have no {AR_ORDER} frames "
+                 "before them: backcast from the frames after them)")
+    if run is not None and run[0] > 1:
+        n, label, a, b = run
+        text += (f"; a run of consecutive outliers is filled with the AR forecast decaying "
+                 f"towards the mode's median, a made-up smooth stretch (the longest: "
+                 f"{label} frames {a}..{b}, {n} frames)")
+    if left:
+        text += (f"; {left} stuck or non-finite value(s) that were not outliers left as "
+                 "they are")
+    return text
+
+
 def _drop(log: ModalLog, report: QualityReport) -> ModalLog:
     """Remove the flagged frames; the time axis becomes timestamps (gaps show the removal)."""
     keep = np.ones(log.n_frames, dtype=bool)
@@ -1798,7 +1884,8 @@ def apply_outlier_policy(
     policy : {"warn", "clip", "drop", "raise"}
         ``"warn"``: keep the data (the caller states ``report.describe()``);
         ``"clip"``: replace each outlier by its AR(4) prediction from the frames before
-        it (in the first 4 frames, from the frames after it);
+        it (in the first 4 frames, backcast from the frames after it; a run of
+        outliers decays towards the median, and the action names the longest);
         ``"drop"``: remove every flagged frame; ``"raise"``: refuse a log with any
         flagged value. See the module docstring.
     time_series : bool
@@ -1871,12 +1958,15 @@ def apply_outlier_policy(
     elif policy == "clip":
         n_out = int(report.outliers.sum())
         left = int(report.stuck.sum() + report.nonfinite.sum())
-        record["action"] = (f"clipped {n_out} outlier value(s): each replaced by its "
-                            f"AR({AR_ORDER}) prediction from the frames before it"
-                            + (f"; {left} stuck or non-finite value(s) left as "
-                                           "they are" if left else ""))
+        head, run = 0, None
         if n_out:
             out = _clip(log, report)
+            # a stuck value that was also an outlier was replaced: counted as "left as
+            # they are" (round 33 PART b, B02: a 40-frame block at 5e2 was 480 outliers
+            # and 480 stuck values, all replaced, and "480 ... left as they are")
+            left_stuck, head, run = _clip_summary(log.coeffs, out.coeffs, report)
+            left = left_stuck + int(report.nonfinite.sum())
+        record["action"] = _clip_action(n_out, left, head, run)
     else:  # drop
         record["action"] = f"dropped {report.n_flagged} of {report.n_frames} frames"
         out = _drop(log, report)

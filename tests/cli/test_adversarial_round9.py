@@ -249,7 +249,7 @@ def test_frames_dropped_without_a_rate_are_not_bridged(tmp_path, capsys):
     assert exit_code(select) == 2
     assert "without a time axis" in capsys.readouterr().err
     assert exit_code([*select, "--rate", "1000"]) == 2  # now a gap of 3 intervals
-    assert "1 gap(s)" in capsys.readouterr().err
+    assert "1 timestamp gap(s)" in capsys.readouterr().err  # forecast's words (fix33-b1)
     assert exit_code(["fitting-error", path, "--nonfinite", "drop", "--orderings",
                       "zernike:standard", "--pupil-pixels", "64", "--quiet"]) == 0  # per frame
 

@@ -214,7 +214,7 @@ def test_batch_cli_warns_once_for_flagged_logs(files, tmp_path, capsys):
     code, _, err = _run(capsys, ["batch", src, "--out", out, "--no-plots", "--quiet"])
     assert code == 0 and len(err) == 1
     assert err[0].startswith("modalinfo batch: warning: 1 log(s) have frames flagged")
-    assert "--outliers warn applied (clip, drop or raise act on them)" in err[0]
+    assert "outlier policy applied: summary: warn on 1 log(s) (--outliers clip" in err[0]
 
 
 def test_paper_figures_log_goes_through_the_policy(files, tmp_path, capsys):
