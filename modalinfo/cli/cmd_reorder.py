@@ -344,7 +344,9 @@ EPILOG = """\
 columns of the table:
   step     rank in the order (1 = most important); '~' before it: this rank is within
            noise of the rank above (the bootstrap interval of the margin by which the
-           rank above won reaches 0), so their order is not determined
+           rank above won reaches 0), so their order is not determined; with
+           --resamples 0 (and --method variance/pca) noise is not assessed, no rank is
+           marked and adjacent ranks may swap within sampling noise (the legend says so)
   score    I(Phi_ref; a_k Z_k): MI of the wavefront with this mode alone [nats]
            (mean-square coefficient [rad^2] for --method variance/pca)
   MI       I(Phi_ref; sum of the modes up to this step) [nats]
@@ -451,9 +453,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.basis} basis, {args.method} order ({where}"
           + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
              if result.mi is not None else "") + ")")
-    print(result.legend())
+    print(result.legend(resamples="--resamples"))
     print(result.table())
-    for note in result.notes():
+    for note in result.notes(resamples="--resamples"):
         print(note)
     if result.gain_low is not None:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
