@@ -319,6 +319,20 @@ def refuse_frame_with_drop(args: argparse.Namespace) -> None:
                            "the frames; use --outliers clip (or warn) with --frame")
 
 
+def _gap_purpose(blocks: bool, stability: int | None) -> tuple[str, str]:
+    """``(purpose, verb)`` of ``split_gaps``: what needs equally spaced frames here.
+
+    Named from the options that do: "the block bootstrap and --stability windows needs"
+    named both whatever ran, with the verb of neither (round 33 PART b).
+    """
+    boot, windows = "the block bootstrap of the gains (--resamples)", "the --stability windows"
+    if blocks and stability is not None:
+        return f"{boot} and {windows}", "need"
+    if stability is not None:
+        return windows, "need"
+    return (boot if blocks else "this ordering"), "needs"  # else: only --split-gaps asked
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Fill the ``reorder`` parser."""
     add_common_arguments(parser)
@@ -424,7 +438,7 @@ def run(args: argparse.Namespace) -> int:
     if blocks or args.stability is not None or args.split_gaps:
         # lags=blocks: frames --nonfinite drop removed from a log without a time axis are
         # refused for the bootstrap, whose blocks would join frames that were not adjacent
-        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows",
+        log = split_gaps(log, args, args.log, *_gap_purpose(blocks, args.stability),
                          lags=blocks)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
     # frames only shorten it
