@@ -217,6 +217,7 @@ def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
     from modalinfo.cli.shared import (
         apply_outliers,
+        describe_outliers,
         input_notes,
         load_log_with_hints,
         split_gaps,
@@ -227,14 +228,26 @@ def _load_logs(args, logs, modules) -> dict:
     loaded = {}
     notes: list[str] = []  # printed once every check passed: a refusal stays one line
     for path, suffix, key, desc in logs:
+        outliers = None  # the shipped logs: no policy applied, nothing to state
         try:
             # a user's log with the CLI's input hints; the shipped ones as they are
             log = load_log_with_hints(path, args if key == "user" else None, announce=False)
             if key == "user":
                 args._notes = []
-                log = split_gaps(log, args, path, "Figures 1 and 5")
+                # the chosen figures that read the log ("Figures 1 and 5 needs" named
+                # both whatever --only chose: round 33 PART b)
+                chosen = [label.split()[-1] for module, label, _ in modules
+                          if _kind(module) == "log"]
+                figures = (f"Figure {chosen[0]}" if len(chosen) == 1 else
+                           f"Figures {', '.join(chosen[:-1])} and {chosen[-1]}")
+                log = split_gaps(log, args, path, figures,
+                                 "needs" if len(chosen) == 1 else "need")
                 # --outliers as in every command; Figure 5 forecasts, so no drop
-                log, _ = apply_outliers(log, args, path, time_series=True)
+                log, quality = apply_outliers(log, args, path, time_series=True)
+                # stated in the figures' reports too, not only on stderr (round 33 PART b,
+                # B31): the policy and its counts
+                outliers = (f"--outliers {args.outliers}: "
+                            f"{describe_outliers(log, quality, args.outliers)}")
                 # what was assumed, cut or flagged, as the CLI says it
                 notes += input_notes(log, path) + [
                     re.split(r": (?:note|warning): ", n, maxsplit=1)[-1] for n in args._notes]
@@ -255,7 +268,7 @@ def _load_logs(args, logs, modules) -> dict:
                 message = str(exc).strip().splitlines()[0].replace("`log`", "the log")
                 where = "--log" if key == "user" else f"shipped log '{path}'"
                 raise _RefusedError(f"{label} on {where}: {message}") from None
-        loaded[key] = ((log, f"`{path}`"), suffix, desc)
+        loaded[key] = ((log, f"`{path}`"), suffix, desc, outliers)
     for note in notes:
         sys.stderr.write(f"paper_figures: note: {note}\n")
     return loaded
@@ -465,11 +478,14 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         if kind == "log":
             texts = []
             # --quick reaches the log figures that have a quick setting (Figure 5)
-            quick = ({"quick": True} if args.quick
-                     and "quick" in inspect.signature(module.compute).parameters else {})
-            for key, ((log, source), suffix, desc) in loaded.items():
+            params = inspect.signature(module.compute).parameters
+            quick = {"quick": True} if args.quick and "quick" in params else {}
+            for key, ((log, source), suffix, desc, outliers) in loaded.items():
+                # what --outliers did to a user's log, for the figures that report it
+                said = ({"outliers": outliers} if outliers is not None
+                        and "outliers" in params else {})
                 try:
-                    result = module.compute(log, source=source, **quick)
+                    result = module.compute(log, source=source, **quick, **said)
                 except ValueError as exc:
                     if key != "user":
                         raise

@@ -255,6 +255,20 @@ def log_or_kaos_like(log_path: Path | None):
     return load(log_path), f"`{log_path}`"
 
 
+def outlier_records(log) -> str:
+    """Return what outlier policies did to ``log`` (its ``metadata["outliers"]``), or ``""``.
+
+    One line, ``--outliers POLICY: ACTION`` per record, ``"; "`` between them: the
+    figures that take a ``--log`` state it in their report (round 33 PART b, B31: the
+    policy and its counts were on stderr only). ``python -m paper_figures`` passes its
+    own fuller line (``modalinfo.cli.shared.describe_outliers``) instead.
+    """
+    records = (getattr(log, "metadata", None) or {}).get("outliers", [])
+    records = records if isinstance(records, list) else [records]
+    return "; ".join(f"--outliers {r.get('policy')}: {r.get('action')}" for r in records
+                     if isinstance(r, dict))
+
+
 def markdown_table(rows) -> str:
     """Markdown table of ``(quantity, paper, ours[, why])`` rows."""
     if rows and len(rows[0]) == 4:

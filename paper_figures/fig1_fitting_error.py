@@ -12,7 +12,11 @@ an orthonormal basis, by Parseval), for (a) the typical frame of the log (the fr
 median total variance; per-frame MI orderings on its pupil pixels; the same count on
 15 frames spread through the log), (b) the average
 over frames (pooled MI orderings) and (c) the same turbulence in open loop (synthetic
-``kaos_like(closed_loop=False)``), where K-L modes are expected to win.
+``kaos_like(closed_loop=False)``), where K-L modes are expected to win. Panel (c) is that
+log whatever the input: on a user's ``--log`` the report names it as the package's
+KAOS-like open-loop log, not that log's turbulence, and draws no open-vs-closed-loop
+conclusion; it calls the log closed-loop only when its metadata says so
+(``Figure1.closed_loop``) and states the ``--outliers`` policy applied to it.
 
 Three steps, as in :mod:`paper_figures.fig2_sr_peak`: :func:`compute` (numbers, a
 :class:`Figure1`), :func:`plot` (PNG and PDF), :func:`report` (Markdown);
@@ -37,6 +41,7 @@ import numpy as np
 from paper_figures._common import (
     figure_main,
     log_or_kaos_like,
+    outlier_records,
     require_varying_modes,
     save_png_pdf,
     shipped_log,
@@ -149,8 +154,9 @@ class Figure1:
         The typical frame (median total variance of the Zernike fitting error).
     typical, pooled, open_loop : Panel
         (a) per-frame orderings on ``frame``; (b) pooled orderings averaged over the
-        frames; (c) pooled orderings on ``open_loop_frames`` frames of the same
-        turbulence in open loop (synthetic ``kaos_like(closed_loop=False, seed=0)``).
+        frames; (c) pooled orderings on ``open_loop_frames`` frames of the synthetic
+        ``kaos_like(closed_loop=False, seed=0)``: the shipped logs' turbulence in open
+        loop, whatever the input log (not a user's log's turbulence).
     open_loop_frames : int
         Frames of the open-loop log.
     orthonormality : float
@@ -179,6 +185,15 @@ class Figure1:
         Size of the top set of that overlap.
     elapsed : float
         Time :func:`compute` took [s].
+    outliers : str
+        What the outlier policy did to a user's log (``paper_figures --log`` with
+        ``--outliers``: the policy, the counts, the action), stated in the report; ``""``
+        when none was applied (the shipped logs).
+    closed_loop : bool or None
+        The log's metadata says its coefficients are a closed loop's residual (True:
+        ``loop`` ``"closed"``, no ``coefficient_quantity`` ``"pol"``), not one (False:
+        an open loop or pseudo-open-loop coefficients) or nothing (None). A user's log
+        is called closed-loop in the report only when True.
     """
 
     source: str
@@ -204,6 +219,8 @@ class Figure1:
     consecutive_top_overlap: float
     consecutive_n_top: int
     elapsed: float
+    outliers: str = ""
+    closed_loop: bool | None = None
 
     @property
     def panels(self) -> tuple[Panel, Panel, Panel]:
@@ -230,7 +247,7 @@ def _typical_frame(log, basis) -> int:
     return int(np.argsort(total, kind="stable")[total.size // 2])
 
 
-def compute(log, *, source: str = "a modal log") -> Figure1:
+def compute(log, *, source: str = "a modal log", outliers: str | None = None) -> Figure1:
     """Figure 1's numbers from a modal log (and its open-loop panel (c)).
 
     Parameters
@@ -239,6 +256,9 @@ def compute(log, *, source: str = "a modal log") -> Figure1:
         The closed-loop log.
     source : str
         Description of the log used in the report's text.
+    outliers : str, optional
+        What the outlier policy did to ``log`` (``Figure1.outliers``); by default the
+        records of ``log.metadata["outliers"]``, if any.
 
     Returns
     -------
@@ -317,13 +337,29 @@ def compute(log, *, source: str = "a modal log") -> Figure1:
         consecutive_top_overlap=float(np.median(consecutive.window_top_overlap)),
         consecutive_n_top=int(consecutive.n_top),
         elapsed=time.perf_counter() - start,
+        outliers=outlier_records(log) if outliers is None else str(outliers),
+        closed_loop=_closed_loop(log),
     )
+
+
+def _closed_loop(log) -> bool | None:
+    """Return what the log's metadata says of its loop (``Figure1.closed_loop``)."""
+    meta = getattr(log, "metadata", None) or {}
+    if meta.get("coefficient_quantity") == "pol" or meta.get("loop") == "open":
+        return False
+    return True if meta.get("loop") == "closed" else None
+
+
+#: What panel (c) is: the package's open-loop log, not a user's log's turbulence.
+OPEN_LOOP_LOG = "`kaos_like(closed_loop=False, seed=0)`"
 
 
 def _titles(fig1: Figure1) -> list[str]:
     return [f"(a) typical frame {fig1.frame}",
             f"(b) average over {fig1.n_frames} frames",
-            f"(c) open loop, {fig1.open_loop_frames} frames"]
+            f"(c) open loop, {fig1.open_loop_frames} frames"
+            + ("" if shipped_log(fig1.source) is not None else
+               f" of the package's KAOS-like log {OPEN_LOOP_LOG}, not this log's turbulence")]
 
 
 def plot(fig1: Figure1, out_dir: Path, *, suffix: str = "") -> list[Path]:
@@ -337,9 +373,12 @@ def plot(fig1: Figure1, out_dir: Path, *, suffix: str = "") -> list[Path]:
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    # panel (c) is the package's open-loop log: "same turbulence" only beside the shipped
+    # log it was made for (round 33 PART b, B31)
+    same = "same turbulence" if shipped_log(fig1.source) is not None else "KAOS-like log"
     titles = [f"(a) typical frame {fig1.frame} (per-frame orderings)",
               f"(b) average over {fig1.n_frames} frames (pooled orderings)",
-              f"(c) open loop, same turbulence ({fig1.open_loop_frames} frames)"]
+              f"(c) open loop, {same} ({fig1.open_loop_frames} frames)"]
     fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
     for ax, panel, title in zip(axes, fig1.panels, titles, strict=True):
         plot_comparison(panel.comparison, ax, target=panel.target, title=title)
@@ -410,7 +449,6 @@ def report(fig1: Figure1, *, suffix: str = "") -> str:
         q1, q2, q3 = quart[name]
         many.append(f"| {LABELS[name]} | {q2:.0f} | {q1:.0f}-{q3:.0f} | "
                     f"{below[name]}/{len(fig1.sample_counts[name])} |")
-    med = {name: q[1] for name, q in quart.items()}
 
     stab_text = (
         f"**Stability of the MI-greedy Zernike order.** Pooled over windows of "
@@ -428,9 +466,57 @@ def report(fig1: Figure1, *, suffix: str = "") -> str:
            else "is fairly stable from frame to frame.")
     )
 
-    a, pooled_n, open_n = (fig1.typical.modes_at_target, fig1.pooled.modes_at_target,
-                           fig1.open_loop.modes_at_target)
-    reading = [
+    if shipped_log(fig1.source) is None:
+        reading = _user_reading(fig1)
+        targets = _user_targets(fig1)
+    else:
+        reading = _shipped_reading(fig1)
+        targets = (
+            "**Targets.** The paper's 0.4 waves^2 cannot be used as such: the whole residual "
+            "of this\nclosed-loop log is only "
+            f"{fig1.pooled.total:.2g} waves^2 on average\n({fig1.typical.total:.2g} on the "
+            "typical frame), so 0.4 waves^2 is \"reached\" with 0 modes\nby every ordering "
+            "(0.4 waves^2 = 16 rad^2 of residual would be an open loop, not a closed\none). "
+            "We therefore also use a calibrated target: the error at which the standard "
+            "Zernike\norder needs 20 modes on our data, the same place on the reference curve "
+            "as in the paper,\nand count how many modes the other orderings need there (the "
+            "paper's counts are 20, 15\nand 7).")
+    outliers = (f"\n**Outliers.** {fig1.outliers.rstrip('.')}.\n" if fig1.outliers else "")
+    return f"""## Figure 1: fitting error vs number of modes (MI reordering)
+
+![Figure 1]({output_names(suffix)[0]})
+
+Input: {fig1.source}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
+with Phi_ref the full {fig1.n_modes}-mode reconstruction, in waves^2 (64-pixel pupil; MI
+by the histogram estimator; per-frame orderings use every pixel of the frame, pooled
+orderings {POOLED_BUDGET} (frame, pixel) samples, seed 0). Curves: Zernike standard order
+(dotted blue), theoretical K-L in MI order (dashed green), Zernike in MI order (solid
+red), as in the paper; plus the data-PCA order (thin black, the mean-square floor of
+panels b and c; on one frame it is only the log's PCA order) and the Zernike a_k^2 order
+of the frame (grey dash-dot). Dots mark where each curve reaches the calibrated target
+(horizontal line).
+{outliers}
+{targets}
+
+{chr(10).join(sections)}
+**Per-frame orderings on {len(fig1.sample_frames)} frames** evenly spread through the log
+(calibrated target of each frame; modes needed):
+
+{chr(10).join(many)}
+
+{stab_text}
+
+**Reading.** {" ".join(reading)}
+
+_(computed in {fig1.elapsed:.1f} s)_
+"""
+
+
+def _common_reading(fig1: Figure1) -> list[str]:
+    """Return the Reading's sentences on this log's own panels (a) and the sample frames."""
+    a = fig1.typical.modes_at_target
+    med = {name: q[1] for name, q in fig1.sample_quartiles.items()}
+    return [
         f"On the typical frame the MI-ordered Zernikes need {a['zernike:mi_greedy']} modes "
         f"and the MI-ordered K-L {a['kl-theory:mi_greedy']} to reach the error the standard "
         f"order reaches with 20 (paper: 7 and "
@@ -447,6 +533,14 @@ def report(fig1: Figure1, *, suffix: str = "") -> str:
         + ("MI order does not beat it here."
            if med["zernike:mi_greedy"] >= med["zernike:variance"]
            else "MI order beats it here, which a non-orthonormal sampled basis allows."),
+    ]
+
+
+def _shipped_reading(fig1: Figure1) -> list[str]:
+    """Return the Reading of a shipped log (closed loop; panel (c) its turbulence, open)."""
+    pooled_n, open_n = fig1.pooled.modes_at_target, fig1.open_loop.modes_at_target
+    return [
+        *_common_reading(fig1),
         "Averaged over frames (pooled orderings) the orderings need "
         f"{min(pooled_n.values())}-{max(pooled_n.values())} modes (MI Zernike "
         f"{pooled_n['zernike:mi_greedy']}, MI K-L {pooled_n['kl-theory:mi_greedy']}, "
@@ -468,41 +562,61 @@ def report(fig1: Figure1, *, suffix: str = "") -> str:
         "total variance), which is why the spread over frames is given; and the MI "
         "estimator, its binning and the pupil sampling are ours.",
     ]
-    return f"""## Figure 1: fitting error vs number of modes (MI reordering)
 
-![Figure 1]({output_names(suffix)[0]})
 
-Input: {fig1.source}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
-with Phi_ref the full {fig1.n_modes}-mode reconstruction, in waves^2 (64-pixel pupil; MI
-by the histogram estimator; per-frame orderings use every pixel of the frame, pooled
-orderings {POOLED_BUDGET} (frame, pixel) samples, seed 0). Curves: Zernike standard order
-(dotted blue), theoretical K-L in MI order (dashed green), Zernike in MI order (solid
-red), as in the paper; plus the data-PCA order (thin black, the mean-square floor of
-panels b and c; on one frame it is only the log's PCA order) and the Zernike a_k^2 order
-of the frame (grey dash-dot). Dots mark where each curve reaches the calibrated target
-(horizontal line).
+def _kind(fig1: Figure1) -> str:
+    """``"closed-loop "`` when the user's log's metadata says so (``closed_loop``), else ``""``."""
+    return "closed-loop " if fig1.closed_loop else ""
 
-**Targets.** The paper's 0.4 waves^2 cannot be used as such: the whole residual of this
-closed-loop log is only {fig1.pooled.total:.2g} waves^2 on average
-({fig1.typical.total:.2g} on the typical frame), so 0.4 waves^2 is "reached" with 0 modes
-by every ordering (0.4 waves^2 = 16 rad^2 of residual would be an open loop, not a closed
-one). We therefore also use a calibrated target: the error at which the standard Zernike
-order needs 20 modes on our data, the same place on the reference curve as in the paper,
-and count how many modes the other orderings need there (the paper's counts are 20, 15
-and 7).
 
-{chr(10).join(sections)}
-**Per-frame orderings on {len(fig1.sample_frames)} frames** evenly spread through the log
-(calibrated target of each frame; modes needed):
+def _user_targets(fig1: Figure1) -> str:
+    """Return the Targets paragraph of a user's log: its own totals, no closed-loop claim.
 
-{chr(10).join(many)}
+    The shipped text called any ``--log`` "this closed-loop log" and said 0.4 waves^2 is
+    reached with 0 modes by every ordering, true of the shipped residual only (round 33
+    PART b, B31).
+    """
+    at_04 = fig1.typical.modes_at_paper_target
+    reached = (", so 0.4 waves^2 is \"reached\" with 0 modes by every ordering on the "
+               "typical frame" if not any(at_04.values()) else
+               f"; the orderings need {min(at_04.values())}-{max(at_04.values())} modes to "
+               "reach 0.4 waves^2 on the typical frame (table (a))")
+    return (f"**Targets.** The paper's 0.4 waves^2 is a level of its own VTT residual. The "
+            f"total variance dPhi(0) of this {_kind(fig1)}log is {fig1.pooled.total:.2g} "
+            f"waves^2 on average ({fig1.typical.total:.2g} on the typical frame){reached}. "
+            "We therefore also use a calibrated target: the error at which the standard "
+            "Zernike order needs 20 modes on this log, the same place on the reference "
+            "curve as in the paper, and count how many modes the other orderings need there "
+            "(the paper's counts are 20, 15 and 7).")
 
-{stab_text}
 
-**Reading.** {" ".join(reading)}
+def _user_reading(fig1: Figure1) -> list[str]:
+    """Return the Reading of a user's log: panel (c) named as the package's log.
 
-_(computed in {fig1.elapsed:.1f} s)_
-"""
+    Panel (c) is ``kaos_like(closed_loop=False, seed=0)`` whatever ``--log`` is: the
+    shipped text compared it with the user's log as "open loop (same turbulence)" and
+    concluded on the loop's effect from two unrelated logs (round 33 PART b, B31).
+    """
+    pooled_n, open_n = fig1.pooled.modes_at_target, fig1.open_loop.modes_at_target
+    return [
+        *_common_reading(fig1),
+        "Averaged over frames (pooled orderings) the orderings need "
+        f"{min(pooled_n.values())}-{max(pooled_n.values())} modes (MI Zernike "
+        f"{pooled_n['zernike:mi_greedy']}, MI K-L {pooled_n['kl-theory:mi_greedy']}, "
+        f"data-PCA floor {pooled_n['kl-data:pca']}, standard order "
+        f"{pooled_n['zernike:standard']}) on this {_kind(fig1)}log, whose mode variances "
+        f"span a factor {fig1.variance_spread:.1f} (max/min mean-square coefficient).",
+        f"Panel (c) is not this log's turbulence: it is the package's KAOS-like open-loop "
+        f"log {OPEN_LOOP_LOG} ({fig1.open_loop_frames} frames), shown for reference, where "
+        f"the MI-ordered theoretical K-L needs {open_n['kl-theory:mi_greedy']} modes and "
+        f"the data-PCA {open_n['kl-data:pca']}, against {open_n['zernike:standard']} for "
+        f"standard Zernikes (MI Zernikes {open_n['zernike:mi_greedy']}); its turbulence is "
+        "unrelated to this log's, so the two are not compared.",
+        "Differences from the paper's numbers are expected: this log is not the paper's "
+        "2008 VTT data; one \"typical\" frame is a choice (ours: median total variance), "
+        "which is why the spread over frames is given; and the MI estimator, its binning "
+        "and the pupil sampling are ours.",
+    ]
 
 
 def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:

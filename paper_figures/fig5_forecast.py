@@ -42,6 +42,7 @@ import numpy as np
 from paper_figures._common import (
     figure_main,
     log_or_kaos_like,
+    outlier_records,
     save_png_pdf,
     shipped_log,
     suffixed,
@@ -141,6 +142,9 @@ class Figure5:
         Seeds of ``paper_nn_gains`` (``PAPER_SEEDS``; ``quick``: ``QUICK_PAPER_SEEDS``).
     quick : bool
         Made with the reduced ``quick`` settings (a smoke run, numbers not the paper's).
+    outliers : str
+        What the outlier policy did to a user's log (the policy, the counts, the
+        action), stated in the report; ``""`` when none was applied (the shipped logs).
     """
 
     source: str
@@ -167,6 +171,7 @@ class Figure5:
     elapsed: float
     paper_nn_seeds: tuple = PAPER_SEEDS
     quick: bool = False
+    outliers: str = ""
 
     @property
     def n_evaluated(self) -> int:
@@ -222,7 +227,8 @@ class Figure5:
         return int(np.sum((y >= self.arma_interval_lower) & (y <= self.arma_interval_upper)))
 
 
-def compute(log, *, source: str = "a modal log", quick: bool = False) -> Figure5:
+def compute(log, *, source: str = "a modal log", quick: bool = False,
+            outliers: str | None = None) -> Figure5:
     """Figure 5's numbers from a modal log of at least :data:`MIN_FRAMES` frames.
 
     Parameters
@@ -234,6 +240,9 @@ def compute(log, *, source: str = "a modal log", quick: bool = False) -> Figure5
     quick : bool
         A smoke run, numbers not the paper's: the evaluation and the AIC orders on the
         first ``QUICK_MODES`` modes, the paper's NN over ``QUICK_PAPER_SEEDS``.
+    outliers : str, optional
+        What the outlier policy did to ``log`` (``Figure5.outliers``); by default the
+        records of ``log.metadata["outliers"]``, if any.
 
     Returns
     -------
@@ -316,6 +325,7 @@ def compute(log, *, source: str = "a modal log", quick: bool = False) -> Figure5
         elapsed=time.perf_counter() - start,
         paper_nn_seeds=tuple(seeds),
         quick=bool(quick),
+        outliers=outlier_records(log) if outliers is None else str(outliers),
     )
 
 
@@ -458,6 +468,8 @@ def _log_words(source: str) -> dict[str, str]:
 def report(fig5: Figure5, *, suffix: str = "") -> str:
     """Figure 5's section of the report (Markdown); the image is the ``suffix`` one."""
     what = _log_words(fig5.source)
+    # the policy and its counts, not only on stderr (round 33 PART b, B31)
+    outliers = f"\n**Outliers.** {fig5.outliers.rstrip('.')}.\n" if fig5.outliers else ""
     ev, label, units = fig5.evaluation, fig5.label, fig5.units
     ms, t_unit = fig5.frame_ms, fig5.t_unit
     rate_text = f"{fig5.rate:g} Hz" if fig5.rate else "an unknown rate (no --rate)"
@@ -511,7 +523,7 @@ Input: {fig5.source}, {fig5.n_frames} frames x {fig5.n_modes} modes at {rate_tex
 (1 frame = {ms:.3g} {t_unit}). Panels (a)-(c) show the first logged mode, **{label}**
 (tip): the paper's caption says "Zernike 1", which in Noll's numbering is piston, a mode
 no wavefront sensor measures, so we take the first mode the log contains.
-
+{outliers}
 - (a) Linear predictor x[n+1] = 2 x[n] - x[n-1], one-step predictions.
 - (b) ARMA(2,3) (Yule-Walker/Hannan-Rissanen + conditional least squares) fitted on frames
   0-{N_FIT - 1}; {H_ARMA}-step forecast of frames {N_FIT}-{N_FIT + H_ARMA - 1} from the end of

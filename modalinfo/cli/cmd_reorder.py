@@ -319,6 +319,20 @@ def refuse_frame_with_drop(args: argparse.Namespace) -> None:
                            "the frames; use --outliers clip (or warn) with --frame")
 
 
+def _gap_purpose(blocks: bool, stability: int | None) -> tuple[str, str]:
+    """``(purpose, verb)`` of ``split_gaps``: what needs equally spaced frames here.
+
+    Named from the options that do: "the block bootstrap and --stability windows needs"
+    named both whatever ran, with the verb of neither (round 33 PART b).
+    """
+    boot, windows = "the block bootstrap of the gains (--resamples)", "the --stability windows"
+    if blocks and stability is not None:
+        return f"{boot} and {windows}", "need"
+    if stability is not None:
+        return windows, "need"
+    return (boot if blocks else "this ordering"), "needs"  # else: only --split-gaps asked
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Fill the ``reorder`` parser."""
     add_common_arguments(parser)
@@ -344,7 +358,9 @@ EPILOG = """\
 columns of the table:
   step     rank in the order (1 = most important); '~' before it: this rank is within
            noise of the rank above (the bootstrap interval of the margin by which the
-           rank above won reaches 0), so their order is not determined
+           rank above won reaches 0), so their order is not determined; with
+           --resamples 0 (and --method variance/pca) noise is not assessed, no rank is
+           marked and adjacent ranks may swap within sampling noise (the legend says so)
   score    I(Phi_ref; a_k Z_k): MI of the wavefront with this mode alone [nats]
            (mean-square coefficient [rad^2] for --method variance/pca)
   MI       I(Phi_ref; sum of the modes up to this step) [nats]
@@ -422,7 +438,7 @@ def run(args: argparse.Namespace) -> int:
     if blocks or args.stability is not None or args.split_gaps:
         # lags=blocks: frames --nonfinite drop removed from a log without a time axis are
         # refused for the bootstrap, whose blocks would join frames that were not adjacent
-        log = split_gaps(log, args, args.log, "the block bootstrap and --stability windows",
+        log = split_gaps(log, args, args.log, *_gap_purpose(blocks, args.stability),
                          lags=blocks)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
     # frames only shorten it
@@ -454,9 +470,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.basis} basis, {args.method} order ({where}"
           + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
              if result.mi is not None else "") + ")")
-    print(result.legend())
+    print(result.legend(resamples="--resamples"))
     print(result.table())
-    for note in result.notes():
+    for note in result.notes(resamples="--resamples"):
         print(note)
     if result.gain_low is not None:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "

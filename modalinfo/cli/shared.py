@@ -25,6 +25,7 @@ __all__ = [
     "add_hint_arguments",
     "add_outlier_argument",
     "apply_outliers",
+    "describe_outliers",
     "refuse_outlier_drop",
     "add_gap_argument",
     "hints_from_args",
@@ -244,17 +245,29 @@ def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bo
         text = str(exc).replace("`policy`='raise': ", "").rstrip(".")
         raise CommandError(f"--outliers {policy}: '{Path(path).name}': {text}") from None
     if not report.clean:
-        action = new.metadata["outliers"][-1]["action"]
-        if policy == "warn":
-            action = ("used as is (--outliers clip replaces the outliers, drop removes the "
-                      "frames, raise refuses the log)")
         queued = getattr(args, "_notes", None)
         if queued is None:
             queued = []
             args._notes = queued
         queued.append(f"modalinfo {args.command}: warning: '{Path(path).name}': "
-                      f"{report.describe()}; {action}")
+                      f"{describe_outliers(new, report, policy)}")
     return new, report
+
+
+def describe_outliers(new, report, policy: str) -> str:
+    """One line: what the quality pass flagged and what ``--outliers policy`` did.
+
+    ``new`` and ``report`` are :func:`apply_outliers`' results; its stderr line and the
+    reports that state the policy (``paper_figures``' Figures 1 and 5 on a ``--log``:
+    round 33 PART b, B31) say the same words.
+    """
+    if report.clean:
+        return f"{report.describe()}; nothing to act on"
+    action = new.metadata["outliers"][-1]["action"]
+    if policy == "warn":
+        action = ("used as is (--outliers clip replaces the outliers, drop removes the "
+                  "frames, raise refuses the log)")
+    return f"{report.describe()}; {action}"
 
 
 def add_gap_argument(parser: argparse.ArgumentParser) -> None:
@@ -504,9 +517,12 @@ def _ordinal(k: int) -> str:
     return f"{k}{tail}"
 
 
-def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, *,
-               lags: bool = True):
+def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, verb: str = "needs",
+               *, lags: bool = True):
     """Refuse a log whose timestamps have gaps, or keep its longest segment (``--split-gaps``).
+
+    ``purpose`` (what needs equally spaced frames) is followed by ``verb``: ``"need"``
+    after a plural ("Figures 1 and 5 need").
 
     With ``lags`` (forecasting) frames that ``--nonfinite drop`` removed from a log
     without a time axis are refused too (their neighbours would be taken as consecutive).
@@ -531,7 +547,7 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, *,
             + (f"{s.n_gaps} timestamp gap(s), the first of {s.describe_gap(0)}"
                if s.n_short == 0 else f"in its timestamps {s.describe_irregular()}")
             + "; "
-            f"{purpose} needs equally spaced frames: pass --split-gaps to analyse the "
+            f"{purpose} {verb} equally spaced frames: pass --split-gaps to analyse the "
             f"longest contiguous segment (frames {a}..{b - 1})"
         )
     queue_notes(args, [f"--split-gaps: analysed frames {a}..{b - 1} ({b - a} of "

@@ -207,6 +207,31 @@ class OrderingResult:
         return tied
 
     @property
+    def noise_assessed(self) -> bool:
+        """True when a bootstrap assessed the order's noise (``margin_low`` is set).
+
+        Without it (``n_resamples`` 0, or ``"variance"`` / ``"pca"``, whose scores are
+        not resampled) no rank can be marked within noise of the rank above: adjacent
+        ranks whose scores are close may swap on another sample of the same turbulence
+        (round 33 PART b, B46: an order of two equal-variance modes read as determined).
+        ``"standard"`` is a convention, not an estimate: False here too, and nothing to
+        assess (:meth:`legend` says so).
+        """
+        return self.margin_low is not None
+
+    def _unassessed(self, resamples: str) -> str | None:
+        """Why the order's noise was not assessed, in the words of ``resamples``, or None."""
+        if self.noise_assessed or self.method == "standard":
+            return None
+        if self.method in ("variance", "pca"):
+            return (f"noise not assessed (--method {self.method} has no bootstrap): adjacent "
+                    "ranks whose scores are close may swap within sampling noise")
+        why = (f"{resamples} 0: no bootstrap" if self.n_resamples == 0
+               else "no bootstrap bounds of the margins between ranks")  # e.g. a hand-made result
+        return (f"noise not assessed ({why}): adjacent ranks may swap within sampling noise, "
+                "and no rank is marked '~'")
+
+    @property
     def gain_outside_interval(self) -> np.ndarray | None:
         """``(M,)`` True where the gain lies outside its own bootstrap interval, or None.
 
@@ -282,6 +307,9 @@ class OrderingResult:
         out = {"format": _FORMAT}
         for f in fields(self):
             out[f.name] = _to_jsonable(getattr(self, f.name))
+        # derived, for a reader of the file: an order without a bootstrap is not marked
+        # where it is within noise (round 33 PART b, B46); from_dict ignores it
+        out["noise_assessed"] = self.noise_assessed
         return out
 
     def to_json(self, path: str | Path, overwrite: bool = False,
@@ -349,11 +377,28 @@ class OrderingResult:
             raise ValueError(f"`path` '{path}' is not valid JSON: {exc}") from exc
         return cls.from_dict(data)
 
-    def legend(self) -> str:
-        """Return the explanation of the columns of :meth:`table`, one line each."""
+    def legend(self, resamples: str = "n_resamples") -> str:
+        """Return the explanation of the columns of :meth:`table`, one line each.
+
+        Parameters
+        ----------
+        resamples : str
+            How the caller names the number of bootstrap replicates (``modalinfo
+            reorder`` passes ``"--resamples"``), in the line that says the order's noise
+            was not assessed.
+        """
         level = f"{100 * self.confidence_level:.0f}%"
-        lines = ["step: rank in the order (1 = most important); '~' before it: within "
-                 "noise of the rank above (their order is not determined)"]
+        unassessed = self._unassessed(resamples)
+        if self.method == "standard":
+            lines = ["step: rank in the order (1 = most important; the standard order is "
+                     "a convention, not an estimate)"]
+        elif unassessed is not None:
+            # no '~' can appear: the legend said it marks ties, and the order read as
+            # fully determined (round 33 PART b, B46 / B48 / B49)
+            lines = [f"step: rank in the order (1 = most important); {unassessed}"]
+        else:
+            lines = ["step: rank in the order (1 = most important); '~' before it: within "
+                     "noise of the rank above (their order is not determined)"]
         if self.scores is not None:
             if self.method in ("variance", "pca"):
                 lines.append("score: mean-square coefficient of the mode [rad^2]")
@@ -370,9 +415,20 @@ class OrderingResult:
                          "gain lies outside it (see the note below the table)")
         return "\n".join(lines)
 
-    def notes(self) -> list[str]:
-        """Footnotes for :meth:`table` (ties and gains outside their interval)."""
+    def notes(self, resamples: str = "n_resamples") -> list[str]:
+        """Footnotes for :meth:`table` (ties, gains outside their interval, noise not assessed).
+
+        ``resamples`` names the replicates as in :meth:`legend`.
+        """
         out = []
+        unassessed = self._unassessed(resamples)
+        if unassessed is not None and self.n_modes > 1:
+            from modalinfo.information.resampling import least_tail_replicates
+
+            least = least_tail_replicates(self.confidence_level)
+            more = (f"; {resamples} {least} or more marks the ranks within noise of the "
+                    "rank above" if self.method.startswith("mi_") else "")
+            out.append(f"{unassessed[0].upper()}{unassessed[1:]}{more}.")
         outside = self.gain_outside_interval
         if outside is not None and outside.any():
             steps = ", ".join(str(s + 1) for s in np.flatnonzero(outside))

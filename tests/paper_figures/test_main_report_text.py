@@ -387,7 +387,8 @@ def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_pat
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"paper_figures: error: --log: '{log}' has 1 timestamp gap(s), ")
-    assert err.endswith("; Figures 1 and 5 needs equally spaced frames: pass --split-gaps to "
+    # the chosen figure, with its verb ("Figures 1 and 5 needs" whatever --only chose)
+    assert err.endswith("; Figure 1 needs equally spaced frames: pass --split-gaps to "
                         "analyse the longest contiguous segment (frames 0..149)\n")
     assert main(["--only", "1", "--log", str(log), "--split-gaps",
                  "--out", str(tmp_path / "o")]) == 0

@@ -38,6 +38,7 @@ import modalinfo.ordering.compare
 import modalinfo.telemetry.synthetic
 from modalinfo.telemetry import ModalLog
 from paper_figures import fig1_fitting_error as fig1
+from paper_figures._common import SYNTHETIC_SOURCE
 
 NAMES = ("zernike:standard", "kl-theory:mi_greedy", "zernike:mi_greedy", "kl-data:pca",
          "zernike:variance")
@@ -267,9 +268,9 @@ COUNTS = {
 
 
 def _figure(consecutive=0.5, typical_cal=(20, 14, 6, 12, 5), pooled_cal=(20, 17, 18, 16, 19),
-            open_cal=(20, 8, 14, 7, 13), counts=None):
+            open_cal=(20, 8, 14, 7, 13), counts=None, source="`my.npz`", **more):
     return fig1.Figure1(
-        source="`my.npz`", n_frames=120, n_modes=21, frame=115,
+        source=source, n_frames=120, n_modes=21, frame=115,
         typical=_panel(0.0523, 0.0025, (0, 0, 0, 0, 0), typical_cal),
         pooled=_panel(0.047, 0.0031, (0, 0, 1, 0, 0), pooled_cal),
         open_loop=_panel(3.2, 0.8, (23, 17, 19, 16, 21), open_cal),
@@ -278,7 +279,7 @@ def _figure(consecutive=0.5, typical_cal=(20, 14, 6, 12, 5), pooled_cal=(20, 17,
         stability_window_duration=1.0, window_spearman=0.21, window_kendall=0.14,
         window_top_overlap=0.6875, n_top=4, seed_spearman=0.87,
         consecutive_spearman=consecutive, consecutive_top_overlap=0.3, consecutive_n_top=3,
-        elapsed=12.34)
+        elapsed=12.34, **more)
 
 
 def test_quartiles_and_below():
@@ -327,6 +328,7 @@ def _section(title, total, target, pct, paper, cal):
 
 
 def test_report_word_for_word():
+    # the shipped log's text (a user's log has its own Targets and Reading: below)
     sections = "\n".join([
         _section("(a) typical frame 115", "0.0523", "0.0025", "4.8", (0, 0, 0, 0, 0),
                  (20, 14, 6, 12, 5)),
@@ -339,7 +341,7 @@ def test_report_word_for_word():
 
 ![Figure 1](fig1_fitting_error_sim.png)
 
-Input: `my.npz`. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
+Input: {SYNTHETIC_SOURCE}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
 with Phi_ref the full 21-mode reconstruction, in waves^2 (64-pixel pupil; MI
 by the histogram estimator; per-frame orderings use every pixel of the frame, pooled
 orderings 100000 (frame, pixel) samples, seed 0). Curves: Zernike standard order
@@ -398,14 +400,15 @@ estimator, its binning and the pupil sampling are ours.
 
 _(computed in 12.3 s)_
 """
-    assert fig1.report(_figure(), suffix="_sim") == expected
+    assert fig1.report(_figure(source=SYNTHETIC_SOURCE), suffix="_sim") == expected
 
 
 def test_report_other_branches():
     # stable consecutive orders (0.8 is "fairly stable"); MI beats a_k^2 (median 8 < 9 of
     # a_k^2 with MI Zernike counts 8); the K-L advantage equal in open and closed loop
     counts = dict(COUNTS, **{"zernike:mi_greedy": (8,) * 15, "zernike:variance": (9,) * 15})
-    text = fig1.report(_figure(consecutive=0.8, open_cal=(20, 17, 14, 7, 13), counts=counts))
+    text = fig1.report(_figure(consecutive=0.8, open_cal=(20, 17, 14, 7, 13), counts=counts,
+                               source=SYNTHETIC_SOURCE))
     assert ("from one frame to the next, so a per-frame MI ordering is fairly stable from "
             "frame to frame.\n") in text
     assert ("a per-frame reordering has to beat: MI order beats it here, which a "
@@ -444,7 +447,7 @@ def drawn(tmp_path_factory):
     mp.setattr(Figure, "savefig", recording)
     mp.setattr(modalinfo.ordering.compare, "plot_comparison", plot_comparison)
     try:
-        f = _figure()
+        f = _figure(source=SYNTHETIC_SOURCE)
         paths = fig1.plot(f, out, suffix="_sim")
     finally:
         mp.undo()
