@@ -26,7 +26,12 @@ sample ``n`` use the parameters in force when it arrived; the new ones apply fro
 sample ``n + 1``. Online, a ring buffer of the last ``W`` samples is kept only when
 a refit policy is set; the per-step cost is otherwise constant and the refit cost is
 paid once every ``R`` steps. ``predict`` replays the same schedule, so both paths
-still agree exactly.
+still agree exactly. The recursion's state carries over a refit whose parameters keep
+its layout (every fixed order); where a refit changes it (ARMA with ``order="aic"`` or
+``"bic"`` selecting other p, q), the state is rebuilt by feeding the window, the
+samples the refit saw, through the new recursion from the reset state (adversarial
+round 34 PART a: the old layout was kept, and the kernel read it wrongly or wrote past
+its end).
 """
 
 from __future__ import annotations
