@@ -26,7 +26,12 @@ sample ``n`` use the parameters in force when it arrived; the new ones apply fro
 sample ``n + 1``. Online, a ring buffer of the last ``W`` samples is kept only when
 a refit policy is set; the per-step cost is otherwise constant and the refit cost is
 paid once every ``R`` steps. ``predict`` replays the same schedule, so both paths
-still agree exactly.
+still agree exactly. The recursion's state carries over a refit whose parameters keep
+its layout (every fixed order); where a refit changes it (ARMA with ``order="aic"`` or
+``"bic"`` selecting other p, q), the state is rebuilt by feeding the window, the
+samples the refit saw, through the new recursion from the reset state (adversarial
+round 34 PART a: the old layout was kept, and the kernel read it wrongly or wrote past
+its end).
 """
 
 from __future__ import annotations
@@ -485,7 +490,7 @@ class Predictor:
             if (refit is not None and run.n_seen % refit == 0
                     and run.n_seen >= self.window_):
                 window_data = np.ascontiguousarray(X[stop - self.window_:stop])
-                run.params = self._fit_params(window_data, run.params, name)
+                self._refit_run(run, window_data, name)
                 refits.append((run.n_seen - 1, run.params))
             start = stop
         return refits
@@ -625,13 +630,33 @@ class Predictor:
             self._online_refit(run, x)
         return run.out[0, :, 0].copy() if scalar else run.out[0].copy()
 
+    def _refit_run(self, run: _Run, window_data: np.ndarray, name: str) -> None:
+        """Refit ``run``'s parameters on ``window_data`` and keep its state valid for them.
+
+        Where the new parameters keep the state's layout (a fixed order: every built-in
+        predictor but ARMA with ``order="aic"`` / ``"bic"``), the recursion carries on
+        from its state, bit for bit as before. Where they change it (the selected p, q
+        of an ARMA refit), the state is rebuilt by feeding the window, the samples the
+        refit saw, through the new recursion from the reset state: the old state was
+        too short (the kernel wrote past its end: heap corruption, "malloc(): unaligned
+        tcache chunk detected") or laid out for other orders (old AR lags read as
+        innovations; adversarial round 34 PART a, L01-L02).
+        """
+        run.params = self._fit_params(window_data, run.params, name)
+        fresh = self._init_state(run.params, run.horizon)
+        if all(np.shape(fresh[key]) == np.shape(run.state[key]) for key in fresh):
+            return
+        scratch = np.zeros((0, run.horizon, window_data.shape[1]))
+        self._filter(run.params, fresh, window_data, scratch, run.status)
+        run.state = fresh
+
     def _online_refit(self, run: _Run, x: np.ndarray) -> None:
         W = run.ring.shape[0]
         run.ring[run.ring_pos] = x[0]
         run.ring_pos = (run.ring_pos + 1) % W
         if run.n_seen % self.refit_every == 0 and run.n_seen >= W:
             window_data = np.concatenate([run.ring[run.ring_pos:], run.ring[:run.ring_pos]])
-            run.params = self._fit_params(window_data, run.params, "x_t")
+            self._refit_run(run, window_data, "x_t")
             run.step = self._step_function(run.params, run.state, run.out, run.status)
 
 

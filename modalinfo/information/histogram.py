@@ -367,6 +367,20 @@ class HistogramEngine:
         num, norm = kern.centred_dot_and_norm(self._xu, unit_scaled(y))
         return num / norm if norm > 0 else 0.0
 
+    def resolution_options(self, y: np.ndarray) -> dict[str, Any] | None:
+        """Return the rule-chosen bins per axis ``score(y)`` uses, as bias-rule options.
+
+        None for a bin number the caller chose (judged at ``fit``, ``_warn_cells``),
+        and for rule-chosen bins of at least ``MIN_BINS`` per axis: only their
+        coarseness is judged here (fewer than 4 at n <= ~22), since the rule's cap
+        ``ceil(sqrt(n))`` puts k^2 above n by design as |r| -> 1, where the copula rule
+        (``histogram_copula_rule``) judges the estimate instead.
+        """
+        if self.bins not in ("hacine-gharbi", "auto"):
+            return None
+        k = n_bins_for(self.bins, y, r=self._corr(y))
+        return {"bins": k} if k < MIN_BINS else None
+
     def score(self, y: np.ndarray) -> float:
         """I(x; y) in nats for the fitted x (``y`` validated, 1-D, same length)."""
         ay = _Axis(y, "quantile") if self.binning == "quantile" else None

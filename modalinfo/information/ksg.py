@@ -290,6 +290,10 @@ class KSGEngine:
         self._x_levels = discrete_x_levels(x)  # None unless x may be one side of a table
         return self
 
+    def resolution_options(self, y: np.ndarray) -> dict[str, Any]:
+        """Return the options of the resolution in use, for ``ksg_bias_rule``."""
+        return {"k": self.k}
+
     def score(self, y: np.ndarray) -> float:
         """KSG-1 estimate in nats (y validated, same length, not constant).
 

@@ -11,6 +11,7 @@ plug-in entropy -sum p ln p of a discrete sample's own frequencies (numpy.unique
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -204,7 +205,13 @@ def test_noisy_curves_and_random_pairs_are_estimated_not_refused(normal, method)
     for n in (10, 11, 50, 101, 400, 401):
         for _ in range(20):
             a, b = rng.standard_normal((2, n))
-            assert math.isfinite(mutual_information(a, b, method=method))
+            with warnings.catch_warnings():
+                # the histogram's rule-chosen bins at n = 10, 11 (3 per axis on most
+                # pairs) fail its bias rule: estimated and said (round 34 PART a, S01:
+                # +0.21 nats on independent pairs of 10); any other warning still fails
+                warnings.filterwarnings("ignore", ".*bins per axis.*swamps",
+                                        BiasRuleWarning)
+                assert math.isfinite(mutual_information(a, b, method=method))
 
 
 @pytest.mark.parametrize("method", METHODS)
