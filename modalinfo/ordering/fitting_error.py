@@ -82,7 +82,7 @@ class PupilSamplingWarning(UserWarning):
     """The fitting error of continuous modes is that of their samples on a coarse pupil.
 
     Issued by :func:`fitting_error` when the coefficients are of Zernike or K-L modes
-    (continuous functions, a log's or a :class:`ZernikeBasis` / :class:`KLBasis`'s), the
+    (continuous functions, a log's or a ``ZernikeBasis`` / ``KLBasis``'s), the
     basis sampled on the pupil pixels is not orthonormal (max |gram - I| > 1e-2) and the
     pixel answer differs from the sum of squares of the coefficients (Parseval, the
     continuous modes' answer) by more than 1 % somewhere on the curve.
@@ -429,8 +429,8 @@ def _check_square_floor(a: np.ndarray, total: np.ndarray) -> None:
 def _continuous_zernikes(obj: Any) -> np.ndarray | None:
     """Noll indices of the Zernikes behind the modes, when they are continuous; else None.
 
-    A log's Zernike columns, a (not orthonormalised) :class:`ZernikeBasis` and a K-L
-    basis describe continuous modes; a bare matrix or another :class:`ModalBasis` holds
+    A log's Zernike columns, a (not orthonormalised) ``ZernikeBasis`` and a K-L
+    basis describe continuous modes; a bare matrix or another ``ModalBasis`` holds
     its own samples, whose pixel answer is the exact one.
     """
     if obj is None or getattr(obj, "orthonormalized", False):
