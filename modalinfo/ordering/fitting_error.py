@@ -83,7 +83,7 @@ class PupilSamplingWarning(UserWarning):
 
     Issued by :func:`fitting_error` when the coefficients are of Zernike or K-L modes
     (continuous functions, a log's or a ``ZernikeBasis`` / ``KLBasis``'s), the
-    basis sampled on the pupil pixels is not orthonormal (max |gram - I| > 1e-2) and the
+    basis sampled on the pupil pixels is not orthonormal (``max |gram - I| > 1e-2``) and the
     pixel answer differs from the sum of squares of the coefficients (Parseval, the
     continuous modes' answer) by more than 1 % somewhere on the curve.
 
@@ -92,7 +92,7 @@ class PupilSamplingWarning(UserWarning):
     n_pixels : int
         Pupil grid size across [pixels].
     gram_deviation : float
-        max |gram - I| of the sampled basis.
+        ``max |gram - I|`` of the sampled basis.
     difference : float
         Largest relative difference pixels vs Parseval over the curve, signed.
     n_at : int
@@ -209,7 +209,7 @@ class FittingErrorResult:
     band_frames : int or None
         Number of frames the bands were computed from (None: every frame).
     gram_deviation : float
-        max |gram - I| of the (ordered) basis on the pupil pixels (0: orthonormal).
+        ``max |gram - I|`` of the (ordered) basis on the pupil pixels (0: orthonormal).
     parseval_difference : float
         Largest relative difference ``(dPhi(n) - P(n)) / P(n)`` over n = 0..M-1 between
         the curve returned and the Parseval curve ``P(n)`` (the sum of the dropped
