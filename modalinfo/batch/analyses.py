@@ -324,13 +324,17 @@ def _no_cost_note() -> Iterator[None]:
     not the batch settings (``ordering.budget``), and a worker's warning reaches no
     one; the batch refuses a plan past its hour before any work (``_ordering``).
     ``KLGeometryWarning``: the row's ``kl_assumed`` column says it (``_kl_assumed``).
+    ``PupilSamplingWarning``: the row's ``parseval_difference.<ordering>`` columns hold
+    it (``_fitting_error``; fix33-a).
     """
     from modalinfo.ordering.compare import KLGeometryWarning
     from modalinfo.ordering.cost import OrderingCostWarning
+    from modalinfo.ordering.fitting_error import PupilSamplingWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", OrderingCostWarning)
         warnings.simplefilter("ignore", KLGeometryWarning)
+        warnings.simplefilter("ignore", PupilSamplingWarning)
         yield
 
 
@@ -418,6 +422,10 @@ def _fitting_error(log: Any, p: dict) -> dict:
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes),
                            "total_variance": float(comp.curve(comp.entries[0])[0]), **assumed}
     for e in comp.entries:
+        # the sampled pupil's curve against the continuous modes' sum of squares (signed
+        # relative, its largest over n; 0 for an orthonormal basis): fitting_error's
+        # PupilSamplingWarning, which reaches no one from a worker
+        row[f"parseval_difference.{e.name}"] = float(e.error.parseval_difference)
         if p["target"] is not None:
             row[f"modes_to_target.{e.name}"] = e.error.modes_to_reach(float(p["target"]))
         if p["fraction"] is not None:

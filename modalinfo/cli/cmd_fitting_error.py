@@ -62,7 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 GRAM_NOTE = 0.1
 
 
-def _sampling_note(args: argparse.Namespace, log) -> None:
+def _sampling_note(args: argparse.Namespace, log) -> bool:
     """Note on stderr when ``--pupil-pixels`` samples the log's Zernikes far from orthonormal.
 
     At 16 pixels a log's total variance came out 6 % and dPhi(20) 12 % above the sums of
@@ -75,7 +75,7 @@ def _sampling_note(args: argparse.Namespace, log) -> None:
     from modalinfo.cli.shared import queue_notes
 
     if log.convention not in ("noll", "ansi", "fringe"):
-        return
+        return False
     n, m = getattr(indexing, f"{log.convention}_to_zernike")(np.asarray(log.modes))
     matrix = np.asarray(ZernikeBasis(Pupil(args.pupil_pixels),
                                      modes=indexing.zernike_to_noll(n, m).tolist()).matrix)
@@ -87,6 +87,27 @@ def _sampling_note(args: argparse.Namespace, log) -> None:
             f"(Gram eigenvalues {eig[0]:.3g}-{eig[-1]:.3g}): the fitting errors are the "
             f"sampled pupil's and may differ from the continuous ones by up to "
             f"{100 * worst:.0f} %; a larger --pupil-pixels (64: within 7 %) brings them closer"])
+        return True
+    return False
+
+
+def _pupil_sampling_note(args: argparse.Namespace, caught: list) -> None:
+    """One note for the library's ``PupilSamplingWarning`` s (one per basis), the worst.
+
+    Said in the command's words (``--pupil-pixels``), once, and not when
+    :func:`_sampling_note` already said the sampled Zernikes are far from orthonormal.
+    """
+    from modalinfo.cli.shared import queue_notes
+
+    if not caught:
+        return
+    w = max(caught, key=lambda c: abs(c.difference))
+    queue_notes(args, [
+        f"on a {w.n_pixels}-pixel pupil the sampled bases are not orthonormal (max |gram - I| "
+        f"{max(c.gram_deviation for c in caught):.2g}): the fitting errors are the sampled "
+        f"pupil's, up to {100 * w.difference:+.1f} % (at {w.n_at} modes) from the sums of the "
+        f"squared coefficients of the continuous modes; --pupil-pixels "
+        f"{max(c.suggested_pixels for c in caught)} brings the Gram error below 0.01"])
 
 
 def run(args: argparse.Namespace) -> int:
@@ -99,6 +120,7 @@ def run(args: argparse.Namespace) -> int:
         plot_comparison,
     )
     from modalinfo.ordering.cost import OrderingCostWarning
+    from modalinfo.ordering.fitting_error import PupilSamplingWarning
 
     if args.estimator is None:  # the shared option's default (None lets reorder tell it was given)
         args.estimator = "histogram"
@@ -118,22 +140,29 @@ def run(args: argparse.Namespace) -> int:
                             zernike=any(b != "file" for b, _ in specs))
     check_window_and_frame(args, log)
     check_pupil_memory(args, log)
-    if any(b in ("zernike", "kl-theory") for b, _ in specs):
-        _sampling_note(args, log)
+    noted = any(b in ("zernike", "kl-theory") for b, _ in specs) and _sampling_note(args, log)
     check_mi_time(args, log, n_orderings=sum(str(m).startswith("mi_") for _, m in specs))
     log, _ = apply_outliers(log, args, args.log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance, \
-            warnings.catch_warnings():
+            warnings.catch_warnings(record=True) as caught:
         # check_mi_time said the estimate in flags: the library's words are not repeated
         warnings.simplefilter("ignore", OrderingCostWarning)
         # kl_geometry_note says it in the command's words (--outer-scale M)
         warnings.simplefilter("ignore", KLGeometryWarning)
+        # said once below in the command's words (--pupil-pixels), not once per basis
+        warnings.simplefilter("always", PupilSamplingWarning)
         comp = compare_orderings(
             log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
             sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
             outer_scale=args.outer_scale, bases=bases, progress=advance,
         )
+    sampled = [w.message for w in caught if isinstance(w.message, PupilSamplingWarning)]
+    for w in caught:  # every other warning as the dispatcher would have shown it
+        if not isinstance(w.message, PupilSamplingWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if not noted:
+        _pupil_sampling_note(args, sampled)
     if any(b == "kl-theory" for b, _ in specs):  # after the refusals (one line each)
         kl_geometry_note(args, log)
     targets = [args.target] if args.target is not None else []

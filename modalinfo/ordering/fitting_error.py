@@ -35,6 +35,7 @@ and exact, as before.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -58,7 +59,7 @@ from modalinfo.ordering._coefficients import (
 )
 from modalinfo.telemetry.units import unit_scale
 
-__all__ = ["FittingErrorResult", "fitting_error", "check_order"]
+__all__ = ["FittingErrorResult", "PupilSamplingWarning", "fitting_error", "check_order"]
 
 _UNITS = ("rad2", "waves2")
 _METHODS = ("auto", "parseval", "gram", "pixels")
@@ -68,6 +69,46 @@ _PERCENTILES = (5.0, 25.0, 50.0, 75.0, 95.0)
 _KEEP_ELEMENTS = 1 << 25
 #: frames of the percentile bands when the per-frame curves are not kept (module notes)
 _BAND_FRAMES = 20_000
+#: Gram error (max |gram - I|) and relative curve difference (pixels vs Parseval) above
+#: which a fitting error of continuous modes warns that it is the sampled pupil's
+_SAMPLING_TOL = 1e-2
+#: Exponent of the Gram error's fall with the grid size N: max |gram - I| of Noll Zernikes
+#: 2..28 and 2..66 times N^1.5 stays within 13-34 from 32 to 384 pixels (fix33-a), so the
+#: grid that brings it below ``_SAMPLING_TOL`` is about N (error / tol)^(1 / 1.5)
+_GRAM_FALL = 1.5
+
+
+class PupilSamplingWarning(UserWarning):
+    """The fitting error of continuous modes is that of their samples on a coarse pupil.
+
+    Issued by :func:`fitting_error` when the coefficients are of Zernike or K-L modes
+    (continuous functions, a log's or a ``ZernikeBasis`` / ``KLBasis``'s), the
+    basis sampled on the pupil pixels is not orthonormal (``max |gram - I| > 1e-2``) and the
+    pixel answer differs from the sum of squares of the coefficients (Parseval, the
+    continuous modes' answer) by more than 1 % somewhere on the curve.
+
+    Attributes
+    ----------
+    n_pixels : int
+        Pupil grid size across [pixels].
+    gram_deviation : float
+        ``max |gram - I|`` of the sampled basis.
+    difference : float
+        Largest relative difference pixels vs Parseval over the curve, signed.
+    n_at : int
+        The number of modes n where it is reached.
+    suggested_pixels : int
+        Grid size at which the Gram error is expected below 1e-2.
+    """
+
+    def __init__(self, message: str, *, n_pixels: int = 0, gram_deviation: float = 0.0,
+                 difference: float = 0.0, n_at: int = 0, suggested_pixels: int = 0) -> None:
+        super().__init__(message)
+        self.n_pixels = n_pixels
+        self.gram_deviation = gram_deviation
+        self.difference = difference
+        self.n_at = n_at
+        self.suggested_pixels = suggested_pixels
 
 
 def check_order(order: Any, n_modes: int, name: str = "order",
@@ -167,6 +208,13 @@ class FittingErrorResult:
         Computation used: ``"parseval"``, ``"gram"`` or ``"pixels"``.
     band_frames : int or None
         Number of frames the bands were computed from (None: every frame).
+    gram_deviation : float
+        ``max |gram - I|`` of the (ordered) basis on the pupil pixels (0: orthonormal).
+    parseval_difference : float
+        Largest relative difference ``(dPhi(n) - P(n)) / P(n)`` over n = 0..M-1 between
+        the curve returned and the Parseval curve ``P(n)`` (the sum of the dropped
+        coefficients' squares, the answer for continuous orthonormal modes), signed; 0
+        when the method is ``"parseval"``.
     """
 
     per_frame: np.ndarray | None
@@ -179,6 +227,8 @@ class FittingErrorResult:
     units: str
     method: str
     band_frames: int | None = None
+    gram_deviation: float = 0.0
+    parseval_difference: float = 0.0
 
     @property
     def n_frames(self) -> int:
@@ -376,6 +426,93 @@ def _check_square_floor(a: np.ndarray, total: np.ndarray) -> None:
         )
 
 
+def _continuous_zernikes(obj: Any) -> np.ndarray | None:
+    """Noll indices of the Zernikes behind the modes, when they are continuous; else None.
+
+    A log's Zernike columns, a (not orthonormalised) ``ZernikeBasis`` and a K-L
+    basis describe continuous modes; a bare matrix or another ``ModalBasis`` holds
+    its own samples, whose pixel answer is the exact one.
+    """
+    if obj is None or getattr(obj, "orthonormalized", False):
+        return None
+    modes = getattr(obj, "zernike_modes", None)
+    if modes is None:
+        modes = getattr(obj, "modes", None)
+    if modes is None or getattr(obj, "pupil", None) is None:
+        return None
+    return np.asarray(modes, dtype=np.int64)
+
+
+def _finer_grid(obj: Any, pupil: Any, zmodes: np.ndarray, dev: float) -> tuple[int, bool]:
+    """Pupil grid size across on which the basis's Gram error falls below ``_SAMPLING_TOL``.
+
+    Above ``check_zernike_sampling``'s rule (Nyquist: 2 pixels per cycle of the highest
+    radial order) and the current grid, from the N^-1.5 extrapolation up in 10 % steps,
+    the same modes (the K-L's Zernike combination) are sampled on each grid and their
+    Gram error measured (it is not monotone in N: the extrapolation alone named 216
+    pixels for the K-L of Zernikes 2..28, where it is 0.0116). Returns (size, True) when
+    found within 32 steps and a 64 MB matrix, else (the last size tried, False).
+    """
+    from modalinfo.bases.indexing import noll_to_zernike
+    from modalinfo.bases.pupil import Pupil
+    from modalinfo.bases.zernike import PIXELS_PER_CYCLE, zernike_matrix
+
+    n_pix = int(pupil.n_pixels)
+    order = int(np.max(noll_to_zernike(zmodes)[0]))
+    size = max(PIXELS_PER_CYCLE * order, n_pix + 1,
+               int(np.ceil(n_pix * (dev / _SAMPLING_TOL) ** (1.0 / _GRAM_FALL))))
+    change = getattr(obj, "zernike_from_kl", None)
+    for _ in range(32):
+        if 0.8 * size * size * zmodes.size > 1 << 23:  # (n_valid, n_z) float64 > 64 MB
+            return size, False
+        grid = Pupil(size, diameter=pupil.diameter, obscuration=pupil.obscuration)
+        z = zernike_matrix(zmodes, grid.rho_valid, grid.theta_valid)
+        gram = z.T @ z / z.shape[0]
+        if change is not None:
+            c = np.asarray(change)
+            gram = c.T @ gram @ c
+        if float(np.max(np.abs(gram - np.eye(gram.shape[0])))) <= _SAMPLING_TOL:
+            return size, True
+        size = int(np.ceil(size * 1.1))
+    return size, False
+
+
+def _sampling_check(curve: np.ndarray, zero: float, mean_square: np.ndarray,
+                    dev: float, zmodes: np.ndarray | None, obj: Any,
+                    method: str) -> float:
+    """Relative difference pixels vs Parseval of the mean curve; warn when it matters.
+
+    ``curve`` (M,) and ``zero`` are dPhi(1..M) and dPhi(0) as returned; ``mean_square``
+    (M,) the frame-mean squares of the ordered coefficients in the same units.
+    """
+    par = np.cumsum(mean_square[::-1])[::-1]  # P(n) for n = 0..M-1
+    got = np.concatenate([[zero], curve[:-1]])
+    live = par > 0
+    if not np.any(live):
+        return 0.0
+    pupil = getattr(obj, "pupil", None)
+    rel = (got[live] - par[live]) / par[live]
+    k = int(np.argmax(np.abs(rel)))
+    worst = float(rel[k])
+    if zmodes is None or dev <= _SAMPLING_TOL or abs(worst) <= _SAMPLING_TOL:
+        return worst
+    n_pix = int(pupil.n_pixels)
+    need, found = _finer_grid(obj, pupil, zmodes, dev)
+    n_at = int(np.flatnonzero(live)[k])
+    first = float((got[0] - par[0]) / par[0]) if par[0] > 0 else 0.0
+    warnings.warn(PupilSamplingWarning(
+        f"fitting_error: the basis sampled on the {n_pix}-pixel pupil is not orthonormal "
+        f"(max |gram - I| = {dev:.2g}), so method '{method}' gives the sampled pupil's "
+        f"fitting error of these continuous modes: {100 * first:+.1f} % at dPhi(0) and "
+        f"{100 * worst:+.1f} % at dPhi({n_at}) from the sum of the dropped coefficients' "
+        f"squares (Parseval); the Gram error is below {_SAMPLING_TOL:g} "
+        + (f"on {need} pixels" if found else f"above about {need} pixels (extrapolated)")
+        + " (result.parseval_difference holds the difference).",
+        n_pixels=n_pix, gram_deviation=dev, difference=worst, n_at=n_at,
+        suggested_pixels=need), stacklevel=3)
+    return worst
+
+
 def fitting_error(
     coeffs_or_log: Any,
     basis: Any,
@@ -495,6 +632,17 @@ def fitting_error(
                          "data (e.g. convert it to smaller units) before this analysis.")
     _check_square_floor(a, total)
     bands = _bands(picked, levels)
+    dev = float(np.max(np.abs(gram - np.eye(gram.shape[0])))) if gram.size else 0.0
+    difference = 0.0
+    if method != "parseval":
+        # no (T, M) temporary: the logs of issue 30 are GBs
+        mean_square = np.einsum("tm,tm->m", a, a) / max(a.shape[0], 1)
+        if scale is not None:
+            mean_square *= scale
+        difference = _sampling_check(
+            mean, float(total.mean()), mean_square, dev,
+            _continuous_zernikes(view.obj), view.obj,
+            method)
     return FittingErrorResult(
         per_frame=curves if keep else None,
         mean=mean,
@@ -506,4 +654,6 @@ def fitting_error(
         units=units,
         method=method,
         band_frames=None if rows is None else int(rows.size),
+        gram_deviation=dev,
+        parseval_difference=difference,
     )

@@ -144,6 +144,12 @@ SEARCHES = ("auto", "screened", "exhaustive")
 #: Relative margin on the screening key (module notes: measured misses against cost).
 _SCREEN_TOLERANCE = 0.05
 _DECORRELATED_ATOL = 1e-6
+#: Multiple of ``eps lambda_max`` a symmetric eigensolver leaves off the diagonal of
+#: ``V^T C V`` (LAPACK's backward error, ``p(M) eps ||C||_2`` with a modest ``p``): the
+#: data K-L logs of round 33 PART a (12 decades, 6 seeds) reached 1.4, so 64 leaves a
+#: margin of 45; the absolute 1e-6 still rules every pair with sqrt(lambda_i lambda_j)
+#: above 1.4e-8 lambda_max
+_EIG_BACKWARD = 64.0
 
 
 class _CheckedEstimator:
@@ -546,29 +552,48 @@ def _bootstrap(
     return mi, gain, margin
 
 
-def _pca_order(a: np.ndarray) -> np.ndarray:
-    """Descending eigenvalue order for coefficients that are uncorrelated; else raise."""
+def _pca_order(a: np.ndarray, labels: tuple[str, ...] | None = None) -> np.ndarray:
+    """Descending eigenvalue order for coefficients that are uncorrelated; else raise.
+
+    A pair (i, j) counts as uncorrelated when its normalised correlation is within
+    ``max(_DECORRELATED_ATOL, _EIG_BACKWARD * eps * lambda_max / sqrt(lambda_i lambda_j))``:
+    the eigensolver leaves off-diagonal terms of about ``eps lambda_max`` (its backward
+    error), which a pair of small modes magnifies by ``lambda_max / sqrt(lambda_i
+    lambda_j)`` (round 33 PART a, R3c: a data K-L over 12 decades was refused).
+    """
     second = a.T @ a / a.shape[0]
     centred = a - a.mean(axis=0)
     cov = centred.T @ centred / a.shape[0]
+    names = labels if labels is not None else tuple(f"mode{k + 1}" for k in range(a.shape[1]))
 
-    def off_diag(m: np.ndarray) -> float:
+    def worst(m: np.ndarray) -> tuple[float, tuple[int, int, float, float] | None]:
+        """(largest |c_ij| / tolerance_ij, that pair (i, j, |c_ij|, tolerance_ij))."""
         diag = np.diag(m)
-        keep = diag > 1e-12 * max(float(diag.max()), 1e-300)  # skip numerically empty modes
+        top = max(float(diag.max()), 1e-300)
+        keep = np.flatnonzero(diag > 1e-12 * top)  # skip numerically empty modes
+        if keep.size < 2:
+            return 0.0, None
         d = np.sqrt(diag[keep])
-        c = m[np.ix_(keep, keep)] / np.outer(d, d)
-        return float(np.max(np.abs(c - np.diag(np.diag(c))))) if c.shape[0] > 1 else 0.0
+        c = np.abs(m[np.ix_(keep, keep)] / np.outer(d, d))
+        np.fill_diagonal(c, 0.0)
+        tol = np.maximum(_DECORRELATED_ATOL,
+                         _EIG_BACKWARD * np.finfo(float).eps * top / np.outer(d, d))
+        ratio = c / tol
+        i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+        return float(ratio[i, j]), (int(keep[i]), int(keep[j]), float(c[i, j]),
+                                    float(tol[i, j]))
 
-    if off_diag(second) <= _DECORRELATED_ATOL:
+    if worst(second)[0] <= 1.0:
         return np.argsort(-np.diag(second), kind="stable")
-    dev = off_diag(cov)
-    if dev <= _DECORRELATED_ATOL:
+    ratio, pair = worst(cov)
+    if ratio <= 1.0:
         return np.argsort(-np.diag(cov), kind="stable")
+    i, j, value, tol = pair  # ratio > 1: a pair exists
     raise ValueError(
         "`method`='pca' orders an empirical K-L basis of the same log (coefficients "
-        f"uncorrelated to {_DECORRELATED_ATOL:g}); this basis's coefficients have "
-        f"|correlation| up to {dev:.3g}. Use KLBasis.from_data(zbasis, coeffs) as the basis, "
-        "or method='variance'."
+        f"uncorrelated to rounding); this basis's modes {names[i]} and {names[j]} have "
+        f"|correlation| {value:.3g} > the tolerance {tol:.3g} of that pair. Use "
+        "KLBasis.from_data(zbasis, coeffs) as the basis, or method='variance'."
     )
 
 
@@ -757,7 +782,7 @@ def order_modes(
         mean_square = np.mean(rows * rows, axis=0)
         # equal mean squares keep the standard (Noll) order, not the file's column order
         std = view.standard_order()
-        order = _pca_order(a) if method == "pca" else std[
+        order = _pca_order(a, view.labels) if method == "pca" else std[
             np.argsort(-mean_square[std], kind="stable")]
         return result(order, scores=mean_square)
 

@@ -171,7 +171,13 @@ def test_fitting_error_notes_a_pupil_too_coarse_for_orthonormal_zernikes(tmp_pat
     assert exit_code([*base, "--pupil-pixels", "64"]) == 0
     captured = capsys.readouterr()
     total = float(captured.out.split("dPhi(0) = ")[1].split()[0])
-    assert abs(total / exact - 1) < 0.07 and captured.err == ""
+    assert abs(total / exact - 1) < 0.07
+    # fix33-a: the 64-pixel Gram error (0.034) still moves the curve's tail by > 1 %,
+    # said in one line naming the grid that brings it below 1e-2; at 256 pixels not
+    assert captured.err.count("\n") == 1 and "not orthonormal" in captured.err
+    assert "--pupil-pixels" in captured.err
+    assert exit_code([*base, "--pupil-pixels", "256"]) == 0
+    assert capsys.readouterr().err == ""
 
 
 # ----------------------------------------------------------------- F07: JSON is JSON

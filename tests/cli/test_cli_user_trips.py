@@ -153,10 +153,11 @@ def test_a_failed_write_names_the_target_not_the_temporary_file(tmp_path):
      "reorder:"),
     (["reorder", "{log}", "--budget", "2000", "--resamples", "0", "--pupil-pixels", "16",
       "--stability", "200"], "stability:"),
-    # 64 pixels: at 16 fitting-error notes that the sampled Zernikes are far from
-    # orthonormal (round 9 PART b, row L02), and this test wants a silent stderr
+    # 256 pixels: at 16 fitting-error notes that the sampled Zernikes are far from
+    # orthonormal (round 9 PART b, row L02), at 64 that their Gram error (0.034) moves
+    # the curve by 2.6 % (fix33-a), and this test wants a silent stderr
     (["fitting-error", "{log}", "--orderings", "zernike:standard,zernike:variance",
-      "--pupil-pixels", "64"], "fitting-error:"),
+      "--pupil-pixels", "256"], "fitting-error:"),
 ])
 def test_progress_bar_on_a_terminal_only(kaos, capsys, monkeypatch, tmp_path, argv, desc):
     argv = [a.format(log=kaos, tmp=tmp_path) for a in argv]

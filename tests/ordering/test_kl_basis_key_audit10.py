@@ -22,6 +22,11 @@ from modalinfo.ordering import (
 )
 from modalinfo.telemetry import ModalLog
 
+# these coarse pupils serve other checks; fitting_error's note on them
+# (PupilSamplingWarning) is tested in tests/ordering/test_fixes33a.py
+pytestmark = pytest.mark.filterwarnings(
+    "ignore::modalinfo.ordering.fitting_error.PupilSamplingWarning")
+
 
 @pytest.fixture(scope="module")
 def setup():

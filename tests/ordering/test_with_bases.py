@@ -18,6 +18,11 @@ from modalinfo.bases import KLBasis, Pupil, ZernikeBasis, zernike_covariance
 from modalinfo.ordering import fitting_error, order_modes
 from modalinfo.telemetry import ModalLog
 
+# these coarse pupils serve other checks; fitting_error's note on them
+# (PupilSamplingWarning) is tested in tests/ordering/test_fixes33a.py
+pytestmark = pytest.mark.filterwarnings(
+    "ignore::modalinfo.ordering.fitting_error.PupilSamplingWarning")
+
 MODES = list(range(2, 29))
 
 
