@@ -4,9 +4,10 @@ Reference: Noll's fitting law and residual histories built here. A 27-mode DM on
 8 m telescope at D/r0 = 87 (630 nm) leaves Noll's 0.2944 x 28^(-sqrt(3)/2) x
 87^(5/3) = 28 rad^2: the simulated residual fell from 594 to 25 rad^2 and stayed, yet
 the status read "did not close" - the SR exp(-25) = 1e-11 swings in its band down to
-the open-loop SR. Here the residual falls from 594 rad^2 to 25 rad^2 (drifting up by
-0.01 rad^2 a frame, so the SR's second half is below its first: not "still
-converging"; the residual's second-half mean within 10 % of its earlier mean: steady); it is below half the open-loop level from the first frame that sees a
+the open-loop SR. Here the residual falls from 594 rad^2 to 25 rad^2, drifting up
+by 0.01 rad^2 a frame, so the SR's second half is below its first (not "still
+converging"), while the residual's second-half mean is within 10 % of its earlier mean
+(steady); it is below half the open-loop level from the first frame that sees a
 command, so the loop closed (``exp(-median)`` of the second half recomputed here is
 below 1e-3). A loop whose SR is readable keeps "did not close" (round 24's band rule).
 Fast: hand-built results, no simulation.
