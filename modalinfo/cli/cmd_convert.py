@@ -42,6 +42,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Fill the ``convert`` parser."""
     parser.add_argument("input", metavar="IN", help="input log file")
     parser.add_argument("output", metavar="OUT", help="output file (.npz, .csv, .fits, .h5)")
+    # files after OUT: a night's parts given to be joined were "unrecognized arguments:
+    # <last file>", as if IN -> OUT were right (adversarial round 34 PART b, C03, C04)
+    parser.add_argument("more", nargs="*", default=[], help=argparse.SUPPRESS)
     parser.add_argument(
         "--units",
         choices=("rad", "nm", "um", "waves"),
@@ -74,6 +77,13 @@ def run(args: argparse.Namespace) -> int:
     """Read IN, convert, write OUT."""
     from modalinfo.io import load, save
 
+    more = list(getattr(args, "more", None) or ())
+    if more:
+        raise CommandError(
+            f"convert reads one log (IN) and writes one file (OUT); got {len(more) + 2} "
+            f"files ({args.input}, {args.output}, {', '.join(more)}): no command joins "
+            "logs - concatenate the parts first (numpy: np.concatenate of their "
+            "coefficients, in time order) or analyse them as an archive with `batch`")
     fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     source = Path(args.input)
     big = source.is_file() and source.stat().st_size >= _PROGRESS_MIN_BYTES

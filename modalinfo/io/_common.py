@@ -298,7 +298,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
                          "give modes= (command line: --in-modes) to label the columns")
     rate_field = stored.pop("_rate_field", None)
     if foreign:
-        _foreign_time_axis(stored, hints, frames, records, path)
+        _foreign_time_axis(stored, hints, frames, records, path, coeffs)
         _foreign_relabel(stored, hints, records, describe_modes)
         if rate_field is not None and hints.get("rate") is None:
             _rate_field_note(rate_field, stored.get("timestamps"), records)
@@ -486,6 +486,18 @@ def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
     bad = np.flatnonzero(step != 1)
     if bad.size:
         i = int(bad[0])
+        back = np.flatnonzero(step[bad] < 0)
+        if back.size:
+            # a counter that wrapped or restarted: --rate makes its times go back and is
+            # refused again (adversarial round 34 PART b, B25, B27, B28)
+            j = int(bad[back[0]])
+            raise ValueError(
+                f"'{path}': the file's frame numbers are not consecutive: they go back "
+                f"({numbers[j]:.17g} then {numbers[j + 1]:.17g} at row {j + 1}; {bad.size} "
+                "break(s)), a counter that restarted or wrapped, which no rate turns into "
+                f"times; split the file at row {j + 1}, or store a wrapping counter as a "
+                "fixed-width integer (uint16 / uint32 in NPZ, HDF5, FITS: its wraps are "
+                "undone), or delete the frame column and give a rate (command line: --rate)")
         raise ValueError(
             f"'{path}': the file's frame numbers are not consecutive ({numbers[i]:g} then "
             f"{numbers[i + 1]:g} at row {i + 1}; {bad.size} break(s)); pass rate= (command "
@@ -494,10 +506,44 @@ def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
         )
 
 
-def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path) -> None:
+def _copied_block(t: np.ndarray, coeffs, path: Path) -> None:
+    """Refuse frames whose times and values repeat an earlier stretch of the file.
+
+    A logger that wrote a block twice leaves times that go back to an earlier frame's
+    time, with that frame's values: read with a rate (as the refusal of decreasing
+    times advised) the copy was analysed as new frames, n and the duration 25 % too
+    large, without a word (adversarial round 34 PART b, B41). A step back to a time
+    no earlier frame has, or to other values, is left to the other rules.
+    """
+    if coeffs is None or t.ndim != 1 or t.size < 2 or np.ndim(coeffs) != 2:
+        return
+    back = np.flatnonzero(np.diff(t) < 0)
+    if not back.size:
+        return
+    i = int(back[0]) + 1  # the first frame whose time goes back
+    j = int(np.searchsorted(t[:i], t[i]))  # the earlier frame of that time, if any
+    if j >= i or t[j] != t[i] or np.any(np.diff(t[:i]) <= 0):
+        return
+    m = min(i - j, t.size - i)
+    same = np.all(np.asarray(coeffs[i:i + m]) == np.asarray(coeffs[j:j + m]), axis=1)
+    same &= t[i:i + m] == t[j:j + m]
+    if not same[0]:
+        return
+    n = int(np.argmin(same)) if not same.all() else m
+    raise ValueError(
+        f"'{path}': frames {i}..{i + n - 1} repeat frames {j}..{j + n - 1} of the file, "
+        f"times and values (its timestamps go back from {t[i - 1]!r} to {t[i]!r} s at "
+        f"frame {i}): a block written twice; delete those {n} rows (a rate would keep "
+        "the copy as new frames)")
+
+
+def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: Path,
+                       coeffs=None) -> None:
     """Frame numbers need a rate; an explicit rate wins over disagreeing timestamps."""
     rate = hints.get("rate")
     times = stored.get("timestamps")
+    if times is not None and "timestamps" not in hints:
+        _copied_block(np.asarray(times, dtype=np.float64), coeffs, path)
     if rate is None and times is not None and "timestamps" not in hints:
         t = np.asarray(times, dtype=np.float64)
         bad = np.flatnonzero(np.diff(t) <= 0) if t.ndim == 1 else np.zeros(0)

@@ -119,8 +119,11 @@ its white increments: no false flag in the tests, its glitches found.
   two): a frame written twice, or a frozen frame (round 21 PART a, g23: one frame
   exported twice was flagged by nothing, below every mode's stuck run). It is flagged
   when chance cannot explain it: with ``q_j`` each varying mode's share of equal
-  consecutive pairs, ``(T - 1) prod_j q_j <= alpha`` (independent repeats; a log
-  quantised so coarsely that whole frames repeat by chance is not judged).
+  consecutive pairs, independent repeats give about a Poisson count of mean
+  ``(T - 1) prod_j q_j``, and the ``R`` repeated frames found are flagged when
+  ``P(X >= R) <= alpha`` (``(T - 1) prod_j q_j <= alpha`` for one frame; a log
+  quantised so coarsely that whole frames repeat by chance as often as found is not
+  judged; a log of two modes with 5 % of its frames re-sent is, round 34 PART b).
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -1629,8 +1632,9 @@ def assess_quality(
     out_idx, glitch_idx, bad_idx = [], [], []
     live = ~(constant | (lo > hi))
     share = repeats[live] / max(1, n - 1)
-    # a whole frame repeated: flagged where independent repeats cannot explain it
-    find_repeats = int(live.sum()) >= 2 and (n - 1) * float(np.prod(share)) <= alpha
+    # a whole frame repeated: flagged where independent repeats cannot explain it (the
+    # count is judged after the pass, _chance_repeats)
+    find_repeats = int(live.sum()) >= 2
     rep_idx: list = []
     prev_row = None
     # strided: the level rule's bin means, summed here rather than in the first pass,
@@ -1696,6 +1700,8 @@ def assess_quality(
         stationary = False
     stuck_frames = np.flatnonzero(stuck_mask).astype(np.int64)
     repeated_frames = np.unique(cat(rep_idx))
+    if find_repeats and _chance_repeats(repeated_frames.size, n, share, alpha):
+        repeated_frames = np.zeros(0, np.int64)
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
                          repeated_frames)
     return QualityReport(
@@ -1714,6 +1720,29 @@ def assess_quality(
         variance_steps=varied, variance_judged=variance_judged,
         repeated_frames=repeated_frames.astype(np.int64),
     )
+
+
+def _chance_repeats(found: int, n: int, share: np.ndarray, alpha: float) -> bool:
+    """Whether independent repeats of each mode explain ``found`` whole repeated frames.
+
+    Under independence a frame equals the one before in every varying mode with
+    probability ``prod_j q_j`` (``share``: each mode's share of equal consecutive pairs),
+    so the count of such frames is about Poisson with mean
+    ``lam = (T - 1) prod_j q_j``; they are flagged when a count of ``found`` or more
+    has probability ``<= alpha``. With one frame found this is the earlier bound
+    ``lam <= alpha`` (within 0.5 %), but the repeats themselves raise every ``q_j``:
+    a 2-mode tip-tilt log with 5 % of its frames re-sent had ``q_j = 0.05``,
+    ``lam = 20`` and its 400 repeated frames were judged chance (adversarial round 34
+    PART b, B17); ``P(X >= 400 | lam = 20)`` is below 1e-300.
+    """
+    if found == 0:
+        return True
+    lam = (n - 1) * float(np.prod(share))
+    if lam <= 0.0:
+        return False
+    from scipy.special import pdtrc  # P(X > k) of a Poisson law
+
+    return bool(pdtrc(found - 1, lam) > alpha)
 
 
 def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
