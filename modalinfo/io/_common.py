@@ -498,6 +498,17 @@ def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
                 f"times; split the file at row {j + 1}, or store a wrapping counter as a "
                 "fixed-width integer (uint16 / uint32 in NPZ, HDF5, FITS: its wraps are "
                 "undone), or delete the frame column and give a rate (command line: --rate)")
+        again = np.flatnonzero(step[bad] == 0)
+        if again.size:
+            # a frame number written twice: the rate advice made two frames of one time,
+            # refused again as duplicated timestamps (review24, planted bug X8)
+            j = int(bad[again[0]])
+            raise ValueError(
+                f"'{path}': the file's frame numbers are not consecutive: frame "
+                f"{numbers[j]:.17g} appears again at row {j + 1} ({again.size} repeated "
+                f"number(s), {bad.size} break(s)), a frame written twice, which no rate "
+                "turns into times; delete the repeated row(s), or delete the frame column "
+                "and give a rate (command line: --rate)")
         raise ValueError(
             f"'{path}': the file's frame numbers are not consecutive ({numbers[i]:g} then "
             f"{numbers[i + 1]:g} at row {i + 1}; {bad.size} break(s)); pass rate= (command "
