@@ -611,7 +611,12 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         :func:`~modalinfo.information.conditional_mutual_information` of x and y):
         KSG's ``k = 3`` below n = 19, the histogram's rule-chosen bins where fewer than
         4 per axis (n <= ~22 on weakly dependent pairs; independent pairs of 10:
-        histogram +0.21 nats on average; rho = 0.9, 0.830 nats: KSG -0.34 at n = 10).
+        histogram +0.21 nats on average; rho = 0.9, 0.830 nats: KSG -0.34 at n = 10),
+        where they leave fewer than 2 samples per occupied joint cell, or where a
+        Gaussian pair of the same normal-score correlation loses more than
+        max(0.05, 10 %) of its MI on them (rho = 0.9: -0.12 nats at n = 50, -0.08 at
+        200, warned up to n ~ 500; ``histogram`` module notes, "Small samples").
+        :class:`MutualInformation` judges the same at the first score after each fit.
         With ``method="histogram"`` and rule-chosen bins,
         where no other rule spoke, where the estimate is below the pair's Gaussian-copula MI
         (a lower bound of the MI) beyond its noise: the bins cannot hold the dependence
@@ -622,6 +627,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         nats for 1.158 on a noisy circle, round 17).
     """
     est = MutualInformation(method, units, **options)
+    est._judge_resolution = False  # judged below, after the pile rule (one warning)
     check_aligned({"x": x, "y": y})
     x, y = _as_sample(x, "x"), _as_sample(y, "y")  # as estimate() does, for the rules
     value = est.estimate(x, y)
@@ -630,12 +636,8 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         if pile is not None:  # issue 27: the other rules judge a continuum; one warning
             warnings.warn(f"mutual_information: {pile}.", BiasRuleWarning, stacklevel=2)
             return value
-        few = _default_resolution_why(est, x, y, options)
-        if few is not None:  # before the regime rules: at this n they judge noise
-            warnings.warn(f"mutual_information with method={est.method!r}: {few}; the "
-                          "estimate is kept (more samples, or method='gaussian', which has "
-                          "no such rule)", BiasRuleWarning, stacklevel=2)
-            return value
+        if _warn_default_resolution(est, x, y, "mutual_information"):
+            return value  # before the regime rules: at this n they judge noise
         # the regime rules (convergence module): a warning at most, the value is unchanged
         sub = getattr(est._engine, "subsample_engine", None)
         # kde: the quarters at the whole sample's cross-validated bandwidth scaled by
@@ -709,6 +711,16 @@ class MutualInformation:
     ----------
     n_samples_ : int
         Length of the fitted x (set by :meth:`fit`).
+
+    Warns
+    -----
+    BiasRuleWarning
+        At the first score after each :meth:`fit` (and so at each :meth:`estimate`),
+        where the resolution the estimator chose itself fails its bias rule at this n
+        (the same check and sentence as :func:`mutual_information`: KSG's default
+        ``k = 3`` below n = 19, the histogram's rule-chosen bins at small n); the
+        score is kept. Before issue 27 round 34 this road judged only an explicit
+        ``k`` or ``bandwidth``.
     """
 
     def __init__(self, method: str = DEFAULT_METHOD, units: str = "nats", **options: Any):
@@ -719,6 +731,10 @@ class MutualInformation:
         self._factor = UNITS[self.units]
         # a plug-in's engine gets read-only views, and its scores are checked (round 13)
         self._plugin = is_plugin(self.method)
+        # the first score after each fit judges the resolution the engine chose itself
+        # (``_warn_default_resolution``; off where a caller judges it once: the MI, its
+        # bootstrap's replicates)
+        self._judge_resolution = True
 
     def __copy__(self) -> MutualInformation:
         # the copy gets an engine of its own: a shared one was refitted in place by the
@@ -756,6 +772,7 @@ class MutualInformation:
             self._x = x  # for the copy check (a reference, not a copy)
             self._x_head = np.argsort(x[:_COPY_SCREEN], kind="stable")
             self._x_sorted = None  # x's argsort, made by the copy check's first need
+            self._judged = False  # the first score judges the default resolution
         # after the engine's own checks (a refusal comes before a warning)
         _warn_bias_rule(get_method(self.method), x.shape[0], 2, self.options,
                         "mutual_information")
@@ -783,8 +800,8 @@ class MutualInformation:
             )
         return self._score(y)
 
-    def _score(self, y: np.ndarray) -> float:
-        """Score a validated y of the fitted length."""
+    def _score(self, y: np.ndarray, how: str = "score") -> float:
+        """Score a validated y of the fitted length (``how``: the public method, for warnings)."""
         if self._x_constant or _is_constant(y):
             return 0.0
         _check_not_a_copy(self._x, y, self._x_head, x_order=self._x_order)
@@ -792,11 +809,15 @@ class MutualInformation:
             return self._plugin_score(y) * self._factor
         value = self._engine.score(y)
         try:
-            return float(value) * self._factor
+            value = float(value) * self._factor
         except (TypeError, ValueError):  # a registered method's engine: name it (round 9,
             # row r-custom-str: "could not convert string to float")
             raise TypeError(f"method={self.method!r}: its engine's score() must return a real "
                             f"number (nats); got {value!r}.") from None
+        if self._judge_resolution and not self._judged:
+            self._judged = True  # once per fit (round 34: the class road was silent)
+            _warn_default_resolution(self, self._x, y, f"MutualInformation.{how}")
+        return value
 
     def _plugin_score(self, y: np.ndarray) -> float:
         """Score y with a plug-in's engine, checking what it returns (round 13).
@@ -843,7 +864,7 @@ class MutualInformation:
             raise ValueError(
                 f"`x` and `y` must have the same length; got {x.shape[0]} and {y.shape[0]}."
             )
-        return self._fit(x)._score(y)
+        return self._fit(x)._score(y, "estimate")
 
 
 def entropy(x: Any, method: str = "kde", units: str = "nats", **options: Any) -> float:
@@ -965,18 +986,39 @@ def _default_resolution_why(est: MutualInformation, x: np.ndarray, y: np.ndarray
     default KSG below n = 19 (neighbour ball (3 / n)^(1/2) > 0.4), the histogram's
     bins where fewer than 4 per axis (n <= ~22 on weakly dependent pairs; its
     cells rule n >= k^2 is not applied to them: the cap ``ceil(sqrt(n))`` breaks it
-    by design as |r| -> 1). Measured over 40 seeds (adversarial round 34 PART a,
-    S01, S03): independent pairs of 10, histogram +0.21 nats (s.e. 0.03); rho = 0.9
-    (0.830 nats), KSG -0.34 at n = 10 and -0.20 at 20; silent before, while
-    ``conditional_mutual_information(x, y)`` of the same pair warned.
+    by design as |r| -> 1), then the engine's ``resolution_why`` (the histogram's
+    occupied cells and Gaussian grid loss, fixes 34-a). Measured over 40 seeds
+    (adversarial round 34 PART a, S01, S03): independent pairs of 10, histogram +0.21
+    nats (s.e. 0.03); rho = 0.9 (0.830 nats), KSG -0.34 at n = 10 and -0.20 at 20;
+    silent before, while ``conditional_mutual_information(x, y)`` of the same pair
+    warned.
     """
+    if _RESOLUTION_CHOSEN & set(options):
+        return None
     how = getattr(est._engine, "resolution_options", None)
-    if how is None or _RESOLUTION_CHOSEN & set(options):
-        return None
-    chosen = how(y)
-    if chosen is None:
-        return None
-    return call_bias_rule(get_method(est.method), x.shape[0], 2, chosen)
+    chosen = None if how is None else how(y)
+    why = None if chosen is None else call_bias_rule(get_method(est.method), x.shape[0], 2,
+                                                      chosen)
+    if why is None:  # the histogram's occupied cells and grid loss (round 34, S02)
+        more = getattr(est._engine, "resolution_why", None)
+        why = None if more is None else more(y)
+    return why
+
+
+def _warn_default_resolution(est: MutualInformation, x: np.ndarray, y: np.ndarray,
+                             what: str) -> bool:
+    """Warn once where ``_default_resolution_why`` speaks; return whether it did.
+
+    The one check of both roads: :func:`mutual_information` and the class's first
+    score after a fit (``MutualInformation.score`` / ``estimate``).
+    """
+    few = _default_resolution_why(est, x, y, est.options)
+    if few is None:
+        return False
+    warnings.warn(f"{what} with method={est.method!r}: {few}; the estimate is kept (more "
+                  "samples, or method='gaussian', which has no such rule)", BiasRuleWarning,
+                  stacklevel=caller_stacklevel())
+    return True
 
 
 def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) -> None:

@@ -88,6 +88,7 @@ from modalinfo.information.api import (
     UNITS,
     MutualInformation,
     _is_constant,
+    _warn_default_resolution,
     ceiling_problem,
 )
 from modalinfo.information.convergence import effective_sample_rule
@@ -363,14 +364,20 @@ def mutual_information_ci(
     check_tail_replicates(interval, n_resamples, confidence_level)
     rng = check_rng(seed)
     est = MutualInformation(method, units, **options)
+    est._judge_resolution = False  # judged once below, not per bootstrap replicate
     theta = est.estimate(x, y)
     n = x.shape[0]
     alpha = 1.0 - confidence_level
 
     # a capped estimate: the interval takes only the bootstrap's spread, so it excludes
     # the MI by far (round 14 PART a: [3.69, 3.77] nats for 6.56); said in the note too
-    note = (pile_why({"x": x, "y": y}, est.method) if not (_is_constant(x) or _is_constant(y))
-            else None) or ceiling_problem(est, theta, x, y) or ""
+    varied = not (_is_constant(x) or _is_constant(y))
+    note = (pile_why({"x": x, "y": y}, est.method) if varied else None) or ""
+    # as mutual_information: the piles first and alone, then the resolution the estimator
+    # chose itself at small n (its own warning), then the cap
+    if not note and not (varied and _warn_default_resolution(est, x, y,
+                                                              "mutual_information_ci")):
+        note = ceiling_problem(est, theta, x, y) or ""
     if note:
         warnings.warn(f"mutual_information_ci with method={est.method!r}: {note}.",
                       BiasRuleWarning, stacklevel=2)
@@ -525,7 +532,11 @@ def mutual_information_permutation_test(
                 start, stop = 0, x.shape[0]
             x, y = x[start:stop], y[start:stop]
     n = x.shape[0]
-    est = MutualInformation(method, units, **options).fit(x)
+    est = MutualInformation(method, units, **options)
+    # a biased statistic leaves the permutation test exact (its null has the same bias):
+    # the default resolution is not judged here
+    est._judge_resolution = False
+    est.fit(x)
     stat = est.score(y)
     null = np.empty(n_permutations)
     shift0 = 0

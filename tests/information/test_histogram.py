@@ -12,13 +12,15 @@ entropy of a discrete uniform distribution, E[H_plugin] - H = -(K - 1) / (2 n) +
 (1 - sum_i 1 / p_i) / (12 n^2) + O(n^-3) (Miller 1955; Paninski 2003, eq. 3.4).
 """
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
 
-from modalinfo.information import entropy, mutual_information
+from modalinfo.information import BiasRuleWarning, entropy, mutual_information
 from modalinfo.information.histogram import n_bins_for
 
 
@@ -103,11 +105,14 @@ def test_auto_bins_are_the_larger_of_hacine_gharbi_and_8_samples_per_cell(n, rho
     assert mutual_information(x, y, method="histogram", bins="auto") == pytest.approx(
         _plugin_ref(x, y, edges, True), rel=1e-12
     )
-    # the default is the Hacine-Gharbi rule alone (histogram module notes)
+    # the default is the Hacine-Gharbi rule alone (histogram module notes); at n = 500,
+    # rho = 0.95 its 13 bins lose more than 10 % of a Gaussian pair's MI (fixes 34-a):
+    # estimated and said
     edges = [np.quantile(a, np.linspace(0, 1, k_hg + 1)) for a in (x, y)]
-    assert mutual_information(x, y, method="histogram") == pytest.approx(
-        _plugin_ref(x, y, edges, True), rel=1e-12
-    )
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", ".*equiprobable bins lose", BiasRuleWarning)
+        got = mutual_information(x, y, method="histogram")
+    assert got == pytest.approx(_plugin_ref(x, y, edges, True), rel=1e-12)
 
 
 @pytest.mark.parametrize("rule", ["fd", "scott", "sturges", "sqrt"])
