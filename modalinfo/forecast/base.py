@@ -32,6 +32,17 @@ its layout (every fixed order); where a refit changes it (ARMA with ``order="aic
 samples the refit saw, through the new recursion from the reset state (adversarial
 round 34 PART a: the old layout was kept, and the kernel read it wrongly or wrote past
 its end).
+
+Hyper-parameters changed after ``fit``
+--------------------------------------
+``horizon``, ``refit_every`` and ``window`` changed by :meth:`Predictor.set_params` (or
+by assignment) after ``fit`` apply to the next ``predict`` and the next ``reset``, as if
+the predictor had been built with them (the fitted parameters do not depend on them).
+An online pass already begun was built for the old values: ``update`` refuses to go on,
+naming the change, until ``reset()`` starts a pass with the new ones (adversarial round
+35 PART a: ``update`` kept the old horizon while ``predict`` used the new one, raised a
+TypeError once ``refit_every`` became None, and a ``window`` set after ``fit`` was
+ignored).
 """
 
 from __future__ import annotations
@@ -152,12 +163,20 @@ class _Run:
     """
 
     __slots__ = ("params", "state", "horizon", "n_seen", "ring", "ring_pos", "out", "status",
-                 "x", "step")
+                 "x", "step", "refit", "window", "config")
 
-    def __init__(self, params, state, horizon, n_modes, window):
+    def __init__(self, params, state, horizon, n_modes, window, refit=None, refit_window=None,
+                 config=None):
         self.params = params
         self.state = state
         self.horizon = horizon
+        # the refit policy in force for this pass (``refit_every``, its window ``W``) and
+        # the hyper-parameters ``(horizon, refit_every, window)`` it was built from: a
+        # ``set_params`` during an online pass is refused at the next ``update`` instead
+        # of half-applied (round 35 PART a: T1, S1, S2)
+        self.refit = refit
+        self.window = refit_window
+        self.config = config
         self.n_seen = 0
         self.ring = None if window is None else np.zeros((window, n_modes))
         self.ring_pos = 0
@@ -232,6 +251,10 @@ class Predictor:
 
     def set_params(self, **params) -> Predictor:
         """Set hyper-parameters; fitted attributes are left untouched until ``fit``.
+
+        ``horizon``, ``refit_every`` and ``window`` apply to the next ``predict`` and
+        ``reset``; ``update`` refuses to continue an online pass begun before they
+        changed (see the module notes).
 
         Parameters
         ----------
@@ -444,14 +467,20 @@ class Predictor:
 
     # ------------------------------------------------------------------ running
     def _new_run(self, horizon: int) -> _Run:
-        _, refit, _ = self._check_common()
+        # the refit policy is read here, from the hyper-parameters in force: ``window``
+        # set after ``fit`` was ignored (the fit's ``window_`` kept) while ``refit_every``
+        # set the same way applied at once (round 35 PART a, S2)
+        _, refit, window = self._check_common(self.n_modes_)
         _check_forecast_memory(horizon, self.n_modes_)
-        window = self.window_ if refit is not None else None
-        if window is not None:  # the ring buffer of the last `window` samples
-            check_memory(8.0 * window * self.n_modes_, "window", window,
+        W = self.n_samples_fit_ if window is None else window
+        ring = W if refit is not None else None
+        if ring is not None:  # the ring buffer of the last `window` samples
+            check_memory(8.0 * ring * self.n_modes_, "window", ring,
                          f"the refit ring buffer of {self.n_modes_} mode(s)")
+        self.window_ = W
         return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
-                    self.n_modes_, window)
+                    self.n_modes_, ring, refit, W,
+                    (self.horizon, self.refit_every, self.window))
 
     def _raise_nonfinite(self, status: np.ndarray, offset: int, name: str) -> None:
         if status[0]:
@@ -468,7 +497,7 @@ class Predictor:
         ``out.shape[0]`` samples of the range go to ``out``. Returns the list of
         ``(sample_index, params)`` of the refits made.
         """
-        refit = self.refit_every
+        refit = run.refit
         end = X.shape[0] if end is None else end
         n_out = out.shape[0]
         start = begin
@@ -478,7 +507,7 @@ class Predictor:
             if refit is not None:
                 # next refit point: smallest n > n_seen with n % R == 0 and n >= W
                 n_next = (run.n_seen // refit + 1) * refit
-                while n_next < self.window_:
+                while n_next < run.window:
                     n_next += refit
                 stop = min(end, start + n_next - run.n_seen)
             lo = start - end + n_out
@@ -488,8 +517,8 @@ class Predictor:
             self._raise_nonfinite(run.status, start, name)
             run.n_seen += stop - start
             if (refit is not None and run.n_seen % refit == 0
-                    and run.n_seen >= self.window_):
-                window_data = np.ascontiguousarray(X[stop - self.window_:stop])
+                    and run.n_seen >= run.window):
+                window_data = np.ascontiguousarray(X[stop - run.window:stop])
                 self._refit_run(run, window_data, name)
                 refits.append((run.n_seen - 1, run.params))
             start = stop
@@ -600,6 +629,8 @@ class Predictor:
             self._check_fitted()
             self.reset()
             run = self._run
+        if (self.horizon, self.refit_every, self.window) != run.config:
+            self._refuse_changed(run)
         x = run.x
         if type(x_t) is float:
             if x.shape[1] != 1:
@@ -630,6 +661,23 @@ class Predictor:
             self._online_refit(run, x)
         return run.out[0, :, 0].copy() if scalar else run.out[0].copy()
 
+    def _refuse_changed(self, run: _Run) -> None:
+        """Refuse an ``update`` after ``horizon`` / ``refit_every`` / ``window`` changed.
+
+        The online pass was built (ring buffer, forecast rows, refit schedule) from the
+        hyper-parameters in force at the last ``reset`` or ``fit``; ``update`` kept the
+        old horizon while ``predict`` used the new one, and raised a TypeError once
+        ``refit_every`` became None (round 35 PART a, T1 and S1).
+        """
+        now = (self.horizon, self.refit_every, self.window)
+        names = ("horizon", "refit_every", "window")
+        changed = [f"`{n}` {old!r} -> {new!r}"
+                   for n, old, new in zip(names, run.config, now, strict=True) if old != new]
+        raise ValueError(
+            f"{', '.join(changed)} changed after the online pass began (the last reset() "
+            "or fit()); call reset() to start a pass with the new value(s)."
+        )
+
     def _refit_run(self, run: _Run, window_data: np.ndarray, name: str) -> None:
         """Refit ``run``'s parameters on ``window_data`` and keep its state valid for them.
 
@@ -654,7 +702,7 @@ class Predictor:
         W = run.ring.shape[0]
         run.ring[run.ring_pos] = x[0]
         run.ring_pos = (run.ring_pos + 1) % W
-        if run.n_seen % self.refit_every == 0 and run.n_seen >= W:
+        if run.n_seen % run.refit == 0 and run.n_seen >= W:
             window_data = np.concatenate([run.ring[run.ring_pos:], run.ring[:run.ring_pos]])
             self._refit_run(run, window_data, "x_t")
             run.step = self._step_function(run.params, run.state, run.out, run.status)

@@ -14,8 +14,10 @@ and ``"kl-data"`` (PCA of the log's own coefficients, ``KLBasis.from_data``), an
 
 from __future__ import annotations
 
+import hashlib
 import math
 import warnings
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -327,6 +329,59 @@ def _file_basis(log: Any) -> Any:
     return basis
 
 
+#: What each basis ``compare_orderings`` built was built from (its ``_recipe``),
+#: so that a ``bases`` dict handed to a call on another log is refused instead of
+#: answering with the first log's basis (round 35 PART a, S4-S5, W1). Bases the caller
+#: built are not in it and are used as given.
+_BUILT_FOR: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _data_digest(log: Any) -> str:
+    """BLAKE2b of a log's coefficients, read in row blocks (a memory map stays on disk)."""
+    from modalinfo.telemetry.scan import row_blocks
+
+    coeffs = getattr(log, "coeffs", log)
+    h = hashlib.blake2b(digest_size=16)
+    h.update(repr((np.shape(coeffs), str(getattr(coeffs, "dtype", "")))).encode())
+    for block in row_blocks(coeffs, 65536):
+        h.update(np.ascontiguousarray(block).tobytes())
+    return h.hexdigest()
+
+
+def _recipe(kind: str, log: Any, n_pixels: int, outer_scale: float | None,
+            digest: Any) -> tuple | None:
+    """``(field, value)`` pairs a basis of ``kind`` for ``log`` depends on (None: "file").
+
+    ``digest`` is called for the data K-L only (the coefficients' hash).
+    """
+    if kind == "file":
+        return None
+    meta_d, meta_l0 = _log_geometry(log)
+    recipe = [("pupil pixels", n_pixels), ("diameter", meta_d),
+              ("modes", tuple(int(m) for m in log.modes)),
+              ("convention", getattr(log, "convention", "noll"))]
+    if kind == "kl-theory":
+        recipe.append(("outer scale", outer_scale if outer_scale is not None else meta_l0))
+    if kind == "kl-data":
+        recipe += [("units", getattr(log, "units", "rad")), ("coefficients", digest())]
+    return tuple(recipe)
+
+
+def _check_reuse(bases: dict, name: str, recipe: tuple | None) -> None:
+    """Refuse ``bases[name]`` if an earlier call built it for a log that differs."""
+    try:
+        built = _BUILT_FOR.get(bases[name])
+    except TypeError:  # an unhashable or non-weakref-able basis: the caller's own
+        return
+    if built is None or recipe is None or built == recipe:
+        return
+    field = next(f for (f, a), (_, b) in zip(built, recipe, strict=True) if a != b)
+    raise ValueError(
+        f"`bases['{name}']` was built by an earlier compare_orderings call for a log with "
+        f"other {field}; pass a new dict (or bases=None) for each log."
+    )
+
+
 def parse_specs(text: str | list[str]) -> list[tuple[str, str]]:
     """Parse ``"zernike:standard,kl-theory:mi_greedy"`` into (basis, method) pairs."""
     items = text.split(",") if isinstance(text, str) else list(text)
@@ -461,7 +516,10 @@ def compare_orderings(
     outer_scale : float, optional
         Outer scale [m] of the theoretical K-L (default: from the log's metadata).
     bases : dict, optional
-        Prebuilt bases by name (reused, and filled with the ones built here).
+        Prebuilt bases by name (reused, and filled with the ones built here). A basis
+        an earlier call built for another log (other data for ``"kl-data"``, other
+        modes, pupil or outer scale) is refused with a ValueError naming ``bases``:
+        pass a new dict for each log.
     progress : callable, optional
         Called as ``progress(1)`` after each ordering (``len(specs)`` calls).
 
@@ -475,12 +533,27 @@ def compare_orderings(
         frame = check_int(frame, "frame", minimum=-log.n_frames, maximum=log.n_frames - 1)
         frame %= log.n_frames
     entries = []
+    digests: list = []
+
+    def digest() -> str:
+        if not digests:
+            digests.append(_data_digest(log))
+        return digests[0]
+
     for basis_name, method in pairs:
         if basis_name not in bases:
+            recipe = _recipe(basis_name, log, n_pixels, outer_scale, digest)
+            if "zernike" in bases and basis_name != "file":
+                _check_reuse(bases, "zernike", _recipe("zernike", log, n_pixels, None, digest))
             bases[basis_name] = basis_for_log(
                 basis_name, log, n_pixels=n_pixels, outer_scale=outer_scale,
                 zernike_basis=bases.get("zernike"),
             )
+            if recipe is not None:
+                _BUILT_FOR[bases[basis_name]] = recipe
+        else:
+            _check_reuse(bases, basis_name,
+                         _recipe(basis_name, log, n_pixels, outer_scale, digest))
         basis = bases[basis_name]
         ordering = order_modes(
             log, basis, method, estimator=estimator, estimator_options=estimator_options,
