@@ -120,6 +120,13 @@ def _train_value(value: Any, name: str) -> None:
     if isinstance(value, int) and not isinstance(value, bool):
         check_int(value, name, minimum=2)
     elif isinstance(value, float):
+        if value > 1.0 and math.isfinite(value):
+            # '1e3' read as 1000.0 was "must be < 1.0", as if counts were not allowed
+            # (round 35 PART b, BS10)
+            count = (f" (write {int(value)} for {int(value)} frames)"
+                     if value.is_integer() else "")
+            raise ValueError(f"{name} must be a fraction in (0, 1) or a number of frames "
+                             f">= 2 written as an integer; got {value!r}{count}")
         check_real(value, name, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
     else:
         raise ValueError(f"{name} must be a fraction in (0, 1) or a number of frames >= 2; "

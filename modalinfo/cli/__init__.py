@@ -53,8 +53,10 @@ _REWRITES = (
     # hint `rate`=2000.0 -> --rate 2000
     (re.compile(r"hint `(\w+)`="), lambda m: f"hint {_WORDS.get(m.group(1), m.group(1))} "),
     (re.compile(r"`(\w+)(\.coeffs)?`"), lambda m: _WORDS.get(m.group(1), m.group(0))),
-    # numpy scalar reprs: np.float64(0.0505) -> 0.0505
-    (re.compile(r"np\.(?:float|int|uint)\d*\(([-+0-9.eE]+|nan|inf)\)"),
+    # numpy scalar reprs: np.float64(0.0505) -> 0.0505; not a quoted one, which is a
+    # file's own text ("could not convert string 'np.float64(0.5)'" read '0.5': round 35
+    # PART b, E01)
+    (re.compile(r"(?<!')np\.(?:float|int|uint)\d*\(([-+0-9.eE]+|nan|inf)\)(?!')"),
      lambda m: f"{float(m.group(1)):g}"),
 )
 

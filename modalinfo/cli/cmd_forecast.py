@@ -87,6 +87,10 @@ def _parse_train(text: str) -> float | int:
     if value != value or value in (float("inf"), float("-inf")):
         raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames; "
                            f"got {text}")
+    if value <= 0:
+        # -5 was read as a fraction: "got -5 (-10000 of the 2000)" (round 35 PART b, Q17)
+        raise CommandError(f"--train must be a fraction in (0, 1) or a number of frames "
+                           f">= 2; got {text}, not positive")
     if value == 1 and not text.strip().lstrip("+").isdigit():
         # "1.0" reads as the whole log, which leaves nothing to test; "1" is one frame
         raise CommandError(f"--train {text} is ambiguous: a fraction must be < 1 (the "

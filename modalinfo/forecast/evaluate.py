@@ -704,6 +704,29 @@ def _as_predictors(predictors) -> dict[str, Predictor]:
     return out
 
 
+def _refuse_idle_refits(pred: Predictor, last_origin: int, n_frames: int) -> None:
+    """Refuse a refit schedule under which no scored forecast uses a refit.
+
+    Refits come after ``n`` frames, ``n`` a multiple of ``refit_every`` and at least
+    ``window`` (``Predictor._feed``); the forecast made at origin ``t`` uses the refits
+    with ``n <= t``. A first refit after the last origin left every number that of the
+    parameters fitted once, while the settings recorded the refits (round 35 PART b,
+    Q00 / Q01: ``--refit-every 5000`` or ``--window 5000`` on a 2000-frame log).
+    """
+    refit = pred.refit_every
+    if refit is None:
+        return
+    window = pred.window_
+    first = -(-max(window, refit) // refit) * refit  # smallest multiple of R >= max(W, R)
+    if first > last_origin:
+        raise ValueError(
+            f"`refit_every` = {refit} with `window` = {window}"
+            f"{' (the training length, as none was given)' if pred.window is None else ''}"
+            f" would never refit a forecast: the first refit comes after "
+            f"{first} frames and the last forecast origin is frame {last_origin} of the "
+            f"log's {n_frames}; give a smaller `refit_every` or `window`, or no refits.")
+
+
 def _n_train(train, n_frames: int, h_max: int) -> int:
     train = as_scalar(train)  # a 0-d array is its number, as in check_int / check_real
     if isinstance(train, bool) or not isinstance(train, numbers.Real):
@@ -1007,7 +1030,10 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     horizons : int or iterable of int
         Forecast horizons in frames (>= 1); one integer is one horizon.
     refit_every, window : int or None
-        Refit policy applied to every predictor (overrides theirs when given).
+        Refit policy applied to every predictor (overrides theirs when given). Refits
+        come after ``n`` frames, ``n`` a multiple of ``refit_every`` and at least
+        ``window`` (default: the training length); a schedule whose first refit comes
+        after the last forecast origin, used by no forecast, raises ``ValueError``.
     level : float
         Nominal coverage of the ARMA prediction intervals.
     alpha : float
@@ -1104,6 +1130,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         pred = proto.clone(horizon=h_max, **overrides)
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
+        _refuse_idle_refits(pred, int(origins[-1]), n_frames)
         has_interval[i] = has_intervals(pred)
         run = pred._new_run(h_max)
         if has_interval[i]:  # interval widths of the parameters in force, each computed once

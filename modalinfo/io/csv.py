@@ -173,6 +173,26 @@ def _number_format(message: str, path, delim: str | None = ",") -> None:
         f"pd.read_csv(path, {read}).to_csv(new, index=False))")
 
 
+_NUMPY_REPR = re.compile(r"np\.(?:float|int|uint|complex)\d*\(([^()']*)\)")
+
+
+def _numpy_reprs(message: str, path) -> None:
+    """Refuse cells written as numpy scalar reprs (``np.float64(0.5)``), naming them so.
+
+    numpy >= 2 prints a scalar's ``repr`` that way: a CSV written with ``f"{x!r}"`` or
+    ``repr(x)`` of numpy values was "corrupt CSV file ...: could not convert string
+    'np.float64(0.5)'", read on the command line as '0.5' (round 35 PART b, E01).
+    """
+    found = re.search(r"could not convert string '([^']*)'", message)
+    if not found or not _NUMPY_REPR.fullmatch(found.group(1).strip().strip('"')):
+        return
+    cell = found.group(1).strip().strip('"')
+    raise LogFormatError(
+        f"CSV file '{path}': cells such as {cell!r} are numpy scalar reprs (numpy >= 2 "
+        "prints repr(x) so), not numbers; write the numbers themselves (str(float(x)), "
+        "numpy.savetxt, or pandas' to_csv)")
+
+
 def _prose_lines(body: list[str], delim: str | None, path, first: str | None = None) -> None:
     """Refuse lines of text above the numbers (a header block not marked with ``#``).
 
@@ -451,6 +471,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             _ragged_row(str(exc), body, delim, path)
             if names is not None:
                 _text_key(str(exc), names, path)
+            _numpy_reprs(str(exc), path)  # after a key column's refusal, which comes first
             if "string ''" not in str(exc):
                 if names is not None:
                     _prose_lines(body, delim, path, first_line)

@@ -28,7 +28,7 @@ def _write(path, key_name, keys, values):
         w = csv.writer(f)
         w.writerow([key_name, *NAMES])
         for k, row in zip(keys, values, strict=True):
-            w.writerow([k, *map(repr, row)])
+            w.writerow([k, *map(repr, row.tolist())])  # numbers (numpy 2's repr is np.float64(...))
 
 
 def _message(path):
