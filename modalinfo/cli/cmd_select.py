@@ -47,7 +47,8 @@ NAME = "select"
 HELP = "Choose the past values (mode, lag) that forecast a mode, by conditional MI."
 EPILOG = ("columns: input = mode[t-lag] relative to the forecast origin t; gain = "
           "I(target; input | inputs above) in --units; interval = block-bootstrap "
-          "(normal, 95%); p = max-statistic surrogate p-value of the step")
+          "(normal, nominal 95%; measured 89-90% on AR(1) logs with phi 0.9, see the "
+          "table's last line); p = max-statistic surrogate p-value of the step")
 
 
 #: Estimated CPU seconds of the first step above which the command says so before work.

@@ -129,6 +129,36 @@ __all__ = [
 ]
 
 
+#: Measured coverage of the gains' 95 % "normal" block-bootstrap intervals (method
+#: "gaussian", the Politis-White block length): (AR(1) coefficient phi, lowest,
+#: highest) over 1,000 and 2,000 frames, 300 seeded logs per cell (Clopper-Pearson
+#: half-widths ~0.03-0.04; benchmarks/RESULTS.md, left33-ci). The bootstrap spread
+#: runs 1-26 % below the gains' own and the gains are skewed low (misses 2-10 : 1 on
+#: the high side); blocks 2 or 4 times longer do not help (0.86-0.90 at phi 0.9).
+#: ``InputSelection.table`` prints it under the intervals.
+INTERVAL_COVERAGE = ((0.5, 0.917, 0.940), (0.9, 0.893, 0.897), (0.98, 0.783, 0.877))
+
+
+def _coverage_note(confidence_level: float = 0.95) -> str:
+    """One line saying the intervals' nominal level and their measured coverage.
+
+    Parameters
+    ----------
+    confidence_level : float
+        Nominal coverage of the intervals, in (0, 1).
+
+    Returns
+    -------
+    str
+        ``"interval: block-bootstrap 'normal', nominal 95 %; measured at 95 % ..."``,
+        from ``INTERVAL_COVERAGE``.
+    """
+    cells = ", ".join(f"{lo:.2f}-{hi:.2f} at phi {phi:g}" for phi, lo, hi in INTERVAL_COVERAGE)
+    return (f"interval: block-bootstrap 'normal', nominal {100 * confidence_level:g} %; "
+            f"it covers less on persistent logs: measured at 95 % (method gaussian, "
+            f"AR(1) logs of 1,000-2,000 frames) {cells} (benchmarks/RESULTS.md, left33-ci)")
+
+
 @array_fields_eq
 @dataclass(frozen=True)
 class SelectedInput:
@@ -198,6 +228,9 @@ class InputSelection:
         Surrogates per step.
     min_shift : int
         Spacing b of the surrogates' circular shifts (all multiples of it) [samples].
+    confidence_level : float
+        Nominal coverage of the intervals (default 0.95); their measured coverage is
+        ``modalinfo.information.selection.INTERVAL_COVERAGE``.
     """
 
     target: str
@@ -214,6 +247,7 @@ class InputSelection:
     alpha: float
     n_surrogates: int
     min_shift: int
+    confidence_level: float = 0.95
 
     @property
     def sources(self) -> np.ndarray:
@@ -241,6 +275,8 @@ class InputSelection:
             rows.append(f"{i:>2}  {pad(s.label, 18)} {s.gain:9.4f}{bounds} {s.pvalue:7.4f}")
         rows.append(f"total I(target; inputs) = {self.information:.4f} {self.units}; "
                     f"stopped: {self.stop_reason}")
+        if shown:  # the level the user reads, and what it is worth (left33-ci)
+            rows.append(_coverage_note(self.confidence_level))
         return "\n".join(rows)
 
 
@@ -754,11 +790,15 @@ def select_inputs(
     intervals : bool
         Compute a block-bootstrap interval for each chosen gain.
     n_resamples, confidence_level : int, float
-        Bootstrap resamples and nominal coverage of the intervals. The moving-block
-        bootstrap's spread runs below the gain's on strongly autocorrelated series,
-        so the intervals cover less than stated there: on AR(1) logs with phi = 0.9
-        (gain 0.830 nats), 0.90 at 95 % for 1,000 and 2,000 frames, the spread 9 % and
-        6.5 % short (benchmarks/RESULTS.md, fix33-a).
+        Bootstrap resamples and nominal coverage of the intervals (in (0, 1)). The
+        moving-block bootstrap's spread runs below the gain's on strongly
+        autocorrelated series, so the intervals cover less than stated there: at 95 %
+        on AR(1) logs of 1,000-2,000 frames, 0.92-0.94 at phi = 0.5, 0.89-0.90 at
+        phi = 0.9 (gain 0.830 nats, spread 8-11 % short), 0.78-0.88 at phi = 0.98
+        (``modalinfo.information.selection.INTERVAL_COVERAGE``; benchmarks/RESULTS.md,
+        fix33-a and left33-ci).
+        Not the block length: blocks 2 and 4 times the Politis-White length cover
+        0.89 and 0.86-0.90 at phi = 0.9. The table says it under the intervals.
     min_shift : int, optional
         Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
         ``modalinfo.information.resampling.surrogate_shifts``, one set for the
@@ -831,6 +871,9 @@ def select_inputs(
     n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=1)
     if intervals:
         n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
+        # 1.5 gave NaN bounds without a word (left33-ci)
+        confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
+                                      maximum=1.0, strict_min=True, strict_max=True)
     check_surrogates_reach(n_surrogates, alpha)
     max_inputs = check_int(max_inputs, "max_inputs", minimum=1)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
@@ -905,4 +948,5 @@ def select_inputs(
         information=float(sum(s.gain for s in inputs)), n_candidates=n_cand, n_samples=n,
         stop_reason=stop, last_pvalue=last_p, method=method, units=units, alpha=alpha,
         n_surrogates=n_surrogates, min_shift=int(shift0),
+        confidence_level=float(confidence_level),
     )

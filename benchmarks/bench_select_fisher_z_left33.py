@@ -1,0 +1,98 @@
+"""``select``'s gain interval: half-length blocks and a Fisher-z interval (left33-ci).
+
+Reference: the Gaussian AR(1) gain ``-0.5 ln(1 - phi^2)`` (Cover & Thomas 2006, eq.
+8.56) on the logs of bench_select_block_length_left33.py (``default_rng(1000 + s)``,
+500 burn-in frames). Per cell, coverage of: the 95 % "normal" interval
+``_gaussian_block_ci`` prints (Politis-White block b); the same 199 resamples
+(re-drawn here, checked equal to within 1e-6) mapped to Fisher's z of the equivalent
+correlation, ``z = atanh(sqrt(1 - exp(-2 I)))``, a normal interval there and mapped
+back (a variance-stabilising transform, Fisher 1921; the candidate of "Leftovers
+19-ci"), with its misses below / above; and the "normal" interval with blocks of b / 2.
+
+    OPENBLAS_NUM_THREADS=1 PYTHONPATH=. nice -n 5 python \\
+        benchmarks/bench_select_fisher_z_left33.py 300 0.5,0.9,0.98
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+import modalinfo.information.selection as sel
+from modalinfo.information.gaussian import gaussian_cmi_from_covariance
+from modalinfo.information.resampling import auto_block_length, block_bootstrap_indices
+
+
+def _dist(data: np.ndarray, b: int, R: int, rng: np.random.Generator) -> np.ndarray:
+    """The resampled gains of ``_gaussian_block_ci`` (same draws, same sums)."""
+    n, d = data.shape
+    u = data - data.mean(axis=0)
+    u /= np.sqrt(np.einsum("ij,ij->j", u, u) / n)
+    s1 = np.zeros((n + 1, d))
+    s1[1:] = np.cumsum(u, axis=0)
+    s2 = np.zeros((n + 1, d, d))
+    s2[1:] = np.cumsum(u[:, :, None] * u[:, None, :], axis=0)
+    idx = block_bootstrap_indices(n, b, R, rng)
+    nb = -(-n // b)
+    starts = idx[:, ::b]
+    lens = np.full(nb, b)
+    lens[-1] = n - b * (nb - 1)
+    ends = starts + lens
+    m1 = (s1[ends] - s1[starts]).sum(axis=1) / n
+    m2 = (s2[ends] - s2[starts]).sum(axis=1) / n
+    return np.array([gaussian_cmi_from_covariance(m2[k] - np.outer(m1[k], m1[k]), 1, 1)
+                     for k in range(R)])
+
+
+def _gain(z: float) -> float:
+    return -0.5 * math.log(1 - math.tanh(z) ** 2)
+
+
+def main() -> None:
+    S = int(sys.argv[1])
+    phis = [float(v) for v in sys.argv[2].split(",")]
+    try:
+        for phi in phis:
+            true = -0.5 * math.log(1 - phi**2)
+            for T in (1000, 2000):
+                hz = hh = hn = hz_lo = hz_hi = 0
+                for s in range(S):
+                    e = np.random.default_rng(1000 + s).standard_normal(T + 500)
+                    x = np.empty_like(e)
+                    x[0] = e[0]
+                    for t in range(1, e.size):
+                        x[t] = phi * x[t - 1] + e[t]
+                    x = x[500:]
+                    data = np.column_stack([x[1:], x[:-1]])
+                    r = np.corrcoef(data.T)[0, 1]
+                    gain = -0.5 * math.log(1 - r * r)
+                    b = auto_block_length(data)
+                    lo, hi = sel._gaussian_block_ci(data, gain, 199, 0.95,
+                                                    np.random.default_rng(s))
+                    dd = _dist(data, b, 199, np.random.default_rng(s))
+                    hw = 1.959964 * dd.std(ddof=1)
+                    assert abs((gain - hw) - lo) < 1e-6, (lo, gain - hw)  # same draws
+                    zs = np.arctanh(np.sqrt(1 - np.exp(-2 * dd)))
+                    z0 = math.atanh(abs(r))
+                    hz_ = 1.959964 * zs.std(ddof=1)
+                    zlo, zhi = _gain(max(z0 - hz_, 0.0)), _gain(z0 + hz_)
+                    hz += zlo <= true <= zhi
+                    hz_lo += true < zlo
+                    hz_hi += true > zhi
+                    half = max(1, b // 2)
+                    sel.auto_block_length = lambda d, h=half: h
+                    lo2, hi2 = sel._gaussian_block_ci(data, gain, 199, 0.95,
+                                                      np.random.default_rng(s))
+                    sel.auto_block_length = auto_block_length
+                    hh += lo2 <= true <= hi2
+                    hn += lo <= true <= hi
+                print(f"phi={phi} T={T}: normal(pw) {hn / S:.3f}  fisher-z(pw) {hz / S:.3f} "
+                      f"(below/above {hz_lo}/{hz_hi})  normal(0.5 pw) {hh / S:.3f}", flush=True)
+    finally:
+        sel.auto_block_length = auto_block_length
+
+
+if __name__ == "__main__":
+    main()
