@@ -77,3 +77,13 @@ def ar1_log(frames: int, modes: int, seed: int, rho: float = 0.9) -> np.ndarray:
     for t in range(1, frames):
         x[t] += rho * x[t - 1]
     return x
+
+
+def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """Exact (Clopper-Pearson) binomial interval of a coverage of ``k`` hits in ``n``."""
+    from scipy import stats
+
+    tail = 0.5 * (1.0 - level)
+    low = stats.beta.ppf(tail, k, n - k + 1) if k > 0 else 0.0
+    high = stats.beta.ppf(1.0 - tail, k + 1, n - k) if k < n else 1.0
+    return float(low), float(high)

@@ -26,15 +26,9 @@ import argparse
 import math
 
 import numpy as np
-from scipy import stats
+from _common import clopper_pearson
 
 import modalinfo.information.selection as sel
-
-
-def _cp(k: int, n: int) -> tuple[float, float]:
-    lo = stats.beta.ppf(0.025, k, n - k + 1) if k > 0 else 0.0
-    hi = stats.beta.ppf(0.975, k + 1, n - k) if k < n else 1.0
-    return float(lo), float(hi)
 
 
 def main() -> None:
@@ -89,7 +83,7 @@ def main() -> None:
                 for k in names:
                     lo, hi = np.array(res[k]).T
                     hit = int(np.sum((lo <= true) & (true <= hi)))
-                    c = _cp(hit, a.seeds)
+                    c = clopper_pearson(hit, a.seeds)
                     se = (hi - lo) / 2 / 1.959964
                     print(f"   {k:5s} b med {np.median(bls[k]):5.0f}: cov {hit}/{a.seeds}="
                           f"{hit / a.seeds:.3f} [{c[0]:.3f},{c[1]:.3f}] below/above "

@@ -21,6 +21,7 @@ import argparse
 import warnings
 
 import numpy as np
+from _common import clopper_pearson
 from scipy import stats
 
 from modalinfo.information.resampling import auto_block_length
@@ -28,12 +29,6 @@ from modalinfo.information.selection import select_inputs
 
 PHI = 0.9
 TRUE = -0.5 * np.log(1 - PHI**2)
-
-
-def _clopper_pearson(k: int, n: int) -> tuple[float, float]:
-    low = stats.beta.ppf(0.025, k, n - k + 1) if k > 0 else 0.0
-    high = stats.beta.ppf(0.975, k + 1, n - k) if k < n else 1.0
-    return float(low), float(high)
 
 
 def main() -> None:
@@ -57,7 +52,7 @@ def main() -> None:
             first = r.inputs[0]
             g[s], lo[s], hi[s] = first.gain, first.low, first.high
         hit = int(np.sum((lo <= TRUE) & (TRUE <= hi)))
-        cp = _clopper_pearson(hit, args.seeds)
+        cp = clopper_pearson(hit, args.seeds)
         sd = g.std(ddof=1)
         se = (hi - lo) / 2 / stats.norm.ppf(0.975)
         print(f"T={n_frames}: coverage {hit}/{args.seeds} = {hit / args.seeds:.3f} "

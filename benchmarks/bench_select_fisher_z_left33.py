@@ -21,29 +21,7 @@ import sys
 import numpy as np
 
 import modalinfo.information.selection as sel
-from modalinfo.information.gaussian import gaussian_cmi_from_covariance
-from modalinfo.information.resampling import auto_block_length, block_bootstrap_indices
-
-
-def _dist(data: np.ndarray, b: int, R: int, rng: np.random.Generator) -> np.ndarray:
-    """The resampled gains of ``_gaussian_block_ci`` (same draws, same sums)."""
-    n, d = data.shape
-    u = data - data.mean(axis=0)
-    u /= np.sqrt(np.einsum("ij,ij->j", u, u) / n)
-    s1 = np.zeros((n + 1, d))
-    s1[1:] = np.cumsum(u, axis=0)
-    s2 = np.zeros((n + 1, d, d))
-    s2[1:] = np.cumsum(u[:, :, None] * u[:, None, :], axis=0)
-    idx = block_bootstrap_indices(n, b, R, rng)
-    nb = -(-n // b)
-    starts = idx[:, ::b]
-    lens = np.full(nb, b)
-    lens[-1] = n - b * (nb - 1)
-    ends = starts + lens
-    m1 = (s1[ends] - s1[starts]).sum(axis=1) / n
-    m2 = (s2[ends] - s2[starts]).sum(axis=1) / n
-    return np.array([gaussian_cmi_from_covariance(m2[k] - np.outer(m1[k], m1[k]), 1, 1)
-                     for k in range(R)])
+from modalinfo.information.resampling import auto_block_length
 
 
 def _gain(z: float) -> float:
@@ -71,7 +49,8 @@ def main() -> None:
                     b = auto_block_length(data)
                     lo, hi = sel._gaussian_block_ci(data, gain, 199, 0.95,
                                                     np.random.default_rng(s))
-                    dd = _dist(data, b, 199, np.random.default_rng(s))
+                    dd = sel._gaussian_block_gains(data, 199, np.random.default_rng(s),
+                                                   block_length=b)
                     hw = 1.959964 * dd.std(ddof=1)
                     assert abs((gain - hw) - lo) < 1e-6, (lo, gain - hw)  # same draws
                     zs = np.arctanh(np.sqrt(1 - np.exp(-2 * dd)))

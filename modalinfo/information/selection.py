@@ -442,18 +442,19 @@ def _refuse_unit_rho(ru: np.ndarray, R: np.ndarray, cn: np.ndarray, rho: np.ndar
                 "has a finite CMI: use method='histogram'.")
 
 
-def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
-                       confidence_level: float, rng: np.random.Generator
-                       ) -> tuple[float, float]:
-    """Block-bootstrap "normal" interval (nats) of the Gaussian CMI of columns 0; 1 | 2:.
+def _gaussian_block_gains(data: np.ndarray, n_resamples: int, rng: np.random.Generator,
+                          block_length: int | None = None) -> np.ndarray:
+    """Block-bootstrap replicates (nats) of the Gaussian CMI of columns 0; 1 | 2:.
 
     The same resamples as :func:`conditional_mutual_information_ci` (same block
     length rule, same draws of ``block_bootstrap_indices``), but each resample's covariance
     is summed from cumulative sums of the rows' moments instead of re-reading
-    n rows: O(n d^2) once plus O(n / b d^2) per resample.
+    n rows: O(n d^2) once plus O(n / b d^2) per resample. ``block_length`` None is
+    the rule's (``auto_block_length``); an integer is for the
+    benchmarks that vary it (benchmarks/bench_select_*_left33.py).
     """
     n, d = data.shape
-    b = auto_block_length(data)
+    b = auto_block_length(data) if block_length is None else int(block_length)
     u = data - data.mean(axis=0)
     u /= np.sqrt(np.einsum("ij,ij->j", u, u) / n)
     s1 = np.zeros((n + 1, d))
@@ -468,8 +469,15 @@ def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
     ends = starts + lens
     m1 = (s1[ends] - s1[starts]).sum(axis=1) / n
     m2 = (s2[ends] - s2[starts]).sum(axis=1) / n
-    dist = np.array([gaussian_cmi_from_covariance(m2[k] - np.outer(m1[k], m1[k]), 1, 1)
+    return np.array([gaussian_cmi_from_covariance(m2[k] - np.outer(m1[k], m1[k]), 1, 1)
                      for k in range(n_resamples)])
+
+
+def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
+                       confidence_level: float, rng: np.random.Generator
+                       ) -> tuple[float, float]:
+    """Block-bootstrap "normal" interval (nats) of the Gaussian CMI of columns 0; 1 | 2:."""
+    dist = _gaussian_block_gains(data, n_resamples, rng)
     half = float(stats.norm.ppf(0.5 + 0.5 * confidence_level) * np.std(dist, ddof=1))
     return gain - half, gain + half
 
