@@ -124,6 +124,41 @@ its white increments: no false flag in the tests, its glitches found.
   ``P(X >= R) <= alpha`` (``(T - 1) prod_j q_j <= alpha`` for one frame; a log
   quantised so coarsely that whole frames repeat by chance as often as found is not
   judged; a log of two modes with 5 % of its frames re-sent is, round 34 PART b).
+* A **copied frame** equals, bit for bit in every varying mode, an earlier frame other
+  than the one before: a block of frames written twice (round 34 PART b, B38-B39: the
+  last 2000 frames appended again counted 25 % too many frames, and nothing said so).
+  Each frame's varying modes are hashed to 64 bits in the flagging pass (8 bytes a
+  frame; two different frames of ``T`` share a hash with probability ``T^2 / 2^65``);
+  a run of equal consecutive frames counts once (a re-sent frame is the rule above's).
+  Among the ``U`` frames left, the ``R`` equal to an earlier one are flagged when
+  ``P(X >= R) <= alpha`` for a Poisson count of mean ``U (U - 1) / 2 prod_j p_j``,
+  ``p_j`` the larger of mode ``j``'s collision share (two values of the sample equal)
+  and its share of equal consecutive pairs (less the flagged repeated frames): the
+  repeated-frame rule's chance law on every pair of frames. The report names the
+  first copied block's rows and the rows it repeats; ``"drop"`` removes the copies.
+* **Frames in swapped pairs** (a logger writing frames ``2k + 1, 2k``; round 34 PART b,
+  B21-B23: the lag-1 of Z28 fell from 0.544 to 0.356 and ``select`` picked Z4[t-2]
+  first): the lag-1 products ``x_t x_{t+1}`` at even ``t`` span one lag and those at odd
+  ``t`` another (1 and 3 in a swapped log), where a stationary log has the same law at
+  both. Per mode centred on the median and scaled by sigma, pooled over the modes with
+  weights their absolute lag-1 autocorrelation on the sample
+  (``modalinfo._stats.lag1_autocorrelations``), the differences ``p_{2k} - p_{2k+1}``
+  are averaged in ``PAIR_BATCHES`` = 32 contiguous batches and their mean judged by a
+  two-sided t test of 31 degrees of freedom at ``PAIR_ALPHA`` = 1e-4 (logs of at least
+  ``PAIR_MIN_FRAMES`` = 513 frames). Measured (benchmarks/bench_pair_order_34b.py): no
+  false alarm in 538 clean logs (the layout rule's families: 525 AR(1) logs of 2,000 x
+  20 to 8,000 x 50, rho 0.5-0.999, one rho or Noll-like, 0.999, -0.5, white; 10
+  ``kaos_like``; the 3 shipped logs; 95 % upper bound 3 / 538 = 0.56 %), each of them
+  swapped found but the 105 white ones (433 of 433: a white log has no order to lose;
+  largest p 3e-6, at 2,000 frames of rho 0.999); 1 % of the pairs swapped (round 34
+  PART b, B20) is within the sampling error of every answer and is not found. A swap
+  is no set of frames: the report is not clean (``"raise"`` refuses), and no policy
+  reorders. Modes predictable to round-off (noise-free vibration lines) are left out of
+  both this rule and the copied-frame rule; a fixed-phase vibration line within about
+  ``rate / T`` of ``rate / 4`` has lag-1 products alternating in sign and is named too
+  (a 250 Hz line at 1 kHz over 20,000 frames with noise 1e-6 of it; 249.9 and 250.02 Hz
+  are not). Lag 2 against lag 1 (lag 2 above lag 1 in a swapped smooth log) is not
+  used: an AR(1) mode keeps lag 2 below lag 1 swapped or not.
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -254,8 +289,10 @@ QUALITY_MEMORY_SLICE_FACTOR = 5
 #: Peak bytes per byte of one row block the passes read (``min(T M, SCAN_ELEMENTS) x 8``:
 #: a memory-mapped block's copy, the flagging kernel's per-block arrays), and per frame
 #: (the per-frame flags): 50 MiB at 10^6 x 5 for a 2.5 MiB sample and 32 MiB blocks.
+#: Per frame since fix34-b also the copied-block rule's 64-bit hashes and, once, their
+#: sorted copy (or the search positions) and two masks: 2 + 8 + 8 + 2 = 20 bytes.
 QUALITY_MEMORY_BLOCK_FACTOR = 1.5
-QUALITY_MEMORY_FRAME_BYTES = 2
+QUALITY_MEMORY_FRAME_BYTES = 20
 
 #: Bytes of :func:`assess_quality` whatever the log's size: the simulated law of the
 #: MAD (paid once per effective sample size and process, which the data set: up to
@@ -270,7 +307,7 @@ def quality_memory(n_frames: int, n_modes: int,
     """Estimated peak bytes of :func:`assess_quality` on a ``T x M`` log [bytes].
 
     ``QUALITY_MEMORY_FIXED + 2 S + 5 min(4 S, 8 _SLICE_VALUES) + 1.5 x 8 min(T M,
-    SCAN_ELEMENTS) + 2 T``, ``S = min(T, sample_frames) x M x 8`` the sample's bytes
+    SCAN_ELEMENTS) + 20 T``, ``S = min(T, sample_frames) x M x 8`` the sample's bytes
     (see the factors):
     the one function the commands' pre-work estimates add (``modalinfo.cli.shared.
     quality_need``). 1.2-2.8 x the ``tracemalloc`` peaks of 23 logs of 20 - 10^6 frames
@@ -763,8 +800,8 @@ class QualityReport:
         Sorted frame indices: glitched frames (outliers in >= ``frame_modes`` modes),
         frames with any outlier, with any stuck value, with any non-finite value.
     flagged_frames : numpy.ndarray of int
-        The union of those three sets and ``repeated_frames``: the frames ``"drop"``
-        removes.
+        The union of those three sets, ``repeated_frames`` and ``copied_frames``: the
+        frames ``"drop"`` removes.
     fingerprint : str
         What was assessed: ``"log:<hex>"``, a BLAKE2b digest of a ``ModalLog``'s data
         bytes (with shape and dtype), time axis and labels, or ``"array:<hex>"``, of an
@@ -897,6 +934,25 @@ class QualityReport:
     repeated_frames : numpy.ndarray of int
         Sorted indices of frames equal to the frame before in every varying mode (see
         the module docstring's rule); empty where none or where chance explains them.
+    copied_frames : numpy.ndarray of int
+        Sorted indices of frames equal (bit for bit, in every varying mode) to an
+        earlier frame other than the one before: a block of frames written twice
+        (see the module docstring's rule); empty where none or where chance explains
+        them. In ``flagged_frames``: ``"drop"`` removes the copies, the first of each
+        kept.
+    copied_block : tuple of int
+        ``(start, stop, source)``: the first copied block, rows ``start .. stop - 1``
+        equal to rows ``source .. source + stop - start - 1``; ``()`` when none.
+    pair_order : tuple of float
+        ``(r_even, r_odd, p_value)`` when the frames look written in pairs in reverse
+        order (every pair ``2k, 2k + 1`` swapped): the pooled lag-1 correlation of the
+        frames ``2k -> 2k + 1`` and ``2k + 1 -> 2k + 2``, which a stationary log has
+        equal, and the p value of their difference (see the module docstring's rule);
+        ``()`` when not found. Not a set of frames: it makes the report not
+        :attr:`clean` (``"raise"`` refuses the log), and no policy reorders the frames.
+    pair_judged : bool
+        Whether the pair-order rule judged the log (``PAIR_MIN_FRAMES`` frames and a
+        mode with a lag-1 autocorrelation).
     """
 
     n_frames: int
@@ -933,6 +989,10 @@ class QualityReport:
     variance_steps: tuple = ()
     variance_judged: int = 0
     repeated_frames: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    copied_frames: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    copied_block: tuple = ()
+    pair_order: tuple = ()
+    pair_judged: bool = False
 
     @property
     def approximate(self) -> bool:
@@ -946,8 +1006,8 @@ class QualityReport:
 
     @property
     def clean(self) -> bool:
-        """True when nothing was flagged and the log was long enough to assess."""
-        return self.n_flagged == 0 and self.assessed
+        """True when nothing was flagged, the log was assessed and not in swapped pairs."""
+        return self.n_flagged == 0 and self.assessed and not self.pair_order
 
     @property
     def stationarity_note(self) -> str:
@@ -1005,6 +1065,19 @@ class QualityReport:
                 f"finite threshold holds P(any false flag) <= {self.alpha:g}; "
                 # the command lines have no k: name the call (round 10 PART b, row B04)
                 "modalinfo.telemetry.assess_quality(log, k=...) tests anyway")
+
+    @property
+    def pair_note(self) -> str:
+        """The pair-order finding in words ("" when none)."""
+        if not self.pair_order:
+            return ""
+        r_even, r_odd, p = self.pair_order
+        first = "2k, 2k + 1" if r_even > r_odd else "2k + 1, 2k + 2"
+        return (f"frames in swapped pairs? the lag-1 correlation from frame 2k to 2k + 1 is "
+                f"{r_even:.3f} and from 2k + 1 to 2k + 2 {r_odd:.3f} (p {p:.2g}; equal in a "
+                f"stationary log): the frames of each pair {first} look written in reverse "
+                "order, which no --outliers policy undoes; lags and predictions are "
+                "wrong until the logger's order is fixed")
 
     @property
     def expected_false_alarms(self) -> float:
@@ -1066,6 +1139,13 @@ class QualityReport:
             more = ", ..." if self.repeated_frames.size > 5 else ""
             parts.append(f"{self.repeated_frames.size} repeated frame(s) equal to the frame "
                          f"before in every mode ({shown}{more})")
+        if self.copied_frames.size:
+            start, stop, source = self.copied_block
+            parts.append(f"{self.copied_frames.size} frame(s) equal to an earlier frame in "
+                         f"every mode, a block written twice? (the first: rows {start}.."
+                         f"{stop - 1} repeat rows {source}..{source + stop - start - 1})")
+        if self.pair_order:
+            parts.append(self.pair_note)
         return (f"{self.n_flagged} of {self.n_frames} frames flagged: " + "; ".join(parts)
                 + f"; rule {self.rule}" + caveat)
 
@@ -1076,6 +1156,14 @@ class QualityReport:
             extra["note"] = self.note
         if self.repeated_frames.size:  # the key only when found: clean logs' JSON unchanged
             extra["repeated_frames"] = int(self.repeated_frames.size)
+        if self.copied_frames.size:
+            start, stop, source = self.copied_block
+            extra["copied_frames"] = int(self.copied_frames.size)
+            extra["copied_block"] = f"{start}-{stop - 1} = {source}-{source + stop - start - 1}"
+        if self.pair_order:
+            extra["pair_order"] = (f"lag-1 {self.pair_order[0]:.3f} (2k -> 2k+1) vs "
+                                   f"{self.pair_order[1]:.3f} (2k+1 -> 2k+2), "
+                                   f"p {self.pair_order[2]:.2g}")
         return {
             "rule": f"|x - median| > k * 1.4826 MAD and |AR({AR_ORDER}) innovation| > k * its "
                     "1.4826 MAD",
@@ -1111,7 +1199,9 @@ class QualityReport:
         reports): each key of :meth:`to_dict` becomes ``<prefix><key>``; ``assessed``
         (True or False) and ``note`` (``""`` when none) are always present, so rows of
         short and long logs share their columns; ``worst_modes`` becomes text, as
-        :meth:`describe` writes it (``"Z2 3, Z5 1"``, ``""`` when none). Values are str,
+        :meth:`describe` writes it (``"Z2 3, Z5 1"``, ``""`` when none);
+        ``repeated_frames`` and ``copied_frames`` (0), ``copied_block`` and
+        ``pair_order`` (``""``) are present when nothing was found too. Values are str,
         int, float, bool or None (null in Parquet, empty in CSV): ``k`` is None when not
         assessed, ``alpha`` when a fixed ``k`` was given, ``scale_ratio`` and
         ``stationary`` when stationarity was not judged.
@@ -1126,7 +1216,8 @@ class QualityReport:
         dict
             Column name -> scalar value.
         """
-        fields = {"assessed": True, "note": "", **self.to_dict()}
+        fields = {"assessed": True, "note": "", "repeated_frames": 0, "copied_frames": 0,
+                  "copied_block": "", "pair_order": "", **self.to_dict()}
         fields["worst_modes"] = ", ".join(f"{label} {count}"
                                           for label, count in fields["worst_modes"].items())
         return {prefix + key: value for key, value in fields.items()}
@@ -1502,6 +1593,181 @@ def _head_innovations(arr: np.ndarray, centre: np.ndarray, coef: np.ndarray,
     return head
 
 
+#: Batches of the pair-order rule's batch-means t test (``_PairOrder``).
+PAIR_BATCHES = 32
+
+#: False-alarm probability of the pair-order rule on one stationary log (two-sided t
+#: test of ``PAIR_BATCHES - 1`` degrees of freedom): 0 of 538 clean logs above it
+#: (benchmarks/bench_pair_order_34b.py).
+PAIR_ALPHA = 1e-4
+
+#: Fewest frames the pair-order rule judges (8 pairs per batch).
+PAIR_MIN_FRAMES = 2 * 8 * PAIR_BATCHES + 1
+
+_MASK64 = (1 << 64) - 1
+
+
+class _PairOrder:
+    """Lag-1 products at even and at odd frames, summed block by block.
+
+    A logger that writes every pair of frames in reverse order (``2k + 1, 2k``) makes
+    the products ``x_t x_{t+1}`` of one parity the true lag 1 and those of the other
+    the true lag 3 (adversarial round 34 PART b, B21-B23). Per tested mode the values
+    are centred on the median and scaled by the robust sigma; the products are pooled
+    over the modes with weights ``|r_j|``, each mode's lag-1 autocorrelation on the
+    sample (``modalinfo._stats.lag1_autocorrelations``: white modes carry no order to
+    lose), and the pair differences ``e_k = p_{2k} - p_{2k+1}`` go to ``PAIR_BATCHES``
+    contiguous batch means (short-range dependence of ``e`` absorbed, as in the batch
+    means of a Monte-Carlo error), judged by a two-sided t test.
+    """
+
+    def __init__(self, n: int, centre: np.ndarray, sigma: np.ndarray,
+                 weights: np.ndarray) -> None:
+        self.pairs = (n - 1) // 2  # products 0 .. 2 K - 1: K complete pairs
+        self.cols = np.flatnonzero(weights > 0)
+        self.centre, self.scale = centre[self.cols], sigma[self.cols]
+        w = weights[self.cols]
+        self.w = w / w.sum() if w.size else w
+        self.sums = np.zeros(PAIR_BATCHES)
+        self.counts = np.zeros(PAIR_BATCHES)
+        self.even = self.odd = self.power = 0.0
+        self.prev: np.ndarray | None = None
+
+    def add(self, block: np.ndarray, i0: int) -> None:
+        if not self.cols.size:
+            return
+        rows = block.shape[0]
+        p = np.zeros(rows - 1)  # product t = i0 + index
+        first, last = np.empty(self.cols.size), np.empty(self.cols.size)
+        for sl in _column_slices(self.cols.size):  # an eighth of the block at a time
+            y = np.array(block[:, self.cols[sl]], dtype=np.float64)
+            y -= self.centre[sl]
+            y /= self.scale[sl]
+            y[~np.isfinite(y)] = 0.0  # a non-finite value adds no product
+            self.power += float(np.einsum("tk,tk,k->", y, y, self.w[sl]))
+            p += np.einsum("tk,tk,k->t", y[:-1], y[1:], self.w[sl])
+            first[sl], last[sl] = y[0], y[-1]
+        start = i0
+        if self.prev is not None:  # the product across the blocks' boundary
+            p = np.concatenate(([float(np.einsum("k,k,k->", self.prev, first, self.w))], p))
+            start -= 1
+        self.prev = last
+        t = start + np.arange(p.size)
+        keep = t < 2 * self.pairs
+        p, t = p[keep], t[keep]
+        sign = np.where(t % 2 == 0, 1.0, -1.0)
+        self.even += float(p[sign > 0].sum())
+        self.odd += float(p[sign < 0].sum())
+        batch = (t // 2) * PAIR_BATCHES // max(self.pairs, 1)
+        self.sums += np.bincount(batch, sign * p, minlength=PAIR_BATCHES)
+        self.counts += np.bincount(batch, (sign > 0).astype(float), minlength=PAIR_BATCHES)
+
+    def result(self, n: int) -> tuple | None:
+        """``(r_even, r_odd, p_value)``, or None when not judged (too short, no mode)."""
+        if not self.cols.size or n < PAIR_MIN_FRAMES or self.power <= 0.0:
+            return None
+        from scipy.stats import t as student
+
+        means = self.sums / np.maximum(self.counts, 1.0)
+        sd = float(np.std(means, ddof=1))
+        norm = self.power / n
+        r_even = self.even / self.pairs / norm
+        r_odd = self.odd / self.pairs / norm
+        if sd <= 0.0:
+            return r_even, r_odd, 1.0
+        stat = float(np.mean(means)) / (sd / math.sqrt(PAIR_BATCHES))
+        return r_even, r_odd, float(2.0 * student.sf(abs(stat), PAIR_BATCHES - 1))
+
+
+_GOLD = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+
+
+def _row_hashes(rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Hash each row's float64 bits to 64 bits (splitmix64 of each value, chained).
+
+    Rows equal in the columns ``cols`` (bit for bit, after conversion to float64: exact
+    for float32 and integers below 2**53) get equal hashes; two different rows of a log
+    of ``T`` frames share one with probability about ``T^2 / 2^65`` over the whole log.
+    """
+    h = np.zeros(rows.shape[0], dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        for sl in _column_slices(cols.size):  # an eighth of the block at a time
+            v = np.array(rows[:, cols[sl]], dtype=np.float64).view(np.uint64)
+            for j in range(v.shape[1]):
+                z = v[:, j] + _GOLD * np.uint64(sl.start + j + 1)
+                z = (z ^ (z >> np.uint64(30))) * _MIX1
+                z = (z ^ (z >> np.uint64(27))) * _MIX2
+                z ^= z >> np.uint64(31)
+                h = (h ^ z) * _MIX1 + _GOLD
+    return h
+
+
+def _column_slices(m: int, parts: int = 8) -> list:
+    """Slices of ``range(m)`` in about ``parts`` pieces (a block's copies a piece at a time)."""
+    width = max(1, -(-m // parts))
+    return [slice(i, min(i + width, m)) for i in range(0, m, width)]
+
+
+def _collision_share(col: np.ndarray) -> float:
+    """Probability that two distinct values of ``col`` drawn at random are equal."""
+    s = np.sort(col[np.isfinite(col)])
+    if s.size < 2:
+        return 0.0
+    edges = np.flatnonzero(np.diff(s) != 0)
+    sizes = np.diff(np.concatenate(([0], edges + 1, [s.size]))).astype(np.float64)
+    return float((sizes * (sizes - 1)).sum() / (s.size * (s.size - 1.0)))
+
+
+def _copied_frames(h: np.ndarray, near: np.ndarray, alpha: float, sample: np.ndarray,
+                   live: np.ndarray) -> tuple[np.ndarray, tuple]:
+    """Frames equal to an earlier frame other than the one before (a block written twice).
+
+    ``h`` the row hashes (``_row_hashes``). A run of consecutive equal frames (a frame
+    re-sent, the repeated-frame rule's) counts as one frame. Among the ``U`` run heads,
+    ``R`` equal an earlier head; independent values would give a Poisson count of mean
+    ``U (U - 1) / 2 prod_j p_j``, ``p_j`` each varying mode's (``live``) probability that
+    two frames agree (its collision share on ``sample``, or ``near``, its share of equal
+    consecutive pairs not from flagged repeated frames, if larger: near frames of a persistent
+    quantised mode agree more often than far ones); they are copies when
+    ``P(X >= R) <= alpha`` (``_chance_repeats``). Returns the copies' rows and the first
+    copied block ``(start, stop, source)`` (rows ``start .. stop - 1`` equal rows
+    ``source ..``).
+    """
+    n = h.size
+    none = (np.zeros(0, np.int64), ())
+    if n < 3:
+        return none
+    head = np.ones(n, dtype=bool)
+    head[1:] = h[1:] != h[:-1]
+    hs = np.sort(h[head])
+    twice = hs[1:] == hs[:-1]
+    if not twice.any():
+        return none
+    values = np.unique(hs[1:][twice])
+    del hs, twice
+    pos = np.minimum(np.searchsorted(values, h), values.size - 1)
+    idx = np.flatnonzero(head & (values[pos] == h))
+    del pos
+    order = np.argsort(h[idx], kind="stable")
+    ordered = h[idx][order]
+    first = np.ones(idx.size, dtype=bool)
+    first[1:] = ordered[1:] != ordered[:-1]
+    copies = np.sort(idx[order[~first]])
+    u = int(head.sum())
+    share = np.maximum(near, [_collision_share(sample[:, j]) for j in np.flatnonzero(live)])
+    if not _chance_repeats(copies.size, u * (u - 1) // 2 + 1, share, alpha):
+        c0 = int(copies[0])
+        src = int(idx[order[np.flatnonzero(first)[np.searchsorted(
+            ordered[first], h[c0])]]])
+        lag = c0 - src
+        same = h[c0:] == h[c0 - lag:n - lag]
+        stop = c0 + (int(np.argmin(same)) if not same.all() else same.size)
+        return copies.astype(np.int64), (c0, stop, src)
+    return none
+
+
 def assess_quality(
     log_or_coeffs,
     *,
@@ -1636,6 +1902,21 @@ def assess_quality(
     # count is judged after the pass, _chance_repeats)
     find_repeats = int(live.sum()) >= 2
     rep_idx: list = []
+    # frames equal to one far before (a block written twice, round 34 PART b B38-B39):
+    # a 64-bit hash per frame, 8 bytes a frame
+    # modes predictable to round-off (noise-free vibration lines, round 28 PART a) repeat
+    # their frames and keep a fixed phase: neither rule below applies to them
+    with np.errstate(invalid="ignore"):
+        random = live & ~(sig_e <= ROUNDOFF_INNOVATIONS * sigma)
+    random_cols = np.flatnonzero(random)
+    hashes = np.zeros(n, dtype=np.uint64) if random_cols.size else None
+    # the time order within pairs of frames (pairs swapped, round 34 PART b B21-B23)
+    from modalinfo._stats import lag1_autocorrelations
+
+    # (a mode holding a non-finite value in the sample has no lag-1 there: left out)
+    pair_weights = np.where(tested & random, np.abs(np.nan_to_num(
+        lag1_autocorrelations(sample))), 0.0)
+    pairs = _PairOrder(n, centre, np.where(tested, sigma, 1.0), pair_weights)
     prev_row = None
     # strided: the level rule's bin means, summed here rather than in the first pass,
     # where the AR windows are held too (issue 27, left30-prov)
@@ -1645,6 +1926,9 @@ def assess_quality(
         b = np.ascontiguousarray(block)
         if bins is not None:
             bins.add(b, i0)
+        pairs.add(b, i0)
+        if hashes is not None:
+            hashes[i0:i0 + b.shape[0]] = _row_hashes(b, random_cols)
         if find_repeats:
             bl = b[:, live]
             rep_idx.append(i0 + 1 + np.flatnonzero(np.all(bl[1:] == bl[:-1], axis=1)))
@@ -1702,8 +1986,18 @@ def assess_quality(
     repeated_frames = np.unique(cat(rep_idx))
     if find_repeats and _chance_repeats(repeated_frames.size, n, share, alpha):
         repeated_frames = np.zeros(0, np.int64)
+    copied_frames, copied_block = np.zeros(0, np.int64), ()
+    if hashes is not None:
+        # each mode's chance that two frames agree: its collision share on the sample,
+        # or its share of equal consecutive pairs (less the flagged repeated frames)
+        near = np.maximum(repeats[random] - repeated_frames.size, 0) / max(1, n - 1)
+        copied_frames, copied_block = _copied_frames(hashes, near, alpha, sample, random)
+        del hashes
+    pair_found = pairs.result(n)
+    pair_order = pair_found if pair_found is not None and pair_found[2] <= PAIR_ALPHA \
+        else ()
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
-                         repeated_frames)
+                         np.union1d(repeated_frames, copied_frames))
     return QualityReport(
         n_frames=int(n), n_modes=int(m), labels=list(labels), k=float(k), alpha=used_alpha,
         false_alarm=gaussian_false_alarm(k), median=med, sigma=sigma, constant=constant,
@@ -1719,6 +2013,8 @@ def assess_quality(
         level_steps=found_steps, level_judged=level_judged,
         variance_steps=varied, variance_judged=variance_judged,
         repeated_frames=repeated_frames.astype(np.int64),
+        copied_frames=copied_frames, copied_block=copied_block,
+        pair_order=pair_order, pair_judged=pair_found is not None,
     )
 
 

@@ -7,7 +7,10 @@ Issue 27, leftovers 12-cli item 5. References, outside the batch code:
 - facts planted in the logs: one glitched frame (100 sigma in every mode) and 10 stuck
   values in a 4000-frame white log; the second half of another scaled by sqrt(7.4) (a
   seeing change: not stationary, its block scale ratio near sqrt(7.4) = 2.7); a 10-frame
-  log (too short to assess: ``assessed`` False, a note, no ``k``);
+  log (too short to assess: ``assessed`` False, a note, no ``k``); an AR(1) log with
+  every pair of frames written in reverse order and one with its last 1000 frames
+  appended again (fix34-b: columns ``quality_pair_order`` and ``quality_copied_*``,
+  present in every row);
 - the tables read back by pyarrow.parquet and by the standard library's ``csv`` module.
 """
 
@@ -38,21 +41,30 @@ def batch(tmp_path_factory):
     seeing = rng.standard_normal((4000, 6))
     seeing[2000:] *= math.sqrt(7.4)
     short = rng.standard_normal((10, 6))
-    for name, x in (("glitch", glitch), ("seeing", seeing), ("short", short)):
+    ar = np.zeros((4000, 6))
+    e = rng.standard_normal((4000, 6))
+    for t in range(1, 4000):
+        ar[t] = 0.95 * ar[t - 1] + e[t]
+    swapped = ar.copy()
+    swapped[0::2], swapped[1::2] = ar[1::2], ar[0::2]
+    copied = np.vstack([ar, ar[3000:]])
+    for name, x in (("glitch", glitch), ("seeing", seeing), ("short", short),
+                    ("swapped", swapped), ("copied", copied)):
         save(ModalLog(x, rate=1000.0, wavelength=5e-7), src / f"{name}.npz")
     out = tmp_path_factory.mktemp("quality_out") / "out"
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
                             dashboard_address=None) as client:
         result = analyse_archive(src, "summary", out, client=client, progress=False,
                                  plots=False)
-    assert [r["status"] for r in result.rows] == ["ok"] * 3
+    assert [r["status"] for r in result.rows] == ["ok"] * 5
     return src, result
 
 
 def _expected(path) -> dict:
     fields = assess_quality(load(path)).to_dict()
     fields["worst_modes"] = ", ".join(f"{k} {c}" for k, c in fields["worst_modes"].items())
-    return {"assessed": True, "note": "", **fields}
+    return {"assessed": True, "note": "", "repeated_frames": 0, "copied_frames": 0,
+            "copied_block": "", "pair_order": "", **fields}
 
 
 def _by_name(rows) -> dict:
@@ -76,6 +88,11 @@ def test_every_report_field_is_a_column_with_its_value(batch):
     assert "seeing not steady" in rows["seeing"]["quality_note"]
     assert rows["short"]["quality_assessed"] is False and rows["short"]["quality_k"] is None
     assert rows["short"]["quality_note"].startswith("too short to assess")
+    assert rows["swapped"]["quality_pair_order"].startswith("lag-1")
+    assert rows["glitch"]["quality_pair_order"] == ""
+    assert rows["copied"]["quality_copied_frames"] == 1000
+    assert rows["copied"]["quality_copied_block"] == "4000-4999 = 3000-3999"
+    assert rows["glitch"]["quality_copied_frames"] == 0
 
 
 def test_parquet_and_csv_round_trip(batch):
