@@ -103,6 +103,19 @@ def _kind(module) -> str:
     return "log" if getattr(module, "NEEDS_LOG", True) else "own"
 
 
+def _log_figures(modules) -> tuple[str, str]:
+    """Return the chosen figures that read a log ("Figure 1", "Figures 1 and 5") and its verb.
+
+    One copy for every sentence that names them: the gap refusal ("Figures 1 and 5
+    needs" whatever --only chose: round 33 PART b) and the report's head ("Input logs of
+    Figures 1 and 5" after ``--only 1``: leftovers 33-report).
+    """
+    chosen = [label.split()[-1] for module, label, _ in modules if _kind(module) == "log"]
+    if len(chosen) == 1:
+        return f"Figure {chosen[0]}", "needs"
+    return f"Figures {', '.join(chosen[:-1])} and {chosen[-1]}", "need"
+
+
 def _outputs(module, logs) -> list[str]:
     if _kind(module) == "log":
         return [name for _, suffix, _, _ in logs for name in module.output_names(suffix)]
@@ -234,14 +247,8 @@ def _load_logs(args, logs, modules) -> dict:
             log = load_log_with_hints(path, args if key == "user" else None, announce=False)
             if key == "user":
                 args._notes = []
-                # the chosen figures that read the log ("Figures 1 and 5 needs" named
-                # both whatever --only chose: round 33 PART b)
-                chosen = [label.split()[-1] for module, label, _ in modules
-                          if _kind(module) == "log"]
-                figures = (f"Figure {chosen[0]}" if len(chosen) == 1 else
-                           f"Figures {', '.join(chosen[:-1])} and {chosen[-1]}")
-                log = split_gaps(log, args, path, figures,
-                                 "needs" if len(chosen) == 1 else "need")
+                # the chosen figures that read the log
+                log = split_gaps(log, args, path, *_log_figures(modules))
                 # --outliers as in every command; Figure 5 forecasts, so no drop
                 log, quality = apply_outliers(log, args, path, time_series=True)
                 # stated in the figures' reports too, not only on stderr (round 33 PART b,
@@ -534,7 +541,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
            if args.quick else "") + "."
         + _not_made(modules)
-        + (" Input logs of Figures 1 and 5: "
+        + (f" Input log{'s' if len(logs) > 1 else ''} of {_log_figures(modules)[0]}: "
            + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']}"
                        + (f"; {note}" if (note := shipped_edit_note(p, made["sha256"]))
                           else "") + ")"
