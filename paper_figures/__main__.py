@@ -208,6 +208,12 @@ def _check_args(args, modules, logs, needs_log) -> None:
         raise _RefusedError(str(exc)) from None
 
 
+def _time_axis_uses(modules) -> str:
+    """Name what of the chosen log figures needs the time axis ("Figure 5's predictors")."""
+    return " and ".join(getattr(module, "TIME_AXIS_USE", f"{label}'s analyses")
+                        for module, label, _ in modules if _kind(module) == "log")
+
+
 def _kl_notes(log, path, modules) -> list[str]:
     """Say what the theoretical K-L of a chosen figure assumes that ``--log`` omits.
 
@@ -228,15 +234,9 @@ def _kl_notes(log, path, modules) -> list[str]:
 
 def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
-    from modalinfo.cli.shared import (
-        apply_outliers,
-        describe_outliers,
-        input_notes,
-        load_log_with_hints,
-        split_gaps,
-    )
+    from modalinfo.cli.shared import input_notes, load_log_with_hints, split_gaps
     from modalinfo.common.cli import CommandError
-    from paper_figures._common import check_log_for
+    from paper_figures._common import check_log_for, user_log_outliers
 
     loaded = {}
     notes: list[str] = []  # printed once every check passed: a refusal stays one line
@@ -249,12 +249,11 @@ def _load_logs(args, logs, modules) -> dict:
                 args._notes = []
                 # the chosen figures that read the log
                 log = split_gaps(log, args, path, *_log_figures(modules))
-                # --outliers as in every command; Figure 5 forecasts, so no drop
-                log, quality = apply_outliers(log, args, path, time_series=True)
-                # stated in the figures' reports too, not only on stderr (round 33 PART b,
-                # B31): the policy and its counts
-                outliers = (f"--outliers {args.outliers}: "
-                            f"{describe_outliers(log, quality, args.outliers)}")
+                # --outliers as in every command and in the stand-alone scripts (one
+                # copy); no drop, naming what needs the time axis (leftovers 33-report);
+                # stated in the figures' reports too, not only on stderr (round 33 PART
+                # b, B31): the policy and its counts
+                log, outliers = user_log_outliers(log, args, path, _time_axis_uses(modules))
                 # what was assumed, cut or flagged, as the CLI says it
                 notes += input_notes(log, path) + [
                     re.split(r": (?:note|warning): ", n, maxsplit=1)[-1] for n in args._notes]

@@ -48,6 +48,10 @@ from paper_figures._common import (
     suffixed,
 )
 
+#: what of the figure needs the frames' time axis (fitted and evaluated on consecutive
+#: frames): named when ``--outliers drop`` is refused (leftovers 33-report: "the time
+#: axis paper_figures needs")
+TIME_AXIS_USE = "Figure 5's predictors"
 FIGURE_NAME = "fig5_forecast.png"
 PDF_NAME = "fig5_forecast.pdf"
 JSON_NAME = "fig5_forecast.json"
@@ -597,14 +601,22 @@ _(computed in {fig5.elapsed:.1f} s)_
 """
 
 
-def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
+def make(out_dir: Path, log_path: Path | None, *, suffix: str = "",
+         prepared: tuple | None = None) -> str:
     """Compute Figure 5 from ``log_path``, draw it into ``out_dir``, return its report.
 
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written (by
     :func:`plot`): :func:`output_names` of ``suffix``.
+    ``prepared``: ``(log, source, outliers)`` of a ``--log`` that ``figure_main`` read
+    and applied ``--outliers`` to (``user_log_outliers``), stated in the report.
     """
-    log, source = log_or_kaos_like(log_path)
-    fig5 = compute(log, source=source)
+    if prepared is None:
+        log, source = log_or_kaos_like(log_path)
+        said = {}
+    else:  # read by figure_main, --outliers applied: its log, source and Outliers line
+        log, source, outliers = prepared
+        said = {"outliers": outliers}
+    fig5 = compute(log, source=source, **said)
     plot(fig5, out_dir, suffix=suffix)
     return report(fig5, suffix=suffix)
 
@@ -613,7 +625,8 @@ def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
     return figure_main(argv, prog="python -m paper_figures.fig5_forecast",
                        description="Regenerate Figure 5 (forecasts).",
-                       figure_name=FIGURE_NAME, make=make, output_names=output_names)
+                       figure_name=FIGURE_NAME, make=make, output_names=output_names,
+                       time_axis=TIME_AXIS_USE)
 
 
 if __name__ == "__main__":

@@ -388,12 +388,14 @@ def test_a_flagged_user_log_gets_one_note_without_the_cli_prefix(figs, tmp_path,
     assert err.startswith("paper_figures: note: 'out.npz': 1 of 300 frames flagged: ")
     assert err.endswith("; used as is (--outliers clip replaces the outliers, drop removes "
                         "the frames, raise refuses the log)\n")
-    # Figure 5 forecasts: dropping frames would break the time axis, so drop is refused
+    # dropping frames would break the time axis, so drop is refused, naming the analysis
+    # (the stand-in has no TIME_AXIS_USE: its label; the real figures' words in
+    # test_outliers_standalone_left33.py), not the program (leftovers 33-report)
     assert main(["--only", "1", "--log", str(log), "--outliers", "drop",
                  "--out", str(tmp_path / "p")]) == 2
     assert capsys.readouterr().err == (
         "paper_figures: error: --log: --outliers drop removes frames, which breaks the time "
-        "axis paper_figures needs; use --outliers clip (replace in place) or warn\n")
+        "axis Figure 1's analyses need; use --outliers clip (replace in place) or warn\n")
 
 
 def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_path, capsys):

@@ -407,7 +407,8 @@ def test_make_and_main(tmp_path, monkeypatch):
     assert got == [(["--x"], {"prog": "python -m paper_figures.fig5_forecast",
                               "description": "Regenerate Figure 5 (forecasts).",
                               "figure_name": "fig5_forecast.png", "make": fig5.make,
-                              "output_names": fig5.output_names})]
+                              "output_names": fig5.output_names,
+                              "time_axis": fig5.TIME_AXIS_USE})]
 
 
 # ---------------------------------------------------------------------------------------
