@@ -182,6 +182,11 @@ def _check_args(args, modules, logs, needs_log) -> None:
         if given:
             raise _RefusedError(f"{given[0]} describes a user's log and needs --log; the shipped "
                            "logs record it")
+        if getattr(args, "outliers", "warn") != "warn":
+            # ignored silently: the shipped logs are analysed as they are, no policy
+            # applied (leftovers 33-report)
+            raise _RefusedError(f"--outliers {args.outliers} applies to a user's log and needs "
+                                "--log; the shipped logs are analysed as they are")
     elif not needs_log:
         raise _RefusedError(f"--log is read by Figures 1 and 5 only; --only {numbers} makes "
                        "neither (add 1 or 5, or drop --log)")

@@ -8,7 +8,9 @@ Issue 27, leftovers 33-report items 3 and 4. References, outside the code:
   flagged" (the one planted frame);
 - ``--outliers drop`` is refused before any figure is computed (nothing in ``--out``),
   naming the analysis that needs the frames' time axis (Figure 1's stability windows,
-  Figure 5's predictors: their docstrings), not the program.
+  Figure 5's predictors: their docstrings), not the program;
+- ``--outliers`` other than the default without ``--log`` is refused (the shipped logs
+  get no policy: it was ignored silently), before anything is written.
 The figures themselves are replaced by recorders (``make``, ``compute``): ~3 s.
 """
 
@@ -110,4 +112,14 @@ def test_paper_figures_refuses_drop_naming_the_analysis(glitch, tmp_path, capsys
     assert pf.main(argv) == 2
     assert capsys.readouterr().err == (f"paper_figures: error: --log: "
                                        f"{DROP.format(uses=uses)}\n")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("policy", ["clip", "drop", "raise"])
+def test_paper_figures_refuses_a_policy_without_a_log(tmp_path, capsys, policy):
+    out = tmp_path / "o"
+    assert pf.main(["--only", "1", "--outliers", policy, "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        f"paper_figures: error: --outliers {policy} applies to a user's log and needs --log; "
+        "the shipped logs are analysed as they are\n")
     assert not out.exists()
