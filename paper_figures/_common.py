@@ -380,10 +380,10 @@ def figure_main(
     With ``time_axis`` (what of the figure needs the frames' time axis, a plural:
     "Figure 5's predictors"), the command also takes ``--outliers`` (default ``warn``)
     and applies it to a ``--log`` as ``python -m paper_figures --log`` does
-    (:func:`user_log_outliers`), before the output folder is touched: its stderr line is
-    printed and ``make(out, log, prepared=(log, source, outliers))`` receives the log and
-    the report's **Outliers.** line (leftovers 33-report: the stand-alone route applied
-    no policy and stated none).
+    (:func:`user_log_outliers`), before the output folder is touched;
+    ``make(out, log, prepared=(log, source, outliers))`` receives the log and the
+    report's **Outliers.** line, and the pass's stderr line is printed once the figure is
+    made (leftovers 33-report: the stand-alone route applied no policy and stated none).
     """
     parser = Parser(prog=prog, description=description)
     parser.add_argument("--log", type=Path, default=None,
