@@ -103,6 +103,19 @@ def _kind(module) -> str:
     return "log" if getattr(module, "NEEDS_LOG", True) else "own"
 
 
+def _log_figures(modules) -> tuple[str, str]:
+    """Return the chosen figures that read a log ("Figure 1", "Figures 1 and 5") and its verb.
+
+    One copy for every sentence that names them: the gap refusal ("Figures 1 and 5
+    needs" whatever --only chose: round 33 PART b) and the report's head ("Input logs of
+    Figures 1 and 5" after ``--only 1``: leftovers 33-report).
+    """
+    chosen = [label.split()[-1] for module, label, _ in modules if _kind(module) == "log"]
+    if len(chosen) == 1:
+        return f"Figure {chosen[0]}", "needs"
+    return f"Figures {', '.join(chosen[:-1])} and {chosen[-1]}", "need"
+
+
 def _outputs(module, logs) -> list[str]:
     if _kind(module) == "log":
         return [name for _, suffix, _, _ in logs for name in module.output_names(suffix)]
@@ -169,6 +182,11 @@ def _check_args(args, modules, logs, needs_log) -> None:
         if given:
             raise _RefusedError(f"{given[0]} describes a user's log and needs --log; the shipped "
                            "logs record it")
+        if getattr(args, "outliers", "warn") != "warn":
+            # ignored silently: the shipped logs are analysed as they are, no policy
+            # applied (leftovers 33-report)
+            raise _RefusedError(f"--outliers {args.outliers} applies to a user's log and needs "
+                                "--log; the shipped logs are analysed as they are")
     elif not needs_log:
         raise _RefusedError(f"--log is read by Figures 1 and 5 only; --only {numbers} makes "
                        "neither (add 1 or 5, or drop --log)")
@@ -195,6 +213,12 @@ def _check_args(args, modules, logs, needs_log) -> None:
         raise _RefusedError(str(exc)) from None
 
 
+def _time_axis_uses(modules) -> str:
+    """Name what of the chosen log figures needs the time axis ("Figure 5's predictors")."""
+    return " and ".join(getattr(module, "TIME_AXIS_USE", f"{label}'s analyses")
+                        for module, label, _ in modules if _kind(module) == "log")
+
+
 def _kl_notes(log, path, modules) -> list[str]:
     """Say what the theoretical K-L of a chosen figure assumes that ``--log`` omits.
 
@@ -215,15 +239,9 @@ def _kl_notes(log, path, modules) -> list[str]:
 
 def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
-    from modalinfo.cli.shared import (
-        apply_outliers,
-        describe_outliers,
-        input_notes,
-        load_log_with_hints,
-        split_gaps,
-    )
+    from modalinfo.cli.shared import input_notes, load_log_with_hints, split_gaps
     from modalinfo.common.cli import CommandError
-    from paper_figures._common import check_log_for
+    from paper_figures._common import check_log_for, user_log_outliers
 
     loaded = {}
     notes: list[str] = []  # printed once every check passed: a refusal stays one line
@@ -234,20 +252,13 @@ def _load_logs(args, logs, modules) -> dict:
             log = load_log_with_hints(path, args if key == "user" else None, announce=False)
             if key == "user":
                 args._notes = []
-                # the chosen figures that read the log ("Figures 1 and 5 needs" named
-                # both whatever --only chose: round 33 PART b)
-                chosen = [label.split()[-1] for module, label, _ in modules
-                          if _kind(module) == "log"]
-                figures = (f"Figure {chosen[0]}" if len(chosen) == 1 else
-                           f"Figures {', '.join(chosen[:-1])} and {chosen[-1]}")
-                log = split_gaps(log, args, path, figures,
-                                 "needs" if len(chosen) == 1 else "need")
-                # --outliers as in every command; Figure 5 forecasts, so no drop
-                log, quality = apply_outliers(log, args, path, time_series=True)
-                # stated in the figures' reports too, not only on stderr (round 33 PART b,
-                # B31): the policy and its counts
-                outliers = (f"--outliers {args.outliers}: "
-                            f"{describe_outliers(log, quality, args.outliers)}")
+                # the chosen figures that read the log
+                log = split_gaps(log, args, path, *_log_figures(modules))
+                # --outliers as in every command and in the stand-alone scripts (one
+                # copy); no drop, naming what needs the time axis (leftovers 33-report);
+                # stated in the figures' reports too, not only on stderr (round 33 PART
+                # b, B31): the policy and its counts
+                log, outliers = user_log_outliers(log, args, path, _time_axis_uses(modules))
                 # what was assumed, cut or flagged, as the CLI says it
                 notes += input_notes(log, path) + [
                     re.split(r": (?:note|warning): ", n, maxsplit=1)[-1] for n in args._notes]
@@ -534,7 +545,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
            if args.quick else "") + "."
         + _not_made(modules)
-        + (" Input logs of Figures 1 and 5: "
+        + (f" Input log{'s' if len(logs) > 1 else ''} of {_log_figures(modules)[0]}: "
            + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']}"
                        + (f"; {note}" if (note := shipped_edit_note(p, made["sha256"]))
                           else "") + ")"

@@ -6,6 +6,7 @@ import contextlib
 import contextvars
 import errno
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -18,7 +19,8 @@ from modalinfo.common.folders import OutputError
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main", "figure_record",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
-           "save_png_pdf", "shipped_log", "staged_output", "suffixed", "write_figure"]
+           "save_png_pdf", "shipped_log", "staged_output", "suffixed", "user_log_outliers",
+           "write_figure"]
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
@@ -255,6 +257,31 @@ def log_or_kaos_like(log_path: Path | None):
     return load(log_path), f"`{log_path}`"
 
 
+def user_log_outliers(log, args, path: Path, uses: str) -> tuple[object, str]:
+    """Apply ``--outliers`` to a user's log as every route of Figures 1 and 5 does.
+
+    ``python -m paper_figures --log`` and the stand-alone scripts
+    (``python -m paper_figures.fig5_forecast --log``: :func:`figure_main`) call this one
+    copy (leftovers 33-report: the stand-alone scripts applied no policy and their
+    report stated none). ``--outliers drop`` is refused, naming ``uses`` (what needs
+    the frames' time axis, a plural: "Figure 5's predictors"), before the quality pass;
+    the pass's stderr line is queued on ``args._notes`` (``apply_outliers``).
+
+    Returns
+    -------
+    log : ModalLog
+        The log the figures analyse (clipped under ``clip``).
+    outliers : str
+        The report's **Outliers.** line: the policy, the counts and the action, in the
+        words of the commands' stderr line (``modalinfo.cli.shared.describe_outliers``).
+    """
+    from modalinfo.cli.shared import apply_outliers, describe_outliers, refuse_outlier_drop
+
+    refuse_outlier_drop(args, uses, "need")
+    log, quality = apply_outliers(log, args, path, time_series=True)
+    return log, f"--outliers {args.outliers}: {describe_outliers(log, quality, args.outliers)}"
+
+
 def outlier_records(log) -> str:
     """Return what outlier policies did to ``log`` (its ``metadata["outliers"]``), or ``""``.
 
@@ -342,12 +369,21 @@ def figure_main(
     figure_name: str,
     make: Callable[..., str],
     output_names: Callable[[str], list[str]] | None = None,
+    time_axis: str | None = None,
 ) -> int:
     """Stand-alone command line of one figure: draw it and print its report section.
 
     With ``output_names`` (the module's ``output_names(suffix)``), the command also takes
     ``--suffix`` (passed to ``make(out, log, suffix=...)``) and refuses to replace any
     of the files it lists; without it, only ``figure_name`` is checked.
+
+    With ``time_axis`` (what of the figure needs the frames' time axis, a plural:
+    "Figure 5's predictors"), the command also takes ``--outliers`` (default ``warn``)
+    and applies it to a ``--log`` as ``python -m paper_figures --log`` does
+    (:func:`user_log_outliers`), before the output folder is touched;
+    ``make(out, log, prepared=(log, source, outliers))`` receives the log and the
+    report's **Outliers.** line, and the pass's stderr line is printed once the figure is
+    made (leftovers 33-report: the stand-alone route applied no policy and stated none).
     """
     parser = Parser(prog=prog, description=description)
     parser.add_argument("--log", type=Path, default=None,
@@ -357,6 +393,10 @@ def figure_main(
     if output_names is not None:
         parser.add_argument("--suffix", default="",
                             help="inserted before the extension of every output file name")
+    if time_axis is not None:
+        from modalinfo.cli.shared import add_outlier_argument
+
+        add_outlier_argument(parser)
     args = parser.parse_args(argv)
     short = prog.rsplit(".", 1)[-1].split("_", 1)[0]
 
@@ -375,14 +415,34 @@ def figure_main(
         return fail(f"--log '{args.log}' is not a regular file (a FIFO or a device)")
     from modalinfo.common.provenance import provenance
 
+    prepared = {}
+    if time_axis is not None and args.log is not None:
+        from modalinfo.common.cli import CommandError
+
+        args.command, args._notes = short, []
+        try:
+            log, source = log_or_kaos_like(args.log)
+            log, outliers = user_log_outliers(log, args, args.log, time_axis)
+        except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
+            message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            return fail(f"--log: {message}")
+        prepared = {"prepared": (log, source, outliers)}
     given = sys.argv[1:] if argv is None else [str(a) for a in argv]
     record = provenance([prog, *given], source=args.log)
     with figure_record(record):
         if output_names is None:
-            return write_figure(args.out, names, args.overwrite,
-                                lambda stage: make(stage, args.log), short)
-        return write_figure(args.out, names, args.overwrite,
-                            lambda stage: make(stage, args.log, suffix=args.suffix), short)
+            code = write_figure(args.out, names, args.overwrite,
+                                lambda stage: make(stage, args.log, **prepared), short)
+        else:
+            code = write_figure(args.out, names, args.overwrite,
+                                lambda stage: make(stage, args.log, suffix=args.suffix,
+                                                   **prepared), short)
+    # the quality pass's line, as `paper_figures --log` words it, once the figure is made
+    # (a refusal stays one line)
+    for note in getattr(args, "_notes", []) if code == 0 else []:
+        sys.stderr.write(f"{short}: warning: "
+                         f"{re.split(r': (?:note|warning): ', note, maxsplit=1)[-1]}\n")
+    return code
 
 
 def write_figure(out: Path, names: list[str], overwrite: bool,

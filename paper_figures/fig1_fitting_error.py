@@ -53,6 +53,10 @@ SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy"), ("zernike", "mi_gr
 PAPER = {"zernike:standard": 20, "kl-theory:mi_greedy": 15, "zernike:mi_greedy": 7}
 PAPER_TARGET = 0.4  # waves^2
 PAPER_REFERENCE_MODES = 20  # modes of the standard order at PAPER_TARGET (calibration)
+#: what of the figure needs the frames' time axis (the stability test compares orders of
+#: consecutive windows and of consecutive frames): named when ``--outliers drop`` is
+#: refused (leftovers 33-report: "the time axis paper_figures needs")
+TIME_AXIS_USE = "Figure 1's stability windows"
 FIGURE_NAME = "fig1_fitting_error.png"
 PDF_NAME = "fig1_fitting_error.pdf"
 POOLED_BUDGET = 100_000
@@ -624,14 +628,22 @@ def _user_reading(fig1: Figure1) -> list[str]:
     ]
 
 
-def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
+def make(out_dir: Path, log_path: Path | None, *, suffix: str = "",
+         prepared: tuple | None = None) -> str:
     """Compute Figure 1 from ``log_path``, draw it into ``out_dir``, return its report.
 
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written:
     :func:`output_names` of ``suffix``.
+    ``prepared``: ``(log, source, outliers)`` of a ``--log`` that ``figure_main`` read
+    and applied ``--outliers`` to (``user_log_outliers``), stated in the report.
     """
-    log, source = log_or_kaos_like(log_path)
-    fig1 = compute(log, source=source)
+    if prepared is None:
+        log, source = log_or_kaos_like(log_path)
+        said = {}
+    else:  # read by figure_main, --outliers applied: its log, source and Outliers line
+        log, source, outliers = prepared
+        said = {"outliers": outliers}
+    fig1 = compute(log, source=source, **said)
     plot(fig1, out_dir, suffix=suffix)
     return report(fig1, suffix=suffix)
 
@@ -640,7 +652,8 @@ def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
     return figure_main(argv, prog="python -m paper_figures.fig1_fitting_error",
                        description="Regenerate Figure 1 (fitting error).",
-                       figure_name=FIGURE_NAME, make=make, output_names=output_names)
+                       figure_name=FIGURE_NAME, make=make, output_names=output_names,
+                       time_axis=TIME_AXIS_USE)
 
 
 if __name__ == "__main__":

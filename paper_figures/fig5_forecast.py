@@ -48,6 +48,10 @@ from paper_figures._common import (
     suffixed,
 )
 
+#: what of the figure needs the frames' time axis (fitted and evaluated on consecutive
+#: frames): named when ``--outliers drop`` is refused (leftovers 33-report: "the time
+#: axis paper_figures needs")
+TIME_AXIS_USE = "Figure 5's predictors"
 FIGURE_NAME = "fig5_forecast.png"
 PDF_NAME = "fig5_forecast.pdf"
 JSON_NAME = "fig5_forecast.json"
@@ -465,6 +469,34 @@ def _log_words(source: str) -> dict[str, str]:
     return {"increments": f"your log {source}", "origin": f"This is your log {source}"}
 
 
+#: why the wavefront gain of the linear extrapolation can disagree with the mean of the
+#: modes' increment correlations (said when it does)
+_GAIN_NOT_MEAN = ("the wavefront gain weighs each mode by its increment variance and is "
+                  f"measured on the frames after {N_FIT - 1}, the mean weighs the modes "
+                  f"equally on frames 0-{N_FIT - 1}")
+
+
+def _increment_words(mean_rho: str) -> str:
+    """Say what the increments are, by their mean correlation ``mean_rho`` as printed.
+
+    The words follow the printed number (its sign and whether it reaches 0.5, the
+    threshold of the linear extrapolation): "rough, anti-correlated" was said whenever the
+    extrapolation lost to persistence, of a log whose increments correlate at 0.3 too
+    (issue 27, leftovers 33-report).
+    """
+    value = float(mean_rho)
+    if value < 0:
+        return "has rough, anti-correlated increments"
+    if value == 0:
+        return "has rough, uncorrelated increments (those of a random walk)"
+    if value < 0.5:
+        return ("has weakly correlated increments (positively, but below the 0.5 the "
+                "extrapolation needs)")
+    return (f"has increments correlated at 0.5 or more on average, yet the extrapolation "
+            "loses:\n"
+            f"  {_GAIN_NOT_MEAN}")
+
+
 def report(fig5: Figure5, *, suffix: str = "") -> str:
     """Figure 5's section of the report (Markdown); the image is the ``suffix`` one."""
     what = _log_words(fig5.source)
@@ -497,19 +529,22 @@ def report(fig5: Figure5, *, suffix: str = "") -> str:
     g_rls = fig5.gain("multivariate RLS")
     rho = fig5.increment_correlation
     paper_gain = fig5.paper_nn_gains
+    mean_rho = f"{np.mean(rho):.2f}"
     verdict_lin = (
         f"The paper's linear extrapolation (a = 2, b = -1) **loses to persistence** on this "
         f"log (wavefront gain x{g_lin:.2f} at h = 1 and worse at longer horizons):\n"
         "  extrapolating the last slope beats persistence only when successive increments\n"
         "  are positively correlated with coefficient > 0.5 (its one-step error is\n"
         "  Delta x[n+1] - Delta x[n], of variance 2 (1 - rho) Var(Delta x)); here the\n"
-        f"  lag-1 correlation of the increments is {np.mean(rho):.2f} on average over the "
+        f"  lag-1 correlation of the increments is {mean_rho} on average over the "
         f"modes ({rho.min():.2f} to {rho.max():.2f}):\n"
-        f"  {what['increments']} has rough, anti-correlated increments.\n"
+        f"  {what['increments']} {_increment_words(mean_rho)}.\n"
         f"  With least-squares weights the same two-tap predictor gains x{g_lin_ls:.2f}."
         if g_lin < 1 else
         f"The paper's linear extrapolation gains x{g_lin:.2f} over persistence at h = 1 "
-        f"(mean lag-1 increment correlation {np.mean(rho):.2f} > 0.5)."
+        f"(mean lag-1 increment correlation {mean_rho}"
+        + (" > 0.5)." if float(mean_rho) > 0.5 else
+           f", not above 0.5: {_GAIN_NOT_MEAN}).")
     )
     quick = (f"\n**Quick settings** (`--quick`): a smoke run, numbers not the paper's: the "
              f"evaluation and the AIC orders on the first {fig5.n_evaluated} of the "
@@ -566,14 +601,22 @@ _(computed in {fig5.elapsed:.1f} s)_
 """
 
 
-def make(out_dir: Path, log_path: Path | None, *, suffix: str = "") -> str:
+def make(out_dir: Path, log_path: Path | None, *, suffix: str = "",
+         prepared: tuple | None = None) -> str:
     """Compute Figure 5 from ``log_path``, draw it into ``out_dir``, return its report.
 
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written (by
     :func:`plot`): :func:`output_names` of ``suffix``.
+    ``prepared``: ``(log, source, outliers)`` of a ``--log`` that ``figure_main`` read
+    and applied ``--outliers`` to (``user_log_outliers``), stated in the report.
     """
-    log, source = log_or_kaos_like(log_path)
-    fig5 = compute(log, source=source)
+    if prepared is None:
+        log, source = log_or_kaos_like(log_path)
+        said = {}
+    else:  # read by figure_main, --outliers applied: its log, source and Outliers line
+        log, source, outliers = prepared
+        said = {"outliers": outliers}
+    fig5 = compute(log, source=source, **said)
     plot(fig5, out_dir, suffix=suffix)
     return report(fig5, suffix=suffix)
 
@@ -582,7 +625,8 @@ def main(argv: list[str] | None = None) -> int:
     """Command line: draw the figure and print the report section."""
     return figure_main(argv, prog="python -m paper_figures.fig5_forecast",
                        description="Regenerate Figure 5 (forecasts).",
-                       figure_name=FIGURE_NAME, make=make, output_names=output_names)
+                       figure_name=FIGURE_NAME, make=make, output_names=output_names,
+                       time_axis=TIME_AXIS_USE)
 
 
 if __name__ == "__main__":

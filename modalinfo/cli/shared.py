@@ -197,11 +197,15 @@ def add_outlier_argument(parser: argparse.ArgumentParser) -> None:
         "forecast and select, which need every frame) or raise (refuse the log, exit 2)")
 
 
-def refuse_outlier_drop(args: argparse.Namespace, purpose: str) -> None:
-    """Refuse ``--outliers drop`` before any work where the analysis needs every frame."""
+def refuse_outlier_drop(args: argparse.Namespace, purpose: str, verb: str = "needs") -> None:
+    """Refuse ``--outliers drop`` before any work where the analysis needs every frame.
+
+    ``purpose`` names the analysis ("forecasting", "Figure 5's predictors"), followed by
+    ``verb``: ``"need"`` after a plural.
+    """
     if getattr(args, "outliers", "warn") == "drop":
         raise CommandError(f"--outliers drop removes frames, which breaks the time axis "
-                           f"{purpose} needs; use --outliers clip (replace in place) or warn")
+                           f"{purpose} {verb}; use --outliers clip (replace in place) or warn")
 
 
 #: Values (frames x modes) from which the quality pass shows a progress bar on a terminal:

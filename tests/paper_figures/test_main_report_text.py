@@ -157,7 +157,13 @@ def _sha(path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
+#: the figures that read the logs, named as the head names them: only those made
+#: ("Input logs of Figures 1 and 5" after --only 1: leftovers 33-report)
+_LOG_FIGURES = {(1,): "Figure 1", (5,): "Figure 5", (1, 5): "Figures 1 and 5"}
+
+
 def _head(seconds, quick, logs, rows, made=range(1, 9)):
+    log_figures = tuple(k for k in sorted(made) if k in (1, 5))
     # a partial run names what it made and what it did not (round 22 PART b, g15)
     partial = ("" if set(made) == set(range(1, 9)) else
                " A partial run (`--only`): made "
@@ -167,7 +173,8 @@ def _head(seconds, quick, logs, rows, made=range(1, 9)):
             f"{_version()}; made in {seconds} s"
             + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
                if quick else "") + "." + partial
-            + (" Input logs of Figures 1 and 5: " + ", ".join(logs) + "." if logs else ""))
+            + (f" Input log{'s' if len(logs) > 1 else ''} of {_LOG_FIGURES[log_figures]}: "
+               + ", ".join(logs) + "." if logs else ""))
     return "\n".join([
         "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
         line + "\n",
@@ -281,6 +288,16 @@ def test_a_user_log_is_one_section_without_a_log_name(figs, tmp_path):
     assert figs.cmp == []
 
 
+def test_the_head_names_only_the_log_figures_made(figs, tmp_path):
+    # --only 5 on the shipped logs: "Input logs of Figure 5", not "of Figures 1 and 5"
+    out = tmp_path / "out"
+    assert main(["--only", "5", "--out", str(out)]) == 0
+    head = (out / "report.md").read_text(encoding="utf-8").splitlines()[2]
+    assert f" Input logs of Figure 5: `{DEFAULT_LOG}` (spectral KAOS-like log; SHA-256 " \
+           f"{_sha(DEFAULT_LOG)})" in head
+    assert "Figures 1 and 5" not in head and "Figure 1" not in head.split("not made")[0]
+
+
 def test_figure_refusals_while_computing_are_one_line(figs, tmp_path, capsys):
     log = _log(tmp_path / "mine.npz")
     figs.mods["fig1_fitting_error"].fail = ValueError("too short\nsecond line")
@@ -371,12 +388,14 @@ def test_a_flagged_user_log_gets_one_note_without_the_cli_prefix(figs, tmp_path,
     assert err.startswith("paper_figures: note: 'out.npz': 1 of 300 frames flagged: ")
     assert err.endswith("; used as is (--outliers clip replaces the outliers, drop removes "
                         "the frames, raise refuses the log)\n")
-    # Figure 5 forecasts: dropping frames would break the time axis, so drop is refused
+    # dropping frames would break the time axis, so drop is refused, naming the analysis
+    # (the stand-in has no TIME_AXIS_USE: its label; the real figures' words in
+    # test_outliers_standalone_left33.py), not the program (leftovers 33-report)
     assert main(["--only", "1", "--log", str(log), "--outliers", "drop",
                  "--out", str(tmp_path / "p")]) == 2
     assert capsys.readouterr().err == (
         "paper_figures: error: --log: --outliers drop removes frames, which breaks the time "
-        "axis paper_figures needs; use --outliers clip (replace in place) or warn\n")
+        "axis Figure 1's analyses need; use --outliers clip (replace in place) or warn\n")
 
 
 def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_path, capsys):

@@ -501,7 +501,8 @@ def test_make_and_main(tmp_path, monkeypatch):
     assert got == [(["--x"], {"prog": "python -m paper_figures.fig1_fitting_error",
                               "description": "Regenerate Figure 1 (fitting error).",
                               "figure_name": "fig1_fitting_error.png", "make": fig1.make,
-                              "output_names": fig1.output_names})]
+                              "output_names": fig1.output_names,
+                              "time_axis": fig1.TIME_AXIS_USE})]
 
 
 def test_table_rows_percentage_of_the_total():
