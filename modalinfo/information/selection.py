@@ -820,7 +820,9 @@ def select_inputs(
     max_seconds : float
         Most CPU seconds [s] the first step may be estimated to take
         (``first_step_seconds``; a method without a cost model is timed on three
-        estimates) before the search is refused, before any work.
+        estimates) before the search is refused, before any work. Not checked for
+        ``method="gaussian"``: its closed form (partial correlations) costs milliseconds
+        where the others cost seconds (round 36 PART a, M3).
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 
