@@ -9,6 +9,7 @@ import numpy as np
 from scipy import fft as _fft
 from scipy import stats as _scipy_stats
 
+from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_int
 
 __all__ = [
@@ -95,12 +96,14 @@ def lag1_autocorrelations(x: np.ndarray) -> np.ndarray:
     """Lag-1 sample autocorrelation of each column (mean removed); 0 for a constant.
 
     ``sum (x_t - m)(x_(t+1) - m) / sum (x_t - m)^2`` (the biased estimator of
-    Brockwell & Davis eq. 1.4.4, in [-1, 1]), computed on each column over its
-    ``max |x|`` so that values near 1e300 do not overflow (the ratio is scale
-    invariant). Vectorised over columns, a slice of about ``_STACK_VALUES`` values at a
-    time (one scaled copy of the slice): the one copy of this estimator in the package
-    (the evaluation's scale shift, the quality pass's spread rules, the shuffle and
-    effective-sample rules; a per-column Python loop before, issue 27, left30-twins).
+    Brockwell & Davis eq. 1.4.4, in [-1, 1]), a column whose ``max |x|`` is outside
+    float64's safe squares (1e-100 .. 1e100) divided by a power of two first (exact;
+    the ratio is scale invariant), so that values near 1e300 do not overflow and values
+    far from zero keep every digit of their spread. Vectorised over columns, a slice of
+    about ``_STACK_VALUES`` values at a time (one copy of the slice): the one copy of
+    this estimator in the package (the evaluation's scale shift, the quality pass's
+    spread rules, the shuffle and effective-sample rules; a per-column Python loop
+    before, issue 27, left30-twins).
 
     Parameters
     ----------
@@ -128,9 +131,14 @@ def lag1_autocorrelations(x: np.ndarray) -> np.ndarray:
     for c0 in range(0, k, per):
         block = x[:, c0:c0 + per]
         scale = np.max(np.abs(block), axis=0)
+        # by a power of two, and only out of float64's safe squares: dividing by
+        # ``max |x|`` itself rounded every value by ~1e-16 of the offset, a unit of the
+        # spread of unit noise at 1e16 (lag-1 0.578 for 0.596: round 36 PART a, S1)
+        d, _ = rescale_power_of_two(block, np.where(np.isfinite(scale), scale, 0.0))
+        d = np.array(d, dtype=float)  # a copy: centred in place below
         # a column holding inf has no autocorrelation: NaN, as for NaN, without numpy's
-        # "invalid value encountered" warning of inf / inf (round 32)
-        d = block / np.where(np.isinf(scale), np.nan, np.where(scale > 0.0, scale, 1.0))
+        # "invalid value encountered" warning of inf - inf (round 32)
+        d[:, np.isinf(scale)] = np.nan
         d -= d.mean(axis=0)
         # a second pass removes the mean's own rounding (the corrected two-pass
         # algorithm): numpy sums axis 0 of a C-ordered block row by row, an error of

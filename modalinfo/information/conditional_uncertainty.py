@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.validation import (
     check_choice,
     check_memory,
@@ -54,7 +55,7 @@ from modalinfo.information.api import RESAMPLING_METHOD, UNITS
 from modalinfo.information.conditional import _estimator, _triple
 from modalinfo.information.convergence import HISTOGRAM_BIAS_RATE, piece_bias
 from modalinfo.information.histogram import _bins_per_axis, histogram_cmi
-from modalinfo.information.methods import check_bootstrappable
+from modalinfo.information.methods import BiasRuleWarning, check_bootstrappable
 from modalinfo.information.resampling import (
     BlockBootstrapWarning,
     RotationNullWarning,
@@ -187,7 +188,12 @@ def _cmi_block_ci(
             warnings.warn(why, BlockBootstrapWarning, stacklevel=3)
     theta = est(xa, ya, za)
     idx = block_bootstrap_indices(n, b, n_resamples, rng)
-    dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])
+    with catching_warnings():
+        # the bias rule depends on n, the columns and the options, which the resamples
+        # share: judged once, by the estimate above, not once per replicate (51-101
+        # BiasRuleWarnings for one interval before: round 36 PART a, W4-W6)
+        warnings.simplefilter("ignore", BiasRuleWarning)
+        dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])
     alpha = 1.0 - confidence_level
     half = float(stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1))
     if check_assumptions and method == "histogram":

@@ -828,7 +828,9 @@ def select_inputs(
     max_seconds : float
         Most CPU seconds [s] the first step may be estimated to take
         (``first_step_seconds``; a method without a cost model is timed on three
-        estimates) before the search is refused, before any work.
+        estimates) before the search is refused, before any work. Not checked for
+        ``method="gaussian"``: its closed form (partial correlations) costs milliseconds
+        where the others cost seconds (round 36 PART a, M3).
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 
@@ -879,9 +881,11 @@ def select_inputs(
     n_surrogates = check_resamples(n_surrogates, "n_surrogates", minimum=1)
     if intervals:
         n_resamples = check_resamples(n_resamples, "n_resamples", minimum=10)
-        # 1.5 gave NaN bounds without a word (left33-ci)
-        confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
-                                      maximum=1.0, strict_min=True, strict_max=True)
+    # 1.5 gave NaN bounds without a word (left33-ci); without intervals it is still
+    # recorded (``InputSelection.confidence_level``): 5 was kept, None / "x" met float()'s
+    # own error (round 36 PART a, M2, W2, W3)
+    confidence_level = check_real(confidence_level, "confidence_level", minimum=0.0,
+                                  maximum=1.0, strict_min=True, strict_max=True)
     check_surrogates_reach(n_surrogates, alpha)
     max_inputs = check_int(max_inputs, "max_inputs", minimum=1)
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)

@@ -487,6 +487,7 @@ def mutual_information_permutation_test(
         (9.5 % rejections at 5 % on a x4 variance step, n = 500; the block-scale rule
         of the telemetry quality pass, judged from n ~ 420).
     min_shift : int, "auto" or None
+        ``"circular"`` only (refused with ``"shuffle"``).
         Spacing b of the circular shifts [samples], in ``[1, n // 2]``; ``None``
         (default): the largest that fits ``n_permutations`` shifts, about
         ``n / (n_permutations + 1)``; ``"auto"``: the Politis-White block length of the
@@ -518,6 +519,12 @@ def mutual_information_permutation_test(
     check_memory(16.0 * n_permutations, "n_permutations", n_permutations,
                  "its null distribution and shifts")
     check_choice(permutation, "permutation", ("shuffle", "circular"))
+    if permutation == "shuffle" and min_shift is not None:
+        # the spacing of circular shifts: ignored by a shuffle, while the result recorded
+        # min_shift 0 (round 36 PART a, M1)
+        raise ValueError(f"`min_shift`={min_shift!r} spaces circular shifts; it has no use "
+                         "with `permutation`='shuffle' (pass permutation='circular', or "
+                         "no min_shift).")
     if not isinstance(match_ends, (bool, np.bool_)):
         raise TypeError(f"`match_ends` must be a bool; got {type(match_ends).__name__}.")
     rng = check_rng(seed)

@@ -667,6 +667,13 @@ class ModalLog:
                 if found is not None:
                     out.append(found)
                     continue
+            elif isinstance(item, numbers.Integral):
+                # "must be mode indices or labels; got 0" named an index as if it were
+                # none (round 36 PART a, W1)
+                raise TypeError(
+                    f"`{name}` entries of a log with convention='labels' must be its labels "
+                    f"({mode_span(self._modes, self._convention, sep='..')}); got the "
+                    f"index {item!r}.")
             else:
                 raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
             raise ValueError(

@@ -2111,10 +2111,23 @@ def policy_record(report: QualityReport, log: ModalLog, policy: str) -> dict:
         :func:`apply_outlier_policy` appended to ``metadata["outliers"]`` (the one
         ``modalinfo convert`` writes in a header and batch rows' ``quality_action``
         shows); for a clean log ``action`` is ``"none (nothing flagged)"``.
+
+    Raises
+    ------
+    ValueError
+        ``policy`` not one of ``OUTLIER_POLICIES``, or a flagged ``report`` with a
+        ``log`` that holds no policy record (not the log :func:`apply_outlier_policy`
+        returned; a ``KeyError: 'outliers'`` before, round 36 PART a, T1 / T2).
     """
+    check_choice(policy, "policy", OUTLIER_POLICIES)
     if report.clean:
         return {"policy": policy, **report.to_dict(), "action": "none (nothing flagged)"}
-    return dict(log.metadata["outliers"][-1])
+    records = log.metadata.get("outliers")
+    if not isinstance(records, list | tuple) or not records:
+        raise ValueError(
+            "`log` holds no outlier-policy record (metadata['outliers']) for this flagged "
+            "report: pass the log apply_outlier_policy returned, not the one it was given.")
+    return dict(records[-1])
 
 
 def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
