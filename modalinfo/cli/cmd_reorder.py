@@ -392,12 +392,6 @@ def run(args: argparse.Namespace) -> int:
         if given:
             raise CommandError(f"{given[0]} applies to the MI methods (mi_greedy, "
                                f"mi_marginal); --method {args.method} uses none: drop it")
-        if args.pupil_pixels is not None and args.basis == "zernike":
-            # the Zernike coefficients are ordered as they are: no pupil is sampled, and
-            # the value was recorded as if it had acted (round 36 PART b, R02)
-            raise CommandError(f"--pupil-pixels applies to the MI methods (mi_greedy, "
-                               f"mi_marginal) on --basis zernike; --method {args.method} "
-                               "orders the coefficients without a pupil: drop it")
     resolve_mi_defaults(args)
     if args.estimator is None:
         args.estimator = "histogram"

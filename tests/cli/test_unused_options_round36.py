@@ -2,11 +2,9 @@
 
 References: the documented scope of each option - ``--estimator`` / ``--budget`` /
 ``--seed`` draw and estimate the MI of the ``mi_*`` orderings, ``--outer-scale`` builds the
-``kl-theory`` basis, ``--pupil-pixels`` samples the Zernikes for the MI (the variance and
-standard orders read the coefficients alone); ``reorder`` refuses the same options with
-the same methods (rounds 13 / 17 PART b). Before the fixes ``fitting-error`` accepted them
-and printed the same table to the digit (F01-F07), and ``reorder --basis zernike --method
-variance --pupil-pixels 16`` wrote the 64-pixel run's JSON (R02).
+``kl-theory`` basis; ``reorder`` refuses the same options with the same methods (rounds
+13 / 17 PART b). Before the fixes ``fitting-error`` accepted them and printed the same
+table to the digit (F01-F07).
 """
 
 import numpy as np
@@ -46,13 +44,4 @@ def test_fitting_error_keeps_them_where_they_act(log_path, capsys):
                  "zernike:mi_marginal,kl-theory:variance", "--seed", "3", "--budget",
                  "2000", "--outer-scale", "20", "--quiet"])
     assert code == 0, capsys.readouterr().err
-
-
-def test_reorder_refuses_pupil_pixels_with_an_order_of_coefficients(log_path, capsys):
-    for method in ("variance", "standard"):
-        code = main(["reorder", str(log_path), "--basis", "zernike", "--method", method,
-                     "--pupil-pixels", "16", "--quiet"])
-        err = capsys.readouterr().err
-        assert code == 2 and err.count("\n") == 1, err
-        assert "--pupil-pixels applies to the MI methods" in err
 
