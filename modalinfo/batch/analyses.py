@@ -130,7 +130,26 @@ def _train_value(value: Any, name: str) -> None:
         check_real(value, name, minimum=0.0, maximum=1.0, strict_min=True, strict_max=True)
     else:
         raise ValueError(f"{name} must be a fraction in (0, 1) or a number of frames >= 2; "
-                         f"got {value!r}")
+                         f"got {value!r}{_json_number_hint(value)}")
+
+
+def _json_number_hint(value: Any) -> str:
+    """Say why a text that Python reads as a number (``'+700'``) is not one here.
+
+    ``--set`` values are read as JSON, where ``+700`` or ``.5`` is text, while
+    ``forecast --train +700`` reads 700: "got '+700'" alone read as if 700 frames were
+    refused (round 36 PART b, B03).
+    """
+    if not isinstance(value, str):
+        return ""
+    try:
+        number = float(value.replace("_", "x"))  # '1_000' stays text (round 35, BS11)
+    except ValueError:
+        return ""
+    if not math.isfinite(number):
+        return ""
+    plain = str(int(number)) if number.is_integer() and "." not in value else repr(number)
+    return f" (a text: --set values are read as JSON, where a number is written {plain})"
 
 
 def _seeds_value(value: Any, name: str) -> None:

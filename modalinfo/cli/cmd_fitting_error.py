@@ -110,6 +110,28 @@ def _pupil_sampling_note(args: argparse.Namespace, caught: list) -> None:
         f"{max(c.suggested_pixels for c in caught)} brings the Gram error below 0.01"])
 
 
+def _refuse_unused_options(args: argparse.Namespace, specs) -> None:
+    """Refuse options that no ordering of ``--orderings`` uses, before their defaults.
+
+    ``--estimator``, ``--budget`` and ``--seed`` act on the MI orderings (mi_greedy,
+    mi_marginal) only, ``--outer-scale`` on the ``kl-theory`` basis only: given without
+    one, the value was used by nothing and the user believed it applied, where
+    ``reorder`` refuses the same options (round 36 PART b, F01-F07).
+    """
+    methods = sorted({str(m) for _, m in specs})
+    if not any(m.startswith("mi_") for m in methods):
+        given = [flag for flag, value in (("--estimator", args.estimator),
+                                          ("--budget", args.budget), ("--seed", args.seed))
+                 if value is not None]
+        if given:
+            raise CommandError(f"{given[0]} applies to the MI orderings (mi_greedy, "
+                               f"mi_marginal); --orderings {args.orderings} uses none: "
+                               "drop it")
+    if args.outer_scale is not None and not any(b == "kl-theory" for b, _ in specs):
+        raise CommandError(f"--outer-scale applies to the kl-theory basis (the K-L of a von "
+                           f"Karman model); --orderings {args.orderings} uses none: drop it")
+
+
 def run(args: argparse.Namespace) -> int:
     """Compute the curves, print the table, draw the plot."""
     from modalinfo.cli.shared import progress
@@ -122,11 +144,12 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.ordering.cost import OrderingCostWarning
     from modalinfo.ordering.fitting_error import PupilSamplingWarning
 
+    specs = parse_specs(args.orderings)
+    _refuse_unused_options(args, specs)
     if args.estimator is None:  # the shared option's default (None lets reorder tell it was given)
         args.estimator = "histogram"
     resolve_mi_defaults(args)
     check_figure_output(args.plot, args.overwrite)
-    specs = parse_specs(args.orderings)
     seen = [tuple(s) for s in specs]
     twice = next((s for k, s in enumerate(seen) if s in seen[:k]), None)
     if twice is not None:

@@ -704,26 +704,35 @@ def _as_predictors(predictors) -> dict[str, Predictor]:
     return out
 
 
-def _refuse_idle_refits(pred: Predictor, last_origin: int, n_frames: int) -> None:
+def _refuse_idle_refits(pred: Predictor, last_origin: int, n_frames: int,
+                        n_train: int | None = None) -> None:
     """Refuse a refit schedule under which no scored forecast uses a refit.
 
     Refits come after ``n`` frames, ``n`` a multiple of ``refit_every`` and at least
     ``window`` (``Predictor._feed``); the forecast made at origin ``t`` uses the refits
     with ``n <= t``. A first refit after the last origin left every number that of the
     parameters fitted once, while the settings recorded the refits (round 35 PART b,
-    Q00 / Q01: ``--refit-every 5000`` or ``--window 5000`` on a 2000-frame log).
+    Q00 / Q01: ``--refit-every 5000`` or ``--window 5000`` on a 2000-frame log). A
+    refit after exactly ``n_train`` frames on a window of ``n_train`` frames reads the
+    training frames themselves: it reproduces the first fit and does not count (round 36
+    PART b, O17: ``--refit-every 1000`` with 1000 training frames and no ``--window``).
     """
     refit = pred.refit_every
     if refit is None:
         return
     window = pred.window_
     first = -(-max(window, refit) // refit) * refit  # smallest multiple of R >= max(W, R)
+    again = ""
+    if first == n_train and window == n_train:  # the training window again: no change
+        again = (f" (the one after {first} frames refits the {n_train} training frames "
+                 "themselves)")
+        first += refit
     if first > last_origin:
         raise ValueError(
             f"`refit_every` = {refit} with `window` = {window}"
             f"{' (the training length, as none was given)' if pred.window is None else ''}"
             f" would never refit a forecast: the first refit comes after "
-            f"{first} frames and the last forecast origin is frame {last_origin} of the "
+            f"{first} frames{again} and the last forecast origin is frame {last_origin} of the "
             f"log's {n_frames}; give a smaller `refit_every` or `window`, or no refits.")
 
 
@@ -1130,7 +1139,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         pred = proto.clone(horizon=h_max, **overrides)
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
-        _refuse_idle_refits(pred, int(origins[-1]), n_frames)
+        _refuse_idle_refits(pred, int(origins[-1]), n_frames, n_train)
         has_interval[i] = has_intervals(pred)
         run = pred._new_run(h_max)
         if has_interval[i]:  # interval widths of the parameters in force, each computed once

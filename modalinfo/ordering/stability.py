@@ -171,14 +171,22 @@ class StabilityResult:
             return f"{np.median(x):.3f}" if x.size else "n/a"
 
         dur = f" ({self.window_duration:.3g} s)" if self.window_duration else ""
+        if str(self.method).startswith("mi_"):
+            seeds = (f"  {len(self.seeds)} seeds on the whole log: median Spearman "
+                     f"{med(self.seed_spearman)}, Kendall {med(self.seed_kendall)}, "
+                     f"top-{self.n_top} overlap {med(self.seed_top_overlap)}")
+        else:
+            # the seeds draw the MI's samples: a method without MI gives one order for
+            # every seed, and "Spearman 1.000" read as a measured stability (round 36
+            # PART b, R03)
+            seeds = (f"  seeds on the whole log: not assessed (method {self.method} draws "
+                     "no samples: every seed gives the same order)")
         return "\n".join([
             f"ordering stability, method {self.method}:",
             f"  {self.window_orders.shape[0]} windows of {self.window_length} frames{dur}: "
             f"median Spearman {med(self.window_spearman)}, Kendall {med(self.window_kendall)}, "
             f"top-{self.n_top} overlap {med(self.window_top_overlap)}",
-            f"  {len(self.seeds)} seeds on the whole log: median Spearman "
-            f"{med(self.seed_spearman)}, Kendall {med(self.seed_kendall)}, "
-            f"top-{self.n_top} overlap {med(self.seed_top_overlap)}",
+            seeds,
         ])
 
 
