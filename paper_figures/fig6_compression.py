@@ -348,7 +348,7 @@ def report(fig6: Figure6) -> str:
         if not fig6.latency_binds() else
         "With the latency model the delay grows with n (dotted lines in a and b): "
         + ", ".join(f"{k}: {', '.join(f'{d * 1e3:.3f}' for d in v)} ms"
-                    for k, v in s.delay.items()) + ".")
+                    for k, v in s.delay.items()) + "." + _retuned_text(s))
     scale_text = (
         f"At larger sizes (synthetic reconstructor of 2 measurements per mode, the same "
         f"code): {scal} ({' / '.join('no prediction' if k == 'none' else k for k in names)})"
@@ -393,7 +393,7 @@ def report(fig6: Figure6) -> str:
             f"the modelled delays for n = {', '.join(map(str, w.n_values))} are {delays}. "
             f"SR peak with {w.predictor}, fixed delay -> slow RTC: {moves}. Prediction's gain "
             f"over no prediction with the same slow RTC: {gains}. Optimum n with prediction: "
-            f"{opt}.")
+            f"{opt}." + _retuned_text(w))
     quick_text = "(Quick settings: fewer orderings and mode counts.)" if fig6.quick else ""
     best_text = "; ".join(
         f"{ORDERINGS[o]}: n = {best[(o, 'none')][0]} (SR {best[(o, 'none')][1]:.3f}) / "
@@ -466,3 +466,15 @@ def main(argv: list[str] | None = None) -> int:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+def _retuned_text(study) -> str:
+    """Say which modelled delays ran with a lowered gain (``gain_for_delay``), if any."""
+    retuned = getattr(study, "retuned_gain", None) or {}
+    if not retuned:
+        return ""
+    pairs = ", ".join(f"{d * 1e3:.4g} ms: {g:.3f}" for d, g in sorted(retuned.items()))
+    return (" At delays where the preset's gain is unstable the loop ran with the gain "
+            "scaled to keep the preset's gain margin (gain x g_max(delay) / g_max(preset "
+            f"delay)): {pairs}. The delays are measured on this machine, so a loaded "
+            "machine's are longer.")

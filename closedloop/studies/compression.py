@@ -283,6 +283,9 @@ class CompressionStudy:
         Start of the averaging window [s] (the full no-prediction run's closure, >= 15 ms).
     wavelength : float
         Science wavelength [m].
+    retuned_gain : dict
+        Modelled delay [s] -> the gain its runs used, where the preset's gain is unstable
+        at that delay (:func:`gain_for_delay`); empty when every delay kept the preset's.
     """
 
     config_name: str
@@ -300,6 +303,7 @@ class CompressionStudy:
     window_start: float
     wavelength: float
     timings: dict = field(default_factory=dict)
+    retuned_gain: dict = field(default_factory=dict)
 
     def optimum(self, ordering: str, predictor: str, *, latency: bool = True,
                 field_average: bool = False) -> tuple[int, float]:
@@ -437,15 +441,38 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                                   latency, config.loop.time_step)
     timings["compute_time"] = time.perf_counter() - t0
     t0 = time.perf_counter()
+    retuned: dict = {}
     peak, field_sr = _grid_runs(config, model, bases, orderings, n_values, spec, delays,
-                                duration=duration, seed=seed, start=start, say=say)
+                                duration=duration, seed=seed, start=start, say=say,
+                                retuned=retuned)
     timings["runs"] = time.perf_counter() - t0
     return CompressionStudy(
         config_name=config.name, seed=seed, duration=duration, n_values=n_values,
         orderings=orderings, predictor=predictor, strehl_peak=peak, strehl_field=field_sr,
         compute_time=compute, delay=delays, latency=latency,
         time_step=config.loop.time_step, window_start=float(reference.times[start]),
-        wavelength=config.wavelength, timings=timings)
+        wavelength=config.wavelength, timings=timings, retuned_gain=retuned)
+
+
+def gain_for_delay(loop, delay: float):
+    """Return ``(loop config at `delay`, whether its gain had to change)``.
+
+    The latency model's delay is measured (a loaded machine computes slower), and the
+    preset's gain can be unstable at a long one; an operator would retune the servo. The
+    gain is then scaled to keep the preset's gain margin:
+    ``g' = g * g_max(delay) / g_max(preset delay)`` with ``g_max`` the integrator's
+    stability limit (:func:`modalinfo.servo.max_stable_gain`, with the loop's exposure
+    and leak). Stable delays keep the preset's gain (the study's fixed-delay runs are
+    unchanged).
+    """
+    from modalinfo.servo import max_stable_gain
+
+    new = dataclasses.replace(loop, delay=delay)
+    limit = max_stable_gain(new.delay_frames, new.integration_frames, leak=new.leak)
+    if loop.gain < limit * (1.0 - 1e-9):
+        return new, False
+    own = max_stable_gain(loop.delay_frames, loop.integration_frames, leak=loop.leak)
+    return dataclasses.replace(new, gain=loop.gain * limit / own), True
 
 
 def _rtc_delays(model: LoopModel, first: np.ndarray, n_values: np.ndarray,
@@ -469,11 +496,13 @@ def _rtc_delays(model: LoopModel, first: np.ndarray, n_values: np.ndarray,
 
 def _grid_runs(config: SimulationConfig, model: LoopModel, bases: dict, orderings: tuple,
                n_values: np.ndarray, spec: cl_predictors.LoopPredictor, delays: dict, *,
-               duration: float, seed: int, start: int, say) -> tuple[dict, dict]:
+               duration: float, seed: int, start: int, say,
+               retuned: dict | None = None) -> tuple[dict, dict]:
     """Return the mean SR peak and field SR of every run of :func:`compression_study`.
 
     Keyed ``(latency, ordering, predictor)``, ``(len(n_values),)`` each, averaged from
-    frame ``start`` on.
+    frame ``start`` on. ``retuned`` (filled): delay [s] -> gain, where
+    :func:`gain_for_delay` had to lower the preset's gain.
     """
     m = model.n_modes
     names = ("none", spec.name)
@@ -483,8 +512,10 @@ def _grid_runs(config: SimulationConfig, model: LoopModel, bases: dict, ordering
 
     def model_for(delay):
         if delay not in models:
-            cfg = config.replace(loop=dataclasses.replace(config.loop, delay=delay))
-            models[delay] = LoopModel(cfg)
+            loop, changed = gain_for_delay(config.loop, delay)
+            if changed and retuned is not None:
+                retuned[float(delay)] = loop.gain
+            models[delay] = LoopModel(config.replace(loop=loop))
         return models[delay]
 
     shared: dict = {}
