@@ -429,6 +429,9 @@ def as_float_array(
         raise ValueError(f"`{name}` must be finite; got {bad} NaN or infinite value(s).")
     if np.issubdtype(arr.dtype, np.integer) and arr.size:
         check_exact_integers(arr, out, name)
+    elif arr.dtype.kind == "f" and arr.size and out.dtype.kind == "f" and (
+            np.finfo(arr.dtype).nmant > np.finfo(out.dtype).nmant):
+        check_exact_floats(arr, out, name)
     return out
 
 
@@ -476,9 +479,29 @@ def check_real_dtype(arr: np.ndarray, name: str, value: Any = None) -> None:
     """
     if arr.dtype.kind == "c":
         raise TypeError(f"`{name}` must be real; got a complex array.")
+    if arr.dtype.kind == "O" and arr.size:
+        _check_big_integers(arr, name)
     if arr.dtype.kind not in "biuf":
         shown = arr if value is None else value
         raise TypeError(f"`{name}` must be a numeric array; got {_describe(shown)}.")
+
+
+def _check_big_integers(arr: np.ndarray, name: str) -> None:
+    """Refuse numbers NumPy kept as Python objects because an integer is beyond int64.
+
+    ``np.asarray([10**20 + 1, ...])`` is an object array, refused before as "not a
+    numeric array" although every element is a number (round 37 PART a, W1): the cause
+    is the range, as for the integers beyond 2^53 (``check_exact_integers``).
+    """
+    flat = arr.ravel()
+    if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in flat):
+        return  # not numbers: refused as not numeric by the caller
+    big = [v for v in flat if isinstance(v, int) and not -2**63 <= v < 2**63]
+    if big:
+        raise ValueError(
+            f"`{name}` holds integers beyond int64's range (e.g. {big[0]}), which NumPy "
+            f"keeps as Python objects, and float64 holds integers exactly only up to "
+            f"2^53; subtract an offset first (e.g. x - min(x)).")
 
 
 def as_bool_mask(value: Any, name: str) -> np.ndarray:
@@ -521,6 +544,41 @@ def check_exact_integers(arr: np.ndarray, out: np.ndarray, name: str) -> None:
             f"`{name}` holds integers beyond 2^{np.finfo(out.dtype).nmant + 1} that "
             f"{out.dtype} cannot tell apart ({before} distinct values become {after}); "
             f"subtract an offset first (e.g. x - x.min()).")
+
+
+#: Largest rounding of the cast to a narrower float, as a fraction of a column's spread
+#: (standard deviation), that is let through: the spread then holds 1e3 roundings.
+_CAST_ROUNDING = 1e-3
+
+
+def check_exact_floats(arr: np.ndarray, out: np.ndarray, name: str) -> None:
+    """Refuse floats (e.g. long double) whose spread the cast to ``out``'s dtype rounds away.
+
+    ``np.longdouble`` data far from zero (an AR(1) series plus 1e16) hold their spread;
+    float64 rounds each value to a multiple of 2 at 1e16, and the lag-1 correlation read
+    0.49 for 0.60, silently (round 37 PART a, S12), where integers beyond 2^53 are
+    refused (``check_exact_integers``). Each column (the whole array if 1-D) is
+    refused when the cast's largest rounding exceeds ``_CAST_ROUNDING`` of its spread.
+    """
+    wide = np.asarray(arr)
+    with np.errstate(invalid="ignore", over="ignore"):
+        err = np.abs(wide - out.astype(wide.dtype))
+        cols = (err.reshape(err.shape[0], -1) if err.ndim >= 2 else err.reshape(-1, 1))
+        vals = (wide.reshape(wide.shape[0], -1) if wide.ndim >= 2 else wide.reshape(-1, 1))
+        finite = np.isfinite(vals) & np.isfinite(cols)
+        for j in range(vals.shape[1]):
+            keep = finite[:, j]
+            if keep.sum() < 2:
+                continue
+            spread = float(np.std(vals[keep, j]))
+            worst = float(np.max(cols[keep, j]))
+            if spread > 0.0 and worst > _CAST_ROUNDING * spread:
+                where = f" (column {j})" if vals.shape[1] > 1 else ""
+                raise ValueError(
+                    f"`{name}`{where} is {wide.dtype} data whose spread ({spread:.3g}) "
+                    f"{out.dtype} cannot hold: its rounding to {out.dtype} reaches "
+                    f"{worst:.3g} (the values are far from zero); subtract an offset "
+                    f"first (e.g. x - x.mean(axis=0)).")
 
 
 def as_scalar(value: Any) -> Any:

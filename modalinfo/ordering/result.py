@@ -18,6 +18,8 @@ __all__ = ["OrderingResult"]
 
 _ARRAY_FIELDS = ("order", "mi", "gain", "mi_low", "mi_high", "gain_low", "gain_high", "scores",
                  "margin", "margin_low", "margin_high")
+#: Fields that only a bootstrap (``n_resamples`` > 0) fills.
+_BOUND_FIELDS = ("mi_low", "mi_high", "gain_low", "gain_high", "margin_low", "margin_high")
 _FORMAT = "modalinfo.OrderingResult/1"
 
 
@@ -100,6 +102,13 @@ def _check_consistent(kwargs: dict) -> None:
         if value is not None and value.shape != (m,):
             raise ValueError(f"`data[{name!r}]` must hold {m} values (one per mode); got "
                              f"{value.size}.")
+    bounded = [name for name in _BOUND_FIELDS if kwargs.get(name) is not None]
+    if bounded and kwargs.get("n_resamples", 0) == 0:
+        # bootstrap bounds of 0 replicates: the notes would speak of an interval no
+        # bootstrap made (round 37 PART a, M4)
+        raise ValueError(f"`data['n_resamples']` is 0 (no bootstrap) but the file carries "
+                         f"bootstrap bounds {bounded}: set `n_resamples` to the replicates "
+                         "that made them, or remove the bounds.")
 
 
 @array_fields_eq
@@ -208,7 +217,7 @@ class OrderingResult:
 
     @property
     def noise_assessed(self) -> bool:
-        """True when a bootstrap assessed the order's noise (``margin_low`` is set).
+        """True when a bootstrap assessed the order's noise (``margin_low`` set, finite).
 
         Without it (``n_resamples`` 0, or ``"variance"`` / ``"pca"``, whose scores are
         not resampled) no rank can be marked within noise of the rank above: adjacent
@@ -217,7 +226,13 @@ class OrderingResult:
         ``"standard"`` is a convention, not an estimate: False here too, and nothing to
         assess (:meth:`legend` says so).
         """
-        return self.margin_low is not None
+        if self.margin_low is None:
+            return False
+        # a file edited or written by another tool may carry the field all null (NaN):
+        # bounds that are not numbers assess nothing (round 37 PART a, S11). A real
+        # bootstrap leaves only the last step's bound NaN (no next mode to beat).
+        low = np.asarray(self.margin_low, dtype=float)
+        return low.size <= 1 or bool(np.isfinite(low).any())
 
     def _unassessed(self, resamples: str) -> str | None:
         """Why the order's noise was not assessed, in the words of ``resamples``, or None."""

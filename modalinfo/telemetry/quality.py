@@ -202,6 +202,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import json
 import math
 from dataclasses import dataclass, field
 from statistics import NormalDist
@@ -2117,7 +2118,9 @@ def policy_record(report: QualityReport, log: ModalLog, policy: str) -> dict:
     ValueError
         ``policy`` not one of ``OUTLIER_POLICIES``, or a flagged ``report`` with a
         ``log`` that holds no policy record (not the log :func:`apply_outlier_policy`
-        returned; a ``KeyError: 'outliers'`` before, round 36 PART a, T1 / T2).
+        returned; a ``KeyError: 'outliers'`` before, round 36 PART a, T1 / T2); a
+        record of another ``policy`` than the one asked, or one written from another
+        ``report`` (its counts differ; round 37 PART a, M1-M3).
     """
     check_choice(policy, "policy", OUTLIER_POLICIES)
     if report.clean:
@@ -2127,7 +2130,30 @@ def policy_record(report: QualityReport, log: ModalLog, policy: str) -> dict:
         raise ValueError(
             "`log` holds no outlier-policy record (metadata['outliers']) for this flagged "
             "report: pass the log apply_outlier_policy returned, not the one it was given.")
-    return dict(records[-1])
+    record = records[-1]
+    if not isinstance(record, dict) or record.get("policy") != policy:
+        # the record of another policy answered for the one asked (round 37 PART a, M1 / M2)
+        got = record.get("policy") if isinstance(record, dict) else record
+        raise ValueError(
+            f"`policy` is {policy!r} but `log`'s last outlier-policy record is of policy "
+            f"{got!r}: pass the policy apply_outlier_policy applied to this log.")
+    # the record is {policy, **report.to_dict(), action}: its counts name the report it
+    # was written from (the report's fingerprint is of the log before the policy, which
+    # "clip" / "drop" changed; round 37 PART a, M3)
+    summary = json.loads(json.dumps(report.to_dict()))
+    differ = [key for key in _RECORD_KEYS
+              if key in record and json.loads(json.dumps(record[key])) != summary[key]]
+    if differ:
+        raise ValueError(
+            f"`report` is not the assessment `log`'s outlier-policy record was written from "
+            f"({', '.join(f'{k} {summary[k]!r} vs {record[k]!r}' for k in differ[:3])}): "
+            "pass the report apply_outlier_policy returned with this log.")
+    return dict(record)
+
+
+#: Keys of a policy record that identify the report it was written from.
+_RECORD_KEYS = ("sample_frames", "flagged_frames", "glitched_frames", "outlier_values",
+                "stuck_values", "nonfinite_values", "worst_modes")
 
 
 def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
