@@ -1,7 +1,7 @@
-"""Fixes 37-a2 of adversarial round 37 PART a (issue 27): S1-S8.
+"""Fixes 37-a2 of adversarial round 37 PART a (issue 27): S1-S8, S9-S10, M5-M7.
 
 References: the Gram error ``max |Z^T Z / n - I|`` of the Zernikes sampled on a
-512-pixel annulus, formed here with numpy (it has converged: 0.2632 at 97 pixels
+512-pixel annulus, formed here with numpy (it has converged: 0.2644 at 97 pixels
 and 0.2632 at 512 for obscuration 0.3, so it is the annulus's own, not sampling); the
 pixel residual of the dropped modes against the sum of their squares (Parseval),
 formed here with numpy; the 17-pixel clear pupil of round 37 U01 (numpy Gram 0.19).
