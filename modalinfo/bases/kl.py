@@ -25,6 +25,7 @@ from modalinfo.bases.turbulence import (
 )
 from modalinfo.bases.zernike import ZernikeBasis, _parse_modes, check_zernike_sampling
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.records import float_digest
 from modalinfo.common.validation import as_float_array, check_int
 
 __all__ = ["KLBasis", "default_zernike_modes"]
@@ -385,6 +386,7 @@ class KLBasis(ModalBasis):
                 f"modes; got {a.shape[0]} (the {'covariance' if center else 'mean-square'} "
                 f"matrix of {a.shape[0]} frames has rank <= {rank}, and the modes beyond it "
                 "are arbitrary)")
+        source = float_digest(a)  # before centring: the data as given
         if center:
             a = a - a.mean(axis=0)
             moment = a.T @ a / (a.shape[0] - 1)
@@ -405,13 +407,25 @@ class KLBasis(ModalBasis):
                 "the modes beyond the rank are arbitrary")
         order = np.argsort(values)[::-1][:n_keep]
         vectors = _fix_signs(vectors[:, order])
-        return cls(zbasis, vectors, np.clip(values[order], 0, None))
+        out = cls(zbasis, vectors, np.clip(values[order], 0, None))
+        # what it was built from, for compare_orderings' check (round 37 PART a, S9-S10)
+        out._source_digest = source
+        return out
 
     # ---------------------------------------------------------------- attributes
     @property
     def variances(self) -> np.ndarray:
         """Variance of each K-L coefficient, ``(M,)``."""
         return self._variances
+
+    @property
+    def source_digest(self) -> str | None:
+        """Digest of the coefficients a data K-L was built from (None: not from data).
+
+        BLAKE2b of their shape and float64 values (``float_digest`` of
+        ``modalinfo.common.records``), as given to :meth:`from_data`.
+        """
+        return getattr(self, "_source_digest", None)
 
     @property
     def zernike_modes(self) -> np.ndarray:

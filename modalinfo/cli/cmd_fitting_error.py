@@ -102,6 +102,15 @@ def _pupil_sampling_note(args: argparse.Namespace, caught: list) -> None:
     if not caught:
         return
     w = max(caught, key=lambda c: abs(c.difference))
+    own = [c for c in caught if c.suggested_pixels == 0]
+    if own:  # an obscured pupil: no --pupil-pixels helps (round 37 PART a, S1-S8)
+        queue_notes(args, [
+            f"the bases are not orthonormal on this obscured pupil (max |gram - I| "
+            f"{max(c.pupil_deviation for c in own):.2g} on the continuous annulus): the "
+            f"fitting errors are this pupil's, up to {100 * w.difference:+.1f} % (at {w.n_at} "
+            "modes) from the sums of the squared coefficients, which are not; a finer "
+            "--pupil-pixels does not change this"])
+        return
     queue_notes(args, [
         f"on a {w.n_pixels}-pixel pupil the sampled bases are not orthonormal (max |gram - I| "
         f"{max(c.gram_deviation for c in caught):.2g}): the fitting errors are the sampled "

@@ -233,3 +233,21 @@ def array_fields_eq(cls: type) -> type:
 
         cls.__hash__ = hashing
     return cls
+
+
+def float_digest(values: Any) -> str:
+    """BLAKE2b (16 bytes, hex) of an array's shape and float64 values, in row blocks.
+
+    What a data-built basis (``KLBasis.from_data``) records of the coefficients it was
+    built from, so that a caller can tell whether a log is the same data (round 37
+    PART a, S9-S10). A memory map is read 65,536 rows at a time.
+    """
+    import hashlib
+
+    a = np.asarray(values)
+    h = hashlib.blake2b(digest_size=16)
+    h.update(repr(a.shape).encode())
+    rows = a.reshape(a.shape[0], -1) if a.ndim > 1 else a.reshape(-1, 1)
+    for start in range(0, rows.shape[0], 65536):
+        h.update(np.ascontiguousarray(rows[start:start + 65536], dtype=np.float64).tobytes())
+    return h.hexdigest()

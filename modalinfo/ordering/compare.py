@@ -334,6 +334,8 @@ def _file_basis(log: Any) -> Any:
 #: answering with the first log's basis (round 35 PART a, S4-S5, W1). Bases the caller
 #: built are not in it and are used as given.
 _BUILT_FOR: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: ``compare_orderings``'s pupil grid size when the call gives none [pixels]
+_DEFAULT_PIXELS = 64
 
 
 def _data_digest(log: Any) -> str:
@@ -380,6 +382,46 @@ def _check_reuse(bases: dict, name: str, recipe: tuple | None) -> None:
         f"`bases['{name}']` was built by an earlier compare_orderings call for a log with "
         f"other {field}; pass a new dict (or bases=None) for each log."
     )
+
+
+def _check_given(bases: dict, name: str, log: Any, n_pixels: int | None) -> None:
+    """Refuse a caller's ``bases[name]`` that states another kind, pupil or data.
+
+    A ``ZernikeBasis`` under ``"zernike"``, a ``KLBasis`` under ``"kl-theory"`` /
+    ``"kl-data"`` (a data K-L, one with ``source_digest``, not under ``"kl-theory"``);
+    an ``n_pixels`` the call gives must be the basis's pupil's; a data K-L must have
+    been built from this log's coefficients [rad]. A basis whose origin it does not
+    state is used as given (round 37 PART a, S9-S10, M5-M7).
+    """
+    from modalinfo.bases import KLBasis, ZernikeBasis
+    from modalinfo.common.records import float_digest
+
+    if name == "file":
+        return
+    basis = bases[name]
+    want = ZernikeBasis if name == "zernike" else KLBasis
+    if not isinstance(basis, want):
+        raise ValueError(
+            f"`bases['{name}']` must be a {want.__name__} (the key names the basis drawn "
+            f"and labelled); got a {type(basis).__name__}.")
+    digest = getattr(basis, "source_digest", None)
+    if name == "kl-theory" and digest is not None:
+        raise ValueError(
+            "`bases['kl-theory']` is a K-L built from data (KLBasis.from_data), not the "
+            "theoretical one; pass it under 'kl-data' or let compare_orderings build it.")
+    pupil = getattr(basis, "pupil", None)
+    if n_pixels is not None and pupil is not None and int(pupil.n_pixels) != n_pixels:
+        raise ValueError(
+            f"`bases['{name}']` is sampled on {int(pupil.n_pixels)} pixels but the call "
+            f"asks n_pixels={n_pixels}; pass one or the other.")
+    if name == "kl-data" and digest is not None:
+        if getattr(log, "convention", "noll") != "noll":
+            log = log.to_convention("noll")
+        rad = log if getattr(log, "units", "rad") == "rad" else log.to_units("rad")
+        if float_digest(np.asarray(rad.coeffs, dtype=float)) != digest:
+            raise ValueError(
+                "`bases['kl-data']` was built from other coefficients than this log's "
+                "(it is another log's K-L); pass a new dict (or bases=None) for each log.")
 
 
 def parse_specs(text: str | list[str]) -> list[tuple[str, str]]:
@@ -491,7 +533,7 @@ def compare_orderings(
     sample_budget: int = 200_000,
     seed: Any = 0,
     n_resamples: int = 0,
-    n_pixels: int = 64,
+    n_pixels: int | None = None,
     outer_scale: float | None = None,
     bases: dict | None = None,
     progress: Any = None,
@@ -511,15 +553,19 @@ def compare_orderings(
         Units of the curves.
     estimator, estimator_options, sample_budget, seed, n_resamples
         Passed to :func:`~modalinfo.ordering.order_modes`.
-    n_pixels : int
-        Pupil grid size across [pixels].
+    n_pixels : int, optional
+        Pupil grid size across [pixels] (default 64); given, a basis in ``bases``
+        sampled on another grid is refused.
     outer_scale : float, optional
         Outer scale [m] of the theoretical K-L (default: from the log's metadata).
     bases : dict, optional
         Prebuilt bases by name (reused, and filled with the ones built here). A basis
         an earlier call built for another log (other data for ``"kl-data"``, other
         modes, pupil or outer scale) is refused with a ValueError naming ``bases``:
-        pass a new dict for each log.
+        pass a new dict for each log. So is a basis of another class than its key
+        (``ZernikeBasis`` for ``"zernike"``, ``KLBasis`` for the K-Ls, a data K-L
+        not under ``"kl-theory"``) and a data K-L (``KLBasis.from_data``, here or by
+        :func:`basis_for_log`) built from other coefficients than the log's.
     progress : callable, optional
         Called as ``progress(1)`` after each ordering (``len(specs)`` calls).
 
@@ -529,6 +575,8 @@ def compare_orderings(
     """
     pairs = parse_specs(specs) if isinstance(specs, str) else [tuple(p) for p in specs]
     bases = {} if bases is None else bases
+    stated = None if n_pixels is None else check_int(n_pixels, "n_pixels", minimum=4)
+    n_pixels = _DEFAULT_PIXELS if n_pixels is None else stated
     if frame is not None:
         frame = check_int(frame, "frame", minimum=-log.n_frames, maximum=log.n_frames - 1)
         frame %= log.n_frames
@@ -545,6 +593,7 @@ def compare_orderings(
             recipe = _recipe(basis_name, log, n_pixels, outer_scale, digest)
             if "zernike" in bases and basis_name != "file":
                 _check_reuse(bases, "zernike", _recipe("zernike", log, n_pixels, None, digest))
+                _check_given(bases, "zernike", log, stated)
             bases[basis_name] = basis_for_log(
                 basis_name, log, n_pixels=n_pixels, outer_scale=outer_scale,
                 zernike_basis=bases.get("zernike"),
@@ -554,6 +603,7 @@ def compare_orderings(
         else:
             _check_reuse(bases, basis_name,
                          _recipe(basis_name, log, n_pixels, outer_scale, digest))
+            _check_given(bases, basis_name, log, stated)
         basis = bases[basis_name]
         ordering = order_modes(
             log, basis, method, estimator=estimator, estimator_options=estimator_options,
