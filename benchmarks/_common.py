@@ -87,3 +87,20 @@ def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
     low = stats.beta.ppf(tail, k, n - k + 1) if k > 0 else 0.0
     high = stats.beta.ppf(1.0 - tail, k + 1, n - k) if k < n else 1.0
     return float(low), float(high)
+
+
+def ar1_lag_pair(phi: float, frames: int, seed: int) -> tuple:
+    """``(data, r, gain)`` of one seeded AR(1) log: columns x[t+1], x[t], their correlation
+    and Gaussian gain -0.5 ln(1 - r^2) [nats] (the select coverage benches' draw: 500
+    frames of burn-in from ``default_rng(seed)``)."""
+    import math
+
+    e = np.random.default_rng(seed).standard_normal(frames + 500)
+    x = np.empty_like(e)
+    x[0] = e[0]
+    for t in range(1, e.size):
+        x[t] = phi * x[t - 1] + e[t]
+    x = x[500:]
+    data = np.column_stack([x[1:], x[:-1]])
+    r = np.corrcoef(data.T)[0, 1]
+    return data, r, -0.5 * math.log(1 - r * r)

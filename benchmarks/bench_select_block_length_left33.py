@@ -26,7 +26,7 @@ import argparse
 import math
 
 import numpy as np
-from _common import clopper_pearson
+from _common import ar1_lag_pair, clopper_pearson
 
 import modalinfo.information.selection as sel
 
@@ -50,15 +50,7 @@ def main() -> None:
                 bls: dict[str, list] = {k: [] for k in names}
                 g = np.empty(a.seeds)
                 for s in range(a.seeds):
-                    e = np.random.default_rng(1000 + s).standard_normal(T + 500)
-                    x = np.empty_like(e)
-                    x[0] = e[0]
-                    for t in range(1, e.size):
-                        x[t] = phi * x[t - 1] + e[t]
-                    x = x[500:]
-                    data = np.column_stack([x[1:], x[:-1]])
-                    r = np.corrcoef(data.T)[0, 1]
-                    gain = -0.5 * math.log(1 - r * r)
+                    data, r, gain = ar1_lag_pair(phi, T, 1000 + s)
                     g[s] = gain
                     b0 = orig(data)
                     for k in names:

@@ -19,6 +19,7 @@ import math
 import sys
 
 import numpy as np
+from _common import ar1_lag_pair
 
 import modalinfo.information.selection as sel
 from modalinfo.information.resampling import auto_block_length
@@ -37,15 +38,7 @@ def main() -> None:
             for T in (1000, 2000):
                 hz = hh = hn = hz_lo = hz_hi = 0
                 for s in range(S):
-                    e = np.random.default_rng(1000 + s).standard_normal(T + 500)
-                    x = np.empty_like(e)
-                    x[0] = e[0]
-                    for t in range(1, e.size):
-                        x[t] = phi * x[t - 1] + e[t]
-                    x = x[500:]
-                    data = np.column_stack([x[1:], x[:-1]])
-                    r = np.corrcoef(data.T)[0, 1]
-                    gain = -0.5 * math.log(1 - r * r)
+                    data, r, gain = ar1_lag_pair(phi, T, 1000 + s)
                     b = auto_block_length(data)
                     lo, hi = sel._gaussian_block_ci(data, gain, 199, 0.95,
                                                     np.random.default_rng(s))
