@@ -165,6 +165,7 @@ def simulate(
     model = _model_for(config, model)
     seed = _check_seed(config.seed if seed is None else seed)
     basis = _check_control_basis(control_basis, model.n_modes, budget_every)
+    loop_pred = loop_pred.ready(model.n_modes if basis is None else basis.shape[1])
     _check_predictor_modes(loop_pred.predictor, model.n_modes, basis)
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),

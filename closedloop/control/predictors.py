@@ -101,8 +101,11 @@ class LoopPredictor:
             return NO_PREDICTION
         if name == "oracle":
             return ORACLE
-        forecaster = PersistencePredictor() if name == "persistence" else PRESETS[name][1]()
-        return cls(name=name, predictor=forecaster, training=REFERENCE_POL)
+        if name == "persistence":
+            # fits nothing: no reference run to train on, and --train-seed is refused
+            # with it (round 37 PART b, CL01 / CL02); ``ready`` gives it its mode count
+            return cls(name=name, predictor=PersistencePredictor())
+        return cls(name=name, predictor=PRESETS[name][1](), training=REFERENCE_POL)
 
     @classmethod
     def from_fitted(cls, predictor, name: str | None = None) -> LoopPredictor:
@@ -129,6 +132,24 @@ class LoopPredictor:
         """Whether :meth:`trained` must run before the loop can use it."""
         return self.training is not None
 
+    @property
+    def _shape_only(self) -> bool:
+        """A persistence not yet fitted: its fit records the mode count, nothing else."""
+        return (isinstance(self.predictor, PersistencePredictor)
+                and getattr(self.predictor, "n_modes_", None) is None)
+
+    def ready(self, n_modes: int) -> LoopPredictor:
+        """Return this predictor ready for a loop that feeds it ``n_modes`` values.
+
+        A persistence from :meth:`from_name` is fitted here on zeros: its parameters
+        (``x_hat[n + h] = x[n]``) are those of any data, so no reference run is made
+        for it (round 37 PART b, CL01 / CL02). Any other predictor is returned as is.
+        """
+        if not self._shape_only:
+            return self
+        forecaster = copy.deepcopy(self.predictor).fit(np.zeros((2, int(n_modes))))
+        return dataclasses.replace(self, predictor=forecaster)
+
     def trained(self, reference: SimulationResult,
                 basis: np.ndarray | None = None) -> LoopPredictor:
         """Return this predictor fitted on the no-prediction run ``reference``.
@@ -148,7 +169,7 @@ class LoopPredictor:
             A new one, ready to run (``training`` None); ``self`` is unchanged (its
             forecaster is copied before fitting). Itself when nothing is to train.
         """
-        if not self.needs_training:
+        if not (self.needs_training or self._shape_only):
             return self
         data = training_data(reference)
         if basis is not None:

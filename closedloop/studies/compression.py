@@ -417,7 +417,7 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
         raise ValueError(f"`n_values` must lie in 1..{m}; got {n_values.tolist()}.")
     spec = (cl_predictors.LoopPredictor.from_name(predictor)
             if predictor in cl_predictors.NAMES else None)
-    if spec is None or not spec.needs_training:
+    if spec is None or spec.is_none or spec.oracle:
         raise ValueError(f"`predictor` must be a predictor name of "
                          f"closedloop.control.predictors.NAMES other than 'none' and 'oracle'; got "
                          f"{predictor!r}.")
