@@ -6,6 +6,8 @@ Every analysis calls the library exactly as the matching command does:
   a memory-mapped log is read a chunk at a time;
 - ``ordering``: :func:`modalinfo.ordering.order_modes` and
   :func:`modalinfo.ordering.ordering_stability` (``modalinfo reorder --stability``);
+  for a method that draws no samples (not ``mi_*``) ``seed_spearman`` and
+  ``seed_top_overlap`` are NaN and ``seed_note`` says why (the seeds do not act);
 - ``fitting_error``: :func:`modalinfo.ordering.compare.compare_orderings` and
   ``modes_to_reach`` (``modalinfo fitting-error``); with a ``kl-theory`` basis (here or
   in ``ordering``) on a log that records no outer scale, column ``kl_assumed`` says
@@ -259,7 +261,42 @@ def resolve_params(analysis: str, params: dict | None = None) -> dict:
         except (TypeError, ValueError) as exc:
             # one message form whatever the checker: backticks of check_* dropped
             raise ValueError(str(exc).replace("`", "").rstrip(".")) from None
-    return {**DEFAULTS[analysis], **params}
+    resolved = {**DEFAULTS[analysis], **params}
+    _refuse_unused(analysis, params, resolved)
+    return resolved
+
+
+#: batch parameter -> the argument of order_modes / compare_orderings it sets
+_ORDERING_ARGUMENTS = {"estimator": "estimator", "budget": "sample_budget", "seed": "seed",
+                       "resamples": "n_resamples"}
+
+
+def _refuse_unused(analysis: str, given: dict, p: dict) -> None:
+    """Refuse, before any task, what ``reorder`` / ``fitting-error`` refuse, in batch terms.
+
+    A parameter no method of the analysis uses (``--set ordering.method=variance --set
+    ordering.resamples=100``) ran and the params recorded it; ``ordering.method=pca`` on
+    a model basis made every log an error row after its work, with the API's advice
+    (round 37 PART b, B04 / B05 / B08 / B12). One guard with the commands:
+    :func:`modalinfo.ordering.orderings.refuse_unused_arguments`.
+    """
+    from modalinfo.ordering.compare import parse_specs
+    from modalinfo.ordering.orderings import refuse_unused_arguments
+
+    if analysis not in ("ordering", "fitting_error"):
+        return
+    names = {library: f"{analysis}.{batch}" for batch, library in _ORDERING_ARGUMENTS.items()}
+    given_names = [library for batch, library in _ORDERING_ARGUMENTS.items()
+                   if batch in given and (batch != "resamples" or given[batch])]
+    if analysis == "ordering":
+        names.update(method="ordering.method", basis="ordering.basis")
+        refuse_unused_arguments([p["method"]], given_names, basis=p["basis"], words=names,
+                                chosen=f"ordering.method {p['method']}")
+    else:
+        specs = parse_specs(p["orderings"])
+        refuse_unused_arguments([m for _, m in specs], given_names, words=names,
+                                chosen=f"fitting_error.orderings {p['orderings']}",
+                                noun="orderings")
 
 
 def _scalar(value: Any) -> Any:
@@ -432,6 +469,11 @@ def _ordering(log: Any, p: dict) -> dict:
             "seed_spearman": med(stab.seed_spearman),
             "seed_top_overlap": med(stab.seed_top_overlap),
         })
+        if stab.seeds_not_assessed is not None:
+            # the seeds act on the MI's samples only: 1.0 read as a measured stability
+            # (round 37 PART b, B06); empty cells and reorder --stability's words
+            row.update(seed_spearman=math.nan, seed_top_overlap=math.nan,
+                       seed_note=stab.seeds_not_assessed)
     return row
 
 

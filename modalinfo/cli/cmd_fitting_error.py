@@ -31,6 +31,7 @@ from modalinfo.cli.shared import (
     _Renamed,
     apply_outliers,
     check_figure_output,
+    refuse_unused_ordering_options,
 )
 
 NAME = "fitting-error"
@@ -127,15 +128,11 @@ def _refuse_unused_options(args: argparse.Namespace, specs) -> None:
     one, the value was used by nothing and the user believed it applied, where
     ``reorder`` refuses the same options (round 36 PART b, F01-F07).
     """
-    methods = sorted({str(m) for _, m in specs})
-    if not any(m.startswith("mi_") for m in methods):
-        given = [flag for flag, value in (("--estimator", args.estimator),
-                                          ("--budget", args.budget), ("--seed", args.seed))
-                 if value is not None]
-        if given:
-            raise CommandError(f"{given[0]} applies to the MI orderings (mi_greedy, "
-                               f"mi_marginal); --orderings {args.orderings} uses none: "
-                               "drop it")
+    given = [name for name, value in (("estimator", args.estimator),
+                                      ("sample_budget", args.budget), ("seed", args.seed))
+             if value is not None]
+    refuse_unused_ordering_options([m for _, m in specs], given,
+                                   chosen=f"--orderings {args.orderings}", noun="orderings")
     if args.outer_scale is not None and not any(b == "kl-theory" for b, _ in specs):
         raise CommandError(f"--outer-scale applies to the kl-theory basis (the K-L of a von "
                            f"Karman model); --orderings {args.orderings} uses none: drop it")

@@ -37,6 +37,7 @@ from modalinfo.cli.shared import (
     frame_subsample,
     load_log_with_hints,
     log_bytes,
+    refuse_unused_ordering_options,
     split_gaps,
 )
 from modalinfo.common.cli import check_output
@@ -381,17 +382,14 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.ordering.orderings import CONFIDENCE_LEVEL
 
     least = least_tail_replicates(CONFIDENCE_LEVEL)
-    if not args.method.startswith("mi_"):
-        # variance / pca / standard use no estimator and have no gains to bootstrap: the
-        # option would be ignored and the user believe it applied (round 13 PART b)
-        # --budget and --seed size and draw the MI's samples: moot too (round 17 PART b)
-        given = [flag for flag, value in (("--estimator", args.estimator),
-                                          ("--resamples", args.resamples or None),
-                                          ("--budget", args.budget), ("--seed", args.seed))
-                 if value is not None]  # --resamples 0 asks for none: what they do
-        if given:
-            raise CommandError(f"{given[0]} applies to the MI methods (mi_greedy, "
-                               f"mi_marginal); --method {args.method} uses none: drop it")
+    # variance / pca / standard use no estimator, draw no samples, have no gains to
+    # bootstrap: the option would be ignored and the user believe it applied (round 13
+    # and 17 PART b); one guard with fitting-error and batch (round 37 PART b, B04)
+    given = [name for name, value in (("estimator", args.estimator),
+                                      ("n_resamples", args.resamples or None),
+                                      ("sample_budget", args.budget), ("seed", args.seed))
+             if value is not None]  # --resamples 0 asks for none: what they do
+    refuse_unused_ordering_options([args.method], given, chosen=f"--method {args.method}")
     resolve_mi_defaults(args)
     if args.estimator is None:
         args.estimator = "histogram"
@@ -409,11 +407,8 @@ def run(args: argparse.Namespace) -> int:
     if args.stability is not None and (args.method == "pca" or args.frame is not None):
         raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
     refuse_frame_with_drop(args)
-    if args.method == "pca" and args.basis in ("zernike", "kl-theory"):
-        # the library's refusal names its Python remedy; this is the command line's, before work
-        raise CommandError(f"--method pca orders an empirical K-L basis of the same log; "
-                           f"--basis {args.basis} is not one: use --basis kl-data, or "
-                           "--method variance")
+    # the library's refusal after the work names its Python remedy: this, before
+    refuse_unused_ordering_options([args.method], (), basis=args.basis)
     if args.resamples < 0:
         raise CommandError(f"--resamples must be >= 0; got {args.resamples}")
     if args.resamples > MAX_RESAMPLES:

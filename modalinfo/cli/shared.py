@@ -27,6 +27,7 @@ __all__ = [
     "apply_outliers",
     "describe_outliers",
     "refuse_outlier_drop",
+    "refuse_unused_ordering_options",
     "add_gap_argument",
     "hints_from_args",
     "load_log_with_hints",
@@ -35,6 +36,26 @@ __all__ = [
     "queue_notes",
     "split_gaps",
 ]
+
+
+def refuse_unused_ordering_options(methods, given, *, basis=None, chosen=None,
+                                   noun="methods") -> None:
+    """``refuse_unused_arguments`` in the flags of ``reorder`` and ``fitting-error``.
+
+    ``given``: the library names (``"n_resamples"``, ...) of the flags the user gave;
+    the library's backticked names are said as ``cli_words`` says them, and the three
+    it does not know as the flags of both commands (round 37 PART b, B04).
+    """
+    from modalinfo.cli import cli_words
+    from modalinfo.ordering.orderings import MI_ONLY_ARGUMENTS, refuse_unused_arguments
+
+    words = {name: cli_words(f"`{name}`") for name in MI_ONLY_ARGUMENTS}
+    words.update(estimator="--estimator", method="--method", basis="--basis")
+    try:
+        refuse_unused_arguments(methods, given, basis=basis, words=words, chosen=chosen,
+                                noun=noun)
+    except ValueError as exc:
+        raise CommandError(str(exc)) from None
 
 
 class _DeprecatedAlias(argparse.Action):

@@ -128,8 +128,8 @@ from modalinfo.ordering.cost import (  # the search's sizes live with the cost m
 )
 from modalinfo.ordering.result import OrderingResult, basis_key
 
-__all__ = ["CONFIDENCE_LEVEL", "METHODS", "SEARCHES", "order_modes", "mi_along_order",
-           "sample_contributions"]
+__all__ = ["CONFIDENCE_LEVEL", "METHODS", "MI_ONLY_ARGUMENTS", "SEARCHES", "order_modes",
+           "mi_along_order", "refuse_unused_arguments", "sample_contributions"]
 
 #: How to shorten an MI ordering, in the library's argument names (``_check_time``)
 ORDERING_HOW = ("use fewer modes, a smaller `sample_budget`, fewer `n_resamples` (0: no "
@@ -631,6 +631,65 @@ def _check_common(method, estimator_options, n_resamples, confidence_level, bloc
                                          and block_length == "auto"):
         block_length = check_int(block_length, "block_length", minimum=1)
     return options, n_resamples, confidence_level, block_length
+
+
+#: :func:`order_modes` arguments that act on the MI methods only: the others estimate
+#: nothing, draw no samples and have no gains to bootstrap
+MI_ONLY_ARGUMENTS = ("estimator", "sample_budget", "seed", "n_resamples")
+#: Bases :func:`order_modes`' ``"pca"`` cannot order: a model basis, not the K-L of the log
+#: (names of :data:`modalinfo.ordering.compare.BASES`)
+_NOT_DATA_KL = ("zernike", "kl-theory")
+
+
+def refuse_unused_arguments(methods: Any, given: Any, *, basis: str | None = None,
+                            words: dict | None = None, chosen: str | None = None,
+                            noun: str = "methods") -> None:
+    """Refuse arguments none of ``methods`` uses, and ``"pca"`` on a model basis, before work.
+
+    The one guard of ``reorder``, ``fitting-error`` and ``batch`` (round 13, 17 and 36
+    PART b; round 37 PART b, B04 / B05 / B08 / B12: batch had none): an argument of
+    :data:`MI_ONLY_ARGUMENTS` given where no method is an MI one was used by nothing and
+    the user believed it applied; ``"pca"`` on ``"zernike"`` or ``"kl-theory"`` fails
+    only after the work, with a remedy in Python terms.
+
+    Parameters
+    ----------
+    methods : iterable of str
+        The ordering methods that will run (one for ``order_modes``, several for
+        ``compare_orderings``).
+    given : iterable of str
+        The arguments of :data:`MI_ONLY_ARGUMENTS` the caller set (not defaulted).
+    basis : str, optional
+        The basis name of a single method (checked against ``"pca"``).
+    words : dict, optional
+        Library name (``"method"``, ``"basis"`` or one of :data:`MI_ONLY_ARGUMENTS`) ->
+        the caller's word for it (``"--resamples"``, ``"ordering.resamples"``); default
+        the name between backticks, which ``modalinfo.cli.cli_words`` also rewrites.
+    chosen : str, optional
+        The methods as the caller named them (``"--method variance"``); default
+        ``method 'variance'``.
+    noun : str
+        What the methods are called in the message (``"methods"``, ``"orderings"``).
+
+    Raises
+    ------
+    ValueError
+        Naming the first unused argument, or the pca on a model basis, and the remedy.
+    """
+    def say(name: str) -> str:
+        return (words or {}).get(name, f"`{name}`")
+
+    methods = [str(m) for m in methods]
+    if not any(m.startswith("mi_") for m in methods):
+        unused = [name for name in MI_ONLY_ARGUMENTS if name in set(given)]
+        if unused:
+            what = chosen if chosen is not None else f"{say('method')} {methods[0]!r}"
+            raise ValueError(f"{say(unused[0])} applies to the MI {noun} (mi_greedy, "
+                             f"mi_marginal); {what} uses none: drop it")
+    if basis in _NOT_DATA_KL and "pca" in methods:
+        raise ValueError(f"{say('method')} pca orders an empirical K-L basis of the same log; "
+                         f"{say('basis')} {basis} is not one: use {say('basis')} kl-data, or "
+                         f"{say('method')} variance")
 
 
 def order_modes(

@@ -164,6 +164,19 @@ class StabilityResult:
     seed_top_overlap: np.ndarray
     n_top: int
 
+    @property
+    def seeds_not_assessed(self) -> str | None:
+        """Why the seed agreement measures nothing, or None for the MI methods.
+
+        The seeds draw the MI's samples: a method without MI gives one order for every
+        seed, and "Spearman 1.000" read as a measured stability (round 36 PART b, R03;
+        the batch row, round 37 PART b, B06).
+        """
+        if str(self.method).startswith("mi_"):
+            return None
+        return (f"not assessed (method {self.method} draws no samples: every seed gives "
+                "the same order)")
+
     def summary(self) -> str:
         """Return a few lines: median rank correlations across windows and across seeds."""
 
@@ -171,16 +184,12 @@ class StabilityResult:
             return f"{np.median(x):.3f}" if x.size else "n/a"
 
         dur = f" ({self.window_duration:.3g} s)" if self.window_duration else ""
-        if str(self.method).startswith("mi_"):
+        if self.seeds_not_assessed is None:
             seeds = (f"  {len(self.seeds)} seeds on the whole log: median Spearman "
                      f"{med(self.seed_spearman)}, Kendall {med(self.seed_kendall)}, "
                      f"top-{self.n_top} overlap {med(self.seed_top_overlap)}")
         else:
-            # the seeds draw the MI's samples: a method without MI gives one order for
-            # every seed, and "Spearman 1.000" read as a measured stability (round 36
-            # PART b, R03)
-            seeds = (f"  seeds on the whole log: not assessed (method {self.method} draws "
-                     "no samples: every seed gives the same order)")
+            seeds = f"  seeds on the whole log: {self.seeds_not_assessed}"
         return "\n".join([
             f"ordering stability, method {self.method}:",
             f"  {self.window_orders.shape[0]} windows of {self.window_length} frames{dur}: "
