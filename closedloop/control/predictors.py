@@ -3,7 +3,8 @@
 A predictor in the loop is what ``closedloop run --predictor NAME`` asks for: no
 prediction (:data:`NO_PREDICTION`, name ``"none"``), the true future (:data:`ORACLE`,
 ``"oracle"``: the bound no predictor can beat), or a :mod:`modalinfo.forecast` predictor
-that is fitted on a no-prediction run before use, as in the paper. The paper trains its
+that is fitted on a no-prediction run before use, as in the paper (not ``persistence``,
+which fits nothing: :meth:`LoopPredictor.ready` gives it the loop's mode count). The paper trains its
 ARMA and neural net on "the standard MFoV MCAO simulation" (the run without prediction,
 same conditions), after the loop closure: the NN on 10 patterns of 10 values taken after
 15 ms, the ARMA(2,3) from the autocovariance. :meth:`LoopPredictor.trained` does that with
