@@ -4,13 +4,13 @@ A predictor in the loop is what ``closedloop run --predictor NAME`` asks for: no
 prediction (:data:`NO_PREDICTION`, name ``"none"``), the true future (:data:`ORACLE`,
 ``"oracle"``: the bound no predictor can beat), or a :mod:`modalinfo.forecast` predictor
 that is fitted on a no-prediction run before use, as in the paper (not ``persistence``,
-which fits nothing: :meth:`LoopPredictor.ready` gives it the loop's mode count). The paper trains its
-ARMA and neural net on "the standard MFoV MCAO simulation" (the run without prediction,
-same conditions), after the loop closure: the NN on 10 patterns of 10 values taken after
-15 ms, the ARMA(2,3) from the autocovariance. :meth:`LoopPredictor.trained` does that with
-the POL coefficients of a no-prediction :class:`SimulationResult` (every DM's modes side by
-side), and :func:`closedloop.training.run_trained` runs that reference, trains and
-simulates.
+which fits nothing: :meth:`LoopPredictor.ready` gives it the loop's mode count). The paper
+trains its ARMA and neural net on "the standard MFoV MCAO simulation" (the run without
+prediction, same conditions), after the loop closure: the NN on 10 patterns of 10 values
+taken after 15 ms, the ARMA(2,3) from the autocovariance. :meth:`LoopPredictor.trained`
+does that with the POL coefficients of a no-prediction :class:`SimulationResult` (every
+DM's modes side by side), and :func:`closedloop.training.run_trained` runs that reference,
+trains and simulates.
 
 Names (:data:`NAMES`, checked once, by :meth:`LoopPredictor.from_name`): ``none``,
 ``persistence``, ``oracle`` and the keys of :data:`modalinfo.forecast.presets.PRESETS`:
