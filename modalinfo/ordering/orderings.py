@@ -633,6 +633,29 @@ def _check_common(method, estimator_options, n_resamples, confidence_level, bloc
     return options, n_resamples, confidence_level, block_length
 
 
+def _refuse_unused(method: str, options: dict, confidence_level: float,
+                   block_length: Any) -> None:
+    """Refuse MI options given to an ordering that estimates no MI (round 36 PART a, M4-M6).
+
+    ``"standard"``, ``"variance"`` and ``"pca"`` estimate nothing: options the caller
+    set (non-empty ``estimator_options``, a ``confidence_level`` other than the
+    default, a ``block_length``) would be ignored and the defaults recorded.
+    ``compare_orderings`` passes its MI options to the MI specs only.
+    """
+    if str(method).startswith("mi_"):
+        return
+    given = [f"`estimator_options`={options!r}" if options else "",
+             f"`confidence_level`={confidence_level!r}"
+             if confidence_level != CONFIDENCE_LEVEL else "",
+             f"`block_length`={block_length!r}" if block_length is not None else ""]
+    given = [g for g in given if g]
+    if given:
+        raise ValueError(
+            f"order_modes: {' and '.join(given)} cannot act on method={method!r}, which "
+            "estimates no MI and has no bootstrap; they serve 'mi_marginal' and "
+            "'mi_greedy' only: leave them out.")
+
+
 def order_modes(
     log_or_coeffs: Any,
     basis: Any,
@@ -699,7 +722,10 @@ def order_modes(
         Block length [frames] of the pooled bootstrap, in ``[1, T]``; ``None``/``"auto"``
         (default): the Politis-White length of the most persistent coefficient
         (:func:`~modalinfo.information.resampling.resolve_block_length`, the rule of
-        every block bootstrap of the package).
+        every block bootstrap of the package). ``estimator_options``,
+        ``confidence_level`` and ``block_length`` act on the MI methods only: set (a
+        non-empty dict, a level other than the default, a length) with ``"standard"``,
+        ``"variance"`` or ``"pca"`` they are refused (ValueError naming them).
     wavelength : float, optional
         Wavelength [m] to convert a log in nm or um that carries none.
     progress : callable, optional
@@ -750,6 +776,7 @@ def order_modes(
     # use them ("standard", "variance", "pca"): a misspelt name is refused, not ignored
     # (adversarial round 8, rows b03, b04)
     _make_estimator(estimator, options)
+    _refuse_unused(method, options, confidence_level, block_length)
     if n_resamples > 0 and frame is None and str(method).startswith("mi_") and hasattr(
         log_or_coeffs, "sampling"
     ):
