@@ -158,7 +158,11 @@ its white increments: no false flag in the tests, its glitches found.
   ``rate / T`` of ``rate / 4`` has lag-1 products alternating in sign and is named too
   (a 250 Hz line at 1 kHz over 20,000 frames with noise 1e-6 of it; 249.9 and 250.02 Hz
   are not). Lag 2 against lag 1 (lag 2 above lag 1 in a swapped smooth log) is not
-  used: an AR(1) mode keeps lag 2 below lag 1 swapped or not.
+  used: an AR(1) mode keeps lag 2 below lag 1 swapped or not. A swap found is placed
+  on the same batch means (words only, the test above decides): a run of batches whose
+  level differs from the others', the others not above 0, is named by its rows
+  (``QualityReport.pair_rows``, to a batch of ``T / 32`` frames; round 37 PART b, P10),
+  otherwise the whole log is meant.
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -1735,8 +1739,12 @@ class _PairOrder:
         ``B (B + 1) / 2 - 1`` runs); the run is named when the two levels differ
         (two-sided t test, ``B - 2`` degrees of freedom, Bonferroni over the runs at
         1 %) and the outside level is not above 0 (one-sided, 1 %); otherwise the
-        batches agree and the whole log is meant (measured: benchmarks-free, 60 seeds x
-        2 AR(1) logs in docs/ADVERSARIAL.md "Fixes 38-c").
+        batches agree and the whole log is meant. Measured (docs/ADVERSARIAL.md, "Fixes
+        38-c"): AR(1) logs of 4,000 x 10, rho 0.9 and 0.6, swapped in rows 2000..3999
+        (120 logs), 1000..2999, 0..1999 (30 each) and 8,000 x 30 rho 0.99 in 4000..7999
+        (30): the exact rows every time; swapped whole (120): the whole log every time;
+        a stretch starting inside a batch (1100..3999) is named from the next batch's
+        first row (1126).
         """
         from scipy.stats import t as student
 
