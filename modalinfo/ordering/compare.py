@@ -552,7 +552,9 @@ def compare_orderings(
     units : {"rad2", "waves2"}
         Units of the curves.
     estimator, estimator_options, sample_budget, seed, n_resamples
-        Passed to :func:`~modalinfo.ordering.order_modes`.
+        Passed to :func:`~modalinfo.ordering.order_modes` (``estimator_options`` to
+        the MI specs only, which alone use it: ``order_modes`` refuses it for
+        "standard", "variance" and "pca").
     n_pixels : int, optional
         Pupil grid size across [pixels] (default 64); given, a basis in ``bases``
         sampled on another grid is refused.
@@ -606,7 +608,9 @@ def compare_orderings(
             _check_given(bases, basis_name, log, stated)
         basis = bases[basis_name]
         ordering = order_modes(
-            log, basis, method, estimator=estimator, estimator_options=estimator_options,
+            log, basis, method, estimator=estimator,
+            # the MI options to the MI specs only: order_modes refuses them elsewhere
+            estimator_options=estimator_options if method.startswith("mi_") else None,
             frame=None if method in ("pca", "standard") else frame,
             sample_budget=sample_budget, seed=seed, n_resamples=n_resamples,
         )

@@ -635,7 +635,8 @@ def _check_common(method, estimator_options, n_resamples, confidence_level, bloc
 
 #: :func:`order_modes` arguments that act on the MI methods only: the others estimate
 #: nothing, draw no samples and have no gains to bootstrap
-MI_ONLY_ARGUMENTS = ("estimator", "sample_budget", "seed", "n_resamples")
+MI_ONLY_ARGUMENTS = ("estimator", "sample_budget", "seed", "n_resamples",
+                     "estimator_options", "confidence_level", "block_length")
 #: Bases :func:`order_modes`' ``"pca"`` cannot order: a model basis, not the K-L of the log
 #: (names of :data:`modalinfo.ordering.compare.BASES`)
 _NOT_DATA_KL = ("zernike", "kl-theory")
@@ -690,6 +691,25 @@ def refuse_unused_arguments(methods: Any, given: Any, *, basis: str | None = Non
         raise ValueError(f"{say('method')} pca orders an empirical K-L basis of the same log; "
                          f"{say('basis')} {basis} is not one: use {say('basis')} kl-data, or "
                          f"{say('method')} variance")
+
+def _refuse_unused(method: str, options: dict, confidence_level: float,
+                   block_length: Any) -> None:
+    """Refuse ``order_modes``' own MI options for a method without MI (round 36 PART a).
+
+    One guard with :func:`refuse_unused_arguments` (M4-M6).
+
+    ``"standard"``, ``"variance"`` and ``"pca"`` estimate nothing: options the caller
+    set (non-empty ``estimator_options``, a ``confidence_level`` other than the
+    default, a ``block_length``) would be ignored and the defaults recorded.
+    ``compare_orderings`` passes its MI options to the MI specs only.
+    """
+    values = {"estimator_options": options, "confidence_level": confidence_level,
+              "block_length": block_length}
+    given = [name for name, set_ in (("estimator_options", bool(options)),
+                                     ("confidence_level", confidence_level != CONFIDENCE_LEVEL),
+                                     ("block_length", block_length is not None)) if set_]
+    refuse_unused_arguments([method], given, chosen=f"order_modes' method={method!r}",
+                            words={name: f"`{name}`={values[name]!r}" for name in given})
 
 
 def order_modes(
@@ -758,7 +778,10 @@ def order_modes(
         Block length [frames] of the pooled bootstrap, in ``[1, T]``; ``None``/``"auto"``
         (default): the Politis-White length of the most persistent coefficient
         (:func:`~modalinfo.information.resampling.resolve_block_length`, the rule of
-        every block bootstrap of the package).
+        every block bootstrap of the package). ``estimator_options``,
+        ``confidence_level`` and ``block_length`` act on the MI methods only: set (a
+        non-empty dict, a level other than the default, a length) with ``"standard"``,
+        ``"variance"`` or ``"pca"`` they are refused (ValueError naming them).
     wavelength : float, optional
         Wavelength [m] to convert a log in nm or um that carries none.
     progress : callable, optional
@@ -809,6 +832,7 @@ def order_modes(
     # use them ("standard", "variance", "pca"): a misspelt name is refused, not ignored
     # (adversarial round 8, rows b03, b04)
     _make_estimator(estimator, options)
+    _refuse_unused(method, options, confidence_level, block_length)
     if n_resamples > 0 and frame is None and str(method).startswith("mi_") and hasattr(
         log_or_coeffs, "sampling"
     ):

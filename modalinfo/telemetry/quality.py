@@ -158,7 +158,11 @@ its white increments: no false flag in the tests, its glitches found.
   ``rate / T`` of ``rate / 4`` has lag-1 products alternating in sign and is named too
   (a 250 Hz line at 1 kHz over 20,000 frames with noise 1e-6 of it; 249.9 and 250.02 Hz
   are not). Lag 2 against lag 1 (lag 2 above lag 1 in a swapped smooth log) is not
-  used: an AR(1) mode keeps lag 2 below lag 1 swapped or not.
+  used: an AR(1) mode keeps lag 2 below lag 1 swapped or not. A swap found is placed
+  on the same batch means (words only, the test above decides): a run of batches whose
+  level differs from the others', the others not above 0, is named by its rows
+  (``QualityReport.pair_rows``, to a batch of ``T / 32`` frames; round 37 PART b, P10),
+  otherwise the whole log is meant.
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -954,6 +958,16 @@ class QualityReport:
     pair_judged : bool
         Whether the pair-order rule judged the log (``PAIR_MIN_FRAMES`` frames and a
         mode with a lag-1 autocorrelation).
+    stuck_block : tuple
+        ``(start, stop, labels)``: the first run of consecutive frames holding stuck
+        values, rows ``start .. stop - 1``, and the stuck modes equal over all of it
+        (``labels``, a tuple, empty where runs of several modes overlap); ``()`` when
+        none (round 37 PART b, P03).
+    pair_rows : tuple of int
+        ``(start, stop)`` when :attr:`pair_order` is found and the rule's batches place
+        the swapped pairs in rows ``start .. stop - 1`` only (to a batch, about
+        ``T / PAIR_BATCHES`` frames; ``_PairOrder.swapped_rows``), ``()`` when found in
+        the whole log or not found (round 37 PART b, P10).
     """
 
     n_frames: int
@@ -994,6 +1008,8 @@ class QualityReport:
     copied_block: tuple = ()
     pair_order: tuple = ()
     pair_judged: bool = False
+    stuck_block: tuple = ()
+    pair_rows: tuple = ()
 
     @property
     def approximate(self) -> bool:
@@ -1074,11 +1090,33 @@ class QualityReport:
             return ""
         r_even, r_odd, p = self.pair_order
         first = "2k, 2k + 1" if r_even > r_odd else "2k + 1, 2k + 2"
+        where = (f"in rows {self.pair_rows[0]}..{self.pair_rows[1] - 1} (to the rule's "
+                 f"{PAIR_BATCHES} batches; the other rows' pairs look in order), "
+                 if self.pair_rows else "")
         return (f"frames in swapped pairs? the lag-1 correlation from frame 2k to 2k + 1 is "
                 f"{r_even:.3f} and from 2k + 1 to 2k + 2 {r_odd:.3f} (p {p:.2g}; equal in a "
-                f"stationary log): the frames of each pair {first} look written in reverse "
-                "order, which no --outliers policy undoes; lags and predictions are "
+                f"stationary log): {where}the frames of each pair {first} look written in "
+                "reverse order, which no --outliers policy undoes; lags and predictions are "
                 "wrong until the logger's order is fixed")
+
+    @property
+    def outlier_rows(self) -> str:
+        """The first frames holding outlier values, as the report names them ("" if none)."""
+        return _rows_shown(self.outlier_frames)
+
+    @property
+    def stuck_rows(self) -> str:
+        """The modes with the most stuck values and the first stuck run's rows ("" if none)."""
+        if not int(self.stuck.sum()):
+            return ""
+        order = np.argsort(-self.stuck, kind="stable")[:3]
+        most = ", ".join(f"{self.labels[j]} {int(self.stuck[j])}" for j in order
+                         if self.stuck[j] > 0)
+        if not self.stuck_block:
+            return f"most: {most}"
+        start, stop, labels = self.stuck_block
+        who = ", ".join(labels) + " " if labels else ""
+        return f"most: {most}; the first: {who}rows {start}..{stop - 1}"
 
     @property
     def expected_false_alarms(self) -> float:
@@ -1119,27 +1157,25 @@ class QualityReport:
         n_out = int(self.outliers.sum())
         if n_out:
             worst = ", ".join(f"{label} {c}" for label, c in self.worst())
+            # named by row, as glitched and repeated frames (round 37 PART b, P02)
             parts.append(f"{n_out} outlier value(s) in {self.outlier_frames.size} frame(s) "
-                         f"(most: {worst})")
+                         f"(frames {self.outlier_rows}; most: {worst})")
         if self.glitch_frames.size:
-            shown = ", ".join(str(int(i)) for i in self.glitch_frames[:5])
-            more = ", ..." if self.glitch_frames.size > 5 else ""
             parts.append(f"{self.glitch_frames.size} glitched frame(s) with outliers in >= "
-                         f"{self.frame_modes} modes ({shown}{more})")
+                         f"{self.frame_modes} modes ({_rows_shown(self.glitch_frames)})")
         n_stuck = int(self.stuck.sum())
         if n_stuck:
             modes = int(np.count_nonzero(self.stuck))
             shortest = int(self.stuck_runs[self.stuck > 0].min())
+            # the modes and the first run's rows (round 37 PART b, P03)
             parts.append(f"{n_stuck} stuck value(s) (runs of >= {shortest} equal "
-                         f"values) in {modes} mode(s)")
+                         f"values) in {modes} mode(s) ({self.stuck_rows})")
         n_bad = int(self.nonfinite.sum())
         if n_bad:
             parts.append(f"{n_bad} non-finite value(s)")
         if self.repeated_frames.size:
-            shown = ", ".join(str(int(i)) for i in self.repeated_frames[:5])
-            more = ", ..." if self.repeated_frames.size > 5 else ""
             parts.append(f"{self.repeated_frames.size} repeated frame(s) equal to the frame "
-                         f"before in every mode ({shown}{more})")
+                         f"before in every mode ({_rows_shown(self.repeated_frames)})")
         if self.copied_frames.size:
             start, stop, source = self.copied_block
             parts.append(f"{self.copied_frames.size} frame(s) equal to an earlier frame in "
@@ -1151,7 +1187,7 @@ class QualityReport:
                 + f"; rule {self.rule}" + caveat)
 
     def to_dict(self) -> dict:
-        """JSON-able summary (counts and the rule; no per-frame indices)."""
+        """JSON-able summary (counts, the rule and the first rows named by :meth:`describe`)."""
         extra = {"assessed": False} if not self.assessed else {}
         if self.note:  # too short to assess, or the seeing changed
             extra["note"] = self.note
@@ -1164,7 +1200,13 @@ class QualityReport:
         if self.pair_order:
             extra["pair_order"] = (f"lag-1 {self.pair_order[0]:.3f} (2k -> 2k+1) vs "
                                    f"{self.pair_order[1]:.3f} (2k+1 -> 2k+2), "
-                                   f"p {self.pair_order[2]:.2g}")
+                                   f"p {self.pair_order[2]:.2g}"
+                                   + (f", rows {self.pair_rows[0]}..{self.pair_rows[1] - 1}"
+                                      if self.pair_rows else ""))
+        if self.outlier_frames.size:  # the rows describe() names (round 37 PART b, P02)
+            extra["outlier_rows"] = self.outlier_rows
+        if int(self.stuck.sum()):
+            extra["stuck_rows"] = self.stuck_rows
         return {
             "rule": f"|x - median| > k * 1.4826 MAD and |AR({AR_ORDER}) innovation| > k * its "
                     "1.4826 MAD",
@@ -1201,8 +1243,9 @@ class QualityReport:
         (True or False) and ``note`` (``""`` when none) are always present, so rows of
         short and long logs share their columns; ``worst_modes`` becomes text, as
         :meth:`describe` writes it (``"Z2 3, Z5 1"``, ``""`` when none);
-        ``repeated_frames`` and ``copied_frames`` (0), ``copied_block`` and
-        ``pair_order`` (``""``) are present when nothing was found too. Values are str,
+        ``repeated_frames`` and ``copied_frames`` (0), ``copied_block``,
+        ``pair_order``, ``outlier_rows`` and ``stuck_rows`` (``""``) are present when
+        nothing was found too. Values are str,
         int, float, bool or None (null in Parquet, empty in CSV): ``k`` is None when not
         assessed, ``alpha`` when a fixed ``k`` was given, ``scale_ratio`` and
         ``stationary`` when stationarity was not judged.
@@ -1218,10 +1261,17 @@ class QualityReport:
             Column name -> scalar value.
         """
         fields = {"assessed": True, "note": "", "repeated_frames": 0, "copied_frames": 0,
-                  "copied_block": "", "pair_order": "", **self.to_dict()}
+                  "copied_block": "", "pair_order": "", "outlier_rows": "",
+                  "stuck_rows": "", **self.to_dict()}
         fields["worst_modes"] = ", ".join(f"{label} {count}"
                                           for label, count in fields["worst_modes"].items())
         return {prefix + key: value for key, value in fields.items()}
+
+
+def _rows_shown(frames: np.ndarray, n: int = 5) -> str:
+    """Return the first ``n`` of ``frames`` as the report names rows: ``"3, 7, 9, ..."``."""
+    shown = ", ".join(str(int(i)) for i in frames[:n])
+    return shown + (", ..." if frames.size > n else "")
 
 
 def _data_hasher(arr: np.ndarray):
@@ -1679,6 +1729,63 @@ class _PairOrder:
         stat = float(np.mean(means)) / (sd / math.sqrt(PAIR_BATCHES))
         return r_even, r_odd, float(2.0 * student.sf(abs(stat), PAIR_BATCHES - 1))
 
+    def swapped_rows(self, n: int) -> tuple:
+        """``(start, stop)``: the rows where a found pair order holds, ``()`` for the whole log.
+
+        Words only, the detection is :meth:`result`'s (round 37 PART b, P10: pairs
+        swapped in rows 2000..3999 of 4000 were said swapped in the whole log). The
+        batch means, signed in the direction found, are fitted by a level inside one
+        run of contiguous batches and another outside it (least squares over the
+        ``B (B + 1) / 2 - 1`` runs); the run is named when the two levels differ
+        (two-sided t test, ``B - 2`` degrees of freedom, Bonferroni over the runs at
+        1 %) and the outside level is not above 0 (one-sided, 1 %); otherwise the
+        batches agree and the whole log is meant. Measured (docs/ADVERSARIAL.md, "Fixes
+        38-c"): AR(1) logs of 4,000 x 10, rho 0.9 and 0.6, swapped in rows 2000..3999
+        (120 logs), 1000..2999, 0..1999 (30 each) and 8,000 x 30 rho 0.99 in 4000..7999
+        (30): the exact rows every time; swapped whole (120): the whole log every time;
+        a stretch starting inside a batch (1100..3999) is named from the next batch's
+        first row (1126).
+        """
+        from scipy.stats import t as student
+
+        means = self.sums / np.maximum(self.counts, 1.0)
+        b = means.size
+        z = means * (1.0 if np.mean(means) >= 0 else -1.0)
+        csum = np.concatenate(([0.0], np.cumsum(z)))
+        csq = np.concatenate(([0.0], np.cumsum(z * z)))
+        total, total_sq = csum[-1], csq[-1]
+        best = None
+        for i in range(b):
+            for j in range(i + 1, b + 1):
+                n_in = j - i
+                if n_in == b:
+                    continue
+                s_in = csum[j] - csum[i]
+                s_out = total - s_in
+                if s_in / n_in <= s_out / (b - n_in):  # the run holds the swapped level
+                    continue
+                # residual sum of squares of the two levels
+                sse = total_sq - s_in * s_in / n_in - s_out * s_out / (b - n_in)
+                if best is None or sse < best[0]:
+                    best = (sse, i, j, s_in / n_in, s_out / (b - n_in))
+        if best is None:  # every batch mean equal
+            return ()
+        sse, i, j, mu_in, mu_out = best
+        dof = b - 2
+        var = sse / dof
+        if var <= 0.0:
+            return ()
+        n_in = j - i
+        t_diff = (mu_in - mu_out) / math.sqrt(var * (1.0 / n_in + 1.0 / (b - n_in)))
+        t_out = mu_out / math.sqrt(var / (b - n_in))
+        runs = b * (b + 1) // 2 - 1
+        if 2.0 * student.sf(t_diff, dof) * runs > 0.01 or student.sf(t_out, dof) <= 0.01:
+            return ()
+        # batch c holds the pairs k with k B // pairs == c: k from ceil(c pairs / B)
+        first = -(-i * self.pairs // b)
+        stop = n if j == b else 2 * (-(-j * self.pairs // b))
+        return 2 * first, stop
+
 
 _GOLD = np.uint64(0x9E3779B97F4A7C15)
 _MIX1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -1997,6 +2104,8 @@ def assess_quality(
     pair_found = pairs.result(n)
     pair_order = pair_found if pair_found is not None and pair_found[2] <= PAIR_ALPHA \
         else ()
+    pair_rows = pairs.swapped_rows(n) if pair_order else ()
+    stuck_block = _first_stuck_run(arr, stuck_frames, n_stuck, labels)
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
                          np.union1d(repeated_frames, copied_frames))
     return QualityReport(
@@ -2016,7 +2125,27 @@ def assess_quality(
         repeated_frames=repeated_frames.astype(np.int64),
         copied_frames=copied_frames, copied_block=copied_block,
         pair_order=pair_order, pair_judged=pair_found is not None,
+        stuck_block=stuck_block, pair_rows=pair_rows,
     )
+
+
+def _first_stuck_run(arr: np.ndarray, stuck_frames: np.ndarray, n_stuck: np.ndarray,
+                     labels: list) -> tuple:
+    """``(start, stop, labels)`` of the first run of consecutive stuck frames, or ``()``.
+
+    ``labels``: the modes with stuck values that hold one value over all the run's rows
+    (read back from ``arr``, those rows only); empty where runs of several modes
+    overlap into one run of frames (round 37 PART b, P03).
+    """
+    if not stuck_frames.size:
+        return ()
+    breaks = np.flatnonzero(np.diff(stuck_frames) != 1)
+    start = int(stuck_frames[0])
+    stop = int(stuck_frames[breaks[0]] if breaks.size else stuck_frames[-1]) + 1
+    cols = np.flatnonzero(n_stuck > 0)
+    rows = np.asarray(arr[start:stop][:, cols])
+    held = np.all(rows == rows[0], axis=0)
+    return start, stop, tuple(str(labels[j]) for j in cols[held])
 
 
 def _chance_repeats(found: int, n: int, share: np.ndarray, alpha: float) -> bool:

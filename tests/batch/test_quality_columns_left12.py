@@ -64,7 +64,8 @@ def _expected(path) -> dict:
     fields = assess_quality(load(path)).to_dict()
     fields["worst_modes"] = ", ".join(f"{k} {c}" for k, c in fields["worst_modes"].items())
     return {"assessed": True, "note": "", "repeated_frames": 0, "copied_frames": 0,
-            "copied_block": "", "pair_order": "", **fields}
+            "copied_block": "", "pair_order": "", "outlier_rows": "", "stuck_rows": "",
+            **fields}
 
 
 def _by_name(rows) -> dict:

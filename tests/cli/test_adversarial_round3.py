@@ -120,7 +120,8 @@ def test_one_glitched_frame_changes_no_rank_of_reorder_and_is_reported(tmp_path,
     assert len(first) == 10 and _ranks(captured.out) == first
     err = captured.err.splitlines()
     assert len(err) == 1 and "warning: " in err[0], err
-    assert "1 of 4000 frames flagged: 1 outlier value(s) in 1 frame(s) (most: Z2 1)" in err[0]
+    assert ("1 of 4000 frames flagged: 1 outlier value(s) in 1 frame(s) (frames 2000; "
+            "most: Z2 1)") in err[0]
 
 
 # ------------------------------------------------------------ bad values read from a file

@@ -190,7 +190,8 @@ def test_reorder_clip_restores_the_order_of_the_clean_log(tmp_path, capsys):
     assert code == 0 and err == []
     code, out_clip, err = _run(capsys, ["reorder", glitch, *fast, "--outliers", "clip"])
     assert code == 0 and len(err) == 1
-    assert "1 of 4000 frames flagged: 1 outlier value(s) in 1 frame(s) (most: Z2 1)" in err[0]
+    assert ("1 of 4000 frames flagged: 1 outlier value(s) in 1 frame(s) (frames 2000; "
+            "most: Z2 1)") in err[0]
     assert "clipped 1 outlier value(s)" in err[0]
     assert len(_first_ranks(out_clean)) == 10
     assert _first_ranks(out_clip) == _first_ranks(out_clean)
