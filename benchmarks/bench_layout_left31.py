@@ -18,52 +18,16 @@ Run: ``PYTHONPATH=$PWD python benchmarks/bench_layout_left31.py [--logs 20]``.
 
 from __future__ import annotations
 
-import math
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
-from scipy.signal import lfilter
+from _common import clean_logs
 
 from modalinfo.telemetry.checks import LAYOUT_ALPHA, layout_lag1
 
 SHAPES = [(2000, 20), (4000, 27), (8000, 50), (20000, 200), (300, 200), (250, 200),
           (1500, 1000)]
-
-
-def radial_orders(m: int) -> np.ndarray:
-    """Noll radial order of modes Z2.. (m of them)."""
-    j = np.arange(2, m + 2)
-    return np.floor((np.sqrt(8 * j - 7) - 1) / 2).astype(int)
-
-
-def ar_log(shape: tuple[int, int], rhos: np.ndarray, sd: np.ndarray,
-           rng: np.random.Generator) -> np.ndarray:
-    """Stationary AR(1) columns (each started from its stationary law)."""
-    t, m = shape
-    e = rng.standard_normal((t, m))
-    x = np.empty((t, m))
-    for k in range(m):
-        r = float(rhos[k])
-        z = e[:, k] * math.sqrt(1 - r * r)
-        z[0] = e[0, k]
-        x[:, k] = lfilter([1.0], [1.0, -r], z)
-    return x * sd
-
-
-def rhos(family: str, m: int, rng: np.random.Generator) -> np.ndarray:
-    """Each mode's AR(1) coefficient in one log of ``family``."""
-    if family == "noll rho0 .5-.999":
-        return rng.uniform(0.5, 0.999) ** (radial_orders(m) + 1.0)
-    if family == "one rho .5-.999":
-        return np.full(m, rng.uniform(0.5, 0.999))
-    if family == "rho -0.5":
-        return np.full(m, -0.5)
-    return np.full(m, 0.999 if family == "rho 0.999" else 0.0)
-
-
-FAMILIES = ("noll rho0 .5-.999", "one rho .5-.999", "rho 0.999", "rho -0.5", "white")
 
 
 def margin(x: np.ndarray) -> float:
@@ -103,22 +67,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{name:<22} {shape[0]:>6}x{shape[1]:<5} {fa:>6}/{k:<6} {kept.max():>10.2f} "
               f"{int((flipped > 1).sum()):>10}/{k:<8} {flipped.min():>10.2f}")
 
-    for shape in SHAPES:
-        sd = (radial_orders(shape[1]) + 1.0) ** (-11.0 / 6.0)
-        for family in FAMILIES:
-            row(family, shape, [judge(ar_log(shape, rhos(family, shape[1], rng), sd, rng))
-                                for _ in range(args.logs)])
-    from modalinfo.io import load
-    from modalinfo.telemetry.synthetic import kaos_like
-
-    for closed in (False, True):
-        row("kaos_like " + ("closed" if closed else "open"), (4000, 27),
-            [judge(kaos_like(4000, closed_loop=closed, seed=seed).coeffs)
-             for seed in range(5)])
-    root = Path(__file__).resolve().parent.parent / "data"
-    for path in sorted(root.glob("*.npz")):
-        coeffs = np.asarray(load(path).coeffs)
-        row(path.name, coeffs.shape, [judge(coeffs)])
+    for name, shape, logs in clean_logs(SHAPES, args.logs, rng):
+        row(name, shape, [judge(x) for x in logs])
     # 95 % upper bound on the rate with no false alarm in `total` logs: 3 / total
     print(f"false alarms {total_fa} of {total} logs (largest margin {worst:.2f}; 95 % upper "
           "bound "

@@ -3,12 +3,12 @@
 ``modalinfo.telemetry.assess_quality`` reports frames written in swapped pairs
 (``QualityReport.pair_order``) and frames equal to an earlier frame
 (``QualityReport.copied_frames``). Measured here on the clean log families the layout
-rule was calibrated on (benchmarks/bench_layout_left31.py: stationary AR(1) logs, Noll-
-like spreads, one ``rho`` for every mode, rho 0.999, rho -0.5, white), ``kaos_like``
-open- and closed-loop logs and the shipped logs, each judged as generated (a false
-alarm when either rule fires) and with every pair of frames swapped (power of the
-pair-order rule); and AR(1) logs rounded to 0.1 / 0.01 / 0.001 of their sigma, whose
-frames agree by chance (false alarms of the copied-block rule).
+rule was calibrated on (``benchmarks/_common.clean_logs``, as in bench_layout_left31.py:
+stationary AR(1) logs, Noll-like spreads, one ``rho`` for every mode, rho 0.999, rho
+-0.5, white), ``kaos_like`` open- and closed-loop logs and the shipped logs, each
+judged as generated (a false alarm when either rule fires) and with every pair of frames
+swapped (power of the pair-order rule); and AR(1) logs rounded to 0.1 / 0.01 / 0.001 of
+their sigma, whose frames agree by chance (false alarms of the copied-block rule).
 
 Run: ``PYTHONPATH=$PWD python benchmarks/bench_pair_order_34b.py [--logs 35]``.
 """
@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_layout_left31 import FAMILIES, ar_log, radial_orders, rhos  # noqa: E402
+from _common import ar_log, clean_logs  # noqa: E402
 
 from modalinfo.telemetry import assess_quality  # noqa: E402
 
@@ -67,22 +67,8 @@ def main(argv: list[str] | None = None) -> int:
               f"{fa_c:>3}/{len(results):<4} {found:>8}/{len(results):<5} {worst:>10.2g}",
               flush=True)
 
-    for shape in SHAPES:
-        sd = (radial_orders(shape[1]) + 1.0) ** (-11.0 / 6.0)
-        for family in FAMILIES:
-            row(family, shape, [judge(ar_log(shape, rhos(family, shape[1], rng), sd, rng))
-                                for _ in range(args.logs)])
-    from modalinfo.io import load
-    from modalinfo.telemetry.synthetic import kaos_like
-
-    for closed in (False, True):
-        row("kaos_like " + ("closed" if closed else "open"), (4000, 27),
-            [judge(kaos_like(4000, closed_loop=closed, seed=seed).coeffs)
-             for seed in range(5)])
-    root = Path(__file__).resolve().parent.parent / "data"
-    for path in sorted(root.glob("*.npz")):
-        coeffs = np.asarray(load(path).coeffs)
-        row(path.name, coeffs.shape, [judge(coeffs)])
+    for name, shape, logs in clean_logs(SHAPES, args.logs, rng):
+        row(name, shape, [judge(x) for x in logs])
     fa_p, fa_c, found, total = totals
     print(f"pair-order false alarms {fa_p} of {total} clean logs, copied-block false alarms "
           f"{fa_c} of {total}; swapped logs found {found} of {total}")

@@ -19,8 +19,8 @@ from modalinfo.common.folders import OutputError
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main", "figure_record",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
-           "save_png_pdf", "shipped_log", "staged_output", "suffixed", "user_log_outliers",
-           "write_figure"]
+           "prepared_log", "save_png_pdf", "shipped_log", "staged_output", "suffixed",
+           "user_log_outliers", "write_figure"]
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
@@ -280,6 +280,22 @@ def user_log_outliers(log, args, path: Path, uses: str) -> tuple[object, str]:
     refuse_outlier_drop(args, uses, "need")
     log, quality = apply_outliers(log, args, path, time_series=True)
     return log, f"--outliers {args.outliers}: {describe_outliers(log, quality, args.outliers)}"
+
+
+def prepared_log(log_path: Path | None, prepared: tuple | None) -> tuple[object, str, dict]:
+    """Return ``(log, source, said)`` for the ``make`` of Figures 1 and 5.
+
+    ``prepared`` None: ``log_path``'s log or the synthetic one (:func:`log_or_kaos_like`),
+    nothing said. Else the ``(log, source, outliers)`` that :func:`figure_main` read and
+    applied ``--outliers`` to (:func:`user_log_outliers`); ``said`` is then
+    ``{"outliers": outliers}``, the keyword the figure's ``compute`` states in its report.
+    One copy for both figures' ``make``.
+    """
+    if prepared is None:
+        log, source = log_or_kaos_like(log_path)
+        return log, source, {}
+    log, source, outliers = prepared
+    return log, source, {"outliers": outliers}
 
 
 def outlier_records(log) -> str:

@@ -40,8 +40,8 @@ import numpy as np
 
 from paper_figures._common import (
     figure_main,
-    log_or_kaos_like,
     outlier_records,
+    prepared_log,
     require_varying_modes,
     save_png_pdf,
     shipped_log,
@@ -545,17 +545,27 @@ def _common_reading(fig1: Figure1) -> list[str]:
     ]
 
 
+def _pooled_sentence(fig1: Figure1, middle: str) -> str:
+    """Return the Reading's sentence on panel (b): the pooled orderings' counts.
+
+    ``middle`` (what the shipped and the user's Reading say of the log) goes between the
+    counts and the mode variances' spread.
+    """
+    pooled_n = fig1.pooled.modes_at_target
+    return ("Averaged over frames (pooled orderings) the orderings need "
+            f"{min(pooled_n.values())}-{max(pooled_n.values())} modes (MI Zernike "
+            f"{pooled_n['zernike:mi_greedy']}, MI K-L {pooled_n['kl-theory:mi_greedy']}, "
+            f"data-PCA floor {pooled_n['kl-data:pca']}{middle} "
+            f"{fig1.variance_spread:.1f} (max/min mean-square coefficient).")
+
+
 def _shipped_reading(fig1: Figure1) -> list[str]:
     """Return the Reading of a shipped log (closed loop; panel (c) its turbulence, open)."""
     pooled_n, open_n = fig1.pooled.modes_at_target, fig1.open_loop.modes_at_target
     return [
         *_common_reading(fig1),
-        "Averaged over frames (pooled orderings) the orderings need "
-        f"{min(pooled_n.values())}-{max(pooled_n.values())} modes (MI Zernike "
-        f"{pooled_n['zernike:mi_greedy']}, MI K-L {pooled_n['kl-theory:mi_greedy']}, "
-        f"data-PCA floor {pooled_n['kl-data:pca']}): a fixed ordering gains little on this "
-        f"closed-loop log, whose mode variances span only a factor "
-        f"{fig1.variance_spread:.1f} (max/min mean-square coefficient).",
+        _pooled_sentence(fig1, "): a fixed ordering gains little on this closed-loop log, "
+                               "whose mode variances span only a factor"),
         f"In open loop (same turbulence) the MI-ordered theoretical K-L needs "
         f"{open_n['kl-theory:mi_greedy']} modes and the data-PCA {open_n['kl-data:pca']}, "
         f"against {open_n['zernike:standard']} for standard Zernikes (MI Zernikes "
@@ -609,12 +619,8 @@ def _user_reading(fig1: Figure1) -> list[str]:
     pooled_n, open_n = fig1.pooled.modes_at_target, fig1.open_loop.modes_at_target
     return [
         *_common_reading(fig1),
-        "Averaged over frames (pooled orderings) the orderings need "
-        f"{min(pooled_n.values())}-{max(pooled_n.values())} modes (MI Zernike "
-        f"{pooled_n['zernike:mi_greedy']}, MI K-L {pooled_n['kl-theory:mi_greedy']}, "
-        f"data-PCA floor {pooled_n['kl-data:pca']}, standard order "
-        f"{pooled_n['zernike:standard']}) on this {_kind(fig1)}log, whose mode variances "
-        f"span a factor {fig1.variance_spread:.1f} (max/min mean-square coefficient).",
+        _pooled_sentence(fig1, f", standard order {pooled_n['zernike:standard']}) on this "
+                               f"{_kind(fig1)}log, whose mode variances span a factor"),
         f"Panel (c) is not this log's turbulence: it is the package's KAOS-like open-loop "
         f"log {OPEN_LOOP_LOG} ({fig1.open_loop_frames} frames), shown for reference, where "
         f"the MI-ordered theoretical K-L needs {open_n['kl-theory:mi_greedy']} modes and "
@@ -634,15 +640,10 @@ def make(out_dir: Path, log_path: Path | None, *, suffix: str = "",
 
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written:
     :func:`output_names` of ``suffix``.
-    ``prepared``: ``(log, source, outliers)`` of a ``--log`` that ``figure_main`` read
-    and applied ``--outliers`` to (``user_log_outliers``), stated in the report.
+    ``prepared``: what ``figure_main`` read from a ``--log`` (:func:`prepared_log`), its
+    ``--outliers`` policy stated in the report.
     """
-    if prepared is None:
-        log, source = log_or_kaos_like(log_path)
-        said = {}
-    else:  # read by figure_main, --outliers applied: its log, source and Outliers line
-        log, source, outliers = prepared
-        said = {"outliers": outliers}
+    log, source, said = prepared_log(log_path, prepared)
     fig1 = compute(log, source=source, **said)
     plot(fig1, out_dir, suffix=suffix)
     return report(fig1, suffix=suffix)

@@ -41,8 +41,8 @@ import numpy as np
 
 from paper_figures._common import (
     figure_main,
-    log_or_kaos_like,
     outlier_records,
+    prepared_log,
     save_png_pdf,
     shipped_log,
     suffixed,
@@ -607,15 +607,10 @@ def make(out_dir: Path, log_path: Path | None, *, suffix: str = "",
 
     ``log_path`` None: the synthetic ``kaos_like(seed=0)`` log. Files written (by
     :func:`plot`): :func:`output_names` of ``suffix``.
-    ``prepared``: ``(log, source, outliers)`` of a ``--log`` that ``figure_main`` read
-    and applied ``--outliers`` to (``user_log_outliers``), stated in the report.
+    ``prepared``: what ``figure_main`` read from a ``--log`` (:func:`prepared_log`), its
+    ``--outliers`` policy stated in the report.
     """
-    if prepared is None:
-        log, source = log_or_kaos_like(log_path)
-        said = {}
-    else:  # read by figure_main, --outliers applied: its log, source and Outliers line
-        log, source, outliers = prepared
-        said = {"outliers": outliers}
+    log, source, said = prepared_log(log_path, prepared)
     fig5 = compute(log, source=source, **said)
     plot(fig5, out_dir, suffix=suffix)
     return report(fig5, suffix=suffix)

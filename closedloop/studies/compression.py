@@ -441,10 +441,9 @@ def compression_study(config: SimulationConfig, *, n_values, duration: float,
                                   latency, config.loop.time_step)
     timings["compute_time"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    retuned: dict = {}
-    peak, field_sr = _grid_runs(config, model, bases, orderings, n_values, spec, delays,
-                                duration=duration, seed=seed, start=start, say=say,
-                                retuned=retuned)
+    peak, field_sr, retuned = _grid_runs(config, model, bases, orderings, n_values, spec,
+                                         delays, duration=duration, seed=seed, start=start,
+                                         say=say)
     timings["runs"] = time.perf_counter() - t0
     return CompressionStudy(
         config_name=config.name, seed=seed, duration=duration, n_values=n_values,
@@ -496,24 +495,24 @@ def _rtc_delays(model: LoopModel, first: np.ndarray, n_values: np.ndarray,
 
 def _grid_runs(config: SimulationConfig, model: LoopModel, bases: dict, orderings: tuple,
                n_values: np.ndarray, spec: cl_predictors.LoopPredictor, delays: dict, *,
-               duration: float, seed: int, start: int, say,
-               retuned: dict | None = None) -> tuple[dict, dict]:
+               duration: float, seed: int, start: int, say) -> tuple[dict, dict, dict]:
     """Return the mean SR peak and field SR of every run of :func:`compression_study`.
 
     Keyed ``(latency, ordering, predictor)``, ``(len(n_values),)`` each, averaged from
-    frame ``start`` on. ``retuned`` (filled): delay [s] -> gain, where
+    frame ``start`` on; and the retuned gains: delay [s] -> gain, where
     :func:`gain_for_delay` had to lower the preset's gain.
     """
     m = model.n_modes
     names = ("none", spec.name)
     peak: dict = {}
     field_sr: dict = {}
+    retuned: dict = {}
     models = {config.loop.delay: model}
 
     def model_for(delay):
         if delay not in models:
             loop, changed = gain_for_delay(config.loop, delay)
-            if changed and retuned is not None:
+            if changed:
                 retuned[float(delay)] = loop.gain
             models[delay] = LoopModel(config.replace(loop=loop))
         return models[delay]
@@ -559,4 +558,4 @@ def _grid_runs(config: SimulationConfig, model: LoopModel, bases: dict, ordering
                     field_sr[(lat, o, name)][i] = f
                 if n == m:
                     shared[(lat, n)] = summary
-    return peak, field_sr
+    return peak, field_sr, retuned

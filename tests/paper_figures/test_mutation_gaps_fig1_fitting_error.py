@@ -37,6 +37,7 @@ import modalinfo.ordering
 import modalinfo.ordering.compare
 import modalinfo.telemetry.synthetic
 from modalinfo.telemetry import ModalLog
+from paper_figures import _common
 from paper_figures import fig1_fitting_error as fig1
 from paper_figures._common import SYNTHETIC_SOURCE
 
@@ -482,7 +483,8 @@ def test_plot_read_back(drawn):
 
 def test_make_and_main(tmp_path, monkeypatch):
     calls = []
-    monkeypatch.setattr(fig1, "log_or_kaos_like", lambda p: calls.append(("load", p))
+    # make reads its log through _common.prepared_log (one copy for Figures 1 and 5)
+    monkeypatch.setattr(_common, "log_or_kaos_like", lambda p: calls.append(("load", p))
                         or ("LOG", "the source"))
     monkeypatch.setattr(fig1, "compute", lambda log, *, source: calls.append(
         ("compute", log, source)) or "FIG")

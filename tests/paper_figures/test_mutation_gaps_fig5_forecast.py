@@ -31,6 +31,7 @@ import numpy as np
 import pytest
 
 from modalinfo.telemetry import ModalLog
+from paper_figures import _common
 from paper_figures import fig5_forecast as fig5
 
 from .conftest import saved_figures
@@ -388,7 +389,8 @@ def test_plot_time_axis_without_rate(tmp_path, monkeypatch):
 
 def test_make_and_main(tmp_path, monkeypatch):
     calls = []
-    monkeypatch.setattr(fig5, "log_or_kaos_like", lambda p: calls.append(("load", p))
+    # make reads its log through _common.prepared_log (one copy for Figures 1 and 5)
+    monkeypatch.setattr(_common, "log_or_kaos_like", lambda p: calls.append(("load", p))
                         or ("LOG", "the source"))
     monkeypatch.setattr(fig5, "compute", lambda log, *, source: calls.append(
         ("compute", log, source)) or "FIG")
