@@ -45,7 +45,7 @@ from collections.abc import Callable
 import numpy as np
 
 from closedloop.budget import BudgetProbe
-from closedloop.config import LoopConfig, SimulationConfig
+from closedloop.config import MAX_SEED, LoopConfig, SimulationConfig
 from closedloop.control.controller import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
 from closedloop.control.predictors import (
     ORACLE,
@@ -112,7 +112,8 @@ def simulate(
         The string ``"oracle"`` is deprecated (a ``DeprecationWarning``); other names
         are refused (they need training: :func:`closedloop.run_trained`).
     seed : int or None
-        Overrides ``config.seed``.
+        Overrides ``config.seed``; in ``[0, 2**63 - 1]``, as ``config.seed`` (the result
+        file stores it as a 64-bit integer).
     progress : bool or None
         tqdm bar on stderr; None: only when stderr is a terminal.
     model : LoopModel or None
@@ -414,6 +415,11 @@ def _model_for(config: SimulationConfig, model: LoopModel | None) -> LoopModel:
 def _check_seed(seed) -> int:
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
         raise ValueError(f"`seed` must be a non-negative int; got {seed!r}.")
+    if seed > MAX_SEED:
+        # the limit of `SimulationConfig.seed`: 2**100 ran, then the result's save raised
+        # h5py's "Object dtype dtype('O') has no native HDF5 equivalent" (round 38 PART a)
+        raise ValueError(f"`seed` must be at most 2**63 - 1 = {MAX_SEED} (the result file "
+                         f"stores it as a 64-bit integer); got {seed}.")
     return int(seed)
 
 

@@ -26,6 +26,7 @@ __all__ = [
     "check_real",
     "check_choice",
     "check_rng",
+    "seed_record",
     "check_square_range",
     "SQUARE_FLOOR",
     "did_you_mean",
@@ -690,6 +691,20 @@ def check_rng(seed: Any, name: str = "seed") -> np.random.Generator:
     if isinstance(seed, numbers.Integral) and seed < 0:
         raise ValueError(f"`{name}` must be a non-negative int; got {seed}.")
     return np.random.default_rng(seed)
+
+
+def seed_record(seed: Any) -> int | None:
+    """Return the int a result or a file records for ``seed``, or None where it is no int.
+
+    The seed as :func:`check_rng` reads it: an ``np.int64`` or a 0-d integer array is its
+    int (before, a 0-d array drew the same numbers as its int but was recorded None: the
+    run looked unreproducible; adversarial round 38 PART a, R84-R86); a Generator, a
+    SeedSequence, None and bools record None.
+    """
+    seed = as_scalar(seed)
+    if isinstance(seed, numbers.Integral) and not isinstance(seed, bool | np.bool_):
+        return int(seed)
+    return None
 
 
 #: Smallest magnitude [the data's units] whose squared one-ulp differences are normal

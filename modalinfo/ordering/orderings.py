@@ -96,14 +96,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 import warnings
 from typing import Any
 
 import numpy as np
 
 from modalinfo.common.quiet import caller_stacklevel
-from modalinfo.common.validation import check_choice, check_int, check_real, check_rng
+from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, seed_record
 from modalinfo.information.api import InfiniteMIError
 from modalinfo.information.discrete import PILE_BLIND_METHODS, pile_why
 from modalinfo.information.methods import (
@@ -849,8 +848,7 @@ def order_modes(
     if frame is not None:
         frame = check_int(frame, "frame", minimum=-n_frames, maximum=n_frames - 1) % n_frames
     budget = check_int(sample_budget, "sample_budget", minimum=10)
-    seed_value = int(seed) if isinstance(seed, numbers.Integral) and not isinstance(
-        seed, bool) else None
+    seed_value = seed_record(seed)
     rng = check_rng(seed)
     common = dict(basis_labels=view.labels, method=method, pooled=frame is None, frame=frame,
                   basis_key=basis_key(view.obj))

@@ -11,6 +11,7 @@ real changes of the turbulence.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
@@ -266,6 +267,12 @@ def ordering_stability(
     if n_top is None:
         n_top = min(5, n_modes)
     n_top = check_int(n_top, "n_top", minimum=1, maximum=n_modes)
+    if (isinstance(seeds, str | bytes) or not isinstance(seeds, Iterable)
+            or (isinstance(seeds, np.ndarray) and seeds.ndim == 0)):
+        # one int or None is not a set of seeds: `for s in 3` raised "'int' object is not
+        # iterable", naming no argument (round 38 PART a, R65 / R66)
+        raise TypeError(f"`seeds` must be a sequence of ints (at least 2, or empty to "
+                        f"skip the seed comparison), e.g. (0, 1, 2); got {seeds!r}.")
     seeds = tuple(check_int(s, "seeds[i]", minimum=0) for s in seeds)
     if len(seeds) == 1:
         raise ValueError(f"`seeds` must hold at least 2 seeds (or none); got {seeds}.")

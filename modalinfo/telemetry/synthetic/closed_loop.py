@@ -33,13 +33,12 @@ model is the one the simulated logs obey.
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 from scipy import signal
 
-from modalinfo.common.validation import check_int, check_real, check_rng
+from modalinfo.common.validation import check_int, check_real, check_rng, seed_record
 from modalinfo.servo import (
     LoopBandwidth,
     check_loop,
@@ -154,7 +153,7 @@ def closed_loop_simulation(
         "noise_rms_rad": noise_rms,
         "oversampling": oversampling,
         "frame_rate_hz": frame_rate,
-        "seed": int(seed) if isinstance(seed, numbers.Integral) else None,
+        "seed": seed_record(seed),
         # NaN (no crossing below Nyquist, e.g. |1 - E| never under -3 dB at gain 1.5 with
         # no delay) is null in the JSON-safe metadata: it refused a stable loop before
         # (adversarial round 20, s3_1.500_0)

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import numbers
 from typing import Any
 
 import numpy as np
 
-from modalinfo.common.validation import check_int, check_memory, check_real, check_rng
+from modalinfo.common.validation import check_int, check_memory, check_real, check_rng, seed_record
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.synthetic.closed_loop import closed_loop_simulation
 from modalinfo.telemetry.synthetic.spectra import (
@@ -122,7 +121,7 @@ def kaos_like(
         "loop": "closed" if closed_loop else "open",
         "quantity": ("WFS-measured closed-loop residual (with noise)" if closed_loop
                      else "WFS-measured open-loop turbulence (box-averaged, no noise)"),
-        "seed": int(seed) if isinstance(seed, numbers.Integral) else None,
+        "seed": seed_record(seed),
         "n_frames": n_frames,
         "generator": params,
         **{k: v for k, v in _layers_metadata(layers, float(p["diameter"]),

@@ -79,6 +79,7 @@ from modalinfo.common.validation import (
     check_rng,
     check_telescope_diameter,
     check_wind_speed,
+    seed_record,
 )
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.units import check_wavelength
@@ -446,7 +447,7 @@ def open_loop_log(
     # this n_frames = 2**70 raised OverflowError in numpy (adversarial round 18, q63)
     check_memory(FFT_BYTES_PER_SAMPLE * n_frames * len(mode_list), "n_frames", n_frames,
                  "the open-loop series and their spectra")
-    generator_seed = int(seed) if isinstance(seed, numbers.Integral) else None  # np.int64: JSON
+    generator_seed = seed_record(seed)  # np.int64, a 0-d array: their int (JSON)
     rng = check_rng(seed)
     coeffs = _open_loop_array(mode_list, n_frames, rate, diameter, layer_tuple, outer_scale,
                               wavelength, rng)
