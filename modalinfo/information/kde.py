@@ -84,7 +84,12 @@ from scipy.optimize import minimize_scalar
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
-from modalinfo.information.copula import check_copula, copula_scores, copula_scores_ties
+from modalinfo.information.copula import (
+    check_copula,
+    copula_scores,
+    copula_scores_ties,
+    small_sample_rule,
+)
 from modalinfo.information.discrete import (
     DISCRETE_MIN_PER_CELL,
     discrete_cmi,
@@ -417,6 +422,7 @@ class KDEEngine:
     def fit(self, x: np.ndarray) -> KDEEngine:
         """Cache the standardised (or copula) scores of x and its marginal entropy."""
         self._u, self._umin, self._umax, self._x_ties = _standardise(x, self.copula)
+        self._x_raw = x  # for resolution_why's ranks (a reference, no copy)
         self._n = x.shape[0]
         self._fu: dict[float, np.ndarray] = {}
         self._x_levels = discrete_x_levels(x)  # None unless x may be one side of a table
@@ -555,6 +561,19 @@ class KDEEngine:
                 "kde runs on normal scores): near |rho| = 1 it is neither close nor a "
                 "bound; copula=False estimates it on the raw values")
 
+    def resolution_why(self, y: np.ndarray) -> str | None:
+        """Why the estimate is biased low at this n for the pair's dependence, or None.
+
+        :func:`~modalinfo.information.copula.small_sample_rule` on
+        :data:`KDE_SMALL_N_REACH`: on normal scores the estimate follows the Gaussian
+        MI of their correlation, which reads a strong pair low at small n (rho = 0.99,
+        1.959 nats: -0.19 to -0.23 at n = 50; round 37 PART a, S15). Default
+        bandwidth only (an explicit one is judged by ``kde_bias_rule``). The value is kept.
+        """
+        if self.bandwidth != "cv" or not self.copula:
+            return None
+        return small_sample_rule(self._x_raw, y, KDE_SMALL_N_REACH, "KDE")
+
     def subsample_engine(self) -> KDEEngine:
         """Return an engine for subsamples of the pair last scored, without a new search.
 
@@ -691,6 +710,14 @@ def kde_cmi(x, y, z, *, bandwidth: Any = "scott", copula: bool = True) -> float:
             + _kde_entropy_block(np.ascontiguousarray(u[:, yz]), h)
             - _kde_entropy_block(u, h) - hz)
 
+
+#: (g, n_max) points of :func:`~modalinfo.information.copula.small_sample_rule` for the
+#: default KDE (cross-validated bandwidth, normal scores): up to n_max samples a Gaussian
+#: pair whose normal scores read g nats is estimated low by about max(0.05, 10 %) or more
+#: (40 seeds per point; rho = 0.99: -0.187 (s.e. 0.026) at n = 50, -0.166 at 75;
+#: rho = 0.995: -0.22 for a tolerance 0.23 up to n = 100, -0.13 at 150; rho = 0.999:
+#: -0.367 at 100, -0.258 at 150 for 0.311; docs/ADVERSARIAL.md, "Fixes 38-a").
+KDE_SMALL_N_REACH = ((1.5, 40), (1.75, 58), (2.07, 80), (2.75, 125))
 
 #: The ``"kde"`` method (:mod:`modalinfo.information.methods`).
 #: Least mean number of samples under one kernel, n h^d, of the KDE CMI (bias rule;

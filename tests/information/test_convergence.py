@@ -54,6 +54,8 @@ def _warnings(fn):
 def test_effective_pairs_is_bartlett_with_statsmodels_autocorrelations():
     x, y = _ar1(0.9, 4000, 1), _ar1(0.7, 4000, 2)
     rx, ry = acf(x, nlags=1)[1], acf(y, nlags=1)[1]
+    # each lag-1 corrected for its bias, + (1 + 3 r) / n (Marriott & Pope 1954; fixes 38-a)
+    rx, ry = rx + (1 + 3 * rx) / 4000, ry + (1 + 3 * ry) / 4000
     assert effective_pairs(x, y) == pytest.approx(4000 * (1 - rx * ry) / (1 + rx * ry),
                                                   rel=1e-9)
 

@@ -3,7 +3,8 @@
 Each test places an input just inside and just outside a rule's edge, the edge computed
 here from a reference outside the code: the rule as the module notes document it, written
 out with numpy (Bartlett's ``n (1 - rx ry) / (1 + rx ry)`` effective pairs on the
-Brockwell & Davis lag-1 autocorrelation of a seeded AR(1) path whose coefficient is
+Brockwell & Davis lag-1 autocorrelation, corrected by Marriott & Pope's + (1 + 3 r) / n
+(fixes 38-a), of a seeded AR(1) path whose coefficient is
 solved with ``scipy.optimize.brentq``; the rise ``max(0.05, 5 %)``; Chatterjee's xi from
 ``scipy.stats.chatterjeexi`` and its Gaussian inverse ``rho^2 = 2 sin(pi (xi + 1/2) / 3) - 1``
 (Chatterjee 2021); the Miller-Madow 2 x 2 table MI, its delta-method sd and
@@ -51,9 +52,13 @@ def ar1_with_lag1(r: float, n: int, seed: int) -> np.ndarray:
 
 
 def pair_with_effective_pairs(n_eff: float, n: int, seed: int) -> np.ndarray:
-    """x (used as x and y) with n (1 - r^2) / (1 + r^2) = n_eff."""
+    """x (used as x and y) with n (1 - c^2) / (1 + c^2) = n_eff, c = r + (1 + 3 r) / n.
+
+    c: the sample lag-1 r corrected for its bias (Marriott & Pope 1954), as the rule
+    reads it since fixes 38-a.
+    """
     p = (n - n_eff) / (n + n_eff)
-    return ar1_with_lag1(math.sqrt(p), n, seed)
+    return ar1_with_lag1((math.sqrt(p) - 1.0 / n) / (1.0 + 3.0 / n), n, seed)
 
 
 # rule 1: n = 1000 (share edge 100): the 20 pairs bind; n = 150: the 10 % share binds
