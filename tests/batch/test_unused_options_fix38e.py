@@ -25,23 +25,11 @@ import pytest
 
 from modalinfo.batch.analyses import resolve_params
 from modalinfo.cli import main
-from modalinfo.telemetry.log import ModalLog
 
 PCA = ("{where} {basis}:pca: pca orders an empirical K-L basis of the same log; {basis} is "
        "not one: use kl-data:pca, or {basis}:variance")
 SEEDS = ("ordering.seeds applies to the MI methods (mi_greedy, mi_marginal); "
          "ordering.method {method} uses none: drop it")
-
-
-@pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    from modalinfo.io import save
-
-    root = tmp_path_factory.mktemp("logs")
-    x = np.random.default_rng(0).normal(size=(400, 6)) / np.arange(1, 7)
-    save(ModalLog(x, rate=500.0, modes=list(range(2, 8)), convention="noll", units="rad",
-                  wavelength=5e-7), root / "a.npz")
-    return root
 
 
 @pytest.mark.parametrize("orderings, basis", [
