@@ -266,9 +266,10 @@ def resolve_params(analysis: str, params: dict | None = None) -> dict:
     return resolved
 
 
-#: batch parameter -> the argument of order_modes / compare_orderings it sets
+#: batch parameter -> the argument of order_modes / compare_orderings /
+#: ordering_stability it sets
 _ORDERING_ARGUMENTS = {"estimator": "estimator", "budget": "sample_budget", "seed": "seed",
-                       "resamples": "n_resamples"}
+                       "seeds": "seeds", "resamples": "n_resamples"}
 
 
 def _refuse_unused(analysis: str, given: dict, p: dict) -> None:
@@ -278,7 +279,10 @@ def _refuse_unused(analysis: str, given: dict, p: dict) -> None:
     ordering.resamples=100``) ran and the params recorded it; ``ordering.method=pca`` on
     a model basis made every log an error row after its work, with the API's advice
     (round 37 PART b, B04 / B05 / B08 / B12). One guard with the commands:
-    :func:`modalinfo.ordering.orderings.refuse_unused_arguments`.
+    :func:`modalinfo.ordering.orderings.refuse_unused_arguments`. Also (fix38-e): a
+    ``fitting_error.orderings`` entry ``zernike:pca`` / ``kl-theory:pca`` (an error row
+    per log after its work), ``ordering.seeds`` with a method without MI (its row said
+    "not assessed") or with ``ordering.windows`` < 2 (no stability columns).
     """
     from modalinfo.ordering.compare import parse_specs
     from modalinfo.ordering.orderings import refuse_unused_arguments
@@ -292,9 +296,16 @@ def _refuse_unused(analysis: str, given: dict, p: dict) -> None:
         names.update(method="ordering.method", basis="ordering.basis")
         refuse_unused_arguments([p["method"]], given_names, basis=p["basis"], words=names,
                                 chosen=f"ordering.method {p['method']}")
+        if "seeds" in given and int(p["windows"]) < 2:
+            # the seeds are those of the stability columns, which need >= 2 windows
+            raise ValueError(f"ordering.seeds applies to the stability columns (ordering."
+                             f"windows >= 2); ordering.windows {p['windows']} makes none: "
+                             "drop it")
     else:
         specs = parse_specs(p["orderings"])
-        refuse_unused_arguments([m for _, m in specs], given_names, words=names,
+        names.update(orderings="fitting_error.orderings")
+        refuse_unused_arguments([m for _, m in specs], given_names,
+                                basis=[b for b, _ in specs], words=names,
                                 chosen=f"fitting_error.orderings {p['orderings']}",
                                 noun="orderings")
 

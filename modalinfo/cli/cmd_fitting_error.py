@@ -126,12 +126,14 @@ def _refuse_unused_options(args: argparse.Namespace, specs) -> None:
     ``--estimator``, ``--budget`` and ``--seed`` act on the MI orderings (mi_greedy,
     mi_marginal) only, ``--outer-scale`` on the ``kl-theory`` basis only: given without
     one, the value was used by nothing and the user believed it applied, where
-    ``reorder`` refuses the same options (round 36 PART b, F01-F07).
+    ``reorder`` refuses the same options (round 36 PART b, F01-F07). A ``zernike:pca``
+    or ``kl-theory:pca`` is refused here too, before the log is read: it failed after
+    the work with the API's remedy (fix38-e).
     """
     given = [name for name, value in (("estimator", args.estimator),
                                       ("sample_budget", args.budget), ("seed", args.seed))
              if value is not None]
-    refuse_unused_ordering_options([m for _, m in specs], given,
+    refuse_unused_ordering_options([m for _, m in specs], given, basis=[b for b, _ in specs],
                                    chosen=f"--orderings {args.orderings}", noun="orderings")
     if args.outer_scale is not None and not any(b == "kl-theory" for b, _ in specs):
         raise CommandError(f"--outer-scale applies to the kl-theory basis (the K-L of a von "

@@ -44,13 +44,15 @@ def refuse_unused_ordering_options(methods, given, *, basis=None, chosen=None,
 
     ``given``: the library names (``"n_resamples"``, ...) of the flags the user gave;
     the library's backticked names are said as ``cli_words`` says them, and the three
-    it does not know as the flags of both commands (round 37 PART b, B04).
+    it does not know as the flags of both commands (round 37 PART b, B04). ``basis``:
+    ``--basis`` of ``reorder``, or the bases of ``--orderings``, one per method.
     """
     from modalinfo.cli import cli_words
     from modalinfo.ordering.orderings import MI_ONLY_ARGUMENTS, refuse_unused_arguments
 
     words = {name: cli_words(f"`{name}`") for name in MI_ONLY_ARGUMENTS}
-    words.update(estimator="--estimator", method="--method", basis="--basis")
+    words.update(estimator="--estimator", method="--method", basis="--basis",
+                 orderings="--orderings")
     try:
         refuse_unused_arguments(methods, given, basis=basis, words=words, chosen=chosen,
                                 noun=noun)

@@ -84,3 +84,15 @@ def client():
     with open_client(n_workers=2, threads_per_worker=1, memory_limit="1GB",
                      dashboard_address=None) as c:
         yield c
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    """One 400 x 6 white log (Z2..Z7, rad, 500 Hz): the unused-option refusals' folder."""
+    from modalinfo.io import save
+
+    root = tmp_path_factory.mktemp("logs")
+    x = np.random.default_rng(0).normal(size=(400, 6)) / np.arange(1, 7)
+    save(ModalLog(x, rate=500.0, modes=list(range(2, 8)), convention="noll", units="rad",
+                  wavelength=5e-7), root / "a.npz")
+    return root

@@ -20,12 +20,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
 
 from modalinfo.batch.analyses import resolve_params, run_log_task
 from modalinfo.cli import main
-from modalinfo.telemetry.log import ModalLog
 
 RULE = "applies to the MI {noun} (mi_greedy, mi_marginal); {chosen} uses none: drop it"
 
@@ -64,17 +62,6 @@ def test_fitting_error_seed_without_an_mi_ordering_is_refused():
         resolve_params("fitting_error", {"orderings": "zernike:variance", "seed": 3})
     assert str(exc.value) == "fitting_error.seed " + RULE.format(
         noun="orderings", chosen="fitting_error.orderings zernike:variance")
-
-
-@pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    from modalinfo.io import save
-
-    root = tmp_path_factory.mktemp("logs")
-    x = np.random.default_rng(0).normal(size=(400, 6)) / np.arange(1, 7)
-    save(ModalLog(x, rate=500.0, modes=list(range(2, 8)), convention="noll", units="rad",
-                  wavelength=5e-7), root / "a.npz")
-    return root
 
 
 @pytest.mark.parametrize("settings, start", [
