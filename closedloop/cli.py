@@ -20,6 +20,7 @@ another atmosphere instead).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import sys
 from pathlib import Path
@@ -31,6 +32,7 @@ from modalinfo.common.cli import (
     check_output,
     dispatch,
     folder_arg,
+    written_summary,
 )
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.text import pad
@@ -261,9 +263,11 @@ def _cmd_run(args) -> int:
             record = {**result.provenance, "command": getattr(args, "_argv", None)}
             result = dataclasses.replace(result, provenance=record)
         result.save(args.out, overwrite=args.overwrite)
-    print(_summary_line(result))
+    lines = [_summary_line(result)]
     if result.budget is not None:
-        print(_budget_line(result.budget, config.wavelength))
+        lines.append(_budget_line(result.budget, config.wavelength))
+    with written_summary() if args.out is not None else contextlib.nullcontext():
+        print("\n".join(lines))
     return 0
 
 
@@ -401,8 +405,10 @@ def _cmd_export(args) -> int:
         raise CommandError(f"OUT (AOT FITS): {exc}".replace(
             "pass mode_images=False", "pass --no-mode-images")) from None
     path = export_aot(result, out, overwrite=args.overwrite, mode_images=images)
-    print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
-          f"{len(result.config.dms)} DMs; {_aot_loops_text(path)}")
+    line = (f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} "
+            f"WFSs, {len(result.config.dms)} DMs; {_aot_loops_text(path)}")
+    with written_summary():
+        print(line)
     return 0
 
 

@@ -158,16 +158,9 @@ def _print(line: str, done: bool = False) -> None:
     try:
         print(line, flush=True)
     except BrokenPipeError:
-        import os
+        from modalinfo.common.cli import discard_stdout
 
-        try:
-            fd = sys.stdout.fileno()
-        except (AttributeError, ValueError, OSError):  # a stream without a descriptor
-            sys.stdout = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115
-            return
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, fd)  # the line still buffered, and the flush at exit, go nowhere
-        os.close(devnull)
+        discard_stdout()
     except OSError as exc:
         raise _StdoutError(exc, done) from None
 
