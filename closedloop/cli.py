@@ -9,7 +9,9 @@
     closedloop export run.h5 run.fits               # the run as an AO Telemetry (AOT) system
     closedloop config --preset table1 > my.toml     # edit, then: run --config my.toml
 
-Errors print one line on stderr and exit 2 (no traceback); Ctrl-C ends cleanly (130).
+Errors print one line on stderr and exit 2 (no traceback); Ctrl-C ends cleanly (130);
+``compare`` and ``sweep`` exit 1 when some predictor or run could not run (the table
+says why).
 Predictors that need training are fitted on the no-prediction run of the same config,
 seed and duration after its loop closure, as in the paper (``--train-seed`` uses
 another atmosphere instead).
@@ -18,6 +20,7 @@ another atmosphere instead).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import sys
 from pathlib import Path
@@ -29,6 +32,7 @@ from modalinfo.common.cli import (
     check_output,
     dispatch,
     folder_arg,
+    written_summary,
 )
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.text import pad
@@ -259,9 +263,11 @@ def _cmd_run(args) -> int:
             record = {**result.provenance, "command": getattr(args, "_argv", None)}
             result = dataclasses.replace(result, provenance=record)
         result.save(args.out, overwrite=args.overwrite)
-    print(_summary_line(result))
+    lines = [_summary_line(result)]
     if result.budget is not None:
-        print(_budget_line(result.budget, config.wavelength))
+        lines.append(_budget_line(result.budget, config.wavelength))
+    with written_summary() if args.out is not None else contextlib.nullcontext():
+        print("\n".join(lines))
     return 0
 
 
@@ -320,12 +326,20 @@ def _cmd_compare(args) -> int:
     peaks = [row[1] for row in rows if len(row) > 2]
     if peaks and marechal_note(min(peaks)):
         print(f"note: {marechal_note(min(peaks))}")
-    if all(len(row) == 2 for row in rows):
+    not_run = [row for row in rows if len(row) == 2]
+    if len(not_run) == len(rows):
         sys.stderr.write(f"closedloop compare: error: none of the {len(rows)} predictors ran "
                          f"(first reason: {rows[0][1]})\n")
         return 1
     if config.field.n_points == 1:
         print("FoV d: n/a, one field point cannot measure an area")
+    if not_run:
+        # partial work is a failure, as sweep's "some run failed" (round 38 PART b, H47:
+        # 3 of 5 predictors not run, exit 0 and nothing on stderr)
+        sys.stderr.write(f"closedloop compare: error: {len(not_run)} of {len(rows)} "
+                         f"predictors did not run ({', '.join(row[0] for row in not_run)}; "
+                         f"first reason: {not_run[0][1]})\n")
+        return 1
     return 0
 
 
@@ -391,8 +405,10 @@ def _cmd_export(args) -> int:
         raise CommandError(f"OUT (AOT FITS): {exc}".replace(
             "pass mode_images=False", "pass --no-mode-images")) from None
     path = export_aot(result, out, overwrite=args.overwrite, mode_images=images)
-    print(f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} WFSs, "
-          f"{len(result.config.dms)} DMs; {_aot_loops_text(path)}")
+    line = (f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} "
+            f"WFSs, {len(result.config.dms)} DMs; {_aot_loops_text(path)}")
+    with written_summary():
+        print(line)
     return 0
 
 
@@ -516,7 +532,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("compare", help="several predictors on the same atmosphere, one table")
     _add_common(p)
     p.add_argument("--predictors", default="none,linear,arma,nn-paper,oracle",
-                   help="comma-separated names (default none,linear,arma,nn-paper,oracle)")
+                   help="comma-separated names (default none,linear,arma,nn-paper,oracle); "
+                   "exit 1 when one of them could not run (its row says why)")
     p.set_defaults(_run=_cmd_compare)
     from closedloop.sweep import GRID_HELP
 

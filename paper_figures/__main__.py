@@ -135,6 +135,36 @@ class _RefusedError(Exception):
     """A one-line refusal (exit status 2) found before any work."""
 
 
+class _StdoutError(Exception):
+    """Standard output refused a progress or final line (``> /dev/full``): exit status 1.
+
+    Not an ``OSError``: ``naming_target`` took such an ENOSPC, which names no file, for
+    the staged folder's and said "No space left on device writing 'OUT' ... free space or
+    write elsewhere" (round 38 PART b, P48: the disk was not full). ``done``: the figures
+    and reports were already in place.
+    """
+
+    def __init__(self, exc: OSError, done: bool = False) -> None:
+        super().__init__(exc.strerror or str(exc))
+        self.done = done
+
+
+def _print(line: str, done: bool = False) -> None:
+    """Print a progress line; a closed pipe is ignored, a refusing stdout is _StdoutError.
+
+    The figures are the outputs: ``| head -1`` (the reader has what it wanted) lets the
+    run go on with stdout discarded, as ``modalinfo``'s commands treat a closed pipe.
+    """
+    try:
+        print(line, flush=True)
+    except BrokenPipeError:
+        from modalinfo.common.cli import discard_stdout
+
+        discard_stdout()
+    except OSError as exc:
+        raise _StdoutError(exc, done) from None
+
+
 #: Input-hint options and their defaults: given without --log they would be ignored.
 _HINT_DEFAULTS = {"fmt": None, "loop": None, "rate": None, "in_units": None,
                   "wavelength": None, "in_convention": None, "in_modes": None,
@@ -357,6 +387,11 @@ def main(argv: list[str] | None = None) -> int:
     except _RefusedError as exc:
         say(f"paper_figures: error: {exc}\n")
         return EXIT_USAGE
+    except _StdoutError as exc:
+        kept = (f"the figures and reports in '{args.out}' are complete" if exc.done
+                else f"'{args.out}' is as it was")
+        say(f"paper_figures: error: could not write standard output ({exc}); {kept}\n")
+        return EXIT_FAILURE
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM etc. (_terminated): 130 or 128 + n
         what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
         say(f"paper_figures: {what}; '{args.out}' is as it was\n")
@@ -452,7 +487,7 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     with (staged_output(args.out) as stage, matplotlib.rc_context(overrides),
           figure_record(record)):
         _make(args, modules, loaded, logs, needs_log, stage, record)
-    print(f"[paper_figures] report written to {report_path} and {html_path}")
+    _print(f"[paper_figures] report written to {report_path} and {html_path}", done=True)
     return 0
 
 
@@ -473,8 +508,8 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         if kind == "runs" and runs is None:
             from paper_figures import closedloop_runs
 
-            print(f"[paper_figures] closed-loop runs for Figures 2-4"
-                  f"{' (quick)' if args.quick else ''} ...", flush=True)
+            _print(f"[paper_figures] closed-loop runs for Figures 2-4"
+                   f"{' (quick)' if args.quick else ''} ...")
             try:
                 runs = closedloop_runs.compute(quick=args.quick, duration=args.duration,
                                                seed=args.seed)
@@ -482,10 +517,10 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
                 raise _RefusedError(f"closed-loop runs of Figures 2-4: "
                                     f"{str(exc).splitlines()[0]}") from None
             elapsed = time.perf_counter() - start
-            print(f"[paper_figures] closed-loop runs done in {elapsed:.1f} s", flush=True)
+            _print(f"[paper_figures] closed-loop runs done in {elapsed:.1f} s")
             sections.append(closedloop_runs.report_section(runs, elapsed))
             start = time.perf_counter()
-        print(f"[paper_figures] {label}: {title} ...", flush=True)
+        _print(f"[paper_figures] {label}: {title} ...")
         if kind == "log":
             texts = []
             # --quick reaches the log figures that have a quick setting (Figure 5)
@@ -524,7 +559,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
             text = module.report(result)
             rows += [(label, row) for row in module.table_rows(result)]
         elapsed = time.perf_counter() - start
-        print(f"[paper_figures] {label} done in {elapsed:.1f} s", flush=True)
+        _print(f"[paper_figures] {label} done in {elapsed:.1f} s")
         sections.append(text.rstrip() + f"\n\n_({label} made in {elapsed:.1f} s.)_\n")
     if needs_log and {"spectral", "simulated"} <= set(loaded):
         from paper_figures import logs_compared

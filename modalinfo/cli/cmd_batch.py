@@ -215,20 +215,27 @@ def run(args: argparse.Namespace) -> int:
                          f"or run as their owner to analyse them\n")
     kl_assumption_note(result.rows)  # a warning: even with --quiet
     layout_doubt_note(result.rows)
+    refused = None  # a stdout that refuses the summary: said after the warnings below
     if not args.quiet:
+        from modalinfo.common.cli import StdoutRefusedError, written_summary
+
         rep = result.report
         out = sys.stdout
-        out.write(f"{rep.n_specs} tasks: {rep.n_skipped} already done, {rep.n_submitted} run "
-                  f"({rep.n_ok} ok, {rep.n_error} error, {rep.n_lost} lost) in "
-                  f"{rep.elapsed:.1f} s\n")
-        out.write(f"table: {result.n_ok} result rows, {result.n_error} error rows -> "
-                  f"{result.csv_path}, {result.parquet_path}\n")
-        for row in result.rows:
-            if row.get("status") != "ok":
-                out.write(f"error  {row['path']} [{row['analysis']}]: "
-                          f"{row.get('error_type')}: {row.get('error_message')}\n")
-        for path in result.plots:
-            out.write(f"plot: {path}\n")
+        try:
+            with written_summary():
+                out.write(f"{rep.n_specs} tasks: {rep.n_skipped} already done, "
+                          f"{rep.n_submitted} run ({rep.n_ok} ok, {rep.n_error} error, "
+                          f"{rep.n_lost} lost) in {rep.elapsed:.1f} s\n")
+                out.write(f"table: {result.n_ok} result rows, {result.n_error} error rows -> "
+                          f"{result.csv_path}, {result.parquet_path}\n")
+                for row in result.rows:
+                    if row.get("status") != "ok":
+                        out.write(f"error  {row['path']} [{row['analysis']}]: "
+                                  f"{row.get('error_type')}: {row.get('error_message')}\n")
+                for path in result.plots:
+                    out.write(f"plot: {path}\n")
+        except StdoutRefusedError as exc:
+            refused = exc
     # a log whose frame pairs look swapped has no flagged frame, yet its order is a finding
     # the rows call "warned" (round 37 PART b, BQ1 / BQ2: such a log went without a word)
     flagged = [r for r in result.rows if r.get("status") == "ok"
@@ -247,5 +254,6 @@ def run(args: argparse.Namespace) -> int:
             f"modalinfo batch: {result.n_error} of {len(result.rows)} rows failed"
             + (f" ({lost} lost with their workers: run again to retry them)" if lost else "")
             + f"; see {result.csv_path}\n")
-        return 1
-    return 0
+    if refused is not None:
+        raise refused
+    return 1 if result.n_error else 0

@@ -120,10 +120,13 @@ def run(args: argparse.Namespace) -> int:
         path = save(log, args.output, fmt=fmt, overwrite=args.overwrite)
         advance(1)
     if not args.quiet:
-        sys.stdout.write(
-            f"wrote {path}: {log.n_frames} frames x {log.n_modes} modes, {log.units}, "
-            f"{log.convention}\n"
-        )
-        for repair in log.repairs:
-            sys.stdout.write(f"repair: {repair}\n")
+        from modalinfo.common.cli import written_summary
+
+        with written_summary():
+            sys.stdout.write(
+                f"wrote {path}: {log.n_frames} frames x {log.n_modes} modes, {log.units}, "
+                f"{log.convention}\n"
+            )
+            for repair in log.repairs:
+                sys.stdout.write(f"repair: {repair}\n")
     return 0

@@ -90,11 +90,14 @@ def run(args: argparse.Namespace) -> int:
         written = save(log, out, fmt=fmt, overwrite=args.overwrite)
         advance(1)
     if not args.quiet:
+        from modalinfo.common.cli import written_summary
+
         meta = log.metadata
-        sys.stdout.write(
-            f"wrote {written}: {log.n_frames} frames x {log.n_modes} modes at "
-            f"{log.rate:g} Hz, {meta['loop']} loop, rad at {log.wavelength * 1e9:g} nm, "
-            f"seed {args.seed}, D/r0 = {meta['d_over_r0']:.3g}, rejection bandwidth "
-            f"{meta['bandwidth_rejection_0db_hz']:.1f} Hz (synthetic, not real VTT data)\n"
-        )
+        with written_summary():
+            sys.stdout.write(
+                f"wrote {written}: {log.n_frames} frames x {log.n_modes} modes at "
+                f"{log.rate:g} Hz, {meta['loop']} loop, rad at {log.wavelength * 1e9:g} nm, "
+                f"seed {args.seed}, D/r0 = {meta['d_over_r0']:.3g}, rejection bandwidth "
+                f"{meta['bandwidth_rejection_0db_hz']:.1f} Hz (synthetic, not real VTT data)\n"
+            )
     return 0

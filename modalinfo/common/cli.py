@@ -25,6 +25,7 @@ import io
 import os
 import re
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 from modalinfo.common.deps import MissingDependencyError, require_dist
@@ -40,13 +41,16 @@ __all__ = [
     "EXIT_USAGE",
     "CommandError",
     "Parser",
+    "StdoutRefusedError",
     "add_version_argument",
     "check_cluster_args",
     "check_output",
+    "discard_stdout",
     "dispatch",
     "folder_arg",
     "interrupted",
     "say",
+    "written_summary",
 ]
 
 #: Exit statuses of every command.
@@ -59,6 +63,32 @@ EXIT_TERMINATED = 143
 
 class CommandError(Exception):
     """An input error a subcommand reports as one line and exit status 2."""
+
+
+class StdoutRefusedError(OSError):
+    """Standard output refused the summary of outputs already written (exit status 1)."""
+
+
+@contextlib.contextmanager
+def written_summary() -> Iterator[None]:
+    """Mark the block as printing, on stdout only, the summary of outputs already written.
+
+    A stdout that refuses it (``> /dev/full``) said "error: [Errno 28] No space left on
+    device" with status 2, the status of an input error, after ``convert``, ``synth``,
+    ``batch``, ``closedloop run --out`` and ``export`` had written complete files: the
+    line named neither standard output nor the files (round 38 PART b, W3). The error
+    is re-raised as :class:`StdoutRefusedError`, which :func:`dispatch` reports as a
+    failure to write standard output (status 1, as ``--help > /dev/full``). A closed
+    pipe (``| head -1``) stays the reader's choice.
+    """
+    try:
+        yield
+    except BrokenPipeError:
+        raise
+    except StdoutRefusedError:
+        raise
+    except OSError as exc:
+        raise StdoutRefusedError(exc.errno, exc.strerror or str(exc)) from None
 
 
 _URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]+:(//|/)|^file:", re.ASCII)
@@ -368,13 +398,13 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
             say(note + "\n")  # notes queued by the command (e.g. assumed units)
         return code
     except BrokenPipeError:
-        # the reader (e.g. `| head`) closed the pipe: not an input error; silence the
-        # flush at exit as the Python docs recommend (signal module, "Note on SIGPIPE")
-        import os
-
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        # the reader (e.g. `| head`) closed the pipe: not an input error
+        discard_stdout()
         return EXIT_OK
+    except StdoutRefusedError as exc:
+        say(f"{prog} {args.command}: error: could not write standard output "
+            f"({exc.strerror}); the files written before it are complete\n")
+        return EXIT_FAILURE
     except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         if isinstance(exc, OSError) and exc.errno == errno.EFBIG:
@@ -422,6 +452,23 @@ def _file_too_large(exc: OSError, message: str) -> str:
         else ""
     limit = file_size_limit_text() or "a file-size limit"
     return f"{message}{name}: {limit}; raise it (ulimit -f) or write a smaller output"
+
+
+def discard_stdout() -> None:
+    """Point stdout at /dev/null after its reader closed the pipe (``| head -1``).
+
+    What is still buffered, later lines and the flush at exit then go nowhere, as the
+    Python docs recommend (signal module, "Note on SIGPIPE"); a stream without a file
+    descriptor is replaced by one on /dev/null.
+    """
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, ValueError, OSError, io.UnsupportedOperation):
+        sys.stdout = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, fd)
+    os.close(devnull)
 
 
 def say(line: str) -> None:
