@@ -366,8 +366,10 @@ def _load_result(args):
 def _cmd_info(args) -> int:
     result, verified = _load_result(args)
     c = result.config
+    trained = (result.provenance or {}).get("train_seed")
+    trained = "" if trained is None else f" (trained on seed {trained})"
     print(f"{args.result}: closedloop result (modalinfo {result.version}), preset {c.name}, "
-          f"seed {result.seed}, predictor {result.predictor}")
+          f"seed {result.seed}, predictor {result.predictor}{trained}")
     print(f"  {result.times.size} frames of {c.loop.time_step * 1e3:g} ms, "
           f"{len(result.directions)} directions over {c.field.size:g}\", "
           f"{len(c.layers)} layers, {len(c.dms)} DMs, D/r0 = {c.d_over_r0:.1f} at "

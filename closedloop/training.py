@@ -9,6 +9,8 @@ closure and after 15 ms (:meth:`closedloop.control.predictors.LoopPredictor.trai
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from closedloop.config import SimulationConfig
@@ -56,7 +58,8 @@ def run_trained(config: SimulationConfig, predictor: str | LoopPredictor, durati
     Returns
     -------
     SimulationResult
-        Its ``predictor`` is the name given (``"arma-aic"``).
+        Its ``predictor`` is the name given (``"arma-aic"``); for a predictor trained
+        here, ``provenance["train_seed"]`` is the seed of the run it was fitted on.
 
     Raises
     ------
@@ -66,11 +69,19 @@ def run_trained(config: SimulationConfig, predictor: str | LoopPredictor, durati
     spec = predictor if isinstance(predictor, LoopPredictor) else LoopPredictor.from_name(predictor)
     model = model or LoopModel(config)
     seed = config.seed if seed is None else seed
-    if spec.needs_training:
+    fitted_here = spec.needs_training
+    if fitted_here:
         if reference is None or (train_seed is not None and train_seed != seed):
             reference = simulate(config, duration, seed=seed if train_seed is None else train_seed,
                                  model=model, progress=progress, memory_limit=memory_limit)
         spec = spec.trained(reference, basis=control_basis)
-    return simulate(config, duration, predictor=spec, seed=seed, model=model, progress=progress,
-                    budget_every=budget_every, memory_limit=memory_limit,
-                    control_basis=control_basis)
+    result = simulate(config, duration, predictor=spec, seed=seed, model=model,
+                      progress=progress, budget_every=budget_every, memory_limit=memory_limit,
+                      control_basis=control_basis)
+    if fitted_here and getattr(result, "provenance", None) is not None:
+        # the atmosphere the predictor was fitted on: `--train-seed 3` was kept only in
+        # the command line, and a Python run's record had no trace of it (round 39 PART b,
+        # C17 / C18)
+        record = {**result.provenance, "train_seed": int(reference.seed)}
+        result = dataclasses.replace(result, provenance=record)
+    return result

@@ -49,6 +49,11 @@ __all__ = [
 #: conventions, far beyond any sampled basis.
 MAX_INDEX = 2**59
 MAX_ORDER = 2**29
+#: Most entries a mode list written as text may name (:func:`parse_modes`): one per
+#: column of a log, 200 times the widest wavefront sensor (``telemetry.checks.MAX_MODES``).
+#: ``--in-modes 2-1000000000000`` expanded its range first and ended in a MemoryError
+#: ("use a smaller log"), and ``2-30000000`` held gigabytes (round 39 PART b, S34 / S42).
+MAX_LISTED_MODES = 1_000_000
 
 
 def _as_index(value: Any, name: str, minimum: int | None = None,
@@ -348,7 +353,8 @@ def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
     Raises
     ------
     ValueError
-        An empty entry, a decreasing range, or indices mixed with labels.
+        An empty entry, a decreasing range, indices mixed with labels, or more than
+        ``MAX_LISTED_MODES`` (1,000,000) entries.
     """
     out: list = []
     for part in (p.strip() for p in text.split(",")):
@@ -358,6 +364,10 @@ def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
         if sep and lo.isdigit() and hi.isdigit():
             if int(hi) < int(lo):
                 raise ValueError(f"{name}: range {part!r} is decreasing")
+            if len(out) + int(hi) - int(lo) + 1 > MAX_LISTED_MODES:
+                raise ValueError(f"{name}: range {part!r} names {int(hi) - int(lo) + 1} modes; "
+                                 f"a mode list names one mode per column of a log, at most "
+                                 f"{MAX_LISTED_MODES}")
             out.extend(range(int(lo), int(hi) + 1))
         elif part.isdigit():
             out.append(int(part))

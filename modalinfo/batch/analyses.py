@@ -116,6 +116,9 @@ def _predictor_names(value: Any, name: str) -> None:
     if bad:
         raise ValueError(f"{name}: {bad[0]!r} is not a predictor; use "
                          f"{', '.join(PRESETS)}")
+    twice = [n for n in names if names.count(n) > 1]
+    if twice:  # one column set per name: the second was dropped (round 39 PART b, S09)
+        raise ValueError(f"{name} names {twice[0]!r} twice; give each predictor once")
 
 
 def _train_value(value: Any, name: str) -> None:
@@ -159,6 +162,14 @@ def _seeds_value(value: Any, name: str) -> None:
         raise ValueError(f"{name} must be a non-empty JSON list of seeds; got {value!r}")
     for seed in value:
         check_int(seed, name, minimum=0)
+    # ordering_stability refuses these after the log's work, in its own words (round 39
+    # PART b, S15 / S41)
+    if len(value) == 1:
+        raise ValueError(f"{name} must hold at least 2 seeds (a seed agrees with itself); "
+                         f"got {value!r}")
+    if len(set(value)) != len(value):  # a repeated seed: the same subsample, rho = 1
+        raise ValueError(f"{name} must be distinct seeds (a repeated seed gives the same "
+                         f"subsample and a perfect agreement); got {value!r}")
 
 
 def _optional_real(**bounds: Any) -> Callable[[Any, str], None]:
@@ -296,11 +307,7 @@ def _refuse_unused(analysis: str, given: dict, p: dict) -> None:
         names.update(method="ordering.method", basis="ordering.basis")
         refuse_unused_arguments([p["method"]], given_names, basis=p["basis"], words=names,
                                 chosen=f"ordering.method {p['method']}")
-        if "seeds" in given and int(p["windows"]) < 2:
-            # the seeds are those of the stability columns, which need >= 2 windows
-            raise ValueError(f"ordering.seeds applies to the stability columns (ordering."
-                             f"windows >= 2); ordering.windows {p['windows']} makes none: "
-                             "drop it")
+        _refuse_unused_stability(given, p)
     else:
         specs = parse_specs(p["orderings"])
         names.update(orderings="fitting_error.orderings")
@@ -308,6 +315,26 @@ def _refuse_unused(analysis: str, given: dict, p: dict) -> None:
                                 basis=[b for b, _ in specs], words=names,
                                 chosen=f"fitting_error.orderings {p['orderings']}",
                                 noun="orderings")
+
+
+def _refuse_unused_stability(given: dict, p: dict) -> None:
+    """Refuse ``ordering.windows`` / ``ordering.seeds`` where no stability uses them.
+
+    The row's stability is measured only for a method other than pca with ``windows``
+    >= 2, and across seeds only for an MI method (:func:`_ordering`); a value given
+    otherwise ran, used by nothing, and the params recorded it (round 39 PART b, S03,
+    S36, S37).
+    """
+    if p["method"] == "pca" and "windows" in given:
+        raise ValueError("ordering.windows sets the window stability, which ordering.method "
+                         "pca does not assess (one order of the log's own K-L): drop it")
+    if "seeds" not in given:
+        return
+    if p["method"] == "pca" or int(p["windows"]) < 2:
+        why = ("ordering.method pca assesses no stability" if p["method"] == "pca"
+               else f"ordering.windows {p['windows']} assesses no stability (it takes >= 2)")
+        raise ValueError(f"ordering.seeds sets the seed stability; {why}: drop it")
+    # seeds with a method without MI: refused by refuse_unused_arguments (MI_ONLY_ARGUMENTS)
 
 
 def _scalar(value: Any) -> Any:
@@ -444,7 +471,7 @@ def _ordering(log: Any, p: dict) -> dict:
                              f"estimates) would take at least {seconds / 3600:.1f} h of CPU, "
                              f"more than {MAX_ORDERING_SECONDS / 3600:g} h; use a smaller "
                              "ordering.budget or estimator")
-    with _no_cost_note():
+    with _no_cost_note(), _pupil_words("ordering"):
         basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
     assumed = _kl_assumed(log, p["basis"] == "kl-theory")
     with _no_cost_note():
@@ -488,13 +515,28 @@ def _ordering(log: Any, p: dict) -> dict:
     return row
 
 
+@contextlib.contextmanager
+def _pupil_words(analysis: str) -> Iterator[None]:
+    """Say the basis's `n_pixels` refusal as the batch parameter that sets it.
+
+    A log of modes up to Z2001 with the default 64 pixels was an error row "`n_pixels`
+    must be >= 124 ...", a name batch has not (round 39 PART b, N13).
+    """
+    try:
+        yield
+    except ValueError as exc:
+        if "`n_pixels`" not in str(exc):
+            raise
+        raise ValueError(str(exc).replace("`n_pixels`", f"{analysis}.pupil_pixels")) from None
+
+
 def _fitting_error(log: Any, p: dict) -> dict:
     from modalinfo.ordering.compare import compare_orderings, parse_specs
 
     log = _select(log, p["modes"])
     specs = parse_specs(p["orderings"])
     assumed = _kl_assumed(log, any(basis == "kl-theory" for basis, _ in specs))
-    with _no_cost_note():
+    with _no_cost_note(), _pupil_words("fitting_error"):
         comp = compare_orderings(log, specs, units=p["units"],
                                  estimator=p["estimator"], sample_budget=int(p["budget"]),
                                  seed=int(p["seed"]), n_pixels=int(p["pupil_pixels"]))

@@ -170,7 +170,14 @@ def run(args: argparse.Namespace) -> int:
     settings = parse_settings(args.settings)
     if args.outliers != "warn":  # --set analysis.outliers=... wins for its analysis
         chosen = [a.strip() for a in args.analyses.split(",") if a.strip()]
-        if "forecast" in chosen:
+        own = [a for a in chosen if "outliers" in settings.get(a, {})]
+        if chosen and len(own) == len(chosen):
+            raise CommandError(f"--outliers {args.outliers} applies to no analysis: each sets "
+                               f"its own ({', '.join(f'{a}.outliers' for a in own)}); drop "
+                               "--outliers or those --set")
+        if "forecast" in chosen and "forecast" not in own:
+            # --set forecast.outliers=... wins for forecast: --outliers drop then acts on
+            # the other analyses only (round 39 PART b, S35)
             refuse_outlier_drop(args, "the forecast analysis")
         for analysis in chosen:
             settings.setdefault(analysis, {}).setdefault("outliers", args.outliers)

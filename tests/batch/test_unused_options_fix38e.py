@@ -94,8 +94,10 @@ def test_batch_seeds_with_a_method_without_mi_are_refused(method):
 def test_batch_seeds_without_windows_are_refused():
     with pytest.raises(ValueError) as exc:
         resolve_params("ordering", {"method": "mi_marginal", "windows": 0, "seeds": [3, 4]})
-    assert str(exc.value) == ("ordering.seeds applies to the stability columns "
-                              "(ordering.windows >= 2); ordering.windows 0 makes none: drop it")
+    # the words of _refuse_unused_stability (round 39 PART b, S36), one rule for seeds and
+    # windows
+    assert str(exc.value) == ("ordering.seeds sets the seed stability; ordering.windows 0 "
+                              "assesses no stability (it takes >= 2): drop it")
 
 
 def test_batch_seeds_accepted_where_they_act_and_defaults_untouched():
