@@ -22,21 +22,7 @@ from modalinfo.information.convergence import effective_sample_rule
 from modalinfo.information.copula import small_sample_rule
 from modalinfo.information.ksg import KSG_SMALL_N_REACH
 
-
-def _pair(n, rho, seed):
-    rng = np.random.default_rng(seed)
-    x = rng.standard_normal(n)
-    return x, rho * x + math.sqrt(1.0 - rho * rho) * rng.standard_normal(n)
-
-
-def _ar1(rho, n, seed):
-    rng = np.random.default_rng(seed)
-    e = rng.standard_normal(n)
-    a = np.empty(n)
-    a[0] = e[0] / math.sqrt(1.0 - rho * rho)  # stationary start
-    for t in range(1, n):
-        a[t] = rho * a[t - 1] + e[t]
-    return a
+from .test_bias_rules_round37 import _ar1_lag_pair, _pair
 
 
 def _extrapolated_n_max(x, y):
@@ -66,7 +52,7 @@ def test_the_message_gives_each_series_its_own_corrected_lag1():
     """R25-I5: x AR(1) 0.999, y AR(1) 0.995, n = 5000: 18.6 effective pairs; the
     message's two autocorrelations are x's and y's (0.9986 and 0.9940), not x's twice."""
     n = 5000
-    x, y = _ar1(0.999, n, 1), _ar1(0.995, n, 3)
+    x, y = _ar1_lag_pair(0.999, n, 1)[0], _ar1_lag_pair(0.995, n, 3)[0]
     rx, ry = acf(x, nlags=1)[1], acf(y, nlags=1)[1]
     rx, ry = rx + (1 + 3 * rx) / n, ry + (1 + 3 * ry) / n
     assert f"{rx:.4f}" != f"{ry:.4f}"

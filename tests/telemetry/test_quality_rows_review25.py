@@ -16,28 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.signal import lfilter
 
-from modalinfo.telemetry import ModalLog, assess_quality
+from modalinfo.telemetry import assess_quality
 
-MODES = list(range(2, 14))  # Z2 .. Z13: column j is Z(j + 2)
-
-
-def _ar1(n: int, m: int, rho: float, seed: int) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    e = rng.normal(size=(n, m)) * np.sqrt(1 - rho**2)
-    e[0] = rng.normal(size=m)
-    return lfilter([1.0], [1.0, -rho], e, axis=0)
-
-
-def _log(y: np.ndarray) -> ModalLog:
-    return ModalLog(y, rate=1000.0, modes=MODES, wavelength=5e-7)
-
-
-def _swap_pairs(x: np.ndarray, start: int, stop: int) -> np.ndarray:
-    y = x.copy()
-    y[start:stop:2], y[start + 1:stop:2] = x[start + 1:stop:2], x[start:stop:2]
-    return y
+from .test_quality_rows_round37 import MODES, _ar1, _log, _swap_pairs
 
 
 def _held_runs(y: np.ndarray, j: int) -> list[tuple[int, int]]:
