@@ -614,7 +614,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         than max(0.05, 10 %) at this n (a measured table, which grows with the MI:
         rho = 0.99, 1.959 nats, KSG -0.60 at n = 20 and -0.29 at 50, warned up to
         n ~ 70; KDE -0.19 to -0.23 at n = 50; round 37 PART a, S13-S15;
-        :func:`~modalinfo.information.copula.small_sample_rule`), the histogram's
+        ``modalinfo.information.copula.small_sample_rule``), the histogram's
         rule-chosen bins where fewer than
         4 per axis (n <= ~22 on weakly dependent pairs; independent pairs of 10:
         histogram +0.21 nats on average; rho = 0.9, 0.830 nats: KSG -0.34 at n = 10),
