@@ -614,7 +614,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         than max(0.05, 10 %) at this n (a measured table, which grows with the MI:
         rho = 0.99, 1.959 nats, KSG -0.60 at n = 20 and -0.29 at 50, warned up to
         n ~ 70; KDE -0.19 to -0.23 at n = 50; round 37 PART a, S13-S15;
-        :func:`~modalinfo.information.copula.small_sample_rule`), the histogram's
+        ``modalinfo.information.copula.small_sample_rule``), the histogram's
         rule-chosen bins where fewer than
         4 per axis (n <= ~22 on weakly dependent pairs; independent pairs of 10:
         histogram +0.21 nats on average; rho = 0.9, 0.830 nats: KSG -0.34 at n = 10),
@@ -747,7 +747,7 @@ class MutualInformation:
         strong pairs at small n, the histogram's rule-chosen bins at small n); the
         score is kept. Before issue 27 round 34 this road judged only an explicit
         ``k`` or ``bandwidth``. Since round 39 PART a the first score after each fit is
-        judged by every rule of :func:`mutual_information` (:func:`judge_estimate`:
+        judged by every rule of :func:`mutual_information` (``judge_estimate``:
         piles, the default resolution, the effective-sample and other regime rules,
         the estimator's ceiling), so the class and the function say the same of the
         same pair (before, AR(1) lag pairs at rho = 0.998, n = 5,000, 0.44 nats low,
