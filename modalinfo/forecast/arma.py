@@ -649,13 +649,15 @@ class ARMAPredictor(_LinearRecursion):
 
         The model is stationary about one mean, so a step is fitted as persistence
         (round 14 PART a, d02: phi 0.994 for 0.9); ``modalinfo._stats.level_steps``
-        judges each non-constant mode (1 % family-wise).
+        judges each non-constant mode (1 % family-wise). Modes are named by their column
+        of the fitted array, counted from 0 ("column 5"): "mode 5" read as Noll Z5 where
+        the log's column 5 was Z7 (round 39 PART a, M42).
         """
         flagged, _ = level_steps(X, skip=self._constant_columns(X)[0])
         if not flagged:
             return
         shown = "; ".join(
-            f"mode {j}: sample {t.frame}, shift {t.shift:+.3g}, p = {t.p_value:.2g}, "
+            f"column {j}: sample {t.frame}, shift {t.shift:+.3g}, p = {t.p_value:.2g}, "
             f"fitted AR sum {float(np.sum(fits[j][3])):.3f}" for j, t in flagged[:3])
         more = f" and {len(flagged) - 3} more" if len(flagged) > 3 else ""
         warnings.warn(

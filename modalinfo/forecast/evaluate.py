@@ -659,6 +659,50 @@ class _MappedRows:
         return out
 
 
+def _noll_labels(log) -> tuple[str, ...] | None:
+    """Return a ``ModalLog``'s columns as ``"Z<j>"`` Noll labels (others as labelled).
+
+    What a predictor reads radial orders from (``mode_labels``): ANSI and Fringe
+    indices renamed to Noll, a ``convention="labels"`` log's own labels; None for an
+    array (its columns have no mode).
+    """
+    convention = getattr(log, "convention", None)
+    if convention is None or not hasattr(log, "modes"):
+        return None
+    if convention in ("ansi", "fringe"):
+        from modalinfo.bases import ansi_to_noll, fringe_to_noll
+
+        to_noll = ansi_to_noll if convention == "ansi" else fringe_to_noll
+        return tuple(f"Z{int(to_noll(int(m)))}" for m in log.modes)
+    return tuple(str(lb) for lb in log.labels)
+
+
+def _labels_override(proto, name: str, noll: tuple[str, ...] | None,
+                     labels: tuple[str, ...]) -> dict:
+    """``{"mode_labels": ...}`` giving a predictor that reads them the log's modes.
+
+    A predictor with a ``mode_labels`` parameter (``InfoPredictor``: its
+    ``candidates="radial"`` reads radial orders from them) defaulted to ``Z2, Z3, ...``
+    under ``evaluate``, whatever the log: on a log without tip-tilt (Z4..Z13) every mode
+    drew its candidates from the wrong radial orders, RMSE 0.2 % off (round 39 PART a,
+    M43). Given, labels other than the log's (``labels``, or their Noll names ``noll``)
+    are refused (M46).
+    """
+    params = proto.get_params()
+    if noll is None or "mode_labels" not in params:
+        return {}
+    given = params["mode_labels"]
+    if given is None:
+        return {"mode_labels": list(noll)}
+    if tuple(str(v) for v in given) not in (noll, labels):
+        shown = ", ".join(map(str, list(given)[:4])) + (", ..." if len(given) > 4 else "")
+        mine = ", ".join(noll[:4]) + (", ..." if len(noll) > 4 else "")
+        raise ValueError(
+            f"`predictors[{name!r}].mode_labels` ({shown}) are not the log's modes "
+            f"({mine}); leave mode_labels=None under evaluate (the log's are used).")
+    return {}
+
+
 def _as_data(log) -> tuple[np.ndarray, tuple[str, ...], float | None, str]:
     if hasattr(log, "coeffs") and hasattr(log, "labels"):
         if hasattr(log, "sampling"):
@@ -1029,7 +1073,9 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     predictors : dict of str -> Predictor, or list of Predictor
         Predictors to evaluate (unfitted or fitted; each is cloned and fitted on the
         training frames, the objects passed in are not modified). ``"persistence"``
-        and ``"mean"`` baselines are added when absent.
+        and ``"mean"`` baselines are added when absent. A predictor with a
+        ``mode_labels`` parameter (``InfoPredictor``) is given a ``ModalLog``'s modes
+        (ANSI / Fringe renamed ``Z<j>`` Noll); its own, if set, must be the log's.
     log : ModalLog or array_like, shape (T,) or (T, M)
         Coefficient log (time along axis 0). Frames are taken as equally spaced: a
         ``ModalLog`` whose timestamps have gaps (``log.sampling()``) raises
@@ -1135,8 +1181,10 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     train_data = data[:n_train]
     constant = Predictor._constant_columns(np.asarray(train_data))[0]
     last = int(origins[-1]) + 1                           # frames fed: 0 .. last origin
+    noll = _noll_labels(log)
     for i, (name, proto) in enumerate(all_preds.items()):
-        pred = proto.clone(horizon=h_max, **overrides)
+        pred = proto.clone(horizon=h_max, **overrides,
+                           **_labels_override(proto, name, noll, labels))
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
         _refuse_idle_refits(pred, int(origins[-1]), n_frames, n_train)

@@ -115,6 +115,7 @@ from collections.abc import Callable
 import numpy as np
 
 from modalinfo._stats import lag1_autocorrelation as _lag1
+from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.information.discrete import mi_from_counts
 from modalinfo.information.methods import BiasRuleWarning
 
@@ -538,5 +539,6 @@ def judge_pair_estimate(x: np.ndarray, y: np.ndarray, value: float,
             # estimate is above the Gaussian MI of its xi about half the time
             why = convergence_rule(estimate, x, y, value)
     if why is not None:
-        warnings.warn(f"{what}: {why}.", BiasRuleWarning, stacklevel=3)
+        # the caller's line on every road (the class road is deeper: round 39 PART a)
+        warnings.warn(f"{what}: {why}.", BiasRuleWarning, stacklevel=caller_stacklevel())
     return why is not None

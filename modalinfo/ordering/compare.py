@@ -227,7 +227,10 @@ def basis_for_log(
         ``metadata["aot_file"]``, loop ``metadata["loop_uid"]``; ``n_pixels`` and
         ``diameter`` are the file's).
     log : ModalLog
-        The log (Noll modes; for ``"kl-data"`` its coefficients are analysed).
+        The log (Zernike modes in any index convention, read as Noll; for
+        ``"kl-data"`` its coefficients are analysed). A ``convention="labels"`` log has
+        no Zernike indices and is refused (ValueError naming ``log``) but for
+        ``"file"``.
     n_pixels : int
         Pupil grid size across [pixels].
     diameter : float, optional
@@ -257,6 +260,14 @@ def basis_for_log(
     check_choice(kind, "basis", BASES)
     if kind == "file":
         return _file_basis(log)
+    if getattr(log, "convention", "noll") == "labels":
+        # round 39 PART a, M30: compare_orderings raised "invalid literal for int()"
+        raise ValueError(
+            f"`log` has convention='labels' (modes {', '.join(map(str, log.modes[:3]))}"
+            f"{', ...' if log.n_modes > 3 else ''}): the {kind!r} basis is built from "
+            "Zernike mode indices, which labelled modes lack; give the log its Zernike "
+            "indices (ModalLog(..., modes=[2, 3, ...], convention='noll')) or order your "
+            "own basis with order_modes(log, basis).")
     n_pixels = check_int(n_pixels, "n_pixels", minimum=4)
     given_l0, given_d = outer_scale, diameter
     meta_d, meta_l0 = _log_geometry(log)
@@ -360,7 +371,9 @@ def _recipe(kind: str, log: Any, n_pixels: int, outer_scale: float | None,
         return None
     meta_d, meta_l0 = _log_geometry(log)
     recipe = [("pupil pixels", n_pixels), ("diameter", meta_d),
-              ("modes", tuple(int(m) for m in log.modes)),
+              # the modes as given: a labels log's are str (refused by basis_for_log
+              # naming `log`; int() of them raised a bare ValueError, round 39 PART a M30)
+              ("modes", tuple(log.modes)),
               ("convention", getattr(log, "convention", "noll"))]
     if kind == "kl-theory":
         recipe.append(("outer scale", outer_scale if outer_scale is not None else meta_l0))

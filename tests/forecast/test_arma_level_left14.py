@@ -29,7 +29,7 @@ def _series(seed: int, step: float) -> np.ndarray:
 
 def test_a_level_step_fitted_as_persistence_is_warned_once():
     x = _series(20, 6.5)
-    with pytest.warns(LevelStepWarning, match=r"mode 0: sample 20\d\d") as rec:
+    with pytest.warns(LevelStepWarning, match=r"column 0: sample 20\d\d") as rec:
         fit = ARMAPredictor(order=(1, 0)).fit(x)
     assert sum(issubclass(w.category, LevelStepWarning) for w in rec) == 1
     assert fit.ar_coef_[0, 0] > 0.97  # the step read as persistence (what is warned)

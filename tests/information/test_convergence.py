@@ -132,7 +132,10 @@ def test_a_curve_narrower_than_the_estimator_resolves_is_warned(zigzag10, method
     value, said = _warnings(lambda: mutual_information(x, y, method=method))
     assert truth - value > _tol(truth)
     assert len(said) == 1 and "lower bound" in said[0]
-    assert value == MutualInformation(method).estimate(x, y)  # the value is not changed
+    with warnings.catch_warnings():  # the class road warns too (round 39 PART a)
+        warnings.simplefilter("ignore", BiasRuleWarning)
+        same = MutualInformation(method).estimate(x, y)
+    assert value == same  # the value is not changed
 
 
 def test_fifty_periods_every_estimator_misses_are_warned_by_the_neighbours():
