@@ -10,7 +10,6 @@ and a Zernike basis of 9 modes met a 6-mode log with an error naming ``log_or_co
 The same log twice still reuses the dict (the Figure 1 path) and matches a fresh call.
 """
 
-import warnings
 
 import numpy as np
 import pytest
@@ -35,11 +34,7 @@ def _mean(comp):
     return np.asarray(comp.entries[0].error.mean)
 
 
-@pytest.fixture(autouse=True)
-def _quiet():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the coarse pupil's and K-L geometry's notes
-        yield
+pytestmark = pytest.mark.usefixtures("quiet_warnings")
 
 
 def test_data_kl_of_another_log_is_refused():

@@ -11,7 +11,6 @@ its results: the variance order is numpy's ``argsort`` of the columns' mean squa
 same options and seed.
 """
 
-import warnings
 
 import numpy as np
 import pytest
@@ -23,11 +22,7 @@ from modalinfo.telemetry import ModalLog
 MODES = list(range(2, 9))
 
 
-@pytest.fixture(autouse=True)
-def _quiet():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the coarse pupil's notes
-        yield
+pytestmark = pytest.mark.usefixtures("quiet_warnings")
 
 
 def _log():
