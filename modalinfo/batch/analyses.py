@@ -330,11 +330,11 @@ def _refuse_unused_stability(given: dict, p: dict) -> None:
                          "pca does not assess (one order of the log's own K-L): drop it")
     if "seeds" not in given:
         return
-    if p["method"] == "pca" or int(p["windows"]) < 2:
-        why = ("ordering.method pca assesses no stability" if p["method"] == "pca"
-               else f"ordering.windows {p['windows']} assesses no stability (it takes >= 2)")
-        raise ValueError(f"ordering.seeds sets the seed stability; {why}: drop it")
-    # seeds with a method without MI: refused by refuse_unused_arguments (MI_ONLY_ARGUMENTS)
+    # seeds with a method without MI (pca among them) were refused before, by
+    # refuse_unused_arguments (MI_ONLY_ARGUMENTS holds `seeds`)
+    if int(p["windows"]) < 2:
+        raise ValueError(f"ordering.seeds sets the seed stability; ordering.windows "
+                         f"{p['windows']} assesses no stability (it takes >= 2): drop it")
 
 
 def _scalar(value: Any) -> Any:

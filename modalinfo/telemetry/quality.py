@@ -1693,7 +1693,6 @@ class _PairOrder:
         self.steps = np.zeros((2, PAIR_BATCHES, self.cols.size))
         self.even = self.odd = self.power = 0.0
         self.prev: np.ndarray | None = None
-        self.decided_by_steps = False
 
     def add(self, block: np.ndarray, i0: int) -> None:
         if not self.cols.size:
@@ -1769,10 +1768,15 @@ class _PairOrder:
         # smooth mode's order where its products, dominated by the slow level, cannot
         # (round 39 PART a, Q06: open-loop turbulence at 1 kHz, lag-1 0.9997, swapped
         # in pairs, products p = 0.96, increments p < 1e-14)
-        p_products = self._t_test(self.sums / np.maximum(self.counts, 1.0))
-        p_steps = self._t_test(self._step_means())
-        self.decided_by_steps = p_steps < p_products
-        return r_even, r_odd, min(1.0, 2.0 * min(p_products, p_steps))
+        _, p = self._deciding_test()
+        return r_even, r_odd, min(1.0, 2.0 * p)
+
+    def _deciding_test(self) -> tuple[np.ndarray, float]:
+        """``(batch means, p)`` of the two tests' more significant one (products on a tie)."""
+        products = self.sums / np.maximum(self.counts, 1.0)
+        steps = self._step_means()
+        p_products, p_steps = self._t_test(products), self._t_test(steps)
+        return (steps, p_steps) if p_steps < p_products else (products, p_products)
 
     def swapped_rows(self, n: int) -> tuple:
         """``(start, stop)``: the rows where a found pair order holds, ``()`` for the whole log.
@@ -1794,8 +1798,7 @@ class _PairOrder:
         from scipy.stats import t as student
 
         # the batch means of the test that decided (round 39 PART a: the increments')
-        means = (self._step_means() if self.decided_by_steps
-                 else self.sums / np.maximum(self.counts, 1.0))
+        means, _ = self._deciding_test()
         b = means.size
         z = means * (1.0 if np.mean(means) >= 0 else -1.0)
         csum = np.concatenate(([0.0], np.cumsum(z)))
