@@ -1102,8 +1102,10 @@ class QualityReport:
                  if self.pair_rows else "")
         return (f"frames in swapped pairs? the lag-1 correlation from frame 2k to 2k + 1 is "
                 f"{r_even:.3f} and from 2k + 1 to 2k + 2 {r_odd:.3f} (p {p:.2g}; equal in a "
-                f"stationary log): {where}the frames of each pair {first} look written in "
-                "reverse order, which no --outliers policy undoes; lags and predictions are "
+                f"stationary log): {where}the frames of every pair {first}, or of some of "
+                "those pairs, look written in reverse order (every pair or every other pair "
+                "swapped gives the same test; swapping every pair back is right for the "
+                "first only), which no --outliers policy undoes; lags and predictions are "
                 "wrong until the logger's order is fixed")
 
     @property
