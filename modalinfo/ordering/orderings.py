@@ -693,16 +693,21 @@ def refuse_unused_arguments(methods: Any, given: Any, *, basis: Any = None,
                              f"mi_marginal); {what} uses none: drop it")
     if basis is None or isinstance(basis, str):
         if basis in _NOT_DATA_KL and "pca" in methods:
-            raise ValueError(f"{say('method')} pca orders an empirical K-L basis of the same "
-                             f"log; {say('basis')} {basis} is not one: use {say('basis')} "
-                             f"kl-data, or {say('method')} variance")
+            raise _pca_on_a_model_basis(f"{say('method')} pca with {say('basis')} {basis}",
+                                        basis, f"{say('basis')} kl-data",
+                                        f"{say('method')} variance")
         return
     pairs = list(zip([str(b) for b in basis], methods, strict=True))
     wrong = next((b for b, m in pairs if m == "pca" and b in _NOT_DATA_KL), None)
     if wrong is not None:
-        raise ValueError(f"{say('orderings')} {wrong}:pca: pca orders an empirical K-L basis "
-                         f"of the same log; {wrong} is not one: use kl-data:pca, or "
-                         f"{wrong}:variance")
+        raise _pca_on_a_model_basis(f"{say('orderings')} {wrong}:pca", wrong, "kl-data:pca",
+                                    f"{wrong}:variance")
+
+
+def _pca_on_a_model_basis(given: str, basis: str, data_kl: str, variance: str) -> ValueError:
+    """Return the one refusal of ``"pca"`` on a model basis, single or in a list (fold 40-a)."""
+    return ValueError(f"{given}: pca orders an empirical K-L basis of the same log; {basis} "
+                      f"is not one: use {data_kl}, or {variance}")
 
 
 def _refuse_unused(method: str, options: dict, confidence_level: float,

@@ -52,9 +52,10 @@ def test_pca_on_a_model_basis_is_refused_in_batch_terms(basis):
     params = {"method": "pca"} if basis == "zernike" else {"method": "pca", "basis": basis}
     with pytest.raises(ValueError) as exc:
         resolve_params("ordering", params)
-    assert str(exc.value) == (
-        f"ordering.method pca orders an empirical K-L basis of the same log; ordering.basis "
-        f"{basis} is not one: use ordering.basis kl-data, or ordering.method variance")
+    assert str(exc.value) == (  # one wording with the list's (fold 40-a)
+        f"ordering.method pca with ordering.basis {basis}: pca orders an empirical K-L "
+        f"basis of the same log; {basis} is not one: use ordering.basis kl-data, or "
+        "ordering.method variance")
 
 
 def test_fitting_error_seed_without_an_mi_ordering_is_refused():
@@ -67,7 +68,7 @@ def test_fitting_error_seed_without_an_mi_ordering_is_refused():
 @pytest.mark.parametrize("settings, start", [
     (["ordering.method=variance", "ordering.resamples=100"], "ordering.resamples applies"),
     (["ordering.method=variance", "ordering.seed=5"], "ordering.seed applies"),
-    (["ordering.method=pca"], "ordering.method pca orders"),
+    (["ordering.method=pca"], "ordering.method pca with ordering.basis zernike: pca orders"),
 ])
 def test_batch_command_refuses_before_any_task(folder, tmp_path, capsys, settings, start):
     out = tmp_path / "out"

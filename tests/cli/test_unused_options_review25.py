@@ -3,7 +3,9 @@ after it became one guard with ``fitting-error`` and ``batch`` (round 37 PART b,
 
 References: the refusals ``reorder`` printed before the shared guard, word for word
 (round 13 / 17 PART b: "--method pca orders an empirical K-L basis of the same log;
---basis zernike is not one: use --basis kl-data, or --method variance"), its rule that
+--basis zernike is not one: use --basis kl-data, or --method variance"; since fold
+40-a "--method pca with --basis zernike: pca orders ...", the words of the
+``basis:method`` list's refusal), its rule that
 ``--resamples 0`` asks for no bootstrap (what variance does) and so is not refused,
 and ``refuse_unused_arguments``' documented order: the first of
 ``MI_ONLY_ARGUMENTS`` (estimator, sample_budget, seed, n_resamples, ...) given is named.
@@ -37,8 +39,10 @@ def test_pca_on_a_model_basis_in_reorders_words(log_path, capsys):
     """R25-O5: the flags the user typed, --method and --basis, not another word."""
     said = _refusal(["reorder", str(log_path), "--method", "pca", "--basis", "zernike",
                      "--pupil-pixels", "24"], capsys)
-    assert said == ("--method pca orders an empirical K-L basis of the same log; --basis "
-                    "zernike is not one: use --basis kl-data, or --method variance")
+    # one wording with the basis:method list's (fold 40-a)
+    assert said == ("--method pca with --basis zernike: pca orders an empirical K-L basis "
+                    "of the same log; zernike is not one: use --basis kl-data, or --method "
+                    "variance")
 
 
 def test_resamples_zero_with_variance_runs(log_path, capsys):
