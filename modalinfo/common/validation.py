@@ -34,6 +34,7 @@ __all__ = [
     "RATE_RANGE",
     "RATE_RULE",
     "WFS_RATE_RANGE",
+    "TIMES_RATE_FLOOR",
     "check_rate",
     "warn_unusual_rate",
     "PYTHON_ADVICE",
@@ -65,6 +66,14 @@ RATE_RULE = ("1 mHz - 1 MHz: slower is an archive of averages, faster than any A
 #: (``rate=0.001`` for 1 kHz; adversarial round 23 PART a, m3, m8, m39): warned, not
 #: refused, since such archives are analysed too
 WFS_RATE_RANGE = (1.0, 1e5)
+#: slowest frame rate [Hz] that frame *times* give without a word: the wavefront sensors
+#: of AO loops run at ~100 Hz - 10 kHz (Hardy 1998, "Adaptive Optics for Astronomical
+#: Telescopes"; Roddier 1999, "Adaptive Optics in Astronomy"; solar AO 1-2 kHz, Rimmele
+#: & Marino 2011, Living Rev. Sol. Phys. 8, 2), a factor 10 of margin below. Stamps of a
+#: >= 1 kHz loop written in ms read as a <= 1 Hz log inside :data:`WFS_RATE_RANGE` (round 39 PART a,
+#: T02, T06; fixes 40-a). A rate given as ``rate`` keeps the 1 Hz floor (slow guiders,
+#: seeing monitors): such a log is given its rate, not warned
+TIMES_RATE_FLOOR = 10.0
 #: largest telescope diameter [m]: the largest telescope built or planned is 39 m (ELT);
 #: a larger value is a unit slip, such as centimetres or millimetres typed as metres
 #: (round 18 PART b; round 23 PART a, m13)
@@ -144,10 +153,14 @@ def warn_unusual_rate(rate: float, name: str = "rate", *,
     the median interval of the frame times a caller or a foreign file gave (``name`` is
     then ``"timestamps"``): the warning then guesses a clock in another unit read as
     seconds (ms for a slow rate; minutes or hours for a fast one) instead of a period
-    typed as a rate (adversarial round 25 P13 / P15 / P16).
+    typed as a rate (adversarial round 25 P13 / P15 / P16), and the slow bound is
+    :data:`TIMES_RATE_FLOOR` (10 Hz), not 1 Hz: 1 kHz stamps in ms gave a 1 Hz log
+    without a word (round 39 PART a, T02; fixes 40-a).
     """
     wfs_low, wfs_high = WFS_RATE_RANGE
-    if wfs_low <= rate <= wfs_high:
+    if interval is not None:  # 1e-6: times 0.1 s apart in float64 read 9.9999999 Hz
+        wfs_low = TIMES_RATE_FLOOR
+    if wfs_low * (1.0 - 1e-6) <= rate <= wfs_high:
         return
     advice = CLI_RATE_ADVICE if interval is None else CLI_TIMES_ADVICE
     if interval is None:
@@ -158,13 +171,16 @@ def warn_unusual_rate(rate: float, name: str = "rate", *,
     else:
         what = (f"`{name}` give a frame rate of {rate:.3g} Hz (median interval "
                 f"{interval:g} s),")
-        slow = (f"a clock in ms read as seconds ({name} / 1000 is {1000 * rate:.3g} Hz)? "
-                "An")
+        slow = (f"a clock in ms read as seconds ({name} / 1000 is {1000 * rate:.3g} Hz; in "
+                f"us {1e6 * rate:.3g} Hz)? Give the times in seconds, or the rate in Hz "
+                "instead of the times (a slow log given its rate is not warned); an")
         fast = "a clock in minutes or hours read as seconds? The"
     if rate < wfs_low:
         _plausibility_warning(
-            f"{what} below {wfs_low:g} Hz, slower than any wavefront sensor: {slow} archive "
-            "of averaged coefficients is analysed as given", advice)
+            f"{what} below {wfs_low:g} Hz, slower than " + (
+                "any wavefront sensor" if interval is None else
+                "the wavefront sensors of AO loops (~100 Hz - 10 kHz; solar AO 1-2 kHz)")
+            + f": {slow} archive of averaged coefficients is analysed as given", advice)
     else:
         _plausibility_warning(
             f"{what} above {wfs_high:g} Hz, 10x the fastest wavefront sensors (tip-tilt, "

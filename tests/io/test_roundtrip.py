@@ -147,7 +147,8 @@ def test_round_trip_special_values(tmp_path, ext, dtype, assert_same_log):
     [(".npz", read_npz), (".csv", read_csv), (".fits", read_fits), (".h5", read_hdf5)],
 )
 def test_explicit_readers_and_fmt_override(tmp_path, ext, reader, assert_same_log):
-    log = ModalLog(np.arange(12.0).reshape(4, 3), timestamps=[0.0, 0.5, 0.7, 2.0], rate=None)
+    # ms apart: frame times below 10 Hz are warned (fixes 40-a)
+    log = ModalLog(np.arange(12.0).reshape(4, 3), timestamps=[0.0, 5e-4, 7e-4, 2e-3], rate=None)
     path = save(log, tmp_path / "noext.bin", fmt=ext.strip(".").replace("h5", "hdf5"))
     assert_same_log(log, reader(path))
     assert_same_log(log, load(path))  # detected from content
