@@ -184,6 +184,7 @@ from __future__ import annotations
 import functools
 import inspect
 import warnings
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
@@ -198,6 +199,7 @@ from modalinfo.information.api import (
     _check_not_a_copy,
     _UnionOfCurvesError,
 )
+from modalinfo.information.convergence import effective_sample_rule
 from modalinfo.information.discrete import discrete_x_levels, pile_why
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi, gaussian_scores_rule
 from modalinfo.information.histogram import (
@@ -221,6 +223,7 @@ from modalinfo.information.methods import (
     option_alias_hint,
     read_only,
 )
+from modalinfo.information.resampling import residual_split
 
 __all__ = [
     "BiasRuleWarning",
@@ -537,8 +540,45 @@ def _columns(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> dict[str, np.ndarra
     return out
 
 
+def count_failures(whys: Iterable[str | None]) -> tuple[int, str | None]:
+    """Return how many of ``whys`` (a rule's answers) are not None, and the first of them.
+
+    The tally of a rule judged on many cells (the transfer map's targets, the selection's
+    gains), which then warns once naming the count and the first reason (fold 40-a).
+    """
+    failed, first = 0, None
+    for why in whys:
+        if why is not None:
+            failed += 1
+            first = first or why
+    return failed, first
+
+
+def effective_sample_why(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> str | None:
+    """Return why (x, y | z) holds too few effective samples (the MI's rule), or None.
+
+    ``convergence.effective_sample_rule`` (Bartlett's n_eff of the Marriott-Pope
+    corrected lag-1s, the most persistent pair of columns) on x's and y's least-squares
+    residuals on z and a constant (``resampling.residual_split`` on the values: what
+    the CMI measures the dependence of; with no z, x and y themselves, so that
+    ``conditional_mutual_information(x, y)`` and ``transfer_entropy(history=0)`` judge
+    as :func:`~modalinfo.information.mutual_information`). The one judgement of every
+    conditional road (fixes 40-a): the CMI, the transfer entropy, its map and the input
+    selection. Measured (20 seeds, n = 2000, KSG): a target's own past removes an AR(1)
+    target's persistence (rho = 0.99, history 1: TE of an independent AR(1) 0.99 source
+    +0.006 nats, silent); a smooth target's past does not remove all of it (AR(2),
+    double root 0.99, history 1: residual n_eff 20.0-37.5), and its KSG TE of that
+    source reads +0.30 nats for 0 there without this rule reaching it (docs/ADVERSARIAL.md,
+    "Fixes 40-a", Left).
+    """
+    if z.shape[1]:
+        x, y = residual_split(x, z, False)[1], residual_split(y, z, False)[1]
+    return effective_sample_rule(x, y, " (x's and y's least-squares residuals on z)"
+                                 if z.shape[1] else "")
+
+
 def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = False,
-               judge: bool = False):
+               judge: bool = False, who: str = "conditional_mutual_information"):
     """Validate ``method``, ``units`` and option names; return ``f(x, y, z) -> value``.
 
     The option ``fallback`` (one of :data:`FALLBACKS`) is taken out here: it says what
@@ -549,7 +589,10 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     ``switch``): a point estimate that keeps its estimator (the transfer entropy) warns
     where the histogram's conditioning rule fails
     (:func:`~modalinfo.information.histogram.histogram_conditioning_rule`), or refuses
-    with ``fallback="raise"``.
+    with ``fallback="raise"``. Both (``switch`` or ``judge``) apply the effective-sample
+    rule of :func:`~modalinfo.information.mutual_information` last, when no other rule
+    spoke (:func:`effective_sample_why`; ``who``, or the call's ``who=``, names the
+    call in its message).
     """
     record = get_method(method, needs="cmi")
     check_choice(units, "units", tuple(UNITS))
@@ -566,7 +609,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     factor = UNITS[units]
     probed = [plugin]  # a plug-in checks its own options
 
-    def estimate(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
+    def estimate(x: np.ndarray, y: np.ndarray, z: np.ndarray, who: str = who) -> float:
         n, dz = x.shape[0], z.shape[1]
         x, y, z = _varying(x), _varying(y), _varying(z)
         x, y, z = _determined_within(x), _determined_within(y), _determined_within(z)
@@ -593,6 +636,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                     raise
         _check_not_affine(x, y, z)
         _check_not_a_copy_per_stratum(x, y, z)
+        judged = switch or judge  # a point estimate: one warning at most
         why = call_bias_rule(record, x.shape[0], x.shape[1] + y.shape[1] + z.shape[1],
                              options)
         if why is not None:
@@ -610,7 +654,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 raise ValueError(f"{why}; use method='ksg' or more samples (fallback='raise').")
             warnings.warn(f"{why}; returned anyway (use method='ksg' or more samples)",
                           BiasRuleWarning, stacklevel=3)
-            why = None
+            why, judged = None, False
         elif judge and record.cmi is histogram_cmi and (
                 why := histogram_conditioning_rule(x, y, z, options)):
             if fallback == "raise":
@@ -618,7 +662,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                                  "(fallback='raise').")
             warnings.warn(f"{why}; returned anyway (use method='ksg' or method='gaussian')",
                           BiasRuleWarning, stacklevel=3)
-            why = None
+            why, judged = None, False
         if why is not None:  # one policy for both rules (the fallback option)
             if fallback == "raise":
                 raise ValueError(f"{why}; {hint} (fallback='raise').")
@@ -627,13 +671,15 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 return float(other()) * factor
             warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                           stacklevel=3)
-        if (switch or judge) and (pile := pile_why(cols := _columns(x, y, z), record.name,
+            judged = False
+        if judged and (pile := pile_why(cols := _columns(x, y, z), record.name,
                                                    tuple(k for k in cols if k[0] == "z"))):
             # a point estimate of a piled variable by the method itself (issue 27): said once,
             # the value kept (a switch to ksg or the Gaussian copula returned above)
             if fallback == "raise":
                 raise ValueError(f"{pile} (fallback='raise').")
             warnings.warn(f"{pile}.", BiasRuleWarning, stacklevel=3)
+            judged = False
         if plugin:  # read-only data, a checked answer (round 13, row cmi-reg-nan)
             value = check_plugin_value(fn(read_only(x), read_only(y), read_only(z), **options),
                                        f"method={method!r}: its cmi()")
@@ -642,6 +688,10 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         if judge and fn is gaussian_cmi and options.get("copula", True) and (
                 lost := gaussian_scores_rule(x, y, z, value)):  # the transfer entropy
             warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)
+            judged = False
+        if judged and (few := effective_sample_why(x, y, z)):  # fixes 40-a: the MI's rule
+            warnings.warn(f"{who} with method={record.name!r}: {few}.", BiasRuleWarning,
+                          stacklevel=3)
         return value * factor
 
     return estimate
@@ -702,10 +752,14 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
     -----
     BiasRuleWarning
         Where the bias rule or the histogram's resolution rule applies (unless
-        ``fallback="raise"``), naming the rule. With ``method`` "kde", "histogram" or
-        "gaussian", where a column of x, y or z is piled on one value beside
-        continuous values (the rule of :func:`mutual_information`, issue 27; the value
-        is kept, ``fallback="raise"`` refuses).
+        ``fallback="raise"``), naming the rule. Where no other rule spoke, where x's and
+        y's least-squares residuals on z (x and y without z) hold fewer than 20 effective
+        samples, the rule of :func:`~modalinfo.information.mutual_information`
+        (``conditional.effective_sample_why``, fixes 40-a; the value is kept). With
+        ``method`` "kde", "histogram" or "gaussian", where a column of x, y or z is
+        piled on one value beside continuous values (the rule of
+        :func:`mutual_information`, issue 27; the value is kept, ``fallback="raise"``
+        refuses).
     """
     est = _estimator(method, units, options, switch=True)
     return est(*_triple(x, y, z))

@@ -239,11 +239,13 @@ def effective_pairs(x: np.ndarray, y: np.ndarray) -> float:
     ``n (1 - rx ry) / (1 + rx ry)``, rx and ry the lag-1 sample autocorrelations
     corrected for their bias (:func:`lag1_bias_corrected`; their product clipped to
     [0, 1)): the variance of the sample cross-correlation of two AR(1) series is
-    (1 + rx ry) / ((1 - rx ry) n).
+    (1 + rx ry) / ((1 - rx ry) n). Groups of several columns: the most persistent
+    pair of columns (the largest product), as the rotation and bootstrap rules count
+    them.
 
     Parameters
     ----------
-    x, y : ndarray, shape (n,)
+    x, y : ndarray, shape (n,) or (n, k)
         Paired samples in sample (time) order.
 
     Returns
@@ -251,8 +253,21 @@ def effective_pairs(x: np.ndarray, y: np.ndarray) -> float:
     float
         The effective number of pairs, between ~0 and n.
     """
+    return _effective(x, y)[0]
+
+
+def _effective(x: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:
+    """``(n_eff, rx, ry)``: :func:`effective_pairs` and the corrected lag-1s it used.
+
+    The one computation of the corrected lag-1s, which :func:`effective_sample_rule`
+    also names in its message (computed twice before, fold 40-a). Of groups, the pair
+    of columns with the largest product.
+    """
     n = x.shape[0]
-    return bartlett_pairs(n, lag1_bias_corrected(_lag1(x), n) * lag1_bias_corrected(_lag1(y), n))
+    rx = [lag1_bias_corrected(_lag1(c), n) for c in np.reshape(x, (n, -1)).T]
+    ry = [lag1_bias_corrected(_lag1(c), n) for c in np.reshape(y, (n, -1)).T]
+    i, j = np.unravel_index(int(np.argmax(np.multiply.outer(rx, ry))), (len(rx), len(ry)))
+    return bartlett_pairs(n, rx[i] * ry[j]), rx[i], ry[j]
 
 
 def lag1_bias_corrected(r: float, n: int) -> float:
@@ -278,22 +293,26 @@ def bartlett_pairs(n: int, product: float) -> float:
     return n * (1.0 - p) / (1.0 + p)
 
 
-def effective_sample_rule(x: np.ndarray, y: np.ndarray) -> str | None:
+def effective_sample_rule(x: np.ndarray, y: np.ndarray, given: str = "") -> str | None:
     """Why a persistent (or non-stationary) pair holds too few effective samples, or None.
 
     Rule 1 of the module notes: fewer than :data:`MIN_EFFECTIVE_PAIRS` effective pairs
     (:func:`effective_pairs`) and fewer than :data:`MAX_EFFECTIVE_SHARE` of n; sorted
-    samples (x or y monotone) are not judged. Sample order is read as time: samples
-    concatenated by group (two clusters one after the other) should be shuffled.
+    samples (a column of x or y monotone) are not judged. Sample order is read as time:
+    samples concatenated by group (two clusters one after the other) should be shuffled.
+    ``x`` and ``y`` may be groups of columns (the most persistent pair of columns
+    counts) and residuals: a conditional estimate passes x's and y's residuals on the
+    conditioning columns, and ``given`` says so in the message (fixes 40-a:
+    :func:`~modalinfo.information.conditional_mutual_information`, the transfer entropy,
+    its map and the input selection judge by this rule).
     """
-    if _monotone(x) or _monotone(y):
-        return None
-    n_eff = effective_pairs(x, y)
-    if n_eff >= MIN_EFFECTIVE_PAIRS or n_eff >= MAX_EFFECTIVE_SHARE * x.shape[0]:
+    if any(_monotone(c) for a in (x, y) for c in np.reshape(a, (a.shape[0], -1)).T):
         return None
     n = x.shape[0]
-    rx, ry = lag1_bias_corrected(_lag1(x), n), lag1_bias_corrected(_lag1(y), n)
-    return (f"the pair holds {n_eff:.1f} effective samples of its n = {n} "
+    n_eff, rx, ry = _effective(x, y)
+    if n_eff >= MIN_EFFECTIVE_PAIRS or n_eff >= MAX_EFFECTIVE_SHARE * n:
+        return None
+    return (f"the pair{given} holds {n_eff:.1f} effective samples of its n = {n} "
             f"(lag-1 autocorrelations {rx:.4f} and {ry:.4f}, each r + (1 + 3 r) / n, "
             "Marriott & Pope 1954; n (1 - rx ry) / (1 + rx ry), "
             f"Bartlett 1935), fewer than {MIN_EFFECTIVE_PAIRS:g}: the sample mean absorbs "

@@ -115,7 +115,12 @@ from modalinfo.common.text import pad
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
 from modalinfo.information.api import UNITS
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
-from modalinfo.information.conditional import CMI_METHODS, _estimator
+from modalinfo.information.conditional import (
+    CMI_METHODS,
+    _estimator,
+    count_failures,
+    effective_sample_why,
+)
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
 from modalinfo.information.methods import BiasRuleWarning, get_method
 from modalinfo.information.resampling import (
@@ -475,6 +480,40 @@ def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_bas
     return te, null
 
 
+def _largest_cells(series, lags, history, t0, te):
+    """Yield ``(x, y, z)`` of each target's largest cell (its strongest source and lag)."""
+    T, S = series.shape
+    for i in range(S):
+        cells = np.array(te[:, i, :], dtype=float)
+        cells[i, :] = np.nan  # no self-links
+        if not np.isfinite(cells).any():
+            continue
+        j, a = np.unravel_index(int(np.nanargmax(cells)), cells.shape)
+        lag = int(lags[a])
+        yield (np.ascontiguousarray(series[t0:, i : i + 1]),
+               np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1]),
+               _history(series[:, i], history, t0))
+
+
+def _judge_map(series, lags, history, t0, te, method, options) -> None:
+    """Warn once where the map's largest cells fail the rules of ``transfer_entropy``.
+
+    The effective-sample rule of every method
+    (:func:`~modalinfo.information.conditional.effective_sample_why`, fixes 40-a: the
+    map was silent where ``transfer_entropy`` of the same cell warned), then, for the
+    histogram, its conditioning rule (:func:`_judge_histogram_map`); judged once per
+    target on its largest cell, one warning at most.
+    """
+    failed, first = count_failures(effective_sample_why(x, y, z)
+                                   for x, y, z in _largest_cells(series, lags, history, t0, te))
+    if failed:
+        warnings.warn(f"transfer_entropy_map with method={method!r}: {failed} of "
+                      f"{series.shape[1]} target(s) fail the effective-sample rule on their "
+                      f"largest cell ({first})", BiasRuleWarning, stacklevel=3)
+    elif get_method(method).cmi is histogram_cmi:
+        _judge_histogram_map(series, lags, history, t0, te, options)
+
+
 def _judge_histogram_map(series, lags, history, t0, te, options) -> None:
     """Warn where the histogram's conditioning rule fails for a target's strongest cell.
 
@@ -485,24 +524,11 @@ def _judge_histogram_map(series, lags, history, t0, te, options) -> None:
     histogram map of ``y = 0.99 y[-1] + 0.5 x[-1] + e`` gave 0.038 for an exact 0.112
     nats, silently, where ``transfer_entropy`` warns.
     """
-    T, S = series.shape
-    failed, first = 0, None
-    for i in range(S):
-        cells = np.array(te[:, i, :], dtype=float)
-        cells[i, :] = np.nan  # no self-links
-        if not np.isfinite(cells).any():
-            continue
-        j, a = np.unravel_index(int(np.nanargmax(cells)), cells.shape)
-        lag = int(lags[a])
-        why = histogram_conditioning_rule(
-            np.ascontiguousarray(series[t0:, i : i + 1]),
-            np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1]),
-            _history(series[:, i], history, t0), options)
-        if why is not None:
-            failed += 1
-            first = first or why
+    failed, first = count_failures(histogram_conditioning_rule(x, y, z, options)
+                                   for x, y, z in _largest_cells(series, lags, history, t0, te))
     if failed:
-        warnings.warn(f"transfer_entropy_map with method='histogram': {failed} of {S} "
+        warnings.warn(f"transfer_entropy_map with method='histogram': {failed} of "
+                      f"{series.shape[1]} "
                       f"target(s) fail the conditioning rule on their largest cell ({first}); "
                       "the map keeps the histogram (use method='gaussian' or 'ksg')",
                       BiasRuleWarning, stacklevel=3)
@@ -753,10 +779,9 @@ def transfer_entropy_map(
         else:
             te, null = _estimator_map(series, lags, history, t0, shifts, est, family,
                                        rank_based_options(options))
-            if get_method(method).cmi is histogram_cmi:
-                _judge_histogram_map(series, lags, history, t0, te, options)
             null_cells = null[:, family]
             te[~family] = np.nan
+        _judge_map(series, lags, history, t0, te, method, options)
         pvalue = np.full(te.shape, np.nan)
         pvalue[family] = maxt_pvalues(te[family], null_cells,
                                       step_down=adjust == "step-down")
@@ -773,8 +798,7 @@ def transfer_entropy_map(
     else:
         te, null = _estimator_map(series, lags, history, t0, shifts, est,
                                   rank_based=rank_based_options(options))
-        if get_method(method).cmi is histogram_cmi:
-            _judge_histogram_map(series, lags, history, t0, te, options)
+    _judge_map(series, lags, history, t0, te, method, options)
     diag = np.eye(S, dtype=bool)
     off = ~diag
     pvalue = np.full(te.shape, np.nan)

@@ -97,7 +97,12 @@ from modalinfo.common.validation import (
 )
 from modalinfo.information.api import UNITS, InfiniteMIError
 from modalinfo.information.candidates import RADIAL_WIDTH, candidate_mask
-from modalinfo.information.conditional import CMI_METHODS, _estimator
+from modalinfo.information.conditional import (
+    CMI_METHODS,
+    _estimator,
+    count_failures,
+    effective_sample_why,
+)
 from modalinfo.information.conditional_uncertainty import _cmi_block_ci
 from modalinfo.information.discrete import pile_why, shared_pile_value
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi_from_covariance
@@ -733,6 +738,28 @@ def greedy_gaussian_gram(G: np.ndarray, cy: np.ndarray, alive: np.ndarray, n: in
     return picked
 
 
+def _judge_gains(y: np.ndarray, C: np.ndarray, picked: list[int], method: str,
+                 options: dict[str, Any]) -> None:
+    """Warn once where a picked gain fails a rule of ``conditional_mutual_information``.
+
+    The effective-sample rule of every method, on the target and each input given the
+    inputs before it (:func:`~modalinfo.information.conditional.effective_sample_why`,
+    fixes 40-a: the first gain of a persistent target is its lagged MI, which
+    ``mutual_information`` judges and the selection did not), then, for the histogram,
+    its conditioning rule (:func:`_judge_histogram_gains`); one warning at most.
+    """
+    target = np.reshape(y, (y.shape[0], -1))
+    failed, first = count_failures(effective_sample_why(target, C[:, j : j + 1],
+                                                        C[:, picked[:i]])
+                                   for i, j in enumerate(picked))
+    if failed:
+        warnings.warn(f"select_inputs with method={method!r}: {failed} of {len(picked)} "
+                      f"gains fail the effective-sample rule given the inputs before them "
+                      f"({first})", BiasRuleWarning, stacklevel=3)
+    elif get_method(method).cmi is histogram_cmi:
+        _judge_histogram_gains(y, C, picked, options)
+
+
 def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
                            options: dict[str, Any]) -> None:
     """Warn where a histogram gain fails the conditioning rule given the inputs before it.
@@ -744,12 +771,9 @@ def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
     its true input x 0.039 for an exact 0.112 nats, and a spurious third input, silently.
     """
     target = np.reshape(y, (y.shape[0], -1))
-    failed, first = 0, None
-    for i, j in enumerate(picked[1:], start=1):
-        why = histogram_conditioning_rule(target, C[:, j : j + 1], C[:, picked[:i]], options)
-        if why is not None:
-            failed += 1
-            first = first or why
+    failed, first = count_failures(
+        histogram_conditioning_rule(target, C[:, j : j + 1], C[:, picked[:i]], options)
+        for i, j in enumerate(picked[1:], start=1))
     if failed:
         warnings.warn(f"select_inputs with method='histogram': {failed} of {len(picked)} "
                       f"gains fail the conditioning rule given the inputs before them "
@@ -931,8 +955,7 @@ def select_inputs(
         spectra=spectra, shifts=shifts,
         names=lambda j: f"candidate {_candidate_label(labels, cols, j)}",
         rank_based=rank_based_options(options))
-    if get_method(method).cmi is histogram_cmi:
-        _judge_histogram_gains(y, C, [j for j, _, _ in picked], options)
+    _judge_gains(y, C, [j for j, _, _ in picked], method, options)
     inputs = []
     for i, (j, gain, p) in enumerate(picked):
         low = high = math.nan

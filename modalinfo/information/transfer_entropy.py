@@ -9,12 +9,10 @@ accuracy of every method on a bivariate VAR(1): :mod:`modalinfo.information.cond
 
 from __future__ import annotations
 
-import warnings
 from typing import Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
 from modalinfo.common.validation import as_float_array, check_aligned, check_int
 from modalinfo.information.api import (
     DEFAULT_METHOD,
@@ -23,8 +21,6 @@ from modalinfo.information.api import (
     _UnionOfCurvesError,
 )
 from modalinfo.information.conditional import _estimator
-from modalinfo.information.convergence import effective_sample_rule
-from modalinfo.information.methods import BiasRuleWarning
 
 __all__ = ["transfer_entropy", "transfer_entropy_variables"]
 
@@ -141,10 +137,13 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     Warns
     -----
     BiasRuleWarning
-        With ``history=0`` (the lagged MI), where the pair holds too few effective
-        samples, by the rule of :func:`~modalinfo.information.mutual_information`
-        (round 39 PART a). With ``method`` "kde", "histogram" or "gaussian", where the source or the
-        target is piled on one value beside continuous values (the rule of
+        Where the target's and the lagged source's least-squares residuals on the
+        target's past (with ``history=0``, the lagged MI: the pair itself) hold too few
+        effective samples, by the rule of :func:`~modalinfo.information.mutual_information`
+        (round 39 PART a; every history since fixes 40-a; an AR(1) target's own past
+        removes its persistence, so histories >= 1 rarely reach it). With ``method``
+        "kde", "histogram" or "gaussian", where the source or the target is piled on one
+        value beside continuous values (the rule of
         :func:`~modalinfo.information.mutual_information`, issue 27; the value is
         kept). With any method, where its bias or cost rule fails (the ``"ksg"`` default, at
         n = 1e4: more than 8 columns, history > 6 for 1-D series; the estimate switches to
@@ -160,7 +159,11 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
     est = _estimator(method, units, options, judge=True)  # histogram: conditioning rule
     variables = transfer_entropy_variables(source, target, lag=lag, history=history)
     try:
-        value = est(*variables)
+        # the effective-sample rule names the lagged pair (round 39 PART a, fixes 40-a)
+        value = est(*variables, who=f"transfer_entropy with history={history} (`target` "
+                    f"and `source` {lag} sample(s) earlier, given the target's past)"
+                    if history else f"transfer_entropy with history=0 (the MI of `target` "
+                    f"and `source` {lag} sample(s) earlier)")
     except InfiniteMIError as exc:
         if "an affine function of `" in str(exc):
             raise InfiniteMIError(
@@ -181,26 +184,5 @@ def transfer_entropy(source: Any, target: Any, *, lag: int = 1, history: int = 1
             "(a delayed copy; both continuous, no repeated values): the transfer entropy "
             "is infinite, which no estimator can return. Drop one of the two series."
         ) from exc
-    _judge_lagged_mi(variables, history, lag)
     return value
 
-
-def _judge_lagged_mi(variables: tuple, history: int, lag: int) -> None:
-    """Warn where a ``history=0`` TE (a lagged MI) holds too few effective samples.
-
-    The effective-sample rule of :func:`~modalinfo.information.mutual_information`
-    (``convergence.effective_sample_rule``: Bartlett's n_eff of the Marriott-Pope
-    corrected lag-1 autocorrelations); the CMI estimators this road goes through have
-    no such rule, so the lagged MI of a persistent mode was silent here where the MI
-    warned (round 39 PART a, W27: AR(1) rho = 0.99, n = 400, 1.59 nats for 1.96, the MI
-    warned 20 of 20 pairs, the TE none). Histories >= 1 condition the persistence out
-    and are not judged by it. The value is unchanged.
-    """
-    x, y, _ = variables
-    if history != 0 or x.shape[1] != 1 or y.shape[1] != 1:
-        return
-    why = effective_sample_rule(x[:, 0], y[:, 0])
-    if why is not None:
-        warnings.warn(f"transfer_entropy with history=0 (the MI of `target` and `source` "
-                      f"{lag} sample(s) earlier): {why}.", BiasRuleWarning,
-                      stacklevel=caller_stacklevel())

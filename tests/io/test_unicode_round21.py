@@ -71,6 +71,9 @@ def test_labels_equal_under_nfc_are_one_label(tmp_path):
         load(path)
 
 
+# a random-walk / smooth test log: its lagged MI holds < 20 effective samples, which
+# select_inputs warns since fixes 40-a (the effective-sample rule); not this test's point
+@pytest.mark.filterwarnings("ignore::modalinfo.information.methods.BiasRuleWarning")
 def test_a_composed_label_finds_the_decomposed_column(tmp_path):
     # before: `modes` / `target` 'mode_\u00e9' was "not a mode" of a file spelling it NFD
     from modalinfo.information.selection import select_inputs
