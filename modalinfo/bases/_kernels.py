@@ -70,11 +70,15 @@ def _setup(n_modes, m_modes):
 
 
 @jit(inline="always")
-def _pixel_tables(r, theta, n_max, coef, table, cos_t, sin_t):
-    """Fill table[n, m] = R_n^m(r) and cos_t[m], sin_t[m] = cos, sin(m theta), m <= n_max."""
+def _pixel_tables(r, c1, s1, n_max, coef, table, cos_t, sin_t):
+    """Fill table[n, m] = R_n^m(r) and cos_t[m], sin_t[m] = cos, sin(m theta), m <= n_max.
+
+    ``c1, s1 = cos(theta), sin(theta)``. The angle recurrence uses only products, sums
+    and differences, which IEEE arithmetic rounds sign-symmetrically: pixels whose
+    ``(c1, s1)`` are exact mirrors (``(-c1, s1)``, ``(c1, -s1)``, ``(s1, c1)``) get exact
+    mirror values of every ``cos(m theta)``, ``sin(m theta)``.
+    """
     r2 = r * r
-    c1 = np.cos(theta)
-    s1 = np.sin(theta)
     cos_t[0] = 1.0
     sin_t[0] = 0.0
     rm = 1.0
@@ -107,7 +111,8 @@ def zernike_matrix(rho, theta, n_modes, m_modes, out):
     cos_t = np.empty(n_max + 1)
     sin_t = np.empty(n_max + 1)
     for p in range(rho.shape[0]):
-        _pixel_tables(rho[p], theta[p], n_max, coef, table, cos_t, sin_t)
+        _pixel_tables(rho[p], np.cos(theta[p]), np.sin(theta[p]), n_max, coef, table, cos_t,
+                      sin_t)
         for k in range(m_modes.shape[0]):
             mm = m_modes[k]
             if mm > 0:
@@ -119,7 +124,8 @@ def zernike_matrix(rho, theta, n_modes, m_modes, out):
 
 
 @jit
-def zernike_combination_matrix(rho, theta, n_modes, m_modes, indptr, indices, weights, out):
+def zernike_combination_matrix(rho, cos_theta, sin_theta, n_modes, m_modes, indptr, indices,
+                               weights, out):
     """Fill out[p, k] = sum_i weights * Z_i(rho_p, theta_p) over a sparse change of basis.
 
     Column k of the (n_z, K) change-of-basis matrix is given in compressed-column form:
@@ -127,9 +133,10 @@ def zernike_combination_matrix(rho, theta, n_modes, m_modes, indptr, indices, we
     (row i is the Zernike (n_modes[i], m_modes[i])). Avoids building the (P, n_z) Zernike
     matrix: cost per pixel is the radial table plus the non-zeros.
 
-    rho, theta : (P,) float64 IN ; n_modes, m_modes : (n_z,) int64 IN ;
-    indptr : (K + 1,) int64 IN ; indices : (nnz,) int64 IN ; weights : (nnz,) float64 IN ;
-    out : (P, K) float64 OUT
+    rho, cos_theta, sin_theta : (P,) float64 IN (cos and sin of the pixels' angles: exact
+    mirrors at mirror pixels give exact mirror values, ``_pixel_tables``) ;
+    n_modes, m_modes : (n_z,) int64 IN ; indptr : (K + 1,) int64 IN ;
+    indices : (nnz,) int64 IN ; weights : (nnz,) float64 IN ; out : (P, K) float64 OUT
     """
     n_max, norm, coef = _setup(n_modes, m_modes)
     size = n_max + 1
@@ -149,7 +156,8 @@ def zernike_combination_matrix(rho, theta, n_modes, m_modes, indptr, indices, we
     flat = table.reshape(size * size)
     n_cols = indptr.shape[0] - 1
     for p in range(rho.shape[0]):
-        _pixel_tables(rho[p], theta[p], n_max, coef, table, ang[:size], ang[size:])
+        _pixel_tables(rho[p], cos_theta[p], sin_theta[p], n_max, coef, table, ang[:size],
+                      ang[size:])
         for k in range(n_cols):
             acc = 0.0
             for q in range(indptr[k], indptr[k + 1]):

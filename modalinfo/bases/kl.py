@@ -73,8 +73,13 @@ def _combination_matrix(pupil: Pupil, modes: np.ndarray, change: np.ndarray) -> 
     indices = np.ascontiguousarray(cols, dtype=np.int64)
     weights = np.ascontiguousarray(change.T[rows, cols])
     out = np.empty((pupil.n_valid, change.shape[1]))
+    # cos and sin from the pixels' x and y, exact mirrors at mirror pixels: a K-L mode's
+    # values at pixels mirrored by the pupil's symmetries tie bit for bit, whatever the
+    # eigenvectors' last bits (LAPACK's kernels differ across CPUs), so the ties of the
+    # rank-based MI estimators are the same on every CPU (docs/TESTING.md, golden numbers)
+    cos_t, sin_t = pupil.direction_cosines()
     _kernels.zernike_combination_matrix(
-        pupil.rho_valid, pupil.theta_valid, np.ascontiguousarray(n), np.ascontiguousarray(m),
+        pupil.rho_valid, cos_t, sin_t, np.ascontiguousarray(n), np.ascontiguousarray(m),
         indptr, indices, weights, out,
     )
     return out

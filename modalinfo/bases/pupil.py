@@ -136,6 +136,30 @@ class Pupil:
     def __hash__(self) -> int:
         return hash((self.n_pixels, self.diameter, self.obscuration))
 
+    def direction_cosines(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(cos theta, sin theta)`` at the pupil pixels, as ``x / r`` and ``y / r``.
+
+        Exact mirrors at mirror pixels: a pixel and its reflection in either axis or in
+        the diagonal ``x = y`` have the same ``r = hypot(x, y)`` and coordinates that
+        differ in sign or order only, so their cosines and sines do too, bit for bit.
+        ``cos(theta_valid)`` is not: ``arctan2`` of ``(-x, y)`` is ``pi - theta``
+        rounded, and on a 64-pixel pupil 36 % of the pairs mirrored in ``x`` had cosines
+        that differed in the last bit. The pixel at the centre (``r = 0``, odd ``N``)
+        gets ``(1, 0)``, as ``arctan2(0, 0) = 0``.
+
+        Returns
+        -------
+        cos_theta, sin_theta : numpy.ndarray
+            ``(n_valid,)`` each, row-major like ``rho_valid``.
+        """
+        x = self.x[self.mask]
+        y = self.y[self.mask]
+        r = np.hypot(x, y)
+        centre = r == 0
+        r = np.where(centre, 1.0, r)
+        return (np.ascontiguousarray(np.where(centre, 1.0, x / r)),
+                np.ascontiguousarray(np.where(centre, 0.0, y / r)))
+
     def to_image(self, values) -> np.ndarray:
         """Scatter pupil-pixel vectors back into ``N x N`` images.
 

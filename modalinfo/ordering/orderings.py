@@ -25,8 +25,10 @@ isotropic log) can still swap.
 The greedy search fits one :class:`~modalinfo.information.MutualInformation` on
 Phi_ref (binning or bandwidth cached once) and keeps Phi_S on the samples; a score of
 ``Phi_S + a_k Z_k`` costs O(samples) (~3 ms at 2e5). Two searches, same estimator and
-same rule (the best exact score among the modes scored wins; equal scores: the lower
-index):
+same rule (the best exact score among the modes scored wins; scores within their float
+error of the best, ``_TIE_RTOL * max(1, |best|)`` nats, are a tie that the lower index
+wins, so that no CPU's last bits decide a step: structurally equal scores, e.g. two
+modes whose count tables are permutations of each other, differ only there):
 
 - ``search="exhaustive"`` scores every remaining mode at every step: M^2 / 2 scores
   (230 modes: 50 s; 2,000 modes: ~2 h). The definition; ``"auto"`` uses it up to 64
@@ -142,6 +144,15 @@ CONFIDENCE_LEVEL = 0.95
 SEARCHES = ("auto", "screened", "exhaustive")
 #: Relative margin on the screening key (module notes: measured misses against cost).
 _SCREEN_TOLERANCE = 0.05
+#: Greedy scores within ``_TIE_RTOL * max(1, |best|)`` nats of the step's best are a tie,
+#: won by the lower index (module notes, ties of the greedy search). 2^-40 = 4096 eps:
+#: the plug-in histogram MI sums one term per occupied cell, K of them, whose absolute
+#: values add up to at most MI + 2 nats (``p log(p_i p_j / p) <= p_i p_j - p`` bounds the
+#: negative ones by 1), so its rounding error is at most K eps (MI + 2) <= 3 K eps
+#: max(1, MI): within the tolerance up to K = 1365 cells (the default bins' 35 x 35 at
+#: n = 2e4 and r = 0.9), and typically (sqrt(K) eps (MI + 2), random signs) up to
+#: K ~ 1e6. Far below the estimator's sampling noise (1e-4 nats and more, module notes)
+_TIE_RTOL = 2.0**-40
 _DECORRELATED_ATOL = 1e-6
 #: Multiple of ``eps lambda_max`` a symmetric eigensolver leaves off the diagonal of
 #: ``V^T C V`` (LAPACK's backward error, ``p(M) eps ||C||_2`` with a modest ``p``): the
@@ -210,8 +221,29 @@ def _make_estimator(estimator: Any, options: dict) -> tuple[Any, str]:
 _PILE_SAMPLES = 20_000
 
 
-def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str) -> None:
+def _nodal(view: BasisView, pixels: np.ndarray) -> np.ndarray | None:
+    """(B, M) True where a continuous mode is exactly 0 at the sample's pixel, else None.
+
+    For modes that are continuous functions (a ``ZernikeBasis``, a ``KLBasis``), an
+    exact 0 at a pixel centre is a point of a nodal line, a set of measure zero of the
+    continuous mode, that the grid happens to sample: not an atom of its values. A K-L
+    mode odd under ``x <-> y`` is exactly 0 on the diagonals since its values at mirror
+    pixels are exact mirrors (golden40; 2.9 % of a 64-pixel pupil's pixels, more on a
+    smaller one). A bare matrix or another basis holds its own samples: its zeros count.
+    """
+    from modalinfo.ordering.fitting_error import _continuous_zernikes
+
+    if _continuous_zernikes(view.obj) is None:
+        return None
+    return view.matrix[pixels] == 0
+
+
+def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str,
+                nodal: np.ndarray | None = None) -> None:
     """Warn once (``BiasRuleWarning``) where the wavefront or a mode's contribution is piled.
+
+    ``nodal`` (B, M): samples at a continuous mode's nodal pixels (:func:`_nodal`), left
+    out of that mode's rule.
 
     The single-variable rules of :func:`~modalinfo.information.mutual_information`
     (discrete module notes, "Piles", issue 27: one value inside the range above 3 %,
@@ -232,7 +264,12 @@ def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str) -> None:
     step = max(1, contrib.shape[1] // _PILE_SAMPLES)
     part = contrib[:, ::step]
     columns = {"the wavefront": part.sum(axis=0)}
-    columns.update((f"mode {labels[i]}", row) for i, row in enumerate(part))
+    if nodal is None:
+        columns.update((f"mode {labels[i]}", row) for i, row in enumerate(part))
+    else:
+        node = nodal[::step]
+        columns.update((f"mode {labels[i]}", row[~node[:, i]]) for i, row in enumerate(part)
+                       if np.count_nonzero(~node[:, i]) > 1)
     first, count = None, 0
     for name, column in columns.items():
         why = pile_why({name: column}, estimator)
@@ -412,6 +449,17 @@ def _swapped_mi(est: Any, contrib: np.ndarray, order: np.ndarray,
     return out
 
 
+def _lowest_tied(scores: np.ndarray, best: float) -> int:
+    """Lowest index whose score is within :data:`_TIE_RTOL` of the best (NaN: not scored).
+
+    Scores that differ by no more than their float error are a tie, and the lower index
+    (the standard order) wins it, so that the last bits of a CPU's arithmetic cannot
+    decide a greedy step (module notes).
+    """
+    tied = scores >= best - _TIE_RTOL * max(1.0, abs(best))  # NaN compares False
+    return int(np.flatnonzero(tied)[0])
+
+
 def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "auto",
             tolerance: float = _SCREEN_TOLERANCE
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -422,7 +470,8 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
     result); at a later step it takes the remaining modes in descending *key* and
     scores them exactly until the next key, times ``1 + tolerance``, is below the key
     of the best mode scored at this step. Either way the step's mode is the best exact
-    score among those scored (equal scores: the lower index). The key of mode k is its
+    score among those scored (scores within ``_TIE_RTOL * max(1, |best|)`` of the best:
+    the lower index, :func:`_lowest_tied`). The key of mode k is its
     variance share in the Gaussian closed form: for jointly Gaussian, mutually
     orthogonal contributions the gain of adding k to S is ``g = -ln(1 - v_k / R_S) / 2``
     with ``v_k`` the variance of ``a_k Z_k`` and ``R_S`` that of ``Phi_ref - Phi_S``,
@@ -501,6 +550,8 @@ def _greedy(est: Any, contrib: np.ndarray, progress: Any = None, search: str = "
                 f"the MI estimator returned no finite score at greedy step {step + 1}; "
                 "check `estimator_options`."
             )
+        best_k = _lowest_tied(now, best_v)
+        best_v = now[best_k]
         order[step] = best_k
         mi[step] = best_v
         if step > 0:
@@ -922,7 +973,7 @@ def order_modes(
     contrib = _contributions(a, view.matrix, frames, pixels)
     est.fit(contrib.sum(axis=0))
     if est_name in PILE_BLIND_METHODS:
-        _warn_piles(contrib, view.labels, est_name)
+        _warn_piles(contrib, view.labels, est_name, _nodal(view, pixels))
     try:
         return _scored(est, contrib, a, view, method, frame, progress, search, block_length,
                        n_resamples, confidence_level, rng, frames, pixels, result,

@@ -178,7 +178,8 @@ def test_combination_kernel_against_dense_product(pupil):
     indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     rows, cols = np.nonzero((v != 0).T)
     out = np.empty((pupil.n_valid, 7))
-    _kernels.zernike_combination_matrix(pupil.rho_valid, pupil.theta_valid, n, m, indptr,
+    cos_t, sin_t = pupil.direction_cosines()
+    _kernels.zernike_combination_matrix(pupil.rho_valid, cos_t, sin_t, n, m, indptr,
                                         cols.astype(np.int64), v.T[rows, cols].copy(), out)
     np.testing.assert_allclose(out, z @ v, atol=1e-12)
     # the theoretical K-L pixel matrix (kernel path) equals the Zernike matrix product

@@ -7,7 +7,9 @@ preset, ~1 min), ``logs`` (the shipped-log analyses, ~20 s) and ``figures`` (a
 made with one BLAS thread too: ``OPENBLAS_NUM_THREADS=1 python -m paper_figures
 --quick``). ``--out DIR`` writes the JSON files there instead of over the references in
 ``tests/golden/``; ``--compare`` prints the largest relative difference from the
-references and the numbers beyond the tolerance (to compare two machines).
+references, the numbers beyond the tolerance and the largest move of each tolerance
+class (``golden_numbers.tolerance``: to compare two machines, or a build of this one
+under ``NUMBA_CPU_NAME=generic OPENBLAS_CORETYPE=Sandybridge``, docs/TESTING.md).
 
 A regenerated reference goes in the same commit as the change that moved it, with the
 reason in the commit message (docs/TESTING.md, "Golden numbers").
@@ -75,6 +77,10 @@ def main(argv: list[str] | None = None) -> int:
                   f"{where or '-'}; {len(moved)} numbers beyond RTOL={g.RTOL[section]:g}")
             for m in moved[:20]:
                 print("   ", m)
+            for what, (move, key) in sorted(g.largest_moves(before, numbers,
+                                                             g.RTOL[section]).items()):
+                print(f"regenerate: {section}: largest move of {what or 'the rest'}: "
+                      f"{move:.3g} at {key}")
     return 0
 
 
