@@ -125,6 +125,16 @@ SHOWN_ERRORS = "modalinfo.shown"
 codecs.register_error(SHOWN_ERRORS, _shown_bytes)
 
 
+class OutputGoneError(OSError):
+    """An output folder removed or renamed while a run wrote into it (exit status 1).
+
+    Not an input error: the run had started and written into the folder. Batch's
+    --out renamed after its first row said "error: directory 'b/rows' does not exist
+    (writing 'b/rows/<key>.json')" with status 2, "an input error found before any work"
+    (adversarial round 40 PART b, F38b).
+    """
+
+
 def check_readable(path: Path) -> None:
     """Raise ``FileNotFoundError`` / ``IsADirectoryError`` / ``OSError`` naming a non-file.
 
