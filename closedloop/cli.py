@@ -469,6 +469,9 @@ def _cmd_config(args) -> int:
     if args.fmt is not None and args.out.suffix.lower() != "." + args.fmt:
         raise CommandError(f"--fmt {args.fmt} contradicts --out {str(args.out)!r} (the file's "
                            "format follows its extension); drop --fmt or rename --out")
+    if args.out.parent.is_dir():
+        # a read-only folder was refused naming the temporary file (round 40 PART b, F12)
+        _check_writable(args.out, 0.0, "--out")
     save_config(config, args.out, overwrite=args.overwrite)
     return 0
 

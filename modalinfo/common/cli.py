@@ -29,7 +29,12 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from modalinfo.common.deps import MissingDependencyError, require_dist
-from modalinfo.common.files import SHOWN_ERRORS, check_not_special, writable_free_bytes
+from modalinfo.common.files import (
+    SHOWN_ERRORS,
+    OutputGoneError,
+    check_not_special,
+    writable_free_bytes,
+)
 from modalinfo.common.startup import command_line_text, one_line_format
 from modalinfo.common.tasks.cluster import check_memory_limit, check_worker_count
 
@@ -404,6 +409,9 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
     except StdoutRefusedError as exc:
         say(f"{prog} {args.command}: error: could not write standard output "
             f"({exc.strerror}); the files written before it are complete\n")
+        return EXIT_FAILURE
+    except OutputGoneError as exc:  # a failure during the run, not an input error
+        say(f"{prog} {args.command}: error: {exc.strerror}\n")
         return EXIT_FAILURE
     except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
         message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__

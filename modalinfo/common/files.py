@@ -125,6 +125,16 @@ SHOWN_ERRORS = "modalinfo.shown"
 codecs.register_error(SHOWN_ERRORS, _shown_bytes)
 
 
+class OutputGoneError(OSError):
+    """An output folder removed or renamed while a run wrote into it (exit status 1).
+
+    Not an input error: the run had started and written into the folder. Batch's
+    --out renamed after its first row said "error: directory 'b/rows' does not exist
+    (writing 'b/rows/<key>.json')" with status 2, "an input error found before any work"
+    (adversarial round 40 PART b, F38b).
+    """
+
+
 def check_readable(path: Path) -> None:
     """Raise ``FileNotFoundError`` / ``IsADirectoryError`` / ``OSError`` naming a non-file.
 
@@ -134,7 +144,7 @@ def check_readable(path: Path) -> None:
         if path.is_symlink():  # a loop or a missing target: "no such file" hid the link
             raise FileNotFoundError(f"'{path}' is a symbolic link to nothing (a loop or a "
                                     "missing target)")
-        raise FileNotFoundError(f"no such file: '{path}'")
+        raise FileNotFoundError(f"no such file: '{path}'{_other_unicode_form(path)}")
     if path.is_dir():
         raise IsADirectoryError(f"'{path}' is a directory, not a log file")
     kind = _special_kind(path)
@@ -143,6 +153,36 @@ def check_readable(path: Path) -> None:
         # read before the kernel's OOM killer stopped `modalinfo info /dev/zero`)
         raise OSError(f"'{path}' is {kind}, not a regular file: a log is read from a "
                       "file (reading this could block or never end)")
+
+
+def _other_unicode_form(path: Path) -> str:
+    """Return a note naming a file of ``path``'s folder spelt in another Unicode form, or "".
+
+    ``é`` is one code point (NFC, as most keyboards type it) or ``e`` and a combining
+    accent (NFD, as macOS tools write names); Linux file systems keep the bytes, so
+    ``info é.npz`` said "no such file: 'é.npz'" beside a file shown as ``é.npz``
+    (adversarial round 40 PART b, F24). ASCII names are not looked for (no such twin).
+    """
+    import unicodedata
+
+    name = path.name
+    if name.isascii():
+        return ""
+    key = unicodedata.normalize("NFC", name)
+    try:
+        with os.scandir(path.parent) as entries:
+            twin = next((e.name for e in entries
+                         if e.name != name and unicodedata.normalize("NFC", e.name) == key), None)
+    except (OSError, ValueError):
+        return ""
+    if twin is None:
+        return ""
+    def form(text: str) -> str:
+        return next((f for f in ("NFC", "NFD") if unicodedata.is_normalized(f, text)), "mixed")
+
+    return (f"; the folder holds '{twin}', the same name in Unicode form {form(twin)} (this "
+            f"one is {form(name)}: the same letters, other code points): give the file's own "
+            "spelling, e.g. by tab completion, or rename it")
 
 
 def _special_kind(path: Path) -> str:

@@ -426,12 +426,14 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             body = lines[k + 1 :]
             while body and not body[-1].strip():
                 body.pop()  # blank lines an editor or a transfer appended are not data
+            if _END in body[:-1]:
+                # also when the appended lines end in a marker of their own (another log's
+                # tail): "data row 2001 holds 1 values" named the marker (round 40 PART b, F53)
+                raise LogFormatError(
+                    f"corrupt CSV file '{path}': {len(body) - 1 - body.index(_END)} "
+                    f"line(s) after the end marker {_END!r} (appended to the log?)"
+                )
             if not body or body[-1] != _END:
-                if _END in body:
-                    raise LogFormatError(
-                        f"corrupt CSV file '{path}': {len(body) - 1 - body.index(_END)} "
-                        f"line(s) after the end marker {_END!r} (appended to the log?)"
-                    )
                 raise LogFormatError(
                     f"corrupt CSV file '{path}': end marker {_END!r} missing (truncated?)"
                 )

@@ -209,6 +209,7 @@ def open_client(
         failures = {"distributed.scheduler.allowed-failures": retries}
     import dask
 
+    _check_scratch_folder(dask.config.get("temporary-directory", default=None))
     nanny_log = logging.getLogger("distributed.nanny")
     # the config is read once, by the scheduler created here
     with dask.config.set(failures), sigint_held() as interrupted, \
@@ -265,6 +266,35 @@ def open_client(
             yield client
     finally:
         cluster.close()
+
+
+def _check_scratch_folder(folder: Any) -> None:
+    """Refuse a Dask ``temporary-directory`` that cannot take files, before the cluster starts.
+
+    Each worker keeps ``dask-scratch-space`` there. ``DASK_TEMPORARY_DIRECTORY`` on a
+    read-only mount ended in "could not start its workers (Cluster failed to start:
+    [Errno 30] Read-only file system: '.../dask-scratch-space': a worker process ended
+    during start-up, e.g. killed); run the command again ..., with fewer --workers if
+    memory is short": advice that cannot help (adversarial round 40 PART b, E53). The
+    unset default is Python's temporary folder, which :mod:`tempfile` picks writable.
+    """
+    if not folder:
+        return
+    from pathlib import Path
+
+    from modalinfo.common.files import writable_free_bytes
+
+    place = Path(os.path.expanduser(str(folder)))
+    while not place.exists() and place != place.parent:
+        place = place.parent  # Dask creates the missing folders
+    try:
+        writable_free_bytes(place)
+    except OSError as exc:
+        raise ValueError(
+            f"the Dask temporary-directory '{folder}' cannot take the workers' scratch "
+            f"files ('{place}': {exc.strerror or exc}); set DASK_TEMPORARY_DIRECTORY (or "
+            f"temporary-directory in the YAML files of {_dask_config_places()}) to a "
+            "writable folder, or unset it") from None
 
 
 def _dask_config_places() -> str:

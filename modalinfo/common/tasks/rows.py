@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -9,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from modalinfo.common.deps import require
-from modalinfo.common.files import atomic_write, shown_name
+from modalinfo.common.files import OutputGoneError, atomic_write, shown_name
 from modalinfo.common.folders import clean_staging
 from modalinfo.common.memory import address_space_limit_bytes
 
@@ -77,7 +78,16 @@ class RowStore:
             row = {**row, **dict.fromkeys(nonfinite), _NONFINITE_FIELD: nonfinite}
         data = json.dumps(_strict(row), sort_keys=True, separators=(",", ":"),
                           allow_nan=False).encode()
-        return atomic_write(self._path(key), lambda fh: fh.write(data), overwrite=True)
+        try:
+            return atomic_write(self._path(key), lambda fh: fh.write(data), overwrite=True)
+        except FileNotFoundError:
+            if self.rows_dir.is_dir():
+                raise
+            raise OutputGoneError(
+                errno.ENOENT, f"output directory '{self.out_dir}' was removed or renamed "
+                f"during the run (no '{self.rows_dir}' to write a row into); the rows "
+                "finished before went with it: run the command again with --out at its "
+                "new place to resume") from None
 
     def rows(self) -> list[dict]:
         """Every stored row, sorted by key (temporary files are never read).
