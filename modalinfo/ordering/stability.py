@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, check_real, unmasked
 from modalinfo.ordering import cost as _cost
@@ -290,7 +291,10 @@ def ordering_stability(
                           len(starts), len(seeds), order_options, max_seconds)
     # the whole run was judged above: each ordering neither refuses nor warns on its own
     order_options["max_seconds"] = None
-    with warnings.catch_warnings():
+    # under the package's warnings lock: a bare ``catch_warnings`` interleaved with another
+    # thread's block and left ``ignore OrderingCostWarning`` installed for good (round 40
+    # PART a, T25)
+    with catching_warnings():
         warnings.simplefilter("ignore", OrderingCostWarning)
         window_orders, seed_orders = _orders(a, view, method, starts, window, base_seed,
                                              seeds, order_options)
