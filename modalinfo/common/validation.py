@@ -714,6 +714,17 @@ def seed_record(seed: Any) -> int | None:
 SQUARE_FLOOR = float(np.sqrt(np.finfo(np.float64).tiny) / np.finfo(np.float64).eps)
 
 
+def _first_bad_column(bad: np.ndarray, labels) -> tuple[int, str, str]:
+    """Return the first refused column's index, name and ``" (and N more)"``.
+
+    The name is ``mode Z4`` with labels, else ``column 3``: the square-range refusals'.
+    """
+    k = int(bad[0])
+    column = f"mode {labels[k]}" if labels is not None else f"column {k}"
+    more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+    return k, column, more
+
+
 def check_square_floor(
     data, name: str, labels=None, *,
     consequence: str = ("squared forecast errors underflow float64 (RMSEs and fits would "
@@ -762,9 +773,7 @@ def check_square_floor(
         spread = hi - lo
         bad = np.flatnonzero((spread > 1e-12 * peak) & (spread < SQUARE_FLOOR))
     if bad.size:
-        k = int(bad[0])
-        column = f"mode {labels[k]}" if labels is not None else f"column {k}"
-        more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+        k, column, more = _first_bad_column(bad, labels)
         raise ValueError(
             f"`{name}`: {column}{more} varies over only {float(spread[k]):.3g}, below "
             f"{SQUARE_FLOOR:.3g}, where {consequence}; rescale the data (e.g. convert it "
@@ -811,9 +820,7 @@ def check_square_range(
         peak = np.maximum(peak, block.max(axis=0))  # NaN propagates: refused below
     bad = np.flatnonzero(~(peak <= limit))
     if bad.size:
-        k = int(bad[0])
-        column = f"mode {labels[k]}" if labels is not None else f"column {k}"
-        more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+        k, column, more = _first_bad_column(bad, labels)
         raise ValueError(
             f"`{name}`: {column}{more} reaches {float(peak[k]):.3g}, beyond {limit:.3g}, "
             "where its sums of squares overflow float64; rescale the data (e.g. convert "
