@@ -9,9 +9,10 @@ rule (``information/convergence.py``, the four quarter estimates of a tied pair)
 ``catch_warnings``: a histogram MI of a tied pair in one thread and conditional-MI
 intervals in another left ``ignore Warning`` and ``ignore BiasRuleWarning`` installed
 for good (every later warning of the process lost), ``ordering_stability`` left
-``ignore OrderingCostWarning``. Checked here without timing: while each block runs, its
-thread holds the lock (another thread cannot take it), and a block of another thread
-started meanwhile leaves the filters as they were.
+``ignore OrderingCostWarning``. Checked here without timing: while the quarters run, their
+thread holds the lock (another thread cannot take it); ``ordering_stability`` now changes
+no filter at all (a thread-local flag silences its own orderings' cost check, and
+another thread's check still warns).
 """
 
 import threading
@@ -57,21 +58,35 @@ def test_convergence_quarters_hold_the_warnings_lock():
     assert list(warnings.filters) == before
 
 
-def test_ordering_stability_holds_the_warnings_lock(monkeypatch):
+def test_ordering_stability_changes_no_filter_and_silences_only_its_thread(monkeypatch):
     from modalinfo.bases import Pupil, ZernikeBasis
+    from modalinfo.ordering import cost
 
     rng = np.random.default_rng(1)
     coeffs = rng.standard_normal((1200, 6)) * np.linspace(1.0, 0.2, 6)
     basis = ZernikeBasis(Pupil(16), range(2, 8))
+    before = list(warnings.filters)
     seen = []
     real = stability._orders
 
+    def note(caught):
+        # an hour's estimate: OrderingCostWarning unless the thread's run is judged
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("always")
+            cost.check_ordering_seconds(3000.0, "x is estimated at 3000 s", "y", None)
+        caught.append(len(got))
+
     def spy(*args, **kwargs):
-        seen.append(_lock_free_elsewhere())
+        seen.append(list(warnings.filters) == before)  # no temporary process-wide filter
+        here, other = [], []
+        note(here)
+        t = threading.Thread(target=note, args=(other,))
+        t.start()
+        t.join(30)
+        seen.append((here, other))
         return real(*args, **kwargs)
 
     monkeypatch.setattr(stability, "_orders", spy)
-    before = list(warnings.filters)
     stability.ordering_stability(coeffs, basis, "variance", window=400)
-    assert seen == [False]
+    assert seen == [True, ([0], [1])]
     assert list(warnings.filters) == before
