@@ -10,7 +10,12 @@ from scipy import fft as _fft
 from scipy import stats as _scipy_stats
 
 from modalinfo.common.scaling import rescale_power_of_two
-from modalinfo.common.validation import as_float_array, check_int
+from modalinfo.common.validation import (
+    as_float_array,
+    check_int,
+    check_square_floor,
+    check_square_range,
+)
 
 __all__ = [
     "LevelStepWarning",
@@ -62,10 +67,19 @@ def sample_autocovariance(x: np.ndarray, n_lags: int) -> np.ndarray:
     ------
     TypeError, ValueError
         If ``x`` is not a finite real 1-D series with a sample, or ``n_lags`` is not an
-        int >= 0 (a list raised AttributeError, a (T, M) array was read as one series).
+        int >= 0 (a list raised AttributeError, a (T, M) array was read as one series),
+        or ``x`` reaches where its products overflow float64 (about 1e150 / sqrt(T)) or
+        varies over less than ``SQUARE_FLOOR`` (6.7e-139), where they underflow.
     """
     x = as_float_array(x, "x", ndim=1, min_length=1)
     n_lags = check_int(n_lags, "n_lags", minimum=0)
+    # sums of n products: beyond sqrt(max / 4n) they overflowed (inf, NaN and numpy's
+    # RuntimeWarnings at 1e160), below SQUARE_FLOOR they lost digits in subnormals (1e-5
+    # at 1e-160); round 40 PART a, L06, L31. The package's callers rescale first.
+    check_square_range(x, "x", n_terms=x.shape[0])
+    check_square_floor(x, "x", consequence=(
+        "its products underflow float64 (the autocovariances would lose digits or read "
+        "0)"), task="this analysis")
     xc = x - x.mean()
     n = xc.size
     # zero-padding to >= 2n makes the circular correlation of the FFT a linear one

@@ -26,7 +26,12 @@ from modalinfo.bases.turbulence import (
 from modalinfo.bases.zernike import ZernikeBasis, _parse_modes, check_zernike_sampling
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.records import float_digest
-from modalinfo.common.validation import as_float_array, check_int
+from modalinfo.common.validation import (
+    as_float_array,
+    check_int,
+    check_square_floor,
+    check_square_range,
+)
 
 __all__ = ["KLBasis", "default_zernike_modes"]
 
@@ -382,6 +387,14 @@ class KLBasis(ModalBasis):
             )
         if not isinstance(center, bool | np.bool_):
             raise TypeError(f"`center` must be a bool; got {center!r}.")
+        # the mean-square matrix sums T products per entry: beyond sqrt(max / 4T) it
+        # overflowed (LinAlgError "Eigenvalues did not converge" at 1e160), below
+        # SQUARE_FLOOR its subnormal products lost digits of the modes (2e-3 at 1e-160;
+        # round 40 PART a, L08, L30)
+        check_square_range(a, "coeffs", n_terms=a.shape[0])
+        check_square_floor(a, "coeffs", consequence=(
+            "the products behind the K-L covariance underflow float64 (the modes and "
+            "variances would lose digits)"), task="building the K-L basis")
         n_keep = a.shape[1] if n_modes is None else check_int(
             n_modes, "n_modes", minimum=1, maximum=a.shape[1])
         rank = a.shape[0] - 1 if center else a.shape[0]

@@ -28,6 +28,7 @@ __all__ = [
     "check_rng",
     "seed_record",
     "check_square_range",
+    "check_square_floor",
     "SQUARE_FLOOR",
     "did_you_mean",
     "log_rate_problem",
@@ -729,6 +730,73 @@ def seed_record(seed: Any) -> int | None:
 SQUARE_FLOOR = float(np.sqrt(np.finfo(np.float64).tiny) / np.finfo(np.float64).eps)
 
 
+def _first_bad_column(bad: np.ndarray, labels) -> tuple[int, str, str]:
+    """Return the first refused column's index, name and ``" (and N more)"``.
+
+    The name is ``mode Z4`` with labels, else ``column 3``: the square-range refusals'.
+    """
+    k = int(bad[0])
+    column = f"mode {labels[k]}" if labels is not None else f"column {k}"
+    more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+    return k, column, more
+
+
+def check_square_floor(
+    data, name: str, labels=None, *,
+    consequence: str = ("squared forecast errors underflow float64 (RMSEs and fits would "
+                        "come out as 0 or singular)"),
+    task: str = "forecasting",
+) -> None:
+    """Refuse varying columns too small for their squares to be represented.
+
+    The counterpart of :func:`check_square_range` at the bottom of float64: a column that
+    varies (its range above ``1e-12`` of its largest magnitude, the rule of
+    ``Predictor._constant_columns``) over less than :data:`SQUARE_FLOOR` is refused.
+    Constant columns (a zeroed mode) are accepted. The forecasts' check (its default
+    wording) and the data K-L's and the autocovariance's (round 40 PART a, L30, L31:
+    their squares at 1e-160 lost 2e-3 and 1e-5 of the modes and values, silently).
+
+    Parameters
+    ----------
+    data : numpy.ndarray or row-sliceable, shape (T, M) or (T,)
+        Finite values (read in blocks of rows, so a memory map stays on disk).
+    name : str
+        Argument name used in the message.
+    labels : sequence of str, optional
+        Column labels used in the message; default ``column k``.
+    consequence, task : str
+        What underflows and what would come out, and the analysis refused, for the
+        message.
+
+    Raises
+    ------
+    ValueError
+        Naming the column, its range and the floor.
+    """
+    n_rows = data.shape[0]
+    if n_rows == 0:
+        return
+    lo = hi = peak = None
+    for start in range(0, n_rows, 65536):
+        block = np.asarray(data[start : start + 65536], dtype=np.float64)
+        block = block.reshape(block.shape[0], -1)
+        b_lo, b_hi = block.min(axis=0), block.max(axis=0)
+        b_peak = np.abs(block).max(axis=0)
+        lo = b_lo if lo is None else np.minimum(lo, b_lo)
+        hi = b_hi if hi is None else np.maximum(hi, b_hi)
+        peak = b_peak if peak is None else np.maximum(peak, b_peak)
+    with np.errstate(over="ignore", invalid="ignore"):
+        spread = hi - lo
+        bad = np.flatnonzero((spread > 1e-12 * peak) & (spread < SQUARE_FLOOR))
+    if bad.size:
+        k, column, more = _first_bad_column(bad, labels)
+        raise ValueError(
+            f"`{name}`: {column}{more} varies over only {float(spread[k]):.3g}, below "
+            f"{SQUARE_FLOOR:.3g}, where {consequence}; rescale the data (e.g. convert it "
+            f"to smaller units such as nm) before {task}."
+        )
+
+
 def check_square_range(
     data: np.ndarray, name: str, labels=None, *, n_terms: int | None = None
 ) -> None:
@@ -768,9 +836,7 @@ def check_square_range(
         peak = np.maximum(peak, block.max(axis=0))  # NaN propagates: refused below
     bad = np.flatnonzero(~(peak <= limit))
     if bad.size:
-        k = int(bad[0])
-        column = f"mode {labels[k]}" if labels is not None else f"column {k}"
-        more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
+        k, column, more = _first_bad_column(bad, labels)
         raise ValueError(
             f"`{name}`: {column}{more} reaches {float(peak[k]):.3g}, beyond {limit:.3g}, "
             "where its sums of squares overflow float64; rescale the data (e.g. convert "

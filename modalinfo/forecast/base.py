@@ -59,6 +59,7 @@ from modalinfo.common.validation import (
     check_int,
     check_memory,
     check_real_dtype,
+    check_square_floor,
     check_square_range,
     unmasked,
 )
@@ -72,55 +73,8 @@ __all__ = ["Predictor", "NotFittedError"]
 #: least-squares normal equations underflow to subnormals or 0 (an RMSE of 0 on 1e-300
 #: data, a singular fit). IEEE 754 binary64 limits, numpy.finfo(float64).
 SQUARE_FLOOR = _SQUARE_FLOOR  # defined in common.validation (fitting_error uses it too)
-
-
-def check_square_floor(data, name: str, labels=None) -> None:
-    """Refuse varying columns too small for their squared errors to be represented.
-
-    The counterpart of :func:`modalinfo.common.validation.check_square_range` at the
-    bottom of float64: a column that varies (its range above ``1e-12`` of its largest
-    magnitude, the rule of :meth:`Predictor._constant_columns`) over less than
-    :data:`SQUARE_FLOOR` is refused. Constant columns (a zeroed mode) are accepted.
-
-    Parameters
-    ----------
-    data : numpy.ndarray or row-sliceable, shape (T, M)
-        Finite values (read in blocks of rows, so a memory map stays on disk).
-    name : str
-        Argument name used in the message.
-    labels : sequence of str, optional
-        Column labels used in the message; default ``column k``.
-
-    Raises
-    ------
-    ValueError
-        Naming the column, its range and the floor.
-    """
-    n_rows = data.shape[0]
-    if n_rows == 0:
-        return
-    lo = hi = peak = None
-    for start in range(0, n_rows, 65536):
-        block = np.asarray(data[start : start + 65536], dtype=np.float64)
-        block = block.reshape(block.shape[0], -1)
-        b_lo, b_hi = block.min(axis=0), block.max(axis=0)
-        b_peak = np.abs(block).max(axis=0)
-        lo = b_lo if lo is None else np.minimum(lo, b_lo)
-        hi = b_hi if hi is None else np.maximum(hi, b_hi)
-        peak = b_peak if peak is None else np.maximum(peak, b_peak)
-    with np.errstate(over="ignore", invalid="ignore"):
-        spread = hi - lo
-        bad = np.flatnonzero((spread > 1e-12 * peak) & (spread < SQUARE_FLOOR))
-    if bad.size:
-        k = int(bad[0])
-        column = f"mode {labels[k]}" if labels is not None else f"column {k}"
-        more = f" (and {bad.size - 1} more)" if bad.size > 1 else ""
-        raise ValueError(
-            f"`{name}`: {column}{more} varies over only {float(spread[k]):.3g}, below "
-            f"{SQUARE_FLOOR:.3g}, where squared forecast errors underflow float64 (RMSEs "
-            "and fits would come out as 0 or singular); rescale the data (e.g. convert it "
-            "to smaller units such as nm) before forecasting."
-        )
+# check_square_floor (imported above, used by evaluate too) lives in common.validation:
+# the data K-L and the autocovariance refuse with it as well (round 40 PART a)
 
 
 class NotFittedError(ValueError, AttributeError):

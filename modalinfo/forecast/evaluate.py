@@ -730,7 +730,12 @@ def _as_predictors(predictors) -> dict[str, Predictor]:
         items = list(predictors.items())
     elif isinstance(predictors, Iterable) and not isinstance(predictors, str | bytes):
         items = []
-        for p in predictors:
+        for i, p in enumerate(predictors):
+            if not isinstance(p, Predictor):
+                # by position: a key made of the type's name read "`predictors['str']`"
+                # for ["linear-ls"] (round 40 PART a, E01)
+                raise TypeError(f"`predictors[{i}]` must be a Predictor; got "
+                                f"{type(p).__name__} {p!r}" + _preset_hint(p) + ".")
             base = type(p).__name__.removesuffix("Predictor").lower() or "predictor"
             name, k = base, 2
             while name in {n for n, _ in items}:
@@ -743,9 +748,18 @@ def _as_predictors(predictors) -> dict[str, Predictor]:
     for name, p in items:
         if not isinstance(p, Predictor):
             raise TypeError(f"`predictors[{name!r}]` must be a Predictor; got "
-                            f"{type(p).__name__}.")
+                            f"{type(p).__name__}" + _preset_hint(p) + ".")
         out[str(name)] = p
     return out
+
+
+def _preset_hint(value) -> str:
+    """``" (a preset name: use make_predictor('x'))"`` for a preset's name, else ``""``."""
+    from modalinfo.forecast.presets import PRESETS
+
+    if isinstance(value, str) and value in PRESETS:
+        return f" (a preset name: use make_predictor({value!r}))"
+    return ""
 
 
 def _refuse_idle_refits(pred: Predictor, last_origin: int, n_frames: int,

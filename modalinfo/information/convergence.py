@@ -115,7 +115,7 @@ from collections.abc import Callable
 import numpy as np
 
 from modalinfo._stats import lag1_autocorrelation as _lag1
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, catching_warnings
 from modalinfo.information.discrete import mi_from_counts
 from modalinfo.information.methods import BiasRuleWarning
 
@@ -352,7 +352,10 @@ def convergence_rule(estimate: Callable[[np.ndarray, np.ndarray], float], x: np.
     if not CONVERGENCE_MIN_SAMPLES <= n <= CONVERGENCE_MAX_SAMPLES:
         return None
     quarters = []
-    with warnings.catch_warnings():
+    # the package's lock (``catching_warnings``): a bare ``warnings.catch_warnings`` here
+    # interleaved with another thread's block and left ``ignore Warning`` installed for
+    # good, silencing every later warning of the process (round 40 PART a, T23)
+    with catching_warnings():
         warnings.simplefilter("ignore")  # the quarters' own rules are not the caller's
         for idx in _quarters(n):
             try:

@@ -437,25 +437,49 @@ def _check_given(bases: dict, name: str, log: Any, n_pixels: int | None) -> None
                 "(it is another log's K-L); pass a new dict (or bases=None) for each log.")
 
 
-def parse_specs(text: str | list[str]) -> list[tuple[str, str]]:
-    """Parse ``"zernike:standard,kl-theory:mi_greedy"`` into (basis, method) pairs."""
-    items = text.split(",") if isinstance(text, str) else list(text)
+def parse_specs(text: str | list, name: str = "orderings") -> list[tuple[str, str]]:
+    """Parse ``"zernike:standard,kl-theory:mi_greedy"`` into (basis, method) pairs.
+
+    ``text`` is that string, or a list of ``"basis:method"`` strings and / or
+    ``(basis, method)`` pairs; ``name`` is the argument named by the refusals
+    (``orderings`` for the command line's option, ``specs`` for
+    :func:`compare_orderings`: a list of strings was unpacked character-wise there,
+    "too many values to unpack", and the refusals named the command line's option;
+    round 40 PART a, G04, G06, G09, G10).
+    """
+    if isinstance(text, str):
+        items = text.split(",")
+    elif isinstance(text, list | tuple):
+        items = list(text)
+    else:
+        raise TypeError(f"`{name}` must be a 'basis:method,...' string or a list of "
+                        f"'basis:method' strings or (basis, method) pairs; got "
+                        f"{type(text).__name__}.")
     specs = []
     for item in items:
-        item = item.strip()
-        if not item:
-            continue
-        if item.count(":") != 1:
-            raise ValueError(
-                f"`orderings` entries must look like basis:method (e.g. zernike:mi_greedy); "
-                f"got {item!r}."
-            )
-        basis, method = (s.strip() for s in item.split(":"))
-        check_choice(basis, "orderings basis", BASES)
-        check_choice(method, "orderings method", METHODS)
+        if isinstance(item, list | tuple):
+            if len(item) != 2 or not all(isinstance(v, str) for v in item):
+                raise ValueError(f"`{name}` pairs must be (basis, method) strings (e.g. "
+                                 f"('zernike', 'mi_greedy')); got {item!r}.")
+            basis, method = (v.strip() for v in item)
+        elif isinstance(item, str):
+            item = item.strip()
+            if not item:
+                continue
+            if item.count(":") != 1:
+                raise ValueError(
+                    f"`{name}` entries must look like basis:method (e.g. "
+                    f"zernike:mi_greedy); got {item!r}."
+                )
+            basis, method = (v.strip() for v in item.split(":"))
+        else:
+            raise TypeError(f"`{name}` entries must be 'basis:method' strings or "
+                            f"(basis, method) pairs; got {type(item).__name__}.")
+        check_choice(basis, f"{name} basis", BASES)
+        check_choice(method, f"{name} method", METHODS)
         specs.append((basis, method))
     if not specs:
-        raise ValueError(f"`orderings` must name at least one basis:method; got {text!r}.")
+        raise ValueError(f"`{name}` must name at least one basis:method; got {text!r}.")
     return specs
 
 
@@ -558,7 +582,8 @@ def compare_orderings(
     log : ModalLog
         The log.
     specs : str or list
-        ``"basis:method,..."`` or a list of (basis, method) pairs.
+        ``"basis:method,..."``, or a list of ``"basis:method"`` strings and / or
+        (basis, method) pairs.
     frame : int, optional
         Compare one frame: MI and variance orderings are computed on that frame alone
         (the paper's per-frame figure); ``"pca"`` stays the whole log's PCA order.
@@ -588,7 +613,7 @@ def compare_orderings(
     -------
     Comparison
     """
-    pairs = parse_specs(specs) if isinstance(specs, str) else [tuple(p) for p in specs]
+    pairs = parse_specs(specs, "specs")
     bases = {} if bases is None else bases
     stated = None if n_pixels is None else check_int(n_pixels, "n_pixels", minimum=4)
     n_pixels = _DEFAULT_PIXELS if n_pixels is None else stated

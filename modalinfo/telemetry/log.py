@@ -851,6 +851,7 @@ class ModalLog:
         if factor == 1.0:
             data = self._coeffs
         else:
+            _check_converted_range(self._coeffs, factor, self._units, units)
             data = np.multiply(self._coeffs, self._coeffs.dtype.type(factor))
             data.flags.writeable = False
         new = self._derive(_coeffs=data, _units=units, _wavelength=lam)
@@ -990,3 +991,26 @@ class ModalLog:
         """
         n_frames = check_int(n_frames, "n_frames", minimum=1)
         return row_blocks(self._coeffs, n_frames)
+
+
+def _check_converted_range(coeffs: np.ndarray, factor: float, old: str, new: str) -> None:
+    """Refuse a unit conversion whose product leaves the coefficients' float range.
+
+    ``to_units`` multiplies by ``factor`` in the log's own dtype; a log of 1e307 rad came
+    back as a log of inf nm with only numpy's overflow RuntimeWarning (a float32 log
+    from 4.3e36 rad), a log the constructor would have refused (round 40 PART a, L11).
+    """
+    if coeffs.size == 0:
+        return
+    top = float(np.finfo(coeffs.dtype).max)
+    peak = 0.0
+    for start in range(0, coeffs.shape[0], 65536):  # a memory map stays on disk
+        block = coeffs[start : start + 65536]
+        if block.size:
+            peak = max(peak, float(np.max(np.abs(block))))
+    if peak * factor > top:
+        raise ValueError(
+            f"`units`: converting from {old!r} to {new!r} multiplies by {factor:.4g}, and "
+            f"the largest coefficient, {peak:.3g} {old}, would exceed the {coeffs.dtype} "
+            f"range ({top:.3g}); the values are not a wavefront in {old} (check the "
+            "log's units or its scale).")
