@@ -9,12 +9,11 @@ accuracy of every method on a bivariate VAR(1): :mod:`modalinfo.information.cond
 
 from __future__ import annotations
 
-import warnings
 from typing import Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.validation import as_float_array, check_aligned, check_int
 from modalinfo.information.api import (
     DEFAULT_METHOD,
@@ -201,6 +200,6 @@ def _judge_lagged_mi(variables: tuple, history: int, lag: int) -> None:
         return
     why = effective_sample_rule(x[:, 0], y[:, 0])
     if why is not None:
-        warnings.warn(f"transfer_entropy with history=0 (the MI of `target` and `source` "
-                      f"{lag} sample(s) earlier): {why}.", BiasRuleWarning,
-                      stacklevel=caller_stacklevel())
+        warn(f"transfer_entropy with history=0 (the MI of `target` and `source` "
+             f"{lag} sample(s) earlier): {why}.", BiasRuleWarning,
+             stacklevel=caller_stacklevel())
