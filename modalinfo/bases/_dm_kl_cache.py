@@ -26,12 +26,13 @@ import hashlib
 import io
 import os
 import threading
-import warnings
 from collections import OrderedDict
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+
+from modalinfo.common.quiet import warn
 
 __all__ = ["CACHE_ENV", "MEMORY_ENTRIES", "VERSION", "cached_build", "build_key", "clear"]
 
@@ -110,9 +111,9 @@ def _write(path: Path, key: str, m2c: np.ndarray, var: np.ndarray) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write(path, write, overwrite=True)
     except OSError as exc:  # a cache that cannot be written only costs the rebuild
-        warnings.warn(f"the DM-space K-L cache could not write '{path}' ({exc}); "
-                      f"set {CACHE_ENV} to a writable directory or unset it.",
-                      RuntimeWarning, stacklevel=4)
+        warn(f"the DM-space K-L cache could not write '{path}' ({exc}); "
+             f"set {CACHE_ENV} to a writable directory or unset it.",
+             RuntimeWarning, stacklevel=4)
 
 
 def cached_build(key: str, build: Callable[[], tuple[np.ndarray, np.ndarray]]

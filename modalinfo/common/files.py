@@ -22,10 +22,11 @@ import signal
 import stat
 import tempfile
 import threading
-import warnings
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
+
+from modalinfo.common.quiet import warn
 
 __all__ = [
     "as_path",
@@ -66,10 +67,10 @@ def warn_spreadsheet_formulas(texts: Any, what: str) -> None:
         t[:1] in _FORMULA_START
         or (t.isdigit() and ((len(t) > 1 and t[0] == "0") or len(t) > 15)))]
     if bad:
-        warnings.warn(f"{what}: {len(bad)} text cell(s) a spreadsheet would not show as "
-                      f"written (first {bad[0]!r}): a formula start (= + - @), or digits "
-                      "with a leading zero or over 15 of them; pandas and the csv module "
-                      "read them back as written", UserWarning, stacklevel=3)
+        warn(f"{what}: {len(bad)} text cell(s) a spreadsheet would not show as "
+             f"written (first {bad[0]!r}): a formula start (= + - @), or digits "
+             "with a leading zero or over 15 of them; pandas and the csv module "
+             "read them back as written", UserWarning, stacklevel=3)
 
 
 def as_path(path: Any, name: str = "path") -> Path:

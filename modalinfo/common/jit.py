@@ -13,6 +13,8 @@ from __future__ import annotations
 import sys
 import warnings
 
+from modalinfo.common.quiet import warn
+
 with warnings.catch_warnings(record=True) as _caught:
     # numba warns (a RuntimeWarning holding a whole traceback, an exception under
     # PYTHONWARNINGS=error) when a NUMBA_* variable does not parse, e.g.
@@ -93,7 +95,7 @@ def _warn_no_cache(func) -> None:
         "NUMBA_CACHE_DIR to a writable folder (or the umask to 022) to keep them")
     frame = _caller_outside_packages()
     if frame is None:  # no caller outside the packages (not expected): the decorator's line
-        warnings.warn(message, stacklevel=4)
+        warn(message, stacklevel=4)
         return
     # shown at the caller's line (``import modalinfo.forecast`` in a script, or a user's own
     # ``@jit`` kernel), not at an ``@jit`` line inside the package (Leftovers 23-misc)

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import contextlib
 import shutil
-import warnings
 from collections.abc import Iterator
+
+from modalinfo.common.quiet import warn
 
 __all__ = ["drawable_rc", "rc_overrides"]
 
@@ -32,7 +33,7 @@ _WARNED: set[str] = set()
 def _warn_once(key: str, message: str) -> None:
     if key not in _WARNED:
         _WARNED.add(key)
-        warnings.warn(message, UserWarning, stacklevel=3)
+        warn(message, UserWarning, stacklevel=3)
 
 
 def _found(family: str) -> bool:

@@ -18,12 +18,11 @@ import dataclasses
 import functools
 import math
 import numbers
-import warnings
 from typing import Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 
 __all__ = ["array_fields_eq", "renamed_keyword", "same_value", "short_repr",
            "warn_deprecated_alias"]
@@ -42,9 +41,9 @@ def warn_deprecated_alias(old: str, new: str) -> None:
     old, new : str
         The deprecated and the current name (``"ForecastEvaluation.p_value"``).
     """
-    warnings.warn(f"{old} is deprecated: use {new} (one spelling of the p-value across "
-                  "the package, scipy.stats'); the alias will be removed",
-                  DeprecationWarning, stacklevel=caller_stacklevel())
+    warn(f"{old} is deprecated: use {new} (one spelling of the p-value across "
+         "the package, scipy.stats'); the alias will be removed",
+         DeprecationWarning, stacklevel=caller_stacklevel())
 
 
 def renamed_keyword(old: str, new: str):

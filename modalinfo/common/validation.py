@@ -109,13 +109,11 @@ def _plausibility_warning(body: str, cli_advice: str) -> None:
     ``cli_advice`` instead, which the command lines print
     (``modalinfo.common.startup.one_line_format``).
     """
-    import warnings
-
-    from modalinfo.common.quiet import caller_stacklevel
+    from modalinfo.common.quiet import caller_stacklevel, warn
 
     warning = UserWarning(f"{body} ({PYTHON_ADVICE}).")
     warning.cli_text = f"{body} ({cli_advice})."  # type: ignore[attr-defined]
-    warnings.warn(warning, stacklevel=caller_stacklevel())
+    warn(warning, stacklevel=caller_stacklevel())
 
 
 def check_rate(rate: Any, name: str = "rate", *, warn: bool = True) -> float:

@@ -82,7 +82,6 @@ representation (B&D 5.3), giving Gaussian prediction intervals.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -91,6 +90,7 @@ from scipy.signal import lfilter
 from scipy.stats import norm
 
 from modalinfo._stats import LevelStepWarning, level_steps, sample_autocovariance
+from modalinfo.common.quiet import warn
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import as_float_array, check_choice, check_int, check_real
 from modalinfo.forecast._kernels import (
@@ -660,7 +660,7 @@ class ARMAPredictor(_LinearRecursion):
             f"column {j}: sample {t.frame}, shift {t.shift:+.3g}, p = {t.p_value:.2g}, "
             f"fitted AR sum {float(np.sum(fits[j][3])):.3f}" for j, t in flagged[:3])
         more = f" and {len(flagged) - 3} more" if len(flagged) > 3 else ""
-        warnings.warn(
+        warn(
             f"ARMAPredictor.fit: the mean of {len(flagged)} mode(s) steps or drifts in the "
             f"training series ({shown}{more}; largest CUSUM excursion, EWC F test of the "
             "first cosine term, 1 % family-wise): the model is stationary about one mean, "

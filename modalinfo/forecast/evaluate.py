@@ -56,7 +56,6 @@ import io
 import json
 import math
 import numbers
-import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -68,6 +67,7 @@ from scipy.stats import t as student_t
 
 from modalinfo._stats import SHIFT_ALPHA, SHIFT_MIN_RATIO, ar_cosine_transfer
 from modalinfo.common.files import warn_spreadsheet_formulas
+from modalinfo.common.quiet import warn
 from modalinfo.common.records import (
     array_fields_eq,
     check_record_fields,
@@ -1256,7 +1256,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             if np.isnan(pval[i, j]):
                 untested.append(f"{name} at h = {int(h)} (~{n_eff:.2g} effective origins)")
     if untested:
-        warnings.warn(
+        warn(
             f"evaluate: no honest Diebold-Mariano test for {len(untested)} predictor-horizon "
             f"pair(s), pvalue NaN, not counted as beating the baseline: "
             f"{'; '.join(untested[:5])}{'; ...' if len(untested) > 5 else ''}. Their loss "
@@ -1273,8 +1273,8 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
                                            SHIFT_ALPHA)
     shifted_modes = tuple(lb for lb, s in zip(labels, shifted, strict=True) if s)
     if shifted_modes:
-        warnings.warn(f"evaluate: {_shift_text(labels, shift_ratio, shifted)}",
-                      UserWarning, stacklevel=2)
+        warn(f"evaluate: {_shift_text(labels, shift_ratio, shifted)}",
+             UserWarning, stacklevel=2)
     return ForecastEvaluation(
         names=names, horizons=hs, labels=labels, rate=rate, units=units, n_train=n_train,
         origins=origins, rmse=rmse, rmse_wavefront=rmse_wf, gain=gain, gain_wavefront=gain_wf,

@@ -13,14 +13,13 @@ from __future__ import annotations
 import copy
 import inspect
 import math
-import warnings
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice
 from modalinfo.information.convergence import effective_sample_rule, judge_pair_estimate
@@ -659,7 +658,7 @@ def judge_estimate(est: MutualInformation, x: np.ndarray, y: np.ndarray, value: 
         return
     pile = pile_why({"x": x, "y": y}, est.method)
     if pile is not None:  # issue 27: the other rules judge a continuum; one warning
-        warnings.warn(f"{who}: {pile}.", BiasRuleWarning, stacklevel=caller_stacklevel())
+        warn(f"{who}: {pile}.", BiasRuleWarning, stacklevel=caller_stacklevel())
         return
     if _warn_default_resolution(est, x, y, who):
         return  # before the regime rules: at this n they judge noise
@@ -687,8 +686,8 @@ def judge_estimate(est: MutualInformation, x: np.ndarray, y: np.ndarray, value: 
                         or _RESOLUTION_CHOSEN & set(est.options)))
     ceiling = None if warned else ceiling_problem(est, value, x, y)
     if ceiling is not None:  # the estimator's own cap, after the generic rules
-        warnings.warn(f"{who} with method={est.method!r}: {ceiling}.",
-                      BiasRuleWarning, stacklevel=caller_stacklevel())
+        warn(f"{who} with method={est.method!r}: {ceiling}.",
+             BiasRuleWarning, stacklevel=caller_stacklevel())
 
 
 def ceiling_problem(est: MutualInformation, value: float, x: np.ndarray,
@@ -1052,9 +1051,9 @@ def _warn_default_resolution(est: MutualInformation, x: np.ndarray, y: np.ndarra
     few = _default_resolution_why(est, x, y, est.options)
     if few is None:
         return False
-    warnings.warn(f"{what} with method={est.method!r}: {few}; the estimate is kept (more "
-                  "samples, or method='gaussian', which has no such rule)", BiasRuleWarning,
-                  stacklevel=caller_stacklevel())
+    warn(f"{what} with method={est.method!r}: {few}; the estimate is kept (more "
+         "samples, or method='gaussian', which has no such rule)", BiasRuleWarning,
+         stacklevel=caller_stacklevel())
     return True
 
 
@@ -1075,5 +1074,5 @@ def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) 
         return
     why = call_bias_rule(record, n, d, chosen)
     if why is not None:
-        warnings.warn(f"{what} with method={record.name!r}: {why}.", BiasRuleWarning,
-                      stacklevel=caller_stacklevel())
+        warn(f"{what} with method={record.name!r}: {why}.", BiasRuleWarning,
+             stacklevel=caller_stacklevel())

@@ -183,12 +183,12 @@ from __future__ import annotations
 
 import functools
 import inspect
-import warnings
 from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 
+from modalinfo.common.quiet import warn
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice, check_int
 from modalinfo.information.api import (
     _COPY_SCREEN,
@@ -652,25 +652,25 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         elif switch and (why := _kept_histogram_why(record, x.shape[0], options, x, y, z)):
             if fallback == "raise":
                 raise ValueError(f"{why}; use method='ksg' or more samples (fallback='raise').")
-            warnings.warn(f"{why}; returned anyway (use method='ksg' or more samples)",
-                          BiasRuleWarning, stacklevel=3)
+            warn(f"{why}; returned anyway (use method='ksg' or more samples)",
+                 BiasRuleWarning, stacklevel=3)
             why, judged = None, False
         elif judge and record.cmi is histogram_cmi and (
                 why := histogram_conditioning_rule(x, y, z, options)):
             if fallback == "raise":
                 raise ValueError(f"{why}; use method='ksg' or method='gaussian' "
                                  "(fallback='raise').")
-            warnings.warn(f"{why}; returned anyway (use method='ksg' or method='gaussian')",
-                          BiasRuleWarning, stacklevel=3)
+            warn(f"{why}; returned anyway (use method='ksg' or method='gaussian')",
+                 BiasRuleWarning, stacklevel=3)
             why, judged = None, False
         if why is not None:  # one policy for both rules (the fallback option)
             if fallback == "raise":
                 raise ValueError(f"{why}; {hint} (fallback='raise').")
             if fallback == "gaussian-copula":
-                warnings.warn(f"{why}; returning {instead}.", BiasRuleWarning, stacklevel=3)
+                warn(f"{why}; returning {instead}.", BiasRuleWarning, stacklevel=3)
                 return float(other()) * factor
-            warnings.warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
-                          stacklevel=3)
+            warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
+                 stacklevel=3)
             judged = False
         if judged and (pile := pile_why(cols := _columns(x, y, z), record.name,
                                                    tuple(k for k in cols if k[0] == "z"))):
@@ -678,7 +678,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             # the value kept (a switch to ksg or the Gaussian copula returned above)
             if fallback == "raise":
                 raise ValueError(f"{pile} (fallback='raise').")
-            warnings.warn(f"{pile}.", BiasRuleWarning, stacklevel=3)
+            warn(f"{pile}.", BiasRuleWarning, stacklevel=3)
             judged = False
         if plugin:  # read-only data, a checked answer (round 13, row cmi-reg-nan)
             value = check_plugin_value(fn(read_only(x), read_only(y), read_only(z), **options),
@@ -687,11 +687,11 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             value = float(fn(x, y, z, **options))
         if judge and fn is gaussian_cmi and options.get("copula", True) and (
                 lost := gaussian_scores_rule(x, y, z, value)):  # the transfer entropy
-            warnings.warn(f"{lost}.", BiasRuleWarning, stacklevel=3)
+            warn(f"{lost}.", BiasRuleWarning, stacklevel=3)
             judged = False
         if judged and (few := effective_sample_why(x, y, z)):  # fixes 40-a: the MI's rule
-            warnings.warn(f"{who} with method={record.name!r}: {few}.", BiasRuleWarning,
-                          stacklevel=3)
+            warn(f"{who} with method={record.name!r}: {few}.", BiasRuleWarning,
+                 stacklevel=3)
         return value * factor
 
     return estimate

@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.quiet import catching_warnings, warn
 from modalinfo.common.validation import (
     check_choice,
     check_memory,
@@ -185,7 +185,7 @@ def _cmi_block_ci(
                                    residual_split(ya, za, opts)[1],
                                    "conditional_mutual_information_ci")
         if why is not None:
-            warnings.warn(why, BlockBootstrapWarning, stacklevel=3)
+            warn(why, BlockBootstrapWarning, stacklevel=3)
     theta = est(xa, ya, za)
     idx = block_bootstrap_indices(n, b, n_resamples, rng)
     with catching_warnings():
@@ -214,7 +214,7 @@ def _cmi_block_ci(
                                  "conditional_mutual_information_ci",
                                  rate=HISTOGRAM_BIAS_RATE)
         if why is not None:
-            warnings.warn(why, BlockBootstrapWarning, stacklevel=3)
+            warn(why, BlockBootstrapWarning, stacklevel=3)
     return MIConfidenceResult(
         estimate=float(theta), low=float(theta - half), high=float(theta + half),
         confidence_level=confidence_level, block_length=int(b), n_resamples=n_resamples,
@@ -303,7 +303,7 @@ def conditional_mutual_information_test(
         # must be exchangeable (white) for the permutations to be a null
         why = shuffle_null_rule(x_resid, resid, "conditional_mutual_information_test")
         if why is not None:
-            warnings.warn(why, ShuffleNullWarning, stacklevel=2)
+            warn(why, ShuffleNullWarning, stacklevel=2)
         for i in range(n_surrogates):
             null[i] = est(xa, fit + resid[rng.permutation(n)], za)
     else:
@@ -316,7 +316,7 @@ def conditional_mutual_information_test(
                                          "conditional_mutual_information_test")
                or level_null_rule(x_resid, resid, "conditional_mutual_information_test"))
         if why is not None:
-            warnings.warn(why, RotationNullWarning, stacklevel=2)
+            warn(why, RotationNullWarning, stacklevel=2)
         shifts, shift0 = surrogate_shifts(n, n_surrogates, 0, spacing, rng)
         for i, s in enumerate(shifts):
             null[i] = est(xa, fit + np.roll(resid, int(s), axis=0), za)

@@ -103,13 +103,13 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.quiet import warn
 from modalinfo.common.records import array_fields_eq, check_record_fields
 from modalinfo.common.text import pad
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, unmasked
@@ -507,9 +507,9 @@ def _judge_map(series, lags, history, t0, te, method, options) -> None:
     failed, first = count_failures(effective_sample_why(x, y, z)
                                    for x, y, z in _largest_cells(series, lags, history, t0, te))
     if failed:
-        warnings.warn(f"transfer_entropy_map with method={method!r}: {failed} of "
-                      f"{series.shape[1]} target(s) fail the effective-sample rule on their "
-                      f"largest cell ({first})", BiasRuleWarning, stacklevel=3)
+        warn(f"transfer_entropy_map with method={method!r}: {failed} of "
+             f"{series.shape[1]} target(s) fail the effective-sample rule on their "
+             f"largest cell ({first})", BiasRuleWarning, stacklevel=3)
     elif get_method(method).cmi is histogram_cmi:
         _judge_histogram_map(series, lags, history, t0, te, options)
 
@@ -527,11 +527,11 @@ def _judge_histogram_map(series, lags, history, t0, te, options) -> None:
     failed, first = count_failures(histogram_conditioning_rule(x, y, z, options)
                                    for x, y, z in _largest_cells(series, lags, history, t0, te))
     if failed:
-        warnings.warn(f"transfer_entropy_map with method='histogram': {failed} of "
-                      f"{series.shape[1]} "
-                      f"target(s) fail the conditioning rule on their largest cell ({first}); "
-                      "the map keeps the histogram (use method='gaussian' or 'ksg')",
-                      BiasRuleWarning, stacklevel=3)
+        warn(f"transfer_entropy_map with method='histogram': {failed} of "
+             f"{series.shape[1]} "
+             f"target(s) fail the conditioning rule on their largest cell ({first}); "
+             "the map keeps the histogram (use method='gaussian' or 'ksg')",
+             BiasRuleWarning, stacklevel=3)
 
 
 #: Null values :func:`maxt_pvalues` compares with the statistics at once (a block of

@@ -105,13 +105,12 @@ sample's bin is searched among the edges of its bucket only.
 from __future__ import annotations
 
 import math
-import warnings
 from typing import Any
 
 import numpy as np
 from scipy.special import digamma, ndtr, ndtri, polygamma
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.validation import as_scalar, check_choice, check_int
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
@@ -629,7 +628,7 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
                     f"{se:.2g}; silent, the bias is below {WIDE_BINS_NATS:g} + 3.92 x "
                     "the standard error at 97.5 %)")
         if excess > allowed:
-            warnings.warn(
+            warn(
                 f"entropy with method='histogram': {k} equal-width bins over the range of x "
                 f"give {excess:.3g} nats more than {name}, above the rule "
                 f"{rule}: a heavy tail or far-apart "
@@ -988,8 +987,8 @@ def _warn_cells(n: int, cells: float, d: int, what: str) -> None:
     """
     why = _cells_rule(n, cells, d)
     if why is not None:
-        warnings.warn(f"{what} with method='histogram': {why}.", BiasRuleWarning,
-                      stacklevel=caller_stacklevel())
+        warn(f"{what} with method='histogram': {why}.", BiasRuleWarning,
+             stacklevel=caller_stacklevel())
 
 
 def _warn_coarse(x: np.ndarray, k: int, what: str) -> None:
@@ -1001,10 +1000,10 @@ def _warn_coarse(x: np.ndarray, k: int, what: str) -> None:
     for 0.223 and entropy 1.94 for 1.42, ``bins=2`` entropy 1.89 (audit 9).
     """
     if k < MIN_BINS and np.unique(x).size > k:
-        warnings.warn(f"{what} with method='histogram': {k} bin(s) per axis merge the "
-                      f"variable's values, below the rule of at least {MIN_BINS} bins per "
-                      "axis: the discretisation bias swamps the estimate.", BiasRuleWarning,
-                      stacklevel=caller_stacklevel())
+        warn(f"{what} with method='histogram': {k} bin(s) per axis merge the "
+             f"variable's values, below the rule of at least {MIN_BINS} bins per "
+             "axis: the discretisation bias swamps the estimate.", BiasRuleWarning,
+             stacklevel=caller_stacklevel())
 
 
 #: Largest share of a CMI that the equiprobable bins of the conditioning columns may lose

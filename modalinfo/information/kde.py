@@ -74,13 +74,13 @@ from __future__ import annotations
 
 import math
 import threading
-import warnings
 from typing import Any
 
 import numpy as np
 from scipy import fft as sfft
 from scipy.optimize import minimize_scalar
 
+from modalinfo.common.quiet import warn
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.information import _cmi_kernels as ckern
 from modalinfo.information import _kernels as kern
@@ -284,7 +284,7 @@ def _warn_oversmoothed(what: str, columns: dict[str, np.ndarray], h: float,
     for name, u in columns.items():
         drop = oversmoothing(u, h)
         if drop > OVERSMOOTH_NATS:
-            warnings.warn(
+            warn(
                 f"{what}: the kernel oversmooths {name} (its leave-one-out entropy falls "
                 f"by {drop:.3g} nats when the bandwidth {h:.3g} sd is divided by "
                 f"{OVERSMOOTH_DIVISOR:g}, above the rule {OVERSMOOTH_NATS:g}: a multimodal "

@@ -75,7 +75,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -84,6 +83,7 @@ from scipy import fft as sfft
 from scipy import stats
 
 from modalinfo.common.memory import free_memory_bytes
+from modalinfo.common.quiet import warn
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.text import pad
@@ -564,8 +564,8 @@ def _warn_piles(series: np.ndarray, labels: list[str], method: str, y: np.ndarra
     for j in range(series.shape[1]):
         why = pile_why({labels[j]: series[:, j]}, method)
         if why is not None:
-            warnings.warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
-                          stacklevel=3)
+            warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
+                 stacklevel=3)
             return
     if shared_pile_value(y) is None:
         return  # the target holds no value often enough to share a pile
@@ -573,8 +573,8 @@ def _warn_piles(series: np.ndarray, labels: list[str], method: str, y: np.ndarra
     for j in range(C.shape[1]):
         why = pile_why({name: y, _candidate_label(labels, cols, j): C[:, j]}, method)
         if why is not None:
-            warnings.warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
-                          stacklevel=3)
+            warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
+                 stacklevel=3)
             return
 
 
@@ -753,9 +753,9 @@ def _judge_gains(y: np.ndarray, C: np.ndarray, picked: list[int], method: str,
                                                         C[:, picked[:i]])
                                    for i, j in enumerate(picked))
     if failed:
-        warnings.warn(f"select_inputs with method={method!r}: {failed} of {len(picked)} "
-                      f"gains fail the effective-sample rule given the inputs before them "
-                      f"({first})", BiasRuleWarning, stacklevel=3)
+        warn(f"select_inputs with method={method!r}: {failed} of {len(picked)} "
+             f"gains fail the effective-sample rule given the inputs before them "
+             f"({first})", BiasRuleWarning, stacklevel=3)
     elif get_method(method).cmi is histogram_cmi:
         _judge_histogram_gains(y, C, picked, options)
 
@@ -775,10 +775,10 @@ def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
         histogram_conditioning_rule(target, C[:, j : j + 1], C[:, picked[:i]], options)
         for i, j in enumerate(picked[1:], start=1))
     if failed:
-        warnings.warn(f"select_inputs with method='histogram': {failed} of {len(picked)} "
-                      f"gains fail the conditioning rule given the inputs before them "
-                      f"({first}); the selection keeps the histogram (use method='gaussian' "
-                      "or 'ksg')", BiasRuleWarning, stacklevel=3)
+        warn(f"select_inputs with method='histogram': {failed} of {len(picked)} "
+             f"gains fail the conditioning rule given the inputs before them "
+             f"({first}); the selection keeps the histogram (use method='gaussian' "
+             "or 'ksg')", BiasRuleWarning, stacklevel=3)
 
 
 def select_inputs(

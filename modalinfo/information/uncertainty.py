@@ -71,7 +71,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.quiet import catching_warnings, warn
 from modalinfo.common.records import array_fields_eq, check_record_fields
 from modalinfo.common.validation import (
     as_float_array,
@@ -379,8 +379,8 @@ def mutual_information_ci(
                                                               "mutual_information_ci")):
         note = ceiling_problem(est, theta, x, y) or ""
     if note:
-        warnings.warn(f"mutual_information_ci with method={est.method!r}: {note}.",
-                      BiasRuleWarning, stacklevel=2)
+        warn(f"mutual_information_ci with method={est.method!r}: {note}.",
+             BiasRuleWarning, stacklevel=2)
     if interval == "bca":
         b = 1
         with catching_warnings(), np.errstate(divide="ignore", invalid="ignore"):
@@ -411,7 +411,7 @@ def mutual_information_ci(
             b = resolve_block_length(block_length, x, y)
             why = block_bootstrap_rule(x, y, "mutual_information_ci")
             if why is not None:
-                warnings.warn(why, BlockBootstrapWarning, stacklevel=2)
+                warn(why, BlockBootstrapWarning, stacklevel=2)
             idx = block_bootstrap_indices(n, b, n_resamples, rng)
         dist = np.array([est.estimate(x[i], y[i]) for i in idx])
         q_lo, q_hi = percentile_bounds(dist, confidence_level)
@@ -550,7 +550,7 @@ def mutual_information_permutation_test(
     if permutation == "shuffle":
         why = shuffle_null_rule(x, y, "mutual_information_permutation_test")
         if why is not None:
-            warnings.warn(why, ShuffleNullWarning, stacklevel=2)
+            warn(why, ShuffleNullWarning, stacklevel=2)
         for i in range(n_permutations):
             null[i] = est.score(y[rng.permutation(n)])
     else:
@@ -560,7 +560,7 @@ def mutual_information_permutation_test(
                or stationarity_null_rule(x, y, name)
                or level_null_rule(x, y, name))
         if why is not None:
-            warnings.warn(why, RotationNullWarning, stacklevel=2)
+            warn(why, RotationNullWarning, stacklevel=2)
         shifts, shift0 = surrogate_shifts(n, n_permutations, 0, spacing, rng,
                                           name="n_permutations")
         for i, s in enumerate(shifts):

@@ -44,13 +44,12 @@ guess silently nor refuse what the caller states. The rules, applied by
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import (
     COLUMN_RATIO,
@@ -234,7 +233,7 @@ def _content_doubt(coeffs, path: Path) -> dict | None:
             "Fortran put the frames on the first FITS / array axis); pass transpose=True "
             f"(--transpose) to read {n_cols} frames of {n_rows} modes, or transpose=False "
             "(--no-transpose) to keep this layout")
-    warnings.warn(text, LayoutWarning, stacklevel=caller_stacklevel())
+    warn(text, LayoutWarning, stacklevel=caller_stacklevel())
     return {"stored": "frames x modes (guessed)",
             "doubt": f"looks modes x frames: lag-1 {m1:.2f} from column to column, "
                      f"{m0:.2f} from row to row"}

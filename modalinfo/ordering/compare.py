@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import warnings
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.text import pad
 from modalinfo.common.validation import check_choice, check_int, check_real
 from modalinfo.ordering.fitting_error import FittingErrorResult, fitting_error
@@ -316,8 +315,8 @@ def _warn_kl_assumed(log: Any, outer_scale: float | None, diameter: float | None
         return
     if what.startswith("no pupil diameter"):
         what += "; diameter= gives it"
-    warnings.warn(f"basis 'kl-theory': the log records {what}.", KLGeometryWarning,
-                  stacklevel=caller_stacklevel())
+    warn(f"basis 'kl-theory': the log records {what}.", KLGeometryWarning,
+         stacklevel=caller_stacklevel())
 
 
 def _file_basis(log: Any) -> Any:

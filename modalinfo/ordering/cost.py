@@ -91,9 +91,9 @@ from __future__ import annotations
 import contextlib
 import math
 import threading
-import warnings
 from collections.abc import Iterator
 
+from modalinfo.common.quiet import warn
 from modalinfo.information.ksg import ksg_seconds_per_sample
 
 __all__ = ["CONTRIBUTION_BYTES", "GATHER_SECONDS_PER_ENTRY", "MAX_ORDERING_SECONDS",
@@ -285,4 +285,4 @@ def check_ordering_seconds(seconds: float, what: str, how: str, max_seconds: flo
     if max_seconds is not None and seconds > max_seconds:
         raise ValueError(f"{what}, more than `max_seconds`={max_seconds:g}; {how}, or raise "
                          "`max_seconds` (None: no limit).")
-    warnings.warn(f"{what}; {how}.", OrderingCostWarning, stacklevel=stacklevel + 1)
+    warn(f"{what}; {how}.", OrderingCostWarning, stacklevel=stacklevel + 1)

@@ -35,12 +35,12 @@ and exact, as before.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from modalinfo.common.quiet import warn
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
     SQUARE_FLOOR,
@@ -552,7 +552,7 @@ def _sampling_check(curve: np.ndarray, zero: float, mean_square: np.ndarray,
     own = _pupil_gram_error(obj, pupil, zmodes)
     if own > _SAMPLING_TOL:
         # the annulus's own share: converged, no grid removes it (round 37 PART a, S1-S8)
-        warnings.warn(PupilSamplingWarning(
+        warn(PupilSamplingWarning(
             f"fitting_error: the modes are not orthonormal on this pupil (obscuration "
             f"{float(pupil.obscuration):g}: max |gram - I| = {own:.2g} on the continuous "
             f"annulus, {dev:.2g} on its {n_pix} pixels), so method '{method}' gives this "
@@ -564,7 +564,7 @@ def _sampling_check(curve: np.ndarray, zero: float, mean_square: np.ndarray,
             suggested_pixels=0, pupil_deviation=own), stacklevel=3)
         return worst
     need, found = _finer_grid(obj, pupil, zmodes, dev)
-    warnings.warn(PupilSamplingWarning(
+    warn(PupilSamplingWarning(
         f"fitting_error: the basis sampled on the {n_pix}-pixel pupil is not orthonormal "
         f"(max |gram - I| = {dev:.2g}), so method '{method}' gives the sampled pupil's "
         f"fitting error of these continuous modes: {100 * first:+.1f} % at dPhi(0) and "

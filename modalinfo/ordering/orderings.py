@@ -98,12 +98,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from typing import Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.validation import check_choice, check_int, check_real, check_rng, seed_record
 from modalinfo.information.api import InfiniteMIError
 from modalinfo.information.discrete import PILE_BLIND_METHODS, pile_why
@@ -277,8 +276,8 @@ def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str,
             first, count = first or why, count + 1
     if first is not None:
         more = f" (and {count - 1} other variable(s))" if count > 1 else ""
-        warnings.warn(f"order_modes with estimator={estimator!r}{more}: {first}.",
-                      BiasRuleWarning, stacklevel=caller_stacklevel())
+        warn(f"order_modes with estimator={estimator!r}{more}: {first}.",
+             BiasRuleWarning, stacklevel=caller_stacklevel())
 
 
 def _draw_pairs(

@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
 from modalinfo.telemetry.checks import checked_intervals, timestamp_resolution
@@ -330,11 +330,9 @@ def warn_rate_change(s: Sampling, purpose: str) -> None:
     10-time: 2 kHz then 1980 Hz was forecast at "1 frame = 0.503 ms" without a word).
     """
     if s.rate_change and s.uniform:
-        import warnings
-
-        warnings.warn(f"{purpose} takes the frames as equally spaced, but "
-                      f"{s.describe_rate_change()}; times in seconds are right only to "
-                      "that fraction", UserWarning, stacklevel=caller_stacklevel())
+        warn(f"{purpose} takes the frames as equally spaced, but "
+             f"{s.describe_rate_change()}; times in seconds are right only to "
+             "that fraction", UserWarning, stacklevel=caller_stacklevel())
 
 
 def require_frames_kept(log, purpose: str) -> None:

@@ -1,4 +1,4 @@
-"""The MI convergence rule and ``ordering_stability`` catch warnings under the lock.
+"""The MI convergence rule and ``ordering_stability`` install no process-wide filter.
 
 Round 40 PART a, T23 / T25. Reference: Python's documented rule that
 ``warnings.catch_warnings`` is not thread-safe (it swaps the process-wide filter list and
@@ -9,10 +9,11 @@ rule (``information/convergence.py``, the four quarter estimates of a tied pair)
 ``catch_warnings``: a histogram MI of a tied pair in one thread and conditional-MI
 intervals in another left ``ignore Warning`` and ``ignore BiasRuleWarning`` installed
 for good (every later warning of the process lost), ``ordering_stability`` left
-``ignore OrderingCostWarning``. Checked here without timing: while the quarters run, their
-thread holds the lock (another thread cannot take it); ``ordering_stability`` now changes
-no filter at all (a thread-local flag silences its own orderings' cost check, and
-another thread's check still warns).
+``ignore OrderingCostWarning``. Checked here without timing: while the quarters run,
+no filter is installed and no lock held (round 40 T24: they run in ``quiet.quiet()``,
+a flag of their own thread; before T24 they held the lock); ``ordering_stability`` now
+changes no filter at all (a thread-local flag silences its own orderings' cost check,
+and another thread's check still warns).
 """
 
 import threading
@@ -41,21 +42,23 @@ def _lock_free_elsewhere() -> bool:
     return got[0]
 
 
-def test_convergence_quarters_hold_the_warnings_lock():
+def test_convergence_quarters_change_no_filter_and_take_no_lock():
+    """T23, then T24: the quarters now run in ``quiet()`` (a flag of their thread), with
+    no filter and no lock (tests/information/test_quiet_quarters_round40.py)."""
     rng = np.random.default_rng(0)
     n = convergence.CONVERGENCE_MIN_SAMPLES
     x = np.round(rng.standard_normal(n) * 2)
     y = np.round(x + rng.standard_normal(n) * 2)
     seen = []
+    before = list(warnings.filters)
 
     def estimate(xq, yq):
-        seen.append(_lock_free_elsewhere())
+        seen.append((_lock_free_elsewhere(), quiet.is_quiet(), list(warnings.filters) == before))
         return 0.1
 
-    before = list(warnings.filters)
     convergence.convergence_rule(estimate, x, y, 0.1)
-    assert seen and not any(seen)  # the quarters ran with the lock held
-    assert list(warnings.filters) == before
+    assert seen and all(s == (True, True, True) for s in seen)
+    assert list(warnings.filters) == before and not quiet.is_quiet()
 
 
 def test_ordering_stability_changes_no_filter_and_silences_only_its_thread(monkeypatch):
