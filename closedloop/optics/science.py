@@ -48,7 +48,7 @@ import numpy as np
 
 from closedloop.optics import _kernels
 from closedloop.optics.geometry import Geometry
-from modalinfo.common.validation import check_int
+from modalinfo.common.validation import as_float_array, check_int
 
 __all__ = ["ScienceCamera", "fft_strehl", "marechal_strehl", "read_weights"]
 
@@ -91,7 +91,8 @@ def marechal_strehl(variance) -> np.ndarray:
     The image's Strehl ratio only above ~0.3 (``closedloop.result.MARECHAL_MIN_SR``). A
     negative variance (an SR above 1) or NaN is refused.
     """
-    v = np.asarray(variance, dtype=np.float64)
+    # text is not a variance: '0.1' was parsed, 'abc' failed naming nothing (round 41 a)
+    v = as_float_array(variance, "variance", finite=False)
     if not np.all(v >= 0.0):  # also NaN: exp(+1) = 2.7 was returned as a Strehl ratio
         raise ValueError(f"`variance` must be >= 0 rad^2 (a variance); got min "
                          f"{float(np.min(v)) if v.size else v!r}.")

@@ -39,8 +39,10 @@ mutual_information` call after its estimate (the value is never changed; a
    single quarter 1.7 of it: up to 0.135 nats at n = 1e3). An estimate that rises by
    more than max(:data:`RISE_NATS`, :data:`RISE_SHARE` x estimate) = max(0.05, 5 %)
    still grows with the sample: the dependence is not resolved at this n and the value
-   is a lower bound (zigzag of 10 pieces at n = 5000: kde +0.13, histogram +0.19;
-   Poisson(30) counts and the same plus Poisson(2), kde: +0.14, 1.62 for 1.44). Judged
+   is a lower bound (zigzag of 10 pieces at n = 5000: kde +0.13, histogram +0.19),
+   except on a lattice, where the warning says it can exceed the MI (Poisson(30) counts
+   and the same plus Poisson(2), kde: +0.14, 1.62 for 1.44; a line at rate/4, 4 values,
+   histogram 1.62 and kde 1.51 for ln 4 = 1.386: round 41 PART a V13, V14). Judged
    from :data:`CONVERGENCE_MIN_SAMPLES` = 4000 samples (below, the quarters' own bias
    changes reach 0.145 nats on resolved laws: histogram, rho = 0.99, n = 1e3) to
    :data:`CONVERGENCE_MAX_SAMPLES` = 10^5 (above, its cost would pass a second per
@@ -311,6 +313,16 @@ def effective_sample_rule(x: np.ndarray, y: np.ndarray, given: str = "") -> str 
     n_eff, rx, ry = _effective(x, y)
     if n_eff >= MIN_EFFECTIVE_PAIRS or n_eff >= MAX_EFFECTIVE_SHARE * n:
         return None
+    if rx < 0.0 and ry < 0.0:
+        # both alternate frame to frame (a line at half the frame rate): not persistent,
+        # and differencing does not help (round 41 PART a V10, V11)
+        return (f"the pair{given} holds {n_eff:.1f} effective samples of its n = {n} "
+                f"(lag-1 autocorrelations {rx:.4f} and {ry:.4f}, n (1 - rx ry) / (1 + rx "
+                f"ry), Bartlett 1935), fewer than {MIN_EFFECTIVE_PAIRS:g}: both series "
+                "alternate in sign from frame to frame (a line at half the frame rate, a "
+                "sign flipped every frame), so each frame fixes the next; the value is not "
+                "an estimate of a continuous MI (a line at rate/2 takes two values: its MI "
+                "is at most ln 2)")
     return (f"the pair{given} holds {n_eff:.1f} effective samples of its n = {n} "
             f"(lag-1 autocorrelations {rx:.4f} and {ry:.4f}, each r + (1 + 3 r) / n, "
             "Marriott & Pope 1954; n (1 - rx ry) / (1 + rx ry), "
@@ -370,9 +382,11 @@ def convergence_rule(estimate: Callable[[np.ndarray, np.ndarray], float], x: np.
     return (f"the estimate rose by {rise:.3f} nats from n/4 = {n // 4} samples (mean of "
             f"{QUARTERS} disjoint quarters, {sub:.3f}) to n = {n} ({value:.3f}), more than the "
             f"{allowed:.3f} nats (max({RISE_NATS:g}, {RISE_SHARE:.0%} of the estimate)) a "
-            "resolved law's bias changes by: the dependence is not resolved at this n (a "
-            "curve or clusters narrower than the estimator's bins, kernel or neighbours, "
-            "or values on a lattice) and the value is a lower bound")
+            "resolved law's bias changes by: the dependence is not resolved at this n, and "
+            "the value is a lower bound where a curve or clusters are narrower than the "
+            "estimator's bins, kernel or neighbours; values on a lattice or a few distinct "
+            "values (a line at a quarter or half the frame rate) have no such bound: the "
+            "estimate can exceed their MI, at most ln(number of values)")
 
 
 def _ranks(order: np.ndarray) -> np.ndarray:

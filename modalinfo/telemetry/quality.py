@@ -222,7 +222,7 @@ import numpy as np
 
 from modalinfo._stats import (
     LEVEL_ALPHA,
-    MIN_SCALE_RATIO,  # noqa: F401 (documented here since round 11)
+    MIN_SCALE_RATIO,
     MIN_STATIONARITY_FRAMES,  # noqa: F401
     SCALE_CHANGE_ALPHA,
     STATIONARITY_BLOCKS,
@@ -1506,7 +1506,8 @@ def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
 
     ``sample`` (shape (ceil(T / step), M)): every ``step``-th frame; its absolute
     deviations from ``centre`` (the modes' medians) go to
-    ``modalinfo._stats.variance_steps`` at ``VARIANCE_ALPHA``; modes in
+    ``modalinfo._stats.variance_steps`` at ``VARIANCE_ALPHA``, and a step whose ratio is
+    within ``MIN_SCALE_RATIO`` either way is not reported; modes in
     ``skip`` (constant, or whose mean steps: reported as such) are not judged.
     """
     with np.errstate(invalid="ignore"):
@@ -1514,8 +1515,12 @@ def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
         np.abs(dev, out=dev)  # one T x M array, not two (left28-prov)
     dev, none = _fill_gaps(dev, skip)
     flagged, judged = variance_steps(dev, VARIANCE_ALPHA, none, deviations=True)
+    # a significant ratio within MIN_SCALE_RATIO either way is no change worth a note, as
+    # for the scale rule and spread_at_split: a noise-free line at rate/2 has deviations
+    # equal to round-off, and a 1e-16 wiggle read as a step (x1) (round 41 PART a V44)
     steps = tuple((labels[v.column], int(min(v.frame * step, n - 1)), float(v.ratio),
-                   float(v.p_value)) for v in flagged)
+                   float(v.p_value)) for v in flagged
+                  if v.ratio == 0.0 or max(v.ratio, 1.0 / v.ratio) > MIN_SCALE_RATIO)
     return steps, judged
 
 

@@ -151,7 +151,14 @@ class Layer:
         object.__setattr__(self, "wind_speed", check_wind_speed(self.wind_speed))
 
     def d_over_r0_at(self, diameter: float, wavelength: float) -> float:
-        """Return ``D / r0`` of this layer at ``wavelength`` [m] for a ``diameter`` [m] pupil."""
+        """Return ``D / r0`` of this layer at ``wavelength`` [m] for a ``diameter`` [m] pupil.
+
+        Both are checked as everywhere in this module (``check_telescope_diameter``,
+        ``check_wavelength``): 500 for 500 nm gave 1.3e-9, -8 m a negative ``D / r0``
+        (round 41 PART a).
+        """
+        diameter = check_telescope_diameter(diameter)
+        wavelength = check_wavelength(wavelength)
         scale = (wavelength / self.r0_wavelength) ** (6.0 / 5.0)
         if self.r0 is not None:
             return diameter / (self.r0 * scale)
