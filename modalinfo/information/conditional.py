@@ -211,7 +211,12 @@ from modalinfo.information.histogram import (
     histogram_resolution_rule,
 )
 from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
-from modalinfo.information.ksg import KSG_MAX_BALL, ksg_bias_rule, ksg_cmi
+from modalinfo.information.ksg import (
+    KSG_MAX_BALL,
+    ksg_bias_rule,
+    ksg_cmi,
+    ksg_temporal_why,
+)
 from modalinfo.information.methods import (
     CMI_METHODS,
     BiasRuleWarning,
@@ -568,8 +573,9 @@ def effective_sample_why(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> str | N
     target's persistence (rho = 0.99, history 1: TE of an independent AR(1) 0.99 source
     +0.006 nats, silent); a smooth target's past does not remove all of it (AR(2),
     double root 0.99, history 1: residual n_eff 20.0-37.5), and its KSG TE of that
-    source reads +0.30 nats for 0 there without this rule reaching it (docs/ADVERSARIAL.md,
-    "Fixes 40-a", Left).
+    source reads +0.31 nats for 0 there without this rule reaching it (docs/ADVERSARIAL.md,
+    "Fixes 40-a", Left): :func:`~modalinfo.information.ksg.ksg_temporal_why` judges
+    that case after this rule (fixes 40-b).
     """
     if z.shape[1]:
         x, y = residual_split(x, z, False)[1], residual_split(y, z, False)[1]
@@ -592,7 +598,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     with ``fallback="raise"``. Both (``switch`` or ``judge``) apply the effective-sample
     rule of :func:`~modalinfo.information.mutual_information` last, when no other rule
     spoke (:func:`effective_sample_why`; ``who``, or the call's ``who=``, names the
-    call in its message).
+    call in its message), then, for the KSG, the temporal-neighbour rule
+    (:func:`~modalinfo.information.ksg.ksg_temporal_why`, fixes 40-b).
     """
     record = get_method(method, needs="cmi")
     check_choice(units, "units", tuple(UNITS))
@@ -689,7 +696,9 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                 lost := gaussian_scores_rule(x, y, z, value)):  # the transfer entropy
             warn(f"{lost}.", BiasRuleWarning, stacklevel=3)
             judged = False
-        if judged and (few := effective_sample_why(x, y, z)):  # fixes 40-a: the MI's rule
+        if judged and ((few := effective_sample_why(x, y, z))  # fixes 40-a: the MI's rule
+                       or (fn is ksg_cmi and (few := ksg_temporal_why(  # fixes 40-b
+                           x, y, z, value, **options)))):  # ksg_cmi's options
             warn(f"{who} with method={record.name!r}: {few}.", BiasRuleWarning,
                  stacklevel=3)
         return value * factor
@@ -755,7 +764,11 @@ def conditional_mutual_information(x: Any, y: Any, z: Any = None, *,
         ``fallback="raise"``), naming the rule. Where no other rule spoke, where x's and
         y's least-squares residuals on z (x and y without z) hold fewer than 20 effective
         samples, the rule of :func:`~modalinfo.information.mutual_information`
-        (``conditional.effective_sample_why``, fixes 40-a; the value is kept). With
+        (``conditional.effective_sample_why``, fixes 40-a; the value is kept); else,
+        with the KSG (rows in time order), where the estimate drops by more than
+        max(0.05 nats, 10 %) when each row's neighbours within 5 rows are left out (a
+        Theiler window: the nearest neighbours were neighbours in time along a smooth
+        series; ``ksg.ksg_temporal_why``, fixes 40-b; the value is kept). With
         ``method`` "kde", "histogram" or "gaussian", where a column of x, y or z is
         piled on one value beside continuous values (the rule of
         :func:`mutual_information`, issue 27; the value is kept, ``fallback="raise"``
