@@ -10,6 +10,8 @@ only when bit-equal) escaped tests/ordering/test_cross_cpu_ties_golden40.py, who
 scores were all near 1 nat.
 """
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -18,14 +20,10 @@ from modalinfo.ordering import orderings
 pytestmark = pytest.mark.usefixtures("quiet_warnings")
 
 
-class _Sum:
-    """Score of a candidate: w . phi, with one unit row per mode (scores by hand)."""
-
-    def __init__(self, w):
-        self.w = np.asarray(w, dtype=float)
-
-    def score(self, phi):
-        return float(self.w @ phi)
+def _by_hand(w):
+    """A scorer whose score of a candidate phi (one unit row per mode) is w . phi."""
+    w = np.asarray(w, dtype=float)
+    return SimpleNamespace(score=lambda phi: float(w @ phi))
 
 
 @pytest.mark.parametrize("search", ["exhaustive", "screened"])
@@ -33,14 +31,14 @@ class _Sum:
 def test_small_scores_within_the_absolute_float_error_pick_the_lower_index(search, best):
     assert 1e-14 < 2.0**-40  # within the absolute tolerance of a score below 1 nat
     w = [best / 4, best, best + 1e-14, best / 8]
-    order, *_ = orderings._greedy(_Sum(w), np.eye(len(w)), search=search)
+    order, *_ = orderings._greedy(_by_hand(w), np.eye(len(w)), search=search)
     assert order[0] == 1
     assert orderings._lowest_tied(np.array([best, best + 1e-14]), best + 1e-14) == 0
 
 
 def test_small_scores_beyond_the_tolerance_are_not_a_tie():
     w = [2.5e-4, 1e-3, 1e-3 + 1e-9, 1.25e-4]  # 1e-9 nats: 1100 x 2^-40
-    order, *_ = orderings._greedy(_Sum(w), np.eye(len(w)))
+    order, *_ = orderings._greedy(_by_hand(w), np.eye(len(w)))
     assert order[0] == 2
 
 
