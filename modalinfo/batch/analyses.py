@@ -364,6 +364,11 @@ def log_columns(log: Any) -> dict:
     for key, column in _META_COLUMNS.items():
         if key in meta and column not in row:
             row[column] = _scalar(meta[key])
+    from modalinfo.telemetry.log import assumed_fields
+
+    _, assumed = assumed_fields(meta)
+    if assumed:  # what the file does not record, as the commands' note says it (round 41
+        row["assumed"] = assumed  # PART b, B02: a raw .npy's row said 'rad' as read)
     layout = meta.get("layout")
     if isinstance(layout, dict) and isinstance(layout.get("doubt"), str):
         # a layout read as stored whose content says modes x frames (left31-orient)
