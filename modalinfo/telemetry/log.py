@@ -694,6 +694,15 @@ class ModalLog:
                     f"index {item!r}.")
             else:
                 raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
+            ends = item.split("-") if isinstance(item, str) else []
+            if len(ends) == 2 and all(find_label(labels, e.strip()) is not None for e in ends):
+                # 'Z2-Z4' was "not a mode of this log; its modes are Z2..Z11" (round 41
+                # PART b, F08): both ends are
+                raise ValueError(
+                    f"`{name}` entry {item!r}: a range is read between mode indices "
+                    f"('2-4'), not labels; {ends[0].strip()} and {ends[1].strip()} are "
+                    "modes of this log: give their indices or list the labels "
+                    "('Z2,Z3,Z4').")
             raise ValueError(
                 f"`{name}` entry {item!r} is not a mode of this log; its modes are "
                 f"{mode_span(self._modes, self._convention, sep='..')} ({self._convention})."
