@@ -545,8 +545,11 @@ def _fitting_error(log: Any, p: dict) -> dict:
         comp = compare_orderings(log, specs, units=p["units"],
                                  estimator=p["estimator"], sample_budget=int(p["budget"]),
                                  seed=int(p["seed"]), n_pixels=int(p["pupil_pixels"]))
+    # the curves' unit beside them: the row's `units` is the log's, and n01's 0.0373
+    # (waves^2) read as rad^2 beside 'rad' (round 41 PART b, B03)
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes),
-                           "total_variance": float(comp.curve(comp.entries[0])[0]), **assumed}
+                           "total_variance": float(comp.curve(comp.entries[0])[0]),
+                           "error_units": str(p["units"]), **assumed}
     for e in comp.entries:
         # the sampled pupil's curve against the continuous modes' sum of squares (signed
         # relative, its largest over n; 0 for an orthonormal basis): fitting_error's
