@@ -1092,6 +1092,27 @@ class VarianceStep(NamedTuple):
     p_value: float
 
 
+def _split_lag1(y: np.ndarray) -> np.ndarray:
+    """Lag-1 autocorrelation of each column less its means on the two sides of its step.
+
+    The step at the column's largest CUSUM excursion (the least-squares single change
+    point of its level, as :func:`level_steps` places one); a column with no step loses
+    one spurious split, of order ``1 / T`` of its lag-1 autocorrelation. One column's
+    temporaries at a time (the quality pass's memory bound).
+    """
+    n, m = y.shape
+    r = np.zeros(m)
+    for j in range(m):
+        col = np.array(y[:, j], dtype=float)
+        if n >= 4:
+            col -= col.mean()
+            k = int(np.argmax(np.abs(np.cumsum(col[:-1])))) + 1  # first frame after it
+            col[:k] -= col[:k].mean()
+            col[k:] -= col[k:].mean()
+        r[j] = lag1_autocorrelations(col)[0]
+    return r
+
+
 def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
                    skip: np.ndarray | None = None, *,
                    deviations: bool = False) -> tuple[list[VarianceStep], int]:
@@ -1134,7 +1155,11 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
     y = x if deviations else np.abs(x - np.median(x, axis=0))
     n = y.shape[0]
     skip = np.zeros(y.shape[1], dtype=bool) if skip is None else np.array(skip, dtype=bool)
-    r = np.clip(lag1_autocorrelations(y), 0.0, 0.999)
+    # the persistence of y about its two levels at its largest CUSUM excursion: a step
+    # of the spread is itself persistent, and a large one pushed r to 1 and the column
+    # below the floor, unjudged (round 41 PART b: a 25 Hz line switched off mid-log,
+    # spread x0.30, not noted)
+    r = np.clip(_split_lag1(y), 0.0, 0.999)
     skip |= n * (1.0 - r) / (1.0 + r) < MIN_VARIANCE_EFFECTIVE
     flagged, judged = level_steps(y, alpha, skip)
     out = []

@@ -364,6 +364,11 @@ def log_columns(log: Any) -> dict:
     for key, column in _META_COLUMNS.items():
         if key in meta and column not in row:
             row[column] = _scalar(meta[key])
+    from modalinfo.telemetry.log import assumed_fields
+
+    _, assumed = assumed_fields(meta)
+    if assumed:  # what the file does not record, as the commands' note says it (round 41
+        row["assumed"] = assumed  # PART b, B02: a raw .npy's row said 'rad' as read)
     layout = meta.get("layout")
     if isinstance(layout, dict) and isinstance(layout.get("doubt"), str):
         # a layout read as stored whose content says modes x frames (left31-orient)
@@ -540,8 +545,11 @@ def _fitting_error(log: Any, p: dict) -> dict:
         comp = compare_orderings(log, specs, units=p["units"],
                                  estimator=p["estimator"], sample_budget=int(p["budget"]),
                                  seed=int(p["seed"]), n_pixels=int(p["pupil_pixels"]))
+    # the curves' unit beside them: the row's `units` is the log's, and n01's 0.0373
+    # (waves^2) read as rad^2 beside 'rad' (round 41 PART b, B03)
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes),
-                           "total_variance": float(comp.curve(comp.entries[0])[0]), **assumed}
+                           "total_variance": float(comp.curve(comp.entries[0])[0]),
+                           "error_units": str(p["units"]), **assumed}
     for e in comp.entries:
         # the sampled pupil's curve against the continuous modes' sum of squares (signed
         # relative, its largest over n; 0 for an orthonormal basis): fitting_error's

@@ -513,14 +513,12 @@ def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
 
 def input_notes(log, path: Path) -> list[str]:
     """One-line notes on what was assumed or reinterpreted while reading ``path``."""
+    from modalinfo.telemetry.log import assumed_fields
+
     meta = log.metadata
     notes = []
-    assumed = meta.get("assumed")
-    if isinstance(assumed, dict) and assumed:
-        keys = [k for k in ("units", "convention", "modes") if k in assumed]
-        if "modes" in keys and "convention" in keys:
-            keys.remove("convention")  # the modes text names the convention
-        what = ", ".join(f"{k} {assumed[k]}" for k in keys)
+    keys, what = assumed_fields(meta)
+    if keys:
         flags = ", ".join(_HINT_OF[k] for k in keys)
         notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
                      f"(state them with {flags})")

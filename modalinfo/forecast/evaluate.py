@@ -1254,13 +1254,21 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             dm[i, j], pval[i, j], _, n_eff = _dm_test(loss[i, j] - loss[base_idx[j], j],
                                                       int(h))
             if np.isnan(pval[i, j]):
-                untested.append(f"{name} at h = {int(h)} (~{n_eff:.2g} effective origins)")
+                # more "effective origins" than origins: a periodic differential, whose
+                # spectrum vanishes at 0, not a persistent one (round 41 PART b, F01:
+                # "~3.1e+06 effective origins ... too persistent for its 1998 origins")
+                untested.append(
+                    f"{name} at h = {int(h)} (~{n_eff:.2g} effective origins)"
+                    if not n_eff > n_o else
+                    f"{name} at h = {int(h)} (periodic: its spectrum falls to 0 at "
+                    "frequency 0)")
     if untested:
         warn(
             f"evaluate: no honest Diebold-Mariano test for {len(untested)} predictor-horizon "
             f"pair(s), pvalue NaN, not counted as beating the baseline: "
             f"{'; '.join(untested[:5])}{'; ...' if len(untested) > 5 else ''}. Their loss "
-            f"differential is too persistent for its {n_o} origins (AR(p) plug-in: its "
+            f"differential is too persistent (or periodic, as marked) for its {n_o} "
+            "origins (AR(p) plug-in: its "
             "spectrum may already fall by more than 2 % at the lowest frequency pi / N "
             "the test can use, allowing for the fit's own sampling error; or fewer than 3 "
             "origins); evaluate a longer log.", UserWarning,

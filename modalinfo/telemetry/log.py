@@ -81,6 +81,24 @@ _STORED_TIMES: contextvars.ContextVar[bool] = contextvars.ContextVar("_STORED_TI
                                                                      default=False)
 
 
+def assumed_fields(metadata: dict | None) -> tuple[list[str], str]:
+    """Return what a log's reader assumed: ``(keys, "units rad, modes Z2..Z51 (noll)")``.
+
+    ``metadata["assumed"]`` (set by ``modalinfo.io.load`` for what the file does not
+    record and no hint gave), in the order units, convention, modes; the convention is
+    left out when the modes are named (their text names it). ``([], "")`` when nothing
+    was assumed. The one wording of the commands' note and of ``batch``'s ``assumed``
+    column (round 41 PART b, B02).
+    """
+    assumed = (metadata or {}).get("assumed")
+    if not isinstance(assumed, dict) or not assumed:
+        return [], ""
+    keys = [k for k in ("units", "convention", "modes") if k in assumed]
+    if "modes" in keys and "convention" in keys:
+        keys.remove("convention")
+    return keys, ", ".join(f"{k} {assumed[k]}" for k in keys)
+
+
 @contextlib.contextmanager
 def stored_times() -> Iterator[None]:
     """Build logs without the warning on the rate their timestamps imply.
@@ -676,6 +694,15 @@ class ModalLog:
                     f"index {item!r}.")
             else:
                 raise TypeError(f"`{name}` entries must be mode indices or labels; got {item!r}.")
+            ends = item.split("-") if isinstance(item, str) else []
+            if len(ends) == 2 and all(find_label(labels, e.strip()) is not None for e in ends):
+                # 'Z2-Z4' was "not a mode of this log; its modes are Z2..Z11" (round 41
+                # PART b, F08): both ends are
+                raise ValueError(
+                    f"`{name}` entry {item!r}: a range is read between mode indices "
+                    f"('2-4'), not labels; {ends[0].strip()} and {ends[1].strip()} are "
+                    "modes of this log: give their indices or list the labels "
+                    "('Z2,Z3,Z4').")
             raise ValueError(
                 f"`{name}` entry {item!r} is not a mode of this log; its modes are "
                 f"{mode_span(self._modes, self._convention, sep='..')} ({self._convention})."

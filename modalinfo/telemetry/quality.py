@@ -1669,6 +1669,9 @@ PAIR_ALPHA = 1e-4
 #: Fewest frames the pair-order rule judges (8 pairs per batch).
 PAIR_MIN_FRAMES = 2 * 8 * PAIR_BATCHES + 1
 
+#: ``(-i)^t`` for ``t mod 4``: the demodulation at a quarter of the frame rate.
+_QUARTER = np.array([1.0, -1j, -1.0, 1j])
+
 _MASK64 = (1 << 64) - 1
 
 
@@ -1698,6 +1701,11 @@ class _PairOrder:
         # squared increments (x_{t+1} - x_t)^2 per mode, batch and parity of t: lag 1 at
         # one parity and lag 3 at the other in a swapped log (round 39 PART a, Q06)
         self.steps = np.zeros((2, PAIR_BATCHES, self.cols.size))
+        # per mode Hann-tapered sum of y_t (-i)^t: the line at a quarter of the frame
+        # rate, which makes the same parity pattern in frames written in order (round 41
+        # PART b)
+        self.quarter = np.zeros(self.cols.size, dtype=complex)
+        self.quarter_rows = 4 * (2 * self.pairs // 4)
         self.even = self.odd = self.power = 0.0
         self.prev: np.ndarray | None = None
 
@@ -1711,6 +1719,7 @@ class _PairOrder:
         even = (t % 2 == 0)[keep]
         batch = ((t // 2) * PAIR_BATCHES // max(self.pairs, 1))[keep]
         p = np.zeros(rows - 1)  # product t = i0 + index
+        rows_t = i0 + np.arange(max(0, min(rows, self.quarter_rows - i0)))
         first, last = np.empty(self.cols.size), np.empty(self.cols.size)
         for sl in _column_slices(self.cols.size):  # an eighth of the block at a time
             y = np.array(block[:, self.cols[sl]], dtype=np.float64)
@@ -1719,6 +1728,12 @@ class _PairOrder:
             y[~np.isfinite(y)] = 0.0  # a non-finite value adds no product
             self.power += float(np.einsum("tk,tk,k->", y, y, self.w[sl]))
             p += np.einsum("tk,tk,k->t", y[:-1], y[1:], self.w[sl])
+            # Hann-tapered, over whole periods of 4 frames within the products' (t < 4
+            # floor(2 K / 4)): a constant, the line's (-1)^t term and a slow wander then
+            # leave nothing (untapered, round 39 PART a's smooth open-loop log leaked
+            # its wander into C and was said swapped, p 7e-25)
+            taper = np.sin(np.pi * (rows_t + 0.5) / self.quarter_rows) ** 2
+            self.quarter[sl] += (_QUARTER[rows_t % 4] * taper) @ y[:rows_t.size]
             first[sl], last[sl] = y[0], y[-1]
             if self.prev is not None:
                 y = np.concatenate((self.prev[None, sl], y))
@@ -1778,10 +1793,38 @@ class _PairOrder:
         _, p = self._deciding_test()
         return r_even, r_odd, min(1.0, 2.0 * p)
 
+    def _quarter_line(self) -> tuple[float, float]:
+        """Return the parity pattern a line at a quarter of the frame rate makes, per pair.
+
+        A line ``A sin(pi t / 2 + phi)`` (period 4 frames, in order) has lag-1
+        products ``(A^2 / 2) (-1)^t sin(2 phi)`` and squared increments differing by
+        ``-2 A^2 sin(2 phi)`` between the parities: the pattern of pairs written in
+        reverse order (round 41 PART b: a 250 Hz tip line at 1 kHz, 0.05 rad against
+        0.2 rad of turbulence, was said swapped in 9 of 10 in-order logs). With ``C`` a
+        mode's Hann-weighted mean of ``y_t (-i)^t`` (``|C| = A / 2``, ``arg C = phi -
+        pi / 2``),
+        ``A^2 sin(2 phi) = -4 Im(C^2)``: returned are the offsets of the products'
+        and of the increments' batch means, subtracted before the tests. Noise leaves
+        ``C`` of order ``1 / sqrt(T)``, an offset of order ``1 / T`` (the taper keeps a
+        slow log's wander out of ``C``); a swapped log keeps its lag-1 against lag-3
+        difference.
+        """
+        n = max(self.quarter_rows / 2.0, 1.0)  # the sum of the Hann taper
+        line = -4.0 * np.imag((self.quarter / n) ** 2)  # A^2 sin(2 phi) per mode
+        products = float(line @ self.w)
+        total = self.steps.sum(axis=(0, 1))
+        live = total > 0.0
+        # each pair's even minus odd squared increment, -2 A^2 sin(2 phi), as a share
+        # of the mode's sum of squared increments (as _step_means normalises)
+        steps = float((-2.0 * line[live] / total[live]) @ self.w[live]) if live.any() \
+            else 0.0
+        return products, steps
+
     def _deciding_test(self) -> tuple[np.ndarray, float]:
         """``(batch means, p)`` of the two tests' more significant one (products on a tie)."""
-        products = self.sums / np.maximum(self.counts, 1.0)
-        steps = self._step_means()
+        line_products, line_steps = self._quarter_line()
+        products = self.sums / np.maximum(self.counts, 1.0) - line_products
+        steps = self._step_means() - line_steps
         p_products, p_steps = self._t_test(products), self._t_test(steps)
         return (steps, p_steps) if p_steps < p_products else (products, p_products)
 
