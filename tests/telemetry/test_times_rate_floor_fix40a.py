@@ -10,7 +10,6 @@ given as ``rate`` keeps the 1 Hz floor (slow guiders, seeing monitors). Referenc
 rate of the times by hand, 1 / (median interval).
 """
 
-import sys
 import warnings
 
 import numpy as np
@@ -18,6 +17,8 @@ import pytest
 
 from modalinfo.common.validation import CLI_TIMES_ADVICE
 from modalinfo.telemetry import ModalLog
+
+from ._cli_stderr import cli_stderr
 
 
 def _coeffs(n=200):
@@ -55,22 +56,13 @@ def test_given_rates_and_ao_times_keep_their_rules(build):
 
 
 def test_command_line_ms_time_column_warned_once_with_the_times_advice(tmp_path, capsys):
-    from modalinfo.cli import main
-
     t = np.arange(400) * 1.0  # 1 kHz written in ms
     x = _coeffs(400)
     rows = "".join(f"{tk!r},{a!r},{b!r},{c!r}\n" for tk, (a, b, c) in zip(t.tolist(), x.tolist(),
                                                                           strict=True))
     path = tmp_path / "ms.csv"
     path.write_text("time,Z2,Z3,Z4\n" + rows)
-    capsys.readouterr()
-    with warnings.catch_warnings():
-        warnings.simplefilter("always")
-        warnings.showwarning = lambda message, category, filename, lineno, file=None, \
-            line=None: sys.stderr.write(warnings.formatwarning(message, category, filename,
-                                                               lineno, line))
-        code = main(["info", str(path)])
-    lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    code, lines = cli_stderr(["info", path], capsys)
     assert code == 0 and len(lines) == 1, lines
     assert "frame rate of 1 Hz" in lines[0] and "timestamps / 1000 is 1e+03 Hz" in lines[0]
     assert lines[0].endswith(f"({CLI_TIMES_ADVICE}).")

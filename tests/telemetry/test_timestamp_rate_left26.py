@@ -15,7 +15,6 @@ rule ``"auto"`` gives the same MI as ``np.array("auto")`` (the one value of a 0-
 from __future__ import annotations
 
 import re
-import sys
 import warnings
 
 import numpy as np
@@ -30,6 +29,8 @@ from modalinfo.common.validation import (
 from modalinfo.information import mutual_information
 from modalinfo.io import load, save
 from modalinfo.telemetry import ModalLog
+
+from ._cli_stderr import cli_stderr
 
 # frame times: below 10 Hz since fixes 40-a (validation.TIMES_RATE_FLOOR; 1 Hz before)
 SLOW = r"`timestamps` give a frame rate of 0\.001 Hz \(median interval 1000 s\), below 10 Hz"
@@ -148,19 +149,7 @@ def test_own_file_times_read_as_stored(tmp_path, ext, fmt):
 
 
 # ------------------------------------------------------------------ the command line
-def _cli_stderr(argv, capsys) -> tuple[int, list[str]]:
-    from modalinfo.cli import main
-
-    capsys.readouterr()
-    with warnings.catch_warnings():
-        # as outside pytest (which records warnings, and the suite makes them errors):
-        # Python's default showwarning writes formatwarning's text to stderr
-        warnings.simplefilter("always")
-        warnings.showwarning = lambda message, category, filename, lineno, file=None, \
-            line=None: sys.stderr.write(warnings.formatwarning(message, category, filename,
-                                                               lineno, line))
-        code = main([str(a) for a in argv])
-    return code, [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+_cli_stderr = cli_stderr
 
 
 def test_command_line_slow_time_column_one_line_with_its_advice(tmp_path, capsys):
