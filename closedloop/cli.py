@@ -34,7 +34,7 @@ from modalinfo.common.cli import (
     folder_arg,
     written_summary,
 )
-from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.quiet import recording
 from modalinfo.common.text import pad
 
 __all__ = ["main"]
@@ -345,17 +345,11 @@ def _cmd_compare(args) -> int:
 
 def _load_result(args):
     """Load ``args.result``, verified; a file too old to carry checksums gets a note."""
-    import warnings
-
     from closedloop.result import SimulationResult, UncheckedResultWarning
 
-    with catching_warnings(record=True) as caught:
-        warnings.simplefilter("always", UncheckedResultWarning)
+    # this thread's only: anything else goes on as it would have (fixes 41-c)
+    with recording(UncheckedResultWarning) as unchecked:
         result = SimulationResult.load(args.result)
-    unchecked = [w for w in caught if issubclass(w.category, UncheckedResultWarning)]
-    for w in caught:
-        if w not in unchecked:  # anything else goes on as it would have
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if unchecked:
         notes = getattr(args, "_notes", None) or []
         notes.append(f"closedloop {args.command}: note: {unchecked[0].message}")

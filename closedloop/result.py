@@ -775,10 +775,9 @@ class SimulationResult:
             A format-1 or format-2 file (written before results carried checksums):
             loaded, its datasets unverified (its format-2 logs are verified).
         """
-        import warnings
-
         import h5py
 
+        from modalinfo.common.quiet import warn
         from modalinfo.io.hdf5 import read_log_group
 
         path = Path(path)
@@ -803,7 +802,7 @@ class SimulationResult:
             if version >= 3:
                 _verify(f, path)
             else:
-                warnings.warn(UncheckedResultWarning(
+                warn(UncheckedResultWarning(
                     f"{path}: a format-{version} closedloop result, written before results "
                     "carried checksums: its datasets are not verified (saving it again adds "
                     "them)"), stacklevel=2)

@@ -653,11 +653,11 @@ def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, el
 def _warn_held(controller: Controller, predictor: str, n_frames: int) -> None:
     """Say at the end how many frames kept their last command (``on_predictor_fault="hold"``)."""
     if controller.n_faults:
-        import warnings
+        from modalinfo.common.quiet import warn
 
-        warnings.warn(f"predictor {predictor} returned an unusable forecast "
-                      f"on {controller.n_faults} of {n_frames} frames; the last command was "
-                      "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=3)
+        warn(f"predictor {predictor} returned an unusable forecast "
+             f"on {controller.n_faults} of {n_frames} frames; the last command was "
+             "held there (on_predictor_fault='hold').", RuntimeWarning, stacklevel=3)
 
 
 def _progress_bar(progress, total):

@@ -463,17 +463,16 @@ def _run_locked(args, modules, logs, needs_log) -> int:
         note = shipped_edit_note(path)
         if note:  # said before the work as well as in the report's head
             print(f"paper_figures: warning: '{path}': {note}", file=sys.stderr, flush=True)
-    import warnings
-
     import matplotlib
 
     from modalinfo.common.cli import say
     from modalinfo.common.plotting import rc_overrides
+    from modalinfo.common.quiet import recording
 
     # the user's matplotlibrc, less what cannot draw here (usetex without LaTeX, a
-    # missing font: round 19 PART b), said in one line each as every other warning
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    # missing font: round 19 PART b), said in one line each as every other warning;
+    # this thread's only (fixes 41-c: catch_warnings took other threads' warnings)
+    with recording() as caught:
         overrides = rc_overrides()
     for warning in caught:
         say(f"paper_figures: warning: {warning.message}\n")

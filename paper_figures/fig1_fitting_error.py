@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import sys
 import time
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -273,7 +272,7 @@ def compute(log, *, source: str = "a modal log", outliers: str | None = None) ->
     ValueError
         A log :func:`check_log` refuses (too short, too few modes, a constant mode).
     """
-    from modalinfo.common.quiet import catching_warnings
+    from modalinfo.common.quiet import quiet
     from modalinfo.ordering import ordering_stability
     from modalinfo.ordering.compare import KLGeometryWarning, basis_for_log, compare_orderings
     from modalinfo.ordering.fitting_error import PupilSamplingWarning
@@ -289,16 +288,14 @@ def compute(log, *, source: str = "a modal log", outliers: str | None = None) ->
         # one line, by compare_orderings (the warnings printed 4 lines before it)
         mean_square = np.mean(np.asarray(log.coeffs, dtype=float) ** 2, axis=0)
         spread = float(mean_square.max() / mean_square.min())
-    with catching_warnings():
-        # the paper's dPhi(n) is the mean over the 64-pixel pupil (its eq. 4, the report's
-        # "64-pixel pupil"): the pixel answer is the figure's definition, and `ortho`
-        # reports the Gram error, so fitting_error's note on continuous modes is not shown
-        warnings.simplefilter("ignore", PupilSamplingWarning)
+    # the paper's dPhi(n) is the mean over the 64-pixel pupil (its eq. 4, the report's
+    # "64-pixel pupil"): the pixel answer is the figure's definition, and `ortho`
+    # reports the Gram error, so fitting_error's note on continuous modes is not shown;
+    # what a log without an outer scale makes the K-L assume is said in the notes
+    # (paper_figures.__main__._kl_notes, kl_geometry_assumption's words), not once per
+    # comparison (the first builds the basis, the others reuse it). This thread's only.
+    with quiet(PupilSamplingWarning, KLGeometryWarning):
         frame = _typical_frame(log, bases["zernike"])
-        # what a log without an outer scale makes the K-L assume is said in the notes
-        # (paper_figures.__main__._kl_notes, kl_geometry_assumption's words), not once
-        # per comparison (the first builds the basis, the others reuse it)
-        warnings.simplefilter("ignore", KLGeometryWarning)
         per_frame = compare_orderings(log, SPECS, frame=frame, units="waves2", seed=0, bases=bases)
         pooled = compare_orderings(log, SPECS, units="waves2", seed=0,
                                    sample_budget=POOLED_BUDGET, bases=bases)

@@ -25,13 +25,12 @@ from __future__ import annotations
 import copy
 import dataclasses
 import hashlib
-import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from modalinfo.common.quiet import caller_stacklevel
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.forecast import PersistencePredictor
 from modalinfo.forecast.presets import PRESETS
 
@@ -271,8 +270,8 @@ def loop_predictor(predictor) -> LoopPredictor:
         return NO_PREDICTION
     if isinstance(predictor, str):
         if predictor == "oracle":
-            warnings.warn("simulate(predictor='oracle') is deprecated; pass closedloop.ORACLE.",
-                          DeprecationWarning, stacklevel=caller_stacklevel())
+            warn("simulate(predictor='oracle') is deprecated; pass closedloop.ORACLE.",
+                 DeprecationWarning, stacklevel=caller_stacklevel())
             return ORACLE
         raise ValueError(f"`predictor` must be a LoopPredictor, a fitted Predictor or None; "
                          f"got the name {predictor!r} (a name is trained first: "

@@ -59,7 +59,6 @@ cubic by default, for ~15 us more per 160 x 160 layer.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Iterable, Sequence
 
 import numpy as np
@@ -67,6 +66,7 @@ from scipy import fft as sfft
 
 from closedloop.optics._atmosphere_kernels import shift_separable
 from closedloop.optics.phase_screen import fft_phase_screen
+from modalinfo.common.quiet import warn
 from modalinfo.common.validation import (
     as_float_array,
     check_choice,
@@ -209,7 +209,7 @@ class AtmosphericLayer:
         vmax = max(abs(vx), abs(vy))
         self.covered_time = math.inf if vmax == 0 else (g - n - 3) * self.pixel_scale / vmax
         if self.covered_time < self.duration_hint:
-            warnings.warn(
+            warn(
                 f"AtmosphericLayer: the {g}-pixel screen (max_screen_pixels={cap}) covers "
                 f"{self.covered_time:.3g} s of wind at {vmax:g} m/s, less than "
                 f"duration_hint={self.duration_hint:g} s; the screen wraps after that "

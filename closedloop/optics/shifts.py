@@ -43,12 +43,12 @@ image is displaced towards larger indices relative to the reference.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from closedloop.optics import _shift_kernels
+from modalinfo.common.quiet import warn
 
 __all__ = ["ShiftResult", "measure_shifts", "sdf_noise_rms", "sdf_noise_at_shifts", "METHODS",
            "INTERPOLATIONS"]
@@ -286,10 +286,10 @@ def measure_shifts(reference, images, *, method: str = "sdf",
     r0 = (h - win) // 2
     c0 = (w - win) // 2
     if method == "cfi":
-        warnings.warn("method 'cfi' of measure_shifts (a cyclic cross-covariance) underestimates "
-                      "shifts of non-periodic images, by up to ~0.4 pixel at 1-2 pixels "
-                      "(module docstring); use 'sdf' or 'adf2' for measurements",
-                      UserWarning, stacklevel=2)
+        warn("method 'cfi' of measure_shifts (a cyclic cross-covariance) underestimates "
+             "shifts of non-periodic images, by up to ~0.4 pixel at 1-2 pixels "
+             "(module docstring); use 'sdf' or 'adf2' for measurements",
+             UserWarning, stacklevel=2)
         surf = _surfaces_cfi(refs, imgs, r0, c0, win, lag)
     else:
         surf = _surfaces_difference(refs, imgs, r0, c0, win, lag, method == "sdf")

@@ -55,7 +55,6 @@ import dataclasses
 import math
 import sys
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -65,7 +64,7 @@ from closedloop.config import SimulationConfig
 from closedloop.optics.correlating_sensor import MAX_SHIFT as CORRELATING_MAX_SHIFT
 from closedloop.studies.compression import LatencyModel
 from modalinfo.common.cli import Parser
-from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.quiet import quiet
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_real
 
@@ -201,8 +200,7 @@ def correlation_compute_time(n_subapertures: int, image_pixels: int, *, method: 
     images += rng.standard_normal(images.shape) * math.sqrt(15_000.0)
     reference = images[0]
     times = []
-    with catching_warnings():  # the cfi bias warning: only its time is read here
-        warnings.simplefilter("ignore", UserWarning)
+    with quiet(UserWarning):  # the cfi bias warning: only its time is read here
         measure_shifts(reference, images, method=method, max_shift=max_shift)  # warm-up
         for _ in range(repeats):
             t = clock()

@@ -39,7 +39,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import warnings
 from collections.abc import Callable, Iterator
 from datetime import UTC, datetime
 from pathlib import Path
@@ -48,6 +47,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.provenance import sha256_file  # one copy, re-exported here
+from modalinfo.common.quiet import quiet
 from modalinfo.common.validation import (
     check_choice,
     check_int,
@@ -437,10 +437,7 @@ def _no_cost_note() -> Iterator[None]:
     from modalinfo.ordering.cost import OrderingCostWarning
     from modalinfo.ordering.fitting_error import PupilSamplingWarning
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", OrderingCostWarning)
-        warnings.simplefilter("ignore", KLGeometryWarning)
-        warnings.simplefilter("ignore", PupilSamplingWarning)
+    with quiet(OrderingCostWarning, KLGeometryWarning, PupilSamplingWarning):
         yield
 
 
@@ -578,16 +575,15 @@ def _forecast(log: Any, p: dict) -> dict:
                          f"got {horizon}")
     # no forecast series are kept (the batch plots none): memory is the chunk buffers,
     # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
-    with warnings.catch_warnings():
-        # a pair too persistent for an honest Diebold-Mariano test is in the row (its
-        # ``pvalue_h1`` NaN, ``beats_baseline_h1`` False); a worker's warning reaches no one
-        warnings.filterwarnings("ignore", message="evaluate: no honest Diebold-Mariano test")
-        # a level step in the training series is in the row too (the quality pass's
-        # ``quality_level_steps`` and ``quality_stationary`` columns)
-        warnings.filterwarnings("ignore", category=LevelStepWarning)
-        # test frames unlike the training ones are in the row (``shifted_modes``,
-        # ``scale_shift_max``)
-        warnings.filterwarnings("ignore", message="evaluate: the test frames differ in scale")
+    # a pair too persistent for an honest Diebold-Mariano test is in the row (its
+    # ``pvalue_h1`` NaN, ``beats_baseline_h1`` False); a worker's warning reaches no one;
+    # a level step in the training series is in the row too (the quality pass's
+    # ``quality_level_steps`` and ``quality_stationary`` columns); test frames unlike the
+    # training ones are in the row (``shifted_modes``, ``scale_shift_max``). This
+    # thread's only (fixes 41-c: filters swapped the process's, other tasks' included)
+    with quiet(LevelStepWarning), \
+            quiet(message="evaluate: no honest Diebold-Mariano test"), \
+            quiet(message="evaluate: the test frames differ in scale"):
         ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
                       keep_series=1, chunk_frames=2048)
     row: dict[str, Any] = {"modes_analysed": int(log.n_modes), "n_train": int(ev.n_train),
@@ -638,14 +634,13 @@ def run_log_task(payload: dict) -> dict:
     # own process, and it switched a notebook's backend for the session; nothing a task
     # runs draws (plot_archive draws on a Figure of its own, batch/report.py)
     from modalinfo.common.files import check_readable
-    from modalinfo.common.quiet import catching_warnings
     from modalinfo.io import LayoutWarning, load
     from modalinfo.telemetry.quality import apply_outlier_policy
 
     path = payload["path"]
     check_readable(Path(path))  # missing, a folder, a FIFO or a device: named as such
-    with catching_warnings():  # the row's layout_doubt column says it, batch once per log
-        warnings.simplefilter("ignore", LayoutWarning)
+    # the row's layout_doubt column says it, batch once per log; this thread's only
+    with quiet(LayoutWarning):
         log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
     _verify_mapped(path, log, payload.get("fmt"))
     if payload.get("window") is not None:

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import warnings
 from pathlib import Path
 
 from modalinfo.cli import CommandError
@@ -33,6 +32,7 @@ from modalinfo.cli.shared import (
     check_figure_output,
     refuse_unused_ordering_options,
 )
+from modalinfo.common.quiet import quiet, recording
 
 NAME = "fitting-error"
 HELP = "Fitting error vs number of modes for several orderings (the paper's Figure 1)."
@@ -175,23 +175,20 @@ def run(args: argparse.Namespace) -> int:
     check_mi_time(args, log, n_orderings=sum(str(m).startswith("mi_") for _, m in specs))
     log, _ = apply_outliers(log, args, args.log)
     bases = {"file": file_basis(args, log)} if any(b == "file" for b, _ in specs) else None
+    # OrderingCostWarning: check_mi_time said the estimate in flags, the library's words
+    # are not repeated; KLGeometryWarning: kl_geometry_note says it in the command's words
+    # (--outer-scale M); PupilSamplingWarning: said once below in the command's words
+    # (--pupil-pixels), not once per basis. This thread's only: a catch_warnings block
+    # swapped the process's filters and took other threads' warnings (fixes 41-c)
     with progress(args, len(specs), unit="ordering", desc="fitting-error") as advance, \
-            warnings.catch_warnings(record=True) as caught:
-        # check_mi_time said the estimate in flags: the library's words are not repeated
-        warnings.simplefilter("ignore", OrderingCostWarning)
-        # kl_geometry_note says it in the command's words (--outer-scale M)
-        warnings.simplefilter("ignore", KLGeometryWarning)
-        # said once below in the command's words (--pupil-pixels), not once per basis
-        warnings.simplefilter("always", PupilSamplingWarning)
+            quiet(OrderingCostWarning, KLGeometryWarning), \
+            recording(PupilSamplingWarning) as caught:
         comp = compare_orderings(
             log, specs, frame=args.frame, units=args.error_units, estimator=args.estimator,
             sample_budget=args.budget, seed=args.seed, n_pixels=args.pupil_pixels,
             outer_scale=args.outer_scale, bases=bases, progress=advance,
         )
-    sampled = [w.message for w in caught if isinstance(w.message, PupilSamplingWarning)]
-    for w in caught:  # every other warning as the dispatcher would have shown it
-        if not isinstance(w.message, PupilSamplingWarning):
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    sampled = [w.message for w in caught]
     if not noted:
         _pupil_sampling_note(args, sampled)
     if any(b == "kl-theory" for b, _ in specs):  # after the refusals (one line each)

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 from pathlib import Path
 
 from modalinfo.cli import CommandError
@@ -41,6 +40,7 @@ from modalinfo.cli.shared import (
     split_gaps,
 )
 from modalinfo.common.cli import check_output
+from modalinfo.common.quiet import quiet
 
 NAME = "reorder"
 #: Widest pupil whose valid pixels :func:`mi_samples` counts on the mask itself; wider ones
@@ -444,15 +444,14 @@ def run(args: argparse.Namespace) -> int:
     if args.basis == "file":
         basis = file_basis(args, log)
     else:
-        with warnings.catch_warnings():
-            # kl_geometry_note says it in the command's words (--outer-scale M)
-            warnings.simplefilter("ignore", KLGeometryWarning)
+        # kl_geometry_note says it in the command's words (--outer-scale M); this thread's
+        # only: a filter swapped the process's and dropped other threads' (fixes 41-c)
+        with quiet(KLGeometryWarning):
             basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
                                   outer_scale=args.outer_scale)
     steps = basis.n_modes - 1 + args.resamples if args.method.startswith("mi_") else 0
-    with progress(args, steps, desc="reorder") as advance, warnings.catch_warnings():
-        # check_mi_time said the estimate in flags: the library's words are not repeated
-        warnings.simplefilter("ignore", OrderingCostWarning)
+    # check_mi_time said the estimate in flags: the library's words are not repeated
+    with progress(args, steps, desc="reorder") as advance, quiet(OrderingCostWarning):
         result = order_modes(
             log, basis, args.method, estimator=args.estimator, frame=args.frame,
             sample_budget=args.budget, seed=args.seed, n_resamples=args.resamples,
@@ -488,8 +487,7 @@ def run(args: argparse.Namespace) -> int:
 
         n_orders = log.n_frames // max(args.stability, 1) + 3  # windows, then 3 seeds
         steps = n_orders * (basis.n_modes - 1) if args.method.startswith("mi_") else 0
-        with progress(args, steps, desc="stability") as advance, warnings.catch_warnings():
-            warnings.simplefilter("ignore", OrderingCostWarning)
+        with progress(args, steps, desc="stability") as advance, quiet(OrderingCostWarning):
             stab = ordering_stability(log, basis, args.method, window=args.stability,
                                       seeds=(0, 1, 2), estimator=args.estimator,
                                       sample_budget=args.budget, progress=advance)

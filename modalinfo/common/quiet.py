@@ -12,7 +12,8 @@ before 3.14 (context-aware warnings), not ours to change.
 Its one way to warn: :func:`warn`, which every warning of the package goes through
 (``warnings.warn`` appears nowhere else in ``modalinfo``: tests/test_architecture.py),
 and its one way to silence its own warnings for a stretch of work: :func:`quiet`, a
-scope of the current thread (a ``contextvars`` flag, with ``np.errstate`` for numpy's
+scope of the current thread (all of them, or some categories / texts; :func:`recording`
+keeps them for the caller instead) (a ``contextvars`` flag, with ``np.errstate`` for numpy's
 floating-point warnings, itself context-local in numpy >= 2). A process-wide
 ``simplefilter("ignore")`` held while the MI convergence rule estimated its quarters
 dropped every other thread's warnings for that time (round 40 PART a, T24: 464 of
@@ -36,7 +37,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-__all__ = ["caller_stacklevel", "catching_warnings", "is_quiet", "quiet", "warn"]
+__all__ = ["caller_stacklevel", "catching_warnings", "is_quiet", "quiet", "recording", "warn"]
 
 _LOCK = threading.RLock()
 #: the packages whose frames a warning skips
@@ -44,6 +45,10 @@ _PACKAGES = frozenset(("modalinfo", "closedloop", "paper_figures"))
 #: within :func:`quiet`: this thread's (this context's) package warnings are not raised
 _QUIET: contextvars.ContextVar[bool] = contextvars.ContextVar("modalinfo_quiet",
                                                               default=False)
+#: this thread's (this context's) selective scopes, innermost last: (categories, message
+#: prefix, sink); a matching package warning goes to ``sink`` (a list) or, if None, nowhere
+_SCOPES: contextvars.ContextVar[tuple] = contextvars.ContextVar("modalinfo_warning_scopes",
+                                                                default=())
 
 
 def caller_stacklevel() -> int:
@@ -74,22 +79,81 @@ def catching_warnings(*, record: bool = False) -> Iterator[list | None]:
 
 
 @contextlib.contextmanager
-def quiet() -> Iterator[None]:
+def quiet(*categories: type[Warning], message: str | None = None) -> Iterator[None]:
     """Within: this thread's package and numpy floating-point warnings are not raised.
 
     The package's warnings are those of :func:`warn`; no process-wide state changes.
+    With ``categories`` or ``message`` (the start of the text), only the package
+    warnings of those categories (and subclasses) and text are silenced, and numpy's
+    are left alone: ``warnings.simplefilter("ignore", category)`` /
+    ``filterwarnings("ignore", message=...)`` for this thread only (round 41 fixes 41-c:
+    such a filter in ``modalinfo reorder`` and the batch's tasks dropped every other
+    thread's warnings of the category while it ran).
 
     For work whose warnings are not the caller's (the MI convergence rule's quarter
     estimates). Another thread's warnings still show: a ``catch_warnings`` block with
     ``simplefilter("ignore")`` swaps the process's one filter list and dropped them
     (round 40 PART a, T24). ``np.errstate`` is context-local in numpy >= 2.
     """
+    if categories or message is not None:
+        with _scope(categories, message, None):
+            yield
+        return
     token = _QUIET.set(True)
     try:
         with np.errstate(all="ignore"):
             yield
     finally:
         _QUIET.reset(token)
+
+
+@contextlib.contextmanager
+def recording(*categories: type[Warning],
+              message: str | None = None) -> Iterator[list[warnings.WarningMessage]]:
+    """Within: this thread's package warnings of ``categories`` / ``message`` are kept, not shown.
+
+    Yields the list they are appended to, as ``warnings.WarningMessage`` (``message``,
+    ``category``, ``filename``, ``lineno`` of the frame ``stacklevel`` names), each
+    call's warning once, whatever the process's filters: ``catch_warnings(record=True)``
+    with ``simplefilter("always")`` for this thread only. No categories and no message:
+    every package warning. Another thread's warnings, and other libraries', are shown
+    as usual (a ``catch_warnings(record=True)`` block took them into its own list).
+    """
+    caught: list[warnings.WarningMessage] = []
+    with _scope(categories, message, caught):
+        yield caught
+
+
+@contextlib.contextmanager
+def _scope(categories: tuple, message: str | None, sink: list | None) -> Iterator[None]:
+    token = _SCOPES.set((*_SCOPES.get(), (tuple(categories), message, sink)))
+    try:
+        yield
+    finally:
+        _SCOPES.reset(token)
+
+
+def _scoped(message: str | Warning, category: type[Warning] | None, stacklevel: int) -> bool:
+    """Whether a selective scope of this thread takes the warning (kept in its sink if any).
+
+    ``stacklevel`` as :func:`warn` received it (1: :func:`warn`'s caller).
+    """
+    category = type(message) if isinstance(message, Warning) else category or UserWarning
+    text = str(message)
+    for categories, prefix, sink in reversed(_SCOPES.get()):
+        if categories and not issubclass(category, categories):
+            continue
+        if prefix is not None and not text.startswith(prefix):
+            continue
+        if sink is not None:
+            try:  # warnings.warn's own fallback past the stack's top
+                frame = sys._getframe(stacklevel + 1)
+                filename, lineno = frame.f_code.co_filename, frame.f_lineno
+            except ValueError:
+                filename, lineno = "sys", 1
+            sink.append(warnings.WarningMessage(message, category, filename, lineno))
+        return True
+    return False
 
 
 def is_quiet() -> bool:
@@ -105,6 +169,6 @@ def warn(message: str | Warning, category: type[Warning] | None = None,
     function, as ``warnings.warn``'s from its own caller (``caller_stacklevel()``
     computed there, or a fixed depth, is passed unchanged).
     """
-    if _QUIET.get():
+    if _QUIET.get() or (_SCOPES.get() and _scoped(message, category, stacklevel)):
         return
     warnings.warn(message, category, stacklevel=stacklevel + 1)

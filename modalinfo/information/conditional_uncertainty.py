@@ -38,13 +38,12 @@ use "gaussian", "kde" or "ksg" for values of the CMI itself.
 
 from __future__ import annotations
 
-import warnings
 from typing import Any
 
 import numpy as np
 from scipy import stats
 
-from modalinfo.common.quiet import catching_warnings, warn
+from modalinfo.common.quiet import quiet, warn
 from modalinfo.common.validation import (
     check_choice,
     check_memory,
@@ -188,11 +187,11 @@ def _cmi_block_ci(
             warn(why, BlockBootstrapWarning, stacklevel=3)
     theta = est(xa, ya, za)
     idx = block_bootstrap_indices(n, b, n_resamples, rng)
-    with catching_warnings():
-        # the bias rule depends on n, the columns and the options, which the resamples
-        # share: judged once, by the estimate above, not once per replicate (51-101
-        # BiasRuleWarnings for one interval before: round 36 PART a, W4-W6)
-        warnings.simplefilter("ignore", BiasRuleWarning)
+    # the bias rule depends on n, the columns and the options, which the resamples
+    # share: judged once, by the estimate above, not once per replicate (51-101
+    # BiasRuleWarnings for one interval before: round 36 PART a, W4-W6); this thread's
+    # only (fixes 41-c: the filter dropped other threads' while the replicates ran)
+    with quiet(BiasRuleWarning):
         dist = np.array([est(xa[i], ya[i], za[i]) for i in idx])
     alpha = 1.0 - confidence_level
     half = float(stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1))
