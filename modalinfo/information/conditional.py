@@ -583,6 +583,30 @@ def effective_sample_why(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> str | N
                                  if z.shape[1] else "")
 
 
+def temporal_neighbour_why(method: str, x: np.ndarray, y: np.ndarray, z: np.ndarray,
+                           value: float, options: dict[str, Any]) -> str | None:
+    """Return why the KSG ``value`` [nats] of (x, y | z) is set by temporal neighbours, or None.
+
+    :func:`~modalinfo.information.ksg.ksg_temporal_why` (fixes 40-b) as
+    :func:`transfer_entropy` applies it, for the roads whose loop of estimates judges
+    its result afterwards (``transfer_entropy_map``'s largest cells, ``select_inputs``'
+    gains: fixes 41-c): on the columns the estimator saw, with ``options`` less
+    ``fallback``. None for a method other than the KSG, and where the KSG's bias rule
+    switched the estimate to the Gaussian copula (``value`` is not a KSG estimate).
+    """
+    record = get_method(method)
+    if record.cmi is not ksg_cmi:
+        return None
+    options = {key: v for key, v in options.items() if key != "fallback"}
+    x, y, z = _varying(x), _varying(y), _varying(z)
+    x, y, z = _determined_within(x), _determined_within(y), _determined_within(z)
+    x, y = _known_given(x, z), _known_given(y, z)
+    if x.shape[1] == 0 or y.shape[1] == 0 or call_bias_rule(
+            record, x.shape[0], x.shape[1] + y.shape[1] + z.shape[1], options) is not None:
+        return None
+    return ksg_temporal_why(x, y, z, value, **options)
+
+
 def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = False,
                judge: bool = False, who: str = "conditional_mutual_information"):
     """Validate ``method``, ``units`` and option names; return ``f(x, y, z) -> value``.

@@ -120,6 +120,7 @@ from modalinfo.information.conditional import (
     _estimator,
     count_failures,
     effective_sample_why,
+    temporal_neighbour_why,
 )
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
 from modalinfo.information.methods import BiasRuleWarning, get_method
@@ -481,7 +482,7 @@ def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_bas
 
 
 def _largest_cells(series, lags, history, t0, te):
-    """Yield ``(x, y, z)`` of each target's largest cell (its strongest source and lag)."""
+    """Yield ``(x, y, z, te)`` of each target's largest cell (its strongest source and lag)."""
     T, S = series.shape
     for i in range(S):
         cells = np.array(te[:, i, :], dtype=float)
@@ -492,26 +493,40 @@ def _largest_cells(series, lags, history, t0, te):
         lag = int(lags[a])
         yield (np.ascontiguousarray(series[t0:, i : i + 1]),
                np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1]),
-               _history(series[:, i], history, t0))
+               _history(series[:, i], history, t0), float(cells[j, a]))
 
 
-def _judge_map(series, lags, history, t0, te, method, options) -> None:
+def _judge_map(series, lags, history, t0, te, method, options, factor) -> None:
     """Warn once where the map's largest cells fail the rules of ``transfer_entropy``.
 
     The effective-sample rule of every method
     (:func:`~modalinfo.information.conditional.effective_sample_why`, fixes 40-a: the
     map was silent where ``transfer_entropy`` of the same cell warned), then, for the
-    histogram, its conditioning rule (:func:`_judge_histogram_map`); judged once per
-    target on its largest cell, one warning at most.
+    histogram, its conditioning rule (:func:`_judge_histogram_map`); for the KSG, a
+    cell the effective-sample rule passes is judged by the temporal-neighbour rule, as
+    ``transfer_entropy`` judges its estimate (:func:`~modalinfo.information.conditional.
+    temporal_neighbour_why`, fixes 41-c: one more KSG estimate per such target). Judged
+    once per target on its largest cell (``te`` in the units of ``factor``), one
+    warning at most, naming each rule that failed.
     """
-    failed, first = count_failures(effective_sample_why(x, y, z)
-                                   for x, y, z in _largest_cells(series, lags, history, t0, te))
-    if failed:
-        warn(f"transfer_entropy_map with method={method!r}: {failed} of "
-             f"{series.shape[1]} target(s) fail the effective-sample rule on their "
-             f"largest cell ({first})", BiasRuleWarning, stacklevel=3)
-    elif get_method(method).cmi is histogram_cmi:
+    cells = list(_largest_cells(series, lags, history, t0, te))
+    few = [effective_sample_why(x, y, z) for x, y, z, _ in cells]
+    S = series.shape[1]
+    failed, first = count_failures(few)
+    if get_method(method).cmi is histogram_cmi and not failed:
         _judge_histogram_map(series, lags, history, t0, te, options)
+        return
+    smooth, why = count_failures(temporal_neighbour_why(method, x, y, z, value / factor,
+                                                        options)
+                                 for (x, y, z, value), f in zip(cells, few, strict=True)
+                                 if f is None)
+    parts = ([f"{failed} of {S} target(s) fail the effective-sample rule on their "
+              f"largest cell ({first})"] if failed else []) + (
+        [f"{smooth} of {S} target(s) fail the temporal-neighbour rule on their largest "
+         f"cell ({why})"] if smooth else [])
+    if parts:
+        warn(f"transfer_entropy_map with method={method!r}: {'; '.join(parts)}",
+             BiasRuleWarning, stacklevel=3)
 
 
 def _judge_histogram_map(series, lags, history, t0, te, options) -> None:
@@ -524,8 +539,8 @@ def _judge_histogram_map(series, lags, history, t0, te, options) -> None:
     histogram map of ``y = 0.99 y[-1] + 0.5 x[-1] + e`` gave 0.038 for an exact 0.112
     nats, silently, where ``transfer_entropy`` warns.
     """
-    failed, first = count_failures(histogram_conditioning_rule(x, y, z, options)
-                                   for x, y, z in _largest_cells(series, lags, history, t0, te))
+    failed, first = count_failures(histogram_conditioning_rule(x, y, z, options) for x, y, z, _
+                                   in _largest_cells(series, lags, history, t0, te))
     if failed:
         warn(f"transfer_entropy_map with method='histogram': {failed} of "
              f"{series.shape[1]} "
@@ -781,7 +796,7 @@ def transfer_entropy_map(
                                        rank_based_options(options))
             null_cells = null[:, family]
             te[~family] = np.nan
-        _judge_map(series, lags, history, t0, te, method, options)
+        _judge_map(series, lags, history, t0, te, method, options, factor)
         pvalue = np.full(te.shape, np.nan)
         pvalue[family] = maxt_pvalues(te[family], null_cells,
                                       step_down=adjust == "step-down")
@@ -798,7 +813,7 @@ def transfer_entropy_map(
     else:
         te, null = _estimator_map(series, lags, history, t0, shifts, est,
                                   rank_based=rank_based_options(options))
-    _judge_map(series, lags, history, t0, te, method, options)
+    _judge_map(series, lags, history, t0, te, method, options, factor)
     diag = np.eye(S, dtype=bool)
     off = ~diag
     pvalue = np.full(te.shape, np.nan)

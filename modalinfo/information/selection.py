@@ -102,6 +102,7 @@ from modalinfo.information.conditional import (
     _estimator,
     count_failures,
     effective_sample_why,
+    temporal_neighbour_why,
 )
 from modalinfo.information.conditional_uncertainty import _cmi_block_ci
 from modalinfo.information.discrete import pile_why, shared_pile_value
@@ -572,8 +573,12 @@ def unit_candidates(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _warn_piles(series: np.ndarray, labels: list[str], method: str, y: np.ndarray,
-                C: np.ndarray, cols: np.ndarray, target: str) -> None:
+                C: np.ndarray, cols: np.ndarray, target: str) -> bool:
     """Warn once (``BiasRuleWarning``) where a series is piled or shares a pile (issue 27).
+
+    Returns whether it warned: the gains are then not judged again (:func:`_judge_gains`),
+    one warning per call, as a piled point estimate of ``transfer_entropy`` is
+    (fixes 41-c: a piled, persistent target gave two).
 
     The rules of :func:`~modalinfo.information.mutual_information` (discrete module
     notes, "Piles"): one value inside a series' range above 3 %, its ends above 10 %
@@ -590,16 +595,17 @@ def _warn_piles(series: np.ndarray, labels: list[str], method: str, y: np.ndarra
         if why is not None:
             warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
                  stacklevel=3)
-            return
+            return True
     if shared_pile_value(y) is None:
-        return  # the target holds no value often enough to share a pile
+        return False  # the target holds no value often enough to share a pile
     name = f"target {target}[t+h]"
     for j in range(C.shape[1]):
         why = pile_why({name: y, _candidate_label(labels, cols, j): C[:, j]}, method)
         if why is not None:
             warn(f"select_inputs with method={method!r}: {why}.", BiasRuleWarning,
                  stacklevel=3)
-            return
+            return True
+    return False
 
 
 def _candidate_label(labels: list[str], cols: np.ndarray, j: int) -> str:
@@ -764,25 +770,37 @@ def greedy_gaussian_gram(G: np.ndarray, cy: np.ndarray, alive: np.ndarray, n: in
 
 
 def _judge_gains(y: np.ndarray, C: np.ndarray, picked: list[int], method: str,
-                 options: dict[str, Any]) -> None:
+                 options: dict[str, Any], gains: list[float]) -> None:
     """Warn once where a picked gain fails a rule of ``conditional_mutual_information``.
 
     The effective-sample rule of every method, on the target and each input given the
     inputs before it (:func:`~modalinfo.information.conditional.effective_sample_why`,
     fixes 40-a: the first gain of a persistent target is its lagged MI, which
     ``mutual_information`` judges and the selection did not), then, for the histogram,
-    its conditioning rule (:func:`_judge_histogram_gains`); one warning at most.
+    its conditioning rule (:func:`_judge_histogram_gains`); for the KSG, a gain the
+    effective-sample rule passes is judged by the temporal-neighbour rule, as
+    ``transfer_entropy`` judges its estimate (``gains`` [nats];
+    :func:`~modalinfo.information.conditional.temporal_neighbour_why`, fixes 41-c: one
+    more KSG estimate per such gain); one warning at most, naming each rule that failed.
     """
     target = np.reshape(y, (y.shape[0], -1))
-    failed, first = count_failures(effective_sample_why(target, C[:, j : j + 1],
-                                                        C[:, picked[:i]])
-                                   for i, j in enumerate(picked))
-    if failed:
-        warn(f"select_inputs with method={method!r}: {failed} of {len(picked)} "
-             f"gains fail the effective-sample rule given the inputs before them "
-             f"({first})", BiasRuleWarning, stacklevel=3)
-    elif get_method(method).cmi is histogram_cmi:
+    few = [effective_sample_why(target, C[:, j : j + 1], C[:, picked[:i]])
+           for i, j in enumerate(picked)]
+    failed, first = count_failures(few)
+    if get_method(method).cmi is histogram_cmi and not failed:
         _judge_histogram_gains(y, C, picked, options)
+        return
+    smooth, why = count_failures(
+        temporal_neighbour_why(method, target, C[:, j : j + 1], C[:, picked[:i]], gains[i],
+                               options)
+        for i, j in enumerate(picked) if few[i] is None)
+    parts = ([f"{failed} of {len(picked)} gains fail the effective-sample rule given the "
+              f"inputs before them ({first})"] if failed else []) + (
+        [f"{smooth} of {len(picked)} gains fail the temporal-neighbour rule given the "
+         f"inputs before them ({why})"] if smooth else [])
+    if parts:
+        warn(f"select_inputs with method={method!r}: {'; '.join(parts)}", BiasRuleWarning,
+             stacklevel=3)
 
 
 def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
@@ -963,8 +981,9 @@ def select_inputs(
                          "method='histogram' or 'ksg' for rank-based scores.")
     est = _estimator(method, units, options)
     factor = UNITS[units]
-    if not closed:  # once per call, not once per candidate (issue 27)
-        _warn_piles(series, labels, method, y, C, cols, labels[target_col])
+    # once per call, not once per candidate (issue 27)
+    piled = not closed and _warn_piles(series, labels, method, y, C, cols,
+                                       labels[target_col])
 
     Cu, alive = unit_candidates(C)
     n_cand = int(alive.sum())
@@ -980,7 +999,9 @@ def select_inputs(
         spectra=spectra, shifts=shifts,
         names=lambda j: f"candidate {_candidate_label(labels, cols, j)}",
         rank_based=rank_based_options(options))
-    _judge_gains(y, C, [j for j, _, _ in picked], method, options)
+    if not piled:  # said once: the pile's warning stands for the estimate's doubts
+        _judge_gains(y, C, [j for j, _, _ in picked], method, options,
+                     [gain for _, gain, _ in picked])
     inputs = []
     for i, (j, gain, p) in enumerate(picked):
         low = high = math.nan

@@ -24,6 +24,7 @@ from statsmodels.tsa.stattools import acf
 from modalinfo.information import BiasRuleWarning, conditional_mutual_information
 from modalinfo.information.conditional import count_failures
 from modalinfo.information.convergence import effective_pairs, effective_sample_rule
+from modalinfo.information.ksg import ksg_cmi
 
 
 def _ar1(n, rho, seed):
@@ -124,7 +125,9 @@ def test_each_selection_gain_is_judged_given_the_inputs_before_it():
     assert _bartlett(y, c0) < 20 and _n_eff_given(y, C[:, 1], c0) > 0.5 * N
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always")
-        selection._judge_gains(y, C, [0, 1], "ksg", {})
+        selection._judge_gains(y, C, [0, 1], "ksg", {},  # the gains as the search's KSG
+                               [ksg_cmi(y[:, None], C[:, :1], C[:, :0]),
+                                ksg_cmi(y[:, None], C[:, 1:], C[:, :1])])
     msgs = [str(m.message) for m in rec]
     assert len(msgs) == 1 and "1 of 2 gains fail the effective-sample rule" in msgs[0], msgs
 
