@@ -20,7 +20,6 @@ every run; each road test fails before (B's warnings of the category: 0 shown).
 from __future__ import annotations
 
 import ast
-import contextlib
 import functools
 import sys
 import threading
@@ -35,28 +34,11 @@ from modalinfo.common import quiet
 from modalinfo.telemetry import ModalLog
 
 from ..cli.conftest import exit_code, write_small_log
+from ..information.test_quiet_quarters_round40 import _shown_by_thread
 
 
 class _StopError(Exception):
     """Ends thread A's road once thread B has warned (what follows is not the test's)."""
-
-
-@contextlib.contextmanager
-def _shown_by_thread():
-    """Every warning shown in the block, as (thread name, category, message).
-
-    One ``catch_warnings`` entered and left by the main thread only, around the threads'
-    whole lives: the filter "always" and a ``showwarning`` that notes the thread.
-    """
-    shown = []
-
-    def note(message, category, filename, lineno, file=None, line=None):
-        shown.append((threading.current_thread().name, category, str(message)))
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("always")
-        warnings.showwarning = note
-        yield shown
 
 
 def _race(monkeypatch, owner, name, road, b_warns, *, stop=False, own=None, call=1):
@@ -103,12 +85,12 @@ def _race(monkeypatch, owner, name, road, b_warns, *, stop=False, own=None, call
             done.set()
 
     before = list(warnings.filters)
-    with _shown_by_thread() as shown:
-        ta, tb = threading.Thread(target=a, name="A"), threading.Thread(target=b, name="B")
-        ta.start()
-        tb.start()
-        ta.join(300)
-        tb.join(300)
+    threads = [threading.Thread(target=f, name=n) for f, n in ((a, "A"), (b, "B"))]
+    with _shown_by_thread() as shown:  # "always", each warning noted with its thread
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(300)
     assert not errors, errors
     assert calls, f"{name} was not called"
     assert list(warnings.filters) == before

@@ -22,7 +22,6 @@ import warnings
 
 import numpy as np
 import pytest
-from scipy.signal import lfilter
 
 from modalinfo.information import (
     BiasRuleWarning,
@@ -32,17 +31,9 @@ from modalinfo.information import (
 )
 
 from .test_effective_sample_roads_fix40a import ROADS as EFFECTIVE_SAMPLE_ROADS
+from .test_ksg_temporal_neighbours_fix40b import _ar1, _smooth  # n = 2000 by default
 
 N = 2000
-
-
-def _ar1(rng, a, n=N, burn=2000):
-    return lfilter([1.0], [1.0, -a], rng.standard_normal(n + burn))[burn:]
-
-
-def _smooth(rng, r, n=N, burn=3000):
-    """AR(2) with a double root r: x_t = 2 r x_{t-1} - r^2 x_{t-2} + e_t."""
-    return lfilter([1.0], [1.0, -2 * r, r * r], rng.standard_normal(n + burn))[burn:]
 
 
 def _caught(f):
