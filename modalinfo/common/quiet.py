@@ -112,8 +112,9 @@ def recording(*categories: type[Warning],
               message: str | None = None) -> Iterator[list[warnings.WarningMessage]]:
     """Within: this thread's package warnings of ``categories`` / ``message`` are kept, not shown.
 
-    Yields the list they are appended to, as ``warnings.WarningMessage`` (``message``,
-    ``category``, ``filename``, ``lineno`` of the frame ``stacklevel`` names), each
+    Yields the list they are appended to, as ``warnings.WarningMessage`` (``message``
+    an instance of ``category``, ``filename``, ``lineno`` of the frame ``stacklevel``
+    names), each
     call's warning once, whatever the process's filters: ``catch_warnings(record=True)``
     with ``simplefilter("always")`` for this thread only. No categories and no message:
     every package warning. Another thread's warnings, and other libraries', are shown
@@ -151,6 +152,8 @@ def _scoped(message: str | Warning, category: type[Warning] | None, stacklevel: 
                 filename, lineno = frame.f_code.co_filename, frame.f_lineno
             except ValueError:
                 filename, lineno = "sys", 1
+            if not isinstance(message, Warning):  # as catch_warnings(record=True) holds it
+                message = category(message)
             sink.append(warnings.WarningMessage(message, category, filename, lineno))
         return True
     return False

@@ -340,6 +340,7 @@ def test_scopes_select_by_category_and_text_and_record_the_callers_line():
     assert [str(w.message) for w in shown] == ["shown", "after"]
     assert [str(w.message) for w in kept] == ["keep me", "keep me too"]
     assert [w.category for w in kept] == [UserWarning, BiasRuleWarning]
+    assert [type(w.message) for w in kept] == [UserWarning, BiasRuleWarning]  # instances
     assert {w.filename for w in kept} == {__file__}
     assert [w.lineno for w in kept] == [here + 2, here + 3]  # the caller's lines
     assert not quiet.is_quiet()  # a selective scope is not the whole-package quiet()
