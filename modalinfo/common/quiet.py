@@ -114,11 +114,11 @@ def recording(*categories: type[Warning],
 
     Yields the list they are appended to, as ``warnings.WarningMessage`` (``message``
     an instance of ``category``, ``filename``, ``lineno`` of the frame ``stacklevel``
-    names), each
-    call's warning once, whatever the process's filters: ``catch_warnings(record=True)``
-    with ``simplefilter("always")`` for this thread only. No categories and no message:
-    every package warning. Another thread's warnings, and other libraries', are shown
-    as usual (a ``catch_warnings(record=True)`` block took them into its own list).
+    names), each call's warning once, whatever the process's filters:
+    ``catch_warnings(record=True)`` with ``simplefilter("always")`` for this thread
+    only. No categories and no message: every package warning. Another thread's
+    warnings, and other libraries', are shown as usual (a ``catch_warnings(record=True)``
+    block took them into its own list).
     """
     caught: list[warnings.WarningMessage] = []
     with _scope(categories, message, caught):
