@@ -41,6 +41,7 @@ import contextvars
 import copy
 import math
 import numbers
+import re
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -66,6 +67,7 @@ from modalinfo.telemetry.checks import (
     check_timestamps,
     coarse_start_spacing,
     find_label,
+    label_key,
     mode_labels,
     mode_span,
     transposed_shape,
@@ -156,6 +158,60 @@ def _check_frame_columns(coeffs, labels: list[str]) -> None:
         f"they would be labelled {', '.join(labels[:4])}{', ...' if len(labels) > 4 else ''}"
         " by default; give the modes (e.g. modes=[5, 6, 7] for Z5, Z6, Z7, or "
         "modes=list(df.columns), convention='labels').")
+
+
+def _column_modes(names: list, convention: str) -> list | None:
+    """Return the modes a DataFrame's column names state, or None when they name none.
+
+    Integers (not the default 0, 1, ...) are indices in ``convention``; strings are
+    read as the convention's labels (``Z4`` Noll, ``A4`` ANSI, ``F4`` Fringe); with
+    ``convention="labels"`` the names are labels. Other names (``tip``, ``focus``) state
+    no mode: ``modes`` names those columns.
+    """
+    if all(isinstance(n, int | np.integer) and not isinstance(n, bool | np.bool_)
+           for n in names):
+        ints = [int(n) for n in names]
+        return None if ints == list(range(len(ints))) else ints
+    if not all(isinstance(n, str) for n in names):
+        return None
+    if convention == "labels":
+        return [label_key(n) for n in names]
+    prefix = mode_labels([0], convention)[0][:-1]
+    found = [re.fullmatch(rf"{re.escape(prefix)}(\d+)", n.strip()) for n in names]
+    return [int(m.group(1)) for m in found] if all(found) else None
+
+
+def _check_named_columns(coeffs, mode_list: list, convention: str) -> None:
+    """Refuse ``modes`` that contradict the modes a DataFrame's column names state.
+
+    ``ModalLog(df, modes=[2, ..., 7])`` with columns ``Z4, Z2, Z3, Z7, Z5, Z6`` labelled
+    the ``Z4`` column Z2 without a word (adversarial round 42 PART a, M03, M04, M20):
+    the names were read only when ``modes`` was missing. A column name that states no
+    mode (``tip``) is named by ``modes``; with ``convention="labels"`` only a reordering
+    of the same labels is refused (other names are the user's renaming).
+    """
+    columns = getattr(coeffs, "columns", None)
+    if columns is None or getattr(coeffs, "ndim", None) != 2:
+        return
+    names = list(columns)
+    stated = _column_modes(names, convention)
+    if stated is None or len(stated) != len(mode_list):
+        return
+    given = ([label_key(str(m)) for m in mode_list] if convention == "labels"
+             else [int(m) for m in mode_list])
+    if stated == given:
+        return
+    if convention == "labels" and sorted(map(str, stated)) != sorted(map(str, given)):
+        return
+
+    def show(items):
+        return ", ".join(str(i) for i in items[:4]) + (", ..." if len(items) > 4 else "")
+
+    raise ValueError(
+        f"`coeffs` is a DataFrame whose columns are named ({show(names)}) but `modes` "
+        f"labels them ({show(mode_labels(mode_list, convention))}): the names and "
+        "`modes` disagree; reorder the columns to match `modes`, give `modes` in the "
+        "columns' order, or pass df.to_numpy() if the names are wrong.")
 
 
 def _count(value) -> int | None:
@@ -340,6 +396,8 @@ class ModalLog:
         mode_list = check_modes(modes, convention, n_modes)
         if modes is None:
             _check_frame_columns(coeffs, mode_labels(mode_list, convention))
+        else:
+            _check_named_columns(coeffs, mode_list, convention)
         meta = check_metadata(metadata)
 
         repairs: list[str] = []
