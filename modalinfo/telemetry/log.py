@@ -214,6 +214,41 @@ def _check_named_columns(coeffs, mode_list: list, convention: str) -> None:
         "columns' order, or pass df.to_numpy() if the names are wrong.")
 
 
+def _check_time_index(coeffs, rate: float | None) -> None:
+    """Refuse a DataFrame whose DatetimeIndex / TimedeltaIndex contradicts the log.
+
+    The index was dropped: rows shuffled or reversed in time by their index were read
+    in that order, and ``rate=500`` kept beside a 1 ms index (adversarial round 42 PART
+    a, M08-M10), where ``rate`` and ``timestamps`` that disagree are refused. The
+    index's times are not adopted (``rate`` or ``timestamps`` give the time axis, as
+    before); they must be strictly increasing and, with ``rate``, agree with it.
+    """
+    index = getattr(coeffs, "index", None)
+    if getattr(coeffs, "ndim", None) != 2 or type(index).__name__ not in (
+            "DatetimeIndex", "TimedeltaIndex") or len(index) < 2:
+        return
+    offsets = index - index[0]
+    seconds = np.asarray(offsets.total_seconds(), dtype=np.float64)
+    steps = np.diff(seconds)
+    if not np.all(steps > 0.0):  # NaN (NaT) too
+        k = int(np.flatnonzero(~(steps > 0.0))[0])
+        raise ValueError(
+            f"`coeffs` is a DataFrame whose {type(index).__name__} is not strictly "
+            f"increasing (row {k + 1}: {index[k + 1]} after {index[k]}): its rows are not "
+            "in time order; sort them (df.sort_index()) and drop repeated or missing "
+            "times, or pass df.to_numpy() if the index is not the frames' time.")
+    if rate is not None:
+        from modalinfo.telemetry.sampling import rate_agrees
+
+        if not rate_agrees(seconds, rate, _RATE_RTOL):
+            median_dt = float(np.median(steps))
+            raise ValueError(
+                f"`rate` ({rate} Hz) disagrees with the {type(index).__name__} of `coeffs` "
+                f"(median interval {median_dt:.6g} s, i.e. {1.0 / median_dt:.6g} Hz); "
+                "give the rate of the index, or pass df.to_numpy() if the index is not "
+                "the frames' time.")
+
+
 def _count(value) -> int | None:
     """``len(value)`` of a sequence or 1-D array, else None (refused later, by its rule)."""
     if value is None or isinstance(value, str | bytes):
@@ -368,6 +403,7 @@ class ModalLog:
             wavelength = check_wavelength(wavelength)
         start_time = check_real(start_time, "start_time")
         _check_layout(coeffs, arr.shape, modes, timestamps)
+        _check_time_index(coeffs, rate if timestamps is None else None)
         t = None if timestamps is None else check_timestamps(timestamps, n_frames)
         if t is None and rate is not None and n_frames > 1:
             # float64 must tell the frames apart: a start in ns since 1970 (1.7e18) or
