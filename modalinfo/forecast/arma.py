@@ -758,6 +758,7 @@ class ARMAPredictor(_LinearRecursion):
                            maximum=1.0, strict_min=True, strict_max=True)
         X, scalar = self._check_history(history, "history", 1)
         self._check_n_modes(X.shape[1], "history")
+        self._check_columns(history, "history")
         run = self._new_run(H)
         out = np.zeros((1, H, X.shape[1]))
         self._feed(run, X, out, "history")

@@ -41,6 +41,7 @@ import contextvars
 import copy
 import math
 import numbers
+import re
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -66,6 +67,7 @@ from modalinfo.telemetry.checks import (
     check_timestamps,
     coarse_start_spacing,
     find_label,
+    label_key,
     mode_labels,
     mode_span,
     transposed_shape,
@@ -156,6 +158,95 @@ def _check_frame_columns(coeffs, labels: list[str]) -> None:
         f"they would be labelled {', '.join(labels[:4])}{', ...' if len(labels) > 4 else ''}"
         " by default; give the modes (e.g. modes=[5, 6, 7] for Z5, Z6, Z7, or "
         "modes=list(df.columns), convention='labels').")
+
+
+def _column_modes(names: list, convention: str) -> list | None:
+    """Return the modes a DataFrame's column names state, or None when they name none.
+
+    Integers (not the default 0, 1, ...) are indices in ``convention``; strings are
+    read as the convention's labels (``Z4`` Noll, ``A4`` ANSI, ``F4`` Fringe); with
+    ``convention="labels"`` the names are labels. Other names (``tip``, ``focus``) state
+    no mode: ``modes`` names those columns.
+    """
+    if all(isinstance(n, int | np.integer) and not isinstance(n, bool | np.bool_)
+           for n in names):
+        ints = [int(n) for n in names]
+        return None if ints == list(range(len(ints))) else ints
+    if not all(isinstance(n, str) for n in names):
+        return None
+    if convention == "labels":
+        return [label_key(n) for n in names]
+    prefix = mode_labels([0], convention)[0][:-1]
+    found = [re.fullmatch(rf"{re.escape(prefix)}(\d+)", n.strip()) for n in names]
+    return [int(m.group(1)) for m in found] if all(found) else None
+
+
+def _check_named_columns(coeffs, mode_list: list, convention: str) -> None:
+    """Refuse ``modes`` that contradict the modes a DataFrame's column names state.
+
+    ``ModalLog(df, modes=[2, ..., 7])`` with columns ``Z4, Z2, Z3, Z7, Z5, Z6`` labelled
+    the ``Z4`` column Z2 without a word (adversarial round 42 PART a, M03, M04, M20):
+    the names were read only when ``modes`` was missing. A column name that states no
+    mode (``tip``) is named by ``modes``; with ``convention="labels"`` only a reordering
+    of the same labels is refused (other names are the user's renaming).
+    """
+    columns = getattr(coeffs, "columns", None)
+    if columns is None or getattr(coeffs, "ndim", None) != 2:
+        return
+    names = list(columns)
+    stated = _column_modes(names, convention)
+    if stated is None or len(stated) != len(mode_list):
+        return
+    given = ([label_key(str(m)) for m in mode_list] if convention == "labels"
+             else [int(m) for m in mode_list])
+    if stated == given:
+        return
+    if convention == "labels" and sorted(map(str, stated)) != sorted(map(str, given)):
+        return
+
+    def show(items):
+        return ", ".join(str(i) for i in items[:4]) + (", ..." if len(items) > 4 else "")
+
+    raise ValueError(
+        f"`coeffs` is a DataFrame whose columns are named ({show(names)}) but `modes` "
+        f"labels them ({show(mode_labels(mode_list, convention))}): the names and "
+        "`modes` disagree; reorder the columns to match `modes`, give `modes` in the "
+        "columns' order, or pass df.to_numpy() if the names are wrong.")
+
+
+def _check_time_index(coeffs, rate: float | None) -> None:
+    """Refuse a DataFrame whose DatetimeIndex / TimedeltaIndex contradicts the log.
+
+    The index was dropped: rows shuffled or reversed in time by their index were read
+    in that order, and ``rate=500`` kept beside a 1 ms index (adversarial round 42 PART
+    a, M08-M10), where ``rate`` and ``timestamps`` that disagree are refused. The
+    index's times are not adopted (``rate`` or ``timestamps`` give the time axis, as
+    before); they must be strictly increasing and, with ``rate``, agree with it.
+    """
+    index = getattr(coeffs, "index", None)
+    if getattr(coeffs, "ndim", None) != 2 or type(index).__name__ not in (
+            "DatetimeIndex", "TimedeltaIndex") or len(index) < 2:
+        return
+    offsets = index - index[0]
+    seconds = np.asarray(offsets.total_seconds(), dtype=np.float64)
+    steps = np.diff(seconds)
+    if not np.all(steps > 0.0):  # NaN (NaT) too
+        k = int(np.flatnonzero(~(steps > 0.0))[0])
+        raise ValueError(
+            f"`coeffs` is a DataFrame whose {type(index).__name__} is not strictly "
+            f"increasing (row {k + 1}: {index[k + 1]} after {index[k]}): its rows are not "
+            "in time order; sort them (df.sort_index()) and drop repeated or missing "
+            "times, or pass df.to_numpy() if the index is not the frames' time.")
+    if rate is not None:
+        from modalinfo.telemetry.sampling import rate_agrees
+
+        if not rate_agrees(seconds, rate, _RATE_RTOL):
+            median_dt = float(np.median(steps))
+            raise ValueError(
+                f"`rate` ({rate} Hz) disagrees with the {type(index).__name__} of `coeffs` "
+                f"(median interval {median_dt:.6g} s, i.e. {1.0 / median_dt:.6g} Hz); "
+                "give the rate of the index, or pass df.to_numpy() if the index is not "
+                "the frames' time.")
 
 
 def _count(value) -> int | None:
@@ -312,6 +403,7 @@ class ModalLog:
             wavelength = check_wavelength(wavelength)
         start_time = check_real(start_time, "start_time")
         _check_layout(coeffs, arr.shape, modes, timestamps)
+        _check_time_index(coeffs, rate if timestamps is None else None)
         t = None if timestamps is None else check_timestamps(timestamps, n_frames)
         if t is None and rate is not None and n_frames > 1:
             # float64 must tell the frames apart: a start in ns since 1970 (1.7e18) or
@@ -340,6 +432,8 @@ class ModalLog:
         mode_list = check_modes(modes, convention, n_modes)
         if modes is None:
             _check_frame_columns(coeffs, mode_labels(mode_list, convention))
+        else:
+            _check_named_columns(coeffs, mode_list, convention)
         meta = check_metadata(metadata)
 
         repairs: list[str] = []
