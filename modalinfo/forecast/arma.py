@@ -582,7 +582,7 @@ class ARMAPredictor(_LinearRecursion):
                                    "parameters: p + q + the mean")
 
     # ------------------------------------------------------------------ fitting
-    def _fit_mode(self, x: np.ndarray, orders, margin, burn, n_iter):
+    def _fit_mode(self, x: np.ndarray, orders, margin, burn, n_iter, judge=True):
         constant, value = self._constant_columns(x[:, None])
         if constant[0]:  # forecast as the constant itself: ARMA(0, 0) about it
             e = x - value[0]
@@ -639,8 +639,9 @@ class ARMAPredictor(_LinearRecursion):
         _, p, q, phi, theta, sigma2 = best
         # the chosen fit is Yule-Walker's: how much worse than least squares in sample
         # (round 41 PART a, V28: a noise-free line's phi (1.9345, -0.9894) for (1.9453, -1))
-        excess = (_yule_walker_excess(xc, phi, max(burn, p)) if q == 0 and 0 < p < n - burn
-                  else np.nan)
+        # (``judge``: at ``fit``, not at the refits of update / predict, which do not warn)
+        excess = (_yule_walker_excess(xc, phi, max(burn, p))
+                  if judge and q == 0 and 0 < p < n - burn else np.nan)
         return mu, p, q, phi, theta, sigma2 * scale**2, crit, excess
 
     def _fit_params(self, X, previous, name):
@@ -650,7 +651,8 @@ class ARMAPredictor(_LinearRecursion):
         check_real(self.level, "level", minimum=0.0, maximum=1.0, strict_min=True,
                    strict_max=True)
         n_iter = check_int(self.n_iter, "n_iter", minimum=0)
-        fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter)
+        fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter,
+                               judge=previous is None)
                 for m in range(X.shape[1])]
         if previous is None:  # fit, not the refits of update / predict: once per call
             self._warn_level_steps(X, fits)

@@ -943,7 +943,7 @@ class QualityReport:
         line that appears on the larger side: ``(label, frame, frequency, appears)``,
         ``frequency`` in cycles per frame, ``appears`` True where the line is after the
         step (a vibration switching on), False before it (switching off); the rule:
-        :func:`_step_line` (fixes 41-b, issue 27).
+        ``_step_line`` (fixes 41-b, issue 27).
     rate : float or None
         The log's frame rate [Hz] (None for an array), for the line's frequency in
         :attr:`note`.
@@ -1559,7 +1559,7 @@ def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
     return steps, judged
 
 
-#: A spread step is named a line (:func:`_step_line`) where one Welch bin's ratio of the
+#: A spread step is named a line (``_step_line``) where one Welch bin's ratio of the
 #: larger side's spectrum to the smaller side's exceeds its neighbours' (median of bins
 #: 3-8 away, the larger of the two sides) by this factor. Measured (fixes 41-b; AR(1)
 #: 0.94 of 0.2 rad, T = 2000 / 4000 / 20000 split half way, 100 logs each): plain spread
