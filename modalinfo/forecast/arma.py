@@ -8,7 +8,11 @@ Model (Brockwell & Davis 2002, eq. 3.1.1), per mode, on the centred series
 Estimation (numpy only; statsmodels is a test-only reference)
 -------------------------------------------------------------
 - ``q = 0``: Yule-Walker equations on the biased sample autocovariance (B&D 5.1.1),
-  solved by Levinson-Durbin; the estimate is always causal.
+  solved by Levinson-Durbin; the estimate is always causal. The biased autocovariance
+  tapers the lags, which pulls roots near the unit circle inwards: a noise-free line
+  is fitted as phi = (1.9345, -0.9894) for (1.9453, -1) (round 41 PART a, V28). ``fit``
+  warns (once per call) where the chosen AR(p)'s in-sample one-step mean square is more
+  than ``YW_EXCESS`` = 2 times a least-squares AR(p)'s; the fit is kept.
 - Every estimate is computed on the standardised series ``(x - mu) / s`` (``s`` its
   standard deviation) and ``sigma^2`` scaled back by ``s^2``: the parameters are
   unit-free, so the same log in rad, nm or waves gives the same (phi, theta) up to
@@ -152,6 +156,43 @@ def _yule_walker(gamma: np.ndarray, p: int) -> np.ndarray:
 #: above the rounding of its step-down recursion and of a root finder for simple and
 #: double roots (~1e-8)
 _SAFE = 1e-6
+
+
+#: ratio of the Yule-Walker AR(p)'s in-sample one-step mean square to a least-squares
+#: AR(p)'s on the same rows beyond which ``fit`` warns (round 41 PART a, V28; fixes 41-b).
+#: Measured (20 seeds, p = 1, 2, 3, n = 500 / 2000 / 7000 / 20000): AR(1) 0.9 / 0.99 /
+#: 0.999 and white noise at most 1.015 (the least-squares fit's own in-sample advantage,
+#: ~p / n); noise-free lines (1-250 Hz at 1 kHz) 83 to 1e25; lines with noise 1e-3 of
+#: the amplitude 1.0-21, 1e-2 at most 2.7, 1e-1 at most 1.03; AR(2) with a double root
+#: 0.99 (a smooth, integrated-like series) median 5-16, where the least-squares fit's
+#: out-of-sample one-step error was 9-23x lower too (median, n 500-7000).
+YW_EXCESS = 2.0
+
+
+def _yule_walker_excess(xc: np.ndarray, phi: np.ndarray, start: int) -> float:
+    """Ratio of the Yule-Walker fit's one-step mean square to a least-squares AR(p)'s.
+
+    Both on the rows ``t >= start`` (``start >= p``) of the standardised series ``xc``;
+    the least-squares AR(p) (no intercept: ``xc`` is centred) by its normal equations,
+    summed as dot products of lagged views (no ``(n, p)`` design), solved with singular
+    values below 1e-10 of the largest cut (a noise-free line is exactly AR(2): its
+    higher-order Gram matrix is singular up to rounding). ``inf`` where the
+    least-squares fit is exact and Yule-Walker's is not.
+    """
+    p, n = phi.size, xc.size
+    gram, rhs = np.empty((p, p)), np.empty(p)
+    for i in range(1, p + 1):
+        rhs[i - 1] = xc[start:] @ xc[start - i : n - i]
+        for j in range(i, p + 1):
+            gram[i - 1, j - 1] = gram[j - 1, i - 1] = (
+                xc[start - i : n - i] @ xc[start - j : n - j])
+    ls = np.linalg.lstsq(gram, rhs, rcond=1e-10)[0]
+    e_yw = _innovations(xc, phi, np.zeros(0))[start:]
+    e_ls = _innovations(xc, ls, np.zeros(0))[start:]
+    ms_yw, ms_ls = float(e_yw @ e_yw), float(e_ls @ e_ls)
+    if ms_ls > 0:
+        return ms_yw / ms_ls
+    return np.inf if ms_yw > 0 else 1.0
 
 
 def _clearly_inside(coeffs: np.ndarray, radius: float) -> bool:
@@ -541,12 +582,13 @@ class ARMAPredictor(_LinearRecursion):
                                    "parameters: p + q + the mean")
 
     # ------------------------------------------------------------------ fitting
-    def _fit_mode(self, x: np.ndarray, orders, margin, burn, n_iter):
+    def _fit_mode(self, x: np.ndarray, orders, margin, burn, n_iter, judge=True):
         constant, value = self._constant_columns(x[:, None])
         if constant[0]:  # forecast as the constant itself: ARMA(0, 0) about it
             e = x - value[0]
             crit = np.full((self.max_order + 1,) * 2, np.nan) if len(orders) > 1 else None
-            return value[0], 0, 0, np.zeros(0), np.zeros(0), float(e @ e) / x.size, crit
+            return (value[0], 0, 0, np.zeros(0), np.zeros(0), float(e @ e) / x.size, crit,
+                    np.nan)
         mu = x.mean()
         # standardise: the estimators below see a unit-variance series whatever the
         # units (nm, rad, waves), so every tolerance in them is unit-free and a fit in
@@ -595,7 +637,12 @@ class ARMAPredictor(_LinearRecursion):
             if best is None or value < best[0]:
                 best = (value, p, q, phi, theta, sigma2)
         _, p, q, phi, theta, sigma2 = best
-        return mu, p, q, phi, theta, sigma2 * scale**2, crit
+        # the chosen fit is Yule-Walker's: how much worse than least squares in sample
+        # (round 41 PART a, V28: a noise-free line's phi (1.9345, -0.9894) for (1.9453, -1))
+        # (``judge``: at ``fit``, not at the refits of update / predict, which do not warn)
+        excess = (_yule_walker_excess(xc, phi, max(burn, p))
+                  if judge and q == 0 and 0 < p < n - burn else np.nan)
+        return mu, p, q, phi, theta, sigma2 * scale**2, crit, excess
 
     def _fit_params(self, X, previous, name):
         orders = self._orders_to_try()
@@ -604,10 +651,12 @@ class ARMAPredictor(_LinearRecursion):
         check_real(self.level, "level", minimum=0.0, maximum=1.0, strict_min=True,
                    strict_max=True)
         n_iter = check_int(self.n_iter, "n_iter", minimum=0)
-        fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter)
+        fits = [self._fit_mode(np.ascontiguousarray(X[:, m]), orders, margin, burn, n_iter,
+                               judge=previous is None)
                 for m in range(X.shape[1])]
         if previous is None:  # fit, not the refits of update / predict: once per call
             self._warn_level_steps(X, fits)
+            self._warn_yule_walker(fits)
         n_modes = X.shape[1]
         P = max(f[1] for f in fits)
         Q = max(f[2] for f in fits)
@@ -667,6 +716,31 @@ class ARMAPredictor(_LinearRecursion):
             "so the fitted persistence may be the level step rather than the dynamics; "
             "fit each stretch of steady conditions on its own.",
             LevelStepWarning, stacklevel=4)
+
+    def _warn_yule_walker(self, fits: list) -> None:
+        """Warn where a Yule-Walker AR(p) fits ``YW_EXCESS`` times worse than least squares.
+
+        The biased autocovariance tapers the lags, which pulls roots near the unit circle
+        inwards: on a deterministic line (a vibration without noise) phi = (1.9345,
+        -0.9894) for (1.9453, -1), a 5-step RMSE of 0.022 of the amplitude where least
+        squares gives 7e-14 (round 41 PART a, V28). The fit is kept (it is the paper's
+        estimator, B&D 5.1.1, always causal); the warning names the modes and the ratio.
+        """
+        bad = [(m, f[1], f[7]) for m, f in enumerate(fits) if f[7] > YW_EXCESS]
+        if not bad:
+            return
+        shown = "; ".join(f"column {m}: AR({p}), x{r:.3g}" for m, p, r in bad[:3])
+        more = f" and {len(bad) - 3} more" if len(bad) > 3 else ""
+        warn(
+            f"ARMAPredictor.fit: the Yule-Walker fit of {len(bad)} mode(s) has a one-step "
+            f"in-sample mean square error more than {YW_EXCESS:g} times that of a "
+            f"least-squares AR of the same order ({shown}{more}): Yule-Walker's biased "
+            "autocovariance pulls roots near the unit circle inwards, which misfits a "
+            "deterministic line (a vibration with little noise) or a very smooth series; "
+            "use a least-squares fit (LinearPredictor(fit_weights=True), the CLI's "
+            "linear-ls), or an order with q > 0 (conditional least squares, within "
+            "root_margin).",
+            UserWarning, stacklevel=4)
 
     # ------------------------------------------------------------------ attributes
     @property

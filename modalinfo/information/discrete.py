@@ -52,19 +52,40 @@ def mi_from_counts(counts: np.ndarray, bias_correction: str = "miller-madow") ->
 DISCRETE_MIN_PER_CELL = 10
 
 
-def discrete_levels(x: np.ndarray, max_levels: int) -> tuple[np.ndarray, int] | None:
+def _groups(values: np.ndarray, tol: float) -> np.ndarray:
+    """Group index of each sorted distinct value: a new group after each gap > ``tol``."""
+    out = np.zeros(values.size, dtype=np.int64)
+    np.cumsum(np.diff(values) > tol, out=out[1:])
+    return out
+
+
+def discrete_levels(x: np.ndarray, max_levels: int, rtol: float = 0.0
+                    ) -> tuple[np.ndarray, int] | None:
     """Codes (n,) int64 of the distinct values of x and their number, if <= max_levels.
 
     None when x has more than ``max_levels`` distinct values (or ``max_levels`` < 2).
     Any ``max_levels + 1`` samples with that many distinct values prove it, so a
     continuous sample is rejected after sorting its first ``max_levels + 1`` values.
+    ``rtol`` > 0: sorted values less than ``rtol`` times the range apart count as one
+    (a level written by a float function carries rounding jitter: ``cos`` of a line at a
+    quarter of the rate gave 15,295 distinct values of 20,000 for 4 levels, round 41
+    PART a, V19).
     """
-    if max_levels < 2 or np.unique(x[: max_levels + 1]).size > max_levels:
+    if max_levels < 2:
+        return None
+    tol = rtol * float(np.max(x) - np.min(x)) if rtol > 0 else 0.0
+    head = np.unique(x[: max_levels + 1])
+    if (head.size if tol == 0 else int(_groups(head, tol)[-1]) + 1) > max_levels:
         return None
     values, codes = np.unique(x, return_inverse=True)
-    if values.size > max_levels:
+    if tol > 0:
+        group = _groups(values, tol)
+        codes, n_values = group[codes], int(group[-1]) + 1
+    else:
+        n_values = values.size
+    if n_values > max_levels:
         return None
-    return codes.astype(np.int64, copy=False).ravel(), int(values.size)
+    return codes.astype(np.int64, copy=False).ravel(), int(n_values)
 
 
 def discrete_mi(cx: np.ndarray, mx: int, cy: np.ndarray, my: int) -> float:

@@ -938,6 +938,15 @@ class QualityReport:
     variance_judged : int
         Modes the spread rule judged (those with at least
         ``MIN_VARIANCE_EFFECTIVE`` = 100 effective absolute deviations).
+    step_lines : tuple of (str, int, float, bool)
+        Spread steps (of :attr:`variance_steps`) carried by a spectral
+        line that appears on the larger side: ``(label, frame, frequency, appears)``,
+        ``frequency`` in cycles per frame, ``appears`` True where the line is after the
+        step (a vibration switching on), False before it (switching off); the rule:
+        ``_step_line`` (fixes 41-b, issue 27).
+    rate : float or None
+        The log's frame rate [Hz] (None for an array), for the line's frequency in
+        :attr:`note`.
     predictor : tuple of numpy.ndarray or None
         What the flagging pass used, for ``"clip"`` to replace the same values by the
         same predictions: the centre (M,), levels threshold (M,), AR coefficients
@@ -1010,6 +1019,8 @@ class QualityReport:
     level_judged: int = 0
     variance_steps: tuple = ()
     variance_judged: int = 0
+    step_lines: tuple = ()
+    rate: float | None = None
     repeated_frames: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     copied_frames: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     copied_block: tuple = ()
@@ -1047,13 +1058,37 @@ class QualityReport:
             more = ", ..." if len(self.level_steps) > 5 else ""
             parts.append(f"the mean steps or drifts in {len(self.level_steps)} mode(s) "
                          f"({shown}{more}; two nights joined, an offset changed?)")
-        if self.variance_steps:
+        lines = {(label, frame): (freq, on) for label, frame, freq, on in self.step_lines}
+        plain = [v for v in self.variance_steps if (v[0], v[1]) not in lines]
+        if plain:
             shown = ", ".join(f"{label} at frame {frame} (x{ratio:.2g})"
-                              for label, frame, ratio, _ in self.variance_steps[:5])
-            more = ", ..." if len(self.variance_steps) > 5 else ""
-            parts.append(f"the spread steps or drifts in {len(self.variance_steps)} "
+                              for label, frame, ratio, _ in plain[:5])
+            more = ", ..." if len(plain) > 5 else ""
+            parts.append(f"the spread steps or drifts in {len(plain)} "
                          f"mode(s) ({shown}{more}; modes reordered between two nights "
                          "joined, or the loop opened?)")
+        # a line switching on or off (round 41 PART b, I13 / V08): one part per line,
+        # the modes it steps named (frequencies within 1 % of the first are one line)
+        groups: list = []
+        for label, frame, ratio, _ in self.variance_steps:
+            if (label, frame) not in lines:
+                continue
+            freq, on = lines[label, frame]
+            for g in groups:
+                if g[1] == on and abs(freq - g[0]) <= 0.01 * g[0]:
+                    g[2].append((label, frame, ratio))
+                    break
+            else:
+                groups.append((freq, on, [(label, frame, ratio)]))
+        for freq, on, modes in groups:
+            at = (f"~{freq * self.rate:.3g} Hz" if self.rate
+                  else f"~{freq:.3g} of the frame rate")
+            shown = ", ".join(f"{label} at frame {frame} (x{ratio:.2g})"
+                              for label, frame, ratio in modes[:5])
+            more = ", ..." if len(modes) > 5 else ""
+            parts.append(f"a line at {at} {'appears' if on else 'stops'} after frame "
+                         f"{modes[0][1]} in {len(modes)} mode(s) ({shown}{more}; a "
+                         f"vibration switching {'on' if on else 'off'}?)")
         median = math.isfinite(self.scale_ratio) and self.scale_ratio > \
             stationarity_threshold(self.effective_frames / STATIONARITY_BLOCKS)
         if median or not (self.level_steps or self.variance_steps or self.scale_steps):
@@ -1522,6 +1557,83 @@ def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
                    float(v.p_value)) for v in flagged
                   if v.ratio == 0.0 or max(v.ratio, 1.0 / v.ratio) > MIN_SCALE_RATIO)
     return steps, judged
+
+
+#: A spread step is named a line (``_step_line``) where one Welch bin's ratio of the
+#: larger side's spectrum to the smaller side's exceeds its neighbours' (median of bins
+#: 3-8 away, the larger of the two sides) by this factor. Measured (fixes 41-b; AR(1)
+#: 0.94 of 0.2 rad, T = 2000 / 4000 / 20000 split half way, 100 logs each): plain spread
+#: steps x2 / x3 / x0.3, phi 0.5 -> 0.99, 0.99 -> 0.5, 0.9 -> 0.999 and no step at most
+#: 5.7 (0 of 1,800 above 10); lines of 0.3 / 0.5 rad switched on half way at 60, 250,
+#: 500 Hz (1 kHz) at least 15 (500 Hz, a phase near 0) and 30 elsewhere.
+LINE_CONTRAST = 20.0
+
+#: Frames on each side of a spread step that the line rule reads (one column at a time).
+_LINE_FRAMES = 16384
+
+
+def _step_line(column: np.ndarray, frame: int, ratio: float) -> float | None:
+    """Frequency [cycles / frame] of a line that carries a spread step, else None.
+
+    ``column``: up to ``_LINE_FRAMES`` frames on each side of ``frame`` (non-finite
+    values read as the median). Welch spectra (Hann, half overlap, segments of the
+    largest power of two up to an eighth of the shorter side, 128 to 2048 frames) of the
+    two sides; in ``log(P_larger / P_smaller)`` a bin must stand ``LINE_CONTRAST`` above
+    the median of its neighbours 3-8 bins away on each side (the larger median; one
+    side only at the Nyquist bin): a smooth change of the spectrum's shape (a loop
+    opened: AR(1) 0.5 -> 0.99) has no such bin, a line has. Lines in the lowest 3
+    bins (below 3 / 2048 to 3 / 128 of the rate) and sides shorter than 512 frames are
+    not judged. The frequency: the peak of the larger side's Hann periodogram (zero
+    padded to 4x) within 2 Welch bins of the bin found.
+    """
+    from numpy.lib.stride_tricks import sliding_window_view
+    from scipy.signal import welch
+
+    x = column - np.nanmedian(column)
+    x[~np.isfinite(x)] = 0.0
+    big, small = (x[frame:], x[:frame]) if ratio >= 1 else (x[:frame], x[frame:])
+    m = min(big.size, small.size)
+    if m < 512:
+        return None
+    nper = min(max(128, 1 << int(math.floor(math.log2(m / 8)))), 2048)
+    _, p_big = welch(big, nperseg=nper)
+    _, p_small = welch(small, nperseg=nper)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.log(p_big[1:] / p_small[1:])  # bin k of r: frequency (k + 1) / nper
+    n_bins = r.size
+    if n_bins < 12 or not np.all(np.isfinite(r)):
+        return None
+    pad = np.concatenate([np.full(8, np.nan), r, np.full(8, np.nan)])
+    six = sliding_window_view(pad, 6)  # six[k] = r[k-8 : k-2], six[k + 11] = r[k+3 : k+9]
+    ks = np.arange(3, n_bins)
+    ref = np.nanmedian(six[ks], axis=1)  # left, 1-6 values from k = 3
+    two = ks <= n_bins - 4  # a right side too (the Nyquist bin alone has none)
+    ref[two] = np.maximum(ref[two], np.nanmedian(six[ks[two] + 11], axis=1))
+    ref[(~two) & (ks < n_bins - 1)] = np.inf  # within 3 of Nyquist: not judged
+    excess = r[ks] - ref
+    best = int(np.argmax(excess))
+    if not excess[best] > math.log(LINE_CONTRAST):
+        return None
+    f0 = (ks[best] + 1) / nper
+    seg = big[-_LINE_FRAMES:] if ratio >= 1 else big[:_LINE_FRAMES]
+    nfft = 1 << int(math.ceil(math.log2(4 * seg.size)))
+    power = np.abs(np.fft.rfft(seg * np.hanning(seg.size), nfft)) ** 2
+    grid = np.arange(power.size) / nfft
+    near = np.flatnonzero(np.abs(grid - f0) <= 2.0 / nper)
+    return float(grid[near[np.argmax(power[near])]])
+
+
+def _step_lines(arr: np.ndarray, varied: tuple, labels: list) -> tuple:
+    """``QualityReport.step_lines`` of the spread steps (``_step_line``)."""
+    out = []
+    index = {label: j for j, label in enumerate(labels)}
+    for label, frame, ratio, _ in varied:
+        start = max(0, frame - _LINE_FRAMES)
+        column = np.array(arr[start : frame + _LINE_FRAMES, index[label]], dtype=float)
+        freq = _step_line(column, frame - start, ratio)
+        if freq is not None:
+            out.append((label, frame, freq, bool(ratio >= 1)))
+    return tuple(out)
 
 
 def _stuck_runs(repeats: np.ndarray, n: int, m: int, stuck_run: int,
@@ -2187,6 +2299,7 @@ def assess_quality(
             constant | np.array([label in named for label in labels], dtype=bool))
         varied = varied + tuple((labels[v.column], int(min(v.frame * step, n - 1)),
                                  float(v.ratio), float(v.p_value)) for v in extra)
+    step_lines = _step_lines(arr, varied, list(labels))
     advance(1)
     if found_steps or varied:
         stationary = False
@@ -2221,7 +2334,8 @@ def assess_quality(
         predictor=(centre, thr, coef, cen_e, thr_e, head),
         scale_steps=scale_found, scale_judged=int(scale_judged),
         level_steps=found_steps, level_judged=level_judged,
-        variance_steps=varied, variance_judged=variance_judged,
+        variance_steps=varied, variance_judged=variance_judged, step_lines=step_lines,
+        rate=(log_or_coeffs.rate if isinstance(log_or_coeffs, ModalLog) else None),
         repeated_frames=repeated_frames.astype(np.int64),
         copied_frames=copied_frames, copied_block=copied_block,
         pair_order=pair_order, pair_judged=pair_found is not None,

@@ -17,6 +17,11 @@ from modalinfo.forecast import ARMAPredictor
 
 from .conftest import lag_only
 
+# the simulator's pseudo-open-loop modes are smooth: Yule-Walker's AR(2) fits them 2.0-2.3x
+# worse than least squares in sample (4.5-4.9x out of sample over 1 s), which ``fit`` now
+# says (fixes 41-b); this file tests the threads, not the fit
+pytestmark = pytest.mark.filterwarnings("ignore:ARMAPredictor.fit. the Yule-Walker fit")
+
 
 @pytest.fixture(scope="module")
 def pol():
