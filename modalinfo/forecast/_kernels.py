@@ -44,9 +44,12 @@ def arma_filter(x, coef, n_ar, n_ma, state, work, out, status):
     ----------
     x : (N, M) float64 IN
         New samples.
-    coef : (M, 1 + P + Q) IN
-        Per mode: the mean ``mu``, then ``phi_1..phi_P``, then ``theta_1..theta_Q``
-        (zero-padded per mode).
+    coef : (M, 2 + P + Q) IN
+        Per mode: the centring ``mu``, the intercept ``c``, then ``phi_1..phi_P``, then
+        ``theta_1..theta_Q`` (zero-padded per mode). With ``y = x - mu`` the model is
+        ``y[t] = c + sum_i phi_i y[t - i] + e[t] + sum_j theta_j e[t - j]``; ``c`` is
+        added as it is (never turned into a mean ``c / (1 - sum phi)``, which is
+        ill-conditioned near a random walk), ``c = 0`` for a model about its mean.
     n_ar, n_ma : int
         ``P`` and ``Q``.
     state : (M, P + Q + 1) INOUT
@@ -70,6 +73,7 @@ def arma_filter(x, coef, n_ar, n_ma, state, work, out, status):
         o = n - n_samples + n_out
         for m in range(n_modes):
             mu = coef[m, 0]
+            c = coef[m, 1]
             xc = x[n, m] - mu
             e = xc - state[m, i_pred]
             for i in range(n_ar - 1, 0, -1):
@@ -81,15 +85,15 @@ def arma_filter(x, coef, n_ar, n_ma, state, work, out, status):
             if n_ma > 0:
                 state[m, n_ar] = e
             for h in range(horizon):
-                s = 0.0
+                s = c
                 for i in range(n_ar):
                     k = h - 1 - i
                     if k >= 0:
-                        s += coef[m, 1 + i] * work[k]
+                        s += coef[m, 2 + i] * work[k]
                     else:
-                        s += coef[m, 1 + i] * state[m, -k - 1]
+                        s += coef[m, 2 + i] * state[m, -k - 1]
                 for j in range(h, n_ma):
-                    s += coef[m, 1 + n_ar + j] * state[m, n_ar + j - h]
+                    s += coef[m, 2 + n_ar + j] * state[m, n_ar + j - h]
                 work[h] = s
                 if o >= 0:
                     out[o, h, m] = s + mu

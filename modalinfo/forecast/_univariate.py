@@ -9,11 +9,18 @@ from modalinfo.forecast.base import Predictor
 
 
 def _pack(params: dict) -> tuple[np.ndarray, int, int]:
-    """Kernel layout ``(M, 1 + P + Q)``: mean, AR then MA coefficients per mode."""
+    """Kernel layout ``(M, 2 + P + Q)``: centring, intercept, AR then MA coefficients.
+
+    ``params["c"]`` (the intercept, :func:`~modalinfo.forecast._kernels.arma_filter`)
+    is optional: a model about its mean ``mu`` has none (0).
+    """
     coef = params.get("_packed")
     if coef is None:
-        coef = np.ascontiguousarray(
-            np.column_stack([params["mu"], params["phi"], params["theta"]]))
+        intercept = params.get("c")
+        if intercept is None:
+            intercept = np.zeros_like(params["mu"])
+        coef = np.ascontiguousarray(np.column_stack(
+            [params["mu"], intercept, params["phi"], params["theta"]]))
         params["_packed"] = coef
     return coef, params["phi"].shape[1], params["theta"].shape[1]
 
@@ -21,7 +28,8 @@ def _pack(params: dict) -> tuple[np.ndarray, int, int]:
 class _LinearRecursion(Predictor):
     """A predictor run by :func:`~modalinfo.forecast._kernels.arma_filter`.
 
-    ``_fit_params`` must return ``mu (M,)``, ``phi (M, P)`` and ``theta (M, Q)``.
+    ``_fit_params`` must return ``mu (M,)``, ``phi (M, P)`` and ``theta (M, Q)``, and
+    may return an intercept ``c (M,)`` of the recursion about ``mu`` (default 0).
     """
 
     def _memory(self, params: dict) -> int:

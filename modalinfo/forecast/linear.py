@@ -11,26 +11,31 @@ __all__ = ["LinearPredictor"]
 
 
 class LinearPredictor(_LinearRecursion):
-    """``x_hat[n + 1] = a x[n] + b x[n - 1]``, iterated for h > 1.
+    """``x_hat[n + 1] = a x[n] + b x[n - 1]`` (``+ c`` when fitted), iterated for h > 1.
 
     With the paper's fixed weights ``a = 2, b = -1`` this extrapolates the last
     slope: ``x_hat[n + h] = x[n] + h (x[n] - x[n - 1])``. With ``fit_weights=True``
-    ``a`` and ``b`` are fitted per mode by least squares (no intercept, as the
-    paper's relation) on the training history. Without an intercept the fit is not
-    translation-invariant: a mode with a static offset pulls ``a + b`` toward 1 (a
-    persistence-like extrapolation). Measured on an AR(1) 0.9 mode (round 40 PART a,
-    S01): the h = 5 skill against persistence 1.121 with the mean at 0, 1.061 with the
-    mean 1 sd away, 1.003 at 10 sd; remove each mode's mean before fitting where the
-    log holds static offsets (the other predictors remove the training mean).
+    ``a``, ``b`` and an intercept ``c`` are fitted per mode by least squares on the
+    training history, ``x[t] = c + a x[t - 1] + b x[t - 2]`` (statsmodels'
+    ``AutoReg(lags=2, trend="c")``): exact on a noise-free law about 0 (``c = 0``
+    fitted) and translation-invariant, so a static offset of a mode costs no skill.
+    The fit and the recursion run about the training mean (``c`` is the intercept
+    about it, added at every step as it is, never turned into a mean
+    ``c / (1 - a - b)``, which is ill-conditioned near a random walk). Without the
+    intercept (before fix 41-a) an offset pulled ``a + b`` toward 1: on an AR(1) 0.9
+    mode of 1e-3 rad the h = 5 skill against persistence fell from 1.117 to 1.002
+    with a 1e6 rad offset (round 40 PART a, S01); with it, 1.112 at 0, 1e3 and 1e6
+    rad alike (docs/ADVERSARIAL.md, "Fixes 41-a").
 
     It beats persistence when increments are correlated (a smooth series) and loses
     when they are not: on an AR(1) series with coefficient near 1 the one-step error
     is ``e[n+1] + (e[n] - ...)``, about twice the innovation variance.
 
-    Minimum samples with ``fit_weights=True``: 22 (ten least-squares rows per
-    fitted weight, after the two lags); with fixed weights, 1. A constant column
-    (range at most 1e-12 of its magnitude) gets no fitted weights: it is forecast
-    as the constant (the fixed weights extrapolate a constant exactly as well).
+    Minimum samples with ``fit_weights=True``: 32 (ten least-squares rows per
+    fitted parameter, after the two lags: ``a``, ``b``, ``c``); with fixed weights, 1.
+    A constant column (range at most 1e-12 of its magnitude) gets no fitted weights:
+    it is forecast as the constant (the fixed weights extrapolate a constant exactly
+    as well).
 
     Parameters
     ----------
@@ -38,7 +43,7 @@ class LinearPredictor(_LinearRecursion):
         Fixed weights (used when ``fit_weights`` is False). Defaults: the paper's
         ``a = 2, b = -1``.
     fit_weights : bool
-        Fit ``a`` and ``b`` by least squares instead.
+        Fit ``a``, ``b`` and the intercept ``c`` by least squares instead.
     horizon : int
         Number of steps forecast by ``update``.
     refit_every, window : int or None
@@ -48,6 +53,8 @@ class LinearPredictor(_LinearRecursion):
     ----------
     coef_ : numpy.ndarray, shape (M, 2)
         ``(a, b)`` per mode, as fitted (refits during a run do not change it).
+    intercept_ : numpy.ndarray, shape (M,)
+        ``c`` per mode (0 with fixed weights), as fitted.
     """
 
     def __init__(self, *, a: float = 2.0, b: float = -1.0, fit_weights: bool = False,
@@ -60,12 +67,14 @@ class LinearPredictor(_LinearRecursion):
 
     def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
         if self.fit_weights:
-            return 22, "2 lags + 10 regression rows per weight x 2 weights (a, b)"
+            return 32, ("2 lags + 10 regression rows per parameter x 3 parameters "
+                        "(a, b, intercept)")
         return 1, "fixed weights, nothing to estimate"
 
     def _fit_params(self, X, previous, name):
         n_modes = X.shape[1]
         mu = np.zeros(n_modes)
+        intercept = np.zeros(n_modes)
         if self.fit_weights:
             constant, value = self._constant_columns(X)
             coef = np.zeros((n_modes, 2))
@@ -73,13 +82,22 @@ class LinearPredictor(_LinearRecursion):
                 if constant[m]:  # forecast the constant: mu + 0 (x - mu)
                     mu[m] = value[m]
                     continue
-                design = np.column_stack([X[1:-1, m], X[:-2, m]])
-                coef[m] = np.linalg.lstsq(design, X[2:, m], rcond=None)[0]
+                # about the training mean (well-conditioned under an offset). The
+                # intercept column is eliminated (Frisch-Waugh): centring the target and
+                # each lag column by its own mean gives the same (a, b) as the column of
+                # ones and keeps the fit homogeneous in the units (2^k scalings: same bits)
+                mu[m] = X[:, m].mean()
+                y = X[:, m] - mu[m]
+                cols = (y[2:], y[1:-1], y[:-2])
+                means = [col.mean() for col in cols]
+                design = np.column_stack([cols[1] - means[1], cols[2] - means[2]])
+                coef[m] = np.linalg.lstsq(design, cols[0] - means[0], rcond=None)[0]
+                intercept[m] = means[0] - coef[m, 0] * means[1] - coef[m, 1] * means[2]
         else:
             a = check_real(self.a, "a")
             b = check_real(self.b, "b")
             coef = np.tile([a, b], (n_modes, 1))
-        return {"mu": mu, "phi": np.ascontiguousarray(coef),
+        return {"mu": mu, "c": intercept, "phi": np.ascontiguousarray(coef),
                 "theta": np.zeros((n_modes, 0))}
 
     @property
@@ -87,3 +105,10 @@ class LinearPredictor(_LinearRecursion):
         """``(M, 2)`` weights ``(a, b)`` per mode."""
         self._check_fitted()
         return self.params_["phi"]
+
+    @property
+    def intercept_(self) -> np.ndarray:
+        """``(M,)`` intercept ``c`` of ``x[t] = c + a x[t - 1] + b x[t - 2]`` per mode."""
+        self._check_fitted()
+        p = self.params_
+        return p["c"] + p["mu"] * (1.0 - p["phi"].sum(axis=1))

@@ -15,7 +15,8 @@ are known by construction. References, from outside the code:
 - an analytic law: a series that is an exact AR(2), ``x_k = 1.5 x_{k-1} - 0.7 x_{k-2}``
   (noise-free after its two first values), is fitted by the least-squares linear predictor
   (``linear-ls``) to ``(a, b) = (1.5, -0.7)`` to rounding, and a noisy one within its
-  sampling error; ``statsmodels``' ``AutoReg`` gives the same weights on the window;
+  sampling error; ``statsmodels``' ``AutoReg(trend="c")`` gives the same weights and
+  intercept on the window (``trend="n"`` before fix 41-a added the intercept);
 - the names: ``modalinfo.forecast.presets.PRESETS`` (the one list) plus the three
   sentinels; every refusal's whole message as the docstrings state it.
 """
@@ -212,9 +213,11 @@ def test_trained_on_a_noisy_series_is_statsmodels_autoreg():
 
     pol = _ar2(400, 1, noise=1.0, seed=4)
     trained = LoopPredictor.from_name("linear-ls").trained(_reference([pol], closure=0))
-    fit = AutoReg(pol[16:, 0], lags=2, trend="n").fit()
-    np.testing.assert_allclose(trained.predictor.coef_[0], fit.params, rtol=1e-8)
-    np.testing.assert_allclose(fit.params, [1.5, -0.7], atol=0.1)
+    fit = AutoReg(pol[16:, 0], lags=2, trend="c").fit()  # linear-ls has an intercept
+    np.testing.assert_allclose(trained.predictor.coef_[0], fit.params[1:], rtol=1e-8)
+    np.testing.assert_allclose(trained.predictor.intercept_[0], fit.params[0], rtol=1e-6,
+                               atol=1e-10 * np.abs(pol).max())
+    np.testing.assert_allclose(fit.params[1:], [1.5, -0.7], atol=0.1)
 
 
 def test_trained_with_a_basis_fits_the_projected_pol():

@@ -1,11 +1,12 @@
 """Forecast kernels against slow NumPy references.
 
 References: the ARMA recursion against ``scipy.signal.lfilter`` (innovations) and an
-explicit h-step loop written from Brockwell & Davis eq. 5.3.x; the MLP forward pass
-against ``sklearn.neural_network.MLPRegressor.predict``; the VAR recursion against a
-NumPy matrix loop; the RLS update against the textbook matrix-inversion-lemma form
-(Haykin, Adaptive Filter Theory, eq. 10.x) written in NumPy. Each kernel is also
-called from inside an njit function.
+explicit h-step loop written from Brockwell & Davis eq. 5.3.x (with an intercept ``c``
+added to every step, ``x_t = c + sum phi x_{t-i} + ...``: fix 41-a, round 40 S01);
+the MLP forward pass against ``sklearn.neural_network.MLPRegressor.predict``; the VAR
+recursion against a NumPy matrix loop; the RLS update against the textbook
+matrix-inversion-lemma form (Haykin, Adaptive Filter Theory, eq. 10.x) written in
+NumPy. Each kernel is also called from inside an njit function.
 """
 
 import warnings
@@ -20,17 +21,19 @@ from sklearn.neural_network import MLPRegressor
 from modalinfo.forecast import _kernels as K  # noqa: N812
 
 
-def _arma_reference(x, mu, phi, theta, H):
-    """h-step forecasts after every sample, plain Python."""
+def _arma_reference(x, mu, phi, theta, H, c=0.0):
+    """h-step forecasts after every sample, plain Python (intercept ``c`` about ``mu``)."""
     n = x.size
     xc = x - mu
-    e = lfilter(np.r_[1.0, -phi], np.r_[1.0, theta], xc)  # innovations from zero state
+    # innovations from zero state (the forecast of the first sample is 0, c after it)
+    e = lfilter([1.0], np.r_[1.0, theta],
+                lfilter(np.r_[1.0, -phi], [1.0], xc) - c * (np.arange(n) >= 1))
     out = np.empty((n, H))
     p, q = phi.size, theta.size
     for t in range(n):
         fc = []
         for h in range(1, H + 1):
-            s = 0.0
+            s = c
             for i in range(1, p + 1):
                 k = t + h - i
                 s += phi[i - 1] * (fc[k - t - 1] if k > t else (xc[k] if k >= 0 else 0.0))
@@ -42,8 +45,9 @@ def _arma_reference(x, mu, phi, theta, H):
     return out
 
 
+@pytest.mark.parametrize("c", [0.0, 0.3])
 @pytest.mark.parametrize("p,q", [(0, 0), (1, 0), (2, 3), (3, 1), (0, 2)])
-def test_arma_filter_matches_reference(p, q):
+def test_arma_filter_matches_reference(p, q, c):
     rng = np.random.default_rng(p * 10 + q)
     n, H = 60, 5
     x = rng.standard_normal(n) + 0.7
@@ -51,11 +55,11 @@ def test_arma_filter_matches_reference(p, q):
     theta = rng.uniform(-0.4, 0.4, q)
     out = np.zeros((n, H, 1))
     status = np.zeros(1, dtype=np.int64)
-    coef = np.r_[0.7, phi, theta][None].copy()
+    coef = np.r_[0.7, c, phi, theta][None].copy()  # centring, intercept, AR, MA
     K.arma_filter(x[:, None].copy(), coef, p, q, np.zeros((1, p + q + 1)), np.zeros(H), out,
                   status)
     assert status[0] == 0
-    np.testing.assert_allclose(out[:, :, 0], _arma_reference(x, 0.7, phi, theta, H),
+    np.testing.assert_allclose(out[:, :, 0], _arma_reference(x, 0.7, phi, theta, H, c),
                                rtol=1e-12, atol=1e-12)
 
 
@@ -63,7 +67,7 @@ def test_arma_filter_last_only_and_nonfinite():
     x = np.arange(10.0)[:, None]
     last = np.zeros((1, 3, 1))
     full = np.zeros((10, 3, 1))
-    coef = np.array([[0.0, 1.0]])  # persistence: mu = 0, phi = 1
+    coef = np.array([[0.0, 0.0, 1.0]])  # persistence: mu = 0, c = 0, phi = 1
     for out in (last, full):
         K.arma_filter(x, coef, 1, 0, np.zeros((1, 2)), np.zeros(3), out,
                       np.zeros(1, dtype=np.int64))
@@ -146,7 +150,7 @@ def test_rls_filter_matches_textbook_rls():
 def test_kernels_callable_from_njit():
     @nb.njit
     def run(x, out, status):
-        K.arma_filter(x, np.array([[0.0, 1.0]]), 1, 0, np.zeros((1, 2)), np.zeros(2), out,
+        K.arma_filter(x, np.array([[0.0, 0.0, 1.0]]), 1, 0, np.zeros((1, 2)), np.zeros(2), out,
                       status)
         return out[0, 1, 0]
 

@@ -58,11 +58,12 @@ def test_linear_loses_to_persistence_on_ar1():
     assert mse_l == pytest.approx(expect_l, rel=0.03)
     assert mse_l / mse_p == pytest.approx(expect_l / expect_p, rel=0.04)  # ~2.02
     # the least-squares weights recover a ~ f, b ~ 0 and then tie with persistence
+    # (an intercept column since fix 41-a: x_t = c + a x_{t-1} + b x_{t-2})
     fitted = LinearPredictor(fit_weights=True, horizon=1)
     mse_f = _mse_one_step(fitted, x, 30000)
-    design = np.column_stack([x[1:29999], x[:29998]])
-    np.testing.assert_allclose(fitted.coef_[0], np.linalg.lstsq(design, x[2:30000],
-                                                                 rcond=None)[0], rtol=1e-10)
+    design = np.column_stack([np.ones(29998), x[1:29999], x[:29998]])
+    c_a_b = np.linalg.lstsq(design, x[2:30000], rcond=None)[0]
+    np.testing.assert_allclose(fitted.coef_[0], c_a_b[1:], rtol=1e-10)
     assert fitted.coef_[0, 0] == pytest.approx(f, abs=0.02)
     assert mse_f < mse_p * 1.01
 

@@ -24,7 +24,7 @@ X = RNG.standard_normal((500, 2))
 
 
 # Minimum samples, each rule counted here from the model's free parameters:
-# ARMA(p, q): burn_in + 10 (p + q + 1); linear LS: 2 lags + 10 x 2 weights;
+# ARMA(p, q): burn_in + 10 (p + q + 1); linear LS: 2 lags + 10 x 3 (a, b, c);
 # NN K-J-1: K + J (K + 2) + 1 (one pattern per weight) or K + n_patterns if fewer;
 # VAR(p) on M modes: p + 10 p M.
 @pytest.mark.parametrize("pred,n_min", [
@@ -34,7 +34,7 @@ X = RNG.standard_normal((500, 2))
     (NeuralNetPredictor(max_iter=20), 10 + 10 * (10 + 2) + 1),
     (NeuralNetPredictor(n_inputs=3, n_hidden=2, max_iter=20), 3 + 2 * (3 + 2) + 1),
     (NeuralNetPredictor.paper(max_iter=20), 10 + 10),
-    (LinearPredictor(fit_weights=True), 2 + 10 * 2),
+    (LinearPredictor(fit_weights=True), 2 + 10 * 3),  # a, b, intercept (fix 41-a)
     (MultivariatePredictor(order=4), 4 + 10 * 4 * 2),
     (RLSMultivariatePredictor(order=1), 1 + 10 * 1 * 2),
     (LinearPredictor(), 1),
