@@ -27,25 +27,19 @@ from closedloop.resources import (
 )
 
 
-def _patch(monkeypatch, cap: float, left: float) -> None:
-    monkeypatch.setattr("modalinfo.common.memory.address_space_limit_bytes", lambda: cap)
+@pytest.mark.parametrize("refused", [True, False])
+def test_parts_are_checked_against_the_space_left(monkeypatch, refused):
+    config = presets.kaos()
+    need = estimate(config, 0.01).peak_bytes
+    parts = need - BASELINE_BYTES
+    # the limit is far above the whole estimate; what is left of it holds half the
+    # parts (refused), or the parts, the slack and 1 MiB more (passes)
+    left = parts / 2 if refused else parts + ADDRESS_SPACE_SLACK + 2**20
+    monkeypatch.setattr("modalinfo.common.memory.address_space_limit_bytes",
+                        lambda: 10 * need)
     monkeypatch.setattr("modalinfo.common.memory.address_space_left_bytes", lambda: left)
-
-
-def test_parts_beyond_the_space_left_are_refused(monkeypatch):
-    config = presets.kaos()
-    need = estimate(config, 0.01).peak_bytes
-    parts = need - BASELINE_BYTES
-    # the limit is far above the whole estimate, but only half the parts are left
-    _patch(monkeypatch, cap=10 * need, left=parts / 2)
-    with pytest.raises(ResourceError, match=r"RLIMIT_AS") as info:
+    if not refused:
+        assert check_resources(config, 0.01, limit=10 * need).peak_bytes == need
+        return
+    with pytest.raises(ResourceError, match=r"RLIMIT_AS.* leaves "):
         check_resources(config, 0.01, limit=10 * need)
-    assert "leaves" in str(info.value)
-
-
-def test_parts_within_the_space_left_pass(monkeypatch):
-    config = presets.kaos()
-    need = estimate(config, 0.01).peak_bytes
-    parts = need - BASELINE_BYTES
-    _patch(monkeypatch, cap=10 * need, left=parts + ADDRESS_SPACE_SLACK + 2**20)
-    assert check_resources(config, 0.01, limit=10 * need).peak_bytes == need
