@@ -223,6 +223,11 @@ _PILE_SAMPLES = 20_000
 def _nodal(view: BasisView, pixels: np.ndarray) -> np.ndarray | None:
     """(B, M) True where a continuous mode is exactly 0 at the sample's pixel, else None.
 
+    The zeros are found on the (pixels, M) matrix and then gathered, as booleans: a
+    float64 gather of ``view.matrix[pixels]`` was a second copy of the (B, M)
+    contributions, outside ``ordering_memory_bytes`` (the command lines' estimate), and
+    ran ``reorder`` out of memory after its check passed (round 42 PART b, S02).
+
     For modes that are continuous functions (a ``ZernikeBasis``, a ``KLBasis``), an
     exact 0 at a pixel centre is a point of a nodal line, a set of measure zero of the
     continuous mode, that the grid happens to sample: not an atom of its values. A K-L
@@ -234,7 +239,12 @@ def _nodal(view: BasisView, pixels: np.ndarray) -> np.ndarray | None:
 
     if _continuous_zernikes(view.obj) is None:
         return None
-    return view.matrix[pixels] == 0
+    return (view.matrix == 0)[pixels]
+
+
+def _pile_step(n_samples: int) -> int:
+    """Stride of the ``_PILE_SAMPLES`` evenly spaced samples :func:`_warn_piles` judges."""
+    return max(1, n_samples // _PILE_SAMPLES)
 
 
 def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str,
@@ -260,17 +270,24 @@ def _warn_piles(contrib: np.ndarray, labels: Any, estimator: str,
     own pile (above 3 %) is already named. The MI values, not the order, carry the
     atom's loss: read them with ``method='ksg'`` there.
     """
-    step = max(1, contrib.shape[1] // _PILE_SAMPLES)
+    step = _pile_step(contrib.shape[1])
     part = contrib[:, ::step]
-    columns = {"the wavefront": part.sum(axis=0)}
-    if nodal is None:
-        columns.update((f"mode {labels[i]}", row) for i, row in enumerate(part))
-    else:
-        node = nodal[::step]
-        columns.update((f"mode {labels[i]}", row[~node[:, i]]) for i, row in enumerate(part)
-                       if np.count_nonzero(~node[:, i]) > 1)
+    node = None if nodal is None else (nodal if nodal.shape[0] == part.shape[1]
+                                       else nodal[::step])
+
+    def columns():
+        # one column at a time: a dict of every mode's masked row was a copy of the
+        # judged contributions, all of them below 2 x _PILE_SAMPLES samples (round 42
+        # PART b, S02)
+        yield "the wavefront", part.sum(axis=0)
+        for i, row in enumerate(part):
+            if node is None:
+                yield f"mode {labels[i]}", row
+            elif np.count_nonzero(~node[:, i]) > 1:
+                yield f"mode {labels[i]}", row[~node[:, i]]
+
     first, count = None, 0
-    for name, column in columns.items():
+    for name, column in columns():
         why = pile_why({name: column}, estimator)
         if why is not None:
             first, count = first or why, count + 1
@@ -972,7 +989,9 @@ def order_modes(
     contrib = _contributions(a, view.matrix, frames, pixels)
     est.fit(contrib.sum(axis=0))
     if est_name in PILE_BLIND_METHODS:
-        _warn_piles(contrib, view.labels, est_name, _nodal(view, pixels))
+        # the nodal flags of the judged samples only (round 42 PART b, S02)
+        _warn_piles(contrib, view.labels, est_name,
+                    _nodal(view, pixels[::_pile_step(contrib.shape[1])]))
     try:
         return _scored(est, contrib, a, view, method, frame, progress, search, block_length,
                        n_resamples, confidence_level, rng, frames, pixels, result,
