@@ -61,7 +61,6 @@ resident memory of ``closedloop run`` on every preset (``benchmarks/RESULTS.md``
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 
 from closedloop.config import SimulationConfig, WFSConfig, dm_disc_diameter, wfs_meta_pupil
@@ -69,6 +68,7 @@ from closedloop.kinds import SensorCost, mirror_kind, sensor_kind
 from closedloop.optics.atmosphere import screen_size
 from closedloop.optics.geometry import n_field_samples, plane_layout
 from closedloop.optics.products import GRAM_MIN_BYTES
+from modalinfo.common.quiet import quiet
 from modalinfo.common.sizes import format_size
 from modalinfo.common.validation import check_real
 
@@ -239,11 +239,10 @@ def ideal_sensor_config(config: SimulationConfig) -> SimulationConfig:
     wfss = tuple(WFSConfig(altitude=w.altitude, field_of_view=w.field_of_view,
                            n_subapertures=w.n_subapertures, noise=0.0, kind="ideal",
                            field_samples=w.field_samples, dm=w.dm) for w in config.wfss)
-    with warnings.catch_warnings():
+    with quiet(UserWarning):
         # the same layers, mirrors and loop as ``config``, whose validation has warned
         # once already: `run --budget-every` printed the r0 warning twice (round 42
         # PART b, B29 / B46 / B47; "one warning per call")
-        warnings.simplefilter("ignore", UserWarning)
         return config.replace(wfss=wfss)
 
 
