@@ -284,8 +284,8 @@ class SimulationResult:
         Error budget per direction (``simulate(..., budget_every=N)``).
     noise_floor : float or None
         Field-mean residual variance the WFS noise alone leaves in the closed loop [rad^2
-        at the science wavelength]: the budget's noise term (:func:`closedloop.budget.
-        noise_variance`), computed by :func:`closedloop.simulate`; 0 without noise, None
+        at the science wavelength]: the budget's noise term
+        (``closedloop.budget.noise_variance``), computed by ``simulate``; 0 without noise, None
         for a file written before results recorded it. :attr:`loop_status` judges the
         residual against the open-loop level plus this floor.
     measurements : list of (T, n_meas_j) ndarray

@@ -7,21 +7,11 @@ refusing feature names that differ from ``feature_names_in_``.
 """
 
 import numpy as np
-import pandas as pd
 import pytest
 
 from modalinfo.forecast import LinearPredictor
 
-NAMES = [f"Z{j}" for j in range(2, 6)]
-
-
-def _frame():
-    rng = np.random.default_rng(4242)
-    x = np.zeros((300, 4))
-    noise = rng.standard_normal((300, 4))
-    for t in range(1, 300):
-        x[t] = 0.8 * x[t - 1] + noise[t]
-    return pd.DataFrame(x, columns=NAMES)
+from .test_frame_columns_round42 import NAMES, _frame
 
 
 def test_update_refuses_a_permuted_row():
