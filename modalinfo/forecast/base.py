@@ -153,21 +153,15 @@ class _Run:
 
 
 
-def _frame_columns(history) -> list | None:
-    """Column names of a 2-D DataFrame-like ``history``, None for arrays or 0, 1, ... names."""
-    columns = getattr(history, "columns", None)
-    if columns is None or getattr(history, "ndim", None) != 2:
+def _frame_columns(history, attr: str = "columns", ndim: int = 2) -> list | None:
+    """Column names of a 2-D DataFrame-like ``history``, None for arrays or 0, 1, ... names.
+
+    ``attr="index", ndim=1``: the mode names of one sample (a Series, a DataFrame row).
+    """
+    columns = getattr(history, attr, None)
+    if columns is None or getattr(history, "ndim", None) != ndim:
         return None
     names = list(columns)
-    return None if names == list(range(len(names))) else names
-
-
-def _sample_columns(x_t) -> list | None:
-    """Mode names of one sample ``x_t``: a Series' index (a DataFrame row), else None."""
-    index = getattr(x_t, "index", None)
-    if index is None or getattr(x_t, "ndim", None) != 1:
-        return None
-    names = list(index)
     return None if names == list(range(len(names))) else names
 
 
@@ -642,7 +636,7 @@ class Predictor:
             if type(x_t) is np.ndarray and x_t.dtype == np.float64:  # the loop's case: as is
                 arr = x_t
             else:  # complex lost its imaginary part, dates and strings were cast
-                self._check_columns(x_t, "x_t", _sample_columns(x_t))
+                self._check_columns(x_t, "x_t", _frame_columns(x_t, "index", 1))
                 arr = np.asarray(unmasked(x_t, "x_t"))
                 check_real_dtype(arr, "x_t", x_t)
             scalar = arr.ndim == 0
