@@ -353,46 +353,12 @@ class BudgetProbe:
         self.pending.append((apply_step, command.copy()))
 
     def _variance(self, turbulence, commands) -> np.ndarray:
-        """Piston-removed variance per direction of ``turbulence - DMs(commands)``."""
-        views = self.cam.plane_views()
-        for p, v in enumerate(views):
-            if turbulence is None:
-                v[:] = 0.0
-            else:
-                v[:] = turbulence[p]
-        for d, dm in enumerate(self.model.dms):
-            _kernels.subtract_scatter(views[dm.plane], dm.pixels,
-                                      dm.forward(commands[self.model.mode_slices[d]]), 1.0)
-        return self.cam.forward().copy()
+        return _variance(self.model, self.cam, turbulence, commands)
 
     # ------------------------------------------------------------------ result
     def _noise_variance(self, seed: int, first: int = 0) -> np.ndarray:
-        model = self.model
-        loop = model.config.loop
-        noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2)
-                                * self._noise_factor(j, first)
-                                for j, w in enumerate(model.wfss)])
-        if not np.any(noise > 0):
-            return np.zeros(len(self.cam.directions))
-        if model.reconstructor is not None:
-            rec = model.reconstructor
-        else:
-            rec = np.zeros((model.n_modes, noise.size))
-            start = 0
-            for w in model.wfss:
-                block = (np.eye(w.n_measurements) if w.reconstructor is None
-                         else w.reconstructor)
-                rec[model.mode_slices[w.dm.index], start:start + w.n_measurements] = block
-                start += w.n_measurements
-        factor = noise_propagation(gain=loop.gain, delay_frames=loop.delay_frames,
-                                   integration_frames=loop.integration_frames)
-        # draws c = sqrt(factor) R n with n ~ N(0, diag(noise)): covariance factor R N R^T
-        rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
-        out = np.zeros(len(self.cam.directions))
-        for _ in range(_N_NOISE_DRAWS):
-            c = np.sqrt(factor) * (rec @ (np.sqrt(noise) * rng.standard_normal(noise.size)))
-            out += self._variance(None, c)
-        return out / _N_NOISE_DRAWS
+        return noise_variance(self.model, self.cam, seed,
+                              lambda j: self._noise_factor(j, first))
 
     def _noise_factor(self, j: int, first: int) -> np.ndarray | float:
         """WFS ``j``'s mean applied noise variance factor from probed frame ``first`` on.
@@ -434,3 +400,53 @@ def _applied_factors(w) -> tuple[np.ndarray, int] | None:
     if total is None or getattr(w, "noise_factor", None) is None:
         return None
     return total.copy(), int(w.noise_factor_frames)
+
+
+def _variance(model: LoopModel, cam, turbulence, commands) -> np.ndarray:
+    """Piston-removed variance per direction of ``turbulence - DMs(commands)``."""
+    views = cam.plane_views()
+    for p, v in enumerate(views):
+        if turbulence is None:
+            v[:] = 0.0
+        else:
+            v[:] = turbulence[p]
+    for d, dm in enumerate(model.dms):
+        _kernels.subtract_scatter(views[dm.plane], dm.pixels,
+                                  dm.forward(commands[model.mode_slices[d]]), 1.0)
+    return cam.forward().copy()
+
+
+def noise_variance(model: LoopModel, cam, seed: int, applied=lambda j: 1.0,
+                   draws: int | None = None) -> np.ndarray:
+    """Return the budget's noise term: each direction's residual variance from WFS noise.
+
+    The command covariance ``noise_propagation(g, delay, exposure) R N R^T`` (the
+    integrator's factor), drawn ``draws`` times (default ``_N_NOISE_DRAWS``) and seen by
+    ``cam`` [rad^2 at ``r0_wavelength``]; ``applied(j)``: sensor ``j``'s noise variance
+    factor (a correlating SH's applied one; 1 by default). Zeros without noise.
+    """
+    loop = model.config.loop
+    draws = _N_NOISE_DRAWS if draws is None else draws
+    noise = np.concatenate([np.full(w.n_measurements, w.noise_rms ** 2) * applied(j)
+                            for j, w in enumerate(model.wfss)])
+    if not np.any(noise > 0):
+        return np.zeros(len(cam.directions))
+    if model.reconstructor is not None:
+        rec = model.reconstructor
+    else:
+        rec = np.zeros((model.n_modes, noise.size))
+        start = 0
+        for w in model.wfss:
+            block = (np.eye(w.n_measurements) if w.reconstructor is None
+                     else w.reconstructor)
+            rec[model.mode_slices[w.dm.index], start:start + w.n_measurements] = block
+            start += w.n_measurements
+    factor = noise_propagation(gain=loop.gain, delay_frames=loop.delay_frames,
+                               integration_frames=loop.integration_frames)
+    # draws c = sqrt(factor) R n with n ~ N(0, diag(noise)): covariance factor R N R^T
+    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+    out = np.zeros(len(cam.directions))
+    for _ in range(draws):
+        c = np.sqrt(factor) * (rec @ (np.sqrt(noise) * rng.standard_normal(noise.size)))
+        out += _variance(model, cam, None, c)
+    return out / draws

@@ -23,11 +23,15 @@ Derived views
 - Whether the loop closed (:attr:`closed`, :attr:`diverged`, :attr:`loop_status`):
   the loop *diverged* if the residual is not finite, ends (mean of the last quarter of
   the run, field mean) above 3 times the open-loop level (frame 0, before any command
-  reached the mirrors) while its commands act (their RMS over the last quarter at least
+  reached the mirrors) plus the noise floor (:attr:`SimulationResult.noise_floor`: frame
+  0 holds no WFS noise) while its commands act (their RMS over the last quarter at least
   a tenth of the pseudo-open loop's: a loop whose commands stay below it, gain 1e-6,
   leaves the turbulence itself, which wanders away from its frame-0 level, and *did not
   close*), or, having once fallen below half that level, grows to more
   than :data:`GROWTH_FACTOR` times its lowest 5-ms mean;
+  it is *closed at its noise floor* if that floor exceeds half the open-loop level
+  (turbulence weaker than the noise) and the residual's second half stays within 3
+  times their sum;
   it *closed* if it did not diverge, the run has at least 4 frames and twice the 5-ms
   window of the closure detection, a closure was
   detected in the first half of the run after the first command reached the mirrors
@@ -278,6 +282,12 @@ class SimulationResult:
     snapshot_directions : (n_sd, 2) ndarray or None
     budget : ErrorBudget or None
         Error budget per direction (``simulate(..., budget_every=N)``).
+    noise_floor : float or None
+        Field-mean residual variance the WFS noise alone leaves in the closed loop [rad^2
+        at the science wavelength]: the budget's noise term
+        (``closedloop.budget.noise_variance``), computed by ``simulate``; 0 without noise, None
+        for a file written before results recorded it. :attr:`loop_status` judges the
+        residual against the open-loop level plus this floor.
     measurements : list of (T, n_meas_j) ndarray
         Each WFS's measurements per frame (SH: x slopes of the valid subapertures, then
         y slopes [rad/m]; ideal: the field-averaged phase on its DM's disc [rad]).
@@ -297,12 +307,13 @@ class SimulationResult:
     measurements: list = field(default_factory=list)
     budget: Any = None
     provenance: dict | None = None
+    noise_floor: float | None = None
 
     # ------------------------------------------------------------------ building
     @classmethod
     def from_run(cls, *, config, seed, model, variance, measured, pol, commands, elapsed,
                  predictor_name, snapshots=None, snapshot_directions=None,
-                 measurements=()) -> SimulationResult:
+                 measurements=(), noise_floor=None) -> SimulationResult:
         """Assemble a result from the loop's arrays (used by :func:`closedloop.simulate`)."""
         rate = 1.0 / config.loop.time_step
         logs = {}
@@ -324,7 +335,7 @@ class SimulationResult:
                    directions=np.array(model.geometry.directions), residual_variance=variance,
                    logs=logs, elapsed=elapsed, version=_version(), snapshots=snapshots,
                    snapshot_directions=snapshot_directions, measurements=list(measurements),
-                   provenance=run_record(config.to_dict(), seed))
+                   provenance=run_record(config.to_dict(), seed), noise_floor=noise_floor)
 
     # ------------------------------------------------------------------ views
     @property
@@ -516,13 +527,17 @@ class SimulationResult:
             first = int(np.argmin(np.isfinite(v)))
             return f"diverged: the residual is not finite from frame {first}"
         open_loop = float(v[0])
+        # frame 0 holds no WFS noise (no command yet): the level a loop can reach is the
+        # open-loop one plus the noise floor the config implies (no turbulence and WFS
+        # noise read "diverged ... 8175483 times the open-loop level"; fixes 42, B29)
+        floor = float(self.noise_floor or 0.0)
         tail = float(v[n - max(1, n // 4):].mean())
         window = self._window
         lowest = float(np.convolve(v, np.ones(window) / window, mode="valid").min()
                        if n >= 2 * window else v.min())
         # an uncorrected loop wanders around the open-loop level (frame 0, one sample):
         # only well above it is a loop that amplifies
-        if n > 1 and tail > _ABOVE_OPEN_LOOP * open_loop:
+        if n > 1 and tail > _ABOVE_OPEN_LOOP * (open_loop + floor):
             share = self._command_share(n - max(1, n // 4))
             if share is not None and share < _IDLE_COMMAND_SHARE:
                 # commands a few % of the turbulence amplify nothing: the residual is the
@@ -532,15 +547,24 @@ class SimulationResult:
                         f"pseudo-open-loop turbulence (RMS over the last quarter), so the "
                         f"residual is the turbulence itself ({tail:.3g} rad^2 at the end, "
                         f"field mean; {open_loop:.3g} at frame 0)")
+            floor_note = f" plus the noise floor ({floor:.3g} rad^2)" if floor else ""
             return (f"diverged: the residual at the end ({tail:.3g} rad^2, field mean) is "
-                    f"{tail / open_loop:.1f} times the open-loop level ({open_loop:.3g} rad^2)")
-        if lowest < 0.5 * open_loop and tail > GROWTH_FACTOR * lowest:
+                    f"{tail / (open_loop + floor):.1f} times the open-loop level "
+                    f"({open_loop:.3g} rad^2){floor_note}")
+        if lowest < 0.5 * open_loop and tail > GROWTH_FACTOR * max(lowest, floor):
             return (f"diverged: the residual grew to {tail / lowest:.1f} times its lowest "
                     f"5-ms mean ({tail:.3g} against {lowest:.3g} rad^2, field mean)")
         if n < max(4, 2 * window):
             # the closure must hold for 5 ms inside the first half of the run
             return (f"did not close: {n} frames are too few to detect the loop closure (it "
                     f"needs {max(4, 2 * window)}: twice the 5-ms window)")
+        second = float(v[n // 2:].mean())
+        if floor > 0.5 * open_loop and second <= _ABOVE_OPEN_LOOP * (open_loop + floor):
+            # the turbulence is below the noise floor: nothing to close on but the noise
+            return (f"closed at its noise floor: the residual ({second:.3g} rad^2 over the "
+                    f"second half, field mean) is that of the WFS noise ({floor:.3g} rad^2, "
+                    f"the budget's noise term), above the open-loop level "
+                    f"({open_loop:.3g} rad^2)")
         if not self._closure_found():
             return self._still_converging(v) or (
                 "did not close: the SR peak reaches no steady state in the first half of the run")
@@ -728,6 +752,8 @@ class SimulationResult:
             f.attrs["config"] = json.dumps(self.config.to_dict())
             if self.provenance is not None:
                 f.attrs["provenance"] = dumps(self.provenance)
+            if self.noise_floor is not None:
+                f.attrs["noise_floor"] = float(self.noise_floor)
             f["times"] = self.times
             f["directions"] = self.directions
             f["residual_variance"] = self.residual_variance
@@ -830,7 +856,9 @@ class SimulationResult:
                        snapshots=snaps, snapshot_directions=snap_dirs,
                        measurements=measurements, budget=budget,
                        provenance=(json.loads(f.attrs["provenance"])
-                                   if "provenance" in f.attrs else None))
+                                   if "provenance" in f.attrs else None),
+                       noise_floor=(float(f.attrs["noise_floor"])
+                                    if "noise_floor" in f.attrs else None))
 
 
 def _legacy_log(d) -> ModalLog:

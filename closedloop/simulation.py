@@ -44,7 +44,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from closedloop.budget import BudgetProbe
+from closedloop.budget import BudgetProbe, noise_variance
 from closedloop.config import MAX_SEED, LoopConfig, SimulationConfig
 from closedloop.control.controller import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
 from closedloop.control.predictors import (
@@ -59,6 +59,9 @@ from closedloop.optics.science import ScienceCamera
 from closedloop.result import SimulationResult
 from closedloop.state import LoopState
 from modalinfo.common.validation import check_real
+
+#: noise draws of the noise floor loop_status judges by (the budget's term uses 64)
+_FLOOR_DRAWS = 16
 
 __all__ = ["simulate", "ORACLE", "LoopModel", "check_run"]
 
@@ -635,13 +638,18 @@ def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, el
     """Return the run's result (science numbers at the science wavelength)."""
     scale_sci = (config.r0_wavelength / config.wavelength) ** 2
     snaps = snapshots.frames
+    # the residual the WFS noise alone leaves (the budget's noise term, fewer draws: a
+    # level to judge the loop by, loop_status), on the budget's camera or, after the run,
+    # the loop's own (its planes are refilled at every step of a run)
+    cam = model.science if probe is None else probe.cam
+    floor = float(noise_variance(model, cam, seed, draws=_FLOOR_DRAWS).mean()) * scale_sci
     result = SimulationResult.from_run(
         config=config, seed=seed, model=model,
         variance=logs.variance * scale_sci, measured=logs.measured, pol=logs.pol,
         commands=logs.commands, elapsed=elapsed, measurements=logs.measurements,
         predictor_name=predictor,
         snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
-        snapshot_directions=snapshots.directions,
+        snapshot_directions=snapshots.directions, noise_floor=floor,
     )
     if probe is not None:
         budget = probe.result(result.residual_variance, result.averaging_start, scale_sci,

@@ -222,6 +222,15 @@ def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
             f"{MAX_ORDERING_SECONDS / 3600:g} h this command allows; {_shorten(args)}")
 
 
+#: (frames, modes) float64 copies the Zernike-to-K-L conversion adds to LOG_COPIES: the
+#: gather of the basis's Zernike columns (ordering/_coefficients.py, coefficients_in_basis)
+#: and the product with the change of basis (bases/kl.py, coefficients_from_zernike);
+#: reorder --basis kl-data passed its check and ran out of memory there (round 42 PART b,
+#: S09). tracemalloc's peak of that conversion, 100,000 frames x 65 Zernikes to 20 K-L
+#: modes: 2.31 copies of the log.
+KL_CONVERSION_COPIES = 3
+
+
 def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False):
     """Map the log, keep its ``--max-frames`` subsample, refuse it if it cannot fit.
 
@@ -249,9 +258,11 @@ def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False)
     n_file = log.n_frames
     log = frame_subsample(log, args)
     _frame_of_subsample(args, n_file, log.n_frames)
-    need = LOG_COPIES * log_bytes(log)
+    copies = LOG_COPIES + (KL_CONVERSION_COPIES if getattr(args, "basis", None)
+                           in ("kl-theory", "kl-data") else 0)
+    need = copies * log_bytes(log)
     what = (f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
-            f"{LOG_COPIES} float64 copies)")
+            f"{copies} float64 copies)")
     check_memory(need, what, "use a smaller --max-frames")
     if mi:
         n = mi_samples(args, log)

@@ -153,13 +153,17 @@ class _Run:
 
 
 
-def _frame_columns(history) -> list | None:
-    """Column names of a 2-D DataFrame-like ``history``, None for arrays or 0, 1, ... names."""
-    columns = getattr(history, "columns", None)
-    if columns is None or getattr(history, "ndim", None) != 2:
+def _frame_columns(history, attr: str = "columns", ndim: int = 2) -> list | None:
+    """Column names of a 2-D DataFrame-like ``history``, None for arrays or 0, 1, ... names.
+
+    ``attr="index", ndim=1``: the mode names of one sample (a Series, a DataFrame row).
+    """
+    columns = getattr(history, attr, None)
+    if columns is None or getattr(history, "ndim", None) != ndim:
         return None
     names = list(columns)
     return None if names == list(range(len(names))) else names
+
 
 class Predictor:
     """Base class of the wavefront forecasters.
@@ -541,16 +545,19 @@ class Predictor:
         self._feed(run, X, out, "history")
         return out[0, :, 0].copy() if scalar else out[0].copy()
 
-    def _check_columns(self, history, name: str) -> None:
+    def _check_columns(self, history, name: str, names: list | None = None) -> None:
         """Refuse a DataFrame whose column names differ from those of the fitted one.
 
         Fitted on columns ``Z2 .. Z7`` and given them as ``Z4, Z2, ...``, ``predict``
         read them by position and returned each forecast under another mode's name
         (adversarial round 42 PART a, M17; scikit-learn refuses this too). Arrays, and
         DataFrames when the fit had no column names, are read by position as before.
+        ``names``: the names to check instead of ``history``'s columns (``update``'s
+        sample, a Series whose index names the modes; fixes 42).
         """
         fitted = self.__dict__.get("columns_")
-        names = _frame_columns(history)
+        if names is None:
+            names = _frame_columns(history)
         if fitted is None or names is None or names == fitted:
             return
         shown = ", ".join(str(c) for c in names[:4]) + (", ..." if len(names) > 4 else "")
@@ -629,6 +636,7 @@ class Predictor:
             if type(x_t) is np.ndarray and x_t.dtype == np.float64:  # the loop's case: as is
                 arr = x_t
             else:  # complex lost its imaginary part, dates and strings were cast
+                self._check_columns(x_t, "x_t", _frame_columns(x_t, "index", 1))
                 arr = np.asarray(unmasked(x_t, "x_t"))
                 check_real_dtype(arr, "x_t", x_t)
             scalar = arr.ndim == 0

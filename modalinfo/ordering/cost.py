@@ -79,7 +79,9 @@ silences the library's.
 **Memory** (leftovers 14-misc, issue 27). An MI ordering holds the float64
 contributions of every mode at every sample (``M x n``), and its bootstrap gathers a
 replicate's while the ordering's and the previous replicate's are still held:
-:func:`ordering_memory_bytes`, ``8 M n`` bytes without replicates, ``3 x 8 M n`` with.
+:func:`ordering_memory_bytes`, ``8 M n`` bytes without replicates, ``3 x 8 M n`` with,
+plus :data:`PER_SAMPLE_ARRAYS` float64 arrays of ``n`` (the per-sample indices and sums:
+tracemalloc measured 15 of them without replicates, 7 with; fixes 42, S16).
 ``order_modes`` refuses, before any work, an ordering whose arrays exceed
 :func:`~modalinfo.common.memory.usable_memory_bytes`; ``reorder`` checks the same
 estimate with the log's copies (1000 modes x 2e5 samples: 1.6 GB, 4.8 GB with
@@ -132,6 +134,10 @@ MAX_ORDERING_SECONDS = 3600.0
 NOTE_ORDERING_SECONDS = 60.0
 #: Bytes of one contribution (float64), per mode and sample
 CONTRIBUTION_BYTES = 8
+#: float64 arrays of one value per sample an ordering holds beside its contributions
+#: (tracemalloc peak of order_modes, 10 and 27 modes x 200,000 samples: 14.9 without
+#: replicates, 7.2 with, counted with room for numpy's temporaries; round 42 PART b, S16)
+PER_SAMPLE_ARRAYS = 20
 
 
 class OrderingCostWarning(UserWarning):
@@ -158,10 +164,11 @@ def ordering_memory_bytes(n_modes: int, n_samples: int, n_resamples: int = 0) ->
     Returns
     -------
     float
-        ``CONTRIBUTION_BYTES x copies x M x n`` [bytes].
+        ``CONTRIBUTION_BYTES x (copies x M + PER_SAMPLE_ARRAYS) x n`` [bytes].
     """
     copies = 3 if n_resamples > 0 else 1
-    return float(CONTRIBUTION_BYTES * copies * max(int(n_modes), 0) * max(int(n_samples), 0))
+    m, n = max(int(n_modes), 0), max(int(n_samples), 0)
+    return float(CONTRIBUTION_BYTES * (copies * m + (PER_SAMPLE_ARRAYS if m else 0)) * n)
 
 
 def least_ordering_calls(n_modes: int, method: str = "mi_marginal",

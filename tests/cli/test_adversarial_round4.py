@@ -254,5 +254,8 @@ def test_mi_memory_check_counts_the_samples_drawn_not_the_budget(small_log, monk
     samples = 400 * Pupil(64).n_valid
     assert samples < 100_000_000
     # the ordering's contributions and, with the default 40 replicates, two replicates'
-    # held with them while the next is gathered: 3 copies (leftovers 14-misc)
-    assert seen[1] - seen[0] == 3 * 8 * 3 * samples
+    # held with them while the next is gathered: 3 copies (leftovers 14-misc), and the
+    # per-sample index and sum arrays (fixes 42, S16)
+    from modalinfo.ordering.cost import PER_SAMPLE_ARRAYS
+
+    assert seen[1] - seen[0] == 8 * (3 * 3 + PER_SAMPLE_ARRAYS) * samples

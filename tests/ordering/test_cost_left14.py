@@ -44,9 +44,11 @@ def _big():
 def test_the_memory_estimate_is_numpys_size_of_the_contributions():
     for m, n in ((3, 10), (1000, 200_000), (7, 12_345)):
         one = np.empty((m, n)).nbytes if m * n < 10**6 else 8 * m * n  # float64
-        assert cost.ordering_memory_bytes(m, n) == one
+        # and the per-sample index and sum arrays (fixes 42, S16)
+        per_sample = cost.PER_SAMPLE_ARRAYS * np.empty(n).nbytes
+        assert cost.ordering_memory_bytes(m, n) == one + per_sample
         # with replicates: the ordering's, the previous replicate's and the new one
-        assert cost.ordering_memory_bytes(m, n, n_resamples=1) == 3 * one
+        assert cost.ordering_memory_bytes(m, n, n_resamples=1) == 3 * one + per_sample
 
 
 def test_an_ordering_that_cannot_fit_is_refused_before_any_work(monkeypatch):
@@ -54,12 +56,12 @@ def test_an_ordering_that_cannot_fit_is_refused_before_any_work(monkeypatch):
     coeffs, basis = _big()
     _no_work(monkeypatch)
     monkeypatch.setattr(memory, "usable_memory_bytes", lambda: 1.0 * 2**30)
-    with pytest.raises(ValueError, match=r"1000 modes on 200000 samples .* 1\.49 GiB .*"
+    with pytest.raises(ValueError, match=r"1000 modes on 200000 samples .* 1\.52 GiB .*"
                                          r"1 GiB is usable; use a smaller `sample_budget`"):
         order_modes(coeffs, basis, "mi_marginal", n_resamples=0, max_seconds=None, seed=0)
-    # three copies with replicates: 4.5 GiB against 4 GiB
+    # three copies with replicates (and the per-sample arrays): 4.5 GiB against 4 GiB
     monkeypatch.setattr(memory, "usable_memory_bytes", lambda: 4.0 * 2**30)
-    with pytest.raises(ValueError, match=r"4\.47 GiB .*3 copies.*`n_resamples`=0"):
+    with pytest.raises(ValueError, match=r"4\.5 GiB .*3 copies.*`n_resamples`=0"):
         order_modes(coeffs, basis, "mi_marginal", n_resamples=2, max_seconds=None, seed=0)
 
 
