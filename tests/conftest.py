@@ -32,3 +32,36 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "slow" in item.keywords:
             item.add_marker(skip)
+
+
+@pytest.fixture
+def cheap_figure5_predictors(monkeypatch):
+    """Figure 5's three predictors replaced by a stub whose fits cost nothing.
+
+    For tests of what Figure 5 does around ``evaluate`` (its notes, its warnings), not of
+    the fits: the stub forecasts zeros and has no intervals.
+    """
+    import numpy as np
+
+    import modalinfo.forecast as forecast
+
+    class Cheap:
+        def __init__(self, *args, **kwargs):
+            pass
+
+        @classmethod
+        def paper(cls, *args, **kwargs):
+            return cls()
+
+        def fit(self, x):
+            return self
+
+        def _forecast_path(self, x, h):
+            return np.zeros((x.shape[0], 1, 1)), None
+
+        def predict_interval(self, x):
+            return None
+
+    for name in ("ARMAPredictor", "LinearPredictor", "NeuralNetPredictor"):
+        monkeypatch.setattr(forecast, name, Cheap)
+    return Cheap

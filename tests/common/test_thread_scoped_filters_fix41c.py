@@ -268,29 +268,10 @@ def test_figure1_leaves_other_threads_warnings(monkeypatch):
     assert got_a == []
 
 
-def test_figure5_leaves_other_threads_warnings(monkeypatch, capsys):
+def test_figure5_leaves_other_threads_warnings(monkeypatch, capsys, cheap_figure5_predictors):
     import modalinfo.forecast as forecast
     from paper_figures import fig5_forecast as fig5
 
-    class Cheap:  # the fits before the evaluation are not the test's
-        def __init__(self, *args, **kwargs):
-            pass
-
-        @classmethod
-        def paper(cls, *args, **kwargs):
-            return cls()
-
-        def fit(self, x):
-            return self
-
-        def _forecast_path(self, x, h):
-            return np.zeros((x.shape[0], 1, 1)), None
-
-        def predict_interval(self, x):
-            return None
-
-    for name in ("ARMAPredictor", "LinearPredictor", "NeuralNetPredictor"):
-        monkeypatch.setattr(forecast, name, Cheap)
     log = ModalLog(np.random.default_rng(4).standard_normal((fig5.MIN_FRAMES, 2)),
                    rate=1000.0, modes=[2, 3], units="rad")
     b_warns = [("evaluate: no honest Diebold-Mariano test for B", UserWarning),

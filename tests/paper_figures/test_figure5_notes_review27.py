@@ -6,7 +6,7 @@ through: ``recording()`` of every warning around ``evaluate`` in ``fig5_forecast
 the evaluation to stderr as "Figure 5: note" and hid it from the warnings machinery.
 Reference: the module's comment ("a declined skill test is a note of the run; every
 other warning is shown as usual") and Python's ``catch_warnings(record=True)``. The
-predictors are stubbed as in ``test_thread_scoped_filters_fix41c.py`` (their fits are
+predictors are stubbed by the ``cheap_figure5_predictors`` fixture (tests/conftest.py) (their fits are
 not the test's); ``evaluate`` is the real one, wrapped to warn first; the figure stops
 after the notes are written.
 """
@@ -22,29 +22,10 @@ from modalinfo.common.quiet import warn
 from modalinfo.telemetry import ModalLog
 
 
-def test_only_the_declined_skill_test_is_a_note(monkeypatch, capsys):
+def test_only_the_declined_skill_test_is_a_note(monkeypatch, capsys, cheap_figure5_predictors):
     import modalinfo.forecast as forecast
     from paper_figures import fig5_forecast as fig5
 
-    class Cheap:
-        def __init__(self, *args, **kwargs):
-            pass
-
-        @classmethod
-        def paper(cls, *args, **kwargs):
-            return cls()
-
-        def fit(self, x):
-            return self
-
-        def _forecast_path(self, x, h):
-            return np.zeros((x.shape[0], 1, 1)), None
-
-        def predict_interval(self, x):
-            return None
-
-    for name in ("ARMAPredictor", "LinearPredictor", "NeuralNetPredictor"):
-        monkeypatch.setattr(forecast, name, Cheap)
     real = forecast.evaluate
 
     def evaluate(*args, **kwargs):
