@@ -235,7 +235,9 @@ class Predictor:
 
         ``horizon``, ``refit_every`` and ``window`` apply to the next ``predict`` and
         ``reset``; ``update`` refuses to continue an online pass begun before they
-        changed (see the module notes).
+        changed. A model setting changed after ``fit`` (``order``, ``fit_weights``, ...)
+        makes ``predict``, ``reset`` and ``update`` refuse until ``fit()`` (see the
+        module notes).
 
         Parameters
         ----------
