@@ -371,6 +371,8 @@ def as_ndarray(value: Any, name: str, what: str = "a numeric array") -> np.ndarr
     except Exception as exc:  # noqa: BLE001 - ragged lists, closed files and the like
         why = "" if isinstance(exc, (TypeError, ValueError)) else (
             f" (reading it failed: {type(exc).__name__}: {exc})")
+        if type(value).__name__ == "ModalLog":  # as ModalLog(log) says (round 43 PART a, C12)
+            why += " (use log.coeffs)"
         raise TypeError(f"`{name}` must be {what}; got {_describe(value)}{why}.") from exc
 
 

@@ -540,6 +540,9 @@ class ARMAPredictor(_LinearRecursion):
         ``sigma^2`` of the standardised series (unit-free: the same in any units).
     """
 
+    #: ``level`` is read by ``predict_interval`` and ``evaluate``, not by ``fit``
+    _fit_free_params = ("level",)
+
     def __init__(self, *, order: tuple[int, int] | str = (2, 3), max_order: int = 5,
                  long_order: int | None = None, n_iter: int = 50,
                  root_margin: float = 1e-3, burn_in: int = 50, level: float = 0.95,

@@ -43,12 +43,22 @@ naming the change, until ``reset()`` starts a pass with the new ones (adversaria
 35 PART a: ``update`` kept the old horizon while ``predict`` used the new one, raised a
 TypeError once ``refit_every`` became None, and a ``window`` set after ``fit`` was
 ignored).
+
+The other hyper-parameters define the model (``order``, ``fit_weights``, ``alpha``, ...):
+the fitted parameters were estimated with the values in force at ``fit``. Changed after
+``fit``, ``predict``, ``predict_interval``, ``reset`` and ``update`` raise a ValueError
+naming them until ``fit()`` re-estimates the model (or the old value is set back); they
+forecast with the old model while ``get_params()`` reported the new one, and a refit
+policy switched models at its first refit (adversarial round 43 PART a, S03, S37, S38,
+S57). Settings read at forecast time only (ARMA's ``level``, the neural net's
+``warm_start``) are exempt (``_fit_free_params``).
 """
 
 from __future__ import annotations
 
 import copy
 import inspect
+import operator
 from typing import Any
 
 import numpy as np
@@ -117,7 +127,7 @@ class _Run:
     """
 
     __slots__ = ("params", "state", "horizon", "n_seen", "ring", "ring_pos", "out", "status",
-                 "x", "step", "refit", "window", "config")
+                 "x", "step", "refit", "window", "config", "settings")
 
     def __init__(self, params, state, horizon, n_modes, window, refit=None, refit_window=None,
                  config=None):
@@ -131,6 +141,7 @@ class _Run:
         self.refit = refit
         self.window = refit_window
         self.config = config
+        self.settings = None  # ``operator.attrgetter`` of every hyper-parameter (update's check)
         self.n_seen = 0
         self.ring = None if window is None else np.zeros((window, n_modes))
         self.ring_pos = 0
@@ -187,6 +198,9 @@ class Predictor:
 
     #: whether modes are modelled jointly (multivariate) or one model per mode
     _multivariate: bool = False
+    #: hyper-parameters read at forecast time only, free to change after ``fit`` besides
+    #: ``horizon`` / ``refit_every`` / ``window`` (see the module notes)
+    _fit_free_params: tuple[str, ...] = ()
 
     def __init__(self, *, horizon: int = 10, refit_every: int | None = None,
                  window: int | None = None):
@@ -221,7 +235,9 @@ class Predictor:
 
         ``horizon``, ``refit_every`` and ``window`` apply to the next ``predict`` and
         ``reset``; ``update`` refuses to continue an online pass begun before they
-        changed (see the module notes).
+        changed. A model setting changed after ``fit`` (``order``, ``fit_weights``, ...)
+        makes ``predict``, ``reset`` and ``update`` refuse until ``fit()`` (see the
+        module notes).
 
         Parameters
         ----------
@@ -387,8 +403,32 @@ class Predictor:
             self.columns_ = names
         self.scalar_input_ = scalar
         self.window_ = X.shape[0] if window is None else window
+        # the model settings the parameters were estimated with (round 43 PART a, S03)
+        self._fit_settings_ = {name: _snapshot(getattr(self, name))
+                               for name in self._model_params()}
         self.reset()
         return self
+
+    @classmethod
+    def _model_params(cls) -> list[str]:
+        """Hyper-parameters the fitted parameters depend on (see the module notes)."""
+        free = ("horizon", "refit_every", "window", *cls._fit_free_params)
+        return [name for name in cls._param_names() if name not in free]
+
+    def _model_changes(self) -> list[str]:
+        """``"`name` old -> new"`` for each model setting changed since ``fit``."""
+        fitted = self.__dict__.get("_fit_settings_", {})
+        return [f"`{name}` {old!r} -> {getattr(self, name)!r}"
+                for name, old in fitted.items() if not _same_setting(old, getattr(self, name))]
+
+    def _refuse_model_changed(self) -> None:
+        """Refuse to forecast with a model fitted under other settings (round 43 PART a)."""
+        changed = self._model_changes()
+        if changed:
+            raise ValueError(
+                f"{', '.join(changed)} changed since fit(): {type(self).__name__} still holds "
+                "the model fitted with the old value(s); call fit() to re-estimate it, or "
+                "set the old value(s) back.")
 
     def fit_bytes(self, n_samples: int, n_modes: int) -> int:
         """Upper estimate of the memory ``fit`` allocates at its peak [bytes].
@@ -442,6 +482,7 @@ class Predictor:
         # the refit policy is read here, from the hyper-parameters in force: ``window``
         # set after ``fit`` was ignored (the fit's ``window_`` kept) while ``refit_every``
         # set the same way applied at once (round 35 PART a, S2)
+        self._refuse_model_changed()
         _, refit, window = self._check_common(self.n_modes_)
         _check_forecast_memory(horizon, self.n_modes_)
         W = self.n_samples_fit_ if window is None else window
@@ -450,9 +491,11 @@ class Predictor:
             check_memory(8.0 * ring * self.n_modes_, "window", ring,
                          f"the refit ring buffer of {self.n_modes_} mode(s)")
         self.window_ = W
-        return _Run(self.params_, self._init_state(self.params_, horizon), horizon,
-                    self.n_modes_, ring, refit, W,
-                    (self.horizon, self.refit_every, self.window))
+        settings = operator.attrgetter(*self._param_names())
+        run = _Run(self.params_, self._init_state(self.params_, horizon), horizon,
+                   self.n_modes_, ring, refit, W, settings(self))
+        run.settings = settings
+        return run
 
     def _raise_nonfinite(self, status: np.ndarray, offset: int, name: str) -> None:
         if status[0]:
@@ -624,7 +667,11 @@ class Predictor:
             self._check_fitted()
             self.reset()
             run = self._run
-        if (self.horizon, self.refit_every, self.window) != run.config:
+        try:  # identical objects compare equal without calling their __eq__
+            changed = run.settings(self) != run.config
+        except (TypeError, ValueError):  # an array replaced by another: look closer
+            changed = True
+        if changed:
             self._refuse_changed(run)
         x = run.x
         if type(x_t) is float:
@@ -658,17 +705,23 @@ class Predictor:
         return run.out[0, :, 0].copy() if scalar else run.out[0].copy()
 
     def _refuse_changed(self, run: _Run) -> None:
-        """Refuse an ``update`` after ``horizon`` / ``refit_every`` / ``window`` changed.
+        """Refuse an ``update`` after a hyper-parameter changed mid-pass.
 
         The online pass was built (ring buffer, forecast rows, refit schedule) from the
         hyper-parameters in force at the last ``reset`` or ``fit``; ``update`` kept the
         old horizon while ``predict`` used the new one, and raised a TypeError once
-        ``refit_every`` became None (round 35 PART a, T1 and S1).
+        ``refit_every`` became None (round 35 PART a, T1 and S1). A model setting
+        changed since ``fit`` is refused as by ``predict`` (round 43 PART a, S37, S38);
+        a forecast-time one (``_fit_free_params``) or an equal value lets the pass go on.
         """
-        now = (self.horizon, self.refit_every, self.window)
+        self._refuse_model_changed()
+        old_config = dict(zip(self._param_names(), run.config, strict=True))
         names = ("horizon", "refit_every", "window")
-        changed = [f"`{n}` {old!r} -> {new!r}"
-                   for n, old, new in zip(names, run.config, now, strict=True) if old != new]
+        changed = [f"`{n}` {old_config[n]!r} -> {getattr(self, n)!r}"
+                   for n in names if not _same_setting(old_config[n], getattr(self, n))]
+        if not changed:
+            run.config = run.settings(self)
+            return
         raise ValueError(
             f"{', '.join(changed)} changed after the online pass began (the last reset() "
             "or fit()); call reset() to start a pass with the new value(s)."
@@ -702,6 +755,28 @@ class Predictor:
             window_data = np.concatenate([run.ring[run.ring_pos:], run.ring[:run.ring_pos]])
             self._refit_run(run, window_data, "x_t")
             run.step = self._step_function(run.params, run.state, run.out, run.status)
+
+
+def _snapshot(value):
+    """Return a copy of a hyper-parameter that later in-place changes of it do not reach."""
+    if isinstance(value, (list, dict, set, np.ndarray)):
+        return copy.deepcopy(value)
+    return value
+
+
+def _same_setting(a, b) -> bool:
+    """Whether two hyper-parameter values are the same (arrays by content)."""
+    if a is b:
+        return True
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        try:
+            return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+        except (TypeError, ValueError):
+            return False
+    try:
+        return bool(a == b)
+    except (TypeError, ValueError):
+        return False
 
 
 def _same(a, b) -> bool:

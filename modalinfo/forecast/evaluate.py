@@ -394,6 +394,12 @@ class ForecastEvaluation:
             last column ``quality_action``, the same on every row (after the
             provenance columns, so the columns before it read as before).
 
+        The last column, ``units``, names the units of ``rmse`` (the log's, as
+        ``to_json``'s ``"units"`` and ``summary()``'s "RMSE [nm]"): the same on every
+        row, after all others so the columns before it read as before. Without it a
+        table of a log converted to nm (RMSE 79.6 times that in rad at 500 nm) did not
+        say which (adversarial round 43 PART a, U11).
+
         Returns
         -------
         pathlib.Path
@@ -415,9 +421,11 @@ class ForecastEvaluation:
                          "dm_statistic", "p_value", "beats_baseline"]
                         + (["modalinfo", "input_sha256", "command", "git", "source_sha256"]
                            if made else [])
-                        + (["quality_action"] if quality is not None else []))
+                        + (["quality_action"] if quality is not None else [])
+                        + ["units"])
         if quality is not None:
             made = [*made, str(quality.get("action", ""))]
+        made = [*made, str(self.units)]
         for i, name in enumerate(self.names):
             for j, h in enumerate(self.horizons):
                 cells = [self.rmse_wavefront[i, j], self.gain_wavefront[i, j],
@@ -468,6 +476,17 @@ class ForecastEvaluation:
                        "model fitted on the training frames, test / training): intervals "
                        "calibrated on the training frames do not hold on the test frames; "
                        "split the log at the change or retrain.")
+        if self.scale_shift is not None:
+            # round 43 PART a, C35: a stuck test half gave NaN in every mode, unsaid
+            unjudged = [lb for lb, r in zip(self.labels, np.asarray(self.scale_shift),
+                                            strict=True)
+                        if np.isnan(r) and lb not in self.constant_modes]
+            if unjudged:
+                shown = ", ".join(unjudged[:8]) + (f", ... ({len(unjudged)} modes)"
+                                                   if len(unjudged) > 8 else "")
+                out.append(f"Train/test scale shift not judged for {shown} (too few "
+                           "frames or effective training values, or predictable to "
+                           "round-off; see ForecastEvaluation.scale_shift).")
         skilled = [n for i, n in enumerate(self.names) if self.beats_baseline[i].any()]
         n_tests = sum(1 for n in self.names if n not in _BASELINES) * len(self.horizons)
         # a pair whose loss differential is too persistent has no test (pvalue NaN):

@@ -95,6 +95,9 @@ class NeuralNetPredictor(Predictor):
         Whether each training stopped before ``max_iter``.
     """
 
+    #: ``warm_start`` only chooses where later fits start from
+    _fit_free_params = ("warm_start",)
+
     def __init__(self, *, n_inputs: int = 10, n_hidden: int = 10,
                  n_patterns: int | None = 2000, activation: str = "tanh",
                  solver: str = "lbfgs", alpha: float = 1.0, max_iter: int = 100,

@@ -107,13 +107,16 @@ def test_forecast_csv_without_a_record_keeps_its_nine_columns(tmp_path):
     made = ev.to_csv(tmp_path / "b.csv", provenance={
         "modalinfo": "v", "command": ["modalinfo", "x y"], "input": {"sha256": "ab"}},
     ).read_text().splitlines()
+    # the nine columns, then (round 43 PART a, U11) the units of rmse last
     assert plain[0].split(",") == ["predictor", "mode", "horizon", "rmse", "gain",
-                                   "coverage", "dm_statistic", "p_value", "beats_baseline"]
+                                   "coverage", "dm_statistic", "p_value", "beats_baseline",
+                                   "units"]
     assert len(plain) == len(made)
-    for a, b in zip(plain, made, strict=True):  # the same cells, five more at the end
-        assert b.startswith(a + ",")
+    for a, b in zip(plain, made, strict=True):  # the same cells, five more before units
+        nine, units = a.rsplit(",", 1)
+        assert b.startswith(nine + ",") and b.endswith("," + units)
     # a record without git / source_sha256 (left30-prov's columns): empty cells
-    assert made[1].endswith(",v,ab,modalinfo 'x y',,")
+    assert made[1].endswith(",v,ab,modalinfo 'x y',,,rad")
 
 
 # ------------------------------------------------------------------ paper_figures
