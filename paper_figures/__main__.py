@@ -575,7 +575,9 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
     head = [
         "# modalinfo: regenerated figures of Stangalini et al., LOST MCAO simulations\n",
         f"Python {platform.python_version()}, {platform.machine()}; modalinfo "
-        f"{record['modalinfo']}; made in {total:.0f} s"
+        f"{record['modalinfo']} (git {record.get('git') or 'unknown'}, source SHA-256 "
+        f"{record.get('source_sha256') or 'unknown'} of modalinfo, closedloop and "
+        f"paper_figures); made in {total:.0f} s"
         + (" with `--quick` (a smoke run on reduced settings: numbers not the paper's)"
            if args.quick else "") + "."
         + _not_made(modules)

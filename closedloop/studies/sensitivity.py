@@ -68,10 +68,14 @@ VARIATIONS: list[tuple[str, str, Callable]] = [
 _WAVELENGTHS = (500e-9, 800e-9)
 
 
-def _row(parameter, value, result, scale=1.0) -> dict:
-    # one window for every number of the row: the run's own (SimulationResult's rule),
-    # also for its rescaled wavelengths (the same loop, seen in another band)
-    start = result.averaging_start
+def _row(parameter, value, result, scale=1.0, start: int | None = None) -> dict:
+    # the SR means from ``start`` if given (a predictor's run read on its no-prediction
+    # run's window, as Figures 2 and 7's tables average: round 43 PART b, R33), else from
+    # the run's own window (SimulationResult's rule); the FoV diameter always on the run's
+    # own window (Figure 4's and SimulationResult.summary's), also for its rescaled
+    # wavelengths (the same loop, seen in another band)
+    own = result.averaging_start
+    start = own if start is None else int(start)
     variance = result.residual_variance[start:] * scale
     strehl = np.exp(-variance)
     peak = strehl.max(axis=1)
@@ -81,7 +85,7 @@ def _row(parameter, value, result, scale=1.0) -> dict:
         row["fov_arcmin"] = result.corrected_fov_diameter(0.3)
     else:
         rescaled = dataclasses.replace(result, residual_variance=result.residual_variance * scale)
-        row["fov_arcmin"] = rescaled.corrected_fov_diameter(0.3, start=start)
+        row["fov_arcmin"] = rescaled.corrected_fov_diameter(0.3, start=own)
     b = result.budget
     if b is not None:
         k = int(np.argmin(np.hypot(*b.directions.T)))

@@ -515,7 +515,9 @@ def solar_sensitivity(base: SimulationConfig | None = None, *, values: dict | No
                                   budget_every=budget_every if name == "none" else None)
             if name == "none":
                 ref = res
-            row = _row(knob, label, res)
+            # the SR of every predictor of a knob value from its no-prediction run's closure,
+            # the window of Figure 2's and Figure 7's main tables (round 43 PART b, R33)
+            row = _row(knob, label, res, start=ref.averaging_start)
             row.update(knob=knob, predictor=name, delay=float(cfg.loop.delay))
             if name != "none":  # the budget belongs to the no-prediction run
                 for term in ("fitting", "aliasing", "temporal", "noise", "measured"):

@@ -111,6 +111,10 @@ def _parse_predictors(text: str) -> dict:
     for part in (p.strip() for p in text.split(",")):
         if part in chosen:
             raise CommandError(f"--predictors lists {part!r} twice")
+        if part in ("persistence", "mean"):  # round 43 PART b, c28
+            raise CommandError(f"--predictors: {part!r} is always evaluated (persistence and "
+                               "mean are the baselines of every run); choose others from "
+                               f"{', '.join(NAMES)}")
         if part not in NAMES:
             raise CommandError(f"--predictors: unknown predictor {part!r}; choose from "
                                f"{', '.join(NAMES)}")

@@ -454,6 +454,7 @@ def _describe(system, lp, loops, path: Path) -> dict:
     delay = _number(lp.delay)
     if delay is not None:
         meta["delay_frames"] = delay
+    meta.update(_atmosphere_outer_scale(system))
     filt = {}
     for key, image in (("num", lp.time_filter_num), ("den", lp.time_filter_den)):
         arr = _data(image)
@@ -462,6 +463,37 @@ def _describe(system, lp, loops, path: Path) -> dict:
     if filt:
         meta["time_filter"] = filt
     return meta
+
+
+def _atmosphere_outer_scale(system) -> dict:
+    """Return the first atmosphere's layers' outer scale as metadata (round 43 PART b, c51).
+
+    One value shared by every layer: ``{"outer_scale": L0}`` (None when infinite, the
+    metadata's word for Kolmogorov). Layers of different outer scales:
+    ``{"atmosphere_layers": [{"outer_scale", "cn2_weight"}, ...]}``, which the theoretical
+    K-L reads with the rule of a closedloop config's layers (their Cn2-weighted mean, a
+    note). Nothing without one positive ``LAYERS_L0`` row (or one constant in time).
+    """
+    atmospheres = getattr(system, "atmosphere_params", None) or []
+    if not atmospheres:
+        return {}
+    atm = atmospheres[0]
+    l0 = _data(getattr(atm, "layers_l0", None))
+    if l0 is None or l0.size == 0:
+        return {}
+    l0 = np.asarray(l0, dtype=np.float64).reshape(-1, l0.shape[-1])
+    if not np.all(l0 == l0[:1]) or np.any(np.isnan(l0)) or np.any(l0 <= 0):
+        return {}  # changing in time or not outer scales: nothing single to record
+    scales = [None if math.isinf(v) else float(v) for v in l0[0]]
+    if len(set(scales)) == 1:
+        return {"outer_scale": scales[0]}
+    w = _data(getattr(atm, "layers_relative_weight", None))
+    w = None if w is None else np.asarray(w, dtype=np.float64).reshape(-1, w.shape[-1])
+    if w is None or w.shape[-1] != len(scales) or not np.all(np.isfinite(w[0])) \
+            or np.any(w[0] < 0) or not w[0].sum() > 0:
+        return {}
+    return {"atmosphere_layers": [{"outer_scale": s, "cn2_weight": float(x)}
+                                  for s, x in zip(scales, w[0], strict=True)]}
 
 
 def _card_wavelength(lp) -> float | None:

@@ -405,6 +405,14 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
         k = 0
         while k < len(lines) and (lines[k].startswith("#") or not lines[k].strip()):
             line = lines[k]
+            if line.startswith(_MAGIC) and not line[len(_MAGIC):].lstrip().startswith("{"):
+                # paper_figures' report.md ("# modalinfo: regenerated figures ...") was a
+                # "corrupt CSV file: unreadable header (Expecting value ...)" (round 43
+                # PART b, g10)
+                raise LogFormatError(
+                    f"'{path}' is not a modalinfo CSV: its '{_MAGIC}' line is not a modalinfo "
+                    "CSV header (a text file, such as the report of `python -m paper_figures`?)"
+                    "; a log is an NPZ, NPY, CSV, FITS or HDF5 file of coefficients")
             if line.startswith(_MAGIC):
                 header = parse_header(line[len(_MAGIC) :], "CSV", path, verify=verify)
                 k += 1

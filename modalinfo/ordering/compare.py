@@ -86,11 +86,20 @@ def _log_geometry(log: Any) -> tuple[float | None, float | None]:
         diameter = telescope.get("diameter")
     outer = meta.get("outer_scale", gen.get("outer_scale", "absent"))
     if outer == "absent":
-        outer = _config_outer_scale(config)[0]
+        outer = _config_outer_scale(_layers_source(meta))[0]
     elif outer is None:  # recorded as infinite
         outer = math.inf
     return (float(diameter) if diameter is not None else None,
             float(outer) if outer is not None else None)
+
+
+def _layers_source(meta: dict) -> Any:
+    """Return the closedloop config, else the AOT reader's ``atmosphere_layers`` as one."""
+    config = meta.get("config")
+    if isinstance(config, dict) and config.get("layers"):
+        return config
+    layers = meta.get("atmosphere_layers")
+    return {"layers": layers} if isinstance(layers, list) else config
 
 
 def _config_outer_scale(config: Any) -> tuple[float | None, str | None]:
@@ -112,8 +121,9 @@ def _config_outer_scale(config: Any) -> tuple[float | None, str | None]:
               for x in layers]
     if len(set(scales)) == 1:
         return scales[0], None
-    try:
-        weights = [float(x["d_over_r0"]) ** (5 / 3) for x in layers]
+    try:  # (D/r0)^(5/3) is proportional to the layer's Cn2 weight (an AOT file's)
+        weights = [float(x["d_over_r0"]) ** (5 / 3) if "d_over_r0" in x
+                   else float(x["cn2_weight"]) for x in layers]
     except (KeyError, TypeError, ValueError):
         return None, None
     if any(math.isinf(s) and w > 0 for s, w in zip(scales, weights, strict=True)):
@@ -165,7 +175,7 @@ def kl_geometry_assumption(log: Any, outer_scale: float | None = None, *,
     layered = (outer_scale is None and "outer_scale" not in meta
                and not (isinstance(meta.get("generator"), dict)
                         and "outer_scale" in meta["generator"]))
-    if layered and (note := _config_outer_scale(meta.get("config"))[1]) is not None:
+    if layered and (note := _config_outer_scale(_layers_source(meta))[1]) is not None:
         return note + (f"; {option} sets one" if option else "")
     if outer_scale is None and outer is None:
         how = f"; {option} gives a von Karman one" if option else ""
@@ -547,7 +557,9 @@ class Comparison:
         head += "".join(f"{'<=' + format(100 * f, '.3g') + '%':>10}" for f in fractions)
         lines = [f"fitting error dPhi(n) [{self.units}], "
                  + ("frame average" if self.frame is None else f"frame {self.frame}")
-                 + "; last columns: modes to reach each target", head]
+                 # the promise only when those columns follow (round 43 PART b, d14)
+                 + ("; last columns: modes to reach each target" if targets or fractions
+                    else ""), head]
         for e in self.entries:
             c = self.curve(e)
             row = pad(e.name, 22) + "".join(f"{c[n]:>10.3g}" for n in at)

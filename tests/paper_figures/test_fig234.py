@@ -26,11 +26,28 @@ NAMES = ("none", "linear", "arma", "oracle", "arma-aic")
 DURATION = 0.2
 
 
+PROGRESS: list[str] = []  # run_all's progress lines (round 43 PART b, R21)
+
+
 @pytest.fixture(scope="module")
 def results():
+    PROGRESS.clear()
     res, timings = closedloop_runs.run_all(small(), DURATION, seed=3, names=NAMES,
-                                           budget_every=4, log=lambda s: None)
+                                           budget_every=4, log=PROGRESS.append)
     return res, timings
+
+
+def test_progress_lines_give_the_report_window(results):
+    """Round 43 PART b, R21: stdout gave each run's own-window SR peak (ARMA first), the
+    report the no-prediction run's window (linear first). Reference: numpy's mean of each
+    run's SR peak from the no-prediction run's ``averaging_start``."""
+    res, _ = results
+    start = res["none"].averaging_start
+    for name in NAMES:
+        line = next(x for x in PROGRESS if x.startswith(f"[paper_figures]   {name}: "))
+        want = f"SR peak {np.mean(res[name].strehl_peak[start:]):.3f} (mean from " \
+               f"{res['none'].times[start] * 1e3:.0f} ms, the no-prediction run's closure)"
+        assert want in line, line
 
 
 @pytest.fixture(scope="module")

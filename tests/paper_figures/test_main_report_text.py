@@ -148,9 +148,14 @@ def _version() -> str:
     # the version number and 12 hex digits of the source fingerprint (package_version's
     # documented form), read from the installed package
     import modalinfo
+    from modalinfo.common.provenance import git_describe, source_sha256
     from modalinfo.common.tasks.keys import source_fingerprint
 
-    return f"{modalinfo.__version__}+src.{source_fingerprint()[:12]}"
+    # and (round 43 PART b, R04) the git commit and the SHA-256 of the source listing of
+    # modalinfo, closedloop and paper_figures, as the figures' records carry them
+    git, sha = git_describe(), source_sha256()
+    return (f"{modalinfo.__version__}+src.{source_fingerprint()[:12]} (git {git or 'unknown'}, "
+            f"source SHA-256 {sha or 'unknown'} of modalinfo, closedloop and paper_figures)")
 
 
 def _sha(path) -> str:

@@ -665,3 +665,35 @@ def test_given_run_of_another_predictor_refused(recorder):
         solar.solar_sensitivity(base, values={"signal": (150.0,)}, predictors=("none", "arma"),
                                 duration=0.004, seed=3, model=object(),
                                 base_results={"arma": other})
+
+
+def test_predictor_rows_average_from_the_no_prediction_closure(recorder, monkeypatch):
+    """Round 43 PART b, R33: Figure 7's "(base)" ARMA row (0.379) averaged from ARMA's own
+    closure, its main table (0.354) from the no-prediction run's: the sign of ARMA's effect
+    flipped between two tables of one section. Reference: Marechal by hand on the variances
+    set here, from the no-prediction run's closure (frame 1), not ARMA's (frame 2); the FoV
+    stays the run's own (Figure 4's rule)."""
+    import closedloop.training as training
+
+    inner = training.run_trained
+
+    def later_closure(cfg, name, *args, **kwargs):
+        run = inner(cfg, name, *args, **kwargs)
+        if name != "none":
+            run.closure_index = run.averaging_start = 2  # a predictor settles later
+        return run
+
+    monkeypatch.setattr(training, "run_trained", later_closure)
+    study = solar.solar_sensitivity(_solar(), values={"signal": (150.0,)},
+                                    predictors=("none", "arma"), duration=0.003, seed=0,
+                                    max_runs=4, latency={"workstation": (4e-3, 0.625e-3)},
+                                    model=object())
+    for knob, value in (("base", ""), ("signal", "150 e-")):
+        row = study.row(knob, value, "arma")
+        run = next(c["run"] for c in recorder.calls if c["name"] == "arma"
+                   and c["run"].config == (_solar() if knob == "base" else _solar(signal=150.0)))
+        want = np.mean(np.exp(-run.residual_variance[1:]).max(axis=1))  # from frame 1
+        assert row["strehl_peak"] == pytest.approx(want, rel=1e-12)
+        assert row["strehl_field"] == pytest.approx(np.exp(-run.residual_variance[1:]).mean(),
+                                                    rel=1e-12)
+        assert row["fov_arcmin"] == run.fov
