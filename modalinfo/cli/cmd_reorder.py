@@ -383,6 +383,32 @@ columns of the table:
 """
 
 
+#: how many of the ordered modes the log-names line spells out
+SHOWN_NAMES = 12
+
+
+def log_names_note(labels: tuple[str, ...], log, basis: str) -> str | None:
+    """Name the ordered Zernike modes in the log's own labels, if it is ANSI or Fringe.
+
+    The Zernike basis names its modes in Noll (``Z3``); a log written in ANSI or Fringe
+    names the same mode ``A1`` / ``F3``, and ``forecast --modes`` / ``select --target`` on
+    that log take its own names: a table of Noll names alone read as the file's own
+    (adversarial round 43 PART b, c22 / c23).
+    """
+    if basis != "zernike" or log.convention not in ("ansi", "fringe"):
+        return None
+    from modalinfo.bases.indexing import noll_to_ansi, noll_to_fringe
+    from modalinfo.telemetry.checks import mode_labels
+
+    to_own = noll_to_ansi if log.convention == "ansi" else noll_to_fringe
+    shown = labels[:SHOWN_NAMES]
+    own = mode_labels([int(to_own(int(label[1:]))) for label in shown], log.convention)
+    pairs = ", ".join(f"{noll} = {name}" for noll, name in zip(shown, own, strict=True))
+    more = f", ... ({len(labels) - len(shown)} more)" if len(labels) > len(shown) else ""
+    return (f"modes are named in Noll (the zernike basis's labels); this {log.convention} "
+            f"log names them {pairs}{more}")
+
+
 def run(args: argparse.Namespace) -> int:
     """Order the basis, print the table, write the JSON."""
     from modalinfo.cli.shared import progress
@@ -479,6 +505,9 @@ def run(args: argparse.Namespace) -> int:
     print(result.table())
     for note in result.notes(resamples="--resamples"):
         print(note)
+    own_names = log_names_note(result.labels, log, args.basis)
+    if own_names is not None:
+        print(own_names)
     if result.gain_low is not None:
         print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
               f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
