@@ -10,7 +10,7 @@ from closedloop import presets, simulate
 
 duration = float(sys.argv[1]) if len(sys.argv) > 1 else 0.5
 result = simulate(presets.get("table1"), duration, seed=0, budget_every=5)
-print(result.strehl_peak, result.corrected_fov_diameter(0.3))
+print(result.summary()["strehl_peak_mean"], result.corrected_fov_diameter(0.3))  # after closure
 print(result.strehl_map().shape)
 print(result.budget.table())  # fitting, aliasing, temporal, noise vs measured
 print(result.logs["dm0.pol"])  # a ModalLog: modalinfo reorder / forecast read it

@@ -6,8 +6,8 @@ through: ``recording()`` of every warning around ``evaluate`` in ``fig5_forecast
 the evaluation to stderr as "Figure 5: note" and hid it from the warnings machinery.
 Reference: the module's comment ("a declined skill test is a note of the run; every
 other warning is shown as usual") and Python's ``catch_warnings(record=True)``. The
-predictors are stubbed by the ``cheap_figure5_predictors`` fixture (tests/conftest.py) (their fits are
-not the test's); ``evaluate`` is the real one, wrapped to warn first; the figure stops
+predictors are stubbed by the ``cheap_figure5_predictors`` fixture (tests/conftest.py)
+(their fits are not the test's); ``evaluate`` is the real one, wrapped to warn first; the figure stops
 after the notes are written.
 """
 

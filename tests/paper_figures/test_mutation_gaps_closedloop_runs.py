@@ -173,9 +173,15 @@ def test_run_all_none_first_trained_on_it_timed(monkeypatch):
     assert runs[1][1].trained_on is results["none"] and runs[2][1].trained_on is results["none"]
     assert timings == {"none": (1.0, 2.5), "arma": (0.25, 0.75), "nn": (2.0, 0.5)}
     assert lines == [
-        "[paper_figures]   none: SR peak 0.500, corrected FoV d = 0.88' (train 1.0 s, loop 2.5 s)",
-        "[paper_figures]   arma: SR peak 0.625, corrected FoV d = 0.88' (train 0.2 s, loop 0.8 s)",
-        "[paper_figures]   nn: SR peak 0.250, corrected FoV d = 0.88' (train 2.0 s, loop 0.5 s)"]
+        "[paper_figures]   none: SR peak 0.500 (mean from 3 ms, the no-prediction run's "
+        "closure), corrected FoV d = 0.88' (from its own closure at 3 ms) "
+        "(train 1.0 s, loop 2.5 s)",
+        "[paper_figures]   arma: SR peak 0.625 (mean from 3 ms, the no-prediction run's "
+        "closure), corrected FoV d = 0.88' (from its own closure at 3 ms) "
+        "(train 0.2 s, loop 0.8 s)",
+        "[paper_figures]   nn: SR peak 0.250 (mean from 3 ms, the no-prediction run's "
+        "closure), corrected FoV d = 0.88' (from its own closure at 3 ms) "
+        "(train 2.0 s, loop 0.5 s)"]
 
 
 def test_run_all_defaults(monkeypatch, capsys):
