@@ -7,8 +7,8 @@ the evaluation to stderr as "Figure 5: note" and hid it from the warnings machin
 Reference: the module's comment ("a declined skill test is a note of the run; every
 other warning is shown as usual") and Python's ``catch_warnings(record=True)``. The
 predictors are stubbed by the ``cheap_figure5_predictors`` fixture (tests/conftest.py)
-(their fits are not the test's); ``evaluate`` is the real one, wrapped to warn first; the figure stops
-after the notes are written.
+(their fits are not the test's); ``evaluate`` is the real one, wrapped to warn first;
+the figure stops after the notes are written.
 """
 
 from __future__ import annotations
