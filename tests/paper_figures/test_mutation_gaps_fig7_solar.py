@@ -407,7 +407,9 @@ machine -> delay 1.500 ms; workstation: 2.50 ms of correlation on this machine -
 unstable (1-minute load average 1.5 on this machine's {os.cpu_count()} cores when timed: \
 the time grows with the load).
 
-**Sensitivity** (one knob at a time, no prediction and ARMA; on-axis budget of the
+**Sensitivity** (one knob at a time, no prediction and ARMA; SR means after each knob
+value's no-prediction run's closure, the main table's window, so its "(base)" row is the
+table's; FoV from each run's own closure, as Figure 4; on-axis budget of the
 no-prediction run; `python -m closedloop.studies.solar` makes the full table):
 
 {_sensitivity_table()}
