@@ -115,7 +115,12 @@ def fft_strehl(phase: np.ndarray, mask: np.ndarray, *, padding: int = 4) -> floa
     -------
     float
         Maximum of the PSF (wherever it is: residual tilt moves it) over the peak of the
-        unaberrated PSF, ``(sum P)**2``.
+        unaberrated PSF, ``(sum P)**2``. The FFT samples the PSF at ``lambda / (padding
+        D)``; the largest local maxima of the samples are refined off the grid (the PSF's
+        Fourier sum at fractional frequencies, :func:`_refined_peak`), so a peak between
+        samples is read at its top: a pure tilt half a sample off read 0.962 at
+        ``padding=4`` and 0.520 at ``padding=1`` from the samples alone (adversarial
+        round 44 PART a, S18, S47), 1 now.
     """
     padding = check_int(padding, "padding", minimum=1)
     phase = np.asarray(phase, dtype=np.float64)
@@ -133,7 +138,52 @@ def fft_strehl(phase: np.ndarray, mask: np.ndarray, *, padding: int = 4) -> floa
     inside = np.exp(1j * np.where(mask, phase, 0.0))
     field[: phase.shape[0], : phase.shape[1]] = np.where(mask, inside, 0.0)
     psf = np.abs(np.fft.fft2(field)) ** 2
-    return float(psf.max() / mask.sum() ** 2)
+    peak = _refined_peak(np.where(mask, inside, 0.0), psf)
+    return float(peak / mask.sum() ** 2)
+
+
+#: local maxima of the sampled PSF refined off the grid by :func:`fft_strehl`
+_PEAK_CANDIDATES = 4
+
+
+def _refined_peak(pupil_field: np.ndarray, psf: np.ndarray) -> float:
+    """Largest value of ``|sum E exp(-2 pi i (u x + v y))|**2`` near the sampled PSF's maxima.
+
+    ``pupil_field`` ``(N, N)``: the complex pupil field ``E`` (0 outside the pupil);
+    ``psf`` ``(n, n)``: its zero-padded FFT's squared modulus (samples at ``u, v = k /
+    n`` cycles per pupil pixel). The :data:`_PEAK_CANDIDATES` largest local maxima of the
+    samples (periodic 8-neighbourhood) are each refined within one sample by a bounded
+    Nelder-Mead maximisation of the Fourier sum evaluated at fractional frequencies
+    (separable: two length-N exponentials per evaluation); never below the samples'
+    maximum.
+    """
+    from scipy import optimize
+
+    n = psf.shape[0]
+    k = np.arange(pupil_field.shape[0])
+    neighbours = [np.roll(np.roll(psf, dy, 0), dx, 1)
+                  for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx]
+    local = np.all([psf >= nb for nb in neighbours], axis=0)
+    cand = np.flatnonzero(local.ravel())
+    cand = cand[np.argsort(psf.ravel()[cand])[::-1][:_PEAK_CANDIDATES]]
+    best = float(psf.max())
+
+    def minus_psf(f: np.ndarray) -> float:
+        eu = np.exp(-2j * np.pi * f[0] * k)  # along x (columns)
+        ev = np.exp(-2j * np.pi * f[1] * k)  # along y (rows)
+        return -float(np.abs(ev @ pupil_field @ eu) ** 2)
+
+    for c in cand:
+        ky, kx = divmod(int(c), n)
+        start = np.array([kx / n, ky / n])
+        res = optimize.minimize(minus_psf, start, method="Nelder-Mead",
+                                bounds=[(start[0] - 1 / n, start[0] + 1 / n),
+                                        (start[1] - 1 / n, start[1] + 1 / n)],
+                                options={"xatol": 1e-5 / n, "fatol": 1e-10 * best,
+                                         "initial_simplex": [start, start + [0.4 / n, 0],
+                                                             start + [0, 0.4 / n]]})
+        best = max(best, -float(res.fun))
+    return best
 
 
 def _row_spans(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -35,6 +35,21 @@ class _LinearRecursion(Predictor):
     def _memory(self, params: dict) -> int:
         return int(params["phi"].shape[1])  # the AR lags (MA innovations start at 0)
 
+    def _check_layout(self, params: dict, n_modes: int, who: str) -> None:
+        # the kernel reads mu, c (M,), phi (M, P), theta (M, Q) without bounds checks
+        shapes = {"mu": 1, "phi": 2, "theta": 2, "c": 1}
+        for key, ndim in shapes.items():
+            if key == "c" and params.get("c") is None:
+                continue
+            if key not in params:
+                raise ValueError(f"{who} must return the parameter {key!r} (mu (M,), phi "
+                                 "(M, P), theta (M, Q), optional c (M,)).")
+            shape = np.shape(params[key])
+            if len(shape) != ndim or shape[0] != n_modes:
+                want = "(M,)" if ndim == 1 else "(M, k)"
+                raise ValueError(f"{who} returned {key!r} of shape {shape}; the recursion "
+                                 f"reads {want} with M = {n_modes} modes.")
+
     def _init_state(self, params: dict, horizon: int) -> dict:
         n_modes, n_ar = params["phi"].shape
         n_ma = params["theta"].shape[1]

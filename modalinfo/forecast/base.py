@@ -164,6 +164,27 @@ class _Run:
 
 
 
+def user_defined(cls: type, name: str) -> bool:
+    """Whether ``cls``'s attribute ``name`` is a user's: defined outside the modalinfo package.
+
+    A user's predictor (a subclass written outside the package) is a plug-in: its hooks
+    get read-only samples and its parameters are checked (round 44 PART a), and
+    :func:`~modalinfo.forecast.evaluate` refuses one whose public ``predict`` / ``update``
+    it would not call.
+    """
+    for klass in cls.__mro__:
+        if name in vars(klass):
+            return not str(getattr(klass, "__module__", "")).startswith("modalinfo.")
+    return False
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """Return a read-only view of ``a``: what a user's ``_fit_params`` / ``_filter`` is given."""
+    from modalinfo.information.methods import read_only
+
+    return read_only(a)
+
+
 def _frame_columns(history, attr: str = "columns", ndim: int = 2) -> list | None:
     """Column names of a 2-D DataFrame-like ``history``, None for arrays or 0, 1, ... names.
 
@@ -228,7 +249,16 @@ class Predictor:
         dict
             ``{name: value}`` for every ``__init__`` keyword.
         """
-        return {name: getattr(self, name) for name in self._param_names()}
+        names = self._param_names()
+        missing = [name for name in names if not hasattr(self, name)]
+        if missing:  # round 44 PART a, E09: AttributeError from inside evaluate's clone
+            listed = ", ".join(f"`{name}`" for name in missing)
+            raise TypeError(
+                f"{type(self).__name__}.__init__ takes {listed} but the object has no "
+                f"attribute of that name: a predictor stores each __init__ argument "
+                f"unchanged under its own name (the scikit-learn convention), which "
+                f"get_params(), clone() and evaluate() read.")
+        return {name: getattr(self, name) for name in names}
 
     def set_params(self, **params) -> Predictor:
         """Set hyper-parameters; fitted attributes are left untouched until ``fit``.
@@ -393,7 +423,7 @@ class Predictor:
         _, _, window = self._check_common(X.shape[1])
         check_square_range(X, "history")
         check_square_floor(X, "history")
-        self.params_ = self._fit_params(X, None, "history")
+        self.params_ = self._estimate(X, None, "history")
         self.n_modes_ = X.shape[1]
         self.n_samples_fit_ = X.shape[0]
         names = _frame_columns(history)
@@ -457,6 +487,34 @@ class Predictor:
 
     def _fit_params(self, X: np.ndarray, previous: dict | None, name: str) -> dict:
         raise NotImplementedError
+
+    def _estimate(self, X: np.ndarray, previous: dict | None, name: str) -> dict:
+        """``_fit_params``, checked where it is a user's (:func:`user_defined`).
+
+        A user's ``_fit_params`` gets a read-only view of the samples (it wrote zeros into
+        the log ``evaluate`` was given) and its parameters are checked: a dict of finite
+        values (NaN ones gave a table of NaN rmse) whose layout the recursion reads
+        (:meth:`_check_layout`: parameters of one mode for a 3-mode log made the kernel
+        write past its arrays, a SIGABRT; round 44 PART a, E04 - E06).
+        """
+        if not user_defined(type(self), "_fit_params"):
+            return self._fit_params(X, previous, name)
+        params = self._fit_params(_read_only(X), previous, name)
+        who = f"{type(self).__name__}._fit_params"
+        if not isinstance(params, dict):
+            raise TypeError(f"{who} must return a dict of parameter arrays; got "
+                            f"{type(params).__name__}.")
+        for key, value in params.items():
+            arr = np.asarray(value) if isinstance(value, np.ndarray | float | int) else None
+            if arr is not None and arr.dtype.kind in "fc" and not np.all(np.isfinite(arr)):
+                raise ValueError(f"{who} returned a non-finite value in parameter {key!r} "
+                                 f"(fitted on `{name}` of shape {X.shape}); the forecasts "
+                                 "would be NaN.")
+        self._check_layout(params, X.shape[1], who)
+        return params
+
+    def _check_layout(self, params: dict, n_modes: int, who: str) -> None:
+        """Refuse parameters whose shapes the recursion cannot read (a kind's own rule)."""
 
     def _init_state(self, params: dict, horizon: int) -> dict:
         raise NotImplementedError
@@ -528,7 +586,10 @@ class Predictor:
             lo = start - end + n_out
             hi = stop - end + n_out
             sub_out = out[:0] if hi <= 0 else out[max(lo, 0):hi]
-            self._filter(run.params, run.state, X[start:stop], sub_out, run.status)
+            block = X[start:stop]
+            if user_defined(type(self), "_filter"):  # round 44 PART a, E07: no write-back
+                block = _read_only(block)
+            self._filter(run.params, run.state, block, sub_out, run.status)
             self._raise_nonfinite(run.status, start, name)
             run.n_seen += stop - start
             if (refit is not None and run.n_seen % refit == 0
@@ -739,11 +800,13 @@ class Predictor:
         tcache chunk detected") or laid out for other orders (old AR lags read as
         innovations; adversarial round 34 PART a, L01-L02).
         """
-        run.params = self._fit_params(window_data, run.params, name)
+        run.params = self._estimate(window_data, run.params, name)
         fresh = self._init_state(run.params, run.horizon)
         if all(np.shape(fresh[key]) == np.shape(run.state[key]) for key in fresh):
             return
         scratch = np.zeros((0, run.horizon, window_data.shape[1]))
+        if user_defined(type(self), "_filter"):
+            window_data = _read_only(window_data)
         self._filter(run.params, fresh, window_data, scratch, run.status)
         run.state = fresh
 

@@ -83,7 +83,7 @@ from modalinfo.common.validation import (
     column_labels,
 )
 from modalinfo.forecast.arma import ARMAPredictor
-from modalinfo.forecast.base import Predictor, check_square_floor
+from modalinfo.forecast.base import Predictor, check_square_floor, user_defined
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
 
 __all__ = ["evaluate", "ForecastEvaluation"]
@@ -768,8 +768,29 @@ def _as_predictors(predictors) -> dict[str, Predictor]:
         if not isinstance(p, Predictor):
             raise TypeError(f"`predictors[{name!r}]` must be a Predictor; got "
                             f"{type(p).__name__}" + _preset_hint(p) + ".")
+        _refuse_public_overrides(p, name)
         out[str(name)] = p
     return out
+
+
+def _refuse_public_overrides(pred: Predictor, name) -> None:
+    """Refuse a user's predictor whose own ``predict`` / ``update`` evaluate would not call.
+
+    evaluate forecasts every origin through the recursion the two run
+    (``_fit_params`` / ``_init_state`` / ``_filter``, :mod:`modalinfo.forecast.base`): a
+    subclass that changed its forecasts in ``predict`` / ``update`` was scored as its
+    parent (+100 on every forecast: the parent's rmse), and one that implemented only
+    the public methods reached an AttributeError (round 44 PART a, E02, E03).
+    """
+    hooks = [h for h in ("predict", "update") if user_defined(type(pred), h)]
+    if hooks:
+        raise TypeError(
+            f"`predictors[{name!r}]` ({type(pred).__name__}) defines its own "
+            f"{' and '.join(hooks)}, which evaluate does not call: it fits with fit() and "
+            "forecasts every origin through the recursion predict() and update() run "
+            "(_fit_params, _init_state, _filter: the Predictor subclass contract, "
+            "modalinfo.forecast.base), so the scored forecasts would not be the "
+            "override's; implement the model in those methods.")
 
 
 def _preset_hint(value) -> str:
