@@ -277,7 +277,14 @@ def _cmd_compare(args) -> int:
     from closedloop.simulation import LoopModel, simulate
     from closedloop.training import run_trained
 
-    names = [n.strip() for n in args.predictors.split(",") if n.strip()]
+    names = [n.strip() for n in args.predictors.split(",")]
+    if "" in names and any(names):
+        # 'persistence,,linear' ran two predictors without a word, while modalinfo
+        # forecast refuses 'linear,' (round 44 PART b, b31)
+        raise CommandError(f"--predictors '{args.predictors}' has an empty name (two commas "
+                           "in a row, or one at an end); give a comma list of "
+                           f"{', '.join(NAMES)}")
+    names = [n for n in names if n]
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise CommandError(f"--predictors names '{twice[0]}' twice; give each once")

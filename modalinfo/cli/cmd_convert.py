@@ -14,6 +14,7 @@ units never assumes the input units: a file that does not record them needs
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -84,8 +85,17 @@ def run(args: argparse.Namespace) -> int:
             f"files ({args.input}, {args.output}, {', '.join(more)}): no command joins "
             "logs - concatenate the parts first (numpy: np.concatenate of their "
             "coefficients, in time order) or analyse them as an archive with `batch`")
-    fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     source = Path(args.input)
+    if source.exists() and os.path.exists(args.output) and os.path.samefile(source,
+                                                                            args.output):
+        # --overwrite of the input itself replaced an AOT system (its loops, sensors,
+        # mirrors) by one loop's plain FITS without a word (round 44 PART b, d22); asked
+        # before "exists; pass --overwrite", whose advice led to this refusal
+        raise CommandError(
+            f"OUT '{args.output}' is the input file IN ('{args.input}'); convert writes "
+            "one log of it, and what IN holds besides (other loops or datasets, the "
+            "system of an AOT file) would be lost: write to another name")
+    fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     big = source.is_file() and source.stat().st_size >= _PROGRESS_MIN_BYTES
     options = {"fmt": args.fmt, "dataset": args.dataset, **hints_from_args(args)}
     if source.is_file():  # the log, its converted copy and the writer's buffer

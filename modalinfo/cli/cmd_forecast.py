@@ -286,7 +286,8 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
     Every file is first written into a hidden staging folder inside ``out``; only when
     all four exist are they renamed into place (renames in one folder need no space),
     the files they replace kept aside until then. Any failure, or a signal, removes the
-    staging folder, restores replaced files and removes a folder this call created:
+    staging folder, restores replaced files and removes the folders this call created
+    when nothing else is in them (another run's outputs stay):
     a full disk leaves the old outputs or none, never some of the new ones.
     """
     import contextlib
@@ -297,7 +298,6 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
     from modalinfo.common.files import naming_target, signals_end_the_save
     from modalinfo.common.folders import clean_staging, make_out_dir, staging_prefix
 
-    created = not out.exists()
     # a run killed outright (SIGKILL) left its staging folder: removed once its process
     # is gone; one without a pid (an earlier version's) is named, not judged
     clean_staging(out, ".forecast.", ".tmp", command="modalinfo forecast")
@@ -340,8 +340,13 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
                 for name, old in kept.items():
                     os.replace(old, out / name)
             shutil.rmtree(staging, ignore_errors=True)
-            if not done and created:
-                shutil.rmtree(out, ignore_errors=True)
+            if not done:
+                # only the folders made here, and only if empty: another forecast into
+                # the same new --out may have written its outputs there meanwhile (this
+                # run's clash refusal removed them with rmtree: round 44 PART b, d08)
+                for folder in new:  # innermost first
+                    with contextlib.suppress(OSError):
+                        folder.rmdir()
 
 
 def run(args: argparse.Namespace) -> int:

@@ -261,8 +261,14 @@ class Parser(argparse.ArgumentParser):
                 value = args[k + 1]
             first = seen.setdefault(action.dest, (name, value))
             if first[1] != value:
-                self.error(f"argument {name}: given twice ({first[0]} {first[1]} and "
-                           f"{name} {value}); give it once")
+                # '300 ' and '300' printed alike: quote values that differ in white space
+                # only (round 44 PART b, a07)
+                spaces = first[1].strip() == value.strip()
+                shown = repr if spaces else str
+                self.error(f"argument {name}: given twice ({first[0]} {shown(first[1])} and "
+                           f"{name} {shown(value)}"
+                           f"{', which differ in white space' if spaces else ''}); "
+                           "give it once")
 
 
 class _VersionAction(argparse.Action):

@@ -92,7 +92,10 @@ def test_info_reports_repairs(tmp_path, capsys):
         (["info", "{tmp}/log.npz", "--rate", "5"], "hint --rate 5.0 contradicts"),
         (["info", "{tmp}/log.npz", "--chunk-frames", "0"], "--chunk-frames must be >= 1"),
         (["info", "{tmp}/log.npz", "--in-modes", "4,KL"], "--in-modes mixes indices and labels"),
-        (["convert", "{tmp}/log.npz", "{tmp}/log.npz"], "exists; pass --overwrite to replace it"),
+        # the same file is refused first: --overwrite, the other refusal's advice, would
+        # be refused too (round 44 PART b, after d22)
+        (["convert", "{tmp}/log.npz", "{tmp}/log.npz"], "is the input file IN"),
+        (["convert", "{tmp}/log.npz", "{tmp}/bad.npz"], "exists; pass --overwrite to replace it"),
         (["convert", "{tmp}/log.npz", "{tmp}/o.xls"], "cannot tell the log format"),
         (
             ["convert", "{tmp}/log.npz", "{tmp}/o.csv", "--units", "nm", "--wavelength", "6e-7"],

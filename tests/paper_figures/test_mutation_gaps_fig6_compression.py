@@ -140,6 +140,23 @@ def test_crossing_on_power_laws():
     assert flat.extrapolated_crossing("none", 1e-3) == math.inf
     falling = dataclasses.replace(f, scaling_time={"none": np.array([3e-6, 2e-6, 1e-6])})
     assert falling.extrapolated_crossing("none", 1e-3) == math.inf
+    # a growth within timing noise (CI of stop 52: 7.7618176e-05 s at 6 modes, 7.7622524e-05
+    # at 27): n (budget / t)^(1 / slope) is beyond float64, no overflow warning (an error
+    # under the suite's filters); exp(log) by hand: ln n = ln 27 + ln(5e-4 / t1) / slope
+    noisy = dataclasses.replace(f, scaling_n=np.array([6, 27]),
+                                scaling_time={"none": np.array([7.7618176e-05, 7.7622524e-05])})
+    slope = math.log(7.7622524e-05 / 7.7618176e-05) / math.log(27 / 6)
+    assert math.log(27) + math.log(5e-4 / 7.7622524e-05) / slope > 710  # beyond float64
+    assert noisy.extrapolated_crossing("none", 5e-4) == math.inf
+    # the report does not print "about inf modes"
+    assert fig6._about_modes(math.inf).startswith("no number of modes")
+    assert fig6._about_modes(431.6) == "about 432 modes"
+    # a power law still in range keeps its value (n = 27 * 4^(1 / 0.5) = 432)
+    steep = dataclasses.replace(f, scaling_n=np.array([6, 27]),
+                                scaling_time={"none": np.array([1e-5, 1e-5 * 1.5])})
+    slope = math.log(1.5) / math.log(27 / 6)
+    assert steep.extrapolated_crossing("none", 6e-5) == pytest.approx(
+        27 * (6e-5 / 1.5e-5) ** (1 / slope), rel=1e-12)
 
 
 def test_extrapolation_only_beyond_the_measured_sizes():
