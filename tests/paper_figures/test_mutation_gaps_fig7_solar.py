@@ -409,8 +409,8 @@ the time grows with the load).
 
 **Sensitivity** (one knob at a time, no prediction and ARMA; SR means after each knob
 value's no-prediction run's closure, the main table's window, so its "(base)" row is the
-table's; FoV from each run's own closure, as Figure 4; on-axis budget of the
-no-prediction run; `python -m closedloop.studies.solar` makes the full table):
+table's; FoV from each run's own closure, as the table's FoV column; on-axis budget
+of the no-prediction run; `python -m closedloop.studies.solar` makes the full table):
 
 {_sensitivity_table()}
 """
