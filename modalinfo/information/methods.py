@@ -251,7 +251,7 @@ class MethodNames(Sequence):
     def refusal(self, name: Any, argument: str) -> str | None:
         """Return the refusal of a built-in ``name`` unregistered in this process, else None.
 
-        :func:`~modalinfo.common.validation.check_choice` raises it instead of "must be
+        ``check_choice`` (modalinfo.common.validation) raises it instead of "must be
         one of" the others, which a caller relying on a function's default method never
         passed (round 45 PART a, R31 / R32).
         """
