@@ -370,10 +370,9 @@ def _titles(fig1: Figure1) -> list[str]:
 
 def plot(fig1: Figure1, out_dir: Path, *, suffix: str = "") -> list[Path]:
     """Draw Figure 1 (PNG and PDF, names of :func:`output_names`) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     from modalinfo.ordering.compare import plot_comparison
 
@@ -385,7 +384,8 @@ def plot(fig1: Figure1, out_dir: Path, *, suffix: str = "") -> list[Path]:
     titles = [f"(a) typical frame {fig1.frame} (per-frame orderings)",
               f"(b) average over {fig1.n_frames} frames (pooled orderings)",
               f"(c) open loop, {same} ({fig1.open_loop_frames} frames)"]
-    fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
+    fig = Figure(figsize=(17, 4.8))
+    axes = fig.subplots(1, 3)
     for ax, panel, title in zip(axes, fig1.panels, titles, strict=True):
         plot_comparison(panel.comparison, ax, target=panel.target, title=title)
         handles, labels = ax.get_legend_handles_labels()

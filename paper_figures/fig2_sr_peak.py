@@ -74,13 +74,13 @@ def compute(runs: ClosedLoopRuns) -> Figure2:
 
 def plot(fig2: Figure2, out_dir: Path) -> list[Path]:
     """Draw Figure 2 (PNG and PDF) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     runs = fig2.runs
-    fig, ax = plt.subplots(figsize=(8, 4.8))
+    fig = Figure(figsize=(8, 4.8))
+    ax = fig.subplots()
     for name, r in runs.runs.items():
         ax.plot(r.times * 1e3, r.strehl_peak, label=f"{r.label} ({fig2.peak_mean[name]:.3f})",
                 **STYLES.get(name, {}))

@@ -77,13 +77,13 @@ def compute(runs: ClosedLoopRuns) -> Figure3:
 
 def plot(fig3: Figure3, out_dir: Path) -> list[Path]:
     """Draw Figure 3 (PNG and PDF) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     runs = fig3.runs
-    fig, ax = plt.subplots(figsize=(8, 4.8))
+    fig = Figure(figsize=(8, 4.8))
+    ax = fig.subplots()
     for name, r in runs.runs.items():
         f, s = r.spectrum_freqs[1:], r.spectrum_psd[1:]
         style = dict(STYLES.get(name, {}))

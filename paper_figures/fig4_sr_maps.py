@@ -57,10 +57,9 @@ def compute(runs: ClosedLoopRuns) -> Figure4:
 
 def plot(fig4: Figure4, out_dir: Path) -> list[Path]:
     """Draw Figure 4 (PNG and PDF) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     runs = fig4.runs
     names = [n for n in runs.runs if n in LAYOUT] + [n for n in runs.runs if n not in LAYOUT]
@@ -70,8 +69,8 @@ def plot(fig4: Figure4, out_dir: Path) -> list[Path]:
     reserved = {pos for pos in LAYOUT.values() if pos[1] < n_cols}
     extra = sum(n not in LAYOUT for n in names)
     n_rows = max(2, int(np.ceil((len(reserved) + extra) / n_cols)))
-    fig, axes = plt.subplots(n_rows, n_cols, figsize=(4.2 * n_cols, 3.8 * n_rows),
-                             squeeze=False)
+    fig = Figure(figsize=(4.2 * n_cols, 3.8 * n_rows))
+    axes = fig.subplots(n_rows, n_cols, squeeze=False)
     used = set()
     free = iter([(i, j) for i in range(n_rows) for j in range(n_cols)
                  if (i, j) not in LAYOUT.values()])

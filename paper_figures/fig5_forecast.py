@@ -340,10 +340,9 @@ def plot(fig5: Figure5, out_dir: Path, *, suffix: str = "") -> list[Path]:
     returns their paths in that order. Existing files are replaced (the callers check:
     ``figure_main``, ``python -m paper_figures``).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -351,7 +350,7 @@ def plot(fig5: Figure5, out_dir: Path, *, suffix: str = "") -> list[Path]:
     ev, x, ms, label = fig5.evaluation, fig5.x, fig5.frame_ms, fig5.label
     json_path = ev.to_json(out_dir / json_name, overwrite=True)
 
-    fig = plt.figure(figsize=(16, 8.5))
+    fig = Figure(figsize=(16, 8.5))
     grid = fig.add_gridspec(2, 6)
     ax_a = fig.add_subplot(grid[0, 0:2])
     ax_b = fig.add_subplot(grid[0, 2:4])

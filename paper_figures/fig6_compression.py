@@ -178,17 +178,17 @@ def compute(*, quick: bool = False, seed: int = 0, progress=None) -> Figure6:
 
 def plot(fig6: Figure6, out_dir: Path) -> list[Path]:
     """Draw Figure 6 (PNG and PDF) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     from closedloop.studies.compression import ORDERINGS
 
     s = fig6.study
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
+    fig = Figure(figsize=(17, 4.8))
+    axes = fig.subplots(1, 3)
     for ax, table, what in ((axes[0], s.strehl_peak, "SR peak over the field"),
                             (axes[1], s.strehl_field, "field-averaged SR")):
         for o in s.orderings:

@@ -245,14 +245,14 @@ def _sens(numbers: dict, knob: str, value: str, predictor: str) -> dict:
 
 def plot(fig7: Figure7, out_dir: Path) -> list[Path]:
     """Draw Figure 7 (PNG, PDF) and write its numbers (JSON) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     num = fig7.numbers
     sol, t1 = num["solar"], num["table1"]
-    fig, axes = plt.subplots(2, 2, figsize=(13, 9))
+    fig = Figure(figsize=(13, 9))
+    axes = fig.subplots(2, 2)
     # (a) SR peak vs time, solar, with table1's no-prediction line for reference
     ax = axes[0, 0]
     for name, r in fig7.solar.runs.items():

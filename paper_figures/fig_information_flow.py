@@ -205,16 +205,16 @@ def _short(label: str) -> str:
 
 def plot(fig8: FigureFlow, out_dir: Path) -> list[Path]:
     """Draw the maps (PNG, PDF) and write their numbers (JSON) into ``out_dir``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # a Figure of its own, no backend switch: the caller's backend stays as it was
+    # (round 45 PART a, G15); Figure.savefig draws with Agg all the same
+    from matplotlib.figure import Figure
 
     from paper_figures._common import save_png_pdf
 
     n = len(fig8.sets)
-    fig, axes = plt.subplots(n, 2, figsize=(10, 3.6 * n), squeeze=False,
-                             gridspec_kw={"wspace": 0.35, "hspace": 0.55})
+    fig = Figure(figsize=(10, 3.6 * n))
+    axes = fig.subplots(n, 2, squeeze=False,
+                        gridspec_kw={"wspace": 0.35, "hspace": 0.55})
     # fixed margins, not tight_layout: a layout pass redraws every tick label
     for row, fs in zip(axes, fig8.sets, strict=True):
         f = fs.flow

@@ -87,7 +87,9 @@ def _read(path: Path, key: str) -> tuple[np.ndarray, np.ndarray] | None:
     if not path.is_file():
         return None
     try:
-        with np.load(path, allow_pickle=False) as f:
+        # the file opened here, closed here: np.load(path) raising inside NpzFile on a
+        # truncated file left it open (ResourceWarning; round 45 PART a, K05)
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as f:
             m2c, var = np.array(f["m2c"]), np.array(f["variances"])
             stored_key, checksum = str(f["key"]), str(f["checksum"])
     except Exception:  # noqa: BLE001 - any unreadable file is rebuilt

@@ -685,8 +685,17 @@ def check_real(
 
 
 def check_choice(value: Any, name: str, choices) -> Any:
-    """Return ``value`` if it is one of ``choices``, else raise ``ValueError``."""
+    """Return ``value`` if it is one of ``choices``, else raise ``ValueError``.
+
+    ``choices`` may say why a value is missing: a ``refusal(value, name)`` method that
+    returns the message (or None for the usual one), as the live registry of MI methods
+    does for a built-in unregistered in the process (round 45 PART a, R31 / R32).
+    """
     if value not in choices:
+        refusal = getattr(choices, "refusal", None)
+        message = refusal(value, name) if refusal is not None else None
+        if message:
+            raise ValueError(message)
         options = ", ".join(repr(c) for c in choices)
         raise ValueError(f"`{name}` must be one of {options}; got {_describe(value)}.")
     return value

@@ -29,7 +29,11 @@ Configurations
 
 ``ConvergenceWarning`` from scikit-learn (L-BFGS stopping at ``max_iter``) is caught
 during training and recorded in ``converged_`` instead of being raised: a network
-stopped at ``max_iter`` is still a valid (early-stopped) predictor.
+stopped at ``max_iter`` is still a valid (early-stopped) predictor. A stop *before*
+``max_iter`` with that warning (L-BFGS's "ABNORMAL" line search) is a failed training:
+``fit`` warns once (a ``ConvergenceWarning`` naming the columns and iterations), as it
+does when ``standardize=False`` trains on a column whose root mean square exceeds 5
+(round 45 PART a, N45 / N32).
 """
 
 from __future__ import annotations
@@ -39,7 +43,7 @@ import warnings
 
 import numpy as np
 
-from modalinfo.common.quiet import catching_warnings
+from modalinfo.common.quiet import caller_stacklevel, catching_warnings, warn
 from modalinfo.common.validation import check_choice, check_int, check_memory, check_real
 from modalinfo.forecast._kernels import mlp_filter
 from modalinfo.forecast.base import Predictor
@@ -47,6 +51,9 @@ from modalinfo.forecast.base import Predictor
 __all__ = ["NeuralNetPredictor"]
 
 _ACTIVATIONS = {"identity": 0, "relu": 1, "tanh": 2, "logistic": 3}
+#: ``standardize=False``: a column whose root mean square exceeds this warns (tanh is
+#: 0.9999 at 5)
+_SCALE_LIMIT = 5.0
 
 
 class NeuralNetPredictor(Predictor):
@@ -202,6 +209,8 @@ class NeuralNetPredictor(Predictor):
         models = []
         converged = np.ones(n_modes, dtype=bool)
         targets = np.arange(n - n_pat, n)
+        abnormal = []
+        scale_note = None if self.standardize else self._scale_note(X, constant)
         for m in range(n_modes):
             if constant[m]:
                 w1[m], b1[m], w2[m], b2[m] = 0.0, 0.0, 0.0, 0.0
@@ -224,6 +233,11 @@ class NeuralNetPredictor(Predictor):
                 model.fit(inputs, z[targets])
             converged[m] = not any(issubclass(w.category, ConvergenceWarning)
                                    for w in caught)
+            # a stop before max_iter with scikit-learn's ConvergenceWarning is L-BFGS's
+            # failed line search ("ABNORMAL"), not the early stop at max_iter: the
+            # network did not train (round 45 PART a, N45 / N32)
+            if not converged[m] and model.n_iter_ < max_iter:
+                abnormal.append((m, int(model.n_iter_)))
             for w in caught:
                 if not issubclass(w.category, ConvergenceWarning):
                     warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
@@ -232,9 +246,47 @@ class NeuralNetPredictor(Predictor):
             b1[m] = model.intercepts_[0]
             w2[m] = model.coefs_[1][:, 0]
             b2[m] = model.intercepts_[1][0]
+        if abnormal or scale_note:
+            parts = []
+            if abnormal:
+                shown = ", ".join(f"column {m} after {it}" for m, it in abnormal[:5])
+                more = f" and {len(abnormal) - 5} more" if len(abnormal) > 5 else ""
+                parts.append(
+                    f"the training of {len(abnormal)} mode(s) stopped before max_iter = "
+                    f"{max_iter} iterations with scikit-learn's ConvergenceWarning ({shown}"
+                    f"{more} iteration(s)): the {self.solver} solver failed (an abnormal "
+                    "line search), so the network did not learn")
+            if scale_note:
+                parts.append(scale_note)
+            advice = ("train on standardised inputs (standardize=True, the default) or "
+                      "rescale the data to unit scale" if not self.standardize else
+                      "the inputs were standardised: check the log for outliers or steps, "
+                      "or change alpha or solver")
+            warn(f"NeuralNetPredictor.fit: {'; '.join(parts)}; {advice}.",
+                 ConvergenceWarning, stacklevel=caller_stacklevel())
         return {"x_mean": x_mean, "x_scale": x_scale, "w1": w1, "b1": b1, "w2": w2,
                 "b2": b2, "activation": _ACTIVATIONS[self.activation], "models": models,
                 "converged": converged}
+
+    @staticmethod
+    def _scale_note(X, constant) -> str | None:
+        """Return the note where ``standardize=False`` trains on a column far from unit scale.
+
+        The network sees the raw values: beyond ~5 in magnitude tanh and logistic
+        saturate and L-BFGS stops without learning (an AR(2) log in nm, std 349 nm,
+        one-step RMSE 257 nm against persistence's 106 nm; round 45 PART a, N45 / N32).
+        The rule: a non-constant column's root mean square above ``_SCALE_LIMIT``.
+        """
+        rms = np.sqrt(np.mean(np.square(X), axis=0))
+        bad = [(m, float(rms[m])) for m in range(X.shape[1])
+               if not constant[m] and rms[m] > _SCALE_LIMIT]
+        if not bad:
+            return None
+        shown = ", ".join(f"column {m}: {r:.3g}" for m, r in bad[:5])
+        more = f" and {len(bad) - 5} more" if len(bad) > 5 else ""
+        return (f"standardize=False and the root mean square of {len(bad)} training "
+                f"column(s) exceeds {_SCALE_LIMIT:g} ({shown}{more}): the network sees the "
+                "raw values and its hidden units saturate")
 
     def _memory(self, params):
         return int(params["w1"].shape[1])

@@ -126,6 +126,8 @@ _REGISTRY: dict[str, MIMethod] = {}
 #: The built-in names in the order the package has always listed them (messages,
 #: command-line help); other methods follow in registration order.
 _BUILTIN_ORDER = ("kde", "histogram", "ksg", "gaussian")
+#: the package's own record of each built-in name, restored when a replacement is removed
+_BUILTINS: dict[str, MIMethod] = {}
 
 
 def register_method(method: MIMethod, *, replace: bool = False) -> MIMethod:
@@ -155,6 +157,10 @@ def register_method(method: MIMethod, *, replace: bool = False) -> MIMethod:
     if method.name in _REGISTRY and not replace:
         raise ValueError(f"`method` name {method.name!r} is registered already; pass "
                          "replace=True to replace it or choose another name.")
+    if method.name in _BUILTIN_ORDER and method.name not in _BUILTINS:
+        # the first record of a built-in name is the package's own, registered when its
+        # module is imported: kept aside so that removing a replacement restores it
+        _BUILTINS[method.name] = method
     _REGISTRY[method.name] = method
     return method
 
@@ -162,13 +168,23 @@ def register_method(method: MIMethod, *, replace: bool = False) -> MIMethod:
 def unregister_method(name: str) -> MIMethod:
     """Remove the method ``name`` from the registry and return its record.
 
+    A record that replaced a built-in (``register_method(..., replace=True)``) is
+    removed and the built-in is registered again; the built-in record itself is removed
+    for the process (adversarial round 45 PART a, R20: removing a replacement of
+    ``gaussian`` removed ``gaussian``, and ``select_inputs`` called without ``method``
+    was refused).
+
     Raises
     ------
     ValueError
         If no method of that name is registered.
     """
     record = get_method(name)
-    del _REGISTRY[record.name]
+    builtin = _BUILTINS.get(record.name)
+    if builtin is not None and record is not builtin:
+        _REGISTRY[record.name] = builtin
+    else:
+        del _REGISTRY[record.name]
     return record
 
 
@@ -231,6 +247,19 @@ class MethodNames(Sequence):
 
     def __getitem__(self, index):
         return self._names()[index]
+
+    def refusal(self, name: Any, argument: str) -> str | None:
+        """Return the refusal of a built-in ``name`` unregistered in this process, else None.
+
+        ``check_choice`` (modalinfo.common.validation) raises it instead of "must be
+        one of" the others, which a caller relying on a function's default method never
+        passed (round 45 PART a, R31 / R32).
+        """
+        if isinstance(name, str) and name in _BUILTINS and name not in _REGISTRY:
+            return (f"`{argument}`={name!r}: the built-in method {name!r} was unregistered "
+                    "in this process (unregister_method); re-register it with "
+                    f"register_method(modalinfo.information.{name}.METHOD).")
+        return None
 
     def __len__(self) -> int:
         return len(self._names())

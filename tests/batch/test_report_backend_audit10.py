@@ -12,14 +12,6 @@ import pytest
 from modalinfo.batch.report import plot_archive
 
 
-@pytest.fixture
-def pdf_backend():
-    before = matplotlib.get_backend()
-    matplotlib.use("pdf")
-    yield
-    matplotlib.use(before)
-
-
 def test_backend_and_rcparams_unchanged(pdf_backend, tmp_path):
     rows = [dict(analysis="summary", status="ok", rms_total=1.0 + i, rate=1000.0 * (i + 1),
                  path=f"p{i}") for i in range(3)]
