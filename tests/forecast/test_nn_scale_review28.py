@@ -14,29 +14,10 @@ import warnings
 
 import numpy as np
 from sklearn.exceptions import ConvergenceWarning
-from sklearn.neural_network import MLPRegressor
 
 from modalinfo.forecast import NeuralNetPredictor
 
-
-def _ar2(n, seed):
-    rng = np.random.default_rng(seed)
-    e = rng.standard_normal(n + 200)
-    x = np.zeros(n + 200)
-    for t in range(2, n + 200):
-        x[t] = 1.6 * x[t - 1] - 0.7 * x[t - 2] + e[t]
-    return x[200:]
-
-
-def _hand(x, k=10):
-    """scikit-learn by hand: the predictor's network on raw (unstandardised) windows."""
-    inputs = np.stack([x[t - k:t] for t in range(k, len(x))])
-    model = MLPRegressor(hidden_layer_sizes=(10,), activation="tanh", solver="lbfgs",
-                         alpha=1.0, max_iter=100, random_state=0, tol=1e-6)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        model.fit(inputs, x[k:])
-    return model, [w for w in caught if issubclass(w.category, ConvergenceWarning)]
+from .test_nn_failed_training_round45 import _ar2, _hand
 
 
 def test_a_constant_column_far_from_unit_scale_is_not_named():

@@ -4,13 +4,12 @@
 nothing without positive outer scales; nothing for Cn2 weights that are not weights
 (negative). Planted bugs R28-A1 (a zero outer scale read as one), R28-A2 (a negative
 weight accepted), R28-A3 (the last atmosphere read) escaped ``test_aot_outer_scale.py``.
-References: the ``LAYERS_L0`` / ``LAYERS_WEIGHT`` images written here with ``aotpy``
-alone and the reader's docstring.
+References: the ``LAYERS_L0`` / ``LAYERS_WEIGHT`` images written with ``aotpy`` alone
+(``_write`` of ``test_aot_outer_scale.py``, a second atmosphere added here) and the
+reader's docstring.
 """
 
 from __future__ import annotations
-
-import warnings
 
 import numpy as np
 import pytest
@@ -19,47 +18,37 @@ aotpy = pytest.importorskip("aotpy")
 
 from modalinfo.io import load  # noqa: E402
 
-
-def _write(path, atmospheres):
-    tel = aotpy.MainTelescope(uid="TEL", enclosing_diameter=0.7)
-    ngs = aotpy.NaturalGuideStar(uid="NGS")
-    wfs = aotpy.ShackHartmann(uid="WFS", source=ngs, n_valid_subapertures=6)
-    dm = aotpy.DeformableMirror(uid="DM", telescope=tel, n_valid_actuators=40)
-    t = aotpy.Time("t", timestamps=(np.arange(50) / 1000.0).tolist())
-    coeffs = np.random.default_rng(0).standard_normal((50, 5))
-    loop = aotpy.ControlLoop(uid="L", input_sensor=wfs, commanded_corrector=dm, time=t,
-                             framerate=1000.0,
-                             modal_coefficients=aotpy.Image("c", coeffs, unit="rad", time=t))
-    atms = [aotpy.AtmosphericParameters(
-        uid=f"ATM{i}", wavelength=5e-7, r0=[0.1],
-        layers_relative_weight=aotpy.Image(f"w{i}", np.array([w], dtype=float)),
-        layers_l0=aotpy.Image(f"l0{i}", np.array([l0], dtype=float), unit="m"))
-        for i, (l0, w) in enumerate(atmospheres)]
-    system = aotpy.AOSystem(ao_mode="SCAO", name="T", main_telescope=tel, sources=[ngs],
-                            wavefront_sensors=[wfs], wavefront_correctors=[dm], loops=[loop],
-                            atmosphere_params=atms)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        system.write_to_file(str(path))
-    return path
+from .test_aot_outer_scale import _write  # noqa: E402
 
 
 def test_a_zero_outer_scale_is_not_recorded(tmp_path):
     """R28-A1: 0 m is no outer scale (the rule: positive rows only)."""
-    log = load(_write(tmp_path / "z.fits", [([0.0, 0.0], (0.7, 0.3))]))
+    log = load(_write(tmp_path / "z.fits", [0.0, 0.0]))
     assert "outer_scale" not in log.metadata
     assert "atmosphere_layers" not in log.metadata
 
 
 def test_a_negative_cn2_weight_is_not_recorded(tmp_path):
     """R28-A2: weights (-0.5, 1.5) sum to 1 but are no Cn2 profile."""
-    log = load(_write(tmp_path / "n.fits", [([20.0, 50.0], (-0.5, 1.5))]))
+    log = load(_write(tmp_path / "n.fits", [20.0, 50.0], weights=(-0.5, 1.5)))
     assert "atmosphere_layers" not in log.metadata
     assert "outer_scale" not in log.metadata
 
 
-def test_the_first_atmosphere_is_read(tmp_path):
+def test_the_first_atmosphere_is_read(tmp_path, monkeypatch):
     """R28-A3: of two atmospheres (20 m, then 50 m), the first one's outer scale."""
-    log = load(_write(tmp_path / "f.fits", [([20.0, 20.0], (0.7, 0.3)),
-                                            ([50.0, 50.0], (0.7, 0.3))]))
+    second = aotpy.AtmosphericParameters(
+        uid="ATM2", wavelength=5e-7, r0=[0.1],
+        layers_relative_weight=aotpy.Image("w2", np.array([[0.7, 0.3]])),
+        layers_l0=aotpy.Image("l02", np.array([[50.0, 50.0]]), unit="m"))
+    system = aotpy.AOSystem
+
+    def two_atmospheres(**kwargs):  # the helper's system, a second atmosphere after its own
+        kwargs["atmosphere_params"] = [*kwargs["atmosphere_params"], second]
+        return system(**kwargs)
+
+    monkeypatch.setattr(aotpy, "AOSystem", two_atmospheres)
+    path = _write(tmp_path / "f.fits", [20.0, 20.0])
+    monkeypatch.undo()  # the reader's own AOSystem
+    log = load(path)
     assert log.metadata["outer_scale"] == 20.0
