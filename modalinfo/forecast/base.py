@@ -516,6 +516,14 @@ class Predictor:
     def _check_layout(self, params: dict, n_modes: int, who: str) -> None:
         """Refuse parameters whose shapes the recursion cannot read (a kind's own rule)."""
 
+    def _filter_samples(self, X: np.ndarray) -> np.ndarray:
+        """``X`` as ``_filter`` gets it: a read-only view where the hook is a user's.
+
+        A user's ``_filter`` wrote into the blocks it was given, i.e. into the user's log
+        (round 44 PART a, E07); the built-ins get ``X`` itself.
+        """
+        return _read_only(X) if user_defined(type(self), "_filter") else X
+
     def _init_state(self, params: dict, horizon: int) -> dict:
         raise NotImplementedError
 
@@ -586,9 +594,7 @@ class Predictor:
             lo = start - end + n_out
             hi = stop - end + n_out
             sub_out = out[:0] if hi <= 0 else out[max(lo, 0):hi]
-            block = X[start:stop]
-            if user_defined(type(self), "_filter"):  # round 44 PART a, E07: no write-back
-                block = _read_only(block)
+            block = self._filter_samples(X[start:stop])
             self._filter(run.params, run.state, block, sub_out, run.status)
             self._raise_nonfinite(run.status, start, name)
             run.n_seen += stop - start
@@ -805,9 +811,8 @@ class Predictor:
         if all(np.shape(fresh[key]) == np.shape(run.state[key]) for key in fresh):
             return
         scratch = np.zeros((0, run.horizon, window_data.shape[1]))
-        if user_defined(type(self), "_filter"):
-            window_data = _read_only(window_data)
-        self._filter(run.params, fresh, window_data, scratch, run.status)
+        self._filter(run.params, fresh, self._filter_samples(window_data), scratch,
+                     run.status)
         run.state = fresh
 
     def _online_refit(self, run: _Run, x: np.ndarray) -> None:
