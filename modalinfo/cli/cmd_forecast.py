@@ -290,13 +290,17 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
     when nothing else is in them (another run's outputs stay):
     a full disk leaves the old outputs or none, never some of the new ones.
     """
-    import contextlib
     import os
     import shutil
     import tempfile
 
     from modalinfo.common.files import naming_target, signals_end_the_save
-    from modalinfo.common.folders import clean_staging, make_out_dir, staging_prefix
+    from modalinfo.common.folders import (
+        clean_staging,
+        make_out_dir,
+        remove_empty,
+        staging_prefix,
+    )
 
     # a run killed outright (SIGKILL) left its staging folder: removed once its process
     # is gone; one without a pid (an earlier version's) is named, not judged
@@ -309,9 +313,7 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
             staging = Path(tempfile.mkdtemp(prefix=staging_prefix(".forecast."),
                                             suffix=".tmp", dir=out))
         except BaseException:
-            for folder in new:
-                with contextlib.suppress(OSError):
-                    folder.rmdir()
+            remove_empty(new)
             raise
         moved: list[str] = []
         kept: dict[str, Path] = {}
@@ -344,9 +346,7 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
                 # only the folders made here, and only if empty: another forecast into
                 # the same new --out may have written its outputs there meanwhile (this
                 # run's clash refusal removed them with rmtree: round 44 PART b, d08)
-                for folder in new:  # innermost first
-                    with contextlib.suppress(OSError):
-                        folder.rmdir()
+                remove_empty(new)
 
 
 def run(args: argparse.Namespace) -> int:

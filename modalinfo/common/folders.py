@@ -151,6 +151,17 @@ def _remove_new(created: Sequence[Path]) -> None:
     for folder in created:
         with contextlib.suppress(OSError):
             folder.chmod(0o700)
+    remove_empty(created)
+
+
+def remove_empty(created: Sequence[Path]) -> None:
+    """Remove folders this process created, innermost first, only those left empty.
+
+    A rollback's last step: another process may have written into a folder made here
+    meanwhile (two ``forecast --out`` runs into one new folder, round 44 PART b, d08),
+    and its files stay with their folder. Rights are not touched (:func:`_remove_new`
+    does that for a folder this process could never write in).
+    """
     for folder in created:
         with contextlib.suppress(OSError):
             folder.rmdir()
@@ -417,9 +428,7 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
                     and (p not in ours or any(p.iterdir()))]
         except OSError:
             left = []
-        for folder in ([] if left else ours) + created:
-            with contextlib.suppress(OSError):
-                folder.rmdir()  # innermost first; only if empty
+        remove_empty(([] if left else ours) + created)
 
 
 #: the end of a staging name (before its suffix) that records its creator:
