@@ -5,7 +5,8 @@ leaves the old file or none, never half a file; no overwrite unless asked; SIGIN
 SIGTERM during a save remove the temporary file), :func:`as_path` and
 :func:`check_readable` (argument checks naming the path), :func:`check_not_special`
 (no rename onto a device node), :func:`writable_free_bytes` (a real test write),
-:func:`shown_name` (how a file name is shown to the user) and :func:`naming_target` (an
+:func:`shown_name` (how a file name is shown to the user), :func:`shown_errors` (the
+standard streams' error handler that shows it) and :func:`naming_target` (an
 error names the user's target, never a staging file).
 Output *folders* (free space, locks) are :mod:`modalinfo.common.folders`.
 """
