@@ -1,4 +1,4 @@
-"""``modalinfo batch INPUTS... --out DIR``: analyse an archive of logs on Dask.
+r"""``modalinfo batch INPUTS... --out DIR``: analyse an archive of logs on Dask.
 
 Example::
 
@@ -10,12 +10,15 @@ Inputs are directories (searched recursively), glob patterns, manifest CSV files
 analysis runs on a Dask ``LocalCluster`` (``--workers``, ``--threads-per-worker``,
 ``--memory-limit``) or on the scheduler at ``--scheduler``. The table
 ``DIR/batch.csv`` / ``DIR/batch.parquet`` has one row per log and analysis; a log
-that cannot be read becomes an error row. Running the same command again resumes:
-finished rows are skipped. Exit status 1 when some row failed (the count on stderr),
-or when no worker ran a task for ``--worker-wait`` seconds; 2 for an input error,
-found before any work (a ``--set`` value, ``--memory-limit`` below 384 MiB, an
-output directory in use by another batch: ``DIR/.lock``). When stderr is not a
-terminal, a progress line every few seconds replaces the bar.
+that cannot be read becomes an error row. Its ``path`` column is written as ``ls -b``
+shows a name: a byte that is not UTF-8 as ``\xNN``, a backslash as ``\\``
+(``codecs.escape_decode`` gives the name's bytes back). Running the same command again
+resumes: finished rows are skipped (matched by content and parameters, not by path).
+Exit status 1 when some row failed (the count on stderr), or when no worker ran a task
+for ``--worker-wait`` seconds; 2 for an input error, found before any work (a ``--set``
+value, ``--memory-limit`` below 384 MiB, an output directory in use by another batch:
+``DIR/.lock``). When stderr is not a terminal, a progress line every few seconds
+replaces the bar.
 ``--set analysis.name=value`` changes a parameter (value read as JSON when it parses,
 else as text), e.g. ``--set forecast.horizon=10``.
 """
@@ -34,6 +37,7 @@ from modalinfo.cli.shared import (
     refuse_outlier_drop,
 )
 from modalinfo.common.cli import check_cluster_args, folder_arg
+from modalinfo.common.files import shown_name
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -109,8 +113,8 @@ def kl_assumption_note(rows: list[dict]) -> None:
         what = row.get("kl_assumed")
         if row.get("status") == "ok" and isinstance(what, str) and what:
             group = paths.setdefault(what, [])
-            if str(row["path"]) not in group:
-                group.append(str(row["path"]))
+            if shown_name(row["path"]) not in group:
+                group.append(shown_name(row["path"]))
     for what, group in paths.items():
         shown = ", ".join(group[:5]) + (", ..." if len(group) > 5 else "")
         sys.stderr.write(f"modalinfo batch: note: {len(group)} log(s) record {what}; "
@@ -127,8 +131,8 @@ def layout_doubt_note(rows: list[dict]) -> None:
     for row in rows:
         doubt = row.get("layout_doubt")
         if row.get("status") == "ok" and isinstance(doubt, str) and doubt:
-            if str(row["path"]) not in paths:
-                paths.append(str(row["path"]))
+            if shown_name(row["path"]) not in paths:
+                paths.append(shown_name(row["path"]))
     if paths:
         shown = ", ".join(paths[:5]) + (", ..." if len(paths) > 5 else "")
         sys.stderr.write(f"modalinfo batch: warning: {len(paths)} log(s) were read frames x "
@@ -204,18 +208,19 @@ def run(args: argparse.Namespace) -> int:
     for group in result.identical:  # a warning: even with --quiet
         sys.stderr.write(f"modalinfo batch: note: {len(group)} inputs are byte-identical "
                          f"(same SHA-256), analysed once, one row each: "
-                         f"{', '.join(group)}\n")
+                         f"{', '.join(map(shown_name, group))}\n")
     if result.skipped:  # a warning: even with --quiet
         from modalinfo.io.formats import EXTENSIONS
 
-        shown = ", ".join(result.skipped[:5]) + (", ..." if len(result.skipped) > 5 else "")
+        shown = (", ".join(map(shown_name, result.skipped[:5]))
+                 + (", ..." if len(result.skipped) > 5 else ""))
         sys.stderr.write(f"modalinfo batch: note: {len(result.skipped)} file(s) of the input "
                          f"folders skipped, their extension is not a log's "
                          f"({' '.join(EXTENSIONS)}): {shown}; name them in a manifest "
                          f"with an 'fmt' column to analyse them\n")
     if result.unreadable:  # a warning: even with --quiet (round 18 PART b, U06)
-        shown = ", ".join(result.unreadable[:5]) + (", ..." if len(result.unreadable) > 5
-                                                    else "")
+        shown = (", ".join(map(shown_name, result.unreadable[:5]))
+                 + (", ..." if len(result.unreadable) > 5 else ""))
         sys.stderr.write(f"modalinfo batch: note: {len(result.unreadable)} subfolder(s) of "
                          f"the input folders cannot be read (permission denied) and were "
                          f"skipped: {shown}; give read and search permission (chmod u+rx) "
@@ -237,8 +242,10 @@ def run(args: argparse.Namespace) -> int:
                           f"{result.csv_path}, {result.parquet_path}\n")
                 for row in result.rows:
                     if row.get("status") != "ok":
-                        out.write(f"error  {row['path']} [{row['analysis']}]: "
-                                  f"{row.get('error_type')}: {row.get('error_message')}\n")
+                        # the path and message as the table's cells show them
+                        out.write(f"error  {shown_name(row['path'])} [{row['analysis']}]: "
+                                  f"{row.get('error_type')}: "
+                                  f"{shown_name(str(row.get('error_message')))}\n")
                 for path in result.plots:
                     out.write(f"plot: {path}\n")
         except StdoutRefusedError as exc:

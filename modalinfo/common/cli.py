@@ -33,6 +33,7 @@ from modalinfo.common.files import (
     SHOWN_ERRORS,
     OutputGoneError,
     check_not_special,
+    shown_errors,
     writable_free_bytes,
 )
 from modalinfo.common.startup import command_line_text, one_line_format
@@ -46,6 +47,7 @@ __all__ = [
     "EXIT_USAGE",
     "CommandError",
     "Parser",
+    "StdoutEncodingError",
     "StdoutRefusedError",
     "add_version_argument",
     "check_cluster_args",
@@ -72,6 +74,31 @@ class CommandError(Exception):
 
 class StdoutRefusedError(OSError):
     """Standard output refused the summary of outputs already written (exit status 1)."""
+
+
+class StdoutEncodingError(StdoutRefusedError):
+    r"""Standard output's encoding cannot hold a character the command prints (exit status 1).
+
+    Raised by stdout's error handler (:func:`modalinfo.common.files.shown_errors`), so
+    only a write to standard output raises it: a ``UnicodeEncodeError`` of the input's
+    reading stays an input error. Under ``PYTHONIOENCODING=ascii`` a mode label ``Tip_é``
+    or an output named ``e27_é.npz`` ended the command with "'ascii' codec can't encode
+    character '\xe9' ..." and status 2, "an input error", after its files were written
+    (round 45 PART b, E02-E30).
+    """
+
+    def __init__(self, exc: UnicodeEncodeError) -> None:
+        char = exc.object[exc.start]
+        source = ("PYTHONIOENCODING" if os.environ.get("PYTHONIOENCODING", "").split(":")[0]
+                  else "the locale, LC_ALL / LC_CTYPE / LANG")
+        super().__init__(errno.EILSEQ, f"its encoding {exc.encoding} (from {source}) cannot "
+                         f"encode {char!r} (U+{ord(char):04X}); set PYTHONIOENCODING=utf-8 "
+                         "or a UTF-8 locale to print it")
+
+
+def _refuse_stdout(exc: UnicodeEncodeError) -> None:
+    """Stdout's encoding refused a character: :class:`StdoutEncodingError` (see there)."""
+    raise StdoutEncodingError(exc) from None
 
 
 @contextlib.contextmanager
@@ -347,16 +374,22 @@ def dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,
 
 
 def _show_bad_bytes() -> list:
-    """Give stdout and stderr the ``shown_name`` error handler; return what to restore."""
+    """Give stdout and stderr the :func:`shown_errors` handler; return what to restore.
+
+    Each keeps its own handler for the characters its encoding cannot hold (a user's
+    ``PYTHONIOENCODING=ascii:replace``); where that handler refuses one, stdout raises
+    :class:`StdoutEncodingError` and stderr writes it backslash-escaped.
+    """
     previous = []
-    for stream in (sys.stdout, sys.stderr):
+    for stream, refuse in ((sys.stdout, _refuse_stdout), (sys.stderr, None)):
         errors = getattr(stream, "errors", None)
-        if errors is None or errors == SHOWN_ERRORS or not hasattr(stream, "reconfigure"):
+        if not isinstance(errors, str) or errors.startswith(SHOWN_ERRORS) \
+                or not hasattr(stream, "reconfigure"):
             continue
         try:
-            stream.reconfigure(errors=SHOWN_ERRORS)
-        except (ValueError, OSError, io.UnsupportedOperation):  # a stream that cannot
-            continue
+            stream.reconfigure(errors=shown_errors(errors, refuse))
+        except (ValueError, OSError, LookupError, io.UnsupportedOperation):  # a stream
+            continue  # that cannot
         previous.append((stream, errors))
     return previous
 
@@ -413,8 +446,10 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
         discard_stdout()
         return EXIT_OK
     except StdoutRefusedError as exc:
-        say(f"{prog} {args.command}: error: could not write standard output "
-            f"({exc.strerror}); the files written before it are complete\n")
+        why = (f": {exc.strerror};" if isinstance(exc, StdoutEncodingError)
+               else f" ({exc.strerror});")
+        say(f"{prog} {args.command}: error: could not write standard output{why} the files "
+            "written before it are complete\n")
         return EXIT_FAILURE
     except OutputGoneError as exc:  # a failure during the run, not an input error
         say(f"{prog} {args.command}: error: {exc.strerror}\n")

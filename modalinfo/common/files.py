@@ -5,7 +5,8 @@ leaves the old file or none, never half a file; no overwrite unless asked; SIGIN
 SIGTERM during a save remove the temporary file), :func:`as_path` and
 :func:`check_readable` (argument checks naming the path), :func:`check_not_special`
 (no rename onto a device node), :func:`writable_free_bytes` (a real test write),
-:func:`shown_name` (how a file name is shown to the user) and :func:`naming_target` (an
+:func:`shown_name` (how a file name is shown to the user), :func:`shown_errors` (the
+standard streams' error handler that shows it) and :func:`naming_target` (an
 error names the user's target, never a staging file).
 Output *folders* (free space, locks) are :mod:`modalinfo.common.folders`.
 """
@@ -34,6 +35,7 @@ __all__ = [
     "check_not_special",
     "check_readable",
     "naming_target",
+    "shown_errors",
     "shown_name",
     "signals_end_the_save",
     "terminating_signals",
@@ -81,13 +83,17 @@ def as_path(path: Any, name: str = "path") -> Path:
 
 
 def shown_name(text: str | os.PathLike) -> str:
-    r"""Return a file name (or a message holding one) as shown to the user: bad bytes as ``\xNN``.
+    r"""Return a file name (or a message holding one) as shown to the user: ``ls -b``'s escapes.
 
     A file name that is not UTF-8 reaches Python as a str holding lone surrogates (PEP
     383). Written as they are, a terminal showed ``\udcff`` (stderr's
     ``backslashreplace``), the raw byte (stdout) or nothing (pyarrow refused the table);
     here every undecodable byte reads as ``ls -b``'s ``\xff``, in the batch table, its
     notes and report lines, and every command's error and warning lines (left13-cli).
+    A literal backslash is written ``\\``, as ``ls -b`` writes it, so the shown form
+    is one-to-one: ``a<0xE9>.npz`` and a file named ``a\xe9.npz`` (backslash, x, e, 9)
+    were both shown ``a\xe9.npz`` in one batch table (round 45 PART b, E21). The
+    bytes of the name are ``codecs.escape_decode`` of the shown form.
 
     Parameters
     ----------
@@ -97,11 +103,12 @@ def shown_name(text: str | os.PathLike) -> str:
     Returns
     -------
     str
-        ``text`` unchanged when it is valid UTF-8.
+        ``text`` unchanged when it is valid UTF-8 and holds no backslash.
     """
     text = os.fspath(text)
     if isinstance(text, bytes):
         text = os.fsdecode(text)
+    text = text.replace("\\", "\\\\")
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
@@ -113,17 +120,66 @@ def shown_name(text: str | os.PathLike) -> str:
     return text
 
 
-def _shown_bytes(exc: UnicodeError) -> tuple[str, int]:
-    """Codec error handler ``"modalinfo.shown"``: write bad bytes as :func:`shown_name` does."""
-    if isinstance(exc, UnicodeEncodeError):
-        return shown_name(exc.object[exc.start:exc.end]), exc.end
-    raise exc
+def _is_surrogate(char: str) -> bool:
+    return 0xD800 <= ord(char) <= 0xDFFF
 
 
-#: the error handler the command lines give stdout and stderr: every file name printed
-#: (notes, errors, warnings, reports) reads as :func:`shown_name` writes it
+def shown_errors(fallback: str, refuse: Callable[[UnicodeEncodeError], Any] | None = None
+                 ) -> str:
+    r"""Register and return a codec error handler: bad bytes as ``\xNN``, the rest to ``fallback``.
+
+    The command lines give it to stdout and stderr: a file name's undecodable bytes (lone
+    surrogates) read as :func:`shown_name` writes them, whatever the stream's handler;
+    a character the stream's encoding cannot hold (``é`` under ``PYTHONIOENCODING=ascii``)
+    goes to the stream's own handler ``fallback``, so a user's ``ascii:replace`` or
+    ``ascii:backslashreplace`` still gives ``?`` / ``\xe9`` (round 45 PART b, E17 / E22:
+    the handler replaced theirs and the commands failed). When ``fallback`` refuses the
+    character (``strict``, ``surrogateescape``), ``refuse(error)`` is called (it
+    raises: standard output's error, :class:`modalinfo.common.cli.StdoutEncodingError`),
+    or, without ``refuse``, the character is written as ``backslashreplace`` writes it
+    (stderr: the error line always arrives).
+
+    Parameters
+    ----------
+    fallback : str
+        The stream's own error handler (``sys.stdout.errors``).
+    refuse : callable, optional
+        Called with the ``UnicodeEncodeError`` when ``fallback`` refuses a character.
+
+    Returns
+    -------
+    str
+        The handler's name, for ``stream.reconfigure(errors=...)``.
+    """
+    name = f"{SHOWN_ERRORS}:{fallback}:{id(refuse) if refuse is not None else 'escape'}"
+
+    def handler(exc: UnicodeError) -> tuple[str, int]:
+        if not isinstance(exc, UnicodeEncodeError):
+            raise exc
+        text, start = exc.object, exc.start
+        stop = start
+        surrogates = _is_surrogate(text[start])
+        while stop < exc.end and _is_surrogate(text[stop]) == surrogates:
+            stop += 1
+        if surrogates:
+            return shown_name(text[start:stop]), stop
+        part = UnicodeEncodeError(exc.encoding, text, start, stop, exc.reason)
+        try:
+            return codecs.lookup_error(fallback)(part)
+        except UnicodeEncodeError:
+            if refuse is None:
+                return codecs.backslashreplace_errors(part)
+            refuse(part)
+            raise
+
+    codecs.register_error(name, handler)
+    return name
+
+
+#: the prefix of the error handlers (:func:`shown_errors`) the command lines give stdout
+#: and stderr: every file name printed (notes, errors, warnings, reports) reads as
+#: :func:`shown_name` writes it
 SHOWN_ERRORS = "modalinfo.shown"
-codecs.register_error(SHOWN_ERRORS, _shown_bytes)
 
 
 class OutputGoneError(OSError):
