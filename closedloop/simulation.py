@@ -250,10 +250,16 @@ def check_run(config: SimulationConfig, duration: float, *, budget_every: int | 
                          f"{loop.time_step:g} s); got {duration:g} s.")
     # open loop applies no command: any whole number of frames is a valid run
     if loop.closed and n_frames * loop.time_step <= first * (1 + 1e-9):
+        # the rule as applied: the run is whole frames, round(duration / time_step); state
+        # them, and the fewest that close the loop (fixes 45-c, round 45 PART b T106:
+        # 0.0010001 s was refused as not longer than 0.001 s, the 2 frames it rounds to)
+        least = math.floor(first * (1 + 1e-9) / loop.time_step) + 1
         raise ValueError(
             f"`duration` must be longer than loop.time_step + loop.delay = {first:g} s (the "
             f"first command reaches the mirror then, so a shorter run never closes the "
-            f"loop); got {duration:g} s ({n_frames} frames).")
+            f"loop); got {duration:g} s, which rounds to {n_frames} frame(s) of "
+            f"loop.time_step = {loop.time_step:g} s ({n_frames * loop.time_step:g} s): give "
+            f"{least} frames or more ({least * loop.time_step:g} s).")
     for name, value, high, why in (
             ("budget_every", budget_every, n_frames - n_frames // 2,
              "at most half the run, so that the budget averages frames after the loop "

@@ -225,16 +225,35 @@ def check_stable(gain: float, delay_frames: float, integration_frames: float, *,
     # the gain margin decides (relative accuracy ~1e-12): a pole-modulus test alone called
     # a tiny gain unstable, since the integrator's pole 1 - g is within rounding of 1 for
     # g ~ 1e-12, and then printed "stable for gain < limit" with gain far below the limit
-    unstable = gain >= limit * (1.0 - 1e-12) or (radius is not None and radius > 1.0 + 1e-9)
+    bound = limit * (1.0 - 1e-12)
+    unstable = gain >= bound or (radius is not None and radius > 1.0 + 1e-9)
     if unstable:
         pole = ("" if radius is None
-                else f" (largest closed-loop pole modulus {radius:.4f} >= 1)")
+                else f" (largest closed-loop pole modulus {radius:.4f} >= 1)" if radius >= 1.0
+                else f" (largest closed-loop pole modulus {radius!r}, 1 within the limit's "
+                     "1e-12 accuracy)")
         raise ValueError(
             f"`gain` = {gain} makes the loop unstable{pole} for delay_frames="
             f"{delay_frames}, integration_frames={integration_frames}"
             f"{f', leak={leak:g}' if leak else ''}; the loop is stable "
-            f"for gain < {limit:.4f}."
+            f"for gain < {_shown_bound(bound, limit, gain)}."
         )
+
+
+def _shown_bound(bound: float, limit: float, gain: float) -> str:
+    """Return the bound ``gain >= bound`` refused, with the digits that put ``gain`` above it.
+
+    4 decimals where they do (round 3's form); else as many as it takes, with the rule
+    (fixes 45-c, round 45 PART b T90 / T104: 1 - 1 ulp was refused as "stable for gain <
+    1.0000", the limit rounded, not the bound applied).
+    """
+    for digits in range(4, 18):
+        shown = f"{bound:.{digits}f}"
+        if float(shown) <= gain or gain < bound:
+            break
+    if digits == 4:
+        return shown
+    return f"{shown} (the limit {limit!r} less its 1e-12 relative accuracy)"
 
 
 def rejection_transfer_function(

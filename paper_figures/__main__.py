@@ -337,10 +337,7 @@ def main(argv: list[str] | None = None) -> int:
         say,
     )
 
-    # the console script `paper-figures` is named as typed, not `python -m paper_figures`
-    # (round 16 PART b, I24: its usage and errors named the other spelling)
-    prog = ("paper-figures" if Path(sys.argv[0] or "").name == "paper-figures"
-            else "python -m paper_figures")
+    prog = _prog()
     parser = Parser(prog=prog, description=(__doc__ or _DESCRIPTION).split("\n")[0])
     add_version_argument(parser)
     parser.add_argument(
@@ -385,12 +382,12 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return _run(args)
     except _RefusedError as exc:
-        say(f"paper_figures: error: {exc}\n")
+        say(f"{prog}: error: {exc}\n")
         return EXIT_USAGE
     except _StdoutError as exc:
         kept = (f"the figures and reports in '{args.out}' are complete" if exc.done
                 else f"'{args.out}' is as it was")
-        say(f"paper_figures: error: could not write standard output ({exc}); {kept}\n")
+        say(f"{prog}: error: could not write standard output ({exc}); {kept}\n")
         return EXIT_FAILURE
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM etc. (_terminated): 130 or 128 + n
         what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
@@ -398,12 +395,24 @@ def main(argv: list[str] | None = None) -> int:
         return exc.code if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        say(f"paper_figures: error: {type(exc).__name__}: {what or 'no detail'}"
+        say(f"{prog}: error: {type(exc).__name__}: {what or 'no detail'}"
             f"; '{args.out}' is as it was\n")
         return EXIT_FAILURE
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+
+
+def _prog() -> str:
+    """Return the program name as typed, which starts every refusal (argparse's, its own).
+
+    The console script `paper-figures` is named as typed, not `python -m paper_figures`
+    (round 16 PART b, I24: its usage and errors named the other spelling); the command's
+    own refusals said "paper_figures: error:" beside argparse's (fixes 45-c, round 44
+    PART b c08: one program, two names).
+    """
+    return ("paper-figures" if Path(sys.argv[0] or "").name == "paper-figures"
+            else "python -m paper_figures")
 
 
 class _Terminated(KeyboardInterrupt):
@@ -609,7 +618,7 @@ if __name__ == "__main__":
         warning_refusal,
     )
 
-    require_current_folder("paper_figures")  # before the heavy imports
+    require_current_folder(_prog())  # before the heavy imports
     one_line_warnings("paper_figures")  # a warning while the package loads: one line
     try:
         code = main()
@@ -617,12 +626,12 @@ if __name__ == "__main__":
         sys.stderr.write("python -m paper_figures: interrupted\n")
         code = 130
     except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading numba
-        code = memory_refusal("paper_figures", exc)
+        code = memory_refusal(_prog(), exc)
     except Warning as exc:  # raised as an error (-W error) while the package loads
-        code = warning_refusal("paper_figures", exc)
+        code = warning_refusal(_prog(), exc)
     except ImportError as exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0)
         if "NUMBA_" not in str(exc):
             raise
-        sys.stderr.write(f"paper_figures: error: {exc}\n")
+        sys.stderr.write(f"{_prog()}: error: {exc}\n")
         code = 2
     exit_quietly(code)

@@ -417,7 +417,8 @@ def figure_main(
     short = prog.rsplit(".", 1)[-1].split("_", 1)[0]
 
     def fail(message: str, code: int = EXIT_USAGE) -> int:
-        sys.stderr.write(f"{short}: error: {message}\n")
+        # named as argparse names its refusals, the program typed (fixes 45-c, c08)
+        sys.stderr.write(f"{prog}: error: {message}\n")
         return code
 
     names = [figure_name] if output_names is None else output_names(args.suffix)
@@ -448,21 +449,21 @@ def figure_main(
     with figure_record(record):
         if output_names is None:
             code = write_figure(args.out, names, args.overwrite,
-                                lambda stage: make(stage, args.log, **prepared), short)
+                                lambda stage: make(stage, args.log, **prepared), prog)
         else:
             code = write_figure(args.out, names, args.overwrite,
                                 lambda stage: make(stage, args.log, suffix=args.suffix,
-                                                   **prepared), short)
+                                                   **prepared), prog)
     # the quality pass's line, as `paper_figures --log` words it, once the figure is made
     # (a refusal stays one line)
     for note in getattr(args, "_notes", []) if code == 0 else []:
-        sys.stderr.write(f"{short}: warning: "
+        sys.stderr.write(f"{prog}: warning: "
                          f"{re.split(r': (?:note|warning): ', note, maxsplit=1)[-1]}\n")
     return code
 
 
 def write_figure(out: Path, names: list[str], overwrite: bool,
-                 draw: Callable[[Path], str], short: str) -> int:
+                 draw: Callable[[Path], str], prog: str) -> int:
     """Draw one stand-alone figure into ``out`` under its lock; print its report section.
 
     The stand-alone scripts (``python -m paper_figures.figN_...``) take the lock
@@ -482,8 +483,9 @@ def write_figure(out: Path, names: list[str], overwrite: bool,
         Replace them (``--overwrite``).
     draw : callable
         ``draw(folder) -> report text``.
-    short : str
-        The script's short name, starting its error lines (``"fig6"``).
+    prog : str
+        The program name as typed, starting its error lines as it starts argparse's
+        (``"python -m paper_figures.fig6_compression"``; "fig6" before fixes 45-c, c08).
 
     Returns
     -------
@@ -492,7 +494,7 @@ def write_figure(out: Path, names: list[str], overwrite: bool,
         held folder, 1 for a failed write, 130 for Ctrl-C).
     """
     def fail(message: str, code: int = EXIT_USAGE) -> int:
-        sys.stderr.write(f"{short}: error: {message}\n")
+        sys.stderr.write(f"{prog}: error: {message}\n")
         return code
 
     try:

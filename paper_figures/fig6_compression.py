@@ -473,7 +473,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     # under the lock python -m paper_figures takes; staged, all or nothing (left13-cli)
     return write_figure(args.out, [FIGURE_NAME, PDF_NAME], args.overwrite,
-                        lambda stage: make(stage, quick=args.quick), "fig6")
+                        lambda stage: make(stage, quick=args.quick), parser.prog)
 
 
 if __name__ == "__main__":

@@ -472,7 +472,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     for name in (FIGURE_NAME, PDF_NAME, JSON_NAME):
         if (args.out / name).exists() and not args.overwrite:
-            sys.stderr.write(f"fig7: error: '{args.out / name}' exists; pass --overwrite\n")
+            sys.stderr.write(f"{parser.prog}: error: '{args.out / name}' exists; pass "
+                             "--overwrite\n")
             return 2
     from paper_figures import closedloop_runs
 
@@ -480,7 +481,7 @@ def main(argv: list[str] | None = None) -> int:
                                    names=PREDICTORS)
     # under the lock python -m paper_figures takes; staged, all or nothing (left13-cli)
     return write_figure(args.out, [FIGURE_NAME, PDF_NAME, JSON_NAME], args.overwrite,
-                        lambda stage: make(stage, runs), "fig7")
+                        lambda stage: make(stage, runs), parser.prog)
 
 
 if __name__ == "__main__":

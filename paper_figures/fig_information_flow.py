@@ -365,7 +365,7 @@ def main(argv: list[str] | None = None) -> int:
 
     # under the lock python -m paper_figures takes; staged, all or nothing (left13-cli)
     return write_figure(args.out, [FIGURE_NAME, PDF_NAME, JSON_NAME], args.overwrite,
-                        lambda stage: make(stage, quick=args.quick), "fig8")
+                        lambda stage: make(stage, quick=args.quick), parser.prog)
 
 
 if __name__ == "__main__":

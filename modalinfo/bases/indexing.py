@@ -21,6 +21,7 @@ All functions accept Python ints or integer arrays and return the same kind.
 from __future__ import annotations
 
 import numbers
+import unicodedata
 from typing import Any
 
 import numpy as np
@@ -335,6 +336,11 @@ def fringe_to_noll(j):
     return zernike_to_noll(*fringe_to_zernike(j))
 
 
+#: Dashes a word processor or a keyboard layout types for '-' in a range ("2–6"): hyphen,
+#: non-breaking hyphen, figure dash, en dash, em dash, horizontal bar, minus sign.
+_OTHER_DASHES = "\u2010\u2011\u2012\u2013\u2014\u2015\u2212"
+
+
 def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
     """Parse a mode list written as text, e.g. ``"2-28"``, ``"4,5,6"`` or ``"Z4,Z5"``.
 
@@ -360,8 +366,24 @@ def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
     for part in (p.strip() for p in text.split(",")):
         if not part:
             raise ValueError(f"{name}: empty entry in {text!r}")
+        # isdecimal, not isdigit: superscripts are digits int() refuses ("invalid literal
+        # for int()", no argument named); other scripts' decimal digits (Arabic-Indic,
+        # full-width) are read as int() reads them (round 44 PART b a01; fixes 45-c, Y12)
         lo, sep, hi = part.partition("-")
-        if sep and lo.isdigit() and hi.isdigit():
+        dash = next((c for c in part if c in _OTHER_DASHES), None)
+        if dash is not None and all(side.strip().isdecimal()
+                                    for side in part.split(dash, 1)):
+            raise ValueError(f"{name}: {part!r} joins mode indices with "
+                             f"U+{ord(dash):04X} ({unicodedata.name(dash).lower()}), not a "
+                             f"hyphen-minus: write {part.replace(dash, '-')!r}")
+        bare = "".join(c for c in part if c != "-" and c not in _OTHER_DASHES)
+        if bare.isdigit() and not bare.isdecimal():  # superscripts, circled digits
+            odd = next(c for c in bare if not c.isdecimal())
+            plain = "".join(str(unicodedata.digit(c)) if c.isdigit() else c for c in part)
+            raise ValueError(f"{name}: {part!r} holds {odd!r} (U+{ord(odd):04X}, "
+                             f"{unicodedata.name(odd, 'a digit').lower()}), a digit that is "
+                             f"not read as a number: write {plain!r}")
+        if sep and lo.isdecimal() and hi.isdecimal():
             if int(hi) < int(lo):
                 raise ValueError(f"{name}: range {part!r} is decreasing")
             if len(out) + int(hi) - int(lo) + 1 > MAX_LISTED_MODES:
@@ -369,7 +391,7 @@ def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
                                  f"a mode list names one mode per column of a log, at most "
                                  f"{MAX_LISTED_MODES}")
             out.extend(range(int(lo), int(hi) + 1))
-        elif part.isdigit():
+        elif part.isdecimal():
             out.append(int(part))
         else:
             out.append(part)

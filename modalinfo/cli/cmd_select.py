@@ -106,7 +106,9 @@ def _load(args: argparse.Namespace, path: Path):
 
     With ``--split-gaps``, then its longest gap-free segment (otherwise gaps are refused).
     """
-    log = frame_subsample(load_log_with_hints(path, args, mmap=True), args, contiguous=True)
+    full = load_log_with_hints(path, args, mmap=True)
+    log = frame_subsample(full, args, contiguous=True)
+    _check_max_frames_leave_enough(args, log.n_frames, full.n_frames, path)
     # lagged pairs must not straddle a gap: refused, or (--split-gaps) the longest
     # contiguous segment, as forecast and reorder (frames dropped by --nonfinite drop
     # from a log without a time axis refused too: adversarial round 9 PART b, N40-N43).
@@ -117,6 +119,26 @@ def _load(args: argparse.Namespace, path: Path):
                  f"{log.n_modes} modes, {LOG_COPIES} float64 copies)",
                  "use --max-frames N (the first N frames)")
     return log
+
+
+def _check_max_frames_leave_enough(args: argparse.Namespace, kept: int, total: int,
+                                   path: Path) -> None:
+    """Refuse a ``--max-frames`` that leaves fewer frames than the selection takes.
+
+    Named as the user's option: the library's "`data` needs at least 22 frames ...; got
+    12" read "the log needs ..." of a 400-frame log (fixes 45-c, round 45 PART b T74).
+    """
+    from modalinfo.information.selection import least_selection_frames
+
+    if kept >= total or not (isinstance(args.horizon, int) and args.horizon >= 1
+                             and isinstance(args.max_lag, int) and args.max_lag >= 1):
+        return  # not cut, or a --horizon / --max-lag select_inputs refuses by name
+    least = least_selection_frames(args.horizon, args.max_lag)
+    if kept < least:
+        raise CommandError(f"--max-frames {args.max_frames} leaves {kept} of the {total} "
+                           f"frames of '{path.name}'; --horizon {args.horizon} and --max-lag "
+                           f"{args.max_lag} need at least {least} (20 rows of lagged pairs): "
+                           f"give --max-frames {least} or more")
 
 
 def _radial_width(args: argparse.Namespace) -> int:
@@ -198,7 +220,7 @@ def run(args: argparse.Namespace) -> int:
                                f"{abs(extra.rate / log.rate - 1):.2g}, above 1e-9); the two "
                                "logs must share the clock")
     target = args.target
-    if target.isdigit():
+    if target.isdecimal():  # not isdigit: '³' reached int() unnamed (fixes 45-c, Y14)
         target = int(target)
         if target >= log.n_modes:
             raise CommandError(f"--target column {target} is out of range: LOG has "

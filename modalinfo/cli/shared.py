@@ -297,11 +297,17 @@ def describe_outliers(new, report, policy: str) -> str:
     return f"{report.describe()}; {action}"
 
 
-def add_gap_argument(parser: argparse.ArgumentParser) -> None:
-    """Add ``--split-gaps`` (analyses that need equally spaced frames)."""
+def add_gap_argument(parser: argparse.ArgumentParser, needs: str | None = None) -> None:
+    """Add ``--split-gaps`` (analyses that need equally spaced frames).
+
+    ``needs``: where only part of the command needs them, the clause naming it, so that
+    the help says when the default refuses (fixes 45-c, round 45 PART b T54: reorder
+    --resamples 0 ran a 10 x gap without a word under "default: refuse the log").
+    """
+    when = f" when {needs}" if needs else ""
     parser.add_argument("--split-gaps", action="store_true",
                         help="if the timestamps have gaps (an interval > 1.5 x the median), "
-                        "analyse the longest contiguous segment (default: refuse the log)")
+                        f"analyse the longest contiguous segment (default: refuse the log{when})")
 
 
 def hints_from_args(args: argparse.Namespace) -> dict:

@@ -168,7 +168,8 @@ n = 1e4 (median of 3 seeds), histogram -> switched: two pairs at rho = 0.8 -0.18
 -0.027 -> -0.006; CMI given 2 columns -0.035 -> -0.011 (1 seed). Only the point
 estimate of :func:`conditional_mutual_information` switches: the transfer entropy, the
 intervals and tests (whose resamples repeat rows, which the KSG cannot take) and the
-selection keep one estimator throughout. The same switch applies where the conditioning
+selection keep one estimator throughout (the transfer entropy keeps the histogram
+where the rule fails and warns, fixes 45-c). The same switch applies where the conditioning
 columns' bins lose more than 10 % of the CMI in a Gaussian model
 (:func:`~modalinfo.information.histogram.histogram_conditioning_rule`: a persistent
 target given its own past, whose histogram TE was 33-63 % low at a = 0.95-0.99, round
@@ -536,6 +537,22 @@ def _kept_histogram_why(record, n: int, options: dict[str, Any], x, y, z) -> str
                                      "switch needs continuous columns)")
 
 
+def _judged_histogram_why(n: int, options: dict[str, Any], x, y, z) -> str | None:
+    """Why the histogram CMI a point estimate keeps (the transfer entropy) is too coarse.
+
+    The rules of the switch (:func:`_ksg_switch`), judged without switching: the
+    resolution rule where a column of x or y is continuous (an all-discrete pair's table
+    loses nothing to bins), then the conditioning rule. Fixes 45-c (round 44 PART a I32):
+    the histogram TE at history 2 read 0.147 for the hand-lagged columns' 0.188 (KSG)
+    without a word, where their CMI warned and switched.
+    """
+    if any(discrete_x_levels(g[:, j]) is None for g in (x, y) for j in range(g.shape[1])):
+        d = x.shape[1] + y.shape[1] + z.shape[1]
+        if why := histogram_resolution_rule(n, d, options):
+            return why
+    return histogram_conditioning_rule(x, y, z, options)
+
+
 def _columns(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> dict[str, np.ndarray]:
     """Return the columns of (x, y, z) by the names a message gives them (``x``, ``z[:, 1]``)."""
     out = {}
@@ -617,8 +634,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
     :func:`conditional_mutual_information` does: resamples repeat rows, which the KSG
     estimate cannot take, and loops of estimates keep one estimator). ``judge`` (without
     ``switch``): a point estimate that keeps its estimator (the transfer entropy) warns
-    where the histogram's conditioning rule fails
-    (:func:`~modalinfo.information.histogram.histogram_conditioning_rule`), or refuses
+    where the histogram's resolution or conditioning rule fails
+    (:func:`_judged_histogram_why`), or refuses
     with ``fallback="raise"``. Both (``switch`` or ``judge``) apply the effective-sample
     rule of :func:`~modalinfo.information.mutual_information` last, when no other rule
     spoke (:func:`effective_sample_why`; ``who``, or the call's ``who=``, names the
@@ -687,12 +704,16 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                  BiasRuleWarning, stacklevel=3)
             why, judged = None, False
         elif judge and record.cmi is histogram_cmi and (
-                why := histogram_conditioning_rule(x, y, z, options)):
+                why := _judged_histogram_why(x.shape[0], options, x, y, z)):
             if fallback == "raise":
-                raise ValueError(f"{why}; use method='ksg' or method='gaussian' "
+                raise ValueError(f"{why}; use method='ksg' (the default) or method='gaussian' "
                                  "(fallback='raise').")
-            warn(f"{why}; returned anyway (use method='ksg' or method='gaussian')",
-                 BiasRuleWarning, stacklevel=3)
+            # one warning per call: a pile the value also holds is said in it (fixes 45-c)
+            pile = pile_why(cols := _columns(x, y, z), record.name,
+                            tuple(k for k in cols if k[0] == "z"))
+            warn(f"{why}; returned anyway (use method='ksg', the default, or "
+                 f"method='gaussian'){f'. Also: {pile}' if pile else ''}", BiasRuleWarning,
+                 stacklevel=3)
             why, judged = None, False
         if why is not None:  # one policy for both rules (the fallback option)
             if fallback == "raise":

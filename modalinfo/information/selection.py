@@ -827,6 +827,14 @@ def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
              "or 'ksg')", BiasRuleWarning, stacklevel=3)
 
 
+def least_selection_frames(horizon: int, max_lag: int) -> int:
+    """Fewest frames :func:`select_inputs` takes: ``horizon + max_lag + 19``.
+
+    The lagged pairs (``T - horizon - max_lag + 1`` rows) must number at least 20.
+    """
+    return horizon + max_lag + 19
+
+
 def select_inputs(
     data: Any, target: int | str, *, horizon: int = 1, max_lag: int = 10,
     extra: Any = None, method: str = "gaussian", units: str = "nats", alpha: float = 0.05,
@@ -961,8 +969,8 @@ def select_inputs(
     max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
     rng = check_rng(seed)
     T = series.shape[0]
-    if T - horizon - max_lag + 1 < 20:
-        raise ValueError(f"`data` needs at least {horizon + max_lag + 19} frames for "
+    if T < (least := least_selection_frames(horizon, max_lag)):
+        raise ValueError(f"`data` needs at least {least} frames for "
                          f"horizon={horizon}, max_lag={max_lag}; got {T}.")
     allowed = candidate_mask(labels, candidates, radial_width)
     if allowed is None:

@@ -208,7 +208,7 @@ def _chosen_hdu(hdul, dataset: str | None, path: Path) -> int | None:
                              f"foreign FITS file; '{path}' was written by modalinfo (one log)")
     names = [f"{k} ({hdu.name})" if hdu.name else str(k) for k, hdu in enumerate(hdul)]
     key = str(dataset).strip()
-    if key.isdigit() and int(key) < len(hdul):
+    if key.isdecimal() and int(key) < len(hdul):
         return int(key)
     matches = [k for k, hdu in enumerate(hdul) if hdu.name and hdu.name.upper() == key.upper()]
     if len(matches) != 1:

@@ -55,6 +55,19 @@ _STYLES = {
 }
 
 
+
+def _bound_label(value: float) -> str:
+    """``value`` at 3 significant digits, more where those read as a whole number it is not.
+
+    A column "<=100%" for ``--fraction 0.9999999999`` named a bound met by 0 modes where
+    the rule applied (99.99999999 %) is met by 1 (fixes 45-c, round 45 PART b T81).
+    """
+    digits = 3
+    while digits < 17 and (shown := float(format(value, f".{digits}g"))) != value and (
+            shown == round(shown)):
+        digits += 1
+    return format(value, f".{digits}g")
+
 class KLGeometryWarning(UserWarning):
     """The theoretical K-L assumed an outer scale or a pupil diameter the log does not record.
 
@@ -552,9 +565,11 @@ class Comparison:
         fractions = list(fractions or [])
         m = self.entries[0].error.mean.size
         at = tuple(n for n in at if n <= m)
+        labels = ["<=" + _bound_label(t) for t in targets]
+        labels += ["<=" + _bound_label(100 * f) + "%" for f in fractions]
+        widths = [max(10, len(label) + 1) for label in labels]
         head = f"{'ordering':<22}" + "".join(f"{'n=' + str(n):>10}" for n in at)
-        head += "".join(f"{'<=' + format(t, '.3g'):>10}" for t in targets)
-        head += "".join(f"{'<=' + format(100 * f, '.3g') + '%':>10}" for f in fractions)
+        head += "".join(f"{label:>{w}}" for label, w in zip(labels, widths, strict=True))
         lines = [f"fitting error dPhi(n) [{self.units}], "
                  + ("frame average" if self.frame is None else f"frame {self.frame}")
                  # the promise only when those columns follow (round 43 PART b, d14)
@@ -563,9 +578,9 @@ class Comparison:
         for e in self.entries:
             c = self.curve(e)
             row = pad(e.name, 22) + "".join(f"{c[n]:>10.3g}" for n in at)
-            row += "".join(f"{e.error.modes_to_reach(t, self.frame):>10d}" for t in targets)
-            row += "".join(f"{e.error.modes_to_reach_fraction(f, self.frame):>10d}"
-                           for f in fractions)
+            reached = [e.error.modes_to_reach(t, self.frame) for t in targets]
+            reached += [e.error.modes_to_reach_fraction(f, self.frame) for f in fractions]
+            row += "".join(f"{k:>{w}d}" for k, w in zip(reached, widths, strict=True))
             lines.append(row)
         return "\n".join(lines)
 

@@ -49,7 +49,8 @@ def test_figure_script_names_its_out_folder(tmp_path, monkeypatch, capsys):
     out = tmp_path / "figs"
     assert fig6_compression.main(["--out", str(out), "--quick"]) != 0
     err = capsys.readouterr().err.strip()
-    assert err == (f"fig6: error: No space left on device writing '{out}' (nothing was "
+    assert err == (f"python -m paper_figures.fig6_compression: error: "
+                   f"No space left on device writing '{out}' (nothing was "
                    "written); free space or write elsewhere")
     assert os.listdir(tmp_path) == []
 

@@ -78,7 +78,7 @@ def test_user_log_errors_are_one_line(tmp_path, capsys):
     assert main(["--out", str(tmp_path / "b"), "--only", "5", "--log",
                  str(tmp_path / "short.csv"), "--rate", "1000"]) == 2
     err = capsys.readouterr().err
-    assert err.strip().splitlines()[-1].startswith("paper_figures: error: Figure 5")
+    assert err.strip().splitlines()[-1].startswith("python -m paper_figures: error: Figure 5")
     assert "7041 frames" in err
 
 

@@ -47,7 +47,7 @@ def _leftovers(parent):
 def _refused(capsys, argv, needle):
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and err.startswith("paper_figures: error: "), err
+    assert err.count("\n") == 1 and err.startswith("python -m paper_figures: error: "), err
     assert needle in err, err
     return err
 

@@ -307,16 +307,17 @@ def test_figure_refusals_while_computing_are_one_line(figs, tmp_path, capsys):
     log = _log(tmp_path / "mine.npz")
     figs.mods["fig1_fitting_error"].fail = ValueError("too short\nsecond line")
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "a")]) == 2
-    assert capsys.readouterr().err == ("paper_figures: error: Figure 1 on --log: too short\n")
+    assert capsys.readouterr().err == ("python -m paper_figures: error: "
+                                       "Figure 1 on --log: too short\n")
     # on a shipped log the same error is a bug of the figure, not a refusal
     with pytest.raises(ValueError, match="too short"):
         main(["--only", "1", "--out", str(tmp_path / "b")])
     figs.mods["fig6_compression"].fail = ValueError("needs 9 TB\nmore")
     assert main(["--only", "6", "--out", str(tmp_path / "c")]) == 2
-    assert capsys.readouterr().err == "paper_figures: error: Figure 6: needs 9 TB\n"
+    assert capsys.readouterr().err == "python -m paper_figures: error: Figure 6: needs 9 TB\n"
     figs.mods["fig2_sr_peak"].fail = ValueError("unstable")
     assert main(["--only", "2", "--out", str(tmp_path / "d")]) == 2
-    assert capsys.readouterr().err == "paper_figures: error: Figure 2: unstable\n"
+    assert capsys.readouterr().err == "python -m paper_figures: error: Figure 2: unstable\n"
     for name in "acd":
         assert not (tmp_path / name).exists()
 
@@ -327,11 +328,11 @@ def test_a_shipped_log_a_figure_refuses_names_the_file(figs, tmp_path, capsys):
 
     figs.mods["fig1_fitting_error"].check_log = refuse
     assert main(["--only", "1", "--out", str(tmp_path / "o")]) == 2
-    assert capsys.readouterr().err == (f"paper_figures: error: Figure 1 on shipped log "
+    assert capsys.readouterr().err == (f"python -m paper_figures: error: Figure 1 on shipped log "
                                        f"'{DEFAULT_LOG}': the log must hold 99 modes\n")
     assert main(["--only", "1", "--log", str(_log(tmp_path / "m.npz")),
                  "--out", str(tmp_path / "o")]) == 2
-    assert capsys.readouterr().err == ("paper_figures: error: Figure 1 on --log: the log "
+    assert capsys.readouterr().err == ("python -m paper_figures: error: Figure 1 on --log: the log "
                                        "must hold 99 modes\n")
 
 
@@ -356,7 +357,7 @@ def test_a_shipped_log_a_figure_refuses_names_the_file(figs, tmp_path, capsys):
 def test_option_refusals_in_one_line(figs, tmp_path, capsys, monkeypatch, argv, message):
     monkeypatch.chdir(tmp_path)
     assert main([*argv, "--out", str(tmp_path / "o")]) == 2
-    assert capsys.readouterr().err == f"paper_figures: error: {message}\n"
+    assert capsys.readouterr().err == f"python -m paper_figures: error: {message}\n"
     assert not (tmp_path / "o").exists()
 
 
@@ -399,7 +400,8 @@ def test_a_flagged_user_log_gets_one_note_without_the_cli_prefix(figs, tmp_path,
     assert main(["--only", "1", "--log", str(log), "--outliers", "drop",
                  "--out", str(tmp_path / "p")]) == 2
     assert capsys.readouterr().err == (
-        "paper_figures: error: --log: --outliers drop removes frames, which breaks the time "
+        "python -m paper_figures: error: "
+        "--log: --outliers drop removes frames, which breaks the time "
         "axis Figure 1's analyses need; use --outliers clip (replace in place) or warn\n")
 
 
@@ -410,7 +412,8 @@ def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_pat
     log = _save(tmp_path / "gap.npz", x, timestamps=t)
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"paper_figures: error: --log: '{log}' has 1 timestamp gap(s), ")
+    assert err.startswith(f"python -m paper_figures: error: "
+                          f"--log: '{log}' has 1 timestamp gap(s), ")
     # the chosen figure, with its verb ("Figures 1 and 5 needs" whatever --only chose)
     assert err.endswith("; Figure 1 needs equally spaced frames: pass --split-gaps to "
                         "analyse the longest contiguous segment (frames 0..149)\n")
@@ -439,14 +442,15 @@ def test_a_reader_error_without_text_is_named_by_its_type(figs, tmp_path, capsys
     monkeypatch.setattr(common, "load_log_with_hints", fail)
     log = _save(tmp_path / "m.npz", np.random.default_rng(4).normal(size=(300, 6)))
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
-    assert capsys.readouterr().err == "paper_figures: error: --log: ValueError()\n"
+    assert capsys.readouterr().err == "python -m paper_figures: error: --log: ValueError()\n"
 
     def fail_text(*a, **k):
         raise OSError("  disk gone \n more")
 
     monkeypatch.setattr(common, "load_log_with_hints", fail_text)
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 2
-    assert capsys.readouterr().err == "paper_figures: error: --log: disk gone \n"  # 1st line
+    assert capsys.readouterr().err == ("python -m paper_figures: error: "
+                                       "--log: disk gone \n")  # 1st line
 
 
 def test_only_the_section_heading_names_the_log(figs, tmp_path):
@@ -466,7 +470,8 @@ def test_every_output_of_every_kind_is_protected(figs, tmp_path, capsys, name):
     out.mkdir()
     (out / name).write_bytes(b"mine")
     assert main(["--only", "1,2,6", "--out", str(out)]) == 2
-    assert capsys.readouterr().err == (f"paper_figures: error: '{out / name}' exists; pass "
+    assert capsys.readouterr().err == (f"python -m paper_figures: error: "
+                                       f"'{out / name}' exists; pass "
                                        "--overwrite to replace it\n")
     assert (out / name).read_bytes() == b"mine" and figs.runs == []
 

@@ -34,7 +34,9 @@ from modalinfo.common.folders import OutputInUseError
 from modalinfo.telemetry import ModalLog
 from paper_figures import _common as c
 
-PROG = "python -m paper_figures.fig9_an_example"   # messages start "fig9: error: "
+# messages start with the program typed, as argparse's do ("fig9: error: " before fixes
+# 45-c, round 44 PART b c08)
+PROG = "python -m paper_figures.fig9_an_example"
 
 
 # ---------------------------------------------------------------- output folders
@@ -364,7 +366,7 @@ def test_figure_main_with_a_suffix(tmp_path, capsys):
     (out / "fig_s.png").unlink()
     assert run(["--out", str(out), "--suffix", "_s"], maker(calls), names) == 2
     assert capsys.readouterr().err == (
-        f"fig9: error: '{out / 'fig_s.pdf'}' exists; pass --overwrite\n")
+        f"{PROG}: error: '{out / 'fig_s.pdf'}' exists; pass --overwrite\n")
 
 
 @pytest.mark.parametrize("suffix", ["a/b", "a\\b", "a\0b"])
@@ -372,17 +374,18 @@ def test_figure_main_refuses_a_suffix_with_a_separator(tmp_path, capsys, suffix)
     calls = []
     assert run(["--out", str(tmp_path), "--suffix", suffix], maker(calls), names) == 2
     assert capsys.readouterr() == (
-        "", f"fig9: error: --suffix must not contain a path separator; got {suffix!r}\n")
+        "", f"{PROG}: error: --suffix must not contain a path separator; got {suffix!r}\n")
     assert calls == []
 
 
-@pytest.mark.parametrize("prog, short", [
-    ("python3.12 -m paper_figures.fig9_an_example", "fig9"), ("fig9_tool", "fig9"),
-    ("python -m paper_figures.fig1_fitting_error", "fig1")])
-def test_figure_main_names_the_figure_in_its_messages(tmp_path, capsys, prog, short):
+@pytest.mark.parametrize("prog", [
+    "python3.12 -m paper_figures.fig9_an_example", "fig9_tool",
+    "python -m paper_figures.fig1_fitting_error"])
+def test_figure_main_names_the_figure_in_its_messages(tmp_path, capsys, prog):
+    # the program as typed, the name argparse's refusals carry (fixes 45-c, c08)
     (tmp_path / "fig.png").write_text("mine")
     assert run(["--out", str(tmp_path)], maker([]), prog=prog) == 2
-    assert capsys.readouterr().err.startswith(f"{short}: error: '")
+    assert capsys.readouterr().err.startswith(f"{prog}: error: '")
 
 
 def test_figure_main_without_output_names_has_no_suffix(tmp_path, capsys):
@@ -396,7 +399,7 @@ def test_figure_main_refuses_to_overwrite(tmp_path, capsys):
     calls = []
     assert run(["--out", str(tmp_path)], maker(calls)) == 2
     assert capsys.readouterr() == (
-        "", f"fig9: error: '{tmp_path / 'fig.png'}' exists; pass --overwrite\n")
+        "", f"{PROG}: error: '{tmp_path / 'fig.png'}' exists; pass --overwrite\n")
     assert calls == [] and (tmp_path / "fig.png").read_text() == "mine"
     assert run(["--out", str(tmp_path), "--overwrite"], maker(calls)) == 0
     assert (tmp_path / "fig.png").read_text() == "data"
@@ -407,13 +410,13 @@ def test_figure_main_refuses_bad_places(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     assert run(["--out", str(tmp_path / "file")], maker(calls)) == 2
     assert capsys.readouterr().err == (
-        f"fig9: error: --out '{tmp_path / 'file'}' exists and is not a directory\n")
+        f"{PROG}: error: --out '{tmp_path / 'file'}' exists and is not a directory\n")
     assert run(["--out", str(tmp_path / "o"), "--log", str(tmp_path)], maker(calls)) == 2
     assert capsys.readouterr().err == (
-        f"fig9: error: --log '{tmp_path}' is a folder, not a log file\n")
+        f"{PROG}: error: --log '{tmp_path}' is a folder, not a log file\n")
     missing = tmp_path / "missing.fits"
     assert run(["--out", str(tmp_path / "o"), "--log", str(missing)], maker(calls)) == 2
-    assert capsys.readouterr().err == f"fig9: error: log file '{missing}' does not exist\n"
+    assert capsys.readouterr().err == f"{PROG}: error: log file '{missing}' does not exist\n"
     assert calls == [] and not (tmp_path / "o").exists()
 
 
@@ -426,7 +429,7 @@ def test_figure_main_names_a_fifo_given_as_the_log(tmp_path, capsys):
     os.mkfifo(pipe)
     assert run(["--out", str(tmp_path / "o"), "--log", str(pipe)], maker(calls)) == 2
     assert capsys.readouterr().err == (
-        f"fig9: error: --log '{pipe}' is not a regular file (a FIFO or a device)\n")
+        f"{PROG}: error: --log '{pipe}' is not a regular file (a FIFO or a device)\n")
     assert calls == [] and not (tmp_path / "o").exists()
 
 
@@ -445,7 +448,7 @@ def test_figure_main_names_a_fifo_given_as_the_log(tmp_path, capsys):
 def test_figure_main_failures_in_one_line(tmp_path, capsys, error, code, message):
     out = tmp_path / "o"
     assert run(["--out", str(out)], maker([], error=error)) == code
-    assert capsys.readouterr() == ("", f"fig9: error: {message.format(out=out)}\n")
+    assert capsys.readouterr() == ("", f"{PROG}: error: {message.format(out=out)}\n")
     assert not out.exists()                     # nothing was written
     assert sorted(p.name for p in tmp_path.iterdir()) == []
 

@@ -656,7 +656,8 @@ def test_make_and_main(tmp_path, monkeypatch, capsys, fake_compute):
         (d / name).write_bytes(b"x")
         assert fig6.main(["--out", str(d)]) == 2
         assert capsys.readouterr().err == (
-            f"fig6: error: '{d / name}' exists; pass --overwrite\n")
+            f"python -m paper_figures.fig6_compression: error: "
+            f"'{d / name}' exists; pass --overwrite\n")
         assert fig6.main(["--out", str(d), "--overwrite"]) == 0
         assert fake_compute.calls[-1] == ((), {"quick": False, "seed": 0})
     monkeypatch.chdir(tmp_path)

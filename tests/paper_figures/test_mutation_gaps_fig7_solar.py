@@ -651,7 +651,7 @@ def test_make_and_main(tmp_path, monkeypatch, capsys):
         (d / name).write_text("mine")
         assert fig7.main(["--out", str(d)]) == 2
         assert capsys.readouterr().err == (
-            f"fig7: error: '{d / name}' exists; pass --overwrite\n")
+            f"python -m paper_figures.fig7_solar: error: '{d / name}' exists; pass --overwrite\n")
         assert fig7.main(["--out", str(d), "--overwrite"]) == 0
         assert (d / name).read_text() == "mine"  # make is the stand-in: nothing drawn
 

@@ -518,7 +518,8 @@ def test_main_writes_prints_and_refuses(tmp_path, monkeypatch, capsys, fake_comp
         (d / name).write_bytes(b"x")
         assert fig8.main(["--out", str(d)]) == 2
         err = capsys.readouterr().err
-        assert err == f"fig8: error: '{d / name}' exists; pass --overwrite\n"
+        assert err == (f"python -m paper_figures.fig_information_flow: error: "
+                       f"'{d / name}' exists; pass --overwrite\n")
         assert (d / name).read_bytes() == b"x" and len(list(d.iterdir())) == 1
         assert fig8.main(["--out", str(d), "--overwrite"]) == 0
         assert (d / name).read_bytes() != b"x"

@@ -131,7 +131,8 @@ def test_failures_while_making_are_one_line_and_exit_1(monkeypatch, capsys, tmp_
     monkeypatch.setattr(pf, "_run", run)
     out = tmp_path / "o"
     assert main(["--out", str(out)]) == 1
-    assert capsys.readouterr().err == f"paper_figures: error: {what}; '{out}' is as it was\n"
+    assert capsys.readouterr().err == (f"python -m paper_figures: error: "
+                                       f"{what}; '{out}' is as it was\n")
 
 
 def test_the_users_input_hints_reach_the_log(figs, tmp_path):  # noqa: F811
@@ -165,7 +166,8 @@ def test_a_folder_named_as_an_output_is_refused_before_any_work(figs, tmp_path, 
     (out / folder / "draft.txt").write_text("mine")
     assert main(["--only", "3", "--out", str(out), "--overwrite"]) == 2
     assert capsys.readouterr().err == (
-        f"paper_figures: error: '{out / folder}' is a folder; the run writes a file of that "
+        f"python -m paper_figures: error: "
+        f"'{out / folder}' is a folder; the run writes a file of that "
         "name\n")
     assert figs.runs == [] and figs.mods["fig3_sr_spectrum"].calls == []
     assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == [

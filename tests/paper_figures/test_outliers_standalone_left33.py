@@ -75,7 +75,8 @@ def test_the_stand_alone_route_applies_the_policy(glitch, tmp_path, capsys, poli
     np.testing.assert_array_equal(log.coeffs, expected)  # nothing else touched
     assert said.startswith(f"--outliers {policy}: 1 of 400 frames flagged")
     err = capsys.readouterr().err
-    assert err.startswith(f"fig5: warning: '{path.name}': 1 of 400 frames flagged")
+    assert err.startswith(f"python -m paper_figures.fig5_forecast: warning: "
+                          f"'{path.name}': 1 of 400 frames flagged")
     assert err.count("\n") == 1
 
 
@@ -87,8 +88,8 @@ def test_the_stand_alone_route_refuses_drop_naming_the_analysis(glitch, tmp_path
     out = tmp_path / "o"
     argv = ["--log", str(glitch[0]), "--out", str(out), "--outliers", "drop"]
     assert _run(module, argv, _recording_make(calls)) == 2
-    short = module.__name__.split(".")[-1].split("_")[0]
-    assert capsys.readouterr().err == f"{short}: error: --log: {DROP.format(uses=uses)}\n"
+    prog = f"python -m {module.__name__}"  # as typed, argparse's prefix (fixes 45-c, c08)
+    assert capsys.readouterr().err == f"{prog}: error: --log: {DROP.format(uses=uses)}\n"
     assert calls == [] and not out.exists()
 
 
@@ -110,7 +111,7 @@ def test_paper_figures_refuses_drop_naming_the_analysis(glitch, tmp_path, capsys
     out = tmp_path / "o"
     argv = ["--only", only, "--log", str(glitch[0]), "--outliers", "drop", "--out", str(out)]
     assert pf.main(argv) == 2
-    assert capsys.readouterr().err == (f"paper_figures: error: --log: "
+    assert capsys.readouterr().err == (f"python -m paper_figures: error: --log: "
                                        f"{DROP.format(uses=uses)}\n")
     assert not out.exists()
 
@@ -120,6 +121,7 @@ def test_paper_figures_refuses_a_policy_without_a_log(tmp_path, capsys, policy):
     out = tmp_path / "o"
     assert pf.main(["--only", "1", "--outliers", policy, "--out", str(out)]) == 2
     assert capsys.readouterr().err == (
-        f"paper_figures: error: --outliers {policy} applies to a user's log and needs --log; "
+        f"python -m paper_figures: error: "
+        f"--outliers {policy} applies to a user's log and needs --log; "
         "the shipped logs are analysed as they are\n")
     assert not out.exists()
