@@ -78,6 +78,7 @@ from modalinfo.common.validation import (
     as_float_array,
     as_scalar,
     check_int,
+    check_memory,
     check_real,
     check_square_range,
     column_labels,
@@ -668,7 +669,14 @@ class _MappedRows:
     def __getitem__(self, key) -> np.ndarray:
         from modalinfo.telemetry.scan import release_pages
 
-        out = np.array(self.src[key], dtype=np.float64)
+        rows_asked = self.src[key]                       # a view (slice) or a small gather
+        # the training frames are read whole: refused before NumPy's MemoryError
+        # (11.2 GiB for 500,000 x 3000, round 46 PART a, A12)
+        check_memory(rows_asked.size * 8, "log", None,
+                     f"a float64 copy of {rows_asked.shape[0]} frames x "
+                     f"{rows_asked.shape[1]} modes",
+                     advice="use fewer frames or modes, or a smaller `train`")
+        out = np.array(rows_asked, dtype=np.float64)
         if isinstance(key, slice):
             rows = key
         else:  # an integer row index array (targets after the origins)
