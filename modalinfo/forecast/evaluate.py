@@ -43,7 +43,14 @@ Metrics
   each, N = 1000 and 5000, benchmarks/RESULTS.md): 4.1-5.7 % rejections at a nominal
   5 % for white, AR(1) 0.9 / 0.99, 50 Hz resonance at 2 kHz, Gaussian-smoothed,
   t3-innovation and variance-step differentials, where the earlier Newey-West /
-  rectangular-window test rejected 10-45 %. A predictor is said
+  rectangular-window test rejected 10-45 %. Not reached (round 46 PART a, P39-P43,
+  300 draws each): two forecasts of a persistent AR(1) mode equal in MSE but differing
+  in their coefficient (``(2 phi - 1) x_t`` against persistence) have ``d_t``
+  proportional to ``x_t e_(t+1)``, the score of the AR coefficient, a martingale
+  difference with persistent volatility whose t ratio carries Kendall's (Dickey-Fuller's)
+  skew: 10-12 % rejections at a nominal 5 % with 500-2000 origins (phi = 0.9, 0.99),
+  7 % at 10,000, 2-4 % in the other tail; the iid t and Newey-West tests on the same d
+  reject 7-10 %. A predictor is said
   to beat the baselines only if its p-value is below ``0.05 / (number of tests)``
   (Bonferroni over predictors and horizons), so on white noise the evaluation
   reports that nothing beats the mean.
