@@ -438,6 +438,11 @@ def as_float_array(
     if min_length is not None and (arr.ndim == 0 or arr.shape[0] < min_length):
         got = 0 if arr.ndim == 0 else arr.shape[0]
         raise ValueError(f"`{name}` needs at least {min_length} samples along axis 0; got {got}.")
+    if copy or arr.dtype != np.dtype(dtype) or not arr.flags.c_contiguous:
+        # a copy is made: refused before NumPy's MemoryError (round 46 PART a, A11)
+        check_memory(arr.size * np.dtype(dtype).itemsize, name, None,
+                     f"a {np.dtype(dtype).name} copy of its {arr.shape} values",
+                     advice="use fewer frames or modes (a slice of the log)")
     # asarray(order="C"), not ascontiguousarray, which makes a 0-d array (1,)
     out = np.array(arr, dtype=dtype, order="C", copy=True) if copy else np.asarray(
         arr, dtype=dtype, order="C"
@@ -635,23 +640,28 @@ def check_int(
     return value
 
 
-def check_memory(need_bytes: float, name: str, value: Any, what: str) -> None:
-    """Refuse a count whose arrays need more than the available memory, naming it.
+def check_memory(need_bytes: float, name: str, value: Any, what: str, *,
+                 advice: str | None = None) -> None:
+    """Refuse a count or an array whose memory exceeds what this process may use, naming it.
 
     A count such as ``n_resamples = 10**12`` is a valid int; without this NumPy raised
     MemoryError (or, past 2^63 elements, an unnamed ValueError) at the allocation.
-    ``what`` says what the memory holds. Below 128 MiB nothing is read, so the check
+    ``what`` says what the memory holds; ``value`` (None: an array, not named by value)
+    the count; ``advice`` how to shrink it (default: a smaller ``name``). Compared with
+    :func:`~modalinfo.common.memory.usable_memory_bytes` (the machine's available memory
+    and the address-space limit's room). Below 128 MiB nothing is read, so the check
     costs nothing in a loop.
     """
     if need_bytes < 2**27:
         return
-    from modalinfo.common.memory import available_memory_bytes
+    from modalinfo.common.memory import usable_memory_bytes
 
-    avail = available_memory_bytes()
+    avail = usable_memory_bytes()
     if need_bytes > avail:
-        raise ValueError(f"`{name}` = {value} needs about {need_bytes / 2**30:.3g} GiB for "
-                         f"{what} and {avail / 2**30:.3g} GiB is available; use a smaller "
-                         f"`{name}`.")
+        shown = f"`{name}`" if value is None else f"`{name}` = {value}"
+        raise ValueError(f"{shown} needs about {need_bytes / 2**30:.3g} GiB for "
+                         f"{what} and {avail / 2**30:.3g} GiB is available; "
+                         f"{advice or f'use a smaller `{name}`'}.")
 
 
 def check_real(

@@ -43,7 +43,14 @@ Metrics
   each, N = 1000 and 5000, benchmarks/RESULTS.md): 4.1-5.7 % rejections at a nominal
   5 % for white, AR(1) 0.9 / 0.99, 50 Hz resonance at 2 kHz, Gaussian-smoothed,
   t3-innovation and variance-step differentials, where the earlier Newey-West /
-  rectangular-window test rejected 10-45 %. A predictor is said
+  rectangular-window test rejected 10-45 %. Not reached (round 46 PART a, P39-P43,
+  300 draws each): two forecasts of a persistent AR(1) mode equal in MSE but differing
+  in their coefficient (``(2 phi - 1) x_t`` against persistence) have ``d_t``
+  proportional to ``x_t e_(t+1)``, the score of the AR coefficient, a martingale
+  difference with persistent volatility whose t ratio carries Kendall's (Dickey-Fuller's)
+  skew: 10-12 % rejections at a nominal 5 % with 500-2000 origins (phi = 0.9, 0.99),
+  7 % at 10,000, 2-4 % in the other tail; the iid t and Newey-West tests on the same d
+  reject 7-10 %. A predictor is said
   to beat the baselines only if its p-value is below ``0.05 / (number of tests)``
   (Bonferroni over predictors and horizons), so on white noise the evaluation
   reports that nothing beats the mean.
@@ -78,6 +85,7 @@ from modalinfo.common.validation import (
     as_float_array,
     as_scalar,
     check_int,
+    check_memory,
     check_real,
     check_square_range,
     column_labels,
@@ -668,7 +676,14 @@ class _MappedRows:
     def __getitem__(self, key) -> np.ndarray:
         from modalinfo.telemetry.scan import release_pages
 
-        out = np.array(self.src[key], dtype=np.float64)
+        rows_asked = self.src[key]                       # a view (slice) or a small gather
+        # the training frames are read whole: refused before NumPy's MemoryError
+        # (11.2 GiB for 500,000 x 3000, round 46 PART a, A12)
+        check_memory(rows_asked.size * 8, "log", None,
+                     f"a float64 copy of {rows_asked.shape[0]} frames x "
+                     f"{rows_asked.shape[1]} modes",
+                     advice="use fewer frames or modes, or a smaller `train`")
+        out = np.array(rows_asked, dtype=np.float64)
         if isinstance(key, slice):
             rows = key
         else:  # an integer row index array (targets after the origins)

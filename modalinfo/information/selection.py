@@ -369,6 +369,30 @@ def _check_memory(n_values: int) -> None:
             f"{avail / 2**20:.1f} MiB is available; use fewer frames, modes or lags.")
 
 
+def _check_memory_early(data: Any, extra: Any, horizon: Any, max_lag: Any,
+                        candidates: Any) -> None:
+    """:func:`_check_memory` from the shapes alone, before the log is read and converted.
+
+    The candidates' memory depends on the frames, the modes and the lags only; checked
+    in :func:`lagged_candidates` alone, a 200,000 x 1000 memory-mapped log was converted
+    to float64 and scaled (47 s, 4.1 GB) before the refusal of its 152 GB plan (round 46
+    PART a, A10b). With a ``candidates`` rule (fewer sources) or arguments not yet
+    validated, the check stays where it was.
+    """
+    if not (isinstance(candidates, str) and candidates == "all"):
+        return
+    lags = (horizon, max_lag)
+    if not all(isinstance(v, int | np.integer) and not isinstance(v, bool) and v >= 1
+               for v in lags):
+        return
+    shapes = [np.shape(getattr(x, "coeffs", x)) if isinstance(x, np.ndarray)
+              or hasattr(x, "coeffs") else None for x in (data, extra) if x is not None]
+    if any(shape is None or len(shape) != 2 for shape in shapes):
+        return
+    T, M = shapes[0][0], sum(shape[1] for shape in shapes)
+    _check_memory(max(T - int(horizon) - int(max_lag) + 1, 0) * M * int(max_lag))
+
+
 def lagged_candidates(series: np.ndarray, horizon: int, max_lag: int
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Target rows and the lagged candidate matrix of a forecast at ``horizon``.
@@ -925,6 +949,7 @@ def select_inputs(
         that do not fit in the rows at the spacing ``min_shift`` (or at spacing 1); a
         first step estimated above ``max_seconds``.
     """
+    _check_memory_early(data, extra, horizon, max_lag, candidates)
     series, labels = _series(data, "data")
     if extra is not None:
         ex, ex_labels = _series(extra, "extra")

@@ -1046,7 +1046,7 @@ def _check_time(estimator: Any, n: int, n_modes: int, n_resamples: int, method: 
                                             search)
     what = (f"order_modes({method!r}, estimator={estimator!r}) of {n_modes} modes on {n} "
             f"samples per estimate with {n_resamples} bootstrap replicates (at least "
-            f"{calls} MI estimates) is estimated at {seconds:.0f} s of CPU")
+            f"{calls} MI estimates) {_cost.seconds_text(seconds)}")
     _cost.check_ordering_seconds(seconds, what, ORDERING_HOW, max_seconds, stacklevel=3)
 
 

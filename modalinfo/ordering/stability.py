@@ -365,6 +365,6 @@ def _check_stability_time(method: str, n_valid: int, n_frames: int, n_modes: int
     what = (f"ordering_stability({method!r}, estimator={estimator!r}) of {n_modes} modes: "
             f"{n_windows} windows of {window} frames ({n_w} samples per estimate) and "
             f"{n_seeds} seeds on the whole log ({n_all} samples), at least {c_w + c_s} MI "
-            f"estimates, is estimated at {s_w + s_s:.0f} s of CPU")
+            f"estimates, {_cost.seconds_text(s_w + s_s)}")
     how = ORDERING_HOW + ", a longer `window` or fewer `seeds`"
     _cost.check_ordering_seconds(s_w + s_s, what, how, max_seconds, stacklevel=3)

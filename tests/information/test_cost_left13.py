@@ -115,9 +115,10 @@ def test_a_thousand_mode_ordering_warns_its_estimate_before_the_work(monkeypatch
     coeffs = rng.standard_normal((200, 1000))
     basis = rng.standard_normal((1000, 1000))
     _no_work(monkeypatch)
+    # round 46 PART a (A03a): the estimate is said to be a lower bound
     with pytest.warns(UserWarning, match=r"1000 modes on 200000 samples .* estimated at "
-                                         r"\d+ s of CPU; use fewer modes, a smaller "
-                                         r"`sample_budget`"):
+                                         r"\d+ s of CPU or more \(a lower bound\); use "
+                                         r"fewer modes, a smaller `sample_budget`"):
         with pytest.raises(_StopError):
             order_modes(coeffs, basis, "mi_marginal", seed=0)
 
