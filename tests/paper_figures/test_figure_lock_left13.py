@@ -56,7 +56,7 @@ def test_a_held_folder_is_refused_and_left_as_it_was(tmp_path, monkeypatch, caps
         code = module.main(["--out", str(out), *extra])
         err = capsys.readouterr().err.strip()
         assert code == 2 and calls == []
-        assert len(err.splitlines()) == 1 and err.startswith(f"{short}: error:")
+        assert len(err.splitlines()) == 1 and err.startswith(f"python -m {module.__name__}: error:")
         assert "in use" in err and ".lock" in err
         assert sorted(p.name for p in out.iterdir()) == [".lock", "other.txt"]
     # free again: the run writes its files, and a second refuses to replace them unasked
