@@ -90,6 +90,17 @@ def _looks_like_csv(head: bytes) -> bool:
                                      and any(c in first for c in ",;\t "))
 
 
+def _head(path, head: bytes | None) -> bytes | None:
+    """Return ``head``, or when None the file's first 512 bytes (None if unreadable)."""
+    if head is not None:
+        return head
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(512)
+    except OSError:
+        return None
+
+
 def sniff_format(path, head: bytes | None = None) -> str | None:
     """Return the format a file's content shows, whatever its name says, or None.
 
@@ -109,12 +120,9 @@ def sniff_format(path, head: bytes | None = None) -> str | None:
         (empty, damaged or unknown).
     """
     path = as_path(path)
+    head = _head(path, head)
     if head is None:
-        try:
-            with open(path, "rb") as fh:
-                head = fh.read(512)
-        except OSError:
-            return None
+        return None
     for magic, fmt in _MAGIC:
         if head.startswith(magic):
             return "aot" if fmt == "fits" and is_aot(path) else fmt
@@ -277,19 +285,11 @@ GRID_KEYS = frozenset({"preset", "config", "duration", "seeds", "predictors",
 def result_table(path, head: bytes | None = None) -> str | None:
     """Return which result table a CSV file is (forecast.csv, batch.csv, sweep.csv), or None.
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file (read only if ``head`` is not given).
-    head : bytes, optional
-        Its first bytes (512 are enough).
+    ``path`` and ``head`` (its first bytes, read when not given) as :func:`sniff_format`'s.
     """
+    head = _head(path, head)
     if head is None:
-        try:
-            with open(path, "rb") as fh:
-                head = fh.read(512)
-        except OSError:
-            return None
+        return None
     text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
     first = text.split(b"\n", 1)[0].replace(b'"', b"").strip()
     for columns, what in _RESULT_TABLES:
