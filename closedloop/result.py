@@ -246,6 +246,18 @@ def _version() -> str:
         return "unknown"
 
 
+def _not_a_result(path, why: str) -> str:
+    """Say that a file is not a result, and what it is (round 46 PART b, F37-F43).
+
+    A modalinfo log, a config or an AOT export was "not an HDF5 closedloop result
+    (Unable to synchronously open file (file signature not found))".
+    """
+    from modalinfo.io.formats import what_file
+
+    return (f"{path}: {why}: it is {what_file(path)}; a result is the HDF5 file "
+            "`closedloop run --out RUN.h5` writes")
+
+
 @array_fields_eq
 @dataclass(frozen=True)
 class SimulationResult:
@@ -818,10 +830,11 @@ class SimulationResult:
         try:
             f = h5py.File(path, "r")
         except OSError as exc:
-            raise ValueError(f"{path}: not an HDF5 closedloop result ({exc}).") from exc
+            raise ValueError(_not_a_result(path, "not an HDF5 closedloop result")) from exc
         with f:
             if f.attrs.get("format") != _FORMAT:
-                raise ValueError(f"{path}: not a closedloop result (no format={_FORMAT!r}).")
+                raise ValueError(_not_a_result(
+                    path, f"not a closedloop result (no format={_FORMAT!r})"))
             # a checksum with no format_version is a format-3 file whose attribute was
             # deleted: verify it (round 7, e52: it was read as "format 1, not verified")
             version = int(f.attrs.get("format_version", 3 if "sha256" in f.attrs else 1))

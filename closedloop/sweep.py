@@ -28,6 +28,7 @@ import numpy as np
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config
 from modalinfo.common.validation import check_real
+from modalinfo.io.formats import GRID_KEYS, describe_json
 
 __all__ = ["GRID_HELP", "load_grid", "sweep_specs", "run_one", "sweep"]
 
@@ -53,8 +54,7 @@ Runs = overrides x seeds x predictors, one task each; a run's row holds its SR p
 field-mean SR, corrected-FoV diameter and (with budget_every) the on-axis error budget.
 Outputs in --out: sweep.csv, sweep.parquet, runs/<key>.h5, rows/ (resume state)."""
 
-_GRID_KEYS = {"preset", "config", "duration", "seeds", "predictors", "overrides",
-              "budget_every"}
+_GRID_KEYS = GRID_KEYS  # modalinfo.io.formats names a grid fed to another command
 
 
 def _index(part: str) -> int:
@@ -108,6 +108,11 @@ def load_grid(path: str | Path) -> dict:
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{path}: not valid TOML: {exc}") from exc
     unknown = sorted(set(grid) - _GRID_KEYS)
+    if unknown and (describe_json(grid) or "").startswith("a closedloop config"):
+        # a config given as the grid was "unknown key `dms`" (round 46 PART b, F75)
+        raise ValueError(f"{path} is a closedloop config, not a sweep grid: name it in a "
+                         f"grid file, config = \"{path.name}\" (`closedloop sweep --help` "
+                         "shows the grid's format)")
     if unknown:
         allowed = ", ".join(sorted(_GRID_KEYS))
         from modalinfo.common.validation import did_you_mean
@@ -119,6 +124,12 @@ def load_grid(path: str | Path) -> dict:
                          f"run is one of them); got preset {grid['preset']!r} and config "
                          f"{grid['config']!r}")
     if "config" in grid:
+        if (not isinstance(grid["config"], str)
+                or Path(grid["config"]).suffix.lower() not in (".toml", ".json")):
+            # "`path` must end in .toml or .json": no key of the grid is `path` (round 46
+            # PART b, F76)
+            raise ValueError(f"{path}: grid `config` must name a .toml or .json file (from "
+                             f"`closedloop config --out`); got {grid['config']!r}")
         # absolute, but links kept: resolve() turned a config link to a device into its
         # target, refused as "`path` must end in .toml" (round 28 PART b)
         grid["config"] = os.path.abspath(path.parent / grid["config"])

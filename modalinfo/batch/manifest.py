@@ -220,6 +220,14 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
         if not row.get("path"):
             raise ValueError(f"{where}: empty path")
         file = _row_file(path.parent, row["path"], _cell(raw, "path"))
+        if (not file.exists() and not Path(row["path"]).is_absolute()
+                and Path(row["path"]).is_file() and path.parent.resolve() != Path.cwd()):
+            # an error row "no such file: '<manifest folder>/arch/a.npz'" said nothing
+            # of the rule (round 46 PART b, R02)
+            raise ValueError(
+                f"{where}: '{row['path']}' is not in the manifest's folder "
+                f"('{path.parent}'), from which its relative paths are read, but in the "
+                "current folder: write it relative to the manifest, or absolute")
         if _is_manifest(file):
             # read as a log it was "corrupt CSV file ... could not convert 'x.npz' to
             # float64" (adversarial round 20 PART b, B22 / B23)
@@ -400,6 +408,8 @@ def collect_logs(
     ValueError
         An input matching nothing, or no logs at all.
     """
+    from modalinfo.io.formats import result_table
+
     if isinstance(inputs, str | os.PathLike):
         inputs = [inputs]
     skip = [Path(x).resolve() for x in exclude]
@@ -437,6 +447,12 @@ def collect_logs(
                     "batch never reads logs from its output directory; choose another --out")
             for file in _walk(path, skip, skipped, unreadable):
                 add(plain(file))
+        elif path.is_file() and (table := result_table(path)) is not None:
+            # batch.csv was read as a manifest, "unknown column 'analysis'", and sweep.csv
+            # told to rename a column 'path' (round 46 PART b, F31, G10)
+            raise ValueError(
+                f"input '{path}' is {table}, not a log or a manifest: pass the logs, a "
+                "folder of them or a manifest CSV with a 'path' column")
         elif _is_manifest(path):
             for entry in read_manifest(path):
                 explicit(LogEntry(entry.path, entry.fmt or fmt, {**base_hints, **entry.hints}),

@@ -435,9 +435,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     from modalinfo.io import load, mapping_pays
 
     path = Path(path)
-    if path.is_dir():
-        raise CommandError(f"'{path}' is a directory, not a log file")
-    try:  # a FIFO was "does not exist"
+    try:  # a FIFO was "does not exist"; a folder is named by check_readable
         check_readable(path)
     except FileNotFoundError:
         raise CommandError(f"log file '{path}' does not exist") from None

@@ -203,7 +203,11 @@ def check_readable(path: Path) -> None:
                                     "missing target)")
         raise FileNotFoundError(f"no such file: '{path}'{_other_unicode_form(path)}")
     if path.is_dir():
-        raise IsADirectoryError(f"'{path}' is a directory, not a log file")
+        # it said no more to a batch output folder or an archive given to a one-log
+        # command (round 46 PART b, F12)
+        raise IsADirectoryError(f"'{path}' is a directory, not a log file: pass one of its "
+                                f"logs, or analyse them all with `modalinfo batch "
+                                f"'{path}' --out DIR`")
     kind = _special_kind(path)
     if kind:
         # reading a FIFO blocks until a writer comes, /dev/zero never ends (a 17 GB

@@ -9,7 +9,7 @@ from modalinfo.io.aot import is_aot
 from modalinfo.io.files import LogFormatError
 
 __all__ = ["EXTENSIONS", "FORMATS", "describe_json", "detect_format", "format_from_extension",
-           "format_hint", "sniff_format"]
+           "format_hint", "result_table", "sniff_format", "what_file", "GRID_KEYS"]
 
 #: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
 FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
@@ -90,6 +90,17 @@ def _looks_like_csv(head: bytes) -> bool:
                                      and any(c in first for c in ",;\t "))
 
 
+def _head(path, head: bytes | None) -> bytes | None:
+    """Return ``head``, or when None the file's first 512 bytes (None if unreadable)."""
+    if head is not None:
+        return head
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(512)
+    except OSError:
+        return None
+
+
 def sniff_format(path, head: bytes | None = None) -> str | None:
     """Return the format a file's content shows, whatever its name says, or None.
 
@@ -109,12 +120,9 @@ def sniff_format(path, head: bytes | None = None) -> str | None:
         (empty, damaged or unknown).
     """
     path = as_path(path)
+    head = _head(path, head)
     if head is None:
-        try:
-            with open(path, "rb") as fh:
-                head = fh.read(512)
-        except OSError:
-            return None
+        return None
     for magic, fmt in _MAGIC:
         if head.startswith(magic):
             return "aot" if fmt == "fits" and is_aot(path) else fmt
@@ -156,6 +164,22 @@ def format_hint(path, fmt: str) -> str:
 def format_from_extension(path: Path) -> str | None:
     """Return the format a file name's extension means (:data:`EXTENSIONS`), or None."""
     return EXTENSIONS.get(path.suffix.lower())
+
+
+_A_LOG = "a log is an NPZ, NPY, CSV, FITS or HDF5 file of coefficients"
+
+
+def _not_a_log(path, what: str, advice: str = "") -> LogFormatError:
+    """Return the refusal of a known non-log file; ``.what`` keeps what it is.
+
+    ``closedloop info`` / ``export`` name the file the same way (``what_file``): a log
+    or a config given to them was "not an HDF5 closedloop result (Unable to
+    synchronously open file ...)" (round 46 PART b, F37-F43).
+    """
+    exc = LogFormatError(f"'{path}' is {what}, not a log: {_A_LOG}"
+                         + (f"; {advice}" if advice else ""))
+    exc.what = what
+    return exc
 
 
 def detect_format(path) -> str:
@@ -200,9 +224,7 @@ def detect_format(path) -> str:
         if head.startswith(magic):
             # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11
             # PART b, R12)
-            raise LogFormatError(f"'{path}' is {what}, not a log: a log is an NPZ, NPY, "
-                                 "CSV, FITS or HDF5 file of coefficients"
-                                 + (f"; {advice}" if advice else ""))
+            raise _not_a_log(path, what, advice)
     try:
         head.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -223,23 +245,24 @@ def detect_format(path) -> str:
                 + "a CSV must be UTF-8: re-save it as UTF-8 if it is text in another encoding"
             ) from None
     text = head.lstrip(b"\xef\xbb\xbf \t\r\n")  # after a BOM and blank space
+    if path.suffix.lower() == ".toml":
+        # a closedloop config or sweep grid was "corrupt CSV file 'k.toml': ValueError:
+        # could not convert string 'seed' to float64" (round 46 PART b, F15)
+        raise _not_a_log(path, _toml_kind(path) or "a TOML file (a config?)")
     if text[:1] in (b"{", b"[") and by_ext is None:
         # a JSON document (forecast.json, reorder --out, a config) was called "a corrupt
         # CSV file" (adversarial round 9 PART b, row F07); which one it is was a guess,
         # "(a result or config file?)" (round 21 PART b, a02-a08)
         kind = _json_kind(path)
-        raise LogFormatError(
-            (f"'{path}' is {kind}" if kind else
-             f"'{path}' holds JSON (a result or config file?)")
-            + ", not a log: a log is an NPZ, NPY, CSV, FITS or HDF5 file of coefficients"
-        )
-    first = text.split(b"\n", 1)[0].replace(b'"', b"").strip()
-    for columns, what in _RESULT_TABLES:
-        if first.startswith(columns):
-            # forecast.csv was "corrupt CSV file ... could not convert string
-            # 'persistence' to float64" (round 21 PART b, a07, a09)
-            raise LogFormatError(f"'{path}' is {what}, not a log: a log is an NPZ, NPY, "
-                                 "CSV, FITS or HDF5 file of coefficients")
+        if kind:
+            raise _not_a_log(path, kind)
+        raise LogFormatError(f"'{path}' holds JSON (a result or config file?), not a log: "
+                             + _A_LOG)
+    what = result_table(path, head)
+    if what is not None:
+        # forecast.csv was "corrupt CSV file ... could not convert string
+        # 'persistence' to float64" (round 21 PART b, a07, a09)
+        raise _not_a_log(path, what)
     return "csv"
 
 
@@ -247,7 +270,32 @@ def detect_format(path) -> str:
 _RESULT_TABLES = (
     (b"predictor,mode,horizon,", "forecast.csv, the table of `modalinfo forecast --out`"),
     (b"path,analysis,status,", "batch.csv, the result table of `modalinfo batch`"),
+    # sweep.csv was "corrupt CSV file ... could not convert string 'base'" (round 46
+    # PART b, F32, F61)
+    (b"override,seed,predictor,", "sweep.csv, the result table of `closedloop sweep`"),
 )
+
+
+#: The keys of a ``closedloop sweep`` grid file (closedloop.sweep's, named here because
+#: modalinfo never imports closedloop)
+GRID_KEYS = frozenset({"preset", "config", "duration", "seeds", "predictors",
+                        "budget_every", "overrides"})
+
+
+def result_table(path, head: bytes | None = None) -> str | None:
+    """Return which result table a CSV file is (forecast.csv, batch.csv, sweep.csv), or None.
+
+    ``path`` and ``head`` (its first bytes, read when not given) as :func:`sniff_format`'s.
+    """
+    head = _head(path, head)
+    if head is None:
+        return None
+    text = head.lstrip(b"\xef\xbb\xbf \t\r\n")
+    first = text.split(b"\n", 1)[0].replace(b'"', b"").strip()
+    for columns, what in _RESULT_TABLES:
+        if first.startswith(columns):
+            return what
+    return None
 
 
 def describe_json(data) -> str | None:
@@ -266,13 +314,52 @@ def describe_json(data) -> str | None:
         return "forecast.json, the result of `modalinfo forecast --out`"
     if {"analysis", "key", "status"} <= keys:
         return "a result row of `modalinfo batch` (from its rows/ folder)"
+    if {"override", "predictor", "key", "status"} <= keys:  # round 46 PART b, G06, G11
+        return "a result row of `closedloop sweep` (from its rows/ folder)"
     if {"layers", "telescope"} & keys and not keys - {
             "name", "seed", "wavelength", "r0_wavelength", "dms", "telescope", "loop",
             "field", "layers", "wfss"}:
         return "a closedloop config, from `closedloop config`"
+    if keys and keys <= GRID_KEYS:  # round 46 PART b, G04, G05
+        return "a closedloop sweep grid, for `closedloop sweep GRID`"
     if keys and all(isinstance(k, str) and "\n" in k for k in keys):
         return "hashes.json, the file hashes of a `modalinfo batch` folder"
     return None
+
+
+def _toml_kind(path) -> str | None:
+    """Return what a TOML file is, for a refusal (None when unknown or unreadable)."""
+    import tomllib
+
+    try:
+        if Path(path).stat().st_size > 64 * 2**20:
+            return None
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8-sig"))
+    except (OSError, ValueError):
+        return None
+    return describe_json(data)
+
+
+def what_file(path) -> str:
+    """Say what a file is, for a command given another kind of file than it reads.
+
+    ``closedloop info`` / ``export`` given a log, a config or a result table (round 46
+    PART b, F37-F43): the same names as ``detect_format``'s refusals.
+    """
+    try:
+        fmt = detect_format(path)
+    except LogFormatError as exc:
+        return getattr(exc, "what", None) or "not a file modalinfo reads"
+    except OSError as exc:
+        return f"unreadable ({exc.strerror or exc})"
+    seen = sniff_format(path)
+    if seen != fmt and {seen, fmt} != {"fits", "aot"}:  # named by its extension alone
+        return "no format modalinfo reads, by its content (damaged, or another kind)"
+    if fmt == "aot":
+        return ("an AOT file (a run's `closedloop export`?): read its loops with "
+                f"`modalinfo info '{path}' --loop UID`")
+    return (f"{_NAMES[fmt]} file, a telemetry log? (`modalinfo info '{path}'` describes "
+            "it)")
 
 
 def _json_kind(path) -> str | None:
