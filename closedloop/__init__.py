@@ -7,7 +7,7 @@ analysis library reads unchanged. ``modalinfo`` never imports closedloop.
 
 Public surface::
 
-    from closedloop import presets, simulate, SimulationConfig, SimulationResult
+    from closedloop import presets, run_trained, simulate, SimulationConfig, SimulationResult
     config = presets.get("table1")
     result = simulate(config, 1.0, predictor=None, seed=0)
     result = run_trained(config, "arma-aic", 1.0, seed=0)   # train on the no-prediction run
