@@ -231,7 +231,9 @@ class ForecastEvaluation:
         The JSON key and CSV column stay ``p_value`` (the file format :meth:`to_json`
         and :meth:`to_csv` have always written).
     beats_baseline : numpy.ndarray of bool, shape (P, H)
-        ``pvalue < alpha / n_tests`` (Bonferroni), False for the baselines.
+        ``pvalue < alpha / n_tests`` (Bonferroni), ``alpha / n_tests / 5`` when the loss
+        differential's volatility is persistent (module notes; fix46-a), False for the
+        baselines.
     baseline : tuple of str
         Name of the best trivial baseline at each horizon.
     truth : numpy.ndarray, shape (K + max(h), M)
