@@ -133,11 +133,17 @@ def _check_max_frames_leave_enough(args: argparse.Namespace, kept: int, total: i
     if kept >= total or not (isinstance(args.horizon, int) and args.horizon >= 1
                              and isinstance(args.max_lag, int) and args.max_lag >= 1):
         return  # not cut, or a --horizon / --max-lag select_inputs refuses by name
-    least = least_selection_frames(args.horizon, args.max_lag)
+    pairs = least_selection_frames(args.horizon, args.max_lag)
+    # the surrogates' shifts need rows too: advice on the pairs alone was refused next
+    # ("199 circular shifts ... do not fit in 20 rows", review29 M3)
+    surrogates = max(args.surrogates, 0) if isinstance(args.surrogates, int) else 0
+    least = least_selection_frames(args.horizon, args.max_lag, surrogates)
     if kept < least:
+        why = ("20 rows of lagged pairs" if least == pairs else
+               f"rows for --surrogates {surrogates} circular shifts clear of the lags")
         raise CommandError(f"--max-frames {args.max_frames} leaves {kept} of the {total} "
                            f"frames of '{path.name}'; --horizon {args.horizon} and --max-lag "
-                           f"{args.max_lag} need at least {least} (20 rows of lagged pairs): "
+                           f"{args.max_lag} need at least {least} ({why}): "
                            f"give --max-frames {least} or more")
 
 

@@ -582,6 +582,23 @@ def _lattice(n: int, spacing: int, max_lag: int) -> np.ndarray:
     return k[np.minimum(d, n - d) >= 2 * (spacing + max_lag)]
 
 
+def least_surrogate_rows(n_surrogates: int, max_lag: int = 0) -> int:
+    """Fewest rows on which :func:`surrogate_shifts` finds ``n_surrogates`` shifts.
+
+    The admissible multiples of a spacing b are a subset of those of b = 1 (its
+    condition is stricter), so the shifts fit iff ``_lattice(n, 1, max_lag)`` holds
+    ``n_surrogates`` of them; that count does not fall again as n grows (checked for
+    1-999 surrogates and lags 0-30), so every n from the one returned fits too.
+    """
+    if n_surrogates <= 0:
+        return 0
+    n = n_surrogates + 1
+    # at most 4 (max_lag + 1) + 3 residues are excluded: the loop is bounded
+    while _lattice(n, 1, max_lag).size < n_surrogates:
+        n += 1
+    return n
+
+
 def surrogate_shifts(n: int, n_surrogates: int, max_lag: int = 0, spacing: int | None = None,
                      seed: Any = None, *, name: str = "n_surrogates"
                      ) -> tuple[np.ndarray, int]:

@@ -851,12 +851,17 @@ def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
              "or 'ksg')", BiasRuleWarning, stacklevel=3)
 
 
-def least_selection_frames(horizon: int, max_lag: int) -> int:
-    """Fewest frames :func:`select_inputs` takes: ``horizon + max_lag + 19``.
+def least_selection_frames(horizon: int, max_lag: int, n_surrogates: int = 0) -> int:
+    """Fewest frames :func:`select_inputs` takes: ``horizon + max_lag + 19`` at least.
 
-    The lagged pairs (``T - horizon - max_lag + 1`` rows) must number at least 20.
+    The lagged pairs (``T - horizon - max_lag + 1`` rows) must number at least 20, and
+    hold ``n_surrogates`` circular shifts clear of lags up to ``max_lag - 1 + horizon``
+    (:func:`~modalinfo.information.resampling.least_surrogate_rows`; 0: not counted).
     """
-    return horizon + max_lag + 19
+    from modalinfo.information.resampling import least_surrogate_rows
+
+    surrogate_rows = least_surrogate_rows(n_surrogates, max_lag - 1 + horizon)
+    return max(20, surrogate_rows) + horizon + max_lag - 1
 
 
 def select_inputs(

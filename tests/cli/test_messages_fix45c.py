@@ -59,7 +59,9 @@ def test_select_max_frames_refusal_names_the_option(tmp_path, capsys):
     # T74: "the log needs at least 22 frames ...; got 12" of a 400-frame log; by hand
     # horizon 1 + max_lag 2 + 19 = 22 frames (20 rows of lagged pairs)
     log = write_small_log(tmp_path / "log.npz", 400)
-    argv = ["select", log, "--target", "Z2", "--max-lag", "2", "--no-intervals"]
+    argv = ["select", log, "--target", "Z2", "--max-lag", "2", "--no-intervals",
+            "--surrogates", "9", "--alpha", "0.2"]  # 9 shifts fit in 20 rows (the pairs'
+    # rule binds; 199 need 210 rows: tests/cli/test_select_max_frames_surrogates_lead53.py)
     assert exit_code([*argv, "--max-frames", "12"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
