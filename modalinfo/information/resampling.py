@@ -587,16 +587,17 @@ def least_surrogate_rows(n_surrogates: int, max_lag: int = 0) -> int:
 
     The admissible multiples of a spacing b are a subset of those of b = 1 (its
     condition is stricter), so the shifts fit iff ``_lattice(n, 1, max_lag)`` holds
-    ``n_surrogates`` of them; that count does not fall again as n grows (checked for
-    1-999 surrogates and lags 0-30), so every n from the one returned fits too.
+    ``n_surrogates`` of them. With ``c = 2 (1 + max_lag)`` that count is, in closed form
+    (no array: ``--surrogates 1e9`` must not allocate): for odd n, ``2k mod n`` runs over
+    1..n-1 once, ``max(0, n - 2c + 1)`` shifts; for even n, each even residue twice and
+    0 once, ``max(0, n - 2c + 2)``. Neither falls as n grows, so the least n is
+    ``S + 2c - 2`` for even S, ``S + 2c - 1`` for odd S (equal to a search over
+    ``_lattice`` for S = 1-59, 99, 199, 999, 2000 at lags 0-30).
     """
     if n_surrogates <= 0:
         return 0
-    n = n_surrogates + 1
-    # at most 4 (max_lag + 1) + 3 residues are excluded: the loop is bounded
-    while _lattice(n, 1, max_lag).size < n_surrogates:
-        n += 1
-    return n
+    c = 2 * (1 + max_lag)
+    return n_surrogates + 2 * c - 2 + n_surrogates % 2
 
 
 def surrogate_shifts(n: int, n_surrogates: int, max_lag: int = 0, spacing: int | None = None,

@@ -35,3 +35,15 @@ def test_the_advised_count_runs_and_one_fewer_is_refused(tmp_path, capsys):
     capsys.readouterr()
     assert exit_code([*argv, "--max-frames", str(advised - 1)]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_least_surrogate_rows_is_the_search_over_the_lattice():
+    # the closed form against the admissible shifts counted one by one (the lattice of
+    # spacing 1 holds every spacing's: surrogate_shifts refuses iff it is too small)
+    from modalinfo.information.resampling import _lattice, least_surrogate_rows
+
+    for s in (1, 2, 3, 8, 9, 199, 200):
+        for lag in (0, 1, 2, 7):
+            least = least_surrogate_rows(s, lag)
+            assert _lattice(least, 1, lag).size >= s > _lattice(least - 1, 1, lag).size
+    assert least_surrogate_rows(10**12, 3) == 10**12 + 14  # no array of that size
