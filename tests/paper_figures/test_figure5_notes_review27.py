@@ -31,6 +31,8 @@ def test_only_the_declined_skill_test_is_a_note(monkeypatch, capsys, cheap_figur
     def evaluate(*args, **kwargs):
         warn("evaluate: no honest Diebold-Mariano test for the stub", UserWarning,
              stacklevel=2)
+        warn("evaluate: the Diebold-Mariano p-value of 1 predictor-horizon pair(s) may be "
+             "too small: the stub", UserWarning, stacklevel=2)  # stop 53: a note too
         warn("the stub's other warning", RuntimeWarning, stacklevel=2)
         return real(*args, **kwargs)
 
@@ -51,6 +53,8 @@ def test_only_the_declined_skill_test_is_a_note(monkeypatch, capsys, cheap_figur
             fig5.compute(log, quick=True)
     err = capsys.readouterr().err
     assert "Figure 5: evaluate: no honest Diebold-Mariano test for the stub" in err
+    assert "Figure 5: evaluate: the Diebold-Mariano p-value of 1 predictor-horizon" in err
+    assert not [w for w in shown if "may be too small" in str(w.message)]
     assert "the stub's other warning" not in err
     assert [str(w.message) for w in shown
             if w.category is RuntimeWarning] == ["the stub's other warning"]
