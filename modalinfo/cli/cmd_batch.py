@@ -113,8 +113,8 @@ def kl_assumption_note(rows: list[dict]) -> None:
         what = row.get("kl_assumed")
         if row.get("status") == "ok" and isinstance(what, str) and what:
             group = paths.setdefault(what, [])
-            if shown_name(row["path"]) not in group:
-                group.append(shown_name(row["path"]))
+            if (shown := shown_name(row["path"])) not in group:
+                group.append(shown)
     for what, group in paths.items():
         shown = ", ".join(group[:5]) + (", ..." if len(group) > 5 else "")
         sys.stderr.write(f"modalinfo batch: note: {len(group)} log(s) record {what}; "
@@ -131,8 +131,8 @@ def layout_doubt_note(rows: list[dict]) -> None:
     for row in rows:
         doubt = row.get("layout_doubt")
         if row.get("status") == "ok" and isinstance(doubt, str) and doubt:
-            if shown_name(row["path"]) not in paths:
-                paths.append(shown_name(row["path"]))
+            if (shown := shown_name(row["path"])) not in paths:
+                paths.append(shown)
     if paths:
         shown = ", ".join(paths[:5]) + (", ..." if len(paths) > 5 else "")
         sys.stderr.write(f"modalinfo batch: warning: {len(paths)} log(s) were read frames x "

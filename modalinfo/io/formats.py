@@ -353,7 +353,7 @@ def what_file(path) -> str:
     except OSError as exc:
         return f"unreadable ({exc.strerror or exc})"
     seen = sniff_format(path)
-    if seen != fmt and {seen, fmt} != {"fits", "aot"}:  # named by its extension alone
+    if seen != fmt:  # named by its extension alone (a binary content is detect_format's)
         return "no format modalinfo reads, by its content (damaged, or another kind)"
     if fmt == "aot":
         return ("an AOT file (a run's `closedloop export`?): read its loops with "

@@ -55,7 +55,6 @@ _STYLES = {
 }
 
 
-
 def _bound_label(value: float) -> str:
     """``value`` at 3 significant digits, more where those read as a whole number it is not.
 
@@ -67,6 +66,7 @@ def _bound_label(value: float) -> str:
             shown == round(shown)):
         digits += 1
     return format(value, f".{digits}g")
+
 
 class KLGeometryWarning(UserWarning):
     """The theoretical K-L assumed an outer scale or a pupil diameter the log does not record.
