@@ -16,7 +16,13 @@ the report's comparison table. ``python -m paper_figures`` makes them all and wr
 ``report.md`` and ``report.html`` beside them.
 """
 
-__all__ = ["FIGURES"]
+import contextlib
+import contextvars
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+__all__ = ["FIGURES", "program", "run_as", "tell"]
 
 #: (module name, paper figure, short title) in the order the report presents them.
 FIGURES = [
@@ -32,3 +38,44 @@ FIGURES = [
     ("fig_information_flow", "Figure 8",
      "Information flow between modes (transfer entropy; extension, not in the paper)"),
 ]
+
+
+#: the program as typed (:func:`program`), set by :func:`run_as`
+_PROGRAM: contextvars.ContextVar[str | None] = contextvars.ContextVar(
+    "paper_figures_program", default=None)
+
+
+def program() -> str:
+    """Return the program as typed, which starts every line paper_figures writes on stderr.
+
+    Set by run_as (``python -m paper_figures`` and each stand-alone
+    ``python -m paper_figures.figN_...``); outside, the console script ``paper-figures``
+    when typed so, else ``python -m paper_figures``. Its errors named the program typed
+    while its notes and warnings said "paper_figures:" (fixes 47-b; fixes 45-c, c08).
+    """
+    prog = _PROGRAM.get()
+    if prog is not None:
+        return prog
+    return ("paper-figures" if Path(sys.argv[0] or "").name == "paper-figures"
+            else "python -m paper_figures")
+
+
+@contextlib.contextmanager
+def run_as(prog: str) -> Iterator[None]:
+    """Within the block, program is ``prog`` (this context only)."""
+    token = _PROGRAM.set(prog)
+    try:
+        yield
+    finally:
+        _PROGRAM.reset(token)
+
+
+def tell(kind: str | None, text: str) -> None:
+    """Write ``<program>: <kind>: <text>`` (no kind: ``<program>: <text>``) on stderr, one line.
+
+    The one form of paper_figures' notes, warnings and ends (program); a stderr
+    that refuses the line keeps the exit status (``modalinfo.common.cli.say``).
+    """
+    from modalinfo.common.cli import say
+
+    say(f"{program()}: {kind + ': ' if kind else ''}{text}\n")

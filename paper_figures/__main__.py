@@ -49,7 +49,7 @@ import threading
 import time
 from pathlib import Path
 
-from paper_figures import FIGURES
+from paper_figures import FIGURES, run_as, tell
 
 #: the first line of the module docstring, kept for ``python -OO`` (which strips docstrings;
 #: adversarial round 9 PART b, row E20)
@@ -311,7 +311,7 @@ def _load_logs(args, logs, modules) -> dict:
                 raise _RefusedError(f"{label} on {where}: {message}") from None
         loaded[key] = ((log, f"`{path}`"), suffix, desc, outliers)
     for note in notes:
-        sys.stderr.write(f"paper_figures: note: {note}\n")
+        tell("note", note)
     return loaded
 
 
@@ -380,7 +380,8 @@ def main(argv: list[str] | None = None) -> int:
             if signum == signal.SIGTERM or signal.getsignal(signum) is signal.SIG_DFL:
                 previous[signum] = signal.signal(signum, _terminated)
     try:
-        return _run(args)
+        with run_as(prog):
+            return _run(args)
     except _RefusedError as exc:
         say(f"{prog}: error: {exc}\n")
         return EXIT_USAGE
@@ -391,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_FAILURE
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM etc. (_terminated): 130 or 128 + n
         what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
-        say(f"paper_figures: {what}; '{args.out}' is as it was\n")
+        tell(None, f"{what}; '{args.out}' is as it was")
         return exc.code if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
@@ -411,8 +412,9 @@ def _prog() -> str:
     own refusals said "paper_figures: error:" beside argparse's (fixes 45-c, round 44
     PART b c08: one program, two names).
     """
-    return ("paper-figures" if Path(sys.argv[0] or "").name == "paper-figures"
-            else "python -m paper_figures")
+    from paper_figures import program
+
+    return program()
 
 
 class _Terminated(KeyboardInterrupt):
@@ -471,10 +473,9 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     for path, _, _, _ in logs if needs_log else ():
         note = shipped_edit_note(path)
         if note:  # said before the work as well as in the report's head
-            print(f"paper_figures: warning: '{path}': {note}", file=sys.stderr, flush=True)
+            tell("warning", f"'{path}': {note}")
     import matplotlib
 
-    from modalinfo.common.cli import say
     from modalinfo.common.plotting import rc_overrides
     from modalinfo.common.quiet import recording
 
@@ -484,7 +485,7 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     with recording() as caught:
         overrides = rc_overrides()
     for warning in caught:
-        say(f"paper_figures: warning: {warning.message}\n")
+        tell("warning", str(warning.message))
     from modalinfo.common.provenance import provenance
     from paper_figures._common import figure_record
 
@@ -619,11 +620,11 @@ if __name__ == "__main__":
     )
 
     require_current_folder(_prog())  # before the heavy imports
-    one_line_warnings("paper_figures")  # a warning while the package loads: one line
+    one_line_warnings(_prog())  # a warning while the package loads: one line
     try:
         code = main()
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)
-        sys.stderr.write("python -m paper_figures: interrupted\n")
+        sys.stderr.write(f"{_prog()}: interrupted\n")
         code = 130
     except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading numba
         code = memory_refusal(_prog(), exc)

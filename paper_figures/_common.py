@@ -16,11 +16,13 @@ from pathlib import Path
 from modalinfo.common import files, folders
 from modalinfo.common.cli import EXIT_INTERRUPTED, EXIT_USAGE, Parser
 from modalinfo.common.folders import OutputError
+from paper_figures import program, run_as
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main", "figure_record",
            "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
            "prepared_log", "save_png_pdf", "shipped_log", "staged_output", "suffixed",
            "user_log_outliers", "write_figure"]
+
 
 
 def check_out_dir(out: Path, flag: str = "--out") -> Path:
@@ -81,7 +83,7 @@ def _remove_dead_partials(out: Path) -> None:
     """
     prefix = _partial_prefix(out)
     for folder in (out, Path(os.path.abspath(out)).parent):
-        folders.clean_staging(folder, prefix, command="paper_figures")
+        folders.clean_staging(folder, prefix, command=program())
 
 
 @contextlib.contextmanager
@@ -497,6 +499,14 @@ def write_figure(out: Path, names: list[str], overwrite: bool,
         sys.stderr.write(f"{prog}: error: {message}\n")
         return code
 
+    # its notes (staging left, Figure 5's) name the program typed, as its errors do
+    with run_as(prog):
+        return _drawn(out, names, overwrite, draw, fail)
+
+
+def _drawn(out: Path, names: list[str], overwrite: bool, draw: Callable[[Path], str],
+           fail: Callable[..., int]) -> int:
+    """:func:`write_figure`'s work; ``fail(message, code)`` says an error line."""
     try:
         check_out_dir(out)
         with locked_output(out):

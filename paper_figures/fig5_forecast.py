@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.quiet import recording
+from paper_figures import tell
 from paper_figures._common import (
     figure_main,
     outlier_records,
@@ -290,7 +291,7 @@ def compute(log, *, source: str = "a modal log", quick: bool = False,
             recording(message="evaluate: the Diebold-Mariano p-value of") as flagged:
         ev = evaluate(_predictors(), ev_log, train=N_FIT, horizons=HORIZONS)
     for w in [*caught, *flagged]:
-        sys.stderr.write(f"paper_figures: note: Figure 5: {w.message}\n")
+        tell("note", f"Figure 5: {w.message}")
     # spread of the paper's NN over seeds (first mode only)
     paper_gain = []
     pers_rmse = np.sqrt(np.mean((x[N_FIT + 1 :] - x[N_FIT:-1]) ** 2))

@@ -74,8 +74,8 @@ def test_paper_figures_log_says_it_for_figure_1(figs, tmp_path, capsys):  # noqa
     figs.mods["fig1_fitting_error"].SPECS = [("zernike", "standard"), ("kl-theory", "mi_greedy")]
     bare = _log(tmp_path / "bare.npz")
     assert figures_main(["--only", "1", "--log", str(bare), "--out", str(tmp_path / "o")]) == 0
-    assert capsys.readouterr().err == (f"paper_figures: note: 'bare.npz' records {KOLMOGOROV}: "
-                                       "Figure 1\n")
+    assert capsys.readouterr().err == (f"python -m paper_figures: note: 'bare.npz' records "
+                                       f"{KOLMOGOROV}: Figure 1\n")
     rec = _log(tmp_path / "rec.npz", outer_scale=20.0, diameter=0.7)
     assert figures_main(["--only", "1", "--log", str(rec), "--out", str(tmp_path / "p")]) == 0
     assert capsys.readouterr().err == ""

@@ -297,8 +297,8 @@ def test_paper_figures_rc_check_leaves_other_threads_warnings(monkeypatch, tmp_p
                                b_warns, own=("A's font note", UserWarning))
     _all_shown(got_b, b_warns)  # before: printed as paper_figures' own warnings
     err = capsys.readouterr().err
-    assert "paper_figures: warning: A's font note" in err  # A's, said as before
-    assert "paper_figures: warning: B's" not in err
+    assert "python -m paper_figures: warning: A's font note" in err  # A's, said as before
+    assert "python -m paper_figures: warning: B's" not in err
     assert code == 0
 
 

@@ -52,8 +52,8 @@ def test_user_log_with_the_cli_input_hints(tmp_path, capsys):
     # generator's is 20 m; Figure 1's theoretical K-L then assumes an infinite one, said
     # since left24-status as fitting-error says it)
     assert capsys.readouterr().err == (
-        "paper_figures: note: 'mine.csv' records no outer scale: the theoretical K-L assumes "
-        "Kolmogorov turbulence (infinite outer scale): Figure 1\n")
+        "python -m paper_figures: note: 'mine.csv' records no outer scale: the theoretical K-L "
+        "assumes Kolmogorov turbulence (infinite outer scale): Figure 1\n")
     report = (tmp_path / "o" / "report.md").read_text()
     # named with its SHA-256 (left27-geometry; reference: hashlib of the file's bytes)
     sha = hashlib.sha256((tmp_path / "mine.csv").read_bytes()).hexdigest()
@@ -112,5 +112,5 @@ def test_hangup_and_usr1_clean_up_as_sigterm(monkeypatch, capsys, tmp_path, sign
     before = signal.getsignal(signum)
     out = tmp_path / "o"
     assert pf.main(["--out", str(out)]) == code
-    assert capsys.readouterr().err == f"paper_figures: terminated; '{out}' is as it was\n"
+    assert capsys.readouterr().err == f"python -m paper_figures: terminated; '{out}' is as it was\n"
     assert signal.getsignal(signum) is before

@@ -358,9 +358,10 @@ def test_the_partial_folder_of_a_killed_run_is_removed_by_the_next(tmp_path, cap
     (out / "notes.txt").write_text("mine")
     assert main(["--only", "2", "--out", str(out)]) == 0
     said = [line for line in capsys.readouterr().err.splitlines() if "staging" in line]
-    assert said[0] == (f"paper_figures: removed 1 staging item(s) of runs that ended without "
-                       f"cleaning up (killed) in '{out}': {stage}")
-    assert said[1].startswith(f"paper_figures: note: 1 staging item(s) in '{out}' were left by")
+    assert said[0] == (f"python -m paper_figures: removed 1 staging item(s) of runs that ended "
+                       f"without cleaning up (killed) in '{out}': {stage}")
+    assert said[1].startswith(f"python -m paper_figures: note: 1 staging item(s) in '{out}' "
+                              "were left by")
     assert said[1].endswith(f"remove them: rm -r '{unnamed}'") and len(said) == 2
     assert not (out / stage).exists() and live.is_dir() and unnamed.is_dir()
     assert (out / "notes.txt").read_text() == "mine"

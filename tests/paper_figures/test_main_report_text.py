@@ -391,7 +391,7 @@ def test_a_flagged_user_log_gets_one_note_without_the_cli_prefix(figs, tmp_path,
     assert main(["--only", "1", "--log", str(log), "--out", str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err
     assert err.count("\n") == 1
-    assert err.startswith("paper_figures: note: 'out.npz': 1 of 300 frames flagged: ")
+    assert err.startswith("python -m paper_figures: note: 'out.npz': 1 of 300 frames flagged: ")
     assert err.endswith("; used as is (--outliers clip replaces the outliers, drop removes "
                         "the frames, raise refuses the log)\n")
     # dropping frames would break the time axis, so drop is refused, naming the analysis
@@ -419,8 +419,8 @@ def test_a_gapped_user_log_is_refused_for_figures_1_and_5_or_split(figs, tmp_pat
                         "analyse the longest contiguous segment (frames 0..149)\n")
     assert main(["--only", "1", "--log", str(log), "--split-gaps",
                  "--out", str(tmp_path / "o")]) == 0
-    assert capsys.readouterr().err == ("paper_figures: note: --split-gaps: analysed frames "
-                                       "0..149 (150 of 300), the longest of 2 contiguous "
+    assert capsys.readouterr().err == ("python -m paper_figures: note: --split-gaps: analysed "
+                                       "frames 0..149 (150 of 300), the longest of 2 contiguous "
                                        "segments\n")
     assert figs.mods["fig1_fitting_error"].calls[-2] == ("check", 150)
 

@@ -71,7 +71,8 @@ def test_sigterm_interrupts_like_ctrl_c_and_the_callers_handler_comes_back(
         out = tmp_path / "o"
         assert main(["--out", str(out)]) == 143  # 128 + SIGTERM (adversarial round 4, x18)
         assert seen == [pf._terminated]
-        assert capsys.readouterr().err == f"paper_figures: terminated; '{out}' is as it was\n"
+        assert capsys.readouterr().err == (f"python -m paper_figures: terminated; '{out}' is as "
+                                           "it was\n")
         assert signal.getsignal(signal.SIGTERM) is mine
     finally:
         signal.signal(signal.SIGTERM, previous)
@@ -88,7 +89,8 @@ def test_ctrl_c_while_making_is_interrupted_and_exit_130(monkeypatch, capsys, tm
     monkeypatch.setattr(pf, "_run", run)
     out = tmp_path / "o"
     assert main(["--out", str(out)]) == 130
-    assert capsys.readouterr().err == f"paper_figures: interrupted; '{out}' is as it was\n"
+    assert capsys.readouterr().err == (f"python -m paper_figures: interrupted; '{out}' is as "
+                                       "it was\n")
 
 
 def test_main_from_another_thread_sets_no_handler(monkeypatch, tmp_path):
