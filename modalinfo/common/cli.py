@@ -33,6 +33,7 @@ from modalinfo.common.files import (
     SHOWN_ERRORS,
     OutputGoneError,
     check_not_special,
+    files_written,
     shown_errors,
     writable_free_bytes,
 )
@@ -436,6 +437,7 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
     # are (Python's default adds the source path and a second line of code)
     previous_format = warnings.formatwarning
     warnings.formatwarning = one_line_format(f"{prog} {args.command}")
+    written = files_written()  # a refused stdout names the files only if any were written
     try:
         code = int(args._run(args) or 0)
         for note in getattr(args, "_notes", None) or ():
@@ -446,10 +448,10 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
         discard_stdout()
         return EXIT_OK
     except StdoutRefusedError as exc:
-        why = (f": {exc.strerror};" if isinstance(exc, StdoutEncodingError)
-               else f" ({exc.strerror});")
-        say(f"{prog} {args.command}: error: could not write standard output{why} the files "
-            "written before it are complete\n")
+        why = (f": {exc.strerror}" if isinstance(exc, StdoutEncodingError)
+               else f" ({exc.strerror})")
+        kept = "; the files written before it are complete" if files_written() > written else ""
+        say(f"{prog} {args.command}: error: could not write standard output{why}{kept}\n")
         return EXIT_FAILURE
     except OutputGoneError as exc:  # a failure during the run, not an input error
         say(f"{prog} {args.command}: error: {exc.strerror}\n")

@@ -58,7 +58,10 @@ def test_stdout_that_cannot_encode_is_a_failure_after_the_files(tmp_path, monkey
     written = tmp_path / "out.bin"
 
     def run(args):
-        written.write_bytes(b"complete")
+        from modalinfo.common.files import atomic_write
+
+        # the commands' one writer (fixes 47-b: the line names files only if one was written)
+        atomic_write(written, lambda fh: fh.write(b"complete"), overwrite=False)
         sys.stdout.write("wrote out.bin\n")
         sys.stdout.write(f"modes {LABEL}\n")
         return 0
