@@ -161,12 +161,15 @@ def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
     """Refuse, before any work, MI orderings whose least CPU time exceeds an hour.
 
     On ``n = min(--budget, frames x pupil pixels)`` samples per estimate
-    (:func:`modalinfo.ordering.cost.least_ordering_seconds`: a lower bound).
+    (:func:`modalinfo.ordering.cost.least_ordering_seconds`: a lower bound, said so in
+    the note as in the library's, :func:`~modalinfo.ordering.cost.seconds_text`; the note
+    said "is estimated at N s of CPU", read as a forecast: fixes 47-b).
     """
     from modalinfo.ordering.cost import (
         MAX_ORDERING_SECONDS,
         NOTE_ORDERING_SECONDS,
         least_ordering_seconds,
+        seconds_text,
     )
 
     if n_orderings < 1 or args.budget < 10 or args.pupil_pixels < 4:
@@ -211,7 +214,7 @@ def check_mi_time(args: argparse.Namespace, log, n_orderings: int = 1) -> None:
             f"modalinfo {getattr(args, 'command', 'reorder')}: note: --estimator "
             f"{args.estimator} with --budget "
             f"{args.budget}{stab} ({n} samples per MI estimate, at least {calls} estimates "
-            f"for {log.n_modes} modes) is estimated at {seconds:.0f} s of CPU; "
+            f"for {log.n_modes} modes) {seconds_text(seconds)}; "
             f"{_shorten(args)}\n")
         sys.stderr.flush()
     if seconds > MAX_ORDERING_SECONDS:
