@@ -79,18 +79,19 @@ estimates per screened step, where one was counted (a 40-mode screened ordering 
 variances 1.3x apart makes exactly the 221 counted now, 198 before); 200 and 1000
 modes made 3.3-4.6 a step on the grid's logs, which the bound cannot count. (2) The
 estimators' per-sample terms, raised to what the module's measurements above still
-allow (every one of them stays above the bound: histogram ``4e-6 / sqrt(n)``, was
-``3.3e-6``; gaussian 1.2e-7, was 1e-7; kde 3 ms + 300 ns n, was 2.5 ms + 150 ns n).
+allow (every one of them stays above the bound: histogram ``max(1.2e-8, 4e-6 /
+sqrt(n))``, was ``max(1e-8, 3.3e-6 / sqrt(n))``: a sort-based estimate costs no less a
+sample at 2e5 than at 1e5; gaussian 1.2e-7, was 1e-7; kde 3 ms + 300 ns n, was 2.5 ms + 150 ns n).
 (3) Not counted, as the bound must hold on a quiet machine: one score of 1,000
 samples took 1.1-1.3 ms at load 7-8 (histogram, gaussian), where the same work
 measured 0.6 ms at load 3-4 (the notes above); the gather 3.1-5.3 ns per entry up to
 200 modes, 14-18 ns at 1000 modes x 1e5-2e5 (load 10), 1.9 ns at load 4. The measured
-CPU is now 1.2-4.6x the estimate on the 55 cells run (1.4-7.6x before): within 2x
-on 18 of them, 3.2-4.6x for the greedy at 200-1000 modes (its 3.3-4.6 estimates a
+CPU is now 1.1-4.6x the estimate on the 65 cells run (1.4-7.6x before): within 2x
+on 22 of them (13 before), 3.2-4.6x for the greedy at 200-1000 modes (its 3.3-4.6 estimates a
 step) and at 200,000 samples x 200-1000 modes (load 9-10). The estimate stays a lower
 bound and says so ("or more (a lower bound)", :func:`seconds_text`), as does
 ``reorder``'s note since fixes 47-b; 2.4x the bound would be within 2x of every cell
-(0.50-1.93), an "about" estimate that is no longer a bound.
+(0.48-1.92), an "about" estimate that is no longer a bound.
 
 **Before the work.** :func:`~modalinfo.ordering.order_modes` checks
 :func:`least_ordering_seconds` before any estimate, as ``reorder`` and ``batch`` do: it
@@ -142,7 +143,7 @@ MI_SECONDS_PER_SAMPLE = {
     "ksg": lambda n: ksg_seconds_per_sample(n, 2, least=True),
     "kde": lambda n: 3e-7,
     "gaussian": lambda n: 1.2e-7,
-    "histogram": lambda n: max(1e-8, 4e-6 / math.sqrt(max(n, 1))),
+    "histogram": lambda n: max(1.2e-8, 4e-6 / math.sqrt(max(n, 1))),
 }
 #: CPU seconds of one MI estimate whatever its size, a lower bound (module notes)
 MI_SECONDS_PER_CALL = {"ksg": 1.5e-4, "kde": 3e-3, "gaussian": 1e-4, "histogram": 4e-5}
@@ -294,7 +295,7 @@ def seconds_text(seconds: float) -> str:
     :func:`least_ordering_seconds` is a lower bound; printed as "estimated at 8 s of CPU"
     it read as a forecast, where a 1000-mode ``mi_marginal`` ordering of 200,000 samples
     per estimate took 42.7 s (5.3x; 3.8x at 200 modes once compiled; adversarial round
-    46 PART a, A03a / A03c, at load 9). Since fixes 47-b the bound is 1.2-4.6x below the
+    46 PART a, A03a / A03c, at load 9). Since fixes 47-b the bound is 1.1-4.6x below the
     CPU measured on the module notes' grid. The command line's notes say it in the same
     words.
     """
