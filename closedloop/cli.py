@@ -34,6 +34,7 @@ from modalinfo.common.cli import (
     folder_arg,
     written_summary,
 )
+from modalinfo.common.files import quoted
 from modalinfo.common.quiet import recording
 from modalinfo.common.text import pad
 
@@ -133,7 +134,7 @@ def _check_writable(path: Path | None, need_bytes: float, flag: str) -> None:
     from modalinfo.common.folders import OutputError, check_room
 
     try:
-        check_room(Path(path).parent, need_bytes, f"{flag} '{path}'")
+        check_room(Path(path).parent, need_bytes, f"{flag} {quoted(path)}")
     except OutputError as exc:
         raise CommandError(str(exc)) from None
 
@@ -395,7 +396,7 @@ def _cmd_export(args) -> int:
     out = args.out
     check_output(out, args.overwrite, suffixes=(".fits", ".fit", ".fts"), flag="OUT (AOT FITS)")
     if not args.result.is_file():
-        raise CommandError(f"RESULT '{args.result}' does not exist or is not a file")
+        raise CommandError(f"RESULT {quoted(args.result)} does not exist or is not a file")
     # the folder must take a file at all before the result is read; its size (mostly the
     # mirrors' mode images, not the result's: 9.1 GB from a small result for
     # est-mcao-solar) is checked once the result says it (issue 27, left12-export)
@@ -486,7 +487,7 @@ def _cmd_sweep(args) -> int:
     check_cluster_args(args)
     grid = load_grid(args.grid)
     if args.out.exists() and not args.out.is_dir():
-        raise CommandError(f"--out '{args.out}' exists and is not a directory")
+        raise CommandError(f"--out {quoted(args.out)} exists and is not a directory")
     try:
         rows, report = sweep(grid, args.out, scheduler=args.scheduler,
                              n_workers=args.workers,

@@ -32,6 +32,7 @@ from modalinfo.cli.shared import (
     queue_notes,
     wavelength_arg,
 )
+from modalinfo.common.files import quoted
 
 NAME = "convert"
 
@@ -92,8 +93,8 @@ def run(args: argparse.Namespace) -> int:
         # mirrors) by one loop's plain FITS without a word (round 44 PART b, d22); asked
         # before "exists; pass --overwrite", whose advice led to this refusal
         raise CommandError(
-            f"OUT '{args.output}' is the input file IN ('{args.input}'); convert writes "
-            "one log of it, and what IN holds besides (other loops or datasets, the "
+            f"OUT {quoted(args.output)} is the input file IN ({quoted(args.input)}); convert "
+            "writes one log of it, and what IN holds besides (other loops or datasets, the "
             "system of an AOT file) would be lost: write to another name")
     fmt = check_log_output(Path(args.output), args.overwrite, args.to_fmt)  # before reading
     big = source.is_file() and source.stat().st_size >= _PROGRESS_MIN_BYTES
@@ -111,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
             and args.units != log.units
         ):
             raise CommandError(
-                f"--units {args.units}: '{args.input}' does not record the units of its "
+                f"--units {args.units}: {quoted(args.input)} does not record the units of its "
                 "coefficients; give them with --in-units (rad, nm, um or waves)"
             )
         queue_notes(args, input_notes(log, Path(args.input)))  # a warning: even with --quiet

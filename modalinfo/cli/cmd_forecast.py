@@ -32,6 +32,7 @@ from modalinfo.cli.shared import (
     split_gaps,
 )
 from modalinfo.common.cli import folder_arg
+from modalinfo.common.files import quoted
 
 NAME = "forecast"
 HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
@@ -198,7 +199,7 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
     if gather is not None:  # the selected columns will be read into memory, whole
         log_part = LOG_COPIES * 8 * n_frames * n_modes
         what = (f"--modes {args.modes} ({n_modes} of the {log.n_modes} columns of the "
-                f"memory-mapped '{args.log.name}', gathered into memory: {n_frames} frames, "
+                f"memory-mapped {quoted(args.log.name)}, gathered into memory: {n_frames} frames, "
                 f"{LOG_COPIES} float64 copies) and {what}")
         fix = ("select fewer modes, or a consecutive range of them (kept memory-mapped), "
                "or use a smaller --horizon")
@@ -206,7 +207,7 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
         # frames are held whole, as TRAIN_COPIES float64 copies (the predictors' fits)
         n_held = min(n_train, n_frames)
         log_part = TRAIN_COPIES * 8 * n_held * n_modes
-        what = (f"'{args.log.name}' ({n_frames} frames x {n_modes} modes, memory-mapped): "
+        what = (f"{quoted(args.log.name)} ({n_frames} frames x {n_modes} modes, memory-mapped): "
                 f"{what} with --train {args.train} ({n_held} training frames held whole)")
         fix = "use a smaller --horizon or --train (a number of frames), or fewer modes"
     else:
@@ -226,11 +227,11 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
         try:
             free = writable_free_bytes(folder)
         except OSError as exc:
-            raise CommandError(f"--out '{args.out}': cannot write in '{folder}' "
+            raise CommandError(f"--out {quoted(args.out)}: cannot write in {quoted(folder)} "
                                f"({exc.strerror or exc})") from None
         if size > free:
-            raise CommandError(f"--out '{args.out}': the outputs need up to "
-                               f"{format_size(size)} and '{folder}' has {format_size(free)} "
+            raise CommandError(f"--out {quoted(args.out)}: the outputs need up to "
+                               f"{format_size(size)} and {quoted(folder)} has {format_size(free)} "
                                "free")
 
 
@@ -275,8 +276,8 @@ def _refuse_non_files(out: Path) -> None:
         path = out / name
         if (path.exists() or path.is_symlink()) and not path.is_file():
             kind = "a folder" if path.is_dir() else "not a regular file"
-            raise CommandError(f"--out '{out}': '{path}' is {kind}; the command writes a "
-                               "file of that name (move it away)")
+            raise CommandError(f"--out {quoted(out)}: {quoted(path)} is {kind}; the command "
+                               "writes a file of that name (move it away)")
 
 
 def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None,
@@ -326,7 +327,8 @@ def write_outputs(ev, out: Path, overwrite: bool, provenance: dict | None = None
             _refuse_non_files(out)
             clash = [n for n in OUTPUTS if (out / n).exists()]
             if clash and not overwrite:
-                raise CommandError(f"'{out / clash[0]}' exists; pass --overwrite to replace it")
+                raise CommandError(f"{quoted(out / clash[0])} exists; pass --overwrite to "
+                                   "replace it")
             for name in clash:
                 kept[name] = staging / f"{name}.old"
                 os.replace(out / name, kept[name])
@@ -367,22 +369,22 @@ def run(args: argparse.Namespace) -> int:
     train = _parse_train(args.train)
     if args.out is not None:
         if args.out.is_symlink() and not args.out.exists():  # dangling or a loop
-            raise CommandError(f"--out '{args.out}' is a symbolic link to nothing (a loop or "
+            raise CommandError(f"--out {quoted(args.out)} is a symbolic link to nothing (a loop or "
                                "a missing target); give a folder")
         if args.out.exists() and not args.out.is_dir():
-            raise CommandError(f"--out '{args.out}' exists and is not a directory")
+            raise CommandError(f"--out {quoted(args.out)} exists and is not a directory")
         if not args.out.exists() and args.out.suffix.lower() in (".json", ".csv", ".png"):
-            raise CommandError(f"--out '{args.out}' names a file; --out takes a directory "
+            raise CommandError(f"--out {quoted(args.out)} names a file; --out takes a directory "
                                f"(it receives {', '.join(OUTPUTS)})")
         _refuse_non_files(args.out)
         clash = [n for n in OUTPUTS if (args.out / n).exists()]
         if clash and not args.overwrite:
-            raise CommandError(f"'{args.out / clash[0]}' exists; pass --overwrite to "
+            raise CommandError(f"{quoted(args.out / clash[0])} exists; pass --overwrite to "
                                "replace it")
     # mapped where the format allows (NPY, NPZ, HDF5): evaluate reads it chunk by chunk
     log = load_log_with_hints(args.log, args, mmap=True)
     if not _mapped(log):  # read whole (CSV, FITS, compressed NPZ): it must fit
-        check_memory(LOG_COPIES * log_bytes(log), f"'{args.log.name}' ({log.n_frames} "
+        check_memory(LOG_COPIES * log_bytes(log), f"{quoted(args.log.name)} ({log.n_frames} "
                      f"frames x {log.n_modes} modes, {LOG_COPIES} float64 copies)",
                      "analyse fewer frames or modes (e.g. convert a part of the log)")
     log = split_gaps(log, args, args.log, "forecasting")

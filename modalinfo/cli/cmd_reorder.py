@@ -40,6 +40,7 @@ from modalinfo.cli.shared import (
     split_gaps,
 )
 from modalinfo.common.cli import check_output
+from modalinfo.common.files import quoted
 from modalinfo.common.quiet import quiet
 
 NAME = "reorder"
@@ -153,7 +154,7 @@ def kl_geometry_note(args: argparse.Namespace, log) -> None:
     if what is None:
         return
     command = getattr(args, "command", "reorder")
-    sys.stderr.write(f"modalinfo {command}: note: '{args.log}' records {what}\n")
+    sys.stderr.write(f"modalinfo {command}: note: {quoted(args.log)} records {what}\n")
     sys.stderr.flush()
 
 
@@ -264,7 +265,7 @@ def load_analysed_log(args: argparse.Namespace, mi: bool, zernike: bool = False)
     copies = LOG_COPIES + (KL_CONVERSION_COPIES if getattr(args, "basis", None)
                            in ("kl-theory", "kl-data") else 0)
     need = copies * log_bytes(log)
-    what = (f"'{args.log.name}' ({log.n_frames} frames x {log.n_modes} modes, "
+    what = (f"{quoted(args.log.name)} ({log.n_frames} frames x {log.n_modes} modes, "
             f"{copies} float64 copies)")
     check_memory(need, what, "use a smaller --max-frames")
     if mi:
@@ -319,10 +320,11 @@ def file_basis(args: argparse.Namespace, log):
     from modalinfo.io.aot import read_aot_basis
 
     if detect_format(args.log) != "aot":
-        raise CommandError(f"basis 'file' needs an AOT file with modes; '{args.log}' is not AOT")
+        raise CommandError(f"basis 'file' needs an AOT file with modes; {quoted(args.log)} "
+                           "is not AOT")
     basis, _ = read_aot_basis(args.log, loop=args.loop or log.metadata.get("loop_uid"))
     if basis.n_modes != log.n_modes:
-        raise CommandError(f"'{args.log}': the loop's {basis.n_modes} modes do not match the "
+        raise CommandError(f"{quoted(args.log)}: the loop's {basis.n_modes} modes do not match the "
                            f"log's {log.n_modes} columns")
     return basis
 

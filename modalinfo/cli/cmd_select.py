@@ -41,6 +41,7 @@ from modalinfo.cli.shared import (
     refuse_outlier_drop,
     split_gaps,
 )
+from modalinfo.common.files import quoted
 from modalinfo.telemetry.checks import find_label
 
 NAME = "select"
@@ -115,7 +116,7 @@ def _load(args: argparse.Namespace, path: Path):
     # The refusal advised "--max-frames or convert that part", which cannot reach a
     # segment in the middle of the log (round 33 PART b, B26)
     log = split_gaps(log, args, path, "input selection (its lagged pairs)")
-    check_memory(LOG_COPIES * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
+    check_memory(LOG_COPIES * log_bytes(log), f"{quoted(path.name)} ({log.n_frames} frames x "
                  f"{log.n_modes} modes, {LOG_COPIES} float64 copies)",
                  "use --max-frames N (the first N frames)")
     return log
@@ -142,7 +143,7 @@ def _check_max_frames_leave_enough(args: argparse.Namespace, kept: int, total: i
         why = ("20 rows of lagged pairs" if least == pairs else
                f"rows for --surrogates {surrogates} circular shifts clear of the lags")
         raise CommandError(f"--max-frames {args.max_frames} leaves {kept} of the {total} "
-                           f"frames of '{path.name}'; --horizon {args.horizon} and --max-lag "
+                           f"frames of {quoted(path.name)}; --horizon {args.horizon} and --max-lag "
                            f"{args.max_lag} need at least {least} ({why}): "
                            f"give --max-frames {least} or more")
 
@@ -203,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
 
         if os.path.exists(args.extra) and os.path.exists(args.log) and os.path.samefile(
                 args.extra, args.log):
-            raise CommandError(f"--extra '{args.extra}' is LOG itself: its modes are "
+            raise CommandError(f"--extra {quoted(args.extra)} is LOG itself: its modes are "
                                "candidates already")
         extra = _load(args, args.extra)
         # LOG (analysed) stays in memory while --extra's pass runs

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from modalinfo.bases.indexing import parse_modes
 from modalinfo.common.cli import CommandError, check_output
+from modalinfo.common.files import quoted
 from modalinfo.common.sizes import log_bytes
 from modalinfo.common.validation import RATE_RANGE, RATE_RULE, log_rate_problem
 from modalinfo.telemetry.units import WAVELENGTH_RANGE, WAVELENGTH_RULE, check_wavelength
@@ -270,13 +271,13 @@ def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bo
                                                progress=advance)
     except ValueError as exc:
         text = str(exc).replace("`policy`='raise': ", "").rstrip(".")
-        raise CommandError(f"--outliers {policy}: '{Path(path).name}': {text}") from None
+        raise CommandError(f"--outliers {policy}: {quoted(Path(path).name)}: {text}") from None
     if not report.clean:
         queued = getattr(args, "_notes", None)
         if queued is None:
             queued = []
             args._notes = queued
-        queued.append(f"modalinfo {args.command}: warning: '{Path(path).name}': "
+        queued.append(f"modalinfo {args.command}: warning: {quoted(Path(path).name)}: "
                       f"{describe_outliers(new, report, policy)}")
     return new, report
 
@@ -350,19 +351,19 @@ def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "
     if fmt is not None and implied is not None and implied != fmt.replace("aot", "fits"):
         # NPZ bytes under a .csv name mislead every other tool (an AOT file is FITS)
         raise CommandError(
-            f"--to-fmt {fmt} contradicts {flag} '{path}' (its extension "
+            f"--to-fmt {fmt} contradicts {flag} {quoted(path)} (its extension "
             f"'{path.suffix}' means {implied}); drop --to-fmt or rename {flag}")
     if fmt is None:
         fmt = implied
         if fmt is None and path.suffix.lower() == ".npy":
             # "cannot tell the format" of a known, read-only one misled (round 18 PART b D29)
             raise CommandError(
-                f"{flag} '{path}': NPY is read-only here (it holds the array but not the "
+                f"{flag} {quoted(path)}: NPY is read-only here (it holds the array but not the "
                 "rate, modes, units and metadata of a log); write .npz, NumPy's archive, "
                 "instead")
         if fmt is None:
             raise CommandError(
-                f"{flag} '{path}': cannot tell the log format from the extension "
+                f"{flag} {quoted(path)}: cannot tell the log format from the extension "
                 f"'{path.suffix or '(none)'}'; use {', '.join(LOG_SUFFIXES)} or pass "
                 "--to-fmt (npz, csv, fits, hdf5, aot)")
     check_output(path, overwrite, flag=flag)
@@ -438,7 +439,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     try:  # a FIFO was "does not exist"; a folder is named by check_readable
         check_readable(path)
     except FileNotFoundError:
-        raise CommandError(f"log file '{path}' does not exist") from None
+        raise CommandError(f"log file {quoted(path)} does not exist") from None
     except OSError as exc:
         raise CommandError(str(exc)) from None
     if args is None:
@@ -452,7 +453,7 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     log = load(path, mmap=mmap, **options)
     check_log_rate(log, path)
     if copies:
-        check_memory(copies * log_bytes(log), f"'{path.name}' ({log.n_frames} frames x "
+        check_memory(copies * log_bytes(log), f"{quoted(path.name)} ({log.n_frames} frames x "
                      f"{log.n_modes} modes, {copies} float64 copies)",
                      "analyse fewer frames or modes (e.g. convert a part of the log)")
     if announce:
@@ -466,7 +467,7 @@ def check_log_rate(log, path: Path) -> None:
     A ``time`` column of Unix nanoseconds read as seconds gave 2e-6 Hz, analysed
     without a word while ``--rate 2e-6`` itself is refused.
     """
-    problem = log_rate_problem(log.rate, log.timestamps is not None, f"'{Path(path).name}'")
+    problem = log_rate_problem(log.rate, log.timestamps is not None, f"{quoted(Path(path).name)}")
     if problem:
         raise CommandError(problem)
 
@@ -485,7 +486,7 @@ def _check_log_fits(path: Path, options: dict, copies: int) -> None:
         return
     # a small log is read, not mapped (a mapped file truncated meanwhile is a SIGBUS)
     probe = load(path, mmap=mapping_pays(path), verify=False, **options)
-    check_memory(copies * log_bytes(probe), f"'{path.name}' ({probe.n_frames} frames x "
+    check_memory(copies * log_bytes(probe), f"{quoted(path.name)} ({probe.n_frames} frames x "
                  f"{probe.n_modes} modes, {copies} float64 copies)",
                  "analyse fewer frames or modes (e.g. convert a part of the log)")
     del probe
@@ -524,18 +525,18 @@ def input_notes(log, path: Path) -> list[str]:
     keys, what = assumed_fields(meta)
     if keys:
         flags = ", ".join(_HINT_OF[k] for k in keys)
-        notes.append(f"'{path.name}' does not record its {', '.join(keys)}: assumed {what} "
+        notes.append(f"{quoted(path.name)} does not record its {', '.join(keys)}: assumed {what} "
                      f"(state them with {flags})")
     if isinstance(meta.get("framerate_note"), str) and log.timestamps is not None:
-        notes.append(f"'{path.name}': {meta['framerate_note']}")  # an AOT file's own clash
+        notes.append(f"{quoted(path.name)}: {meta['framerate_note']}")  # an AOT file's own clash
     if (isinstance(meta.get("rate_field"), str) and log.timestamps is not None
             and meta.get("source_file") == path.name):  # the file read, not a copy of it
-        notes.append(f"'{path.name}': {meta['rate_field']}")
+        notes.append(f"{quoted(path.name)}: {meta['rate_field']}")
     if isinstance(meta.get("source_hdu"), str):  # a foreign FITS with several images
-        notes.append(f"'{path.name}': read {meta['source_hdu']}")
+        notes.append(f"{quoted(path.name)}: read {meta['source_hdu']}")
     layout = meta.get("layout")
     if isinstance(layout, dict) and "hint" not in str(layout.get("transposed", "hint")):
-        notes.append(f"'{path.name}' is stored modes x frames and was read transposed "
+        notes.append(f"{quoted(path.name)} is stored modes x frames and was read transposed "
                      f"({layout['transposed']})")
     return notes
 
@@ -561,7 +562,7 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, verb: st
         # without a rate the dropped frames leave no gap to see: their neighbours were
         # analysed as consecutive (adversarial round 9 PART b, row N40)
         raise CommandError(
-            f"'{path}': --nonfinite drop removed frames ({dropped[0].split(': ', 1)[-1]}) "
+            f"{quoted(path)}: --nonfinite drop removed frames ({dropped[0].split(': ', 1)[-1]}) "
             f"from a log without a time axis; {purpose} would take the frames around them "
             "as consecutive: give --rate (the removed frames then show as gaps) or use "
             "--nonfinite interpolate"
@@ -572,7 +573,7 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, verb: st
     a, b = s.longest_segment
     if not getattr(args, "split_gaps", False):
         raise CommandError(
-            f"'{path}' has "
+            f"{quoted(path)} has "
             + (f"{s.n_gaps} timestamp gap(s), the first of {s.describe_gap(0)}"
                if s.n_short == 0 else f"in its timestamps {s.describe_irregular()}")
             + "; "
@@ -655,7 +656,7 @@ def check_quality_memory(args: argparse.Namespace, log, path: Path,
 
     held = in_memory_bytes(log) if resident is None else resident
     check_memory(quality_need(log, args, held),
-                 f"'{Path(path).name}' ({log.n_frames} frames x {log.n_modes} modes): the "
+                 f"{quoted(Path(path).name)} ({log.n_frames} frames x {log.n_modes} modes): the "
                  f"log-quality pass (--outliers {getattr(args, 'outliers', 'warn')})",
                  "analyse fewer frames or modes (e.g. --max-frames, or convert a part of "
                  "the log)")

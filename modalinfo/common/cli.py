@@ -34,6 +34,7 @@ from modalinfo.common.files import (
     OutputGoneError,
     check_not_special,
     files_written,
+    quoted,
     shown_errors,
     writable_free_bytes,
 )
@@ -499,7 +500,7 @@ def _file_too_large(exc: OSError, message: str) -> str:
     """
     from modalinfo.common.files import file_size_limit_text
 
-    name = f" writing '{exc.filename}'" if exc.filename and str(exc.filename) not in message \
+    name = f" writing {quoted(exc.filename)}" if exc.filename and str(exc.filename) not in message \
         else ""
     limit = file_size_limit_text() or "a file-size limit"
     return f"{message}{name}: {limit}; raise it (ulimit -f) or write a smaller output"
@@ -608,22 +609,22 @@ def check_output(
         return
     path = Path(path)
     if suffixes is not None and path.suffix.lower() not in suffixes:
-        raise CommandError(f"{flag} '{path}': unsupported extension "
+        raise CommandError(f"{flag} {quoted(path)}: unsupported extension "
                            f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
     if path.is_dir():
-        raise CommandError(f"{flag} '{path}' is a directory; give a file name")
+        raise CommandError(f"{flag} {quoted(path)} is a directory; give a file name")
     try:
         check_not_special(path)
     except OSError as exc:
         raise CommandError(f"{flag} {exc}") from None
     if not path.parent.exists():
-        raise CommandError(f"{flag} '{path}': directory '{path.parent}' does not exist")
+        raise CommandError(f"{flag} {quoted(path)}: directory {quoted(path.parent)} does not exist")
     if path.exists() and not overwrite:
-        raise CommandError(f"{flag} '{path}' exists; pass --overwrite to replace it")
+        raise CommandError(f"{flag} {quoted(path)} exists; pass --overwrite to replace it")
     try:  # a real test write: '/proc/x.png' failed only at the end, naming a temporary file
         writable_free_bytes(path.parent)
     except OSError as exc:
-        raise CommandError(f"{flag} '{path}': cannot write in '{path.parent}' "
+        raise CommandError(f"{flag} {quoted(path)}: cannot write in {quoted(path.parent)} "
                            f"({exc.strerror or exc})") from None
 
 

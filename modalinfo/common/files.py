@@ -37,6 +37,7 @@ __all__ = [
     "naming_target",
     "shown_errors",
     "files_written",
+    "quoted",
     "shown_name",
     "signals_end_the_save",
     "terminating_signals",
@@ -121,6 +122,19 @@ def shown_name(text: str | os.PathLike) -> str:
     return text
 
 
+def quoted(path: str | os.PathLike) -> str:
+    r"""Return ``'<shown_name(path)>'``: how a refusal, warning or note names a user's path.
+
+    Every command's one-line messages quote a path through this one rule, so a literal
+    backslash reads ``\\`` and an undecodable byte ``\xNN`` as in batch's table and
+    ``ls -b`` (fixes 47-b: ``info 'a\xe9.npz'`` and ``info a<0xE9>.npz`` read alike on
+    stderr; only batch applied :func:`shown_name` to whole paths, fixes 45-b).
+    """
+    if not isinstance(path, (str, bytes, os.PathLike)):  # a file descriptor, say
+        path = str(path)
+    return f"'{shown_name(path)}'"
+
+
 def _is_surrogate(char: str) -> bool:
     return 0xD800 <= ord(char) <= 0xDFFF
 
@@ -200,20 +214,20 @@ def check_readable(path: Path) -> None:
     """
     if not path.exists():
         if path.is_symlink():  # a loop or a missing target: "no such file" hid the link
-            raise FileNotFoundError(f"'{path}' is a symbolic link to nothing (a loop or a "
+            raise FileNotFoundError(f"{quoted(path)} is a symbolic link to nothing (a loop or a "
                                     "missing target)")
-        raise FileNotFoundError(f"no such file: '{path}'{_other_unicode_form(path)}")
+        raise FileNotFoundError(f"no such file: {quoted(path)}{_other_unicode_form(path)}")
     if path.is_dir():
         # it said no more to a batch output folder or an archive given to a one-log
         # command (round 46 PART b, F12)
-        raise IsADirectoryError(f"'{path}' is a directory, not a log file: pass one of its "
+        raise IsADirectoryError(f"{quoted(path)} is a directory, not a log file: pass one of its "
                                 f"logs, or analyse them all with `modalinfo batch "
-                                f"'{path}' --out DIR`")
+                                f"{quoted(path)} --out DIR`")
     kind = _special_kind(path)
     if kind:
         # reading a FIFO blocks until a writer comes, /dev/zero never ends (a 17 GB
         # read before the kernel's OOM killer stopped `modalinfo info /dev/zero`)
-        raise OSError(f"'{path}' is {kind}, not a regular file: a log is read from a "
+        raise OSError(f"{quoted(path)} is {kind}, not a regular file: a log is read from a "
                       "file (reading this could block or never end)")
 
 
@@ -272,12 +286,12 @@ def check_not_special(path: Path) -> None:
         raise OSError("'-' is not standard output here: a log or result is written to a "
                       "file path; give a file name")
     if _stream_link(path):
-        raise OSError(f"'{path}' is a link to an open stream (a /proc/*/fd or /dev/fd "
+        raise OSError(f"{quoted(path)} is a link to an open stream (a /proc/*/fd or /dev/fd "
                       "entry), not a file path: the save would replace the link, not write "
                       "to the stream; give a file name")
     kind = _special_kind(path)
     if kind:
-        raise OSError(f"'{path}' is {kind}, not a regular file: a log or result is "
+        raise OSError(f"{quoted(path)} is {kind}, not a regular file: a log or result is "
                       "written to a file path (it would replace the node)")
 
 
@@ -323,7 +337,7 @@ def writable_free_bytes(folder: Path) -> int:
 
 
 def _exists_message(path: Path) -> str:
-    return f"'{path}' exists; pass overwrite=True (command line: --overwrite) to replace it"
+    return f"{quoted(path)} exists; pass overwrite=True (command line: --overwrite) to replace it"
 
 
 #: numpy's short write (``ndarray.tofile``, under astropy's FITS writer), with no errno:
@@ -401,10 +415,10 @@ def _no_space(path: Path, kept: str) -> OSError:
     """Return the one line of a full disk: the user's target and what is left of it."""
     limit = file_size_limit_text()
     if limit:  # the disk may have room: the limit, not the disk, may have stopped the write
-        full = OSError(f"No space left on device, or {limit}, writing '{path}' ({kept}); "
+        full = OSError(f"No space left on device, or {limit}, writing {quoted(path)} ({kept}); "
                        "free space, raise the limit or write elsewhere")
     else:
-        full = OSError(f"No space left on device writing '{path}' ({kept}); free space or "
+        full = OSError(f"No space left on device writing {quoted(path)} ({kept}); free space or "
                        "write elsewhere")
     full.errno = errno.ENOSPC  # one line for the user, the errno for callers
     return full
@@ -576,9 +590,9 @@ def _replace(tmp: str, path: Path) -> None:
         except OSError:
             sticky, owner = False, os.geteuid()
         if sticky and owner != os.geteuid():
-            why += (f": '{path.parent}' is a sticky folder and '{path.name}' belongs to "
-                    f"another user (uid {owner}), who alone can replace it")
-        refused = PermissionError(f"cannot replace '{path}' ({why}); it is unchanged; "
+            why += (f": {quoted(path.parent)} is a sticky folder and {quoted(path.name)} "
+                    f"belongs to another user (uid {owner}), who alone can replace it")
+        refused = PermissionError(f"cannot replace {quoted(path)} ({why}); it is unchanged; "
                                   "write to another name")
         refused.errno = exc.errno  # one message line (no "[Errno 1]"), the errno kept
         raise refused from None
@@ -614,13 +628,14 @@ def atomic_write(
     """
     path = Path(path)
     if path.is_dir():
-        raise IsADirectoryError(f"'{path}' is a directory; give a file name")
+        raise IsADirectoryError(f"{quoted(path)} is a directory; give a file name")
     check_not_special(path)
     if path.exists() and not overwrite:
         raise FileExistsError(_exists_message(path))
     directory = path.parent
     if not directory.is_dir():
-        raise FileNotFoundError(f"directory '{directory}' does not exist (writing '{path}')")
+        raise FileNotFoundError(f"directory {quoted(directory)} does not exist (writing "
+                                f"{quoted(path)})")
     with signals_end_the_save() as armed:
         # the pid in the name lets a later run tell a killed writer's file (folders.clean_staging)
         fd, tmp = tempfile.mkstemp(prefix=_temp_prefix(path), suffix=".tmp", dir=directory)

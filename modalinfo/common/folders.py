@@ -30,7 +30,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from modalinfo.common.files import _umask, writable_free_bytes
+from modalinfo.common.files import _umask, quoted, writable_free_bytes
 from modalinfo.common.sizes import format_size
 
 __all__ = [
@@ -81,10 +81,10 @@ def check_room(folder: Path, need_bytes: float, what: str) -> None:
     try:
         free = writable_free_bytes(folder)
     except OSError as exc:
-        raise OutputError(f"{what}: cannot write in '{folder}' "
+        raise OutputError(f"{what}: cannot write in {quoted(folder)} "
                           f"({exc.strerror or exc})") from None
     if free < need_bytes:
-        raise OutputError(f"{what}: about {format_size(need_bytes)} is needed, '{folder}' "
+        raise OutputError(f"{what}: about {format_size(need_bytes)} is needed, {quoted(folder)} "
                           f"has {format_size(free)} free")
 
 
@@ -128,17 +128,17 @@ def check_out_dir(out_dir: Path, flag: str = "output directory", *,
     except OSError as exc:
         # a name too long, a symlink loop: no folder can be made there (audit 10-env:
         # paper_figures reported ENAMETOOLONG as a failure, exit 1, not a refusal)
-        raise OutputError(f"{flag} '{out_dir}': {exc.strerror or exc}") from None
+        raise OutputError(f"{flag} {quoted(out_dir)}: {exc.strerror or exc}") from None
     if out_dir.exists() and not out_dir.is_dir():
-        raise OutputError(f"{flag} '{out_dir}' exists and is not a directory")
+        raise OutputError(f"{flag} {quoted(out_dir)} exists and is not a directory")
     if out_dir.is_dir():
         base = out_dir
     else:
         base = _existing_ancestor(out_dir) if parents else out_dir.parent
     if not base.is_dir():
         what = "is not a directory" if base.exists() else "does not exist"
-        raise OutputError(f"{flag} '{out_dir}': '{base}' {what}")
-    check_room(base, MIN_FREE_BYTES, f"{flag} '{out_dir}'")
+        raise OutputError(f"{flag} {quoted(out_dir)}: '{base}' {what}")
+    check_room(base, MIN_FREE_BYTES, f"{flag} {quoted(out_dir)}")
     return base
 
 
@@ -216,7 +216,7 @@ def make_out_dir(out_dir: Path, flag: str = "--out", *, parents: bool = True) ->
                 f"{flag}: cannot write into '{shown}' it just created: the umask "
                 f"{mask:03o} leaves it mode {0o777 & ~mask:03o}, no permission for its "
                 "owner; set umask 022 (or 077 for private files) and run again") from None
-        raise OutputError(f"{flag} '{out_dir}': cannot "
+        raise OutputError(f"{flag} {quoted(out_dir)}: cannot "
                           f"{'write in' if out_dir.is_dir() else 'create'} it "
                           f"({exc.strerror or exc})") from None
     return created
@@ -301,14 +301,15 @@ class OutputLock:
                     who = (f"{holder.get('command', 'a run')} (pid {holder.get('pid')} on "
                            f"{holder.get('host')})" if holder else "another run")
                     raise OutputInUseError(
-                        f"output directory '{self.path.parent}' is in use by {who}; wait "
-                        f"for it to finish, or remove '{self.path}' if it is no longer running")
+                        f"output directory {quoted(self.path.parent)} is in use by {who}; "
+                        f"wait for it to finish, or remove {quoted(self.path)} if it is no "
+                        "longer running")
                 # stale: remove it only if it is still the same dead holder's file
                 with contextlib.suppress(FileNotFoundError):
                     if self._holder() == holder:
                         self.path.unlink()
-            raise OutputInUseError(f"output directory '{self.path.parent}': could not take "
-                                   f"the lock '{self.path}' (others keep taking it)")
+            raise OutputInUseError(f"output directory {quoted(self.path.parent)}: could not take "
+                                   f"the lock {quoted(self.path)} (others keep taking it)")
         finally:
             with contextlib.suppress(OSError):
                 tmp.unlink()
@@ -368,7 +369,7 @@ def _check_foreign(out_dir: Path, marker: str, also: Sequence[str] = ()) -> None
     """Refuse a non-empty directory that holds no earlier run (no ``marker``, no ``also``)."""
     others = [p for p in out_dir.iterdir() if not p.name.startswith(OutputLock.NAME)]
     if others and not any((out_dir / m).is_dir() for m in (marker, *also)):
-        raise OutputError(f"output directory '{out_dir}' is not empty and holds no "
+        raise OutputError(f"output directory {quoted(out_dir)} is not empty and holds no "
                           f"earlier batch or sweep (no {marker}/); choose a new or empty "
                           "directory")
 
@@ -509,12 +510,12 @@ def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
             removed.append(name)
     if removed:
         print(f"{command}: removed {len(removed)} staging item(s) of runs that ended "
-              f"without cleaning up (killed) in '{folder}': {', '.join(removed)}",
+              f"without cleaning up (killed) in {quoted(folder)}: {', '.join(removed)}",
               file=sys.stderr, flush=True)
     if unknown:
-        quoted = " ".join(f"'{p}'" for p in unknown)
-        print(f"{command}: note: {len(unknown)} staging item(s) in '{folder}' were left by "
+        listed = " ".join(f"'{p}'" for p in unknown)
+        print(f"{command}: note: {len(unknown)} staging item(s) in {quoted(folder)} were left by "
               f"a run that recorded no process id (an earlier version, or a worker "
               f"elsewhere), so whether it is over cannot be told; once no such run is "
-              f"going, remove them: rm -r {quoted}", file=sys.stderr, flush=True)
+              f"going, remove them: rm -r {listed}", file=sys.stderr, flush=True)
     return removed
