@@ -477,29 +477,6 @@ def _cmd_config(args) -> int:
     return 0
 
 
-def _superseded_rows(folder: Path, rows: list[dict]) -> int:
-    """Rows in ``folder`` of this grid's (override, seed, predictor) under another key.
-
-    A sweep folder resumed by another version of the code (keys carry its source
-    fingerprint) or with another duration ran every entry again and said "0 already
-    done", not that the folder's earlier runs were set aside (round 47 PART b V16, V23).
-    """
-    import json
-
-    keys = {r.get("key") for r in rows}
-    entries = {(str(r.get("override")), r.get("seed"), r.get("predictor")) for r in rows}
-    count = 0
-    for path in sorted(folder.glob("*.json")) if folder.is_dir() else []:
-        try:
-            row = json.loads(path.read_text())
-        except (OSError, ValueError):
-            continue
-        if (isinstance(row, dict) and row.get("key") not in keys
-                and (str(row.get("override")), row.get("seed"), row.get("predictor")) in entries):
-            count += 1
-    return count
-
-
 def _cmd_sweep(args) -> int:
     from closedloop.result import marechal_note
     from closedloop.sweep import load_grid, sweep
@@ -521,7 +498,9 @@ def _cmd_sweep(args) -> int:
         return 1
     print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
           f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
-    stale = _superseded_rows(args.out / "rows", rows)
+    from modalinfo.common.tasks.rows import superseded_rows
+
+    stale = superseded_rows(args.out / "rows", rows, ("override", "seed", "predictor"))
     if stale:
         print(f"  {stale} earlier run(s) in {args.out / 'rows'} of these (override, seed, "
               "predictor) were not reused: another version of the code or other settings "
