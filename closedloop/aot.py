@@ -341,6 +341,27 @@ def _telescope_and_source(cfg, g):
     return telescope, sun
 
 
+def _other_code(result) -> str:
+    """Why a result's arrays may not fit the model this code builds from its config.
+
+    A result written by another version of the code holds what that version built: the
+    same TOML gives a 10-km Shack-Hartmann 120 valid subapertures before 2e799ca8's field
+    rule and 200 after, and ``export`` said only "has shape (20, 240); expected (20, 400)"
+    (round 47 PART b V12, W12). Empty when the result was written by this code.
+    """
+    from modalinfo.common.provenance import code_record
+
+    prov = result.provenance or {}
+    written, here = prov.get("source_sha256"), code_record().get("source_sha256")
+    if written is not None and written == here:
+        return ""
+    who = (f"another version of the code (git {prov['git']})" if prov.get("git") else
+           "another version of the code (source " + written[:12] + ")" if written else
+           "an older version of the code (it recorded no source in its results)")
+    return (f": the result was written by {who}, which built its config differently; "
+            "export it with that version, or run the config again with this one")
+
+
 def _sensors(result, model, n_frames: int) -> list:
     """Build every sensor's record, with its measurements ``(T, d, s_v)`` if the result has them."""
     have_meas = len(result.measurements) == len(model.wfss)
@@ -351,7 +372,7 @@ def _sensors(result, model, n_frames: int) -> list:
             meas = np.asarray(result.measurements[j])
             if meas.shape != (n_frames, wfs.n_measurements):
                 raise ValueError(f"result.measurements[{j}] has shape {meas.shape}; expected "
-                                 f"{(n_frames, wfs.n_measurements)}.")
+                                 f"{(n_frames, wfs.n_measurements)}{_other_code(result)}.")
             meas = _as_dsv(wfs, meas)
         sensors.append(sensor_kind(wfs.kind).aot_record(model, j, wcfg, meas))
     return sensors

@@ -499,6 +499,13 @@ def _cmd_sweep(args) -> int:
         return 1
     print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
           f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
+    from modalinfo.common.tasks.rows import superseded_rows
+
+    stale = superseded_rows(args.out / "rows", rows, ("override", "seed", "predictor"))
+    if stale:
+        print(f"  {stale} earlier run(s) in {args.out / 'rows'} of these (override, seed, "
+              "predictor) were not reused: another version of the code or other settings "
+              "wrote them (kept there, not in the table)")
     for row in sorted(rows, key=lambda r: (str(r["override"]), r["seed"], r["predictor"])):
         head = (f"  {pad(str(row['override']), 20)} seed {row['seed']:<4} "
                 f"{pad(str(row['predictor']), 12)} ")

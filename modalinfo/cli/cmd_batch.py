@@ -230,6 +230,7 @@ def run(args: argparse.Namespace) -> int:
     refused = None  # a stdout that refuses the summary: said after the warnings below
     if not args.quiet:
         from modalinfo.common.cli import StdoutRefusedError, written_summary
+        from modalinfo.common.tasks.rows import superseded_rows
 
         rep = result.report
         out = sys.stdout
@@ -240,6 +241,13 @@ def run(args: argparse.Namespace) -> int:
                           f"{rep.n_lost} lost) in {rep.elapsed:.1f} s\n")
                 out.write(f"table: {result.n_ok} result rows, {result.n_error} error rows -> "
                           f"{result.csv_path}, {result.parquet_path}\n")
+                rows_dir = result.csv_path.parent / "rows"
+                stale = superseded_rows(rows_dir, result.rows, ("sha256", "analysis", "window"))
+                if stale:
+                    out.write(f"{stale} earlier row(s) in {rows_dir} of these "
+                              "logs and analyses were not reused: another version of the "
+                              "code or other settings wrote them (kept there, not in the "
+                              "table)\n")
                 for row in result.rows:
                     if row.get("status") != "ok":
                         # the path and message as the table's cells show them

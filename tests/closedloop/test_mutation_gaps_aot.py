@@ -275,3 +275,26 @@ def test_a_model_of_another_config_is_refused_with_the_whole_message(exported):
     with pytest.raises(ValueError) as exc:
         build_aot_system(run, other)
     assert str(exc.value) == "`model` was built for another config than the result's."
+
+
+@pytest.mark.parametrize("provenance, who", [
+    (None, "an older version of the code (it recorded no source in its results)"),
+    ({"git": "4c25775f", "source_sha256": "0" * 64}, "another version of the code (git 4c25775f)"),
+])
+def test_a_result_of_other_code_is_named_when_its_shapes_differ(exported, provenance, who):
+    """Round 47 PART b V12 / W12: ``closedloop export`` of a result written by 351d5180
+    (2026-11-29) said only "result.measurements[1] has shape (20, 240); expected (20, 400)":
+    the same TOML gives today's 10-km Shack-Hartmann 200 valid subapertures (2e799ca8's
+    field rule), 120 then. Reference: the result's own provenance (the source SHA-256 and
+    git revision of the code that wrote it, or none for files written before results kept
+    one) against this code's ``provenance.code_record()``."""
+    _, model, run, _ = exported
+    (t, n) = run.measurements[0].shape
+    bad = dataclasses.replace(run, measurements=[m[:, :-1] for m in run.measurements],
+                              provenance=provenance)
+    with pytest.raises(ValueError) as exc:
+        build_aot_system(bad, model)
+    assert str(exc.value) == (
+        f"result.measurements[0] has shape {(t, n - 1)}; expected {(t, n)}: the result was "
+        f"written by {who}, which built its config differently; export it with that "
+        "version, or run the config again with this one.")

@@ -13,7 +13,7 @@ from modalinfo.common.memory import machine_memory_bytes
 from modalinfo.common.sizes import format_size, parse_size
 from modalinfo.common.startup import worker_warning_env
 from modalinfo.common.tasks.interrupts import raise_if_interrupted, sigint_deferred, sigint_held
-from modalinfo.common.tasks.threads import task_threads, thread_env
+from modalinfo.common.tasks.threads import available_cpus, task_threads, thread_env
 
 __all__ = ["MIN_MEMORY_LIMIT", "WORKER_BASELINE", "check_memory_limit", "check_worker_count",
            "dashboard_link", "open_client", "raise_if_interrupted"]
@@ -190,7 +190,7 @@ def open_client(
             client.modalinfo_interrupt = event
             yield client
         return
-    cpus = os.cpu_count() or 1
+    cpus = available_cpus()
     threads_per_worker = 1 if threads_per_worker is None else int(threads_per_worker)
     if threads_per_worker < 1:
         raise ValueError(f"`threads_per_worker` must be >= 1; got {threads_per_worker}")

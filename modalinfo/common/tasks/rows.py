@@ -14,7 +14,31 @@ from modalinfo.common.files import OutputGoneError, atomic_write, shown_name
 from modalinfo.common.folders import clean_staging
 from modalinfo.common.memory import address_space_limit_bytes
 
-__all__ = ["RowStore", "clean_run_staging", "write_table"]
+__all__ = ["RowStore", "clean_run_staging", "superseded_rows", "write_table"]
+
+
+def superseded_rows(rows_dir: Path, rows: list[dict], fields: Sequence[str]) -> int:
+    """Row files in ``rows_dir`` of the same ``fields`` as some of ``rows`` under another key.
+
+    A batch or sweep folder resumed by another version of the code (task keys carry its
+    source fingerprint) or with other parameters runs those entries again and keeps the
+    earlier rows in rows/, outside the table; its summary said "0 already done" and not
+    that (round 47 PART b V16, V23). Unreadable row files are not counted.
+    """
+    import json
+
+    keys = {r.get("key") for r in rows}
+    entries = {tuple(str(r.get(f)) for f in fields) for r in rows}
+    count = 0
+    for path in sorted(rows_dir.glob("*.json")) if rows_dir.is_dir() else []:
+        try:
+            row = json.loads(path.read_text())
+        except (OSError, ValueError):
+            continue
+        if (isinstance(row, dict) and row.get("key") not in keys
+                and tuple(str(row.get(f)) for f in fields) in entries):
+            count += 1
+    return count
 
 
 def clean_run_staging(out_dir: Path, stem: str, command: str,
