@@ -400,7 +400,8 @@ def repeated_rows_why(columns: dict[str, np.ndarray], method: str) -> str | None
 
     Rows repeated in every column at once, the columns tying nowhere else (each column
     has exactly as many distinct values as there are distinct rows) and fewer than
-    :data:`DISCRETE_MIN_PER_CELL` rows per distinct row: duplicated frames, a logger
+    :data:`DISCRETE_MIN_PER_CELL` rows per distinct row, each repeated row held fewer
+    times than that (a row held more often is an atom, a shared pile): duplicated frames, a logger
     re-sending samples, a series resampled to a multiple of its rate. Rounded data tie
     within a column across different rows, and a discrete variable (with its copy) has
     at least that many samples per value, whose MI the estimators hold (ksg module notes,
@@ -426,8 +427,11 @@ def repeated_rows_why(columns: dict[str, np.ndarray], method: str) -> str | None
     first = np.unique(cols[0]).size
     if n - first <= REPEAT_SHARE * n:  # a cheap bound: repeated rows repeat every column
         return None
-    distinct = np.unique(np.column_stack(cols), axis=0).shape[0]
-    repeats = n - distinct
+    counts = np.unique(np.column_stack(cols), axis=0, return_counts=True)[1]
+    distinct = counts.size
+    # a row held DISCRETE_MIN_PER_CELL times or more is an atom (dropouts written as 0.0
+    # in every column: the pile rule's, within ksg's tolerance), not a duplicated frame
+    repeats = int(np.sum(counts[counts < DISCRETE_MIN_PER_CELL] - 1))
     if (repeats <= REPEAT_SHARE * n or n >= DISCRETE_MIN_PER_CELL * distinct
             or first != distinct or any(np.unique(c).size != distinct for c in cols[1:])):
         return None  # few repeats, a discrete variable (and its copy), or rounding
