@@ -23,7 +23,12 @@ from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice
 from modalinfo.information.convergence import effective_sample_rule, judge_pair_estimate
-from modalinfo.information.discrete import DISCRETE_MIN_PER_CELL, discrete_levels, pile_why
+from modalinfo.information.discrete import (
+    DISCRETE_MIN_PER_CELL,
+    discrete_levels,
+    pile_why,
+    repeated_rows_why,
+)
 from modalinfo.information.methods import (
     METHODS,
     BiasRuleWarning,
@@ -656,7 +661,8 @@ def judge_estimate(est: MutualInformation, x: np.ndarray, y: np.ndarray, value: 
     """
     if _is_constant(x) or _is_constant(y):
         return
-    pile = pile_why({"x": x, "y": y}, est.method)
+    pile = pile_why({"x": x, "y": y}, est.method) or repeated_rows_why(
+        {"x": x, "y": y}, est.method)  # round 47 PART a: duplicated frames
     if pile is not None:  # issue 27: the other rules judge a continuum; one warning
         warn(f"{who}: {pile}.", BiasRuleWarning, stacklevel=caller_stacklevel())
         return
