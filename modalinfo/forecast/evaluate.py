@@ -1021,16 +1021,20 @@ def _dm_test(d: np.ndarray, h: int) -> tuple[float, float, int, float]:
     return float(stat), float(student_t.cdf(stat, b)), b, n_eff
 
 
-#: Persistent-volatility rule of the DM test (fix46-a, round 46 PART a P39-P43): a
-#: McLeod-Li-type sum over lags ``h + 3 .. h + 2 + _DM_VOL_LAGS`` of the autocorrelations of the
-#: squared AR(2) residuals of ``d`` less their Gaussian values (the squared
-#: autocorrelations of the residuals), in null standard errors ``sqrt(_DM_VOL_LAGS / N)``,
-#: above this many (``_volatility_z``). Calibrated on 300 draws each (N = 500, 2000,
-#: benchmarks/bench_dm_volatility_46a.py, RESULTS.md "fix46-a"): see the module notes.
+#: Persistent-volatility rule of the DM test (fix46-a, fix47-c; round 46 PART a P39-P43):
+#: the correlation of the squared AR(2) residuals of ``d`` with the modes' level at each
+#: origin, in HAC standard errors, above this many in absolute value (``_volatility_z``).
+#: Calibrated on 300 draws each (benchmarks/bench_dm_volatility_46a.py, RESULTS.md
+#: "fix47-c"): see the module notes.
 _DM_VOL_Z = 3.0
 
-#: Lags summed by ``_volatility_z`` (AO differentials' volatility lasts tens of frames).
-_DM_VOL_LAGS = 10
+#: Lags of the Bartlett (HAC) variance of that correlation in ``_volatility_z``.
+_DM_VOL_LAGS = 20
+
+#: Lag-1 autocorrelation the level must exceed for ``_volatility_z`` to flag (the t ratio's
+#: Dickey-Fuller-type skew needs a persistent volatility; an AR(1) mode's squared level has
+#: ``phi^2``: 0.81 at phi = 0.9, 0.25 at 0.5, about 0 on white noise).
+_DM_VOL_PERSIST = 0.5
 
 #: Factor by which a flagged pair's p-value must undercut ``alpha / n_tests`` to count as
 #: beating the baseline: on those differentials the DM p-value measured 8-12 % rejections
@@ -1038,37 +1042,41 @@ _DM_VOL_LAGS = 10
 _DM_VOL_FACTOR = 5.0
 
 
-def _volatility_z(d: np.ndarray, h: int) -> float:
-    """Return the persistent volatility of a loss differential ``d`` at horizon ``h`` (null s.e.).
+def _volatility_z(d: np.ndarray, level: np.ndarray) -> float:
+    """Return how far the variance of a loss differential ``d`` tracks a persistent ``level``.
 
-    ``d`` is prewhitened by a least-squares AR(2) (its Gaussian persistence: resonances,
-    AR(1) modes); the residuals' squares' autocorrelations at lags ``h + 3 .. h + 2 + K``
-    (``K = _DM_VOL_LAGS``; lags ``<= h + 2`` carry the products of the h-step errors'
-    MA(h - 1) terms and of a predictor's last few inputs, e.g. ``e_(t+1) (a e_t + b
-    e_(t-1))`` of linear-ls on white noise, which are not persistent: with them 11 of
-    100 such evaluations were flagged) less the residuals' own squared autocorrelations
-    (a Gaussian's ``r_k(w^2) = r_k(w)^2``) are summed and scaled by ``sqrt(N / K)``:
-    about N(0, 1) for a Gaussian or iid differential, large when the variance of ``d``
-    wanders (``x_t e_(t+1)`` of a persistent mode). NaN when ``d`` is too short or constant.
+    ``level[t]`` is the modes' squared distance from the training mean at origin ``t`` (known
+    at the origin; ``d[t]`` is scored ``h`` frames later). ``d`` is prewhitened by a
+    least-squares AR(2) (its Gaussian persistence: resonances, AR(1) modes) and the
+    correlation of the residuals' squares with the level is returned in standard errors
+    (Bartlett's variance of a cross-correlation, ``(1 + 2 sum_(k<=K) r_k(w^2) r_k(level)) /
+    N``, ``K = _DM_VOL_LAGS``): about N(0, 1) when ``d`` is homoskedastic given the past,
+    large when its variance follows the level (``x_t e_(t+1)`` of a persistent mode, whose
+    DM t ratio carries a Dickey-Fuller-type skew). 0 when the level's lag-1 autocorrelation
+    is at most ``_DM_VOL_PERSIST`` (a volatility that does not persist leaves the test's
+    size alone); NaN when ``d`` is too short or ``d`` or the level is constant.
     """
     k = _DM_VOL_LAGS
     n = d.size
-    if n < 3 * (h + k) + 3:
+    if n < 3 * k + 3 or level.size != n:
         return math.nan
     c = (d - d.mean()) / max(float(np.max(np.abs(d - d.mean()))), 1e-300)
     design = np.column_stack([c[1:-1], c[:-2]])
     coef = np.linalg.lstsq(design, c[2:], rcond=None)[0]
     w = c[2:] - design @ coef
-    w = w - w.mean()
     q = w * w
     q = q - q.mean()
-    ww, qq = float(w @ w), float(q @ q)
-    if ww <= 0.0 or qq <= 0.0:
+    lev = level[2:] / max(float(np.max(np.abs(level[2:]))), 1e-300)
+    p = lev - lev.mean()
+    qq, pp = float(q @ q), float(p @ p)
+    if qq <= 0.0 or pp <= 0.0:
         return math.nan
-    lags = range(h + 3, h + k + 3)
-    r = np.array([float(w[m:] @ w[:-m]) for m in lags]) / ww
-    r2 = np.array([float(q[m:] @ q[:-m]) for m in lags]) / qq
-    return float((r2 - r * r).sum() * math.sqrt(w.size / k))
+    rp = np.array([float(p[m:] @ p[:-m]) for m in range(1, k + 1)]) / pp
+    if rp[0] <= _DM_VOL_PERSIST:
+        return 0.0
+    rq = np.array([float(q[m:] @ q[:-m]) for m in range(1, k + 1)]) / qq
+    var = max(1.0 + 2.0 * float(rq @ rp), 1.0) / q.size
+    return float(q @ p) / math.sqrt(qq * pp) / math.sqrt(var)
 
 
 #: Values of the training frames ``_scale_shift`` reads and fits at once (a block of
@@ -1383,7 +1391,9 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         for j, h in enumerate(hs):
             diff = loss[i, j] - loss[base_idx[j], j]
             dm[i, j], pval[i, j], _, n_eff = _dm_test(diff, int(h))
-            if np.isfinite(pval[i, j]) and _volatility_z(diff, int(h)) > _DM_VOL_Z:
+            # the level at each origin t: the mean baseline's loss scored at t (origin t - h)
+            if np.isfinite(pval[i, j]) and abs(_volatility_z(
+                    diff[h:], loss[_BASELINES.index("mean"), j, :n_o - h])) > _DM_VOL_Z:
                 volatile[i, j] = True
             if np.isnan(pval[i, j]):
                 # more "effective origins" than origins: a periodic differential, whose
@@ -1422,11 +1432,12 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             f"evaluate: the Diebold-Mariano p-value of {len(pairs)} predictor-horizon "
             f"pair(s) may be too small: {'; '.join(pairs[:5])}"
             f"{'; ...' if len(pairs) > 5 else ''}. Their loss differential has persistent "
-            "volatility (the autocorrelations of its squared AR(2) residuals at lags h + 3 "
-            f"to h + {_DM_VOL_LAGS + 2} exceed a Gaussian's by more than {_DM_VOL_Z:g} "
-            "standard errors); on such a differential (two equally good forecasts of a "
-            "persistent AR(1) mode) the test measured 8-13 % rejections at a nominal 5 % "
-            "with 500-2000 origins (7 % at 10,000). Such pairs count as beating the "
+            "volatility (its squared AR(2) residuals correlate with the modes' level at the "
+            f"origin by more than {_DM_VOL_Z:g} standard errors, and that level's lag-1 "
+            f"autocorrelation exceeds {_DM_VOL_PERSIST:g}); on such a differential (two "
+            "equally good forecasts of a persistent AR(1) mode) the test measured 8-13 % "
+            "rejections at a nominal 5 % with 500-2000 origins (7 % at 10,000). Such pairs "
+            "count as beating the "
             f"baseline only below alpha / n_tests / {_DM_VOL_FACTOR:g} = "
             f"{strict:.2g}.", UserWarning, stacklevel=2)
     # round 28 PART b, N07: a log whose loop opens after the training frames was scored
