@@ -576,13 +576,15 @@ def _forecast(log: Any, p: dict) -> dict:
     # no forecast series are kept (the batch plots none): memory is the chunk buffers,
     # the (P, H, origins) losses of the skill test and, for a float32 log, its float64 copy
     # a pair too persistent for an honest Diebold-Mariano test is in the row (its
-    # ``pvalue_h1`` NaN, ``beats_baseline_h1`` False); a worker's warning reaches no one;
-    # a level step in the training series is in the row too (the quality pass's
+    # ``pvalue_h1`` NaN, ``beats_baseline_h1`` False), so is a pair of persistent
+    # volatility (``beats_baseline_h1`` needs its stricter p-value); a worker's warning
+    # reaches no one; a level step in the training series is in the row too (the quality pass's
     # ``quality_level_steps`` and ``quality_stationary`` columns); test frames unlike the
     # training ones are in the row (``shifted_modes``, ``scale_shift_max``). This
     # thread's only (fixes 41-c: filters swapped the process's, other tasks' included)
     with quiet(LevelStepWarning), \
             quiet(message="evaluate: no honest Diebold-Mariano test"), \
+            quiet(message="evaluate: the Diebold-Mariano p-value"), \
             quiet(message="evaluate: the test frames differ in scale"):
         ev = evaluate(predictors, log, train=train, horizons=range(1, horizon + 1),
                       keep_series=1, chunk_frames=2048)

@@ -220,6 +220,9 @@ def dead(tmp_path_factory):
     return path, log
 
 
+# the persistent-volatility note of evaluate (its AR-like log's linear pairs, flagged since
+# fix47-c) is not this test's subject; under -W error the command would refuse on it
+@pytest.mark.filterwarnings("ignore:evaluate. the Diebold-Mariano p-value:UserWarning")
 def test_constant_mode_is_kept_and_forecast_exactly(dead, tmp_path, capsys):
     path, _ = dead
     out = tmp_path / "res"
