@@ -160,7 +160,7 @@ class LoopModel:
         more than one half.
     unseen_modes : int or None
         Controlled modes the sensors do not see, summed over the least-squares
-        reconstructors (one per WFS, :attr:`closedloop.optics.wfs.WavefrontSensor.unseen_modes`):
+        reconstructors (one per WFS, ``WavefrontSensor.unseen_modes``):
         singular values of a WFS's interaction matrix with its DM at or below its
         ``rcond`` times the largest. Warned at set-up when > 0 (see
         :meth:`_warn_unseen`). None with a joint reconstructor (its cut is a
