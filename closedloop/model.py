@@ -158,6 +158,13 @@ class LoopModel:
         Whitened directions with signal-to-noise above the cut (only with a joint
         reconstructor): the truncated reconstructor's kept ones, the MAP's weighted by
         more than one half.
+    unseen_modes : int or None
+        Controlled modes the sensors do not see, summed over the least-squares
+        reconstructors (one per WFS, ``WavefrontSensor.unseen_modes``):
+        singular values of a WFS's interaction matrix with its DM at or below its
+        ``rcond`` times the largest. Warned at set-up when > 0 (see
+        :meth:`_warn_unseen`). None with a joint reconstructor (its cut is a
+        signal-to-noise one, ``n_controlled``) or with zonal DMs only (not counted).
     """
 
     def __init__(self, config: SimulationConfig):
@@ -188,6 +195,31 @@ class LoopModel:
                           if self.reconstructor is not None
                           else [None if w.reconstructor is None
                                 else DenseProduct(w.reconstructor, limit) for w in self.wfss])
+        self.unseen_modes = None
+        if self.reconstructor is None:
+            counts = [u for w in self.wfss if (u := w.unseen_modes) is not None]
+            self.unseen_modes = sum(counts) if counts else None
+            self._warn_unseen()
+
+    def _warn_unseen(self) -> None:
+        """Warn (once, at set-up) when a least-squares reconstructor drops controlled modes.
+
+        Not refused: the modes <= slopes rule (``closedloop.config``) is the config's
+        refusal, and a loop with a few unseen modes can still close (they stay at their
+        open-loop level); whether to refuse a rank-deficient interaction matrix is the
+        simulator owner's decision (round 47 PART a, Z06). The count rides on the result
+        (``SimulationResult.unseen_modes``) so that ``loop_status`` names it.
+        """
+        parts = [(w, u) for w in self.wfss if (u := w.unseen_modes)]
+        if not parts:
+            return
+        from closedloop.result import unseen_cause
+        from modalinfo.common.quiet import warn
+
+        each = "; ".join(f"wfss[{w.index}] on dms[{w.dm.index}]: {u} of its {w.dm.n_modes} "
+                         f"modes below rcond = {w.rcond:g} times the largest singular "
+                         f"value of its interaction matrix" for w, u in parts)
+        warn(f"{unseen_cause(sum(u for _, u in parts))} ({each})", stacklevel=3)
 
     @contextlib.contextmanager
     def running(self):

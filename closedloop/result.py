@@ -258,6 +258,17 @@ def _not_a_result(path, why: str) -> str:
             "`closedloop run --out RUN.h5` writes")
 
 
+def unseen_cause(unseen: int) -> str:
+    """Return the words for controlled modes the sensors do not see (``LoopModel.unseen_modes``).
+
+    One phrase for the set-up warning and :attr:`SimulationResult.loop_status`.
+    """
+    return (f"{unseen} controlled mode{'s' if unseen != 1 else ''} unseen by the WFS (its "
+            f"interaction matrix's singular values at or below the reconstructor's rcond "
+            f"cut: structure its subapertures do not resolve), which the loop cannot "
+            f"correct; control fewer modes or use a finer WFS (more subapertures)")
+
+
 @array_fields_eq
 @dataclass(frozen=True)
 class SimulationResult:
@@ -300,6 +311,12 @@ class SimulationResult:
         (``closedloop.budget.noise_variance``), computed by ``simulate``; 0 without noise, None
         for a file written before results recorded it. :attr:`loop_status` judges the
         residual against the open-loop level plus this floor.
+    unseen_modes : int or None
+        Controlled modes the WFSs do not see (``closedloop.model.LoopModel.unseen_modes``:
+        singular values of the interaction matrix below the reconstructor's ``rcond``
+        cut); :attr:`loop_status` names them as the likely cause of a loop that did not
+        close. None with a joint reconstructor, zonal DMs only, or a file written before
+        results recorded it.
     measurements : list of (T, n_meas_j) ndarray
         Each WFS's measurements per frame (SH: x slopes of the valid subapertures, then
         y slopes [rad/m]; ideal: the field-averaged phase on its DM's disc [rad]).
@@ -320,6 +337,7 @@ class SimulationResult:
     budget: Any = None
     provenance: dict | None = None
     noise_floor: float | None = None
+    unseen_modes: int | None = None
 
     # ------------------------------------------------------------------ building
     @classmethod
@@ -347,7 +365,8 @@ class SimulationResult:
                    directions=np.array(model.geometry.directions), residual_variance=variance,
                    logs=logs, elapsed=elapsed, version=_version(), snapshots=snapshots,
                    snapshot_directions=snapshot_directions, measurements=list(measurements),
-                   provenance=run_record(config.to_dict(), seed), noise_floor=noise_floor)
+                   provenance=run_record(config.to_dict(), seed), noise_floor=noise_floor,
+                   unseen_modes=model.unseen_modes)
 
     # ------------------------------------------------------------------ views
     @property
@@ -531,6 +550,14 @@ class SimulationResult:
         ``"did not close: <why>"`` or ``"open loop"`` (a run with ``loop.closed = false``).
         See the module docstring.
         """
+        status = self._verdict()
+        if self.unseen_modes and status.startswith(("did not close", "diverged")):
+            # the cause the set-up saw (round 47 PART a, Z06: "swings too widely" alone)
+            status += f"; the set-up found {unseen_cause(self.unseen_modes)}"
+        return status
+
+    def _verdict(self) -> str:
+        """:attr:`loop_status` from the residual alone."""
         if self.open_loop:
             return "open loop"
         v = self.residual_variance.mean(axis=1)  # field mean per frame [rad^2]
@@ -766,6 +793,8 @@ class SimulationResult:
                 f.attrs["provenance"] = dumps(self.provenance)
             if self.noise_floor is not None:
                 f.attrs["noise_floor"] = float(self.noise_floor)
+            if self.unseen_modes is not None:
+                f.attrs["unseen_modes"] = int(self.unseen_modes)
             f["times"] = self.times
             f["directions"] = self.directions
             f["residual_variance"] = self.residual_variance
@@ -871,7 +900,9 @@ class SimulationResult:
                        provenance=(json.loads(f.attrs["provenance"])
                                    if "provenance" in f.attrs else None),
                        noise_floor=(float(f.attrs["noise_floor"])
-                                    if "noise_floor" in f.attrs else None))
+                                    if "noise_floor" in f.attrs else None),
+                       unseen_modes=(int(f.attrs["unseen_modes"])
+                                     if "unseen_modes" in f.attrs else None))
 
 
 def _legacy_log(d) -> ModalLog:

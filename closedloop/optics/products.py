@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "gram_pinv"]
+__all__ = ["DenseProduct", "FLOAT32_MIN_BYTES", "GRAM_MIN_BYTES", "gram_pinv", "svd_pinv"]
 
 #: float64 size [bytes] from which a product runs in float32 (8 MB: beyond a core's L2
 #: and this machine's share of L3, where the product is bound by memory traffic)
@@ -69,6 +69,25 @@ def gram_pinv(a: np.ndarray, cut) -> tuple[np.ndarray, int]:
     keep = sv > cut(sv[0])
     vk = v[:, keep]
     return (vk / w[keep]) @ (vk.T @ a.T), int(keep.sum())
+
+
+def svd_pinv(a: np.ndarray, rcond: float) -> tuple[np.ndarray, int]:
+    """Return ``numpy.linalg.pinv(a, rcond)`` and how many singular values it kept.
+
+    The same steps as numpy's (its SVD, its cut ``s > rcond * s_max``, its product), so
+    the same matrix to the last bit; the count is what ``pinv`` does not return.
+
+    Returns
+    -------
+    pinv : (n, m) ndarray
+    n_kept : int
+    """
+    if a.size == 0:
+        return np.linalg.pinv(a, rcond=rcond), 0
+    u, s, vt = np.linalg.svd(a, full_matrices=False)
+    large = s > rcond * np.amax(s)
+    s_inv = np.divide(1.0, s, where=large, out=np.zeros_like(s))
+    return np.matmul(vt.T, np.multiply(s_inv[:, None], u.T)), int(large.sum())
 
 
 class DenseProduct:

@@ -377,6 +377,28 @@ class WavefrontSensor:
         """
         return self._least_squares(self._rcond)
 
+    @property
+    def rcond(self) -> float:
+        """The reconstructor's cut: singular values below ``rcond`` times the largest drop."""
+        return self._rcond
+
+    @property
+    def unseen_modes(self) -> int | None:
+        """Modes of its own DM the reconstructor drops: the sensor does not see them.
+
+        The singular values of the interaction matrix (modes to measurements, weighted
+        as the reconstructor weighs it) at or below :attr:`rcond` times the largest:
+        ``M - rank``, numpy's ``matrix_rank(G, tol=rcond * s_max)``. A mode finer than the
+        subaperture pitch aliases onto coarser ones (round 47 PART a, Z06: 2,900 modes of
+        a 61 x 61 DM on a 48 x 48 SH). Builds :attr:`reconstructor` if not yet built.
+        None for a zonal DM (``shapes`` None): its "modes" are disc pixels, which no
+        sensor resolves one by one; its pseudo-inverse is the minimum-norm command by
+        design, and the config's modes <= slopes rule does not apply to it either.
+        """
+        if self.dm.shapes is None or self.reconstructor is None:
+            return None
+        return self._unseen
+
     def _build(self, cfg) -> None:
         """Set ``operators`` and ``n_measurements`` (and ``noise_rms``) for this kind."""
         raise NotImplementedError(f"{type(self).__name__} must implement _build")
@@ -402,9 +424,12 @@ class WavefrontSensor:
         if root is not None:
             inter = root * inter
         if self.dm.large_products and 8.0 * inter.size >= products.GRAM_MIN_BYTES:
-            r = products.gram_pinv(inter, lambda s0: rcond * s0)[0]
+            r, kept = products.gram_pinv(inter, lambda s0: rcond * s0)
         else:
-            r = np.linalg.pinv(inter, rcond=rcond)
+            r, kept = products.svd_pinv(inter, rcond)
+        # the modes the pseudo-inverse drops: M less its kept singular values (a null
+        # space too when M > n_meas); counted here, where the SVD is paid once
+        self._unseen = inter.shape[1] - kept
         return r if root is None else r * root.T
 
     def reset(self) -> None:
