@@ -6,8 +6,9 @@ into notes of the run. test_figure5_notes_review27.py looks for "Figure 5: evalu
 anywhere in the line, so a planted ``tell("warning", ...)`` (round 30 P6) passed.
 Reference: ``tell``'s docstring (the form) and the module's comment ("a declined skill test
 is a note of the run"); outside ``run_as`` the program is ``python -m paper_figures``
-(``program``'s docstring; pytest is not ``paper-figures``). ``evaluate`` and the ARMA and
-NN fits are stubbed (only the note is the test's); the figure stops after the notes.
+(``program``'s docstring; pytest is not ``paper-figures``). ``evaluate`` is stubbed (only its
+warning is the test's), the predictors by ``cheap_figure5_predictors`` (tests/conftest.py);
+the figure stops after the notes.
 """
 
 from __future__ import annotations
@@ -19,42 +20,22 @@ from modalinfo.common.quiet import warn
 from modalinfo.telemetry import ModalLog
 
 
-def test_the_flagged_skill_test_is_a_note_line(monkeypatch, capsys):
+def test_the_flagged_skill_test_is_a_note_line(monkeypatch, capsys, cheap_figure5_predictors):
     import modalinfo.forecast as forecast
     from paper_figures import fig5_forecast as fig5
 
     class StopError(Exception):
         pass
 
-    state = {"evaluated": False}
-
     def evaluate(*args, **kwargs):  # the real one is not the test's: only its warning
         warn("evaluate: the Diebold-Mariano p-value of 1 predictor-horizon pair(s) may be "
              "too small: the stub", UserWarning, stacklevel=2)
-        state["evaluated"] = True
 
-    class Stub:  # ARMA and NN fits cost seconds and are not the test's
-        def __init__(self, *args, **kwargs):
-            pass
-
-        @classmethod
-        def paper(cls, *args, **kwargs):
-            return cls()
-
-        def fit(self, x):
-            if state["evaluated"]:  # the figure goes on after its notes: stop it
-                raise StopError
-            return self
-
-        def predict_interval(self, x):
-            return None
-
-        def _forecast_path(self, x, h):
-            return np.zeros((x.shape[0], 1, 1)), None
+    def stop(*args, **kwargs):  # the rest of the figure is not the test's
+        raise StopError
 
     monkeypatch.setattr(forecast, "evaluate", evaluate)
-    monkeypatch.setattr(forecast, "ARMAPredictor", Stub)
-    monkeypatch.setattr(forecast, "NeuralNetPredictor", Stub)
+    monkeypatch.setattr(fig5, "_increment_correlation", stop)
     log = ModalLog(np.random.default_rng(4).standard_normal((fig5.MIN_FRAMES, 2)),
                    rate=1000.0, modes=[2, 3], units="rad")
     with pytest.raises(StopError):
