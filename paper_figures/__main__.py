@@ -49,6 +49,7 @@ import threading
 import time
 from pathlib import Path
 
+from modalinfo.common.files import quoted
 from paper_figures import FIGURES, run_as, tell
 
 #: the first line of the module docstring, kept for ``python -OO`` (which strips docstrings;
@@ -223,14 +224,14 @@ def _check_args(args, modules, logs, needs_log) -> None:
     if needs_log:
         for path, *_ in logs:
             if path.is_dir():
-                raise _RefusedError(f"--log '{path}' is a folder, not a log file")
+                raise _RefusedError(f"--log {quoted(path)} is a folder, not a log file")
             if not path.exists() and args.log is None:
                 raise _RefusedError(_no_shipped_data(path, "or give your own log with "
                                                            "--log FILE"))
             if not path.exists():
-                raise _RefusedError(f"log file '{path}' does not exist")
+                raise _RefusedError(f"log file {quoted(path)} does not exist")
             if not path.is_file():  # a FIFO or a device: reading it blocks or never ends
-                raise _RefusedError(f"--log '{path}' is not a regular file (a FIFO or a "
+                raise _RefusedError(f"--log {quoted(path)} is not a regular file (a FIFO or a "
                                     "device); give a log file")
     for module, label, _ in modules:  # Figure 8 reads the shipped logs whatever --log says
         for _, path, *_ in getattr(module, "SHIPPED", ()):
@@ -307,7 +308,7 @@ def _load_logs(args, logs, modules) -> dict:
                 check_log_for(module, log)
             except ValueError as exc:
                 message = str(exc).strip().splitlines()[0].replace("`log`", "the log")
-                where = "--log" if key == "user" else f"shipped log '{path}'"
+                where = "--log" if key == "user" else f"shipped log {quoted(path)}"
                 raise _RefusedError(f"{label} on {where}: {message}") from None
         loaded[key] = ((log, f"`{path}`"), suffix, desc, outliers)
     for note in notes:
@@ -386,18 +387,18 @@ def main(argv: list[str] | None = None) -> int:
         say(f"{prog}: error: {exc}\n")
         return EXIT_USAGE
     except _StdoutError as exc:
-        kept = (f"the figures and reports in '{args.out}' are complete" if exc.done
-                else f"'{args.out}' is as it was")
+        kept = (f"the figures and reports in {quoted(args.out)} are complete" if exc.done
+                else f"{quoted(args.out)} is as it was")
         say(f"{prog}: error: could not write standard output ({exc}); {kept}\n")
         return EXIT_FAILURE
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM etc. (_terminated): 130 or 128 + n
         what = "terminated" if isinstance(exc, _Terminated) else "interrupted"
-        tell(None, f"{what}; '{args.out}' is as it was")
+        tell(None, f"{what}; {quoted(args.out)} is as it was")
         return exc.code if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         say(f"{prog}: error: {type(exc).__name__}: {what or 'no detail'}"
-            f"; '{args.out}' is as it was\n")
+            f"; {quoted(args.out)} is as it was\n")
         return EXIT_FAILURE
     finally:
         for signum, handler in previous.items():
@@ -473,7 +474,7 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     for path, _, _, _ in logs if needs_log else ():
         note = shipped_edit_note(path)
         if note:  # said before the work as well as in the report's head
-            tell("warning", f"'{path}': {note}")
+            tell("warning", f"{quoted(path)}: {note}")
     import matplotlib
 
     from modalinfo.common.plotting import rc_overrides

@@ -256,7 +256,7 @@ def _other_unicode_form(path: Path) -> str:
     def form(text: str) -> str:
         return next((f for f in ("NFC", "NFD") if unicodedata.is_normalized(f, text)), "mixed")
 
-    return (f"; the folder holds '{twin}', the same name in Unicode form {form(twin)} (this "
+    return (f"; the folder holds {quoted(twin)}, the same name in Unicode form {form(twin)} (this "
             f"one is {form(name)}: the same letters, other code points): give the file's own "
             "spelling, e.g. by tab completion, or rename it")
 

@@ -137,7 +137,7 @@ def check_out_dir(out_dir: Path, flag: str = "output directory", *,
         base = _existing_ancestor(out_dir) if parents else out_dir.parent
     if not base.is_dir():
         what = "is not a directory" if base.exists() else "does not exist"
-        raise OutputError(f"{flag} {quoted(out_dir)}: '{base}' {what}")
+        raise OutputError(f"{flag} {quoted(out_dir)}: {quoted(base)} {what}")
     check_room(base, MIN_FREE_BYTES, f"{flag} {quoted(out_dir)}")
     return base
 
@@ -213,7 +213,7 @@ def make_out_dir(out_dir: Path, flag: str = "--out", *, parents: bool = True) ->
                 relative = os.path.relpath(shown)
                 shown = shown if relative.startswith("..") else relative
             raise OutputError(
-                f"{flag}: cannot write into '{shown}' it just created: the umask "
+                f"{flag}: cannot write into {quoted(shown)} it just created: the umask "
                 f"{mask:03o} leaves it mode {0o777 & ~mask:03o}, no permission for its "
                 "owner; set umask 022 (or 077 for private files) and run again") from None
         raise OutputError(f"{flag} {quoted(out_dir)}: cannot "
@@ -513,7 +513,7 @@ def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
               f"without cleaning up (killed) in {quoted(folder)}: {', '.join(removed)}",
               file=sys.stderr, flush=True)
     if unknown:
-        listed = " ".join(f"'{p}'" for p in unknown)
+        listed = " ".join(quoted(p) for p in unknown)
         print(f"{command}: note: {len(unknown)} staging item(s) in {quoted(folder)} were left by "
               f"a run that recorded no process id (an earlier version, or a worker "
               f"elsewhere), so whether it is over cannot be told; once no such run is "
