@@ -49,8 +49,18 @@ import threading
 import time
 from pathlib import Path
 
-from modalinfo.common.files import quoted
 from paper_figures import FIGURES, run_as, tell
+
+
+def quoted(path: str | Path) -> str:
+    """Return ``modalinfo.common.files.quoted(path)``, imported when first needed.
+
+    The package (NumPy) must not load before the Ctrl-C guard is in place (round 3's x06).
+    """
+    from modalinfo.common.files import quoted as shown
+
+    return shown(path)
+
 
 #: the first line of the module docstring, kept for ``python -OO`` (which strips docstrings;
 #: adversarial round 9 PART b, row E20)
