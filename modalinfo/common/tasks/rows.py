@@ -25,8 +25,6 @@ def superseded_rows(rows_dir: Path, rows: list[dict], fields: Sequence[str]) -> 
     earlier rows in rows/, outside the table; its summary said "0 already done" and not
     that (round 47 PART b V16, V23). Unreadable row files are not counted.
     """
-    import json
-
     keys = {r.get("key") for r in rows}
     entries = {tuple(str(r.get(f)) for f in fields) for r in rows}
     count = 0
