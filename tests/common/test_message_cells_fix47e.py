@@ -53,3 +53,22 @@ def test_a_message_cell_still_escapes_an_undecodable_byte(tmp_path):
     with open(csv_path, newline="", encoding="utf-8") as fh:
         (row,) = list(csv.DictReader(fh))
     assert row["error_message"] == "bad \\xe9 byte"
+
+
+def test_a_copys_error_names_its_own_shown_path():
+    """A byte-identical copy's row names its own file also where the shown form differs.
+
+    ``batch.archive._labelled`` replaced the raw path of the first file in the shared
+    message, which quotes the shown form ``'d\\\\e'``: the copy's row named the other file
+    (round 18 PART b, M04, for names with a backslash). Reference: the literal messages.
+    """
+    from modalinfo.batch.archive import _labelled
+    from modalinfo.common.files import quoted
+
+    first = "/in/d\\e"
+    row = {"path": first, "error_message": quoted(first) + " is empty"}
+    out = _labelled(row, {"path": "/in/copy\\f"})
+    assert out["error_message"] == "'/in/copy\\\\f' is empty", out["error_message"]
+    plain = _labelled({"path": "/in/a.csv", "error_message": "'/in/a.csv' is empty"},
+                      {"path": "/in/a.csv.bak"})
+    assert plain["error_message"] == "'/in/a.csv.bak' is empty"
