@@ -395,11 +395,18 @@ def _labelled(row: dict, labels: dict) -> dict:
 
     A byte-identical copy shares the row of the file analysed first: its error message
     named that other file ("'zero.csv' is empty" on zero.h5's row; round 18 PART b, M04).
+    A message quotes its path in the shown form (``files.quoted``): a name whose shown
+    form differs (a backslash, an undecodable byte) was not replaced (fixes 47-e).
     """
+    from modalinfo.common.files import shown_name
+
     out = {**row, **labels}
     msg, first, own = row.get("error_message"), row.get("path"), labels.get("path")
     if isinstance(msg, str) and first and own and first != own:
-        out["error_message"] = msg.replace(first, own)
+        msg = msg.replace(shown_name(first), shown_name(own))
+        if shown_name(first) != first:  # a raw path from a message not of ours
+            msg = msg.replace(first, own)
+        out["error_message"] = msg
     return out
 
 

@@ -37,7 +37,7 @@ from modalinfo.cli.shared import (
     refuse_outlier_drop,
 )
 from modalinfo.common.cli import check_cluster_args, folder_arg
-from modalinfo.common.files import shown_name
+from modalinfo.common.files import shown_message, shown_name
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -253,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
                         # the path and message as the table's cells show them
                         out.write(f"error  {shown_name(row['path'])} [{row['analysis']}]: "
                                   f"{row.get('error_type')}: "
-                                  f"{shown_name(str(row.get('error_message')))}\n")
+                                  f"{shown_message(str(row.get('error_message')))}\n")
                 for path in result.plots:
                     out.write(f"plot: {path}\n")
         except StdoutRefusedError as exc:

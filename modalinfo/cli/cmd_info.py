@@ -18,11 +18,11 @@ log). A progress bar goes to stderr when it is a terminal, unless ``--quiet``.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import add_hint_arguments, apply_outliers, hints_from_args
+from modalinfo.common.cli import write_stdout
 from modalinfo.common.text import display_width, pad
 from modalinfo.telemetry.checks import mode_span
 
@@ -110,11 +110,10 @@ def run(args: argparse.Namespace) -> int:
     check_log_rate(loaded, args.log)
     log, quality = apply_outliers(loaded, args, args.log)  # refused here, before any output
     repaired = log.coeffs is not loaded.coeffs  # clip / drop changed the data
-    out = sys.stdout
     meta = log.metadata
     labels = log.labels
-    out.write(f"file        {args.log}\n")
-    out.write(f"shape       {log.n_frames} frames x {log.n_modes} modes ({log.dtype})\n")
+    write_stdout(f"file        {args.log}\n")
+    write_stdout(f"shape       {log.n_frames} frames x {log.n_modes} modes ({log.dtype})\n")
     assumed = meta.get("assumed") if isinstance(meta.get("assumed"), dict) else {}
     sampling = log.sampling()
     rate = "unknown (pass --rate)" if log.rate is None else f"{log.rate:.6g} Hz"
@@ -122,24 +121,24 @@ def run(args: argparse.Namespace) -> int:
         rate = f"{sampling.median_rate:.6g} Hz median (mean {sampling.mean_rate:.6g} Hz)"
     duration = "unknown" if log.duration is None else f"{log.duration:.6g} s"
     axis = "timestamps" if log.timestamps is not None else "uniform"
-    out.write(f"rate        {rate}, duration {duration} ({axis})\n")
+    write_stdout(f"rate        {rate}, duration {duration} ({axis})\n")
     # a foreign rate field the timestamps overruled, said in full once (Leftovers 19-misc)
     field_note = meta.get("rate_field") if (
         log.timestamps is not None and meta.get("source_file") == Path(args.log).name) else None
     if isinstance(field_note, str):
-        out.write(f"rate note   {field_note}\n")
+        write_stdout(f"rate note   {field_note}\n")
     if sampling is not None and sampling.n_frames > 1:
-        out.write(f"sampling    {_sampling_text(sampling)}\n")
+        write_stdout(f"sampling    {_sampling_text(sampling)}\n")
     shown = ", ".join(labels) if len(labels) <= 8 else mode_span(log.modes, log.convention)
     if "modes" in assumed:  # the default modes: their convention is assumed with them
-        out.write(f"modes       {shown} ({log.convention}) (assumed)\n")
+        write_stdout(f"modes       {shown} ({log.convention}) (assumed)\n")
     else:
         conv = f"{log.convention}, assumed" if "convention" in assumed else log.convention
-        out.write(f"modes       {shown} ({conv})\n")
+        write_stdout(f"modes       {shown} ({conv})\n")
     wave = "" if log.wavelength is None else f" at wavelength {log.wavelength:.6g} m"
     mark = " (assumed)" if "units" in assumed else ""
-    out.write(f"units       {log.units}{mark}{wave}\n")
-    out.write(f"loop        {_loop_text(meta)}\n")
+    write_stdout(f"units       {log.units}{mark}{wave}\n")
+    write_stdout(f"loop        {_loop_text(meta)}\n")
     for key in sorted(meta):
         if key in ("loop", "repairs", "assumed", "modes_identification",
                    "coefficient_quantity", "outliers"):
@@ -149,31 +148,31 @@ def run(args: argparse.Namespace) -> int:
         value = meta[key]
         text = "; ".join(f"{k} {v}" for k, v in value.items()) if isinstance(
             value, dict) else str(value)
-        out.write(f"meta        {key}: {text if len(text) <= 90 else text[:87] + '...'}\n")
+        write_stdout(f"meta        {key}: {text if len(text) <= 90 else text[:87] + '...'}\n")
     for repair in meta.get("repairs", []) if isinstance(meta.get("repairs"), list) else []:
-        out.write(f"repair      {repair}\n")
-    out.write(f"quality     {quality.describe()}\n")
+        write_stdout(f"repair      {repair}\n")
+    write_stdout(f"quality     {quality.describe()}\n")
     from modalinfo.telemetry.sampling import repeated_blocks
 
     repeats = repeated_blocks(log.coeffs)
     if repeats:  # a block exported twice (audit 10-time: nothing was said)
         a, n, e = repeats[0]
         more = "" if len(repeats) == 1 else f" ({len(repeats)} such blocks)"
-        out.write(f"repeats     frames {a}..{a + n - 1} repeat frames {e}..{e + n - 1} "
+        write_stdout(f"repeats     frames {a}..{a + n - 1} repeat frames {e}..{e + n - 1} "
                   f"exactly{more}: a block written twice? lags see a jump back in time\n")
     earlier = loaded.metadata.get("outliers")
     for record in earlier if isinstance(earlier, list) else []:  # e.g. a clipped file
         if isinstance(record, dict):
-            out.write(f"outliers    earlier: {record.get('policy')}: {record.get('action')}\n")
+            write_stdout(f"outliers    earlier: {record.get('policy')}: {record.get('action')}\n")
     if repaired:
-        out.write(f"outliers    --outliers {args.outliers}: {meta['outliers'][-1]['action']}; "
+        write_stdout(f"outliers    --outliers {args.outliers}: {meta['outliers'][-1]['action']}; "
                   "the summary below is of the result\n")
     if isinstance(meta.get("modes_identification"), dict):
         from modalinfo.bases.identify import ZernikeIdentification
 
         ident = ZernikeIdentification.from_dict(meta["modes_identification"])
-        out.write("\nthe file's modes against our Zernikes (x along columns, y along rows):\n")
-        out.write(ident.table() + "\n")
+        write_stdout("\nthe file's modes against our Zernikes (x along columns, y along rows):\n")
+        write_stdout(ident.table() + "\n")
 
     from modalinfo.cli.shared import progress
 
@@ -186,20 +185,20 @@ def run(args: argparse.Namespace) -> int:
         summary = summarize(log, chunk_frames=args.chunk_frames, progress=advance,
                             visit=None if repaired else check.update)
     check.finish()  # a checksum skipped by memory mapping is verified in the same pass
-    out.write(f"integrity   {check.describe()}\n")
+    write_stdout(f"integrity   {check.describe()}\n")
     unit = log.units
     width = max(6, *(display_width(label) for label in labels))
-    out.write(
+    write_stdout(
         f"\n{pad('mode', width)}  {'mean':>12}  {'rms':>12}  {'std':>12}  {'lag1':>8}   [{unit}]\n"
     )
     for k, label in enumerate(labels):
-        out.write(
+        write_stdout(
             f"{pad(label, width)}  {summary.mean[k]:>12.5g}  {summary.rms[k]:>12.5g}  "
             f"{summary.std[k]:>12.5g}  {_fmt(summary.lag1[k]):>8}\n"
         )
     lag1_note = _lag1_note(log, sampling)
     if lag1_note:
-        out.write(f"note        {lag1_note}\n")
+        write_stdout(f"note        {lag1_note}\n")
     return 0
 
 

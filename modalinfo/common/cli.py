@@ -59,6 +59,7 @@ __all__ = [
     "folder_arg",
     "interrupted",
     "say",
+    "write_stdout",
     "written_summary",
 ]
 
@@ -123,6 +124,19 @@ def written_summary() -> Iterator[None]:
         raise
     except OSError as exc:
         raise StdoutRefusedError(exc.errno, exc.strerror or str(exc)) from None
+
+
+def write_stdout(text: str) -> None:
+    """Write ``text`` on stdout; a stdout that refuses it is :class:`StdoutRefusedError`.
+
+    For a command whose whole output is stdout (``info``): ``> /dev/full`` said
+    "error: [Errno 28] No space left on device" with status 2, the status of an input
+    error, naming no stream (round 47, fixes 47-e item 3); :func:`dispatch` now says
+    "could not write standard output" with status 1. Only the write is judged: an
+    ``OSError`` reading the log between two writes stays the input's error.
+    """
+    with written_summary():
+        sys.stdout.write(text)
 
 
 _URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]+:(//|/)|^file:", re.ASCII)

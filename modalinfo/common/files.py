@@ -38,6 +38,7 @@ __all__ = [
     "shown_errors",
     "files_written",
     "quoted",
+    "shown_message",
     "shown_name",
     "signals_end_the_save",
     "terminating_signals",
@@ -110,7 +111,27 @@ def shown_name(text: str | os.PathLike) -> str:
     text = os.fspath(text)
     if isinstance(text, bytes):
         text = os.fsdecode(text)
-    text = text.replace("\\", "\\\\")
+    return shown_message(text.replace("\\", "\\\\"))
+
+
+def shown_message(text: str) -> str:
+    r"""Return a message whose paths are already shown (:func:`quoted`) as printable UTF-8.
+
+    Only an undecodable byte (a lone surrogate, PEP 383) is written ``\xNN``; a backslash
+    is kept: a message quoting ``'d\\e'`` (the file ``d\e``) read ``'d\\\\e'`` in batch's
+    table and error lines when :func:`shown_name` escaped the whole message again (fixes
+    47-e item 2). :func:`shown_name` is this after doubling the backslashes.
+
+    Parameters
+    ----------
+    text : str
+        A one-line message.
+
+    Returns
+    -------
+    str
+        ``text`` unchanged when it is valid UTF-8.
+    """
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from modalinfo.common.deps import require
-from modalinfo.common.files import OutputGoneError, atomic_write, shown_name
+from modalinfo.common.files import OutputGoneError, atomic_write, shown_message, shown_name
 from modalinfo.common.folders import clean_staging
 from modalinfo.common.memory import address_space_limit_bytes
 
@@ -152,15 +152,24 @@ def _column_order(rows: list[dict], first: Sequence[str]) -> list[str]:
     return list(seen)
 
 
-def _utf8_text(value: object) -> object:
+#: Cells that hold a message, whose paths are already in the shown form (``quoted``).
+MESSAGE_COLUMNS = frozenset({"error_message"})
+
+
+def _utf8_text(value: object, column: str = "") -> object:
     r"""``value`` with any undecodable file-name byte shown as ``\xNN`` (a str stays a str).
 
     A file name that is not UTF-8 reaches Python as a str holding lone surrogates
     (PEP 383), which pyarrow's UTF-8 columns cannot hold: the whole table failed after
     every task had run (round 13 PART b). The byte is written as ``ls -b`` shows it,
-    by the one rule every message follows (``shown_name``).
+    by the one rule every message follows (``shown_name``). A cell of
+    :data:`MESSAGE_COLUMNS` quotes its paths already shown: only its undecodable bytes
+    are escaped (``shown_message``; ``shown_name`` doubled the backslashes of a quoted
+    ``'d\\e'`` again, fixes 47-e item 2).
     """
-    return shown_name(value) if isinstance(value, str) else value
+    if not isinstance(value, str):
+        return value
+    return shown_message(value) if column in MESSAGE_COLUMNS else shown_name(value)
 
 
 def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str] = (),
@@ -195,7 +204,7 @@ def _write_table(pa, pacsv, pq, rows, out_dir, stem, first, overwrite) -> tuple[
     columns = _column_order(rows, first)
     data = {}
     for name in columns:
-        values = [_utf8_text(r.get(name)) for r in rows]
+        values = [_utf8_text(r.get(name), name) for r in rows]
         kinds = {type(v) for v in values if v is not None}
         if kinds <= {int, float} and float in kinds:
             values = [None if v is None else float(v) for v in values]
