@@ -90,6 +90,7 @@ from pathlib import Path
 import numpy as np
 
 from closedloop.kinds import mirror_kind, sensor_kind
+from modalinfo.common.files import quoted
 
 # FITS overheads [bytes]: one copy, beside the modalinfo writer (left13-cli)
 from modalinfo.io.aot import HDU_OVERHEAD as _HDU_OVERHEAD
@@ -582,7 +583,7 @@ def export_aot(result, path, *, overwrite: bool = False, model=None,
 
     path = as_path(path)
     if path.exists() and not overwrite and not path.is_dir():
-        raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+        raise FileExistsError(f"{quoted(path)} exists; pass overwrite=True to replace it")
     check_export(result, path, model=model, mode_images=mode_images)
     system = build_aot_system(result, model, mode_images=mode_images)
     _strehl_wavelength_as_card(system)

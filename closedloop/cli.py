@@ -54,7 +54,7 @@ def _config(args):
 def _check_config_suffix(option: str, path) -> None:
     """Name the option (load_config / save_config would name their `path`)."""
     if Path(path).suffix.lower() not in (".toml", ".json"):
-        raise CommandError(f"{option} must end in .toml or .json; got {str(path)!r}")
+        raise CommandError(f"{option} must end in .toml or .json; got {quoted(path)}")
 
 
 def _progress(args) -> bool | None:
@@ -469,7 +469,7 @@ def _cmd_config(args) -> int:
         return 0
     _check_config_suffix("--out", args.out)
     if args.fmt is not None and args.out.suffix.lower() != "." + args.fmt:
-        raise CommandError(f"--fmt {args.fmt} contradicts --out {str(args.out)!r} (the file's "
+        raise CommandError(f"--fmt {args.fmt} contradicts --out {quoted(args.out)} (the file's "
                            "format follows its extension); drop --fmt or rename --out")
     if args.out.parent.is_dir():
         # a read-only folder was refused naming the temporary file (round 40 PART b, F12)

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from closedloop.kinds import mirror_kind, mirror_kinds, sensor_kind, sensor_kinds
+from modalinfo.common.files import quoted
 from modalinfo.common.validation import (
     MAX_TELESCOPE_DIAMETER,
     check_choice,
@@ -921,9 +922,9 @@ def load_config(path: str | Path) -> SimulationConfig:
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):
-        raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
+        raise ValueError(f"`path` must end in .toml or .json; got {quoted(path)}.")
     if not path.is_file():  # a FIFO "did not exist"
-        raise FileNotFoundError(f"config file {str(path)!r} " + (
+        raise FileNotFoundError(f"config file {quoted(path)} " + (
             "is not a regular file (a FIFO or a device)." if path.exists() else
             "is a symbolic link to nothing (a loop or a missing target)." if path.is_symlink()
             else "does not exist."))
@@ -933,20 +934,21 @@ def load_config(path: str | Path) -> SimulationConfig:
         data = (tomllib.loads(text) if suffix == ".toml"
                 else json.loads(text, object_pairs_hook=_unique_keys))
     except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a {suffix[1:].upper()} text file (not UTF-8)") from None
+        raise ValueError(f"{quoted(path)}: not a {suffix[1:].upper()} text file (not "
+                         "UTF-8)") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path}: not valid {suffix[1:].upper()}: {exc}") from exc
+        raise ValueError(f"{quoted(path)}: not valid {suffix[1:].upper()}: {exc}") from exc
     except ValueError as exc:  # a repeated JSON key
-        raise ValueError(f"{path}: {exc}") from None
+        raise ValueError(f"{quoted(path)}: {exc}") from None
     if not data:  # an empty file (or a writer that failed after opening it): say so
-        raise ValueError(f"{path}: the config file is empty; write one with "
+        raise ValueError(f"{quoted(path)}: the config file is empty; write one with "
                          "`closedloop config --out FILE` and edit it")
     from modalinfo.io.formats import describe_json
 
     kind = describe_json(data)
     if kind is not None and not kind.startswith("a closedloop config"):
         # reorder's JSON was "unknown key `basis_key` in the config" (round 21 PART b, a32)
-        raise ValueError(f"{path} is {kind}, not a closedloop config; write one with "
+        raise ValueError(f"{quoted(path)} is {kind}, not a closedloop config; write one with "
                          "`closedloop config --out FILE`")
     return SimulationConfig.from_dict(data)
 
@@ -968,7 +970,7 @@ def save_config(config: SimulationConfig, path: str | Path, *, overwrite: bool =
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):
-        raise ValueError(f"`path` must end in .toml or .json; got {str(path)!r}.")
+        raise ValueError(f"`path` must end in .toml or .json; got {quoted(path)}.")
     text = config_text(config, suffix[1:])
     data = text.encode("utf-8")
     atomic_write(path, lambda fh: fh.write(data), overwrite=overwrite)

@@ -83,6 +83,7 @@ from typing import Any
 import numpy as np
 
 from closedloop.config import SimulationConfig
+from modalinfo.common.files import quoted
 from modalinfo.common.provenance import run_record
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import check_int, check_real
@@ -254,7 +255,7 @@ def _not_a_result(path, why: str) -> str:
     """
     from modalinfo.io.formats import what_file
 
-    return (f"{path}: {why}: it is {what_file(path)}; a result is the HDF5 file "
+    return (f"{quoted(path)}: {why}: it is {what_file(path)}; a result is the HDF5 file "
             "`closedloop run --out RUN.h5` writes")
 
 
@@ -849,10 +850,10 @@ class SimulationResult:
 
         path = Path(path)
         if path.is_dir():
-            raise IsADirectoryError(f"result file {str(path)!r} is a directory, not a "
+            raise IsADirectoryError(f"result file {quoted(path)} is a directory, not a "
                                     "saved run (closedloop run --out RUN.h5 writes one).")
         if not path.is_file():  # a FIFO "did not exist"
-            raise FileNotFoundError(f"result file {str(path)!r} " + (
+            raise FileNotFoundError(f"result file {quoted(path)} " + (
                 "is not a regular file (a FIFO or a device)." if path.exists() else
                 "is a symbolic link to nothing (a loop or a missing target)."
                 if path.is_symlink() else "does not exist."))
@@ -871,13 +872,13 @@ class SimulationResult:
                 _verify(f, path)
             else:
                 warn(UncheckedResultWarning(
-                    f"{path}: a format-{version} closedloop result, written before results "
+                    f"{quoted(path)}: a format-{version} closedloop result, written before results "
                     "carried checksums: its datasets are not verified (saving it again adds "
                     "them)"), stacklevel=2)
             missing = [a for a in ("config", "seed", "predictor", "elapsed", "version")
                        if a not in f.attrs]
             if missing:  # round 7, q15: an h5py KeyError
-                raise ValueError(f"corrupt closedloop result '{path}': attribute(s) "
+                raise ValueError(f"corrupt closedloop result {quoted(path)}: attribute(s) "
                                  f"{', '.join(missing)} missing.")
             config = SimulationConfig.from_dict(json.loads(f.attrs["config"]))
             logs = {name: (read_log_group(d, path) if isinstance(d, h5py.Group)
@@ -972,7 +973,7 @@ def _verify(f, path: Path) -> None:
     """Raise ``LogFormatError`` naming what of ``f`` differs from its recorded checksums."""
     from modalinfo.io.files import LogFormatError
 
-    head = f"corrupt closedloop result '{path}'"
+    head = f"corrupt closedloop result {quoted(path)}"
     raw = f.attrs.get("sha256")
     try:
         sums = json.loads(bytes(raw).decode("ascii"))

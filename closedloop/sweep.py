@@ -27,6 +27,7 @@ import numpy as np
 
 from closedloop import presets
 from closedloop.config import SimulationConfig, load_config
+from modalinfo.common.files import quoted
 from modalinfo.common.validation import check_real
 from modalinfo.io.formats import GRID_KEYS, describe_json  # a grid fed to another command
 
@@ -98,17 +99,17 @@ def load_grid(path: str | Path) -> dict:
     """Read and check a grid file (see the module docstring); return it as a dict."""
     path = Path(path)
     if not path.is_file():  # a FIFO "did not exist"
-        raise FileNotFoundError(f"grid file '{path}' " + (
+        raise FileNotFoundError(f"grid file {quoted(path)} " + (
             "is not a regular file (a FIFO or a device)" if path.exists() else
             "does not exist"))
     try:
         grid = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path}: not valid TOML: {exc}") from exc
+        raise ValueError(f"{quoted(path)}: not valid TOML: {exc}") from exc
     unknown = sorted(set(grid) - GRID_KEYS)
     if unknown and (describe_json(grid) or "").startswith("a closedloop config"):
         # a config given as the grid was "unknown key `dms`" (round 46 PART b, F75)
-        raise ValueError(f"{path} is a closedloop config, not a sweep grid: name it in a "
+        raise ValueError(f"{quoted(path)} is a closedloop config, not a sweep grid: name it in a "
                          f"grid file, config = \"{path.name}\" (`closedloop sweep --help` "
                          "shows the grid's format)")
     if unknown:
@@ -116,9 +117,9 @@ def load_grid(path: str | Path) -> dict:
         from modalinfo.common.validation import did_you_mean
 
         hint = did_you_mean(unknown[0], GRID_KEYS)
-        raise ValueError(f"{path}: unknown key `{unknown[0]}`{hint}; allowed: {allowed}")
+        raise ValueError(f"{quoted(path)}: unknown key `{unknown[0]}`{hint}; allowed: {allowed}")
     if "config" in grid and "preset" in grid:  # one would be ignored (round 13 PART b)
-        raise ValueError(f"{path}: give `preset` or `config`, not both (the base of every "
+        raise ValueError(f"{quoted(path)}: give `preset` or `config`, not both (the base of every "
                          f"run is one of them); got preset {grid['preset']!r} and config "
                          f"{grid['config']!r}")
     if "config" in grid:
@@ -126,7 +127,7 @@ def load_grid(path: str | Path) -> dict:
                 or Path(grid["config"]).suffix.lower() not in (".toml", ".json")):
             # "`path` must end in .toml or .json": no key of the grid is `path` (round 46
             # PART b, F76)
-            raise ValueError(f"{path}: grid `config` must name a .toml or .json file (from "
+            raise ValueError(f"{quoted(path)}: grid `config` must name a .toml or .json file (from "
                              f"`closedloop config --out`); got {grid['config']!r}")
         # absolute, but links kept: resolve() turned a config link to a device into its
         # target, refused as "`path` must end in .toml" (round 28 PART b)

@@ -275,7 +275,7 @@ def _kl_notes(log, path, modules) -> list[str]:
     what = kl_geometry_assumption(log) if labels else None
     if what is None:
         return []
-    return [f"'{Path(path).name}' records {what}: {', '.join(labels)}"]
+    return [f"{quoted(Path(path).name)} records {what}: {', '.join(labels)}"]
 
 
 def _load_logs(args, logs, modules) -> dict:
@@ -306,10 +306,11 @@ def _load_logs(args, logs, modules) -> dict:
                 notes += _kl_notes(log, path, modules)
         except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
             from modalinfo.cli import cli_words
+            from modalinfo.common.files import error_line
 
             # in command-line words, as modalinfo's commands say it ("loop=UID (command
             # line: --loop UID)" was printed as is: round 10 PART b, row Z26)
-            message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            message = error_line(exc, repr(exc))
             raise _RefusedError(f"--log: {cli_words(message)}") from None
         for module, label, _ in modules:
             if _kind(module) != "log":
@@ -474,10 +475,10 @@ def _run_locked(args, modules, logs, needs_log) -> int:
                                           for name in _outputs(module, logs)]
     folders = [path for path in outputs if path.is_dir()]
     if folders:
-        raise _RefusedError(f"'{folders[0]}' is a folder; the run writes a file of that name")
+        raise _RefusedError(f"{quoted(folders[0])} is a folder; the run writes a file of that name")
     existing = [path for path in outputs if path.exists()]
     if existing and not args.overwrite:
-        raise _RefusedError(f"'{existing[0]}' exists; pass --overwrite to replace it")
+        raise _RefusedError(f"{quoted(existing[0])} exists; pass --overwrite to replace it")
     loaded = _load_logs(args, logs, modules) if needs_log else {}
     from paper_figures._common import shipped_edit_note
 

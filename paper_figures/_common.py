@@ -113,7 +113,7 @@ def staged_output(out: Path) -> Iterator[Path]:
             clash = [out / i.name for i in items if (out / i.name).is_dir() != i.is_dir()
                      and (out / i.name).exists()]
             if clash:  # found before anything is moved: `out` stays as it was
-                raise OutputError(f"'{clash[0]}' is in the way: the run writes a "
+                raise OutputError(f"{files.quoted(clash[0])} is in the way: the run writes a "
                                   f"{'folder' if clash[0].is_file() else 'file'} there")
             for item in items:
                 target = out / item.name
@@ -427,11 +427,11 @@ def figure_main(
     if output_names is not None and any(c in args.suffix for c in "/\\\0"):
         return fail(f"--suffix must not contain a path separator; got {args.suffix!r}")
     if args.log is not None and args.log.is_dir():
-        return fail(f"--log '{args.log}' is a folder, not a log file")
+        return fail(f"--log {files.quoted(args.log)} is a folder, not a log file")
     if args.log is not None and not args.log.exists():
-        return fail(f"log file '{args.log}' does not exist")
+        return fail(f"log file {files.quoted(args.log)} does not exist")
     if args.log is not None and not args.log.is_file():
-        return fail(f"--log '{args.log}' is not a regular file (a FIFO or a device)")
+        return fail(f"--log {files.quoted(args.log)} is not a regular file (a FIFO or a device)")
     from modalinfo.common.provenance import provenance
 
     prepared = {}
@@ -443,7 +443,7 @@ def figure_main(
             log, source = log_or_kaos_like(args.log)
             log, outliers = user_log_outliers(log, args, args.log, time_axis)
         except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
-            message = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            message = files.error_line(exc, repr(exc))
             return fail(f"--log: {message}")
         prepared = {"prepared": (log, source, outliers)}
     given = sys.argv[1:] if argv is None else [str(a) for a in argv]
@@ -513,7 +513,7 @@ def _drawn(out: Path, names: list[str], overwrite: bool, draw: Callable[[Path], 
             # checked under the lock: a run that finished since cannot be replaced unasked
             existing = [out / name for name in names if (out / name).exists()]
             if existing and not overwrite:
-                return fail(f"'{existing[0]}' exists; pass --overwrite")
+                return fail(f"{files.quoted(existing[0])} exists; pass --overwrite")
             with staged_output(out) as stage:
                 text = draw(stage)
     except (ValueError, TypeError) as exc:  # OutputError (a held folder) included

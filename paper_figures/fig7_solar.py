@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from modalinfo.common.cli import Parser
+from modalinfo.common.files import quoted
 from paper_figures._common import markdown_table, save_png_pdf, write_figure
 from paper_figures.closedloop_runs import LABELS, STYLES, ClosedLoopRuns
 
@@ -472,7 +473,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     for name in (FIGURE_NAME, PDF_NAME, JSON_NAME):
         if (args.out / name).exists() and not args.overwrite:
-            sys.stderr.write(f"{parser.prog}: error: '{args.out / name}' exists; pass "
+            sys.stderr.write(f"{parser.prog}: error: {quoted(args.out / name)} exists; pass "
                              "--overwrite\n")
             return 2
     from paper_figures import closedloop_runs

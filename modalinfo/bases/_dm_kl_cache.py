@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from modalinfo.common.files import quoted
 from modalinfo.common.quiet import warn
 
 __all__ = ["CACHE_ENV", "MEMORY_ENTRIES", "VERSION", "cached_build", "build_key", "clear"]
@@ -113,7 +114,7 @@ def _write(path: Path, key: str, m2c: np.ndarray, var: np.ndarray) -> None:
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write(path, write, overwrite=True)
     except OSError as exc:  # a cache that cannot be written only costs the rebuild
-        warn(f"the DM-space K-L cache could not write '{path}' ({exc}); "
+        warn(f"the DM-space K-L cache could not write {quoted(path)} ({exc}); "
              f"set {CACHE_ENV} to a writable directory or unset it.",
              RuntimeWarning, stacklevel=4)
 

@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import quoted
 from modalinfo.common.provenance import sha256_file  # one copy, re-exported here
 from modalinfo.common.quiet import quiet
 from modalinfo.common.validation import (
@@ -650,7 +651,7 @@ def run_log_task(payload: dict) -> dict:
         log = log[start:stop]  # a view of the mapped file: only the window is read
     analysis, params = payload["analysis"], payload["params"]
     if analysis != "summary":  # a summary reports the rate; the analyses refuse, as the CLI
-        problem = log_rate_problem(log.rate, log.timestamps is not None, f"'{Path(path).name}'")
+        problem = log_rate_problem(log.rate, log.timestamps is not None, quoted(Path(path).name))
         if problem:
             raise ValueError(problem)
     row = log_columns(log)
@@ -676,7 +677,7 @@ def _check_quality_memory(path: str, log: Any, policy: str) -> None:
     need = quality_pass_need(log, policy, in_memory_bytes(log))
     avail = usable_memory_bytes()
     if need > avail:
-        raise MemoryError(f"'{Path(path).name}' ({log.n_frames} frames x {log.n_modes} "
+        raise MemoryError(f"{quoted(Path(path).name)} ({log.n_frames} frames x {log.n_modes} "
                           f"modes): the log-quality pass (outliers {policy}) needs about "
                           f"{format_size(need)} of memory and {format_size(avail)} is "
                           "available; analyse fewer frames (window) or modes")

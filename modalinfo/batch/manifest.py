@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from modalinfo.common.files import quoted
 from modalinfo.common.validation import did_you_mean
 
 __all__ = ["LogEntry", "collect_logs", "read_manifest"]
@@ -184,7 +185,8 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
     except UnicodeDecodeError as exc:
         # the codec's bare "can't decode byte 0xfc in position 5" named neither the file
         # nor the remedy (adversarial round 20 PART b, B30: a Latin-1 spreadsheet export)
-        raise ValueError(f"manifest '{path}' is not UTF-8 text (byte {exc.object[exc.start]:#04x} "
+        raise ValueError(f"manifest {quoted(path)} is not UTF-8 text (byte "
+                         f"{exc.object[exc.start]:#04x} "
                          f"at offset {exc.start}); re-save it as UTF-8 CSV") from None
     lines = []
     for line in every:
@@ -197,17 +199,17 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
     columns = [c.strip().lower() for c in reader.fieldnames or []]
     twice = sorted({c for c in columns if columns.count(c) > 1})
     if twice:  # DictReader would keep the last value silently (round 13 PART b)
-        raise ValueError(f"manifest '{path}': column {twice[0]!r} appears twice in the "
+        raise ValueError(f"manifest {quoted(path)}: column {twice[0]!r} appears twice in the "
                          "header; give it once")
     unknown = [c for c in columns if c != "path" and c not in _ALIASES]
     if unknown:
         hint = did_you_mean(unknown[0], ["path", *_ALIASES], quote="'")
         raise ValueError(
-            f"manifest '{path}': unknown column {unknown[0]!r}{hint}; columns are path, "
+            f"manifest {quoted(path)}: unknown column {unknown[0]!r}{hint}; columns are path, "
             f"{', '.join(sorted(_ALIASES))}"
         )
     for n, raw in enumerate(reader, start=2):
-        where = f"manifest '{path}' row {n}"
+        where = f"manifest {quoted(path)} row {n}"
         extra = [c for c in raw.get(None) or [] if c.strip()]
         if extra:
             # DictReader files the cells beyond the header under None, and they were
@@ -227,7 +229,7 @@ def read_manifest(path: str | os.PathLike) -> list[LogEntry]:
             # of the rule (round 46 PART b, R02)
             raise ValueError(
                 f"{where}: '{row['path']}' is not in the manifest's folder "
-                f"('{path.parent}'), from which its relative paths are read, but in the "
+                f"({quoted(path.parent)}), from which its relative paths are read, but in the "
                 "current folder: write it relative to the manifest, or absolute")
         if _is_manifest(file):
             # read as a log it was "corrupt CSV file ... could not convert 'x.npz' to
@@ -301,8 +303,8 @@ def _check_comment(line: str, manifest: Path) -> None:
     except OSError:  # a comment too long or odd for a file name
         return
     if named:
-        raise ValueError(f"manifest '{manifest}': the line {line.strip()!r} starts with '#' "
-                         f"and is skipped as a comment, but names the file '{file}'; quote "
+        raise ValueError(f"manifest {quoted(manifest)}: the line {line.strip()!r} starts with '#' "
+                         f"and is skipped as a comment, but names the file {quoted(file)}; quote "
                          f"the cell (\"{cell}\") to read it, or write '# {cell}' to skip it")
 
 
@@ -328,11 +330,11 @@ def _walk(directory: Path, exclude: Sequence[Path], skipped: list[str] | None = 
         # of the archive is analysed and nothing is left out silently
         where = exc.filename if exc.filename is not None else directory
         if Path(where) == Path(directory):
-            raise ValueError(f"input folder '{directory}' cannot be read "
+            raise ValueError(f"input folder {quoted(directory)} cannot be read "
                              f"({exc.strerror or exc}); give read and search permission "
                              f"(chmod u+rx) or run as its owner") from None
         if unreadable is None:
-            raise ValueError(f"input folder '{directory}' holds '{where}', which cannot be "
+            raise ValueError(f"input folder {quoted(directory)} holds '{where}', which cannot be "
                              f"read ({exc.strerror or exc})") from None
         unreadable.append(str(where))
 
@@ -452,7 +454,7 @@ def collect_logs(
             # batch.csv was read as a manifest, "unknown column 'analysis'", and sweep.csv
             # told to rename a column 'path' (round 46 PART b, F31, G10)
             raise ValueError(
-                f"input '{path}' is {table}, not a log or a manifest: pass the logs, a "
+                f"input {quoted(path)} is {table}, not a log or a manifest: pass the logs, a "
                 "folder of them or a manifest CSV with a 'path' column")
         elif _is_manifest(path):
             for entry in read_manifest(path):
@@ -460,7 +462,7 @@ def collect_logs(
                       entry.path)
         elif (named := _misnamed_manifest(path)) is not None:
             raise ValueError(
-                f"input '{path}' names files ({named!r}) like a manifest but its header has "
+                f"input {quoted(path)} names files ({named!r}) like a manifest but its header has "
                 "no 'path' column; name the file column 'path' (a CSV log holds numbers)")
         elif path.exists():
             explicit(plain(path), text)

@@ -253,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
                         # the path and message as the table's cells show them
                         out.write(f"error  {shown_name(row['path'])} [{row['analysis']}]: "
                                   f"{row.get('error_type')}: "
-                                  f"{shown_message(str(row.get('error_message')))}\n")
+                                  f"{shown_message(str(row.get('error_message')), row['path'])}\n")
                 for path in result.plots:
                     out.write(f"plot: {path}\n")
         except StdoutRefusedError as exc:

@@ -33,6 +33,7 @@ from modalinfo.common.files import (
     SHOWN_ERRORS,
     OutputGoneError,
     check_not_special,
+    error_line,
     files_written,
     quoted,
     shown_errors,
@@ -472,7 +473,7 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
         say(f"{prog} {args.command}: error: {exc.strerror}\n")
         return EXIT_FAILURE
     except (CommandError, ValueError, TypeError, OSError, KeyError) as exc:
-        message = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        message = error_line(exc, type(exc).__name__)
         if isinstance(exc, OSError) and exc.errno == errno.EFBIG:
             message = _file_too_large(exc, message)
         if words is not None:
@@ -514,8 +515,8 @@ def _file_too_large(exc: OSError, message: str) -> str:
     """
     from modalinfo.common.files import file_size_limit_text
 
-    name = f" writing {quoted(exc.filename)}" if exc.filename and str(exc.filename) not in message \
-        else ""
+    named = exc.filename and quoted(exc.filename) in message
+    name = f" writing {quoted(exc.filename)}" if exc.filename and not named else ""
     limit = file_size_limit_text() or "a file-size limit"
     return f"{message}{name}: {limit}; raise it (ulimit -f) or write a smaller output"
 

@@ -38,6 +38,7 @@ __all__ = [
     "shown_errors",
     "files_written",
     "quoted",
+    "error_line",
     "shown_message",
     "shown_name",
     "signals_end_the_save",
@@ -114,7 +115,7 @@ def shown_name(text: str | os.PathLike) -> str:
     return shown_message(text.replace("\\", "\\\\"))
 
 
-def shown_message(text: str) -> str:
+def shown_message(text: str, path: str | os.PathLike | None = None) -> str:
     r"""Return a message whose paths are already shown (:func:`quoted`) as printable UTF-8.
 
     Only an undecodable byte (a lone surrogate, PEP 383) is written ``\xNN``; a backslash
@@ -122,16 +123,29 @@ def shown_message(text: str) -> str:
     table and error lines when :func:`shown_name` escaped the whole message again (fixes
     47-e item 2). :func:`shown_name` is this after doubling the backslashes.
 
+    Every message of ours quotes a path through :func:`quoted`; a text we do not write
+    (another library's, such as h5py's ``name = '<path>'``) may quote the raw path. With
+    ``path`` (the file a batch row is about), that raw ``'<path>'`` is replaced by
+    ``quoted(path)`` first, so the file named ``a\xe9`` (a backslash) and the one whose
+    name holds the byte 0xE9 never read alike (round 45 PART b, E21; review 29; fixes
+    48-a). A raw path without a backslash or an undecodable byte is its shown form.
+
     Parameters
     ----------
     text : str
         A one-line message.
+    path : str or os.PathLike, optional
+        The path the message is about.
 
     Returns
     -------
     str
-        ``text`` unchanged when it is valid UTF-8.
+        ``text`` unchanged when it is valid UTF-8 and quotes no raw ``path``.
     """
+    if path is not None:
+        name = os.fsdecode(os.fspath(path))
+        if shown_name(name) != name:
+            text = text.replace(f"'{name}'", quoted(name))
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
@@ -154,6 +168,37 @@ def quoted(path: str | os.PathLike) -> str:
     if not isinstance(path, (str, bytes, os.PathLike)):  # a file descriptor, say
         path = str(path)
     return f"'{shown_name(path)}'"
+
+
+def error_line(exc: BaseException, empty: str = "") -> str:
+    r"""Return the first line of ``str(exc)`` as a batch row or an error line says it.
+
+    An ``OSError`` Python formats itself (``[Errno 2] No such file or directory:
+    'a\\xe9'``) names its file by ``repr``, which writes an undecodable byte ``\udce9``
+    rather than ``ls -b``'s ``\xe9``: its file names are quoted here by :func:`quoted`,
+    as every message of ours quotes them (fixes 48-a). Any other message is its own
+    first line, unchanged.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The error.
+    empty : str
+        The text for an error whose message is blank.
+
+    Returns
+    -------
+    str
+        One line.
+    """
+    text = str(exc)
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror is not None:
+        names = [exc.filename] + ([] if exc.filename2 is None else [exc.filename2])
+        head = f"[Errno {exc.errno}] {exc.strerror}: "
+        if text == head + " -> ".join(repr(n) for n in names):  # Python's own format
+            text = head + " -> ".join(quoted(n) for n in names)
+    text = text.strip()
+    return text.splitlines()[0] if text else empty
 
 
 def _is_surrogate(char: str) -> bool:

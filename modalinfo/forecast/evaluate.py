@@ -103,7 +103,7 @@ from scipy.stats import norm
 from scipy.stats import t as student_t
 
 from modalinfo._stats import SHIFT_ALPHA, SHIFT_MIN_RATIO, ar_cosine_transfer
-from modalinfo.common.files import warn_spreadsheet_formulas
+from modalinfo.common.files import quoted, warn_spreadsheet_formulas
 from modalinfo.common.quiet import warn
 from modalinfo.common.records import (
     array_fields_eq,
@@ -668,7 +668,8 @@ class ForecastEvaluation:
         if not overwrite:
             for path in paths:
                 if path.exists():
-                    raise FileExistsError(f"'{path}' exists; pass overwrite=True to replace it")
+                    raise FileExistsError(f"{quoted(path)} exists; pass overwrite=True to replace "
+                                          "it")
         meta = png_metadata(provenance)
         with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
             fig_series, ax = plt.subplots(figsize=(8, 3.5))

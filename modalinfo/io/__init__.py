@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.common.memory import usable_memory_bytes
 from modalinfo.io._common import HINTS
 from modalinfo.io.aot import read_aot, write_aot
@@ -194,14 +194,14 @@ def load(
         fmt = detect_format(path)
     options: dict = {}
     if fmt != "aot" and hints.pop("loop", None) is not None:
-        raise ValueError(f"`loop` selects a control loop of an AOT file; '{path}' is {fmt}.")
+        raise ValueError(f"`loop` selects a control loop of an AOT file; {quoted(path)} is {fmt}.")
     if dataset is not None:
         # FITS too: its HDU, by index or EXTNAME (a thumbnail in the primary HDU hid the
         # log in HDU 1 from every command: adversarial round 10 PART b, rows F03, F04)
         if fmt not in ("npz", "hdf5", "fits"):
             raise ValueError(
                 f"dataset={dataset!r} (command line: --dataset) applies only to HDF5, NPZ "
-                f"and FITS files; '{path}' is {fmt.upper()}"
+                f"and FITS files; {quoted(path)} is {fmt.upper()}"
             )
         if not isinstance(dataset, str) or not dataset.strip("/"):
             raise TypeError(f"`dataset` must be a non-empty str; got {dataset!r}.")
@@ -248,7 +248,7 @@ def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -
         fmt = format_from_extension(path)
         if fmt is None or fmt == "npy":
             raise ValueError(
-                f"cannot tell the format of '{path}' from its extension; use .npz, .csv, "
+                f"cannot tell the format of {quoted(path)} from its extension; use .npz, .csv, "
                 ".fits or .h5, or pass fmt= (npy cannot hold the metadata)."
             )
     else:

@@ -36,6 +36,7 @@ import unicodedata
 
 import numpy as np
 
+from modalinfo.common.files import quoted
 from modalinfo.common.validation import check_exact_integers
 from modalinfo.io.files import LogFormatError
 
@@ -191,7 +192,7 @@ def mode_columns(names: list[str], path=None) -> tuple[list, str, bool]:
             if odd and all(odd) and 2 * len(odd) < len(names):
                 shown = ", ".join(map(repr, odd))
                 raise LogFormatError(
-                    f"'{path}': column(s) {shown} are not modes "
+                    f"{quoted(path)}: column(s) {shown} are not modes "
                     f"beside {len(names) - len(odd)} {convention} mode columns: a key of "
                     "several instruments, loops or nights (their rows interleaved), or a "
                     "flag? Keep one instrument's rows and drop the column(s)")
@@ -394,7 +395,7 @@ def column_units(names: list[str], path) -> tuple[list[str], str | None]:
     if len(known) > 1 or None in units:
         shown = ", ".join(str(n) for n in names[:6]) + (", ..." if len(names) > 6 else "")
         raise LogFormatError(
-            f"'{path}': the mode columns state different units ({shown}); one log holds "
+            f"{quoted(path)}: the mode columns state different units ({shown}); one log holds "
             "one unit: convert the columns to one unit first"
         )
     return stripped, units[0]
@@ -416,6 +417,6 @@ def float_columns(columns: list, names: list[str], path) -> np.ndarray:
             try:
                 check_exact_integers(arr, as_float, f"coeffs` column `{name}")
             except ValueError as exc:
-                raise LogFormatError(f"'{path}': {exc}") from exc
+                raise LogFormatError(f"{quoted(path)}: {exc}") from exc
         out.append(as_float)
     return np.column_stack(out)

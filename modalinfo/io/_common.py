@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import error_line, quoted
 from modalinfo.io._columns import unit_word
 from modalinfo.io._foreign import describe_modes, orient
 from modalinfo.io.checksums import dumps, sha256_of
@@ -70,25 +71,25 @@ def reading(fmt: str, path: Path) -> Iterator[None]:
             # HDF5's file lock: another process has the file open for writing; the file
             # is not damaged, it is busy (round 17 PART b, L05: "corrupt HDF5 file")
             raise LogFormatError(
-                f"{fmt} file '{path}' is locked by another process that has it open for "
+                f"{fmt} file {quoted(path)} is locked by another process that has it open for "
                 "writing; read it when the writer has closed it (or read a copy)"
             ) from exc
         if isinstance(exc, OSError) and exc.errno != errno.ENOMEM:
-            detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+            detail = error_line(exc)
             raise LogFormatError(
-                f"corrupt {fmt} file '{path}': {type(exc).__name__}: {detail}".rstrip(": ")
+                f"corrupt {fmt} file {quoted(path)}: {type(exc).__name__}: {detail}".rstrip(": ")
             ) from exc
         # not necessarily damage: a large log under a memory or address-space limit
         # (ulimit -v), or a damaged header declaring a huge size; say both
         raise LogFormatError(
-            f"{fmt} file '{path}' does not fit in the memory this process may use "
+            f"{fmt} file {quoted(path)} does not fit in the memory this process may use "
             f"({exc}); free memory or raise the limit, or check the file if its size "
             "is not what you expect"
         ) from exc
     except Exception as exc:  # noqa: BLE001 - every parser failure becomes one clear error
-        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        detail = error_line(exc)
         raise LogFormatError(
-            f"corrupt {fmt} file '{path}': {type(exc).__name__}: {detail}".rstrip(": ")
+            f"corrupt {fmt} file {quoted(path)}: {type(exc).__name__}: {detail}".rstrip(": ")
         ) from exc
 
 
@@ -139,30 +140,32 @@ def parse_header(text: str, fmt: str, path: Path, *, verify: bool = True) -> dic
     try:
         header = json.loads(text)
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise LogFormatError(f"corrupt {fmt} file '{path}': unreadable header ({exc})") from exc
+        raise LogFormatError(f"corrupt {fmt} file {quoted(path)}: unreadable header "
+                             f"({exc})") from exc
     if not isinstance(header, dict) or HEADER_KEY not in header:
-        raise LogFormatError(f"corrupt {fmt} file '{path}': header is not a modalinfo header")
+        raise LogFormatError(f"corrupt {fmt} file {quoted(path)}: header is not a modalinfo header")
     if header[HEADER_KEY] != FORMAT_VERSION:
         raise LogFormatError(
-            f"{fmt} file '{path}' has modalinfo format version {header[HEADER_KEY]!r}; "
+            f"{fmt} file {quoted(path)} has modalinfo format version {header[HEADER_KEY]!r}; "
             f"this version reads {FORMAT_VERSION}"
         )
     needed = ("shape", "dtype", "modes", "convention", "units", "metadata", "has_timestamps")
     missing = [k for k in needed if k not in header]
     if missing:
-        raise LogFormatError(f"corrupt {fmt} file '{path}': header lacks {', '.join(missing)}")
+        raise LogFormatError(f"corrupt {fmt} file {quoted(path)}: header lacks "
+                             f"{', '.join(missing)}")
     if header["dtype"] not in ("float32", "float64"):
-        raise LogFormatError(f"corrupt {fmt} file '{path}': dtype {header['dtype']!r}")
+        raise LogFormatError(f"corrupt {fmt} file {quoted(path)}: dtype {header['dtype']!r}")
     shape = header["shape"]
     if (
         not isinstance(shape, list)
         or len(shape) != 2
         or not all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in shape)
     ):
-        raise LogFormatError(f"corrupt {fmt} file '{path}': header shape {shape!r}")
+        raise LogFormatError(f"corrupt {fmt} file {quoted(path)}: header shape {shape!r}")
     sums = header.get("sha256")
     if sums is not None and not isinstance(sums, dict):
-        raise LogFormatError(f"corrupt {fmt} file '{path}': header checksum entry {sums!r}")
+        raise LogFormatError(f"corrupt {fmt} file {quoted(path)}: header checksum entry {sums!r}")
     if (
         verify
         and sums is not None
@@ -170,7 +173,7 @@ def parse_header(text: str, fmt: str, path: Path, *, verify: bool = True) -> dic
         and _header_digest(header) != sums["header"]
     ):
         raise LogFormatError(
-            f"corrupt {fmt} file '{path}': header does not match its SHA-256 checksum"
+            f"corrupt {fmt} file {quoted(path)}: header does not match its SHA-256 checksum"
         )
     return header
 
@@ -184,7 +187,7 @@ def check_stored_coefficients(coeffs: np.ndarray, header: dict, fmt: str, path: 
     want = "<f4" if header["dtype"] == "float32" else "<f8"
     if list(coeffs.shape) != header["shape"] or coeffs.dtype.str != want:
         raise LogFormatError(
-            f"corrupt {fmt} file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
+            f"corrupt {fmt} file {quoted(path)}: coefficients {coeffs.shape} {coeffs.dtype} "
             f"disagree with the header {tuple(header['shape'])} {header['dtype']}"
         )
 
@@ -194,7 +197,7 @@ def verify_checksum(header: dict, name: str, arr: np.ndarray, fmt: str, path: Pa
     expected = (header.get("sha256") or {}).get(name)
     if expected is not None and sha256_of(arr) != expected:
         raise LogFormatError(
-            f"corrupt {fmt} file '{path}': {name} do not match their SHA-256 checksum"
+            f"corrupt {fmt} file {quoted(path)}: {name} do not match their SHA-256 checksum"
         )
 
 
@@ -278,7 +281,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             records["layout"] = layout
     elif hints.get("transpose"):
         raise ValueError(
-            f"hint `transpose`=True: '{path}' was written by modalinfo, whose layout is "
+            f"hint `transpose`=True: {quoted(path)} was written by modalinfo, whose layout is "
             "known (frames x modes)."
         )
     hints.pop("transpose", None)
@@ -294,7 +297,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
     if bad_modes is not None and "modes" not in hints:
         # a mode list of the wrong length was ignored and Z2.. assumed (adversarial
         # round 9 PART b, rows N14, N16)
-        raise ValueError(f"'{path}': {bad_modes}; the file's labels do not fit its data: "
+        raise ValueError(f"{quoted(path)}: {bad_modes}; the file's labels do not fit its data: "
                          "give modes= (command line: --in-modes) to label the columns")
     rate_field = stored.pop("_rate_field", None)
     if foreign:
@@ -311,7 +314,8 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             for mk, mv in value.items():
                 if mk in meta and not _same(meta[mk], mv):
                     raise ValueError(
-                        f"hint metadata[{mk!r}]={mv!r} contradicts {meta[mk]!r} stored in '{path}'."
+                        f"hint metadata[{mk!r}]={mv!r} contradicts {meta[mk]!r} stored in "
+                        f"{quoted(path)}."
                     )
                 meta[mk] = mv
             kwargs["metadata"] = meta
@@ -320,7 +324,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
         elif not _same(stored[key], value):
             raise ValueError(
                 f"hint `{key}`={_short(value)} contradicts the value {_short(stored[key])} "
-                f"stored in '{path}'."
+                f"stored in {quoted(path)}."
             )
     if foreign:
         assumed: dict[str, str] = {}
@@ -372,7 +376,7 @@ def build_log(coeffs, path: Path, stored: dict, hints: dict, *, foreign: bool = 
             # a bad value read from the file, not one the caller gave: the command line
             # said "--rate must be > 0" to a user who had typed no --rate
             message = f"the file's {named.group(1)}" + message[named.end():]
-        error = type(exc)(f"'{path}': {message}")
+        error = type(exc)(f"{quoted(path)}: {message}")
         raise _PassthroughError(error) from exc
 
 
@@ -409,7 +413,7 @@ def _file_units(coeffs, file_unit: tuple[str, str], stored: dict, hints: dict, p
     if known is None:
         if hints.get("units") is None:
             raise LogFormatError(
-                f"'{path}': its {where} gives the coefficients the unit {word!r}, which is "
+                f"{quoted(path)}: its {where} gives the coefficients the unit {word!r}, which is "
                 "not a unit of phase (rad, waves) or optical path (m, nm, um); state the "
                 "units with units= (command line: --in-units) if the file is wrong"
             )
@@ -430,7 +434,7 @@ def check_has_modes(shape: tuple, path: Path) -> None:
     """
     if len(shape) == 2 and shape[1] == 0:
         raise LogFormatError(
-            f"'{path}' holds no modes: its coefficients have shape {tuple(shape)} "
+            f"{quoted(path)} holds no modes: its coefficients have shape {tuple(shape)} "
             "(frames x 0 columns), so there is nothing to read or analyse"
         )
 
@@ -492,7 +496,7 @@ def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
             # refused again (adversarial round 34 PART b, B25, B27, B28)
             j = int(bad[back[0]])
             raise ValueError(
-                f"'{path}': the file's frame numbers are not consecutive: they go back "
+                f"{quoted(path)}: the file's frame numbers are not consecutive: they go back "
                 f"({numbers[j]:.17g} then {numbers[j + 1]:.17g} at row {j + 1}; {bad.size} "
                 "break(s)), a counter that restarted or wrapped, which no rate turns into "
                 f"times; split the file at row {j + 1}, or store a wrapping counter as a "
@@ -504,13 +508,13 @@ def _refuse_skipped_frames(frames, path: Path, timestamps_given: bool) -> None:
             # refused again as duplicated timestamps (review24, planted bug X8)
             j = int(bad[again[0]])
             raise ValueError(
-                f"'{path}': the file's frame numbers are not consecutive: frame "
+                f"{quoted(path)}: the file's frame numbers are not consecutive: frame "
                 f"{numbers[j]:.17g} appears again at row {j + 1} ({again.size} repeated "
                 f"number(s), {bad.size} break(s)), a frame written twice, which no rate "
                 "turns into times; delete the repeated row(s), or delete the frame column "
                 "and give a rate (command line: --rate)")
         raise ValueError(
-            f"'{path}': the file's frame numbers are not consecutive ({numbers[i]:g} then "
+            f"{quoted(path)}: the file's frame numbers are not consecutive ({numbers[i]:g} then "
             f"{numbers[i + 1]:g} at row {i + 1}; {bad.size} break(s)); pass rate= (command "
             "line: --rate) to turn them into timestamps, so that the missing frames show as "
             "gaps"
@@ -542,7 +546,7 @@ def _copied_block(t: np.ndarray, coeffs, path: Path) -> None:
         return
     n = int(np.argmin(same)) if not same.all() else m
     raise ValueError(
-        f"'{path}': frames {i}..{i + n - 1} repeat frames {j}..{j + n - 1} of the file, "
+        f"{quoted(path)}: frames {i}..{i + n - 1} repeat frames {j}..{j + n - 1} of the file, "
         f"times and values (its timestamps go back from {t[i - 1]!r} to {t[i]!r} s at "
         f"frame {i}): a block written twice; delete those {n} rows (a rate would keep "
         "the copy as new frames)")
@@ -562,7 +566,7 @@ def _foreign_time_axis(stored: dict, hints: dict, frames, records: dict, path: P
             i = int(bad[0])
             rule = "repeated" if t[i + 1] == t[i] else "decreasing"
             raise ValueError(
-                f"'{path}': the file's timestamps are not strictly increasing ({rule} at "
+                f"{quoted(path)}: the file's timestamps are not strictly increasing ({rule} at "
                 f"frame {i + 1}: {t[i]!r} then {t[i + 1]!r} s); pass rate= (command line: "
                 "--rate) to replace them with a uniform time axis"
             )

@@ -49,6 +49,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import quoted
 from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.io.files import LogFormatError
 from modalinfo.telemetry.checks import (
@@ -184,7 +185,7 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
         layout, reason = annotation
         if transpose is not None and bool(transpose) != (layout == "modes_first"):
             raise ValueError(
-                f"hint `transpose`={bool(transpose)} contradicts '{path}', whose {reason} "
+                f"hint `transpose`={bool(transpose)} contradicts {quoted(path)}, whose {reason} "
                 "says the array is stored "
                 f"{'modes x frames' if layout == 'modes_first' else 'frames x modes'}."
             )
@@ -207,7 +208,7 @@ def orient(coeffs, path: Path, stored: dict, hints: dict) -> tuple[Any, dict | N
     if why is not None:
         n_rows, n_cols = coeffs.shape
         raise LogFormatError(
-            f"'{path}' holds a {n_rows} x {n_cols} array that looks transposed (modes x "
+            f"{quoted(path)} holds a {n_rows} x {n_cols} array that looks transposed (modes x "
             f"frames): {why}; pass transpose=True (command line: --transpose) to read "
             f"{n_cols} frames of {n_rows} modes, or transpose=False (--no-transpose) to "
             f"keep {n_rows} frames of {n_cols} modes"
@@ -226,7 +227,7 @@ def _content_doubt(coeffs, path: Path) -> dict | None:
         return None
     m0, m1, threshold = found
     n_rows, n_cols = np.shape(coeffs)
-    text = (f"'{Path(path).name}' was read as {n_rows} frames x {n_cols} modes (no axis "
+    text = (f"{quoted(Path(path).name)} was read as {n_rows} frames x {n_cols} modes (no axis "
             "names; either way round fits its shape), but its content says modes x frames: "
             f"lag-1 autocorrelation {m1:.2f} from column to column, {m0:.2f} from row to "
             "row (a log's modes persist in time, not across mode numbers; IDL, MATLAB and "

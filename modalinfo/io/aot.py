@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.sizes import format_size
 from modalinfo.io._columns import UNIT_WORDS, unit_word
@@ -145,7 +145,7 @@ def _aot_reading(path: Path) -> Iterator[list]:
             low = text.lower()
             if any(w in low for w in ("checksum", "datasum", "truncated", "corrupt",
                                       "multiple of 2880", "extra bytes")):
-                raise LogFormatError(f"corrupt AOT file '{path}': {text}")
+                raise LogFormatError(f"corrupt AOT file {quoted(path)}: {text}")
             notes.append(text)
 
 
@@ -196,7 +196,7 @@ def _check_mapping(path: Path) -> None:
     left = memory.address_space_left_bytes()
     if size > left:
         raise LogFormatError(
-            f"AOT file '{path}' ({format_size(size)}) is memory-mapped whole to be read "
+            f"AOT file {quoted(path)} ({format_size(size)}) is memory-mapped whole to be read "
             f"and this process's address-space limit (ulimit -v) leaves "
             f"{format_size(left)}: raise the limit (mapped pages are read on demand, not "
             "held), or write the file without mode images (closedloop export "
@@ -265,7 +265,7 @@ def _check_reading(system, lp, path: Path) -> None:
     avail = memory.usable_memory_bytes()
     if need > avail:
         raise LogFormatError(
-            f"reading loop {lp.uid!r} of AOT file '{path}' needs about {format_size(need)} "
+            f"reading loop {lp.uid!r} of AOT file {quoted(path)} needs about {format_size(need)} "
             f"of memory ({what}), more than the {format_size(avail)} available; free "
             "memory or read a loop with fewer modes")
 
@@ -274,7 +274,7 @@ def _control_loops(system, path: Path) -> list:
     aotpy = import_aotpy()
     loops = [lp for lp in system.loops if isinstance(lp, aotpy.ControlLoop)]
     if not loops:
-        raise LogFormatError(f"AOT file '{path}' has no control loop")
+        raise LogFormatError(f"AOT file {quoted(path)} has no control loop")
     return loops
 
 
@@ -299,13 +299,13 @@ def _pick_loop(system, path: Path, loop: str | None):
         if len(loops) == 1:
             return loops[0], loops
         raise LogFormatError(
-            f"AOT file '{path}' has {len(loops)} control loops ({uids}); choose one with "
+            f"AOT file {quoted(path)} has {len(loops)} control loops ({uids}); choose one with "
             "loop=UID (command line: --loop UID)"
         )
     for lp in loops:
         if lp.uid == loop:
             return lp, loops
-    raise LogFormatError(f"AOT file '{path}' has no control loop {loop!r}; its loops: {uids}")
+    raise LogFormatError(f"AOT file {quoted(path)} has no control loop {loop!r}; its loops: {uids}")
 
 
 def _raw(image) -> np.ndarray | None:
@@ -362,14 +362,14 @@ def _coefficients(lp, path: Path) -> tuple[np.ndarray, str]:
         c = _data(lp.modal_coefficients)
         if c.ndim != 2 or c.dtype.kind not in "fiu":
             raise LogFormatError(
-                f"AOT file '{path}': loop {lp.uid!r} modal_coefficients must be a numeric "
+                f"AOT file {quoted(path)}: loop {lp.uid!r} modal_coefficients must be a numeric "
                 f"(t, m) image; got {c.dtype} shape {c.shape}"
             )
         return c, "modal_coefficients"
     wfs = lp.input_sensor
     if lp.measurements_to_modes is None or wfs is None or wfs.measurements is None:
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} has neither modal_coefficients nor sensor "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} has neither modal_coefficients nor sensor "
             "measurements with measurements_to_modes"
         )
     meas = _data(wfs.measurements)
@@ -379,7 +379,7 @@ def _coefficients(lp, path: Path) -> tuple[np.ndarray, str]:
     flat_r = rec.reshape(rec.shape[0], -1) if rec.ndim >= 2 else None
     if flat_m is None or flat_r is None or flat_m.shape[1] != flat_r.shape[1]:
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} measurements {meas.shape} and "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} measurements {meas.shape} and "
             f"measurements_to_modes {rec.shape} do not match (need (t, d, s_v) and (m, d, s_v))"
         )
     coeffs = np.ascontiguousarray(flat_m.astype(np.float64) @ flat_r.astype(np.float64).T)
@@ -399,7 +399,7 @@ def _times(lp, n_frames: int, path: Path) -> tuple[np.ndarray | None, list | Non
         return None, frames
     if stamps.shape != (n_frames,):
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} has {stamps.size} timestamps for "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} has {stamps.size} timestamps for "
             f"{n_frames} frames"
         )
     return stamps, frames
@@ -526,7 +526,7 @@ def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
             and len(set(labels)) == len(labels)
             and (n_cols is None or len(labels) == n_cols)):
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} card {_LABELS_KEY} must be a JSON list of "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} card {_LABELS_KEY} must be a JSON list of "
             f"{n_cols if n_cols is not None else 'the'} distinct mode labels; got "
             f"{str(raw)[:60]!r}")
     return labels
@@ -545,12 +545,12 @@ def _identify(lp, system, n_cols: int, path: Path):
         return None
     if raw.ndim != 3:
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} modes must be (m, h, w) images; got shape "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} modes must be (m, h, w) images; got shape "
             f"{raw.shape}"
         )
     if raw.shape[0] != n_cols:
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} has {raw.shape[0]} modes but its "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} has {raw.shape[0]} modes but its "
             f"coefficients have {n_cols} columns"
         )
     from modalinfo.bases.identify import identify_zernike
@@ -621,7 +621,7 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
                 stored["timestamps"] = stamps
             if list(coeffs.shape) != own["shape"] or coeffs.dtype.name != own["dtype"]:
                 raise LogFormatError(
-                    f"corrupt AOT file '{path}': coefficients {coeffs.shape} {coeffs.dtype} "
+                    f"corrupt AOT file {quoted(path)}: coefficients {coeffs.shape} {coeffs.dtype} "
                     f"disagree with the header {tuple(own['shape'])} {own['dtype']}"
                 )
         else:
@@ -656,7 +656,7 @@ def _refuse_block(system, lp, path: Path) -> None:
         logs = [uid for uid, text in described.items()
                 if not (isinstance(text, str) and "no coefficients" in text)]
         raise LogFormatError(
-            f"AOT file '{path}': loop {lp.uid!r} holds no coefficients (the file's MI_CLOOP "
+            f"AOT file {quoted(path)}: loop {lp.uid!r} holds no coefficients (the file's MI_CLOOP "
             f"card: {said!r}); its logs are the loops {', '.join(map(repr, logs))}: pick "
             "one with loop= (command line: --loop UID)")
 
@@ -682,7 +682,8 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
         known = unit_word(unit)
         if known is None and units_hint is None:
             raise LogFormatError(
-                f"AOT file '{path}': loop {lp.uid!r} coefficient unit {unit.strip()!r} is not "
+                f"AOT file {quoted(path)}: loop {lp.uid!r} coefficient unit {unit.strip()!r} is "
+                "not "
                 "a unit of phase (rad, waves) or optical path (m, nm, um); state the units "
                 "with units= (command line: --in-units) if the card is wrong"
             )
@@ -790,7 +791,7 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
             # its coefficients may have labels (MI_MODES, e.g. DMKL1...): "no modes" read
             # as a contradiction of `modalinfo info` (adversarial round 8, row e122)
             raise LogFormatError(
-                f"AOT file '{path}': loop {lp.uid!r} has no mode images (no `modes` "
+                f"AOT file {quoted(path)}: loop {lp.uid!r} has no mode images (no `modes` "
                 "data), so no modal basis can be read from it")
         _check_reading(system, lp, path)
         n_cols = None
@@ -943,7 +944,7 @@ def check_aot_size(path, file_bytes: float, memory_bytes: float, *, what: str,
                     f"the {format_size(limit)} available (the file is about "
                     f"{format_size(file_bytes)}{fix}).")
     try:
-        check_room(Path(os.path.abspath(path)).parent, file_bytes, f"AOT file '{path}'")
+        check_room(Path(os.path.abspath(path)).parent, file_bytes, f"AOT file {quoted(path)}")
     except OutputError as exc:
         raise OutputError(f"{exc}{fix}") from None
 

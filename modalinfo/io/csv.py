@@ -41,6 +41,7 @@ from modalinfo.common.files import (
     as_path,
     atomic_write,
     check_readable,
+    quoted,
     warn_spreadsheet_formulas,
 )
 from modalinfo.io._columns import (
@@ -99,7 +100,7 @@ def write_csv(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     path = as_path(path)
     header = log_header(log, checksum=True)
     times = log.timestamps
-    warn_spreadsheet_formulas(log.labels, f"CSV {path.name}")
+    warn_spreadsheet_formulas(log.labels, f"CSV {quoted(path.name)}")
 
     def write(fh):
         text = io.TextIOWrapper(fh, encoding="utf-8", newline="\n")
@@ -168,7 +169,7 @@ def _number_format(message: str, path, delim: str | None = ",") -> None:
     else:
         return
     raise LogFormatError(
-        f"CSV file '{path}': numbers such as {token!r} are written with {what}; modalinfo "
+        f"CSV file {quoted(path)}: numbers such as {token!r} are written with {what}; modalinfo "
         "reads numbers with a decimal point and no separators: re-save the file so (pandas: "
         f"pd.read_csv(path, {read}).to_csv(new, index=False))")
 
@@ -188,7 +189,7 @@ def _numpy_reprs(message: str, path) -> None:
         return
     cell = found.group(1).strip().strip('"')
     raise LogFormatError(
-        f"CSV file '{path}': cells such as {cell!r} are numpy scalar reprs (numpy >= 2 "
+        f"CSV file {quoted(path)}: cells such as {cell!r} are numpy scalar reprs (numpy >= 2 "
         "prints repr(x) so), not numbers; write the numbers themselves (str(float(x)), "
         "numpy.savetxt, or pandas' to_csv)")
 
@@ -222,7 +223,7 @@ def _prose_lines(body: list[str], delim: str | None, path, first: str | None = N
         if (first is not None and last != delim and len(rows[0]) > 1
                 and len(_split(first, last)) == 1 and all(_is_number(t) for t in rows[0])):
             raise LogFormatError(
-                f"CSV file '{path}': its first line {first.strip()[:40]!r} is text above "
+                f"CSV file {quoted(path)}: its first line {first.strip()[:40]!r} is text above "
                 f"numbers separated by {'blanks' if last is None else repr(last)}; start "
                 "it with '#' (comment lines are skipped) or, if it names the columns, "
                 "separate the names as the numbers are")
@@ -233,7 +234,7 @@ def _prose_lines(body: list[str], delim: str | None, path, first: str | None = N
            for row in rows[:lead]):
         return  # a frame with a bad cell ('N/A'), not a line of text: numpy names the cell
     raise LogFormatError(
-        f"CSV file '{path}': its first {lead + 1} lines are text above the numbers "
+        f"CSV file {quoted(path)}: its first {lead + 1} lines are text above the numbers "
         f"(such as {body[0].strip()[:40]!r}); start each such line with '#' (comment lines "
         "are skipped, '# units: nm' is read) and keep at most one row of column names")
 
@@ -259,11 +260,13 @@ def _ragged_row(message: str, body: list[str], delim: str | None, path) -> None:
     number = rows.index(bad) + 1
     if bad == rows[-1] and got < width:
         raise LogFormatError(
-            f"corrupt CSV file '{path}': its last data row ({number}) holds {got} of the {width} "
+            f"corrupt CSV file {quoted(path)}: its last data row ({number}) holds {got} of the "
+            f"{width} "
             "values of the rows above: the file ends mid-row (written while the logger "
             "stopped?); delete that partial last line to read the complete frames")
     raise LogFormatError(
-        f"corrupt CSV file '{path}': data row {number} holds {got} values where the rows above "
+        f"corrupt CSV file {quoted(path)}: data row {number} holds {got} values where the rows "
+        "above "
         f"hold {width}; every row must hold one value per column")
 
 
@@ -347,7 +350,8 @@ def _time_columns(
     if len(timed) > 1 or len(framed) > 1:
         both = [names[k] for k in (timed if len(timed) > 1 else framed)]
         raise LogFormatError(
-            f"CSV file '{path}' has {len(both)} time columns ({', '.join(both)}); expected one"
+            f"CSV file {quoted(path)} has {len(both)} time columns ({', '.join(both)}); expected "
+            "one"
         )
     drop = timed + framed
     if timed:
@@ -364,7 +368,8 @@ def _time_columns(
         stored["_frame_numbers"] = np.ascontiguousarray(values[:, framed[0]])
     keep = [k for k in range(len(names)) if k not in drop]
     if not keep:
-        raise LogFormatError(f"CSV file '{path}' has a time column but no modes (no mode column)")
+        raise LogFormatError(f"CSV file {quoted(path)} has a time column but no modes (no mode "
+                             "column)")
     return values[:, keep], [names[k] for k in keep]
 
 
@@ -410,7 +415,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 # "corrupt CSV file: unreadable header (Expecting value ...)" (round 43
                 # PART b, g10)
                 raise LogFormatError(
-                    f"'{path}' is not a modalinfo CSV: its '{_MAGIC}' line is not a modalinfo "
+                    f"{quoted(path)} is not a modalinfo CSV: its '{_MAGIC}' line is not a "
+                    "modalinfo "
                     "CSV header (a text file, such as the report of `python -m paper_figures`?)"
                     "; a log is an NPZ, NPY, CSV, FITS or HDF5 file of coefficients")
             if line.startswith(_MAGIC):
@@ -418,7 +424,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 k += 1
                 break  # the header row follows immediately
             elif '{"modalinfo":' in line:
-                raise LogFormatError(f"corrupt CSV file '{path}': damaged '# modalinfo:' line")
+                raise LogFormatError(f"corrupt CSV file {quoted(path)}: damaged '# modalinfo:' "
+                                     "line")
             elif ":" in line:
                 key, _, value = line[1:].partition(":")
                 if key.strip():
@@ -428,7 +435,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
         first_line: str | None = None
         if header is not None:  # modalinfo layout: header row, then exactly T data rows
             if k >= len(lines):
-                raise LogFormatError(f"corrupt CSV file '{path}': header row missing")
+                raise LogFormatError(f"corrupt CSV file {quoted(path)}: header row missing")
             delim = ","
             names = _split(lines[k], delim)
             body = lines[k + 1 :]
@@ -438,20 +445,20 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 # also when the appended lines end in a marker of their own (another log's
                 # tail): "data row 2001 holds 1 values" named the marker (round 40 PART b, F53)
                 raise LogFormatError(
-                    f"corrupt CSV file '{path}': {len(body) - 1 - body.index(_END)} "
+                    f"corrupt CSV file {quoted(path)}: {len(body) - 1 - body.index(_END)} "
                     f"line(s) after the end marker {_END!r} (appended to the log?)"
                 )
             if not body or body[-1] != _END:
                 raise LogFormatError(
-                    f"corrupt CSV file '{path}': end marker {_END!r} missing (truncated?)"
+                    f"corrupt CSV file {quoted(path)}: end marker {_END!r} missing (truncated?)"
                 )
             body = body[:-1]
             if not body:
-                raise LogFormatError(f"corrupt CSV file '{path}': no data rows (truncated?)")
+                raise LogFormatError(f"corrupt CSV file {quoted(path)}: no data rows (truncated?)")
         else:
             body = [ln for ln in lines[k:] if ln.strip() and not ln.startswith("#")]
             if not body:
-                raise LogFormatError(f"CSV file '{path}' has no data rows")
+                raise LogFormatError(f"CSV file {quoted(path)} has no data rows")
             delim = _delimiter(body[0])
             first_line = body[0]
             first = _split(first_line, delim)
@@ -465,7 +472,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                         f"first row {', '.join(first[:3])}, ... read as mode indices, not data"
                     )
                 if not body:
-                    raise LogFormatError(f"CSV file '{path}' has a header row but no data rows")
+                    raise LogFormatError(f"CSV file {quoted(path)} has a header row but no data "
+                                         "rows")
         try:
             values = np.loadtxt(body, delimiter=delim, dtype=np.float64, ndmin=2,
                                 comments=None, quotechar='"')  # QUOTE_ALL quotes numbers too
@@ -473,7 +481,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             when = _DATETIME_TEXT.search(str(exc))
             if when:  # ISO dates are not a damaged file (round 13 PART b, T03 / T08)
                 raise LogFormatError(
-                    f"CSV file '{path}': a column holds dates and times as text "
+                    f"CSV file {quoted(path)}: a column holds dates and times as text "
                     f"({when.group(0)!r}...); times are read as numbers of seconds: "
                     "convert that column to seconds (pandas: (t - t[0]).dt.total_seconds()) "
                     "or delete it and give --rate HZ") from None
@@ -498,7 +506,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 names, values = names[:-1], values[:, :-1]
         if names is not None and len(names) != values.shape[1]:
             raise LogFormatError(
-                f"CSV file '{path}': header row has {len(names)} names but rows have "
+                f"CSV file {quoted(path)}: header row has {len(names)} names but rows have "
                 f"{values.shape[1]} values"
             )
         if header is not None:
@@ -506,13 +514,13 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             n_time = 1 if header["has_timestamps"] else 0
             if values.shape[1] != header["shape"][1] + n_time:
                 raise LogFormatError(
-                    f"corrupt CSV file '{path}': rows have {values.shape[1]} values, header "
+                    f"corrupt CSV file {quoted(path)}: rows have {values.shape[1]} values, header "
                     f"announces {header['shape'][1]} modes"
                     + (" plus a time column" if n_time else "")
                 )
             if values.shape[0] != header["shape"][0]:
                 raise LogFormatError(
-                    f"corrupt CSV file '{path}': {values.shape[0]} rows, header announces "
+                    f"corrupt CSV file {quoted(path)}: {values.shape[0]} rows, header announces "
                     f"{header['shape'][0]} (truncated?)"
                 )
             expected_names = (["time"] if n_time else []) + [
@@ -520,7 +528,8 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
             ]
             if verify and names != expected_names:
                 raise LogFormatError(
-                    f"corrupt CSV file '{path}': header row {names!r} does not match the modes "
+                    f"corrupt CSV file {quoted(path)}: header row {names!r} does not match the "
+                    "modes "
                     "recorded in the '# modalinfo:' line"
                 )
             coeffs = np.ascontiguousarray(values[:, n_time:], dtype=header["dtype"])
@@ -546,7 +555,7 @@ def read_csv(path, *, verify: bool = True, **hints) -> ModalLog:
                 if suffix is not None:
                     if unit is not None and unit[0].lower() != suffix.lower():
                         raise LogFormatError(
-                            f"CSV file '{path}': its {unit[1]} says {unit[0]!r} but its mode "
+                            f"CSV file {quoted(path)}: its {unit[1]} says {unit[0]!r} but its mode "
                             f"columns say {suffix!r}; one log holds one unit"
                         )
                     unit = (suffix, "mode column names")

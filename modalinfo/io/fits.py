@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.io._columns import (
     column_units,
@@ -196,7 +196,7 @@ def _check_warnings(caught: list, path: Path) -> None:
         text = str(item.message)
         low = text.lower()
         if any(word in low for word in ("checksum", "datasum", "truncated", "corrupt")):
-            raise LogFormatError(f"corrupt FITS file '{path}': {text.splitlines()[0]}")
+            raise LogFormatError(f"corrupt FITS file {quoted(path)}: {text.splitlines()[0]}")
 
 
 def _chosen_hdu(hdul, dataset: str | None, path: Path) -> int | None:
@@ -205,7 +205,8 @@ def _chosen_hdu(hdul, dataset: str | None, path: Path) -> int | None:
         return None
     if _JSON_KEY in hdul[0].header:
         raise LogFormatError(f"dataset={dataset!r} (command line: --dataset) picks an HDU of a "
-                             f"foreign FITS file; '{path}' was written by modalinfo (one log)")
+                             f"foreign FITS file; {quoted(path)} was written by modalinfo (one "
+                             "log)")
     names = [f"{k} ({hdu.name})" if hdu.name else str(k) for k, hdu in enumerate(hdul)]
     key = str(dataset).strip()
     if key.isdecimal() and int(key) < len(hdul):
@@ -213,7 +214,7 @@ def _chosen_hdu(hdul, dataset: str | None, path: Path) -> int | None:
     matches = [k for k, hdu in enumerate(hdul) if hdu.name and hdu.name.upper() == key.upper()]
     if len(matches) != 1:
         raise LogFormatError(f"dataset={dataset!r} (command line: --dataset) names no single HDU "
-                             f"of FITS file '{path}'; its HDUs are {', '.join(names)}")
+                             f"of FITS file {quoted(path)}; its HDUs are {', '.join(names)}")
     return matches[0]
 
 
@@ -223,17 +224,17 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
         header = parse_header(str(primary.header[_JSON_KEY]), "FITS", path)
         data = primary.data
         if data is None:
-            raise LogFormatError(f"corrupt FITS file '{path}': primary HDU has no data")
+            raise LogFormatError(f"corrupt FITS file {quoted(path)}: primary HDU has no data")
         coeffs = _native(data)
         if list(coeffs.shape) != header["shape"] or coeffs.dtype.name != header["dtype"]:
             raise LogFormatError(
-                f"corrupt FITS file '{path}': data {coeffs.shape} {coeffs.dtype} disagree "
+                f"corrupt FITS file {quoted(path)}: data {coeffs.shape} {coeffs.dtype} disagree "
                 f"with the header {tuple(header['shape'])} {header['dtype']}"
             )
         stored = stored_from_header(header)
         if header["has_timestamps"]:
             if "TIMES" not in hdul:
-                raise LogFormatError(f"corrupt FITS file '{path}': TIMES extension missing")
+                raise LogFormatError(f"corrupt FITS file {quoted(path)}: TIMES extension missing")
             stored["timestamps"] = _native(hdul["TIMES"].data)
         return coeffs, stored, False
     stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "fits"}}
@@ -291,7 +292,8 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                 col = np.asarray(hdu.data[name])
                 if col.ndim != 1 or col.dtype.kind not in "fiu":
                     raise LogFormatError(
-                        f"FITS file '{path}': table column {name!r} is not a numeric scalar column"
+                        f"FITS file {quoted(path)}: table column {name!r} is not a numeric scalar "
+                        "column"
                     )
                 raw.append(col)
             cols = list(float_columns(raw, names, path).T)
@@ -310,13 +312,13 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                 elif kind is not None and unit is not None and str(unit).strip():
                     # a stated unit we cannot read was ignored: 'yr' read as s (round 28 b)
                     raise LogFormatError(
-                        f"FITS file '{path}': time column {names[k]!r} has TUNIT "
+                        f"FITS file {quoted(path)}: time column {names[k]!r} has TUNIT "
                         f"{str(unit).strip()!r}, not a time unit modalinfo reads (s, ms, "
                         "us, ns, min, h); convert it to seconds or give --rate HZ")
             timed = [k for k, kind in enumerate(kinds) if kind is not None]
             if len(timed) > 1:
                 raise LogFormatError(
-                    f"FITS file '{path}': table has {len(timed)} time columns "
+                    f"FITS file {quoted(path)}: table has {len(timed)} time columns "
                     f"({', '.join(names[k] for k in timed)}); expected one"
                 )
             if timed:
@@ -337,17 +339,18 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                 names = names[:k] + names[k + 1 :]
                 tunits.pop(k)
             if not cols:
-                raise LogFormatError(f"FITS file '{path}': table has no modes (no mode column)")
+                raise LogFormatError(f"FITS file {quoted(path)}: table has no modes (no mode "
+                                     "column)")
             names, suffix = column_units(names, path)
             stated = {u for u in tunits if u is not None}
             if len(stated) > 1 or (stated and None in tunits):
                 raise LogFormatError(
-                    f"FITS file '{path}': the mode columns' TUNITn keywords disagree "
+                    f"FITS file {quoted(path)}: the mode columns' TUNITn keywords disagree "
                     f"({', '.join(str(u) for u in tunits)}); one log holds one unit"
                 )
             if stated and suffix is not None and {u.lower() for u in stated} != {suffix.lower()}:
                 raise LogFormatError(
-                    f"FITS file '{path}': the TUNITn keywords say {stated.pop()!r} but the "
+                    f"FITS file {quoted(path)}: the TUNITn keywords say {stated.pop()!r} but the "
                     f"column names say {suffix!r}; one log holds one unit"
                 )
             if stated:
@@ -364,9 +367,9 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                 stored["_rate_field"] = field
             return np.ascontiguousarray(np.column_stack(cols)), stored, True
     if chosen is not None:
-        raise LogFormatError(f"FITS file '{path}': HDU {chosen} (--dataset) holds no 2-D "
+        raise LogFormatError(f"FITS file {quoted(path)}: HDU {chosen} (--dataset) holds no 2-D "
                              "image nor binary table")
-    raise LogFormatError(f"FITS file '{path}' holds no 2-D image nor binary table")
+    raise LogFormatError(f"FITS file {quoted(path)} holds no 2-D image nor binary table")
 
 
 def _image_types():

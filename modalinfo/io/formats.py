@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from modalinfo.common.files import as_path, check_readable
+from modalinfo.common.files import as_path, check_readable, quoted
 from modalinfo.io.aot import is_aot
 from modalinfo.io.files import LogFormatError
 
@@ -176,7 +176,7 @@ def _not_a_log(path, what: str, advice: str = "") -> LogFormatError:
     or a config given to them was "not an HDF5 closedloop result (Unable to
     synchronously open file ...)" (round 46 PART b, F37-F43).
     """
-    exc = LogFormatError(f"'{path}' is {what}, not a log: {_A_LOG}"
+    exc = LogFormatError(f"{quoted(path)} is {what}, not a log: {_A_LOG}"
                          + (f"; {advice}" if advice else ""))
     exc.what = what
     return exc
@@ -205,7 +205,7 @@ def detect_format(path) -> str:
     with open(path, "rb") as fh:
         head = fh.read(512)
     if not head:
-        raise LogFormatError(f"'{path}' is empty")
+        raise LogFormatError(f"{quoted(path)} is empty")
     seen = sniff_format(path, head)
     if seen is not None and seen != "csv":
         return seen
@@ -218,7 +218,7 @@ def detect_format(path) -> str:
             # UTF-8" (round 12 PART b, A11-A13); bzip2 / xz / zstd the same (round 14
             # PART b, F28, F29)
             raise LogFormatError(
-                f"'{path}' is {what}-compressed; decompress it first ({tool} '{path}') "
+                f"{quoted(path)} is {what}-compressed; decompress it first ({tool} {quoted(path)}) "
                 "and pass the decompressed file")
     for magic, what, advice in _NOT_LOGS:
         if head.startswith(magic):
@@ -232,14 +232,14 @@ def detect_format(path) -> str:
             # a MATLAB v4 MAT-file has no text header (round 31 PART b, a03); a text
             # .mat (`save -ascii`) stays a CSV
             raise LogFormatError(
-                f"'{path}' is named like a MATLAB MAT-file but is neither v7.3 (HDF5) nor "
+                f"{quoted(path)} is named like a MATLAB MAT-file but is neither v7.3 (HDF5) nor "
                 f"v5 nor text; {_NOT_LOGS[-1][2]}") from None
         if exc.start < len(head) - 4:  # not just a multi-byte char cut at the end
             # a CSV saved as UTF-16 or Windows-1252 ('Z2 [\xb5m]') was called "neither
             # text" (adversarial round 9 PART b, rows N44, N46)
             utf16 = head[:2] in (b"\xff\xfe", b"\xfe\xff")
             raise LogFormatError(
-                f"'{path}' is neither UTF-8 text (CSV) nor NPZ/NPY/FITS/HDF5 (starts "
+                f"{quoted(path)} is neither UTF-8 text (CSV) nor NPZ/NPY/FITS/HDF5 (starts "
                 f"{head[:8]!r}): "
                 + ("it is UTF-16 text; " if utf16 else "")
                 + "a CSV must be UTF-8: re-save it as UTF-8 if it is text in another encoding"
@@ -256,7 +256,7 @@ def detect_format(path) -> str:
         kind = _json_kind(path)
         if kind:
             raise _not_a_log(path, kind)
-        raise LogFormatError(f"'{path}' holds JSON (a result or config file?), not a log: "
+        raise LogFormatError(f"{quoted(path)} holds JSON (a result or config file?), not a log: "
                              + _A_LOG)
     what = result_table(path, head)
     if what is not None:
@@ -357,8 +357,8 @@ def what_file(path) -> str:
         return "no format modalinfo reads, by its content (damaged, or another kind)"
     if fmt == "aot":
         return ("an AOT file (a run's `closedloop export`?): read its loops with "
-                f"`modalinfo info '{path}' --loop UID`")
-    return (f"{_NAMES[fmt]} file, a telemetry log? (`modalinfo info '{path}'` describes "
+                f"`modalinfo info {quoted(path)} --loop UID`")
+    return (f"{_NAMES[fmt]} file, a telemetry log? (`modalinfo info {quoted(path)}` describes "
             "it)")
 
 

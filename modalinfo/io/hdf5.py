@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.io._columns import (
     float_columns,
     mode_arrays,
@@ -323,7 +323,7 @@ def read_log_group(group, path, *, verify: bool = True) -> ModalLog:
     path = as_path(path)
     with reading("HDF5", path):
         if _HEADER not in group:
-            raise LogFormatError(f"HDF5 file '{path}': group '{group.name}' holds no "
+            raise LogFormatError(f"HDF5 file {quoted(path)}: group '{group.name}' holds no "
                                  "modalinfo log")
         coeffs, stored = _read_own(group, path, mmap=False, verify=verify, dataset=None)
     return build_log(coeffs, path, stored, {})
@@ -399,7 +399,7 @@ def _check_virtual_sources(dset, path: Path) -> None:
     })
     if missing:
         raise LogFormatError(
-            f"HDF5 file '{path}': dataset {dset.name!r} is virtual and its source file(s) "
+            f"HDF5 file {quoted(path)}: dataset {dset.name!r} is virtual and its source file(s) "
             f"{', '.join(repr(m) for m in missing)} are missing (libhdf5 would read that "
             "part as the fill value); put them beside the file")
 
@@ -407,7 +407,7 @@ def _check_virtual_sources(dset, path: Path) -> None:
 def _load(dset, path: Path, mmap: bool) -> np.ndarray:
     if dset.dtype.kind not in "fiu":
         raise LogFormatError(
-            f"HDF5 file '{path}': dataset {dset.name!r} has non-numeric dtype {dset.dtype}"
+            f"HDF5 file {quoted(path)}: dataset {dset.name!r} has non-numeric dtype {dset.dtype}"
         )
     if mmap and dset.chunks is None and dset.compression is None and dset.size:
         offset = dset.id.get_offset()
@@ -416,7 +416,7 @@ def _load(dset, path: Path, mmap: bool) -> np.ndarray:
             need = int(dset.size) * dtype.itemsize
             if path.stat().st_size < offset + need:
                 raise LogFormatError(
-                    f"corrupt HDF5 file '{path}': dataset {dset.name!r} needs bytes "
+                    f"corrupt HDF5 file {quoted(path)}: dataset {dset.name!r} needs bytes "
                     f"{offset}..{offset + need} but the file has {path.stat().st_size} (truncated)"
                 )
             return np.memmap(path, dtype=dtype, mode="r", offset=offset, shape=dset.shape)
@@ -512,12 +512,12 @@ def _log_group(f, path: Path, dataset: str | None):
         return f[groups[0]]
     if len(groups) == 1:
         raise LogFormatError(
-            f"HDF5 file '{path}' holds a modalinfo log in group {groups[0]} and other "
+            f"HDF5 file {quoted(path)} holds a modalinfo log in group {groups[0]} and other "
             f"coefficients ({', '.join(sorted(others))}); pick one with dataset= (command "
             f"line: --dataset {groups[0]})")
     if len(groups) > 1:
         raise LogFormatError(
-            f"HDF5 file '{path}' holds {len(groups)} modalinfo logs, in groups "
+            f"HDF5 file {quoted(path)} holds {len(groups)} modalinfo logs, in groups "
             f"{', '.join(sorted(groups))}; pick one with dataset= (command line: "
             f"--dataset {sorted(groups)[0]})")
     return None
@@ -528,22 +528,22 @@ def _read_own(f, path: Path, mmap: bool, verify: bool,
     """Coefficients and stored values of a log written by :func:`write_log_group`."""
     raw = f[_HEADER]
     if raw.dtype != np.uint8 or raw.ndim != 1:
-        raise LogFormatError(f"corrupt HDF5 file '{path}': bad {_HEADER} dataset")
+        raise LogFormatError(f"corrupt HDF5 file {quoted(path)}: bad {_HEADER} dataset")
     text = raw[()].tobytes().decode("ascii")
     header = parse_header(text, "HDF5", path, verify=verify)
     if "coefficients" not in f:
-        raise LogFormatError(f"corrupt HDF5 file '{path}': no coefficients dataset")
+        raise LogFormatError(f"corrupt HDF5 file {quoted(path)}: no coefficients dataset")
     coeffs = _load(f["coefficients"], path, mmap)
     check_stored_coefficients(coeffs, header, "HDF5", path)
     _check_own_attributes(f["coefficients"], header, path)
     stored = stored_from_header(header)
     if header["has_timestamps"]:
         if "timestamps" not in f:
-            raise LogFormatError(f"corrupt HDF5 file '{path}': timestamps missing")
+            raise LogFormatError(f"corrupt HDF5 file {quoted(path)}: timestamps missing")
         stored["timestamps"] = f["timestamps"][()]
         if stored["timestamps"].dtype.str != "<f8":
             raise LogFormatError(
-                f"corrupt HDF5 file '{path}': timestamps have dtype "
+                f"corrupt HDF5 file {quoted(path)}: timestamps have dtype "
                 f"{stored['timestamps'].dtype.str}, expected <f8"
             )
     if verify and header["has_timestamps"]:
@@ -552,7 +552,7 @@ def _read_own(f, path: Path, mmap: bool, verify: bool,
         verify_checksum(header, "coefficients", coeffs, "HDF5", path)
     if dataset is not None and dataset.strip("/") != "coefficients":
         raise LogFormatError(
-            f"HDF5 file '{path}' was written by modalinfo; its coefficients are "
+            f"HDF5 file {quoted(path)} was written by modalinfo; its coefficients are "
             f"'coefficients', not {dataset!r}"
         )
     return coeffs, stored
@@ -575,7 +575,7 @@ def _check_own_attributes(dset, header: dict, path: Path) -> None:
     for key in ("units", "convention"):
         if key in attrs and key in header and text(attrs[key]) != str(header[key]):
             raise LogFormatError(
-                f"corrupt HDF5 file '{path}': attribute {key}={text(attrs[key])!r} of "
+                f"corrupt HDF5 file {quoted(path)}: attribute {key}={text(attrs[key])!r} of "
                 f"'coefficients' contradicts the header's {header[key]!r} (edited after "
                 "modalinfo wrote it?): set the attribute back to the header's value, or "
                 "rewrite the log with the right one")
@@ -587,7 +587,7 @@ def _check_own_attributes(dset, header: dict, path: Path) -> None:
             return
         if stored != list(expected):
             raise LogFormatError(
-                f"corrupt HDF5 file '{path}': attribute labels of 'coefficients' "
+                f"corrupt HDF5 file {quoted(path)}: attribute labels of 'coefficients' "
                 f"({', '.join(stored[:3])}{', ...' if len(stored) > 3 else ''}) contradict "
                 f"the header's modes ({', '.join(expected[:3])}"
                 f"{', ...' if len(expected) > 3 else ''}) (edited after modalinfo wrote it?)")
@@ -599,7 +599,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
         # --dataset logs/dm0.pol/coefficients was "corrupt", and a log read so would lose
         # its rate and wavelength (audit 10, feedback, row cli-h5-result-dataset)
         raise LogFormatError(
-            f"HDF5 file '{path}' is a closedloop result, not a log: export its logs with "
+            f"HDF5 file {quoted(path)} is a closedloop result, not a log: export its logs with "
             f"`closedloop export {path.name} OUT.fits` and read OUT.fits with --loop (Python: "
             "closedloop.SimulationResult.load(path).logs)")
     dsets = _datasets(f)
@@ -618,7 +618,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             stated = {_stated_unit(c.attrs) for c in columns}
             if len(stated) > 1:
                 raise LogFormatError(
-                    f"HDF5 file '{path}': the per-mode datasets' units attributes disagree "
+                    f"HDF5 file {quoted(path)}: the per-mode datasets' units attributes disagree "
                     f"({', '.join(sorted(str(u) for u in stated))}); one log holds one unit"
                 )
             unit = stated.pop() or _nesting_unit(columns[0], "")[0]
@@ -633,12 +633,12 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
         key = dataset.strip("/")
         if key not in dsets:
             raise LogFormatError(
-                f"HDF5 file '{path}' has no dataset {dataset!r}{_link_note(f, key)}; its 2-D "
+                f"HDF5 file {quoted(path)} has no dataset {dataset!r}{_link_note(f, key)}; its 2-D "
                 f"numeric datasets: {', '.join(sorted(two_d)) or 'none'}"
             )
         if key not in two_d:
             raise LogFormatError(
-                f"HDF5 file '{path}': dataset {dataset!r} is not a 2-D numeric array "
+                f"HDF5 file {quoted(path)}: dataset {dataset!r} is not a 2-D numeric array "
                 f"(shape {dsets[key].shape}, dtype {dsets[key].dtype})"
             )
     else:
@@ -652,12 +652,12 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             # is not followed (round 14 PART b, H01-H03): name the links instead
             notes = [f"{name!r}{_link_note(f, name)}" for name in _links(f)]
             raise LogFormatError(
-                f"HDF5 file '{path}' has no modalinfo header and no 2-D numeric dataset"
+                f"HDF5 file {quoted(path)} has no modalinfo header and no 2-D numeric dataset"
                 + (f"; it holds links: {', '.join(notes)}" if notes else "")
             )
         else:
             raise LogFormatError(
-                f"HDF5 file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
+                f"HDF5 file {quoted(path)} has no modalinfo header and {len(two_d)} 2-D numeric "
                 f"datasets ({', '.join(sorted(two_d))}); pick one with dataset= "
                 "(command line: --dataset PATH)"
             )
@@ -665,7 +665,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     _check_virtual_sources(dset, path)
     if "convention" in dset.attrs and "labels" in dset.attrs:
         raise LogFormatError(
-            f"corrupt HDF5 file '{path}': dataset {key!r} was written by modalinfo "
+            f"corrupt HDF5 file {quoted(path)}: dataset {key!r} was written by modalinfo "
             f"but the file's {_HEADER!r} dataset is missing"
         )
     coeffs = _missing_as_nan(_load(dset, path, mmap), dset.attrs)

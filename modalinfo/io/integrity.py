@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from modalinfo.common.files import as_path
+from modalinfo.common.files import as_path, quoted
 from modalinfo.io.checksums import sha256_of
 from modalinfo.io.files import LogFormatError
 
@@ -84,7 +84,7 @@ class IntegrityCheck:
                 if got != expected:
                     fmt = "NPZ" if kind == "crc" else "HDF5"
                     raise LogFormatError(
-                        f"corrupt {fmt} file '{self.path}': {name} do not match their "
+                        f"corrupt {fmt} file {quoted(self.path)}: {name} do not match their "
                         f"{'CRC-32' if kind == 'crc' else 'SHA-256'} checksum"
                     )
         for verify in self._later:
@@ -183,7 +183,7 @@ def _npz_check(path: Path, log, mmap: bool) -> IntegrityCheck:
             try:
                 shape, fortran, dtype = _npy_header(raw)
             except ValueError as exc:  # a member that is not an NPY array: name it
-                raise LogFormatError(f"corrupt NPZ file '{path}': member {info.filename!r} "
+                raise LogFormatError(f"corrupt NPZ file {quoted(path)}: member {info.filename!r} "
                                      f"is not an NPY array ({exc})") from exc
             offset = raw.tell()
             raw.seek(start)
@@ -211,7 +211,7 @@ def _member_reader(zip_path, member: str, path: Path):
                 while fh.read(1 << 22):
                     pass  # zipfile raises BadZipFile on a CRC mismatch at the end
         except (zipfile.BadZipFile, OSError, EOFError) as exc:
-            raise LogFormatError(f"corrupt NPZ file '{path}': {exc}") from exc
+            raise LogFormatError(f"corrupt NPZ file {quoted(path)}: {exc}") from exc
 
     return verify
 
@@ -231,7 +231,7 @@ def _open_h5(path: Path):
         raise
     except OSError as exc:
         raise LogFormatError(
-            f"corrupt HDF5 file '{path}': it cannot be opened again to verify its checksum "
+            f"corrupt HDF5 file {quoted(path)}: it cannot be opened again to verify its checksum "
             f"(truncated or replaced while read?): {exc}") from None
 
 
@@ -257,7 +257,7 @@ def _hdf5_check(path: Path, log, mmap: bool, verify: bool) -> IntegrityCheck:
                 expected = (header.get("sha256") or {}).get("coefficients")
                 if expected is not None and np.array_equal(dset[()], log.coeffs):
                     if sha256_of(dset) != expected:
-                        raise LogFormatError(f"corrupt HDF5 file '{path}': coefficients of "
+                        raise LogFormatError(f"corrupt HDF5 file {quoted(path)}: coefficients of "
                                              f"group {name!r} do not match their SHA-256")
                     return IntegrityCheck(path, "verified", "SHA-256 of the HDF5 "
                                           "coefficients (a log in a group)")
@@ -282,7 +282,7 @@ def _hdf5_check(path: Path, log, mmap: bool, verify: bool) -> IntegrityCheck:
         with _open_h5(path) as f:
             if sha256_of(f["coefficients"]) != expected:
                 raise LogFormatError(
-                    f"corrupt HDF5 file '{path}': coefficients do not match their SHA-256 "
+                    f"corrupt HDF5 file {quoted(path)}: coefficients do not match their SHA-256 "
                     "checksum"
                 )
 

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.files import as_path, atomic_write, check_readable
+from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.io._columns import (
     float_columns,
     mode_arrays,
@@ -186,7 +186,7 @@ def _refuse_orphan_header(zf, names: dict, path: Path) -> None:
         return
     if isinstance(parsed, dict) and "modalinfo" in parsed:
         raise _LogFormatError(
-            f"NPZ file '{path}' holds a modalinfo header but no 'coefficients' member "
+            f"NPZ file {quoted(path)} holds a modalinfo header but no 'coefficients' member "
             f"(members: {', '.join(sorted(names))}): renamed? Rename it back to keep the "
             "header's rate, units and modes, or name the array with dataset= (command "
             "line: --dataset NAME) to read it without them")
@@ -242,7 +242,7 @@ def read_npz(path, *, mmap: bool = False, dataset: str | None = None, **hints) -
             if not foreign:
                 if dataset is not None and dataset != "coefficients":
                     raise _LogFormatError(
-                        f"NPZ file '{path}' was written by modalinfo; its coefficients are "
+                        f"NPZ file {quoted(path)} was written by modalinfo; its coefficients are "
                         f"'coefficients', not {dataset!r}"
                     )
                 text = _read_member(zf, names["header"])
@@ -287,12 +287,12 @@ def _foreign(
     if dataset is not None:
         if dataset not in arrays:
             raise _LogFormatError(
-                f"NPZ file '{path}' has no array {dataset!r}; it holds "
+                f"NPZ file {quoted(path)} has no array {dataset!r}; it holds "
                 f"{', '.join(sorted(arrays)) or 'none'}"
             )
         if dataset not in two_d:
             raise _LogFormatError(
-                f"NPZ file '{path}': array {dataset!r} is not a 2-D numeric array "
+                f"NPZ file {quoted(path)}: array {dataset!r} is not a 2-D numeric array "
                 f"(shape {arrays[dataset].shape}, dtype {arrays[dataset].dtype})"
             )
         key = dataset
@@ -303,7 +303,7 @@ def _foreign(
             # cleaned copy): the first name of the list was read without a word
             # (adversarial round 29 PART b, M13), as HDF5 refuses the same choice
             raise _LogFormatError(
-                f"NPZ file '{path}' has no modalinfo header and {len(named)} arrays named "
+                f"NPZ file {quoted(path)} has no modalinfo header and {len(named)} arrays named "
                 f"as coefficients ({', '.join(sorted(named))}); pick one with dataset= "
                 "(command line: --dataset NAME)"
             )
@@ -313,7 +313,7 @@ def _foreign(
             key = next(iter(two_d))
         else:
             raise _LogFormatError(
-                f"NPZ file '{path}' has no modalinfo header and {len(two_d)} 2-D numeric "
+                f"NPZ file {quoted(path)} has no modalinfo header and {len(two_d)} 2-D numeric "
                 f"arrays ({', '.join(sorted(two_d)) or 'none'}); pick one with dataset= "
                 "(command line: --dataset NAME)"
             )

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import quoted
 from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.text import pad
 from modalinfo.common.validation import check_choice, check_int, check_real
@@ -763,7 +764,7 @@ def save_figure(fig: Any, path: str | Path, overwrite: bool = False) -> Path:
 
     path = Path(path)
     if path.exists() and not overwrite:
-        raise FileExistsError(f"'{path}' exists; pass --overwrite to replace it.")
+        raise FileExistsError(f"{quoted(path)} exists; pass --overwrite to replace it.")
     kind = path.suffix.lstrip(".").lower() or None  # the temporary file has no extension
     return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120, bbox_inches="tight",
                                                       format=kind),

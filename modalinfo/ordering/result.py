@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.files import quoted
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.text import pad
 
@@ -389,7 +390,7 @@ class OrderingResult:
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
         except json.JSONDecodeError as exc:
-            raise ValueError(f"`path` '{path}' is not valid JSON: {exc}") from exc
+            raise ValueError(f"`path` {quoted(path)} is not valid JSON: {exc}") from exc
         return cls.from_dict(data)
 
     def legend(self, resamples: str = "n_resamples") -> str:

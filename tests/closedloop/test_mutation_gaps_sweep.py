@@ -105,7 +105,7 @@ def test_load_grid_messages(tmp_path):
     bad.write_text("duration = = 1\n")
     with pytest.raises(ValueError) as exc:
         load_grid(bad)
-    assert str(exc.value).startswith(f"{bad}: not valid TOML: ")
+    assert str(exc.value).startswith(f"'{bad}': not valid TOML: ")
     unknown = tmp_path / "u.toml"
     unknown.write_text("zeta = 1\nalpha = 2\n")
     with pytest.raises(ValueError) as exc:

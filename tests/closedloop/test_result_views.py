@@ -401,7 +401,7 @@ def test_old_files_load_with_a_warning(tmp_path):
     with pytest.warns(UncheckedResultWarning) as caught:
         back = SimulationResult.load(path)
     assert str(caught[0].message) == (
-        f"{path}: a format-1 closedloop result, written before results carried checksums: "
+        f"'{path}': a format-1 closedloop result, written before results carried checksums: "
         "its datasets are not verified (saving it again adds them)")
     for name, log in r.logs.items():
         got = back.logs[name]

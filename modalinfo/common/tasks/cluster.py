@@ -9,6 +9,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from modalinfo.common.deps import require
+from modalinfo.common.files import quoted
 from modalinfo.common.memory import machine_memory_bytes
 from modalinfo.common.sizes import format_size, parse_size
 from modalinfo.common.startup import worker_warning_env
@@ -291,8 +292,8 @@ def _check_scratch_folder(folder: Any) -> None:
         writable_free_bytes(place)
     except OSError as exc:
         raise ValueError(
-            f"the Dask temporary-directory '{folder}' cannot take the workers' scratch "
-            f"files ('{place}': {exc.strerror or exc}); set DASK_TEMPORARY_DIRECTORY (or "
+            f"the Dask temporary-directory {quoted(folder)} cannot take the workers' scratch "
+            f"files ({quoted(place)}: {exc.strerror or exc}); set DASK_TEMPORARY_DIRECTORY (or "
             f"temporary-directory in the YAML files of {_dask_config_places()}) to a "
             "writable folder, or unset it") from None
 

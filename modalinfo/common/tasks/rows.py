@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from modalinfo.common.deps import require
-from modalinfo.common.files import OutputGoneError, atomic_write, shown_message, shown_name
+from modalinfo.common.files import OutputGoneError, atomic_write, quoted, shown_message, shown_name
 from modalinfo.common.folders import clean_staging
 from modalinfo.common.memory import address_space_limit_bytes
 
@@ -106,8 +106,8 @@ class RowStore:
             if self.rows_dir.is_dir():
                 raise
             raise OutputGoneError(
-                errno.ENOENT, f"output directory '{self.out_dir}' was removed or renamed "
-                f"during the run (no '{self.rows_dir}' to write a row into); the rows "
+                errno.ENOENT, f"output directory {quoted(self.out_dir)} was removed or renamed "
+                f"during the run (no {quoted(self.rows_dir)} to write a row into); the rows "
                 "finished before went with it: run the command again with --out at its "
                 "new place to resume") from None
 
@@ -156,7 +156,7 @@ def _column_order(rows: list[dict], first: Sequence[str]) -> list[str]:
 MESSAGE_COLUMNS = frozenset({"error_message"})
 
 
-def _utf8_text(value: object, column: str = "") -> object:
+def _utf8_text(value: object, column: str = "", path: object = None) -> object:
     r"""``value`` with any undecodable file-name byte shown as ``\xNN`` (a str stays a str).
 
     A file name that is not UTF-8 reaches Python as a str holding lone surrogates
@@ -165,11 +165,14 @@ def _utf8_text(value: object, column: str = "") -> object:
     by the one rule every message follows (``shown_name``). A cell of
     :data:`MESSAGE_COLUMNS` quotes its paths already shown: only its undecodable bytes
     are escaped (``shown_message``; ``shown_name`` doubled the backslashes of a quoted
-    ``'d\\e'`` again, fixes 47-e item 2).
+    ``'d\\e'`` again, fixes 47-e item 2); the row's own ``path``, when another
+    library's text quotes it raw, is shown as the path cell shows it (fixes 48-a).
     """
     if not isinstance(value, str):
         return value
-    return shown_message(value) if column in MESSAGE_COLUMNS else shown_name(value)
+    if column in MESSAGE_COLUMNS:
+        return shown_message(value, path if isinstance(path, str) else None)
+    return shown_name(value)
 
 
 def write_table(rows: list[dict], out_dir: Path, stem: str, first: Sequence[str] = (),
@@ -204,7 +207,7 @@ def _write_table(pa, pacsv, pq, rows, out_dir, stem, first, overwrite) -> tuple[
     columns = _column_order(rows, first)
     data = {}
     for name in columns:
-        values = [_utf8_text(r.get(name), name) for r in rows]
+        values = [_utf8_text(r.get(name), name, r.get("path")) for r in rows]
         kinds = {type(v) for v in values if v is not None}
         if kinds <= {int, float} and float in kinds:
             values = [None if v is None else float(v) for v in values]

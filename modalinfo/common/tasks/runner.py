@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from modalinfo.common.deps import require
+from modalinfo.common.files import error_line
 from modalinfo.common.tasks.cluster import dashboard_link
 from modalinfo.common.tasks.interrupts import raise_if_interrupted
 from modalinfo.common.tasks.keys import TaskSpec
@@ -166,8 +167,7 @@ def run_tasks(
                         row = future.result()
                     except Exception as exc:  # noqa: BLE001 - the task's workers died
                         row = {"status": "lost", "error_type": type(exc).__name__,
-                               "error_message": str(exc).strip().splitlines()[0]
-                               if str(exc).strip() else ""}
+                               "error_message": error_line(exc)}
                     row = {**spec.labels, **row}
                     store.write(spec.key, row)
                     counts[row["status"]] += 1

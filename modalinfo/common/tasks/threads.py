@@ -89,7 +89,9 @@ def _limited_call(func: Callable[[dict], dict], payload: dict, threads: int | No
             row = dict(func(payload))
         row["status"] = "ok"
     except Exception as exc:  # noqa: BLE001 - any failure of one input is that input's row
-        message = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-        row = {"status": "error", "error_type": type(exc).__name__, "error_message": message}
+        from modalinfo.common.files import error_line
+
+        row = {"status": "error", "error_type": type(exc).__name__,
+               "error_message": error_line(exc)}
     row["task_seconds"] = time.perf_counter() - start
     return row
