@@ -88,7 +88,7 @@ def test_sweep_grids_that_would_merge_runs_or_misname_are_refused(grid, needle):
 def test_a_config_file_that_is_not_text_is_named(tmp_path):
     path = tmp_path / "c.toml"
     path.write_bytes(b"\x00\x01\xff garbage")
-    with pytest.raises(ValueError, match=r"c.toml: not a TOML text file \(not UTF-8\)"):
+    with pytest.raises(ValueError, match=r"c.toml': not a TOML text file \(not UTF-8\)"):
         load_config(path)
 
 

@@ -75,7 +75,7 @@ def test_a_json_key_given_twice_is_refused(tmp_path):
     text = json.dumps(presets.get("table1").to_dict()).replace('"gain": 0.5',
                                                                '"gain": 0.5, "gain": 0.3')
     path = _write(tmp_path, "c.json", text.encode())
-    with pytest.raises(ValueError, match=r"c.json: key 'gain' given twice in one JSON "
+    with pytest.raises(ValueError, match=r"c.json': key 'gain' given twice in one JSON "
                                          r"object \(0.5 and 0.3\)"):
         load_config(path)
 

@@ -267,7 +267,7 @@ def test_files_by_extension_never_replaced_unasked(tmp_path):
     for suffix, text, kind in ((".toml", "a = [", "TOML"), (".json", "{", "JSON")):
         path = tmp_path / f"broken{suffix}"
         path.write_text(text, encoding="utf-8")
-        with pytest.raises(ValueError, match=f"broken{suffix}: not valid {kind}: "):
+        with pytest.raises(ValueError, match=f"broken{suffix}': not valid {kind}: "):
             load_config(path)
 
 

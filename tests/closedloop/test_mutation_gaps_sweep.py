@@ -110,7 +110,7 @@ def test_load_grid_messages(tmp_path):
     unknown.write_text("zeta = 1\nalpha = 2\n")
     with pytest.raises(ValueError) as exc:
         load_grid(unknown)
-    assert str(exc.value) == (f"{unknown}: unknown key `alpha`; allowed: budget_every, config, "
+    assert str(exc.value) == (f"'{unknown}': unknown key `alpha`; allowed: budget_every, config, "
                               "duration, overrides, predictors, preset, seeds")
 
 

@@ -301,16 +301,16 @@ def test_damage_is_refused_and_foreign_files_named(tmp_path):
     with h5py.File(path, "r+") as f:
         del f.attrs["sha256"]
         f.attrs["format_version"] = 2
-    with pytest.warns(UncheckedResultWarning, match=f"^{path}: a format-2 closedloop result"):
+    with pytest.warns(UncheckedResultWarning, match=f"^'{path}': a format-2 closedloop result"):
         SimulationResult.load(path)
     with pytest.raises(FileNotFoundError, match="result file '.*none.h5' does not exist"):
         SimulationResult.load(tmp_path / "none.h5")
     (tmp_path / "text.h5").write_text("not hdf5")
-    with pytest.raises(ValueError, match="text.h5: not an HDF5 closedloop result"):
+    with pytest.raises(ValueError, match="text.h5': not an HDF5 closedloop result"):
         SimulationResult.load(tmp_path / "text.h5")
     with h5py.File(tmp_path / "other.h5", "w") as f:
         f["x"] = [1.0]
-    with pytest.raises(ValueError, match="other.h5: not a closedloop result "
+    with pytest.raises(ValueError, match="other.h5': not a closedloop result "
                        r"\(no format='closedloop-result'\)"):
         SimulationResult.load(tmp_path / "other.h5")
 
