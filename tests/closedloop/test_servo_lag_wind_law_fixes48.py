@@ -18,7 +18,7 @@ Noll's (1976) Zernike filter summed over the radial orders of the DM, and ``R`` 
 rejection of the integrator derived here on the simulator's internal-step timeline
 (exposure = the mean of the frame's exposure steps, command held from its apply step,
 ``c_k = c_(k-1) + g (y_k - seen_k)``), integrated with ``scipy.integrate.quad``. The
-integral reproduces Noll's Kolmogorov residual Delta_1 - Delta_3 = 0.9922 (D / r0)^(5/3)
+integral reproduces Noll's Kolmogorov residual Delta_1 - Delta_10 = 0.9922 (D / r0)^(5/3)
 for orders 1-3 (checked below). Tolerances: the measured seed scatter (fixes 48-c, 4 seeds
 per wind: sd 7-10 % of the mean for one 1-s run at 8 m/s); the ratio of two winds on the
 same screen path is far less noisy (both runs cross the same turbulence).
@@ -30,16 +30,8 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
+import closedloop.config as cc
 from closedloop import simulate
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    SimulationConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
 
 D, R0, L0, ORDERS = 1.0, 0.1, 20.0, 10  # 65 modes: Noll j = 2..66, radial orders 1..10
 T, N_OS, N_INT, N_DELAY, GAIN = 1e-3, 2, 2, 1, 0.5  # 1 kHz, full exposure, 0.5 ms delay
@@ -95,20 +87,20 @@ def servo_lag_variance(winds):
 
 
 def _config(v):
-    return SimulationConfig(
+    return cc.SimulationConfig(
         name="servo-lag", seed=0, wavelength=5e-7, r0_wavelength=5e-7,
-        telescope=TelescopeConfig(diameter=D, n_pixels=64),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=D / R0, wind_speed=v, wind_direction=0.0,
+        telescope=cc.TelescopeConfig(diameter=D, n_pixels=64),
+        layers=(cc.LayerConfig(altitude=0.0, d_over_r0=D / R0, wind_speed=v, wind_direction=0.0,
                             outer_scale=L0),),
-        dms=(DMConfig(altitude=0.0, n_modes=65, kind="zernike"),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=0.0, noise=0.0, kind="ideal",
+        dms=(cc.DMConfig(altitude=0.0, n_modes=65, kind="zernike"),),
+        wfss=(cc.WFSConfig(altitude=0.0, field_of_view=0.0, noise=0.0, kind="ideal",
                         field_samples=1),),
-        loop=LoopConfig(time_step=T, integration_time=T, delay=N_DELAY * T / N_OS, gain=GAIN),
-        field=FieldConfig(size=0.0, n_points=1))
+        loop=cc.LoopConfig(time_step=T, integration_time=T, delay=N_DELAY * T / N_OS, gain=GAIN),
+        field=cc.FieldConfig(size=0.0, n_points=1))
 
 
 def test_reference_integral_gives_nolls_residuals():
-    # Noll (1976): Kolmogorov, D = r0, variance of radial orders 1..3 = Delta_1 - Delta_3
+    # Noll (1976): Kolmogorov, D = r0, variance of radial orders 1..3 = Delta_1 - Delta_10
     got = _modal_variance(D, math.inf, 3, lambda kx: np.ones((1, *kx.shape)))[0]
     assert got == pytest.approx(1.0299 - 0.0377, abs=0.001)
 
