@@ -119,11 +119,29 @@ def _eig_by_symmetry(cov: np.ndarray, modes: np.ndarray) -> tuple[np.ndarray, np
         vectors[idx, col:col + idx.size] = v
         col += idx.size
     # decreasing variance; ties (cos/sin twins, equal to rounding) in the order cos, sin
-    scale = np.abs(values).max() if values.size else 1.0
-    rounded = np.round(values / scale, 10)
     col_kind = kind[np.argmax(np.abs(vectors), axis=0)]
-    order = np.lexsort((col_kind, -rounded))
+    order = _decreasing_order(values, col_kind)
     return values[order], vectors[:, order]
+
+
+def _decreasing_order(values: np.ndarray, kinds: np.ndarray) -> np.ndarray:
+    """Return the indices of ``values`` in decreasing order, ties (10 digits) by ``kinds``.
+
+    Each value is rounded to 10 significant digits of its own magnitude (at least 1e-13
+    of the largest: below, rounding noise), so that the cos / sin twins of one block,
+    equal to rounding, stay a tie that ``kinds`` orders (cos first) whatever a CPU's last
+    bits, while any two variances further apart keep their order. The former key,
+    rounded to 1e-10 of the *largest* variance, merged K-L variances beyond ~900 modes
+    (~5e-7 of 0.449) that differ by 4e-5 of their size and ordered them cos first,
+    smaller first: 3 inversions at 1,000 modes, 37 at 2,000 (adversarial round 48 PART
+    a, K01-K03).
+    """
+    mag = np.abs(values)
+    top = mag.max() if values.size else 0.0
+    mag = np.maximum(mag, 1e-13 * top if top > 0 else 1.0)
+    quantum = 10.0 ** (np.floor(np.log10(mag)) - 9)
+    rounded = np.round(values / quantum) * quantum
+    return np.lexsort((kinds, -rounded))
 
 
 def _eig_blocks(blocks: list[tuple[np.ndarray, np.ndarray]], modes: np.ndarray,
@@ -167,9 +185,7 @@ def _eig_blocks(blocks: list[tuple[np.ndarray, np.ndarray]], modes: np.ndarray,
     kinds = np.concatenate(kinds)
     owners = np.concatenate(owners)
     local = np.concatenate([np.arange(v.shape[1]) for v in columns])
-    scale = np.abs(values).max() if values.size else 1.0
-    rounded = np.round(values / scale, 10)
-    order = np.lexsort((kinds, -rounded))[:n_keep]
+    order = _decreasing_order(values, kinds)[:n_keep]
     out = np.zeros((modes.size, n_keep))
     kept_owner = owners[order]
     for b in np.unique(kept_owner):

@@ -45,8 +45,8 @@ def test_blocks_equal_dense_construction_bit_for_bit(outer_scale, modes):
 def test_kl_trace_equals_sum_of_zernike_variances():
     modes = default_zernike_modes(1000)  # 2..3003: 3,002 Zernikes, radial orders 1..76
     values, _ = _kl_from_blocks(modes.size, modes=modes)
-    # decreasing, up to the tie rule of _eig_by_symmetry: values equal to 1e-10 of the
-    # largest count as ties (cos before sin), so neighbours closer than that may swap
+    # decreasing (kl._decreasing_order: ties to 10 significant digits of each value;
+    # round 48 PART a made this exact, test_kl_order_round48.py)
     assert values.shape == (modes.size,)
     assert np.all(np.diff(values) <= 1e-10 * values[0])
     # trace invariance: sum of K-L variances = sum of Zernike variances = Delta_1 - Delta_J
