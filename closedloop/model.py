@@ -163,8 +163,11 @@ class LoopModel:
         reconstructors (one per WFS, ``WavefrontSensor.unseen_modes``):
         singular values of a WFS's interaction matrix with its DM at or below its
         ``rcond`` times the largest. Warned at set-up when > 0 (see
-        :meth:`_warn_unseen`). None with a joint reconstructor (its cut is a
-        signal-to-noise one, ``n_controlled``) or with zonal DMs only (not counted).
+        :meth:`_warn_unseen`). With a joint reconstructor (not warned; whose own cut is a
+        signal-to-noise one, ``n_controlled``): ``M`` less the rank of :attr:`interaction`
+        (every WFS with every DM) at ``rcond`` 1e-3, numpy's ``matrix_rank(G, tol=1e-3 *
+        s_max)``: combinations of the DMs' modes that no WFS direction tells apart, or
+        finer than the subapertures (fixes 48-b). None with zonal DMs only (not counted).
     """
 
     def __init__(self, config: SimulationConfig):
@@ -200,6 +203,14 @@ class LoopModel:
             counts = [u for w in self.wfss if (u := w.unseen_modes) is not None]
             self.unseen_modes = sum(counts) if counts else None
             self._warn_unseen()
+        else:
+            # the joint reconstructor's cut is a signal-to-noise one (n_controlled): the
+            # modes no WFS sees at all are the stacked interaction matrix's rank deficit,
+            # at the per-WFS reconstructors' relative cut (fixes 48-b). Counted, not
+            # warned: combinations of several DMs' modes that no WFS direction tells apart
+            # are often harmless (the tests' nearly degenerate 6 m DMs: 2 of 14), and the
+            # truncated / MAP reconstructor leaves them alone; loop_status names them
+            self.unseen_modes = self.n_modes - products.gram_rank(self.interaction, _RCOND)
 
     def _warn_unseen(self) -> None:
         """Warn (once, at set-up) when a least-squares reconstructor drops controlled modes.
