@@ -163,8 +163,12 @@ class LoopModel:
         reconstructors (one per WFS, ``WavefrontSensor.unseen_modes``):
         singular values of a WFS's interaction matrix with its DM at or below its
         ``rcond`` times the largest. Warned at set-up when > 0 (see
-        :meth:`_warn_unseen`). None with a joint reconstructor (its cut is a
-        signal-to-noise one, ``n_controlled``) or with zonal DMs only (not counted).
+        :meth:`_warn_unseen`). With the truncated joint reconstructor (not warned): ``M``
+        less the rank of its whitened ``W = N^-1/2 G C^1/2`` (every WFS with every DM) at
+        rcond 1e-3, numpy's ``matrix_rank(W, tol=1e-3 * s_max)``, from the spectrum the
+        reconstructor computes anyway: combinations of the DMs' modes that no WFS
+        direction tells apart, or finer than the subapertures (fixes 48-b). None with the
+        MAP (its spectrum is not computed at set-up) or zonal DMs only (not counted).
     """
 
     def __init__(self, config: SimulationConfig):
@@ -186,6 +190,7 @@ class LoopModel:
         self.n_modes = int(sum(sizes))
         self.prior = None
         self._n_controlled = None
+        self._unseen = None
         self._sensed = None
         self.reconstructor = self._global_reconstructor()
         # the per-frame products (float32 above a size with a mirror that asks for it:
@@ -200,6 +205,13 @@ class LoopModel:
             counts = [u for w in self.wfss if (u := w.unseen_modes) is not None]
             self.unseen_modes = sum(counts) if counts else None
             self._warn_unseen()
+        else:
+            # the truncated reconstructor's unseen directions (_global_reconstructor:
+            # its relative cut, not its signal-to-noise one). Counted, not warned:
+            # combinations of several DMs' modes that no WFS direction tells apart are
+            # often harmless (the tests' nearly degenerate 6 m DMs: 2 of 14), and the
+            # reconstructor leaves them alone; loop_status names them (fixes 48-b)
+            self.unseen_modes = self._unseen
 
     def _warn_unseen(self) -> None:
         """Warn (once, at set-up) when a least-squares reconstructor drops controlled modes.
@@ -341,11 +353,15 @@ class LoopModel:
         # projector, so commands never drift along directions the WFSs barely see
         whitened = _whitened(full, noise, prior)
         if self._large and 8.0 * whitened.size >= products.GRAM_MIN_BYTES:  # 3x less CPU
-            pinv, self._n_controlled = products.gram_pinv(whitened, _cut)
+            pinv, self._n_controlled, sv = products.gram_pinv(whitened, _cut, return_sv=True)
+            self._unseen = self.n_modes - int(np.sum(sv > _RCOND * sv[0]))
             return np.sqrt(prior)[:, None] * pinv / np.sqrt(noise)[None, :]
         u, sv, vt = np.linalg.svd(whitened, full_matrices=False)
         keep = sv > _cut(sv[0])
         self._n_controlled = int(keep.sum())
+        # the directions below the relative cut alone (not the signal-to-noise one): the
+        # modes no WFS sees (fixes 48-b); a wide W (M > measurements) has M - m more
+        self._unseen = self.n_modes - int(np.sum(sv > _RCOND * sv[0]))
         r = (np.sqrt(prior)[:, None] * vt[keep].T) @ ((u[:, keep] / sv[keep]).T)
         return r / np.sqrt(noise)[None, :]
 

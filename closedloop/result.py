@@ -266,8 +266,10 @@ def unseen_cause(unseen: int) -> str:
     """
     return (f"{unseen} controlled mode{'s' if unseen != 1 else ''} unseen by the WFS (its "
             f"interaction matrix's singular values at or below the reconstructor's rcond "
-            f"cut: structure its subapertures do not resolve), which the loop cannot "
-            f"correct; control fewer modes or use a finer WFS (more subapertures)")
+            f"cut: structure its subapertures do not resolve or, with several DMs, "
+            f"combinations of their modes no WFS direction tells apart), which the loop "
+            f"cannot correct; control fewer modes or use a finer WFS (more subapertures) "
+            f"or more WFS directions")
 
 
 @array_fields_eq
@@ -315,9 +317,10 @@ class SimulationResult:
     unseen_modes : int or None
         Controlled modes the WFSs do not see (``closedloop.model.LoopModel.unseen_modes``:
         singular values of the interaction matrix below the reconstructor's ``rcond``
-        cut); :attr:`loop_status` names them as the likely cause of a loop that did not
-        close. None with a joint reconstructor, zonal DMs only, or a file written before
-        results recorded it.
+        cut; with a joint reconstructor, the rank deficit of every WFS's interaction with
+        every DM); :attr:`loop_status` names them as the likely cause of a loop that did
+        not close. None with zonal DMs only, or a file written before results recorded it
+        (or, before fixes 48-b, with a joint reconstructor).
     measurements : list of (T, n_meas_j) ndarray
         Each WFS's measurements per frame (SH: x slopes of the valid subapertures, then
         y slopes [rad/m]; ideal: the field-averaged phase on its DM's disc [rad]).

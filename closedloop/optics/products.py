@@ -43,7 +43,7 @@ FLOAT32_MIN_BYTES = 8_000_000
 GRAM_MIN_BYTES = 8_000_000
 
 
-def gram_pinv(a: np.ndarray, cut) -> tuple[np.ndarray, int]:
+def gram_pinv(a: np.ndarray, cut, *, return_sv: bool = False) -> tuple:
     """Return the truncated pseudo-inverse, through the eigen-decomposition of A^T A.
 
     Parameters
@@ -59,16 +59,20 @@ def gram_pinv(a: np.ndarray, cut) -> tuple[np.ndarray, int]:
     pinv : (n, m) ndarray
         ``V_k S_k^-1 U_k^T`` over the kept singular values.
     n_kept : int
+    sv : ndarray
+        With ``return_sv``: the singular values, descending (from the eigenvalues).
     """
     if a.shape[0] < a.shape[1]:  # the smaller Gram matrix: pinv(A) = pinv(A^T)^T
-        p, k = gram_pinv(a.T, cut)
-        return np.ascontiguousarray(p.T), k
+        p, k, sv = gram_pinv(a.T, cut, return_sv=True)
+        p = np.ascontiguousarray(p.T)
+        return (p, k, sv) if return_sv else (p, k)
     w, v = np.linalg.eigh(a.T @ a)  # ascending
     w, v = w[::-1], v[:, ::-1]
     sv = np.sqrt(np.clip(w, 0.0, None))
     keep = sv > cut(sv[0])
     vk = v[:, keep]
-    return (vk / w[keep]) @ (vk.T @ a.T), int(keep.sum())
+    p = (vk / w[keep]) @ (vk.T @ a.T)
+    return (p, int(keep.sum()), sv) if return_sv else (p, int(keep.sum()))
 
 
 def svd_pinv(a: np.ndarray, rcond: float) -> tuple[np.ndarray, int]:

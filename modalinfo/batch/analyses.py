@@ -20,7 +20,13 @@ Every analysis calls the library exactly as the matching command does:
   :mod:`modalinfo.forecast.presets` (``modalinfo forecast``); it feeds the predictors
   in chunks, so memory does not grow with the log. ``pvalue_h1.<name>`` is the
   one-step Diebold-Mariano p-value, NaN where the loss differential is too persistent
-  for an honest test (``beats_baseline_h1.<name>`` is then False). ``shifted_modes``
+  for an honest test (``beats_baseline_h1.<name>`` is then False). Over every horizon
+  1..``horizon``, ``dm_untested`` counts the predictor-horizon pairs with no honest test
+  (``evaluate``'s "no honest Diebold-Mariano test" warning) and ``dm_flagged`` those whose
+  loss differential has persistent volatility (``ForecastEvaluation.dm_flagged``: they
+  beat the baseline only below ``alpha / n_tests / 5``; ``evaluate`` warns for those
+  between that and ``alpha``); ``dm_untested_pairs`` and ``dm_flagged_pairs`` name them
+  (``"linear h1-3,5; var h2"``; empty: none). ``shifted_modes``
   names the modes whose test frames differ in scale from the training frames
   (``ForecastEvaluation.shifted_modes``; empty: none) and ``scale_shift_max`` is the
   rms ratio of the mode farthest from 1 (NaN: no mode judged).
@@ -597,6 +603,14 @@ def _forecast(log: Any, p: dict) -> dict:
         row[f"gain_h{horizon}.{name}"] = float(ev.gain_wavefront[i, -1])
         row[f"beats_baseline_h1.{name}"] = bool(ev.beats_baseline[i, 0])
         row[f"pvalue_h1.{name}"] = float(ev.pvalue[i, 0])  # NaN: no honest test
+    # the pairs whose "beats the baseline" the Diebold-Mariano test withheld (no honest
+    # test: p NaN) or made stricter (persistent volatility: p < alpha / n_tests / 5), over
+    # every horizon: evaluate's two warnings, which reach no one from a worker (fix48-b)
+    named = np.isin(ev.names, names)[:, None]  # not the baselines (their p-value NaN)
+    untested = np.isnan(ev.pvalue) & named
+    for key, mask in (("dm_untested", untested), ("dm_flagged", ev.dm_flagged & named)):
+        row[key] = int(mask.sum())
+        row[f"{key}_pairs"] = _pairs_text(ev.names, ev.horizons, mask)
     # train-vs-test scale (Leftovers 28-shift): the modes named, and the rms ratio (test /
     # training, frozen-model innovations) of the mode farthest from 1 (NaN: none judged)
     row["shifted_modes"] = ",".join(ev.shifted_modes)
@@ -607,6 +621,23 @@ def _forecast(log: Any, p: dict) -> dict:
     best = max(names, key=lambda n: ev.gain_wavefront[ev.index(n), 0])
     row["best_h1"] = best
     return row
+
+
+def _pairs_text(names: tuple[str, ...], horizons: np.ndarray, mask: np.ndarray) -> str:
+    """Predictor-horizon pairs of ``mask`` (P, H), compactly: ``"ar h1-3,5; var h2"``."""
+    parts = []
+    for i, name in enumerate(names):
+        hs = [int(h) for h in np.asarray(horizons)[np.asarray(mask[i], dtype=bool)]]
+        spans: list[list[int]] = []
+        for h in hs:
+            if spans and h == spans[-1][1] + 1:
+                spans[-1][1] = h
+            else:
+                spans.append([h, h])
+        if spans:
+            parts.append(f"{name} h" + ",".join(
+                str(a) if a == b else f"{a}-{b}" for a, b in spans))
+    return "; ".join(parts)
 
 
 #: analysis name -> function(log, params) -> dict of scalars.

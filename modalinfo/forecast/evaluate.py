@@ -279,6 +279,11 @@ class ForecastEvaluation:
         at least ``1.44`` (or at most ``1 / 1.44``: an rms change of x1.2): their
         scores describe frames unlike the training ones and the intervals do not
         hold there; ``evaluate`` warns once.
+    dm_flagged : numpy.ndarray of bool, shape (P, H), or None
+        Pairs whose loss differential has persistent volatility (module notes; fix46-a,
+        fix47-c): their ``beats_baseline`` needs ``pvalue < alpha / n_tests / 5``. False
+        for the baselines and the untested pairs; None in results built without it.
+        Not written by :meth:`to_dict` (the file format is unchanged).
     """
 
     names: tuple[str, ...]
@@ -304,6 +309,7 @@ class ForecastEvaluation:
     constant_modes: tuple[str, ...] = ()
     scale_shift: np.ndarray | None = field(default=None, repr=False)
     shifted_modes: tuple[str, ...] = ()
+    dm_flagged: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         # round 22: dataclasses.replace(result, names=("a",)) was accepted and the
@@ -315,6 +321,8 @@ class ForecastEvaluation:
             "pvalue": (P, H), "beats_baseline": (P, H), "baseline": (H,)})
         if self.scale_shift is not None:
             check_record_fields(self, {"scale_shift": (M,)})
+        if self.dm_flagged is not None:
+            check_record_fields(self, {"dm_flagged": (P, H)})
 
     @property
     def p_value(self) -> np.ndarray:
@@ -1465,5 +1473,5 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         truth=np.array(data[origins[0] : origins[0] + n_keep + h_max]), one_step=one_step,
         settings=settings,
         constant_modes=tuple(lb for lb, c in zip(labels, constant, strict=True) if c),
-        scale_shift=shift_ratio, shifted_modes=shifted_modes,
+        scale_shift=shift_ratio, shifted_modes=shifted_modes, dm_flagged=volatile,
     )

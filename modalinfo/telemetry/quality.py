@@ -2040,17 +2040,58 @@ def _collision_share(col: np.ndarray) -> float:
     return float((sizes * (sizes - 1)).sum() / (s.size * (s.size - 1.0)))
 
 
+def _grid_step(col: np.ndarray) -> float:
+    """Smallest positive gap between the values of one mode over all its frames (inf: none).
+
+    The mode's grid step is at most this (any two distinct values on a grid differ by a
+    step or more); copies add no distinct value, so it is measured with them in.
+    """
+    x = np.sort(np.asarray(col, dtype=np.float64))
+    x = x[np.isfinite(x)]
+    d = np.diff(x)
+    del x
+    d = d[d > 0]
+    return float(d.min()) if d.size else math.inf
+
+
+def _grid_share(col: np.ndarray, step: float, dtype: np.dtype) -> float:
+    """Chance that two values of one mode are equal, from its grid rather than its ties.
+
+    One varying mode's collision share on the sample counts the copies themselves (a block
+    written twice is its ties), so the copies were always chance (fixes 48-b). ``step``
+    (``_grid_step`` of the whole mode, or the storage type's spacing, ``numpy.spacing`` on
+    the sample ``col``, where coarser on average) bounds its grid step from above, so the
+    chance of a tie is at most about ``step int f^2`` (``f`` the density: the collision share
+    of the sample in bins of width ``w = max(step, sigma_MAD / 4)``, over ``w``): a few DAC
+    levels or 8 / 12-bit rounding keep their ties chance; a continuous float64 mode's
+    smallest gap among ``T`` values is about ``1 / (T^2 int f^2)``, so its expected count of
+    chance ties among ``T`` frames stays about one half.
+    """
+    x = col[np.isfinite(col)]
+    if x.size < 2 or not math.isfinite(step):
+        return 1.0
+    if np.issubdtype(dtype, np.floating):
+        step = max(step, float(np.mean(np.spacing(np.abs(x).astype(dtype)))))
+    else:
+        step = max(step, 1.0)
+    mad = 1.4826 * float(np.median(np.abs(x - np.median(x))))
+    w = max(step, mad / 4.0)
+    return min(1.0, step * _collision_share(np.floor(x / w)) / w)
+
+
 def _copied_frames(h: np.ndarray, near: np.ndarray, alpha: float, sample: np.ndarray,
-                   live: np.ndarray) -> tuple[np.ndarray, tuple]:
+                   live: np.ndarray, column, dtype: np.dtype) -> tuple[np.ndarray, tuple]:
     """Frames equal to an earlier frame other than the one before (a block written twice).
 
     ``h`` the row hashes (``_row_hashes``). A run of consecutive equal frames (a frame
     re-sent, the repeated-frame rule's) counts as one frame. Among the ``U`` run heads,
     ``R`` equal an earlier head; independent values would give a Poisson count of mean
     ``U (U - 1) / 2 prod_j p_j``, ``p_j`` each varying mode's (``live``) probability that
-    two frames agree (its collision share on ``sample``, or ``near``, its share of equal
-    consecutive pairs not from flagged repeated frames, if larger: near frames of a persistent
-    quantised mode agree more often than far ones); they are copies when
+    two frames agree (its collision share on ``sample``; with one varying mode its grid's
+    share, ``_grid_share`` of its values over all frames ``column``, read only when two
+    frames tie, and storage type ``dtype``: its ties are the copies; or ``near``,
+    its share of equal consecutive pairs not from flagged repeated frames, if larger: near
+    frames of a persistent quantised mode agree more often than far ones); they are copies when
     ``P(X >= R) <= alpha`` (``_chance_repeats``). Returns the copies' rows and the first
     copied block ``(start, stop, source)`` (rows ``start .. stop - 1`` equal rows
     ``source ..``).
@@ -2076,7 +2117,9 @@ def _copied_frames(h: np.ndarray, near: np.ndarray, alpha: float, sample: np.nda
     first[1:] = ordered[1:] != ordered[:-1]
     copies = np.sort(idx[order[~first]])
     u = int(head.sum())
-    share = np.maximum(near, [_collision_share(sample[:, j]) for j in np.flatnonzero(live)])
+    cols = np.flatnonzero(live)
+    share = np.maximum(near, [_grid_share(sample[:, cols[0]], _grid_step(column), dtype)]
+                       if cols.size == 1 else [_collision_share(sample[:, j]) for j in cols])
     if not _chance_repeats(copies.size, u * (u - 1) // 2 + 1, share, alpha):
         c0 = int(copies[0])
         src = int(idx[order[np.flatnonzero(first)[np.searchsorted(
@@ -2312,7 +2355,9 @@ def assess_quality(
         # each mode's chance that two frames agree: its collision share on the sample,
         # or its share of equal consecutive pairs (less the flagged repeated frames)
         near = np.maximum(repeats[random] - repeated_frames.size, 0) / max(1, n - 1)
-        copied_frames, copied_block = _copied_frames(hashes, near, alpha, sample, random)
+        # one varying mode: its grid from all its frames (the sample's gaps are coarser)
+        copied_frames, copied_block = _copied_frames(hashes, near, alpha, sample, random,
+                                                     arr[:, random_cols[0]], arr.dtype)
         del hashes
     pair_found = pairs.result(n)
     pair_order = pair_found if pair_found is not None and pair_found[2] <= PAIR_ALPHA \

@@ -14,7 +14,10 @@ One copy of each small config that several test files run:
   and sensors;
 - :func:`correlating_config`, :func:`correlating_sensor`: the small frozen-turbulence
   loops of the correlating-sensor tests (optics/test_correlating_sensor,
-  optics/test_laws_correlating, optics/test_mutation_gaps_correlating_sensor).
+  optics/test_laws_correlating, optics/test_mutation_gaps_correlating_sensor);
+- :func:`stubbed_sweep`, :func:`sweep_row`: ``closedloop sweep`` resumed in a folder whose
+  ``rows/`` holds given row files, the sweep replaced by a stub (no simulation;
+  test_sweep_superseded_review30, test_sweep_superseded_round47).
 
 Test files import the functions (``from .conftest import small``); pytest's importlib mode
 gives them the module pytest loaded, so there is one copy.
@@ -237,3 +240,38 @@ def one_frame_budget(probe, maps: list):
     probe.frame_end(0, 1, 1)
     n_dir = len(probe.cam.directions)
     return probe.result(np.zeros((1, n_dir)), 0, 1.0, seed=0)
+
+
+def sweep_row(key: str, seed: int = 0, predictor: str = "none") -> dict:
+    """One ``closedloop sweep`` row file's content (an ok run of table1's "gain 0.3")."""
+    return {"key": key, "override": "gain 0.3", "seed": seed, "predictor": predictor,
+            "status": "ok", "strehl_peak_mean": 0.4, "corrected_fov_diameter_arcmin": 0.7}
+
+
+@pytest.fixture
+def stubbed_sweep(tmp_path, monkeypatch, capsys):
+    """``run(rows, now, skipped=0)``: write ``rows`` (dicts with a ``key``) into a sweep
+    folder's ``rows/``, replace ``closedloop.sweep.sweep`` by a stub returning ``now``, run
+    ``closedloop sweep --quiet`` on a table1 grid of ``now``'s seeds (exit 0 asserted) and
+    return the ``rows/`` folder and the lines printed."""
+    import json
+    import types
+
+    import closedloop.sweep
+    from closedloop.cli import main
+
+    def run(rows: list[dict], now: list[dict], skipped: int = 0):
+        out = tmp_path / "sdir"
+        (out / "rows").mkdir(parents=True)
+        for r in rows:
+            (out / "rows" / f"{r['key']}.json").write_text(json.dumps(r))
+        report = types.SimpleNamespace(n_specs=len(now), n_skipped=skipped,
+                                       n_ok=len(now) - skipped, n_error=0, n_lost=0)
+        monkeypatch.setattr(closedloop.sweep, "sweep", lambda *a, **k: (now, report))
+        grid = tmp_path / "grid.toml"
+        seeds = sorted({int(r["seed"]) for r in now})
+        grid.write_text(f'preset = "table1"\nduration = 0.02\nseeds = {seeds}\n')
+        assert main(["sweep", str(grid), "--out", str(out), "--quiet"]) == 0
+        return out / "rows", capsys.readouterr().out.splitlines()
+
+    return run

@@ -8,45 +8,20 @@ without a word of the earlier runs set aside in rows/. Reference: the folder's o
 replaced by a stub returning those rows, so no simulation runs.
 """
 
-import json
-import types
-
-import closedloop.sweep
-from closedloop.cli import main
+from .conftest import sweep_row
 
 
-def _row(key, seed):
-    return {"key": key, "override": "gain 0.3", "seed": seed, "predictor": "none",
-            "status": "ok", "strehl_peak_mean": 0.4, "corrected_fov_diameter_arcmin": 0.7}
-
-
-def test_runs_of_other_code_are_counted(tmp_path, monkeypatch, capsys):
-    out = tmp_path / "sdir"
-    (out / "rows").mkdir(parents=True)
-    now = [_row("a" * 64, 0), _row("b" * 64, 1)]
-    old = [_row("c" * 64, 0), _row("d" * 64, 1), {**_row("e" * 64, 2), "seed": 7,
-                                                    "override": "other grid"}]
-    for r in now + old:
-        (out / "rows" / f"{r['key']}.json").write_text(json.dumps(r))
-    report = types.SimpleNamespace(n_specs=2, n_skipped=0, n_ok=2, n_error=0, n_lost=0)
-    monkeypatch.setattr(closedloop.sweep, "sweep", lambda *a, **k: (now, report))
-    grid = tmp_path / "grid.toml"
-    grid.write_text('preset = "table1"\nduration = 0.02\nseeds = [0, 1]\n')
-    assert main(["sweep", str(grid), "--out", str(out), "--quiet"]) == 0
-    lines = capsys.readouterr().out.splitlines()
+def test_runs_of_other_code_are_counted(stubbed_sweep):
+    now = [sweep_row("a" * 64, 0), sweep_row("b" * 64, 1)]
+    old = [sweep_row("c" * 64, 0), sweep_row("d" * 64, 1),
+           {**sweep_row("e" * 64, 2), "seed": 7, "override": "other grid"}]
+    rows, lines = stubbed_sweep(now + old, now)
     assert lines[0].startswith("2 runs: 0 already done, 2 ran")
     # the two runs of the same entries under other keys; the other grid's row is not counted
-    assert lines[1].startswith(f"  2 earlier run(s) in {out / 'rows'} of these")
+    assert lines[1].startswith(f"  2 earlier run(s) in {rows} of these")
 
 
-def test_a_plain_resume_says_nothing_more(tmp_path, monkeypatch, capsys):
-    out = tmp_path / "sdir"
-    (out / "rows").mkdir(parents=True)
-    now = [_row("a" * 64, 0)]
-    (out / "rows" / f"{'a' * 64}.json").write_text(json.dumps(now[0]))
-    report = types.SimpleNamespace(n_specs=1, n_skipped=1, n_ok=0, n_error=0, n_lost=0)
-    monkeypatch.setattr(closedloop.sweep, "sweep", lambda *a, **k: (now, report))
-    grid = tmp_path / "grid.toml"
-    grid.write_text('preset = "table1"\nduration = 0.02\nseeds = [0]\n')
-    assert main(["sweep", str(grid), "--out", str(out), "--quiet"]) == 0
-    assert "earlier run" not in capsys.readouterr().out
+def test_a_plain_resume_says_nothing_more(stubbed_sweep):
+    now = [sweep_row("a" * 64, 0)]
+    _, lines = stubbed_sweep(now, now, skipped=1)
+    assert not [line for line in lines if "earlier run" in line]
