@@ -85,3 +85,17 @@ def test_outputs_record_the_segment(gapped, tmp_path):
     assert {k: record[k] for k in expected} == expected
     # first_origin counts from the segment's first frame: training half of 2000 frames
     assert forecast["first_origin"] == 999
+
+
+def test_variance_json_names_its_score_units(tmp_path):
+    """O60: a variance order's scores are mean squares [rad^2] (numpy), the JSON said only nats."""
+    log = write_small_log(tmp_path / "small.npz", 400)
+    out = tmp_path / "var.json"
+    assert exit_code(["reorder", log, "--method", "variance", "--resamples", "0", "--quiet",
+                      "--out", out]) == 0
+    got = json.loads(out.read_text())
+    assert got["score_units"] == "rad^2"
+    coeffs = np.load(log)["coefficients"]
+    np.testing.assert_allclose(got["scores"], np.mean(coeffs ** 2, axis=0), rtol=1e-12)
+    mi = _order(log, tmp_path, "mi.json", "--method", "mi_marginal")
+    assert mi["score_units"] == "nats"
