@@ -99,3 +99,26 @@ def test_variance_json_names_its_score_units(tmp_path):
     np.testing.assert_allclose(got["scores"], np.mean(coeffs ** 2, axis=0), rtol=1e-12)
     mi = _order(log, tmp_path, "mi.json", "--method", "mi_marginal")
     assert mi["score_units"] == "nats"
+
+
+def test_closed_pipe_still_writes_the_out_file(tmp_path):
+    """`reorder ... --out F.json | head -1` exited 0 without F.json (a BrokenPipeError mid-run).
+
+    Reference: the README's promise, "a closed pipe (`| head -1`) is not an error"; the
+    reader's end is closed before the command writes anything, so the first write fails.
+    """
+    import os
+    import subprocess
+    import sys
+
+    log = write_small_log(tmp_path / "small.npz", 2000)
+    out = tmp_path / "piped.json"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "modalinfo", "reorder", str(log), *ORDER, "--max-frames",
+         "1000", "--frame", "4", "--out", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    proc.stdout.close()  # the reader is gone before the first line
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 0, err
+    assert json.loads(out.read_text())["frame"] == 4
