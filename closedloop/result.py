@@ -236,6 +236,22 @@ class ErrorBudget:
 
 #: the datasets of a result file's ``budget`` group: ErrorBudget's fields
 _BUDGET_FIELDS = tuple(f.name for f in dataclasses.fields(ErrorBudget))
+#: Units of the budget's arrays other than its variances (rad^2 at the science wavelength).
+_BUDGET_UNITS = {"directions": ("arcsec",), "frames": ("frame",)}
+
+
+def _labelled(group, name: str, values, units: str, wavelength: float | None = None) -> None:
+    """Write dataset ``name`` with a ``units`` attribute (and ``wavelength_m`` of a phase).
+
+    For a reader of the file with h5py: ``residual_variance`` is rad^2 at the science
+    wavelength while the logs beside it are rad at r0_wavelength (adversarial round 48
+    PART b, O52). Attributes of datasets are not in the file's checksum (``load`` reads
+    none of them).
+    """
+    group[name] = values
+    group[name].attrs["units"] = units
+    if wavelength is not None:
+        group[name].attrs["wavelength_m"] = float(wavelength)
 
 
 def _version() -> str:
@@ -799,19 +815,21 @@ class SimulationResult:
                 f.attrs["noise_floor"] = float(self.noise_floor)
             if self.unseen_modes is not None:
                 f.attrs["unseen_modes"] = int(self.unseen_modes)
-            f["times"] = self.times
-            f["directions"] = self.directions
-            f["residual_variance"] = self.residual_variance
+            science, r0_wavelength = self.config.wavelength, self.config.r0_wavelength
+            _labelled(f, "times", self.times, "s")
+            _labelled(f, "directions", self.directions, "arcsec")
+            _labelled(f, "residual_variance", self.residual_variance, "rad^2", science)
             if self.snapshots is not None:
-                f["snapshots"] = self.snapshots
-                f["snapshot_directions"] = self.snapshot_directions
+                _labelled(f, "snapshots", self.snapshots, "rad", science)
+                _labelled(f, "snapshot_directions", self.snapshot_directions, "arcsec")
             if self.budget is not None:
                 b = f.create_group("budget")
                 for name in _BUDGET_FIELDS:
-                    b[name] = getattr(self.budget, name)
+                    units = _BUDGET_UNITS.get(name, ("rad^2", science))
+                    _labelled(b, name, getattr(self.budget, name), *units)
             m = f.create_group("measurements")
             for j, arr in enumerate(self.measurements):
-                m[f"wfs{j}"] = arr
+                _labelled(m, f"wfs{j}", arr, "rad/m", r0_wavelength)
             g = f.create_group("logs")
             for name, log in self.logs.items():
                 write_log_group(g.create_group(name), log)

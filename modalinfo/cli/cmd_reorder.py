@@ -20,6 +20,7 @@ curve within 0.8 of the whole log's 95 % bootstrap half-width at every step (at 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -36,6 +37,7 @@ from modalinfo.cli.shared import (
     frame_subsample,
     load_log_with_hints,
     log_bytes,
+    ordinal,
     refuse_unused_ordering_options,
     split_gaps,
 )
@@ -284,9 +286,10 @@ def _frame_of_subsample(args: argparse.Namespace, n_file: int, n_kept: int) -> N
     frames ordered frame 2000 and printed "frame 5" (adversarial round 9 PART b, F11).
     """
     args.file_frame = getattr(args, "frame", None)
+    args.frame_step = 1 if n_kept == n_file else -(-n_file // args.max_frames)
     if args.file_frame is None or n_kept == n_file:
         return
-    step = -(-n_file // args.max_frames)  # frame_subsample's stride
+    step = args.frame_step  # frame_subsample's stride
     k = args.file_frame
     if not 0 <= k < n_file:
         raise CommandError(f"--frame must be an int in 0..{n_file - 1} (a frame index); "
@@ -294,10 +297,31 @@ def _frame_of_subsample(args: argparse.Namespace, n_file: int, n_kept: int) -> N
     if k % step:
         raise CommandError(
             f"--frame {k} is not among the frames --max-frames {args.max_frames} analyses "
-            f"(every {step}th of {n_file}: 0, {step}, {2 * step}, ...); give one of them or "
+            f"(every {ordinal(step)} of {n_file}: 0, {step}, {2 * step}, ...); give one of them or "
             f"--max-frames {n_file}"
         )
     args.frame = k // step
+
+
+def _frame_of_segment(args: argparse.Namespace) -> None:
+    """Translate ``--frame`` into the segment ``--split-gaps`` kept, or refuse it outside.
+
+    It was taken as an index of the segment: ``--split-gaps --frame 5`` on a log whose
+    longest segment is frames 1000..2999 ordered frame 1005 and printed "frame 5"
+    (adversarial round 48 PART b, T18).
+    """
+    segment = getattr(args, "analysed_frames", None)
+    if args.frame is None or segment is None:
+        return
+    first, stop = segment
+    if not first <= args.frame < stop:
+        step = getattr(args, "frame_step", 1)
+        raise CommandError(
+            f"--frame {args.file_frame} is not in the segment --split-gaps analyses (frames "
+            f"{first * step}..{(stop - 1) * step} of the file, the longest contiguous one); "
+            "give one of them, or drop --split-gaps (one frame's ordering needs no equally "
+            "spaced frames)")
+    args.frame -= first
 
 
 def check_window_and_frame(args: argparse.Namespace, log) -> None:
@@ -479,6 +503,7 @@ def run(args: argparse.Namespace) -> int:
         # refused for the bootstrap, whose blocks would join frames that were not adjacent
         log = split_gaps(log, args, args.log, *_gap_purpose(blocks, args.stability),
                          lags=blocks)
+        _frame_of_segment(args)
     # after the gap check: the pooled MI treats the frames as one sample, so dropped
     # frames only shorten it
     from modalinfo.telemetry.quality import policy_record
@@ -548,6 +573,9 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         from modalinfo.cli.shared import command_provenance
 
+        if getattr(args, "file_frame", None) is not None:  # the file's frame, not the
+            # subsample's or segment's index the ordering ran on (round 48 PART b, T18)
+            result = dataclasses.replace(result, frame=args.file_frame)
         result.to_json(args.out, overwrite=args.overwrite,
                        provenance=command_provenance(args, args.log, args.seed),
                        quality=quality)

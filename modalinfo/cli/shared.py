@@ -501,7 +501,19 @@ def command_provenance(args: argparse.Namespace, source: Path | None,
     """
     from modalinfo.common.provenance import provenance
 
-    return provenance(getattr(args, "_argv", None), source=source, seed=seed)
+    record = provenance(getattr(args, "_argv", None), source=source, seed=seed)
+    segment = getattr(args, "analysed_frames", None)
+    if segment is not None:  # --split-gaps kept one segment: its frame numbers are the
+        # output's (forecast's first_origin, reorder's frame): say which, in the file's
+        # numbering (round 48 PART b, O65/O66)
+        step = getattr(args, "frame_step", 1)
+        first, stop = segment
+        record["analysed_frames"] = {
+            "first": first * step, "last": (stop - 1) * step, "every": step,
+            "rule": "--split-gaps: the longest contiguous segment of the file; an origin "
+                    "index (forecast's first_origin) counts from `first`",
+        }
+    return record
 
 
 def queue_notes(args: argparse.Namespace, lines: list[str]) -> None:
@@ -541,7 +553,7 @@ def input_notes(log, path: Path) -> list[str]:
     return notes
 
 
-def _ordinal(k: int) -> str:
+def ordinal(k: int) -> str:
     """``2nd``, ``3rd``, ``11th``, ``4000th`` ("every 2th frame": round 10 PART b, Z34)."""
     tail = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
     return f"{k}{tail}"
@@ -582,6 +594,7 @@ def split_gaps(log, args: argparse.Namespace, path: Path, purpose: str, verb: st
         )
     queue_notes(args, [f"--split-gaps: analysed frames {a}..{b - 1} ({b - a} of "
                        f"{log.n_frames}), the longest of {len(s.segments)} contiguous segments"])
+    args.analysed_frames = (a, b)  # for command_provenance and reorder's --frame
     return log.longest_segment()
 
 
@@ -662,7 +675,7 @@ def check_quality_memory(args: argparse.Namespace, log, path: Path,
                  "the log)")
 
 
-__all__ += ["add_max_frames_argument", "frame_subsample", "MAX_FRAMES"]
+__all__ += ["add_max_frames_argument", "frame_subsample", "MAX_FRAMES", "ordinal"]
 
 #: Default of ``--max-frames``: frames ``reorder`` and ``fitting-error`` analyse at most.
 #: A quarter of their default ``--budget`` of 200,000 (frame, pixel) samples, so every
@@ -721,6 +734,6 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
             advance(block.shape[0])
     out.flags.writeable = False
     what = (f"frames 0..{limit - 1} of {n}" if contiguous
-            else f"every {_ordinal(step)} frame ({part.n_frames} of {n})")
+            else f"every {ordinal(step)} frame ({part.n_frames} of {n})")
     queue_notes(args, [f"--max-frames {limit}: analysed {what}"])
     return part._derive(_coeffs=out)  # noqa: SLF001 - the same frames, now in memory

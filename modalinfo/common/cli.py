@@ -454,6 +454,8 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
     previous_format = warnings.formatwarning
     warnings.formatwarning = one_line_format(f"{prog} {args.command}")
     written = files_written()  # a refused stdout names the files only if any were written
+    stdout = sys.stdout
+    sys.stdout = _ClosedPipeTolerant(stdout)
     try:
         code = int(args._run(args) or 0)
         for note in getattr(args, "_notes", None) or ():
@@ -505,6 +507,8 @@ def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str
         return interrupted(prog)
     finally:
         warnings.formatwarning = previous_format
+        if isinstance(sys.stdout, _ClosedPipeTolerant):
+            sys.stdout = stdout
 
 
 def _file_too_large(exc: OSError, message: str) -> str:
@@ -519,6 +523,38 @@ def _file_too_large(exc: OSError, message: str) -> str:
     name = f" writing {quoted(exc.filename)}" if exc.filename and not named else ""
     limit = file_size_limit_text() or "a file-size limit"
     return f"{message}{name}: {limit}; raise it (ulimit -f) or write a smaller output"
+
+
+class _ClosedPipeTolerant:
+    """Stdout for a command's run: a closed pipe sends the rest to /dev/null, the run goes on.
+
+    A reader that closed the pipe (``| head -1``) has what it wanted; the command still
+    writes its files and exits with its own status.
+
+    A ``BrokenPipeError`` ended the run where it was raised, with status 0: ``reorder
+    --max-frames 1000 --frame 4 --out F.json | head -1`` printed its table's first line,
+    exited 0 and wrote no F.json (adversarial round 48 PART b). Every other attribute is
+    the stream's.
+    """
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            discard_stdout()
+            return len(text)
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            discard_stdout()
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
 
 
 def discard_stdout() -> None:

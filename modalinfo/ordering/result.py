@@ -326,7 +326,17 @@ class OrderingResult:
         # derived, for a reader of the file: an order without a bootstrap is not marked
         # where it is within noise (round 33 PART b, B46); from_dict ignores it
         out["noise_assessed"] = self.noise_assessed
+        # the scores' units: a variance order's are rad^2, not the file's `mi_units`
+        # (round 48 PART b, O60); from_dict ignores it
+        out["score_units"] = self.score_units
         return out
+
+    @property
+    def score_units(self) -> str | None:
+        """Units of :attr:`scores`: ``"rad^2"`` (variance, pca), :attr:`mi_units` (MI), or None."""
+        if self.scores is None:
+            return None
+        return "rad^2" if self.method in ("variance", "pca") else self.mi_units
 
     def to_json(self, path: str | Path, overwrite: bool = False,
                 provenance: dict | None = None, quality: dict | None = None) -> Path:
@@ -417,7 +427,7 @@ class OrderingResult:
                      "noise of the rank above (their order is not determined)"]
         if self.scores is not None:
             if self.method in ("variance", "pca"):
-                lines.append("score: mean-square coefficient of the mode [rad^2]")
+                lines.append(f"score: mean-square coefficient of the mode [{self.score_units}]")
             else:
                 lines.append("score: I(Phi_ref; a_k Z_k), the MI of the wavefront with "
                              "this mode alone [nats]")
