@@ -17,7 +17,7 @@ samples), starting from the batch solution.
 ``alpha="gcv"`` (the ``multivariate`` preset's) chooses ``alpha`` at each fit by
 generalised cross-validation (Golub, Heath & Wahba 1979): the relative ridge is the
 ordinary ridge ``(Z_s^T Z_s + alpha I)`` on the lags scaled to unit sum of squares
-``Z_s``, so one SVD ``Z_s = U S V^T`` gives, for every ``alpha`` of :data:`GCV_GRID`
+``Z_s``, so one SVD ``Z_s = U S V^T`` gives, for every ``alpha`` of ``GCV_GRID``
 (0 and ``10^-10 .. 10^0`` by half decades), the hat matrix's trace
 ``sum s^2 / (s^2 + alpha)`` and the residual, and the fit takes the ``alpha`` minimising
 ``GCV = n ||(I - H) Y||_F^2 / (n - tr H)^2`` (``n`` regression rows, one ``alpha``
@@ -64,7 +64,7 @@ def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
 def _gcv_ridge(Zs: np.ndarray, Y: np.ndarray) -> tuple[float, np.ndarray]:
     """GCV's relative ridge and the weights on unit-norm lags ``Zs`` (module notes).
 
-    Returns ``alpha`` from :data:`GCV_GRID` and ``Bs (k, M)``, the solution of
+    Returns ``alpha`` from ``GCV_GRID`` and ``Bs (k, M)``, the solution of
     ``(Zs^T Zs + alpha I) Bs = Zs^T Y``.
     """
     U, s, Vt = np.linalg.svd(Zs, full_matrices=False)
@@ -101,7 +101,7 @@ class MultivariatePredictor(Predictor):
         Number of past samples ``p`` of every mode in the regression.
     alpha : float or "gcv"
         Relative Tikhonov regularisation (see module notes), >= 0; ``"gcv"``: chosen at
-        each fit (and refit) by generalised cross-validation from :data:`GCV_GRID`
+        each fit (and refit) by generalised cross-validation from ``GCV_GRID``
         (0 and ``10^-10 .. 1`` by half decades; module notes).
     horizon : int
         Number of steps forecast by ``update``.

@@ -113,15 +113,16 @@ def test_preset_beats_persistence_on_a_smooth_log():
 
 
 def test_preset_with_a_duplicated_mode_is_finite_and_beats_persistence():
+    """Singular lags: GCV's 1e-10 ridge, gain 135 / 29 at h = 1 / 5 (before: 0.32 / 0.56)."""
     x = _smooth_log()
     x = np.column_stack([x, x[:, 0]])
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # evaluate's Diebold-Mariano notes, not the fit's
         ev = evaluate({"multivariate": make_predictor("multivariate")}, x, train=1500,
                       horizons=[1, 5])
     gain = ev.gain_wavefront[ev.index("multivariate")]
     assert np.all(np.isfinite(gain))
-    assert np.all(gain >= 1) or caught, gain
+    assert np.all(gain > 10), gain
 
 
 def test_refits_choose_again():
