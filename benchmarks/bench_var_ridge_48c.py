@@ -17,7 +17,10 @@ rest, whole-wavefront RMSE gain over persistence (persistence RMSE / the predict
   10^0 by half decades, one ``a`` shared by all modes (on unit-norm lag columns, where the
   relative ridge is an ordinary one);
 - ``OLS``: statsmodels ``VAR(X).fit(4, trend="c")``, the reference fit, forecasts iterated
-  here from its coefficients.
+  here from its coefficients;
+- ``preset``: :func:`modalinfo.forecast.evaluate` of the ``multivariate`` preset
+  (``MultivariatePredictor(order=4, alpha="gcv")`` since fix48-d) and its ``alpha_``
+  (rows "fix48-d"; the fix48-c rows were run before that column existed).
 
 Logs: ``data/`` (Figure 5's "spectral" ``kaos_like_closed_loop.npz`` and "simulated"
 ``kaos_closedloop.npz``, and ``kaos_like_open_loop.npz``), and smooth synthetic open-loop
@@ -91,8 +94,10 @@ def _ols(x):
 
 def row(name, x, n_train):
     from modalinfo.forecast import MultivariatePredictor, evaluate
+    from modalinfo.forecast.presets import make_predictor
 
     preds = {f"a={a:g}": MultivariatePredictor(order=P, alpha=a) for a in ALPHAS}
+    preds["preset"] = make_predictor("multivariate")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ev = evaluate(preds, x, train=n_train, horizons=[1, 5])
@@ -105,14 +110,15 @@ def row(name, x, n_train):
     fits["OLS"] = _ols(xt)
     for mu, c in fits.values():
         cells.append(f"{_gain(x, n_train, mu, c, 1):.5g} / {_gain(x, n_train, mu, c, 5):.5g}")
-    print(f"| {name} | {x.shape[1]} | {n_train} | " + " | ".join(cells) + f" | {a_gcv:.2g} |",
-          flush=True)
+    a_preset = make_predictor("multivariate").fit(xt).alpha_
+    print(f"| {name} | {x.shape[1]} | {n_train} | " + " | ".join(cells)
+          + f" | {a_gcv:.2g} | {a_preset:.2g} |", flush=True)
 
 
 def main(which: str = "all") -> None:
     print("| log | modes | train | " + " | ".join(f"pkg a={a:g}" for a in ALPHAS)
-          + " | np a=1e-3 | np a=0 | np gcv | statsmodels OLS | gcv a |")
-    print("|---" * 12 + "|")
+          + " | preset | np a=1e-3 | np a=0 | np gcv | statsmodels OLS | gcv a | preset alpha_ |")
+    print("|---" * 14 + "|")
     if which in ("shipped", "all"):
         data = Path(__file__).resolve().parent.parent / "data"
         for f in ("kaos_like_closed_loop", "kaos_closedloop", "kaos_like_open_loop"):

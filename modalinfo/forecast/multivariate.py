@@ -13,6 +13,24 @@ single ``lambda = alpha trace(Z^T Z) / (p M)`` shrank the lags of a mode of smal
 variance towards its mean). The recursive form updates ``B`` every step by recursive
 least squares with forgetting factor ``lambda_f`` (memory ``1 / (1 - lambda_f)``
 samples), starting from the batch solution.
+
+``alpha="gcv"`` (the ``multivariate`` preset's) chooses ``alpha`` at each fit by
+generalised cross-validation (Golub, Heath & Wahba 1979): the relative ridge is the
+ordinary ridge ``(Z_s^T Z_s + alpha I)`` on the lags scaled to unit sum of squares
+``Z_s``, so one SVD ``Z_s = U S V^T`` gives, for every ``alpha`` of ``GCV_GRID``
+(0 and ``10^-10 .. 10^0`` by half decades), the hat matrix's trace
+``sum s^2 / (s^2 + alpha)`` and the residual, and the fit takes the ``alpha`` minimising
+``GCV = n ||(I - H) Y||_F^2 / (n - tr H)^2`` (``n`` regression rows, one ``alpha``
+shared by all modes; the smallest on a tie). ``alpha = 0`` (ordinary least squares) is a
+candidate only where the scaled lags are well conditioned (smallest singular value at
+least ``sqrt(eps)`` of the largest): a rank-deficient log (a mode duplicated or a
+combination of others) gets the smallest positive ``alpha`` GCV prefers, never a
+singular solve. The weights are then ``V diag(s / (s^2 + alpha)) U^T Y`` scaled back. A
+fixed ``alpha = 1e-3`` shrinks the near-cancelling lag weights that forecast a smooth,
+noise-free mode, and such a log's forecast falls back towards the mean (gain 0.3-0.7
+over persistence where ``alpha = 0`` gains 48-933, fix48-c); GCV takes 0 there and
+``1e-2`` / ``3e-3`` on Figure 5's closed-loop logs. The RLS form keeps a fixed ``alpha``
+(its RLS matrix starts from the inverse of the regularised Gram matrix).
 """
 
 from __future__ import annotations
@@ -23,7 +41,17 @@ from modalinfo.common.validation import check_int, check_real
 from modalinfo.forecast._kernels import rls_var_filter, var_filter
 from modalinfo.forecast.base import Predictor
 
-__all__ = ["MultivariatePredictor", "RLSMultivariatePredictor"]
+__all__ = ["GCV_GRID", "MultivariatePredictor", "RLSMultivariatePredictor"]
+
+#: Relative ridges ``alpha = "gcv"`` chooses from: 0 and 10^-10 .. 10^0 by half decades.
+GCV_GRID = (0.0, *(10.0 ** (0.5 * k) for k in range(-20, 1)))
+
+#: ``alpha = 0`` is a GCV candidate only if the scaled lags' smallest singular value is
+#: at least this fraction (``sqrt(eps)``, 1.5e-8) of the largest: beyond, the least-squares
+#: weights amplify rounding by more than ``1 / sqrt(eps)``. Measured: 1.6e-5 - 2.0e-7 on
+#: the shipped open-loop log and smooth synthetic logs (fix48-c), 2e-21 with a mode
+#: duplicated.
+_OLS_RCOND = float(np.sqrt(np.finfo(float).eps))
 
 
 def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
@@ -33,6 +61,37 @@ def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
     return Z, Xc[order:]
 
 
+def _gcv_ridge(Zs: np.ndarray, Y: np.ndarray) -> tuple[float, np.ndarray]:
+    """GCV's relative ridge and the weights on unit-norm lags ``Zs`` (module notes).
+
+    Returns ``alpha`` from ``GCV_GRID`` and ``Bs (k, M)``, the solution of
+    ``(Zs^T Zs + alpha I) Bs = Zs^T Y``.
+    """
+    U, s, Vt = np.linalg.svd(Zs, full_matrices=False)
+    uty = U.T @ Y
+    # the part of Y outside the span of the lags, subtracted elementwise (not as
+    # ||Y||^2 - ||U^T Y||^2, which cancels where the lags forecast Y to 1e-5)
+    rss_out = float(np.sum((Y - U @ uty) ** 2))
+    n = Y.shape[0]
+    s2 = s * s
+    well_conditioned = s.size and s[-1] >= _OLS_RCOND * s[0]
+    best = (np.inf, None)
+    for alpha in GCV_GRID:
+        if alpha == 0.0 and not well_conditioned:
+            continue
+        f = s2 / (s2 + alpha) if alpha > 0 else np.ones_like(s)
+        rss = rss_out + float(np.sum(((1.0 - f)[:, None] * uty) ** 2))
+        dof = n - float(np.sum(f))
+        score = n * rss / (dof * dof)
+        if score < best[0]:
+            best = (score, alpha)
+    alpha = best[1]
+    if alpha is None:  # every score NaN / inf: cannot happen on finite, varying lags
+        alpha = GCV_GRID[-1]
+    weight = s / (s2 + alpha)
+    return alpha, Vt.T @ (weight[:, None] * uty)
+
+
 class MultivariatePredictor(Predictor):
     """Batch regularised vector-autoregressive predictor (all modes -> each mode).
 
@@ -40,8 +99,10 @@ class MultivariatePredictor(Predictor):
     ----------
     order : int
         Number of past samples ``p`` of every mode in the regression.
-    alpha : float
-        Relative Tikhonov regularisation (see module notes), >= 0.
+    alpha : float or "gcv"
+        Relative Tikhonov regularisation (see module notes), >= 0; ``"gcv"``: chosen at
+        each fit (and refit) by generalised cross-validation from ``GCV_GRID``
+        (0 and ``10^-10 .. 1`` by half decades; module notes).
     horizon : int
         Number of steps forecast by ``update``.
     refit_every, window : int or None
@@ -58,11 +119,14 @@ class MultivariatePredictor(Predictor):
         ``coef_[i, k, m]``: weight of lag ``i + 1`` of mode ``k`` in the forecast of
         mode ``m``.
     mean_ : numpy.ndarray, shape (M,)
+    alpha_ : float
+        The relative ridge in force: ``alpha``, or GCV's choice at ``fit`` (or at the
+        last refit of the online pass, ``update`` with ``refit_every``).
     """
 
     _multivariate = True
 
-    def __init__(self, *, order: int = 2, alpha: float = 1e-3, horizon: int = 10,
+    def __init__(self, *, order: int = 2, alpha: float | str = 1e-3, horizon: int = 10,
                  refit_every: int | None = None, window: int | None = None):
         super().__init__(horizon=horizon, refit_every=refit_every, window=window)
         self.order = order
@@ -77,7 +141,7 @@ class MultivariatePredictor(Predictor):
 
     def _solve(self, X: np.ndarray, name: str):
         order = check_int(self.order, "order", minimum=1)
-        alpha = check_real(self.alpha, "alpha", minimum=0.0)
+        alpha = self._check_alpha()
         constant, value = self._constant_columns(X)
         mu = np.where(constant, value, X.mean(axis=0))
         Xc = X - mu
@@ -90,11 +154,20 @@ class MultivariatePredictor(Predictor):
         # each regressor's ridge is alpha times its own sum of squares: the solution is
         # then equivariant under a change of units of any one mode (a common ridge
         # lambda I shrinks a mode of small variance to its mean, whatever alpha)
-        Greg = G + alpha * np.diag(np.diag(G))
         B = np.zeros((G.shape[0], n_modes))
-        if keep.any():
-            B[np.ix_(keep, ~constant)] = np.linalg.solve(
-                Greg[np.ix_(keep, keep)], (Z.T @ Y)[np.ix_(keep, ~constant)])
+        if alpha == "gcv":
+            alpha = 0.0  # every mode constant: nothing is regressed, nothing shrunk
+            if keep.any():
+                # the relative ridge is the ordinary one on unit-norm lag columns
+                norm = np.sqrt(np.diag(G)[keep])
+                alpha, Bs = _gcv_ridge(Z[:, keep] / norm, Y[:, ~constant])
+                B[np.ix_(keep, ~constant)] = Bs / norm[:, None]
+            Greg = G + alpha * np.diag(np.diag(G))
+        else:
+            Greg = G + alpha * np.diag(np.diag(G))
+            if keep.any():
+                B[np.ix_(keep, ~constant)] = np.linalg.solve(
+                    Greg[np.ix_(keep, keep)], (Z.T @ Y)[np.ix_(keep, ~constant)])
         if not keep.all():
             # decouple the lags of constant modes in the Gram matrix the RLS starts from:
             # their regressors are 0, so any positive diagonal leaves their weights at 0
@@ -103,11 +176,19 @@ class MultivariatePredictor(Predictor):
             Greg[:, drop] = 0.0
             Greg[drop, drop] = 1.0
         coef = np.ascontiguousarray(B.reshape(order, n_modes, n_modes))
-        return mu, coef, Greg, Z.shape[0]
+        return mu, coef, Greg, Z.shape[0], alpha
+
+    def _check_alpha(self) -> float | str:
+        if isinstance(self.alpha, str):
+            if self.alpha != "gcv":
+                raise ValueError(f"`alpha` must be a number >= 0 or 'gcv'; got "
+                                 f"{self.alpha!r}.")
+            return self.alpha
+        return check_real(self.alpha, "alpha", minimum=0.0)
 
     def _fit_params(self, X, previous, name):
-        mu, coef, _, _ = self._solve(X, name)
-        return {"mu": mu, "coef": coef}
+        mu, coef, _, _, alpha = self._solve(X, name)
+        return {"mu": mu, "coef": coef, "alpha": alpha}
 
     def fit_bytes(self, n_samples: int, n_modes: int) -> int:
         """Upper estimate of the memory ``fit`` allocates at its peak [bytes].
@@ -115,10 +196,14 @@ class MultivariatePredictor(Predictor):
         The lagged design ``(T, order x M)``, the targets and the centred history
         (``order + 2`` float64 copies of the history) and two ``(order M)^2`` normal
         matrices. tracemalloc's peak: 3.0-3.2, 5.1-5.7 and 9.4-11.1 copies at orders
-        2, 4 and 8 (3,000 and 8,000 samples of 10 and 27 modes, left19-est).
+        2, 4 and 8 (3,000 and 8,000 samples of 10 and 27 modes, left19-est). With
+        ``alpha="gcv"`` the scaled lags, the SVD's copy of them and ``U`` add ``2 order +
+        3`` copies: tracemalloc's peak 10.1-10.3, 16.2-16.4 and 28.4-28.7 copies at orders
+        2, 4 and 8 (3,000-8,000 samples of 10 and 27 modes, fix48-d).
         """
         k = self.order * n_modes
-        return 8 * ((self.order + 2) * n_samples * n_modes + 2 * k * k)
+        copies = 3 * self.order + 5 if isinstance(self.alpha, str) else self.order + 2
+        return 8 * (copies * n_samples * n_modes + 2 * k * k)
 
     def _memory(self, params):
         return int(params["coef"].shape[0])
@@ -143,6 +228,18 @@ class MultivariatePredictor(Predictor):
         self._check_fitted()
         return self.params_["mu"]
 
+    @property
+    def alpha_(self) -> float:
+        """Relative ridge in force (``alpha``, or GCV's choice at the last (re)fit).
+
+        GCV chooses at ``fit`` and again at each refit of the online pass (``update``
+        with ``refit_every``).
+        """
+        self._check_fitted()
+        run = self.__dict__.get("_run")
+        params = self.params_ if run is None else run.params
+        return float(params["alpha"])
+
 
 class RLSMultivariatePredictor(MultivariatePredictor):
     """Vector-autoregressive predictor adapted every step by recursive least squares.
@@ -160,7 +257,8 @@ class RLSMultivariatePredictor(MultivariatePredictor):
     order : int
         Past samples ``p`` of every mode.
     alpha : float
-        Relative Tikhonov regularisation of the initial batch solution.
+        Relative Tikhonov regularisation of the initial batch solution (a number:
+        ``"gcv"`` is refused, the ``rls`` preset keeps 1e-3).
     forgetting : float
         Forgetting factor in (0, 1]; 1 is ordinary (growing-memory) RLS.
     horizon : int
@@ -179,12 +277,21 @@ class RLSMultivariatePredictor(MultivariatePredictor):
     def _fit_params(self, X, previous, name):
         lam = check_real(self.forgetting, "forgetting", minimum=0.0, maximum=1.0,
                          strict_min=True)
-        mu, coef, Greg, n = self._solve(X, name)
+        mu, coef, Greg, n, alpha = self._solve(X, name)
         memory = n if lam == 1.0 else min(n, 1.0 / (1.0 - lam))
         gain_inv = np.linalg.inv(Greg * (memory / n))
         gain_inv = 0.5 * (gain_inv + gain_inv.T)
         return {"mu": mu, "coef": coef, "gain_inv": np.ascontiguousarray(gain_inv),
-                "forgetting": lam}
+                "forgetting": lam, "alpha": alpha}
+
+    def _check_alpha(self) -> float:
+        if isinstance(self.alpha, str):
+            raise ValueError(
+                f"`alpha` must be a number >= 0 for {type(self).__name__} (its RLS matrix "
+                f"starts from the inverse of the regularised Gram matrix, which alpha 0 on "
+                f"collinear lags makes singular); got {self.alpha!r}. 'gcv' is "
+                f"MultivariatePredictor's.")
+        return check_real(self.alpha, "alpha", minimum=0.0)
 
     def _init_state(self, params, horizon):
         order, n_modes, _ = params["coef"].shape

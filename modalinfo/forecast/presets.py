@@ -26,7 +26,7 @@ PRESETS: dict[str, tuple[str, Callable[[], Predictor]]] = {
     "arma-aic": ("ARMA (AIC)", lambda: ARMAPredictor(order="aic")),
     "nn": ("NN 10-10-1, 2000 patterns", lambda: NeuralNetPredictor()),
     "nn-paper": ("NN paper (10 patterns)", lambda: NeuralNetPredictor.paper()),
-    "multivariate": ("multivariate VAR(4)", lambda: MultivariatePredictor(order=4)),
+    "multivariate": ("multivariate VAR(4)", lambda: MultivariatePredictor(order=4, alpha="gcv")),
     "rls": ("multivariate RLS", lambda: RLSMultivariatePredictor(order=4)),
     "info": ("info (CMI-selected sparse LS)", lambda: InfoPredictor()),
     "info-nn": ("info-nn (info + random tanh features)", lambda: InfoNNPredictor()),
