@@ -709,7 +709,7 @@ class ARMAPredictor(_LinearRecursion):
     def fit_seconds(self, n_samples: int, n_modes: int) -> float:
         """Estimated CPU seconds of one ``fit``, a lower bound [s].
 
-        ``M x (a + b x T)`` with (a, b) of :data:`FIT_SECONDS`: a fixed AR order, a fixed
+        ``M x (a + b x T)`` with (a, b) of ``FIT_SECONDS``: a fixed AR order, a fixed
         ARMA order (``q > 0``: the CSS refinement) or the order search (scaled by its
         ``(max_order + 1)^2`` candidates). Measured once compiled (numba's first call adds
         ~50 s of CPU on a cold cache): the fits of 500-20,000 samples x 20-1,600 modes took

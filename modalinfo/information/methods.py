@@ -316,7 +316,7 @@ NEGATIVE_TOLERANCE = 0.05
 
 #: Fewest samples of a built-in entropy estimate with its rule-chosen resolution, the
 #: measured bias below it and its sign: below, its small-sample bias on normal samples
-#: is above :data:`NEGATIVE_TOLERANCE` (0.05 nats, the convergence rules' tolerance).
+#: is above ``NEGATIVE_TOLERANCE`` (0.05 nats, the convergence rules' tolerance).
 #: Measured, mean - 0.5 ln(2 pi e) (s.e.): the KDE over 60 seeds (100 at n = 25),
 #: +0.140 (0.031) at n = 10, +0.062 (0.016) at 25, +0.038 (0.019) at 30 (round 48 PART a,
 #: S19); the histogram (``bins`` the rule, uniform, Miller-Madow) over 200 seeds,
