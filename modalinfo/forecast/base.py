@@ -486,16 +486,7 @@ class Predictor:
         The base says 0 (not estimated): the predictors whose fits are slow at thousands
         of modes override it (``ARMAPredictor``). ``evaluate`` sums it over the fit and
         the refits of every predictor and refuses or warns before any work.
-
-        Parameters
-        ----------
-        n_samples, n_modes : int
-            Shape ``(T, M)`` of the history the fit will see.
-
-        Returns
-        -------
-        float
-            Seconds.
+        ``(n_samples, n_modes)`` is the shape ``(T, M)`` of the history, as ``fit_bytes``'.
         """
         return 0.0
 
