@@ -64,6 +64,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="re-estimate every R frames on a sliding window")
     parser.add_argument("--window", type=int, default=None, metavar="W",
                         help="sliding-window length for refits (default: training length)")
+    parser.add_argument("--max-seconds", dest="max_seconds", type=float, default=None,
+                        metavar="S", help="refuse, before any work, predictor fits and "
+                        "refits estimated above S seconds of CPU (default: the library's, "
+                        "modalinfo.ordering.cost.MAX_ORDERING_SECONDS = 3600; the ARMA "
+                        "predictors' are estimated)")
     parser.add_argument("--out", type=folder_arg, default=None, metavar="DIR",
                         help="write JSON, CSV and plots into DIR (created if missing)")
     parser.add_argument("--overwrite", action="store_true",
@@ -429,10 +434,13 @@ def run(args: argparse.Namespace) -> int:
     matplotlib.use("Agg")
     from modalinfo.cli.shared import progress
     from modalinfo.forecast import evaluate
+    from modalinfo.ordering.cost import MAX_ORDERING_SECONDS
 
     with progress(args, n_pred, unit="predictor", desc="forecast") as advance:
         ev = evaluate(predictors, log, train=train, horizons=range(1, args.horizon + 1),
                       refit_every=args.refit_every, window=args.window, progress=advance,
+                      max_seconds=(MAX_ORDERING_SECONDS if args.max_seconds is None
+                                   else args.max_seconds),
                       chunk_frames=chunk_frames(args.horizon, log.n_modes))
     if not args.quiet:
         sys.stdout.write(f"{args.log.name}: {log.n_frames} frames x {log.n_modes} modes "

@@ -480,6 +480,16 @@ class Predictor:
         """
         return 2 * 8 * n_samples * n_modes
 
+    def fit_seconds(self, n_samples: int, n_modes: int) -> float:
+        """Estimated CPU seconds of one ``fit`` (or refit), a lower bound [s].
+
+        The base says 0 (not estimated): the predictors whose fits are slow at thousands
+        of modes override it (``ARMAPredictor``). ``evaluate`` sums it over the fit and
+        the refits of every predictor and refuses or warns before any work.
+        ``(n_samples, n_modes)`` is the shape ``(T, M)`` of the history, as ``fit_bytes``'.
+        """
+        return 0.0
+
     # subclass hooks -------------------------------------------------------------
     def _memory(self, params: dict) -> int:
         """Past samples the recursion forecasts from (its lags); 0: none."""

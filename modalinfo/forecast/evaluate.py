@@ -123,6 +123,7 @@ from modalinfo.common.validation import (
 from modalinfo.forecast.arma import ARMAPredictor
 from modalinfo.forecast.base import Predictor, check_square_floor, user_defined
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
+from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, check_ordering_seconds, seconds_text
 
 __all__ = ["evaluate", "ForecastEvaluation"]
 
@@ -858,6 +859,43 @@ def _preset_hint(value) -> str:
     return ""
 
 
+def _fits(pred: Predictor, n_train: int, last_origin: int) -> int:
+    """Fits of ``pred`` (unfitted) in ``evaluate``: the first and its scheduled refits.
+
+    Refits after ``n`` frames, ``n`` a multiple of ``refit_every``, at least ``window``
+    (default the training length) and at most the last origin (``Predictor._feed``).
+    """
+    refit = pred.refit_every
+    if refit is None:
+        return 1
+    window = n_train if pred.window is None else pred.window
+    first = -(-max(window, refit) // refit) * refit  # smallest multiple of R >= max(W, R)
+    return 1 + max(last_origin // refit - first // refit + 1, 0)
+
+
+def _check_fit_seconds(preds: dict, n_train: int, n_modes: int, last_origin: int,
+                       max_seconds: float | None) -> None:
+    """Refuse or warn (``check_ordering_seconds``'s rule) on the fits' estimated CPU time."""
+    if max_seconds is not None:
+        max_seconds = check_real(max_seconds, "max_seconds", minimum=0.0, strict_min=True)
+    parts, total = [], 0.0
+    for name, pred in preds.items():
+        n_fits = _fits(pred, n_train, last_origin)
+        window = n_train if pred.window is None else min(pred.window, last_origin)
+        seconds = pred.fit_seconds(n_train, n_modes) + (n_fits - 1) * pred.fit_seconds(
+            window, n_modes)
+        if seconds > 0:
+            total += seconds
+            parts.append(f"{name!r} {n_fits} fit(s)")
+    if not parts:
+        return
+    what = (f"evaluate's fits ({', '.join(parts)} of {n_modes} modes, {n_train} training "
+            f"frames) {seconds_text(total)}")
+    check_ordering_seconds(total, what, "evaluate fewer modes, fewer training frames "
+                           "(`train`) or fewer refits (`refit_every`)", max_seconds,
+                           stacklevel=3)
+
+
 def _refuse_idle_refits(pred: Predictor, last_origin: int, n_frames: int,
                         n_train: int | None = None) -> None:
     """Refuse a refit schedule under which no scored forecast uses a refit.
@@ -1233,7 +1271,8 @@ def _count_covered(abs_err: np.ndarray, origins: np.ndarray, stds: list, horizon
 def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
              refit_every: int | None = None, window: int | None = None,
              level: float = 0.95, alpha: float = 0.05, keep_series: int = 5000,
-             chunk_frames: int = 8192, progress=None) -> ForecastEvaluation:
+             chunk_frames: int = 8192, progress=None,
+             max_seconds: float | None = MAX_ORDERING_SECONDS) -> ForecastEvaluation:
     """Rolling-origin evaluation of predictors, with no look-ahead.
 
     Parameters
@@ -1272,6 +1311,11 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     progress : callable, optional
         Called as ``progress(1)`` after each predictor is fitted and run (the
         baselines included: ``len(predictors) + 2`` calls when both are added).
+    max_seconds : float or None
+        Most CPU seconds the fits and refits of the predictors may be estimated to take
+        (``Predictor.fit_seconds``, a lower bound) before any work: above, ``ValueError``;
+        above ``NOTE_ORDERING_SECONDS`` (a minute), one ``OrderingCostWarning`` naming
+        the estimate (the rule of ``order_modes``). None: no limit.
 
     Returns
     -------
@@ -1350,9 +1394,11 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     constant = Predictor._constant_columns(np.asarray(train_data))[0]
     last = int(origins[-1]) + 1                           # frames fed: 0 .. last origin
     noll = _noll_labels(log)
-    for i, (name, proto) in enumerate(all_preds.items()):
-        pred = proto.clone(horizon=h_max, **overrides,
-                           **_labels_override(proto, name, noll, labels))
+    clones = {name: proto.clone(horizon=h_max, **overrides,
+                                **_labels_override(proto, name, noll, labels))
+              for name, proto in all_preds.items()}
+    _check_fit_seconds(clones, n_train, n_modes, int(origins[-1]), max_seconds)
+    for i, (name, pred) in enumerate(clones.items()):
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
         _refuse_idle_refits(pred, int(origins[-1]), n_frames, n_train)

@@ -125,7 +125,12 @@ from modalinfo.information.discrete import (  # noqa: F401 (re-exported: former 
 )
 from modalinfo.information.gaussian import unit_scaled
 from modalinfo.information.ksg import _kl_log_distances
-from modalinfo.information.methods import BiasRuleWarning, MIMethod, register_method
+from modalinfo.information.methods import (
+    BiasRuleWarning,
+    MIMethod,
+    register_method,
+    warn_few_entropy_samples,
+)
 
 __all__ = ["BIN_RULES", "DISCRETE_MIN_PER_CELL", "MIN_SAMPLES_PER_CELL", "discrete_levels",
            "discrete_mi", "discrete_pair_mi", "discrete_x_levels", "max_rule_bins",
@@ -627,7 +632,9 @@ def histogram_entropy(x: np.ndarray, *, bins: Any = "hacine-gharbi",
             rule = (f"{allowed:.3g} ({WIDE_BINS_NATS:g} + 1.96 x its standard error "
                     f"{se:.2g}; silent, the bias is below {WIDE_BINS_NATS:g} + 3.92 x "
                     "the standard error at 97.5 %)")
-        if excess > allowed:
+        if excess <= allowed:  # else the wide-bins warning, one per call
+            warn_few_entropy_samples("histogram", n, 3)
+        else:
             warn(
                 f"entropy with method='histogram': {k} equal-width bins over the range of x "
                 f"give {excess:.3g} nats more than {name}, above the rule "

@@ -102,7 +102,12 @@ from modalinfo.information.gaussian import (
     _standardise_columns,
     unit_scaled,
 )
-from modalinfo.information.methods import BiasRuleWarning, MIMethod, register_method
+from modalinfo.information.methods import (
+    BiasRuleWarning,
+    MIMethod,
+    register_method,
+    warn_few_entropy_samples,
+)
 
 __all__ = ["DISCRETE_MIN_PER_CELL", "KDEEngine", "kde_entropy", "bandwidth_factor",
            "copula_scores"]
@@ -657,30 +662,9 @@ def kde_entropy(x: np.ndarray, *, bandwidth: Any = "scott", grid_size: int = 102
         h = bandwidth_factor(bandwidth, n, 1)
         hu = _entropy_1d(u, h, grid_size)
     if not (_warn_oversmoothed("entropy with method='kde'", {"x": u}, h)
-            or (isinstance(bandwidth, str) and _warn_few_entropy_samples(n))):
+            or (isinstance(bandwidth, str) and warn_few_entropy_samples("kde", n, 3))):
         _warn_edge_bias(u, hu)
     return hu + math.log(sd)
-
-
-#: Fewest samples of the KDE entropy with a rule-chosen bandwidth: below, its
-#: small-sample bias on normal samples is above 0.05 nats (the MI's tolerance floor).
-#: Measured, mean - 0.5 ln(2 pi e) (s.e.), 60 seeds (100 at n = 25): +0.140 (0.031) at
-#: n = 10, +0.092 (0.027) at 15, +0.053 (0.025) at 20, +0.062 (0.016) at 25, +0.038
-#: (0.019) at 30, +0.014 (0.014) at 50, +0.011 (0.007) at 100; silent before
-#: (adversarial round 48 PART a, S19: +0.20 over 20 seeds at n = 10). An explicit float
-#: ``bandwidth`` is judged by the occupancy rule (``api._warn_bias_rule``) instead.
-KDE_ENTROPY_FEWEST = 30
-
-
-def _warn_few_entropy_samples(n: int) -> bool:
-    """Warn (BiasRuleWarning) below :data:`KDE_ENTROPY_FEWEST` samples; return whether."""
-    if n >= KDE_ENTROPY_FEWEST:
-        return False
-    warn(f"entropy with method='kde' on n = {n} samples, below the rule n >= "
-         f"{KDE_ENTROPY_FEWEST}: the kernel's small-sample bias is above 0.05 nats there "
-         "(+0.14 at n = 10, +0.06 at 25 on normal samples), so the estimate is biased "
-         "upwards; use more samples", BiasRuleWarning, stacklevel=4)
-    return True
 
 
 #: Edge rule of the KDE entropy: the estimate above the Kozachenko-Leonenko one of the

@@ -224,6 +224,9 @@ def test_entropy_miller_madow_removes_the_plugin_bias():
     assert np.mean(mm) == pytest.approx(second, abs=tol)
 
 
+# n = 20 is below the histogram entropy's small-sample rule (n >= 50, fixes 48-e): its
+# warning is not this test's subject
+@pytest.mark.filterwarnings("ignore:entropy with method='histogram' on n = 20")
 @pytest.mark.parametrize("n", [20, 1000, 20_000])
 def test_default_entropy_bins_follow_hacine_gharbi_2012(n):
     # Hacine-Gharbi et al. (2012), Pattern Recognit. Lett. 33, 1302: the MSE-optimal

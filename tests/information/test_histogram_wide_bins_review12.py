@@ -28,5 +28,8 @@ def test_light_tailed_small_samples_are_rarely_warned():
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always")
                     histogram_entropy(x)
-                warned += any(issubclass(w.category, BiasRuleWarning) for w in caught)
+                # the wide-bins rule's warnings (n = 30 is also below the small-sample
+                # rule n >= 50 of every entropy estimate, fixes 48-e: not this test's)
+                warned += any(issubclass(w.category, BiasRuleWarning)
+                              and "equal-width bins" in str(w.message) for w in caught)
     assert warned <= 6, warned
