@@ -154,3 +154,24 @@ def test_a_readers_oserror_names_the_file_shown_twice(tmp_path, stem):
         raise OSError(errno.EIO, "Input/output error", os.fsdecode(path))
     message = str(caught.value)
     assert message.count("'") == 4 and _every_quote_names_file(message, path), ascii(message)
+
+
+@STEMS
+def test_a_member_crc_mismatch_found_at_the_end(tmp_path, stem):
+    """A memory-mapped NPZ whose member fails its CRC-32, checked from the file (no pass)."""
+    from modalinfo.io import LogFormatError, integrity_check, load
+    from tests.io.test_integrity import X, _flip
+
+    plain = tmp_path / "f.npz"
+    np.savez(plain, a=X)
+    _flip(plain, "foreign")
+    path = _path(tmp_path, stem, ".npz")
+    os.rename(plain, path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        log = load(os.fsdecode(path), mmap=True, rate=100.0)
+    check = integrity_check(os.fsdecode(path), log, mmap=True)
+    with pytest.raises(LogFormatError) as caught:
+        check.finish()
+    message = str(caught.value)
+    assert "CRC" in message and _names_file(message, path), ascii(message)

@@ -54,3 +54,23 @@ def test_figure_7s_existing_output(tmp_path, stem, capsys):
     open(figure, "wb").close()
     err = _refusal(main, ["--out", os.fsdecode(out)], capsys)
     assert "exists" in err and _names_file(err, figure), ascii(err)
+
+
+@STEMS
+def test_an_oserror_reading_the_log_names_it_shown(tmp_path, stem, capsys, monkeypatch):
+    """An ``OSError`` in Python's format (EIO) while reading ``--log``: the name shown."""
+    import errno
+
+    from modalinfo.cli import shared
+    from paper_figures.__main__ import main
+
+    log = os.path.join(os.fsencode(tmp_path), stem + b".npz")
+    open(log, "wb").close()
+
+    def eio(path, *args, **kwargs):
+        raise OSError(errno.EIO, "Input/output error", os.fsdecode(log))
+
+    monkeypatch.setattr(shared, "load_log_with_hints", eio)
+    err = _refusal(main, ["--out", str(tmp_path / "out"), "--only", "1", "--log",
+                          os.fsdecode(log)], capsys)
+    assert "Input/output error" in err and _names_file(err, log), ascii(err)
