@@ -175,3 +175,12 @@ def test_a_member_crc_mismatch_found_at_the_end(tmp_path, stem):
         check.finish()
     message = str(caught.value)
     assert "CRC" in message and _names_file(message, path), ascii(message)
+
+
+@STEMS
+def test_a_column_that_is_not_a_mode_beside_mode_columns(tmp_path, stem):
+    path = _path(tmp_path, stem, ".csv")
+    with open(path, "wb") as fh:
+        fh.write(b"Z2,Z3,Z4,flag\n" + b"".join(b"%d,1,2,0\n" % i for i in range(20)))
+    message = _refusal(path, rate=100.0)
+    assert "are not modes" in message and _names_file(message, path), ascii(message)
