@@ -59,3 +59,16 @@ def test_the_clis_config_suffix_check(tmp_path, stem):
     with pytest.raises(Exception) as caught:  # noqa: B017 - CommandError
         _check_config_suffix("--config", os.fsdecode(path))
     assert _names_file(str(caught.value), path), ascii(str(caught.value))
+
+
+@STEMS
+def test_a_grid_with_an_unknown_key(tmp_path, stem):
+    from closedloop.sweep import load_grid
+
+    path = os.path.join(os.fsencode(tmp_path), stem + b".toml")
+    with open(path, "wb") as fh:
+        fh.write(b'preset = "scao"\nbogus = 1\n')
+    with pytest.raises(ValueError) as caught:
+        load_grid(os.fsdecode(path))
+    assert "unknown key `bogus`" in str(caught.value), str(caught.value)
+    assert _names_file(str(caught.value), path), ascii(str(caught.value))
