@@ -184,3 +184,15 @@ def test_a_column_that_is_not_a_mode_beside_mode_columns(tmp_path, stem):
         fh.write(b"Z2,Z3,Z4,flag\n" + b"".join(b"%d,1,2,0\n" % i for i in range(20)))
     message = _refusal(path, rate=100.0)
     assert "are not modes" in message and _names_file(message, path), ascii(message)
+
+
+@STEMS
+def test_a_closedloop_result_read_as_a_log(tmp_path, stem):
+    h5py = pytest.importorskip("h5py")
+
+    path = _path(tmp_path, stem, ".h5")
+    with h5py.File(path, "w") as f:
+        f.attrs["format"] = "closedloop-result"  # what marks a result (closedloop/result.py)
+    message = _refusal(path)
+    assert "closedloop result, not a log" in message and _names_file(message, path), \
+        ascii(message)
