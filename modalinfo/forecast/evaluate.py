@@ -859,6 +859,11 @@ def _preset_hint(value) -> str:
     return ""
 
 
+def _first_refit(refit: int, window: int) -> int:
+    """Frames fed before the first refit: the smallest multiple of R >= max(W, R)."""
+    return -(-max(window, refit) // refit) * refit
+
+
 def _fits(pred: Predictor, n_train: int, last_origin: int) -> int:
     """Fits of ``pred`` (unfitted) in ``evaluate``: the first and its scheduled refits.
 
@@ -869,7 +874,7 @@ def _fits(pred: Predictor, n_train: int, last_origin: int) -> int:
     if refit is None:
         return 1
     window = n_train if pred.window is None else pred.window
-    first = -(-max(window, refit) // refit) * refit  # smallest multiple of R >= max(W, R)
+    first = _first_refit(refit, window)
     return 1 + max(last_origin // refit - first // refit + 1, 0)
 
 
@@ -913,7 +918,7 @@ def _refuse_idle_refits(pred: Predictor, last_origin: int, n_frames: int,
     if refit is None:
         return
     window = pred.window_
-    first = -(-max(window, refit) // refit) * refit  # smallest multiple of R >= max(W, R)
+    first = _first_refit(refit, window)
     again = ""
     if first == n_train and window == n_train:  # the training window again: no change
         again = (f" (the one after {first} frames refits the {n_train} training frames "

@@ -155,19 +155,18 @@ class MultivariatePredictor(Predictor):
         # then equivariant under a change of units of any one mode (a common ridge
         # lambda I shrinks a mode of small variance to its mean, whatever alpha)
         B = np.zeros((G.shape[0], n_modes))
-        if alpha == "gcv":
+        gcv = alpha == "gcv"
+        if gcv:
             alpha = 0.0  # every mode constant: nothing is regressed, nothing shrunk
             if keep.any():
                 # the relative ridge is the ordinary one on unit-norm lag columns
                 norm = np.sqrt(np.diag(G)[keep])
                 alpha, Bs = _gcv_ridge(Z[:, keep] / norm, Y[:, ~constant])
                 B[np.ix_(keep, ~constant)] = Bs / norm[:, None]
-            Greg = G + alpha * np.diag(np.diag(G))
-        else:
-            Greg = G + alpha * np.diag(np.diag(G))
-            if keep.any():
-                B[np.ix_(keep, ~constant)] = np.linalg.solve(
-                    Greg[np.ix_(keep, keep)], (Z.T @ Y)[np.ix_(keep, ~constant)])
+        Greg = G + alpha * np.diag(np.diag(G))
+        if not gcv and keep.any():
+            B[np.ix_(keep, ~constant)] = np.linalg.solve(
+                Greg[np.ix_(keep, keep)], (Z.T @ Y)[np.ix_(keep, ~constant)])
         if not keep.all():
             # decouple the lags of constant modes in the Gram matrix the RLS starts from:
             # their regressors are 0, so any positive diagonal leaves their weights at 0
