@@ -2074,7 +2074,7 @@ def _grid_share(col: np.ndarray, step: float, dtype: np.dtype) -> float:
         step = max(step, float(np.mean(np.spacing(np.abs(x).astype(dtype)))))
     else:
         step = max(step, 1.0)
-    mad = 1.4826 * float(np.median(np.abs(x - np.median(x))))
+    mad = MAD_TO_SIGMA * float(np.median(np.abs(x - np.median(x))))
     w = max(step, mad / 4.0)
     return min(1.0, step * _collision_share(np.floor(x / w)) / w)
 
