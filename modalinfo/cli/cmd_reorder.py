@@ -286,7 +286,6 @@ def _frame_of_subsample(args: argparse.Namespace, n_file: int, n_kept: int) -> N
     frames ordered frame 2000 and printed "frame 5" (adversarial round 9 PART b, F11).
     """
     args.file_frame = getattr(args, "frame", None)
-    args.frame_step = 1 if n_kept == n_file else -(-n_file // args.max_frames)
     if args.file_frame is None or n_kept == n_file:
         return
     step = args.frame_step  # frame_subsample's stride

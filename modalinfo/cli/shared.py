@@ -710,6 +710,7 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
 
     from modalinfo.telemetry.scan import row_blocks, scan_rows
 
+    args.frame_step = 1  # the stride of the frames kept (reorder's --frame, provenance)
     limit = getattr(args, "max_frames", None)
     if limit is None:
         return log
@@ -718,7 +719,7 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
     n = log.n_frames
     if n <= limit:
         return log
-    step = 1 if contiguous else -(-n // limit)
+    step = args.frame_step = 1 if contiguous else -(-n // limit)
     part = log[:limit] if contiguous else log[::step]
     src = log.coeffs
     stop = (part.n_frames - 1) * step + 1  # rows of the file the subsample spans
