@@ -39,6 +39,7 @@ __all__ = [
     "files_written",
     "quoted",
     "error_line",
+    "shell_quoted",
     "shown_message",
     "shown_name",
     "signals_end_the_save",
@@ -199,6 +200,34 @@ def quoted(path: str | os.PathLike) -> str:
     return f"'{shown_name(path)}'"
 
 
+def shell_quoted(path: str | os.PathLike) -> str:
+    r"""Return ``path`` as a shell word a user can paste into a suggested command line.
+
+    :func:`quoted`'s ``ls -b`` form is for reading: pasted, ``'a\xe9.h5'`` names another
+    file, and ``'it's.h5'`` ends the quote early. Here a printable UTF-8 name is
+    :func:`shlex.quote`'s word (always in single quotes, as :func:`quoted` shows a plain
+    name); a name holding a control character or an undecodable byte is a ``$'...'``
+    word (bash, zsh, ksh and POSIX.1-2024 ``sh``), whose ``\n``, ``\t``, ``\xNN``
+    and ``\\`` escapes are :func:`shown_name`'s, so it stays one printable line. A
+    name starting with ``-`` gets ``./`` (not taken for an option). Fix49-c (stop 55's
+    note: ``closedloop export NAME OUT.fits``).
+    """
+    import shlex
+
+    if not isinstance(path, (str, bytes, os.PathLike)):
+        path = str(path)
+    name = os.fspath(path)
+    if isinstance(name, bytes):
+        name = os.fsdecode(name)
+    if name.startswith("-"):
+        name = "./" + name
+    shown = shown_name(name)
+    if shown != name.replace("\\", "\\\\"):  # a control character or a byte not UTF-8
+        return "$'" + shown.replace("'", "\\'") + "'"
+    word = shlex.quote(name)
+    return word if word.startswith("'") else f"'{word}'"
+
+
 def error_line(exc: BaseException, empty: str = "") -> str:
     r"""Return the first line of ``str(exc)`` as a batch row or an error line says it.
 
@@ -317,7 +346,7 @@ def check_readable(path: Path) -> None:
         # command (round 46 PART b, F12)
         raise IsADirectoryError(f"{quoted(path)} is a directory, not a log file: pass one of its "
                                 f"logs, or analyse them all with `modalinfo batch "
-                                f"{quoted(path)} --out DIR`")
+                                f"{shell_quoted(path)} --out DIR`")
     kind = _special_kind(path)
     if kind:
         # reading a FIFO blocks until a writer comes, /dev/zero never ends (a 17 GB
