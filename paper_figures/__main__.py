@@ -166,12 +166,11 @@ def _print(line: str, done: bool = False) -> None:
     The figures are the outputs: ``| head -1`` (the reader has what it wanted) lets the
     run go on with stdout discarded, as ``modalinfo``'s commands treat a closed pipe.
     """
-    try:
-        print(line, flush=True)
-    except BrokenPipeError:
-        from modalinfo.common.cli import discard_stdout
+    from modalinfo.common.cli import closed_pipe_discarded
 
-        discard_stdout()
+    try:
+        with closed_pipe_discarded():
+            print(line, flush=True)
     except OSError as exc:
         raise _StdoutError(exc, done) from None
 
