@@ -671,7 +671,7 @@ def check_output(
     path = Path(path)
     if suffixes is not None and path.suffix.lower() not in suffixes:
         raise CommandError(f"{flag} {quoted(path)}: unsupported extension "
-                           f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
+                           f"{quoted(path.suffix or '(none)')}; use {', '.join(suffixes)}")
     if path.is_dir():
         raise CommandError(f"{flag} {quoted(path)} is a directory; give a file name")
     try:

@@ -95,3 +95,17 @@ def test_stdout_ascii_and_c_locale_never_raise(tmp_path):
     assert line.split(None, 1)[1] == shown_name(NAME).encode("ascii")
     assert _bytes_of(line.split(None, 1)[1].decode("ascii")) == os.fsencode(NAME)
 
+
+
+@pytest.mark.parametrize("argv", [["convert", "{log}", "o.x\ny"],
+                                  ["fitting-error", "{log}", "--plot", "p.q\ty"]])
+def test_a_refused_extension_is_quoted_whole(make_small_log, tmp_path, monkeypatch, capsys,
+                                             argv):
+    """The extension of a refused output was quoted raw (``'{path.suffix}'``)."""
+    monkeypatch.chdir(tmp_path)
+    log = str(make_small_log(50))
+    assert exit_code([a.format(log=log) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.isascii() and "\x1b" not in err, err
+    suffix = os.path.splitext(argv[2] if argv[0] == "convert" else argv[-1])[1]
+    assert quoted(suffix) in err, err
