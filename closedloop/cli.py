@@ -34,7 +34,7 @@ from modalinfo.common.cli import (
     folder_arg,
     written_summary,
 )
-from modalinfo.common.files import quoted
+from modalinfo.common.files import quoted, shown_name
 from modalinfo.common.quiet import recording
 from modalinfo.common.text import pad
 
@@ -370,8 +370,8 @@ def _cmd_info(args) -> int:
     c = result.config
     trained = (result.provenance or {}).get("train_seed")
     trained = "" if trained is None else f" (trained on seed {trained})"
-    print(f"{args.result}: closedloop result (modalinfo {result.version}), preset {c.name}, "
-          f"seed {result.seed}, predictor {result.predictor}{trained}")
+    print(f"{shown_name(args.result)}: closedloop result (modalinfo {result.version}), "
+          f"preset {c.name}, seed {result.seed}, predictor {result.predictor}{trained}")
     print(f"  {result.times.size} frames of {c.loop.time_step * 1e3:g} ms, "
           f"{len(result.directions)} directions over {c.field.size:g}\", "
           f"{len(c.layers)} layers, {len(c.dms)} DMs, D/r0 = {c.d_over_r0:.1f} at "
@@ -409,8 +409,9 @@ def _cmd_export(args) -> int:
         raise CommandError(f"OUT (AOT FITS): {exc}".replace(
             "pass mode_images=False", "pass --no-mode-images")) from None
     path = export_aot(result, out, overwrite=args.overwrite, mode_images=images)
-    line = (f"{path}: AOT system of {result.times.size} frames, {len(result.config.wfss)} "
-            f"WFSs, {len(result.config.dms)} DMs; {_aot_loops_text(path)}")
+    line = (f"{shown_name(path)}: AOT system of {result.times.size} frames, "
+            f"{len(result.config.wfss)} WFSs, {len(result.config.dms)} DMs; "
+            f"{_aot_loops_text(path)}")
     with written_summary():
         print(line)
     return 0
@@ -498,14 +499,15 @@ def _cmd_sweep(args) -> int:
         sys.stderr.write(f"closedloop sweep: error: {exc}\n")
         return 1
     print(f"{report.n_specs} runs: {report.n_skipped} already done, {report.n_ok} ran, "
-          f"{report.n_error} failed, {report.n_lost} lost; table {args.out / 'sweep.csv'}")
+          f"{report.n_error} failed, {report.n_lost} lost; table "
+          f"{shown_name(args.out / 'sweep.csv')}")
     from modalinfo.common.tasks.rows import superseded_rows
 
     stale = superseded_rows(args.out / "rows", rows, ("override", "seed", "predictor"))
     if stale:
-        print(f"  {stale} earlier run(s) in {args.out / 'rows'} of these (override, seed, "
-              "predictor) were not reused: another version of the code or other settings "
-              "wrote them (kept there, not in the table)")
+        print(f"  {stale} earlier run(s) in {shown_name(args.out / 'rows')} of these "
+              "(override, seed, predictor) were not reused: another version of the code or "
+              "other settings wrote them (kept there, not in the table)")
     for row in sorted(rows, key=lambda r: (str(r["override"]), r["seed"], r["predictor"])):
         head = (f"  {pad(str(row['override']), 20)} seed {row['seed']:<4} "
                 f"{pad(str(row['predictor']), 12)} ")

@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import copy
 import os
+import re
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -95,6 +96,28 @@ def override(config: SimulationConfig, changes: dict[str, Any]) -> SimulationCon
     return SimulationConfig.from_dict(d)
 
 
+def _toml_config_line(name: str) -> str:
+    r"""Return the grid line ``config = "<name>"`` as TOML reads it, to paste into a grid file.
+
+    A TOML basic string (``tomli_w``), so a name holding ``"``, ``\``, a newline or an
+    escape reads back as itself with ``tomllib`` (the hint wrote ``config = "{name}"``
+    raw; fix49-c); a tab, a C1 control and U+2028 / U+2029, which ``tomli_w`` leaves as
+    they are, are written ``\t`` / ``\uXXXX`` to keep the line one printable line. A name
+    that is not UTF-8 (an undecodable byte) cannot be written in a TOML file: said so.
+    """
+    import tomli_w
+
+    line = re.sub("[\t\x80-\x9f\u2028\u2029]",
+                  lambda m: "\\t" if m.group() == "\t" else f"\\u{ord(m.group()):04x}",
+                  tomli_w.dumps({"config": name}).strip())
+    try:
+        line.encode("utf-8")
+    except UnicodeEncodeError:
+        return (f"config = <this file's name>, once renamed: its name {quoted(name)} is not "
+                "UTF-8, which a TOML file cannot hold")
+    return line
+
+
 def load_grid(path: str | Path) -> dict:
     """Read and check a grid file (see the module docstring); return it as a dict."""
     path = Path(path)
@@ -110,7 +133,7 @@ def load_grid(path: str | Path) -> dict:
     if unknown and (describe_json(grid) or "").startswith("a closedloop config"):
         # a config given as the grid was "unknown key `dms`" (round 46 PART b, F75)
         raise ValueError(f"{quoted(path)} is a closedloop config, not a sweep grid: name it in a "
-                         f"grid file, config = \"{path.name}\" (`closedloop sweep --help` "
+                         f"grid file, {_toml_config_line(path.name)} (`closedloop sweep --help` "
                          "shows the grid's format)")
     if unknown:
         allowed = ", ".join(sorted(GRID_KEYS))

@@ -166,12 +166,11 @@ def _print(line: str, done: bool = False) -> None:
     The figures are the outputs: ``| head -1`` (the reader has what it wanted) lets the
     run go on with stdout discarded, as ``modalinfo``'s commands treat a closed pipe.
     """
-    try:
-        print(line, flush=True)
-    except BrokenPipeError:
-        from modalinfo.common.cli import discard_stdout
+    from modalinfo.common.cli import closed_pipe_discarded
 
-        discard_stdout()
+    try:
+        with closed_pipe_discarded():
+            print(line, flush=True)
     except OSError as exc:
         raise _StdoutError(exc, done) from None
 
@@ -193,7 +192,7 @@ def _no_shipped_data(path: Path, alternative: str) -> str:
     An installed wheel carries the code, not data/ (adversarial round 24 PART b): no path
     inside site-packages is named as if the user had given it.
     """
-    return (f"the shipped log data/{path.name} is not here ({path.parent}): data/ is not "
+    return (f"the shipped log data/{path.name} is not here ({quoted(path.parent)}): data/ is not "
             f"installed with the package; run from a clone of the repository "
             f"(pip install -e .) {alternative}")
 
@@ -508,7 +507,10 @@ def _run_locked(args, modules, logs, needs_log) -> int:
     with (staged_output(args.out) as stage, matplotlib.rc_context(overrides),
           figure_record(record)):
         _make(args, modules, loaded, logs, needs_log, stage, record)
-    _print(f"[paper_figures] report written to {report_path} and {html_path}", done=True)
+    from modalinfo.common.files import shown_name
+
+    _print(f"[paper_figures] report written to {shown_name(report_path)} and "
+           f"{shown_name(html_path)}", done=True)
     return 0
 
 

@@ -50,6 +50,10 @@ _REWRITES = (
     (re.compile(r"\w+=\S* \(command line: (--[\w-]+(?: [\w-]+)?)\)"), r"\1"),
     (re.compile(r"pass fmt="), "pass --to-fmt"),
     (re.compile(r"max\(horizons\) \+ 1"), "--horizon + 1"),
+    # the library's "(None: no limit)" has no command-line spelling: --max-seconds takes
+    # a finite number above 0 (stop 55's note; fix49-c)
+    (re.compile(r"raise `max_seconds` \(None: no limit\)"),
+     "raise --max-seconds (CPU seconds: a finite number above 0)"),
     # hint `rate`=2000.0 -> --rate 2000
     (re.compile(r"hint `(\w+)`="), lambda m: f"hint {_WORDS.get(m.group(1), m.group(1))} "),
     (re.compile(r"`(\w+)(\.coeffs)?`"), lambda m: _WORDS.get(m.group(1), m.group(0))),

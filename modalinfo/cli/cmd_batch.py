@@ -37,7 +37,7 @@ from modalinfo.cli.shared import (
     refuse_outlier_drop,
 )
 from modalinfo.common.cli import check_cluster_args, folder_arg
-from modalinfo.common.files import shown_message, shown_name
+from modalinfo.common.files import quoted, shown_message, shown_name
 
 NAME = "batch"
 HELP = "Analyse an archive of logs on Dask (local cluster or --scheduler); resumable."
@@ -240,11 +240,11 @@ def run(args: argparse.Namespace) -> int:
                           f"{rep.n_submitted} run ({rep.n_ok} ok, {rep.n_error} error, "
                           f"{rep.n_lost} lost) in {rep.elapsed:.1f} s\n")
                 out.write(f"table: {result.n_ok} result rows, {result.n_error} error rows -> "
-                          f"{result.csv_path}, {result.parquet_path}\n")
+                          f"{shown_name(result.csv_path)}, {shown_name(result.parquet_path)}\n")
                 rows_dir = result.csv_path.parent / "rows"
                 stale = superseded_rows(rows_dir, result.rows, ("sha256", "analysis", "window"))
                 if stale:
-                    out.write(f"{stale} earlier row(s) in {rows_dir} of these "
+                    out.write(f"{stale} earlier row(s) in {shown_name(rows_dir)} of these "
                               "logs and analyses were not reused: another version of the "
                               "code or other settings wrote them (kept there, not in the "
                               "table)\n")
@@ -255,7 +255,7 @@ def run(args: argparse.Namespace) -> int:
                                   f"{row.get('error_type')}: "
                                   f"{shown_message(str(row.get('error_message')), row['path'])}\n")
                 for path in result.plots:
-                    out.write(f"plot: {path}\n")
+                    out.write(f"plot: {shown_name(path)}\n")
         except StdoutRefusedError as exc:
             refused = exc
     # a log whose frame pairs look swapped has no flagged frame, yet its order is a finding
@@ -269,13 +269,13 @@ def run(args: argparse.Namespace) -> int:
             f"modalinfo batch: warning: {logs} log(s) have frames flagged by the quality "
             f"pass (outliers, glitched frames or stuck values"
             + (f"; frame pairs in reversed order in {swapped}" if swapped else "")
-            + f"; columns quality_* of {result.csv_path}); {_policies_applied(flagged)}\n")
+            + f"; columns quality_* of {quoted(result.csv_path)}); {_policies_applied(flagged)}\n")
     if result.n_error:
         lost = sum(r.get("status") == "lost" for r in result.rows)
         sys.stderr.write(
             f"modalinfo batch: {result.n_error} of {len(result.rows)} rows failed"
             + (f" ({lost} lost with their workers: run again to retry them)" if lost else "")
-            + f"; see {result.csv_path}\n")
+            + f"; see {quoted(result.csv_path)}\n")
     if refused is not None:
         raise refused
     return 1 if result.n_error else 0

@@ -32,7 +32,7 @@ from modalinfo.cli.shared import (
     queue_notes,
     wavelength_arg,
 )
-from modalinfo.common.files import quoted
+from modalinfo.common.files import quoted, shown_name
 
 NAME = "convert"
 
@@ -83,9 +83,10 @@ def run(args: argparse.Namespace) -> int:
     if more:
         raise CommandError(
             f"convert reads one log (IN) and writes one file (OUT); got {len(more) + 2} "
-            f"files ({args.input}, {args.output}, {', '.join(more)}): no command joins "
-            "logs - concatenate the parts first (numpy: np.concatenate of their "
-            "coefficients, in time order) or analyse them as an archive with `batch`")
+            f"files ({quoted(args.input)}, {quoted(args.output)}, "
+            f"{', '.join(map(quoted, more))}): no command joins logs - concatenate the parts "
+            "first (numpy: np.concatenate of their coefficients, in time order) or analyse "
+            "them as an archive with `batch`")
     source = Path(args.input)
     if source.exists() and os.path.exists(args.output) and os.path.samefile(source,
                                                                             args.output):
@@ -135,8 +136,8 @@ def run(args: argparse.Namespace) -> int:
 
         with written_summary():
             sys.stdout.write(
-                f"wrote {path}: {log.n_frames} frames x {log.n_modes} modes, {log.units}, "
-                f"{log.convention}\n"
+                f"wrote {shown_name(path)}: {log.n_frames} frames x {log.n_modes} modes, "
+                f"{log.units}, {log.convention}\n"
             )
             for repair in log.repairs:
                 sys.stdout.write(f"repair: {repair}\n")

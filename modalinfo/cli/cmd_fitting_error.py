@@ -32,6 +32,7 @@ from modalinfo.cli.shared import (
     check_figure_output,
     refuse_unused_ordering_options,
 )
+from modalinfo.common.files import shown_name
 from modalinfo.common.quiet import quiet, recording
 
 NAME = "fitting-error"
@@ -224,5 +225,5 @@ def run(args: argparse.Namespace) -> int:
                 save_figure(fig, args.plot, overwrite=args.overwrite)
             finally:
                 plt.close(fig)
-        print(f"figure written to {args.plot}")
+        print(f"figure written to {shown_name(args.plot)}")
     return 0

@@ -32,7 +32,7 @@ from modalinfo.cli.shared import (
     split_gaps,
 )
 from modalinfo.common.cli import folder_arg
-from modalinfo.common.files import quoted
+from modalinfo.common.files import quoted, shown_name
 
 NAME = "forecast"
 HELP = "Evaluate wavefront predictors (linear, ARMA, neural net, multivariate) on a log."
@@ -443,8 +443,8 @@ def run(args: argparse.Namespace) -> int:
                                    else args.max_seconds),
                       chunk_frames=chunk_frames(args.horizon, log.n_modes))
     if not args.quiet:
-        sys.stdout.write(f"{args.log.name}: {log.n_frames} frames x {log.n_modes} modes "
-                         f"({', '.join(ev.labels)})\n")
+        sys.stdout.write(f"{shown_name(args.log.name)}: {log.n_frames} frames x "
+                         f"{log.n_modes} modes ({', '.join(ev.labels)})\n")
         if skipped:
             sys.stdout.write(f"skipped constant mode(s) (--skip-constant): "
                              f"{', '.join(skipped)}\n")
@@ -455,5 +455,5 @@ def run(args: argparse.Namespace) -> int:
         write_outputs(ev, args.out, args.overwrite, command_provenance(args, args.log),
                       quality=quality)
         if not args.quiet:
-            sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {args.out}\n")
+            sys.stdout.write(f"wrote {', '.join(OUTPUTS)} to {shown_name(args.out)}\n")
     return 0

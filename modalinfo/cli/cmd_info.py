@@ -23,6 +23,7 @@ from pathlib import Path
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import add_hint_arguments, apply_outliers, hints_from_args
 from modalinfo.common.cli import write_stdout
+from modalinfo.common.files import shown_name
 from modalinfo.common.text import display_width, pad
 from modalinfo.telemetry.checks import mode_span
 
@@ -112,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
     repaired = log.coeffs is not loaded.coeffs  # clip / drop changed the data
     meta = log.metadata
     labels = log.labels
-    write_stdout(f"file        {args.log}\n")
+    write_stdout(f"file        {shown_name(args.log)}\n")
     write_stdout(f"shape       {log.n_frames} frames x {log.n_modes} modes ({log.dtype})\n")
     assumed = meta.get("assumed") if isinstance(meta.get("assumed"), dict) else {}
     sampling = log.sampling()

@@ -42,7 +42,7 @@ from modalinfo.cli.shared import (
     split_gaps,
 )
 from modalinfo.common.cli import check_output
-from modalinfo.common.files import quoted
+from modalinfo.common.files import quoted, shown_name
 from modalinfo.common.quiet import quiet
 
 NAME = "reorder"
@@ -578,5 +578,5 @@ def run(args: argparse.Namespace) -> int:
         result.to_json(args.out, overwrite=args.overwrite,
                        provenance=command_provenance(args, args.log, args.seed),
                        quality=quality)
-        print(f"ordering written to {args.out}")
+        print(f"ordering written to {shown_name(args.out)}")
     return 0

@@ -15,6 +15,7 @@ import sys
 
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import check_log_output, check_memory, progress
+from modalinfo.common.files import shown_name
 
 NAME = "synth"
 HELP = "Write a synthetic Zernike telemetry log (e.g. the KAOS-like preset)."
@@ -95,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
         meta = log.metadata
         with written_summary():
             sys.stdout.write(
-                f"wrote {written}: {log.n_frames} frames x {log.n_modes} modes at "
+                f"wrote {shown_name(written)}: {log.n_frames} frames x {log.n_modes} modes at "
                 f"{log.rate:g} Hz, {meta['loop']} loop, rad at {log.wavelength * 1e9:g} nm, "
                 f"seed {args.seed}, D/r0 = {meta['d_over_r0']:.3g}, rejection bandwidth "
                 f"{meta['bandwidth_rejection_0db_hz']:.1f} Hz (synthetic, not real VTT data)\n"

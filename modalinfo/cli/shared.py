@@ -352,7 +352,7 @@ def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "
         # NPZ bytes under a .csv name mislead every other tool (an AOT file is FITS)
         raise CommandError(
             f"--to-fmt {fmt} contradicts {flag} {quoted(path)} (its extension "
-            f"'{path.suffix}' means {implied}); drop --to-fmt or rename {flag}")
+            f"{quoted(path.suffix)} means {implied}); drop --to-fmt or rename {flag}")
     if fmt is None:
         fmt = implied
         if fmt is None and path.suffix.lower() == ".npy":
@@ -364,7 +364,7 @@ def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "
         if fmt is None:
             raise CommandError(
                 f"{flag} {quoted(path)}: cannot tell the log format from the extension "
-                f"'{path.suffix or '(none)'}'; use {', '.join(LOG_SUFFIXES)} or pass "
+                f"{quoted(path.suffix or '(none)')}; use {', '.join(LOG_SUFFIXES)} or pass "
                 "--to-fmt (npz, csv, fits, hdf5, aot)")
     check_output(path, overwrite, flag=flag)
     return fmt

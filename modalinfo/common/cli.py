@@ -55,6 +55,7 @@ __all__ = [
     "add_version_argument",
     "check_cluster_args",
     "check_output",
+    "closed_pipe_discarded",
     "discard_stdout",
     "dispatch",
     "folder_arg",
@@ -541,20 +542,29 @@ class _ClosedPipeTolerant:
         self._stream = stream
 
     def write(self, text: str) -> int:
-        try:
+        with closed_pipe_discarded():
             return self._stream.write(text)
-        except BrokenPipeError:
-            discard_stdout()
-            return len(text)
+        return len(text)  # the reader is gone: taken as written
 
     def flush(self) -> None:
-        try:
+        with closed_pipe_discarded():
             self._stream.flush()
-        except BrokenPipeError:
-            discard_stdout()
 
     def __getattr__(self, name: str):
         return getattr(self._stream, name)
+
+
+@contextlib.contextmanager
+def closed_pipe_discarded() -> Iterator[None]:
+    """Run the block; a ``BrokenPipeError`` in it sends stdout to /dev/null and goes on.
+
+    The one rule for a closed pipe (``| head -1``): the command's stdout
+    (:class:`_ClosedPipeTolerant`) and ``paper_figures``' progress lines use it.
+    """
+    try:
+        yield
+    except BrokenPipeError:
+        discard_stdout()
 
 
 def discard_stdout() -> None:
@@ -661,7 +671,7 @@ def check_output(
     path = Path(path)
     if suffixes is not None and path.suffix.lower() not in suffixes:
         raise CommandError(f"{flag} {quoted(path)}: unsupported extension "
-                           f"'{path.suffix or '(none)'}'; use {', '.join(suffixes)}")
+                           f"{quoted(path.suffix or '(none)')}; use {', '.join(suffixes)}")
     if path.is_dir():
         raise CommandError(f"{flag} {quoted(path)} is a directory; give a file name")
     try:

@@ -39,6 +39,7 @@ __all__ = [
     "files_written",
     "quoted",
     "error_line",
+    "shell_quoted",
     "shown_message",
     "shown_name",
     "signals_end_the_save",
@@ -96,8 +97,11 @@ def shown_name(text: str | os.PathLike) -> str:
     notes and report lines, and every command's error and warning lines (left13-cli).
     A literal backslash is written ``\\``, as ``ls -b`` writes it, so the shown form
     is one-to-one: ``a<0xE9>.npz`` and a file named ``a\xe9.npz`` (backslash, x, e, 9)
-    were both shown ``a\xe9.npz`` in one batch table (round 45 PART b, E21). The
-    bytes of the name are ``codecs.escape_decode`` of the shown form.
+    were both shown ``a\xe9.npz`` in one batch table (round 45 PART b, E21). A control
+    character reads ``\n``, ``\t``, ``\r`` or ``\xNN`` (ESC ``\x1b``): a newline in a
+    name cut the error line and split a report line, an ANSI escape recoloured the
+    terminal (fix49-c). The bytes of the name are ``codecs.escape_decode`` of the shown
+    form.
 
     Parameters
     ----------
@@ -107,12 +111,38 @@ def shown_name(text: str | os.PathLike) -> str:
     Returns
     -------
     str
-        ``text`` unchanged when it is valid UTF-8 and holds no backslash.
+        ``text`` unchanged when it is valid UTF-8 and holds no backslash and no
+        control character.
     """
     text = os.fspath(text)
     if isinstance(text, bytes):
         text = os.fsdecode(text)
-    return shown_message(text.replace("\\", "\\\\"))
+    text = text.replace("\\", "\\\\")
+    if not text.isprintable():
+        text = _CONTROL.sub(_escaped_control, text)
+    return shown_message(text)
+
+
+#: characters a name may hold that a terminal does not show as themselves: C0 / C1
+#: controls and DEL (category Cc: a newline ended an error line and split a report
+#: line, an ANSI escape recoloured the terminal) and the line / paragraph separators
+#: ``str.splitlines`` cuts at
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
+_SHORT_ESCAPES = {"\n": "\\n", "\t": "\\t", "\r": "\\r"}
+
+
+def _escaped_control(match: re.Match) -> str:
+    r"""Return a control character escaped: ``\n``, ``\t``, ``\r`` (as ``ls -b``) or ``\xNN``.
+
+    Every other one is its UTF-8 bytes as ``\xNN`` (ESC ``\x1b``, where ``ls -b`` writes
+    ``\033``; U+009B ``\xc2\x9b``), the form of an undecodable byte, so
+    ``codecs.escape_decode`` of the shown name is still the name's bytes.
+    """
+    char = match.group()
+    short = _SHORT_ESCAPES.get(char)
+    if short is not None:
+        return short
+    return "".join(f"\\x{b:02x}" for b in char.encode("utf-8"))
 
 
 def shown_message(text: str, path: str | os.PathLike | None = None) -> str:
@@ -168,6 +198,34 @@ def quoted(path: str | os.PathLike) -> str:
     if not isinstance(path, (str, bytes, os.PathLike)):  # a file descriptor, say
         path = str(path)
     return f"'{shown_name(path)}'"
+
+
+def shell_quoted(path: str | os.PathLike) -> str:
+    r"""Return ``path`` as a shell word a user can paste into a suggested command line.
+
+    :func:`quoted`'s ``ls -b`` form is for reading: pasted, ``'a\xe9.h5'`` names another
+    file, and ``'it's.h5'`` ends the quote early. Here a printable UTF-8 name is
+    :func:`shlex.quote`'s word (always in single quotes, as :func:`quoted` shows a plain
+    name); a name holding a control character or an undecodable byte is a ``$'...'``
+    word (bash, zsh, ksh and POSIX.1-2024 ``sh``), whose ``\n``, ``\t``, ``\xNN``
+    and ``\\`` escapes are :func:`shown_name`'s, so it stays one printable line. A
+    name starting with ``-`` gets ``./`` (not taken for an option). Fix49-c (stop 55's
+    note: ``closedloop export NAME OUT.fits``).
+    """
+    import shlex
+
+    if not isinstance(path, (str, bytes, os.PathLike)):
+        path = str(path)
+    name = os.fspath(path)
+    if isinstance(name, bytes):
+        name = os.fsdecode(name)
+    if name.startswith("-"):
+        name = "./" + name
+    shown = shown_name(name)
+    if shown != name.replace("\\", "\\\\"):  # a control character or a byte not UTF-8
+        return "$'" + shown.replace("'", "\\'") + "'"
+    word = shlex.quote(name)
+    return word if word.startswith("'") else f"'{word}'"
 
 
 def error_line(exc: BaseException, empty: str = "") -> str:
@@ -288,7 +346,7 @@ def check_readable(path: Path) -> None:
         # command (round 46 PART b, F12)
         raise IsADirectoryError(f"{quoted(path)} is a directory, not a log file: pass one of its "
                                 f"logs, or analyse them all with `modalinfo batch "
-                                f"{quoted(path)} --out DIR`")
+                                f"{shell_quoted(path)} --out DIR`")
     kind = _special_kind(path)
     if kind:
         # reading a FIFO blocks until a writer comes, /dev/zero never ends (a 17 GB

@@ -3,7 +3,8 @@
 Layout written by :func:`write_fits`:
 
 * primary HDU: the coefficients as an image (``NAXIS1 = M`` modes, ``NAXIS2 = T``
-  frames; BITPIX -32 or -64 as in the log), with readable keywords ``BUNIT``,
+  frames; BITPIX -32 or -64 as in the log), with readable keywords ``BUNIT`` (a
+  FITS unit: rad, nm or um; none for waves, see :data:`FITS_UNITS`), ``MI_UNITS``,
   ``MI_CONV``, ``MI_RATE`` [Hz], ``MI_WAVE`` [m], ``TELESCOP``/``DATE-OBS``/``MI_LOOP``
   copied from metadata when short, and ``MI_JSON``: the complete JSON header
   (modes, metadata, ...) as one long string, split over ``CONTINUE`` cards by
@@ -85,7 +86,10 @@ def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     path = as_path(path)
     primary = fits.PrimaryHDU(data=np.ascontiguousarray(log.coeffs))
     hdr = primary.header
-    hdr["BUNIT"] = (log.units, "units of the modal coefficients")
+    if log.units in FITS_UNITS:
+        hdr["BUNIT"] = (log.units, "units of the modal coefficients")
+    hdr["MI_UNITS"] = (log.units, "units of the modal coefficients" if log.units in FITS_UNITS
+                       else "phase in wavelengths at MI_WAVE (no BUNIT)")
     hdr["MI_CONV"] = (log.convention, "mode indexing convention")
     if log.rate is not None:
         hdr["MI_RATE"] = (log.rate, "[Hz] sample rate")
@@ -109,6 +113,15 @@ def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
         by_name=True,
     )
 
+
+#: our units that the FITS standard spells (FITS 4.0, section 4.3, tables 3-5: the radian
+#: ``rad``, the metre ``m`` with the prefixes ``n`` and ``u``), written as ``BUNIT``. A
+#: phase in waves (wavelengths) has no FITS unit: ``BUNIT = 'waves'`` was not
+#: standard-compliant (``astropy.units.Unit`` refuses it; round 48 PART b, O56), so such a log
+#: has no ``BUNIT``; ``MI_UNITS`` names the units of every log we write. Our reader takes
+#: the units from ``MI_JSON``; a FITS file of another writer with ``BUNIT = 'waves'`` is
+#: still read in waves.
+FITS_UNITS = ("rad", "nm", "um")
 
 #: the comment of the CHECKSUM and DATASUM cards modalinfo writes: astropy's default
 #: ("HDU checksum updated <local clock time>") made two writes of one log differ in
@@ -260,9 +273,10 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
                        else ", the 2-D image")
                     + (f", not the table HDU(s) {', '.join(map(str, tables))} (pick one "
                        "with dataset=, command line: --dataset)" if tables else ""))
-            unit = unit_text(hdu.header.get("BUNIT"))
+            card = "BUNIT" if unit_text(hdu.header.get("BUNIT")) is not None else "MI_UNITS"
+            unit = unit_text(hdu.header.get(card))  # MI_UNITS: ours, without MI_JSON
             if unit is not None:  # known words set the units, others are refused
-                stored["_unit"] = (unit, f"keyword BUNIT of HDU {index}")
+                stored["_unit"] = (unit, f"keyword {card} of HDU {index}")
             # FITS axis 1 runs fastest: numpy's last axis (the columns)
             ctypes = [hdu.header.get("CTYPE2"), hdu.header.get("CTYPE1")]
             layout = axis_layout(

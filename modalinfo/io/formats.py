@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from modalinfo.common.files import as_path, check_readable, quoted
+from modalinfo.common.files import as_path, check_readable, quoted, shell_quoted
 from modalinfo.io.aot import is_aot
 from modalinfo.io.files import LogFormatError
 
@@ -357,9 +357,9 @@ def what_file(path) -> str:
         return "no format modalinfo reads, by its content (damaged, or another kind)"
     if fmt == "aot":
         return ("an AOT file (a run's `closedloop export`?): read its loops with "
-                f"`modalinfo info {quoted(path)} --loop UID`")
-    return (f"{_NAMES[fmt]} file, a telemetry log? (`modalinfo info {quoted(path)}` describes "
-            "it)")
+                f"`modalinfo info {shell_quoted(path)} --loop UID`")
+    return (f"{_NAMES[fmt]} file, a telemetry log? (`modalinfo info {shell_quoted(path)}` "
+            "describes it)")
 
 
 def _json_kind(path) -> str | None:

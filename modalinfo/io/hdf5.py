@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
+from modalinfo.common.files import as_path, atomic_write, check_readable, quoted, shell_quoted
 from modalinfo.io._columns import (
     float_columns,
     mode_arrays,
@@ -600,7 +600,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
         # its rate and wavelength (audit 10, feedback, row cli-h5-result-dataset)
         raise LogFormatError(
             f"HDF5 file {quoted(path)} is a closedloop result, not a log: export its logs with "
-            f"`closedloop export {quoted(path.name)} OUT.fits` and read OUT.fits with --loop "
+            f"`closedloop export {shell_quoted(path.name)} OUT.fits` and read OUT.fits with --loop "
             "(Python: closedloop.SimulationResult.load(path).logs)")
     dsets = _datasets(f)
     two_d = {k: d for k, d in dsets.items() if d.ndim == 2 and d.dtype.kind in "fiu"}

@@ -10,10 +10,11 @@ messages of ours, already quoted. Reference: the file's bytes (``os.fsencode``) 
 from __future__ import annotations
 
 import os
-from types import SimpleNamespace
 
 from modalinfo.cli import main
 from tests.cli.test_batch_shown_lines_fix48a import NAMES, _quoted_bytes
+
+from .conftest import batch_stand_in
 
 
 def test_a_raw_quote_of_the_rows_path_is_shown_on_its_error_line(tmp_path, monkeypatch, capsys):
@@ -22,12 +23,7 @@ def test_a_raw_quote_of_the_rows_path_is_shown_on_its_error_line(tmp_path, monke
     message = f"Unable to open file (unable to open file: name = '{path}', errno = 2)"
     rows = [{"path": path, "analysis": "summary", "status": "error", "error_type": "OSError",
              "error_message": message}]
-    report = SimpleNamespace(n_specs=1, n_skipped=0, n_submitted=1, n_ok=0, n_error=1,
-                             n_lost=0, elapsed=0.1)
-    result = SimpleNamespace(identical=[], skipped=[], unreadable=[], rows=rows,
-                             report=report, n_ok=0, n_error=1,
-                             csv_path=tmp_path / "out" / "batch.csv",
-                             parquet_path=tmp_path / "out" / "batch.parquet", plots=[])
+    result = batch_stand_in(rows, tmp_path / "out")
     monkeypatch.setattr("modalinfo.batch.analyse_archive", lambda *a, **k: result)
     assert main(["batch", str(tmp_path / "in"), "--out", str(tmp_path / "out")]) == 1
     (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("error  ")]

@@ -16,11 +16,12 @@ import codecs
 import csv
 import os
 import re
-from types import SimpleNamespace
 
 import pytest
 
 from modalinfo.cli import main
+
+from .conftest import batch_stand_in
 
 NAMES = [b"a\\xe9.csv", b"a\xe9.csv"]  # a literal backslash; the byte 0xE9
 
@@ -51,12 +52,7 @@ def test_two_files_error_lines_name_their_own_bytes(tmp_path, monkeypatch, capsy
     os.mkdir(folder)
     rows = _rows(folder)
     assert [r["status"] for r in rows] == ["error", "error"]
-    report = SimpleNamespace(n_specs=2, n_skipped=0, n_submitted=2, n_ok=0, n_error=2,
-                             n_lost=0, elapsed=0.1)
-    result = SimpleNamespace(identical=[], skipped=[], unreadable=[], rows=rows,
-                             report=report, n_ok=0, n_error=2,
-                             csv_path=tmp_path / "out" / "batch.csv",
-                             parquet_path=tmp_path / "out" / "batch.parquet", plots=[])
+    result = batch_stand_in(rows, tmp_path / "out")
     monkeypatch.setattr("modalinfo.batch.analyse_archive", lambda *a, **k: result)
     assert main(["batch", str(tmp_path / "in"), "--out", str(tmp_path / "out")]) == 1
     lines = [x for x in capsys.readouterr().out.splitlines() if x.startswith("error  ")]

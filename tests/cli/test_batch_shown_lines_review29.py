@@ -15,23 +15,19 @@ from __future__ import annotations
 
 import codecs
 import os
-from types import SimpleNamespace
 
 import pytest
 
 from modalinfo.cli import main
+
+from .conftest import batch_stand_in
 
 SLASH = "in/a\\xe9.npz"  # a literal backslash, then x, e, 9
 BYTE = os.fsdecode(b"in/b\xff.npz")  # the byte 0xFF: not UTF-8
 
 
 def _result(tmp_path, rows, skipped=()):
-    report = SimpleNamespace(n_specs=len(rows), n_skipped=0, n_submitted=len(rows),
-                             n_ok=0, n_error=len(rows), n_lost=0, elapsed=0.1)
-    return SimpleNamespace(identical=[], skipped=list(skipped), unreadable=[], rows=rows,
-                           report=report, n_ok=0, n_error=len(rows),
-                           csv_path=tmp_path / "out" / "batch.csv",
-                           parquet_path=tmp_path / "out" / "batch.parquet", plots=[])
+    return batch_stand_in(rows, tmp_path / "out", skipped=skipped)
 
 
 def _run(tmp_path, monkeypatch, result) -> int:

@@ -11,9 +11,10 @@ analysis and window under another key, one of another window (not counted).
 from __future__ import annotations
 
 import json
-from types import SimpleNamespace
 
 from modalinfo.cli import main
+
+from .conftest import batch_stand_in
 
 SHA = "a" * 64
 
@@ -24,12 +25,7 @@ def _row(key, window=0):
 
 
 def _run(tmp_path, monkeypatch, rows) -> str:
-    report = SimpleNamespace(n_specs=len(rows), n_skipped=0, n_submitted=len(rows),
-                             n_ok=len(rows), n_error=0, n_lost=0, elapsed=0.1)
-    result = SimpleNamespace(identical=[], skipped=[], unreadable=[], rows=rows,
-                             report=report, n_ok=len(rows), n_error=0,
-                             csv_path=tmp_path / "out" / "batch.csv",
-                             parquet_path=tmp_path / "out" / "batch.parquet", plots=[])
+    result = batch_stand_in(rows, tmp_path / "out")
     monkeypatch.setattr("modalinfo.batch.analyse_archive", lambda *a, **k: result)
     (tmp_path / "in").mkdir(exist_ok=True)
     assert main(["batch", str(tmp_path / "in"), "--out", str(tmp_path / "out")]) == 0
