@@ -37,6 +37,7 @@ over persistence where ``alpha = 0`` gains 48-933, fix48-c); GCV takes 0 there a
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import qr
 
 from modalinfo.common.validation import check_int, check_real
 from modalinfo.forecast._kernels import rls_var_filter, var_filter
@@ -71,24 +72,26 @@ def _lag_qr(Z: np.ndarray, Y: np.ndarray, scale: np.ndarray, columns=slice(None)
     """``R (n, n)`` of the QR factorisation of ``[Z[:, columns] / scale, Y[:, targets]]``.
 
     ``n = k + M`` columns. Tall-skinny QR by row blocks: the triangle so far is stacked
-    on the next ``max(2 n, _QR_ELEMENTS / n)`` rows and factorised again (Householder,
-    numpy's ``qr(mode="r")``), so nothing of ``T`` rows is allocated beyond the caller's
-    ``Z`` and ``Y``; backward stable as one QR of the whole matrix is (the Gram matrix
-    ``Zs^T Zs`` would square the condition number, 1e13-1e14 on smooth logs, and lose the
-    small singular values GCV and the test for ``alpha = 0`` depend on).
+    on the next ``max(n, _QR_ELEMENTS / n)`` rows and factorised again in place
+    (Householder, LAPACK's ``geqrf`` on the Fortran-ordered block, no copy), so nothing
+    of ``T`` rows is allocated beyond the caller's ``Z`` and ``Y``; backward stable as
+    one QR of the whole matrix is (the Gram matrix ``Zs^T Zs`` would square the condition
+    number, 8e5 on round 47's smooth log and 8e13-3e16 with a mode nearly or exactly
+    repeated, and lose the small singular values GCV and the test for ``alpha = 0`` read).
     """
     n_rows = Z.shape[0]
     k = scale.size
     n = k + Y[:1, targets].shape[1]
-    step = max(2 * n, _QR_ELEMENTS // n)
+    step = max(n, _QR_ELEMENTS // n)
     R = np.zeros((0, n))
     for start in range(0, n_rows, step):
         stop = min(start + step, n_rows)
-        block = np.empty((R.shape[0] + stop - start, n))
+        block = np.empty((R.shape[0] + stop - start, n), order="F")
         block[:R.shape[0]] = R
         np.divide(Z[start:stop, columns], scale, out=block[R.shape[0]:, :k])
         block[R.shape[0]:, k:] = Y[start:stop, targets]
-        R = np.linalg.qr(block, mode="r")
+        R = qr(block, overwrite_a=True, mode="raw", check_finite=False)[1]
+        del block  # freed before the next block is allocated
     if R.shape[0] < n:  # fewer rows than columns: the missing rows of R are 0
         R = np.vstack([R, np.zeros((n - R.shape[0], n))])
     return R
@@ -206,7 +209,9 @@ class MultivariatePredictor(Predictor):
             if keep.any():
                 # the relative ridge is the ordinary one on unit-norm lag columns
                 norm = np.sqrt(np.diag(G)[keep])
-                alpha, Bs = _gcv_ridge(Z, Y, norm, keep, ~constant)
+                every = keep.all()  # a slice takes views of the row blocks, a mask copies
+                alpha, Bs = _gcv_ridge(Z, Y, norm, slice(None) if every else keep,
+                                       slice(None) if every else ~constant)
                 B[np.ix_(keep, ~constant)] = Bs / norm[:, None]
         Greg = G + alpha * np.diag(np.diag(G))
         if not gcv and keep.any():
@@ -242,21 +247,21 @@ class MultivariatePredictor(Predictor):
         matrices. tracemalloc's peak: 3.0-3.2, 5.1-5.7 and 9.4-11.1 copies at orders
         2, 4 and 8 (3,000 and 8,000 samples of 10 and 27 modes, left19-est). With
         ``alpha="gcv"`` the QR factorisation of the scaled lags and targets by row blocks
-        (``_lag_qr``) adds a block of ``min(T, max(2 n, 2^18 / n)) + n`` rows of ``n = (order
-        + 1) M`` columns and LAPACK's copy of it, whatever ``T``: ~4.5 MiB up to ``n =
-        362``, ``48 n^2`` bytes beyond. tracemalloc's peak 3.5, 5.6 and 9.8 copies at
-        orders 2, 4 and 8 on 40,000 samples of 27 modes (fixed alpha: 3.0, 5.1, 9.2), 9.0,
-        15.2 and 27.0 on 3,000 of 10 where the block is the whole history (fix49-b; stop
-        55's SVD of the scaled lags added ``2 order + 3`` copies whatever ``T``: 16.2-16.4
-        at order 4, fix48-d).
+        (``_lag_qr``) adds a block of ``min(T, max(n, 2^18 / n)) + n`` rows of ``n = (order
+        + 1) M`` columns, factorised in place, and two ``n x n`` triangles, whatever ``T``:
+        2-4 MiB up to ``n = 512``, ``32 n^2`` bytes beyond. tracemalloc's peak 3.3, 5.3
+        and 9.5 copies of the history at orders 2, 4 and 8 on 40,000 samples of 27 modes
+        (fixed alpha: 3.0, 5.1, 9.2), 6.6, 10.6 and 18.6 on 3,000 of 10, where the block
+        is the whole history (fix49-b; stop 55's SVD of the scaled lags added ``2 order +
+        3`` copies of the history whatever ``T``: 16.2-16.4 at order 4, fix48-d).
         """
         k = self.order * n_modes
         base = 8 * ((self.order + 2) * n_samples * n_modes + 2 * k * k)
         if not isinstance(self.alpha, str):
             return base
         n = k + n_modes
-        rows = min(n_samples, max(2 * n, _QR_ELEMENTS // n)) + n
-        return base + 8 * (2 * rows * n + 2 * n * n)
+        rows = min(n_samples, max(n, _QR_ELEMENTS // n)) + n
+        return base + 8 * (rows * n + 2 * n * n)
 
     def _memory(self, params):
         return int(params["coef"].shape[0])

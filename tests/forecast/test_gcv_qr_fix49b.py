@@ -114,7 +114,7 @@ def test_constant_mode_columns_are_left_out_by_mask():
 def test_no_allocation_of_the_lags_size(mask):
     """tracemalloc peak of ``_gcv_ridge`` on 20,000 x 200 lags (50 modes, order 4) below half
     of one 20,000 x 200 float64 array (32 MB): the SVD path's ``U`` is one such array
-    (its peak, measured: 48.4 MB); the QR path holds ~2 MiB row blocks (6.3 MB)."""
+    (its peak, measured: 48.4 MB); the QR path holds ~2 MiB row blocks (3.7 MB)."""
     rng = np.random.default_rng(3)
     n_rows, n_modes, order = 20_000, 50, 4
     Z = rng.standard_normal((n_rows, order * n_modes))
