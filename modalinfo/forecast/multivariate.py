@@ -17,8 +17,9 @@ samples), starting from the batch solution.
 ``alpha="gcv"`` (the ``multivariate`` preset's) chooses ``alpha`` at each fit by
 generalised cross-validation (Golub, Heath & Wahba 1979): the relative ridge is the
 ordinary ridge ``(Z_s^T Z_s + alpha I)`` on the lags scaled to unit sum of squares
-``Z_s``, so one SVD ``Z_s = U S V^T`` gives, for every ``alpha`` of ``GCV_GRID``
-(0 and ``10^-10 .. 10^0`` by half decades), the hat matrix's trace
+``Z_s``, so one SVD ``Z_s = U S V^T`` (taken from the QR factor of ``[Z_s, Y]`` by row
+blocks, never forming the ``T x p M`` ``U``: ``_gcv_ridge``) gives, for every ``alpha``
+of ``GCV_GRID`` (0 and ``10^-10 .. 10^0`` by half decades), the hat matrix's trace
 ``sum s^2 / (s^2 + alpha)`` and the residual, and the fit takes the ``alpha`` minimising
 ``GCV = n ||(I - H) Y||_F^2 / (n - tr H)^2`` (``n`` regression rows, one ``alpha``
 shared by all modes; the smallest on a tie). ``alpha = 0`` (ordinary least squares) is a
@@ -36,6 +37,7 @@ over persistence where ``alpha = 0`` gains 48-933, fix48-c); GCV takes 0 there a
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import qr
 
 from modalinfo.common.validation import check_int, check_real
 from modalinfo.forecast._kernels import rls_var_filter, var_filter
@@ -53,6 +55,10 @@ GCV_GRID = (0.0, *(10.0 ** (0.5 * k) for k in range(-20, 1)))
 #: duplicated.
 _OLS_RCOND = float(np.sqrt(np.finfo(float).eps))
 
+#: Elements (float64) of each row block :func:`_lag_qr` stacks under its triangle (2 MiB;
+#: at least ``2 (k + M)`` rows).
+_QR_ELEMENTS = 2 ** 18
+
 
 def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
     """Regressors ``Z (T - p, p M)`` (lag 1 first) and targets ``Y (T - p, M)``."""
@@ -61,17 +67,59 @@ def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
     return Z, Xc[order:]
 
 
-def _gcv_ridge(Zs: np.ndarray, Y: np.ndarray) -> tuple[float, np.ndarray]:
-    """GCV's relative ridge and the weights on unit-norm lags ``Zs`` (module notes).
+def _lag_qr(Z: np.ndarray, Y: np.ndarray, scale: np.ndarray, columns=slice(None),
+            targets=slice(None)) -> np.ndarray:
+    """``R (n, n)`` of the QR factorisation of ``[Z[:, columns] / scale, Y[:, targets]]``.
+
+    ``n = k + M`` columns. Tall-skinny QR by row blocks: the triangle so far is stacked
+    on the next ``max(n, _QR_ELEMENTS / n)`` rows and factorised again in place
+    (Householder, LAPACK's ``geqrf`` on the Fortran-ordered block, no copy), so nothing
+    of ``T`` rows is allocated beyond the caller's ``Z`` and ``Y``; backward stable as
+    one QR of the whole matrix is (the Gram matrix ``Zs^T Zs`` would square the condition
+    number, 8e5 on round 47's smooth log and 8e13-3e16 with a mode nearly or exactly
+    repeated, and lose the small singular values GCV and the test for ``alpha = 0`` read).
+    """
+    n_rows = Z.shape[0]
+    k = scale.size
+    n = k + Y[:1, targets].shape[1]
+    step = max(n, _QR_ELEMENTS // n)
+    R = np.zeros((0, n))
+    for start in range(0, n_rows, step):
+        stop = min(start + step, n_rows)
+        block = np.empty((R.shape[0] + stop - start, n), order="F")
+        block[:R.shape[0]] = R
+        np.divide(Z[start:stop, columns], scale, out=block[R.shape[0]:, :k])
+        block[R.shape[0]:, k:] = Y[start:stop, targets]
+        R = qr(block, overwrite_a=True, mode="raw", check_finite=False)[1]
+        del block  # freed before the next block is allocated
+    if R.shape[0] < n:  # fewer rows than columns: the missing rows of R are 0
+        R = np.vstack([R, np.zeros((n - R.shape[0], n))])
+    return R
+
+
+def _gcv_ridge(Z: np.ndarray, Y: np.ndarray, scale: np.ndarray | None = None,
+               columns=slice(None), targets=slice(None)) -> tuple[float, np.ndarray]:
+    """GCV's relative ridge and the weights on unit-norm lags ``Zs = Z / scale``.
 
     Returns ``alpha`` from ``GCV_GRID`` and ``Bs (k, M)``, the solution of
-    ``(Zs^T Zs + alpha I) Bs = Zs^T Y``.
+    ``(Zs^T Zs + alpha I) Bs = Zs^T Y`` (module notes). ``scale`` (k,): the norms of the
+    columns ``Z[:, columns]`` (default 1: ``Z`` is already ``Zs``); ``Y[:, targets]``
+    the targets (the regression's columns, taken row block by row block, never copied).
+
+    The SVD ``Zs = U S V^T`` is never formed with its ``T x k`` ``U``: the QR factor of
+    ``[Zs, Y]`` (:func:`_lag_qr`), ``R = [[R11, R12], [0, R22]]``, gives ``Zs = Q1 R11``,
+    so the SVD of the ``k x k`` ``R11 = Ur S V^T`` has ``U = Q1 Ur``, ``U^T Y = Ur^T R12``,
+    and the part of ``Y`` outside the span of the lags is ``||R22||_F^2``: computed
+    without cancellation (not as ``||Y||^2 - ||U^T Y||^2``, which cancels where the lags
+    forecast ``Y`` to 1e-5).
     """
-    U, s, Vt = np.linalg.svd(Zs, full_matrices=False)
-    uty = U.T @ Y
-    # the part of Y outside the span of the lags, subtracted elementwise (not as
-    # ||Y||^2 - ||U^T Y||^2, which cancels where the lags forecast Y to 1e-5)
-    rss_out = float(np.sum((Y - U @ uty) ** 2))
+    if scale is None:
+        scale = np.ones(Z[:1, columns].shape[1])
+    k = scale.size
+    R = _lag_qr(Z, Y, scale, columns, targets)
+    Ur, s, Vt = np.linalg.svd(R[:k, :k])
+    uty = Ur.T @ R[:k, k:]
+    rss_out = float(np.sum(R[k:, k:] ** 2))
     n = Y.shape[0]
     s2 = s * s
     well_conditioned = s.size and s[-1] >= _OLS_RCOND * s[0]
@@ -161,7 +209,9 @@ class MultivariatePredictor(Predictor):
             if keep.any():
                 # the relative ridge is the ordinary one on unit-norm lag columns
                 norm = np.sqrt(np.diag(G)[keep])
-                alpha, Bs = _gcv_ridge(Z[:, keep] / norm, Y[:, ~constant])
+                every = keep.all()  # a slice takes views of the row blocks, a mask copies
+                alpha, Bs = _gcv_ridge(Z, Y, norm, slice(None) if every else keep,
+                                       slice(None) if every else ~constant)
                 B[np.ix_(keep, ~constant)] = Bs / norm[:, None]
         Greg = G + alpha * np.diag(np.diag(G))
         if not gcv and keep.any():
@@ -196,13 +246,22 @@ class MultivariatePredictor(Predictor):
         (``order + 2`` float64 copies of the history) and two ``(order M)^2`` normal
         matrices. tracemalloc's peak: 3.0-3.2, 5.1-5.7 and 9.4-11.1 copies at orders
         2, 4 and 8 (3,000 and 8,000 samples of 10 and 27 modes, left19-est). With
-        ``alpha="gcv"`` the scaled lags, the SVD's copy of them and ``U`` add ``2 order +
-        3`` copies: tracemalloc's peak 10.1-10.3, 16.2-16.4 and 28.4-28.7 copies at orders
-        2, 4 and 8 (3,000-8,000 samples of 10 and 27 modes, fix48-d).
+        ``alpha="gcv"`` the QR factorisation of the scaled lags and targets by row blocks
+        (``_lag_qr``) adds a block of ``min(T, max(n, 2^18 / n)) + n`` rows of ``n = (order
+        + 1) M`` columns, factorised in place, and two ``n x n`` triangles, whatever ``T``:
+        2-4 MiB up to ``n = 512``, ``32 n^2`` bytes beyond. tracemalloc's peak 3.3, 5.3
+        and 9.5 copies of the history at orders 2, 4 and 8 on 40,000 samples of 27 modes
+        (fixed alpha: 3.0, 5.1, 9.2), 6.6, 10.6 and 18.6 on 3,000 of 10, where the block
+        is the whole history (fix49-b; stop 55's SVD of the scaled lags added ``2 order +
+        3`` copies of the history whatever ``T``: 16.2-16.4 at order 4, fix48-d).
         """
         k = self.order * n_modes
-        copies = 3 * self.order + 5 if isinstance(self.alpha, str) else self.order + 2
-        return 8 * (copies * n_samples * n_modes + 2 * k * k)
+        base = 8 * ((self.order + 2) * n_samples * n_modes + 2 * k * k)
+        if not isinstance(self.alpha, str):
+            return base
+        n = k + n_modes
+        rows = min(n_samples, max(n, _QR_ELEMENTS // n)) + n
+        return base + 8 * (rows * n + 2 * n * n)
 
     def _memory(self, params):
         return int(params["coef"].shape[0])

@@ -23,28 +23,10 @@ import pytest
 from modalinfo.forecast import MultivariatePredictor, RLSMultivariatePredictor, evaluate
 from modalinfo.forecast.multivariate import GCV_GRID
 from modalinfo.forecast.presets import PRESETS, make_predictor
-from modalinfo.telemetry import synthetic
+
+from .conftest import noisy_var, smooth_log
 
 ORDER = 4
-
-
-def _smooth_log(n_frames=3000, seed=2):
-    """bench_var_ridge_48c.py's round-47 log: Z2-Z7, D = 4 m, r0 = 0.1 m, 10 m/s, 1 kHz."""
-    log = synthetic.open_loop_log(range(2, 8), n_frames=n_frames, rate=1000.0, diameter=4.0,
-                                  layers=[synthetic.Layer(r0=0.1, wind_speed=10.0)],
-                                  seed=seed)
-    return np.asarray(log.coeffs, float)
-
-
-def _noisy_var(n, seed):
-    """A weakly coupled VAR(1) of 3 modes, few rows per coefficient: a ridge pays."""
-    rng = np.random.default_rng(seed)
-    A = np.array([[0.3, 0.0, 0.0], [0.2, 0.2, 0.0], [0.0, -0.2, 0.25]])
-    x = np.zeros((n, 3))
-    e = rng.standard_normal((n, 3))
-    for t in range(1, n):
-        x[t] = A @ x[t - 1] + e[t]
-    return x
 
 
 def _reference_gcv(x, order):
@@ -77,9 +59,9 @@ def test_grid_is_zero_and_half_decades_to_one():
     np.testing.assert_allclose(GCV_GRID[1:], 10.0 ** np.arange(-10, 0.25, 0.5), rtol=1e-15)
 
 
-@pytest.mark.parametrize("make, order", [(lambda: _noisy_var(160, 3), 4),
-                                         (lambda: _noisy_var(400, 1), 4),
-                                         (lambda: _smooth_log(600, 2), 2)])
+@pytest.mark.parametrize("make, order", [(lambda: noisy_var(160, 3), 4),
+                                         (lambda: noisy_var(400, 1), 4),
+                                         (lambda: smooth_log(600, 2), 2)])
 def test_chosen_alpha_minimises_gcv_computed_from_its_definition(make, order):
     x = make()
     pred = MultivariatePredictor(order=order, alpha="gcv").fit(x)
@@ -94,7 +76,7 @@ def test_chosen_alpha_minimises_gcv_computed_from_its_definition(make, order):
 
 def test_rank_deficient_lags_never_get_alpha_zero():
     """A duplicated mode: the scaled lags are singular (condition 5e20), alpha 0 is out."""
-    x = _smooth_log(600, 2)
+    x = smooth_log(600, 2)
     x = np.column_stack([x, x[:, 0]])
     scores, weights = _reference_gcv(x, 2)
     assert 0.0 not in scores
@@ -104,9 +86,9 @@ def test_rank_deficient_lags_never_get_alpha_zero():
     assert np.all(np.isfinite(pred.coef_))
 
 
-def test_preset_beats_persistence_on_a_smooth_log():
+def test_preset_beats_persistence_on_asmooth_log():
     """Before: gain 0.30 at h = 1 (alpha 1e-3); statsmodels' OLS VAR(4) gains 183."""
-    x = _smooth_log()
+    x = smooth_log()
     ev = evaluate({"multivariate": make_predictor("multivariate")}, x, train=1500,
                   horizons=[1])
     assert ev.gain_wavefront[ev.index("multivariate"), 0] > 10
@@ -114,7 +96,7 @@ def test_preset_beats_persistence_on_a_smooth_log():
 
 def test_preset_with_a_duplicated_mode_is_finite_and_beats_persistence():
     """Singular lags: GCV's 1e-10 ridge, gain 135 / 29 at h = 1 / 5 (before: 0.32 / 0.56)."""
-    x = _smooth_log()
+    x = smooth_log()
     x = np.column_stack([x, x[:, 0]])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # evaluate's Diebold-Mariano notes, not the fit's
@@ -127,8 +109,8 @@ def test_preset_with_a_duplicated_mode_is_finite_and_beats_persistence():
 
 def test_refits_choose_again():
     """Fitted on a noisy VAR (GCV 10^-0.5), refitted online on a smooth log (GCV 0)."""
-    noisy = _noisy_var(400, 1)
-    smooth = _smooth_log(600, 2)[:, :3]
+    noisy = noisy_var(400, 1)
+    smooth = smooth_log(600, 2)[:, :3]
     pred = MultivariatePredictor(order=4, alpha="gcv", refit_every=500, window=500)
     pred.fit(noisy)
     fitted = pred.alpha_
@@ -140,7 +122,7 @@ def test_refits_choose_again():
 
 
 def test_a_number_is_its_own_alpha_and_presets_say_which():
-    x = _noisy_var(400, 1)
+    x = noisy_var(400, 1)
     assert MultivariatePredictor(order=4, alpha=0.05).fit(x).alpha_ == 0.05
     assert make_predictor("multivariate").alpha == "gcv"
     assert make_predictor("rls").alpha == 1e-3
@@ -154,7 +136,7 @@ def test_a_number_is_its_own_alpha_and_presets_say_which():
 ])
 def test_bad_alpha_strings_are_refused(cls, alpha, match):
     with pytest.raises(ValueError, match=match):
-        cls(order=2, alpha=alpha).fit(_noisy_var(400, 1))
+        cls(order=2, alpha=alpha).fit(noisy_var(400, 1))
 
 
 def test_chosen_alpha_at_few_rows_review31b():
@@ -163,7 +145,7 @@ def test_chosen_alpha_at_few_rows_review31b():
     three logs above kept their choices under it. Reference: ``_reference_gcv`` (lstsq)."""
     checked = 0
     for seed in range(200):
-        x = _noisy_var(64, seed)
+        x = noisy_var(64, seed)
         scores, _ = _reference_gcv(x, 2)
         ranked = sorted(scores, key=scores.get)
         if scores[ranked[1]] <= scores[ranked[0]] * (1 + 1e-6):
