@@ -649,8 +649,8 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         bins hold more than max(0.05, 10 %) more than the Hacine-Gharbi rule's (a ring
         or curve hides the dependence from the rank correlation the rule reads: 0.94
         nats for 1.158 on a noisy circle, round 17).
-        With ``method`` "kde" or "histogram" and a resolution they chose themselves,
-        where no other rule spoke: the spread rule
+        With ``method="kde"`` and a rule-chosen bandwidth, or ``method="histogram"`` and
+        the default ``bins="hacine-gharbi"``, where no other rule spoke: the spread rule
         (:func:`~modalinfo.information.ksg.spread_rule_why`), where the squares of the
         pair's normal scores depend on each other or on the scores beyond a Gaussian
         pair's (D > 0.1 + 4 / sqrt(m) on a subsample of m <= 8192 pairs; 0 of 4000
