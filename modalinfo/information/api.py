@@ -651,7 +651,7 @@ def mutual_information(x: Any, y: Any, method: str = DEFAULT_METHOD, units: str 
         nats for 1.158 on a noisy circle, round 17).
         With ``method="kde"`` and a rule-chosen bandwidth, or ``method="histogram"`` and
         the default ``bins="hacine-gharbi"``, where no other rule spoke: the spread rule
-        (:func:`~modalinfo.information.ksg.spread_rule_why`), where the squares of the
+        (``ksg.spread_rule_why``), where the squares of the
         pair's normal scores depend on each other or on the scores beyond a Gaussian
         pair's (D > 0.1 + 4 / sqrt(m) on a subsample of m <= 8192 pairs; 0 of 4000
         Gaussian pairs) and the estimate is below the KSG estimate of that subsample

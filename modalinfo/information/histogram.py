@@ -502,7 +502,7 @@ class HistogramEngine:
         """Why the score ``value`` (nats) of (x, y) loses MI its bins cannot hold, or None.
 
         :func:`histogram_copula_rule`, then the finer bins' and the tails' rules, then
-        the spread rule (:func:`~modalinfo.information.ksg.spread_rule_why`: a
+        the spread rule (``ksg.spread_rule_why``: a
         dependence of the spread, y = x e, that the rank correlation of the bin rule
         misses; fix49-a; the default ``"hacine-gharbi"`` bins only: ``"auto"``, the
         remedy the finer-bins rule names, reads a noisy ring 1.076 for 1.158 and the X

@@ -522,7 +522,7 @@ class KDEEngine:
 
         The rank-resolution rule (:meth:`_rank_why`), then, for a rule-chosen bandwidth
         (``"cv"``, ``"scott"``, ``"silverman"``) on a pair without repeated values, the
-        spread rule (:func:`~modalinfo.information.ksg.spread_rule_why`): the kernel
+        spread rule (``ksg.spread_rule_why``): the kernel
         is whitened by the rank correlation, and a dependence of the spread (y = x e,
         r ~ 0; exact 0.4203 nats) is smoothed away: 0.273 at n = 1,000, 0.323 at
         5,000, 0.355 at 20,000 (20 seeds; round 48 PART a, N15; fix49-a).
