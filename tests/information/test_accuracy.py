@@ -104,8 +104,11 @@ def test_nonlinear_dependence_seen_by_nonparametric_estimators():
     # the MI is > 1 nat (KSG gives ~2.0, KDE ~1.0); the default histogram (16 bins,
     # chosen from r ~ 0) resolves the thin parabola coarsely and gives ~0.9.
     # "Clearly positive" = above 0.5, 100 times the Gaussian estimate bound.
-    for method in ("kde", "ksg"):
-        assert mutual_information(x, y, method=method) > 0.5, method
+    assert mutual_information(x, y, method="ksg") > 0.5
+    # the KDE's 1.73 is below KSG's ~2.0 by more than max(0.05, 10 %), and since fix49-a
+    # is said to: the normal scores' squares depend on the scores (the parabola)
+    with pytest.warns(BiasRuleWarning, match="spread rule"):
+        assert mutual_information(x, y, method="kde") > 0.5
     # the histogram's 1.35 misses part of the dependence and is said to (Leftovers
     # 11-resolve, neighbour rule): the MI is at least h(chi2_1) - h(noise) = 1.667 nats
     # (noise added to x^2 cannot lower its entropy; scipy's chi2(1).entropy() = 0.784)
