@@ -53,7 +53,8 @@ GRID_HELP = """grid file (TOML); every key is optional:
     "wfss.1.altitude" = 15000.0
 
 Runs = overrides x seeds x predictors, one task each; a run's row holds its SR peak,
-field-mean SR, corrected-FoV diameter and (with budget_every) the on-axis error budget.
+field-mean SR, corrected-FoV diameter and (with budget_every) the on-axis error budget
+(budget_units rad^2 at budget_wavelength_m, the science wavelength).
 Outputs in --out: sweep.csv, sweep.parquet, runs/<key>.h5, rows/ (resume state)."""
 
 
@@ -280,6 +281,10 @@ def run_one(payload: dict) -> dict:
         k = int(np.argmin(np.hypot(*b.directions.T)))
         for term in ("fitting", "aliasing", "temporal", "noise", "measured"):
             row[f"budget_{term}_on_axis"] = float(getattr(b, term)[k])
+        # the table said no unit: rad^2 of phase at the science wavelength, as the run's
+        # .h5 states them (``units``, ``wavelength_m``; round 49 PART b, W06)
+        row["budget_units"] = "rad^2"
+        row["budget_wavelength_m"] = float(config.wavelength)
     out_dir = payload.get("out_dir")
     if out_dir:
         path = Path(out_dir) / "runs" / f"{payload['key']}.h5"

@@ -114,6 +114,18 @@ def _kind(module) -> str:
     return "log" if getattr(module, "NEEDS_LOG", True) else "own"
 
 
+def _has_quick(module) -> bool:
+    """Whether ``--quick`` changes this figure.
+
+    The closed-loop and simulated figures all have a quick setting; of the log figures
+    only those whose ``compute`` takes ``quick`` (Figure 5; Figure 1 has none: round 49
+    PART b, P28).
+    """
+    if _kind(module) != "log":
+        return True
+    return "quick" in inspect.signature(module.compute).parameters
+
+
 def _log_figures(modules) -> tuple[str, str]:
     """Return the chosen figures that read a log ("Figure 1", "Figures 1 and 5") and its verb.
 
@@ -215,6 +227,11 @@ def _check_args(args, modules, logs, needs_log) -> None:
     if args.seed is not None and not kinds & {"runs", "own"}:
         raise _RefusedError(f"--seed sets the simulated figures (2, 3, 4, 6, 7, 8); --only "
                             f"{numbers} makes none of them (add one, or drop --seed)")
+    if args.quick and not any(_has_quick(module) for module, _, _ in modules):
+        # the report said "with --quick (a smoke run on reduced settings: numbers not the
+        # paper's)" of a Figure 1 made on the paper's settings (round 49 PART b, P28)
+        raise _RefusedError(f"--quick reduces Figures 2-8 (Figure 5: its first 5 modes); "
+                            f"--only {numbers} has no quick setting (add one, or drop --quick)")
     if args.seed is None:
         args.seed = 0
     if args.log is None:
@@ -548,7 +565,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
             texts = []
             # --quick reaches the log figures that have a quick setting (Figure 5)
             params = inspect.signature(module.compute).parameters
-            quick = {"quick": True} if args.quick and "quick" in params else {}
+            quick = {"quick": True} if args.quick and _has_quick(module) else {}
             for key, ((log, source), suffix, desc, outliers) in loaded.items():
                 # what --outliers did to a user's log, for the figures that report it
                 said = ({"outliers": outliers} if outliers is not None

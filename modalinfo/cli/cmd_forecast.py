@@ -371,6 +371,13 @@ def run(args: argparse.Namespace) -> int:
                            "it needs --refit-every R (without it the predictors are fitted "
                            "once, on the --train frames)")
     predictors = _parse_predictors(args.predictors)
+    if args.max_seconds is not None and not any(
+            p.fit_seconds(10**4, 1) > 0 for p in predictors.values()):
+        # only the ARMA fits are estimated (Predictor.fit_seconds: the base says 0): the
+        # bound read nothing and the fits ran unbounded (round 49 PART b, X31b)
+        raise CommandError(f"--max-seconds bounds the fits whose CPU time is estimated (the "
+                           f"ARMA predictors: arma, arma-aic); --predictors {args.predictors} "
+                           "has none: drop it")
     train = _parse_train(args.train)
     if args.out is not None:
         if args.out.is_symlink() and not args.out.exists():  # dangling or a loop

@@ -471,6 +471,12 @@ def run(args: argparse.Namespace) -> int:
                            f"Karman model); --basis {args.basis} uses none: drop it")
     if args.frame is not None and args.method == "pca":
         raise CommandError("--frame cannot be used with --method pca (a whole-log order)")
+    if args.frame is not None and args.method == "standard":
+        # the table said "standard order (frame 3)", a per-frame claim of the order no
+        # frame changes (round 49 PART b, D57), as --seed / --budget are refused for it
+        raise CommandError(f"--frame {args.frame} applies to the data-driven methods; "
+                           "--method standard is the convention's order, the same on "
+                           "every frame: drop --frame")
     if args.stability is not None and (args.method == "pca" or args.frame is not None):
         raise CommandError("--stability needs a pooled ordering (no --frame, not pca)")
     refuse_frame_with_drop(args)

@@ -221,7 +221,7 @@ def test_paper_figures_log_refusal_names_the_flag_not_the_argument(tmp_path, cap
     from paper_figures.__main__ import main as figures_main
 
     path = _aot_file(tmp_path / "two.fits", timestamps=False, framerate=2000.0, loops=2)
-    code = figures_main(["--only", "1", "--quick", "--log", str(path),
+    code = figures_main(["--only", "1", "--log", str(path),
                          "--out", str(tmp_path / "out")])
     err = capsys.readouterr().err
     assert code == 2 and "choose one with --loop UID" in err and "command line:" not in err

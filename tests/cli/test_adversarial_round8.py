@@ -37,7 +37,7 @@ def test_reorder_basis_file_of_a_loop_without_mode_images_says_so(naomi_file, ca
 
 @pytest.mark.parametrize("command", [["modalinfo", "info", "x.npz"],
                                      ["closedloop", "info", "x.h5"],
-                                     ["paper_figures", "--only", "1", "--quick"]])
+                                     ["paper_figures", "--only", "1"]])
 def test_numba_refusing_its_environment_is_one_line_exit_2(command, tmp_path):
     # e105: NUMBA_NUM_THREADS=0 made numba's import raise: a 48-line traceback, exit 1
     env = dict(os.environ, NUMBA_NUM_THREADS="0",

@@ -16,7 +16,7 @@ def test_missing_shipped_data_is_named_with_the_way_out(tmp_path, monkeypatch, c
     gone = tmp_path / "site-packages" / "data"
     monkeypatch.setattr(pf_main, "SHIPPED_LOGS", tuple(
         (gone / path.name, *rest) for path, *rest in pf_main.SHIPPED_LOGS))
-    code = pf_main.main(["--only", "1", "--quick", "--out", str(tmp_path / "out")])
+    code = pf_main.main(["--only", "1", "--out", str(tmp_path / "out")])
     err = capsys.readouterr().err
     assert code == 2
     assert len(err.strip().splitlines()) == 1

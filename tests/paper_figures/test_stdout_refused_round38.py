@@ -29,7 +29,7 @@ def test_a_full_stdout_is_named_as_stdout_not_the_output_folder(tmp_path, monkey
                                                                  capsys):
     out = tmp_path / "pf"
     monkeypatch.setattr(sys, "stdout", _Full())
-    code = main(["--only", "1", "--quick", "--out", str(out)])
+    code = main(["--only", "1", "--out", str(out)])
     err = capsys.readouterr().err
     assert code == 1
     assert err.count("\n") == 1
