@@ -324,7 +324,12 @@ def mutual_information_ci(
         whose fourth moment is infinite; leftovers 13-stats).
     interval : {"normal", "basic", "percentile", "bca"}
         ``"normal"`` (default): ``I -+ z_(1-a/2) s_boot``, centred on the estimate,
-        spread from the bootstrap; ``"basic"``: ``[2 I - q_hi, 2 I - q_lo]``, corrects
+        spread from the bootstrap (its small-sample shortfall, measured for the
+        gaussian estimator, iid bootstrap, rho = 0.6: coverage 0.930 +- 0.004 at n = 200
+        over 2,400 seeds and 0.938 +- 0.006 at n = 500 over 1,200 for a nominal 0.95;
+        the bootstrap's spread is ~5 % below the estimate's over seeds; 0.947 +- 0.013 at
+        n = 1,000; round 49 PART a S01, fix49-d; not warned); ``"basic"``:
+        ``[2 I - q_hi, 2 I - q_lo]``, corrects
         by the bootstrap bias, which for MI is unreliable (see the module notes);
         ``"percentile"``: ``[q_lo, q_hi]``; ``"bca"``: bias-corrected and
         accelerated (``scipy.stats.bootstrap``), iid bootstrap only. BCa is undefined
