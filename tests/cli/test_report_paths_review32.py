@@ -15,6 +15,8 @@ import json
 import os
 from pathlib import Path
 
+import pytest
+
 from modalinfo.cli import main
 from modalinfo.common.files import shown_name
 
@@ -68,3 +70,20 @@ def test_forecast_wrote_line_shows_the_out_folder(make_small_log, tmp_path, caps
     text = capsys.readouterr().out
     assert "\x1b" not in text, text
     _check_line(text, "wrote forecast", out)
+
+
+@pytest.mark.slow  # 37 s on the loaded 2-core machine (reorder's search, the figure)
+def test_reorder_and_fitting_error_written_lines(make_small_log, tmp_path, capsys):
+    # R32-C9 / C8: "ordering written to OUT" and "figure written to PLOT" printed raw
+    log = make_small_log(300)
+    out = tmp_path / "o\nr\x1b[1md\u00e9.json"
+    assert main(["reorder", str(log), "--method", "mi_marginal", "--seed", "7", "--budget",
+                 "2000", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "\x1b" not in text, text
+    _check_line(text, "ordering written to", out)
+    plot = tmp_path / "f\ni\x1b[1mg.png"
+    assert main(["fitting-error", str(log), "--plot", str(plot)]) == 0
+    text = capsys.readouterr().out
+    assert "\x1b" not in text, text
+    _check_line(text, "figure written to", plot)
