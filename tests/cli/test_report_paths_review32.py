@@ -18,9 +18,9 @@ from pathlib import Path
 import pytest
 
 from modalinfo.cli import main
-from modalinfo.common.files import shown_name
+from modalinfo.common.files import quoted, shown_name
 
-from .conftest import batch_stand_in
+from .conftest import batch_stand_in, exit_code
 
 SHA = "a" * 64
 
@@ -87,3 +87,29 @@ def test_reorder_and_fitting_error_written_lines(make_small_log, tmp_path, capsy
     text = capsys.readouterr().out
     assert "\x1b" not in text, text
     _check_line(text, "figure written to", plot)
+
+
+def test_convert_names_every_extra_file_shown(make_small_log, tmp_path, capsys):
+    # R32-C12: convert's "got N files (IN, OUT, MORE...)" listed the extra names raw
+    log = make_small_log(50)
+    extra = "c\x1b[1md\ne.npz"
+    assert exit_code(["convert", log, tmp_path / "o.npz", extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "\x1b" not in err, err
+    assert quoted(extra) in err, err
+
+
+def test_what_file_suggests_a_command_that_pastes(tmp_path):
+    # R32-C11: io.formats.what_file's `modalinfo info PATH` used quoted()'s reading form;
+    # reference: shlex.split of the suggested command gives the path back
+    import re
+    import shlex
+
+    from modalinfo.io.formats import what_file
+
+    from .conftest import write_small_log
+
+    path = write_small_log(tmp_path / "it's a.npz", 50)
+    hint = what_file(path)
+    (command,) = re.findall(r"`(modalinfo info [^`]*)`", hint)
+    assert shlex.split(command)[2] == str(path), hint
