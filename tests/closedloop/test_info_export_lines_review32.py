@@ -1,10 +1,11 @@
 r"""``closedloop info`` / ``export`` report lines show the result's shown name (review32).
 
 Planted-bug review of fix49-c (round 32): ``info``'s "RESULT: closedloop result ..."
-line (R32-C6) and ``export``'s "OUT: AOT system of ..." line (R32-C14) could print
+line (R32-C6), ``export``'s "OUT: AOT system of ..." line (R32-C14) could print
 the path raw (a newline splitting the line, ESC reaching the terminal) and pass every
 test: the tests' results had plain names. Reference: ``files.shown_name``'s docstring
 (``codecs.escape_decode`` of the shown form is the path's bytes), one printable line.
+``io.formats.what_file``'s AOT hint used the reading form (R32-C11): ``shlex.split``.
 """
 
 import codecs
@@ -44,3 +45,14 @@ def test_info_and_export_lines(tmp_path, capsys):
     out = tmp_path / "o\nu\x1b[1mt.fits"
     assert main(["export", str(h5), str(out)]) == 0
     _check(capsys.readouterr().out, out)
+    # R32-C11: io.formats.what_file's hint for an AOT file, `modalinfo info PATH --loop
+    # UID`, used quoted()'s reading form; reference: shlex.split gives the path back
+    import re
+    import shlex
+
+    from modalinfo.io.formats import what_file
+
+    aot = tmp_path / "it's.fits"
+    assert main(["export", str(h5), str(aot)]) == 0
+    (command,) = re.findall(r"`(modalinfo info [^`]*)`", what_file(aot))
+    assert shlex.split(command)[2:] == [str(aot), "--loop", "UID"], command
