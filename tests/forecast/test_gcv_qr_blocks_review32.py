@@ -52,3 +52,16 @@ def test_gcv_choice_and_weights_of_many_blocks(monkeypatch, elements):
     assert alpha == min(scores, key=scores.get)
     expected = np.linalg.solve(Zs.T @ Zs + alpha * np.eye(k), Zs.T @ Y)
     assert np.allclose(Bs, expected, rtol=1e-8, atol=1e-10 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("order, n_modes", [(2, 10), (4, 27), (8, 27)])
+def test_gcv_memory_beyond_fixed_alpha_does_not_grow_with_the_history(order, n_modes):
+    # R32-B7 (fit_bytes' block rows min(T, ...) -> max(T, ...)): fit_bytes' docstring,
+    # "a block of min(T, max(n, 2^18 / n)) + n rows of n = (order + 1) M columns ... and
+    # two n x n triangles, whatever T: 2-4 MiB up to n = 512"
+    gcv = mv.MultivariatePredictor(order=order, alpha="gcv")
+    fixed = mv.MultivariatePredictor(order=order, alpha=1e-3)
+    extra = [gcv.fit_bytes(T, n_modes) - fixed.fit_bytes(T, n_modes)
+             for T in (40_000, 400_000)]
+    assert extra[0] == extra[1]
+    assert 2 * 2 ** 20 <= extra[0] <= 4 * 2 ** 20
