@@ -103,7 +103,7 @@ from scipy.stats import norm
 from scipy.stats import t as student_t
 
 from modalinfo._stats import SHIFT_ALPHA, SHIFT_MIN_RATIO, ar_cosine_transfer
-from modalinfo.common.files import quoted, warn_spreadsheet_formulas
+from modalinfo.common.files import quoted, shown_name, warn_spreadsheet_formulas
 from modalinfo.common.quiet import warn
 from modalinfo.common.records import (
     array_fields_eq,
@@ -462,7 +462,9 @@ class ForecastEvaluation:
             source = provenance.get("input") or {}
             command = provenance.get("command")
             made = [str(provenance.get("modalinfo") or ""), str(source.get("sha256") or ""),
-                    shlex.join(command) if command else "",
+                    # a file name's undecodable byte as ``\xNN`` (as batch rows show it):
+                    # the UTF-8 table cannot hold the lone surrogate (review 32)
+                    shown_name(shlex.join(command)) if command else "",
                     str(provenance.get("git") or ""), str(provenance.get("source_sha256") or "")]
         buffer = io.StringIO(newline="")
         writer = csv.writer(buffer)
