@@ -295,6 +295,8 @@ def test_run_one_row_holds_the_summary_and_the_on_axis_budget(fake_runs, tmp_pat
                    "budget_fitting_on_axis": 0.1, "budget_aliasing_on_axis": 0.2,
                    "budget_temporal_on_axis": pytest.approx(0.3),
                    "budget_noise_on_axis": 0.4, "budget_measured_on_axis": 0.5,
+                   # the budget's units, the preset's science wavelength (round 49 b W06)
+                   "budget_units": "rad^2", "budget_wavelength_m": cfg.wavelength,
                    "result_file": str(path)}
 
 

@@ -110,6 +110,9 @@ def test_cauchy_pair_at_n_20000(cauchy_pair, method, tol):
     if method == "histogram":  # round 17: its rule's 22 bins lose 0.08 nats that 50 hold
         with pytest.warns(BiasRuleWarning, match="bins='auto'"):
             got = mutual_information(*cauchy_pair, method=method)
+    elif method == "kde":  # fix49-a's spread rule sees the low reading against KSG (stop 56)
+        with pytest.warns(BiasRuleWarning, match="the spread rule"):
+            got = mutual_information(*cauchy_pair, method=method)
     else:
         got = mutual_information(*cauchy_pair, method=method)
     assert got == pytest.approx(math.log(2.0), abs=tol)
