@@ -103,7 +103,7 @@ def margin_below(value: float, reference: float) -> float | None:
 
 
 #: Most pairs of the systematic subsample (every ceil(n / 8192)-th) of
-#: :func:`spread_dependence`, as the histogram's rank correlation.
+#: :func:`spread_dependence` and of the histogram's rank correlation.
 SPREAD_SAMPLES = 8192
 #: Gate of the spread-dependence rule: ``D > SPREAD_BASE + SPREAD_SDS / sqrt(m)``
 #: (:func:`spread_dependence_limit`).
@@ -112,7 +112,10 @@ SPREAD_SDS = 4.0
 
 
 def spread_stride(n: int) -> int:
-    """Stride ceil(n / 8192) of the systematic subsample of :func:`spread_dependence`."""
+    """Stride ceil(n / 8192) of the systematic subsample of :func:`spread_dependence`.
+
+    Also the histogram's rank-correlation subsample (its bin rule's), one rule for both.
+    """
     return -(-n // SPREAD_SAMPLES)
 
 

@@ -118,6 +118,7 @@ from modalinfo.information.copula import (
     copula_scores,
     margin_below,
     normal_score_correlation,
+    spread_stride,
 )
 from modalinfo.information.discrete import (  # noqa: F401 (re-exported: former home)
     DISCRETE_MIN_PER_CELL,
@@ -148,18 +149,11 @@ _CORRECTIONS = ("miller-madow", "none")
 _BINNINGS = ("uniform", "quantile")
 #: Most quantile bins of the rank correlation that sets the Hacine-Gharbi bin number.
 _RANK_CORR_BINS = 64
-#: Most pairs of the systematic subsample on which that rank correlation is computed.
-_RANK_CORR_SAMPLES = 8192
 
 
 def _rank_corr_bins(n: int) -> int:
     """Quantile bins K0 = min(64, ceil(sqrt n)) of the rank correlation of the bin rule."""
     return min(_RANK_CORR_BINS, max_rule_bins(n))
-
-
-def _rank_corr_stride(n: int) -> int:
-    """Stride of the systematic subsample (at most 8192 pairs) of the rank correlation."""
-    return -(-n // _RANK_CORR_SAMPLES)
 
 
 def _unit_centred(a: np.ndarray) -> np.ndarray:
@@ -372,7 +366,7 @@ class HistogramEngine:
         if self.binning == "quantile":
             # rank correlation for the bin rule: normal scores of K0 quantile bins of a
             # systematic subsample (module notes)
-            self._stride = _rank_corr_stride(x.shape[0])
+            self._stride = spread_stride(x.shape[0])
             xs = np.ascontiguousarray(x[:: self._stride])
             k0 = self._k0 = _rank_corr_bins(xs.shape[0])
             self._scores0 = ndtri((np.arange(k0) + 0.5) / k0)
