@@ -111,6 +111,32 @@ RTOL_LOOP_FIT = 3 * LOOP_FIT_MOVE
 LOOP_MOVE = 7.4e-6
 RTOL_LOOP = 3 * LOOP_MOVE
 _SOLAR_ROW = re.compile(r"fig7_solar\.json/sensitivity\[(\d+)\]/")
+#: Figure 7's section of report.md: the same solar loop runs printed (CI 18 on an Intel
+#: Xeon, after the golden file was written on an AMD EPYC: the sensitivity table's ARMA SR
+#: 0.356 -> 0.358, a 0.6 % move inside the JSON's RTOL_LOOP_FIT, refused at one unit of its
+#: last digit)
+_FIG7_REPORT = "report.md/Figure #: Solar correlating sensing"
+_REPORT_CELL = re.compile(r" \| row (?P<row>.*) / .* \| col (?P<col>\d+) #\d+$")
+
+
+def _rests_on_fitted_arma(key: str, reference: dict) -> bool:
+    """Whether a number of Figure 7's report section comes from a loop run with the ARMA.
+
+    A cell of a comparison-table row naming ARMA; a cell of the sensitivity table
+    (``closedloop.studies.solar.markdown``: knob, value, delay, SR peak per predictor,
+    FoV per predictor, the budget of no prediction) in an ARMA predictor's column; a
+    sentence's number printed right after ``ARMA(p,q)`` (the solar ARMA run's gain).
+    """
+    cell = _REPORT_CELL.search(key)
+    if cell is None:
+        return bool(re.search(r"ARMA\(#,#\) \{#\}", key))
+    if "ARMA" in cell.group("row"):
+        return True
+    rows = reference.get("fig7_solar.json", {}).get("sensitivity", [])
+    predictors = list(dict.fromkeys(r.get("predictor") for r in rows))  # the table's order
+    col, n = int(cell.group("col")), len(predictors)
+    i = col - 3 if 3 <= col < 3 + n else col - 3 - n if 3 + n <= col < 3 + 2 * n else -1
+    return 0 <= i < n and predictors[i] == "arma"
 
 
 def tolerance(key: str, reference: dict, rtol: float) -> tuple[float, str]:
@@ -129,6 +155,8 @@ def tolerance(key: str, reference: dict, rtol: float) -> tuple[float, str]:
         return max(rtol, RTOL_LOOP_FIT), "a loop run with a fitted ARMA"
     if key.startswith("fig7_solar.json/solar/"):
         return max(rtol, RTOL_LOOP), "a solar loop run"
+    if key.startswith(_FIG7_REPORT) and _rests_on_fitted_arma(key, reference):
+        return max(rtol, RTOL_LOOP_FIT), "a loop run with a fitted ARMA"
     m = _SOLAR_ROW.match(key)
     if m:
         rows = reference.get("fig7_solar.json", {}).get("sensitivity", [])
