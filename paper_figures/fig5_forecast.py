@@ -351,7 +351,10 @@ def plot(fig5: Figure5, out_dir: Path, *, suffix: str = "") -> list[Path]:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     png, pdf, json_name = output_names(suffix)
-    ev, x, ms, label = fig5.evaluation, fig5.x, fig5.frame_ms, fig5.label
+    from modalinfo.common.plotting import plot_text
+
+    # a --log's own mode label ("convention='labels'"), never mathtext: fix50-b
+    ev, x, ms, label = fig5.evaluation, fig5.x, fig5.frame_ms, plot_text(fig5.label)
     json_path = ev.to_json(out_dir / json_name, overwrite=True)
 
     fig = Figure(figsize=(16, 8.5))
