@@ -298,7 +298,7 @@ def _load_logs(args, logs, modules) -> dict:
     """Read the logs of Figures 1 and 5 and refuse one a chosen figure cannot use."""
     from modalinfo.cli.shared import input_notes, load_log_with_hints, split_gaps
     from modalinfo.common.cli import CommandError
-    from paper_figures._common import check_log_for, user_log_outliers
+    from paper_figures._common import check_log_for, log_source, user_log_outliers
 
     loaded = {}
     notes: list[str] = []  # printed once every check passed: a refusal stays one line
@@ -337,7 +337,7 @@ def _load_logs(args, logs, modules) -> dict:
                 message = str(exc).strip().splitlines()[0].replace("`log`", "the log")
                 where = "--log" if key == "user" else f"shipped log {quoted(path)}"
                 raise _RefusedError(f"{label} on {where}: {message}") from None
-        loaded[key] = ((log, f"`{path}`"), suffix, desc, outliers)
+        loaded[key] = ((log, log_source(path)), suffix, desc, outliers)
     for note in notes:
         tell("note", note)
     return loaded
@@ -608,7 +608,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
         sections.append(logs_compared.report(cmp, per_log.get("Figure 1"),
                                              per_log.get("Figure 5")))
     total = time.perf_counter() - total_start
-    from paper_figures._common import shipped_edit_note
+    from paper_figures._common import markdown_path, shipped_edit_note
 
     # what made the numbers: the code's version (with its source fingerprint) and the
     # input logs' SHA-256 (adversarial round 27 PART b, P19; left27-geometry), on the
@@ -623,7 +623,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
            if args.quick else "") + "."
         + _not_made(modules)
         + (f" Input log{'s' if len(logs) > 1 else ''} of {_log_figures(modules)[0]}: "
-           + ", ".join(f"`{p}` ({d}; SHA-256 {made['sha256']}"
+           + ", ".join(f"{markdown_path(p)} ({d}; SHA-256 {made['sha256']}"
                        + (f"; {note}" if (note := shipped_edit_note(p, made["sha256"]))
                           else "") + ")"
                        for (p, _, _, d), made in zip(logs, record["inputs"], strict=True))

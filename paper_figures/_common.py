@@ -19,8 +19,9 @@ from modalinfo.common.folders import OutputError
 from paper_figures import program, run_as
 
 __all__ = ["OutputError", "check_log_for", "check_out_dir", "figure_main", "figure_record",
-           "locked_output", "log_or_kaos_like", "markdown_table", "require_varying_modes",
-           "prepared_log", "save_png_pdf", "shipped_log", "staged_output", "suffixed",
+           "locked_output", "log_or_kaos_like", "log_source", "markdown_path", "markdown_table",
+           "require_varying_modes", "prepared_log", "save_png_pdf", "shipped_log",
+           "source_markdown", "staged_output", "suffixed",
            "user_log_outliers", "write_figure"]
 
 
@@ -229,19 +230,91 @@ def shipped_edit_note(path, digest: str | None = None) -> str:
     return ""
 
 
+def log_source(path: str | os.PathLike) -> str:
+    """Return a log file's ``source``, the figures' record of what they read: ```path```.
+
+    The path as given (not as shown): :func:`shipped_log` reads it back to tell a shipped
+    log; :func:`source_markdown` shows it in a report.
+    """
+    return f"`{os.fspath(path)}`"
+
+
+def _source_path(source: str) -> str | None:
+    """Return the path of a :func:`log_source` ``source``; None for any other description."""
+    if len(source) > 1 and source[0] == source[-1] == "`" and source != SYNTHETIC_SOURCE:
+        return source[1:-1]
+    return None
+
+
+def markdown_path(path: str | os.PathLike, *, in_table: bool = False) -> str:
+    r"""Return a user's path for a report's Markdown: its shown form as code.
+
+    The path was put in the report raw, between backticks (stop 56, fix49-c's left
+    item): a newline in the name split the report's line, a ``|`` cut the comparison
+    table's row (a GFM table splits at every ``|``, inside code too), a backtick ended the
+    code early, a byte that is not UTF-8 stopped report.md's writing with a traceback.
+    Here the name is :func:`modalinfo.common.files.shown_name`'s one printable line
+    (``\n``, ``\xNN``, ``\\``) in a code span whose fence is one backtick longer than the
+    name's longest run of backticks, with a space inside the fence when the name starts
+    or ends with one (CommonMark 6.1): ``*``, ``_`` and ``<script>`` show as typed, and
+    both Python-Markdown (report.html) and a CommonMark reader escape the code's ``<``
+    and ``&`` in HTML.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A path or file name as the user gave it.
+    in_table : bool
+        The text sits in a table cell: each ``|`` is written ``\|`` between code spans,
+        one ``|`` to a GFM reader and to Python-Markdown alike (Python-Markdown keeps a
+        ``\|`` inside code as typed, GFM reads it as ``|``, so no single code span is
+        right for both).
+
+    Returns
+    -------
+    str
+        Markdown that renders as the shown name.
+    """
+    shown = files.shown_name(path)
+
+    def code(text: str) -> str:
+        if not text:
+            return ""
+        fence = "`" * (1 + max((len(run) for run in re.findall("`+", text)), default=0))
+        pad = " " if text[0] == "`" or text[-1] == "`" else ""
+        return f"{fence}{pad}{text}{pad}{fence}"
+
+    if not in_table:
+        return code(shown)
+    return "\\|".join(code(part) for part in shown.split("|"))
+
+
+def source_markdown(source: str, *, in_table: bool = False) -> str:
+    """Return a figure's ``source`` for its report: a file's as :func:`markdown_path` shows it.
+
+    Any other description (:data:`SYNTHETIC_SOURCE`, a caller's own words) is Markdown
+    already and is returned as it is.
+    """
+    path = _source_path(source)
+    return source if path is None else markdown_path(path, in_table=in_table)
+
+
 def shipped_log(source: str) -> str | None:
     """Tell which shipped log a report's ``source`` is: ``"spectral"``, ``"simulated"`` or None.
 
-    ``source`` is the description :func:`log_or_kaos_like` returns (```path``` of a file,
-    or :data:`SYNTHETIC_SOURCE`, a spectral log). Only the files in ``data/`` (resolved,
-    so a relative path or a link to them counts) are shipped: any other file is the
-    user's log, which the report may not describe as ours (round 11 R28, issue 27).
+    ``source`` is the description :func:`log_or_kaos_like` returns (:func:`log_source`'s
+    ```path``` of a file, or :data:`SYNTHETIC_SOURCE`, a spectral log). Only the files in
+    ``data/`` (resolved, so a relative path or a link to them counts) are shipped: any
+    other file is the user's log, which the report may not describe as ours (round 11
+    R28, issue 27).
     """
     if source == SYNTHETIC_SOURCE:
         return "spectral"
-    path = Path(source.strip("`"))
+    path = _source_path(source)
+    if path is None:
+        return None
     with contextlib.suppress(OSError, RuntimeError):
-        resolved = path.resolve()
+        resolved = Path(path).resolve()
         for name, kind in SHIPPED_LOGS.items():
             if resolved == _data_dir() / name:
                 return kind
@@ -256,7 +329,7 @@ def log_or_kaos_like(log_path: Path | None):
         return kaos_like(seed=0), SYNTHETIC_SOURCE
     from modalinfo.io import load
 
-    return load(log_path), f"`{log_path}`"
+    return load(log_path), log_source(log_path)
 
 
 def user_log_outliers(log, args, path: Path, uses: str) -> tuple[object, str]:

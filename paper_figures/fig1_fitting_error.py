@@ -44,6 +44,7 @@ from paper_figures._common import (
     require_varying_modes,
     save_png_pdf,
     shipped_log,
+    source_markdown,
     suffixed,
 )
 
@@ -405,7 +406,8 @@ def _described(source: str) -> str:
     """
     if shipped_log(source) is not None:
         return "our closed-loop residual"
-    return f"the log {source}"
+    # a table cell: the name's "|" must not end it (fix50-b)
+    return f"the log {source_markdown(source, in_table=True)}"
 
 
 def _verdict(n, ref=PAPER_REFERENCE_MODES):
@@ -488,11 +490,12 @@ def report(fig1: Figure1, *, suffix: str = "") -> str:
             "as in the paper,\nand count how many modes the other orderings need there (the "
             "paper's counts are 20, 15\nand 7).")
     outliers = (f"\n**Outliers.** {fig1.outliers.rstrip('.')}.\n" if fig1.outliers else "")
+    source = source_markdown(fig1.source)  # the name as shown, in code (fix50-b)
     return f"""## Figure 1: fitting error vs number of modes (MI reordering)
 
 ![Figure 1]({output_names(suffix)[0]})
 
-Input: {fig1.source}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
+Input: {source}. Fitting error dPhi(n) = mean over the pupil of |Phi_n - Phi_ref|^2
 with Phi_ref the full {fig1.n_modes}-mode reconstruction, in waves^2 (64-pixel pupil; MI
 by the histogram estimator; per-frame orderings use every pixel of the frame, pooled
 orderings {POOLED_BUDGET} (frame, pixel) samples, seed 0). Curves: Zernike standard order

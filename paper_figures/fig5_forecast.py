@@ -46,6 +46,7 @@ from paper_figures._common import (
     prepared_log,
     save_png_pdf,
     shipped_log,
+    source_markdown,
     suffixed,
 )
 
@@ -350,7 +351,10 @@ def plot(fig5: Figure5, out_dir: Path, *, suffix: str = "") -> list[Path]:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     png, pdf, json_name = output_names(suffix)
-    ev, x, ms, label = fig5.evaluation, fig5.x, fig5.frame_ms, fig5.label
+    from modalinfo.common.plotting import plot_text
+
+    # a --log's own mode label ("convention='labels'"), never mathtext: fix50-b
+    ev, x, ms, label = fig5.evaluation, fig5.x, fig5.frame_ms, plot_text(fig5.label)
     json_path = ev.to_json(out_dir / json_name, overwrite=True)
 
     fig = Figure(figsize=(16, 8.5))
@@ -467,7 +471,8 @@ def _log_words(source: str) -> dict[str, str]:
     kind = shipped_log(source)
     if kind is not None:
         return _LOG_WORDS[kind]
-    return {"increments": f"your log {source}", "origin": f"This is your log {source}"}
+    shown = source_markdown(source)
+    return {"increments": f"your log {shown}", "origin": f"This is your log {shown}"}
 
 
 #: why the wavefront gain of the linear extrapolation can disagree with the mean of the
@@ -501,6 +506,7 @@ def _increment_words(mean_rho: str) -> str:
 def report(fig5: Figure5, *, suffix: str = "") -> str:
     """Figure 5's section of the report (Markdown); the image is the ``suffix`` one."""
     what = _log_words(fig5.source)
+    source = source_markdown(fig5.source)  # the name as shown, in code (fix50-b)
     # the policy and its counts, not only on stderr (round 33 PART b, B31)
     outliers = f"\n**Outliers.** {fig5.outliers.rstrip('.')}.\n" if fig5.outliers else ""
     ev, label, units = fig5.evaluation, fig5.label, fig5.units
@@ -555,7 +561,7 @@ def report(fig5: Figure5, *, suffix: str = "") -> str:
 
 ![Figure 5]({output_names(suffix)[0]})
 {quick}
-Input: {fig5.source}, {fig5.n_frames} frames x {fig5.n_modes} modes at {rate_text}
+Input: {source}, {fig5.n_frames} frames x {fig5.n_modes} modes at {rate_text}
 (1 frame = {ms:.3g} {t_unit}). Panels (a)-(c) show the first logged mode, **{label}**
 (tip): the paper's caption says "Zernike 1", which in Noll's numbering is piston, a mode
 no wavefront sensor measures, so we take the first mode the log contains.

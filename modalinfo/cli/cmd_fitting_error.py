@@ -213,14 +213,16 @@ def run(args: argparse.Namespace) -> int:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from modalinfo.common.plotting import drawable_rc
+        from modalinfo.common.plotting import drawable_rc, plot_text
         from modalinfo.ordering.compare import save_figure
 
         with drawable_rc():  # the user's matplotlibrc, less what cannot draw here
             fig, ax = plt.subplots(figsize=(7, 4.5))
             where = ("frame average" if comp.frame is None
                      else f"frame {getattr(args, 'file_frame', comp.frame)}")
-            plot_comparison(comp, ax, target=args.target, title=f"{args.log.name}: {where}")
+            # the name as shown, never mathtext ("$x$.npz"): fix50-b
+            plot_comparison(comp, ax, target=args.target,
+                            title=f"{plot_text(args.log.name)}: {where}")
             try:
                 save_figure(fig, args.plot, overwrite=args.overwrite)
             finally:

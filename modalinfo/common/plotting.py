@@ -19,12 +19,13 @@ and why. Every other setting of the user's (colours, styles, line widths) is kep
 from __future__ import annotations
 
 import contextlib
+import os
 import shutil
 from collections.abc import Iterator
 
 from modalinfo.common.quiet import warn
 
-__all__ = ["drawable_rc", "rc_overrides"]
+__all__ = ["drawable_rc", "plot_text", "rc_overrides"]
 
 #: warnings already given in this process (one per problem, however many figures)
 _WARNED: set[str] = set()
@@ -46,6 +47,35 @@ def _found(family: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+def plot_text(text: str | os.PathLike) -> str:
+    r"""Return a user's text (a file name, a mode label) for a matplotlib title or label.
+
+    Drawn raw, a name holding two ``$`` (``$x$.npz``) was typeset as mathtext (an
+    italic *x*), one that is not valid mathtext (``a$^$b``) stopped the drawing with a
+    ``ValueError``, and a control character showed as a box or split the title (stop
+    56, fix49-c's left item). Here the text is
+    :func:`modalinfo.common.files.shown_name`'s one printable line (``\n``, ``\xNN``,
+    ``\\``) with every ``$`` written ``\$``, which matplotlib draws as a ``$`` and never
+    reads as mathtext (``matplotlib.cbook.is_math_text`` counts unescaped ``$`` only).
+    Not for ``text.usetex: True`` with a LaTeX installation, where TeX reads ``_``,
+    ``%``, ``#`` ... too.
+
+    Parameters
+    ----------
+    text : str or os.PathLike
+        The user's text as given.
+
+    Returns
+    -------
+    str
+        The text to hand to ``set_title`` / ``set_xlabel`` / ``set_ylabel`` (and to join
+        with the package's own words, which hold no ``$``).
+    """
+    from modalinfo.common.files import shown_name
+
+    return shown_name(text).replace("$", "\\$")
 
 
 def rc_overrides() -> dict:

@@ -596,6 +596,8 @@ class ForecastEvaluation:
         """
         import matplotlib.pyplot as plt
 
+        from modalinfo.common.plotting import plot_text
+
         k = self.labels.index(mode) if isinstance(mode, str) else int(mode)
         h0 = int(self.horizons[0])
         n = min(check_int(n_frames, "n_frames", minimum=1), self.one_step.shape[1])
@@ -611,7 +613,8 @@ class ForecastEvaluation:
             ax.plot((self.origins[:n] + h0) * scale, self.one_step[i, :n, k], ".", ms=3,
                     label=f"{name} (h={h0})")
         ax.set_xlabel("time [ms]" if self.rate else "frame")
-        ax.set_ylabel(f"{self.labels[k]} [{self.units}]")
+        # a log's own label ("convention='labels'"), never mathtext: fix50-b
+        ax.set_ylabel(f"{plot_text(self.labels[k])} [{self.units}]")
         ax.legend(fontsize=7, ncol=2)
         return ax
 

@@ -37,7 +37,6 @@ over persistence where ``alpha = 0`` gains 48-933, fix48-c); GCV takes 0 there a
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import qr
 
 from modalinfo.common.validation import check_int, check_real
 from modalinfo.forecast._kernels import rls_var_filter, var_filter
@@ -55,9 +54,12 @@ GCV_GRID = (0.0, *(10.0 ** (0.5 * k) for k in range(-20, 1)))
 #: duplicated.
 _OLS_RCOND = float(np.sqrt(np.finfo(float).eps))
 
-#: Elements (float64) of each row block :func:`_lag_qr` stacks under its triangle (2 MiB;
-#: at least ``2 (k + M)`` rows).
+#: Elements (float64) of each row block :func:`_lag_qr` puts under its triangle (2 MiB,
+#: whatever the number of columns; at least one row).
 _QR_ELEMENTS = 2 ** 18
+
+#: Block size of LAPACK's ``tpqrt`` (its ``T`` factor: ``nb x n``).
+_QR_NB = 64
 
 
 def _lagged(Xc: np.ndarray, order: int) -> tuple[np.ndarray, np.ndarray]:
@@ -71,29 +73,41 @@ def _lag_qr(Z: np.ndarray, Y: np.ndarray, scale: np.ndarray, columns=slice(None)
             targets=slice(None)) -> np.ndarray:
     """``R (n, n)`` of the QR factorisation of ``[Z[:, columns] / scale, Y[:, targets]]``.
 
-    ``n = k + M`` columns. Tall-skinny QR by row blocks: the triangle so far is stacked
-    on the next ``max(n, _QR_ELEMENTS / n)`` rows and factorised again in place
-    (Householder, LAPACK's ``geqrf`` on the Fortran-ordered block, no copy), so nothing
-    of ``T`` rows is allocated beyond the caller's ``Z`` and ``Y``; backward stable as
-    one QR of the whole matrix is (the Gram matrix ``Zs^T Zs`` would square the condition
-    number, 8e5 on round 47's smooth log and 8e13-3e16 with a mode nearly or exactly
-    repeated, and lose the small singular values GCV and the test for ``alpha = 0`` read).
+    ``n = k + M`` columns. Tall-skinny QR by row blocks: each block of ``max(1,
+    _QR_ELEMENTS / n)`` rows is written (scaled, the chosen columns) into one
+    Fortran-ordered buffer and folded into the ``n x n`` triangle by LAPACK's ``tpqrt``
+    (the QR of a triangle stacked on a rectangle, Householder, both updated in place), so
+    nothing of ``T`` rows is allocated beyond the caller's ``Z`` and ``Y``; backward
+    stable as one QR of the whole matrix is (the Gram matrix ``Zs^T Zs`` would square the
+    condition number, 8e5 on round 47's smooth log and 8e13-3e16 with a mode nearly or
+    exactly repeated, and lose the small singular values GCV and the test for ``alpha =
+    0`` read). The rows of ``R`` are those of any QR of the matrix up to their signs.
+
+    fix49-b stacked the triangle on ``max(n, 2^18 / n)`` rows and factorised the whole
+    ``2n x n`` block with ``geqrf`` (and copied the triangle out): beyond ``n = 512`` the
+    block alone was ``16 n^2`` bytes (64 MB for the 400-mode latency fit's ``n = 2000``),
+    tracemalloc's peak of ``_gcv_ridge`` 131 MB there; now the triangle (``8 n^2``), a
+    2 MiB block and the ``tpqrt`` work arrays (fix50-b).
     """
+    from scipy.linalg.lapack import dtpqrt
+
     n_rows = Z.shape[0]
     k = scale.size
     n = k + Y[:1, targets].shape[1]
-    step = max(n, _QR_ELEMENTS // n)
-    R = np.zeros((0, n))
+    R = np.zeros((n, n), order="F")
+    if n == 0:
+        return R
+    step = max(1, _QR_ELEMENTS // n)
+    block = np.empty((min(step, n_rows), n), order="F")
+    nb = min(n, _QR_NB)
     for start in range(0, n_rows, step):
         stop = min(start + step, n_rows)
-        block = np.empty((R.shape[0] + stop - start, n), order="F")
-        block[:R.shape[0]] = R
-        np.divide(Z[start:stop, columns], scale, out=block[R.shape[0]:, :k])
-        block[R.shape[0]:, k:] = Y[start:stop, targets]
-        R = qr(block, overwrite_a=True, mode="raw", check_finite=False)[1]
-        del block  # freed before the next block is allocated
-    if R.shape[0] < n:  # fewer rows than columns: the missing rows of R are 0
-        R = np.vstack([R, np.zeros((n - R.shape[0], n))])
+        rows = block[: stop - start]  # the last block: a view, copied by the wrapper
+        np.divide(Z[start:stop, columns], scale, out=rows[:, :k])
+        rows[:, k:] = Y[start:stop, targets]
+        R, _, _, info = dtpqrt(0, nb, R, rows, overwrite_a=1, overwrite_b=1)
+        if info != 0:  # an argument LAPACK refuses: cannot happen with these shapes
+            raise RuntimeError(f"LAPACK dtpqrt refused argument {-info}")
     return R
 
 
@@ -247,9 +261,10 @@ class MultivariatePredictor(Predictor):
         matrices. tracemalloc's peak: 3.0-3.2, 5.1-5.7 and 9.4-11.1 copies at orders
         2, 4 and 8 (3,000 and 8,000 samples of 10 and 27 modes, left19-est). With
         ``alpha="gcv"`` the QR factorisation of the scaled lags and targets by row blocks
-        (``_lag_qr``) adds a block of ``min(T, max(n, 2^18 / n)) + n`` rows of ``n = (order
-        + 1) M`` columns, factorised in place, and two ``n x n`` triangles, whatever ``T``:
-        2-4 MiB up to ``n = 512``, ``32 n^2`` bytes beyond. tracemalloc's peak 3.3, 5.3
+        (``_lag_qr``) adds a block of ``min(T, max(1, 2^18 / n))`` rows of ``n = (order +
+        1) M`` columns (2 MiB), the ``n x n`` triangle and ``tpqrt``'s ``64 x n`` factor,
+        counted here as two triangles, whatever ``T`` (fix50-b; fix49-b's ``2n x n`` block
+        was ``16 n^2`` bytes beyond ``n = 512``). tracemalloc's peak 3.3, 5.3
         and 9.5 copies of the history at orders 2, 4 and 8 on 40,000 samples of 27 modes
         (fixed alpha: 3.0, 5.1, 9.2), 6.6, 10.6 and 18.6 on 3,000 of 10, where the block
         is the whole history (fix49-b; stop 55's SVD of the scaled lags added ``2 order +
@@ -260,7 +275,7 @@ class MultivariatePredictor(Predictor):
         if not isinstance(self.alpha, str):
             return base
         n = k + n_modes
-        rows = min(n_samples, max(n, _QR_ELEMENTS // n)) + n
+        rows = min(n_samples, max(1, _QR_ELEMENTS // n))
         return base + 8 * (rows * n + 2 * n * n)
 
     def _memory(self, params):

@@ -42,7 +42,7 @@ from modalinfo.io.files import LogFormatError
 
 __all__ = [
     "mode_columns", "set_timestamps", "time_kind", "time_arrays", "mode_arrays", "TIME_UNITS",
-    "UNIT_WORDS", "unit_word", "unit_text", "column_units", "float_columns",
+    "UNIT_WORDS", "unit_word", "unit_text", "column_units", "float_columns", "FITS_UNITS",
 ]
 
 #: Unit words a file may give its coefficients -> (our unit, factor to it). Any other
@@ -61,6 +61,16 @@ UNIT_WORDS = {
     "m": ("nm", 1e9), "meter": ("nm", 1e9), "meters": ("nm", 1e9), "metre": ("nm", 1e9),
     "metres": ("nm", 1e9),
 }
+
+#: our units that the FITS standard spells (FITS 4.0, section 4.3, tables 3-5: the radian
+#: ``rad``, the metre ``m`` with the prefixes ``n`` and ``u``), written as ``BUNIT``. A
+#: phase in waves (wavelengths) has no FITS unit: ``BUNIT = 'waves'`` was not
+#: standard-compliant (``astropy.units.Unit`` refuses it; round 48 PART b, O56), so such a log
+#: has no ``BUNIT``; ``MI_UNITS`` names the units of every log we write. Our reader takes
+#: the units from ``MI_JSON``; a FITS file of another writer with ``BUNIT = 'waves'`` is
+#: still read in waves. AOT files (:func:`modalinfo.io.aot.write_aot`) follow the same
+#: rule (fix50-b).
+FITS_UNITS = ("rad", "nm", "um")
 
 # a unit suffix on a column name: "Z2 [nm]", "Z2 (nm)", "Z2_nm", "Z2/nm"
 _UNIT_SUFFIX = re.compile(

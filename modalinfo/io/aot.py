@@ -48,7 +48,7 @@ import numpy as np
 from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.common.sizes import format_size
-from modalinfo.io._columns import UNIT_WORDS, unit_word
+from modalinfo.io._columns import FITS_UNITS, UNIT_WORDS, unit_word
 from modalinfo.io._common import (
     build_log,
     dumps,
@@ -90,6 +90,9 @@ _JSON_KEY = "MI_JSON"
 _LABELS_KEY = "MI_MODES"
 #: closedloop's export: the wavelength [m] of the coefficients' phase (rad)
 _WAVELENGTH_KEY = "MI_WAVEL"
+#: card of the coefficient image naming the units of every log :func:`write_aot` writes,
+#: as ``modalinfo.io.fits`` writes it: a log in waves has no ``BUNIT`` (no FITS unit)
+_UNITS_KEY = "MI_UNITS"
 #: AOT ``BUNIT`` spellings of a coefficient image -> (our unit, factor to it): the words
 #: every foreign reader knows (:data:`modalinfo.io._columns.UNIT_WORDS`). Any other unit
 #: (``rad/s``, ``V``, ``pix``, ``furlong``...) is refused unless the caller states the units.
@@ -508,6 +511,13 @@ def _card_wavelength(lp) -> float | None:
     return value if value is not None and low <= value <= high else None
 
 
+def _card_units(lp) -> str | None:
+    """Return the coefficient image's ``MI_UNITS`` card (:func:`write_aot`'s), or None."""
+    cards = getattr(lp.modal_coefficients, "metadata", None) or []
+    raw = next((m.value for m in cards if getattr(m, "key", None) == _UNITS_KEY), None)
+    return raw if isinstance(raw, str) else None
+
+
 def _card_labels(lp, n_cols: int | None, path: Path) -> list[str] | None:
     """Return the labels of the coefficient image's ``MI_MODES`` card, or None (no card).
 
@@ -677,6 +687,9 @@ def _stored_from_system(system, lp, loops, path, coeffs, origin, stamps, frames,
     meta["coefficients"] = origin
     stored: dict[str, Any] = {"metadata": meta, "timestamps": stamps}
     unit = getattr(lp.modal_coefficients, "unit", None)
+    if not (isinstance(unit, str) and unit.strip()):
+        # no BUNIT: write_aot's MI_UNITS card (a log in waves), read as BUNIT is
+        unit = _card_units(lp)
     if isinstance(unit, str) and unit.strip():
         meta["aot_unit"] = unit.strip()
         known = unit_word(unit)
@@ -1044,7 +1057,11 @@ def write_aot(log: ModalLog, path, *, overwrite: bool = False, basis=None,
             extra_cards[_LABELS_KEY] = json.dumps(names, separators=(",", ":"))
         pupil_mask = basis.pupil.mask
         diameter = diameter if diameter is not None else float(basis.pupil.diameter)
-    units = log.units
+    # BUNIT only for a unit FITS 4.0 section 4.3 spells (rad, nm, um): BUNIT = 'waves'
+    # was not one (astropy.units.Unit refuses it); MI_UNITS names the units of every log
+    # (stop 56's left item: fix49-c's rule for FITS files, here for AOT; fix50-b)
+    units = log.units if log.units in FITS_UNITS else None
+    extra_cards[_UNITS_KEY] = log.units
     header = dumps(log_header(log, checksum=False))
     spec = LoopSpec(
         uid=str(loop), sensor=str(wfs_meta.get("uid", "wfs")),

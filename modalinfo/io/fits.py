@@ -36,6 +36,7 @@ import numpy as np
 from modalinfo.common.files import as_path, atomic_write, check_readable, quoted
 from modalinfo.common.quiet import catching_warnings
 from modalinfo.io._columns import (
+    FITS_UNITS,
     column_units,
     float_columns,
     mode_columns,
@@ -114,14 +115,6 @@ def write_fits(log: ModalLog, path, *, overwrite: bool = False) -> Path:
     )
 
 
-#: our units that the FITS standard spells (FITS 4.0, section 4.3, tables 3-5: the radian
-#: ``rad``, the metre ``m`` with the prefixes ``n`` and ``u``), written as ``BUNIT``. A
-#: phase in waves (wavelengths) has no FITS unit: ``BUNIT = 'waves'`` was not
-#: standard-compliant (``astropy.units.Unit`` refuses it; round 48 PART b, O56), so such a log
-#: has no ``BUNIT``; ``MI_UNITS`` names the units of every log we write. Our reader takes
-#: the units from ``MI_JSON``; a FITS file of another writer with ``BUNIT = 'waves'`` is
-#: still read in waves.
-FITS_UNITS = ("rad", "nm", "um")
 
 #: the comment of the CHECKSUM and DATASUM cards modalinfo writes: astropy's default
 #: ("HDU checksum updated <local clock time>") made two writes of one log differ in

@@ -289,7 +289,7 @@ def judged_run() -> Iterator[None]:
         _JUDGED.active = before
 
 
-def seconds_text(seconds: float) -> str:
+def seconds_text(seconds: float, above: float | None = None) -> str:
     """How the refusals and notes state an estimate: ``"is estimated at N s of CPU or more"``.
 
     :func:`least_ordering_seconds` is a lower bound; printed as "estimated at 8 s of CPU"
@@ -298,8 +298,31 @@ def seconds_text(seconds: float) -> str:
     46 PART a, A03a / A03c, at load 9). Since fixes 47-b the bound is 1.1-4.6x below the
     CPU measured on the module notes' grid. The command line's notes say it in the same
     words.
+
+    Whole seconds from 10 s, two significant figures below (``"2e-06 s"``, ``"0.35 s"``,
+    ``"8.4 s"``): rounded to whole seconds, ``forecast --max-seconds 1e-9`` was refused
+    as "estimated at 0 s of CPU or more ... more than --max-seconds=1e-09" (stop 56,
+    fix49-c's left item).
+
+    Parameters
+    ----------
+    seconds : float
+        The estimate [CPU s].
+    above : float, optional
+        The limit a refusal says the estimate exceeds [s]: more significant figures
+        (up to 17) until the printed estimate reads above it (8.4 s against 8.35 s).
+
+    Returns
+    -------
+    str
+        ``"is estimated at N s of CPU or more (a lower bound)"``.
     """
-    return f"is estimated at {seconds:.0f} s of CPU or more (a lower bound)"
+    digits = 2 if seconds < 10 else len(f"{seconds:.0f}")
+    text = f"{seconds:.{digits}g}"
+    while above is not None and seconds > above and float(text) <= above and digits < 17:
+        digits += 1
+        text = f"{seconds:.{digits}g}"
+    return f"is estimated at {text} s of CPU or more (a lower bound)"
 
 
 def check_ordering_seconds(seconds: float, what: str, how: str, max_seconds: float | None,
@@ -331,6 +354,11 @@ def check_ordering_seconds(seconds: float, what: str, how: str, max_seconds: flo
     if seconds <= NOTE_ORDERING_SECONDS and (max_seconds is None or seconds <= max_seconds):
         return
     if max_seconds is not None and seconds > max_seconds:
+        # the refusal's estimate reads above the limit it exceeds (fix50-b): ``what``
+        # ends with seconds_text(seconds), said again with the digits that show it
+        said = seconds_text(seconds)
+        if what.endswith(said):
+            what = what[: len(what) - len(said)] + seconds_text(seconds, above=max_seconds)
         raise ValueError(f"{what}, more than `max_seconds`={max_seconds:g}; {how}, or raise "
                          "`max_seconds` (None: no limit).")
     warn(f"{what}; {how}.", OrderingCostWarning, stacklevel=stacklevel + 1)
