@@ -572,10 +572,11 @@ def white_share(x: np.ndarray) -> float | None:
 
     rho_1 .. rho_3 need not decrease: at ~4x white noise (``c`` ~0.2, ``phi`` 0.9) they
     step down by ~0.02 against a sampling s.d. of ~0.02 at 4,000 frames, and requiring
-    the order (fix50-c) missed 6 of 20 such targets (round 49 PART a, N13). A fit over
+    the order (dropped by fix50-c) missed 6 of 20 such targets (round 49 PART a, N13;
+    68 of 200 series). A fit over
     more lags (1-5, of ``c phi^k`` by least squares) reads a clean mixture of a slow and
     a fast mode (a bidirectional pair's, rho 0.64 / 0.48 / 0.38 / 0.30 / 0.24) as 19 %
-    white and passed its floor on 6 of 20 seeds; lags 1-3 read it 17-18 % (3 + 7 of 400
+    white and passed its floor on 11 of 40 series; lags 1-3 read it 17-18 % (3 + 7 of 400
     series past the floor, as before fix50-c: the order condition never bound there).
     """
     n = x.shape[0]
