@@ -7,8 +7,10 @@ m <= 8192, every ceil(n / 8192)-th; R32-A1) and a gate base 0.01 for 0.1 (R32-A3
 passed them. Reference, computed here from the docstring with scipy / numpy only:
 the normal scores ``Phi^-1(rank / (m + 1))`` (``scipy.stats.norm.ppf``,
 ``scipy.stats.rankdata``) of the systematic subsample ``[::ceil(n / 8192)]``,
-standardised (``np.std``), ``D = max(|corr(a2, b2) - r^2|, |corr(a2, b)|, |corr(a, b2)|)``
-and the gate ``0.1 + 4 / sqrt(m)``.
+standardised (``np.std``), ``D = max(|corr(a2, b2) - r^2|, |corr(a2, b)|, |corr(a, b2)|,
+|eta2(b | a) - r^2|, |eta2(a | b) - r^2|)`` (eta2: the lag-1 mean product of one score in
+the order of the other, over m - 1 pairs; added by fix50-c) and the gate
+``0.1 + 4 / sqrt(m)``.
 """
 
 import math
@@ -32,7 +34,10 @@ def _reference(x, y):
     b = unit(stats.norm.ppf(stats.rankdata(ys) / (m + 1)))
     a2, b2 = unit(a * a), unit(b * b)
     r = np.mean(a * b)
-    d = max(abs(np.mean(a2 * b2) - r * r), abs(np.mean(a2 * b)), abs(np.mean(a * b2)))
+    b_by_a, a_by_b = b[np.argsort(a)], a[np.argsort(b)]
+    eta_b, eta_a = (float(np.mean(v[:-1] * v[1:])) for v in (b_by_a, a_by_b))
+    d = max(abs(np.mean(a2 * b2) - r * r), abs(np.mean(a2 * b)), abs(np.mean(a * b2)),
+            abs(eta_b - r * r), abs(eta_a - r * r))
     return d, m
 
 
