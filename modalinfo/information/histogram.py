@@ -1019,8 +1019,10 @@ _CONDITIONING_FLOOR = 0.01
 #: Gaussian model of :func:`histogram_conditioning_rule` (round 50 PART a). The model
 #: overstates the histogram's own excess (which bins x and y too): 0.47-0.49 for the
 #: 0.036 it read on a linear chain (noise 0.1), 0.25 for 0.046 (Y = Z^2), 0.34-0.36 for
-#: 0.126 (sin 6Z); 0.015-0.021 on a Gaussian triple whose CMI 0.112 it reads right.
-MAX_CONDITIONING_EXCESS = 0.1
+#: 0.126 (sin 6Z); 0.015-0.021 on a Gaussian triple whose CMI 0.112 it reads right, 0.135
+#: on round 11's driven pair read backwards (the map's reverse link, which the histogram
+#: does not report: tests/information/test_reverse_coupling_round11.py).
+MAX_CONDITIONING_EXCESS = 0.2
 #: Rows the per-bin model reads at most (an even stride through longer samples).
 _EXCESS_ROWS = 20_000
 

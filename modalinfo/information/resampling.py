@@ -319,8 +319,8 @@ def _residual_design(z: np.ndarray, rank_based: bool, knots: int) -> np.ndarray:
     A constant, each z column (normal scores for a rank-based estimator, values
     otherwise) and its hinges ``max(0, s - q_j)`` at the ``j / (K + 1)`` quantiles q_j:
     an additive piecewise-linear fit (de Boor's truncated-power basis of degree 1),
-    K = ``knots`` (the conditional test's :data:`RESIDUAL_KNOTS`) cut so that each term has
-    :data:`_SAMPLES_PER_TERM` samples (``knots`` = 0: the linear fit).
+    K = ``knots`` (the conditional test's ``RESIDUAL_KNOTS``) cut so that each term has
+    ``_SAMPLES_PER_TERM`` samples (``knots`` = 0: the linear fit).
     """
     from modalinfo.information.copula import copula_scores
 
@@ -344,7 +344,7 @@ def residual_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
     explains of y and breaks only the rest, so the estimator's conditioning bias (a
     histogram's bins of z leave part of z's effect on x and y) is in the null as in the
     statistic (adversarial round 11). With ``knots`` the fit is additive and piecewise
-    linear in each z column (:func:`_residual_design`), so a y that follows z
+    linear in each z column (``_residual_design``), so a y that follows z
     non-linearly keeps that dependence too: the conditional test's surrogates
     (round 50 PART a: with the linear fit, X -> Z -> Y with Y = Z^2 + noise or
     sin 6Z + noise was rejected in 40 of 40 draws by the histogram test, sin 6Z by the
@@ -365,7 +365,7 @@ def residual_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
         See :func:`rank_based_options`.
     knots : int
         Hinges per z column (0, the default: the linear fit; the conditional test's
-        surrogates use :data:`RESIDUAL_KNOTS`).
+        surrogates use ``RESIDUAL_KNOTS``).
     """
     from modalinfo.information.copula import copula_scores_ties
 
