@@ -173,7 +173,11 @@ where the rule fails and warns, fixes 45-c). The same switch applies where the c
 columns' bins lose more than 10 % of the CMI in a Gaussian model
 (:func:`~modalinfo.information.histogram.histogram_conditioning_rule`: a persistent
 target given its own past, whose histogram TE was 33-63 % low at a = 0.95-0.99, round
-10); the transfer entropy keeps the histogram there and warns.
+10); the transfer entropy keeps the histogram there and warns. The same rule judges the
+other way (round 50 PART a): where x and y both follow z inside z's bins (a Markov
+chain X -> Z -> Y, CMI 0), the bins add a CMI (0.046, 0.126, 0.036 nats at n = 4000 for
+Y = Z^2, sin 6Z and a linear chain, unwarned before); a per-bin Gaussian model
+(``histogram._within_bin_excess``) above ``MAX_CONDITIONING_EXCESS`` switches it.
 
 Significance and intervals for autocorrelated series:
 :mod:`modalinfo.information.conditional_uncertainty`; transfer entropy as a CMI of
@@ -581,8 +585,8 @@ def effective_sample_why(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> str | N
 
     ``convergence.effective_sample_rule`` (Bartlett's n_eff of the Marriott-Pope
     corrected lag-1s, the most persistent pair of columns) on x's and y's least-squares
-    residuals on z and a constant (``resampling.residual_split`` on the values: what
-    the CMI measures the dependence of; with no z, x and y themselves, so that
+    residuals on z and a constant (``resampling.residual_split`` on the values, linear:
+    what the CMI measures the dependence of; with no z, x and y themselves, so that
     ``conditional_mutual_information(x, y)`` and ``transfer_entropy(history=0)`` judge
     as :func:`~modalinfo.information.mutual_information`). The one judgement of every
     conditional road (fixes 40-a): the CMI, the transfer entropy, its map and the input
