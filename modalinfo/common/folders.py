@@ -290,8 +290,11 @@ class OutputLock:
         info = canonical_json({"pid": os.getpid(), "host": socket.gethostname(),
                                "started": time.time(), "command": self.command})
         tmp = self.path.with_name(f".lock.{os.getpid()}.{time.monotonic_ns()}.tmp")
-        tmp.write_text(info, encoding="utf-8")
         try:
+            # written inside the try: a failed write (`ulimit -f 0`: EFBIG) left the empty
+            # `.lock.<pid>.<ns>.tmp`, and with it paper_figures' new folder "as it was"
+            # (adversarial round 50 PART b, R90)
+            tmp.write_text(info, encoding="utf-8")
             for _ in range(3):  # a stale lock removed by us (or another taker) in between
                 try:
                     os.link(tmp, self.path)

@@ -145,3 +145,24 @@ def test_a_library_not_mapped_for_lack_of_memory_is_one_line(capsys):
     assert len(err) == 1 and err[0].startswith("modalinfo: error: out of memory")
     with pytest.raises(ImportError, match="No module named"):  # a broken installation
         import_refusal("modalinfo", ImportError("No module named 'scipy'"))
+
+
+def test_a_lock_that_cannot_be_written_leaves_nothing(tmp_path):
+    # R90: `ulimit -f 0; python -m paper_figures --out r90` said "'r90' is as it was"
+    # and left r90/ holding an empty `.lock.<pid>.<ns>.tmp`. Reference: the listing.
+    out = tmp_path / "out"
+    out.mkdir()
+    code = textwrap.dedent(f"""
+        import resource
+        resource.setrlimit(resource.RLIMIT_FSIZE, (0, resource.RLIM_INFINITY))
+        from modalinfo.common.folders import OutputLock
+        try:
+            OutputLock({str(out)!r}).acquire()
+        except OSError as exc:
+            print(exc.errno)
+        """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "27"  # EFBIG
+    assert list(out.iterdir()) == []
