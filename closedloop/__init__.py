@@ -79,10 +79,11 @@ except (MemoryError, OSError) as _exc:  # out of memory (ulimit -v) while numba'
     sys.exit(memory_refusal("closedloop", _exc))
 except ImportError as _exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0): the
     # command's one line and 2, as for Ctrl-C above (adversarial round 8, row e105)
-    if not _run_as_main() or "NUMBA_" not in str(_exc):
+    if not _run_as_main():
         raise
-    sys.stderr.write(f"closedloop: error: {_exc}\n")
-    sys.exit(2)
+    from modalinfo.common.startup import import_refusal
+
+    sys.exit(import_refusal("closedloop", _exc))
 
 __all__ = [
     "presets",

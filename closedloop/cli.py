@@ -121,8 +121,8 @@ def _check_resources(args, config, *, oracle: bool = False, budget_every: int | 
         return check_resources(config, args.duration, limit=_memory_limit(args),
                                oracle=oracle, budget=bool(budget_every), save=save)
     except ResourceError as exc:
-        # --memory-limit cannot lift `ulimit -v` (RLIMIT_AS): no such hint after that refusal
-        settable = "memory" in str(exc) and "RLIMIT_AS" not in str(exc)
+        # --memory-limit cannot lift `ulimit -v` / `ulimit -d`: no such hint after that refusal
+        settable = "memory" in str(exc) and "RLIMIT_" not in str(exc)
         hint = " (--memory-limit raises the limit)" if settable else ""
         raise CommandError(f"{exc}{hint}") from None
 

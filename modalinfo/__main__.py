@@ -2,6 +2,7 @@ import sys
 
 from modalinfo.common.startup import (
     exit_quietly,
+    import_refusal,
     memory_refusal,
     one_line_warnings,
     require_current_folder,
@@ -22,9 +23,6 @@ except (MemoryError, OSError) as exc:  # out of memory (ulimit -v) while loading
     code = memory_refusal("modalinfo", exc)
 except Warning as exc:  # raised as an error (-W error) while the package loads
     code = warning_refusal("modalinfo", exc)
-except ImportError as exc:  # a dependency that refuses its environment (NUMBA_NUM_THREADS=0)
-    if "NUMBA_" not in str(exc):
-        raise
-    sys.stderr.write(f"modalinfo: error: {exc}\n")
-    code = 2
+except ImportError as exc:  # NUMBA_NUM_THREADS=0, or a library not mapped (ulimit -v)
+    code = import_refusal("modalinfo", exc)
 exit_quietly(code)

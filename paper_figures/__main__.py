@@ -424,12 +424,34 @@ def main(argv: list[str] | None = None) -> int:
         return exc.code if isinstance(exc, _Terminated) else EXIT_INTERRUPTED
     except (OSError, MemoryError) as exc:
         what = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        say(f"{prog}: error: {type(exc).__name__}: {what or 'no detail'}"
+        say(f"{prog}: error: {type(exc).__name__}: {what or 'no detail'}{_limit_note(exc)}"
             f"; {quoted(args.out)} is as it was\n")
         return EXIT_FAILURE
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+
+
+def _limit_note(exc: BaseException) -> str:
+    """Name the process limit behind a write past ``ulimit -f`` or a lack of memory.
+
+    "OSError: File too large" under ``ulimit -f 100`` and "MemoryError: Unable to
+    allocate 11.4 MiB" under ``ulimit -d 300000`` named no limit (adversarial round 50
+    PART b, R85, R88); the other commands' lines name them.
+    """
+    import errno
+
+    from modalinfo.common.files import file_size_limit_text
+    from modalinfo.common.memory import memory_limits_text
+
+    if isinstance(exc, OSError) and exc.errno == errno.EFBIG:
+        limit = file_size_limit_text()
+    elif isinstance(exc, MemoryError) or (isinstance(exc, OSError)
+                                          and exc.errno == errno.ENOMEM):
+        limit = memory_limits_text()
+    else:
+        return ""
+    return f" ({limit}: raise it)" if limit else ""
 
 
 def _prog() -> str:
@@ -644,6 +666,7 @@ def _make(args, modules, loaded, logs, needs_log, stage: Path, record: dict) -> 
 if __name__ == "__main__":
     from modalinfo.common.startup import (
         exit_quietly,
+        import_refusal,
         memory_refusal,
         one_line_warnings,
         require_current_folder,
@@ -661,9 +684,6 @@ if __name__ == "__main__":
         code = memory_refusal(_prog(), exc)
     except Warning as exc:  # raised as an error (-W error) while the package loads
         code = warning_refusal(_prog(), exc)
-    except ImportError as exc:  # numba refusing its environment (NUMBA_NUM_THREADS=0)
-        if "NUMBA_" not in str(exc):
-            raise
-        sys.stderr.write(f"{_prog()}: error: {exc}\n")
-        code = 2
+    except ImportError as exc:  # NUMBA_NUM_THREADS=0, or a library not mapped (ulimit -v)
+        code = import_refusal(_prog(), exc)
     exit_quietly(code)

@@ -271,10 +271,13 @@ def run(args: argparse.Namespace) -> int:
             + (f"; frame pairs in reversed order in {swapped}" if swapped else "")
             + f"; columns quality_* of {quoted(result.csv_path)}); {_policies_applied(flagged)}\n")
     if result.n_error:
+        from modalinfo.common.tasks.runner import lost_note
+
         lost = sum(r.get("status") == "lost" for r in result.rows)
         sys.stderr.write(
             f"modalinfo batch: {result.n_error} of {len(result.rows)} rows failed"
-            + (f" ({lost} lost with their workers: run again to retry them)" if lost else "")
+            + (f" ({lost} lost with their workers: run again to retry them){lost_note()}"
+               if lost else "")
             + f"; see {quoted(result.csv_path)}\n")
     if refused is not None:
         raise refused

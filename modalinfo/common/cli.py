@@ -413,28 +413,27 @@ def _show_bad_bytes() -> list:
 
 
 def _memory_advice(args: argparse.Namespace) -> str:
-    """Say what may help after a ``MemoryError``: the address-space limit, the workers.
+    """Say what may help after a ``MemoryError``: the process memory limits, the workers.
 
-    Under ``ulimit -v`` the limit binds the command and each worker of the local Dask
-    cluster it starts (``batch``, ``sweep``: the options ``--workers`` and
-    ``--threads-per-worker``); "use a smaller log" alone named neither (Leftovers
+    Under ``ulimit -v`` (or ``ulimit -d``) the limit binds the command and each worker
+    of the local Dask cluster it starts (``batch``, ``sweep``: the options ``--workers``
+    and ``--threads-per-worker``); "use a smaller log" alone named neither (Leftovers
     16-dask, limit L4).
     """
-    import math
-
-    from modalinfo.common.memory import address_space_limit_bytes
-    from modalinfo.common.sizes import format_size
+    from modalinfo.common.memory import memory_limits_text
 
     local_workers = hasattr(args, "workers") and getattr(args, "scheduler", None) is None
-    limit = address_space_limit_bytes()
+    limits = memory_limits_text()
     helps = ["a smaller log or smaller options"]
     if local_workers:
         helps.insert(0, "fewer local workers or threads (--workers 1 --threads-per-worker 1)")
-    if not math.isfinite(limit):
+    if not limits:
         return "use " + " or ".join(helps)
+    # ulimit -d binds as ulimit -v does: "use a smaller log" alone, after a 430 kB log
+    # ran out of memory under it, named no cause (adversarial round 50 PART b, R03)
     whom = "this process and each local Dask worker" if local_workers else "this process"
-    return (f"the address-space limit (ulimit -v, RLIMIT_AS) is {format_size(limit)} for "
-            f"{whom}: raise it, or use " + " or ".join(helps))
+    raise_it = "raise it" if " and " not in limits else "raise them"
+    return f"{limits} for {whom}: {raise_it}, or use " + " or ".join(helps)
 
 
 def _dispatch(parser: argparse.ArgumentParser, argv: list[str] | None, prog: str,

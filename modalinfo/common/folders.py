@@ -21,16 +21,21 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-import re
-import shutil
 import socket
-import sys
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from modalinfo.common.files import _umask, quoted, writable_free_bytes
+# the staging rules live with atomic_write, whose temporary files they clean too
+from modalinfo.common.files import (  # noqa: F401 - re-exported names
+    _umask,
+    clean_staging,
+    pid_alive,
+    quoted,
+    staging_prefix,
+    writable_free_bytes,
+)
 from modalinfo.common.sizes import format_size
 
 __all__ = [
@@ -285,8 +290,11 @@ class OutputLock:
         info = canonical_json({"pid": os.getpid(), "host": socket.gethostname(),
                                "started": time.time(), "command": self.command})
         tmp = self.path.with_name(f".lock.{os.getpid()}.{time.monotonic_ns()}.tmp")
-        tmp.write_text(info, encoding="utf-8")
         try:
+            # written inside the try: a failed write (`ulimit -f 0`: EFBIG) left the empty
+            # `.lock.<pid>.<ns>.tmp`, and with it paper_figures' new folder "as it was"
+            # (adversarial round 50 PART b, R90)
+            tmp.write_text(info, encoding="utf-8")
             for _ in range(3):  # a stale lock removed by us (or another taker) in between
                 try:
                     os.link(tmp, self.path)
@@ -350,19 +358,6 @@ def _process_start_time(pid: int) -> float | None:
         return boot + ticks / os.sysconf("SC_CLK_TCK")
     except (OSError, ValueError, IndexError, StopIteration):
         return None
-
-
-def pid_alive(pid: int) -> bool:
-    """Tell whether process ``pid`` exists on this host (True when unsure: no permission)."""
-    if pid <= 0:
-        return False
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # someone else's process: alive
-        return True
-    return True
 
 
 def _check_foreign(out_dir: Path, marker: str, also: Sequence[str] = ()) -> None:
@@ -430,92 +425,3 @@ def locked_out_dir(out_dir: Path, command: str, *, marker: str | None = "rows",
         except OSError:
             left = []
         remove_empty(([] if left else ours) + created)
-
-
-#: the end of a staging name (before its suffix) that records its creator:
-#: ``<pid>-<random>`` (``random`` is tempfile's: letters, digits, ``_``)
-_PID_NAMED = re.compile(r"(\d+)-[a-z0-9_]+$")
-
-
-def staging_prefix(prefix: str) -> str:
-    """Return the name start of a new staging folder or file: ``<prefix><pid>-``.
-
-    Given to ``tempfile.mkdtemp`` / ``mkstemp`` (which add a random part), it records
-    the creating process, so :func:`clean_staging` can tell when it is left by a run
-    that is over.
-    """
-    return f"{prefix}{os.getpid()}-"
-
-
-def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
-                  local: bool = True) -> list[str]:
-    """Remove staging left in ``folder`` by runs that are provably over; name the others.
-
-    An entry (folder or file, not a symbolic link) named ``<prefix><rest><suffix>``:
-
-    - ``rest`` = ``<pid>-<random>`` (:func:`staging_prefix`) or ``<name>.<pid>-<random>``
-      (an atomic write's temporary file): removed when ``local`` and no live process on
-      this host has that pid (:func:`pid_alive`: alive when unsure) and it is not this
-      one: its creator is gone;
-    - any other ``rest`` (staging of earlier versions, which recorded no pid): named,
-      never removed. An output folder's lock does not prove such a run over: the
-      versions that wrote these names include some that took no lock
-      (``python -m paper_figures`` before its lock, every stand-alone figure script,
-      ``modalinfo batch`` before its lock, ``modalinfo forecast``), so a live one may
-      still write there. One line on stderr names the entries and the command that
-      removes them once no such run is going.
-
-    One line on stderr says what was removed. Returns the names removed.
-
-    Parameters
-    ----------
-    folder : pathlib.Path
-        The folder the run stages in (absent: nothing to do).
-    prefix, suffix : str
-        What staging names start and end with (``".out.partial-"``, ``""``).
-    command : str
-        Starts the lines (``"paper_figures"``).
-    local : bool
-        Whether only processes of this host write there. False (a sweep's ``runs/``,
-        written by Dask workers that may run elsewhere and outlive a killed client):
-        a pid proves nothing, every entry is named and none removed.
-    """
-    folder = Path(folder)
-    removed, unknown = [], []
-    try:
-        entries = sorted(folder.iterdir())
-    except OSError:  # absent or unreadable: no staging to clean
-        return removed
-    for path in entries:
-        name = path.name
-        if (len(name) <= len(prefix) + len(suffix) or not name.startswith(prefix)
-                or not name.endswith(suffix) or path.is_symlink()):
-            continue
-        rest = name[len(prefix):len(name) - len(suffix)]
-        pid_named = _PID_NAMED.search(rest) if local else None
-        if pid_named and pid_named.end() == len(rest) and (
-                pid_named.start() == 0 or rest[pid_named.start() - 1] == "."):
-            pid = int(pid_named.group(1))
-            if pid == os.getpid() or pid_alive(pid):
-                continue
-        else:
-            unknown.append(path)
-            continue
-        if path.is_dir():
-            shutil.rmtree(path, ignore_errors=True)
-        else:
-            with contextlib.suppress(OSError):
-                path.unlink()
-        if not path.exists():
-            removed.append(name)
-    if removed:
-        print(f"{command}: removed {len(removed)} staging item(s) of runs that ended "
-              f"without cleaning up (killed) in {quoted(folder)}: {', '.join(removed)}",
-              file=sys.stderr, flush=True)
-    if unknown:
-        listed = " ".join(quoted(p) for p in unknown)
-        print(f"{command}: note: {len(unknown)} staging item(s) in {quoted(folder)} were left by "
-              f"a run that recorded no process id (an earlier version, or a worker "
-              f"elsewhere), so whether it is over cannot be told; once no such run is "
-              f"going, remove them: rm -r {listed}", file=sys.stderr, flush=True)
-    return removed

@@ -72,7 +72,7 @@ _NO_CACHE_WARNED = False
 def _njit(func, args: tuple, options: dict):
     """``numba.njit(*args, **options)(func)``, compiled without a cache if none can be found."""
     try:
-        return nb.njit(*args, **options)(func)
+        return _cache_writes_best_effort(nb.njit(*args, **options)(func))
     except RuntimeError as exc:
         # numba's FunctionCache raises this at decoration when none of its locators (the
         # source's __pycache__, NUMBA_CACHE_DIR, the user cache folder) can be written
@@ -81,6 +81,42 @@ def _njit(func, args: tuple, options: dict):
             raise
     _warn_no_cache(func)
     return nb.njit(*args, **{**options, "cache": False})(func)
+
+
+#: Whether the failed-cache-write warning was given in this process (it is given once).
+_WRITE_WARNED = False
+
+
+def _cache_writes_best_effort(dispatcher):
+    """Make a failed write of ``dispatcher``'s cache a warning: the kernel still runs.
+
+    numba writes its cache index and compiled code right after a compile, and an
+    ``OSError`` there (``ulimit -f`` below the file's size: ``EFBIG``; a full disk or
+    quota) ended the command: ``ulimit -f 1; closedloop run --preset kaos`` with a fresh
+    ``NUMBA_CACHE_DIR`` refused "[Errno 27] File too large ... write a smaller output"
+    though it writes no output (adversarial round 50 PART b, R48). The compiled code is
+    in memory either way; only the next process compiles it again.
+    """
+    cache = getattr(dispatcher, "_cache", None)
+    save = getattr(cache, "save_overload", None)
+    if save is None:  # cache=False: numba's NullCache saves nothing
+        return dispatcher
+
+    def save_overload(sig, data):
+        global _WRITE_WARNED
+        try:
+            save(sig, data)
+        except OSError as exc:
+            if not _WRITE_WARNED:
+                _WRITE_WARNED = True
+                warn(RuntimeWarning(
+                    f"numba could not write its cache of compiled kernels ({exc.strerror or exc}"
+                    f"{', ' + repr(exc.filename) if exc.filename else ''}): this run goes on; "
+                    "the next one compiles them again (free space, raise `ulimit -f`, or set "
+                    "NUMBA_CACHE_DIR to a writable folder)"), stacklevel=2)
+
+    cache.save_overload = save_overload
+    return dispatcher
 
 
 def _warn_no_cache(func) -> None:

@@ -10,8 +10,9 @@ from __future__ import annotations
 import math
 import os
 
-__all__ = ["address_space_left_bytes", "available_memory_bytes", "free_memory_bytes",
-           "machine_memory_bytes", "usable_memory_bytes"]
+__all__ = ["address_space_left_bytes", "available_memory_bytes", "data_left_bytes",
+           "data_limit_bytes", "free_memory_bytes", "machine_memory_bytes",
+           "memory_limits_text", "usable_memory_bytes"]
 
 
 def available_memory_bytes() -> float:
@@ -35,7 +36,8 @@ def free_memory_bytes() -> float:
     """Memory this process may use now [bytes]: free pages capped by its address space.
 
     The free physical pages (``os.sysconf``), capped by the address space the process
-    may still map (:func:`address_space_left_bytes`); ``inf`` where neither is known.
+    may still map (:func:`address_space_left_bytes`) and by the data-segment limit's
+    room (:func:`data_left_bytes`); ``inf`` where none is known.
     The measure the library's guard rails refuse work against before they allocate
     (closedloop's run estimate reads ``MemAvailable`` instead, a larger figure that
     counts reclaimable caches). The cap: under
@@ -48,7 +50,7 @@ def free_memory_bytes() -> float:
         free = float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):  # not available on this platform
         free = math.inf
-    return min(free, address_space_left_bytes())
+    return min(free, address_space_left_bytes(), data_left_bytes())
 
 
 def machine_memory_bytes() -> float:
@@ -102,10 +104,79 @@ def address_space_left_bytes() -> float:
 def usable_memory_bytes() -> float:
     """Bytes this process may still allocate [bytes], the smaller of two sides.
 
-    The machine's (:func:`available_memory_bytes`) and the address-space limit's
-    (:func:`address_space_left_bytes`, memory-mapped files included).
+    The machine's (:func:`available_memory_bytes`) and the process limits': the
+    address space's (:func:`address_space_left_bytes`, memory-mapped files included)
+    and the data segment's (:func:`data_left_bytes`, ``ulimit -d``).
 
     What a refusal before work compares its estimate with (the command lines' memory
     checks, the AOT reader and ``closedloop``'s AOT export).
     """
-    return min(available_memory_bytes(), address_space_left_bytes())
+    return min(available_memory_bytes(), address_space_left_bytes(), data_left_bytes())
+
+
+def _soft_limit(name: str) -> float:
+    """Return the soft value of ``resource.<name>`` [bytes]; ``inf`` without one or unknown."""
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(getattr(resource, name))
+    except (ImportError, AttributeError, OSError, ValueError):  # not on this platform
+        return math.inf
+    if soft == resource.RLIM_INFINITY or soft <= 0:
+        return math.inf
+    return float(soft)
+
+
+def _status_bytes(key: str) -> float:
+    """Return a ``kB`` line of ``/proc/self/status`` (``VmData``) [bytes]; 0 if unknown."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith(key + ":"):
+                    return float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0.0
+
+
+def data_limit_bytes() -> float:
+    """Return the data-segment limit of this process [bytes]: ``RLIMIT_DATA``'s soft value.
+
+    ``inf`` without a limit. Set by ``ulimit -d`` or a batch system; on Linux (4.7 on) it
+    caps the heap and every private writable mapping, so NumPy's large arrays too: under
+    ``ulimit -d 3000000`` (2.9 GiB) ``closedloop run --preset est-mcao`` (estimate 6.36
+    GiB) passed the address-space check, built for 18 s of CPU and then ran out of
+    memory, and ``modalinfo info`` of a 430 kB log said "use a smaller log"
+    (adversarial round 50 PART b, R03, R05).
+    """
+    return _soft_limit("RLIMIT_DATA")
+
+
+def data_left_bytes() -> float:
+    """Room left under ``RLIMIT_DATA`` [bytes]: the limit less ``VmData``; ``inf`` without one.
+
+    ``VmData`` is the figure Linux checks the limit against (the heap and the private
+    writable mappings); read-only file mappings (a memory-mapped log) do not count.
+    """
+    soft = data_limit_bytes()
+    if not math.isfinite(soft):
+        return math.inf
+    return max(0.0, soft - _status_bytes("VmData"))
+
+
+def memory_limits_text() -> str:
+    """Name the process memory limits set, with their values; ``""`` when none is.
+
+    ``"the address-space limit (ulimit -v, RLIMIT_AS) is 1.00 GiB"``, the data-segment
+    limit (``ulimit -d``) likewise, joined by "and": what an out-of-memory line says
+    besides "use a smaller log".
+    """
+    from modalinfo.common.sizes import format_size
+
+    parts = []
+    for label, limit in (("address-space limit (ulimit -v, RLIMIT_AS)",
+                          address_space_limit_bytes()),
+                         ("data-segment limit (ulimit -d, RLIMIT_DATA)", data_limit_bytes())):
+        if math.isfinite(limit):
+            parts.append(f"the {label} is {format_size(limit)}")
+    return " and ".join(parts)

@@ -13,8 +13,9 @@ import errno
 import os
 import sys
 
-__all__ = ["command_line_text", "exit_quietly", "memory_refusal", "one_line_format",
-           "one_line_warnings", "require_current_folder", "warning_refusal"]
+__all__ = ["command_line_text", "exit_quietly", "import_refusal", "memory_refusal",
+           "one_line_format", "one_line_warnings", "require_current_folder",
+           "warning_refusal"]
 
 
 def require_current_folder(prog: str) -> None:
@@ -150,9 +151,13 @@ def _out_of_memory(exc: BaseException) -> bool:
     while exc is not None and seen < 8:
         if isinstance(exc, MemoryError):
             return True
-        if isinstance(exc, OSError) and (
-            exc.errno == errno.ENOMEM or "failed to map segment" in str(exc)
-            or "cannot allocate memory" in str(exc).lower()
+        if isinstance(exc, OSError) and exc.errno == errno.ENOMEM:
+            return True
+        # the dynamic loader's words, in an OSError (ctypes, llvmlite) or in the
+        # ImportError of an extension module (SciPy's _lbfgsb under `ulimit -v 400000`:
+        # a traceback, adversarial round 50 PART b)
+        if isinstance(exc, OSError | ImportError) and (
+            "failed to map segment" in str(exc) or "cannot allocate memory" in str(exc).lower()
         ):
             return True
         exc = exc.__cause__ or exc.__context__
@@ -183,8 +188,24 @@ def memory_refusal(prog: str, exc: BaseException) -> int:
     if not _out_of_memory(exc):
         raise exc
     sys.stderr.write(f"{prog}: error: out of memory while loading the program or its data "
-                     "(a memory limit such as `ulimit -v` too low?); raise the limit or "
-                     "use a smaller log or smaller options\n")
+                     "(a memory limit such as `ulimit -v` or `ulimit -d` too low?); raise the "
+                     "limit or use a smaller log or smaller options\n")
+    return 2
+
+
+def import_refusal(prog: str, exc: ImportError) -> int:
+    """Say in one line why the package could not load; return 2, or re-raise ``exc``.
+
+    An extension module the loader could not map for lack of memory (``ulimit -v``:
+    :func:`memory_refusal`'s line) or numba refusing its environment
+    (``NUMBA_NUM_THREADS=0``: adversarial round 8, e105); any other ImportError is a
+    broken installation and keeps its traceback.
+    """
+    if _out_of_memory(exc):
+        return memory_refusal(prog, exc)
+    if "NUMBA_" not in str(exc):
+        raise exc
+    sys.stderr.write(f"{prog}: error: {exc}\n")
     return 2
 
 

@@ -101,7 +101,9 @@ class RowStore:
         data = json.dumps(_strict(row), sort_keys=True, separators=(",", ":"),
                           allow_nan=False).encode()
         try:
-            return atomic_write(self._path(key), lambda fh: fh.write(data), overwrite=True)
+            # rows/ is cleaned of killed writers' files once, when the store opens
+            return atomic_write(self._path(key), lambda fh: fh.write(data), overwrite=True,
+                                clean_killed=False)
         except FileNotFoundError:
             if self.rows_dir.is_dir():
                 raise

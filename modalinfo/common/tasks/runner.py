@@ -18,7 +18,25 @@ from modalinfo.common.tasks.rows import RowStore
 from modalinfo.common.tasks.threads import _limited_call
 from modalinfo.common.tasks.watch import PROGRESS_EVERY, WORKER_WAIT, _Heartbeat
 
-__all__ = ["STATUSES", "EngineReport", "run_tasks"]
+__all__ = ["STATUSES", "EngineReport", "lost_note", "run_tasks"]
+
+
+def lost_note() -> str:
+    """Name the memory limits a lost task's workers inherited; ``""`` when none is set.
+
+    Under ``ulimit -d 300000`` every local worker of ``batch`` and ``sweep`` died in
+    OpenBLAS's allocation, Dask gave up after four, and the row said only that the
+    workers died, the command "run again to retry them", which dies alike (adversarial
+    round 50 PART b, R09, R13). The limits are this process's, which local workers
+    inherit.
+    """
+    from modalinfo.common.memory import memory_limits_text
+
+    limits = memory_limits_text()
+    if not limits:
+        return ""
+    return (f" ({limits} in the command, which local workers inherit: a worker out of "
+            "memory under it dies again on a retry; raise it first)")
 
 #: Row statuses: a task's result, an exception inside it, or a task lost with workers.
 STATUSES = ("ok", "error", "lost")
@@ -167,7 +185,7 @@ def run_tasks(
                         row = future.result()
                     except Exception as exc:  # noqa: BLE001 - the task's workers died
                         row = {"status": "lost", "error_type": type(exc).__name__,
-                               "error_message": error_line(exc)}
+                               "error_message": error_line(exc) + lost_note()}
                     row = {**spec.labels, **row}
                     store.write(spec.key, row)
                     counts[row["status"]] += 1
