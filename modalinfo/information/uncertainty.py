@@ -404,10 +404,11 @@ def mutual_information_ci(
         bootstrap's and, iid at n <= 2,000, the delete-one jackknife's s.d. of z (n more
         estimates; Efron & Stein 1981). Measured coverage of 95 % (iid Gaussian pairs,
         B = 199, fix50-a): 0.9445 +- 0.005 at n = 200, rho = 0.6, 0.9495 at rho = 0.9,
-        0.9435 at 0.3, 0.9485 at rho = 0 (MI 0), 2,000 seeds each; 0.945 at n = 100,
-        0.951 at n = 50 (1,000 seeds). Without the jackknife (block bootstrap, n > 2,000)
-        it covered 0.936 at n = 200, rho = 0.6 and only 0.928 at rho = 0 (the bootstrap
-        of ``|r|`` folds at 0), so ``"auto"`` does not choose it there.
+        0.9435 at 0.3, 0.9485 at rho = 0 (MI 0), 2,000 seeds each; 0.945 at n = 100;
+        0.943 at n = 500, rho = 0.6 and 0.951 at n = 50 (1,000 seeds each). Without the
+        jackknife (block bootstrap, n > 2,000) it covered 0.936 at n = 200, rho = 0.6 and
+        only 0.928 at rho = 0 (the bootstrap of ``|r|`` folds at 0), so ``"auto"`` does
+        not choose it there.
         ``"normal"``: ``I -+ z_(1-a/2) s_boot``, centred on the estimate,
         spread from the bootstrap (its small-sample shortfall, measured for the
         gaussian estimator, iid bootstrap, rho = 0.6: coverage 0.930 +- 0.004 at n = 200
