@@ -26,7 +26,14 @@ from modalinfo.information.copula import check_copula, copula_scores
 from modalinfo.information.discrete import discrete_cmi, discrete_pair_mi, discrete_x_levels
 from modalinfo.information.methods import MIMethod, register_method
 
-__all__ = ["GaussianEngine", "gaussian_entropy", "gaussian_mi_from_correlation", "unit_scaled"]
+__all__ = [
+    "GaussianEngine",
+    "fisher_z_from_mi",
+    "gaussian_entropy",
+    "gaussian_mi_from_correlation",
+    "mi_from_fisher_z",
+    "unit_scaled",
+]
 
 #: Floor of 1 - r^2, so that an exactly linear relation gives a large finite MI
 #: (-0.5 ln 1e-15 = 17.3 nats) instead of infinity where a caller needs a number (kde's
@@ -42,6 +49,28 @@ _RESIDUAL_CHECK_BELOW = 1e-6
 def gaussian_mi_from_correlation(r: float) -> float:
     """``-0.5 ln(1 - r^2)`` in nats, with 1 - r^2 floored at :data:`ONE_MINUS_R2_FLOOR`."""
     return -0.5 * math.log(max(1.0 - r * r, ONE_MINUS_R2_FLOOR))
+
+
+def fisher_z_from_mi(mi: np.ndarray | float) -> np.ndarray:
+    """Return Fisher's ``z = atanh |r|`` of the correlation whose Gaussian MI is ``mi``.
+
+    ``I = -0.5 ln(1 - r^2) = ln cosh z``, so ``z = acosh(e^I) = I + ln(1 + sqrt(1 - e^-2I))``,
+    written so that no step overflows or cancels (``atanh(sqrt(1 - e^-2I))`` rounds to
+    infinity from I ~ 18 nats). Fisher (1921): ``z`` of a normal sample's correlation is
+    nearly normal with a variance nearly free of the correlation, where ``I`` is skewed
+    and its spread grows with it. ``mi`` >= 0, any shape; returns the same shape.
+    """
+    i = np.asarray(mi, dtype=float)
+    return i + np.log1p(np.sqrt(-np.expm1(-2.0 * i)))
+
+
+def mi_from_fisher_z(z: np.ndarray | float) -> np.ndarray:
+    """Return ``ln cosh z`` in nats, the Gaussian MI of the correlation ``tanh z``.
+
+    The inverse of :func:`fisher_z_from_mi` for z >= 0; even in z; no overflow.
+    """
+    a = np.abs(np.asarray(z, dtype=float))
+    return a + np.log1p(np.exp(-2.0 * a)) - math.log(2.0)
 
 
 def unit_scaled(a: np.ndarray) -> np.ndarray:

@@ -166,7 +166,7 @@ def check_tail_replicates(interval: str, n_resamples: int, confidence_level: flo
     the package (``mutual_information_ci``, ``order_modes``' default, ``reorder``'s
     caution).
     """
-    if interval == "normal":
+    if interval in ("normal", "fisher", "auto"):  # spread intervals ("auto": one of them)
         return
     least = least_tail_replicates(confidence_level)
     if n_resamples < least:

@@ -41,7 +41,11 @@ times the bootstrap standard deviation (Efron & Tibshirani 1993, ch. 13), which
 takes only the *spread* from the bootstrap and is centred on the (Miller-Madow
 corrected) estimate. ``"basic"`` (reverse percentile, [2 I - q_hi, 2 I - q_lo],
 Davison & Hinkley 1997, ch. 5) and ``"percentile"`` are available, and for the
-iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. The remaining undercoverage
+iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. For the Gaussian estimator with
+the iid bootstrap at n <= 2000 the default (``interval="auto"``) is ``"fisher"``, the
+normal interval on Fisher's z of the correlation with the larger of the bootstrap's and
+the jackknife's spread (0.9445 at n = 200, rho = 0.6, where "normal" covered 0.930;
+fix50-a). The remaining undercoverage
 comes from the estimator's own bias at small effective n, which no interval can
 see; use longer logs or check with :func:`mutual_information_permutation_test`. Not
 all of it: Gaussian-method MI of iid Gaussian pairs (rho = 0.6, n = 500, default block
@@ -92,7 +96,8 @@ from modalinfo.information.api import (
     ceiling_problem,
 )
 from modalinfo.information.convergence import effective_sample_rule
-from modalinfo.information.discrete import pile_why
+from modalinfo.information.discrete import discrete_pair_mi, discrete_x_levels, pile_why
+from modalinfo.information.gaussian import fisher_z_from_mi, mi_from_fisher_z
 from modalinfo.information.methods import BiasRuleWarning, check_bootstrappable
 from modalinfo.information.resampling import (
     MI_ROTATION_MIN_EFFECTIVE_PAIRS,
@@ -150,7 +155,8 @@ class MIConfidenceResult:
     bootstrap : str
         ``"block"`` or ``"iid"``.
     interval : str
-        ``"normal"``, ``"basic"``, ``"percentile"`` or ``"bca"``.
+        ``"fisher"``, ``"normal"``, ``"basic"``, ``"percentile"`` or ``"bca"``: the
+        interval given (``"auto"`` resolved).
     method, units : str
         Estimator and units.
     note : str
@@ -266,6 +272,73 @@ def _grid_loss_bound(est: MutualInformation, x: np.ndarray, y: np.ndarray, low: 
     return low, high + raise_by, note
 
 
+#: Largest n at which the iid Fisher interval also takes the delete-one jackknife's
+#: spread (n more estimates; the bootstrap's shortfall it corrects is a small-n one:
+#: ~3 % of the spread at n = 200, fix50-a).
+FISHER_JACKKNIFE_MAX_N = 2000
+
+
+def _jackknife_z_std(est: MutualInformation, x: np.ndarray, y: np.ndarray) -> float:
+    """Delete-one jackknife s.d. of Fisher's z of the estimate (Efron & Stein 1981).
+
+    ``sqrt((n - 1) / n * sum (z_(i) - mean z_(.))^2)`` over the n estimates without
+    sample i; upward biased as a variance (Efron & Stein), where the bootstrap's is
+    low at small n.
+    """
+    n = x.shape[0]
+    keep = np.ones(n, dtype=bool)
+    z = np.empty(n)
+    for i in range(n):
+        keep[i] = False
+        z[i] = fisher_z_from_mi(est.estimate(x[keep], y[keep]) / est._factor)
+        keep[i] = True
+    return math.sqrt((n - 1) / n * float(np.sum((z - z.mean()) ** 2)))
+
+
+def _fisher_bounds(theta: float, dist: np.ndarray, factor: float,
+                   confidence_level: float, s_jack: float = 0.0) -> tuple[float, float]:
+    """Return the normal interval on Fisher's ``z = atanh |r|`` of a Gaussian MI.
+
+    ``theta`` (the estimate) and ``dist`` (its bootstrap replicates, shape (B,)) are in
+    the units whose factor to nats is ``factor`` (``api.UNITS``). The interval is
+    ``z(I) -+ z_(1-a/2) s_z`` with ``s_z`` the replicates' s.d. on the z scale
+    (variance-stabilised, Fisher 1921; Efron & Tibshirani 1993, sec. 12.6), or
+    ``s_jack`` (a jackknife s.d. of z) where larger, mapped back by ``I = ln cosh z``;
+    a lower end below z = 0 (``|r|`` = 0 inside) gives 0.
+    Returns ``(low, high)`` in the same units.
+    """
+    z_hat = float(fisher_z_from_mi(theta / factor))
+    s_z = max(float(np.std(fisher_z_from_mi(np.asarray(dist) / factor), ddof=1)), s_jack)
+    half = stats.norm.ppf(0.5 + confidence_level / 2.0) * s_z
+    low = 0.0 if z_hat - half <= 0.0 else float(mi_from_fisher_z(z_hat - half)) * factor
+    return low, float(mi_from_fisher_z(z_hat + half)) * factor
+
+
+def _resolve_interval(interval: str, method: str, bootstrap: str, x: np.ndarray,
+                      y: np.ndarray) -> str:
+    """Resolve ``"auto"``; refuse ``"fisher"`` where it has no meaning.
+
+    ``"auto"``: ``"fisher"`` for the Gaussian estimator of a continuous pair with the
+    iid bootstrap at n <= :data:`FISHER_JACKKNIFE_MAX_N` (where it takes the jackknife's
+    spread too), else ``"normal"``: without the jackknife the Fisher interval of an
+    independent pair covers 0.928 (n = 200; the bootstrap of ``|r|`` folds at 0 and
+    its spread is low), where the "normal" one holds 0 always (fix50-a).
+    """
+    fits = (method == "gaussian"
+            and discrete_pair_mi(discrete_x_levels(x), y) is None)  # not a table's MI
+    if interval == "auto":
+        jack = bootstrap == "iid" and x.shape[0] <= FISHER_JACKKNIFE_MAX_N
+        return "fisher" if fits and jack else "normal"
+    if interval == "fisher" and not fits:
+        what = (f"`method`={method!r}" if method != "gaussian"
+                else "a discrete pair (the Gaussian method gives its table's MI)")
+        raise ValueError(
+            "`interval`='fisher' is the normal interval on Fisher's z = atanh|r| of the "
+            f"Gaussian MI -0.5 ln(1 - r^2); it has no meaning for {what}: use "
+            "interval='normal' (or 'auto').")
+    return interval
+
+
 def mutual_information_ci(
     x: Any,
     y: Any,
@@ -276,7 +349,7 @@ def mutual_information_ci(
     n_resamples: int = 999,
     block_length: int | str | None = None,
     bootstrap: str = "block",
-    interval: str = "normal",
+    interval: str = "auto",
     seed: Any = None,
     **options: Any,
 ) -> MIConfidenceResult:
@@ -322,13 +395,27 @@ def mutual_information_ci(
         tails: an AR(4) innovation beyond the quality pass's Bonferroni Gaussian
         outlier threshold at a family-wise 1e-4 (0.77 with Student t3 innovations,
         whose fourth moment is infinite; leftovers 13-stats).
-    interval : {"normal", "basic", "percentile", "bca"}
-        ``"normal"`` (default): ``I -+ z_(1-a/2) s_boot``, centred on the estimate,
+    interval : {"auto", "fisher", "normal", "basic", "percentile", "bca"}
+        ``"auto"`` (default): ``"fisher"`` for ``method="gaussian"`` (continuous pair)
+        with ``bootstrap="iid"`` at n <= 2,000, else ``"normal"``; the result's
+        ``interval`` says which. ``"fisher"`` (``method="gaussian"`` only): the normal
+        interval on Fisher's ``z = atanh|r|`` (``I = ln cosh z``; Fisher 1921), ``z -+
+        z_(1-a/2) s_z`` mapped back, low end clipped at 0, with ``s_z`` the larger of the
+        bootstrap's and, iid at n <= 2,000, the delete-one jackknife's s.d. of z (n more
+        estimates; Efron & Stein 1981). Measured coverage of 95 % (iid Gaussian pairs,
+        B = 199, fix50-a): 0.9445 +- 0.005 at n = 200, rho = 0.6, 0.9495 at rho = 0.9,
+        0.9435 at 0.3, 0.9485 at rho = 0 (MI 0), 2,000 seeds each; 0.945 at n = 100;
+        0.943 at n = 500, rho = 0.6 and 0.951 at n = 50 (1,000 seeds each). Without the
+        jackknife (block bootstrap, n > 2,000) it covered 0.936 at n = 200, rho = 0.6 and
+        only 0.928 at rho = 0 (the bootstrap of ``|r|`` folds at 0), so ``"auto"`` does
+        not choose it there.
+        ``"normal"``: ``I -+ z_(1-a/2) s_boot``, centred on the estimate,
         spread from the bootstrap (its small-sample shortfall, measured for the
         gaussian estimator, iid bootstrap, rho = 0.6: coverage 0.930 +- 0.004 at n = 200
-        over 2,400 seeds and 0.938 +- 0.006 at n = 500 over 1,200 for a nominal 0.95;
-        the bootstrap's spread is ~5 % below the estimate's over seeds; 0.947 +- 0.013 at
-        n = 1,000; round 49 PART a S01, fix49-d; not warned); ``"basic"``:
+        over 2,400 seeds (0.9295 over 2,000 more, fix50-a) and 0.938 +- 0.006 at n = 500
+        over 1,200 for a nominal 0.95; the bootstrap's spread is ~5 % below the
+        estimate's over seeds; 0.947 +- 0.013 at n = 1,000; round 49 PART a S01, fix49-d;
+        not warned; at MI 0 it holds 0 always, conservatively); ``"basic"``:
         ``[2 I - q_hi, 2 I - q_lo]``, corrects
         by the bootstrap bias, which for MI is unreliable (see the module notes);
         ``"percentile"``: ``[q_lo, q_hi]``; ``"bca"``: bias-corrected and
@@ -363,13 +450,15 @@ def mutual_information_ci(
     check_memory(8.0 * n_resamples * (x.shape[0] + 1), "n_resamples", n_resamples,
                  "its resample indices (int64, one per sample and resample)")
     check_choice(bootstrap, "bootstrap", ("block", "iid"))
-    check_choice(interval, "interval", ("normal", "basic", "percentile", "bca"))
+    check_choice(interval, "interval", ("auto", "fisher", "normal", "basic", "percentile",
+                                        "bca"))
     if interval == "bca" and bootstrap != "iid":
         raise ValueError("`interval`='bca' needs bootstrap='iid'; got bootstrap='block'.")
     check_tail_replicates(interval, n_resamples, confidence_level)
     rng = check_rng(seed)
     est = MutualInformation(method, units, **options)
     est._judge_resolution = False  # judged once below, not per bootstrap replicate
+    interval = _resolve_interval(interval, est.method, bootstrap, x, y)
     theta = est.estimate(x, y)
     n = x.shape[0]
     alpha = 1.0 - confidence_level
@@ -423,6 +512,11 @@ def mutual_information_ci(
         if interval == "normal":
             half = stats.norm.ppf(1.0 - alpha / 2.0) * np.std(dist, ddof=1)
             low, high = theta - half, theta + half
+        elif interval == "fisher":
+            # the iid bootstrap's spread is low at small n (fix50-a): the jackknife's too
+            s_jack = (_jackknife_z_std(est, x, y)
+                      if bootstrap == "iid" and n <= FISHER_JACKKNIFE_MAX_N else 0.0)
+            low, high = _fisher_bounds(theta, dist, est._factor, confidence_level, s_jack)
         elif interval == "basic":
             low, high = 2.0 * theta - q_hi, 2.0 * theta - q_lo
         else:
