@@ -314,7 +314,7 @@ def conditional_mutual_information_test(
         histogram's ``"shuffle"`` surrogates are instead local permutations of y among
         z's 5 nearest neighbours (:func:`~modalinfo.information.resampling.local_permutation`,
         Runge 2018; fix50-e), which keep y's link to z whatever its form: on those chains
-        3 / 40 (Y = Z^2) and 0 / 40 (sin 6Z) rejections at 5 %, was 26 and 40 of 40.
+        1 / 40 (Y = Z^2) and 5 / 40 (sin 6Z) rejections at 5 %, was 26 and 40 of 40.
     min_shift : int, "auto" or None
         Spacing of the circular shifts [samples], in ``[1, n // 2]``; ``None``: the
         largest that fits ``n_surrogates`` shifts (about ``n / (n_surrogates + 1)``);
