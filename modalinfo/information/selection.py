@@ -115,6 +115,7 @@ from modalinfo.information.resampling import (
     block_bootstrap_indices,
     check_resamples,
     check_surrogates_reach,
+    local_permutation,
     rank_based_options,
     residual_split,
     surrogate_pvalue,
@@ -849,6 +850,45 @@ def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
              f"gains fail the conditioning rule given the inputs before them "
              f"({first}); the selection keeps the histogram (use method='gaussian' "
              "or 'ksg')", BiasRuleWarning, stacklevel=3)
+        return
+    local = [_local_pvalue(target, C[:, j : j + 1], C[:, picked[:i]], options)
+             for i, j in enumerate(picked[1:], start=1)]
+    if (spurious := [p for p in local if p > LOCAL_CHECK_ALPHA]):
+        warn(f"select_inputs with method='histogram': {len(spurious)} of {len(picked)} "
+             f"gains are not significant (p = {max(spurious):.2g} > {LOCAL_CHECK_ALPHA}) "
+             f"against {LOCAL_CHECK_SURROGATES} local permutations of the input among the "
+             "nearest neighbours of the inputs before it, which keep a non-linear link of "
+             "the input to them (the rotation surrogates keep only its piecewise-linear "
+             "part): such an input may inform nothing beyond them (use "
+             "method='gaussian' or 'ksg')", BiasRuleWarning, stacklevel=3)
+
+
+#: Local permutations of :func:`_local_pvalue` and the p-value above which a picked
+#: input is named (fix50-e).
+LOCAL_CHECK_SURROGATES = 39
+LOCAL_CHECK_ALPHA = 0.05
+
+
+def _local_pvalue(y: np.ndarray, x: np.ndarray, z: np.ndarray,
+                  options: dict[str, Any]) -> float:
+    """p-value of the histogram I(y; x | z) against local permutations of x within z.
+
+    The search's rotation surrogates move x's residual on z's piecewise-linear fit and keep
+    the fit: an input that follows an earlier one non-linearly (w = z^2 + e, with the target
+    y = sin 6z + e) loses that link in the null but not in the statistic's bins, and was
+    added in 40 of 40 searches (25 of 40 with the fit's hinges) where it informs nothing
+    (fix50-e). Local permutations (:func:`~modalinfo.information.resampling.local_permutation`,
+    Runge 2018) keep any link of x to z; they ignore autocorrelation, which makes them
+    liberal, not conservative, so an input they do not find significant is suspect. Seeded
+    (0): the same call warns the same way.
+    """
+    est = _estimator("histogram", "nats", options)
+    rng = np.random.default_rng(0)
+    rank_based = rank_based_options(options)
+    stat = est(y, x, z)
+    null = np.array([est(y, x[local_permutation(z, rank_based, rng)], z)
+                     for _ in range(LOCAL_CHECK_SURROGATES)])
+    return surrogate_pvalue(stat, null)
 
 
 def least_selection_frames(horizon: int, max_lag: int, n_surrogates: int = 0) -> int:
