@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 from modalinfo.cli import CommandError
 from modalinfo.cli.shared import (
@@ -26,7 +27,7 @@ from modalinfo.cli.shared import (
     add_gap_argument,
     add_hint_arguments,
     apply_outliers,
-    check_memory,
+    check_command_memory,
     log_bytes,
     refuse_outlier_drop,
     split_gaps,
@@ -219,8 +220,13 @@ def _check_resources(args: argparse.Namespace, log, train: float | int, n_pred: 
         log_part = LOG_COPIES * log_bytes(log)
     fit_part = max((p.fit_bytes(min(n_train, n_frames), n_modes)
                     for p in (predictors or {}).values()), default=0)
-    check_memory(log_part + 8 * n_pred * h * n_origins + max(chunk_part, fit_part), what,
-                 fix)
+    # with the quality pass's figure, on the log it will run on (the gathered columns,
+    # not read yet, are held during it): the first refusal names what forecast needs
+    # (round 50 PART b, M14)
+    passed = SimpleNamespace(n_frames=n_frames, n_modes=n_modes)
+    check_command_memory(log_part + 8 * n_pred * h * n_origins + max(chunk_part, fit_part),
+                         what, fix, passed, args,
+                         resident=8 * n_frames * n_modes if gather is not None else 0)
     if args.out is not None:
         from modalinfo.common.files import writable_free_bytes
         from modalinfo.common.sizes import format_size
@@ -396,9 +402,10 @@ def run(args: argparse.Namespace) -> int:
     # mapped where the format allows (NPY, NPZ, HDF5): evaluate reads it chunk by chunk
     log = load_log_with_hints(args.log, args, mmap=True)
     if not _mapped(log):  # read whole (CSV, FITS, compressed NPZ): it must fit
-        check_memory(LOG_COPIES * log_bytes(log), f"{quoted(args.log.name)} ({log.n_frames} "
-                     f"frames x {log.n_modes} modes, {LOG_COPIES} float64 copies)",
-                     "analyse fewer frames or modes (e.g. convert a part of the log)")
+        check_command_memory(LOG_COPIES * log_bytes(log), f"{quoted(args.log.name)} "
+                             f"({log.n_frames} frames x {log.n_modes} modes, {LOG_COPIES} "
+                             "float64 copies)", "analyse fewer frames or modes (e.g. convert "
+                             "a part of the log)", log, args)
     log = split_gaps(log, args, args.log, "forecasting")
     n_train = train if isinstance(train, int) else int(round(train * log.n_frames))
     if n_train < 2:  # one frame is "constant" in every mode: each forecast as that frame

@@ -34,6 +34,7 @@ from modalinfo.cli.shared import (
     add_hint_arguments,
     add_max_frames_argument,
     apply_outliers,
+    check_command_memory,
     check_memory,
     frame_subsample,
     load_log_with_hints,
@@ -116,9 +117,21 @@ def _load(args: argparse.Namespace, path: Path):
     # The refusal advised "--max-frames or convert that part", which cannot reach a
     # segment in the middle of the log (round 33 PART b, B26)
     log = split_gaps(log, args, path, "input selection (its lagged pairs)")
-    check_memory(LOG_COPIES * log_bytes(log), f"{quoted(path.name)} ({log.n_frames} frames x "
-                 f"{log.n_modes} modes, {LOG_COPIES} float64 copies)",
-                 "use --max-frames N (the first N frames)")
+    # with the quality pass's figure and the candidate search's working arrays (on this
+    # log's modes; checked again on every source below), so that the first refusal names
+    # what select needs: a limit set from its "123.60 MiB" was refused again with
+    # "168.83 MiB" by the pass, then "823.97 MiB" by --max-lag (round 50 PART b, M16)
+    own = LOG_COPIES * log_bytes(log)
+    what = f"{quoted(path.name)} ({log.n_frames} frames x {log.n_modes} modes, {LOG_COPIES} " \
+           "float64 copies"
+    lags = getattr(args, "max_lag", None) or 0
+    if lags >= 1:
+        from modalinfo.information.selection import _WORKING_COPIES
+
+        own += _WORKING_COPIES * 8 * log.n_frames * log.n_modes * lags
+        what += f", and --max-lag {lags}'s {log.n_modes * lags} candidate columns"
+    check_command_memory(own, what + ")", "use --max-frames N (the first N frames)"
+                         + (" or a smaller --max-lag" if lags >= 1 else ""), log, args)
     return log
 
 
@@ -207,11 +220,9 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"--extra {quoted(args.extra)} is LOG itself: its modes are "
                                "candidates already")
         extra = _load(args, args.extra)
-        # LOG (analysed) stays in memory while --extra's pass runs
-        from modalinfo.telemetry.quality import in_memory_bytes
-
-        extra, _ = apply_outliers(extra, args, args.extra, time_series=True,
-                                  resident=in_memory_bytes(log) + in_memory_bytes(extra))
+        # LOG (analysed) stays in memory while --extra's pass runs: read before the
+        # check, it is already missing from the memory available (round 50 PART b, M16)
+        extra, _ = apply_outliers(extra, args, args.extra, time_series=True)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")

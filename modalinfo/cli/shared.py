@@ -249,7 +249,7 @@ def _quality_progress(args: argparse.Namespace, log):
 
 
 def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False,
-                   resident: float | None = None):
+                   resident: float = 0.0):
     """Apply ``--outliers`` to ``log``; queue one stderr line when something was flagged.
 
     Returns the log the command analyses (clipped or with frames dropped, its
@@ -257,7 +257,7 @@ def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bo
     :class:`~modalinfo.telemetry.quality.QualityReport`. ``raise`` (or ``drop`` with
     ``time_series``) becomes a one-line error, exit status 2, and so does a pass that
     cannot fit in the memory available (``check_quality_memory``, before the pass;
-    ``resident``: the bytes the command holds meanwhile, default ``log``'s in memory).
+    ``resident``: bytes held meanwhile and not allocated yet, 0 for ``log`` itself).
     """
     from modalinfo.telemetry.quality import apply_outlier_policy
 
@@ -449,13 +449,19 @@ def load_log_with_hints(path: Path, args: argparse.Namespace | None = None, *,
     # a small log is read, not mapped: a mapped file truncated meanwhile is a SIGBUS
     mmap = mmap and mapping_pays(path)
     if copies and not mmap:
-        _check_log_fits(path, options, copies)
+        _check_log_fits(path, options, copies, args)
     log = load(path, mmap=mmap, **options)
     check_log_rate(log, path)
     if copies:
-        check_memory(copies * log_bytes(log), f"{quoted(path.name)} ({log.n_frames} frames x "
-                     f"{log.n_modes} modes, {copies} float64 copies)",
-                     "analyse fewer frames or modes (e.g. convert a part of the log)")
+        from modalinfo.telemetry.quality import in_memory_bytes
+
+        # the log just read is one of the copies and is already missing from the
+        # memory available: counted once (round 50 PART b, M12)
+        check_command_memory(copies * log_bytes(log) - in_memory_bytes(log),
+                             f"{quoted(path.name)} ({log.n_frames} frames x {log.n_modes} "
+                             f"modes, {copies} float64 copies)",
+                             "analyse fewer frames or modes (e.g. convert a part of the log)",
+                             log, args)
     if announce:
         queue_notes(args, input_notes(log, path))
     return log
@@ -472,9 +478,13 @@ def check_log_rate(log, path: Path) -> None:
         raise CommandError(problem)
 
 
-def _check_log_fits(path: Path, options: dict, copies: int) -> None:
+def _check_log_fits(path: Path, options: dict, copies: int,
+                    args: argparse.Namespace | None = None, later=None) -> None:
     """Refuse a log too large for ``copies`` float64 copies before reading it.
 
+    Or too large for its quality pass under ``args.outliers``, with the log read whole
+    (:func:`check_command_memory`: the larger of the two is the figure named), or for
+    ``later(probe)`` [bytes], a later step's peak with the log held (the AOT writer's).
     Formats that can be memory-mapped (NPY, NPZ, HDF5) are opened mapped when larger
     than ``modalinfo.io.MAP_ABOVE`` (which reads only their headers) and read when
     smaller; other formats are checked once read.
@@ -486,9 +496,13 @@ def _check_log_fits(path: Path, options: dict, copies: int) -> None:
         return
     # a small log is read, not mapped (a mapped file truncated meanwhile is a SIGBUS)
     probe = load(path, mmap=mapping_pays(path), verify=False, **options)
-    check_memory(copies * log_bytes(probe), f"{quoted(path.name)} ({probe.n_frames} frames x "
-                 f"{probe.n_modes} modes, {copies} float64 copies)",
-                 "analyse fewer frames or modes (e.g. convert a part of the log)")
+    own = copies * log_bytes(probe)
+    if later is not None:  # that step's own refusal came after the load, larger (M17)
+        own = max(own, later(probe))
+    check_command_memory(own, f"{quoted(path.name)} ({probe.n_frames} "
+                         f"frames x {probe.n_modes} modes, {copies} float64 copies)",
+                         "analyse fewer frames or modes (e.g. convert a part of the log)",
+                         probe, args, resident=log_bytes(probe))  # read whole after this
     del probe
 
 
@@ -618,11 +632,20 @@ def memory_available() -> float:
     a log that fits on a machine whose cache holds the files just read. A process
     address-space limit (``ulimit -v``, a batch system's cap) is the other side,
     counted as the limit minus the process's current size (``VmSize``), since
-    memory-mapped logs count against it too.
+    memory-mapped logs count against it too, and so do the BLAS libraries' buffers
+    (:func:`modalinfo.common.memory.blas_buffers_bytes`), left out of every array
+    estimate: under such a limit they are taken off its room.
     """
-    from modalinfo.common.memory import usable_memory_bytes
+    from modalinfo.common.memory import (
+        address_space_left_bytes,
+        blas_buffers_bytes,
+        data_left_bytes,
+        usable_memory_bytes,
+    )
 
-    return usable_memory_bytes()
+    blas = blas_buffers_bytes()
+    return max(0.0, min(usable_memory_bytes(), address_space_left_bytes() - blas,
+                        data_left_bytes() - blas))
 
 
 def check_memory(need: float, what: str, fix: str) -> None:
@@ -645,7 +668,7 @@ def check_memory(need: float, what: str, fix: str) -> None:
                            f"{format_size(avail)} is available; {fix}")
 
 
-__all__ += ["quality_need", "check_quality_memory"]
+__all__ += ["quality_need", "check_quality_memory", "check_command_memory"]
 
 
 def quality_need(log, args: argparse.Namespace | None = None, resident: float = 0.0) -> float:
@@ -659,16 +682,50 @@ def quality_need(log, args: argparse.Namespace | None = None, resident: float = 
     return quality_pass_need(log, getattr(args, "outliers", "warn"), resident)
 
 
+def check_command_memory(own: float, what: str, fix: str, log,
+                         args: argparse.Namespace | None, resident: float = 0.0) -> None:
+    """Refuse, before any work, a command whose estimate exceeds the memory available.
+
+    The estimate is the max of the command's ``own`` bytes and its quality pass's
+    (:func:`quality_need` of ``log``, whose arrays are freed before the command's own
+    work: ``quality_pass_need``'s rule), so that the first refusal names what the
+    whole command needs: checked against its own bytes only, ``convert`` said "needs
+    about 123.60 MiB" and, given that, was refused by the pass with "210.03 MiB"
+    (round 50 PART b, M12-M14, M16, M17).
+
+    Parameters
+    ----------
+    own : float
+        The command's own estimate [bytes], counted from now (what is allocated already
+        is missing from the available figure too).
+    what, fix : str
+        As :func:`check_memory`; ``what`` names the pass when the pass is the larger.
+    log : ModalLog or object with ``n_frames``, ``n_modes``
+        The log the pass will run on (a header, a mapped log or a future gathered one).
+    args : argparse.Namespace or None
+        The command's options (``--outliers``).
+    resident : float
+        Bytes of that log not allocated yet but held during the pass [bytes]: the log
+        read whole after this check (``convert``), 0 once it is read or mapped.
+    """
+    need = quality_need(log, args, resident)
+    if need > own:
+        what = (f"{what} and, before them, its log-quality pass (--outliers "
+                f"{getattr(args, 'outliers', 'warn')}; the larger)")
+    check_memory(max(float(own), need), what, fix)
+
+
 def check_quality_memory(args: argparse.Namespace, log, path: Path,
-                         resident: float | None = None) -> None:
+                         resident: float = 0.0) -> None:
     """Refuse, before the quality pass, a log whose pass cannot fit (:func:`quality_need`).
 
-    ``resident`` defaults to ``log``'s own in-memory bytes (0 for a memory-mapped log).
+    ``resident``: bytes held during the pass and not allocated yet [bytes]. ``log``'s
+    own coefficients are not: read before this check, they are already missing from
+    the memory available (``VmSize`` under ``ulimit -v``, ``MemAvailable`` without),
+    and counting them again refused a ``convert`` that ran in 321 MiB under the limit
+    its refusal asked for (round 50 PART b, M12).
     """
-    from modalinfo.telemetry.quality import in_memory_bytes
-
-    held = in_memory_bytes(log) if resident is None else resident
-    check_memory(quality_need(log, args, held),
+    check_memory(quality_need(log, args, resident),
                  f"{quoted(Path(path).name)} ({log.n_frames} frames x {log.n_modes} modes): the "
                  f"log-quality pass (--outliers {getattr(args, 'outliers', 'warn')})",
                  "analyse fewer frames or modes (e.g. --max-frames, or convert a part of "

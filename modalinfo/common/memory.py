@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 import os
 
-__all__ = ["address_space_left_bytes", "available_memory_bytes", "data_left_bytes",
+__all__ = ["BLAS_BUFFER_BYTES", "address_space_left_bytes", "available_memory_bytes",
+           "blas_buffers_bytes", "data_left_bytes",
            "data_limit_bytes", "free_memory_bytes", "machine_memory_bytes",
            "memory_limits_text", "usable_memory_bytes"]
 
@@ -180,3 +181,24 @@ def memory_limits_text() -> str:
         if math.isfinite(limit):
             parts.append(f"the {label} is {format_size(limit)}")
     return " and ".join(parts)
+
+
+#: Address space OpenBLAS maps on its first level-3 call (a matrix product of 128 x 128
+#: or more), once per library: 32.2-32.7 MiB of ``VmSize`` measured (OpenBLAS 0.3.31,
+#: numpy's scipy-openblas64 and SciPy's own copy, each its own buffer; round 50 PART b,
+#: fix50-d). Not memory used (its pages are touched as needed), but counted by
+#: ``ulimit -v`` and ``ulimit -d``.
+BLAS_BUFFER_BYTES = 32 * 2**20 + 2**19
+
+
+def blas_buffers_bytes() -> float:
+    """Address space the BLAS libraries may still map [bytes]: numpy's and SciPy's buffers.
+
+    What an estimate of arrays leaves out under an address-space or data limit: a
+    ``convert`` admitted with 14 MiB to spare died in OpenBLAS ("Memory allocation
+    still failed after 10 retries", exit 1) at its first matrix product. Counted
+    whether or not the buffers are mapped already (no portable way to tell): the
+    refusals under such a limit err by at most this much on the safe side.
+    """
+    return 2.0 * BLAS_BUFFER_BYTES
+

@@ -240,22 +240,22 @@ def test_mi_memory_check_counts_the_samples_drawn_not_the_budget(small_log, monk
     # the memory check counts those (3 modes x 8 bytes each), not 1e8 (2.2 GiB)
     from modalinfo.bases import Pupil
     from modalinfo.cli import cmd_reorder
+    from modalinfo.cli.shared import LOG_COPIES
 
     seen = []
 
-    def record(need, what, hint):
-        seen.append(need)
-        if len(seen) == 2:  # the MI check: stop before any work
-            raise KeyboardInterrupt
+    def record(own, what, fix, *rest, **kwargs):  # the command's own figure, before
+        seen.append(own)  # the max with the quality pass's (fix50-d: one check)
+        raise KeyboardInterrupt  # stop before any work
 
-    monkeypatch.setattr(cmd_reorder, "check_memory", record)
+    monkeypatch.setattr(cmd_reorder, "check_command_memory", record)
     code = exit_code(["reorder", small_log, "--budget", 100_000_000, "--quiet"])
-    assert code == 130 and len(seen) == 2
+    assert code == 130 and len(seen) == 1
     samples = 400 * Pupil(64).n_valid
     assert samples < 100_000_000
     # the ordering's contributions and, with the default 40 replicates, two replicates'
     # held with them while the next is gathered: 3 copies (leftovers 14-misc), and the
-    # per-sample index and sum arrays (fixes 42, S16)
+    # per-sample index and sum arrays (fixes 42, S16), besides the log's copies
     from modalinfo.ordering.cost import PER_SAMPLE_ARRAYS
 
-    assert seen[1] - seen[0] == 8 * (3 * 3 + PER_SAMPLE_ARRAYS) * samples
+    assert seen[0] - LOG_COPIES * 8 * 400 * 3 == 8 * (3 * 3 + PER_SAMPLE_ARRAYS) * samples

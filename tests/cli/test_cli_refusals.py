@@ -112,7 +112,10 @@ def test_forecast_horizon_beyond_memory_names_the_estimate(small_log, capsys, mo
     monkeypatch.setattr(common, "memory_available", lambda: 1e6)
     assert main(["forecast", str(small_log), "--horizon", "250", "--train", "300",
                  "--predictors", "linear", "--quiet"]) == 2
-    _one_line(capsys, "--horizon 250", "needs about", "is available")
+    # on this 600-frame log the quality pass's 14.06 MiB is the larger part: the first
+    # refusal names it (fix50-d); the horizon's own naming is pinned by
+    # tests/cli/test_cli_memmap.py (a log whose horizon part is the larger)
+    _one_line(capsys, "log-quality pass", "needs about", "is available")
 
 
 def test_memory_available_counts_the_address_space_limit():
@@ -122,7 +125,11 @@ def test_memory_available_counts_the_address_space_limit():
         pytest.skip("needs /proc")
     out = subprocess.run([sys.executable, "-c", code], env=dict(os.environ,
                          PYTHONPATH=str(ROOT)), capture_output=True, text=True, check=True)
-    assert 250e6 < float(out.stdout) <= 300e6
+    # the room less the BLAS libraries' buffers, counted under such a limit (fix50-d)
+    from modalinfo.common.memory import blas_buffers_bytes
+
+    blas = blas_buffers_bytes()
+    assert 250e6 - blas < float(out.stdout) <= 300e6 - blas
 
 
 def test_large_mapped_log_under_an_address_space_cap_is_refused(tmp_path):
@@ -167,7 +174,14 @@ def test_every_whole_log_command_checks_the_log_copies(tmp_path, capsys, monkeyp
     monkeypatch.setattr(common, "memory_available", lambda: 2.5e6)
     assert main([command[0], str(tmp_path / "big.npy"), "--rate", "1000",
                  *[c.format(tmp=tmp_path) for c in command[1:]]]) == 2
-    _one_line(capsys, "4000 frames x 27 modes", "3 float64 copies", "needs about 2.47 MiB")
+    err = _one_line(capsys, "4000 frames x 27 modes", "3 float64 copies", "needs about")
+    # the 3 copies' 2.47 MiB or, when larger, the quality pass's (fix50-d: the figure
+    # is what the command needs, not its first part)
+    from modalinfo.telemetry.quality import quality_memory
+
+    figure = float(err.split("needs about ")[1].split(" MiB")[0]) * 2**20
+    assert figure >= 3 * 4000 * 27 * 8 - 0.01 * 2**20
+    assert figure >= quality_memory(4000, 27) - 0.01 * 2**20
 
 
 def test_out_of_memory_while_reading_is_not_called_corrupt(tmp_path, monkeypatch):

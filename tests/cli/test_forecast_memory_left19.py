@@ -48,7 +48,9 @@ def _measured_evaluate(monkeypatch) -> tuple[list[float], list[int]]:
             peak.append(tracemalloc.get_traced_memory()[1])
             tracemalloc.stop()
 
-    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: need.append(float(n)))
+    # the command's own figure (the quality pass's, checked apart, is not evaluate's)
+    monkeypatch.setattr(cmd_forecast, "check_command_memory",
+                        lambda n, what, fix, *rest, **kw: need.append(float(n)))
     monkeypatch.setattr(forecast, "evaluate", measured)
     return need, peak
 
@@ -67,7 +69,7 @@ def test_estimate_covers_evaluate_peak_with_arma(tmp_path, monkeypatch, n_frames
     # predictors to compile inside the measured call; with a cold numba cache the peak
     # was 13.0 MB against the 9.8 MB estimate at 6,000 frames)
     _log(tmp_path / "warm.npz", 1000, n_modes)
-    monkeypatch.setattr(cmd_forecast, "check_memory", lambda n, what, fix: None)
+    monkeypatch.setattr(cmd_forecast, "check_command_memory", lambda *a, **kw: None)
     assert main(["forecast", str(tmp_path / "warm.npz"), "--predictors", "linear,arma",
                  "--horizon", str(horizon), "--train", "0.5"]) == 0
     need, peak = _measured_evaluate(monkeypatch)
