@@ -724,7 +724,10 @@ def _clean_killed_writes(directory: Path, prefix: str) -> None:
     """
     own = f"{os.getpid()}-"
     base = prefix[:-len(own)] if prefix.endswith(own) else prefix
-    clean_staging(directory, base, ".tmp", command=_program(), note_unknown=False)
+    # pid_first: ".<name>.bak.<pid>-<random>.tmp" is the temporary of another target
+    # (name.bak), not this one's (review33)
+    clean_staging(directory, base, ".tmp", command=_program(), note_unknown=False,
+                  pid_first=True)
 
 
 def _program() -> str:
@@ -874,7 +877,8 @@ def staging_prefix(prefix: str) -> str:
 
 
 def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
-                  local: bool = True, note_unknown: bool = True) -> list[str]:
+                  local: bool = True, note_unknown: bool = True,
+                  pid_first: bool = False) -> list[str]:
     """Remove staging left in ``folder`` by runs that are provably over; name the others.
 
     An entry (folder or file, not a symbolic link) named ``<prefix><rest><suffix>``:
@@ -908,6 +912,11 @@ def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
     note_unknown : bool
         Name the entries without a pid (False: :func:`~modalinfo.common.files.atomic_write`,
         for which a user's own file of a matching name is none of its business).
+    pid_first : bool
+        Only ``rest`` = ``<pid>-<random>`` records a creator (True:
+        :func:`~modalinfo.common.files.atomic_write`'s prefix is its own target's name,
+        and ``<more>.<pid>-<random>`` is the temporary of another target whose name
+        extends it, ``name.bak``, which that write's docstring promises to leave alone).
     """
     folder = Path(folder)
     removed, unknown = [], []
@@ -923,7 +932,8 @@ def clean_staging(folder: Path, prefix: str, suffix: str = "", *, command: str,
         rest = name[len(prefix):len(name) - len(suffix)]
         pid_named = _PID_NAMED.search(rest) if local else None
         if pid_named and pid_named.end() == len(rest) and (
-                pid_named.start() == 0 or rest[pid_named.start() - 1] == "."):
+                pid_named.start() == 0
+                or (not pid_first and rest[pid_named.start() - 1] == ".")):
             pid = int(pid_named.group(1))
             if pid == os.getpid() or pid_alive(pid):
                 continue
