@@ -194,3 +194,24 @@ def test_figure7_report_numbers_of_the_fitted_arma_get_the_loop_fit_tolerance():
     # no blanket: a 10 % move of the ARMA cell shows
     cur["report.md"][sec + "row photon flux / # e- | col 4 #0"] = "0.392"
     assert any("col 4 #0" in m for m in g.differences("figures", ref, cur, g.RTOL["figures"]))
+
+
+def test_the_committed_fig7_arma_cell_passes_when_report_md_is_compared_alone():
+    # CI 18 / CI 19: test_golden_figures compares report.md alone ({name: ...}); the row
+    # classes come from the whole committed section (context), so the ARMA SR of the
+    # sensitivity table's photon-flux row 0.356 -> 0.358 (0.6 %) passes and a 10 % move
+    # of it, or a 2-unit move of its no-prediction neighbour, does not
+    reference = g.read("figures")
+    key = ("Figure #: Solar correlating sensing (ext | row photon flux (signal, "
+           "e-/px/frame) / # e- | col {} #0")
+    arma, none = key.format(4), key.format(3)
+    ref = {"report.md": {arma: reference["report.md"][arma],
+                         none: reference["report.md"][none]}}
+    a = float(ref["report.md"][arma])
+    moved = {"report.md": {arma: f"{a + 0.002:.3f}", none: ref["report.md"][none]}}
+    assert g.differences("figures", ref, moved, g.RTOL["figures"], context=reference) == []
+    assert g.differences("figures", ref, moved, g.RTOL["figures"]) != []  # no context: unit
+    far = {"report.md": {arma: f"{a * 1.1:.3f}",
+                         none: f"{float(ref['report.md'][none]) + 0.002:.3f}"}}
+    msgs = g.differences("figures", ref, far, g.RTOL["figures"], context=reference)
+    assert len(msgs) == 2

@@ -428,14 +428,19 @@ def _printed_unit(text: str) -> float | None:
     return 10.0 ** (-len(mant.split(".")[1]) + (int(exp) if exp else 0))
 
 
-def differences(section: str, reference: dict, current: dict, rtol: float) -> list[str]:
+def differences(section: str, reference: dict, current: dict, rtol: float,
+                context: dict | None = None) -> list[str]:
     """Messages naming every number that moved beyond its tolerance (empty: all agree).
 
     ``rtol``, or the tolerance of the number's class (:func:`tolerance`: a trained NN,
     Figure 7's solar loop runs); an NN's Diebold-Mariano statistic must keep its sign
     (its size is the ratio of a difference of near-equal losses to an error whose AR
     plug-in order can jump: 94 -> 126 between two CPUs while the losses moved < 1 %).
+    ``context``: the whole reference section, where ``reference`` is one file of it (the
+    classes of report.md's numbers are read from fig7_solar.json's rows; CI 19 compared
+    report.md alone and its ARMA cell fell back to one printed unit).
     """
+    context = reference if context is None else context
     ref, cur = flatten(reference), flatten(current)
     msgs = []
     for key in sorted(set(ref) - set(cur)):
@@ -444,7 +449,7 @@ def differences(section: str, reference: dict, current: dict, rtol: float) -> li
         msgs.append(f"{key}: produced ({cur[key][0]!r}) but not in the reference")
     for key in sorted(set(ref) & set(cur)):
         (a, scale), (b, _) = ref[key], cur[key]
-        tol, what = tolerance(key, reference, rtol)
+        tol, what = tolerance(key, context, rtol)
         if math.isnan(tol):
             same = (isinstance(a, float | int) and isinstance(b, float | int)
                     and math.copysign(1.0, a) == math.copysign(1.0, b)) or a == b

@@ -40,7 +40,7 @@ def test_quick_run_numbers_match_the_golden_reference(current, name):
     reference = g.read("figures")
     assert sorted(current) == sorted(reference), "a JSON file appeared or went: regenerate"
     moved = g.differences("figures", {name: reference[name]}, {name: current[name]},
-                          g.RTOL["figures"])
+                          g.RTOL["figures"], context=reference)
     if moved:
         shown = "\n  ".join(moved[:40]) + ("\n  ..." if len(moved) > 40 else "")
         pytest.fail(f"{len(moved)} golden number(s) of {name} (quick run) moved (relative "
