@@ -146,8 +146,10 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _aot_write_need(log) -> float:
-    """Peak of writing ``log`` as AOT with the log held [bytes]: ``estimate_write_aot``'s.
+def _aot_write_need(log) -> tuple[float, str]:
+    """Peak of writing ``log`` as AOT with the log held [bytes], and the words naming it.
+
+    The peak is ``log_bytes`` plus ``estimate_write_aot``'s.
 
     Checked with the log's other estimates before it is read, so that the first refusal
     names the writer's figure (it was refused after the load, 185.39 MiB, under a limit
@@ -155,5 +157,5 @@ def _aot_write_need(log) -> float:
     """
     from modalinfo.io.aot import estimate_write_aot
 
-    return log_bytes(log) + estimate_write_aot(log)[1]
+    return log_bytes(log) + estimate_write_aot(log)[1], "writing this log as AOT"
 

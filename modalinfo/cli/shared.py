@@ -484,7 +484,8 @@ def _check_log_fits(path: Path, options: dict, copies: int,
 
     Or too large for its quality pass under ``args.outliers``, with the log read whole
     (:func:`check_command_memory`: the larger of the two is the figure named), or for
-    ``later(probe)`` [bytes], a later step's peak with the log held (the AOT writer's).
+    ``later(probe)`` -> ``(bytes, words)``, a later step's peak with the log held (the AOT
+    writer's) and the words naming it when it is the larger.
     Formats that can be memory-mapped (NPY, NPZ, HDF5) are opened mapped when larger
     than ``modalinfo.io.MAP_ABOVE`` (which reads only their headers) and read when
     smaller; other formats are checked once read.
@@ -497,10 +498,14 @@ def _check_log_fits(path: Path, options: dict, copies: int,
     # a small log is read, not mapped (a mapped file truncated meanwhile is a SIGBUS)
     probe = load(path, mmap=mapping_pays(path), verify=False, **options)
     own = copies * log_bytes(probe)
+    what = (f"{quoted(path.name)} ({probe.n_frames} frames x {probe.n_modes} modes, "
+            f"{copies} float64 copies)")
     if later is not None:  # that step's own refusal came after the load, larger (M17)
-        own = max(own, later(probe))
-    check_command_memory(own, f"{quoted(path.name)} ({probe.n_frames} "
-                         f"frames x {probe.n_modes} modes, {copies} float64 copies)",
+        step, step_what = later(probe)
+        if step > own:  # the figure named is that step's, and so are the words (CI 21)
+            own, what = step, (f"{quoted(path.name)} ({probe.n_frames} frames x "
+                               f"{probe.n_modes} modes): {step_what}")
+    check_command_memory(own, what,
                          "analyse fewer frames or modes (e.g. convert a part of the log)",
                          probe, args, resident=log_bytes(probe))  # read whole after this
     del probe
