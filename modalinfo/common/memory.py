@@ -71,15 +71,7 @@ def address_space_limit_bytes() -> float:
     ``inf`` without a limit (or where unknown). Set by ``ulimit -v`` or a batch system,
     inherited by the processes it starts (a local Dask cluster's workers).
     """
-    try:
-        import resource
-
-        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    except (ImportError, OSError, ValueError):  # not on this platform
-        return math.inf
-    if soft == resource.RLIM_INFINITY or soft <= 0:
-        return math.inf
-    return float(soft)
+    return _soft_limit("RLIMIT_AS")
 
 
 def address_space_left_bytes() -> float:
@@ -91,15 +83,7 @@ def address_space_left_bytes() -> float:
     soft = address_space_limit_bytes()
     if not math.isfinite(soft):
         return math.inf
-    size = 0.0
-    try:
-        with open("/proc/self/status", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("VmSize:"):
-                    size = float(line.split()[1]) * 1024.0
-    except (OSError, ValueError, IndexError):
-        pass
-    return max(0.0, float(soft) - size)
+    return max(0.0, soft - _status_bytes("VmSize"))
 
 
 def usable_memory_bytes() -> float:
@@ -129,7 +113,7 @@ def _soft_limit(name: str) -> float:
 
 
 def _status_bytes(key: str) -> float:
-    """Return a ``kB`` line of ``/proc/self/status`` (``VmData``) [bytes]; 0 if unknown."""
+    """Return a ``kB`` line of ``/proc/self/status`` (``VmSize``, ``VmData``) [bytes], 0 unknown."""
     try:
         with open("/proc/self/status", encoding="ascii") as fh:
             for line in fh:
