@@ -714,13 +714,28 @@ def _check_shared_memory() -> None:
     read-only or full, ``batch`` and ``sweep`` printed two Dask tracebacks ending in
     "RuntimeError: Nanny failed to start." and exit 1 (adversarial round 15 PART b,
     R12). The test is the real thing: one lock of the ``spawn`` context Dask uses.
+
+    Under a file-size limit (``ulimit -f 0``) ``/dev/shm`` is fine but glibc's
+    ``sem_open`` cannot write the semaphore's file (``EFBIG``): the line names the
+    limit and that file, not /dev/shm's mount (round 50 PART b, R91; stop 57, fix51-c).
     """
+    import errno
     import multiprocessing
 
     try:
         multiprocessing.get_context("spawn").Lock()
     except (OSError, ImportError) as exc:
         why = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+        if getattr(exc, "errno", None) == errno.EFBIG:
+            from modalinfo.common.files import file_size_limit_text
+
+            limit = file_size_limit_text() or "a file-size limit"
+            # glibc writes a semaphore into a temporary /dev/shm/sem.XXXXXX, then links it
+            raise CommandError(f"a local Dask cluster needs POSIX semaphores for its worker "
+                               f"processes' locks, and the semaphore's file "
+                               f"(/dev/shm/sem.*) could not be written ({why}): {limit}; "
+                               "raise it (ulimit -f) or give --scheduler ADDR of a running "
+                               "cluster") from None
         raise CommandError(f"a local Dask cluster needs POSIX shared memory for its worker "
                            f"processes' locks (/dev/shm on Linux), and it is not usable "
                            f"here ({why}); mount a writable /dev/shm or give --scheduler "
