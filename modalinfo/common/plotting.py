@@ -49,7 +49,16 @@ def _found(family: str) -> bool:
     return True
 
 
-def plot_text(text: str | os.PathLike) -> str:
+#: LaTeX's special characters in text mode and what typesets each as itself (the ten
+#: of Lamport's "LaTeX", Sect. 2.2.1, with ``<``, ``>`` and ``|``, which OT1 fonts set
+#: as other glyphs): what a user's text becomes under ``text.usetex: True``
+_TEX_TEXT = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "$": r"\$", "&": r"\&",
+             "%": r"\%", "#": r"\#", "_": r"\_", "^": r"\textasciicircum{}",
+             "~": r"\textasciitilde{}", "<": r"\textless{}", ">": r"\textgreater{}",
+             "|": r"\textbar{}"}
+
+
+def plot_text(text: str | os.PathLike, *, usetex: bool | None = None) -> str:
     r"""Return a user's text (a file name, a mode label) for a matplotlib title or label.
 
     Drawn raw, a name holding two ``$`` (``$x$.npz``) was typeset as mathtext (an
@@ -59,23 +68,39 @@ def plot_text(text: str | os.PathLike) -> str:
     :func:`modalinfo.common.files.shown_name`'s one printable line (``\n``, ``\xNN``,
     ``\\``) with every ``$`` written ``\$``, which matplotlib draws as a ``$`` and never
     reads as mathtext (``matplotlib.cbook.is_math_text`` counts unescaped ``$`` only).
-    Not for ``text.usetex: True`` with a LaTeX installation, where TeX reads ``_``,
-    ``%``, ``#`` ... too.
+
+    Under ``text.usetex: True`` (kept by :func:`drawable_rc` where LaTeX is installed)
+    TeX reads the whole text: an unescaped ``_``, ``&`` or ``#`` is a TeX error, a
+    ``%`` starts a comment (not measured here: no LaTeX on the test machine; stop 57,
+    fix51-c). There every
+    special character of LaTeX's text mode is written as what typesets it
+    (:data:`_TEX_TEXT`: ``\_``, ``\%``, ``\textbackslash{}`` ...).
 
     Parameters
     ----------
     text : str or os.PathLike
         The user's text as given.
+    usetex : bool or None
+        Escape for LaTeX (True) or for mathtext (False); None: as
+        ``matplotlib.rcParams["text.usetex"]`` is now, so call this where the figure is
+        drawn (inside :func:`drawable_rc` or the caller's ``rc_context``).
 
     Returns
     -------
     str
         The text to hand to ``set_title`` / ``set_xlabel`` / ``set_ylabel`` (and to join
-        with the package's own words, which hold no ``$``).
+        with the package's own words, which hold none of these characters).
     """
     from modalinfo.common.files import shown_name
 
-    return shown_name(text).replace("$", "\\$")
+    shown = shown_name(text)
+    if usetex is None:
+        import matplotlib
+
+        usetex = bool(matplotlib.rcParams["text.usetex"])
+    if usetex:
+        return "".join(_TEX_TEXT.get(char, char) for char in shown)
+    return shown.replace("$", "\\$")
 
 
 def rc_overrides() -> dict:
