@@ -697,15 +697,18 @@ def run_log_task(payload: dict) -> dict:
 def _check_quality_memory(path: str, log: Any, policy: str) -> None:
     """Refuse (an error row) a log whose quality pass cannot fit, before the pass.
 
-    The pass's estimate of every command (``quality_pass_need``:
-    ``quality_memory``, a clipped copy, the log's own bytes when it is in memory)
-    against the memory this worker may still allocate (issue 27, left31-estimate).
+    The pass's estimate of every command (``quality_pass_need``: ``quality_memory``
+    and a clipped copy) against the memory this worker may still allocate (issue 27,
+    left31-estimate). ``log``, loaded or mapped before this check, is already missing
+    from that figure: counting its bytes again named 36.53 MiB where ``modalinfo
+    convert`` named 35.62 MiB on the same 20,000 x 6 log, and refused a log whose pass
+    fits (stop 57, fix51-c; the single command's rule of round 50 PART b, M12).
     """
     from modalinfo.common.memory import usable_memory_bytes
     from modalinfo.common.sizes import format_size
-    from modalinfo.telemetry.quality import in_memory_bytes, quality_pass_need
+    from modalinfo.telemetry.quality import quality_pass_need
 
-    need = quality_pass_need(log, policy, in_memory_bytes(log))
+    need = quality_pass_need(log, policy)
     avail = usable_memory_bytes()
     if need > avail:
         raise MemoryError(f"{quoted(Path(path).name)} ({log.n_frames} frames x {log.n_modes} "
