@@ -42,6 +42,7 @@ from modalinfo.common.quiet import recording
 from paper_figures import tell
 from paper_figures._common import (
     figure_main,
+    markdown_path,
     outlier_records,
     prepared_log,
     save_png_pdf,
@@ -509,7 +510,9 @@ def report(fig5: Figure5, *, suffix: str = "") -> str:
     source = source_markdown(fig5.source)  # the name as shown, in code (fix50-b)
     # the policy and its counts, not only on stderr (round 33 PART b, B31)
     outliers = f"\n**Outliers.** {fig5.outliers.rstrip('.')}.\n" if fig5.outliers else ""
-    ev, label, units = fig5.evaluation, fig5.label, fig5.units
+    # the log's own mode label, any text: in code, as typed (a "*", "<b>" or backtick
+    # in it was Markdown; stop 57, fix51-c), by the helper the paths are shown with
+    ev, label, units = fig5.evaluation, markdown_path(fig5.label), fig5.units
     ms, t_unit = fig5.frame_ms, fig5.t_unit
     rate_text = f"{fig5.rate:g} Hz" if fig5.rate else "an unknown rate (no --rate)"
     cols = [int(np.flatnonzero(ev.horizons == h)[0]) for h in REPORT_HORIZONS]

@@ -198,7 +198,7 @@ def test_report_word_for_word():
 ![Figure 5](fig5_forecast_s.png)
 
 Input: `my.npz`, 7100 frames x 6 modes at 2000 Hz
-(1 frame = 0.5 ms). Panels (a)-(c) show the first logged mode, **Z2**
+(1 frame = 0.5 ms). Panels (a)-(c) show the first logged mode, **`Z2`**
 (tip): the paper's caption says "Zernike 1", which in Noll's numbering is piston, a mode
 no wavefront sensor measures, so we take the first mode the log contains.
 
@@ -207,7 +207,7 @@ no wavefront sensor measures, so we take the first mode the log contains.
   0-6999; 10-step forecast of frames 7000-7009 from the end of
   the window with its 95% interval (psi-weights): 8/10 measured
   values inside, largest error 0.125 rad. AIC over p, q <= 5
-  picks (2,3) for Z2; over the 6 modes:
+  picks (2,3) for `Z2`; over the 6 modes:
   (2,3) x3, (1,1) x2, (3,3) x1.
 - (c) Neural net 10-10-1 trained on patterns ending at frame 6980, one-step forecasts
   (triangles) for the working configuration (2000 patterns, L-BFGS, standardised inputs,
@@ -238,7 +238,7 @@ log (wavefront gain x0.75 at h = 1 and worse at longer horizons):
   h = 10).
 - The neural net in a configuration that learns (2000 patterns) gains x1.20; the
   paper's configuration (10 patterns for 121 weights) gains x0.50 on the wavefront
-  and, on Z2 alone over seeds 0-4, between
+  and, on `Z2` alone over seeds 0-4, between
   x0.25 and x0.75: it is worse than persistence and
   seed-dependent. We report it as published, beside the working one.
 - Beyond the paper, the multivariate predictors that use the history of all modes gain
@@ -268,7 +268,7 @@ def test_report_other_branches():
             "mode by its increment variance and is measured on the frames after 6999, the mean "
             "weighs the modes equally on frames 0-6999).\n") in text
     assert "on this log AIC picks no order larger than (2,3)).\n" in text
-    assert "on Z2 alone over seeds 0-1, between\n  x0.25 and x0.50:" in text
+    assert "on `Z2` alone over seeds 0-1, between\n  x0.25 and x0.50:" in text
     # exactly persistence (gain 1): not "loses"
     gains[1] = 1.0
     assert "linear extrapolation gains x1.00" in fig5.report(_figure(FakeEvaluation(gains)))
