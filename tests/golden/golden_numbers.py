@@ -1,6 +1,6 @@
 """Golden numbers: what the project publishes at a fixed seed, computed, flattened, compared.
 
-Three sections, one JSON reference file each under ``tests/golden/``:
+Four sections, one JSON reference file each under ``tests/golden/``:
 
 ``presets``
     every ``closedloop`` preset (``closedloop.presets.names()``) on a short run at seed 0
@@ -19,6 +19,10 @@ Three sections, one JSON reference file each under ``tests/golden/``:
     every JSON file of ``python -m paper_figures --quick`` and every number of its
     ``report.md`` (table rows and sentences), keyed by section and text around it;
     run times are left out (they are not published numbers of the computation).
+``fig5``
+    the same of ``python -m paper_figures --only 5`` (:data:`FIG5_ARGS`): Figure 5 at
+    the paper's settings, every mode of both shipped logs (``--quick`` evaluates the
+    first 5), the numbers the paper's Figure 5 and its comparison rows publish.
 
 Regenerate with ``python tests/golden/regenerate.py [--only SECTION]`` (docs/TESTING.md,
 "Golden numbers"); a regenerated reference goes in the same commit as the change that
@@ -49,7 +53,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 DATA = ROOT / "data"
-SECTIONS = ("presets", "logs", "figures")
+SECTIONS = ("presets", "logs", "figures", "fig5")
+#: the run of the ``fig5`` section: Figure 5 alone at the paper's settings (not --quick)
+FIG5_ARGS = ("--only", "5")
 
 #: frames of each preset's golden run: enough for the closure detection (it needs twice
 #: its 5-ms window: 10 frames at 1 ms, 20 at 0.5 ms) with budget probes after it
@@ -87,7 +93,7 @@ FORECAST_MODES = 5
 #: NN RMSE) and by 6 % (Figure 3's NN band ratio 0.51 -> 0.48) between 1 and 2 BLAS
 #: threads: they are pinned at RTOL_NN = 0.2, 3 times the largest move, and a 1 % change
 #: of an NN number is not visible to a cross-CPU golden (their law tests are elsewhere).
-RTOL = {"presets": 1e-6, "logs": 1e-6, "figures": 1e-6}
+RTOL = {"presets": 1e-6, "logs": 1e-6, "figures": 1e-6, "fig5": 1e-6}
 RTOL_NN = 0.2
 #: a report row or sentence that quotes a neural net's number
 _NN_TEXT = re.compile(r"\bNN\b|nn-paper|neural net")
@@ -381,7 +387,8 @@ def limit_blas_threads():
 
 
 def figure_numbers(out_dir: Path) -> dict:
-    """Every JSON file of a ``--quick`` run and the numbers of its report."""
+    """Every JSON file of a ``paper_figures`` run (``--quick``, or :data:`FIG5_ARGS`) and
+    the numbers of its report."""
     res = {}
     for p in sorted(Path(out_dir).glob("*.json")):
         tree = json.loads(p.read_text())

@@ -5,7 +5,9 @@ preset, ~1 min), ``logs`` (the shipped-log analyses, ~20 s) and ``figures`` (a
 ``python -m paper_figures --quick`` run with one BLAS thread, several minutes;
 ``--quick-out DIR`` reads an existing quick run's folder instead, which must have been
 made with one BLAS thread too: ``OPENBLAS_NUM_THREADS=1 python -m paper_figures
---quick``). ``--out DIR`` writes the JSON files there instead of over the references in
+--quick``). ``fig5`` (Figure 5 at the paper's settings, ``python -m paper_figures
+--only 5`` with one BLAS thread, a few minutes; ``--fig5-out DIR`` reads such a run's
+folder). ``--out DIR`` writes the JSON files there instead of over the references in
 ``tests/golden/``; ``--compare`` prints the largest relative difference from the
 references, the numbers beyond the tolerance and the largest move of each tolerance
 class (``golden_numbers.tolerance``: to compare two machines, or a build of this one
@@ -37,11 +39,26 @@ def _quick_run(out: Path) -> None:
             raise SystemExit("regenerate: the quick paper_figures run failed")
 
 
-def compute(section: str, quick_out: Path | None) -> dict:
+def _fig5_run(out: Path) -> None:
+    from paper_figures.__main__ import main
+
+    # one BLAS thread, as the test's run (tests/paper_figures/test_golden_fig5_round51.py)
+    with g.limit_blas_threads():
+        if main(["--out", str(out), *g.FIG5_ARGS]) != 0:
+            raise SystemExit("regenerate: the Figure 5 paper_figures run failed")
+
+
+def compute(section: str, quick_out: Path | None, fig5_out: Path | None = None) -> dict:
     if section == "presets":
         return g.compute_presets()
     if section == "logs":
         return g.compute_logs()
+    if section == "fig5":
+        if fig5_out is not None:
+            return g.figure_numbers(fig5_out)
+        with tempfile.TemporaryDirectory() as tmp:
+            _fig5_run(Path(tmp) / "fig5")
+            return g.figure_numbers(Path(tmp) / "fig5")
     if quick_out is not None:
         return g.figure_numbers(quick_out)
     with tempfile.TemporaryDirectory() as tmp:
@@ -56,13 +73,15 @@ def main(argv: list[str] | None = None) -> int:
                         help="section to regenerate (repeatable; default: all)")
     parser.add_argument("--quick-out", type=Path, default=None,
                         help="folder of an existing `python -m paper_figures --quick` run")
+    parser.add_argument("--fig5-out", type=Path, default=None,
+                        help="folder of an existing `python -m paper_figures --only 5` run")
     parser.add_argument("--out", type=Path, default=None,
                         help="write the JSON files here instead of tests/golden/")
     parser.add_argument("--compare", action="store_true",
                         help="print the largest relative difference from the references")
     args = parser.parse_args(argv)
     for section in args.only or g.SECTIONS:
-        numbers = compute(section, args.quick_out)
+        numbers = compute(section, args.quick_out, args.fig5_out)
         before = g.read(section) if g.path_of(section).exists() else None
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)
