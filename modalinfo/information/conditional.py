@@ -205,7 +205,12 @@ from modalinfo.information.api import (
     _UnionOfCurvesError,
 )
 from modalinfo.information.convergence import effective_sample_rule
-from modalinfo.information.discrete import discrete_x_levels, pile_why, repeated_rows_why
+from modalinfo.information.discrete import (
+    discrete_x_levels,
+    pile_why,
+    repeated_rows_why,
+    tied_table_why,
+)
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi, gaussian_scores_rule
 from modalinfo.information.histogram import (
     MIN_BINS,
@@ -730,7 +735,8 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             judged = False
         if judged and (pile := pile_why(cols := _columns(x, y, z), record.name,
                                         tuple(k for k in cols if k[0] == "z"))
-                       or repeated_rows_why(cols, record.name)):  # round 47 PART a
+                       or repeated_rows_why(cols, record.name)  # round 47 PART a
+                       or tied_table_why(cols, record.name)):  # round 51 PART a
             # a point estimate of a piled variable by the method itself (issue 27): said once,
             # the value kept (a switch to ksg or the Gaussian copula returned above)
             if fallback == "raise":
