@@ -492,6 +492,24 @@ class HistogramEngine:
         loss, r = histogram_grid_loss(x, y, k)
         return loss, k, r
 
+    def mixed_grid_loss(self, x: np.ndarray, y: np.ndarray) -> tuple[float, int] | None:
+        """``(loss, k)`` of :func:`mixed_grid_loss` for a discrete and a continuous variable.
+
+        For rule-chosen quantile bins (as :meth:`grid_loss`) where one of x and y is
+        discrete (:func:`discrete_x_levels`) with at most k levels, read exactly by the
+        bins, and the other has no repeated value (the k bins of a continuum); else None.
+        """
+        if self.binning != "quantile" or self.bins not in ("hacine-gharbi", "auto"):
+            return None
+        k = n_bins_for(self.bins, y, r=self._corr(y))
+        if k > GRID_LOSS_MAX_BINS:
+            return None
+        for a, b in ((x, y), (y, x)):
+            levels = discrete_x_levels(a)
+            if levels is not None and levels[1] <= k and np.unique(b).size == b.size:
+                return mixed_grid_loss(levels[0], levels[1], b, k), k
+        return None
+
     def ceiling_why(self, value: float, x: np.ndarray, y: np.ndarray) -> str | None:
         """Why the score ``value`` (nats) of (x, y) loses MI its bins cannot hold, or None.
 
@@ -967,6 +985,59 @@ def histogram_grid_loss(x: np.ndarray, y: np.ndarray, k: int) -> tuple[float, fl
     r = normal_score_correlation(x, y)
     g = -0.5 * math.log(1.0 - r * r)
     return max(g - gaussian_grid_mi(r, k), 0.0), r
+
+
+def mixed_grid_loss(codes: np.ndarray, m: int, y: np.ndarray, k: int) -> float:
+    """MI (nats) k equiprobable bins of a continuous y lose against a discrete x's levels.
+
+    The model: y's normal scores (:func:`copula_scores`) given level i of x are normal
+    with the level's mean and the pooled within-level s.d. s (a location mixture, the
+    law of ``y = x + noise`` in scores). Its MI is ``h(mixture) - ln(s sqrt(2 pi e))``
+    (the mixture's entropy by the trapezoid rule on a grid of 4,001 points over +-9);
+    binned at the score quantiles ``Phi^-1(j / k)`` it is ``sum_i p_i sum_j P(j | i)
+    ln(P(j | i) / P(j))``; the difference is never negative (data processing). The
+    histogram reads x by its m <= k levels and y by k bins, so its estimate and every
+    bootstrap replicate of it sit this far below the MI (round 51 PART a Q63: x ~
+    Bernoulli(0.05), y = x + N(0, 0.5^2), n = 2,000, 11 bins: model loss 0.008-0.0095
+    nats, estimates 0.0095 below the exact 0.0805 on average, against a bootstrap s.d.
+    of ~0.009).
+
+    Parameters
+    ----------
+    codes : numpy.ndarray, shape (n,), int
+        Level index of each sample of the discrete variable, in ``0 .. m - 1``.
+    m : int
+        Number of levels.
+    y : numpy.ndarray, shape (n,)
+        The continuous variable.
+    k : int
+        Number of equiprobable bins of y.
+
+    Returns
+    -------
+    float
+        The loss [nats], >= 0.
+    """
+    s = copula_scores(y)
+    counts = np.bincount(codes, minlength=m).astype(float)
+    p = counts / codes.size
+    mu = np.bincount(codes, weights=s, minlength=m) / np.maximum(counts, 1.0)
+    resid = s - mu[codes]
+    sd = math.sqrt(float(resid @ resid) / max(codes.size - m, 1))
+    if not sd > 0.0:
+        return 0.0
+    t = np.linspace(-9.0, 9.0, 4001)
+    f = p @ (np.exp(-0.5 * ((t[None, :] - mu[:, None]) / sd) ** 2) / (sd * math.sqrt(2 * math.pi)))
+    flogf = np.where(f > 0, f * np.log(np.where(f > 0, f, 1.0)), 0.0)
+    model = -float(np.sum(0.5 * (flogf[1:] + flogf[:-1])) * (t[1] - t[0])) - 0.5 * math.log(
+        2 * math.pi * math.e * sd * sd)
+    edges = np.concatenate(([-np.inf], ndtri(np.arange(1, k) / k), [np.inf]))
+    cond = np.diff(ndtr((edges[None, :] - mu[:, None]) / sd), axis=1)  # P(j | i), (m, k)
+    pj = p @ cond
+    keep = (cond > 0) & (p[:, None] > 0)
+    binned = float(np.sum((p[:, None] * cond * np.log(np.where(keep, cond, 1.0)
+                                                       / np.where(keep, pj[None, :], 1.0)))[keep]))
+    return max(model - binned, 0.0)
 
 
 def _cells_rule(n: int, cells: float, d: int) -> str | None:

@@ -67,7 +67,12 @@ of discrete variables is that of the table, which the plug-in estimates directly
 (same data: -0.00x, benchmarks/RESULTS.md). Finer grids (rounded to 0.1 sd, ~80
 levels, 6400 cells) fail the rule and stay with the kernel, which is within 0.015
 there. The check costs a sort of the first n / 20 + 1 values of each variable when
-they are continuous (all distinct: rejected at once).
+they are continuous (all distinct: rejected at once). The conditional MI
+(:func:`kde_cmi`) takes the table of (x, y, z) on the same rule; where every column is
+discrete but the table is sparser, its point estimates warn where they differ from the
+KSG's by more than max(0.05 nats, 10 %)
+(:func:`~modalinfo.information.discrete.tied_table_why`: the transfer entropy of
+Poisson(2) counts at T = 4,001 read 0.886 nats for 0.627; round 51 PART a).
 """
 
 from __future__ import annotations

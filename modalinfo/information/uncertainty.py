@@ -250,14 +250,33 @@ def _grid_loss_bound(est: MutualInformation, x: np.ndarray, y: np.ndarray, low: 
     more slowly than the spread). The loss on a Gaussian copula of the pair's
     normal-score correlation (``histogram.histogram_grid_loss``; the Gaussian-copula
     MI is a lower bound of any continuous pair's MI) is added to ``high`` where it
-    exceeds a quarter of the half-width, and ``note`` says so. Not for a persistent
-    pair or one with repeated values (the generic rules and ``ceiling_problem`` judge
+    exceeds a quarter of the half-width, and ``note`` says so. A discrete variable
+    against a continuous one (no repeated value) takes the loss of the continuous
+    variable's bins on a location-mixture model of its normal scores instead
+    (``histogram.mixed_grid_loss``; round 51 PART a, Q63). Not for a persistent pair or
+    one with other repeated values (the generic rules and ``ceiling_problem`` judge
     those), nor for bins the caller chose.
     """
     grid = getattr(est._engine, "grid_loss", None)
     if grid is None or not (math.isfinite(low) and math.isfinite(high)):
         return low, high, ""
-    if any(np.unique(a).size < a.size for a in (x, y)) or effective_sample_rule(x, y):
+    if effective_sample_rule(x, y):
+        return low, high, ""
+    # a discrete variable against a continuous one: its levels are read exactly, the
+    # continuum by k bins (round 51 PART a Q63: coverage 0.725 of 95 % for x ~
+    # Bernoulli(0.05), y = x + N(0, 0.5^2), n = 2,000; the estimate 0.0095 nats low)
+    mixed = getattr(est._engine, "mixed_grid_loss", None)
+    if mixed is not None and (got := mixed(x, y)) is not None:
+        loss, k = got
+        raise_by = loss * est._factor
+        if raise_by <= 0.25 * 0.5 * (high - low):
+            return low, high, ""
+        return low, high + raise_by, (
+            f"upper bound raised by {raise_by:.4g} {est.units}: {k} equiprobable bins of the "
+            f"continuous variable lose that much MI on a model of the pair (normal scores "
+            f"shifted by the discrete variable's levels), and the bootstrap sees only the "
+            f"binned MI")
+    if any(np.unique(a).size < a.size for a in (x, y)):
         return low, high, ""
     got = grid(x, y)
     if got is None:
@@ -430,7 +449,12 @@ def mutual_information_ci(
         exceeds a quarter of the half-width, and ``note`` says so (round 15 PART a:
         iid Gaussian pairs, rho = 0.6, coverage of 95 % intervals 0.76 at n = 5000 and
         0.55 at 20000 before, 1.0 and 1.0 after, 60 seeds each: conservative, the
-        loss exceeds the Miller-Madow estimate's bias by ~0.002 nats).
+        loss exceeds the Miller-Madow estimate's bias by ~0.002 nats). Where one variable
+        is discrete (a flag, a few levels, read exactly by the bins) and the other has
+        no repeated value, the loss is that of the continuous variable's k bins on a
+        model of the pair (its normal scores shifted by the levels,
+        ``histogram.mixed_grid_loss``; round 51 PART a: x ~ Bernoulli(0.05), y = x +
+        N(0, 0.5^2), n = 2,000, 40 seeds: coverage 0.725 before, 0.925 after).
     seed : None, int or numpy.random.Generator
         Randomness of the resampling.
     **options
