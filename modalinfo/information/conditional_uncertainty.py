@@ -65,6 +65,7 @@ from modalinfo.information.resampling import (
     check_resamples,
     interval_bias_rule,
     level_null_rule,
+    local_mean_split,
     local_permutation,
     rank_based_options,
     residual_split,
@@ -345,7 +346,12 @@ def conditional_mutual_information_test(
     # (the fit piecewise linear in z, round 50 PART a: a y that follows z non-linearly);
     # the null rules read the linear residuals their thresholds were measured on
     rank_based = rank_based_options(options)
-    fit, resid = residual_split(ya, za, rank_based, RESIDUAL_KNOTS)
+    if get_method(method).cmi is histogram_cmi:
+        # the linear fit plus the local mean of its residual in z (fix51-a): the hinges
+        # left the histogram's circular test rejecting the non-linear chains (O02 / O03)
+        fit, resid = local_mean_split(ya, za, rank_based)
+    else:
+        fit, resid = residual_split(ya, za, rank_based, RESIDUAL_KNOTS)
     # the histogram's shuffle null: a local permutation, which keeps any z-link of y
     local = (surrogate == "shuffle" and za.shape[1] > 0
              and get_method(method).cmi is histogram_cmi)

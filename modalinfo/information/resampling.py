@@ -348,13 +348,14 @@ def residual_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
     histogram's bins of z leave part of z's effect on x and y) is in the null as in the
     statistic (adversarial round 11). With ``knots`` the fit is additive and piecewise
     linear in each z column (``_residual_design``), so a y that follows z
-    non-linearly keeps that dependence too: the conditional test's surrogates
-    (round 50 PART a: with the linear fit, X -> Z -> Y with Y = Z^2 + noise or
-    sin 6Z + noise was rejected in 40 of 40 draws by the histogram test, sin 6Z by the
-    gaussian one; an interaction of two z columns is still outside the fit). The map's
-    and the selection's surrogates and the null rules keep the linear fit, on which
-    their thresholds and powers were measured. On normal scores (of y's columns and z's)
-    for a rank-based estimator, which sees only ranks; on the values otherwise. With no
+    non-linearly keeps that dependence too: the conditional test's surrogates of the
+    methods other than the histogram (round 50 PART a: with the linear fit, X -> Z -> Y
+    with Y = sin 6Z + noise was rejected in 40 of 40 draws by the gaussian test; an
+    interaction of two z columns is still outside the fit). The histogram's, the map's
+    and the selection's surrogates take :func:`local_mean_split` (fix51-a); the null
+    rules keep the linear fit, on which their thresholds were measured. On normal
+    scores (of y's columns and z's) for a rank-based estimator, which sees only ranks;
+    on the values otherwise. With no
     z, or a column of y with tied values (a discrete y: a residual would break its levels
     apart), the fit is 0 and the residual y itself (the former surrogates).
 

@@ -863,9 +863,9 @@ def _judge_histogram_gains(y: np.ndarray, C: np.ndarray, picked: list[int],
              f"gains are not significant (p = {max(spurious):.2g} > {LOCAL_CHECK_ALPHA}) "
              f"against {LOCAL_CHECK_SURROGATES} local permutations of the input among the "
              "nearest neighbours of the inputs before it, which keep a non-linear link of "
-             "the input to them (the rotation surrogates keep only its piecewise-linear "
-             "part): such an input may inform nothing beyond them (use "
-             "method='gaussian' or 'ksg')", BiasRuleWarning, stacklevel=3)
+             "the input to them (the rotation surrogates keep it only as far as a "
+             "20-neighbour local mean does): such an input may inform nothing beyond "
+             "them (use method='gaussian' or 'ksg')", BiasRuleWarning, stacklevel=3)
 
 
 #: Local permutations of :func:`_local_pvalue` and the p-value above which a picked
@@ -878,14 +878,16 @@ def _local_pvalue(y: np.ndarray, x: np.ndarray, z: np.ndarray,
                   options: dict[str, Any]) -> float:
     """p-value of the histogram I(y; x | z) against local permutations of x within z.
 
-    The search's rotation surrogates move x's residual on z's piecewise-linear fit and keep
-    the fit: an input that follows an earlier one non-linearly (w = z^2 + e, with the target
-    y = sin 6z + e) loses that link in the null but not in the statistic's bins, and was
-    added in 40 of 40 searches (25 of 40 with the fit's hinges) where it informs nothing
-    (fix50-e). Local permutations (:func:`~modalinfo.information.resampling.local_permutation`,
-    Runge 2018) keep any link of x to z; they ignore autocorrelation, which makes them
-    liberal, not conservative, so an input they do not find significant is suspect. Seeded
-    (0): the same call warns the same way.
+    The search's rotation surrogates move x's residual on z and keep the fit: with the
+    linear fit an input that follows an earlier one non-linearly (w = z^2 + e, with the
+    target y = sin 6z + e) lost that link in the null but not in the statistic's bins, and
+    was added in 40 of 40 searches (25 of 40 with the fit's hinges) where it informs
+    nothing (fix50-e); with the local-mean fit (fix51-a) in 2 of 40, and this check is the
+    second opinion on those. Local permutations
+    (:func:`~modalinfo.information.resampling.local_permutation`, Runge 2018) keep any
+    link of x to z; they ignore autocorrelation, which makes them liberal, not
+    conservative, so an input they do not find significant is suspect. Seeded (0): the
+    same call warns the same way.
     """
     est = _estimator("histogram", "nats", options)
     rng = np.random.default_rng(0)
