@@ -417,7 +417,7 @@ def neighbour_rows(z: np.ndarray, rank_based: bool,
     z : numpy.ndarray, shape (n, d_z)
         Conditioning columns, d_z >= 1, n >= 2.
     rank_based : bool
-        Neighbours on normal scores, else on unit-sd values (:func:`_neighbour_space`).
+        Neighbours on normal scores, else on unit-sd values (``_neighbour_space``).
     k : int
         Neighbours per row (cut to n - 1).
 
@@ -445,7 +445,7 @@ def local_mean_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
     The parts of the transfer-entropy map's and the selection's rotation surrogates
     (fix51-a), ``fit + rotated residual``: the fit is y's least-squares fit on z and a
     constant (:func:`residual_split` on the values) plus the mean of that fit's residual
-    over each row's :data:`LOCAL_MEAN_NEIGHBOURS` nearest other rows in z
+    over each row's ``LOCAL_MEAN_NEIGHBOURS`` (20) nearest other rows in z
     (:func:`neighbour_rows`; a leave-one-out k-NN regression), so a y that follows z in
     any smooth form keeps that link in every surrogate while the rotated rest keeps y's
     own autocorrelation. With the linear fit alone a source that follows its target's
