@@ -65,6 +65,7 @@ from modalinfo.information.resampling import (
     check_resamples,
     interval_bias_rule,
     level_null_rule,
+    local_mean_split,
     local_permutation,
     rank_based_options,
     residual_split,
@@ -237,8 +238,9 @@ def _warn_unkept_excess(method: str, options: dict[str, Any], xa: np.ndarray,
                         resid: np.ndarray) -> None:
     """Warn where the histogram's conditioning excess is in the statistic, not the null.
 
-    The surrogates keep what the piecewise-linear fit of y on z explains
-    (:func:`~modalinfo.information.resampling.residual_split`), so the histogram's bias
+    The surrogates keep what the fit of y on z explains
+    (:func:`~modalinfo.information.resampling.local_mean_split` for the histogram since
+    fix51-a, whose circular test then kept its level on O02 / O03), so the histogram's bias
     from z's bins (x and y both following z inside a bin) is in the null as in the
     statistic where that fit holds y's link to z. Where it does not (Y = sin 6Z + noise,
     heteroskedastic in the scores), the histogram test rejected a true I(X; Y | Z) = 0
@@ -257,7 +259,7 @@ def _warn_unkept_excess(method: str, options: dict[str, Any], xa: np.ndarray,
         warn(f"conditional_mutual_information_test with method='histogram': within z's "
              f"bins x and y follow z together ({data:.3g} nats in the per-bin Gaussian "
              f"model) more than the surrogates keep ({kept:.3g}): y's link to z is not "
-             "held by their piecewise-linear fit, so the statistic's conditioning bias is "
+             "held by their fit on z, so the statistic's conditioning bias is "
              "not in the null and the test may reject a true I(X; Y | Z) = 0 (a Markov "
              "chain x -> z -> y); use method='gaussian' or method='ksg'",
              BiasRuleWarning, stacklevel=3)
@@ -308,9 +310,12 @@ def conditional_mutual_information_test(
         moved. The fit is piecewise linear in each z column (``resampling.RESIDUAL_KNOTS``
         hinges, round 50 PART a: with the linear fit, X -> Z -> Y with Y = sin 6Z + noise was
         rejected in 40 of 40 draws by the gaussian test, now 1 of 40); an interaction of z
-        columns is still broken. Where the histogram's excess from z's bins is in the
-        statistic more than in a surrogate (a y that follows z too sharply for the fit:
-        Y = sin 6Z + noise, still 40 of 40), a ``BiasRuleWarning`` says so. The
+        columns is still broken. The histogram's fit is instead the linear one plus the
+        local mean of its residual over z's 20 nearest neighbours, on the values
+        (:func:`~modalinfo.information.resampling.local_mean_split`, fix51-a): with the
+        hinges its circular test rejected Y = Z^2 and sin 6Z + noise in 29 and 40 of 40
+        draws, now 1 and 4. Where the histogram's excess from z's bins is still in the
+        statistic more than in a surrogate, a ``BiasRuleWarning`` says so. The
         histogram's ``"shuffle"`` surrogates are instead local permutations of y among
         z's 5 nearest neighbours (:func:`~modalinfo.information.resampling.local_permutation`,
         Runge 2018; fix50-e), which keep y's link to z whatever its form: on those chains
@@ -345,7 +350,12 @@ def conditional_mutual_information_test(
     # (the fit piecewise linear in z, round 50 PART a: a y that follows z non-linearly);
     # the null rules read the linear residuals their thresholds were measured on
     rank_based = rank_based_options(options)
-    fit, resid = residual_split(ya, za, rank_based, RESIDUAL_KNOTS)
+    if get_method(method).cmi is histogram_cmi:
+        # the linear fit plus the local mean of its residual in z (fix51-a): the hinges
+        # left the histogram's circular test rejecting the non-linear chains (O02 / O03)
+        fit, resid = local_mean_split(ya, za, rank_based)
+    else:
+        fit, resid = residual_split(ya, za, rank_based, RESIDUAL_KNOTS)
     # the histogram's shuffle null: a local permutation, which keeps any z-link of y
     local = (surrogate == "shuffle" and za.shape[1] > 0
              and get_method(method).cmi is histogram_cmi)

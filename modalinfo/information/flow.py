@@ -141,9 +141,10 @@ from modalinfo.information.methods import BiasRuleWarning, get_method
 from modalinfo.information.resampling import (
     check_resamples,
     check_surrogates_reach,
+    local_mean_split,
     matched_window_for,
+    neighbour_rows,
     rank_based_options,
-    residual_split,
     surrogate_shifts,
 )
 from modalinfo.information.selection import (
@@ -471,12 +472,15 @@ def _gaussian_map_restricted(series, lags, history, t0, shifts, family, labels=N
 def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_based=True):
     """TE of every cell and of every cell under every surrogate (the source rotated).
 
-    The source's residual on the target's history is rotated and its fit kept
-    (:func:`~modalinfo.information.resampling.residual_split`, round 11): a source that
-    the target drives (y -> x only, no x -> y) made the histogram map report x -> y in
-    23 % of 120 maps at alpha 0.05, the bins of the target's history leaving part of
-    what the source's past shares with it; rotating the whole source put none of that
-    in the null.
+    The source's residual on the target's history is rotated and its fit kept (round
+    11): a source that the target drives (y -> x only, no x -> y) made the histogram map
+    report x -> y in 23 % of 120 maps at alpha 0.05, the bins of the target's history
+    leaving part of what the source's past shares with it; rotating the whole source
+    put none of that in the null. The fit is the linear one plus the local mean of its
+    residual over the history's nearest neighbours
+    (:func:`~modalinfo.information.resampling.local_mean_split`, fix51-a): with the
+    linear fit alone a source that follows the target non-linearly in the same frame
+    (``s_t = sin 6 a_t + e``) was called s -> a in 25 of 160 histogram maps at 5 %.
     """
     T, S = series.shape
     te = np.zeros((S, S, lags.size))
@@ -484,13 +488,16 @@ def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_bas
     for i in range(S):
         x = series[t0:, i : i + 1]
         z = _history(series[:, i], history, t0)
+        # the history's neighbours, shared by every source and lag of this target
+        near = neighbour_rows(z, rank_based) if shifts.size and z.shape[1] else None
         for j in range(S):
             if j == i or (family is not None and not family[j, i, 0]):
                 continue
             for a, lag in enumerate(lags):
                 y = np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1])
                 te[j, i, a] = est(x, y, z)
-                fit, resid = residual_split(y, z, rank_based) if shifts.size else (y, y)
+                fit, resid = local_mean_split(y, z, rank_based, near) if shifts.size \
+                    else (y, y)
                 for s_i, s in enumerate(shifts):
                     null[s_i, j, i, a] = est(x, fit + np.roll(resid, int(s), axis=0), z)
     return te, null
