@@ -381,11 +381,11 @@ def main(argv: list[str] | None = None) -> int:
                         help="comma-separated figure numbers to make (default: all)")
     parser.add_argument("--quick", action="store_true",
                         help="a smoke run, numbers not the paper's: reduced closed-loop "
-                             "settings for Figures 2-4, 6 and 8, Figure 5's evaluation on "
+                             "settings for Figures 2-4, 6, 7 and 8, Figure 5's evaluation on "
                              "the first 5 modes")
     parser.add_argument("--duration", type=float, default=None,
-                        help="simulated time of the Figures 2-4 runs [s] (default 0.5, "
-                             "quick 0.2)")
+                        help="simulated time of the closed-loop runs of Figures 2-4 and 7 [s] "
+                             "(default 0.5, quick 0.2)")
     parser.add_argument("--seed", type=int, default=None,
                         help="atmosphere of the closed-loop runs (default 0)")
     from modalinfo.cli.shared import add_gap_argument, add_hint_arguments

@@ -462,6 +462,30 @@ def _kl_assumed(log: Any, theory: bool) -> dict:
     return {"kl_assumed": what} if what else {}
 
 
+def _require_contiguous_for_ordering(log: Any, p: dict) -> None:
+    """Refuse, before the ordering's work, a gapped log the bootstrap or windows need whole.
+
+    The pooled ordering runs on a log with gaps; the block bootstrap (``resamples`` > 0
+    with an MI method) and the stability windows (``windows`` >= 2) do not, and their
+    refusal named ``--split-gaps``, which batch lacks, after the ordering's work (round 51
+    PART b, C105): the row now names the parameter that avoids them, and the command.
+    """
+    from modalinfo.telemetry.sampling import require_contiguous
+
+    if int(p["windows"]) >= 2 and p["method"] != "pca":
+        require_contiguous(log, f"ordering.windows {p['windows']} (the stability's time "
+                           "windows)",
+                           remedy="batch has no --split-gaps: --set ordering.windows=0 "
+                                  "orders the whole log without them, or run `modalinfo "
+                                  "reorder LOG --split-gaps --stability N` on this log")
+    if int(p["resamples"]) > 0 and str(p["method"]).startswith("mi_"):
+        require_contiguous(log, f"ordering.resamples {p['resamples']} (the block "
+                           "bootstrap of the MI gains)",
+                           remedy="batch has no --split-gaps: --set ordering.resamples=0 "
+                                  "orders the whole log without it, or run `modalinfo "
+                                  "reorder LOG --split-gaps` on this log")
+
+
 def _ordering(log: Any, p: dict) -> dict:
     from modalinfo.ordering import order_modes, ordering_stability
     from modalinfo.ordering.compare import basis_for_log
@@ -480,6 +504,7 @@ def _ordering(log: Any, p: dict) -> dict:
                              f"estimates) would take at least {seconds / 3600:.1f} h of CPU, "
                              f"more than {MAX_ORDERING_SECONDS / 3600:g} h; use a smaller "
                              "ordering.budget or estimator")
+    _require_contiguous_for_ordering(log, p)
     with _no_cost_note(), _pupil_words("ordering"):
         basis = basis_for_log(p["basis"], log, n_pixels=int(p["pupil_pixels"]))
     assumed = _kl_assumed(log, p["basis"] == "kl-theory")
@@ -571,12 +596,17 @@ def _forecast(log: Any, p: dict) -> dict:
     from modalinfo._stats import LevelStepWarning
     from modalinfo.forecast import evaluate
     from modalinfo.forecast.presets import make_predictor
+    from modalinfo.telemetry.sampling import require_contiguous
 
     log = _select(log, p["modes"])
     names = [n.strip() for n in str(p["predictors"]).split(",") if n.strip()]
     predictors = {n: make_predictor(n) for n in names}
     horizon = int(p["horizon"])
     train = p["train"]
+    # the row named --split-gaps, which batch lacks (round 51 PART b, C101)
+    require_contiguous(log, "forecast evaluation",
+                       remedy="batch has no --split-gaps: run `modalinfo forecast LOG "
+                              "--split-gaps` on this log")
     if horizon >= log.n_frames:  # before `evaluate` lists the horizons 1..H
         raise ValueError(f"`horizon` must be below the log's {log.n_frames} frames; "
                          f"got {horizon}")

@@ -543,8 +543,22 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.basis == "kl-theory":  # after the refusals: a note then an error is 2 lines
         kl_geometry_note(args, log)
-    where = ("pooled over all frames" if result.pooled
-             else f"frame {getattr(args, 'file_frame', result.frame)}")
+    thinned = getattr(args, "frames_kept", None)
+    # "all frames" was printed of every 4th frame: --max-frames' note went to stderr only
+    # (round 51 PART b, O14)
+    segment = getattr(args, "analysed_frames", None)  # --split-gaps' segment
+    if not result.pooled:
+        where = f"frame {getattr(args, 'file_frame', result.frame)}"
+    elif segment is not None:
+        step = getattr(args, "frame_step", 1)
+        where = (f"pooled over frames {segment[0] * step}..{(segment[1] - 1) * step} of the "
+                 "file, its longest contiguous segment"
+                 + (f", every {ordinal(step)} frame" if step > 1 else ""))
+    elif thinned is not None:
+        where = (f"pooled over every {ordinal(args.frame_step)} frame, {thinned[0]} of "
+                 f"{thinned[1]}")
+    else:
+        where = "pooled over all frames"
     print(f"{args.basis} basis, {args.method} order ({where}"
           + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
              if result.mi is not None else "") + ")")

@@ -522,6 +522,16 @@ def command_provenance(args: argparse.Namespace, source: Path | None,
 
     record = provenance(getattr(args, "_argv", None), source=source, seed=seed)
     segment = getattr(args, "analysed_frames", None)
+    thinned = getattr(args, "frames_kept", None)
+    if segment is None and thinned is not None:
+        # --max-frames (typed or its default) kept part of the file: the JSON named the
+        # command line only, and the default was not in it (round 51 PART b, O14)
+        kept, _, what = thinned
+        step = getattr(args, "frame_step", 1)
+        record["analysed_frames"] = {
+            "first": 0, "last": (kept - 1) * step, "every": step,
+            "rule": f"--max-frames {args.max_frames}: {what}",
+        }
     if segment is not None:  # --split-gaps kept one segment: its frame numbers are the
         # output's (forecast's first_origin, reorder's frame): say which, in the file's
         # numbering (round 48 PART b, O65/O66)
@@ -773,6 +783,9 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
     from modalinfo.telemetry.scan import row_blocks, scan_rows
 
     args.frame_step = 1  # the stride of the frames kept (reorder's --frame, provenance)
+    # (frames kept, frames of the file, the rule's words): the output's provenance and
+    # reorder's header say it, not only a stderr note (round 51 PART b, O14)
+    args.frames_kept = None
     limit = getattr(args, "max_frames", None)
     if limit is None:
         return log
@@ -799,4 +812,5 @@ def frame_subsample(log, args: argparse.Namespace, *, contiguous: bool = False):
     what = (f"frames 0..{limit - 1} of {n}" if contiguous
             else f"every {ordinal(step)} frame ({part.n_frames} of {n})")
     queue_notes(args, [f"--max-frames {limit}: analysed {what}"])
+    args.frames_kept = (part.n_frames, n, what)
     return part._derive(_coeffs=out)  # noqa: SLF001 - the same frames, now in memory

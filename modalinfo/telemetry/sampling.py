@@ -354,7 +354,8 @@ def require_frames_kept(log, purpose: str) -> None:
             "removal then shows as gaps), or interpolate / clip instead of dropping")
 
 
-def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> None:
+def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR, *,
+                       remedy: str = "command line: --split-gaps") -> None:
     """Raise ``ValueError`` if ``log``'s timestamps have a gap, or frames were removed unseen.
 
     Parameters
@@ -365,6 +366,10 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
         What needs uniform sampling, for the message (e.g. ``"forecast evaluation"``).
     gap_factor : float
         Gap threshold in median intervals.
+    remedy : str
+        The way out the message names after ``log.longest_segment()``, in the caller's
+        terms: ``modalinfo batch`` has no ``--split-gaps``, and its rows named it
+        (round 51 PART b, C101 / C105).
     """
     require_frames_kept(log, purpose)
     s = log.sampling(gap_factor)
@@ -377,7 +382,7 @@ def require_contiguous(log, purpose: str, gap_factor: float = GAP_FACTOR) -> Non
         f"{purpose} assumes equally spaced frames but the log's timestamps have "
         f"{s.describe_irregular()}; analyse the longest "
         f"contiguous segment (frames {a}..{b - 1}) with log.longest_segment() "
-        "(command line: --split-gaps)"
+        f"({remedy})"
     )
 
 

@@ -5,13 +5,14 @@ texts of ``--overwrite``, ``--quick`` and ``--duration`` were free to change, an
 the SIGTERM handling (installed only from the main thread, the caller's handler restored)
 and the one-line message of a failure while computing. References: the module
 docstring's contract for each option (``--overwrite`` replaces files already there;
-``--quick`` is a smoke run on reduced settings, numbers not the paper's: Figures 2-4, 6
-and 8 on reduced closed-loop settings, Figure 5 on its first 5 modes; ``--duration`` is
-the simulated time of the Figures 2-4 runs in seconds, 0.5 s by default and 0.2 s with
-``--quick``) and the defaults ``closedloop_runs.DEFAULT_DURATION`` / ``QUICK_DURATION``,
-written out here word for word; ``main``'s docstring for the exit statuses; Python's
-``signal`` contract; a log's rate given by ``--rate`` (the CLI's input hints) seen by the
-figure; a folder named as an output refused before any work (``_run_locked``'s docstring).
+``--quick`` is a smoke run on reduced settings, numbers not the paper's: Figures 2-4, 6,
+7 and 8 on reduced closed-loop settings, Figure 5 on its first 5 modes; ``--duration`` is
+the simulated time of the closed-loop runs of Figures 2-4 and 7 in seconds, 0.5 s by
+default and 0.2 s with ``--quick``) and the defaults
+``closedloop_runs.DEFAULT_DURATION`` / ``QUICK_DURATION``, written out here word for word;
+``main``'s docstring for the exit statuses; Python's ``signal`` contract; a log's rate
+given by ``--rate`` (the CLI's input hints) seen by the figure; a folder named as an
+output refused before any work (``_run_locked``'s docstring).
 ``_run`` or the figure modules are stand-ins: no figure is made, ~1 s.
 """
 
@@ -36,9 +37,9 @@ def test_help_of_overwrite_quick_and_duration(capsys, monkeypatch):
     for option in (
             "--overwrite replace figures and report already in the output directory",
             "--quick a smoke run, numbers not the paper's: reduced closed-loop settings for "
-            "Figures 2-4, 6 and 8, Figure 5's evaluation on the first 5 modes",
-            "--duration DURATION simulated time of the Figures 2-4 runs [s] (default 0.5, "
-            "quick 0.2)"):
+            "Figures 2-4, 6, 7 and 8, Figure 5's evaluation on the first 5 modes",
+            "--duration DURATION simulated time of the closed-loop runs of Figures 2-4 and 7 "
+            "[s] (default 0.5, quick 0.2)"):
         assert option in text
 
 
