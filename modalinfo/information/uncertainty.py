@@ -45,7 +45,9 @@ iid bootstrap ``"bca"`` via ``scipy.stats.bootstrap``. For the Gaussian estimato
 the iid bootstrap at n <= 2000 the default (``interval="auto"``) is ``"fisher"``, the
 normal interval on Fisher's z of the correlation with the larger of the bootstrap's and
 the jackknife's spread (0.9445 at n = 200, rho = 0.6, where "normal" covered 0.930;
-fix50-a). The remaining undercoverage
+fix50-a); with the block bootstrap it is ``"fisher"`` with the larger of the block
+bootstrap's spread and Bartlett's ``1 / sqrt(n_eff - 3)`` (fix51-b), and the histogram's
+and kde's "normal" spread is at least that carried to the MI. The remaining undercoverage
 comes from the estimator's own bias at small effective n, which no interval can
 see; use longer logs or check with :func:`mutual_information_permutation_test`. Not
 all of it: Gaussian-method MI of iid Gaussian pairs (rho = 0.6, n = 500, default block
@@ -320,9 +322,9 @@ def _bartlett_mi_std(x: np.ndarray, y: np.ndarray) -> float:
     carried to ``I = ln cosh z`` by the delta method (``dI/dz = tanh z = |r|``). A floor
     of the block "normal" interval's spread for the histogram and kde (fix51-b): on
     Gaussian AR(1) pairs their s.d. over seeds is about this or less (histogram, phi =
-    0.9, n = 500, rho = 0.6, 150 seeds: 0.084 against 0.085; phi = 0.97: 0.141 against
-    0.174; kde, 50 seeds: 0.072 against 0.089, 0.125 against 0.184), where the block
-    bootstrap's was 0.070 and 0.103 (kde 0.066, 0.097): conservative at the fewest
+    0.9, n = 500, rho = 0.6, 300 seeds: 0.080 against 0.086; phi = 0.97: 0.140 against
+    0.179; kde, 150 seeds: 0.084 against 0.085, 0.142 against 0.174), where the block
+    bootstrap's was 0.071 and 0.104 (kde 0.067, 0.098): conservative at the fewest
     pairs. It is 0 for an independent pair and for a dependence without correlation:
     there the floor widens nothing.
     """
@@ -462,14 +464,16 @@ def mutual_information_ci(
         bootstrap the histogram's and kde's ``s_boot`` is raised to ``|r| / sqrt(n_eff
         - 3)`` where below it (r the normal-score correlation, n_eff Bartlett's effective
         pairs: the Gaussian-copula MI's s.d.; the block bootstrap's is low below ~50
-        effective pairs; AR(1) pairs, n = 500, rho = 0.6: histogram coverage 0.89 ->
-        0.947 at phi = 0.9, 0.82 -> 0.96 at phi = 0.97 (150 seeds), kde 0.86 -> 1.0 and
-        0.66 -> 1.0 (50 seeds); fix51-b). What it covers
+        effective pairs; AR(1) pairs, n = 500, rho = 0.6: histogram coverage 0.910 ->
+        0.957 at phi = 0.9, 0.793 -> 0.977 at phi = 0.97 (300 seeds), kde 0.880 -> 0.940
+        and 0.720 -> 0.973 (150 seeds); fix51-b). What it covers
         (iid Gaussian pairs, default block bootstrap, fix51-b): the histogram interval,
         whose upper end is raised by the grid's loss, covers the MI (0.976 at n = 200,
-        rho = 0.6, 500 seeds; 1.0 at n >= 1,000) and the estimator's own expectation
-        (0.974 - 1.0); the kde interval, centred on an estimate biased ~-0.005 to -0.008
-        nats, covers its expectation (0.96 at n = 200) and the MI (0.948); ``"basic"``:
+        rho = 0.6, 500 seeds; 0.96 - 1.0 at n >= 1,000, 50 - 150 seeds) and the
+        estimator's own expectation (0.97 - 1.0); the kde interval, centred on an
+        estimate biased ~-0.005 to -0.008 nats, covers its expectation (0.96 at n = 200)
+        and the MI (0.948; at rho = 0.9, n = 200: 0.90 of 50 seeds, unresolved);
+        ``"basic"``:
         ``[2 I - q_hi, 2 I - q_lo]``, corrects
         by the bootstrap bias, which for MI is unreliable (see the module notes);
         ``"percentile"``: ``[q_lo, q_hi]``; ``"bca"``: bias-corrected and
