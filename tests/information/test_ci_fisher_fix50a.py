@@ -87,13 +87,14 @@ def test_fisher_is_refused_where_it_has_no_meaning() -> None:
     res = mutual_information_ci(x, y, method="histogram", bootstrap="iid", n_resamples=19,
                                 seed=0)
     assert res.interval == "normal"
-    # "auto" takes Fisher only where the jackknife is taken (iid, n <= 2000): without it
-    # an independent pair's Fisher interval covered 0.928 (fix50-a)
+    # "auto" takes Fisher where a second spread is taken: the jackknife's (iid, n <= 2000;
+    # without it an independent pair's Fisher interval covered 0.928, fix50-a) or the
+    # effective pairs' (block bootstrap, fix51-b)
     block = mutual_information_ci(x, y, method="gaussian", n_resamples=19, seed=0)
     x2, y2 = _pair(0.6, 2001, 12)
     big = mutual_information_ci(x2, y2, method="gaussian", bootstrap="iid", n_resamples=10,
                                 seed=0)
-    assert (block.interval, big.interval) == ("normal", "normal")
+    assert (block.interval, big.interval) == ("fisher", "normal")
 
 
 def _coverage(rho: float, n: int, b: int, seeds: range) -> float:

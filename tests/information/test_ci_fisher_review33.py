@@ -5,13 +5,16 @@ Mutation round 33 (docs/MUTATION.md): plants in fix50-a's ``_resolve_interval``,
 through. References, from outside the code:
 
 - the docstring's rule: ``"auto"`` is ``"fisher"`` for ``method="gaussian"`` of a continuous
-  pair with ``bootstrap="iid"`` at n <= 2,000 (inclusive), else ``"normal"``; ``"fisher"``
+  pair with ``bootstrap="iid"`` at n <= 2,000 (inclusive) or ``"block"`` (fix51-b), else
+  ``"normal"``; ``"fisher"``
   is refused for another method and for a discrete pair; it is a spread interval, so
   no tail-replicate count is asked of it (as of ``"normal"``);
 - the block bootstrap's Fisher interval from its own replicates with numpy only:
   ``z = arctanh sqrt(1 - e^(-2 I))`` (the inverse of ``I = -0.5 ln(1 - r^2)``), ``z -+
-  z_0.975 s_z`` with ``s_z`` the replicates' s.d. of z (no jackknife: the docstring takes
-  it for the iid bootstrap only), mapped back by ``ln cosh`` (scipy's ``norm.ppf``).
+  z_0.975 s_z`` with ``s_z`` the larger of the replicates' s.d. of z and Bartlett's
+  ``1 / sqrt(n_eff - 3)`` (fix51-b; no jackknife: the docstring takes it for the iid
+  bootstrap only), mapped back by ``ln cosh`` (scipy's ``norm.ppf``); n_eff from the
+  lag-1 sample autocorrelations with Kendall's (1954) correction ``r + (1 + 3 r) / n``.
 """
 from __future__ import annotations
 
@@ -38,7 +41,7 @@ def test_auto_takes_fisher_at_n_2000_inclusive() -> None:
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
-def test_block_fisher_takes_the_bootstraps_spread_alone(seed: int) -> None:
+def test_block_fisher_takes_the_bootstraps_spread_or_bartletts(seed: int) -> None:
     """interval="fisher" with the block bootstrap: numpy's interval of its replicates."""
     x, y = _pair(0.5, 120, 40 + seed)
     res = mutual_information_ci(x, y, method="gaussian", bootstrap="block", block_length=40,
@@ -47,8 +50,17 @@ def test_block_fisher_takes_the_bootstraps_spread_alone(seed: int) -> None:
     def z_of(mi):
         return np.arctanh(np.sqrt(1.0 - np.exp(-2.0 * np.asarray(mi))))
 
+    def lag1(a):
+        c = a - a.mean()
+        r = float(np.dot(c[:-1], c[1:]) / np.dot(c, c))
+        return min(r + (1.0 + 3.0 * r) / a.size, 1.0 - 1e-12)
+
+    p = min(max(lag1(x) * lag1(y), 0.0), 1.0 - 1e-12)
+    n_eff = x.size * (1.0 - p) / (1.0 + p)
     z_hat = float(z_of(res.estimate))
-    half = stats.norm.ppf(0.975) * float(np.std(z_of(res.bootstrap_distribution), ddof=1))
+    s_z = max(float(np.std(z_of(res.bootstrap_distribution), ddof=1)),
+              1.0 / math.sqrt(max(n_eff - 3.0, 1.0)))
+    half = stats.norm.ppf(0.975) * s_z
     low = 0.0 if z_hat - half <= 0 else math.log(math.cosh(z_hat - half))
     assert res.interval == "fisher"
     assert (res.low, res.high) == pytest.approx((low, math.log(math.cosh(z_hat + half))),

@@ -10,10 +10,13 @@ where BCa is undefined (every replicate above the estimate), ``numpy.quantile`` 
 the replicates (the percentile interval).
 """
 
+import math
+
 import numpy as np
 import pytest
 from scipy import stats
 from scipy.signal import lfilter
+from scipy.special import ndtri
 
 from modalinfo.information import (
     mutual_information,
@@ -53,7 +56,17 @@ def test_ci_result_consistency():
     assert res.estimate == mutual_information(x, y, method="histogram")
     assert res.low < res.estimate < res.high
     z = stats.norm.ppf(0.975)
-    assert res.high - res.estimate == pytest.approx(z * res.bootstrap_std, rel=1e-12)
+    # the spread is at least the Gaussian-copula MI's s.d. at Bartlett's effective pairs,
+    # |r| / sqrt(n_eff - 3) (fix51-b): numpy's normal scores, Kendall-corrected lag-1s
+    u, v = (ndtri(stats.rankdata(a) / (a.size + 1.0)) for a in (x, y))
+    r = abs(float(np.corrcoef(u, v)[0, 1]))
+    lag = [min(c + (1 + 3 * c) / x.size, 1 - 1e-12) for c in
+           (float(np.dot(a[:-1] - a.mean(), a[1:] - a.mean()) / np.sum((a - a.mean()) ** 2))
+            for a in (x, y))]
+    p = min(max(lag[0] * lag[1], 0.0), 1 - 1e-12)
+    floor = r / math.sqrt(max(x.size * (1 - p) / (1 + p) - 3.0, 1.0))
+    assert floor > res.bootstrap_std  # AR(1) 0.95, n = 1500: ~39 effective pairs
+    assert res.high - res.estimate == pytest.approx(z * floor, rel=1e-12)
     assert res.bootstrap_distribution.shape == (99,)
     assert res.block_length == optimal_block_length(x, y) and res.block_length > 10
     again = mutual_information_ci(x, y, n_resamples=99, seed=3)

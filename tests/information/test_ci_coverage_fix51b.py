@@ -1,0 +1,148 @@
+"""Coverage of ``mutual_information_ci`` where stop 57 left it unmeasured (issue 27, fix51-b).
+
+The Gaussian-method interval with the (default) moving-block bootstrap is the Fisher-z
+interval ``z -+ z_0.975 s_z`` (``z = atanh|r|``, ``I = ln cosh z``) with ``s_z`` the larger
+of the block replicates' s.d. of z and ``1 / sqrt(n_eff - 3)``, Bartlett's effective pairs
+``n_eff = n (1 - rx ry) / (1 + rx ry)``.
+
+References, from outside the package:
+- the exact MI of a pair of stationary AR(1) series of one coefficient phi whose
+  innovations correlate rho (then ``(x_t, y_t)`` is bivariate normal with correlation
+  rho): ``-0.5 ln(1 - rho^2)`` (Cover & Thomas 2006, Example 8.5.1); the binomial s.e.
+  ``sqrt(0.95 * 0.05 / seeds)`` of the nominal level;
+- the interval: numpy / scipy only (``scipy.stats.rankdata``, ``scipy.special.ndtri``, the
+  lag-1 sample autocorrelation ``sum x_t x_(t+1) / sum x_t^2`` of the centred series with
+  Kendall's (1954) bias correction ``r + (1 + 3 r) / n``, Bartlett's (1935) count),
+  from the package's own replicates (its block indices are its own).
+"""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy import stats
+from scipy.special import ndtri
+
+from modalinfo.information import mutual_information_ci
+
+
+def _ar_pair(phi: float, rho: float, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Two stationary AR(1) series of coefficient phi, innovations correlated rho."""
+    rng = np.random.default_rng(seed)
+    w = rng.standard_normal((n, 2)) * math.sqrt(1.0 - phi * phi)
+    e = np.empty_like(w)
+    e[0] = rng.standard_normal(2)
+    for t in range(1, n):
+        e[t] = phi * e[t - 1] + w[t]
+    return e[:, 0], rho * e[:, 0] + math.sqrt(1.0 - rho * rho) * e[:, 1]
+
+
+def _lag1(a: np.ndarray) -> float:
+    c = a - a.mean()
+    r = float(np.dot(c[:-1], c[1:]) / np.dot(c, c))
+    return min(r + (1.0 + 3.0 * r) / a.size, 1.0 - 1e-12)  # Kendall 1954
+
+
+def _numpy_block_fisher(x: np.ndarray, y: np.ndarray, replicates: np.ndarray
+                        ) -> tuple[float, float, float]:
+    """(estimate, low, high) in nats, numpy / scipy only, from the given replicates."""
+    n = x.shape[0]
+    u, v = ndtri(stats.rankdata(x) / (n + 1.0)), ndtri(stats.rankdata(y) / (n + 1.0))
+    r = abs(float(np.corrcoef(u, v)[0, 1]))
+    p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
+    n_eff = n * (1.0 - p) / (1.0 + p)
+    s_boot = float(np.std(np.arctanh(np.sqrt(1.0 - np.exp(-2.0 * replicates))), ddof=1))
+    s_z = max(s_boot, 1.0 / math.sqrt(max(n_eff - 3.0, 1.0)))
+    half = stats.norm.ppf(0.975) * s_z
+    z = math.atanh(r)
+    low = 0.0 if z - half <= 0.0 else math.log(math.cosh(z - half))
+    return -0.5 * math.log(1.0 - r * r), low, math.log(math.cosh(z + half))
+
+
+@pytest.mark.parametrize("phi, rho, seed", [(0.9, 0.6, 1), (0.97, 0.0, 2), (0.5, 0.3, 3)])
+def test_block_gaussian_default_is_the_bartlett_fisher_interval(phi: float, rho: float,
+                                                               seed: int) -> None:
+    """Default gaussian interval, block bootstrap = numpy's Fisher interval, 1e-12."""
+    x, y = _ar_pair(phi, rho, 500, 52000 + seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # BlockBootstrapWarning below 50 effective pairs
+        res = mutual_information_ci(x, y, method="gaussian", n_resamples=49, seed=seed)
+    theta, low, high = _numpy_block_fisher(x, y, res.bootstrap_distribution)
+    assert res.interval == "fisher"
+    assert res.estimate == pytest.approx(theta, abs=1e-12)
+    assert (res.low, res.high) == pytest.approx((low, high), abs=1e-12)
+
+
+def test_block_coverage_ar09_n500() -> None:
+    """AR(1) 0.9 pairs, n = 500 (~52 effective pairs), rho = 0.6: coverage >= 0.95 - 3 s.e.
+
+    300 seeds (52000..52299, B = 99): 0.95 - 3 s.e. = 0.912. The former "normal"
+    interval covered 0.880 on 500 other seeds (B = 199, fix51-b's numpy copy, equal to the
+    package's to 1e-15) and 0.887 on these (fails before); the Bartlett-floored Fisher
+    interval 0.956 and 0.953. False-failure rate at a true 0.95: 0.1 % for a fresh seed
+    set; these seeds are fixed.
+    """
+    exact = -0.5 * math.log(1.0 - 0.36)
+    seeds = range(52000, 52300)
+    hits = 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # BlockBootstrapWarning: ~52 effective pairs
+        for k in seeds:
+            x, y = _ar_pair(0.9, 0.6, 500, k)
+            res = mutual_information_ci(x, y, method="gaussian", n_resamples=99, seed=k)
+            hits += res.low <= exact <= res.high
+    cov = hits / len(seeds)
+    se = math.sqrt(0.95 * 0.05 / len(seeds))
+    assert cov >= 0.95 - 3.0 * se, (cov, se)
+
+
+def _bartlett_mi_sd(x: np.ndarray, y: np.ndarray) -> float:
+    """|r| / sqrt(n_eff - 3): the delta method on I = ln cosh z of Fisher's s.d. of z."""
+    n = x.shape[0]
+    u, v = ndtri(stats.rankdata(x) / (n + 1.0)), ndtri(stats.rankdata(y) / (n + 1.0))
+    r = abs(float(np.corrcoef(u, v)[0, 1]))
+    p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
+    n_eff = n * (1.0 - p) / (1.0 + p)
+    return r / math.sqrt(max(n_eff - 3.0, 1.0))
+
+
+@pytest.mark.parametrize("method, seed", [("histogram", 4), ("kde", 5), ("histogram", 6)])
+def test_block_normal_interval_takes_bartletts_floor(method: str, seed: int) -> None:
+    """Histogram / kde, block: half-width z_0.975 max(s_boot, |r| / sqrt(n_eff - 3))."""
+    x, y = _ar_pair(0.97, 0.6, 500, 52000 + seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # BlockBootstrapWarning: ~16 effective pairs
+        res = mutual_information_ci(x, y, method=method, n_resamples=49, seed=seed)
+    half = stats.norm.ppf(0.975) * max(float(np.std(res.bootstrap_distribution, ddof=1)),
+                                       _bartlett_mi_sd(x, y))
+    assert res.interval == "normal"
+    assert res.low == pytest.approx(res.estimate - half, abs=1e-12)
+    if res.note:  # the histogram's grid-loss raise of the upper end (round 15 PART a)
+        assert res.high > res.estimate + half
+    else:
+        assert res.high == pytest.approx(res.estimate + half, abs=1e-12)
+
+
+def test_histogram_block_coverage_ar097_n500() -> None:
+    """Histogram, AR(1) 0.97 pairs, n = 500 (~16 effective pairs), rho = 0.6.
+
+    200 seeds (52000..52199, B = 99): coverage >= 0.95 - 3 s.e. = 0.904. Before the
+    floor the block "normal" interval covered 0.81 on these (fails before; 0.82 over 150
+    other seeds, B = 199); after 0.97 (0.96 over the 150; conservative: the floor is
+    0.174 nats where the estimates' s.d. over seeds is 0.141). False-failure rate at a
+    true 0.95: 0.1 %; these seeds are fixed.
+    """
+    exact = -0.5 * math.log(1.0 - 0.36)
+    seeds = range(52000, 52200)
+    hits = 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # BlockBootstrapWarning: ~16 effective pairs
+        for k in seeds:
+            x, y = _ar_pair(0.97, 0.6, 500, k)
+            res = mutual_information_ci(x, y, n_resamples=99, seed=k)
+            hits += res.low <= exact <= res.high
+    cov = hits / len(seeds)
+    se = math.sqrt(0.95 * 0.05 / len(seeds))
+    assert cov >= 0.95 - 3.0 * se, (cov, se)
