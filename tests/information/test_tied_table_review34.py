@@ -5,7 +5,7 @@ but the joint table is too sparse for the plug-in of ``discrete_cmi``, and is si
 that table applies. Reference: the count of the cells, by hand: x and y of 10 levels each
 and z of 2 give 200 cells, so n = 2,000 holds exactly ``DISCRETE_MIN_PER_CELL`` (10)
 samples per cell (the plug-in's case, inclusive: ``discrete_cmi`` returns its table's
-value there) and n = 1,990 holds fewer (the kernel's case, warned). Deterministic data.
+value there) and n = 1,990 holds fewer (the kernel's case, warned). Deterministic data; a continuous column (normal draws, seed 34) is no discrete one.
 """
 
 from __future__ import annotations
@@ -37,3 +37,17 @@ def test_the_rule_is_silent_exactly_where_the_table_applies(n, plug_in):
         assert why is None
     else:
         assert why is not None and "200 cells" in why and f"n = {n}" in why
+
+
+def test_one_continuous_column_is_no_tied_table():
+    # the rule is for every column discrete: with a continuous z (no value repeated) it
+    # is silent, though x's 30 levels and y's 10 alone would be a sparse table (300
+    # cells for 1,990 rows), and speaks once z is discrete again
+    n = 1990
+    i = np.arange(n)
+    cols = {"x": (i % 30).astype(float), "y": ((i // 30) % 10).astype(float),
+            "z": np.random.default_rng(34).normal(size=n)}
+    assert discrete_cmi(*(cols[k][:, None] for k in ("x", "y", "z"))) is None
+    assert tied_table_why(cols, "kde") is None
+    cols["z"] = (i % 2).astype(float)
+    assert "600 cells" in tied_table_why(cols, "kde")
