@@ -1,14 +1,15 @@
 """``neighbour_rows`` and ``local_mean_split`` against brute force (review34, round 34).
 
 fix51-a's surrogate parts (``information.resampling``): each row's ``k`` nearest other
-rows in z under the maximum norm (on normal scores ``Phi^-1(rank / (n + 1))`` for a
-rank-based estimator, on values scaled to unit s.d. otherwise), and y's least-squares fit
-on z and a constant plus the mean of that fit's residual over those rows. References,
-outside the package: the pairwise maximum-norm distances by numpy broadcasting, the
-scores by ``scipy.stats.rankdata`` and ``scipy.special.ndtri``, the fit by
-``numpy.linalg.lstsq``. Continuous random data: the neighbours' distances are the k smallest (the scores'
-grid can tie two distances, so distances are compared, not row numbers); two z columns of very different scales, where the maximum and the
-Euclidean norm, or scaled and unscaled columns, pick different neighbours.
+rows in z under the maximum norm (on normal scores ``Phi^-1(rank / (n + 1))`` for a rank-
+based estimator, on values scaled to unit s.d. otherwise), and y's least-squares fit on z
+and a constant plus the mean of that fit's residual over those rows. References, outside
+the package: the pairwise maximum-norm distances by numpy broadcasting, the scores by
+``scipy.stats.rankdata`` and ``scipy.special.ndtri``, the fit by ``numpy.linalg.lstsq``.
+Continuous random data: the neighbours' distances are the k smallest (the scores' grid can
+tie two distances, so distances are compared, not row numbers); two z columns of very
+different scales, where the maximum and the Euclidean norm, or scaled and unscaled
+columns, pick different neighbours.
 """
 
 from __future__ import annotations

@@ -5,7 +5,8 @@ but the joint table is too sparse for the plug-in of ``discrete_cmi``, and is si
 that table applies. Reference: the count of the cells, by hand: x and y of 10 levels each
 and z of 2 give 200 cells, so n = 2,000 holds exactly ``DISCRETE_MIN_PER_CELL`` (10)
 samples per cell (the plug-in's case, inclusive: ``discrete_cmi`` returns its table's
-value there) and n = 1,990 holds fewer (the kernel's case, warned). Deterministic data; a continuous column (normal draws, seed 34) is no discrete one.
+value there) and n = 1,990 holds fewer (the kernel's case, warned). Deterministic data; a
+continuous column (normal draws, seed 34) is no discrete one.
 """
 
 from __future__ import annotations
