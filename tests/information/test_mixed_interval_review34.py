@@ -1,0 +1,38 @@
+"""Where the histogram interval's mixed-pair raise applies, and where not (review34).
+
+``uncertainty._grid_loss_bound`` with ``HistogramEngine.mixed_grid_loss`` (round 51 PART a,
+Q63) raises the upper bound for a discrete variable against a continuous one with no
+repeated value, in either order. Reference: the pair is the test's own channel (x ~
+Bernoulli(0.05), y = x + N(0, 0.5^2), n = 2,000: the raise applies, as
+``test_mixed_data_round51.py`` shows), its mirror (y discrete, x continuous: the same
+pair), and the same y rounded to 0.02 (about 2,000 draws on ~200 values: repeated values,
+so y is no continuum whose k bins the model describes, and the interval is the
+bootstrap's alone).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from modalinfo.information import mutual_information_ci
+
+
+def _channel():
+    rng = np.random.default_rng(351)
+    x = (rng.random(2000) < 0.05).astype(float)
+    return x, x + 0.5 * rng.standard_normal(2000)
+
+
+def test_the_raise_applies_in_either_order():
+    x, y = _channel()
+    for a, b in ((x, y), (y, x)):
+        res = mutual_information_ci(a, b, n_resamples=99, seed=1)
+        assert "upper bound raised" in res.note, res.note
+
+
+def test_a_continuous_side_with_repeated_values_takes_no_raise():
+    x, y = _channel()
+    y = np.round(y / 0.02) * 0.02
+    assert np.unique(y).size < y.size
+    res = mutual_information_ci(x, y, n_resamples=99, seed=1)
+    assert "upper bound raised" not in res.note, res.note
