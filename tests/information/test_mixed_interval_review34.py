@@ -7,12 +7,14 @@ Bernoulli(0.05), y = x + N(0, 0.5^2), n = 2,000: the raise applies, as
 ``test_mixed_data_round51.py`` shows), its mirror (y discrete, x continuous: the same
 pair), and the same y rounded to 0.02 (about 2,000 draws on ~200 values: repeated values,
 so y is no continuum whose k bins the model describes, and the interval is the
-bootstrap's alone).
+bootstrap's alone); and the units: 1 bit = ln 2 nats, so the interval in bits is the
+nats one over ln 2.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from modalinfo.information import mutual_information_ci
 
@@ -36,3 +38,14 @@ def test_a_continuous_side_with_repeated_values_takes_no_raise():
     assert np.unique(y).size < y.size
     res = mutual_information_ci(x, y, n_resamples=99, seed=1)
     assert "upper bound raised" not in res.note, res.note
+
+
+def test_the_raised_interval_in_bits_is_the_nats_one_over_ln_2():
+    # 1 bit = ln 2 nats: the same draw and seed, read in bits, is the nats interval scaled
+    x, y = _channel()
+    nats = mutual_information_ci(x, y, n_resamples=99, seed=1)
+    bits = mutual_information_ci(x, y, n_resamples=99, seed=1, units="bits")
+    assert "upper bound raised" in bits.note
+    for a, b in ((nats.estimate, bits.estimate), (nats.low, bits.low),
+                 (nats.high, bits.high)):
+        assert b * np.log(2.0) == pytest.approx(a, rel=1e-9, abs=1e-12)
