@@ -49,3 +49,11 @@ def test_the_raised_interval_in_bits_is_the_nats_one_over_ln_2():
     for a, b in ((nats.estimate, bits.estimate), (nats.low, bits.low),
                  (nats.high, bits.high)):
         assert b * np.log(2.0) == pytest.approx(a, rel=1e-9, abs=1e-12)
+
+
+def test_bins_the_caller_chose_take_no_raise():
+    # a bin rule the caller named (Sturges) is theirs, as for the Gaussian pair's raise
+    x, y = _channel()
+    res = mutual_information_ci(x, y, method="histogram", bins="sturges", n_resamples=99,
+                                seed=1)
+    assert "upper bound raised" not in res.note, res.note
