@@ -70,3 +70,44 @@ def test_the_second_steps_surrogates_are_fit_plus_rotated_local_residual(rank_ba
     assert len(got) == len(want)
     for w in want:  # the order of the calls is the search's: match each surrogate
         assert min(np.max(np.abs(g - w)) for g in got) < 1e-9
+
+
+def test_the_third_steps_surrogates_condition_on_both_chosen_inputs():
+    # two inputs chosen: the neighbours are those of the pair (maximum norm on unit-s.d.
+    # values: continuous, so no tied distance, which the scores' grid can make)
+    rng = np.random.default_rng(35)
+    n = 300
+    a0, a1 = rng.standard_normal(n), np.sinh(1.5 * rng.standard_normal(n))
+    C = np.column_stack([a0, a1, a0 * a1 + 0.5 * rng.standard_normal(n),
+                         rng.standard_normal(n)])
+    y = a0 + np.arcsinh(a1) + 0.1 * rng.standard_normal(n)
+    calls = []
+
+    def est(yy, x, z):
+        calls.append((x[:, 0].copy(), z.shape[1]))
+        return abs(float(np.corrcoef(yy[:, 0], x[:, 0])[0, 1])) + 0.1 * z.shape[1]
+
+    cu = (C - C.mean(axis=0)) / np.linalg.norm(C - C.mean(axis=0), axis=0)
+    shifts = np.array([41, 97, 150])
+    picked, _, _ = _greedy_search(y, C, cu, np.ones(4, bool), method="histogram", est=est,
+                                  factor=1.0, alpha=0.5, n_surrogates=shifts.size,
+                                  max_inputs=3, shift0=None, rng=np.random.default_rng(0),
+                                  shifts=shifts, rank_based=False)
+    third = [x for x, dz in calls if dz == 2]
+    assert len(picked) >= 2 and third, "the search stopped before its third step"
+    chosen = [picked[0][0], picked[1][0]]
+    z = C[:, chosen]
+    near = _near(z, False)
+    a = np.column_stack([np.ones(n), z])
+    want = []
+    rest = sorted(set(range(4)) - set(chosen))
+    for j in rest:
+        cj = C[:, j : j + 1]
+        lin = a @ np.linalg.lstsq(a, cj, rcond=None)[0]
+        local = (cj - lin)[near].mean(axis=1)
+        want += [(lin + local + np.roll(cj - lin - local, int(s), axis=0))[:, 0]
+                 for s in shifts]
+    got = third[len(rest):]
+    assert len(got) == len(want)
+    for w in want:
+        assert min(np.max(np.abs(g - w)) for g in got) < 1e-9
