@@ -65,7 +65,7 @@ from modalinfo.information.resampling import (
     check_resamples,
     interval_bias_rule,
     level_null_rule,
-    local_mean_split,
+    local_linear_split,
     local_permutation,
     rank_based_options,
     residual_split,
@@ -239,7 +239,7 @@ def _warn_unkept_excess(method: str, options: dict[str, Any], xa: np.ndarray,
     """Warn where the histogram's conditioning excess is in the statistic, not the null.
 
     The surrogates keep what the fit of y on z explains
-    (:func:`~modalinfo.information.resampling.local_mean_split` for the histogram since
+    (:func:`~modalinfo.information.resampling.local_linear_split` for the histogram since
     fix51-a, whose circular test then kept its level on O02 / O03), so the histogram's bias
     from z's bins (x and y both following z inside a bin) is in the null as in the
     statistic where that fit holds y's link to z. Where it does not (Y = sin 6Z + noise,
@@ -311,8 +311,8 @@ def conditional_mutual_information_test(
         hinges, round 50 PART a: with the linear fit, X -> Z -> Y with Y = sin 6Z + noise was
         rejected in 40 of 40 draws by the gaussian test, now 1 of 40); an interaction of z
         columns is still broken. The histogram's fit is instead the linear one plus the
-        local mean of its residual over z's 20 nearest neighbours, on the values
-        (:func:`~modalinfo.information.resampling.local_mean_split`, fix51-a): with the
+        local-linear fit of its residual over z's 20 nearest neighbours, on the values
+        (:func:`~modalinfo.information.resampling.local_linear_split`, fix51-a): with the
         hinges its circular test rejected Y = Z^2 and sin 6Z + noise in 29 and 40 of 40
         draws, now 1 and 4. Where the histogram's excess from z's bins is still in the
         statistic more than in a surrogate, a ``BiasRuleWarning`` says so. The
@@ -351,9 +351,9 @@ def conditional_mutual_information_test(
     # the null rules read the linear residuals their thresholds were measured on
     rank_based = rank_based_options(options)
     if get_method(method).cmi is histogram_cmi:
-        # the linear fit plus the local mean of its residual in z (fix51-a): the hinges
+        # the linear fit plus a local-linear fit of its residual in z (fix51-a): the hinges
         # left the histogram's circular test rejecting the non-linear chains (O02 / O03)
-        fit, resid = local_mean_split(ya, za, rank_based)
+        fit, resid = local_linear_split(ya, za, rank_based)
     else:
         fit, resid = residual_split(ya, za, rank_based, RESIDUAL_KNOTS)
     # the histogram's shuffle null: a local permutation, which keeps any z-link of y

@@ -141,7 +141,7 @@ from modalinfo.information.methods import BiasRuleWarning, get_method
 from modalinfo.information.resampling import (
     check_resamples,
     check_surrogates_reach,
-    local_mean_split,
+    local_linear_split,
     matched_window_for,
     neighbour_rows,
     rank_based_options,
@@ -476,9 +476,9 @@ def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_bas
     11): a source that the target drives (y -> x only, no x -> y) made the histogram map
     report x -> y in 23 % of 120 maps at alpha 0.05, the bins of the target's history
     leaving part of what the source's past shares with it; rotating the whole source
-    put none of that in the null. The fit is the linear one plus the local mean of its
+    put none of that in the null. The fit is the linear one plus a local-linear fit of its
     residual over the history's nearest neighbours
-    (:func:`~modalinfo.information.resampling.local_mean_split`, fix51-a): with the
+    (:func:`~modalinfo.information.resampling.local_linear_split`, fix51-a): with the
     linear fit alone a source that follows the target non-linearly in the same frame
     (``s_t = sin 6 a_t + e``) was called s -> a in 25 of 160 histogram maps at 5 %.
     """
@@ -496,7 +496,7 @@ def _estimator_map(series, lags, history, t0, shifts, est, family=None, rank_bas
             for a, lag in enumerate(lags):
                 y = np.ascontiguousarray(series[t0 - lag : T - lag, j : j + 1])
                 te[j, i, a] = est(x, y, z)
-                fit, resid = local_mean_split(y, z, rank_based, near) if shifts.size \
+                fit, resid = local_linear_split(y, z, rank_based, near) if shifts.size \
                     else (y, y)
                 for s_i, s in enumerate(shifts):
                     null[s_i, j, i, a] = est(x, fit + np.roll(resid, int(s), axis=0), z)

@@ -74,7 +74,7 @@ __all__ = [
     "percentile_bounds",
     "auto_block_length",
     "block_bootstrap_indices",
-    "local_mean_split",
+    "local_linear_split",
     "local_permutation",
     "matched_window",
     "matched_window_for",
@@ -352,7 +352,7 @@ def residual_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
     methods other than the histogram (round 50 PART a: with the linear fit, X -> Z -> Y
     with Y = sin 6Z + noise was rejected in 40 of 40 draws by the gaussian test; an
     interaction of two z columns is still outside the fit). The histogram's, the map's
-    and the selection's surrogates take :func:`local_mean_split` (fix51-a); the null
+    and the selection's surrogates take :func:`local_linear_split` (fix51-a, -d); the null
     rules keep the linear fit, on which their thresholds were measured. On normal
     scores (of y's columns and z's) for a rank-based estimator, which sees only ranks;
     on the values otherwise. With no
@@ -402,14 +402,15 @@ def _neighbour_space(z: np.ndarray, rank_based: bool) -> np.ndarray:
     return z / np.where(sd > 0, sd, 1.0)
 
 
-#: Neighbours in z over which :func:`local_mean_split` averages the linear residual
-#: (fix51-a): measured 10, 20 and 40 on the map's same-frame sine link (160 maps each:
-#: 10, 14 and 10 false links at 5 %, all within level + 3 s.e.); 20 is the middle.
-LOCAL_MEAN_NEIGHBOURS = 20
+#: Neighbours in z over which :func:`local_linear_split` fits the linear residual
+#: (fix51-a): measured 10, 20 and 40 on the map's same-frame sine link with the local
+#: mean (160 maps each: 10, 14 and 10 false links at 5 %, all within level + 3 s.e.);
+#: 20 is the middle, kept for the local-linear fit (fix51-d).
+LOCAL_FIT_NEIGHBOURS = 20
 
 
 def neighbour_rows(z: np.ndarray, rank_based: bool,
-                   k: int = LOCAL_MEAN_NEIGHBOURS) -> np.ndarray:
+                   k: int = LOCAL_FIT_NEIGHBOURS) -> np.ndarray:
     """Each row's ``k`` nearest other rows in z (maximum norm), the row itself left out.
 
     Parameters
@@ -438,20 +439,27 @@ def neighbour_rows(z: np.ndarray, rank_based: bool,
     return near[~own].reshape(n, k)
 
 
-def local_mean_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
-                     near: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(fit, residual) of y on z: the linear fit plus the local mean of its residual.
+def local_linear_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
+                       near: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(fit, residual) of y on z: the linear fit plus a local-linear fit of its residual.
 
-    The parts of the transfer-entropy map's and the selection's rotation surrogates
-    (fix51-a), ``fit + rotated residual``: the fit is y's least-squares fit on z and a
-    constant (:func:`residual_split` on the values) plus the mean of that fit's residual
-    over each row's ``LOCAL_MEAN_NEIGHBOURS`` (20) nearest other rows in z
-    (:func:`neighbour_rows`; a leave-one-out k-NN regression), so a y that follows z in
-    any smooth form keeps that link in every surrogate while the rotated rest keeps y's
-    own autocorrelation. With the linear fit alone a source that follows its target's
-    history non-linearly (``s_t = sin 6 a_t + e``) lost that link in the map's null but
-    not in the histogram's bins, and the map called s -> a significant in 25 of 160 maps
-    at 5 %; the selection added ``w = z^2 + e`` after z in 40 of 40 searches (fix50-e).
+    The parts of the transfer-entropy map's and the selection's rotation surrogates and
+    of the histogram conditional test's (fix51-a), ``fit + rotated residual``: the fit
+    is y's least-squares fit on z and a constant (:func:`residual_split` on the values)
+    plus, at each row, the value of a least-squares line (a constant and z's columns in
+    :func:`neighbour_rows`' metric) through that fit's residual over the row's
+    ``LOCAL_FIT_NEIGHBOURS`` (20) nearest other rows in z (a leave-one-out local-linear
+    regression), so a y that follows z in any smooth form keeps that link in every
+    surrogate while the rotated rest keeps y's own autocorrelation. With the linear fit
+    alone a source that follows its target's history non-linearly (``s_t = sin 6 a_t +
+    e``) lost that link in the map's null but not in the histogram's bins, and the map
+    called s -> a significant in 25 of 160 maps at 5 %; the selection added ``w = z^2 +
+    e`` after z in 40 of 40 searches (fix50-e). A local *mean* (fix51-a) left the tails
+    of a steep link in the residual (z's extreme rows have one-sided, far-apart
+    neighbours: the residual of w = z^2 + 0.3 e had mean square 0.41 against the
+    noise's 0.09) and the kde selection still added w; the local line there leaves
+    ~0.10 (fix51-d). Where z has more than ``k // 4 - 1`` columns (4 for k = 20) the
+    line has too few neighbours per coefficient and the local mean is used.
     On the values even for a rank-based estimator: normal scores of such a y scatter
     about z with a scale that varies with z, which a moved residual cannot keep (the
     selection, scores: 35 of 40 searches still added w; values: 1 of 20). With no z, or
@@ -464,7 +472,8 @@ def local_mean_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
     z : numpy.ndarray, shape (n, d_z)
         The conditioning columns (d_z may be 0).
     rank_based : bool
-        Metric of the neighbours (:func:`neighbour_rows`).
+        Metric of the neighbours and coordinates of the local line
+        (:func:`neighbour_rows`).
     near : numpy.ndarray of int, shape (n, k), optional
         :func:`neighbour_rows` of z, when several y share one z (computed if None).
 
@@ -478,10 +487,24 @@ def local_mean_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
         return fit, resid
     if near is None:
         near = neighbour_rows(z, rank_based)
-    local = np.zeros_like(resid)
-    for c in range(near.shape[1]):  # one column at a time: memory n d_y, not n k d_y
-        local += resid[near[:, c]]
-    local /= near.shape[1]
+    n, k = near.shape
+    d = z.shape[1] if z.shape[1] <= k // 4 - 1 else 0  # 0: the local mean
+    zs = _neighbour_space(z, rank_based) if d else np.empty((n, 0))
+    # sums over the neighbours of (1, dz) (dz = neighbour's z - row's z, so that the
+    # line's intercept is its value at the row) and of their products with the
+    # residual, one neighbour at a time: memory n (d + 1)^2, not n k d
+    a = np.zeros((n, d + 1, d + 1))
+    b = np.zeros((n, d + 1, resid.shape[1]))
+    u = np.ones((n, d + 1))
+    for c in range(k):
+        u[:, 1:] = zs[near[:, c]] - zs
+        a += u[:, :, None] * u[:, None, :]
+        b += u[:, :, None] * resid[near[:, c]][:, None, :]
+    if d:
+        # a ridge far below the neighbours' spread (scale 1 / n in these unit
+        # coordinates) only keeps a row whose neighbours share z (ties) solvable
+        a[:, 1:, 1:] += 1e-9 * np.eye(d) * (k / n) ** 2
+    local = np.linalg.solve(a, b)[:, 0, :]
     return fit + local, resid - local
 
 

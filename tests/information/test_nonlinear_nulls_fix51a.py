@@ -20,7 +20,7 @@ from modalinfo.information import (
     select_inputs,
     transfer_entropy_map,
 )
-from modalinfo.information.resampling import local_mean_split, residual_split
+from modalinfo.information.resampling import local_linear_split, residual_split
 
 
 def _ar1(rng, n, phi=0.6):
@@ -28,7 +28,7 @@ def _ar1(rng, n, phi=0.6):
     return lfilter([1.0], [1.0, -phi], rng.standard_normal(n))
 
 
-def test_local_mean_split_keeps_a_sine_link():
+def test_local_linear_split_keeps_a_sine_link():
     """y = sin 6z + 0.3 e: the split's residual has the noise's variance 0.09 (times
     1 + 1/20 for the leave-one-out mean of 20 neighbours, plus the sine's spread over
     them, widest in z's tails: < 0.025 in all); the linear fit's residual keeps most of
@@ -37,12 +37,12 @@ def test_local_mean_split_keeps_a_sine_link():
     rng = np.random.default_rng(3)
     z = _ar1(rng, 2000)[:, None]
     y = np.sin(6 * z) + 0.3 * rng.standard_normal((2000, 1))
-    fit, resid = local_mean_split(y, z, True)
+    fit, resid = local_linear_split(y, z, True)
     assert np.allclose(fit + resid, y, rtol=0, atol=1e-12)
     assert 0.09 < np.mean(resid**2) < 0.09 * 1.05 + 0.025
     assert np.mean(residual_split(y, z, False)[1] ** 2) > 0.3
     steps = np.floor(y)
-    fit, resid = local_mean_split(steps, z, True)
+    fit, resid = local_linear_split(steps, z, True)
     assert not fit.any() and np.array_equal(resid, steps)
 
 
