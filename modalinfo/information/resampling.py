@@ -501,9 +501,12 @@ def local_linear_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
         a += u[:, :, None] * u[:, None, :]
         b += u[:, :, None] * resid[near[:, c]][:, None, :]
     if d:
-        # a ridge far below the neighbours' spread (scale 1 / n in these unit
-        # coordinates) only keeps a row whose neighbours share z (ties) solvable
-        a[:, 1:, 1:] += 1e-9 * np.eye(d) * (k / n) ** 2
+        # a ridge 1e-12 of each row's own neighbour spread only keeps a row whose
+        # neighbours share z (ties) solvable; relative, since a heavy-tailed column's
+        # unit-s.d. coordinates put most neighbours ~1e-6 apart, where a fixed ridge
+        # flattened the line (stop 58's merge)
+        spread = np.einsum("nii->n", a[:, 1:, 1:]) / d
+        a[:, 1:, 1:] += (1e-12 * spread + 1e-300)[:, None, None] * np.eye(d)
     local = np.linalg.solve(a, b)[:, 0, :]
     return fit + local, resid - local
 

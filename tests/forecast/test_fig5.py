@@ -66,7 +66,7 @@ def test_make_writes_the_figure_and_json(log_file, result, tmp_path, monkeypatch
     assert (tmp_path / "out" / "fig5_forecast.pdf").read_bytes()[:4] == b"%PDF"
     data = json.loads((tmp_path / "out" / "fig5_forecast.json").read_text())
     assert data["n_train"] == 7000 and data["labels"] == ["Z2", "Z3"]
-    assert "**Z2**" in text and "fitted on frames\n  0-6999" in text
+    assert "**`Z2`**" in text and "fitted on frames\n  0-6999" in text
     assert f"Input: `{path}`" in text
 
 
@@ -131,7 +131,7 @@ def test_result_fields_and_report_numbers(result, log_file):
     else:
         assert f"mean lag-1 increment correlation {np.mean(rho):.2f}" in text
     p, q = result.aic_orders[0]
-    assert f"picks ({p},{q}) for Z2" in text
+    assert f"picks ({p},{q}) for `Z2`" in text
     assert f"_(computed in {result.elapsed:.1f} s)_" in text
 
 

@@ -1,11 +1,14 @@
-"""``neighbour_rows`` and ``local_mean_split`` against brute force (review34, round 34).
+"""``neighbour_rows`` and ``local_linear_split`` against brute force (review34, round 34).
 
 fix51-a's surrogate parts (``information.resampling``): each row's ``k`` nearest other
 rows in z under the maximum norm (on normal scores ``Phi^-1(rank / (n + 1))`` for a rank-
 based estimator, on values scaled to unit s.d. otherwise), and y's least-squares fit on z
-and a constant plus the mean of that fit's residual over those rows. References, outside
-the package: the pairwise maximum-norm distances by numpy broadcasting, the scores by
-``scipy.stats.rankdata`` and ``scipy.special.ndtri``, the fit by ``numpy.linalg.lstsq``.
+and a constant plus, at each row, a least-squares line (fix51-d; a constant and z's
+columns in the neighbours' metric, centred on the row) through that fit's residual over
+those rows, the local mean where z has more than 4 columns. References, outside the
+package: the pairwise maximum-norm distances by numpy broadcasting, the scores by
+``scipy.stats.rankdata`` and ``scipy.special.ndtri``, the fits by ``numpy.linalg.lstsq``
+one row at a time.
 Continuous random data: the neighbours' distances are the k smallest (the scores' grid can
 tie two distances, so distances are compared, not row numbers); two z columns of very
 different scales, where the maximum and the Euclidean norm, or scaled and unscaled
@@ -20,8 +23,8 @@ from scipy.special import ndtri
 from scipy.stats import rankdata
 
 from modalinfo.information.resampling import (
-    LOCAL_MEAN_NEIGHBOURS,
-    local_mean_split,
+    LOCAL_FIT_NEIGHBOURS,
+    local_linear_split,
     neighbour_rows,
 )
 
@@ -47,7 +50,7 @@ def _brute(z: np.ndarray, rank_based: bool, k: int) -> np.ndarray:
 
 
 @pytest.mark.parametrize("rank_based", [True, False])
-@pytest.mark.parametrize("k", [LOCAL_MEAN_NEIGHBOURS, 5])
+@pytest.mark.parametrize("k", [LOCAL_FIT_NEIGHBOURS, 5])
 def test_neighbour_rows_are_the_maximum_norm_nearest_others(rank_based, k):
     z = _z()
     got = neighbour_rows(z, rank_based, k)
@@ -77,24 +80,48 @@ def test_tied_rows_keep_the_others_and_drop_the_row_itself():
     assert not (got == np.arange(25)[:, None]).any()
 
 
+def _space(z: np.ndarray, rank_based: bool) -> np.ndarray:
+    n = z.shape[0]
+    if rank_based:
+        return np.column_stack([ndtri(rankdata(c) / (n + 1.0)) for c in z.T])
+    return z / z.std(axis=0)
+
+
 @pytest.mark.parametrize("rank_based", [True, False])
-def test_local_mean_split_is_the_linear_fit_plus_the_neighbours_mean(rank_based):
+def test_local_linear_split_is_the_linear_fit_plus_the_neighbours_line(rank_based):
     z = _z()
     rng = np.random.default_rng(3)
     y = (np.sin(0.9 * z[:, :1]) + 0.01 * z[:, 1:] + 0.3 * rng.normal(size=(z.shape[0], 1)))
     a = np.column_stack([np.ones(z.shape[0]), z])
     lin = a @ np.linalg.lstsq(a, y, rcond=None)[0]  # on the values, even rank-based
     resid = y - lin
-    local = resid[_brute(z, rank_based, LOCAL_MEAN_NEIGHBOURS)].mean(axis=1)
-    fit, rest = local_mean_split(y, z, rank_based)
-    np.testing.assert_allclose(fit, lin + local, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(rest, resid - local, rtol=0, atol=1e-10)
+    near = _brute(z, rank_based, LOCAL_FIT_NEIGHBOURS)
+    s = _space(z, rank_based)
+    local = np.empty_like(resid)
+    for i in range(z.shape[0]):
+        u = np.column_stack([np.ones(near.shape[1]), s[near[i]] - s[i]])
+        local[i] = np.linalg.lstsq(u, resid[near[i]], rcond=None)[0][0]
+    fit, rest = local_linear_split(y, z, rank_based)
+    np.testing.assert_allclose(fit, lin + local, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(rest, resid - local, rtol=0, atol=1e-8)
     np.testing.assert_allclose(fit + rest, y, rtol=0, atol=1e-10)
+
+
+def test_many_columns_take_the_neighbours_mean():
+    # 5 columns: 20 neighbours are too few for a line with 6 coefficients (fix51-d)
+    rng = np.random.default_rng(5)
+    z = rng.normal(size=(120, 5))
+    y = np.sin(z[:, :1]) + 0.3 * rng.normal(size=(120, 1))
+    a = np.column_stack([np.ones(120), z])
+    resid = y - a @ np.linalg.lstsq(a, y, rcond=None)[0]
+    local = resid[_brute(z, False, LOCAL_FIT_NEIGHBOURS)].mean(axis=1)
+    fit, rest = local_linear_split(y, z, False)
+    np.testing.assert_allclose(rest, resid - local, rtol=0, atol=1e-10)
 
 
 def test_a_tied_y_is_moved_whole():
     z = _z()
     y = np.repeat(np.arange(3.0), 50)[:, None]  # three levels: a residual breaks them
-    fit, rest = local_mean_split(y, z, True)
+    fit, rest = local_linear_split(y, z, True)
     assert not fit.any()
     assert np.array_equal(rest, y)
