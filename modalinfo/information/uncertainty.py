@@ -112,6 +112,7 @@ from modalinfo.information.resampling import (
     check_index_memory,
     check_resamples,
     check_tail_replicates,
+    iid_bootstrap_rule,
     level_null_rule,
     matched_window_for,
     percentile_bounds,
@@ -444,7 +445,10 @@ def mutual_information_ci(
         autocorrelated: the iid bootstrap then understates the error and its
         intervals undercover (measured, default "normal" interval, 150 AR(1) pairs
         with phi = 0.95, rho = 0.6, n = 4000: coverage 0.29 for a nominal 0.95,
-        against 0.93 for the block bootstrap). The block bootstrap warns
+        against 0.93 for the block bootstrap); the iid bootstrap warns
+        (``BlockBootstrapWarning``) where the largest product of the columns' lag-1
+        autocorrelations exceeds 0.05 (``resampling.iid_bootstrap_rule``, the shuffle
+        null's rule; stop 58). The block bootstrap warns
         (``BlockBootstrapWarning``, once per call) where it undercovers: fewer than 50
         effective pairs ``n (1 - rx ry) / (1 + rx ry)`` (Bartlett 1935; n = 500:
         coverage 0.80 at AR(1) 0.95, 0.70 at 0.99; no block length helps), or both
@@ -557,6 +561,10 @@ def mutual_information_ci(
     if note:
         warn(f"mutual_information_ci with method={est.method!r}: {note}.",
              BiasRuleWarning, stacklevel=2)
+    if bootstrap == "iid":
+        why = iid_bootstrap_rule(x, y, "mutual_information_ci")
+        if why is not None:
+            warn(why, BlockBootstrapWarning, stacklevel=2)
     if interval == "bca":
         b = 1
         with catching_warnings(), np.errstate(divide="ignore", invalid="ignore"):
