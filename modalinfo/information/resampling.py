@@ -975,6 +975,20 @@ def _largest_lag1_product(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.multiply.outer(ra, rb))) if ra.size and rb.size else 0.0
 
 
+def _iid_rows_broken(a: np.ndarray, b: np.ndarray) -> float | None:
+    """Return the largest lag-1 product of (a, b) where it breaks iid rows, else None.
+
+    The one threshold of :func:`shuffle_null_rule` and :func:`iid_bootstrap_rule`:
+    above ``SHUFFLE_MAX_LAG1_PRODUCT`` and ``5 / n`` (two iid columns' product has
+    standard deviation ~1 / n); fewer than 3 rows are not judged.
+    """
+    n = a.shape[0]
+    if n < 3:
+        return None
+    p = _largest_lag1_product(a, b)
+    return None if p <= max(SHUFFLE_MAX_LAG1_PRODUCT, 5.0 / n) else p
+
+
 def shuffle_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     """Why a shuffle null of the pair (a, b) is liberal, or None when it holds.
 
@@ -998,11 +1012,8 @@ def shuffle_null_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     str or None
         The message naming the failed assumption and the cure, or None.
     """
-    n = a.shape[0]
-    if n < 3:
-        return None
-    p = _largest_lag1_product(a, b)
-    if p <= max(SHUFFLE_MAX_LAG1_PRODUCT, 5.0 / n):
+    p = _iid_rows_broken(a, b)
+    if p is None:
         return None
     inflation = (1.0 + min(p, 1 - 1e-12)) / (1.0 - min(p, 1 - 1e-12))
     return (f"{name}: the shuffle null assumes iid (exchangeable) rows, but the series are "
@@ -1039,10 +1050,10 @@ def iid_bootstrap_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
         The message naming the failed assumption and the cure, or None.
     """
     n = a.shape[0]
-    if n < 3 or any(_monotone(c) for m in (a, b) for c in np.reshape(m, (n, -1)).T):
+    if any(_monotone(c) for m in (a, b) for c in np.reshape(m, (n, -1)).T):
         return None
-    p = _largest_lag1_product(a, b)
-    if p <= max(SHUFFLE_MAX_LAG1_PRODUCT, 5.0 / n):
+    p = _iid_rows_broken(a, b)
+    if p is None:
         return None
     n_eff = bartlett_pairs(n, p)
     return (f"{name}: bootstrap='iid' resamples the rows as independent, but the series "
