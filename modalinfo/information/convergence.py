@@ -136,6 +136,7 @@ __all__ = [
     "effective_pairs",
     "lag1_bias_corrected",
     "effective_sample_rule",
+    "sorted_samples",
     "judge_pair_estimate",
     "neighbour_rule",
     "xi_gaussian_mi",
@@ -234,6 +235,15 @@ def _monotone(a: np.ndarray) -> bool:
     return bool(np.all(d >= 0) or np.all(d <= 0))
 
 
+def sorted_samples(x: np.ndarray, y: np.ndarray) -> bool:
+    """Whether a column of x or y is monotone: sorted samples, whose order is not time.
+
+    The effective-sample rule and the iid bootstrap's rule do not judge such pairs (a
+    table of counts, groups one after the other).
+    """
+    return any(_monotone(c) for a in (x, y) for c in np.reshape(a, (a.shape[0], -1)).T)
+
+
 def effective_pairs(x: np.ndarray, y: np.ndarray) -> float:
     """Effective number of independent pairs of two series in time order (Bartlett 1935).
 
@@ -307,7 +317,7 @@ def effective_sample_rule(x: np.ndarray, y: np.ndarray, given: str = "") -> str 
     :func:`~modalinfo.information.conditional_mutual_information`, the transfer entropy,
     its map and the input selection judge by this rule).
     """
-    if any(_monotone(c) for a in (x, y) for c in np.reshape(a, (a.shape[0], -1)).T):
+    if sorted_samples(x, y):
         return None
     n = x.shape[0]
     n_eff, rx, ry = _effective(x, y)

@@ -63,7 +63,7 @@ from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_int, check_rng
 from modalinfo.information.api import MIN_SAMPLES
-from modalinfo.information.convergence import _monotone, bartlett_pairs
+from modalinfo.information.convergence import bartlett_pairs, sorted_samples
 
 __all__ = [
     "MAX_RESAMPLES",
@@ -1049,10 +1049,10 @@ def iid_bootstrap_rule(a: np.ndarray, b: np.ndarray, name: str) -> str | None:
     str or None
         The message naming the failed assumption and the cure, or None.
     """
-    n = a.shape[0]
-    if any(_monotone(c) for m in (a, b) for c in np.reshape(m, (n, -1)).T):
+    if sorted_samples(a, b):
         return None
     p = _iid_rows_broken(a, b)
+    n = a.shape[0]
     if p is None:
         return None
     n_eff = bartlett_pairs(n, p)
