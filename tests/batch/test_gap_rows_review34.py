@@ -13,10 +13,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from modalinfo.batch.analyses import resolve_params, run_log_task
-from modalinfo.common.tasks.threads import _limited_call
 from modalinfo.io import save
 from modalinfo.telemetry import ModalLog
+
+from .test_gap_rows_round51 import _row
 
 _ORDERING = {"estimator": "gaussian", "budget": 2000, "pupil_pixels": 16}
 
@@ -34,12 +34,6 @@ def _log(tmp_path, gap: bool) -> str:
     path = tmp_path / f"{'gapped' if gap else 'whole'}.npz"
     save(log, path)
     return str(path)
-
-
-def _row(path, analysis, **params):
-    payload = {"path": path, "fmt": None, "hints": {}, "analysis": analysis,
-               "params": resolve_params(analysis, params)}
-    return _limited_call(run_log_task, payload, 1)
 
 
 @pytest.mark.parametrize("windows", [2, 3])

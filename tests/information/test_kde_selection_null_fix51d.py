@@ -17,22 +17,7 @@ from scipy.signal import lfilter
 from modalinfo.information import BiasRuleWarning, select_inputs
 from modalinfo.information.resampling import local_linear_split
 
-
-def _log_with_square(seed, n=2000, genuine=False):
-    """Modes (x, z, y, w): x AR(1) drives z, y_t = sin 6 z_{t-1} + e, w_t = z_t^2 + e.
-
-    As tests/information/test_nonlinear_nulls_fix51a.py: w informs nothing beyond z.
-    ``genuine``: y_t also takes 0.3 x_{t-1}, which informs beyond z.
-    """
-    rng = np.random.default_rng(seed)
-    x, z, y = np.zeros((3, n))
-    ex, ez, ey = rng.standard_normal((3, n))
-    for t in range(1, n):
-        x[t] = 0.6 * x[t - 1] + ex[t]
-        z[t] = 0.4 * z[t - 1] + (0.0 if genuine else 0.7 * x[t - 1]) + 0.6 * ez[t]
-        y[t] = np.sin(6 * z[t - 1]) + (0.3 * x[t - 1] if genuine else 0.0) + 0.3 * ey[t]
-    w = z**2 + 0.3 * rng.standard_normal(n)
-    return np.column_stack([x, z, y, w])
+from .test_nonlinear_nulls_fix51a import _log_with_square
 
 
 def test_local_linear_split_keeps_a_steep_link_in_the_tails():

@@ -18,33 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.special import ndtri
-from scipy.stats import rankdata
 
 from modalinfo.information.selection import _greedy_search
 
-
-def _near(z, rank_based, k=20):
-    n = z.shape[0]
-    s = (np.column_stack([ndtri(rankdata(c) / (n + 1.0)) for c in z.T]) if rank_based
-         else z / z.std(axis=0))
-    d = np.abs(s[:, None, :] - s[None, :, :]).max(axis=2)
-    np.fill_diagonal(d, np.inf)
-    return np.argsort(d, axis=1, kind="stable")[:, :k]
-
-
-def _local_line(resid, z, near, rank_based):
-    """Each row's least-squares line (a constant and z's columns in the neighbours'
-    metric, centred on the row) through the residual over its neighbours: its value at
-    the row (fix51-d), by numpy's ``lstsq`` one row at a time."""
-    n = z.shape[0]
-    s = (np.column_stack([ndtri(rankdata(c) / (n + 1.0)) for c in z.T]) if rank_based
-         else z / z.std(axis=0))
-    out = np.empty_like(resid)
-    for i in range(n):
-        u = np.column_stack([np.ones(near.shape[1]), s[near[i]] - s[i]])
-        out[i] = np.linalg.lstsq(u, resid[near[i]], rcond=None)[0][0]
-    return out
+from .test_map_surrogate_parts_review34 import _local_line, _near
 
 
 @pytest.mark.parametrize("rank_based", [True, False])
