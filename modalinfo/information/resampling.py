@@ -416,7 +416,7 @@ def neighbour_rows(z: np.ndarray, rank_based: bool,
     Parameters
     ----------
     z : numpy.ndarray, shape (n, d_z)
-        Conditioning columns, d_z >= 1, n >= 2.
+        Conditioning columns, d_z >= 1, n >= 2 (one row has no other row: ValueError).
     rank_based : bool
         Neighbours on normal scores, else on unit-sd values (``_neighbour_space``).
     k : int
@@ -431,6 +431,10 @@ def neighbour_rows(z: np.ndarray, rank_based: bool,
     from scipy.spatial import cKDTree
 
     n = z.shape[0]
+    if n < 2:
+        # no other row to be a neighbour: an empty table made local_linear_split's
+        # sums 0 and its solve singular (fix52-c; the public callers refuse < 10 rows)
+        raise ValueError(f"`z` needs at least 2 rows for a row's neighbours; got {n}.")
     k = min(k, n - 1)
     zs = _neighbour_space(z, rank_based)
     near = cKDTree(zs).query(zs, k=k + 1, p=np.inf)[1].reshape(n, k + 1)
@@ -475,7 +479,8 @@ def local_linear_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
         Metric of the neighbours and coordinates of the local line
         (:func:`neighbour_rows`).
     near : numpy.ndarray of int, shape (n, k), optional
-        :func:`neighbour_rows` of z, when several y share one z (computed if None).
+        :func:`neighbour_rows` of z, when several y share one z (computed if None;
+        k >= 1, so z has at least 2 rows: ValueError otherwise).
 
     Returns
     -------
@@ -488,6 +493,8 @@ def local_linear_split(y: np.ndarray, z: np.ndarray, rank_based: bool,
     if near is None:
         near = neighbour_rows(z, rank_based)
     n, k = near.shape
+    if k < 1:
+        raise ValueError("`near` needs at least 1 neighbour per row; got 0 columns.")
     d = z.shape[1] if z.shape[1] <= k // 4 - 1 else 0  # 0: the local mean
     zs = _neighbour_space(z, rank_based) if d else np.empty((n, 0))
     # sums over the neighbours of (1, dz) (dz = neighbour's z - row's z, so that the
