@@ -4,7 +4,8 @@ fix51-a's surrogate parts (``information.resampling``): each row's ``k`` nearest
 rows in z under the maximum norm (on normal scores ``Phi^-1(rank / (n + 1))`` for a rank-
 based estimator, on values scaled to unit s.d. otherwise), and y's least-squares fit on z
 and a constant plus, at each row, a least-squares line (fix51-d; a constant and z's
-columns in the neighbours' metric, centred on the row) through that fit's residual over
+columns scaled to unit s.d., centred on the row: on the values since fix52-c, in the
+neighbours' metric before) through that fit's residual over
 those rows, the local mean where z has more than 4 columns. References, outside the
 package: the pairwise maximum-norm distances by numpy broadcasting, the scores by
 ``scipy.stats.rankdata`` and ``scipy.special.ndtri``, the fits by ``numpy.linalg.lstsq``
@@ -96,7 +97,7 @@ def test_local_linear_split_is_the_linear_fit_plus_the_neighbours_line(rank_base
     lin = a @ np.linalg.lstsq(a, y, rcond=None)[0]  # on the values, even rank-based
     resid = y - lin
     near = _brute(z, rank_based, LOCAL_FIT_NEIGHBOURS)
-    s = _space(z, rank_based)
+    s = _space(z, False)  # the line's coordinates: values of unit s.d. (fix52-c)
     local = np.empty_like(resid)
     for i in range(z.shape[0]):
         u = np.column_stack([np.ones(near.shape[1]), s[near[i]] - s[i]])
