@@ -3,8 +3,9 @@
 ``flow._estimator_map`` (fix51-a) rotates, for each cell, the source's residual on the
 target's history and keeps its fit: the linear least-squares fit plus, at each row, a
 least-squares line through its residual over the row's 20 nearest other rows of the
-history (fix51-d; maximum norm, on normal scores for a rank-based estimator, on
-unit-s.d. values otherwise). References, outside the package: numpy's ``lstsq`` fit,
+history (fix51-d; neighbours in the maximum norm, on normal scores for a rank-based
+estimator, on unit-s.d. values otherwise; the line on unit-s.d. values, fix52-c).
+References, outside the package: numpy's ``lstsq`` fit,
 brute-force maximum-norm neighbours on
 ``scipy.special.ndtri(scipy.stats.rankdata / (n + 1))`` scores or on values over their
 s.d., ``numpy.roll``; the "estimator" is the test's own bilinear statistic ``x . y / n``
@@ -35,13 +36,13 @@ def _near(z, rank_based, k=20):
     return np.argsort(d, axis=1, kind="stable")[:, :k]
 
 
-def _local_line(resid, z, near, rank_based):
-    """Each row's least-squares line (a constant and z's columns in the neighbours'
-    metric, centred on the row) through the residual over its neighbours: its value at
-    the row (fix51-d), by numpy's ``lstsq`` one row at a time."""
+def _local_line(resid, z, near):
+    """Each row's least-squares line (a constant and z's columns scaled to unit s.d.,
+    centred on the row: on the values whatever the neighbours' metric since fix52-c)
+    through the residual over its neighbours: its value at the row (fix51-d), by numpy's
+    ``lstsq`` one row at a time."""
     n = z.shape[0]
-    s = (np.column_stack([ndtri(rankdata(c) / (n + 1.0)) for c in z.T]) if rank_based
-         else z / z.std(axis=0))
+    s = z / z.std(axis=0)
     out = np.empty_like(resid)
     for i in range(n):
         u = np.column_stack([np.ones(near.shape[1]), s[near[i]] - s[i]])
@@ -72,7 +73,7 @@ def test_every_surrogate_is_the_fit_plus_the_rotated_local_residual(rank_based):
             for g, lag in enumerate(lags):
                 y = series[t0 - lag : T - lag, j : j + 1]
                 lin = a @ np.linalg.lstsq(a, y, rcond=None)[0]
-                local = _local_line(y - lin, z, near, rank_based)
+                local = _local_line(y - lin, z, near)
                 fit, resid = lin + local, y - lin - local
                 assert te[j, i, g] == pytest.approx(_stat(x, y, z), abs=1e-12)
                 for s_i, s in enumerate(shifts):

@@ -3,8 +3,9 @@
 ``selection._greedy_search`` (fix51-a) tests each next candidate against rotations of its
 residual on the inputs already chosen, keeping its fit: the linear least-squares fit plus,
 at each row, a least-squares line through its residual over the row's 20 nearest other
-rows of the chosen inputs (fix51-d; maximum norm, on normal scores for a rank-based
-estimator, on unit-s.d. values otherwise). References, outside the package: numpy's
+rows of the chosen inputs (fix51-d; neighbours in the maximum norm, on normal scores for
+a rank-based estimator, on unit-s.d. values otherwise; the line on unit-s.d. values,
+fix52-c). References, outside the package: numpy's
 ``lstsq`` fit, brute-force maximum-
 norm neighbours on ``scipy.special.ndtri(scipy.stats.rankdata / (n + 1))`` scores or on
 values over their s.d., ``numpy.roll``. The "estimator" is the test's own recording
@@ -55,7 +56,7 @@ def test_the_second_steps_surrogates_are_fit_plus_rotated_local_residual(rank_ba
     for j in sorted({0, 1, 2} - {first}):
         cj = C[:, j : j + 1]
         lin = a @ np.linalg.lstsq(a, cj, rcond=None)[0]
-        local = _local_line(cj - lin, z, near, rank_based)
+        local = _local_line(cj - lin, z, near)
         fit, resid = lin + local, cj - lin - local
         want += [(fit + np.roll(resid, int(s), axis=0))[:, 0] for s in shifts]
     got = second[2:]  # the two candidates' gains come first
@@ -97,7 +98,7 @@ def test_the_third_steps_surrogates_condition_on_both_chosen_inputs():
     for j in rest:
         cj = C[:, j : j + 1]
         lin = a @ np.linalg.lstsq(a, cj, rcond=None)[0]
-        local = _local_line(cj - lin, z, near, False)
+        local = _local_line(cj - lin, z, near)
         want += [(lin + local + np.roll(cj - lin - local, int(s), axis=0))[:, 0]
                  for s in shifts]
     got = third[len(rest):]
