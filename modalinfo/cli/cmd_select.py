@@ -39,6 +39,7 @@ from modalinfo.cli.shared import (
     frame_subsample,
     load_log_with_hints,
     log_bytes,
+    quality_need,
     refuse_outlier_drop,
     split_gaps,
 )
@@ -104,7 +105,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _load(args: argparse.Namespace, path: Path):
-    """Map ``path``, keep its first ``--max-frames`` frames, refuse copies that cannot fit.
+    """Map ``path`` and keep its first ``--max-frames`` frames (checked by :func:`_check_memory`).
 
     With ``--split-gaps``, then its longest gap-free segment (otherwise gaps are refused).
     """
@@ -116,25 +117,43 @@ def _load(args: argparse.Namespace, path: Path):
     # from a log without a time axis refused too: adversarial round 9 PART b, N40-N43).
     # The refusal advised "--max-frames or convert that part", which cannot reach a
     # segment in the middle of the log (round 33 PART b, B26)
-    log = split_gaps(log, args, path, "input selection (its lagged pairs)")
-    # with the quality pass's figure and the candidate search's working arrays (on this
-    # log's modes; checked again on every source below), so that the first refusal names
-    # what select needs: a limit set from its "123.60 MiB" was refused again with
-    # "168.83 MiB" by the pass, then "823.97 MiB" by --max-lag (round 50 PART b, M16)
-    own = LOG_COPIES * log_bytes(log)
-    what = f"{quoted(path.name)} ({log.n_frames} frames x {log.n_modes} modes, {LOG_COPIES} " \
-           "float64 copies"
+    return split_gaps(log, args, path, "input selection (its lagged pairs)")
+
+
+def _check_memory(args: argparse.Namespace, log, extra) -> int:
+    """Refuse, before any quality pass, a selection whose copies or passes cannot fit.
+
+    One figure for the whole command: LOG's and ``--extra``'s float64 copies, the candidate
+    search's working arrays on every candidate column (both logs' modes x ``--max-lag``),
+    or the larger quality pass if larger (``--extra``'s runs while LOG's clipped copy is
+    held). A check after a pass reads an available figure that has lost the address space
+    the pass leaves mapped (numba's first dispatch, the allocator's freed pages: 58 MiB on
+    a 20,000 x 6 log, in no estimate): a later ``--max-lag`` check (stop 57, fix51-c) and,
+    with ``--extra``, its own check after LOG's pass refused, with "0 B is available", a
+    command 3 % above its first refusal's limit (fix52-c). Returns the candidate columns
+    counted, so that :func:`run` checks again only columns beyond them.
+    """
     lags = getattr(args, "max_lag", None) or 0
-    # the candidate columns this check admits (LOG's, read again by run's check below)
-    args.checked_columns = log.n_modes * lags if lags >= 1 else 0
+    logs = [(log, args.log)] + ([(extra, args.extra)] if extra is not None else [])
+    own = LOG_COPIES * sum(log_bytes(x) for x, _ in logs)
+    what = " and ".join(f"{quoted(Path(p).name)} ({x.n_frames} frames x {x.n_modes} modes)"
+                        for x, p in logs) + f", {LOG_COPIES} float64 copies"
+    columns = sum(x.n_modes for x, _ in logs) * lags if lags >= 1 else 0
     if lags >= 1:
         from modalinfo.information.selection import _WORKING_COPIES
 
-        own += _WORKING_COPIES * 8 * log.n_frames * log.n_modes * lags
-        what += f", and --max-lag {lags}'s {log.n_modes * lags} candidate columns"
+        own += _WORKING_COPIES * 8 * log.n_frames * columns
+        what += f", and --max-lag {lags}'s {columns} candidate columns"
+    # the larger pass: --extra's holds LOG's repaired copy under --outliers clip
+    held = log_bytes(log) if getattr(args, "outliers", "warn") == "clip" else 0.0
+    passes = [(quality_need(log, args), log, 0.0)]
+    if extra is not None:
+        passes.append((quality_need(extra, args, held), extra, held))
+    _, larger, resident = max(passes, key=lambda t: t[0])
     check_command_memory(own, what + ")", "use --max-frames N (the first N frames)"
-                         + (" or a smaller --max-lag" if lags >= 1 else ""), log, args)
-    return log
+                         + (" or a smaller --max-lag" if lags >= 1 else ""), larger, args,
+                         resident)
+    return columns
 
 
 def _check_max_frames_leave_enough(args: argparse.Namespace, kept: int, total: int,
@@ -212,8 +231,6 @@ def run(args: argparse.Namespace) -> int:
                            f"--surrogates >= {math.ceil(1 / args.alpha) - 1}")
     width = _radial_width(args)
     log = _load(args, args.log)
-    checked = args.checked_columns  # LOG's candidate columns, admitted by its check
-    log, _ = apply_outliers(log, args, args.log, time_series=True)
     extra = None
     if args.extra is not None:
         import os
@@ -223,9 +240,13 @@ def run(args: argparse.Namespace) -> int:
             raise CommandError(f"--extra {quoted(args.extra)} is LOG itself: its modes are "
                                "candidates already")
         extra = _load(args, args.extra)
-        # LOG (analysed) stays in memory while --extra's pass runs: read before the
-        # check, it is already missing from the memory available (round 50 PART b, M16)
-        extra, _ = apply_outliers(extra, args, args.extra, time_series=True)
+    # both logs mapped, nothing computed yet: one check of the whole command (fix52-c)
+    checked = _check_memory(args, log, extra)
+    log, _ = apply_outliers(log, args, args.log, time_series=True)
+    if extra is not None:
+        # its pass was counted by that check: checked again here, after LOG's pass, it
+        # read the address space LOG's pass leaves mapped as used (fix52-c)
+        extra, _ = apply_outliers(extra, args, args.extra, time_series=True, checked=True)
         if extra.n_frames != log.n_frames:
             raise CommandError(f"--extra has {extra.n_frames} frames, LOG has {log.n_frames}; "
                                "the two logs must share the clock")
@@ -263,12 +284,13 @@ def run(args: argparse.Namespace) -> int:
     columns = n_sources * args.max_lag if args.max_lag is not None and args.max_lag >= 1 else 0
     if columns > checked:
         # the candidate search's working arrays (information.selection's estimate) on
-        # more columns than _load's check admitted (--extra's with LOG's). Not checked
-        # again on LOG's alone: the available figure has lost, since that check, the
-        # address space the quality pass leaves mapped (numba's first dispatch and its
-        # cached kernels, the allocator's freed pages: 58 MiB on a 20,000 x 6 log, in no
-        # estimate), and select 3 % above its first refusal's limit was refused here
-        # with "0 B is available" though it ran in 499 MiB of 545 (stop 57, fix51-c)
+        # more columns than _check_memory admitted (none: it counts both logs' modes,
+        # fix52-c). Not checked again on those: the available figure has lost, since that
+        # check, the address space the quality pass leaves mapped (numba's first dispatch
+        # and its cached kernels, the allocator's freed pages: 58 MiB on a 20,000 x 6
+        # log, in no estimate), and select 3 % above its first refusal's limit was
+        # refused here with "0 B is available" though it ran in 499 MiB of 545 (stop 57,
+        # fix51-c)
         check_memory(_WORKING_COPIES * 8 * log.n_frames * columns,
                      f"--max-lag {args.max_lag} ({columns} candidate columns x "
                      f"{log.n_frames} frames)", "use a smaller --max-lag or --max-frames")

@@ -249,7 +249,7 @@ def _quality_progress(args: argparse.Namespace, log):
 
 
 def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bool = False,
-                   resident: float = 0.0):
+                   resident: float = 0.0, checked: bool = False):
     """Apply ``--outliers`` to ``log``; queue one stderr line when something was flagged.
 
     Returns the log the command analyses (clipped or with frames dropped, its
@@ -258,13 +258,17 @@ def apply_outliers(log, args: argparse.Namespace, path: Path, *, time_series: bo
     ``time_series``) becomes a one-line error, exit status 2, and so does a pass that
     cannot fit in the memory available (``check_quality_memory``, before the pass;
     ``resident``: bytes held meanwhile and not allocated yet, 0 for ``log`` itself).
+    ``checked``: the command's first check counted this pass already (``select
+    --extra``'s second pass: checked after the first, the available figure has lost
+    the address space that pass leaves mapped, fix52-c).
     """
     from modalinfo.telemetry.quality import apply_outlier_policy
 
     policy = getattr(args, "outliers", "warn")
     if time_series:
         refuse_outlier_drop(args, f"{args.command}")
-    check_quality_memory(args, log, path, resident)
+    if not checked:
+        check_quality_memory(args, log, path, resident)
     try:
         with _quality_progress(args, log) as advance:
             new, report = apply_outlier_policy(log, policy, time_series=time_series,
