@@ -23,15 +23,22 @@ def _running_workers(client: Any) -> int | None:
     """Workers of the scheduler able to run a task now (not paused, not closing).
 
     None when the scheduler cannot be asked (connection lost): the caller treats it
-    as no worker.
+    as no worker. ``Client.scheduler_info()`` returns the client's cached identity, which
+    its periodic refresh writes with the cluster's totals only (``identity(n_workers=0)``:
+    ``"n_workers"`` 2, ``"workers"`` empty; distributed 2026.8) whenever the call's own
+    refresh fails or loses the race with it: under a load of ~30 on 2 cores that read 0
+    running workers for 60 s while both ran, and ``NoWorkersError`` ended a batch
+    (fix52-c). Totals without the workers are asked again, from the scheduler itself.
     """
     try:
         if getattr(client, "status", "running") not in ("running", "connecting"):
             return None
-        info = client.scheduler_info()
+        info = client.scheduler_info() or {}
+        if not info.get("workers") and info.get("n_workers"):
+            info = client.sync(client.scheduler.identity, n_workers=-1) or {}
     except Exception:  # noqa: BLE001 - an unreachable scheduler runs nothing
         return None
-    workers = (info or {}).get("workers", {}) or {}
+    workers = info.get("workers", {}) or {}
     return sum(1 for w in workers.values() if w.get("status", "running") == "running")
 
 
