@@ -136,8 +136,10 @@ def _check_memory(args: argparse.Namespace, log, extra) -> int:
     lags = getattr(args, "max_lag", None) or 0
     logs = [(log, args.log)] + ([(extra, args.extra)] if extra is not None else [])
     own = LOG_COPIES * sum(log_bytes(x) for x, _ in logs)
-    what = " and ".join(f"{quoted(Path(p).name)} ({x.n_frames} frames x {x.n_modes} modes)"
-                        for x, p in logs) + f", {LOG_COPIES} float64 copies"
+    modes = " + ".join(str(x.n_modes) for x, _ in logs)
+    what = (" and ".join(quoted(Path(p).name) for _, p in logs)
+            + f" ({log.n_frames} frames x {modes} modes, {LOG_COPIES} float64 copies"
+            + (" each" if extra is not None else ""))
     columns = sum(x.n_modes for x, _ in logs) * lags if lags >= 1 else 0
     if lags >= 1:
         from modalinfo.information.selection import _WORKING_COPIES
