@@ -613,7 +613,7 @@ def mutual_information_ci(
             # the block replicates' spread is short of the estimate's on persistent pairs
             # (fix51-b); their quantiles' offsets from the estimate are widened by the
             # "normal" interval's floor over their s.d. (fix52-b: gaussian, AR(1) 0.9,
-            # n = 500, rho = 0.6: percentile coverage 0.90 -> 0.98, basic 0.87 -> 0.93)
+            # n = 500, rho = 0.6, 300 seeds: percentile 0.910 -> 0.963, basic 0.857 -> 0.927)
             s_boot = float(np.std(dist, ddof=1))
             s_floor = _bartlett_mi_std(x, y) * est._factor
             if s_floor > s_boot > 0.0:
