@@ -579,6 +579,9 @@ def input_notes(log, path: Path) -> list[str]:
         notes.append(f"{quoted(path.name)}: {meta['rate_field']}")
     if isinstance(meta.get("source_hdu"), str):  # a foreign FITS with several images
         notes.append(f"{quoted(path.name)}: read {meta['source_hdu']}")
+    if isinstance(meta.get("lossy_storage"), str) and meta.get("source_file") == path.name:
+        # a lossy filter or quantization of the writer's (round 52 PART b, A14, A19, A72)
+        notes.append(f"{quoted(path.name)}: {meta['lossy_storage']}")
     layout = meta.get("layout")
     if isinstance(layout, dict) and "hint" not in str(layout.get("transposed", "hint")):
         notes.append(f"{quoted(path.name)} is stored modes x frames and was read transposed "

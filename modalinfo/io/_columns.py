@@ -304,7 +304,7 @@ def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
     found = []
     for name, arr in arrays.items():
         kind = time_kind(name.rsplit("/", 1)[-1])
-        if kind is None or getattr(arr, "ndim", 0) != 1:
+        if kind is None or getattr(arr, "ndim", 0) != 1 or _phony_dimension(arr):
             continue
         unit = _unit_attribute(arr)
         if unit is not None:
@@ -324,6 +324,29 @@ def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
         meta["time_column"] = f"{name} ({kind}, converted to s)"
 
 
+#: The NAME attribute netCDF-4 gives the dimension-scale dataset of a dimension that has
+#: no coordinate variable: its values are not data (libnetcdf fills it with zeros).
+_NETCDF_PHONY = "This is a netCDF dimension but not a netCDF variable"
+
+
+def _phony_dimension(arr) -> bool:
+    """Tell whether ``arr`` is a netCDF-4 dimension without a variable (no values).
+
+    xarray writes a ``time`` dimension without coordinates as such a dataset of zeros;
+    it was read as the timestamps, and the file refused as "not strictly increasing
+    (repeated at frame 1: 0 then 0 s)" (round 52 PART b, A56).
+    """
+    attrs = getattr(arr, "attrs", None)
+    if attrs is None or "NAME" not in attrs:
+        return False
+    value = attrs["NAME"]
+    if isinstance(value, np.ndarray) and value.shape == ():
+        value = value[()]
+    if isinstance(value, bytes):
+        value = value.decode("ascii", "replace")
+    return str(value).startswith(_NETCDF_PHONY)
+
+
 def _unit_attribute(arr) -> str | None:
     attrs = getattr(arr, "attrs", None)
     if attrs is None:
@@ -335,7 +358,9 @@ def _unit_attribute(arr) -> str | None:
                 value = value[()]
             if isinstance(value, bytes):
                 value = value.decode("ascii", "replace")
-            text = str(value).strip().lower()
+            # CF time units name an epoch: "milliseconds since 2026-06-01 10:00:00" (netCDF,
+            # xarray) was not understood and the times read as seconds (round 52 PART b, A57)
+            text = str(value).strip().lower().split(" since ", 1)[0].strip()
             aliases = {"s": "s", "sec": "s", "second": "s", "seconds": "s", "ms": "ms",
                        "millisecond": "ms", "milliseconds": "ms", "us": "us",
                        "microsecond": "us", "microseconds": "us", "ns": "ns",

@@ -74,6 +74,15 @@ def reading(fmt: str, path: Path) -> Iterator[None]:
                 f"{fmt} file {quoted(path)} is locked by another process that has it open for "
                 "writing; read it when the writer has closed it (or read a copy)"
             ) from exc
+        if isinstance(exc, OSError) and "already open for write" in str(exc):
+            # libhdf5's consistency flag: a writer (SWMR or not) has the file open, or died
+            # with it open; "corrupt HDF5 file ... (may use <h5clear file> ...)" sent a user
+            # to clear the flag under a running writer (round 52 PART b, K32)
+            raise LogFormatError(
+                f"{fmt} file {quoted(path)} is open for writing by another process (HDF5's "
+                "consistency flag is set): read it when the writer has closed it, or read a "
+                "copy; if no writer runs (one died), `h5clear -s` on a copy clears the flag"
+            ) from exc
         if isinstance(exc, OSError) and exc.errno != errno.ENOMEM:
             detail = error_line(exc)
             raise LogFormatError(

@@ -60,6 +60,14 @@ _NOT_LOGS = (
     (b"MATLAB 5.0 MAT-file", "a MATLAB v5 MAT-file",
      "convert it in Python with `numpy.save('log.npy', scipy.io.loadmat(PATH)['VARIABLE'])` "
      "(the MATLAB rows stay the frames), or save it in MATLAB with -v7.3 (an HDF5 file)"),
+    # netCDF-3 (classic, 64-bit offset, CDF-5) is not HDF5: xarray's format="NETCDF3_64BIT"
+    # was told "a CSV must be UTF-8: re-save it as UTF-8" (round 52 PART b, A59)
+    *((magic, f"a netCDF-3 file ({kind})",
+       "netCDF-4 files are HDF5 files and are read: convert it with `nccopy -k nc4 PATH "
+       "new.nc`, or in Python `xarray.open_dataset(PATH).to_netcdf('new.nc', "
+       "format='NETCDF4')`") for magic, kind in ((b"CDF\x01", "classic"),
+                                                  (b"CDF\x02", "64-bit offset"),
+                                                  (b"CDF\x05", "CDF-5"))),
 )
 
 #: The text header of a MATLAB v7.3 MAT-file: an HDF5 file behind a 512-byte user block

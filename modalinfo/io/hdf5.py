@@ -27,10 +27,16 @@ Foreign HDF5: the one 2-D numeric dataset of the file (or one named
 ``coefficients``/``coeffs``/``data``, or the one ``dataset=`` names), and a 1-D
 time dataset if present: ``timestamps``/``times``/``time``/``t`` in seconds,
 ``time_ms`` in milliseconds, or any of them with a ``units`` attribute (``"s"``,
-``"ms"``, ``"us"``), converted to seconds; ``frame`` numbers need a ``rate`` hint.
-Column names come from a ``labels``/``modes``/``columns`` attribute of the dataset
-(``["z2", "z3", ...]``); a file of 1-D datasets ``z2``, ``z3``, ... (one per mode) is
-read as their columns.
+``"ms"``, ``"us"``, or CF's ``"milliseconds since 2026-06-01"``), converted to seconds;
+``frame`` numbers need a ``rate`` hint; netCDF dimensions without a coordinate (datasets
+of zeros) are not times. Column names come from a ``labels``/``modes``/``columns``
+attribute of the dataset (``["z2", "z3", ...]``), a pandas ``to_hdf(format="fixed")``
+frame's ``blockN_items`` (a ``time`` column among them is the time axis) or a netCDF
+string coordinate attached to the column axis; a file of 1-D datasets ``z2``, ``z3``, ...
+(one per mode) is read as their columns. CF packing (``scale_factor`` / ``add_offset``)
+and fill values are applied; a lossy scale-offset filter is said
+(``metadata["lossy_storage"]``); rows of a chunked dataset never written, pandas tables
+(``format="table"``) are refused.
 An axis annotation (attribute ``axes``/``dims``/``dimension_labels`` such as
 ``["mode", "time"]``, attribute ``layout="modes_first"``, or dimension-scale
 labels) is followed: a modes x frames dataset is read transposed and
@@ -53,7 +59,9 @@ from modalinfo.io._columns import (
     float_columns,
     mode_arrays,
     mode_columns,
+    set_timestamps,
     time_arrays,
+    time_kind,
     unit_text,
 )
 from modalinfo.io._common import (
@@ -627,7 +635,8 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             _rate_fields(stored, (dsets, "dataset"), (f.attrs, "file attribute"))
             stacked = float_columns(columns, short, path)
             for k, column in enumerate(columns):
-                stacked[:, k] = _missing_as_nan(stacked[:, k], column.attrs)
+                stacked[:, k] = _unpacked(_missing_as_nan(stacked[:, k], column.attrs),
+                                          column.attrs, meta, column.name)
             return stacked, stored
     if dataset is not None:
         key = dataset.strip("/")
@@ -648,6 +657,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
         elif len(two_d) == 1:
             key = next(iter(two_d))
         elif not two_d:
+            _refuse_pandas_table(f, path)
             # "pick one with --dataset" among none, when the data sit behind a link that
             # is not followed (round 14 PART b, H01-H03): name the links instead
             notes = [f"{name!r}{_link_note(f, name)}" for name in _links(f)]
@@ -656,6 +666,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
                 + (f"; it holds links: {', '.join(notes)}" if notes else "")
             )
         else:
+            _refuse_pandas_table(f, path)
             raise LogFormatError(
                 f"HDF5 file {quoted(path)} has no modalinfo header and {len(two_d)} 2-D numeric "
                 f"datasets ({', '.join(sorted(two_d))}); pick one with dataset= "
@@ -668,17 +679,26 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             f"corrupt HDF5 file {quoted(path)}: dataset {key!r} was written by modalinfo "
             f"but the file's {_HEADER!r} dataset is missing"
         )
-    coeffs = _missing_as_nan(_load(dset, path, mmap), dset.attrs)
+    _refuse_unwritten_rows(dset, path)
     meta: dict[str, Any] = {"source_file": path.name, "source_format": "hdf5"}
+    coeffs = _unpacked(_missing_as_nan(_load(dset, path, mmap), dset.attrs), dset.attrs, meta,
+                       key)
     if dataset is not None or len(two_d) > 1:
         meta["source_dataset"] = key
+    _lossy_filter(dset, key, meta)
     stored: dict[str, Any] = {"metadata": meta}
     time_arrays(dsets, stored, meta)
     names = _column_names(dset)
-    if names is not None and len(names) not in dset.shape:
+    if names is None:
+        names = _pandas_items(f, key, dset)
+    if names is None:
+        names = _scale_labels(dset)
+    if names is not None and len(names) == coeffs.shape[1] > 1:
+        coeffs, names = _time_column(coeffs, names, stored, meta)
+    if names is not None and len(names) not in dset.shape and len(names) not in coeffs.shape:
         stored["_bad_modes"] = (f"the column-name attribute of {key!r} lists {len(names)} "
                                 f"mode(s) for data of shape {dset.shape}")
-    if names is not None and len(names) == dset.shape[1]:
+    if names is not None and len(names) == coeffs.shape[1]:
         stored["modes"], stored["convention"], assumed = mode_columns(names)
         if assumed:
             stored["_convention_assumed"] = True
@@ -731,6 +751,192 @@ def _missing_as_nan(values: np.ndarray, attrs) -> np.ndarray:
     out = np.array(values, dtype=np.float64)  # a copy: a memory map stays untouched
     out[missing] = np.nan
     return out
+
+
+def _unpacked(values: np.ndarray, attrs, meta: dict, key: str) -> np.ndarray:
+    """Return ``values`` unpacked by their CF ``scale_factor`` / ``add_offset`` attributes.
+
+    netCDF writers (xarray's ``encoding={"dtype": "int16", "scale_factor": ...}``, CF
+    packing) store integers that mean ``packed * scale_factor + add_offset``; the packed
+    integers were read as the coefficients, 1e4 times too large (round 52 PART b, A55).
+    The fill value is matched on the packed integers first (``_missing_as_nan``), as CF
+    says. ``meta["cf_packing"]`` records the factors.
+    """
+    scale = _number_attribute(attrs, "scale_factor")
+    offset = _number_attribute(attrs, "add_offset")
+    if scale is None and offset is None:
+        return values
+    scale = 1.0 if scale is None else scale
+    offset = 0.0 if offset is None else offset
+    meta["cf_packing"] = (f"{key!r} unpacked as stored * scale_factor {scale!r} + add_offset "
+                          f"{offset!r} (CF packing)")
+    return np.asarray(values, dtype=np.float64) * scale + offset
+
+
+def _number_attribute(attrs, name: str) -> float | None:
+    """Return the finite scalar numeric attribute ``name`` (None when absent); refuse others."""
+    if name not in attrs:
+        return None
+    value = np.asarray(attrs[name])
+    if value.dtype.kind not in "fiu" or value.size != 1 or not np.isfinite(value.ravel()[0]):
+        raise LogFormatError(f"attribute {name}={attrs[name]!r} is not one finite number "
+                             "(CF packing: values = stored * scale_factor + add_offset)")
+    return float(value.ravel()[0])
+
+
+def _lossy_filter(dset, key: str, meta: dict) -> None:
+    """Record in ``meta["lossy_storage"]`` that ``dset`` was stored by a lossy HDF5 filter.
+
+    HDF5's scale-offset filter on floating-point data keeps ``scaleoffset`` decimal digits
+    (D-scaling): the writer rounded the values and the finer digits are not in the file.
+    With 0 digits a log of a few tenths of a radian read as zeros, without a word (round
+    52 PART b, A14, A72). The reader cannot restore them; it says so.
+    """
+    digits = dset.scaleoffset
+    if digits is None or dset.dtype.kind != "f":
+        return
+    meta["lossy_storage"] = (
+        f"dataset {key!r} was stored with HDF5's lossy scale-offset filter keeping {digits} "
+        f"decimal digit(s): its writer rounded every value to "
+        + ("a whole number" if digits == 0 else f"a multiple of 1e-{digits}")
+        + " (of the file's units) and the finer digits are not in the file")
+
+
+def _refuse_unwritten_rows(dset, path: Path) -> None:
+    """Refuse a chunked dataset whose last rows lie in chunks never written.
+
+    A logger that allocates its dataset ahead (``maxshape=(None, M)``, ``shape=(1000, M)``)
+    and fills it row by row leaves the chunks past its last row unallocated: HDF5 returns
+    the fill value (0) for them. Such a file (still being written, or allocated larger than
+    it was filled) was read as a log whose last 400 frames were zero (round 52 PART b, A11).
+    Chunks never written hold no data at all, so this tells them apart from real zeros.
+    """
+    if dset.chunks is None or dset.ndim != 2 or not dset.size:
+        return
+    rows = dset.chunks[0]
+    n_chunks = -(-dset.shape[0] // rows) * -(-dset.shape[1] // dset.chunks[1])
+    try:
+        if dset.id.get_num_chunks() >= n_chunks:
+            return
+
+        def written(row: int) -> bool:  # any chunk of this block of rows stored
+            return any(dset.id.get_chunk_info_by_coord((row, col)).byte_offset is not None
+                       for col in range(0, dset.shape[1], dset.chunks[1]))
+
+        first_unwritten = -(-dset.shape[0] // rows) * rows  # walk back over the tail
+        while first_unwritten > 0 and not written(first_unwritten - rows):
+            first_unwritten -= rows
+    except (AttributeError, RuntimeError, ValueError, OSError):  # an old libhdf5: cannot tell
+        return
+    if first_unwritten >= dset.shape[0]:
+        return  # chunks missing inside the data, not a tail: sparse writes, read as stored
+    raise LogFormatError(
+        f"HDF5 file {quoted(path)}: rows {first_unwritten}..{dset.shape[0] - 1} of dataset "
+        f"{dset.name!r} ({dset.shape[0]} allocated) were never written: their chunks hold no "
+        f"data and read as the fill value {dset.fillvalue!r} (a file still being written, or "
+        f"allocated larger than it was filled); copy the written rows to a new file (h5py: "
+        f"f[{dset.name!r}][:{first_unwritten}]) and read that")
+
+
+def _pandas_items(f, key: str, dset) -> list[str] | None:
+    """Column names of a pandas ``HDFStore`` fixed-format frame block (``blockN_values``).
+
+    pandas (``DataFrame.to_hdf(format="fixed")``) writes ``KEY/blockN_values`` (frames x
+    columns) and the block's column names in ``KEY/blockN_items``; the names were not read
+    and the columns taken as Z2, Z3, ... "assumed" (a frame written z11..z2 came out
+    reversed, round 52 PART b, A60).
+    """
+    head, _, tail = key.rpartition("/")
+    if not (tail.startswith("block") and tail.endswith("_values")):
+        return None
+    group = f[head] if head else f
+    if _attr_text(group.attrs.get("pandas_type")) != "frame":
+        return None
+    items = group.get(tail[: -len("_values")] + "_items")
+    if items is None or items.ndim != 1 or items.shape[0] != dset.shape[1]:
+        return None
+    if items.dtype.kind not in "SU":
+        return None  # pandas' default column names 0, 1, ...: positions, not modes
+    return [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v) for v in items[()]]
+
+
+def _time_column(coeffs: np.ndarray, names: list[str], stored: dict,
+                 meta: dict) -> tuple[np.ndarray, list[str]]:
+    """Take a named time column out of a foreign frame (``time``, ``t_ms``, ``frame``, ...).
+
+    A pandas frame ``df.assign(time=t).to_hdf(...)`` keeps its time column in the same
+    block as the modes: it was read as one more mode, Z12 (round 52 PART b, A93). Used
+    only when the file has no separate time dataset; two time columns are left as they
+    are (the mode names then refuse them).
+    """
+    if "timestamps" in stored or "_frame_numbers" in stored:
+        return coeffs, names
+    timed = [k for k, name in enumerate(names) if time_kind(name) is not None]
+    if len(timed) != 1:
+        return coeffs, names
+    k = timed[0]
+    kind = time_kind(names[k])
+    column = np.asarray(coeffs[:, k])
+    if kind == "frame":
+        stored["_frame_numbers"] = column
+    else:
+        set_timestamps(column, kind, stored, meta)
+        if kind != "s":
+            meta["time_column"] = f"{names[k]} ({kind}, converted to s)"
+    return np.delete(np.asarray(coeffs), k, axis=1), names[:k] + names[k + 1:]
+
+
+def _scale_labels(dset) -> list[str] | None:
+    """Return mode names from a string coordinate attached to a foreign column axis.
+
+    netCDF-4 (xarray ``coords={"mode": ["z11", ...]}``) stores the names as a 1-D string
+    dataset attached as the dimension scale of axis 1; they were not read and the
+    columns taken as Z2, Z3, ... "assumed" (round 52 PART b, A85).
+    """
+    import h5py
+
+    try:
+        dim = dset.dims[1]
+        if len(dim) != 1:
+            return None
+        scale = dim[0]
+    except (IndexError, RuntimeError, ValueError, KeyError):
+        return None
+    if scale.ndim != 1 or scale.shape[0] != dset.shape[1]:
+        return None
+    if h5py.check_string_dtype(scale.dtype) is None and scale.dtype.kind not in "SU":
+        return None
+    values = scale[()]
+    return [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v) for v in values]
+
+
+def _attr_text(value) -> str | None:
+    if isinstance(value, np.ndarray) and value.shape == ():
+        value = value[()]
+    if isinstance(value, bytes):
+        return value.decode("utf-8", "replace")
+    return value if isinstance(value, str) else None
+
+
+def _refuse_pandas_table(f, path: Path) -> None:
+    """Refuse a pandas ``HDFStore`` table (``format="table"``) by name.
+
+    Its frame is a PyTables compound dataset beside PyTables' index arrays; the refusal
+    listed those index arrays ("coeffs/_i_table/index/bounds, ...; pick one with --dataset")
+    and none of them is the log (round 52 PART b, A02, A03, A06, A10).
+    """
+    tables = []
+    f.visititems(lambda name, obj: tables.append(name) if (
+        _attr_text(obj.attrs.get("pandas_type")) in ("frame_table", "series_table",
+                                                      "wide_table", "appendable_frame",
+                                                      "appendable_series")) else None)
+    if tables:
+        key = tables[0]
+        raise LogFormatError(
+            f"HDF5 file {quoted(path)} holds a pandas HDFStore table (format='table') under "
+            f"{key!r}, a PyTables layout modalinfo does not read; re-save it with pandas: "
+            f"pd.read_hdf(PATH, {key!r}).to_hdf(NEW, key={key!r}, format='fixed') (read "
+            "with its column names), or .to_csv(NEW, index=False)")
 
 
 def _stated_unit(attrs) -> str | None:
