@@ -1595,6 +1595,12 @@ def _step_line(column: np.ndarray, frame: int, ratio: float) -> float | None:
     m = min(big.size, small.size)
     if m < 512:
         return None
+    if np.count_nonzero(np.diff(small)) < small.size // 2:
+        # the quiet side is mostly stuck (a mode gone dead: exact zeros from a frame, which
+        # the stuck rule names): its periodogram is that of the few live frames before the
+        # stuck run, whose sinc nulls read as a line in the ratio (round 52 PART a, L:
+        # "a line at ~12 Hz stops" for a dead Z5)
+        return None
     nper = min(max(128, 1 << int(math.floor(math.log2(m / 8)))), 2048)
     _, p_big = welch(big, nperseg=nper)
     _, p_small = welch(small, nperseg=nper)

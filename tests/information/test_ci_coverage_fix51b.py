@@ -3,7 +3,9 @@
 The Gaussian-method interval with the (default) moving-block bootstrap is the Fisher-z
 interval ``z -+ z_0.975 s_z`` (``z = atanh|r|``, ``I = ln cosh z``) with ``s_z`` the larger
 of the block replicates' s.d. of z and ``1 / sqrt(n_eff - 3)``, Bartlett's effective pairs
-``n_eff = n (1 - rx ry) / (1 + rx ry)``.
+``n_eff = n (1 - rx ry) / (1 + rx ry)``, or, where fewer (long memory, round 52 PART a),
+Bartlett's full sum ``n / (1 + 2 sum_{k <= n/10} (1 - k/n) rx(k) ry(k))`` of the biased
+sample autocorrelations.
 
 References, from outside the package:
 - the exact MI of a pair of stationary AR(1) series of one coefficient phi whose
@@ -45,14 +47,28 @@ def _lag1(a: np.ndarray) -> float:
     return min(r + (1.0 + 3.0 * r) / a.size, 1.0 - 1e-12)  # Kendall 1954
 
 
+def _n_eff(x: np.ndarray, y: np.ndarray) -> float:
+    """The fewer of Bartlett's lag-1 count and his full sum to lag n / 10 (numpy only)."""
+    n = x.shape[0]
+    p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
+    k_max = max(1, min(n - 1, n // 10))
+
+    def acf(a: np.ndarray) -> np.ndarray:
+        c = a - a.mean()
+        return np.array([np.dot(c[:-k], c[k:]) for k in range(1, k_max + 1)]) / np.dot(c, c)
+
+    total = 1.0 + 2.0 * float(np.sum((1.0 - np.arange(1, k_max + 1) / n) * acf(x) * acf(y)))
+    full = n / total if total > 1.0 else float(n)
+    return min(n * (1.0 - p) / (1.0 + p), full)
+
+
 def _numpy_block_fisher(x: np.ndarray, y: np.ndarray, replicates: np.ndarray
                         ) -> tuple[float, float, float]:
     """(estimate, low, high) in nats, numpy / scipy only, from the given replicates."""
     n = x.shape[0]
     u, v = ndtri(stats.rankdata(x) / (n + 1.0)), ndtri(stats.rankdata(y) / (n + 1.0))
     r = abs(float(np.corrcoef(u, v)[0, 1]))
-    p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
-    n_eff = n * (1.0 - p) / (1.0 + p)
+    n_eff = _n_eff(x, y)
     s_boot = float(np.std(np.arctanh(np.sqrt(1.0 - np.exp(-2.0 * replicates))), ddof=1))
     s_z = max(s_boot, 1.0 / math.sqrt(max(n_eff - 3.0, 1.0)))
     half = stats.norm.ppf(0.975) * s_z
@@ -103,8 +119,7 @@ def _bartlett_mi_sd(x: np.ndarray, y: np.ndarray) -> float:
     n = x.shape[0]
     u, v = ndtri(stats.rankdata(x) / (n + 1.0)), ndtri(stats.rankdata(y) / (n + 1.0))
     r = abs(float(np.corrcoef(u, v)[0, 1]))
-    p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
-    n_eff = n * (1.0 - p) / (1.0 + p)
+    n_eff = _n_eff(x, y)
     return r / math.sqrt(max(n_eff - 3.0, 1.0))
 
 

@@ -14,7 +14,9 @@ through. References, from outside the code:
   z_0.975 s_z`` with ``s_z`` the larger of the replicates' s.d. of z and Bartlett's
   ``1 / sqrt(n_eff - 3)`` (fix51-b; no jackknife: the docstring takes it for the iid
   bootstrap only), mapped back by ``ln cosh`` (scipy's ``norm.ppf``); n_eff from the
-  lag-1 sample autocorrelations with Kendall's (1954) correction ``r + (1 + 3 r) / n``.
+  lag-1 sample autocorrelations with Kendall's (1954) correction ``r + (1 + 3 r) / n``,
+  or Bartlett's full sum to lag n / 10 where fewer (round 52 PART a; numpy's copy in
+  test_ci_coverage_fix51b).
 """
 from __future__ import annotations
 
@@ -25,6 +27,8 @@ import pytest
 from scipy import stats
 
 from modalinfo.information import mutual_information_ci
+
+from .test_ci_coverage_fix51b import _n_eff
 
 
 def _pair(rho: float, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -50,13 +54,7 @@ def test_block_fisher_takes_the_bootstraps_spread_or_bartletts(seed: int) -> Non
     def z_of(mi):
         return np.arctanh(np.sqrt(1.0 - np.exp(-2.0 * np.asarray(mi))))
 
-    def lag1(a):
-        c = a - a.mean()
-        r = float(np.dot(c[:-1], c[1:]) / np.dot(c, c))
-        return min(r + (1.0 + 3.0 * r) / a.size, 1.0 - 1e-12)
-
-    p = min(max(lag1(x) * lag1(y), 0.0), 1.0 - 1e-12)
-    n_eff = x.size * (1.0 - p) / (1.0 + p)
+    n_eff = _n_eff(x, y)  # the fewer of the lag-1 count and the full sum (round 52 a)
     z_hat = float(z_of(res.estimate))
     s_z = max(float(np.std(z_of(res.bootstrap_distribution), ddof=1)),
               1.0 / math.sqrt(max(n_eff - 3.0, 1.0)))

@@ -27,6 +27,8 @@ from modalinfo.information import (
 )
 from modalinfo.information.resampling import BlockBootstrapWarning
 
+from .test_ci_coverage_fix51b import _n_eff
+
 
 def _ar1(phi, n, rng, burn=500):
     e = rng.standard_normal(n + burn) * np.sqrt(1 - phi**2)
@@ -59,14 +61,11 @@ def test_ci_result_consistency():
     assert res.low < res.estimate < res.high
     z = stats.norm.ppf(0.975)
     # the spread is at least the Gaussian-copula MI's s.d. at Bartlett's effective pairs,
-    # |r| / sqrt(n_eff - 3) (fix51-b): numpy's normal scores, Kendall-corrected lag-1s
+    # |r| / sqrt(n_eff - 3) (fix51-b): numpy's normal scores; n_eff the fewer of the
+    # Kendall-corrected lag-1 count and Bartlett's full sum (round 52 PART a)
     u, v = (ndtri(stats.rankdata(a) / (a.size + 1.0)) for a in (x, y))
     r = abs(float(np.corrcoef(u, v)[0, 1]))
-    lag = [min(c + (1 + 3 * c) / x.size, 1 - 1e-12) for c in
-           (float(np.dot(a[:-1] - a.mean(), a[1:] - a.mean()) / np.sum((a - a.mean()) ** 2))
-            for a in (x, y))]
-    p = min(max(lag[0] * lag[1], 0.0), 1 - 1e-12)
-    floor = r / math.sqrt(max(x.size * (1 - p) / (1 + p) - 3.0, 1.0))
+    floor = r / math.sqrt(max(_n_eff(x, y) - 3.0, 1.0))
     assert floor > res.bootstrap_std  # AR(1) 0.95, n = 1500: ~39 effective pairs
     assert res.high - res.estimate == pytest.approx(z * floor, rel=1e-12)
     assert res.bootstrap_distribution.shape == (99,)
