@@ -17,7 +17,9 @@ References, from outside the package:
   ``numpy.linalg.lstsq`` residuals of the normal scores on z's and a constant, their
   Pearson correlation (the partial correlation), the lag-1 sample autocorrelation of the
   centred residuals with Kendall's (1954) bias correction ``r + (1 + 3 r) / n``,
-  Bartlett's (1935) count, Fisher's (1924) ``n - 3 - k`` of a partial correlation), from
+  Bartlett's (1935) count, or his full sum over lags where fewer (round 52 PART a's long
+  memory rule, test_ci_coverage_fix51b's ``_n_eff``), Fisher's (1924) ``n - 3 - k`` of a
+  partial correlation), from
   the package's own replicates (its block indices are its own).
 """
 from __future__ import annotations
@@ -32,7 +34,7 @@ from scipy.special import ndtri
 
 from modalinfo.information import conditional_mutual_information_ci, mutual_information_ci
 
-from .test_ci_coverage_fix51b import _ar_pair, _bartlett_mi_sd, _lag1
+from .test_ci_coverage_fix51b import _ar_pair, _bartlett_mi_sd, _n_eff
 
 Z975 = stats.norm.ppf(0.975)
 
@@ -75,9 +77,8 @@ def _residuals(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarray,
 def _floor_parts(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[float, float, float]:
     """(partial correlation, normal-score correlation of the residuals, 1/sqrt(n_eff-3-k))."""
     rx, ry = _residuals(x, y, z)
-    n, k = x.shape[0], z.shape[1]
-    p = min(max(_lag1(rx) * _lag1(ry), 0.0), 1.0 - 1e-12)
-    n_eff = n * (1.0 - p) / (1.0 + p)
+    k = z.shape[1]
+    n_eff = _n_eff(rx, ry)
     r_scores = float(np.corrcoef(_scores(rx), _scores(ry))[0, 1])
     return (float(np.corrcoef(rx, ry)[0, 1]), r_scores,
             1.0 / math.sqrt(max(n_eff - 3.0 - k, 1.0)))
