@@ -1104,9 +1104,10 @@ def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) 
 
     The rule is the method's (:func:`~modalinfo.information.bias_rule`, the same numbers
     as the conditional MI's, for d = 2 columns of an MI, 1 of an entropy): KSG's
-    neighbour ball (k / n)^(1/d) <= 0.4, the KDE's occupancy n h^d >= 30 and factor
-    h <= 1. Only an explicit ``k`` or a float ``bandwidth`` is judged here; the
-    resolution an estimator chose itself is judged by ``_default_resolution_why``
+    neighbour ball (k / n)^(1/d) <= 0.4, the KDE's occupancy n h^d >= 30 (and >= 2
+    at a typical sample, ``kde.typical_occupancy``) and factor h <= 1. Only an explicit
+    ``k`` or a float ``bandwidth`` is judged here; the resolution an estimator chose
+    itself is judged by ``_default_resolution_why``
     (:func:`mutual_information`: the defaults fail the rule at small n, round 34).
     (k = n - 1 gave MI 5e-7 for 0.22; a bandwidth factor of 0.01 gave -2.5; audit 9.)
     """
