@@ -29,6 +29,8 @@ from modalinfo.information.discrete import (
     pile_why,
     repeated_rows_why,
 )
+from modalinfo.information.gaussian import GaussianEngine
+from modalinfo.information.ksg import gaussian_ties_why
 from modalinfo.information.methods import (
     METHODS,
     BiasRuleWarning,
@@ -729,8 +731,15 @@ def ceiling_problem(est: MutualInformation, value: float, x: np.ndarray,
     ``ceiling_with_ties`` is true (the kde's rank rule, which counts the distinct
     values itself) is asked for such a pair too.
     """
+    if _is_constant(x) or _is_constant(y):
+        return None
+    if est._engine.__class__ is GaussianEngine:  # fix52-a (Q28): a discrete side's ties
+        if effective_sample_rule(x, y):
+            return None
+        return gaussian_ties_why(x.reshape(-1, 1), y.reshape(-1, 1), np.empty((x.size, 0)),
+                                 value / est._factor, est._engine.copula)
     why = getattr(est._engine, "ceiling_why", None)
-    if why is None or _is_constant(x) or _is_constant(y):
+    if why is None:
         return None
     tied = (not getattr(est._engine, "ceiling_with_ties", False)
             and any(np.unique(a).size < a.size for a in (x, y)))

@@ -226,12 +226,7 @@ from modalinfo.information.discrete import (
     repeated_rows_why,
     tied_table_why,
 )
-from modalinfo.information.gaussian import (
-    ONE_MINUS_R2_FLOOR,
-    gaussian_cmi,
-    gaussian_scores_rule,
-    gaussian_ties_rule,
-)
+from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi, gaussian_scores_rule
 from modalinfo.information.histogram import (
     MIN_BINS,
     MIN_COUNT_PER_CELL,
@@ -243,6 +238,7 @@ from modalinfo.information.histogram import (
 from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
 from modalinfo.information.ksg import (
     KSG_MAX_BALL,
+    gaussian_ties_why,
     ksg_bias_rule,
     ksg_cmi,
     ksg_temporal_why,
@@ -802,7 +798,7 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         if judged and (tied := _tied_table_check(record, x, y, z, value)):  # round 51 PART a
             warn(f"{tied}.", BiasRuleWarning, stacklevel=3)
             judged = False
-        if judged and fn is gaussian_cmi and (tied := gaussian_ties_rule(  # fix52-a, Q56
+        if judged and fn is gaussian_cmi and (tied := gaussian_ties_why(  # fix52-a, Q56
                 x, y, z, value, options.get("copula", True))):
             warn(f"{who} with method={record.name!r}: {tied}.", BiasRuleWarning, stacklevel=3)
             judged = False

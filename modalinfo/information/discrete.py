@@ -519,7 +519,7 @@ def tied_columns_why(columns: dict[str, np.ndarray], method: str) -> str | None:
     5 seeds each, s.e. 0.002); where the levels are many or the dependence weak it is
     right (a Bernoulli(0.05) flag's 0.074 for 0.081; x rounded to 0.25 sd, 0.217 for
     0.222), so the caller judges the value against the KSG
-    (``gaussian.gaussian_ties_rule``). Only :data:`TIED_COPULA_METHODS` are judged.
+    (``ksg.gaussian_ties_why``). Only :data:`TIED_COPULA_METHODS` are judged.
 
     Parameters
     ----------

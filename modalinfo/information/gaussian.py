@@ -23,12 +23,7 @@ import numpy as np
 
 from modalinfo.information import _kernels as kern
 from modalinfo.information.copula import check_copula, copula_scores
-from modalinfo.information.discrete import (
-    discrete_cmi,
-    discrete_pair_mi,
-    discrete_x_levels,
-    tied_columns_why,
-)
+from modalinfo.information.discrete import discrete_cmi, discrete_pair_mi, discrete_x_levels
 from modalinfo.information.methods import MIMethod, register_method
 
 __all__ = [
@@ -143,19 +138,6 @@ class GaussianEngine:
         if 1.0 - r * r < _RESIDUAL_CHECK_BELOW:
             self._refuse_unit_correlation(ys)
         return gaussian_mi_from_correlation(r)
-
-    #: ``ceiling_problem`` (``information.api``) asks :meth:`ceiling_why` also for a pair
-    #: with repeated values: the ties rule is about them (fix52-a).
-    ceiling_with_ties = True
-
-    def ceiling_why(self, value: float, x: np.ndarray, y: np.ndarray) -> str | None:
-        """Why the score ``value`` (nats) of a pair with a discrete side is off, or None.
-
-        :func:`gaussian_ties_rule` on the pair (x, y 1-D, shape (n,)); its table's case
-        (both discrete, 10 samples per cell) is the plug-in's, not judged.
-        """
-        return gaussian_ties_rule(x.reshape(-1, 1), y.reshape(-1, 1), np.empty((x.size, 0)),
-                                  value, self.copula)
 
     def _refuse_unit_correlation(self, ys: np.ndarray) -> None:
         """Raise if ``1 - r^2 <= ONE_MINUS_R2_FLOOR``, computed as a residual.
@@ -281,53 +263,6 @@ def gaussian_scores_rule(x: np.ndarray, y: np.ndarray, z: np.ndarray,
             "correlation): the ranks distort this dependence, as the normal scores of "
             "persistent series with few effective samples do, and the value is a lower "
             "bound (copula=False gives the values' Gaussian CMI; method='ksg' the KSG)")
-
-
-#: Most rows of the KSG reference of :func:`gaussian_ties_rule` (its first rows: the KSG
-#: costs ~0.1 s at 4,000 rows, ~0.5 s at 20,000; the tolerance is far above the noise).
-TIES_RULE_MAX_ROWS = 20_000
-
-
-def gaussian_ties_rule(x: np.ndarray, y: np.ndarray, z: np.ndarray, value: float,
-                       copula: bool = True) -> str | None:
-    """Why the Gaussian(-copula) CMI ``value`` [nats] of columns with a discrete one is off.
-
-    Rule (round 51 PART a, Q28 / Q56; fix52-a): where a column of x, y or z is discrete
-    (:func:`~modalinfo.information.discrete.tied_columns_why`: at most n / 20 distinct
-    values, not all of them the plug-in table's case), the value is judged against the
-    KSG CMI of the same columns (ties broken by its seeded noise; on the first
-    :data:`TIES_RULE_MAX_ROWS` rows, where the Gaussian value is recomputed on them too),
-    and said to be off where the two differ by more than max(0.05 nats, 10 % of the KSG).
-    Measured (5 seeds each, s.e. ~0.002): a 5-level categorical x through
-    ``x + N(0, 0.7^2)``, n = 4,000, gaussian 0.541, ksg 0.630, exact 0.634: warned; the
-    transfer entropy of Poisson(2) counts, T = 4,001, 0.537, ksg 0.613, exact 0.627:
-    warned; a Bernoulli(0.05) flag through N(0, 0.5^2) (0.074 / 0.081, exact 0.081), x
-    rounded to 0.25 sd (0.217 / 0.212, exact 0.222), Poisson counts of a Gamma(2, 5)
-    intensity (0.836 / 0.861, exact 0.855): silent. Not judged where the KSG's own bias
-    rule fails (many columns).
-
-    x, y, z: float arrays of shapes (n, dx), (n, dy), (n, dz), as :func:`gaussian_cmi`.
-    """
-    from modalinfo.information.ksg import ksg_bias_rule, ksg_cmi  # lazy: ksg imports this
-
-    columns = {}
-    for name, group in (("x", x), ("y", y), ("z", z)):
-        for j in range(group.shape[1]):
-            columns[name if group.shape[1] == 1 else f"{name}[:, {j}]"] = group[:, j]
-    why = tied_columns_why(columns, "gaussian")
-    n, d = x.shape[0], x.shape[1] + y.shape[1] + z.shape[1]
-    if why is None or ksg_bias_rule(min(n, TIES_RULE_MAX_ROWS), d, {}) is not None:
-        return None
-    if n > TIES_RULE_MAX_ROWS:
-        x, y, z = (np.ascontiguousarray(a[:TIES_RULE_MAX_ROWS]) for a in (x, y, z))
-        value = gaussian_cmi(x, y, z, copula=copula)
-    ref = float(ksg_cmi(x, y, z))
-    if abs(value - ref) <= max(0.05, 0.1 * abs(ref)):
-        return None
-    rows = f" (first {TIES_RULE_MAX_ROWS} rows)" if n > TIES_RULE_MAX_ROWS else ""
-    return (f"{why}: it reads {value:.4g} nats where method='ksg' (ties broken by its "
-            f"noise) reads {ref:.4g}{rows}, more than max(0.05, 10 %) apart (a 5-level "
-            "categorical channel: 0.541 for the exact 0.634, ksg 0.630); use method='ksg'")
 
 
 def _refuse_unit_partial_correlation(u: np.ndarray, dy: int, copula: bool) -> None:
