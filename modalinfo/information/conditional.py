@@ -148,11 +148,15 @@ still with the warning):
   binds from d = 6 with Scott's h (the first rule binds at d <= 5). Measured (x, y given K columns,
   y = b.z + 0.5 x + e, exact 0.1116; the kde itself, 5 seeds, mean error (s.e.)): d = 3
   -0.012 (0.002) at 1e4, -0.004 (0.002) at 3e4; d = 4 -0.017 (0.003), -0.013 (0.002);
-  d = 6 -0.030 (0.003) at 1e4 (count 1.9: now switched); d = 7 -0.033 (0.007) at 3e3,
-  -0.037 (0.003) at 1e4, -0.032 (2 seeds) at 3e4 (count 1.2, n h^d = 42.6: the kde ran
-  there before, where the fallback had read +0.003 at 1e4: an answer that got worse
-  with more data); a bandwidth factor raised at d = 7, n = 3e3 (counts 0.65, 2.2, 8.9)
-  read -0.027, -0.007, -0.001. Admitted now: d <= 5 from the first rule's n, d = 6
+  d = 5 -0.025 (0.002) at 1e4; d = 6 -0.030 (0.003) at 1e4 (count 1.9: now switched),
+  -0.027 (0.002) at 3e4 (count 3.0); d = 7 -0.033 (0.007) at 3e3, -0.037 (0.003) at
+  1e4, -0.032 (0.002) at 3e4 (count 1.2, n h^d = 42.6: the kde ran there before, where
+  the fallback had read +0.003 at 1e4: an answer that got worse with more data); d = 8
+  -0.036 (0.002) at 3e4 (n h^d = 31.1, admitted before). Where both rules hold: -0.004
+  to -0.027; at d = 6 the step from the fallback to the kde remains at the new edge. A
+  bandwidth factor raised at d = 7, n = 3e3 (counts 0.65, 2.2, 8.9) read -0.027,
+  -0.007, -0.001 (the variance term; not adopted: its cost on non-Gaussian copulas is
+  unmeasured). Admitted now: d <= 5 from the first rule's n, d = 6
   from n ~ 1.1e4; d >= 7 never below :data:`KDE_MAX_SAMPLES` (d = 7 at 5e4: 1.5).
 
 Resolution rule (histogram, the default method until 2026-11-29;
