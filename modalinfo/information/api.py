@@ -29,6 +29,8 @@ from modalinfo.information.discrete import (
     pile_why,
     repeated_rows_why,
 )
+from modalinfo.information.gaussian import GaussianEngine
+from modalinfo.information.ksg import gaussian_ties_why
 from modalinfo.information.methods import (
     METHODS,
     BiasRuleWarning,
@@ -729,8 +731,15 @@ def ceiling_problem(est: MutualInformation, value: float, x: np.ndarray,
     ``ceiling_with_ties`` is true (the kde's rank rule, which counts the distinct
     values itself) is asked for such a pair too.
     """
+    if _is_constant(x) or _is_constant(y):
+        return None
+    if est._engine.__class__ is GaussianEngine:  # fix52-a (Q28): a discrete side's ties
+        if effective_sample_rule(x, y):
+            return None
+        return gaussian_ties_why(x.reshape(-1, 1), y.reshape(-1, 1), np.empty((x.size, 0)),
+                                 value / est._factor, est._engine.copula)
     why = getattr(est._engine, "ceiling_why", None)
-    if why is None or _is_constant(x) or _is_constant(y):
+    if why is None:
         return None
     tied = (not getattr(est._engine, "ceiling_with_ties", False)
             and any(np.unique(a).size < a.size for a in (x, y)))
@@ -1104,9 +1113,10 @@ def _warn_bias_rule(record, n: int, d: int, options: dict[str, Any], what: str) 
 
     The rule is the method's (:func:`~modalinfo.information.bias_rule`, the same numbers
     as the conditional MI's, for d = 2 columns of an MI, 1 of an entropy): KSG's
-    neighbour ball (k / n)^(1/d) <= 0.4, the KDE's occupancy n h^d >= 30 and factor
-    h <= 1. Only an explicit ``k`` or a float ``bandwidth`` is judged here; the
-    resolution an estimator chose itself is judged by ``_default_resolution_why``
+    neighbour ball (k / n)^(1/d) <= 0.4, the KDE's occupancy n h^d >= 30 (and >= 2
+    at a typical sample, ``kde.typical_occupancy``) and factor h <= 1. Only an explicit
+    ``k`` or a float ``bandwidth`` is judged here; the resolution an estimator chose
+    itself is judged by ``_default_resolution_why``
     (:func:`mutual_information`: the defaults fail the rule at small n, round 34).
     (k = n - 1 gave MI 5e-7 for 0.22; a bandwidth factor of 0.01 gave -2.5; audit 9.)
     """
