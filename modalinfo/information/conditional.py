@@ -386,7 +386,9 @@ def bias_rule(method: str, n: int, d: int, options: dict[str, Any] | None = None
     The rule of the module notes ("Bias rule"): ``"histogram"`` needs ``n >= k^d``
     (``MIN_COUNT_PER_CELL`` sample per joint cell) and ``k >= 4`` bins per axis
     (``MIN_BINS``); ``"ksg"`` needs ``(k / n)^(1 / d) <= 0.4``
-    (``KSG_MAX_BALL``); ``"kde"`` needs ``n h^d >= 30`` (``KDE_MIN_OCCUPANCY``).
+    (``KSG_MAX_BALL``); ``"kde"`` needs ``n h^d >= 30`` (``KDE_MIN_OCCUPANCY``) and
+    at least 2 samples under the kernel at a typical sample
+    (``kde.typical_occupancy``, ``KDE_MIN_TYPICAL_OCCUPANCY``; fix52-a).
     ``"gaussian"`` has no rule. The rule is the ``bias_rule`` of the method's record
     (:mod:`modalinfo.information.methods`).
 
