@@ -814,11 +814,16 @@ class Predictor:
         refit saw, through the new recursion from the reset state: the old state was
         too short (the kernel wrote past its end: heap corruption, "malloc(): unaligned
         tcache chunk detected") or laid out for other orders (old AR lags read as
-        innovations; adversarial round 34 PART a, L01-L02).
+        innovations; adversarial round 34 PART a, L01-L02). The layout is told by the
+        shapes of the parameters as well as of the state: ARMA(2, 4) -> ARMA(3, 3) keeps
+        the state's p + q + 1 columns but not which are AR lags (fix52-d).
         """
+        old = run.params
         run.params = self._estimate(window_data, run.params, name)
         fresh = self._init_state(run.params, run.horizon)
-        if all(np.shape(fresh[key]) == np.shape(run.state[key]) for key in fresh):
+        if (all(np.shape(fresh[key]) == np.shape(run.state[key]) for key in fresh)
+                and all(np.shape(value) == np.shape(old.get(key))
+                        for key, value in run.params.items())):
             return
         scratch = np.zeros((0, run.horizon, window_data.shape[1]))
         self._filter(run.params, fresh, self._filter_samples(window_data), scratch,
