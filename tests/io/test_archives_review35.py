@@ -196,15 +196,16 @@ def test_a_frame_column_beside_a_time_column_is_dropped(tmp_path):
     assert "frame (frame numbers, unused" in log.metadata["frame_column"]
 
 
-def test_a_time_column_beside_the_files_time_dataset_is_refused(tmp_path):
+@pytest.mark.parametrize("dataset", ["timestamps", "frame"])
+def test_a_time_column_beside_the_files_time_dataset_is_refused(tmp_path, dataset):
     x = _log()
     t = np.arange(T) / 1000.0
     _pandas_fixed(tmp_path / "td.h5", np.column_stack([x, t]),
                   [f"z{j}" for j in range(2, M + 2)] + ["time"])
     with h5py.File(tmp_path / "td.h5", "a") as f:
-        f.create_dataset("timestamps", data=t)
+        f.create_dataset(dataset, data=t if dataset == "timestamps" else np.arange(T))
     with pytest.raises(LogFormatError, match=r"'time', the file's time dataset"):
-        load(tmp_path / "td.h5")
+        load(tmp_path / "td.h5", rate=1000.0)
 
 
 def test_a_pandas_table_without_index_arrays_is_refused_by_name(tmp_path):
