@@ -236,3 +236,21 @@ def test_an_add_offset_alone_is_added(tmp_path):
     with h5py.File(tmp_path / "o.nc", "w") as f:
         f.create_dataset("coeffs", data=x).attrs["add_offset"] = np.float64(0.5)
     np.testing.assert_array_equal(load(tmp_path / "o.nc", rate=1000.0).coeffs, x + 0.5)
+
+
+@pytest.mark.parametrize("scales", [2, "short"])
+def test_a_column_axis_without_one_matching_string_scale_gives_no_names(tmp_path, scales):
+    # netCDF attaches one coordinate of the dimension's length; two scales, or one of
+    # another length (attached by hand with h5py), name nothing: the foreign default
+    x = _log()
+    with h5py.File(tmp_path / "s.h5", "w") as f:
+        v = f.create_dataset("coeffs", data=x)
+        lists = ([[f"z{j}" for j in range(M + 1, 1, -1)], [f"z{j}" for j in range(3, M + 3)]]
+                 if scales == 2 else [["z9", "z8", "z7"]])
+        for k, names in enumerate(lists):
+            m = f.create_dataset(f"mode{k}", data=names, dtype=h5py.string_dtype())
+            m.make_scale(f"mode{k}")
+            v.dims[1].attach_scale(m)
+    log = load(tmp_path / "s.h5", rate=1000.0)
+    np.testing.assert_array_equal(log.coeffs, x)
+    assert log.modes == list(range(2, M + 2))

@@ -1,0 +1,38 @@
+"""Mutation round 35 (review35): ``select --extra --outliers clip``'s one figure (fix52-c).
+
+``cmd_select._check_memory`` takes the larger quality pass: ``--extra``'s, which runs
+while LOG's clipped copy is held. tests/cli/test_select_extra_memory_round52.py reads it
+under ``--outliers warn`` only, where nothing is held, so a check that dropped the held
+copy, or took LOG's pass, passed it.
+
+Reference: bytes counted by hand. The first refusal's figure is the quality pass's (the
+message says "the larger"); ``--outliers clip`` adds to ``--extra``'s pass one float64
+copy of EXTRA (the repaired log) and LOG's repaired copy held meanwhile: 2 x 8 x 20,000 x
+6 bytes (1.831 MiB) over the same command under ``--outliers warn``. The figures are
+printed to 0.01 MiB; the margin 0.02 MiB.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from .test_memory_refusal_figure_round50 import _first_figure
+
+_ARGV = ["select", "log.npy", "--extra", "extra.npy", "--rate", "1000", "--in-units", "rad",
+         "--target", "Z2", "--max-lag", "1", "--surrogates", "19", "--no-intervals",
+         "--method", "gaussian", "--outliers"]
+
+
+def test_clip_adds_extras_repaired_copy_and_logs_held_one(tmp_path, monkeypatch):
+    from modalinfo.cli import shared
+
+    rng = np.random.default_rng(3512)
+    np.save(tmp_path / "log.npy", rng.standard_normal((20_000, 6)))
+    np.save(tmp_path / "extra.npy", rng.standard_normal((20_000, 6)))
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(shared, "memory_available", lambda: 1.0)
+    figures = {}
+    for policy in ("warn", "clip"):
+        figures[policy] = _first_figure(monkeypatch, [*_ARGV, policy])
+    assert figures["clip"] - figures["warn"] == pytest.approx(2 * 8 * 20_000 * 6,
+                                                              abs=0.02 * 2**20)
