@@ -100,3 +100,15 @@ def test_gaussian_cmi_of_discrete_columns_keeps_the_normal_interval() -> None:
     assert res.interval == "normal"
     # the normal interval is symmetric about the estimate (Fisher's is not)
     assert res.high - res.estimate == pytest.approx(res.estimate - res.low, abs=1e-12)
+
+
+def test_one_x_column_and_two_y_columns_keep_the_bootstrap_spread() -> None:
+    """The floor needs one x and one y column (a partial correlation); y of two: none."""
+    x, y, z = _ar_triple(0.97, 500, 2, 0.5, 52508)
+    y2 = np.column_stack([y[:, 0], z[:, 1] + np.random.default_rng(8).standard_normal(500)])
+    res = _quiet(conditional_mutual_information_ci, x, y2, z[:, :1], method="gaussian",
+                 n_resamples=49, seed=8)
+    half = stats.norm.ppf(0.975) * float(np.std(res.bootstrap_distribution, ddof=1))
+    assert res.interval == "normal"
+    assert (res.low, res.high) == pytest.approx((res.estimate - half, res.estimate + half),
+                                                abs=1e-12)

@@ -254,3 +254,16 @@ def test_a_column_axis_without_one_matching_string_scale_gives_no_names(tmp_path
     log = load(tmp_path / "s.h5", rate=1000.0)
     np.testing.assert_array_equal(log.coeffs, x)
     assert log.modes == list(range(2, M + 2))
+
+
+def test_pandas_items_of_another_length_name_nothing(tmp_path):
+    # blockN_items lists the block's columns; a list of another length is not theirs
+    x = _log()
+    with h5py.File(tmp_path / "short.h5", "w") as f:
+        g = f.create_group("coeffs")
+        g.attrs["pandas_type"] = np.bytes_("frame")
+        g.create_dataset("block0_items", data=np.array([b"z9", b"z8", b"z7"]))
+        g.create_dataset("block0_values", data=x)
+    log = load(tmp_path / "short.h5", rate=1000.0)
+    np.testing.assert_array_equal(log.coeffs, x)
+    assert log.modes == list(range(2, M + 2))
