@@ -9,7 +9,8 @@ Reference: bytes counted by hand. The first refusal's figure is the quality pass
 message says "the larger"); ``--outliers clip`` adds to ``--extra``'s pass one float64
 copy of EXTRA (the repaired log) and LOG's repaired copy held meanwhile: 2 x 8 x 20,000 x
 6 bytes (1.831 MiB) over the same command under ``--outliers warn``. The figures are
-printed to 0.01 MiB; the margin 0.02 MiB.
+printed to 0.01 MiB; the margin 0.02 MiB. The refusal names both files and their
+shapes as written (each log's copies counted: "3 float64 copies each").
 """
 from __future__ import annotations
 
@@ -23,12 +24,16 @@ _ARGV = ["select", "log.npy", "--extra", "extra.npy", "--rate", "1000", "--in-un
          "--method", "gaussian", "--outliers"]
 
 
+def _two_logs(folder, extra_modes: int = 6) -> None:
+    rng = np.random.default_rng(3512)
+    np.save(folder / "log.npy", rng.standard_normal((20_000, 6)))
+    np.save(folder / "extra.npy", rng.standard_normal((20_000, extra_modes)))
+
+
 def test_clip_adds_extras_repaired_copy_and_logs_held_one(tmp_path, monkeypatch):
     from modalinfo.cli import shared
 
-    rng = np.random.default_rng(3512)
-    np.save(tmp_path / "log.npy", rng.standard_normal((20_000, 6)))
-    np.save(tmp_path / "extra.npy", rng.standard_normal((20_000, 6)))
+    _two_logs(tmp_path)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(shared, "memory_available", lambda: 1.0)
     figures = {}
@@ -36,3 +41,15 @@ def test_clip_adds_extras_repaired_copy_and_logs_held_one(tmp_path, monkeypatch)
         figures[policy] = _first_figure(monkeypatch, [*_ARGV, policy])
     assert figures["clip"] - figures["warn"] == pytest.approx(2 * 8 * 20_000 * 6,
                                                               abs=0.02 * 2**20)
+
+
+def test_the_refusal_names_both_logs_and_each_ones_copies(tmp_path, monkeypatch, capsys):
+    from modalinfo.cli import main, shared
+
+    _two_logs(tmp_path, extra_modes=4)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(shared, "memory_available", lambda: 1.0)
+    assert main([*_ARGV, "warn"]) == 2
+    err = capsys.readouterr().err
+    assert "'log.npy' and 'extra.npy' (20000 frames x 6 + 4 modes, 3 float64 copies each, " \
+           "and --max-lag 1's 10 candidate columns)" in err, err
