@@ -2,13 +2,14 @@
 
 ``cmd_select._check_memory`` takes the larger quality pass: ``--extra``'s, which runs
 while LOG's clipped copy is held. tests/cli/test_select_extra_memory_round52.py reads it
-under ``--outliers warn`` only, where nothing is held, so a check that dropped the held
-copy, or took LOG's pass, passed it.
+under ``--outliers warn`` only, where nothing is held, and on two logs of one size, so
+a check that dropped the held copy, or took LOG's pass, passed it.
 
 Reference: bytes counted by hand. The first refusal's figure is the quality pass's (the
-message says "the larger"); ``--outliers clip`` adds to ``--extra``'s pass one float64
-copy of EXTRA (the repaired log) and LOG's repaired copy held meanwhile: 2 x 8 x 20,000 x
-6 bytes (1.831 MiB) over the same command under ``--outliers warn``. The figures are
+message says "the larger"); ``--outliers clip`` adds to ``--extra``'s pass (EXTRA of 8 modes,
+LOG of 6: the larger pass) one float64 copy of EXTRA (the repaired log) and LOG's
+repaired copy held meanwhile: 8 x 20,000 x (8 + 6) bytes (2.136 MiB) over the same
+command under ``--outliers warn``. The figures are
 printed to 0.01 MiB; the margin 0.02 MiB. The refusal names both files and their
 shapes as written (each log's copies counted: "3 float64 copies each").
 """
@@ -33,13 +34,13 @@ def _two_logs(folder, extra_modes: int = 6) -> None:
 def test_clip_adds_extras_repaired_copy_and_logs_held_one(tmp_path, monkeypatch):
     from modalinfo.cli import shared
 
-    _two_logs(tmp_path)
+    _two_logs(tmp_path, extra_modes=8)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(shared, "memory_available", lambda: 1.0)
     figures = {}
     for policy in ("warn", "clip"):
         figures[policy] = _first_figure(monkeypatch, [*_ARGV, policy])
-    assert figures["clip"] - figures["warn"] == pytest.approx(2 * 8 * 20_000 * 6,
+    assert figures["clip"] - figures["warn"] == pytest.approx(8 * 20_000 * (8 + 6),
                                                               abs=0.02 * 2**20)
 
 
