@@ -6,10 +6,10 @@ under ``--outliers warn`` only, where nothing is held, and on two logs of one si
 a check that dropped the held copy, or took LOG's pass, passed it.
 
 Reference: bytes counted by hand. The first refusal's figure is the quality pass's (the
-message says "the larger"); ``--outliers clip`` adds to ``--extra``'s pass (EXTRA of 8 modes,
-LOG of 6: the larger pass) one float64 copy of EXTRA (the repaired log) and LOG's
-repaired copy held meanwhile: 8 x 20,000 x (8 + 6) bytes (2.136 MiB) over the same
-command under ``--outliers warn``. The figures are
+message says "the larger"); ``--outliers clip`` adds to ``--extra``'s pass (EXTRA of 6 or 8 modes,
+LOG of 6: the larger pass, by LOG's held copy alone at 6) one float64 copy of EXTRA (the
+repaired log) and LOG's repaired copy held meanwhile: 8 x 20,000 x (6 + 6) or (8 + 6)
+bytes (1.831 or 2.136 MiB) over the same command under ``--outliers warn``. The figures are
 printed to 0.01 MiB; the margin 0.02 MiB. The refusal names both files and their
 shapes as written (each log's copies counted: "3 float64 copies each").
 """
@@ -31,16 +31,18 @@ def _two_logs(folder, extra_modes: int = 6) -> None:
     np.save(folder / "extra.npy", rng.standard_normal((20_000, extra_modes)))
 
 
-def test_clip_adds_extras_repaired_copy_and_logs_held_one(tmp_path, monkeypatch):
+@pytest.mark.parametrize("extra_modes", [6, 8])
+def test_clip_adds_extras_repaired_copy_and_logs_held_one(tmp_path, monkeypatch,
+                                                          extra_modes):
     from modalinfo.cli import shared
 
-    _two_logs(tmp_path, extra_modes=8)
+    _two_logs(tmp_path, extra_modes)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(shared, "memory_available", lambda: 1.0)
     figures = {}
     for policy in ("warn", "clip"):
         figures[policy] = _first_figure(monkeypatch, [*_ARGV, policy])
-    assert figures["clip"] - figures["warn"] == pytest.approx(8 * 20_000 * (8 + 6),
+    assert figures["clip"] - figures["warn"] == pytest.approx(8 * 20_000 * (extra_modes + 6),
                                                               abs=0.02 * 2**20)
 
 
