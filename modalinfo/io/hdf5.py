@@ -31,7 +31,8 @@ time dataset if present: ``timestamps``/``times``/``time``/``t`` in seconds,
 ``frame`` numbers need a ``rate`` hint; netCDF dimensions without a coordinate (datasets
 of zeros) are not times. Column names come from a ``labels``/``modes``/``columns``
 attribute of the dataset (``["z2", "z3", ...]``), a pandas ``to_hdf(format="fixed")``
-frame's ``blockN_items`` (a ``time`` column among them is the time axis) or a netCDF
+frame's ``blockN_items`` (a ``time`` column among them is the time axis, a ``frame``
+column beside it dropped; two time columns are refused) or a netCDF
 string coordinate attached to the column axis; a file of 1-D datasets ``z2``, ``z3``, ...
 (one per mode) is read as their columns. CF packing (``scale_factor`` / ``add_offset``)
 and fill values are applied; a lossy scale-offset filter is said
