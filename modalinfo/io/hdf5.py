@@ -31,7 +31,8 @@ time dataset if present: ``timestamps``/``times``/``time``/``t`` in seconds,
 ``frame`` numbers need a ``rate`` hint; netCDF dimensions without a coordinate (datasets
 of zeros) are not times. Column names come from a ``labels``/``modes``/``columns``
 attribute of the dataset (``["z2", "z3", ...]``), a pandas ``to_hdf(format="fixed")``
-frame's ``blockN_items`` (a ``time`` column among them is the time axis) or a netCDF
+frame's ``blockN_items`` (a ``time`` column among them is the time axis, a ``frame``
+column beside it dropped; two time columns are refused) or a netCDF
 string coordinate attached to the column axis; a file of 1-D datasets ``z2``, ``z3``, ...
 (one per mode) is read as their columns. CF packing (``scale_factor`` / ``add_offset``)
 and fill values are applied; a lossy scale-offset filter is said
@@ -694,7 +695,7 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
     if names is None:
         names = _scale_labels(dset)
     if names is not None and len(names) == coeffs.shape[1] > 1:
-        coeffs, names = _time_column(coeffs, names, stored, meta)
+        coeffs, names = _time_column(coeffs, names, stored, meta, path, key)
     if names is not None and len(names) not in dset.shape and len(names) not in coeffs.shape:
         stored["_bad_modes"] = (f"the column-name attribute of {key!r} lists {len(names)} "
                                 f"mode(s) for data of shape {dset.shape}")
@@ -788,18 +789,23 @@ def _lossy_filter(dset, key: str, meta: dict) -> None:
     """Record in ``meta["lossy_storage"]`` that ``dset`` was stored by a lossy HDF5 filter.
 
     HDF5's scale-offset filter on floating-point data keeps ``scaleoffset`` decimal digits
-    (D-scaling): the writer rounded the values and the finer digits are not in the file.
-    With 0 digits a log of a few tenths of a radian read as zeros, without a word (round
-    52 PART b, A14, A72). The reader cannot restore them; it says so.
+    (D-scaling): the writer stored each value as whole steps of ``10**-digits`` from its
+    chunk's minimum, and the finer digits are not in the file. The values read are then
+    neither multiples of the step nor its nearest multiple: they differ from the original
+    by up to one step either way (h5py 3, 20,000 x 6 normal values of s.d. 3: -0.99997 to
+    +0.99999 steps at 0 digits, -0.996 to +0.989 at 2; the note said "rounded to a whole
+    number" / "a multiple of 1e-2", review35). With 0 digits a log of a few tenths of a
+    radian read as zeros, without a word (round 52 PART b, A14, A72). The reader cannot
+    restore them; it says so.
     """
     digits = dset.scaleoffset
     if digits is None or dset.dtype.kind != "f":
         return
+    step = "1" if digits == 0 else f"1e-{digits}"
     meta["lossy_storage"] = (
         f"dataset {key!r} was stored with HDF5's lossy scale-offset filter keeping {digits} "
-        f"decimal digit(s): its writer rounded every value to "
-        + ("a whole number" if digits == 0 else f"a multiple of 1e-{digits}")
-        + " (of the file's units) and the finer digits are not in the file")
+        f"decimal digit(s): its writer kept every value only to within +-{step} (of the "
+        "file's units) and the finer digits are not in the file")
 
 
 def _refuse_unwritten_rows(dset, path: Path) -> None:
@@ -860,30 +866,44 @@ def _pandas_items(f, key: str, dset) -> list[str] | None:
     return [v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v) for v in items[()]]
 
 
-def _time_column(coeffs: np.ndarray, names: list[str], stored: dict,
-                 meta: dict) -> tuple[np.ndarray, list[str]]:
+def _time_column(coeffs: np.ndarray, names: list[str], stored: dict, meta: dict,
+                 path: Path, key: str) -> tuple[np.ndarray, list[str]]:
     """Take a named time column out of a foreign frame (``time``, ``t_ms``, ``frame``, ...).
 
     A pandas frame ``df.assign(time=t).to_hdf(...)`` keeps its time column in the same
-    block as the modes: it was read as one more mode, Z12 (round 52 PART b, A93). Used
-    only when the file has no separate time dataset; two time columns are left as they
-    are (the mode names then refuse them).
+    block as the modes: it was read as one more mode, Z12 (round 52 PART b, A93). As the
+    CSV reader: a frame-number column beside a time (or the file's time dataset) is
+    dropped (``meta["frame_column"]``); two time columns, or one beside the file's own
+    time dataset, are refused. They were left as modes: a frame of z2..z7, ``time`` and
+    ``t_ms`` read as 8 modes named "z2" ... "t_ms", with no rate (review35).
     """
-    if "timestamps" in stored or "_frame_numbers" in stored:
+    kinds = [time_kind(name) for name in names]
+    timed = [k for k, kind in enumerate(kinds) if kind not in (None, "frame")]
+    framed = [k for k, kind in enumerate(kinds) if kind == "frame"]
+    if not timed and not framed:
         return coeffs, names
-    timed = [k for k, name in enumerate(names) if time_kind(name) is not None]
-    if len(timed) != 1:
-        return coeffs, names
-    k = timed[0]
-    kind = time_kind(names[k])
-    column = np.asarray(coeffs[:, k])
-    if kind == "frame":
-        stored["_frame_numbers"] = column
-    else:
-        set_timestamps(column, kind, stored, meta)
-        if kind != "s":
-            meta["time_column"] = f"{names[k]} ({kind}, converted to s)"
-    return np.delete(np.asarray(coeffs), k, axis=1), names[:k] + names[k + 1:]
+    file_times = "timestamps" in stored or "_frame_numbers" in stored
+    for group in (timed, framed):
+        axes = [repr(names[k]) for k in group]
+        if group is timed and timed and file_times:
+            axes.append("the file's time dataset")
+        if len(axes) > 1:
+            raise LogFormatError(
+                f"HDF5 file {quoted(path)}: {key!r} has {len(axes)} time axes "
+                f"({', '.join(axes)}); expected one: drop the others (pandas: "
+                "df.drop(columns=[...]).to_hdf(NEW, key=KEY, format='fixed')) and read NEW")
+    if timed:
+        k = timed[0]
+        set_timestamps(np.asarray(coeffs[:, k]), kinds[k], stored, meta)
+        if kinds[k] != "s":
+            meta["time_column"] = f"{names[k]} ({kinds[k]}, converted to s)"
+    elif not file_times:
+        stored["_frame_numbers"] = np.asarray(coeffs[:, framed[0]])
+    if framed and (timed or file_times):
+        meta["frame_column"] = f"{names[framed[0]]} (frame numbers, unused: the file has times)"
+    drop = timed + framed
+    return (np.delete(np.asarray(coeffs), drop, axis=1),
+            [name for k, name in enumerate(names) if k not in drop])
 
 
 def _scale_labels(dset) -> list[str] | None:

@@ -21,9 +21,9 @@ netCDF variable"; a string coordinate is a 1-D variable-length string dataset at
 as the scale; the netCDF-3 magic bytes are ``CDF\\x01`` / ``CDF\\x02`` / ``CDF\\x05``);
 the CF conventions (unpacked = packed x scale_factor + add_offset, the fill value matched
 on the packed integers; time units "<unit> since <epoch>"); h5py's ``scaleoffset=0`` on
-floats rounds to whole numbers (HDF5's D-scaling); astropy's ``CompImageHDU`` default
-``quantize_level=16`` is lossy; libhdf5's chunk index (chunks never written are not
-stored). Expected values are computed with numpy from the arrays written.
+floats keeps whole steps from each chunk's minimum (HDF5's D-scaling); astropy's
+``CompImageHDU`` default ``quantize_level=16`` is lossy; libhdf5's chunk index (chunks
+never written are not stored). Expected values are computed with numpy from the arrays written.
 """
 
 from __future__ import annotations
@@ -171,7 +171,7 @@ def test_lossy_scaleoffset_is_said(tmp_path):
     with h5py.File(tmp_path / "so.h5") as f:
         np.testing.assert_array_equal(log.coeffs, f["coeffs"][()])  # what the file holds
     assert "scale-offset" in log.metadata["lossy_storage"]
-    assert "whole number" in log.metadata["lossy_storage"]
+    assert "to within +-1 (of" in log.metadata["lossy_storage"]
 
 
 def test_lossless_storage_says_nothing(tmp_path):
