@@ -500,6 +500,15 @@ def tied_table_why(columns: dict[str, np.ndarray], method: str) -> str | None:
             "tied normal scores, whose atoms its kernel may resolve")
 
 
+def named_columns(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> dict[str, np.ndarray]:
+    """Return the columns of (x, y, z) by the names a message gives them (``x``, ``z[:, 1]``)."""
+    out = {}
+    for name, group in (("x", x), ("y", y), ("z", z)):
+        for j in range(group.shape[1]):
+            out[name if group.shape[1] == 1 else f"{name}[:, {j}]"] = group[:, j]
+    return out
+
+
 #: The estimators whose value of a discrete column beside others is the Gaussian model of
 #: its tied normal scores, not the column's law (round 51 PART a, Q28 / Q56).
 TIED_COPULA_METHODS = frozenset({"gaussian"})

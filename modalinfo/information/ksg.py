@@ -121,6 +121,7 @@ from modalinfo.information.discrete import (
     discrete_cmi,
     discrete_pair_mi,
     discrete_x_levels,
+    named_columns,
     tied_columns_why,
 )
 from modalinfo.information.gaussian import gaussian_cmi, unit_scaled
@@ -595,24 +596,39 @@ def gaussian_ties_why(x: np.ndarray, y: np.ndarray, z: np.ndarray, value: float,
     """
     if not copula:  # the values' Gaussian model, asked for by name: not judged
         return None
-    columns = {}
-    for name, group in (("x", x), ("y", y), ("z", z)):
-        for j in range(group.shape[1]):
-            columns[name if group.shape[1] == 1 else f"{name}[:, {j}]"] = group[:, j]
-    why = tied_columns_why(columns, "gaussian")
-    n, d = x.shape[0], x.shape[1] + y.shape[1] + z.shape[1]
-    if why is None or ksg_bias_rule(min(n, TIES_RULE_MAX_ROWS), d, {}) is not None:
+    why = tied_columns_why(named_columns(x, y, z), "gaussian")
+    if why is None:
         return None
+    n = x.shape[0]
     if n > TIES_RULE_MAX_ROWS:
         x, y, z = (np.ascontiguousarray(a[:TIES_RULE_MAX_ROWS]) for a in (x, y, z))
         value = gaussian_cmi(x, y, z, copula=copula)
+    rows = f" (first {TIES_RULE_MAX_ROWS} rows)" if n > TIES_RULE_MAX_ROWS else ""
+    return ksg_disagreement(why, x, y, z, value, rows, (
+        "a 5-level categorical channel: 0.541 for the exact 0.634, ksg 0.630"),
+        "use method='ksg'")
+
+
+def ksg_disagreement(why: str | None, x: np.ndarray, y: np.ndarray, z: np.ndarray,
+                     value: float, rows: str, example: str, cure: str) -> str | None:
+    """Why ``value`` [nats], a CMI of tied columns, is off against the KSG's, or None.
+
+    The one judgement behind :func:`gaussian_ties_why` and the kde's tied-table check
+    (``conditional._tied_table_check``): where a discrete-data rule gave ``why`` and the
+    KSG's own bias rule holds, the KSG CMI of the same columns (ties broken by its seeded
+    noise) is the reference, and ``value`` is off where the two differ by more than
+    max(0.05 nats, 10 % of the KSG), the package's tolerance. ``rows`` names a subset the
+    two were computed on (or ""), ``example`` a measured case, ``cure`` the remedy.
+    """
+    if why is None or ksg_bias_rule(x.shape[0], x.shape[1] + y.shape[1] + z.shape[1],
+                                    {}) is not None:
+        return None
     ref = float(ksg_cmi(x, y, z))
     if abs(value - ref) <= max(0.05, 0.1 * abs(ref)):
         return None
-    rows = f" (first {TIES_RULE_MAX_ROWS} rows)" if n > TIES_RULE_MAX_ROWS else ""
     return (f"{why}: it reads {value:.4g} nats where method='ksg' (ties broken by its "
-            f"noise) reads {ref:.4g}{rows}, more than max(0.05, 10 %) apart (a 5-level "
-            "categorical channel: 0.541 for the exact 0.634, ksg 0.630); use method='ksg'")
+            f"noise) reads {ref:.4g}{rows}, more than max(0.05, 10 %) apart ({example}); "
+            f"{cure}")
 
 
 def spread_rule_why(value: float, x: np.ndarray, y: np.ndarray, what: str) -> str | None:
