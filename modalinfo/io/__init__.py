@@ -36,7 +36,13 @@ from modalinfo.io.aot import read_aot, write_aot
 from modalinfo.io.csv import read_csv, write_csv
 from modalinfo.io.files import LogFormatError
 from modalinfo.io.fits import read_fits, write_fits
-from modalinfo.io.formats import FORMATS, detect_format, format_from_extension, format_hint
+from modalinfo.io.formats import (
+    FORMATS,
+    READ_ONLY_EXTENSIONS,
+    detect_format,
+    format_from_extension,
+    format_hint,
+)
 from modalinfo.io.hdf5 import read_hdf5, write_hdf5
 from modalinfo.io.integrity import IntegrityCheck, integrity_check
 from modalinfo.io.npz import read_npy, read_npz, write_npz
@@ -246,7 +252,7 @@ def save(log: ModalLog, path, fmt: str | None = None, overwrite: bool = False) -
     path = as_path(path)
     if fmt is None:
         fmt = format_from_extension(path)
-        if fmt is None or fmt == "npy":
+        if fmt is None or path.suffix.lower() in READ_ONLY_EXTENSIONS:
             raise ValueError(
                 f"cannot tell the format of {quoted(path)} from its extension; use .npz, .csv, "
                 ".fits or .h5, or pass fmt= (npy cannot hold the metadata)."

@@ -8,13 +8,17 @@ from modalinfo.common.files import as_path, check_readable, quoted, shell_quoted
 from modalinfo.io.aot import is_aot
 from modalinfo.io.files import LogFormatError
 
-__all__ = ["EXTENSIONS", "FORMATS", "describe_json", "detect_format", "format_from_extension",
-           "format_hint", "result_table", "sniff_format", "what_file", "GRID_KEYS"]
+__all__ = ["EXTENSIONS", "FORMATS", "READ_ONLY_EXTENSIONS", "describe_json", "detect_format",
+           "format_from_extension", "format_hint", "result_table", "sniff_format", "what_file",
+           "GRID_KEYS"]
 
 #: Formats ``load`` reads (``"npy"`` is read-only: it cannot hold the metadata).
 FORMATS = ("npz", "npy", "csv", "fits", "hdf5", "aot")
 
-#: File-name extensions (lower case) and the format each one means.
+#: File-name extensions (lower case) and the format each one means: the one list of the
+#: names a log may have (``batch``'s folder search takes these files; a netCDF-4 ``.nc``
+#: and an fpack ``.fz`` / ``.fits.fz`` were skipped there though ``info`` read them,
+#: round 52 PART b, A73).
 EXTENSIONS = {
     ".npz": "npz",
     ".npy": "npy",
@@ -29,7 +33,14 @@ EXTENSIONS = {
     ".hdf5": "hdf5",
     ".hdf": "hdf5",
     ".he5": "hdf5",
+    ".nc": "hdf5",  # netCDF-4 is HDF5 (netCDF-3's own magic is refused by name)
+    ".nc4": "hdf5",
+    ".fz": "fits",  # fpack's tile-compressed FITS
 }
+
+#: Extensions read but never written: modalinfo writes neither netCDF's conventions nor
+#: fpack's tiles, and a name saying so would mislead ncdump / funpack.
+READ_ONLY_EXTENSIONS = frozenset({".npy", ".nc", ".nc4", ".fz"})
 #: Leading bytes of each binary format.
 _MAGIC = (
     (b"PK\x03\x04", "npz"),
@@ -217,9 +228,6 @@ def detect_format(path) -> str:
     seen = sniff_format(path, head)
     if seen is not None and seen != "csv":
         return seen
-    by_ext = format_from_extension(path)
-    if by_ext is not None and by_ext != "csv":
-        return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
     for magic, (what, tool) in _COMPRESSED.items():
         if head.startswith(magic):
             # 'night.fits.gz' / 'log.csv.gz' were told "a CSV must be UTF-8: re-save it as
@@ -233,6 +241,10 @@ def detect_format(path) -> str:
             # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11
             # PART b, R12)
             raise _not_a_log(path, what, advice)
+    # after the known magics: a netCDF-3 file named .nc is named, not read as HDF5
+    by_ext = format_from_extension(path)
+    if by_ext is not None and by_ext != "csv":
+        return by_ext  # e.g. a damaged binary file: its reader reports what is wrong
     try:
         head.decode("utf-8")
     except UnicodeDecodeError as exc:
