@@ -320,6 +320,10 @@ def time_arrays(arrays: dict, stored: dict, meta: dict) -> None:
         stored["_frame_numbers"] = values
         return
     set_timestamps(values, kind, stored, meta)
+    if values.ndim == 1 and values.size and values.dtype.kind in "iuf":
+        date = cf_first_date(arr, values[0], kind)
+        if date is not None:  # the key the AOT reader fills and the FITS writer writes
+            meta.setdefault("date", date)
     if kind != "s":
         meta["time_column"] = f"{name} ({kind}, converted to s)"
 
@@ -347,27 +351,95 @@ def _phony_dimension(arr) -> bool:
     return str(value).startswith(_NETCDF_PHONY)
 
 
-def _unit_attribute(arr) -> str | None:
+def _text_attribute(arr, keys: tuple[str, ...]) -> str | None:
+    """Return the first of ``keys`` among ``arr``'s attributes as text, else None."""
     attrs = getattr(arr, "attrs", None)
     if attrs is None:
         return None
-    for key in ("units", "unit", "UNITS", "UNIT"):
+    for key in keys:
         if key in attrs:
             value = attrs[key]
             if isinstance(value, np.ndarray) and value.shape == ():
                 value = value[()]
             if isinstance(value, bytes):
                 value = value.decode("ascii", "replace")
-            # CF time units name an epoch: "milliseconds since 2026-06-01 10:00:00" (netCDF,
-            # xarray) was not understood and the times read as seconds (round 52 PART b, A57)
-            text = str(value).strip().lower().split(" since ", 1)[0].strip()
-            aliases = {"s": "s", "sec": "s", "second": "s", "seconds": "s", "ms": "ms",
-                       "millisecond": "ms", "milliseconds": "ms", "us": "us",
-                       "microsecond": "us", "microseconds": "us", "ns": "ns",
-                       "nanosecond": "ns", "nanoseconds": "ns", "frame": "frame",
-                       "frames": "frame"}
-            return aliases.get(text)
+            return str(value).strip()
     return None
+
+
+_UNIT_KEYS = ("units", "unit", "UNITS", "UNIT")
+
+
+def _unit_attribute(arr) -> str | None:
+    text = _text_attribute(arr, _UNIT_KEYS)
+    if text is None:
+        return None
+    # CF time units name an epoch: "milliseconds since 2026-06-01 10:00:00" (netCDF,
+    # xarray) was not understood and the times read as seconds (round 52 PART b, A57);
+    # "minutes since" / "hours since" were still read as seconds (fix53-c)
+    return time_unit_word(text.split(" since ", 1)[0])
+
+
+#: A CF / UDUNITS epoch: date, optional time (fields need not be zero-padded), optional
+#: zone (Z, UTC or an offset in hours[:minutes])
+_CF_EPOCH = re.compile(
+    r"(\d{1,4})-(\d{1,2})-(\d{1,2})"
+    r"(?:[ T](\d{1,2}):(\d{1,2})(?::(\d{1,2})(?:\.(\d*))?)?)?"
+    r"\s*(?:(Z|UTC|GMT)|([+-])(\d{1,2})(?::?(\d{2}))?)?",
+    re.IGNORECASE)
+#: CF calendars that count days as the Gregorian calendar does (after 1582)
+_GREGORIAN = {"standard", "gregorian", "proleptic_gregorian"}
+
+
+def cf_first_date(arr, first, kind: str) -> str | None:
+    """Return the UTC date of a time array's first value from its CF epoch, else None.
+
+    A netCDF time variable's ``units`` ``"seconds since 2026-11-01 05:00:00"`` name
+    the start the values count from; the reader kept the durations and dropped the
+    date (round 52 PART b, Left). Returned as the FITS ``DATE-OBS`` form
+    ``YYYY-MM-DDThh:mm:ss[.ffffff]`` (UTC, the zone CF assumes when none is named),
+    None without an epoch, for an epoch this cannot parse, or for a ``calendar``
+    other than the Gregorian ones (a 360-day year counts days otherwise).
+
+    Parameters
+    ----------
+    arr : array or dataset
+        The time array (its ``attrs`` are read).
+    first : number
+        Its first value, in ``kind`` units.
+    kind : str
+        Its unit (a key of :data:`TIME_UNITS`, not ``"frame"``).
+    """
+    import datetime as dt
+
+    text = _text_attribute(arr, _UNIT_KEYS)
+    if text is None or " since " not in text or TIME_UNITS.get(kind) is None:
+        return None
+    calendar = _text_attribute(arr, ("calendar",))
+    if calendar is not None and calendar.lower() not in _GREGORIAN:
+        return None
+    found = _CF_EPOCH.fullmatch(text.split(" since ", 1)[1].strip())
+    if found is None:
+        return None
+    year, month, day, hour, minute, second, fraction, _, sign, zh, zm = found.groups()
+    try:
+        epoch = dt.datetime(int(year), int(month), int(day), int(hour or 0), int(minute or 0),
+                            int(second or 0), int(((fraction or "") + "000000")[:6]))
+        offset = dt.timedelta(hours=int(zh or 0), minutes=int(zm or 0))
+        epoch -= offset if sign != "-" else -offset  # to UTC
+        if isinstance(first, np.integer | int):
+            # exact for integer counts: whole microseconds (ns floored)
+            per_us = {"ns": None, "us": 1, "ms": 10**3, "s": 10**6, "min": 6 * 10**7,
+                      "h": 36 * 10**8, "d": 864 * 10**8}[kind]
+            step = dt.timedelta(microseconds=int(first) // 1000 if per_us is None
+                                else int(first) * per_us)
+        else:
+            if not np.isfinite(first):
+                return None
+            step = dt.timedelta(seconds=float(first) * TIME_UNITS[kind])
+        return (epoch + step).isoformat()
+    except (ValueError, OverflowError):  # month 13, a date beyond year 9999
+        return None
 
 
 def mode_arrays(arrays: dict) -> tuple[list[str], list] | None:
