@@ -34,19 +34,11 @@ from scipy.special import ndtri
 
 from modalinfo.information import conditional_mutual_information_ci, mutual_information_ci
 
-from .test_ci_coverage_fix51b import _ar_pair, _bartlett_mi_sd, _n_eff
+from ._ar_coverage import ar1 as _ar
+from ._ar_coverage import ar_pair as _ar_pair
+from .test_ci_coverage_fix51b import _bartlett_mi_sd, _n_eff
 
 Z975 = stats.norm.ppf(0.975)
-
-
-def _ar(phi: float, n: int, cols: int, rng: np.random.Generator) -> np.ndarray:
-    """``cols`` independent stationary AR(1) series of coefficient phi, shape (n, cols)."""
-    w = rng.standard_normal((n, cols)) * math.sqrt(1.0 - phi * phi)
-    e = np.empty_like(w)
-    e[0] = rng.standard_normal(cols)
-    for t in range(1, n):
-        e[t] = phi * e[t - 1] + w[t]
-    return e
 
 
 def _ar_triple(phi: float, n: int, k: int, cmi: float, seed: int

@@ -22,7 +22,7 @@ from scipy import stats
 
 from modalinfo.information import conditional_mutual_information_ci, mutual_information_ci
 
-from .test_ci_coverage_fix51b import _ar_pair
+from ._ar_coverage import ar_pair as _ar_pair
 from .test_ci_coverage_fix52b import _ar_triple
 
 LN2 = math.log(2.0)

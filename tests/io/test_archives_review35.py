@@ -29,7 +29,10 @@ from astropy.io import fits
 from modalinfo.io import load
 from modalinfo.io.files import LogFormatError
 
-from .test_archives_round52 import M, T, _log, _pandas_fixed
+from ._archives import M, T
+from ._archives import archive_log as _log
+from ._archives import pandas_fixed as _pandas_fixed
+from ._archives import pandas_table as _pandas_table
 
 
 def _packed():
@@ -210,11 +213,7 @@ def test_a_time_column_beside_the_files_time_dataset_is_refused(tmp_path, datase
 
 def test_a_pandas_table_without_index_arrays_is_refused_by_name(tmp_path):
     # pandas to_hdf(format="table", index=False): the compound table alone, no 2-D dataset
-    with h5py.File(tmp_path / "tab.h5", "w") as f:
-        g = f.create_group("coeffs")
-        g.attrs["pandas_type"] = np.bytes_("frame_table")
-        rec = np.zeros(T, dtype=[("index", "<i8"), ("values_block_0", "<f8", (M,))])
-        g.create_dataset("table", data=rec)
+    _pandas_table(tmp_path / "tab.h5", index_arrays=False)
     with pytest.raises(LogFormatError, match=r"pandas HDFStore table .*format='fixed'"):
         load(tmp_path / "tab.h5")
 

@@ -37,16 +37,12 @@ from modalinfo.io import load
 from modalinfo.io._common import reading
 from modalinfo.io.files import LogFormatError
 
-T, M = 400, 6
+from ._archives import M, T
+from ._archives import archive_log as _log
+from ._archives import pandas_fixed as _pandas_fixed
+from ._archives import pandas_table as _pandas_table
+
 _PHONY = "This is a netCDF dimension but not a netCDF variable.         0"
-
-
-def _log():
-    rng = np.random.default_rng(52)
-    x = np.zeros((T, M))
-    for t in range(1, T):  # AR(1): a log's modes persist in time
-        x[t] = 0.95 * x[t - 1] + rng.normal(scale=0.05, size=M)
-    return x
 
 
 def test_cf_packed_integers_are_unpacked(tmp_path):
@@ -75,17 +71,6 @@ def test_float_scale_factor_is_applied(tmp_path):
     np.testing.assert_array_equal(log.coeffs, (x / np.float32(0.5)).astype(np.float64) * 0.5)
 
 
-def _pandas_fixed(path, x, names):
-    """The layout of pandas ``DataFrame.to_hdf(path, key="coeffs", format="fixed")``."""
-    with h5py.File(path, "w") as f:
-        g = f.create_group("coeffs")
-        g.attrs["pandas_type"] = np.bytes_("frame")
-        g.create_dataset("axis0", data=np.array([n.encode() for n in names]))
-        g.create_dataset("axis1", data=np.arange(x.shape[0]))
-        g.create_dataset("block0_items", data=np.array([n.encode() for n in names]))
-        g.create_dataset("block0_values", data=x)
-
-
 def test_pandas_frame_column_names_are_read(tmp_path):
     x = _log()
     names = [f"z{j}" for j in range(M + 1, 1, -1)]  # z7 .. z2: reversed
@@ -107,13 +92,7 @@ def test_pandas_frame_time_column_is_the_time_axis(tmp_path):
 
 
 def test_pandas_table_is_refused_by_name(tmp_path):
-    with h5py.File(tmp_path / "tab.h5", "w") as f:
-        g = f.create_group("coeffs")
-        g.attrs["pandas_type"] = np.bytes_("frame_table")
-        rec = np.zeros(T, dtype=[("index", "<i8"), ("values_block_0", "<f8", (M,))])
-        g.create_dataset("table", data=rec)
-        for name in ("bounds", "indices"):
-            g.create_dataset(f"_i_table/index/{name}", data=np.zeros((4, 4)))
+    _pandas_table(tmp_path / "tab.h5")
     with pytest.raises(LogFormatError, match=r"pandas HDFStore table .*format='fixed'"):
         load(tmp_path / "tab.h5")
 
