@@ -611,6 +611,10 @@ def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray
             f"HDF5 file {quoted(path)} is a closedloop result, not a log: export its logs with "
             f"`closedloop export {shell_quoted(path.name)} OUT.fits` and read OUT.fits with --loop "
             "(Python: closedloop.SimulationResult.load(path).logs)")
+    if dataset is None:
+        table = _pandas_data_columns(f, path)
+        if table is not None:
+            return table
     dsets = _datasets(f)
     two_d = {k: d for k, d in dsets.items() if d.ndim == 2 and d.dtype.kind in "fiu"}
     if dataset is None and not two_d:
@@ -938,6 +942,58 @@ def _attr_text(value) -> str | None:
     return value if isinstance(value, str) else None
 
 
+#: ``pandas_type`` of a pandas ``HDFStore`` table (``format="table"``)
+_PANDAS_TABLES = ("frame_table", "series_table", "wide_table", "appendable_frame",
+                  "appendable_series")
+
+
+def _pandas_table_keys(f) -> list[str]:
+    """Names of the groups of ``f`` that hold a pandas ``HDFStore`` table."""
+    tables: list[str] = []
+    f.visititems(lambda name, obj: tables.append(name) if (
+        _attr_text(obj.attrs.get("pandas_type")) in _PANDAS_TABLES) else None)
+    return tables
+
+
+def _pandas_data_columns(f, path: Path) -> tuple[np.ndarray, dict] | None:
+    """Read a pandas table whose every column is a field named by it, else None.
+
+    ``to_hdf(format="table", data_columns=True)`` writes each column as a field of the
+    PyTables compound dataset ``KEY/table``, named by the column: the names are the
+    table's own, never pickled, and the values its fields (the ``index`` field is the
+    frame index, left as the fixed format's ``axis1`` is). A table whose columns sit in
+    a ``values_block_N`` block has its names only in pickled attributes: None, and
+    :func:`_refuse_pandas_table` says how to re-save it (round 52 PART b, Left).
+    """
+    keys = _pandas_table_keys(f)
+    if len(keys) != 1:
+        return None
+    key = keys[0]
+    table = f[key].get("table") if hasattr(f[key], "get") else None
+    names = getattr(getattr(table, "dtype", None), "names", None)
+    if table is None or names is None or table.ndim != 1:
+        return None
+    fields = [n for n in names if n != "index"]
+    if not fields or any(table.dtype[n].shape != () or table.dtype[n].kind not in "fiu"
+                         for n in fields):
+        return None
+    rows = table[()]
+    meta: dict[str, Any] = {"source_file": path.name, "source_format": "hdf5",
+                            "source_dataset": f"{key}/table (a pandas table, data_columns)"}
+    stored: dict[str, Any] = {"metadata": meta}
+    coeffs = float_columns([rows[n] for n in fields], fields, path)
+    if len(fields) > 1:
+        coeffs, fields = _time_column(coeffs, fields, stored, meta, path, key)
+    stored["modes"], stored["convention"], assumed = mode_columns(fields)
+    if assumed:
+        stored["_convention_assumed"] = True
+    unit = _stated_unit(table.attrs) or _nesting_unit(table, key)[0]
+    if unit is not None:
+        stored["_unit"] = (unit, f"units attribute of {key!r}")
+    _rate_fields(stored, (table.attrs, f"attribute of {key!r},"), (f.attrs, "file attribute"))
+    return coeffs, stored
+
+
 def _refuse_pandas_table(f, path: Path) -> None:
     """Refuse a pandas ``HDFStore`` table (``format="table"``) by name.
 
@@ -945,18 +1001,16 @@ def _refuse_pandas_table(f, path: Path) -> None:
     listed those index arrays ("coeffs/_i_table/index/bounds, ...; pick one with --dataset")
     and none of them is the log (round 52 PART b, A02, A03, A06, A10).
     """
-    tables = []
-    f.visititems(lambda name, obj: tables.append(name) if (
-        _attr_text(obj.attrs.get("pandas_type")) in ("frame_table", "series_table",
-                                                      "wide_table", "appendable_frame",
-                                                      "appendable_series")) else None)
+    tables = _pandas_table_keys(f)
     if tables:
         key = tables[0]
         raise LogFormatError(
             f"HDF5 file {quoted(path)} holds a pandas HDFStore table (format='table') under "
-            f"{key!r}, a PyTables layout modalinfo does not read; re-save it with pandas: "
+            f"{key!r} whose column names PyTables keeps only as Python pickles, which "
+            "modalinfo never loads; re-save it with pandas: "
             f"pd.read_hdf(PATH, {key!r}).to_hdf(NEW, key={key!r}, format='fixed') (read "
-            "with its column names), or .to_csv(NEW, index=False)")
+            "with its column names; or format='table', data_columns=True), or "
+            ".to_csv(NEW, index=False)")
 
 
 def _stated_unit(attrs) -> str | None:

@@ -53,3 +53,25 @@ def pandas_table(path, index_arrays: bool = True) -> None:
             for name in ("bounds", "indices"):
                 g.create_dataset(f"_i_table/index/{name}", data=np.zeros((4, 4)))
 
+
+def pandas_data_columns(path, x, names, index_arrays: bool = True) -> None:
+    """The layout of ``to_hdf(path, key="coeffs", format="table", data_columns=True)``.
+
+    Every column is a field of the compound ``table`` named by the column (PyTables also
+    writes ``FIELD_<n>_NAME`` attributes); the pickled attributes pandas adds
+    (``values_cols``, ``non_index_axes``, ...) are left out: a reader must not need them.
+    """
+    dtype = [("index", "<i8")] + [(n, x.dtype.str) for n in names]
+    rec = np.zeros(x.shape[0], dtype=dtype)
+    rec["index"] = np.arange(x.shape[0])
+    for j, n in enumerate(names):
+        rec[n] = x[:, j]
+    with h5py.File(path, "w") as f:
+        g = f.create_group("coeffs")
+        g.attrs["pandas_type"] = np.bytes_("frame_table")
+        t = g.create_dataset("table", data=rec)
+        for k, n in enumerate(["index", *names]):
+            t.attrs[f"FIELD_{k}_NAME"] = np.bytes_(n)
+        if index_arrays:
+            for name in ("bounds", "indices"):
+                g.create_dataset(f"_i_table/index/{name}", data=np.zeros((4, 4)))
