@@ -21,6 +21,7 @@ All functions accept Python ints or integer arrays and return the same kind.
 from __future__ import annotations
 
 import numbers
+import re
 import unicodedata
 from typing import Any
 
@@ -341,13 +342,18 @@ def fringe_to_noll(j):
 _OTHER_DASHES = "\u2010\u2011\u2012\u2013\u2014\u2015\u2212"
 
 
+#: "Z2..Z7" / "2..7": the range spelling modalinfo's own notes print (describe_modes)
+_DOTTED_RANGE = re.compile(r"(?P<p>[A-Za-z]*)(?P<a>[0-9]+)\s*\.\.\s*(?P<q>[A-Za-z]*)(?P<b>[0-9]+)")
+
+
 def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
     """Parse a mode list written as text, e.g. ``"2-28"``, ``"4,5,6"`` or ``"Z4,Z5"``.
 
     Parameters
     ----------
     text : str
-        Comma-separated indices, inclusive ``a-b`` ranges of indices, or labels.
+        Comma-separated indices, inclusive ``a-b`` ranges of indices (also written
+        ``a..b`` or ``Za..Zb``, as modalinfo's notes print them), or labels.
     name : str, optional
         What the errors call the text (an argument name, a command-line flag).
 
@@ -370,6 +376,18 @@ def parse_modes(text: str, name: str = "modes") -> list[int] | list[str]:
         # for int()", no argument named); other scripts' decimal digits (Arabic-Indic,
         # full-width) are read as int() reads them (round 44 PART b a01; fixes 45-c, Y12)
         lo, sep, hi = part.partition("-")
+        dotted = _DOTTED_RANGE.fullmatch(part)
+        if dotted is not None:
+            # the spelling modalinfo prints ("modes Z2..Z7 (noll) (assumed)") was one
+            # label, "got 1 entry" (fix53-c, noticed): read it as the range 2-7
+            if dotted["p"].upper() != dotted["q"].upper() or dotted["p"] not in ("", "Z", "z"):
+                raise ValueError(f"{name}: {part!r} is read as a range of indices only as "
+                                 f"'a..b' or 'Za..Zb'; write the indices, e.g. "
+                                 f"'{dotted['a']}-{dotted['b']}', or list the labels")
+            lo, sep, hi = dotted["a"], "-", dotted["b"]
+            if int(hi) < int(lo):
+                raise ValueError(f"{name}: range {part!r} is decreasing")
+            part = f"{lo}-{hi}"
         dash = next((c for c in part if c in _OTHER_DASHES), None)
         if dash is not None and all(side.strip().isdecimal()
                                     for side in part.split(dash, 1)):
