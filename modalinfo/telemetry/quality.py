@@ -340,6 +340,15 @@ def quality_memory(n_frames: int, n_modes: int,
                + QUALITY_MEMORY_FRAME_BYTES * n_frames)
 
 
+class CalibrationEventWarning(UserWarning):
+    """A call that pools a log met a step, drift or scale change the quality pass names.
+
+    The pooled numbers are those of the pooled log; the event (a new reference, a gain
+    or unit change, modes re-mapped, a loop closing mid-log) weighs in them as much as
+    the turbulence (``QualityReport.mode_events``; fix53-a, issue 27).
+    """
+
+
 #: Default minimum run of equal consecutive values counted as stuck.
 DEFAULT_STUCK_RUN = 8
 
@@ -1112,6 +1121,43 @@ class QualityReport:
                       "batch --window-frames N`")
         return (" and ".join(parts) + f": {rate} assumes a stationary log; assess "
                 f"stretches of steady conditions ({where})")
+
+    def mode_events(self, level_p: float | None = None) -> tuple:
+        """Return the events the stationarity rules found in single modes, per mode in time.
+
+        What :attr:`level_steps`, :attr:`variance_steps` (a line named as such by
+        :attr:`step_lines`) and :attr:`scale_steps` hold, one entry per rule and mode:
+        ``(column, label, frame, words)``, ``column`` the mode's index in the log,
+        ``frame`` where the event is located (the first frame after a step, the first
+        frame of a block of changed innovations) and ``words`` the event named, e.g.
+        ``"the mean steps or drifts by +0.16 at frame 12000"``. The calls that pool a log without
+        running the quality pass themselves (``modalinfo.ordering.order_modes``) name
+        these (fix53-a, issue 27): no second detector. ``level_p``: only the level
+        steps of p value below it (None: all of :attr:`level_steps`).
+        """
+        where = {label: j for j, label in enumerate(self.labels)}
+        lines = {(label, frame): (freq, on) for label, frame, freq, on in self.step_lines}
+        events = []
+        for label, frame, shift, p_value in self.level_steps:
+            if level_p is not None and not p_value < level_p:
+                continue
+            events.append((where[label], label, int(frame),
+                           f"the mean steps or drifts by {shift:+.3g} at frame {frame}"))
+        for label, frame, ratio, _ in self.variance_steps:
+            if (label, frame) in lines:
+                freq, on = lines[label, frame]
+                at = (f"~{freq * self.rate:.3g} Hz" if self.rate
+                      else f"~{freq:.3g} of the frame rate")
+                words = (f"a line at {at} {'appears' if on else 'stops'} at frame {frame} "
+                         f"(spread x{ratio:.2g})")
+            else:
+                words = f"the spread steps x{ratio:.2g} at frame {frame}"
+            events.append((where[label], label, int(frame), words))
+        for label, start, stop, ratio, _ in self.scale_steps:
+            events.append((where[label], label, int(start),
+                           f"the innovations' scale changes x{ratio:.2g} in frames "
+                           f"{start}-{stop}"))
+        return tuple(sorted(events, key=lambda e: (e[0], e[2])))
 
     @property
     def note(self) -> str:
