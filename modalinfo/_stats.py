@@ -793,6 +793,15 @@ MIN_SHIFT_INNOVATIONS = 200
 #: (5 effective) warned on 16 logs, 0.99 at 400 frames (1) on 36; 0.9 at 400 (10.5) on 2).
 MIN_SHIFT_EFFECTIVE = 10
 
+#: Smallest change of a mode's mean between the training and test frames, in units of
+#: the training frames' standard deviation, that the train-vs-test level rule of
+#: ``modalinfo.forecast.evaluate`` calls a shift, whatever its significance: a shift of
+#: half an sd is what a level change of the log is (round 52 PART a, L05 / L45: +3 sd and
+#: +1 sd over 80 % of the test frames, 2.4 and 0.8 sd), and stationary long memory (fGn
+#: H 0.9, whose half-log means differ by 0.29 sd rms at 10,000 frames a half, beyond the
+#: lag-1 count's sampling error) crosses it in ~8 % of modes (fix53-a, docs/ADVERSARIAL.md).
+LEVEL_SHIFT_MIN_SD = 0.5
+
 
 def variance_ratio_shift(ratio: np.ndarray, dof_test: np.ndarray, dof_train: np.ndarray,
                          kurtosis: np.ndarray, alpha: float = SHIFT_ALPHA,

@@ -285,6 +285,16 @@ class ForecastEvaluation:
         fix47-c): their ``beats_baseline`` needs ``pvalue < alpha / n_tests / 5``. False
         for the baselines and the untested pairs; None in results built without it.
         Not written by :meth:`to_dict` (the file format is unchanged).
+    level_shift : numpy.ndarray, shape (M,), or None
+        Per mode, the test frames' mean minus the training frames' mean, in units of
+        the training frames' standard deviation (``_level_shift``; fix53-a); NaN where
+        not judged (as :attr:`scale_shift`, and a mode of fewer than 10 effective
+        training values). Not written by :meth:`to_dict`.
+    level_shifted_modes : tuple of str
+        Modes whose level differs beyond the sampling error of the two means under the
+        mode's lag-1 persistence (two-sided normal test, 1 % family-wise by Bonferroni)
+        by at least 0.5 sd (``modalinfo._stats.LEVEL_SHIFT_MIN_SD``) and that the scale
+        rule did not name (:attr:`shifted_modes`); ``evaluate`` warns once.
     """
 
     names: tuple[str, ...]
@@ -311,6 +321,8 @@ class ForecastEvaluation:
     scale_shift: np.ndarray | None = field(default=None, repr=False)
     shifted_modes: tuple[str, ...] = ()
     dm_flagged: np.ndarray | None = field(default=None, repr=False)
+    level_shift: np.ndarray | None = field(default=None, repr=False)
+    level_shifted_modes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         # round 22: dataclasses.replace(result, names=("a",)) was accepted and the
@@ -324,6 +336,8 @@ class ForecastEvaluation:
             check_record_fields(self, {"scale_shift": (M,)})
         if self.dm_flagged is not None:
             check_record_fields(self, {"dm_flagged": (P, H)})
+        if self.level_shift is not None:
+            check_record_fields(self, {"level_shift": (M,)})
 
     @property
     def p_value(self) -> np.ndarray:
@@ -527,6 +541,15 @@ class ForecastEvaluation:
                        "model fitted on the training frames, test / training): intervals "
                        "calibrated on the training frames do not hold on the test frames; "
                        "split the log at the change or retrain.")
+        if self.level_shifted_modes and self.level_shift is not None:
+            items = [f"{lb} {v:+.3g} sd" for lb, v in zip(self.labels, self.level_shift,
+                                                          strict=True)
+                     if lb in self.level_shifted_modes]
+            out.append(f"Train/test level shift: {', '.join(items[:6])}"
+                       f"{', ...' if len(items) > 6 else ''} (mean of the test frames "
+                       "minus the training frames', in training sds): the scores describe "
+                       "frames unlike the training ones; split the log at the change or "
+                       "retrain.")
         if self.scale_shift is not None:
             # round 43 PART a, C35: a stuck test half gave NaN in every mode, unsaid
             unjudged = [lb for lb, r in zip(self.labels, np.asarray(self.scale_shift),
@@ -1238,6 +1261,95 @@ def _scale_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
     return ratio, pvalue, shifted
 
 
+def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per mode: the test frames' mean minus the training frames', in training sds.
+
+    The difference ``d = (mean_test - mean_train) / sd_train`` has, for a stationary
+    mode, the sampling sd ``sqrt(1 / n_train' + 1 / n_test')``, each ``n'`` the
+    effective count of its segment's frames from the training frames' lag-1
+    autocorrelation (``modalinfo.information.convergence.bartlett_pairs`` of its
+    bias-corrected value, ``lag1_bias_corrected``: Bartlett's AR(1) count, the rule of
+    the effective samples) or from the full sum over lags of its autocorrelations
+    (``bartlett_sum_pairs(x)``), the fewer, the test segment's in proportion to its
+    length (the null: one stationary law). Two-sided normal test, Bonferroni over the
+    judged modes at ``alpha``; a shift needs ``|d| >= LEVEL_SHIFT_MIN_SD`` as well.
+    Judged as the scale rule (``_scale_shift``): at least ``MIN_SHIFT_INNOVATIONS``
+    frames a segment and ``MIN_SHIFT_EFFECTIVE`` effective training values, a mode not
+    constant over the training frames. Read in chunks of ``chunk`` frames. Returns
+    ``(d, pvalue, shifted)``, each ``(M,)``, NaN where not judged (fix53-a, issue 27: a
+    +3 sd level change in the test frames was scored without a word, round 52 PART a,
+    L05 / L45).
+    """
+    from modalinfo._stats import (
+        LEVEL_SHIFT_MIN_SD,
+        MIN_SHIFT_EFFECTIVE,
+        MIN_SHIFT_INNOVATIONS,
+        lag1_autocorrelations,
+    )
+    from modalinfo.information.convergence import (
+        bartlett_pairs,
+        bartlett_sum_pairs,
+        lag1_bias_corrected,
+    )
+
+    n_frames, n_modes = data.shape
+    n_test = n_frames - n_train
+    d = np.full(n_modes, np.nan)
+    pvalue = np.full(n_modes, np.nan)
+    shifted = np.zeros(n_modes, dtype=bool)
+    if n_train < MIN_SHIFT_INNOVATIONS or n_test < MIN_SHIFT_INNOVATIONS:
+        return d, pvalue, shifted
+    mean_train = np.full(n_modes, np.nan)
+    sd_train = np.full(n_modes, np.nan)
+    count_train = np.full(n_modes, np.nan)
+    count_test = np.full(n_modes, np.nan)
+    per = max(1, _SHIFT_BLOCK_VALUES // n_train)
+    for s0 in range(0, n_modes, per):
+        tt = np.array(train[:n_train, s0:s0 + per], dtype=float)  # (frames, modes)
+        mean_train[s0:s0 + per] = tt.mean(axis=0)
+        sd_train[s0:s0 + per] = tt.std(axis=0)
+        for j, r in enumerate(lag1_autocorrelations(tt)):
+            if math.isfinite(r) and sd_train[s0 + j] > 0.0:
+                # the fewer of the AR(1) count and the full sum's (long memory: fGn H 0.9
+                # half-log means 0.29 sd apart rms, which the lag-1 count calls 5 sds)
+                count = min(bartlett_pairs(n_train, lag1_bias_corrected(float(r), n_train)),
+                            bartlett_sum_pairs(tt[:, j]))
+                count_train[s0 + j] = count
+                count_test[s0 + j] = count * n_test / n_train
+    ok = np.isfinite(sd_train) & (sd_train > 0.0) & (count_train >= MIN_SHIFT_EFFECTIVE)
+    if not ok.any():
+        return d, pvalue, shifted
+    total = np.zeros(n_modes)
+    for begin in range(n_train, n_frames, chunk):
+        total += np.asarray(data[begin:min(begin + chunk, n_frames)], dtype=float).sum(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        d[ok] = (total[ok] / n_test - mean_train[ok]) / sd_train[ok]
+        z = d[ok] / np.sqrt(1.0 / count_train[ok] + 1.0 / count_test[ok])
+    from scipy.stats import norm
+
+    pvalue[ok] = np.minimum(1.0, 2.0 * norm.sf(np.abs(z)))
+    judged = ok & np.isfinite(pvalue)
+    shifted[judged] = ((pvalue[judged] < alpha / max(1, int(judged.sum())))
+                       & (np.abs(d[judged]) >= LEVEL_SHIFT_MIN_SD))
+    return d, pvalue, shifted
+
+
+def _level_text(labels, d: np.ndarray, shifted: np.ndarray) -> str:
+    """One sentence naming the modes whose test frames' mean differs from training."""
+    from modalinfo._stats import LEVEL_SHIFT_MIN_SD
+
+    items = [f"{lb} {v:+.3g} sd" for lb, v, s in zip(labels, d, shifted, strict=True) if s]
+    shown = ", ".join(items[:6]) + (f", ... ({len(items)} modes)" if len(items) > 6 else "")
+    return ("the test frames differ in level from the training frames: the mean of the "
+            f"test frames minus that of the training frames is {shown} of the training "
+            f"frames' sd (normal test against the sampling error of the two means under the "
+            f"modes' persistence, {SHIFT_ALPHA:.0%} family-wise over the modes, "
+            f"{LEVEL_SHIFT_MIN_SD:g} sd or more); the scores describe frames unlike those "
+            "the predictors were trained on (a fitted constant or a mean baseline is stale "
+            "there): split the log at the change or retrain on frames like the test ones.")
+
+
 def _shifted_list(labels, ratio: np.ndarray, shifted: np.ndarray) -> str:
     """``"Z2 x2.01, Z3 x2.9"``: the shifted modes with their rms ratio (test / training)."""
     items = [f"{lb} x{math.sqrt(r):.3g}" for lb, r, s in zip(labels, ratio, shifted,
@@ -1521,6 +1633,18 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     if shifted_modes:
         warn(f"evaluate: {_shift_text(labels, shift_ratio, shifted)}",
              UserWarning, stacklevel=2)
+    # round 52 PART a, L05 / L45: a level change in the test frames (Z5 + 3 sd) moved the
+    # mean baseline's gain 0.557 -> 0.202 with no word; the scale rule keeps the innovations
+    level_d, _, level_flags = _level_shift(data, np.asarray(train_data), n_train, chunk,
+                                           SHIFT_ALPHA)
+    # a mode the scale rule named is not named again: its test frames' law differs
+    # already, and their mean in training sds follows from the new scale (a loop that
+    # opens, rms x10: -3.5 sd, test_scale_shift_left28)
+    level_flags &= ~np.asarray(shifted, dtype=bool)
+    level_modes = tuple(lb for lb, s in zip(labels, level_flags, strict=True) if s)
+    if level_modes:
+        warn(f"evaluate: {_level_text(labels, level_d, level_flags)}",
+             UserWarning, stacklevel=2)
     return ForecastEvaluation(
         names=names, horizons=hs, labels=labels, rate=rate, units=units, n_train=n_train,
         origins=origins, rmse=rmse, rmse_wavefront=rmse_wf, gain=gain, gain_wavefront=gain_wf,
@@ -1530,4 +1654,5 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         settings=settings,
         constant_modes=tuple(lb for lb, c in zip(labels, constant, strict=True) if c),
         scale_shift=shift_ratio, shifted_modes=shifted_modes, dm_flagged=volatile,
+        level_shift=level_d, level_shifted_modes=level_modes,
     )

@@ -309,7 +309,7 @@ def bartlett_pairs(n: int, product: float) -> float:
 BARTLETT_SUM_SHARE = 0.1
 
 
-def bartlett_sum_pairs(x: np.ndarray, y: np.ndarray) -> float:
+def bartlett_sum_pairs(x: np.ndarray, y: np.ndarray | None = None) -> float:
     """Effective pairs of two series from Bartlett's (1935) full sum over lags.
 
     ``n / (1 + 2 sum_{k=1}^{K} (1 - k / n) rx(k) ry(k))``, rx and ry the biased sample
@@ -322,10 +322,15 @@ def bartlett_sum_pairs(x: np.ndarray, y: np.ndarray) -> float:
     the fewest over the pairs of columns. A constant column, or a sum at or below 0
     (anti-persistent series), gives n.
 
+    With ``y`` None, the same sum with ``ry = 1``: the effective count of ``x``'s values
+    for its **mean**, ``n / (1 + 2 sum (1 - k / n) rx(k))`` (the variance of the sample
+    mean of a stationary series, truncated at K; used by ``evaluate``'s train-vs-test
+    level rule, fix53-a).
+
     Parameters
     ----------
     x, y : ndarray, shape (n,) or (n, k)
-        Paired samples in sample (time) order.
+        Paired samples in sample (time) order; ``y`` None: ``x``'s mean (see above).
 
     Returns
     -------
@@ -353,7 +358,7 @@ def bartlett_sum_pairs(x: np.ndarray, y: np.ndarray) -> float:
     weights = 1.0 - np.arange(1, k_max + 1) / n
     best = float(n)
     for rx in acfs(x):
-        for ry in acfs(y):
+        for ry in (acfs(y) if y is not None else [1.0]):
             s = 1.0 + 2.0 * float(np.sum(weights * rx * ry))
             if s > 1.0:
                 best = min(best, n / s)

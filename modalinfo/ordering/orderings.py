@@ -815,6 +815,7 @@ def order_modes(
     progress: Any = None,
     search: str = "auto",
     max_seconds: float | None = MAX_ORDERING_SECONDS,
+    quality: Any = True,
 ) -> OrderingResult:
     """Order the modes of a basis for a log.
 
@@ -889,6 +890,19 @@ def order_modes(
         samples, modes and replicates (the command line's), made before any work;
         above 60 s an ``OrderingCostWarning`` (a ``UserWarning``) names it and how to
         shorten it.
+    quality : bool or QualityReport
+        Whether a pooled ordering of the log's values (every method but ``"standard"``,
+        ``frame`` None) runs :func:`~modalinfo.telemetry.assess_quality` on the
+        coefficients it ranks (in the basis, labelled as the basis) and warns
+        (``CalibrationEventWarning``) naming each mode, event and frame the pass's
+        stationarity rules find (a mean step or drift, a spread step, an innovations'
+        scale change: ``QualityReport.mode_events``): the pooled ranking then reflects
+        the event as much as the turbulence (a +3 sd reference change of Z5 over 40 %
+        of a log ranks Z5 first; adversarial round 52 PART a, L04-L39). Default True;
+        False: no pass; a ``QualityReport`` of those coefficients (same frames and
+        labels) is used instead of a new pass. The ordering itself is unchanged.
+        Measured false warnings on stationary logs: docs/ADVERSARIAL.md, "Calibration
+        events inside a log (fix53-a)".
 
     Returns
     -------
@@ -946,6 +960,8 @@ def order_modes(
 
     if method == "standard":
         return result(view.standard_order())
+    if frame is None and quality is not False:
+        _warn_calibration_events(a, view.labels, method, quality)
     if method in ("variance", "pca"):
         if method == "pca" and frame is not None:
             raise ValueError(
@@ -969,7 +985,7 @@ def order_modes(
         method, estimator=estimator, estimator_options=options, pooled=pooled,
         frame=frame, sample_budget=budget, seed=seed, n_resamples=n_resamples,
         confidence_level=confidence_level, block_length=block_length, progress=progress,
-        search=search, max_seconds=max_seconds)
+        search=search, max_seconds=max_seconds, quality=False)
         return dataclasses.replace(_with_dead_modes(sub, live, np.flatnonzero(gone),
                                                     view.labels), basis_key=basis_key(view.obj))
 
@@ -1010,6 +1026,59 @@ def order_modes(
                 raise
             raise _named(exc, "a partial sum of the modes' contributions (a_k Z_k)") from exc
     return without(tiny)
+
+
+#: Largest p value of the quality pass's level rule (``QualityReport.level_steps``) that
+#: :func:`order_modes` names as a calibration event. The pass names a step at 1 %
+#: family-wise, but its F law is liberal on long memory and on open-loop turbulence
+#: (fix53-a, 50 logs each: fGn H 0.9 of 10 x 20,000 frames named in 44, `kaos_like` open
+#: loop of 2,000 frames in 17, smallest p 5.9e-9 and 4.8e-7); the events of round 52
+#: PART a read 5.9e-36 to 1.0e-9 (a +1 sd step of every mode the weakest). The spread
+#: and scale rules are taken at the pass's own levels (0 of those 300 logs).
+CALIBRATION_LEVEL_P = 1e-8
+
+
+def _warn_calibration_events(a: np.ndarray, labels: tuple, method: str,
+                             quality: Any) -> None:
+    """Warn where the quality pass finds an event in a mode a pooled ordering ranks.
+
+    ``a`` (T, M): the coefficients ranked [rad], ``labels`` their basis labels;
+    ``quality``: True (run :func:`~modalinfo.telemetry.assess_quality` on ``a``) or a
+    report of ``a``. The events are the pass's (``QualityReport.mode_events``), the one
+    detector of steps and drifts (fix53-a, issue 27).
+    """
+    from modalinfo.telemetry.quality import (
+        CalibrationEventWarning,
+        QualityReport,
+        assess_quality,
+    )
+
+    if isinstance(quality, QualityReport):
+        if (quality.n_frames, quality.n_modes) != a.shape or (
+                list(quality.labels) != list(labels)):
+            raise ValueError(
+                f"`quality` must be the QualityReport of the coefficients ordered ({a.shape[0]} "
+                f"frames, modes {', '.join(labels[:3])}{', ...' if len(labels) > 3 else ''}); "
+                f"got one of {quality.n_frames} frames, modes "
+                f"{', '.join(quality.labels[:3])}{', ...' if quality.n_modes > 3 else ''}.")
+        report = quality
+    elif quality is True or quality is np.True_:
+        report = assess_quality(a)
+    else:
+        raise TypeError(f"`quality` must be True, False or a QualityReport; got {quality!r}.")
+    events = report.mode_events(level_p=CALIBRATION_LEVEL_P)
+    if not events:
+        return
+    modes = sorted({j for j, *_ in events})
+    shown = "; ".join(f"{labels[j]}: {words}" for j, _, _, words in events[:6])
+    more = f"; ... ({len(events)} events)" if len(events) > 6 else ""
+    warn(f"order_modes ({method}): the quality pass (assess_quality) finds a calibration "
+         f"event in {len(modes)} of the {a.shape[1]} modes ranked ({shown}{more}): the "
+         "pooled ordering is that of the pooled log, in which the event (a new reference, a "
+         "gain or unit change, modes re-mapped, the loop closing) weighs as much as the "
+         "turbulence; order each stretch of steady conditions on its own (log.select), or "
+         "pass quality=False where the event is known and meant.",
+         CalibrationEventWarning, stacklevel=caller_stacklevel())
 
 
 def _named(exc: InfiniteMIError, what: str) -> InfiniteMIError:

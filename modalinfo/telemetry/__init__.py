@@ -14,6 +14,7 @@ from modalinfo.telemetry.checks import CONVENTIONS, NONFINITE_POLICIES
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.quality import (
     OUTLIER_POLICIES,
+    CalibrationEventWarning,
     QualityReport,
     apply_outlier_policy,
     assess_quality,
@@ -33,6 +34,7 @@ __all__ = [
     "NONFINITE_POLICIES",
     "OUTLIER_POLICIES",
     "UNITS",
+    "CalibrationEventWarning",
     "LogSummary",
     "ModalLog",
     "QualityReport",

@@ -340,6 +340,15 @@ def quality_memory(n_frames: int, n_modes: int,
                + QUALITY_MEMORY_FRAME_BYTES * n_frames)
 
 
+class CalibrationEventWarning(UserWarning):
+    """A call that pools a log met a step, drift or scale change the quality pass names.
+
+    The pooled numbers are those of the pooled log; the event (a new reference, a gain
+    or unit change, modes re-mapped, a loop closing mid-log) weighs in them as much as
+    the turbulence (``QualityReport.mode_events``; fix53-a, issue 27).
+    """
+
+
 #: Default minimum run of equal consecutive values counted as stuck.
 DEFAULT_STUCK_RUN = 8
 
@@ -796,7 +805,11 @@ class QualityReport:
         Gaussian false-alarm probability of one value, ``2 (1 - Phi(k))``.
     median, sigma : numpy.ndarray, shape (M,)
         Robust centre and scale (``1.4826 MAD``) per mode, in the log's units
-        (``sigma`` 0 for a constant mode, NaN for a mode with no finite value).
+        (``sigma`` 0 for a constant mode, NaN for a mode with no finite value). A mode
+        whose spread steps x10 or more either way with its quiet side a minority of
+        the frames (gone dead, or x0.001) takes both, and its innovations' scale, from
+        the other side's frames (``_live_parts``; logs read whole, ``T <=
+        sample_frames``; fix53-a, issue 27).
     constant : numpy.ndarray of bool, shape (M,)
         Modes constant over the whole log (not tested for outliers or stuck runs).
     sample_frames : int
@@ -1112,6 +1125,43 @@ class QualityReport:
                       "batch --window-frames N`")
         return (" and ".join(parts) + f": {rate} assumes a stationary log; assess "
                 f"stretches of steady conditions ({where})")
+
+    def mode_events(self, level_p: float | None = None) -> tuple:
+        """Return the events the stationarity rules found in single modes, per mode in time.
+
+        What :attr:`level_steps`, :attr:`variance_steps` (a line named as such by
+        :attr:`step_lines`) and :attr:`scale_steps` hold, one entry per rule and mode:
+        ``(column, label, frame, words)``, ``column`` the mode's index in the log,
+        ``frame`` where the event is located (the first frame after a step, the first
+        frame of a block of changed innovations) and ``words`` the event named, e.g.
+        ``"the mean steps or drifts by +0.16 at frame 12000"``. The calls that pool a log without
+        running the quality pass themselves (``modalinfo.ordering.order_modes``) name
+        these (fix53-a, issue 27): no second detector. ``level_p``: only the level
+        steps of p value below it (None: all of :attr:`level_steps`).
+        """
+        where = {label: j for j, label in enumerate(self.labels)}
+        lines = {(label, frame): (freq, on) for label, frame, freq, on in self.step_lines}
+        events = []
+        for label, frame, shift, p_value in self.level_steps:
+            if level_p is not None and not p_value < level_p:
+                continue
+            events.append((where[label], label, int(frame),
+                           f"the mean steps or drifts by {shift:+.3g} at frame {frame}"))
+        for label, frame, ratio, _ in self.variance_steps:
+            if (label, frame) in lines:
+                freq, on = lines[label, frame]
+                at = (f"~{freq * self.rate:.3g} Hz" if self.rate
+                      else f"~{freq:.3g} of the frame rate")
+                words = (f"a line at {at} {'appears' if on else 'stops'} at frame {frame} "
+                         f"(spread x{ratio:.2g})")
+            else:
+                words = f"the spread steps x{ratio:.2g} at frame {frame}"
+            events.append((where[label], label, int(frame), words))
+        for label, start, stop, ratio, _ in self.scale_steps:
+            events.append((where[label], label, int(start),
+                           f"the innovations' scale changes x{ratio:.2g} in frames "
+                           f"{start}-{stop}"))
+        return tuple(sorted(events, key=lambda e: (e[0], e[2])))
 
     @property
     def note(self) -> str:
@@ -1755,6 +1805,60 @@ def _robust_scale_slice(sample: np.ndarray, constant: np.ndarray):
     return med, sigma
 
 
+#: Smallest spread ratio (either way) of a spread step whose quiet side, a minority of
+#: the frames, is left out of a mode's outlier scales (``_live_parts``): a mode gone dead
+#: or scaled x0.1 or less over part of the log.
+LIVE_PART_RATIO = 10.0
+
+
+def _live_parts(sample: np.ndarray, med: np.ndarray, constant: np.ndarray) -> dict:
+    """``{mode: (first row, last row + 1)}``: the live side of a mode gone quiet in part.
+
+    The spread rule (``_variance_steps``' test, ``modalinfo._stats.variance_steps`` at
+    ``VARIANCE_ALPHA``, the one detector) on the absolute deviations from ``med``; a mode
+    whose step is ``LIVE_PART_RATIO`` or more either way and whose quiet side holds fewer
+    than half the rows keeps the other side's rows for its median and MAD (fix53-a,
+    issue 27: a dead or x0.001 mode over 40 % of a log shrank its pooled MAD x0.3, and
+    466 normal values of the live part were flagged, round 52 PART a, L11 / L26). Where
+    the quiet side is the majority (x1000 over 40 %: the live part is the normal one)
+    nothing changes.
+    """
+    with np.errstate(invalid="ignore"):
+        dev = sample - np.where(np.isfinite(med), med, 0.0)
+        np.abs(dev, out=dev)
+    dev, none = _fill_gaps(dev, constant)
+    flagged, _ = variance_steps(dev, VARIANCE_ALPHA, none, deviations=True)
+    del dev
+    rows = sample.shape[0]
+    out = {}
+    for v in flagged:
+        quiet_after = v.ratio < 1.0
+        if not (v.ratio == 0.0 or max(v.ratio, 1.0 / v.ratio) >= LIVE_PART_RATIO):
+            continue
+        quiet = rows - v.frame if quiet_after else v.frame
+        if 2 * quiet >= rows:
+            continue
+        out[int(v.column)] = (0, int(v.frame)) if quiet_after else (int(v.frame), rows)
+    return out
+
+
+def _live_innovation_scale(col: np.ndarray, g: np.ndarray, centre: float, coef: np.ndarray,
+                           r0: int, r1: int) -> tuple[float, float]:
+    """Median and 1.4826 MAD of a mode's AR innovations whose window lies in rows r0..r1-1.
+
+    ``col`` the mode's AR windows' values at global frames ``g`` (stride 1: the sample),
+    ``coef`` its AR(``AR_ORDER``) coefficients (``_innovations``); ``_live_parts``.
+    """
+    p = AR_ORDER
+    q = _window_rows(g, p)
+    q = q[(q - p >= r0) & (q < r1)]
+    if q.size < MIN_SAMPLE_FRAMES:
+        return math.nan, math.nan
+    e = (col[q] - centre) - sum(coef[i - 1] * (col[q - i] - centre) for i in range(1, p + 1))
+    cen, sig = _robust_scale(e[:, None], np.zeros(1, dtype=bool))
+    return float(cen[0]), float(sig[0])
+
+
 def _head_innovations(arr: np.ndarray, centre: np.ndarray, coef: np.ndarray,
                       cen_e: np.ndarray, thr_e: np.ndarray) -> np.ndarray:
     """Innovation test of the first ``AR_ORDER`` frames, predicted backwards from the next.
@@ -2216,10 +2320,20 @@ def assess_quality(
                    if isinstance(log_or_coeffs, ModalLog) else "array:" + hasher.hexdigest())
     constant = lo == hi  # every finite value equal (no finite value: lo > hi)
     med, sigma = _robust_scale(sample, constant)
+    # a mode gone dead or x0.001 over a minority of the log: its scales from the live part
+    # (round 52 PART a, L11 / L26: the pooled MAD x0.3 flagged 466 normal values)
+    live = _live_parts(sample, med, constant) if step == 1 else {}
+    for j, (r0, r1) in live.items():
+        med[j], sigma[j] = (v[0] for v in _robust_scale(sample[r0:r1, j:j + 1],
+                                                        constant[j:j + 1]))
     n_windows = sample.shape[0] if step == 1 else int(np.count_nonzero(
         gidx % (step * (AR_ORDER + 1)) == AR_ORDER))
     coef, cen_e, sig_e, n_eff, ratio, (changed, scale_judged) = _innovations(
         windows, gidx, med, sigma, constant, n_windows, with_ratio=True)
+    for j, (r0, r1) in live.items():
+        c_j, s_j = _live_innovation_scale(windows[:, j], gidx, med[j], coef[:, j], r0, r1)
+        if math.isfinite(s_j) and s_j > 0.0:  # else the pooled scale (too few live rows)
+            cen_e[j], sig_e[j] = c_j, s_j
     del windows, gidx  # the AR windows: a copy of the sample's size (strided)
     limit = stationarity_threshold(n_eff / STATIONARITY_BLOCKS)
     stationary = None if not (math.isfinite(limit) and math.isfinite(ratio)) else bool(
