@@ -1,5 +1,9 @@
 """Coverage of ``select``'s gain interval against the block length (left33-ci, issue 27).
 
+Since fix53-b ``_gaussian_block_ci`` is ``conditional_mutual_information_ci``'s interval
+(Fisher's z with Bartlett's floor), not the "normal" one this bench measured: run it on
+a commit before fix53-b to reproduce left33-ci's table (docs/ADVERSARIAL.md, fix53-b).
+
 Reference: the gain of a Gaussian AR(1) series x_t+1 = phi x_t + e_t,
 ``I(x_t+1; x_t) = -0.5 ln(1 - phi^2)`` (Cover & Thomas 2006, eq. 8.56; 0 at phi = 0).
 Per phi, frame count T and seed s: the series from ``default_rng(1000 + s)`` (500

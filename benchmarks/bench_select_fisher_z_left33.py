@@ -1,5 +1,9 @@
 """``select``'s gain interval: half-length blocks and a Fisher-z interval (left33-ci).
 
+Since fix53-b ``_gaussian_block_ci`` is ``conditional_mutual_information_ci``'s interval
+(Fisher's z with Bartlett's floor), not the "normal" one this bench measured: run it on
+a commit before fix53-b to reproduce left33-ci's table (docs/ADVERSARIAL.md, fix53-b).
+
 Reference: the Gaussian AR(1) gain ``-0.5 ln(1 - phi^2)`` (Cover & Thomas 2006, eq.
 8.56) on the logs of bench_select_block_length_left33.py (``default_rng(1000 + s)``,
 500 burn-in frames). Per cell, coverage of: the 95 % "normal" interval

@@ -68,7 +68,10 @@ the target (frozen flow's radial-order neighbours; a DM's neighbours); the
 maximum-statistic test of each step is then over the restricted candidates.
 
 Intervals: moving-block bootstrap of the gain of each chosen input given the inputs
-chosen before it (:func:`~modalinfo.information.conditional_mutual_information_ci`).
+chosen before it, the interval of
+:func:`~modalinfo.information.conditional_mutual_information_ci` on the same columns
+(``conditional_uncertainty.cmi_block_bounds``; the Gaussian gains' replicates summed
+from block moments, :func:`_gaussian_block_gains`).
 """
 
 from __future__ import annotations
@@ -80,7 +83,6 @@ from typing import Any
 
 import numpy as np
 from scipy import fft as sfft
-from scipy import stats
 
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.quiet import warn
@@ -104,7 +106,7 @@ from modalinfo.information.conditional import (
     effective_sample_why,
     temporal_neighbour_why,
 )
-from modalinfo.information.conditional_uncertainty import _cmi_block_ci
+from modalinfo.information.conditional_uncertainty import _cmi_block_ci, cmi_block_bounds
 from modalinfo.information.discrete import pile_why, shared_pile_value
 from modalinfo.information.gaussian import ONE_MINUS_R2_FLOOR, gaussian_cmi_from_covariance
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
@@ -119,6 +121,7 @@ from modalinfo.information.resampling import (
     local_permutation,
     neighbour_rows,
     rank_based_options,
+    residual_split,
     surrogate_pvalue,
     surrogate_shifts,
 )
@@ -137,14 +140,17 @@ __all__ = [
 ]
 
 
-#: Measured coverage of the gains' 95 % "normal" block-bootstrap intervals (method
-#: "gaussian", the Politis-White block length): (AR(1) coefficient phi, lowest,
-#: highest) over 1,000 and 2,000 frames, 300 seeded logs per cell (Clopper-Pearson
-#: half-widths ~0.03-0.04; benchmarks/RESULTS.md, left33-ci). The bootstrap spread
-#: runs 1-26 % below the gains' own and the gains are skewed low (misses 2-10 : 1 on
-#: the high side); blocks 2 or 4 times longer do not help (0.86-0.90 at phi 0.9).
+#: Measured coverage of the gains' 95 % block-bootstrap intervals (method "gaussian":
+#: ``conditional_mutual_information_ci``'s Fisher-z interval with Bartlett's floor,
+#: fix53-b): (AR(1) coefficient phi, lowest, highest) over 1,000 and 2,000 frames, 300
+#: seeded logs per cell (left33-ci's logs, first input: the target's last value; s.e.
+#: 0.005-0.008; docs/ADVERSARIAL.md, fix53-b). Conservative: the floor's effective pairs
+#: (Bartlett's lag-1 count of two series whose cross-correlation decays as phi^|k|)
+#: understate a lag pair's (x[t+1], x[t]), whose z has variance 1 / (n (1 - phi^2)), by
+#: the factor 1 + phi^2; the intervals are 1.25-2.3 times the former "normal" ones,
+#: which covered 0.917-0.940, 0.893-0.897 and 0.783-0.877 (left33-ci).
 #: ``InputSelection.table`` prints it under the intervals.
-INTERVAL_COVERAGE = ((0.5, 0.917, 0.940), (0.9, 0.893, 0.897), (0.98, 0.783, 0.877))
+INTERVAL_COVERAGE = ((0.5, 0.983, 0.990), (0.9, 0.990, 0.993), (0.98, 0.980, 0.993))
 
 
 def _coverage_note(confidence_level: float = 0.95) -> str:
@@ -158,13 +164,14 @@ def _coverage_note(confidence_level: float = 0.95) -> str:
     Returns
     -------
     str
-        ``"interval: block-bootstrap 'normal', nominal 95 %; measured at 95 % ..."``,
+        ``"interval: block-bootstrap Fisher-z with Bartlett's floor, nominal 95 %; ..."``,
         from ``INTERVAL_COVERAGE``.
     """
     cells = ", ".join(f"{lo:.2f}-{hi:.2f} at phi {phi:g}" for phi, lo, hi in INTERVAL_COVERAGE)
-    return (f"interval: block-bootstrap 'normal', nominal {100 * confidence_level:g} %; "
-            f"it covers less on persistent logs: measured at 95 % (method gaussian, "
-            f"AR(1) logs of 1,000-2,000 frames) {cells} (benchmarks/RESULTS.md, left33-ci)")
+    return (f"interval: block-bootstrap Fisher-z with Bartlett's floor, nominal "
+            f"{100 * confidence_level:g} %; conservative on persistent logs: measured at "
+            f"95 % (method gaussian, AR(1) logs of 1,000-2,000 frames) {cells} "
+            f"(docs/ADVERSARIAL.md, fix53-b)")
 
 
 @array_fields_eq
@@ -187,7 +194,9 @@ class SelectedInput:
     gain : float
         ``I(target; input | inputs chosen before)`` in the selection's units.
     low, high : float
-        Block-bootstrap interval of the gain ("normal" interval); NaN if intervals
+        Block-bootstrap interval of the gain, that of
+        :func:`~modalinfo.information.conditional_mutual_information_ci` on the same
+        columns (``copula=False`` for the Gaussian gains, fix53-b); NaN if intervals
         were not asked or the method is "ksg" (resamples repeat rows).
     pvalue : float
         Maximum-statistic surrogate p-value of the step that added it.
@@ -511,10 +520,22 @@ def _gaussian_block_gains(data: np.ndarray, n_resamples: int, rng: np.random.Gen
 def _gaussian_block_ci(data: np.ndarray, gain: float, n_resamples: int,
                        confidence_level: float, rng: np.random.Generator
                        ) -> tuple[float, float]:
-    """Block-bootstrap "normal" interval (nats) of the Gaussian CMI of columns 0; 1 | 2:."""
+    """Block-bootstrap interval (nats) of the Gaussian CMI of columns 0; 1 | 2:.
+
+    :func:`~modalinfo.information.conditional_uncertainty.cmi_block_bounds`, the rule of
+    ``conditional_mutual_information_ci(method="gaussian", copula=False)`` on the same
+    columns (Fisher's z with Bartlett's floor on the residuals on columns 2:, fix52-b),
+    applied to the replicates of :func:`_gaussian_block_gains` (the same resamples, summed
+    from block moments). Before fix53-b the selection took the "normal" interval of the
+    replicates' s.d., without the floor: 0.78-0.88 of 95 % on AR(1) 0.98 logs
+    (``INTERVAL_COVERAGE`` of left33-ci).
+    """
     dist = _gaussian_block_gains(data, n_resamples, rng)
-    half = float(stats.norm.ppf(0.5 + 0.5 * confidence_level) * np.std(dist, ddof=1))
-    return gain - half, gain + half
+    # residuals on the values, as the gains (least squares; the selection's closed form)
+    x_resid, y_resid = (residual_split(data[:, i : i + 1], data[:, 2:], False)[1]
+                        for i in (0, 1))
+    return cmi_block_bounds(gain, dist, x_resid, y_resid, data.shape[1] - 2, fisher=True,
+                            factor=1.0, confidence_level=confidence_level)[1:]
 
 
 #: From this many surrogates on, the Gaussian null uses FFT cross-correlations of all
@@ -968,15 +989,18 @@ def select_inputs(
     intervals : bool
         Compute a block-bootstrap interval for each chosen gain.
     n_resamples, confidence_level : int, float
-        Bootstrap resamples and nominal coverage of the intervals (in (0, 1)). The
-        moving-block bootstrap's spread runs below the gain's on strongly
-        autocorrelated series, so the intervals cover less than stated there: at 95 %
-        on AR(1) logs of 1,000-2,000 frames, 0.92-0.94 at phi = 0.5, 0.89-0.90 at
-        phi = 0.9 (gain 0.830 nats, spread 8-11 % short), 0.78-0.88 at phi = 0.98
-        (``modalinfo.information.selection.INTERVAL_COVERAGE``; benchmarks/RESULTS.md,
-        fix33-a and left33-ci).
-        Not the block length: blocks 2 and 4 times the Politis-White length cover
-        0.89 and 0.86-0.90 at phi = 0.9. The table says it under the intervals.
+        Bootstrap resamples and nominal coverage of the intervals (in (0, 1)): those
+        of :func:`~modalinfo.information.conditional_mutual_information_ci` on the
+        chosen input's columns (``copula=False`` for the Gaussian gains, whose
+        replicates are summed from block moments). The Gaussian gains' interval is
+        Fisher's z with Bartlett's floor on the residuals (fix52-b; since fix53-b here
+        too): at 95 % on AR(1) logs of 1,000-2,000 frames it covers 0.98-0.99 at phi =
+        0.5, 0.9 and 0.98 (conservative for the target's own lag: its floor counts
+        1 + phi^2 times too few pairs), where the former "normal" interval of the
+        replicates covered 0.92-0.94, 0.89-0.90 and 0.78-0.88
+        (``modalinfo.information.selection.INTERVAL_COVERAGE``; docs/ADVERSARIAL.md,
+        fix53-b; benchmarks/RESULTS.md, left33-ci). The table says it under the
+        intervals.
     min_shift : int, optional
         Spacing of the surrogates' circular shifts [samples] (they are multiples of it,
         ``modalinfo.information.resampling.surrogate_shifts``, one set for the

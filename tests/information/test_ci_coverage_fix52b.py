@@ -98,18 +98,23 @@ def test_gaussian_cmi_interval_is_the_bartlett_fisher_interval(phi: float, k: in
         (low, math.log(math.cosh(zh + Z975 * s_z))), abs=1e-12)
 
 
-@pytest.mark.parametrize("method, seed", [("histogram", 4), ("kde", 5)])
-def test_cmi_normal_interval_takes_bartletts_floor(method: str, seed: int) -> None:
+@pytest.mark.parametrize("method, seed, options", [("histogram", 4, {"bins": 5}),
+                                                   ("kde", 5, {})])
+def test_cmi_normal_interval_takes_bartletts_floor(method: str, seed: int,
+                                                   options: dict) -> None:
     """Histogram / kde CMI: half-width z_0.975 max(s_boot, |r_p| / sqrt(n_eff - 3 - k)).
 
     AR(1) 0.97 rows, n = 500, one conditioning column (~17 effective pairs): the floor
-    binds (asserted), so the interval before (``z_0.975 s_boot``) fails here.
+    binds (asserted), so the interval before (``z_0.975 s_boot``) fails here. The
+    histogram at 5 bins per axis, the rule's at n = 500 over 3 columns, given: bins the
+    caller chose keep the upper bound (fix53-b raises it by the grid's loss at the rule's
+    bins: test_cmi_grid_loss_fix53b.py).
     """
     x, y, z = _ar_triple(0.97, 500, 1, 0.5, 52500 + seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # BlockBootstrapWarning: ~17 effective pairs
         res = conditional_mutual_information_ci(x, y, z, method=method, n_resamples=49,
-                                                seed=seed)
+                                                seed=seed, **options)
     _, r_scores, s_floor = _floor_parts(x, y, z)
     s_boot = float(np.std(res.bootstrap_distribution, ddof=1))
     floor = abs(r_scores) * s_floor

@@ -1,11 +1,12 @@
 """``select_inputs``' gain intervals: the level the table states, and its measured coverage.
 
-References: scipy.stats.norm's quantiles (the half-width of a "normal" interval at level
-c is ``norm.ppf((1 + c) / 2)`` bootstrap standard deviations, so the same resamples at
-0.90 and 0.95 give half-widths in the ratio ``ppf(0.95) / ppf(0.975)``); the analytic
+References: scipy.stats.norm's quantiles (the half-width of a normal interval at level
+c is ``norm.ppf((1 + c) / 2)`` standard deviations, so the same resamples at 0.90 and
+0.95 give half-widths in the ratio ``ppf(0.95) / ppf(0.975)``, on Fisher's z scale since
+fix53-b); the analytic
 gain of a Gaussian AR(1) of coefficient phi, ``I(x_t+1; x_t) = -0.5 ln(1 - phi^2)``
 (Cover & Thomas 2006, eq. 8.56), for the coverage the table prints
-(benchmarks/RESULTS.md, left33-ci: 0.893 on 300 logs of 1,000 frames at phi = 0.9).
+(docs/ADVERSARIAL.md, fix53-b: 0.990 on 300 logs of 1,000 frames at phi = 0.9).
 """
 
 from __future__ import annotations
@@ -33,10 +34,17 @@ def test_table_states_the_level_and_the_measured_coverage():
     x = _ar1(0.9, 1000, 7)
     r95, r90 = _select(x, 3), _select(x, 3, confidence_level=0.9)
     a, b = r95.inputs[0], r90.inputs[0]
-    ratio = (b.high - b.low) / (a.high - a.low)
+    # the Fisher-z interval (fix53-b): symmetric about z(gain) on z = atanh sqrt(1 - e^-2I)
+    # with one s.d. at both levels (the same resamples), so its half-widths there are in
+    # the ratio of the normal quantiles
+    def z(i: float) -> float:
+        return math.atanh(math.sqrt(-math.expm1(-2.0 * i)))
+
+    ratio = (z(b.high) - z(b.low)) / (z(a.high) - z(a.low))
     assert ratio == pytest.approx(stats.norm.ppf(0.95) / stats.norm.ppf(0.975), rel=1e-9)
     last95, last90 = r95.table().splitlines()[-1], r90.table().splitlines()[-1]
-    assert last95.startswith("interval: block-bootstrap 'normal', nominal 95 %; it covers less")
+    assert last95.startswith("interval: block-bootstrap Fisher-z with Bartlett's floor, "
+                             "nominal 95 %; conservative")
     assert "nominal 90 %" in last90
     for phi, lo, hi in INTERVAL_COVERAGE:
         assert f"{lo:.2f}-{hi:.2f} at phi {phi:g}" in last95
@@ -58,7 +66,7 @@ def test_a_level_outside_0_1_is_refused(level):
 @pytest.mark.slow
 def test_measured_coverage_at_phi_09_is_the_stated_one():
     # 200 logs on other seeds than the bench's (1000 + s): binomial standard error of
-    # the coverage sqrt(p (1 - p) / 200) = 0.022 at p = 0.893; 3 of them either side
+    # the coverage sqrt(p (1 - p) / 200) = 0.007 at p = 0.990 (fix53-b); 3 of them either side
     phi, n, seeds = 0.9, 1000, 200
     true = -0.5 * math.log(1 - phi**2)
     hits = 0

@@ -11,7 +11,7 @@ variances in test_conditional.py) for each reported gain.
 import numpy as np
 import pytest
 from scipy.signal import lfilter
-from scipy.stats import binom, norm
+from scipy.stats import binom
 
 from modalinfo.information import conditional_mutual_information
 from modalinfo.information.selection import lagged_candidates, select_inputs
@@ -283,13 +283,12 @@ def test_gram_bootstrap_interval_equals_the_resampling_one():
                                             method="gaussian", n_resamples=50, seed=4,
                                             copula=False)
     low, high = _gaussian_block_ci(data, ref.estimate, 50, 0.95, np.random.default_rng(4))
-    # same resamples; sums of 3000 products in another order: agreement to 1e-9. The
-    # selection's interval is the "normal" one of the replicates' s.d. (the public one is
-    # Fisher's with Bartlett's floor since fix52-b), so the reference is that of ref's
-    # replicates
-    half = norm.ppf(0.975) * float(np.std(ref.bootstrap_distribution, ddof=1))
-    assert low == pytest.approx(ref.estimate - half, abs=1e-9)
-    assert high == pytest.approx(ref.estimate + half, abs=1e-9)
+    # same resamples; sums of 3000 products in another order: agreement to 1e-9. Since
+    # fix53-b the selection's interval is the public one (Fisher's z with Bartlett's
+    # floor, fix52-b); before, the "normal" one of the replicates' s.d.
+    assert ref.interval == "fisher"
+    assert low == pytest.approx(ref.low, abs=1e-9)
+    assert high == pytest.approx(ref.high, abs=1e-9)
 
 
 def test_refuses_a_search_larger_than_the_available_memory(monkeypatch):
