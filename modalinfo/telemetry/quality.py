@@ -1183,9 +1183,26 @@ class QualityReport:
         order = np.argsort(-self.outliers, kind="stable")[:n]
         return [(self.labels[j], int(self.outliers[j])) for j in order if self.outliers[j] > 0]
 
+    @property
+    def constant_note(self) -> str:
+        """The modes constant over the whole log (a zeroed, slaved or dead mode), or "".
+
+        They are not tested for outliers or stuck runs; named so that a log whose mode
+        is dead is not called clean without a word (round 53 PART a, W09).
+        """
+        dead = np.flatnonzero(np.asarray(self.constant, dtype=bool))
+        if dead.size == 0:
+            return ""
+        names = ", ".join(str(self.labels[i]) for i in dead[:5])
+        more = f" and {dead.size - 5} more" if dead.size > 5 else ""
+        return (f"{dead.size} mode(s) constant over the whole log, not tested (a zeroed, "
+                f"slaved or dead mode?): {names}{more}")
+
     def describe(self) -> str:
         """One line: what was flagged and by which rule (or why it was not assessed)."""
         caveat = f"; {self.stationarity_note}" if self.stationarity_note else ""
+        if self.constant_note:
+            caveat += f"; {self.constant_note}"
         if self.clean:
             return f"0 of {self.n_frames} frames flagged by {self.rule}" + caveat
         if not self.assessed:
