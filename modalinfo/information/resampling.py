@@ -1449,7 +1449,7 @@ class OutlierWarning(UserWarning):
     """
 
 
-def outlier_columns(series: np.ndarray, alpha: float | None = None
+def outlier_columns(series: np.ndarray, alpha: float | None = None, *, min_levels: int = 0
                     ) -> list[tuple[int, int, float, float]]:
     """Columns whose AR(4) innovations reach beyond the heavy-tail rule's threshold.
 
@@ -1468,6 +1468,9 @@ def outlier_columns(series: np.ndarray, alpha: float | None = None
     alpha : float or None
         False-alarm probability over the columns, in ``(0, 1)``; None:
         ``HEAVY_TAIL_ALPHA`` (read at the call).
+    min_levels : int
+        Columns with fewer distinct values are not judged (a binary or few-level
+        series has no Gaussian tail to exceed).
 
     Returns
     -------
@@ -1485,6 +1488,8 @@ def outlier_columns(series: np.ndarray, alpha: float | None = None
         return []
     centred = x - x.mean(axis=0)
     scale = np.max(np.abs(centred), axis=0)
+    if min_levels:
+        scale[[np.unique(x[:, j]).size < min_levels for j in range(x.shape[1])]] = 0.0
     live = np.flatnonzero(scale > 0.0)
     if live.size == 0:
         return []
@@ -1500,6 +1505,12 @@ def outlier_columns(series: np.ndarray, alpha: float | None = None
         if z > k:
             out.append((int(live[i]), t + p, z, float(k)))
     return out
+
+
+#: Fewest distinct values of a series :func:`outlier_note` judges: a binary or DAC-level
+#: series (a few levels) has no Gaussian tail, and its least-squares scores are refused
+#: or judged by the discrete rules (``information.discrete``), not by this one.
+OUTLIER_MIN_LEVELS = 32
 
 
 def outlier_note(series: np.ndarray, labels, caller: str) -> str | None:
@@ -1519,7 +1530,7 @@ def outlier_note(series: np.ndarray, labels, caller: str) -> str | None:
     caller : str
         The function's name, to start the message.
     """
-    flagged = outlier_columns(series)
+    flagged = outlier_columns(series, min_levels=OUTLIER_MIN_LEVELS)
     if not flagged:
         return None
     flagged.sort(key=lambda f: -f[2] / f[3])
