@@ -83,7 +83,7 @@ class MaskedPupil(Pupil):
 
 
 def support_of(images, *, name: str = "images") -> np.ndarray:
-    """Return the support of mode images: pixels finite and non-zero in at least one image.
+    """Return the support of mode images: pixels finite in every image, non-zero in one.
 
     Parameters
     ----------
@@ -96,6 +96,12 @@ def support_of(images, *, name: str = "images") -> np.ndarray:
     -------
     numpy.ndarray
         ``(h, w)`` bool.
+
+    Raises
+    ------
+    ValueError
+        Images not ``(M, h, w)`` or ``(h, w)``, or a pixel non-finite in some images and
+        non-zero in another (a dead pixel inside the pupil, named with its mode).
     """
     arr = np.asarray(images)
     if arr.ndim == 2:
@@ -103,7 +109,21 @@ def support_of(images, *, name: str = "images") -> np.ndarray:
     if arr.ndim != 3:
         raise ValueError(f"`{name}` must be images (M, h, w); got shape {arr.shape}.")
     finite = np.isfinite(arr)
-    return np.all(finite, axis=0) & np.any(finite & (arr != 0), axis=0)
+    live = np.any(finite & (arr != 0), axis=0)
+    # a pixel non-finite in some modes but non-zero in another is a dead pixel inside the
+    # pupil, not its outside: dropping it from every mode changed the pupil without a
+    # word (round 53 PART a, O11 / O12)
+    mixed = live & ~np.all(finite, axis=0)
+    if mixed.any():
+        r, c = (int(i) for i in np.argwhere(mixed)[0])
+        bad = np.flatnonzero(~finite[:, r, c])
+        raise ValueError(
+            f"`{name}` mode {int(bad[0])} is not finite at pixel ({r}, {c}), where the "
+            f"other {arr.shape[0] - bad.size} mode(s) are finite and not all zero: a dead "
+            f"or unread pixel inside the pupil ({int(mixed.sum())} such pixel(s) in all); "
+            "repair it, or give "
+            "`mask` without it to leave it out of every mode.")
+    return np.all(finite, axis=0) & live
 
 
 def pupil_from_mask(mask, diameter: float = 1.0) -> Pupil:

@@ -139,11 +139,13 @@ from modalinfo.information.conditional import (
 from modalinfo.information.histogram import histogram_cmi, histogram_conditioning_rule
 from modalinfo.information.methods import BiasRuleWarning, get_method
 from modalinfo.information.resampling import (
+    OutlierWarning,
     check_resamples,
     check_surrogates_reach,
     local_linear_split,
     matched_window_for,
     neighbour_rows,
+    outlier_note,
     rank_based_options,
     surrogate_shifts,
 )
@@ -841,6 +843,8 @@ def transfer_entropy_map(
         raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
                          "closed form scores the values (least-squares residuals); use "
                          "method='histogram' or 'ksg' for rank-based scores.")
+    if closed and (why := outlier_note(series, labels, "transfer_entropy_map")):
+        warn(why, OutlierWarning, stacklevel=2)  # least squares follow a glitch (round 53 a)
     est = _estimator(method, units, options)
     T, S = series.shape
     L = lags.size

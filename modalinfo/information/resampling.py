@@ -52,12 +52,12 @@ from modalinfo._stats import (
     LEVEL_ALPHA,
     MAD_RELATIVE_SD,
     PAIR_MIN_STATIONARITY_FRAMES,
-    ar_innovations,
     lag1_autocorrelations,
     level_steps,
     mad_union_threshold,
     sample_autocovariance,
     scale_stationarity,
+    stacked_ar_fits,
 )
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.scaling import rescale_power_of_two
@@ -1441,41 +1441,128 @@ def heavy_tail_threshold(n_values: int, n_series: int = 2,
                                in_sample=True)
 
 
+class OutlierWarning(UserWarning):
+    """Series hold values far beyond their Gaussian law (glitches, a heavy tail).
+
+    Warned by the least-squares (``method="gaussian"``) input selection and transfer
+    map, whose partial correlations one glitched frame moves (round 53 PART a).
+    """
+
+
+def outlier_columns(series: np.ndarray, alpha: float | None = None, *, min_levels: int = 0
+                    ) -> list[tuple[int, int, float, float]]:
+    """Columns whose AR(4) innovations reach beyond the heavy-tail rule's threshold.
+
+    The rule of ``_heavy_tail_rule`` (the quality pass's outlier test on the AR(
+    ``INNOVATION_ORDER``) innovations, ``modalinfo._stats.stacked_ar_fits``) on every
+    column at once: a column is flagged where ``max_t |e_t - median| / (1.4826 MAD)``
+    exceeds :func:`heavy_tail_threshold` of its innovations and the columns judged, so
+    that a Gaussian (AR) log of any number of columns is flagged with probability
+    about ``alpha``. Constant columns and columns whose innovations' MAD is 0 are not
+    judged.
+
+    Parameters
+    ----------
+    series : numpy.ndarray, shape (n, m)
+        Finite real series in time order, one per column.
+    alpha : float or None
+        False-alarm probability over the columns, in ``(0, 1)``; None:
+        ``HEAVY_TAIL_ALPHA`` (read at the call).
+    min_levels : int
+        Columns with fewer distinct values are not judged (a binary or few-level
+        series has no Gaussian tail to exceed).
+
+    Returns
+    -------
+    list of (int, int, float, float)
+        ``(column, frame, z, k)`` of each flagged column: its worst innovation's frame
+        (row of ``series``), that innovation in robust sigmas and the threshold; empty
+        when none is flagged or the series are too short (``n < 4 p + 2``).
+    """
+    from modalinfo.telemetry.quality import MAD_TO_SIGMA
+
+    x = np.asarray(series, dtype=float)
+    x = x.reshape(x.shape[0], -1)
+    p = INNOVATION_ORDER
+    if x.shape[0] < 4 * p + 2:
+        return []
+    centred = x - x.mean(axis=0)
+    scale = np.max(np.abs(centred), axis=0)
+    if min_levels:
+        scale[[np.unique(x[:, j]).size < min_levels for j in range(x.shape[1])]] = 0.0
+    live = np.flatnonzero(scale > 0.0)
+    if live.size == 0:
+        return []
+    e = stacked_ar_fits(centred[:, live] / scale[live], p, residuals=True)[1]
+    dev = np.abs(e - np.median(e, axis=0))
+    sigma = MAD_TO_SIGMA * np.median(dev, axis=0)
+    k = heavy_tail_threshold(e.shape[0], x.shape[1],
+                             HEAVY_TAIL_ALPHA if alpha is None else alpha)
+    out = []
+    for i in np.flatnonzero(sigma > 0.0):
+        t = int(np.argmax(dev[:, i]))
+        z = float(dev[t, i] / sigma[i])
+        if z > k:
+            out.append((int(live[i]), t + p, z, float(k)))
+    return out
+
+
+#: Fewest distinct values of a series :func:`outlier_note` judges: a binary or DAC-level
+#: series (a few levels) has no Gaussian tail, and its least-squares scores are refused
+#: or judged by the discrete rules (``information.discrete``), not by this one.
+OUTLIER_MIN_LEVELS = 32
+
+
+def outlier_note(series: np.ndarray, labels, caller: str) -> str | None:
+    """Why least-squares dependence scores of ``series`` may be spurious, or None.
+
+    One glitched frame shared by a few columns is a leverage point that makes them
+    look predictive of each other: four frames glitched by 20 sd in 3 of 40 AR(1) modes
+    gave false inputs in 20 of 20 ``select_inputs`` calls (0 of 20 clean) and false
+    cells in 10 of 10 transfer maps (1 of 10 clean; round 53 PART a, W57 / W59).
+
+    Parameters
+    ----------
+    series : numpy.ndarray, shape (n, m)
+        The series scored, in time order.
+    labels : sequence of str
+        Their ``m`` names.
+    caller : str
+        The function's name, to start the message.
+    """
+    flagged = outlier_columns(series, min_levels=OUTLIER_MIN_LEVELS)
+    if not flagged:
+        return None
+    flagged.sort(key=lambda f: -f[2] / f[3])
+    shown = ", ".join(f"{labels[c]} ({z:.1f} at frame {t})" for c, t, z, _ in flagged[:4])
+    more = f" and {len(flagged) - 4} more" if len(flagged) > 4 else ""
+    return (f"{caller}: {len(flagged)} series hold outliers: AR({INNOVATION_ORDER}) "
+            f"innovations beyond {flagged[0][3]:.2f} robust sigmas, which Gaussian series "
+            f"exceed with probability {HEAVY_TAIL_ALPHA:g}: {shown}{more}. The least-squares "
+            "(method='gaussian') scores follow such values: a frame glitched in a few "
+            "modes makes them look predictive of each other (4 glitched frames gave false "
+            "links in every one of 20 selections and 10 maps, round 53 PART a); remove "
+            "glitches first (modalinfo.telemetry.apply_outlier_policy, 'clip' or 'drop') "
+            "and read the links of these series with care.")
+
+
 def _heavy_tail_rule(x: np.ndarray, y: np.ndarray, name: str) -> str | None:
     """Why a block-bootstrap interval of (x, y) undercovers for heavy tails, or None.
 
     The bootstrap spread of a statistic whose sampling law rests on fourth moments (the
     correlation behind the MI of a pair) is not consistent when they are infinite
     (Athreya 1987): AR(1) 0.9 pairs with Student t3 innovations, n = 500, covered 0.77
-    for a nominal 0.95 (leftovers 12-ci). Rule: the quality pass's outlier test on the
-    AR(4) innovations of a column (``modalinfo._stats.ar_innovations``): the largest
-    ``|e - median| / (1.4826 MAD)`` beyond ``heavy_tail_threshold`` of the
-    innovations and the columns judged, at ``HEAVY_TAIL_ALPHA`` per pair (the MAD's own
-    spread counted). Measured (benchmarks/bench_heavy_tail_left15.py, 1e5 pairs of n =
-    500): Gaussian iid 8e-5, AR(1) 0.9 1.0e-4 (the per-series Bonferroni threshold
-    before: 4.8e-4, 4.9e-4); t3 in both series 400 of 400, in x only 390 of 400
-    (AR(1) 0.9).
+    for a nominal 0.95 (leftovers 12-ci). Rule: :func:`outlier_columns` (the quality
+    pass's outlier test on the AR(4) innovations of a column) over the columns of x
+    and y, at ``HEAVY_TAIL_ALPHA`` per pair (the MAD's own spread counted). Measured
+    (benchmarks/bench_heavy_tail_left15.py, 1e5 pairs of n = 500): Gaussian iid 8e-5,
+    AR(1) 0.9 1.0e-4 (the per-series Bonferroni threshold before: 4.8e-4, 4.9e-4); t3
+    in both series 400 of 400, in x only 390 of 400 (AR(1) 0.9).
     """
-    from modalinfo.telemetry.quality import MAD_TO_SIGMA
-
-    worst = None
-    cols = (*np.asarray(x, float).reshape(x.shape[0], -1).T,
-            *np.asarray(y, float).reshape(y.shape[0], -1).T)
-    for col in cols:
-        if col.shape[0] < 4 * INNOVATION_ORDER + 2:
-            return None
-        scale = float(np.max(np.abs(col - col.mean())))
-        if scale == 0.0:
-            continue
-        e = ar_innovations((col - col.mean()) / scale)
-        dev = np.abs(e - np.median(e))
-        sigma = MAD_TO_SIGMA * float(np.median(dev))
-        if sigma <= 0.0:
-            continue
-        k = heavy_tail_threshold(e.shape[0], len(cols), HEAVY_TAIL_ALPHA)
-        z = float(dev.max()) / sigma
-        if z > k and (worst is None or z / k > worst[0] / worst[1]):
-            worst = (z, k)
+    xs = np.asarray(x, float).reshape(x.shape[0], -1)
+    ys = np.asarray(y, float).reshape(y.shape[0], -1)
+    flagged = outlier_columns(np.hstack([xs, ys]))
+    worst = max(((z, k) for _, _, z, k in flagged), key=lambda w: w[0] / w[1], default=None)
     if worst is None:
         return None
     return (f"{name}: the block bootstrap assumes finite fourth moments, but the series' "

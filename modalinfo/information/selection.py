@@ -113,6 +113,7 @@ from modalinfo.information.histogram import histogram_cmi, histogram_conditionin
 from modalinfo.information.ksg import ksg_cmi, ksg_cost
 from modalinfo.information.methods import BiasRuleWarning, get_method
 from modalinfo.information.resampling import (
+    OutlierWarning,
     auto_block_length,
     block_bootstrap_indices,
     check_resamples,
@@ -120,6 +121,7 @@ from modalinfo.information.resampling import (
     local_linear_split,
     local_permutation,
     neighbour_rows,
+    outlier_note,
     rank_based_options,
     residual_split,
     surrogate_pvalue,
@@ -1107,6 +1109,8 @@ def select_inputs(
         raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
                          "closed form scores the values (least-squares residuals); use "
                          "method='histogram' or 'ksg' for rank-based scores.")
+    if closed and (why := outlier_note(series, labels, "select_inputs")):
+        warn(why, OutlierWarning, stacklevel=2)  # least squares follow a glitch (round 53 a)
     est = _estimator(method, units, options)
     factor = UNITS[units]
     # once per call, not once per candidate (issue 27)

@@ -1041,6 +1041,7 @@ class QualityReport:
     pair_judged: bool = False
     stuck_block: tuple = ()
     pair_rows: tuple = ()
+    copied_modes: tuple = ()
 
     @property
     def approximate(self) -> bool:
@@ -1233,9 +1234,41 @@ class QualityReport:
         order = np.argsort(-self.outliers, kind="stable")[:n]
         return [(self.labels[j], int(self.outliers[j])) for j in order if self.outliers[j] > 0]
 
+    @property
+    def constant_note(self) -> str:
+        """The modes constant over the whole log (a zeroed, slaved or dead mode), or "".
+
+        They are not tested for outliers or stuck runs; named so that a log whose mode
+        is dead is not called clean without a word (round 53 PART a, W09).
+        """
+        dead = np.flatnonzero(np.asarray(self.constant, dtype=bool))
+        if dead.size == 0:
+            return ""
+        names = ", ".join(str(self.labels[i]) for i in dead[:5])
+        more = f" and {dead.size - 5} more" if dead.size > 5 else ""
+        return (f"{dead.size} mode(s) constant over the whole log, not tested (a zeroed, "
+                f"slaved or dead mode?): {names}{more}")
+
+    @property
+    def copied_note(self) -> str:
+        """Pairs of varying modes equal in every sampled frame (a channel written twice), or "".
+
+        A copy is no outlier and no stuck run; named so that a log whose channel was mapped
+        twice is not called clean without a word (round 53 PART a, W10).
+        """
+        if not self.copied_modes:
+            return ""
+        pairs = ", ".join(f"{b} = {a}" for a, b in self.copied_modes[:5])
+        more = f" and {len(self.copied_modes) - 5} more" if len(self.copied_modes) > 5 else ""
+        return (f"{len(self.copied_modes)} pair(s) of modes equal in all {self.sample_frames} "
+                f"sampled frames (a channel written twice?): {pairs}{more}")
+
     def describe(self) -> str:
         """One line: what was flagged and by which rule (or why it was not assessed)."""
         caveat = f"; {self.stationarity_note}" if self.stationarity_note else ""
+        for note in (self.constant_note, self.copied_note):
+            if note:
+                caveat += f"; {note}"
         if self.clean:
             return f"0 of {self.n_frames} frames flagged by {self.rule}" + caveat
         if not self.assessed:
@@ -2505,7 +2538,31 @@ def assess_quality(
         copied_frames=copied_frames, copied_block=copied_block,
         pair_order=pair_order, pair_judged=pair_found is not None,
         stuck_block=stuck_block, pair_rows=pair_rows,
+        copied_modes=_copied_modes(sample, constant, list(labels)),
     )
+
+
+def _copied_modes(sample: np.ndarray, constant: np.ndarray, labels: list) -> tuple:
+    """``(first, copy)`` labels of the varying modes equal to an earlier one in ``sample``.
+
+    Candidates are grouped by their first 64 sampled values (bytes), then compared over
+    the whole sample; a pair of continuous modes equal in thousands of frames is a copy,
+    not chance. Constant modes are left to :attr:`QualityReport.constant_note`.
+    """
+    if sample.shape[0] < 2:
+        return ()
+    head = np.ascontiguousarray(sample[: min(64, sample.shape[0])].T)
+    seen: dict[bytes, list[int]] = {}
+    pairs = []
+    for j in np.flatnonzero(~np.asarray(constant, dtype=bool)):
+        key = head[j].tobytes()
+        for i in seen.get(key, []):
+            if np.array_equal(sample[:, i], sample[:, j]):
+                pairs.append((str(labels[i]), str(labels[j])))
+                break
+        else:
+            seen.setdefault(key, []).append(int(j))
+    return tuple(pairs)
 
 
 def _first_stuck_run(arr: np.ndarray, stuck_frames: np.ndarray, n_stuck: np.ndarray,

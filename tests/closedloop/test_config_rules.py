@@ -97,7 +97,8 @@ RULES = [
     # binds before the 2 x 4 slopes of the 2x2 SH and the pupil sampling's 14); 9: beyond
     # the 8 slopes (the slopes rule)
     ("dms[0].n_modes", [1, 2], [0, 3, 9], None),
-    ("dms[0].diameter", [0.5], [0.0], None),
+    # valid at and above telescope.diameter: a smaller disc warns (round 53 PART a)
+    ("dms[0].diameter", [1.0, 1.5], [0.0], None),
     ("wfss[0].field_of_view", [0.0], [-1.0], None),
     ("wfss[0].n_subapertures", [2, 4], [1], None),  # 4: 2 pixels each across 8
     ("wfss[0].noise", [0.0, 0.01], [-1e-9], None),
