@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import re
 from collections.abc import Callable, Iterator
 from datetime import UTC, datetime
 from pathlib import Path
@@ -704,7 +705,7 @@ def run_log_task(payload: dict) -> dict:
     path = payload["path"]
     check_readable(Path(path))  # missing, a folder, a FIFO or a device: named as such
     # the row's layout_doubt column says it, batch once per log; this thread's only
-    with quiet(LayoutWarning):
+    with quiet(LayoutWarning), _hints_named():
         log = load(path, fmt=payload.get("fmt"), mmap=True, **payload.get("hints", {}))
     _verify_mapped(path, log, payload.get("fmt"))
     if payload.get("window") is not None:
@@ -722,6 +723,45 @@ def run_log_task(payload: dict) -> dict:
     row.update(quality_columns(quality, log, params.get("outliers", "warn")))
     row.update(ANALYSES[analysis](log, params))
     return row
+
+
+#: The reader's hint arguments -> how a batch user gives them: an option of the command
+#: line, or a column of a manifest (``modalinfo.batch.manifest``).
+_HINT_WORDS = {
+    "rate": "--rate or column 'rate'", "units": "--in-units or column 'in_units'",
+    "wavelength": "--wavelength or column 'wavelength'",
+    "modes": "--in-modes or column 'in_modes'",
+    "convention": "--in-convention or column 'in_convention'",
+    "nonfinite": "--nonfinite or column 'nonfinite'",
+    "transpose": "--transpose or column 'transpose'", "loop": "--loop or column 'loop'",
+    "start_time": "column 'start_time'",
+}
+
+
+@contextlib.contextmanager
+def _hints_named() -> Iterator[None]:
+    """Name a reader's hint in an error row as the batch user gave it.
+
+    The reader's words (``hint `rate`=2000.0 contradicts ...``, ``` `loop` selects
+    ...```) name its Python argument; a batch user gave ``--rate`` or a manifest's column
+    'rate', and single-log commands say ``--rate`` (adversarial round 53 PART b, M09-M11,
+    M34, M36, M38).
+    """
+    try:
+        yield
+    except ValueError as exc:
+        text = str(exc)
+        named = re.sub(r"(hint )?`(\w+)`(=)?",
+                       lambda m: (f"{m.group(1) or ''}{m.group(2)} ({_HINT_WORDS[m.group(2)]})"
+                                  f"{' = ' if m.group(3) else ''}")
+                       if m.group(2) in _HINT_WORDS else m.group(0), text, count=1)
+        if named == text:
+            raise
+        try:
+            new = type(exc)(named)
+        except Exception:  # noqa: BLE001 - an exception type with another signature
+            raise exc from None
+        raise new from None
 
 
 def _check_quality_memory(path: str, log: Any, policy: str) -> None:

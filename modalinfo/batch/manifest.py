@@ -338,11 +338,23 @@ def _walk(directory: Path, exclude: Sequence[Path], skipped: list[str] | None = 
                              f"read ({exc.strerror or exc})") from None
         unreadable.append(str(where))
 
-    for root, dirs, files in os.walk(directory, onerror=refused):
+    # followlinks: a night linked in from another disk (``2026-11-09 -> /data2/...``)
+    # was not entered and its logs were missing from the table without a word
+    # (adversarial round 53 PART b, M04); a folder already walked under another name (a
+    # link to an ancestor, a second link to one night) is not walked again, so a link
+    # loop ends and no log is listed twice
+    seen = {directory.resolve()}
+    for root, dirs, files in os.walk(directory, onerror=refused, followlinks=True):
         here = Path(root)
-        dirs[:] = sorted(d for d in dirs if not d.startswith(".")
-                         and not any((here / d).resolve() == x for x in exclude)
-                         and not _is_batch_output(here / d))
+        kept = []
+        for d in sorted(dirs):
+            real = (here / d).resolve()
+            if (d.startswith(".") or real in seen or any(real == x for x in exclude)
+                    or _is_batch_output(here / d)):
+                continue
+            seen.add(real)
+            kept.append(d)
+        dirs[:] = kept
         for name in sorted(files):
             if name.startswith("."):
                 continue
@@ -384,8 +396,9 @@ def collect_logs(
     Parameters
     ----------
     inputs : path or sequence of paths
-        A directory (searched recursively for files with a log extension; hidden
-        files skipped), a glob pattern (``**`` allowed), a manifest CSV, or a log.
+        A directory (searched recursively, links to folders followed and each folder
+        once, for files with a log extension; hidden files skipped), a glob pattern
+        (``**`` allowed), a manifest CSV, or a log.
     exclude : sequence of paths
         Directories never searched (the batch's own output directory).
     fmt, hints : optional

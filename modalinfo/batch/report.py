@@ -4,7 +4,8 @@ Forecast gain, MI-order stability and RMS against date, seeing or loop rate
 (whichever the logs' metadata provide).
 
 One figure per x quantity present in the rows (``date``, ``r0_m`` / ``seeing_arcsec``,
-``rate``), with one panel per y quantity present (forecast gain at h = 1 per
+``rate``; a date is an ISO 8601 text, placed in UTC, one without an offset taken as UTC),
+with one panel per y quantity present (forecast gain at h = 1 per
 predictor, consecutive-window Spearman correlation of the MI ordering, total RMS).
 """
 
@@ -12,7 +13,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from datetime import datetime
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -31,12 +32,27 @@ def _number(value: Any) -> float | None:
 
 
 def _x_value(row: dict, name: str) -> Any:
+    """Return a row's x quantity ``name``, or None where it cannot be placed.
+
+    A date is an ISO 8601 text only, placed as UTC: one with an offset (``+02:00``,
+    ``Z``, a Unix ``start_time``'s ``+00:00``) is converted to UTC, one without is taken
+    as UTC already. Naive and aware dates together raised "can't compare offset-naive
+    and offset-aware datetimes" after every task had run, exit 2 and no summary, and a
+    number (an MJD, ``20261101``) was drawn as the date itself, 20 million "days" from
+    its neighbour, or raised against a date (adversarial round 53 PART b, O01-O23): a
+    number is no date here and is not placed.
+    """
     value = row.get(name)
-    if name == "date" and isinstance(value, str):
+    if name == "date":
+        if not isinstance(value, str):
+            return None
         try:
-            return datetime.fromisoformat(value)
+            when = datetime.fromisoformat(value.strip())
         except ValueError:
             return None
+        if when.tzinfo is not None:
+            when = when.astimezone(UTC).replace(tzinfo=None)
+        return when
     return _number(value)
 
 
@@ -101,7 +117,7 @@ def plot_archive(rows: list[dict], out_dir: str | Path, *,
         Rows of :func:`~modalinfo.batch.analyse_archive`.
     out_dir : path
         Directory of the PNG files (replaced on each run: they are derived from the
-        rows).
+        rows; an ``archive_vs_<x>.png`` this run does not draw is removed).
     provenance : dict, optional
         What made the plots (``analyse_archive`` passes the batch's record: version,
         command, the table's SHA-256), written as JSON in each PNG's ``Description``
@@ -127,6 +143,10 @@ def plot_archive(rows: list[dict], out_dir: str | Path, *,
         for x_name, x_label in _X:
             panels = _panels(rows, x_name)
             if not panels:
+                # a plot an earlier run drew against this quantity is of other rows: it
+                # was left beside the new table, which it did not draw (adversarial
+                # round 53 PART b, O06 / O08)
+                (Path(out_dir) / f"archive_vs_{x_name}.png").unlink(missing_ok=True)
                 continue
             out = Path(out_dir)
             out.mkdir(parents=True, exist_ok=True)
@@ -143,7 +163,14 @@ def plot_archive(rows: list[dict], out_dir: str | Path, *,
             axes[-1, 0].set_xlabel(x_label)
             if x_name == "date":
                 fig.autofmt_xdate()
-            fig.suptitle(f"archive of {len({r.get('path') for r in rows})} logs against {x_label}")
+            # the logs drawn, not the table's: a log without a placeable x was counted
+            # in "archive of 3 logs against date" over 2 points (round 53 PART b, O19)
+            drawn = {r.get("path") for r in rows if r.get("status") == "ok"
+                     and _x_value(r, x_name) is not None}
+            total = len({r.get("path") for r in rows})
+            fig.suptitle(f"{len(drawn)} of {total} logs of the archive against {x_label}"
+                         if len(drawn) < total else
+                         f"archive of {total} logs against {x_label}")
             fig.tight_layout()
             path = out / f"archive_vs_{x_name}.png"
             atomic_write(path, lambda fh, f=fig: f.savefig(fh, format="png", dpi=120,

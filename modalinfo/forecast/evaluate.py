@@ -1520,6 +1520,16 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
                                 **_labels_override(proto, name, noll, labels))
               for name, proto in all_preds.items()}
     _check_fit_seconds(clones, n_train, n_modes, int(origins[-1]), max_seconds)
+    for pred in clones.values():
+        # each predictor's fit refuses too few training frames, but only when its turn
+        # came: the multivariate one's refusal of a 1,000-mode log came after the
+        # linear, ARMA and neural-net fits, minutes of work (adversarial round 53
+        # PART b, W09); the same words, before any fit
+        n_min, rule = pred._min_samples_rule(n_modes)
+        if n_train < n_min:
+            raise ValueError(
+                f"`history` needs at least {n_min} samples along axis 0 for "
+                f"{type(pred).__name__} ({rule}); got {n_train}.")
     for i, (name, pred) in enumerate(clones.items()):
         settings["predictors"][name] = repr(pred)
         pred.fit(train_data)
