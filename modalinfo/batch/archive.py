@@ -69,6 +69,9 @@ class BatchResult:
     unreadable : tuple of str
         Subfolders of the input directories this process may not list, left out (the
         rest is analysed).
+    manifests : tuple of str
+        Manifests met in the input directories, not read as logs (give one as an
+        input of its own to read it).
     """
 
     rows: list
@@ -80,6 +83,7 @@ class BatchResult:
     identical: tuple = ()
     skipped: tuple = ()
     unreadable: tuple = ()
+    manifests: tuple = ()
 
     @property
     def n_ok(self) -> int:
@@ -335,8 +339,9 @@ def analyse_archive(
     check_out_dir(out_dir)
     skipped: list[str] = []
     unreadable: list[str] = []
+    manifests: list[str] = []
     entries = collect_logs(inputs, exclude=[out_dir], fmt=fmt, hints=hints, skipped=skipped,
-                           unreadable=unreadable)
+                           unreadable=unreadable, manifests=manifests)
     if client is not None and any(v is not None for v in (
             scheduler, n_workers, threads_per_worker, memory_limit, retries)):
         raise ValueError("give either `client` or a scheduler / cluster shape, not both")
@@ -387,7 +392,7 @@ def analyse_archive(
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
                        identical=identical_inputs(entries, probes), skipped=tuple(skipped),
-                       unreadable=tuple(unreadable))
+                       unreadable=tuple(unreadable), manifests=tuple(manifests))
 
 
 def _labelled(row: dict, labels: dict) -> dict:

@@ -390,6 +390,7 @@ def collect_logs(
     hints: dict | None = None,
     skipped: list[str] | None = None,
     unreadable: list[str] | None = None,
+    manifests: list[str] | None = None,
 ) -> list[LogEntry]:
     """List the logs named by directories, glob patterns, manifests and files.
 
@@ -411,6 +412,10 @@ def collect_logs(
         appended to it and the search goes on; otherwise such a subfolder raises
         ``ValueError`` naming it. An input directory that cannot be read is refused
         either way.
+    manifests : list of str, optional
+        If given, the manifests (CSV files with a ``path`` column) a directory search
+        meets are appended to it and not listed as logs (a manifest is an input of its
+        own); otherwise they are listed, and their rows are errors.
 
     Returns
     -------
@@ -462,6 +467,12 @@ def collect_logs(
                     f"input folder {text!r} is the output directory or lies inside it, and "
                     "batch never reads logs from its output directory; choose another --out")
             for file in _walk(path, skip, skipped, unreadable):
+                if manifests is not None and _is_manifest(file):
+                    # an archive's own manifest.csv was an error row "corrupt CSV file
+                    # ...: could not convert string '2026-11-01/a.npz' to float64"
+                    # (adversarial round 53 PART b, M16)
+                    manifests.append(str(file))
+                    continue
                 add(plain(file))
         elif path.is_file() and (table := result_table(path)) is not None:
             # batch.csv was read as a manifest, "unknown column 'analysis'", and sweep.csv

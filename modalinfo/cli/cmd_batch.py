@@ -225,6 +225,13 @@ def run(args: argparse.Namespace) -> int:
                          f"the input folders cannot be read (permission denied) and were "
                          f"skipped: {shown}; give read and search permission (chmod u+rx) "
                          f"or run as their owner to analyse them\n")
+    manifests = getattr(result, "manifests", ())  # a result of before round 53 has none
+    if manifests:  # a warning: even with --quiet (round 53 PART b, M16)
+        shown = (", ".join(map(shown_name, manifests[:5]))
+                 + (", ..." if len(manifests) > 5 else ""))
+        sys.stderr.write(f"modalinfo batch: note: {len(manifests)} manifest(s) in the "
+                         f"input folders not read as logs: {shown}; give a manifest as an "
+                         f"input of its own to analyse the logs it names\n")
     kl_assumption_note(result.rows)  # a warning: even with --quiet
     layout_doubt_note(result.rows)
     refused = None  # a stdout that refuses the summary: said after the warnings below

@@ -201,6 +201,26 @@ def _not_a_log(path, what: str, advice: str = "") -> LogFormatError:
     return exc
 
 
+def _refuse_plain_zip(path) -> None:
+    """Refuse a zip archive that holds no ``.npy`` member: not an NPZ log, an archive.
+
+    A zipped night of logs was "corrupt NPZ file 'night.zip': ValueError: the magic
+    string is not correct" (adversarial round 53 PART b, M48). A zip whose directory
+    cannot be read is left to the NPZ reader, which says what is wrong.
+    """
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as archive:
+            names = archive.namelist()
+    except (zipfile.BadZipFile, OSError, ValueError):
+        return
+    if names and not any(n.lower().endswith(".npy") for n in names):
+        raise _not_a_log(path, f"a zip archive of {len(names)} file(s) with no .npy array "
+                         f"(first: {names[0]!r})",
+                         f"extract it (unzip {quoted(path)}) and give its folder or its logs")
+
+
 def detect_format(path) -> str:
     """Return the format of an existing file: magic bytes first, then the extension.
 
@@ -225,7 +245,14 @@ def detect_format(path) -> str:
         head = fh.read(512)
     if not head:
         raise LogFormatError(f"{quoted(path)} is empty")
+    if head[257:262] == b"ustar":
+        # a night packed with tar was "corrupt CSV file 'arch.tar': UnicodeDecodeError"
+        # (adversarial round 53 PART b, M47)
+        raise _not_a_log(path, "a tar archive",
+                         f"extract it (tar xf {quoted(path)}) and give its folder or its logs")
     seen = sniff_format(path, head)
+    if seen == "npz":
+        _refuse_plain_zip(path)
     if seen is not None and seen != "csv":
         return seen
     for magic, (what, tool) in _COMPRESSED.items():

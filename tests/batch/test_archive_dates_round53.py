@@ -47,3 +47,17 @@ def test_plot_not_drawn_this_run_is_removed(tmp_path):
     assert plot_archive(undated, tmp_path) == []
     # the first run's date plot, of other rows, stayed beside the new table
     assert not (tmp_path / "archive_vs_date.png").exists()
+
+
+def test_title_counts_the_logs_drawn(tmp_path, monkeypatch):
+    from matplotlib.figure import Figure
+
+    titles = []
+    original = Figure.suptitle
+    monkeypatch.setattr(Figure, "suptitle",
+                        lambda self, text, **kw: titles.append(text) or original(self, text, **kw))
+    rows = [_row("a.npz", "2026-11-01T20:00:00", 1.0), _row("b.npz", "2026-11-07T20:00:00", 2.0),
+            _row("w.npz", "last night", 3.0)]
+    plot_archive(rows, tmp_path)
+    # "archive of 3 logs against date" over the 2 points drawn (O19)
+    assert "2 of 3 logs of the archive against date" in titles
