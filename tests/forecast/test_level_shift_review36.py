@@ -15,6 +15,7 @@ fractional Gaussian noise (H 0.9) by the Davies-Harte circulant embedding (numpy
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from scipy.signal import lfilter
 from scipy.stats import norm
 
@@ -83,3 +84,22 @@ def test_long_memory_halves_differ_without_a_word():
     ev = evaluate({}, x, train=0.5, horizons=(1,))
     np.testing.assert_allclose(ev.level_shift, d, rtol=1e-9)
     assert ev.level_shifted_modes == ()
+
+
+def test_a_mode_the_scale_rule_names_is_not_named_again_for_its_level():
+    # the loop opens in the test frames: rms x10 and the mean 3 training sds off; the scale
+    # rule names the mode, the level rule leaves it (its level follows from the new law)
+    import warnings
+
+    x = _ar1(39, 8000, 2, 0.9)
+    sd = x[:4000, 0].std()
+    x[4000:, 0] = x[4000:, 0] * 10.0 + 3.0 * sd
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        ev = evaluate({}, x, train=0.5, horizons=(1,))
+    words = [str(w.message) for w in rec]
+    assert ev.shifted_modes == (ev.labels[0],)
+    assert ev.level_shifted_modes == ()
+    assert not any("differ in level" in w for w in words)
+    d = (x[4000:, 0].mean() - x[:4000, 0].mean()) / sd
+    assert ev.level_shift[0] == pytest.approx(d, rel=1e-9)

@@ -73,3 +73,22 @@ def test_a_dead_mode_does_not_warn_twice():
     named = [w for w in rec if w.category is CalibrationEventWarning]
     assert len(named) == 1
     assert BASIS.labels[result.order[-1]] == "Z9"   # the dead mode appended last
+
+
+def test_two_events_of_one_mode_count_one_mode():
+    c = _clean()
+    report = dataclasses.replace(
+        assess_quality(_log(c)), level_steps=(("Z5", 3000, 0.8, 1e-30),),
+        variance_steps=(("Z5", 15000, 10.0, 1e-30),), step_lines=(), scale_steps=())
+    with pytest.warns(CalibrationEventWarning,
+                      match=r"event in 1 of the 8 modes ranked \(Z5: the mean steps or "
+                            r"drifts by \+0.8 at frame 3000; Z5: the spread steps x10 at "
+                            r"frame 15000\)"):
+        order_modes(_log(c), BASIS, "variance", quality=report)
+
+
+def test_a_report_of_other_frames_is_refused():
+    c = _clean()
+    shorter = assess_quality(_log(c[:15000]))        # same labels, 15,000 frames
+    with pytest.raises(ValueError, match="got one of 15000 frames"):
+        order_modes(_log(c), BASIS, "variance", quality=shorter)
