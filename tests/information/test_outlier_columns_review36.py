@@ -1,0 +1,55 @@
+"""Mutation round 36 (review36): ``outlier_columns`` / ``outlier_note`` (round 53 PART a).
+
+Plants that escaped stop 60's tests (docs/MUTATION.md, "Round 36"): the short-series
+guard, the few-level columns left out (``min_levels``, ``OUTLIER_MIN_LEVELS`` 32) and the
+note's order (the worst column, relative to its threshold, first).
+
+References (outside the code): the planted glitches (their columns, frames and sizes
+known by construction) in seeded Gaussian AR(1) series (``scipy.signal.lfilter``); the
+documented rules (fewer than ``4 p + 2 = 18`` rows: nothing judged; a column of fewer
+than ``min_levels`` distinct values: not judged) counted with numpy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.signal import lfilter
+
+from modalinfo.information.resampling import outlier_columns, outlier_note
+
+
+def _ar1(seed: int, n: int, m: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return lfilter([1.0], [1.0, -0.5], rng.standard_normal((n + 200, m)), axis=0)[200:]
+
+
+def test_a_series_under_18_rows_is_not_judged():
+    x = _ar1(1, 17, 3)
+    x[10, 1] += 1e3
+    assert outlier_columns(x) == []
+    y = _ar1(1, 400, 3)
+    y[200, 1] += 1e3
+    assert [c for c, *_ in outlier_columns(y)] == [1]   # judged from 18 rows up
+
+
+def test_few_level_columns_are_not_judged():
+    # a column of 9 levels (integers -4..4) with one value 60: not judged at 32 levels,
+    # judged (and flagged) when every column is
+    rng = np.random.default_rng(2)
+    x = _ar1(2, 2000, 3)
+    x[:, 2] = rng.integers(-4, 5, 2000)
+    x[700, 2] = 60
+    assert np.unique(x[:, 2]).size == 10
+    assert [c for c, *_ in outlier_columns(x)] == [2]
+    assert outlier_columns(x, min_levels=32) == []
+    assert outlier_note(x, ["a", "b", "c"], "f") is None
+
+
+def test_the_note_names_the_worst_column_first():
+    x = _ar1(3, 2000, 4)
+    x[500, 1] += 15.0        # the smaller glitch
+    x[900, 3] += 60.0        # the larger one, named first
+    note = outlier_note(x, ["m0", "m1", "m2", "m3"], "select_inputs")
+    assert note.startswith("select_inputs: 2 series hold outliers")
+    assert note.index("m3 (") < note.index("m1 (")
+    assert "m3 (" in note and "at frame 900)" in note
