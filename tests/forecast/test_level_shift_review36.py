@@ -103,3 +103,19 @@ def test_a_mode_the_scale_rule_names_is_not_named_again_for_its_level():
     assert not any("differ in level" in w for w in words)
     d = (x[4000:, 0].mean() - x[:4000, 0].mean()) / sd
     assert ev.level_shift[0] == pytest.approx(d, rel=1e-9)
+
+
+def test_the_level_is_family_wise_over_the_modes():
+    # 100 AR(1) 0.99 modes of 20,000 frames, mode 0's test frames 0.6 training sds up:
+    # effective counts ~50 a segment, z ~ 3.0, beyond the 1 % two-sided 2.58 of one mode
+    # but under the Bonferroni 3.48 of 100 (the seed's other modes all under 0.5 sd)
+    n, phi, d = 20000, 0.99, 0.6
+    x = _ar1(40, n, 100, phi)
+    x[:, :1] = _set_shift(x[:, :1].copy(), n // 2, d)
+    eff = (n // 2) * (1 - phi) / (1 + phi)
+    z = d / np.sqrt(2.0 / eff)
+    assert 1.1 * norm.isf(0.005) < z < 0.9 * norm.isf(0.005 / 100)
+    ev = evaluate({}, x, train=0.5, horizons=(1,))   # filterwarnings = error: silent
+    assert ev.level_shift[0] == pytest.approx(d, rel=1e-9)
+    assert np.all(np.abs(ev.level_shift[1:]) < 0.5)
+    assert ev.level_shifted_modes == ()
