@@ -48,3 +48,19 @@ def test_two_tables_in_one_file_are_not_read_as_one(tmp_path):
         g.copy("coeffs", f, name="other")
     with pytest.raises(LogFormatError):
         load(tmp_path / "two.h5", rate=1000.0)
+
+
+def test_a_text_column_is_not_read_as_a_mode(tmp_path):
+    # a data-columns table with a text field (b"2.5" in every row): not read as numbers
+    x = archive_log()[:, :3]
+    dtype = [("index", "<i8"), ("z2", "<f8"), ("z3", "<f8"), ("z4", "<f8"), ("label", "S8")]
+    rec = np.zeros(T, dtype=dtype)
+    for j, n in enumerate(("z2", "z3", "z4")):
+        rec[n] = x[:, j]
+    rec["label"] = b"2.5"
+    with h5py.File(tmp_path / "s.h5", "w") as f:
+        g = f.create_group("coeffs")
+        g.attrs["pandas_type"] = np.bytes_("frame_table")
+        g.create_dataset("table", data=rec)
+    with pytest.raises(LogFormatError):
+        load(tmp_path / "s.h5", rate=1000.0)
