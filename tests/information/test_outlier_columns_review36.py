@@ -53,3 +53,25 @@ def test_the_note_names_the_worst_column_first():
     assert note.startswith("select_inputs: 2 series hold outliers")
     assert note.index("m3 (") < note.index("m1 (")
     assert "m3 (" in note and "at frame 900)" in note
+
+
+def test_columns_are_counted_past_a_constant_one():
+    x = _ar1(4, 2000, 3)
+    x[:, 0] = 1.5                   # constant: not judged, still column 0
+    x[800, 2] += 60.0
+    assert [(c, t) for c, t, *_ in outlier_columns(x)] == [(2, 800)]
+
+
+def test_the_heavy_tail_words_give_the_worst_column():
+    # x glitched by 60 innovation sds (AR(1) 0.5 of unit innovations), y by 15: the
+    # interval's words give the larger reach
+    import re
+
+    from modalinfo.information.resampling import _heavy_tail_rule
+
+    xy = _ar1(5, 2000, 2)
+    xy[600, 0] += 60.0
+    xy[1200, 1] += 15.0
+    words = _heavy_tail_rule(xy[:, :1], xy[:, 1:], "mutual_information_ci")
+    reach = float(re.search(r"innovations reach ([0-9.]+) robust sigmas", words)[1])
+    assert 45.0 < reach < 75.0
