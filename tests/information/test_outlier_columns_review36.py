@@ -75,3 +75,13 @@ def test_the_heavy_tail_words_give_the_worst_column():
     words = _heavy_tail_rule(xy[:, :1], xy[:, 1:], "mutual_information_ci")
     reach = float(re.search(r"innovations reach ([0-9.]+) robust sigmas", words)[1])
     assert 45.0 < reach < 75.0
+
+
+def test_the_threshold_rises_with_the_columns_judged():
+    # the false-alarm probability is over the columns: one glitched column judged among
+    # 40 must reach further than judged alone
+    x = _ar1(6, 2000, 40)
+    x[700, 0] += 60.0
+    alone = outlier_columns(x[:, :1])
+    among = [f for f in outlier_columns(x) if f[0] == 0]
+    assert alone and among and among[0][3] > alone[0][3] + 0.3
