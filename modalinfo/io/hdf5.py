@@ -974,6 +974,17 @@ def _pandas_data_columns(f, path: Path) -> tuple[np.ndarray, dict] | None:
     if table is None or names is None or table.ndim != 1:
         return None
     fields = [n for n in names if n != "index"]
+    text = [n for n in fields if table.dtype[n].shape == () and table.dtype[n].kind in "SUO"]
+    if text and all(table.dtype[n].shape == () and table.dtype[n].kind in "fiuSUO"
+                    for n in fields):
+        # the names are the table's own here, not pickled: the pickle refusal's words
+        # ("re-save with format='fixed'") were wrong for a data-columns table with a text
+        # column (review36)
+        raise LogFormatError(
+            f"HDF5 file {quoted(path)}: the pandas table {key!r} holds text column(s) "
+            f"{', '.join(repr(n) for n in text)} beside its numbers; modalinfo reads "
+            "numeric columns only: drop them before saving (df.drop(columns=[...]).to_hdf"
+            "(...)), or save the coefficients alone")
     if not fields or any(table.dtype[n].shape != () or table.dtype[n].kind not in "fiu"
                          for n in fields):
         return None
