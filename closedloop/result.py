@@ -765,7 +765,7 @@ class SimulationResult:
         claimed: ``closure_time_s`` is NaN and the means are over the whole run.
         ``averaged_from_s`` is the end of the first frame averaged [s]
         (:attr:`averaging_start`, the window of every average of the result).
-        ``strehl_note`` is :func:`marechal_note` of ``strehl_peak_mean``: the caveat,
+        ``strehl_note`` is ``marechal_note(strehl_peak_mean)``: the caveat,
         ``""`` at an SR of 0.3 or more, that the Marechal ``exp(-sigma^2)`` below 0.3 is
         no image's Strehl ratio; the one place the command lines take it from (an SR of
         0.0065 was shown here without it: round 53 PART a, C29).
