@@ -180,14 +180,12 @@ def _rate_text(steps_per_second: float) -> str:
 
 
 def _summary_line(result) -> str:
-    from closedloop.result import marechal_note
-
     s = result.summary()
     fov = s["corrected_fov_diameter_arcmin"]
     numbers = (f"field-mean SR {s['strehl_field_mean']:.3f}, corrected FoV d = "
                + (_fov_text(fov) if math.isnan(fov) else f"{_fov_text(fov)} (SR > 0.3)")
                + f", {_rate_text(s['steps_per_second'])} steps/s")
-    note = marechal_note(s["strehl_peak_mean"])  # an SR of exp(-33) is no image's Strehl
+    note = s["strehl_note"]  # an SR of exp(-33) is no image's Strehl
     if note:
         numbers += f"; note: {note}"
     if s["open_loop"]:
@@ -274,7 +272,6 @@ def _cmd_run(args) -> int:
 
 def _cmd_compare(args) -> int:
     from closedloop.control.predictors import NAMES, LoopPredictor
-    from closedloop.result import marechal_note
     from closedloop.simulation import LoopModel, simulate
     from closedloop.training import run_trained
 
@@ -317,7 +314,7 @@ def _cmd_compare(args) -> int:
         s = result.summary()
         rows.append((name, s["strehl_peak_mean"], s["strehl_field_mean"],
                      s["corrected_fov_diameter_arcmin"], s["closure_time_s"] * 1e3,
-                     s["steps_per_second"], s["loop_status"]))
+                     s["steps_per_second"], s["loop_status"], s["strehl_note"]))
     print(f"{config.name}, seed {seed}, {args.duration:g} s; SR at "
           f"{config.wavelength * 1e9:.0f} nm after loop closure")
     print(f"{'predictor':<14}{'SR peak':>9}{'SR field':>10}{'FoV d [arcmin]':>16}"
@@ -331,9 +328,9 @@ def _cmd_compare(args) -> int:
         line = (f"{pad(row[0], 14)}{row[1]:>9.3f}{row[2]:>10.3f}{fov:>16}{closure}"
                 f"{_rate_text(row[5]):>9}")
         print(line if row[6] == "closed" else f"{line}  loop {row[6]}")
-    peaks = [row[1] for row in rows if len(row) > 2]
-    if peaks and marechal_note(min(peaks)):
-        print(f"note: {marechal_note(min(peaks))}")
+    notes = [row[7] for row in rows if len(row) > 2 and row[7]]  # the summaries' caveat
+    if notes:
+        print(f"note: {notes[0]}")
     not_run = [row for row in rows if len(row) == 2]
     if len(not_run) == len(rows):
         sys.stderr.write(f"closedloop compare: error: none of the {len(rows)} predictors ran "

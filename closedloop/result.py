@@ -765,10 +765,15 @@ class SimulationResult:
         claimed: ``closure_time_s`` is NaN and the means are over the whole run.
         ``averaged_from_s`` is the end of the first frame averaged [s]
         (:attr:`averaging_start`, the window of every average of the result).
+        ``strehl_note`` is ``marechal_note(strehl_peak_mean)``: the caveat,
+        ``""`` at an SR of 0.3 or more, that the Marechal ``exp(-sigma^2)`` below 0.3 is
+        no image's Strehl ratio; the one place the command lines take it from (an SR of
+        0.0065 was shown here without it: round 53 PART a, C29).
         """
         status = self.loop_status
         closed = status == "closed"
         start = self.averaging_start
+        peak = float(self.strehl_peak[start:].mean())
         return {
             "predictor": self.predictor,
             "seed": self.seed,
@@ -779,7 +784,8 @@ class SimulationResult:
             "loop_status": status,
             "closure_time_s": self.closure_time if closed else float("nan"),
             "averaged_from_s": float(self.times[start]) if self.times.size else float("nan"),
-            "strehl_peak_mean": float(self.strehl_peak[start:].mean()),
+            "strehl_peak_mean": peak,
+            "strehl_note": marechal_note(peak),
             "strehl_field_mean": float(self.strehl[start:].mean()),
             "corrected_fov_diameter_arcmin": self.corrected_fov_diameter(start=start),
             "steps_per_second": self.steps_per_second,

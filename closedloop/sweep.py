@@ -276,6 +276,7 @@ def run_one(payload: dict) -> dict:
     row = dict(result.summary())
     row.pop("predictor", None)
     row.pop("seed", None)
+    row.pop("strehl_note", None)  # a caveat, not a number: the sweep prints it once
     b = result.budget
     if b is not None:
         k = int(np.argmin(np.hypot(*b.directions.T)))

@@ -8,6 +8,8 @@ by their fitting error dPhi(n) against the standard, variance and data-PCA order
 from modalinfo.ordering.fitting_error import FittingErrorResult, fitting_error
 from modalinfo.ordering.orderings import (
     METHODS,
+    SpatialEnvelopeWarning,
+    envelope_information,
     mi_along_order,
     order_modes,
     sample_contributions,
@@ -19,7 +21,9 @@ __all__ = [
     "METHODS",
     "FittingErrorResult",
     "OrderingResult",
+    "SpatialEnvelopeWarning",
     "StabilityResult",
+    "envelope_information",
     "fitting_error",
     "mi_along_order",
     "order_modes",
