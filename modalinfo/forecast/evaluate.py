@@ -1369,7 +1369,7 @@ def _shift_text(labels, ratio: np.ndarray, shifted: np.ndarray) -> str:
             "there: split the log at the change or retrain on frames like the test ones.")
 
 
-def _test_outliers(data, n_train: int) -> list[tuple[int, int, float, float]]:
+def _test_outliers(data, n_train: int, chunk: int) -> list[tuple[int, int, float, float]]:
     """Return the modes whose test frames hold glitches, as ``(mode, frame, z, k)``.
 
     The outlier rule of the least-squares selections (``information.resampling.
@@ -1393,7 +1393,9 @@ def _test_outliers(data, n_train: int) -> list[tuple[int, int, float, float]]:
     per = max(1, _SHIFT_BLOCK_VALUES // max(n_test, 1))
     flagged = []
     for s0 in range(0, n_modes, per):
-        block = np.array(data[n_train:, s0:s0 + per], dtype=float)
+        # rows a chunk at a time: a log object may take row slices only (as _scale_shift)
+        block = np.concatenate([np.asarray(data[b:min(b + chunk, n_frames)])[:, s0:s0 + per]
+                                for b in range(n_train, n_frames, chunk)]).astype(float)
         share = HEAVY_TAIL_ALPHA * block.shape[1] / n_modes
         flagged += [(s0 + c, n_train + t, z, k) for c, t, z, k in outlier_columns(
             block, share, min_levels=OUTLIER_MIN_LEVELS)]
@@ -1687,7 +1689,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     # round 53 PART a, W54: glitched test frames were scored without a word; their
     # modes' innovations grow (x2.4 rms for 4 frames of 20 sd in 3,000), which the scale
     # rule would misname a change of scale: those modes are named as glitches instead
-    flagged = _test_outliers(data, n_train)
+    flagged = _test_outliers(data, n_train, chunk)
     glitched = np.zeros(len(labels), dtype=bool)
     glitched[[c for c, *_ in flagged]] = True
     shifted = np.asarray(shifted, dtype=bool) & ~glitched
