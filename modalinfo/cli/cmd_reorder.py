@@ -44,7 +44,7 @@ from modalinfo.cli.shared import (
 )
 from modalinfo.common.cli import check_output
 from modalinfo.common.files import quoted, shown_name
-from modalinfo.common.quiet import quiet
+from modalinfo.common.quiet import quiet, recording, warn
 
 NAME = "reorder"
 #: Widest pupil whose valid pixels :func:`mi_samples` counts on the mask itself; wider ones
@@ -461,6 +461,38 @@ def log_names_note(labels: tuple[str, ...], log, basis: str) -> str | None:
             f"log names them {pairs}{more}")
 
 
+def _own_report(args: argparse.Namespace, log, basis, report):
+    """Return the ``quality`` of ``order_modes``: the command's own report where it is the same.
+
+    ``--outliers``' pass (``apply_outliers``) ran on the log; ``order_modes`` would run
+    it again on the coefficients it ranks (fix53-a). Those are the log's own where the
+    basis is the log's Zernike modes, the labels and frames agree and the log was not
+    clipped or cut (``--outliers warn``): the report is passed (one pass); else True
+    (its own pass, on what it ranks). fix53-d.
+    """
+    from modalinfo.ordering._coefficients import as_basis
+
+    same = (args.basis == "zernike" and getattr(args, "outliers", "warn") == "warn"
+            and report.n_frames == log.n_frames
+            and list(report.labels) == list(as_basis(basis).labels))
+    return report if same else True
+
+
+def _calibration_words(message: str) -> str:
+    """``order_modes``' ``CalibrationEventWarning`` in the command's words.
+
+    Its advice names the API (``log.select``, ``quality=False``), which the command line
+    has not: a stretch is ordered on its own from a log cut at the event, and
+    ``--stability FRAMES`` orders consecutive windows (fix53-d).
+    """
+    from modalinfo.ordering.orderings import CALIBRATION_ADVICE
+
+    return message.replace(" (assess_quality)", "").replace(CALIBRATION_ADVICE, (
+        "order each stretch of steady conditions on its own (a log cut at the event; "
+        "--stability FRAMES orders consecutive windows of FRAMES frames), or read the order "
+        "as the pooled log's where the event is known and meant."))
+
+
 def run(args: argparse.Namespace) -> int:
     """Order the basis, print the table, write the JSON."""
     from modalinfo.cli.shared import progress
@@ -469,6 +501,7 @@ def run(args: argparse.Namespace) -> int:
     from modalinfo.ordering.compare import KLGeometryWarning, basis_for_log
     from modalinfo.ordering.cost import OrderingCostWarning
     from modalinfo.ordering.orderings import CONFIDENCE_LEVEL
+    from modalinfo.telemetry import CalibrationEventWarning
 
     least = least_tail_replicates(CONFIDENCE_LEVEL)
     # variance / pca / standard use no estimator, draw no samples, have no gains to
@@ -547,12 +580,15 @@ def run(args: argparse.Namespace) -> int:
                                   outer_scale=args.outer_scale)
     steps = basis.n_modes - 1 + args.resamples if args.method.startswith("mi_") else 0
     # check_mi_time said the estimate in flags: the library's words are not repeated
-    with progress(args, steps, desc="reorder") as advance, quiet(OrderingCostWarning):
+    with progress(args, steps, desc="reorder") as advance, quiet(OrderingCostWarning), \
+            recording(CalibrationEventWarning) as events:
         result = order_modes(
             log, basis, args.method, estimator=args.estimator, frame=args.frame,
             sample_budget=args.budget, seed=args.seed, n_resamples=args.resamples,
-            progress=advance,
+            progress=advance, quality=_own_report(args, log, basis, report),
         )
+    for event in events:  # said in the command's words, not the API's (fix53-d)
+        warn(_calibration_words(str(event.message)), CalibrationEventWarning, stacklevel=2)
     if args.basis == "kl-theory":  # after the refusals: a note then an error is 2 lines
         kl_geometry_note(args, log)
     thinned = getattr(args, "frames_kept", None)

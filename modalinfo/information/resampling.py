@@ -1533,17 +1533,27 @@ def outlier_note(series: np.ndarray, labels, caller: str) -> str | None:
     flagged = outlier_columns(series, min_levels=OUTLIER_MIN_LEVELS)
     if not flagged:
         return None
-    flagged.sort(key=lambda f: -f[2] / f[3])
-    shown = ", ".join(f"{labels[c]} ({z:.1f} at frame {t})" for c, t, z, _ in flagged[:4])
-    more = f" and {len(flagged) - 4} more" if len(flagged) > 4 else ""
-    return (f"{caller}: {len(flagged)} series hold outliers: AR({INNOVATION_ORDER}) "
-            f"innovations beyond {flagged[0][3]:.2f} robust sigmas, which Gaussian series "
-            f"exceed with probability {HEAVY_TAIL_ALPHA:g}: {shown}{more}. The least-squares "
+    return (f"{caller}: {outlier_list(flagged, labels)}. The least-squares "
             "(method='gaussian') scores follow such values: a frame glitched in a few "
             "modes makes them look predictive of each other (4 glitched frames gave false "
             "links in every one of 20 selections and 10 maps, round 53 PART a); remove "
             "glitches first (modalinfo.telemetry.apply_outlier_policy, 'clip' or 'drop') "
             "and read the links of these series with care.")
+
+
+def outlier_list(flagged: list[tuple[int, int, float, float]], labels) -> str:
+    """Name the series :func:`outlier_columns` flagged, their worst frames and sigmas.
+
+    ``flagged``: its ``(column, frame, z, k)`` rows (not empty); ``labels``: the
+    columns' names. The one wording of :func:`outlier_note` and of ``evaluate``'s test
+    frames (fix53-d), the worst (largest ``z / k``) first, at most four shown.
+    """
+    flagged = sorted(flagged, key=lambda f: -f[2] / f[3])
+    shown = ", ".join(f"{labels[c]} ({z:.1f} at frame {t})" for c, t, z, _ in flagged[:4])
+    more = f" and {len(flagged) - 4} more" if len(flagged) > 4 else ""
+    return (f"{len(flagged)} series hold outliers: AR({INNOVATION_ORDER}) innovations "
+            f"beyond {flagged[0][3]:.2f} robust sigmas, which Gaussian series exceed with "
+            f"probability {HEAVY_TAIL_ALPHA:g}: {shown}{more}")
 
 
 def _heavy_tail_rule(x: np.ndarray, y: np.ndarray, name: str) -> str | None:

@@ -1042,6 +1042,12 @@ def order_modes(
     return without(tiny)
 
 
+#: The advice ending ``order_modes``' ``CalibrationEventWarning``, in the API's words (the
+#: command line says it in its own: ``modalinfo.cli.cmd_reorder``, fix53-d).
+CALIBRATION_ADVICE = ("order each stretch of steady conditions on its own (log.select), or "
+                      "pass quality=False where the event is known and meant.")
+
+
 #: Largest p value of the quality pass's level rule (``QualityReport.level_steps``) that
 #: :func:`order_modes` names as a calibration event. The pass names a step at 1 %
 #: family-wise, but its F law is liberal on long memory and on open-loop turbulence
@@ -1185,8 +1191,7 @@ def _warn_calibration_events(a: np.ndarray, labels: tuple, method: str,
          f"event in {len(modes)} of the {a.shape[1]} modes ranked ({shown}{more}): the "
          "pooled ordering is that of the pooled log, in which the event (a new reference, a "
          "gain or unit change, modes re-mapped, the loop closing) weighs as much as the "
-         "turbulence; order each stretch of steady conditions on its own (log.select), or "
-         "pass quality=False where the event is known and meant.",
+         f"turbulence; {CALIBRATION_ADVICE}",
          CalibrationEventWarning, stacklevel=caller_stacklevel())
 
 
