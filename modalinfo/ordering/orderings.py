@@ -1174,13 +1174,11 @@ def _warn_calibration_events(a: np.ndarray, labels: tuple, method: str,
                 f"frames, modes {', '.join(labels[:3])}{', ...' if len(labels) > 3 else ''}); "
                 f"got one of {quality.n_frames} frames, modes "
                 f"{', '.join(quality.labels[:3])}{', ...' if quality.n_modes > 3 else ''}.")
-        report = quality
-    elif quality is True or quality is np.True_:
-        report = assess_quality(a)
-    else:
+    elif not (quality is True or quality is np.True_):
         raise TypeError(f"`quality` must be True, False or a QualityReport; got {quality!r}.")
     if a.shape[0] < CALIBRATION_MIN_FRAMES:
-        return
+        return  # before the pass: its answer would not be used
+    report = quality if isinstance(quality, QualityReport) else assess_quality(a)
     events = report.mode_events(level_p=CALIBRATION_LEVEL_P)
     if not events:
         return
