@@ -26,7 +26,7 @@ temporal
     each direction.
 noise
     WFS noise through the reconstructor and the loop: the command covariance
-    ``noise_propagation(g, delay, exposure) R N R^T`` (:mod:`modalinfo.servo`), seen in
+    ``noise_propagation(g, delay, exposure, leak) R N R^T`` (:mod:`modalinfo.servo`), seen in
     each direction by a Monte-Carlo average of 64 draws. With a predictor the loop
     filters noise differently; the integrator's factor is used (a stated approximation).
     ``N`` is each sensor's ``noise_rms ** 2``, times, for a correlating SH in its linear
@@ -420,10 +420,11 @@ def noise_variance(model: LoopModel, cam, seed: int, applied=lambda j: 1.0,
                    draws: int | None = None) -> np.ndarray:
     """Return the budget's noise term: each direction's residual variance from WFS noise.
 
-    The command covariance ``noise_propagation(g, delay, exposure) R N R^T`` (the
-    integrator's factor), drawn ``draws`` times (default ``_N_NOISE_DRAWS``) and seen by
-    ``cam`` [rad^2 at ``r0_wavelength``]; ``applied(j)``: sensor ``j``'s noise variance
-    factor (a correlating SH's applied one; 1 by default). Zeros without noise.
+    The command covariance ``noise_propagation(g, delay, exposure, leak) R N R^T`` (the
+    integrator's factor, with the loop's leak), drawn ``draws`` times (default
+    ``_N_NOISE_DRAWS``) and seen by ``cam`` [rad^2 at ``r0_wavelength``]; ``applied(j)``:
+    sensor ``j``'s noise variance factor (a correlating SH's applied one; 1 by default).
+    Zeros without noise.
     """
     loop = model.config.loop
     draws = _N_NOISE_DRAWS if draws is None else draws
@@ -441,8 +442,10 @@ def noise_variance(model: LoopModel, cam, seed: int, applied=lambda j: 1.0,
                      else w.reconstructor)
             rec[model.mode_slices[w.dm.index], start:start + w.n_measurements] = block
             start += w.n_measurements
+    # with the loop's leak: a leaky integrator propagates less noise (x0.61 at leak 0.5;
+    # the term and the noise floor were the leak-free ones, adversarial round 54 PART a)
     factor = noise_propagation(gain=loop.gain, delay_frames=loop.delay_frames,
-                               integration_frames=loop.integration_frames)
+                               integration_frames=loop.integration_frames, leak=loop.leak)
     # draws c = sqrt(factor) R n with n ~ N(0, diag(noise)): covariance factor R N R^T
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
     out = np.zeros(len(cam.directions))

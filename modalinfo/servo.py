@@ -343,13 +343,15 @@ def noise_transfer_function(
     gain: float,
     delay_frames: float,
     integration_frames: float = 1.0,
+    leak: float = 0.0,
 ) -> np.ndarray:
     """Transfer function from WFS noise to the integrator command (sampled model).
 
-    ``N(f) = g / (1 - z**-1 + g W(z))`` with ``z = exp(2 i pi f / rate)`` and ``W`` from
-    :func:`command_weights`: white WFS noise of variance ``s**2`` per frame gives a
-    command (and so a mirror) noise of variance ``s**2 * mean |N|**2`` over the band
-    (:func:`noise_propagation`). ``N(0) = 1``: a constant bias is fully applied.
+    ``N(f) = g / (1 - (1 - leak) z**-1 + g W(z))`` with ``z = exp(2 i pi f / rate)`` and
+    ``W`` from :func:`command_weights`: white WFS noise of variance ``s**2`` per frame
+    gives a command (and so a mirror) noise of variance ``s**2 * mean |N|**2`` over the
+    band (:func:`noise_propagation`). ``N(0) = 1`` without a leak: a constant bias is
+    fully applied (``g / (leak + g)`` with one).
 
     Parameters
     ----------
@@ -357,6 +359,9 @@ def noise_transfer_function(
         Frequencies [Hz].
     rate, gain, delay_frames, integration_frames
         As in :func:`rejection_transfer_function`.
+    leak : float
+        Integrator leak in [0, 1), ``c[k] = (1 - leak) c[k-1] + g m[k]`` (0: the pure
+        integrator), as :func:`max_stable_gain`.
 
     Returns
     -------
@@ -366,15 +371,17 @@ def noise_transfer_function(
     f = as_float_array(freqs, "freqs").reshape(np.shape(freqs))
     rate = check_real(rate, "rate", minimum=0.0, strict_min=True)
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
-    check_stable(gain, delay_frames, integration_frames)  # as the rejection (round 9)
+    leak = _check_leak(leak)
+    # as the rejection (round 9), with the leak: it moves the limit (round 20)
+    check_stable(gain, delay_frames, integration_frames, leak=leak)
     zinv = np.exp(-2j * np.pi * f / rate)
     weights = command_weights(delay_frames, integration_frames)
     wz = np.polyval(weights[::-1], zinv)
-    return gain / (1.0 - zinv + gain * wz)
+    return gain / (1.0 - (1.0 - leak) * zinv + gain * wz)
 
 
 def noise_propagation(*, gain: float, delay_frames: float,
-                      integration_frames: float = 1.0) -> float:
+                      integration_frames: float = 1.0, leak: float = 0.0) -> float:
     """Mean square of :func:`noise_transfer_function` over the band: command / noise variance.
 
     ``(1 / pi) int_0^pi |N(e**(i w))|**2 dw``, computed exactly as the sum of the squared
@@ -384,6 +391,11 @@ def noise_propagation(*, gain: float, delay_frames: float,
     ----------
     gain, delay_frames, integration_frames
         As in :func:`rejection_transfer_function`.
+    leak : float
+        Integrator leak in [0, 1) (:func:`noise_transfer_function`). A leak lowers the
+        command noise (0.520 -> 0.396 -> 0.315 at gain 0.4664, one frame of delay, leak
+        0 / 0.2 / 0.5); the closed loop's budget and noise floor pass the loop's
+        (adversarial round 54 PART a: they ignored it, x1.31-x1.65 too high).
 
     Returns
     -------
@@ -391,8 +403,9 @@ def noise_propagation(*, gain: float, delay_frames: float,
         Variance of the command per unit variance of white WFS noise (per mode).
     """
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
-    check_stable(gain, delay_frames, integration_frames)
-    a = loop_denominator(gain, command_weights(delay_frames, integration_frames))
+    leak = _check_leak(leak)
+    check_stable(gain, delay_frames, integration_frames, leak=leak)
+    a = loop_denominator(gain, command_weights(delay_frames, integration_frames), leak)
     # the mean of |g / D|**2 over n points of the unit circle is the sum of squares of
     # the impulse response aliased modulo n, exact to O(r**n) for the slowest pole r:
     # double n until it settles (bounded by _MAX_FFT; each FFT is a Ctrl-C point)
@@ -407,8 +420,9 @@ def noise_propagation(*, gain: float, delay_frames: float,
             raise ValueError(
                 f"`gain` = {gain} is too close to the stability limit for the noise "
                 f"propagation to converge (delay_frames={delay_frames}, "
-                f"integration_frames={integration_frames}; limit "
-                f"{max_stable_gain(delay_frames, integration_frames):.6g}).")
+                f"integration_frames={integration_frames}"
+                f"{f', leak={leak:g}' if leak else ''}; limit "
+                f"{max_stable_gain(delay_frames, integration_frames, leak=leak):.6g}).")
         previous = value
         n *= 2
 
