@@ -56,6 +56,7 @@ from modalinfo.io._common import (
 )
 from modalinfo.io._foreign import axis_layout, rate_field
 from modalinfo.io.files import LogFormatError
+from modalinfo.io.fits_size import check_whole
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_fits", "write_fits"]
@@ -183,6 +184,7 @@ def read_fits(path, dataset: str | None = None, **hints) -> ModalLog:
     path = as_path(path)
     check_readable(path)
     with reading("FITS", path):
+        check_whole(path, "FITS")  # before astropy, whose words name no truncation
         with catching_warnings(record=True) as caught:
             warnings.simplefilter("always")
             # open the file ourselves so it is closed even when astropy fails half-way
