@@ -404,12 +404,27 @@ def _quantized_note(hdu, index: int, meta: dict) -> None:
     except (AttributeError, TypeError, ValueError, KeyError):
         return
     quantized = int(np.count_nonzero(np.isfinite(scales) & (scales != 0)))
+    kind = str(getattr(hdu, "compression_type", "")).upper()
+    if "ZSCALE" not in names and kind in _INTEGER_ONLY:
+        # astropy's CompImageHDU(quantize_level=0.0, compression_type="RICE_1") casts the
+        # floats to integers with no ZSCALE column and no ZQUANTIZ card: every reader
+        # (astropy's, ours) reads whole numbers (stop 59, fix53-c, Noticed; fix54-d)
+        meta["lossy_storage"] = (
+            f"HDU {index} is a float image stored by {kind}, an integer-only compression, "
+            "without ZSCALE (as astropy's quantize_level=0 writes it): its values were "
+            "rounded to whole numbers when written, and the fractions are not in the file")
+        return
     if quantized:
         meta["lossy_storage"] = (
             f"HDU {index} is a tile-compressed float image quantized to integers ({quantized} "
             f"of {scales.size} tiles, a ZSCALE each: fpack's / astropy's default): their values "
             "differ from the original by up to half a quantization step, and the finer digits "
             "are not in the file")
+
+
+#: Tile compressions of integers only (FITS tiled image compression, Pence et al. 2013):
+#: a float image needs ZSCALE / ZZERO to be stored by them.
+_INTEGER_ONLY = ("RICE_1", "RICE_ONE", "HCOMPRESS_1", "PLIO_1")
 
 
 def _image_types():
