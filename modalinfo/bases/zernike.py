@@ -17,7 +17,7 @@ from modalinfo.bases import _kernels
 from modalinfo.bases.basis import ModalBasis
 from modalinfo.bases.indexing import _as_index, _check_nm, noll_to_zernike
 from modalinfo.bases.pupil import Pupil
-from modalinfo.common.chunked import KERNEL_VALUES, row_slices
+from modalinfo.common.chunked import KERNEL_VALUES, blocks
 from modalinfo.common.validation import as_float_array
 
 __all__ = [
@@ -163,7 +163,7 @@ def zernike_matrix(modes, rho, theta) -> np.ndarray:
     out = np.empty((r.shape[0], j.size))
     n, m = np.ascontiguousarray(n), np.ascontiguousarray(m)
     # pixels in chunks: one call on 3,000 modes x 20,000 pixels ran 8 s, deaf to Ctrl-C
-    for rows in row_slices(r.shape[0], j.size, KERNEL_VALUES):
+    for rows in blocks(r.shape[0], j.size, KERNEL_VALUES):
         _kernels.zernike_matrix(r[rows], t[rows], n, m, out[rows])
     return out
 

@@ -6,7 +6,7 @@ one numba kernel or BLAS product of several seconds defers Ctrl-C until it retur
 round 53 PART b, W39): the Zernike matrix of 3,000 modes on a 160-pixel pupil (one numba
 call, 8 s under load) and its Gram matrix ``A^T A`` (one BLAS call, 6.5 s). Cut into
 chunks (:data:`PRODUCT_TERMS`, :data:`KERNEL_VALUES`), a pending SIGINT is raised after the
-chunk in progress (a fraction of a second). :func:`row_slices` cuts a kernel's pixels and
+chunk in progress (a fraction of a second). :func:`blocks` cuts a kernel's pixels and
 :func:`matmul`'s rows: whole entries per call, the same values. :func:`gram` sums the
 products of row blocks: equal to rounding (the terms added in another order), and one
 call, the same values, where the product is within one chunk.
@@ -25,8 +25,8 @@ PRODUCT_TERMS = 1 << 31
 KERNEL_VALUES = 1 << 20
 
 
-def row_slices(n_rows: int, cost_per_row: int, budget: int = PRODUCT_TERMS) -> Iterator[slice]:
-    """Yield consecutive row slices of ``n_rows`` rows, each about ``budget`` work.
+def blocks(n_rows: int, cost_per_row: int, budget: int = PRODUCT_TERMS) -> Iterator[slice]:
+    """Yield consecutive slices of ``n_rows`` rows (or columns), each about ``budget`` work.
 
     Parameters
     ----------
@@ -63,7 +63,7 @@ def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     n, k = a.shape
     m = b.shape[1]
     out = np.empty((n, m), dtype=np.result_type(a, b))
-    for rows in row_slices(n, k * m):
+    for rows in blocks(n, k * m):
         np.matmul(a[rows], b, out=out[rows])
     return out
 
@@ -83,7 +83,7 @@ def gram(a: np.ndarray) -> np.ndarray:
         the blocks' products (equal to rounding: the terms are added in another order).
     """
     p, m = a.shape
-    chunks = list(row_slices(p, m * m))
+    chunks = list(blocks(p, m * m))
     if len(chunks) <= 1:
         return a.T @ a
     out = np.zeros((m, m), dtype=a.dtype)
