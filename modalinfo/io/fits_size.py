@@ -52,6 +52,13 @@ def _data_bytes(cards: dict[bytes, str]) -> int | None:
     return abs(bitpix) // 8 * gcount * (pcount + math.prod(axes))
 
 
+def _opens_hdu(block: bytes) -> bool:
+    """Whether ``block`` starts an HDU: ``SIMPLE  =`` with the value T, or ``XTENSION=``."""
+    if block.startswith(b"XTENSION="):
+        return True
+    return block.startswith(b"SIMPLE  =") and _value(block[:80]) == "T"
+
+
 def _padded(n: int) -> int:
     return -(-n // BLOCK) * BLOCK
 
@@ -82,9 +89,11 @@ def truncation(path: Path, fmt: str = "FITS") -> str | None:
             while not ended:
                 fh.seek(offset)
                 block = fh.read(BLOCK)
-                if offset == start and not (block.startswith(b"SIMPLE  =")
-                                            or block.startswith(b"XTENSION=")):
+                if offset == start and not _opens_hdu(block):
                     return None  # not an HDU: trailing bytes, the parser's matter
+                whole = len(block) - len(block) % 80
+                if any(b < 0x20 or b > 0x7E for b in block[:whole]):
+                    return None  # not FITS text: a damaged header, not a short file
                 if len(block) < BLOCK:
                     return (f"truncated {fmt} file {quoted(path)}: it ends at byte {size}, "
                             f"inside the header of HDU {index} (from byte {start}; no END "
