@@ -75,13 +75,14 @@ def _sampling_note(args: argparse.Namespace, log) -> bool:
 
     from modalinfo.bases import Pupil, ZernikeBasis, indexing
     from modalinfo.cli.shared import queue_notes
+    from modalinfo.common.chunked import gram
 
     if log.convention not in ("noll", "ansi", "fringe"):
         return False
     n, m = getattr(indexing, f"{log.convention}_to_zernike")(np.asarray(log.modes))
     matrix = np.asarray(ZernikeBasis(Pupil(args.pupil_pixels),
                                      modes=indexing.zernike_to_noll(n, m).tolist()).matrix)
-    eig = np.linalg.eigvalsh(matrix.T @ matrix / matrix.shape[0])
+    eig = np.linalg.eigvalsh(gram(matrix) / matrix.shape[0])  # gram: Ctrl-C between chunks
     worst = float(max(1.0 - eig[0], eig[-1] - 1.0))
     if worst > GRAM_NOTE:
         queue_notes(args, [

@@ -142,9 +142,9 @@ def _check_memory(args: argparse.Namespace, log, extra) -> int:
             + (" each" if extra is not None else ""))
     columns = sum(x.n_modes for x, _ in logs) * lags if lags >= 1 else 0
     if lags >= 1:
-        from modalinfo.information.selection import _WORKING_COPIES
+        from modalinfo.information.selection import search_bytes
 
-        own += _WORKING_COPIES * 8 * log.n_frames * columns
+        own += search_bytes(log.n_frames * columns)
         what += f", and --max-lag {lags}'s {columns} candidate columns"
     # the larger pass: --extra's holds LOG's repaired copy under --outliers clip
     held = log_bytes(log) if getattr(args, "outliers", "warn") == "clip" else 0.0
@@ -218,9 +218,9 @@ def _radial_sources(log, extra, target: int | str, width: int) -> int:
 def run(args: argparse.Namespace) -> int:
     """Run the selection and print the table."""
     from modalinfo.information.selection import (
-        _WORKING_COPIES,
         MAX_SEARCH_SECONDS,
         first_step_seconds,
+        search_bytes,
         select_inputs,
     )
 
@@ -293,7 +293,7 @@ def run(args: argparse.Namespace) -> int:
         # log, in no estimate), and select 3 % above its first refusal's limit was
         # refused here with "0 B is available" though it ran in 499 MiB of 545 (stop 57,
         # fix51-c)
-        check_memory(_WORKING_COPIES * 8 * log.n_frames * columns,
+        check_memory(search_bytes(log.n_frames * columns),
                      f"--max-lag {args.max_lag} ({columns} candidate columns x "
                      f"{log.n_frames} frames)", "use a smaller --max-lag or --max-frames")
     from modalinfo.common.validation import check_square_range

@@ -84,6 +84,7 @@ from typing import Any
 import numpy as np
 from scipy import fft as sfft
 
+from modalinfo.common.chunked import blocks
 from modalinfo.common.memory import free_memory_bytes
 from modalinfo.common.quiet import warn
 from modalinfo.common.records import array_fields_eq
@@ -127,7 +128,12 @@ from modalinfo.information.resampling import (
     surrogate_pvalue,
     surrogate_shifts,
 )
-from modalinfo.information.surrogates import circular_cross, rotated_rho2
+from modalinfo.information.surrogates import (
+    BLOCK_VALUES,
+    candidate_spectra,
+    circular_cross,
+    rotated_rho2,
+)
 from modalinfo.telemetry.checks import find_label
 
 __all__ = [
@@ -351,12 +357,39 @@ def _check_simultaneous(data: Any, extra: Any) -> None:
             f"{step:.6g} s): resample or align the logs first.")
 
 
-#: Arrays of the candidates' size a search holds at once (the matrix, its unit-norm
-#: and residual copies, and the spectra of the FFT null at twice the length, complex:
-#: circular_cross's spectra, their product with the target's and the (columns, 2 T)
-#: inverse FFT). tracemalloc's peak of select_inputs, 20,000 and 30,000 frames x 20 and
-#: 40 modes x 3 lags: 9.1 copies, against the 7 counted before (round 42 PART b, S07).
-_WORKING_COPIES = 10
+#: Arrays of the candidates' size a search holds at once: the matrix, its unit-norm and
+#: residual copies, and the spectra of the FFT null at twice the length, complex (2);
+#: the null's product and inverse transforms, the residual update and the centring run
+#: in column blocks of ``surrogates.BLOCK_VALUES``, and ``np.abs`` of the matrix (while
+#: only the matrix and its unit copy exist) is a third. Was 10: tracemalloc's peak of
+#: 9.1 copies (round 42 PART b, S07), 4.5 GB for select on 3,000 modes x 10 lags (round
+#: 53 PART b, W07). ru_maxrss of the search, 3,990 rows x 3,000 columns: 9.0 copies
+#: before fix54-d, 5.3 after (tests/information/test_select_memory_fix54d.py).
+_WORKING_COPIES = 6
+
+#: Column blocks of ``surrogates.BLOCK_VALUES`` (or of the whole candidates at twice the
+#: length, if fewer) a search holds at once besides (the padded columns and their
+#: spectra, the null's product and inverse transform): up to 32 MiB, the most of a small
+#: search (tracemalloc: 8.3 copies of 20,000 x 60 candidates, 9.6 MB each).
+_WORKING_BLOCKS = 4
+
+
+def search_bytes(n_values: int) -> int:
+    """Return the bytes the candidate search holds at once for ``n_values`` candidate values.
+
+    Parameters
+    ----------
+    n_values : int
+        Rows x candidate columns (frames x modes x lags).
+
+    Returns
+    -------
+    int
+        ``_WORKING_COPIES`` float64 arrays of the candidates and ``_WORKING_BLOCKS``
+        column blocks [bytes].
+    """
+    blocks_values = min(BLOCK_VALUES, 2 * int(n_values))  # a block: columns x 2 rows
+    return _WORKING_COPIES * 8 * int(n_values) + _WORKING_BLOCKS * 8 * blocks_values
 
 
 def _safe_scale(series: np.ndarray) -> np.ndarray:
@@ -373,12 +406,13 @@ def _safe_scale(series: np.ndarray) -> np.ndarray:
 
 def _check_memory(n_values: int) -> None:
     """Refuse a search whose working arrays would not fit in the available memory."""
-    need = _WORKING_COPIES * 8 * n_values
+    need = search_bytes(n_values)
     avail = free_memory_bytes()
     if need > avail:
         raise ValueError(
             f"the candidate search needs about {need / 2**20:.1f} MiB ({_WORKING_COPIES} "
-            f"arrays of frames x modes x max_lag = {n_values} values) and "
+            f"arrays of frames x modes x max_lag = {n_values} values, and their column "
+            "blocks) and "
             f"{avail / 2**20:.1f} MiB is available; use fewer frames, modes or lags.")
 
 
@@ -438,10 +472,12 @@ def lagged_candidates(series: np.ndarray, horizon: int, max_lag: int
 
 def _unit_columns(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centre columns and scale to unit norm; also return the norms (0 for constants)."""
-    a = a - a.mean(axis=0)
-    norms = np.sqrt(np.einsum("ij,ij->j", a, a))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u = np.where(norms > 0, a / np.where(norms > 0, norms, 1.0), 0.0)
+    u = a - a.mean(axis=0)
+    norms = np.sqrt(np.einsum("ij,ij->j", u, u))
+    # in place: the candidates' copies were 4 at once here (fix54-d: select on 3,000
+    # modes x 10 lags peaked at 4.5 GB); the same values, column by column
+    np.divide(u, np.where(norms > 0, norms, 1.0), out=u)
+    u[:, ~(norms > 0)] = 0.0
     return u, norms
 
 
@@ -457,7 +493,7 @@ def _gauss_gains(r: np.ndarray, R: np.ndarray, alive: np.ndarray,
     cn = np.sqrt(np.einsum("ij,ij->j", R, R))
     ok = alive & (cn > 0) & (rn > 0)
     rho = np.zeros(R.shape[1])
-    rho[ok] = (r @ R[:, ok]) / (rn * cn[ok])
+    rho[ok] = (r @ R)[ok] / (rn * cn[ok])  # R[:, ok] was a copy of the candidates
     if names is not None:
         _refuse_unit_rho(r / rn if rn > 0 else r, R, cn, rho, ok, names)
     return -0.5 * np.log(np.maximum(1.0 - rho * rho, ONE_MINUS_R2_FLOOR))
@@ -748,7 +784,10 @@ def _greedy_search(y: np.ndarray, C: np.ndarray, Cu: np.ndarray, alive: np.ndarr
         # Gram-Schmidt: remove the chosen direction from the target and the candidates
         q = R[:, best] / math.sqrt(float(R[:, best] @ R[:, best]))
         r -= q * float(q @ r)
-        R -= np.outer(q, q @ R)
+        qR = q @ R
+        # by column blocks: np.outer(q, q @ R) was a copy of R
+        for cols in blocks(R.shape[1], R.shape[0], BLOCK_VALUES):
+            R[:, cols] -= np.outer(q, qR[cols])
         if get_method(method).gaussian_closed_form:
             xq.append(circular_cross(q, Cu, shifts, spectra))
         alive[best] = False
@@ -1124,7 +1163,7 @@ def select_inputs(
     spectra = None
     if closed and n_surrogates >= _FFT_MIN_SURROGATES:
         L = sfft.next_fast_len(2 * n, real=True)
-        spectra = (sfft.rfft(np.ascontiguousarray(Cu.T), L, axis=1), L)
+        spectra = (candidate_spectra(Cu, L), L)
     picked, stop, last_p = _greedy_search(
         y, C, Cu, alive, method=method, est=est, factor=factor, alpha=alpha,
         n_surrogates=n_surrogates, max_inputs=max_inputs, shift0=shift0, rng=rng,

@@ -68,6 +68,7 @@ from modalinfo.io.aot_system import (
     import_aotpy,
 )
 from modalinfo.io.files import LogFormatError
+from modalinfo.io.fits_size import check_whole
 from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.sampling import rate_agrees
 from modalinfo.telemetry.units import WAVELENGTH_RANGE
@@ -181,6 +182,7 @@ def _read_system(path: Path, verify: bool):
     check_readable(path)
     _check_mapping(path)
     with _aot_reading(path) as notes:
+        check_whole(path, "AOT")  # before aotpy, whose words name no truncation
         system = aotpy.AOSystem.read_from_file(path, file_type="fits", checksum=bool(verify))
     return system, notes
 

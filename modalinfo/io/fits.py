@@ -56,6 +56,7 @@ from modalinfo.io._common import (
 )
 from modalinfo.io._foreign import axis_layout, rate_field
 from modalinfo.io.files import LogFormatError
+from modalinfo.io.fits_size import check_whole
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_fits", "write_fits"]
@@ -183,6 +184,7 @@ def read_fits(path, dataset: str | None = None, **hints) -> ModalLog:
     path = as_path(path)
     check_readable(path)
     with reading("FITS", path):
+        check_whole(path, "FITS")  # before astropy, whose words name no truncation
         with catching_warnings(record=True) as caught:
             warnings.simplefilter("always")
             # open the file ourselves so it is closed even when astropy fails half-way
@@ -402,12 +404,27 @@ def _quantized_note(hdu, index: int, meta: dict) -> None:
     except (AttributeError, TypeError, ValueError, KeyError):
         return
     quantized = int(np.count_nonzero(np.isfinite(scales) & (scales != 0)))
+    kind = str(getattr(hdu, "compression_type", "")).upper()
+    if "ZSCALE" not in names and kind in _INTEGER_ONLY:
+        # astropy's CompImageHDU(quantize_level=0.0, compression_type="RICE_1") casts the
+        # floats to integers with no ZSCALE column and no ZQUANTIZ card: every reader
+        # (astropy's, ours) reads whole numbers (stop 59, fix53-c, Noticed; fix54-d)
+        meta["lossy_storage"] = (
+            f"HDU {index} is a float image stored by {kind}, an integer-only compression, "
+            "without ZSCALE (as astropy's quantize_level=0 writes it): its values were "
+            "rounded to whole numbers when written, and the fractions are not in the file")
+        return
     if quantized:
         meta["lossy_storage"] = (
             f"HDU {index} is a tile-compressed float image quantized to integers ({quantized} "
             f"of {scales.size} tiles, a ZSCALE each: fpack's / astropy's default): their values "
             "differ from the original by up to half a quantization step, and the finer digits "
             "are not in the file")
+
+
+#: Tile compressions of integers only (FITS tiled image compression, Pence et al. 2013):
+#: a float image needs ZSCALE / ZZERO to be stored by them.
+_INTEGER_ONLY = ("RICE_1", "RICE_ONE", "HCOMPRESS_1", "PLIO_1")
 
 
 def _image_types():

@@ -71,7 +71,9 @@ class BasisView:
 
     def gram(self) -> np.ndarray:
         """``matrix.T @ matrix / n_valid`` (identity for a basis orthonormal on the pupil)."""
-        return self.matrix.T @ self.matrix / self.matrix.shape[0]
+        from modalinfo.common.chunked import gram
+
+        return gram(self.matrix) / self.matrix.shape[0]  # in chunks: Ctrl-C between them
 
 
 def check_values(coeffs: np.ndarray, name: str) -> None:

@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from modalinfo.common.chunked import matmul
 from modalinfo.common.quiet import warn
 from modalinfo.common.records import array_fields_eq
 from modalinfo.common.validation import (
@@ -396,7 +397,7 @@ def _gram(a: np.ndarray, gram: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     + 2 a_j sum_{k > j} G_jk a_k.
     """
     upper = np.triu(gram, 1)
-    u = a @ upper.T  # u[t, j] = sum_{k > j} G_jk a_k
+    u = matmul(a, upper.T)  # u[t, j] = sum_{k > j} G_jk a_k; in chunks (Ctrl-C between)
     inc = a * a * np.diag(gram) + 2.0 * a * u
     rc = np.cumsum(inc[:, ::-1], axis=1)[:, ::-1]
     out = np.zeros_like(a)

@@ -6,7 +6,7 @@ Since fix52-c the command's one check before any quality pass counts them all, w
 both logs' ``LOG_COPIES`` copies (stop 58, fix51-c: LOG's columns there, --extra's
 again in a second check after both passes, which then read the address space the passes
 leave mapped as used). Reference: the count by hand ((3 + 2) modes x 4 lags = 20
-columns, and (3 + 1) x 1 = 4; 400 frames, ``_WORKING_COPIES`` float64 copies of the
+columns, and (3 + 1) x 1 = 4; 400 frames, ``search_bytes`` (float64 copies and blocks) of the
 columns, ``LOG_COPIES`` of each log's 400 x modes coefficients), against the figure
 handed to ``check_command_memory`` (recorded, then passed on); no later check of them.
 """
@@ -18,7 +18,7 @@ import pytest
 
 from modalinfo.cli import cmd_select
 from modalinfo.cli.shared import LOG_COPIES
-from modalinfo.information.selection import _WORKING_COPIES
+from modalinfo.information.selection import search_bytes
 from modalinfo.io import save
 from modalinfo.telemetry import ModalLog
 
@@ -52,7 +52,7 @@ def test_the_second_check_counts_the_extra_logs_columns(tmp_path, monkeypatch, n
     copies = LOG_COPIES * 8 * 400 * (3 + n_extra)
     assert len(seen) == 1
     own, what = seen[0]
-    assert own == _WORKING_COPIES * 8 * 400 * columns + copies
+    assert own == search_bytes(400 * columns) + copies
     assert f"--max-lag {lags}'s {columns} candidate columns" in what
     assert "a.npz" in what and "b.npz" in what
     assert not [w for w in later if "candidate columns" in w]

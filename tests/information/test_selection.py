@@ -295,13 +295,13 @@ def test_refuses_a_search_larger_than_the_available_memory(monkeypatch):
     import os
 
     X = np.random.default_rng(0).standard_normal((1000, 3))
-    # 1 MiB "available": 10 working copies (fixes 42, S07) of 998 x 3 x 2 float64 need
-    # 0.5 MiB, of 991 x 3 x 10 need 2.3 MiB
+    # 1 MiB "available": 6 working copies (10 before fix54-d) of 998 x 3 x 2 float64 and 4
+    # blocks of twice their values need 0.6 MiB, of 991 x 3 x 10 need 3.2 MiB
     monkeypatch.setattr(os, "sysconf",
                         lambda name: 256 if name == "SC_AVPHYS_PAGES" else 4096)
     select_inputs(X, 0, max_lag=2, n_surrogates=19, intervals=False)
     with pytest.raises(ValueError,
-                       match=r"needs about 2.3 MiB .* and 1.0 MiB is available; use fewer"):
+                       match=r"needs about 3.2 MiB .* and 1.0 MiB is available; use fewer"):
         select_inputs(X, 0, max_lag=10, n_surrogates=19, intervals=False)
 
 
