@@ -253,7 +253,7 @@ def test_no_worker_gives_a_notice_then_an_error_and_keeps_nothing_half_done(tmp_
         return {"value": payload["x"] ** 2}
 
     specs = [TaskSpec(f"k{i}", {"x": i}) for i in range(3)]
-    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) \
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=":0") \
             as cluster, distributed.Client(cluster) as no_workers:
         with pytest.raises(NoWorkersError, match="no Dask worker ran a task for"):
             run_tasks(specs, _square, RowStore(tmp_path), no_workers, progress=False,
@@ -268,7 +268,7 @@ def test_cli_on_a_scheduler_without_workers_exits_1(tmp_path, capsys, helpers):
 
     helpers.write_archive(tmp_path, n_good=2, corrupt=False)
     out = tmp_path / "out"
-    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=None) \
+    with distributed.LocalCluster(n_workers=0, processes=False, dashboard_address=":0") \
             as cluster:
         code = main(["batch", str(tmp_path), "--out", str(out), "--scheduler",
                      cluster.scheduler_address, "--worker-wait", "1", "--quiet"])

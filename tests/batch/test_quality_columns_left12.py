@@ -53,7 +53,7 @@ def batch(tmp_path_factory):
         save(ModalLog(x, rate=1000.0, wavelength=5e-7), src / f"{name}.npz")
     out = tmp_path_factory.mktemp("quality_out") / "out"
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
-                            dashboard_address=None) as client:
+                            dashboard_address=":0") as client:
         result = analyse_archive(src, "summary", out, client=client, progress=False,
                                  plots=False)
     assert [r["status"] for r in result.rows] == ["ok"] * 5

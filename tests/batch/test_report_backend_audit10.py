@@ -38,7 +38,7 @@ def test_threaded_batch_leaves_backend(pdf_backend, tmp_path):
         save(ModalLog(rng.normal(size=(64, 3)), rate=500.0), tmp_path / f"log{i}.npz")
     rc = dict(matplotlib.rcParams)
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
-                            dashboard_address=None) as client:
+                            dashboard_address=":0") as client:
         result = analyse_archive(str(tmp_path / "*.npz"), "summary", tmp_path / "out",
                                  client=client, progress=False, plots=False)
     assert [r["status"] for r in result.rows] == ["ok", "ok"]

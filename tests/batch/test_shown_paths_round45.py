@@ -69,7 +69,7 @@ def test_two_files_two_paths_each_back_to_its_file_and_an_old_folder_resumes(
     out = tmp_path / "out"
     # memory_limit 0: no limit (the "auto" one follows limits other tests of the process set)
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
-                            memory_limit=0, dashboard_address=None) as client:
+                            memory_limit=0, dashboard_address=":0") as client:
         with monkeypatch.context() as old:  # the folder as the old code wrote it
             old.setattr("modalinfo.common.tasks.rows.shown_name", _old_shown_name)
             first = analyse_archive(folder, "summary", out, client=client, progress=False,

@@ -209,7 +209,7 @@ def test_batch_cli_warns_once_for_flagged_logs(files, tmp_path, capsys):
         (src / name).write_bytes(files[name.split(".")[0]].read_bytes())
     out = tmp_path / "out"
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
-                            dashboard_address=None) as client:
+                            dashboard_address=":0") as client:
         analyse_archive(src, "summary", out, client=client, progress=False, plots=False)
     capsys.readouterr()
     code, _, err = _run(capsys, ["batch", src, "--out", out, "--no-plots", "--quiet"])

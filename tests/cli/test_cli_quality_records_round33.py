@@ -137,7 +137,7 @@ def test_batch_line_names_the_policy_that_ran(logs, tmp_path, capsys):
     out = tmp_path / "out"
     settings = {"summary": {"outliers": "drop"}}
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
-                            dashboard_address=None) as client:
+                            dashboard_address=":0") as client:
         analyse_archive(src, "summary", out, params=settings, client=client,
                         progress=False, plots=False)
     capsys.readouterr()

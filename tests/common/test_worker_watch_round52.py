@@ -32,7 +32,7 @@ def stale_client(monkeypatch):
     from distributed.client import SchedulerInfo
 
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, \
+                                  dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         totals = client.sync(client.scheduler.identity, n_workers=0)
         assert totals["n_workers"] == 1 and totals["workers"] == {}
@@ -64,7 +64,7 @@ def test_a_task_longer_than_the_wait_is_not_refused(stale_client):
 def test_no_worker_is_still_refused(monkeypatch):
     # the guard kept: a cluster of 0 workers (totals 0) ends the wait
     with distributed.LocalCluster(n_workers=0, processes=False,
-                                  dashboard_address=None) as cluster, \
+                                  dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         future = client.submit(lambda: 1, pure=False)
         with pytest.raises(NoWorkersError, match="no Dask worker ran a task for"):
