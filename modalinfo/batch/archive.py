@@ -72,6 +72,9 @@ class BatchResult:
     manifests : tuple of str
         Manifests met in the input directories, not read as logs (give one as an
         input of its own to read it).
+    removed_plots : tuple of pathlib.Path
+        With ``plots=False``: summary plots an earlier run left in ``OUT/plots``, drawn
+        from another table than this one, removed.
     """
 
     rows: list
@@ -84,6 +87,7 @@ class BatchResult:
     skipped: tuple = ()
     unreadable: tuple = ()
     manifests: tuple = ()
+    removed_plots: tuple = ()
 
     @property
     def n_ok(self) -> int:
@@ -295,7 +299,8 @@ def analyse_archive(
     progress : bool
         Progress bar and dashboard link on stderr.
     plots : bool
-        Draw the summary plots into ``<out>/plots``.
+        Draw the summary plots into ``<out>/plots``. False draws none and removes the
+        plots an earlier run left there from another table (``BatchResult.removed_plots``).
     worker_wait : float, optional
         Seconds to wait while no worker is running before giving up
         (``NoWorkersError``; default
@@ -381,6 +386,7 @@ def analyse_archive(
         rows.sort(key=lambda r: (r["path"], order[r["analysis"]], r.get("window", 0)))
         csv_path, pq_path = write_table(rows, out_dir, "batch", FIRST_COLUMNS)
         drawn: tuple = ()
+        removed: tuple = ()
         if plots:
             from modalinfo.batch.report import plot_archive
             from modalinfo.common.provenance import provenance as run_record
@@ -389,10 +395,17 @@ def analyse_archive(
             record = dict(provenance if provenance is not None else run_record(None))
             record["table_sha256"] = sha256_file(csv_path)
             drawn = tuple(plot_archive(rows, out_dir / "plots", provenance=record))
+        else:
+            from modalinfo.batch.report import remove_stale_plots
+            from modalinfo.common.provenance import sha256_file
+
+            # an earlier run's plots show other rows than this table's (round 54 PART b)
+            removed = tuple(remove_stale_plots(out_dir / "plots", sha256_file(csv_path)))
     return BatchResult(rows=rows, csv_path=csv_path, parquet_path=pq_path, plots=drawn,
                        report=report, n_hashed=n_hashed,
                        identical=identical_inputs(entries, probes), skipped=tuple(skipped),
-                       unreadable=tuple(unreadable), manifests=tuple(manifests))
+                       unreadable=tuple(unreadable), manifests=tuple(manifests),
+                       removed_plots=removed)
 
 
 def _labelled(row: dict, labels: dict) -> dict:

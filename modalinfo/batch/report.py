@@ -17,7 +17,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-__all__ = ["plot_archive"]
+__all__ = ["plot_archive", "remove_stale_plots"]
 
 _X = (("date", "date"), ("r0_m", "r0 [m]"), ("seeing_arcsec", "seeing [arcsec]"),
       ("rate", "loop rate [Hz]"))
@@ -105,6 +105,48 @@ def _panels(rows: list[dict], x_name: str) -> list[tuple[str, dict[str, list]]]:
                 label = "total RMS [each log's units]: series not comparable"
         panels.append((label, {k: sorted(v) for k, v in series.items()}))
     return panels
+
+
+def remove_stale_plots(out_dir: str | Path, table_sha256: str) -> list[Path]:
+    """Remove the summary plots in ``out_dir`` that were not drawn from this table.
+
+    A run with ``plots=False`` (``--no-plots``) into the folder of an earlier run left
+    that run's ``archive_vs_<x>.png`` beside the new table, which they do not show
+    (a forecast horizon changed: the gains drawn were the old horizon's; adversarial
+    round 54 PART b, P88). A plot whose PNG record names this table's SHA-256 is kept
+    (the same rows, re-tabled); one of another table, or without a readable record, is
+    derived from rows no longer tabled and is removed.
+
+    Parameters
+    ----------
+    out_dir : path
+        The ``plots`` folder of a batch output (need not exist).
+    table_sha256 : str
+        SHA-256 of the table just written (``batch.csv``).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files removed.
+    """
+    import json
+
+    from PIL import Image
+
+    removed = []
+    for x_name, _ in _X:
+        path = Path(out_dir) / f"archive_vs_{x_name}.png"
+        if not path.is_file():
+            continue
+        try:
+            with Image.open(path) as image:
+                record = json.loads(image.info.get("Description") or "{}")
+        except (OSError, ValueError):
+            record = {}
+        if not isinstance(record, dict) or record.get("table_sha256") != table_sha256:
+            path.unlink(missing_ok=True)
+            removed.append(path)
+    return removed
 
 
 def plot_archive(rows: list[dict], out_dir: str | Path, *,

@@ -76,7 +76,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "running worker (default 60)")
     parser.add_argument("--retry-errors", action="store_true",
                         help="re-run analyses whose earlier row is an error")
-    parser.add_argument("--no-plots", action="store_true", help="skip the summary plots")
+    parser.add_argument("--no-plots", action="store_true",
+                        help="skip the summary plots (and remove those an earlier run "
+                             "drew from another table)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary")
     add_hint_arguments(parser, is_info=False, modes_flag="--in-modes")
 
@@ -232,6 +234,12 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f"modalinfo batch: note: {len(manifests)} manifest(s) in the "
                          f"input folders not read as logs: {shown}; give a manifest as an "
                          f"input of its own to analyse the logs it names\n")
+    removed = getattr(result, "removed_plots", ())
+    if removed:  # a note: even with --quiet (files of the output folder went away)
+        sys.stderr.write(f"modalinfo batch: note: removed {len(removed)} summary plot(s) of an "
+                         f"earlier table from {shown_name(removed[0].parent)} "
+                         f"({', '.join(p.name for p in removed)}): --no-plots drew none of "
+                         "this table\n")
     kl_assumption_note(result.rows)  # a warning: even with --quiet
     layout_doubt_note(result.rows)
     refused = None  # a stdout that refuses the summary: said after the warnings below

@@ -382,6 +382,20 @@ def check_figure_output(path: Path | None, overwrite: bool, flag: str = "--plot"
 
     kinds = tuple(f".{k}" for k in sorted(FigureCanvasBase.get_supported_filetypes()))
     check_output(path, overwrite, suffixes=kinds, flag=flag)
+    if path.suffix.lower() == ".pgf":
+        # matplotlib's PGF backend measures its text with a TeX engine: without one the
+        # command printed its table and then a traceback, "RuntimeError: 'xelatex' not
+        # found" (adversarial round 54 PART b, O27, O37)
+        import shutil
+
+        import matplotlib
+
+        tex = str(matplotlib.rcParams["pgf.texsystem"])
+        if shutil.which(tex) is None:
+            raise CommandError(
+                f"{flag} {quoted(path)}: a PGF figure needs the TeX engine {tex!r} "
+                "(matplotlib's rcParams['pgf.texsystem']), which is not installed here; "
+                "install it, or write .pdf or .svg (vector figures LaTeX includes as well)")
 
 
 class _Progress:

@@ -81,6 +81,53 @@ _NOT_LOGS = (
                                                   (b"CDF\x05", "CDF-5"))),
 )
 
+#: Leading bytes of the figures matplotlib writes (``fitting-error --plot``'s formats) other
+#: than PNG and PDF: given back as a log they were "corrupt CSV file 'f.eps': could not
+#: convert string '%%LanguageLevel:'" or "a CSV must be UTF-8: re-save it as UTF-8"
+#: (adversarial round 54 PART b, O08-O22). (offset, magic, what the file is)
+_FIGURES = (
+    (0, b"\xff\xd8\xff", "a JPEG image"),
+    (0, b"GIF87a", "a GIF image"),
+    (0, b"GIF89a", "a GIF image"),
+    (0, b"II*\x00", "a TIFF image"),
+    (0, b"MM\x00*", "a TIFF image"),
+    (8, b"WEBP", "a WebP image"),  # after b"RIFF" and the chunk size
+    (4, b"ftypavif", "an AVIF image"),
+    (4, b"ftypavis", "an AVIF image"),
+    (0, b"%!PS", "a PostScript (PS / EPS) figure"),
+)
+
+
+def _figure_kind(head: bytes) -> str | None:
+    """Name the figure or web page whose leading bytes ``head`` are, or None.
+
+    The binary images by their magic bytes; SVG and HTML, which are UTF-8 text and were
+    read as a CSV, by their first tag (after an XML declaration, comments or blanks).
+    """
+    for offset, magic, what in _FIGURES:
+        if head[offset:offset + len(magic)] == magic:
+            return what
+    text = head.lstrip(b"\xef\xbb\xbf \t\r\n").lower()
+    if not text.startswith(b"<"):
+        return None
+    if b"<svg" in text or text.startswith(b"<!doctype svg"):
+        return "an SVG image"
+    if text.startswith((b"<!doctype html", b"<html")) or b"<html" in text:
+        return "an HTML document"
+    return None
+
+
+def _gunzip_head(path) -> bytes:
+    """Return the first 512 bytes of a gzip file's content (b"" when unreadable)."""
+    import gzip
+
+    try:
+        with gzip.open(path, "rb") as fh:
+            return fh.read(512)
+    except (OSError, EOFError, ValueError):
+        return b""
+
+
 #: The text header of a MATLAB v7.3 MAT-file: an HDF5 file behind a 512-byte user block
 #: (read as "a corrupt CSV file", round 31 PART b, a04)
 _MAT73 = b"MATLAB 7.3 MAT-file"
@@ -257,6 +304,12 @@ def detect_format(path) -> str:
         return seen
     for magic, (what, tool) in _COMPRESSED.items():
         if head.startswith(magic):
+            inner = _figure_kind(_gunzip_head(path)) if what == "gzip" else None
+            if inner is not None:
+                # fitting-error's `--plot f.svgz` was told "decompress it first (gunzip -k
+                # 'f.svgz')", which gunzip refuses ("unknown suffix"): it is a figure
+                # (adversarial round 54 PART b, O20)
+                raise _not_a_log(path, f"{inner} compressed with gzip")
             # 'night.fits.gz' / 'log.csv.gz' were told "a CSV must be UTF-8: re-save it as
             # UTF-8" (round 12 PART b, A11-A13); bzip2 / xz / zstd the same (round 14
             # PART b, F28, F29)
@@ -268,6 +321,9 @@ def detect_format(path) -> str:
             # batch.parquet was told "a CSV must be UTF-8: re-save it as UTF-8" (round 11
             # PART b, R12)
             raise _not_a_log(path, what, advice)
+    figure = _figure_kind(head)
+    if figure is not None:
+        raise _not_a_log(path, figure)
     # after the known magics: a netCDF-3 file named .nc is named, not read as HDF5
     by_ext = format_from_extension(path)
     if by_ext is not None and by_ext != "csv":
