@@ -1037,7 +1037,7 @@ def select_inputs(
         says so (``OutlierWarning``); ``"warn"`` scores the values as given, with the
         warning (before fix54-b: 4 glitched frames gave false inputs in 20 of 20
         selections). Logs the rule does not flag are untouched either way
-        (:func:`~modalinfo.information.resampling.clip_glitches`). Other methods score
+        (``modalinfo.information.resampling.clip_glitches``). Other methods score
         ranks or neighbours and are not changed.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
