@@ -113,7 +113,12 @@ def simulate(
         command's hold): the bound no predictor can beat. Must be None in open loop
         (``config.loop.closed`` False), as must ``budget_every`` and ``control_basis``.
         The string ``"oracle"`` is deprecated (a ``DeprecationWarning``); other names
-        are refused (they need training: :func:`closedloop.run_trained`).
+        are refused (they need training: :func:`closedloop.run_trained`). A predictor
+        trained on a run of other ``training_conditions`` (telescope, layers, sensors,
+        mirrors, frame clock) is refused: a trained ``LoopPredictor``, and a bare
+        ``Predictor`` fitted on a run's ``ModalLog`` (``result.logs["dm0.pol"]``, whose
+        metadata holds the run's config; fix54-b); one fitted on a bare array carries no
+        conditions and is not checked.
     seed : int or None
         Overrides ``config.seed``; in ``[0, 2**63 - 1]``, as ``config.seed`` (the result
         file stores it as a 64-bit integer).

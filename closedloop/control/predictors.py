@@ -38,7 +38,8 @@ if TYPE_CHECKING:
     from closedloop.result import SimulationResult
 
 __all__ = ["NAMES", "LoopPredictor", "NO_PREDICTION", "ORACLE", "check_trained_for",
-           "loop_predictor", "training_conditions", "training_data", "training_start"]
+           "fitted_conditions", "loop_predictor", "training_conditions", "training_data",
+           "training_start"]
 
 #: every name ``closedloop run --predictor`` accepts (the forecast presets' list, plus
 #: the three that are not forecast presets)
@@ -111,6 +112,12 @@ class LoopPredictor:
     def from_fitted(cls, predictor, name: str | None = None) -> LoopPredictor:
         """Wrap a fitted forecaster (named by its class unless ``name`` is given).
 
+        A forecaster fitted on a closed-loop run's log (``Predictor.fit(result.logs[
+        "dm0.pol"])``, its ``training_metadata_`` holding the run's config) carries that
+        run's ``training_conditions`` as ``trained_on``, so ``simulate`` refuses it in
+        a loop of other conditions as it refuses a :meth:`trained` one (fix54-b, round
+        53 PART a C16 / C22); one fitted on an array carries none (not checked).
+
         Raises
         ------
         TypeError
@@ -120,7 +127,7 @@ class LoopPredictor:
             raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
                             f"Predictor); got {type(predictor).__name__}.")
         return cls(name=type(predictor).__name__ if name is None else name,
-                   predictor=predictor)
+                   predictor=predictor, trained_on=fitted_conditions(predictor))
 
     @property
     def is_none(self) -> bool:
@@ -204,6 +211,23 @@ def training_conditions(config) -> dict:
             "wfss": config.wfss, "loop.time_step": config.loop.time_step,
             "loop.integration_time": config.loop.integration_time,
             "r0_wavelength": config.r0_wavelength}
+
+
+def fitted_conditions(predictor) -> dict | None:
+    """Return the ``training_conditions`` of the run a bare forecaster was fitted on, or None.
+
+    Read from ``predictor.training_metadata_`` (``Predictor.fit`` of a ``ModalLog``
+    keeps the log's metadata): a closed-loop log's ``"config"`` (``source`` "closedloop",
+    ``SimulationResult.from_run``). None for a forecaster fitted on an array or on
+    another source's log: what it was trained on is unknown here.
+    """
+    meta = getattr(predictor, "training_metadata_", None)
+    if not isinstance(meta, dict) or meta.get("source") != "closedloop" or not isinstance(
+            meta.get("config"), dict):
+        return None
+    from closedloop.config import SimulationConfig
+
+    return training_conditions(SimulationConfig.from_dict(meta["config"]))
 
 
 def _digest(basis) -> str | None:

@@ -597,6 +597,7 @@ def _forecast(log: Any, p: dict) -> dict:
     from modalinfo._stats import LevelStepWarning
     from modalinfo.forecast import evaluate
     from modalinfo.forecast.presets import make_predictor
+    from modalinfo.telemetry.quality import CalibrationEventWarning
     from modalinfo.telemetry.sampling import require_contiguous
 
     log = _select(log, p["modes"])
@@ -620,7 +621,7 @@ def _forecast(log: Any, p: dict) -> dict:
     # ``quality_level_steps`` and ``quality_stationary`` columns); test frames unlike the
     # training ones are in the row (``shifted_modes``, ``scale_shift_max``). This
     # thread's only (fixes 41-c: filters swapped the process's, other tasks' included)
-    with quiet(LevelStepWarning), \
+    with quiet(LevelStepWarning), quiet(CalibrationEventWarning), \
             quiet(message="evaluate: no honest Diebold-Mariano test"), \
             quiet(message="evaluate: the Diebold-Mariano p-value"), \
             quiet(message="evaluate: the test frames differ in scale"):

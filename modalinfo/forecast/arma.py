@@ -108,7 +108,7 @@ from modalinfo.forecast._kernels import (
     enforce_roots,
 )
 from modalinfo.forecast._univariate import _LinearRecursion
-from modalinfo.forecast.base import check_horizon
+from modalinfo.forecast.base import check_horizon, levels_named
 
 __all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
 
@@ -745,6 +745,8 @@ class ARMAPredictor(_LinearRecursion):
         trips the rule far above its 1 % (round 52 PART a, P61), so the message names it.
         """
         flagged, _ = level_steps(X, skip=self._constant_columns(X)[0])
+        # a step the fit's calibration-event warning named is not named twice (fix54-b)
+        flagged = [(j, t) for j, t in flagged if j not in levels_named()]
         if not flagged:
             return
         shown = "; ".join(

@@ -56,13 +56,17 @@ S57). Settings read at forecast time only (ARMA's ``level``, the neural net's
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import copy
 import inspect
 import operator
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 
+from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.validation import SQUARE_FLOOR as _SQUARE_FLOOR
 from modalinfo.common.validation import (
     as_float_array,
@@ -85,6 +89,68 @@ __all__ = ["Predictor", "NotFittedError"]
 SQUARE_FLOOR = _SQUARE_FLOOR  # defined in common.validation (fitting_error uses it too)
 # check_square_floor (imported above, used by evaluate too) lives in common.validation:
 # the data K-L and the autocovariance refuse with it as well (round 40 PART a)
+
+
+#: The columns of the history being fitted whose level step the calibration-event
+#: warning named (a fit's own model-specific level rule, ``ARMAPredictor``'s
+#: ``LevelStepWarning``, leaves them out: one word per event); None outside a judged fit.
+#: Set by ``Predictor.fit`` around its estimate, and by :func:`training_events_judged`
+#: (the caller judged the training frames once: ``evaluate`` fits every predictor on
+#: them, and ``fit`` then runs no pass of its own).
+_LEVELS_NAMED: contextvars.ContextVar[frozenset | None] = contextvars.ContextVar(
+    "modalinfo_training_levels_named", default=None)
+
+
+@contextlib.contextmanager
+def training_events_judged(named: frozenset = frozenset()) -> Iterator[None]:
+    """Within: ``Predictor.fit`` leaves the calibration-event check to the caller.
+
+    ``named``: the columns whose level step the caller's warning named
+    (:func:`warn_training_events`' return).
+    """
+    token = _LEVELS_NAMED.set(frozenset(named))
+    try:
+        yield
+    finally:
+        _LEVELS_NAMED.reset(token)
+
+
+def levels_named() -> frozenset:
+    """Columns whose level step the calibration-event warning of this fit named."""
+    return _LEVELS_NAMED.get() or frozenset()
+
+
+def warn_training_events(X, labels, caller: str) -> frozenset:
+    """Warn (``CalibrationEventWarning``) where the training frames hold a calibration event.
+
+    The quality pass's level and spread steps (``telemetry.quality.calibration_events``
+    with ``scale=False``: its ``mode_events`` at ``CALIBRATION_LEVEL_P``, none on fewer than
+    ``CALIBRATION_MIN_FRAMES`` frames), the one detector ``order_modes`` names too
+    (fix53-a). A level step or gain jump inside the history is fitted as dynamics
+    (persistence, a spread the model takes for turbulence), without a word before
+    fix54-b (round 53 PART a, C23). ``X`` (T, M) the training frames, ``labels`` their
+    ``M`` names, ``caller`` the message's start. Returns the columns whose level step
+    (``"the mean steps or drifts ..."``) was named.
+    """
+    from modalinfo.telemetry.quality import (
+        CalibrationEventWarning,
+        calibration_event_list,
+        calibration_events,
+    )
+
+    # level and spread steps: the innovations' scale rule names blocks of stationary
+    # simulated POLs (calibration_events' notes)
+    events = calibration_events(np.asarray(X), scale=False)
+    if not events:
+        return frozenset()
+    modes = sorted({j for j, *_ in events})
+    warn(f"{caller}: the quality pass (assess_quality) finds a calibration event in "
+         f"{len(modes)} of the {X.shape[1]} modes of the training history "
+         f"({calibration_event_list(events, labels)}): the fitted model pools both sides "
+         "of the event (a new reference, a gain or unit change, modes re-mapped, the loop "
+         "closing), which it reads as dynamics or turbulence; fit each stretch of steady "
+         "conditions on its own.", CalibrationEventWarning, stacklevel=caller_stacklevel())
+    return frozenset(j for j, _, _, words in events if words.startswith("the mean steps"))
 
 
 class NotFittedError(ValueError, AttributeError):
@@ -404,15 +470,31 @@ class Predictor:
 
         Parameters
         ----------
-        history : array_like, shape (T,) or (T, M)
+        history : array_like, shape (T,) or (T, M), or ModalLog
             Past samples, time along axis 0. Univariate predictors fit one model per
-            mode (column); multivariate ones model the modes jointly.
+            mode (column); multivariate ones model the modes jointly. A ``ModalLog`` is
+            fitted on its ``coeffs``; its labels become ``columns_`` and its metadata
+            ``training_metadata_`` (what the log says of its source: a closed-loop run's
+            config, which ``closedloop.simulate`` checks against the loop's, fix54-b).
 
         Returns
         -------
         Predictor
             ``self``, fitted; the online state is reset.
+
+        Warns
+        -----
+        CalibrationEventWarning
+            Where the quality pass finds a level step or a spread step (a new reference,
+            a gain jump) in a mode of a history of at least 2,000 frames (the rules
+            ``order_modes`` names, ``warn_training_events``): the parameters pool
+            both sides of the event.
         """
+        from modalinfo.telemetry.log import ModalLog
+
+        log = history if isinstance(history, ModalLog) else None
+        if log is not None:  # its values, labels and source (fix54-b, C22)
+            history = log.coeffs
         X, scalar = self._check_history(history, "history", 1)
         n_min, rule = self._min_samples_rule(X.shape[1])
         if X.shape[0] < n_min:
@@ -423,15 +505,24 @@ class Predictor:
         _, _, window = self._check_common(X.shape[1])
         check_square_range(X, "history")
         check_square_floor(X, "history")
-        self.params_ = self._estimate(X, None, "history")
+        names = _frame_columns(history) if log is None else [str(c) for c in log.labels]
+        named = _LEVELS_NAMED.get()
+        if named is None:  # the quality pass's events (fix54-b, C23), unless judged already
+            named = warn_training_events(X, [str(c) for c in names] if names is not None else [
+                f"column {j}" for j in range(X.shape[1])], f"{type(self).__name__}.fit")
+        with training_events_judged(named):
+            self.params_ = self._estimate(X, None, "history")
         self.n_modes_ = X.shape[1]
         self.n_samples_fit_ = X.shape[0]
-        names = _frame_columns(history)
         if names is None:
             self.__dict__.pop("columns_", None)
         else:
             self.columns_ = names
         self.scalar_input_ = scalar
+        if log is None:
+            self.__dict__.pop("training_metadata_", None)
+        else:
+            self.training_metadata_ = copy.deepcopy(dict(log.metadata))
         self.window_ = X.shape[0] if window is None else window
         # the model settings the parameters were estimated with (round 43 PART a, S03)
         self._fit_settings_ = {name: _snapshot(getattr(self, name))
@@ -466,7 +557,10 @@ class Predictor:
         Besides the history itself. The base counts 2 float64 copies of the history:
         tracemalloc's peak of the fits of the linear, ARMA and neural-net predictors
         is 1.0-1.1 copies at 1,500-8,000 samples of 10-27 modes (left19-est);
-        predictors with a larger design override it.
+        predictors with a larger design override it. The model's estimate only: on a
+        history of ``CALIBRATION_MIN_FRAMES`` (2,000) frames or more, ``fit`` first runs
+        the quality pass for calibration events (fix54-b), whose peak
+        (``telemetry.quality.quality_memory``) comes and is freed before the estimate's.
 
         Parameters
         ----------

@@ -121,7 +121,13 @@ from modalinfo.common.validation import (
     column_labels,
 )
 from modalinfo.forecast.arma import ARMAPredictor
-from modalinfo.forecast.base import Predictor, check_square_floor, user_defined
+from modalinfo.forecast.base import (
+    Predictor,
+    check_square_floor,
+    training_events_judged,
+    user_defined,
+    warn_training_events,
+)
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
 from modalinfo.information.resampling import OutlierWarning
 from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, check_ordering_seconds, seconds_text
@@ -1577,9 +1583,12 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             raise ValueError(
                 f"`history` needs at least {n_min} samples along axis 0 for "
                 f"{type(pred).__name__} ({rule}); got {n_train}.")
+    # once for every predictor fitted on these frames (Predictor.fit's own check, fix54-b)
+    named = warn_training_events(train_data, labels, "evaluate")
     for i, (name, pred) in enumerate(clones.items()):
         settings["predictors"][name] = repr(pred)
-        pred.fit(train_data)
+        with training_events_judged(named):
+            pred.fit(train_data)
         _refuse_idle_refits(pred, int(origins[-1]), n_frames, n_train)
         has_interval[i] = has_intervals(pred)
         run = pred._new_run(h_max)

@@ -1533,12 +1533,80 @@ def outlier_note(series: np.ndarray, labels, caller: str) -> str | None:
     flagged = outlier_columns(series, min_levels=OUTLIER_MIN_LEVELS)
     if not flagged:
         return None
-    return (f"{caller}: {outlier_list(flagged, labels)}. The least-squares "
-            "(method='gaussian') scores follow such values: a frame glitched in a few "
-            "modes makes them look predictive of each other (4 glitched frames gave false "
-            "links in every one of 20 selections and 10 maps, round 53 PART a); remove "
+    return (f"{caller}: {outlier_list(flagged, labels)}. {_LEVERAGE_WORDS}; remove "
             "glitches first (modalinfo.telemetry.apply_outlier_policy, 'clip' or 'drop') "
             "and read the links of these series with care.")
+
+
+_LEVERAGE_WORDS = (
+    "The least-squares (method='gaussian') scores follow such values: a frame glitched "
+    "in a few modes makes them look predictive of each other (4 glitched frames gave "
+    "false links in every one of 20 selections and 10 maps, round 53 PART a)")
+
+#: Choices of the ``outliers`` keyword of the least-squares selection and map
+#: (:func:`clip_glitches`): the shared policy's names (``telemetry.OUTLIER_POLICIES``).
+GLITCH_POLICIES = ("clip", "warn")
+
+
+def clip_glitches(series: np.ndarray, labels, caller: str, policy: str = "clip"
+                  ) -> tuple[np.ndarray, str | None]:
+    """``series`` with its glitches replaced where the outlier rule flags one, and why.
+
+    Where :func:`outlier_columns` flags a series (the rule of :func:`outlier_note`, at
+    ``HEAVY_TAIL_ALPHA`` over the series), ``policy="clip"`` runs the shared outlier
+    policy on them all, ``telemetry.apply_outlier_policy(..., "clip", time_series=True)``:
+    the quality pass's flagged values are replaced by their AR(4) predictions from the
+    frames before them, every other value kept bit for bit. Replacing the values, not
+    leaving out the rows whose lag window touches a flagged frame, keeps every lagged
+    row and the circular-shift surrogates' rows in step: the surrogates rotate the
+    same cleaned series, so the null sees what the statistic sees (rows left out of
+    the statistic would come back, shifted, in the null's rotations and bias it).
+    Measured (docs/ADVERSARIAL.md, fix54-b): 4 frames glitched by +-20 sd in 3 of 40
+    AR(1) modes gave false inputs in 20 of 20 selections and false cells in 10 of 10
+    maps as given; after the clip 0 of 20 and 0 of 10 (the clean logs: 0 of 20, 1 of 10).
+    A series the rule does not flag is returned as it is (the same object).
+
+    Parameters
+    ----------
+    series : numpy.ndarray, shape (n, m)
+        Finite series in time order.
+    labels : sequence of str
+        Their ``m`` names (for the message).
+    caller : str
+        The function's name, to start the message.
+    policy : {"clip", "warn"}
+        ``"clip"``: replace as above; ``"warn"``: keep the values (round 53's warning).
+
+    Returns
+    -------
+    series : numpy.ndarray, shape (n, m)
+        The series to score.
+    why : str or None
+        The ``OutlierWarning``'s message (what was flagged and what was done), or None
+        where nothing was flagged.
+    """
+    flagged = outlier_columns(series, min_levels=OUTLIER_MIN_LEVELS)
+    if not flagged:
+        return series, None
+    head = f"{caller}: {outlier_list(flagged, labels)}. {_LEVERAGE_WORDS}"
+    if policy == "warn":
+        return series, (f"{head}; with outliers='warn' they are scored as given: remove "
+                        "glitches first (modalinfo.telemetry.apply_outlier_policy, 'clip') "
+                        "or use the default outliers='clip'.")
+    from modalinfo.telemetry.log import ModalLog
+    from modalinfo.telemetry.quality import apply_outlier_policy
+
+    log, _ = apply_outlier_policy(ModalLog(series), "clip", time_series=True)
+    out = np.array(log.coeffs, dtype=float)
+    changed = out != series
+    n_values, n_frames = int(changed.sum()), int(changed.any(axis=1).sum())
+    done = (f"so {n_values} value(s) in {n_frames} frame(s) that the quality pass flags "
+            "were replaced by their AR(4) predictions from the frames before them "
+            "(modalinfo.telemetry.apply_outlier_policy 'clip', as for the surrogates) "
+            "before scoring" if n_values else
+            "the quality pass flags no value to replace (a heavy tail rather than "
+            "glitches?): the values are scored as given, read these links with care")
+    return out, f"{head}; {done}. outliers='warn' keeps the values."
 
 
 def outlier_list(flagged: list[tuple[int, int, float, float]], labels) -> str:

@@ -114,15 +114,16 @@ from modalinfo.information.histogram import histogram_cmi, histogram_conditionin
 from modalinfo.information.ksg import ksg_cmi, ksg_cost
 from modalinfo.information.methods import BiasRuleWarning, get_method
 from modalinfo.information.resampling import (
+    GLITCH_POLICIES,
     OutlierWarning,
     auto_block_length,
     block_bootstrap_indices,
     check_resamples,
     check_surrogates_reach,
+    clip_glitches,
     local_linear_split,
     local_permutation,
     neighbour_rows,
-    outlier_note,
     rank_based_options,
     residual_split,
     surrogate_pvalue,
@@ -996,7 +997,7 @@ def select_inputs(
     n_resamples: int = 199, confidence_level: float = 0.95,
     min_shift: int | None = None, seed: Any = None, candidates: Any = "all",
     radial_width: int = RADIAL_WIDTH, max_seconds: float = MAX_SEARCH_SECONDS,
-    **options: Any,
+    outliers: str = "clip", **options: Any,
 ) -> InputSelection:
     """Greedy CMI selection of the past values that forecast a mode ``horizon`` ahead.
 
@@ -1066,6 +1067,17 @@ def select_inputs(
         estimates) before the search is refused, before any work. Not checked for
         ``method="gaussian"``: its closed form (partial correlations) costs milliseconds
         where the others cost seconds (round 36 PART a, M3).
+    outliers : {"clip", "warn"}
+        Glitches on the least-squares path (``method="gaussian"``): where the outlier
+        rule flags a series (AR(4) innovations beyond the heavy-tail threshold,
+        family-wise 1e-4), ``"clip"`` (default) replaces the values the quality pass
+        flags by their AR(4) predictions before the search (the shared policy,
+        ``telemetry.apply_outlier_policy``; the surrogates rotate the cleaned series) and
+        says so (``OutlierWarning``); ``"warn"`` scores the values as given, with the
+        warning (before fix54-b: 4 glitched frames gave false inputs in 20 of 20
+        selections). Logs the rule does not flag are untouched either way
+        (``modalinfo.information.resampling.clip_glitches``). Other methods score
+        ranks or neighbours and are not changed.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 
@@ -1130,6 +1142,18 @@ def select_inputs(
     if T < (least := least_selection_frames(horizon, max_lag)):
         raise ValueError(f"`data` needs at least {least} frames for "
                          f"horizon={horizon}, max_lag={max_lag}; got {T}.")
+    check_choice(outliers, "outliers", GLITCH_POLICIES)
+    closed = get_method(method).gaussian_closed_form  # partial correlations, not est()
+    if closed and options.get("copula", False):
+        raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
+                         "closed form scores the values (least-squares residuals); use "
+                         "method='histogram' or 'ksg' for rank-based scores.")
+    if closed:
+        # least squares follow a glitch (round 53 a): cleaned before the lagged rows and
+        # the surrogates are built, so both see the same values (fix54-b)
+        series, why = clip_glitches(series, labels, "select_inputs", outliers)
+        if why:
+            warn(why, OutlierWarning, stacklevel=2)
     allowed = candidate_mask(labels, candidates, radial_width)
     if allowed is None:
         origins, C, cols = lagged_candidates(series, horizon, max_lag)
@@ -1143,13 +1167,6 @@ def select_inputs(
         min_shift = check_int(min_shift, "min_shift", minimum=1, maximum=n // 2)
     # one set of shifts for the whole search, on a lattice with the original at 0
     shifts, shift0 = surrogate_shifts(n, n_surrogates, max_lag - 1 + horizon, min_shift, rng)
-    closed = get_method(method).gaussian_closed_form  # partial correlations, not est()
-    if closed and options.get("copula", False):
-        raise ValueError(f"`copula`=True is not available with method={method!r} here: its "
-                         "closed form scores the values (least-squares residuals); use "
-                         "method='histogram' or 'ksg' for rank-based scores.")
-    if closed and (why := outlier_note(series, labels, "select_inputs")):
-        warn(why, OutlierWarning, stacklevel=2)  # least squares follow a glitch (round 53 a)
     est = _estimator(method, units, options)
     factor = UNITS[units]
     # once per call, not once per candidate (issue 27)

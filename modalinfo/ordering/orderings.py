@@ -136,6 +136,10 @@ from modalinfo.ordering.cost import (  # the search's sizes live with the cost m
     MAX_ORDERING_SECONDS,
 )
 from modalinfo.ordering.result import OrderingResult, basis_key
+from modalinfo.telemetry.quality import (  # noqa: F401 - the floor's names, kept here
+    CALIBRATION_LEVEL_P,
+    CALIBRATION_MIN_FRAMES,
+)
 
 __all__ = ["CONFIDENCE_LEVEL", "METHODS", "MI_ONLY_ARGUMENTS", "SEARCHES",
            "SpatialEnvelopeWarning", "envelope_information", "order_modes",
@@ -1048,21 +1052,9 @@ CALIBRATION_ADVICE = ("order each stretch of steady conditions on its own (log.s
                       "pass quality=False where the event is known and meant.")
 
 
-#: Largest p value of the quality pass's level rule (``QualityReport.level_steps``) that
-#: :func:`order_modes` names as a calibration event. The pass names a step at 1 %
-#: family-wise, but its F law is liberal on long memory and on open-loop turbulence
-#: (fix53-a, 50 logs each: fGn H 0.9 of 10 x 20,000 frames named in 44, `kaos_like` open
-#: loop of 2,000 frames in 17, smallest p 5.9e-9 and 4.8e-7); the events of round 52
-#: PART a read 5.9e-36 to 1.0e-9 (a +1 sd step of every mode the weakest). The spread
-#: and scale rules are taken at the pass's own levels (0 of those 300 logs).
-CALIBRATION_LEVEL_P = 1e-8
-#: Fewer frames than this: no calibration-event warning. On short closed-loop logs (lag-1
-#: ~0.99) the pass's step rules cannot tell a step from the modes' own wander: kaos_like
-#: closed loop, events at p < 1e-8 in 12 / 20 logs of 120 frames, 10 / 20 of 200, 1 / 20
-#: of 400, 2 / 40 of 600, 1 / 40 of 1,000, 0 / 40 of 2,000 (stop 60 merge: the 120-frame
-#: log of tests/information/test_extension_points.py warned). Round 52 PART a's events sit
-#: in logs of 20,000 frames; an archive log is seconds to hours at 1-2 kHz.
-CALIBRATION_MIN_FRAMES = 2000
+# CALIBRATION_LEVEL_P (1e-8) and CALIBRATION_MIN_FRAMES (2,000) moved to
+# modalinfo.telemetry.quality with the events' rule (fix54-b: Predictor.fit names
+# them too); imported above under the same names.
 
 
 class SpatialEnvelopeWarning(UserWarning):
@@ -1163,7 +1155,8 @@ def _warn_calibration_events(a: np.ndarray, labels: tuple, method: str,
     from modalinfo.telemetry.quality import (
         CalibrationEventWarning,
         QualityReport,
-        assess_quality,
+        calibration_event_list,
+        calibration_events,
     )
 
     if isinstance(quality, QualityReport):
@@ -1176,17 +1169,14 @@ def _warn_calibration_events(a: np.ndarray, labels: tuple, method: str,
                 f"{', '.join(quality.labels[:3])}{', ...' if quality.n_modes > 3 else ''}.")
     elif not (quality is True or quality is np.True_):
         raise TypeError(f"`quality` must be True, False or a QualityReport; got {quality!r}.")
-    if a.shape[0] < CALIBRATION_MIN_FRAMES:
-        return  # before the pass: its answer would not be used
-    report = quality if isinstance(quality, QualityReport) else assess_quality(a)
-    events = report.mode_events(level_p=CALIBRATION_LEVEL_P)
+    # the floor is checked before the pass runs (its answer would not be used)
+    events = calibration_events(a, quality if isinstance(quality, QualityReport) else None)
     if not events:
         return
     modes = sorted({j for j, *_ in events})
-    shown = "; ".join(f"{labels[j]}: {words}" for j, _, _, words in events[:6])
-    more = f"; ... ({len(events)} events)" if len(events) > 6 else ""
     warn(f"order_modes ({method}): the quality pass (assess_quality) finds a calibration "
-         f"event in {len(modes)} of the {a.shape[1]} modes ranked ({shown}{more}): the "
+         f"event in {len(modes)} of the {a.shape[1]} modes ranked "
+         f"({calibration_event_list(events, labels)}): the "
          "pooled ordering is that of the pooled log, in which the event (a new reference, a "
          "gain or unit change, modes re-mapped, the loop closing) weighs as much as the "
          f"turbulence; {CALIBRATION_ADVICE}",

@@ -349,6 +349,58 @@ class CalibrationEventWarning(UserWarning):
     """
 
 
+#: Largest p value of the quality pass's level rule (``QualityReport.level_steps``) that
+#: a pooling call (``order_modes``, ``Predictor.fit``) names as a calibration event. The
+#: pass names a step at 1 % family-wise, but its F law is liberal on long memory and on
+#: open-loop turbulence (fix53-a, 50 logs each: fGn H 0.9 of 10 x 20,000 frames named in
+#: 44, `kaos_like` open loop of 2,000 frames in 17, smallest p 5.9e-9 and 4.8e-7); the
+#: events of round 52 PART a read 5.9e-36 to 1.0e-9 (a +1 sd step of every mode the
+#: weakest). The spread and scale rules are taken at the pass's own levels (0 of those
+#: 300 logs). Moved here from ``modalinfo.ordering.orderings`` (fix54-b: one floor for
+#: both callers).
+CALIBRATION_LEVEL_P = 1e-8
+#: Fewer frames than this: no calibration-event warning. On short closed-loop logs (lag-1
+#: ~0.99) the pass's step rules cannot tell a step from the modes' own wander: kaos_like
+#: closed loop, events at p < 1e-8 in 12 / 20 logs of 120 frames, 10 / 20 of 200, 1 / 20
+#: of 400, 2 / 40 of 600, 1 / 40 of 1,000, 0 / 40 of 2,000 (stop 60 merge: the 120-frame
+#: log of tests/information/test_extension_points.py warned). Round 52 PART a's events sit
+#: in logs of 20,000 frames; an archive log is seconds to hours at 1-2 kHz.
+CALIBRATION_MIN_FRAMES = 2000
+
+
+def calibration_events(a: np.ndarray, report: QualityReport | None = None,
+                       scale: bool = True) -> tuple:
+    """Return the calibration events a call that pools ``a`` names, or ``()``.
+
+    The quality pass's :meth:`QualityReport.mode_events` (the one detector of steps,
+    drifts and scale changes; fix53-a) at ``CALIBRATION_LEVEL_P`` for the level rule, on
+    logs of at least ``CALIBRATION_MIN_FRAMES`` frames (shorter ones: ``()`` before the
+    pass runs). ``a`` (T, M): the values pooled; ``report``: the pass's report of ``a``
+    (None: :func:`assess_quality` is run). Used by ``order_modes`` and ``Predictor.fit``.
+
+    ``scale`` False leaves out the innovations' scale rule (``scale_steps``), as
+    ``Predictor.fit`` does: on stationary closed-loop POLs of ``closedloop.simulate`` (one
+    Kolmogorov layer in frozen flow, 0.7 m, D/r0 7, 27 modes, ~3,000 frames after the
+    closure) it named blocks of x1.6-x2.2 in 10 of the first 13 seeds (the innovations'
+    scale of one realisation of turbulence wanders), the level and spread rules in none
+    (docs/ADVERSARIAL.md, fix54-b); a gain jump is a spread step, a new reference a level
+    step.
+    """
+    if a.shape[0] < CALIBRATION_MIN_FRAMES:
+        return ()
+    report = assess_quality(a) if report is None else report
+    return report.mode_events(level_p=CALIBRATION_LEVEL_P, scale=scale)
+
+
+def calibration_event_list(events: tuple, labels) -> str:
+    """``"Z5: the mean steps ... at frame 12000; ..."``: the first six events named.
+
+    ``events``: :func:`calibration_events`' rows; ``labels``: the pooled columns' names.
+    """
+    shown = "; ".join(f"{labels[j]}: {words}" for j, _, _, words in events[:6])
+    return shown + (f"; ... ({len(events)} events)" if len(events) > 6 else "")
+
+
 #: Default minimum run of equal consecutive values counted as stuck.
 DEFAULT_STUCK_RUN = 8
 
@@ -1127,7 +1179,7 @@ class QualityReport:
         return (" and ".join(parts) + f": {rate} assumes a stationary log; assess "
                 f"stretches of steady conditions ({where})")
 
-    def mode_events(self, level_p: float | None = None) -> tuple:
+    def mode_events(self, level_p: float | None = None, scale: bool = True) -> tuple:
         """Return the events the stationarity rules found in single modes, per mode in time.
 
         What :attr:`level_steps`, :attr:`variance_steps` (a line named as such by
@@ -1138,7 +1190,9 @@ class QualityReport:
         ``"the mean steps or drifts by +0.16 at frame 12000"``. The calls that pool a log without
         running the quality pass themselves (``modalinfo.ordering.order_modes``) name
         these (fix53-a, issue 27): no second detector. ``level_p``: only the level
-        steps of p value below it (None: all of :attr:`level_steps`).
+        steps of p value below it (None: all of :attr:`level_steps`). ``scale`` False:
+        without :attr:`scale_steps` (``Predictor.fit``, fix54-b: the innovations' scale
+        rule names blocks of a stationary simulated POL, see ``calibration_events``).
         """
         where = {label: j for j, label in enumerate(self.labels)}
         lines = {(label, frame): (freq, on) for label, frame, freq, on in self.step_lines}
@@ -1158,7 +1212,7 @@ class QualityReport:
             else:
                 words = f"the spread steps x{ratio:.2g} at frame {frame}"
             events.append((where[label], label, int(frame), words))
-        for label, start, stop, ratio, _ in self.scale_steps:
+        for label, start, stop, ratio, _ in (self.scale_steps if scale else ()):
             events.append((where[label], label, int(start),
                            f"the innovations' scale changes x{ratio:.2g} in frames "
                            f"{start}-{stop}"))

@@ -116,10 +116,11 @@ def test_forecast_csv_names_its_units(tmp_path):
 
 
 def test_modal_log_where_an_array_is_expected_hints_coeffs():
-    # C12 / C21
+    # C12 / C21; since fix54-b ``Predictor.fit`` takes a ModalLog (its coeffs, labels and
+    # metadata): the same parameters as on ``log.coeffs``
     log = _log()
-    with pytest.raises(TypeError, match=r"`history`.*\(use log\.coeffs\)"):
-        LinearPredictor().fit(log)
+    a, b = LinearPredictor().fit(log), LinearPredictor().fit(np.asarray(log.coeffs))
+    assert all(np.array_equal(a.params_[k], b.params_[k]) for k in a.params_)
     with pytest.raises(TypeError, match=r"\(use log\.coeffs\)"):
         lag1_autocorrelations(log)
 
