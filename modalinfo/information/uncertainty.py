@@ -99,6 +99,7 @@ from modalinfo.information.api import (
 )
 from modalinfo.information.convergence import (
     KDE_BIAS_RATE,
+    bartlett_cross_factor,
     bartlett_sum_pairs,
     effective_pairs,
     effective_sample_rule,
@@ -382,9 +383,16 @@ def _bartlett_z_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0) -> floa
     n_eff is the fewer of that lag-1 closed form and Bartlett's full sum over lags
     (``convergence.bartlett_sum_pairs``): on long memory the lag-1 form counts 3-4
     times too many pairs and the 95 % interval covered 0.69-0.83 (fGn H 0.9 / 0.95,
-    ARFIMA d = 0.4, n = 2,000, rho = 0.6; round 52 PART a, P18 / P19).
+    ARFIMA d = 0.4, n = 2,000, rho = 0.6; round 52 PART a, P18 / P19). For one column
+    each, that count times ``convergence.bartlett_cross_factor`` (Bartlett's 1946 full
+    formula over the pair's cross-correlations against the product form the counts
+    assume; in [1, 2], at most n): a series and its own lag, whose cross-correlation
+    peaks at lag 1, has ``1 + phi^2`` times the pairs (fix54-c; ``select_inputs``' interval
+    of a target's last value covered 0.98 - 0.99 of 95 % with the product form).
     """
     n_eff = min(effective_pairs(x, y), bartlett_sum_pairs(x, y))
+    if x.ndim == 1 and y.ndim == 1:
+        n_eff = min(n_eff * bartlett_cross_factor(x, y), float(x.shape[0]))
     return 1.0 / math.sqrt(max(n_eff - 3.0 - conditioning, 1.0))
 
 
