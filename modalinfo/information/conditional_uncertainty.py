@@ -59,6 +59,7 @@ from modalinfo.information.gaussian import gaussian_cmi
 from modalinfo.information.histogram import (
     _bins_per_axis,
     histogram_cmi,
+    histogram_cmi_grid_loss,
     histogram_grid_loss,
     within_bin_excess,
 )
@@ -352,14 +353,20 @@ def _cmi_grid_loss_bound(xa: np.ndarray, ya: np.ndarray, za: np.ndarray,
             or any(np.unique(a).size < a.shape[0] for a in (xa, ya))):
         return high, ""
     k = _bins_per_axis(bins, xa.shape[0], 2 + za.shape[1])
-    loss, r = histogram_grid_loss(x_resid[:, 0], y_resid[:, 0], k)
+    if za.shape[1] == 1 and np.unique(za).size == za.shape[0]:
+        # one continuous z column: the triple's own k^3 grid (fix54-c)
+        loss, r = histogram_cmi_grid_loss(xa[:, 0], ya[:, 0], za[:, 0], k)
+        model = "a Gaussian triple with x's, y's and z's normal-score correlations"
+    else:
+        loss, r = histogram_grid_loss(x_resid[:, 0], y_resid[:, 0], k)
+        model = "a Gaussian pair of x's and y's residuals on z"
     raise_by = loss * factor
     if not math.isfinite(high) or raise_by <= 0.25 * 0.5 * (high - low):
         return high, ""
     return high + raise_by, (
         f"upper bound raised by {raise_by:.4g} {units}: the {k} equiprobable bins per axis "
-        f"lose that much information on a Gaussian pair of x's and y's residuals on z "
-        f"(partial correlation {r:.4g}), and the bootstrap sees only the binned CMI")
+        f"lose that much information on {model} (partial correlation {r:.4g}), and the "
+        "bootstrap sees only the binned CMI")
 
 
 #: Least excess [nats, per-bin Gaussian model] of the data over a surrogate's for
