@@ -322,10 +322,11 @@ def cmi_block_bounds(theta: float, dist: np.ndarray, x_resid: np.ndarray,
         if fisher:
             low, high = _fisher_bounds(max(theta, 0.0), dist.clip(min=0.0), factor,
                                        confidence_level, _bartlett_z_std(
-                                           x_resid[:, 0], y_resid[:, 0], conditioning))
+                                           x_resid[:, 0], y_resid[:, 0], conditioning,
+                                           cross=True))
             return "fisher", low, high
         s_boot = max(s_boot, factor * _bartlett_mi_std(x_resid[:, 0], y_resid[:, 0],
-                                                       conditioning))
+                                                       conditioning, cross=True))
     half = float(stats.norm.ppf(1.0 - (1.0 - confidence_level) / 2.0) * s_boot)
     return "normal", theta - half, theta + half
 

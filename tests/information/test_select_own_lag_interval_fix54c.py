@@ -37,7 +37,7 @@ def test_floor_of_a_lag_pair_is_bartletts_variance(phi):
     """
     n = 2000
     ratios = [
-        _bartlett_z_std(x[1:], x[:-1]) * math.sqrt((n - 1) * (1 - phi**2))
+        _bartlett_z_std(x[1:], x[:-1], cross=True) * math.sqrt((n - 1) * (1 - phi**2))
         for x in (_ar1(phi, n, seed) for seed in range(10))
     ]
     assert np.mean(ratios) == pytest.approx(1.0, abs=0.12)
@@ -50,7 +50,7 @@ def test_floor_of_correlated_innovations_is_unchanged():
     for seed in range(10):
         e = _ar1(phi, n, seed, (2,))
         y = rho * e[:, 0] + math.sqrt(1 - rho**2) * e[:, 1]
-        ratios.append(_bartlett_z_std(e[:, 0], y)
+        ratios.append(_bartlett_z_std(e[:, 0], y, cross=True)
                       * math.sqrt(n * (1 - phi**2) / (1 + phi**2)))
     assert np.mean(ratios) == pytest.approx(1.0, abs=0.08)
 
