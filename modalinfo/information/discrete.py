@@ -514,7 +514,8 @@ def named_columns(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> dict[str, np.n
 TIED_COPULA_METHODS = frozenset({"gaussian"})
 
 
-def tied_columns_why(columns: dict[str, np.ndarray], method: str) -> str | None:
+def tied_columns_why(columns: dict[str, np.ndarray], method: str,
+                     copula: bool = True) -> str | None:
     """Where ``method``'s (Gaussian-copula) value of columns with a discrete one may be off.
 
     The rule of :func:`tied_table_why` for one column: a column is discrete where it
@@ -536,6 +537,9 @@ def tied_columns_why(columns: dict[str, np.ndarray], method: str) -> str | None:
         The variables (x, y and z's columns) by the names the caller gave them.
     method : str
         The estimator's name.
+    copula : bool
+        Whether the method models the normal scores (True) or the values (False, the
+        same rule: a normal model of a few levels is not their law either; fix54-c).
 
     Returns
     -------
@@ -556,5 +560,6 @@ def tied_columns_why(columns: dict[str, np.ndarray], method: str) -> str | None:
     names = ", ".join(f"`{k}` {m}" for k, m in levels.items())
     return (f"discrete column(s) (levels: {names}; at most n / "
             f"{2 * DISCRETE_MIN_PER_CELL} = {n // (2 * DISCRETE_MIN_PER_CELL)} distinct "
-            f"values) whose tied normal scores method={method!r} models as a coarsened "
-            "normal, not as the column's law")
+            f"values) whose {'tied normal scores' if copula else 'values'} "
+            f"method={method!r}{'' if copula else ', copula=False'} models as a "
+            f"{'coarsened ' if copula else ''}normal, not as the column's law")

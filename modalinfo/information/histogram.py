@@ -765,6 +765,9 @@ _DENSE_MAX_CELLS = 1 << 21
 MIN_COUNT_PER_CELL = 1
 #: Least number of CMI bins per axis (bias rule).
 MIN_BINS = 4
+#: Least mean number of samples per cell of a CMI table that codes discrete columns by
+#: their levels beyond the bins' k^d cells (:func:`discrete_column_levels`).
+LEVEL_MIN_PER_CELL = 4
 #: Least mean number of samples per occupied joint cell of the MI's rule-chosen bins
 #: (``HistogramEngine.resolution_why``).
 MIN_COUNT_PER_OCCUPIED_CELL = 2
@@ -804,60 +807,106 @@ def _sorted_sum(codes: np.ndarray) -> tuple[float, float]:
     return out[0], out[1]
 
 
-def conditioning_levels(z: np.ndarray, k: int, pair_cells: int, n: int
-                        ) -> tuple[np.ndarray, int, np.ndarray]:
-    """Level codes of the discrete columns of z, their number of cells, and z's other columns.
+def discrete_column_levels(groups: tuple[np.ndarray, ...], k: int, n: int
+                           ) -> list[dict[int, tuple[np.ndarray, int]]]:
+    """Level codes of the discrete columns of each group that the CMI's table codes by level.
 
     Quantile bins merge the levels of a discrete column wherever a level holds less than
-    a bin's share (the tail levels of a count), and x and y, which both follow z inside a
-    merged bin, then share a CMI that z does not leave them: integer x, y = z + Bernoulli
-    given z ~ Poisson(1) (exact CMI 0) read +0.0246 (s.e. 0.0008, 10 seeds) at n = 3,000,
-    7 bins per axis (round 51 PART a, Q47). A column of z that is discrete (at most n / 20
-    distinct values, :func:`discrete_x_levels`, the rule of every engine) is coded by its
-    levels instead (its table is its law: no binning loss), while the joint table keeps the
-    bias rule's budget: at most ``max(k^d, n / MIN_COUNT_PER_CELL)`` cells for the ``k``
-    bins per axis (``pair_cells = k^(d_x + d_y)``); the discrete columns whose levels
-    would pass it, the most levels first, keep the quantile bins.
+    a bin's share, and their edges, repeated on a tied value, leave bins empty (``k``
+    bins over 4 levels of shares 0.05, 0.45, 0.45, 0.05 put the last two levels in one
+    bin at k = 7). Merged levels of the conditioning z leave x and y, which both follow
+    z inside a merged bin, a CMI that z does not (integer x, y = z + Bernoulli given
+    z ~ Poisson(1), exact CMI 0: +0.0246, s.e. 0.0008, at n = 3,000, 7 bins per axis;
+    round 51 PART a, Q47); merged levels of x or y lose CMI (a Gaussian pair quantised to
+    8 lattice levels, exact 0.452 nats, read 0.376 at n = 2,000; fix54-c, Q55). The
+    rule: a column that is discrete (at most n / 20 distinct values,
+    :func:`discrete_x_levels`, the rule of every engine) is coded by its levels (its
+    table is its law: no binning loss), the columns with the fewest levels first (z's,
+    x's and y's alike), while the joint table keeps the bias rule's budget of
+    ``max(k^d, n / MIN_COUNT_PER_CELL)`` cells for ``k`` bins per axis over the d
+    columns. A column of at most k levels is always kept (it has no more cells than its
+    bins); the discrete columns whose levels would pass the budget keep the quantile
+    bins.
 
     Parameters
     ----------
-    z : ndarray, shape (n, dz)
-        Conditioning columns.
+    groups : tuple of ndarray, each of shape (n, d_g)
+        The column groups (z, x, y).
     k : int
         Bins per axis of the continuous columns.
-    pair_cells : int
-        Cells of the x and y axes together.
     n : int
         Number of samples.
 
     Returns
     -------
-    codes : ndarray, shape (n,), int64
-        Mixed-radix code of the levels of the discrete columns kept (zeros if none).
-    levels : int
-        Number of their level combinations (1 if none).
-    rest : ndarray, shape (n, dz')
-        The columns of z that are binned as before (C-contiguous).
+    list of dict
+        For each group, ``{column: (codes (n,) int64, number of levels)}`` of the
+        columns coded by their levels.
     """
-    code = np.zeros(n, dtype=np.int64)
-    if z.shape[1] == 0:
-        return code, 1, z
-    found = {j: lv for j in range(z.shape[1])
-             if (lv := discrete_x_levels(np.ascontiguousarray(z[:, j]))) is not None}
-    cells = pair_cells * k ** z.shape[1]
-    budget = max(cells, n // MIN_COUNT_PER_CELL)
-    kept = []
-    for j in sorted(found, key=lambda j: found[j][1]):  # fewest levels first
-        if cells // k * found[j][1] > budget:
+    found = {(g, j): lv for g, arr in enumerate(groups) for j in range(arr.shape[1])
+             if (lv := discrete_x_levels(np.ascontiguousarray(arr[:, j]))) is not None}
+    cells = k ** sum(arr.shape[1] for arr in groups)
+    budget = max(cells, n // LEVEL_MIN_PER_CELL)
+    kept: list[dict[int, tuple[np.ndarray, int]]] = [{} for _ in groups]
+    for g, j in sorted(found, key=lambda key: found[key][1]):  # fewest levels first
+        if cells // k * found[g, j][1] > budget:
             break
-        kept.append(j)
-        cells = cells // k * found[j][1]
-    levels = 1
-    for j in sorted(kept):
-        code = code * found[j][1] + found[j][0]
-        levels *= found[j][1]
-    rest = [j for j in range(z.shape[1]) if j not in kept]
-    return code, levels, np.ascontiguousarray(z[:, rest])
+        kept[g][j] = found[g, j]
+        cells = cells // k * found[g, j][1]
+    return kept
+
+
+def merged_levels_why(x: np.ndarray, y: np.ndarray, z: np.ndarray, bins: Any = "auto"
+                      ) -> str | None:
+    """Which discrete columns :func:`histogram_cmi` merges into bins, or None.
+
+    The discrete columns (:func:`discrete_x_levels`) whose levels
+    :func:`discrete_column_levels` could not code within the table's budget: their
+    more than ``k`` levels share the ``k`` quantile bins. Adjacent levels of an ordered
+    variable (a quantised Gaussian) lose little there, as bins of a continuum do, but
+    a dependence carried by the levels' identity (a channel of categories) is lost
+    (12 levels, x -> (x + z) mod 12 with 60 % kept, exact CMI 0.949 nats, read 0.479 at
+    n = 2,000, 7 bins; fix54-c), so the caller judges the value against the KSG
+    (``conditional._tied_table_check``). None for a number of bins the caller chose
+    (theirs, as elsewhere). x, y, z: float arrays (n, dx), (n, dy), (n, dz).
+    """
+    if not isinstance(bins, str):
+        return None
+    n = x.shape[0]
+    k = _bins_per_axis(bins, n, x.shape[1] + y.shape[1] + z.shape[1])
+    kept = discrete_column_levels((z, x, y), k, n)
+    merged = []
+    for name, arr, lv in (("x", x, kept[1]), ("y", y, kept[2]), ("z", z, kept[0])):
+        for j in range(arr.shape[1]):
+            if j not in lv and (found := discrete_x_levels(
+                    np.ascontiguousarray(arr[:, j]))) is not None:
+                merged.append(f"`{name if arr.shape[1] == 1 else f'{name}[:, {j}]'}` "
+                              f"{found[1]}")
+    if not merged:
+        return None
+    return (f"discrete column(s) (levels: {', '.join(merged)}) whose levels the histogram "
+            f"merges into {k} bins (their table would pass {LEVEL_MIN_PER_CELL} samples "
+            "per cell)")
+
+
+def _coded_group(arr: np.ndarray, levels: dict[int, tuple[np.ndarray, int]], k: int,
+                 binning: str) -> tuple[np.ndarray, int]:
+    """Mixed-radix cell code (n,) int64 of a column group and its number of cells.
+
+    The columns in ``levels`` (:func:`discrete_column_levels`) by their levels, the
+    others by ``k`` bins (:func:`_group_codes`).
+    """
+    code = np.zeros(arr.shape[0], dtype=np.int64)
+    cells = 1
+    for j in sorted(levels):
+        code = code * levels[j][1] + levels[j][0]
+        cells *= levels[j][1]
+    rest = [j for j in range(arr.shape[1]) if j not in levels]
+    if rest:
+        bins, m = _group_codes(np.ascontiguousarray(arr[:, rest]), k, binning)
+        code = code * m + bins
+        cells *= m
+    return code, cells
 
 
 def histogram_cmi(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
@@ -868,7 +917,9 @@ def histogram_cmi(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
     ``"histogram"``): x, y, z of shapes (n, dx), (n, dy), (n, dz), every column cut
     into the same number of bins (``bins``: "auto", ``round((6 n)^(1 / (d + 2)))``
     capped at :func:`max_rule_bins`, or an int >= 2), ``binning`` "quantile" or
-    "uniform", ``bias_correction`` "miller-madow" or "none".
+    "uniform", ``bias_correction`` "miller-madow" or "none". A discrete column (at
+    most n / 20 distinct values) is coded by its levels instead of bins while the
+    table keeps the bias rule's budget (:func:`discrete_column_levels`).
     """
     check_choice(binning, "binning", ("quantile", "uniform"))
     check_choice(bias_correction, "bias_correction", ("miller-madow", "none"))
@@ -878,22 +929,22 @@ def histogram_cmi(x, y, z, *, bins: Any = "auto", binning: str = "quantile",
     if d * math.log2(k) > 62:
         raise ValueError(f"`bins`={k} per axis over {d} columns overflows the int64 cell "
                          f"codes (k^d >= 2^62); use fewer bins or fewer columns.")
-    nx, ny = k ** x.shape[1], k ** y.shape[1]
-    # a discrete column of z keeps its levels (conditioning_levels; round 51 PART a, Q47)
-    level_code, levels, z = conditioning_levels(z, k, nx * ny, n)
-    nz = levels * k ** z.shape[1]
+    # a discrete column keeps its levels (discrete_column_levels; Q47, Q55)
+    kept = discrete_column_levels((z, x, y), k, n)
+    fused = binning == "quantile" and not any(kept)  # the kernel counts the table itself
+    if fused:
+        nz, nx, ny = k ** z.shape[1], k ** x.shape[1], k ** y.shape[1]
+    else:
+        (cz, nz), (cx, nx), (cy, ny) = (_coded_group(arr, lv, k, binning)
+                                        for arr, lv in zip((z, x, y), kept, strict=True))
     cells = nx * ny * nz
     dense = cells <= min(_DENSE_MAX_CELLS, 8 * n + 4096)
-    fused = binning == "quantile" and levels == 1  # the kernel counts the table itself
     counts = np.empty(cells if dense and fused else 0, dtype=np.int64)
     code = np.empty(0 if counts.size else n, dtype=np.int64)
-    if binning == "quantile":  # one fused numba call: edges, bins, joint cells
+    if fused:  # one fused numba call: edges, bins, joint cells
         ckern.quantile_joint_cells(z, x, y, _quantile_positions(n, k), counts, code)
-    else:
-        code = (_group_codes(z, k, binning)[0] * nx + _group_codes(x, k, binning)[0]) * ny
-        code += _group_codes(y, k, binning)[0]
-    if levels > 1:  # the levels lead the cell code: cell (z, x, y) = (cz nx + cx) ny + cy
-        code += level_code * (cells // levels)
+    else:  # cell (z, x, y) = (cz nx + cx) ny + cy
+        code = (cz * nx + cx) * ny + cy
     if dense and not fused:
         counts = np.empty(cells, dtype=np.int64)
         ckern.count_cells(code, counts)
@@ -1036,6 +1087,50 @@ def gaussian_grid_mi(r: float, k: int, *, nodes: int = 16) -> float:
     return float(np.sum(p * np.log(k * k * p)))
 
 
+def gaussian_grid_cmi(r_xz: float, r_yz: float, r_xy: float, k: int, *,
+                      nodes: int = 16) -> float:
+    """CMI (nats) of a Gaussian triple read on a k x k x k grid of its margins' quantiles.
+
+    What the histogram CMI of one x, y and z column reads at large n where the triple is
+    Gaussian (in its normal scores): ``sum p ln(p p_z / (p_xz p_yz))`` over the cells of
+    equiprobable bins of each margin (edges ``Phi^-1(i / k)``). Unlike the pair's grid
+    (:func:`gaussian_grid_mi` at the partial correlation), x's and y's bins are the
+    margins', which the spread of x and y given z spans fewer of, and z's bins leave
+    part of z unconditioned: at CMI 0.5 nats (x = 0.8 z + u, y = 0.6 z + v) the grid
+    of k = 10 loses 0.0607 nats (Monte Carlo plug-in on 4e6 triples: 0.0607) where the
+    pair's grid loses 0.0519 (fix54-c). Cell probabilities by Gauss-Legendre
+    quadrature (``nodes`` per bin) in ``u = Phi(z)`` over each z bin and in
+    ``v = Phi((x - r_xz z) / s_x)`` over each x bin given z, with y's normal cdf given
+    (x, z) in closed form. Correlations of a positive definite triple; ``k >= 1``.
+    """
+    t, w = np.polynomial.legendre.leggauss(nodes)
+    edges = np.concatenate(([-np.inf], ndtri(np.arange(1, k) / k), [np.inf]))
+    zu = (np.arange(k)[:, None] + 0.5 * (t[None, :] + 1.0)) / k  # (k, nodes)
+    z = ndtri(zu)
+    wz = 0.5 * w / k
+    s_x = math.sqrt(max(1.0 - r_xz * r_xz, 1e-300))
+    # y given (x, z): least-squares coefficients of the correlation matrix
+    det = 1.0 - r_xz * r_xz
+    b_x = (r_xy - r_xz * r_yz) / det
+    b_z = (r_yz - r_xz * r_xy) / det
+    s_y = math.sqrt(max(1.0 - b_x * r_xy - b_z * r_yz, 1e-300))
+    mx = r_xz * z  # (k, nodes): x's mean given each z node
+    lo = ndtr((edges[:-1][None, None, :] - mx[:, :, None]) / s_x)  # (kz, nz, kx)
+    hi = ndtr((edges[1:][None, None, :] - mx[:, :, None]) / s_x)
+    v = lo[..., None] + (hi - lo)[..., None] * 0.5 * (t + 1.0)  # (kz, nz, kx, nx)
+    x = mx[:, :, None, None] + s_x * ndtri(np.clip(v, 1e-300, 1.0 - 1e-16))
+    wx = (hi - lo)[..., None] * 0.5 * w  # (kz, nz, kx, nx)
+    mean_y = b_x * x + b_z * z[:, :, None, None]
+    cdf = ndtr((edges[None, None, None, None, :] - mean_y[..., None]) / s_y)
+    cells = np.diff(cdf, axis=-1)  # (kz, nz, kx, nx, ky)
+    p = np.einsum("zn,znxm,znxmy->zxy", np.broadcast_to(wz, (k, nodes)), wx, cells)
+    p_z, p_xz, p_yz = p.sum(axis=(1, 2)), p.sum(axis=2), p.sum(axis=1)
+    denom = p_xz[:, :, None] * p_yz[:, None, :]
+    keep = (p > 0) & (denom > 0)
+    ratio = (p * p_z[:, None, None])[keep] / denom[keep]
+    return float(np.sum(p[keep] * np.log(ratio)))
+
+
 def histogram_grid_loss(x: np.ndarray, y: np.ndarray, k: int) -> tuple[float, float]:
     """MI (nats) a k x k equiprobable grid loses on a pair with (x, y)'s Gaussian copula.
 
@@ -1048,6 +1143,23 @@ def histogram_grid_loss(x: np.ndarray, y: np.ndarray, k: int) -> tuple[float, fl
     r = normal_score_correlation(x, y)
     g = -0.5 * math.log(1.0 - r * r)
     return max(g - gaussian_grid_mi(r, k), 0.0), r
+
+
+def histogram_cmi_grid_loss(x: np.ndarray, y: np.ndarray, z: np.ndarray, k: int
+                            ) -> tuple[float, float]:
+    """CMI (nats) a k^3 equiprobable grid loses on a triple with (x, y, z)'s Gaussian copula.
+
+    Returns ``(loss, r_p)``: r_p the partial correlation of the normal scores of the
+    three columns (shape (n,) each), ``loss = -0.5 ln(1 - r_p^2) - gaussian_grid_cmi``
+    (:func:`gaussian_grid_cmi`, the triple's own grid; fix54-c: the pair's grid at r_p,
+    :func:`histogram_grid_loss`, left 0.009 nats of a CMI of 0.5 unraised at k = 10).
+    """
+    c = np.corrcoef(np.vstack([copula_scores(a) for a in (x, y, z)]))
+    r_xy, r_xz, r_yz = float(c[0, 1]), float(c[0, 2]), float(c[1, 2])
+    r_p = (r_xy - r_xz * r_yz) / math.sqrt(max((1.0 - r_xz**2) * (1.0 - r_yz**2), 1e-300))
+    r_p = max(min(r_p, 1.0 - 1e-12), -1.0 + 1e-12)
+    g = -0.5 * math.log(1.0 - r_p * r_p)
+    return max(g - gaussian_grid_cmi(r_xz, r_yz, r_xy, k), 0.0), r_p
 
 
 def mixed_grid_loss(codes: np.ndarray, m: int, y: np.ndarray, k: int) -> float:

@@ -585,18 +585,20 @@ def gaussian_ties_why(x: np.ndarray, y: np.ndarray, z: np.ndarray, value: float,
     warned; a Bernoulli(0.05) flag through N(0, 0.5^2) (0.074 / 0.081, exact 0.081), x
     rounded to 0.25 sd (0.217 / 0.212, exact 0.222), Poisson counts of a Gamma(2, 5)
     intensity (0.836 / 0.861, exact 0.855): silent. Not judged where the KSG's own bias
-    rule fails (many columns), nor with ``copula=False`` (the values' Gaussian model,
-    asked for by name: a 60-level variable and its near copy read 3.17 nats there, the
-    model of their Pearson correlation, which ``test_copies_and_discrete`` pins).
+    rule fails (many columns). ``copula=False`` (the values' Gaussian model) by the same
+    rule (fix54-c; it had been left unjudged): a column holding 90 % of its samples at
+    one value and 5 % at each of +-1, through ``x + N(0, 0.3^2)``, n = 2,000, reads
+    0.383 there (exact 0.307, ksg 0.319), a binary flag set in 10 % of the rows
+    through ``3 x + N(0, 1)`` 0.291 (exact 0.236, ksg 0.232): warned; a 60-level variable and its
+    near copy read 3.17 nats, the model of their Pearson correlation, for their
+    entropy's ~4.1: warned.
 
     Here, beside the KSG it runs (the Gaussian engine sits below this module): called by
     ``api.ceiling_problem`` (the MI's Gaussian engine) and by the CMI / TE point estimates
     (``conditional._estimator``). x, y, z: float arrays of shapes (n, dx), (n, dy), (n, dz),
     as :func:`~modalinfo.information.gaussian.gaussian_cmi`.
     """
-    if not copula:  # the values' Gaussian model, asked for by name: not judged
-        return None
-    why = tied_columns_why(named_columns(x, y, z), "gaussian")
+    why = tied_columns_why(named_columns(x, y, z), "gaussian", copula)
     if why is None:
         return None
     n = x.shape[0]

@@ -99,6 +99,7 @@ from modalinfo.information.api import (
 )
 from modalinfo.information.convergence import (
     KDE_BIAS_RATE,
+    bartlett_cross_factor,
     bartlett_sum_pairs,
     effective_pairs,
     effective_sample_rule,
@@ -365,7 +366,8 @@ def _jackknife_z_std(est: MutualInformation, x: np.ndarray, y: np.ndarray) -> fl
     return math.sqrt((n - 1) / n * float(np.sum((z - z.mean()) ** 2)))
 
 
-def _bartlett_z_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0) -> float:
+def _bartlett_z_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0,
+                    cross: bool = False) -> float:
     """Return the sampling s.d. of the pair's Fisher z from its effective pairs.
 
     ``1 / sqrt(n_eff - 3 - conditioning)`` (Fisher 1921, with n replaced by Bartlett's
@@ -382,13 +384,24 @@ def _bartlett_z_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0) -> floa
     n_eff is the fewer of that lag-1 closed form and Bartlett's full sum over lags
     (``convergence.bartlett_sum_pairs``): on long memory the lag-1 form counts 3-4
     times too many pairs and the 95 % interval covered 0.69-0.83 (fGn H 0.9 / 0.95,
-    ARFIMA d = 0.4, n = 2,000, rho = 0.6; round 52 PART a, P18 / P19).
+    ARFIMA d = 0.4, n = 2,000, rho = 0.6; round 52 PART a, P18 / P19). ``cross`` (the
+    CMI intervals, ``conditional_uncertainty.cmi_block_bounds``), for one column each:
+    that count times ``convergence.bartlett_cross_factor`` (Bartlett's 1946 full formula
+    over the pair's cross-correlations against the product form the counts assume; in
+    [1, 2], at most n): a series and its own lag, whose cross-correlation peaks at lag 1,
+    has ``1 + phi^2`` times the pairs (fix54-c; ``select_inputs``' interval of a target's
+    last value covered 0.98 - 0.99 of 95 % with the product form). Not for the MI
+    intervals: the factor's noise above 1 (sd 0.03 - 0.10 at n = 2,000 where theory gives
+    1) took the long-memory floor under the full sum's (round 52's P18 / P19 test).
     """
     n_eff = min(effective_pairs(x, y), bartlett_sum_pairs(x, y))
+    if cross and x.ndim == 1 and y.ndim == 1:
+        n_eff = min(n_eff * bartlett_cross_factor(x, y), float(x.shape[0]))
     return 1.0 / math.sqrt(max(n_eff - 3.0 - conditioning, 1.0))
 
 
-def _bartlett_mi_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0) -> float:
+def _bartlett_mi_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0,
+                     cross: bool = False) -> float:
     """Return the sampling s.d. (nats) of the Gaussian-copula MI from the effective pairs.
 
     ``|r| / sqrt(n_eff - 3)``, r the normal-score correlation: :func:`_bartlett_z_std`
@@ -403,7 +416,7 @@ def _bartlett_mi_std(x: np.ndarray, y: np.ndarray, conditioning: int = 0) -> flo
     the s.d. of the Gaussian CMI given them (``conditional_mutual_information_ci``,
     fix52-b).
     """
-    return abs(normal_score_correlation(x, y)) * _bartlett_z_std(x, y, conditioning)
+    return abs(normal_score_correlation(x, y)) * _bartlett_z_std(x, y, conditioning, cross)
 
 
 def _fisher_bounds(theta: float, dist: np.ndarray, factor: float,

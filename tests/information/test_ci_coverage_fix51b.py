@@ -39,8 +39,11 @@ def _lag1(a: np.ndarray) -> float:
     return min(r + (1.0 + 3.0 * r) / a.size, 1.0 - 1e-12)  # Kendall 1954
 
 
-def _n_eff(x: np.ndarray, y: np.ndarray) -> float:
-    """The fewer of Bartlett's lag-1 count and his full sum to lag n / 10 (numpy only)."""
+def _n_eff(x: np.ndarray, y: np.ndarray, cross: bool = False) -> float:
+    """The fewer of Bartlett's lag-1 count and his full sum to lag n / 10 (numpy only).
+
+    ``cross`` (the CMI intervals, fix54-c): times :func:`_cross_factor`, at most n.
+    """
     n = x.shape[0]
     p = min(max(_lag1(x) * _lag1(y), 0.0), 1.0 - 1e-12)
     k_max = max(1, min(n - 1, n // 10))
@@ -51,7 +54,37 @@ def _n_eff(x: np.ndarray, y: np.ndarray) -> float:
 
     total = 1.0 + 2.0 * float(np.sum((1.0 - np.arange(1, k_max + 1) / n) * acf(x) * acf(y)))
     full = n / total if total > 1.0 else float(n)
-    return min(n * (1.0 - p) / (1.0 + p), full)
+    count = min(n * (1.0 - p) / (1.0 + p), full)
+    return min(count * _cross_factor(x, y), float(n)) if cross else count
+
+
+def _cross_factor(x: np.ndarray, y: np.ndarray) -> float:
+    """Bartlett's (1946) full variance of r over the product form's, held to [1, 2] (fix54-c).
+
+    ``(1 - r^2)^2 S0 / S`` with ``S0 = sum_k w rxx ryy`` and ``S = sum_k w [rxx ryy +
+    rxy(k) rxy(-k) - 2 r rxy(k) (rxx + ryy) + r^2 (rxx^2 / 2 + ryy^2 / 2 + rxy(k)^2)]``
+    over |k| <= n / 10, ``w = 1 - |k| / n``, biased sample correlations by direct sums.
+    """
+    n = x.shape[0]
+    k_max = max(1, min(n - 1, n // 10))
+    a, b = x - x.mean(), y - y.mean()
+    a, b = a / math.sqrt(np.dot(a, a) / n), b / math.sqrt(np.dot(b, b) / n)
+
+    def corr(u: np.ndarray, v: np.ndarray, k: int) -> float:  # sum u_t v_(t+k) / n
+        return float(np.dot(u[: n - k], v[k:]) if k >= 0 else np.dot(u[-k:], v[: n + k])) / n
+
+    s0 = s = 0.0
+    r = corr(a, b, 0)
+    for k in range(-k_max, k_max + 1):
+        w = 1.0 - abs(k) / n
+        rxx, ryy = corr(a, a, abs(k)), corr(b, b, abs(k))
+        rxy, ryx = corr(a, b, k), corr(a, b, -k)
+        s0 += w * rxx * ryy
+        s += w * (rxx * ryy + rxy * ryx - 2.0 * r * rxy * (rxx + ryy)
+                  + r * r * (0.5 * rxx * rxx + 0.5 * ryy * ryy + rxy * rxy))
+    if not (s > 0.0 and s0 > 0.0):
+        return 1.0
+    return min(max((1.0 - r * r) ** 2 * s0 / s, 1.0), 2.0)
 
 
 def _numpy_block_fisher(x: np.ndarray, y: np.ndarray, replicates: np.ndarray

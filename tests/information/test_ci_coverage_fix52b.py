@@ -70,7 +70,7 @@ def _floor_parts(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[float, fl
     """(partial correlation, normal-score correlation of the residuals, 1/sqrt(n_eff-3-k))."""
     rx, ry = _residuals(x, y, z)
     k = z.shape[1]
-    n_eff = _n_eff(rx, ry)
+    n_eff = _n_eff(rx, ry, cross=True)  # the CMI's floor (fix54-c)
     r_scores = float(np.corrcoef(_scores(rx), _scores(ry))[0, 1])
     return (float(np.corrcoef(rx, ry)[0, 1]), r_scores,
             1.0 / math.sqrt(max(n_eff - 3.0 - k, 1.0)))

@@ -67,11 +67,13 @@ def test_no_switch_for_chosen_bins_discrete_columns_or_above_the_sample_cap():
         warnings.simplefilter("error", BiasRuleWarning)
         # the caller's bins are kept
         conditional_mutual_information(x, y, bins=5, method="histogram")
-        # repeated values: the KSG's neighbour counts need distinct points
+        # repeated values: the KSG's neighbour counts need distinct points; since fix54-c
+        # the histogram kept for these 62-66-level columns, whose levels share 5 bins, is
+        # judged against the KSG (0.790 against 1.017; exact 1.022) and warns
         xr, yr = np.round(x, 1), np.round(y, 1)
-        assert conditional_mutual_information(xr, yr, method="histogram") == \
-            conditional_mutual_information(
-            xr, yr, bins=5, method="histogram")
+        with pytest.warns(BiasRuleWarning, match="merges into 5 bins"):
+            kept = conditional_mutual_information(xr, yr, method="histogram")
+        assert kept == conditional_mutual_information(xr, yr, bins=5, method="histogram")
         # 1 x 1 given 3 columns at n above the cap: 6 bins per axis, histogram kept
         n = KSG_SWITCH_MAX_SAMPLES + 10_000
         rng = np.random.default_rng(51)
