@@ -1170,9 +1170,11 @@ class LowFrequency(NamedTuple):
     """One column's low-frequency cosine terms as the level rules read them.
 
     ``first`` the first cosine term ``L_1`` and ``scale`` its variance under the column's
-    law (in the series' units and their square): the mean of the whitened terms ``j = 2
-    .. terms + 1`` each over its share ``v_j(d) / v_1(d)`` of the fractional law
-    (:func:`long_memory`); ``frame`` / ``shift`` the largest CUSUM excursion's step.
+    law, in units of ``unit`` (the column's largest absolute deviation from its mean)
+    and its square, so that no square of the data is formed (a log scaled by 2^600,
+    issue 27, left11): the mean of the whitened terms ``j = 2 .. terms + 1`` each over
+    its share ``v_j(d) / v_1(d)`` of the fractional law (:func:`long_memory`);
+    ``frame`` / ``shift`` the largest CUSUM excursion's step.
     """
 
     frame: int
@@ -1181,6 +1183,7 @@ class LowFrequency(NamedTuple):
     first: float
     scale: float
     memory: LongMemory | None
+    unit: float = 1.0
 
 
 def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
@@ -1236,7 +1239,8 @@ def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         band = max(terms, fj.size - 1 if near.all() else int(np.argmin(near)) - 1)
         frame, shift = int(frames[c_idx]), shifts[c_idx]
         if terms < LEVEL_MIN_TERMS or not math.isfinite(fj[0]):
-            out[j] = LowFrequency(frame, shift, max(terms, 0), math.nan, math.nan, None)
+            out[j] = LowFrequency(frame, shift, max(terms, 0), math.nan, math.nan, None,
+                                  float(scale[j]))
             continue
         c = cos[:band + 1, c_idx]
         white = fj[0] / fj[:band + 1]
@@ -1249,8 +1253,8 @@ def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
                   else LongMemory(0.0, math.nan, math.nan, band))
         shape = fractional_cosine_variances()[_memory_row(memory.d), 2:terms + 2]
         var_first = float(np.mean(c[1:terms + 1] ** 2 * white[1:terms + 1] / shape))
-        out[j] = LowFrequency(frame, shift, terms, float(c[0] * scale[j]),
-                              var_first * float(scale[j]) ** 2, memory)
+        out[j] = LowFrequency(frame, shift, terms, float(c[0]), var_first, memory,
+                              float(scale[j]))
     return out
 
 

@@ -1302,7 +1302,7 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
     mean_train = np.full(n_modes, np.nan)
     sd_train = np.full(n_modes, np.nan)
     count_train = np.full(n_modes, np.nan)
-    var_diff = np.full(n_modes, np.nan)   # var(mean_test - mean_train), data units^2
+    var_diff = np.full(n_modes, np.nan)   # var(mean_test - mean_train), training sd^2
     terms = np.zeros(n_modes)
     per = max(1, _SHIFT_BLOCK_VALUES // n_train)
     for s0 in range(0, n_modes, per):
@@ -1321,8 +1321,11 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
     for s0 in range(0, n_modes, per):
         whole = np.array(data[:, s0:s0 + per], dtype=float)
         for j, low in enumerate(_low_frequency(whole)):
-            if low is not None and low.memory is not None and low.scale > 0.0:
-                var_diff[s0 + j] = low.scale * mean_difference_variance(
+            if (low is not None and low.memory is not None and low.scale > 0.0
+                    and sd_train[s0 + j] > 0.0):
+                # in training sds: the ratio first, no square of the data's units
+                ratio = low.unit / sd_train[s0 + j]
+                var_diff[s0 + j] = low.scale * ratio * ratio * mean_difference_variance(
                     low.memory.d, n_train, n_test, n_frames)
                 terms[s0 + j] = low.terms
         del whole
@@ -1335,7 +1338,7 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         total += np.asarray(data[begin:min(begin + chunk, n_frames)], dtype=float).sum(axis=0)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         d[ok] = (total[ok] / n_test - mean_train[ok]) / sd_train[ok]
-        t2 = (d[ok] * sd_train[ok]) ** 2 / var_diff[ok]
+        t2 = d[ok] ** 2 / var_diff[ok]
     from scipy.stats import f as f_law
 
     # the scale is a mean of `terms` squared cosine terms: F(1, terms) (fixed-b)
