@@ -887,8 +887,11 @@ class QualityReport:
         2,000 x 20 and 8,000 x 10): innovations whose scale clusters in time
         (GARCH(1,1), unit unconditional variance) are named by the per-mode rule in 89
         to 100 of 100 logs, and a long-memory mode (fractionally integrated, d = 0.3)
-        by the level rule in 72-78 of 100; a Kolmogorov temporal spectrum with a 1-Hz
-        outer frequency is not (0 of 200).
+        was named by the level rule in 72-78 of 100; a Kolmogorov temporal spectrum
+        with a 1-Hz outer frequency is not (0 of 200). The level rule now reads each
+        mode's long memory (``modalinfo._stats.long_memory``, fix54-a): 50 logs of 10
+        x 20,000, fGn H 0.9 / ARFIMA d 0.4 named in 2 (47 before), fGn H 0.7 in 2
+        (20).
     scale_steps : tuple of (str, int, int, float, float)
         Modes whose innovations' scale changes, judged one by one (issue 27,
         left28-nonstat): ``(label, start, stop, ratio, p_value)``. Per mode the AR(4)
