@@ -742,7 +742,9 @@ class ARMAPredictor(_LinearRecursion):
         judges each non-constant mode (1 % family-wise). Modes are named by their column
         of the fitted array, counted from 0 ("column 5"): "mode 5" read as Noll Z5 where
         the log's column 5 was Z7 (round 39 PART a, M42). Long memory (fGn, ARFIMA)
-        trips the rule far above its 1 % (round 52 PART a, P61), so the message names it.
+        tripped the rule far above its 1 % (round 52 PART a, P61: 13 of 50 fits); the
+        rule now reads each mode's memory (``modalinfo._stats.long_memory``, fix54-a),
+        and the message still names it as the other reading.
         """
         flagged, _ = level_steps(X, skip=self._constant_columns(X)[0])
         # a step the fit's calibration-event warning named is not named twice (fix54-b)
@@ -758,10 +760,12 @@ class ARMAPredictor(_LinearRecursion):
             f"training series ({shown}{more}; largest CUSUM excursion, EWC F test of the "
             "first cosine term, 1 % family-wise): the model is stationary about one mean, "
             "so the fitted persistence may be the level step rather than the dynamics; "
-            "fit each stretch of steady conditions on its own. A stationary series with "
-            "long memory (fractional noise: its mean wanders over the whole record) is "
-            "read as a step too (fGn H 0.7-0.95 and ARFIMA d 0.2-0.4 of 10,000 frames: "
-            "13 of 50 fits), so a mode without a known event may be such a series.",
+            "fit each stretch of steady conditions on its own. The rule reads each "
+            "mode's long memory (fractional noise: its mean wanders over the whole "
+            "record) and judges the step against it, but a strongly persistent stationary "
+            "series can still read as one (fGn H 0.7 / 0.9, ARFIMA d 0.4 of 10,000 frames: "
+            "about 2 % of series at p < 1 %), so a mode without a known event may be such "
+            "a series.",
             LevelStepWarning, stacklevel=4)
 
     def _warn_yule_walker(self, fits: list) -> None:

@@ -1272,15 +1272,15 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per mode: the test frames' mean minus the training frames', in training sds.
 
-    The difference ``d = (mean_test - mean_train) / sd_train`` has, for a stationary
-    mode, the sampling sd ``sqrt(1 / n_train' + 1 / n_test')``, each ``n'`` the
-    effective count of its segment's frames from the training frames' lag-1
-    autocorrelation (``modalinfo.information.convergence.bartlett_pairs`` of its
-    bias-corrected value, ``lag1_bias_corrected``: Bartlett's AR(1) count, the rule of
-    the effective samples) or from the full sum over lags of its autocorrelations
-    (``bartlett_sum_pairs(x)``), the fewer, the test segment's in proportion to its
-    length (the null: one stationary law). Two-sided normal test, Bonferroni over the
-    judged modes at ``alpha``; a shift needs ``|d| >= LEVEL_SHIFT_MIN_SD`` as well.
+    The difference ``d = (mean_test - mean_train) / sd_train`` is tested against the
+    sampling variance of the two means under one stationary law with long memory:
+    ``modalinfo._stats.mean_difference_variance`` at the mode's ``d`` (local Whittle,
+    ``modalinfo._stats.long_memory``), scaled by the variance of the whole log's first
+    cosine term, both as the level rule reads them (``_stats._low_frequency``: the
+    log less its CUSUM step and a linear trend); ``(d sd)^2 / var`` read as F(1, B),
+    ``B`` the cosine terms of that variance, Bonferroni over the judged modes at
+    ``alpha``; a shift needs ``|d| >= LEVEL_SHIFT_MIN_SD`` as well (fix54-a: the lag-1
+    and Bartlett-sum counts named fGn H 0.9 logs in 36 of 50, now 2 of 50).
     Judged as the scale rule (``_scale_shift``): at least ``MIN_SHIFT_INNOVATIONS``
     frames a segment and ``MIN_SHIFT_EFFECTIVE`` effective training values, a mode not
     constant over the training frames. Read in chunks of ``chunk`` frames. Returns
@@ -1292,13 +1292,11 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         LEVEL_SHIFT_MIN_SD,
         MIN_SHIFT_EFFECTIVE,
         MIN_SHIFT_INNOVATIONS,
+        _low_frequency,
         lag1_autocorrelations,
+        mean_difference_variance,
     )
-    from modalinfo.information.convergence import (
-        bartlett_pairs,
-        bartlett_sum_pairs,
-        lag1_bias_corrected,
-    )
+    from modalinfo.information.convergence import bartlett_pairs, lag1_bias_corrected
 
     n_frames, n_modes = data.shape
     n_test = n_frames - n_train
@@ -1310,7 +1308,8 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
     mean_train = np.full(n_modes, np.nan)
     sd_train = np.full(n_modes, np.nan)
     count_train = np.full(n_modes, np.nan)
-    count_test = np.full(n_modes, np.nan)
+    var_diff = np.full(n_modes, np.nan)   # var(mean_test - mean_train), training sd^2
+    terms = np.zeros(n_modes)
     per = max(1, _SHIFT_BLOCK_VALUES // n_train)
     for s0 in range(0, n_modes, per):
         tt = np.array(train[:n_train, s0:s0 + per], dtype=float)  # (frames, modes)
@@ -1318,13 +1317,26 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         sd_train[s0:s0 + per] = tt.std(axis=0)
         for j, r in enumerate(lag1_autocorrelations(tt)):
             if math.isfinite(r) and sd_train[s0 + j] > 0.0:
-                # the fewer of the AR(1) count and the full sum's (long memory: fGn H 0.9
-                # half-log means 0.29 sd apart rms, which the lag-1 count calls 5 sds)
-                count = min(bartlett_pairs(n_train, lag1_bias_corrected(float(r), n_train)),
-                            bartlett_sum_pairs(tt[:, j]))
-                count_train[s0 + j] = count
-                count_test[s0 + j] = count * n_test / n_train
-    ok = np.isfinite(sd_train) & (sd_train > 0.0) & (count_train >= MIN_SHIFT_EFFECTIVE)
+                count_train[s0 + j] = bartlett_pairs(
+                    n_train, lag1_bias_corrected(float(r), n_train))
+    # the sampling error of the two means from the whole log's low-frequency cosine terms
+    # and long memory, read as the level rule reads them (its step and trend taken out;
+    # fix54-a: the lag-1 and Bartlett-sum counts called the half-log means of fGn H 0.9
+    # apart in 32 of 50 logs; the training frames alone read d from half the record)
+    per = max(1, _SHIFT_BLOCK_VALUES // n_frames)
+    for s0 in range(0, n_modes, per):
+        whole = np.array(data[:, s0:s0 + per], dtype=float)
+        for j, low in enumerate(_low_frequency(whole)):
+            if (low is not None and low.memory is not None and low.scale > 0.0
+                    and sd_train[s0 + j] > 0.0):
+                # in training sds: the ratio first, no square of the data's units
+                ratio = low.unit / sd_train[s0 + j]
+                var_diff[s0 + j] = low.scale * ratio * ratio * mean_difference_variance(
+                    low.memory.d, n_train, n_test, n_frames)
+                terms[s0 + j] = low.terms
+        del whole
+    ok = (np.isfinite(sd_train) & (sd_train > 0.0) & (count_train >= MIN_SHIFT_EFFECTIVE)
+          & np.isfinite(var_diff))
     if not ok.any():
         return d, pvalue, shifted
     total = np.zeros(n_modes)
@@ -1332,10 +1344,11 @@ def _level_shift(data, train: np.ndarray, n_train: int, chunk: int, alpha: float
         total += np.asarray(data[begin:min(begin + chunk, n_frames)], dtype=float).sum(axis=0)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         d[ok] = (total[ok] / n_test - mean_train[ok]) / sd_train[ok]
-        z = d[ok] / np.sqrt(1.0 / count_train[ok] + 1.0 / count_test[ok])
-    from scipy.stats import norm
+        t2 = d[ok] ** 2 / var_diff[ok]
+    from scipy.stats import f as f_law
 
-    pvalue[ok] = np.minimum(1.0, 2.0 * norm.sf(np.abs(z)))
+    # the scale is a mean of `terms` squared cosine terms: F(1, terms) (fixed-b)
+    pvalue[ok] = np.minimum(1.0, f_law.sf(t2, 1, terms[ok]))
     judged = ok & np.isfinite(pvalue)
     shifted[judged] = ((pvalue[judged] < alpha / max(1, int(judged.sum())))
                        & (np.abs(d[judged]) >= LEVEL_SHIFT_MIN_SD))
@@ -1350,8 +1363,8 @@ def _level_text(labels, d: np.ndarray, shifted: np.ndarray) -> str:
     shown = ", ".join(items[:6]) + (f", ... ({len(items)} modes)" if len(items) > 6 else "")
     return ("the test frames differ in level from the training frames: the mean of the "
             f"test frames minus that of the training frames is {shown} of the training "
-            f"frames' sd (normal test against the sampling error of the two means under the "
-            f"modes' persistence, {SHIFT_ALPHA:.0%} family-wise over the modes, "
+            f"frames' sd (F test against the sampling error of the two means under the "
+            f"modes' persistence and long memory, {SHIFT_ALPHA:.0%} family-wise over the modes, "
             f"{LEVEL_SHIFT_MIN_SD:g} sd or more); the scores describe frames unlike those "
             "the predictors were trained on (a fitted constant or a mean baseline is stale "
             "there): split the log at the change or retrain on frames like the test ones.")

@@ -356,8 +356,10 @@ class CalibrationEventWarning(UserWarning):
 #: 44, `kaos_like` open loop of 2,000 frames in 17, smallest p 5.9e-9 and 4.8e-7); the
 #: events of round 52 PART a read 5.9e-36 to 1.0e-9 (a +1 sd step of every mode the
 #: weakest). The spread and scale rules are taken at the pass's own levels (0 of those
-#: 300 logs). Moved here from ``modalinfo.ordering.orderings`` (fix54-b: one floor for
-#: both callers).
+#: 300 logs). Since fix54-a the level rule reads long memory (fGn H 0.9 logs named in 2
+#: of 50) and the events read 7e-34 to 2.9e-8 (one of the 15 modes of the +1 sd step
+#: above the cut); the cut is kept (not re-measured on open-loop logs). Moved here from
+#: ``modalinfo.ordering.orderings`` (fix54-b: one floor for both callers).
 CALIBRATION_LEVEL_P = 1e-8
 #: Fewer frames than this: no calibration-event warning. On short closed-loop logs (lag-1
 #: ~0.99) the pass's step rules cannot tell a step from the modes' own wander: kaos_like
@@ -939,8 +941,11 @@ class QualityReport:
         2,000 x 20 and 8,000 x 10): innovations whose scale clusters in time
         (GARCH(1,1), unit unconditional variance) are named by the per-mode rule in 89
         to 100 of 100 logs, and a long-memory mode (fractionally integrated, d = 0.3)
-        by the level rule in 72-78 of 100; a Kolmogorov temporal spectrum with a 1-Hz
-        outer frequency is not (0 of 200).
+        was named by the level rule in 72-78 of 100; a Kolmogorov temporal spectrum
+        with a 1-Hz outer frequency is not (0 of 200). The level rule now reads each
+        mode's long memory (``modalinfo._stats.long_memory``, fix54-a): 50 logs of 10
+        x 20,000, fGn H 0.9 / ARFIMA d 0.4 named in 2 (47 before), fGn H 0.7 in 2
+        (20).
     scale_steps : tuple of (str, int, int, float, float)
         Modes whose innovations' scale changes, judged one by one (issue 27,
         left28-nonstat): ``(label, start, stop, ratio, p_value)``. Per mode the AR(4)

@@ -18,6 +18,13 @@ import math
 import numpy as np
 from scipy import fft, stats
 
+from modalinfo._stats import (
+    MEMORY_FLATNESS,
+    MEMORY_GRID,
+    MEMORY_MARGIN_SE,
+    MEMORY_MAX_TERMS,
+    fractional_cosine_variances,
+)
 from modalinfo.telemetry import assess_quality
 from modalinfo.telemetry.quality import MAD_TO_SIGMA
 
@@ -55,8 +62,16 @@ def _lstsq_ar(y: np.ndarray, x: np.ndarray, lim: float) -> np.ndarray:
     return c
 
 
-def _lstsq_level(x: np.ndarray) -> tuple[float, int, int, float]:
-    """EWC F test of the first cosine term; B from an AR(4) + constant + step lstsq fit."""
+def _lstsq_level(x: np.ndarray, memory: bool = True) -> tuple[float, int, int, float]:
+    """EWC F test of the first cosine term; B from an AR(4) + constant + step lstsq fit.
+
+    With ``memory`` (the level rule since fix54-a): each denominator term also divided
+    by its share of the fractional law at ``d``, the local Whittle estimate (grid, plus
+    ``MEMORY_MARGIN_SE`` s.e.) from the AR-whitened cosine terms ``j >= 2`` of the
+    series less its lstsq step and linear trend, over the band where the AR spectrum
+    stays within ``MEMORY_FLATNESS`` of its first value (the shares, exact for fGn, are
+    checked in tests/telemetry/test_level_long_memory_fix54a.py).
+    """
     n = x.size
     xc = (x - x.mean()) / np.max(np.abs(x - x.mean()))
     frame = int(np.argmax(np.abs(np.cumsum(xc)[:-1]))) + 1
@@ -65,14 +80,29 @@ def _lstsq_level(x: np.ndarray) -> tuple[float, int, int, float]:
     lags = np.column_stack([xc[P - i:n - i] for i in range(1, P + 1)]
                            + [np.ones(n - P), (t >= frame).astype(float)])
     a = np.linalg.lstsq(lags, xc[P:], rcond=None)[0][:P]
-    j = np.arange(1, 42)
+    wide = min(MEMORY_MAX_TERMS, (n - 1) // 2) + 1
+    j = np.arange(1, wide + 1)
     f = 1.0 / np.abs(1.0 - np.exp(-1j * np.pi * np.outer(j, np.arange(1, P + 1)) / n) @ a) ** 2
-    flat = f / f[0] >= 0.9
+    flat = f[:41] / f[0] >= 0.9
     terms = min(40 if flat.all() else int(np.argmin(flat)) - 1, (n - 1) // 2)
     if terms < 6:
         return math.nan, terms, frame, shift
-    c = fft.dct(xc, type=2, norm="ortho")[1:terms + 2]
-    denom = np.mean(c[1:] ** 2 * (f[0] / f[1:terms + 1]))
+    c = fft.dct(xc, type=2, norm="ortho")[1:wide + 1]
+    white = f[0] / f
+    shape = np.ones(terms + 1)
+    if memory:
+        near = f / f[0] >= MEMORY_FLATNESS
+        band = max(terms, wide - 1 if near.all() else int(np.argmin(near)) - 1)
+        tt = np.arange(n)
+        design = np.column_stack([np.ones(n), (tt >= frame).astype(float), tt])
+        rest = xc - design @ np.linalg.lstsq(design, xc, rcond=None)[0]
+        w = (fft.dct(rest, type=2, norm="ortho")[2:band + 2] ** 2) * white[1:band + 1]
+        table = fractional_cosine_variances()[:, 2:band + 2]
+        objective = np.log(np.mean(w / table, axis=1)) + np.mean(np.log(table), axis=1)
+        step = MEMORY_MARGIN_SE * 0.5 / math.sqrt(band) / 0.01
+        row = min(len(MEMORY_GRID) - 1, int(round(int(np.argmin(objective)) + step)))
+        shape = fractional_cosine_variances()[row, 1:terms + 2]
+    denom = np.mean(c[1:terms + 1] ** 2 * white[1:terms + 1] / shape[1:])
     return float(stats.f.sf(c[0] ** 2 / denom, 1, terms)), terms, frame, shift
 
 
@@ -129,7 +159,7 @@ def test_report_matches_per_mode_lstsq_references():
     dev = np.abs(x - med)
     cols = [j for j in range(M) if j != 6 and T * (1 - (r1 := min(max(_lag1(dev[:, j]), 0.0),
                                                                    0.999))) / (1 + r1) >= 100]
-    vlevel = [(j, _lstsq_level(dev[:, j])) for j in cols]
+    vlevel = [(j, _lstsq_level(dev[:, j], memory=False)) for j in cols]
     vjudged = [(j, t) for j, t in vlevel if math.isfinite(t[0])]
     vwant = [(f"col{j}", t[2], t[0]) for j, t in vjudged if t[0] < 0.0025 / len(vjudged)]
     assert r.variance_judged == len(vjudged)
