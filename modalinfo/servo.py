@@ -23,7 +23,7 @@ pure integrator, ``leak = 0``, the default everywhere). From it:
 
 Every one of them takes the ``leak`` (fix54-e: the rejection, the bandwidths and the
 synthetic closed loop were the pure integrator's whatever the loop's leak), and both
-transfer functions come from one helper, :func:`_loop_terms`.
+transfer functions come from one helper, ``_loop_terms``.
 
 Every function here is bounded in time: delays are limited to :data:`MAX_DELAY_FRAMES`
 frames (a loop whose command arrives seconds after its measurement is not an AO
