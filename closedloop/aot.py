@@ -58,6 +58,10 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
   Each loop with coefficients carries the card ``MI_QUANT`` on its coefficient image
   (``residual`` or ``pol``: what the series is) and ``MI_WAVEL`` (the wavelength [m] of
   its phase in rad: ``r0_wavelength``, read back as the log's ``wavelength``); the
+  residual of a closed loop also ``MI_TRANS``, its closure transient (the frames before
+  the result's averaging window, ``SimulationResult.averaging_start``; read back as
+  ``metadata["transient_frames"]``, which ``modalinfo``'s quality pass leaves out and
+  names instead of calling them glitched frames, fix54-e); the
   ``dm{i}.wfs{k}`` loops have no coefficient image, hence no card (the ``MI_CLOOP``
   card describes them). A mirror whose modes are not Noll Zernikes (a DM-space K-L
   ``DMKL1``..., a zonal mirror's ``pix0``...) also carries its mode labels there, the
@@ -425,9 +429,11 @@ def _dm_loops(result, model, i: int, common: dict, described: dict,
                                else _as_dsv(model.wfss[j], blocks[j])),
         modes_to_commands=np.eye(dm.n_modes) if dm.shapes is not None else None,
         commands=np.ascontiguousarray(result.logs[f"dm{i}.commands"].coeffs),
-        command_units="rad", coefficient_metadata={"MI_QUANT": "residual", **labels})
+        command_units="rad", coefficient_metadata={"MI_QUANT": "residual", **labels,
+                                                   **_transient_card(result)})
     described[f"dm{i}"] = ("modal residual reconstructed from the WFS measurements "
-                           f"(log dm{i}.residual); commands = log dm{i}.commands")
+                           f"(log dm{i}.residual); commands = log dm{i}.commands"
+                           + _transient_words(result))
     pol = LoopSpec(
         uid=f"dm{i}.pol", **common, units="rad",
         modal_coefficients=np.ascontiguousarray(result.logs[f"dm{i}.pol"].coeffs),
@@ -443,6 +449,33 @@ def _dm_loops(result, model, i: int, common: dict, described: dict,
         described[f"dm{i}.wfs{k}"] = (f"block of the global reconstructor: wfs{k} "
                                       f"measurements to dm{i} modes (no coefficients)")
     return main, pol, cross
+
+
+#: card of the residual's closure transient: the frames before the loop's steady state
+TRANSIENT_KEY = "MI_TRANS"
+
+
+def _transient_card(result) -> dict:
+    """Return the residual's ``MI_TRANS`` card: frames before the steady state, or none.
+
+    The number is the result's one rule, ``SimulationResult.averaging_start`` (the
+    detected closure of a closed loop, the second half's start of one that is still
+    converging or did not close; 0, no card, in open loop): the quality pass of
+    ``modalinfo`` leaves those frames out as a transient rather than calling the
+    open-loop turbulence before the first command "glitched frames" (fix54-e; adversarial
+    round 54 PART a, S30). The POL has no closure transient: it gets no card.
+    """
+    start = int(result.averaging_start)
+    return {TRANSIENT_KEY: start} if start > 0 else {}
+
+
+def _transient_words(result) -> str:
+    """Return the ``MI_CLOOP`` words on the residual's ``MI_TRANS`` card ("" if none)."""
+    start = int(result.averaging_start)
+    if start <= 0:
+        return ""
+    return (f"; frames 0-{start - 1} are the loop's closure transient (card {TRANSIENT_KEY}: "
+            "the frames before the result's averaging window, its steady state)")
 
 
 def _atmosphere(cfg):

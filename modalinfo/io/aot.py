@@ -428,6 +428,11 @@ def _describe(system, lp, loops, path: Path) -> dict:
     quantity = next((m.value for m in cards if getattr(m, "key", None) == "MI_QUANT"), None)
     if isinstance(quantity, str) and quantity:
         meta["coefficient_quantity"] = quantity
+    # closedloop's MI_TRANS card: the frames before the loop's steady state, which the
+    # quality pass leaves out as the closure transient (fix54-e); an integer >= 1 only
+    transient = next((m.value for m in cards if getattr(m, "key", None) == "MI_TRANS"), None)
+    if isinstance(transient, int) and not isinstance(transient, bool) and transient >= 1:
+        meta["transient_frames"] = int(transient)
     if system.name:
         meta["system"] = system.name
     if system.date_beginning is not None:

@@ -170,6 +170,13 @@ its white increments: no false flag in the tests, its glitches found.
   above ~0.999 are dominated by its slow level (round 39 PART a, Q06: ``open_loop_log``
   Z2..Z13 at 1 kHz, lag-1 0.998-1.0, swapped whole or in rows 2000..3999: products
   p = 0.96 / 0.90, report clean; increments p 4e-15 / 4e-5, rows named).
+* A **closure transient** is not assessed: a log whose ``metadata["transient_frames"]``
+  is ``t`` (the closed-loop simulator's export writes it from its result's steady-state
+  start, ``SimulationResult.averaging_start``; :func:`transient_frames`) is assessed from
+  frame ``t`` on, its report naming rows of the whole log and saying that frames 0 to
+  ``t - 1`` were left out as the loop's transient; ``clip`` and ``drop`` leave them as
+  they are. Before fix54-e the open-loop turbulence before the first command was named
+  as 5-8 "glitched frames" on every exported residual (round 54 PART a, S30).
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -211,6 +218,7 @@ was done is appended to ``metadata["outliers"]`` of the returned log.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import json
@@ -262,6 +270,7 @@ __all__ = [
     "policy_record",
     "small_sample_threshold",
     "stationarity_threshold",
+    "transient_frames",
 ]
 
 #: ``1 / Phi^-1(3/4)``: the MAD of a Gaussian times this is its sigma (1.482602...).
@@ -1099,6 +1108,7 @@ class QualityReport:
     stuck_block: tuple = ()
     pair_rows: tuple = ()
     copied_modes: tuple = ()
+    transient_frames: int = 0
 
     @property
     def approximate(self) -> bool:
@@ -1254,6 +1264,15 @@ class QualityReport:
                 "wrong until the logger's order is fixed")
 
     @property
+    def transient_note(self) -> str:
+        """The frames left out as the loop's closure transient ("" when none)."""
+        if not self.transient_frames:
+            return ""
+        return (f"frames 0-{self.transient_frames - 1} not assessed: the loop's closure "
+                "transient (metadata 'transient_frames', the closed-loop simulator's frames "
+                "before its steady state), not glitches")
+
+    @property
     def outlier_rows(self) -> str:
         """The first frames holding outlier values, as the report names them ("" if none)."""
         return _rows_shown(self.outlier_frames)
@@ -1325,7 +1344,7 @@ class QualityReport:
     def describe(self) -> str:
         """One line: what was flagged and by which rule (or why it was not assessed)."""
         caveat = f"; {self.stationarity_note}" if self.stationarity_note else ""
-        for note in (self.constant_note, self.copied_note):
+        for note in (self.constant_note, self.copied_note, self.transient_note):
             if note:
                 caveat += f"; {note}"
         if self.clean:
@@ -1391,6 +1410,8 @@ class QualityReport:
                                       if self.pair_rows else ""))
         if self.outlier_frames.size:  # the rows describe() names (round 37 PART b, P02)
             extra["outlier_rows"] = self.outlier_rows
+        if self.transient_frames:  # the key only with a transient: other logs' JSON unchanged
+            extra["transient_frames"] = int(self.transient_frames)
         if int(self.stuck.sum()):
             extra["stuck_rows"] = self.stuck_rows
         return {
@@ -2376,6 +2397,12 @@ def assess_quality(
     QualityReport
         Counts, frame indices, the rule and its threshold.
     """
+    transient = transient_frames(log_or_coeffs)
+    if transient:
+        return _after_transient(log_or_coeffs, transient, k=k, alpha=alpha,
+                                frame_modes=frame_modes, stuck_run=stuck_run,
+                                sample_frames=sample_frames, chunk_frames=chunk_frames,
+                                progress=progress)
     if isinstance(log_or_coeffs, ModalLog):
         arr, labels = log_or_coeffs.coeffs, log_or_coeffs.labels
     else:
@@ -2601,6 +2628,71 @@ def assess_quality(
     )
 
 
+#: Frames a log must keep after its closure transient for the transient to be left out
+#: (fewer: the whole log is assessed, the transient with it).
+MIN_STEADY_FRAMES = 2 * (AR_ORDER + 1)
+
+
+def transient_frames(log_or_coeffs) -> int:
+    """Frames of a log's closure transient, from its metadata; 0 for none.
+
+    ``metadata["transient_frames"]`` (written by the closed-loop simulator's export from
+    its result's one rule, ``SimulationResult.averaging_start``: the frames before the
+    loop's steady state; read back from the AOT card ``MI_TRANS``) when it is an integer
+    in ``[1, T - MIN_STEADY_FRAMES]``; anything else (an array, a bad value) is 0: the
+    whole log is assessed, as before fix54-e.
+    """
+    if not isinstance(log_or_coeffs, ModalLog):
+        return 0
+    value = log_or_coeffs.metadata.get("transient_frames")
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        return 0
+    value = int(value)
+    return value if 0 < value <= log_or_coeffs.n_frames - MIN_STEADY_FRAMES else 0
+
+
+def _shift_rows(items: tuple, places: tuple, by: int) -> tuple:
+    """``items`` (a tuple of tuples, or one tuple) with the entries at ``places`` + ``by``."""
+    def one(item):
+        return tuple(v + by if i in places else v for i, v in enumerate(item))
+    if items and not isinstance(items[0], tuple):
+        return one(items)
+    return tuple(one(item) for item in items)
+
+
+def _after_transient(log: ModalLog, transient: int, **assess) -> QualityReport:
+    """Assess ``log`` from frame ``transient`` on; the report names rows of the whole log.
+
+    The closure transient of a simulated loop (the open-loop turbulence before the first
+    command reached the mirror, then the integrator's convergence) is no glitch: it was
+    named as 5-8 "glitched frames" on every export of ``closedloop`` (adversarial round
+    54 PART a, S30). Its frames are left out of the median, the MAD, the AR fits and the
+    flags (they would widen none of them honestly: they are not the steady state the
+    false-alarm promise is about), and every row the report names is shifted back.
+    """
+    steady = log[transient:].with_metadata(transient_frames=0)
+    report = assess_quality(steady, **assess)
+    t = transient
+
+    def rows(a: np.ndarray) -> np.ndarray:
+        return (np.asarray(a, dtype=np.int64) + t).astype(np.int64)
+
+    return dataclasses.replace(
+        report, n_frames=int(log.n_frames), fingerprint=data_fingerprint(log),
+        glitch_frames=rows(report.glitch_frames), outlier_frames=rows(report.outlier_frames),
+        stuck_frames=rows(report.stuck_frames), nonfinite_frames=rows(report.nonfinite_frames),
+        flagged_frames=rows(report.flagged_frames),
+        repeated_frames=rows(report.repeated_frames), copied_frames=rows(report.copied_frames),
+        copied_block=_shift_rows(report.copied_block, (0, 1, 2), t),
+        pair_rows=_shift_rows(report.pair_rows, (0, 1), t),
+        stuck_block=_shift_rows(report.stuck_block, (0, 1), t),
+        scale_steps=_shift_rows(report.scale_steps, (1, 2), t),
+        level_steps=_shift_rows(report.level_steps, (1,), t),
+        variance_steps=_shift_rows(report.variance_steps, (1,), t),
+        step_lines=_shift_rows(report.step_lines, (1,), t),
+        transient_frames=t)
+
+
 def _copied_modes(sample: np.ndarray, constant: np.ndarray, labels: list) -> tuple:
     """``(first, copy)`` labels of the varying modes equal to an earlier one in ``sample``.
 
@@ -2686,6 +2778,13 @@ def _clip(log: ModalLog, report: QualityReport) -> ModalLog:
     from modalinfo.telemetry._quality_kernels import flag_block
 
     centre, thr, coef, cen_e, thr_e, head = report.predictor
+    if report.transient_frames:
+        # the predictor is the steady part's: clip that part, keep the transient as it is
+        t = report.transient_frames
+        steady = _clip(log[t:], dataclasses.replace(report, transient_frames=0))
+        out = np.concatenate([np.asarray(log.coeffs[:t]), np.asarray(steady.coeffs)])
+        out.flags.writeable = False
+        return log._derive(_coeffs=out)  # noqa: SLF001 - same time axis, modes and units
     arr = log.coeffs
     m = arr.shape[1]
     out = np.empty(arr.shape, dtype=arr.dtype)

@@ -7,8 +7,9 @@ measurement, including fractional delay and integration time.
 
 Closed loop
 -----------
-:func:`closed_loop_log` runs a per-mode integrator ``c[k] = c[k-1] + g m[k]`` on the
-open-loop series, sampled on a grid ``oversampling`` times finer than the loop frames.
+:func:`closed_loop_log` runs a per-mode integrator ``c[k] = (1 - leak) c[k-1] + g m[k]``
+(``leak`` 0 by default: the pure integrator) on the open-loop series, sampled on a grid
+``oversampling`` times finer than the loop frames.
 Frame ``k`` integrates the residual ``x - d`` over the ``integration_frames`` frame
 periods that end at ``t_k = (k + 1) T`` (a box average, the mean of the fine samples in
 the window), adds white noise of RMS ``noise_rms`` per mode, and the command computed from
@@ -17,7 +18,8 @@ replaces it. Because the command is piecewise constant, the WFS sees a fixed lin
 combination of past commands, ``(B d)_k = sum_j w_j c[k-j]`` with ``w_j`` the fraction of
 the integration window where ``c[k-j]`` is applied, and the loop is the exact recursion
 
-    m = (y + n) (1 - z**-1) / (1 - z**-1 + g W(z)),   W(z) = sum_j w_j z**-j,
+    m = (y + n) L(z) / (L(z) + g W(z)),   L(z) = 1 - (1 - leak) z**-1,
+    W(z) = sum_j w_j z**-j,
 
 where ``y`` is the open-loop WFS measurement (box-averaged turbulence). This is what
 :func:`rejection_transfer_function` returns (``model="sampled"``). The textbook
@@ -41,6 +43,7 @@ from scipy import signal
 from modalinfo.common.validation import check_int, check_real, check_rng, seed_record
 from modalinfo.servo import (
     LoopBandwidth,
+    check_leak,
     check_loop,
     check_stable,
     closed_loop_bandwidth,
@@ -102,6 +105,7 @@ def closed_loop_simulation(
     noise_rms: float = 0.0,
     oversampling: int = 1,
     seed: int | np.random.Generator | None = None,
+    leak: float = 0.0,
 ) -> ClosedLoopResult:
     """Run a per-mode integrator loop on an open-loop log and return all its logs.
 
@@ -119,10 +123,11 @@ def closed_loop_simulation(
         raise ValueError("`open_log` must have a `rate` (regularly sampled); got rate=None.")
     gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
     noise_rms = check_real(noise_rms, "noise_rms", minimum=0.0)
+    leak = check_leak(leak)
     oversampling = check_int(oversampling, "oversampling", minimum=1)
     _as_steps(delay_frames, oversampling, "delay_frames")
     n_int = _as_steps(integration_frames, oversampling, "integration_frames")
-    check_stable(gain, delay_frames, integration_frames)
+    check_stable(gain, delay_frames, integration_frames, leak=leak)
     log = open_log if open_log.units == "rad" else open_log.to_units("rad")
     x = np.asarray(log.coeffs, dtype=np.float64)
     n_frames = x.shape[0] // oversampling
@@ -140,11 +145,14 @@ def closed_loop_simulation(
     y = frames[:, oversampling - n_int:, :].mean(axis=1)
     noise = noise_rms * rng.standard_normal(y.shape) if noise_rms > 0 else 0.0
     weights = command_weights(delay_frames, integration_frames)
-    a = loop_denominator(gain, weights)
-    residual = signal.lfilter([1.0, -1.0], a, y + noise, axis=0)
-    commands = signal.lfilter([gain], [1.0, -1.0], residual, axis=0)
+    # the leaky integrator 1 / L(z), L = 1 - (1 - leak) z**-1: the leak was not taken
+    # before fix54-e (a leaky loop's log was the pure integrator's)
+    integrator = np.array([1.0, -(1.0 - leak)])
+    a = loop_denominator(gain, weights, leak)
+    residual = signal.lfilter(integrator, a, y + noise, axis=0)
+    commands = signal.lfilter([gain], integrator, residual, axis=0)
     bandwidth = closed_loop_bandwidth(rate=frame_rate, gain=gain, delay_frames=delay_frames,
-                                      integration_frames=integration_frames)
+                                      integration_frames=integration_frames, leak=leak)
 
     loop_meta = {
         "gain": gain,
@@ -161,6 +169,8 @@ def closed_loop_simulation(
         "bandwidth_closed_loop_3db_hz": _finite_or_none(bandwidth.closed_loop_3db),
         "max_rejection_amplification": _finite_or_none(bandwidth.max_amplification),
     }
+    if leak:  # recorded where there is one (the pure integrator's records stay as they were)
+        loop_meta["leak"] = leak
     base = dict(log.metadata)
     common = dict(rate=frame_rate, modes=list(log.modes), convention=log.convention,
                   units="rad", wavelength=log.wavelength)
@@ -187,12 +197,13 @@ def closed_loop_log(
     noise_rms: float = 0.0,
     oversampling: int = 1,
     seed: int | np.random.Generator | None = None,
+    leak: float = 0.0,
 ) -> ModalLog:
     """Residual log of a per-mode integrator loop run on an open-loop log.
 
     The loop: frame ``k`` integrates the residual over ``integration_frames`` frame
     periods ending at ``t_k``, adds WFS noise, the integrator updates
-    ``c[k] = c[k-1] + gain * m[k]`` and the DM holds ``c[k]`` from
+    ``c[k] = (1 - leak) c[k-1] + gain * m[k]`` and the DM holds ``c[k]`` from
     ``t_k + delay_frames / rate``. Exact on the simulation grid (module docstring);
     the loop starts closed at frame 0 on a flat DM (discard a few ``1 / gain`` frames of
     transient if needed).
@@ -217,6 +228,10 @@ def closed_loop_log(
         Simulation samples per loop frame.
     seed : None, int or numpy.random.Generator
         Randomness of the WFS noise.
+    leak : float
+        Integrator leak in [0, 1) (0: the pure integrator); the gain must be below
+        ``max_stable_gain(..., leak=leak)``. Recorded as ``metadata["closed_loop"]["leak"]``
+        when not 0.
 
     Returns
     -------
@@ -231,5 +246,5 @@ def closed_loop_log(
     """
     return closed_loop_simulation(
         open_log, gain=gain, delay_frames=delay_frames, integration_frames=integration_frames,
-        noise_rms=noise_rms, oversampling=oversampling, seed=seed,
+        noise_rms=noise_rms, oversampling=oversampling, seed=seed, leak=leak,
     ).residual
