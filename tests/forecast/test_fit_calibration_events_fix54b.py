@@ -1,6 +1,6 @@
 """``Predictor.fit`` names a calibration event in its training history (fix54-b, C23).
 
-References: planted events (a +3 sd level step of one mode and a x5 gain jump of another
+References: planted events (a +4 sd level step of one mode and a x5 gain jump of another
 at frame 2500 of AR(1) 0.9 logs made by ``scipy.signal.lfilter``): the frame and mode are
 known by construction. Round 53 PART a, C23: a predictor fitted on a log with a
 calibration event gave no word, where ``order_modes`` names it (fix53-a's rule, which
@@ -42,7 +42,10 @@ def _frames(message: str, mode: str) -> list[int]:
 @pytest.mark.parametrize("name", ["linear-ls", "multivariate", "rls"])
 def test_level_step_and_gain_jump_named_at_fit(name):
     x = _ar1(5000, 5, 54200)
-    x[2500:, 2] += 3.0   # a new reference: +3 sd
+    # a new reference: +4 sd (a +3 sd step read p 1.1e-8 on this seed once fix54-a's level
+    # rule read long memory, just above the 1e-8 cut: 1 of seeds 54200-54209; +4 sd reads
+    # 8.5e-14 to 5.4e-10 on all ten; stop 61 merge)
+    x[2500:, 2] += 4.0
     x[2500:, 4] *= 5.0   # a gain change: x5
     msgs = _events(lambda: make_predictor(name).fit(x))
     assert len(msgs) == 1 and ".fit: the quality pass" in msgs[0]
