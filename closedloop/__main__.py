@@ -3,6 +3,7 @@ import sys
 from modalinfo.common.startup import (
     exit_quietly,
     import_refusal,
+    keep_interrupts,
     memory_refusal,
     one_line_warnings,
     require_current_folder,
@@ -11,6 +12,7 @@ from modalinfo.common.startup import (
 
 require_current_folder("closedloop")  # before the heavy imports (numba calls getcwd)
 one_line_warnings("closedloop")  # a warning while the package loads: one line
+keep_interrupts()  # a Ctrl-C dropped in a C callback (numba's compile) still ends it
 
 try:  # Ctrl-C while the package imports (numpy, numba): one line and 130, no traceback
     from closedloop.cli import main

@@ -14,6 +14,7 @@ import sys
 import warnings
 
 from modalinfo.common.quiet import warn
+from modalinfo.common.startup import await_dropped_interrupt
 
 with warnings.catch_warnings(record=True) as _caught:
     # numba warns (a RuntimeWarning holding a whole traceback, an exception under
@@ -104,6 +105,10 @@ def _cache_writes_best_effort(dispatcher):
 
     def save_overload(sig, data):
         global _WRITE_WARNED
+        # a Ctrl-C during the compile, dropped in llvmlite's callback (so that numba holds
+        # no compiled object to write): raised here, not numba's "RuntimeError: no
+        # compiled object yet" (fix55-a)
+        await_dropped_interrupt()
         try:
             save(sig, data)
         except OSError as exc:

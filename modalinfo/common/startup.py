@@ -13,9 +13,9 @@ import errno
 import os
 import sys
 
-__all__ = ["command_line_text", "exit_quietly", "import_refusal", "memory_refusal",
-           "one_line_format", "one_line_warnings", "require_current_folder",
-           "warning_refusal"]
+__all__ = ["await_dropped_interrupt", "command_line_text", "exit_quietly", "import_refusal",
+           "keep_interrupts", "memory_refusal", "one_line_format", "one_line_warnings",
+           "require_current_folder", "warning_refusal"]
 
 
 def require_current_folder(prog: str) -> None:
@@ -207,6 +207,90 @@ def import_refusal(prog: str, exc: ImportError) -> int:
         raise exc
     sys.stderr.write(f"{prog}: error: {exc}\n")
     return 2
+
+
+def keep_interrupts() -> None:
+    """Make a Ctrl-C that Python had to drop raise again at the next line of Python code.
+
+    Python runs the SIGINT handler (``KeyboardInterrupt``) at the next bytecode of the
+    main thread. When a C library calls back into Python, that bytecode can be the
+    callback's: numba compiles through LLVM, which calls llvmlite's object-cache
+    callbacks (``ctypes``), and a Ctrl-C during the compile landed there. ``ctypes``
+    cannot pass an exception through C, so Python printed "Exception ignored on
+    calling ctypes callback function ... KeyboardInterrupt" and dropped it: the command
+    ran on to exit 0 with its files written (fix54-d), or numba, whose callback never
+    stored the compiled code, failed with "RuntimeError: no compiled object yet" (exit
+    1). The same holds for a ``__del__`` or a ``gc`` callback.
+
+    Such an exception goes to ``sys.unraisablehook``: this hook takes a dropped
+    ``KeyboardInterrupt`` (printing nothing) and has the signal delivered again, by
+    ``_thread.interrupt_main`` from a new thread: called here, the handler would raise
+    at the hook's own next bytecode and be dropped again ("Exception ignored in
+    sys.unraisablehook"); the thread runs once this one releases the GIL (the callback
+    has returned into C), so the handler raises at the next line of Python outside
+    it (a later callback of the same compile drops it and passes it on again). The
+    command then ends as for any Ctrl-C, one line and status 130, no file written. A
+    subclass carrying a ``signum`` (a SIGTERM raised as one, ``paper_figures``) is
+    delivered as that signal. Every other exception goes to the previous hook. For the
+    commands' ``__main__`` (the process is the command's); a Python caller's process
+    keeps its own hook.
+    """
+    import _thread
+    import signal
+
+    previous = sys.unraisablehook
+
+    def hook(unraisable) -> None:
+        exc_type = unraisable.exc_type
+        if not (isinstance(exc_type, type) and issubclass(exc_type, KeyboardInterrupt)):
+            previous(unraisable)
+            return
+        signum = getattr(unraisable.exc_value, "signum", None)
+        signum = int(signum) if isinstance(signum, int) else int(signal.SIGINT)
+        _ON_ITS_WAY.append(signum)
+        try:
+            _thread.start_new_thread(_deliver, (signum,))
+        except RuntimeError:  # no thread to be had (a limit, the interpreter's exit):
+            _ON_ITS_WAY.clear()
+            previous(unraisable)  # Python's own report, as before
+
+    sys.unraisablehook = hook
+
+
+#: Signals dropped in a callback whose delivery by :func:`_deliver` is still to come.
+_ON_ITS_WAY: list[int] = []
+
+
+def _deliver(signum: int) -> None:
+    """Deliver ``signum`` to the main thread again (run in a thread of its own)."""
+    import _thread
+
+    try:
+        # a handler that is no longer Python's (SIG_IGN, SIG_DFL) is left alone
+        _thread.interrupt_main(signum)
+    finally:
+        _ON_ITS_WAY.clear()  # after: the main thread's next bytecode raises
+
+
+def await_dropped_interrupt() -> None:
+    """Let a Ctrl-C dropped in a callback (:func:`keep_interrupts`) raise here, if one is due.
+
+    The thread delivering it needs the GIL, which this thread gives up only every few
+    milliseconds while it runs Python: numba, whose object-cache callback took the
+    dropped Ctrl-C and so never stored the compiled code, reached its cache write first
+    and failed with "RuntimeError: no compiled object yet" (2 runs of 30 with the first
+    form of the hook). Called before such a step (``modalinfo.common.jit``), this
+    sleeps, which gives up the GIL, until the signal's handler has raised (at most a
+    second; nothing waits when none is due).
+    """
+    if not _ON_ITS_WAY:
+        return
+    import time
+
+    for _ in range(1000):  # in the main thread the handler raises in here
+        if not _ON_ITS_WAY:
+            return
+        time.sleep(0.001)
 
 
 def exit_quietly(code: int) -> None:
