@@ -392,10 +392,11 @@ def calibration_events(a: np.ndarray, report: QualityReport | None = None,
     ``scale`` False leaves out the innovations' scale rule (``scale_steps``), as
     ``Predictor.fit`` does: on stationary closed-loop POLs of ``closedloop.simulate`` (one
     Kolmogorov layer in frozen flow, 0.7 m, D/r0 7, 27 modes, ~3,000 frames after the
-    closure) it named blocks of x1.6-x2.2 in 10 of the first 13 seeds (the innovations'
-    scale of one realisation of turbulence wanders), the level and spread rules in none
-    (docs/ADVERSARIAL.md, fix54-b); a gain jump is a spread step, a new reference a level
-    step.
+    closure) it named blocks of x1.6-x2.2 in 63 of 80 logs (fix54-b), the level and
+    spread rules in none; a gain jump is a spread step, a new reference a level step.
+    Since fix55-b the scale rule leaves out modes whose AR innovations are far from
+    white (``SCALE_WHITE_ACF``: those POLs' are the sub-pixel shift's cycle) and names
+    none of those 80 logs; ``fit`` still leaves it out (docs/ADVERSARIAL.md).
     """
     if a.shape[0] < CALIBRATION_MIN_FRAMES:
         return ()
@@ -1028,7 +1029,10 @@ class QualityReport:
         what the median over modes hides: a wind-direction change on 2 of 6 modes
         (round 28 PART a, N09: ratios 3.1 and 3.2) and a seeing change over 5 % of a
         long log (N04, N13, N14: x2.5 over 1,000 of 20,000 frames). Measured false
-        alarms: docs/ADVERSARIAL.md, "Leftovers 28-nonstat".
+        alarms: docs/ADVERSARIAL.md, "Leftovers 28-nonstat". Modes whose AR innovations
+        are far from white (an autocorrelation beyond ``SCALE_WHITE_ACF`` = 0.3 at lags
+        1-12: the sampling law assumes independent innovations) and modes written on a
+        coarse lattice are not judged (fix55-b: noise-free simulated POLs).
     scale_judged : int
         (block size, mode) pairs the per-mode scale rule judged (0: too few effective
         innovations for blocks of 1/8 of the log).

@@ -17,7 +17,7 @@ ones); numpy's mean squares for the variance order; the planted loop opening (fi
 5 % of the frames x10, round 52 a's L39, mode and frame known by construction) on
 AR(1) logs from ``scipy.signal.lfilter`` and on simulator POLs with WFS noise. Seeds
 fixed; the three silent seeds were each named on integ 8e165972 (seeds 0-59 of 1.5 s:
-43 named before, 0 after; seeds 100-119 of 5 s: 20 before, 0 after).
+43 named before, 0 of seeds 0-39 after; seeds 100-119 of 5 s: 20 before, 0 after).
 """
 
 from __future__ import annotations
