@@ -29,6 +29,7 @@ from modalinfo.common.cli import (
     CommandError,
     Parser,
     add_version_argument,
+    check_not_folder,
     check_output,
     dispatch,
     folder_arg,
@@ -53,6 +54,8 @@ def _config(args):
 
 def _check_config_suffix(option: str, path) -> None:
     """Name the option (load_config / save_config would name their `path`)."""
+    if option == "--out":  # a folder is not "a name without .toml" to the user
+        check_not_folder(Path(path), option, (".toml", ".json"))
     if Path(path).suffix.lower() not in (".toml", ".json"):
         raise CommandError(f"{option} must end in .toml or .json; got {quoted(path)}")
 

@@ -742,6 +742,20 @@ def index_grid(n: int, flat: np.ndarray) -> np.ndarray:
     return grid.reshape(n, n)
 
 
+def sensing_wavelength(model, j: int) -> float:
+    """Return the AOT ``WavefrontSensor.wavelength`` of sensor ``j`` of ``model`` [m].
+
+    A sensor that forms images (the correlating Shack-Hartmann) has its own wavelength
+    (``wfs.wavelength``, its photon budget's); the geometric ones are achromatic and
+    measure the phase in rad at ``r0_wavelength``, the wavelength every log and
+    measurement of a result is stated at (the export's ``MI_WAVEL`` card). The AOT field
+    was left empty, so a reader of the standard found no wavelength for the sensors
+    (fix55-c).
+    """
+    own = getattr(model.wfss[j], "wavelength", None)
+    return float(own if own is not None else model.config.r0_wavelength)
+
+
 def _sensor_extra(wfs, wcfg) -> dict:
     return {"drives": f"dm{wcfg.dm}", "line_of_sight_altitude": wfs.altitude,
             "field_samples": int(len(wfs.samples)), "noise_arcsec": wcfg.noise}
@@ -766,7 +780,7 @@ def slopes_aot_record(model, j: int, wcfg, meas, *, extra: dict | None = None,
         n_valid_subapertures=wfs.n_valid_subapertures + n_extra, measurements=meas,
         subaperture_mask=index_grid(wcfg.n_subapertures, wfs.valid_subapertures),
         field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad/m",
-        extra=info)
+        wavelength=sensing_wavelength(model, j), extra=info)
 
 
 def slopes_aot_layout(wfs, arr: np.ndarray) -> np.ndarray:
@@ -802,7 +816,7 @@ def _ideal_aot_record(model, j: int, wcfg, meas):
         n_valid_subapertures=wfs.n_measurements, measurements=meas,
         subaperture_mask=index_grid(n_p, _sensed_pixels(wfs)),
         field_of_view=wcfg.field_of_view, altitude=wcfg.altitude, units="rad",
-        extra=info)
+        wavelength=sensing_wavelength(model, j), extra=info)
 
 
 def _ideal_aot_layout(wfs, arr: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ import argparse
 from pathlib import Path
 
 from modalinfo.bases.indexing import parse_modes
-from modalinfo.common.cli import CommandError, check_output
+from modalinfo.common.cli import CommandError, check_not_folder, check_output
 from modalinfo.common.files import quoted
 from modalinfo.common.sizes import log_bytes
 from modalinfo.common.validation import RATE_RANGE, RATE_RULE, log_rate_problem
@@ -351,6 +351,9 @@ def check_log_output(path: Path, overwrite: bool, fmt: str | None, flag: str = "
     refused; ``aot`` goes with the FITS extensions, and unknown extensions need it.
     """
     path = Path(path)
+    # before "cannot tell the format from the extension '(none)'" (round 54 PART b, P70)
+    example = {"aot": ".fits", "hdf5": ".h5"}.get(fmt or "", f".{fmt}" if fmt else None)
+    check_not_folder(path, flag, tuple(LOG_SUFFIXES), example=example)
     implied = LOG_SUFFIXES.get(path.suffix.lower())
     if fmt is not None and implied is not None and implied != fmt.replace("aot", "fits"):
         # NPZ bytes under a .csv name mislead every other tool (an AOT file is FITS)
@@ -381,7 +384,7 @@ def check_figure_output(path: Path | None, overwrite: bool, flag: str = "--plot"
     from matplotlib.backend_bases import FigureCanvasBase
 
     kinds = tuple(f".{k}" for k in sorted(FigureCanvasBase.get_supported_filetypes()))
-    check_output(path, overwrite, suffixes=kinds, flag=flag)
+    check_output(path, overwrite, suffixes=kinds, flag=flag, example=".png")
     if path.suffix.lower() == ".pgf":
         # matplotlib's PGF backend measures its text with a TeX engine: without one the
         # command printed its table and then a traceback, "RuntimeError: 'xelatex' not

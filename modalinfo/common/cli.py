@@ -54,6 +54,7 @@ __all__ = [
     "StdoutRefusedError",
     "add_version_argument",
     "check_cluster_args",
+    "check_not_folder",
     "check_output",
     "closed_pipe_discarded",
     "discard_stdout",
@@ -670,9 +671,42 @@ def folder_arg(text: str | os.PathLike) -> Path:
     return Path(text)
 
 
+def check_not_folder(path: Path, flag: str, suffixes: tuple[str, ...] | None = None, *,
+                     example: str | None = None) -> None:
+    """Refuse an output file named by an existing folder, saying so and what ``flag`` wants.
+
+    The extension check came first and a folder was "unsupported extension '(none)'"
+    (``reorder --out fc1``, fc1 a folder a forecast wrote: adversarial round 54 PART b,
+    P70): the user sees a folder where the command wants a file, so the line says that.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The output named on the command line.
+    flag : str
+        The option (or positional) named in the message.
+    suffixes : tuple of str, optional
+        The extensions the file may have (with the dot).
+    example : str, optional
+        The extension of the example name (default: the first of ``suffixes``).
+
+    Raises
+    ------
+    CommandError
+        When ``path`` is an existing folder (or a symbolic link to one).
+    """
+    path = Path(path)
+    if not path.is_dir():
+        return
+    ending = f" ending in {', '.join(suffixes)}" if suffixes else ""
+    name = path / f"NAME{example or (suffixes[0] if suffixes else '')}"
+    raise CommandError(f"{flag} {quoted(path)} is a folder; {flag} wants the name of a file to "
+                       f"write{ending}, such as {quoted(name)}")
+
+
 def check_output(
     path: Path | None, overwrite: bool, *, suffixes: tuple[str, ...] | None = None,
-    flag: str = "output",
+    flag: str = "output", example: str | None = None,
 ) -> None:
     """Check an output before any work: its extension, its directory, no overwrite.
 
@@ -690,6 +724,8 @@ def check_output(
         The accepted extensions (lower case, with the dot).
     flag : str
         The option named in the message.
+    example : str, optional
+        The extension of the example file name offered when ``path`` is a folder.
 
     Raises
     ------
@@ -699,11 +735,10 @@ def check_output(
     if path is None:
         return
     path = Path(path)
+    check_not_folder(path, flag, suffixes, example=example)
     if suffixes is not None and path.suffix.lower() not in suffixes:
         raise CommandError(f"{flag} {quoted(path)}: unsupported extension "
                            f"{quoted(path.suffix or '(none)')}; use {', '.join(suffixes)}")
-    if path.is_dir():
-        raise CommandError(f"{flag} {quoted(path)} is a directory; give a file name")
     try:
         check_not_special(path)
     except OSError as exc:

@@ -652,6 +652,34 @@ def read_aot(path, *, loop: str | None = None, verify: bool = True, **hints) -> 
     return build_log(coeffs, path, stored, hints, own_times=own is not None)
 
 
+def _no_images_reason(system) -> str:
+    """Return why a ``closedloop export`` file has no mode images ("" for another writer).
+
+    ``closedloop export --no-mode-images`` leaves them out (they are most of the file);
+    ``reorder --basis file`` on such a file said "has no mode images" without naming the
+    option (adversarial round 54 PART b, P23). The ``MI_CLOOP`` card says
+    ``mode_images: false`` since fix55-c; an older export of closedloop has none either
+    way, so the option is named as the likely cause.
+    """
+    card = next((m.value for m in getattr(system, "metadata", None) or []
+                 if getattr(m, "key", None) == "MI_CLOOP"), None)
+    try:
+        notes = json.loads(card)
+    except (TypeError, ValueError):
+        return ""
+    if not isinstance(notes, dict) or notes.get("written_by") != "closedloop":
+        return ""
+    again = ("; export the result again without that option (closedloop export RUN.h5 "
+             "OUT.fits) to read the mirror's basis")
+    if notes.get("mode_images") is False:
+        return ("; the file was written by `closedloop export --no-mode-images` (Python: "
+                f"mode_images=False), which leaves them out{again}")
+    if "mode_images" not in notes:
+        return ("; the file was written by `closedloop export`, whose option "
+                f"--no-mode-images (Python: mode_images=False) leaves them out{again}")
+    return ""
+
+
 def _refuse_block(system, lp, path: Path) -> None:
     """Refuse a loop that closedloop's ``MI_CLOOP`` card calls a block, no coefficients.
 
@@ -812,7 +840,7 @@ def read_aot_basis(path, *, loop: str | None = None, verify: bool = True):
             # as a contradiction of `modalinfo info` (adversarial round 8, row e122)
             raise LogFormatError(
                 f"AOT file {quoted(path)}: loop {lp.uid!r} has no mode images (no `modes` "
-                "data), so no modal basis can be read from it")
+                f"data), so no modal basis can be read from it{_no_images_reason(system)}")
         _check_reading(system, lp, path)
         n_cols = None
         if _has_coefficients(lp):

@@ -479,6 +479,8 @@ def read_hdf5(
                 coeffs, stored = _read_own(f, path, mmap, verify, dataset)
             elif group is not None:
                 coeffs, stored = _read_own(group, path, mmap, verify, None)
+                if f.attrs.get("format") == "closedloop-result":
+                    _result_log(stored, group.name.strip("/"), path)
             else:
                 foreign = True
                 coeffs, stored = _foreign(f, path, mmap, dataset)
@@ -496,20 +498,22 @@ def _log_group(f, path: Path, dataset: str | None):
     review20: a second dataset of any name made the file "corrupt"): that group; one
     group and such a dataset: refused, naming both; ``dataset`` naming a group or its
     ``coefficients``: that group; several groups and no ``dataset``: refused, naming
-    them. A closedloop result keeps its own refusal (``_foreign``).
+    them. A closedloop result is read at the log ``dataset`` names (``logs/dm0.pol``, with
+    or without ``/coefficients``); without one, or naming anything else, it keeps its own
+    refusal (``_foreign``), which lists its logs.
     """
-    import h5py
-
+    groups = _own_groups(f)
     if f.attrs.get("format") == "closedloop-result":
-        return None
-    groups: list[str] = []
-    f.visititems(lambda name, obj: groups.append(name) if isinstance(obj, h5py.Group)
-                 and _HEADER in obj and "coefficients" in obj else None)
+        # its logs are complete modalinfo logs (write_log_group: rate, units, wavelength,
+        # the run's config in the metadata), the same SimulationResult.load reads: the
+        # README's "--dataset run1" read them, yet they were refused with the export
+        # advice (adversarial round 54 PART b, P21)
+        key = _group_key(dataset)
+        return f[key] if key in groups else None
     if not groups:
         return None
     if dataset is not None:
-        key = dataset.strip("/")
-        key = key[: -len("/coefficients")] if key.endswith("/coefficients") else key
+        key = _group_key(dataset)
         return f[key] if key in groups else None
     inside = tuple(g + "/" for g in groups)
     # other 2-D datasets named as coefficients compete with the group, as in ``_foreign``;
@@ -530,6 +534,59 @@ def _log_group(f, path: Path, dataset: str | None):
             f"{', '.join(sorted(groups))}; pick one with dataset= (command line: "
             f"--dataset {sorted(groups)[0]})")
     return None
+
+
+def _result_log(stored: dict, key: str, path: Path) -> None:
+    """Describe a closedloop result's log as its AOT export does, or refuse its residual.
+
+    The log's header holds the run's config and ``quantity`` (residual, pol, commands):
+    ``loop`` (closed or open) and ``coefficient_quantity`` are set from them, the words
+    the AOT reader takes from the export's cards, so ``info`` says "pseudo-open-loop
+    coefficients" here too. A closed loop's residual and commands are refused: their
+    closure transient (the frames before the steady state, which the quality pass leaves
+    out rather than flag as glitches) is computed by closedloop and written only into the
+    export's ``MI_TRANS`` card (fix54-e); this reader, below closedloop, cannot tell it.
+    """
+    meta = dict(stored.get("metadata") or {})
+    config = meta.get("config") if isinstance(meta.get("config"), dict) else {}
+    loop = config.get("loop") if isinstance(config.get("loop"), dict) else {}
+    closed = loop.get("closed", True) is not False  # the config omits the default, closed
+    quantity = meta.get("quantity")
+    if quantity in ("residual", "commands") and closed:
+        dm = key.rsplit("/", 1)[-1].split(".", 1)[0]
+        route = (f"export the result with `closedloop export {shell_quoted(path.name)} "
+                 f"OUT.fits` and read OUT.fits with --loop {dm}" if quantity == "residual"
+                 else f"read them in Python, closedloop.SimulationResult.load(path)"
+                      f".logs[{key.rsplit('/', 1)[-1]!r}], from its averaging_start")
+        raise LogFormatError(
+            f"HDF5 file {quoted(path)}: {key!r} holds the {quantity} of a closed loop, whose "
+            "closure transient (the frames before the steady state, which the quality pass "
+            "must leave out) only closedloop can tell: "
+            f"{route}; the pseudo-open-loop log is read here (--dataset "
+            f"{key.rsplit('.', 1)[0]}.pol)")
+    meta.setdefault("loop", "closed" if closed else "open")
+    if isinstance(quantity, str) and quantity:
+        meta.setdefault("coefficient_quantity", quantity)
+    meta.setdefault("source_dataset", key)
+    stored["metadata"] = meta
+
+
+def _own_groups(f) -> list[str]:
+    """Paths of the groups below ``f`` holding a log of :func:`write_log_group`."""
+    import h5py
+
+    groups: list[str] = []
+    f.visititems(lambda name, obj: groups.append(name) if isinstance(obj, h5py.Group)
+                 and _HEADER in obj and "coefficients" in obj else None)
+    return groups
+
+
+def _group_key(dataset: str | None) -> str | None:
+    """Return the group path ``dataset`` names (``run1`` or ``run1/coefficients``: ``run1``)."""
+    if dataset is None:
+        return None
+    key = dataset.strip("/")
+    return key[: -len("/coefficients")] if key.endswith("/coefficients") else key
 
 
 def _read_own(f, path: Path, mmap: bool, verify: bool,
@@ -604,13 +661,20 @@ def _check_own_attributes(dset, header: dict, path: Path) -> None:
 
 def _foreign(f, path: Path, mmap: bool, dataset: str | None) -> tuple[np.ndarray, dict]:
     if f.attrs.get("format") == "closedloop-result":
-        # a simulation's result (several logs with their rate and units in its config):
-        # --dataset logs/dm0.pol/coefficients was "corrupt", and a log read so would lose
-        # its rate and wavelength (audit 10, feedback, row cli-h5-result-dataset)
+        # a simulation's result holds several logs: one is read where dataset names it
+        # (``_log_group``); here none is named, or something else is. A foreign read of
+        # --dataset logs/dm0.pol/coefficients was "corrupt" and would lose the rate and
+        # wavelength (audit 10, feedback, row cli-h5-result-dataset)
+        logs = sorted(_own_groups(f))
+        named = (f"; {dataset!r} is not one of its logs" if dataset is not None
+                 else ", not a log")
+        pol = next((g for g in logs if g.endswith(".pol")), logs[0] if logs else None)
+        read = (f"read its pseudo-open-loop log with dataset= (command line: --dataset {pol}; "
+                f"its logs: {', '.join(logs)}), or " if logs else "")
         raise LogFormatError(
-            f"HDF5 file {quoted(path)} is a closedloop result, not a log: export its logs with "
-            f"`closedloop export {shell_quoted(path.name)} OUT.fits` and read OUT.fits with --loop "
-            "(Python: closedloop.SimulationResult.load(path).logs)")
+            f"HDF5 file {quoted(path)} is a closedloop result{named}: {read}export its logs "
+            f"with `closedloop export {shell_quoted(path.name)} OUT.fits` and read OUT.fits "
+            "with --loop (Python: closedloop.SimulationResult.load(path).logs)")
     if dataset is None:
         table = _pandas_data_columns(f, path)
         if table is not None:

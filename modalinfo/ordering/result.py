@@ -329,6 +329,14 @@ class OrderingResult:
         # the scores' units: a variance order's are rad^2, not the file's `mi_units`
         # (round 48 PART b, O60); from_dict ignores it
         out["score_units"] = self.score_units
+        # `scores` are in the basis's index order while `labels`, `mi`, `gain` and the
+        # margins follow the steps: easy to misread in the file (round 54 PART b, T02).
+        # Said, and given keyed by label (derived: from_dict ignores both; the format
+        # stays /1, every older reader reads the same fields)
+        if self.scores is not None:
+            out["score_order"] = ("basis_labels: scores[k] is the score of basis_labels[k]; "
+                                  "labels, mi, gain and margin follow the steps (order)")
+            out["scores_by_label"] = dict(zip(self.basis_labels, out["scores"], strict=True))
         return out
 
     @property
