@@ -65,3 +65,23 @@ def test_long_memory_reads_fgns_d_and_adds_two_standard_errors(hurst, m):
     used = _cosine_variances(n, 0.5 + got.d, m + 2)[1:]
     want = float(np.mean(power[1:] / (used[1:] / used[0])))
     assert got.scale == pytest.approx(want, rel=5e-3)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_the_memory_band_is_where_the_ar_spectrum_keeps_half_its_first_value(seed):
+    # AR(1) 0.99 of 10,000 frames: its spectrum (1 - 2 phi cos l + phi^2)^-1 stays
+    # within MEMORY_FLATNESS = 0.5 of f(pi / n) up to j = 32 (closed form below);
+    # the fitted AR(p)'s band reads 31-37 on these seeds: a band x0.7-x1.4 of it
+    from scipy.signal import lfilter
+
+    from modalinfo._stats import _low_frequency
+
+    n, phi = 10_000, 0.99
+    rng = np.random.default_rng(seed)
+    x = lfilter([1.0], [1.0, -phi], rng.standard_normal(n + 3000))[3000:]
+    j = np.arange(1, 500)
+    ratio = ((1 - 2 * phi * np.cos(np.pi / n) + phi ** 2)
+             / (1 - 2 * phi * np.cos(np.pi * j / n) + phi ** 2))
+    band = int(j[np.argmin(ratio >= 0.5)]) - 1           # last j within half
+    got = _low_frequency(x[:, None])[0].memory.terms
+    assert 0.7 * band <= got <= 1.4 * band
