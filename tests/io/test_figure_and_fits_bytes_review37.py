@@ -46,3 +46,13 @@ def test_a_del_byte_in_the_header_is_not_read_as_a_short_file(tmp_path):
     bad = tmp_path / "bad.fits"
     bad.write_bytes(header + bytes(2880))
     assert truncation(bad) is None
+
+
+def test_simple_false_is_not_read_as_a_short_fits_file(tmp_path):
+    # FITS 4.0 section 4.4.1.1: SIMPLE = F does not conform; its sizes are not FITS's
+    cards = [_card("SIMPLE  =                    F"), _card("BITPIX  =                  -64"),
+             _card("NAXIS   =                    1"), _card("NAXIS1  =                 1000"),
+             _card("END")]
+    path = tmp_path / "nonconforming.fits"
+    path.write_bytes(b"".join(cards).ljust(2880, b" ") + bytes(2880))
+    assert truncation(path) is None
