@@ -924,7 +924,7 @@ MEMORY_GRID = np.round(np.arange(0.0, 0.4901, 0.01), 4)
 #: Standard errors of the local Whittle estimate added to ``d`` before it is used: the
 #: plug-in ``d`` is estimated from the very terms it rescales and from the series less
 #: its largest CUSUM step (which takes some of a stationary series' low-frequency power
-#: with it), so it reads low; one s.e. (``1 / (2 sqrt(m))``, Robinson 1995) brought the
+#: with it), so it reads low; two s.e. (each ``1 / (2 sqrt(m))``, Robinson 1995) brought the
 #: level rule to its stated rate on fGn H 0.7 / 0.9 and ARFIMA d 0.4 (fix54-a,
 #: docs/ADVERSARIAL.md "Long memory in the stationarity rules").
 MEMORY_MARGIN_SE = 2.0
