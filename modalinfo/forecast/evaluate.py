@@ -761,10 +761,11 @@ class _MappedRows:
                      f"{rows_asked.shape[1]} modes",
                      advice="use fewer frames or modes, or a smaller `train`")
         out = np.array(rows_asked, dtype=np.float64)
-        if isinstance(key, slice):
-            rows = key
-        else:  # an integer row index array (targets after the origins)
-            idx = np.asarray(key)
+        # a (rows, columns) key: the level-shift rule reads the whole log a few columns
+        # at a time (fix54-a); the pages released are those of its rows
+        rows = key[0] if isinstance(key, tuple) else key
+        if not isinstance(rows, slice):  # an integer row index array (targets)
+            idx = np.asarray(rows)
             rows = slice(int(idx.min()), int(idx.max()) + 1) if idx.size else slice(0, 0)
         release_pages(self.src, self.src[rows])
         return out
