@@ -939,6 +939,10 @@ MEMORY_MAX_TERMS = 400
 MEMORY_FLATNESS = 0.5
 
 
+#: Quadrature points of :func:`fractional_cosine_variances` taken at once.
+_QUADRATURE_CHUNK = 4096
+
+
 @functools.lru_cache(maxsize=1)
 def fractional_cosine_variances() -> np.ndarray:
     """Variances of a record's mean and cosine terms under a fractional spectrum.
@@ -964,20 +968,27 @@ def fractional_cosine_variances() -> np.ndarray:
         + 1`` (from ``j = LEVEL_MAX_TERMS + 2`` on, the power law ``2 pi (pi j)^(-2d)``).
     """
     du, top, eps = 0.01, 600.0, 0.05
-    u = np.arange(eps + du / 2, top, du)
+    u_all = np.arange(eps + du / 2, top, du)
     j = np.arange(0, LEVEL_MAX_TERMS + 2)[:, None]
     sign = np.where(j % 2 == 0, 1.0, -1.0)
     a = np.pi * j
-    with np.errstate(divide="ignore", invalid="ignore"):
-        g = 4.0 * (1.0 - sign * np.cos(u)) * u * u / (a * a - u * u) ** 2
-    g[~np.isfinite(g)] = 0.5  # the removable singularity at u = pi j (j >= 1): limit 1/2
-    g[0] = 2.0 * (1.0 - np.cos(u)) / (u * u)  # j = 0: |(1 - e^{-iu}) / (iu)|^2
     d = MEMORY_GRID[None, :]
+    # the 60,000 quadrature points a few thousand at a time: the whole (terms x points)
+    # array was a 23 MiB temporary at the first level rule of a command, after its memory
+    # check (tests/cli/test_memory_refusal_figure_round50.py, stop 61 merge)
+    total = np.zeros((j.shape[0], d.shape[1]))
+    for s0 in range(0, u_all.size, _QUADRATURE_CHUNK):
+        u = u_all[s0:s0 + _QUADRATURE_CHUNK]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            g = 4.0 * (1.0 - sign * np.cos(u)) * u * u / (a * a - u * u) ** 2
+        g[~np.isfinite(g)] = 0.5  # the removable singularity at u = pi j (j >= 1): 1/2
+        g[0] = 2.0 * (1.0 - np.cos(u)) / (u * u)  # j = 0: |(1 - e^{-iu}) / (iu)|^2
+        total += g @ np.exp(-2.0 * np.log(u)[:, None] * d)
     # [0, eps]: |Phi_j|^2 ~ 1 for the mean (its u^(-2d) pole, closed form), ~u^2 else
     head = np.where(j == 0, eps ** (1.0 - 2.0 * d) / (1.0 - 2.0 * d), 0.0)
     # beyond top: |Phi_j|^2 averages 2 / u^2 (the mean) or 4 / u^2 over its oscillation
     tail = np.where(j == 0, 2.0, 4.0) * top ** (-1.0 - 2.0 * d) / (1.0 + 2.0 * d)
-    v = 2.0 * (g @ np.exp(-2.0 * np.log(u)[:, None] * d) * du + head + tail)  # (j, d)
+    v = 2.0 * (total * du + head + tail)  # (j, d)
     # the quadrature's own error taken out where it is known: every v_j(0) is 2 pi
     # (MEMORY_GRID[0] = 0), so the short-memory law is exactly the EWC's
     v *= 2.0 * np.pi / v[:, :1]
