@@ -59,7 +59,7 @@ existing file unless asked) by :func:`modalinfo.io.aot.write_system`:
   (``residual`` or ``pol``: what the series is) and ``MI_WAVEL`` (the wavelength [m] of
   its phase in rad: ``r0_wavelength``, read back as the log's ``wavelength``); the
   residual of a closed loop also ``MI_TRANS``, its closure transient (the frames before
-  the result's averaging window, ``SimulationResult.averaging_start``; read back as
+  its steady state, ``SimulationResult.transient_frames``; read back as
   ``metadata["transient_frames"]``, which ``modalinfo``'s quality pass leaves out and
   names instead of calling them glitched frames, fix54-e); the
   ``dm{i}.wfs{k}`` loops have no coefficient image, hence no card (the ``MI_CLOOP``
@@ -458,24 +458,26 @@ TRANSIENT_KEY = "MI_TRANS"
 def _transient_card(result) -> dict:
     """Return the residual's ``MI_TRANS`` card: frames before the steady state, or none.
 
-    The number is the result's one rule, ``SimulationResult.averaging_start`` (the
-    detected closure of a closed loop, the second half's start of one that is still
-    converging or did not close; 0, no card, in open loop): the quality pass of
+    The number is the result's ``SimulationResult.transient_frames`` (its
+    ``averaging_start``: the detected closure of a closed loop, the second half's start of
+    one that did not close; the servo model's few time constants for one still
+    converging, fix56-c; 0, no card, in open loop), the number its run.h5 logs carry in
+    ``metadata["transient_frames"]``: the quality pass of
     ``modalinfo`` leaves those frames out as a transient rather than calling the
     open-loop turbulence before the first command "glitched frames" (fix54-e; adversarial
     round 54 PART a, S30). The POL has no closure transient: it gets no card.
     """
-    start = int(result.averaging_start)
+    start = int(result.transient_frames)
     return {TRANSIENT_KEY: start} if start > 0 else {}
 
 
 def _transient_words(result) -> str:
     """Return the ``MI_CLOOP`` words on the residual's ``MI_TRANS`` card ("" if none)."""
-    start = int(result.averaging_start)
+    start = int(result.transient_frames)
     if start <= 0:
         return ""
     return (f"; frames 0-{start - 1} are the loop's closure transient (card {TRANSIENT_KEY}: "
-            "the frames before the result's averaging window, its steady state)")
+            "the frames before its steady state, SimulationResult.transient_frames)")
 
 
 def _atmosphere(cfg):

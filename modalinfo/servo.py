@@ -60,6 +60,7 @@ __all__ = [
     "noise_transfer_function",
     "noise_propagation",
     "closed_loop_bandwidth",
+    "closed_loop_time_constant",
     "gain_for_bandwidth",
 ]
 
@@ -240,6 +241,44 @@ def max_stable_gain(delay_frames: float = 1.0, integration_frames: float = 1.0, 
 def check_leak(leak: float) -> float:
     """Return ``leak`` as a float in [0, 1), or raise ``ValueError`` naming it."""
     return check_real(leak, "leak", minimum=0.0, maximum=1.0, strict_max=True)
+
+
+def closed_loop_time_constant(gain: float, delay_frames: float = 1.0,
+                              integration_frames: float = 1.0, *,
+                              leak: float = 0.0) -> float | None:
+    """Time constant of the sampled closed loop [frames]: ``-1 / ln r``.
+
+    ``r`` is the largest modulus of the poles of ``1 - (1 - leak) z**-1 + g W(z)``
+    (:func:`loop_denominator`): every error the loop corrects (a step, the open-loop
+    turbulence at closure) decays at least as ``r**k`` after ``k`` frames, so its
+    amplitude falls by ``e`` per time constant and its variance by ``e**2``.
+
+    Parameters
+    ----------
+    gain : float
+        Integrator gain, below :func:`max_stable_gain`.
+    delay_frames, integration_frames : float
+        Delay and exposure in frames (:func:`command_weights`).
+    leak : float
+        Integrator leak in [0, 1).
+
+    Returns
+    -------
+    float or None
+        The time constant [frames] (0 when every pole is at 0); None when the delay makes
+        the polynomial too long for its roots (over 64 frames).
+
+    Raises
+    ------
+    ValueError
+        An argument out of range, or an unstable loop (:func:`check_stable`).
+    """
+    check_stable(gain, delay_frames, integration_frames, leak=leak)
+    gain, delay_frames, integration_frames = check_loop(gain, delay_frames, integration_frames)
+    radius = _pole_radius(gain, delay_frames, integration_frames, check_leak(leak))
+    if radius is None:
+        return None
+    return 0.0 if radius <= 0.0 else -1.0 / math.log(radius)
 
 
 def check_stable(gain: float, delay_frames: float, integration_frames: float, *,

@@ -26,10 +26,12 @@ from modalinfo.cli.shared import (
     LOG_COPIES,
     add_gap_argument,
     add_hint_arguments,
+    add_quiet_argument,
     apply_outliers,
     check_command_memory,
     log_bytes,
     refuse_outlier_drop,
+    refuse_quiet_without_output,
     split_gaps,
 )
 from modalinfo.common.cli import folder_arg
@@ -78,9 +80,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="leave out modes constant over the training frames (a zeroed "
                         "or dead mode); by default they are kept and every predictor "
                         "forecasts them as that constant (exact, as persistence)")
-    parser.add_argument("--quiet", action="store_true",
-                        help="print nothing on success (and no progress bar); needs --out DIR, "
-                        "where the results go")
+    add_quiet_argument(parser, needs="--out DIR")
     add_hint_arguments(parser)
     add_gap_argument(parser)
 
@@ -433,9 +433,8 @@ def run(args: argparse.Namespace) -> int:
         from modalinfo.forecast.evaluate import _n_train
 
         _n_train(train, log.n_frames, args.horizon)
-        raise CommandError("--quiet without --out would print nothing and write nothing "
-                           "(the whole evaluation would be thrown away); give --out DIR "
-                           "or drop --quiet")
+        refuse_quiet_without_output(args, args.out, "--out DIR",
+                                    "the whole evaluation would be thrown away")
     # on the modes forecast, after the refusals (no work before them); --outliers drop
     # was refused above (lags need every frame)
     from modalinfo.telemetry.quality import policy_record

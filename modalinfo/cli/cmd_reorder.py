@@ -6,7 +6,7 @@ prints a table (mode, score, MI after each step, gain and its bootstrap bounds);
 ``--stability FRAMES`` adds the rank correlation of orderings of consecutive windows
 and of subsampling seeds.
 ``--out`` writes the ordering as JSON (never over an existing file unless
-``--overwrite``).
+``--overwrite``); ``--quiet`` prints nothing on success and needs ``--out``.
 
 A log longer than ``--max-frames`` (default 50,000) is analysed on every k-th frame,
 k = ceil(frames / N), read block by block from the memory-mapped file (a note says so):
@@ -32,6 +32,7 @@ from modalinfo.cli.shared import (
     add_gap_argument,
     add_hint_arguments,
     add_max_frames_argument,
+    add_quiet_argument,
     apply_outliers,
     check_command_memory,
     check_memory,
@@ -39,6 +40,8 @@ from modalinfo.cli.shared import (
     load_log_with_hints,
     log_bytes,
     ordinal,
+    queue_notes,
+    refuse_quiet_without_output,
     refuse_unused_ordering_options,
     split_gaps,
 )
@@ -90,7 +93,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
                         help="outer scale of the theoretical K-L in metres "
                              "(default: from the log's metadata, else infinite)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing outputs")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_quiet_argument(parser, needs="--out FILE.json")
     add_max_frames_argument(parser, default=MAX_FRAMES, contiguous=False)
     add_hint_arguments(parser)
 
@@ -493,8 +496,17 @@ def _calibration_words(message: str) -> str:
         "as the pooled log's where the event is known and meant."))
 
 
+def _printer(args: argparse.Namespace):
+    """Return ``print``, or a function that prints nothing under ``--quiet``."""
+    if args.quiet:
+        return lambda *a, **k: None
+    import builtins
+
+    return builtins.print
+
+
 def run(args: argparse.Namespace) -> int:
-    """Order the basis, print the table, write the JSON."""
+    """Order the basis, print the table (not with ``--quiet``), write the JSON."""
     from modalinfo.cli.shared import progress
     from modalinfo.information.resampling import least_tail_replicates
     from modalinfo.ordering import order_modes
@@ -578,6 +590,10 @@ def run(args: argparse.Namespace) -> int:
         with quiet(KLGeometryWarning):
             basis = basis_for_log(args.basis, log, n_pixels=args.pupil_pixels,
                                   outer_scale=args.outer_scale)
+    # after every other refusal (each names its own; the basis's too), before the
+    # ordering: --quiet prints nothing, so without --out it would be thrown away (fix56-c)
+    refuse_quiet_without_output(args, args.out, "--out FILE.json",
+                                "the whole ordering would be thrown away")
     steps = basis.n_modes - 1 + args.resamples if args.method.startswith("mi_") else 0
     # check_mi_time said the estimate in flags: the library's words are not repeated
     with progress(args, steps, desc="reorder") as advance, quiet(OrderingCostWarning), \
@@ -607,20 +623,23 @@ def run(args: argparse.Namespace) -> int:
                  f"{thinned[1]}")
     else:
         where = "pooled over all frames"
-    print(f"{args.basis} basis, {args.method} order ({where}"
-          + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
-             if result.mi is not None else "") + ")")
-    print(result.legend(resamples="--resamples"))
-    print(result.table())
+    # --quiet: nothing on stdout on success, as convert / synth / forecast (fix56-c); the
+    # caution on too few replicates is a warning and goes to stderr then
+    say = _printer(args)  # the table's lines, or nothing under --quiet
+    say(f"{args.basis} basis, {args.method} order ({where}"
+        + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
+           if result.mi is not None else "") + ")")
+    say(result.legend(resamples="--resamples"))
+    say(result.table())
     for note in result.notes(resamples="--resamples"):
-        print(note)
+        say(note)
     own_names = log_names_note(result.labels, log, args.basis)
     if own_names is not None:
-        print(own_names)
+        say(own_names)
     if result.gain_low is not None:
-        print(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
-              f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
-              "the last step completes Phi_ref and is not estimated")
+        say(f"gains significantly > 0 ({100 * result.confidence_level:.0f}% bootstrap bounds, "
+            f"{result.n_resamples} replicates): the first {result.n_informative} steps; "
+            "the last step completes Phi_ref and is not estimated")
         n_rep, level = result.n_resamples, result.confidence_level
         if n_rep < least_tail_replicates(level):
             # the rule of every bootstrap bound (mutual_information_ci refuses below it):
@@ -630,13 +649,18 @@ def run(args: argparse.Namespace) -> int:
             # reason is stated at R itself: at 39 the range covers exactly 95 % (38 / 40),
             # but 0.975 replicate per tail leaves none beyond the bounds (fixes 45-c, T36)
             tail = n_rep * (1.0 - level) / 2.0
-            print(f"caution: {n_rep} replicates are too few for {100 * level:.0f}% bounds: "
-                  f"{n_rep} x {1.0 - level:.3g} / 2 = {tail:.3g} replicate(s) per tail, "
-                  f"fewer than 1, leave none beyond the bounds, which are (nearly) the extreme "
-                  f"replicates (their range covers a new draw with probability "
-                  f"({n_rep} - 1) / ({n_rep} + 1) = {100 * (n_rep - 1) / (n_rep + 1):.4g}% "
-                  f"at most): the bounds, the '~' marks and the steps above understate the "
-                  f"noise; use --resamples {least} or more")
+            caution = (f"caution: {n_rep} replicates are too few for {100 * level:.0f}% "
+                       f"bounds: {n_rep} x {1.0 - level:.3g} / 2 = {tail:.3g} replicate(s) "
+                       f"per tail, fewer than 1, leave none beyond the bounds, which are "
+                       f"(nearly) the extreme replicates (their range covers a new draw with "
+                       f"probability ({n_rep} - 1) / ({n_rep} + 1) = "
+                       f"{100 * (n_rep - 1) / (n_rep + 1):.4g}% at most): the bounds, the '~' "
+                       f"marks and the steps above understate the noise; use --resamples "
+                       f"{least} or more")
+            if args.quiet:
+                queue_notes(args, [caution])
+            else:
+                say(caution)
     if args.stability is not None:
         from modalinfo.ordering import ordering_stability
 
@@ -646,7 +670,7 @@ def run(args: argparse.Namespace) -> int:
             stab = ordering_stability(log, basis, args.method, window=args.stability,
                                       seeds=(0, 1, 2), estimator=args.estimator,
                                       sample_budget=args.budget, progress=advance)
-        print(stab.summary())
+        say(stab.summary())
     if args.out is not None:
         from modalinfo.cli.shared import command_provenance
 
@@ -656,5 +680,5 @@ def run(args: argparse.Namespace) -> int:
         result.to_json(args.out, overwrite=args.overwrite,
                        provenance=command_provenance(args, args.log, args.seed),
                        quality=quality)
-        print(f"ordering written to {shown_name(args.out)}")
+        say(f"ordering written to {shown_name(args.out)}")
     return 0

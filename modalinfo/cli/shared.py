@@ -401,6 +401,49 @@ def check_figure_output(path: Path | None, overwrite: bool, flag: str = "--plot"
                 "install it, or write .pdf or .svg (vector figures LaTeX includes as well)")
 
 
+#: What ``--quiet`` means for a command with an output file: nothing on stdout on
+#: success, no progress bar; warnings still go to stderr
+QUIET_HELP = "print nothing on success (and no progress bar)"
+
+
+def add_quiet_argument(parser: argparse.ArgumentParser, needs: str | None = None) -> None:
+    """Add ``--quiet`` as every command with an output means it (:data:`QUIET_HELP`).
+
+    ``needs``: the output option it needs (``"--out DIR"``), said in the help; the command
+    then calls :func:`refuse_quiet_without_output`. ``reorder --quiet`` meant "no progress
+    bar" and still printed its whole table (adversarial round 54 PART b; fix56-c).
+    """
+    parser.add_argument("--quiet", action="store_true",
+                        help=QUIET_HELP + (f"; needs {needs}, where the results go"
+                                           if needs else ""))
+
+
+def refuse_quiet_without_output(args: argparse.Namespace, output, needs: str,
+                                lost: str) -> None:
+    """Refuse ``--quiet`` with no output file: the work would print and write nothing.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (``args.quiet``).
+    output : object or None
+        The output option's value (None: not given).
+    needs : str
+        The option and its value's name, e.g. ``"--out DIR"``.
+    lost : str
+        What would be thrown away, e.g. ``"the whole evaluation would be thrown away"``.
+
+    Raises
+    ------
+    CommandError
+        ``--quiet`` given and ``output`` None.
+    """
+    if getattr(args, "quiet", False) and output is None:
+        flag = needs.split()[0]
+        raise CommandError(f"--quiet without {flag} would print nothing and write nothing "
+                           f"({lost}); give {needs} or drop --quiet")
+
+
 class _Progress:
     """A tqdm bar on stderr (a terminal, not ``--quiet``), or nothing; see :func:`progress`."""
 

@@ -183,8 +183,46 @@ def _read_system(path: Path, verify: bool):
     _check_mapping(path)
     with _aot_reading(path) as notes:
         check_whole(path, "AOT")  # before aotpy, whose words name no truncation
-        system = aotpy.AOSystem.read_from_file(path, file_type="fits", checksum=bool(verify))
+        try:
+            system = aotpy.AOSystem.read_from_file(path, file_type="fits",
+                                                   checksum=bool(verify))
+        except Exception as exc:  # aotpy's AOTVerificationException, among others
+            said = _cut_between(path, exc)
+            if said is None:
+                raise
+            raise LogFormatError(said) from None
     return system, notes
+
+
+#: aotpy's words for an HDU the file lacks -> what that HDU is, in ours
+_MISSING_HDU = (
+    (re.compile(r"Missing mandatory table '([^']+)'"),
+     lambda m: f"it has no table {m[1]!r}, which every AOT file has"),
+    (re.compile(r"Table (\S+) does not exist even though there are rows of type (.+?) in "
+                r"(\S+?)\."),
+     lambda m: f"it has no table {m[1]!r}, which its {m[3]} rows of type {m[2]} need"),
+    (re.compile(r"Image '([^']+)' not found in file"),
+     lambda m: f"it has no image {m[1]!r}, which its tables refer to"),
+)
+
+
+def _cut_between(path: Path, exc: Exception) -> str | None:
+    """Name an AOT file cut between two HDUs, from aotpy's "missing table" error.
+
+    Such a file was "corrupt AOT file ...: AOTVerificationException: [AOTFITSFile] Missing
+    mandatory table 'AOT_DETECTORS'" while a cut inside an HDU is named as one
+    (``fits_size``); the sizes cannot see a cut at an HDU boundary, the missing table
+    can (fix56-c). None when aotpy said something else, or the file does not end right
+    after a whole HDU.
+    """
+    from modalinfo.io.fits_size import cut_between
+
+    text = str(exc)
+    for pattern, words in _MISSING_HDU:
+        found = pattern.search(text)
+        if found is not None:
+            return cut_between(path, "AOT", words(found))
+    return None
 
 
 def _check_mapping(path: Path) -> None:

@@ -56,7 +56,7 @@ from modalinfo.io._common import (
 )
 from modalinfo.io._foreign import axis_layout, rate_field
 from modalinfo.io.files import LogFormatError
-from modalinfo.io.fits_size import check_whole
+from modalinfo.io.fits_size import check_whole, cut_between
 from modalinfo.telemetry.log import ModalLog
 
 __all__ = ["read_fits", "write_fits"]
@@ -242,7 +242,12 @@ def _parse(hdul, path: Path, chosen: int | None = None) -> tuple[np.ndarray, dic
         stored = stored_from_header(header)
         if header["has_timestamps"]:
             if "TIMES" not in hdul:
-                raise LogFormatError(f"corrupt FITS file {quoted(path)}: TIMES extension missing")
+                # a file cut right after its primary HDU read "TIMES extension missing"
+                # only (fix56-c)
+                raise LogFormatError(cut_between(
+                    path, "FITS", "its header says the timestamps follow in a TIMES "
+                    "extension, and there is none") or
+                    f"corrupt FITS file {quoted(path)}: TIMES extension missing")
             stored["timestamps"] = _native(hdul["TIMES"].data)
         return coeffs, stored, False
     stored: dict[str, Any] = {"metadata": {"source_file": path.name, "source_format": "fits"}}

@@ -23,8 +23,10 @@ from modalinfo.io.files import LogFormatError
 #: The FITS block, in bytes.
 BLOCK = 2880
 
-#: The header keywords the data size needs.
-_SIZE_KEYS = (b"BITPIX", b"NAXIS", b"PCOUNT", b"GCOUNT", b"GROUPS", b"XTENSION")
+#: The header keywords the data size needs, and those naming an HDU or the extensions
+#: that follow (NEXTEND, a common convention of multi-extension files)
+_SIZE_KEYS = (b"BITPIX", b"NAXIS", b"PCOUNT", b"GCOUNT", b"GROUPS", b"XTENSION", b"EXTNAME",
+              b"NEXTEND")
 
 
 def _value(card: bytes) -> str:
@@ -66,6 +68,31 @@ def _padded(n: int) -> int:
 def truncation(path: Path, fmt: str = "FITS") -> str | None:
     """Return one line saying that the FITS file ``path`` ends before its headers' sizes; else None.
 
+    See :func:`_walk`; a file whose HDUs are whole gives None.
+    """
+    said = _walk(path, fmt)
+    return said if isinstance(said, str) else None
+
+
+def whole_hdus(path: Path) -> list[dict[bytes, str]] | None:
+    """Return the size cards of each HDU when ``path`` ends exactly after its last HDU.
+
+    Returns
+    -------
+    list of dict or None
+        One dict per HDU (its ``BITPIX``, ``NAXISn``, ``XTENSION``, ``EXTNAME``,
+        ``NEXTEND`` ... cards as text, and ``b"_START"`` its first byte): the file holds
+        whole HDUs and nothing after them, so a cut there is invisible to the sizes (it is
+        a cut *between* two HDUs). None if the file is cut inside an HDU, has bytes after
+        its last HDU, or a header cannot be read as FITS.
+    """
+    said = _walk(path, "FITS")
+    return said if isinstance(said, list) else None
+
+
+def _walk(path: Path, fmt: str) -> str | list[dict[bytes, str]] | None:
+    """Walk the HDUs of ``path`` by their headers' sizes (the data are skipped by seeking).
+
     Parameters
     ----------
     path : pathlib.Path
@@ -75,14 +102,15 @@ def truncation(path: Path, fmt: str = "FITS") -> str | None:
 
     Returns
     -------
-    str or None
+    str, list of dict or None
         ``"truncated FITS file 'x.fits': ..."`` naming the HDU the file ends in, the bytes
         its header declares (and with the padding to 2880-byte blocks) and the bytes found;
-        None if every HDU is whole, or a header cannot be read as FITS (the parser then
-        speaks: this check judges length only).
+        the HDUs' size cards (:func:`whole_hdus`) if every HDU is whole; None if a header
+        cannot be read as FITS (the parser then speaks: this check judges length only).
     """
     size = path.stat().st_size
     offset, index = 0, 0
+    hdus: list[dict[bytes, str]] = []
     with open(path, "rb") as fh:
         while offset < size:
             start, cards, ended = offset, {}, False
@@ -122,11 +150,74 @@ def truncation(path: Path, fmt: str = "FITS") -> str | None:
                         "short (an interrupted copy or download?): copy it again")
             offset += _padded(need)
             index += 1
-    return None
+            cards[b"_START"] = str(start)
+            hdus.append(cards)
+    return hdus if offset == size else None
+
+
+def _hdu_name(cards: dict[bytes, str], index: int) -> str:
+    """Name HDU ``index`` as a message does: ``HDU 2 (AOT_SOURCES)`` or ``HDU 0 (primary)``."""
+    name = cards.get(b"EXTNAME") or cards.get(b"XTENSION") or "primary"
+    return f"HDU {index} ({name})"
+
+
+def cut_between(path: Path, fmt: str, missing: str) -> str | None:
+    """Say that ``path`` may have been cut between two HDUs, when its reader misses one.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        A FITS (or AOT) file whose reader found an HDU missing.
+    fmt : str
+        The format's name in the message ("FITS", "AOT").
+    missing : str
+        What the reader misses, e.g. ``"no table 'AOT_DETECTORS', which every AOT file
+        has"``.
+
+    Returns
+    -------
+    str or None
+        ``"incomplete AOT file 'x.fits': <missing>; the file ends at byte N, right after
+        HDU k (NAME), where nothing tells that it ends: ..."``; None if the file does not
+        end exactly after a whole HDU (the reader's own words are then the right ones).
+    """
+    hdus = whole_hdus(path)
+    if not hdus:
+        return None
+    last = len(hdus) - 1
+    return (f"incomplete {fmt} file {quoted(path)}: {missing}; the file ends at byte "
+            f"{path.stat().st_size}, right after {_hdu_name(hdus[last], last)}, exactly "
+            "between two HDUs: it was cut there (an interrupted copy or download: copy it "
+            "again) or written without that HDU")
+
+
+def _missing_extensions(path: Path, fmt: str) -> str | None:
+    """Say that ``path`` holds fewer extensions than its primary header's NEXTEND."""
+    hdus = whole_hdus(path)
+    if not hdus:
+        return None
+    try:
+        declared = int(hdus[0].get(b"NEXTEND", ""))
+    except ValueError:
+        return None  # no NEXTEND (or an unreadable one): nothing declares the count
+    present = len(hdus) - 1
+    if present >= declared:
+        return None
+    last = len(hdus) - 1
+    return (f"incomplete {fmt} file {quoted(path)}: its primary header declares NEXTEND = "
+            f"{declared} extensions and the file holds {present}, ending at byte "
+            f"{path.stat().st_size} right after {_hdu_name(hdus[last], last)}, exactly "
+            "between two HDUs: the file was cut short (an interrupted copy or download?): "
+            "copy it again")
 
 
 def check_whole(path: Path, fmt: str = "FITS") -> None:
-    """Raise ``LogFormatError`` with :func:`truncation`'s line if ``path`` is cut short."""
-    said = truncation(path, fmt)
+    """Raise ``LogFormatError`` if ``path`` is cut short.
+
+    Inside an HDU (:func:`truncation`'s line), or between two HDUs when the primary
+    header's NEXTEND declares more extensions than the file holds (a FITS with EXTEND = T
+    and NEXTEND = 3 and two extensions read its first one as the log; fix56-c).
+    """
+    said = truncation(path, fmt) or _missing_extensions(path, fmt)
     if said is not None:
         raise LogFormatError(said)

@@ -117,6 +117,46 @@ def _figure_kind(head: bytes) -> str | None:
     return None
 
 
+#: Suffixes of headerless binary dumps (matplotlib's ``.raw`` / ``.rgba``, camera and
+#: WFS pixel dumps): given back as a log they were "neither UTF-8 text (CSV) nor
+#: NPZ/NPY/FITS/HDF5 ...: re-save it as UTF-8", or a zero-filled ``.dat`` "a CSV file
+#: with a header row but no data rows" (adversarial round 54 PART b, O24; fix56-c)
+_DUMP_SUFFIXES = frozenset({".raw", ".rgba", ".bin", ".dat", ".img"})
+
+
+def _binary(head: bytes) -> bool:
+    """Tell whether leading bytes are binary: a NUL, or not UTF-8 before the last 4 bytes."""
+    if b"\x00" in head:
+        return True
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return exc.start < len(head) - 4  # not just a multi-byte char cut at the end
+    return False
+
+
+def _raw_dump(path: Path, head: bytes) -> LogFormatError | None:
+    """Return the refusal of a headerless binary dump (:data:`_DUMP_SUFFIXES`), or None.
+
+    Nothing in such a file says its type or shape, so it is named by what it is and
+    what reading it needs: the sizes in bytes give the element counts of the usual
+    pixel types, for the user to match against the frames they expect.
+    """
+    if path.suffix.lower() not in _DUMP_SUFFIXES or not _binary(head):
+        return None
+    size = path.stat().st_size
+    counts = ", ".join(f"{size // width:,} {name}" for name, width in
+                       (("uint16", 2), ("float32", 4), ("float64", 8)) if size % width == 0)
+    return _not_a_log(
+        path, f"a headerless binary dump ({size:,} bytes"
+        + (f" = {counts} values" if counts else "")
+        + "; raw pixels or samples, with no header giving their type or shape)",
+        "if it holds modal coefficients, read it with numpy (`numpy.fromfile(PATH, "
+        "dtype=DTYPE).reshape(FRAMES, MODES)`) and save that as .npy (`numpy.save`); "
+        "if it holds images (a frame cube), fit the modes to each frame first: a log is "
+        "frames x modes")
+
+
 def _gunzip_head(path) -> bytes:
     """Return the first 512 bytes of a gzip file's content (b"" when unreadable)."""
     import gzip
@@ -324,6 +364,9 @@ def detect_format(path) -> str:
     figure = _figure_kind(head)
     if figure is not None:
         raise _not_a_log(path, figure)
+    dump = _raw_dump(path, head)
+    if dump is not None:
+        raise dump
     # after the known magics: a netCDF-3 file named .nc is named, not read as HDF5
     by_ext = format_from_extension(path)
     if by_ext is not None and by_ext != "csv":

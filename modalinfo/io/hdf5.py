@@ -480,7 +480,9 @@ def read_hdf5(
             elif group is not None:
                 coeffs, stored = _read_own(group, path, mmap, verify, None)
                 if f.attrs.get("format") == "closedloop-result":
-                    _result_log(stored, group.name.strip("/"), path)
+                    _result_log(stored, group.name.strip("/"), path,
+                                f.get(_TRANSIENT) if isinstance(f.get(_TRANSIENT),
+                                                                h5py.Dataset) else None)
             else:
                 foreign = True
                 coeffs, stored = _foreign(f, path, mmap, dataset)
@@ -536,23 +538,35 @@ def _log_group(f, path: Path, dataset: str | None):
     return None
 
 
-def _result_log(stored: dict, key: str, path: Path) -> None:
+#: The dataset of a closedloop result holding its closure transient [frames]
+#: (``closedloop.result.TRANSIENT_DATASET``, named here: modalinfo never imports closedloop)
+_TRANSIENT = "transient_frames"
+
+
+def _result_log(stored: dict, key: str, path: Path, transient=None) -> None:
     """Describe a closedloop result's log as its AOT export does, or refuse its residual.
 
     The log's header holds the run's config and ``quantity`` (residual, pol, commands):
     ``loop`` (closed or open) and ``coefficient_quantity`` are set from them, the words
     the AOT reader takes from the export's cards, so ``info`` says "pseudo-open-loop
-    coefficients" here too. A closed loop's residual and commands are refused: their
-    closure transient (the frames before the steady state, which the quality pass leaves
-    out rather than flag as glitches) is computed by closedloop and written only into the
-    export's ``MI_TRANS`` card (fix54-e); this reader, below closedloop, cannot tell it.
+    coefficients" here too. A closed loop's residual and commands get their closure
+    transient (the frames before the steady state, which the quality pass leaves out
+    rather than flag as glitches) in ``metadata["transient_frames"]`` from the result's
+    dataset ``transient`` (``transient_frames``, written by ``SimulationResult.save``
+    since fix56-c), as the export's ``MI_TRANS`` card (fix54-e); those of a result saved
+    before it are refused: this reader, below closedloop, cannot tell their transient.
     """
     meta = dict(stored.get("metadata") or {})
     config = meta.get("config") if isinstance(meta.get("config"), dict) else {}
     loop = config.get("loop") if isinstance(config.get("loop"), dict) else {}
     closed = loop.get("closed", True) is not False  # the config omits the default, closed
     quantity = meta.get("quantity")
-    if quantity in ("residual", "commands") and closed:
+    value = None
+    if transient is not None and transient.shape == () and transient.dtype.kind in "iu":
+        value = int(transient[()])
+    if quantity in ("residual", "commands") and closed and value is not None:
+        meta["transient_frames"] = value
+    elif quantity in ("residual", "commands") and closed:
         dm = key.rsplit("/", 1)[-1].split(".", 1)[0]
         route = (f"export the result with `closedloop export {shell_quoted(path.name)} "
                  f"OUT.fits` and read OUT.fits with --loop {dm}" if quantity == "residual"

@@ -311,6 +311,15 @@ def _foreign(
             key = named[0]
         elif len(two_d) == 1:
             key = next(iter(two_d))
+        elif not two_d and (cubes := sorted(k for k, a in arrays.items()
+                                            if a.ndim == 3 and a.dtype.kind in "fiu")):
+            # "0 2-D numeric arrays (none); pick one with dataset=" named no way out (fix56-c)
+            first = arrays[cubes[0]]
+            raise _LogFormatError(
+                f"NPZ file {quoted(path)} has no 2-D numeric array; its array {cubes[0]!r} "
+                f"is a 3-D {first.dtype} array of shape {first.shape}"
+                + (f" (and {len(cubes) - 1} more 3-D)" if len(cubes) > 1 else "") + ": "
+                + _CUBE_WORDS.format(*first.shape))
         else:
             raise _LogFormatError(
                 f"NPZ file {quoted(path)} has no modalinfo header and {len(two_d)} 2-D numeric "
@@ -363,6 +372,27 @@ def _units_member(arrays: dict[str, np.ndarray], stored: dict) -> None:
             return
 
 
+def _refuse_cube(path: Path, shape: tuple[int, ...], dtype: np.dtype) -> None:
+    """Refuse a 3-D array, a frame cube (frames x ny x nx), before reading its data.
+
+    It was "the data must be 2-D (T frames, M modes); got 3-D ... (a single mode's
+    series needs shape (T, 1): one column)", advice for another mistake (adversarial
+    round 54 PART b; fix56-c). A cube of images is named as one, with the step it needs.
+    """
+    if len(shape) != 3:
+        return
+    raise _LogFormatError(f"{quoted(path)} holds a 3-D {dtype} array of shape {shape}: "
+                          + _CUBE_WORDS.format(*shape))
+
+
+#: What a 3-D array given as a log is, and the step it needs (``.format(n, ny, nx)``)
+_CUBE_WORDS = (
+    "a cube of images ({0} frames of {1} x {2} pixels, or {2} frames of {0} x {1}), not a "
+    "log of modal coefficients, which is 2-D (frames x modes); fit the modes to each frame "
+    "first (phase maps: `ModalBasis.project` of `modalinfo.bases`; WFS or camera images "
+    "need their reconstruction) and save the (frames, modes) coefficients with numpy.save")
+
+
 @unwrap
 def read_npy(path, *, mmap: bool = False, **hints) -> ModalLog:
     """Read a plain ``.npy`` array ``(T, M)`` as a log, with hints for what it lacks.
@@ -395,6 +425,7 @@ def read_npy(path, *, mmap: bool = False, **hints) -> ModalLog:
         with open(path, "rb") as fh:
             shape, fortran, dtype = _npy_header(fh)
             _check_dtype(dtype, "the array")
+            _refuse_cube(path, shape, dtype)
             offset = fh.tell()
             need = _nbytes(shape, dtype)
             size = path.stat().st_size

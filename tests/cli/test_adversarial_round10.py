@@ -67,11 +67,11 @@ def test_stability_windows_are_counted_in_the_time_rule(monkeypatch):
 # ------------------------------------------------- R08: too few samples for the MI rule
 def test_a_budget_below_the_histogram_bias_rule_is_refused(tmp_path, capsys):
     log = write_small_log(tmp_path / "log.npz", 400)
-    code = exit_code(["reorder", log, "--budget", 10, "--resamples", 0, "--quiet"])
+    code = exit_code(["reorder", log, "--budget", 10, "--resamples", 0])
     err = capsys.readouterr().err
     assert code == 2 and "--budget 10" in err and "bins per axis" in err
     assert len(err.strip().splitlines()) == 1
-    assert exit_code(["reorder", log, "--budget", 2000, "--resamples", 0, "--quiet",
+    assert exit_code(["reorder", log, "--budget", 2000, "--resamples", 0,
                       "--pupil-pixels", 16]) == 0
 
 
@@ -240,6 +240,5 @@ def test_select_at_the_frame_minimum_advises_more_frames_only(tmp_path, capsys):
 
 def test_max_frames_note_says_every_2nd_frame(tmp_path, capsys):
     log = write_small_log(tmp_path / "log.npz", 400)
-    assert exit_code(["reorder", log, "--max-frames", 399, "--method", "variance",
-                      "--quiet"]) == 0
+    assert exit_code(["reorder", log, "--max-frames", 399, "--method", "variance"]) == 0
     assert "analysed every 2nd frame (200 of 400)" in capsys.readouterr().err

@@ -154,7 +154,7 @@ def test_kl_data_needs_as_many_frames_as_modes(tmp_path, capsys):
     two = save(ModalLog(rng.standard_normal((2, 5)), rate=1e3, modes=[2, 3, 4, 5, 6],
                         units="rad"), tmp_path / "two.npz")
     assert exit_code(["reorder", two, "--basis", "kl-data", "--resamples", "0",
-                      "--pupil-pixels", "16", "--budget", "2000", "--quiet"]) == 2
+                      "--pupil-pixels", "16", "--budget", "2000"]) == 2
     assert "needs at least 5 frames for 5 K-L modes; got 2" in _one_line(capsys)
 
 
@@ -237,7 +237,7 @@ def test_a_zernike_finer_than_the_pupil_grid_is_refused(tmp_path, capsys):
     log = save(ModalLog(rng.standard_normal((200, 3)), rate=1e3, modes=[2, 3, 5000],
                         units="rad"), tmp_path / "z.npz")
     assert exit_code(["reorder", log, "--pupil-pixels", "16", "--resamples", "0",
-                      "--budget", "2000", "--quiet"]) == 2
+                      "--budget", "2000"]) == 2
     assert "--pupil-pixels must be >= 198 to sample Z5000 (radial order 99" in _one_line(
         capsys)
 

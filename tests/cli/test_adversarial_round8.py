@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_reorder_basis_file_of_a_loop_without_mode_images_says_so(naomi_file, capsys):  # noqa: F811
     # e122: an exported DM-K-L run (coefficients DMKL1..40, no mode images) was refused
     # with "loop 'dm0.pol' has no modes" while `modalinfo info` listed its 40 modes
-    code = exit_code(["reorder", naomi_file, "--loop", "Other", "--basis", "file", "--quiet"])
+    code = exit_code(["reorder", naomi_file, "--loop", "Other", "--basis", "file"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert "has no mode images" in err and "no modal basis can be read" in err

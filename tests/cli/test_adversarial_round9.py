@@ -210,7 +210,7 @@ def test_reorder_cautions_that_two_replicates_understate_the_noise(tmp_path, cap
     # the range of R replicates covers a new draw with probability (R - 1) / (R + 1)
     # (order statistics): 1/3 at R = 2, below any "95 %" bound
     log = write_small_log(tmp_path / "log.npz", 400)
-    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500", "--quiet"]
+    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500"]
     assert exit_code([*base, "--resamples", "2"]) == 0
     assert "caution: 2 replicates are too few for 95% bounds" in capsys.readouterr().out
     # the one rule of every bootstrap bound (issue 27): 2 / (1 - 0.95) = 40 replicates

@@ -31,7 +31,7 @@ def test_a_thinned_segment_names_its_file_frames_and_stride(tmp_path, capsys):
                 tmp_path / "log.npz")
     out = tmp_path / "o.json"
     assert exit_code(["reorder", path, "--method", "variance", "--pupil-pixels", "16",
-                      "--max-frames", "1000", "--split-gaps", "--quiet", "--out", out]) == 0
+                      "--max-frames", "1000", "--split-gaps", "--out", out]) == 0
     header = capsys.readouterr().out.splitlines()[0]
     assert ("pooled over frames 800..1998 of the file, its longest contiguous segment, "
             "every 2nd frame") in header, header
@@ -49,6 +49,6 @@ def test_the_json_rule_names_the_limit_and_what_it_kept(tmp_path):
                          units="rad"), tmp_path / "log.npz")
     out = tmp_path / "o.json"
     assert exit_code(["reorder", path, "--method", "variance", "--pupil-pixels", "16",
-                      "--max-frames", "600", "--quiet", "--out", out]) == 0
+                      "--max-frames", "600", "--out", out]) == 0
     record = json.loads(out.read_text())["provenance"]["analysed_frames"]
     assert record["rule"] == "--max-frames 600: every 4th frame (500 of 2000)"

@@ -35,7 +35,7 @@ def test_max_frames_is_in_the_header_and_the_json(tmp_path, capsys):
     coeffs, path = _log(tmp_path)
     out = tmp_path / "o.json"
     assert exit_code(["reorder", path, "--method", "variance", "--pupil-pixels", "16",
-                      "--max-frames", "600", "--quiet", "--out", out]) == 0
+                      "--max-frames", "600", "--out", out]) == 0
     header = capsys.readouterr().out.splitlines()[0]
     assert "pooled over every 4th frame, 500 of 2000" in header, header
     result = json.loads(out.read_text())
@@ -50,7 +50,7 @@ def test_all_frames_are_all_frames(tmp_path, capsys):
     _, path = _log(tmp_path)
     out = tmp_path / "o.json"
     assert exit_code(["reorder", path, "--method", "variance", "--pupil-pixels", "16",
-                      "--quiet", "--out", out]) == 0
+                      "--out", out]) == 0
     assert "pooled over all frames" in capsys.readouterr().out.splitlines()[0]
     assert "analysed_frames" not in json.loads(out.read_text())["provenance"]
 
@@ -58,6 +58,6 @@ def test_all_frames_are_all_frames(tmp_path, capsys):
 def test_split_gaps_segment_is_in_the_header(tmp_path, capsys):
     _, path = _log(tmp_path, gap=True)
     assert exit_code(["reorder", path, "--pupil-pixels", "16", "--budget", "2000",
-                      "--resamples", "3", "--split-gaps", "--quiet"]) == 0
+                      "--resamples", "3", "--split-gaps"]) == 0
     header = capsys.readouterr().out.splitlines()[0]
     assert "pooled over frames 800..1999 of the file" in header, header

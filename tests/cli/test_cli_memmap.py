@@ -88,7 +88,7 @@ def test_reorder_max_frames_equals_the_strided_file(long_npy, tmp_path, capsys):
     save(ModalLog(x[::step], rate=2000.0 / step, modes=list(range(2, 2 + N_MODES)),
                   units="rad"), tmp_path / "strided.npz")
     common = ["--method", "mi_marginal", "--resamples", "0", "--pupil-pixels", "16",
-              "--budget", "3000", "--quiet"]
+              "--budget", "3000"]
     assert main(["reorder", str(path), "--rate", "2000", "--in-units", "rad",
                  "--max-frames", "300", *common]) == 0
     via_option = capsys.readouterr()
@@ -150,7 +150,7 @@ def test_reorder_refusal_fires_at_the_boundary(long_npy, monkeypatch, capsys):
     # LOG_COPIES float64 copies of the 300-frame subsample (the documented estimate)
     need = shared.LOG_COPIES * 300 * N_MODES * 8
     argv = ["reorder", str(path), "--in-units", "rad", "--max-frames", "300",
-            "--method", "standard", "--resamples", "0", "--pupil-pixels", "8", "--quiet"]
+            "--method", "standard", "--resamples", "0", "--pupil-pixels", "8"]
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
     _refusal(capsys, "--max-frames", "300 frames x 6 modes")
@@ -167,7 +167,7 @@ def test_reorder_mi_refusal_counts_the_budget(long_npy, monkeypatch, capsys):
     need = shared.LOG_COPIES * 300 * N_MODES * 8 + 8 * N_MODES * 2000
     argv = ["reorder", str(path), "--in-units", "rad", "--max-frames", "300",
             "--method", "mi_marginal", "--budget", "2000", "--resamples", "0",
-            "--pupil-pixels", "8", "--quiet"]
+            "--pupil-pixels", "8"]
     monkeypatch.setattr(shared, "memory_available", lambda: need - 1)
     assert main(argv) == 2
     _refusal(capsys, "--budget 2000", "smaller --budget or --max-frames")

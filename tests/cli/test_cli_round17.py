@@ -58,7 +58,7 @@ def test_forecast_window_without_refits_is_refused(small_log, tmp_path, capsys):
 def test_reorder_outer_scale_on_a_basis_without_one_is_refused(small_log, basis, capsys):
     # Before: --basis zernike --outer-scale 20 ordered the Zernikes, exit 0 (A18)
     assert exit_code(["reorder", small_log, "--basis", basis, "--outer-scale", "20",
-                      "--method", "variance", "--quiet"]) == 2
+                      "--method", "variance"]) == 2
     err = _one_line(capsys)
     assert "--outer-scale" in err and f"--basis {basis}" in err
 
@@ -145,7 +145,7 @@ def test_closedloop_config_overwrite_without_out_is_refused(capsys):
 def test_reorder_mi_options_on_a_method_without_mi_are_refused(small_log, extra, flag, capsys):
     # Before: accepted and used by nothing, exit 0 (A20; order_modes' docstring: the
     # sample budget is "for the MI methods")
-    assert exit_code(["reorder", small_log, *extra, "--quiet"]) == 2
+    assert exit_code(["reorder", small_log, *extra]) == 2
     err = _one_line(capsys)
     assert flag in err and "drop it" in err
 
@@ -153,6 +153,6 @@ def test_reorder_mi_options_on_a_method_without_mi_are_refused(small_log, extra,
 def test_reorder_defaults_still_apply_when_the_mi_options_are_not_given(small_log, capsys):
     # the documented defaults (--budget 200000, --seed 0) are what an MI run reports
     assert exit_code(["reorder", small_log, "--method", "mi_marginal", "--resamples", "0",
-                      "--quiet", "--pupil-pixels", "16"]) == 0
+                      "--pupil-pixels", "16"]) == 0
     out = capsys.readouterr().out
     assert "seed 0" in out.splitlines()[0]

@@ -47,7 +47,7 @@ def _argv(command: str, path, out) -> list[str]:
     return {
         "info": ["info", *base],
         "reorder": ["reorder", *base, "--method", "variance", "--resamples", "0",
-                    "--pupil-pixels", "32", "--quiet"],
+                    "--pupil-pixels", "32"],
         "forecast": ["forecast", *base, "--predictors", "linear", "--horizon", "2",
                      "--quiet", "--overwrite", "--out", str(out)],
         "select": ["select", *base, "--target", "Z3", "--max-lag", "2", "--surrogates",

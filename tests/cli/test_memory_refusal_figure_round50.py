@@ -72,7 +72,7 @@ _COMMANDS = {
     "convert": ["convert", "log.npy", "{out}.npz", "--rate", "1000", "--in-units", "rad",
                 "--quiet"],
     "reorder": ["reorder", "log.npy", "--rate", "1000", "--in-units", "rad", "--method",
-                "standard", "--resamples", "0", "--pupil-pixels", "16", "--quiet"],
+                "standard", "--resamples", "0", "--pupil-pixels", "16"],
     "forecast": ["forecast", "log.npy", "--rate", "1000", "--in-units", "rad",
                  "--predictors", "linear", "--horizon", "1", "--out", "{out}", "--quiet"],
     "select": ["select", "log.npy", "--rate", "1000", "--in-units", "rad", "--target", "Z2",

@@ -24,7 +24,7 @@ def test_reorder_caution_at_39_replicates_states_a_reason_that_holds(tmp_path, c
     # T36: "their whole range covers 95% at most" at 39, where (39 - 1) / (39 + 1) is
     # exactly 95 %; what fails at 39 is the tail: 39 x 0.05 / 2 = 0.975 < 1 replicate
     log = write_small_log(tmp_path / "log.npz", 400)
-    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500", "--quiet"]
+    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500"]
     assert exit_code([*base, "--resamples", "39"]) == 0
     out = capsys.readouterr().out
     assert ("caution: 39 replicates are too few for 95% bounds: 39 x 0.05 / 2 = 0.975 "
@@ -48,7 +48,7 @@ def test_reorder_split_gaps_help_says_when_the_default_refuses(tmp_path, capsys)
     coeffs = np.random.default_rng(2).standard_normal((300, 3))
     log = save(ModalLog(coeffs, timestamps=t, modes=[2, 3, 4], units="rad"),
                tmp_path / "gap.npz")
-    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500", "--quiet"]
+    base = ["reorder", log, "--pupil-pixels", "16", "--budget", "500"]
     assert exit_code([*base, "--resamples", "0"]) == 0  # as the help says
     capsys.readouterr()
     assert exit_code([*base, "--resamples", "40"]) == 2  # the bootstrap refuses it

@@ -27,7 +27,7 @@ def test_reorder_names_its_own_options_for_a_calibration_event(tmp_path):
     np.save(path, c)
     with pytest.warns(CalibrationEventWarning) as rec:
         code = main(["reorder", str(path), "--in-modes", "2-9", "--rate", "2000",
-                     "--method", "variance", "--pupil-pixels", "16", "--quiet"])
+                     "--method", "variance", "--pupil-pixels", "16"])
     assert code == 0
     msgs = [str(w.message) for w in rec if isinstance(w.message, CalibrationEventWarning)]
     assert len(msgs) == 1, msgs
@@ -49,5 +49,5 @@ def test_reorder_runs_the_quality_pass_once(tmp_path, monkeypatch):
     path = tmp_path / "clean.npy"
     np.save(path, c)
     assert main(["reorder", str(path), "--in-modes", "4-7", "--rate", "1000",
-                 "--method", "variance", "--pupil-pixels", "16", "--quiet"]) == 0
+                 "--method", "variance", "--pupil-pixels", "16"]) == 0
     assert len(calls) == 1

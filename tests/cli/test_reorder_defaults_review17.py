@@ -21,13 +21,13 @@ def _samples(capsys) -> int:
 def test_default_budget_is_the_documented_200000(make_small_log, capsys):
     log = make_small_log(300)  # 300 frames x ~800 pixels of a 32-pixel pupil > 2e5
     assert exit_code(["reorder", log, "--method", "mi_marginal", "--resamples", "0",
-                      "--quiet", "--pupil-pixels", "32"]) == 0
+                      "--pupil-pixels", "32"]) == 0
     assert _samples(capsys) == 200_000
 
 
 def test_default_pupil_is_the_documented_64_pixels(make_small_log, capsys):
     log = make_small_log(300)
     assert exit_code(["reorder", log, "--method", "mi_marginal", "--resamples", "0",
-                      "--quiet", "--budget", "10000000"]) == 0
+                      "--budget", "10000000"]) == 0
     per_frame = _samples(capsys) / 300
     assert abs(per_frame - math.pi * 32 ** 2) <= 0.03 * math.pi * 32 ** 2

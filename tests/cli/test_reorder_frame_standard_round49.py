@@ -26,7 +26,7 @@ def _log(path):
 def test_frame_with_the_standard_order_is_refused(tmp_path, capsys):
     log = _log(tmp_path / "log.npz")
     code = main(["reorder", log, "--frame", "3", "--method", "standard",
-                 "--pupil-pixels", "16", "--quiet"])
+                 "--pupil-pixels", "16"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1, err
     assert "--frame 3" in err and "--method standard" in err and "drop --frame" in err, err
@@ -35,5 +35,5 @@ def test_frame_with_the_standard_order_is_refused(tmp_path, capsys):
 def test_frame_with_the_variance_order_runs(tmp_path, capsys):
     log = _log(tmp_path / "log.npz")
     code = main(["reorder", log, "--frame", "3", "--method", "variance",
-                 "--pupil-pixels", "16", "--quiet"])
+                 "--pupil-pixels", "16"])
     assert code == 0, capsys.readouterr().err

@@ -27,7 +27,7 @@ from modalinfo.telemetry import ModalLog
 
 from .conftest import exit_code, write_small_log
 
-ORDER = ["--resamples", "0", "--budget", "2000", "--pupil-pixels", "16", "--quiet"]
+ORDER = ["--resamples", "0", "--budget", "2000", "--pupil-pixels", "16"]
 
 
 @pytest.fixture
@@ -91,7 +91,7 @@ def test_variance_json_names_its_score_units(tmp_path):
     """O60: a variance order's scores are mean squares [rad^2] (numpy), the JSON said only nats."""
     log = write_small_log(tmp_path / "small.npz", 400)
     out = tmp_path / "var.json"
-    assert exit_code(["reorder", log, "--method", "variance", "--resamples", "0", "--quiet",
+    assert exit_code(["reorder", log, "--method", "variance", "--resamples", "0",
                       "--out", out]) == 0
     got = json.loads(out.read_text())
     assert got["score_units"] == "rad^2"

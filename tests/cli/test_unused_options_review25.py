@@ -48,7 +48,7 @@ def test_pca_on_a_model_basis_in_reorders_words(log_path, capsys):
 def test_resamples_zero_with_variance_runs(log_path, capsys):
     """R25-O6: --resamples 0 asks for no bootstrap, which variance does: not refused."""
     code = main(["reorder", str(log_path), "--method", "variance", "--resamples", "0",
-                 "--pupil-pixels", "24", "--quiet"])
+                 "--pupil-pixels", "24"])
     assert code == 0, capsys.readouterr().err
 
 

@@ -127,8 +127,12 @@ def test_empty_and_garbage_files(tmp_path):
     (tmp_path / "empty.npz").write_bytes(b"")
     with pytest.raises(LogFormatError, match=r"empty"):
         load(tmp_path / "empty.npz")
-    (tmp_path / "garbage.bin").write_bytes(bytes(range(256)) * 4)
+    (tmp_path / "garbage.xyz").write_bytes(bytes(range(256)) * 4)
     with pytest.raises(LogFormatError, match=r"neither UTF-8 text \(CSV\) nor"):
+        load(tmp_path / "garbage.xyz")
+    # named like a raw dump, the same bytes are one (fix56-c)
+    (tmp_path / "garbage.bin").write_bytes(bytes(range(256)) * 4)
+    with pytest.raises(LogFormatError, match=r"headerless binary dump \(1,024 bytes"):
         load(tmp_path / "garbage.bin")
     (tmp_path / "garbage.fits").write_bytes(b"\x00\x01" * 1000)
     with pytest.raises(LogFormatError, match=r"corrupt FITS file"):

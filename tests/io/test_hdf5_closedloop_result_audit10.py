@@ -6,7 +6,9 @@ Reference: the command-line contract (exit 2, one line on stderr) and the file's
 ``modalinfo info r.h5 --dataset logs/dm0.pol/coefficients`` called the file "corrupt"
 (its log datasets carry modalinfo's attributes but the file has no log header).
 Since fix55-c the pseudo-open-loop log is read there (tests/cli/test_messages_fix55c.py); a
-closed loop's residual, whose closure transient only the export marks, is still refused.
+closed loop's residual is read since fix56-c from a file that holds its closure transient
+(the dataset ``transient_frames``, tests/closedloop/test_transient_servo_fix56c.py) and
+still refused from one saved before it, as here (the dataset deleted).
 """
 
 import pytest
@@ -20,8 +22,13 @@ from ..closedloop.conftest import tiny_actuator_config  # the closedloop tests' 
 
 @pytest.fixture(scope="module")
 def result_file(tmp_path_factory):
-    return simulate(tiny_actuator_config(), 0.005, seed=0).save(
+    import h5py
+
+    path = simulate(tiny_actuator_config(), 0.005, seed=0).save(
         tmp_path_factory.mktemp("r") / "r.h5")
+    with h5py.File(path, "a") as f:  # as a result saved before fix56-c
+        del f["transient_frames"]
+    return path
 
 
 @pytest.mark.parametrize("extra", [[], ["--dataset", "logs/dm0.residual/coefficients"]])

@@ -69,7 +69,7 @@ def test_reorder_refuses_in_one_line(tmp_path, capsys):
     path = tmp_path / "nan.csv"
     path.write_text("\n".join(["Z2,Z3"] + [f"{a!r},{b!r}" for a, b in data.tolist()]) + "\n")
     base = ["reorder", path, "--nonfinite", "drop", "--pupil-pixels", "16", "--budget",
-            "500", "--quiet"]
+            "500"]
     assert exit_code([*base, "--resamples", "5"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "without a time axis" in err[0], err

@@ -81,7 +81,7 @@ def test_reorder_command_says_it_and_records_it(equal_pair, tmp_path, capsys):
     save(log, path)
     out = tmp_path / "o.json"
     assert main(["reorder", str(path), "--resamples", "0", "--pupil-pixels", "16",
-                 "--budget", "20000", "--quiet", "--out", str(out)]) == 0
+                 "--budget", "20000", "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     assert TIE_LEGEND not in printed
     said = "oise not assessed (--resamples 0: no bootstrap)"
