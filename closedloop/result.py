@@ -293,8 +293,8 @@ def unseen_cause(unseen: int) -> str:
 #: ``e**-6`` (0.25 %) of its variance (:attr:`SimulationResult.transient_frames`)
 TRANSIENT_TIME_CONSTANTS = 3
 
-#: The dataset of a saved closed-loop result holding :attr:`SimulationResult.
-#: transient_frames` (the name ``modalinfo.io.hdf5`` reads)
+#: The dataset of a saved closed-loop result holding its closure transient
+#: (``SimulationResult.transient_frames``; the name ``modalinfo.io.hdf5`` reads)
 TRANSIENT_DATASET = "transient_frames"
 
 
@@ -691,7 +691,7 @@ class SimulationResult:
         steady state). A loop ``"closed, still converging"`` or ``"closed, SR too small
         to show it"`` under the integrator alone (no predictor) corrected from the start;
         its transient is the servo model's: the first command's frame plus
-        :data:`TRANSIENT_TIME_CONSTANTS` closed-loop time constants
+        ``TRANSIENT_TIME_CONSTANTS`` (3) closed-loop time constants
         (:func:`modalinfo.servo.closed_loop_time_constant`), at most mid-run. The whole
         first half was counted before (fix54-e's Left; fix56-c): kaos at gain 0.02 (time
         constant 48.5 frames) reaches its residual level by frame ~100 of 1000 (its
