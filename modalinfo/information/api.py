@@ -23,6 +23,7 @@ from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.common.scaling import rescale_power_of_two
 from modalinfo.common.validation import as_float_array, check_aligned, check_choice
 from modalinfo.information.convergence import effective_sample_rule, judge_pair_estimate
+from modalinfo.information.copula import rank_resolution_why
 from modalinfo.information.discrete import (
     DISCRETE_MIN_PER_CELL,
     discrete_levels,
@@ -736,8 +737,13 @@ def ceiling_problem(est: MutualInformation, value: float, x: np.ndarray,
     if est._engine.__class__ is GaussianEngine:  # fix52-a (Q28): a discrete side's ties
         if effective_sample_rule(x, y):
             return None
+        copula = est._engine.copula
         return gaussian_ties_why(x.reshape(-1, 1), y.reshape(-1, 1), np.empty((x.size, 0)),
-                                 value / est._factor, est._engine.copula)
+                                 value / est._factor, copula) or (
+            # round 55 PART a: the normal scores' rank cap (7.67 nats for 9.21, silent)
+            rank_resolution_why(value / est._factor, x, y, "the Gaussian copula",
+                                small_n_floor=True)
+            if copula else None)
     why = getattr(est._engine, "ceiling_why", None)
     if why is None:
         return None

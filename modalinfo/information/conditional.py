@@ -224,6 +224,7 @@ from modalinfo.information.api import (
     _UnionOfCurvesError,
 )
 from modalinfo.information.convergence import effective_sample_rule
+from modalinfo.information.copula import cmi_rank_resolution_why
 from modalinfo.information.discrete import (
     discrete_x_levels,
     named_columns,
@@ -241,7 +242,7 @@ from modalinfo.information.histogram import (
     histogram_resolution_rule,
     merged_levels_why,
 )
-from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY
+from modalinfo.information.kde import KDE_MAX_SAMPLES, KDE_MIN_OCCUPANCY, kde_cmi
 from modalinfo.information.ksg import (
     KSG_MAX_BALL,
     gaussian_ties_why,
@@ -283,6 +284,10 @@ __all__ = [
 
 #: What happens where the bias rule applies (``fallback=`` option).
 FALLBACKS = ("gaussian-copula", "raise", "none")
+#: The CMI estimators that run on normal scores by default (``copula=True``), judged by
+#: ``copula.cmi_rank_resolution_why`` (round 55 PART a); the histogram's equiprobable
+#: bins have their own resolution rule.
+_RANK_BASED_CMI = (ksg_cmi, gaussian_cmi, kde_cmi)
 #: Largest sample on which the histogram's resolution rule switches to the KSG CMI
 #: (module notes, "Resolution rule": above it the histogram is kept, unjudged).
 KSG_SWITCH_MAX_SAMPLES = 50_000
@@ -774,8 +779,11 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
             if fallback == "raise":
                 raise ValueError(f"{why}; {hint} (fallback='raise').")
             if fallback == "gaussian-copula":
-                warn(f"{why}; returning {instead}.", BiasRuleWarning, stacklevel=3)
-                return float(other()) * factor
+                value = float(other())  # rank-based (normal scores): the ranks' cap
+                capped = cmi_rank_resolution_why(value, x.shape[0], "it")
+                warn(f"{why}; returning {instead}{f'. Also: {capped}' if capped else ''}.",
+                     BiasRuleWarning, stacklevel=3)
+                return value * factor
             warn(f"{why}; returned anyway (fallback='none').", BiasRuleWarning,
                  stacklevel=3)
             judged = False
@@ -809,6 +817,11 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
                        or (fn is ksg_cmi and (few := ksg_temporal_why(  # fixes 40-b
                            x, y, z, value, **options)))):  # ksg_cmi's options
             warn(f"{who} with method={record.name!r}: {few}.", BiasRuleWarning,
+                 stacklevel=3)
+            judged = False
+        if judged and fn in _RANK_BASED_CMI and options.get("copula", True) and (
+                capped := cmi_rank_resolution_why(value, x.shape[0], "it")):  # round 55 a
+            warn(f"{who} with method={record.name!r}: {capped}.", BiasRuleWarning,
                  stacklevel=3)
         return value * factor
 

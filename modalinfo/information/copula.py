@@ -33,7 +33,9 @@ from modalinfo.common.validation import as_float_array
 
 __all__ = ["copula_scores", "copula_scores_ties", "check_copula", "normal_score_correlation",
            "small_sample_rule", "SMALL_SAMPLE_RULE_MAX", "spread_dependence",
-           "spread_dependence_limit", "spread_stride", "margin_below"]
+           "spread_dependence_limit", "spread_stride", "margin_below", "rank_resolution_why",
+           "cmi_rank_resolution_why", "RANK_RESOLUTION_MARGIN", "RANK_DISTINCT_SHARE",
+           "CMI_RANK_RESOLUTION_MARGIN"]
 
 
 def copula_scores(x: np.ndarray) -> np.ndarray:
@@ -100,6 +102,106 @@ def margin_below(value: float, reference: float) -> float | None:
     """
     tol = max(0.05, 0.1 * reference)
     return tol if reference > value + tol else None
+
+
+#: Margin [nats] of the rank-resolution rule of a pair (:func:`rank_resolution_why`): on
+#: normal scores the MI cannot be read above what the ranks of n samples resolve, ln n
+#: (the entropy of a uniform rank); at MI = ln n - 2 the noise sd of y = x + s e,
+#: s ~ exp(-MI) = e^2 / n, spans e^2 / 2.5 ~ 3 spacings of n normal samples (2.5 / n
+#: at the centre), so above it the noise moves a sample past fewer than ~3 neighbours.
+RANK_RESOLUTION_MARGIN = 2.0
+#: Smallest share of distinct values (of n samples) at which a variable with repeated
+#: values is still judged by the rank-resolution rule, with ln n replaced by ln of its
+#: number of distinct values (tied values share one rank). Below it the levels, not the
+#: ranks, bind: each level holds several samples, the MI of the pair saturates at the
+#: levels' entropy, and the estimate follows the exact MI of the rounded pair there
+#: (issue 27, left28-misc, measured).
+RANK_DISTINCT_SHARE = 0.5
+#: Margin [nats] below 0.5 ln n of the conditional rank-resolution rule
+#: (:func:`cmi_rank_resolution_why`). The normal scores Phi^-1(F_n(x)) differ from the
+#: Gaussian map of the values by the empirical CDF's error over the density, ~1 / sqrt(n)
+#: and different for each column, so a relation through several columns (z = x + y +
+#: s e given y) is read through a noise of relative variance ~1 / n: the CMI of rank-based
+#: estimates saturates near 0.5 ln n - 0.9 (measured, 3 seeds, exact 6 nats: gaussian
+#: 2.22 / 2.87 / 3.67 and ksg 2.27 / 3.03 / 3.86 at n = 500 / 2000 / 1e4; the KSG's
+#: Frenzel-Pompe CMI saturates there even when z is not in the relation). From 0.5 ln n
+#: - 1.5 on, estimates of exact 2 / 3 / 4 nats read 13-14 % low (round 55 PART a).
+CMI_RANK_RESOLUTION_MARGIN = 1.5
+
+
+def rank_resolution_why(value: float, x: np.ndarray, y: np.ndarray, estimator: str,
+                        small_n_floor: bool = False) -> str | None:
+    """Why the MI ``value`` (nats) of a rank-based estimate is capped by the ranks, or None.
+
+    On normal scores (``copula=True``) an estimate reads the ranks only, and the ranks of
+    n samples resolve at most ln n nats (the entropy of a uniform rank on n values).
+    For a pair y = x + s e near |rho| = 1 the MI is about ln(1 / s) and the spacing of n
+    normal samples about 2.5 / n at the centre, so within :data:`RANK_RESOLUTION_MARGIN`
+    = 2 nats of ln n the noise scrambles the ranks of fewer than ~3 neighbours: the
+    estimate is then neither close nor a bound (measured, Gaussian pairs, 10 seeds,
+    kde, min-max [nats]: n = 2000, rho = 0.999999, exact 6.56, 6.17-7.06; n = 1e4, rho =
+    1 - 1e-8, exact 8.86, 8.20-8.95; round 55 PART a, 5 seeds, n = 2000: ksg 6.07-6.12
+    and gaussian 6.21-6.41 for 6.91, ksg 6.59-6.61 and gaussian 7.43-7.83 for 9.21,
+    silent before), while ``copula=False`` follows the raw values. Never fires at rho
+    <= 0.999 for n = 500 .. 1e4 (the kde's rates in
+    :func:`~modalinfo.information.mutual_information`).
+
+    Repeated values share one rank, so a variable with ``d`` distinct values resolves
+    at most ln d: the line is ln d - 2 for the variable with fewer distinct values,
+    while ``d`` is at least :data:`RANK_DISTINCT_SHARE` of n (a rounded continuum;
+    review 21's K2). With more ties the levels bind instead and the pair is left to the
+    other rules. With ``small_n_floor`` (the KSG and the Gaussian copula) the line is
+    at least 0.5 ln n, which binds below n = e^4 ~ 55, so that the sampling noise of a
+    small independent pair (gaussian 0.32 nats at n = 10, where ln n - 2 = 0.30) is not
+    read as a cap; the kde keeps its measured line there (rho = 0.99 at n = 30, round
+    39's class road). ``estimator`` names the estimator in the message.
+    """
+    n = x.shape[0]
+    floor = 0.5 * math.log(n) if small_n_floor else -math.inf
+    if not value > max(math.log(n) - RANK_RESOLUTION_MARGIN, floor):
+        return None  # ln(distinct) <= ln n: nothing can fire
+    distinct = {name: int(np.unique(a).size) for name, a in (("x", x), ("y", y))}
+    name = min(distinct, key=distinct.get)
+    d = distinct[name]
+    if d < RANK_DISTINCT_SHARE * n:
+        return None  # the levels bind, not the ranks (RANK_DISTINCT_SHARE)
+    cap = math.log(d)
+    if not value > cap - RANK_RESOLUTION_MARGIN:
+        return None
+    if d == n:
+        return (f"the estimate {value:.3f} nats is within {RANK_RESOLUTION_MARGIN:g} "
+                f"nats of ln n = {cap:.3f}, the most the ranks of n = {n} samples "
+                f"resolve ({estimator} runs on normal scores): near |rho| = 1 it is "
+                "neither close nor a bound; copula=False estimates it on the raw values")
+    return (f"the estimate {value:.3f} nats is within {RANK_RESOLUTION_MARGIN:g} nats "
+            f"of ln {d} = {cap:.3f}, the most the ranks of n = {n} samples resolve "
+            f"when `{name}` takes {d} distinct values (tied values share one rank; "
+            f"{estimator} runs on normal scores): near |rho| = 1 it is neither close nor "
+            "a bound; copula=False estimates it on the raw values")
+
+
+def cmi_rank_resolution_why(value: float, n: int, estimator: str) -> str | None:
+    """Why a rank-based CMI ``value`` (nats) of n samples is capped by the ranks, or None.
+
+    At or above ``0.5 ln n - CMI_RANK_RESOLUTION_MARGIN`` (2.30 nats at n = 2000, 3.11
+    at 1e4): the normal scores of each column carry an error of ~1 / sqrt(n) of their
+    own (:data:`CMI_RANK_RESOLUTION_MARGIN`), so a near-deterministic relation through
+    the conditioning columns reads far low (round 55 PART a: z = x + y + 1e-3 e given
+    y, exact 6.91 nats, n = 2000: ksg 3.02, kde 3.53, gaussian 2.94, silent before). A
+    true CMI this large (a relation that leaves z out, e.g. y = x + s e given an
+    unrelated z, is resolved by the gaussian and kde up to ~ln n) is warned too: the
+    ranks cannot tell the two apart, and ``copula=False`` estimates it on the values.
+    ``estimator`` names the estimator in the message.
+    """
+    line = 0.5 * math.log(n) - CMI_RANK_RESOLUTION_MARGIN
+    if not value >= line:
+        return None
+    return (f"the estimate {value:.3f} nats is at or above 0.5 ln n - "
+            f"{CMI_RANK_RESOLUTION_MARGIN:g} = {line:.3f}: the normal scores of n = {n} "
+            f"samples ({estimator} runs on them) differ from the Gaussian map of the values "
+            "by ~1 / sqrt(n), column by column, so a relation through several columns is "
+            "resolved to about 0.5 ln n nats at most and a near-deterministic one reads "
+            "far low (neither close nor a bound); copula=False estimates it on the values")
 
 
 #: Most pairs of the systematic subsample (every ceil(n / 8192)-th) of

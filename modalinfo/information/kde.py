@@ -93,6 +93,7 @@ from modalinfo.information.copula import (
     check_copula,
     copula_scores,
     copula_scores_ties,
+    rank_resolution_why,
     small_sample_rule,
 )
 from modalinfo.information.discrete import (
@@ -128,19 +129,8 @@ MIN_BANDWIDTH = 1e-3
 #: 1024 points the estimate is within 5e-5 nats of the default 128's (class notes);
 #: 10^5 asked for 74 GiB and stopped with a MemoryError.
 MAX_GRID_SIZE = 4096
-#: Margin [nats] of the rank-resolution rule (``KDEEngine.ceiling_why``): on normal
-#: scores the MI cannot be read above what the ranks of n samples resolve, ln n
-#: (the entropy of a uniform rank); at MI = ln n - 2 the noise sd of y = x + s e,
-#: s ~ exp(-MI) = e^2 / n, spans e^2 / 2.5 ~ 3 spacings of n normal samples (2.5 / n
-#: at the centre), so above it the noise moves a sample past fewer than ~3 neighbours.
-RANK_RESOLUTION_MARGIN = 2.0
-#: Smallest share of distinct values (of n samples) at which a variable with repeated
-#: values is still judged by the rank-resolution rule, with ln n replaced by ln of its
-#: number of distinct values (tied values share one rank; ``KDEEngine.ceiling_why``).
-#: Below it the levels, not the ranks, bind: each level holds several samples, the MI
-#: of the pair saturates at the levels' entropy, and the estimate follows the exact
-#: MI of the rounded pair there (issue 27, left28-misc, measured).
-RANK_DISTINCT_SHARE = 0.5
+# RANK_RESOLUTION_MARGIN and RANK_DISTINCT_SHARE live in modalinfo.information.copula
+# (round 55 PART a: one rank-resolution rule for the kde, the KSG and the Gaussian copula)
 
 
 def _check_bandwidth(value: float) -> float:
@@ -539,52 +529,10 @@ class KDEEngine:
     def _rank_why(self, value: float, x: np.ndarray, y: np.ndarray) -> str | None:
         """Why the score ``value`` (nats) is capped by the resolution of the ranks, or None.
 
-        On normal scores (``copula=True``) the estimate reads the ranks only, and the
-        ranks of n samples resolve at most ln n nats (the entropy of a uniform rank
-        on n values). For a pair y = x + s e near |rho| = 1 the MI is about ln(1 / s)
-        and the spacing of n normal samples about 2.5 / n at the centre, so within
-        ``RANK_RESOLUTION_MARGIN`` = 2 nats of ln n the noise scrambles the
-        ranks of fewer than ~3 neighbours: the estimate is then neither close nor a
-        bound (measured, Gaussian pairs, 10 seeds, min-max [nats]: n = 2000, rho =
-        0.999999, exact 6.56, 6.17-7.06; n = 1e4, rho = 1 - 1e-8, exact 8.86,
-        8.20-8.95), while ``copula=False`` follows the raw values. The rule fires
-        only there (rates in :func:`~modalinfo.information.mutual_information`'s
-        kde entry: never at rho <= 0.999 for n = 500 .. 1e4).
-
-        Repeated values share one rank, so a variable with ``d`` distinct values
-        resolves at most ln d: the line is ln d - 2 for the variable with fewer
-        distinct values, while ``d`` is at least ``RANK_DISTINCT_SHARE`` = half of n
-        (a rounded continuum). Measured (Gaussian pairs, x rounded, 5 seeds; exact MI
-        of the rounded pair by quadrature): x to 1e-3 at n = 2000 (about 1530
-        distinct), rho = 0.999999, exact 6.54: 6.09-6.26, warned 5 of 5 (silent
-        before; review 21's K2); never at rho <= 0.999 for n = 500 .. 1e4. With more
-        ties the levels bind instead of the ranks and the pair is left to the other
-        rules (x to 0.01 at n = 2000, 444 distinct: 5.43-5.52 for the exact 5.77 at
-        rho = 0.999999, within 10 %).
+        :func:`~modalinfo.information.copula.rank_resolution_why` on normal scores
+        (``copula=True``); None on the raw values.
         """
-        if not self.copula:
-            return None
-        n = x.shape[0]
-        if not value > math.log(n) - RANK_RESOLUTION_MARGIN:
-            return None  # ln(distinct) <= ln n: nothing can fire
-        distinct = {name: int(np.unique(a).size) for name, a in (("x", x), ("y", y))}
-        name = min(distinct, key=distinct.get)
-        d = distinct[name]
-        if d < RANK_DISTINCT_SHARE * n:
-            return None  # the levels bind, not the ranks (RANK_DISTINCT_SHARE)
-        cap = math.log(d)
-        if not value > cap - RANK_RESOLUTION_MARGIN:
-            return None
-        if d == n:
-            return (f"the estimate {value:.3f} nats is within {RANK_RESOLUTION_MARGIN:g} "
-                    f"nats of ln n = {cap:.3f}, the most the ranks of n = {n} samples "
-                    "resolve (kde runs on normal scores): near |rho| = 1 it is neither "
-                    "close nor a bound; copula=False estimates it on the raw values")
-        return (f"the estimate {value:.3f} nats is within {RANK_RESOLUTION_MARGIN:g} nats "
-                f"of ln {d} = {cap:.3f}, the most the ranks of n = {n} samples resolve "
-                f"when `{name}` takes {d} distinct values (tied values share one rank; "
-                "kde runs on normal scores): near |rho| = 1 it is neither close nor a "
-                "bound; copula=False estimates it on the raw values")
+        return rank_resolution_why(value, x, y, "kde") if self.copula else None
 
     def resolution_why(self, y: np.ndarray) -> str | None:
         """Why the estimate is biased low at this n for the pair's dependence, or None.
