@@ -23,6 +23,8 @@ import pytest
 from modalinfo.information import conditional_mutual_information
 from modalinfo.information.methods import BiasRuleWarning
 
+from ._levels_table import plugin_cmi_mm as _plugin_cmi_mm
+
 
 def _triple(seed: int, noise: float | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """z ~ Poisson(10), n = 3,000; x, y = z + Bernoulli(1/2) (None) or + N(0, noise^2)."""
@@ -50,18 +52,6 @@ def test_noisy_copies_of_a_poisson_z_hold_no_cmi_given_it():
             values.append(conditional_mutual_information(*_triple(s, 0.5),
                                                          method="histogram"))
     assert np.mean(values) < 0.01  # exact 0; before 0.060
-
-
-def _plugin_cmi_mm(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
-    """Miller-Madow plug-in I(x; y | z) of integer columns, counted with numpy."""
-    n = x.size
-
-    def h(*cols: np.ndarray) -> float:
-        counts = np.unique(np.stack(cols, axis=1), axis=0, return_counts=True)[1]
-        p = counts / n
-        return float(-(p * np.log(p)).sum() + (counts.size - 1) / (2.0 * n))
-
-    return h(x, z) + h(y, z) - h(x, y, z) - h(z)
 
 
 def test_a_few_level_x_keeps_its_levels_beside_a_many_level_z():
