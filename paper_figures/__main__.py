@@ -468,10 +468,16 @@ def _prog() -> str:
 
 
 class _Terminated(KeyboardInterrupt):
-    """SIGTERM (or SIGHUP, SIGUSR1 ...), unwound as Ctrl-C is but reported as 128 + n."""
+    """SIGTERM (or SIGHUP, SIGUSR1 ...), unwound as Ctrl-C is but reported as 128 + n.
+
+    ``signum`` is the signal: one dropped in a C callback (numba's compile) is delivered
+    again as that signal by ``modalinfo.common.startup.keep_interrupts``, not as a
+    Ctrl-C (read56: without it a SIGTERM came back as SIGINT, 130 "interrupted").
+    """
 
     def __init__(self, signum: int = signal.SIGTERM) -> None:
         super().__init__(signum)
+        self.signum = int(signum)
         self.code = 128 + int(signum)  # the shell's convention: 143 for SIGTERM
 
 
@@ -667,6 +673,7 @@ if __name__ == "__main__":
     from modalinfo.common.startup import (
         exit_quietly,
         import_refusal,
+        keep_interrupts,
         memory_refusal,
         one_line_warnings,
         require_current_folder,
@@ -675,6 +682,9 @@ if __name__ == "__main__":
 
     require_current_folder(_prog())  # before the heavy imports
     one_line_warnings(_prog())  # a warning while the package loads: one line
+    # a Ctrl-C (or a SIGTERM) dropped in a C callback (numba's compile) still ends the
+    # run (read56: fix55-a had hooked modalinfo's and closedloop's __main__ only)
+    keep_interrupts()
     try:
         code = main()
     except KeyboardInterrupt:  # Ctrl-C before main's own handler (its imports)

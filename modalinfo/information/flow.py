@@ -795,7 +795,8 @@ def transfer_entropy_map(
         says so (``OutlierWarning``); ``"warn"`` scores the values as given, with the
         warning (before fix54-b: 4 glitched frames gave false cells in 10 of 10 maps).
         Logs the rule does not flag are untouched either way
-        (``modalinfo.information.resampling.clip_glitches``).
+        (``modalinfo.information.resampling.clip_glitches``). Other methods score
+        ranks or neighbours and are not changed.
     **options
         Estimator options (see :func:`~modalinfo.information.conditional_mutual_information`).
 

@@ -16,7 +16,6 @@ status and the files on disk. No time is asserted.
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 import textwrap
@@ -24,61 +23,15 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+from ._interrupts import callback_interrupted, child_env, compile_signalled
 
-#: Runs ``python -m modalinfo ARGS`` with numba's object-cache hook sending SIGINT to its
-#: own process at its AT-th call: Python's handler raises at the hook's next bytecode,
-#: inside llvmlite's ctypes callback, where a real Ctrl-C during LLVM's codegen lands.
-_COMPILE_SIGNALLED = textwrap.dedent("""
-    import os, runpy, signal, sys
-    from numba.core import codegen
-    hook = codegen.JITCodeLibrary._object_compiled_hook.__func__
-    calls = []
-    def signalled(cls, ll_module, buf):
-        calls.append(1)
-        if len(calls) == int(os.environ["AT"]):
-            os.kill(os.getpid(), signal.SIGINT)
-        return hook(cls, ll_module, buf)
-    codegen.JITCodeLibrary._object_compiled_hook = classmethod(signalled)
-    sys.argv = ["modalinfo", *sys.argv[1:]]
-    runpy.run_module("{module}", run_name="__main__", alter_sys=True)
-""")
+_env = child_env
 
-#: A KeyboardInterrupt raised inside a ctypes callback (libc's qsort's comparison), the
-#: way a Ctrl-C lands there, then Python code that must not run: "ran on" on stdout.
-_CALLBACK_INTERRUPTED = textwrap.dedent("""
-    import ctypes, ctypes.util, os, signal, sys, time
-    from modalinfo.common.startup import keep_interrupts
-    if sys.argv[1] == "kept":
-        keep_interrupts()
-    libc = ctypes.CDLL(ctypes.util.find_library("c"))
-    CMP = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_int),
-                           ctypes.POINTER(ctypes.c_int))
-    raised = []
-    def compare(a, b):
-        if not raised:
-            raised.append(1)
-            {raise_it}
-        return a[0] - b[0]
-    values = (ctypes.c_int * 5)(5, 1, 4, 2, 3)
-    try:
-        libc.qsort(values, 5, ctypes.sizeof(ctypes.c_int), CMP(compare))
-        # Python code after the C call returned (the interrupt comes from a thread once it
-        # has the GIL: sleep gives it; 2 s at most, not a time asserted)
-        for _ in range(200):
-            time.sleep(0.01)
-    except KeyboardInterrupt as exc:
-        print("interrupted", type(exc).__name__, getattr(exc, "signum", None))
-        sys.exit(130)
-    print("ran on")
-""")
-
-
-def _env(**extra: str) -> dict[str, str]:
-    env = dict(os.environ, PYTHONPATH=str(ROOT), OPENBLAS_NUM_THREADS="1",
-               NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1", **extra)
-    env.pop("PYTHONWARNINGS", None)
-    return env
+#: The interrupt dropped in a ctypes callback, then Python code that must not run ("ran
+#: on"): ``kept`` as the first argument installs the hook.
+_CALLBACK_INTERRUPTED = (
+    'if sys.argv[1] == "kept":\n    keep_interrupts()',
+    'print("interrupted", type(exc).__name__, getattr(exc, "signum", None))\nsys.exit(130)')
 
 
 @pytest.fixture(scope="module")
@@ -97,7 +50,7 @@ def test_ctrl_c_during_a_numba_compile_exits_130_without_the_figure(at, small_lo
     cache.mkdir()  # empty: every kernel of the command is compiled in this run
     png = tmp_path / "fe.png"
     proc = subprocess.run(
-        [sys.executable, "-c", _COMPILE_SIGNALLED.format(module="modalinfo"), "fitting-error",
+        [sys.executable, "-c", compile_signalled("modalinfo"), "fitting-error",
          str(small_log), "--orderings", "zernike:standard", "--plot", str(png)],
         env=_env(NUMBA_CACHE_DIR=str(cache), AT=str(at)), cwd=tmp_path,
         capture_output=True, text=True, timeout=600)
@@ -113,7 +66,7 @@ def test_the_compile_signalled_still_runs_when_no_signal_comes(small_log, tmp_pa
     cache.mkdir()
     png = tmp_path / "fe.png"
     proc = subprocess.run(
-        [sys.executable, "-c", _COMPILE_SIGNALLED.format(module="modalinfo"), "fitting-error",
+        [sys.executable, "-c", compile_signalled("modalinfo"), "fitting-error",
          str(small_log), "--orderings", "zernike:standard", "--plot", str(png)],
         env=_env(NUMBA_CACHE_DIR=str(cache), AT="100000"), cwd=tmp_path,
         capture_output=True, text=True, timeout=600)
@@ -127,7 +80,8 @@ def test_the_compile_signalled_still_runs_when_no_signal_comes(small_log, tmp_pa
 ])
 def test_an_interrupt_dropped_in_a_ctypes_callback_is_raised_after_it(raise_it, expected):
     """The mechanism: without the hook Python drops it and the code after the call runs."""
-    script = _CALLBACK_INTERRUPTED.format(raise_it=raise_it)
+    setup, report = _CALLBACK_INTERRUPTED
+    script = callback_interrupted(setup, raise_it, "KeyboardInterrupt", report)
     kept = subprocess.run([sys.executable, "-c", script, "kept"], env=_env(),
                           capture_output=True, text=True, timeout=120)
     assert (kept.returncode, kept.stdout.strip()) == (130, expected), kept.stderr
@@ -141,9 +95,7 @@ def test_an_interrupt_dropped_in_a_ctypes_callback_is_raised_after_it(raise_it, 
 
 def test_a_signal_raised_as_an_interrupt_is_delivered_as_itself():
     """paper_figures raises SIGTERM as a KeyboardInterrupt with its ``signum``: SIGTERM again."""
-    script = textwrap.dedent("""
-        import ctypes, ctypes.util, signal, sys, time
-        from modalinfo.common.startup import keep_interrupts
+    script = callback_interrupted("""
         keep_interrupts()
         class Terminated(KeyboardInterrupt):
             def __init__(self, signum):
@@ -152,24 +104,9 @@ def test_a_signal_raised_as_an_interrupt_is_delivered_as_itself():
         def handler(signum, frame):
             raise Terminated(signum)
         signal.signal(signal.SIGTERM, handler)
-        libc = ctypes.CDLL(ctypes.util.find_library("c"))
-        CMP = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_int),
-                               ctypes.POINTER(ctypes.c_int))
-        raised = []
-        def compare(a, b):
-            if not raised:
-                raised.append(1)
-                raise Terminated(signal.SIGTERM)
-            return a[0] - b[0]
-        values = (ctypes.c_int * 3)(3, 1, 2)
-        try:
-            libc.qsort(values, 3, ctypes.sizeof(ctypes.c_int), CMP(compare))
-            for _ in range(200):
-                time.sleep(0.01)
-        except Terminated as exc:
-            print("terminated", exc.signum)
-            sys.exit(143)
-        print("ran on")
+    """, "raise Terminated(signal.SIGTERM)", "Terminated", """
+        print("terminated", exc.signum)
+        sys.exit(143)
     """)
     proc = subprocess.run([sys.executable, "-c", script], env=_env(), capture_output=True,
                           text=True, timeout=120)

@@ -22,14 +22,7 @@ import pytest
 from modalinfo._stats import LevelStepWarning
 from modalinfo.forecast import ARMAPredictor, evaluate
 
-
-def _fgn(n: int, hurst: float, rng: np.random.Generator, m: int = 1) -> np.ndarray:
-    k = np.arange(n, dtype=float)
-    g = 0.5 * (np.abs(k + 1) ** (2 * hurst) - 2 * k ** (2 * hurst)
-               + np.abs(k - 1) ** (2 * hurst))
-    lam = np.clip(np.fft.fft(np.concatenate([g, g[-2:0:-1]])).real, 0.0, None)
-    z = rng.standard_normal((lam.size, m)) + 1j * rng.standard_normal((lam.size, m))
-    return np.fft.fft(np.sqrt(lam / lam.size)[:, None] * z, axis=0).real[:n]
+from .._long_memory import fgn as _fgn
 
 
 def test_evaluate_names_no_level_shift_on_fgn_logs():

@@ -24,14 +24,7 @@ from statsmodels.tsa.stattools import acf
 
 from modalinfo.information import convergence, mutual_information_ci
 
-
-def _fgn(n: int, hurst: float, rng: np.random.Generator, m: int) -> np.ndarray:
-    k = np.arange(n, dtype=float)
-    g = 0.5 * (np.abs(k + 1) ** (2 * hurst) - 2 * k ** (2 * hurst)
-               + np.abs(k - 1) ** (2 * hurst))
-    lam = np.clip(np.fft.fft(np.concatenate([g, g[-2:0:-1]])).real, 0.0, None)
-    z = rng.standard_normal((lam.size, m)) + 1j * rng.standard_normal((lam.size, m))
-    return np.fft.fft(np.sqrt(lam / lam.size)[:, None] * z, axis=0).real[:n]
+from .._long_memory import fgn as _fgn
 
 
 def _pair(seed: int, hurst: float = 0.95, n: int = 2000) -> tuple[np.ndarray, np.ndarray]:

@@ -23,7 +23,8 @@ from scipy.special import ndtri
 
 from modalinfo.information import conditional_mutual_information_ci
 
-from .test_cmi_grid_loss_fix53b import _triple
+from ._ar_coverage import histogram_cmi_coverage
+from ._ar_coverage import iid_triple as _triple
 
 
 def triple_grid_cmi(r_xz: float, r_yz: float, r_xy: float, k: int) -> float:
@@ -74,13 +75,5 @@ def test_interval_covers_a_cmi_of_half_a_nat_at_20000() -> None:
 
     Measured (60 seeds, 49 resamples, seeds 532000 + s): 0.900 before, 0.983 after.
     """
-    seeds, cmi = 40, 0.5
-    hits = 0
-    for s in range(seeds):
-        x, y, z = _triple(20000, cmi, 54300 + s)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            res = conditional_mutual_information_ci(x, y, z, method="histogram",
-                                                    n_resamples=49, seed=s)
-        hits += res.low <= cmi <= res.high
-    assert hits / seeds >= 0.95 - 3.0 * math.sqrt(0.95 * 0.05 / seeds)
+    share, se = histogram_cmi_coverage(20000, 0.5, 54300, 40)
+    assert share >= 0.95 - 3.0 * se

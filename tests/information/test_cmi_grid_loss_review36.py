@@ -20,7 +20,7 @@ import pytest
 
 from modalinfo.information import conditional_mutual_information_ci
 
-from .test_cmi_grid_loss_fix53b import _triple
+from ._ar_coverage import iid_triple as _triple
 
 
 def _ci(x, y, z, **kw):

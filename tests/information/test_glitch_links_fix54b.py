@@ -19,35 +19,11 @@ import warnings
 import numpy as np
 import pytest
 
-from modalinfo.bases import zernike_covariance
 from modalinfo.information import select_inputs, transfer_entropy_map
 from modalinfo.information.flow import NoisyTargetWarning
 from modalinfo.information.resampling import OutlierWarning
 
-A = 0.9
-
-
-def _ar1(n_frames: int, n_modes: int, seed: int) -> np.ndarray:
-    cov = zernike_covariance(list(range(2, 2 + n_modes))) * 20.0 ** (5 / 3)
-    chol = np.linalg.cholesky(cov)
-    rng = np.random.default_rng(seed)
-    e = rng.standard_normal((n_frames, n_modes)) @ chol.T * np.sqrt(1 - A * A)
-    y = np.empty((n_frames, n_modes))
-    y[0] = rng.standard_normal(n_modes) @ chol.T
-    for t in range(1, n_frames):
-        y[t] = A * y[t - 1] + e[t]
-    return y
-
-
-def _glitched(y: np.ndarray, seed: int) -> np.ndarray:
-    rng = np.random.default_rng(seed + 999)
-    out, sd = y.copy(), y.std(axis=0)
-    frames = rng.choice(np.arange(10, len(y) - 10), 4, replace=False)
-    cols = np.r_[0, rng.choice(np.arange(1, y.shape[1]), 2, replace=False)]
-    for f in frames:
-        for c in cols:
-            out[f, c] += 20 * sd[c] * rng.choice([-1, 1])
-    return out
+from ._glitched_ar1 import glitched, noll_ar1
 
 
 def _caught(fn):
@@ -60,7 +36,7 @@ def _caught(fn):
 def test_glitched_selections_keep_the_exact_input():
     false, warned = 0, 0
     for s in range(10):
-        y = _glitched(_ar1(4000, 40, 54000 + s), s)
+        y = glitched(noll_ar1(4000, 40, 54000 + s), s)[0]
         sel, caught = _caught(lambda y=y, s=s: select_inputs(
             y, 0, max_lag=2, n_surrogates=19, intervals=False, seed=s))
         false += [i.label for i in sel.inputs] != ["m0[t]"]
@@ -73,7 +49,7 @@ def test_glitched_selections_keep_the_exact_input():
 def test_glitched_maps_hold_no_false_cell_and_no_noise_warning():
     false, noisy = 0, 0
     for s in range(5):
-        y = _glitched(_ar1(4000, 20, 55000 + s), s)
+        y = glitched(noll_ar1(4000, 20, 55000 + s), s)[0]
         tmap, caught = _caught(lambda y=y, s=s: transfer_entropy_map(
             y, lags=2, n_surrogates=99, seed=s))
         false += int(np.asarray(tmap.significant).sum()) > 0
@@ -86,7 +62,7 @@ def test_glitched_maps_hold_no_false_cell_and_no_noise_warning():
 def test_warn_keeps_the_glitched_values():
     # outliers="warn" scores the values as given (round 53's behaviour): the false
     # inputs come back, so the default's clean answer is the clip's doing
-    y = _glitched(_ar1(4000, 40, 54000), 0)
+    y = glitched(noll_ar1(4000, 40, 54000), 0)[0]
     sel, caught = _caught(lambda: select_inputs(y, 0, max_lag=2, n_surrogates=19,
                                                 intervals=False, seed=0, outliers="warn"))
     assert len(sel.inputs) > 1
@@ -95,7 +71,7 @@ def test_warn_keeps_the_glitched_values():
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_clean_logs_unchanged(seed):
-    y = _ar1(4000, 40, 54000 + seed)
+    y = noll_ar1(4000, 40, 54000 + seed)
     with warnings.catch_warnings():
         warnings.simplefilter("error", OutlierWarning)
         a = select_inputs(y, 0, max_lag=2, n_surrogates=19, intervals=False, seed=seed)
@@ -106,7 +82,7 @@ def test_clean_logs_unchanged(seed):
 
 
 def test_bad_outliers_refused():
-    y = _ar1(500, 3, 1)
+    y = noll_ar1(500, 3, 1)
     with pytest.raises(ValueError, match="outliers"):
         select_inputs(y, 0, max_lag=2, n_surrogates=19, outliers="drop")
     with pytest.raises(ValueError, match="outliers"):

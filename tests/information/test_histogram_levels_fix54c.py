@@ -19,17 +19,7 @@ from scipy.stats import multivariate_normal, poisson
 from modalinfo.information import conditional_mutual_information, transfer_entropy
 from modalinfo.information.methods import BiasRuleWarning
 
-
-def _plugin_cmi_mm(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> float:
-    """Miller-Madow plug-in I(x; y | z) of integer columns, counted with numpy."""
-    n = x.size
-
-    def h(*cols: np.ndarray) -> float:
-        counts = np.unique(np.stack(cols, axis=1), axis=0, return_counts=True)[1]
-        p = counts / n
-        return float(-(p * np.log(p)).sum() + (counts.size - 1) / (2.0 * n))
-
-    return h(x, z) + h(y, z) - h(x, y, z) - h(z)
+from ._levels_table import plugin_cmi_mm as _plugin_cmi_mm
 
 
 def _lattice_mi(rho: float, t: np.ndarray) -> float:

@@ -2,10 +2,11 @@
 
 Reference (outside the code under test): the columns' distinct values (``numpy.unique``)
 and the bias rule's arithmetic: 2,000 samples and 3 axes give 7 quantile bins per axis
-(a 343-cell table, budget max(343, 2000 // 4) = 500 cells), so a 12-level z would need
-7 * 7 * 12 = 588 cells and keeps the bins: its levels merge, and the note must say so
-whichever of x, y, z holds them.
-"""
+(a 343-cell table). x's and y's levels have the budget max(343, 2000 // 4) = 500 cells,
+so a 12-level x would need 7 * 7 * 12 = 588 cells and keeps the bins; z's levels are
+coded first within Q47's max(343, 2000) cells (read56: a merged z level is a false link),
+so a 12-level z (588 cells) keeps its levels and a 48-level z (2,352 cells) the bins.
+Where levels merge, the note must say so whichever of x, y, z holds them."""
 
 from __future__ import annotations
 
@@ -15,17 +16,27 @@ import pytest
 from modalinfo.information.histogram import merged_levels_why
 
 
-@pytest.mark.parametrize("where", ["x", "z"])
-def test_a_merged_discrete_column_is_named_in_x_or_z(where):
+def _columns(where: str, count: int):
     rng = np.random.default_rng(0)
     n = 2000
-    levels = rng.integers(0, 12, n).astype(float)
-    assert np.unique(levels).size == 12
+    levels = rng.integers(0, count, n).astype(float)
+    assert np.unique(levels).size == count
     other = rng.standard_normal(n) + levels
     y = (rng.standard_normal(n) + levels)[:, None]
     x, z = (levels[:, None], other[:, None]) if where == "x" else (other[:, None], levels[:, None])
-    why = merged_levels_why(x, y, z)
-    assert why is not None and f"`{where}` 12" in why and "7 bins" in why
+    return x, y, z
+
+
+@pytest.mark.parametrize(("where", "count"), [("x", 12), ("z", 48)])
+def test_a_merged_discrete_column_is_named_in_x_or_z(where, count):
+    # read56: z was 12 levels here (merged by fix54-c's one budget of n / 4; now coded)
+    why = merged_levels_why(*_columns(where, count))
+    assert why is not None and f"`{where}` {count}" in why and "7 bins" in why
+
+
+def test_a_twelve_level_z_keeps_its_levels():
+    """read56: z's levels are coded first within n cells (588 here): nothing merged."""
+    assert merged_levels_why(*_columns("z", 12)) is None
 
 
 def test_bins_the_caller_chose_give_no_note():

@@ -17,35 +17,12 @@ import warnings
 import numpy as np
 import pytest
 
-from modalinfo.bases import zernike_covariance
 from modalinfo.information import select_inputs, transfer_entropy_map
 from modalinfo.information.resampling import OutlierWarning, outlier_columns
 from modalinfo.telemetry import ModalLog, apply_outlier_policy
 
-A = 0.9
-
-
-def _ar1(n_frames: int, n_modes: int, seed: int) -> np.ndarray:
-    cov = zernike_covariance(list(range(2, 2 + n_modes))) * 20.0 ** (5 / 3)
-    chol = np.linalg.cholesky(cov)
-    rng = np.random.default_rng(seed)
-    e = rng.standard_normal((n_frames, n_modes)) @ chol.T * np.sqrt(1 - A * A)
-    y = np.empty((n_frames, n_modes))
-    y[0] = rng.standard_normal(n_modes) @ chol.T
-    for t in range(1, n_frames):
-        y[t] = A * y[t - 1] + e[t]
-    return y
-
-
-def _glitched(y: np.ndarray, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed + 999)
-    out, sd = y.copy(), y.std(axis=0)
-    frames = rng.choice(np.arange(10, len(y) - 10), 4, replace=False)
-    cols = np.r_[0, rng.choice(np.arange(1, y.shape[1]), 2, replace=False)]
-    for f in frames:
-        for c in cols:
-            out[f, c] += 20 * sd[c] * rng.choice([-1, 1])
-    return out, frames, cols
+from ._glitched_ar1 import glitched as _glitched
+from ._glitched_ar1 import noll_ar1 as _ar1
 
 
 def _outlier_warnings(fn) -> list[str]:
