@@ -85,7 +85,7 @@ class LoopPredictor:
         For a forecaster fitted on a ``ModalLog`` (:meth:`from_fitted`): that log's
         ``rate``, ``units``, ``wavelength``, ``labels`` and ``quantity`` (residual, pol,
         commands where its source says), which ``simulate`` checks against what the
-        loop feeds it (:func:`fitted_log`); None otherwise.
+        loop feeds it (``fitted_log``); None otherwise.
     """
 
     name: str
@@ -128,7 +128,7 @@ class LoopPredictor:
         fitted on any ``ModalLog`` (a run's AOT export, whose metadata holds no config)
         is refused where that log is not what the loop feeds: another series (the
         residual, the commands), rate, units, wavelength or mode labels
-        (:func:`fitted_log`, round 55 PART b, X43-X65).
+        (``fitted_log``, round 55 PART b, X43-X65).
 
         Raises
         ------
