@@ -50,6 +50,7 @@ from closedloop.control.controller import PREDICTOR_FAULT_ACTIONS, Controller, P
 from closedloop.control.predictors import (
     ORACLE,
     LoopPredictor,
+    check_fitted_log,
     check_trained_for,
     loop_predictor,
 )
@@ -117,8 +118,12 @@ def simulate(
         trained on a run of other ``training_conditions`` (telescope, layers, sensors,
         mirrors, frame clock) is refused: a trained ``LoopPredictor``, and a bare
         ``Predictor`` fitted on a run's ``ModalLog`` (``result.logs["dm0.pol"]``, whose
-        metadata holds the run's config; fix54-b); one fitted on a bare array carries no
-        conditions and is not checked.
+        metadata holds the run's config; fix54-b); a bare ``Predictor`` fitted on any
+        ``ModalLog`` (an AOT export's too) is refused where that log is not what the loop
+        feeds: a run's residual or commands, another frame rate, units other than rad,
+        another wavelength than ``r0_wavelength``, other mode labels
+        (``closedloop.control.predictors.check_fitted_log``, round 55 PART b); one fitted
+        on a bare array carries no conditions and is not checked.
     seed : int or None
         Overrides ``config.seed``; in ``[0, 2**63 - 1]``, as ``config.seed`` (the result
         file stores it as a 64-bit integer).
@@ -176,6 +181,10 @@ def simulate(
     basis = _check_control_basis(control_basis, model.n_modes, budget_every)
     loop_pred = loop_pred.ready(model.n_modes if basis is None else basis.shape[1])
     _check_predictor_modes(loop_pred.predictor, model.n_modes, basis)
+    if basis is None:  # the modes it is fed, by label (round 55 PART b, X63 / X64)
+        check_fitted_log(loop_pred, config, [
+            label for dm in model.dms
+            for label in ([f"Z{j}" for j in dm.modes] if dm.modes else list(dm.labels))])
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
@@ -378,6 +387,7 @@ def _check_arguments(config, duration, predictor, on_predictor_fault, budget_eve
         raise ValueError(f"`predictor` {loop_pred.name!r} is not trained: use "
                          "closedloop.run_trained, or LoopPredictor.trained(reference).")
     check_trained_for(loop_pred, config, control_basis)
+    check_fitted_log(loop_pred, config)  # its series, rate, units: before any set-up
     if not config.loop.closed:
         _check_open_loop(None if loop_pred.is_none else loop_pred.name, budget_every,
                          control_basis)

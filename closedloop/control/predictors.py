@@ -25,6 +25,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import hashlib
+import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -32,6 +33,7 @@ import numpy as np
 
 from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.forecast import PersistencePredictor
+from modalinfo.forecast.base import RATE_TOLERANCE
 from modalinfo.forecast.presets import PRESETS
 
 if TYPE_CHECKING:
@@ -79,6 +81,11 @@ class LoopPredictor:
         ``training_conditions`` of the reference run it was fitted on (set by
         :meth:`trained`; ``simulate`` refuses a config with other conditions); None for a
         forecaster fitted elsewhere (:meth:`from_fitted`).
+    fitted_log : dict or None
+        For a forecaster fitted on a ``ModalLog`` (:meth:`from_fitted`): that log's
+        ``rate``, ``units``, ``wavelength``, ``labels`` and ``quantity`` (residual, pol,
+        commands where its source says), which ``simulate`` checks against what the
+        loop feeds it (``fitted_log``); None otherwise.
     """
 
     name: str
@@ -86,6 +93,7 @@ class LoopPredictor:
     training: str | None = None
     oracle: bool = False
     trained_on: dict | None = field(default=None, compare=False)
+    fitted_log: dict | None = field(default=None, compare=False)
 
     @classmethod
     def from_name(cls, name: str) -> LoopPredictor:
@@ -116,7 +124,11 @@ class LoopPredictor:
         "dm0.pol"])``, its ``training_metadata_`` holding the run's config) carries that
         run's ``training_conditions`` as ``trained_on``, so ``simulate`` refuses it in
         a loop of other conditions as it refuses a :meth:`trained` one (fix54-b, round
-        53 PART a C16 / C22); one fitted on an array carries none (not checked).
+        53 PART a C16 / C22); one fitted on an array carries none (not checked). One
+        fitted on any ``ModalLog`` (a run's AOT export, whose metadata holds no config)
+        is refused where that log is not what the loop feeds: another series (the
+        residual, the commands), rate, units, wavelength or mode labels
+        (``fitted_log``, round 55 PART b, X43-X65).
 
         Raises
         ------
@@ -127,7 +139,8 @@ class LoopPredictor:
             raise TypeError("`predictor` must have reset() and update(x) (a modalinfo.forecast "
                             f"Predictor); got {type(predictor).__name__}.")
         return cls(name=type(predictor).__name__ if name is None else name,
-                   predictor=predictor, trained_on=fitted_conditions(predictor))
+                   predictor=predictor, trained_on=fitted_conditions(predictor),
+                   fitted_log=fitted_log(predictor))
 
     @property
     def is_none(self) -> bool:
@@ -228,6 +241,78 @@ def fitted_conditions(predictor) -> dict | None:
     from closedloop.config import SimulationConfig
 
     return training_conditions(SimulationConfig.from_dict(meta["config"]))
+
+
+def fitted_log(predictor) -> dict | None:
+    """Return what the ``ModalLog`` a bare forecaster was fitted on was, or None.
+
+    ``rate`` [Hz], ``units``, ``wavelength`` [m] (``Predictor.fit``'s
+    ``training_log_``), ``labels`` (its ``columns_``) and ``quantity``: closedloop's
+    word for the series (``"residual"``, ``"pol"``, ``"commands"``; the log's
+    ``coefficient_quantity`` as the AOT and HDF5 readers set it, else its ``quantity``
+    where its ``source`` is closedloop), None when not said. None for a forecaster
+    fitted on an array or a DataFrame: nothing is known of it.
+    """
+    log = getattr(predictor, "training_log_", None)
+    if not isinstance(log, dict):
+        return None
+    meta = getattr(predictor, "training_metadata_", None)
+    meta = meta if isinstance(meta, dict) else {}
+    quantity = meta.get("coefficient_quantity")
+    if quantity is None and meta.get("source") == "closedloop":
+        quantity = meta.get("quantity")
+    labels = getattr(predictor, "columns_", None)
+    return {**log, "labels": None if labels is None else [str(c) for c in labels],
+            "quantity": quantity if isinstance(quantity, str) else None}
+
+
+def check_fitted_log(predictor: LoopPredictor, config, labels=None) -> None:
+    """Refuse a forecaster fitted on a log unlike the POL this loop feeds it.
+
+    The loop feeds the pseudo-open-loop coefficients of every DM, in rad at
+    ``config.r0_wavelength``, one frame per ``config.loop.time_step``, labelled
+    ``labels`` (every DM's modes, DM 0 first; None: not checked, as under a
+    ``control_basis``). A forecaster fitted on the run's residual lost the loop (SR 0.004
+    to 0.02 against 0.56-0.61), one fitted on the POL in nm halved its SR (its intercept
+    and training mean in nm), and one fitted on a run's AOT export (no config in its
+    metadata, so :func:`fitted_conditions` knows nothing) ran at twice its rate without a
+    word (round 55 PART b, X43-X65).
+    """
+    log = predictor.fitted_log
+    if not log:
+        return
+    who = f"`predictor` {predictor.name!r}"
+    quantity = log.get("quantity")
+    if quantity in ("residual", "commands"):
+        raise ValueError(
+            f"{who} was fitted on a run's {quantity} log, but the loop feeds it the "
+            "pseudo-open loop (POL): fit it on the POL log (result.logs['dm0.pol'], or "
+            "--loop dm0.pol of the AOT export), or use LoopPredictor.trained(reference).")
+    rate, loop_rate = log.get("rate"), 1.0 / config.loop.time_step
+    if rate is not None and not math.isclose(rate, loop_rate, rel_tol=RATE_TOLERANCE):
+        raise ValueError(
+            f"{who} was fitted on a log at {rate:.6g} Hz; this loop runs at "
+            f"{loop_rate:.6g} Hz (loop.time_step {config.loop.time_step:g} s): its lags "
+            "count frames; fit it on a run of this config.")
+    units, wave = log.get("units"), log.get("wavelength")
+    if units is not None and units != "rad":
+        raise ValueError(
+            f"{who} was fitted on a log in {units}; the loop feeds it rad at "
+            f"{config.r0_wavelength:g} m (r0_wavelength): fit it on "
+            f"log.to_units('rad', wavelength={config.r0_wavelength:g}).")
+    if wave is not None and not math.isclose(wave, config.r0_wavelength, rel_tol=1e-9):
+        raise ValueError(
+            f"{who} was fitted on a log in rad at {wave:g} m; the loop feeds it rad at "
+            f"{config.r0_wavelength:g} m (r0_wavelength): fit it on "
+            f"log.to_units('rad', wavelength={config.r0_wavelength:g}).")
+    fitted = log.get("labels")
+    if labels is not None and fitted is not None and list(fitted) != list(labels):
+        shown = ", ".join(fitted[:4]) + (", ..." if len(fitted) > 4 else "")
+        fed = ", ".join(labels[:4]) + (", ..." if len(labels) > 4 else "")
+        raise ValueError(
+            f"{who} was fitted on modes ({shown}) but the loop feeds it ({fed}) by "
+            "position: fit it on the POL's modes in the loop's order "
+            "(log.select(modes=...), Noll convention).")
 
 
 def _digest(basis) -> str | None:

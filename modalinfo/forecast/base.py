@@ -60,6 +60,7 @@ import contextlib
 import contextvars
 import copy
 import inspect
+import math
 import operator
 from collections.abc import Iterator
 from typing import Any
@@ -87,6 +88,12 @@ __all__ = ["Predictor", "NotFittedError"]
 #: least-squares normal equations underflow to subnormals or 0 (an RMSE of 0 on 1e-300
 #: data, a singular fit). IEEE 754 binary64 limits, numpy.finfo(float64).
 SQUARE_FLOOR = _SQUARE_FLOOR  # defined in common.validation (fitting_error uses it too)
+
+#: Relative difference of two logs' rates beyond which a predictor fitted on one does not
+#: forecast the other (its lags count frames): 1 %, far above the spread of a timestamped
+#: log's estimated rate (jitter of 1e-5 relative, round 10) and far below the factors of 2
+#: of a loop run at another rate (round 55 PART b, X01 / X50).
+RATE_TOLERANCE = 0.01
 # check_square_floor (imported above, used by evaluate too) lives in common.validation:
 # the data K-L and the autocovariance refuse with it as well (round 40 PART a)
 
@@ -475,7 +482,9 @@ class Predictor:
             mode (column); multivariate ones model the modes jointly. A ``ModalLog`` is
             fitted on its ``coeffs``; its labels become ``columns_`` and its metadata
             ``training_metadata_`` (what the log says of its source: a closed-loop run's
-            config, which ``closedloop.simulate`` checks against the loop's, fix54-b).
+            config, which ``closedloop.simulate`` checks against the loop's, fix54-b), its
+            rate [Hz], units and wavelength [m] ``training_log_`` (``predict`` of a
+            ``ModalLog`` and ``closedloop.simulate`` refuse another frame clock or units).
 
         Returns
         -------
@@ -521,8 +530,14 @@ class Predictor:
         self.scalar_input_ = scalar
         if log is None:
             self.__dict__.pop("training_metadata_", None)
+            self.__dict__.pop("training_log_", None)
         else:
             self.training_metadata_ = copy.deepcopy(dict(log.metadata))
+            # what a later log must share to be forecast by these parameters: the frame
+            # clock (lags count frames) and the values' units (an intercept, a training
+            # mean, a network's scaling are in them) (round 55 PART b, X01 / X45)
+            self.training_log_ = {"rate": log.rate, "units": log.units,
+                                  "wavelength": log.wavelength}
         self.window_ = X.shape[0] if window is None else window
         # the model settings the parameters were estimated with (round 43 PART a, S03)
         self._fit_settings_ = {name: _snapshot(getattr(self, name))
@@ -730,8 +745,11 @@ class Predictor:
 
         Parameters
         ----------
-        history : array_like, shape (T,) or (T, M)
-            Samples up to the forecast origin, with as many modes as at ``fit``.
+        history : array_like, shape (T,) or (T, M), or ModalLog
+            Samples up to the forecast origin, with as many modes as at ``fit``. A
+            ``ModalLog`` is read by its labels, rate and units: refused where they are
+            not those of the log the predictor was fitted on (``columns_``,
+            ``training_log_``); an array is read by position.
         horizon : int, optional
             Number of steps ``H``; default ``self.horizon``.
 
@@ -741,6 +759,13 @@ class Predictor:
             ``(H,)`` for 1-D input, else ``(H, M)``: forecasts for h = 1..H.
         """
         self._check_fitted()
+        from modalinfo.telemetry.log import ModalLog
+
+        if isinstance(history, ModalLog):
+            # refused before with "(use log.coeffs)", whose array drops the labels, the
+            # rate and the units that tell another log (round 55 PART b, X01-X07)
+            self._check_log(history, "history")
+            history = history.coeffs
         H = self._check_common()[0] if horizon is None else check_horizon(horizon)
         X, scalar = self._check_history(history, "history", 1)
         self._check_n_modes(X.shape[1], "history")
@@ -759,7 +784,43 @@ class Predictor:
         self._feed(run, X, out, "history")
         return out[0, :, 0].copy() if scalar else out[0].copy()
 
-    def _check_columns(self, history, name: str, names: list | None = None) -> None:
+    def _check_log(self, log, name: str) -> None:
+        """Refuse a ``ModalLog`` unlike the one the predictor was fitted on.
+
+        Its mode count and labels (``columns_``), then its rate and units against
+        ``training_log_`` (set by ``fit`` of a ``ModalLog``): parameters fitted at 2 kHz
+        forecast another series at 1 kHz (their lags count frames), and an intercept or
+        training mean in nm is wrong on values in rad (round 55 PART b, X01-X07).
+        """
+        self._check_n_modes(log.n_modes, name)
+        self._check_columns(None, name, [str(c) for c in log.labels],
+                            select=f"{name}.select(modes=predictor.columns_)")
+        trained = self.__dict__.get("training_log_")
+        if not trained:
+            return
+        who = type(self).__name__
+        rate, fitted_rate = log.rate, trained.get("rate")
+        if rate is not None and fitted_rate is not None and not math.isclose(
+                rate, fitted_rate, rel_tol=RATE_TOLERANCE):
+            raise ValueError(
+                f"`{name}` is sampled at {rate:.6g} Hz but {who} was fitted on a log at "
+                f"{fitted_rate:.6g} Hz: its lags count frames, so it forecasts another "
+                "series; fit it on a log at this rate.")
+        units, fitted_units = log.units, trained.get("units")
+        if fitted_units is not None and units != fitted_units:
+            raise ValueError(
+                f"`{name}` is in {units} but {who} was fitted on a log in {fitted_units}: "
+                f"convert it first (log.to_units({fitted_units!r}, ...)).")
+        wave, fitted_wave = log.wavelength, trained.get("wavelength")
+        if units in ("rad", "waves") and wave is not None and fitted_wave is not None and (
+                not math.isclose(wave, fitted_wave, rel_tol=1e-9)):
+            raise ValueError(
+                f"`{name}` is in {units} at {wave:.6g} m but {who} was fitted on {units} at "
+                f"{fitted_wave:.6g} m: convert it first (log.to_units({units!r}, "
+                f"wavelength={fitted_wave:.6g})).")
+
+    def _check_columns(self, history, name: str, names: list | None = None,
+                       select: str = "history[predictor.columns_]") -> None:
         """Refuse a DataFrame whose column names differ from those of the fitted one.
 
         Fitted on columns ``Z2 .. Z7`` and given them as ``Z4, Z2, ...``, ``predict``
@@ -779,7 +840,7 @@ class Predictor:
         raise ValueError(
             f"`{name}` has columns ({shown}) but {type(self).__name__} was fitted on "
             f"columns ({expected}): forecasts are made by position; select the columns in "
-            f"the fitted order (history[predictor.columns_]) or pass an array.")
+            f"the fitted order ({select}) or pass an array.")
 
     def _check_n_modes(self, n_modes: int, name: str) -> None:
         if n_modes != self.n_modes_:
@@ -823,8 +884,9 @@ class Predictor:
 
         Parameters
         ----------
-        x_t : float or array_like, shape (M,)
-            The sample (one value per mode) measured at the current step.
+        x_t : float or array_like, shape (M,), or ModalLog of one frame
+            The sample (one value per mode) measured at the current step; a one-frame
+            ``ModalLog`` is checked as ``predict`` checks a log.
 
         Returns
         -------
@@ -854,6 +916,17 @@ class Predictor:
             if type(x_t) is np.ndarray and x_t.dtype == np.float64:  # the loop's case: as is
                 arr = x_t
             else:  # complex lost its imaginary part, dates and strings were cast
+                from modalinfo.telemetry.log import ModalLog
+
+                if isinstance(x_t, ModalLog):
+                    # one frame of a log, checked as predict checks a log: it was read
+                    # as x_t[0], "a ModalLog is indexed by a frame slice ...; got 0", an
+                    # indexing the caller never wrote (round 55 PART b, X09)
+                    if x_t.n_frames != 1:
+                        raise ValueError(f"`x_t` must be one sample; got a ModalLog of "
+                                         f"{x_t.n_frames} frames (predict takes a history).")
+                    self._check_log(x_t, "x_t")
+                    x_t = x_t.coeffs[0]
                 self._check_columns(x_t, "x_t", _frame_columns(x_t, "index", 1))
                 arr = np.asarray(unmasked(x_t, "x_t"))
                 check_real_dtype(arr, "x_t", x_t)

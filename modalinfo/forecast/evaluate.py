@@ -544,10 +544,13 @@ class ForecastEvaluation:
         if self.shifted_modes and self.scale_shift is not None:
             shown = _shifted_list(self.labels, np.asarray(self.scale_shift),
                                   np.isin(self.labels, self.shifted_modes))
+            refit = _refit_clause(self.settings.get("refit_every"),
+                                  self.settings.get("window"))
             out.append(f"Train/test scale shift: {shown} (rms of the innovations of a "
-                       "model fitted on the training frames, test / training): intervals "
-                       "calibrated on the training frames do not hold on the test frames; "
-                       "split the log at the change or retrain.")
+                       "model fitted on the training frames, test / training): " + (
+                           "intervals calibrated on the training frames do not hold on the "
+                           "test frames; split the log at the change or retrain."
+                           if refit is None else refit + "."))
         if self.level_shifted_modes and self.level_shift is not None:
             items = [f"{lb} {v:+.3g} sd" for lb, v in zip(self.labels, self.level_shift,
                                                           strict=True)
@@ -1378,15 +1381,36 @@ def _shifted_list(labels, ratio: np.ndarray, shifted: np.ndarray) -> str:
     return ", ".join(items[:6]) + (f", ... ({len(items)} modes)" if len(items) > 6 else "")
 
 
-def _shift_text(labels, ratio: np.ndarray, shifted: np.ndarray) -> str:
+def _refit_clause(refit_every: int | None, window: int | None) -> str | None:
+    """Return what a shift means when every predictor is refitted on a window, or None.
+
+    With ``refit_every`` the scores are those of predictors refitted on the recent
+    frames, the retraining the shift's advice asks for: "retrain" was advised to a user
+    who had just asked for refits (round 55 PART b, O01).
+    """
+    if refit_every is None:
+        return None
+    span = "the training length" if window is None else f"{window} frames"
+    return (f"the predictors were refitted every {refit_every} frames on the last {span}, "
+            "so their scores follow the recent frames; intervals calibrated on a window "
+            "before the change do not hold after it")
+
+
+def _shift_text(labels, ratio: np.ndarray, shifted: np.ndarray,
+                refit_every: int | None = None, window: int | None = None) -> str:
     """One sentence naming the modes whose test frames differ in scale from training."""
     shown = _shifted_list(labels, ratio, shifted)
-    return ("the test frames differ in scale from the training frames: the innovations "
+    head = ("the test frames differ in scale from the training frames: the innovations "
             f"of a model fitted on the training frames change in rms by {shown} (F test, "
             f"{SHIFT_ALPHA:.0%} family-wise over the modes, x{math.sqrt(SHIFT_MIN_RATIO):.2g}"
-            " or more); the scores describe frames unlike those the predictors were "
-            "trained on, and intervals calibrated on the training frames do not hold "
-            "there: split the log at the change or retrain on frames like the test ones.")
+            " or more); ")
+    refit = _refit_clause(refit_every, window)
+    if refit is not None:
+        return head + refit + "."
+    return head + ("the scores describe frames unlike those the predictors were "
+                   "trained on, and intervals calibrated on the training frames do not hold "
+                   "there: split the log at the change or retrain on frames like the test "
+                   "ones.")
 
 
 def _test_outliers(data, n_train: int, chunk: int) -> list[tuple[int, int, float, float]]:
@@ -1718,7 +1742,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     shifted = np.asarray(shifted, dtype=bool) & ~glitched
     shifted_modes = tuple(lb for lb, s in zip(labels, shifted, strict=True) if s)
     if shifted_modes:
-        warn(f"evaluate: {_shift_text(labels, shift_ratio, shifted)}",
+        warn(f"evaluate: {_shift_text(labels, shift_ratio, shifted, refit_every, window)}",
              UserWarning, stacklevel=2)
     # round 52 PART a, L05 / L45: a level change in the test frames (Z5 + 3 sd) moved the
     # mean baseline's gain 0.557 -> 0.202 with no word; the scale rule keeps the innovations

@@ -1050,6 +1050,13 @@ def order_modes(
 #: command line says it in its own: ``modalinfo.cli.cmd_reorder``, fix53-d).
 CALIBRATION_ADVICE = ("order each stretch of steady conditions on its own (log.select), or "
                       "pass quality=False where the event is known and meant.")
+#: The same advice for a command's user (the warning's ``cli_text``, which every command
+#: prints: ``fitting-error`` and ``batch`` said "log.select" and "quality=False", options
+#: they have not; round 55 PART b, C52 / C54 / C59 / C60).
+CLI_CALIBRATION_ADVICE = ("order each stretch of steady conditions on its own (a log cut at "
+                          "the event; `modalinfo batch --window-frames N` analyses "
+                          "consecutive windows), or read the order as the pooled log's where "
+                          "the event is known and meant.")
 
 
 # CALIBRATION_LEVEL_P (1e-8) and CALIBRATION_MIN_FRAMES (2,000) moved to
@@ -1174,13 +1181,15 @@ def _warn_calibration_events(a: np.ndarray, labels: tuple, method: str,
     if not events:
         return
     modes = sorted({j for j, *_ in events})
-    warn(f"order_modes ({method}): the quality pass (assess_quality) finds a calibration "
-         f"event in {len(modes)} of the {a.shape[1]} modes ranked "
-         f"({calibration_event_list(events, labels)}): the "
-         "pooled ordering is that of the pooled log, in which the event (a new reference, a "
-         "gain or unit change, modes re-mapped, the loop closing) weighs as much as the "
-         f"turbulence; {CALIBRATION_ADVICE}",
-         CalibrationEventWarning, stacklevel=caller_stacklevel())
+    head = f"order_modes ({method}): the quality pass"
+    body = (f" finds a calibration event in {len(modes)} of the {a.shape[1]} modes ranked "
+            f"({calibration_event_list(events, labels)}): the "
+            "pooled ordering is that of the pooled log, in which the event (a new reference, "
+            "a gain or unit change, modes re-mapped, the loop closing) weighs as much as the "
+            "turbulence; ")
+    warning = CalibrationEventWarning(head + " (assess_quality)" + body + CALIBRATION_ADVICE)
+    warning.cli_text = head + body + CLI_CALIBRATION_ADVICE  # type: ignore[attr-defined]
+    warn(warning, stacklevel=caller_stacklevel())
 
 
 def _named(exc: InfiniteMIError, what: str) -> InfiniteMIError:
