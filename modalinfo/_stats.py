@@ -30,6 +30,7 @@ __all__ = [
     "block_scale_ratios",
     "column_median",
     "column_nanmedian",
+    "deviation_memory",
     "lag1_autocorrelation",
     "lag1_autocorrelations",
     "mad_union_threshold",
@@ -1096,6 +1097,34 @@ def mean_difference_variance(d: float, before: int, after: int,
     return float(fractional_cosine_variances()[i, 0] * shape / big_n)
 
 
+def deviation_memory(d: np.ndarray | float) -> np.ndarray:
+    """Memory parameter of a Gaussian series' absolute (or squared) deviations.
+
+    For a stationary Gaussian series of memory ``d`` (autocorrelation ``rho(k) ~ c
+    k^(2d - 1)``) and a function ``G`` of Hermite rank 2 (``|x - mu|``, ``(x - mu)^2``:
+    even about the mean), ``cov(G(X_0), G(X_k)) = sum_(q >= 2) J_q^2 rho(k)^q / q!``
+    (the Hermite expansion; Taqqu 1975, Z. Wahrsch. 31, 287; Beran 1994, "Statistics
+    for Long-Memory Processes", sec. 3.3), led by ``J_2^2 rho(k)^2 / 2 ~ k^(4d - 2)``:
+    the memory parameter ``d_y`` of ``G(X)`` (``k^(2 d_y - 1)``) is ``2d - 1/2`` where
+    ``4d - 2 > -1`` (``d > 1/4``); for ``d <= 1/4`` the covariances are summable (short
+    memory, ``d_y = 0``). fGn H 0.9 (``d = 0.4``): ``d_y = 0.3``; H 0.7: 0. The law the
+    spread rule (:func:`variance_steps`) judges the absolute deviations under; checked
+    against exact fGn / ARFIMA draws (tests/telemetry/test_long_memory_rules_fix56a.py).
+
+    Parameters
+    ----------
+    d : float or numpy.ndarray
+        Memory parameter(s) of the series, ``0 <= d < 1/2`` (NaN: not read, taken as 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``max(2 d - 1/2, 0)``, same shape as ``d``.
+    """
+    d = np.nan_to_num(np.asarray(d, dtype=float), nan=0.0)
+    return np.maximum(2.0 * d - 0.5, 0.0)
+
+
 class LevelStepWarning(UserWarning):
     """The mean of a series steps or drifts within the record (not stationary in level)."""
 
@@ -1198,8 +1227,13 @@ class LowFrequency(NamedTuple):
 
 
 def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
-                   long_memory_law: bool = True) -> list[LowFrequency | None]:
+                   long_memory_law: bool = True,
+                   memory: np.ndarray | None = None) -> list[LowFrequency | None]:
     """:class:`LowFrequency` of every column of ``x`` (shape (n, k)) at once (None: constant).
+
+    ``memory`` (shape (k,)): the most ``d`` each column is judged under (on
+    :data:`MEMORY_GRID`): :func:`long_memory`'s reading, at most this (the spread rule:
+    :func:`deviation_memory` of its series' own ``d``).
 
     The AR fits with a constant and a step are one :func:`stacked_lstsq`, the cosine
     terms one DCT along the columns (per-column ``lstsq`` and DCT took 4.8 s for 4000
@@ -1260,17 +1294,23 @@ def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         # its own memory, where fractional noise keeps rising as lambda^(-2d))
         rest = (c - beta_s[c_idx] * step_cos[:band + 1, c_idx]
                 - beta_r[c_idx] * ramp_cos[:band + 1, 0])
-        memory = (long_memory(rest ** 2 * white) if long_memory_law
-                  else LongMemory(0.0, math.nan, math.nan, band))
-        shape = fractional_cosine_variances()[_memory_row(memory.d), 2:terms + 2]
+        if long_memory_law:
+            memory_j = long_memory(rest ** 2 * white)
+            if memory is not None and memory_j.d > memory[j]:
+                memory_j = memory_j._replace(
+                    d=float(MEMORY_GRID[_memory_row(float(memory[j]))]), scale=math.nan)
+        else:
+            memory_j = LongMemory(0.0, math.nan, math.nan, band)
+        shape = fractional_cosine_variances()[_memory_row(memory_j.d), 2:terms + 2]
         var_first = float(np.mean(c[1:terms + 1] ** 2 * white[1:terms + 1] / shape))
-        out[j] = LowFrequency(frame, shift, terms, float(c[0]), var_first, memory,
+        out[j] = LowFrequency(frame, shift, terms, float(c[0]), var_first, memory_j,
                               float(scale[j]))
     return out
 
 
 def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
-                 long_memory_law: bool = True) -> list[LevelTest]:
+                 long_memory_law: bool = True,
+                 memory: np.ndarray | None = None) -> list[LevelTest]:
     """:func:`level_stationarity` of every column of ``x`` (shape (n, k)) at once.
 
     The columns' :class:`LowFrequency` at once and the F tails one call (per-column
@@ -1281,7 +1321,8 @@ def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         return [LevelTest(math.nan, 0, 0, math.nan)] * k
     out = [LevelTest(math.nan, 0, 0, 0.0)] * k
     stat, dof, where = [], [], []
-    for j, low in enumerate(_low_frequency(x, p, long_memory_law=long_memory_law)):
+    for j, low in enumerate(_low_frequency(x, p, long_memory_law=long_memory_law,
+                                           memory=memory)):
         if low is None:
             continue
         d = low.memory.d if low.memory is not None else 0.0
@@ -1299,7 +1340,9 @@ def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
 
 def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
                 skip: np.ndarray | None = None, *,
-                long_memory_law: bool = True) -> tuple[list[tuple[int, LevelTest]], int]:
+                long_memory_law: bool = True, memory: np.ndarray | None = None,
+                memory_out: np.ndarray | None = None
+                ) -> tuple[list[tuple[int, LevelTest]], int]:
     """Columns whose mean steps or drifts, by :func:`level_stationarity` with Bonferroni.
 
     Parameters
@@ -1322,8 +1365,15 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
         Columns not tested (e.g. constant modes).
     long_memory_law : bool
         Judge each column against its long memory (:func:`long_memory`, the default);
-        False: the short-memory law alone (every ``v_j`` equal), as the spread rule
-        (:func:`variance_steps`) reads its absolute deviations.
+        False: the short-memory law alone (every ``v_j`` equal).
+    memory : numpy.ndarray, shape (k,), optional
+        The most ``d`` each column is judged under (its :func:`long_memory` reading,
+        at most this; the spread rule, :func:`variance_steps`: :func:`deviation_memory`
+        of the series' own ``d``).
+    memory_out : numpy.ndarray of float, shape (k,), optional
+        Filled with the ``d`` each judged column was judged under (``LevelTest.memory``),
+        NaN where a column was skipped or not judged: the spread rule's reading of the
+        same series (``telemetry.quality``: one long-memory estimate per mode).
 
     Returns
     -------
@@ -1339,9 +1389,16 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
     # _STACK_VALUES values each), not the ~6 T x k temporaries of the whole at once
     # (10^4 x 2000: 0.9 GiB; issue 27, left28-prov); the Bonferroni cut is over them all
     per = max(1, _STACK_VALUES // max(1, x.shape[0]))
+    given = None if memory is None else np.asarray(memory, dtype=float)
     tests = [t for s0 in range(0, cols.size, per)
-             for t in _level_tests(x[:, cols[s0:s0 + per]], long_memory_law=long_memory_law)]
+             for t in _level_tests(x[:, cols[s0:s0 + per]], long_memory_law=long_memory_law,
+                                   memory=None if given is None
+                                   else given[cols[s0:s0 + per]])]
     judged = [(int(j), test) for j, test in zip(cols, tests, strict=True) if test.judged]
+    if memory_out is not None:
+        memory_out[:] = math.nan
+        for j, test in judged:
+            memory_out[j] = test.memory
     # Bonferroni over the columns tested, not the judged ones (see alpha above)
     cut = alpha / max(int(cols.size), 1)
     return [(j, t) for j, t in judged if t.p_value < cut], len(judged)
@@ -1405,7 +1462,8 @@ def _split_lag1(y: np.ndarray) -> np.ndarray:
 
 def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
                    skip: np.ndarray | None = None, *,
-                   deviations: bool = False) -> tuple[list[VarianceStep], int]:
+                   deviations: bool = False,
+                   memory: np.ndarray | None = None) -> tuple[list[VarianceStep], int]:
     """Columns whose spread steps or drifts: the level rule on absolute deviations.
 
     A change of a column's spread is a change of the mean of its absolute deviations
@@ -1422,6 +1480,15 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
     white spike), so a few glitched frames do not read as a step. A step of the mean of
     ``x`` moves ``y`` too: the caller tells it apart with :func:`level_steps` on ``x``.
 
+    **Long memory** (fix56-a). ``y`` of a Gaussian series of memory ``d`` has memory
+    ``max(2d - 1/2, 0)`` (:func:`deviation_memory`): each column's ``y`` is judged under
+    that law, ``d`` the level rule's reading of the series itself (:func:`long_memory`,
+    ``memory``), not of ``y``, so that a spread step (which moves the low-frequency terms
+    of ``y``, not of ``x``) is not read as memory, and a short-memory series (``d`` up to
+    1/4, its estimate's margin included) keeps the short-memory law and its power. On
+    the short-memory law alone, fGn H 0.9 and ARFIMA d 0.4 series of 20,000 frames were
+    named at p < 1 % in 3 % (docs/ADVERSARIAL.md "Long memory, what fix54-a left").
+
     Parameters
     ----------
     x : numpy.ndarray, shape (T,) or (T, k)
@@ -1435,6 +1502,10 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
         Columns not tested (e.g. constant modes).
     deviations : bool
         True when ``x`` holds the absolute deviations.
+    memory : numpy.ndarray, shape (k,), optional
+        The long-memory ``d`` of each column of the series (``LevelTest.memory``, NaN:
+        not read, 0). Default: read from ``x`` by :func:`level_steps`; with
+        ``deviations`` and no ``memory``, every column on the short-memory law.
 
     Returns
     -------
@@ -1442,6 +1513,10 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
         ``([VarianceStep, ...] flagged, J)``; ``J = 0``: no column judged.
     """
     x = np.asarray(x, dtype=float).reshape(np.shape(x)[0], -1)
+    if memory is None:
+        memory = np.zeros(x.shape[1])
+        if not deviations:  # the series' own d, as the level rule reads it
+            level_steps(x, memory_out=memory)
     y = x if deviations else np.abs(x - np.median(x, axis=0))
     n = y.shape[0]
     skip = np.zeros(y.shape[1], dtype=bool) if skip is None else np.array(skip, dtype=bool)
@@ -1451,9 +1526,10 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
     # spread x0.30, not noted)
     r = np.clip(_split_lag1(y), 0.0, 0.999)
     skip |= n * (1.0 - r) / (1.0 + r) < MIN_VARIANCE_EFFECTIVE
-    # the absolute deviations on the short-memory law, as measured for this rule (its
-    # power on a spread step, l11, is what the long-memory reading would cost; fix54-a)
-    flagged, judged = level_steps(y, alpha, skip, long_memory_law=False)
+    # the absolute deviations under the law the series' own memory gives them, not
+    # under a d read from y: a spread step loads y's first terms and was read as memory
+    # (l11 lost its p, fix54-a); a short-memory series keeps the short-memory law
+    flagged, judged = level_steps(y, alpha, skip, memory=deviation_memory(memory))
     out = []
     for j, test in flagged:
         before = float(np.mean(y[:test.frame, j]))
