@@ -930,6 +930,13 @@ MEMORY_GRID = np.round(np.arange(0.0, 0.4901, 0.01), 4)
 #: docs/ADVERSARIAL.md "Long memory in the stationarity rules").
 MEMORY_MARGIN_SE = 2.0
 
+#: The same margin for the spread rule's reading of its absolute deviations
+#: (:func:`variance_steps`, whose ``d`` is also capped by :func:`deviation_memory` of the
+#: series' own estimate): none. Measured (fix56-a, fGn H 0.9, 300 series of 20,000
+#: frames, a x2 spread step on 30 logs): margin 0 (both readings) named 1 of 300 at
+#: p < 1 % and the step in 30 of 30, margin 2 0 of 300 and 26 of 30.
+DEVIATION_MEMORY_MARGIN_SE = 0.0
+
 #: Most cosine terms the long-memory estimate reads (:func:`long_memory`): more than the
 #: level rule's :data:`LEVEL_MAX_TERMS`, since ``d`` is extrapolated from them to the
 #: first term and its error grows as the band narrows.
@@ -1014,7 +1021,7 @@ class LongMemory(NamedTuple):
     terms: int
 
 
-def long_memory(power: np.ndarray) -> LongMemory:
+def long_memory(power: np.ndarray, margin_se: float = MEMORY_MARGIN_SE) -> LongMemory:
     """Local Whittle estimate of long memory from cosine terms ``j = 2 .. m + 1``.
 
     ``power[j - 1]`` is ``L_j^2`` whitened by the short-memory (AR) spectrum's shape
@@ -1034,6 +1041,9 @@ def long_memory(power: np.ndarray) -> LongMemory:
     ----------
     power : numpy.ndarray, shape (m + 1,)
         Whitened squared cosine terms ``j = 1 .. m + 1``, ``m >= 2``.
+    margin_se : float
+        Standard errors added to the estimate (:data:`MEMORY_MARGIN_SE`; the spread
+        rule's :data:`DEVIATION_MEMORY_MARGIN_SE`).
 
     Returns
     -------
@@ -1049,7 +1059,7 @@ def long_memory(power: np.ndarray) -> LongMemory:
     i = int(np.argmin(objective))
     top = MEMORY_GRID.size - 1
     se = 0.5 / math.sqrt(m)
-    used = min(top, int(round(i + MEMORY_MARGIN_SE * se / 0.01)))
+    used = min(top, int(round(i + margin_se * se / 0.01)))
     scale = float(np.mean(power[1:] / fractional_cosine_variances()[used, 2:m + 2]))
     return LongMemory(float(MEMORY_GRID[used]), float(MEMORY_GRID[i]), scale, m)
 
@@ -1137,7 +1147,8 @@ class LevelTest(NamedTuple):
     first frame after the largest CUSUM excursion (the least-squares step location),
     ``shift`` the mean after it minus the mean before it (the series' units), ``terms``
     the cosine terms ``B`` of the long-run variance, ``memory`` the long-memory ``d``
-    the terms were rescaled by (:func:`long_memory`; 0: short memory).
+    the terms were rescaled by (:func:`long_memory`; 0: short memory), ``memory_estimate``
+    the local Whittle estimate before its margin (NaN: not read).
     """
 
     p_value: float
@@ -1145,6 +1156,7 @@ class LevelTest(NamedTuple):
     frame: int
     shift: float
     memory: float = 0.0
+    memory_estimate: float = math.nan
 
     @property
     def judged(self) -> bool:
@@ -1232,7 +1244,8 @@ def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
     """:class:`LowFrequency` of every column of ``x`` (shape (n, k)) at once (None: constant).
 
     ``memory`` (shape (k,)): the most ``d`` each column is judged under (on
-    :data:`MEMORY_GRID`): :func:`long_memory`'s reading, at most this (the spread rule:
+    :data:`MEMORY_GRID`): :func:`long_memory`'s reading (with
+    :data:`DEVIATION_MEMORY_MARGIN_SE`), at most this (the spread rule:
     :func:`deviation_memory` of its series' own ``d``).
 
     The AR fits with a constant and a step are one :func:`stacked_lstsq`, the cosine
@@ -1295,7 +1308,9 @@ def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         rest = (c - beta_s[c_idx] * step_cos[:band + 1, c_idx]
                 - beta_r[c_idx] * ramp_cos[:band + 1, 0])
         if long_memory_law:
-            memory_j = long_memory(rest ** 2 * white)
+            # a capped reading is the spread rule's (its own margin, see the constant)
+            memory_j = long_memory(rest ** 2 * white, MEMORY_MARGIN_SE if memory is None
+                                   else DEVIATION_MEMORY_MARGIN_SE)
             if memory is not None and memory_j.d > memory[j]:
                 memory_j = memory_j._replace(
                     d=float(MEMORY_GRID[_memory_row(float(memory[j]))]), scale=math.nan)
@@ -1326,7 +1341,8 @@ def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         if low is None:
             continue
         d = low.memory.d if low.memory is not None else 0.0
-        out[j] = LevelTest(math.nan, low.terms, low.frame, low.shift, d)
+        est = low.memory.estimate if low.memory is not None else math.nan
+        out[j] = LevelTest(math.nan, low.terms, low.frame, low.shift, d, est)
         if low.scale > 0.0:  # NaN (not judged) fails too
             stat.append(low.first ** 2 / low.scale)
             dof.append(low.terms)
@@ -1371,9 +1387,10 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
         at most this; the spread rule, :func:`variance_steps`: :func:`deviation_memory`
         of the series' own ``d``).
     memory_out : numpy.ndarray of float, shape (k,), optional
-        Filled with the ``d`` each judged column was judged under (``LevelTest.memory``),
-        NaN where a column was skipped or not judged: the spread rule's reading of the
-        same series (``telemetry.quality``: one long-memory estimate per mode).
+        Filled with each judged column's local Whittle estimate of ``d`` before its
+        margin (``LevelTest.memory_estimate``), NaN where a column was skipped, not
+        judged or read on the short-memory law: what the spread rule caps its law by
+        (``telemetry.quality``: one long-memory estimate per mode).
 
     Returns
     -------
@@ -1398,7 +1415,7 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
     if memory_out is not None:
         memory_out[:] = math.nan
         for j, test in judged:
-            memory_out[j] = test.memory
+            memory_out[j] = test.memory_estimate
     # Bonferroni over the columns tested, not the judged ones (see alpha above)
     cut = alpha / max(int(cols.size), 1)
     return [(j, t) for j, t in judged if t.p_value < cut], len(judged)
@@ -1482,12 +1499,14 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
 
     **Long memory** (fix56-a). ``y`` of a Gaussian series of memory ``d`` has memory
     ``max(2d - 1/2, 0)`` (:func:`deviation_memory`): each column's ``y`` is judged under
-    that law, ``d`` the level rule's reading of the series itself (:func:`long_memory`,
-    ``memory``), not of ``y``, so that a spread step (which moves the low-frequency terms
-    of ``y``, not of ``x``) is not read as memory, and a short-memory series (``d`` up to
-    1/4, its estimate's margin included) keeps the short-memory law and its power. On
-    the short-memory law alone, fGn H 0.9 and ARFIMA d 0.4 series of 20,000 frames were
-    named at p < 1 % in 3 % (docs/ADVERSARIAL.md "Long memory, what fix54-a left").
+    its own local Whittle estimate (as the level rule reads a series, with
+    :data:`DEVIATION_MEMORY_MARGIN_SE`), at most that law at the series' own estimate
+    ``d`` (``memory``; the level rule's, ``LevelTest.memory_estimate``): a spread step
+    moves the low-frequency terms of ``y``, not of ``x``, so it is not read as memory,
+    and a short-memory series (``d`` up to 1/4) keeps the short-memory law and its
+    power. On the short-memory law alone, fGn H 0.9 and ARFIMA d 0.4 series of 20,000
+    frames were named at p < 1 % in 3 %; now 0.2 % (docs/ADVERSARIAL.md "Long memory,
+    what fix54-a left").
 
     Parameters
     ----------
@@ -1503,9 +1522,10 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
     deviations : bool
         True when ``x`` holds the absolute deviations.
     memory : numpy.ndarray, shape (k,), optional
-        The long-memory ``d`` of each column of the series (``LevelTest.memory``, NaN:
-        not read, 0). Default: read from ``x`` by :func:`level_steps`; with
-        ``deviations`` and no ``memory``, every column on the short-memory law.
+        The long-memory estimate ``d`` of each column of the series
+        (``LevelTest.memory_estimate``; NaN: not read, 0). Default: read from ``x`` by
+        :func:`level_steps`; with ``deviations`` and no ``memory``, every column on the
+        short-memory law.
 
     Returns
     -------

@@ -21,8 +21,8 @@ References (outside the code under test):
 
 Bounds from the binomial law at the stated rate (seeds fixed, so each test is one draw of
 a fixed outcome): 300 series at p < 1 %, 7 or more has probability 0.034 at the nominal
-1 % (the rule measured 0 of 1,000 after the fix, 29 of 1,000 before: docs/ADVERSARIAL.md
-"Long memory, what fix54-a left (fix56-a)").
+1 % (fGn H 0.9: 1 of 500 after the fix, 15 of 500 before: docs/ADVERSARIAL.md "Long
+memory, what fix54-a left (fix56-a)").
 """
 
 from __future__ import annotations
@@ -86,8 +86,8 @@ def test_short_memory_keeps_the_short_memory_law():
 
 def test_spread_rule_holds_its_rate_on_long_memory():
     # 30 logs of 10 fGn H 0.9 series x 20,000 frames, every judged series' p (alpha
-    # 10: the Bonferroni cut alpha / 10 = 1 passes them all): before, 29 of 1,000
-    # series of fGn H 0.9 / ARFIMA d 0.4 at p < 1 %
+    # 10: the Bonferroni cut alpha / 10 = 1 passes them all): before, 15 of 500 fGn H
+    # 0.9 and 14 of 500 ARFIMA d 0.4 series at p < 1 %
     p = []
     for s in range(30):
         x = _draw(_fgn_acvf(20_000, 0.9), np.random.default_rng(56_300 + s), 10)
