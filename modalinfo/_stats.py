@@ -30,6 +30,7 @@ __all__ = [
     "block_scale_ratios",
     "column_median",
     "column_nanmedian",
+    "deviation_memory",
     "lag1_autocorrelation",
     "lag1_autocorrelations",
     "mad_union_threshold",
@@ -929,6 +930,13 @@ MEMORY_GRID = np.round(np.arange(0.0, 0.4901, 0.01), 4)
 #: docs/ADVERSARIAL.md "Long memory in the stationarity rules").
 MEMORY_MARGIN_SE = 2.0
 
+#: The same margin for the spread rule's reading of its absolute deviations
+#: (:func:`variance_steps`, whose ``d`` is also capped by :func:`deviation_memory` of the
+#: series' own estimate): none. Measured (fix56-a, fGn H 0.9, 300 series of 20,000
+#: frames, a x2 spread step on 30 logs): margin 0 (both readings) named 1 of 300 at
+#: p < 1 % and the step in 30 of 30, margin 2 0 of 300 and 26 of 30.
+DEVIATION_MEMORY_MARGIN_SE = 0.0
+
 #: Most cosine terms the long-memory estimate reads (:func:`long_memory`): more than the
 #: level rule's :data:`LEVEL_MAX_TERMS`, since ``d`` is extrapolated from them to the
 #: first term and its error grows as the band narrows.
@@ -1013,7 +1021,7 @@ class LongMemory(NamedTuple):
     terms: int
 
 
-def long_memory(power: np.ndarray) -> LongMemory:
+def long_memory(power: np.ndarray, margin_se: float = MEMORY_MARGIN_SE) -> LongMemory:
     """Local Whittle estimate of long memory from cosine terms ``j = 2 .. m + 1``.
 
     ``power[j - 1]`` is ``L_j^2`` whitened by the short-memory (AR) spectrum's shape
@@ -1033,6 +1041,9 @@ def long_memory(power: np.ndarray) -> LongMemory:
     ----------
     power : numpy.ndarray, shape (m + 1,)
         Whitened squared cosine terms ``j = 1 .. m + 1``, ``m >= 2``.
+    margin_se : float
+        Standard errors added to the estimate (:data:`MEMORY_MARGIN_SE`; the spread
+        rule's :data:`DEVIATION_MEMORY_MARGIN_SE`).
 
     Returns
     -------
@@ -1048,7 +1059,7 @@ def long_memory(power: np.ndarray) -> LongMemory:
     i = int(np.argmin(objective))
     top = MEMORY_GRID.size - 1
     se = 0.5 / math.sqrt(m)
-    used = min(top, int(round(i + MEMORY_MARGIN_SE * se / 0.01)))
+    used = min(top, int(round(i + margin_se * se / 0.01)))
     scale = float(np.mean(power[1:] / fractional_cosine_variances()[used, 2:m + 2]))
     return LongMemory(float(MEMORY_GRID[used]), float(MEMORY_GRID[i]), scale, m)
 
@@ -1096,6 +1107,34 @@ def mean_difference_variance(d: float, before: int, after: int,
     return float(fractional_cosine_variances()[i, 0] * shape / big_n)
 
 
+def deviation_memory(d: np.ndarray | float) -> np.ndarray:
+    """Memory parameter of a Gaussian series' absolute (or squared) deviations.
+
+    For a stationary Gaussian series of memory ``d`` (autocorrelation ``rho(k) ~ c
+    k^(2d - 1)``) and a function ``G`` of Hermite rank 2 (``|x - mu|``, ``(x - mu)^2``:
+    even about the mean), ``cov(G(X_0), G(X_k)) = sum_(q >= 2) J_q^2 rho(k)^q / q!``
+    (the Hermite expansion; Taqqu 1975, Z. Wahrsch. 31, 287; Beran 1994, "Statistics
+    for Long-Memory Processes", sec. 3.3), led by ``J_2^2 rho(k)^2 / 2 ~ k^(4d - 2)``:
+    the memory parameter ``d_y`` of ``G(X)`` (``k^(2 d_y - 1)``) is ``2d - 1/2`` where
+    ``4d - 2 > -1`` (``d > 1/4``); for ``d <= 1/4`` the covariances are summable (short
+    memory, ``d_y = 0``). fGn H 0.9 (``d = 0.4``): ``d_y = 0.3``; H 0.7: 0. The law the
+    spread rule (:func:`variance_steps`) judges the absolute deviations under; checked
+    against exact fGn / ARFIMA draws (tests/telemetry/test_long_memory_rules_fix56a.py).
+
+    Parameters
+    ----------
+    d : float or numpy.ndarray
+        Memory parameter(s) of the series, ``0 <= d < 1/2`` (NaN: not read, taken as 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``max(2 d - 1/2, 0)``, same shape as ``d``.
+    """
+    d = np.nan_to_num(np.asarray(d, dtype=float), nan=0.0)
+    return np.maximum(2.0 * d - 0.5, 0.0)
+
+
 class LevelStepWarning(UserWarning):
     """The mean of a series steps or drifts within the record (not stationary in level)."""
 
@@ -1108,7 +1147,8 @@ class LevelTest(NamedTuple):
     first frame after the largest CUSUM excursion (the least-squares step location),
     ``shift`` the mean after it minus the mean before it (the series' units), ``terms``
     the cosine terms ``B`` of the long-run variance, ``memory`` the long-memory ``d``
-    the terms were rescaled by (:func:`long_memory`; 0: short memory).
+    the terms were rescaled by (:func:`long_memory`; 0: short memory), ``memory_estimate``
+    the local Whittle estimate before its margin (NaN: not read).
     """
 
     p_value: float
@@ -1116,6 +1156,7 @@ class LevelTest(NamedTuple):
     frame: int
     shift: float
     memory: float = 0.0
+    memory_estimate: float = math.nan
 
     @property
     def judged(self) -> bool:
@@ -1198,8 +1239,14 @@ class LowFrequency(NamedTuple):
 
 
 def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
-                   long_memory_law: bool = True) -> list[LowFrequency | None]:
+                   long_memory_law: bool = True,
+                   memory: np.ndarray | None = None) -> list[LowFrequency | None]:
     """:class:`LowFrequency` of every column of ``x`` (shape (n, k)) at once (None: constant).
+
+    ``memory`` (shape (k,)): the most ``d`` each column is judged under (on
+    :data:`MEMORY_GRID`): :func:`long_memory`'s reading (with
+    :data:`DEVIATION_MEMORY_MARGIN_SE`), at most this (the spread rule:
+    :func:`deviation_memory` of its series' own ``d``).
 
     The AR fits with a constant and a step are one :func:`stacked_lstsq`, the cosine
     terms one DCT along the columns (per-column ``lstsq`` and DCT took 4.8 s for 4000
@@ -1260,17 +1307,25 @@ def _low_frequency(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         # its own memory, where fractional noise keeps rising as lambda^(-2d))
         rest = (c - beta_s[c_idx] * step_cos[:band + 1, c_idx]
                 - beta_r[c_idx] * ramp_cos[:band + 1, 0])
-        memory = (long_memory(rest ** 2 * white) if long_memory_law
-                  else LongMemory(0.0, math.nan, math.nan, band))
-        shape = fractional_cosine_variances()[_memory_row(memory.d), 2:terms + 2]
+        if long_memory_law:
+            # a capped reading is the spread rule's (its own margin, see the constant)
+            memory_j = long_memory(rest ** 2 * white, MEMORY_MARGIN_SE if memory is None
+                                   else DEVIATION_MEMORY_MARGIN_SE)
+            if memory is not None and memory_j.d > memory[j]:
+                memory_j = memory_j._replace(
+                    d=float(MEMORY_GRID[_memory_row(float(memory[j]))]), scale=math.nan)
+        else:
+            memory_j = LongMemory(0.0, math.nan, math.nan, band)
+        shape = fractional_cosine_variances()[_memory_row(memory_j.d), 2:terms + 2]
         var_first = float(np.mean(c[1:terms + 1] ** 2 * white[1:terms + 1] / shape))
-        out[j] = LowFrequency(frame, shift, terms, float(c[0]), var_first, memory,
+        out[j] = LowFrequency(frame, shift, terms, float(c[0]), var_first, memory_j,
                               float(scale[j]))
     return out
 
 
 def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
-                 long_memory_law: bool = True) -> list[LevelTest]:
+                 long_memory_law: bool = True,
+                 memory: np.ndarray | None = None) -> list[LevelTest]:
     """:func:`level_stationarity` of every column of ``x`` (shape (n, k)) at once.
 
     The columns' :class:`LowFrequency` at once and the F tails one call (per-column
@@ -1281,11 +1336,13 @@ def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
         return [LevelTest(math.nan, 0, 0, math.nan)] * k
     out = [LevelTest(math.nan, 0, 0, 0.0)] * k
     stat, dof, where = [], [], []
-    for j, low in enumerate(_low_frequency(x, p, long_memory_law=long_memory_law)):
+    for j, low in enumerate(_low_frequency(x, p, long_memory_law=long_memory_law,
+                                           memory=memory)):
         if low is None:
             continue
         d = low.memory.d if low.memory is not None else 0.0
-        out[j] = LevelTest(math.nan, low.terms, low.frame, low.shift, d)
+        est = low.memory.estimate if low.memory is not None else math.nan
+        out[j] = LevelTest(math.nan, low.terms, low.frame, low.shift, d, est)
         if low.scale > 0.0:  # NaN (not judged) fails too
             stat.append(low.first ** 2 / low.scale)
             dof.append(low.terms)
@@ -1299,7 +1356,9 @@ def _level_tests(x: np.ndarray, p: int = INNOVATION_ORDER, *,
 
 def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
                 skip: np.ndarray | None = None, *,
-                long_memory_law: bool = True) -> tuple[list[tuple[int, LevelTest]], int]:
+                long_memory_law: bool = True, memory: np.ndarray | None = None,
+                memory_out: np.ndarray | None = None
+                ) -> tuple[list[tuple[int, LevelTest]], int]:
     """Columns whose mean steps or drifts, by :func:`level_stationarity` with Bonferroni.
 
     Parameters
@@ -1322,8 +1381,16 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
         Columns not tested (e.g. constant modes).
     long_memory_law : bool
         Judge each column against its long memory (:func:`long_memory`, the default);
-        False: the short-memory law alone (every ``v_j`` equal), as the spread rule
-        (:func:`variance_steps`) reads its absolute deviations.
+        False: the short-memory law alone (every ``v_j`` equal).
+    memory : numpy.ndarray, shape (k,), optional
+        The most ``d`` each column is judged under (its :func:`long_memory` reading,
+        at most this; the spread rule, :func:`variance_steps`: :func:`deviation_memory`
+        of the series' own ``d``).
+    memory_out : numpy.ndarray of float, shape (k,), optional
+        Filled with each judged column's local Whittle estimate of ``d`` before its
+        margin (``LevelTest.memory_estimate``), NaN where a column was skipped, not
+        judged or read on the short-memory law: what the spread rule caps its law by
+        (``telemetry.quality``: one long-memory estimate per mode).
 
     Returns
     -------
@@ -1339,9 +1406,16 @@ def level_steps(x: np.ndarray, alpha: float = LEVEL_ALPHA,
     # _STACK_VALUES values each), not the ~6 T x k temporaries of the whole at once
     # (10^4 x 2000: 0.9 GiB; issue 27, left28-prov); the Bonferroni cut is over them all
     per = max(1, _STACK_VALUES // max(1, x.shape[0]))
+    given = None if memory is None else np.asarray(memory, dtype=float)
     tests = [t for s0 in range(0, cols.size, per)
-             for t in _level_tests(x[:, cols[s0:s0 + per]], long_memory_law=long_memory_law)]
+             for t in _level_tests(x[:, cols[s0:s0 + per]], long_memory_law=long_memory_law,
+                                   memory=None if given is None
+                                   else given[cols[s0:s0 + per]])]
     judged = [(int(j), test) for j, test in zip(cols, tests, strict=True) if test.judged]
+    if memory_out is not None:
+        memory_out[:] = math.nan
+        for j, test in judged:
+            memory_out[j] = test.memory_estimate
     # Bonferroni over the columns tested, not the judged ones (see alpha above)
     cut = alpha / max(int(cols.size), 1)
     return [(j, t) for j, t in judged if t.p_value < cut], len(judged)
@@ -1405,7 +1479,8 @@ def _split_lag1(y: np.ndarray) -> np.ndarray:
 
 def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
                    skip: np.ndarray | None = None, *,
-                   deviations: bool = False) -> tuple[list[VarianceStep], int]:
+                   deviations: bool = False,
+                   memory: np.ndarray | None = None) -> tuple[list[VarianceStep], int]:
     """Columns whose spread steps or drifts: the level rule on absolute deviations.
 
     A change of a column's spread is a change of the mean of its absolute deviations
@@ -1422,6 +1497,17 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
     white spike), so a few glitched frames do not read as a step. A step of the mean of
     ``x`` moves ``y`` too: the caller tells it apart with :func:`level_steps` on ``x``.
 
+    **Long memory** (fix56-a). ``y`` of a Gaussian series of memory ``d`` has memory
+    ``max(2d - 1/2, 0)`` (:func:`deviation_memory`): each column's ``y`` is judged under
+    its own local Whittle estimate (as the level rule reads a series, with
+    :data:`DEVIATION_MEMORY_MARGIN_SE`), at most that law at the series' own estimate
+    ``d`` (``memory``; the level rule's, ``LevelTest.memory_estimate``): a spread step
+    moves the low-frequency terms of ``y``, not of ``x``, so it is not read as memory,
+    and a short-memory series (``d`` up to 1/4) keeps the short-memory law and its
+    power. On the short-memory law alone, fGn H 0.9 and ARFIMA d 0.4 series of 20,000
+    frames were named at p < 1 % in 3 %; now 0.2 % (docs/ADVERSARIAL.md "Long memory,
+    what fix54-a left").
+
     Parameters
     ----------
     x : numpy.ndarray, shape (T,) or (T, k)
@@ -1435,6 +1521,11 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
         Columns not tested (e.g. constant modes).
     deviations : bool
         True when ``x`` holds the absolute deviations.
+    memory : numpy.ndarray, shape (k,), optional
+        The long-memory estimate ``d`` of each column of the series
+        (``LevelTest.memory_estimate``; NaN: not read, 0). Default: read from ``x`` by
+        :func:`level_steps`; with ``deviations`` and no ``memory``, every column on the
+        short-memory law.
 
     Returns
     -------
@@ -1442,6 +1533,10 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
         ``([VarianceStep, ...] flagged, J)``; ``J = 0``: no column judged.
     """
     x = np.asarray(x, dtype=float).reshape(np.shape(x)[0], -1)
+    if memory is None:
+        memory = np.zeros(x.shape[1])
+        if not deviations:  # the series' own d, as the level rule reads it
+            level_steps(x, memory_out=memory)
     y = x if deviations else np.abs(x - np.median(x, axis=0))
     n = y.shape[0]
     skip = np.zeros(y.shape[1], dtype=bool) if skip is None else np.array(skip, dtype=bool)
@@ -1451,9 +1546,10 @@ def variance_steps(x: np.ndarray, alpha: float = VARIANCE_ALPHA,
     # spread x0.30, not noted)
     r = np.clip(_split_lag1(y), 0.0, 0.999)
     skip |= n * (1.0 - r) / (1.0 + r) < MIN_VARIANCE_EFFECTIVE
-    # the absolute deviations on the short-memory law, as measured for this rule (its
-    # power on a spread step, l11, is what the long-memory reading would cost; fix54-a)
-    flagged, judged = level_steps(y, alpha, skip, long_memory_law=False)
+    # the absolute deviations under the law the series' own memory gives them, not
+    # under a d read from y: a spread step loads y's first terms and was read as memory
+    # (l11 lost its p, fix54-a); a short-memory series keeps the short-memory law
+    flagged, judged = level_steps(y, alpha, skip, memory=deviation_memory(memory))
     out = []
     for j, test in flagged:
         before = float(np.mean(y[:test.frame, j]))

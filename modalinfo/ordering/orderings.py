@@ -1059,7 +1059,7 @@ CLI_CALIBRATION_ADVICE = ("order each stretch of steady conditions on its own (a
                           "the event is known and meant.")
 
 
-# CALIBRATION_LEVEL_P (1e-8) and CALIBRATION_MIN_FRAMES (2,000) moved to
+# CALIBRATION_LEVEL_P (1e-6, fix56-a) and CALIBRATION_MIN_FRAMES (2,000) moved to
 # modalinfo.telemetry.quality with the events' rule (fix54-b: Predictor.fit names
 # them too); imported above under the same names.
 
