@@ -116,7 +116,9 @@ class LoopPredictor:
         "dm0.pol"])``, its ``training_metadata_`` holding the run's config) carries that
         run's ``training_conditions`` as ``trained_on``, so ``simulate`` refuses it in
         a loop of other conditions as it refuses a :meth:`trained` one (fix54-b, round
-        53 PART a C16 / C22); one fitted on an array carries none (not checked).
+        53 PART a C16 / C22); one fitted on an array carries none: ``simulate`` then
+        checks only what it can without them (``Predictor.check_fed``: the rate, units
+        and scale of its training data against the loop's POL; fix56-b).
 
         Raises
         ------

@@ -123,11 +123,17 @@ def levels_named() -> frozenset:
 def warn_training_events(X, labels, caller: str) -> frozenset:
     """Warn (``CalibrationEventWarning``) where the training frames hold a calibration event.
 
-    The quality pass's level and spread steps (``telemetry.quality.calibration_events``
-    with ``scale=False``: its ``mode_events`` at ``CALIBRATION_LEVEL_P``, none on fewer than
-    ``CALIBRATION_MIN_FRAMES`` frames), the one detector ``order_modes`` names too
-    (fix53-a). A level step or gain jump inside the history is fitted as dynamics
-    (persistence, a spread the model takes for turbulence), without a word before
+    The quality pass's level, spread and innovation-scale steps
+    (``telemetry.quality.calibration_events``: its ``mode_events`` at
+    ``CALIBRATION_LEVEL_P``, none on fewer than ``CALIBRATION_MIN_FRAMES`` frames), the one
+    detector ``order_modes`` names too (fix53-a). The scale rule was left out until
+    fix56-b (it named blocks of stationary simulator POLs, fix54-b); since fix55-b's
+    near-white gate it names none of 50 + 50 + 50 + 50 stationary AR(1) 0.9 / 0.99,
+    ``kaos_like`` closed- and open-loop logs nor of 20 simulator POLs, and names a x10
+    first 5 % (the loop closing, L39) in 20 of 20 logs where the level and spread rules
+    name none (docs/ADVERSARIAL.md, fix56-b). A level step or gain jump inside the
+    history is fitted as dynamics (persistence, a spread the model takes for
+    turbulence), without a word before
     fix54-b (round 53 PART a, C23). ``X`` (T, M) the training frames, ``labels`` their
     ``M`` names, ``caller`` the message's start. Returns the columns whose level step
     (``"the mean steps or drifts ..."``) was named.
@@ -138,9 +144,9 @@ def warn_training_events(X, labels, caller: str) -> frozenset:
         calibration_events,
     )
 
-    # level and spread steps: the innovations' scale rule names blocks of stationary
-    # simulated POLs (calibration_events' notes)
-    events = calibration_events(np.asarray(X), scale=False)
+    # every rule of the pass, as order_modes (one detector; the scale rule's near-white
+    # gate, fix55-b, keeps it off stationary simulator POLs: fix56-b)
+    events = calibration_events(np.asarray(X))
     if not events:
         return frozenset()
     modes = sorted({j for j, *_ in events})
@@ -151,6 +157,45 @@ def warn_training_events(X, labels, caller: str) -> frozenset:
          "closing), which it reads as dynamics or turbulence; fit each stretch of steady "
          "conditions on its own.", CalibrationEventWarning, stacklevel=caller_stacklevel())
     return frozenset(j for j, _, _, words in events if words.startswith("the mean steps"))
+
+
+#: Largest relative difference between a predictor's training rate and the rate of the
+#: data it is fed (``Predictor.check_fed``): 1 % moves a lag of 10 frames by 0.1 frame,
+#: and a log's rate from jittered timestamps is within 1e-5 of the nominal (audit 10).
+RATE_TOLERANCE = 0.01
+
+#: Largest relative difference of the wavelengths of phase in rad (``check_fed``).
+WAVELENGTH_TOLERANCE = 1e-6
+
+#: Largest factor, either way, between the rms of the data a predictor is fed and of the
+#: data it was fitted on, as the median over the modes of their ratio
+#: (``Predictor.check_fed``). A unit mix-up is a factor 80 (nm against rad at 500 nm),
+#: 12.6 (um) or 1e7-1e8 (m); seeing moves the phase's rms as r0^(-5/6), x10 for r0 15
+#: times smaller. Measured on the simulator (docs/ADVERSARIAL.md, fix56-b): 16 frames
+#: spread over runs of 0.01-0.3 s read x0.53-x1.1 of a reference run's POL's rms on 27
+#: modes, x0.21-x2.6 on 2 (tip and tilt, the slowest modes: the median of fewer modes
+#: scatters more), hence ``SCALE_FACTOR_FEW`` below ``SCALE_FEW_MODES`` modes.
+SCALE_FACTOR = 10.0
+SCALE_FACTOR_FEW = 30.0
+SCALE_FEW_MODES = 4
+
+
+def rms_per_mode(X: np.ndarray) -> np.ndarray:
+    """Root mean square about 0 of each column of ``X`` (T, M) [X's units], shape (M,)."""
+    X = np.asarray(X, dtype=np.float64)
+    return np.sqrt(np.einsum("ij,ij->j", X, X) / max(X.shape[0], 1))
+
+
+def scale_ratio(fed: np.ndarray, trained: np.ndarray) -> tuple[float | None, int]:
+    """Median over the modes of ``fed / trained`` (both (M,) rms), and how many modes.
+
+    Taken as the exponential of the median of the log ratios, over the modes where both
+    are finite and positive (a zeroed mode has no scale); None where none is.
+    """
+    ok = np.isfinite(fed) & np.isfinite(trained) & (fed > 0) & (trained > 0)
+    if not ok.any():
+        return None, 0
+    return float(np.exp(np.median(np.log(fed[ok]) - np.log(trained[ok])))), int(ok.sum())
 
 
 class NotFittedError(ValueError, AttributeError):
@@ -485,10 +530,10 @@ class Predictor:
         Warns
         -----
         CalibrationEventWarning
-            Where the quality pass finds a level step or a spread step (a new reference,
-            a gain jump) in a mode of a history of at least 2,000 frames (the rules
-            ``order_modes`` names, ``warn_training_events``): the parameters pool
-            both sides of the event.
+            Where the quality pass finds a level step, a spread step or a change of the
+            innovations' scale (a new reference, a gain jump, the loop closing) in a mode
+            of a history of at least 2,000 frames (the rules ``order_modes`` names,
+            ``warn_training_events``): the parameters pool both sides of the event.
         """
         from modalinfo.telemetry.log import ModalLog
 
@@ -523,6 +568,11 @@ class Predictor:
             self.__dict__.pop("training_metadata_", None)
         else:
             self.training_metadata_ = copy.deepcopy(dict(log.metadata))
+        # what check_fed compares the data it is later fed with (fix56-b): each mode's
+        # rms, and a log's own clock and units (None: an array states neither)
+        self.training_rms_ = rms_per_mode(X)
+        self.training_rate_ = None if log is None else log.rate
+        self.training_units_ = None if log is None else (log.units, log.wavelength)
         self.window_ = X.shape[0] if window is None else window
         # the model settings the parameters were estimated with (round 43 PART a, S03)
         self._fit_settings_ = {name: _snapshot(getattr(self, name))
@@ -787,6 +837,94 @@ class Predictor:
                 f"`{name}` must have {self.n_modes_} mode(s) as the fitted history; "
                 f"got {n_modes}."
             )
+
+    def check_fed(self, sample=None, *, rate: float | None = None, units: str | None = None,
+                  wavelength: float | None = None, name: str = "the data") -> str:
+        """Refuse data this fitted predictor was certainly not trained for; say what was checked.
+
+        What a predictor fitted on a bare array can be checked against without its
+        training conditions (fix56-b: ``closedloop.simulate`` checks a forecaster fitted
+        on a run's log against the run's config, one fitted on an array ran unchecked):
+
+        - the clock: a log's ``rate`` at ``fit`` against ``rate`` (lags count frames; more
+          than ``RATE_TOLERANCE`` apart is refused);
+        - the units: a log stated in nm, um or waves against ``units``, or phase [rad] at
+          another ``wavelength`` (``WAVELENGTH_TOLERANCE``); ``"rad"`` without a wavelength
+          is ``ModalLog``'s default, not a statement, and is not compared;
+        - the scale: the rms of each mode of ``sample`` against the training data's
+          (``training_rms_``), as the median over the modes of their ratio; beyond
+          ``SCALE_FACTOR`` either way (data in nm fed rad: x80 at 500 nm; in m: 1e-7)
+          the data are not of the series it was fitted on.
+
+        Parameters
+        ----------
+        sample : array_like, shape (n, M), or None
+            Values of the data it will be fed (``M = n_modes_``), a few frames spread
+            over the data (their rms about 0 is compared); None: no scale check.
+        rate : float or None
+            The data's frame rate [Hz]; None: not compared.
+        units : str or None
+            The data's units ("rad", "nm", "um" or "waves"); None: not compared.
+        wavelength : float or None
+            Wavelength [m] of the data's phase in rad; None: not compared.
+        name : str
+            The data's name in the messages.
+
+        Returns
+        -------
+        str
+            What was compared, in words (for a result's notes).
+
+        Raises
+        ------
+        ValueError
+            A rate, units or scale other than the training data's, naming both.
+        """
+        self._check_fitted()
+        who = type(self).__name__
+        said = []
+        own_rate = getattr(self, "training_rate_", None)
+        if own_rate is not None and rate is not None:
+            if abs(rate / own_rate - 1.0) > RATE_TOLERANCE:
+                raise ValueError(
+                    f"{who} was fitted on frames at {own_rate:.6g} Hz; {name} is at "
+                    f"{rate:.6g} Hz: its lags count frames, so it forecasts another series "
+                    "there; fit it on data at this rate.")
+            said.append(f"rate {own_rate:.6g} Hz")
+        own_units = getattr(self, "training_units_", None)
+        if own_units is not None and units is not None:
+            u, wl = own_units
+            if u != "rad" and u != units:
+                raise ValueError(f"{who} was fitted on a log in {u}; {name} is in {units}: "
+                                 "convert one to the other's units before fitting.")
+            if u == units == "rad" and wl is not None and wavelength is not None and abs(
+                    wavelength / wl - 1.0) > WAVELENGTH_TOLERANCE:
+                raise ValueError(
+                    f"{who} was fitted on phase [rad] at {wl:.6g} m; {name} is phase at "
+                    f"{wavelength:.6g} m (rad scale as 1 / wavelength): convert the "
+                    "training log to this wavelength before fitting.")
+            if u != "rad" or wl is not None:
+                said.append(f"units {u}" + (f" at {wl:.6g} m" if wl is not None else ""))
+        own_rms = getattr(self, "training_rms_", None)
+        if sample is not None and own_rms is not None:
+            arr = as_float_array(sample, "sample", ndim=(1, 2))
+            arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+            if arr.shape[1] != own_rms.size:
+                raise ValueError(f"`sample` must have {own_rms.size} mode(s) (columns) as "
+                                 f"the fitted history; got shape {arr.shape}.")
+            fed = rms_per_mode(arr)
+            ratio, n_used = scale_ratio(fed, own_rms)
+            if ratio is not None:
+                limit = SCALE_FACTOR if n_used >= SCALE_FEW_MODES else SCALE_FACTOR_FEW
+                if not 1.0 / limit <= ratio <= limit:
+                    raise ValueError(
+                        f"{name} has {ratio:.3g} times the rms of the data {who} was fitted "
+                        f"on (median over {n_used} modes of the ratio of their rms; beyond x"
+                        f"{limit:g} either way): not the series it was fitted on (other "
+                        "units: nm against rad is x80 at 500 nm, m x1e-7?); fit it on data in "
+                        f"the units of {name}.")
+                said.append(f"scale x{ratio:.2g} of its training data's rms")
+        return ", ".join(said)
 
     def __copy__(self) -> Predictor:
         # copy.copy shared the running state: the copy's update() advanced the original's
