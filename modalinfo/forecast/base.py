@@ -838,6 +838,14 @@ class Predictor:
                 f"got {n_modes}."
             )
 
+    def _learns_from_data(self) -> bool:
+        """Whether the fitted parameters depend on the training data's values.
+
+        False for a model of fixed weights (persistence, the paper's linear a = 2,
+        b = -1): ``check_fed`` has no scale to compare for it, any data serve.
+        """
+        return True
+
     def check_fed(self, sample=None, *, rate: float | None = None, units: str | None = None,
                   wavelength: float | None = None, name: str = "the data") -> str:
         """Refuse data this fitted predictor was certainly not trained for; say what was checked.
@@ -853,8 +861,11 @@ class Predictor:
           is ``ModalLog``'s default, not a statement, and is not compared;
         - the scale: the rms of each mode of ``sample`` against the training data's
           (``training_rms_``), as the median over the modes of their ratio; beyond
-          ``SCALE_FACTOR`` either way (data in nm fed rad: x80 at 500 nm; in m: 1e-7)
-          the data are not of the series it was fitted on.
+          ``SCALE_FACTOR`` either way (``SCALE_FACTOR_FEW`` on fewer than
+          ``SCALE_FEW_MODES`` modes; data in nm fed rad: x80 at 500 nm; in m: 1e-7) the
+          data are not of the series it was fitted on. Not compared for a model of fixed
+          weights (persistence, ``LinearPredictor`` without ``fit_weights``): any data
+          serve it.
 
         Parameters
         ----------
@@ -906,7 +917,9 @@ class Predictor:
             if u != "rad" or wl is not None:
                 said.append(f"units {u}" + (f" at {wl:.6g} m" if wl is not None else ""))
         own_rms = getattr(self, "training_rms_", None)
-        if sample is not None and own_rms is not None:
+        if sample is not None and own_rms is not None and not self._learns_from_data():
+            said.append("no scale (its parameters do not depend on the data it was fitted on)")
+        elif sample is not None and own_rms is not None:
             arr = as_float_array(sample, "sample", ndim=(1, 2))
             arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
             if arr.shape[1] != own_rms.size:

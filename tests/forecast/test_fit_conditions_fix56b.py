@@ -108,3 +108,14 @@ def test_fit_names_a_loop_closing_by_the_innovations_scale():
     with pytest.warns(CalibrationEventWarning, match=r"innovations' scale changes x[\d.]+ in "
                       r"frames 4-"):
         LinearPredictor(fit_weights=True).fit(x)
+
+
+def test_fixed_weights_learn_nothing_and_take_any_scale():
+    # the paper's a = 2, b = -1 and persistence: the parameters are the same whatever the
+    # data, so data of another scale serve them (a legitimate use, not refused)
+    from modalinfo.forecast import PersistencePredictor
+
+    fresh = _ar1(4000, 8, 56207)
+    for p in (LinearPredictor(horizon=1), PersistencePredictor(horizon=1)):
+        p.fit(_ar1(300, 8, 56208) * 0.01)
+        assert "no scale" in p.check_fed(fresh[::250])
