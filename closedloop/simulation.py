@@ -186,8 +186,7 @@ def simulate(
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
-    predictor_note = _check_fed(loop_pred, model, state, clock, seed, basis)
-    state.reset()
+    note = _check_fed(loop_pred, model, state, clock, seed, basis)  # then state.reset()
     forecaster = _run_copy(loop_pred.predictor)  # None for the oracle and without prediction
     control = _Control(model, config.loop, forecaster, basis, on_predictor_fault)
     future = _Oracle(model, seed, clock) if oracle else None
@@ -231,8 +230,7 @@ def simulate(
             bar.close()
     elapsed = time.perf_counter() - start
     _warn_held(control.controller, loop_pred.name, clock.n_frames)
-    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, loop_pred.name,
-                     predictor_note)
+    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, loop_pred.name, note)
 
 
 def check_run(config: SimulationConfig, duration: float, *, budget_every: int | None = None,
@@ -339,6 +337,19 @@ FED_SAMPLE_FRAMES = 16
 def _check_fed(loop_pred: LoopPredictor, model: LoopModel, state: LoopState, clock: _Clock,
                seed: int, basis) -> str | None:
     """Check a forecaster against what the loop will feed it; return the result's note.
+
+    Leaves ``state`` reset (``t = 0``, flat mirrors), ready for the loop, whatever it
+    did (:func:`_fed_note`).
+    """
+    try:
+        return _fed_note(loop_pred, model, state, clock, seed, basis)
+    finally:
+        state.reset()
+
+
+def _fed_note(loop_pred: LoopPredictor, model: LoopModel, state: LoopState, clock: _Clock,
+              seed: int, basis) -> str | None:
+    """:func:`_check_fed`'s check and note.
 
     A forecaster trained on a run of known conditions was checked by
     ``check_trained_for``. One fitted elsewhere (a bare array, another source's log)
