@@ -373,8 +373,14 @@ class SimulationResult:
     @classmethod
     def from_run(cls, *, config, seed, model, variance, measured, pol, commands, elapsed,
                  predictor_name, snapshots=None, snapshot_directions=None,
-                 measurements=(), noise_floor=None) -> SimulationResult:
-        """Assemble a result from the loop's arrays (used by :func:`closedloop.simulate`)."""
+                 measurements=(), noise_floor=None,
+                 predictor_note: str | None = None) -> SimulationResult:
+        """Assemble a result from the loop's arrays (used by :func:`closedloop.simulate`).
+
+        ``predictor_note``: what ``simulate`` checked of its forecaster (whether its
+        training conditions were known and checked, and what else was), kept in every
+        log's metadata as ``"predictor_check"``; None (no forecaster) adds no key.
+        """
         rate = 1.0 / config.loop.time_step
         logs = {}
         for i, dm in enumerate(model.dms):
@@ -382,6 +388,8 @@ class SimulationResult:
             meta = {"source": "closedloop", "dm": i, "dm_altitude_m": dm.altitude,
                     "dm_diameter_m": dm.diameter, "predictor": predictor_name, "seed": seed,
                     "config": config.to_dict()}
+            if predictor_note is not None:
+                meta["predictor_check"] = predictor_note
             modes = dm.modes if dm.modes else dm.labels
             for name, arr in (("residual", measured), ("pol", pol), ("commands", commands)):
                 logs[f"dm{i}.{name}"] = ModalLog(

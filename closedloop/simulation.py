@@ -48,6 +48,7 @@ from closedloop.budget import BudgetProbe, noise_variance
 from closedloop.config import MAX_SEED, LoopConfig, SimulationConfig
 from closedloop.control.controller import PREDICTOR_FAULT_ACTIONS, Controller, PredictorFault
 from closedloop.control.predictors import (
+    LOOP_POL,
     ORACLE,
     LoopPredictor,
     check_fitted_log,
@@ -60,6 +61,7 @@ from closedloop.optics.science import ScienceCamera
 from closedloop.result import SimulationResult
 from closedloop.state import LoopState
 from modalinfo.common.validation import check_real
+from modalinfo.forecast import PersistencePredictor
 
 #: noise draws of the noise floor loop_status judges by (the budget's term uses 64)
 _FLOOR_DRAWS = 16
@@ -118,12 +120,18 @@ def simulate(
         trained on a run of other ``training_conditions`` (telescope, layers, sensors,
         mirrors, frame clock) is refused: a trained ``LoopPredictor``, and a bare
         ``Predictor`` fitted on a run's ``ModalLog`` (``result.logs["dm0.pol"]``, whose
-        metadata holds the run's config; fix54-b); a bare ``Predictor`` fitted on any
+        metadata holds the run's config; fix54-b). A bare ``Predictor`` fitted on any
         ``ModalLog`` (an AOT export's too) is refused where that log is not what the loop
         feeds: a run's residual or commands, another frame rate, units other than rad,
         another wavelength than ``r0_wavelength``, other mode labels
-        (``closedloop.control.predictors.check_fitted_log``, round 55 PART b); one fitted
-        on a bare array carries no conditions and is not checked.
+        (``closedloop.control.predictors.check_fitted_log``, round 55 PART b). One fitted
+        on a bare array (or on a log that is no run's) carries no conditions: before the
+        loop it is checked against what the loop will feed it (``Predictor.check_fed``:
+        the rms per mode of its training data against 16 frames of this run's turbulence
+        sensed with its WFS noise, refused beyond x10 either way, x30 on fewer than 4
+        modes: data in nm, um or m fed rad; fix56-b), and every log's
+        ``metadata["predictor_check"]`` says that its conditions were not checked and
+        what was.
     seed : int or None
         Overrides ``config.seed``; in ``[0, 2**63 - 1]``, as ``config.seed`` (the result
         file stores it as a 64-bit integer).
@@ -188,7 +196,7 @@ def simulate(
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
-    state.reset()
+    note = _check_fed(loop_pred, model, state, clock, seed, basis)  # then state.reset()
     forecaster = _run_copy(loop_pred.predictor)  # None for the oracle and without prediction
     control = _Control(model, config.loop, forecaster, basis, on_predictor_fault)
     future = _Oracle(model, seed, clock) if oracle else None
@@ -232,7 +240,7 @@ def simulate(
             bar.close()
     elapsed = time.perf_counter() - start
     _warn_held(control.controller, loop_pred.name, clock.n_frames)
-    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, loop_pred.name)
+    return _assemble(config, seed, model, logs, snapshots, probe, elapsed, loop_pred.name, note)
 
 
 def check_run(config: SimulationConfig, duration: float, *, budget_every: int | None = None,
@@ -327,6 +335,71 @@ def _check_open_loop(predictor, budget_every, control_basis) -> None:
             shown = repr(value) if isinstance(value, str | int) else type(value).__name__
             raise ValueError(f"`{name}` must be None in open loop (`loop.closed = false`: no "
                              f"command is applied); got {shown}.")
+
+
+#: Frames of the turbulence, spread over the run, that a forecaster fitted without
+#: known conditions is compared with before the loop (``_check_fed``): 16 sensings cost
+#: 16 frames' WFS measurement, and 16 frames x the loop's modes give the median ratio
+#: of the rms per mode within x0.6-x1.6 on the simulator (docs/ADVERSARIAL.md, fix56-b).
+FED_SAMPLE_FRAMES = 16
+
+
+def _check_fed(loop_pred: LoopPredictor, model: LoopModel, state: LoopState, clock: _Clock,
+               seed: int, basis) -> str | None:
+    """Check a forecaster against what the loop will feed it; return the result's note.
+
+    Leaves ``state`` reset (``t = 0``, flat mirrors), ready for the loop, whatever it
+    did (:func:`_fed_note`).
+    """
+    try:
+        return _fed_note(loop_pred, model, state, clock, seed, basis)
+    finally:
+        state.reset()
+
+
+def _fed_note(loop_pred: LoopPredictor, model: LoopModel, state: LoopState, clock: _Clock,
+              seed: int, basis) -> str | None:
+    """:func:`_check_fed`'s check and note.
+
+    A forecaster trained on a run of known conditions was checked by
+    ``check_trained_for``. One fitted elsewhere (a bare array, another source's log)
+    carries no conditions: ``Predictor.check_fed`` refuses a training log's other rate
+    or units, and training data whose rms per mode is not this loop's POL's (x10
+    either way: other units, fix56-b), compared with ``FED_SAMPLE_FRAMES`` sensings of
+    the run's own turbulence (with the WFS noise, a generator of its own: the run's
+    draws are unchanged) spread over the run. The note says that the conditions were
+    not checked and what was. None without a forecaster.
+    """
+    forecaster = loop_pred.predictor
+    if forecaster is None or not hasattr(forecaster, "check_fed"):
+        return None
+    if loop_pred.trained_on is not None:
+        return ("trained on a run of this config's training conditions (telescope, "
+                "layers, sensors, mirrors, frame clock): checked")
+    if loop_pred._shape_only or isinstance(forecaster, PersistencePredictor):
+        return "persistence: fits nothing, nothing to check"
+    sample = None
+    if hasattr(forecaster, "training_rms_"):
+        n = min(FED_SAMPLE_FRAMES, clock.n_frames)
+        maps = [np.empty((p.n, p.n)) for p in model.geometry.planes]
+        rng = np.random.default_rng(
+            np.random.SeedSequence(seed).spawn(len(model.config.layers) + 2)[-1])
+        rows = []
+        for k in np.linspace(0, clock.n_frames - 1, n).round().astype(int):
+            state.evolve_until(int(k) * clock.n_os * clock.dt)  # frame k's start
+            rows.append(model.sense(state.turbulence(maps), rng))
+        sample = np.array(rows)
+        if basis is not None:
+            sample = sample @ basis
+    try:
+        checked = forecaster.check_fed(sample, rate=1.0 / model.config.loop.time_step,
+                                       units="rad", wavelength=model.config.r0_wavelength,
+                                       name=LOOP_POL)
+    except ValueError as exc:
+        raise ValueError(f"`predictor` {loop_pred.name!r}: {exc}") from None
+    return ("fitted on data of unknown conditions (an array, or a log that is no run's): "
+            "its training conditions were not checked; checked: its mode count"
+            + (f", {checked}" if checked else ""))
 
 
 def _check_predictor_modes(predictor, n_modes: int, basis) -> None:
@@ -655,7 +728,7 @@ class _Snapshots:
 
 
 def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, elapsed,
-              predictor: str) -> SimulationResult:
+              predictor: str, predictor_note: str | None = None) -> SimulationResult:
     """Return the run's result (science numbers at the science wavelength)."""
     scale_sci = (config.r0_wavelength / config.wavelength) ** 2
     snaps = snapshots.frames
@@ -668,7 +741,7 @@ def _assemble(config, seed, model, logs: _Logs, snapshots: _Snapshots, probe, el
         config=config, seed=seed, model=model,
         variance=logs.variance * scale_sci, measured=logs.measured, pol=logs.pol,
         commands=logs.commands, elapsed=elapsed, measurements=logs.measurements,
-        predictor_name=predictor,
+        predictor_name=predictor, predictor_note=predictor_note,
         snapshots=np.array(snaps) * np.sqrt(scale_sci) if snaps else None,
         snapshot_directions=snapshots.directions, noise_floor=floor,
     )

@@ -25,7 +25,6 @@ from __future__ import annotations
 import copy
 import dataclasses
 import hashlib
-import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -33,7 +32,6 @@ import numpy as np
 
 from modalinfo.common.quiet import caller_stacklevel, warn
 from modalinfo.forecast import PersistencePredictor
-from modalinfo.forecast.base import RATE_TOLERANCE
 from modalinfo.forecast.presets import PRESETS
 
 if TYPE_CHECKING:
@@ -124,11 +122,13 @@ class LoopPredictor:
         "dm0.pol"])``, its ``training_metadata_`` holding the run's config) carries that
         run's ``training_conditions`` as ``trained_on``, so ``simulate`` refuses it in
         a loop of other conditions as it refuses a :meth:`trained` one (fix54-b, round
-        53 PART a C16 / C22); one fitted on an array carries none (not checked). One
-        fitted on any ``ModalLog`` (a run's AOT export, whose metadata holds no config)
-        is refused where that log is not what the loop feeds: another series (the
-        residual, the commands), rate, units, wavelength or mode labels
-        (``fitted_log``, round 55 PART b, X43-X65).
+        53 PART a C16 / C22). One fitted on any ``ModalLog`` (a run's AOT export, whose
+        metadata holds no config) is refused where that log is not what the loop feeds:
+        another series (the residual, the commands), rate, units, wavelength or mode
+        labels (``fitted_log``, round 55 PART b, X43-X65). One fitted on an array carries
+        none: ``simulate`` then checks only what it can without them
+        (``Predictor.check_fed``: the scale of its training data against the loop's POL;
+        fix56-b).
 
         Raises
         ------
@@ -243,6 +243,11 @@ def fitted_conditions(predictor) -> dict | None:
     return training_conditions(SimulationConfig.from_dict(meta["config"]))
 
 
+#: What the loop feeds a forecaster, in the messages of its checks (``check_fitted_log``,
+#: ``closedloop.simulation``'s scale check).
+LOOP_POL = "the loop's POL [rad at r0_wavelength]"
+
+
 def fitted_log(predictor) -> dict | None:
     """Return what the ``ModalLog`` a bare forecaster was fitted on was, or None.
 
@@ -288,23 +293,15 @@ def check_fitted_log(predictor: LoopPredictor, config, labels=None) -> None:
             f"{who} was fitted on a run's {quantity} log, but the loop feeds it the "
             "pseudo-open loop (POL): fit it on the POL log (result.logs['dm0.pol'], or "
             "--loop dm0.pol of the AOT export), or use LoopPredictor.trained(reference).")
-    rate, loop_rate = log.get("rate"), 1.0 / config.loop.time_step
-    if rate is not None and not math.isclose(rate, loop_rate, rel_tol=RATE_TOLERANCE):
-        raise ValueError(
-            f"{who} was fitted on a log at {rate:.6g} Hz; this loop runs at "
-            f"{loop_rate:.6g} Hz (loop.time_step {config.loop.time_step:g} s): its lags "
-            "count frames; fit it on a run of this config.")
-    units, wave = log.get("units"), log.get("wavelength")
-    if units is not None and units != "rad":
-        raise ValueError(
-            f"{who} was fitted on a log in {units}; the loop feeds it rad at "
-            f"{config.r0_wavelength:g} m (r0_wavelength): fit it on "
-            f"log.to_units('rad', wavelength={config.r0_wavelength:g}).")
-    if wave is not None and not math.isclose(wave, config.r0_wavelength, rel_tol=1e-9):
-        raise ValueError(
-            f"{who} was fitted on a log in rad at {wave:g} m; the loop feeds it rad at "
-            f"{config.r0_wavelength:g} m (r0_wavelength): fit it on "
-            f"log.to_units('rad', wavelength={config.r0_wavelength:g}).")
+    # the clock and units: the forecaster's own check (Predictor.check_fed, fix56-b),
+    # which simulate's scale check calls too
+    if hasattr(predictor.predictor, "check_fed"):
+        try:
+            predictor.predictor.check_fed(None, rate=1.0 / config.loop.time_step,
+                                          units="rad", wavelength=config.r0_wavelength,
+                                          name=LOOP_POL)
+        except ValueError as exc:
+            raise ValueError(f"{who}: {exc}") from None
     fitted = log.get("labels")
     if labels is not None and fitted is not None and list(fitted) != list(labels):
         shown = ", ".join(fitted[:4]) + (", ..." if len(fitted) > 4 else "")

@@ -101,7 +101,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "--method ksg, kde and histogram are slow)")
     add_max_frames_argument(parser, default=None, contiguous=True)
     add_gap_argument(parser)
-    add_hint_arguments(parser)
+    # clip by default, as select_inputs(outliers="clip"): under warn the command said
+    # "used as is" while the search replaced the glitches beneath it (fix56-b)
+    add_hint_arguments(parser, outliers_default="clip", outliers_why=(
+        ": the search scores the cleaned values, as select_inputs(outliers='clip'); "
+        "warn scores the values as given, as select_inputs(outliers='warn')"))
 
 
 def _load(args: argparse.Namespace, path: Path):
@@ -318,6 +322,7 @@ def run(args: argparse.Namespace) -> int:
                         n_surrogates=args.surrogates, max_inputs=args.max_inputs,
                         intervals=args.intervals, seed=args.seed,
                         candidates=args.candidates, radial_width=width,
-                        max_seconds=max_seconds)
+                        max_seconds=max_seconds,
+                        outliers="warn" if args.outliers == "warn" else "clip")
     print(res.table())
     return 0

@@ -142,6 +142,8 @@ def add_hint_arguments(
     deprecated: tuple[str, ...] = (),
     is_info: bool | None = None,
     modes_flag: str | None = None,
+    outliers_default: str = "warn",
+    outliers_why: str = "",
 ) -> None:
     """Add the input hints: what a foreign log file lacks (every command reading a log).
 
@@ -157,6 +159,8 @@ def add_hint_arguments(
     ``convert``.
     ``is_info`` and ``modes_flag`` (the former per-command spellings) are accepted
     and ignored, so callers written against the old signature get the same flags.
+    ``outliers_default`` and ``outliers_why``: the command's ``--outliers`` default and
+    why it is not ``warn`` (:func:`add_outlier_argument`).
     """
     del is_info, modes_flag
     group = parser.add_argument_group("input hints (for files that lack the information)")
@@ -195,7 +199,7 @@ def add_hint_arguments(
     group.add_argument("--dataset", metavar="PATH",
                        help="HDF5 dataset path, NPZ array name or FITS HDU (index or "
                        "EXTNAME) of the coefficients")
-    add_outlier_argument(parser)
+    add_outlier_argument(parser, outliers_default, outliers_why)
 
 
 #: ``--outliers`` choices (modalinfo.telemetry.quality.OUTLIER_POLICIES, listed without
@@ -203,22 +207,29 @@ def add_hint_arguments(
 OUTLIER_CHOICES = ("warn", "clip", "drop", "raise")
 
 
-def add_outlier_argument(parser: argparse.ArgumentParser) -> None:
+def add_outlier_argument(parser: argparse.ArgumentParser, default: str = "warn",
+                         why: str = "") -> None:
     """Add ``--outliers warn|clip|drop|raise``: the log-quality policy every command shares.
 
     Added by :func:`add_hint_arguments`, so every command reading a log has it; the
     command applies it with :func:`apply_outliers`. The rule and the policies are
-    those of :mod:`modalinfo.telemetry.quality`.
+    those of :mod:`modalinfo.telemetry.quality`. ``default``: the command's policy
+    when none is given (``warn`` but for ``select``, whose API cleans glitches by
+    default: fix56-b), and ``why`` the help's words for a default other than warn.
     """
+    if default not in OUTLIER_CHOICES:
+        raise ValueError(f"`default` must be one of {OUTLIER_CHOICES}; got {default!r}.")
+    marks = {p: f" (default{why})" if p == default else "" for p in OUTLIER_CHOICES}
     group = parser.add_argument_group("log quality")
     group.add_argument(
-        "--outliers", choices=OUTLIER_CHOICES, default="warn",
+        "--outliers", choices=OUTLIER_CHOICES, default=default,
         help="values beyond median +- k x 1.4826 MAD of their mode and unpredictable from "
         "the frames before (AR(4) innovation beyond k of its robust sigmas; k for a 1%% "
-        "chance of any false flag on a Gaussian log), stuck runs and glitched frames: warn "
-        "(default: one line on stderr, data used as is), clip (replace each outlier by its "
-        "AR(4) prediction from the frames before), drop (remove flagged frames; refused by "
-        "forecast and select, which need every frame) or raise (refuse the log, exit 2)")
+        "chance of any false flag on a Gaussian log), stuck runs and glitched frames: "
+        f"warn{marks['warn']} (one line on stderr, data used as is), clip{marks['clip']} "
+        "(replace each outlier by its AR(4) prediction from the frames before), "
+        f"drop{marks['drop']} (remove flagged frames; refused by forecast and select, "
+        f"which need every frame) or raise{marks['raise']} (refuse the log, exit 2)")
 
 
 def refuse_outlier_drop(args: argparse.Namespace, purpose: str, verb: str = "needs") -> None:

@@ -60,7 +60,6 @@ import contextlib
 import contextvars
 import copy
 import inspect
-import math
 import operator
 from collections.abc import Iterator
 from typing import Any
@@ -89,11 +88,6 @@ __all__ = ["Predictor", "NotFittedError"]
 #: data, a singular fit). IEEE 754 binary64 limits, numpy.finfo(float64).
 SQUARE_FLOOR = _SQUARE_FLOOR  # defined in common.validation (fitting_error uses it too)
 
-#: Relative difference of two logs' rates beyond which a predictor fitted on one does not
-#: forecast the other (its lags count frames): 1 %, far above the spread of a timestamped
-#: log's estimated rate (jitter of 1e-5 relative, round 10) and far below the factors of 2
-#: of a loop run at another rate (round 55 PART b, X01 / X50).
-RATE_TOLERANCE = 0.01
 # check_square_floor (imported above, used by evaluate too) lives in common.validation:
 # the data K-L and the autocovariance refuse with it as well (round 40 PART a)
 
@@ -130,11 +124,17 @@ def levels_named() -> frozenset:
 def warn_training_events(X, labels, caller: str) -> frozenset:
     """Warn (``CalibrationEventWarning``) where the training frames hold a calibration event.
 
-    The quality pass's level and spread steps (``telemetry.quality.calibration_events``
-    with ``scale=False``: its ``mode_events`` at ``CALIBRATION_LEVEL_P``, none on fewer than
-    ``CALIBRATION_MIN_FRAMES`` frames), the one detector ``order_modes`` names too
-    (fix53-a). A level step or gain jump inside the history is fitted as dynamics
-    (persistence, a spread the model takes for turbulence), without a word before
+    The quality pass's level, spread and innovation-scale steps
+    (``telemetry.quality.calibration_events``: its ``mode_events`` at
+    ``CALIBRATION_LEVEL_P``, none on fewer than ``CALIBRATION_MIN_FRAMES`` frames), the one
+    detector ``order_modes`` names too (fix53-a). The scale rule was left out until
+    fix56-b (it named blocks of stationary simulator POLs, fix54-b); since fix55-b's
+    near-white gate it names none of 50 + 50 + 50 + 50 stationary AR(1) 0.9 / 0.99,
+    ``kaos_like`` closed- and open-loop logs nor of 20 simulator POLs, and names a x10
+    first 5 % (the loop closing, L39) in 20 of 20 logs where the level and spread rules
+    name none (docs/ADVERSARIAL.md, fix56-b). A level step or gain jump inside the
+    history is fitted as dynamics (persistence, a spread the model takes for
+    turbulence), without a word before
     fix54-b (round 53 PART a, C23). ``X`` (T, M) the training frames, ``labels`` their
     ``M`` names, ``caller`` the message's start. Returns the columns whose level step
     (``"the mean steps or drifts ..."``) was named.
@@ -145,9 +145,9 @@ def warn_training_events(X, labels, caller: str) -> frozenset:
         calibration_events,
     )
 
-    # level and spread steps: the innovations' scale rule names blocks of stationary
-    # simulated POLs (calibration_events' notes)
-    events = calibration_events(np.asarray(X), scale=False)
+    # every rule of the pass, as order_modes (one detector; the scale rule's near-white
+    # gate, fix55-b, keeps it off stationary simulator POLs: fix56-b)
+    events = calibration_events(np.asarray(X))
     if not events:
         return frozenset()
     modes = sorted({j for j, *_ in events})
@@ -158,6 +158,46 @@ def warn_training_events(X, labels, caller: str) -> frozenset:
          "closing), which it reads as dynamics or turbulence; fit each stretch of steady "
          "conditions on its own.", CalibrationEventWarning, stacklevel=caller_stacklevel())
     return frozenset(j for j, _, _, words in events if words.startswith("the mean steps"))
+
+
+#: Largest relative difference between a predictor's training rate and the rate of the
+#: data it is fed (``Predictor.check_fed``): 1 % moves a lag of 10 frames by 0.1 frame,
+#: and a log's rate from jittered timestamps is within 1e-5 of the nominal (audit 10),
+#: far below the factors of 2 of a loop run at another rate (round 55 PART b, X01 / X50).
+RATE_TOLERANCE = 0.01
+
+#: Largest relative difference of the wavelengths of phase in rad (``check_fed``).
+WAVELENGTH_TOLERANCE = 1e-6
+
+#: Largest factor, either way, between the rms of the data a predictor is fed and of the
+#: data it was fitted on, as the median over the modes of their ratio
+#: (``Predictor.check_fed``). A unit mix-up is a factor 80 (nm against rad at 500 nm),
+#: 12.6 (um) or 1e7-1e8 (m); seeing moves the phase's rms as r0^(-5/6), x10 for r0 15
+#: times smaller. Measured on the simulator (docs/ADVERSARIAL.md, fix56-b): 16 frames
+#: spread over runs of 0.01-0.3 s read x0.53-x1.1 of a reference run's POL's rms on 27
+#: modes, x0.21-x2.6 on 2 (tip and tilt, the slowest modes: the median of fewer modes
+#: scatters more), hence ``SCALE_FACTOR_FEW`` below ``SCALE_FEW_MODES`` modes.
+SCALE_FACTOR = 10.0
+SCALE_FACTOR_FEW = 30.0
+SCALE_FEW_MODES = 4
+
+
+def rms_per_mode(X: np.ndarray) -> np.ndarray:
+    """Root mean square about 0 of each column of ``X`` (T, M) [X's units], shape (M,)."""
+    X = np.asarray(X, dtype=np.float64)
+    return np.sqrt(np.einsum("ij,ij->j", X, X) / max(X.shape[0], 1))
+
+
+def scale_ratio(fed: np.ndarray, trained: np.ndarray) -> tuple[float | None, int]:
+    """Median over the modes of ``fed / trained`` (both (M,) rms), and how many modes.
+
+    Taken as the exponential of the median of the log ratios, over the modes where both
+    are finite and positive (a zeroed mode has no scale); None where none is.
+    """
+    ok = np.isfinite(fed) & np.isfinite(trained) & (fed > 0) & (trained > 0)
+    if not ok.any():
+        return None, 0
+    return float(np.exp(np.median(np.log(fed[ok]) - np.log(trained[ok])))), int(ok.sum())
 
 
 class NotFittedError(ValueError, AttributeError):
@@ -494,10 +534,10 @@ class Predictor:
         Warns
         -----
         CalibrationEventWarning
-            Where the quality pass finds a level step or a spread step (a new reference,
-            a gain jump) in a mode of a history of at least 2,000 frames (the rules
-            ``order_modes`` names, ``warn_training_events``): the parameters pool
-            both sides of the event.
+            Where the quality pass finds a level step, a spread step or a change of the
+            innovations' scale (a new reference, a gain jump, the loop closing) in a mode
+            of a history of at least 2,000 frames (the rules ``order_modes`` names,
+            ``warn_training_events``): the parameters pool both sides of the event.
         """
         from modalinfo.telemetry.log import ModalLog
 
@@ -535,9 +575,13 @@ class Predictor:
             self.training_metadata_ = copy.deepcopy(dict(log.metadata))
             # what a later log must share to be forecast by these parameters: the frame
             # clock (lags count frames) and the values' units (an intercept, a training
-            # mean, a network's scaling are in them) (round 55 PART b, X01 / X45)
+            # mean, a network's scaling are in them) (round 55 PART b, X01 / X45);
+            # ``check_fed`` compares them
             self.training_log_ = {"rate": log.rate, "units": log.units,
                                   "wavelength": log.wavelength}
+        # the scale check_fed compares the data it is later fed with (fix56-b): each
+        # mode's rms (an array states no clock nor units: training_log_ is absent)
+        self.training_rms_ = rms_per_mode(X)
         self.window_ = X.shape[0] if window is None else window
         # the model settings the parameters were estimated with (round 43 PART a, S03)
         self._fit_settings_ = {name: _snapshot(getattr(self, name))
@@ -795,29 +839,9 @@ class Predictor:
         self._check_n_modes(log.n_modes, name)
         self._check_columns(None, name, [str(c) for c in log.labels],
                             select=f"{name}.select(modes=predictor.columns_)")
-        trained = self.__dict__.get("training_log_")
-        if not trained:
-            return
-        who = type(self).__name__
-        rate, fitted_rate = log.rate, trained.get("rate")
-        if rate is not None and fitted_rate is not None and not math.isclose(
-                rate, fitted_rate, rel_tol=RATE_TOLERANCE):
-            raise ValueError(
-                f"`{name}` is sampled at {rate:.6g} Hz but {who} was fitted on a log at "
-                f"{fitted_rate:.6g} Hz: its lags count frames, so it forecasts another "
-                "series; fit it on a log at this rate.")
-        units, fitted_units = log.units, trained.get("units")
-        if fitted_units is not None and units != fitted_units:
-            raise ValueError(
-                f"`{name}` is in {units} but {who} was fitted on a log in {fitted_units}: "
-                f"convert it first (log.to_units({fitted_units!r}, ...)).")
-        wave, fitted_wave = log.wavelength, trained.get("wavelength")
-        if units in ("rad", "waves") and wave is not None and fitted_wave is not None and (
-                not math.isclose(wave, fitted_wave, rel_tol=1e-9)):
-            raise ValueError(
-                f"`{name}` is in {units} at {wave:.6g} m but {who} was fitted on {units} at "
-                f"{fitted_wave:.6g} m: convert it first (log.to_units({units!r}, "
-                f"wavelength={fitted_wave:.6g})).")
+        # its clock and units: the one check of a fitted predictor's data (fix56-b)
+        self.check_fed(None, rate=log.rate, units=log.units, wavelength=log.wavelength,
+                       name=f"`{name}`")
 
     def _check_columns(self, history, name: str, names: list | None = None,
                        select: str = "history[predictor.columns_]") -> None:
@@ -848,6 +872,110 @@ class Predictor:
                 f"`{name}` must have {self.n_modes_} mode(s) as the fitted history; "
                 f"got {n_modes}."
             )
+
+    def _learns_from_data(self) -> bool:
+        """Whether the fitted parameters depend on the training data's values.
+
+        False for a model of fixed weights (persistence, the paper's linear a = 2,
+        b = -1): ``check_fed`` has no scale to compare for it, any data serve.
+        """
+        return True
+
+    def check_fed(self, sample=None, *, rate: float | None = None, units: str | None = None,
+                  wavelength: float | None = None, name: str = "the data") -> str:
+        """Refuse data this fitted predictor was certainly not trained for; say what was checked.
+
+        What a predictor fitted on a bare array can be checked against without its
+        training conditions (fix56-b: ``closedloop.simulate`` checks a forecaster fitted
+        on a run's log against the run's config, one fitted on an array ran unchecked):
+
+        - the clock: a log's ``rate`` at ``fit`` against ``rate`` (lags count frames; more
+          than ``RATE_TOLERANCE`` apart is refused);
+        - the units: a log's stated units against ``units`` (refused when they differ),
+          and phase in rad or waves at another ``wavelength`` (``WAVELENGTH_TOLERANCE``);
+          ``"rad"`` without a wavelength is ``ModalLog``'s default, not a statement, and
+          is not compared (``predict`` / ``update`` of a ``ModalLog`` and
+          ``closedloop.simulate`` call this check; round 55 PART b, fix56-b);
+        - the scale: the rms of each mode of ``sample`` against the training data's
+          (``training_rms_``), as the median over the modes of their ratio; beyond
+          ``SCALE_FACTOR`` either way (``SCALE_FACTOR_FEW`` on fewer than
+          ``SCALE_FEW_MODES`` modes; data in nm fed rad: x80 at 500 nm; in m: 1e-7) the
+          data are not of the series it was fitted on. Not compared for a model of fixed
+          weights (persistence, ``LinearPredictor`` without ``fit_weights``): any data
+          serve it.
+
+        Parameters
+        ----------
+        sample : array_like, shape (n, M), or None
+            Values of the data it will be fed (``M = n_modes_``), a few frames spread
+            over the data (their rms about 0 is compared); None: no scale check.
+        rate : float or None
+            The data's frame rate [Hz]; None: not compared.
+        units : str or None
+            The data's units ("rad", "nm", "um" or "waves"); None: not compared.
+        wavelength : float or None
+            Wavelength [m] of the data's phase in rad; None: not compared.
+        name : str
+            The data's name in the messages.
+
+        Returns
+        -------
+        str
+            What was compared, in words (for a result's notes).
+
+        Raises
+        ------
+        ValueError
+            A rate, units or scale other than the training data's, naming both.
+        """
+        self._check_fitted()
+        who = type(self).__name__
+        said = []
+        trained = self.__dict__.get("training_log_") or {}
+        own_rate = trained.get("rate")
+        if own_rate is not None and rate is not None:
+            if abs(rate / own_rate - 1.0) > RATE_TOLERANCE:
+                raise ValueError(
+                    f"{who} was fitted on frames at {own_rate:.6g} Hz; {name} is at "
+                    f"{rate:.6g} Hz: its lags count frames, so it forecasts another series "
+                    "there; fit it on data at this rate.")
+            said.append(f"rate {own_rate:.6g} Hz")
+        u, wl = trained.get("units"), trained.get("wavelength")
+        # "rad" without a wavelength is ModalLog's default, not a statement
+        if u is not None and units is not None and (u != "rad" or wl is not None):
+            if u != units:
+                raise ValueError(f"{who} was fitted on a log in {u}; {name} is in {units}: "
+                                 "convert one to the other's units before fitting.")
+            # rad and waves scale as 1 / wavelength (round 55 PART b's predict check)
+            if u in ("rad", "waves") and wl is not None and wavelength is not None and abs(
+                    wavelength / wl - 1.0) > WAVELENGTH_TOLERANCE:
+                raise ValueError(
+                    f"{who} was fitted on phase [{u}] at {wl:.6g} m; {name} is phase at "
+                    f"{wavelength:.6g} m ({u} scale as 1 / wavelength): convert the "
+                    "training log to this wavelength before fitting.")
+            said.append(f"units {u}" + (f" at {wl:.6g} m" if wl is not None else ""))
+        own_rms = getattr(self, "training_rms_", None)
+        if sample is not None and own_rms is not None and not self._learns_from_data():
+            said.append("no scale (its parameters do not depend on the data it was fitted on)")
+        elif sample is not None and own_rms is not None:
+            arr = as_float_array(sample, "sample", ndim=(1, 2))
+            arr = arr.reshape(-1, 1) if arr.ndim == 1 else arr
+            if arr.shape[1] != own_rms.size:
+                raise ValueError(f"`sample` must have {own_rms.size} mode(s) (columns) as "
+                                 f"the fitted history; got shape {arr.shape}.")
+            fed = rms_per_mode(arr)
+            ratio, n_used = scale_ratio(fed, own_rms)
+            if ratio is not None:
+                limit = SCALE_FACTOR if n_used >= SCALE_FEW_MODES else SCALE_FACTOR_FEW
+                if not 1.0 / limit <= ratio <= limit:
+                    raise ValueError(
+                        f"{name} has {ratio:.3g} times the rms of the data {who} was fitted "
+                        f"on (median over {n_used} modes of the ratio of their rms; beyond x"
+                        f"{limit:g} either way): not the series it was fitted on (other "
+                        "units: nm against rad is x80 at 500 nm, m x1e-7?); fit it on data in "
+                        f"the units of {name}.")
+                said.append(f"scale x{ratio:.2g} of its training data's rms")
+        return ", ".join(said)
 
     def __copy__(self) -> Predictor:
         # copy.copy shared the running state: the copy's update() advanced the original's

@@ -65,6 +65,9 @@ class LinearPredictor(_LinearRecursion):
         self.b = b
         self.fit_weights = fit_weights
 
+    def _learns_from_data(self) -> bool:
+        return bool(self.fit_weights)  # fixed weights: any data serve (check_fed)
+
     def _min_samples_rule(self, n_modes: int) -> tuple[int, str]:
         if self.fit_weights:
             return 32, ("2 lags + 10 regression rows per parameter x 3 parameters "

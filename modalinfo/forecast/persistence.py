@@ -28,6 +28,9 @@ class PersistencePredictor(_LinearRecursion):
                  window: int | None = None):
         super().__init__(horizon=horizon, refit_every=refit_every, window=window)
 
+    def _learns_from_data(self) -> bool:
+        return False  # no parameters: any data serve (check_fed)
+
     def _fit_params(self, X, previous, name):
         n_modes = X.shape[1]
         return {"mu": np.zeros(n_modes), "phi": np.ones((n_modes, 1)),

@@ -394,13 +394,14 @@ def calibration_events(a: np.ndarray, report: QualityReport | None = None,
     (None: :func:`assess_quality` is run). Used by ``order_modes`` and ``Predictor.fit``.
 
     ``scale`` False leaves out the innovations' scale rule (``scale_steps``), as
-    ``Predictor.fit`` does: on stationary closed-loop POLs of ``closedloop.simulate`` (one
-    Kolmogorov layer in frozen flow, 0.7 m, D/r0 7, 27 modes, ~3,000 frames after the
-    closure) it named blocks of x1.6-x2.2 in 63 of 80 logs (fix54-b), the level and
-    spread rules in none; a gain jump is a spread step, a new reference a level step.
+    ``Predictor.fit`` did until fix56-b: on stationary closed-loop POLs of
+    ``closedloop.simulate`` (one Kolmogorov layer in frozen flow, 0.7 m, D/r0 7, 27
+    modes, ~3,000 frames after the closure) it named blocks of x1.6-x2.2 in 63 of 80
+    logs (fix54-b), the level and spread rules in none; a gain jump is a spread step,
+    a new reference a level step.
     Since fix55-b the scale rule leaves out modes whose AR innovations are far from
     white (``SCALE_WHITE_ACF``: those POLs' are the sub-pixel shift's cycle) and names
-    none of those 80 logs; ``fit`` still leaves it out (docs/ADVERSARIAL.md).
+    none of those 80 logs; ``fit`` takes it since fix56-b (docs/ADVERSARIAL.md).
     """
     if a.shape[0] < CALIBRATION_MIN_FRAMES:
         return ()
@@ -1265,8 +1266,9 @@ class QualityReport:
         running the quality pass themselves (``modalinfo.ordering.order_modes``) name
         these (fix53-a, issue 27): no second detector. ``level_p``: only the level
         steps of p value below it (None: all of :attr:`level_steps`). ``scale`` False:
-        without :attr:`scale_steps` (``Predictor.fit``, fix54-b: the innovations' scale
-        rule names blocks of a stationary simulated POL, see ``calibration_events``).
+        without :attr:`scale_steps` (``Predictor.fit`` until fix56-b: before fix55-b's
+        gate the innovations' scale rule named blocks of stationary simulated POLs, see
+        ``calibration_events``).
         """
         where = {label: j for j, label in enumerate(self.labels)}
         lines = {(label, frame): (freq, on) for label, frame, freq, on in self.step_lines}

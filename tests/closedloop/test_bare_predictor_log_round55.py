@@ -50,10 +50,11 @@ def test_units_and_wavelength_refused(ref):
     cfg, run = ref
     pol = run.logs["dm0.pol"]
     nm = make_predictor("arma").fit(pol.to_units("nm"))
-    with pytest.raises(ValueError, match=r"fitted on a log in nm; the loop feeds it rad"):
+    with pytest.raises(ValueError, match=r"fitted on a log in nm; the loop's POL .* is in rad"):
         simulate(cfg, 0.01, predictor=nm, seed=1)
     at600 = make_predictor("linear-ls").fit(pol.to_units("nm").to_units("rad", wavelength=6e-7))
-    with pytest.raises(ValueError, match=r"rad at 6e-07 m; the loop feeds it rad at 5e-07 m"):
+    with pytest.raises(ValueError, match=r"fitted on phase \[rad\] at 6e-07 m; the loop's "
+                                         r"POL .* is phase at 5e-07 m"):
         simulate(cfg, 0.01, predictor=at600, seed=1)
 
 
@@ -72,8 +73,8 @@ def test_aot_export_rate_refused(ref, tmp_path):
     assert "config" not in bare.training_metadata_  # fix54-b's check cannot apply
     faster = cfg.replace(loop=dataclasses.replace(cfg.loop, time_step=5e-4,
                                                   integration_time=5e-4))
-    with pytest.raises(ValueError, match=r"fitted on a log at 1000 Hz; this loop runs at "
-                                         r"2000 Hz"):
+    with pytest.raises(ValueError, match=r"fitted on frames at 1000 Hz; the loop's POL .* is "
+                                         r"at 2000 Hz"):
         simulate(faster, 0.01, predictor=bare, seed=1)
     residual = make_predictor("linear-ls").fit(load(path, loop="dm0"))
     with pytest.raises(ValueError, match=r"fitted on a run's residual log"):

@@ -34,18 +34,18 @@ def test_same_kind_of_log_equals_its_values(fitted):
 
 
 def test_other_rate_refused(fitted):
-    with pytest.raises(ValueError, match=r"sampled at 1000 Hz but LinearPredictor was fitted "
-                                         r"on a log at 2000 Hz"):
+    with pytest.raises(ValueError, match=r"LinearPredictor was fitted on frames at 2000 Hz; "
+                                         r"`history` is at 1000 Hz"):
         fitted.predict(_log(rate=1000.0))
 
 
 def test_other_units_and_wavelength_refused(fitted):
     log = _log(seed=1)
-    with pytest.raises(ValueError, match=r"is in nm but LinearPredictor was fitted on a log "
-                                         r"in rad"):
+    with pytest.raises(ValueError, match=r"LinearPredictor was fitted on a log in rad; "
+                                         r"`history` is in nm"):
         fitted.predict(log.to_units("nm"))
-    with pytest.raises(ValueError, match=r"rad at 6e-07 m but LinearPredictor was fitted on "
-                                         r"rad at 5e-07 m"):
+    with pytest.raises(ValueError, match=r"LinearPredictor was fitted on phase \[rad\] at "
+                                         r"5e-07 m; `history` is phase at 6e-07 m"):
         fitted.predict(log.to_units("nm").to_units("rad", wavelength=6e-7))
 
 
@@ -74,7 +74,7 @@ def test_update_takes_one_frame_of_a_log(fitted):
     p, q = fitted.clone().fit(_log()[:2000]), fitted.clone().fit(_log()[:2000])
     for k in range(5):
         assert np.array_equal(p.update(log[k:k + 1]), q.update(np.asarray(log.coeffs)[k]))
-    with pytest.raises(ValueError, match=r"sampled at 1000 Hz"):
+    with pytest.raises(ValueError, match=r"is at 1000 Hz"):
         p.update(_log(rate=1000.0)[0:1])
     with pytest.raises(ValueError, match=r"must be one sample; got a ModalLog of 2 frames"):
         p.update(log[0:2])
