@@ -16,31 +16,17 @@ import numpy as np
 import pytest
 
 from closedloop import SimulationConfig, simulate
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
 from closedloop.control.predictors import LoopPredictor, training_conditions
 from modalinfo.forecast import LinearPredictor
+
+from .._c01_loop import c01_config
 
 NM_PER_RAD = 500.0 / (2 * np.pi)  # phase at r0_wavelength 500 nm
 
 
 def _config(seed: int, noise: float = 0.0) -> SimulationConfig:
     # round 53's C01 loop (fix55-b's generator), 2 kHz
-    return SimulationConfig(
-        telescope=TelescopeConfig(diameter=0.7, n_pixels=56, zenith_angle=0.0),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=7.0, wind_speed=5.0,
-                            wind_direction=0.0),),
-        dms=(DMConfig(altitude=0.0, n_modes=27),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=10.0, n_subapertures=7, noise=noise,
-                        field_samples=3),),
-        loop=LoopConfig(time_step=5e-4, integration_time=5e-4, delay=5e-4, gain=0.4664),
-        field=FieldConfig(size=10.0, n_points=1), seed=seed, name="fix56b")
+    return c01_config(seed, noise, name="fix56b")
 
 
 @pytest.fixture(scope="module")

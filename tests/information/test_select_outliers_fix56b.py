@@ -20,25 +20,13 @@ import warnings
 import numpy as np
 import pytest
 
-from modalinfo.bases import zernike_covariance
 from modalinfo.cli import main
 from modalinfo.information import select_inputs
 
-A = 0.9
+from ._glitched_ar1 import noll_ar1 as _ar1
+
 ARGS = ["--target", "0", "--max-lag", "2", "--surrogates", "19", "--no-intervals",
         "--rate", "1000", "--in-units", "rad"]
-
-
-def _ar1(n_frames: int, n_modes: int, seed: int) -> np.ndarray:
-    cov = zernike_covariance(list(range(2, 2 + n_modes))) * 20.0 ** (5 / 3)
-    chol = np.linalg.cholesky(cov)
-    rng = np.random.default_rng(seed)
-    e = rng.standard_normal((n_frames, n_modes)) @ chol.T * np.sqrt(1 - A * A)
-    y = np.empty((n_frames, n_modes))
-    y[0] = rng.standard_normal(n_modes) @ chol.T
-    for t in range(1, n_frames):
-        y[t] = A * y[t - 1] + e[t]
-    return y
 
 
 def _logs(folder, s: int) -> tuple[np.ndarray, np.ndarray]:

@@ -28,19 +28,12 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from closedloop import SimulationConfig, simulate
-from closedloop.config import (
-    DMConfig,
-    FieldConfig,
-    LayerConfig,
-    LoopConfig,
-    TelescopeConfig,
-    WFSConfig,
-)
+from closedloop import simulate
 from modalinfo.bases import Pupil, ZernikeBasis
 from modalinfo.ordering import order_modes
 from modalinfo.telemetry import CalibrationEventWarning, ModalLog, assess_quality
 
+from .._c01_loop import c01_config
 from ._silent_order import mean_square_order, silent_order
 
 MODES = list(range(2, 29))
@@ -49,15 +42,7 @@ BASIS = ZernikeBasis(Pupil(32), MODES)
 
 def _pol(seed: int, noise: float = 0.0, duration: float = 1.5) -> np.ndarray:
     """The run's POL coefficients after the closure, (T, 27) [rad]."""
-    cfg = SimulationConfig(
-        telescope=TelescopeConfig(diameter=0.7, n_pixels=56, zenith_angle=0.0),
-        layers=(LayerConfig(altitude=0.0, d_over_r0=7.0, wind_speed=5.0,
-                            wind_direction=0.0),),
-        dms=(DMConfig(altitude=0.0, n_modes=27),),
-        wfss=(WFSConfig(altitude=0.0, field_of_view=10.0, n_subapertures=7, noise=noise,
-                        field_samples=3),),
-        loop=LoopConfig(time_step=5e-4, integration_time=5e-4, delay=5e-4, gain=0.4664),
-        field=FieldConfig(size=10.0, n_points=1), seed=seed, name="fix55b")
+    cfg = c01_config(seed, noise, name="fix55b")
     run = simulate(cfg, duration, progress=False)
     return np.asarray(run.logs["dm0.pol"].coeffs)[run.averaging_start:]
 
