@@ -188,6 +188,16 @@ class LoopPredictor:
         LoopPredictor
             A new one, ready to run (``training`` None); ``self`` is unchanged (its
             forecaster is copied before fitting). Itself when nothing is to train.
+
+        Notes
+        -----
+        Short reference runs of smooth modes ask for unit roots: on the loop tests' 0.15 s
+        run (135 training frames) the ARMA(2, 3) holds the AR roots of 18 of 55 modes at
+        its ``root_margin`` limit (their least-squares AR(2) radii 0.9992-1.034; fix57-a).
+        The fit records it (the trained forecaster's ``roots_held_``) and nothing warns
+        here: the loop uses its point forecasts a delay ahead and states no interval, the
+        number the clamp makes wrong; ``forecast_std`` / ``predict_interval`` /
+        ``evaluate`` of that forecaster say it (``RootLimitWarning``).
         """
         if not (self.needs_training or self._shape_only):
             return self

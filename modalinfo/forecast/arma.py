@@ -48,6 +48,24 @@ Estimation (numpy only; statsmodels is a test-only reference)
   ``phi(z)`` and ``theta(z)`` with ``|w| >= 1 / (1 + root_margin)`` are reflected
   (``w -> 1 / conj(w)``, which for the MA part leaves the autocovariance shape
   unchanged) and pulled inside modulus ``1 / (1 + root_margin)``.
+- Roots held at the limit (fix57-a, round 55 PART a). A series whose own roots lie
+  nearer the unit circle than ``1 / (1 + root_margin)`` (a vibration line with little
+  noise, a near-unit-root mode) is fitted with its roots held at the limit: a model that
+  is not the series', whose in-sample ``sigma^2`` is too large and whose h-step
+  intervals are the held model's (AR(2) of period 50 frames at radius 0.99999 / 0.999999,
+  2,000 training frames, 1,996 origins, one seed: roots held at 0.999001, ``sigma^2``
+  1.25 / 2.34 for 1, the h = 5 RMSE 9.6 / 20.4 for the exact 7.09, 95 % intervals
+  covering 0.92 / 0.78; round 55 PART a's seed: 0.87 / 0.72). Every
+  fit records it (``roots_held_``, ``ar_radius_``): a mode is held where an inverse AR
+  root of the fit lies at the limit (within ``ROOT_LIMIT_TOL``), no MA inverse root
+  within ``ROOT_CANCEL_DISTANCE`` cancels it (an over-sized order's redundant pair) and
+  the series' least-squares AR(p) has a root at or beyond the limit (the data ask for
+  it). ``fit`` does not warn: the held fit is the documented constrained estimate, and
+  the number it makes wrong is the h-step interval, which not every caller states (the
+  closedloop trainer's 0.15 s test runs hold 18 of 55 modes, true there too, and the loop
+  uses point forecasts only); the places that state an interval do: ``forecast_std``,
+  ``predict_interval`` and ``evaluate`` (``RootLimitWarning``, once per call, naming
+  the modes and the radii).
 - ``sigma^2``: mean square of the one-step innovations of the fitted model on the
   training series (the conditional recursion started from zero state), discarding the
   first ``burn_in`` samples.
@@ -110,7 +128,16 @@ from modalinfo.forecast._kernels import (
 from modalinfo.forecast._univariate import _LinearRecursion
 from modalinfo.forecast.base import check_horizon, levels_named
 
-__all__ = ["ARMAPredictor", "ForecastInterval", "psi_weights", "sample_autocovariance"]
+__all__ = ["ARMAPredictor", "ForecastInterval", "RootLimitWarning", "psi_weights",
+           "sample_autocovariance"]
+
+
+class RootLimitWarning(UserWarning):
+    """An ARMA fit's roots are held at the ``root_margin`` limit where intervals are stated.
+
+    The fit keeps the held model (see ``ARMAPredictor.roots_held_``); its h-step
+    intervals assume that model, not the series'.
+    """
 
 
 @array_fields_eq
@@ -139,6 +166,10 @@ class ForecastInterval:
     samples of an AR(1) (phi = 0.7) covered 0.945 at ``level`` 0.95 (200 seeds, standard
     error 0.0013; fitted ``sigma**2`` 2.2 % low on average; adversarial round 19 PART a).
     Fit on more samples, or a lower order, where the nominal level matters.
+    A fit whose roots are held at the ``root_margin`` limit (``ARMAPredictor.roots_held_``)
+    covers less at longer horizons: its intervals are the held model's (AR(2) at radius
+    0.99999 / 0.999999: 0.92 / 0.78 at h = 5 and ``level`` 0.95; a ``RootLimitWarning``
+    says so).
     """
 
     mean: np.ndarray
@@ -169,6 +200,16 @@ _SAFE = 1e-6
 #: 0.99 (a smooth, integrated-like series) median 5-16, where the least-squares fit's
 #: out-of-sample one-step error was 9-23x lower too (median, n 500-7000).
 YW_EXCESS = 2.0
+
+#: Relative tolerance of "an inverse AR root at the ``root_margin`` limit": the roots of a
+#: rebuilt polynomial move by ~1e-12, a free fit at radius 0.998 is 1e-3 inside
+#: (round 55 PART a's rule, fix57-a).
+ROOT_LIMIT_TOL = 1e-6
+#: Distance within which an MA inverse root cancels a held AR root: an over-sized order's
+#: redundant pair, not a held model (AIC's ARMA(4, 2) of an AR(2): 8e-4 apart; the default
+#: ARMA(2, 3) of 110 white frames: 0.018). The held roots of round 55's AR(2) lines have
+#: no MA root within 0.7.
+ROOT_CANCEL_DISTANCE = 0.05
 
 #: CPU seconds (a per mode, b per mode and sample) of one mode's fit, once compiled:
 #: a fixed AR order, a fixed ARMA order (q > 0) and the 36-candidate order search
@@ -234,6 +275,98 @@ def _enforce(coeffs: np.ndarray, margin: float) -> np.ndarray:
 def _enforce_ar(phi: np.ndarray, margin: float) -> np.ndarray:
     """Causal AR coefficients: ``phi(z) = 1 - phi_1 z - ...`` has ``c = -phi``."""
     return -_enforce(-phi, margin)
+
+
+def _root_limit(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: float
+                ) -> tuple[float, float]:
+    """Largest inverse AR-root modulus of a fit, and the series' own where it is held.
+
+    Parameters
+    ----------
+    xc : numpy.ndarray, shape (T,)
+        The standardised training series.
+    phi, theta : numpy.ndarray, shapes (p,), (q,)
+        The fitted (enforced) coefficients.
+    margin : float
+        ``root_margin``.
+
+    Returns
+    -------
+    radius : float
+        ``max |w|`` over the inverse roots ``w`` of ``phi(z)`` (0 for p = 0).
+    ls_radius : float
+        Where an AR root lies at the limit ``1 / (1 + margin)`` (relative tolerance
+        ``ROOT_LIMIT_TOL``) and no MA root lies within ``ROOT_CANCEL_DISTANCE`` of it:
+        the largest inverse-root modulus of the series' least-squares AR(p) (no
+        intercept: ``xc`` is centred); 0 otherwise (not NaN: a subclass's parameters
+        must be finite, ``Predictor._estimate``). The mode is held where it is at least
+        the limit.
+    """
+    p = phi.size
+    if p == 0:
+        return 0.0, 0.0
+    w_ar = np.roots(np.concatenate([[1.0], -phi]))
+    radius = float(np.max(np.abs(w_ar)))
+    limit = (1.0 - ROOT_LIMIT_TOL) / (1.0 + margin)
+    at = w_ar[np.abs(w_ar) >= limit]
+    if at.size == 0 or p >= xc.size - 1:
+        return radius, 0.0
+    w_ma = np.roots(np.concatenate([[1.0], theta])) if theta.size else np.zeros(0)
+    free = [w for w in at
+            if not (w_ma.size and np.min(np.abs(w_ma - w)) < ROOT_CANCEL_DISTANCE)]
+    if not free:
+        return radius, 0.0
+    ls = _lstsq(_lag_matrix(p, (xc, p)), xc[p:])
+    return radius, float(np.max(np.abs(np.roots(np.concatenate([[1.0], -ls])))))
+
+
+def _held(params: dict, margin: float) -> np.ndarray:
+    """``(M,)`` bool: the modes whose roots ``params`` holds at the limit (see ``_root_limit``)."""
+    limit = (1.0 - ROOT_LIMIT_TOL) / (1.0 + margin)
+    ls_radius = params.get("ls_radius")  # None: parameters made before fix57-a
+    if ls_radius is None:
+        return np.zeros(np.shape(params["mu"]), dtype=bool)
+    return np.asarray(ls_radius) >= limit
+
+
+def root_limit_text(params: dict, margin: float, names) -> str | None:
+    """Words for the modes whose roots ``params`` holds at the limit, or None.
+
+    Parameters
+    ----------
+    params : dict
+        An ``ARMAPredictor``'s parameters (``params_`` or a refit's).
+    margin : float
+        Its ``root_margin``.
+    names : sequence of str
+        The modes' names, in column order.
+
+    Returns
+    -------
+    str or None
+        "N mode(s) (name: radius r, least-squares AR(p) r_ls; ...)", three shown.
+    """
+    held = np.flatnonzero(_held(params, margin))
+    if held.size == 0:
+        return None
+    orders = params["orders"]
+    shown = "; ".join(
+        f"{names[m]}: ARMA({orders[m][0]}, {orders[m][1]}) held at radius "
+        f"{params['ar_radius'][m]:.6f}, least-squares AR({orders[m][0]}) "
+        f"{params['ls_radius'][m]:.6f}" for m in held[:3])
+    more = f" and {held.size - 3} more" if held.size > 3 else ""
+    return f"{held.size} mode(s) ({shown}{more})"
+
+
+#: What the warnings say a held fit does (the measurements of the module notes).
+ROOT_LIMIT_CONSEQUENCE = (
+    "the series' own roots lie nearer the unit circle than the root_margin limit, so "
+    "the fitted model is held off it: its h-step intervals assume the held model and "
+    "under-cover at longer horizons, and its forecasts there are the held model's (AR(2) "
+    "at radius 0.99999 / 0.999999, 2,000 training frames: 95 % intervals covering 0.92 "
+    "/ 0.78 at h = 5, RMSE 9.6 / 20.4 for the exact 7.09); use a smaller root_margin "
+    "(1e-7 fits those lines) or a least-squares fit (LinearPredictor(fit_weights=True), "
+    "the CLI's linear-ls)")
 
 
 def psi_weights(phi: np.ndarray, theta: np.ndarray, n: int) -> np.ndarray:
@@ -559,6 +692,13 @@ class ARMAPredictor(_LinearRecursion):
     criterion_ : numpy.ndarray or None, shape (M, max_order + 1, max_order + 1)
         AIC/BIC of every candidate order (``None`` for a fixed order), with
         ``sigma^2`` of the standardised series (unit-free: the same in any units).
+    ar_radius_ : numpy.ndarray, shape (M,)
+        Largest modulus of the fitted inverse AR roots (0 where p = 0).
+    roots_held_ : numpy.ndarray of bool, shape (M,)
+        Modes whose AR roots the fit holds at the ``root_margin`` limit where the
+        series asks for more (module notes, fix57-a); ``forecast_std``,
+        ``predict_interval`` and ``evaluate`` warn (``RootLimitWarning``) where they
+        state intervals of such a fit.
     """
 
     #: ``level`` is read by ``predict_interval`` and ``evaluate``, not by ``fit``
@@ -612,7 +752,7 @@ class ARMAPredictor(_LinearRecursion):
             e = x - value[0]
             crit = np.full((self.max_order + 1,) * 2, np.nan) if len(orders) > 1 else None
             return (value[0], 0, 0, np.zeros(0), np.zeros(0), float(e @ e) / x.size, crit,
-                    np.nan)
+                    np.nan, 0.0, 0.0)
         mu = x.mean()
         # standardise: the estimators below see a unit-variance series whatever the
         # units (nm, rad, waves), so every tolerance in them is unit-free and a fit in
@@ -666,7 +806,9 @@ class ARMAPredictor(_LinearRecursion):
         # (``judge``: at ``fit``, not at the refits of update / predict, which do not warn)
         excess = (_yule_walker_excess(xc, phi, max(burn, p))
                   if judge and q == 0 and 0 < p < n - burn else np.nan)
-        return mu, p, q, phi, theta, sigma2 * scale**2, crit, excess
+        # roots held at the root_margin limit where the data ask for more (fix57-a)
+        radius, ls_radius = _root_limit(xc, phi, theta, margin)
+        return mu, p, q, phi, theta, sigma2 * scale**2, crit, excess, radius, ls_radius
 
     def _fit_params(self, X, previous, name):
         orders = self._orders_to_try()
@@ -696,6 +838,8 @@ class ARMAPredictor(_LinearRecursion):
             "orders": np.array([[f[1], f[2]] for f in fits], dtype=int),
             "sigma2": np.array([f[5] for f in fits]),
             "criterion": None if fits[0][6] is None else np.stack([f[6] for f in fits]),
+            "ar_radius": np.array([f[8] for f in fits]),
+            "ls_radius": np.array([f[9] for f in fits]),
         }
 
     def fit_bytes(self, n_samples: int, n_modes: int) -> int:
@@ -830,7 +974,33 @@ class ARMAPredictor(_LinearRecursion):
         self._check_fitted()
         return self.params_["criterion"]
 
+    @property
+    def ar_radius_(self) -> np.ndarray:
+        """``(M,)`` largest modulus of the fitted inverse AR roots (0 where p = 0)."""
+        self._check_fitted()
+        return self.params_["ar_radius"]
+
+    @property
+    def roots_held_(self) -> np.ndarray:
+        """``(M,)`` bool: the fit holds the mode's AR roots at the ``root_margin`` limit.
+
+        An inverse AR root at ``1 / (1 + root_margin)`` that no MA root cancels, where
+        the series' least-squares AR(p) has a root at or beyond it (module notes,
+        fix57-a): the model is not the series', and its intervals are the held model's.
+        """
+        self._check_fitted()
+        return _held(self.params_, float(self.root_margin))
+
     # ------------------------------------------------------------------ intervals
+    def _warn_root_limit(self, params: dict, where: str) -> None:
+        """Warn (``RootLimitWarning``) where ``params`` holds roots at the limit."""
+        text = root_limit_text(params, float(self.root_margin),
+                               [f"column {m}" for m in range(params["phi"].shape[0])])
+        if text is not None:
+            warn(f"ARMAPredictor.{where}: the AR roots of {text} sit at the root_margin "
+                 f"limit 1 / (1 + {self.root_margin:g}): {ROOT_LIMIT_CONSEQUENCE}.",
+                 RootLimitWarning, stacklevel=3)
+
     @staticmethod
     def _std_from_params(params: dict, horizon: int) -> np.ndarray:
         n_modes = params["phi"].shape[0]
@@ -856,6 +1026,7 @@ class ARMAPredictor(_LinearRecursion):
         """
         self._check_fitted()
         H = self._check_common()[0] if horizon is None else check_horizon(horizon)
+        self._warn_root_limit(self.params_, "forecast_std")
         return self._std_from_params(self.params_, H)
 
     def predict_interval(self, history, horizon: int | None = None,
@@ -888,6 +1059,7 @@ class ARMAPredictor(_LinearRecursion):
         out = np.zeros((1, H, X.shape[1]))
         self._feed(run, X, out, "history")
         mean = out[0]
+        self._warn_root_limit(run.params, "predict_interval")
         std = self._std_from_params(run.params, H)
         z = norm.ppf(0.5 + level / 2.0)
         if scalar:

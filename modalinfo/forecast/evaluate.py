@@ -120,7 +120,12 @@ from modalinfo.common.validation import (
     check_square_range,
     column_labels,
 )
-from modalinfo.forecast.arma import ARMAPredictor
+from modalinfo.forecast.arma import (
+    ROOT_LIMIT_CONSEQUENCE,
+    ARMAPredictor,
+    RootLimitWarning,
+    root_limit_text,
+)
 from modalinfo.forecast.base import (
     Predictor,
     check_square_floor,
@@ -189,6 +194,12 @@ def has_intervals(predictor) -> bool:
 
 
 
+def _held_words(pred, params: dict, labels, where: str = "") -> str | None:
+    """Words for the modes an ARMA fit's ``params`` holds at the ``root_margin`` limit."""
+    text = root_limit_text(params, float(pred.root_margin), labels)
+    return None if text is None else text + where
+
+
 def _write_bytes(path: str | Path, data: bytes, overwrite: bool) -> Path:
     """Write ``data`` to ``path`` atomically, refusing to replace it unless ``overwrite``."""
     from modalinfo.common.files import atomic_write
@@ -241,6 +252,9 @@ class ForecastEvaluation:
         Interval coverage at ``level`` (NaN for predictors without intervals). The
         intervals are plug-in ones (``ForecastInterval``, Notes): a few tenths of a
         point below ``level`` is their parameter-estimation shortfall, not a model fault.
+        A fit whose AR roots are held at its ``root_margin`` limit
+        (``ARMAPredictor.roots_held_``) covers less at longer horizons; ``evaluate``
+        warns (``RootLimitWarning``) naming its modes (fix57-a).
     level : float
         Nominal interval coverage.
     dm_statistic : numpy.ndarray, shape (P, H)
@@ -1602,6 +1616,7 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
     one_step = np.empty((P, n_keep, n_modes))
     covered = np.zeros((P, H))
     has_interval = np.zeros(P, dtype=bool)
+    held_text: list[str] = []                             # fits held at root_margin
     settings = {"refit_every": refit_every, "window": window, "predictors": {}}
     train_data = data[:n_train]
     constant = Predictor._constant_columns(np.asarray(train_data))[0]
@@ -1632,6 +1647,10 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
         run = pred._new_run(h_max)
         if has_interval[i]:  # interval widths of the parameters in force, each computed once
             stds = [(-1, pred._std_from_params(pred.params_, h_max))]
+            held = _held_words(pred, pred.params_, labels)
+            said = held is not None
+            if said:
+                held_text.append(f"{name!r}, {held}")
         for begin in range(0, last, chunk):
             end = min(begin + chunk, last)
             out = np.empty((end - begin, h_max, n_modes))
@@ -1639,6 +1658,12 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             if has_interval[i]:
                 stds += [(sample, pred._std_from_params(params, h_max))
                          for sample, params in refits]
+                for _, params in refits:  # the first held refit, if the fit was not
+                    held = None if said else _held_words(pred, params, labels,
+                                                         " (at a refit)")
+                    if held:
+                        held_text.append(f"{name!r}, {held}")
+                        said = True
             first = max(begin, int(origins[0]))
             if first >= end:
                 continue
@@ -1662,6 +1687,10 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             del fc, err, err2
         if progress is not None:
             progress(1)
+    if held_text:  # round 55 PART a: intervals of fits held at root_margin, unsaid
+        warn(f"evaluate: the ARMA AR roots of {'; '.join(held_text)} sit at the root_margin "
+             f"limit: {ROOT_LIMIT_CONSEQUENCE}; the coverage reported is the held "
+             "model's.", RootLimitWarning, stacklevel=2)
     rmse = np.sqrt(sse / n_o)                             # (P, H, M)
     coverage = np.where(has_interval[:, None], covered / (n_o * n_modes), np.nan)
     rmse_wf = np.sqrt(loss.mean(axis=2))
