@@ -200,8 +200,9 @@ def cmi_rank_resolution_why(value: float, n: int, estimator: str) -> str | None:
             f"{CMI_RANK_RESOLUTION_MARGIN:g} = {line:.3f}: the normal scores of n = {n} "
             f"samples ({estimator} runs on them) differ from the Gaussian map of the values "
             "by ~1 / sqrt(n), column by column, so a relation through several columns is "
-            "resolved to about 0.5 ln n nats at most and a near-deterministic one reads "
-            "far low (neither close nor a bound); copula=False estimates it on the values")
+            "resolved to about 0.5 ln n nats at most: the estimate is neither close nor a "
+            "bound (a near-deterministic relation reads far low, a variable of few levels "
+            "can read high); copula=False estimates it on the values")
 
 
 #: Most pairs of the systematic subsample (every ceil(n / 8192)-th) of
