@@ -136,6 +136,7 @@ from modalinfo.forecast.base import (
 from modalinfo.forecast.persistence import MeanPredictor, PersistencePredictor
 from modalinfo.information.resampling import OutlierWarning
 from modalinfo.ordering.cost import MAX_ORDERING_SECONDS, check_ordering_seconds, seconds_text
+from modalinfo.telemetry.quality import InterpolationWarning, upsampling_why
 
 __all__ = ["evaluate", "ForecastEvaluation"]
 
@@ -1636,6 +1637,12 @@ def evaluate(predictors, log, train: float | int = 0.5, horizons=range(1, 11),
             raise ValueError(
                 f"`history` needs at least {n_min} samples along axis 0 for "
                 f"{type(pred).__name__} ({rule}); got {n_train}.")
+    # a log upsampled by linear interpolation: k - 1 of every k frames are exact affine
+    # functions of their lags, so the scores pool two kinds of frames (round 55 PART a,
+    # O07; fix57-c), said before any fit
+    if (up := upsampling_why(train_data, "evaluate", labels)):
+        warn(f"{up}; the scores and intervals pool the frames on the lines (errors near "
+             "0 at h = 1) with the knots.", InterpolationWarning, stacklevel=2)
     # once for every predictor fitted on these frames (Predictor.fit's own check, fix54-b)
     named = warn_training_events(train_data, labels, "evaluate")
     for i, (name, pred) in enumerate(clones.items()):

@@ -263,6 +263,7 @@ from modalinfo.information.methods import (
     read_only,
 )
 from modalinfo.information.resampling import residual_split
+from modalinfo.telemetry.quality import InterpolationWarning, upsampling_why
 
 __all__ = [
     "BiasRuleWarning",
@@ -630,6 +631,18 @@ def effective_sample_why(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> str | N
                                  if z.shape[1] else "")
 
 
+def _upsampled_why(x: np.ndarray, y: np.ndarray, z: np.ndarray, who: str) -> str | None:
+    """Return the quality pass's upsampling rule on the columns of (x, y, z), or None.
+
+    ``telemetry.quality.upsampling_why`` (fix57-c): rows in time order whose columns lie
+    on straight lines on ``k - 1`` of every ``k`` rows, a log upsampled by linear
+    interpolation, where a lag's CMI is infinite (round 55 PART a, O04).
+    """
+    names = ([f"x[:, {i}]" for i in range(x.shape[1])] + [f"y[:, {i}]" for i in range(
+        y.shape[1])] + [f"z[:, {i}]" for i in range(z.shape[1])])
+    return upsampling_why(np.hstack([x, y, z]), who, names)
+
+
 def temporal_neighbour_why(method: str, x: np.ndarray, y: np.ndarray, z: np.ndarray,
                            value: float, options: dict[str, Any]) -> str | None:
     """Return why the KSG ``value`` [nats] of (x, y | z) is set by temporal neighbours, or None.
@@ -812,6 +825,9 @@ def _estimator(method: str, units: str, options: dict[str, Any], switch: bool = 
         if judged and fn is gaussian_cmi and (tied := gaussian_ties_why(  # fix52-a, Q56
                 x, y, z, value, options.get("copula", True))):
             warn(f"{who} with method={record.name!r}: {tied}.", BiasRuleWarning, stacklevel=3)
+            judged = False
+        if judged and (up := _upsampled_why(x, y, z, who)):  # round 55 PART a, O04
+            warn(f"{up}.", InterpolationWarning, stacklevel=3)
             judged = False
         if judged and ((few := effective_sample_why(x, y, z))  # fixes 40-a: the MI's rule
                        or (fn is ksg_cmi and (few := ksg_temporal_why(  # fixes 40-b

@@ -136,6 +136,7 @@ from modalinfo.information.surrogates import (
     rotated_rho2,
 )
 from modalinfo.telemetry.checks import find_label
+from modalinfo.telemetry.quality import InterpolationWarning, upsampling_why
 
 __all__ = [
     "MAX_SEARCH_SECONDS",
@@ -1142,6 +1143,10 @@ def select_inputs(
         raise ValueError(f"`data` needs at least {least} frames for "
                          f"horizon={horizon}, max_lag={max_lag}; got {T}.")
     check_choice(outliers, "outliers", GLITCH_POLICIES)
+    # a log upsampled by linear interpolation: the target is an exact affine function of
+    # its lags on k - 1 of every k frames (round 55 PART a, O06; fix57-c)
+    if (up := upsampling_why(series, "select_inputs", labels)):
+        warn(f"{up}.", InterpolationWarning, stacklevel=2)
     closed = get_method(method).gaussian_closed_form  # partial correlations, not est()
     if closed and options.get("copula", False):
         raise ValueError(f"`copula`=True is not available with method={method!r} here: its "

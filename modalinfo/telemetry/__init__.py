@@ -15,6 +15,7 @@ from modalinfo.telemetry.log import ModalLog
 from modalinfo.telemetry.quality import (
     OUTLIER_POLICIES,
     CalibrationEventWarning,
+    InterpolationWarning,
     QualityReport,
     apply_outlier_policy,
     assess_quality,
@@ -35,6 +36,7 @@ __all__ = [
     "OUTLIER_POLICIES",
     "UNITS",
     "CalibrationEventWarning",
+    "InterpolationWarning",
     "LogSummary",
     "ModalLog",
     "QualityReport",

@@ -177,6 +177,24 @@ its white increments: no false flag in the tests, its glitches found.
   ``t - 1`` were left out as the loop's transient; ``clip`` and ``drop`` leave them as
   they are. Before fix54-e the open-loop turbulence before the first command was named
   as 5-8 "glitched frames" on every exported residual (round 54 PART a, S30).
+* A log **upsampled by linear interpolation**, or with **frames filled** by it (archives
+  that bring WFS and DM telemetry to one rate, RTCs that fill dropped frames; round 55
+  PART a, O01 / O03, fix57-c): a frame lies on a line where its mode's second difference
+  ``x_(t+1) - 2 x_t + x_(t-1)`` is zero to rounding (``INTERPOLATION_ULPS`` = 16 ulps of
+  the storage type, plus ``4 T`` float64 ulps for the interpolation's time axis, times
+  the mode's largest magnitude) and it moved (a held value is the repeated-frame rule's).
+  A mode whose frames on lines are ``k - 1`` of every ``k`` (at least 90 % of the other
+  phases, at most half of the knots' phase, 8 knots or more) is **upsampled** x``k``
+  (:attr:`QualityReport.upsampled`); otherwise its runs of ``>= 2`` frames on lines
+  that chance cannot explain (``q^L <= alpha / (T M)``, ``q`` its share of lone frames
+  on lines; modes with more than 0.1 % of those, a coarse lattice, or with most frames
+  on lines, a ramp, are not judged) are **filled** (:attr:`QualityReport.filled_runs`,
+  by rows). Read on the first ``sample_frames`` frames; neither is flagged (no policy
+  removes them), both are said in :meth:`QualityReport.describe`. On an upsampled log
+  the pair-order rule is not applied (its null, one law at even and odd frames, fails:
+  x4 read p 2.6e-83). Measured: 0 of 100 AR(1) 0.99 logs (float64 / float32), 0 of 100
+  AR(2) at pole radius 0.999, 0 of 100 ``kaos_like`` logs, 0 of 5 noise-free simulator
+  POLs named; docs/ADVERSARIAL.md, "Interpolated logs (fix57-c)".
 * **Non-finite** values (NaN, inf) are counted per mode (a ``ModalLog`` has none
   unless its ``nonfinite`` policy is ``"raise"`` and it was built otherwise).
 
@@ -267,6 +285,9 @@ __all__ = [
     "data_fingerprint",
     "gaussian_false_alarm",
     "gaussian_threshold",
+    "InterpolationWarning",
+    "interpolated_frames",
+    "upsampling_why",
     "policy_record",
     "small_sample_threshold",
     "stationarity_threshold",
@@ -1123,6 +1144,19 @@ class QualityReport:
         the swapped pairs in rows ``start .. stop - 1`` only (to a batch, about
         ``T / PAIR_BATCHES`` frames; ``_PairOrder.swapped_rows``), ``()`` when found in
         the whole log or not found (round 37 PART b, P10).
+    upsampled : tuple of (str, int)
+        ``(label, k)`` of each mode whose frames on a straight line through their
+        neighbours (second difference zero to rounding) are ``k - 1`` of every ``k``: a
+        log upsampled ``k`` times by linear interpolation (``interpolated_frames``;
+        fix57-c, issue 27), where the lags' information is infinite on those frames.
+        Read on the first ``sample_frames`` frames; ``()`` when none.
+    filled_runs : tuple of (int, int, int)
+        ``(start, stop, modes)``: runs of frames ``start .. stop - 1`` on straight lines
+        in ``modes`` modes (the union over the modes not upsampled), longer than chance
+        explains: dropped frames filled by interpolation (``interpolated_frames``).
+        Read on the first ``sample_frames`` frames; ``()`` when none.
+    interpolation_judged : int
+        Modes the interpolation rule judged (varying, finite).
     """
 
     n_frames: int
@@ -1169,6 +1203,9 @@ class QualityReport:
     pair_rows: tuple = ()
     copied_modes: tuple = ()
     transient_frames: int = 0
+    upsampled: tuple = ()
+    filled_runs: tuple = ()
+    interpolation_judged: int = 0
 
     @property
     def approximate(self) -> bool:
@@ -1402,10 +1439,46 @@ class QualityReport:
         return (f"{len(self.copied_modes)} pair(s) of modes equal in all {self.sample_frames} "
                 f"sampled frames (a channel written twice?): {pairs}{more}")
 
+    @property
+    def interpolation_note(self) -> str:
+        """Modes upsampled by linear interpolation and linearly filled runs, or "".
+
+        Neither is an outlier: named so that an upsampled log, or one whose dropped
+        frames were filled, is not called clean without a word (round 55 PART a, O01 /
+        O03; fix57-c).
+        """
+        parts = []
+        if self.upsampled:
+            factors = sorted({k for _, k in self.upsampled})
+            k = factors[0]
+            names = ", ".join(label for label, _ in self.upsampled[:5])
+            more = f" and {len(self.upsampled) - 5} more" if len(self.upsampled) > 5 else ""
+            also = (f" (factors {', '.join(str(f) for f in factors)})"
+                    if len(factors) > 1 else "")
+            parts.append(
+                f"{len(self.upsampled)} of {self.interpolation_judged} mode(s) upsampled x{k}"
+                f"{also} by linear interpolation ({names}{more}): {k - 1} of every {k} "
+                "frames lie on the straight line through their neighbours, an exact "
+                "affine function of them, so the information of a lag is infinite there "
+                f"and estimates pooled over the frames mean nothing; analyse at the "
+                f"native rate (log[::{k}])")
+        if self.filled_runs:
+            frames = sum(stop - start for start, stop, _ in self.filled_runs)
+            shown = ", ".join(f"{start}..{stop - 1}" for start, stop, _ in self.filled_runs[:5])
+            more = ", ..." if len(self.filled_runs) > 5 else ""
+            modes = max(n for _, _, n in self.filled_runs)
+            parts.append(
+                f"{len(self.filled_runs)} run(s) of frames filled by linear interpolation "
+                f"({frames} frames, in up to {modes} mode(s): rows {shown}{more}; dropped "
+                "frames made up by the logger or the archive?): made-up frames are exact "
+                "affine functions of their neighbours; leave them out or split the log there")
+        return "; ".join(parts)
+
     def describe(self) -> str:
         """One line: what was flagged and by which rule (or why it was not assessed)."""
         caveat = f"; {self.stationarity_note}" if self.stationarity_note else ""
-        for note in (self.constant_note, self.copied_note, self.transient_note):
+        for note in (self.constant_note, self.copied_note, self.transient_note,
+                     self.interpolation_note):
             if note:
                 caveat += f"; {note}"
         if self.clean:
@@ -1418,7 +1491,16 @@ class QualityReport:
                 rest.append(f"{int(self.stuck.sum())} stuck value(s)")
             if self.nonfinite.sum():
                 rest.append(f"{int(self.nonfinite.sum())} non-finite value(s)")
-            return self.note + (flagged + ", ".join(rest) if self.n_flagged else "")
+            if self.repeated_frames.size:  # a zero-order hold: named (fix57-c; was "")
+                rest.append(f"{self.repeated_frames.size} repeated frame(s) equal to the "
+                            f"frame before in every mode ({_rows_shown(self.repeated_frames)})")
+            if self.copied_frames.size:
+                rest.append(f"{self.copied_frames.size} frame(s) equal to an earlier frame "
+                            "in every mode")
+            return (self.note + (flagged + ", ".join(rest) if self.n_flagged else "")
+                    + "".join(f"; {note}" for note in (self.constant_note, self.copied_note,
+                                                       self.transient_note,
+                                                       self.interpolation_note) if note))
         parts = []
         n_out = int(self.outliers.sum())
         if n_out:
@@ -1475,6 +1557,11 @@ class QualityReport:
             extra["transient_frames"] = int(self.transient_frames)
         if int(self.stuck.sum()):
             extra["stuck_rows"] = self.stuck_rows
+        if self.upsampled:  # the keys only when found (fix57-c): clean logs' JSON unchanged
+            extra["upsampled"] = ", ".join(f"{label} x{k}" for label, k in self.upsampled)
+        if self.filled_runs:
+            extra["filled_rows"] = ", ".join(f"{start}-{stop - 1}"
+                                             for start, stop, _ in self.filled_runs)
         return {
             "rule": f"|x - median| > k * 1.4826 MAD and |AR({AR_ORDER}) innovation| > k * its "
                     "1.4826 MAD",
@@ -1512,7 +1599,8 @@ class QualityReport:
         short and long logs share their columns; ``worst_modes`` becomes text, as
         :meth:`describe` writes it (``"Z2 3, Z5 1"``, ``""`` when none);
         ``repeated_frames`` and ``copied_frames`` (0), ``copied_block``,
-        ``pair_order``, ``outlier_rows`` and ``stuck_rows`` (``""``) are present when
+        ``pair_order``, ``outlier_rows``, ``stuck_rows``, ``upsampled`` and
+        ``filled_rows`` (``""``) are present when
         nothing was found too. Values are str,
         int, float, bool or None (null in Parquet, empty in CSV): ``k`` is None when not
         assessed, ``alpha`` when a fixed ``k`` was given, ``scale_ratio`` and
@@ -1530,7 +1618,7 @@ class QualityReport:
         """
         fields = {"assessed": True, "note": "", "repeated_frames": 0, "copied_frames": 0,
                   "copied_block": "", "pair_order": "", "outlier_rows": "",
-                  "stuck_rows": "", **self.to_dict()}
+                  "stuck_rows": "", "upsampled": "", "filled_rows": "", **self.to_dict()}
         fields["worst_modes"] = ", ".join(f"{label} {count}"
                                           for label, count in fields["worst_modes"].items())
         return {prefix + key: value for key, value in fields.items()}
@@ -1896,6 +1984,223 @@ def _stuck_runs(repeats: np.ndarray, n: int, m: int, stuck_run: int,
         runs[partial] = np.maximum(stuck_run, np.ceil(need)).astype(np.int64)
     runs[q >= 1] = n + 1  # every pair equal: constant (set to 0 by the caller)
     return runs
+
+
+#: Multiple of the storage type's machine epsilon times a mode's largest magnitude
+#: within which a second difference counts as zero (the rounding of a linear
+#: interpolation, ``a + (b - a) f``, and of the difference itself: a few ulps).
+INTERPOLATION_ULPS = 16.0
+
+#: Fewest knots (frames off the lines) a mode needs for its upsampling to be judged,
+#: and the share of the other phases' frames that must lie on the lines.
+UPSAMPLED_MIN_KNOTS = 8
+UPSAMPLED_SHARE = 0.9
+
+#: Fewest consecutive frames on a line that make a filled run (one dropped frame filled
+#: by interpolation is not named: a float32 log's second differences round to zero by
+#: chance about once in 1e5 frames).
+FILLED_MIN_RUN = 2
+
+#: Largest share of a mode's frames alone on a line (chance zeros of its second
+#: differences) with which its filled runs are judged.
+FILLED_MAX_CHANCE = 1e-3
+
+_EPS64 = float(np.finfo(np.float64).eps)
+
+
+def _on_line(col: np.ndarray, eps: float) -> np.ndarray:
+    """Frames 1..T-2 of one mode that lie on the straight line through their neighbours.
+
+    ``x_(t+1) - 2 x_t + x_(t-1)`` within ``INTERPOLATION_ULPS`` times ``eps`` (the storage
+    type's machine epsilon) plus ``4 T`` float64 epsilons, times the mode's largest
+    magnitude (which bounds the rounding of any value of it), with ``x_t != x_(t-1)``
+    (a held value, zero-order hold, is the repeated-frame and stuck rules'). Returns a
+    boolean array of length ``T - 2`` (index ``i`` is frame ``i + 1``).
+    """
+    x = np.asarray(col, dtype=np.float64)
+    if x.size < 3:
+        return np.zeros(0, dtype=bool)
+    big = float(np.max(np.abs(x)))
+    if not math.isfinite(big) or big == 0.0:
+        return np.zeros(x.size - 2, dtype=bool)
+    # the storage type's rounding of the values, and float64's of the interpolation's
+    # time axis (``t = i / k`` rounded: a slope times ``eps |t|``, up to ``T`` frames;
+    # a 3x upsampling read 1,337 broken lines without it)
+    tol = big * (INTERPOLATION_ULPS * eps + 4.0 * x.size * _EPS64)
+    with np.errstate(invalid="ignore"):
+        d2 = np.abs(x[2:] - 2.0 * x[1:-1] + x[:-2])
+        moved = np.abs(x[1:-1] - x[:-2]) > tol
+    return (d2 <= tol) & moved
+
+
+def _upsampling(line: np.ndarray) -> tuple[int, int] | None:
+    """``(k, phase)`` where the frames on a line are ``k - 1`` of every ``k``, or None.
+
+    ``line`` from :func:`_on_line` (index ``i`` is frame ``i + 1``). A log upsampled ``k``
+    times by linear interpolation keeps its original samples (the knots) at one phase of
+    ``k`` frames and puts every other frame on the line between two knots. ``k``: the
+    commonest spacing of the frames off the lines; judged where there are at least
+    ``UPSAMPLED_MIN_KNOTS`` of them, at least ``UPSAMPLED_SHARE`` of the frames at the
+    other phases on lines and at most half of the knots' phase (``phase`` the knots'
+    frame index modulo ``k``).
+    """
+    off = np.flatnonzero(~line)
+    if off.size < UPSAMPLED_MIN_KNOTS or not line.any():
+        return None
+    gaps = np.diff(off)
+    k = int(np.argmax(np.bincount(gaps)))
+    if k < 2 or off.size < UPSAMPLED_MIN_KNOTS:
+        return None
+    frame = np.arange(line.size) + 1
+    phase = int(np.argmax(np.bincount((off + 1) % k, minlength=k)))
+    at_knots = (frame % k) == phase
+    if line[~at_knots].mean() < UPSAMPLED_SHARE or line[at_knots].mean() > 0.5:
+        return None
+    return k, phase
+
+
+def _filled_runs(line: np.ndarray, n_values: int, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """Return the runs of frames on a line longer than chance explains, ``(starts, stops)``.
+
+    A run of ``L`` consecutive frames on lines is a filled stretch where ``L >=
+    FILLED_MIN_RUN`` and, with ``q`` the mode's share of frames on a line alone (runs of
+    one: the chance ones of a quantised or float32 mode), ``q^L <= alpha / n_values``
+    (Bonferroni over the log's values, as the stuck-run rule). ``stops`` exclusive. A
+    mode with more than ``FILLED_MAX_CHANCE`` of its frames alone on a line (a coarse
+    lattice: AR(1) 0.99 rounded to 0.07 of its sigma has 8-10 %, and chance runs of 6
+    frames, which independent runs would not give) is not judged.
+    """
+    if not line.any():
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    edge = np.diff(np.concatenate(([0], line.astype(np.int8), [0])))
+    starts, stops = np.flatnonzero(edge == 1), np.flatnonzero(edge == -1)
+    length = stops - starts
+    q = float(np.count_nonzero(length == 1)) / line.size
+    if q > FILLED_MAX_CHANCE:  # a quantised mode: its lines' runs are not independent
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    need = FILLED_MIN_RUN
+    if q > 0.0:
+        need = max(need, int(math.ceil(math.log(alpha / max(1, n_values)) / math.log(q))))
+    keep = length >= need
+    return (starts[keep] + 1).astype(np.int64), (stops[keep] + 1).astype(np.int64)
+
+
+class InterpolationWarning(UserWarning):
+    """The series look upsampled by linear interpolation (fix57-c, issue 27).
+
+    Warned by the estimators that pool lagged frames (the conditional MI and the
+    transfer entropy, ``select_inputs``, ``evaluate``): on ``k - 1`` of every ``k``
+    frames a lag is an exact affine function of the others, so the information they
+    estimate is infinite there and finite only at the knots.
+    """
+
+
+def upsampling_why(series: np.ndarray, caller: str, labels=None) -> str | None:
+    """Why estimates pooled over the frames of ``series`` mean nothing (upsampled), or None.
+
+    :func:`interpolated_frames` on the columns (the first ``DEFAULT_SAMPLE_FRAMES``
+    rows, in time order): where a column is upsampled ``k`` times by linear
+    interpolation, ``x_t = 2 x_(t-1) - x_(t-2)`` exactly on ``k - 1`` of every ``k``
+    frames, so I(x_t; x_(t-2) | x_(t-1)) is infinite there; round 55 PART a, O04, read
+    0.007-1.23 nats on a 4x linearly interpolated AR(1) log without a word. Filled runs
+    alone are not said here (a straight conditioning column, a time ramp, is one run).
+
+    Parameters
+    ----------
+    series : numpy.ndarray, shape (n,) or (n, m)
+        The columns in time order (rows of the estimate).
+    caller : str
+        The function's name, to start the message.
+    labels : sequence of str, optional
+        The columns' names (default ``column j``).
+    """
+    a = np.asarray(series)
+    a = a.reshape(a.shape[0], -1)[:DEFAULT_SAMPLE_FRAMES]
+    up, _, judged = interpolated_frames(a)
+    if not up:
+        return None
+    k = min(f for _, f in up)
+    names = [str(labels[j]) if labels is not None else f"column {j}" for j, _ in up]
+    shown = ", ".join(names[:4]) + (f" and {len(names) - 4} more" if len(names) > 4 else "")
+    return (f"{caller}: {len(up)} of {len(judged)} series look upsampled x{k} by linear "
+            f"interpolation ({shown}): {k - 1} of every {k} frames lie on the straight "
+            "line through their neighbours (x_t = 2 x_(t-1) - x_(t-2) exactly), so the "
+            "information of their lags is infinite on those frames and an estimate pooled "
+            "over the frames (0.007-1.23 nats for an infinite CMI, round 55 PART a) means "
+            f"nothing; analyse the log at its native rate (log[::{k}])")
+
+
+def _union_runs(fill: tuple) -> tuple:
+    """``(start, stop, modes)`` of the union of ``(column, start, stop)`` runs over columns."""
+    if not fill:
+        return ()
+    runs = sorted((s_, e_) for _, s_, e_ in fill)
+    out = []
+    for s_, e_ in runs:
+        if out and s_ <= out[-1][1]:
+            out[-1][1] = max(out[-1][1], e_)
+        else:
+            out.append([s_, e_])
+    return tuple((int(s_), int(e_), len({c for c, a_, b_ in fill if a_ < e_ and b_ > s_}))
+                 for s_, e_ in out)
+
+
+def interpolated_frames(a: np.ndarray, alpha: float = DEFAULT_ALPHA,
+                        dtype: np.dtype | None = None) -> tuple[tuple, tuple, tuple]:
+    """Upsampling by linear interpolation and linearly filled runs in a log's modes.
+
+    The rule (issue 27, fix57-c): a frame lies on a line where its mode's second
+    difference ``x_(t+1) - 2 x_t + x_(t-1)`` is zero to the storage type's rounding
+    (:func:`_on_line`), which continuous telemetry never is. A mode is **upsampled** by
+    ``k`` where its frames on lines are ``k - 1`` of every ``k`` (:func:`_upsampling`);
+    otherwise its runs of frames on lines that chance cannot explain are **filled**
+    stretches (:func:`_filled_runs`: dropped frames replaced by interpolation).
+
+    Parameters
+    ----------
+    a : numpy.ndarray, shape (T, M)
+        The log's values in time order (any units).
+    alpha : float
+        Family-wise false-alarm probability of the filled-run rule, in (0, 1).
+    dtype : numpy.dtype, optional
+        Storage type whose epsilon sets the rounding (default ``a.dtype``; float64 for
+        an integer type).
+
+    Returns
+    -------
+    upsampled : tuple of (int, int)
+        ``(column, k)`` of each upsampled mode.
+    filled : tuple of (int, int, int)
+        ``(column, start, stop)`` of each filled run, rows ``start .. stop - 1`` on
+        lines (the made-up frames between two kept ones).
+    judged : tuple of int
+        The columns judged (more than two frames, not constant).
+    """
+    a = np.asarray(a)
+    if a.ndim == 1:
+        a = a[:, None]
+    dtype = np.dtype(a.dtype if dtype is None else dtype)
+    eps = float(np.finfo(dtype).eps) if np.issubdtype(dtype, np.floating) else float(
+        np.finfo(np.float64).eps)
+    n, m = a.shape
+    upsampled, filled, judged = [], [], []
+    if n < 3:
+        return (), (), ()
+    for j in range(m):
+        col = np.asarray(a[:, j], dtype=np.float64)
+        if not np.all(np.isfinite(col)) or col.min() == col.max():
+            continue
+        judged.append(j)
+        line = _on_line(col, eps)
+        up = _upsampling(line)
+        if up is not None:
+            upsampled.append((j, up[0]))
+            continue
+        if line.mean() > 0.5:  # a straight mode (a ramp), not a few frames filled
+            continue
+        for s, e in zip(*_filled_runs(line, n * m, alpha), strict=True):
+            filled.append((j, int(s), int(e)))
+    return tuple(upsampled), tuple(filled), tuple(judged)
 
 
 def _largest_share(col: np.ndarray) -> float:
@@ -2673,6 +2978,15 @@ def assess_quality(
         else ()
     pair_rows = pairs.swapped_rows(n) if pair_order else ()
     stuck_block = _first_stuck_run(arr, stuck_frames, n_stuck, labels)
+    # upsampled or filled by linear interpolation (round 55 PART a, O01 / O03): on the
+    # first sample_frames frames, contiguous (a strided sample has no second differences)
+    up, fill, judged = interpolated_frames(np.asarray(arr[:min(n, sample_frames)]), alpha)
+    if up:
+        # an upsampled log's lag-1 products and increments depend on the frame's phase
+        # within the k frames between two knots: the pair-order test's null (the same
+        # law at even and odd frames) does not hold, and it named 4x-upsampled AR(1)
+        # logs "frames in swapped pairs" (p 2.6e-83); the upsampling is said instead
+        pair_order, pair_rows = (), ()
     flagged = np.union1d(np.union1d(np.union1d(outlier_frames, stuck_frames), bad_frames),
                          np.union1d(repeated_frames, copied_frames))
     return QualityReport(
@@ -2695,6 +3009,8 @@ def assess_quality(
         pair_order=pair_order, pair_judged=pair_found is not None,
         stuck_block=stuck_block, pair_rows=pair_rows,
         copied_modes=_copied_modes(sample, constant, list(labels)),
+        upsampled=tuple((labels[j], k_) for j, k_ in up),
+        filled_runs=_union_runs(fill), interpolation_judged=len(judged),
     )
 
 
@@ -2760,6 +3076,7 @@ def _after_transient(log: ModalLog, transient: int, **assess) -> QualityReport:
         level_steps=_shift_rows(report.level_steps, (1,), t),
         variance_steps=_shift_rows(report.variance_steps, (1,), t),
         step_lines=_shift_rows(report.step_lines, (1,), t),
+        filled_runs=_shift_rows(report.filled_runs, (0, 1), t),
         transient_frames=t)
 
 

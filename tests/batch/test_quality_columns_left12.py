@@ -65,7 +65,7 @@ def _expected(path) -> dict:
     fields["worst_modes"] = ", ".join(f"{k} {c}" for k, c in fields["worst_modes"].items())
     return {"assessed": True, "note": "", "repeated_frames": 0, "copied_frames": 0,
             "copied_block": "", "pair_order": "", "outlier_rows": "", "stuck_rows": "",
-            **fields}
+            "upsampled": "", "filled_rows": "", **fields}  # the last two: fix57-c
 
 
 def _by_name(rows) -> dict:
