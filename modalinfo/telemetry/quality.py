@@ -85,7 +85,9 @@ PART a, l11). Per mode, the absolute deviations from the median of the strided s
 law), union over the modes tested by Bonferroni at ``VARIANCE_ALPHA`` = 0.25 %, a
 quarter of the 1 % stated because that law is liberal in its far tail there; modes
 whose mean steps are reported as such and not again, modes with fewer than 100
-effective absolute deviations are not judged. A hit makes :attr:`QualityReport.stationary`
+effective absolute deviations are judged each at its own split, each side's robust spread
+on its own effective values (``spread_at_splits``, family-wise 1e-6: the split is the
+data's most unequal one; fix57-b). A hit makes :attr:`QualityReport.stationary`
 False and is named in the note (:attr:`QualityReport.variance_steps`). Measured false
 alarms and power: benchmarks/RESULTS.md, "left18-quality".
 
@@ -261,6 +263,7 @@ from modalinfo._stats import (
     level_steps,
     mad_union_threshold,
     spread_at_split,
+    spread_at_splits,
     stacked_lstsq,
     stationarity_threshold,
     variance_steps,
@@ -1094,10 +1097,17 @@ class QualityReport:
         ``frame`` the step's, ``ratio`` the MAD after over before): a loop opened
         mid-log (round 28 PART b, N01: rms x10, phi 0.9 -> 0.999) is named in every
         mode, where before only its mean steps were. A mean offset alone names none
-        (0 of 771 logs with a level step found, docs/ADVERSARIAL.md).
+        (0 of 771 logs with a level step found, docs/ADVERSARIAL.md). Since fix57-b
+        the modes left out by the floor of 100 effective absolute deviations are each
+        judged at their own split (the largest CUSUM excursion of their absolute
+        deviations) by ``modalinfo._stats.spread_at_splits`` (the same per-side law, at
+        ``PERSISTENT_SPREAD_ALPHA`` = 1e-6 over them): a mode turning very persistent
+        half way (an actuator lost: rms x20, lag-1 0.93 -> 0.9998, round 55 PART b
+        C24), whose step drove its own pooled count below the floor, is named.
     variance_judged : int
-        Modes the spread rule judged (those with at least
-        ``MIN_VARIANCE_EFFECTIVE`` = 100 effective absolute deviations).
+        Modes the spread rule judged: those with at least ``MIN_VARIANCE_EFFECTIVE``
+        = 100 effective absolute deviations, plus those below it judged at their own
+        split (``spread_at_splits``; a mode constant on one side is not).
     step_lines : tuple of (str, int, float, bool)
         Spread steps (of :attr:`variance_steps`) carried by a spectral
         line that appears on the larger side: ``(label, frame, frequency, appears)``,
@@ -1853,8 +1863,8 @@ def _fill_gaps(rows: np.ndarray, constant: np.ndarray) -> tuple[np.ndarray, np.n
 
 def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
                     labels: list, skip: np.ndarray,
-                    memory: np.ndarray | None = None) -> tuple[tuple, int]:
-    """Modes whose spread steps or drifts (``QualityReport.variance_steps``), and how many judged.
+                    memory: np.ndarray | None = None) -> tuple[tuple, int, set]:
+    """Modes whose spread steps or drifts (``QualityReport.variance_steps``), how many judged.
 
     ``sample`` (shape (ceil(T / step), M)): every ``step``-th frame; its absolute
     deviations from ``centre`` (the modes' medians) go to
@@ -1863,21 +1873,33 @@ def _variance_steps(sample: np.ndarray, centre: np.ndarray, step: int, n: int,
     ``skip`` (constant, or whose mean steps: reported as such) are not judged.
     ``memory``: each mode's long-memory ``d`` from the level rule (``_level_steps``),
     which sets the law of its absolute deviations (``variance_steps``; None: short
-    memory).
+    memory). Modes left out by the rule's floor of effective values are judged each at
+    its own split by ``modalinfo._stats.spread_at_splits`` (fix57-b: a mode turning very
+    persistent half way, its pooled count below the floor because of the step), at
+    ``PERSISTENT_SPREAD_ALPHA`` over them; the judged count is the sum of both. Also
+    the labels named at their own split (a level step's split names them instead).
     """
     with np.errstate(invalid="ignore"):
         dev = sample - centre
         np.abs(dev, out=dev)  # one T x M array, not two (left28-prov)
     dev, none = _fill_gaps(dev, skip)
+    splits = np.full(dev.shape[1], -1)
     flagged, judged = variance_steps(dev, VARIANCE_ALPHA, none, deviations=True,
-                                     memory=memory)
+                                     memory=memory, unjudged_out=splits)
+    del dev
+    own: set = set()
+    if (splits >= 0).any():
+        # each side's own persistence: the step no longer counts as memory (C24)
+        extra, more = spread_at_splits(_fill_gaps(sample, skip)[0], splits)
+        flagged, judged = flagged + extra, judged + more
+        own = {labels[v.column] for v in extra}
     # a significant ratio within MIN_SCALE_RATIO either way is no change worth a note, as
     # for the scale rule and spread_at_split: a noise-free line at rate/2 has deviations
     # equal to round-off, and a 1e-16 wiggle read as a step (x1) (round 41 PART a V44)
     steps = tuple((labels[v.column], int(min(v.frame * step, n - 1)), float(v.ratio),
                    float(v.p_value)) for v in flagged
                   if v.ratio == 0.0 or max(v.ratio, 1.0 / v.ratio) > MIN_SCALE_RATIO)
-    return steps, judged
+    return steps, judged, own
 
 
 #: A spread step is named a line (``_step_line``) where one Welch bin's ratio of the
@@ -2942,20 +2964,23 @@ def assess_quality(
     # a change of a mode's spread that keeps its innovations (modes reordered between two
     # nights joined, round 18 PART a, l11) is seen in its absolute deviations
     stepped = {label for label, _, _, _ in found_steps}
-    varied, variance_judged = _variance_steps(
+    varied, variance_judged, own = _variance_steps(
         sample, np.where(np.isfinite(med), med, 0.0), step, n, list(labels),
         constant | np.array([label in stepped for label in labels], dtype=bool), memory)
     if found_steps:
         # a loop opened mid-log (round 28 PART b, N01): the spread rule left the stepped
         # modes to the level rule and could not judge the persistent ones; each side of
-        # the strongest level step judged on its own names the spread step too
+        # the strongest level step judged on its own names the spread step too (at the
+        # step's frame: a mode named at its own split is judged here again, fix57-b)
         frame0 = min(found_steps, key=lambda t: t[3])[1]
-        named = {label for label, _, _, _ in varied}
+        named = {label for label, _, _, _ in varied} - own
         extra, _ = spread_at_split(
             _fill_gaps(sample, constant)[0], int(round(frame0 / step)), VARIANCE_ALPHA,
             constant | np.array([label in named for label in labels], dtype=bool))
-        varied = varied + tuple((labels[v.column], int(min(v.frame * step, n - 1)),
-                                 float(v.ratio), float(v.p_value)) for v in extra)
+        again = {labels[v.column] for v in extra}
+        varied = tuple(v for v in varied if v[0] not in again) + tuple(
+            (labels[v.column], int(min(v.frame * step, n - 1)), float(v.ratio),
+             float(v.p_value)) for v in extra)
     step_lines = _step_lines(arr, varied, list(labels))
     advance(1)
     if found_steps or varied:
