@@ -38,7 +38,6 @@ import json
 import math
 import os
 import re
-import tomllib
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -547,6 +546,8 @@ def _closedloop_config(system) -> dict:
     text = config_of(system)
     if not isinstance(text, str):
         return {}
+    import tomllib  # here: only a closedloop export needs it (the CLIs' start-up address space)
+
     try:
         config = tomllib.loads(text)
         config = json.loads(json.dumps(config, allow_nan=False))
