@@ -122,11 +122,11 @@ class LoopPredictor:
         "dm0.pol"])``, its ``training_metadata_`` holding the run's config) carries that
         run's ``training_conditions`` as ``trained_on``, so ``simulate`` refuses it in
         a loop of other conditions as it refuses a :meth:`trained` one (fix54-b, round
-        53 PART a C16 / C22). One fitted on any ``ModalLog`` (a run's AOT export, whose
-        metadata holds no config) is refused where that log is not what the loop feeds:
-        another series (the residual, the commands), rate, units, wavelength or mode
-        labels (``fitted_log``, round 55 PART b, X43-X65). One fitted on an array carries
-        none: ``simulate`` then checks only what it can without them
+        53 PART a C16 / C22), and so does one fitted on a run's AOT export (its config read
+        back, fix57-d). One fitted on any ``ModalLog`` is refused where that log is not
+        what the loop feeds: another series (the residual, the commands), rate, units,
+        wavelength or mode labels (``fitted_log``, round 55 PART b, X43-X65). One fitted
+        on an array carries none: ``simulate`` then checks only what it can without them
         (``Predictor.check_fed``: the scale of its training data against the loop's POL;
         fix56-b).
 
@@ -241,8 +241,15 @@ def fitted_conditions(predictor) -> dict | None:
 
     Read from ``predictor.training_metadata_`` (``Predictor.fit`` of a ``ModalLog``
     keeps the log's metadata): a closed-loop log's ``"config"`` (``source`` "closedloop",
-    ``SimulationResult.from_run``). None for a forecaster fitted on an array or on
-    another source's log: what it was trained on is unknown here.
+    ``SimulationResult.from_run``; a run's AOT export read by ``modalinfo.io.load`` since
+    fix57-d). None for a forecaster fitted on an array or on another source's log: what
+    it was trained on is unknown here.
+
+    Raises
+    ------
+    ValueError
+        The log's config is not one this version reads (an export of an older version
+        with a renamed key): its conditions cannot be compared.
     """
     meta = getattr(predictor, "training_metadata_", None)
     if not isinstance(meta, dict) or meta.get("source") != "closedloop" or not isinstance(
@@ -250,7 +257,14 @@ def fitted_conditions(predictor) -> dict | None:
         return None
     from closedloop.config import SimulationConfig
 
-    return training_conditions(SimulationConfig.from_dict(meta["config"]))
+    try:
+        config = SimulationConfig.from_dict(meta["config"])
+    except (TypeError, ValueError) as exc:
+        raise ValueError(
+            "`predictor` was fitted on a closedloop log whose run config this version does "
+            f"not read ({exc}): its training conditions cannot be checked; fit it on a log "
+            "of a run of this version") from None
+    return training_conditions(config)
 
 
 #: What the loop feeds a forecaster, in the messages of its checks (``check_fitted_log``,
@@ -290,8 +304,8 @@ def check_fitted_log(predictor: LoopPredictor, config, labels=None) -> None:
     ``control_basis``). A forecaster fitted on the run's residual lost the loop (SR 0.004
     to 0.02 against 0.56-0.61), one fitted on the POL in nm halved its SR (its intercept
     and training mean in nm), and one fitted on a run's AOT export (no config in its
-    metadata, so :func:`fitted_conditions` knows nothing) ran at twice its rate without a
-    word (round 55 PART b, X43-X65).
+    metadata then, so :func:`fitted_conditions` knew nothing; read back since fix57-d)
+    ran at twice its rate without a word (round 55 PART b, X43-X65).
     """
     log = predictor.fitted_log
     if not log:

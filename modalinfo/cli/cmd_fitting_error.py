@@ -5,7 +5,8 @@ Each ``basis:method`` in ``--orderings`` is ordered on the log (or on one frame 
 dPhi at a few n and the modes needed to reach ``--target`` (and ``--fraction`` of the
 total variance), and ``--plot`` draws the curves in the paper's Figure 1 styles
 (Zernike standard dotted blue, K-L MI dashed green, Zernike MI solid red, data-PCA
-floor thin black) with the target crossings marked.
+floor thin black) with the target crossings marked. ``--quiet`` prints nothing on
+success and needs ``--plot`` (as ``reorder --quiet`` needs ``--out``).
 """
 
 from __future__ import annotations
@@ -30,6 +31,9 @@ from modalinfo.cli.shared import (
     _Renamed,
     apply_outliers,
     check_figure_output,
+    queue_notes,
+    quiet_printer,
+    refuse_quiet_without_output,
     refuse_unused_ordering_options,
 )
 from modalinfo.common.files import shown_name
@@ -43,7 +47,10 @@ DEFAULT_ORDERINGS = "zernike:standard,kl-theory:mi_greedy,zernike:mi_greedy,kl-d
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Fill the ``fitting-error`` parser."""
-    add_common_arguments(parser)
+    # --quiet: nothing on stdout on success, as reorder / forecast / convert / synth; the
+    # figure is then where the results go (it meant "no progress bar" and printed the
+    # whole table, while its help said "needs --out FILE.json": fix57-d)
+    add_common_arguments(parser, quiet_needs="--plot PNG")
     parser.add_argument("--orderings", default=DEFAULT_ORDERINGS, metavar="LIST",
                         help=f"comma-separated basis:method (default: {DEFAULT_ORDERINGS})")
     parser.add_argument("--error-units", dest="error_units", choices=("waves2", "rad2"),
@@ -146,7 +153,7 @@ def _refuse_unused_options(args: argparse.Namespace, specs) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Compute the curves, print the table, draw the plot."""
+    """Compute the curves, print the table (not with ``--quiet``), draw the plot."""
     from modalinfo.cli.shared import progress
     from modalinfo.ordering.compare import (
         KLGeometryWarning,
@@ -171,6 +178,9 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f"--target must be a finite number >= 0; got {args.target}")
     if args.fraction is not None and not 0 < args.fraction < 1:
         raise CommandError(f"--fraction must be in (0, 1); got {args.fraction}")
+    # --quiet prints nothing: without --plot the curves would be thrown away (fix57-d)
+    refuse_quiet_without_output(args, args.plot, "--plot PNG",
+                                "the fitting-error table would be thrown away")
     refuse_frame_with_drop(args)
     log = load_analysed_log(args, mi=any(str(m).startswith("mi_") for _, m in specs),
                             zernike=any(b != "file" for b, _ in specs))
@@ -204,13 +214,18 @@ def run(args: argparse.Namespace) -> int:
     if comp.frame is not None and getattr(args, "file_frame", None) is not None:
         # the file's frame number, not its index in the --max-frames subsample
         table = table.replace(f"frame {comp.frame}", f"frame {args.file_frame}", 1)
-    print(table)
+    say = quiet_printer(args)  # the table's lines, or nothing under --quiet
+    say(table)
     first = comp.entries[0]
     total = float(comp.curve(first)[0])
-    print(f"total variance dPhi(0) = {total:.4g} {args.error_units}")
+    say(f"total variance dPhi(0) = {total:.4g} {args.error_units}")
     if args.target is not None and args.target >= total:
-        print(f"note: the target {args.target:g} {args.error_units} is above the total variance, "
-              "so it is reached with 0 modes; try --fraction")
+        above = (f"the target {args.target:g} {args.error_units} is above the total variance, "
+                 "so it is reached with 0 modes; try --fraction")
+        if args.quiet:  # a caution: on stderr then, as reorder's
+            queue_notes(args, [above])
+        else:
+            print(f"note: {above}")
     if args.plot is not None:
         import matplotlib
 
@@ -231,5 +246,5 @@ def run(args: argparse.Namespace) -> int:
                 save_figure(fig, args.plot, overwrite=args.overwrite)
             finally:
                 plt.close(fig)
-        print(f"figure written to {shown_name(args.plot)}")
+        say(f"figure written to {shown_name(args.plot)}")
     return 0

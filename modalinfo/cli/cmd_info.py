@@ -12,7 +12,9 @@ outliers beyond median +- k x 1.4826 MAD whose AR(4) innovation is beyond k of i
 robust sigmas too, glitched frames, stuck runs; it adds a caveat where the innovations'
 scale changes across the log, i.e. the seeing was not steady), and
 ``--outliers clip|drop`` summarises the repaired log (``raise`` refuses a flagged
-log). A progress bar goes to stderr when it is a terminal, unless ``--quiet``.
+log). A progress bar goes to stderr when it is a terminal, unless ``--quiet``: the
+only thing ``--quiet`` removes here, since the report is the command's whole output
+(other commands' ``--quiet`` prints nothing and needs their output file).
 """
 
 from __future__ import annotations
@@ -61,7 +63,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="N",
         help="frames per chunk of the one-pass summary (default 65536)",
     )
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    # the report on stdout is the command's whole output (it writes no file): --quiet
+    # cannot mean "print nothing" here, as it does for reorder / forecast / convert /
+    # synth / fitting-error; it says what it does (fix57-d)
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress bar only: the report on stdout is the command's "
+                             "output and still prints (unlike reorder's --quiet)")
     parser.add_argument("--no-mmap", action="store_true", help="read the file instead of mapping")
     add_hint_arguments(parser, deprecated=("--modes", "--units"))
 

@@ -41,6 +41,7 @@ from modalinfo.cli.shared import (
     log_bytes,
     ordinal,
     queue_notes,
+    quiet_printer,
     refuse_quiet_without_output,
     refuse_unused_ordering_options,
     split_gaps,
@@ -72,8 +73,13 @@ def resolve_mi_defaults(args: argparse.Namespace) -> None:
             setattr(args, name, value)
 
 
-def add_common_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options shared by ``reorder`` and ``fitting-error``."""
+def add_common_arguments(parser: argparse.ArgumentParser,
+                         quiet_needs: str = "--out FILE.json") -> None:
+    """Options shared by ``reorder`` and ``fitting-error``.
+
+    ``quiet_needs``: the output option ``--quiet`` needs (the command's file, where the
+    results go when nothing is printed: ``--plot PNG`` for ``fitting-error``).
+    """
     parser.add_argument("log", type=Path, help="telemetry log (npz, csv, fits, hdf5, npy)")
     parser.add_argument("--estimator", choices=MIMethodChoices(), metavar="NAME",
                         default=None,
@@ -93,7 +99,7 @@ def add_common_arguments(parser: argparse.ArgumentParser) -> None:
                         help="outer scale of the theoretical K-L in metres "
                              "(default: from the log's metadata, else infinite)")
     parser.add_argument("--overwrite", action="store_true", help="replace existing outputs")
-    add_quiet_argument(parser, needs="--out FILE.json")
+    add_quiet_argument(parser, needs=quiet_needs)
     add_max_frames_argument(parser, default=MAX_FRAMES, contiguous=False)
     add_hint_arguments(parser)
 
@@ -496,15 +502,6 @@ def _calibration_words(message: str) -> str:
         "as the pooled log's where the event is known and meant."))
 
 
-def _printer(args: argparse.Namespace):
-    """Return ``print``, or a function that prints nothing under ``--quiet``."""
-    if args.quiet:
-        return lambda *a, **k: None
-    import builtins
-
-    return builtins.print
-
-
 def run(args: argparse.Namespace) -> int:
     """Order the basis, print the table (not with ``--quiet``), write the JSON."""
     from modalinfo.cli.shared import progress
@@ -625,7 +622,7 @@ def run(args: argparse.Namespace) -> int:
         where = "pooled over all frames"
     # --quiet: nothing on stdout on success, as convert / synth / forecast (fix56-c); the
     # caution on too few replicates is a warning and goes to stderr then
-    say = _printer(args)  # the table's lines, or nothing under --quiet
+    say = quiet_printer(args)  # the table's lines, or nothing under --quiet
     say(f"{args.basis} basis, {args.method} order ({where}"
         + (f", {result.estimator} MI on {result.n_samples} samples, seed {args.seed}"
            if result.mi is not None else "") + ")")

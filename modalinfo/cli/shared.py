@@ -455,6 +455,15 @@ def refuse_quiet_without_output(args: argparse.Namespace, output, needs: str,
                            f"({lost}); give {needs} or drop --quiet")
 
 
+def quiet_printer(args: argparse.Namespace):
+    """Return ``print``, or a function printing nothing under ``--quiet`` (:data:`QUIET_HELP`)."""
+    if getattr(args, "quiet", False):
+        return lambda *a, **k: None
+    import builtins
+
+    return builtins.print
+
+
 class _Progress:
     """A tqdm bar on stderr (a terminal, not ``--quiet``), or nothing; see :func:`progress`."""
 

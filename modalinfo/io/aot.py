@@ -64,6 +64,7 @@ from modalinfo.io.aot_system import (
     SensorSpec,
     TelescopeSpec,
     build_system,
+    config_of,
     geometry_of,
     import_aotpy,
 )
@@ -471,6 +472,7 @@ def _describe(system, lp, loops, path: Path) -> dict:
     transient = next((m.value for m in cards if getattr(m, "key", None) == "MI_TRANS"), None)
     if isinstance(transient, int) and not isinstance(transient, bool) and transient >= 1:
         meta["transient_frames"] = int(transient)
+    meta.update(_closedloop_config(system))
     if system.name:
         meta["system"] = system.name
     if system.date_beginning is not None:
@@ -511,6 +513,49 @@ def _describe(system, lp, loops, path: Path) -> dict:
     if filt:
         meta["time_filter"] = filt
     return meta
+
+
+def _closedloop_notes(system) -> dict | None:
+    """Return closedloop's ``MI_CLOOP`` card of ``system`` as a dict, None for another writer."""
+    card = next((m.value for m in getattr(system, "metadata", None) or []
+                 if getattr(m, "key", None) == "MI_CLOOP"), None)
+    try:
+        notes = json.loads(card)
+    except (TypeError, ValueError):
+        return None
+    if not isinstance(notes, dict) or notes.get("written_by") != "closedloop":
+        return None
+    return notes
+
+
+def _closedloop_config(system) -> dict:
+    """Return the run's config of a ``closedloop export`` file as metadata, else ``{}``.
+
+    ``closedloop export`` writes the run's config as TOML in the system's ``config``
+    (``aotpy``: ``AOSystem.config``, from ``SimulationConfig.to_dict``, the dict run.h5
+    keeps as JSON). Read back as ``{"source": "closedloop", "config": dict}``, the keys a
+    run.h5 log carries (``SimulationResult.from_run``), so that a forecaster fitted on
+    the export knows the run's conditions (``closedloop.control.predictors.
+    fitted_conditions``): without them it ran at another r0 without a word (round 55
+    PART b, X48). Another writer's file, or a config that is not a TOML table of JSON
+    values (no NaN or infinity: ``to_dict`` leaves an infinite outer scale out), gives
+    ``{}``: the conditions are then unknown, as before.
+    """
+    if _closedloop_notes(system) is None:
+        return {}
+    text = config_of(system)
+    if not isinstance(text, str):
+        return {}
+    import tomllib  # here: only a closedloop export needs it (the CLIs' start-up address space)
+
+    try:
+        config = tomllib.loads(text)
+        config = json.loads(json.dumps(config, allow_nan=False))
+    except (TypeError, ValueError):  # TOMLDecodeError is a ValueError
+        return {}
+    if not config:
+        return {}
+    return {"source": "closedloop", "config": config}
 
 
 def _atmosphere_outer_scale(system) -> dict:
@@ -699,13 +744,8 @@ def _no_images_reason(system) -> str:
     ``mode_images: false`` since fix55-c; an older export of closedloop has none either
     way, so the option is named as the likely cause.
     """
-    card = next((m.value for m in getattr(system, "metadata", None) or []
-                 if getattr(m, "key", None) == "MI_CLOOP"), None)
-    try:
-        notes = json.loads(card)
-    except (TypeError, ValueError):
-        return ""
-    if not isinstance(notes, dict) or notes.get("written_by") != "closedloop":
+    notes = _closedloop_notes(system)
+    if notes is None:
         return ""
     again = ("; export the result again without that option (closedloop export RUN.h5 "
              "OUT.fits) to read the mirror's basis")

@@ -140,14 +140,18 @@ def _walk(path: Path, fmt: str) -> str | list[dict[bytes, str]] | None:
             need = _data_bytes(cards)
             if need is None:
                 return None
-            if offset + need > size:
+            # the padding counts: a file cut inside it was "buffer is too small" (aotpy)
+            # or "Empty or corrupt FITS file" (astropy; fix57-d), its data whole or not
+            if offset + _padded(need) > size:
                 kind = cards.get(b"XTENSION", "primary")
+                where = ("; its data are whole, the padding after them is cut"
+                         if offset + need <= size else "")
                 return (f"truncated {fmt} file {quoted(path)}: HDU {index} ({kind}) declares "
                         f"{need} bytes of data ({_padded(need)} with the padding to "
                         f"2880-byte blocks) from byte {offset}, and the file has "
                         f"{size - offset} of them ({size} bytes in all, "
-                        f"{offset + _padded(need)} expected at least); the file was cut "
-                        "short (an interrupted copy or download?): copy it again")
+                        f"{offset + _padded(need)} expected at least){where}; the file was "
+                        "cut short (an interrupted copy or download?): copy it again")
             offset += _padded(need)
             index += 1
             cards[b"_START"] = str(start)

@@ -54,7 +54,8 @@ def test_fitting_error_counts_its_mi_orderings_only(small_log, capsys, monkeypat
     from modalinfo.ordering import cost
 
     monkeypatch.setattr(cost, "MAX_ORDERING_SECONDS", 1e-6)
-    argv = ["fitting-error", small_log, "--budget", 2000, "--pupil-pixels", 16, "--quiet"]
+    # (no --quiet: it needs --plot since fix57-d, and prints nothing)
+    argv = ["fitting-error", small_log, "--budget", 2000, "--pupil-pixels", 16]
     assert exit_code(argv + ["--orderings", "zernike:standard,zernike:mi_greedy"]) == 2
     assert "h of CPU" in capsys.readouterr().err
     # without --budget: a list without MI uses none and refuses it (round 36 PART b)

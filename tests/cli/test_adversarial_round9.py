@@ -143,8 +143,8 @@ def test_frame_numbers_that_skip_are_refused_without_a_rate(tmp_path, capsys):
 # ------------------------------------------------------------ F11: --frame of the file
 def test_frame_is_a_frame_of_the_file_with_max_frames(tmp_path, capsys):
     log = write_small_log(tmp_path / "log.npz", 400)
-    base = ["fitting-error", log, "--orderings", "zernike:standard", "--pupil-pixels", "64",
-            "--quiet"]
+    # (no --quiet: fitting-error's prints nothing and needs --plot since fix57-d)
+    base = ["fitting-error", log, "--orderings", "zernike:standard", "--pupil-pixels", "64"]
     assert exit_code([*base, "--frame", "200"]) == 0
     whole = capsys.readouterr().out
     assert exit_code([*base, "--frame", "200", "--max-frames", "10"]) == 0  # every 40th
@@ -160,8 +160,7 @@ def test_fitting_error_notes_a_pupil_too_coarse_for_orthonormal_zernikes(tmp_pat
     coeffs = rng.standard_normal((200, 27)) * 0.05
     log = save(ModalLog(coeffs, rate=1000.0, modes=list(range(2, 29)), units="rad"),
                tmp_path / "z.npz")
-    base = ["fitting-error", log, "--orderings", "zernike:standard", "--error-units", "rad2",
-            "--quiet"]
+    base = ["fitting-error", log, "--orderings", "zernike:standard", "--error-units", "rad2"]
     assert exit_code([*base, "--pupil-pixels", "16"]) == 0
     captured = capsys.readouterr()
     total = float(captured.out.split("dPhi(0) = ")[1].split()[0])
@@ -260,7 +259,7 @@ def test_frames_dropped_without_a_rate_are_not_bridged(tmp_path, capsys):
     assert exit_code([*select, "--rate", "1000"]) == 2  # now a gap of 3 intervals
     assert "1 timestamp gap(s)" in capsys.readouterr().err  # forecast's words (fix33-b1)
     assert exit_code(["fitting-error", path, "--nonfinite", "drop", "--orderings",
-                      "zernike:standard", "--pupil-pixels", "64", "--quiet"]) == 0  # per frame
+                      "zernike:standard", "--pupil-pixels", "64"]) == 0  # per frame
 
 
 # --------------------------------------------- N44, N46: text in another encoding

@@ -40,7 +40,7 @@ def _events(rec):
 def test_fitting_error_prints_command_words(stepped):
     with pytest.warns(CalibrationEventWarning) as rec:
         code = main(["fitting-error", str(stepped), "--in-modes", "2-9", "--rate", "2000",
-                     "--orderings", "zernike:variance", "--pupil-pixels", "16", "--quiet"])
+                     "--orderings", "zernike:variance", "--pupil-pixels", "16"])
     assert code == 0
     events = _events(rec)
     assert len(events) == 1

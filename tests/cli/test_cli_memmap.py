@@ -105,8 +105,8 @@ def test_fitting_error_max_frames_equals_the_strided_file(long_npy, tmp_path, ca
     path, x = long_npy
     save(ModalLog(x[::3], rate=2000.0 / 3, modes=list(range(2, 2 + N_MODES)), units="rad"),
          tmp_path / "strided.npz")
-    common = ["--orderings", "zernike:standard,zernike:variance", "--pupil-pixels", "16",
-              "--quiet"]
+    # (no --quiet: fitting-error's prints nothing and needs --plot since fix57-d)
+    common = ["--orderings", "zernike:standard,zernike:variance", "--pupil-pixels", "16"]
     assert main(["fitting-error", str(path), "--rate", "2000", "--in-units", "rad",
                  "--max-frames", "400", *common]) == 0
     via_option = capsys.readouterr().out
@@ -318,7 +318,7 @@ def test_pupil_sampling_refused_before_any_frame_is_read(z1501_npz, monkeypatch,
 
     monkeypatch.setattr(cmd_reorder, "frame_subsample", never)
     monkeypatch.setattr(shared, "frame_subsample", never)
-    argv = [command[0], str(z1501_npz), *command[1:], "--max-frames", "100", "--quiet"]
+    argv = [command[0], str(z1501_npz), *command[1:], "--max-frames", "100"]
     assert main([*argv, "--pupil-pixels", "107"]) == 2
     _refusal(capsys, "--pupil-pixels must be >= 108 to sample Z1501 (radial order 54")
     assert main([*argv]) == 2  # the default 64

@@ -54,7 +54,7 @@ def test_budget_too_small_still_asks_for_more(bare, capsys):
 
 def test_kl_theory_outer_scale_assumed_is_said(bare, capsys):
     code, err = _run(["fitting-error", str(bare), "--rate", "1000", "--orderings",
-                      "kl-theory:variance", "--quiet"], capsys)
+                      "kl-theory:variance"], capsys)
     assert code == 0
     assert "no outer scale" in err and "Kolmogorov" in err and "--outer-scale" in err
 
@@ -72,7 +72,7 @@ def test_recorded_geometry_needs_no_note(tmp_path, capsys):
                    metadata={"outer_scale": 20.0, "diameter": 0.7})
     path = tmp_path / "rec.npz"
     save(log, path)
-    code, err = _run(["fitting-error", str(path), "--orderings", "kl-theory:variance",
-                      "--quiet"], capsys)
+    code, err = _run(["fitting-error", str(path), "--orderings", "kl-theory:variance"],
+                     capsys)
     assert code == 0
     assert "outer scale" not in err and "diameter" not in err

@@ -158,8 +158,9 @@ def test_a_failed_write_names_the_target_not_the_temporary_file(tmp_path):
     # 256 pixels: at 16 fitting-error notes that the sampled Zernikes are far from
     # orthonormal (round 9 PART b, row L02), at 64 that their Gram error (0.034) moves
     # the curve by 2.6 % (fix33-a), and this test wants a silent stderr
+    # (--quiet needs --plot since fix57-d)
     (["fitting-error", "{log}", "--orderings", "zernike:standard,zernike:variance",
-      "--pupil-pixels", "256"], "fitting-error:"),
+      "--pupil-pixels", "256", "--plot", "{tmp}/fe.png", "--overwrite"], "fitting-error:"),
 ])
 def test_progress_bar_on_a_terminal_only(kaos, capsys, monkeypatch, tmp_path, argv, desc):
     argv = [a.format(log=kaos, tmp=tmp_path) for a in argv]

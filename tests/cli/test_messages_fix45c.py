@@ -82,11 +82,11 @@ def test_fitting_error_fraction_label_tells_it_from_100_percent(tmp_path, capsys
     # the rule applied is dPhi <= 99.99999999 % of dPhi(0)
     log = write_small_log(tmp_path / "log.npz", 300)
     assert exit_code(["fitting-error", log, "--orderings", "zernike:standard",
-                      "--pupil-pixels", "16", "--fraction", "0.9999999999", "--quiet"]) == 0
+                      "--pupil-pixels", "16", "--fraction", "0.9999999999"]) == 0
     head = capsys.readouterr().out.splitlines()[1].split()
     assert head[-1] == "<=99.99999999%"
     assert exit_code(["fitting-error", log, "--orderings", "zernike:standard",
-                      "--pupil-pixels", "16", "--fraction", "0.5", "--quiet"]) == 0
+                      "--pupil-pixels", "16", "--fraction", "0.5"]) == 0
     assert capsys.readouterr().out.splitlines()[1].split()[-1] == "<=50%"  # as before
 
 

@@ -42,6 +42,6 @@ def test_fitting_error_refuses_an_option_no_ordering_uses(log_path, capsys, extr
 def test_fitting_error_keeps_them_where_they_act(log_path, capsys):
     code = main(["fitting-error", str(log_path), "--pupil-pixels", "24", "--orderings",
                  "zernike:mi_marginal,kl-theory:variance", "--seed", "3", "--budget",
-                 "2000", "--outer-scale", "20", "--quiet"])
+                 "2000", "--outer-scale", "20"])
     assert code == 0, capsys.readouterr().err
 

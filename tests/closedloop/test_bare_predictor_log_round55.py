@@ -70,11 +70,14 @@ def test_aot_export_rate_refused(ref, tmp_path):
     cfg, run = ref
     path = export_aot(run, tmp_path / "run.fits", mode_images=False)
     bare = make_predictor("linear-ls").fit(load(path, loop="dm0.pol"))
-    assert "config" not in bare.training_metadata_  # fix54-b's check cannot apply
+    # the config is read back since fix57-d (it was absent: fix54-b could not apply, X48)
+    assert bare.training_metadata_["config"] == cfg.to_dict()
     faster = cfg.replace(loop=dataclasses.replace(cfg.loop, time_step=5e-4,
                                                   integration_time=5e-4))
-    with pytest.raises(ValueError, match=r"fitted on frames at 1000 Hz; the loop's POL .* is "
-                                         r"at 2000 Hz"):
+    # refused by the run's conditions first since fix57-d; the rate check (X50) of an
+    # export without a config: test_export_config_fix57d.py
+    with pytest.raises(ValueError, match=r"`loop.time_step` is not this config's \(0.001 vs "
+                                         r"0.0005\)"):
         simulate(faster, 0.01, predictor=bare, seed=1)
     residual = make_predictor("linear-ls").fit(load(path, loop="dm0"))
     with pytest.raises(ValueError, match=r"fitted on a run's residual log"):
