@@ -187,12 +187,7 @@ def simulate(
     model = _model_for(config, model)
     seed = _check_seed(config.seed if seed is None else seed)
     basis = _check_control_basis(control_basis, model.n_modes, budget_every)
-    loop_pred = loop_pred.ready(model.n_modes if basis is None else basis.shape[1])
-    _check_predictor_modes(loop_pred.predictor, model.n_modes, basis)
-    if basis is None:  # the modes it is fed, by label (round 55 PART b, X63 / X64)
-        check_fitted_log(loop_pred, config, [
-            label for dm in model.dms
-            for label in ([f"Z{j}" for j in dm.modes] if dm.modes else list(dm.labels))])
+    loop_pred = _ready_predictor(loop_pred, config, model, basis)
     clock = _Clock.of(config.loop, duration)
     state = LoopState(model, model.atmosphere(seed, clock.run_time),
                       model.science.plane_views())
@@ -241,6 +236,24 @@ def simulate(
     elapsed = time.perf_counter() - start
     _warn_held(control.controller, loop_pred.name, clock.n_frames)
     return _assemble(config, seed, model, logs, snapshots, probe, elapsed, loop_pred.name, note)
+
+
+def _ready_predictor(loop_pred: LoopPredictor, config: SimulationConfig, model: LoopModel,
+                     basis) -> LoopPredictor:
+    """Return the predictor ready for this loop's modes, checked against its feed.
+
+    Its mode count (:func:`_check_predictor_modes`), and, without a control basis, the
+    log it was fitted on: the series, clock, units and the modes by label
+    (``check_fitted_log``, round 55 PART b, X63 / X64). Kept out of :func:`simulate`,
+    which reads in a page.
+    """
+    loop_pred = loop_pred.ready(model.n_modes if basis is None else basis.shape[1])
+    _check_predictor_modes(loop_pred.predictor, model.n_modes, basis)
+    if basis is None:
+        check_fitted_log(loop_pred, config, [
+            label for dm in model.dms
+            for label in ([f"Z{j}" for j in dm.modes] if dm.modes else list(dm.labels))])
+    return loop_pred
 
 
 def check_run(config: SimulationConfig, duration: float, *, budget_every: int | None = None,
