@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 
@@ -61,6 +62,8 @@ def _threshold(argv: list[str], cwd) -> tuple[int, float]:
             # it): bisect between the last clamped refusal and this run
             assert low is not None, "ran under the starting limit: raise no limit, lower it"
             high = limit
+            for made in cwd.glob("probe*"):  # its outputs: the next run must not meet them
+                shutil.rmtree(made) if made.is_dir() else made.unlink()
         else:
             low = limit
         limit = low + 40 * 2**20 if high is None else (low + high) // 2
