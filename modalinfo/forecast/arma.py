@@ -307,8 +307,7 @@ def _root_limit(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
         return 0.0, 0.0
     w_ar = np.roots(np.concatenate([[1.0], -phi]))
     radius = float(np.max(np.abs(w_ar)))
-    limit = (1.0 - ROOT_LIMIT_TOL) / (1.0 + margin)
-    at = w_ar[np.abs(w_ar) >= limit]
+    at = w_ar[np.abs(w_ar) >= _held_limit(margin)]
     if at.size == 0 or p >= xc.size - 1:
         return radius, 0.0
     w_ma = np.roots(np.concatenate([[1.0], theta])) if theta.size else np.zeros(0)
@@ -320,13 +319,17 @@ def _root_limit(xc: np.ndarray, phi: np.ndarray, theta: np.ndarray, margin: floa
     return radius, float(np.max(np.abs(np.roots(np.concatenate([[1.0], -ls])))))
 
 
+def _held_limit(margin: float) -> float:
+    """Inverse-root modulus from which a root is "at the limit" ``1 / (1 + margin)``."""
+    return (1.0 - ROOT_LIMIT_TOL) / (1.0 + margin)
+
+
 def _held(params: dict, margin: float) -> np.ndarray:
     """``(M,)`` bool: the modes whose roots ``params`` holds at the limit (see ``_root_limit``)."""
-    limit = (1.0 - ROOT_LIMIT_TOL) / (1.0 + margin)
     ls_radius = params.get("ls_radius")  # None: parameters made before fix57-a
     if ls_radius is None:
         return np.zeros(np.shape(params["mu"]), dtype=bool)
-    return np.asarray(ls_radius) >= limit
+    return np.asarray(ls_radius) >= _held_limit(margin)
 
 
 def root_limit_text(params: dict, margin: float, names) -> str | None:
